@@ -1,0 +1,207 @@
+/*
+ * host/graph.h: graph files (private to the host). docs/graph-format.md is the spec.
+ *
+ * Two stages:
+ *   lg_graph_parse()    text -> lg_graph: syntax only (version line, nodes, assignments,
+ *                       references, outputs, includes). No schema needed.
+ *   lg_graph_check()    lg_graph + schema -> resolved nodes: types, parameters (typed,
+ *                       ranged, defaults filled), edges (node, port), outputs; cycles.
+ * Overrides (--set node.param=value) are applied between the two with lg_graph_set().
+ *
+ * Every problem becomes an lg_diag with file:line:col, the offending source line and a
+ * did-you-mean where one applies; both stages collect as many as they can before failing.
+ */
+#ifndef LG_HOST_GRAPH_H
+#define LG_HOST_GRAPH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "lightgraph/plugin.h"
+
+typedef struct lg_srcloc {
+    const char *file; /* owned by the graph (interned path as given / resolved) */
+    uint32_t line, col; /* 1-based; line 0 = no location (e.g. command line) */
+    uint32_t len;       /* length of the offending text, for the ~~~ underline */
+} lg_srcloc;
+
+typedef enum lg_gv_kind {
+    LG_GV_BOOL = 1,
+    LG_GV_INT,    /* integer literal (also acceptable where a float is expected) */
+    LG_GV_FLOAT,
+    LG_GV_STRING, /* "quoted" */
+    LG_GV_LIST,   /* [a, b, c] */
+    LG_GV_IDENT,  /* bare name or name.port: a reference, or an enum value */
+} lg_gv_kind;
+
+typedef struct lg_gvalue {
+    lg_gv_kind kind;
+    lg_srcloc loc;
+    bool b;
+    int64_t i;
+    double f;
+    char *s;          /* STRING: the unescaped text; IDENT: the node name */
+    char *port;       /* IDENT: after the dot, or NULL */
+    struct lg_gvalue *items;
+    uint32_t n_items;
+    char *text;       /* the literal as written (for fmt and messages) */
+    const char *base_dir; /* directory against which a relative path resolves */
+} lg_gvalue;
+
+typedef struct lg_gassign {
+    char *key;
+    lg_srcloc key_loc;
+    lg_gvalue value;
+} lg_gassign;
+
+typedef struct lg_gnode {
+    char *name;
+    lg_srcloc loc;       /* of the name */
+    char *type;
+    lg_srcloc type_loc;
+    lg_gassign *assigns;
+    uint32_t n_assigns;
+    char **comments;     /* comment lines directly above the node, kept by fmt */
+    uint32_t n_comments;
+} lg_gnode;
+
+typedef struct lg_goutput {
+    lg_gvalue ref;       /* IDENT */
+    char *path;          /* as written */
+    lg_srcloc path_loc;
+    const char *base_dir;
+    char **comments;
+    uint32_t n_comments;
+} lg_goutput;
+
+typedef struct lg_ginclude {
+    char *path;          /* as written */
+    lg_srcloc loc;
+} lg_ginclude;
+
+typedef enum lg_diag_level { LG_DIAG_ERROR = 0, LG_DIAG_WARNING, LG_DIAG_NOTE } lg_diag_level;
+
+typedef struct lg_diag {
+    lg_diag_level level;
+    lg_srcloc loc;
+    char *message;
+    char *line_text;     /* the source line, or NULL */
+} lg_diag;
+
+typedef struct lg_diags {
+    lg_diag *items;
+    uint32_t n, cap;
+    uint32_t errors;
+} lg_diags;
+
+/* A parsed graph (one file with its includes merged; nodes in file order). */
+typedef struct lg_graph {
+    int version;
+    char *path;             /* the top file as given */
+    lg_gnode *nodes;
+    uint32_t n_nodes;
+    lg_goutput *outputs;
+    uint32_t n_outputs;
+    lg_ginclude *includes;  /* the top file's include statements, for fmt */
+    uint32_t n_includes;
+    char **trailing_comments;
+    uint32_t n_trailing_comments;
+    void *pool;             /* private: interned strings, file texts */
+} lg_graph;
+
+/* Parses `path` (and the files it includes; relative include paths resolve against the
+ * including file; include cycles are errors). Returns NULL when any error was found; the
+ * diagnostics are in `diags` either way. */
+lg_graph *lg_graph_parse_file(const char *path, lg_diags *diags);
+/* The same from memory (fuzzing, tests); `name` is the file name used in messages and the
+ * base for relative paths is `base_dir` (may be NULL: the current directory). */
+lg_graph *lg_graph_parse_string(const char *name, const char *text, size_t len,
+                                const char *base_dir, lg_diags *diags);
+void lg_graph_free(lg_graph *g);
+
+/* Applies one command-line override "node.param=value". The value text is kept raw and
+ * interpreted by lg_graph_check with the parameter's type (so `--set src.file=a.exr` is a
+ * path, `--set tone.backend=cl` an enum value, `--set tone.key=0.2` a float, `--set
+ * tone.image=other` a reference). Relative paths resolve against the current directory.
+ * Errors (syntax, unknown node, with did-you-mean) go to diags; returns 0 or -1. */
+int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags);
+
+/* ---- checking against the plugins' schemas -------------------------------------------- */
+
+/* Where node types come from (the registry). */
+typedef struct lg_schema {
+    void *ctx;
+    /* NULL if no plugin declares the type */
+    const lg_node_type *(*lookup)(void *ctx, const char *type_name);
+    /* all known type names, for did-you-mean */
+    uint32_t n_names;
+    const char *const *names;
+} lg_schema;
+
+typedef struct lg_edge {
+    int32_t node;   /* source node index in lg_checked.nodes, -1 if unconnected */
+    uint32_t port;  /* output port index of the source */
+} lg_edge;
+
+typedef struct lg_cnode {
+    const lg_gnode *g;          /* the parsed node */
+    const lg_node_type *type;
+    lg_value *params;           /* type->n_params values, defaults filled; PATH resolved
+                                 * to absolute paths; strings owned by lg_checked */
+    bool *param_set;            /* whether the graph (or --set) gave the value */
+    lg_edge *inputs;            /* type->n_inputs */
+} lg_cnode;
+
+typedef struct lg_coutput {
+    const lg_goutput *g;
+    int32_t node;
+    uint32_t port;
+    char *path;                 /* resolved (absolute, or as -o gave it) */
+} lg_coutput;
+
+typedef struct lg_checked {
+    lg_cnode *nodes;            /* same order as lg_graph.nodes */
+    uint32_t n_nodes;
+    lg_coutput *outputs;
+    uint32_t n_outputs;
+    uint32_t *topo;             /* node indices in a topological order (inputs first) */
+    void *pool;
+} lg_checked;
+
+/* Resolves and checks every node of `g`: unknown types, unknown parameters (did-you-mean
+ * over parameters and inputs), renamed parameters (warning), types and ranges (naming the
+ * expected type or range), references (did-you-mean over node names; unknown ports with
+ * the list of the node's outputs), resource kinds of edges, missing required inputs,
+ * duplicate node names and duplicate keys, output statements, and cycles (naming every
+ * node on the cycle). Returns NULL if any error was found. */
+lg_checked *lg_graph_check(const lg_graph *g, const lg_schema *schema, lg_diags *diags);
+void lg_checked_free(lg_checked *c);
+
+/* ---- printing ------------------------------------------------------------------------ */
+
+/* The canonical text of a parsed graph (lightgraph fmt): formatting it again changes
+ * nothing. Comments are kept. Includes are printed as include statements, and the nodes
+ * that came from included files are not printed. */
+char *lg_graph_format(const lg_graph *g);
+/* Graphviz dot text of a checked graph: nodes with their type, edges labelled by port,
+ * output files as boxes. */
+char *lg_graph_dot(const lg_graph *g, const lg_checked *c);
+
+/* ---- diagnostics ------------------------------------------------------------------------ */
+
+void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line_text,
+                  const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+/* Prints "file:line:col: error: message", the source line and a caret line, colourless. */
+void lg_diags_print(const lg_diags *d, FILE *f);
+void lg_diags_free(lg_diags *d);
+
+/* The closest of `names` to `word` by edit distance (case-insensitive, allowing one
+ * transposition), or NULL if none is close enough to suggest. */
+const char *lg_suggest(const char *word, const char *const *names, uint32_t n);
+
+#endif

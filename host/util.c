@@ -1,0 +1,306 @@
+#include "util.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+int lg_verbosity = 0;
+
+static void oom(size_t n)
+{
+    fprintf(stderr, "lightgraph: out of memory (allocating %zu bytes)\n", n);
+    abort();
+}
+
+void *lg_xmalloc(size_t n)
+{
+    void *p = malloc(n ? n : 1);
+    if (!p)
+        oom(n);
+    return p;
+}
+
+void *lg_xcalloc(size_t n, size_t size)
+{
+    void *p = calloc(n ? n : 1, size ? size : 1);
+    if (!p)
+        oom(n * size);
+    return p;
+}
+
+void *lg_xrealloc(void *p, size_t n)
+{
+    p = realloc(p, n ? n : 1);
+    if (!p)
+        oom(n);
+    return p;
+}
+
+char *lg_xstrdup(const char *s)
+{
+    return lg_xstrndup(s, strlen(s));
+}
+
+char *lg_xstrndup(const char *s, size_t n)
+{
+    char *p = lg_xmalloc(n + 1);
+    memcpy(p, s, n);
+    p[n] = 0;
+    return p;
+}
+
+char *lg_xasprintf(const char *fmt, ...)
+{
+    va_list ap, ap2;
+    va_start(ap, fmt);
+    va_copy(ap2, ap);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    char *p = lg_xmalloc((size_t)n + 1);
+    vsnprintf(p, (size_t)n + 1, fmt, ap2);
+    va_end(ap2);
+    return p;
+}
+
+static void str_reserve(lg_str *b, size_t extra)
+{
+    if (b->len + extra + 1 <= b->cap)
+        return;
+    size_t cap = b->cap ? b->cap : 64;
+    while (cap < b->len + extra + 1)
+        cap *= 2;
+    b->s = lg_xrealloc(b->s, cap);
+    b->cap = cap;
+}
+
+void lg_str_addn(lg_str *b, const char *s, size_t n)
+{
+    str_reserve(b, n);
+    memcpy(b->s + b->len, s, n);
+    b->len += n;
+    b->s[b->len] = 0;
+}
+
+void lg_str_add(lg_str *b, const char *s)
+{
+    lg_str_addn(b, s, strlen(s));
+}
+
+void lg_str_addc(lg_str *b, char c)
+{
+    lg_str_addn(b, &c, 1);
+}
+
+void lg_str_addf(lg_str *b, const char *fmt, ...)
+{
+    va_list ap, ap2;
+    va_start(ap, fmt);
+    va_copy(ap2, ap);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    str_reserve(b, (size_t)n);
+    vsnprintf(b->s + b->len, (size_t)n + 1, fmt, ap2);
+    va_end(ap2);
+    b->len += (size_t)n;
+}
+
+void lg_str_add_json(lg_str *b, const char *s)
+{
+    lg_str_addc(b, '"');
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; p++) {
+        switch (*p) {
+        case '"': lg_str_add(b, "\\\""); break;
+        case '\\': lg_str_add(b, "\\\\"); break;
+        case '\n': lg_str_add(b, "\\n"); break;
+        case '\t': lg_str_add(b, "\\t"); break;
+        case '\r': lg_str_add(b, "\\r"); break;
+        default:
+            if (*p < 0x20)
+                lg_str_addf(b, "\\u%04x", *p);
+            else
+                lg_str_addc(b, (char)*p);
+        }
+    }
+    lg_str_addc(b, '"');
+}
+
+char *lg_str_take(lg_str *b)
+{
+    char *s = b->s ? b->s : lg_xstrdup("");
+    b->s = NULL;
+    b->len = b->cap = 0;
+    return s;
+}
+
+void lg_str_free(lg_str *b)
+{
+    free(b->s);
+    b->s = NULL;
+    b->len = b->cap = 0;
+}
+
+char *lg_path_dirname(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        return lg_xstrdup(".");
+    if (slash == path)
+        return lg_xstrdup("/");
+    return lg_xstrndup(path, (size_t)(slash - path));
+}
+
+char *lg_path_join(const char *dir, const char *rel)
+{
+    if (rel[0] == '/' || !dir || !dir[0])
+        return lg_xstrdup(rel);
+    size_t n = strlen(dir);
+    return lg_xasprintf("%s%s%s", dir, (n && dir[n - 1] == '/') ? "" : "/", rel);
+}
+
+/* Normalises "a/./b/../c" lexically. */
+static char *normalise(const char *abs)
+{
+    size_t n = strlen(abs);
+    char *out = lg_xmalloc(n + 2);
+    size_t o = 0;
+    const char *p = abs;
+    while (*p) {
+        while (*p == '/')
+            p++;
+        const char *e = p;
+        while (*e && *e != '/')
+            e++;
+        size_t len = (size_t)(e - p);
+        if (len == 0)
+            break;
+        if (len == 1 && p[0] == '.') {
+            /* skip */
+        } else if (len == 2 && p[0] == '.' && p[1] == '.') {
+            while (o > 0 && out[o - 1] != '/')
+                o--;
+            if (o > 0)
+                o--;
+        } else {
+            out[o++] = '/';
+            memcpy(out + o, p, len);
+            o += len;
+        }
+        p = e;
+    }
+    if (o == 0)
+        out[o++] = '/';
+    out[o] = 0;
+    return out;
+}
+
+char *lg_path_absolute(const char *path)
+{
+    if (path[0] == '/')
+        return normalise(path);
+    char cwd[PATH_MAX];
+    if (!getcwd(cwd, sizeof cwd))
+        return lg_xstrdup(path);
+    char *j = lg_path_join(cwd, path);
+    char *r = normalise(j);
+    free(j);
+    return r;
+}
+
+bool lg_path_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+char *lg_read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    lg_str b = {0};
+    char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+        lg_str_addn(&b, buf, n);
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        lg_str_free(&b);
+        errno = EIO;
+        return NULL;
+    }
+    if (len)
+        *len = b.len;
+    return lg_str_take(&b);
+}
+
+void lg_hlog(int level, const char *fmt, ...)
+{
+    if (level >= LG_HINFO && lg_verbosity < level - 1)
+        return;
+    if (level == LG_HWARN && lg_verbosity < 0)
+        return;
+    static const char *names[] = {"error", "warning", "info", "debug"};
+    fprintf(stderr, "lightgraph: %s: ", names[level < 0 ? 0 : level > 3 ? 3 : level]);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+double lg_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+uint64_t lg_hash64(const void *data, size_t n, uint64_t seed)
+{
+    const unsigned char *p = data;
+    uint64_t h = 1469598103934665603ull ^ seed;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+void lg_digest_init(lg_digest *d)
+{
+    d->h[0] = 1469598103934665603ull;
+    d->h[1] = 0x9e3779b97f4a7c15ull;
+}
+
+void lg_digest_add(lg_digest *d, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    uint64_t a = d->h[0], b = d->h[1];
+    for (size_t i = 0; i < n; i++) {
+        a ^= p[i];
+        a *= 1099511628211ull;
+        b += p[i] + 1;
+        b *= 0xff51afd7ed558ccdull;
+        b ^= b >> 29;
+    }
+    d->h[0] = a;
+    d->h[1] = b;
+}
+
+void lg_digest_add_str(lg_digest *d, const char *s)
+{
+    uint64_t n = s ? strlen(s) : UINT64_MAX;
+    lg_digest_add(d, &n, sizeof n);
+    if (s)
+        lg_digest_add(d, s, (size_t)n);
+}
+
+void lg_digest_hex(const lg_digest *d, char out[33])
+{
+    snprintf(out, 33, "%016llx%016llx", (unsigned long long)d->h[0], (unsigned long long)d->h[1]);
+}

@@ -1,0 +1,68 @@
+/*
+ * host/util.h: small helpers shared by the host's files (private).
+ */
+#ifndef LG_HOST_UTIL_H
+#define LG_HOST_UTIL_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* Allocation that aborts with a message on failure: the host cannot do anything useful
+ * without memory, and every caller checking would hide the real logic. Plugins' memory
+ * and image buffers sized by input data use plain malloc and report LG_ERR_NOMEM. */
+void *lg_xmalloc(size_t n);
+void *lg_xcalloc(size_t n, size_t size);
+void *lg_xrealloc(void *p, size_t n);
+char *lg_xstrdup(const char *s);
+char *lg_xstrndup(const char *s, size_t n);
+char *lg_xasprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* A growing string. */
+typedef struct lg_str {
+    char *s;
+    size_t len, cap;
+} lg_str;
+void lg_str_add(lg_str *b, const char *s);
+void lg_str_addn(lg_str *b, const char *s, size_t n);
+void lg_str_addf(lg_str *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void lg_str_addc(lg_str *b, char c);
+/* JSON string literal with quotes and escapes */
+void lg_str_add_json(lg_str *b, const char *s);
+/* Returns the string (owned by the caller) and resets b. Never NULL. */
+char *lg_str_take(lg_str *b);
+void lg_str_free(lg_str *b);
+
+/* Paths. All return malloc'd strings. */
+char *lg_path_dirname(const char *path);             /* "." for a bare name */
+char *lg_path_join(const char *dir, const char *rel); /* rel if absolute */
+char *lg_path_absolute(const char *path);            /* against the cwd, normalised, no
+                                                      * symlink resolution */
+bool lg_path_exists(const char *path);
+/* Reads a whole file; returns NULL with errno set. *len receives the size. */
+char *lg_read_file(const char *path, size_t *len);
+
+/* Host-side logging to stderr, with the level; verbosity from -v/-q. */
+extern int lg_verbosity; /* 0 = errors and warnings, 1 = info, 2 = debug; -1 = errors only */
+void lg_hlog(int level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+#define LG_HERR 0
+#define LG_HWARN 1
+#define LG_HINFO 2
+#define LG_HDEBUG 3
+
+/* Monotonic seconds. */
+double lg_now(void);
+
+/* 64-bit FNV-1a, and a 128-bit-ish digest for cache keys (two independent 64-bit lanes). */
+uint64_t lg_hash64(const void *data, size_t n, uint64_t seed);
+typedef struct lg_digest {
+    uint64_t h[2];
+} lg_digest;
+void lg_digest_init(lg_digest *d);
+void lg_digest_add(lg_digest *d, const void *data, size_t n);
+void lg_digest_add_str(lg_digest *d, const char *s); /* length-prefixed */
+void lg_digest_hex(const lg_digest *d, char out[33]);
+
+#endif

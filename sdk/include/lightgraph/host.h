@@ -1,0 +1,327 @@
+/*
+ * lightgraph/host.h: the services the host offers a node.
+ *
+ * Every callback receives an `lg_node *`. Its first field is the host's service table,
+ * `lg_host_api`, a versioned struct of function pointers in the spirit of OpenFX suites:
+ * a plugin never links against the host. The inline functions below (lg_param_float,
+ * lg_input, lg_declare_image, lg_map_cpu, ...) wrap the table and are what plugin code
+ * normally calls.
+ *
+ * Ownership. The host owns every `lg_node`, every resource and every string it hands out;
+ * they stay valid until the node is destroyed unless a function says otherwise. Memory a
+ * plugin allocates is freed by the plugin (in destroy, or by the free callback it gives).
+ *
+ * Errors. lg_error() records a message with the node's name and type; the callback then
+ * returns a negative LG_ERR_* value. Messages say what failed and why, with the value
+ * that was wrong ("backend 'cl': no OpenCL platform found (clGetPlatformIDs: -1001)").
+ *
+ * Devices. A node says in prepare() which device it runs on (lg_set_device). The GL
+ * context and the CL context/queue exist only if some planned node asks for them. An
+ * unavailable device is an error for the node that asked, never a silent fallback.
+ *
+ * Residency. A resource may have a current copy on the CPU, in GL and in CL. Mapping it
+ * for reading on a device where it is not current copies it there (through host memory:
+ * llvmpipe and PoCL share nothing) and counts the bytes against the node that asked.
+ * Mapping for writing makes that device's copy the only current one.
+ *
+ * GL state. A node that uses GL may change any state it needs; the host resets the state
+ * listed in docs/sdk.md ("GL state contract") before each node, and in debug builds checks
+ * after each node that the bindings a node must restore (framebuffer 0, program 0, no
+ * bound image units) are restored.
+ */
+#ifndef LIGHTGRAPH_HOST_H
+#define LIGHTGRAPH_HOST_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lightgraph/config.h"
+#include "lightgraph/plugin.h"
+#include "lightgraph/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct lg_resource lg_resource; /* opaque; owned by the host */
+
+typedef enum lg_log_level {
+    LG_LOG_ERROR = 0,
+    LG_LOG_WARN,
+    LG_LOG_INFO,
+    LG_LOG_DEBUG,
+} lg_log_level;
+
+/* Images: 2D rgba, with an optional float depth plane of the same size. */
+enum { LG_IMAGE_DEPTH = 1u << 0 };
+typedef struct lg_image_desc {
+    uint32_t width, height;
+    lg_format format;
+    uint32_t flags; /* LG_IMAGE_DEPTH */
+    uint32_t reserved[4];
+} lg_image_desc;
+
+typedef struct lg_buffer_desc {
+    size_t size; /* bytes */
+    uint32_t reserved[4];
+} lg_buffer_desc;
+
+typedef struct lg_volume_desc {
+    uint32_t width, height, depth;
+    lg_format format;
+    uint32_t reserved[4];
+} lg_volume_desc;
+
+/* What a resource is. `neutral` is true for the stand-in a gated node yields: consumers
+ * may skip work (an `add` with a neutral zero input copies the other). */
+typedef struct lg_resource_info {
+    lg_resource_kind kind;
+    bool neutral;
+    lg_image_desc image;   /* kind == LG_KIND_IMAGE */
+    lg_buffer_desc buffer; /* kind == LG_KIND_BUFFER */
+    lg_volume_desc volume; /* kind == LG_KIND_VOLUME */
+    const lg_scene_features *scene; /* kind == LG_KIND_SCENE; owned by the resource */
+    const void *payload;   /* kinds whose data the producing plugin owns (scene, ...) */
+    uint32_t reserved[8];
+} lg_resource_info;
+
+/* A CPU mapping of an image or volume: rows of `width` pixels, `row_pixels` apart. */
+typedef struct lg_cpu_view {
+    void *pixels;          /* format as declared; NULL on failure */
+    float *depth;          /* images with LG_IMAGE_DEPTH, else NULL */
+    size_t row_pixels;     /* pixels from one row to the next (== width today) */
+    uint32_t reserved[4];
+} lg_cpu_view;
+
+/* The frame being executed. */
+struct lg_frame {
+    uint32_t index;        /* 0 .. count-1 */
+    uint32_t count;        /* --frames */
+    double time;           /* seconds since frame 0 (index * dt) */
+    double dt;             /* seconds per frame (--dt, default 1/60) */
+    uint32_t width, height;/* render size (--size), for nodes that make images from nothing */
+    uint32_t reserved[8];
+};
+
+typedef struct lg_host_api {
+    size_t struct_size;    /* sizeof(lg_host_api) as the host was built */
+    uint16_t abi_major, abi_minor;
+
+    /* -- messages -- */
+    void (*log)(lg_node *node, lg_log_level level, const char *fmt, va_list ap);
+    void (*error)(lg_node *node, const char *fmt, va_list ap);
+    /* fraction in [0,1]; shown on a terminal, silent otherwise */
+    void (*progress)(lg_node *node, double fraction, const char *what);
+    double (*now)(void); /* monotonic seconds */
+
+    /* -- parameters (validated; indices follow the node type's params array) -- */
+    const lg_value *(*param)(lg_node *node, uint32_t index);
+    int32_t (*param_index)(lg_node *node, const char *key); /* -1 if not declared */
+
+    /* -- ports -- */
+    /* NULL for an unconnected optional input */
+    const lg_resource *(*input)(lg_node *node, uint32_t port);
+    lg_resource *(*output)(lg_node *node, uint32_t port);
+    int (*describe)(const lg_resource *res, lg_resource_info *out);
+
+    /* -- prepare(): declare outputs and how the node runs -- */
+    int (*declare_image)(lg_node *node, uint32_t port, const lg_image_desc *desc);
+    int (*declare_buffer)(lg_node *node, uint32_t port, const lg_buffer_desc *desc);
+    int (*declare_volume)(lg_node *node, uint32_t port, const lg_volume_desc *desc);
+    /* The output is the input, unchanged (no copy). */
+    int (*declare_alias)(lg_node *node, uint32_t out_port, uint32_t in_port);
+    /* Kinds whose data the plugin owns (scene, probe, ...). `payload` is freed by calling
+     * free_payload(payload) when the last consumer is done; both live in the plugin.
+     * `features` is copied. */
+    int (*declare_payload)(lg_node *node, uint32_t port, lg_resource_kind kind,
+                           const lg_scene_features *features, void *payload,
+                           void (*free_payload)(void *payload));
+    int (*set_device)(lg_node *node, lg_device device);
+    void (*set_per_frame)(lg_node *node, bool per_frame);
+    /* Adds bytes (e.g. a file's content hash) to what identifies this node's result in the
+     * cache and in the results of everything downstream. */
+    void (*add_content_key)(lg_node *node, const void *bytes, size_t size);
+
+    /* -- execute(): residency-tracked access -- */
+    int (*map_cpu)(lg_node *node, const lg_resource *res, unsigned access, lg_cpu_view *view);
+    /* GL texture names (GL_TEXTURE_2D for images, GL_TEXTURE_3D for volumes, a buffer
+     * object for buffers); *depth receives the GL_DEPTH_COMPONENT32F texture, or 0. */
+    int (*map_gl)(lg_node *node, const lg_resource *res, unsigned access, uint32_t *name,
+                  uint32_t *depth);
+    /* CL buffers (cl_mem, as void *): pixels tightly packed in the declared format;
+     * *depth receives a float buffer or NULL. */
+    int (*map_cl)(lg_node *node, const lg_resource *res, unsigned access, void **mem,
+                  void **depth);
+
+    /* -- devices -- */
+    /* The GL 4.5 core function table (a GladGLContext, see lightgraph/gl.h) of the current
+     * context, or NULL after reporting why. */
+    const void *(*gl)(lg_node *node);
+    /* cl_context, cl_command_queue (in order, profiling enabled), cl_device_id, or NULL */
+    void *(*cl_context)(lg_node *node);
+    void *(*cl_queue)(lg_node *node);
+    void *(*cl_device)(lg_node *node);
+    /* Builds an OpenCL program once per process (cached by source and options) and returns
+     * the cl_program, owned by the host. `name` is the file name used in messages. On a
+     * build failure, reports the build log and returns NULL. */
+    void *(*cl_program)(lg_node *node, const char *name, const char *source,
+                        const char *options);
+    /* Counts a finished or queued cl_event's execution time as this node's GPU time. The
+     * host retains the event and releases it after reading its profile. */
+    void (*cl_profile)(lg_node *node, void *event);
+    /* Reports a GL error if glGetError() has one, with `what` as context. Returns 0 or
+     * LG_ERR_DEVICE. */
+    int (*gl_check)(lg_node *node, const char *what);
+
+    /* -- on-disk cache for expensive static results --
+     * Keys are scoped by the node's identity (plugin, version, type, parameters and the
+     * identity of every input); `key` distinguishes several entries of one node. Entries
+     * are checksummed; a stale or corrupt entry is reported, removed and treated as a
+     * miss. cache_get returns LG_OK with a malloc'd copy the caller frees with
+     * cache_free, or LG_ERR_NOTFOUND. */
+    int (*cache_get)(lg_node *node, const char *key, void **data, size_t *size);
+    int (*cache_put)(lg_node *node, const char *key, const void *data, size_t size);
+    void (*cache_free)(void *data);
+
+    void *reserved[32];
+} lg_host_api;
+
+/* A node as the host shows it to its plugin. The host owns it. */
+struct lg_node {
+    const lg_host_api *host;
+    const char *name;            /* the graph's name for this node, e.g. "tone" */
+    const lg_node_type *type;
+    void *user;                  /* the plugin's instance state (create .. destroy) */
+    void *reserved[4];
+};
+
+/* ---- convenience wrappers --------------------------------------------------------- */
+
+static inline void lg_log(lg_node *n, lg_log_level level, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static inline void lg_log(lg_node *n, lg_log_level level, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    n->host->log(n, level, fmt, ap);
+    va_end(ap);
+}
+
+/* Reports an error for this node and returns LG_ERR_INVALID, so that
+ * `return lg_error(n, "...")` reads naturally. Use lg_error_code for another code. */
+static inline int lg_error(lg_node *n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static inline int lg_error(lg_node *n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    n->host->error(n, fmt, ap);
+    va_end(ap);
+    return LG_ERR_INVALID;
+}
+
+static inline int lg_error_code(lg_node *n, int code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static inline int lg_error_code(lg_node *n, int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    n->host->error(n, fmt, ap);
+    va_end(ap);
+    return code;
+}
+
+/* Parameters by key. The key must be one the node type declares (else the default of
+ * the type's zero value and an error is logged). */
+static inline const lg_value *lg_param(lg_node *n, const char *key)
+{
+    int32_t i = n->host->param_index(n, key);
+    return i < 0 ? NULL : n->host->param(n, (uint32_t)i);
+}
+static inline double lg_param_float(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v ? v->f : 0.0;
+}
+static inline int64_t lg_param_int(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v ? v->i : 0;
+}
+static inline bool lg_param_bool(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v ? v->b : false;
+}
+static inline const char *lg_param_string(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v ? v->s : "";
+}
+/* LG_PARAM_ENUM: the index into enum_values */
+static inline int lg_param_enum(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v ? v->e : 0;
+}
+
+static inline const lg_resource *lg_input(lg_node *n, uint32_t port)
+{
+    return n->host->input(n, port);
+}
+static inline lg_resource *lg_output(lg_node *n, uint32_t port)
+{
+    return n->host->output(n, port);
+}
+static inline int lg_describe(const lg_resource *r, lg_resource_info *info, lg_node *n)
+{
+    return n->host->describe(r, info);
+}
+static inline int lg_declare_image(lg_node *n, uint32_t port, const lg_image_desc *d)
+{
+    return n->host->declare_image(n, port, d);
+}
+static inline int lg_set_device(lg_node *n, lg_device d)
+{
+    return n->host->set_device(n, d);
+}
+static inline void lg_set_per_frame(lg_node *n, bool per_frame)
+{
+    n->host->set_per_frame(n, per_frame);
+}
+static inline int lg_map_cpu(lg_node *n, const lg_resource *r, unsigned access, lg_cpu_view *v)
+{
+    return n->host->map_cpu(n, r, access, v);
+}
+static inline int lg_map_gl(lg_node *n, const lg_resource *r, unsigned access, uint32_t *name,
+                            uint32_t *depth)
+{
+    return n->host->map_gl(n, r, access, name, depth);
+}
+static inline int lg_map_cl(lg_node *n, const lg_resource *r, unsigned access, void **mem,
+                            void **depth)
+{
+    return n->host->map_cl(n, r, access, mem, depth);
+}
+
+/* Bytes per pixel of a format. */
+static inline size_t lg_format_size(lg_format f)
+{
+    return f == LG_FORMAT_RGBA32F ? 16 : f == LG_FORMAT_RGBA16F ? 8 : f == LG_FORMAT_RGBA8 ? 4 : 0;
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif

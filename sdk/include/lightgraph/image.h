@@ -1,0 +1,151 @@
+/*
+ * lightgraph/image.h: images in memory and in files (SDK helper library, liblightgraph).
+ *
+ * In memory an image is always RGBA float32, row-major, top row first, linear unless
+ * said otherwise. Files: OpenEXR (half and float, RGB and RGBA, every compression
+ * OpenEXR 3 supports, DWAA/DWAB included), Radiance .hdr (RGBE, flat and RLE) and PNG
+ * (8-bit, sRGB-encoded, for display). The format is chosen by the file name's extension
+ * (.exr, .hdr or .pic, .png), case-insensitively.
+ *
+ * Errors. Every function that can fail returns 0 or a negative LG_ERR_* code and writes a
+ * message naming the file and the reason into `err` (`errlen` bytes, always terminated)
+ * when `err` is not NULL.
+ *
+ * Writes are atomic: the data goes to a temporary file beside the target, which is
+ * renamed into place only when complete. A failure never leaves a partial file.
+ *
+ * Thread-safety: all functions are reentrant; distinct images may be used from distinct
+ * threads.
+ */
+#ifndef LIGHTGRAPH_IMAGE_H
+#define LIGHTGRAPH_IMAGE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lightgraph/config.h"
+#include "lightgraph/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* An RGBA float image. `pixels` holds width*height*4 floats and belongs to whoever filled
+ * the struct through lg_image_alloc or lg_image_read: free it with lg_image_free. */
+typedef struct lg_image {
+    uint32_t width, height;
+    float *pixels;
+} lg_image;
+
+/* Allocates a zeroed image. Returns LG_OK or LG_ERR_NOMEM / LG_ERR_INVALID (zero or
+ * absurd sizes: more than 2^28 pixels). */
+LG_API int lg_image_alloc(lg_image *img, uint32_t width, uint32_t height);
+/* Frees the pixels and zeroes the struct. Accepts NULL and an already freed image. */
+LG_API void lg_image_free(lg_image *img);
+
+typedef enum lg_file_format {
+    LG_FILE_UNKNOWN = 0,
+    LG_FILE_EXR,
+    LG_FILE_HDR,
+    LG_FILE_PNG,
+} lg_file_format;
+
+/* The format the extension of `path` names, or LG_FILE_UNKNOWN. */
+LG_API lg_file_format lg_image_format_from_path(const char *path);
+
+/* What a read found, besides the pixels. */
+typedef struct lg_image_read_info {
+    lg_file_format format;
+    uint32_t channels;          /* channels in the file: 3 (RGB), 4 (RGBA), 1 (Y) */
+    uint32_t bits;              /* 16 (half), 32 (float), 8 (PNG, RGBE) */
+    char compression[16];       /* "none", "rle", "zip", "piz", "dwab", ... */
+    uint64_t negatives_clamped; /* radiance reads: pixels with a negative channel, set to 0 */
+    uint64_t nonfinite;         /* pixels with a NaN or Inf channel, as found */
+    uint32_t reserved[8];
+} lg_image_read_info;
+
+enum {
+    /* The image is radiance (light probes, renders): negative values, which lossy
+     * compressions (DWA, B44) produce, are clamped to zero and counted in
+     * negatives_clamped. Without it, pixels are returned as stored. */
+    LG_READ_RADIANCE = 1u << 0,
+};
+
+/* Reads a file into `img` (which the call fills; free with lg_image_free). A file without
+ * alpha gets alpha 1. PNG is decoded from sRGB to linear. `info` may be NULL. */
+LG_API int lg_image_read(const char *path, unsigned flags, lg_image *img,
+                         lg_image_read_info *info, char *err, size_t errlen);
+
+typedef enum lg_exr_pixel { LG_EXR_HALF = 0, LG_EXR_FLOAT } lg_exr_pixel;
+typedef enum lg_exr_compression {
+    LG_EXR_ZIP = 0, /* default: lossless, widely read */
+    LG_EXR_NONE,
+    LG_EXR_RLE,
+    LG_EXR_ZIPS,
+    LG_EXR_PIZ,
+    LG_EXR_PXR24,
+    LG_EXR_B44,
+    LG_EXR_B44A,
+    LG_EXR_DWAA,
+    LG_EXR_DWAB,
+} lg_exr_compression;
+
+/* How to write. Zero means the default for every field. */
+typedef struct lg_image_write_opts {
+    lg_exr_pixel exr_pixel;             /* EXR: half (default) or float */
+    lg_exr_compression exr_compression; /* EXR: ZIP by default */
+    uint32_t channels;                  /* 0 or 4: RGBA; 3: RGB (EXR and PNG) */
+    uint32_t reserved[8];
+} lg_image_write_opts;
+
+/* Writes `img` to `path` atomically, in the format its extension names. `opts` may be
+ * NULL. PNG: values are clamped to [0,1] and sRGB-encoded; NaN writes 0. HDR: see
+ * lg_rgbe_encode for the edge cases. EXR half: values beyond 65504 become Inf, as
+ * OpenEXR's half does. */
+LG_API int lg_image_write(const char *path, const lg_image *img,
+                          const lg_image_write_opts *opts, char *err, size_t errlen);
+
+/* ---- encodings ----------------------------------------------------------------------- */
+
+/* IEEE 754 binary16 <-> binary32, round to nearest even, with denormals, Inf and NaN. */
+LG_API uint16_t lg_half_from_float(float f);
+LG_API float lg_float_from_half(uint16_t h);
+
+/* Ward's RGBE, from frexp: the largest channel's mantissa in [0.5, 1) scaled by 256.
+ * Edge cases, all deliberate:
+ *   - all channels <= 1e-38 (or zero): (0,0,0,0), which decodes to exactly 0;
+ *   - negative channels encode as 0 (RGBE has no sign);
+ *   - NaN channels encode as 0;
+ *   - +Inf, and finite values at or above 2^127 (the largest power RGBE's exponent byte
+ *     can hold is 2^127, mantissa < 1), saturate to the largest representable value,
+ *     (255, 255, 255, 255) scaled per channel, i.e. about 1.7e38 for the largest channel;
+ *   - exact powers of two round trip exactly. */
+LG_API void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4]);
+LG_API void lg_rgbe_decode(const uint8_t rgbe[4], float rgb[3]);
+
+/* sRGB transfer function (IEC 61966-2-1), per channel; input clamped to [0,1]. */
+LG_API float lg_srgb_encode(float linear);
+LG_API float lg_srgb_decode(float encoded);
+
+/* ---- comparison -------------------------------------------------------------------- */
+
+typedef struct lg_image_metrics {
+    double rmse;          /* over RGB channels of all pixels */
+    double psnr;          /* dB, with peak 1.0; +Inf for identical images */
+    double mean_abs;      /* mean absolute error over RGB */
+    double max_abs;       /* maximum absolute error over RGB */
+    double rel_mse;       /* mean of (a-b)^2 / (b^2 + 1e-4) */
+    uint64_t nonfinite;   /* pixels where either image has NaN/Inf (excluded from the above) */
+    uint32_t reserved[8];
+} lg_image_metrics;
+
+/* Compares two images of the same size. With `heatmap` not NULL, fills it (allocating)
+ * with the per-pixel absolute error (max over RGB) mapped through a colour ramp from
+ * black (0) to white (>= heat_max; heat_max <= 0 means the image's maximum error). */
+LG_API int lg_image_compare(const lg_image *a, const lg_image *b, lg_image_metrics *out,
+                            lg_image *heatmap, double heat_max, char *err, size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

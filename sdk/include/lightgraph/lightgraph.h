@@ -1,0 +1,25 @@
+/*
+ * lightgraph/lightgraph.h: the whole plugin SDK but for the optional device headers.
+ *
+ *   lightgraph/config.h   ABI version, export macros (generated)
+ *   lightgraph/types.h    error codes, resource kinds, formats, devices, scene features
+ *   lightgraph/plugin.h   the plugin descriptor: node types, parameters, ports, callbacks
+ *   lightgraph/host.h     the host's services: parameters, resources, devices, cache, log
+ *   lightgraph/image.h    images in memory and in files (EXR, HDR, PNG), metrics
+ *   lightgraph/color.h    luminance and colour helpers
+ *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
+ *   lightgraph/cl.h       OpenCL (optional)
+ *
+ * docs/sdk.md is the plugin author's guide.
+ */
+#ifndef LIGHTGRAPH_LIGHTGRAPH_H
+#define LIGHTGRAPH_LIGHTGRAPH_H
+
+#include "lightgraph/config.h"
+#include "lightgraph/types.h"
+#include "lightgraph/plugin.h"
+#include "lightgraph/host.h"
+#include "lightgraph/image.h"
+#include "lightgraph/color.h"
+
+#endif

@@ -1,0 +1,222 @@
+/*
+ * lightgraph/plugin.h: what a plugin is.
+ *
+ * A plugin is a shared object that exports exactly one symbol, `lg_plugin_entry`, a
+ * function returning a pointer to a constant `lg_plugin_desc`. Everything else a plugin
+ * offers is data in that descriptor: its node types, each with its parameters, its
+ * input and output ports, the scene features it needs to have any work, and four
+ * callbacks (create, prepare, execute, destroy).
+ *
+ *     static const lg_param_desc params[] = {
+ *         { .key = "factor", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
+ *           .doc = "multiplier applied to every channel" },
+ *     };
+ *     static const lg_port_desc inputs[]  = { { .name = "image", .kind = LG_KIND_IMAGE } };
+ *     static const lg_port_desc outputs[] = { { .name = "out",   .kind = LG_KIND_IMAGE } };
+ *     static const lg_node_type types[] = { {
+ *         .struct_size = sizeof(lg_node_type), .name = "scale", .doc = "...",
+ *         LG_PARAMS(params), LG_INPUTS(inputs), LG_OUTPUTS(outputs),
+ *         .prepare = scale_prepare, .execute = scale_execute,
+ *     } };
+ *     LG_PLUGIN_DEFINE("core", "1.0.0", "Basic image nodes", types)
+ *
+ * Lifetime. The host loads a plugin (dlopen) only after planning, and only if a kept,
+ * ungated node of the graph uses one of its types. It keeps the plugin loaded until every
+ * instance and every resource the plugin made is gone. The descriptor and all the data it
+ * points to must stay valid and unchanged for as long as the plugin is loaded.
+ *
+ * Versioning. The descriptor starts with its own size and the ABI version the plugin was
+ * built against (LG_ABI_MAJOR/LG_ABI_MINOR from lightgraph/config.h). The host refuses a
+ * plugin whose major differs from its own or whose minor is newer, naming the file and
+ * both versions. Public structs end in reserved fields that must be zero; a later minor
+ * version may give them a meaning where zero keeps the old behaviour.
+ *
+ * Threading. The host calls every callback of every node from one thread, the thread that
+ * owns the GL context.
+ */
+#ifndef LIGHTGRAPH_PLUGIN_H
+#define LIGHTGRAPH_PLUGIN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "lightgraph/config.h"
+#include "lightgraph/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- Parameters ------------------------------------------------------------------- */
+
+typedef enum lg_param_type {
+    LG_PARAM_BOOL = 1, /* true / false                                        -> v.b    */
+    LG_PARAM_INT,      /* 64-bit integer                                      -> v.i    */
+    LG_PARAM_FLOAT,    /* double                                              -> v.f    */
+    LG_PARAM_VEC2,     /* [x, y]                                              -> v.v[0..1] */
+    LG_PARAM_VEC3,     /* [x, y, z]                                           -> v.v[0..2] */
+    LG_PARAM_COLOR,    /* [r, g, b], linear                                   -> v.v[0..2] */
+    LG_PARAM_STRING,   /* "text"                                              -> v.s    */
+    LG_PARAM_PATH,     /* "file", resolved against the graph file that set it -> v.s    */
+    LG_PARAM_ENUM,     /* one of enum_values; v.e is its index, v.s its name            */
+    LG_PARAM_INT3,     /* [i, j, k]                                           -> v.i3   */
+} lg_param_type;
+
+/* A parameter value. The host owns the strings; they live as long as the node. */
+typedef struct lg_value {
+    lg_param_type type;
+    int32_t e; /* LG_PARAM_ENUM: index into enum_values */
+    union {
+        bool b;
+        int64_t i;
+        double f;
+        double v[4];
+        int64_t i3[3];
+        const char *s; /* STRING, PATH, ENUM */
+    };
+} lg_value;
+
+/* One parameter of a node type, declared as data. Zero means "no": min == max means no
+ * range; a NULL enum_values or renamed_from means none. For vectors and colours the
+ * range applies to every component. */
+typedef struct lg_param_desc {
+    const char *key;                  /* snake_case name used in graph files */
+    lg_param_type type;
+    lg_value def;                     /* default; .type need not be set */
+    double min, max;                  /* inclusive range of numeric values */
+    const char *const *enum_values;   /* LG_PARAM_ENUM: NULL-terminated list */
+    const char *doc;                  /* one line: meaning and unit */
+    const char *const *renamed_from;  /* old keys still accepted, with a warning */
+    void *reserved[4];
+} lg_param_desc;
+
+/* ---- Ports -------------------------------------------------------------------------- */
+
+/* One input or output. In a graph file an input is set like a parameter whose value is a
+ * reference to another node (`image = src` or `image = src.out`). */
+typedef struct lg_port_desc {
+    const char *name;
+    lg_resource_kind kind;
+    bool optional;   /* inputs only: may be left unconnected (the host passes NULL) */
+    const char *doc;
+    void *reserved[2];
+} lg_port_desc;
+
+/* ---- Node types ------------------------------------------------------------------------ */
+
+/* Scene features a node needs to have anything to do (all of them). A kept node whose
+ * needs the scene upstream of it does not meet is gated: it never runs, its plugin is
+ * never loaded, and its outputs are its neutral result (see lg_neutral). */
+enum {
+    LG_NEEDS_GEOMETRY    = 1u << 0, /* at least one triangle */
+    LG_NEEDS_LIGHT       = 1u << 1, /* at least one light of any type */
+    LG_NEEDS_DIR_LIGHT   = 1u << 2, /* at least one directional light */
+    LG_NEEDS_POINT_LIGHT = 1u << 3, /* at least one point light */
+    LG_NEEDS_MEDIUM      = 1u << 4, /* a participating medium with density > 0 */
+    LG_NEEDS_PROBE       = 1u << 5, /* a light probe */
+    LG_NEEDS_SPECULAR    = 1u << 6, /* a material with a non-zero specular term */
+};
+
+/* What stands in for a gated node's outputs. */
+typedef enum lg_neutral {
+    LG_NEUTRAL_ZERO = 0,    /* images: black, at the size of the first image input, or the
+                             * render size; other kinds: an empty resource */
+    LG_NEUTRAL_PASSTHROUGH, /* every output is the input named by neutral_input */
+} lg_neutral;
+
+/* Node type flags. */
+enum {
+    /* The node has an effect outside the graph (writes a file, presents a window): it is
+     * kept even when no output statement reaches it. */
+    LG_NODE_SIDE_EFFECT = 1u << 0,
+    /* The node's result depends on the frame (time, state carried between frames): it
+     * runs every frame even when its inputs do not change. prepare() may also decide this
+     * per instance with lg_set_per_frame(). */
+    LG_NODE_PER_FRAME = 1u << 1,
+};
+
+typedef struct lg_node lg_node; /* a node instance, as the host shows it (lightgraph/host.h) */
+typedef struct lg_frame lg_frame;
+
+/* Callbacks. All return 0 on success or a negative LG_ERR_* code after reporting the
+ * reason with lg_error(); the host then stops with exit status 1 and names the node.
+ *
+ * create:  make the instance state from the (validated) parameters, read with
+ *          lg_param_*(). Store it in node->user. Optional (node->user stays NULL).
+ * prepare: read the descriptions of the inputs, declare every output (lg_declare_*), say
+ *          which device the node runs on (lg_set_device) and whether it runs per frame.
+ *          No GPU work here. Called once, after all upstream nodes are prepared.
+ * execute: do the frame's work: map inputs for reading and outputs for writing on the
+ *          device of choice and fill the outputs. Called once per frame for per-frame
+ *          nodes, once in all for the others.
+ * destroy: free node->user. Called once, even after a failed create or prepare; may find
+ *          node->user NULL. GL and CL objects may be deleted here (the context is
+ *          current). */
+typedef int (*lg_create_fn)(lg_node *node);
+typedef int (*lg_prepare_fn)(lg_node *node);
+typedef int (*lg_execute_fn)(lg_node *node, const lg_frame *frame);
+typedef void (*lg_destroy_fn)(lg_node *node);
+
+typedef struct lg_node_type {
+    size_t struct_size; /* sizeof(lg_node_type) */
+    const char *name;   /* unique across all plugins: [a-z][a-z0-9_]* */
+    const char *doc;    /* one line */
+    const lg_param_desc *params;
+    uint32_t n_params;
+    const lg_port_desc *inputs;
+    uint32_t n_inputs;
+    const lg_port_desc *outputs;
+    uint32_t n_outputs;
+    uint32_t needs;        /* LG_NEEDS_* */
+    uint32_t flags;        /* LG_NODE_* */
+    lg_neutral neutral;    /* what a gated node yields */
+    uint32_t neutral_input;/* LG_NEUTRAL_PASSTHROUGH: index of the input passed through */
+    lg_create_fn create;
+    lg_prepare_fn prepare;
+    lg_execute_fn execute;
+    lg_destroy_fn destroy;
+    void *reserved[8];
+} lg_node_type;
+
+#define LG_PARAMS(a) .params = (a), .n_params = (uint32_t)(sizeof(a) / sizeof((a)[0]))
+#define LG_INPUTS(a) .inputs = (a), .n_inputs = (uint32_t)(sizeof(a) / sizeof((a)[0]))
+#define LG_OUTPUTS(a) .outputs = (a), .n_outputs = (uint32_t)(sizeof(a) / sizeof((a)[0]))
+
+/* ---- The plugin descriptor --------------------------------------------------------- */
+
+typedef struct lg_plugin_desc {
+    size_t struct_size;    /* sizeof(lg_plugin_desc) as the plugin was built */
+    uint16_t abi_major;    /* LG_ABI_MAJOR */
+    uint16_t abi_minor;    /* LG_ABI_MINOR */
+    const char *name;      /* [a-z][a-z0-9_]*, the plugin's folder name */
+    const char *version;   /* the plugin's own version; part of every cache key */
+    const char *doc;       /* one line */
+    const lg_node_type *types;
+    uint32_t n_types;
+    void *reserved[8];
+} lg_plugin_desc;
+
+/* The one symbol a plugin exports. */
+#define LG_PLUGIN_ENTRY_NAME "lg_plugin_entry"
+typedef const lg_plugin_desc *(*lg_plugin_entry_fn)(void);
+
+/* Defines the descriptor and the entry symbol. Use once per plugin, at file scope. */
+#define LG_PLUGIN_DEFINE(name_, version_, doc_, types_)                                    \
+    static const lg_plugin_desc lg_plugin_desc_ = {                                        \
+        .struct_size = sizeof(lg_plugin_desc),                                             \
+        .abi_major = LG_ABI_MAJOR,                                                         \
+        .abi_minor = LG_ABI_MINOR,                                                         \
+        .name = (name_),                                                                   \
+        .version = (version_),                                                             \
+        .doc = (doc_),                                                                     \
+        .types = (types_),                                                                 \
+        .n_types = (uint32_t)(sizeof(types_) / sizeof((types_)[0])),                       \
+    };                                                                                     \
+    LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void);                          \
+    LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void) { return &lg_plugin_desc_; }
+
+#ifdef __cplusplus
+}
+#endif
+#endif
