@@ -1,1 +1,184 @@
-/* placeholder: being written */
+/* The on-disk cache for expensive static results.
+ *
+ * Directory: $LIGHTGRAPH_CACHE_DIR, else $XDG_CACHE_HOME/lightgraph, else
+ * ~/.cache/lightgraph. One file per entry, named by a digest of the node's identity (plugin,
+ * version, type, parameters, content keys, inputs' identities) and the entry key, so a
+ * change to any of them looks up another file: stale entries are never found. The file
+ * repeats the identity and key and carries the payload size and a checksum; an entry whose
+ * header, size or checksum disagrees is corrupt: reported, removed, and treated as a miss.
+ *
+ *   "LGCACHE\1" | u32 format version | 16 bytes identity | u32 key length | key
+ *   | u64 payload size | u64 payload checksum | payload
+ */
+#include "host.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define CACHE_MAGIC "LGCACHE\1"
+#define CACHE_VERSION 1u
+#define CACHE_MAX_KEY 1024u
+
+char *lg_cache_dir(void)
+{
+    const char *e = getenv("LIGHTGRAPH_CACHE_DIR");
+    if (e && *e)
+        return lg_xstrdup(e);
+    e = getenv("XDG_CACHE_HOME");
+    if (e && *e)
+        return lg_xasprintf("%s/lightgraph", e);
+    e = getenv("HOME");
+    return lg_xasprintf("%s/.cache/lightgraph", e && *e ? e : "/tmp");
+}
+
+static int mkdir_p(const char *dir)
+{
+    char *d = lg_xstrdup(dir);
+    int rc = 0;
+    for (char *p = d + 1;; p++) {
+        if (*p == '/' || !*p) {
+            char c = *p;
+            *p = 0;
+            if (mkdir(d, 0777) != 0 && errno != EEXIST) {
+                rc = -1;
+                break;
+            }
+            *p = c;
+            if (!c)
+                break;
+        }
+    }
+    free(d);
+    return rc;
+}
+
+static char *entry_path(lg_exec *ex, lg_pnode *n, const char *key)
+{
+    if (!ex->cache_dir)
+        ex->cache_dir = lg_cache_dir();
+    lg_digest d = n->identity;
+    lg_digest_add_str(&d, key);
+    char hex[33];
+    lg_digest_hex(&d, hex);
+    return lg_xasprintf("%s/%s-%s.lgc", ex->cache_dir, n->schema->name, hex);
+}
+
+static bool key_ok(lg_pnode *n, const char *key)
+{
+    if (!key || strlen(key) > CACHE_MAX_KEY) {
+        lg_node_errorf(n, "cache key missing or longer than %u bytes", CACHE_MAX_KEY);
+        return false;
+    }
+    return true;
+}
+
+int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    if (!key_ok(n, key))
+        return LG_ERR_INVALID;
+    char *path = entry_path(ex, n, key);
+    size_t len = 0;
+    char *buf = lg_read_file(path, &len);
+    if (!buf) {
+        free(path);
+        n->cache_misses++;
+        return LG_ERR_NOTFOUND;
+    }
+    const char *why = NULL;
+    size_t klen = strlen(key);
+    size_t head = 8 + 4 + 16 + 4 + klen + 8 + 8;
+    uint32_t ver = 0, kl = 0;
+    uint64_t psize = 0, sum = 0;
+    if (len < head || memcmp(buf, CACHE_MAGIC, 8) != 0) {
+        why = "bad header";
+    } else {
+        memcpy(&ver, buf + 8, 4);
+        memcpy(&kl, buf + 28, 4);
+        if (ver != CACHE_VERSION)
+            why = "written by another cache format version";
+        else if (memcmp(buf + 12, &n->identity, 16) != 0)
+            why = "its identity does not match (stale)";
+        else if (kl != klen || memcmp(buf + 32, key, klen) != 0)
+            why = "its key does not match";
+        else {
+            memcpy(&psize, buf + 32 + klen, 8);
+            memcpy(&sum, buf + 40 + klen, 8);
+            if (psize != len - head)
+                why = "truncated or padded";
+            else if (lg_hash64(buf + head, psize, 0) != sum)
+                why = "checksum mismatch";
+        }
+    }
+    if (why) {
+        lg_hlog(LG_HWARN, "node '%s': cache entry %s is corrupt (%s); removing it and recomputing",
+                n->pub.name, path, why);
+        remove(path);
+        free(buf);
+        free(path);
+        n->cache_misses++;
+        return LG_ERR_NOTFOUND;
+    }
+    void *out = malloc(psize ? psize : 1);
+    if (!out) {
+        free(buf);
+        free(path);
+        return LG_ERR_NOMEM;
+    }
+    memcpy(out, buf + head, psize);
+    free(buf);
+    lg_hlog(LG_HINFO, "node '%s': cache hit %s (%llu bytes)", n->pub.name, path,
+            (unsigned long long)psize);
+    free(path);
+    *data = out;
+    *size = psize;
+    n->cache_hits++;
+    return LG_OK;
+}
+
+int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+{
+    if (!key_ok(n, key))
+        return LG_ERR_INVALID;
+    if (!data && size)
+        return lg_node_errorf(n, "cache_put with NULL data"), LG_ERR_INVALID;
+    char *path = entry_path(ex, n, key);
+    if (mkdir_p(ex->cache_dir) != 0) {
+        lg_hlog(LG_HWARN, "node '%s': cannot create cache directory %s: %s", n->pub.name,
+                ex->cache_dir, strerror(errno));
+        free(path);
+        return LG_ERR_IO;
+    }
+    lg_str b = {0};
+    uint32_t ver = CACHE_VERSION, kl = (uint32_t)strlen(key);
+    uint64_t psize = size, sum = lg_hash64(data, size, 0);
+    lg_str_addn(&b, CACHE_MAGIC, 8);
+    lg_str_addn(&b, (const char *)&ver, 4);
+    lg_str_addn(&b, (const char *)&n->identity, 16);
+    lg_str_addn(&b, (const char *)&kl, 4);
+    lg_str_addn(&b, key, kl);
+    lg_str_addn(&b, (const char *)&psize, 8);
+    lg_str_addn(&b, (const char *)&sum, 8);
+    if (size)
+        lg_str_addn(&b, data, size);
+    char *tmp = lg_xasprintf("%s.tmp%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    int rc = 0;
+    bool ok = f && fwrite(b.s, 1, b.len, f) == b.len;
+    if (f && fclose(f) != 0)
+        ok = false;
+    if (!ok || rename(tmp, path) != 0) {
+        lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,
+                strerror(errno));
+        remove(tmp);
+        rc = LG_ERR_IO;
+    }
+    free(tmp);
+    free(path);
+    lg_str_free(&b);
+    return rc;
+}

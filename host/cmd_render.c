@@ -1,1 +1,290 @@
-/* placeholder: being written */
+/* lightgraph render | check | fmt | dot. Exit status: 0 success, 1 failure while running,
+ * 2 bad usage or bad graph. */
+#include "host.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "lightgraph/image.h"
+
+typedef struct args {
+    const char *cmd;
+    const char *graph;
+    const char *out;
+    const char **sets;
+    int n_sets;
+    lg_exec_opts opts;
+    bool in_place;
+} args;
+
+static int usage(const char *cmd, const char *fmt, const char *what)
+{
+    if (fmt)
+        fprintf(stderr, fmt, what);
+    fprintf(stderr,
+            "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
+            "                 [--frames N] [--dt SECONDS] [--gl osmesa|egl] [--explain]\n"
+            "                 [--profile] [--profile-json FILE] [-v|-q]\n"
+            "(see lightgraph help)\n",
+            cmd);
+    return 2;
+}
+
+static bool parse_uint(const char *s, uint32_t *out, uint32_t max)
+{
+    char *end;
+    errno = 0;
+    unsigned long v = strtoul(s, &end, 10);
+    if (errno || end == s || *end || v == 0 || v > max || s[0] == '-')
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+static int parse_args(int argc, char **argv, args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->cmd = argv[0];
+    a->opts.width = 640;
+    a->opts.height = 360;
+    a->opts.frames = 1;
+    a->opts.dt = 1.0 / 60.0;
+    a->opts.gl_backend = "osmesa";
+    a->sets = lg_xcalloc((size_t)argc + 1, sizeof *a->sets);
+    for (int i = 1; i < argc; i++) {
+        const char *s = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEEDV()                                                                            \
+    do {                                                                                   \
+        if (!v)                                                                            \
+            return usage(a->cmd, "lightgraph: %s needs a value\n", s);                     \
+        i++;                                                                               \
+    } while (0)
+        if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
+            NEEDV();
+            a->out = v;
+        } else if (strcmp(s, "--set") == 0) {
+            NEEDV();
+            a->sets[a->n_sets++] = v;
+        } else if (strncmp(s, "--set=", 6) == 0) {
+            a->sets[a->n_sets++] = s + 6;
+        } else if (strcmp(s, "--size") == 0) {
+            NEEDV();
+            char *x = strchr(v, 'x');
+            char *wd = x ? lg_xstrndup(v, (size_t)(x - v)) : NULL;
+            bool ok = x && parse_uint(wd, &a->opts.width, 16384) &&
+                      parse_uint(x + 1, &a->opts.height, 16384);
+            free(wd);
+            if (!ok)
+                return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n",
+                             v);
+        } else if (strcmp(s, "--frames") == 0) {
+            NEEDV();
+            if (!parse_uint(v, &a->opts.frames, 1000000))
+                return usage(a->cmd, "lightgraph: --frames wants 1..1000000 (got '%s')\n", v);
+        } else if (strcmp(s, "--dt") == 0) {
+            NEEDV();
+            char *end;
+            double d = strtod(v, &end);
+            /* a fraction such as 1/60 is the natural way to write a frame time */
+            if (*end == '/') {
+                char *end2;
+                double den = strtod(end + 1, &end2);
+                d = (*end2 == 0 && den > 0) ? d / den : -1;
+                end = end2;
+            }
+            if (*end || !(d > 0 && d <= 3600))
+                return usage(a->cmd, "lightgraph: --dt wants seconds in (0, 3600] (got '%s')\n",
+                             v);
+            a->opts.dt = d;
+        } else if (strcmp(s, "--gl") == 0) {
+            NEEDV();
+            if (strcmp(v, "osmesa") && strcmp(v, "egl"))
+                return usage(a->cmd, "lightgraph: --gl wants osmesa or egl (got '%s')\n", v);
+            a->opts.gl_backend = v;
+        } else if (strcmp(s, "--explain") == 0) {
+            a->opts.explain = true;
+        } else if (strcmp(s, "--profile") == 0) {
+            a->opts.profile = true;
+        } else if (strcmp(s, "--profile-json") == 0) {
+            NEEDV();
+            a->opts.profile_json = v;
+        } else if (strcmp(s, "-v") == 0) {
+            lg_verbosity++;
+        } else if (strcmp(s, "-q") == 0) {
+            lg_verbosity = -1;
+        } else if (strcmp(s, "-i") == 0 && strcmp(a->cmd, "fmt") == 0) {
+            a->in_place = true;
+        } else if (s[0] == '-' && s[1]) {
+            return usage(a->cmd, "lightgraph: unknown option '%s'\n", s);
+        } else if (!a->graph) {
+            a->graph = s;
+        } else {
+            return usage(a->cmd, "lightgraph: unexpected argument '%s'\n", s);
+        }
+#undef NEEDV
+    }
+    if (!a->graph)
+        return usage(a->cmd, "lightgraph %s: no graph file given\n", a->cmd);
+    a->opts.graph_path = a->graph;
+    return 0;
+}
+
+/* Parse, apply overrides, scan plugins, check. Returns 0 or 2 (diagnostics printed). */
+static int load(args *a, lg_graph **g, lg_registry *reg, lg_checked **c, bool need_check)
+{
+    lg_diags d = {0};
+    *g = lg_graph_parse_file(a->graph, &d);
+    for (int i = 0; *g && i < a->n_sets; i++)
+        lg_graph_set(*g, a->sets[i], &d);
+    if (*g && !d.errors && need_check) {
+        lg_registry_scan(reg);
+        lg_schema schema;
+        lg_registry_schema(reg, &schema);
+        *c = lg_graph_check(*g, &schema, &d);
+        if (!*c && reg->n_refused)
+            for (uint32_t i = 0; i < reg->n_refused; i++)
+                fprintf(stderr, "note: plugin %s was refused: %s\n", reg->refused[i].path,
+                        reg->refused[i].reason);
+    }
+    lg_diags_print(&d, stderr);
+    int rc = (!*g || d.errors || (need_check && !*c)) ? 2 : 0;
+    lg_diags_free(&d);
+    return rc;
+}
+
+int lg_cmd_render(int argc, char **argv)
+{
+    args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc;
+    lg_graph *g = NULL;
+    lg_checked *c = NULL;
+    lg_registry reg = {0};
+    rc = load(&a, &g, &reg, &c, true);
+    if (rc == 0 && a.out) {
+        if (c->n_outputs != 1) {
+            fprintf(stderr,
+                    "lightgraph render: -o replaces the graph's output file, but %s has %u "
+                    "output statements; -o needs exactly one\n",
+                    a.graph, c->n_outputs);
+            rc = 2;
+        } else if (lg_image_format_from_path(a.out) == LG_FILE_UNKNOWN) {
+            fprintf(stderr, "lightgraph render: -o %s: unknown image format (use .png, .exr or "
+                            ".hdr)\n",
+                    a.out);
+            rc = 2;
+        }
+        a.opts.output_override = a.out;
+    }
+    if (rc == 0 && c->n_outputs == 0) {
+        fprintf(stderr, "lightgraph render: %s has no output statement, so nothing would run\n",
+                a.graph);
+        rc = 2;
+    }
+    if (rc == 0) {
+        lg_exec ex;
+        memset(&ex, 0, sizeof ex);
+        ex.opts = a.opts;
+        ex.reg = &reg;
+        ex.graph = g;
+        ex.checked = c;
+        rc = lg_plan(&ex) ? 1 : 0;
+        if (a.opts.explain && ex.nodes)
+            lg_explain_print(&ex, stdout);
+        if (rc == 0)
+            rc = lg_execute(&ex) ? 1 : 0;
+        if (ex.nodes && ex.failed == false && rc == 0) {
+            if (a.opts.profile)
+                lg_profile_print(&ex, stdout);
+            if (a.opts.profile_json && lg_profile_write_json(&ex, a.opts.profile_json))
+                rc = 1;
+        }
+        fflush(stdout);
+        lg_exec_free(&ex);
+    }
+    lg_checked_free(c);
+    lg_graph_free(g);
+    lg_registry_free(&reg);
+    free(a.sets);
+    return rc;
+}
+
+int lg_cmd_check(int argc, char **argv)
+{
+    args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc;
+    lg_graph *g = NULL;
+    lg_checked *c = NULL;
+    lg_registry reg = {0};
+    rc = load(&a, &g, &reg, &c, true);
+    if (rc == 0)
+        printf("%s: ok (%u nodes, %u outputs)\n", a.graph, c->n_nodes, c->n_outputs);
+    lg_checked_free(c);
+    lg_graph_free(g);
+    lg_registry_free(&reg);
+    free(a.sets);
+    return rc;
+}
+
+int lg_cmd_fmt(int argc, char **argv)
+{
+    args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc;
+    lg_graph *g = NULL;
+    lg_checked *c = NULL;
+    lg_registry reg = {0};
+    rc = load(&a, &g, &reg, &c, false);
+    if (rc == 0) {
+        char *text = lg_graph_format(g);
+        if (!a.in_place) {
+            fputs(text, stdout);
+        } else {
+            char *tmp = lg_xasprintf("%s.fmt%ld", a.graph, (long)getpid());
+            FILE *f = fopen(tmp, "wb");
+            bool ok = f && fputs(text, f) >= 0;
+            if (f && fclose(f) != 0)
+                ok = false;
+            if (!ok || rename(tmp, a.graph) != 0) {
+                fprintf(stderr, "lightgraph fmt: cannot write %s: %s\n", a.graph,
+                        strerror(errno));
+                remove(tmp);
+                rc = 1;
+            }
+            free(tmp);
+        }
+        free(text);
+    }
+    lg_graph_free(g);
+    free(a.sets);
+    return rc;
+}
+
+int lg_cmd_dot(int argc, char **argv)
+{
+    args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc)
+        return rc;
+    lg_graph *g = NULL;
+    lg_checked *c = NULL;
+    lg_registry reg = {0};
+    rc = load(&a, &g, &reg, &c, true);
+    if (rc == 0) {
+        char *text = lg_graph_dot(g, c);
+        fputs(text, stdout);
+        free(text);
+    }
+    lg_checked_free(c);
+    lg_graph_free(g);
+    lg_registry_free(&reg);
+    free(a.sets);
+    return rc;
+}

@@ -1,1 +1,175 @@
-/* placeholder: being written */
+/*
+ * host/diag.c: diagnostics (collect, print) and did-you-mean suggestions.
+ */
+#include "graph.h"
+
+#include <ctype.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util.h"
+
+void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line_text,
+                  const char *fmt, ...)
+{
+    if (d->n == d->cap) {
+        d->cap = d->cap ? d->cap * 2 : 16;
+        d->items = lg_xrealloc(d->items, d->cap * sizeof *d->items);
+    }
+    va_list ap, ap2;
+    va_start(ap, fmt);
+    va_copy(ap2, ap);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    char *msg = lg_xmalloc((size_t)(n < 0 ? 0 : n) + 1);
+    vsnprintf(msg, (size_t)(n < 0 ? 0 : n) + 1, fmt, ap2);
+    va_end(ap2);
+
+    lg_diag *g = &d->items[d->n++];
+    g->level = level;
+    g->loc = loc;
+    /* The diagnostics outlive the graph whose pool holds the file name. */
+    g->loc.file = loc.file ? lg_xstrdup(loc.file) : NULL;
+    g->message = msg;
+    g->line_text = line_text ? lg_xstrdup(line_text) : NULL;
+    if (level == LG_DIAG_ERROR)
+        d->errors++;
+}
+
+static const char *level_name(lg_diag_level l)
+{
+    switch (l) {
+    case LG_DIAG_WARNING: return "warning";
+    case LG_DIAG_NOTE: return "note";
+    default: return "error";
+    }
+}
+
+/* The caret line: white space under the text before the column (tabs copied so the caret
+ * lines up in a terminal; one column per UTF-8 character), then ^~~~ under `len` bytes. */
+static void print_caret(FILE *f, const char *line, uint32_t col, uint32_t len)
+{
+    size_t n = strlen(line);
+    size_t start = col > 0 ? col - 1 : 0;
+    if (start > n)
+        start = n;
+    for (size_t i = 0; i < start; i++) {
+        unsigned char c = (unsigned char)line[i];
+        if ((c & 0xC0) == 0x80)
+            continue;
+        fputc(c == '\t' ? '\t' : ' ', f);
+    }
+    fputc('^', f);
+    size_t end = start + (len > 0 ? len : 1);
+    if (end > n)
+        end = n > start ? n : start + 1;
+    for (size_t i = start + 1; i < end; i++) {
+        if (((unsigned char)line[i] & 0xC0) == 0x80)
+            continue;
+        fputc('~', f);
+    }
+    fputc('\n', f);
+}
+
+void lg_diags_print(const lg_diags *d, FILE *f)
+{
+    for (uint32_t i = 0; i < d->n; i++) {
+        const lg_diag *g = &d->items[i];
+        if (g->loc.file && g->loc.line > 0)
+            fprintf(f, "%s:%u:%u: ", g->loc.file, g->loc.line, g->loc.col);
+        else if (g->loc.file)
+            fprintf(f, "%s: ", g->loc.file);
+        fprintf(f, "%s: %s\n", level_name(g->level), g->message);
+        if (g->line_text && g->loc.line > 0) {
+            fprintf(f, "%s\n", g->line_text);
+            print_caret(f, g->line_text, g->loc.col, g->loc.len);
+        }
+    }
+}
+
+void lg_diags_free(lg_diags *d)
+{
+    for (uint32_t i = 0; i < d->n; i++) {
+        free((char *)d->items[i].loc.file);
+        free(d->items[i].message);
+        free(d->items[i].line_text);
+    }
+    free(d->items);
+    memset(d, 0, sizeof *d);
+}
+
+/* ---- did-you-mean -------------------------------------------------------------------- */
+
+/* Words longer than this get no suggestion: nobody mistypes a 65-letter name by a few
+ * letters, and the distance is quadratic in the length. */
+#define SUGGEST_MAX_LEN 64
+
+/* Optimal string alignment distance (Damerau-Levenshtein where a substring is edited at
+ * most once), case-insensitive, stopping early once every cell of a row exceeds `limit`. */
+static size_t osa_distance(const char *a, size_t na, const char *b, size_t nb, size_t limit)
+{
+    size_t rows[3][SUGGEST_MAX_LEN + 1];
+    size_t *prev2 = rows[0], *prev = rows[1], *cur = rows[2];
+    for (size_t j = 0; j <= nb; j++)
+        prev[j] = j;
+    for (size_t i = 1; i <= na; i++) {
+        cur[0] = i;
+        size_t row_min = cur[0];
+        int ca = tolower((unsigned char)a[i - 1]);
+        for (size_t j = 1; j <= nb; j++) {
+            int cb = tolower((unsigned char)b[j - 1]);
+            size_t cost = ca == cb ? 0 : 1;
+            size_t v = prev[j] + 1;
+            if (cur[j - 1] + 1 < v)
+                v = cur[j - 1] + 1;
+            if (prev[j - 1] + cost < v)
+                v = prev[j - 1] + cost;
+            if (i > 1 && j > 1 && ca == tolower((unsigned char)b[j - 2]) &&
+                tolower((unsigned char)a[i - 2]) == cb && prev2[j - 2] + 1 < v)
+                v = prev2[j - 2] + 1;
+            cur[j] = v;
+            if (v < row_min)
+                row_min = v;
+        }
+        if (row_min > limit)
+            return limit + 1;
+        size_t *t = prev2;
+        prev2 = prev;
+        prev = cur;
+        cur = t;
+    }
+    return prev[nb];
+}
+
+const char *lg_suggest(const char *word, const char *const *names, uint32_t n)
+{
+    size_t nw = word ? strlen(word) : 0;
+    if (nw == 0 || nw > SUGGEST_MAX_LEN)
+        return NULL;
+    /* One edit for short words, a third of the letters for longer ones: 'kye' -> 'key',
+     * 'reinhardd' -> 'reinhard', while 'foo' is not offered 'key'. */
+    size_t limit = nw / 3 > 1 ? nw / 3 : 1;
+    const char *best = NULL;
+    size_t best_d = limit + 1;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!names[i])
+            continue;
+        size_t nn = strlen(names[i]);
+        if (nn == 0 || nn > SUGGEST_MAX_LEN)
+            continue;
+        size_t diff = nn > nw ? nn - nw : nw - nn;
+        if (diff >= best_d)
+            continue;
+        size_t dist = osa_distance(word, nw, names[i], nn, best_d - 1);
+        if (dist < best_d) {
+            best_d = dist;
+            best = names[i];
+        }
+    }
+    /* A word that only differs from itself in case is still worth pointing out, but an
+     * exact match is no suggestion at all. */
+    if (best && strcmp(best, word) == 0)
+        return NULL;
+    return best;
+}

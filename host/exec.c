@@ -1,1 +1,319 @@
-/* placeholder: being written */
+/* Execution: frames, timing, output files, teardown. */
+#include "host.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include "lightgraph/image.h"
+
+static void read_cl_events(lg_pnode *n)
+{
+    if (!n->n_cl_events)
+        return;
+    clWaitForEvents(n->n_cl_events, (const cl_event *)n->cl_events);
+    for (uint32_t i = 0; i < n->n_cl_events; i++) {
+        cl_ulong start = 0, end = 0;
+        cl_event ev = (cl_event)n->cl_events[i];
+        if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start, &start,
+                                    NULL) == CL_SUCCESS &&
+            clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof end, &end, NULL) ==
+                CL_SUCCESS &&
+            end >= start)
+            n->gpu_ms += (double)(end - start) * 1e-6;
+        clReleaseEvent(ev);
+    }
+    n->n_cl_events = 0;
+}
+
+static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
+{
+    const GladGLContext *gl = ex->gl ? lg_gl_device_table(ex->gl) : NULL;
+    bool timed_gl = gl && n->device == LG_DEVICE_GL;
+    if (gl)
+        lg_gl_state_reset(gl);
+    if (timed_gl)
+        gl->BeginQuery(GL_TIME_ELAPSED, ex->gl_timer_query);
+    double t0 = lg_now();
+    int rc = n->pub.type->execute(&n->pub, frame);
+    if (timed_gl) {
+        gl->EndQuery(GL_TIME_ELAPSED);
+        /* waits for the node's GL work: the CPU time below then includes it, as a user
+         * timing the frame would see */
+        GLuint64 ns = 0;
+        gl->GetQueryObjectui64v(ex->gl_timer_query, GL_QUERY_RESULT, &ns);
+        n->gpu_ms += (double)ns * 1e-6;
+    }
+    if (ex->cl && n->device == LG_DEVICE_CL)
+        clFinish((cl_command_queue)lg_cl_device_queue(ex->cl));
+    read_cl_events(n);
+    n->cpu_ms += (lg_now() - t0) * 1e3;
+    n->runs++;
+    n->ran = true;
+    if (rc == 0 && gl)
+        rc = ex->api.gl_check(&n->pub, "executing");
+#ifdef LG_DEBUG_CHECKS
+    if (rc == 0 && gl) {
+        char err[1024];
+        if (lg_gl_state_check(gl, err, sizeof err)) {
+            lg_node_errorf(n, "left GL state behind (see docs/sdk.md, the GL state contract): %s",
+                           err);
+            rc = LG_ERR_DEVICE;
+        }
+    }
+#endif
+    if (rc == 0 && ex->failed)
+        rc = LG_ERR_INVALID;
+    if (rc != 0 && !ex->failed)
+        lg_node_errorf(n, "execute() failed without saying why (code %d)", rc);
+    return rc;
+}
+
+static int mkdirs_for(const char *path, char *err, size_t errlen)
+{
+    char *dir = lg_path_dirname(path);
+    int rc = 0;
+    for (char *p = dir + 1; ; p++) {
+        if (*p == '/' || *p == 0) {
+            char c = *p;
+            *p = 0;
+            if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+                snprintf(err, errlen, "cannot create directory %s: %s", dir, strerror(errno));
+                rc = -1;
+                break;
+            }
+            *p = c;
+            if (!c)
+                break;
+        }
+    }
+    free(dir);
+    return rc;
+}
+
+static int write_outputs(lg_exec *ex)
+{
+    const lg_checked *c = ex->checked;
+    int rc = 0;
+    for (uint32_t i = 0; i < c->n_outputs; i++) {
+        const lg_coutput *o = &c->outputs[i];
+        const char *path = ex->opts.output_override ? ex->opts.output_override : o->path;
+        lg_pnode *n = &ex->nodes[o->node];
+        lg_resource *r = n->outputs[o->port];
+        char err[1024];
+        float *px = NULL;
+        if (lg_resource_to_rgba32f(ex, r, &px, err, sizeof err)) {
+            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
+                    n->pub.name, path, err);
+            rc = -1;
+            continue;
+        }
+        lg_image img = {r->image.width, r->image.height, px};
+        if (mkdirs_for(path, err, sizeof err) ||
+            lg_image_write(path, &img, NULL, err, sizeof err)) {
+            lg_hlog(LG_HERR, "%s", err);
+            rc = -1;
+        } else {
+            lg_hlog(LG_HINFO, "wrote %s (%ux%u)", path, img.width, img.height);
+        }
+        free(px);
+    }
+    return rc;
+}
+
+int lg_execute(lg_exec *ex)
+{
+    const lg_checked *c = ex->checked;
+    double t0 = lg_now();
+    uint32_t frames = ex->opts.frames ? ex->opts.frames : 1;
+    for (uint32_t f = 0; f < frames; f++) {
+        lg_frame frame;
+        memset(&frame, 0, sizeof frame);
+        frame.index = f;
+        frame.count = frames;
+        frame.dt = ex->opts.dt;
+        frame.time = f * ex->opts.dt;
+        frame.width = ex->opts.width;
+        frame.height = ex->opts.height;
+        ex->frame = f;
+        for (uint32_t t = 0; t < c->n_nodes; t++) {
+            lg_pnode *n = &ex->nodes[c->topo[t]];
+            if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame))
+                continue;
+            if (run_node(ex, n, &frame))
+                return -1;
+        }
+    }
+    int rc = write_outputs(ex);
+    ex->t_total_ms = (lg_now() - t0) * 1e3;
+    return rc;
+}
+
+static const char *state_name(lg_node_state s)
+{
+    return s == LG_STATE_KEPT ? "kept" : s == LG_STATE_CULLED ? "culled" : "gated";
+}
+
+static const char *device_name(lg_device d)
+{
+    return d == LG_DEVICE_GL ? "gl" : d == LG_DEVICE_CL ? "cl" : "cpu";
+}
+
+static const char *format_name(lg_format f)
+{
+    return f == LG_FORMAT_RGBA16F ? "rgba16f" : f == LG_FORMAT_RGBA8 ? "rgba8" : "rgba32f";
+}
+
+static void human_bytes(char *out, size_t n, uint64_t b)
+{
+    if (b >= (1ull << 20))
+        snprintf(out, n, "%.1f MiB", (double)b / (1 << 20));
+    else if (b >= 1024)
+        snprintf(out, n, "%.1f KiB", (double)b / 1024);
+    else
+        snprintf(out, n, "%llu B", (unsigned long long)b);
+}
+
+static void describe_resource(lg_str *s, const lg_resource *r)
+{
+    char sz[32];
+    switch (r->kind) {
+    case LG_KIND_IMAGE:
+        human_bytes(sz, sizeof sz, lg_resource_bytes(r));
+        lg_str_addf(s, "image %ux%u %s%s (%s)", r->image.width, r->image.height,
+                    format_name(r->image.format), (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "",
+                    sz);
+        break;
+    case LG_KIND_VOLUME:
+        human_bytes(sz, sizeof sz, lg_resource_bytes(r));
+        lg_str_addf(s, "volume %ux%ux%u %s (%s)", r->volume.width, r->volume.height,
+                    r->volume.depth, format_name(r->volume.format), sz);
+        break;
+    case LG_KIND_BUFFER:
+        human_bytes(sz, sizeof sz, r->buffer.size);
+        lg_str_addf(s, "buffer %s", sz);
+        break;
+    case LG_KIND_SCENE:
+        lg_str_add(s, "scene");
+        break;
+    default:
+        lg_str_add(s, "payload");
+        break;
+    }
+    if (r->neutral)
+        lg_str_add(s, " [neutral]");
+}
+
+static void print_features(FILE *f, const char *name, const lg_scene_features *sf)
+{
+    fprintf(f,
+            "scene features (%s): triangles %llu, vertices %llu, lights: %u directional, %u "
+            "point, %u other; medium %s (density %g); probe %s; specular material %s\n",
+            name, (unsigned long long)sf->triangles, (unsigned long long)sf->vertices,
+            sf->dir_lights, sf->point_lights, sf->other_lights, sf->medium ? "yes" : "no",
+            (double)sf->medium_density, sf->probe ? "yes" : "no", sf->specular ? "yes" : "no");
+}
+
+void lg_explain_print(lg_exec *ex, FILE *f)
+{
+    const lg_checked *c = ex->checked;
+    fprintf(f, "plan for %s: %u nodes, %u outputs, %u frame%s, render size %ux%u\n",
+            ex->opts.graph_path ? ex->opts.graph_path : "graph", c->n_nodes, c->n_outputs,
+            ex->opts.frames, ex->opts.frames == 1 ? "" : "s", ex->opts.width, ex->opts.height);
+    int wn = 4, wt = 4;
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        int a = (int)strlen(ex->nodes[i].pub.name), b = (int)strlen(ex->nodes[i].schema->name);
+        wn = a > wn ? a : wn;
+        wt = b > wt ? b : wt;
+    }
+    fprintf(f, "  %-*s  %-*s  %-6s  %-9s  %-6s  %s\n", wn, "node", wt, "type", "state", "runs",
+            "device", "details");
+    for (uint32_t t = 0; t < c->n_nodes; t++) {
+        lg_pnode *n = &ex->nodes[c->topo[t]];
+        lg_str d = {0};
+        if (n->state == LG_STATE_KEPT) {
+            for (uint32_t o = 0; o < n->schema->n_outputs; o++) {
+                if (o)
+                    lg_str_add(&d, "; ");
+                lg_str_addf(&d, "%s: ", n->schema->outputs[o].name);
+                if (n->outputs[o])
+                    describe_resource(&d, n->outputs[o]);
+            }
+            lg_str_addf(&d, "%splugin %s", d.len ? "; " : "", n->plugin ? n->plugin->name : "?");
+        } else {
+            lg_str_add(&d, n->reason ? n->reason : "");
+            if (n->plugin)
+                lg_str_addf(&d, "; plugin %s not needed by this node", n->plugin->name);
+        }
+        fprintf(f, "  %-*s  %-*s  %-6s  %-9s  %-6s  %s\n", wn, n->pub.name, wt, n->schema->name,
+                state_name(n->state),
+                n->state != LG_STATE_KEPT ? "-" : n->per_frame ? "per-frame" : "once",
+                n->state != LG_STATE_KEPT ? "-" : device_name(n->device), d.s ? d.s : "");
+        lg_str_free(&d);
+    }
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        lg_pnode *n = &ex->nodes[i];
+        for (uint32_t o = 0; n->outputs && o < n->schema->n_outputs; o++) {
+            lg_resource *r = n->outputs[o];
+            if (r && r->kind == LG_KIND_SCENE && r->has_features && r->producer == n &&
+                !r->neutral)
+                print_features(f, n->pub.name, &r->features);
+        }
+    }
+    char *loaded = lg_registry_loaded_list(ex->reg);
+    fprintf(f, "plugins loaded: %s\n", loaded[0] ? loaded : "(none)");
+    free(loaded);
+    lg_str notl = {0};
+    for (uint32_t i = 0; i < ex->reg->n_plugins; i++)
+        if (!ex->reg->plugins[i].handle)
+            lg_str_addf(&notl, "%s%s", notl.len ? " " : "", ex->reg->plugins[i].name);
+    fprintf(f, "plugins not loaded: %s\n", notl.s ? notl.s : "(none)");
+    lg_str_free(&notl);
+    if (ex->gl)
+        fprintf(f, "gl device: %s\n", lg_gl_device_description(ex->gl));
+    if (ex->cl)
+        fprintf(f, "cl device: %s\n", lg_cl_device_description(ex->cl));
+}
+
+void lg_exec_free(lg_exec *ex)
+{
+    if (!ex->nodes)
+        goto devices;
+    /* destroy instances in reverse topological order, then resources, so that a plugin is
+     * dlclose'd only after every object it made is gone */
+    for (uint32_t t = ex->checked->n_nodes; t-- > 0;) {
+        lg_pnode *n = &ex->nodes[ex->checked->topo[t]];
+        if (n->created) {
+            if (n->pub.type->destroy)
+                n->pub.type->destroy(&n->pub);
+            n->plugin->live_refs--;
+        }
+        for (uint32_t i = 0; i < n->n_cl_events; i++)
+            clReleaseEvent((cl_event)n->cl_events[i]);
+        free(n->cl_events);
+    }
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        lg_pnode *n = &ex->nodes[i];
+        for (uint32_t o = 0; o < n->schema->n_outputs; o++)
+            lg_resource_unref(ex, n->outputs[o]);
+        free(n->outputs);
+        free(n->reason);
+    }
+    free(ex->nodes);
+    ex->nodes = NULL;
+devices:
+    if (ex->gl) {
+        const GladGLContext *gl = lg_gl_device_table(ex->gl);
+        if (ex->gl_timer_query)
+            gl->DeleteQueries(1, &ex->gl_timer_query);
+    }
+    lg_gl_device_destroy(&ex->gl);
+    lg_cl_device_destroy(&ex->cl);
+    free(ex->gl_error);
+    free(ex->cl_error);
+    free(ex->cache_dir);
+}

@@ -10,6 +10,10 @@
  *
  * Every problem becomes an lg_diag with file:line:col, the offending source line and a
  * did-you-mean where one applies; both stages collect as many as they can before failing.
+ *
+ * Ownership: an lg_graph owns every string and array it points to (lg_graph_free); an
+ * lg_checked points into the lg_graph it was made from (free it first) and the schema;
+ * lg_diags own copies of everything they hold, so they outlive both.
  */
 #ifndef LG_HOST_GRAPH_H
 #define LG_HOST_GRAPH_H
@@ -33,6 +37,9 @@ typedef enum lg_gv_kind {
     LG_GV_STRING, /* "quoted" */
     LG_GV_LIST,   /* [a, b, c] */
     LG_GV_IDENT,  /* bare name or name.port: a reference, or an enum value */
+    LG_GV_RAW,    /* --set text, interpreted by lg_graph_check with the parameter's type:
+                   * `text` is the raw text; items[0] (n_items 1) is the text parsed as one
+                   * literal when it is one, otherwise `s` says why it is not */
 } lg_gv_kind;
 
 typedef struct lg_gvalue {
@@ -45,15 +52,21 @@ typedef struct lg_gvalue {
     char *port;       /* IDENT: after the dot, or NULL */
     struct lg_gvalue *items;
     uint32_t n_items;
-    char *text;       /* the literal as written (for fmt and messages) */
-    const char *base_dir; /* directory against which a relative path resolves */
+    char *text;       /* the literal as written (for messages) */
+    const char *base_dir; /* directory against which a relative path resolves; NULL: the
+                           * current directory */
 } lg_gvalue;
 
 typedef struct lg_gassign {
     char *key;
     lg_srcloc key_loc;
     lg_gvalue value;
+    char **comments;     /* comment lines above the entry (and any inside its value) */
+    uint32_t n_comments;
+    char *eol_comment;   /* comment at the end of the entry's line, or NULL */
 } lg_gassign;
+
+/* Comments are stored without their '#' and without trailing white space. */
 
 typedef struct lg_gnode {
     char *name;
@@ -64,6 +77,11 @@ typedef struct lg_gnode {
     uint32_t n_assigns;
     char **comments;     /* comment lines directly above the node, kept by fmt */
     uint32_t n_comments;
+    char *eol_comment;   /* after the '{' or the '}' on the same line, or NULL */
+    char **end_comments; /* comment lines after the last entry, before the '}' */
+    uint32_t n_end_comments;
+    bool blank_before;   /* a blank line preceded it (fmt keeps one) */
+    bool included;       /* it came from an included file (fmt does not print it) */
 } lg_gnode;
 
 typedef struct lg_goutput {
@@ -73,18 +91,24 @@ typedef struct lg_goutput {
     const char *base_dir;
     char **comments;
     uint32_t n_comments;
+    char *eol_comment;
+    bool blank_before;
+    bool included;
 } lg_goutput;
 
 typedef struct lg_ginclude {
     char *path;          /* as written */
     lg_srcloc loc;
+    char **comments;
+    uint32_t n_comments;
+    char *eol_comment;
 } lg_ginclude;
 
 typedef enum lg_diag_level { LG_DIAG_ERROR = 0, LG_DIAG_WARNING, LG_DIAG_NOTE } lg_diag_level;
 
 typedef struct lg_diag {
     lg_diag_level level;
-    lg_srcloc loc;
+    lg_srcloc loc;       /* loc.file is the diagnostic's own copy */
     char *message;
     char *line_text;     /* the source line, or NULL */
 } lg_diag;
@@ -105,14 +129,18 @@ typedef struct lg_graph {
     uint32_t n_outputs;
     lg_ginclude *includes;  /* the top file's include statements, for fmt */
     uint32_t n_includes;
+    char **header_comments; /* comment lines above the version line */
+    uint32_t n_header_comments;
     char **trailing_comments;
     uint32_t n_trailing_comments;
     void *pool;             /* private: interned strings, file texts */
 } lg_graph;
 
 /* Parses `path` (and the files it includes; relative include paths resolve against the
- * including file; include cycles are errors). Returns NULL when any error was found; the
- * diagnostics are in `diags` either way. */
+ * including file; include cycles are errors; a file included a second time adds nothing).
+ * Syntax errors, duplicate node names (across files too) and keys set twice in one node
+ * are found here. Returns NULL when any error was found; the diagnostics are in `diags`
+ * either way. */
 lg_graph *lg_graph_parse_file(const char *path, lg_diags *diags);
 /* The same from memory (fuzzing, tests); `name` is the file name used in messages and the
  * base for relative paths is `base_dir` (may be NULL: the current directory). */
@@ -120,11 +148,27 @@ lg_graph *lg_graph_parse_string(const char *name, const char *text, size_t len,
                                 const char *base_dir, lg_diags *diags);
 void lg_graph_free(lg_graph *g);
 
-/* Applies one command-line override "node.param=value". The value text is kept raw and
+/* The index of the node called `name` in g->nodes, or -1. */
+int32_t lg_graph_find_node(const lg_graph *g, const char *name);
+
+/* Adds a diagnostic at `loc` (a location inside `g`, from any of its files or --set
+ * assignments) with that location's source line. For everyone who reports on a node of
+ * a graph: the checker, the planner, the executor. */
+void lg_graph_diag(lg_diags *d, const lg_graph *g, lg_diag_level level, lg_srcloc loc,
+                   const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+/* Applies one command-line override "node.param=value" (it replaces an entry with the same
+ * key, or adds one). The value text is kept raw (LG_GV_RAW) and
  * interpreted by lg_graph_check with the parameter's type (so `--set src.file=a.exr` is a
  * path, `--set tone.backend=cl` an enum value, `--set tone.key=0.2` a float, `--set
  * tone.image=other` a reference). Relative paths resolve against the current directory.
- * Errors (syntax, unknown node, with did-you-mean) go to diags; returns 0 or -1. */
+ * Errors (syntax, unknown node, with did-you-mean) go to diags; returns 0 or -1. Their
+ * location is the file "<command line>", line n for the n-th call on this graph, the
+ * column inside `assignment`. */
 int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags);
 
 /* ---- checking against the plugins' schemas -------------------------------------------- */
@@ -173,8 +217,9 @@ typedef struct lg_checked {
  * over parameters and inputs), renamed parameters (warning), types and ranges (naming the
  * expected type or range), references (did-you-mean over node names; unknown ports with
  * the list of the node's outputs), resource kinds of edges, missing required inputs,
- * duplicate node names and duplicate keys, output statements, and cycles (naming every
- * node on the cycle). Returns NULL if any error was found. */
+ * a parameter set twice (under its old and new names), output statements, and cycles
+ * (naming every node on the cycle). A --set value wins over the file's. Returns NULL if
+ * any error was found. */
 lg_checked *lg_graph_check(const lg_graph *g, const lg_schema *schema, lg_diags *diags);
 void lg_checked_free(lg_checked *c);
 
@@ -182,10 +227,11 @@ void lg_checked_free(lg_checked *c);
 
 /* The canonical text of a parsed graph (lightgraph fmt): formatting it again changes
  * nothing. Comments are kept. Includes are printed as include statements, and the nodes
- * that came from included files are not printed. */
+ * and outputs that came from included files are not printed. Returns a malloc'd string. */
 char *lg_graph_format(const lg_graph *g);
 /* Graphviz dot text of a checked graph: nodes with their type, edges labelled by port,
- * output files as boxes. */
+ * output files as boxes. With c == NULL (a graph that did not check), edges are drawn
+ * from the references that name a node. Returns a malloc'd string. */
 char *lg_graph_dot(const lg_graph *g, const lg_checked *c);
 
 /* ---- diagnostics ------------------------------------------------------------------------ */

@@ -1,1 +1,474 @@
-/* placeholder: being written */
+/* The lg_host_api table: what plugins call. Every entry checks its arguments at the
+ * boundary and reports misuse with the node's name, since a plugin bug should read as
+ * such and not as a host crash. */
+#include "host.h"
+
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+static lg_pnode *P(lg_node *n)
+{
+    return (lg_pnode *)n;
+}
+
+static void vnode_msg(lg_pnode *n, int level, const char *fmt, va_list ap)
+{
+    char *msg;
+    if (vasprintf(&msg, fmt, ap) < 0)
+        return;
+    lg_hlog(level, "node '%s' (%s): %s", n->pub.name, n->schema ? n->schema->name : "?", msg);
+    free(msg);
+}
+
+void lg_node_errorf(lg_pnode *n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vnode_msg(n, LG_HERR, fmt, ap);
+    va_end(ap);
+    n->ex->failed = true;
+}
+
+static void api_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
+{
+    int map[] = {LG_HERR, LG_HWARN, LG_HINFO, LG_HDEBUG};
+    vnode_msg(P(n), map[level <= LG_LOG_DEBUG ? level : LG_LOG_DEBUG], fmt, ap);
+}
+
+static void api_error(lg_node *n, const char *fmt, va_list ap)
+{
+    vnode_msg(P(n), LG_HERR, fmt, ap);
+    P(n)->ex->failed = true;
+}
+
+static void api_progress(lg_node *n, double fraction, const char *what)
+{
+    if (!isatty(2) || lg_verbosity < 0)
+        return;
+    if (fraction < 0)
+        fraction = 0;
+    if (fraction > 1)
+        fraction = 1;
+    fprintf(stderr, "\r%s: %s %5.1f%%%s", n->name, what ? what : "", fraction * 100.0,
+            fraction >= 1 ? "\n" : "");
+    fflush(stderr);
+}
+
+static double api_now(void)
+{
+    return lg_now();
+}
+
+static const lg_value *api_param(lg_node *n, uint32_t index)
+{
+    lg_pnode *p = P(n);
+    if (index >= p->schema->n_params) {
+        lg_node_errorf(p, "asks for parameter #%u; its type declares %u", index,
+                       p->schema->n_params);
+        return NULL;
+    }
+    return &p->c->params[index];
+}
+
+static int32_t api_param_index(lg_node *n, const char *key)
+{
+    lg_pnode *p = P(n);
+    for (uint32_t i = 0; i < p->schema->n_params; i++)
+        if (strcmp(p->schema->params[i].key, key) == 0)
+            return (int32_t)i;
+    lg_node_errorf(p, "asks for parameter '%s', which its type does not declare", key ? key : "");
+    return -1;
+}
+
+static const lg_resource *api_input(lg_node *n, uint32_t port)
+{
+    lg_pnode *p = P(n);
+    if (port >= p->schema->n_inputs) {
+        lg_node_errorf(p, "asks for input #%u; its type declares %u", port, p->schema->n_inputs);
+        return NULL;
+    }
+    lg_edge e = p->c->inputs[port];
+    if (e.node < 0)
+        return NULL;
+    return p->ex->nodes[e.node].outputs ? p->ex->nodes[e.node].outputs[e.port] : NULL;
+}
+
+static lg_resource *api_output(lg_node *n, uint32_t port)
+{
+    lg_pnode *p = P(n);
+    if (port >= p->schema->n_outputs) {
+        lg_node_errorf(p, "asks for output #%u; its type declares %u", port,
+                       p->schema->n_outputs);
+        return NULL;
+    }
+    return p->outputs[port];
+}
+
+static int api_describe(const lg_resource *r, lg_resource_info *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!r)
+        return LG_ERR_INVALID;
+    out->kind = r->kind;
+    out->neutral = r->neutral;
+    out->image = r->image;
+    out->buffer = r->buffer;
+    out->volume = r->volume;
+    out->scene = r->has_features ? &r->features : NULL;
+    out->payload = r->payload;
+    return 0;
+}
+
+/* Outputs are declared once, in prepare, with the kind the port declares. */
+static lg_resource *declare(lg_pnode *p, uint32_t port, lg_resource_kind kind, const char *what)
+{
+    if (p->prepared) {
+        lg_node_errorf(p, "declares output #%u outside prepare()", port);
+        return NULL;
+    }
+    if (port >= p->schema->n_outputs) {
+        lg_node_errorf(p, "declares %s output #%u; its type declares %u outputs", what, port,
+                       p->schema->n_outputs);
+        return NULL;
+    }
+    lg_resource_kind want = p->schema->outputs[port].kind;
+    if (want != LG_KIND_ANY && want != kind) {
+        lg_node_errorf(p, "declares output '%s' as %s, but its port kind differs", 
+                       p->schema->outputs[port].name, what);
+        return NULL;
+    }
+    if (p->outputs[port]) {
+        lg_resource_unref(p->ex, p->outputs[port]);
+        p->outputs[port] = NULL;
+    }
+    lg_resource *r = lg_resource_new(p, kind);
+    p->outputs[port] = r;
+    return r;
+}
+
+#define MAX_DIM 65536u
+
+static int api_declare_image(lg_node *n, uint32_t port, const lg_image_desc *d)
+{
+    lg_pnode *p = P(n);
+    if (!d || d->width == 0 || d->height == 0 || d->width > MAX_DIM || d->height > MAX_DIM ||
+        (uint64_t)d->width * d->height > (1ull << 28))
+        return lg_node_errorf(p, "declares an image of %ux%u (each side must be 1..%u, at most "
+                                 "2^28 pixels)",
+                              d ? d->width : 0, d ? d->height : 0, MAX_DIM),
+               LG_ERR_INVALID;
+    if (d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8)
+        return lg_node_errorf(p, "declares an image with unknown format %d", (int)d->format),
+               LG_ERR_INVALID;
+    lg_resource *r = declare(p, port, LG_KIND_IMAGE, "an image");
+    if (!r)
+        return LG_ERR_INVALID;
+    r->image = *d;
+    return 0;
+}
+
+static int api_declare_buffer(lg_node *n, uint32_t port, const lg_buffer_desc *d)
+{
+    lg_pnode *p = P(n);
+    if (!d || d->size > (1ull << 34))
+        return lg_node_errorf(p, "declares a buffer of absurd size"), LG_ERR_INVALID;
+    lg_resource *r = declare(p, port, LG_KIND_BUFFER, "a buffer");
+    if (!r)
+        return LG_ERR_INVALID;
+    r->buffer = *d;
+    return 0;
+}
+
+static int api_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
+{
+    lg_pnode *p = P(n);
+    if (!d || !d->width || !d->height || !d->depth || d->width > 4096 || d->height > 4096 ||
+        d->depth > 4096 || (uint64_t)d->width * d->height * d->depth > (1ull << 28) ||
+        d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8)
+        return lg_node_errorf(p, "declares a volume of %ux%ux%u (each side 1..4096, at most "
+                                 "2^28 cells)",
+                              d ? d->width : 0, d ? d->height : 0, d ? d->depth : 0),
+               LG_ERR_INVALID;
+    lg_resource *r = declare(p, port, LG_KIND_VOLUME, "a volume");
+    if (!r)
+        return LG_ERR_INVALID;
+    r->volume = *d;
+    return 0;
+}
+
+static int api_declare_alias(lg_node *n, uint32_t out_port, uint32_t in_port)
+{
+    lg_pnode *p = P(n);
+    if (out_port >= p->schema->n_outputs || in_port >= p->schema->n_inputs)
+        return lg_node_errorf(p, "declare_alias(%u, %u): no such ports", out_port, in_port),
+               LG_ERR_INVALID;
+    lg_resource *in = (lg_resource *)api_input(n, in_port);
+    if (!in)
+        return lg_node_errorf(p, "declare_alias: input '%s' is not connected",
+                              p->schema->inputs[in_port].name),
+               LG_ERR_INVALID;
+    if (p->outputs[out_port])
+        lg_resource_unref(p->ex, p->outputs[out_port]);
+    in->refs++;
+    p->outputs[out_port] = in;
+    return 0;
+}
+
+static int api_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
+                               const lg_scene_features *features, void *payload,
+                               void (*free_payload)(void *))
+{
+    lg_pnode *p = P(n);
+    if (kind == LG_KIND_IMAGE || kind == LG_KIND_BUFFER || kind == LG_KIND_VOLUME ||
+        kind <= LG_KIND_ANY || kind >= LG_KIND_COUNT_)
+        return lg_node_errorf(p, "declare_payload: kind %d is host-managed or unknown",
+                              (int)kind),
+               LG_ERR_INVALID;
+    lg_resource *r = declare(p, port, kind, "a payload");
+    if (!r) {
+        if (payload && free_payload)
+            free_payload(payload);
+        return LG_ERR_INVALID;
+    }
+    if (features) {
+        r->features = *features;
+        r->has_features = true;
+    }
+    r->payload = payload;
+    r->free_payload = free_payload;
+    if (payload && p->plugin) {
+        r->payload_plugin = p->plugin;
+        p->plugin->live_refs++;
+    }
+    return 0;
+}
+
+static int api_set_device(lg_node *n, lg_device d)
+{
+    lg_pnode *p = P(n);
+    if (d < LG_DEVICE_CPU || d > LG_DEVICE_CL)
+        return lg_node_errorf(p, "set_device: unknown device %d", (int)d), LG_ERR_INVALID;
+    p->device = d;
+    p->device_set = true;
+    /* Devices are made when a planned node asks: here, so that an unavailable device is
+     * reported at planning time with the node's name, before any frame runs. */
+    if (d == LG_DEVICE_GL)
+        return lg_exec_need_gl(p->ex, p);
+    if (d == LG_DEVICE_CL)
+        return lg_exec_need_cl(p->ex, p);
+    return 0;
+}
+
+static void api_set_per_frame(lg_node *n, bool per_frame)
+{
+    if (per_frame)
+        P(n)->per_frame = true;
+}
+
+static void api_add_content_key(lg_node *n, const void *bytes, size_t size)
+{
+    if (bytes && size)
+        lg_digest_add(&P(n)->identity, bytes, size);
+}
+
+static int api_map_cpu(lg_node *n, const lg_resource *r, unsigned access, lg_cpu_view *v)
+{
+    if (!r || !v)
+        return lg_node_errorf(P(n), "map_cpu: NULL resource or view"), LG_ERR_INVALID;
+    return lg_resource_map_cpu(P(n)->ex, P(n), (lg_resource *)r, access, v);
+}
+
+static int api_map_gl(lg_node *n, const lg_resource *r, unsigned access, uint32_t *name,
+                      uint32_t *depth)
+{
+    if (!r)
+        return lg_node_errorf(P(n), "map_gl: NULL resource"), LG_ERR_INVALID;
+    return lg_resource_map_gl(P(n)->ex, P(n), (lg_resource *)r, access, name, depth);
+}
+
+static int api_map_cl(lg_node *n, const lg_resource *r, unsigned access, void **mem,
+                      void **depth)
+{
+    if (!r)
+        return lg_node_errorf(P(n), "map_cl: NULL resource"), LG_ERR_INVALID;
+    return lg_resource_map_cl(P(n)->ex, P(n), (lg_resource *)r, access, mem, depth);
+}
+
+static const void *api_gl(lg_node *n)
+{
+    lg_pnode *p = P(n);
+    if (lg_exec_need_gl(p->ex, p))
+        return NULL;
+    return lg_gl_device_table(p->ex->gl);
+}
+
+static void *api_cl_context(lg_node *n)
+{
+    lg_pnode *p = P(n);
+    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_context(p->ex->cl);
+}
+
+static void *api_cl_queue(lg_node *n)
+{
+    lg_pnode *p = P(n);
+    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_queue(p->ex->cl);
+}
+
+static void *api_cl_device(lg_node *n)
+{
+    lg_pnode *p = P(n);
+    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_id(p->ex->cl);
+}
+
+static void *api_cl_program(lg_node *n, const char *name, const char *source,
+                            const char *options)
+{
+    lg_pnode *p = P(n);
+    if (lg_exec_need_cl(p->ex, p))
+        return NULL;
+    char *log = NULL;
+    void *prog = lg_cl_device_program(p->ex->cl, name ? name : "kernel", source ? source : "",
+                                      options, &log);
+    if (!prog)
+        lg_node_errorf(p, "%s", log ? log : "OpenCL program build failed");
+    free(log);
+    return prog;
+}
+
+static void api_cl_profile(lg_node *n, void *event)
+{
+    lg_pnode *p = P(n);
+    if (!event)
+        return;
+    if (p->n_cl_events == p->cap_cl_events) {
+        p->cap_cl_events = p->cap_cl_events ? p->cap_cl_events * 2 : 8;
+        p->cl_events = lg_xrealloc(p->cl_events, p->cap_cl_events * sizeof *p->cl_events);
+    }
+    p->cl_events[p->n_cl_events++] = event; /* the host releases it after reading it */
+}
+
+static int api_gl_check(lg_node *n, const char *what)
+{
+    lg_pnode *p = P(n);
+    if (!p->ex->gl)
+        return 0;
+    const GladGLContext *gl = lg_gl_device_table(p->ex->gl);
+    GLenum e, first = GL_NO_ERROR;
+    int count = 0;
+    while ((e = gl->GetError()) != GL_NO_ERROR && count < 16) {
+        if (!count)
+            first = e;
+        count++;
+    }
+    if (!count)
+        return 0;
+    lg_node_errorf(p, "GL error %s (0x%04x)%s while %s", lg_gl_strerror(first), first,
+                   count > 1 ? " and more" : "", what ? what : "running");
+    return LG_ERR_DEVICE;
+}
+
+static int api_cache_get(lg_node *n, const char *key, void **data, size_t *size)
+{
+    return lg_cache_get(P(n)->ex, P(n), key, data, size);
+}
+
+static int api_cache_put(lg_node *n, const char *key, const void *data, size_t size)
+{
+    return lg_cache_put(P(n)->ex, P(n), key, data, size);
+}
+
+static void api_cache_free(void *data)
+{
+    free(data);
+}
+
+static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
+{
+    if (w)
+        *w = P(n)->ex->opts.width;
+    if (h)
+        *h = P(n)->ex->opts.height;
+}
+
+void lg_host_api_init(lg_host_api *a)
+{
+    memset(a, 0, sizeof *a);
+    a->struct_size = sizeof *a;
+    a->abi_major = LG_ABI_MAJOR;
+    a->abi_minor = LG_ABI_MINOR;
+    a->log = api_log;
+    a->error = api_error;
+    a->progress = api_progress;
+    a->now = api_now;
+    a->param = api_param;
+    a->param_index = api_param_index;
+    a->input = api_input;
+    a->output = api_output;
+    a->describe = api_describe;
+    a->declare_image = api_declare_image;
+    a->declare_buffer = api_declare_buffer;
+    a->declare_volume = api_declare_volume;
+    a->declare_alias = api_declare_alias;
+    a->declare_payload = api_declare_payload;
+    a->set_device = api_set_device;
+    a->set_per_frame = api_set_per_frame;
+    a->add_content_key = api_add_content_key;
+    a->map_cpu = api_map_cpu;
+    a->map_gl = api_map_gl;
+    a->map_cl = api_map_cl;
+    a->gl = api_gl;
+    a->cl_context = api_cl_context;
+    a->cl_queue = api_cl_queue;
+    a->cl_device = api_cl_device;
+    a->cl_program = api_cl_program;
+    a->cl_profile = api_cl_profile;
+    a->gl_check = api_gl_check;
+    a->cache_get = api_cache_get;
+    a->cache_put = api_cache_put;
+    a->cache_free = api_cache_free;
+    a->render_size = api_render_size;
+}
+
+int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)
+{
+    if (ex->gl)
+        return 0;
+    if (!ex->gl_error) {
+        char err[512] = "";
+        double t0 = lg_now();
+        const char *backend = ex->opts.gl_backend ? ex->opts.gl_backend : "osmesa";
+        if (lg_gl_device_create(&ex->gl, backend, err, sizeof err) == 0) {
+            lg_hlog(LG_HINFO, "GL device: %s (%.1f ms)", lg_gl_device_description(ex->gl),
+                    (lg_now() - t0) * 1e3);
+            const GladGLContext *gl = lg_gl_device_table(ex->gl);
+            gl->GenQueries(1, &ex->gl_timer_query);
+            return 0;
+        }
+        ex->gl_error = lg_xasprintf("no OpenGL 4.5 device (%s): %s", backend, err);
+    }
+    lg_node_errorf(n, "%s", ex->gl_error);
+    return LG_ERR_DEVICE;
+}
+
+int lg_exec_need_cl(lg_exec *ex, lg_pnode *n)
+{
+    if (ex->cl)
+        return 0;
+    if (!ex->cl_error) {
+        char err[512] = "";
+        double t0 = lg_now();
+        if (lg_cl_device_create(&ex->cl, err, sizeof err) == 0) {
+            lg_hlog(LG_HINFO, "CL device: %s (%.1f ms)", lg_cl_device_description(ex->cl),
+                    (lg_now() - t0) * 1e3);
+            return 0;
+        }
+        ex->cl_error = lg_xasprintf("no OpenCL device: %s", err);
+    }
+    lg_node_errorf(n, "%s", ex->cl_error);
+    return LG_ERR_DEVICE;
+}

@@ -1,1 +1,64 @@
-/* placeholder */ int main(void){return 0;}
+/* lightgraph: the host program. Each command lives in host/cmd_*.c. */
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+#include "host.h"
+
+static void help(FILE *f)
+{
+    fprintf(f,
+            "lightgraph %s (plugin ABI %d.%d): a plugin-based real-time renderer\n"
+            "\n"
+            "usage:\n"
+            "  lightgraph render GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
+            "                    [--frames N] [--dt SECONDS] [--gl osmesa|egl]\n"
+            "                    [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
+            "  lightgraph check GRAPH [--set ...]     check a graph against the plugins\n"
+            "  lightgraph fmt GRAPH [-i]              print (or rewrite) it canonically\n"
+            "  lightgraph dot GRAPH                   Graphviz text of the graph\n"
+            "  lightgraph plugins [--json]            every node type, ports, parameters\n"
+            "  lightgraph inspect NODE_TYPE [--json]  one node type\n"
+            "  lightgraph diff A B [--heatmap OUT] [--json] [--max-rmse X] [--max-abs X]\n"
+            "  lightgraph --version | help\n"
+            "\n"
+            "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
+            "environment: LIGHTGRAPH_PLUGIN_PATH (plugin directories, ':'-separated, searched\n"
+            "  first), LIGHTGRAPH_CACHE_DIR (the on-disk cache; default ~/.cache/lightgraph)\n"
+            "docs: docs/graph-format.md, docs/sdk.md\n",
+            LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        help(stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    static const struct {
+        const char *name;
+        int (*fn)(int, char **);
+    } cmds[] = {
+        {"render", lg_cmd_render}, {"check", lg_cmd_check},     {"fmt", lg_cmd_fmt},
+        {"dot", lg_cmd_dot},       {"plugins", lg_cmd_plugins}, {"inspect", lg_cmd_inspect},
+        {"diff", lg_cmd_diff},
+    };
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+        if (strcmp(cmd, cmds[i].name) == 0)
+            return cmds[i].fn(argc - 1, argv + 1);
+    if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+        printf("lightgraph %s (plugin ABI %d.%d)\n", LG_VERSION_STRING, LG_ABI_MAJOR,
+               LG_ABI_MINOR);
+        return 0;
+    }
+    if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
+        help(stdout);
+        return 0;
+    }
+    const char *names[] = {"render", "check", "fmt", "dot", "plugins", "inspect", "diff", "help"};
+    const char *s = lg_suggest(cmd, names, 8);
+    fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
+            s ? s : "", s ? "'?" : "");
+    return 2;
+}

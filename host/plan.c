@@ -1,1 +1,311 @@
-/* placeholder: being written */
+/* Planning: simulate only what the outputs need and the scene calls for.
+ *
+ *   1. cull: keep the nodes on a path to an output statement, and side-effect nodes;
+ *   2. in topological order, for each kept node:
+ *      gate: if the scene upstream of it does not meet its declared needs, it becomes its
+ *            neutral result and its plugin is not loaded;
+ *      else: load its plugin (dlopen, only now), create, prepare (outputs declared,
+ *            device chosen, once or per frame).
+ *
+ * A node's identity (for the cache, and for everything downstream) is a digest of its
+ * plugin, version, type, parameters, content keys and its inputs' identities. */
+#include "host.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static void digest_params(lg_digest *d, const lg_cnode *c)
+{
+    for (uint32_t i = 0; i < c->type->n_params; i++) {
+        const lg_param_desc *p = &c->type->params[i];
+        const lg_value *v = &c->params[i];
+        lg_digest_add_str(d, p->key);
+        switch (p->type) {
+        case LG_PARAM_BOOL: {
+            uint8_t b = v->b;
+            lg_digest_add(d, &b, 1);
+            break;
+        }
+        case LG_PARAM_INT:
+            lg_digest_add(d, &v->i, sizeof v->i);
+            break;
+        case LG_PARAM_FLOAT:
+            lg_digest_add(d, &v->f, sizeof v->f);
+            break;
+        case LG_PARAM_VEC2:
+        case LG_PARAM_VEC3:
+        case LG_PARAM_COLOR:
+            lg_digest_add(d, v->v, sizeof v->v);
+            break;
+        case LG_PARAM_INT3:
+            lg_digest_add(d, v->i3, sizeof v->i3);
+            break;
+        case LG_PARAM_STRING:
+        case LG_PARAM_PATH:
+        case LG_PARAM_ENUM:
+            lg_digest_add_str(d, v->s);
+            break;
+        }
+    }
+}
+
+static const char *needs_text(uint32_t unmet)
+{
+    if (unmet & LG_NEEDS_MEDIUM)
+        return "no participating medium with density > 0";
+    if (unmet & LG_NEEDS_DIR_LIGHT)
+        return "no directional light";
+    if (unmet & LG_NEEDS_POINT_LIGHT)
+        return "no point light";
+    if (unmet & LG_NEEDS_LIGHT)
+        return "no light";
+    if (unmet & LG_NEEDS_PROBE)
+        return "no light probe";
+    if (unmet & LG_NEEDS_SPECULAR)
+        return "no material with a specular term";
+    if (unmet & LG_NEEDS_GEOMETRY)
+        return "no geometry";
+    return "unmet needs";
+}
+
+/* Union of the features of every scene resource upstream of node i. */
+static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool *seen)
+{
+    if (seen[i])
+        return false;
+    seen[i] = true;
+    bool any = false;
+    lg_pnode *n = &ex->nodes[i];
+    for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node < 0)
+            continue;
+        lg_pnode *src = &ex->nodes[e.node];
+        for (uint32_t o = 0; src->outputs && o < src->schema->n_outputs; o++) {
+            lg_resource *r = src->outputs[o];
+            if (r && r->kind == LG_KIND_SCENE && r->has_features) {
+                f->triangles += r->features.triangles;
+                f->vertices += r->features.vertices;
+                f->dir_lights += r->features.dir_lights;
+                f->point_lights += r->features.point_lights;
+                f->other_lights += r->features.other_lights;
+                f->medium |= r->features.medium;
+                f->probe |= r->features.probe;
+                f->specular |= r->features.specular;
+                if (r->features.medium_density > f->medium_density)
+                    f->medium_density = r->features.medium_density;
+                any = true;
+            }
+        }
+        any |= collect_features(ex, (uint32_t)e.node, f, seen);
+    }
+    return any;
+}
+
+static uint32_t unmet_needs(uint32_t needs, const lg_scene_features *f)
+{
+    uint32_t unmet = 0;
+    if ((needs & LG_NEEDS_GEOMETRY) && f->triangles == 0)
+        unmet |= LG_NEEDS_GEOMETRY;
+    if ((needs & LG_NEEDS_LIGHT) && f->dir_lights + f->point_lights + f->other_lights == 0)
+        unmet |= LG_NEEDS_LIGHT;
+    if ((needs & LG_NEEDS_DIR_LIGHT) && f->dir_lights == 0)
+        unmet |= LG_NEEDS_DIR_LIGHT;
+    if ((needs & LG_NEEDS_POINT_LIGHT) && f->point_lights == 0)
+        unmet |= LG_NEEDS_POINT_LIGHT;
+    if ((needs & LG_NEEDS_MEDIUM) && !(f->medium && f->medium_density > 0))
+        unmet |= LG_NEEDS_MEDIUM;
+    if ((needs & LG_NEEDS_PROBE) && !f->probe)
+        unmet |= LG_NEEDS_PROBE;
+    if ((needs & LG_NEEDS_SPECULAR) && !f->specular)
+        unmet |= LG_NEEDS_SPECULAR;
+    return unmet;
+}
+
+/* A gated node's outputs: its neutral result. */
+static void make_neutral(lg_exec *ex, lg_pnode *n)
+{
+    const lg_node_type *t = n->schema;
+    for (uint32_t o = 0; o < t->n_outputs; o++) {
+        lg_resource *in = NULL;
+        if (t->neutral == LG_NEUTRAL_PASSTHROUGH) {
+            lg_edge e = n->c->inputs[t->neutral_input];
+            if (e.node >= 0)
+                in = ex->nodes[e.node].outputs[e.port];
+        }
+        if (in && (t->outputs[o].kind == LG_KIND_ANY || t->outputs[o].kind == in->kind)) {
+            in->refs++;
+            n->outputs[o] = in;
+            continue;
+        }
+        lg_resource_kind kind = t->outputs[o].kind == LG_KIND_ANY ? LG_KIND_IMAGE
+                                                                  : t->outputs[o].kind;
+        lg_resource *r = lg_resource_new(n, kind);
+        r->neutral = true;
+        if (kind == LG_KIND_IMAGE) {
+            r->image.width = ex->opts.width;
+            r->image.height = ex->opts.height;
+            r->image.format = LG_FORMAT_RGBA32F;
+            for (uint32_t k = 0; k < t->n_inputs; k++) {
+                lg_edge e = n->c->inputs[k];
+                lg_resource *src = e.node >= 0 ? ex->nodes[e.node].outputs[e.port] : NULL;
+                if (src && src->kind == LG_KIND_IMAGE) {
+                    r->image.width = src->image.width;
+                    r->image.height = src->image.height;
+                    break;
+                }
+            }
+        } else if (kind == LG_KIND_VOLUME) {
+            r->volume.width = r->volume.height = r->volume.depth = 1;
+            r->volume.format = LG_FORMAT_RGBA32F;
+        } else if (kind == LG_KIND_SCENE) {
+            r->has_features = true;
+        }
+        n->outputs[o] = r;
+    }
+}
+
+static void cull(lg_exec *ex)
+{
+    const lg_checked *c = ex->checked;
+    bool *keep = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *keep);
+    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + 1, sizeof *stack);
+    uint32_t sp = 0;
+    for (uint32_t i = 0; i < c->n_outputs; i++)
+        if (c->outputs[i].node >= 0 && !keep[c->outputs[i].node]) {
+            keep[c->outputs[i].node] = true;
+            stack[sp++] = (uint32_t)c->outputs[i].node;
+        }
+    for (uint32_t i = 0; i < c->n_nodes; i++)
+        if ((c->nodes[i].type->flags & LG_NODE_SIDE_EFFECT) && !keep[i]) {
+            keep[i] = true;
+            stack[sp++] = i;
+        }
+    while (sp > 0) {
+        uint32_t i = stack[--sp];
+        for (uint32_t k = 0; k < c->nodes[i].type->n_inputs; k++) {
+            int32_t s = c->nodes[i].inputs[k].node;
+            if (s >= 0 && !keep[s]) {
+                keep[s] = true;
+                stack[sp++] = (uint32_t)s;
+            }
+        }
+    }
+    for (uint32_t i = 0; i < c->n_nodes; i++)
+        if (!keep[i]) {
+            ex->nodes[i].state = LG_STATE_CULLED;
+            ex->nodes[i].reason = lg_xstrdup("no output depends on it");
+        }
+    free(keep);
+    free(stack);
+}
+
+static int prepare_node(lg_exec *ex, lg_pnode *n)
+{
+    char err[1024];
+    if (lg_registry_load(ex->reg, n->plugin, err, sizeof err)) {
+        lg_node_errorf(n, "%s", err);
+        return -1;
+    }
+    const lg_node_type *live = lg_plugin_live_type(n->plugin, n->schema->name);
+    if (!live) {
+        lg_node_errorf(n, "plugin %s no longer declares this type", n->plugin->path);
+        return -1;
+    }
+    n->pub.type = live;
+    n->plugin->live_refs++;
+    n->created = true;
+    if (live->create && live->create(&n->pub) != 0) {
+        if (!ex->failed)
+            lg_node_errorf(n, "create() failed without saying why");
+        return -1;
+    }
+    if (live->prepare && live->prepare(&n->pub) != 0) {
+        if (!ex->failed)
+            lg_node_errorf(n, "prepare() failed without saying why");
+        return -1;
+    }
+    if (ex->failed)
+        return -1;
+    n->prepared = true;
+    for (uint32_t o = 0; o < n->schema->n_outputs; o++)
+        if (!n->outputs[o]) {
+            lg_node_errorf(n, "prepare() did not declare output '%s'", n->schema->outputs[o].name);
+            return -1;
+        }
+    if (!n->device_set)
+        n->device = LG_DEVICE_CPU;
+    return 0;
+}
+
+int lg_plan(lg_exec *ex)
+{
+    const lg_checked *c = ex->checked;
+    double t0 = lg_now();
+    lg_host_api_init(&ex->api);
+    ex->n_nodes = c->n_nodes;
+    ex->nodes = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *ex->nodes);
+    for (uint32_t i = 0; i < c->n_nodes; i++) {
+        lg_pnode *n = &ex->nodes[i];
+        n->pub.host = &ex->api;
+        n->pub.name = c->nodes[i].g->name;
+        n->pub.type = c->nodes[i].type;
+        n->ex = ex;
+        n->index = i;
+        n->c = &c->nodes[i];
+        n->schema = c->nodes[i].type;
+        lg_registry_lookup(ex->reg, n->schema->name, &n->plugin);
+        n->outputs = lg_xcalloc(n->schema->n_outputs ? n->schema->n_outputs : 1,
+                                sizeof *n->outputs);
+    }
+    cull(ex);
+
+    bool *seen = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *seen);
+    int rc = 0;
+    for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
+        lg_pnode *n = &ex->nodes[c->topo[t]];
+        if (n->state == LG_STATE_CULLED)
+            continue;
+        lg_digest_init(&n->identity);
+        lg_digest_add_str(&n->identity, n->plugin ? n->plugin->name : "");
+        lg_digest_add_str(&n->identity, n->plugin ? n->plugin->version : "");
+        lg_digest_add_str(&n->identity, n->schema->name);
+        digest_params(&n->identity, n->c);
+        for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+            lg_edge e = n->c->inputs[k];
+            if (e.node < 0) {
+                lg_digest_add_str(&n->identity, NULL);
+                continue;
+            }
+            lg_digest_add(&n->identity, &ex->nodes[e.node].identity, sizeof(lg_digest));
+            lg_digest_add(&n->identity, &e.port, sizeof e.port);
+        }
+        for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+            lg_edge e = n->c->inputs[k];
+            if (e.node >= 0 && ex->nodes[e.node].per_frame)
+                n->per_frame = true;
+        }
+        if (n->schema->flags & LG_NODE_PER_FRAME)
+            n->per_frame = true;
+
+        if (n->schema->needs) {
+            lg_scene_features f;
+            memset(&f, 0, sizeof f);
+            memset(seen, 0, c->n_nodes * sizeof *seen);
+            bool any = collect_features(ex, n->index, &f, seen);
+            uint32_t unmet = any ? unmet_needs(n->schema->needs, &f) : n->schema->needs;
+            if (unmet) {
+                n->state = LG_STATE_GATED;
+                n->reason = any ? lg_xasprintf("the scene upstream has %s", needs_text(unmet))
+                                : lg_xstrdup("no scene is upstream of it, so its needs "
+                                             "cannot be met");
+                make_neutral(ex, n);
+                continue;
+            }
+        }
+        rc = prepare_node(ex, n);
+    }
+    free(seen);
+    ex->t_plan_ms = (lg_now() - t0) * 1e3;
+    return rc || ex->failed ? -1 : 0;
+}

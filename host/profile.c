@@ -1,1 +1,123 @@
-/* placeholder: being written */
+/* --profile: per node CPU wall time, GPU time, bytes allocated and moved; as a table and
+ * as JSON. */
+#include "host.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char *dev(const lg_pnode *n)
+{
+    return n->device == LG_DEVICE_GL ? "gl" : n->device == LG_DEVICE_CL ? "cl" : "cpu";
+}
+
+static void bytes(char *out, size_t n, uint64_t b)
+{
+    if (b >= (1ull << 20))
+        snprintf(out, n, "%.1f MiB", (double)b / (1 << 20));
+    else if (b >= 1024)
+        snprintf(out, n, "%.1f KiB", (double)b / 1024);
+    else
+        snprintf(out, n, "%llu B", (unsigned long long)b);
+}
+
+void lg_profile_print(lg_exec *ex, FILE *f)
+{
+    const lg_checked *c = ex->checked;
+    int wn = 4, wt = 4;
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        int a = (int)strlen(ex->nodes[i].pub.name), b = (int)strlen(ex->nodes[i].schema->name);
+        wn = a > wn ? a : wn;
+        wt = b > wt ? b : wt;
+    }
+    fprintf(f, "profile (%u frame%s):\n", ex->opts.frames, ex->opts.frames == 1 ? "" : "s");
+    fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10s  %10s  %11s  %11s\n", wn, "node", wt, "type",
+            "device", "runs", "cpu ms", "gpu ms", "allocated", "moved");
+    double tc = 0, tg = 0;
+    uint64_t ta = 0, tm = 0;
+    for (uint32_t t = 0; t < c->n_nodes; t++) {
+        const lg_pnode *n = &ex->nodes[c->topo[t]];
+        if (n->state != LG_STATE_KEPT)
+            continue;
+        char a[32], m[32], g[32];
+        bytes(a, sizeof a, n->bytes_alloc);
+        bytes(m, sizeof m, n->bytes_moved);
+        if (n->device == LG_DEVICE_CPU)
+            snprintf(g, sizeof g, "-");
+        else
+            snprintf(g, sizeof g, "%.3f", n->gpu_ms);
+        fprintf(f, "  %-*s  %-*s  %-6s  %5llu  %10.3f  %10s  %11s  %11s\n", wn, n->pub.name, wt,
+                n->schema->name, dev(n), (unsigned long long)n->runs, n->cpu_ms, g, a, m);
+        tc += n->cpu_ms;
+        tg += n->gpu_ms;
+        ta += n->bytes_alloc;
+        tm += n->bytes_moved;
+    }
+    char a[32], m[32];
+    bytes(a, sizeof a, ta);
+    bytes(m, sizeof m, tm);
+    fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s\n", wn, "total", wt, "", "",
+            "", tc, tg, a, m);
+    fprintf(f, "  planning %.3f ms (scan, load, create, prepare); frames and outputs %.3f ms\n",
+            ex->t_plan_ms, ex->t_total_ms);
+}
+
+int lg_profile_write_json(lg_exec *ex, const char *path)
+{
+    const lg_checked *c = ex->checked;
+    lg_str s = {0};
+    lg_str_add(&s, "{\n  \"graph\": ");
+    lg_str_add_json(&s, ex->opts.graph_path ? ex->opts.graph_path : "");
+    lg_str_addf(&s, ",\n  \"frames\": %u,\n  \"width\": %u,\n  \"height\": %u,\n", ex->opts.frames,
+                ex->opts.width, ex->opts.height);
+    lg_str_addf(&s, "  \"planning_ms\": %.6f,\n  \"execution_ms\": %.6f,\n  \"nodes\": [",
+                ex->t_plan_ms, ex->t_total_ms);
+    bool first = true;
+    for (uint32_t t = 0; t < c->n_nodes; t++) {
+        const lg_pnode *n = &ex->nodes[c->topo[t]];
+        lg_str_add(&s, first ? "\n    {" : ",\n    {");
+        first = false;
+        lg_str_add(&s, "\"name\": ");
+        lg_str_add_json(&s, n->pub.name);
+        lg_str_add(&s, ", \"type\": ");
+        lg_str_add_json(&s, n->schema->name);
+        lg_str_addf(&s, ", \"state\": \"%s\"",
+                    n->state == LG_STATE_KEPT ? "kept" : n->state == LG_STATE_CULLED ? "culled"
+                                                                                     : "gated");
+        if (n->state == LG_STATE_KEPT)
+            lg_str_addf(&s,
+                        ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
+                        "%.6f, \"gpu_ms\": %.6f, \"bytes_allocated\": %llu, \"bytes_moved\": "
+                        "%llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
+                        dev(n), n->per_frame ? "true" : "false", (unsigned long long)n->runs,
+                        n->cpu_ms, n->gpu_ms, (unsigned long long)n->bytes_alloc,
+                        (unsigned long long)n->bytes_moved, (unsigned long long)n->cache_hits,
+                        (unsigned long long)n->cache_misses);
+        else {
+            lg_str_add(&s, ", \"reason\": ");
+            lg_str_add_json(&s, n->reason);
+        }
+        lg_str_add(&s, "}");
+    }
+    lg_str_add(&s, "\n  ]\n}\n");
+    /* through the same atomic path as images: a temp file renamed into place */
+    char *tmp = lg_xasprintf("%s.tmp%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    int rc = 0;
+    bool ok = f && fwrite(s.s, 1, s.len, f) == s.len;
+    if (f && fclose(f) != 0)
+        ok = false;
+    if (!ok) {
+        lg_hlog(LG_HERR, "cannot write %s: %s", path, strerror(errno));
+        remove(tmp);
+        rc = -1;
+    } else if (rename(tmp, path) != 0) {
+        lg_hlog(LG_HERR, "cannot write %s: %s", path, strerror(errno));
+        remove(tmp);
+        rc = -1;
+    }
+    free(tmp);
+    lg_str_free(&s);
+    return rc;
+}

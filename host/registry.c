@@ -1,1 +1,767 @@
-/* placeholder: being written */
+/* Plugin discovery, scanning (in a child process) and loading. See host.h. */
+#include "host.h"
+
+#include <dirent.h>
+#include <dlfcn.h>
+#include <errno.h>
+#include <limits.h>
+#include <link.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* ---- descriptor validation ----------------------------------------------------------- */
+
+static bool valid_ident(const char *s)
+{
+    if (!s || !((*s >= 'a' && *s <= 'z') || *s == '_'))
+        return false;
+    for (; *s; s++)
+        if (!((*s >= 'a' && *s <= 'z') || (*s >= '0' && *s <= '9') || *s == '_'))
+            return false;
+    return true;
+}
+
+static bool str_ok(const char *s, size_t max)
+{
+    return s && strnlen(s, max + 1) <= max;
+}
+
+#define FAIL(...)                                                                          \
+    do {                                                                                   \
+        snprintf(err, errlen, __VA_ARGS__);                                                \
+        return -1;                                                                         \
+    } while (0)
+
+static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *err, size_t errlen)
+{
+    if (!valid_ident(p->key))
+        FAIL("node type '%s': a parameter has an invalid key", t->name);
+    if (p->type < LG_PARAM_BOOL || p->type > LG_PARAM_INT3)
+        FAIL("node type '%s', parameter '%s': unknown type %d", t->name, p->key, (int)p->type);
+    if (p->min > p->max)
+        FAIL("node type '%s', parameter '%s': min %g > max %g", t->name, p->key, p->min, p->max);
+    bool ranged = p->min < p->max;
+    switch (p->type) {
+    case LG_PARAM_INT:
+        if (ranged && ((double)p->def.i < p->min || (double)p->def.i > p->max))
+            FAIL("node type '%s', parameter '%s': default %lld outside [%g, %g]", t->name, p->key,
+                 (long long)p->def.i, p->min, p->max);
+        break;
+    case LG_PARAM_FLOAT:
+        if (ranged && (p->def.f < p->min || p->def.f > p->max))
+            FAIL("node type '%s', parameter '%s': default %g outside [%g, %g]", t->name, p->key,
+                 p->def.f, p->min, p->max);
+        break;
+    case LG_PARAM_ENUM: {
+        if (!p->enum_values || !p->enum_values[0])
+            FAIL("node type '%s', parameter '%s': an enum without values", t->name, p->key);
+        int n = 0;
+        while (p->enum_values[n] && n < 256)
+            n++;
+        if (p->def.s) {
+            bool found = false;
+            for (int i = 0; i < n; i++)
+                found |= strcmp(p->enum_values[i], p->def.s) == 0;
+            if (!found)
+                FAIL("node type '%s', parameter '%s': default '%s' is not one of its values",
+                     t->name, p->key, p->def.s);
+        } else if (p->def.e < 0 || p->def.e >= n) {
+            FAIL("node type '%s', parameter '%s': default index %d out of range", t->name,
+                 p->key, (int)p->def.e);
+        }
+        break;
+    }
+    default:
+        break;
+    }
+    return 0;
+}
+
+int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err, size_t errlen)
+{
+    if (!d)
+        FAIL("lg_plugin_entry() returned NULL");
+    if (d->struct_size < offsetof(lg_plugin_desc, reserved))
+        FAIL("malformed descriptor: struct_size %zu is smaller than the minimum %zu",
+             d->struct_size, offsetof(lg_plugin_desc, reserved));
+    if (d->abi_major != LG_ABI_MAJOR || d->abi_minor > LG_ABI_MINOR)
+        FAIL("built for plugin ABI %u.%u, this host has ABI %d.%d (needs major %d, minor at "
+             "most %d)",
+             d->abi_major, d->abi_minor, LG_ABI_MAJOR, LG_ABI_MINOR, LG_ABI_MAJOR, LG_ABI_MINOR);
+    if (!valid_ident(d->name))
+        FAIL("malformed descriptor: plugin name missing or not [a-z_][a-z0-9_]*");
+    if (!str_ok(d->version, 64))
+        FAIL("malformed descriptor: plugin '%s' has no version", d->name);
+    if (!d->types || d->n_types == 0 || d->n_types > 1024)
+        FAIL("malformed descriptor: plugin '%s' declares %u node types", d->name, d->n_types);
+    for (uint32_t i = 0; i < d->n_types; i++) {
+        const lg_node_type *t = &d->types[i];
+        if (t->struct_size < offsetof(lg_node_type, reserved))
+            FAIL("malformed descriptor: node type %u of '%s': struct_size %zu too small", i,
+                 d->name, t->struct_size);
+        if (!valid_ident(t->name))
+            FAIL("malformed descriptor: node type %u of '%s' has no valid name", i, d->name);
+        if (!t->execute)
+            FAIL("node type '%s' has no execute callback", t->name);
+        if (t->n_params > 256 || (t->n_params && !t->params))
+            FAIL("node type '%s': bad parameter table (%u entries)", t->name, t->n_params);
+        if (t->n_inputs > 64 || (t->n_inputs && !t->inputs) || t->n_outputs > 64 ||
+            (t->n_outputs && !t->outputs))
+            FAIL("node type '%s': bad port tables", t->name);
+        for (uint32_t k = 0; k < t->n_params; k++) {
+            if (validate_param(t, &t->params[k], err, errlen))
+                return -1;
+            for (uint32_t j = 0; j < k; j++)
+                if (strcmp(t->params[j].key, t->params[k].key) == 0)
+                    FAIL("node type '%s': parameter '%s' declared twice", t->name,
+                         t->params[k].key);
+        }
+        for (uint32_t k = 0; k < t->n_inputs + t->n_outputs; k++) {
+            const lg_port_desc *p =
+                k < t->n_inputs ? &t->inputs[k] : &t->outputs[k - t->n_inputs];
+            if (!valid_ident(p->name))
+                FAIL("node type '%s': a port has an invalid name", t->name);
+            if ((int)p->kind < 0 || p->kind >= LG_KIND_COUNT_)
+                FAIL("node type '%s', port '%s': unknown resource kind", t->name, p->name);
+        }
+        if (t->neutral == LG_NEUTRAL_PASSTHROUGH && t->neutral_input >= t->n_inputs)
+            FAIL("node type '%s': neutral_input %u is not an input", t->name, t->neutral_input);
+    }
+    (void)path;
+    return 0;
+}
+#undef FAIL
+
+/* ---- serialisation of a descriptor (child -> parent) ------------------------------------ */
+
+static void put_u32(lg_str *b, uint32_t v) { lg_str_addn(b, (const char *)&v, 4); }
+static void put_raw(lg_str *b, const void *p, size_t n) { lg_str_addn(b, p, n); }
+static void put_s(lg_str *b, const char *s)
+{
+    if (!s) {
+        put_u32(b, UINT32_MAX);
+        return;
+    }
+    uint32_t n = (uint32_t)strnlen(s, 1u << 20);
+    put_u32(b, n);
+    lg_str_addn(b, s, n);
+}
+static void put_list(lg_str *b, const char *const *l)
+{
+    uint32_t n = 0;
+    while (l && l[n] && n < 256)
+        n++;
+    put_u32(b, l ? n : UINT32_MAX);
+    for (uint32_t i = 0; i < n; i++)
+        put_s(b, l[i]);
+}
+
+static void put_desc(lg_str *b, const lg_plugin_desc *d)
+{
+    put_raw(b, "LGSCAN1", 8);
+    put_u32(b, d->abi_major);
+    put_u32(b, d->abi_minor);
+    put_s(b, d->name);
+    put_s(b, d->version);
+    put_s(b, d->doc);
+    put_u32(b, d->n_types);
+    for (uint32_t i = 0; i < d->n_types; i++) {
+        const lg_node_type *t = &d->types[i];
+        put_s(b, t->name);
+        put_s(b, t->doc);
+        put_u32(b, t->needs);
+        put_u32(b, t->flags);
+        put_u32(b, (uint32_t)t->neutral);
+        put_u32(b, t->neutral_input);
+        put_u32(b, t->n_params);
+        for (uint32_t k = 0; k < t->n_params; k++) {
+            const lg_param_desc *p = &t->params[k];
+            put_s(b, p->key);
+            put_u32(b, (uint32_t)p->type);
+            /* a normalised copy: no padding garbage, enum index and name both set */
+            lg_value v;
+            memset(&v, 0, sizeof v);
+            v.type = p->type;
+            const char *sv = NULL;
+            switch (p->type) {
+            case LG_PARAM_BOOL: v.b = p->def.b; break;
+            case LG_PARAM_INT: v.i = p->def.i; break;
+            case LG_PARAM_FLOAT: v.f = p->def.f; break;
+            case LG_PARAM_VEC2: case LG_PARAM_VEC3: case LG_PARAM_COLOR:
+                memcpy(v.v, p->def.v, sizeof v.v);
+                break;
+            case LG_PARAM_INT3: memcpy(v.i3, p->def.i3, sizeof v.i3); break;
+            case LG_PARAM_STRING: case LG_PARAM_PATH: sv = p->def.s; break;
+            case LG_PARAM_ENUM:
+                v.e = p->def.e;
+                sv = p->def.s ? p->def.s : p->enum_values[p->def.e];
+                for (int e = 0; p->enum_values[e]; e++)
+                    if (strcmp(p->enum_values[e], sv) == 0)
+                        v.e = e;
+                break;
+            }
+            put_raw(b, &v, sizeof v);
+            put_s(b, sv);
+            put_raw(b, &p->min, sizeof p->min);
+            put_raw(b, &p->max, sizeof p->max);
+            put_list(b, p->enum_values);
+            put_s(b, p->doc);
+            put_list(b, p->renamed_from);
+        }
+        for (int io = 0; io < 2; io++) {
+            uint32_t n = io ? t->n_outputs : t->n_inputs;
+            const lg_port_desc *ports = io ? t->outputs : t->inputs;
+            put_u32(b, n);
+            for (uint32_t k = 0; k < n; k++) {
+                put_s(b, ports[k].name);
+                put_u32(b, (uint32_t)ports[k].kind);
+                put_u32(b, ports[k].optional);
+                put_s(b, ports[k].doc);
+            }
+        }
+    }
+}
+
+typedef struct reader {
+    const char *p, *end;
+    bool bad;
+} reader;
+
+static uint32_t get_u32(reader *r)
+{
+    uint32_t v = 0;
+    if (r->end - r->p < 4) {
+        r->bad = true;
+        return 0;
+    }
+    memcpy(&v, r->p, 4);
+    r->p += 4;
+    return v;
+}
+static void get_raw(reader *r, void *out, size_t n)
+{
+    if ((size_t)(r->end - r->p) < n) {
+        r->bad = true;
+        memset(out, 0, n);
+        return;
+    }
+    memcpy(out, r->p, n);
+    r->p += n;
+}
+static char *get_s(reader *r)
+{
+    uint32_t n = get_u32(r);
+    if (n == UINT32_MAX || r->bad)
+        return NULL;
+    if ((size_t)(r->end - r->p) < n) {
+        r->bad = true;
+        return NULL;
+    }
+    char *s = lg_xstrndup(r->p, n);
+    r->p += n;
+    return s;
+}
+static const char *const *get_list(reader *r)
+{
+    uint32_t n = get_u32(r);
+    if (n == UINT32_MAX || r->bad || n > 256)
+        return NULL;
+    char **l = lg_xcalloc(n + 1, sizeof *l);
+    for (uint32_t i = 0; i < n; i++)
+        l[i] = get_s(r);
+    return (const char *const *)l;
+}
+
+static int get_desc(reader *r, lg_plugin *p)
+{
+    char magic[8];
+    get_raw(r, magic, 8);
+    if (r->bad || memcmp(magic, "LGSCAN1", 8) != 0)
+        return -1;
+    p->abi_major = (uint16_t)get_u32(r);
+    p->abi_minor = (uint16_t)get_u32(r);
+    p->name = get_s(r);
+    p->version = get_s(r);
+    p->doc = get_s(r);
+    p->n_types = get_u32(r);
+    if (r->bad || p->n_types > 1024)
+        return -1;
+    p->types = lg_xcalloc(p->n_types, sizeof *p->types);
+    for (uint32_t i = 0; i < p->n_types && !r->bad; i++) {
+        lg_node_type *t = &p->types[i];
+        t->struct_size = sizeof *t;
+        t->name = get_s(r);
+        t->doc = get_s(r);
+        t->needs = get_u32(r);
+        t->flags = get_u32(r);
+        t->neutral = (lg_neutral)get_u32(r);
+        t->neutral_input = get_u32(r);
+        t->n_params = get_u32(r);
+        if (r->bad || t->n_params > 256)
+            return -1;
+        lg_param_desc *params = lg_xcalloc(t->n_params ? t->n_params : 1, sizeof *params);
+        for (uint32_t k = 0; k < t->n_params && !r->bad; k++) {
+            lg_param_desc *q = &params[k];
+            q->key = get_s(r);
+            q->type = (lg_param_type)get_u32(r);
+            get_raw(r, &q->def, sizeof q->def);
+            char *s = get_s(r);
+            if (q->type == LG_PARAM_STRING || q->type == LG_PARAM_PATH || q->type == LG_PARAM_ENUM)
+                q->def.s = s;
+            else
+                free(s);
+            get_raw(r, &q->min, sizeof q->min);
+            get_raw(r, &q->max, sizeof q->max);
+            q->enum_values = get_list(r);
+            q->doc = get_s(r);
+            q->renamed_from = get_list(r);
+        }
+        t->params = params;
+        for (int io = 0; io < 2 && !r->bad; io++) {
+            uint32_t n = get_u32(r);
+            if (n > 64)
+                return -1;
+            lg_port_desc *ports = lg_xcalloc(n ? n : 1, sizeof *ports);
+            for (uint32_t k = 0; k < n && !r->bad; k++) {
+                ports[k].name = get_s(r);
+                ports[k].kind = (lg_resource_kind)get_u32(r);
+                ports[k].optional = get_u32(r) != 0;
+                ports[k].doc = get_s(r);
+            }
+            if (io) {
+                t->outputs = ports;
+                t->n_outputs = n;
+            } else {
+                t->inputs = ports;
+                t->n_inputs = n;
+            }
+        }
+    }
+    return r->bad ? -1 : 0;
+}
+
+/* ---- scanning --------------------------------------------------------------------------- */
+
+static void refuse(lg_registry *r, const char *path, const char *reason)
+{
+    r->refused = lg_xrealloc(r->refused, (r->n_refused + 1) * sizeof *r->refused);
+    r->refused[r->n_refused].path = lg_xstrdup(path);
+    r->refused[r->n_refused].reason = lg_xstrdup(reason);
+    r->n_refused++;
+    lg_hlog(LG_HWARN, "refusing plugin %s: %s", path, reason);
+}
+
+static void write_all(int fd, const char *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return;
+        p += w;
+        n -= (size_t)w;
+    }
+}
+
+/* In the child: load, validate, serialise. Status byte 'O' + descriptor, or 'E' + reason. */
+static void scan_child(const char *path, int fd)
+{
+    lg_str b = {0};
+    char err[512];
+    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char *e = dlerror();
+        lg_str_addf(&b, "Ecannot be loaded: %s", e ? e : "dlopen failed");
+    } else {
+        lg_plugin_entry_fn entry = (lg_plugin_entry_fn)(uintptr_t)dlsym(h, LG_PLUGIN_ENTRY_NAME);
+        if (!entry) {
+            lg_str_addf(&b, "Eno '%s' symbol: not a lightgraph plugin", LG_PLUGIN_ENTRY_NAME);
+        } else {
+            const lg_plugin_desc *d = entry();
+            if (lg_descriptor_validate(d, path, err, sizeof err)) {
+                lg_str_addf(&b, "E%s", err);
+            } else {
+                lg_str_addc(&b, 'O');
+                put_desc(&b, d);
+            }
+        }
+    }
+    write_all(fd, b.s, b.len);
+    lg_str_free(&b);
+}
+
+static int scan_one(lg_registry *r, const char *path)
+{
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        if (strcmp(r->plugins[i].path, path) == 0)
+            return 0;
+    int fds[2];
+    if (pipe(fds) != 0) {
+        refuse(r, path, "cannot scan: pipe() failed");
+        return -1;
+    }
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        refuse(r, path, "cannot scan: fork() failed");
+        return -1;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        scan_child(path, fds[1]);
+        close(fds[1]);
+        _exit(0);
+    }
+    close(fds[1]);
+    lg_str b = {0};
+    char buf[8192];
+    for (;;) {
+        ssize_t n = read(fds[0], buf, sizeof buf);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        lg_str_addn(&b, buf, (size_t)n);
+    }
+    close(fds[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    int rc = 0;
+    if (WIFSIGNALED(status)) {
+        char *m = lg_xasprintf("crashed while being scanned (signal %d, %s)", WTERMSIG(status),
+                               strsignal(WTERMSIG(status)));
+        refuse(r, path, m);
+        free(m);
+        rc = -1;
+    } else if (b.len == 0) {
+        refuse(r, path, "the scanner produced nothing (the plugin exited while loading?)");
+        rc = -1;
+    } else if (b.s[0] == 'E') {
+        refuse(r, path, b.s + 1);
+        rc = -1;
+    } else {
+        lg_plugin p = {0};
+        reader rd = {b.s + 1, b.s + b.len, false};
+        if (get_desc(&rd, &p) != 0) {
+            refuse(r, path, "malformed scan result");
+            rc = -1;
+        } else {
+            bool dup = false;
+            for (uint32_t i = 0; i < r->n_plugins; i++)
+                if (strcmp(r->plugins[i].name, p.name) == 0) {
+                    lg_hlog(LG_HDEBUG, "plugin '%s' at %s is shadowed by %s", p.name, path,
+                            r->plugins[i].path);
+                    dup = true;
+                }
+            if (!dup) {
+                p.path = lg_xstrdup(path);
+                r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
+                r->plugins[r->n_plugins++] = p;
+            }
+            /* a shadowed plugin's copy is small; it is leaked deliberately rather than
+             * freed field by field (scan happens once per process) */
+        }
+    }
+    lg_str_free(&b);
+    return rc;
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+static void scan_dir(lg_registry *r, const char *dir, int depth)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    char **names = NULL;
+    size_t n = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.')
+            continue;
+        names = lg_xrealloc(names, (n + 1) * sizeof *names);
+        names[n++] = lg_xstrdup(e->d_name);
+    }
+    closedir(d);
+    qsort(names, n, sizeof *names, cmp_str);
+    for (size_t i = 0; i < n; i++) {
+        char *full = lg_path_join(dir, names[i]);
+        struct stat st;
+        if (stat(full, &st) == 0) {
+            size_t len = strlen(names[i]);
+            if (S_ISDIR(st.st_mode) && depth == 0)
+                scan_dir(r, full, 1);
+            else if (S_ISREG(st.st_mode) && strncmp(names[i], "lg_", 3) == 0 && len > 3 &&
+                     strcmp(names[i] + len - 3, ".so") == 0)
+                scan_one(r, full);
+        }
+        free(full);
+        free(names[i]);
+    }
+    free(names);
+}
+
+static void add_dir(lg_registry *r, const char *dir)
+{
+    char *abs = lg_path_absolute(dir);
+    for (uint32_t i = 0; i < r->n_dirs; i++)
+        if (strcmp(r->dirs[i], abs) == 0) {
+            free(abs);
+            return;
+        }
+    r->dirs = lg_xrealloc(r->dirs, (r->n_dirs + 1) * sizeof *r->dirs);
+    r->dirs[r->n_dirs++] = abs;
+}
+
+/* True when this program is the one in the build tree. */
+static bool running_from_build_tree(void)
+{
+    char exe[PATH_MAX], root[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0)
+        return false;
+    exe[n] = 0;
+    char *dir = lg_path_dirname(exe);
+    bool same = false;
+    if (realpath(LG_BUILD_ROOT, root)) {
+        char rd[PATH_MAX];
+        same = realpath(dir, rd) && strcmp(rd, root) == 0;
+        /* tests and tools built in the tree run from its subdirectories */
+        if (!same && realpath(dir, rd)) {
+            size_t rl = strlen(root);
+            same = strncmp(rd, root, rl) == 0 && rd[rl] == '/';
+        }
+    }
+    free(dir);
+    return same;
+}
+
+static void finish_names(lg_registry *r)
+{
+    free(r->names);
+    r->n_names = 0;
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        r->n_names += r->plugins[i].n_types;
+    r->names = lg_xcalloc(r->n_names ? r->n_names : 1, sizeof *r->names);
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        for (uint32_t j = 0; j < r->plugins[i].n_types; j++)
+            r->names[k++] = r->plugins[i].types[j].name;
+}
+
+int lg_registry_scan(lg_registry *r)
+{
+    const char *env = getenv("LIGHTGRAPH_PLUGIN_PATH");
+    if (env && *env) {
+        char *copy = lg_xstrdup(env);
+        for (char *save = NULL, *tok = strtok_r(copy, ":", &save); tok;
+             tok = strtok_r(NULL, ":", &save))
+            if (*tok)
+                add_dir(r, tok);
+        free(copy);
+    }
+    if (running_from_build_tree())
+        add_dir(r, LG_BUILD_PLUGIN_DIR);
+    add_dir(r, LG_INSTALL_PLUGIN_DIR);
+    for (uint32_t i = 0; i < r->n_dirs; i++)
+        scan_dir(r, r->dirs[i], 0);
+    finish_names(r);
+    return 0;
+}
+
+int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        char *abs = lg_path_absolute(paths[i]);
+        scan_one(r, abs);
+        free(abs);
+    }
+    finish_names(r);
+    return 0;
+}
+
+const lg_node_type *lg_registry_lookup(const lg_registry *r, const char *type, lg_plugin **plugin)
+{
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        for (uint32_t j = 0; j < r->plugins[i].n_types; j++)
+            if (strcmp(r->plugins[i].types[j].name, type) == 0) {
+                if (plugin)
+                    *plugin = &r->plugins[i];
+                return &r->plugins[i].types[j];
+            }
+    return NULL;
+}
+
+static const lg_node_type *schema_lookup(void *ctx, const char *name)
+{
+    return lg_registry_lookup(ctx, name, NULL);
+}
+
+void lg_registry_schema(const lg_registry *r, lg_schema *out)
+{
+    out->ctx = (void *)r;
+    out->lookup = schema_lookup;
+    out->n_names = r->n_names;
+    out->names = r->names;
+}
+
+int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)
+{
+    (void)r;
+    if (p->handle)
+        return 0;
+    void *h = dlopen(p->path, RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char *e = dlerror();
+        snprintf(err, errlen, "plugin %s: cannot be loaded: %s", p->path, e ? e : "?");
+        return -1;
+    }
+    lg_plugin_entry_fn entry = (lg_plugin_entry_fn)(uintptr_t)dlsym(h, LG_PLUGIN_ENTRY_NAME);
+    const lg_plugin_desc *d = entry ? entry() : NULL;
+    char why[512];
+    if (!entry || lg_descriptor_validate(d, p->path, why, sizeof why)) {
+        snprintf(err, errlen, "plugin %s: %s", p->path, entry ? why : "no entry symbol");
+        dlclose(h);
+        return -1;
+    }
+    /* The file may have been rebuilt since the scan: the schema the graph was checked
+     * against must be the one that runs. */
+    lg_str a = {0}, b = {0};
+    put_desc(&a, d);
+    bool same = strcmp(d->name, p->name) == 0 && d->n_types == p->n_types;
+    if (same) {
+        lg_plugin_desc shadow = *d;
+        shadow.types = p->types;
+        shadow.name = p->name;
+        shadow.version = p->version;
+        shadow.doc = p->doc;
+        shadow.abi_major = p->abi_major;
+        shadow.abi_minor = p->abi_minor;
+        put_desc(&b, &shadow);
+        same = a.len == b.len && memcmp(a.s, b.s, a.len) == 0;
+    }
+    lg_str_free(&a);
+    lg_str_free(&b);
+    if (!same) {
+        snprintf(err, errlen, "plugin %s changed between scanning and loading; run again",
+                 p->path);
+        dlclose(h);
+        return -1;
+    }
+    p->handle = h;
+    p->live = d;
+    lg_hlog(LG_HDEBUG, "loaded plugin %s (%s)", p->name, p->path);
+    return 0;
+}
+
+const lg_node_type *lg_plugin_live_type(const lg_plugin *p, const char *type)
+{
+    if (!p->live)
+        return NULL;
+    for (uint32_t i = 0; i < p->live->n_types; i++)
+        if (strcmp(p->live->types[i].name, type) == 0)
+            return &p->live->types[i];
+    return NULL;
+}
+
+typedef struct loaded_ctx {
+    const lg_registry *r;
+    lg_str *out;
+} loaded_ctx;
+
+static int phdr_cb(struct dl_phdr_info *info, size_t size, void *data)
+{
+    (void)size;
+    loaded_ctx *c = data;
+    if (!info->dlpi_name || !info->dlpi_name[0])
+        return 0;
+    for (uint32_t i = 0; i < c->r->n_plugins; i++) {
+        char a[PATH_MAX], b[PATH_MAX];
+        if (realpath(info->dlpi_name, a) && realpath(c->r->plugins[i].path, b) &&
+            strcmp(a, b) == 0)
+            lg_str_addf(c->out, "%s%s", c->out->len ? " " : "", c->r->plugins[i].name);
+    }
+    return 0;
+}
+
+char *lg_registry_loaded_list(const lg_registry *r)
+{
+    lg_str out = {0};
+    loaded_ctx c = {r, &out};
+    dl_iterate_phdr(phdr_cb, &c);
+    return lg_str_take(&out);
+}
+
+static void free_list(const char *const *l)
+{
+    if (!l)
+        return;
+    for (int i = 0; l[i]; i++)
+        free((char *)l[i]);
+    free((void *)l);
+}
+
+void lg_registry_free(lg_registry *r)
+{
+    for (uint32_t i = 0; i < r->n_plugins; i++) {
+        lg_plugin *p = &r->plugins[i];
+        for (uint32_t j = 0; j < p->n_types; j++) {
+            lg_node_type *t = &p->types[j];
+            for (uint32_t k = 0; k < t->n_params; k++) {
+                lg_param_desc *q = (lg_param_desc *)&t->params[k];
+                free((char *)q->key);
+                free((char *)q->doc);
+                if (q->type == LG_PARAM_STRING || q->type == LG_PARAM_PATH ||
+                    q->type == LG_PARAM_ENUM)
+                    free((char *)q->def.s);
+                free_list(q->enum_values);
+                free_list(q->renamed_from);
+            }
+            free((void *)t->params);
+            for (uint32_t k = 0; k < t->n_inputs; k++) {
+                free((char *)t->inputs[k].name);
+                free((char *)t->inputs[k].doc);
+            }
+            for (uint32_t k = 0; k < t->n_outputs; k++) {
+                free((char *)t->outputs[k].name);
+                free((char *)t->outputs[k].doc);
+            }
+            free((void *)t->inputs);
+            free((void *)t->outputs);
+            free((char *)t->name);
+            free((char *)t->doc);
+        }
+        free(p->types);
+        /* Plugins stay loaded until every object they made is gone; by the time the
+         * registry is freed the executor has destroyed them all. */
+        if (p->handle && p->live_refs == 0 && !getenv("LIGHTGRAPH_NO_DLCLOSE"))
+            dlclose(p->handle);
+        free(p->path);
+        free(p->name);
+        free(p->version);
+        free(p->doc);
+    }
+    free(r->plugins);
+    for (uint32_t i = 0; i < r->n_refused; i++) {
+        free(r->refused[i].path);
+        free(r->refused[i].reason);
+    }
+    free(r->refused);
+    free(r->names);
+    for (uint32_t i = 0; i < r->n_dirs; i++)
+        free(r->dirs[i]);
+    free(r->dirs);
+    memset(r, 0, sizeof *r);
+}

@@ -1,0 +1,210 @@
+/*
+ * host/host.h: the host's private state: plugin registry, plan, resources, execution.
+ */
+#ifndef LG_HOST_HOST_H
+#define LG_HOST_HOST_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "lightgraph/host.h"
+#include "device.h"
+#include "graph.h"
+#include "util.h"
+
+/* ---- registry (registry.c) ----------------------------------------------------------
+ * Plugins are scanned in a child process (fork, dlopen, read the descriptor, serialise it
+ * through a pipe, exit), as GStreamer's plugin scanner does: the host learns every node
+ * type's schema without loading a single plugin into its own process, a plugin that
+ * crashes while being scanned cannot take the host down, and only the plugins the plan
+ * needs are ever dlopen'ed by the host (lg_registry_load). */
+
+typedef struct lg_plugin {
+    char *path;              /* absolute path of the shared object */
+    char *name, *version, *doc;
+    uint16_t abi_major, abi_minor;
+    lg_node_type *types;     /* host-owned copies of the scanned schema (no callbacks) */
+    uint32_t n_types;
+    void *handle;            /* dlopen handle once loaded */
+    const lg_plugin_desc *live; /* the plugin's own descriptor once loaded */
+    int live_refs;           /* resources and instances alive that came from it */
+} lg_plugin;
+
+typedef struct lg_refusal {
+    char *path;
+    char *reason;
+} lg_refusal;
+
+typedef struct lg_registry {
+    lg_plugin *plugins;
+    uint32_t n_plugins;
+    lg_refusal *refused;
+    uint32_t n_refused;
+    const char **names;      /* every node type name, for did-you-mean */
+    uint32_t n_names;
+    char **dirs;             /* the directories searched, in order */
+    uint32_t n_dirs;
+} lg_registry;
+
+/* Finds the plugin directories (LIGHTGRAPH_PLUGIN_PATH, then the build tree when the
+ * program runs from it, then the install directory) and scans every lg_*.so in them
+ * (and in their immediate subdirectories). Refused plugins are recorded with the reason
+ * and reported as warnings. Returns 0 (an empty registry is not an error here). */
+int lg_registry_scan(lg_registry *r);
+/* Scans exactly these files (tests). */
+int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n);
+const lg_node_type *lg_registry_lookup(const lg_registry *r, const char *type, lg_plugin **plugin);
+/* dlopens the plugin in this process, checks its descriptor again and that it matches the
+ * scanned one. Returns 0 or -1 with a message in err. */
+int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen);
+/* The live type (with callbacks) of a loaded plugin. */
+const lg_node_type *lg_plugin_live_type(const lg_plugin *p, const char *type);
+void lg_registry_schema(const lg_registry *r, lg_schema *out);
+/* Drops the plugins that have no live objects (dlclose) and frees everything. */
+void lg_registry_free(lg_registry *r);
+/* The plugins whose shared object is mapped into this process right now, by walking the
+ * loaded objects (dl_iterate_phdr): the evidence --explain prints. */
+char *lg_registry_loaded_list(const lg_registry *r);
+
+/* Checks a descriptor as the loader does: sizes, ABI, names, parameter tables, defaults
+ * within ranges. Returns 0, or -1 with the first problem in err. */
+int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err, size_t errlen);
+
+/* ---- JSON and text introspection (cmd_info.c) ---------------------------------------- */
+void lg_print_type_json(lg_str *out, const lg_node_type *t, const lg_plugin *p);
+void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type);
+
+/* ---- resources (resource.c) ------------------------------------------------------------ */
+
+struct lg_exec;
+struct lg_pnode;
+
+struct lg_resource {
+    lg_resource_kind kind;
+    bool neutral;
+    lg_image_desc image;
+    lg_buffer_desc buffer;
+    lg_volume_desc volume;
+    lg_scene_features features;
+    bool has_features;
+    void *payload;
+    void (*free_payload)(void *);
+    lg_plugin *payload_plugin;  /* kept loaded while the payload lives */
+    struct lg_pnode *producer;
+    int refs;
+    /* copies and which are current */
+    void *cpu;
+    float *cpu_depth;
+    bool cpu_valid;
+    uint32_t gl_name, gl_depth;
+    bool gl_valid;
+    void *cl_mem, *cl_depth;
+    bool cl_valid;
+};
+
+size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth included */
+lg_resource *lg_resource_new(struct lg_pnode *producer, lg_resource_kind kind);
+void lg_resource_unref(struct lg_exec *ex, lg_resource *r);
+int lg_resource_map_cpu(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, unsigned access,
+                        lg_cpu_view *view);
+int lg_resource_map_gl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, unsigned access,
+                       uint32_t *name, uint32_t *depth);
+int lg_resource_map_cl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, unsigned access,
+                       void **mem, void **depth);
+/* RGBA float copy of an image resource (for output files). Caller frees. */
+int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char *err, size_t errlen);
+
+/* ---- plan and execution (plan.c, exec.c) ------------------------------------------------ */
+
+typedef enum lg_node_state {
+    LG_STATE_KEPT = 0,
+    LG_STATE_CULLED,
+    LG_STATE_GATED,
+} lg_node_state;
+
+typedef struct lg_pnode {
+    lg_node pub;                 /* what the plugin sees; must stay first */
+    struct lg_exec *ex;
+    uint32_t index;
+    const lg_cnode *c;
+    const lg_node_type *schema;  /* scanned type */
+    lg_plugin *plugin;
+    lg_node_state state;
+    char *reason;                /* why culled or gated */
+    bool per_frame;
+    bool device_set;
+    lg_device device;
+    bool prepared, created;
+    bool ran;                    /* executed at least once */
+    lg_resource **outputs;       /* schema->n_outputs */
+    lg_digest identity;
+    /* profile */
+    double cpu_ms, gpu_ms;
+    uint64_t runs;
+    uint64_t bytes_alloc, bytes_moved;
+    uint64_t cache_hits, cache_misses;
+    void **cl_events;
+    uint32_t n_cl_events, cap_cl_events;
+    bool warned_once;
+} lg_pnode;
+
+typedef struct lg_exec_opts {
+    uint32_t width, height;      /* render size */
+    uint32_t frames;
+    double dt;
+    const char *gl_backend;      /* "osmesa" (default) or "egl" */
+    const char *output_override; /* -o */
+    bool explain, profile;
+    const char *profile_json;
+    const char *graph_path;
+} lg_exec_opts;
+
+typedef struct lg_exec {
+    lg_exec_opts opts;
+    lg_registry *reg;
+    const lg_graph *graph;
+    const lg_checked *checked;
+    lg_pnode *nodes;
+    uint32_t n_nodes;
+    lg_host_api api;
+    lg_gl_device *gl;
+    lg_cl_device *cl;
+    char *gl_error, *cl_error;   /* why a device could not be made (reported once per node) */
+    uint32_t gl_timer_query;
+    char *cache_dir;
+    bool failed;
+    uint32_t frame;
+    double t_plan_ms, t_total_ms;
+} lg_exec;
+
+/* Makes the plan: cull (kept only what an output or a side-effect node needs), then in
+ * topological order: gate by scene features, load plugins, create and prepare. */
+int lg_plan(lg_exec *ex);
+/* Runs the frames and writes the outputs. */
+int lg_execute(lg_exec *ex);
+void lg_exec_free(lg_exec *ex);
+void lg_explain_print(lg_exec *ex, FILE *f);
+void lg_profile_print(lg_exec *ex, FILE *f);
+int lg_profile_write_json(lg_exec *ex, const char *path);
+
+/* host API table and per-node helpers (hostapi.c) */
+void lg_host_api_init(lg_host_api *api);
+void lg_node_errorf(lg_pnode *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+int lg_exec_need_gl(lg_exec *ex, lg_pnode *n);
+int lg_exec_need_cl(lg_exec *ex, lg_pnode *n);
+
+/* cache (cache.c) */
+char *lg_cache_dir(void);
+int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
+int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
+
+/* commands (cmd_*.c); argv[0] is the command's name; return the exit status */
+int lg_cmd_render(int argc, char **argv);
+int lg_cmd_check(int argc, char **argv);
+int lg_cmd_fmt(int argc, char **argv);
+int lg_cmd_dot(int argc, char **argv);
+int lg_cmd_plugins(int argc, char **argv);
+int lg_cmd_inspect(int argc, char **argv);
+
+#endif
