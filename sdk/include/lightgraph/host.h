@@ -185,6 +185,10 @@ typedef struct lg_host_api {
     int (*cache_put)(lg_node *node, const char *key, const void *data, size_t size);
     void (*cache_free)(void *data);
 
+    /* The render size (--size WxH, default 640x360), for nodes that make images from
+     * nothing; usable from prepare() on. */
+    void (*render_size)(lg_node *node, uint32_t *width, uint32_t *height);
+
     void *reserved[32];
 } lg_host_api;
 

@@ -1,0 +1,51 @@
+# The README's two commands: `make demo` and `make test`.
+# Both install missing Debian packages (as root; otherwise they print the apt-get line),
+# configure, build, then render the default example / run the whole test suite.
+
+BUILD      ?= build
+ASAN_BUILD ?= build-asan
+MESON_OPTS ?= -Dwerror=true
+JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
+
+.PHONY: all deps build demo test test-sanitize bench clean
+
+all: build
+
+deps:
+	@sh tools/deps.sh
+
+$(BUILD)/build.ninja:
+	@sh tools/deps.sh
+	meson setup $(BUILD) $(MESON_OPTS)
+
+build: $(BUILD)/build.ninja
+	ninja -C $(BUILD)
+
+# Renders the default example into out/ and prints the per-node profile.
+demo: build
+	@mkdir -p out
+	$(BUILD)/lightgraph render examples/tonemap.lgraph -o out/demo.png --profile --explain
+	@echo "wrote out/demo.png"
+
+# Runs every suite; the last line is 'N passed, N failed, N skipped'.
+test: build
+	-meson test -C $(BUILD) --num-processes $(JOBS) --print-errorlogs
+	@python3 tools/test_summary.py $(BUILD)
+
+# The same suite in an ASan+UBSan build.
+$(ASAN_BUILD)/build.ninja:
+	@sh tools/deps.sh
+	meson setup $(ASAN_BUILD) $(MESON_OPTS) -Db_sanitize=address,undefined -Db_lundef=false \
+	  -Dbuildtype=debug
+
+test-sanitize: $(ASAN_BUILD)/build.ninja
+	ninja -C $(ASAN_BUILD)
+	-LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
+	  meson test -C $(ASAN_BUILD) --num-processes $(JOBS) --print-errorlogs --timeout-multiplier 4
+	@python3 tools/test_summary.py $(ASAN_BUILD)
+
+bench: build
+	sh tools/bench_reinhard.sh
+
+clean:
+	rm -rf $(BUILD) $(ASAN_BUILD) out

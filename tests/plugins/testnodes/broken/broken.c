@@ -1,0 +1,71 @@
+/* Deliberately broken plugins: each variant (chosen by -DBROKEN_*) must be refused by the
+ * host with a message naming the file and the problem, never loaded and never crash it. */
+#include <stddef.h>
+
+#include "lightgraph/lightgraph.h"
+
+static int execute(lg_node *n, const lg_frame *f)
+{
+    (void)n;
+    (void)f;
+    return 0;
+}
+
+static const lg_param_desc params[] = {
+#ifdef BROKEN_BAD_DEFAULT
+    {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 5, .min = 0, .max = 1, .doc = "out of range"},
+#else
+    {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1, .doc = "fine"},
+#endif
+};
+
+static const lg_node_type types[] = {{
+    .struct_size = sizeof(lg_node_type),
+    .name = BROKEN_TYPE_NAME,
+    .doc = "a node in a broken plugin",
+    LG_PARAMS(params),
+    .execute = execute,
+}};
+
+#ifndef BROKEN_NO_ENTRY
+static const lg_plugin_desc desc = {
+#ifdef BROKEN_SHORT_STRUCT
+    .struct_size = 8,
+#else
+    .struct_size = sizeof(lg_plugin_desc),
+#endif
+#ifdef BROKEN_MAJOR
+    .abi_major = LG_ABI_MAJOR + 1,
+#else
+    .abi_major = LG_ABI_MAJOR,
+#endif
+#ifdef BROKEN_MINOR
+    .abi_minor = LG_ABI_MINOR + 1,
+#else
+    .abi_minor = LG_ABI_MINOR,
+#endif
+#ifdef BROKEN_NO_NAME
+    .name = NULL,
+#else
+    .name = BROKEN_PLUGIN_NAME,
+#endif
+    .version = "0.0.1",
+    .doc = "a broken plugin (test)",
+    .types = types,
+    .n_types = 1,
+};
+
+LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void);
+LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void)
+{
+#ifdef BROKEN_CRASH
+    volatile int *p = NULL;
+    *p = 1; /* a plugin that crashes while being scanned */
+#endif
+    return &desc;
+}
+#else
+/* exports something, but not the entry symbol */
+LG_PLUGIN_EXPORT int not_a_plugin(void);
+LG_PLUGIN_EXPORT int not_a_plugin(void) { return 0; }
+#endif

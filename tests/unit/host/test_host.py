@@ -1,0 +1,309 @@
+#!/usr/bin/env python3
+"""Host tests through the real program: plugin discovery and refusal, introspection,
+planning (culling, gating, plugins never loaded), the cache, exit statuses, profiles.
+
+usage: test_host.py TEST_NAME   (meson runs each test as its own case)
+
+Environment (from tests/meson.build): LG_EXE, LG_TEST_PLUGINS (test plugin dir),
+LG_BROKEN_PLUGINS (broken plugin dir), LIGHTGRAPH_CACHE_DIR is replaced per test.
+"""
+import json
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+EXE = os.environ["LG_EXE"]
+TEST_PLUGINS = os.environ["LG_TEST_PLUGINS"]
+BROKEN = os.environ["LG_BROKEN_PLUGINS"]
+TMP = tempfile.mkdtemp(prefix="lg-host-test-")
+
+
+class Fail(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Fail(msg)
+
+
+def run(args, plugin_path=TEST_PLUGINS, cache=None, expect=None):
+    env = dict(os.environ)
+    env["LIGHTGRAPH_PLUGIN_PATH"] = plugin_path
+    env["LIGHTGRAPH_CACHE_DIR"] = cache or os.path.join(TMP, "cache")
+    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=120)
+    if expect is not None and p.returncode != expect:
+        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
+                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
+    return p
+
+
+def graph(text, name="g.lgraph"):
+    path = os.path.join(TMP, name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def read_hdr_pixels(path):
+    """Minimal reader for the flat or RLE .hdr files the host writes (enough for tests that
+    check a constant value); the codec tests test the codec itself."""
+    data = open(path, "rb").read()
+    head, _, rest = data.partition(b"\n\n")
+    line, _, body = rest.partition(b"\n")
+    parts = line.split()
+    h, w = int(parts[1]), int(parts[3])
+    pixels = []
+    pos = 0
+    for _ in range(h):
+        if body[pos] == 2 and body[pos + 1] == 2:
+            pos += 4
+            chans = [[], [], [], []]
+            for c in range(4):
+                while len(chans[c]) < w:
+                    n = body[pos]
+                    pos += 1
+                    if n > 128:
+                        chans[c] += [body[pos]] * (n - 128)
+                        pos += 1
+                    else:
+                        chans[c] += list(body[pos:pos + n])
+                        pos += n
+            row = list(zip(*chans))
+        else:
+            row = [tuple(body[pos + 4 * i: pos + 4 * i + 4]) for i in range(w)]
+            pos += 4 * w
+        for r, g, b, e in row:
+            if e == 0:
+                pixels.append((0.0, 0.0, 0.0))
+            else:
+                f = 2.0 ** (e - 136)
+                pixels.append((r * f, g * f, b * f))
+    return w, h, pixels
+
+
+# ---- tests -----------------------------------------------------------------------------
+
+def test_plugins_json():
+    p = run(["plugins", "--json"], expect=0)
+    doc = json.loads(p.stdout)
+    check(doc["abi"]["major"] >= 1, "abi missing")
+    types = {t["name"]: t for pl in doc["plugins"] for t in pl["node_types"]}
+    for name in ("test_scene", "test_fog", "test_specular", "test_cached"):
+        check(name in types, "node type %s missing from plugins --json" % name)
+    fog = types["test_fog"]
+    check([q["key"] for q in fog["parameters"]] == ["value"], "test_fog parameters")
+    check(fog["parameters"][0]["default"] == 0.5 and fog["parameters"][0]["max"] == 1e6,
+          "test_fog default/range")
+    check(fog["needs"] == ["light", "medium"], "test_fog needs: %s" % fog["needs"])
+    check(fog["inputs"][1]["optional"] is True, "optional input flag")
+    scene = types["test_scene"]
+    check(len(scene["parameters"]) == 6, "test_scene has 6 parameters")
+    text = run(["plugins"], expect=0).stdout
+    check("test_fog" in text and "medium_density" in text, "plugins text output")
+
+
+def test_inspect():
+    p = run(["inspect", "test_fog", "--json"], expect=0)
+    t = json.loads(p.stdout)
+    check(t["name"] == "test_fog" and t["plugin"] == "testfog", "inspect json")
+    p = run(["inspect", "test_fgo"], expect=2)
+    check("did you mean 'test_fog'" in p.stderr, "inspect did-you-mean: " + p.stderr)
+    p = run(["inspect", "test_scene"], expect=0)
+    check("medium_density" in p.stdout and "float" in p.stdout, "inspect text")
+
+
+def test_broken_refused():
+    p = run(["plugins", "--json"], plugin_path=BROKEN + ":" + TEST_PLUGINS, expect=0)
+    doc = json.loads(p.stdout)
+    refused = {os.path.basename(r["path"]): r["reason"] for r in doc["refused"]}
+    expect = {
+        "lg_broken_major.so": "ABI 2.0, this host has ABI 1.0",
+        "lg_broken_minor.so": "ABI 1.1, this host has ABI 1.0",
+        "lg_broken_short.so": "struct_size 8",
+        "lg_broken_noname.so": "plugin name missing",
+        "lg_broken_noentry.so": "no 'lg_plugin_entry' symbol",
+        "lg_broken_crash.so": "crashed while being scanned",
+        "lg_broken_baddefault.so": "default 5 outside [0, 1]",
+    }
+    for f, why in expect.items():
+        check(f in refused, "%s was not refused (refused: %s)" % (f, list(refused)))
+        check(why in refused[f], "%s: reason %r lacks %r" % (f, refused[f], why))
+    names = [pl["name"] for pl in doc["plugins"]]
+    check("testfog" in names, "good plugins still load beside broken ones")
+    check(not any(n.startswith("broken") for n in names), "a broken plugin was accepted")
+    # the warning names the file and both versions
+    check("lg_broken_major.so" in p.stderr and "needs major 1" in p.stderr,
+          "refusal warning on stderr: " + p.stderr)
+
+
+def fog_graph(density, extra=""):
+    return graph("""lightgraph 1
+scene = test_scene { medium_density = %s, dir_lights = 1 }
+fog = test_fog { scene = scene, value = 0.5 }
+%s
+output fog "%s"
+""" % (density, extra, os.path.join(TMP, "fog.hdr")))
+
+
+def test_gating():
+    g = fog_graph("0")
+    p = run(["render", g, "--explain", "--size", "8x4"], expect=0)
+    lines = {l.split()[0]: l for l in p.stdout.splitlines() if l.startswith("  ")}
+    check("gated" in lines["fog"] and "no participating medium" in lines["fog"],
+          "fog should be gated: " + p.stdout)
+    loaded = [l for l in p.stdout.splitlines() if l.startswith("plugins loaded:")][0]
+    notl = [l for l in p.stdout.splitlines() if l.startswith("plugins not loaded:")][0]
+    check("testfog" not in loaded and "testfog" in notl,
+          "a gated node's plugin must not be loaded:\n" + p.stdout)
+    check("testscene" in loaded, "the scene plugin is loaded")
+    check("medium no" in p.stdout, "explain prints scene features")
+    w, h, px = read_hdr_pixels(os.path.join(TMP, "fog.hdr"))
+    check((w, h) == (8, 4) and all(v == (0.0, 0.0, 0.0) for v in px),
+          "a gated node yields black at the render size")
+
+    g = fog_graph("1")
+    p = run(["render", g, "--explain", "--size", "8x4"], expect=0)
+    lines = {l.split()[0]: l for l in p.stdout.splitlines() if l.startswith("  ")}
+    check(" kept " in lines["fog"], "with a medium, fog runs: " + p.stdout)
+    loaded = [l for l in p.stdout.splitlines() if l.startswith("plugins loaded:")][0]
+    check("testfog" in loaded, "testfog loaded when needed")
+    w, h, px = read_hdr_pixels(os.path.join(TMP, "fog.hdr"))
+    check(all(abs(v[0] - 0.5) < 1e-6 for v in px), "fog value 0.5 written")
+
+    # no light at all: gated for the other need
+    g = graph("""lightgraph 1
+scene = test_scene { medium_density = 1, dir_lights = 0 }
+fog = test_fog { scene = scene }
+output fog "%s"
+""" % os.path.join(TMP, "fog2.hdr"))
+    p = run(["render", g, "--explain"], expect=0)
+    check("no light" in p.stdout, "gated for lack of light: " + p.stdout)
+
+    # passthrough neutral: the image goes through unchanged
+    g = graph("""lightgraph 1
+scene = test_scene { medium_density = 1, specular = false }
+fog = test_fog { scene = scene, value = 0.25 }
+spec = test_specular { scene = scene, image = fog }
+output spec "%s"
+""" % os.path.join(TMP, "spec.hdr"))
+    p = run(["render", g, "--explain", "--size", "4x4"], expect=0)
+    check("no material with a specular term" in p.stdout, p.stdout)
+    w, h, px = read_hdr_pixels(os.path.join(TMP, "spec.hdr"))
+    check(all(abs(v[0] - 0.25) < 1e-6 for v in px), "passthrough neutral keeps the input")
+
+
+def test_culling():
+    g = fog_graph("1", "dead = test_cached { image = fog }\n")
+    p = run(["render", g, "--explain", "--size", "4x4"], expect=0)
+    lines = {l.split()[0]: l for l in p.stdout.splitlines() if l.startswith("  ")}
+    check("culled" in lines["dead"] and "no output depends on it" in lines["dead"], p.stdout)
+    loaded = [l for l in p.stdout.splitlines() if l.startswith("plugins loaded:")][0]
+    check("testcache" not in loaded, "a culled node's plugin must not be loaded: " + loaded)
+
+
+def cache_graph(salt, value):
+    return graph("""lightgraph 1
+scene = test_scene { medium_density = 1 }
+fog = test_fog { scene = scene, value = %s }
+mean = test_cached { image = fog, salt = %d }
+output mean "%s"
+""" % (value, salt, os.path.join(TMP, "mean.hdr")), "cache.lgraph")
+
+
+def test_cache():
+    cache = os.path.join(TMP, "cache-test")
+
+    def once(salt, value):
+        p = run(["render", cache_graph(salt, value), "--size", "4x4"], cache=cache, expect=0)
+        if "testcache: computed" in p.stderr:
+            return "computed", p
+        if "testcache: reused" in p.stderr:
+            return "reused", p
+        raise Fail("no cache message: " + p.stderr)
+
+    check(once(1, 0.5)[0] == "computed", "first run computes")
+    check(once(1, 0.5)[0] == "reused", "second run reuses")
+    check(once(2, 0.5)[0] == "computed", "a changed parameter misses")
+    check(once(1, 0.75)[0] == "computed", "a changed input misses")
+    w, h, px = read_hdr_pixels(os.path.join(TMP, "mean.hdr"))
+    check(abs(px[0][0] - 0.75) < 1e-6, "the cached node's result is right")
+    check(once(1, 0.75)[0] == "reused", "and is reused")
+    # corrupt every entry: flip a payload byte, then truncate another
+    entries = [os.path.join(cache, f) for f in os.listdir(cache) if f.endswith(".lgc")]
+    check(len(entries) == 3, "three entries written: %s" % entries)
+    for e in entries:
+        data = bytearray(open(e, "rb").read())
+        data[-1] ^= 0xFF
+        open(e, "wb").write(data)
+    what, p = once(1, 0.75)
+    check(what == "computed" and "corrupt (checksum mismatch)" in p.stderr,
+          "a corrupt entry is detected and recomputed: " + p.stderr)
+    w, h, px = read_hdr_pixels(os.path.join(TMP, "mean.hdr"))
+    check(abs(px[0][0] - 0.75) < 1e-6, "the recomputed result is right")
+    check(once(1, 0.75)[0] == "reused", "the recomputed entry is trusted again")
+    for e in [os.path.join(cache, f) for f in os.listdir(cache) if f.endswith(".lgc")]:
+        data = open(e, "rb").read()
+        open(e, "wb").write(data[:len(data) - 3])
+    what, p = once(1, 0.75)
+    check(what == "computed" and "truncated" in p.stderr, "a truncated entry: " + p.stderr)
+
+
+def test_frames_and_profile():
+    g = fog_graph("1")
+    pj = os.path.join(TMP, "profile.json")
+    p = run(["render", g, "--frames", "5", "--profile", "--profile-json", pj, "--size", "4x4"],
+            expect=0)
+    check("profile (5 frames)" in p.stdout and "cpu ms" in p.stdout, p.stdout)
+    doc = json.load(open(pj))
+    nodes = {n["name"]: n for n in doc["nodes"]}
+    check(nodes["fog"]["runs"] == 1 and nodes["fog"]["per_frame"] is False,
+          "a static node runs once across frames")
+    check(nodes["fog"]["bytes_allocated"] == 4 * 4 * 16, "bytes allocated counted")
+
+
+def test_exit_status():
+    # bad usage
+    run([], expect=2)
+    run(["render"], expect=2)
+    run(["frobnicate"], expect=2)
+    p = run(["rendr", "x"], expect=2)
+    check("did you mean 'render'" in p.stderr, p.stderr)
+    run(["render", fog_graph("1"), "--size", "0x4"], expect=2)
+    run(["render", fog_graph("1"), "--frames", "-3"], expect=2)
+    # missing graph file
+    p = run(["render", os.path.join(TMP, "nope.lgraph")], expect=2)
+    check("nope.lgraph" in p.stderr, "names the missing file: " + p.stderr)
+    # a bad graph: misspelt parameter
+    g = graph("lightgraph 1\nscene = test_scene { medum_density = 1 }\n"
+              "fog = test_fog { scene = scene }\noutput fog \"x.hdr\"\n", "bad.lgraph")
+    p = run(["render", g], expect=2)
+    check("bad.lgraph:2:22:" in p.stderr and "did you mean 'medium_density'" in p.stderr,
+          "file:line:col and suggestion: " + p.stderr)
+    # failure while running: an output that cannot be written; no partial file left
+    out = "/proc/lightgraph-cannot-write/x.hdr"
+    p = run(["render", fog_graph("1"), "-o", out], expect=1)
+    check("cannot" in p.stderr, p.stderr)
+    # -o with an unknown format is bad usage
+    run(["render", fog_graph("1"), "-o", os.path.join(TMP, "x.bmp")], expect=2)
+    # check command
+    p = run(["check", fog_graph("1")], expect=0)
+    check(": ok (2 nodes, 1 outputs)" in p.stdout, p.stdout)
+
+
+TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+
+if __name__ == "__main__":
+    name = sys.argv[1]
+    try:
+        TESTS[name]()
+    except Fail as e:
+        print("FAIL:", e)
+        sys.exit(1)
+    finally:
+        shutil.rmtree(TMP, ignore_errors=True)
+    print("ok")

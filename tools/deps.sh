@@ -1,0 +1,26 @@
+#!/bin/sh
+# Makes sure the Debian packages lightgraph needs are installed.
+# As root: installs what is missing with apt-get. Otherwise: prints the exact apt-get line
+# and fails, so that nothing half-works.
+set -e
+PKGS="meson ninja-build pkg-config gcc g++ python3 python3-glad
+libosmesa6-dev libegl-dev libegl1-mesa-dev libglfw3-dev
+ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
+libopenexr-dev libpng-dev glslang-tools gnuplot-nox pfstools"
+missing=""
+for p in $PKGS; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing="$missing $p"
+  fi
+done
+[ -z "$missing" ] && exit 0
+if [ "$(id -u)" = 0 ]; then
+  echo "lightgraph: installing missing packages:$missing" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends $missing >&2
+else
+  echo "lightgraph: missing Debian packages. Install them with:" >&2
+  echo "  sudo apt-get install -y$missing" >&2
+  exit 1
+fi
