@@ -40,8 +40,7 @@ $(ASAN_BUILD)/build.ninja:
 
 test-sanitize: $(ASAN_BUILD)/build.ninja
 	ninja -C $(ASAN_BUILD)
-	-LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
-	  meson test -C $(ASAN_BUILD) --num-processes $(JOBS) --print-errorlogs --timeout-multiplier 4
+	-meson test -C $(ASAN_BUILD) --num-processes $(JOBS) --print-errorlogs --timeout-multiplier 4
 	@python3 tools/test_summary.py $(ASAN_BUILD)
 
 bench: build

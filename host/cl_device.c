@@ -7,12 +7,7 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
-/* lightgraph/cl.h's wrapper lg_cl_device(node) and device.h's type lg_cl_device share a
- * name (reported to the lead); this file needs the type, so the wrapper is renamed while
- * cl.h is read. */
-#define lg_cl_device lg_cl_device_of_node
 #include "lightgraph/cl.h"
-#undef lg_cl_device
 #include "device.h"
 #include "lightgraph/types.h"
 #include "util.h"
@@ -22,7 +17,7 @@ typedef struct cl_cached_program {
     cl_program program;
 } cl_cached_program;
 
-struct lg_cl_device {
+struct lg_cl_dev {
     cl_platform_id platform;
     cl_device_id device;
     cl_context context;
@@ -96,7 +91,7 @@ static cl_device_id pick_device(cl_platform_id p)
 
 /* "OpenCL 3.0 PoCL 3.1+debian": the device version's "OpenCL x.y", its first
  * vendor-specific word and the driver version. */
-static void describe(lg_cl_device *dev)
+static void describe(lg_cl_dev *dev)
 {
     char *platform = platform_string(dev->platform, CL_PLATFORM_NAME);
     char *name = device_string(dev->device, CL_DEVICE_NAME);
@@ -122,7 +117,7 @@ static void CL_CALLBACK context_notify(const char *errinfo, const void *private_
     lg_hlog(LG_HWARN, "OpenCL: %s", errinfo);
 }
 
-int lg_cl_device_create(lg_cl_device **out, char *err, size_t errlen)
+int lg_cl_device_create(lg_cl_dev **out, char *err, size_t errlen)
 {
     *out = NULL;
     cl_uint nplatforms = 0;
@@ -142,7 +137,7 @@ int lg_cl_device_create(lg_cl_device **out, char *err, size_t errlen)
         free(platforms);
         return LG_ERR_DEVICE;
     }
-    lg_cl_device *dev = lg_xcalloc(1, sizeof *dev);
+    lg_cl_dev *dev = lg_xcalloc(1, sizeof *dev);
     for (cl_uint i = 0; i < nplatforms && !dev->device; i++) {
         dev->device = pick_device(platforms[i]);
         if (dev->device)
@@ -178,22 +173,22 @@ int lg_cl_device_create(lg_cl_device **out, char *err, size_t errlen)
     return 0;
 }
 
-void *lg_cl_device_context(const lg_cl_device *dev)
+void *lg_cl_device_context(const lg_cl_dev *dev)
 {
     return dev->context;
 }
 
-void *lg_cl_device_queue(const lg_cl_device *dev)
+void *lg_cl_device_queue(const lg_cl_dev *dev)
 {
     return dev->queue;
 }
 
-void *lg_cl_device_id(const lg_cl_device *dev)
+void *lg_cl_device_id(const lg_cl_dev *dev)
 {
     return dev->device;
 }
 
-const char *lg_cl_device_description(const lg_cl_device *dev)
+const char *lg_cl_device_description(const lg_cl_dev *dev)
 {
     return dev->description;
 }
@@ -214,7 +209,7 @@ static char *build_log(cl_program prog, cl_device_id device)
     return log;
 }
 
-void *lg_cl_device_program(lg_cl_device *dev, const char *name, const char *source,
+void *lg_cl_device_program(lg_cl_dev *dev, const char *name, const char *source,
                            const char *options, char **log)
 {
     if (log)
@@ -237,9 +232,15 @@ void *lg_cl_device_program(lg_cl_device *dev, const char *name, const char *sour
         if (memcmp(&dev->programs[i].key, &key, sizeof key) == 0)
             return dev->programs[i].program;
 
+    /* A #line directive names the file in the compiler's messages (PoCL would otherwise
+     * show the path of its temporary copy) without moving the line numbers. */
+    char *line = NULL;
+    if (!strpbrk(name, "\"\\\n"))
+        line = lg_xasprintf("#line 1 \"%s\"\n", name);
+    const char *strings[2] = {line ? line : "", source};
     cl_int e;
-    size_t len = strlen(source);
-    cl_program prog = clCreateProgramWithSource(dev->context, 1, &source, &len, &e);
+    cl_program prog = clCreateProgramWithSource(dev->context, 2, strings, NULL, &e);
+    free(line);
     if (!prog) {
         if (log)
             *log = lg_xasprintf("%s: build failed: clCreateProgramWithSource: %s (%d)", name,
@@ -275,11 +276,11 @@ void *lg_cl_device_program(lg_cl_device *dev, const char *name, const char *sour
     return prog;
 }
 
-void lg_cl_device_destroy(lg_cl_device **pdev)
+void lg_cl_device_destroy(lg_cl_dev **pdev)
 {
     if (!pdev || !*pdev)
         return;
-    lg_cl_device *dev = *pdev;
+    lg_cl_dev *dev = *pdev;
     if (dev->queue) {
         clFinish(dev->queue);
         clReleaseCommandQueue(dev->queue);

@@ -50,20 +50,20 @@ const char *lg_gl_strerror(GLenum e);
 
 /* ---- CL ---------------------------------------------------------------------------- */
 
-typedef struct lg_cl_device lg_cl_device;
+typedef struct lg_cl_dev lg_cl_dev;
 
 /* On failure returns LG_ERR_DEVICE with the reason in err ("no OpenCL platform
  * (clGetPlatformIDs: CL_PLATFORM_NOT_FOUND_KHR)"). */
-int lg_cl_device_create(lg_cl_device **out, char *err, size_t errlen);
-void *lg_cl_device_context(const lg_cl_device *dev);  /* cl_context */
-void *lg_cl_device_queue(const lg_cl_device *dev);    /* cl_command_queue */
-void *lg_cl_device_id(const lg_cl_device *dev);       /* cl_device_id */
+int lg_cl_device_create(lg_cl_dev **out, char *err, size_t errlen);
+void *lg_cl_device_context(const lg_cl_dev *dev);  /* cl_context */
+void *lg_cl_device_queue(const lg_cl_dev *dev);    /* cl_command_queue */
+void *lg_cl_device_id(const lg_cl_dev *dev);       /* cl_device_id */
 /* "Portable Computing Language, pthread-skylake-avx512, OpenCL 3.0 PoCL 3.1" */
-const char *lg_cl_device_description(const lg_cl_device *dev);
+const char *lg_cl_device_description(const lg_cl_dev *dev);
 /* Builds (or finds in the per-process cache) a program. On failure returns NULL and sets
  * *log to a malloc'd message "name: build failed: <build log>" (caller frees). */
-void *lg_cl_device_program(lg_cl_device *dev, const char *name, const char *source,
+void *lg_cl_device_program(lg_cl_dev *dev, const char *name, const char *source,
                            const char *options, char **log);
-void lg_cl_device_destroy(lg_cl_device **dev);
+void lg_cl_device_destroy(lg_cl_dev **dev);
 
 #endif

@@ -42,11 +42,19 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     int rc = n->pub.type->execute(&n->pub, frame);
     if (timed_gl) {
         gl->EndQuery(GL_TIME_ELAPSED);
-        /* waits for the node's GL work: the CPU time below then includes it, as a user
-         * timing the frame would see */
+        /* waits for the node's GL work: the wall time then includes it, as a user timing
+         * the frame would see */
+        gl->Finish();
         GLuint64 ns = 0;
         gl->GetQueryObjectui64v(ex->gl_timer_query, GL_QUERY_RESULT, &ns);
-        n->gpu_ms += (double)ns * 1e-6;
+        double q = (double)ns * 1e-6, wall = (lg_now() - t0) * 1e3;
+        /* llvmpipe's GL_TIME_ELAPSED counts rasteriser work only (compute dispatches read
+         * 0) and may return an absolute timestamp: a value outside (0, wall] is not a
+         * measurement, and the profile says n/a rather than print it */
+        if (q > 0 && q <= wall)
+            n->gpu_ms += q;
+        else
+            n->gpu_unmeasured = true;
     }
     if (ex->cl && n->device == LG_DEVICE_CL)
         clFinish((cl_command_queue)lg_cl_device_queue(ex->cl));

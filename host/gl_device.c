@@ -30,11 +30,11 @@ int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size
     *out = NULL;
     if (!backend)
         backend = "osmesa";
-    int (*open)(lg_gl_backend *, char *, size_t);
+    int (*open_backend)(lg_gl_backend *, char *, size_t);
     if (strcmp(backend, "osmesa") == 0)
-        open = lg_gl_osmesa_open;
+        open_backend = lg_gl_osmesa_open;
     else if (strcmp(backend, "egl") == 0)
-        open = lg_gl_egl_open;
+        open_backend = lg_gl_egl_open;
     else {
         snprintf(err, errlen, "unknown GL backend '%s' (expected osmesa or egl)", backend);
         return LG_ERR_DEVICE;
@@ -45,7 +45,7 @@ int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size
         snprintf(err, errlen, "out of memory creating the GL device");
         return LG_ERR_DEVICE;
     }
-    int rc = open(&dev->backend, err, errlen);
+    int rc = open_backend(&dev->backend, err, errlen);
     if (rc) {
         free(dev);
         return rc;

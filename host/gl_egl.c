@@ -18,14 +18,14 @@
 #include <EGL/eglext.h>
 
 /* The library stays loaded for the life of the process, for the reason given in
- * gl_osmesa.c (Mesa's llvmpipe threads and atexit handlers). */
+ * gl_osmesa.c (Mesa's llvmpipe threads and atexit handlers), and so does the display
+ * (see egl_destroy). */
 static struct egl_lib {
     void *lib;
     PFNEGLGETPROCADDRESSPROC GetProcAddress;
     PFNEGLQUERYSTRINGPROC QueryString;
     PFNEGLGETDISPLAYPROC GetDisplay;
     PFNEGLINITIALIZEPROC Initialize;
-    PFNEGLTERMINATEPROC Terminate;
     PFNEGLBINDAPIPROC BindAPI;
     PFNEGLCHOOSECONFIGPROC ChooseConfig;
     PFNEGLCREATECONTEXTPROC CreateContext;
@@ -93,7 +93,7 @@ static int load_library(char *err, size_t errlen)
     } symbols[] = {
 #define SYM(f) {"egl" #f, offsetof(struct egl_lib, f)}
         SYM(GetProcAddress), SYM(QueryString), SYM(GetDisplay), SYM(Initialize),
-        SYM(Terminate), SYM(BindAPI), SYM(ChooseConfig), SYM(CreateContext),
+        SYM(BindAPI), SYM(ChooseConfig), SYM(CreateContext),
         SYM(DestroyContext), SYM(CreatePbufferSurface), SYM(DestroySurface),
         SYM(MakeCurrent), SYM(GetError), SYM(ReleaseThread),
 #undef SYM
@@ -129,7 +129,9 @@ static void egl_destroy(void *p)
             egl.DestroyContext(s->dpy, s->ctx);
         if (s->surface != EGL_NO_SURFACE)
             egl.DestroySurface(s->dpy, s->surface);
-        egl.Terminate(s->dpy);
+        /* No eglTerminate: a display is one per process (every eglGetPlatformDisplay
+         * call returns the same handle), so terminating it would pull it from under any
+         * other context on it; it stays initialized, like the library stays loaded. */
     }
     egl.ReleaseThread();
     free(s);

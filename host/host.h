@@ -141,6 +141,7 @@ typedef struct lg_pnode {
     lg_digest identity;
     /* profile */
     double cpu_ms, gpu_ms;
+    bool gpu_unmeasured;         /* a GL timer query gave no plausible value */
     uint64_t runs;
     uint64_t bytes_alloc, bytes_moved;
     uint64_t cache_hits, cache_misses;
@@ -169,7 +170,7 @@ typedef struct lg_exec {
     uint32_t n_nodes;
     lg_host_api api;
     lg_gl_device *gl;
-    lg_cl_device *cl;
+    lg_cl_dev *cl;
     char *gl_error, *cl_error;   /* why a device could not be made (reported once per node) */
     uint32_t gl_timer_query;
     char *cache_dir;

@@ -45,6 +45,8 @@ void lg_profile_print(lg_exec *ex, FILE *f)
         bytes(m, sizeof m, n->bytes_moved);
         if (n->device == LG_DEVICE_CPU)
             snprintf(g, sizeof g, "-");
+        else if (n->gpu_unmeasured)
+            snprintf(g, sizeof g, "n/a");
         else
             snprintf(g, sizeof g, "%.3f", n->gpu_ms);
         fprintf(f, "  %-*s  %-*s  %-6s  %5llu  %10.3f  %10s  %11s  %11s\n", wn, n->pub.name, wt,
@@ -59,6 +61,12 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     bytes(m, sizeof m, tm);
     fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s\n", wn, "total", wt, "", "",
             "", tc, tg, a, m);
+    for (uint32_t t = 0; t < c->n_nodes; t++)
+        if (ex->nodes[c->topo[t]].gpu_unmeasured) {
+            fprintf(f, "  n/a: the GL timer query gave no usable value (llvmpipe times only "
+                       "rasterisation); the node's cpu ms include its GL work (glFinish)\n");
+            break;
+        }
     fprintf(f, "  planning %.3f ms (scan, load, create, prepare); frames and outputs %.3f ms\n",
             ex->t_plan_ms, ex->t_total_ms);
 }
@@ -88,10 +96,11 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
         if (n->state == LG_STATE_KEPT)
             lg_str_addf(&s,
                         ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
-                        "%.6f, \"gpu_ms\": %.6f, \"bytes_allocated\": %llu, \"bytes_moved\": "
+                        "%.6f, \"gpu_ms\": %.6f, \"gpu_measured\": %s, \"bytes_allocated\": %llu, \"bytes_moved\": "
                         "%llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
                         dev(n), n->per_frame ? "true" : "false", (unsigned long long)n->runs,
-                        n->cpu_ms, n->gpu_ms, (unsigned long long)n->bytes_alloc,
+                        n->cpu_ms, n->gpu_ms, n->gpu_unmeasured ? "false" : "true",
+                        (unsigned long long)n->bytes_alloc,
                         (unsigned long long)n->bytes_moved, (unsigned long long)n->cache_hits,
                         (unsigned long long)n->cache_misses);
         else {

@@ -12,11 +12,7 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
-/* TODO(lead): rename the host-private lg_cl_device type; until then keep the SDK inline
- * of the same name out of the way in this file */
-#define lg_cl_device lg_cl_device_sdk_inline_
 #include "lightgraph/cl.h"
-#undef lg_cl_device
 #include "lightgraph/image.h"
 
 static size_t pixel_count(const lg_resource *r)

@@ -1,0 +1,56 @@
+#include "devtest.h"
+
+#include <stdarg.h>
+#include <string.h>
+#include <time.h>
+
+int devtest_failures;
+char devtest_errors[16384];
+int devtest_error_count;
+
+double devtest_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void test_log(lg_node *node, lg_log_level level, const char *fmt, va_list ap)
+{
+    fprintf(stderr, "[%s log %d] ", node->name, (int)level);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
+static void test_error(lg_node *node, const char *fmt, va_list ap)
+{
+    size_t len = strlen(devtest_errors);
+    if (len + 1 < sizeof devtest_errors) {
+        if (len > 0)
+            devtest_errors[len++] = '\n';
+        vsnprintf(devtest_errors + len, sizeof devtest_errors - len, fmt, ap);
+    }
+    devtest_error_count++;
+    fprintf(stderr, "[%s error] %s\n", node->name, devtest_errors + len);
+}
+
+static const lg_host_api test_host = {
+    .struct_size = sizeof(lg_host_api),
+    .abi_major = LG_ABI_MAJOR,
+    .abi_minor = LG_ABI_MINOR,
+    .log = test_log,
+    .error = test_error,
+};
+
+static lg_node test_node = {.host = &test_host, .name = "test"};
+
+lg_node *devtest_node(void)
+{
+    return &test_node;
+}
+
+void devtest_clear(void)
+{
+    devtest_errors[0] = '\0';
+    devtest_error_count = 0;
+}
