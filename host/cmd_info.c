@@ -184,7 +184,9 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
         const lg_param_desc *q = &t->params[i];
         lg_str d = {0}, r = {0};
         value(&d, &q->def, q->type, false);
-        if (q->min < q->max) {
+        if (q->min < q->max && (q->type == LG_PARAM_INT || q->type == LG_PARAM_INT3)) {
+            lg_str_addf(&r, "[%.0f, %.0f]", q->min, q->max);
+        } else if (q->min < q->max) {
             lg_str_add(&r, "[");
             num(&r, q->min, false);
             lg_str_add(&r, ", ");
