@@ -295,6 +295,35 @@ def test_exit_status():
     check(": ok (2 nodes, 1 outputs)" in p.stdout, p.stdout)
 
 
+def test_residency():
+    """A resource is copied only when a consumer on another device asks, and every copy is
+    counted against that consumer: CPU -> GL for the gl node's input, GL -> CL for the cl
+    node's input (through the CPU: 2 copies), CL -> CPU for the cpu node and the file."""
+    g = graph("""lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 16, height = 8 }
+a = reinhard { image = c, backend = gl }
+b = reinhard { image = a, backend = cl }
+s = scale { image = b, factor = 1 }
+output s "%s"
+""" % os.path.join(TMP, "res.exr"))
+    pj = os.path.join(TMP, "res.json")
+    core = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
+    p = run(["render", g, "--profile-json", pj], plugin_path=core, expect=None)
+    if p.returncode != 0 and ("no OpenGL" in p.stderr or "no OpenCL" in p.stderr):
+        print("skipped: " + p.stderr)
+        sys.exit(77)
+    check(p.returncode == 0, p.stderr)
+    nodes = {n["name"]: n for n in json.load(open(pj))["nodes"]}
+    img = 16 * 8 * 16
+    check(nodes["c"]["bytes_moved"] == 0, "the producer moves nothing")
+    check(nodes["a"]["device"] == "gl" and nodes["a"]["bytes_moved"] == img,
+          "gl node uploads its input once: %s" % nodes["a"])
+    check(nodes["b"]["device"] == "cl" and nodes["b"]["bytes_moved"] == 2 * img,
+          "cl node: GL -> CPU -> CL: %s" % nodes["b"])
+    check(nodes["s"]["bytes_moved"] == img, "cpu node downloads from CL: %s" % nodes["s"])
+    check(nodes["a"]["bytes_allocated"] >= 2 * img, "gl texture and output counted")
+
+
 TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
 
 if __name__ == "__main__":
