@@ -159,8 +159,10 @@ int lg_cmd_render(int argc, char **argv)
 {
     args a;
     int rc = parse_args(argc, argv, &a);
-    if (rc)
+    if (rc) {
+        free(a.sets);
         return rc;
+    }
     lg_graph *g = NULL;
     lg_checked *c = NULL;
     lg_registry reg = {0};
@@ -217,8 +219,10 @@ int lg_cmd_check(int argc, char **argv)
 {
     args a;
     int rc = parse_args(argc, argv, &a);
-    if (rc)
+    if (rc) {
+        free(a.sets);
         return rc;
+    }
     lg_graph *g = NULL;
     lg_checked *c = NULL;
     lg_registry reg = {0};
@@ -236,8 +240,10 @@ int lg_cmd_fmt(int argc, char **argv)
 {
     args a;
     int rc = parse_args(argc, argv, &a);
-    if (rc)
+    if (rc) {
+        free(a.sets);
         return rc;
+    }
     lg_graph *g = NULL;
     lg_checked *c = NULL;
     lg_registry reg = {0};
@@ -271,8 +277,10 @@ int lg_cmd_dot(int argc, char **argv)
 {
     args a;
     int rc = parse_args(argc, argv, &a);
-    if (rc)
+    if (rc) {
+        free(a.sets);
         return rc;
+    }
     lg_graph *g = NULL;
     lg_checked *c = NULL;
     lg_registry reg = {0};

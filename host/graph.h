@@ -18,6 +18,7 @@
 #ifndef LG_HOST_GRAPH_H
 #define LG_HOST_GRAPH_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -240,6 +241,12 @@ void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *l
                   const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+/* printf into a malloc'd string (used by the diagnostics' formatting). */
+char *lg_vformat(const char *fmt, va_list ap)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 0)))
 #endif
     ;
 /* Prints "file:line:col: error: message", the source line and a caret line, colourless. */

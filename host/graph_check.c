@@ -32,25 +32,30 @@ static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, 
     __attribute__((format(printf, 4, 5)));
 static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, ...)
 {
-    va_list ap, ap2;
+    va_list ap;
     va_start(ap, fmt);
-    va_copy(ap2, ap);
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    char *msg = lg_vformat(fmt, ap);
     va_end(ap);
-    char *msg = lg_xmalloc((size_t)(n < 0 ? 0 : n) + 1);
-    vsnprintf(msg, (size_t)(n < 0 ? 0 : n) + 1, fmt, ap2);
-    va_end(ap2);
     lg_graph_diag(k->d, k->g, lvl, loc, "%s", msg);
     free(msg);
     if (lvl == LG_DIAG_ERROR)
         k->errors++;
 }
 
-/* The shortest %g form that reads back as the same double. */
-static void fmt_num(char out[40], double v)
+/* The shortest text that reads back as the same double (plain decimals for everyday
+ * magnitudes, the exponent form beyond), as fmt prints floats but without the ".0". */
+static void fmt_num(char out[64], double v)
 {
+    double m = v < 0 ? -v : v;
+    if (m == 0 || (m >= 1e-4 && m < 1e15)) {
+        for (int d = 0; d <= 25; d++) {
+            snprintf(out, 64, "%.*f", d, v);
+            if (strtod(out, NULL) == v)
+                return;
+        }
+    }
     for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, 40, "%.*g", prec, v);
+        snprintf(out, 64, "%.*g", prec, v);
         if (strtod(out, NULL) == v)
             return;
     }
@@ -177,7 +182,7 @@ static bool in_range(const lg_param_desc *pd, double x)
 static void range_error(checker *k, const lg_param_desc *pd, const char *name,
                         const lg_gvalue *v)
 {
-    char lo[40], hi[40];
+    char lo[64], hi[64];
     fmt_num(lo, pd->min);
     fmt_num(hi, pd->max);
     diag(k, LG_DIAG_ERROR, v->loc, "%s = %s is out of range [%s, %s]", name, v->text, lo, hi);

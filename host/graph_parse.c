@@ -213,19 +213,6 @@ static char *source_line(const source *s, uint32_t line)
     return lg_xstrndup(s->text + a, b - a);
 }
 
-static char *vfmt(const char *fmt, va_list ap)
-{
-    va_list ap2;
-    va_copy(ap2, ap);
-    int n = vsnprintf(NULL, 0, fmt, ap);
-    if (n < 0)
-        n = 0;
-    char *p = lg_xmalloc((size_t)n + 1);
-    vsnprintf(p, (size_t)n + 1, fmt, ap2);
-    va_end(ap2);
-    return p;
-}
-
 /* ---- parse session (one lg_graph_parse_* call, all files) ----------------------------- */
 
 typedef struct session {
@@ -254,7 +241,7 @@ static void vreport(session *s, const source *src, lg_diag_level lvl, uint32_t l
 {
     if (s->stop)
         return;
-    char *msg = vfmt(fmt, ap);
+    char *msg = lg_vformat(fmt, ap);
     char *text = src ? source_line(src, line) : NULL;
     lg_srcloc loc = {src ? src->name : NULL, line, col, len};
     lg_diags_add(s->d, lvl, loc, text, "%s", msg);
@@ -371,7 +358,7 @@ static void set_err(parser *p, tok *t, uint32_t col, uint32_t len, const char *f
 {
     va_list ap;
     va_start(ap, fmt);
-    char *m = vfmt(fmt, ap);
+    char *m = lg_vformat(fmt, ap);
     va_end(ap);
     t->kind = T_ERR;
     t->s = arena_strdup(parena(p), m);
@@ -403,7 +390,8 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             if (!line_has_content)
                 saw_blank = true;
             if (p->nt == 0 || p->t[p->nt - 1].kind != T_NL) {
-                tok *t = &p->t[push_tok(p)];
+                uint32_t k = push_tok(p);
+                tok *t = &p->t[k];
                 t->kind = T_NL;
                 t->off = pos;
                 t->len = 1;
@@ -679,7 +667,8 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
         pos += t->len;
     }
 
-    tok *t = &p->t[push_tok(p)];
+    uint32_t k = push_tok(p);
+    tok *t = &p->t[k];
     t->kind = T_EOF;
     t->off = end;
     t->line = line;
@@ -1145,12 +1134,25 @@ static void parse_node(parser *p)
                 advance(p);
             continue;
         }
+        /* The entry's own comments: above its key, and at the end of its line (after the
+         * value or after the comma that follows it there). Any other comment inside it
+         * moves above it. */
         uint32_t last = p->cur - 1; /* the value's last token */
+        int32_t late_comma = -1;    /* a comma that starts the next line (comma-first) */
         tok *sep = peek(p);
         if (sep->kind == T_COMMA) {
             last = p->cur;
             advance(p);
-        } else if (sep->kind != T_NL && sep->kind != T_RBRACE) {
+        } else if (sep->kind == T_NL) {
+            uint32_t save = p->cur;
+            skip_nl(p);
+            if (peek(p)->kind == T_COMMA) {
+                late_comma = (int32_t)p->cur;
+                advance(p);
+            } else {
+                p->cur = save;
+            }
+        } else if (sep->kind != T_RBRACE) {
             char what[120];
             snprintf(what, sizeof what, "',' or a new line after the value of '%.60s'", a.key);
             expected(p, what);
@@ -1162,6 +1164,11 @@ static void parse_node(parser *p)
         cvec_above(p, &ac, &p->t[kidx]);
         cvec_inner(p, &ac, kidx, last);
         a.eol_comment = eol_of(p, last);
+        if (late_comma >= 0) {
+            cvec_above(p, &ac, &p->t[late_comma]);
+            if (p->t[late_comma].eol >= 0)
+                cvec_push(&ac, p->cm[p->t[late_comma].eol]);
+        }
         a.comments = cvec_finish(p, &ac, &a.n_comments);
 
         uint32_t prev = strmap_find(&keys, a.key);
@@ -1269,7 +1276,10 @@ static void do_include(parser *p, const tok *f)
 {
     session *s = p->s;
     pool *pl = s->pl;
-    char *full = lg_path_join(p->base_dir, f->s);
+    /* "x.lgraph" rather than "./x.lgraph" in messages when the including file is in the
+     * current directory. */
+    char *full = !p->base_dir || strcmp(p->base_dir, ".") == 0 ? lg_xstrdup(f->s)
+                                                                : lg_path_join(p->base_dir, f->s);
     char *abs = lg_path_absolute(full);
     for (uint32_t i = 0; i < s->depth; i++) {
         if (s->stack_abs[i] && strcmp(s->stack_abs[i], abs) == 0) {
@@ -1397,7 +1407,8 @@ static void parse_body(parser *p)
             if (!p->included && v->eol >= 0) {
                 /* The version line's own comment moves above it. */
                 char **hc = arena_alloc(parena(p), (g->n_header_comments + 1) * sizeof *hc);
-                memcpy(hc, g->header_comments, g->n_header_comments * sizeof *hc);
+                if (g->n_header_comments)
+                    memcpy(hc, g->header_comments, g->n_header_comments * sizeof *hc);
                 hc[g->n_header_comments++] = p->cm[v->eol];
                 g->header_comments = hc;
             }
@@ -1623,7 +1634,7 @@ void lg_graph_diag(lg_diags *d, const lg_graph *g, lg_diag_level level, lg_srclo
         }
     va_list ap;
     va_start(ap, fmt);
-    char *msg = vfmt(fmt, ap);
+    char *msg = lg_vformat(fmt, ap);
     va_end(ap);
     lg_diags_add(d, level, loc, text, "%s", msg);
     free(msg);

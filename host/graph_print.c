@@ -16,15 +16,23 @@
 
 #define FMT_WIDTH 100
 
-/* The shortest %g form that reads back as the same double, and that still reads as a
- * float (so 1.0 does not come back as the integer 1). */
+/* The shortest text that reads back as the same double: plain decimals for magnitudes
+ * people write that way (1000, 0.18), the exponent form (%g) beyond; always with a '.' or
+ * an exponent, so that 1.0 does not come back as the integer 1. */
 static void add_float(lg_str *b, double v)
 {
-    char buf[40];
-    for (int prec = 1; prec <= 17; prec++) {
+    char buf[64];
+    bool found = false;
+    double m = v < 0 ? -v : v;
+    if (m == 0 || (m >= 1e-4 && m < 1e15)) {
+        for (int d = 0; d <= 25 && !found; d++) {
+            snprintf(buf, sizeof buf, "%.*f", d, v);
+            found = strtod(buf, NULL) == v;
+        }
+    }
+    for (int prec = 1; prec <= 17 && !found; prec++) {
         snprintf(buf, sizeof buf, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v)
-            break;
+        found = strtod(buf, NULL) == v;
     }
     lg_str_add(b, buf);
     if (!strpbrk(buf, ".eEn"))

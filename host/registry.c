@@ -442,6 +442,13 @@ static int scan_one(lg_registry *r, const char *path)
         refuse(r, path, m);
         free(m);
         rc = -1;
+    } else if (b.len == 0 && WIFEXITED(status) && WEXITSTATUS(status) != 0) {
+        /* a sanitizer's handler turns a crash into an exit status */
+        char *m = lg_xasprintf("crashed while being scanned (the scanner exited with status %d)",
+                               WEXITSTATUS(status));
+        refuse(r, path, m);
+        free(m);
+        rc = -1;
     } else if (b.len == 0) {
         refuse(r, path, "the scanner produced nothing (the plugin exited while loading?)");
         rc = -1;

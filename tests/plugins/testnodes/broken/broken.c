@@ -66,6 +66,6 @@ LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void)
 }
 #else
 /* exports something, but not the entry symbol */
-LG_PLUGIN_EXPORT int not_a_plugin(void);
-LG_PLUGIN_EXPORT int not_a_plugin(void) { return 0; }
+LG_PLUGIN_EXPORT const lg_node_type *not_a_plugin(void);
+LG_PLUGIN_EXPORT const lg_node_type *not_a_plugin(void) { return types; }
 #endif
