@@ -65,9 +65,11 @@ typedef struct lg_gassign {
     char **comments;     /* comment lines above the entry (and any inside its value) */
     uint32_t n_comments;
     char *eol_comment;   /* comment at the end of the entry's line, or NULL */
+    bool blank_before;   /* a blank line preceded it (fmt keeps one in a multi-line node) */
 } lg_gassign;
 
-/* Comments are stored without their '#' and without trailing white space. */
+/* Comments are stored as written from their '#' on, without trailing white space. In a
+ * list of comment lines, an empty string stands for blank lines between or after them. */
 
 typedef struct lg_gnode {
     char *name;

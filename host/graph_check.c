@@ -19,12 +19,17 @@
 
 #include "util.h"
 
+/* After this many errors the checker goes on (to fail) but reports nothing more and stops
+ * looking for suggestions, which would otherwise cost (errors x names). */
+#define MAX_ERRORS 100
+
 typedef struct checker {
     const lg_graph *g;
     const lg_schema *sc;
     lg_diags *d;
     lg_checked *c;
     uint32_t errors;
+    bool stop;
     const char **node_names;
 } checker;
 
@@ -32,14 +37,22 @@ static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, 
     __attribute__((format(printf, 4, 5)));
 static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, ...)
 {
+    if (lvl == LG_DIAG_ERROR)
+        k->errors++;
+    if (k->stop)
+        return;
     va_list ap;
     va_start(ap, fmt);
     char *msg = lg_vformat(fmt, ap);
     va_end(ap);
     lg_graph_diag(k->d, k->g, lvl, loc, "%s", msg);
     free(msg);
-    if (lvl == LG_DIAG_ERROR)
-        k->errors++;
+    if (k->errors >= MAX_ERRORS) {
+        lg_srcloc none = {loc.file, 0, 0, 0};
+        lg_graph_diag(k->d, k->g, LG_DIAG_NOTE, none, "too many errors (%u); stopping here",
+                      k->errors);
+        k->stop = true;
+    }
 }
 
 /* The shortest text that reads back as the same double (plain decimals for everyday
@@ -373,7 +386,7 @@ static void unknown_node_error(checker *k, const lg_gvalue *v)
 {
     lg_srcloc loc = v->loc;
     loc.len = (uint32_t)strlen(v->s);
-    const char *sug = lg_suggest(v->s, k->node_names, k->g->n_nodes);
+    const char *sug = k->stop ? NULL : lg_suggest(v->s, k->node_names, k->g->n_nodes);
     if (sug)
         diag(k, LG_DIAG_ERROR, loc, "unknown node '%s'; did you mean '%s'?", v->s, sug);
     else

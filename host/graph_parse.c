@@ -387,8 +387,15 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             continue;
         }
         if (c == '\n') {
-            if (!line_has_content)
+            if (!line_has_content) {
                 saw_blank = true;
+                /* A blank line inside or after a run of comments is kept in the run, so
+                 * that fmt does not glue a detached comment block to what follows. */
+                if (pend_n > 0 && p->cm[pend_first + pend_n - 1][0] != 0) {
+                    push_comment(p, arena_strdup(parena(p), ""));
+                    pend_n++;
+                }
+            }
             if (p->nt == 0 || p->t[p->nt - 1].kind != T_NL) {
                 uint32_t k = push_tok(p);
                 tok *t = &p->t[k];
@@ -423,7 +430,7 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             while (te > pos + 1 && (s[te - 1] == ' ' || s[te - 1] == '\t' || s[te - 1] == '\r' ||
                                     s[te - 1] == '\f' || s[te - 1] == '\v'))
                 te--;
-            uint32_t idx = push_comment(p, arena_strndup(parena(p), s + pos + 1, te - pos - 1));
+            uint32_t idx = push_comment(p, arena_strndup(parena(p), s + pos, te - pos));
             if (last_on_line >= 0 && p->t[last_on_line].eol < 0) {
                 p->t[last_on_line].eol = (int32_t)idx;
             } else {
@@ -850,6 +857,14 @@ static void cvec_inner(parser *p, cvec *c, uint32_t from, uint32_t to)
     }
 }
 
+/* Drops the blank-line markers at the end (before a '}' or the end of the file they mean
+ * nothing). */
+static void cvec_trim(cvec *c)
+{
+    while (c->n > 0 && c->v[c->n - 1][0] == 0)
+        c->n--;
+}
+
 static char **cvec_finish(parser *p, cvec *c, uint32_t *n)
 {
     *n = c->n;
@@ -1110,6 +1125,7 @@ static void parse_node(parser *p)
         lg_gassign a;
         memset(&a, 0, sizeof a);
         a.key = t->s;
+        a.blank_before = t->blank_before;
         set_loc(p, &a.key_loc, t);
         bool ok = true;
         if (t->port) {
@@ -1191,6 +1207,7 @@ static void parse_node(parser *p)
     n.n_assigns = na;
     free(as);
     n.comments = cvec_finish(p, &above, &n.n_comments);
+    cvec_trim(&end);
     n.end_comments = cvec_finish(p, &end, &n.n_end_comments);
     add_node(p, &n);
 }
@@ -1398,7 +1415,6 @@ static void parse_body(parser *p)
     }
     if (t->kind == T_IDENT && !t->port && strcmp(t->s, "lightgraph") == 0 &&
         peek_at(p, 1)->kind != T_EQ) {
-        uint32_t first = p->cur;
         advance(p);
         tok *v = peek(p);
         char buf[80];
@@ -1412,7 +1428,6 @@ static void parse_body(parser *p)
                 hc[g->n_header_comments++] = p->cm[v->eol];
                 g->header_comments = hc;
             }
-            (void)first;
             if (!expect_eol(p, "the version line"))
                 return;
         } else if (v->kind == T_INT && v->i > 1) {
@@ -1453,6 +1468,7 @@ static void parse_body(parser *p)
             if (!p->included) {
                 cvec tc = {0};
                 cvec_above(p, &tc, t);
+                cvec_trim(&tc);
                 g->trailing_comments = cvec_finish(p, &tc, &g->n_trailing_comments);
             }
             break;

@@ -87,16 +87,20 @@ static void add_value(lg_str *b, const lg_gvalue *v)
     }
 }
 
+/* Comment lines ("" is a blank line). */
 static void add_comments(lg_str *b, char *const *c, uint32_t n, const char *indent)
 {
-    for (uint32_t i = 0; i < n; i++)
-        lg_str_addf(b, "%s#%s\n", indent, c[i]);
+    for (uint32_t i = 0; i < n; i++) {
+        if (c[i][0])
+            lg_str_addf(b, "%s%s", indent, c[i]);
+        lg_str_addc(b, '\n');
+    }
 }
 
 static void add_eol(lg_str *b, const char *eol)
 {
     if (eol)
-        lg_str_addf(b, "  #%s", eol);
+        lg_str_addf(b, "  %s", eol);
     lg_str_addc(b, '\n');
 }
 
@@ -126,6 +130,8 @@ static void add_node(lg_str *b, const lg_gnode *n)
     add_eol(b, n->eol_comment);
     for (uint32_t i = 0; i < n->n_assigns; i++) {
         const lg_gassign *a = &n->assigns[i];
+        if (i > 0 && a->blank_before)
+            lg_str_addc(b, '\n');
         add_comments(b, a->comments, a->n_comments, "    ");
         lg_str_addf(b, "    %s = ", a->key);
         add_value(b, &a->value);

@@ -1,1 +1,94 @@
-/* placeholder: being written */
+/*
+ * Ward's RGBE (shared exponent) and the sRGB transfer function.
+ *
+ * Convention: a channel c with shared exponent byte E decodes to m * 2^(E - 136), with no
+ * half-step offset, and encodes to round(c * 2^(136 - E)). Rounding to nearest keeps the
+ * reconstruction unbiased (Radiance instead truncates on encode and adds 0.5 on decode);
+ * dropping the +0.5 is what makes exact powers of two round trip exactly (mantissa 128).
+ * The seed's exponent, ceil(log2(max)), gave a mantissa of exactly 1.0 (256) for powers of
+ * two; frexp's mantissa is in [0.5, 1), and the one rounding case that reaches 256 bumps
+ * the exponent instead.
+ */
+#include <math.h>
+
+#include "lightgraph/image.h"
+
+/* NaN and negative channels carry no light that RGBE can store. */
+static double rgbe_sanitize(float c)
+{
+    return (c > 0.0f) ? (double)c : 0.0;
+}
+
+void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4])
+{
+    double c[3] = {rgbe_sanitize(rgb[0]), rgbe_sanitize(rgb[1]), rgbe_sanitize(rgb[2])};
+    double max = c[0] > c[1] ? c[0] : c[1];
+    if (c[2] > max)
+        max = c[2];
+
+    if (max <= 1e-38) {
+        rgbe[0] = rgbe[1] = rgbe[2] = rgbe[3] = 0;
+        return;
+    }
+
+    int e = 0;
+    int saturate = isinf(max);
+    if (!saturate) {
+        double mant = frexp(max, &e); /* max = mant * 2^e, mant in [0.5, 1) */
+        if (floor(mant * 256.0 + 0.5) >= 256.0)
+            e++; /* rounds up to the next power of two: mantissa 128 there */
+        saturate = e > 127;           /* exponent byte e + 128 must fit in 255 */
+    }
+    if (saturate) {
+        /* The largest value RGBE holds is 255 * 2^(255-136), about 1.7e38: the largest
+         * channel gets it, the others keep their ratio to it (0 beside an infinity). */
+        for (int i = 0; i < 3; i++) {
+            double ratio = isinf(max) ? (isinf(c[i]) ? 1.0 : 0.0) : c[i] / max;
+            rgbe[i] = (uint8_t)floor(ratio * 255.0 + 0.5);
+        }
+        rgbe[3] = 255;
+        return;
+    }
+
+    double scale = ldexp(1.0, 8 - e); /* exact: a power of two */
+    for (int i = 0; i < 3; i++) {
+        double m = floor(c[i] * scale + 0.5);
+        rgbe[i] = (uint8_t)(m > 255.0 ? 255.0 : m);
+    }
+    rgbe[3] = (uint8_t)(e + 128);
+}
+
+void lg_rgbe_decode(const uint8_t rgbe[4], float rgb[3])
+{
+    if (rgbe[3] == 0) {
+        rgb[0] = rgb[1] = rgb[2] = 0.0f;
+        return;
+    }
+    /* 2^(E-136) ranges over 2^-135 .. 2^119; every m * 2^(E-136) is exact in float
+     * (the smallest are float denormals with at most 8 significant bits). */
+    double f = ldexp(1.0, (int)rgbe[3] - 136);
+    for (int i = 0; i < 3; i++)
+        rgb[i] = (float)(rgbe[i] * f);
+}
+
+float lg_srgb_encode(float linear)
+{
+    if (!(linear > 0.0f))
+        return 0.0f; /* also NaN */
+    if (linear >= 1.0f)
+        return 1.0f;
+    if (linear <= 0.0031308f)
+        return 12.92f * linear;
+    return 1.055f * powf(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+float lg_srgb_decode(float encoded)
+{
+    if (!(encoded > 0.0f))
+        return 0.0f;
+    if (encoded >= 1.0f)
+        return 1.0f;
+    if (encoded <= 0.04045f)
+        return encoded / 12.92f;
+    return powf((encoded + 0.055f) / 1.055f, 2.4f);
+}

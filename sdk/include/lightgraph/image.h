@@ -7,6 +7,18 @@
  * (8-bit, sRGB-encoded, for display). The format is chosen by the file name's extension
  * (.exr, .hdr or .pic, .png), case-insensitively.
  *
+ * What reading accepts, per format:
+ *   - EXR: the first part of a file, scanline or tiled (level 0 of mipmaps), any data
+ *     window (the image is the data window), channels R, G, B, A (missing colour channels
+ *     read as 0), or Y (grey) with optional A, or luminance-chroma (Y, RY, BY); half, float
+ *     and uint. Other channels are ignored; deep files are refused.
+ *   - HDR: "#?" signature, FORMAT=32-bit_rle_rgbe, flat, old-style and new-style RLE
+ *     scanlines, resolution "-Y H +X W" and its mirrored forms (+Y, -X; transposed forms
+ *     are refused). EXPOSURE and COLORCORR are divided out, giving the values before the
+ *     program that wrote them scaled them.
+ *   - PNG: 1 to 16 bits, grey, grey+alpha, RGB, RGBA, palette (with tRNS), interlaced;
+ *     colour is decoded as sRGB (gAMA and iCCP are ignored), alpha is linear.
+ *
  * Errors. Every function that can fail returns 0 or a negative LG_ERR_* code and writes a
  * message naming the file and the reason into `err` (`errlen` bytes, always terminated)
  * when `err` is not NULL.
@@ -56,8 +68,9 @@ LG_API lg_file_format lg_image_format_from_path(const char *path);
 /* What a read found, besides the pixels. */
 typedef struct lg_image_read_info {
     lg_file_format format;
-    uint32_t channels;          /* channels in the file: 3 (RGB), 4 (RGBA), 1 (Y) */
-    uint32_t bits;              /* 16 (half), 32 (float), 8 (PNG, RGBE) */
+    uint32_t channels;          /* channels in the file: 3 (RGB), 4 (RGBA), 1 (Y),
+                                 * 2 (Y and alpha) */
+    uint32_t bits;              /* 16 (half), 32 (float or uint), 8 (RGBE), PNG: 1..16 */
     char compression[16];       /* "none", "rle", "zip", "piz", "dwab", ... */
     uint64_t negatives_clamped; /* radiance reads: pixels with a negative channel, set to 0 */
     uint64_t nonfinite;         /* pixels with a NaN or Inf channel, as found */
@@ -66,8 +79,9 @@ typedef struct lg_image_read_info {
 
 enum {
     /* The image is radiance (light probes, renders): negative values, which lossy
-     * compressions (DWA, B44) produce, are clamped to zero and counted in
-     * negatives_clamped. Without it, pixels are returned as stored. */
+     * compressions (DWA, B44) produce, are clamped to zero (in all four channels) and the
+     * pixels counted in negatives_clamped. Without it, pixels are returned as stored.
+     * NaN and Inf are never changed; nonfinite counts them before any clamping. */
     LG_READ_RADIANCE = 1u << 0,
 };
 
@@ -99,9 +113,11 @@ typedef struct lg_image_write_opts {
 } lg_image_write_opts;
 
 /* Writes `img` to `path` atomically, in the format its extension names. `opts` may be
- * NULL. PNG: values are clamped to [0,1] and sRGB-encoded; NaN writes 0. HDR: see
- * lg_rgbe_encode for the edge cases. EXR half: values beyond 65504 become Inf, as
- * OpenEXR's half does. */
+ * NULL. PNG: colour is clamped to [0,1] and sRGB-encoded, alpha clamped; NaN writes 0.
+ * HDR: new-style RLE for widths 8..32767, flat otherwise, alpha dropped; see
+ * lg_rgbe_encode for the edge cases. EXR: scanline, increasing Y; half rounds to
+ * nearest even, values beyond 65504 become Inf, as OpenEXR's half does. The new file
+ * gets the mode any new file would (0666 less the umask). */
 LG_API int lg_image_write(const char *path, const lg_image *img,
                           const lg_image_write_opts *opts, char *err, size_t errlen);
 
@@ -112,6 +128,10 @@ LG_API uint16_t lg_half_from_float(float f);
 LG_API float lg_float_from_half(uint16_t h);
 
 /* Ward's RGBE, from frexp: the largest channel's mantissa in [0.5, 1) scaled by 256.
+ * Convention: each channel encodes as round(c * 2^(136 - E)) and decodes as
+ * m * 2^(E - 136), without Radiance's half-step offset; that keeps the error within half a
+ * step, unbiased, and makes powers of two exact. Files from writers that truncate (as
+ * Radiance does) read about half a step (~0.2%) low on average.
  * Edge cases, all deliberate:
  *   - all channels <= 1e-38 (or zero): (0,0,0,0), which decodes to exactly 0;
  *   - negative channels encode as 0 (RGBE has no sign);

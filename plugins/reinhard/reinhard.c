@@ -1,0 +1,503 @@
+/*
+ * The reinhard plugin: Reinhard et al. 2002 global tone mapping, as seed 0 (3.5, 5.2)
+ * describes it, with the paper's white point, on three backends (cpu, gl, cl).
+ *
+ * Every backend does the same three steps per execution:
+ *   1. reduce: sum log(delta + L) over the valid pixels and count the bad ones;
+ *   2. on the CPU, in double: Lavg, the adaptation step, the scale a / Lavg (or a / La);
+ *   3. map: the tone curve.
+ * Step 2 reads the reduction's 16-byte result back from the device; that one small
+ * synchronous read keeps the adaptation state and the bad-pixel report in one place for
+ * all three backends (README.md, "Known costs").
+ */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/cl.h"
+#include "lightgraph/color.h"
+#include "lightgraph/gl.h"
+#include "lightgraph/lightgraph.h"
+
+#include "reinhard_cpu.h"
+#include "reinhard.cl.h"
+#include "reinhard_map.comp.h"
+#include "reinhard_reduce.comp.h"
+
+enum { RH_BACKEND_CPU = 0, RH_BACKEND_GL, RH_BACKEND_CL };
+
+/* Work-group size of the reductions (GL: local_size_x in reinhard_reduce.comp) and the
+ * most work-groups stage 1 uses: the partials then fit one stage-2 work-group's loop. */
+#define RH_GROUP 256u
+#define RH_MAX_GROUPS 256u
+
+/* A partial sum as the shaders and kernels write it (std430 / OpenCL struct layout). */
+typedef struct rh_partial {
+    float sum;
+    uint32_t valid, nonfinite, negative;
+} rh_partial;
+
+typedef struct rh_state {
+    lg_rh_params p;
+    double key, rate, adapt_from, dt;
+    bool adapt;
+    int backend;
+
+    uint32_t width, height;
+    lg_format in_format;
+
+    bool have_la; /* adaptation state */
+    double la;
+    bool warned_bad, warned_empty;
+    float *scratch; /* cpu backend, rgba16f input: the pixels as floats */
+
+    /* gl */
+    GLuint gl_reduce, gl_final, gl_map;
+    GLuint gl_partials, gl_result;
+
+    /* cl */
+    cl_kernel cl_reduce, cl_final, cl_map;
+    cl_mem cl_partials, cl_result;
+} rh_state;
+
+static uint32_t rh_groups(size_t n)
+{
+    size_t g = (n + RH_GROUP - 1) / RH_GROUP;
+    return g == 0 ? 1u : g > RH_MAX_GROUPS ? RH_MAX_GROUPS : (uint32_t)g;
+}
+
+/* ---- create / prepare ------------------------------------------------------------------------ */
+
+static int rh_create(lg_node *n)
+{
+    rh_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    st->key = lg_param_float(n, "key");
+    st->p.mode = lg_param_enum(n, "mode") == 1 ? LG_RH_RGB : LG_RH_LUMINANCE;
+    st->p.white = lg_param_float(n, "white");
+    st->p.delta = lg_param_float(n, "delta");
+    lg_luma_coeffs(lg_param_enum(n, "luminance") == 1 ? LG_LUMA_SEED0 : LG_LUMA_REC709,
+                   st->p.w);
+    st->adapt = lg_param_bool(n, "adapt");
+    st->rate = lg_param_float(n, "adapt_rate");
+    st->adapt_from = lg_param_float(n, "adapt_from");
+    st->dt = lg_param_float(n, "dt");
+    st->backend = lg_param_enum(n, "backend");
+    return 0;
+}
+
+static int rh_prepare(lg_node *n)
+{
+    rh_state *st = n->user;
+    const lg_resource *in = lg_input(n, 0);
+    lg_resource_info info;
+    int rc = lg_describe(in, &info, n);
+    if (rc)
+        return lg_error_code(n, rc, "input 'image': cannot describe the resource");
+    if (info.kind != LG_KIND_IMAGE)
+        return lg_error(n, "input 'image' is not an image");
+    if (info.image.format != LG_FORMAT_RGBA32F && info.image.format != LG_FORMAT_RGBA16F)
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "input 'image' is rgba8 (display-encoded); reinhard maps linear "
+                             "HDR images (rgba32f or rgba16f)");
+    st->width = info.image.width;
+    st->height = info.image.height;
+    st->in_format = info.image.format;
+
+    lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F };
+    rc = lg_declare_image(n, 0, &d);
+    if (rc)
+        return rc;
+    static const lg_device devs[] = { LG_DEVICE_CPU, LG_DEVICE_GL, LG_DEVICE_CL };
+    rc = lg_set_device(n, devs[st->backend]);
+    if (rc)
+        return rc;
+    /* adaptation carries state from frame to frame */
+    lg_set_per_frame(n, st->adapt);
+    st->have_la = false;
+    return 0;
+}
+
+/* ---- the scale: Lavg, adaptation, reporting --------------------------------------------------- */
+
+static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_frame *frame)
+{
+    uint64_t bad = s->nonfinite + s->negative;
+    if (bad && !st->warned_bad) {
+        st->warned_bad = true;
+        lg_log(n, LG_LOG_WARN,
+               "frame %u: %" PRIu64 " of %" PRIu64 " pixels left out of the log-average "
+               "(%" PRIu64 " with NaN or Inf, %" PRIu64 " with negative luminance); they map "
+               "to 0, and +Inf channels to 1 (reported once)",
+               frame->index, bad, bad + s->valid, s->nonfinite, s->negative);
+    }
+    double lavg;
+    bool ok = lg_rh_log_average(s, &lavg);
+    if (!ok && !st->warned_empty) {
+        st->warned_empty = true;
+        lg_log(n, LG_LOG_WARN, "frame %u: no valid pixel for the log-average; %s (reported once)",
+               frame->index,
+               st->adapt && st->have_la ? "keeping the adapted luminance" : "using Lavg = 1");
+    }
+    double l = ok ? lavg : 1.0;
+    if (st->adapt) {
+        if (!st->have_la) {
+            st->la = st->adapt_from > 0.0 ? st->adapt_from : l;
+            st->have_la = true;
+        }
+        if (ok) {
+            double dt = st->dt > 0.0 ? st->dt : frame->dt;
+            st->la = lg_rh_adapt(st->la, lavg, st->rate, dt);
+        }
+        l = st->la;
+    }
+    lg_log(n, LG_LOG_DEBUG, "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
+           frame->index, ok ? lavg : NAN, s->valid, l, st->key / l);
+    return st->key / l;
+}
+
+/* ---- cpu ------------------------------------------------------------------------------------------ */
+
+static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
+{
+    lg_cpu_view vi, vo;
+    int rc;
+    if ((rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &vi)) ||
+        (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo)))
+        return rc;
+    uint32_t w = st->width, h = st->height;
+    size_t ps = lg_format_size(st->in_format);
+
+    /* rgba16f: widen once, so that both passes read floats */
+    const float *src = vi.pixels;
+    size_t src_row = vi.row_pixels;
+    if (st->in_format == LG_FORMAT_RGBA16F) {
+        if (!st->scratch) {
+            st->scratch = malloc((size_t)w * h * 16);
+            if (!st->scratch)
+                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%ux%u rgba32f scratch)", w, h);
+        }
+        for (uint32_t y = 0; y < h; y++) {
+            const uint16_t *row = (const uint16_t *)((const unsigned char *)vi.pixels +
+                                                     (size_t)y * vi.row_pixels * ps);
+            float *dst = st->scratch + (size_t)y * w * 4;
+            for (size_t i = 0; i < (size_t)w * 4; i++)
+                dst[i] = lg_float_from_half(row[i]);
+        }
+        src = st->scratch;
+        src_row = w;
+    }
+
+    lg_rh_stats s;
+    memset(&s, 0, sizeof s);
+    for (uint32_t y = 0; y < h; y++)
+        lg_rh_reduce(src + (size_t)y * src_row * 4, w, &st->p, &s);
+    double scale = rh_scale(n, st, &s, frame);
+    for (uint32_t y = 0; y < h; y++)
+        lg_rh_map(src + (size_t)y * src_row * 4, (float *)vo.pixels + (size_t)y * vo.row_pixels * 4,
+                  w, scale, &st->p);
+    return 0;
+}
+
+/* ---- gl --------------------------------------------------------------------------------------------- */
+
+static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
+{
+    const char *fmt = st->in_format == LG_FORMAT_RGBA16F ? "rgba16f" : "rgba32f";
+    char defs[128];
+    lg_gl_shader_src reduce = { GL_COMPUTE_SHADER, lg_src_reinhard_reduce_comp_file,
+                                lg_src_reinhard_reduce_comp };
+    lg_gl_shader_src map = { GL_COMPUTE_SHADER, lg_src_reinhard_map_comp_file,
+                             lg_src_reinhard_map_comp };
+    snprintf(defs, sizeof defs, "#define LG_STAGE 1\n#define LG_IN_FORMAT %s\n", fmt);
+    if (!(st->gl_reduce = lg_gl_program(n, gl, &reduce, 1, defs)))
+        return LG_ERR_DEVICE;
+    if (!(st->gl_final = lg_gl_program(n, gl, &reduce, 1, "#define LG_STAGE 2\n")))
+        return LG_ERR_DEVICE;
+    snprintf(defs, sizeof defs, "#define LG_IN_FORMAT %s\n", fmt);
+    if (!(st->gl_map = lg_gl_program(n, gl, &map, 1, defs)))
+        return LG_ERR_DEVICE;
+    gl->CreateBuffers(1, &st->gl_partials);
+    gl->NamedBufferData(st->gl_partials, RH_MAX_GROUPS * sizeof(rh_partial), NULL, GL_DYNAMIC_COPY);
+    gl->CreateBuffers(1, &st->gl_result);
+    gl->NamedBufferData(st->gl_result, sizeof(rh_partial), NULL, GL_DYNAMIC_READ);
+    return lg_gl_check(n, "reinhard: creating the reduction buffers");
+}
+
+/* Leaves the bindings as the GL state contract wants them (docs/sdk.md). */
+static void rh_gl_unbind(const lg_gl *gl)
+{
+    gl->UseProgram(0);
+    gl->BindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    gl->BindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+}
+
+static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
+{
+    const lg_gl *gl = lg_gl_get(n);
+    if (!gl)
+        return LG_ERR_DEVICE;
+    int rc;
+    if (!st->gl_map && (rc = rh_gl_init(n, st, gl)))
+        return rc;
+    uint32_t tin = 0, tout = 0, dummy;
+    if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, &dummy)) ||
+        (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &dummy)))
+        return rc;
+    GLenum in_fmt = st->in_format == LG_FORMAT_RGBA16F ? GL_RGBA16F : GL_RGBA32F;
+    size_t npx = (size_t)st->width * st->height;
+    uint32_t groups = rh_groups(npx);
+
+    /* stage 1 and 2: the log-average */
+    gl->UseProgram(st->gl_reduce);
+    gl->BindImageTexture(0, tin, 0, GL_FALSE, 0, GL_READ_ONLY, in_fmt);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, st->gl_partials);
+    gl->Uniform2i(0, (GLint)st->width, (GLint)st->height);
+    gl->Uniform1f(1, (float)st->p.delta);
+    gl->Uniform3f(2, st->p.w[0], st->p.w[1], st->p.w[2]);
+    gl->DispatchCompute(groups, 1, 1);
+    gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    gl->UseProgram(st->gl_final);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, st->gl_result);
+    gl->Uniform1ui(0, groups);
+    gl->DispatchCompute(1, 1, 1);
+    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+
+    rh_partial r;
+    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof r, &r);
+    if ((rc = lg_gl_check(n, "reinhard: log-average reduction"))) {
+        rh_gl_unbind(gl);
+        return rc;
+    }
+    lg_rh_stats s = { .log_sum = r.sum, .valid = r.valid, .nonfinite = r.nonfinite,
+                      .negative = r.negative };
+    double scale = rh_scale(n, st, &s, frame);
+
+    /* the map */
+    double inv_w2 = st->p.white > 0.0 ? 1.0 / (st->p.white * st->p.white) : 0.0;
+    gl->UseProgram(st->gl_map);
+    gl->BindImageTexture(1, tout, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    gl->Uniform2i(0, (GLint)st->width, (GLint)st->height);
+    gl->Uniform1f(1, (float)scale);
+    gl->Uniform1f(2, (float)inv_w2);
+    gl->Uniform1i(3, st->p.mode == LG_RH_RGB ? 1 : 0);
+    gl->Uniform3f(4, st->p.w[0], st->p.w[1], st->p.w[2]);
+    gl->DispatchCompute((st->width + 15) / 16, (st->height + 15) / 16, 1);
+    /* whoever reads the output next (a texture fetch, an image load, a read-back) */
+    gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                      GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    rh_gl_unbind(gl);
+    return lg_gl_check(n, "reinhard: map pass");
+}
+
+/* ---- cl --------------------------------------------------------------------------------------------- */
+
+static int rh_cl_init(lg_node *n, rh_state *st)
+{
+    cl_context ctx = lg_cl_context(n);
+    if (!ctx)
+        return LG_ERR_DEVICE;
+    char opts[128];
+    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u%s", RH_GROUP,
+             st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
+    cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, lg_src_reinhard_cl, opts);
+    if (!prog)
+        return LG_ERR_DEVICE;
+    cl_int err;
+    st->cl_reduce = clCreateKernel(prog, "rh_reduce", &err);
+    if (err)
+        return lg_cl_fail(n, err, "clCreateKernel(rh_reduce)");
+    st->cl_final = clCreateKernel(prog, "rh_reduce_final", &err);
+    if (err)
+        return lg_cl_fail(n, err, "clCreateKernel(rh_reduce_final)");
+    st->cl_map = clCreateKernel(prog, "rh_map", &err);
+    if (err)
+        return lg_cl_fail(n, err, "clCreateKernel(rh_map)");
+    size_t wg = 0;
+    err = clGetKernelWorkGroupInfo(st->cl_reduce, lg_cl_device(n), CL_KERNEL_WORK_GROUP_SIZE,
+                                   sizeof wg, &wg, NULL);
+    if (err)
+        return lg_cl_fail(n, err, "clGetKernelWorkGroupInfo(rh_reduce)");
+    if (wg < RH_GROUP)
+        return lg_error_code(n, LG_ERR_DEVICE,
+                             "backend 'cl': the device runs at most %zu work-items per group "
+                             "for rh_reduce, the reduction needs %u", wg, RH_GROUP);
+    st->cl_partials = clCreateBuffer(ctx, CL_MEM_READ_WRITE, RH_MAX_GROUPS * sizeof(rh_partial),
+                                     NULL, &err);
+    if (err)
+        return lg_cl_fail(n, err, "clCreateBuffer(partials)");
+    st->cl_result = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(rh_partial), NULL, &err);
+    if (err)
+        return lg_cl_fail(n, err, "clCreateBuffer(result)");
+    return 0;
+}
+
+#define RH_ARG(k, i, v)                                                                      \
+    do {                                                                                     \
+        cl_int e_ = clSetKernelArg((k), (i), sizeof(v), &(v));                               \
+        if (e_)                                                                              \
+            return lg_cl_fail(n, e_, "clSetKernelArg(" #k ", " #i ")");                      \
+    } while (0)
+
+static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
+{
+    cl_command_queue q = lg_cl_queue(n);
+    if (!q)
+        return LG_ERR_DEVICE;
+    int rc;
+    if (!st->cl_map && (rc = rh_cl_init(n, st)))
+        return rc;
+    void *pin = NULL, *pout = NULL, *dummy = NULL;
+    if ((rc = lg_map_cl(n, lg_input(n, 0), LG_READ, &pin, &dummy)) ||
+        (rc = lg_map_cl(n, lg_output(n, 0), LG_WRITE, &pout, &dummy)))
+        return rc;
+    cl_mem min = (cl_mem)pin, mout = (cl_mem)pout;
+    cl_uint npx = (cl_uint)((size_t)st->width * st->height);
+    cl_uint groups = rh_groups(npx);
+    cl_float delta = (cl_float)st->p.delta;
+    cl_float4 w = { { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f } };
+    cl_event ev;
+    cl_int err;
+
+    RH_ARG(st->cl_reduce, 0, min);
+    RH_ARG(st->cl_reduce, 1, npx);
+    RH_ARG(st->cl_reduce, 2, delta);
+    RH_ARG(st->cl_reduce, 3, w);
+    RH_ARG(st->cl_reduce, 4, st->cl_partials);
+    size_t local = RH_GROUP, global = (size_t)groups * RH_GROUP;
+    err = clEnqueueNDRangeKernel(q, st->cl_reduce, 1, NULL, &global, &local, 0, NULL, &ev);
+    if (err)
+        return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce)");
+    lg_cl_profile(n, ev);
+
+    RH_ARG(st->cl_final, 0, st->cl_partials);
+    RH_ARG(st->cl_final, 1, groups);
+    RH_ARG(st->cl_final, 2, st->cl_result);
+    global = RH_GROUP;
+    err = clEnqueueNDRangeKernel(q, st->cl_final, 1, NULL, &global, &local, 0, NULL, &ev);
+    if (err)
+        return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce_final)");
+    lg_cl_profile(n, ev);
+
+    rh_partial r;
+    err = clEnqueueReadBuffer(q, st->cl_result, CL_TRUE, 0, sizeof r, &r, 0, NULL, NULL);
+    if (err)
+        return lg_cl_fail(n, err, "clEnqueueReadBuffer(result)");
+    lg_rh_stats s = { .log_sum = r.sum, .valid = r.valid, .nonfinite = r.nonfinite,
+                      .negative = r.negative };
+    double scale = rh_scale(n, st, &s, frame);
+
+    cl_float fscale = (cl_float)scale;
+    cl_float inv_w2 = st->p.white > 0.0 ? (cl_float)(1.0 / (st->p.white * st->p.white)) : 0.0f;
+    cl_int mode = st->p.mode == LG_RH_RGB ? 1 : 0;
+    RH_ARG(st->cl_map, 0, min);
+    RH_ARG(st->cl_map, 1, mout);
+    RH_ARG(st->cl_map, 2, npx);
+    RH_ARG(st->cl_map, 3, fscale);
+    RH_ARG(st->cl_map, 4, inv_w2);
+    RH_ARG(st->cl_map, 5, mode);
+    RH_ARG(st->cl_map, 6, w);
+    local = 64;
+    global = ((size_t)npx + local - 1) / local * local;
+    err = clEnqueueNDRangeKernel(q, st->cl_map, 1, NULL, &global, &local, 0, NULL, &ev);
+    if (err)
+        return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_map)");
+    lg_cl_profile(n, ev);
+    return 0;
+}
+
+/* ---- execute / destroy ------------------------------------------------------------------------------ */
+
+static int rh_execute(lg_node *n, const lg_frame *frame)
+{
+    rh_state *st = n->user;
+    switch (st->backend) {
+    case RH_BACKEND_GL: return rh_execute_gl(n, st, frame);
+    case RH_BACKEND_CL: return rh_execute_cl(n, st, frame);
+    default: return rh_execute_cpu(n, st, frame);
+    }
+}
+
+static void rh_destroy(lg_node *n)
+{
+    rh_state *st = n->user;
+    if (!st)
+        return;
+    if (st->gl_map || st->gl_reduce || st->gl_final || st->gl_partials || st->gl_result) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (gl) {
+            gl->DeleteProgram(st->gl_reduce);
+            gl->DeleteProgram(st->gl_final);
+            gl->DeleteProgram(st->gl_map);
+            gl->DeleteBuffers(1, &st->gl_partials);
+            gl->DeleteBuffers(1, &st->gl_result);
+        }
+    }
+    if (st->cl_reduce)
+        clReleaseKernel(st->cl_reduce);
+    if (st->cl_final)
+        clReleaseKernel(st->cl_final);
+    if (st->cl_map)
+        clReleaseKernel(st->cl_map);
+    if (st->cl_partials)
+        clReleaseMemObject(st->cl_partials);
+    if (st->cl_result)
+        clReleaseMemObject(st->cl_result);
+    free(st->scratch);
+    free(st);
+    n->user = NULL;
+}
+
+/* ---- descriptor ------------------------------------------------------------------------------------ */
+
+static const char *const rh_modes[] = { "luminance", "rgb", NULL };
+static const char *const rh_lumas[] = { "rec709", "seed", NULL };
+static const char *const rh_backends[] = { "cpu", "gl", "cl", NULL };
+
+static const lg_param_desc rh_params[] = {
+    { .key = "key", .type = LG_PARAM_FLOAT, .def.f = 0.18, .min = 1e-4, .max = 10,
+      .doc = "key a: the scene's log-average maps to a (0.18 middle grey; seed code: 0.72)" },
+    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_modes,
+      .doc = "luminance: map L and scale colour by Ld/L (Reinhard 2002); rgb: curve per channel (seed 0)" },
+    { .key = "white", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "Lwhite, the smallest scaled luminance that maps to 1 (Reinhard 2002 eq. 4); 0 = off" },
+    { .key = "delta", .type = LG_PARAM_FLOAT, .def.f = 1e-4, .min = 1e-12, .max = 1,
+      .doc = "offset in log(delta + L), so that black pixels count (seed: 0.0001)" },
+    { .key = "luminance", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_lumas,
+      .doc = "luminance weights: rec709 (0.2126, 0.7152, 0.0722) or seed (0.2125, 0.7154, 0.0721)" },
+    { .key = "adapt", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "adapt gradually to the frame's Lavg (seed 0, 5.2); the node then runs every frame" },
+    { .key = "adapt_rate", .type = LG_PARAM_FLOAT, .def.f = 0.98, .min = 0, .max = 1,
+      .doc = "La += (Lavg - La) (1 - rate^(60 dt)): the fraction kept per 1/60 s (seed: 0.98)" },
+    { .key = "adapt_from", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "adapted luminance before the first frame; 0 = the first frame's Lavg" },
+    { .key = "dt", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 3600,
+      .doc = "seconds per frame for adaptation; 0 = the render's frame time (--dt)" },
+    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_backends,
+      .doc = "where it runs: cpu (reference, double precision), gl (compute shaders), cl" },
+};
+static const lg_port_desc rh_inputs[] = {
+    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f or rgba16f" },
+};
+static const lg_port_desc rh_outputs[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f, display-referred linear: Ld in [0,1], saturated channels may exceed 1 "
+             "in luminance mode; a PNG output applies sRGB and clips" },
+};
+
+static const lg_node_type rh_types[] = { {
+    .struct_size = sizeof(lg_node_type),
+    .name = "reinhard",
+    .doc = "Reinhard global tone mapping: log-average luminance, key, optional white point",
+    LG_PARAMS(rh_params), LG_INPUTS(rh_inputs), LG_OUTPUTS(rh_outputs),
+    .create = rh_create, .prepare = rh_prepare, .execute = rh_execute, .destroy = rh_destroy,
+} };
+
+LG_PLUGIN_DEFINE("reinhard", "1.0.0", "Reinhard 2002 tone mapping (seed 0, 3.5 and 5.2)", rh_types)

@@ -1,0 +1,271 @@
+/*
+ * The reinhard plugin's CPU algorithm (plugins/reinhard/reinhard_cpu.c), alone: closed
+ * forms of the log-average, the curve, the white point, adaptation and the bad-pixel
+ * policy. The same file is compiled into the plugin; test_reinhard.c then checks every
+ * backend through the host.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "reinhard_cpu.h"
+
+static int failures;
+
+#define CHECK(cond, ...)                                                                   \
+    do {                                                                                   \
+        if (!(cond)) {                                                                     \
+            fprintf(stderr, "%s:%d: %s: ", __FILE__, __LINE__, #cond);                     \
+            fprintf(stderr, __VA_ARGS__);                                                  \
+            fputc('\n', stderr);                                                           \
+            failures++;                                                                    \
+        }                                                                                  \
+    } while (0)
+
+static lg_rh_params params(lg_rh_mode mode, double white, double delta)
+{
+    lg_rh_params p = { .mode = mode, .w = { 0.2126f, 0.7152f, 0.0722f }, .delta = delta,
+                       .white = white };
+    return p;
+}
+
+static double scale_of(const float *px, size_t n, const lg_rh_params *p, double key,
+                       lg_rh_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    lg_rh_reduce(px, n, p, st);
+    double lavg = 0;
+    if (!lg_rh_log_average(st, &lavg))
+        return NAN;
+    return key / lavg;
+}
+
+/* A constant image: Lavg = delta + L, every pixel maps to m / (1 + m) with m = a L / (L +
+ * delta) (a / (1 + a) when delta << L), in both modes for a grey pixel. */
+static void test_constant(void)
+{
+    const double key = 0.18, delta = 1e-4;
+    float px[4 * 6];
+    for (int i = 0; i < 6; i++) {
+        px[i * 4 + 0] = px[i * 4 + 1] = px[i * 4 + 2] = 2.5f;
+        px[i * 4 + 3] = 0.25f;
+    }
+    for (int mode = 0; mode < 2; mode++) {
+        lg_rh_params p = params((lg_rh_mode)mode, 0, delta);
+        lg_rh_stats st;
+        double s = scale_of(px, 6, &p, key, &st);
+        float l = 0.2126f * 2.5f + 0.7152f * 2.5f + 0.0722f * 2.5f;
+        CHECK(fabs(s - key / (delta + l)) < 1e-12, "scale %.17g", s);
+        float out[4 * 6];
+        lg_rh_map(px, out, 6, s, &p);
+        double m = key * 2.5 / (2.5 + delta);
+        for (int i = 0; i < 6; i++) {
+            CHECK(fabs(out[i * 4] - m / (1 + m)) < 1e-6, "mode %d: %.9g vs %.9g", mode,
+                  out[i * 4], m / (1 + m));
+            CHECK(fabs(out[i * 4] - key / (1 + key)) < 2e-5, "near a/(1+a)");
+            CHECK(out[i * 4 + 3] == 0.25f, "alpha passes through");
+        }
+    }
+}
+
+/* A saturated colour in luminance mode keeps its chromaticity: out = c Ld / L. */
+static void test_luminance_colour(void)
+{
+    float px[4] = { 4.0f, 1.0f, 0.25f, 1.0f };
+    lg_rh_params p = params(LG_RH_LUMINANCE, 0, 1e-4);
+    float out[4];
+    double s = 0.5;
+    lg_rh_map(px, out, 1, s, &p);
+    double l = 0.2126 * 4 + 0.7152 * 1 + 0.0722 * 0.25;
+    double ld = s * l / (1 + s * l);
+    for (int k = 0; k < 3; k++)
+        CHECK(fabs(out[k] - px[k] * ld / l) < 1e-6, "channel %d: %.9g", k, out[k]);
+    CHECK(fabs(out[0] / out[1] - 4.0) < 1e-5, "ratio r/g kept");
+
+    lg_rh_params q = params(LG_RH_RGB, 0, 1e-4);
+    lg_rh_map(px, out, 1, s, &q);
+    for (int k = 0; k < 3; k++)
+        CHECK(fabs(out[k] - s * px[k] / (1 + s * px[k])) < 1e-6, "rgb channel %d", k);
+}
+
+/* White point: Ld(Lwhite) = 1, below it Lm (1 + Lm/Lw^2) / (1 + Lm), above it 1. */
+static void test_white(void)
+{
+    const double lw = 3.0;
+    lg_rh_params p = params(LG_RH_LUMINANCE, lw, 1e-4);
+    double inv = 1.0 / (lw * lw);
+    CHECK(fabs(lg_rh_curve(lw, inv) - 1.0) < 1e-15, "Ld(Lwhite) = %.17g", lg_rh_curve(lw, inv));
+    CHECK(lg_rh_curve(10 * lw, inv) == 1.0, "above white clamps to 1");
+    CHECK(fabs(lg_rh_curve(1.0, inv) - (1.0 + 1.0 / 9.0) / 2.0) < 1e-15, "Ld(1)");
+    CHECK(lg_rh_curve(1.0, 0) == 0.5, "no white: Ld(1) = 1/2");
+    /* through the map, grey pixels: x = s L with s = 1 */
+    float px[8] = { 3, 3, 3, 1, 1, 1, 1, 1 };
+    float out[8];
+    lg_rh_map(px, out, 2, 1.0, &p);
+    CHECK(fabs(out[0] - 1.0) < 1e-6, "grey at white -> 1: %.9g", out[0]);
+    CHECK(fabs(out[4] - (1.0 + 1.0 / 9.0) / 2.0) < 1e-6, "grey 1 -> %.9g", out[4]);
+}
+
+/* Monotone in L, in [0, 1), over 12 decades. */
+static void test_monotone(void)
+{
+    enum { N = 1200 };
+    float *px = malloc(sizeof(float) * 4 * N), *out = malloc(sizeof(float) * 4 * N);
+    for (int i = 0; i < N; i++) {
+        float v = (float)pow(10.0, -6.0 + 12.0 * i / (N - 1));
+        px[i * 4 + 0] = v;
+        px[i * 4 + 1] = 0.5f * v;
+        px[i * 4 + 2] = 2.0f * v;
+        px[i * 4 + 3] = 1;
+    }
+    for (int mode = 0; mode < 2; mode++) {
+        lg_rh_params p = params((lg_rh_mode)mode, 0, 1e-4);
+        lg_rh_stats st;
+        double s = scale_of(px, N, &p, 0.18, &st);
+        lg_rh_map(px, out, N, s, &p);
+        for (int i = 0; i < N; i++) {
+            for (int k = 0; k < 3; k++) {
+                CHECK(out[i * 4 + k] >= 0 && out[i * 4 + k] < (mode ? 1.0f : 14.0f),
+                      "range at %d", i);
+                if (i)
+                    CHECK(out[i * 4 + k] >= out[(i - 1) * 4 + k], "mode %d: not monotone at %d ch %d",
+                          mode, i, k);
+            }
+        }
+        CHECK(out[(N - 1) * 4 + 1] > out[0 * 4 + 1], "not constant");
+    }
+    free(px);
+    free(out);
+}
+
+/* Multiplying the exposure by 10 changes nothing but through delta. */
+static void test_exposure(void)
+{
+    enum { N = 500 };
+    float *a = malloc(sizeof(float) * 4 * N), *b = malloc(sizeof(float) * 4 * N);
+    float *oa = malloc(sizeof(float) * 4 * N), *ob = malloc(sizeof(float) * 4 * N);
+    srand(7);
+    for (int i = 0; i < N * 4; i++) {
+        a[i] = (float)(exp(8.0 * rand() / RAND_MAX - 4.0));
+        b[i] = a[i] * 10.0f;
+    }
+    for (int mode = 0; mode < 2; mode++) {
+        lg_rh_params p = params((lg_rh_mode)mode, 0, 1e-12);
+        lg_rh_stats st;
+        lg_rh_map(a, oa, N, scale_of(a, N, &p, 0.18, &st), &p);
+        lg_rh_map(b, ob, N, scale_of(b, N, &p, 0.18, &st), &p);
+        double md = 0;
+        for (int i = 0; i < N * 4; i++)
+            md = fmax(md, fabs(oa[i] - ob[i]) * (i % 4 != 3));
+        CHECK(md < 2e-6, "mode %d: x10 exposure changed the output by %.3g", mode, md);
+    }
+    free(a);
+    free(b);
+    free(oa);
+    free(ob);
+}
+
+/* 60 steps of 1/60 s equal one step of 1 s; the closed form La = Lavg + (La0 - Lavg) r^60t. */
+static void test_adapt(void)
+{
+    double la = 5.0, lavg = 0.3, rate = 0.98;
+    for (int i = 0; i < 60; i++)
+        la = lg_rh_adapt(la, lavg, rate, 1.0 / 60.0);
+    double one = lg_rh_adapt(5.0, lavg, rate, 1.0);
+    double closed = lavg + (5.0 - lavg) * pow(rate, 60.0);
+    CHECK(fabs(la - one) < 1e-12, "60 x 1/60 = %.17g, 1 x 1 = %.17g", la, one);
+    CHECK(fabs(one - closed) < 1e-12, "closed form %.17g", closed);
+    CHECK(fabs(lg_rh_adapt(5.0, lavg, 0.0, 1.0 / 60) - lavg) < 1e-15, "rate 0 adapts at once");
+    CHECK(lg_rh_adapt(5.0, lavg, 1.0, 1.0 / 60) == 5.0, "rate 1 never adapts");
+}
+
+/* Zero, NaN, Inf and negative pixels: counted, left out of Lavg (zero counts as log
+ * delta), and mapped by the policy without touching their neighbours. */
+static void test_bad_pixels(void)
+{
+    const float inf = INFINITY, qnan = NAN;
+    float px[] = {
+        1, 1, 1, 1,         /* 0 good */
+        4, 2, 1, 1,         /* 1 good */
+        0, 0, 0, 1,         /* 2 zero: log(delta) */
+        qnan, 1, 1, 1,      /* 3 nan */
+        inf, 1, 1, 1,       /* 4 +inf */
+        -inf, 1, 1, 1,      /* 5 -inf */
+        -10, 1, 1, 1,       /* 6 negative luminance */
+        -0.1f, 1, 1, 0.5f,  /* 7 negative channel, positive luminance: counted as valid */
+        1e30f, 1e30f, 1e30f, 1, /* 8 huge but valid */
+        FLT_MAX, FLT_MAX, FLT_MAX, 1, /* 9 the largest float */
+    };
+    size_t n = sizeof px / sizeof px[0] / 4;
+    const double delta = 1e-4;
+    for (int mode = 0; mode < 2; mode++) {
+        lg_rh_params p = params((lg_rh_mode)mode, 0, delta);
+        lg_rh_stats st;
+        memset(&st, 0, sizeof st);
+        lg_rh_reduce(px, n, &p, &st);
+        float lmax = lg_rh_luma(&px[9 * 4], p.w);
+        uint64_t over = isinf(lmax) ? 1 : 0;
+        CHECK(st.valid == 6 - over, "valid %llu", (unsigned long long)st.valid);
+        CHECK(st.nonfinite == 3 + over, "nonfinite %llu", (unsigned long long)st.nonfinite);
+        CHECK(st.negative == 1, "negative %llu", (unsigned long long)st.negative);
+        double l1 = 0.2126f * 4 + 0.7152f * 2 + 0.0722f * 1;
+        double l7 = (double)(0.2126f * -0.1f + 0.7152f * 1 + 0.0722f * 1);
+        double l8 = lg_rh_luma(&px[8 * 4], p.w);
+        double want = log(delta + 1.0) + log(delta + l1) + log(delta) + log(delta + l7) +
+                      log(delta + l8) + (over ? 0.0 : log(delta + lmax));
+        CHECK(fabs(st.log_sum - want) < 1e-6, "log sum %.9g vs %.9g", st.log_sum, want);
+
+        float out[sizeof px / sizeof px[0]];
+        lg_rh_map(px, out, n, 0.7, &p);
+        for (size_t i = 0; i < n * 4; i++)
+            CHECK(!isnan(out[i]) && out[i] >= 0 && out[i] <= 14, "out[%zu] = %g", i, out[i]);
+        CHECK(out[2 * 4] == 0 && out[2 * 4 + 1] == 0, "zero -> 0");
+        CHECK(out[3 * 4] == 0, "NaN channel -> 0");
+        CHECK(out[4 * 4] == 1, "+Inf channel -> 1");
+        CHECK(out[5 * 4] == 0, "-Inf channel -> 0");
+        CHECK(out[7 * 4] == 0 && out[7 * 4 + 3] == 0.5f, "negative channel -> 0, alpha kept");
+        if (mode == 0) {
+            CHECK(out[4 * 4 + 1] == 0, "luminance: finite channels of a +Inf pixel -> 0");
+            /* NaN read as 0, then mapped like (0, 1, 1) */
+            float ref[4] = { 0, 1, 1, 1 }, o[4];
+            lg_rh_map(ref, o, 1, 0.7, &p);
+            CHECK(out[3 * 4 + 1] == o[1], "NaN pixel's other channels as if it were 0");
+            /* huge grey: Ld/L c = Ld -> 1, with or without float overflow of L */
+            CHECK(fabs(out[8 * 4] - 1.0) < 1e-6, "huge grey -> %.9g", out[8 * 4]);
+            CHECK(fabs(out[9 * 4] - 1.0) < 1e-6, "FLT_MAX grey -> %.9g", out[9 * 4]);
+        } else {
+            CHECK(fabs(out[4 * 4 + 1] - 0.7 / 1.7) < 1e-6, "rgb: channels independent");
+            CHECK(fabs(out[8 * 4] - 1.0) < 1e-6, "huge -> 1");
+            CHECK(fabs(out[9 * 4] - 1.0) < 1e-6, "FLT_MAX -> 1");
+        }
+        /* good pixels as if the bad ones were absent */
+        float good[] = { 1, 1, 1, 1, 4, 2, 1, 1 }, og[8];
+        lg_rh_map(good, og, 2, 0.7, &p);
+        CHECK(memcmp(og, out, sizeof og) == 0, "neighbours untouched");
+    }
+    /* no valid pixel at all */
+    float allbad[] = { qnan, qnan, qnan, 1, -1, -1, -1, 1 };
+    lg_rh_params p = params(LG_RH_LUMINANCE, 0, 1e-4);
+    lg_rh_stats st;
+    memset(&st, 0, sizeof st);
+    lg_rh_reduce(allbad, 2, &p, &st);
+    double lavg = 42;
+    CHECK(!lg_rh_log_average(&st, &lavg) && lavg == 42, "no valid pixel: no average");
+}
+
+int main(void)
+{
+    test_constant();
+    test_luminance_colour();
+    test_white();
+    test_monotone();
+    test_exposure();
+    test_adapt();
+    test_bad_pixels();
+    if (failures)
+        fprintf(stderr, "%d check(s) failed\n", failures);
+    return failures ? 1 : 0;
+}
