@@ -103,6 +103,17 @@ def test_plugins_json():
     check(fog["inputs"][1]["optional"] is True, "optional input flag")
     scene = types["test_scene"]
     check(len(scene["parameters"]) == 6, "test_scene has 6 parameters")
+    # every node type of every plugin (the build tree's too) with complete parameters
+    for name, t in types.items():
+        for key in ("doc", "inputs", "outputs", "parameters", "needs", "neutral"):
+            check(key in t, "%s lacks %s" % (name, key))
+        for q in t["parameters"]:
+            for key in ("key", "type", "default", "doc"):
+                check(key in q, "%s.%s lacks %s" % (name, q.get("key"), key))
+            if q["type"] == "enum":
+                check(q["default"] in q["values"], "%s.%s default not a value" % (name, q["key"]))
+    for name in ("image", "constant", "add", "scale", "reinhard"):
+        check(name in types, "the build tree's node type %s is listed" % name)
     text = run(["plugins"], expect=0).stdout
     check("test_fog" in text and "medium_density" in text, "plugins text output")
 
