@@ -10,26 +10,6 @@
 
 #include "util.h"
 
-char *lg_vformat(const char *fmt, va_list ap)
-{
-    /* Into a stack buffer first: one pass for nearly every message, and no
-     * vsnprintf(NULL, 0, ...), which GCC 12 misreports under -fsanitize=undefined. */
-    if (!fmt)
-        return lg_xstrdup("");
-    char small[256];
-    va_list ap2;
-    va_copy(ap2, ap);
-    int n = vsnprintf(small, sizeof small, fmt, ap);
-    if (n < 0)
-        n = 0;
-    char *p = lg_xmalloc((size_t)n + 1);
-    if ((size_t)n < sizeof small)
-        memcpy(p, small, (size_t)n + 1);
-    else
-        vsnprintf(p, (size_t)n + 1, fmt, ap2);
-    va_end(ap2);
-    return p;
-}
 
 void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line_text,
                   const char *fmt, ...)

@@ -121,8 +121,12 @@ static int write_outputs(lg_exec *ex)
             continue;
         }
         lg_image img = {r->image.width, r->image.height, px};
+        /* EXR keeps what the resource holds: float for rgba32f, half otherwise */
+        lg_image_write_opts wo;
+        memset(&wo, 0, sizeof wo);
+        wo.exr_pixel = r->image.format == LG_FORMAT_RGBA32F ? LG_EXR_FLOAT : LG_EXR_HALF;
         if (mkdirs_for(path, err, sizeof err) ||
-            lg_image_write(path, &img, NULL, err, sizeof err)) {
+            lg_image_write(path, &img, &wo, err, sizeof err)) {
             lg_hlog(LG_HERR, "%s", err);
             rc = -1;
         } else {

@@ -245,12 +245,6 @@ void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *l
     __attribute__((format(printf, 5, 6)))
 #endif
     ;
-/* printf into a malloc'd string (used by the diagnostics' formatting). */
-char *lg_vformat(const char *fmt, va_list ap)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 1, 0)))
-#endif
-    ;
 /* Prints "file:line:col: error: message", the source line and a caret line, colourless. */
 void lg_diags_print(const lg_diags *d, FILE *f);
 void lg_diags_free(lg_diags *d);

@@ -53,16 +53,33 @@ char *lg_xstrndup(const char *s, size_t n)
     return p;
 }
 
+char *lg_vformat(const char *fmt, va_list ap)
+{
+    /* Into a stack buffer first: one pass for nearly every message, and no
+     * vsnprintf(NULL, 0, ...), which GCC 12 misreports under -fsanitize=undefined. */
+    if (!fmt)
+        return lg_xstrdup("");
+    char small[256];
+    va_list ap2;
+    va_copy(ap2, ap);
+    int n = vsnprintf(small, sizeof small, fmt, ap);
+    if (n < 0)
+        n = 0;
+    char *p = lg_xmalloc((size_t)n + 1);
+    if ((size_t)n < sizeof small)
+        memcpy(p, small, (size_t)n + 1);
+    else
+        vsnprintf(p, (size_t)n + 1, fmt, ap2);
+    va_end(ap2);
+    return p;
+}
+
 char *lg_xasprintf(const char *fmt, ...)
 {
-    va_list ap, ap2;
+    va_list ap;
     va_start(ap, fmt);
-    va_copy(ap2, ap);
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    char *p = lg_vformat(fmt, ap);
     va_end(ap);
-    char *p = lg_xmalloc((size_t)n + 1);
-    vsnprintf(p, (size_t)n + 1, fmt, ap2);
-    va_end(ap2);
     return p;
 }
 
@@ -100,7 +117,8 @@ void lg_str_addf(lg_str *b, const char *fmt, ...)
     va_list ap, ap2;
     va_start(ap, fmt);
     va_copy(ap2, ap);
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    char probe[1];
+    int n = vsnprintf(probe, sizeof probe, fmt, ap);
     va_end(ap);
     str_reserve(b, (size_t)n);
     vsnprintf(b->s + b->len, (size_t)n + 1, fmt, ap2);

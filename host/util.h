@@ -19,6 +19,8 @@ void *lg_xrealloc(void *p, size_t n);
 char *lg_xstrdup(const char *s);
 char *lg_xstrndup(const char *s, size_t n);
 char *lg_xasprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* printf into a malloc'd string; never NULL */
+char *lg_vformat(const char *fmt, va_list ap) __attribute__((format(printf, 1, 0)));
 
 /* A growing string. */
 typedef struct lg_str {
