@@ -44,7 +44,7 @@ test-sanitize: $(ASAN_BUILD)/build.ninja
 	@python3 tools/test_summary.py $(ASAN_BUILD)
 
 bench: build
-	sh tools/bench_reinhard.sh
+	ninja -C $(BUILD) bench-reinhard
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) out
