@@ -165,19 +165,12 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
     lg_str_addn(&b, (const char *)&sum, 8);
     if (size)
         lg_str_addn(&b, data, size);
-    char *tmp = lg_xasprintf("%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "wb");
     int rc = 0;
-    bool ok = f && fwrite(b.s, 1, b.len, f) == b.len;
-    if (f && fclose(f) != 0)
-        ok = false;
-    if (!ok || rename(tmp, path) != 0) {
+    if (lg_write_file_atomic(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,
                 strerror(errno));
-        remove(tmp);
         rc = LG_ERR_IO;
     }
-    free(tmp);
     free(path);
     lg_str_free(&b);
     return rc;

@@ -5,7 +5,6 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "lightgraph/image.h"
 
@@ -132,167 +131,136 @@ static int parse_args(int argc, char **argv, args *a)
     return 0;
 }
 
-/* Parse, apply overrides, scan plugins, check. Returns 0 or 2 (diagnostics printed). */
-static int load(args *a, lg_graph **g, lg_registry *reg, lg_checked **c, bool need_check)
+/* What every graph command holds: its arguments, the parsed graph, the registry and the
+ * checked graph. */
+typedef struct session {
+    args a;
+    lg_graph *g;
+    lg_checked *c;
+    lg_registry reg;
+} session;
+
+/* Parses the arguments and the graph, applies overrides, and (with need_check) scans the
+ * plugins and checks the graph against them. Returns 0 or an exit status (diagnostics
+ * printed); close_session() in every case. */
+static int open_session(session *s, int argc, char **argv, bool need_check)
 {
+    memset(s, 0, sizeof *s);
+    int rc = parse_args(argc, argv, &s->a);
+    if (rc)
+        return rc;
     lg_diags d = {0};
-    *g = lg_graph_parse_file(a->graph, &d);
-    for (int i = 0; *g && i < a->n_sets; i++)
-        lg_graph_set(*g, a->sets[i], &d);
-    if (*g && !d.errors && need_check) {
-        lg_registry_scan(reg);
+    s->g = lg_graph_parse_file(s->a.graph, &d);
+    for (int i = 0; s->g && i < s->a.n_sets; i++)
+        lg_graph_set(s->g, s->a.sets[i], &d);
+    if (s->g && !d.errors && need_check) {
+        lg_registry_scan(&s->reg);
         lg_schema schema;
-        lg_registry_schema(reg, &schema);
-        *c = lg_graph_check(*g, &schema, &d);
-        if (!*c && reg->n_refused)
-            for (uint32_t i = 0; i < reg->n_refused; i++)
-                fprintf(stderr, "note: plugin %s was refused: %s\n", reg->refused[i].path,
-                        reg->refused[i].reason);
+        lg_registry_schema(&s->reg, &schema);
+        s->c = lg_graph_check(s->g, &schema, &d);
+        if (!s->c)
+            for (uint32_t i = 0; i < s->reg.n_refused; i++)
+                fprintf(stderr, "note: plugin %s was refused: %s\n", s->reg.refused[i].path,
+                        s->reg.refused[i].reason);
     }
     lg_diags_print(&d, stderr);
-    int rc = (!*g || d.errors || (need_check && !*c)) ? 2 : 0;
+    rc = (!s->g || d.errors || (need_check && !s->c)) ? 2 : 0;
     lg_diags_free(&d);
+    return rc;
+}
+
+static int close_session(session *s, int rc)
+{
+    lg_checked_free(s->c);
+    lg_graph_free(s->g);
+    lg_registry_free(&s->reg);
+    free(s->a.sets);
     return rc;
 }
 
 int lg_cmd_render(int argc, char **argv)
 {
-    args a;
-    int rc = parse_args(argc, argv, &a);
-    if (rc) {
-        free(a.sets);
-        return rc;
-    }
-    lg_graph *g = NULL;
-    lg_checked *c = NULL;
-    lg_registry reg = {0};
-    rc = load(&a, &g, &reg, &c, true);
-    if (rc == 0 && a.out) {
-        if (c->n_outputs != 1) {
+    session s;
+    int rc = open_session(&s, argc, argv, true);
+    args *a = &s.a;
+    if (rc == 0 && a->out) {
+        if (s.c->n_outputs != 1) {
             fprintf(stderr,
                     "lightgraph render: -o replaces the graph's output file, but %s has %u "
                     "output statements; -o needs exactly one\n",
-                    a.graph, c->n_outputs);
+                    a->graph, s.c->n_outputs);
             rc = 2;
-        } else if (lg_image_format_from_path(a.out) == LG_FILE_UNKNOWN) {
+        } else if (lg_image_format_from_path(a->out) == LG_FILE_UNKNOWN) {
             fprintf(stderr, "lightgraph render: -o %s: unknown image format (use .png, .exr or "
                             ".hdr)\n",
-                    a.out);
+                    a->out);
             rc = 2;
         }
-        a.opts.output_override = a.out;
+        a->opts.output_override = a->out;
     }
-    if (rc == 0 && c->n_outputs == 0) {
+    if (rc == 0 && s.c->n_outputs == 0) {
         fprintf(stderr, "lightgraph render: %s has no output statement, so nothing would run\n",
-                a.graph);
+                a->graph);
         rc = 2;
     }
     if (rc == 0) {
         lg_exec ex;
         memset(&ex, 0, sizeof ex);
-        ex.opts = a.opts;
-        ex.reg = &reg;
-        ex.graph = g;
-        ex.checked = c;
+        ex.opts = a->opts;
+        ex.reg = &s.reg;
+        ex.graph = s.g;
+        ex.checked = s.c;
         rc = lg_plan(&ex) ? 1 : 0;
-        if (a.opts.explain && ex.nodes)
+        if (a->opts.explain && ex.nodes)
             lg_explain_print(&ex, stdout);
         if (rc == 0)
             rc = lg_execute(&ex) ? 1 : 0;
-        if (ex.nodes && ex.failed == false && rc == 0) {
-            if (a.opts.profile)
+        if (rc == 0 && !ex.failed) {
+            if (a->opts.profile)
                 lg_profile_print(&ex, stdout);
-            if (a.opts.profile_json && lg_profile_write_json(&ex, a.opts.profile_json))
+            if (a->opts.profile_json && lg_profile_write_json(&ex, a->opts.profile_json))
                 rc = 1;
         }
         fflush(stdout);
         lg_exec_free(&ex);
     }
-    lg_checked_free(c);
-    lg_graph_free(g);
-    lg_registry_free(&reg);
-    free(a.sets);
-    return rc;
+    return close_session(&s, rc);
 }
 
 int lg_cmd_check(int argc, char **argv)
 {
-    args a;
-    int rc = parse_args(argc, argv, &a);
-    if (rc) {
-        free(a.sets);
-        return rc;
-    }
-    lg_graph *g = NULL;
-    lg_checked *c = NULL;
-    lg_registry reg = {0};
-    rc = load(&a, &g, &reg, &c, true);
+    session s;
+    int rc = open_session(&s, argc, argv, true);
     if (rc == 0)
-        printf("%s: ok (%u nodes, %u outputs)\n", a.graph, c->n_nodes, c->n_outputs);
-    lg_checked_free(c);
-    lg_graph_free(g);
-    lg_registry_free(&reg);
-    free(a.sets);
-    return rc;
+        printf("%s: ok (%u nodes, %u outputs)\n", s.a.graph, s.c->n_nodes, s.c->n_outputs);
+    return close_session(&s, rc);
 }
 
 int lg_cmd_fmt(int argc, char **argv)
 {
-    args a;
-    int rc = parse_args(argc, argv, &a);
-    if (rc) {
-        free(a.sets);
-        return rc;
-    }
-    lg_graph *g = NULL;
-    lg_checked *c = NULL;
-    lg_registry reg = {0};
-    rc = load(&a, &g, &reg, &c, false);
+    session s;
+    int rc = open_session(&s, argc, argv, false);
     if (rc == 0) {
-        char *text = lg_graph_format(g);
-        if (!a.in_place) {
+        char *text = lg_graph_format(s.g);
+        if (!s.a.in_place) {
             fputs(text, stdout);
-        } else {
-            char *tmp = lg_xasprintf("%s.fmt%ld", a.graph, (long)getpid());
-            FILE *f = fopen(tmp, "wb");
-            bool ok = f && fputs(text, f) >= 0;
-            if (f && fclose(f) != 0)
-                ok = false;
-            if (!ok || rename(tmp, a.graph) != 0) {
-                fprintf(stderr, "lightgraph fmt: cannot write %s: %s\n", a.graph,
-                        strerror(errno));
-                remove(tmp);
-                rc = 1;
-            }
-            free(tmp);
+        } else if (lg_write_file_atomic(s.a.graph, text, strlen(text)) != 0) {
+            fprintf(stderr, "lightgraph fmt: cannot write %s: %s\n", s.a.graph, strerror(errno));
+            rc = 1;
         }
         free(text);
     }
-    lg_graph_free(g);
-    free(a.sets);
-    return rc;
+    return close_session(&s, rc);
 }
 
 int lg_cmd_dot(int argc, char **argv)
 {
-    args a;
-    int rc = parse_args(argc, argv, &a);
-    if (rc) {
-        free(a.sets);
-        return rc;
-    }
-    lg_graph *g = NULL;
-    lg_checked *c = NULL;
-    lg_registry reg = {0};
-    rc = load(&a, &g, &reg, &c, true);
+    session s;
+    int rc = open_session(&s, argc, argv, true);
     if (rc == 0) {
-        char *text = lg_graph_dot(g, c);
+        char *text = lg_graph_dot(s.g, s.c);
         fputs(text, stdout);
         free(text);
     }
-    lg_checked_free(c);
-    lg_graph_free(g);
-    lg_registry_free(&reg);
-    free(a.sets);
-    return rc;
+    return close_session(&s, rc);
 }

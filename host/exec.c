@@ -180,33 +180,23 @@ static const char *format_name(lg_format f)
     return f == LG_FORMAT_RGBA16F ? "rgba16f" : f == LG_FORMAT_RGBA8 ? "rgba8" : "rgba32f";
 }
 
-static void human_bytes(char *out, size_t n, uint64_t b)
-{
-    if (b >= (1ull << 20))
-        snprintf(out, n, "%.1f MiB", (double)b / (1 << 20));
-    else if (b >= 1024)
-        snprintf(out, n, "%.1f KiB", (double)b / 1024);
-    else
-        snprintf(out, n, "%llu B", (unsigned long long)b);
-}
-
 static void describe_resource(lg_str *s, const lg_resource *r)
 {
     char sz[32];
     switch (r->kind) {
     case LG_KIND_IMAGE:
-        human_bytes(sz, sizeof sz, lg_resource_bytes(r));
+        lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
         lg_str_addf(s, "image %ux%u %s%s (%s)", r->image.width, r->image.height,
                     format_name(r->image.format), (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "",
                     sz);
         break;
     case LG_KIND_VOLUME:
-        human_bytes(sz, sizeof sz, lg_resource_bytes(r));
+        lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
         lg_str_addf(s, "volume %ux%ux%u %s (%s)", r->volume.width, r->volume.height,
                     r->volume.depth, format_name(r->volume.format), sz);
         break;
     case LG_KIND_BUFFER:
-        human_bytes(sz, sizeof sz, r->buffer.size);
+        lg_format_bytes(sz, sizeof sz, r->buffer.size);
         lg_str_addf(s, "buffer %s", sz);
         break;
     case LG_KIND_SCENE:

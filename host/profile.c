@@ -12,16 +12,6 @@ static const char *dev(const lg_pnode *n)
     return n->device == LG_DEVICE_GL ? "gl" : n->device == LG_DEVICE_CL ? "cl" : "cpu";
 }
 
-static void bytes(char *out, size_t n, uint64_t b)
-{
-    if (b >= (1ull << 20))
-        snprintf(out, n, "%.1f MiB", (double)b / (1 << 20));
-    else if (b >= 1024)
-        snprintf(out, n, "%.1f KiB", (double)b / 1024);
-    else
-        snprintf(out, n, "%llu B", (unsigned long long)b);
-}
-
 void lg_profile_print(lg_exec *ex, FILE *f)
 {
     const lg_checked *c = ex->checked;
@@ -41,8 +31,8 @@ void lg_profile_print(lg_exec *ex, FILE *f)
         if (n->state != LG_STATE_KEPT)
             continue;
         char a[32], m[32], g[32];
-        bytes(a, sizeof a, n->bytes_alloc);
-        bytes(m, sizeof m, n->bytes_moved);
+        lg_format_bytes(a, sizeof a, n->bytes_alloc);
+        lg_format_bytes(m, sizeof m, n->bytes_moved);
         if (n->device == LG_DEVICE_CPU)
             snprintf(g, sizeof g, "-");
         else if (n->gpu_unmeasured)
@@ -57,8 +47,8 @@ void lg_profile_print(lg_exec *ex, FILE *f)
         tm += n->bytes_moved;
     }
     char a[32], m[32];
-    bytes(a, sizeof a, ta);
-    bytes(m, sizeof m, tm);
+    lg_format_bytes(a, sizeof a, ta);
+    lg_format_bytes(m, sizeof m, tm);
     fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s\n", wn, "total", wt, "", "",
             "", tc, tg, a, m);
     for (uint32_t t = 0; t < c->n_nodes; t++)
@@ -110,23 +100,11 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
         lg_str_add(&s, "}");
     }
     lg_str_add(&s, "\n  ]\n}\n");
-    /* through the same atomic path as images: a temp file renamed into place */
-    char *tmp = lg_xasprintf("%s.tmp%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "wb");
     int rc = 0;
-    bool ok = f && fwrite(s.s, 1, s.len, f) == s.len;
-    if (f && fclose(f) != 0)
-        ok = false;
-    if (!ok) {
+    if (lg_write_file_atomic(path, s.s, s.len) != 0) {
         lg_hlog(LG_HERR, "cannot write %s: %s", path, strerror(errno));
-        remove(tmp);
-        rc = -1;
-    } else if (rename(tmp, path) != 0) {
-        lg_hlog(LG_HERR, "cannot write %s: %s", path, strerror(errno));
-        remove(tmp);
         rc = -1;
     }
-    free(tmp);
     lg_str_free(&s);
     return rc;
 }

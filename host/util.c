@@ -256,6 +256,38 @@ char *lg_read_file(const char *path, size_t *len)
     return lg_str_take(&b);
 }
 
+int lg_write_file_atomic(const char *path, const void *data, size_t n)
+{
+    char *tmp = lg_xasprintf("%s.tmp%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    bool ok = f && fwrite(data, 1, n, f) == n;
+    int saved = errno;
+    if (f && fclose(f) != 0 && ok) {
+        ok = false;
+        saved = errno;
+    }
+    if (ok && rename(tmp, path) != 0) {
+        ok = false;
+        saved = errno;
+    }
+    if (!ok) {
+        remove(tmp);
+        errno = saved ? saved : EIO;
+    }
+    free(tmp);
+    return ok ? 0 : -1;
+}
+
+void lg_format_bytes(char *out, size_t n, uint64_t b)
+{
+    if (b >= (1ull << 20))
+        snprintf(out, n, "%.1f MiB", (double)b / (1 << 20));
+    else if (b >= 1024)
+        snprintf(out, n, "%.1f KiB", (double)b / 1024);
+    else
+        snprintf(out, n, "%llu B", (unsigned long long)b);
+}
+
 void lg_hlog(int level, const char *fmt, ...)
 {
     if (level >= LG_HINFO && lg_verbosity < level - 1)

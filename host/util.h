@@ -46,6 +46,12 @@ bool lg_path_exists(const char *path);
 /* Reads a whole file; returns NULL with errno set. *len receives the size. */
 char *lg_read_file(const char *path, size_t *len);
 
+/* Writes `n` bytes to `path` through a temporary file in the same directory renamed into
+ * place: a failure never leaves a partial file. Returns 0, or -1 with errno set. */
+int lg_write_file_atomic(const char *path, const void *data, size_t n);
+/* "12 B", "3.4 KiB", "16.6 MiB" */
+void lg_format_bytes(char *out, size_t n, uint64_t bytes);
+
 /* Host-side logging to stderr, with the level; verbosity from -v/-q. */
 extern int lg_verbosity; /* 0 = errors and warnings, 1 = info, 2 = debug; -1 = errors only */
 void lg_hlog(int level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
