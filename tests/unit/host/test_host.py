@@ -335,6 +335,30 @@ output s "%s"
     check(nodes["a"]["bytes_allocated"] >= 2 * img, "gl texture and output counted")
 
 
+def test_gl_backends():
+    """--gl chooses the context: OSMesa by default, EGL on request; the same GL node gives
+    the same image through both."""
+    core = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
+    outs = {}
+    for backend in ("osmesa", "egl"):
+        out = os.path.join(TMP, "gl-%s.exr" % backend)
+        g = graph("""lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 8, height = 4 }
+t = reinhard { image = c, backend = gl }
+output t "%s"
+""" % out, "gl-%s.lgraph" % backend)
+        p = run(["render", g, "--gl", backend, "--explain"], plugin_path=core)
+        if p.returncode != 0 and "no OpenGL" in p.stderr:
+            print("skipped: " + p.stderr)
+            sys.exit(77)
+        check(p.returncode == 0, p.stderr)
+        want = "gl device: OSMesa" if backend == "osmesa" else "gl device: EGL"
+        check(want in p.stdout, "explain names the context: " + p.stdout)
+        outs[backend] = out
+    d = run(["diff", outs["osmesa"], outs["egl"], "--max-abs", "0"], plugin_path=core)
+    check(d.returncode == 0, "osmesa and egl agree: " + d.stdout + d.stderr)
+
+
 TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
 
 if __name__ == "__main__":
