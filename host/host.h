@@ -80,6 +80,14 @@ void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type);
 struct lg_exec;
 struct lg_pnode;
 
+/* A GPU copy of one array of a plugin-owned payload (lg_host_api.payload_gl_buffer). */
+typedef struct lg_attached {
+    uint32_t slot;
+    size_t size;
+    uint32_t gl;
+    void *cl;
+} lg_attached;
+
 struct lg_resource {
     lg_resource_kind kind;
     bool neutral;
@@ -101,6 +109,8 @@ struct lg_resource {
     bool gl_valid;
     void *cl_mem, *cl_depth;
     bool cl_valid;
+    lg_attached *attached;      /* GPU copies of payload arrays, by slot */
+    uint32_t n_attached;
 };
 
 size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth included */
@@ -112,6 +122,10 @@ int lg_resource_map_gl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, u
                        uint32_t *name, uint32_t *depth);
 int lg_resource_map_cl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, unsigned access,
                        void **mem, void **depth);
+int lg_resource_payload_gl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, uint32_t slot,
+                           const void *data, size_t size, uint32_t *name);
+int lg_resource_payload_cl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, uint32_t slot,
+                           const void *data, size_t size, void **mem);
 /* RGBA float copy of an image resource (for output files). Caller frees. */
 int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char *err, size_t errlen);
 

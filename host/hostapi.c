@@ -395,6 +395,24 @@ static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
         *h = P(n)->ex->opts.height;
 }
 
+static int api_payload_gl_buffer(lg_node *n, const lg_resource *r, uint32_t slot,
+                                 const void *data, size_t size, uint32_t *buffer)
+{
+    if (!r || !buffer)
+        return lg_node_errorf(P(n), "payload_gl_buffer: NULL resource or result"),
+               LG_ERR_INVALID;
+    return lg_resource_payload_gl(P(n)->ex, P(n), (lg_resource *)r, slot, data, size, buffer);
+}
+
+static int api_payload_cl_buffer(lg_node *n, const lg_resource *r, uint32_t slot,
+                                 const void *data, size_t size, void **mem)
+{
+    if (!r || !mem)
+        return lg_node_errorf(P(n), "payload_cl_buffer: NULL resource or result"),
+               LG_ERR_INVALID;
+    return lg_resource_payload_cl(P(n)->ex, P(n), (lg_resource *)r, slot, data, size, mem);
+}
+
 void lg_host_api_init(lg_host_api *a)
 {
     memset(a, 0, sizeof *a);
@@ -432,6 +450,8 @@ void lg_host_api_init(lg_host_api *a)
     a->cache_put = api_cache_put;
     a->cache_free = api_cache_free;
     a->render_size = api_render_size;
+    a->payload_gl_buffer = api_payload_gl_buffer;
+    a->payload_cl_buffer = api_payload_cl_buffer;
 }
 
 int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)

@@ -83,6 +83,13 @@ void lg_resource_unref(lg_exec *ex, lg_resource *r)
                 gl->DeleteTextures(1, &r->gl_depth);
         }
     }
+    for (uint32_t i = 0; i < r->n_attached; i++) {
+        if (r->attached[i].gl && ex->gl)
+            lg_gl_device_table(ex->gl)->DeleteBuffers(1, &r->attached[i].gl);
+        if (r->attached[i].cl)
+            clReleaseMemObject((cl_mem)r->attached[i].cl);
+    }
+    free(r->attached);
     if (r->cl_mem)
         clReleaseMemObject((cl_mem)r->cl_mem);
     if (r->cl_depth)
@@ -402,6 +409,88 @@ int lg_resource_map_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
         *mem = r->cl_mem;
     if (depth)
         *depth = r->cl_depth;
+    return 0;
+}
+
+/* ---- GPU copies of payload arrays -------------------------------------------------------- */
+
+static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, size_t size,
+                                  const void *data)
+{
+    if (!r->payload || r->kind == LG_KIND_IMAGE || r->kind == LG_KIND_BUFFER ||
+        r->kind == LG_KIND_VOLUME) {
+        lg_node_errorf(n, "asks for a GPU copy of payload data of a resource without a payload");
+        return NULL;
+    }
+    if (!data || size == 0 || size > (1ull << 34)) {
+        lg_node_errorf(n, "asks for a GPU copy of %zu bytes at %p (slot %u)", size, data, slot);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < r->n_attached; i++)
+        if (r->attached[i].slot == slot) {
+            if (r->attached[i].size != size) {
+                lg_node_errorf(n, "payload slot %u was %zu bytes, now %zu: payloads are "
+                                  "immutable",
+                               slot, r->attached[i].size, size);
+                return NULL;
+            }
+            return &r->attached[i];
+        }
+    r->attached = lg_xrealloc(r->attached, (r->n_attached + 1) * sizeof *r->attached);
+    lg_attached *a = &r->attached[r->n_attached++];
+    memset(a, 0, sizeof *a);
+    a->slot = slot;
+    a->size = size;
+    return a;
+}
+
+int lg_resource_payload_gl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t slot,
+                           const void *data, size_t size, uint32_t *name)
+{
+    *name = 0;
+    int rc = lg_exec_need_gl(ex, n);
+    if (rc)
+        return rc;
+    lg_attached *a = attached_slot(n, r, slot, size, data);
+    if (!a)
+        return LG_ERR_INVALID;
+    if (!a->gl) {
+        const GladGLContext *gl = glt(ex);
+        gl->CreateBuffers(1, &a->gl);
+        gl->NamedBufferStorage(a->gl, (GLsizeiptr)size, data, 0);
+        n->bytes_alloc += size;
+        n->bytes_moved += size;
+        if ((rc = ex->api.gl_check(&n->pub, "uploading payload data")))
+            return rc;
+    }
+    *name = a->gl;
+    return 0;
+}
+
+int lg_resource_payload_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t slot,
+                           const void *data, size_t size, void **mem)
+{
+    *mem = NULL;
+    int rc = lg_exec_need_cl(ex, n);
+    if (rc)
+        return rc;
+    lg_attached *a = attached_slot(n, r, slot, size, data);
+    if (!a)
+        return LG_ERR_INVALID;
+    if (!a->cl) {
+        cl_int e = CL_SUCCESS;
+        a->cl = clCreateBuffer((cl_context)lg_cl_device_context(ex->cl),
+                               CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, size, (void *)data, &e);
+        if (e != CL_SUCCESS) {
+            a->cl = NULL;
+            lg_node_errorf(n, "clCreateBuffer(%zu bytes of payload data): %s (%d)", size,
+                           lg_cl_strerror(e), e);
+            return LG_ERR_DEVICE;
+        }
+        n->bytes_alloc += size;
+        n->bytes_moved += size;
+    }
+    *mem = a->cl;
     return 0;
 }
 

@@ -189,7 +189,19 @@ typedef struct lg_host_api {
      * nothing; usable from prepare() on. */
     void (*render_size)(lg_node *node, uint32_t *width, uint32_t *height);
 
-    void *reserved[32];
+    /* -- since ABI 1.1: GPU copies of plugin-owned payload data --
+     * A read-only GL buffer object (or cl_mem) holding `size` bytes of `data`, an array of
+     * the payload of resource `res` (a scene's vertex array, say), identified by `slot`.
+     * Made on the first request, then returned again to every node that asks; owned and
+     * freed by the host with the resource; its bytes are counted against the node that
+     * made it. The payload is immutable, so data and size must be the same on every call
+     * for a slot. Returns 0 or an LG_ERR_* after reporting. */
+    int (*payload_gl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot,
+                             const void *data, size_t size, uint32_t *buffer);
+    int (*payload_cl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot,
+                             const void *data, size_t size, void **mem);
+
+    void *reserved[30];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */

@@ -7,6 +7,8 @@
  *   lightgraph/host.h     the host's services: parameters, resources, devices, cache, log
  *   lightgraph/image.h    images in memory and in files (EXR, HDR, PNG), metrics
  *   lightgraph/color.h    luminance and colour helpers
+ *   lightgraph/math.h     vectors and 4x4 matrices (column-major)
+ *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
  *
@@ -21,5 +23,7 @@
 #include "lightgraph/host.h"
 #include "lightgraph/image.h"
 #include "lightgraph/color.h"
+#include "lightgraph/math.h"
+#include "lightgraph/scene.h"
 
 #endif

@@ -1,0 +1,118 @@
+/* Scene helpers of the SDK (lightgraph/scene.h). */
+#include <string.h>
+
+#include "lightgraph/scene.h"
+
+const lg_scene *lg_scene_get(lg_node *n, const lg_resource *res)
+{
+    lg_resource_info info;
+    if (!res || n->host->describe(res, &info) != 0) {
+        lg_error(n, "no scene: the input is not connected");
+        return NULL;
+    }
+    if (info.kind != LG_KIND_SCENE || !info.payload) {
+        lg_error(n, "expects a scene, got a resource of another kind%s",
+                 info.neutral ? " (a gated node's neutral result)" : "");
+        return NULL;
+    }
+    const lg_scene *s = info.payload;
+    if (s->struct_size < offsetof(lg_scene, reserved)) {
+        lg_error(n, "the scene was made by a plugin built for an incompatible SDK "
+                    "(struct_size %zu)",
+                 s->struct_size);
+        return NULL;
+    }
+    return s;
+}
+
+void lg_scene_compute_features(lg_scene *s)
+{
+    lg_scene_features f;
+    memset(&f, 0, sizeof f);
+    for (uint32_t i = 0; i < s->n_instances; i++) {
+        uint32_t m = s->instances[i].mesh;
+        if (m < s->n_meshes) {
+            f.triangles += s->meshes[m].n_indices / 3;
+            f.vertices += s->meshes[m].n_vertices;
+        }
+    }
+    for (uint32_t i = 0; i < s->n_lights; i++) {
+        if (s->lights[i].type == LG_LIGHT_DIRECTIONAL)
+            f.dir_lights++;
+        else if (s->lights[i].type == LG_LIGHT_POINT)
+            f.point_lights++;
+        else
+            f.other_lights++;
+    }
+    f.medium = s->medium.present && s->medium.density > 0;
+    f.medium_density = s->medium.present ? s->medium.density : 0.0f;
+    for (uint32_t i = 0; i < s->n_materials; i++)
+        if (s->materials[i].ks > 0 &&
+            (s->materials[i].os[0] > 0 || s->materials[i].os[1] > 0 || s->materials[i].os[2] > 0))
+            f.specular = true;
+    f.probe = s->features.probe;
+    s->features = f;
+}
+
+/* Slots: four arrays per mesh. */
+enum { SLOT_POS = 0, SLOT_NRM, SLOT_UV, SLOT_IDX, SLOTS_PER_MESH };
+
+static int mesh_of(lg_node *n, const lg_resource *res, uint32_t mesh, const lg_scene **s,
+                   const lg_resource **owner)
+{
+    *s = lg_scene_get(n, res);
+    if (!*s)
+        return LG_ERR_INVALID;
+    if (mesh >= (*s)->n_meshes)
+        return lg_error(n, "mesh %u does not exist (the scene has %u)", mesh, (*s)->n_meshes);
+    *owner = (*s)->geometry ? (*s)->geometry : res;
+    return 0;
+}
+
+int lg_scene_mesh_gl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_gl *out)
+{
+    memset(out, 0, sizeof *out);
+    const lg_scene *s;
+    const lg_resource *owner = NULL;
+    int rc = mesh_of(n, res, mesh, &s, &owner);
+    if (rc)
+        return rc;
+    const lg_mesh *m = &s->meshes[mesh];
+    uint32_t base = mesh * SLOTS_PER_MESH;
+    size_t nv = m->n_vertices;
+    if ((rc = n->host->payload_gl_buffer(n, owner, base + SLOT_POS, m->positions,
+                                         nv * 3 * sizeof(float), &out->positions)) ||
+        (rc = n->host->payload_gl_buffer(n, owner, base + SLOT_NRM, m->normals,
+                                         nv * 3 * sizeof(float), &out->normals)) ||
+        (rc = n->host->payload_gl_buffer(n, owner, base + SLOT_IDX, m->indices,
+                                         m->n_indices * sizeof(uint32_t), &out->indices)))
+        return rc;
+    if (m->texcoords)
+        rc = n->host->payload_gl_buffer(n, owner, base + SLOT_UV, m->texcoords,
+                                        nv * 2 * sizeof(float), &out->texcoords);
+    return rc;
+}
+
+int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_cl *out)
+{
+    memset(out, 0, sizeof *out);
+    const lg_scene *s;
+    const lg_resource *owner = NULL;
+    int rc = mesh_of(n, res, mesh, &s, &owner);
+    if (rc)
+        return rc;
+    const lg_mesh *m = &s->meshes[mesh];
+    uint32_t base = mesh * SLOTS_PER_MESH;
+    size_t nv = m->n_vertices;
+    if ((rc = n->host->payload_cl_buffer(n, owner, base + SLOT_POS, m->positions,
+                                         nv * 3 * sizeof(float), &out->positions)) ||
+        (rc = n->host->payload_cl_buffer(n, owner, base + SLOT_NRM, m->normals,
+                                         nv * 3 * sizeof(float), &out->normals)) ||
+        (rc = n->host->payload_cl_buffer(n, owner, base + SLOT_IDX, m->indices,
+                                         m->n_indices * sizeof(uint32_t), &out->indices)))
+        return rc;
+    if (m->texcoords)
+        rc = n->host->payload_cl_buffer(n, owner, base + SLOT_UV, m->texcoords,
+                                        nv * 2 * sizeof(float), &out->texcoords);
+    return rc;
+}
