@@ -114,16 +114,12 @@ void lg_str_addc(lg_str *b, char c)
 
 void lg_str_addf(lg_str *b, const char *fmt, ...)
 {
-    va_list ap, ap2;
+    va_list ap;
     va_start(ap, fmt);
-    va_copy(ap2, ap);
-    char probe[1];
-    int n = vsnprintf(probe, sizeof probe, fmt, ap);
+    char *p = lg_vformat(fmt, ap);
     va_end(ap);
-    str_reserve(b, (size_t)n);
-    vsnprintf(b->s + b->len, (size_t)n + 1, fmt, ap2);
-    va_end(ap2);
-    b->len += (size_t)n;
+    lg_str_add(b, p);
+    free(p);
 }
 
 void lg_str_add_json(lg_str *b, const char *s)

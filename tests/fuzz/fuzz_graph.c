@@ -8,26 +8,23 @@
  * Any difference aborts, so that libFuzzer (or the test) reports it with the input.
  *
  * Built with -Dfuzzing=true (clang) this is a libFuzzer target. Otherwise main() below
- * runs every file of the corpus folders given on the command line, then a fixed number
- * of deterministic mutations of each (bit flips, byte and token insertions, deletions,
- * duplications, truncations, splices with other files), from a fixed-seed PRNG.
+ * hands the corpus to the plain driver (fuzz_driver.h) with a dictionary of graph-file
+ * tokens:
  *
- *     fuzz_graph [-n MUTATIONS_PER_FILE] CORPUS_DIR...
+ *     fuzz_graph [-n MUTATIONS_PER_FILE] CORPUS_DIR_OR_FILE...
  */
-#include <dirent.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fake_schema.h"
+#include "fuzz_driver.h"
 #include "graph.h"
 #include "util.h"
 
 /* Relative includes resolve here, where nothing exists. */
 #define FUZZ_BASE "/nonexistent-lightgraph-fuzz"
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static const uint8_t *cur_data;
 static size_t cur_size;
@@ -211,185 +208,48 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 #ifndef LG_FUZZ_ENGINE
 
-typedef struct input {
-    char *name;
-    uint8_t *data;
-    size_t size;
-} input;
-
-static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
-
-static uint64_t rnd(void)
-{
-    /* xorshift64* */
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
-}
-
-static size_t rnd_below(size_t n)
-{
-    return n ? (size_t)(rnd() % n) : 0;
-}
-
-static const char *const tokens[] = {
-    "lightgraph 1\n", "lightgraph 2", "include \"x.lgraph\"\n", "output ", " = ", "{", "}",
-    "[", "]", ",", "\"", "\\", "#", "\n", "\r\n", " ", "\t", ".", "-", "1", "0.5", "1e999", "-0",
-    ".5e-3", "99999999999999999999", "true", "false", "inf", "nan", "src", "tone", "image",
-    "reinhard", "blur", "gbuffer", "add", "sink", "scene", "key", "kye", "backend", "gl",
-    "image = src", "src.out", "g.depth", "\"out.png\"", "\"a.jpg\"", "[1, 2, 3]", "[[[[", "]]]]",
-    "\xC3\xA9", "\xFF", "\0", "tone = reinhard { image = src }\n", "src = image {}\n",
-    "# comment\n", ", ", "{\n", "\n}\n", "\"\\n\\t\\\"\"", "output src \"o.exr\"\n",
+/* Pieces of graph files, for the driver's "insert a token" edit. */
+static const lg_fuzz_token tokens[] = {
+    LG_FUZZ_TOKEN("lightgraph 1\n"), LG_FUZZ_TOKEN("lightgraph 2"),
+    LG_FUZZ_TOKEN("include \"x.lgraph\"\n"), LG_FUZZ_TOKEN("output "), LG_FUZZ_TOKEN(" = "),
+    LG_FUZZ_TOKEN("{"), LG_FUZZ_TOKEN("}"), LG_FUZZ_TOKEN("["), LG_FUZZ_TOKEN("]"),
+    LG_FUZZ_TOKEN(","), LG_FUZZ_TOKEN("\""), LG_FUZZ_TOKEN("\\"), LG_FUZZ_TOKEN("#"),
+    LG_FUZZ_TOKEN("\n"), LG_FUZZ_TOKEN("\r\n"), LG_FUZZ_TOKEN(" "), LG_FUZZ_TOKEN("\t"),
+    LG_FUZZ_TOKEN("."), LG_FUZZ_TOKEN("-"), LG_FUZZ_TOKEN("1"), LG_FUZZ_TOKEN("0.5"),
+    LG_FUZZ_TOKEN("1e999"), LG_FUZZ_TOKEN("-0"), LG_FUZZ_TOKEN(".5e-3"),
+    LG_FUZZ_TOKEN("99999999999999999999"), LG_FUZZ_TOKEN("true"), LG_FUZZ_TOKEN("false"),
+    LG_FUZZ_TOKEN("inf"), LG_FUZZ_TOKEN("nan"), LG_FUZZ_TOKEN("src"), LG_FUZZ_TOKEN("tone"),
+    LG_FUZZ_TOKEN("image"), LG_FUZZ_TOKEN("reinhard"), LG_FUZZ_TOKEN("blur"),
+    LG_FUZZ_TOKEN("gbuffer"), LG_FUZZ_TOKEN("add"), LG_FUZZ_TOKEN("sink"),
+    LG_FUZZ_TOKEN("scene"), LG_FUZZ_TOKEN("key"), LG_FUZZ_TOKEN("kye"),
+    LG_FUZZ_TOKEN("backend"), LG_FUZZ_TOKEN("gl"), LG_FUZZ_TOKEN("image = src"),
+    LG_FUZZ_TOKEN("src.out"), LG_FUZZ_TOKEN("g.depth"), LG_FUZZ_TOKEN("\"out.png\""),
+    LG_FUZZ_TOKEN("\"a.jpg\""), LG_FUZZ_TOKEN("[1, 2, 3]"), LG_FUZZ_TOKEN("[[[["),
+    LG_FUZZ_TOKEN("]]]]"), LG_FUZZ_TOKEN("\xC3\xA9"), LG_FUZZ_TOKEN("\xFF"),
+    LG_FUZZ_TOKEN("\0"), LG_FUZZ_TOKEN("tone = reinhard { image = src }\n"),
+    LG_FUZZ_TOKEN("src = image {}\n"), LG_FUZZ_TOKEN("# comment\n"), LG_FUZZ_TOKEN(", "),
+    LG_FUZZ_TOKEN("{\n"), LG_FUZZ_TOKEN("\n}\n"), LG_FUZZ_TOKEN("\"\\n\\t\\\"\""),
+    LG_FUZZ_TOKEN("output src \"o.exr\"\n"),
 };
 
-/* One to four edits of `in`, into a new buffer. */
-static uint8_t *mutate(const input *in, const input *all, size_t n_all, size_t *out_size)
+static void summary(FILE *out)
 {
-    size_t cap = in->size * 2 + 256;
-    uint8_t *b = lg_xmalloc(cap);
-    size_t n = in->size;
-    memcpy(b, in->data, n);
-    int edits = 1; /* one edit half the time: most mutants stay close to a valid graph */
-    while (edits < 4 && rnd_below(2))
-        edits++;
-    for (int e = 0; e < edits; e++) {
-        size_t at = rnd_below(n + 1);
-        switch (rnd_below(8)) {
-        case 0: /* flip a bit */
-            if (n)
-                b[rnd_below(n)] ^= (uint8_t)(1u << rnd_below(8));
-            break;
-        case 1: /* replace a byte */
-            if (n)
-                b[rnd_below(n)] = (uint8_t)rnd();
-            break;
-        case 2: { /* insert a token */
-            const char *t = tokens[rnd_below(sizeof tokens / sizeof *tokens)];
-            size_t tl = t[0] ? strlen(t) : 1;
-            if (n + tl > cap)
-                break;
-            memmove(b + at + tl, b + at, n - at);
-            memcpy(b + at, t, tl);
-            n += tl;
-            break;
-        }
-        case 3: { /* delete a span */
-            size_t len = rnd_below(n - (at < n ? at : n) + 1);
-            if (len > 32 && rnd_below(4))
-                len = rnd_below(32);
-            memmove(b + at, b + at + len, n - at - len);
-            n -= len;
-            break;
-        }
-        case 4: { /* copy a span somewhere else */
-            if (!n)
-                break;
-            size_t from = rnd_below(n), len = rnd_below(n - from + 1);
-            if (len > 64)
-                len = rnd_below(64);
-            if (n + len > cap)
-                break;
-            uint8_t tmp[64];
-            memcpy(tmp, b + from, len);
-            memmove(b + at + len, b + at, n - at);
-            memcpy(b + at, tmp, len);
-            n += len;
-            break;
-        }
-        case 5: /* truncate */
-            n = at;
-            break;
-        case 6: { /* splice: our head, another file's tail */
-            const input *o = &all[rnd_below(n_all)];
-            size_t from = rnd_below(o->size + 1), len = o->size - from;
-            if (at + len > cap)
-                len = cap - at;
-            memcpy(b + at, o->data + from, len);
-            n = at + len;
-            break;
-        }
-        default: { /* swap two bytes */
-            if (n < 2)
-                break;
-            size_t i = rnd_below(n), j = rnd_below(n);
-            uint8_t t = b[i];
-            b[i] = b[j];
-            b[j] = t;
-        }
-        }
-    }
-    *out_size = n;
-    return b;
-}
-
-static int cmp_input(const void *a, const void *b)
-{
-    return strcmp(((const input *)a)->name, ((const input *)b)->name);
+    fprintf(out, "%zu parsed, %zu checks passed", n_parsed, n_checked);
 }
 
 int main(int argc, char **argv)
 {
-    long per_file = 2000;
-    input *in = NULL;
-    size_t n_in = 0, cap = 0;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "-n") == 0 && i + 1 < argc) {
-            per_file = strtol(argv[++i], NULL, 10);
-            continue;
-        }
-        DIR *dp = opendir(argv[i]);
-        if (!dp) {
-            perror(argv[i]);
-            return 2;
-        }
-        struct dirent *e;
-        while ((e = readdir(dp))) {
-            if (e->d_name[0] == '.')
-                continue;
-            char *path = lg_path_join(argv[i], e->d_name);
-            size_t len;
-            char *text = lg_read_file(path, &len);
-            if (!text) {
-                free(path);
-                continue;
-            }
-            if (n_in == cap) {
-                cap = cap ? cap * 2 : 32;
-                in = lg_xrealloc(in, cap * sizeof *in);
-            }
-            in[n_in++] = (input){path, (uint8_t *)text, len};
-        }
-        closedir(dp);
-    }
-    if (n_in == 0) {
-        fprintf(stderr, "usage: %s [-n MUTATIONS_PER_FILE] CORPUS_DIR...\n", argv[0]);
-        return 2;
-    }
-    qsort(in, n_in, sizeof *in, cmp_input);
-    double t0 = lg_now();
-    for (size_t i = 0; i < n_in; i++)
-        LLVMFuzzerTestOneInput(in[i].data, in[i].size);
-    size_t runs = n_in;
-    for (size_t i = 0; i < n_in; i++) {
-        for (long m = 0; m < per_file; m++) {
-            size_t size;
-            uint8_t *b = mutate(&in[i], in, n_in, &size);
-            LLVMFuzzerTestOneInput(b, size);
-            free(b);
-            runs++;
-        }
-    }
-    printf("fuzz_graph: %zu inputs (%zu files, %ld mutations each) in %.2f s; %zu parsed, "
-           "%zu checks passed\n", runs, n_in, per_file, lg_now() - t0, n_parsed, n_checked);
-    for (size_t i = 0; i < n_in; i++) {
-        free(in[i].name);
-        free(in[i].data);
-    }
-    free(in);
+    static const lg_fuzz_target target = {
+        .name = "fuzz_graph",
+        .mutations = 2000,
+        .tokens = tokens,
+        .n_tokens = sizeof tokens / sizeof *tokens,
+        .summary = summary,
+    };
+    int rc = lg_fuzz_main(argc, argv, &target);
     if (sink)
         fclose(sink);
-    return 0;
+    return rc;
 }
 
 #endif

@@ -9,25 +9,20 @@
  * catch the rest.
  *
  * Built with -Dfuzzing=true (clang) this is a libFuzzer target. Otherwise main() below
- * runs every file of the corpus folders given on the command line, then a fixed number of
- * deterministic mutations of each (bit flips, byte replacements with boundary values,
- * truncations, deleted and copied spans, splices with other files), from a fixed-seed PRNG.
+ * hands the corpus to the plain driver (fuzz_driver.h) with a dictionary of format tokens,
+ * half of the edits in the first 512 bytes:
  *
- *     fuzz_image [-n MUTATIONS_PER_FILE] CORPUS_DIR...
+ *     fuzz_image [-n MUTATIONS_PER_FILE] CORPUS_DIR_OR_FILE...
  */
-#include <dirent.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "fuzz_driver.h"
 #include "lightgraph/image.h"
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static char tmp_dir[4096];
 static unsigned long n_runs, n_ok;
@@ -118,190 +113,41 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 #ifndef LG_FUZZ_ENGINE
 
-typedef struct input {
-    char *name;
-    uint8_t *data;
-    size_t size;
-} input;
+/* Pieces of the three formats, for the driver's "insert a token" edit: signatures, EXR
+ * attribute names with their types, Radiance header lines and scanline markers, PNG chunk
+ * names and lengths. */
+static const lg_fuzz_token tokens[] = {
+    LG_FUZZ_TOKEN("\x76\x2f\x31\x01"), LG_FUZZ_TOKEN("\x02\x00\x00\x00"),
+    LG_FUZZ_TOKEN("\x02\x02\x00\x00"), LG_FUZZ_TOKEN("channels\0chlist\0"),
+    LG_FUZZ_TOKEN("compression\0compression\0"), LG_FUZZ_TOKEN("dataWindow\0box2i\0"),
+    LG_FUZZ_TOKEN("displayWindow\0box2i\0"), LG_FUZZ_TOKEN("lineOrder\0lineOrder\0"),
+    LG_FUZZ_TOKEN("tiles\0tiledesc\0"), LG_FUZZ_TOKEN("R\0\x01\0\0\0"),
+    LG_FUZZ_TOKEN("A\0\x02\0\0\0"),
+    LG_FUZZ_TOKEN("#?RADIANCE\n"), LG_FUZZ_TOKEN("#?RGBE\n"),
+    LG_FUZZ_TOKEN("FORMAT=32-bit_rle_rgbe\n"), LG_FUZZ_TOKEN("FORMAT=32-bit_rle_xyze\n"),
+    LG_FUZZ_TOKEN("EXPOSURE=0\n"), LG_FUZZ_TOKEN("\n-Y 2 +X 2\n"), LG_FUZZ_TOKEN("+Y 65535"),
+    LG_FUZZ_TOKEN("\x02\x02\x00\x08"), LG_FUZZ_TOKEN("\x01\x01\x01\xff"),
+    LG_FUZZ_TOKEN("\x89PNG\r\n\x1a\n"), LG_FUZZ_TOKEN("\0\0\0\x0dIHDR"),
+    LG_FUZZ_TOKEN("IDAT"), LG_FUZZ_TOKEN("PLTE"), LG_FUZZ_TOKEN("tRNS"), LG_FUZZ_TOKEN("gAMA"),
+    LG_FUZZ_TOKEN("\0\0\0\0IEND\xae\x42\x60\x82"),
+};
 
-static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
-
-static uint64_t rnd(void)
+static void summary(FILE *out)
 {
-    /* xorshift64*: deterministic across runs and machines */
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 0x2545f4914f6cdd1dull;
-}
-
-static size_t rnd_below(size_t n)
-{
-    return n ? (size_t)(rnd() % n) : 0;
-}
-
-/* One to four edits of `in`, into a new buffer. Image headers hold sizes and offsets, so
- * besides bit flips a mutation often writes a boundary value over four bytes. */
-static uint8_t *mutate(const input *in, const input *all, size_t n_all, size_t *out_size)
-{
-    size_t cap = in->size * 2 + 256;
-    uint8_t *b = malloc(cap);
-    if (!b)
-        abort();
-    size_t n = in->size;
-    memcpy(b, in->data, n);
-    /* headers are where parsers go wrong: half of the edits land in the first 512 bytes */
-    int edits = 1;
-    while (edits < 4 && rnd_below(2))
-        edits++;
-    for (int e = 0; e < edits; e++) {
-        size_t span = (rnd_below(2) && n > 512) ? 512 : n;
-        size_t at = rnd_below(span + 1);
-        switch (rnd_below(7)) {
-        case 0: /* flip a bit */
-            if (n)
-                b[rnd_below(span)] ^= (uint8_t)(1u << rnd_below(8));
-            break;
-        case 1: { /* a boundary value over 1, 2 or 4 bytes */
-            static const uint32_t vals[] = {0, 1, 0x7f, 0x80, 0xff, 0x7fff, 0x8000, 0xffff,
-                                            0x7fffffff, 0x80000000u, 0xffffffffu, 0x10000};
-            uint32_t v = vals[rnd_below(sizeof vals / sizeof *vals)];
-            size_t w = (size_t)1 << rnd_below(3);
-            if (at + w <= n)
-                for (size_t k = 0; k < w; k++)
-                    b[at + k] = (uint8_t)(v >> (8 * k));
-            break;
-        }
-        case 2: { /* delete a span */
-            size_t len = rnd_below(n - (at < n ? at : n) + 1);
-            if (len > 64 && rnd_below(4))
-                len = rnd_below(64);
-            if (at < n) {
-                memmove(b + at, b + at + len, n - at - len);
-                n -= len;
-            }
-            break;
-        }
-        case 3: { /* copy a span somewhere else */
-            if (!n || at > n)
-                break;
-            size_t from = rnd_below(n), len = rnd_below(n - from + 1);
-            if (len > 64)
-                len = rnd_below(64);
-            if (n + len > cap)
-                break;
-            uint8_t tmp[64];
-            memcpy(tmp, b + from, len);
-            memmove(b + at + len, b + at, n - at);
-            memcpy(b + at, tmp, len);
-            n += len;
-            break;
-        }
-        case 4: /* truncate */
-            n = rnd_below(n + 1);
-            break;
-        case 5: { /* splice: our head, another file's tail */
-            const input *o = &all[rnd_below(n_all)];
-            if (at > n)
-                at = n;
-            size_t from = rnd_below(o->size + 1), len = o->size - from;
-            if (at + len > cap)
-                len = cap - at;
-            memcpy(b + at, o->data + from, len);
-            n = at + len;
-            break;
-        }
-        default: /* replace a byte */
-            if (n)
-                b[rnd_below(span)] = (uint8_t)rnd();
-        }
-    }
-    *out_size = n;
-    return b;
-}
-
-static int cmp_input(const void *a, const void *b)
-{
-    return strcmp(((const input *)a)->name, ((const input *)b)->name);
-}
-
-static int load_file(const char *path, input *in)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return -1;
-    fseek(f, 0, SEEK_END);
-    long len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    in->data = malloc(len > 0 ? (size_t)len : 1);
-    in->size = len > 0 ? fread(in->data, 1, (size_t)len, f) : 0;
-    in->name = strdup(path);
-    fclose(f);
-    return 0;
+    fprintf(out, "%lu read", n_ok);
 }
 
 int main(int argc, char **argv)
 {
-    long per_file = 200;
-    input *in = NULL;
-    size_t n_in = 0, cap = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "-n") && i + 1 < argc) {
-            per_file = atol(argv[++i]);
-            continue;
-        }
-        struct stat st;
-        if (stat(argv[i], &st) != 0) {
-            fprintf(stderr, "fuzz_image: %s: not found\n", argv[i]);
-            return 2;
-        }
-        DIR *d = S_ISDIR(st.st_mode) ? opendir(argv[i]) : NULL;
-        struct dirent *e;
-        do {
-            char path[4200];
-            if (d) {
-                e = readdir(d);
-                if (!e)
-                    break;
-                if (e->d_name[0] == '.')
-                    continue;
-                snprintf(path, sizeof path, "%s/%s", argv[i], e->d_name);
-            } else {
-                snprintf(path, sizeof path, "%s", argv[i]);
-            }
-            if (n_in == cap) {
-                cap = cap ? 2 * cap : 16;
-                in = realloc(in, cap * sizeof *in);
-            }
-            if (load_file(path, &in[n_in]) == 0)
-                n_in++;
-        } while (d);
-        if (d)
-            closedir(d);
-    }
-    if (!n_in) {
-        fprintf(stderr, "usage: fuzz_image [-n MUTATIONS_PER_FILE] CORPUS_DIR_OR_FILE...\n");
-        return 2;
-    }
-    qsort(in, n_in, sizeof *in, cmp_input); /* readdir order varies: keep runs identical */
-
-    clock_t t0 = clock();
-    for (size_t i = 0; i < n_in; i++) {
-        LLVMFuzzerTestOneInput(in[i].data, in[i].size);
-        for (long k = 0; k < per_file; k++) {
-            size_t size;
-            uint8_t *b = mutate(&in[i], in, n_in, &size);
-            LLVMFuzzerTestOneInput(b, size);
-            free(b);
-        }
-    }
-    printf("fuzz_image: %lu inputs (%zu files, %ld mutations each) in %.2f s CPU; %lu read\n",
-           n_runs, n_in, per_file, (double)(clock() - t0) / CLOCKS_PER_SEC, n_ok);
-    for (size_t i = 0; i < n_in; i++) {
-        free(in[i].name);
-        free(in[i].data);
-    }
-    free(in);
-    return 0;
+    static const lg_fuzz_target target = {
+        .name = "fuzz_image",
+        .mutations = 200,
+        .tokens = tokens,
+        .n_tokens = sizeof tokens / sizeof *tokens,
+        .head = 512, /* image headers hold the sizes and offsets */
+        .summary = summary,
+    };
+    return lg_fuzz_main(argc, argv, &target);
 }
+
 #endif

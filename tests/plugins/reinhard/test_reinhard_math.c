@@ -11,19 +11,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "common/check.h"
 #include "reinhard_cpu.h"
-
-static int failures;
-
-#define CHECK(cond, ...)                                                                   \
-    do {                                                                                   \
-        if (!(cond)) {                                                                     \
-            fprintf(stderr, "%s:%d: %s: ", __FILE__, __LINE__, #cond);                     \
-            fprintf(stderr, __VA_ARGS__);                                                  \
-            fputc('\n', stderr);                                                           \
-            failures++;                                                                    \
-        }                                                                                  \
-    } while (0)
 
 static lg_rh_params params(lg_rh_mode mode, double white, double delta)
 {
@@ -58,15 +47,15 @@ static void test_constant(void)
         lg_rh_stats st;
         double s = scale_of(px, 6, &p, key, &st);
         float l = 0.2126f * 2.5f + 0.7152f * 2.5f + 0.0722f * 2.5f;
-        CHECK(fabs(s - key / (delta + l)) < 1e-12, "scale %.17g", s);
+        CHECKF(fabs(s - key / (delta + l)) < 1e-12, "scale %.17g", s);
         float out[4 * 6];
         lg_rh_map(px, out, 6, s, &p);
         double m = key * 2.5 / (2.5 + delta);
         for (int i = 0; i < 6; i++) {
-            CHECK(fabs(out[i * 4] - m / (1 + m)) < 1e-6, "mode %d: %.9g vs %.9g", mode,
-                  out[i * 4], m / (1 + m));
-            CHECK(fabs(out[i * 4] - key / (1 + key)) < 2e-5, "near a/(1+a)");
-            CHECK(out[i * 4 + 3] == 0.25f, "alpha passes through");
+            CHECKF(fabs(out[i * 4] - m / (1 + m)) < 1e-6, "mode %d: %.9g vs %.9g", mode,
+                   out[i * 4], m / (1 + m));
+            CHECKF(fabs(out[i * 4] - key / (1 + key)) < 2e-5, "near a/(1+a)");
+            CHECKF(out[i * 4 + 3] == 0.25f, "alpha passes through");
         }
     }
 }
@@ -82,13 +71,13 @@ static void test_luminance_colour(void)
     double l = 0.2126 * 4 + 0.7152 * 1 + 0.0722 * 0.25;
     double ld = s * l / (1 + s * l);
     for (int k = 0; k < 3; k++)
-        CHECK(fabs(out[k] - px[k] * ld / l) < 1e-6, "channel %d: %.9g", k, out[k]);
-    CHECK(fabs(out[0] / out[1] - 4.0) < 1e-5, "ratio r/g kept");
+        CHECKF(fabs(out[k] - px[k] * ld / l) < 1e-6, "channel %d: %.9g", k, out[k]);
+    CHECKF(fabs(out[0] / out[1] - 4.0) < 1e-5, "ratio r/g kept");
 
     lg_rh_params q = params(LG_RH_RGB, 0, 1e-4);
     lg_rh_map(px, out, 1, s, &q);
     for (int k = 0; k < 3; k++)
-        CHECK(fabs(out[k] - s * px[k] / (1 + s * px[k])) < 1e-6, "rgb channel %d", k);
+        CHECKF(fabs(out[k] - s * px[k] / (1 + s * px[k])) < 1e-6, "rgb channel %d", k);
 }
 
 /* White point: Ld(Lwhite) = 1, below it Lm (1 + Lm/Lw^2) / (1 + Lm), above it 1. */
@@ -97,16 +86,16 @@ static void test_white(void)
     const double lw = 3.0;
     lg_rh_params p = params(LG_RH_LUMINANCE, lw, 1e-4);
     double inv = 1.0 / (lw * lw);
-    CHECK(fabs(lg_rh_curve(lw, inv) - 1.0) < 1e-15, "Ld(Lwhite) = %.17g", lg_rh_curve(lw, inv));
-    CHECK(lg_rh_curve(10 * lw, inv) == 1.0, "above white clamps to 1");
-    CHECK(fabs(lg_rh_curve(1.0, inv) - (1.0 + 1.0 / 9.0) / 2.0) < 1e-15, "Ld(1)");
-    CHECK(lg_rh_curve(1.0, 0) == 0.5, "no white: Ld(1) = 1/2");
+    CHECKF(fabs(lg_rh_curve(lw, inv) - 1.0) < 1e-15, "Ld(Lwhite) = %.17g", lg_rh_curve(lw, inv));
+    CHECKF(lg_rh_curve(10 * lw, inv) == 1.0, "above white clamps to 1");
+    CHECKF(fabs(lg_rh_curve(1.0, inv) - (1.0 + 1.0 / 9.0) / 2.0) < 1e-15, "Ld(1)");
+    CHECKF(lg_rh_curve(1.0, 0) == 0.5, "no white: Ld(1) = 1/2");
     /* through the map, grey pixels: x = s L with s = 1 */
     float px[8] = { 3, 3, 3, 1, 1, 1, 1, 1 };
     float out[8];
     lg_rh_map(px, out, 2, 1.0, &p);
-    CHECK(fabs(out[0] - 1.0) < 1e-6, "grey at white -> 1: %.9g", out[0]);
-    CHECK(fabs(out[4] - (1.0 + 1.0 / 9.0) / 2.0) < 1e-6, "grey 1 -> %.9g", out[4]);
+    CHECKF(fabs(out[0] - 1.0) < 1e-6, "grey at white -> 1: %.9g", out[0]);
+    CHECKF(fabs(out[4] - (1.0 + 1.0 / 9.0) / 2.0) < 1e-6, "grey 1 -> %.9g", out[4]);
 }
 
 /* Monotone in L, in [0, 1), over 12 decades. */
@@ -128,14 +117,14 @@ static void test_monotone(void)
         lg_rh_map(px, out, N, s, &p);
         for (int i = 0; i < N; i++) {
             for (int k = 0; k < 3; k++) {
-                CHECK(out[i * 4 + k] >= 0 && out[i * 4 + k] < (mode ? 1.0f : 14.0f),
-                      "range at %d", i);
+                CHECKF(out[i * 4 + k] >= 0 && out[i * 4 + k] < (mode ? 1.0f : 14.0f),
+                       "range at %d", i);
                 if (i)
-                    CHECK(out[i * 4 + k] >= out[(i - 1) * 4 + k], "mode %d: not monotone at %d ch %d",
-                          mode, i, k);
+                    CHECKF(out[i * 4 + k] >= out[(i - 1) * 4 + k],
+                           "mode %d: not monotone at %d ch %d", mode, i, k);
             }
         }
-        CHECK(out[(N - 1) * 4 + 1] > out[0 * 4 + 1], "not constant");
+        CHECKF(out[(N - 1) * 4 + 1] > out[0 * 4 + 1], "not constant");
     }
     free(px);
     free(out);
@@ -160,7 +149,7 @@ static void test_exposure(void)
         double md = 0;
         for (int i = 0; i < N * 4; i++)
             md = fmax(md, fabs(oa[i] - ob[i]) * (i % 4 != 3));
-        CHECK(md < 2e-6, "mode %d: x10 exposure changed the output by %.3g", mode, md);
+        CHECKF(md < 2e-6, "mode %d: x10 exposure changed the output by %.3g", mode, md);
     }
     free(a);
     free(b);
@@ -176,10 +165,10 @@ static void test_adapt(void)
         la = lg_rh_adapt(la, lavg, rate, 1.0 / 60.0);
     double one = lg_rh_adapt(5.0, lavg, rate, 1.0);
     double closed = lavg + (5.0 - lavg) * pow(rate, 60.0);
-    CHECK(fabs(la - one) < 1e-12, "60 x 1/60 = %.17g, 1 x 1 = %.17g", la, one);
-    CHECK(fabs(one - closed) < 1e-12, "closed form %.17g", closed);
-    CHECK(fabs(lg_rh_adapt(5.0, lavg, 0.0, 1.0 / 60) - lavg) < 1e-15, "rate 0 adapts at once");
-    CHECK(lg_rh_adapt(5.0, lavg, 1.0, 1.0 / 60) == 5.0, "rate 1 never adapts");
+    CHECKF(fabs(la - one) < 1e-12, "60 x 1/60 = %.17g, 1 x 1 = %.17g", la, one);
+    CHECKF(fabs(one - closed) < 1e-12, "closed form %.17g", closed);
+    CHECKF(fabs(lg_rh_adapt(5.0, lavg, 0.0, 1.0 / 60) - lavg) < 1e-15, "rate 0 adapts at once");
+    CHECKF(lg_rh_adapt(5.0, lavg, 1.0, 1.0 / 60) == 5.0, "rate 1 never adapts");
 }
 
 /* Zero, NaN, Inf and negative pixels: counted, left out of Lavg (zero counts as log
@@ -208,43 +197,43 @@ static void test_bad_pixels(void)
         lg_rh_reduce(px, n, &p, &st);
         float lmax = lg_rh_luma(&px[9 * 4], p.w);
         uint64_t over = isinf(lmax) ? 1 : 0;
-        CHECK(st.valid == 6 - over, "valid %llu", (unsigned long long)st.valid);
-        CHECK(st.nonfinite == 3 + over, "nonfinite %llu", (unsigned long long)st.nonfinite);
-        CHECK(st.negative == 1, "negative %llu", (unsigned long long)st.negative);
+        CHECKF(st.valid == 6 - over, "valid %llu", (unsigned long long)st.valid);
+        CHECKF(st.nonfinite == 3 + over, "nonfinite %llu", (unsigned long long)st.nonfinite);
+        CHECKF(st.negative == 1, "negative %llu", (unsigned long long)st.negative);
         double l1 = 0.2126f * 4 + 0.7152f * 2 + 0.0722f * 1;
         double l7 = (double)(0.2126f * -0.1f + 0.7152f * 1 + 0.0722f * 1);
         double l8 = lg_rh_luma(&px[8 * 4], p.w);
         double want = log(delta + 1.0) + log(delta + l1) + log(delta) + log(delta + l7) +
                       log(delta + l8) + (over ? 0.0 : log(delta + lmax));
-        CHECK(fabs(st.log_sum - want) < 1e-6, "log sum %.9g vs %.9g", st.log_sum, want);
+        CHECKF(fabs(st.log_sum - want) < 1e-6, "log sum %.9g vs %.9g", st.log_sum, want);
 
         float out[sizeof px / sizeof px[0]];
         lg_rh_map(px, out, n, 0.7, &p);
         for (size_t i = 0; i < n * 4; i++)
-            CHECK(!isnan(out[i]) && out[i] >= 0 && out[i] <= 14, "out[%zu] = %g", i, out[i]);
-        CHECK(out[2 * 4] == 0 && out[2 * 4 + 1] == 0, "zero -> 0");
-        CHECK(out[3 * 4] == 0, "NaN channel -> 0");
-        CHECK(out[4 * 4] == 1, "+Inf channel -> 1");
-        CHECK(out[5 * 4] == 0, "-Inf channel -> 0");
-        CHECK(out[7 * 4] == 0 && out[7 * 4 + 3] == 0.5f, "negative channel -> 0, alpha kept");
+            CHECKF(!isnan(out[i]) && out[i] >= 0 && out[i] <= 14, "out[%zu] = %g", i, out[i]);
+        CHECKF(out[2 * 4] == 0 && out[2 * 4 + 1] == 0, "zero -> 0");
+        CHECKF(out[3 * 4] == 0, "NaN channel -> 0");
+        CHECKF(out[4 * 4] == 1, "+Inf channel -> 1");
+        CHECKF(out[5 * 4] == 0, "-Inf channel -> 0");
+        CHECKF(out[7 * 4] == 0 && out[7 * 4 + 3] == 0.5f, "negative channel -> 0, alpha kept");
         if (mode == 0) {
-            CHECK(out[4 * 4 + 1] == 0, "luminance: finite channels of a +Inf pixel -> 0");
+            CHECKF(out[4 * 4 + 1] == 0, "luminance: finite channels of a +Inf pixel -> 0");
             /* NaN read as 0, then mapped like (0, 1, 1) */
             float ref[4] = { 0, 1, 1, 1 }, o[4];
             lg_rh_map(ref, o, 1, 0.7, &p);
-            CHECK(out[3 * 4 + 1] == o[1], "NaN pixel's other channels as if it were 0");
+            CHECKF(out[3 * 4 + 1] == o[1], "NaN pixel's other channels as if it were 0");
             /* huge grey: Ld/L c = Ld -> 1, with or without float overflow of L */
-            CHECK(fabs(out[8 * 4] - 1.0) < 1e-6, "huge grey -> %.9g", out[8 * 4]);
-            CHECK(fabs(out[9 * 4] - 1.0) < 1e-6, "FLT_MAX grey -> %.9g", out[9 * 4]);
+            CHECKF(fabs(out[8 * 4] - 1.0) < 1e-6, "huge grey -> %.9g", out[8 * 4]);
+            CHECKF(fabs(out[9 * 4] - 1.0) < 1e-6, "FLT_MAX grey -> %.9g", out[9 * 4]);
         } else {
-            CHECK(fabs(out[4 * 4 + 1] - 0.7 / 1.7) < 1e-6, "rgb: channels independent");
-            CHECK(fabs(out[8 * 4] - 1.0) < 1e-6, "huge -> 1");
-            CHECK(fabs(out[9 * 4] - 1.0) < 1e-6, "FLT_MAX -> 1");
+            CHECKF(fabs(out[4 * 4 + 1] - 0.7 / 1.7) < 1e-6, "rgb: channels independent");
+            CHECKF(fabs(out[8 * 4] - 1.0) < 1e-6, "huge -> 1");
+            CHECKF(fabs(out[9 * 4] - 1.0) < 1e-6, "FLT_MAX -> 1");
         }
         /* good pixels as if the bad ones were absent */
         float good[] = { 1, 1, 1, 1, 4, 2, 1, 1 }, og[8];
         lg_rh_map(good, og, 2, 0.7, &p);
-        CHECK(memcmp(og, out, sizeof og) == 0, "neighbours untouched");
+        CHECKF(memcmp(og, out, sizeof og) == 0, "neighbours untouched");
     }
     /* no valid pixel at all */
     float allbad[] = { qnan, qnan, qnan, 1, -1, -1, -1, 1 };
@@ -253,7 +242,7 @@ static void test_bad_pixels(void)
     memset(&st, 0, sizeof st);
     lg_rh_reduce(allbad, 2, &p, &st);
     double lavg = 42;
-    CHECK(!lg_rh_log_average(&st, &lavg) && lavg == 42, "no valid pixel: no average");
+    CHECKF(!lg_rh_log_average(&st, &lavg) && lavg == 42, "no valid pixel: no average");
 }
 
 int main(void)
@@ -265,7 +254,5 @@ int main(void)
     test_exposure();
     test_adapt();
     test_bad_pixels();
-    if (failures)
-        fprintf(stderr, "%d check(s) failed\n", failures);
-    return failures ? 1 : 0;
+    return check_report("reinhard math");
 }

@@ -3,8 +3,9 @@
  * map's colours, and size mismatches.
  */
 #include <math.h>
+#include <string.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "lightgraph/image.h"
 
 static void fill(lg_image *img, float r, float g, float b)

@@ -5,9 +5,10 @@
 #include <fcntl.h>
 #include <stdarg.h>
 #include <math.h>
+#include <string.h>
 #include <unistd.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "commands.h"
 #include "lightgraph/image.h"
 
@@ -145,11 +146,5 @@ int main(void)
     CHECK(run(a, b, "--heatmap", "x.jpg", NULL) == 2);
     CHECK(run("--help", NULL) == 0 && strstr(out_buf, "usage: lightgraph diff"));
 
-    if (!check_failures) {
-        char cmd[4200 + 16];
-        snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-        if (system(cmd) != 0)
-            fprintf(stderr, "could not remove %s\n", scratch);
-    }
-    return check_report("diff");
+    return check_report_scratch("diff", scratch);
 }

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "image_priv.h"
 
 static char scratch[4096];
@@ -518,11 +518,5 @@ int main(void)
     test_roundtrips();
     test_special_files();
     test_real_files();
-    if (!check_failures) {
-        char cmd[4200 + 16];
-        snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-        if (system(cmd) != 0)
-            fprintf(stderr, "could not remove %s\n", scratch);
-    }
-    return check_report("exr");
+    return check_report_scratch("exr", scratch);
 }

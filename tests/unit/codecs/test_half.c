@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "lightgraph/image.h"
 
 static float f_of_bits(uint32_t b)

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <sys/wait.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "lightgraph/image.h"
 
 static char scratch[4096];
@@ -539,11 +539,5 @@ int main(void)
     test_hdr();
     test_pfstools();
     test_png();
-    if (!check_failures) {
-        char cmd[4200 + 16];
-        snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-        if (system(cmd) != 0)
-            fprintf(stderr, "could not remove %s\n", scratch);
-    }
-    return check_report("hdr_png");
+    return check_report_scratch("hdr_png", scratch);
 }

@@ -10,11 +10,12 @@
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
+#include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <zlib.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "lightgraph/image.h"
 
 static char scratch[4096];
@@ -409,11 +410,5 @@ int main(void)
     test_bad_inputs();
     test_atomic_writes();
     test_threads();
-    if (!check_failures) {
-        char cmd[4200 + 16];
-        snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
-        if (system(cmd) != 0)
-            fprintf(stderr, "could not remove %s\n", scratch);
-    }
-    return check_report("io_safety");
+    return check_report_scratch("io_safety", scratch);
 }

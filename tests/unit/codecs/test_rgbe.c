@@ -5,7 +5,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "check.h"
+#include "codectest.h"
 #include "lightgraph/image.h"
 
 static void roundtrip(float r, float g, float b, float out[3], uint8_t e[4])

@@ -4,7 +4,6 @@
 #include <string.h>
 #include <time.h>
 
-int devtest_failures;
 char devtest_errors[16384];
 int devtest_error_count;
 

@@ -1,7 +1,7 @@
 /*
- * tests/unit/devices/devtest.h: what the device tests share: a check macro, a clock, and
- * a minimal host (an lg_node whose lg_host_api has only log and error) for the SDK
- * helpers that report through the node.
+ * tests/unit/devices/devtest.h: what the device tests share besides the checks
+ * (tests/common/check.h): a clock, and a minimal host (an lg_node whose lg_host_api has
+ * only log and error) for the SDK helpers that report through the node.
  */
 #ifndef LG_DEVTEST_H
 #define LG_DEVTEST_H
@@ -9,21 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "common/check.h"
 #include "lightgraph/host.h"
-
-#define SKIP 77
-
-extern int devtest_failures;
-
-#define CHECK(cond, ...)                                                                   \
-    do {                                                                                   \
-        if (!(cond)) {                                                                     \
-            fprintf(stderr, "%s:%d: check failed: %s: ", __FILE__, __LINE__, #cond);       \
-            fprintf(stderr, __VA_ARGS__);                                                  \
-            fputc('\n', stderr);                                                           \
-            devtest_failures++;                                                            \
-        }                                                                                  \
-    } while (0)
 
 double devtest_now(void); /* monotonic seconds */
 

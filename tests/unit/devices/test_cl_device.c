@@ -28,16 +28,16 @@ static void test_run(lg_cl_dev *dev, cl_program prog)
     cl_command_queue q = lg_cl_device_queue(dev);
     cl_int e;
     cl_kernel k = clCreateKernel(prog, "square", &e);
-    CHECK(k != NULL, "clCreateKernel: %s", lg_cl_strerror(e));
+    CHECKF(k != NULL, "clCreateKernel: %s", lg_cl_strerror(e));
     if (!k)
         return;
     static float a[N], b[N];
     for (int i = 0; i < N; i++)
         a[i] = (float)(i - N / 2) * 0.25f;
     cl_mem ma = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof a, a, &e);
-    CHECK(ma != NULL, "clCreateBuffer: %s", lg_cl_strerror(e));
+    CHECKF(ma != NULL, "clCreateBuffer: %s", lg_cl_strerror(e));
     cl_mem mb = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof b, NULL, &e);
-    CHECK(mb != NULL, "clCreateBuffer: %s", lg_cl_strerror(e));
+    CHECKF(mb != NULL, "clCreateBuffer: %s", lg_cl_strerror(e));
     if (!ma || !mb)
         goto out;
     clSetKernelArg(k, 0, sizeof ma, &ma);
@@ -46,28 +46,28 @@ static void test_run(lg_cl_dev *dev, cl_program prog)
     cl_event ev = NULL;
     double t0 = devtest_now();
     e = clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, &ev);
-    CHECK(e == CL_SUCCESS, "clEnqueueNDRangeKernel: %s", lg_cl_strerror(e));
+    CHECKF(e == CL_SUCCESS, "clEnqueueNDRangeKernel: %s", lg_cl_strerror(e));
     e = clEnqueueReadBuffer(q, mb, CL_TRUE, 0, sizeof b, b, 0, NULL, NULL);
-    CHECK(e == CL_SUCCESS, "clEnqueueReadBuffer: %s", lg_cl_strerror(e));
+    CHECKF(e == CL_SUCCESS, "clEnqueueReadBuffer: %s", lg_cl_strerror(e));
     /* PoCL compiles the kernel for the launch's work-group size at the first enqueue. */
     printf("cl: first launch and read back in %.1f ms\n", (devtest_now() - t0) * 1e3);
     int bad = 0;
     for (int i = 0; i < N; i++) {
         float want = a[i] * a[i] + 0.5f;
         if (b[i] != want && bad++ < 4)
-            CHECK(0, "b[%d] = %g, expected %g", i, b[i], want);
+            CHECKF(0, "b[%d] = %g, expected %g", i, b[i], want);
     }
-    CHECK(bad == 0, "%d of %d values wrong", bad, N);
+    CHECKF(bad == 0, "%d of %d values wrong", bad, N);
     if (ev) {
         cl_ulong start = 0, end = 0;
         cl_int e1 = clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start,
                                             &start, NULL);
         cl_int e2 = clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof end, &end,
                                             NULL);
-        CHECK(e1 == CL_SUCCESS && e2 == CL_SUCCESS, "profiling info: %s / %s",
-              lg_cl_strerror(e1), lg_cl_strerror(e2));
-        CHECK(end >= start, "profiling: end %llu < start %llu", (unsigned long long)end,
-              (unsigned long long)start);
+        CHECKF(e1 == CL_SUCCESS && e2 == CL_SUCCESS, "profiling info: %s / %s",
+               lg_cl_strerror(e1), lg_cl_strerror(e2));
+        CHECKF(end >= start, "profiling: end %llu < start %llu", (unsigned long long)end,
+               (unsigned long long)start);
         printf("kernel over %d items: %.3f ms (profiling event)\n", N, (end - start) * 1e-6);
         clReleaseEvent(ev);
     }
@@ -88,27 +88,27 @@ int main(void)
     double t1 = devtest_now();
     if (rc) {
         printf("SKIP: no CL device: %s\n", err);
-        CHECK(dev == NULL && rc == LG_ERR_DEVICE && err[0], "bad failure: rc %d", rc);
-        return devtest_failures ? 1 : SKIP;
+        CHECKF(dev == NULL && rc == LG_ERR_DEVICE && err[0], "bad failure: rc %d", rc);
+        return check_skip("cl_device");
     }
     printf("cl: %s\n", lg_cl_device_description(dev));
     printf("cl: context and queue created in %.1f ms\n", (t1 - t0) * 1e3);
-    CHECK(lg_cl_device_context(dev) && lg_cl_device_queue(dev) && lg_cl_device_id(dev),
-          "missing handles");
+    CHECKF(lg_cl_device_context(dev) && lg_cl_device_queue(dev) && lg_cl_device_id(dev),
+           "missing handles");
 
     cl_command_queue_properties props = 0;
     cl_int e = clGetCommandQueueInfo(lg_cl_device_queue(dev), CL_QUEUE_PROPERTIES,
                                      sizeof props, &props, NULL);
-    CHECK(e == CL_SUCCESS && (props & CL_QUEUE_PROFILING_ENABLE), "queue properties 0x%llx",
-          (unsigned long long)props);
-    CHECK(!(props & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE), "queue is out of order");
+    CHECKF(e == CL_SUCCESS && (props & CL_QUEUE_PROFILING_ENABLE), "queue properties 0x%llx",
+           (unsigned long long)props);
+    CHECKF(!(props & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE), "queue is out of order");
 
     char *log = NULL;
     t0 = devtest_now();
     cl_program prog = lg_cl_device_program(dev, "square.cl", square_cl, "-DOFFSET=0.5f", &log);
     t1 = devtest_now();
-    CHECK(prog != NULL, "build failed: %s", log ? log : "(no log)");
-    CHECK(log == NULL, "log set on success: %s", log);
+    CHECKF(prog != NULL, "build failed: %s", log ? log : "(no log)");
+    CHECKF(log == NULL, "log set on success: %s", log);
     free(log);
     log = NULL;
     printf("cl: square.cl built in %.1f ms\n", (t1 - t0) * 1e3);
@@ -119,52 +119,52 @@ int main(void)
     t0 = devtest_now();
     cl_program again = lg_cl_device_program(dev, "square.cl", square_cl, "-DOFFSET=0.5f", &log);
     t1 = devtest_now();
-    CHECK(again == prog, "cache miss for the same source: %p vs %p", (void *)again,
-          (void *)prog);
+    CHECKF(again == prog, "cache miss for the same source: %p vs %p", (void *)again,
+           (void *)prog);
     printf("cl: cached lookup in %.3f ms\n", (t1 - t0) * 1e3);
     /* ...other options another one. */
     cl_program other = lg_cl_device_program(dev, "square.cl", square_cl, "-DOFFSET=1.5f", &log);
-    CHECK(other != NULL && other != prog, "other options: %p vs %p", (void *)other,
-          (void *)prog);
+    CHECKF(other != NULL && other != prog, "other options: %p vs %p", (void *)other,
+           (void *)prog);
     free(log);
     log = NULL;
 
     /* A compile error: NULL, and the log names the file and carries the compiler's error. */
     cl_program bad = lg_cl_device_program(dev, "bad.cl", bad_cl, NULL, &log);
-    CHECK(bad == NULL, "a broken kernel built");
-    CHECK(log && strncmp(log, "bad.cl: build failed:\n", 22) == 0, "log: %s",
-          log ? log : "(null)");
-    CHECK(log && strstr(log, "undeclared_thing") && strstr(log, "error"), "log: %s",
-          log ? log : "(null)");
+    CHECKF(bad == NULL, "a broken kernel built");
+    CHECKF(log && strncmp(log, "bad.cl: build failed:\n", 22) == 0, "log: %s",
+           log ? log : "(null)");
+    CHECKF(log && strstr(log, "undeclared_thing") && strstr(log, "error"), "log: %s",
+           log ? log : "(null)");
     /* The compiler's messages name the file and the line in it. */
-    CHECK(log && strstr(log, "bad.cl:3:"), "log does not point at bad.cl:3: %s",
-          log ? log : "(null)");
+    CHECKF(log && strstr(log, "bad.cl:3:"), "log does not point at bad.cl:3: %s",
+           log ? log : "(null)");
     if (log)
         printf("build failure log:\n%s\n", log);
     free(log);
     log = NULL;
     /* A failure is not cached: the same call fails again the same way. */
     bad = lg_cl_device_program(dev, "bad.cl", bad_cl, NULL, &log);
-    CHECK(bad == NULL && log && strstr(log, "undeclared_thing"), "second failure: %s",
-          log ? log : "(null)");
+    CHECKF(bad == NULL && log && strstr(log, "undeclared_thing"), "second failure: %s",
+           log ? log : "(null)");
     free(log);
     log = NULL;
     /* No source. */
     bad = lg_cl_device_program(dev, "none.cl", NULL, NULL, &log);
-    CHECK(bad == NULL && log && strstr(log, "none.cl: build failed"), "no source: %s",
-          log ? log : "(null)");
+    CHECKF(bad == NULL && log && strstr(log, "none.cl: build failed"), "no source: %s",
+           log ? log : "(null)");
     free(log);
 
     /* lg_cl_fail reports through the node. */
     devtest_clear();
     rc = lg_cl_fail(devtest_node(), CL_OUT_OF_RESOURCES, "clEnqueueNDRangeKernel(map)");
-    CHECK(rc == LG_ERR_DEVICE, "lg_cl_fail returned %d", rc);
-    CHECK(strcmp(devtest_errors, "clEnqueueNDRangeKernel(map): CL_OUT_OF_RESOURCES (-5)") == 0,
-          "message: %s", devtest_errors);
+    CHECKF(rc == LG_ERR_DEVICE, "lg_cl_fail returned %d", rc);
+    CHECKF(strcmp(devtest_errors, "clEnqueueNDRangeKernel(map): CL_OUT_OF_RESOURCES (-5)") == 0,
+           "message: %s", devtest_errors);
 
     lg_cl_device_destroy(&dev);
-    CHECK(dev == NULL, "destroy did not clear the handle");
+    CHECKF(dev == NULL, "destroy did not clear the handle");
     lg_cl_device_destroy(&dev);
     lg_cl_device_destroy(NULL);
-    return devtest_failures ? 1 : 0;
+    return check_report("cl_device");
 }

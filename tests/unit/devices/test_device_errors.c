@@ -32,30 +32,30 @@ int main(void)
         {-73, "unknown"},
     };
     for (size_t i = 0; i < sizeof cl / sizeof cl[0]; i++)
-        CHECK(strcmp(lg_cl_strerror(cl[i].code), cl[i].name) == 0, "%d: '%s', expected '%s'",
-              cl[i].code, lg_cl_strerror(cl[i].code), cl[i].name);
+        CHECKF(strcmp(lg_cl_strerror(cl[i].code), cl[i].name) == 0, "%d: '%s', expected '%s'",
+               cl[i].code, lg_cl_strerror(cl[i].code), cl[i].name);
     /* Every code from -1 to -19 and -30 to -72 has a name. */
     for (cl_int c = -1; c >= -72; c--)
         if (c > -20 || c <= -30)
-            CHECK(strncmp(lg_cl_strerror(c), "CL_", 3) == 0, "%d has no name", c);
+            CHECKF(strncmp(lg_cl_strerror(c), "CL_", 3) == 0, "%d has no name", c);
 
-    CHECK(strcmp(lg_gl_strerror(GL_INVALID_ENUM), "GL_INVALID_ENUM") == 0, "GL_INVALID_ENUM");
-    CHECK(strcmp(lg_gl_strerror(GL_INVALID_FRAMEBUFFER_OPERATION),
-                 "GL_INVALID_FRAMEBUFFER_OPERATION") == 0, "GL_INVALID_FRAMEBUFFER_OPERATION");
-    CHECK(strcmp(lg_gl_strerror(GL_OUT_OF_MEMORY), "GL_OUT_OF_MEMORY") == 0, "OOM");
-    CHECK(strcmp(lg_gl_strerror(0x1234), "unknown GL error") == 0, "0x1234");
+    CHECKF(strcmp(lg_gl_strerror(GL_INVALID_ENUM), "GL_INVALID_ENUM") == 0, "GL_INVALID_ENUM");
+    CHECKF(strcmp(lg_gl_strerror(GL_INVALID_FRAMEBUFFER_OPERATION),
+                  "GL_INVALID_FRAMEBUFFER_OPERATION") == 0, "GL_INVALID_FRAMEBUFFER_OPERATION");
+    CHECKF(strcmp(lg_gl_strerror(GL_OUT_OF_MEMORY), "GL_OUT_OF_MEMORY") == 0, "OOM");
+    CHECKF(strcmp(lg_gl_strerror(0x1234), "unknown GL error") == 0, "0x1234");
 
-    CHECK(lg_cl_fail(NULL, CL_INVALID_VALUE, "x") == LG_ERR_DEVICE, "lg_cl_fail(NULL)");
+    CHECKF(lg_cl_fail(NULL, CL_INVALID_VALUE, "x") == LG_ERR_DEVICE, "lg_cl_fail(NULL)");
     devtest_clear();
-    CHECK(lg_cl_fail(devtest_node(), -1001, NULL) == LG_ERR_DEVICE &&
-              strcmp(devtest_errors, "OpenCL: CL_PLATFORM_NOT_FOUND_KHR (-1001)") == 0,
-          "message: %s", devtest_errors);
+    CHECKF(lg_cl_fail(devtest_node(), -1001, NULL) == LG_ERR_DEVICE &&
+               strcmp(devtest_errors, "OpenCL: CL_PLATFORM_NOT_FOUND_KHR (-1001)") == 0,
+           "message: %s", devtest_errors);
 
     char err[512] = "";
     lg_gl_device *gl = (lg_gl_device *)&err; /* must be cleared on failure */
     int rc = lg_gl_device_create(&gl, "vulkan", err, sizeof err);
-    CHECK(rc == LG_ERR_DEVICE && gl == NULL, "unknown backend: rc %d", rc);
-    CHECK(strstr(err, "'vulkan'") && strstr(err, "osmesa"), "message: %s", err);
+    CHECKF(rc == LG_ERR_DEVICE && gl == NULL, "unknown backend: rc %d", rc);
+    CHECKF(strstr(err, "'vulkan'") && strstr(err, "osmesa"), "message: %s", err);
     lg_gl_device_destroy(&gl);
     lg_gl_device_destroy(NULL);
 
@@ -66,26 +66,26 @@ int main(void)
     rc = lg_gl_device_create(&gl, "osmesa", err, sizeof err);
     if (rc == 0) {
         const char *desc = lg_gl_device_description(gl);
-        CHECK(strstr(desc, "softpipe") != NULL, "GALLIUM_DRIVER overridden: %s", desc);
+        CHECKF(strstr(desc, "softpipe") != NULL, "GALLIUM_DRIVER overridden: %s", desc);
         lg_gl_device_destroy(&gl);
     } else {
-        CHECK(rc == LG_ERR_DEVICE && gl == NULL, "softpipe: rc %d", rc);
-        CHECK(strstr(err, "GALLIUM_DRIVER=softpipe") || strstr(err, "not found"),
-              "message: %s", err);
+        CHECKF(rc == LG_ERR_DEVICE && gl == NULL, "softpipe: rc %d", rc);
+        CHECKF(strstr(err, "GALLIUM_DRIVER=softpipe") || strstr(err, "not found"),
+               "message: %s", err);
         printf("osmesa with GALLIUM_DRIVER=softpipe: %s\n", err);
     }
 
     /* No platform: OCL_ICD_VENDORS names a directory without .icd files. */
     char dir[] = "/tmp/lg-no-icd-XXXXXX";
-    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    CHECKF(mkdtemp(dir) != NULL, "mkdtemp");
     setenv("OCL_ICD_VENDORS", dir, 1);
     lg_cl_dev *cldev = (lg_cl_dev *)&err;
     rc = lg_cl_device_create(&cldev, err, sizeof err);
     rmdir(dir);
-    CHECK(rc == LG_ERR_DEVICE && cldev == NULL, "no platform: rc %d", rc);
-    CHECK(strcmp(err, "no OpenCL platform (clGetPlatformIDs: CL_PLATFORM_NOT_FOUND_KHR)") == 0,
-          "message: %s", err);
+    CHECKF(rc == LG_ERR_DEVICE && cldev == NULL, "no platform: rc %d", rc);
+    CHECKF(strcmp(err, "no OpenCL platform (clGetPlatformIDs: CL_PLATFORM_NOT_FOUND_KHR)") == 0,
+           "message: %s", err);
     lg_cl_device_destroy(&cldev);
     lg_cl_device_destroy(NULL);
-    return devtest_failures ? 1 : 0;
+    return check_report("device_errors");
 }

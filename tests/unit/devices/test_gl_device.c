@@ -52,18 +52,18 @@ static void test_version(const lg_gl *gl, const lg_gl_device *dev, const char *l
     gl->GetIntegerv(GL_MAJOR_VERSION, &major);
     gl->GetIntegerv(GL_MINOR_VERSION, &minor);
     gl->GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
-    CHECK(major > 4 || (major == 4 && minor >= 5), "GL %d.%d", major, minor);
-    CHECK(profile & GL_CONTEXT_CORE_PROFILE_BIT, "profile mask 0x%x", (unsigned)profile);
-    CHECK(gl->VERSION_4_5, "glad did not load 4.5");
-    CHECK(gl->DispatchCompute && gl->GetNamedBufferSubData && gl->BindImageTextures,
-          "4.5 entry points missing");
+    CHECKF(major > 4 || (major == 4 && minor >= 5), "GL %d.%d", major, minor);
+    CHECKF(profile & GL_CONTEXT_CORE_PROFILE_BIT, "profile mask 0x%x", (unsigned)profile);
+    CHECKF(gl->VERSION_4_5, "glad did not load 4.5");
+    CHECKF(gl->DispatchCompute && gl->GetNamedBufferSubData && gl->BindImageTextures,
+           "4.5 entry points missing");
     const char *desc = lg_gl_device_description(dev);
-    CHECK(strncmp(desc, label, strlen(label)) == 0, "description '%s' should start with '%s'",
-          desc, label);
-    CHECK(strstr(desc, (const char *)gl->GetString(GL_RENDERER)) != NULL,
-          "description '%s' lacks the renderer", desc);
-    CHECK(strstr(desc, (const char *)gl->GetString(GL_VERSION)) != NULL,
-          "description '%s' lacks the version", desc);
+    CHECKF(strncmp(desc, label, strlen(label)) == 0, "description '%s' should start with '%s'",
+           desc, label);
+    CHECKF(strstr(desc, (const char *)gl->GetString(GL_RENDERER)) != NULL,
+           "description '%s' lacks the renderer", desc);
+    CHECKF(strstr(desc, (const char *)gl->GetString(GL_VERSION)) != NULL,
+           "description '%s' lacks the version", desc);
 }
 
 /* A compute shader through lg_gl_program with defines. */
@@ -73,8 +73,8 @@ static GLuint test_compute(const lg_gl *gl)
     devtest_clear();
     lg_gl_shader_src src = {GL_COMPUTE_SHADER, "square.comp", square_comp};
     GLuint prog = lg_gl_program(node, gl, &src, 1, "#define SCALE 3u\n#define OFFSET 7u");
-    CHECK(prog != 0, "lg_gl_program failed: %s", devtest_errors);
-    CHECK(devtest_error_count == 0, "errors reported: %s", devtest_errors);
+    CHECKF(prog != 0, "lg_gl_program failed: %s", devtest_errors);
+    CHECKF(devtest_error_count == 0, "errors reported: %s", devtest_errors);
     if (!prog)
         return 0;
 
@@ -92,11 +92,11 @@ static GLuint test_compute(const lg_gl *gl)
     int bad = 0;
     for (uint32_t i = 0; i < N; i++)
         if (out[i] != i * 3u + 7u && bad++ < 4)
-            CHECK(0, "v[%u] = %u, expected %u", i, out[i], i * 3u + 7u);
-    CHECK(bad == 0, "%d of %d values wrong", bad, N);
+            CHECKF(0, "v[%u] = %u, expected %u", i, out[i], i * 3u + 7u);
+    CHECKF(bad == 0, "%d of %d values wrong", bad, N);
 
     GLenum e = gl->GetError();
-    CHECK(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
+    CHECKF(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
     gl->DeleteBuffers(1, &buf);
     /* The program stays bound on purpose: the state test starts from here. */
     return prog;
@@ -130,7 +130,7 @@ static void test_timer(const lg_gl *gl)
     lg_gl_shader_src src[2] = {{GL_VERTEX_SHADER, "fullscreen.vert", fullscreen_vert},
                                {GL_FRAGMENT_SHADER, "busy.frag", busy_frag}};
     GLuint prog = lg_gl_program(node, gl, src, 2, NULL);
-    CHECK(prog != 0, "draw program: %s", devtest_errors);
+    CHECKF(prog != 0, "draw program: %s", devtest_errors);
     if (!prog)
         return;
     GLuint tex, fbo, vao, query;
@@ -156,9 +156,9 @@ static void test_timer(const lg_gl *gl)
         double wall = devtest_now() - t0;
         GLint available = 0;
         gl->GetQueryObjectiv(query, GL_QUERY_RESULT_AVAILABLE, &available);
-        CHECK(available, "query result not available after GL_QUERY_RESULT");
-        CHECK(ns > 0 && ns * 1e-9 <= wall, "GL_TIME_ELAPSED = %llu ns, wall %.0f ns",
-              (unsigned long long)ns, wall * 1e9);
+        CHECKF(available, "query result not available after GL_QUERY_RESULT");
+        CHECKF(ns > 0 && ns * 1e-9 <= wall, "GL_TIME_ELAPSED = %llu ns, wall %.0f ns",
+               (unsigned long long)ns, wall * 1e9);
         printf("draw 256x256: GL_TIME_ELAPSED %.3f ms, wall %.3f ms\n", ns * 1e-6, wall * 1e3);
     }
     lg_gl_state_reset(gl);
@@ -168,7 +168,7 @@ static void test_timer(const lg_gl *gl)
     gl->DeleteTextures(1, &tex);
     gl->DeleteProgram(prog);
     GLenum e = gl->GetError();
-    CHECK(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
+    CHECKF(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
 }
 
 static void test_program_errors(const lg_gl *gl)
@@ -179,61 +179,61 @@ static void test_program_errors(const lg_gl *gl)
     devtest_clear();
     lg_gl_shader_src bad = {GL_COMPUTE_SHADER, "bad.comp", bad_comp};
     GLuint prog = lg_gl_program(node, gl, &bad, 1, "#define A 1\n#define B 2\n#define C 3\n");
-    CHECK(prog == 0, "a syntax error compiled");
-    CHECK(devtest_error_count == 1, "%d errors reported", devtest_error_count);
-    CHECK(strstr(devtest_errors, "bad.comp: compute shader compile failed") != NULL,
-          "message lacks file and stage: %s", devtest_errors);
-    CHECK(strstr(devtest_errors, "0:5(") != NULL, "message does not point at line 5: %s",
-          devtest_errors);
+    CHECKF(prog == 0, "a syntax error compiled");
+    CHECKF(devtest_error_count == 1, "%d errors reported", devtest_error_count);
+    CHECKF(strstr(devtest_errors, "bad.comp: compute shader compile failed") != NULL,
+           "message lacks file and stage: %s", devtest_errors);
+    CHECKF(strstr(devtest_errors, "0:5(") != NULL, "message does not point at line 5: %s",
+           devtest_errors);
 
     /* The same without defines points at the same line. */
     devtest_clear();
     prog = lg_gl_program(node, gl, &bad, 1, NULL);
-    CHECK(prog == 0 && strstr(devtest_errors, "0:5(") != NULL,
-          "without defines: %s", devtest_errors);
+    CHECKF(prog == 0 && strstr(devtest_errors, "0:5(") != NULL,
+           "without defines: %s", devtest_errors);
 
     /* Defines after a #version that is not on the first line. */
     devtest_clear();
     lg_gl_shader_src late = {GL_COMPUTE_SHADER, "late.comp", bad_late_version_comp};
     prog = lg_gl_program(node, gl, &late, 1, "#define A 1\n");
-    CHECK(prog == 0 && strstr(devtest_errors, "late.comp: compute shader compile failed") &&
-              strstr(devtest_errors, "0:7("),
-          "late #version: %s", devtest_errors);
+    CHECKF(prog == 0 && strstr(devtest_errors, "late.comp: compute shader compile failed") &&
+               strstr(devtest_errors, "0:7("),
+           "late #version: %s", devtest_errors);
 
     /* Link failure. */
     devtest_clear();
     lg_gl_shader_src nomain = {GL_COMPUTE_SHADER, "nomain.comp", nomain_comp};
     prog = lg_gl_program(node, gl, &nomain, 1, NULL);
-    CHECK(prog == 0, "a program without main linked");
-    CHECK(strstr(devtest_errors, "nomain.comp: link failed") != NULL, "message: %s",
-          devtest_errors);
+    CHECKF(prog == 0, "a program without main linked");
+    CHECKF(strstr(devtest_errors, "nomain.comp: link failed") != NULL, "message: %s",
+           devtest_errors);
 
     /* Defines without a #version line to put them after. */
     devtest_clear();
     lg_gl_shader_src noversion = {GL_COMPUTE_SHADER, "noversion.comp", "void main() {}\n"};
     prog = lg_gl_program(node, gl, &noversion, 1, "#define X 1");
-    CHECK(prog == 0 && strstr(devtest_errors, "noversion.comp: no #version line") != NULL,
-          "message: %s", devtest_errors);
+    CHECKF(prog == 0 && strstr(devtest_errors, "noversion.comp: no #version line") != NULL,
+           "message: %s", devtest_errors);
 
     /* Bad arguments. */
     devtest_clear();
     lg_gl_shader_src nosrc = {GL_COMPUTE_SHADER, "nosrc.comp", NULL};
-    CHECK(lg_gl_program(node, gl, &nosrc, 1, NULL) == 0 &&
-              strstr(devtest_errors, "nosrc.comp: no source") != NULL,
-          "message: %s", devtest_errors);
+    CHECKF(lg_gl_program(node, gl, &nosrc, 1, NULL) == 0 &&
+               strstr(devtest_errors, "nosrc.comp: no source") != NULL,
+           "message: %s", devtest_errors);
     devtest_clear();
     lg_gl_shader_src badstage = {GL_TEXTURE_2D, "x.glsl", square_comp};
-    CHECK(lg_gl_program(node, gl, &badstage, 1, NULL) == 0 &&
-              strstr(devtest_errors, "unknown shader stage") != NULL,
-          "message: %s", devtest_errors);
+    CHECKF(lg_gl_program(node, gl, &badstage, 1, NULL) == 0 &&
+               strstr(devtest_errors, "unknown shader stage") != NULL,
+           "message: %s", devtest_errors);
     devtest_clear();
-    CHECK(lg_gl_program(node, NULL, &bad, 1, NULL) == 0 && devtest_error_count == 1,
-          "NULL table accepted");
-    CHECK(lg_gl_program(node, gl, NULL, 0, NULL) == 0 && devtest_error_count == 2,
-          "no stages accepted");
+    CHECKF(lg_gl_program(node, NULL, &bad, 1, NULL) == 0 && devtest_error_count == 1,
+           "NULL table accepted");
+    CHECKF(lg_gl_program(node, gl, NULL, 0, NULL) == 0 && devtest_error_count == 2,
+           "no stages accepted");
 
     GLenum e = gl->GetError();
-    CHECK(e == GL_NO_ERROR, "lg_gl_program left %s", lg_gl_strerror(e));
+    CHECKF(e == GL_NO_ERROR, "lg_gl_program left %s", lg_gl_strerror(e));
 }
 
 static void test_state(const lg_gl *gl, GLuint prog)
@@ -243,13 +243,13 @@ static void test_state(const lg_gl *gl, GLuint prog)
 
     /* test_compute left its program bound: the check names it. */
     gl->GetIntegerv(GL_CURRENT_PROGRAM, &v);
-    CHECK(v == (GLint)prog, "expected program %u bound, got %d", prog, v);
-    CHECK(lg_gl_state_check(gl, err, sizeof err) == -1, "a bound program passed the check");
-    CHECK(strstr(err, "GL_CURRENT_PROGRAM") != NULL, "message: %s", err);
+    CHECKF(v == (GLint)prog, "expected program %u bound, got %d", prog, v);
+    CHECKF(lg_gl_state_check(gl, err, sizeof err) == -1, "a bound program passed the check");
+    CHECKF(strstr(err, "GL_CURRENT_PROGRAM") != NULL, "message: %s", err);
 
     lg_gl_state_reset(gl);
-    CHECK(lg_gl_state_check(gl, err, sizeof err) == 0, "after reset: %s", err);
-    CHECK(err[0] == '\0', "message after a passing check: %s", err);
+    CHECKF(lg_gl_state_check(gl, err, sizeof err) == 0, "after reset: %s", err);
+    CHECKF(err[0] == '\0', "message after a passing check: %s", err);
 
     /* Several deviations at once: every one is named. */
     GLuint tex, fbo;
@@ -261,21 +261,21 @@ static void test_state(const lg_gl *gl, GLuint prog)
     gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     gl->ActiveTexture(GL_TEXTURE2);
     gl->UseProgram(prog);
-    CHECK(lg_gl_state_check(gl, err, sizeof err) == -1, "deviations passed");
+    CHECKF(lg_gl_state_check(gl, err, sizeof err) == -1, "deviations passed");
     static const char *const expected[] = {"GL_CURRENT_PROGRAM", "GL_IMAGE_BINDING_NAME[3]",
                                            "GL_DRAW_FRAMEBUFFER_BINDING", "GL_ACTIVE_TEXTURE"};
     for (size_t i = 0; i < sizeof expected / sizeof expected[0]; i++)
-        CHECK(strstr(err, expected[i]) != NULL, "'%s' not named in: %s", expected[i], err);
-    CHECK(strstr(err, "GL_READ_FRAMEBUFFER_BINDING") == NULL, "read framebuffer named: %s",
-          err);
+        CHECKF(strstr(err, expected[i]) != NULL, "'%s' not named in: %s", expected[i], err);
+    CHECKF(strstr(err, "GL_READ_FRAMEBUFFER_BINDING") == NULL, "read framebuffer named: %s",
+           err);
     printf("state check message: %s\n", err);
 
     /* A short buffer is truncated, not overrun; the verdict is the same. */
     char small[24];
     memset(small, 'x', sizeof small);
-    CHECK(lg_gl_state_check(gl, small, 16) == -1, "short buffer changed the verdict");
-    CHECK(memchr(small, '\0', 16) != NULL && small[16] == 'x', "short buffer overrun");
-    CHECK(lg_gl_state_check(gl, NULL, 0) == -1, "NULL buffer changed the verdict");
+    CHECKF(lg_gl_state_check(gl, small, 16) == -1, "short buffer changed the verdict");
+    CHECKF(memchr(small, '\0', 16) != NULL && small[16] == 'x', "short buffer overrun");
+    CHECKF(lg_gl_state_check(gl, NULL, 0) == -1, "NULL buffer changed the verdict");
 
     /* Reset covers more than the check: pixel store and capabilities too. */
     gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -286,27 +286,27 @@ static void test_state(const lg_gl *gl, GLuint prog)
     GLuint pbo;
     gl->CreateBuffers(1, &pbo);
     gl->BindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo);
-    CHECK(lg_gl_state_check(gl, err, sizeof err) == -1 &&
-              strstr(err, "GL_PIXEL_UNPACK_BUFFER_BINDING") != NULL,
-          "bound PBO not named: %s", err);
+    CHECKF(lg_gl_state_check(gl, err, sizeof err) == -1 &&
+               strstr(err, "GL_PIXEL_UNPACK_BUFFER_BINDING") != NULL,
+           "bound PBO not named: %s", err);
     lg_gl_state_reset(gl);
-    CHECK(lg_gl_state_check(gl, err, sizeof err) == 0, "after reset: %s", err);
+    CHECKF(lg_gl_state_check(gl, err, sizeof err) == 0, "after reset: %s", err);
     gl->GetIntegerv(GL_UNPACK_ALIGNMENT, &v);
-    CHECK(v == 4, "GL_UNPACK_ALIGNMENT = %d after reset", v);
+    CHECKF(v == 4, "GL_UNPACK_ALIGNMENT = %d after reset", v);
     gl->GetIntegerv(GL_PACK_ROW_LENGTH, &v);
-    CHECK(v == 0, "GL_PACK_ROW_LENGTH = %d after reset", v);
-    CHECK(!gl->IsEnabled(GL_BLEND) && !gl->IsEnabled(GL_DEPTH_TEST), "capabilities kept");
+    CHECKF(v == 0, "GL_PACK_ROW_LENGTH = %d after reset", v);
+    CHECKF(!gl->IsEnabled(GL_BLEND) && !gl->IsEnabled(GL_DEPTH_TEST), "capabilities kept");
     GLboolean mask[4];
     gl->GetBooleanv(GL_COLOR_WRITEMASK, mask);
-    CHECK(mask[0] && mask[1] && mask[2] && mask[3], "color mask kept");
+    CHECKF(mask[0] && mask[1] && mask[2] && mask[3], "color mask kept");
     gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &v);
-    CHECK(v == 0, "texture unit 0 keeps texture %d", v);
+    CHECKF(v == 0, "texture unit 0 keeps texture %d", v);
 
     gl->DeleteBuffers(1, &pbo);
     gl->DeleteFramebuffers(1, &fbo);
     gl->DeleteTextures(1, &tex);
     GLenum e = gl->GetError();
-    CHECK(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
+    CHECKF(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
 }
 
 int main(int argc, char **argv)
@@ -321,10 +321,10 @@ int main(int argc, char **argv)
     double t1 = devtest_now();
     if (rc) {
         printf("SKIP: no GL device '%s': %s\n", backend, err);
-        CHECK(dev == NULL, "failed create left a device");
-        CHECK(rc == LG_ERR_DEVICE, "rc %d", rc);
-        CHECK(err[0] != '\0', "no reason given");
-        return devtest_failures ? 1 : SKIP;
+        CHECKF(dev == NULL, "failed create left a device");
+        CHECKF(rc == LG_ERR_DEVICE, "rc %d", rc);
+        CHECKF(err[0] != '\0', "no reason given");
+        return check_skip("gl_device");
     }
     printf("%s: %s\n", backend, lg_gl_device_description(dev));
     printf("%s: first context created in %.1f ms\n", backend, (t1 - t0) * 1e3);
@@ -340,19 +340,19 @@ int main(int argc, char **argv)
     test_timer(gl);
 
     lg_gl_device_destroy(&dev);
-    CHECK(dev == NULL, "destroy did not clear the handle");
+    CHECKF(dev == NULL, "destroy did not clear the handle");
     lg_gl_device_destroy(&dev); /* NULL handle: no-op */
 
     /* A second device after the first is gone (the library stays loaded). */
     t0 = devtest_now();
     rc = lg_gl_device_create(&dev, backend, err, sizeof err);
     t1 = devtest_now();
-    CHECK(rc == 0, "second create: %s", err);
+    CHECKF(rc == 0, "second create: %s", err);
     if (rc == 0) {
         printf("%s: second context created in %.1f ms\n", backend, (t1 - t0) * 1e3);
         gl = lg_gl_device_table(dev);
         char serr[512];
-        CHECK(lg_gl_state_check(gl, serr, sizeof serr) == 0, "fresh device: %s", serr);
+        CHECKF(lg_gl_state_check(gl, serr, sizeof serr) == 0, "fresh device: %s", serr);
         GLuint again = test_compute(gl);
         if (again) {
             lg_gl_state_reset(gl);
@@ -360,5 +360,5 @@ int main(int argc, char **argv)
         }
         lg_gl_device_destroy(&dev);
     }
-    return devtest_failures ? 1 : 0;
+    return check_report("gl_device");
 }

@@ -1,0 +1,57 @@
+/*
+ * tests/unit/codecs/codectest.h: what the codec tests share besides the checks
+ * (tests/common/check.h): a scratch directory, and paths of the source tree's assets.
+ */
+#ifndef LG_CODECTEST_H
+#define LG_CODECTEST_H
+
+#include <ftw.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "common/check.h"
+
+/* A fresh scratch directory under the build tree (or /tmp), named TAG.XXXXXX. Returns a
+ * static buffer; exits 1 if it cannot be made. */
+static inline const char *make_scratch(const char *tag)
+{
+    static char dir[4096];
+    const char *root = getenv("LG_BUILD_ROOT");
+    snprintf(dir, sizeof dir, "%s/%s.XXXXXX", root && root[0] ? root : "/tmp", tag);
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        exit(1);
+    }
+    return dir;
+}
+
+static inline int remove_entry(const char *path, const struct stat *st, int type,
+                               struct FTW *ftw)
+{
+    return remove(path);
+}
+
+/* The end of main() for a test with a scratch directory: removes the directory and all in
+ * it if every check passed (a failed test leaves it to look at), then returns
+ * check_report(name). */
+static inline int check_report_scratch(const char *name, const char *scratch)
+{
+    if (!check_failures && nftw(scratch, remove_entry, 16, FTW_DEPTH | FTW_PHYS) != 0)
+        fprintf(stderr, "could not remove %s\n", scratch);
+    return check_report(name);
+}
+
+/* Path of a file in the source tree's assets folder; exits 77 (skip) without LG_SOURCE_ROOT. */
+static inline const char *asset_path(const char *rel, char *buf, size_t n)
+{
+    const char *root = getenv("LG_SOURCE_ROOT");
+    if (!root || !root[0]) {
+        fprintf(stderr, "LG_SOURCE_ROOT is not set\n");
+        exit(CHECK_SKIP);
+    }
+    snprintf(buf, n, "%s/assets/%s", root, rel);
+    return buf;
+}
+
+#endif
