@@ -68,7 +68,11 @@ static const char *needs_text(uint32_t unmet)
     return "unmet needs";
 }
 
-/* Union of the features of every scene resource upstream of node i. */
+/* Union of the features of the scenes node i reads: on each input, the scene delivered
+ * there, or, for an input that is not a scene (an image made from one, say), the scenes
+ * upstream of it. A scene stands for everything upstream of it: a derived scene (camera,
+ * light, medium nodes) replaces its source's lights or medium, so the walk stops there and
+ * the source does not count again. */
 static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool *seen)
 {
     if (seen[i])
@@ -81,21 +85,20 @@ static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool
         if (e.node < 0)
             continue;
         lg_pnode *src = &ex->nodes[e.node];
-        for (uint32_t o = 0; src->outputs && o < src->schema->n_outputs; o++) {
-            lg_resource *r = src->outputs[o];
-            if (r && r->kind == LG_KIND_SCENE && r->has_features) {
-                f->triangles += r->features.triangles;
-                f->vertices += r->features.vertices;
-                f->dir_lights += r->features.dir_lights;
-                f->point_lights += r->features.point_lights;
-                f->other_lights += r->features.other_lights;
-                f->medium |= r->features.medium;
-                f->probe |= r->features.probe;
-                f->specular |= r->features.specular;
-                if (r->features.medium_density > f->medium_density)
-                    f->medium_density = r->features.medium_density;
-                any = true;
-            }
+        lg_resource *r = src->outputs ? src->outputs[e.port] : NULL;
+        if (r && r->kind == LG_KIND_SCENE && r->has_features) {
+            f->triangles += r->features.triangles;
+            f->vertices += r->features.vertices;
+            f->dir_lights += r->features.dir_lights;
+            f->point_lights += r->features.point_lights;
+            f->other_lights += r->features.other_lights;
+            f->medium |= r->features.medium;
+            f->probe |= r->features.probe;
+            f->specular |= r->features.specular;
+            if (r->features.medium_density > f->medium_density)
+                f->medium_density = r->features.medium_density;
+            any = true;
+            continue;
         }
         any |= collect_features(ex, (uint32_t)e.node, f, seen);
     }

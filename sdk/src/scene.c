@@ -10,9 +10,14 @@ const lg_scene *lg_scene_get(lg_node *n, const lg_resource *res)
         lg_error(n, "no scene: the input is not connected");
         return NULL;
     }
-    if (info.kind != LG_KIND_SCENE || !info.payload) {
-        lg_error(n, "expects a scene, got a resource of another kind%s",
-                 info.neutral ? " (a gated node's neutral result)" : "");
+    if (info.kind != LG_KIND_SCENE) {
+        lg_error(n, "expects a scene, got a resource of another kind");
+        return NULL;
+    }
+    if (!info.payload) {
+        lg_error(n, "the scene on this input has features but no scene data (%s)",
+                 info.neutral ? "a gated node's neutral result"
+                              : "its producer declared no lg_scene payload");
         return NULL;
     }
     const lg_scene *s = info.payload;

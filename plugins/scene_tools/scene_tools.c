@@ -1,0 +1,528 @@
+/*
+ * The scene_tools plugin: nodes that derive one scene from another, so that a graph can
+ * frame, light and fill with fog any scene without editing its file.
+ *
+ *   camera   sets the active camera (look_at, or orbit around the scene's bounds)
+ *   light    adds a directional or point light, or replaces all lights with one
+ *   medium   sets (replaces) the participating medium
+ *
+ * Each node reads the input scene in prepare() and publishes a derived lg_scene: a shallow
+ * copy of the input's struct with its own array for what it changes (lights or cameras),
+ * `geometry` pointing at the resource that owns the meshes (so GPU copies are shared), and
+ * features recomputed, so that the planner gates downstream nodes on the derived scene.
+ * execute() has nothing to do. README.md describes parameters, formulas and fallbacks.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/lightgraph.h"
+
+#define ST_PI 3.14159265358979323846
+
+/* Orbit framing: the bounding sphere's angular radius is at most the smaller half field of
+ * view divided by this margin (in sine), see README.md "camera". */
+#define ST_ORBIT_MARGIN 1.1
+
+/* ---- derived scenes ------------------------------------------------------------------ */
+
+/* The payload: the derived lg_scene first (the host hands consumers a pointer to it) and
+ * the arrays this node owns. Everything else the scene points to (meshes, instances,
+ * materials, and the lights or cameras it did not replace) belongs to the source's
+ * payload, which the host keeps alive for as long as this one. */
+typedef struct st_payload {
+    lg_scene scene;
+    lg_light *lights;   /* NULL when the source's array is used */
+    lg_camera *cameras; /* NULL when the source's array is used */
+    char *source;
+    char *name;         /* the node's name: names of the lights and cameras made here */
+} st_payload;
+
+/* The free function given to the host. Touches only this payload's own allocations, never
+ * the source's (its payload may be gone by then). */
+static void st_free(void *ptr)
+{
+    st_payload *p = ptr;
+    if (!p)
+        return;
+    free(p->lights);
+    free(p->cameras);
+    free(p->source);
+    free(p->name);
+    free(p);
+}
+
+static char *st_strdup(const char *s)
+{
+    size_t len = strlen(s) + 1;
+    char *d = malloc(len);
+    if (d)
+        memcpy(d, s, len);
+    return d;
+}
+
+/* The input scene (port 0), with a message that says what is wrong if it is not one. */
+static int st_input(lg_node *n, const lg_resource **res, const lg_scene **scene)
+{
+    const lg_resource *r = lg_input(n, 0);
+    lg_resource_info info;
+    if (!r || lg_describe(r, &info, n) != 0)
+        return lg_error(n, "input 'scene' is not connected");
+    /* lg_scene_get would report a description-only scene as "another kind": say what it
+     * is, since the planner's test scenes and neutral scenes look like this */
+    if (info.kind == LG_KIND_SCENE && !info.payload)
+        return lg_error(n, "input 'scene' has scene features but no scene data (%s): this "
+                           "node needs a scene made by a scene node such as gltf",
+                        info.neutral ? "the neutral result of a gated node"
+                                     : "its node declared no lg_scene payload");
+    const lg_scene *s = lg_scene_get(n, r);
+    if (!s)
+        return LG_ERR_INVALID;
+    *res = r;
+    *scene = s;
+    return 0;
+}
+
+/* A new payload holding a shallow copy of `src`. `what` describes the change for the
+ * derived scene's `source` text. */
+static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, const char *what,
+                     st_payload **out)
+{
+    *out = NULL;
+    st_payload *p = calloc(1, sizeof *p);
+    if (!p)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (derived scene)");
+    /* a scene built against an older SDK may be shorter: copy what it has */
+    size_t have = src->struct_size < sizeof p->scene ? src->struct_size : sizeof p->scene;
+    memcpy(&p->scene, src, have);
+    p->scene.struct_size = sizeof p->scene;
+    memset(p->scene.reserved, 0, sizeof p->scene.reserved);
+    /* a chain of derived scenes points straight at the owner of the geometry */
+    p->scene.geometry = src->geometry ? src->geometry : in;
+
+    const char *from = src->source ? src->source : "(unnamed scene)";
+    size_t len = strlen(from) + strlen(what) + strlen(n->name) + 16;
+    p->source = malloc(len);
+    p->name = st_strdup(n->name);
+    if (!p->source || !p->name) {
+        st_free(p);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (derived scene)");
+    }
+    snprintf(p->source, len, "%s + %s '%s'", from, what, n->name);
+    p->scene.source = p->source;
+    *out = p;
+    return 0;
+}
+
+/* Recomputes the features and hands the payload to the host (which frees it with st_free,
+ * also when declaring fails). */
+static int st_publish(lg_node *n, st_payload *p)
+{
+    lg_scene_compute_features(&p->scene);
+    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &p->scene.features, p, st_free);
+}
+
+/* A vec3 or colour parameter as floats; values a float cannot hold are refused. */
+static int st_vec3(lg_node *n, const char *key, lg_vec3 *out)
+{
+    const lg_value *v = lg_param(n, key);
+    if (!v)
+        return lg_error(n, "parameter '%s' is not declared by this node type", key);
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(v->v[i]) || fabs(v->v[i]) > FLT_MAX)
+            return lg_error(n, "%s = [%g, %g, %g]: component %d is not a finite "
+                               "single-precision number",
+                            key, v->v[0], v->v[1], v->v[2], i);
+    *out = lg_v3((float)v->v[0], (float)v->v[1], (float)v->v[2]);
+    return 0;
+}
+
+/* The scene's world bounds as centre, radius (half the diagonal) and corners. False when
+ * they are empty (no geometry: min > max) or not finite. */
+static bool st_bounds(const lg_scene *s, lg_vec3 *centre, float *radius, lg_vec3 corners[8])
+{
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(s->bounds_min[i]) || !isfinite(s->bounds_max[i]) ||
+            s->bounds_min[i] > s->bounds_max[i])
+            return false;
+    lg_vec3 lo = lg_v3(s->bounds_min[0], s->bounds_min[1], s->bounds_min[2]);
+    lg_vec3 hi = lg_v3(s->bounds_max[0], s->bounds_max[1], s->bounds_max[2]);
+    *centre = lg_v3_scale(lg_v3_add(lo, hi), 0.5f);
+    *radius = 0.5f * lg_v3_length(lg_v3_sub(hi, lo));
+    for (int k = 0; k < 8; k++)
+        corners[k] = lg_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+    return isfinite(*radius);
+}
+
+/* ---- camera ------------------------------------------------------------------------- */
+
+enum { CAM_LOOK_AT = 0, CAM_ORBIT };
+
+/* Near and far planes that hold the scene's bounds as seen from `eye` along the unit view
+ * direction `f` (README.md "camera": clipping planes). */
+static void camera_auto_clip(bool have_bounds, const lg_vec3 corners[8], lg_vec3 centre,
+                             float radius, lg_vec3 eye, lg_vec3 target, lg_vec3 f,
+                             float *znear, float *zfar)
+{
+    if (!have_bounds) {
+        float d = lg_v3_length(lg_v3_sub(target, eye));
+        *znear = d / 100.0f;
+        *zfar = d * 100.0f;
+        return;
+    }
+    float dmin = INFINITY, dmax = -INFINITY;
+    for (int k = 0; k < 8; k++) {
+        float d = lg_v3_dot(lg_v3_sub(corners[k], eye), f);
+        dmin = d < dmin ? d : dmin;
+        dmax = d > dmax ? d : dmax;
+    }
+    float far = dmax * 1.01f;
+    if (!(far > 0)) /* the whole scene is behind the camera: any far plane past it */
+        far = lg_v3_length(lg_v3_sub(centre, eye)) + radius;
+    if (!(far > 0)) /* a scene that is one point, at the eye */
+        far = 1.0f;
+    float near = dmin * 0.99f;
+    /* the camera inside the bounds (or a scene behind it): keep depth precision usable */
+    if (!(near > far * 1e-3f))
+        near = far * 1e-3f;
+    *znear = near;
+    *zfar = far;
+}
+
+static int camera_prepare(lg_node *n)
+{
+    const lg_resource *in;
+    const lg_scene *src;
+    int rc = st_input(n, &in, &src);
+    if (rc)
+        return rc;
+
+    int mode = lg_param_enum(n, "mode");
+    double fov_deg = lg_param_float(n, "fov_deg");
+    if (!(fov_deg > 0 && fov_deg < 180))
+        return lg_error(n, "fov_deg = %g: the vertical field of view must be inside (0, 180) "
+                           "degrees, both ends excluded",
+                        fov_deg);
+    float yfov = (float)(fov_deg * ST_PI / 180.0);
+    double aspect = lg_param_float(n, "aspect");
+
+    lg_vec3 centre = lg_v3(0, 0, 0), corners[8];
+    float radius = 0;
+    bool have_bounds = st_bounds(src, &centre, &radius, corners);
+    const lg_vec3 zero = lg_v3(0, 0, 0);
+
+    lg_vec3 eye, target, f, up;
+    if (mode == CAM_LOOK_AT) {
+        lg_vec3 up_in;
+        if ((rc = st_vec3(n, "position", &eye)) || (rc = st_vec3(n, "target", &target)) ||
+            (rc = st_vec3(n, "up", &up_in)))
+            return rc;
+        f = lg_v3_normalize_or(lg_v3_sub(target, eye), zero);
+        if (lg_v3_length(f) == 0)
+            return lg_error(n, "target [%g, %g, %g] is the camera's position: there is no "
+                               "view direction; move position or target",
+                            (double)target.x, (double)target.y, (double)target.z);
+        lg_vec3 u = lg_v3_normalize_or(up_in, zero);
+        if (lg_v3_length(u) == 0)
+            return lg_error(n, "up = [%g, %g, %g] is the zero vector: give the direction that "
+                               "is up in the image, e.g. [0, 1, 0]",
+                            (double)up_in.x, (double)up_in.y, (double)up_in.z);
+        lg_vec3 s = lg_v3_cross(f, u);
+        /* sin of the angle between up and the view direction: below 1e-4 (0.006 degrees)
+         * the roll of the image is not defined by anything a user meant */
+        if (lg_v3_length(s) < 1e-4f)
+            return lg_error(n, "up = [%g, %g, %g] is parallel to the view direction [%g, %g, "
+                               "%g] (from position to target): the image's roll is undefined; "
+                               "choose an up that is not along the line of sight",
+                            (double)up_in.x, (double)up_in.y, (double)up_in.z, (double)f.x,
+                            (double)f.y, (double)f.z);
+        s = lg_v3_normalize_or(s, lg_v3(1, 0, 0));
+        up = lg_v3_cross(s, f);
+    } else {
+        if (!have_bounds)
+            return lg_error(n, "mode = orbit: the scene (%s) has empty bounds (no geometry), so "
+                               "there is nothing to orbit around; use mode = look_at",
+                            src->source ? src->source : "unnamed");
+        double az = lg_param_float(n, "azimuth_deg") * ST_PI / 180.0;
+        double el = lg_param_float(n, "elevation_deg") * ST_PI / 180.0;
+        double dist = lg_param_float(n, "distance");
+        /* a scene that is a single point: orbit a unit sphere around it (README.md) */
+        double r = radius > 0 ? radius : 1.0;
+        if (dist == 0) {
+            uint32_t w = 0, h = 0;
+            n->host->render_size(n, &w, &h);
+            double a = aspect > 0 ? aspect : (w && h ? (double)w / h : 1.0);
+            double half_y = 0.5 * yfov, half_x = atan(tan(half_y) * a);
+            double half = half_x < half_y ? half_x : half_y;
+            dist = ST_ORBIT_MARGIN / sin(half);
+        }
+        double d = dist * r;
+        if (!(d <= FLT_MAX / 4))
+            return lg_error(n, "distance = %g times the bounding radius %g does not fit a float",
+                            dist, r);
+        /* the direction from the centre to the camera; azimuth 0, elevation 0 looks down -Z
+         * like glTF's default camera */
+        lg_vec3 out = lg_v3((float)(cos(el) * sin(az)), (float)sin(el),
+                            (float)(cos(el) * cos(az)));
+        target = centre;
+        eye = lg_v3_add(centre, lg_v3_scale(out, (float)d));
+        f = lg_v3_scale(out, -1.0f);
+        /* the camera's own up (perpendicular to f, unit): continuous through the poles,
+         * where world Y would be parallel to the view */
+        up = lg_v3((float)(-sin(el) * sin(az)), (float)cos(el), (float)(-sin(el) * cos(az)));
+    }
+
+    double zn = lg_param_float(n, "znear"), zf = lg_param_float(n, "zfar");
+    if (zn > 0 && zf > 0 && zf <= zn)
+        return lg_error(n, "zfar = %g is not beyond znear = %g", zf, zn);
+    float auto_near, auto_far;
+    camera_auto_clip(have_bounds, corners, centre, radius, eye, target, f, &auto_near, &auto_far);
+    float znear = zn > 0 ? (float)zn : auto_near;
+    float zfar = zf > 0 ? (float)zf : auto_far;
+    if (zn > 0 && zf == 0 && zfar <= znear)
+        return lg_error(n, "znear = %g is beyond the scene's far side (%g from the camera): "
+                           "set zfar as well",
+                        zn, (double)auto_far);
+    if (zf > 0 && zn == 0 && znear >= zfar)
+        znear = zfar * 1e-3f;
+
+    st_payload *p;
+    if ((rc = st_derive(n, in, src, "camera", &p)))
+        return rc;
+    /* replace the active camera; a scene without one (or with a bad index) gets one */
+    uint32_t nc = src->n_cameras, slot = src->camera;
+    if (slot >= nc)
+        slot = nc++;
+    p->cameras = calloc(nc, sizeof *p->cameras);
+    if (!p->cameras) {
+        st_free(p);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u cameras)", nc);
+    }
+    if (src->n_cameras)
+        memcpy(p->cameras, src->cameras, src->n_cameras * sizeof *p->cameras);
+    lg_camera *c = &p->cameras[slot];
+    memset(c, 0, sizeof *c);
+    c->name = p->name;
+    memcpy(c->position, &eye, sizeof c->position);
+    memcpy(c->target, &target, sizeof c->target);
+    memcpy(c->up, &up, sizeof c->up);
+    c->yfov = yfov;
+    c->znear = znear;
+    c->zfar = zfar;
+    c->aspect = (float)aspect;
+    p->scene.cameras = p->cameras;
+    p->scene.n_cameras = nc;
+    p->scene.camera = slot;
+    return st_publish(n, p);
+}
+
+/* ---- light ---------------------------------------------------------------------------- */
+
+enum { LIGHT_ADD = 0, LIGHT_REPLACE };
+enum { LIGHT_DIRECTIONAL = 0, LIGHT_POINT };
+
+static int light_prepare(lg_node *n)
+{
+    const lg_resource *in;
+    const lg_scene *src;
+    int rc = st_input(n, &in, &src);
+    if (rc)
+        return rc;
+
+    lg_light l;
+    memset(&l, 0, sizeof l);
+    lg_vec3 color, dir = lg_v3(0, 0, 0), pos = lg_v3(0, 0, 0);
+    if ((rc = st_vec3(n, "color", &color)))
+        return rc;
+    if (lg_param_enum(n, "type") == LIGHT_DIRECTIONAL) {
+        l.type = LG_LIGHT_DIRECTIONAL;
+        lg_vec3 d_in;
+        if ((rc = st_vec3(n, "direction", &d_in)))
+            return rc;
+        dir = lg_v3_normalize_or(d_in, lg_v3(0, 0, 0));
+        if (lg_v3_length(dir) == 0)
+            return lg_error(n, "direction = [%g, %g, %g] is the zero vector: a directional "
+                               "light needs the direction its light travels (e.g. [0, -1, 0] "
+                               "for light falling straight down)",
+                            (double)d_in.x, (double)d_in.y, (double)d_in.z);
+    } else {
+        l.type = LG_LIGHT_POINT;
+        if ((rc = st_vec3(n, "position", &pos)))
+            return rc;
+        l.range = (float)lg_param_float(n, "range");
+    }
+    memcpy(l.color, &color, sizeof l.color);
+    l.intensity = (float)lg_param_float(n, "intensity");
+    memcpy(l.direction, &dir, sizeof l.direction);
+    memcpy(l.position, &pos, sizeof l.position);
+
+    bool replace = lg_param_enum(n, "mode") == LIGHT_REPLACE;
+    uint32_t keep = replace ? 0 : src->n_lights;
+    if (keep == UINT32_MAX)
+        return lg_error(n, "the scene already has %u lights", keep);
+    st_payload *p;
+    if ((rc = st_derive(n, in, src, replace ? "light (replacing all)" : "light", &p)))
+        return rc;
+    p->lights = calloc((size_t)keep + 1, sizeof *p->lights);
+    if (!p->lights) {
+        st_free(p);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u lights)", keep + 1);
+    }
+    if (keep)
+        memcpy(p->lights, src->lights, keep * sizeof *p->lights);
+    l.name = p->name;
+    p->lights[keep] = l;
+    p->scene.lights = p->lights;
+    p->scene.n_lights = keep + 1;
+    return st_publish(n, p);
+}
+
+/* ---- medium ---------------------------------------------------------------------------- */
+
+static int medium_prepare(lg_node *n)
+{
+    const lg_resource *in;
+    const lg_scene *src;
+    int rc = st_input(n, &in, &src);
+    if (rc)
+        return rc;
+    lg_medium m;
+    memset(&m, 0, sizeof m);
+    lg_vec3 sc, ab;
+    if ((rc = st_vec3(n, "scattering", &sc)) || (rc = st_vec3(n, "absorption", &ab)))
+        return rc;
+    double density = lg_param_float(n, "density"), g = lg_param_float(n, "g");
+    /* the declared ranges hold these already; checked again because gating and every
+     * phase function depend on them */
+    if (!(density >= 0))
+        return lg_error(n, "density = %g must be >= 0 (0 removes the medium)", density);
+    if (!(g > -1 && g < 1))
+        return lg_error(n, "g = %g: the Henyey-Greenstein anisotropy must be inside (-1, 1)", g);
+    m.present = density > 0;
+    m.density = (float)density;
+    memcpy(m.scattering, &sc, sizeof m.scattering);
+    memcpy(m.absorption, &ab, sizeof m.absorption);
+    m.g = (float)g;
+    if (m.present && lg_v3_length(sc) == 0 && lg_v3_length(ab) == 0)
+        lg_log(n, LG_LOG_WARN, "density = %g but scattering and absorption are both 0: the "
+                               "medium has no effect, yet media nodes will run (density = 0 "
+                               "removes it)",
+               density);
+    st_payload *p;
+    if ((rc = st_derive(n, in, src, m.present ? "medium" : "medium (none)", &p)))
+        return rc;
+    p->scene.medium = m;
+    return st_publish(n, p);
+}
+
+static int st_execute(lg_node *n, const lg_frame *frame)
+{
+    /* the derived scene was made in prepare(), where the planner needs its features */
+    (void)n;
+    (void)frame;
+    return 0;
+}
+
+/* ---- descriptors ------------------------------------------------------------------------ */
+
+static const lg_port_desc st_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to derive from (unchanged)" },
+};
+
+static const char *const camera_modes[] = { "look_at", "orbit", NULL };
+static const lg_param_desc camera_params[] = {
+    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = CAM_ORBIT, .enum_values = camera_modes,
+      .doc = "look_at: position, target, up; orbit: around the bounds' centre" },
+    { .key = "position", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 5 },
+      .doc = "look_at: the eye, world metres" },
+    { .key = "target", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 },
+      .doc = "look_at: the point looked at, world metres" },
+    { .key = "up", .type = LG_PARAM_VEC3, .def.v = { 0, 1, 0 },
+      .doc = "look_at: up in the image; not parallel to target - position" },
+    { .key = "fov_deg", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 0, .max = 180,
+      .doc = "vertical field of view, degrees, inside (0, 180)" },
+    { .key = "azimuth_deg", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -360, .max = 360,
+      .doc = "orbit: degrees about +Y from +Z (0: camera on +Z looking down -Z)" },
+    { .key = "elevation_deg", .type = LG_PARAM_FLOAT, .def.f = 20, .min = -90, .max = 90,
+      .doc = "orbit: degrees above the horizontal plane through the centre" },
+    { .key = "distance", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e6,
+      .doc = "orbit: eye to centre in bounding-sphere radii; 0 = fit the scene (README)" },
+    { .key = "znear", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "near plane, metres; 0 = from the bounds" },
+    { .key = "zfar", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "far plane, metres; 0 = from the bounds" },
+    { .key = "aspect", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1000,
+      .doc = "width / height; 0 = the output image's (orbit fits to the render size)" },
+};
+
+static const char *const light_modes[] = { "add", "replace", NULL };
+static const char *const light_types[] = { "directional", "point", NULL };
+static const lg_param_desc light_params[] = {
+    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = LIGHT_ADD, .enum_values = light_modes,
+      .doc = "add: keep the scene's lights; replace: this light is the only one" },
+    { .key = "type", .type = LG_PARAM_ENUM, .def.e = LIGHT_DIRECTIONAL,
+      .enum_values = light_types, .doc = "directional (direction) or point (position)" },
+    { .key = "direction", .type = LG_PARAM_VEC3, .def.v = { 0, -1, 0 },
+      .doc = "directional: the direction the light travels, world; normalised, not zero" },
+    { .key = "position", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 },
+      .doc = "point: world metres" },
+    { .key = "color", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 1e6,
+      .doc = "linear RGB" },
+    { .key = "intensity", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6,
+      .doc = "glTF units: lux (directional), candela (point)" },
+    { .key = "range", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "point: metres beyond which the light has no effect; 0 = infinite" },
+};
+
+static const lg_param_desc medium_params[] = {
+    { .key = "density", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6,
+      .doc = "scales the coefficients; 0 = no medium (media nodes are gated)" },
+    { .key = "scattering", .type = LG_PARAM_COLOR, .def.v = { 0.1, 0.1, 0.1 }, .min = 0,
+      .max = 1e6, .doc = "scattering coefficient per unit density, 1/m, linear RGB" },
+    { .key = "absorption", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
+      .doc = "absorption coefficient per unit density, 1/m, linear RGB" },
+    { .key = "g", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -0.99, .max = 0.99,
+      .doc = "Henyey-Greenstein anisotropy (> 0: forward scattering)" },
+};
+
+static const lg_port_desc camera_outputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the input scene with this camera as the active one (geometry shared)" },
+};
+static const lg_port_desc light_outputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the input scene with this light added, or as its only light (geometry shared)" },
+};
+static const lg_port_desc medium_outputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the input scene with this medium (geometry shared)" },
+};
+
+static const lg_node_type st_types[] = {
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "camera",
+        .doc = "sets the scene's active camera: look_at, or orbit around its bounds",
+        LG_PARAMS(camera_params), LG_INPUTS(st_inputs), LG_OUTPUTS(camera_outputs),
+        .prepare = camera_prepare, .execute = st_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "light",
+        .doc = "adds a directional or point light to the scene, or replaces its lights",
+        LG_PARAMS(light_params), LG_INPUTS(st_inputs), LG_OUTPUTS(light_outputs),
+        .prepare = light_prepare, .execute = st_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "medium",
+        .doc = "sets the scene's participating medium (density 0: none)",
+        LG_PARAMS(medium_params), LG_INPUTS(st_inputs), LG_OUTPUTS(medium_outputs),
+        .prepare = medium_prepare, .execute = st_execute,
+    },
+};
+
+LG_PLUGIN_DEFINE("scene_tools", "1.0.0", "Camera, lights and medium set from the graph",
+                 st_types)

@@ -1,0 +1,712 @@
+/*
+ * The scene_tools plugin (camera, light, medium) through the host: `test_scene_tools CASE`.
+ * Scenes come from the test plugin `testcube` (this folder): `test_cube` makes a real
+ * lg_scene in memory, `test_scene_probe` writes what a scene holds into a 1-row EXR
+ * (layout in testcube.c). `test_fog` (tests/plugins/testnodes) needs a medium and a light.
+ *
+ *   features      --explain prints each derived scene's features: lights by type, medium
+ *                 yes/no and density, triangles unchanged
+ *   gating        test_fog gated on the plain cube, kept after light + medium, gated again
+ *                 by medium { density = 0 } after a foggy scene and without a light; its
+ *                 plugin is loaded only when kept
+ *   look_at       position, target, fov, aspect as given; up unit and orthogonal; clip
+ *                 planes from the bounds hold every corner, explicit ones are kept; the
+ *                 active camera is replaced, or added to a scene without one
+ *   orbit         for several azimuths, elevations (the poles included) and aspects, every
+ *                 corner of the bounds projects inside the frustum; the distance follows the
+ *                 documented formula; an explicit distance is in bounding radii
+ *   lights        three chained `light` nodes give 3 lights (add) in order, normalised, with
+ *                 colour, intensity, point position and range; a last `replace` leaves 1
+ *   medium        coefficients and g reach the scene; density 0 removes it
+ *   sharing       a chain of derived scenes points `geometry` at the source's resource and
+ *                 shares its meshes, instances and materials; the source's own is NULL
+ *   sharing_gl    the GL buffers of a derived scene's mesh are the source's (skips without GL)
+ *   errors        bad parameters and inputs exit 1 with a message naming the node and why
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/math.h"
+#include "ptest.h"
+
+#ifndef PT_TESTNODES_DIR
+#define PT_TESTNODES_DIR ""
+#endif
+#ifndef ST_TESTCUBE_DIR
+#define ST_TESTCUBE_DIR ""
+#endif
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+static void use_test_plugins(ptest *t)
+{
+    if (!*PT_TESTNODES_DIR || !*ST_TESTCUBE_DIR) {
+        fprintf(stderr, "test plugins not built: skipped\n");
+        exit(77);
+    }
+    static char path[8300];
+    snprintf(path, sizeof path, "%s:%s", ST_TESTCUBE_DIR, PT_TESTNODES_DIR);
+    setenv("LIGHTGRAPH_PLUGIN_PATH", path, 1);
+    setenv("LIGHTGRAPH_CACHE_DIR", pt_path(t, "cache"), 1);
+}
+
+/* Renders `graph` (text) and returns the exit status; *out gets what the program printed. */
+static int render_text(ptest *t, const char *graph, const char *const *args, char **out)
+{
+    pt_write_text(t, "g.lgraph", graph);
+    return pt_render(t, "g.lgraph", args, out);
+}
+
+/* The probe image written to probe.exr by a graph ending in `output probe "probe.exr"`. */
+static bool run_probe(ptest *t, const char *graph, const char *const *args, lg_image *img)
+{
+    char *out = NULL;
+    int rc = render_text(t, graph, args, &out);
+    free(out);
+    PT_CHECK(t, rc == 0, "render failed (exit %d)", rc);
+    if (rc)
+        return false;
+    unsigned bits = 0;
+    if (!pt_read(t, "probe.exr", img, &bits))
+        return false;
+    PT_CHECK(t, bits == 32, "probe.exr has %u bits per channel, want 32", bits);
+    return true;
+}
+
+static const float *px(const lg_image *img, uint32_t x)
+{
+    static const float none[4] = { NAN, NAN, NAN, NAN };
+    return x < img->width ? img->pixels + (size_t)x * 4 : none;
+}
+
+static lg_vec3 px3(const lg_image *img, uint32_t x)
+{
+    const float *p = px(img, x);
+    return lg_v3(p[0], p[1], p[2]);
+}
+
+static bool near3(lg_vec3 a, lg_vec3 b, float tol)
+{
+    return fabsf(a.x - b.x) <= tol && fabsf(a.y - b.y) <= tol && fabsf(a.z - b.z) <= tol;
+}
+
+/* The line of `text` that starts with `prefix` (after leading spaces), copied, or NULL. */
+static char *line_with(const char *text, const char *prefix)
+{
+    for (const char *l = text; l && *l;) {
+        const char *e = strchr(l, '\n');
+        size_t len = e ? (size_t)(e - l) : strlen(l);
+        const char *s = l;
+        while (s < l + len && *s == ' ')
+            s++;
+        if (strncmp(s, prefix, strlen(prefix)) == 0) {
+            char *r = malloc(len + 1);
+            memcpy(r, l, len);
+            r[len] = 0;
+            return r;
+        }
+        l = e ? e + 1 : NULL;
+    }
+    return NULL;
+}
+
+/* The explain table's state column ("kept", "gated", "culled") of node `name`. */
+static const char *state_of(const char *text, const char *name)
+{
+    static char state[16];
+    char prefix[128];
+    snprintf(prefix, sizeof prefix, "%s ", name);
+    char *l = line_with(text, prefix);
+    state[0] = 0;
+    if (l) {
+        char node[64], type[64];
+        if (sscanf(l, "%63s %63s %15s", node, type, state) != 3)
+            state[0] = 0;
+        free(l);
+    }
+    return state;
+}
+
+/* True if the "scene features (name): ..." line contains `what`. */
+static bool features_say(const char *text, const char *name, const char *what)
+{
+    char prefix[128];
+    snprintf(prefix, sizeof prefix, "scene features (%s):", name);
+    char *l = line_with(text, prefix);
+    bool ok = l && strstr(l, what);
+    free(l);
+    return ok;
+}
+
+static bool plugin_loaded(const char *text, const char *plugin)
+{
+    char *l = line_with(text, "plugins loaded:");
+    bool ok = false;
+    if (l) {
+        char word[64];
+        snprintf(word, sizeof word, " %s", plugin);
+        char *p = strstr(l, word);
+        ok = p && (p[strlen(word)] == ' ' || p[strlen(word)] == 0);
+        free(l);
+    }
+    return ok;
+}
+
+/* ---- cases -------------------------------------------------------------------------------- */
+
+static void case_features(ptest *t)
+{
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube { instances = 2 }\n"
+        "sun  = light { scene = cube, direction = [1, -1, 0] }\n"
+        "lamp = light { scene = sun, type = point, position = [0, 3, 0] }\n"
+        "fog  = medium { scene = lamp, density = 0.5 }\n"
+        "off  = medium { scene = fog, density = 0 }\n"
+        "p1 = test_scene_probe { scene = fog }\n"
+        "p2 = test_scene_probe { scene = off }\n"
+        "output p1 \"p1.exr\"\n"
+        "output p2 \"p2.exr\"\n";
+    const char *args[] = { "--explain", NULL };
+    char *out = NULL;
+    int rc = render_text(t, g, args, &out);
+    PT_CHECK(t, rc == 0, "render failed: %s", out ? out : "");
+    const char *o = out ? out : "";
+    PT_CHECK(t, features_say(o, "cube", "triangles 24, vertices 48, lights: 0 directional, 0 point"),
+             "cube features: %s", o);
+    PT_CHECK(t, features_say(o, "cube", "medium no (density 0)"), "cube medium: %s", o);
+    PT_CHECK(t, features_say(o, "sun", "triangles 24, vertices 48, lights: 1 directional, 0 point"),
+             "sun features: %s", o);
+    PT_CHECK(t, features_say(o, "lamp", "lights: 1 directional, 1 point"), "lamp features: %s", o);
+    PT_CHECK(t, features_say(o, "lamp", "medium no"), "lamp medium: %s", o);
+    PT_CHECK(t, features_say(o, "fog", "lights: 1 directional, 1 point"), "fog lights: %s", o);
+    PT_CHECK(t, features_say(o, "fog", "medium yes (density 0.5)"), "fog medium: %s", o);
+    PT_CHECK(t, features_say(o, "off", "medium no (density 0)"), "off medium: %s", o);
+    PT_CHECK(t, features_say(o, "off", "triangles 24,"), "off triangles: %s", o);
+    PT_CHECK(t, plugin_loaded(o, "scene_tools"), "scene_tools not loaded: %s", o);
+    PT_CHECK(t, strcmp(state_of(o, "sun"), "kept") == 0, "sun is %s", state_of(o, "sun"));
+    PT_CHECK(t, strcmp(state_of(o, "off"), "kept") == 0, "off is %s", state_of(o, "off"));
+    free(out);
+
+    lg_image img;
+    unsigned bits;
+    if (pt_read(t, "p1.exr", &img, &bits)) {
+        PT_CHECK(t, px(&img, 5)[3] == 1 && px(&img, 6)[3] == 1 && px(&img, 7)[3] == 1 &&
+                     px(&img, 8)[3] == 24,
+                 "p1: lg_scene.features medium %g dir %g point %g triangles %g",
+                 (double)px(&img, 5)[3], (double)px(&img, 6)[3], (double)px(&img, 7)[3],
+                 (double)px(&img, 8)[3]);
+        lg_image_free(&img);
+    }
+    if (pt_read(t, "p2.exr", &img, &bits)) {
+        PT_CHECK(t, px(&img, 5)[3] == 0 && px(&img, 5)[0] == 0,
+                 "p2: medium present %g, features.medium %g", (double)px(&img, 5)[0],
+                 (double)px(&img, 5)[3]);
+        lg_image_free(&img);
+    }
+}
+
+static void gating_case(ptest *t, const char *what, const char *chain, const char *scene,
+                        bool kept, const char *reason)
+{
+    char g[2048];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cube = test_cube {}\n"
+             "%s"
+             "fogfx = test_fog { scene = %s, value = 0.5 }\n"
+             "output fogfx \"fog.exr\"\n",
+             chain, scene);
+    const char *args[] = { "--explain", "--size", "4x2", NULL };
+    char *out = NULL;
+    int rc = render_text(t, g, args, &out);
+    const char *o = out ? out : "";
+    PT_CHECK(t, rc == 0, "%s: render failed: %s", what, o);
+    const char *st = state_of(o, "fogfx");
+    PT_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0, "%s: test_fog is '%s', want %s:\n%s",
+             what, st, kept ? "kept" : "gated", o);
+    if (!kept) {
+        char *l = line_with(o, "fogfx ");
+        PT_CHECK(t, l && strstr(l, reason), "%s: the reason is not '%s': %s", what, reason,
+                 l ? l : "");
+        free(l);
+    }
+    PT_CHECK(t, plugin_loaded(o, "testfog") == kept, "%s: testfog %s:\n%s", what,
+             kept ? "not loaded though kept" : "loaded though gated", o);
+    free(out);
+    lg_image img;
+    if (pt_read(t, "fog.exr", &img, NULL)) {
+        float want = kept ? 0.5f : 0.0f;
+        PT_CHECK(t, img.width == 4 && img.height == 2 && img.pixels[0] == want &&
+                     img.pixels[4 * 7 + 1] == want,
+                 "%s: fog image %ux%u, value %g, want %g", what, img.width, img.height,
+                 (double)img.pixels[0], (double)want);
+        lg_image_free(&img);
+    }
+}
+
+static void case_gating(ptest *t)
+{
+    gating_case(t, "plain cube", "", "cube", false, "no participating medium");
+    gating_case(t, "light only", "sun = light { scene = cube }\n", "sun", false,
+                "no participating medium");
+    gating_case(t, "medium only", "m = medium { scene = cube, density = 0.3 }\n", "m", false,
+                "no light");
+    gating_case(t, "light + medium",
+                "sun = light { scene = cube }\nm = medium { scene = sun, density = 0.3 }\n", "m",
+                true, NULL);
+    gating_case(t, "medium + light",
+                "m = medium { scene = cube, density = 0.3 }\nsun = light { scene = m }\n", "sun",
+                true, NULL);
+    gating_case(t, "density 0 after a medium",
+                "sun = light { scene = cube }\nm = medium { scene = sun, density = 0.3 }\n"
+                "off = medium { scene = m, density = 0 }\n",
+                "off", false, "no participating medium");
+    gating_case(t, "density 0 alone",
+                "sun = light { scene = cube }\noff = medium { scene = sun, density = 0 }\n",
+                "off", false, "no participating medium");
+    gating_case(t, "a camera keeps what it gets",
+                "sun = light { scene = cube }\nm = medium { scene = sun, density = 0.3 }\n"
+                "cam = camera { scene = m }\n",
+                "cam", true, NULL);
+}
+
+/* Depths of the bounds' corners along the view direction lie within [znear, zfar]. */
+static void check_clip(ptest *t, const char *what, const lg_image *img)
+{
+    lg_vec3 eye = px3(img, 0), target = px3(img, 1);
+    lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, 0));
+    lg_vec3 lo = px3(img, 8), hi = px3(img, 9);
+    float zn = px(img, 1)[3], zf = px(img, 2)[3];
+    PT_CHECK(t, zn > 0 && zf > zn, "%s: znear %g zfar %g", what, (double)zn, (double)zf);
+    for (int k = 0; k < 8; k++) {
+        lg_vec3 c = lg_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+        float d = lg_v3_dot(lg_v3_sub(c, eye), f);
+        PT_CHECK(t, d >= zn && d <= zf, "%s: corner %d at depth %g outside [%g, %g]", what, k,
+                 (double)d, (double)zn, (double)zf);
+    }
+}
+
+static void check_up(ptest *t, const char *what, const lg_image *img)
+{
+    lg_vec3 eye = px3(img, 0), target = px3(img, 1), up = px3(img, 2);
+    lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, 0));
+    PT_CHECK(t, fabsf(lg_v3_length(up) - 1) < 1e-5f, "%s: |up| = %g", what,
+             (double)lg_v3_length(up));
+    PT_CHECK(t, fabsf(lg_v3_dot(up, f)) < 1e-5f, "%s: up . view = %g", what,
+             (double)lg_v3_dot(up, f));
+}
+
+static void case_look_at(ptest *t)
+{
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube { half_size = [1, 0.5, 2] }\n"
+        "cam = camera { scene = cube, mode = look_at, position = [1, 2, 6], target = [0.5, 0, 0],\n"
+        "               fov_deg = 60, aspect = 2 }\n"
+        "probe = test_scene_probe { scene = cam }\n"
+        "output probe \"probe.exr\"\n";
+    lg_image img;
+    if (!run_probe(t, g, NULL, &img))
+        return;
+    PT_CHECK(t, near3(px3(&img, 0), lg_v3(1, 2, 6), 0), "position");
+    PT_CHECK(t, near3(px3(&img, 1), lg_v3(0.5f, 0, 0), 0), "target");
+    PT_CHECK(t, fabs(px(&img, 0)[3] - 60 * DEG) < 1e-6, "yfov %g", (double)px(&img, 0)[3]);
+    PT_CHECK(t, px(&img, 3)[3] == 2, "aspect %g", (double)px(&img, 3)[3]);
+    PT_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0,
+             "the active camera is replaced: %g cameras, active %g", (double)px(&img, 3)[1],
+             (double)px(&img, 3)[2]);
+    check_up(t, "look_at", &img);
+    /* up stays in the plane of the view direction and world up, on world up's side */
+    lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(px3(&img, 1), px3(&img, 0)), lg_v3(0, 0, 0));
+    lg_vec3 side = lg_v3_cross(f, lg_v3(0, 1, 0));
+    PT_CHECK(t, fabsf(lg_v3_dot(px3(&img, 2), side)) < 1e-5f && px(&img, 2)[1] > 0,
+             "up leaves the plane of view and world up");
+    check_clip(t, "look_at", &img);
+    lg_image_free(&img);
+
+    /* a scene without a camera gets one */
+    const char *g1 =
+        "lightgraph 1\n"
+        "cube = test_cube { camera = false }\n"
+        "cam = camera { scene = cube, mode = look_at, position = [0, 0, 7] }\n"
+        "probe = test_scene_probe { scene = cam }\n"
+        "output probe \"probe.exr\"\n";
+    if (run_probe(t, g1, NULL, &img)) {
+        PT_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0 &&
+                     near3(px3(&img, 0), lg_v3(0, 0, 7), 0),
+                 "no camera: %g cameras, active %g", (double)px(&img, 3)[1],
+                 (double)px(&img, 3)[2]);
+        lg_image_free(&img);
+    }
+
+    /* explicit planes are kept; a camera inside the box gets a usable near plane */
+    const char *g2 =
+        "lightgraph 1\n"
+        "cube = test_cube { half_size = [3, 3, 3] }\n"
+        "cam = camera { scene = cube, mode = look_at, position = [0, 0, 1], target = [0, 0, 0],\n"
+        "               znear = 0.25, zfar = 40 }\n"
+        "cam2 = camera { scene = cube, mode = look_at, position = [0, 0, 1], target = [0, 0, 0] }\n"
+        "probe = test_scene_probe { scene = cam }\n"
+        "probe2 = test_scene_probe { scene = cam2 }\n"
+        "output probe \"probe.exr\"\n"
+        "output probe2 \"probe2.exr\"\n";
+    if (!run_probe(t, g2, NULL, &img))
+        return;
+    PT_CHECK(t, px(&img, 1)[3] == 0.25f && px(&img, 2)[3] == 40, "explicit planes %g %g",
+             (double)px(&img, 1)[3], (double)px(&img, 2)[3]);
+    lg_image_free(&img);
+    if (pt_read(t, "probe2.exr", &img, NULL)) {
+        float zn = px(&img, 1)[3], zf = px(&img, 2)[3];
+        /* farthest corner: 3 + 1 = 4 along -Z, plus the 1 % margin */
+        PT_CHECK(t, fabsf(zf - 4.04f) < 1e-4f && zn > 0 && fabsf(zn - zf * 1e-3f) < 1e-6f,
+                 "inside the box: znear %g zfar %g", (double)zn, (double)zf);
+        lg_image_free(&img);
+    }
+}
+
+/* Projects the bounds' corners with the probe's camera at `aspect`: all inside clip space. */
+static void check_framed(ptest *t, const char *what, const lg_image *img, float aspect)
+{
+    float view[16], proj[16], vp[16];
+    lg_m4_look_at(view, px3(img, 0), px3(img, 1), px3(img, 2));
+    lg_m4_perspective(proj, px(img, 0)[3], aspect, px(img, 1)[3], px(img, 2)[3]);
+    lg_m4_mul(vp, proj, view);
+    lg_vec3 lo = px3(img, 8), hi = px3(img, 9);
+    float maxabs = 0;
+    for (int k = 0; k < 8; k++) {
+        float p[4] = { k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1 }, c[4];
+        for (int r = 0; r < 4; r++)
+            c[r] = vp[r] * p[0] + vp[4 + r] * p[1] + vp[8 + r] * p[2] + vp[12 + r] * p[3];
+        PT_CHECK(t, c[3] > 0, "%s: corner %d behind the camera", what, k);
+        if (!(c[3] > 0))
+            continue;
+        for (int a = 0; a < 3; a++) {
+            float ndc = c[a] / c[3];
+            PT_CHECK(t, ndc >= -1 && ndc <= 1, "%s: corner %d: ndc[%d] = %g outside [-1, 1]",
+                     what, k, a, (double)ndc);
+            if (a < 2 && fabsf(ndc) > maxabs)
+                maxabs = fabsf(ndc);
+        }
+    }
+    /* the fit is not wasteful either: the scene fills a good part of the image */
+    PT_CHECK(t, maxabs > 0.3f, "%s: the scene spans only %g of the half image", what,
+             (double)maxabs);
+}
+
+static void case_orbit(ptest *t)
+{
+    static const struct {
+        double az, el, fov;
+        int w, h;
+    } v[] = {
+        { 0, 20, 45, 64, 32 },   { 135, -30, 45, 32, 96 }, { 45, 90, 60, 64, 64 },
+        { -60, -90, 30, 50, 50 }, { 300, 5, 120, 200, 20 }, { 10, 89.99, 45, 40, 30 },
+    };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        char g[1024], what[128], size[32];
+        snprintf(what, sizeof what, "orbit az %g el %g fov %g %dx%d", v[i].az, v[i].el, v[i].fov,
+                 v[i].w, v[i].h);
+        snprintf(g, sizeof g,
+                 "lightgraph 1\n"
+                 "cube = test_cube { instances = 3, half_size = [1, 2, 0.5], center = [5, -1, 2] }\n"
+                 "cam = camera { scene = cube, mode = orbit, azimuth_deg = %.17g,\n"
+                 "               elevation_deg = %.17g, fov_deg = %.17g }\n"
+                 "probe = test_scene_probe { scene = cam }\n"
+                 "output probe \"probe.exr\"\n",
+                 v[i].az, v[i].el, v[i].fov);
+        snprintf(size, sizeof size, "%dx%d", v[i].w, v[i].h);
+        const char *args[] = { "--size", size, NULL };
+        lg_image img;
+        if (!run_probe(t, g, args, &img))
+            continue;
+        lg_vec3 lo = px3(&img, 8), hi = px3(&img, 9);
+        lg_vec3 c = lg_v3_scale(lg_v3_add(lo, hi), 0.5f);
+        float r = 0.5f * lg_v3_length(lg_v3_sub(hi, lo));
+        PT_CHECK(t, near3(px3(&img, 1), c, 1e-5f), "%s: target is not the bounds' centre", what);
+        /* the documented distance: 1.1 r / sin(min(half fov y, half fov x)) */
+        double a = (double)v[i].w / v[i].h, hy = 0.5 * v[i].fov * DEG, hx = atan(tan(hy) * a);
+        double want = 1.1 * r / sin(hx < hy ? hx : hy);
+        lg_vec3 off = lg_v3_sub(px3(&img, 0), c);
+        double got = lg_v3_length(off);
+        PT_CHECK(t, fabs(got - want) < 1e-4 * want, "%s: distance %g, want %g", what, got, want);
+        double az = v[i].az * DEG, el = v[i].el * DEG;
+        lg_vec3 dir = lg_v3((float)(cos(el) * sin(az)), (float)sin(el), (float)(cos(el) * cos(az)));
+        PT_CHECK(t, near3(lg_v3_scale(off, 1.0f / (float)got), dir, 1e-5f),
+                 "%s: the camera is not at the azimuth and elevation", what);
+        check_up(t, what, &img);
+        check_framed(t, what, &img, (float)a);
+        check_clip(t, what, &img);
+        lg_image_free(&img);
+    }
+
+    /* the pole keeps the orientation of its neighbourhood: up at 90 is the limit of 89.99 */
+    lg_image a, b;
+    const char *ga = "lightgraph 1\ncube = test_cube {}\n"
+                     "cam = camera { scene = cube, azimuth_deg = 30, elevation_deg = 90 }\n"
+                     "probe = test_scene_probe { scene = cam }\noutput probe \"probe.exr\"\n";
+    const char *gb = "lightgraph 1\ncube = test_cube {}\n"
+                     "cam = camera { scene = cube, azimuth_deg = 30, elevation_deg = 89.99 }\n"
+                     "probe = test_scene_probe { scene = cam }\noutput probe \"probe.exr\"\n";
+    if (run_probe(t, ga, NULL, &a)) {
+        if (run_probe(t, gb, NULL, &b)) {
+            PT_CHECK(t, near3(px3(&a, 2), px3(&b, 2), 1e-3f), "up at the pole jumps");
+            lg_image_free(&b);
+        }
+        lg_image_free(&a);
+    }
+
+    /* an explicit distance is in bounding radii (default elevation 20, azimuth 0) */
+    const char *g = "lightgraph 1\ncube = test_cube { half_size = [1, 2, 2] }\n"
+                    "cam = camera { scene = cube, mode = orbit, distance = 3 }\n"
+                    "probe = test_scene_probe { scene = cam }\noutput probe \"probe.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        lg_vec3 e = px3(&img, 0);
+        PT_CHECK(t, near3(e, lg_v3(0, 9 * (float)sin(20 * DEG), 9 * (float)cos(20 * DEG)), 1e-5f),
+                 "distance 3 x radius 3: eye [%g, %g, %g]", (double)e.x, (double)e.y,
+                 (double)e.z);
+        check_clip(t, "distance 3", &img);
+        lg_image_free(&img);
+    }
+}
+
+static void check_light(ptest *t, const lg_image *img, uint32_t i, int type, lg_vec3 dir,
+                        lg_vec3 color, float intensity, lg_vec3 pos, float range)
+{
+    uint32_t x = 10 + 3 * i;
+    PT_CHECK(t, px(img, x)[3] == (float)type, "light %u: type %g, want %d", i,
+             (double)px(img, x)[3], type);
+    PT_CHECK(t, near3(px3(img, x), dir, 1e-6f), "light %u: direction [%g, %g, %g]", i,
+             (double)px(img, x)[0], (double)px(img, x)[1], (double)px(img, x)[2]);
+    PT_CHECK(t, near3(px3(img, x + 1), color, 0) && px(img, x + 1)[3] == intensity,
+             "light %u: colour or intensity", i);
+    PT_CHECK(t, near3(px3(img, x + 2), pos, 0) && px(img, x + 2)[3] == range,
+             "light %u: position or range", i);
+}
+
+static void case_lights(ptest *t)
+{
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube {}\n"
+        "l1 = light { scene = cube, direction = [3, -4, 0], color = [1, 0.5, 0.25], intensity = 3 }\n"
+        "l2 = light { scene = l1, type = point, position = [0, 4, 1], range = 10, intensity = 50 }\n"
+        "l3 = light { scene = l2, direction = [0, 0, -2] }\n"
+        "probe = test_scene_probe { scene = l3 }\n"
+        "output probe \"probe.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        PT_CHECK(t, px(&img, 3)[0] == 3 && img.width == 10 + 9, "3 lights: %g",
+                 (double)px(&img, 3)[0]);
+        PT_CHECK(t, px(&img, 6)[3] == 2 && px(&img, 7)[3] == 1, "features: %g dir, %g point",
+                 (double)px(&img, 6)[3], (double)px(&img, 7)[3]);
+        lg_vec3 z = lg_v3(0, 0, 0), w = lg_v3(1, 1, 1);
+        check_light(t, &img, 0, 0, lg_v3(0.6f, -0.8f, 0), lg_v3(1, 0.5f, 0.25f), 3, z, 0);
+        check_light(t, &img, 1, 1, z, w, 50, lg_v3(0, 4, 1), 10);
+        check_light(t, &img, 2, 0, lg_v3(0, 0, -1), w, 1, z, 0);
+        lg_image_free(&img);
+    }
+    const char *g2 =
+        "lightgraph 1\n"
+        "cube = test_cube {}\n"
+        "l1 = light { scene = cube }\n"
+        "l2 = light { scene = l1, direction = [1, 0, 0] }\n"
+        "l3 = light { scene = l2, mode = replace, direction = [0, 0, 5], color = [2, 2, 2] }\n"
+        "probe = test_scene_probe { scene = l3 }\n"
+        "output probe \"probe.exr\"\n";
+    if (run_probe(t, g2, NULL, &img)) {
+        PT_CHECK(t, px(&img, 3)[0] == 1 && img.width == 13, "replace leaves %g lights",
+                 (double)px(&img, 3)[0]);
+        check_light(t, &img, 0, 0, lg_v3(0, 0, 1), lg_v3(2, 2, 2), 1, lg_v3(0, 0, 0), 0);
+        lg_image_free(&img);
+    }
+}
+
+static void case_medium(ptest *t)
+{
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube {}\n"
+        "m = medium { scene = cube, density = 0.5, scattering = [0.1, 0.2, 0.3],\n"
+        "             absorption = [0.01, 0.02, 0.03], g = 0.4 }\n"
+        "probe = test_scene_probe { scene = m }\n"
+        "output probe \"probe.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        const float *m = px(&img, 5);
+        PT_CHECK(t, m[0] == 1 && m[1] == 0.5f && m[2] == 0.4f && m[3] == 1,
+                 "medium present %g density %g g %g feature %g", (double)m[0], (double)m[1],
+                 (double)m[2], (double)m[3]);
+        PT_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.2f, 0.3f), 0), "scattering");
+        PT_CHECK(t, near3(px3(&img, 7), lg_v3(0.01f, 0.02f, 0.03f), 0), "absorption");
+        lg_image_free(&img);
+    }
+    /* defaults, then replaced by a second node */
+    const char *g2 =
+        "lightgraph 1\n"
+        "cube = test_cube {}\n"
+        "m = medium { scene = cube }\n"
+        "m2 = medium { scene = m, density = 2, g = -0.5 }\n"
+        "probe = test_scene_probe { scene = m }\n"
+        "probe2 = test_scene_probe { scene = m2 }\n"
+        "output probe \"probe.exr\"\n"
+        "output probe2 \"probe2.exr\"\n";
+    if (run_probe(t, g2, NULL, &img)) {
+        const float *m = px(&img, 5);
+        PT_CHECK(t, m[0] == 1 && m[1] == 1 && m[2] == 0, "default medium: %g %g %g",
+                 (double)m[0], (double)m[1], (double)m[2]);
+        PT_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.1f, 0.1f), 0), "default scattering");
+        lg_image_free(&img);
+        if (pt_read(t, "probe2.exr", &img, NULL)) {
+            PT_CHECK(t, px(&img, 5)[1] == 2 && px(&img, 5)[2] == -0.5f, "replaced medium");
+            lg_image_free(&img);
+        }
+    }
+}
+
+static void case_sharing(ptest *t)
+{
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube { instances = 4 }\n"
+        "cam = camera { scene = cube }\n"
+        "sun = light { scene = cam }\n"
+        "fog = medium { scene = sun }\n"
+        "probe = test_scene_probe { scene = fog, source = cube }\n"
+        "self = test_scene_probe { scene = cube, source = cube }\n"
+        "output probe \"probe.exr\"\n"
+        "output self \"self.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        const float *s = px(&img, 4);
+        PT_CHECK(t, s[0] == 1, "the third derived scene's geometry is not the source's resource");
+        PT_CHECK(t, s[1] == 1, "meshes, instances or materials were copied");
+        PT_CHECK(t, s[3] == 4 && px(&img, 8)[3] == 48 && px(&img, 9)[3] == 0,
+                 "instances %g, triangles %g, geometry NULL %g", (double)s[3],
+                 (double)px(&img, 8)[3], (double)px(&img, 9)[3]);
+        lg_image_free(&img);
+    }
+    if (pt_read(t, "self.exr", &img, NULL)) {
+        PT_CHECK(t, px(&img, 4)[0] == 0 && px(&img, 9)[3] == 1,
+                 "the source owns its geometry (geometry NULL)");
+        lg_image_free(&img);
+    }
+}
+
+static void case_sharing_gl(ptest *t)
+{
+    pt_require_backend("gl");
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube { instances = 2 }\n"
+        "sun = light { scene = cube }\n"
+        "cam = camera { scene = sun }\n"
+        "probe = test_scene_probe { scene = cam, source = cube, gl = true }\n"
+        "output probe \"probe.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        PT_CHECK(t, px(&img, 4)[2] == 1, "the GL buffers of mesh 0 differ (%g)",
+                 (double)px(&img, 4)[2]);
+        lg_image_free(&img);
+    }
+}
+
+/* Exit status `code`: 1 for a node's error (prepare), 2 for the graph checker's (ranges,
+ * enum values); the output holds every string of `msgs`. */
+static void expect_error(ptest *t, const char *what, int code, const char *nodes,
+                         const char *const *msgs)
+{
+    char g[2048];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cube = test_cube {}\n"
+             "empty = test_cube { instances = 0 }\n"
+             "desc = test_scene {}\n"
+             "%s"
+             "probe = test_scene_probe { scene = bad }\n"
+             "output probe \"probe.exr\"\n",
+             nodes);
+    char *out = NULL;
+    int rc = render_text(t, g, NULL, &out);
+    const char *o = out ? out : "";
+    PT_CHECK(t, rc == code, "%s: exit %d, want %d: %s", what, rc, code, o);
+    for (int i = 0; msgs[i]; i++)
+        PT_CHECK(t, strstr(o, msgs[i]) != NULL, "%s: the message lacks '%s': %s", what, msgs[i],
+                 o);
+    free(out);
+}
+
+static void case_errors(ptest *t)
+{
+    expect_error(t, "zero direction", 1, "bad = light { scene = cube, direction = [0, 0, 0] }\n",
+                 (const char *const[]){ "'bad'", "direction = [0, 0, 0] is the zero vector",
+                                        NULL });
+    expect_error(t, "fov 180", 1, "bad = camera { scene = cube, fov_deg = 180 }\n",
+                 (const char *const[]){ "'bad'", "fov_deg = 180", "inside (0, 180)", NULL });
+    expect_error(t, "fov 0", 1, "bad = camera { scene = cube, mode = look_at, fov_deg = 0 }\n",
+                 (const char *const[]){ "fov_deg = 0", "inside (0, 180)", NULL });
+    expect_error(t, "fov 200", 2, "bad = camera { scene = cube, fov_deg = 200 }\n",
+                 (const char *const[]){ "fov_deg", "200", "out of range", NULL });
+    expect_error(t, "target == position", 1,
+                 "bad = camera { scene = cube, mode = look_at, position = [1, 2, 3],"
+                 " target = [1, 2, 3] }\n",
+                 (const char *const[]){ "'bad'", "is the camera's position", NULL });
+    expect_error(t, "up parallel", 1,
+                 "bad = camera { scene = cube, mode = look_at, position = [0, 5, 0],"
+                 " target = [0, 0, 0] }\n",
+                 (const char *const[]){ "'bad'", "parallel to the view direction", NULL });
+    expect_error(t, "up zero", 1,
+                 "bad = camera { scene = cube, mode = look_at, up = [0, 0, 0] }\n",
+                 (const char *const[]){ "up = [0, 0, 0] is the zero vector", NULL });
+    expect_error(t, "orbit without geometry", 1, "bad = camera { scene = empty }\n",
+                 (const char *const[]){ "'bad'", "empty bounds", "mode = look_at", NULL });
+    expect_error(t, "zfar before znear", 1, "bad = camera { scene = cube, znear = 10, zfar = 5 }\n",
+                 (const char *const[]){ "zfar = 5 is not beyond znear = 10", NULL });
+    expect_error(t, "znear past the scene", 1, "bad = camera { scene = cube, znear = 1000 }\n",
+                 (const char *const[]){ "znear = 1000", "set zfar as well", NULL });
+    expect_error(t, "g out of range", 2, "bad = medium { scene = cube, g = 0.995 }\n",
+                 (const char *const[]){ "g = 0.995", "out of range", NULL });
+    expect_error(t, "negative density", 2, "bad = medium { scene = cube, density = -1 }\n",
+                 (const char *const[]){ "density", "out of range", NULL });
+    expect_error(t, "negative intensity", 2, "bad = light { scene = cube, intensity = -1 }\n",
+                 (const char *const[]){ "intensity", "out of range", NULL });
+    expect_error(t, "unknown light type", 2, "bad = light { scene = cube, type = spot }\n",
+                 (const char *const[]){ "spot", "directional, point", NULL });
+    expect_error(t, "a scene without data", 1, "bad = light { scene = desc }\n",
+                 (const char *const[]){ "'bad'", "no scene data", NULL });
+    expect_error(t, "huge position", 1,
+                 "bad = light { scene = cube, type = point, position = [1e39, 0, 0] }\n",
+                 (const char *const[]){ "'bad'", "not a finite single-precision number", NULL });
+}
+
+int main(int argc, char **argv)
+{
+    static const struct {
+        const char *name;
+        void (*run)(ptest *);
+    } cases[] = {
+        { "features", case_features }, { "gating", case_gating },
+        { "look_at", case_look_at },   { "orbit", case_orbit },
+        { "lights", case_lights },     { "medium", case_medium },
+        { "sharing", case_sharing },   { "sharing_gl", case_sharing_gl },
+        { "errors", case_errors },
+    };
+    if (argc != 2) {
+        fprintf(stderr, "usage: test_scene_tools CASE\n");
+        return 99;
+    }
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        if (strcmp(argv[1], cases[i].name) == 0) {
+            ptest t;
+            pt_init(&t, cases[i].name);
+            use_test_plugins(&t);
+            cases[i].run(&t);
+            return pt_finish(&t);
+        }
+    }
+    fprintf(stderr, "test_scene_tools: unknown case '%s'\n", argv[1]);
+    return 99;
+}
