@@ -1,0 +1,155 @@
+/*
+ * tests/fuzz/fuzz_gltf.c: the `gltf` node's loader (plugins/scene_gltf: gltf_load.c,
+ * gltf_normals.c, and tinygltf and libdraco behind gltf_shim.cpp) on arbitrary bytes.
+ *
+ * Each input is loaded from memory with lg_gltf_load_memory, named .glb or .gltf and with
+ * normals auto, smooth or flat by turns, with no folder for external buffers. A load must
+ * either fail with a message naming the file, or return a scene whose every index is in
+ * range and whose every position and normal is finite (normals unit length); anything else
+ * aborts, and the sanitizers catch the rest.
+ *
+ * A failed check prints what failed and aborts; LG_FUZZ_DUMP=FILE also writes the input to
+ * FILE, to replay it with `fuzz_gltf FILE`.
+ *
+ * Built with -Dfuzzing=true (clang) this is a libFuzzer target. Otherwise main() below
+ * hands the corpus (tests/fuzz/corpus_gltf, see its README) to the plain driver
+ * (fuzz_driver.h) with a dictionary of glTF tokens:
+ *
+ *     fuzz_gltf [-n MUTATIONS_PER_FILE] CORPUS_DIR_OR_FILE...
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fuzz_driver.h"
+#include "gltf_load.h"
+
+static unsigned long n_runs, n_ok;
+static const uint8_t *cur_data;
+static size_t cur_size;
+
+/* Stops with the input that did it; with LG_FUZZ_DUMP=FILE set, writes the input there. */
+static void bad(const char *what)
+{
+    fprintf(stderr, "fuzz_gltf: %s (input %lu, %zu bytes)\n", what, n_runs - 1, cur_size);
+    const char *dump = getenv("LG_FUZZ_DUMP");
+    FILE *f = dump && *dump ? fopen(dump, "wb") : NULL;
+    if (f) {
+        fwrite(cur_data, 1, cur_size, f);
+        fclose(f);
+        fprintf(stderr, "fuzz_gltf: input written to %s\n", dump);
+    }
+    abort();
+}
+
+static void check_scene(const lg_scene *s)
+{
+    if (s->struct_size != sizeof *s || !s->n_materials || !s->n_cameras || s->camera >= s->n_cameras)
+        bad("scene without materials or cameras");
+    uint64_t tris = 0;
+    for (uint32_t i = 0; i < s->n_instances; i++) {
+        if (s->instances[i].mesh >= s->n_meshes)
+            bad("instance of a mesh that does not exist");
+        tris += s->meshes[s->instances[i].mesh].n_indices / 3;
+        for (int k = 0; k < 16; k++)
+            if (!isfinite(s->instances[i].model[k]))
+                bad("non-finite instance matrix");
+    }
+    if (tris != s->features.triangles)
+        bad("features.triangles disagrees with the instances");
+    for (uint32_t i = 0; i < s->n_meshes; i++) {
+        const lg_mesh *m = &s->meshes[i];
+        if (m->material >= s->n_materials || m->n_indices % 3 || !m->name)
+            bad("mesh material, index count or name");
+        for (uint32_t k = 0; k < m->n_indices; k++)
+            if (m->indices[k] >= m->n_vertices)
+                bad("index out of range");
+        for (uint32_t v = 0; v < m->n_vertices; v++) {
+            const float *p = m->positions + 3 * (size_t)v, *n = m->normals + 3 * (size_t)v;
+            float l = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+            if (!isfinite(p[0] + p[1] + p[2]) || !(fabsf(l - 1) < 1e-3f))
+                bad("non-finite position or non-unit normal");
+            if (m->texcoords && !isfinite(m->texcoords[2 * (size_t)v] + m->texcoords[2 * (size_t)v + 1]))
+                bad("non-finite texture coordinate");
+        }
+    }
+    for (uint32_t i = 0; i < s->n_lights; i++) {
+        const lg_light *l = &s->lights[i];
+        if (!isfinite(l->direction[0] + l->direction[1] + l->direction[2] + l->position[0] + l->position[1] +
+                      l->position[2] + l->intensity))
+            bad("non-finite light");
+    }
+    for (uint32_t i = 0; i < s->n_cameras; i++) {
+        const lg_camera *c = &s->cameras[i];
+        if (!isfinite(c->position[0] + c->position[1] + c->position[2] + c->target[0] + c->target[1] +
+                      c->target[2] + c->yfov))
+            bad("non-finite camera");
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    unsigned long run = n_runs++;
+    cur_data = data;
+    cur_size = size;
+    lg_gltf_options opt = lg_gltf_default_options();
+    opt.normals = (lg_gltf_normals)(run % 3);
+    opt.crease_deg = run % 2 ? 60 : 120;
+    const char *name = size >= 4 && !memcmp(data, "glTF", 4) ? "in.glb" : run % 5 == 0 ? "in.glb" : "in.gltf";
+    char err[1024];
+    err[0] = 0;
+    lg_scene *s = NULL;
+    uint64_t hash = 0;
+    int rc = lg_gltf_load_memory(data, size, name, NULL, &opt, &s, &hash, err, sizeof err);
+    if (rc) {
+        if (rc >= 0 || s || strncmp(err, "file 'in.gl", 11) != 0)
+            bad("a failure without a message naming the file, or with a scene");
+        return 0;
+    }
+    n_ok++;
+    check_scene(s);
+    lg_gltf_scene_free(s);
+    return 0;
+}
+
+#ifndef LG_FUZZ_ENGINE
+
+/* Pieces of glTF JSON and GLB for the driver's "insert a token" edit: property names the
+ * loader reads, boundary numbers, chunk types. */
+static const lg_fuzz_token tokens[] = {
+    LG_FUZZ_TOKEN("\"bufferView\":"), LG_FUZZ_TOKEN("\"byteOffset\":"), LG_FUZZ_TOKEN("\"byteLength\":"),
+    LG_FUZZ_TOKEN("\"byteStride\":"), LG_FUZZ_TOKEN("\"count\":"), LG_FUZZ_TOKEN("\"componentType\":"),
+    LG_FUZZ_TOKEN("\"type\":\"VEC3\""), LG_FUZZ_TOKEN("\"type\":\"SCALAR\""), LG_FUZZ_TOKEN("\"indices\":"),
+    LG_FUZZ_TOKEN("\"mode\":"), LG_FUZZ_TOKEN("\"children\":["), LG_FUZZ_TOKEN("\"mesh\":"),
+    LG_FUZZ_TOKEN("\"matrix\":["), LG_FUZZ_TOKEN("\"rotation\":["), LG_FUZZ_TOKEN("\"sparse\":{"),
+    LG_FUZZ_TOKEN("\"normalized\":true"), LG_FUZZ_TOKEN("\"KHR_draco_mesh_compression\""),
+    LG_FUZZ_TOKEN("\"KHR_lights_punctual\""), LG_FUZZ_TOKEN("\"extensionsRequired\":["),
+    LG_FUZZ_TOKEN("\"extras\":{\"medium\":{"), LG_FUZZ_TOKEN("\"camera\":"), LG_FUZZ_TOKEN("\"scene\":"),
+    LG_FUZZ_TOKEN("\"material\":"), LG_FUZZ_TOKEN("\"uri\":\"data:application/octet-stream;base64,"),
+    LG_FUZZ_TOKEN("5120"), LG_FUZZ_TOKEN("5121"), LG_FUZZ_TOKEN("5123"), LG_FUZZ_TOKEN("5125"),
+    LG_FUZZ_TOKEN("5126"), LG_FUZZ_TOKEN("5127"), LG_FUZZ_TOKEN("-1"), LG_FUZZ_TOKEN("4294967295"),
+    LG_FUZZ_TOKEN("2147483647"), LG_FUZZ_TOKEN("1e308"), LG_FUZZ_TOKEN("[[[[[[[["),
+    LG_FUZZ_TOKEN("glTF\x02\0\0\0"), LG_FUZZ_TOKEN("JSON"), LG_FUZZ_TOKEN("BIN\0"), LG_FUZZ_TOKEN("DRACO"),
+};
+
+static void summary(FILE *out)
+{
+    fprintf(out, "%lu loaded", n_ok);
+}
+
+int main(int argc, char **argv)
+{
+    static const lg_fuzz_target target = {
+        .name = "fuzz_gltf",
+        .mutations = 300,
+        .tokens = tokens,
+        .n_tokens = sizeof tokens / sizeof *tokens,
+        .head = 0,
+        .summary = summary,
+    };
+    return lg_fuzz_main(argc, argv, &target);
+}
+
+#endif

@@ -1,0 +1,183 @@
+/*
+ * test_gltf_host: the `gltf` node through the host, as a user runs it (`lightgraph render
+ * --explain`), with the test plugin `test_fog` (tests/plugins/testnodes: needs a medium
+ * and a light) downstream.
+ *
+ *   test_gltf_host CASE
+ *
+ *   explain        --explain prints the bunny box's scene features; test_fog is gated (no
+ *                  medium) and its plugin never loaded
+ *   medium         a scene with a medium and a light: test_fog runs and writes its value
+ *   errors         bad files and parameters: exit status 1, the node and the file named
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ptest.h"
+
+#ifndef PT_TESTNODES_DIR
+#define PT_TESTNODES_DIR ""
+#endif
+
+static void need_testnodes(void)
+{
+    if (!*PT_TESTNODES_DIR) {
+        fprintf(stderr, "test plugins not built: skipped\n");
+        exit(77);
+    }
+    setenv("LIGHTGRAPH_PLUGIN_PATH", PT_TESTNODES_DIR, 1);
+}
+
+static const char *asset(const char *rel)
+{
+    const char *p = pt_asset(rel);
+    if (!p) {
+        fprintf(stderr, "asset %s missing: skipped\n", rel);
+        exit(77);
+    }
+    return p;
+}
+
+/* The line of `s` that starts with `prefix`, or "". */
+static void line_of(const char *s, const char *prefix, char *out, size_t size)
+{
+    out[0] = 0;
+    for (const char *l = s; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+        if (!strncmp(l, prefix, strlen(prefix))) {
+            size_t n = strcspn(l, "\n");
+            snprintf(out, size, "%.*s", (int)n, l);
+            return;
+        }
+}
+
+static void case_explain(ptest *t)
+{
+    need_testnodes();
+    char *g = NULL;
+    if (asprintf(&g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                     "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n",
+                 asset("meshes/bunny_cornell_box.glb")) < 0)
+        exit(99);
+    pt_write_text(t, "g.lgraph", g);
+    free(g);
+    const char *args[] = {"--explain", "--size", "8x4", NULL};
+    char *out = NULL;
+    PT_CHECK(t, pt_render(t, "g.lgraph", args, &out) == 0, "render failed");
+    const char *s = out ? out : "";
+    PT_CHECK(t, strstr(s, "scene features (scene): triangles 5009, vertices "), "no scene features: %s", s);
+    PT_CHECK(t, strstr(s, "lights: 0 directional, 0 point, 0 other; medium no (density 0); probe no; "
+                          "specular material yes"), "features: %s", s);
+    PT_CHECK(t, strstr(s, "gated") && strstr(s, "no participating medium"), "fog was not gated: %s", s);
+    char loaded[512], not_loaded[512];
+    line_of(s, "plugins loaded:", loaded, sizeof loaded);
+    line_of(s, "plugins not loaded:", not_loaded, sizeof not_loaded);
+    PT_CHECK(t, strstr(loaded, "scene_gltf") && !strstr(loaded, "testfog") && strstr(not_loaded, "testfog"),
+             "testfog was loaded although gated, or scene_gltf was not: '%s' / '%s'", loaded, not_loaded);
+    free(out);
+    /* the neutral result: a black image */
+    lg_image img;
+    if (pt_read(t, "out.exr", &img, NULL)) {
+        PT_CHECK(t, img.width == 8 && img.height == 4 && img.pixels[0] == 0, "neutral output");
+        lg_image_free(&img);
+    }
+    /* --set overrides the file: the Draco variant gives the same features */
+    const char *args2[] = {"--explain", "--size", "8x4", "--set", NULL, NULL};
+    char *set = NULL;
+    if (asprintf(&set, "scene.file=%s", asset("meshes/bunny_cornell_box_draco.glb")) < 0)
+        exit(99);
+    args2[4] = set;
+    PT_CHECK(t, pt_render(t, "g.lgraph", args2, &out) == 0, "render with the Draco file failed");
+    PT_CHECK(t, out && strstr(out, "scene features (scene): triangles 5009"), "%s", out ? out : "");
+    free(out);
+    free(set);
+}
+
+static void case_medium(ptest *t)
+{
+    need_testnodes();
+    /* one triangle, a directional light and a medium on the scene */
+    static const char gltf[] =
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+        "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
+        "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0},{\"extensions\":{"
+        "\"KHR_lights_punctual\":{\"light\":0}}}],\"scenes\":[{\"nodes\":[0,1],\"extras\":{\"medium\":"
+        "{\"density\":0.25,\"scattering\":[0.1,0.1,0.1],\"absorption\":0.01,\"g\":0.4}}}],"
+        "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":\"directional\",\"intensity\":2}]}}}";
+    pt_write_text(t, "fog.gltf", gltf);
+    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    FILE *f = fopen(pt_path(t, "tri.bin"), "wb");
+    if (!f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f))
+        exit(99);
+    pt_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { file = \"fog.gltf\" }\n"
+                                 "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n");
+    const char *args[] = {"--explain", "--size", "4x2", NULL};
+    char *out = NULL;
+    PT_CHECK(t, pt_render(t, "g.lgraph", args, &out) == 0, "render failed");
+    const char *s = out ? out : "";
+    PT_CHECK(t, strstr(s, "scene features (scene): triangles 1, vertices 3, lights: 1 directional, 0 point, "
+                          "0 other; medium yes (density 0.25)"), "features: %s", s);
+    PT_CHECK(t, !strstr(s, "gated"), "fog was gated: %s", s);
+    free(out);
+    lg_image img;
+    if (pt_read(t, "out.exr", &img, NULL)) {
+        PT_CHECK(t, img.pixels[0] == 0.5f, "fog did not run: %g", img.pixels[0]);
+        lg_image_free(&img);
+    }
+}
+
+static void case_errors(ptest *t)
+{
+    static const struct {
+        const char *file, *content, *want;
+    } cases[] = {
+        {"short.glb", "glTF\x02\0\0\0\xff\xff\0\0", "truncated GLB"},
+        {"bad.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsRequired\":[\"EXT_meshopt_compression\"]}",
+         "requires extension 'EXT_meshopt_compression'"},
+        {"missing.gltf", "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":4,\"uri\":\"nope.bin\"}]}",
+         "nope.bin"},
+        {"nothing.gltf", NULL, "cannot open"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        if (cases[i].content)
+            pt_write_text(t, cases[i].file, cases[i].content);
+        char g[512];
+        snprintf(g, sizeof g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                              "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n", cases[i].file);
+        pt_write_text(t, "g.lgraph", g);
+        char *out = NULL;
+        need_testnodes();
+        int rc = pt_render(t, "g.lgraph", NULL, &out);
+        PT_CHECK(t, rc == 1, "%s: exit %d, want 1", cases[i].file, rc);
+        PT_CHECK(t, out && strstr(out, cases[i].file) && strstr(out, cases[i].want) && strstr(out, "scene"),
+                 "%s: the message names neither the node, the file nor the reason: %s", cases[i].file,
+                 out ? out : "");
+        free(out);
+    }
+    pt_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { }\nfog = test_fog { scene = scene }\n"
+                                 "output fog \"out.exr\"\n");
+    char *out = NULL;
+    PT_CHECK(t, pt_render(t, "g.lgraph", NULL, &out) == 1, "empty file parameter accepted");
+    PT_CHECK(t, out && strstr(out, "parameter 'file' is empty"), "%s", out ? out : "");
+    free(out);
+}
+
+int main(int argc, char **argv)
+{
+    static const struct {
+        const char *name;
+        void (*fn)(ptest *);
+    } cases[] = {{"explain", case_explain}, {"medium", case_medium}, {"errors", case_errors}};
+    if (argc != 2)
+        return 2;
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        if (!strcmp(argv[1], cases[i].name)) {
+            ptest t;
+            pt_init(&t, argv[1]);
+            cases[i].fn(&t);
+            return pt_finish(&t);
+        }
+    fprintf(stderr, "unknown case %s\n", argv[1]);
+    return 2;
+}
