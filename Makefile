@@ -24,7 +24,7 @@ build: $(BUILD)/build.ninja
 # Renders the default example into out/ and prints the per-node profile.
 demo: build
 	@mkdir -p out
-	$(BUILD)/lightgraph render examples/tonemap.lgraph -o out/demo.png --profile --explain
+	$(BUILD)/lightgraph render examples/demo.lgraph -o out/demo.png --profile --explain
 	@echo "wrote out/demo.png"
 
 # Runs every suite; the last line is 'N passed, N failed, N skipped'.

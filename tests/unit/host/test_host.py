@@ -360,6 +360,22 @@ output t "%s"
     check(d.returncode == 0, "osmesa and egl agree: " + d.stdout + d.stderr)
 
 
+def test_examples_check():
+    """Every example graph checks against the build tree's plugins, and is canonical
+    except for what fmt would only re-space."""
+    src = os.environ["LG_SOURCE_ROOT"]
+    ex = sorted(f for f in os.listdir(os.path.join(src, "examples")) if f.endswith(".lgraph"))
+    check(len(ex) >= 3, "examples found: %s" % ex)
+    for f in ex:
+        path = os.path.join(src, "examples", f)
+        p = run(["check", path], plugin_path="")
+        check(p.returncode == 0, "%s does not check: %s" % (f, p.stderr))
+        once = run(["fmt", path], plugin_path="", expect=0).stdout
+        twice_path = graph(once, "fmt-" + f)
+        check(run(["fmt", twice_path], plugin_path="", expect=0).stdout == once,
+              "fmt is not idempotent on " + f)
+
+
 TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
 
 if __name__ == "__main__":
