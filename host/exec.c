@@ -186,9 +186,12 @@ static void describe_resource(lg_str *s, const lg_resource *r)
     switch (r->kind) {
     case LG_KIND_IMAGE:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
-        lg_str_addf(s, "image %ux%u %s%s (%s)", r->image.width, r->image.height,
-                    format_name(r->image.format), (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "",
-                    sz);
+        if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
+            lg_str_addf(s, "image %ux%u depth32f (%s)", r->image.width, r->image.height, sz);
+        else
+            lg_str_addf(s, "image %ux%u %s%s (%s)", r->image.width, r->image.height,
+                        format_name(r->image.format),
+                        (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "", sz);
         break;
     case LG_KIND_VOLUME:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));

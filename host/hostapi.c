@@ -162,13 +162,21 @@ static int api_declare_image(lg_node *n, uint32_t port, const lg_image_desc *d)
                                  "2^28 pixels)",
                               d ? d->width : 0, d ? d->height : 0, MAX_DIM),
                LG_ERR_INVALID;
-    if (d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8)
+    bool depth_only = (d->flags & LG_IMAGE_DEPTH_ONLY) != 0;
+    if (!depth_only && (d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8))
         return lg_node_errorf(p, "declares an image with unknown format %d", (int)d->format),
+               LG_ERR_INVALID;
+    if (d->flags & ~(uint32_t)(LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY))
+        return lg_node_errorf(p, "declares an image with unknown flags 0x%x", d->flags),
                LG_ERR_INVALID;
     lg_resource *r = declare(p, port, LG_KIND_IMAGE, "an image");
     if (!r)
         return LG_ERR_INVALID;
     r->image = *d;
+    if (depth_only) {
+        r->image.flags = LG_IMAGE_DEPTH_ONLY;
+        r->image.format = LG_FORMAT_RGBA32F; /* unused; keeps the description valid */
+    }
     return 0;
 }
 

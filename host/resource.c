@@ -31,6 +31,8 @@ static size_t main_bytes(const lg_resource *r)
 {
     switch (r->kind) {
     case LG_KIND_IMAGE:
+        if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
+            return 0;
         return pixel_count(r) * lg_format_size(r->image.format);
     case LG_KIND_VOLUME:
         return pixel_count(r) * lg_format_size(r->volume.format);
@@ -43,7 +45,7 @@ static size_t main_bytes(const lg_resource *r)
 
 static size_t depth_bytes(const lg_resource *r)
 {
-    return (r->kind == LG_KIND_IMAGE && (r->image.flags & LG_IMAGE_DEPTH))
+    return (r->kind == LG_KIND_IMAGE && (r->image.flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)))
                ? pixel_count(r) * sizeof(float)
                : 0;
 }
@@ -110,7 +112,7 @@ static int check_access(lg_pnode *n, lg_resource *r, unsigned access, const char
     if ((access & LG_WRITE) && r->producer != n)
         return lg_node_errorf(n, "maps an input for writing on %s; inputs are read-only", dev),
                LG_ERR_INVALID;
-    if (main_bytes(r) == 0 && r->kind != LG_KIND_BUFFER)
+    if (lg_resource_bytes(r) == 0 && r->kind != LG_KIND_BUFFER)
         return lg_node_errorf(n, "maps an empty resource on %s", dev), LG_ERR_INVALID;
     return 0;
 }
@@ -184,7 +186,8 @@ static int gl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
         GLenum internal, format, type;
         gl_formats(r->kind == LG_KIND_IMAGE ? r->image.format : r->volume.format, &internal,
                    &format, &type);
-        gl->GetTextureImage(r->gl_name, 0, format, type, (GLsizei)b, r->cpu);
+        if (r->gl_name)
+            gl->GetTextureImage(r->gl_name, 0, format, type, (GLsizei)b, r->cpu);
         if (r->gl_depth && r->cpu_depth)
             gl->GetTextureImage(r->gl_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
                                 (GLsizei)depth_bytes(r), r->cpu_depth);
@@ -196,8 +199,9 @@ static int gl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 static int cl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
     cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->cl);
-    cl_int e = clEnqueueReadBuffer(q, (cl_mem)r->cl_mem, CL_TRUE, 0, main_bytes(r), r->cpu, 0,
-                                   NULL, NULL);
+    cl_int e = main_bytes(r) ? clEnqueueReadBuffer(q, (cl_mem)r->cl_mem, CL_TRUE, 0, main_bytes(r),
+                                                   r->cpu, 0, NULL, NULL)
+                             : CL_SUCCESS;
     if (e == CL_SUCCESS && r->cl_depth && r->cpu_depth)
         e = clEnqueueReadBuffer(q, (cl_mem)r->cl_depth, CL_TRUE, 0, depth_bytes(r), r->cpu_depth,
                                 0, NULL, NULL);
@@ -238,7 +242,7 @@ int lg_resource_map_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned acces
         r->cpu_valid = true;
         r->gl_valid = r->cl_valid = false;
     }
-    view->pixels = r->cpu;
+    view->pixels = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->cpu : NULL;
     view->depth = r->cpu_depth;
     view->row_pixels = r->kind == LG_KIND_IMAGE ? r->image.width : r->volume.width;
     return 0;
@@ -248,7 +252,7 @@ int lg_resource_map_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned acces
 
 static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
-    if (r->gl_name)
+    if (r->gl_name || r->gl_depth)
         return 0;
     const GladGLContext *gl = glt(ex);
     if (r->kind == LG_KIND_BUFFER) {
@@ -259,10 +263,12 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
         GLenum internal, format, type;
         if (r->kind == LG_KIND_IMAGE) {
             gl_formats(r->image.format, &internal, &format, &type);
-            gl->CreateTextures(GL_TEXTURE_2D, 1, &r->gl_name);
-            gl->TextureStorage2D(r->gl_name, 1, internal, (GLsizei)r->image.width,
-                                 (GLsizei)r->image.height);
-            if (r->image.flags & LG_IMAGE_DEPTH) {
+            if (!(r->image.flags & LG_IMAGE_DEPTH_ONLY)) {
+                gl->CreateTextures(GL_TEXTURE_2D, 1, &r->gl_name);
+                gl->TextureStorage2D(r->gl_name, 1, internal, (GLsizei)r->image.width,
+                                     (GLsizei)r->image.height);
+            }
+            if (r->image.flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)) {
                 gl->CreateTextures(GL_TEXTURE_2D, 1, &r->gl_depth);
                 gl->TextureStorage2D(r->gl_depth, 1, GL_DEPTH_COMPONENT32F,
                                      (GLsizei)r->image.width, (GLsizei)r->image.height);
@@ -296,8 +302,9 @@ static int cpu_to_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
     } else if (r->kind == LG_KIND_IMAGE) {
         GLenum internal, format, type;
         gl_formats(r->image.format, &internal, &format, &type);
-        gl->TextureSubImage2D(r->gl_name, 0, 0, 0, (GLsizei)r->image.width,
-                              (GLsizei)r->image.height, format, type, r->cpu);
+        if (r->gl_name)
+            gl->TextureSubImage2D(r->gl_name, 0, 0, 0, (GLsizei)r->image.width,
+                                  (GLsizei)r->image.height, format, type, r->cpu);
         if (r->gl_depth)
             gl->TextureSubImage2D(r->gl_depth, 0, 0, 0, (GLsizei)r->image.width,
                                   (GLsizei)r->image.height, GL_DEPTH_COMPONENT, GL_FLOAT,
@@ -367,8 +374,9 @@ static int ensure_cl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 static int cpu_to_cl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
     cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->cl);
-    cl_int e = clEnqueueWriteBuffer(q, (cl_mem)r->cl_mem, CL_TRUE, 0, main_bytes(r), r->cpu, 0,
-                                    NULL, NULL);
+    cl_int e = main_bytes(r) ? clEnqueueWriteBuffer(q, (cl_mem)r->cl_mem, CL_TRUE, 0,
+                                                    main_bytes(r), r->cpu, 0, NULL, NULL)
+                             : CL_SUCCESS;
     if (e == CL_SUCCESS && r->cl_depth)
         e = clEnqueueWriteBuffer(q, (cl_mem)r->cl_depth, CL_TRUE, 0, depth_bytes(r),
                                  r->cpu_depth, 0, NULL, NULL);
@@ -406,7 +414,7 @@ int lg_resource_map_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
         r->cpu_valid = r->gl_valid = false;
     }
     if (mem)
-        *mem = r->cl_mem;
+        *mem = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->cl_mem : NULL;
     if (depth)
         *depth = r->cl_depth;
     return 0;
@@ -519,6 +527,15 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
         free(f);
         snprintf(err, errlen, "could not read the image back from its device");
         return rc;
+    }
+    if (r->image.flags & LG_IMAGE_DEPTH_ONLY) {
+        /* a depth-only image is written as grey depth, alpha 1 */
+        for (size_t i = 0; i < np; i++) {
+            f[4 * i] = f[4 * i + 1] = f[4 * i + 2] = r->cpu_depth[i];
+            f[4 * i + 3] = 1.0f;
+        }
+        *out = f;
+        return 0;
     }
     switch (r->image.format) {
     case LG_FORMAT_RGBA32F:

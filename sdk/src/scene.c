@@ -2,6 +2,7 @@
 #include <string.h>
 
 #include "lightgraph/scene.h"
+#include "lightgraph/shadowmap.h"
 
 const lg_scene *lg_scene_get(lg_node *n, const lg_resource *res)
 {
@@ -120,4 +121,23 @@ int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_
         rc = n->host->payload_cl_buffer(n, owner, base + SLOT_UV, m->texcoords,
                                         nv * 2 * sizeof(float), &out->texcoords);
     return rc;
+}
+
+const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res)
+{
+    lg_resource_info info;
+    if (!res || n->host->describe(res, &info) != 0)
+        return NULL;
+    if (info.kind != LG_KIND_SHADOWMAP) {
+        lg_error(n, "expects shadow maps, got a resource of another kind");
+        return NULL;
+    }
+    if (!info.payload)
+        return NULL; /* gated: no directional light, no shadows */
+    const lg_shadowmap *s = info.payload;
+    if (s->struct_size < offsetof(lg_shadowmap, reserved)) {
+        lg_error(n, "the shadow maps were made by a plugin built for an incompatible SDK");
+        return NULL;
+    }
+    return s;
 }

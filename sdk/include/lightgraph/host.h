@@ -54,8 +54,11 @@ typedef enum lg_log_level {
     LG_LOG_DEBUG,
 } lg_log_level;
 
-/* Images: 2D rgba, with an optional float depth plane of the same size. */
-enum { LG_IMAGE_DEPTH = 1u << 0 };
+/* Images: 2D rgba, with an optional float depth plane of the same size.
+ * LG_IMAGE_DEPTH_ONLY (since ABI 1.1): only the depth plane exists (shadow maps); the
+ * colour mappings give NULL / 0, the depth mappings the plane; `format` is ignored. An
+ * output file of such an image shows depth as grey. */
+enum { LG_IMAGE_DEPTH = 1u << 0, LG_IMAGE_DEPTH_ONLY = 1u << 1 };
 typedef struct lg_image_desc {
     uint32_t width, height;
     lg_format format;

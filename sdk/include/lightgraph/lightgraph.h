@@ -9,6 +9,7 @@
  *   lightgraph/color.h    luminance and colour helpers
  *   lightgraph/math.h     vectors and 4x4 matrices (column-major)
  *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
+ *   lightgraph/shadowmap.h  shadow maps: a depth atlas and each light's matrices
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
  *
@@ -25,5 +26,6 @@
 #include "lightgraph/color.h"
 #include "lightgraph/math.h"
 #include "lightgraph/scene.h"
+#include "lightgraph/shadowmap.h"
 
 #endif
