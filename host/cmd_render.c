@@ -143,30 +143,41 @@ typedef struct session {
 /* Parses the arguments and the graph, applies overrides, and (with need_check) scans the
  * plugins and checks the graph against them. Returns 0 or an exit status (diagnostics
  * printed); close_session() in every case. */
+/* Parses `graph`, applies `sets`, and (with reg) checks it against the scanned plugins.
+ * Diagnostics are printed. Returns 0 or 2; *g and *c are set either way (free both). */
+static int load_graph(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
+                      lg_graph **g, lg_checked **c)
+{
+    lg_diags d = {0};
+    *c = NULL;
+    *g = lg_graph_parse_file(graph, &d);
+    for (int i = 0; *g && i < n_sets; i++)
+        lg_graph_set(*g, sets[i], &d);
+    if (*g && !d.errors && reg) {
+        lg_schema schema;
+        lg_registry_schema(reg, &schema);
+        *c = lg_graph_check(*g, &schema, &d);
+        if (!*c)
+            for (uint32_t i = 0; i < reg->n_refused; i++)
+                fprintf(stderr, "note: plugin %s was refused: %s\n", reg->refused[i].path,
+                        reg->refused[i].reason);
+    }
+    lg_diags_print(&d, stderr);
+    int rc = (!*g || d.errors || (reg && !*c)) ? 2 : 0;
+    lg_diags_free(&d);
+    return rc;
+}
+
 static int open_session(session *s, int argc, char **argv, bool need_check)
 {
     memset(s, 0, sizeof *s);
     int rc = parse_args(argc, argv, &s->a);
     if (rc)
         return rc;
-    lg_diags d = {0};
-    s->g = lg_graph_parse_file(s->a.graph, &d);
-    for (int i = 0; s->g && i < s->a.n_sets; i++)
-        lg_graph_set(s->g, s->a.sets[i], &d);
-    if (s->g && !d.errors && need_check) {
+    if (need_check)
         lg_registry_scan(&s->reg);
-        lg_schema schema;
-        lg_registry_schema(&s->reg, &schema);
-        s->c = lg_graph_check(s->g, &schema, &d);
-        if (!s->c)
-            for (uint32_t i = 0; i < s->reg.n_refused; i++)
-                fprintf(stderr, "note: plugin %s was refused: %s\n", s->reg.refused[i].path,
-                        s->reg.refused[i].reason);
-    }
-    lg_diags_print(&d, stderr);
-    rc = (!s->g || d.errors || (need_check && !s->c)) ? 2 : 0;
-    lg_diags_free(&d);
-    return rc;
+    return load_graph(need_check ? &s->reg : NULL, s->a.graph, s->a.sets, s->a.n_sets, &s->g,
+                      &s->c);
 }
 
 static int close_session(session *s, int rc)
@@ -178,53 +189,81 @@ static int close_session(session *s, int rc)
     return rc;
 }
 
-int lg_cmd_render(int argc, char **argv)
+int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
+                   const lg_exec_opts *opts, const char *time_node, lg_run_result *res)
 {
-    session s;
-    int rc = open_session(&s, argc, argv, true);
-    args *a = &s.a;
-    if (rc == 0 && a->out) {
-        if (s.c->n_outputs != 1) {
+    memset(res, 0, sizeof *res);
+    lg_graph *g;
+    lg_checked *c;
+    int rc = load_graph(reg, graph, sets, n_sets, &g, &c);
+    if (rc == 0 && opts->output_override) {
+        if (c->n_outputs != 1) {
             fprintf(stderr,
-                    "lightgraph render: -o replaces the graph's output file, but %s has %u "
-                    "output statements; -o needs exactly one\n",
-                    a->graph, s.c->n_outputs);
+                    "lightgraph: -o replaces the graph's output file, but %s has %u output "
+                    "statements; -o needs exactly one\n",
+                    graph, c->n_outputs);
             rc = 2;
-        } else if (lg_image_format_from_path(a->out) == LG_FILE_UNKNOWN) {
-            fprintf(stderr, "lightgraph render: -o %s: unknown image format (use .png, .exr or "
-                            ".hdr)\n",
-                    a->out);
+        } else if (lg_image_format_from_path(opts->output_override) == LG_FILE_UNKNOWN) {
+            fprintf(stderr, "lightgraph: -o %s: unknown image format (use .png, .exr or .hdr)\n",
+                    opts->output_override);
             rc = 2;
         }
-        a->opts.output_override = a->out;
     }
-    if (rc == 0 && s.c->n_outputs == 0) {
-        fprintf(stderr, "lightgraph render: %s has no output statement, so nothing would run\n",
-                a->graph);
+    if (rc == 0 && c->n_outputs == 0) {
+        fprintf(stderr, "lightgraph: %s has no output statement, so nothing would run\n", graph);
         rc = 2;
     }
     if (rc == 0) {
         lg_exec ex;
         memset(&ex, 0, sizeof ex);
-        ex.opts = a->opts;
-        ex.reg = &s.reg;
-        ex.graph = s.g;
-        ex.checked = s.c;
+        ex.opts = *opts;
+        ex.opts.graph_path = graph;
+        ex.reg = reg;
+        ex.graph = g;
+        ex.checked = c;
         rc = lg_plan(&ex) ? 1 : 0;
-        if (a->opts.explain && ex.nodes)
+        if (opts->explain && ex.nodes)
             lg_explain_print(&ex, stdout);
         if (rc == 0)
             rc = lg_execute(&ex) ? 1 : 0;
         if (rc == 0 && !ex.failed) {
-            if (a->opts.profile)
+            if (opts->profile)
                 lg_profile_print(&ex, stdout);
-            if (a->opts.profile_json && lg_profile_write_json(&ex, a->opts.profile_json))
+            if (opts->profile_json && lg_profile_write_json(&ex, opts->profile_json))
                 rc = 1;
+            for (uint32_t i = 0; i < ex.n_nodes; i++) {
+                const lg_pnode *n = &ex.nodes[i];
+                if (n->state != LG_STATE_KEPT)
+                    continue;
+                res->total_ms += n->cpu_ms;
+                if (time_node && strcmp(time_node, n->pub.name) == 0) {
+                    res->node_ms = n->cpu_ms;
+                    res->node_found = true;
+                }
+            }
         }
         fflush(stdout);
         lg_exec_free(&ex);
     }
-    return close_session(&s, rc);
+    lg_checked_free(c);
+    lg_graph_free(g);
+    return rc;
+}
+
+int lg_cmd_render(int argc, char **argv)
+{
+    args a;
+    int rc = parse_args(argc, argv, &a);
+    if (rc == 0) {
+        lg_registry reg = {0};
+        lg_registry_scan(&reg);
+        a.opts.output_override = a.out;
+        lg_run_result res;
+        rc = lg_render_file(&reg, a.graph, a.sets, a.n_sets, &a.opts, NULL, &res);
+        lg_registry_free(&reg);
+    }
+    free(a.sets);
+    return rc;
 }
 
 int lg_cmd_check(int argc, char **argv)

@@ -214,6 +214,18 @@ char *lg_cache_dir(void);
 int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
 int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
 
+/* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
+ * (already scanned), plan, run, write the output (opts->output_override replaces the single
+ * output's file), print --explain / --profile per opts. Returns the exit status (0, 1, 2);
+ * res gets the kept nodes' total CPU wall time and `time_node`'s (if found). */
+typedef struct lg_run_result {
+    double total_ms;
+    double node_ms;
+    bool node_found;
+} lg_run_result;
+int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
+                   const lg_exec_opts *opts, const char *time_node, lg_run_result *res);
+
 /* commands (cmd_*.c); argv[0] is the command's name; return the exit status */
 int lg_cmd_render(int argc, char **argv);
 int lg_cmd_check(int argc, char **argv);
@@ -221,5 +233,6 @@ int lg_cmd_fmt(int argc, char **argv);
 int lg_cmd_dot(int argc, char **argv);
 int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
+int lg_cmd_sweep(int argc, char **argv);
 
 #endif

@@ -20,6 +20,9 @@ static void help(FILE *f)
             "  lightgraph plugins [--json]            every node type, ports, parameters\n"
             "  lightgraph inspect NODE_TYPE [--json]  one node type\n"
             "  lightgraph diff A B [--heatmap OUT] [--json] [--max-rmse X] [--max-abs X]\n"
+            "  lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--reference REF_GRAPH]\n"
+            "                   [--ref-set N.P=V]... [--set N.P=V]... [--time NODE]\n"
+            "                   [--repeat N] [--size WxH] [-o DIR]   error against time\n"
             "  lightgraph --version | help\n"
             "\n"
             "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
@@ -42,7 +45,7 @@ int main(int argc, char **argv)
     } cmds[] = {
         {"render", lg_cmd_render}, {"check", lg_cmd_check},     {"fmt", lg_cmd_fmt},
         {"dot", lg_cmd_dot},       {"plugins", lg_cmd_plugins}, {"inspect", lg_cmd_inspect},
-        {"diff", lg_cmd_diff},
+        {"diff", lg_cmd_diff},     {"sweep", lg_cmd_sweep},
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
@@ -56,8 +59,9 @@ int main(int argc, char **argv)
         help(stdout);
         return 0;
     }
-    const char *names[] = {"render", "check", "fmt", "dot", "plugins", "inspect", "diff", "help"};
-    const char *s = lg_suggest(cmd, names, 8);
+    const char *names[] = {"render",  "check", "fmt",   "dot", "plugins",
+                           "inspect", "diff",  "sweep", "help"};
+    const char *s = lg_suggest(cmd, names, 9);
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;

@@ -376,6 +376,37 @@ def test_examples_check():
               "fmt is not idempotent on " + f)
 
 
+def test_sweep():
+    """lightgraph sweep: one CSV row per combination, the reference's own settings give
+    zero error, other settings a positive one, heat maps and the gnuplot script exist."""
+    g = graph("""lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 8, height = 4 }
+t = reinhard { image = c, key = 0.18 }
+output t "%s"
+""" % os.path.join(TMP, "sw.exr"), "sweep.lgraph")
+    out = os.path.join(TMP, "sweep")
+    core = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
+    p = run(["sweep", g, "--vary", "t.key=0.09,0.18", "--vary", "t.mode=luminance,rgb",
+             "--ref-set", "t.key=0.18", "--time", "t", "--repeat", "1", "-o", out],
+            plugin_path=core, expect=0)
+    rows = open(os.path.join(out, "sweep.csv")).read().strip().splitlines()
+    check(rows[0].startswith("run,t.key,t.mode,time_ms"), rows[0])
+    check(len(rows) == 5, "4 runs: %s" % rows)
+    cells = [r.split(",") for r in rows[1:]]
+    for c in cells:
+        rmse = float(c[5])
+        if c[1] == "0.18" and c[2] == "luminance":
+            check(rmse == 0, "the reference's own settings: rmse 0, got %s" % rmse)
+        else:
+            check(rmse > 1e-3, "other settings differ: %s" % c)
+        check(float(c[3]) > 0, "a time was measured: %s" % c)
+    for k in range(4):
+        check(os.path.exists(os.path.join(out, "heat-%03d.png" % k)), "heat map %d" % k)
+    check(os.path.exists(os.path.join(out, "sweep.gp")), "gnuplot script")
+    run(["sweep", g, "--vary", "t.kye=1"], plugin_path=core, expect=2)
+    run(["sweep", g], plugin_path=core, expect=2)
+
+
 TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
 
 if __name__ == "__main__":
