@@ -10,6 +10,7 @@
  *   lightgraph/math.h     vectors and 4x4 matrices (column-major)
  *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
  *   lightgraph/shadowmap.h  shadow maps: a depth atlas and each light's matrices
+ *   lightgraph/phong.h    the Phong lighting equation (C twin of shaders/common/phong.glsl)
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
  *
@@ -27,5 +28,6 @@
 #include "lightgraph/math.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/shadowmap.h"
+#include "lightgraph/phong.h"
 
 #endif

@@ -39,8 +39,11 @@ static inline float lg_v3_length(lg_vec3 a) { return sqrtf(lg_v3_dot(a, a)); }
  * before squaring so that it does not overflow. */
 static inline lg_vec3 lg_v3_normalize_or(lg_vec3 a, lg_vec3 fallback)
 {
+    /* fmaxf ignores NaN, so each component is checked on its own */
+    if (!isfinite(a.x) || !isfinite(a.y) || !isfinite(a.z))
+        return fallback;
     float m = fmaxf(fabsf(a.x), fmaxf(fabsf(a.y), fabsf(a.z)));
-    if (!(m > 1e-30f) || !isfinite(m))
+    if (!(m > 1e-30f))
         return fallback;
     a = lg_v3_scale(a, 1.0f / m);
     float l = lg_v3_length(a);
