@@ -1,0 +1,934 @@
+/*
+ * The shadowmap plugin: one orthographic depth map per directional light of a scene, each
+ * in its own tile of one depth-only atlas image (TECHNIQUES.md §2; lightgraph/shadowmap.h).
+ *
+ *   shadowmap   scene -> shadows (lg_shadowmap payload), atlas (depth-only image)
+ *
+ * prepare() fits every light's view and projection to the scene (its bounds, or the camera
+ * frustum clipped by them) and publishes them with the tile layout and the bias; execute()
+ * rasterises every instance of every mesh into each light's tile: per light, one instanced
+ * draw per mesh and handedness, the instances' model matrices in one storage buffer.
+ * README.md gives the ports, the parameters, the fit, the culling and the bias rules.
+ */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/gl.h"
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/math.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/shadowmap.h"
+
+#include "shadowmap.frag.h"
+#include "shadowmap.vert.h"
+
+enum { SM_FIT_BOUNDS = 0, SM_FIT_FRUSTUM };
+enum { SM_CULL_FRONT = 0, SM_CULL_BACK, SM_CULL_NONE };
+
+/* Uniform locations (shaders/shadowmap/shadowmap.vert). */
+enum { U_VIEW_PROJ = 0, U_FIRST = 1 };
+
+/* Defaults of the bias parameters (README.md, "Bias", says how they were chosen). */
+#define SM_DEF_BIAS_CONSTANT 0.0002
+#define SM_DEF_BIAS_SLOPE 0.0005
+#define SM_DEF_NORMAL_OFFSET 1.0
+
+/* The payload: the public struct and the lights it points to, in one allocation. */
+typedef struct sm_payload {
+    lg_shadowmap sm;
+    lg_shadow_light lights[];
+} sm_payload;
+
+typedef struct sm_state {
+    uint32_t resolution;
+    int fit, cull;
+    int64_t camera;          /* fit = frustum: the scene's camera, -1 = the active one */
+    float aspect;            /* fit = frustum: width / height, 0 = the render size's */
+    float bias_constant, bias_slope, normal_offset;
+    uint32_t cols, rows;     /* the atlas's grid of tiles */
+    const lg_shadowmap *sm;  /* the published payload; the host frees it after destroy() */
+    GLuint program;
+} sm_state;
+
+/* ---- create -------------------------------------------------------------------------- */
+
+static int sm_create(lg_node *n)
+{
+    sm_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    st->resolution = (uint32_t)lg_param_int(n, "resolution");
+    st->fit = lg_param_enum(n, "fit");
+    st->cull = lg_param_enum(n, "cull");
+    st->camera = lg_param_int(n, "camera");
+    st->aspect = (float)lg_param_float(n, "aspect");
+    st->bias_constant = (float)lg_param_float(n, "bias_constant");
+    st->bias_slope = (float)lg_param_float(n, "bias_slope");
+    st->normal_offset = (float)lg_param_float(n, "normal_offset");
+    return 0;
+}
+
+/* ---- geometry helpers ------------------------------------------------------------------ */
+
+static bool sm_finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+static lg_vec3 sm_corner(const float lo[3], const float hi[3], int k)
+{
+    return lg_v3(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
+}
+
+/* The scene's world bounds as the fit uses them: the scene's own, or a cube of side 2 at
+ * the origin when it has no geometry (nothing is drawn then, so any box will do). */
+static int sm_bounds(lg_node *n, const lg_scene *s, float lo[3], float hi[3])
+{
+    if (!sm_finite3(s->bounds_min) || !sm_finite3(s->bounds_max) ||
+        s->bounds_min[0] > s->bounds_max[0] || s->bounds_min[1] > s->bounds_max[1] ||
+        s->bounds_min[2] > s->bounds_max[2]) {
+        for (int k = 0; k < 3; k++)
+            if (isnan(s->bounds_min[k]) || isnan(s->bounds_max[k]))
+                return lg_error(n, "the scene's bounds are not numbers ([%g %g %g] .. [%g %g %g])",
+                                (double)s->bounds_min[0], (double)s->bounds_min[1],
+                                (double)s->bounds_min[2], (double)s->bounds_max[0],
+                                (double)s->bounds_max[1], (double)s->bounds_max[2]);
+        for (int k = 0; k < 3; k++) {
+            lo[k] = -1.0f;
+            hi[k] = 1.0f;
+        }
+        return 0;
+    }
+    memcpy(lo, s->bounds_min, 3 * sizeof(float));
+    memcpy(hi, s->bounds_max, 3 * sizeof(float));
+    return 0;
+}
+
+/* ---- the camera frustum clipped by the bounds (fit = frustum) -------------------------- */
+
+/* The view_proj of the camera a consumer looks through (`camera`, -1 = the active one) at
+ * aspect `aspect` (0 = the render size's), after the preview's rules (plugins/preview/
+ * README.md, "Camera"), without the Y flip (it does not change the frustum). */
+static int sm_camera_view_proj(lg_node *n, const sm_state *st, const lg_scene *s,
+                               const float lo[3], const float hi[3], float vp[16])
+{
+    if (s->n_cameras == 0 || !s->cameras)
+        return lg_error(n, "fit = frustum: the scene has no camera");
+    uint32_t ci;
+    if (st->camera < 0) {
+        if (s->camera >= s->n_cameras)
+            return lg_error(n, "fit = frustum: the scene's active camera %u does not exist (it "
+                               "has %u)",
+                            s->camera, s->n_cameras);
+        ci = s->camera;
+    } else if ((uint64_t)st->camera >= s->n_cameras) {
+        return lg_error(n, "fit = frustum: camera %" PRId64 " does not exist: the scene has %u "
+                           "camera%s (0..%u; -1 = the active one)",
+                        st->camera, s->n_cameras, s->n_cameras == 1 ? "" : "s",
+                        s->n_cameras - 1);
+    } else {
+        ci = (uint32_t)st->camera;
+    }
+    const lg_camera *c = &s->cameras[ci];
+    const char *cname = c->name ? c->name : "";
+    if (!sm_finite3(c->position) || !sm_finite3(c->target) || !sm_finite3(c->up) ||
+        !isfinite(c->yfov) || !isfinite(c->znear) || !isfinite(c->zfar) || !isfinite(c->aspect))
+        return lg_error(n, "fit = frustum: camera %u '%s' has a value that is not finite", ci,
+                        cname);
+    if (!(c->yfov > 0.0f && c->yfov < 3.1f))
+        return lg_error(n, "fit = frustum: camera %u '%s': vertical field of view %g rad is "
+                           "outside (0, 3.1)",
+                        ci, cname, (double)c->yfov);
+    if (c->znear < 0.0f || c->zfar < 0.0f || (c->zfar > 0.0f && c->zfar <= c->znear))
+        return lg_error(n, "fit = frustum: camera %u '%s': znear %g and zfar %g do not make a "
+                           "depth range",
+                        ci, cname, (double)c->znear, (double)c->zfar);
+    lg_vec3 eye = lg_v3(c->position[0], c->position[1], c->position[2]);
+    lg_vec3 target = lg_v3(c->target[0], c->target[1], c->target[2]);
+    if (lg_v3_length(lg_v3_sub(target, eye)) < 1e-12f)
+        return lg_error(n, "fit = frustum: camera %u '%s': position and target are the same "
+                           "point",
+                        ci, cname);
+    float view[16], proj[16];
+    lg_m4_look_at(view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
+
+    uint32_t w = 0, h = 0;
+    n->host->render_size(n, &w, &h);
+    float aspect = st->aspect > 0.0f ? st->aspect : (w && h) ? (float)w / (float)h : 1.0f;
+    float yfov = c->yfov;
+    if (c->aspect > 0.0f && aspect < c->aspect)
+        yfov = 2.0f * atanf(tanf(0.5f * yfov) * c->aspect / aspect);
+    if (yfov > 3.1f)
+        yfov = 3.1f;
+    float zfar = c->zfar, znear = c->znear;
+    if (zfar == 0.0f) {
+        float far = -1.0f;
+        for (int k = 0; k < 8; k++) {
+            float d = -lg_m4_point(view, sm_corner(lo, hi, k)).z;
+            if (d > far)
+                far = d;
+        }
+        zfar = far > 0.0f ? far * 1.01f + 1e-6f : 0.0f;
+        if (znear > 0.0f && zfar < 2.0f * znear)
+            zfar = 2.0f * znear;
+        if (zfar == 0.0f)
+            zfar = 100.0f;
+    }
+    if (znear == 0.0f)
+        znear = zfar * 1e-4f;
+    lg_m4_perspective(proj, yfov, aspect, znear, zfar);
+    lg_m4_mul(vp, proj, view);
+    return 0;
+}
+
+/* A plane a.x + b.y + c.z + d >= 0 (inside), normal of unit length. */
+typedef struct sm_plane {
+    float a, b, c, d;
+} sm_plane;
+
+static float sm_plane_eval(sm_plane p, lg_vec3 v)
+{
+    return p.a * v.x + p.b * v.y + p.c * v.z + p.d;
+}
+
+static sm_plane sm_plane_norm(float a, float b, float c, float d)
+{
+    float l = sqrtf(a * a + b * b + c * c);
+    sm_plane p = { a / l, b / l, c / l, d / l };
+    return p;
+}
+
+typedef struct sm_convex {
+    lg_vec3 v[8];     /* corners, index bits: x, y, z */
+    sm_plane p[6];    /* faces, inside >= 0 */
+} sm_convex;
+
+static bool sm_inside(const sm_convex *c, lg_vec3 v, float tol)
+{
+    for (int i = 0; i < 6; i++)
+        if (sm_plane_eval(c->p[i], v) < -tol)
+            return false;
+    return true;
+}
+
+/* Points of `a`'s edges where they cross `b`'s faces, kept if inside `b` (and `a`, which
+ * an edge point is by construction). */
+static uint32_t sm_edge_cuts(const sm_convex *a, const sm_convex *b, float tol, lg_vec3 *out)
+{
+    uint32_t k = 0;
+    for (int i = 0; i < 8; i++)
+        for (int bit = 1; bit < 8; bit <<= 1) {
+            if (i & bit)
+                continue;
+            lg_vec3 p = a->v[i], q = a->v[i | bit];
+            for (int f = 0; f < 6; f++) {
+                float fp = sm_plane_eval(b->p[f], p), fq = sm_plane_eval(b->p[f], q);
+                if ((fp < 0.0f) == (fq < 0.0f) || fp == fq)
+                    continue;
+                float t = fp / (fp - fq);
+                lg_vec3 x = lg_v3_add(p, lg_v3_scale(lg_v3_sub(q, p), t));
+                if (sm_inside(b, x, tol))
+                    out[k++] = x;
+            }
+        }
+    return k;
+}
+
+#define SM_MAX_CUT_POINTS (8 + 8 + 12 * 6 * 2)
+
+/* The vertices of (camera frustum) ∩ (bounds), or a superset of them lying in both: the
+ * intersection of two convex polyhedra is the convex hull of the corners of each inside
+ * the other and of the points where the edges of each cross the faces of the other, so
+ * the light-space box of these points is exactly the light-space box of the intersection.
+ * Returns how many (0: the camera sees none of the bounds). */
+static uint32_t sm_frustum_points(const float cam_vp[16], const float lo[3], const float hi[3],
+                                  lg_vec3 *out)
+{
+    sm_convex fr, bx;
+    float inv[16];
+    if (lg_m4_invert(inv, cam_vp))
+        return 0;
+    for (int k = 0; k < 8; k++) {
+        fr.v[k] = lg_m4_point(inv, lg_v3(k & 1 ? 1.0f : -1.0f, k & 2 ? 1.0f : -1.0f,
+                                         k & 4 ? 1.0f : -1.0f));
+        bx.v[k] = sm_corner(lo, hi, k);
+    }
+    /* frustum planes from the rows of view_proj: row3 +- row_i >= 0 (Gribb & Hartmann) */
+    const float *m = cam_vp;
+    for (int i = 0; i < 3; i++) {
+        fr.p[2 * i] = sm_plane_norm(m[3] + m[i], m[7] + m[4 + i], m[11] + m[8 + i],
+                                    m[15] + m[12 + i]);
+        fr.p[2 * i + 1] = sm_plane_norm(m[3] - m[i], m[7] - m[4 + i], m[11] - m[8 + i],
+                                        m[15] - m[12 + i]);
+        float ax[3] = { 0, 0, 0 };
+        ax[i] = 1.0f;
+        bx.p[2 * i] = sm_plane_norm(ax[0], ax[1], ax[2], -lo[i]);
+        bx.p[2 * i + 1] = sm_plane_norm(-ax[0], -ax[1], -ax[2], hi[i]);
+    }
+    lg_vec3 c = lg_v3_scale(lg_v3_add(bx.v[0], bx.v[7]), 0.5f);
+    float size = lg_v3_length(lg_v3_sub(bx.v[7], bx.v[0])) + lg_v3_length(c);
+    float tol = 1e-5f * (size > 0.0f ? size : 1.0f);
+    uint32_t k = 0;
+    for (int i = 0; i < 8; i++) {
+        if (sm_inside(&bx, fr.v[i], tol))
+            out[k++] = fr.v[i];
+        if (sm_inside(&fr, bx.v[i], tol))
+            out[k++] = bx.v[i];
+    }
+    k += sm_edge_cuts(&fr, &bx, tol, out + k);
+    k += sm_edge_cuts(&bx, &fr, tol, out + k);
+    return k;
+}
+
+/* ---- each light's matrices ----------------------------------------------------------------- */
+
+static float sm_cross2(const float *x, const float *y, int o, int a, int b)
+{
+    return (x[a] - x[o]) * (y[b] - y[o]) - (y[a] - y[o]) * (x[b] - x[o]);
+}
+
+/* The rotation about the light's axis, in (-pi/4, pi/4], that gives the receivers' 2-D
+ * points (x, y) the smallest bounding rectangle, or 0 when it saves less than 5 % (the
+ * light's view then keeps its up vector). The smallest enclosing rectangle has a side on
+ * an edge of the points' convex hull, so it is enough to try the hull's edges. */
+static float sm_best_rotation(const float *x, const float *y, uint32_t n)
+{
+    int idx[SM_MAX_CUT_POINTS], hull[2 * SM_MAX_CUT_POINTS + 2];
+    for (uint32_t i = 0; i < n; i++)
+        idx[i] = (int)i;
+    /* Andrew's monotone chain: sort by x, then y (insertion sort: n <= 160) */
+    for (uint32_t i = 1; i < n; i++)
+        for (uint32_t j = i; j > 0; j--) {
+            int a = idx[j - 1], b = idx[j];
+            if (x[a] < x[b] || (x[a] == x[b] && y[a] <= y[b]))
+                break;
+            idx[j - 1] = b, idx[j] = a;
+        }
+    int h = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        while (h >= 2 && sm_cross2(x, y, hull[h - 2], hull[h - 1], idx[i]) <= 0.0f)
+            h--;
+        hull[h++] = idx[i];
+    }
+    for (int i = (int)n - 2, lower = h + 1; i >= 0; i--) {
+        while (h >= lower && sm_cross2(x, y, hull[h - 2], hull[h - 1], idx[i]) <= 0.0f)
+            h--;
+        hull[h++] = idx[i];
+    }
+    float best = 0.0f, best_area = INFINITY, area0 = INFINITY;
+    for (int e = -1; e < h - 1; e++) {
+        float a = 0.0f; /* e = -1: the view as it is */
+        if (e >= 0) {
+            float dx = x[hull[e + 1]] - x[hull[e]], dy = y[hull[e + 1]] - y[hull[e]];
+            if (dx == 0.0f && dy == 0.0f)
+                continue;
+            a = atan2f(dy, dx);
+            const float q = 0.78539816f; /* pi/4: rectangles repeat every quarter turn */
+            while (a > q)
+                a -= 2.0f * q;
+            while (a <= -q)
+                a += 2.0f * q;
+        }
+        float c = cosf(a), sn = sinf(a);
+        float x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        for (int k = 0; k < h; k++) {
+            float u = c * x[hull[k]] + sn * y[hull[k]], v = -sn * x[hull[k]] + c * y[hull[k]];
+            x0 = fminf(x0, u), x1 = fmaxf(x1, u);
+            y0 = fminf(y0, v), y1 = fmaxf(y1, v);
+        }
+        float area = (x1 - x0) * (y1 - y0);
+        if (e < 0)
+            area0 = area;
+        if (area < best_area)
+            best_area = area, best = a;
+    }
+    return best_area < 0.95f * area0 ? best : 0.0f;
+}
+
+/* Fits light `l`'s view and orthographic projection (README.md, "Fit"): x and y to the
+ * light-space box of the receivers (`pts`: the bounds' corners, or the points of the
+ * camera frustum clipped by the bounds) plus a margin of normal_offset + 1 texels, depth to
+ * the bounds' sphere (every caster; the same depth range for every light). */
+static void sm_fit_light(const sm_state *st, lg_vec3 dir, const float lo[3], const float hi[3],
+                         const lg_vec3 *pts, uint32_t n_pts, lg_shadow_light *l)
+{
+    lg_vec3 c = lg_v3_scale(lg_v3_add(sm_corner(lo, hi, 0), sm_corner(lo, hi, 7)), 0.5f);
+    float r = 0.5f * lg_v3_length(lg_v3_sub(sm_corner(lo, hi, 7), sm_corner(lo, hi, 0)));
+    if (!(r > 0.0f))
+        r = 1.0f; /* bounds of one point */
+    /* up: world +Y unless the light travels (nearly) vertically; then -Z, so that a light
+     * from straight above shows the scene's back (-Z) at the top of its tile */
+    lg_vec3 up = fabsf(dir.y) < 0.99f ? lg_v3(0, 1, 0) : lg_v3(0, 0, -1);
+    lg_vec3 eye = lg_v3_sub(c, lg_v3_scale(dir, 2.0f * r));
+    lg_m4_look_at(l->view, eye, c, up);
+
+    /* turn the view about the light's axis so that the receivers' box is smallest */
+    float px[SM_MAX_CUT_POINTS], py[SM_MAX_CUT_POINTS];
+    for (uint32_t i = 0; i < n_pts; i++) {
+        lg_vec3 v = lg_m4_point(l->view, pts[i]);
+        px[i] = v.x, py[i] = v.y;
+    }
+    float a = sm_best_rotation(px, py, n_pts);
+    if (a != 0.0f) {
+        float rot[16];
+        lg_m4_identity(rot);
+        rot[0] = cosf(a), rot[4] = sinf(a);
+        rot[1] = -sinf(a), rot[5] = cosf(a);
+        lg_m4_mul(l->view, rot, l->view);
+    }
+
+    float x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (uint32_t i = 0; i < n_pts; i++) {
+        lg_vec3 v = lg_m4_point(l->view, pts[i]);
+        x0 = fminf(x0, v.x), x1 = fmaxf(x1, v.x);
+        y0 = fminf(y0, v.y), y1 = fmaxf(y1, v.y);
+    }
+    /* a flat scene seen edge-on has no extent along one axis: keep a sliver */
+    float min_ext = 1e-4f * r;
+    float cx = 0.5f * (x0 + x1), cy = 0.5f * (y0 + y1);
+    float hw = fmaxf(0.5f * (x1 - x0), min_ext), hh = fmaxf(0.5f * (y1 - y0), min_ext);
+    /* a margin of m = normal_offset + 1 texels on each side (at most a quarter of the
+     * tile), so that a receiver moved along its normal, or rounded, stays inside. The texel
+     * is the larger side's, and grows with the margin: with W the larger half-extent,
+     * texel = 2 (W + m texel) / res, so texel = 2 W / (res - 2 m). */
+    float res = (float)st->resolution;
+    float m = fminf(st->normal_offset + 1.0f, 0.25f * res);
+    float texel = 2.0f * fmaxf(hw, hh) / (res - 2.0f * m);
+    hw += m * texel, hh += m * texel;
+    /* depth: the bounds' sphere, 0.1 % wider; every caster lies inside it */
+    float znear = 2.0f * r - 1.001f * r, zfar = 2.0f * r + 1.001f * r;
+
+    lg_m4_ortho(l->proj, cx - hw, cx + hw, cy - hh, cy + hh, znear, zfar);
+    /* texel row 0 is the atlas's top row: flip Y, so that the tile shows the light's view
+     * upright and p_tex.y = 0 (clip y = -1) is the tile's top row */
+    for (int col = 0; col < 4; col++)
+        l->proj[col * 4 + 1] = -l->proj[col * 4 + 1];
+    lg_m4_mul(l->view_proj, l->proj, l->view);
+    l->texel_world = texel;
+    l->depth_range = zfar - znear;
+}
+
+/* ---- prepare ----------------------------------------------------------------------------- */
+
+static void sm_free_payload(void *p)
+{
+    free(p);
+}
+
+static int sm_prepare(lg_node *n)
+{
+    sm_state *st = n->user;
+    lg_resource_info info;
+    const lg_resource *in = lg_input(n, 0);
+    if (!in || lg_describe(in, &info, n) != 0)
+        return lg_error(n, "input 'scene' is not connected");
+    if (info.kind != LG_KIND_SCENE)
+        return lg_error(n, "input 'scene' is not a scene");
+    const lg_scene *s = lg_scene_get(n, in);
+    if (!s)
+        return LG_ERR_INVALID;
+
+    /* the directional lights, in the scene's order; other types have no shadow map */
+    uint32_t nl = 0;
+    for (uint32_t i = 0; i < s->n_lights; i++) {
+        const lg_light *L = &s->lights[i];
+        if (L->type != LG_LIGHT_DIRECTIONAL)
+            continue;
+        lg_vec3 d = lg_v3(L->direction[0], L->direction[1], L->direction[2]);
+        lg_vec3 u = lg_v3_normalize_or(d, lg_v3(0, 0, 0));
+        if (u.x == 0.0f && u.y == 0.0f && u.z == 0.0f)
+            return lg_error(n, "light %u '%s': direction [%g, %g, %g] is not a direction (zero "
+                               "or not finite)",
+                            i, L->name ? L->name : "", (double)d.x, (double)d.y, (double)d.z);
+        nl++;
+    }
+
+    /* the atlas: ceil(sqrt(L)) columns, as many rows as needed */
+    uint32_t res = st->resolution;
+    uint32_t tiles = nl ? nl : 1;
+    uint32_t cols = 1;
+    while (cols * cols < tiles)
+        cols++;
+    uint32_t rows = (tiles + cols - 1) / cols;
+    uint64_t aw = (uint64_t)cols * res, ah = (uint64_t)rows * res;
+    if (aw > 65536 || ah > 65536 || aw * ah > (1ull << 28))
+        return lg_error(n, "%u directional light%s at resolution %u need an atlas of %" PRIu64
+                           "x%" PRIu64 " texels (%.1f GiB of depth), more than an image may "
+                           "hold (2^28 texels); lower 'resolution'",
+                        nl, nl == 1 ? "" : "s", res, aw, ah,
+                        (double)(aw * ah * 4) / (1024.0 * 1024.0 * 1024.0));
+    st->cols = cols;
+    st->rows = rows;
+
+    float lo[3], hi[3];
+    int rc = sm_bounds(n, s, lo, hi);
+    if (rc)
+        return rc;
+    lg_vec3 pts[SM_MAX_CUT_POINTS];
+    uint32_t n_pts = 0;
+    if (st->fit == SM_FIT_FRUSTUM && nl) {
+        float cam_vp[16];
+        if ((rc = sm_camera_view_proj(n, st, s, lo, hi, cam_vp)))
+            return rc;
+        n_pts = sm_frustum_points(cam_vp, lo, hi, pts);
+        if (n_pts == 0)
+            lg_log(n, LG_LOG_INFO, "fit = frustum: the camera sees none of the scene's bounds; "
+                                   "fitting to the bounds");
+    }
+    if (n_pts == 0) {
+        for (int k = 0; k < 8; k++)
+            pts[k] = sm_corner(lo, hi, k);
+        n_pts = 8;
+    }
+
+    sm_payload *pl = calloc(1, sizeof *pl + (size_t)tiles * sizeof(lg_shadow_light));
+    if (!pl)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u shadow lights)", nl);
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < s->n_lights; i++) {
+        const lg_light *L = &s->lights[i];
+        if (L->type != LG_LIGHT_DIRECTIONAL)
+            continue;
+        lg_shadow_light *l = &pl->lights[k];
+        lg_vec3 d = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
+                                       lg_v3(0, -1, 0));
+        l->light = i;
+        sm_fit_light(st, d, lo, hi, pts, n_pts, l);
+        l->tile_x = (k % cols) * res;
+        l->tile_y = (k / cols) * res;
+        k++;
+    }
+
+    lg_image_desc d = { .width = (uint32_t)aw, .height = (uint32_t)ah,
+                        .flags = LG_IMAGE_DEPTH_ONLY };
+    if ((rc = lg_declare_image(n, 1, &d))) {
+        free(pl);
+        return rc;
+    }
+    pl->sm.struct_size = sizeof pl->sm;
+    pl->sm.resolution = res;
+    pl->sm.n_lights = nl;
+    pl->sm.lights = pl->lights;
+    pl->sm.atlas = lg_output(n, 1);
+    pl->sm.atlas_width = (uint32_t)aw;
+    pl->sm.atlas_height = (uint32_t)ah;
+    pl->sm.bias_constant = st->bias_constant;
+    pl->sm.bias_slope = st->bias_slope;
+    pl->sm.normal_offset = st->normal_offset;
+    st->sm = &pl->sm;
+    /* on failure the host frees the payload */
+    if ((rc = n->host->declare_payload(n, 0, LG_KIND_SHADOWMAP, NULL, pl, sm_free_payload))) {
+        st->sm = NULL;
+        return rc;
+    }
+    return lg_set_device(n, LG_DEVICE_GL);
+}
+
+/* ---- scene checks and the draw list ---------------------------------------------------- */
+
+static const char *sm_mesh_name(const lg_mesh *m)
+{
+    return m->name ? m->name : "";
+}
+
+/* What the GL pass relies on: positions and indices present, a whole number of triangles
+ * one draw can take, every index in range (an out-of-range index would read outside the
+ * GPU buffer), a material that exists. */
+static int sm_check_mesh(lg_node *n, const lg_scene *s, uint32_t mi)
+{
+    const lg_mesh *m = &s->meshes[mi];
+    if (!m->positions || !m->indices)
+        return lg_error(n, "mesh %u '%s' lacks its %s array", mi, sm_mesh_name(m),
+                        !m->positions ? "positions" : "indices");
+    if (m->n_indices % 3 != 0)
+        return lg_error(n, "mesh %u '%s': %u indices is not a whole number of triangles", mi,
+                        sm_mesh_name(m), m->n_indices);
+    if (m->n_indices > (uint32_t)INT32_MAX)
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "mesh %u '%s': %u indices is more than one GL draw takes", mi,
+                             sm_mesh_name(m), m->n_indices);
+    if (m->material >= s->n_materials)
+        return lg_error(n, "mesh %u '%s' uses material %u, the scene has %u", mi,
+                        sm_mesh_name(m), m->material, s->n_materials);
+    for (uint32_t i = 0; i < m->n_indices; i++)
+        if (m->indices[i] >= m->n_vertices)
+            return lg_error(n, "mesh %u '%s': index %u (entry %u) is out of range: the mesh "
+                               "has %u vertices",
+                            mi, sm_mesh_name(m), m->indices[i], i, m->n_vertices);
+    return 0;
+}
+
+static float sm_det3(const float m[16])
+{
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+typedef struct sm_item {
+    uint32_t mesh;
+    uint32_t mirrored; /* the model matrix has a negative determinant */
+    uint32_t instance;
+} sm_item;
+
+static int sm_item_cmp(const void *a, const void *b)
+{
+    const sm_item *x = a, *y = b;
+    if (x->mesh != y->mesh)
+        return x->mesh < y->mesh ? -1 : 1;
+    if (x->mirrored != y->mirrored)
+        return x->mirrored < y->mirrored ? -1 : 1;
+    return x->instance < y->instance ? -1 : x->instance > y->instance;
+}
+
+/* The instances to draw, sorted by mesh and handedness; meshes without triangles are left
+ * out. */
+static int sm_collect(lg_node *n, const lg_scene *s, sm_item **out, uint32_t *count)
+{
+    *out = NULL;
+    *count = 0;
+    if (s->n_instances == 0)
+        return 0;
+    sm_item *items = malloc((size_t)s->n_instances * sizeof *items);
+    unsigned char *checked = calloc(s->n_meshes ? s->n_meshes : 1, 1);
+    if (!items || !checked) {
+        free(items);
+        free(checked);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
+    }
+    uint32_t k = 0;
+    int rc = 0;
+    for (uint32_t i = 0; i < s->n_instances && !rc; i++) {
+        const lg_instance *in = &s->instances[i];
+        if (in->mesh >= s->n_meshes) {
+            rc = lg_error(n, "instance %u refers to mesh %u, the scene has %u", i, in->mesh,
+                          s->n_meshes);
+            break;
+        }
+        const lg_mesh *m = &s->meshes[in->mesh];
+        if (m->n_indices == 0 || m->n_vertices == 0)
+            continue;
+        if (!checked[in->mesh]) {
+            if ((rc = sm_check_mesh(n, s, in->mesh)))
+                break;
+            checked[in->mesh] = 1;
+        }
+        for (int j = 0; j < 16 && !rc; j++)
+            if (!isfinite(in->model[j]))
+                rc = lg_error(n, "instance %u (mesh %u '%s'): its matrix is not finite", i,
+                              in->mesh, sm_mesh_name(m));
+        items[k].mesh = in->mesh;
+        items[k].mirrored = sm_det3(in->model) < 0.0f;
+        items[k].instance = i;
+        k++;
+    }
+    free(checked);
+    if (rc) {
+        free(items);
+        return rc;
+    }
+    qsort(items, k, sizeof *items, sm_item_cmp);
+    *out = items;
+    *count = k;
+    return 0;
+}
+
+/* ---- execute ------------------------------------------------------------------------------ */
+
+typedef struct sm_gl_objects {
+    GLuint fbo, vao, instances;
+} sm_gl_objects;
+
+/* Leaves the bindings as the GL state contract wants them (docs/devices.md). */
+static void sm_unbind(const lg_gl *gl)
+{
+    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl->UseProgram(0);
+    gl->BindVertexArray(0);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    gl->Disable(GL_DEPTH_CLAMP);
+    gl->Disable(GL_CULL_FACE);
+    gl->FrontFace(GL_CCW);
+}
+
+static void sm_gl_free(const lg_gl *gl, sm_gl_objects *o)
+{
+    if (o->fbo)
+        gl->DeleteFramebuffers(1, &o->fbo);
+    if (o->vao)
+        gl->DeleteVertexArrays(1, &o->vao);
+    if (o->instances)
+        gl->DeleteBuffers(1, &o->instances);
+    memset(o, 0, sizeof *o);
+}
+
+static int sm_draw(lg_node *n, const sm_state *st, const lg_gl *gl, const lg_scene *s,
+                   const lg_resource *scene_res, const sm_item *items, uint32_t count,
+                   sm_gl_objects *o)
+{
+    const lg_shadowmap *sm = st->sm;
+    int rc;
+    if (count) {
+        size_t bytes = (size_t)count * 16 * sizeof(float);
+        float *mats = malloc(bytes);
+        if (!mats)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)",
+                                 bytes);
+        for (uint32_t i = 0; i < count; i++)
+            memcpy(mats + (size_t)i * 16, s->instances[items[i].instance].model,
+                   16 * sizeof(float));
+        gl->CreateBuffers(1, &o->instances);
+        gl->NamedBufferStorage(o->instances, (GLsizeiptr)bytes, mats, 0);
+        free(mats);
+        if ((rc = lg_gl_check(n, "shadowmap: uploading the instance matrices")))
+            return rc;
+    }
+    gl->CreateVertexArrays(1, &o->vao);
+    gl->EnableVertexArrayAttrib(o->vao, 0);
+    gl->VertexArrayAttribFormat(o->vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl->VertexArrayAttribBinding(o->vao, 0, 0);
+
+    gl->BindFramebuffer(GL_FRAMEBUFFER, o->fbo);
+    gl->DepthMask(GL_TRUE);
+    gl->Disable(GL_SCISSOR_TEST);
+    gl->Disable(GL_RASTERIZER_DISCARD);
+    const float far = 1.0f;
+    gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
+    gl->Enable(GL_DEPTH_TEST);
+    gl->DepthFunc(GL_LESS);
+    gl->DepthRangef(0.0f, 1.0f);
+    /* casters are inside [near, far] by the fit; clamping keeps a rounding error from
+     * clipping one away */
+    gl->Enable(GL_DEPTH_CLAMP);
+    gl->Disable(GL_POLYGON_OFFSET_FILL); /* the stored depth is unbiased (README.md) */
+    gl->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    gl->CullFace(st->cull == SM_CULL_BACK ? GL_BACK : GL_FRONT);
+
+    gl->UseProgram(st->program);
+    gl->BindVertexArray(o->vao);
+
+    GLint max_block = 0, align = 0;
+    gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    gl->GetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    if (align < 1)
+        align = 1;
+    const size_t isz = 16 * sizeof(float);
+    size_t per_bind = (size_t)max_block / isz;
+    size_t slack = ((size_t)align + isz - 1) / isz;
+    per_bind = per_bind > slack + 1 ? per_bind - slack : 1;
+
+    for (uint32_t li = 0; li < sm->n_lights; li++) {
+        const lg_shadow_light *l = &sm->lights[li];
+        gl->Viewport((GLint)l->tile_x, (GLint)l->tile_y, (GLsizei)sm->resolution,
+                     (GLsizei)sm->resolution);
+        gl->UniformMatrix4fv(U_VIEW_PROJ, 1, GL_FALSE, l->view_proj);
+        uint32_t bound_mesh = UINT32_MAX;
+        for (uint32_t a = 0; a < count;) {
+            uint32_t b = a;
+            while (b < count && items[b].mesh == items[a].mesh &&
+                   items[b].mirrored == items[a].mirrored)
+                b++;
+            uint32_t mi = items[a].mesh;
+            const lg_mesh *m = &s->meshes[mi];
+            if (mi != bound_mesh) {
+                lg_mesh_gl mg;
+                if ((rc = lg_scene_mesh_gl(n, scene_res, mi, &mg)))
+                    return rc;
+                gl->VertexArrayVertexBuffer(o->vao, 0, mg.positions, 0, 3 * sizeof(float));
+                gl->VertexArrayElementBuffer(o->vao, mg.indices);
+                /* a double-sided material's winding says nothing about which side faces
+                 * out: both sides cast shadows whatever `cull` says */
+                if (st->cull != SM_CULL_NONE && !s->materials[m->material].double_sided)
+                    gl->Enable(GL_CULL_FACE);
+                else
+                    gl->Disable(GL_CULL_FACE);
+                bound_mesh = mi;
+            }
+            /* with Y flipped, counter-clockwise front faces are clockwise in the window;
+             * a mirroring instance (negative determinant) flips them back */
+            gl->FrontFace(items[a].mirrored ? GL_CCW : GL_CW);
+            for (uint32_t i = a; i < b;) {
+                uint32_t e = (uint32_t)((size_t)(b - i) > per_bind ? i + per_bind : b);
+                size_t off = (size_t)i * isz / (size_t)align * (size_t)align;
+                gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, o->instances, (GLintptr)off,
+                                    (GLsizeiptr)((size_t)e * isz - off));
+                gl->Uniform1i(U_FIRST, (GLint)(((size_t)i * isz - off) / isz));
+                gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)m->n_indices,
+                                          GL_UNSIGNED_INT, NULL, (GLsizei)(e - i));
+                i = e;
+            }
+            a = b;
+        }
+    }
+    return lg_gl_check(n, "shadowmap: drawing the scene into the atlas");
+}
+
+static int sm_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    sm_state *st = n->user;
+    const lg_shadowmap *sm = st->sm;
+    const lg_resource *scene_res = lg_input(n, 0);
+    const lg_scene *s = lg_scene_get(n, scene_res);
+    if (!s || !sm)
+        return LG_ERR_INVALID;
+    const lg_gl *gl = lg_gl_get(n);
+    if (!gl)
+        return LG_ERR_DEVICE;
+
+    GLint max_tex = 0, max_vp[2] = { 0, 0 };
+    gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);
+    gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, max_vp);
+    if ((GLint)sm->atlas_width > max_tex || (GLint)sm->atlas_height > max_tex)
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "the atlas (%ux%u: %u directional lights at resolution %u) is "
+                             "larger than this GL device's textures (GL_MAX_TEXTURE_SIZE %d); "
+                             "lower 'resolution'",
+                             sm->atlas_width, sm->atlas_height, sm->n_lights, sm->resolution,
+                             max_tex);
+    if ((GLint)sm->resolution > max_vp[0] || (GLint)sm->resolution > max_vp[1])
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "resolution %u is larger than this GL device's viewports "
+                             "(GL_MAX_VIEWPORT_DIMS %dx%d)",
+                             sm->resolution, max_vp[0], max_vp[1]);
+
+    sm_item *items = NULL;
+    uint32_t count = 0;
+    int rc = sm_collect(n, s, &items, &count);
+    if (rc)
+        return rc;
+    if (!st->program) {
+        lg_gl_shader_src src[2] = {
+            { GL_VERTEX_SHADER, lg_src_shadowmap_vert_file, lg_src_shadowmap_vert },
+            { GL_FRAGMENT_SHADER, lg_src_shadowmap_frag_file, lg_src_shadowmap_frag },
+        };
+        st->program = lg_gl_program(n, gl, src, 2, NULL);
+        if (!st->program) {
+            free(items);
+            return LG_ERR_DEVICE;
+        }
+    }
+    uint32_t tex = 0, depth = 0;
+    if ((rc = lg_map_gl(n, lg_output(n, 1), LG_WRITE, &tex, &depth))) {
+        free(items);
+        return rc;
+    }
+    if (!depth) {
+        free(items);
+        return lg_error_code(n, LG_ERR_DEVICE, "the atlas has no GL depth texture");
+    }
+
+    sm_gl_objects o = { 0 };
+    gl->CreateFramebuffers(1, &o.fbo);
+    gl->NamedFramebufferTexture(o.fbo, GL_DEPTH_ATTACHMENT, depth, 0);
+    gl->NamedFramebufferDrawBuffer(o.fbo, GL_NONE);
+    gl->NamedFramebufferReadBuffer(o.fbo, GL_NONE);
+    GLenum status = gl->CheckNamedFramebufferStatus(o.fbo, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        rc = lg_error_code(n, LG_ERR_DEVICE,
+                           "shadowmap: the framebuffer (depth32f %ux%u, no colour) is "
+                           "incomplete: status 0x%04x",
+                           sm->atlas_width, sm->atlas_height, (unsigned)status);
+    else
+        rc = sm_draw(n, st, gl, s, scene_res, items, count, &o);
+    sm_unbind(gl);
+    sm_gl_free(gl, &o);
+    if (!rc) {
+        uint64_t tris = 0;
+        for (uint32_t i = 0; i < count; i++)
+            tris += s->meshes[items[i].mesh].n_indices / 3;
+        lg_log(n, LG_LOG_INFO,
+               "%u directional light%s, atlas %ux%u (%ux%u tiles of %u), fit %s, cull %s; "
+               "%u instances, %" PRIu64 " triangles per light",
+               sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height,
+               st->cols, st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
+               st->cull == SM_CULL_FRONT ? "front" : st->cull == SM_CULL_BACK ? "back" : "none",
+               count, tris);
+        for (uint32_t i = 0; i < sm->n_lights; i++) {
+            const lg_shadow_light *l = &sm->lights[i];
+            lg_log(n, LG_LOG_DEBUG,
+                   "light %u '%s': tile at (%u, %u), texel %.6g m, depth range %.6g m", l->light,
+                   s->lights[l->light].name ? s->lights[l->light].name : "", l->tile_x,
+                   l->tile_y, (double)l->texel_world, (double)l->depth_range);
+        }
+    }
+    free(items);
+    return rc ? rc : lg_gl_check(n, "shadowmap: cleaning up");
+}
+
+static void sm_destroy(lg_node *n)
+{
+    sm_state *st = n->user;
+    if (!st)
+        return;
+    if (st->program) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (gl)
+            gl->DeleteProgram(st->program);
+    }
+    free(st);
+    n->user = NULL;
+}
+
+/* ---- the descriptor ------------------------------------------------------------------------ */
+
+static const char *const sm_fits[] = { "bounds", "frustum", NULL };
+static const char *const sm_culls[] = { "front", "back", "none", NULL };
+
+static const lg_param_desc sm_params[] = {
+    { .key = "resolution", .type = LG_PARAM_INT, .def.i = 1024, .min = 16, .max = 8192,
+      .doc = "side of each light's square depth map, texels (the thesis: 1024)" },
+    { .key = "fit", .type = LG_PARAM_ENUM, .def.e = SM_FIT_BOUNDS, .enum_values = sm_fits,
+      .doc = "bounds: each map covers the scene's bounds; frustum: what the camera sees of "
+             "them (the camera's frustum clipped by the bounds)" },
+    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+      .doc = "fit = frustum: index of the scene's camera; -1 = the scene's active camera" },
+    { .key = "aspect", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1000,
+      .doc = "fit = frustum: width / height of the consumer's image; 0 = the render size's" },
+    { .key = "cull", .type = LG_PARAM_ENUM, .def.e = SM_CULL_FRONT, .enum_values = sm_culls,
+      .doc = "faces left out of the maps: front (against acne), back or none; double-sided "
+             "materials always draw both sides" },
+    { .key = "bias_constant", .type = LG_PARAM_FLOAT, .def.f = SM_DEF_BIAS_CONSTANT, .min = 0,
+      .max = 1, .doc = "depth units ([0, 1] over each light's depth range), added to the "
+                       "stored depth in the test; applied by consumers" },
+    { .key = "bias_slope", .type = LG_PARAM_FLOAT, .def.f = SM_DEF_BIAS_SLOPE, .min = 0,
+      .max = 1, .doc = "depth units per unit of tan(angle between N and L), with |N.L| "
+                       "clamped to >= 0.1 (tan <= 9.95); applied by consumers" },
+    { .key = "normal_offset", .type = LG_PARAM_FLOAT, .def.f = SM_DEF_NORMAL_OFFSET, .min = 0,
+      .max = 64, .doc = "texels: consumers move the tested point along its normal by this "
+                        "many of the light's texel_world" },
+};
+static const lg_port_desc sm_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene whose directional lights cast "
+                                                     "shadows" },
+};
+static const lg_port_desc sm_outputs[] = {
+    { .name = "shadows", .kind = LG_KIND_SHADOWMAP,
+      .doc = "the lights' matrices, tiles and bias (lg_shadowmap_get; NULL when gated)" },
+    { .name = "atlas", .kind = LG_KIND_IMAGE,
+      .doc = "depth only: each light's window depth in its tile, 1 where nothing is" },
+};
+
+static const lg_node_type sm_types[] = { {
+    .struct_size = sizeof(lg_node_type),
+    .name = "shadowmap",
+    .doc = "One orthographic depth map per directional light, in tiles of a depth atlas (GL)",
+    LG_PARAMS(sm_params),
+    LG_INPUTS(sm_inputs),
+    LG_OUTPUTS(sm_outputs),
+    .needs = LG_NEEDS_DIR_LIGHT,
+    .neutral = LG_NEUTRAL_ZERO,
+    .create = sm_create,
+    .prepare = sm_prepare,
+    .execute = sm_execute,
+    .destroy = sm_destroy,
+} };
+
+LG_PLUGIN_DEFINE("shadowmap", "1.0.0",
+                 "Shadow maps of directional lights (orthographic, tiled depth atlas) on GL",
+                 sm_types)

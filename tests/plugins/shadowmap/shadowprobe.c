@@ -1,0 +1,522 @@
+/*
+ * Test plugin "shadowprobe": a scene built in memory for the shadow-map tests, and a probe
+ * that evaluates Shadow_L(p) on the CPU for given world points from a shadowmap node's
+ * payload and atlas, as a consumer would.
+ *
+ *   test_shadow_scene   -> scene: a floor quad and a box (or a sphere), no lights (add
+ *                          them with the scene_tools `light` node), one camera
+ *   test_shadow_probe   scene, shadows -> image (layout below)
+ *
+ * sp_shadow() below is the CPU reference of the shadow test (TECHNIQUES.md §2, eq. 4, with
+ * the bias rules of plugins/shadowmap/README.md, "Bias"): later nodes that test shadows on
+ * the GPU can be held against it.
+ *
+ * The probe's image: width max(P + 1, 3) for P points, height (scene lights) + 1.
+ *   row l < lights, column j < P: (Shadow_l(p_j), z, D, 1) where z is p_j's light depth
+ *       (clamped to [0, 1]) and D the stored depth of its texel; (1, -1, -1, 0) for a light
+ *       without a shadow map (not directional, or no payload); z = D = -1 when p_j falls
+ *       outside the light's tile (lit)
+ *   row l, column P: (tile_x, tile_y, texel_world, depth_range), or zeros
+ *   last row, column 0: (n_lights of the payload or -1 without one, resolution,
+ *       atlas_width, atlas_height)
+ *   last row, column 1: (bias_constant, bias_slope, normal_offset, 1 if the atlas resource
+ *       is a depth-only image of atlas_width x atlas_height, else 0)
+ *   last row, column 2: (the number of payload entries whose `light` is not a directional
+ *       light of the scene, 0, 0, 0): a check of the lights list
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/math.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/shadowmap.h"
+
+/* ---- the CPU reference of the shadow test ------------------------------------------------ */
+
+/* Shadow_L(p) for light `l` of `sm` (1 lit, 0 shadowed), with `depth` the atlas's CPU depth
+ * plane (`row_pixels` texels per row). `nrm` is p's unit geometric normal, or NULL for a
+ * point without one (a point in a medium): then neither the normal offset nor the slope
+ * bias applies. `dir` is the light's direction of travel (unit). *z and *d receive the
+ * point's light depth and the stored depth (-1, -1 outside the tile). */
+static float sp_shadow(const lg_shadowmap *sm, const lg_shadow_light *l, lg_vec3 dir,
+                       const float *depth, size_t row_pixels, lg_vec3 p, const lg_vec3 *nrm,
+                       float *z, float *d)
+{
+    float tan_t = 0.0f;
+    if (nrm) {
+        lg_vec3 to_light = lg_v3_scale(dir, -1.0f);
+        float c = fabsf(lg_v3_dot(*nrm, to_light));
+        c = c < 0.1f ? 0.1f : c > 1.0f ? 1.0f : c;
+        tan_t = sqrtf(1.0f - c * c) / c;
+        p = lg_v3_add(p, lg_v3_scale(*nrm, sm->normal_offset * l->texel_world));
+    }
+    /* orthographic: w = 1 */
+    lg_vec3 q = lg_m4_point(l->view_proj, p);
+    float tx = q.x * 0.5f + 0.5f, ty = q.y * 0.5f + 0.5f;
+    if (!(tx >= 0.0f && tx <= 1.0f && ty >= 0.0f && ty <= 1.0f)) {
+        *z = *d = -1.0f;
+        return 1.0f;
+    }
+    uint32_t res = sm->resolution;
+    uint32_t ix = (uint32_t)(tx * (float)res), iy = (uint32_t)(ty * (float)res);
+    if (ix >= res)
+        ix = res - 1;
+    if (iy >= res)
+        iy = res - 1;
+    float zz = q.z * 0.5f + 0.5f;
+    zz = zz < 0.0f ? 0.0f : zz > 1.0f ? 1.0f : zz;
+    float dd = depth[(size_t)(l->tile_y + iy) * row_pixels + l->tile_x + ix];
+    float bias = sm->bias_constant + sm->bias_slope * tan_t;
+    *z = zz;
+    *d = dd;
+    return zz > dd + bias ? 0.0f : 1.0f;
+}
+
+/* ---- test_shadow_scene ------------------------------------------------------------------- */
+
+/* Room for the sphere: (rings + 1) (2 rings + 1) vertices, 12 rings^2 indices. */
+#define SS_MAX_RINGS 24
+#define SS_MAX_V ((SS_MAX_RINGS + 1) * (2 * SS_MAX_RINGS + 1))
+#define SS_MAX_I (12 * SS_MAX_RINGS * SS_MAX_RINGS)
+
+typedef struct ss_scene {
+    lg_scene s;
+    lg_mesh meshes[2];
+    float pos[2][SS_MAX_V * 3], nrm[2][SS_MAX_V * 3];
+    uint32_t idx[2][SS_MAX_I];
+    lg_instance instances[2];
+    lg_material materials[2];
+    lg_camera camera;
+    lg_light light;
+} ss_scene;
+
+static void ss_free(void *p)
+{
+    free(p);
+}
+
+/* Appends a quad c +- u +- v whose front (counter-clockwise) side faces u x v. */
+static void ss_quad(ss_scene *t, uint32_t mi, lg_vec3 c, lg_vec3 u, lg_vec3 v)
+{
+    lg_mesh *m = &t->meshes[mi];
+    lg_vec3 nrm = lg_v3_normalize_or(lg_v3_cross(u, v), lg_v3(0, 0, 1));
+    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
+    uint32_t base = m->n_vertices;
+    for (int k = 0; k < 4; k++) {
+        lg_vec3 p = lg_v3_add(c, lg_v3_add(lg_v3_scale(u, su[k]), lg_v3_scale(v, sv[k])));
+        float *pp = t->pos[mi] + (base + k) * 3, *nn = t->nrm[mi] + (base + k) * 3;
+        pp[0] = p.x, pp[1] = p.y, pp[2] = p.z;
+        nn[0] = nrm.x, nn[1] = nrm.y, nn[2] = nrm.z;
+    }
+    static const uint32_t tri[6] = { 0, 1, 2, 0, 2, 3 };
+    for (int k = 0; k < 6; k++)
+        t->idx[mi][m->n_indices++] = base + tri[k];
+    m->n_vertices += 4;
+}
+
+/* A UV sphere of radius 1 at the origin in mesh `mi`: vertex (r, s) at polar angle
+ * pi r / R from +Y and azimuth 2 pi s / S (S = 2 R), position (sin t cos a, cos t,
+ * sin t sin a), normal the same; quad (r, s) is split into triangles (r, s) (r+1, s)
+ * (r+1, s+1) and (r, s) (r+1, s+1) (r, s+1), each wound counter-clockwise seen from
+ * outside. The tests rebuild the same triangles to put points on the surface. */
+static void ss_sphere(ss_scene *t, uint32_t mi, int rings)
+{
+    lg_mesh *m = &t->meshes[mi];
+    int segs = 2 * rings;
+    const double pi = 3.14159265358979323846;
+    for (int r = 0; r <= rings; r++)
+        for (int k = 0; k <= segs; k++) {
+            double th = pi * r / rings, az = 2 * pi * k / segs;
+            float *p = t->pos[mi] + (size_t)m->n_vertices * 3;
+            float *nn = t->nrm[mi] + (size_t)m->n_vertices * 3;
+            p[0] = nn[0] = (float)(sin(th) * cos(az));
+            p[1] = nn[1] = (float)cos(th);
+            p[2] = nn[2] = (float)(sin(th) * sin(az));
+            m->n_vertices++;
+        }
+    for (int r = 0; r < rings; r++)
+        for (int k = 0; k < segs; k++) {
+            uint32_t a = (uint32_t)(r * (segs + 1) + k), b = a + (uint32_t)(segs + 1);
+            uint32_t tri[2][3] = { { a, b, b + 1 }, { a, b + 1, a + 1 } };
+            for (int i = 0; i < 2; i++) {
+                const float *p0 = t->pos[mi] + tri[i][0] * 3, *p1 = t->pos[mi] + tri[i][1] * 3,
+                            *p2 = t->pos[mi] + tri[i][2] * 3;
+                lg_vec3 e1 = lg_v3(p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]);
+                lg_vec3 e2 = lg_v3(p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]);
+                lg_vec3 c = lg_v3(p0[0] + p1[0] + p2[0], p0[1] + p1[1] + p2[1],
+                                  p0[2] + p1[2] + p2[2]);
+                bool flip = lg_v3_dot(lg_v3_cross(e1, e2), c) < 0.0f;
+                t->idx[mi][m->n_indices++] = tri[i][0];
+                t->idx[mi][m->n_indices++] = tri[i][flip ? 2 : 1];
+                t->idx[mi][m->n_indices++] = tri[i][flip ? 1 : 2];
+            }
+        }
+}
+
+static void ss_bounds(ss_scene *t)
+{
+    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
+        lg_mesh *m = &t->meshes[i];
+        for (int k = 0; k < 3; k++) {
+            m->bounds_min[k] = INFINITY;
+            m->bounds_max[k] = -INFINITY;
+        }
+        for (uint32_t v = 0; v < m->n_vertices; v++)
+            for (int k = 0; k < 3; k++) {
+                m->bounds_min[k] = fminf(m->bounds_min[k], t->pos[i][v * 3 + k]);
+                m->bounds_max[k] = fmaxf(m->bounds_max[k], t->pos[i][v * 3 + k]);
+            }
+    }
+    for (int k = 0; k < 3; k++) {
+        t->s.bounds_min[k] = INFINITY;
+        t->s.bounds_max[k] = -INFINITY;
+    }
+    for (uint32_t i = 0; i < t->s.n_instances; i++) {
+        const lg_mesh *m = &t->meshes[t->instances[i].mesh];
+        for (int c = 0; c < 8; c++) {
+            lg_vec3 p = lg_v3(c & 1 ? m->bounds_max[0] : m->bounds_min[0],
+                              c & 2 ? m->bounds_max[1] : m->bounds_min[1],
+                              c & 4 ? m->bounds_max[2] : m->bounds_min[2]);
+            p = lg_m4_point(t->instances[i].model, p);
+            float w[3] = { p.x, p.y, p.z };
+            for (int k = 0; k < 3; k++) {
+                t->s.bounds_min[k] = fminf(t->s.bounds_min[k], w[k]);
+                t->s.bounds_max[k] = fmaxf(t->s.bounds_max[k], w[k]);
+            }
+        }
+    }
+}
+
+static lg_vec3 ss_vec(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v ? lg_v3((float)v->v[0], (float)v->v[1], (float)v->v[2]) : lg_v3(0, 0, 0);
+}
+
+static int ss_prepare(lg_node *n)
+{
+    ss_scene *t = calloc(1, sizeof *t);
+    if (!t)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    t->s.struct_size = sizeof t->s;
+    t->s.source = "test_shadow_scene";
+    t->s.meshes = t->meshes;
+    t->s.instances = t->instances;
+    t->s.materials = t->materials;
+    t->s.n_materials = 2;
+    t->s.cameras = &t->camera;
+    t->s.n_cameras = 1;
+    static const char *const mat_names[2] = { "floor", "box" };
+    static const char *const mesh_names[2] = { "floor#0", "box#0" };
+    for (int i = 0; i < 2; i++) {
+        lg_material *m = &t->materials[i];
+        m->name = mat_names[i];
+        m->kd = 1.0f;
+        for (int k = 0; k < 3; k++)
+            m->base_color[k] = m->od[k] = 0.8f;
+        m->base_color[3] = 1.0f;
+        m->roughness = 1.0f;
+        t->meshes[i].name = mesh_names[i];
+        t->meshes[i].material = (uint32_t)i;
+        t->meshes[i].positions = t->pos[i];
+        t->meshes[i].normals = t->nrm[i];
+        t->meshes[i].indices = t->idx[i];
+    }
+    t->materials[0].double_sided = lg_param_bool(n, "floor_double_sided");
+    t->materials[1].double_sided = lg_param_bool(n, "box_double_sided");
+
+    /* mesh 0: the floor, facing +Y; mesh 1: the unit cube, faces outwards */
+    float half = (float)lg_param_float(n, "floor_size") * 0.5f;
+    float fy = (float)lg_param_float(n, "floor_y");
+    ss_quad(t, 0, lg_v3(0, fy, 0), lg_v3(0, 0, half), lg_v3(half, 0, 0));
+    bool sphere = lg_param_enum(n, "shape") == 1;
+    static const float f[6][3][3] = {
+        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } },  { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
+        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } },  { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
+        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },   { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
+    };
+    if (sphere)
+        ss_sphere(t, 1, (int)lg_param_int(n, "sphere_rings"));
+    for (int i = 0; i < 6 && !sphere; i++)
+        ss_quad(t, 1, lg_v3_scale(lg_v3(f[i][0][0], f[i][0][1], f[i][0][2]), 0.5f),
+                lg_v3_scale(lg_v3(f[i][1][0], f[i][1][1], f[i][1][2]), 0.5f),
+                lg_v3_scale(lg_v3(f[i][2][0], f[i][2][1], f[i][2][2]), 0.5f));
+    t->s.n_meshes = 2;
+
+    lg_instance *in = &t->instances[t->s.n_instances++];
+    in->mesh = 0;
+    lg_m4_identity(in->model);
+    lg_m4_normal_matrix(in->normal_matrix, in->model);
+    if (lg_param_bool(n, "box")) {
+        lg_vec3 c = ss_vec(n, "box_center"), sz = ss_vec(n, "box_size");
+        in = &t->instances[t->s.n_instances++];
+        in->mesh = 1;
+        lg_m4_identity(in->model);
+        /* a mirroring instance: the cube's X flipped (its faces, seen from outside, are
+         * then clockwise: a renderer must flip the front face to cull correctly); the
+         * sphere (radius 1) is scaled by half the size, so it fits the same box */
+        float k = sphere ? 0.5f : 1.0f;
+        in->model[0] = k * sz.x * (lg_param_bool(n, "box_mirror") ? -1.0f : 1.0f);
+        in->model[5] = k * sz.y;
+        in->model[10] = k * sz.z;
+        in->model[12] = c.x, in->model[13] = c.y, in->model[14] = c.z;
+        lg_m4_normal_matrix(in->normal_matrix, in->model);
+    }
+
+    lg_vec3 cp = ss_vec(n, "camera_position"), ct = ss_vec(n, "camera_target");
+    t->camera.name = "test";
+    t->camera.position[0] = cp.x, t->camera.position[1] = cp.y, t->camera.position[2] = cp.z;
+    t->camera.target[0] = ct.x, t->camera.target[1] = ct.y, t->camera.target[2] = ct.z;
+    t->camera.up[1] = 1.0f;
+    t->camera.yfov = (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0);
+    t->camera.znear = 0.1f;
+    t->camera.zfar = 0.0f;
+
+    if (lg_param_bool(n, "bad_light")) {
+        t->light.name = "bad";
+        t->light.type = LG_LIGHT_DIRECTIONAL;
+        t->light.intensity = 1.0f;
+        t->s.lights = &t->light;
+        t->s.n_lights = 1; /* direction (0, 0, 0) */
+    }
+    ss_bounds(t);
+    lg_scene_compute_features(&t->s);
+    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, ss_free);
+}
+
+static int ss_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)n;
+    (void)frame;
+    return 0;
+}
+
+/* ---- test_shadow_probe ------------------------------------------------------------------- */
+
+#define SP_MAX_POINTS 4096
+
+typedef struct sp_state {
+    lg_vec3 pts[SP_MAX_POINTS], nrm[SP_MAX_POINTS];
+    uint32_t n_pts;
+    bool has_normals;
+    uint32_t width, height, n_scene_lights;
+} sp_state;
+
+/* "x,y,z;x,y,z;..." into out[]; returns the count or -1 after an error. */
+static int sp_parse(lg_node *n, const char *key, const char *s, lg_vec3 *out)
+{
+    int k = 0;
+    const char *p = s;
+    while (*p) {
+        if (k == SP_MAX_POINTS)
+            return lg_error(n, "%s: more than %d points", key, SP_MAX_POINTS), -1;
+        float v[3];
+        for (int i = 0; i < 3; i++) {
+            char *e;
+            v[i] = strtof(p, &e);
+            if (e == p)
+                return lg_error(n, "%s: point %d: expected a number at '%.20s'", key, k, p), -1;
+            p = e;
+            if (i < 2) {
+                if (*p != ',')
+                    return lg_error(n, "%s: point %d: expected ',' at '%.20s'", key, k, p), -1;
+                p++;
+            }
+        }
+        out[k++] = lg_v3(v[0], v[1], v[2]);
+        if (*p == ';')
+            p++;
+        else if (*p)
+            return lg_error(n, "%s: point %d: expected ';' at '%.20s'", key, k - 1, p), -1;
+    }
+    return k;
+}
+
+static int sp_create(lg_node *n)
+{
+    sp_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    int np = sp_parse(n, "points", lg_param_string(n, "points"), st->pts);
+    if (np < 0)
+        return LG_ERR_INVALID;
+    st->n_pts = (uint32_t)np;
+    const char *ns = lg_param_string(n, "normals");
+    if (*ns) {
+        int nn = sp_parse(n, "normals", ns, st->nrm);
+        if (nn < 0)
+            return LG_ERR_INVALID;
+        if (nn != np)
+            return lg_error(n, "%d normals for %d points", nn, np);
+        for (int i = 0; i < nn; i++)
+            st->nrm[i] = lg_v3_normalize_or(st->nrm[i], lg_v3(0, 1, 0));
+        st->has_normals = true;
+    }
+    return 0;
+}
+
+static int sp_prepare(lg_node *n)
+{
+    sp_state *st = n->user;
+    const lg_scene *s = lg_scene_get(n, lg_input(n, 0));
+    if (!s)
+        return LG_ERR_INVALID;
+    st->n_scene_lights = s->n_lights;
+    st->width = st->n_pts + 1 < 3 ? 3 : st->n_pts + 1;
+    st->height = s->n_lights + 1;
+    lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F };
+    int rc = lg_declare_image(n, 0, &d);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int sp_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    sp_state *st = n->user;
+    const lg_scene *s = lg_scene_get(n, lg_input(n, 0));
+    if (!s)
+        return LG_ERR_INVALID;
+    const lg_shadowmap *sm = lg_shadowmap_get(n, lg_input(n, 1));
+    lg_cpu_view vo;
+    int rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo);
+    if (rc)
+        return rc;
+    float *o = vo.pixels;
+#define PX(x, y) (o + ((size_t)(y) * vo.row_pixels + (x)) * 4)
+    for (uint32_t l = 0; l < st->n_scene_lights; l++)
+        for (uint32_t j = 0; j < st->n_pts; j++) {
+            float *p = PX(j, l);
+            p[0] = 1.0f, p[1] = -1.0f, p[2] = -1.0f, p[3] = 0.0f;
+        }
+    float *info = PX(0, st->n_scene_lights);
+    info[0] = -1.0f;
+    if (!sm)
+        return 0;
+
+    info[0] = (float)sm->n_lights;
+    info[1] = (float)sm->resolution;
+    info[2] = (float)sm->atlas_width;
+    info[3] = (float)sm->atlas_height;
+    float *bias = PX(1, st->n_scene_lights);
+    bias[0] = sm->bias_constant, bias[1] = sm->bias_slope, bias[2] = sm->normal_offset;
+    lg_resource_info ai;
+    bias[3] = sm->atlas && lg_describe(sm->atlas, &ai, n) == 0 && ai.kind == LG_KIND_IMAGE &&
+                      (ai.image.flags & LG_IMAGE_DEPTH_ONLY) &&
+                      ai.image.width == sm->atlas_width && ai.image.height == sm->atlas_height
+                  ? 1.0f
+                  : 0.0f;
+    float *chk = PX(2, st->n_scene_lights);
+    for (uint32_t i = 0; i < sm->n_lights; i++)
+        if (sm->lights[i].light >= s->n_lights ||
+            s->lights[sm->lights[i].light].type != LG_LIGHT_DIRECTIONAL)
+            chk[0] += 1.0f;
+    if (chk[0] != 0.0f || bias[3] == 0.0f || st->n_pts == 0)
+        return 0; /* nothing to test (without points: the atlas is not even read back) */
+
+    lg_cpu_view va;
+    if ((rc = lg_map_cpu(n, sm->atlas, LG_READ, &va)))
+        return rc;
+    if (!va.depth)
+        return lg_error(n, "the atlas's depth plane is not mapped");
+    for (uint32_t i = 0; i < sm->n_lights; i++) {
+        const lg_shadow_light *l = &sm->lights[i];
+        const lg_light *L = &s->lights[l->light];
+        lg_vec3 dir = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1],
+                                               L->direction[2]),
+                                         lg_v3(0, -1, 0));
+        for (uint32_t j = 0; j < st->n_pts; j++) {
+            float *p = PX(j, l->light);
+            p[0] = sp_shadow(sm, l, dir, va.depth, va.row_pixels, st->pts[j],
+                             st->has_normals ? &st->nrm[j] : NULL, &p[1], &p[2]);
+            p[3] = 1.0f;
+        }
+        float *t = PX(st->n_pts, l->light);
+        t[0] = (float)l->tile_x, t[1] = (float)l->tile_y;
+        t[2] = l->texel_world, t[3] = l->depth_range;
+    }
+#undef PX
+    return 0;
+}
+
+static void sp_destroy(lg_node *n)
+{
+    free(n->user);
+    n->user = NULL;
+}
+
+/* ---- the descriptor ------------------------------------------------------------------------- */
+
+static const char *const ss_shapes[] = { "cube", "sphere", NULL };
+static const lg_param_desc ss_params[] = {
+    { .key = "floor_size", .type = LG_PARAM_FLOAT, .def.f = 8, .min = 0.01, .max = 1e4,
+      .doc = "edge of the square floor, centred on the origin" },
+    { .key = "floor_y", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1e4, .max = 1e4,
+      .doc = "height of the floor" },
+    { .key = "floor_double_sided", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "the floor material's double_sided" },
+    { .key = "box", .type = LG_PARAM_BOOL, .def.b = true, .doc = "whether there is a box" },
+    { .key = "shape", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ss_shapes,
+      .doc = "the box's mesh: a cube, or a UV sphere inscribed in it" },
+    { .key = "sphere_rings", .type = LG_PARAM_INT, .def.i = 12, .min = 2, .max = SS_MAX_RINGS,
+      .doc = "the sphere's rings (its segments are twice as many)" },
+    { .key = "box_center", .type = LG_PARAM_VEC3, .def.v = { 0, 1.5, 0 }, .min = -1e4,
+      .max = 1e4, .doc = "the box's centre" },
+    { .key = "box_size", .type = LG_PARAM_VEC3, .def.v = { 1, 1, 1 }, .min = 0.001, .max = 1e4,
+      .doc = "the box's edges" },
+    { .key = "box_double_sided", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "the box material's double_sided" },
+    { .key = "box_mirror", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "place the box through a mirroring instance (scale x by -1)" },
+    { .key = "camera_position", .type = LG_PARAM_VEC3, .def.v = { 0, 4, 8 }, .min = -1e4,
+      .max = 1e4, .doc = "the camera's position" },
+    { .key = "camera_target", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -1e4,
+      .max = 1e4, .doc = "the point the camera looks at" },
+    { .key = "yfov", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 1, .max = 170,
+      .doc = "the camera's vertical field of view, degrees" },
+    { .key = "bad_light", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "give the scene one directional light with direction (0, 0, 0)" },
+};
+static const lg_port_desc ss_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
+
+static const lg_param_desc sp_params[] = {
+    { .key = "points", .type = LG_PARAM_STRING, .def.s = "",
+      .doc = "world points \"x,y,z;x,y,z;...\"" },
+    { .key = "normals", .type = LG_PARAM_STRING, .def.s = "",
+      .doc = "their unit normals, same form; empty: points without a normal" },
+};
+static const lg_port_desc sp_in[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE },
+    { .name = "shadows", .kind = LG_KIND_SHADOWMAP, .optional = true },
+};
+static const lg_port_desc sp_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
+
+static const lg_node_type types[] = {
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_shadow_scene",
+        .doc = "A floor and a box built in memory for the shadow-map tests",
+        LG_PARAMS(ss_params),
+        LG_OUTPUTS(ss_out),
+        .prepare = ss_prepare,
+        .execute = ss_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_shadow_probe",
+        .doc = "Shadow_L(p) per light per point on the CPU from a shadowmap's payload",
+        LG_PARAMS(sp_params),
+        LG_INPUTS(sp_in),
+        LG_OUTPUTS(sp_out),
+        .create = sp_create,
+        .prepare = sp_prepare,
+        .execute = sp_execute,
+        .destroy = sp_destroy,
+    },
+};
+
+LG_PLUGIN_DEFINE("shadowprobe", "1.0.0", "Scene and CPU shadow probe for the shadow-map tests",
+                 types)
