@@ -1,0 +1,1280 @@
+/*
+ * The phong plugin: local illumination of a scene on GL (TECHNIQUES.md §1, seed 1): the Phong
+ * reflection model (or Blinn's) with depth cueing, many directional, point and spot lights,
+ * shadows from a shadow-map input, and five shading methods.
+ *
+ *   phong   scene [+ shadows] -> image (rgba32f + depth): HDR linear radiance
+ *
+ * The lighting equation itself lives in shaders/common/phong.glsl (its C twin is
+ * lightgraph/phong.h); shaders/phong/ say where each shading method evaluates it. One raster
+ * pass (vertex, optional geometry, fragment stage); phong_half takes four passes.
+ * README.md gives the ports, parameters, units, conventions and measured costs.
+ *
+ * The camera, instance collection and instanced draw loop follow plugins/preview/preview.c
+ * (copied and adapted: about 150 lines; a shared SDK helper for "draw a scene's instances
+ * through its camera" would serve both and the shadowmap node).
+ */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/gl.h"
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/math.h"
+#include "lightgraph/phong.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/shadowmap.h"
+
+#include "phong.frag.h"
+#include "phong.geom.h"
+#include "phong.vert.h"
+#include "phong_fullscreen.vert.h"
+#include "phong_half.frag.h"
+
+enum { PH_FLAT = 0, PH_GOURAUD, PH_PHONG, PH_MIXED, PH_HALF };
+enum { PH_VIEWER_INFINITE = 0, PH_VIEWER_LOCAL };
+enum { PH_NORMALS_SCENE = 0, PH_NORMALS_EQ13 };
+enum { PH_CULL_NONE = 0, PH_CULL_MATERIAL };
+
+/* Shadowed lights whose colours the per-vertex and per-facet modes carry separately (so that
+ * their shadows stay per pixel); further shadowed lights are tested at the vertex. */
+#define PH_MAX_SV 8
+/* phong_half: neighbours within this relative linear depth count as the same surface */
+#define PH_HALF_DEPTH_TOL 0.05f
+
+/* std430 layouts of shaders/phong/phong.vert and phong_scene.glsl */
+typedef struct ph_gpu_instance {
+    float model[16];
+    float normal[16];
+} ph_gpu_instance;
+
+typedef struct ph_gpu_light {
+    float pos[4];
+    float dir[4];
+    float radiance[3];
+    int32_t shadow;
+    float cone[4];
+} ph_gpu_light;
+
+typedef struct ph_gpu_shadow {
+    float view_proj[16];
+    float tile[2];
+    float texel_world;
+    int32_t light;
+} ph_gpu_shadow;
+
+/* Uniform locations of the raster program (-1 when a stage does not use one). */
+typedef struct ph_uniforms {
+    GLint view_proj, first, id_base, n_lights, shadow_res, bias_const, bias_slope,
+        normal_offset, eye, view_dir_inf, viewer_local, depth_cue, K, ambient, spec_model,
+        n_scale, ka, kd, ks, shininess, od, os, double_sided, mixed_cos;
+} ph_uniforms;
+
+typedef struct ph_state {
+    int shading, specular, blinn_x4, viewer, lights_at, normals, falloff, cull;
+    bool depth_cue, per_frame;
+    float K, ks_scale, ambient[3], background[3], mixed_cos;
+    int64_t camera;
+    uint32_t width, height;
+
+    GLuint program;       /* raster program, for program_sv shadowed varyings (phong_half:
+                           * per-pixel Phong, drawn into the two quarter images) */
+    int program_sv;
+    ph_uniforms u;
+    /* phong_half: the full-size pass that writes surface ids and depth, the compute pass
+     * that assembles the output, and their images */
+    GLuint id_program, half_program;
+    ph_uniforms id_u;
+    GLuint id_tex;        /* r32ui, full size */
+    GLuint quarter[2];    /* rgba32f, ceil(w/2) x ceil(h/2): the pixels with x, y even; odd */
+    GLuint quarter_depth; /* depth32f of the quarter passes */
+    GLuint *eq13;         /* vertex_normals = eq13: one buffer per mesh (0 = not made) */
+    uint32_t n_eq13;
+    bool warned_shadow;
+} ph_state;
+
+/* The projection, after the rules of plugins/preview/README.md ("Camera"). */
+typedef struct ph_view {
+    float view[16], proj[16], view_proj[16];
+    float znear, zfar, yfov;
+    lg_vec3 eye, forward;
+    uint32_t camera;
+} ph_view;
+
+/* ---- create / prepare ---------------------------------------------------------------- */
+
+static int ph_create(lg_node *n)
+{
+    ph_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    st->shading = lg_param_enum(n, "shading");
+    st->specular = lg_param_enum(n, "specular") == 1 ? LG_SPEC_BLINN : LG_SPEC_PHONG;
+    st->blinn_x4 = lg_param_enum(n, "blinn_correction");
+    st->viewer = lg_param_enum(n, "viewer");
+    st->lights_at = lg_param_enum(n, "lights_at");
+    st->normals = lg_param_enum(n, "vertex_normals");
+    st->falloff = lg_param_enum(n, "falloff");
+    st->cull = lg_param_enum(n, "cull");
+    st->depth_cue = lg_param_bool(n, "depth_cue");
+    st->per_frame = lg_param_bool(n, "per_frame");
+    st->K = (float)lg_param_float(n, "k");
+    st->ks_scale = (float)lg_param_float(n, "ks_scale");
+    st->mixed_cos = (float)cos(lg_param_float(n, "mixed_threshold_deg") * (3.14159265358979323846 / 180.0));
+    st->camera = lg_param_int(n, "camera");
+    const lg_value *a = lg_param(n, "ambient"), *bg = lg_param(n, "background");
+    for (int i = 0; i < 3; i++) {
+        st->ambient[i] = a ? (float)a->v[i] : 0.0f;
+        st->background[i] = bg ? (float)bg->v[i] : 0.0f;
+        if (!isfinite(st->ambient[i]) || !isfinite(st->background[i]))
+            return lg_error(n, "%s[%d] = %g does not fit a float",
+                            !isfinite(st->ambient[i]) ? "ambient" : "background", i,
+                            !isfinite(st->ambient[i]) ? a->v[i] : bg->v[i]);
+    }
+    if (!isfinite(st->K))
+        return lg_error(n, "K = %g does not fit a float", lg_param_float(n, "k"));
+    return 0;
+}
+
+static int ph_prepare(lg_node *n)
+{
+    ph_state *st = n->user;
+    uint32_t rw = 0, rh = 0;
+    n->host->render_size(n, &rw, &rh);
+    int64_t w = lg_param_int(n, "width"), h = lg_param_int(n, "height");
+    st->width = w > 0 ? (uint32_t)w : rw;
+    st->height = h > 0 ? (uint32_t)h : rh;
+    if (st->width == 0 || st->height == 0)
+        return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
+                        st->height);
+
+    lg_resource_info info;
+    const lg_resource *in = lg_input(n, 0);
+    if (!in || lg_describe(in, &info, n) != 0)
+        return lg_error(n, "input 'scene' is not connected");
+    if (info.kind != LG_KIND_SCENE)
+        return lg_error(n, "input 'scene' is not a scene");
+    const lg_resource *sh = lg_input(n, 1);
+    if (sh && (lg_describe(sh, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP))
+        return lg_error(n, "input 'shadows' is not a shadow map");
+
+    lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F,
+                        .flags = LG_IMAGE_DEPTH };
+    int rc = lg_declare_image(n, 0, &d);
+    if (rc)
+        return rc;
+    if (st->per_frame)
+        lg_set_per_frame(n, true);
+    return lg_set_device(n, LG_DEVICE_GL);
+}
+
+/* ---- camera (as plugins/preview) ----------------------------------------------------- */
+
+static bool ph_finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+static bool ph_bounds_ok(const lg_scene *s)
+{
+    const float *lo = s->bounds_min, *hi = s->bounds_max;
+    return ph_finite3(lo) && ph_finite3(hi) && lo[0] <= hi[0] && lo[1] <= hi[1] &&
+           lo[2] <= hi[2];
+}
+
+/* The farthest corner of the scene's bounds along the view axis, or -1. */
+static float ph_bounds_far(const lg_scene *s, const float view[16])
+{
+    if (!ph_bounds_ok(s))
+        return -1.0f;
+    const float *lo = s->bounds_min, *hi = s->bounds_max;
+    float far = -1.0f;
+    for (int k = 0; k < 8; k++) {
+        lg_vec3 c = lg_v3(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
+        float d = -lg_m4_point(view, c).z;
+        if (d > far)
+            far = d;
+    }
+    return far;
+}
+
+static int ph_make_view(lg_node *n, const ph_state *st, const lg_scene *s, ph_view *v)
+{
+    if (s->n_cameras == 0 || !s->cameras)
+        return lg_error(n, "the scene has no camera (a scene node must provide one)");
+    uint32_t ci;
+    if (st->camera < 0) {
+        if (s->camera >= s->n_cameras)
+            return lg_error(n, "the scene's active camera %u does not exist (it has %u)",
+                            s->camera, s->n_cameras);
+        ci = s->camera;
+    } else if ((uint64_t)st->camera >= s->n_cameras) {
+        return lg_error(n, "camera %" PRId64 " does not exist: the scene has %u camera%s "
+                           "(0..%u; -1 = the active one)",
+                        st->camera, s->n_cameras, s->n_cameras == 1 ? "" : "s",
+                        s->n_cameras - 1);
+    } else {
+        ci = (uint32_t)st->camera;
+    }
+    const lg_camera *c = &s->cameras[ci];
+    const char *cname = c->name ? c->name : "";
+    if (!ph_finite3(c->position) || !ph_finite3(c->target) || !ph_finite3(c->up) ||
+        !isfinite(c->yfov) || !isfinite(c->znear) || !isfinite(c->zfar) || !isfinite(c->aspect))
+        return lg_error(n, "camera %u '%s' has a value that is not finite", ci, cname);
+    if (!(c->yfov > 0.0f && c->yfov < 3.1f))
+        return lg_error(n, "camera %u '%s': vertical field of view %g rad is outside (0, 3.1)",
+                        ci, cname, (double)c->yfov);
+    if (c->znear < 0.0f || c->zfar < 0.0f || (c->zfar > 0.0f && c->zfar <= c->znear))
+        return lg_error(n, "camera %u '%s': znear %g and zfar %g do not make a depth range "
+                           "(0 <= znear < zfar, or zfar 0 for 'from the bounds')",
+                        ci, cname, (double)c->znear, (double)c->zfar);
+    lg_vec3 eye = lg_v3(c->position[0], c->position[1], c->position[2]);
+    lg_vec3 target = lg_v3(c->target[0], c->target[1], c->target[2]);
+    if (lg_v3_length(lg_v3_sub(target, eye)) < 1e-12f)
+        return lg_error(n, "camera %u '%s': position and target are the same point", ci, cname);
+    lg_m4_look_at(v->view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
+
+    float aspect = (float)st->width / (float)st->height;
+    float yfov = c->yfov;
+    if (c->aspect > 0.0f && aspect < c->aspect)
+        yfov = 2.0f * atanf(tanf(0.5f * yfov) * c->aspect / aspect);
+    if (yfov > 3.1f)
+        yfov = 3.1f;
+
+    float zfar = c->zfar, znear = c->znear;
+    if (zfar == 0.0f) {
+        float far = ph_bounds_far(s, v->view);
+        zfar = far > 0.0f ? far * 1.01f + 1e-6f : 0.0f;
+        if (znear > 0.0f && zfar < 2.0f * znear)
+            zfar = 2.0f * znear;
+        if (zfar == 0.0f)
+            zfar = 100.0f;
+    }
+    if (znear == 0.0f)
+        znear = zfar * 1e-4f;
+
+    lg_m4_perspective(v->proj, yfov, aspect, znear, zfar);
+    /* texel row 0 is the image's top row (docs/sdk.md): flip Y in clip space, which turns
+     * counter-clockwise front faces clockwise on screen */
+    for (int col = 0; col < 4; col++)
+        v->proj[col * 4 + 1] = -v->proj[col * 4 + 1];
+    lg_m4_mul(v->view_proj, v->proj, v->view);
+    v->znear = znear;
+    v->zfar = zfar;
+    v->yfov = yfov;
+    v->camera = ci;
+    v->eye = eye;
+    v->forward = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, -1));
+    return 0;
+}
+
+/* ---- scene checks and instances (as plugins/preview) ----------------------------------- */
+
+static const char *ph_mesh_name(const lg_mesh *m)
+{
+    return m->name ? m->name : "";
+}
+
+static int ph_check_mesh(lg_node *n, const lg_scene *s, uint32_t mi)
+{
+    const lg_mesh *m = &s->meshes[mi];
+    if (!m->positions || !m->indices || !m->normals)
+        return lg_error(n, "mesh %u '%s' lacks its %s array", mi, ph_mesh_name(m),
+                        !m->positions ? "positions" : !m->indices ? "indices" : "normals");
+    if (m->n_indices % 3 != 0)
+        return lg_error(n, "mesh %u '%s': %u indices is not a whole number of triangles", mi,
+                        ph_mesh_name(m), m->n_indices);
+    if (m->n_indices > (uint32_t)INT32_MAX)
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "mesh %u '%s': %u indices is more than one GL draw takes", mi,
+                             ph_mesh_name(m), m->n_indices);
+    if (m->material >= s->n_materials)
+        return lg_error(n, "mesh %u '%s' uses material %u, the scene has %u", mi,
+                        ph_mesh_name(m), m->material, s->n_materials);
+    for (uint32_t i = 0; i < m->n_indices; i++)
+        if (m->indices[i] >= m->n_vertices)
+            return lg_error(n, "mesh %u '%s': index %u (entry %u) is out of range: the mesh "
+                               "has %u vertices",
+                            mi, ph_mesh_name(m), m->indices[i], i, m->n_vertices);
+    return 0;
+}
+
+static float ph_det3(const float m[16])
+{
+    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+           m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+typedef struct ph_item {
+    uint32_t mesh;
+    uint32_t mirrored;
+    uint32_t instance;
+} ph_item;
+
+static int ph_item_cmp(const void *a, const void *b)
+{
+    const ph_item *x = a, *y = b;
+    if (x->mesh != y->mesh)
+        return x->mesh < y->mesh ? -1 : 1;
+    if (x->mirrored != y->mirrored)
+        return x->mirrored < y->mirrored ? -1 : 1;
+    return x->instance < y->instance ? -1 : x->instance > y->instance;
+}
+
+static int ph_collect(lg_node *n, const lg_scene *s, ph_item **out, uint32_t *count)
+{
+    *out = NULL;
+    *count = 0;
+    if (s->n_instances == 0)
+        return 0;
+    ph_item *items = malloc((size_t)s->n_instances * sizeof *items);
+    unsigned char *checked = calloc(s->n_meshes ? s->n_meshes : 1, 1);
+    if (!items || !checked) {
+        free(items);
+        free(checked);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
+    }
+    uint32_t k = 0;
+    int rc = 0;
+    for (uint32_t i = 0; i < s->n_instances && !rc; i++) {
+        const lg_instance *in = &s->instances[i];
+        if (in->mesh >= s->n_meshes) {
+            rc = lg_error(n, "instance %u refers to mesh %u, the scene has %u", i, in->mesh,
+                          s->n_meshes);
+            break;
+        }
+        const lg_mesh *m = &s->meshes[in->mesh];
+        if (m->n_indices == 0 || m->n_vertices == 0)
+            continue;
+        if (!checked[in->mesh]) {
+            if ((rc = ph_check_mesh(n, s, in->mesh)))
+                break;
+            checked[in->mesh] = 1;
+        }
+        for (int j = 0; j < 16; j++)
+            if (!isfinite(in->model[j])) {
+                rc = lg_error(n, "instance %u (mesh %u '%s'): its matrix is not finite", i,
+                              in->mesh, ph_mesh_name(m));
+                break;
+            }
+        items[k].mesh = in->mesh;
+        items[k].mirrored = ph_det3(in->model) < 0.0f;
+        items[k].instance = i;
+        k++;
+    }
+    free(checked);
+    if (rc) {
+        free(items);
+        return rc;
+    }
+    qsort(items, k, sizeof *items, ph_item_cmp);
+    *out = items;
+    *count = k;
+    return 0;
+}
+
+/* ---- lights -------------------------------------------------------------------------------- */
+
+static const char *ph_light_name(const lg_light *l)
+{
+    return l->name ? l->name : "";
+}
+
+/* The scene's lights as the shaders read them (phong_scene.glsl, LgLight), and the shadow
+ * maps of its directional lights (LgShadow). */
+static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg_shadowmap *sm,
+                           ph_gpu_light **out_l, ph_gpu_shadow **out_s, uint32_t *n_shadow)
+{
+    *out_l = NULL;
+    *out_s = NULL;
+    *n_shadow = 0;
+    uint32_t nl = s->n_lights;
+    ph_gpu_light *gl = calloc(nl ? nl : 1, sizeof *gl);
+    ph_gpu_shadow *gs = calloc(sm && sm->n_lights ? sm->n_lights : 1, sizeof *gs);
+    if (!gl || !gs) {
+        free(gl);
+        free(gs);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u lights)", nl);
+    }
+    lg_vec3 centre = lg_v3(0, 0, 0);
+    if (ph_bounds_ok(s))
+        centre = lg_v3(0.5f * (s->bounds_min[0] + s->bounds_max[0]),
+                       0.5f * (s->bounds_min[1] + s->bounds_max[1]),
+                       0.5f * (s->bounds_min[2] + s->bounds_max[2]));
+    int rc = 0;
+    for (uint32_t i = 0; i < nl && !rc; i++) {
+        const lg_light *l = &s->lights[i];
+        ph_gpu_light *g = &gl[i];
+        g->shadow = -1;
+        for (int c = 0; c < 3; c++) {
+            g->radiance[c] = l->color[c] * l->intensity;
+            if (!isfinite(g->radiance[c]) || g->radiance[c] < 0.0f)
+                rc = lg_error(n, "light %u '%s': colour * intensity = %g (channel %d) is not a "
+                                 "finite value >= 0",
+                              i, ph_light_name(l), (double)g->radiance[c], c);
+        }
+        if (rc)
+            break;
+        if (l->type == LG_LIGHT_DIRECTIONAL) {
+            lg_vec3 d = lg_v3(l->direction[0], l->direction[1], l->direction[2]);
+            lg_vec3 L = lg_v3_normalize_or(lg_v3_scale(d, -1.0f), lg_v3(0, 0, 0));
+            if (lg_v3_dot(L, L) == 0.0f) {
+                rc = lg_error(n, "directional light %u '%s': direction [%g, %g, %g] has no "
+                                 "direction",
+                              i, ph_light_name(l), (double)d.x, (double)d.y, (double)d.z);
+                break;
+            }
+            g->dir[0] = L.x, g->dir[1] = L.y, g->dir[2] = L.z;
+            continue;
+        }
+        if (l->type != LG_LIGHT_POINT && l->type != LG_LIGHT_SPOT) {
+            rc = lg_error(n, "light %u '%s' has an unknown type %d", i, ph_light_name(l),
+                          (int)l->type);
+            break;
+        }
+        if (!ph_finite3(l->position) || !isfinite(l->range) || l->range < 0.0f) {
+            rc = lg_error(n, "light %u '%s': its position or range is not finite (or the "
+                             "range is negative)",
+                          i, ph_light_name(l));
+            break;
+        }
+        float cone_x = -2.0f, cone_y = 1.0f; /* a point light: cos > -2 always */
+        lg_vec3 spot_dir = lg_v3(0, -1, 0);
+        if (l->type == LG_LIGHT_SPOT) {
+            spot_dir = lg_v3_normalize_or(
+                lg_v3(l->direction[0], l->direction[1], l->direction[2]), lg_v3(0, 0, 0));
+            if (lg_v3_dot(spot_dir, spot_dir) == 0.0f || !isfinite(l->inner_cone) ||
+                !isfinite(l->outer_cone)) {
+                rc = lg_error(n, "spot light %u '%s': its direction or cone angles are not "
+                                 "usable",
+                              i, ph_light_name(l));
+                break;
+            }
+            float co = cosf(l->outer_cone), ci = cosf(l->inner_cone);
+            cone_x = co;
+            cone_y = 1.0f / fmaxf(ci - co, 1e-6f);
+        }
+        lg_vec3 pos = lg_v3(l->position[0], l->position[1], l->position[2]);
+        if (st->lights_at == PH_VIEWER_INFINITE) {
+            /* the model's assumption (seed 1, 1.2.6): the light at infinity in the
+             * direction it lies from the scene's centre; its falloff, range and cone are
+             * evaluated once, at the centre */
+            lg_vec3 d = lg_v3_sub(pos, centre);
+            float dist = lg_v3_length(d);
+            lg_vec3 L = lg_v3_normalize_or(d, lg_v3(0, 1, 0));
+            float f = 1.0f;
+            if (st->falloff)
+                f = 1.0f / fmaxf(dist * dist, 1e-12f);
+            if (l->range > 0.0f && dist > l->range)
+                f = 0.0f;
+            if (l->type == LG_LIGHT_SPOT) {
+                float t = (lg_v3_dot(lg_v3_scale(L, -1.0f), spot_dir) - cone_x) * cone_y;
+                t = t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
+                f *= t * t;
+            }
+            for (int c = 0; c < 3; c++)
+                g->radiance[c] *= f;
+            g->dir[0] = L.x, g->dir[1] = L.y, g->dir[2] = L.z;
+            continue;
+        }
+        g->pos[0] = pos.x, g->pos[1] = pos.y, g->pos[2] = pos.z;
+        g->pos[3] = l->type == LG_LIGHT_SPOT ? 2.0f : 1.0f;
+        g->dir[0] = spot_dir.x, g->dir[1] = spot_dir.y, g->dir[2] = spot_dir.z;
+        g->dir[3] = l->range;
+        g->cone[0] = cone_x;
+        g->cone[1] = cone_y;
+        g->cone[2] = st->falloff ? 1.0f : 0.0f;
+    }
+
+    uint32_t ns = 0;
+    for (uint32_t k = 0; sm && k < sm->n_lights && !rc; k++) {
+        const lg_shadow_light *sl = &sm->lights[k];
+        if (sl->light >= nl) {
+            rc = lg_error(n, "input 'shadows': shadow map %u is for light %u, but the scene has "
+                             "%u light%s (are the phong and shadow nodes given the same scene?)",
+                          k, sl->light, nl, nl == 1 ? "" : "s");
+            break;
+        }
+        if (s->lights[sl->light].type != LG_LIGHT_DIRECTIONAL) {
+            if (!st->warned_shadow)
+                lg_log(n, LG_LOG_WARN,
+                       "input 'shadows': shadow map %u is for light %u '%s', which is not "
+                       "directional; phong applies shadow maps of directional lights only",
+                       k, sl->light, ph_light_name(&s->lights[sl->light]));
+            st->warned_shadow = true;
+            continue;
+        }
+        if (gl[sl->light].shadow >= 0)
+            continue; /* a second map for the same light: the first one counts */
+        ph_gpu_shadow *g = &gs[ns];
+        memcpy(g->view_proj, sl->view_proj, sizeof g->view_proj);
+        g->tile[0] = (float)sl->tile_x;
+        g->tile[1] = (float)sl->tile_y;
+        g->texel_world = sl->texel_world;
+        g->light = (int32_t)sl->light;
+        gl[sl->light].shadow = (int32_t)ns;
+        ns++;
+    }
+    if (rc) {
+        free(gl);
+        free(gs);
+        return rc;
+    }
+    *out_l = gl;
+    *out_s = gs;
+    *n_shadow = ns;
+    return 0;
+}
+
+/* ---- vertex normals by eq. 1-13 ------------------------------------------------------------ */
+
+typedef struct ph_weld {
+    uint32_t key[3];
+    uint32_t vertex;
+} ph_weld;
+
+static int ph_weld_cmp(const void *a, const void *b)
+{
+    const ph_weld *x = a, *y = b;
+    for (int i = 0; i < 3; i++)
+        if (x->key[i] != y->key[i])
+            return x->key[i] < y->key[i] ? -1 : 1;
+    return x->vertex < y->vertex ? -1 : x->vertex > y->vertex;
+}
+
+/* Seed 1 eq. 1-13 over the facets that share a vertex *position*: vertices the file split
+ * at one position (seams, poles, hard edges) are welded first, so that each gets the sum
+ * over all the facets meeting there, as the seed's vertex A shared by four facets. */
+static int ph_eq13_normals(lg_node *n, const lg_mesh *m, float *out)
+{
+    uint32_t nv = m->n_vertices;
+    ph_weld *w = malloc((size_t)nv * sizeof *w);
+    uint32_t *canon = malloc((size_t)nv * sizeof *canon);
+    uint32_t *idx = malloc((size_t)m->n_indices * sizeof *idx);
+    float *upos = malloc((size_t)nv * 3 * sizeof *upos);
+    float *unrm = malloc((size_t)nv * 3 * sizeof *unrm);
+    int rc = 0;
+    if (!w || !canon || !idx || !upos || !unrm) {
+        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (eq. 1-13 normals of mesh '%s', "
+                                            "%u vertices)",
+                           ph_mesh_name(m), nv);
+        goto done;
+    }
+    for (uint32_t v = 0; v < nv; v++) {
+        for (int i = 0; i < 3; i++) {
+            float f = m->positions[3 * (size_t)v + i];
+            if (f == 0.0f)
+                f = 0.0f; /* -0 and +0 are one position */
+            memcpy(&w[v].key[i], &f, sizeof f);
+        }
+        w[v].vertex = v;
+    }
+    qsort(w, nv, sizeof *w, ph_weld_cmp);
+    uint32_t nu = 0;
+    for (uint32_t i = 0; i < nv; i++) {
+        if (i == 0 || memcmp(w[i].key, w[i - 1].key, sizeof w[i].key) != 0) {
+            memcpy(&upos[3 * (size_t)nu], &m->positions[3 * (size_t)w[i].vertex],
+                   3 * sizeof(float));
+            nu++;
+        }
+        canon[w[i].vertex] = nu - 1;
+    }
+    for (uint32_t i = 0; i < m->n_indices; i++)
+        idx[i] = canon[m->indices[i]];
+    if (lg_vertex_normals_eq13(upos, nu, idx, m->n_indices, unrm) != LG_OK) {
+        rc = lg_error(n, "mesh '%s': eq. 1-13 normals could not be computed", ph_mesh_name(m));
+        goto done;
+    }
+    for (uint32_t v = 0; v < nv; v++)
+        memcpy(&out[3 * (size_t)v], &unrm[3 * (size_t)canon[v]], 3 * sizeof(float));
+done:
+    free(w);
+    free(canon);
+    free(idx);
+    free(upos);
+    free(unrm);
+    return rc;
+}
+
+/* The GL buffer of mesh mi's eq. 1-13 normals, made on first use and kept. */
+static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_gl *gl, const lg_scene *s,
+                          uint32_t mi, GLuint *buf)
+{
+    if (!st->eq13) {
+        st->eq13 = calloc(s->n_meshes ? s->n_meshes : 1, sizeof *st->eq13);
+        if (!st->eq13)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        st->n_eq13 = s->n_meshes;
+    }
+    if (mi >= st->n_eq13)
+        return lg_error(n, "mesh %u: the scene changed its mesh count between frames", mi);
+    if (!st->eq13[mi]) {
+        const lg_mesh *m = &s->meshes[mi];
+        float *nrm = malloc((size_t)m->n_vertices * 3 * sizeof *nrm);
+        if (!nrm)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        int rc = ph_eq13_normals(n, m, nrm);
+        if (!rc) {
+            gl->CreateBuffers(1, &st->eq13[mi]);
+            gl->NamedBufferStorage(st->eq13[mi], (GLsizeiptr)m->n_vertices * 3 * sizeof(float),
+                                   nrm, 0);
+        }
+        free(nrm);
+        if (rc)
+            return rc;
+        if ((rc = lg_gl_check(n, "phong: uploading eq. 1-13 normals")))
+            return rc;
+    }
+    *buf = st->eq13[mi];
+    return 0;
+}
+
+/* ---- programs -------------------------------------------------------------------------------- */
+
+static void ph_locate(const lg_gl *gl, GLuint p, ph_uniforms *u)
+{
+#define LOC(f, name) u->f = gl->GetUniformLocation(p, name)
+    LOC(view_proj, "u_view_proj");
+    LOC(first, "u_first");
+    LOC(id_base, "u_id_base");
+    LOC(n_lights, "u_n_lights");
+    LOC(shadow_res, "u_shadow_res");
+    LOC(bias_const, "u_bias_const");
+    LOC(bias_slope, "u_bias_slope");
+    LOC(normal_offset, "u_normal_offset");
+    LOC(eye, "u_eye");
+    LOC(view_dir_inf, "u_view_dir_inf");
+    LOC(viewer_local, "u_viewer_local");
+    LOC(depth_cue, "u_depth_cue");
+    LOC(K, "u_K");
+    LOC(ambient, "u_ambient");
+    LOC(spec_model, "u_spec_model");
+    LOC(n_scale, "u_n_scale");
+    LOC(ka, "u_ka");
+    LOC(kd, "u_kd");
+    LOC(ks, "u_ks");
+    LOC(shininess, "u_shininess");
+    LOC(od, "u_od");
+    LOC(os, "u_os");
+    LOC(double_sided, "u_double_sided");
+    LOC(mixed_cos, "u_mixed_cos");
+#undef LOC
+}
+
+/* How many shadowed lights the per-vertex modes can carry as separate varyings here: each
+ * takes two locations (front and back colour), on top of six. */
+static int ph_sv_limit(const lg_gl *gl)
+{
+    GLint a = 0, b = 0, c = 0;
+    gl->GetIntegerv(GL_MAX_VERTEX_OUTPUT_COMPONENTS, &a);
+    gl->GetIntegerv(GL_MAX_GEOMETRY_OUTPUT_COMPONENTS, &b);
+    gl->GetIntegerv(GL_MAX_FRAGMENT_INPUT_COMPONENTS, &c);
+    GLint m = a < b ? a : b;
+    m = m < c ? m : c;
+    int locs = m / 4 - 8; /* with a margin for built-ins */
+    int sv = locs > 6 ? (locs - 6) / 2 : 0;
+    return sv < PH_MAX_SV ? sv : PH_MAX_SV;
+}
+
+static GLuint ph_raster_program(lg_node *n, const lg_gl *gl, int shading, int sv, bool geom)
+{
+    char defines[160];
+    snprintf(defines, sizeof defines,
+             "#define LG_SHADING %d\n#define LG_SV %d\n#define LG_SV_ARR %d\n", shading, sv,
+             sv > 0 ? sv : 1);
+    lg_gl_shader_src src[3] = {
+        { GL_VERTEX_SHADER, lg_src_phong_vert_file, lg_src_phong_vert },
+        { GL_FRAGMENT_SHADER, lg_src_phong_frag_file, lg_src_phong_frag },
+        { GL_GEOMETRY_SHADER, lg_src_phong_geom_file, lg_src_phong_geom },
+    };
+    return lg_gl_program(n, gl, src, geom ? 3 : 2, defines);
+}
+
+static int ph_program(lg_node *n, ph_state *st, const lg_gl *gl, int sv)
+{
+    if (st->program && st->program_sv == sv)
+        return 0;
+    if (st->program) {
+        gl->DeleteProgram(st->program);
+        st->program = 0;
+    }
+    /* phong_half shades its two quarter images with the phong mode's program */
+    int shading = st->shading == PH_HALF ? PH_PHONG : st->shading;
+    st->program = ph_raster_program(n, gl, shading, sv,
+                                    shading == PH_FLAT || shading == PH_MIXED);
+    if (!st->program)
+        return LG_ERR_DEVICE;
+    st->program_sv = sv;
+    ph_locate(gl, st->program, &st->u);
+    if (st->shading == PH_HALF && !st->id_program) {
+        st->id_program = ph_raster_program(n, gl, PH_HALF, 0, false);
+        if (!st->id_program)
+            return LG_ERR_DEVICE;
+        ph_locate(gl, st->id_program, &st->id_u);
+        lg_gl_shader_src c[2] = {
+            { GL_VERTEX_SHADER, lg_src_phong_fullscreen_vert_file, lg_src_phong_fullscreen_vert },
+            { GL_FRAGMENT_SHADER, lg_src_phong_half_frag_file, lg_src_phong_half_frag },
+        };
+        st->half_program = lg_gl_program(n, gl, c, 2, NULL);
+        if (!st->half_program)
+            return LG_ERR_DEVICE;
+    }
+    return 0;
+}
+
+/* ---- execute ---------------------------------------------------------------------------------- */
+
+static void ph_unbind(const lg_gl *gl)
+{
+    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl->UseProgram(0);
+    gl->BindVertexArray(0);
+    for (GLuint i = 0; i < 3; i++)
+        gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
+    for (GLuint i = 0; i < 4; i++)
+        gl->BindTextureUnit(i, 0);
+    gl->ActiveTexture(GL_TEXTURE0);
+}
+
+typedef struct ph_gl_objects {
+    GLuint fbo, vao, instances, lights, shadows;
+} ph_gl_objects;
+
+static void ph_gl_free(const lg_gl *gl, ph_gl_objects *o)
+{
+    if (o->fbo)
+        gl->DeleteFramebuffers(1, &o->fbo);
+    if (o->vao)
+        gl->DeleteVertexArrays(1, &o->vao);
+    GLuint b[3] = { o->instances, o->lights, o->shadows };
+    for (int i = 0; i < 3; i++)
+        if (b[i])
+            gl->DeleteBuffers(1, &b[i]);
+    memset(o, 0, sizeof *o);
+}
+
+/* A storage buffer holding `bytes` of `data` (at least 16 bytes, so that an empty array
+ * still binds). */
+static GLuint ph_ssbo(const lg_gl *gl, const void *data, size_t bytes)
+{
+    static const float zero[4];
+    GLuint b = 0;
+    gl->CreateBuffers(1, &b);
+    gl->NamedBufferStorage(b, (GLsizeiptr)(bytes ? bytes : sizeof zero), bytes ? data : zero, 0);
+    return b;
+}
+
+typedef struct ph_frame_in {
+    const lg_scene *s;
+    const lg_resource *scene_res;
+    const lg_shadowmap *sm;
+    GLuint atlas;
+    const ph_view *v;
+    const ph_item *items;
+    uint32_t count, n_lights;
+} ph_frame_in;
+
+static void ph_set_globals(ph_state *st, const lg_gl *gl, GLuint p, const ph_uniforms *u,
+                           const ph_frame_in *f)
+{
+    const ph_view *v = f->v;
+    gl->ProgramUniform1i(p, u->n_lights, (GLint)f->n_lights);
+    gl->ProgramUniform3f(p, u->eye, v->eye.x, v->eye.y, v->eye.z);
+    gl->ProgramUniform3f(p, u->view_dir_inf, -v->forward.x, -v->forward.y, -v->forward.z);
+    gl->ProgramUniform1i(p, u->viewer_local, st->viewer == PH_VIEWER_LOCAL);
+    gl->ProgramUniform1i(p, u->depth_cue, st->depth_cue);
+    gl->ProgramUniform1f(p, u->K, st->K);
+    gl->ProgramUniform3f(p, u->ambient, st->ambient[0], st->ambient[1], st->ambient[2]);
+    gl->ProgramUniform1i(p, u->spec_model, st->specular);
+    gl->ProgramUniform1f(p, u->n_scale,
+                         st->specular == LG_SPEC_BLINN && st->blinn_x4 ? LG_BLINN_CORRECTION
+                                                                         : 1.0f);
+    gl->ProgramUniform1f(p, u->mixed_cos, st->mixed_cos);
+    const lg_shadowmap *sm = f->sm;
+    gl->ProgramUniform1i(p, u->shadow_res, sm ? (GLint)sm->resolution : 1);
+    gl->ProgramUniform1f(p, u->bias_const, sm ? sm->bias_constant : 0.0f);
+    gl->ProgramUniform1f(p, u->bias_slope, sm ? sm->bias_slope : 0.0f);
+    gl->ProgramUniform1f(p, u->normal_offset, sm ? sm->normal_offset : 0.0f);
+}
+
+static void ph_set_material(ph_state *st, const lg_gl *gl, GLuint p, const ph_uniforms *u,
+                            const lg_material *m)
+{
+    gl->ProgramUniform1f(p, u->ka, m->ka);
+    gl->ProgramUniform1f(p, u->kd, m->kd);
+    gl->ProgramUniform1f(p, u->ks, m->ks * st->ks_scale);
+    gl->ProgramUniform1f(p, u->shininess, m->shininess);
+    gl->ProgramUniform3f(p, u->od, m->od[0], m->od[1], m->od[2]);
+    gl->ProgramUniform3f(p, u->os, m->os[0], m->os[1], m->os[2]);
+    gl->ProgramUniform1i(p, u->double_sided, m->double_sided);
+}
+
+/* The instances' matrices in draw order, and the vertex array (formats only). */
+static int ph_upload(lg_node *n, const lg_gl *gl, const ph_frame_in *f, ph_gl_objects *o)
+{
+    int rc;
+    if (f->count) {
+        size_t bytes = (size_t)f->count * sizeof(ph_gpu_instance);
+        ph_gpu_instance *gi = calloc(f->count, sizeof *gi);
+        if (!gi)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)",
+                                 bytes);
+        for (uint32_t i = 0; i < f->count; i++) {
+            const lg_instance *in = &f->s->instances[f->items[i].instance];
+            memcpy(gi[i].model, in->model, sizeof gi[i].model);
+            for (int c = 0; c < 3; c++)
+                for (int r = 0; r < 3; r++)
+                    gi[i].normal[c * 4 + r] = in->normal_matrix[c * 3 + r];
+            gi[i].normal[15] = 1.0f;
+        }
+        o->instances = ph_ssbo(gl, gi, bytes);
+        free(gi);
+        if ((rc = lg_gl_check(n, "phong: uploading the instance matrices")))
+            return rc;
+    }
+    gl->CreateVertexArrays(1, &o->vao);
+    gl->EnableVertexArrayAttrib(o->vao, 0);
+    gl->VertexArrayAttribFormat(o->vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl->VertexArrayAttribBinding(o->vao, 0, 0);
+    gl->EnableVertexArrayAttrib(o->vao, 1);
+    gl->VertexArrayAttribFormat(o->vao, 1, 3, GL_FLOAT, GL_FALSE, 0);
+    gl->VertexArrayAttribBinding(o->vao, 1, 1);
+    return 0;
+}
+
+/* One raster pass: every instance through `prog` with `view_proj`, into the framebuffer
+ * bound by the caller (viewport w x h, depth test on). */
+static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
+                   const ph_gl_objects *o, GLuint prog, const ph_uniforms *u,
+                   const float view_proj[16], uint32_t w, uint32_t h)
+{
+    int rc;
+    const lg_scene *s = f->s;
+    gl->Viewport(0, 0, (GLsizei)w, (GLsizei)h);
+    gl->Enable(GL_DEPTH_TEST);
+    gl->DepthFunc(GL_LESS);
+    gl->DepthMask(GL_TRUE);
+    gl->DepthRangef(0.0f, 1.0f);
+    gl->Disable(GL_BLEND);
+    gl->Disable(GL_SCISSOR_TEST);
+    gl->Disable(GL_CULL_FACE);
+    gl->CullFace(GL_BACK);
+    gl->UseProgram(prog);
+    gl->BindVertexArray(o->vao);
+    gl->ProgramUniformMatrix4fv(prog, u->view_proj, 1, GL_FALSE, view_proj);
+    ph_set_globals(st, gl, prog, u, f);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, o->lights);
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, o->shadows);
+    gl->BindTextureUnit(0, f->atlas);
+
+    GLint max_block = 0, align = 0;
+    gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    gl->GetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    if (align < 1)
+        align = 1;
+    const size_t isz = sizeof(ph_gpu_instance);
+    size_t per_bind = (size_t)max_block / isz;
+    size_t slack = ((size_t)align + isz - 1) / isz;
+    per_bind = per_bind > slack + 1 ? per_bind - slack : 1;
+
+    uint32_t bound_mesh = UINT32_MAX;
+    for (uint32_t a = 0; a < f->count;) {
+        uint32_t b = a;
+        while (b < f->count && f->items[b].mesh == f->items[a].mesh &&
+               (st->cull == PH_CULL_NONE || f->items[b].mirrored == f->items[a].mirrored))
+            b++;
+        uint32_t mi = f->items[a].mesh;
+        const lg_mesh *m = &s->meshes[mi];
+        if (mi != bound_mesh) {
+            lg_mesh_gl mg;
+            if ((rc = lg_scene_mesh_gl(n, f->scene_res, mi, &mg)))
+                return rc;
+            GLuint nrm = mg.normals;
+            if (st->normals == PH_NORMALS_EQ13 && (rc = ph_eq13_buffer(n, st, gl, s, mi, &nrm)))
+                return rc;
+            gl->VertexArrayVertexBuffer(o->vao, 0, mg.positions, 0, 3 * sizeof(float));
+            gl->VertexArrayVertexBuffer(o->vao, 1, nrm, 0, 3 * sizeof(float));
+            gl->VertexArrayElementBuffer(o->vao, mg.indices);
+            const lg_material *mat = &s->materials[m->material];
+            /* with culling off, a single-sided surface seen from behind is lit as it is (its
+             * normal facing away: ambient only), as the seed's model would */
+            ph_set_material(st, gl, prog, u, mat);
+            if (st->cull == PH_CULL_MATERIAL && !mat->double_sided)
+                gl->Enable(GL_CULL_FACE);
+            else
+                gl->Disable(GL_CULL_FACE);
+            bound_mesh = mi;
+        }
+        /* with Y flipped, a counter-clockwise front face is clockwise on screen; a mirrored
+         * instance flips it back */
+        gl->FrontFace(f->items[a].mirrored ? GL_CCW : GL_CW);
+        for (uint32_t i = a; i < b;) {
+            uint32_t e = (uint32_t)((size_t)(b - i) > per_bind ? i + per_bind : b);
+            size_t off = (size_t)i * isz / (size_t)align * (size_t)align;
+            gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, o->instances, (GLintptr)off,
+                                (GLsizeiptr)((size_t)e * isz - off));
+            gl->ProgramUniform1i(prog, u->first, (GLint)(((size_t)i * isz - off) / isz));
+            gl->ProgramUniform1i(prog, u->id_base, (GLint)(i + 1));
+            gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)m->n_indices, GL_UNSIGNED_INT,
+                                      NULL, (GLsizei)(e - i));
+            i = e;
+        }
+        a = b;
+    }
+    return lg_gl_check(n, "phong: drawing the scene");
+}
+
+/* Attaches colour (and a second colour) and depth to o->fbo, made on first use, and checks
+ * it. */
+static int ph_target(lg_node *n, const lg_gl *gl, ph_gl_objects *o, GLuint color,
+                     GLuint depth, const char *what)
+{
+    if (!o->fbo)
+        gl->CreateFramebuffers(1, &o->fbo);
+    gl->NamedFramebufferTexture(o->fbo, GL_COLOR_ATTACHMENT0, color, 0);
+    gl->NamedFramebufferTexture(o->fbo, GL_DEPTH_ATTACHMENT, depth, 0);
+    gl->NamedFramebufferDrawBuffer(o->fbo, GL_COLOR_ATTACHMENT0);
+    GLenum status = gl->CheckNamedFramebufferStatus(o->fbo, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        return lg_error_code(n, LG_ERR_DEVICE,
+                             "phong: the framebuffer for %s is incomplete: status 0x%04x", what,
+                             (unsigned)status);
+    gl->BindFramebuffer(GL_FRAMEBUFFER, o->fbo);
+    gl->ColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    return 0;
+}
+
+/* phong_half's images, made once at the output's size. */
+static int ph_half_images(lg_node *n, ph_state *st, const lg_gl *gl)
+{
+    if (st->id_tex)
+        return 0;
+    GLsizei qw = (GLsizei)((st->width + 1) / 2), qh = (GLsizei)((st->height + 1) / 2);
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &st->id_tex);
+    gl->TextureStorage2D(st->id_tex, 1, GL_R32UI, (GLsizei)st->width, (GLsizei)st->height);
+    gl->CreateTextures(GL_TEXTURE_2D, 2, st->quarter);
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &st->quarter_depth);
+    for (int i = 0; i < 2; i++)
+        gl->TextureStorage2D(st->quarter[i], 1, GL_RGBA32F, qw, qh);
+    gl->TextureStorage2D(st->quarter_depth, 1, GL_DEPTH_COMPONENT32F, qw, qh);
+    GLuint all[4] = { st->id_tex, st->quarter[0], st->quarter[1], st->quarter_depth };
+    for (int i = 0; i < 4; i++) {
+        gl->TextureParameteri(all[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl->TextureParameteri(all[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    return lg_gl_check(n, "phong: making phong_half's images");
+}
+
+/* The view_proj that draws the pixels (2 x + p, 2 y + p) of the w x h output, p = 0 or 1,
+ * into a ceil(w/2) x ceil(h/2) image: window x maps to (x - p + 1/2) / 2, so pixel centres
+ * land on pixel centres. Applied in clip space: x' = a x + b w. */
+static void ph_quarter_view_proj(float out[16], const float vp[16], uint32_t w, uint32_t h,
+                                 int p)
+{
+    float qw = (float)((w + 1) / 2), qh = (float)((h + 1) / 2);
+    float ax = (float)w / (2.0f * qw), bx = (0.5f * (float)w - (float)p + 0.5f) / qw - 1.0f;
+    float ay = (float)h / (2.0f * qh), by = (0.5f * (float)h - (float)p + 0.5f) / qh - 1.0f;
+    /* rows of the result: x' = ax x + bx w, y' = ay y + by w (row 3 of vp gives w) */
+    for (int c = 0; c < 4; c++) {
+        out[c * 4 + 0] = ax * vp[c * 4 + 0] + bx * vp[c * 4 + 3];
+        out[c * 4 + 1] = ay * vp[c * 4 + 1] + by * vp[c * 4 + 3];
+        out[c * 4 + 2] = vp[c * 4 + 2];
+        out[c * 4 + 3] = vp[c * 4 + 3];
+    }
+}
+
+/* phong_half (seed 1, 1.3.6, the second optimisation): the surface ids and depth at full
+ * size, per-pixel Phong on the two halves of a checkerboard at quarter size each, and a
+ * full-screen pass that puts the evaluated pixels in place and interpolates the others. */
+static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
+                   ph_gl_objects *o, GLuint tex, GLuint depth)
+{
+    int rc;
+    if ((rc = ph_half_images(n, st, gl)))
+        return rc;
+    const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
+    const float far = 1.0f;
+    const GLuint zero[4] = { 0, 0, 0, 0 };
+
+    /* ids and the output's depth */
+    if ((rc = ph_target(n, gl, o, st->id_tex, depth, "phong_half's surface ids")))
+        return rc;
+    gl->ClearNamedFramebufferuiv(o->fbo, GL_COLOR, 0, zero);
+    gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
+    if ((rc = ph_pass(n, st, gl, f, o, st->id_program, &st->id_u, f->v->view_proj, st->width,
+                      st->height)))
+        return rc;
+
+    /* the checkerboard's two halves */
+    uint32_t qw = (st->width + 1) / 2, qh = (st->height + 1) / 2;
+    for (int p = 0; p < 2; p++) {
+        float vp[16];
+        ph_quarter_view_proj(vp, f->v->view_proj, st->width, st->height, p);
+        if ((rc = ph_target(n, gl, o, st->quarter[p], st->quarter_depth,
+                            "phong_half's quarter image")))
+            return rc;
+        gl->ClearNamedFramebufferfv(o->fbo, GL_COLOR, 0, bg);
+        gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
+        if ((rc = ph_pass(n, st, gl, f, o, st->program, &st->u, vp, qw, qh)))
+            return rc;
+    }
+
+    /* assembly: every output pixel, reading the ids, the depth and the quarter images */
+    gl->NamedFramebufferTexture(o->fbo, GL_DEPTH_ATTACHMENT, 0, 0);
+    if ((rc = ph_target(n, gl, o, tex, 0, "the output (rgba32f)")))
+        return rc;
+    gl->Viewport(0, 0, (GLsizei)st->width, (GLsizei)st->height);
+    gl->Disable(GL_DEPTH_TEST);
+    gl->Disable(GL_CULL_FACE);
+    GLuint c = st->half_program;
+    gl->UseProgram(c);
+    gl->BindTextureUnit(0, depth);
+    gl->BindTextureUnit(1, st->quarter[0]);
+    gl->BindTextureUnit(2, st->quarter[1]);
+    gl->BindTextureUnit(3, st->id_tex);
+    gl->ProgramUniform2i(c, gl->GetUniformLocation(c, "u_size"), (GLint)st->width,
+                         (GLint)st->height);
+    gl->ProgramUniform2f(c, gl->GetUniformLocation(c, "u_near_far"), f->v->znear, f->v->zfar);
+    gl->ProgramUniform1f(c, gl->GetUniformLocation(c, "u_depth_tol"), PH_HALF_DEPTH_TOL);
+    gl->ProgramUniform3f(c, gl->GetUniformLocation(c, "u_background"), st->background[0],
+                         st->background[1], st->background[2]);
+    gl->DrawArrays(GL_TRIANGLES, 0, 3);
+    return lg_gl_check(n, "phong: phong_half's assembly pass");
+}
+
+/* Every mode but phong_half: one raster pass into the output. */
+static int ph_direct(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
+                     ph_gl_objects *o, GLuint tex, GLuint depth)
+{
+    int rc;
+    if ((rc = ph_target(n, gl, o, tex, depth, "the output (rgba32f colour, depth32f)")))
+        return rc;
+    const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
+    const float far = 1.0f;
+    gl->ClearNamedFramebufferfv(o->fbo, GL_COLOR, 0, bg);
+    gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
+    return ph_pass(n, st, gl, f, o, st->program, &st->u, f->v->view_proj, st->width, st->height);
+}
+
+static int ph_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    ph_state *st = n->user;
+    ph_frame_in f = { 0 };
+    f.scene_res = lg_input(n, 0);
+    f.s = lg_scene_get(n, f.scene_res);
+    if (!f.s)
+        return LG_ERR_INVALID;
+    const lg_resource *sres = lg_input(n, 1);
+    if (sres) {
+        lg_resource_info info;
+        f.sm = lg_shadowmap_get(n, sres);
+        if (!f.sm && (lg_describe(sres, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP))
+            return LG_ERR_INVALID;
+        if (f.sm && (!f.sm->atlas || f.sm->resolution == 0 || (f.sm->n_lights && !f.sm->lights)))
+            return lg_error(n, "input 'shadows': the shadow maps have no atlas, no "
+                               "resolution or no light list");
+    }
+    ph_view v;
+    int rc = ph_make_view(n, st, f.s, &v);
+    if (rc)
+        return rc;
+    f.v = &v;
+    ph_item *items = NULL;
+    if ((rc = ph_collect(n, f.s, &items, &f.count)))
+        return rc;
+    f.items = items;
+    ph_gpu_light *lights = NULL;
+    ph_gpu_shadow *shadows = NULL;
+    uint32_t n_shadow = 0;
+    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow))) {
+        free(items);
+        return rc;
+    }
+    f.n_lights = f.s->n_lights;
+
+    const lg_gl *gl = lg_gl_get(n);
+    ph_gl_objects o = { 0 };
+    uint32_t tex = 0, depth = 0;
+    if (!gl) {
+        rc = LG_ERR_DEVICE;
+        goto out;
+    }
+    int sv = (int)n_shadow < ph_sv_limit(gl) ? (int)n_shadow : ph_sv_limit(gl);
+    if ((rc = ph_program(n, st, gl, sv)))
+        goto out;
+    if (n_shadow) {
+        uint32_t atlas_name = 0;
+        if ((rc = lg_map_gl(n, f.sm->atlas, LG_READ, &atlas_name, &f.atlas)))
+            goto out;
+        if (!f.atlas) {
+            rc = lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
+                                                 "texture");
+            goto out;
+        }
+    }
+    if ((rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tex, &depth)))
+        goto out;
+    if (!depth) {
+        rc = lg_error_code(n, LG_ERR_DEVICE, "the output has no GL depth texture");
+        goto out;
+    }
+    o.lights = ph_ssbo(gl, lights, (size_t)f.n_lights * sizeof *lights);
+    o.shadows = ph_ssbo(gl, shadows, (size_t)n_shadow * sizeof *shadows);
+    if ((rc = ph_upload(n, gl, &f, &o)))
+        goto out;
+    rc = st->shading == PH_HALF ? ph_half(n, st, gl, &f, &o, tex, depth)
+                                : ph_direct(n, st, gl, &f, &o, tex, depth);
+
+out:
+    if (gl) {
+        ph_unbind(gl);
+        ph_gl_free(gl, &o);
+    }
+    if (!rc) {
+        uint64_t tris = 0;
+        for (uint32_t i = 0; i < f.count; i++)
+            tris += f.s->meshes[items[i].mesh].n_indices / 3;
+        const lg_camera *c = &f.s->cameras[v.camera];
+        bool per_vertex = st->shading == PH_FLAT || st->shading == PH_GOURAUD ||
+                          st->shading == PH_MIXED;
+        lg_log(n, LG_LOG_INFO,
+               "%u instances, %" PRIu64 " triangles, %u light%s (%u with shadow maps%s), "
+               "camera %u '%s' at (%.4g, %.4g, %.4g) looking along (%.3f, %.3f, %.3f)",
+               f.count, tris, f.n_lights, f.n_lights == 1 ? "" : "s", n_shadow,
+               per_vertex && n_shadow > (uint32_t)st->program_sv
+                   ? "; beyond the first per-pixel ones, tested per vertex"
+                   : "",
+               v.camera, c->name ? c->name : "", (double)v.eye.x, (double)v.eye.y,
+               (double)v.eye.z, (double)v.forward.x, (double)v.forward.y, (double)v.forward.z);
+    }
+    free(items);
+    free(lights);
+    free(shadows);
+    return rc ? rc : (gl ? lg_gl_check(n, "phong: cleaning up") : rc);
+}
+
+static void ph_destroy(lg_node *n)
+{
+    ph_state *st = n->user;
+    if (!st)
+        return;
+    if (st->program || st->id_program || st->half_program || st->id_tex || st->eq13) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (gl) {
+            GLuint progs[3] = { st->program, st->id_program, st->half_program };
+            for (int i = 0; i < 3; i++)
+                if (progs[i])
+                    gl->DeleteProgram(progs[i]);
+            GLuint texs[4] = { st->id_tex, st->quarter[0], st->quarter[1], st->quarter_depth };
+            for (int i = 0; i < 4; i++)
+                if (texs[i])
+                    gl->DeleteTextures(1, &texs[i]);
+            for (uint32_t i = 0; i < st->n_eq13; i++)
+                if (st->eq13[i])
+                    gl->DeleteBuffers(1, &st->eq13[i]);
+        }
+    }
+    free(st->eq13);
+    free(st);
+    n->user = NULL;
+}
+
+/* ---- the descriptor ------------------------------------------------------------------------- */
+
+static const char *const ph_shadings[] = { "flat", "gouraud", "phong", "mixed", "phong_half",
+                                           NULL };
+static const char *const ph_speculars[] = { "phong", "blinn", NULL };
+static const char *const ph_corrections[] = { "none", "x4", NULL };
+static const char *const ph_at[] = { "infinite", "local", NULL };
+static const char *const ph_normal_srcs[] = { "scene", "eq13", NULL };
+static const char *const ph_falloffs[] = { "none", "inverse_square", NULL };
+static const char *const ph_culls[] = { "none", "material", NULL };
+
+static const lg_param_desc ph_params[] = {
+    { .key = "shading", .type = LG_PARAM_ENUM, .def.e = PH_PHONG, .enum_values = ph_shadings,
+      .doc = "flat: per facet; gouraud: per vertex, colours interpolated; phong: per pixel, "
+             "normals interpolated; mixed: phong on highlight facets, gouraud elsewhere; "
+             "phong_half: per pixel on half the pixels (a checkerboard), the others the mean "
+             "of their neighbours" },
+    { .key = "specular", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ph_speculars,
+      .doc = "phong: (R.V)^n; blinn: (N.H)^n' with H = (L+V)/|L+V|" },
+    { .key = "blinn_correction", .type = LG_PARAM_ENUM, .def.e = 1,
+      .enum_values = ph_corrections,
+      .doc = "blinn's exponent: none: n' = n (a larger highlight); x4: n' = 4n (matches phong)" },
+    { .key = "depth_cue", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "divide the light terms (not the ambient) by (r + K), r the distance to the "
+             "camera (eq. 1-12; factor capped at 1)" },
+    { .key = "k", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e30,
+      .doc = "K of eq. 1-12 (depth cueing), metres: the light terms are divided by r + K" },
+    { .key = "viewer", .type = LG_PARAM_ENUM, .def.e = PH_VIEWER_LOCAL, .enum_values = ph_at,
+      .doc = "infinite: one V for the whole image (towards the camera along its axis; seed 1 "
+             "1.2.6); local: V from each point to the camera" },
+    { .key = "lights_at", .type = LG_PARAM_ENUM, .def.e = PH_VIEWER_LOCAL, .enum_values = ph_at,
+      .doc = "infinite: point and spot lights act as directional lights from where they lie "
+             "seen from the scene's centre (seed 1 1.2.6); local: L from each point" },
+    { .key = "ambient", .type = LG_PARAM_COLOR, .def.v = { 0.1, 0.1, 0.1 }, .min = 0, .max = 1e6,
+      .doc = "Ia, the ambient light (linear RGB, the lights' units)" },
+    { .key = "ks_scale", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
+      .doc = "multiplies every material's ks (1 = as the scene says; > 1 exaggerates the "
+             "highlights of materials that have a specular term; 0 = matte)" },
+    { .key = "mixed_threshold_deg", .type = LG_PARAM_FLOAT, .def.f = 30.0, .min = 0, .max = 180,
+      .doc = "mixed: a facet whose angle between V and R is below this (degrees) for some "
+             "light, at a vertex, an edge midpoint or its centroid, is a highlight facet "
+             "(phong-shaded); the others are gouraud-shaded" },
+    { .key = "vertex_normals", .type = LG_PARAM_ENUM, .def.e = PH_NORMALS_SCENE,
+      .enum_values = ph_normal_srcs,
+      .doc = "scene: the mesh's normals; eq13: normalised sum of the normals of the facets "
+             "meeting at each vertex position (seed 1 eq. 1-13)" },
+    { .key = "falloff", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ph_falloffs,
+      .doc = "point and spot lights: none (the seed's model: Ii at any distance) or "
+             "inverse_square (Ii / d^2, glTF's candela)" },
+    { .key = "cull", .type = LG_PARAM_ENUM, .def.e = PH_CULL_MATERIAL, .enum_values = ph_culls,
+      .doc = "none: draw both sides of every triangle; material: cull back faces unless the "
+             "material is double-sided (glTF)" },
+    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "output width in pixels; 0 = the render size (--size)" },
+    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "output height in pixels; 0 = the render size (--size)" },
+    { .key = "background", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
+      .doc = "radiance where no surface is, linear RGB (alpha is 1 everywhere)" },
+    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+      .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },
+    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "render again on every frame (--frames), for timing; the result is the same" },
+};
+static const lg_port_desc ph_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to light and draw" },
+    { .name = "shadows", .kind = LG_KIND_SHADOWMAP, .optional = true,
+      .doc = "shadow maps of the scene's directional lights (a shadowmap node); unconnected "
+             "or gated: no shadows" },
+};
+static const lg_port_desc ph_outputs[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f HDR linear radiance, alpha 1, upright, with a depth plane: GL window "
+             "depth in [0, 1] (1 = nothing)" },
+};
+
+static const lg_node_type ph_types[] = { {
+    .struct_size = sizeof(lg_node_type),
+    .name = "phong",
+    .doc = "Phong/Blinn local illumination with depth cueing and shadow maps; flat, Gouraud, "
+           "Phong, mixed or half-rate Phong shading (GL)",
+    LG_PARAMS(ph_params),
+    LG_INPUTS(ph_inputs),
+    LG_OUTPUTS(ph_outputs),
+    .create = ph_create,
+    .prepare = ph_prepare,
+    .execute = ph_execute,
+    .destroy = ph_destroy,
+} };
+
+LG_PLUGIN_DEFINE("phong", "1.0.0",
+                 "Local illumination (Phong, Blinn, depth cueing, shadows) with flat, Gouraud, "
+                 "Phong, mixed and half-rate shading on GL",
+                 ph_types)

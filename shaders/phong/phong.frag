@@ -1,0 +1,91 @@
+#version 450 core
+// The phong node's fragment stage (plugins/phong), by shading mode (LG_SHADING):
+//   0 flat       the facet's colour (held), times each shadowed light's Shadow_L here
+//   1 gouraud    the vertex colours interpolated (seed 1, eq. 1-14, 1-15), same shadows
+//   2 phong      the lighting equation here, with the interpolated normal (eq. 1-16, 1-17)
+//   3 mixed      phong on highlight facets, gouraud on the others (1.3.6)
+//   4 phong_half's first pass: only the surface id (the instance, from 1; 0 is the
+//                background) and depth at full size; phong_half shades two quarter-size
+//                images with mode 2 and phong_half.comp assembles the output.
+// Alpha is 1. For a double-sided material a back face is lit with the normal reversed.
+
+#include "phong.glsl"
+#include "phong_scene.glsl"
+
+layout(location = 0) in vec3 f_pos;
+layout(location = 2) flat in uint f_id;
+#if LG_SHADING == 0
+layout(location = 1) flat in vec3 f_nrm;
+layout(location = 4) flat in vec3 f_c0;
+layout(location = 6) flat in vec3 f_cs[LG_SV_ARR];
+#else
+layout(location = 1) in vec3 f_nrm;
+#endif
+#if LG_SHADING == 3
+layout(location = 3) flat in int f_highlight;
+#endif
+#if LG_SHADING == 1 || LG_SHADING == 3
+layout(location = 4) in vec3 f_c0;
+layout(location = 5) in vec3 f_c0b;
+layout(location = 6) in vec3 f_cs[LG_SV_ARR];
+layout(location = 6 + LG_SV_ARR) in vec3 f_csb[LG_SV_ARR];
+#endif
+
+#if LG_SHADING == 4
+layout(location = 0) out uint o_id;
+#else
+layout(location = 0) out vec4 o_color;
+#endif
+
+// The normal at this pixel: interpolated (or the facet's), unit, on the viewer's side of
+// a double-sided surface.
+vec3 pixel_normal()
+{
+    vec3 N = lg_safe_normalize(f_nrm, lg_view_vector(f_pos));
+#if LG_SHADING != 0
+    if (u_double_sided != 0 && !gl_FrontFacing)
+        N = -N;
+#endif
+    return N;
+}
+
+#if LG_SHADING == 0 || LG_SHADING == 1 || LG_SHADING == 3
+// Interpolated (or held) colours with each shadowed light's visibility at this pixel.
+vec3 held_colour()
+{
+    vec3 N = pixel_normal();
+#if LG_SHADING == 0
+    vec3 c = f_c0;
+    for (int k = 0; k < LG_SV; k++)
+        if (any(greaterThan(f_cs[k], vec3(0.0))))
+            c += f_cs[k] * lg_shadow(k, f_pos, N, lg_lights[lg_shadows[k].light].dir.xyz);
+#else
+    bool back = u_double_sided != 0 && !gl_FrontFacing;
+    vec3 c = back ? f_c0b : f_c0;
+    for (int k = 0; k < LG_SV; k++) {
+        vec3 ck = back ? f_csb[k] : f_cs[k];
+        if (any(greaterThan(ck, vec3(0.0))))
+            c += ck * lg_shadow(k, f_pos, N, lg_lights[lg_shadows[k].light].dir.xyz);
+    }
+#endif
+    return c;
+}
+#endif
+
+void main()
+{
+#if LG_SHADING == 4
+    o_id = f_id;
+#else
+    LgPhongMaterial m = lg_material();
+    vec3 c;
+#if LG_SHADING == 0 || LG_SHADING == 1
+    c = held_colour();
+#elif LG_SHADING == 2
+    c = lg_shade(f_pos, pixel_normal(), m);
+#elif LG_SHADING == 3
+    c = f_highlight != 0 ? lg_shade(f_pos, pixel_normal(), m) : held_colour();
+#endif
+    o_color = vec4(c, 1.0);
+#endif
+}

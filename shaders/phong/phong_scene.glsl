@@ -1,0 +1,197 @@
+// The phong node's lights, shadows, view and material (plugins/phong/README.md), on top of
+// the lighting equation of shaders/common/phong.glsl (include that first). Shared by every
+// stage of every shading mode, so that flat, Gouraud, Phong, mixed and phong_half evaluate
+// the same equation and differ only in *where* they evaluate it.
+//
+// Units: a light's Ii = colour * intensity (scene.h), used as the model's incident intensity;
+// the result is the model's reflected intensity in the same units (HDR, linear).
+
+// One light as the node uploads it (std430, 64 bytes).
+//   pos.xyz  position (point, spot), world
+//   pos.w    type: 0 = at infinity (directional lights, and point/spot lights with
+//            lights_at = infinite, whose L and Ii the node computed at the scene's centre)
+//            1 = local point light, 2 = local spot light
+//   dir.xyz  type 0: L, the unit vector from the surface towards the light;
+//            type 2: the unit direction the spot light travels
+//   dir.w    range (local lights): no light beyond it; 0 = unlimited
+//   radiance Ii = colour * intensity (times the cone and falloff already, for type 0)
+//   shadow   index into Shadows, or -1: no shadow map for this light
+//   cone     x: cos(outer cone), y: 1 / (cos(inner) - cos(outer)) (spot); z: 1 = inverse-
+//            square falloff with distance (local lights), 0 = none
+struct LgLight {
+    vec4 pos;
+    vec4 dir;
+    vec3 radiance;
+    int shadow;
+    vec4 cone;
+};
+layout(std430, binding = 1) readonly buffer LgLights {
+    LgLight lg_lights[];
+};
+
+// One shadow-mapped light (lightgraph/shadowmap.h), std430, 80 bytes.
+struct LgShadow {
+    mat4 view_proj;    // world -> the light's clip space (orthographic, Y flipped)
+    vec2 tile;         // the tile's top-left texel in the atlas
+    float texel_world; // world size of one texel (normal offset unit)
+    int light;         // index into LgLights
+};
+layout(std430, binding = 2) readonly buffer LgShadows {
+    LgShadow lg_shadows[];
+};
+layout(binding = 0) uniform sampler2D u_atlas; // the depth-only atlas (read with texelFetch)
+
+uniform int u_n_lights;
+uniform int u_shadow_res;       // tile side, texels
+uniform float u_bias_const;     // depth units
+uniform float u_bias_slope;     // depth units per unit of tan(angle(N, L))
+uniform float u_normal_offset;  // texels
+
+uniform vec3 u_eye;             // the camera's position, world
+uniform vec3 u_view_dir_inf;    // V for a viewer at infinity: unit, towards the camera
+uniform int u_viewer_local;     // 1: V = normalize(eye - P)
+uniform int u_depth_cue;        // 1: light terms divided by (r + K), eq. 1-12
+uniform float u_K;
+
+uniform vec3 u_ambient;         // Ia
+uniform int u_spec_model;       // LG_SPEC_PHONG or LG_SPEC_BLINN
+uniform float u_n_scale;        // n' = n * u_n_scale (Blinn's exponent correction: 1 or 4)
+uniform float u_ka, u_kd, u_ks, u_shininess;
+uniform vec3 u_od, u_os;
+uniform int u_double_sided;     // 1: back faces are lit with the normal turned towards V
+
+LgPhongMaterial lg_material()
+{
+    LgPhongMaterial m;
+    m.ka = u_ka;
+    m.kd = u_kd;
+    m.ks = u_ks;
+    m.n = u_shininess;
+    m.od = u_od;
+    m.os = u_os;
+    return m;
+}
+
+vec3 lg_view_vector(vec3 P)
+{
+    return u_viewer_local != 0 ? lg_safe_normalize(u_eye - P, u_view_dir_inf) : u_view_dir_inf;
+}
+
+// Eq. 1-12's factor at P: r is the distance from P to the camera, for either viewer model.
+float lg_cue(vec3 P)
+{
+    return u_depth_cue != 0 ? lg_depth_cue(distance(u_eye, P), u_K) : 1.0;
+}
+
+// The direction towards light i and the intensity arriving at P. False when no light
+// arrives (beyond the range, outside the cone). A light exactly at P lights along N.
+bool lg_light_at(int i, vec3 P, vec3 N, out vec3 L, out vec3 Ii)
+{
+    LgLight l = lg_lights[i];
+    Ii = l.radiance;
+    if (l.pos.w < 0.5) {
+        L = l.dir.xyz;
+        return true;
+    }
+    vec3 d = l.pos.xyz - P;
+    float dist = length(d);
+    if (l.dir.w > 0.0 && dist > l.dir.w) {
+        L = N;
+        return false;
+    }
+    L = lg_safe_normalize(d, N);
+    if (l.cone.z > 0.5)
+        Ii /= max(dist * dist, 1e-12); // closer than 1 micrometre counts as 1 micrometre
+    if (l.pos.w > 1.5) {
+        // glTF KHR_lights_punctual's recommended spot falloff
+        float t = clamp((dot(-L, l.dir.xyz) - l.cone.x) * l.cone.y, 0.0, 1.0);
+        Ii *= t * t;
+    }
+    return true;
+}
+
+// Shadow_L(P) of shadow-mapped light s (eq. 4 with lightgraph/shadowmap.h's bias rules):
+// 1 lit, 0 in shadow. Points outside the light's map are lit.
+float lg_shadow(int s, vec3 P, vec3 N, vec3 L)
+{
+    if (s < 0)
+        return 1.0;
+    LgShadow sh = lg_shadows[s];
+    vec3 p = P + N * (u_normal_offset * sh.texel_world);
+    vec4 c = sh.view_proj * vec4(p, 1.0);
+    vec3 q = c.xyz / c.w;
+    vec2 t = q.xy * 0.5 + 0.5;
+    float d = q.z * 0.5 + 0.5;
+    if (!(t.x >= 0.0 && t.x < 1.0 && t.y >= 0.0 && t.y < 1.0 && d <= 1.0))
+        return 1.0;
+    ivec2 texel = ivec2(sh.tile) + min(ivec2(t * float(u_shadow_res)), ivec2(u_shadow_res - 1));
+    float stored = texelFetch(u_atlas, texel, 0).r;
+    // tan(angle(N, L)) with cos clamped to >= 0.1 (tan <= 9.95), as the shadowmap node
+    // documents, so that grazing light keeps a finite bias
+    float cl = clamp(abs(dot(N, L)), 0.1, 1.0);
+    float tn = sqrt(1.0 - cl * cl) / cl;
+    return d > stored + u_bias_const + u_bias_slope * tn ? 0.0 : 1.0;
+}
+
+// Everything at P, shadows at P: ambient plus the attenuated, shadowed direct terms.
+vec3 lg_shade(vec3 P, vec3 N, LgPhongMaterial m)
+{
+    vec3 V = lg_view_vector(P);
+    float n_eff = m.n * u_n_scale;
+    vec3 direct = vec3(0.0);
+    for (int i = 0; i < u_n_lights; i++) {
+        vec3 L, Ii;
+        if (!lg_light_at(i, P, N, L, Ii))
+            continue;
+        vec3 c = lg_phong_direct(N, V, L, Ii, m, u_spec_model, n_eff);
+        if (lg_lights[i].shadow >= 0 && any(greaterThan(c, vec3(0.0))))
+            c *= lg_shadow(lg_lights[i].shadow, P, N, L);
+        direct += c;
+    }
+    return lg_phong_ambient(u_ambient, m) + lg_cue(P) * direct;
+}
+
+// The same equation split for the per-vertex and per-facet modes, whose colours are
+// interpolated (or held) across a facet while shadows stay per pixel: c0 holds the ambient
+// and every light whose shadow is not tested per pixel, cs[k] the attenuated direct term of
+// the light with shadow map k (k < LG_SV), to be multiplied by that light's Shadow_L at the
+// pixel. Lights with a shadow map beyond the first LG_SV have their shadow tested here.
+void lg_shade_split(vec3 P, vec3 N, LgPhongMaterial m, out vec3 c0, out vec3 cs[LG_SV_ARR])
+{
+    vec3 V = lg_view_vector(P);
+    float n_eff = m.n * u_n_scale;
+    float att = lg_cue(P);
+    for (int k = 0; k < LG_SV_ARR; k++)
+        cs[k] = vec3(0.0);
+    vec3 direct = vec3(0.0);
+    for (int i = 0; i < u_n_lights; i++) {
+        vec3 L, Ii;
+        if (!lg_light_at(i, P, N, L, Ii))
+            continue;
+        vec3 c = lg_phong_direct(N, V, L, Ii, m, u_spec_model, n_eff);
+        int s = lg_lights[i].shadow;
+        if (s >= 0 && s < LG_SV) {
+            cs[s] = att * c;
+            continue;
+        }
+        if (s >= 0 && any(greaterThan(c, vec3(0.0))))
+            c *= lg_shadow(s, P, N, L);
+        direct += c;
+    }
+    c0 = lg_phong_ambient(u_ambient, m) + att * direct;
+}
+
+// The largest cos(angle(V, R)) over the lights at P (for the mixed mode's highlight facets);
+// -2 when no light reaches the lit side of P.
+float lg_max_cos_vr(vec3 P, vec3 N)
+{
+    vec3 V = lg_view_vector(P);
+    float best = -2.0;
+    for (int i = 0; i < u_n_lights; i++) {
+        vec3 L, Ii;
+        if (!lg_light_at(i, P, N, L, Ii) || dot(N, L) <= 0.0 || all(lessThanEqual(Ii, vec3(0.0))))
+            continue;
+        best = max(best, dot(reflect(-L, N), V));
+    }
+    return best;
+}
