@@ -5,7 +5,7 @@ usage: tools/phong_cost.py [--build DIR] [-o DIR] [--size WxH] [--levels 4,8,...
                            [--frames K] [--repeat R] [--gl osmesa|egl]
 
 Renders, with the phong node, a UV sphere at several tessellations (tools/gen_scene.py
-sphere --level L: 2 L (L - 1) * 2 triangles) and the bunny box (examples/phong_scene.lgraph)
+sphere --level L: 4 L (L - 1) triangles) and the bunny box (examples/phong_scene.lgraph)
 in every shading mode, and reports for each run
 
   time_ms      the phong node's time per frame: its CPU wall time including its GL work

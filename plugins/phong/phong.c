@@ -1143,13 +1143,14 @@ out:
         const lg_camera *c = &f.s->cameras[v.camera];
         bool per_vertex = st->shading == PH_FLAT || st->shading == PH_GOURAUD ||
                           st->shading == PH_MIXED;
+        char split[96] = "";
+        if (per_vertex && n_shadow > (uint32_t)st->program_sv)
+            snprintf(split, sizeof split, "; the first %d tested per pixel, the others per vertex",
+                     st->program_sv);
         lg_log(n, LG_LOG_INFO,
                "%u instances, %" PRIu64 " triangles, %u light%s (%u with shadow maps%s), "
                "camera %u '%s' at (%.4g, %.4g, %.4g) looking along (%.3f, %.3f, %.3f)",
-               f.count, tris, f.n_lights, f.n_lights == 1 ? "" : "s", n_shadow,
-               per_vertex && n_shadow > (uint32_t)st->program_sv
-                   ? "; beyond the first per-pixel ones, tested per vertex"
-                   : "",
+               f.count, tris, f.n_lights, f.n_lights == 1 ? "" : "s", n_shadow, split,
                v.camera, c->name ? c->name : "", (double)v.eye.x, (double)v.eye.y,
                (double)v.eye.z, (double)v.forward.x, (double)v.forward.y, (double)v.forward.z);
     }

@@ -49,23 +49,30 @@ vec3 pixel_normal()
     return N;
 }
 
+// The facet's unit normal from the position's screen derivatives, on N's side (the
+// geometric normal the shadow test wants); N where the derivatives give none.
+vec3 geometric_normal(vec3 N)
+{
+    vec3 g = lg_safe_normalize(cross(dFdx(f_pos), dFdy(f_pos)), N);
+    return dot(g, N) < 0.0 ? -g : g;
+}
+
 #if LG_SHADING == 0 || LG_SHADING == 1 || LG_SHADING == 3
 // Interpolated (or held) colours with each shadowed light's visibility at this pixel.
-vec3 held_colour()
+vec3 held_colour(vec3 Ng)
 {
-    vec3 N = pixel_normal();
 #if LG_SHADING == 0
     vec3 c = f_c0;
     for (int k = 0; k < LG_SV; k++)
         if (any(greaterThan(f_cs[k], vec3(0.0))))
-            c += f_cs[k] * lg_shadow(k, f_pos, N, lg_lights[lg_shadows[k].light].dir.xyz);
+            c += f_cs[k] * lg_shadow(k, f_pos, Ng, lg_lights[lg_shadows[k].light].dir.xyz);
 #else
     bool back = u_double_sided != 0 && !gl_FrontFacing;
     vec3 c = back ? f_c0b : f_c0;
     for (int k = 0; k < LG_SV; k++) {
         vec3 ck = back ? f_csb[k] : f_cs[k];
         if (any(greaterThan(ck, vec3(0.0))))
-            c += ck * lg_shadow(k, f_pos, N, lg_lights[lg_shadows[k].light].dir.xyz);
+            c += ck * lg_shadow(k, f_pos, Ng, lg_lights[lg_shadows[k].light].dir.xyz);
     }
 #endif
     return c;
@@ -78,13 +85,16 @@ void main()
     o_id = f_id;
 #else
     LgPhongMaterial m = lg_material();
+    // both normals here, in uniform control flow (the derivatives need it)
+    vec3 N = pixel_normal();
+    vec3 Ng = geometric_normal(N);
     vec3 c;
 #if LG_SHADING == 0 || LG_SHADING == 1
-    c = held_colour();
+    c = held_colour(Ng);
 #elif LG_SHADING == 2
-    c = lg_shade(f_pos, pixel_normal(), m);
+    c = lg_shade(f_pos, N, Ng, m);
 #elif LG_SHADING == 3
-    c = f_highlight != 0 ? lg_shade(f_pos, pixel_normal(), m) : held_colour();
+    c = f_highlight != 0 ? lg_shade(f_pos, N, Ng, m) : held_colour(Ng);
 #endif
     o_color = vec4(c, 1.0);
 #endif

@@ -110,31 +110,34 @@ bool lg_light_at(int i, vec3 P, vec3 N, out vec3 L, out vec3 Ii)
     return true;
 }
 
-// Shadow_L(P) of shadow-mapped light s (eq. 4 with lightgraph/shadowmap.h's bias rules):
-// 1 lit, 0 in shadow. Points outside the light's map are lit.
-float lg_shadow(int s, vec3 P, vec3 N, vec3 L)
+// Shadow_L(P) of shadow-mapped light s (eq. 4 with the bias rules of lightgraph/shadowmap.h
+// and plugins/shadowmap/README.md, "Bias"): 1 lit, 0 in shadow. Ng is the unit geometric
+// normal (the facet's) on the viewer's side. Points outside the light's map are lit; the
+// depth is clamped to [0, 1].
+float lg_shadow(int s, vec3 P, vec3 Ng, vec3 L)
 {
     if (s < 0)
         return 1.0;
     LgShadow sh = lg_shadows[s];
-    vec3 p = P + N * (u_normal_offset * sh.texel_world);
+    vec3 p = P + Ng * (u_normal_offset * sh.texel_world);
     vec4 c = sh.view_proj * vec4(p, 1.0);
     vec3 q = c.xyz / c.w;
     vec2 t = q.xy * 0.5 + 0.5;
-    float d = q.z * 0.5 + 0.5;
-    if (!(t.x >= 0.0 && t.x < 1.0 && t.y >= 0.0 && t.y < 1.0 && d <= 1.0))
+    float d = clamp(q.z * 0.5 + 0.5, 0.0, 1.0);
+    if (!(t.x >= 0.0 && t.x < 1.0 && t.y >= 0.0 && t.y < 1.0))
         return 1.0;
     ivec2 texel = ivec2(sh.tile) + min(ivec2(t * float(u_shadow_res)), ivec2(u_shadow_res - 1));
     float stored = texelFetch(u_atlas, texel, 0).r;
     // tan(angle(N, L)) with cos clamped to >= 0.1 (tan <= 9.95), as the shadowmap node
     // documents, so that grazing light keeps a finite bias
-    float cl = clamp(abs(dot(N, L)), 0.1, 1.0);
+    float cl = clamp(abs(dot(Ng, L)), 0.1, 1.0);
     float tn = sqrt(1.0 - cl * cl) / cl;
     return d > stored + u_bias_const + u_bias_slope * tn ? 0.0 : 1.0;
 }
 
-// Everything at P, shadows at P: ambient plus the attenuated, shadowed direct terms.
-vec3 lg_shade(vec3 P, vec3 N, LgPhongMaterial m)
+// Everything at P, shadows at P: ambient plus the attenuated, shadowed direct terms. N is
+// the shading normal, Ng the geometric one (for the shadow test).
+vec3 lg_shade(vec3 P, vec3 N, vec3 Ng, LgPhongMaterial m)
 {
     vec3 V = lg_view_vector(P);
     float n_eff = m.n * u_n_scale;
@@ -145,7 +148,7 @@ vec3 lg_shade(vec3 P, vec3 N, LgPhongMaterial m)
             continue;
         vec3 c = lg_phong_direct(N, V, L, Ii, m, u_spec_model, n_eff);
         if (lg_lights[i].shadow >= 0 && any(greaterThan(c, vec3(0.0))))
-            c *= lg_shadow(lg_lights[i].shadow, P, N, L);
+            c *= lg_shadow(lg_lights[i].shadow, P, Ng, L);
         direct += c;
     }
     return lg_phong_ambient(u_ambient, m) + lg_cue(P) * direct;
@@ -155,7 +158,8 @@ vec3 lg_shade(vec3 P, vec3 N, LgPhongMaterial m)
 // interpolated (or held) across a facet while shadows stay per pixel: c0 holds the ambient
 // and every light whose shadow is not tested per pixel, cs[k] the attenuated direct term of
 // the light with shadow map k (k < LG_SV), to be multiplied by that light's Shadow_L at the
-// pixel. Lights with a shadow map beyond the first LG_SV have their shadow tested here.
+// pixel. Lights with a shadow map beyond the first LG_SV have their shadow tested here
+// (with N for the geometric normal, which a vertex does not have).
 void lg_shade_split(vec3 P, vec3 N, LgPhongMaterial m, out vec3 c0, out vec3 cs[LG_SV_ARR])
 {
     vec3 V = lg_view_vector(P);

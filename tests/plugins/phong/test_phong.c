@@ -28,8 +28,10 @@
  *   infinite    lights_at = infinite turns a point light over the plane into a directional
  *               one (the image is uniform); local gives the cosine falloff away from the
  *               centre; viewer = infinite keeps V constant (a highlight moves)
- *   eq13        vertex_normals = eq13 on the cube: face centres keep the face's value,
- *               pixels near a corner change (the corner normal is the mean of three faces)
+ *   eq13        gouraud on the cube: with the scene's face normals the +Z face's centre is
+ *               lit fully; with vertex_normals = eq13 (the 24 vertices welded to 8 corners,
+ *               each the normalised sum of its triangles' normals, computed here through
+ *               the SDK) it is the mean of its diagonal's corner colours
  *   gating      a scene with a point light only: the shadowmap node is gated and not
  *               loaded (--explain), phong renders the point light's value
  *   errors      shadow maps of another scene (a light index beyond this scene's lights):
