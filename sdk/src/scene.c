@@ -75,9 +75,26 @@ static int mesh_of(lg_node *n, const lg_resource *res, uint32_t mesh, const lg_s
     return 0;
 }
 
-int lg_scene_mesh_gl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_gl *out)
+/* One GPU copy of one array: payload_gl_buffer or payload_cl_buffer. */
+typedef int (*upload_fn)(lg_node *n, const lg_resource *owner, uint32_t slot, const void *data,
+                         size_t size, void *out);
+
+static int upload_gl(lg_node *n, const lg_resource *owner, uint32_t slot, const void *data,
+                     size_t size, void *out)
 {
-    memset(out, 0, sizeof *out);
+    return n->host->payload_gl_buffer(n, owner, slot, data, size, (uint32_t *)out);
+}
+
+static int upload_cl(lg_node *n, const lg_resource *owner, uint32_t slot, const void *data,
+                     size_t size, void *out)
+{
+    return n->host->payload_cl_buffer(n, owner, slot, data, size, (void **)out);
+}
+
+/* The mesh's arrays through `up`, into the four result slots (texcoords only if any). */
+static int upload_mesh(lg_node *n, const lg_resource *res, uint32_t mesh, upload_fn up,
+                       void *pos, void *nrm, void *uv, void *idx)
+{
     const lg_scene *s;
     const lg_resource *owner = NULL;
     int rc = mesh_of(n, res, mesh, &s, &owner);
@@ -86,41 +103,27 @@ int lg_scene_mesh_gl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_
     const lg_mesh *m = &s->meshes[mesh];
     uint32_t base = mesh * SLOTS_PER_MESH;
     size_t nv = m->n_vertices;
-    if ((rc = n->host->payload_gl_buffer(n, owner, base + SLOT_POS, m->positions,
-                                         nv * 3 * sizeof(float), &out->positions)) ||
-        (rc = n->host->payload_gl_buffer(n, owner, base + SLOT_NRM, m->normals,
-                                         nv * 3 * sizeof(float), &out->normals)) ||
-        (rc = n->host->payload_gl_buffer(n, owner, base + SLOT_IDX, m->indices,
-                                         m->n_indices * sizeof(uint32_t), &out->indices)))
+    if ((rc = up(n, owner, base + SLOT_POS, m->positions, nv * 3 * sizeof(float), pos)) ||
+        (rc = up(n, owner, base + SLOT_NRM, m->normals, nv * 3 * sizeof(float), nrm)) ||
+        (rc = up(n, owner, base + SLOT_IDX, m->indices, m->n_indices * sizeof(uint32_t), idx)))
         return rc;
     if (m->texcoords)
-        rc = n->host->payload_gl_buffer(n, owner, base + SLOT_UV, m->texcoords,
-                                        nv * 2 * sizeof(float), &out->texcoords);
+        rc = up(n, owner, base + SLOT_UV, m->texcoords, nv * 2 * sizeof(float), uv);
     return rc;
+}
+
+int lg_scene_mesh_gl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_gl *out)
+{
+    memset(out, 0, sizeof *out);
+    return upload_mesh(n, res, mesh, upload_gl, &out->positions, &out->normals, &out->texcoords,
+                       &out->indices);
 }
 
 int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_cl *out)
 {
     memset(out, 0, sizeof *out);
-    const lg_scene *s;
-    const lg_resource *owner = NULL;
-    int rc = mesh_of(n, res, mesh, &s, &owner);
-    if (rc)
-        return rc;
-    const lg_mesh *m = &s->meshes[mesh];
-    uint32_t base = mesh * SLOTS_PER_MESH;
-    size_t nv = m->n_vertices;
-    if ((rc = n->host->payload_cl_buffer(n, owner, base + SLOT_POS, m->positions,
-                                         nv * 3 * sizeof(float), &out->positions)) ||
-        (rc = n->host->payload_cl_buffer(n, owner, base + SLOT_NRM, m->normals,
-                                         nv * 3 * sizeof(float), &out->normals)) ||
-        (rc = n->host->payload_cl_buffer(n, owner, base + SLOT_IDX, m->indices,
-                                         m->n_indices * sizeof(uint32_t), &out->indices)))
-        return rc;
-    if (m->texcoords)
-        rc = n->host->payload_cl_buffer(n, owner, base + SLOT_UV, m->texcoords,
-                                        nv * 2 * sizeof(float), &out->texcoords);
-    return rc;
+    return upload_mesh(n, res, mesh, upload_cl, &out->positions, &out->normals, &out->texcoords,
+                       &out->indices);
 }
 
 const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res)
