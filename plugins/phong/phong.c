@@ -25,6 +25,7 @@
 #include "lightgraph/math.h"
 #include "lightgraph/phong.h"
 #include "lightgraph/scene.h"
+#include "lightgraph/scene_gl.h"
 #include "lightgraph/shadowmap.h"
 
 #include "phong.frag.h"
@@ -44,12 +45,7 @@ enum { PH_CULL_NONE = 0, PH_CULL_MATERIAL };
 /* phong_half: neighbours within this relative linear depth count as the same surface */
 #define PH_HALF_DEPTH_TOL 0.05f
 
-/* std430 layouts of shaders/phong/phong.vert and phong_scene.glsl */
-typedef struct ph_gpu_instance {
-    float model[16];
-    float normal[16];
-} ph_gpu_instance;
-
+/* std430 layouts of shaders/phong/phong_scene.glsl (the instances: lightgraph/scene_gl.h) */
 typedef struct ph_gpu_light {
     float pos[4];
     float dir[4];
@@ -94,14 +90,6 @@ typedef struct ph_state {
     uint32_t n_eq13;
     bool warned_shadow;
 } ph_state;
-
-/* The projection, after the rules of plugins/preview/README.md ("Camera"). */
-typedef struct ph_view {
-    float view[16], proj[16], view_proj[16];
-    float znear, zfar, yfov;
-    lg_vec3 eye, forward;
-    uint32_t camera;
-} ph_view;
 
 /* ---- create / prepare ---------------------------------------------------------------- */
 
@@ -185,195 +173,9 @@ static bool ph_bounds_ok(const lg_scene *s)
            lo[2] <= hi[2];
 }
 
-/* The farthest corner of the scene's bounds along the view axis, or -1. */
-static float ph_bounds_far(const lg_scene *s, const float view[16])
-{
-    if (!ph_bounds_ok(s))
-        return -1.0f;
-    const float *lo = s->bounds_min, *hi = s->bounds_max;
-    float far = -1.0f;
-    for (int k = 0; k < 8; k++) {
-        lg_vec3 c = lg_v3(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
-        float d = -lg_m4_point(view, c).z;
-        if (d > far)
-            far = d;
-    }
-    return far;
-}
-
-static int ph_make_view(lg_node *n, const ph_state *st, const lg_scene *s, ph_view *v)
-{
-    if (s->n_cameras == 0 || !s->cameras)
-        return lg_error(n, "the scene has no camera (a scene node must provide one)");
-    uint32_t ci;
-    if (st->camera < 0) {
-        if (s->camera >= s->n_cameras)
-            return lg_error(n, "the scene's active camera %u does not exist (it has %u)",
-                            s->camera, s->n_cameras);
-        ci = s->camera;
-    } else if ((uint64_t)st->camera >= s->n_cameras) {
-        return lg_error(n, "camera %" PRId64 " does not exist: the scene has %u camera%s "
-                           "(0..%u; -1 = the active one)",
-                        st->camera, s->n_cameras, s->n_cameras == 1 ? "" : "s",
-                        s->n_cameras - 1);
-    } else {
-        ci = (uint32_t)st->camera;
-    }
-    const lg_camera *c = &s->cameras[ci];
-    const char *cname = c->name ? c->name : "";
-    if (!ph_finite3(c->position) || !ph_finite3(c->target) || !ph_finite3(c->up) ||
-        !isfinite(c->yfov) || !isfinite(c->znear) || !isfinite(c->zfar) || !isfinite(c->aspect))
-        return lg_error(n, "camera %u '%s' has a value that is not finite", ci, cname);
-    if (!(c->yfov > 0.0f && c->yfov < 3.1f))
-        return lg_error(n, "camera %u '%s': vertical field of view %g rad is outside (0, 3.1)",
-                        ci, cname, (double)c->yfov);
-    if (c->znear < 0.0f || c->zfar < 0.0f || (c->zfar > 0.0f && c->zfar <= c->znear))
-        return lg_error(n, "camera %u '%s': znear %g and zfar %g do not make a depth range "
-                           "(0 <= znear < zfar, or zfar 0 for 'from the bounds')",
-                        ci, cname, (double)c->znear, (double)c->zfar);
-    lg_vec3 eye = lg_v3(c->position[0], c->position[1], c->position[2]);
-    lg_vec3 target = lg_v3(c->target[0], c->target[1], c->target[2]);
-    if (lg_v3_length(lg_v3_sub(target, eye)) < 1e-12f)
-        return lg_error(n, "camera %u '%s': position and target are the same point", ci, cname);
-    lg_m4_look_at(v->view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
-
-    float aspect = (float)st->width / (float)st->height;
-    float yfov = c->yfov;
-    if (c->aspect > 0.0f && aspect < c->aspect)
-        yfov = 2.0f * atanf(tanf(0.5f * yfov) * c->aspect / aspect);
-    if (yfov > 3.1f)
-        yfov = 3.1f;
-
-    float zfar = c->zfar, znear = c->znear;
-    if (zfar == 0.0f) {
-        float far = ph_bounds_far(s, v->view);
-        zfar = far > 0.0f ? far * 1.01f + 1e-6f : 0.0f;
-        if (znear > 0.0f && zfar < 2.0f * znear)
-            zfar = 2.0f * znear;
-        if (zfar == 0.0f)
-            zfar = 100.0f;
-    }
-    if (znear == 0.0f)
-        znear = zfar * 1e-4f;
-
-    lg_m4_perspective(v->proj, yfov, aspect, znear, zfar);
-    /* texel row 0 is the image's top row (docs/sdk.md): flip Y in clip space, which turns
-     * counter-clockwise front faces clockwise on screen */
-    for (int col = 0; col < 4; col++)
-        v->proj[col * 4 + 1] = -v->proj[col * 4 + 1];
-    lg_m4_mul(v->view_proj, v->proj, v->view);
-    v->znear = znear;
-    v->zfar = zfar;
-    v->yfov = yfov;
-    v->camera = ci;
-    v->eye = eye;
-    v->forward = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, -1));
-    return 0;
-}
-
-/* ---- scene checks and instances (as plugins/preview) ----------------------------------- */
-
 static const char *ph_mesh_name(const lg_mesh *m)
 {
     return m->name ? m->name : "";
-}
-
-static int ph_check_mesh(lg_node *n, const lg_scene *s, uint32_t mi)
-{
-    const lg_mesh *m = &s->meshes[mi];
-    if (!m->positions || !m->indices || !m->normals)
-        return lg_error(n, "mesh %u '%s' lacks its %s array", mi, ph_mesh_name(m),
-                        !m->positions ? "positions" : !m->indices ? "indices" : "normals");
-    if (m->n_indices % 3 != 0)
-        return lg_error(n, "mesh %u '%s': %u indices is not a whole number of triangles", mi,
-                        ph_mesh_name(m), m->n_indices);
-    if (m->n_indices > (uint32_t)INT32_MAX)
-        return lg_error_code(n, LG_ERR_UNSUPPORTED,
-                             "mesh %u '%s': %u indices is more than one GL draw takes", mi,
-                             ph_mesh_name(m), m->n_indices);
-    if (m->material >= s->n_materials)
-        return lg_error(n, "mesh %u '%s' uses material %u, the scene has %u", mi,
-                        ph_mesh_name(m), m->material, s->n_materials);
-    for (uint32_t i = 0; i < m->n_indices; i++)
-        if (m->indices[i] >= m->n_vertices)
-            return lg_error(n, "mesh %u '%s': index %u (entry %u) is out of range: the mesh "
-                               "has %u vertices",
-                            mi, ph_mesh_name(m), m->indices[i], i, m->n_vertices);
-    return 0;
-}
-
-static float ph_det3(const float m[16])
-{
-    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
-           m[8] * (m[1] * m[6] - m[5] * m[2]);
-}
-
-typedef struct ph_item {
-    uint32_t mesh;
-    uint32_t mirrored;
-    uint32_t instance;
-} ph_item;
-
-static int ph_item_cmp(const void *a, const void *b)
-{
-    const ph_item *x = a, *y = b;
-    if (x->mesh != y->mesh)
-        return x->mesh < y->mesh ? -1 : 1;
-    if (x->mirrored != y->mirrored)
-        return x->mirrored < y->mirrored ? -1 : 1;
-    return x->instance < y->instance ? -1 : x->instance > y->instance;
-}
-
-static int ph_collect(lg_node *n, const lg_scene *s, ph_item **out, uint32_t *count)
-{
-    *out = NULL;
-    *count = 0;
-    if (s->n_instances == 0)
-        return 0;
-    ph_item *items = malloc((size_t)s->n_instances * sizeof *items);
-    unsigned char *checked = calloc(s->n_meshes ? s->n_meshes : 1, 1);
-    if (!items || !checked) {
-        free(items);
-        free(checked);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
-    }
-    uint32_t k = 0;
-    int rc = 0;
-    for (uint32_t i = 0; i < s->n_instances && !rc; i++) {
-        const lg_instance *in = &s->instances[i];
-        if (in->mesh >= s->n_meshes) {
-            rc = lg_error(n, "instance %u refers to mesh %u, the scene has %u", i, in->mesh,
-                          s->n_meshes);
-            break;
-        }
-        const lg_mesh *m = &s->meshes[in->mesh];
-        if (m->n_indices == 0 || m->n_vertices == 0)
-            continue;
-        if (!checked[in->mesh]) {
-            if ((rc = ph_check_mesh(n, s, in->mesh)))
-                break;
-            checked[in->mesh] = 1;
-        }
-        for (int j = 0; j < 16; j++)
-            if (!isfinite(in->model[j])) {
-                rc = lg_error(n, "instance %u (mesh %u '%s'): its matrix is not finite", i,
-                              in->mesh, ph_mesh_name(m));
-                break;
-            }
-        items[k].mesh = in->mesh;
-        items[k].mirrored = ph_det3(in->model) < 0.0f;
-        items[k].instance = i;
-        k++;
-    }
-    free(checked);
-    if (rc) {
-        free(items);
-        return rc;
-    }
-    qsort(items, k, sizeof *items, ph_item_cmp);
-    *out = items;
-    *count = k;
-    return 0;
 }
 
 /* ---- lights -------------------------------------------------------------------------------- */
@@ -742,17 +544,15 @@ static void ph_unbind(const lg_gl *gl)
 }
 
 typedef struct ph_gl_objects {
-    GLuint fbo, vao, instances, lights, shadows;
+    GLuint fbo, lights, shadows;
 } ph_gl_objects;
 
 static void ph_gl_free(const lg_gl *gl, ph_gl_objects *o)
 {
     if (o->fbo)
         gl->DeleteFramebuffers(1, &o->fbo);
-    if (o->vao)
-        gl->DeleteVertexArrays(1, &o->vao);
-    GLuint b[3] = { o->instances, o->lights, o->shadows };
-    for (int i = 0; i < 3; i++)
+    GLuint b[2] = { o->lights, o->shadows };
+    for (int i = 0; i < 2; i++)
         if (b[i])
             gl->DeleteBuffers(1, &b[i]);
     memset(o, 0, sizeof *o);
@@ -774,15 +574,15 @@ typedef struct ph_frame_in {
     const lg_resource *scene_res;
     const lg_shadowmap *sm;
     GLuint atlas;
-    const ph_view *v;
-    const ph_item *items;
-    uint32_t count, n_lights;
+    const lg_scene_view *v;
+    const lg_scene_gl *sgl;
+    uint32_t n_lights;
 } ph_frame_in;
 
 static void ph_set_globals(ph_state *st, const lg_gl *gl, GLuint p, const ph_uniforms *u,
                            const ph_frame_in *f)
 {
-    const ph_view *v = f->v;
+    const lg_scene_view *v = f->v;
     gl->ProgramUniform1i(p, u->n_lights, (GLint)f->n_lights);
     gl->ProgramUniform3f(p, u->eye, v->eye.x, v->eye.y, v->eye.z);
     gl->ProgramUniform3f(p, u->view_dir_inf, -v->forward.x, -v->forward.y, -v->forward.z);
@@ -814,37 +614,33 @@ static void ph_set_material(ph_state *st, const lg_gl *gl, GLuint p, const ph_un
     gl->ProgramUniform1i(p, u->double_sided, m->double_sided);
 }
 
-/* The instances' matrices in draw order, and the vertex array (formats only). */
-static int ph_upload(lg_node *n, const lg_gl *gl, const ph_frame_in *f, ph_gl_objects *o)
+typedef struct ph_draw_ctx {
+    ph_state *st;
+    const lg_gl *gl;
+    const lg_scene *s;
+    GLuint prog;
+    const ph_uniforms *u;
+} ph_draw_ctx;
+
+/* Before a mesh's first draw: its normals (vertex_normals = eq13) and material. */
+static int ph_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
 {
+    const ph_draw_ctx *c = user;
     int rc;
-    if (f->count) {
-        size_t bytes = (size_t)f->count * sizeof(ph_gpu_instance);
-        ph_gpu_instance *gi = calloc(f->count, sizeof *gi);
-        if (!gi)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)",
-                                 bytes);
-        for (uint32_t i = 0; i < f->count; i++) {
-            const lg_instance *in = &f->s->instances[f->items[i].instance];
-            memcpy(gi[i].model, in->model, sizeof gi[i].model);
-            for (int c = 0; c < 3; c++)
-                for (int r = 0; r < 3; r++)
-                    gi[i].normal[c * 4 + r] = in->normal_matrix[c * 3 + r];
-            gi[i].normal[15] = 1.0f;
-        }
-        o->instances = ph_ssbo(gl, gi, bytes);
-        free(gi);
-        if ((rc = lg_gl_check(n, "phong: uploading the instance matrices")))
-            return rc;
-    }
-    gl->CreateVertexArrays(1, &o->vao);
-    gl->EnableVertexArrayAttrib(o->vao, 0);
-    gl->VertexArrayAttribFormat(o->vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl->VertexArrayAttribBinding(o->vao, 0, 0);
-    gl->EnableVertexArrayAttrib(o->vao, 1);
-    gl->VertexArrayAttribFormat(o->vao, 1, 3, GL_FLOAT, GL_FALSE, 0);
-    gl->VertexArrayAttribBinding(o->vao, 1, 1);
+    if (c->st->normals == PH_NORMALS_EQ13 &&
+        (rc = ph_eq13_buffer(n, c->st, c->gl, c->s, mi, normals)))
+        return rc;
+    /* with culling off, a single-sided surface seen from behind is lit as it is (its normal
+     * facing away: ambient only), as the seed's model would */
+    ph_set_material(c->st, c->gl, c->prog, c->u, &c->s->materials[c->s->meshes[mi].material]);
     return 0;
+}
+
+/* The surface ids of phong_half: instance (first + 1) onwards. */
+static void ph_on_batch(void *user, uint32_t first)
+{
+    const ph_draw_ctx *c = user;
+    c->gl->ProgramUniform1i(c->prog, c->u->id_base, (GLint)(first + 1));
 }
 
 /* One raster pass: every instance through `prog` with `view_proj`, into the framebuffer
@@ -854,7 +650,6 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
                    const float view_proj[16], uint32_t w, uint32_t h)
 {
     int rc;
-    const lg_scene *s = f->s;
     gl->Viewport(0, 0, (GLsizei)w, (GLsizei)h);
     gl->Enable(GL_DEPTH_TEST);
     gl->DepthFunc(GL_LESS);
@@ -865,67 +660,18 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     gl->Disable(GL_CULL_FACE);
     gl->CullFace(GL_BACK);
     gl->UseProgram(prog);
-    gl->BindVertexArray(o->vao);
     gl->ProgramUniformMatrix4fv(prog, u->view_proj, 1, GL_FALSE, view_proj);
     ph_set_globals(st, gl, prog, u, f);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, o->lights);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, o->shadows);
     gl->BindTextureUnit(0, f->atlas);
 
-    GLint max_block = 0, align = 0;
-    gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-    gl->GetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-    if (align < 1)
-        align = 1;
-    const size_t isz = sizeof(ph_gpu_instance);
-    size_t per_bind = (size_t)max_block / isz;
-    size_t slack = ((size_t)align + isz - 1) / isz;
-    per_bind = per_bind > slack + 1 ? per_bind - slack : 1;
-
-    uint32_t bound_mesh = UINT32_MAX;
-    for (uint32_t a = 0; a < f->count;) {
-        uint32_t b = a;
-        while (b < f->count && f->items[b].mesh == f->items[a].mesh &&
-               (st->cull == PH_CULL_NONE || f->items[b].mirrored == f->items[a].mirrored))
-            b++;
-        uint32_t mi = f->items[a].mesh;
-        const lg_mesh *m = &s->meshes[mi];
-        if (mi != bound_mesh) {
-            lg_mesh_gl mg;
-            if ((rc = lg_scene_mesh_gl(n, f->scene_res, mi, &mg)))
-                return rc;
-            GLuint nrm = mg.normals;
-            if (st->normals == PH_NORMALS_EQ13 && (rc = ph_eq13_buffer(n, st, gl, s, mi, &nrm)))
-                return rc;
-            gl->VertexArrayVertexBuffer(o->vao, 0, mg.positions, 0, 3 * sizeof(float));
-            gl->VertexArrayVertexBuffer(o->vao, 1, nrm, 0, 3 * sizeof(float));
-            gl->VertexArrayElementBuffer(o->vao, mg.indices);
-            const lg_material *mat = &s->materials[m->material];
-            /* with culling off, a single-sided surface seen from behind is lit as it is (its
-             * normal facing away: ambient only), as the seed's model would */
-            ph_set_material(st, gl, prog, u, mat);
-            if (st->cull == PH_CULL_MATERIAL && !mat->double_sided)
-                gl->Enable(GL_CULL_FACE);
-            else
-                gl->Disable(GL_CULL_FACE);
-            bound_mesh = mi;
-        }
-        /* with Y flipped, a counter-clockwise front face is clockwise on screen; a mirrored
-         * instance flips it back */
-        gl->FrontFace(f->items[a].mirrored ? GL_CCW : GL_CW);
-        for (uint32_t i = a; i < b;) {
-            uint32_t e = (uint32_t)((size_t)(b - i) > per_bind ? i + per_bind : b);
-            size_t off = (size_t)i * isz / (size_t)align * (size_t)align;
-            gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, o->instances, (GLintptr)off,
-                                (GLsizeiptr)((size_t)e * isz - off));
-            gl->ProgramUniform1i(prog, u->first, (GLint)(((size_t)i * isz - off) / isz));
-            gl->ProgramUniform1i(prog, u->id_base, (GLint)(i + 1));
-            gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)m->n_indices, GL_UNSIGNED_INT,
-                                      NULL, (GLsizei)(e - i));
-            i = e;
-        }
-        a = b;
-    }
+    ph_draw_ctx ctx = { st, gl, f->s, prog, u };
+    lg_scene_gl_draw_desc d = { .program = prog, .first_location = u->first,
+                                .cull_material = st->cull == PH_CULL_MATERIAL,
+                                .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };
+    if ((rc = lg_scene_gl_draw(n, gl, f->sgl, &d)))
+        return rc;
     return lg_gl_check(n, "phong: drawing the scene");
 }
 
@@ -1080,20 +826,20 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
             return lg_error(n, "input 'shadows': the shadow maps have no atlas, no "
                                "resolution or no light list");
     }
-    ph_view v;
-    int rc = ph_make_view(n, st, f.s, &v);
+    lg_scene_view v;
+    int rc = lg_scene_view_make(n, f.s, st->camera, st->width, st->height, &v);
     if (rc)
         return rc;
     f.v = &v;
-    ph_item *items = NULL;
-    if ((rc = ph_collect(n, f.s, &items, &f.count)))
+    lg_scene_gl *sgl = NULL;
+    if ((rc = lg_scene_gl_create(n, f.scene_res, LG_SCENE_GL_NORMALS, &sgl)))
         return rc;
-    f.items = items;
+    f.sgl = sgl;
     ph_gpu_light *lights = NULL;
     ph_gpu_shadow *shadows = NULL;
     uint32_t n_shadow = 0;
     if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow))) {
-        free(items);
+        lg_scene_gl_destroy(NULL, sgl);
         return rc;
     }
     f.n_lights = f.s->n_lights;
@@ -1126,7 +872,7 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     }
     o.lights = ph_ssbo(gl, lights, (size_t)f.n_lights * sizeof *lights);
     o.shadows = ph_ssbo(gl, shadows, (size_t)n_shadow * sizeof *shadows);
-    if ((rc = ph_upload(n, gl, &f, &o)))
+    if ((rc = lg_scene_gl_upload(n, gl, sgl)))
         goto out;
     rc = st->shading == PH_HALF ? ph_half(n, st, gl, &f, &o, tex, depth)
                                 : ph_direct(n, st, gl, &f, &o, tex, depth);
@@ -1137,9 +883,6 @@ out:
         ph_gl_free(gl, &o);
     }
     if (!rc) {
-        uint64_t tris = 0;
-        for (uint32_t i = 0; i < f.count; i++)
-            tris += f.s->meshes[items[i].mesh].n_indices / 3;
         const lg_camera *c = &f.s->cameras[v.camera];
         bool per_vertex = st->shading == PH_FLAT || st->shading == PH_GOURAUD ||
                           st->shading == PH_MIXED;
@@ -1150,11 +893,11 @@ out:
         lg_log(n, LG_LOG_INFO,
                "%u instances, %" PRIu64 " triangles, %u light%s (%u with shadow maps%s), "
                "camera %u '%s' at (%.4g, %.4g, %.4g) looking along (%.3f, %.3f, %.3f)",
-               f.count, tris, f.n_lights, f.n_lights == 1 ? "" : "s", n_shadow, split,
+               sgl->count, sgl->triangles, f.n_lights, f.n_lights == 1 ? "" : "s", n_shadow, split,
                v.camera, c->name ? c->name : "", (double)v.eye.x, (double)v.eye.y,
                (double)v.eye.z, (double)v.forward.x, (double)v.forward.y, (double)v.forward.z);
     }
-    free(items);
+    lg_scene_gl_destroy(gl, sgl);
     free(lights);
     free(shadows);
     return rc ? rc : (gl ? lg_gl_check(n, "phong: cleaning up") : rc);

@@ -20,6 +20,7 @@
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/math.h"
 #include "lightgraph/scene.h"
+#include "lightgraph/scene_gl.h"
 #include "lightgraph/shadowmap.h"
 
 #include "shadowmap.frag.h"
@@ -528,119 +529,7 @@ static int sm_prepare(lg_node *n)
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
-/* ---- scene checks and the draw list ---------------------------------------------------- */
-
-static const char *sm_mesh_name(const lg_mesh *m)
-{
-    return m->name ? m->name : "";
-}
-
-/* What the GL pass relies on: positions and indices present, a whole number of triangles
- * one draw can take, every index in range (an out-of-range index would read outside the
- * GPU buffer), a material that exists. */
-static int sm_check_mesh(lg_node *n, const lg_scene *s, uint32_t mi)
-{
-    const lg_mesh *m = &s->meshes[mi];
-    if (!m->positions || !m->indices)
-        return lg_error(n, "mesh %u '%s' lacks its %s array", mi, sm_mesh_name(m),
-                        !m->positions ? "positions" : "indices");
-    if (m->n_indices % 3 != 0)
-        return lg_error(n, "mesh %u '%s': %u indices is not a whole number of triangles", mi,
-                        sm_mesh_name(m), m->n_indices);
-    if (m->n_indices > (uint32_t)INT32_MAX)
-        return lg_error_code(n, LG_ERR_UNSUPPORTED,
-                             "mesh %u '%s': %u indices is more than one GL draw takes", mi,
-                             sm_mesh_name(m), m->n_indices);
-    if (m->material >= s->n_materials)
-        return lg_error(n, "mesh %u '%s' uses material %u, the scene has %u", mi,
-                        sm_mesh_name(m), m->material, s->n_materials);
-    for (uint32_t i = 0; i < m->n_indices; i++)
-        if (m->indices[i] >= m->n_vertices)
-            return lg_error(n, "mesh %u '%s': index %u (entry %u) is out of range: the mesh "
-                               "has %u vertices",
-                            mi, sm_mesh_name(m), m->indices[i], i, m->n_vertices);
-    return 0;
-}
-
-static float sm_det3(const float m[16])
-{
-    return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
-           m[8] * (m[1] * m[6] - m[5] * m[2]);
-}
-
-typedef struct sm_item {
-    uint32_t mesh;
-    uint32_t mirrored; /* the model matrix has a negative determinant */
-    uint32_t instance;
-} sm_item;
-
-static int sm_item_cmp(const void *a, const void *b)
-{
-    const sm_item *x = a, *y = b;
-    if (x->mesh != y->mesh)
-        return x->mesh < y->mesh ? -1 : 1;
-    if (x->mirrored != y->mirrored)
-        return x->mirrored < y->mirrored ? -1 : 1;
-    return x->instance < y->instance ? -1 : x->instance > y->instance;
-}
-
-/* The instances to draw, sorted by mesh and handedness; meshes without triangles are left
- * out. */
-static int sm_collect(lg_node *n, const lg_scene *s, sm_item **out, uint32_t *count)
-{
-    *out = NULL;
-    *count = 0;
-    if (s->n_instances == 0)
-        return 0;
-    sm_item *items = malloc((size_t)s->n_instances * sizeof *items);
-    unsigned char *checked = calloc(s->n_meshes ? s->n_meshes : 1, 1);
-    if (!items || !checked) {
-        free(items);
-        free(checked);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
-    }
-    uint32_t k = 0;
-    int rc = 0;
-    for (uint32_t i = 0; i < s->n_instances && !rc; i++) {
-        const lg_instance *in = &s->instances[i];
-        if (in->mesh >= s->n_meshes) {
-            rc = lg_error(n, "instance %u refers to mesh %u, the scene has %u", i, in->mesh,
-                          s->n_meshes);
-            break;
-        }
-        const lg_mesh *m = &s->meshes[in->mesh];
-        if (m->n_indices == 0 || m->n_vertices == 0)
-            continue;
-        if (!checked[in->mesh]) {
-            if ((rc = sm_check_mesh(n, s, in->mesh)))
-                break;
-            checked[in->mesh] = 1;
-        }
-        for (int j = 0; j < 16 && !rc; j++)
-            if (!isfinite(in->model[j]))
-                rc = lg_error(n, "instance %u (mesh %u '%s'): its matrix is not finite", i,
-                              in->mesh, sm_mesh_name(m));
-        items[k].mesh = in->mesh;
-        items[k].mirrored = sm_det3(in->model) < 0.0f;
-        items[k].instance = i;
-        k++;
-    }
-    free(checked);
-    if (rc) {
-        free(items);
-        return rc;
-    }
-    qsort(items, k, sizeof *items, sm_item_cmp);
-    *out = items;
-    *count = k;
-    return 0;
-}
-
 /* ---- execute ------------------------------------------------------------------------------ */
-
-typedef struct sm_gl_objects {
-    GLuint fbo, vao, instances;
-} sm_gl_objects;
 
 /* Leaves the bindings as the GL state contract wants them (docs/devices.md). */
 static void sm_unbind(const lg_gl *gl)
@@ -656,49 +545,20 @@ static void sm_unbind(const lg_gl *gl)
     gl->FrontFace(GL_CCW);
 }
 
-static void sm_gl_free(const lg_gl *gl, sm_gl_objects *o)
-{
-    if (o->fbo)
-        gl->DeleteFramebuffers(1, &o->fbo);
-    if (o->vao)
-        gl->DeleteVertexArrays(1, &o->vao);
-    if (o->instances)
-        gl->DeleteBuffers(1, &o->instances);
-    memset(o, 0, sizeof *o);
-}
-
-static int sm_draw(lg_node *n, const sm_state *st, const lg_gl *gl, const lg_scene *s,
-                   const lg_resource *scene_res, const sm_item *items, uint32_t count,
-                   sm_gl_objects *o)
+static int sm_draw(lg_node *n, const sm_state *st, const lg_gl *gl, lg_scene_gl *sgl,
+                   GLuint fbo)
 {
     const lg_shadowmap *sm = st->sm;
     int rc;
-    if (count) {
-        size_t bytes = (size_t)count * 16 * sizeof(float);
-        float *mats = malloc(bytes);
-        if (!mats)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)",
-                                 bytes);
-        for (uint32_t i = 0; i < count; i++)
-            memcpy(mats + (size_t)i * 16, s->instances[items[i].instance].model,
-                   16 * sizeof(float));
-        gl->CreateBuffers(1, &o->instances);
-        gl->NamedBufferStorage(o->instances, (GLsizeiptr)bytes, mats, 0);
-        free(mats);
-        if ((rc = lg_gl_check(n, "shadowmap: uploading the instance matrices")))
-            return rc;
-    }
-    gl->CreateVertexArrays(1, &o->vao);
-    gl->EnableVertexArrayAttrib(o->vao, 0);
-    gl->VertexArrayAttribFormat(o->vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl->VertexArrayAttribBinding(o->vao, 0, 0);
+    if ((rc = lg_scene_gl_upload(n, gl, sgl)))
+        return rc;
 
-    gl->BindFramebuffer(GL_FRAMEBUFFER, o->fbo);
+    gl->BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl->DepthMask(GL_TRUE);
     gl->Disable(GL_SCISSOR_TEST);
     gl->Disable(GL_RASTERIZER_DISCARD);
     const float far = 1.0f;
-    gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
+    gl->ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
     gl->Enable(GL_DEPTH_TEST);
     gl->DepthFunc(GL_LESS);
     gl->DepthRangef(0.0f, 1.0f);
@@ -710,60 +570,17 @@ static int sm_draw(lg_node *n, const sm_state *st, const lg_gl *gl, const lg_sce
     gl->CullFace(st->cull == SM_CULL_BACK ? GL_BACK : GL_FRONT);
 
     gl->UseProgram(st->program);
-    gl->BindVertexArray(o->vao);
-
-    GLint max_block = 0, align = 0;
-    gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-    gl->GetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
-    if (align < 1)
-        align = 1;
-    const size_t isz = 16 * sizeof(float);
-    size_t per_bind = (size_t)max_block / isz;
-    size_t slack = ((size_t)align + isz - 1) / isz;
-    per_bind = per_bind > slack + 1 ? per_bind - slack : 1;
-
+    /* a double-sided material's winding says nothing about which side faces out: both
+     * sides cast shadows whatever `cull` says (lg_scene_gl_draw leaves them unculled) */
+    lg_scene_gl_draw_desc d = { .program = st->program, .first_location = U_FIRST,
+                                .cull_material = st->cull != SM_CULL_NONE };
     for (uint32_t li = 0; li < sm->n_lights; li++) {
         const lg_shadow_light *l = &sm->lights[li];
         gl->Viewport((GLint)l->tile_x, (GLint)l->tile_y, (GLsizei)sm->resolution,
                      (GLsizei)sm->resolution);
         gl->UniformMatrix4fv(U_VIEW_PROJ, 1, GL_FALSE, l->view_proj);
-        uint32_t bound_mesh = UINT32_MAX;
-        for (uint32_t a = 0; a < count;) {
-            uint32_t b = a;
-            while (b < count && items[b].mesh == items[a].mesh &&
-                   items[b].mirrored == items[a].mirrored)
-                b++;
-            uint32_t mi = items[a].mesh;
-            const lg_mesh *m = &s->meshes[mi];
-            if (mi != bound_mesh) {
-                lg_mesh_gl mg;
-                if ((rc = lg_scene_mesh_gl(n, scene_res, mi, &mg)))
-                    return rc;
-                gl->VertexArrayVertexBuffer(o->vao, 0, mg.positions, 0, 3 * sizeof(float));
-                gl->VertexArrayElementBuffer(o->vao, mg.indices);
-                /* a double-sided material's winding says nothing about which side faces
-                 * out: both sides cast shadows whatever `cull` says */
-                if (st->cull != SM_CULL_NONE && !s->materials[m->material].double_sided)
-                    gl->Enable(GL_CULL_FACE);
-                else
-                    gl->Disable(GL_CULL_FACE);
-                bound_mesh = mi;
-            }
-            /* with Y flipped, counter-clockwise front faces are clockwise in the window;
-             * a mirroring instance (negative determinant) flips them back */
-            gl->FrontFace(items[a].mirrored ? GL_CCW : GL_CW);
-            for (uint32_t i = a; i < b;) {
-                uint32_t e = (uint32_t)((size_t)(b - i) > per_bind ? i + per_bind : b);
-                size_t off = (size_t)i * isz / (size_t)align * (size_t)align;
-                gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, o->instances, (GLintptr)off,
-                                    (GLsizeiptr)((size_t)e * isz - off));
-                gl->Uniform1i(U_FIRST, (GLint)(((size_t)i * isz - off) / isz));
-                gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)m->n_indices,
-                                          GL_UNSIGNED_INT, NULL, (GLsizei)(e - i));
-                i = e;
-            }
-            a = b;
-        }
+        if ((rc = lg_scene_gl_draw(n, gl, sgl, &d)))
+            return rc;
     }
     return lg_gl_check(n, "shadowmap: drawing the scene into the atlas");
 }
@@ -797,9 +614,8 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
                              "(GL_MAX_VIEWPORT_DIMS %dx%d)",
                              sm->resolution, max_vp[0], max_vp[1]);
 
-    sm_item *items = NULL;
-    uint32_t count = 0;
-    int rc = sm_collect(n, s, &items, &count);
+    lg_scene_gl *sgl = NULL;
+    int rc = lg_scene_gl_create(n, scene_res, 0, &sgl);
     if (rc)
         return rc;
     if (!st->program) {
@@ -809,46 +625,43 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
         };
         st->program = lg_gl_program(n, gl, src, 2, NULL);
         if (!st->program) {
-            free(items);
+            lg_scene_gl_destroy(gl, sgl);
             return LG_ERR_DEVICE;
         }
     }
     uint32_t tex = 0, depth = 0;
     if ((rc = lg_map_gl(n, lg_output(n, 1), LG_WRITE, &tex, &depth))) {
-        free(items);
+        lg_scene_gl_destroy(gl, sgl);
         return rc;
     }
     if (!depth) {
-        free(items);
+        lg_scene_gl_destroy(gl, sgl);
         return lg_error_code(n, LG_ERR_DEVICE, "the atlas has no GL depth texture");
     }
 
-    sm_gl_objects o = { 0 };
-    gl->CreateFramebuffers(1, &o.fbo);
-    gl->NamedFramebufferTexture(o.fbo, GL_DEPTH_ATTACHMENT, depth, 0);
-    gl->NamedFramebufferDrawBuffer(o.fbo, GL_NONE);
-    gl->NamedFramebufferReadBuffer(o.fbo, GL_NONE);
-    GLenum status = gl->CheckNamedFramebufferStatus(o.fbo, GL_FRAMEBUFFER);
+    GLuint fbo = 0;
+    gl->CreateFramebuffers(1, &fbo);
+    gl->NamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
+    gl->NamedFramebufferDrawBuffer(fbo, GL_NONE);
+    gl->NamedFramebufferReadBuffer(fbo, GL_NONE);
+    GLenum status = gl->CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
         rc = lg_error_code(n, LG_ERR_DEVICE,
                            "shadowmap: the framebuffer (depth32f %ux%u, no colour) is "
                            "incomplete: status 0x%04x",
                            sm->atlas_width, sm->atlas_height, (unsigned)status);
     else
-        rc = sm_draw(n, st, gl, s, scene_res, items, count, &o);
+        rc = sm_draw(n, st, gl, sgl, fbo);
     sm_unbind(gl);
-    sm_gl_free(gl, &o);
+    gl->DeleteFramebuffers(1, &fbo);
     if (!rc) {
-        uint64_t tris = 0;
-        for (uint32_t i = 0; i < count; i++)
-            tris += s->meshes[items[i].mesh].n_indices / 3;
         lg_log(n, LG_LOG_INFO,
                "%u directional light%s, atlas %ux%u (%ux%u tiles of %u), fit %s, cull %s; "
                "%u instances, %" PRIu64 " triangles per light",
                sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height,
                st->cols, st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
                st->cull == SM_CULL_FRONT ? "front" : st->cull == SM_CULL_BACK ? "back" : "none",
-               count, tris);
+               sgl->count, sgl->triangles);
         for (uint32_t i = 0; i < sm->n_lights; i++) {
             const lg_shadow_light *l = &sm->lights[i];
             lg_log(n, LG_LOG_DEBUG,
@@ -857,7 +670,7 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
                    l->tile_y, (double)l->texel_world, (double)l->depth_range);
         }
     }
-    free(items);
+    lg_scene_gl_destroy(gl, sgl);
     return rc ? rc : lg_gl_check(n, "shadowmap: cleaning up");
 }
 

@@ -13,6 +13,8 @@
  *   lightgraph/phong.h    the Phong lighting equation (C twin of shaders/common/phong.glsl)
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
+ *   lightgraph/scene_gl.h a scene rasterised on GL: camera matrices, instances, draw loop
+ *                         (optional, includes gl.h)
  *
  * docs/sdk.md is the plugin author's guide.
  */
