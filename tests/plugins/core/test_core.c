@@ -139,12 +139,7 @@ static void case_image_errors(ptest *t)
 
 static void case_image_content_key(ptest *t)
 {
-    if (!*PT_TESTNODES_DIR) {
-        fprintf(stderr, "test plugins not built: skipped\n");
-        exit(77);
-    }
-    setenv("LIGHTGRAPH_PLUGIN_PATH", PT_TESTNODES_DIR, 1);
-    setenv("LIGHTGRAPH_CACHE_DIR", pt_path(t, "cache"), 1);
+    pt_use_plugins(t, PT_TESTNODES_DIR);
     lg_image a = make_image(8, 8, 1.0f), b = make_image(8, 8, 5.0f);
     pt_write_exr(t, "in.exr", &a);
     struct stat st0;
@@ -248,11 +243,7 @@ static void case_add(ptest *t)
 
 static void case_add_neutral(ptest *t)
 {
-    if (!*PT_TESTNODES_DIR) {
-        fprintf(stderr, "test plugins not built: skipped\n");
-        exit(77);
-    }
-    setenv("LIGHTGRAPH_PLUGIN_PATH", PT_TESTNODES_DIR, 1);
+    pt_use_plugins(NULL, PT_TESTNODES_DIR);
     lg_image a = make_image(6, 4, 1.0f);
     pt_write_exr(t, "a.exr", &a);
     /* test_fog needs a medium and a light: with medium_density 0 it is gated and its
@@ -325,10 +316,7 @@ static void case_scale(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*run)(ptest *);
-    } cases[] = {
+    static const pt_case cases[] = {
         { "image_roundtrip", case_image_roundtrip },
         { "image_radiance", case_image_radiance },
         { "image_errors", case_image_errors },
@@ -342,14 +330,5 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: test_core CASE\n");
         return 99;
     }
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        if (strcmp(argv[1], cases[i].name) == 0) {
-            ptest t;
-            pt_init(&t, cases[i].name);
-            cases[i].run(&t);
-            return pt_finish(&t);
-        }
-    }
-    fprintf(stderr, "test_core: unknown case '%s'\n", argv[1]);
-    return 99;
+    return pt_run_case("test_core", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
 }

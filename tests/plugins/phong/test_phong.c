@@ -717,23 +717,12 @@ int main(int argc, char **argv)
     }
     pt_require_backend("gl");
     setenv("LIGHTGRAPH_PLUGIN_PATH", PH_TEST_PLUGIN_DIR, 1);
-    static const struct {
-        const char *name;
-        void (*fn)(ptest *);
-    } cases[] = {
+    static const pt_case cases[] = {
         { "flat_cube", case_flat_cube }, { "lights", case_lights },
         { "shadow", case_shadow },       { "highlight", case_highlight },
         { "blinn", case_blinn },         { "depth_cue", case_depth_cue },
         { "infinite", case_infinite },   { "eq13", case_eq13 },
         { "gating", case_gating },       { "errors", case_errors },
     };
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        if (strcmp(argv[1], cases[i].name) == 0) {
-            ptest t;
-            pt_init(&t, argv[1]);
-            cases[i].fn(&t);
-            return pt_finish(&t);
-        }
-    fprintf(stderr, "test_phong: unknown case '%s'\n", argv[1]);
-    return 99;
+    return pt_run_case("test_phong", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
 }

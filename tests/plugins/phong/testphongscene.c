@@ -23,6 +23,8 @@
 #include "lightgraph/math.h"
 #include "lightgraph/scene.h"
 
+#include "common/testscene.h"
+
 enum { TP_CUBE = 0, TP_PLANE, TP_SHADOW };
 
 typedef struct tp_mesh_data {
@@ -98,29 +100,6 @@ static void tp_cube(tp_mesh_data *d)
         tp_grid(d, lg_v3_scale(lg_v3(f[i][0][0], f[i][0][1], f[i][0][2]), 0.5f),
                 lg_v3_scale(lg_v3(f[i][1][0], f[i][1][1], f[i][1][2]), 0.5f),
                 lg_v3_scale(lg_v3(f[i][2][0], f[i][2][1], f[i][2][2]), 0.5f), 1);
-}
-
-static void tp_bounds(tp_scene *t)
-{
-    for (int k = 0; k < 3; k++) {
-        t->s.bounds_min[k] = INFINITY;
-        t->s.bounds_max[k] = -INFINITY;
-    }
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        lg_mesh *m = &t->meshes[i];
-        for (int k = 0; k < 3; k++) {
-            m->bounds_min[k] = INFINITY;
-            m->bounds_max[k] = -INFINITY;
-        }
-        for (uint32_t v = 0; v < m->n_vertices; v++)
-            for (int k = 0; k < 3; k++) {
-                float x = t->data[i].pos[v * 3 + k];
-                m->bounds_min[k] = fminf(m->bounds_min[k], x);
-                m->bounds_max[k] = fmaxf(m->bounds_max[k], x);
-                t->s.bounds_min[k] = fminf(t->s.bounds_min[k], x); /* identity instances */
-                t->s.bounds_max[k] = fmaxf(t->s.bounds_max[k], x);
-            }
-    }
 }
 
 static void tp_vec(lg_node *n, const char *key, float out[3])
@@ -211,7 +190,7 @@ static int tp_prepare(lg_node *n)
         lg_m4_identity(in->model);
         lg_m4_normal_matrix(in->normal_matrix, in->model);
     }
-    tp_bounds(t);
+    lg_test_scene_bounds(&t->s, t->meshes);
     lg_scene_compute_features(&t->s);
     return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
 }

@@ -573,10 +573,7 @@ int main(int argc, char **argv)
     file_arg = argc == 3 ? argv[2] : "";
     pt_require_backend("gl");
     setenv("LIGHTGRAPH_PLUGIN_PATH", PV_TEST_PLUGIN_DIR, 1);
-    static const struct {
-        const char *name;
-        void (*fn)(ptest *);
-    } cases[] = {
+    static const pt_case cases[] = {
         { "fill", case_fill },       { "normals", case_normals },
         { "depth", case_depth },     { "instancing", case_instancing },
         { "upright", case_upright }, { "cull", case_cull },
@@ -586,13 +583,5 @@ int main(int argc, char **argv)
         { "example", case_example }, { "draco", case_draco },
         { "sphere", case_sphere },
     };
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        if (strcmp(argv[1], cases[i].name) == 0) {
-            ptest t;
-            pt_init(&t, argv[1]);
-            cases[i].fn(&t);
-            return pt_finish(&t);
-        }
-    fprintf(stderr, "test_preview: unknown case '%s'\n", argv[1]);
-    return 99;
+    return pt_run_case("test_preview", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
 }

@@ -17,6 +17,8 @@
 #include "lightgraph/math.h"
 #include "lightgraph/scene.h"
 
+#include "common/testscene.h"
+
 /* ---- test_mesh_scene ------------------------------------------------------------------- */
 
 static const char *const tm_layouts[] = {
@@ -111,44 +113,6 @@ static void tm_translate(float m[16], float x, float y, float z)
 {
     lg_m4_identity(m);
     m[12] = x, m[13] = y, m[14] = z;
-}
-
-/* Mesh bounds from the vertices; world bounds from the instances' transformed corners. */
-static void tm_bounds(tm_scene *t)
-{
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        lg_mesh *m = &t->meshes[i];
-        for (int k = 0; k < 3; k++) {
-            m->bounds_min[k] = INFINITY;
-            m->bounds_max[k] = -INFINITY;
-        }
-        for (uint32_t v = 0; v < m->n_vertices; v++)
-            for (int k = 0; k < 3; k++) {
-                m->bounds_min[k] = fminf(m->bounds_min[k], t->data[i].pos[v * 3 + k]);
-                m->bounds_max[k] = fmaxf(m->bounds_max[k], t->data[i].pos[v * 3 + k]);
-            }
-    }
-    for (int k = 0; k < 3; k++) {
-        t->s.bounds_min[k] = INFINITY;
-        t->s.bounds_max[k] = -INFINITY;
-    }
-    for (uint32_t i = 0; i < t->s.n_instances; i++) {
-        const lg_instance *in = &t->instances[i];
-        if (in->mesh >= t->s.n_meshes)
-            continue;
-        const lg_mesh *m = &t->meshes[in->mesh];
-        for (int c = 0; c < 8; c++) {
-            lg_vec3 p = lg_v3(c & 1 ? m->bounds_max[0] : m->bounds_min[0],
-                              c & 2 ? m->bounds_max[1] : m->bounds_min[1],
-                              c & 4 ? m->bounds_max[2] : m->bounds_min[2]);
-            p = lg_m4_point(in->model, p);
-            float w[3] = { p.x, p.y, p.z };
-            for (int k = 0; k < 3; k++) {
-                t->s.bounds_min[k] = fminf(t->s.bounds_min[k], w[k]);
-                t->s.bounds_max[k] = fmaxf(t->s.bounds_max[k], w[k]);
-            }
-        }
-    }
 }
 
 static tm_scene *tm_build(lg_node *n)
@@ -268,7 +232,7 @@ static tm_scene *tm_build(lg_node *n)
         t->meshes[i].normals = t->data[i].nrm;
         t->meshes[i].indices = t->data[i].idx;
     }
-    tm_bounds(t);
+    lg_test_scene_bounds(&t->s, t->meshes);
     lg_scene_compute_features(&t->s);
     return t;
 }

@@ -550,10 +550,7 @@ static void case_crossbackend(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*run)(ptest *);
-    } cases[] = {
+    static const pt_case cases[] = {
         { "constant", case_constant },   { "white", case_white },
         { "monotone", case_monotone },   { "exposure", case_exposure },
         { "adapt", case_adapt },         { "badpixels", case_badpixels },
@@ -565,16 +562,7 @@ int main(int argc, char **argv)
     }
     backend = argv[2];
     pt_require_backend(backend);
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        if (strcmp(argv[1], cases[i].name) == 0) {
-            ptest t;
-            char name[128];
-            snprintf(name, sizeof name, "reinhard-%s-%s", argv[1], backend);
-            pt_init(&t, name);
-            cases[i].run(&t);
-            return pt_finish(&t);
-        }
-    }
-    fprintf(stderr, "test_reinhard: unknown case '%s'\n", argv[1]);
-    return 99;
+    char folder[128];
+    snprintf(folder, sizeof folder, "reinhard-%s-%s", argv[1], backend);
+    return pt_run_case("test_reinhard", argv[1], cases, sizeof cases / sizeof cases[0], folder, NULL);
 }

@@ -20,15 +20,6 @@
 #define PT_TESTNODES_DIR ""
 #endif
 
-static void need_testnodes(void)
-{
-    if (!*PT_TESTNODES_DIR) {
-        fprintf(stderr, "test plugins not built: skipped\n");
-        exit(77);
-    }
-    setenv("LIGHTGRAPH_PLUGIN_PATH", PT_TESTNODES_DIR, 1);
-}
-
 static const char *asset(const char *rel)
 {
     const char *p = pt_asset(rel);
@@ -53,7 +44,7 @@ static void line_of(const char *s, const char *prefix, char *out, size_t size)
 
 static void case_explain(ptest *t)
 {
-    need_testnodes();
+    pt_use_plugins(NULL, PT_TESTNODES_DIR);
     char *g = NULL;
     if (asprintf(&g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
                      "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n",
@@ -95,7 +86,7 @@ static void case_explain(ptest *t)
 
 static void case_medium(ptest *t)
 {
-    need_testnodes();
+    pt_use_plugins(NULL, PT_TESTNODES_DIR);
     /* one triangle, a directional light and a medium on the scene */
     static const char gltf[] =
         "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
@@ -147,7 +138,7 @@ static void case_errors(ptest *t)
                               "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n", cases[i].file);
         pt_write_text(t, "g.lgraph", g);
         char *out = NULL;
-        need_testnodes();
+        pt_use_plugins(NULL, PT_TESTNODES_DIR);
         int rc = pt_render(t, "g.lgraph", NULL, &out);
         PT_CHECK(t, rc == 1, "%s: exit %d, want 1", cases[i].file, rc);
         PT_CHECK(t, out && strstr(out, cases[i].file) && strstr(out, cases[i].want) && strstr(out, "scene"),
@@ -165,19 +156,10 @@ static void case_errors(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*fn)(ptest *);
-    } cases[] = {{"explain", case_explain}, {"medium", case_medium}, {"errors", case_errors}};
+    static const pt_case cases[] = {
+        { "explain", case_explain }, { "medium", case_medium }, { "errors", case_errors },
+    };
     if (argc != 2)
         return 2;
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        if (!strcmp(argv[1], cases[i].name)) {
-            ptest t;
-            pt_init(&t, argv[1]);
-            cases[i].fn(&t);
-            return pt_finish(&t);
-        }
-    fprintf(stderr, "unknown case %s\n", argv[1]);
-    return 2;
+    return pt_run_case("test_gltf_host", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
 }

@@ -42,14 +42,10 @@
 
 static void use_test_plugins(ptest *t)
 {
-    if (!*PT_TESTNODES_DIR || !*ST_TESTCUBE_DIR) {
-        fprintf(stderr, "test plugins not built: skipped\n");
-        exit(77);
-    }
     static char path[8300];
-    snprintf(path, sizeof path, "%s:%s", ST_TESTCUBE_DIR, PT_TESTNODES_DIR);
-    setenv("LIGHTGRAPH_PLUGIN_PATH", path, 1);
-    setenv("LIGHTGRAPH_CACHE_DIR", pt_path(t, "cache"), 1);
+    if (*PT_TESTNODES_DIR && *ST_TESTCUBE_DIR)
+        snprintf(path, sizeof path, "%s:%s", ST_TESTCUBE_DIR, PT_TESTNODES_DIR);
+    pt_use_plugins(t, path);
 }
 
 /* Renders `graph` (text) and returns the exit status; *out gets what the program printed. */
@@ -684,10 +680,7 @@ static void case_errors(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*run)(ptest *);
-    } cases[] = {
+    static const pt_case cases[] = {
         { "features", case_features }, { "gating", case_gating },
         { "look_at", case_look_at },   { "orbit", case_orbit },
         { "lights", case_lights },     { "medium", case_medium },
@@ -698,15 +691,5 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: test_scene_tools CASE\n");
         return 99;
     }
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        if (strcmp(argv[1], cases[i].name) == 0) {
-            ptest t;
-            pt_init(&t, cases[i].name);
-            use_test_plugins(&t);
-            cases[i].run(&t);
-            return pt_finish(&t);
-        }
-    }
-    fprintf(stderr, "test_scene_tools: unknown case '%s'\n", argv[1]);
-    return 99;
+    return pt_run_case("test_scene_tools", argv[1], cases, sizeof cases / sizeof cases[0], NULL, use_test_plugins);
 }

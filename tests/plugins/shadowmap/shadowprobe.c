@@ -34,6 +34,8 @@
 #include "lightgraph/scene.h"
 #include "lightgraph/shadowmap.h"
 
+#include "common/testscene.h"
+
 /* ---- the CPU reference of the shadow test ------------------------------------------------ */
 
 /* Shadow_L(p) for light `l` of `sm` (1 lit, 0 shadowed), with `depth` the atlas's CPU depth
@@ -156,40 +158,6 @@ static void ss_sphere(ss_scene *t, uint32_t mi, int rings)
         }
 }
 
-static void ss_bounds(ss_scene *t)
-{
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        lg_mesh *m = &t->meshes[i];
-        for (int k = 0; k < 3; k++) {
-            m->bounds_min[k] = INFINITY;
-            m->bounds_max[k] = -INFINITY;
-        }
-        for (uint32_t v = 0; v < m->n_vertices; v++)
-            for (int k = 0; k < 3; k++) {
-                m->bounds_min[k] = fminf(m->bounds_min[k], t->pos[i][v * 3 + k]);
-                m->bounds_max[k] = fmaxf(m->bounds_max[k], t->pos[i][v * 3 + k]);
-            }
-    }
-    for (int k = 0; k < 3; k++) {
-        t->s.bounds_min[k] = INFINITY;
-        t->s.bounds_max[k] = -INFINITY;
-    }
-    for (uint32_t i = 0; i < t->s.n_instances; i++) {
-        const lg_mesh *m = &t->meshes[t->instances[i].mesh];
-        for (int c = 0; c < 8; c++) {
-            lg_vec3 p = lg_v3(c & 1 ? m->bounds_max[0] : m->bounds_min[0],
-                              c & 2 ? m->bounds_max[1] : m->bounds_min[1],
-                              c & 4 ? m->bounds_max[2] : m->bounds_min[2]);
-            p = lg_m4_point(t->instances[i].model, p);
-            float w[3] = { p.x, p.y, p.z };
-            for (int k = 0; k < 3; k++) {
-                t->s.bounds_min[k] = fminf(t->s.bounds_min[k], w[k]);
-                t->s.bounds_max[k] = fmaxf(t->s.bounds_max[k], w[k]);
-            }
-        }
-    }
-}
-
 static lg_vec3 ss_vec(lg_node *n, const char *key)
 {
     const lg_value *v = lg_param(n, key);
@@ -282,7 +250,7 @@ static int ss_prepare(lg_node *n)
         t->s.lights = &t->light;
         t->s.n_lights = 1; /* direction (0, 0, 0) */
     }
-    ss_bounds(t);
+    lg_test_scene_bounds(&t->s, t->meshes);
     lg_scene_compute_features(&t->s);
     return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, ss_free);
 }

@@ -72,12 +72,7 @@
 
 static void use_test_plugins(ptest *t)
 {
-    if (!*SM_PROBE_DIR) {
-        fprintf(stderr, "test plugins not built: skipped\n");
-        exit(77);
-    }
-    setenv("LIGHTGRAPH_PLUGIN_PATH", SM_PROBE_DIR, 1);
-    setenv("LIGHTGRAPH_CACHE_DIR", pt_path(t, "cache"), 1);
+    pt_use_plugins(t, SM_PROBE_DIR);
 }
 
 /* ---- a graph: the scene, its lights, the shadow map and the probe ----------------------- */
@@ -880,10 +875,7 @@ static void case_errors(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const struct {
-        const char *name;
-        void (*run)(ptest *);
-    } cases[] = {
+    static const pt_case cases[] = {
         { "basic", case_basic },       { "cull", case_cull },
         { "lights2", case_lights2 },   { "lights8", case_lights8 },
         { "lights32", case_lights32 }, { "layout32", case_layout32 },
@@ -896,16 +888,6 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: test_shadowmap CASE\n");
         return 99;
     }
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        if (strcmp(argv[1], cases[i].name) == 0) {
-            pt_require_backend("gl");
-            ptest t;
-            pt_init(&t, cases[i].name);
-            use_test_plugins(&t);
-            cases[i].run(&t);
-            return pt_finish(&t);
-        }
-    }
-    fprintf(stderr, "test_shadowmap: unknown case '%s'\n", argv[1]);
-    return 99;
+    pt_require_backend("gl");
+    return pt_run_case("test_shadowmap", argv[1], cases, sizeof cases / sizeof cases[0], NULL, use_test_plugins);
 }

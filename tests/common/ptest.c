@@ -61,6 +61,23 @@ int pt_finish(ptest *t)
     return 0;
 }
 
+int pt_run_case(const char *prog, const char *name, const pt_case *cases, size_t n,
+                const char *folder, void (*setup)(ptest *t))
+{
+    for (size_t i = 0; i < n; i++) {
+        if (strcmp(name, cases[i].name) == 0) {
+            ptest t;
+            pt_init(&t, folder ? folder : cases[i].name);
+            if (setup)
+                setup(&t);
+            cases[i].run(&t);
+            return pt_finish(&t);
+        }
+    }
+    fprintf(stderr, "%s: unknown case '%s'\n", prog, name);
+    return 99;
+}
+
 const char *pt_path(ptest *t, const char *rel)
 {
     static char ring[8][4200];
@@ -163,6 +180,17 @@ int pt_render(ptest *t, const char *graph, const char *const *args, char **err)
     else
         free(text);
     return code;
+}
+
+void pt_use_plugins(ptest *t, const char *path)
+{
+    if (!path || !*path) {
+        fprintf(stderr, "test plugins not built: skipped\n");
+        exit(77);
+    }
+    setenv("LIGHTGRAPH_PLUGIN_PATH", path, 1);
+    if (t)
+        setenv("LIGHTGRAPH_CACHE_DIR", pt_path(t, "cache"), 1);
 }
 
 void pt_require_backend(const char *backend)

@@ -1,7 +1,7 @@
 /*
  * ptest: what the plugin tests share. A test makes a scratch folder, writes input images
  * and a graph file into it, runs `$LG_EXE render` on it as a user would, and reads the
- * output image back. Used by tests/plugins/core and tests/plugins/reinhard.
+ * output image back. Used by the tests in tests/plugins/ that run the host.
  *
  * Failures of the harness itself (cannot write a file, cannot start the program) abort
  * the test with a message; checks count failures and the test exits 1 if any failed.
@@ -31,6 +31,20 @@ typedef struct ptest {
         }                                                                                  \
     } while (0)
 
+/* One case of a test program: main() holds a table of them and runs the one named on its
+ * command line with pt_run_case. */
+typedef struct pt_case {
+    const char *name;
+    void (*run)(ptest *t);
+} pt_case;
+
+/* Runs the case called `name` among cases[0 .. n): makes its scratch folder (named
+ * `folder`, or the case's name when NULL), calls `setup` (may be NULL) and then the case,
+ * and returns pt_finish's status. A name not in the table gets "prog: unknown case" on
+ * stderr and 99. */
+int pt_run_case(const char *prog, const char *name, const pt_case *cases, size_t n,
+                const char *folder, void (*setup)(ptest *t));
+
 /* Makes the scratch folder (under $LG_BUILD_ROOT/test-tmp, else $TMPDIR). */
 void pt_init(ptest *t, const char *name);
 /* Removes the folder if no check failed; returns the exit status (0 or 1). */
@@ -50,6 +64,12 @@ bool pt_read(ptest *t, const char *rel, lg_image *img, unsigned *bits);
  * the program printed, stdout and stderr together (malloc'd, may be NULL). The command and
  * its output are echoed on a failure, or always with PTEST_VERBOSE set. */
 int pt_render(ptest *t, const char *graph, const char *const *args, char **err);
+
+/* Points the host at test plugins: sets LIGHTGRAPH_PLUGIN_PATH to `path` (folders joined
+ * with ':'), and with `t` also LIGHTGRAPH_CACHE_DIR to a folder of t's scratch folder, so
+ * that a case starts with an empty cache. Exits 77 (skip) when `path` is empty (the test
+ * plugins were not built). */
+void pt_use_plugins(ptest *t, const char *path);
 
 /* Exits 77 (skip) when the backend's device cannot be made here: "gl" or "cl"; "cpu"
  * always works. */
