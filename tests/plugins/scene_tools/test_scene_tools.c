@@ -21,6 +21,7 @@
  *   sharing       a chain of derived scenes points `geometry` at the source's resource and
  *                 shares its meshes, instances and materials; the source's own is NULL
  *   sharing_gl    the GL buffers of a derived scene's mesh are the source's (skips without GL)
+ *   sharing_cl    the same for CL buffers, which hold the mesh's own data (skips without CL)
  *   errors        bad parameters and inputs exit 1 with a message naming the node and why
  */
 #include <math.h>
@@ -610,6 +611,24 @@ static void case_sharing_gl(ptest *t)
     }
 }
 
+static void case_sharing_cl(ptest *t)
+{
+    pt_require_backend("cl");
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube { instances = 2 }\n"
+        "sun = light { scene = cube }\n"
+        "probe = test_scene_probe { scene = sun, source = cube, cl = true }\n"
+        "output probe \"probe.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        PT_CHECK(t, px(&img, 4)[2] == 1,
+                 "the CL copies of mesh 0 are not shared or not the mesh's data (%g)",
+                 (double)px(&img, 4)[2]);
+        lg_image_free(&img);
+    }
+}
+
 /* Exit status `code`: 1 for a node's error (prepare), 2 for the graph checker's (ranges,
  * enum values); the output holds every string of `msgs`. */
 static void expect_error(ptest *t, const char *what, int code, const char *nodes,
@@ -685,6 +704,7 @@ int main(int argc, char **argv)
         { "look_at", case_look_at },   { "orbit", case_orbit },
         { "lights", case_lights },     { "medium", case_medium },
         { "sharing", case_sharing },   { "sharing_gl", case_sharing_gl },
+        { "sharing_cl", case_sharing_cl },
         { "errors", case_errors },
     };
     if (argc != 2) {

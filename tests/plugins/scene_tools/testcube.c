@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lightgraph/cl.h"
 #include "lightgraph/lightgraph.h"
 
 /* ---- test_cube -------------------------------------------------------------------------- */
@@ -172,7 +173,9 @@ static int probe_prepare(lg_node *n)
     int rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
-    return lg_set_device(n, lg_param_bool(n, "gl") ? LG_DEVICE_GL : LG_DEVICE_CPU);
+    return lg_set_device(n, lg_param_bool(n, "cl")   ? LG_DEVICE_CL
+                            : lg_param_bool(n, "gl") ? LG_DEVICE_GL
+                                                     : LG_DEVICE_CPU);
 }
 
 static void put(float *px, int x, float r, float g, float b, float a)
@@ -202,6 +205,36 @@ static int probe_execute(lg_node *n, const lg_frame *frame)
             return rc;
         gl_shared = a.positions && a.positions == b.positions && a.normals == b.normals &&
                     a.indices == b.indices;
+    }
+    if (lg_param_bool(n, "cl")) {
+        /* the CL copies: shared with the source, and holding the mesh's own numbers */
+        if (!src)
+            return lg_error(n, "cl = true needs the 'source' input");
+        lg_mesh_cl a, b;
+        int rc = lg_scene_mesh_cl(n, res, 0, &a);
+        if (!rc)
+            rc = lg_scene_mesh_cl(n, src_res, 0, &b);
+        if (rc)
+            return rc;
+        const lg_mesh *m = &s->meshes[0];
+        size_t np = (size_t)m->n_vertices * 3, ni = m->n_indices;
+        float *pos = malloc(np * sizeof(float));
+        uint32_t *idx = malloc(ni * sizeof(uint32_t));
+        cl_int e = pos && idx ? CL_SUCCESS : CL_OUT_OF_HOST_MEMORY;
+        if (e == CL_SUCCESS)
+            e = clEnqueueReadBuffer(lg_cl_queue(n), (cl_mem)a.positions, CL_TRUE, 0,
+                                    np * sizeof(float), pos, 0, NULL, NULL);
+        if (e == CL_SUCCESS)
+            e = clEnqueueReadBuffer(lg_cl_queue(n), (cl_mem)a.indices, CL_TRUE, 0,
+                                    ni * sizeof(uint32_t), idx, 0, NULL, NULL);
+        bool same = e == CL_SUCCESS && memcmp(pos, m->positions, np * sizeof(float)) == 0 &&
+                    memcmp(idx, m->indices, ni * sizeof(uint32_t)) == 0;
+        free(pos);
+        free(idx);
+        if (e != CL_SUCCESS)
+            return lg_cl_fail(n, e, "reading the mesh back from CL");
+        gl_shared = a.positions && a.positions == b.positions && a.normals == b.normals &&
+                    a.indices == b.indices && same;
     }
     lg_cpu_view v;
     int rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &v);
@@ -260,6 +293,8 @@ static const lg_port_desc cube_out[] = {
 static const lg_param_desc probe_params[] = {
     { .key = "gl", .type = LG_PARAM_BOOL, .def.b = false,
       .doc = "compare the GL copies of mesh 0 of scene and source" },
+    { .key = "cl", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "compare the CL copies of mesh 0 of scene and source, and with the CPU data" },
 };
 static const lg_port_desc probe_in[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to report" },
