@@ -1,5 +1,6 @@
 /* ptest: see ptest.h. */
 #include "ptest.h"
+#include "scratch.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -28,27 +29,8 @@ static void pt_die(const char *fmt, const char *a, const char *b)
 void pt_init(ptest *t, const char *name)
 {
     memset(t, 0, sizeof *t);
-    const char *root = getenv("LG_BUILD_ROOT");
-    char base[3000];
-    if (root && *root) {
-        snprintf(base, sizeof base, "%s/test-tmp", root);
-    } else {
-        const char *tmp = getenv("TMPDIR");
-        snprintf(base, sizeof base, "%s", tmp && *tmp ? tmp : "/tmp");
-    }
-    if (mkdir(base, 0777) && errno != EEXIST)
-        pt_die("cannot make %s: %s", base, strerror(errno));
-    snprintf(t->dir, sizeof t->dir, "%s/%s-XXXXXX", base, name);
-    if (!mkdtemp(t->dir))
-        pt_die("cannot make a folder like %s: %s", t->dir, strerror(errno));
-}
-
-static int pt_rm(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
+    if (lg_scratch_make(name, t->dir, sizeof t->dir))
+        exit(99); /* meson: hard error, not a test failure */
 }
 
 int pt_finish(ptest *t)
@@ -57,7 +39,7 @@ int pt_finish(ptest *t)
         fprintf(stderr, "%d check(s) failed; files kept in %s\n", t->failures, t->dir);
         return 1;
     }
-    nftw(t->dir, pt_rm, 16, FTW_DEPTH | FTW_PHYS);
+    lg_scratch_remove(t->dir);
     return 0;
 }
 

@@ -1,5 +1,6 @@
 /* gltf_test: see gltf_test.h. */
 #include "gltf_test.h"
+#include "common/scratch.h"
 
 #include <errno.h>
 #include <ftw.h>
@@ -21,22 +22,8 @@ static void die(const char *what, const char *arg)
 
 void gt_init(const char *name)
 {
-    const char *root = getenv("LG_BUILD_ROOT");
-    char base[3000];
-    snprintf(base, sizeof base, "%s/test-tmp", root && *root ? root : "/tmp");
-    if (mkdir(base, 0777) && errno != EEXIST)
-        die("cannot make", base);
-    snprintf(dir, sizeof dir, "%s/%s-XXXXXX", base, name);
-    if (!mkdtemp(dir))
-        die("cannot make", dir);
-}
-
-static int rm_one(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
+    if (lg_scratch_make(name, dir, sizeof dir))
+        exit(99);
 }
 
 void gt_cleanup(bool keep)
@@ -44,7 +31,7 @@ void gt_cleanup(bool keep)
     if (keep)
         fprintf(stderr, "files kept in %s\n", dir);
     else
-        nftw(dir, rm_one, 16, FTW_DEPTH | FTW_PHYS);
+        lg_scratch_remove(dir);
 }
 
 const char *gt_path(const char *rel)

@@ -11,25 +11,16 @@
 #include <unistd.h>
 
 #include "common/check.h"
+#include "common/scratch.h"
 
-/* A fresh scratch directory under the build tree (or /tmp), named TAG.XXXXXX. Returns a
- * static buffer; exits 1 if it cannot be made. */
+/* A fresh scratch directory (tests/common/scratch.h). Returns a static buffer; exits 1 if it
+ * cannot be made. */
 static inline const char *make_scratch(const char *tag)
 {
     static char dir[4096];
-    const char *root = getenv("LG_BUILD_ROOT");
-    snprintf(dir, sizeof dir, "%s/%s.XXXXXX", root && root[0] ? root : "/tmp", tag);
-    if (!mkdtemp(dir)) {
-        perror("mkdtemp");
+    if (lg_scratch_make(tag, dir, sizeof dir))
         exit(1);
-    }
     return dir;
-}
-
-static inline int remove_entry(const char *path, const struct stat *st, int type,
-                               struct FTW *ftw)
-{
-    return remove(path);
 }
 
 /* The end of main() for a test with a scratch directory: removes the directory and all in
@@ -37,7 +28,7 @@ static inline int remove_entry(const char *path, const struct stat *st, int type
  * check_report(name). */
 static inline int check_report_scratch(const char *name, const char *scratch)
 {
-    if (!check_failures && nftw(scratch, remove_entry, 16, FTW_DEPTH | FTW_PHYS) != 0)
+    if (!check_failures && lg_scratch_remove(scratch) != 0)
         fprintf(stderr, "could not remove %s\n", scratch);
     return check_report(name);
 }
