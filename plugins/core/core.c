@@ -184,19 +184,12 @@ static void image_destroy(lg_node *n)
 
 static int constant_prepare(lg_node *n)
 {
-    int64_t w = lg_param_int(n, "width"), h = lg_param_int(n, "height");
-    if (w == 0 || h == 0) {
-        uint32_t rw = 0, rh = 0;
-        n->host->render_size(n, &rw, &rh);
-        if (w == 0)
-            w = rw;
-        if (h == 0)
-            h = rh;
-    }
-    if (w <= 0 || h <= 0)
-        return lg_error(n, "size %" PRId64 "x%" PRId64 " is empty (width and height 0 take "
-                        "the render size, --size)", w, h);
-    int rc = core_declare_rgba32f(n, 0, (uint32_t)w, (uint32_t)h);
+    uint32_t w, h;
+    lg_output_size(n, &w, &h);
+    if (w == 0 || h == 0)
+        return lg_error(n, "size %ux%u is empty (width and height 0 take the render size, "
+                        "--size)", w, h);
+    int rc = core_declare_rgba32f(n, 0, w, h);
     if (rc)
         return rc;
     return lg_set_device(n, LG_DEVICE_CPU);

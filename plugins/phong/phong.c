@@ -130,11 +130,7 @@ static int ph_create(lg_node *n)
 static int ph_prepare(lg_node *n)
 {
     ph_state *st = n->user;
-    uint32_t rw = 0, rh = 0;
-    n->host->render_size(n, &rw, &rh);
-    int64_t w = lg_param_int(n, "width"), h = lg_param_int(n, "height");
-    st->width = w > 0 ? (uint32_t)w : rw;
-    st->height = h > 0 ? (uint32_t)h : rh;
+    lg_output_size(n, &st->width, &st->height);
     if (st->width == 0 || st->height == 0)
         return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
                         st->height);

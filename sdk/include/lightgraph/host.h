@@ -334,6 +334,17 @@ static inline int lg_map_cl(lg_node *n, const lg_resource *r, unsigned access, v
     return n->host->map_cl(n, r, access, mem, depth);
 }
 
+/* The size of an image a node makes from its `width` and `height` INT parameters, where 0
+ * (or a negative value, which ranges normally forbid) means the render size (--size). */
+static inline void lg_output_size(lg_node *n, uint32_t *width, uint32_t *height)
+{
+    uint32_t rw = 0, rh = 0;
+    n->host->render_size(n, &rw, &rh);
+    int64_t w = lg_param_int(n, "width"), h = lg_param_int(n, "height");
+    *width = w > 0 ? (uint32_t)w : rw;
+    *height = h > 0 ? (uint32_t)h : rh;
+}
+
 /* Bytes per pixel of a format. */
 static inline size_t lg_format_size(lg_format f)
 {
