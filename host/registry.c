@@ -752,7 +752,8 @@ void lg_registry_free(lg_registry *r)
         }
         free(p->types);
         /* Plugins stay loaded until every object they made is gone; by the time the
-         * registry is freed the executor has destroyed them all. */
+         * registry is freed the executor has destroyed them all. LIGHTGRAPH_NO_DLCLOSE keeps
+         * them mapped, so that a leak checker can still name their functions. */
         if (p->handle && p->live_refs == 0 && !getenv("LIGHTGRAPH_NO_DLCLOSE"))
             dlclose(p->handle);
         free(p->path);
