@@ -2,18 +2,24 @@
  * graph file, from the plugins' own declarations. */
 #include "host.h"
 
+#include "lightgraph/kinds.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char *kind_names[] = {"any",    "image",  "buffer", "volume", "scene",
-                                   "shadowmap", "probe", "sh",   "vertex_attr"};
 static const char *type_names[] = {"?",      "bool", "int",    "float", "vec2", "vec3",
                                    "color",  "string", "path", "enum",  "int3"};
 
 static const char *kind_name(lg_resource_kind k)
 {
-    return (unsigned)k < LG_KIND_COUNT_ ? kind_names[k] : "?";
+    return lg_kind_name(k);
+}
+
+static const char *part_type_name(lg_part_type t)
+{
+    return t == LG_PART_IMAGE ? "image" : t == LG_PART_VOLUME ? "volume"
+                                        : t == LG_PART_BUFFER ? "buffer" : "meta";
 }
 
 static const char *ptype_name(lg_param_type t)
@@ -102,6 +108,16 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
             lg_str_add(o, i ? ", {\"name\": " : "{\"name\": ");
             lg_str_add_json(o, ports[i].name);
             lg_str_addf(o, ", \"kind\": \"%s\"", kind_name(ports[i].kind));
+            const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);
+            if (kd && kd->n_parts) {
+                lg_str_add(o, ", \"parts\": [");
+                for (uint32_t j = 0; j < kd->n_parts; j++)
+                    lg_str_addf(o, "%s{\"name\": \"%s\", \"type\": \"%s\", \"optional\": %s}",
+                                j ? ", " : "", kd->parts[j].name,
+                                part_type_name(kd->parts[j].type),
+                                kd->parts[j].optional ? "true" : "false");
+                lg_str_add(o, "]");
+            }
             if (!io)
                 lg_str_addf(o, ", \"optional\": %s", ports[i].optional ? "true" : "false");
             lg_str_add(o, ", \"doc\": ");
@@ -174,10 +190,16 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
         const lg_port_desc *ports = io ? t->outputs : t->inputs;
         uint32_t n = io ? t->n_outputs : t->n_inputs;
         fprintf(f, "  %s:%s\n", io ? "outputs" : "inputs", n ? "" : " (none)");
-        for (uint32_t i = 0; i < n; i++)
+        for (uint32_t i = 0; i < n; i++) {
             fprintf(f, "    %-12s %-10s %-9s %s\n", ports[i].name, kind_name(ports[i].kind),
                     io ? "" : ports[i].optional ? "optional" : "required",
                     ports[i].doc ? ports[i].doc : "");
+            const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);
+            for (uint32_t j = 0; kd && j < kd->n_parts; j++)
+                fprintf(f, "      .%-10s %-10s %-9s %s\n", kd->parts[j].name,
+                        part_type_name(kd->parts[j].type),
+                        kd->parts[j].optional ? "optional" : "", kd->parts[j].doc);
+        }
     }
     fprintf(f, "  parameters:%s\n", t->n_params ? "" : " (none)");
     for (uint32_t i = 0; i < t->n_params; i++) {

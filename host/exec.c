@@ -1,6 +1,8 @@
 /* Execution: frames, timing, output files, teardown. */
 #include "host.h"
 
+#include "lightgraph/kinds.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -111,7 +113,7 @@ static int write_outputs(lg_exec *ex)
         const lg_coutput *o = &c->outputs[i];
         const char *path = ex->opts.output_override ? ex->opts.output_override : o->path;
         lg_pnode *n = &ex->nodes[o->node];
-        lg_resource *r = n->outputs[o->port];
+        lg_resource *r = lg_edge_resource(ex, (lg_edge){o->node, o->port, o->part});
         char err[1024];
         float *px = NULL;
         if (lg_resource_to_rgba32f(ex, r, &px, err, sizeof err)) {
@@ -189,9 +191,15 @@ static void describe_resource(lg_str *s, const lg_resource *r)
         if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
             lg_str_addf(s, "image %ux%u depth32f (%s)", r->image.width, r->image.height, sz);
         else
-            lg_str_addf(s, "image %ux%u %s%s (%s)", r->image.width, r->image.height,
+        {
+            char lev[32] = "";
+            if (r->image.levels > 1)
+                snprintf(lev, sizeof lev, " x%u levels", r->image.levels);
+            lg_str_addf(s, "image %ux%u%s %s%s%s (%s)", r->image.width, r->image.height,
+                        (r->image.flags & LG_IMAGE_CUBE) ? " cube" : "",
                         format_name(r->image.format),
-                        (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "", sz);
+                        (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "", lev, sz);
+        }
         break;
     case LG_KIND_VOLUME:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
@@ -206,11 +214,45 @@ static void describe_resource(lg_str *s, const lg_resource *r)
         lg_str_add(s, "scene");
         break;
     default:
-        lg_str_add(s, "payload");
+        if (lg_kind_is_composite(r->kind)) {
+            const lg_kind_desc *kd = lg_kind_describe(r->kind);
+            lg_str_addf(s, "%s {", kd->name);
+            uint32_t shown = 0;
+            for (uint32_t i = 0; !r->neutral && i < r->n_parts; i++) {
+                if (!r->parts[i])
+                    continue;
+                lg_str_addf(s, "%s%s: ", shown++ ? ", " : "", kd->parts[i].name);
+                describe_resource(s, r->parts[i]);
+            }
+            lg_str_add(s, "}");
+        } else {
+            lg_str_add(s, "payload");
+        }
         break;
     }
     if (r->neutral)
         lg_str_add(s, " [neutral]");
+}
+
+/* "shadows <- shadow.shadows" or "image <- shadow.atlas (part of shadow.shadows)" */
+static void describe_inputs(lg_exec *ex, lg_str *d, const lg_pnode *n)
+{
+    for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node < 0)
+            continue;
+        const lg_pnode *src = &ex->nodes[e.node];
+        const char *port = src->schema->outputs[e.port].name;
+        lg_str_addf(d, "%s%s <- %s.", d->len ? "; " : "", n->schema->inputs[k].name,
+                    src->pub.name);
+        if (e.part) {
+            const lg_kind_desc *kd = lg_kind_describe(src->schema->outputs[e.port].kind);
+            lg_str_addf(d, "%s (part of %s.%s)", kd ? kd->parts[e.part - 1].name : "?",
+                        src->pub.name, port);
+        } else {
+            lg_str_add(d, port);
+        }
+    }
 }
 
 static void print_features(FILE *f, const char *name, const lg_scene_features *sf)
@@ -241,8 +283,9 @@ void lg_explain_print(lg_exec *ex, FILE *f)
         lg_pnode *n = &ex->nodes[c->topo[t]];
         lg_str d = {0};
         if (n->state == LG_STATE_KEPT) {
+            describe_inputs(ex, &d, n);
             for (uint32_t o = 0; o < n->schema->n_outputs; o++) {
-                if (o)
+                if (d.len)
                     lg_str_add(&d, "; ");
                 lg_str_addf(&d, "%s: ", n->schema->outputs[o].name);
                 if (n->outputs[o])

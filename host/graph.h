@@ -189,6 +189,8 @@ typedef struct lg_schema {
 typedef struct lg_edge {
     int32_t node;   /* source node index in lg_checked.nodes, -1 if unconnected */
     uint32_t port;  /* output port index of the source */
+    uint32_t part;  /* 0: the whole output; k > 0: part k-1 of its composite kind
+                     * (a reference NODE.PART, lightgraph/kinds.h) */
 } lg_edge;
 
 typedef struct lg_cnode {
@@ -204,6 +206,7 @@ typedef struct lg_coutput {
     const lg_goutput *g;
     int32_t node;
     uint32_t port;
+    uint32_t part;              /* as lg_edge.part */
     char *path;                 /* resolved (absolute, or as -o gave it) */
 } lg_coutput;
 

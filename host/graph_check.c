@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "util.h"
+#include "lightgraph/kinds.h"
 
 /* After this many errors the checker goes on (to fail) but reports nothing more and stops
  * looking for suggestions, which would otherwise cost (errors x names). */
@@ -85,7 +86,8 @@ static const char *kind_name(lg_resource_kind k)
     case LG_KIND_SHADOWMAP: return "a shadow map";
     case LG_KIND_PROBE: return "a light probe";
     case LG_KIND_SH: return "SH coefficients";
-    case LG_KIND_VERTEX_ATTR: return "vertex attributes";
+    case LG_KIND_TRANSFER: return "transfer vectors";
+    case LG_KIND_FROXEL: return "a froxel volume";
     default: return "an unknown kind of resource";
     }
 }
@@ -393,10 +395,29 @@ static void unknown_node_error(checker *k, const lg_gvalue *v)
         diag(k, LG_DIAG_ERROR, loc, "unknown node '%s'", v->s);
 }
 
-/* Resolves NODE or NODE.PORT to an output; reports and returns false otherwise. With
- * *node >= 0 and *port == UINT32_MAX the node's type is unknown (already reported). */
-static bool resolve_ref(checker *k, const lg_gvalue *v, int32_t *node, uint32_t *port)
+/* The kind a part of a composite kind delivers along an edge. */
+static lg_resource_kind part_kind(lg_resource_kind composite, uint32_t part)
 {
+    const lg_kind_desc *kd = lg_kind_describe(composite);
+    lg_part_type t = kd && part > 0 && part <= kd->n_parts ? kd->parts[part - 1].type : 0;
+    return t == LG_PART_IMAGE ? LG_KIND_IMAGE : t == LG_PART_VOLUME ? LG_KIND_VOLUME
+                                                                    : LG_KIND_BUFFER;
+}
+
+/* The kind an edge (node, port, part) delivers. */
+static lg_resource_kind edge_kind(const lg_node_type *ty, uint32_t port, uint32_t part)
+{
+    lg_resource_kind k = ty->outputs[port].kind;
+    return part ? part_kind(k, part) : k;
+}
+
+/* Resolves NODE, NODE.PORT or NODE.PART (a part of the first output of a composite kind
+ * that has it, lightgraph/kinds.h) to an output; reports and returns false otherwise.
+ * With *node >= 0 and *port == UINT32_MAX the node's type is unknown (already reported). */
+static bool resolve_ref(checker *k, const lg_gvalue *v, int32_t *node, uint32_t *port,
+                        uint32_t *part)
+{
+    *part = 0;
     int32_t t = lg_graph_find_node(k->g, v->s);
     if (t < 0) {
         unknown_node_error(k, v);
@@ -423,24 +444,45 @@ static bool resolve_ref(checker *k, const lg_gvalue *v, int32_t *node, uint32_t 
             return true;
         }
     }
+    for (uint32_t i = 0; i < ty->n_outputs; i++) {
+        int32_t pi = lg_kind_part_index(ty->outputs[i].kind, v->port);
+        if (pi >= 0) {
+            *port = i;
+            *part = (uint32_t)pi + 1;
+            return true;
+        }
+    }
     lg_srcloc loc = v->loc;
     loc.col += (uint32_t)strlen(v->s) + 1;
     loc.len = (uint32_t)strlen(v->port);
     lg_str list = {0};
-    const char **names = lg_xmalloc((ty->n_outputs + 1) * sizeof *names);
+    uint32_t n_names = 0;
+    const char **names = NULL;
     for (uint32_t i = 0; i < ty->n_outputs; i++) {
-        names[i] = ty->outputs[i].name;
+        const lg_kind_desc *kd = lg_kind_describe(ty->outputs[i].kind);
+        uint32_t np = kd ? kd->n_parts : 0;
+        names = lg_xrealloc(names, (n_names + 1 + np) * sizeof *names);
+        names[n_names++] = ty->outputs[i].name;
         lg_str_addf(&list, "%s%s", i ? ", " : "", ty->outputs[i].name);
+        if (np) {
+            lg_str_add(&list, " (parts:");
+            for (uint32_t j = 0; j < np; j++) {
+                names[n_names++] = kd->parts[j].name;
+                lg_str_addf(&list, " %s", kd->parts[j].name);
+            }
+            lg_str_add(&list, ")");
+        }
     }
-    const char *sug = lg_suggest(v->port, names, ty->n_outputs);
+    const char *sug = lg_suggest(v->port, names, n_names);
+    const char *what = n_names > ty->n_outputs ? "output or part" : "output";
     if (ty->n_outputs == 0)
         diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no outputs", tn->name, ty->name);
     else if (sug)
-        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no output '%s'; did you mean '%s'? "
-             "(outputs: %s)", tn->name, ty->name, v->port, sug, list.s);
+        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no %s '%s'; did you mean '%s'? "
+             "(outputs: %s)", tn->name, ty->name, what, v->port, sug, list.s);
     else
-        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no output '%s' (outputs: %s)", tn->name,
-             ty->name, v->port, list.s);
+        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no %s '%s' (outputs: %s)", tn->name,
+             ty->name, what, v->port, list.s);
     free(names);
     lg_str_free(&list);
     return false;
@@ -465,18 +507,19 @@ static void connect_input(checker *k, uint32_t ni, uint32_t ii, const lg_gvalue 
         return;
     }
     int32_t src;
-    uint32_t port;
-    if (!resolve_ref(k, v, &src, &port))
+    uint32_t port, part;
+    if (!resolve_ref(k, v, &src, &port, &part))
         return;
     lg_edge *e = &k->c->nodes[ni].inputs[ii];
     e->node = src;
     e->port = port == UINT32_MAX ? 0 : port;
+    e->part = part;
     if (port == UINT32_MAX)
         return;
-    const lg_port_desc *out = &k->c->nodes[src].type->outputs[port];
-    if (in->kind != LG_KIND_ANY && out->kind != LG_KIND_ANY && in->kind != out->kind)
+    lg_resource_kind out = edge_kind(k->c->nodes[src].type, port, part);
+    if (in->kind != LG_KIND_ANY && out != LG_KIND_ANY && in->kind != out)
         diag(k, LG_DIAG_ERROR, v->loc, "input '%s' of node '%s' takes %s, but '%s' gives %s",
-             in->name, n->name, kind_name(in->kind), v->text, kind_name(out->kind));
+             in->name, n->name, kind_name(in->kind), v->text, kind_name(out));
 }
 
 /* Which parameter or input an entry sets: >= 0 a parameter, < 0 -(input + 1). */
@@ -785,12 +828,13 @@ static void check_outputs(checker *k)
         co->node = -1;
         co->path = resolve_path(o->base_dir, o->path);
         int32_t node;
-        uint32_t port;
-        if (resolve_ref(k, &o->ref, &node, &port)) {
+        uint32_t port, part;
+        if (resolve_ref(k, &o->ref, &node, &port, &part)) {
             co->node = node;
             co->port = port == UINT32_MAX ? 0 : port;
+            co->part = part;
             if (port != UINT32_MAX) {
-                lg_resource_kind kind = c->nodes[node].type->outputs[port].kind;
+                lg_resource_kind kind = edge_kind(c->nodes[node].type, port, part);
                 if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY)
                     diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images can be written "
                          "to files", o->ref.text, kind_name(kind));

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "util.h"
+#include "lightgraph/kinds.h"
 
 #define FMT_WIDTH 100
 
@@ -230,6 +231,25 @@ static const lg_gvalue *ref_of(const lg_gvalue *v)
     return v->kind == LG_GV_IDENT ? v : NULL;
 }
 
+/* The label at an edge's source: the port when the node has several outputs (or when the
+ * resource is composite: "shadows {atlas, lights, info}"), the part an edge NODE.PART
+ * reads ("atlas, part of shadows"); NULL for the plain single output. Caller frees. */
+static char *edge_label(const lg_node_type *t, uint32_t port, uint32_t part)
+{
+    lg_resource_kind k = t->outputs[port].kind;
+    const lg_kind_desc *kd = lg_kind_describe(k);
+    if (part && kd && part <= kd->n_parts)
+        return lg_xasprintf("%s, part of %s", kd->parts[part - 1].name, t->outputs[port].name);
+    if (!lg_kind_is_composite(k))
+        return port ? lg_xstrdup(t->outputs[port].name) : NULL;
+    lg_str b = {0};
+    lg_str_addf(&b, "%s {", t->outputs[port].name);
+    for (uint32_t i = 0; i < kd->n_parts; i++)
+        lg_str_addf(&b, "%s%s", i ? ", " : "", kd->parts[i].name);
+    lg_str_add(&b, "}");
+    return lg_str_take(&b);
+}
+
 char *lg_graph_dot(const lg_graph *g, const lg_checked *c)
 {
     lg_str b = {0};
@@ -251,9 +271,9 @@ char *lg_graph_dot(const lg_graph *g, const lg_checked *c)
                 if (e->node < 0)
                     continue;
                 const lg_cnode *src = &c->nodes[e->node];
-                add_edge(&b, src->g->name, n->name,
-                         e->port ? src->type->outputs[e->port].name : NULL,
-                         cn->type->inputs[j].name);
+                char *tail = edge_label(src->type, e->port, e->part);
+                add_edge(&b, src->g->name, n->name, tail, cn->type->inputs[j].name);
+                free(tail);
             }
         } else {
             for (uint32_t j = 0; j < n->n_assigns; j++) {
@@ -274,8 +294,9 @@ char *lg_graph_dot(const lg_graph *g, const lg_checked *c)
             const lg_coutput *co = &c->outputs[i];
             if (co->node >= 0) {
                 const lg_cnode *src = &c->nodes[co->node];
-                add_edge(&b, src->g->name, id, co->port ? src->type->outputs[co->port].name : NULL,
-                         NULL);
+                char *tail = edge_label(src->type, co->port, co->part);
+                add_edge(&b, src->g->name, id, tail, NULL);
+                free(tail);
             }
         } else if (lg_graph_find_node(g, o->ref.s) >= 0) {
             add_edge(&b, o->ref.s, id, o->ref.port, NULL);

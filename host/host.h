@@ -111,9 +111,29 @@ struct lg_resource {
     bool cl_valid;
     lg_attached *attached;      /* GPU copies of payload arrays, by slot */
     uint32_t n_attached;
+    /* composite kinds (lightgraph/kinds.h): one part per entry of the kind's table, in its
+     * order; NULL for an optional part the producer left out. Parts are resources of kind
+     * image, volume or buffer, owned by the composite (refs 1, freed with it). A neutral
+     * composite has parts too (zero images the render size, empty buffers), which only
+     * an edge naming a part (NODE.PART) reaches; lg_part() gives NULL for it. */
+    struct lg_resource **parts;
+    uint32_t n_parts;
+    struct lg_resource *parent; /* a part: its composite */
+    int32_t part_index;         /* a part: its index in the kind's table */
+    lg_part_type part_type;     /* a part: its declared type */
 };
 
-size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth included */
+size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth and parts included */
+/* The parts of a composite resource of `kind`, made from the producer's specs (declared
+ * in prepare) or, with specs NULL, its neutral parts. Returns 0 or reports and returns
+ * LG_ERR_INVALID. */
+int lg_resource_make_parts(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r,
+                           const lg_part_spec *specs, uint32_t n_specs);
+/* What an edge delivers: the source's output, or the part an edge NODE.PART names. */
+lg_resource *lg_edge_resource(struct lg_exec *ex, lg_edge e);
+/* Whether node n may map r: r (or its composite) is one of n's outputs or came to n
+ * through an input. */
+bool lg_resource_reachable(struct lg_pnode *n, const lg_resource *r);
 lg_resource *lg_resource_new(struct lg_pnode *producer, lg_resource_kind kind);
 void lg_resource_unref(struct lg_exec *ex, lg_resource *r);
 int lg_resource_map_cpu(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, unsigned access,

@@ -11,6 +11,8 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
+#include "lightgraph/kinds.h"
+
 static lg_pnode *P(lg_node *n)
 {
     return (lg_pnode *)n;
@@ -81,7 +83,12 @@ static int32_t api_param_index(lg_node *n, const char *key)
     for (uint32_t i = 0; i < p->schema->n_params; i++)
         if (strcmp(p->schema->params[i].key, key) == 0)
             return (int32_t)i;
-    lg_node_errorf(p, "asks for parameter '%s', which its type does not declare", key ? key : "");
+    lg_node_errorf(p, "asks for parameter '%s', which its type does not declare (a plugin "
+                      "bug: the value would have been a silent 0)",
+                   key ? key : "");
+#ifdef LG_DEBUG_ABORT
+    abort(); /* -Ddebug_abort=true: stop where the bug is, for a debugger or a core dump */
+#endif
     return -1;
 }
 
@@ -92,10 +99,7 @@ static const lg_resource *api_input(lg_node *n, uint32_t port)
         lg_node_errorf(p, "asks for input #%u; its type declares %u", port, p->schema->n_inputs);
         return NULL;
     }
-    lg_edge e = p->c->inputs[port];
-    if (e.node < 0)
-        return NULL;
-    return p->ex->nodes[e.node].outputs ? p->ex->nodes[e.node].outputs[e.port] : NULL;
+    return lg_edge_resource(p->ex, p->c->inputs[port]);
 }
 
 static lg_resource *api_output(lg_node *n, uint32_t port)
@@ -121,6 +125,13 @@ static int api_describe(const lg_resource *r, lg_resource_info *out)
     out->volume = r->volume;
     out->scene = r->has_features ? &r->features : NULL;
     out->payload = r->payload;
+    out->n_parts = r->neutral ? 0 : r->n_parts;
+    if (r->parent) {
+        const lg_kind_desc *kd = lg_kind_describe(r->parent->kind);
+        out->part_of = r->parent->kind;
+        out->part_name = kd ? kd->parts[r->part_index].name : NULL;
+        out->part_type = r->part_type;
+    }
     return 0;
 }
 
@@ -153,27 +164,53 @@ static lg_resource *declare(lg_pnode *p, uint32_t port, lg_resource_kind kind, c
 
 #define MAX_DIM 65536u
 
-static int api_declare_image(lg_node *n, uint32_t port, const lg_image_desc *d)
+/* Checks an image description; reports with `what` ("an image", "part 'atlas'"). */
+static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *what)
 {
-    lg_pnode *p = P(n);
     if (!d || d->width == 0 || d->height == 0 || d->width > MAX_DIM || d->height > MAX_DIM ||
         (uint64_t)d->width * d->height > (1ull << 28))
-        return lg_node_errorf(p, "declares an image of %ux%u (each side must be 1..%u, at most "
-                                 "2^28 pixels)",
-                              d ? d->width : 0, d ? d->height : 0, MAX_DIM),
+        return lg_node_errorf(p, "declares %s of %ux%u (each side must be 1..%u, at most 2^28 "
+                                 "pixels)",
+                              what, d ? d->width : 0, d ? d->height : 0, MAX_DIM),
                LG_ERR_INVALID;
     bool depth_only = (d->flags & LG_IMAGE_DEPTH_ONLY) != 0;
     if (!depth_only && (d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8))
-        return lg_node_errorf(p, "declares an image with unknown format %d", (int)d->format),
+        return lg_node_errorf(p, "declares %s with unknown format %d", what, (int)d->format),
                LG_ERR_INVALID;
-    if (d->flags & ~(uint32_t)(LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY))
-        return lg_node_errorf(p, "declares an image with unknown flags 0x%x", d->flags),
+    if (d->flags & ~(uint32_t)(LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY | LG_IMAGE_CUBE))
+        return lg_node_errorf(p, "declares %s with unknown flags 0x%x", what, d->flags),
                LG_ERR_INVALID;
+    uint32_t maxlev = 1, m = d->width > d->height ? d->width : d->height;
+    while (m >>= 1)
+        maxlev++;
+    if (d->levels > maxlev)
+        return lg_node_errorf(p, "declares %s of %ux%u with %u mip levels; at most %u exist",
+                              what, d->width, d->height, d->levels, maxlev),
+               LG_ERR_INVALID;
+    if ((d->flags & LG_IMAGE_CUBE) && d->width != d->height)
+        return lg_node_errorf(p, "declares %s as a cube map with %ux%u faces; faces are square",
+                              what, d->width, d->height),
+               LG_ERR_INVALID;
+    if ((d->flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)) &&
+        ((d->flags & LG_IMAGE_CUBE) || d->levels > 1))
+        return lg_node_errorf(p, "declares %s with a depth plane and a cube or mip levels; "
+                                 "depth planes are 2D with one level",
+                              what),
+               LG_ERR_INVALID;
+    return 0;
+}
+
+static int api_declare_image(lg_node *n, uint32_t port, const lg_image_desc *d)
+{
+    lg_pnode *p = P(n);
+    int rc = check_image_desc(p, d, "an image");
+    if (rc)
+        return rc;
     lg_resource *r = declare(p, port, LG_KIND_IMAGE, "an image");
     if (!r)
         return LG_ERR_INVALID;
     r->image = *d;
-    if (depth_only) {
+    if (d->flags & LG_IMAGE_DEPTH_ONLY) {
         r->image.flags = LG_IMAGE_DEPTH_ONLY;
         r->image.format = LG_FORMAT_RGBA32F; /* unused; keeps the description valid */
     }
@@ -192,16 +229,23 @@ static int api_declare_buffer(lg_node *n, uint32_t port, const lg_buffer_desc *d
     return 0;
 }
 
-static int api_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
+static int check_volume_desc(lg_pnode *p, const lg_volume_desc *d, const char *what)
 {
-    lg_pnode *p = P(n);
     if (!d || !d->width || !d->height || !d->depth || d->width > 4096 || d->height > 4096 ||
         d->depth > 4096 || (uint64_t)d->width * d->height * d->depth > (1ull << 28) ||
         d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8)
-        return lg_node_errorf(p, "declares a volume of %ux%ux%u (each side 1..4096, at most "
-                                 "2^28 cells)",
-                              d ? d->width : 0, d ? d->height : 0, d ? d->depth : 0),
+        return lg_node_errorf(p, "declares %s of %ux%ux%u (each side 1..4096, at most 2^28 "
+                                 "cells, a known format)",
+                              what, d ? d->width : 0, d ? d->height : 0, d ? d->depth : 0),
                LG_ERR_INVALID;
+    return 0;
+}
+
+static int api_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
+{
+    lg_pnode *p = P(n);
+    if (check_volume_desc(p, d, "a volume"))
+        return LG_ERR_INVALID;
     lg_resource *r = declare(p, port, LG_KIND_VOLUME, "a volume");
     if (!r)
         return LG_ERR_INVALID;
@@ -233,10 +277,14 @@ static int api_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
 {
     lg_pnode *p = P(n);
     if (kind == LG_KIND_IMAGE || kind == LG_KIND_BUFFER || kind == LG_KIND_VOLUME ||
-        kind <= LG_KIND_ANY || kind >= LG_KIND_COUNT_)
-        return lg_node_errorf(p, "declare_payload: kind %d is host-managed or unknown",
-                              (int)kind),
-               LG_ERR_INVALID;
+        kind <= LG_KIND_ANY || kind >= LG_KIND_COUNT_ || lg_kind_is_composite(kind)) {
+        lg_node_errorf(p, "declare_payload: kind %s is host-managed%s", lg_kind_name(kind),
+                       lg_kind_is_composite(kind) ? " (composite since ABI 2.0: "
+                                                    "declare_composite)" : " or unknown");
+        if (payload && free_payload)
+            free_payload(payload);
+        return LG_ERR_INVALID;
+    }
     lg_resource *r = declare(p, port, kind, "a payload");
     if (!r) {
         if (payload && free_payload)
@@ -421,6 +469,112 @@ static int api_payload_cl_buffer(lg_node *n, const lg_resource *r, uint32_t slot
     return lg_resource_payload_cl(P(n)->ex, P(n), (lg_resource *)r, slot, data, size, mem);
 }
 
+static int api_declare_composite(lg_node *n, uint32_t port, const lg_part_spec *parts,
+                                 uint32_t n_parts)
+{
+    lg_pnode *p = P(n);
+    if (port >= p->schema->n_outputs)
+        return lg_node_errorf(p, "declare_composite: output #%u; its type declares %u outputs",
+                              port, p->schema->n_outputs),
+               LG_ERR_INVALID;
+    lg_resource_kind kind = p->schema->outputs[port].kind;
+    const lg_kind_desc *kd = lg_kind_describe(kind);
+    if (!lg_kind_is_composite(kind))
+        return lg_node_errorf(p, "declare_composite: output '%s' is of kind %s, which has no "
+                                 "parts",
+                              p->schema->outputs[port].name, lg_kind_name(kind)),
+               LG_ERR_INVALID;
+    if (!parts && n_parts)
+        return lg_node_errorf(p, "declare_composite: NULL parts"), LG_ERR_INVALID;
+    /* every spec names a declared part once, with its type and a valid description */
+    for (uint32_t i = 0; i < n_parts; i++) {
+        const lg_part_spec *sp = &parts[i];
+        int32_t idx = lg_kind_part_index(kind, sp->name);
+        if (idx < 0) {
+            lg_str list = {0};
+            for (uint32_t j = 0; j < kd->n_parts; j++)
+                lg_str_addf(&list, "%s%s", j ? ", " : "", kd->parts[j].name);
+            lg_node_errorf(p, "declare_composite: a %s has no part '%s' (parts: %s)", kd->name,
+                           sp->name ? sp->name : "(null)", list.s);
+            lg_str_free(&list);
+            return LG_ERR_INVALID;
+        }
+        for (uint32_t j = 0; j < i; j++)
+            if (strcmp(parts[j].name, sp->name) == 0)
+                return lg_node_errorf(p, "declare_composite: part '%s' given twice", sp->name),
+                       LG_ERR_INVALID;
+        lg_part_type want = kd->parts[idx].type;
+        if (sp->type != want)
+            return lg_node_errorf(p, "declare_composite: part '%s' of a %s is of type %d, "
+                                     "declared as %d",
+                                  sp->name, kd->name, (int)want, (int)sp->type),
+                   LG_ERR_INVALID;
+        char what[96];
+        snprintf(what, sizeof what, "part '%s'", sp->name);
+        if (want == LG_PART_IMAGE && check_image_desc(p, &sp->image, what))
+            return LG_ERR_INVALID;
+        if (want == LG_PART_VOLUME && check_volume_desc(p, &sp->volume, what))
+            return LG_ERR_INVALID;
+        if (want == LG_PART_BUFFER && sp->buffer.size > (1ull << 34))
+            return lg_node_errorf(p, "declares %s of %zu bytes (at most 16 GiB)", what,
+                                  sp->buffer.size),
+                   LG_ERR_INVALID;
+        if (want == LG_PART_META && (sp->buffer.size == 0 || sp->buffer.size > LG_META_MAX))
+            return lg_node_errorf(p, "declares metadata %s of %zu bytes (1..%u)", what,
+                                  sp->buffer.size, LG_META_MAX),
+                   LG_ERR_INVALID;
+    }
+    for (uint32_t j = 0; j < kd->n_parts; j++) {
+        if (kd->parts[j].optional)
+            continue;
+        bool given = false;
+        for (uint32_t i = 0; i < n_parts; i++)
+            given |= strcmp(parts[i].name, kd->parts[j].name) == 0;
+        if (!given)
+            return lg_node_errorf(p, "declare_composite: output '%s' (%s) needs part '%s'",
+                                  p->schema->outputs[port].name, kd->name, kd->parts[j].name),
+                   LG_ERR_INVALID;
+    }
+    lg_resource *r = declare(p, port, kind, kd->name);
+    if (!r)
+        return LG_ERR_INVALID;
+    return lg_resource_make_parts(p->ex, p, r, parts, n_parts);
+}
+
+static const lg_resource *api_part(lg_node *n, const lg_resource *r, const char *name)
+{
+    lg_pnode *p = P(n);
+    if (!r)
+        return lg_node_errorf(p, "part('%s'): NULL resource", name ? name : ""), NULL;
+    const lg_kind_desc *kd = lg_kind_describe(r->kind);
+    if (!lg_kind_is_composite(r->kind))
+        return lg_node_errorf(p, "part('%s'): a resource of kind %s has no parts",
+                              name ? name : "", kd ? kd->name : "?"),
+               NULL;
+    int32_t idx = lg_kind_part_index(r->kind, name);
+    if (idx < 0) {
+        lg_str list = {0};
+        for (uint32_t j = 0; j < kd->n_parts; j++)
+            lg_str_addf(&list, "%s%s", j ? ", " : "", kd->parts[j].name);
+        lg_node_errorf(p, "part('%s'): a %s has no such part (parts: %s)", name ? name : "",
+                       kd->name, list.s);
+        lg_str_free(&list);
+        return NULL;
+    }
+#ifdef LG_DEBUG_CHECKS
+    if (!lg_resource_reachable(p, r)) {
+        const lg_pnode *src = r->producer;
+        return lg_node_errorf(p, "asks for part '%s' of a %s made by node '%s', which it did "
+                                 "not receive through an input",
+                              name, kd->name, src ? src->pub.name : "?"),
+               NULL;
+    }
+#endif
+    if (r->neutral || (uint32_t)idx >= r->n_parts)
+        return NULL;
+    return r->parts[idx];
+}
+
 void lg_host_api_init(lg_host_api *a)
 {
     memset(a, 0, sizeof *a);
@@ -460,6 +614,8 @@ void lg_host_api_init(lg_host_api *a)
     a->render_size = api_render_size;
     a->payload_gl_buffer = api_payload_gl_buffer;
     a->payload_cl_buffer = api_payload_cl_buffer;
+    a->declare_composite = api_declare_composite;
+    a->part = api_part;
 }
 
 int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)

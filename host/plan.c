@@ -11,6 +11,8 @@
  * plugin, version, type, parameters, content keys and its inputs' identities. */
 #include "host.h"
 
+#include "lightgraph/kinds.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -84,8 +86,7 @@ static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool
         lg_edge e = n->c->inputs[k];
         if (e.node < 0)
             continue;
-        lg_pnode *src = &ex->nodes[e.node];
-        lg_resource *r = src->outputs ? src->outputs[e.port] : NULL;
+        lg_resource *r = lg_edge_resource(ex, e);
         if (r && r->kind == LG_KIND_SCENE && r->has_features) {
             f->triangles += r->features.triangles;
             f->vertices += r->features.vertices;
@@ -132,9 +133,7 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
     for (uint32_t o = 0; o < t->n_outputs; o++) {
         lg_resource *in = NULL;
         if (t->neutral == LG_NEUTRAL_PASSTHROUGH) {
-            lg_edge e = n->c->inputs[t->neutral_input];
-            if (e.node >= 0)
-                in = ex->nodes[e.node].outputs[e.port];
+            in = lg_edge_resource(ex, n->c->inputs[t->neutral_input]);
         }
         if (in && (t->outputs[o].kind == LG_KIND_ANY || t->outputs[o].kind == in->kind)) {
             in->refs++;
@@ -150,8 +149,7 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
             r->image.height = ex->opts.height;
             r->image.format = LG_FORMAT_RGBA32F;
             for (uint32_t k = 0; k < t->n_inputs; k++) {
-                lg_edge e = n->c->inputs[k];
-                lg_resource *src = e.node >= 0 ? ex->nodes[e.node].outputs[e.port] : NULL;
+                lg_resource *src = lg_edge_resource(ex, n->c->inputs[k]);
                 if (src && src->kind == LG_KIND_IMAGE) {
                     r->image.width = src->image.width;
                     r->image.height = src->image.height;
@@ -163,6 +161,8 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
             r->volume.format = LG_FORMAT_RGBA32F;
         } else if (kind == LG_KIND_SCENE) {
             r->has_features = true;
+        } else if (lg_kind_is_composite(kind)) {
+            lg_resource_make_parts(ex, n, r, NULL, 0);
         }
         n->outputs[o] = r;
     }
@@ -282,6 +282,7 @@ int lg_plan(lg_exec *ex)
             }
             lg_digest_add(&n->identity, &ex->nodes[e.node].identity, sizeof(lg_digest));
             lg_digest_add(&n->identity, &e.port, sizeof e.port);
+            lg_digest_add(&n->identity, &e.part, sizeof e.part);
         }
         for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
             lg_edge e = n->c->inputs[k];

@@ -89,6 +89,12 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
     if (d->struct_size < offsetof(lg_plugin_desc, reserved))
         FAIL("malformed descriptor: struct_size %zu is smaller than the minimum %zu",
              d->struct_size, offsetof(lg_plugin_desc, reserved));
+    if (d->abi_major < LG_ABI_MAJOR)
+        FAIL("built for plugin ABI %u.%u; this host has ABI %d.%d, which no longer loads ABI "
+             "%u plugins: rebuild it against the lightgraph %d SDK (docs/sdk.md, \"Migrating "
+             "from ABI %u\")",
+             d->abi_major, d->abi_minor, LG_ABI_MAJOR, LG_ABI_MINOR, d->abi_major, LG_ABI_MAJOR,
+             d->abi_major);
     if (d->abi_major != LG_ABI_MAJOR || d->abi_minor > LG_ABI_MINOR)
         FAIL("built for plugin ABI %u.%u, this host has ABI %d.%d (needs major %d, minor at "
              "most %d)",

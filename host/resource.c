@@ -14,12 +14,14 @@
 
 #include "lightgraph/cl.h"
 #include "lightgraph/image.h"
+#include "lightgraph/kinds.h"
 
+/* Pixels of the colour data: every level and face of an image. */
 static size_t pixel_count(const lg_resource *r)
 {
     switch (r->kind) {
     case LG_KIND_IMAGE:
-        return (size_t)r->image.width * r->image.height;
+        return lg_image_offset(&r->image, lg_image_levels(&r->image), 0);
     case LG_KIND_VOLUME:
         return (size_t)r->volume.width * r->volume.height * r->volume.depth;
     default:
@@ -43,16 +45,21 @@ static size_t main_bytes(const lg_resource *r)
     }
 }
 
+/* The depth plane: level 0 of a 2D image (cube and mip-mapped images have none). */
 static size_t depth_bytes(const lg_resource *r)
 {
     return (r->kind == LG_KIND_IMAGE && (r->image.flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)))
-               ? pixel_count(r) * sizeof(float)
+               ? (size_t)r->image.width * r->image.height * sizeof(float)
                : 0;
 }
 
 size_t lg_resource_bytes(const lg_resource *r)
 {
-    return main_bytes(r) + depth_bytes(r);
+    size_t b = main_bytes(r) + depth_bytes(r);
+    for (uint32_t i = 0; i < r->n_parts; i++)
+        if (r->parts[i])
+            b += lg_resource_bytes(r->parts[i]);
+    return b;
 }
 
 lg_resource *lg_resource_new(lg_pnode *producer, lg_resource_kind kind)
@@ -73,6 +80,9 @@ void lg_resource_unref(lg_exec *ex, lg_resource *r)
 {
     if (!r || --r->refs > 0)
         return;
+    for (uint32_t i = 0; i < r->n_parts; i++)
+        lg_resource_unref(ex, r->parts[i]);
+    free(r->parts);
     free(r->cpu);
     free(r->cpu_depth);
     if (ex->gl && (r->gl_name || r->gl_depth)) {
@@ -103,8 +113,58 @@ void lg_resource_unref(lg_exec *ex, lg_resource *r)
     free(r);
 }
 
+static bool same_or_part_of(const lg_resource *r, const lg_resource *of)
+{
+    return of && (r == of || r->parent == of);
+}
+
+bool lg_resource_reachable(lg_pnode *n, const lg_resource *r)
+{
+    lg_exec *ex = n->ex;
+    for (uint32_t o = 0; n->outputs && o < n->schema->n_outputs; o++)
+        if (same_or_part_of(r, n->outputs[o]))
+            return true;
+    for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node < 0)
+            continue;
+        lg_resource *in = lg_edge_resource(ex, e);
+        if (same_or_part_of(r, in))
+            return true;
+    }
+    return false;
+}
+
+static const char *resource_label(const lg_resource *r, char *buf, size_t len)
+{
+    const lg_resource *whole = r->parent ? r->parent : r;
+    const lg_pnode *p = whole->producer;
+    const char *port = "?";
+    for (uint32_t o = 0; p && p->outputs && o < p->schema->n_outputs; o++)
+        if (p->outputs[o] == whole)
+            port = p->schema->outputs[o].name;
+    if (r->parent) {
+        const lg_kind_desc *kd = lg_kind_describe(whole->kind);
+        snprintf(buf, len, "'%s.%s', part '%s'", p ? p->pub.name : "?", port,
+                 kd && r->part_index >= 0 ? kd->parts[r->part_index].name : "?");
+    } else {
+        snprintf(buf, len, "'%s.%s'", p ? p->pub.name : "?", port);
+    }
+    return buf;
+}
+
 static int check_access(lg_pnode *n, lg_resource *r, unsigned access, const char *dev)
 {
+#ifdef LG_DEBUG_CHECKS
+    if (!lg_resource_reachable(n, r)) {
+        char buf[256];
+        return lg_node_errorf(n, "maps resource %s on %s, which it did not receive through an "
+                                 "input (a plugin reaches other nodes' resources only through "
+                                 "its inputs)",
+                              resource_label(r, buf, sizeof buf), dev),
+               LG_ERR_INVALID;
+    }
+#endif
     if (!mappable(r->kind) || access < LG_READ || access > LG_READ_WRITE)
         return lg_node_errorf(n, "cannot map a resource of this kind on %s (access %u)", dev,
                               access),
@@ -186,8 +246,18 @@ static int gl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
         GLenum internal, format, type;
         gl_formats(r->kind == LG_KIND_IMAGE ? r->image.format : r->volume.format, &internal,
                    &format, &type);
-        if (r->gl_name)
+        if (r->gl_name && r->kind == LG_KIND_IMAGE) {
+            /* every level; a cube level comes back as its six faces in order */
+            size_t px = lg_format_size(r->image.format);
+            for (uint32_t l = 0; l < lg_image_levels(&r->image); l++) {
+                size_t off = lg_image_offset(&r->image, l, 0) * px;
+                size_t len = lg_image_offset(&r->image, l + 1, 0) * px - off;
+                gl->GetTextureImage(r->gl_name, (GLint)l, format, type, (GLsizei)len,
+                                    (char *)r->cpu + off);
+            }
+        } else if (r->gl_name) {
             gl->GetTextureImage(r->gl_name, 0, format, type, (GLsizei)b, r->cpu);
+        }
         if (r->gl_depth && r->cpu_depth)
             gl->GetTextureImage(r->gl_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
                                 (GLsizei)depth_bytes(r), r->cpu_depth);
@@ -245,6 +315,8 @@ int lg_resource_map_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned acces
     view->pixels = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->cpu : NULL;
     view->depth = r->cpu_depth;
     view->row_pixels = r->kind == LG_KIND_IMAGE ? r->image.width : r->volume.width;
+    if (r->kind == LG_KIND_BUFFER)
+        view->row_pixels = 0;
     return 0;
 }
 
@@ -264,9 +336,12 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
         if (r->kind == LG_KIND_IMAGE) {
             gl_formats(r->image.format, &internal, &format, &type);
             if (!(r->image.flags & LG_IMAGE_DEPTH_ONLY)) {
-                gl->CreateTextures(GL_TEXTURE_2D, 1, &r->gl_name);
-                gl->TextureStorage2D(r->gl_name, 1, internal, (GLsizei)r->image.width,
+                bool cube = (r->image.flags & LG_IMAGE_CUBE) != 0;
+                GLsizei levels = (GLsizei)lg_image_levels(&r->image);
+                gl->CreateTextures(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &r->gl_name);
+                gl->TextureStorage2D(r->gl_name, levels, internal, (GLsizei)r->image.width,
                                      (GLsizei)r->image.height);
+                gl->TextureParameteri(r->gl_name, GL_TEXTURE_MAX_LEVEL, levels - 1);
             }
             if (r->image.flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)) {
                 gl->CreateTextures(GL_TEXTURE_2D, 1, &r->gl_depth);
@@ -302,9 +377,17 @@ static int cpu_to_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
     } else if (r->kind == LG_KIND_IMAGE) {
         GLenum internal, format, type;
         gl_formats(r->image.format, &internal, &format, &type);
-        if (r->gl_name)
-            gl->TextureSubImage2D(r->gl_name, 0, 0, 0, (GLsizei)r->image.width,
-                                  (GLsizei)r->image.height, format, type, r->cpu);
+        size_t px = lg_format_size(r->image.format);
+        bool cube = (r->image.flags & LG_IMAGE_CUBE) != 0;
+        for (uint32_t l = 0; r->gl_name && l < lg_image_levels(&r->image); l++) {
+            const char *src = (const char *)r->cpu + lg_image_offset(&r->image, l, 0) * px;
+            GLsizei w = (GLsizei)lg_image_level_width(&r->image, l);
+            GLsizei h = (GLsizei)lg_image_level_height(&r->image, l);
+            if (cube) /* DSA sees a cube map as six layers */
+                gl->TextureSubImage3D(r->gl_name, (GLint)l, 0, 0, 0, w, h, 6, format, type, src);
+            else
+                gl->TextureSubImage2D(r->gl_name, (GLint)l, 0, 0, w, h, format, type, src);
+        }
         if (r->gl_depth)
             gl->TextureSubImage2D(r->gl_depth, 0, 0, 0, (GLsizei)r->image.width,
                                   (GLsizei)r->image.height, GL_DEPTH_COMPONENT, GL_FLOAT,
@@ -555,5 +638,86 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
     }
     }
     *out = f;
+    return 0;
+}
+
+/* ---- composite resources -------------------------------------------------------------- */
+
+lg_resource *lg_edge_resource(lg_exec *ex, lg_edge e)
+{
+    if (e.node < 0 || !ex->nodes[e.node].outputs)
+        return NULL;
+    lg_resource *r = ex->nodes[e.node].outputs[e.port];
+    if (!r || e.part == 0)
+        return r;
+    return e.part <= r->n_parts ? r->parts[e.part - 1] : NULL;
+}
+
+/* A neutral part: what an edge NODE.PART reads from a gated producer. */
+static lg_resource *neutral_part(lg_exec *ex, lg_pnode *n, lg_part_type type)
+{
+    lg_resource *p;
+    switch (type) {
+    case LG_PART_IMAGE:
+        p = lg_resource_new(n, LG_KIND_IMAGE);
+        p->image.width = ex->opts.width ? ex->opts.width : 1;
+        p->image.height = ex->opts.height ? ex->opts.height : 1;
+        p->image.format = LG_FORMAT_RGBA32F;
+        break;
+    case LG_PART_VOLUME:
+        p = lg_resource_new(n, LG_KIND_VOLUME);
+        p->volume.width = p->volume.height = p->volume.depth = 1;
+        p->volume.format = LG_FORMAT_RGBA32F;
+        break;
+    default:
+        p = lg_resource_new(n, LG_KIND_BUFFER);
+        break;
+    }
+    p->neutral = true;
+    return p;
+}
+
+int lg_resource_make_parts(lg_exec *ex, lg_pnode *n, lg_resource *r, const lg_part_spec *specs,
+                           uint32_t n_specs)
+{
+    const lg_kind_desc *kd = lg_kind_describe(r->kind);
+    if (!kd || !kd->n_parts)
+        return lg_node_errorf(n, "resources of kind %s have no parts", lg_kind_name(r->kind)),
+               LG_ERR_INVALID;
+    r->parts = lg_xcalloc(kd->n_parts, sizeof *r->parts);
+    r->n_parts = kd->n_parts;
+    for (uint32_t i = 0; i < kd->n_parts; i++) {
+        lg_resource *p = NULL;
+        if (!specs) {
+            p = neutral_part(ex, n, kd->parts[i].type);
+        } else {
+            const lg_part_spec *sp = NULL;
+            for (uint32_t j = 0; j < n_specs; j++)
+                if (specs[j].name && strcmp(specs[j].name, kd->parts[i].name) == 0)
+                    sp = &specs[j];
+            if (!sp)
+                continue; /* optional (checked by the caller) */
+            switch (sp->type) {
+            case LG_PART_IMAGE:
+                p = lg_resource_new(n, LG_KIND_IMAGE);
+                p->image = sp->image;
+                if (p->image.flags & LG_IMAGE_DEPTH_ONLY)
+                    p->image.format = LG_FORMAT_RGBA32F; /* unused */
+                break;
+            case LG_PART_VOLUME:
+                p = lg_resource_new(n, LG_KIND_VOLUME);
+                p->volume = sp->volume;
+                break;
+            default:
+                p = lg_resource_new(n, LG_KIND_BUFFER);
+                p->buffer = sp->buffer;
+                break;
+            }
+        }
+        p->parent = r;
+        p->part_index = (int32_t)i;
+        p->part_type = kd->parts[i].type;
+        r->parts[i] = p;
+    }
     return 0;
 }

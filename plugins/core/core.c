@@ -185,7 +185,7 @@ static void image_destroy(lg_node *n)
 static int constant_prepare(lg_node *n)
 {
     uint32_t w, h;
-    lg_output_size(n, &w, &h);
+    lg_output_size(n, "width", "height", &w, &h);
     if (w == 0 || h == 0)
         return lg_error(n, "size %ux%u is empty (width and height 0 take the render size, "
                         "--size)", w, h);

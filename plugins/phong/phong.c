@@ -130,7 +130,7 @@ static int ph_create(lg_node *n)
 static int ph_prepare(lg_node *n)
 {
     ph_state *st = n->user;
-    lg_output_size(n, &st->width, &st->height);
+    lg_output_size(n, "width", "height", &st->width, &st->height);
     if (st->width == 0 || st->height == 0)
         return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
                         st->height);
@@ -569,6 +569,7 @@ typedef struct ph_frame_in {
     const lg_scene *s;
     const lg_resource *scene_res;
     const lg_shadowmap *sm;
+    lg_shadowmap sm_view;    /* what sm points to */
     GLuint atlas;
     const lg_scene_view *v;
     const lg_scene_gl *sgl;
@@ -815,7 +816,7 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     const lg_resource *sres = lg_input(n, 1);
     if (sres) {
         lg_resource_info info;
-        f.sm = lg_shadowmap_get(n, sres);
+        f.sm = lg_shadowmap_get(n, sres, &f.sm_view);
         if (!f.sm && (lg_describe(sres, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP))
             return LG_ERR_INVALID;
         if (f.sm && (!f.sm->atlas || f.sm->resolution == 0 || (f.sm->n_lights && !f.sm->lights)))

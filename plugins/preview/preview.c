@@ -57,7 +57,7 @@ static int pv_create(lg_node *n)
 static int pv_prepare(lg_node *n)
 {
     pv_state *st = n->user;
-    lg_output_size(n, &st->width, &st->height);
+    lg_output_size(n, "width", "height", &st->width, &st->height);
     if (st->width == 0 || st->height == 0)
         return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
                         st->height);

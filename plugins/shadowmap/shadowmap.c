@@ -2,10 +2,11 @@
  * The shadowmap plugin: one orthographic depth map per directional light of a scene, each
  * in its own tile of one depth-only atlas image (TECHNIQUES.md §2; lightgraph/shadowmap.h).
  *
- *   shadowmap   scene -> shadows (lg_shadowmap payload), atlas (depth-only image)
+ *   shadowmap   scene -> shadows (a composite shadow map: parts atlas, lights, info)
  *
  * prepare() fits every light's view and projection to the scene (its bounds, or the camera
- * frustum clipped by them) and publishes them with the tile layout and the bias; execute()
+ * frustum clipped by them) and declares the parts; execute() publishes them with the tile
+ * layout and the bias (the lights and info parts) and
  * rasterises every instance of every mesh into each light's tile: per light, one instanced
  * draw per mesh and handedness, the instances' model matrices in one storage buffer.
  * README.md gives the ports, the parameters, the fit, the culling and the bias rules.
@@ -37,12 +38,6 @@ enum { U_VIEW_PROJ = 0, U_FIRST = 1 };
 #define SM_DEF_BIAS_SLOPE 0.0005
 #define SM_DEF_NORMAL_OFFSET 1.0
 
-/* The payload: the public struct and the lights it points to, in one allocation. */
-typedef struct sm_payload {
-    lg_shadowmap sm;
-    lg_shadow_light lights[];
-} sm_payload;
-
 typedef struct sm_state {
     uint32_t resolution;
     int fit, cull;
@@ -50,7 +45,9 @@ typedef struct sm_state {
     float aspect;            /* fit = frustum: width / height, 0 = the render size's */
     float bias_constant, bias_slope, normal_offset;
     uint32_t cols, rows;     /* the atlas's grid of tiles */
-    const lg_shadowmap *sm;  /* the published payload; the host frees it after destroy() */
+    lg_shadowmap view;       /* what prepare() computed, as consumers will see it */
+    lg_shadow_light *lights; /* view.lights, owned here */
+    const lg_shadowmap *sm;  /* &view once prepared */
     GLuint program;
 } sm_state;
 
@@ -415,11 +412,6 @@ static void sm_fit_light(const sm_state *st, lg_vec3 dir, const float lo[3], con
 
 /* ---- prepare ----------------------------------------------------------------------------- */
 
-static void sm_free_payload(void *p)
-{
-    free(p);
-}
-
 static int sm_prepare(lg_node *n)
 {
     sm_state *st = n->user;
@@ -486,15 +478,17 @@ static int sm_prepare(lg_node *n)
         n_pts = 8;
     }
 
-    sm_payload *pl = calloc(1, sizeof *pl + (size_t)tiles * sizeof(lg_shadow_light));
-    if (!pl)
+    free(st->lights);
+    st->sm = NULL;
+    st->lights = calloc(tiles, sizeof(lg_shadow_light));
+    if (!st->lights)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u shadow lights)", nl);
     uint32_t k = 0;
     for (uint32_t i = 0; i < s->n_lights; i++) {
         const lg_light *L = &s->lights[i];
         if (L->type != LG_LIGHT_DIRECTIONAL)
             continue;
-        lg_shadow_light *l = &pl->lights[k];
+        lg_shadow_light *l = &st->lights[k];
         lg_vec3 d = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
                                        lg_v3(0, -1, 0));
         l->light = i;
@@ -504,28 +498,19 @@ static int sm_prepare(lg_node *n)
         k++;
     }
 
-    lg_image_desc d = { .width = (uint32_t)aw, .height = (uint32_t)ah,
-                        .flags = LG_IMAGE_DEPTH_ONLY };
-    if ((rc = lg_declare_image(n, 1, &d))) {
-        free(pl);
+    if ((rc = lg_shadowmap_declare(n, 0, (uint32_t)aw, (uint32_t)ah, nl)))
         return rc;
-    }
-    pl->sm.struct_size = sizeof pl->sm;
-    pl->sm.resolution = res;
-    pl->sm.n_lights = nl;
-    pl->sm.lights = pl->lights;
-    pl->sm.atlas = lg_output(n, 1);
-    pl->sm.atlas_width = (uint32_t)aw;
-    pl->sm.atlas_height = (uint32_t)ah;
-    pl->sm.bias_constant = st->bias_constant;
-    pl->sm.bias_slope = st->bias_slope;
-    pl->sm.normal_offset = st->normal_offset;
-    st->sm = &pl->sm;
-    /* on failure the host frees the payload */
-    if ((rc = n->host->declare_payload(n, 0, LG_KIND_SHADOWMAP, NULL, pl, sm_free_payload))) {
-        st->sm = NULL;
-        return rc;
-    }
+    st->view = (lg_shadowmap){
+        .resolution = res,
+        .n_lights = nl,
+        .lights = st->lights,
+        .atlas_width = (uint32_t)aw,
+        .atlas_height = (uint32_t)ah,
+        .bias_constant = st->bias_constant,
+        .bias_slope = st->bias_slope,
+        .normal_offset = st->normal_offset,
+    };
+    st->sm = &st->view;
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
@@ -629,8 +614,21 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
             return LG_ERR_DEVICE;
         }
     }
+    lg_shadowmap_info info = {
+        .resolution = sm->resolution,
+        .n_lights = sm->n_lights,
+        .atlas_width = sm->atlas_width,
+        .atlas_height = sm->atlas_height,
+        .bias_constant = sm->bias_constant,
+        .bias_slope = sm->bias_slope,
+        .normal_offset = sm->normal_offset,
+    };
+    if ((rc = lg_shadowmap_publish(n, 0, &info, sm->lights))) {
+        lg_scene_gl_destroy(gl, sgl);
+        return rc;
+    }
     uint32_t tex = 0, depth = 0;
-    if ((rc = lg_map_gl(n, lg_output(n, 1), LG_WRITE, &tex, &depth))) {
+    if ((rc = lg_map_gl(n, lg_part(n, lg_output(n, 0), "atlas"), LG_WRITE, &tex, &depth))) {
         lg_scene_gl_destroy(gl, sgl);
         return rc;
     }
@@ -684,6 +682,7 @@ static void sm_destroy(lg_node *n)
         if (gl)
             gl->DeleteProgram(st->program);
     }
+    free(st->lights);
     free(st);
     n->user = NULL;
 }
@@ -722,9 +721,8 @@ static const lg_port_desc sm_inputs[] = {
 };
 static const lg_port_desc sm_outputs[] = {
     { .name = "shadows", .kind = LG_KIND_SHADOWMAP,
-      .doc = "the lights' matrices, tiles and bias (lg_shadowmap_get; NULL when gated)" },
-    { .name = "atlas", .kind = LG_KIND_IMAGE,
-      .doc = "depth only: each light's window depth in its tile, 1 where nothing is" },
+      .doc = "the depth atlas (part atlas: NODE.atlas is the image) and the lights' matrices, "
+             "tiles and bias (lg_shadowmap_get; no parts when gated)" },
 };
 
 static const lg_node_type sm_types[] = { {
@@ -742,6 +740,6 @@ static const lg_node_type sm_types[] = { {
     .destroy = sm_destroy,
 } };
 
-LG_PLUGIN_DEFINE("shadowmap", "1.0.0",
+LG_PLUGIN_DEFINE("shadowmap", "2.0.0",
                  "Shadow maps of directional lights (orthographic, tiled depth atlas) on GL",
                  sm_types)

@@ -126,21 +126,3 @@ int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_
                        &out->indices);
 }
 
-const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res)
-{
-    lg_resource_info info;
-    if (!res || n->host->describe(res, &info) != 0)
-        return NULL;
-    if (info.kind != LG_KIND_SHADOWMAP) {
-        lg_error(n, "expects shadow maps, got a resource of another kind");
-        return NULL;
-    }
-    if (!info.payload)
-        return NULL; /* gated: no directional light, no shadows */
-    const lg_shadowmap *s = info.payload;
-    if (s->struct_size < offsetof(lg_shadowmap, reserved)) {
-        lg_error(n, "the shadow maps were made by a plugin built for an incompatible SDK");
-        return NULL;
-    }
-    return s;
-}

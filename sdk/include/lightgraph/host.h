@@ -57,13 +57,21 @@ typedef enum lg_log_level {
 /* Images: 2D rgba, with an optional float depth plane of the same size.
  * LG_IMAGE_DEPTH_ONLY (since ABI 1.1): only the depth plane exists (shadow maps); the
  * colour mappings give NULL / 0, the depth mappings the plane; `format` is ignored. An
- * output file of such an image shows depth as grey. */
-enum { LG_IMAGE_DEPTH = 1u << 0, LG_IMAGE_DEPTH_ONLY = 1u << 1 };
+ * output file of such an image shows depth as grey.
+ * LG_IMAGE_CUBE (since ABI 2.0): six square faces of width x height (width == height), in
+ * OpenGL's order and orientation (+X, -X, +Y, -Y, +Z, -Z); in GL a GL_TEXTURE_CUBE_MAP.
+ * `levels` (since ABI 2.0; 0 means 1): a mip chain, level l of size max(1, width >> l) x
+ * max(1, height >> l); at most floor(log2(max(width, height))) + 1 levels. Depth planes
+ * have one level. The CPU copy and the CL buffer hold every level, faces and rows
+ * tightly packed: level 0 first; in a level, face 0 first; in a face, row 0 (the top row)
+ * first. lg_image_offset() gives where a level and face start. */
+enum { LG_IMAGE_DEPTH = 1u << 0, LG_IMAGE_DEPTH_ONLY = 1u << 1, LG_IMAGE_CUBE = 1u << 2 };
 typedef struct lg_image_desc {
     uint32_t width, height;
     lg_format format;
-    uint32_t flags; /* LG_IMAGE_DEPTH */
-    uint32_t reserved[4];
+    uint32_t flags;  /* LG_IMAGE_* */
+    uint32_t levels; /* mip levels; 0 = 1 */
+    uint32_t reserved[3];
 } lg_image_desc;
 
 typedef struct lg_buffer_desc {
@@ -78,17 +86,38 @@ typedef struct lg_volume_desc {
 } lg_volume_desc;
 
 /* What a resource is. `neutral` is true for the stand-in a gated node yields: consumers
- * may skip work (an `add` with a neutral zero input copies the other). */
+ * may skip work (an `add` with a neutral zero input copies the other); a neutral
+ * composite resource has no parts.
+ * A part of a composite resource (lg_part()) describes itself as an image, volume or
+ * buffer with `part_of` set to the composite's kind and `part_name` to its name. */
 typedef struct lg_resource_info {
     lg_resource_kind kind;
     bool neutral;
     lg_image_desc image;   /* kind == LG_KIND_IMAGE */
-    lg_buffer_desc buffer; /* kind == LG_KIND_BUFFER */
+    lg_buffer_desc buffer; /* kind == LG_KIND_BUFFER (and META parts) */
     lg_volume_desc volume; /* kind == LG_KIND_VOLUME */
     const lg_scene_features *scene; /* kind == LG_KIND_SCENE; owned by the resource */
-    const void *payload;   /* kinds whose data the producing plugin owns (scene, ...) */
+    const void *payload;   /* kinds whose data the producing plugin owns (scene) */
+    /* since ABI 2.0 */
+    uint32_t n_parts;          /* composite kinds: the parts it has (0 when neutral) */
+    lg_resource_kind part_of;  /* a part: the composite's kind; else LG_KIND_ANY */
+    const char *part_name;     /* a part: its name; else NULL */
+    lg_part_type part_type;    /* a part: its type; else 0 */
     uint32_t reserved[8];
 } lg_resource_info;
+
+/* One part of a composite output, declared in prepare() (lg_declare_composite). `name`
+ * and `type` must be a part the kind declares (lightgraph/kinds.h); the description that
+ * matches the type is read, the others ignored. Strings need only live until the call
+ * returns. */
+typedef struct lg_part_spec {
+    const char *name;
+    lg_part_type type;
+    lg_image_desc image;   /* LG_PART_IMAGE */
+    lg_volume_desc volume; /* LG_PART_VOLUME */
+    lg_buffer_desc buffer; /* LG_PART_BUFFER and LG_PART_META (size <= LG_META_MAX) */
+    uint32_t reserved[8];
+} lg_part_spec;
 
 /* A CPU mapping of an image or volume: rows of `width` pixels, `row_pixels` apart. */
 typedef struct lg_cpu_view {
@@ -204,7 +233,22 @@ typedef struct lg_host_api {
     int (*payload_cl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot,
                              const void *data, size_t size, void **mem);
 
-    void *reserved[30];
+    /* -- since ABI 2.0: composite resources (lightgraph/kinds.h) --
+     * declare_composite: in prepare(), declares output `port` (of a composite kind) with
+     * its parts; every part the kind requires must be given, each once. The parts are
+     * host-managed: allocated where first mapped, moved only when a consumer on another
+     * device reads, counted in the profile like any image or buffer.
+     * part: the part called `name` of `res`, a resource this node received through an
+     * input or declared as an output (else an error naming node and resource). A part is
+     * a resource of kind image, volume or buffer: map it with map_cpu / map_gl / map_cl.
+     * Returns NULL without an error for a neutral resource (a gated producer) or an
+     * optional part the producer did not declare; NULL after reporting for a name the
+     * kind does not declare. The handle lives as long as `res`. */
+    int (*declare_composite)(lg_node *node, uint32_t port, const lg_part_spec *parts,
+                             uint32_t n_parts);
+    const lg_resource *(*part)(lg_node *node, const lg_resource *res, const char *name);
+
+    void *reserved[28];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -261,8 +305,9 @@ static inline int lg_error_code(lg_node *n, int code, const char *fmt, ...)
     return code;
 }
 
-/* Parameters by key. The key must be one the node type declares (else the default of
- * the type's zero value and an error is logged). */
+/* Parameters by key. The key must be one the node type declares: another key is an
+ * error that fails the node (and aborts at once in a build with -Ddebug_abort=true), and
+ * the wrappers then return the type's zero value. */
 static inline const lg_value *lg_param(lg_node *n, const char *key)
 {
     int32_t i = n->host->param_index(n, key);
@@ -334,15 +379,62 @@ static inline int lg_map_cl(lg_node *n, const lg_resource *r, unsigned access, v
     return n->host->map_cl(n, r, access, mem, depth);
 }
 
-/* The size of an image a node makes from its `width` and `height` INT parameters, where 0
- * (or a negative value, which ranges normally forbid) means the render size (--size). */
-static inline void lg_output_size(lg_node *n, uint32_t *width, uint32_t *height)
+/* The size of an image a node makes from two INT parameters (normally "width" and
+ * "height", but any keys the node type declares), where 0 (or a negative value, which
+ * ranges normally forbid) means the render size (--size). A key the type does not
+ * declare is an error (lg_param). */
+static inline void lg_output_size(lg_node *n, const char *width_key, const char *height_key,
+                                  uint32_t *width, uint32_t *height)
 {
     uint32_t rw = 0, rh = 0;
     n->host->render_size(n, &rw, &rh);
-    int64_t w = lg_param_int(n, "width"), h = lg_param_int(n, "height");
+    int64_t w = lg_param_int(n, width_key), h = lg_param_int(n, height_key);
     *width = w > 0 ? (uint32_t)w : rw;
     *height = h > 0 ? (uint32_t)h : rh;
+}
+
+/* Composite resources (since ABI 2.0). */
+static inline int lg_declare_composite(lg_node *n, uint32_t port, const lg_part_spec *parts,
+                                       uint32_t n_parts)
+{
+    return n->host->declare_composite(n, port, parts, n_parts);
+}
+static inline const lg_resource *lg_part(lg_node *n, const lg_resource *r, const char *name)
+{
+    return n->host->part(n, r, name);
+}
+
+/* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and
+ * the size of one level. */
+static inline uint32_t lg_image_levels(const lg_image_desc *d)
+{
+    return d->levels ? d->levels : 1;
+}
+static inline uint32_t lg_image_faces(const lg_image_desc *d)
+{
+    return (d->flags & LG_IMAGE_CUBE) ? 6u : 1u;
+}
+static inline uint32_t lg_image_level_width(const lg_image_desc *d, uint32_t level)
+{
+    uint32_t w = d->width >> level;
+    return w ? w : 1;
+}
+static inline uint32_t lg_image_level_height(const lg_image_desc *d, uint32_t level)
+{
+    uint32_t h = d->height >> level;
+    return h ? h : 1;
+}
+/* Pixels from the start of an image's colour data (CPU copy or CL buffer) to the first
+ * pixel of `face` of `level`; with level == levels it is the total pixel count. */
+static inline size_t lg_image_offset(const lg_image_desc *d, uint32_t level, uint32_t face)
+{
+    size_t off = 0;
+    for (uint32_t l = 0; l < level; l++)
+        off += (size_t)lg_image_level_width(d, l) * lg_image_level_height(d, l) *
+               lg_image_faces(d);
+    if (level < lg_image_levels(d))
+        off += (size_t)face * lg_image_level_width(d, level) * lg_image_level_height(d, level);
+    return off;
 }
 
 /* Bytes per pixel of a format. */

@@ -9,7 +9,12 @@
  *   lightgraph/color.h    luminance and colour helpers
  *   lightgraph/math.h     vectors and 4x4 matrices (column-major)
  *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
+ *   lightgraph/kinds.h    resource kinds and their parts (composite resources)
  *   lightgraph/shadowmap.h  shadow maps: a depth atlas and each light's matrices
+ *   lightgraph/probe.h    light probes: radiance with its layout, solid angles
+ *   lightgraph/shcoeffs.h SH coefficients (n bands x RGB)
+ *   lightgraph/transfer.h per-vertex PRT transfer vectors
+ *   lightgraph/froxel.h   froxel volumes with their slice map
  *   lightgraph/phong.h    the Phong lighting equation (C twin of shaders/common/phong.glsl)
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
@@ -29,7 +34,12 @@
 #include "lightgraph/color.h"
 #include "lightgraph/math.h"
 #include "lightgraph/scene.h"
+#include "lightgraph/kinds.h"
 #include "lightgraph/shadowmap.h"
+#include "lightgraph/probe.h"
+#include "lightgraph/shcoeffs.h"
+#include "lightgraph/transfer.h"
+#include "lightgraph/froxel.h"
 #include "lightgraph/phong.h"
 
 #endif

@@ -25,19 +25,37 @@ enum {
     LG_ERR_NOTFOUND = -2,     /* a file, key or name does not exist */
 };
 
-/* What flows along an edge of the graph. */
+/* What flows along an edge of the graph.
+ *
+ * Image, buffer and volume are host-managed single resources. Scene is a plugin-owned
+ * payload (lightgraph/scene.h). Shadow map, probe, SH coefficients, transfer and froxel
+ * are composite (since ABI 2.0): made of named parts (images, volumes, buffers and a small
+ * metadata struct), each with its own residency on CPU, GL and CL; lightgraph/kinds.h
+ * lists every kind's parts and the kind's own header documents them and its accessors. */
 typedef enum lg_resource_kind {
     LG_KIND_ANY = 0,     /* inputs only: accepts every kind */
-    LG_KIND_IMAGE,       /* 2D, rgba, optional depth plane (lg_image_desc) */
+    LG_KIND_IMAGE,       /* 2D or cube, rgba, mip levels, optional depth (lg_image_desc) */
     LG_KIND_BUFFER,      /* bytes */
     LG_KIND_VOLUME,      /* 3D grid of rgba (lg_volume_desc) */
     LG_KIND_SCENE,       /* meshes, materials, lights, cameras, medium, with lg_scene_features */
-    LG_KIND_SHADOWMAP,   /* depth maps with light matrices */
-    LG_KIND_PROBE,       /* environment radiance with its layout */
-    LG_KIND_SH,          /* spherical-harmonic coefficients */
-    LG_KIND_VERTEX_ATTR, /* per-vertex attributes (e.g. PRT transfer vectors) */
+    LG_KIND_SHADOWMAP,   /* composite: depth atlas + per-light matrices (lightgraph/shadowmap.h) */
+    LG_KIND_PROBE,       /* composite: environment radiance with its layout (lightgraph/probe.h) */
+    LG_KIND_SH,          /* composite: SH coefficients, n bands x RGB (lightgraph/shcoeffs.h) */
+    LG_KIND_TRANSFER,    /* composite: per-vertex PRT transfer, n^2 x RGB (lightgraph/transfer.h) */
+    LG_KIND_FROXEL,      /* composite: froxel volume with its slice map (lightgraph/froxel.h) */
     LG_KIND_COUNT_
 } lg_resource_kind;
+
+/* What a part of a composite resource is (lightgraph/kinds.h). A part is itself a
+ * resource of kind image, volume or buffer; META is a buffer of at most LG_META_MAX bytes
+ * holding a plain struct (no pointers) that a kind's header defines. */
+typedef enum lg_part_type {
+    LG_PART_IMAGE = 1,
+    LG_PART_VOLUME,
+    LG_PART_BUFFER,
+    LG_PART_META,
+} lg_part_type;
+#define LG_META_MAX 65536u
 
 /* Pixel formats of images and volumes. Every format holds four channels, RGBA. */
 typedef enum lg_format {

@@ -348,7 +348,8 @@ static int sp_execute(lg_node *n, const lg_frame *frame)
     const lg_scene *s = lg_scene_get(n, lg_input(n, 0));
     if (!s)
         return LG_ERR_INVALID;
-    const lg_shadowmap *sm = lg_shadowmap_get(n, lg_input(n, 1));
+    lg_shadowmap smv;
+    const lg_shadowmap *sm = lg_shadowmap_get(n, lg_input(n, 1), &smv);
     lg_cpu_view vo;
     int rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo);
     if (rc)

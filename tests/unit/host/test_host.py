@@ -136,6 +136,8 @@ def test_broken_refused():
     expect = {
         "lg_broken_major.so": "ABI %d.%d, this host has ABI %d.%d" % (M + 1, m, M, m),
         "lg_broken_minor.so": "ABI %d.%d, this host has ABI %d.%d" % (M, m + 1, M, m),
+        "lg_broken_abi1.so": "built for plugin ABI 1.1; this host has ABI %d.%d, which no "
+                             "longer loads ABI 1 plugins: rebuild it" % (M, m),
         "lg_broken_short.so": "struct_size 8",
         "lg_broken_noname.so": "plugin name missing",
         "lg_broken_noentry.so": "no 'lg_plugin_entry' symbol",
@@ -334,6 +336,107 @@ output s "%s"
           "cl node: GL -> CPU -> CL: %s" % nodes["b"])
     check(nodes["s"]["bytes_moved"] == img, "cpu node downloads from CL: %s" % nodes["s"])
     check(nodes["a"]["bytes_allocated"] >= 2 * img, "gl texture and output counted")
+
+
+def skip_if_no_device(p):
+    if p.returncode != 0 and ("no OpenGL" in p.stderr or "no OpenCL" in p.stderr):
+        print("skipped: " + p.stderr)
+        sys.exit(77)
+
+
+def test_composite():
+    """Composite resources (ABI 2.0): a cube probe with mip levels, a solid-angle table and
+    its info, written on each device and read on each device, part by part; parts move
+    only when a consumer on another device reads them, and the moves are counted."""
+    side, levels = 8, 4
+    texels = sum(6 * max(1, side >> l) ** 2 for l in range(levels))
+    rad_bytes = texels * 16
+    for w in ("cpu", "gl", "cl"):
+        for r in ("cpu", "gl", "cl"):
+            pj = os.path.join(TMP, "parts-%s-%s.json" % (w, r))
+            g = graph("""lightgraph 1
+m = partmaker { device = %s, size = %d, levels = %d }
+c = partcheck { probe = m, device = %s }
+output c "%s"
+""" % (w, side, levels, r, os.path.join(TMP, "parts.exr")), "parts.lgraph")
+            p = run(["render", g, "--profile-json", pj])
+            skip_if_no_device(p)
+            check(p.returncode == 0, "written on %s, read on %s: %s" % (w, r, p.stderr))
+            nodes = {n["name"]: n for n in json.load(open(pj))["nodes"]}
+            moved = nodes["c"]["bytes_moved"]
+            # radiance: nothing when read where written; one copy CPU<->device; two
+            # (through the CPU) between GL and CL. The info and solid-angle parts live on
+            # the CPU and the reader maps them there: they never move.
+            hops = 0 if w == r else 1 if "cpu" in (w, r) else 2
+            check(moved == hops * rad_bytes,
+                  "%s -> %s: moved %d bytes, expected %d" % (w, r, moved, hops * rad_bytes))
+    # --explain shows the parts of the composite output and what the reader receives
+    p = run(["render", g, "--explain"], expect=0)
+    check("probe: probe {radiance: image 8x8 cube rgba32f x4 levels" in p.stdout, p.stdout)
+    check("solid_angle: buffer" in p.stdout and "info: buffer" in p.stdout, p.stdout)
+    check("probe <- m.probe" in p.stdout, p.stdout)
+    # a part that does not exist, in a graph: an error naming the parts
+    g = graph("""lightgraph 1
+m = partmaker { }
+output m.radiant "x.exr"
+""", "badpart.lgraph")
+    p = run(["check", g], expect=2)
+    check("no output or part 'radiant'; did you mean 'radiance'?" in p.stderr, p.stderr)
+    check("parts: radiance solid_angle info" in p.stderr, p.stderr)
+
+
+def test_access_check():
+    """A node that maps a resource it did not receive through an input is an error naming
+    the node and the resource (debug checks, on in every build of the suite)."""
+    for what, msg in (("part", "asks for part 'radiance' of a probe made by node 'm', which "
+                               "it did not receive through an input"),
+                      ("texture", "maps resource 'm.probe', part 'radiance' on the CPU, which "
+                                  "it did not receive through an input")):
+        g = graph("""lightgraph 1
+m = partmaker { }
+c = partcheck { probe = m }
+s = partsteal { image = c, what = %s }
+output s "%s"
+""" % (what, os.path.join(TMP, "steal.exr")), "steal.lgraph")
+        p = run(["render", g], expect=1)
+        check("node 's' (partsteal): " + msg in p.stderr, p.stderr)
+        check(not os.path.exists(os.path.join(TMP, "steal.exr")), "no output after a failure")
+
+
+def test_undeclared_param():
+    """Reading a parameter key the node type does not declare fails the node, never a 0."""
+    g = graph("""lightgraph 1
+b = badparam { }
+output b "%s"
+""" % os.path.join(TMP, "bad.exr"), "bad.lgraph")
+    p = run(["render", g])
+    check(p.returncode != 0, "an undeclared key must fail the render")
+    check("node 'b' (badparam): asks for parameter 'no_such_key', which its type does not "
+          "declare" in p.stderr, p.stderr)
+
+
+def test_shadow_parts():
+    """The shadow map is a composite: phong receives the atlas through the part, which
+    --explain and dot show; NODE.atlas names the part in a graph."""
+    core = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
+    box = os.path.join(os.environ["LG_SOURCE_ROOT"], "assets", "meshes", "bunny_cornell_box.glb")
+    g = graph("""lightgraph 1
+box = gltf { file = "%s" }
+scene = light { scene = box, direction = [0.6, -0.5, 1] }
+shadow = shadowmap { scene = scene, resolution = 64 }
+lit = phong { scene = scene, shadows = shadow, width = 32, height = 24 }
+output lit "%s"
+output shadow.atlas "%s"
+""" % (box, os.path.join(TMP, "lit.exr"), os.path.join(TMP, "atlas.exr")), "sm.lgraph")
+    p = run(["render", g, "--explain"], plugin_path=core)
+    skip_if_no_device(p)
+    check(p.returncode == 0, p.stderr)
+    check("shadows <- shadow.shadows" in p.stdout, p.stdout)
+    check("shadows: shadowmap {atlas: image 64x64 depth32f" in p.stdout, p.stdout)
+    check("lights: buffer" in p.stdout and "info: buffer" in p.stdout, p.stdout)
+    p = run(["dot", g], plugin_path=core, expect=0)
+    check("shadows {atlas, lights, info}" in p.stdout, p.stdout)
+    check("atlas, part of shadows" in p.stdout, p.stdout)
 
 
 def test_gl_backends():

@@ -36,11 +36,15 @@ static const lg_plugin_desc desc = {
 #endif
 #ifdef BROKEN_MAJOR
     .abi_major = LG_ABI_MAJOR + 1,
+#elif defined(BROKEN_ABI1)
+    .abi_major = 1, /* a plugin built against the ABI 1 SDK */
 #else
     .abi_major = LG_ABI_MAJOR,
 #endif
 #ifdef BROKEN_MINOR
     .abi_minor = LG_ABI_MINOR + 1,
+#elif defined(BROKEN_ABI1)
+    .abi_minor = 1,
 #else
     .abi_minor = LG_ABI_MINOR,
 #endif

@@ -1,0 +1,444 @@
+/* Resource kinds and their parts (lightgraph/kinds.h), and the accessors of the composite
+ * kinds (lightgraph/shadowmap.h, probe.h, shcoeffs.h, transfer.h, froxel.h). Everything
+ * here goes through the host API: a part is reached with lg_part() and mapped like any
+ * image or buffer, so residency and the access check apply to it. */
+#include "lightgraph/kinds.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "lightgraph/froxel.h"
+#include "lightgraph/host.h"
+#include "lightgraph/probe.h"
+#include "lightgraph/shadowmap.h"
+#include "lightgraph/shcoeffs.h"
+#include "lightgraph/transfer.h"
+
+/* The lights part is bound as a std430 array by shaders: its record must have the size
+ * and offsets a std430 struct of 3 mat4, 3 uint, 2 float has, padded to 16. */
+_Static_assert(sizeof(lg_shadow_light) == 224, "lg_shadow_light must match its std430 layout");
+_Static_assert(offsetof(lg_shadow_light, view_proj) == 128, "std430 offset of view_proj");
+_Static_assert(offsetof(lg_shadow_light, light) == 192, "std430 offset of light");
+
+static const lg_part_decl shadow_parts[] = {
+    { .name = "atlas", .type = LG_PART_IMAGE,
+      .doc = "depth only: each light's window depth in its tile, 1 where nothing is" },
+    { .name = "lights", .type = LG_PART_BUFFER,
+      .doc = "lg_shadow_light[n_lights]: matrices and tile of each light (std430)" },
+    { .name = "info", .type = LG_PART_META,
+      .doc = "lg_shadowmap_info: tile resolution, light count, atlas size, biases" },
+};
+static const lg_part_decl probe_parts[] = {
+    { .name = "radiance", .type = LG_PART_IMAGE,
+      .doc = "2D (lat-long, angular) or cube radiance, linear, with an optional mip chain" },
+    { .name = "solid_angle", .type = LG_PART_BUFFER, .optional = true,
+      .doc = "float steradians per texel of level 0, in texel order" },
+    { .name = "info", .type = LG_PART_META,
+      .doc = "lg_probe_info: layout, rotation, scale, prefiltering" },
+};
+static const lg_part_decl sh_parts[] = {
+    { .name = "coeffs", .type = LG_PART_BUFFER, .doc = "float[3][n^2]: R, G, B planes" },
+    { .name = "info", .type = LG_PART_META, .doc = "lg_sh_info: bands, flags" },
+};
+static const lg_part_decl transfer_parts[] = {
+    { .name = "transfer", .type = LG_PART_BUFFER,
+      .doc = "float[vertices][3][n^2]: per vertex, R, G, B planes" },
+    { .name = "info", .type = LG_PART_META, .doc = "lg_transfer_info: bands, vertices, mode" },
+};
+static const lg_part_decl froxel_parts[] = {
+    { .name = "grid", .type = LG_PART_VOLUME,
+      .doc = "rgb in-scattered radiance, a transmittance, per froxel" },
+    { .name = "info", .type = LG_PART_META,
+      .doc = "lg_froxel_info: grid size, slice map, camera matrices" },
+};
+
+#define PARTS(a) .parts = (a), .n_parts = (uint32_t)(sizeof(a) / sizeof((a)[0]))
+static const lg_kind_desc kinds[LG_KIND_COUNT_] = {
+    [LG_KIND_ANY] = { LG_KIND_ANY, "any", "inputs only: accepts every kind" },
+    [LG_KIND_IMAGE] = { LG_KIND_IMAGE, "image", "2D or cube rgba image with mip levels and "
+                                                "an optional depth plane" },
+    [LG_KIND_BUFFER] = { LG_KIND_BUFFER, "buffer", "bytes" },
+    [LG_KIND_VOLUME] = { LG_KIND_VOLUME, "volume", "3D grid of rgba" },
+    [LG_KIND_SCENE] = { LG_KIND_SCENE, "scene", "meshes, materials, lights, cameras, medium" },
+    [LG_KIND_SHADOWMAP] = { LG_KIND_SHADOWMAP, "shadowmap",
+                            "depth atlas and per-light matrices", PARTS(shadow_parts) },
+    [LG_KIND_PROBE] = { LG_KIND_PROBE, "probe", "environment radiance with its layout",
+                        PARTS(probe_parts) },
+    [LG_KIND_SH] = { LG_KIND_SH, "sh", "spherical-harmonic coefficients, n bands x RGB",
+                     PARTS(sh_parts) },
+    [LG_KIND_TRANSFER] = { LG_KIND_TRANSFER, "transfer",
+                           "per-vertex PRT transfer vectors, n^2 x RGB per vertex",
+                           PARTS(transfer_parts) },
+    [LG_KIND_FROXEL] = { LG_KIND_FROXEL, "froxel", "froxel volume with its slice map",
+                         PARTS(froxel_parts) },
+};
+
+const lg_kind_desc *lg_kind_describe(lg_resource_kind kind)
+{
+    return (unsigned)kind < LG_KIND_COUNT_ ? &kinds[kind] : NULL;
+}
+
+const char *lg_kind_name(lg_resource_kind kind)
+{
+    return (unsigned)kind < LG_KIND_COUNT_ ? kinds[kind].name : "?";
+}
+
+bool lg_kind_is_composite(lg_resource_kind kind)
+{
+    return (unsigned)kind < LG_KIND_COUNT_ && kinds[kind].n_parts > 0;
+}
+
+int32_t lg_kind_part_index(lg_resource_kind kind, const char *name)
+{
+    const lg_kind_desc *k = lg_kind_describe(kind);
+    for (uint32_t i = 0; k && name && i < k->n_parts; i++)
+        if (strcmp(k->parts[i].name, name) == 0)
+            return (int32_t)i;
+    return -1;
+}
+
+/* ---- metadata parts ------------------------------------------------------------------ */
+
+int lg_meta_write(lg_node *n, const lg_resource *res, const char *part, const void *data,
+                  size_t size)
+{
+    const lg_resource *p = res ? lg_part(n, res, part) : NULL;
+    if (!p)
+        return lg_error(n, "cannot write metadata part '%s': the output has no such part",
+                        part ? part : "");
+    lg_resource_info info;
+    lg_describe(p, &info, n);
+    if (size > info.buffer.size)
+        return lg_error(n, "metadata part '%s' holds %zu bytes; %zu were written", part,
+                        info.buffer.size, size);
+    lg_cpu_view v;
+    int rc = lg_map_cpu(n, p, LG_WRITE, &v);
+    if (rc)
+        return rc;
+    memcpy(v.pixels, data, size);
+    if (size < info.buffer.size)
+        memset((char *)v.pixels + size, 0, info.buffer.size - size);
+    return 0;
+}
+
+const void *lg_meta_read(lg_node *n, const lg_resource *res, const char *part, size_t size)
+{
+    const lg_resource *p = lg_part(n, res, part);
+    if (!p) {
+        lg_error(n, "the input has no metadata part '%s'", part ? part : "");
+        return NULL;
+    }
+    lg_resource_info info;
+    lg_describe(p, &info, n);
+    lg_cpu_view v;
+    if (info.buffer.size < size || lg_map_cpu(n, p, LG_READ, &v) != 0 || !v.pixels) {
+        lg_error(n, "metadata part '%s' of the input holds %zu bytes, fewer than the %zu "
+                    "this plugin reads",
+                 part, info.buffer.size, size);
+        return NULL;
+    }
+    uint32_t struct_size;
+    memcpy(&struct_size, v.pixels, sizeof struct_size);
+    if (struct_size < size) {
+        lg_error(n, "metadata part '%s' of the input says it is %u bytes long, fewer than "
+                    "the %zu this plugin reads (made by an older or broken producer)",
+                 part, struct_size, size);
+        return NULL;
+    }
+    return v.pixels;
+}
+
+/* The composite input `res` of `kind`, or NULL: without an error for NULL or a neutral
+ * resource, after lg_error for another kind. */
+static bool composite_in(lg_node *n, const lg_resource *res, lg_resource_kind kind,
+                         lg_resource_info *info)
+{
+    if (!res || lg_describe(res, info, n) != 0)
+        return false;
+    if (info->kind != kind) {
+        lg_error(n, "expects %s, got a resource of kind %s", lg_kind_name(kind),
+                 lg_kind_name(info->kind));
+        return false;
+    }
+    return !info->neutral && info->n_parts > 0;
+}
+
+static const lg_resource *required_part(lg_node *n, const lg_resource *res, const char *name,
+                                        lg_part_type type, lg_resource_info *pinfo)
+{
+    const lg_resource *p = lg_part(n, res, name);
+    if (!p || lg_describe(p, pinfo, n) != 0 || pinfo->part_type != type) {
+        lg_error(n, "the input's part '%s' is missing or of the wrong type", name);
+        return NULL;
+    }
+    return p;
+}
+
+static lg_part_spec meta_spec(size_t size)
+{
+    return (lg_part_spec){ .name = "info", .type = LG_PART_META, .buffer.size = size };
+}
+
+/* ---- shadow maps ------------------------------------------------------------------------ */
+
+int lg_shadowmap_declare(lg_node *n, uint32_t port, uint32_t atlas_width, uint32_t atlas_height,
+                         uint32_t n_lights)
+{
+    lg_part_spec parts[3] = {
+        { .name = "atlas", .type = LG_PART_IMAGE,
+          .image = { .width = atlas_width, .height = atlas_height,
+                     .flags = LG_IMAGE_DEPTH_ONLY } },
+        { .name = "lights", .type = LG_PART_BUFFER,
+          .buffer.size = (size_t)(n_lights ? n_lights : 1) * sizeof(lg_shadow_light) },
+        meta_spec(sizeof(lg_shadowmap_info)),
+    };
+    return lg_declare_composite(n, port, parts, 3);
+}
+
+int lg_shadowmap_publish(lg_node *n, uint32_t port, const lg_shadowmap_info *info,
+                         const lg_shadow_light *lights)
+{
+    const lg_resource *out = lg_output(n, port);
+    const lg_resource *lp = out ? lg_part(n, out, "lights") : NULL;
+    if (!lp)
+        return lg_error(n, "lg_shadowmap_publish: output #%u is not a declared shadow map", port);
+    lg_resource_info li;
+    lg_describe(lp, &li, n);
+    size_t need = (size_t)info->n_lights * sizeof(lg_shadow_light);
+    if (need > li.buffer.size)
+        return lg_error(n, "lg_shadowmap_publish: %u lights do not fit the %zu declared bytes",
+                        info->n_lights, li.buffer.size);
+    lg_cpu_view v;
+    int rc = lg_map_cpu(n, lp, LG_WRITE, &v);
+    if (rc)
+        return rc;
+    memset(v.pixels, 0, li.buffer.size);
+    if (need)
+        memcpy(v.pixels, lights, need);
+    lg_shadowmap_info copy = *info;
+    copy.struct_size = sizeof copy;
+    return lg_meta_write(n, out, "info", &copy, sizeof copy);
+}
+
+const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res, lg_shadowmap *out)
+{
+    lg_resource_info info, ai, li;
+    memset(out, 0, sizeof *out);
+    if (!composite_in(n, res, LG_KIND_SHADOWMAP, &info))
+        return NULL;
+    const lg_shadowmap_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
+    const lg_resource *atlas = mi ? required_part(n, res, "atlas", LG_PART_IMAGE, &ai) : NULL;
+    const lg_resource *lights = atlas ? required_part(n, res, "lights", LG_PART_BUFFER, &li)
+                                      : NULL;
+    if (!lights)
+        return NULL;
+    if (mi->atlas_width != ai.image.width || mi->atlas_height != ai.image.height ||
+        mi->resolution == 0 || (size_t)mi->n_lights * sizeof(lg_shadow_light) > li.buffer.size) {
+        lg_error(n, "the shadow maps are inconsistent: info says %u lights at %u in a %ux%u "
+                    "atlas; the parts hold a %ux%u atlas and %zu bytes of lights",
+                 mi->n_lights, mi->resolution, mi->atlas_width, mi->atlas_height,
+                 ai.image.width, ai.image.height, li.buffer.size);
+        return NULL;
+    }
+    lg_cpu_view lv;
+    if (mi->n_lights && lg_map_cpu(n, lights, LG_READ, &lv) != 0)
+        return NULL;
+    out->resolution = mi->resolution;
+    out->n_lights = mi->n_lights;
+    out->lights = mi->n_lights ? lv.pixels : NULL;
+    out->atlas = atlas;
+    out->lights_part = lights;
+    out->atlas_width = mi->atlas_width;
+    out->atlas_height = mi->atlas_height;
+    out->bias_constant = mi->bias_constant;
+    out->bias_slope = mi->bias_slope;
+    out->normal_offset = mi->normal_offset;
+    return out;
+}
+
+/* ---- probes ----------------------------------------------------------------------------- */
+
+int lg_probe_declare(lg_node *n, uint32_t port, lg_probe_layout layout,
+                     const lg_image_desc *radiance, bool with_solid_angle)
+{
+    if (layout < LG_PROBE_LATLONG || layout > LG_PROBE_CUBE)
+        return lg_error(n, "lg_probe_declare: unknown layout %d", (int)layout);
+    bool cube = (radiance->flags & LG_IMAGE_CUBE) != 0;
+    if (cube != (layout == LG_PROBE_CUBE))
+        return lg_error(n, "lg_probe_declare: a %s probe needs a %s radiance image",
+                        layout == LG_PROBE_CUBE ? "cube" : "2D", layout == LG_PROBE_CUBE ? "cube"
+                                                                                       : "2D");
+    lg_part_spec parts[3] = {
+        { .name = "radiance", .type = LG_PART_IMAGE, .image = *radiance },
+        meta_spec(sizeof(lg_probe_info)),
+        { .name = "solid_angle", .type = LG_PART_BUFFER,
+          .buffer.size = (size_t)radiance->width * radiance->height * (cube ? 6 : 1) *
+                         sizeof(float) },
+    };
+    return lg_declare_composite(n, port, parts, with_solid_angle ? 3 : 2);
+}
+
+int lg_probe_publish(lg_node *n, uint32_t port, const lg_probe_info *info)
+{
+    lg_probe_info copy = *info;
+    copy.struct_size = sizeof copy;
+    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+}
+
+const lg_probe *lg_probe_get(lg_node *n, const lg_resource *res, lg_probe *out)
+{
+    lg_resource_info info, ri;
+    memset(out, 0, sizeof *out);
+    if (!composite_in(n, res, LG_KIND_PROBE, &info))
+        return NULL;
+    const lg_probe_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
+    const lg_resource *rad = mi ? required_part(n, res, "radiance", LG_PART_IMAGE, &ri) : NULL;
+    if (!rad)
+        return NULL;
+    if ((mi->layout == LG_PROBE_CUBE) != ((ri.image.flags & LG_IMAGE_CUBE) != 0) ||
+        mi->layout < LG_PROBE_LATLONG || mi->layout > LG_PROBE_CUBE) {
+        lg_error(n, "the probe is inconsistent: layout %d with a %s radiance image",
+                 (int)mi->layout, (ri.image.flags & LG_IMAGE_CUBE) ? "cube" : "2D");
+        return NULL;
+    }
+    out->info = *mi;
+    out->radiance = rad;
+    out->radiance_desc = ri.image;
+    out->solid_angle = lg_part(n, res, "solid_angle");
+    return out;
+}
+
+/* ---- SH coefficients ------------------------------------------------------------------- */
+
+int lg_sh_declare(lg_node *n, uint32_t port, uint32_t bands)
+{
+    if (bands < 1 || bands > LG_SH_MAX_BANDS)
+        return lg_error(n, "%u SH bands: 1 .. %u are possible", bands, LG_SH_MAX_BANDS);
+    lg_part_spec parts[2] = {
+        { .name = "coeffs", .type = LG_PART_BUFFER,
+          .buffer.size = (size_t)3 * bands * bands * sizeof(float) },
+        meta_spec(sizeof(lg_sh_info)),
+    };
+    return lg_declare_composite(n, port, parts, 2);
+}
+
+int lg_sh_publish(lg_node *n, uint32_t port, const lg_sh_info *info)
+{
+    lg_sh_info copy = *info;
+    copy.struct_size = sizeof copy;
+    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+}
+
+const lg_sh *lg_sh_get(lg_node *n, const lg_resource *res, lg_sh *out)
+{
+    lg_resource_info info, ci;
+    memset(out, 0, sizeof *out);
+    if (!composite_in(n, res, LG_KIND_SH, &info))
+        return NULL;
+    const lg_sh_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
+    const lg_resource *c = mi ? required_part(n, res, "coeffs", LG_PART_BUFFER, &ci) : NULL;
+    if (!c)
+        return NULL;
+    if (mi->bands < 1 || mi->bands > LG_SH_MAX_BANDS ||
+        ci.buffer.size != (size_t)3 * mi->bands * mi->bands * sizeof(float)) {
+        lg_error(n, "the SH coefficients are inconsistent: %u bands in %zu bytes", mi->bands,
+                 ci.buffer.size);
+        return NULL;
+    }
+    out->info = *mi;
+    out->n_coeffs = mi->bands * mi->bands;
+    out->coeffs = c;
+    return out;
+}
+
+/* ---- transfer ------------------------------------------------------------------------------ */
+
+int lg_transfer_declare(lg_node *n, uint32_t port, uint32_t bands, uint32_t vertices)
+{
+    if (bands < 1 || bands > LG_SH_MAX_BANDS)
+        return lg_error(n, "%u SH bands: 1 .. %u are possible", bands, LG_SH_MAX_BANDS);
+    uint64_t size = (uint64_t)vertices * 3 * bands * bands * sizeof(float);
+    if (vertices == 0 || size > (1ull << 34))
+        return lg_error(n, "transfer of %u vertices at %u bands (%.1f GiB) is not possible",
+                        vertices, bands, (double)size / (1024.0 * 1024.0 * 1024.0));
+    lg_part_spec parts[2] = {
+        { .name = "transfer", .type = LG_PART_BUFFER, .buffer.size = (size_t)size },
+        meta_spec(sizeof(lg_transfer_info)),
+    };
+    return lg_declare_composite(n, port, parts, 2);
+}
+
+int lg_transfer_publish(lg_node *n, uint32_t port, const lg_transfer_info *info)
+{
+    lg_transfer_info copy = *info;
+    copy.struct_size = sizeof copy;
+    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+}
+
+const lg_transfer *lg_transfer_get(lg_node *n, const lg_resource *res, lg_transfer *out)
+{
+    lg_resource_info info, ti;
+    memset(out, 0, sizeof *out);
+    if (!composite_in(n, res, LG_KIND_TRANSFER, &info))
+        return NULL;
+    const lg_transfer_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
+    const lg_resource *t = mi ? required_part(n, res, "transfer", LG_PART_BUFFER, &ti) : NULL;
+    if (!t)
+        return NULL;
+    if (mi->bands < 1 || mi->bands > LG_SH_MAX_BANDS ||
+        ti.buffer.size != (size_t)mi->vertices * 3 * mi->bands * mi->bands * sizeof(float)) {
+        lg_error(n, "the transfer vectors are inconsistent: %u vertices at %u bands in %zu "
+                    "bytes",
+                 mi->vertices, mi->bands, ti.buffer.size);
+        return NULL;
+    }
+    out->info = *mi;
+    out->n_coeffs = mi->bands * mi->bands;
+    out->transfer = t;
+    return out;
+}
+
+/* ---- froxels ------------------------------------------------------------------------------- */
+
+int lg_froxel_declare(lg_node *n, uint32_t port, uint32_t width, uint32_t height,
+                      uint32_t depth, lg_format format)
+{
+    if (format != LG_FORMAT_RGBA16F && format != LG_FORMAT_RGBA32F)
+        return lg_error(n, "a froxel grid is rgba16f or rgba32f");
+    lg_part_spec parts[2] = {
+        { .name = "grid", .type = LG_PART_VOLUME,
+          .volume = { .width = width, .height = height, .depth = depth, .format = format } },
+        meta_spec(sizeof(lg_froxel_info)),
+    };
+    return lg_declare_composite(n, port, parts, 2);
+}
+
+int lg_froxel_publish(lg_node *n, uint32_t port, const lg_froxel_info *info)
+{
+    lg_froxel_info copy = *info;
+    copy.struct_size = sizeof copy;
+    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+}
+
+const lg_froxel *lg_froxel_get(lg_node *n, const lg_resource *res, lg_froxel *out)
+{
+    lg_resource_info info, gi;
+    memset(out, 0, sizeof *out);
+    if (!composite_in(n, res, LG_KIND_FROXEL, &info))
+        return NULL;
+    const lg_froxel_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
+    const lg_resource *g = mi ? required_part(n, res, "grid", LG_PART_VOLUME, &gi) : NULL;
+    if (!g)
+        return NULL;
+    if (mi->width != gi.volume.width || mi->height != gi.volume.height ||
+        mi->depth != gi.volume.depth) {
+        lg_error(n, "the froxel grid is inconsistent: info says %ux%ux%u, the volume is "
+                    "%ux%ux%u",
+                 mi->width, mi->height, mi->depth, gi.volume.width, gi.volume.height,
+                 gi.volume.depth);
+        return NULL;
+    }
+    out->info = *mi;
+    out->grid = g;
+    return out;
+}
