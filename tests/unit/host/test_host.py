@@ -375,6 +375,14 @@ output c "%s"
     check("probe: probe {radiance: image 8x8 cube rgba32f x4 levels" in p.stdout, p.stdout)
     check("solid_angle: buffer" in p.stdout and "info: buffer" in p.stdout, p.stdout)
     check("probe <- m.probe" in p.stdout, p.stdout)
+    # introspection lists the parts of composite ports
+    doc = json.loads(run(["inspect", "partmaker", "--json"], expect=0).stdout)
+    parts = doc["outputs"][0]["parts"]
+    check([(q["name"], q["type"], q["optional"]) for q in parts] ==
+          [("radiance", "image", False), ("solid_angle", "buffer", True),
+           ("info", "meta", False)], "inspect --json parts: %s" % parts)
+    p = run(["inspect", "partmaker"], expect=0)
+    check(".solid_angle" in p.stdout and "optional" in p.stdout, p.stdout)
     # a part that does not exist, in a graph: an error naming the parts
     g = graph("""lightgraph 1
 m = partmaker { }
