@@ -7,10 +7,9 @@
  *   lightgraph/host.h     the host's services: parameters, resources, devices, cache, log
  *   lightgraph/image.h    images in memory and in files (EXR, HDR, PNG), metrics
  *   lightgraph/color.h    luminance and colour helpers
- *   lightgraph/math.h     vectors and 4x4 matrices (column-major)
+ *   lightgraph/vecmath.h  vectors and 4x4 matrices (column-major)
  *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
  *   lightgraph/shadowmap.h  shadow maps: a depth atlas and each light's matrices
- *   lightgraph/phong.h    the Phong lighting equation (C twin of shaders/common/phong.glsl)
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
  *   lightgraph/scene_gl.h a scene rasterised on GL: camera matrices, instances, draw loop
@@ -27,9 +26,8 @@
 #include "lightgraph/host.h"
 #include "lightgraph/image.h"
 #include "lightgraph/color.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/shadowmap.h"
-#include "lightgraph/phong.h"
 
 #endif

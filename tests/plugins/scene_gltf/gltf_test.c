@@ -10,7 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 
 static char dir[4096];
 
