@@ -24,8 +24,12 @@ static const lg_param_desc params[] = {
     {.key = "backend", .type = LG_PARAM_ENUM, .def.e = TPL_BACKEND_CPU, .enum_values = backends,
      .doc = "where it runs: cpu, or gl (a compute shader)"},
 };
-static const lg_port_desc inputs[] = {{.name = "image", .kind = LG_KIND_IMAGE, .doc = "input, rgba32f"}};
-static const lg_port_desc outputs[] = {{.name = "out", .kind = LG_KIND_IMAGE, .doc = "result, rgba32f"}};
+static const lg_port_desc inputs[] = {
+    {.name = "image", .kind = LG_KIND_IMAGE, .doc = "input, rgba32f"},
+};
+static const lg_port_desc outputs[] = {
+    {.name = "out", .kind = LG_KIND_IMAGE, .doc = "result, rgba32f"},
+};
 
 static int invert_create(lg_node *n)
 {
