@@ -6,7 +6,7 @@
  *   phong   scene [+ shadows] -> image (rgba32f + depth): HDR linear radiance
  *
  * The lighting equation itself lives in shaders/common/phong.glsl (its C twin is
- * lightgraph/phong.h); shaders/phong/ say where each shading method evaluates it. One raster
+ * phong_model.h); shaders/phong/ say where each shading method evaluates it. One raster
  * pass (vertex, optional geometry, fragment stage); phong_half takes four passes.
  * README.md gives the ports, parameters, units, conventions and measured costs.
  *
@@ -22,8 +22,8 @@
 
 #include "lightgraph/gl.h"
 #include "lightgraph/lightgraph.h"
-#include "lightgraph/math.h"
-#include "lightgraph/phong.h"
+#include "lightgraph/vecmath.h"
+#include "phong_model.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 #include "lightgraph/shadowmap.h"

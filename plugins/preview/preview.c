@@ -16,7 +16,7 @@
 
 #include "lightgraph/gl.h"
 #include "lightgraph/lightgraph.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 

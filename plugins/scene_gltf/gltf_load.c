@@ -24,7 +24,7 @@
 
 #include "gltf_doc.h"
 #include "gltf_normals.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 
 #define PI_D 3.14159265358979323846
 

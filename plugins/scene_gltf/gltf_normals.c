@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/types.h"
 
 /* Above this many triangles around one point, the per-corner neighbourhood sums (quadratic

@@ -19,7 +19,7 @@
 
 #include "lightgraph/gl.h"
 #include "lightgraph/lightgraph.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 #include "lightgraph/shadowmap.h"

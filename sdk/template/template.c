@@ -1,38 +1,109 @@
 /* template: a minimal lightgraph plugin with one node, `template_invert`, which computes
- * out = max(0, white - image) per RGB channel on the CPU. Start a plugin from here. */
+ * out = max(0, white - image) per RGB channel on the CPU or, with backend = gl, in a GL
+ * compute shader (shaders/invert.comp, embedded at build time by the SDK's embed.py).
+ * Start a plugin from here. */
+#include <stdlib.h>
 #include <stddef.h>
 
+#include "lightgraph/gl.h"
 #include "lightgraph/lightgraph.h"
 
+#include "invert.comp.h" /* lg_src_invert_comp, lg_src_invert_comp_file (meson.build) */
+
+enum { TPL_BACKEND_CPU = 0, TPL_BACKEND_GL = 1 };
+
+typedef struct tpl_state {
+    int backend;
+    GLuint program; /* backend gl: compiled on first execute, deleted in destroy */
+} tpl_state;
+
+static const char *const backends[] = {"cpu", "gl", NULL};
 static const lg_param_desc params[] = {
     {.key = "white", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
      .doc = "the value that inverts to black"},
+    {.key = "backend", .type = LG_PARAM_ENUM, .def.e = TPL_BACKEND_CPU, .enum_values = backends,
+     .doc = "where it runs: cpu, or gl (a compute shader)"},
 };
-static const lg_port_desc inputs[] = {{.name = "image", .kind = LG_KIND_IMAGE, .doc = "input"}};
-static const lg_port_desc outputs[] = {{.name = "out", .kind = LG_KIND_IMAGE, .doc = "result"}};
+static const lg_port_desc inputs[] = {
+    {.name = "image", .kind = LG_KIND_IMAGE, .doc = "input, rgba32f"},
+};
+static const lg_port_desc outputs[] = {
+    {.name = "out", .kind = LG_KIND_IMAGE, .doc = "result, rgba32f"},
+};
+
+static int invert_create(lg_node *n)
+{
+    tpl_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    st->backend = lg_param_enum(n, "backend");
+    n->user = st;
+    return 0;
+}
 
 static int invert_prepare(lg_node *n)
 {
+    tpl_state *st = n->user;
     lg_resource_info info;
     int rc = lg_describe(lg_input(n, 0), &info, n);
     if (rc)
         return rc;
+    if (info.image.format != LG_FORMAT_RGBA32F)
+        return lg_error(n, "expects an rgba32f image");
     lg_image_desc d = {.width = info.image.width, .height = info.image.height,
                        .format = LG_FORMAT_RGBA32F};
-    return lg_declare_image(n, 0, &d);
+    if ((rc = lg_declare_image(n, 0, &d)))
+        return rc;
+    /* the device the node runs on; the host moves the input there when it is elsewhere */
+    return lg_set_device(n, st->backend == TPL_BACKEND_GL ? LG_DEVICE_GL : LG_DEVICE_CPU);
+}
+
+static int invert_execute_gl(lg_node *n, const lg_resource_info *info)
+{
+    tpl_state *st = n->user;
+    const lg_gl *gl = lg_gl_get(n);
+    if (!gl)
+        return LG_ERR_DEVICE;
+    if (!st->program) {
+        lg_gl_shader_src cs = {GL_COMPUTE_SHADER, lg_src_invert_comp_file, lg_src_invert_comp};
+        if (!(st->program = lg_gl_program(n, gl, &cs, 1, NULL)))
+            return LG_ERR_DEVICE;
+    }
+    GLuint tin, tout, depth;
+    int rc;
+    if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, &depth)) ||
+        (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &depth)))
+        return rc;
+    gl->UseProgram(st->program);
+    gl->BindImageTexture(0, tin, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    gl->BindImageTexture(1, tout, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    gl->Uniform2i(0, (GLint)info->image.width, (GLint)info->image.height);
+    gl->Uniform1f(1, (float)lg_param_float(n, "white"));
+    gl->DispatchCompute((info->image.width + 15) / 16, (info->image.height + 15) / 16, 1);
+    /* whoever reads the output next (a texture fetch, an image load, a download) sees it */
+    gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                      GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    /* the state the host expects back (docs/sdk.md): program 0, image units unbound */
+    gl->UseProgram(0);
+    gl->BindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    gl->BindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    return lg_gl_check(n, "template_invert: compute pass");
 }
 
 static int invert_execute(lg_node *n, const lg_frame *frame)
 {
     (void)frame;
+    tpl_state *st = n->user;
     lg_resource_info info;
     lg_cpu_view in, out;
     int rc = lg_describe(lg_input(n, 0), &info, n);
-    if (rc || (rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &in)) ||
+    if (rc)
+        return rc;
+    if (st->backend == TPL_BACKEND_GL)
+        return invert_execute_gl(n, &info);
+    if ((rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &in)) ||
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &out)))
         return rc;
-    if (info.image.format != LG_FORMAT_RGBA32F)
-        return lg_error(n, "expects an rgba32f image");
     const float *a = in.pixels;
     float *b = out.pixels;
     float white = (float)lg_param_float(n, "white");
@@ -46,6 +117,20 @@ static int invert_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
+static void invert_destroy(lg_node *n)
+{
+    tpl_state *st = n->user;
+    if (!st)
+        return;
+    if (st->program) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (gl)
+            gl->DeleteProgram(st->program);
+    }
+    free(st);
+    n->user = NULL;
+}
+
 static const lg_node_type types[] = {{
     .struct_size = sizeof(lg_node_type),
     .name = "template_invert",
@@ -53,8 +138,10 @@ static const lg_node_type types[] = {{
     LG_PARAMS(params),
     LG_INPUTS(inputs),
     LG_OUTPUTS(outputs),
+    .create = invert_create,
     .prepare = invert_prepare,
     .execute = invert_execute,
+    .destroy = invert_destroy,
 }};
 
 LG_PLUGIN_DEFINE("template", "1.0.0", "The SDK's template plugin", types)

@@ -1,7 +1,7 @@
 // The Phong lighting equation in GLSL 4.50 (lightgraph): seed 1 eq. 1-4, 1-8, 1-9..1-12.
 //
 // Included with `#include "phong.glsl"` (tools/embed.py resolves it at build time: no
-// #version line here). The C twin is sdk/include/lightgraph/phong.h: same names, same
+// #version line here). The C twin is plugins/phong/phong_model.h: same names, same
 // policies, documented there; tests/unit/phong/ holds the two against each other. Change
 // one, change the other.
 //

@@ -7,7 +7,8 @@
 //   4 phong_half's first pass: only the surface id (the instance, from 1; 0 is the
 //                background) and depth at full size; phong_half shades two quarter-size
 //                images with mode 2 and phong_half.comp assembles the output.
-// Alpha is 1. For a double-sided material a back face is lit with the normal reversed.
+// Alpha is 1. For a double-sided material a back face (by winding: gl_FrontFacing, in every
+// mode) is lit with the normal reversed.
 
 #include "phong.glsl"
 #include "phong_scene.glsl"
@@ -17,12 +18,14 @@ layout(location = 2) flat in uint f_id;
 #if LG_SHADING == 0
 layout(location = 1) flat in vec3 f_nrm;
 layout(location = 4) flat in vec3 f_c0;
+layout(location = 5) flat in vec3 f_c0b;
 layout(location = 6) flat in vec3 f_cs[LG_SV_ARR];
+layout(location = 6 + LG_SV_ARR) flat in vec3 f_csb[LG_SV_ARR];
 #else
 layout(location = 1) in vec3 f_nrm;
 #endif
 #if LG_SHADING == 3
-layout(location = 3) flat in int f_highlight;
+layout(location = 3) flat in int f_highlight; // bit 0: front side, bit 1: back side
 #endif
 #if LG_SHADING == 1 || LG_SHADING == 3
 layout(location = 4) in vec3 f_c0;
@@ -37,16 +40,18 @@ layout(location = 0) out uint o_id;
 layout(location = 0) out vec4 o_color;
 #endif
 
-// The normal at this pixel: interpolated (or the facet's), unit, on the viewer's side of
-// a double-sided surface.
+// Whether this pixel shows the back side of a double-sided surface (by winding).
+bool back_side()
+{
+    return u_double_sided != 0 && !gl_FrontFacing;
+}
+
+// The normal at this pixel: interpolated (or the facet's), unit, reversed on the back side
+// of a double-sided surface.
 vec3 pixel_normal()
 {
     vec3 N = lg_safe_normalize(f_nrm, lg_view_vector(f_pos));
-#if LG_SHADING != 0
-    if (u_double_sided != 0 && !gl_FrontFacing)
-        N = -N;
-#endif
-    return N;
+    return back_side() ? -N : N;
 }
 
 // The facet's unit normal from the position's screen derivatives, on N's side (the
@@ -61,20 +66,13 @@ vec3 geometric_normal(vec3 N)
 // Interpolated (or held) colours with each shadowed light's visibility at this pixel.
 vec3 held_colour(vec3 Ng)
 {
-#if LG_SHADING == 0
-    vec3 c = f_c0;
-    for (int k = 0; k < LG_SV; k++)
-        if (any(greaterThan(f_cs[k], vec3(0.0))))
-            c += f_cs[k] * lg_shadow(k, f_pos, Ng, lg_lights[lg_shadows[k].light].dir.xyz);
-#else
-    bool back = u_double_sided != 0 && !gl_FrontFacing;
+    bool back = back_side();
     vec3 c = back ? f_c0b : f_c0;
     for (int k = 0; k < LG_SV; k++) {
         vec3 ck = back ? f_csb[k] : f_cs[k];
         if (any(greaterThan(ck, vec3(0.0))))
             c += ck * lg_shadow(k, f_pos, Ng, lg_lights[lg_shadows[k].light].dir.xyz);
     }
-#endif
     return c;
 }
 #endif
@@ -94,7 +92,7 @@ void main()
 #elif LG_SHADING == 2
     c = lg_shade(f_pos, N, Ng, m);
 #elif LG_SHADING == 3
-    c = f_highlight != 0 ? lg_shade(f_pos, N, Ng, m) : held_colour(Ng);
+    c = (f_highlight & (back_side() ? 2 : 1)) != 0 ? lg_shade(f_pos, N, Ng, m) : held_colour(Ng);
 #endif
     o_color = vec4(c, 1.0);
 #endif

@@ -67,8 +67,8 @@ int pt_render(ptest *t, const char *graph, const char *const *args, char **err);
 
 /* Points the host at test plugins: sets LIGHTGRAPH_PLUGIN_PATH to `path` (folders joined
  * with ':'), and with `t` also LIGHTGRAPH_CACHE_DIR to a folder of t's scratch folder, so
- * that a case starts with an empty cache. Exits 77 (skip) when `path` is empty (the test
- * plugins were not built). */
+ * that a case starts with an empty cache. Fails (exit 1) when `path` is empty (the test
+ * plugins' folder was not defined by the build). */
 void pt_use_plugins(ptest *t, const char *path);
 
 /* Exits 77 (skip) when the backend's device cannot be made here: "gl" or "cl"; "cpu"

@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 
 void lg_test_scene_bounds(lg_scene *s, lg_mesh *meshes)
 {

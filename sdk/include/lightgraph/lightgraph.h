@@ -7,7 +7,7 @@
  *   lightgraph/host.h     the host's services: parameters, resources, devices, cache, log
  *   lightgraph/image.h    images in memory and in files (EXR, HDR, PNG), metrics
  *   lightgraph/color.h    luminance and colour helpers
- *   lightgraph/math.h     vectors and 4x4 matrices (column-major)
+ *   lightgraph/vecmath.h  vectors and 4x4 matrices (column-major)
  *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
  *   lightgraph/kinds.h    resource kinds and their parts (composite resources)
  *   lightgraph/shadowmap.h  shadow maps: a depth atlas and each light's matrices
@@ -15,7 +15,6 @@
  *   lightgraph/shcoeffs.h SH coefficients (n bands x RGB)
  *   lightgraph/transfer.h per-vertex PRT transfer vectors
  *   lightgraph/froxel.h   froxel volumes with their slice map
- *   lightgraph/phong.h    the Phong lighting equation (C twin of shaders/common/phong.glsl)
  *   lightgraph/gl.h       OpenGL 4.5 through the SDK's loader (optional)
  *   lightgraph/cl.h       OpenCL (optional)
  *   lightgraph/scene_gl.h a scene rasterised on GL: camera matrices, instances, draw loop
@@ -32,7 +31,7 @@
 #include "lightgraph/host.h"
 #include "lightgraph/image.h"
 #include "lightgraph/color.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/kinds.h"
 #include "lightgraph/shadowmap.h"
@@ -40,6 +39,5 @@
 #include "lightgraph/shcoeffs.h"
 #include "lightgraph/transfer.h"
 #include "lightgraph/froxel.h"
-#include "lightgraph/phong.h"
 
 #endif

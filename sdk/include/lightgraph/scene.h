@@ -23,7 +23,7 @@
  * Every mesh has normals: the loader computes them when the file has none.
  *
  * Conventions: right-handed, Y-up world (glTF), metres as the file says, column-major
- * matrices (lightgraph/math.h), linear RGB colours, angles in radians.
+ * matrices (lightgraph/vecmath.h), linear RGB colours, angles in radians.
  */
 #ifndef LIGHTGRAPH_SCENE_H
 #define LIGHTGRAPH_SCENE_H

@@ -69,7 +69,7 @@
 #include <stdint.h>
 
 #include "lightgraph/gl.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 
 #ifdef __cplusplus

@@ -37,8 +37,10 @@ def main():
                            capture_output=True, text=True, env=env)
         if r.returncode != 0:
             sys.stderr.write(r.stdout + r.stderr)
-            # no GL device here: a skip, as the other GL tests
-            if "GL device" in r.stderr and ("cannot" in r.stderr or "no " in r.stderr):
+            # no GL device here: a skip, as the other GL tests (the host's words:
+            # "no OpenGL 4.5 device (osmesa): ..."); on CI, tools/test_summary.py fails a skip
+            # that tests/expected-skips.txt does not list
+            if "no OpenGL 4.5 device" in r.stderr:
                 return 77
             return 1
         if update:

@@ -45,8 +45,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/math.h"
-#include "lightgraph/phong.h"
+#include "lightgraph/vecmath.h"
+#include "phong_model.h"
 #include "ptest.h"
 
 #ifndef PH_TEST_PLUGIN_DIR

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The phong node's shaders compiled offline.
 
-usage: test_phong_glsl.py EMBED_PY GLSLANG SHADER_DIR
+usage: test_phong_glsl.py EMBED_PY GLSLANG SHADER_DIR SHADERS_COMMON_DIR
 
 Each stage goes through tools/embed.py (which resolves #include "phong.glsl" and
 "phong_scene.glsl"), is decoded back to text and compiled by glslangValidator with the
@@ -16,9 +16,9 @@ import sys
 import tempfile
 
 
-def expand(embed_py, src, tmp):
+def expand(embed_py, common, src, tmp):
     out = os.path.join(tmp, os.path.basename(src) + ".h")
-    subprocess.run([sys.executable, embed_py, src, out], check=True)
+    subprocess.run([sys.executable, embed_py, "-I", common, src, out], check=True)
     text = open(out).read()
     body = text[text.index("[] = {", text.index("lg_src_") + 20):]
     data = bytes(int(h, 16) for h in re.findall(r"0x([0-9a-f]{2})", body))
@@ -26,7 +26,7 @@ def expand(embed_py, src, tmp):
 
 
 def main():
-    embed_py, glslang, sdir = sys.argv[1:4]
+    embed_py, glslang, sdir, common = sys.argv[1:5]
     failures = 0
     with tempfile.TemporaryDirectory() as tmp:
         jobs = []
@@ -44,7 +44,7 @@ def main():
             if name not in sources:
                 path = os.path.join(tmp, name)
                 with open(path, "w") as f:
-                    f.write(expand(embed_py, os.path.join(sdir, name), tmp))
+                    f.write(expand(embed_py, common, os.path.join(sdir, name), tmp))
                 sources[name] = path
             r = subprocess.run([glslang, "-l"] + defs + [sources[name]], capture_output=True,
                                text=True)

@@ -20,7 +20,7 @@
 #include <string.h>
 
 #include "lightgraph/lightgraph.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 
 #include "common/testscene.h"

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 
 static char dir[4096];
 
@@ -60,8 +60,9 @@ const char *gt_asset(const char *rel)
     snprintf(p, sizeof ring[0], "%s/assets/%s", root && *root ? root : ".", rel);
     struct stat st;
     if (stat(p, &st) != 0) {
-        fprintf(stderr, "asset %s not found: skipped\n", p);
-        exit(77);
+        /* a repository file: missing is a failure, never a skip */
+        fprintf(stderr, "FAIL: asset %s not found\n", p);
+        exit(1);
     }
     return p;
 }

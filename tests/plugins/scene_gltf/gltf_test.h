@@ -18,7 +18,7 @@ void gt_cleanup(bool keep);
 /* dir/rel, valid until the 8th next call */
 const char *gt_path(const char *rel);
 void gt_write(const char *rel, const void *data, size_t size);
-/* $LG_SOURCE_ROOT/assets/rel, or exits 77 (skip) when the assets are not there */
+/* $LG_SOURCE_ROOT/assets/rel, or fails (exit 1) when it is not there: a repository file */
 const char *gt_asset(const char *rel);
 /* A whole file (malloc'd), or exits 99 */
 uint8_t *gt_read(const char *path, size_t *size);

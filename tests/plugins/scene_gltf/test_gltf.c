@@ -26,7 +26,7 @@
 
 #include "common/check.h"
 #include "gltf_test.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 
 #define PI 3.14159265358979323846
 

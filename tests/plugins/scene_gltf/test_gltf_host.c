@@ -24,8 +24,9 @@ static const char *asset(const char *rel)
 {
     const char *p = pt_asset(rel);
     if (!p) {
-        fprintf(stderr, "asset %s missing: skipped\n", rel);
-        exit(77);
+        /* a repository file: missing is a failure, never a skip */
+        fprintf(stderr, "FAIL: asset %s is missing\n", rel);
+        exit(1);
     }
     return p;
 }

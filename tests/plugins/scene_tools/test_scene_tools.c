@@ -29,7 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "ptest.h"
 
 #ifndef PT_TESTNODES_DIR

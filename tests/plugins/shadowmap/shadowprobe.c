@@ -30,7 +30,7 @@
 #include <string.h>
 
 #include "lightgraph/lightgraph.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/shadowmap.h"
 

@@ -59,7 +59,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "ptest.h"
 
 #ifndef SM_PROBE_DIR

@@ -39,4 +39,20 @@ G
 "$LG_EXE" render "$TMP/e.lgraph" --size 4x2 -q
 "$LG_EXE" diff "$TMP/out.exr" "$TMP/expected.exr" --max-abs 0.001 >/dev/null || {
   echo "FAIL: template_invert computed the wrong image"; exit 1; }
-echo "ok: installed SDK builds the template, the host runs it"
+# backend = gl runs the template's compute shader, embedded by the installed embed.py with
+# its #include resolved (shaders/invert.comp includes shaders/common/invert.glsl)
+h=$(find "$TMP/template/build" -name 'invert.comp.h' | head -1)
+[ -n "$h" ] && grep -q 'GLSL source strings: 0 invert.comp, 1 invert.glsl' "$h" || {
+  echo "FAIL: the template's shader was not embedded by the installed embed.py with its #include"; exit 1; }
+sed 's/white = 1 }/white = 1, backend = gl }/; s#out.exr#out_gl.exr#' "$TMP/g.lgraph" >"$TMP/g_gl.lgraph"
+if ! "$LG_EXE" render "$TMP/g_gl.lgraph" --size 40x24 -q 2>"$TMP/gl.err"; then
+  cat "$TMP/gl.err"
+  if grep -q 'no OpenGL 4.5 device' "$TMP/gl.err"; then
+    echo "SKIP: no GL device: the template's gl backend is not run"; exit 77
+  fi
+  echo "FAIL: template_invert backend = gl"; exit 1
+fi
+"$LG_EXE" render "$TMP/e.lgraph" --size 40x24 -q
+"$LG_EXE" diff "$TMP/out_gl.exr" "$TMP/expected.exr" --max-abs 0.001 >/dev/null || {
+  echo "FAIL: template_invert backend = gl computed the wrong image"; exit 1; }
+echo "ok: installed SDK builds the template (its shader embedded by the installed embed.py), the host runs it on cpu and gl"

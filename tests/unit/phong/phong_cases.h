@@ -1,7 +1,7 @@
 /*
  * tests/unit/phong/phong_cases.h: one layout of test cases for the lighting functions,
- * evaluated by the C twin (lightgraph/phong.h) and by the GLSL one (shaders/common/
- * phong.glsl, through phong_eval.comp on a GL device), and the tolerance that holds the
+ * evaluated by the C twin (plugins/phong/phong_model.h) and by the GLSL one
+ * (shaders/common/phong.glsl, through phong_eval.comp on a GL device), and the tolerance that holds the
  * two together.
  *
  * Tolerance (phong_compare). Both sides compute in binary32. The C side is IEEE with
@@ -28,7 +28,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "lightgraph/phong.h"
+#include "phong_model.h"
 
 /* std430 layout of phong_eval.comp's Case and Result: vec4 and ivec4 only. */
 typedef struct phong_case {

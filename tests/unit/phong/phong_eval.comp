@@ -1,6 +1,7 @@
 #version 450
 // Evaluates the lighting functions of shaders/common/phong.glsl on an array of cases, for
-// tests/unit/phong/ to compare with the C twin (lightgraph/phong.h). Layout: phong_cases.h.
+// tests/unit/phong/ to compare with the C twin (plugins/phong/phong_model.h). Layout:
+// phong_cases.h.
 #include "phong.glsl"
 
 layout(local_size_x = 64) in;

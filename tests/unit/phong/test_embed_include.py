@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""GLSL #include in tools/embed.py: resolution (the including file's folder, then
-shaders/common/), #line directives that map compiler messages back to the files, include
+"""GLSL #include in tools/embed.py: resolution (the including file's folder, then the -I
+folders in order; the build passes shaders/common/), #line directives that map compiler messages back to the files, include
 once, errors for a missing file, a cycle and <file>, comments left alone, files without
-includes embedded byte for byte, and the depfile. With glslangValidator, also that the
+includes embedded byte for byte, and the depfile. With glslangValidator (required), that the
 compiler's "string:line" of an error in an included file is that file's line.
 
-usage: test_embed_include.py EMBED_PY SHADERS_COMMON_DIR
+usage: test_embed_include.py EMBED_PY SHADERS_COMMON_DIR (passed to embed.py as -I)
 """
 import os
 import re
@@ -25,8 +25,11 @@ def check(cond, msg):
         print("check failed: " + msg, file=sys.stderr)
 
 
-def run(src, out, dep=None):
-    args = [sys.executable, embed, src, out] + ([dep] if dep else [])
+def run(src, out, dep=None, incs=None):
+    """embed.py with -I shaders/common (as the build's generator) unless incs says otherwise."""
+    incs = [common] if incs is None else incs
+    args = [sys.executable, embed] + sum((["-I", d] for d in incs), []) + [src, out]
+    args += [dep] if dep else []
     return subprocess.run(args, capture_output=True, text=True)
 
 
@@ -120,9 +123,33 @@ with tempfile.TemporaryDirectory() as tmp:
     r = run(os.path.join(tmp, "k.cl"), out)
     check(r.returncode == 0 and embedded(out) == text.encode(), ".cl expanded: " + r.stderr)
 
-    # 6. the compiler's view: an error on line 2 of an included file and one on line 4 of
-    #    the top file (the line after the #include) are reported as 1:2 and 0:4
+    # 6. -I: searched after the includer's folder, in the order given; without it nothing
+    #    outside the includer's folder is found; a -I that is not a folder is an error
+    write(os.path.join(tmp, "i1", "x.glsl"), "// from i1\n")
+    write(os.path.join(tmp, "i2", "x.glsl"), "// from i2\n")
+    write(os.path.join(tmp, "i2", "y.glsl"), "// y from i2\n")
+    write(os.path.join(tmp, "top", "t.frag"), "#version 450\n#include \"x.glsl\"\n#include \"y.glsl\"\n")
+    r = run(os.path.join(tmp, "top", "t.frag"), out, incs=[os.path.join(tmp, "i1"), os.path.join(tmp, "i2")])
+    got = embedded(out).decode() if r.returncode == 0 else ""
+    check(r.returncode == 0 and "// from i1" in got and "// from i2" not in got and "// y from i2" in got,
+          "-I order: " + r.stderr + got)
+    write(os.path.join(tmp, "top", "x.glsl"), "// from top\n")
+    r = run(os.path.join(tmp, "top", "t.frag"), out, incs=[os.path.join(tmp, "i1"), os.path.join(tmp, "i2")])
+    got = embedded(out).decode() if r.returncode == 0 else ""
+    check(r.returncode == 0 and "// from top" in got and "from i1" not in got,
+          "the includer's folder comes before -I: " + r.stderr + got)
+    r = run(os.path.join(tmp, "top", "t.frag"), out2, incs=[])
+    check(r.returncode != 0 and "y.glsl" in r.stderr and not os.path.exists(out2),
+          "found without -I: " + r.stderr)
+    r = run(os.path.join(tmp, "top", "t.frag"), out2, incs=[os.path.join(tmp, "no-such-folder")])
+    check(r.returncode != 0 and "no-such-folder" in r.stderr and not os.path.exists(out2),
+          "a -I that is not a folder accepted: " + r.stderr)
+
+    # 7. the compiler's view: an error on line 2 of an included file and one on line 4 of
+    #    the top file (the line after the #include) are reported as 1:2 and 0:4.
+    #    glslang-tools is a dependency (tools/deps.sh): without it this test fails.
     glslang = shutil.which("glslangValidator")
+    check(glslang is not None, "glslangValidator not found (glslang-tools, tools/deps.sh)")
     if glslang:
         # (glslang stops at the first error: one file each)
         expanded = os.path.join(tmp, "err", "expanded.comp")
@@ -151,8 +178,6 @@ with tempfile.TemporaryDirectory() as tmp:
             f.write(embedded(out))
         g = subprocess.run([glslang, expanded], capture_output=True, text=True)
         check(g.returncode == 0, "phong.glsl does not compile:\n" + g.stdout + g.stderr)
-    else:
-        print("glslangValidator not found: the compiler checks are left out")
 
 if failures:
     print("embed_include: %d check(s) failed" % failures, file=sys.stderr)

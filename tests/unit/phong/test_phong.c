@@ -1,6 +1,6 @@
 /*
- * The lighting equation's two twins, C (lightgraph/phong.h) and GLSL (shaders/common/
- * phong.glsl, compiled into phong_eval.comp), held against each other and against the
+ * The lighting equation's two twins, C (plugins/phong/phong_model.h) and GLSL
+ * (shaders/common/phong.glsl, compiled into phong_eval.comp), held against each other and against the
  * documented policy of every hard case.
  *
  *   test_phong agree        a few thousand random cases from a fixed seed plus every hard

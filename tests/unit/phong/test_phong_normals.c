@@ -1,6 +1,6 @@
 /*
- * Vertex normals of lightgraph/phong.h: seed 1 eq. 1-13 (lg_vertex_normals_eq13), its false
- * smoothing (fig. 1.27) reproduced on a mesh built for it, and the remedy, the crease split
+ * Vertex normals of plugins/phong/phong_model.h: seed 1 eq. 1-13 (lg_vertex_normals_eq13),
+ * its false smoothing (fig. 1.27) reproduced on a mesh built for it, and the remedy, the crease split
  * (lg_vertex_normals_crease). C only: no device needed.
  *
  *   test_phong_normals eq13              known normals on a cube and a fan
@@ -18,7 +18,7 @@
 #include <string.h>
 
 #include "common/check.h"
-#include "lightgraph/phong.h"
+#include "phong_model.h"
 
 #define PI 3.14159265358979323846
 

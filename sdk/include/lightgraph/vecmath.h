@@ -1,12 +1,12 @@
 /*
- * lightgraph/math.h: small vector and matrix helpers, header-only.
+ * lightgraph/vecmath.h: small vector and matrix helpers, header-only.
  *
  * Conventions (the project's, see TECHNIQUES.md): right-handed, Y-up world as glTF;
  * angles in radians; matrices are 4x4 floats in column-major order (OpenGL's and glTF's:
  * element (row r, column c) is m[c * 4 + r]), acting on column vectors: p' = M p.
  */
-#ifndef LIGHTGRAPH_MATH_H
-#define LIGHTGRAPH_MATH_H
+#ifndef LIGHTGRAPH_VECMATH_H
+#define LIGHTGRAPH_VECMATH_H
 
 #include <math.h>
 #include <string.h>

@@ -1,7 +1,7 @@
-/* Vertex normals of lightgraph/phong.h: seed 1 eq. 1-13, and the crease split that is the
+/* Vertex normals of phong_model.h: seed 1 eq. 1-13, and the crease split that is the
  * remedy for its false smoothing (fig. 1.27). The lighting functions themselves are
  * static inline in the header, so that C callers and the tests compile the same code. */
-#include "lightgraph/phong.h"
+#include "phong_model.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -65,7 +65,7 @@ static bool unit_sum(const double s[3], float out[3])
     return true;
 }
 
-LG_API int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
+int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
                                   float *out_normals)
 {
     if ((nv && (!pos || !out_normals)) || (ni && !idx))
@@ -221,7 +221,7 @@ static void corners_grouped(const uint32_t *corners, uint32_t k, const float *fn
     }
 }
 
-LG_API int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
+int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
                                     float crease_angle, uint32_t *out_idx, uint32_t *out_src,
                                     float *out_normals, uint32_t *out_nv)
 {

@@ -1,5 +1,10 @@
 /*
- * lightgraph/phong.h: the Phong lighting equation in C, and vertex normals.
+ * phong_model.h: the Phong lighting equation in C, and vertex normals (the phong plugin's;
+ * not part of the installed SDK, which keeps contracts and general helpers only).
+ *
+ * Built into the static library lg_phong_model (plugins/phong/meson.build), which the
+ * plugin and its tests (tests/unit/phong, tests/plugins/phong) link: the tests hold the
+ * plugin's own code to the GLSL twin, not a copy of it.
  *
  * The equation (seed 1 eq. 1-4, 1-8, 1-9..1-12; TECHNIQUES.md §1), per colour channel c:
  *
@@ -36,20 +41,15 @@
  * smoothing (seed 1 fig. 1.27): facets meeting at a crease sharper than a given angle do not
  * share a normal.
  */
-#ifndef LIGHTGRAPH_PHONG_H
-#define LIGHTGRAPH_PHONG_H
+#ifndef LG_PHONG_MODEL_H
+#define LG_PHONG_MODEL_H
 
 #include <float.h>
 #include <stdint.h>
 #include <string.h>
 
-#include "lightgraph/config.h"
-#include "lightgraph/math.h"
+#include "lightgraph/vecmath.h"
 #include "lightgraph/types.h"
-
-#ifdef __cplusplus
-extern "C" {
-#endif
 
 /* A material of the reflection model. Coefficients are scalars, colours RGB in linear
  * radiance units; n is the shininess (1 .. several hundred; larger is a smaller highlight). */
@@ -253,7 +253,7 @@ static inline float lg_depth_cue(float r, float K)
  * vertex normals come out parallel, so Gouraud and Phong shading draw the corrugation as
  * a flat plane. lg_vertex_normals_crease() is the remedy.
  */
-LG_API int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
+int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
                                   float *out_normals);
 
 /*
@@ -285,11 +285,8 @@ LG_API int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t 
  * Returns LG_OK; LG_ERR_INVALID (with *out_nv = 0) for an index >= nv, ni not a multiple
  * of 3 or a NULL pointer; LG_ERR_NOMEM when temporary memory cannot be allocated.
  */
-LG_API int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
+int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
                                     float crease_angle, uint32_t *out_idx, uint32_t *out_src,
                                     float *out_normals, uint32_t *out_nv);
 
-#ifdef __cplusplus
-}
-#endif
 #endif
