@@ -59,7 +59,12 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     if (ex->cl && n->device == LG_DEVICE_CL)
         clFinish((cl_command_queue)lg_cl_device_queue(ex->cl));
     read_cl_events(n);
-    n->cpu_ms += (lg_now() - t0) * 1e3;
+    double ms = (lg_now() - t0) * 1e3;
+    n->cpu_ms += ms;
+    if (n->runs == 0)
+        n->first_cpu_ms = n->min_cpu_ms = ms;
+    else if (ms < n->min_cpu_ms)
+        n->min_cpu_ms = ms;
     n->runs++;
     n->ran = true;
     if (rc == 0 && gl)
@@ -154,7 +159,7 @@ int lg_execute(lg_exec *ex)
         ex->frame = f;
         for (uint32_t t = 0; t < c->n_nodes; t++) {
             lg_pnode *n = &ex->nodes[c->topo[t]];
-            if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame))
+            if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame && !ex->opts.every_frame))
                 continue;
             if (run_node(ex, n, &frame))
                 return -1;

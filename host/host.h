@@ -155,6 +155,8 @@ typedef struct lg_pnode {
     lg_digest identity;
     /* profile */
     double cpu_ms, gpu_ms;
+    double first_cpu_ms;         /* the first run: includes one-off set-up (programs, kernels) */
+    double min_cpu_ms;           /* the fastest run */
     bool gpu_unmeasured;         /* a GL timer query gave no plausible value */
     uint64_t runs;
     uint64_t bytes_alloc, bytes_moved;
@@ -171,6 +173,7 @@ typedef struct lg_exec_opts {
     const char *gl_backend;      /* "osmesa" (default) or "egl" */
     const char *output_override; /* -o */
     bool explain, profile;
+    bool every_frame;            /* --every-frame: static nodes run every frame too */
     const char *profile_json;
     const char *graph_path;
 } lg_exec_opts;
@@ -234,5 +237,6 @@ int lg_cmd_dot(int argc, char **argv);
 int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
 int lg_cmd_sweep(int argc, char **argv);
+int lg_cmd_devices(int argc, char **argv);
 
 #endif
