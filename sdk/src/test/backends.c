@@ -298,7 +298,7 @@ static void print_table(const lg_test *t, const lg_test_backends_desc *desc,
             img = &res->run[i].image;
     fprintf(stderr, "%s: %ux%u, %s\n", what, img ? img->width : 0, img ? img->height : 0,
             t->bench_frames ? "bench (--every-frame)" : "test");
-    fprintf(stderr, "  %-8s %-8s %-34s %-34s %9s %9s %9s", "backend", "status",
+    fprintf(stderr, "  %-8s %-8s %-36s %-36s %9s %9s %9s", "backend", "status",
             desc->reference ? "vs reference" : "(no reference)", first ? "vs first backend" : "",
             "first ms", "mean ms", "min ms");
     if (t->bench_frames)
@@ -321,14 +321,14 @@ static void print_table(const lg_test *t, const lg_test_backends_desc *desc,
                      r->vs_first.y, CHANNEL[r->vs_first.c], r->vs_first.rmse);
         bool bad = r->vs_reference.over || r->vs_first.over || r->vs_reference.size_mismatch ||
                    r->vs_first.size_mismatch;
-        fprintf(stderr, "  %-8s %-8s %-34s %-34s %9.3f %9.3f %9.3f", r->backend, bad ? "OVER" : "ok",
+        fprintf(stderr, "  %-8s %-8s %-36s %-36s %9.3f %9.3f %9.3f", r->backend, bad ? "OVER" : "ok",
                 a, b, r->first_ms, r->mean_ms, r->min_ms);
         if (t->bench_frames) {
             double px = (double)r->image.width * r->image.height;
             double bytes = desc->bytes_per_frame > 0 ? desc->bytes_per_frame : px * 32.0;
             double s = r->mean_ms * 1e-3;
             char gpu[32] = "n/a";
-            if (r->gpu_measured && r->runs)
+            if (r->gpu_measured && r->gpu_ms > 0 && r->runs)
                 snprintf(gpu, sizeof gpu, "%.3f", r->gpu_ms / (double)r->runs);
             fprintf(stderr, " %8.1f %8.2f %8s", s > 0 ? px / s * 1e-6 : 0,
                     s > 0 ? bytes / s * 1e-9 : 0, gpu);

@@ -15,8 +15,10 @@
  *                 the policy, and the other pixels as the closed form over the valid ones
  *   sizes         1x1, 17x3, 3x257, 300x1 and 1100x700 (several grid-stride rounds):
  *                 every pixel of a constant image is mapped
- *   crossbackend  a real HDR photograph: this backend against cpu, both modes, with and
- *                 without a white point (max and mean differences printed)
+ *   backends      (no BACKEND: all of them) every backend the node declares against the
+ *                 double-precision reference and against cpu, through the SDK harness,
+ *                 on a photograph and a synthetic image, in four parameter sets;
+ *                 `test_reinhard --bench[=N] backends` is the benchmark
  *
  * Values come back through the output file; when the host writes half EXR the checks add
  * half's rounding (2^-11 relative) to their tolerance (lightgraph/test.h, lg_test_tol_of).
@@ -27,6 +29,7 @@
 #include <string.h>
 
 #include "lightgraph/test.h"
+#include "reinhard_cpu.h"
 
 static const char *backend;
 
@@ -503,49 +506,129 @@ static void case_sizes(lg_test *t)
     }
 }
 
-/* ---- cross-backend ----------------------------------------------------------------------------- */
+/* ---- every backend ------------------------------------------------------------------------------ */
 
-static void case_crossbackend(lg_test *t)
+/* The reference: the plain double-precision algorithm (reinhard_cpu.c: log sum in double,
+ * the curve in double) on the input as the node reads it. */
+static void reference(const lg_image *in, lg_image *out, lg_rh_mode mode, const double w[3],
+                      double key, double delta, double white)
 {
-    if (strcmp(backend, "cpu") == 0) {
-        fprintf(stderr, "crossbackend compares gl and cl against cpu\n");
+    lg_rh_params p = { .mode = mode, .w = { (float)w[0], (float)w[1], (float)w[2] },
+                       .delta = delta, .white = white };
+    size_t n = (size_t)in->width * in->height;
+    lg_rh_stats st;
+    memset(&st, 0, sizeof st);
+    lg_rh_reduce(in->pixels, n, &p, &st);
+    double lavg = 1;
+    if (!lg_rh_log_average(&st, &lavg)) {
+        fprintf(stderr, "reference: no valid pixel\n");
         exit(99);
     }
-    const char *asset = lg_test_asset("images/GoldenGate.exr");
-    if (!asset) {
-        fprintf(stderr, "assets/images/GoldenGate.exr is missing: skipped\n");
-        exit(77);
-    }
-    static const char *const variants[] = { "", "mode = rgb", "white = 40", "key = 0.72, luminance = seed, mode = rgb" };
-    for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++) {
-        char text[8192];
-        const char *v = variants[i];
-        snprintf(text, sizeof text,
-                 "lightgraph 1\nsrc = image { file = \"%s\" }\n"
-                 "ref = reinhard { image = src, backend = cpu%s%s }\n"
-                 "dev = reinhard { image = src, backend = %s%s%s }\n"
-                 "output ref \"ref.exr\"\noutput dev \"dev.exr\"\n",
-                 asset, *v ? ", " : "", v, backend, *v ? ", " : "", v);
-        diff_nodes(text, sizeof text, "dev", "ref", "diff.exr");
-        lg_test_write_text(t, "g.lgraph", text);
-        LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
-        lg_image a, b;
-        unsigned bits;
-        char what[128];
-        snprintf(what, sizeof what, "%s vs cpu {%s}", backend, v);
-        if (lg_test_read(t, "ref.exr", &a, &bits)) {
-            if (lg_test_read(t, "dev.exr", &b, NULL)) {
-                compare_n(t, &b, &a, bits, 1e-5, 2, what);
-                lg_image_free(&b);
-            }
-            lg_image_free(&a);
+    *out = alloc_image(in->width, in->height);
+    lg_rh_map(in->pixels, out->pixels, n, key / lavg, &p);
+}
+
+/* An HDR test image: log-uniform values over 8 decades per channel, a few exact zeros, a
+ * smooth gradient in one corner (so the worst pixel's place means something). */
+static lg_image synthetic(uint32_t w, uint32_t h)
+{
+    lg_image img = alloc_image(w, h);
+    uint64_t r = 0x9E3779B97F4A7C15ull;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        for (int k = 0; k < 3; k++) {
+            r ^= r << 13, r ^= r >> 7, r ^= r << 17; /* xorshift64 */
+            double u = (double)(r >> 11) * 0x1.0p-53;
+            img.pixels[i * 4 + k] = i % 97 == 0 ? 0.0f : (float)pow(10.0, 8.0 * u - 4.0);
         }
-        double mx, mean;
-        if (diff_stats(t, "diff.exr", &mx, &mean)) {
-            fprintf(stderr, "%s: max abs %.3g, mean abs %.3g (float)\n", what, mx, mean);
-            LG_TEST_CHECK(t, mx <= 1e-5, "%s: max abs difference %.3g in float", what, mx);
-        }
+        img.pixels[i * 4 + 3] = 1.0f;
     }
+    return img;
+}
+
+/* Every backend of the node (cpu, gl, cl: what `inspect reinhard --json` lists) through the
+ * harness: each against the double-precision reference and against the cpu backend, in
+ * four parameter sets, on a photograph and on a synthetic image. Under --bench, a
+ * 2048x1396 image and N frames per backend (the bench table). */
+static void case_backends(lg_test *t)
+{
+    static const struct {
+        const char *params;
+        lg_rh_mode mode;
+        bool seed;
+        double key, white;
+    } v[] = {
+        { "", LG_RH_LUMINANCE, false, 0.18, 0 },
+        { "mode = rgb", LG_RH_RGB, false, 0.18, 0 },
+        { "white = 40", LG_RH_LUMINANCE, false, 0.18, 40 },
+        { "key = 0.72, luminance = seed, mode = rgb", LG_RH_RGB, true, 0.72, 0 },
+    };
+    bool bench = lg_test_bench_frames(t) > 0;
+    const char *photo = lg_test_asset("images/GoldenGate.exr");
+    struct { const char *name, *file; lg_image img; } inputs[2];
+    size_t n_inputs = 0;
+    if (photo) {
+        inputs[n_inputs].name = "photo";
+        inputs[n_inputs].file = photo;
+        char err[512];
+        lg_image_read_info info;
+        memset(&info, 0, sizeof info);
+        if (lg_image_read(photo, 0, &inputs[n_inputs].img, &info, err, sizeof err)) {
+            LG_TEST_FAILF(t, "%s", err);
+            return;
+        }
+        n_inputs++;
+    } else {
+        fprintf(stderr, "assets/images/GoldenGate.exr is missing: synthetic image only\n");
+    }
+    if (!bench || !photo) {
+        inputs[n_inputs].name = "synthetic";
+        inputs[n_inputs].file = "synthetic.exr";
+        inputs[n_inputs].img = bench ? synthetic(2048, 1396) : synthetic(203, 77);
+        lg_test_write_exr(t, "synthetic.exr", &inputs[n_inputs].img);
+        n_inputs++;
+    }
+    for (size_t in = 0; in < n_inputs; in++) {
+        for (size_t i = 0; i < (bench ? 1 : sizeof v / sizeof v[0]); i++) {
+            lg_image want;
+            reference(&inputs[in].img, &want, v[i].mode, v[i].seed ? WSEED : W709, v[i].key,
+                      1e-4, v[i].white);
+            char graph[8192], what[256];
+            /* radiance = false: the node sees the file's values as they are */
+            snprintf(graph, sizeof graph,
+                     "lightgraph 1\nsrc = image { file = \"%s\", radiance = false }\n"
+                     "tone = reinhard { image = src%s%s }\n",
+                     inputs[in].file, *v[i].params ? ", " : "", v[i].params);
+            snprintf(what, sizeof what, "reinhard {%s} on %s", v[i].params, inputs[in].name);
+            /* float map and a float log sum on gl and cl against the double reference:
+             * a few float ulps of the scale, a few of the curve */
+            lg_test_backends_desc d = {
+                .graph = graph,
+                .node = "tone",
+                .reference = &want,
+                .tol_reference = { .max_abs = 1e-5, .rmse = 1e-6 },
+                .tol_backends = { .max_abs = 1e-5, .rmse = 1e-6 },
+                .what = what,
+                /* a reduction pass and a map pass over rgba32f: 16 B read twice, 16 B written */
+                .bytes_per_frame = 48.0 * inputs[in].img.width * inputs[in].img.height,
+            };
+            lg_test_backends_result res;
+            size_t ran = lg_test_backends(t, &d, &res);
+            LG_TEST_CHECK(t, ran >= 1 && strcmp(res.run[0].backend, "cpu") == 0 &&
+                                 res.run[0].status == LG_TEST_RUN_OK,
+                          "%s: the cpu backend did not run", what);
+            lg_test_backends_free(&res);
+            lg_image_free(&want);
+        }
+        lg_image_free(&inputs[in].img);
+    }
+}
+
+/* The per-backend cases read their backend (cpu, gl or cl) from the argument after the
+ * case's name; it defaults to cpu (e.g. under --all or --bench). */
+static void setup(lg_test *t)
+{
+    backend = lg_test_arg(t, 0) ? lg_test_arg(t, 0) : "cpu";
+    lg_test_require_backend(t, backend);
 }
 
 int main(int argc, char **argv)
@@ -554,15 +637,8 @@ int main(int argc, char **argv)
         { "constant", case_constant },   { "white", case_white },
         { "monotone", case_monotone },   { "exposure", case_exposure },
         { "adapt", case_adapt },         { "badpixels", case_badpixels },
-        { "sizes", case_sizes },         { "crossbackend", case_crossbackend },
+        { "sizes", case_sizes },         { "backends", case_backends },
     };
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_reinhard CASE cpu|gl|cl\n");
-        return 99;
-    }
-    backend = argv[2];
-    lg_test_require_backend(NULL, backend);
-    char folder[128];
-    snprintf(folder, sizeof folder, "reinhard-%s-%s", argv[1], backend);
-    return lg_test_run_case("test_reinhard", argv[1], cases, sizeof cases / sizeof cases[0], folder, NULL);
+    lg_test_main_opts o = { .prefix = "reinhard", .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }
