@@ -24,7 +24,7 @@ static int usage(const char *cmd, const char *fmt, const char *what)
         fprintf(stderr, fmt, what);
     fprintf(stderr,
             "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
-            "                 [--frames N] [--every-frame] [--dt SECONDS] [--gl osmesa|egl]\n"
+            "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
             "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
             "(see lightgraph help)\n",
             cmd);
@@ -107,6 +107,9 @@ static int parse_args(int argc, char **argv, args *a)
             a->opts.explain = true;
         } else if (strcmp(s, "--every-frame") == 0) {
             a->opts.every_frame = true;
+        } else if (strncmp(s, "--every-frame=", 14) == 0 && s[14]) {
+            a->opts.every_frame = true;
+            a->opts.every_frame_nodes = s + 14;
         } else if (strcmp(s, "--profile") == 0) {
             a->opts.profile = true;
         } else if (strcmp(s, "--profile-json") == 0) {

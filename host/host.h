@@ -173,7 +173,8 @@ typedef struct lg_exec_opts {
     const char *gl_backend;      /* "osmesa" (default) or "egl" */
     const char *output_override; /* -o */
     bool explain, profile;
-    bool every_frame;            /* --every-frame: static nodes run every frame too */
+    bool every_frame;            /* --every-frame: static nodes run every frame too ... */
+    const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */
     const char *profile_json;
     const char *graph_path;
 } lg_exec_opts;

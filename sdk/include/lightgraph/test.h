@@ -177,9 +177,11 @@ LG_TEST_API const char *lg_test_arg(const lg_test *t, int i);
 /* Frames per backend in lg_test_backends: 0 in a test run, N under --bench=N. */
 LG_TEST_API uint32_t lg_test_bench_frames(const lg_test *t);
 
-/* Ends the program with 77 (skip) after printing "skipped: <why>" — or, if a check has
- * already failed, with 1 (a skip never hides a failure). The scratch folder is removed
- * when nothing failed. `t` may be NULL (before any case). */
+/* Skips the case after printing "skipped: <why>": a case run by lg_test_main or
+ * lg_test_run_case ends there (status 77, or 1 if a check had already failed: a skip never
+ * hides a failure; the scratch folder is removed when nothing failed) and, under --all,
+ * the next case runs. Anywhere else (t NULL, or from lg_test_begin) the program exits
+ * with that status. Memory the case allocated is not freed: skip before allocating. */
 LG_TEST_API LG_TEST_NORETURN void lg_test_skip(lg_test *t, const char *fmt, ...)
     LG_TEST_PRINTF(2, 3);
 
@@ -325,7 +327,7 @@ typedef struct lg_test_backends_result {
 } lg_test_backends_result;
 
 /* Runs desc->node on each backend (in a render of its own, under --bench with N frames and
- * --every-frame), reads its output, compares it with desc->reference and with the first
+ * --every-frame=NODE), reads its output, compares it with desc->reference and with the first
  * backend that ran, and prints a table (backend, max abs and where, RMSE, times). Every
  * failed render and every comparison beyond tolerance is a failed check; a backend whose
  * device is missing is reported and left out. When no backend could run the program ends

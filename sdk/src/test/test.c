@@ -41,6 +41,17 @@ void lg_test_fail_at(lg_test *t, const char *file, int line, const char *fmt, ..
     t->failures++;
 }
 
+void lg_test_failf_(lg_test *t, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "lightgraph-test: check failed: ");
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    t->failures++;
+}
+
 void lg_test_check_failed_(lg_test *t, const char *file, int line, const char *cond)
 {
     fprintf(stderr, "%s:%d: check failed: %s: ", file, line, cond);
@@ -335,8 +346,7 @@ bool lg_test_read(lg_test *t, const char *rel, lg_image *img, unsigned *bits)
     memset(&info, 0, sizeof info);
     memset(img, 0, sizeof *img);
     if (lg_image_read(lg_test_path(t, rel), 0, img, &info, err, sizeof err)) {
-        fprintf(stderr, "lightgraph-test: %s\n", err);
-        t->failures++;
+        lg_test_failf_(t, "%s", err);
         memset(img, 0, sizeof *img);
         return false;
     }

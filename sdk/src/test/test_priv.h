@@ -25,6 +25,10 @@ struct lg_test {
 /* Prints "lightgraph-test: ..." and exits 99. */
 LG_TEST_NORETURN void lg_test_die_(const char *fmt, ...) LG_TEST_PRINTF(1, 2);
 
+/* A failed check found by the harness (no file:line of the caller to give):
+ * "lightgraph-test: check failed: ...". */
+void lg_test_failf_(lg_test *t, const char *fmt, ...) LG_TEST_PRINTF(2, 3);
+
 /* Runs argv (argv[0] a path) in `cwd` (NULL: here), stdout and stderr into *out (malloc'd,
  * when out is not NULL). Returns the exit status, -1 on a signal; echoes the command and
  * its output when the status is not 0 or LG_TEST_VERBOSE is set. */

@@ -324,9 +324,5 @@ int main(int argc, char **argv)
         { "add_neutral", case_add_neutral },
         { "scale", case_scale },
     };
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_core CASE\n");
-        return 99;
-    }
-    return lg_test_run_case("test_core", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }

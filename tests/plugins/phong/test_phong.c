@@ -709,13 +709,13 @@ static void case_errors(lg_test *t)
     free(text);
 }
 
+static void require_gl(lg_test *t)
+{
+    lg_test_require_backend(t, "gl");
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_phong CASE\n");
-        return 99;
-    }
-    lg_test_require_backend(NULL, "gl");
     setenv("LIGHTGRAPH_PLUGIN_PATH", PH_TEST_PLUGIN_DIR, 1);
     static const lg_test_case cases[] = {
         { "flat_cube", case_flat_cube }, { "lights", case_lights },
@@ -724,5 +724,6 @@ int main(int argc, char **argv)
         { "infinite", case_infinite },   { "eq13", case_eq13 },
         { "gating", case_gating },       { "errors", case_errors },
     };
-    return lg_test_run_case("test_phong", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    lg_test_main_opts o = { .setup = require_gl };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

@@ -563,14 +563,15 @@ static void case_sphere(lg_test *t)
     lg_image_free(&img);
 }
 
+/* GL is needed by every case; the scene file of the gltf cases follows the case's name */
+static void setup(lg_test *t)
+{
+    file_arg = lg_test_arg(t, 0) ? lg_test_arg(t, 0) : "";
+    lg_test_require_backend(t, "gl");
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 2 && argc != 3) {
-        fprintf(stderr, "usage: test_preview CASE [FILE]\n");
-        return 99;
-    }
-    file_arg = argc == 3 ? argv[2] : "";
-    lg_test_require_backend(NULL, "gl");
     setenv("LIGHTGRAPH_PLUGIN_PATH", PV_TEST_PLUGIN_DIR, 1);
     static const lg_test_case cases[] = {
         { "fill", case_fill },       { "normals", case_normals },
@@ -582,5 +583,6 @@ int main(int argc, char **argv)
         { "example", case_example }, { "draco", case_draco },
         { "sphere", case_sphere },
     };
-    return lg_test_run_case("test_preview", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    lg_test_main_opts o = { .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

@@ -159,7 +159,5 @@ int main(int argc, char **argv)
     static const lg_test_case cases[] = {
         { "explain", case_explain }, { "medium", case_medium }, { "errors", case_errors },
     };
-    if (argc != 2)
-        return 2;
-    return lg_test_run_case("test_gltf_host", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }

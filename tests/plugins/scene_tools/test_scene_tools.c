@@ -707,9 +707,6 @@ int main(int argc, char **argv)
         { "sharing_cl", case_sharing_cl },
         { "errors", case_errors },
     };
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_scene_tools CASE\n");
-        return 99;
-    }
-    return lg_test_run_case("test_scene_tools", argv[1], cases, sizeof cases / sizeof cases[0], NULL, use_test_plugins);
+    lg_test_main_opts o = { .setup = use_test_plugins };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

@@ -70,8 +70,10 @@
 #define MAX_LIGHTS 40
 #define MAX_POINTS 1200
 
-static void use_test_plugins(lg_test *t)
+/* every case needs GL and the probe plugin */
+static void setup_case(lg_test *t)
 {
+    lg_test_require_backend(t, "gl");
     lg_test_use_plugins(t, SM_PROBE_DIR);
 }
 
@@ -884,10 +886,6 @@ int main(int argc, char **argv)
         { "frustum", case_frustum },   { "atlas", case_atlas },
         { "errors", case_errors },
     };
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_shadowmap CASE\n");
-        return 99;
-    }
-    lg_test_require_backend(NULL, "gl");
-    return lg_test_run_case("test_shadowmap", argv[1], cases, sizeof cases / sizeof cases[0], NULL, use_test_plugins);
+    lg_test_main_opts o = { .setup = setup_case };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }
