@@ -295,6 +295,10 @@ typedef struct lg_test_backends_desc {
     /* Bytes the node reads and writes per frame, for the bench table's GB/s (0: pixels
      * of the output x 32, an rgba32f read and write) */
     double bytes_per_frame;
+    /* A backend whose device is missing here is left out of the comparison; then, when
+     * nothing failed, the case ends as a skip (77) naming it, so that a run in which a
+     * device silently disappeared is never a pass. true: left out, and the case goes on. */
+    bool allow_missing;
     uint32_t reserved[8];
 } lg_test_backends_desc;
 
@@ -329,11 +333,12 @@ typedef struct lg_test_backends_result {
 /* Runs desc->node on each backend (in a render of its own, under --bench with N frames and
  * --every-frame=NODE), reads its output, compares it with desc->reference and with the first
  * backend that ran, and prints a table (backend, max abs and where, RMSE, times). Every
- * failed render and every comparison beyond tolerance is a failed check; a backend whose
- * device is missing is reported and left out. When no backend could run the program ends
- * with a skip (lg_test_skip). `res` may be NULL; else it receives the runs (free with
- * lg_test_backends_free). `desc` need only live until the call returns. Returns the
- * number of backends that ran. */
+ * failed render and every comparison beyond tolerance is a failed check. A backend whose
+ * device is missing is reported and left out; the case then ends with a skip
+ * (lg_test_skip) unless desc->allow_missing (or a check failed), after `res` has been
+ * freed. When no backend could run, it skips in any case. `res` may be NULL; else it
+ * receives the runs (free with lg_test_backends_free). `desc` need only live until the
+ * call returns. Returns the number of backends that ran. */
 LG_TEST_API size_t lg_test_backends(lg_test *t, const lg_test_backends_desc *desc,
                                     lg_test_backends_result *res);
 /* Frees the images of `res` and zeroes it. Accepts NULL. */

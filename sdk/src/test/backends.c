@@ -408,10 +408,22 @@ size_t lg_test_backends(lg_test *t, const lg_test_backends_desc *desc,
     }
     print_table(t, desc, res, first && res->n_ok > 1 ? first->backend : NULL);
     size_t ran = res->n_ok;
-    if (res == &local)
+    char missing[256] = "";
+    for (size_t i = 0; i < res->n; i++) {
+        if (res->run[i].status == LG_TEST_RUN_NO_DEVICE) {
+            size_t len = strlen(missing);
+            snprintf(missing + len, sizeof missing - len, "%s%s", len ? ", " : "",
+                     res->run[i].backend);
+        }
+    }
+    bool skip = t->failures == 0 && (ran == 0 || (*missing && !desc->allow_missing));
+    if (res == &local || skip)
         lg_test_backends_free(res);
-    if (ran == 0 && t->failures == 0)
+    if (skip && ran == 0)
         lg_test_skip(t, "%s: no backend's device can be made here", what);
+    if (skip)
+        lg_test_skip(t, "%s: no device here for %s (the %zu other backend(s) passed)", what,
+                     missing, ran);
     return ran;
 }
 

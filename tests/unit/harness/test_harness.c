@@ -6,7 +6,9 @@
  *   diff        lg_test_diff_images: max abs, where, RMSE, NaN/Inf, sizes, half rounding
  *   catches     a reference off by 1e-3 at one pixel: a failed check, at that pixel
  *   no_device   GL and CL made impossible (GALLIUM_DRIVER=softpipe, no OpenCL ICD): cpu
- *               runs, gl and cl are reported as "no device", nothing fails
+ *               runs, gl and cl are reported as "no device", nothing fails (allow_missing)
+ *   partial     the same without allow_missing: the case ends as a skip (77), checked by
+ *               running this program's `partial_inner` case
  *   bench       (run with --bench=3) three executions per backend, times filled in
  */
 #include <ftw.h>
@@ -14,6 +16,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "lightgraph/test.h"
 
@@ -138,6 +142,7 @@ static void case_no_device(lg_test *t)
         .reference = &want,
         .tol_reference = {.max_abs = 1e-6},
         .tol_backends = {.max_abs = 1e-6},
+        .allow_missing = true,
     };
     lg_test_backends_result res;
     size_t ran = lg_test_backends(t, &d, &res);
@@ -150,6 +155,42 @@ static void case_no_device(lg_test *t)
     LG_TEST_CHECK(t, lg_test_failures(t) == 0, "a missing device counted as a failure");
     lg_test_backends_free(&res);
     lg_image_free(&want);
+}
+
+/* Without allow_missing: gl and cl missing make the case a skip, after cpu passed. */
+static void case_partial_inner(lg_test *t)
+{
+    setenv("GALLIUM_DRIVER", "softpipe", 1);
+    setenv("OCL_ICD_VENDORS", lg_test_path(t, "no-icds"), 1);
+    /* no reference image: the skip leaves this function, which could not free it */
+    lg_test_backends_desc d = {.graph = graph_for(t), .node = "tone"};
+    lg_test_backends(t, &d, NULL);
+    LG_TEST_FAILF(t, "lg_test_backends returned although gl and cl were missing");
+}
+
+static void case_partial(lg_test *t)
+{
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) {
+        LG_TEST_FAILF(t, "readlink /proc/self/exe failed");
+        return;
+    }
+    self[n] = 0;
+    char cmd[9000];
+    snprintf(cmd, sizeof cmd, "'%s' partial_inner >'%s' 2>&1", self, lg_test_path(t, "inner.txt"));
+    int st = system(cmd);
+    int code = st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    FILE *f = fopen(lg_test_path(t, "inner.txt"), "r");
+    char text[8192] = "";
+    if (f) {
+        size_t len = fread(text, 1, sizeof text - 1, f);
+        text[len] = 0;
+        fclose(f);
+    }
+    LG_TEST_CHECK(t, code == LG_TEST_SKIP, "exit %d, want 77: %s", code, text);
+    LG_TEST_CHECK(t, strstr(text, "no device here for gl, cl (the 1 other backend(s) passed)") != NULL,
+                  "the skip does not name the missing devices: %s", text);
 }
 
 static void case_bench(lg_test *t)
@@ -190,6 +231,8 @@ int main(int argc, char **argv)
         {"diff", case_diff},
         {"catches", case_catches},
         {"no_device", case_no_device},
+        {"partial", case_partial},
+        {"partial_inner", case_partial_inner},
         {"bench", case_bench},
     };
     lg_test_main_opts o = {.prefix = "harness"};
