@@ -24,8 +24,8 @@ static int usage(const char *cmd, const char *fmt, const char *what)
         fprintf(stderr, fmt, what);
     fprintf(stderr,
             "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
-            "                 [--frames N] [--dt SECONDS] [--gl osmesa|egl] [--explain]\n"
-            "                 [--profile] [--profile-json FILE] [-v|-q]\n"
+            "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
+            "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
             "(see lightgraph help)\n",
             cmd);
     return 2;
@@ -105,6 +105,11 @@ static int parse_args(int argc, char **argv, args *a)
             a->opts.gl_backend = v;
         } else if (strcmp(s, "--explain") == 0) {
             a->opts.explain = true;
+        } else if (strcmp(s, "--every-frame") == 0) {
+            a->opts.every_frame = true;
+        } else if (strncmp(s, "--every-frame=", 14) == 0 && s[14]) {
+            a->opts.every_frame = true;
+            a->opts.every_frame_nodes = s + 14;
         } else if (strcmp(s, "--profile") == 0) {
             a->opts.profile = true;
         } else if (strcmp(s, "--profile-json") == 0) {

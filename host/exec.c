@@ -61,7 +61,12 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     if (ex->cl && n->device == LG_DEVICE_CL)
         clFinish((cl_command_queue)lg_cl_device_queue(ex->cl));
     read_cl_events(n);
-    n->cpu_ms += (lg_now() - t0) * 1e3;
+    double ms = (lg_now() - t0) * 1e3;
+    n->cpu_ms += ms;
+    if (n->runs == 0)
+        n->first_cpu_ms = n->min_cpu_ms = ms;
+    else if (ms < n->min_cpu_ms)
+        n->min_cpu_ms = ms;
     n->runs++;
     n->ran = true;
     if (rc == 0 && gl)
@@ -139,6 +144,25 @@ static int write_outputs(lg_exec *ex)
     return rc;
 }
 
+/* --every-frame[=NODE,...]: does `n` run again although nothing it reads changed? */
+static bool runs_every_frame(const lg_exec *ex, const lg_pnode *n)
+{
+    if (!ex->opts.every_frame)
+        return false;
+    const char *list = ex->opts.every_frame_nodes;
+    if (!list)
+        return true;
+    size_t len = strlen(n->pub.name);
+    for (const char *p = list; *p;) {
+        size_t k = strcspn(p, ",");
+        if (k == len && strncmp(p, n->pub.name, len) == 0)
+            return true;
+        p += k;
+        p += *p == ',';
+    }
+    return false;
+}
+
 int lg_execute(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
@@ -156,7 +180,7 @@ int lg_execute(lg_exec *ex)
         ex->frame = f;
         for (uint32_t t = 0; t < c->n_nodes; t++) {
             lg_pnode *n = &ex->nodes[c->topo[t]];
-            if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame))
+            if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame && !runs_every_frame(ex, n)))
                 continue;
             if (run_node(ex, n, &frame))
                 return -1;

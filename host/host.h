@@ -175,6 +175,8 @@ typedef struct lg_pnode {
     lg_digest identity;
     /* profile */
     double cpu_ms, gpu_ms;
+    double first_cpu_ms;         /* the first run: includes one-off set-up (programs, kernels) */
+    double min_cpu_ms;           /* the fastest run */
     bool gpu_unmeasured;         /* a GL timer query gave no plausible value */
     uint64_t runs;
     uint64_t bytes_alloc, bytes_moved;
@@ -191,6 +193,8 @@ typedef struct lg_exec_opts {
     const char *gl_backend;      /* "osmesa" (default) or "egl" */
     const char *output_override; /* -o */
     bool explain, profile;
+    bool every_frame;            /* --every-frame: static nodes run every frame too ... */
+    const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */
     const char *profile_json;
     const char *graph_path;
 } lg_exec_opts;
@@ -254,5 +258,6 @@ int lg_cmd_dot(int argc, char **argv);
 int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
 int lg_cmd_sweep(int argc, char **argv);
+int lg_cmd_devices(int argc, char **argv);
 
 #endif

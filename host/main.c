@@ -12,8 +12,13 @@ static void help(FILE *f)
             "\n"
             "usage:\n"
             "  lightgraph render GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
-            "                    [--frames N] [--dt SECONDS] [--gl osmesa|egl]\n"
-            "                    [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
+            "                    [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS]\n"
+            "                    [--gl osmesa|egl] [--explain] [--profile]\n"
+            "                    [--profile-json FILE] [-v|-q]\n"
+            "                    (--every-frame: nodes whose inputs do not change run every\n"
+            "                    frame too (all, or the named ones), to time them; the\n"
+            "                    profile's first_cpu_ms and min_cpu_ms then tell set-up from\n"
+            "                    steady state)\n"
             "  lightgraph check GRAPH [--set ...]     check a graph against the plugins\n"
             "  lightgraph fmt GRAPH [-i]              print (or rewrite) it canonically\n"
             "  lightgraph dot GRAPH                   Graphviz text of the graph\n"
@@ -23,6 +28,8 @@ static void help(FILE *f)
             "  lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--reference REF_GRAPH]\n"
             "                   [--ref-set N.P=V]... [--set N.P=V]... [--time NODE]\n"
             "                   [--repeat N] [--size WxH] [-o DIR]   error against time\n"
+            "  lightgraph devices [gl] [cl] [--gl osmesa|egl]  can the devices be made here?\n"
+            "                   (exit 0: all named ones (default: both) can; 1: one cannot)\n"
             "  lightgraph --version | help\n"
             "\n"
             "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
@@ -46,7 +53,7 @@ int main(int argc, char **argv)
     } cmds[] = {
         {"render", lg_cmd_render}, {"check", lg_cmd_check},     {"fmt", lg_cmd_fmt},
         {"dot", lg_cmd_dot},       {"plugins", lg_cmd_plugins}, {"inspect", lg_cmd_inspect},
-        {"diff", lg_cmd_diff},     {"sweep", lg_cmd_sweep},
+        {"diff", lg_cmd_diff},     {"sweep", lg_cmd_sweep},     {"devices", lg_cmd_devices},
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
@@ -60,9 +67,9 @@ int main(int argc, char **argv)
         help(stdout);
         return 0;
     }
-    const char *names[] = {"render",  "check", "fmt",   "dot", "plugins",
-                           "inspect", "diff",  "sweep", "help"};
-    const char *s = lg_suggest(cmd, names, 9);
+    const char *names[] = {"render", "check", "fmt",   "dot",     "plugins",
+                           "inspect", "diff", "sweep", "devices", "help"};
+    const char *s = lg_suggest(cmd, names, 10);
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;

@@ -86,10 +86,10 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
         if (n->state == LG_STATE_KEPT)
             lg_str_addf(&s,
                         ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
-                        "%.6f, \"gpu_ms\": %.6f, \"gpu_measured\": %s, \"bytes_allocated\": %llu, \"bytes_moved\": "
+                        "%.6f, \"first_cpu_ms\": %.6f, \"min_cpu_ms\": %.6f, \"gpu_ms\": %.6f, \"gpu_measured\": %s, \"bytes_allocated\": %llu, \"bytes_moved\": "
                         "%llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
                         dev(n), n->per_frame ? "true" : "false", (unsigned long long)n->runs,
-                        n->cpu_ms, n->gpu_ms, n->gpu_unmeasured ? "false" : "true",
+                        n->cpu_ms, n->first_cpu_ms, n->min_cpu_ms, n->gpu_ms, n->gpu_unmeasured ? "false" : "true",
                         (unsigned long long)n->bytes_alloc,
                         (unsigned long long)n->bytes_moved, (unsigned long long)n->cache_hits,
                         (unsigned long long)n->cache_misses);

@@ -47,7 +47,7 @@
 
 #include "lightgraph/vecmath.h"
 #include "phong_model.h"
-#include "ptest.h"
+#include "lightgraph/test.h"
 
 #ifndef PH_TEST_PLUGIN_DIR
 #define PH_TEST_PLUGIN_DIR ""
@@ -106,7 +106,7 @@ static void cam_params(char *out, size_t n, const cam *c)
  *     lit = phong { scene = ls, [shadows = shadow,] phong }
  *     output lit "out.exr"
  * and reads out.exr. `lights` must define a node `ls` (or be "ls = ..." a chain). */
-static int run(ptest *t, const char *scene, const char *lights, bool shadow, const char *phong,
+static int run(lg_test *t, const char *scene, const char *lights, bool shadow, const char *phong,
                const char *size, const char *const *extra_args, lg_image *out, char **text)
 {
     size_t cap = strlen(scene) + strlen(lights) + strlen(phong) + 1024;
@@ -122,17 +122,17 @@ static int run(ptest *t, const char *scene, const char *lights, bool shadow, con
              "output lit \"out.exr\"\n",
              scene, lights, shadow ? "shadow = shadowmap { scene = ls }\n" : "",
              shadow ? ", shadows = shadow" : "", phong);
-    pt_write_text(t, "g.lgraph", g);
+    lg_test_write_text(t, "g.lgraph", g);
     free(g);
     const char *args[16] = { "--size", size ? size : "64x48" };
     int na = 2;
     for (int i = 0; extra_args && extra_args[i] && na < 15; i++)
         args[na++] = extra_args[i];
     args[na] = NULL;
-    int rc = pt_render(t, "g.lgraph", args, text);
+    int rc = lg_test_render(t, "g.lgraph", args, text);
     if (rc != 0)
         return rc;
-    if (out && !pt_read(t, "out.exr", out, NULL))
+    if (out && !lg_test_read(t, "out.exr", out, NULL))
         return -2;
     return 0;
 }
@@ -140,7 +140,7 @@ static int run(ptest *t, const char *scene, const char *lights, bool shadow, con
 #define RUN_OK(t, sc, li, sh, ph, size, img)                                              \
     do {                                                                                   \
         int rc_ = run(t, sc, li, sh, ph, size, NULL, img, NULL);                           \
-        PT_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sc, ph, rc_);             \
+        LG_TEST_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sc, ph, rc_);             \
         if (rc_)                                                                           \
             return;                                                                        \
     } while (0)
@@ -189,7 +189,7 @@ static void lambert(double out[3], lg_vec3 N, const dlight *l, int n, double ka,
 
 /* ---- flat_cube ------------------------------------------------------------------------ */
 
-static void case_flat_cube(ptest *t)
+static void case_flat_cube(lg_test *t)
 {
     const cam c = { { 2.2f, 1.7f, 2.6f }, { 0, 0, 0 }, { 0, 1, 0 }, 40 };
     const double od[3] = { 0.9, 0.5, 0.2 }, ia[3] = { 0.2, 0.3, 0.4 }, ka = 0.3, kd = 0.6;
@@ -224,11 +224,11 @@ static void case_flat_cube(ptest *t)
                                                 lg_v3_scale(v, off[k][1])));
                 uint32_t x, y;
                 if (!project(&c, p, img.width, img.height, &x, &y)) {
-                    PT_CHECK(t, false, "face %d point %d projects outside the image", f, k);
+                    LG_TEST_CHECK(t, false, "face %d point %d projects outside the image", f, k);
                     continue;
                 }
                 const float *q = px(&img, x, y);
-                PT_CHECK(t, near3(q, want, 1e-4) && q[3] == 1.0f,
+                LG_TEST_CHECK(t, near3(q, want, 1e-4) && q[3] == 1.0f,
                          "%s: face %d point %d pixel (%u, %u) = %g %g %g %g, expected "
                          "%g %g %g 1",
                          MODES[mode], f, k, x, y, q[0], q[1], q[2], q[3], want[0], want[1],
@@ -247,7 +247,7 @@ static void case_flat_cube(ptest *t)
     if (project(&c, lg_v3(0, 0.5f, 0), img.width, img.height, &x, &y)) {
         double want[3] = { ka * ia[0] * od[0], ka * ia[1] * od[1], ka * ia[2] * od[2] };
         const float *q = px(&img, x, y);
-        PT_CHECK(t, near3(q, want, 1e-4), "top face lit from below: %g %g %g, expected %g %g %g",
+        LG_TEST_CHECK(t, near3(q, want, 1e-4), "top face lit from below: %g %g %g, expected %g %g %g",
                  q[0], q[1], q[2], want[0], want[1], want[2]);
     }
     lg_image_free(&img);
@@ -273,7 +273,7 @@ static dlight nth_light(int i)
     return l;
 }
 
-static void case_lights(ptest *t)
+static void case_lights(lg_test *t)
 {
     const cam c = { { 0, 4, 0.001f }, { 0, 0, 0 }, { 0, 0, -1 }, 40 };
     const double od[3] = { 0.7, 0.6, 0.5 }, ia[3] = { 0.05, 0.05, 0.05 }, ka = 0.2, kd = 0.9;
@@ -315,10 +315,10 @@ static void case_lights(ptest *t)
                     }
                 }
             mean /= 3.0 * img.width * img.height;
-            PT_CHECK(t, bad == 0, "%d lights, %s: %u pixels differ from the sum", n,
+            LG_TEST_CHECK(t, bad == 0, "%d lights, %s: %u pixels differ from the sum", n,
                      MODES[mode], bad);
             if (mode == 2) {
-                PT_CHECK(t, mean > prev_mean, "%d lights: mean %g is not above %g", n, mean,
+                LG_TEST_CHECK(t, mean > prev_mean, "%d lights: mean %g is not above %g", n, mean,
                          prev_mean);
                 prev_mean = mean;
             }
@@ -330,7 +330,7 @@ static void case_lights(ptest *t)
 
 /* ---- shadow -------------------------------------------------------------------------------- */
 
-static void case_shadow(ptest *t)
+static void case_shadow(lg_test *t)
 {
     /* occluder: x, z in [-0.5, 0.5] at y = 1, double-sided (the shadow maps cull front
      * faces, and a single-sided quad facing the light would cast nothing). Light 1 travels (0.5, -1, 0): its shadow is
@@ -370,11 +370,11 @@ static void case_shadow(ptest *t)
         for (int k = 0; k < 4; k++) {
             uint32_t x, y;
             if (!project(&c, pts[k].p, img.width, img.height, &x, &y)) {
-                PT_CHECK(t, false, "point %d projects outside the image", k);
+                LG_TEST_CHECK(t, false, "point %d projects outside the image", k);
                 continue;
             }
             const float *q = px(&img, x, y);
-            PT_CHECK(t, near3(q, pts[k].want, 1e-4),
+            LG_TEST_CHECK(t, near3(q, pts[k].want, 1e-4),
                      "%s: ground point %d (%s) at pixel (%u, %u) = %g %g %g, expected %g %g %g",
                      MODES[mode], k, pts[k].what, x, y, q[0], q[1], q[2], pts[k].want[0],
                      pts[k].want[1], pts[k].want[2]);
@@ -389,7 +389,7 @@ static void case_shadow(ptest *t)
 /* A quad of edge 4 (two triangles), ks = 1, Os = 1, n = 40, a point light at the camera 3
  * above the centre: at the centre R = V (the highlight: ks Os Ii), at the corners
  * R.V = 1/17 (none). */
-static void case_highlight(ptest *t)
+static void case_highlight(lg_test *t)
 {
     const cam c = { { 0, 3, 0 }, { 0, 0, 0 }, { 0, 0, -1 }, 60 };
     const double kd = 0.3, od = 0.5, ii = 1.0;
@@ -416,20 +416,20 @@ static void case_highlight(ptest *t)
                 got[mode] = fmax(got[mode], px(&img, x, y)[0]);
         lg_image_free(&img);
     }
-    PT_CHECK(t, fabs(got[2] - peak) < 0.02 * peak, "phong: centre %g, expected the highlight %g",
+    LG_TEST_CHECK(t, fabs(got[2] - peak) < 0.02 * peak, "phong: centre %g, expected the highlight %g",
              got[2], peak);
-    PT_CHECK(t, got[1] < diffuse + 0.05, "gouraud: centre %g shows a highlight (diffuse %g)",
+    LG_TEST_CHECK(t, got[1] < diffuse + 0.05, "gouraud: centre %g shows a highlight (diffuse %g)",
              got[1], diffuse);
-    PT_CHECK(t, fabs(got[3] - got[2]) < 1e-4 * peak, "mixed: centre %g, phong %g", got[3],
+    LG_TEST_CHECK(t, fabs(got[3] - got[2]) < 1e-4 * peak, "mixed: centre %g, phong %g", got[3],
              got[2]);
-    PT_CHECK(t, fabs(got[4] - peak) < 0.05 * peak, "phong_half: centre %g, expected %g", got[4],
+    LG_TEST_CHECK(t, fabs(got[4] - peak) < 0.05 * peak, "phong_half: centre %g, expected %g", got[4],
              peak);
-    PT_CHECK(t, got[0] < 0.5 * peak, "flat: centre %g shows the full highlight %g", got[0], peak);
+    LG_TEST_CHECK(t, got[0] < 0.5 * peak, "flat: centre %g shows the full highlight %g", got[0], peak);
 }
 
 /* ---- blinn --------------------------------------------------------------------------------- */
 
-static void case_blinn(ptest *t)
+static void case_blinn(lg_test *t)
 {
     const cam c = { { 0, 3, 0 }, { 0, 0, 0 }, { 0, 0, -1 }, 60 };
     char cp[512], scene[1024];
@@ -469,19 +469,19 @@ static void case_blinn(ptest *t)
     }
     fprintf(stderr, "highlight pixels above half the peak: phong %u, blinn x4 %u, blinn %u\n",
             area[0], area[1], area[2]);
-    PT_CHECK(t, peak[0] > 0.95 && peak[1] > 0.95, "peaks %g (phong) %g (blinn x4) are not ~1",
+    LG_TEST_CHECK(t, peak[0] > 0.95 && peak[1] > 0.95, "peaks %g (phong) %g (blinn x4) are not ~1",
              peak[0], peak[1]);
-    PT_CHECK(t, abs((int)peak_x[0] - (int)peak_x[1]) <= 1, "peaks at columns %u and %u",
+    LG_TEST_CHECK(t, abs((int)peak_x[0] - (int)peak_x[1]) <= 1, "peaks at columns %u and %u",
              peak_x[0], peak_x[1]);
-    PT_CHECK(t, area[1] > 0.7 * area[0] && area[1] < 1.3 * area[0],
+    LG_TEST_CHECK(t, area[1] > 0.7 * area[0] && area[1] < 1.3 * area[0],
              "blinn x4 covers %u pixels, phong %u", area[1], area[0]);
-    PT_CHECK(t, area[2] > 2.5 * area[0], "uncorrected blinn covers %u pixels, phong %u", area[2],
+    LG_TEST_CHECK(t, area[2] > 2.5 * area[0], "uncorrected blinn covers %u pixels, phong %u", area[2],
              area[0]);
 }
 
 /* ---- depth_cue ----------------------------------------------------------------------------- */
 
-static void case_depth_cue(ptest *t)
+static void case_depth_cue(lg_test *t)
 {
     const cam c = { { 0, 5, 0 }, { 0, 0, 0 }, { 0, 0, -1 }, 40 };
     const double kd = 0.8, od = 0.5, ia = 0.4, ka = 0.25, K = 2.5;
@@ -509,7 +509,7 @@ static void case_depth_cue(ptest *t)
         const float *q = px(&img, 31, 31);
         double w3[3] = { want, want, want };
         /* the pixel next to the centre is 5.002 away */
-        PT_CHECK(t, near3(q, w3, mode == 0 ? 1e-4 : 2e-4), "%s: %g, expected %g", MODES[mode],
+        LG_TEST_CHECK(t, near3(q, w3, mode == 0 ? 1e-4 : 2e-4), "%s: %g, expected %g", MODES[mode],
                  q[0], want);
         lg_image_free(&img);
     }
@@ -517,7 +517,7 @@ static void case_depth_cue(ptest *t)
 
 /* ---- infinite ------------------------------------------------------------------------------ */
 
-static void case_infinite(ptest *t)
+static void case_infinite(lg_test *t)
 {
     const cam c = { { 0, 3, 0 }, { 0, 0, 0 }, { 0, 0, -1 }, 60 };
     char cp[512], scene[1024];
@@ -537,7 +537,7 @@ static void case_infinite(ptest *t)
             lo = fmin(lo, px(&img, x, y)[0]);
             hi = fmax(hi, px(&img, x, y)[0]);
         }
-    PT_CHECK(t, fabs(lo - 1.0) < 1e-5 && fabs(hi - 1.0) < 1e-5,
+    LG_TEST_CHECK(t, fabs(lo - 1.0) < 1e-5 && fabs(hi - 1.0) < 1e-5,
              "lights_at = infinite: values in [%g, %g], expected 1 everywhere", lo, hi);
     lg_image_free(&img);
     /* local: at the plane point (1, 0, 0): N.L = 2 / sqrt(5) */
@@ -547,7 +547,7 @@ static void case_infinite(ptest *t)
     if (project(&c, lg_v3(1, 0, 0), 64, 64, &x, &y)) {
         double want = 2.0 / sqrt(5.0), got = px(&img, x, y)[0];
         /* the pixel's centre is within half a pixel (~0.05) of (1, 0, 0) */
-        PT_CHECK(t, fabs(got - want) < 0.02, "lights_at = local: %g at (1, 0, 0), expected %g",
+        LG_TEST_CHECK(t, fabs(got - want) < 0.02, "lights_at = local: %g at (1, 0, 0), expected %g",
                  got, want);
     }
     lg_image_free(&img);
@@ -576,11 +576,11 @@ static void case_infinite(ptest *t)
         /* L = (1, 3, 0)/sqrt(10), R = (-1, 3, 0)/sqrt(10), V = +Y: R.V = 3/sqrt(10) */
         double want = pow(3.0 / sqrt(10.0), 5.0);
         if (v == 0)
-            PT_CHECK(t, fabs(lo - want) < 1e-5 && fabs(hi - want) < 1e-5,
+            LG_TEST_CHECK(t, fabs(lo - want) < 1e-5 && fabs(hi - want) < 1e-5,
                      "viewer = infinite: values in [%g, %g], expected %g everywhere", lo, hi,
                      want);
         else
-            PT_CHECK(t, hi - lo > 0.1, "viewer = local: values in [%g, %g] hardly vary", lo, hi);
+            LG_TEST_CHECK(t, hi - lo > 0.1, "viewer = local: values in [%g, %g] hardly vary", lo, hi);
         lg_image_free(&img);
     }
 }
@@ -621,7 +621,7 @@ static lg_vec3 cube_eq13_normal(float sx, float sy, float sz)
     return lg_v3(nrm[3 * k], nrm[3 * k + 1], nrm[3 * k + 2]);
 }
 
-static void case_eq13(ptest *t)
+static void case_eq13(lg_test *t)
 {
     const cam c = { { 2.2f, 1.7f, 2.6f }, { 0, 0, 0 }, { 0, 1, 0 }, 40 };
     char cp[512], scene[1024];
@@ -640,8 +640,8 @@ static void case_eq13(ptest *t)
     uint32_t x, y;
     if (project(&c, lg_v3(0, 0, 0.5f), 160, 120, &x, &y)) {
         double ga = px(&a, x, y)[0], gb = px(&b, x, y)[0];
-        PT_CHECK(t, fabs(ga - 1.0) < 1e-4, "scene normals: +Z face centre %g, expected 1", ga);
-        PT_CHECK(t, fabs(gb - want) < 0.01 && want < 0.9,
+        LG_TEST_CHECK(t, fabs(ga - 1.0) < 1e-4, "scene normals: +Z face centre %g, expected 1", ga);
+        LG_TEST_CHECK(t, fabs(gb - want) < 0.01 && want < 0.9,
                  "eq13 normals: +Z face centre %g, expected %g (corner normals (%g %g %g), "
                  "(%g %g %g))",
                  gb, want, n0.x, n0.y, n0.z, n1.x, n1.y, n1.z);
@@ -652,7 +652,7 @@ static void case_eq13(ptest *t)
 
 /* ---- gating --------------------------------------------------------------------------------- */
 
-static void case_gating(ptest *t)
+static void case_gating(lg_test *t)
 {
     const cam c = { { 0, 4, 0 }, { 0, 0, 0 }, { 0, 0, -1 }, 40 };
     char cp[512], scene[1024];
@@ -666,20 +666,20 @@ static void case_gating(ptest *t)
     lg_image img = { 0 };
     int rc = run(t, scene, lights, true, "shading = phong, ambient = [0, 0, 0]", "64x64", args,
                  &img, &text);
-    PT_CHECK(t, rc == 0, "render failed (%d)", rc);
+    LG_TEST_CHECK(t, rc == 0, "render failed (%d)", rc);
     if (rc == 0) {
         const char *row = text ? strstr(text, "\n  shadow ") : NULL;
         const char *eol = row ? strchr(row + 1, '\n') : NULL;
         const char *gated = row ? strstr(row, " gated ") : NULL;
-        PT_CHECK(t, row && eol && gated && gated < eol,
+        LG_TEST_CHECK(t, row && eol && gated && gated < eol,
                  "the shadowmap node is not reported gated:\n%s", text ? text : "");
-        PT_CHECK(t, text && strstr(text, "plugins not loaded:") &&
+        LG_TEST_CHECK(t, text && strstr(text, "plugins not loaded:") &&
                         strstr(strstr(text, "plugins not loaded:"), "shadowmap"),
                  "the shadowmap plugin was loaded:\n%s", text ? text : "");
         /* the centre, under the light: 2 * 1 * 0.5 * N.L = 1 */
         double got = fmax(fmax(px(&img, 31, 31)[0], px(&img, 32, 32)[0]),
                           fmax(px(&img, 31, 32)[0], px(&img, 32, 31)[0]));
-        PT_CHECK(t, fabs(got - 1.0) < 1e-3, "point light under a gated shadow node: %g, expected 1",
+        LG_TEST_CHECK(t, fabs(got - 1.0) < 1e-3, "point light under a gated shadow node: %g, expected 1",
                  got);
         lg_image_free(&img);
     }
@@ -688,7 +688,7 @@ static void case_gating(ptest *t)
 
 /* ---- errors --------------------------------------------------------------------------------- */
 
-static void case_errors(ptest *t)
+static void case_errors(lg_test *t)
 {
     const char *g =
         "lightgraph 1\n"
@@ -698,31 +698,32 @@ static void case_errors(ptest *t)
         "shadow = shadowmap { scene = b }\n"
         "lit = phong { scene = a, shadows = shadow }\n"
         "output lit \"out.exr\"\n";
-    pt_write_text(t, "g.lgraph", g);
+    lg_test_write_text(t, "g.lgraph", g);
     const char *args[] = { "--size", "32x32", NULL };
     char *text = NULL;
-    int rc = pt_render(t, "g.lgraph", args, &text);
-    PT_CHECK(t, rc == 1, "shadow maps of another scene: exit status %d, expected 1", rc);
-    PT_CHECK(t, text && strstr(text, "node 'lit' (phong)") && strstr(text, "shadow map 1") &&
+    int rc = lg_test_render(t, "g.lgraph", args, &text);
+    LG_TEST_CHECK(t, rc == 1, "shadow maps of another scene: exit status %d, expected 1", rc);
+    LG_TEST_CHECK(t, text && strstr(text, "node 'lit' (phong)") && strstr(text, "shadow map 1") &&
                     strstr(text, "light 1"),
              "the message does not name the node, the map and the light:\n%s", text ? text : "");
     free(text);
 }
 
+static void require_gl(lg_test *t)
+{
+    lg_test_require_backend(t, "gl");
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_phong CASE\n");
-        return 99;
-    }
-    pt_require_backend("gl");
     setenv("LIGHTGRAPH_PLUGIN_PATH", PH_TEST_PLUGIN_DIR, 1);
-    static const pt_case cases[] = {
+    static const lg_test_case cases[] = {
         { "flat_cube", case_flat_cube }, { "lights", case_lights },
         { "shadow", case_shadow },       { "highlight", case_highlight },
         { "blinn", case_blinn },         { "depth_cue", case_depth_cue },
         { "infinite", case_infinite },   { "eq13", case_eq13 },
         { "gating", case_gating },       { "errors", case_errors },
     };
-    return pt_run_case("test_phong", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    lg_test_main_opts o = { .setup = require_gl };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

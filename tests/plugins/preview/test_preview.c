@@ -51,7 +51,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ptest.h"
+#include "lightgraph/test.h"
 
 #ifndef PV_TEST_PLUGIN_DIR
 #define PV_TEST_PLUGIN_DIR ""
@@ -64,7 +64,7 @@ static const float COL[3] = { 0.2f, 0.5f, 0.8f }; /* testmeshscene's default col
 
 /* Writes g.lgraph with `scene` params and `view` params, outputs the colour image to
  * out.exr and, with depth, the depth plane to depth.exr; renders; reads them back. */
-static int run(ptest *t, const char *scene_params, const char *view_params, bool depth,
+static int run(lg_test *t, const char *scene_params, const char *view_params, bool depth,
                const char *size, lg_image *out, lg_image *dplane, char **text)
 {
     char g[4096];
@@ -76,14 +76,14 @@ static int run(ptest *t, const char *scene_params, const char *view_params, bool
              "%s",
              scene_params, *view_params ? ", " : "", view_params,
              depth ? "d = test_depth_plane { image = view }\noutput d \"depth.exr\"\n" : "");
-    pt_write_text(t, "g.lgraph", g);
+    lg_test_write_text(t, "g.lgraph", g);
     const char *args[] = { "--size", size ? size : "64x48", NULL };
-    int rc = pt_render(t, "g.lgraph", args, text);
+    int rc = lg_test_render(t, "g.lgraph", args, text);
     if (rc != 0)
         return rc;
-    if (out && !pt_read(t, "out.exr", out, NULL))
+    if (out && !lg_test_read(t, "out.exr", out, NULL))
         return -2;
-    if (depth && dplane && !pt_read(t, "depth.exr", dplane, NULL))
+    if (depth && dplane && !lg_test_read(t, "depth.exr", dplane, NULL))
         return -2;
     return 0;
 }
@@ -122,16 +122,16 @@ static double window_depth(double z)
 #define RUN_OK(t, sp, vp, depth, size, out, dp)                                            \
     do {                                                                                   \
         int rc_ = run(t, sp, vp, depth, size, out, dp, NULL);                              \
-        PT_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sp, vp, rc_);              \
+        LG_TEST_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sp, vp, rc_);              \
         if (rc_)                                                                           \
             return;                                                                        \
     } while (0)
 
-static void case_fill(ptest *t)
+static void case_fill(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = quad_fill", "", false, NULL, &img, NULL);
-    PT_CHECK(t, img.width == 64 && img.height == 48, "size %ux%u", img.width, img.height);
+    LG_TEST_CHECK(t, img.width == 64 && img.height == 48, "size %ux%u", img.width, img.height);
     uint32_t bad = 0;
     for (uint32_t y = 0; y < img.height; y++)
         for (uint32_t x = 0; x < img.width; x++) {
@@ -143,19 +143,19 @@ static void case_fill(ptest *t)
                 bad++;
             }
         }
-    PT_CHECK(t, bad == 0, "%u pixels differ from the base colour", bad);
+    LG_TEST_CHECK(t, bad == 0, "%u pixels differ from the base colour", bad);
     lg_image_free(&img);
 }
 
-static void case_normals(ptest *t)
+static void case_normals(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = cube", "mode = normals", false, "64x64", &img, NULL);
     const float front[3] = { 0.5f, 0.5f, 1.0f };
     const float *c = px(&img, 32, 32);
-    PT_CHECK(t, near3(c, front, 1e-5), "cube centre %g %g %g, expected 0.5 0.5 1", c[0], c[1],
+    LG_TEST_CHECK(t, near3(c, front, 1e-5), "cube centre %g %g %g, expected 0.5 0.5 1", c[0], c[1],
              c[2]);
-    PT_CHECK(t, is_bg(px(&img, 2, 2)) && is_bg(px(&img, 61, 61)), "corners are not background");
+    LG_TEST_CHECK(t, is_bg(px(&img, 2, 2)) && is_bg(px(&img, 61, 61)), "corners are not background");
     lg_image_free(&img);
 
     /* rotated 45 degrees about +Y: the object's -X face now faces (-s, 0, s) and its +Z
@@ -165,9 +165,9 @@ static void case_normals(ptest *t)
     const float left[3] = { -s * 0.5f + 0.5f, 0.5f, s * 0.5f + 0.5f };
     const float right[3] = { s * 0.5f + 0.5f, 0.5f, s * 0.5f + 0.5f };
     const float *l = px(&img, 26, 32), *r = px(&img, 38, 32);
-    PT_CHECK(t, near3(l, left, 1e-5), "left face %g %g %g, expected %g %g %g", l[0], l[1], l[2],
+    LG_TEST_CHECK(t, near3(l, left, 1e-5), "left face %g %g %g, expected %g %g %g", l[0], l[1], l[2],
              left[0], left[1], left[2]);
-    PT_CHECK(t, near3(r, right, 1e-5), "right face %g %g %g, expected %g %g %g", r[0], r[1],
+    LG_TEST_CHECK(t, near3(r, right, 1e-5), "right face %g %g %g, expected %g %g %g", r[0], r[1],
              r[2], right[0], right[1], right[2]);
     lg_image_free(&img);
 
@@ -179,14 +179,14 @@ static void case_normals(ptest *t)
     const float sr[3] = { a * 0.5f + 0.5f, 0.5f, b * 0.5f + 0.5f };
     l = px(&img, 24, 32);
     r = px(&img, 40, 32);
-    PT_CHECK(t, near3(l, sl, 1e-5), "stretched left face %g %g %g, expected %g %g %g", l[0],
+    LG_TEST_CHECK(t, near3(l, sl, 1e-5), "stretched left face %g %g %g, expected %g %g %g", l[0],
              l[1], l[2], sl[0], sl[1], sl[2]);
-    PT_CHECK(t, near3(r, sr, 1e-5), "stretched right face %g %g %g, expected %g %g %g", r[0],
+    LG_TEST_CHECK(t, near3(r, sr, 1e-5), "stretched right face %g %g %g, expected %g %g %g", r[0],
              r[1], r[2], sr[0], sr[1], sr[2]);
     lg_image_free(&img);
 }
 
-static void case_depth(ptest *t)
+static void case_depth(lg_test *t)
 {
     lg_image img = { 0 }, dp = { 0 };
     RUN_OK(t, "layout = two_depths", "", true, "64x48", &img, &dp);
@@ -195,31 +195,31 @@ static void case_depth(ptest *t)
     project(-1.1, 0, 0, T30, a, 64, 48, &lx, &ly);
     project(1.1, 0, -3, T30, a, 64, 48, &rx, &ry);
     double dl = px(&dp, lx, ly)[0], dr = px(&dp, rx, ry)[0];
-    PT_CHECK(t, fabs(dl - window_depth(5)) < 1e-5, "near quad depth %.7g, expected %.7g", dl,
+    LG_TEST_CHECK(t, fabs(dl - window_depth(5)) < 1e-5, "near quad depth %.7g, expected %.7g", dl,
              window_depth(5));
-    PT_CHECK(t, fabs(dr - window_depth(8)) < 1e-5, "far quad depth %.7g, expected %.7g", dr,
+    LG_TEST_CHECK(t, fabs(dr - window_depth(8)) < 1e-5, "far quad depth %.7g, expected %.7g", dr,
              window_depth(8));
-    PT_CHECK(t, dr > dl, "depth does not increase with distance (%g, %g)", dl, dr);
-    PT_CHECK(t, px(&dp, 32, 2)[0] == 1.0f, "background depth %g, expected 1", px(&dp, 32, 2)[0]);
+    LG_TEST_CHECK(t, dr > dl, "depth does not increase with distance (%g, %g)", dl, dr);
+    LG_TEST_CHECK(t, px(&dp, 32, 2)[0] == 1.0f, "background depth %g, expected 1", px(&dp, 32, 2)[0]);
     uint32_t outside = 0;
     for (size_t i = 0; i < (size_t)dp.width * dp.height; i++)
         if (!(dp.pixels[i * 4] >= 0.0f && dp.pixels[i * 4] <= 1.0f))
             outside++;
-    PT_CHECK(t, outside == 0, "%u depth values outside [0, 1]", outside);
+    LG_TEST_CHECK(t, outside == 0, "%u depth values outside [0, 1]", outside);
     lg_image_free(&img);
     lg_image_free(&dp);
 
     RUN_OK(t, "layout = two_depths", "mode = depth", false, "64x48", &img, NULL);
     double gl = px(&img, lx, ly)[0], gr = px(&img, rx, ry)[0];
-    PT_CHECK(t, fabs(gl - (5 - N) / (F - N)) < 1e-5, "near grey %.7g, expected %.7g", gl,
+    LG_TEST_CHECK(t, fabs(gl - (5 - N) / (F - N)) < 1e-5, "near grey %.7g, expected %.7g", gl,
              (5 - N) / (F - N));
-    PT_CHECK(t, fabs(gr - (8 - N) / (F - N)) < 1e-5, "far grey %.7g, expected %.7g", gr,
+    LG_TEST_CHECK(t, fabs(gr - (8 - N) / (F - N)) < 1e-5, "far grey %.7g, expected %.7g", gr,
              (8 - N) / (F - N));
-    PT_CHECK(t, is_bg(px(&img, 32, 2)), "depth mode: no background above the quads");
+    LG_TEST_CHECK(t, is_bg(px(&img, 32, 2)), "depth mode: no background above the quads");
     lg_image_free(&img);
 }
 
-static void case_instancing(ptest *t)
+static void case_instancing(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = instanced", "", false, "96x48", &img, NULL);
@@ -228,78 +228,78 @@ static void case_instancing(ptest *t)
     project(-1.5, 0, 0, T30, a, 96, 48, &x0, &y0);
     project(1.5, 0.5, 0, T30, a, 96, 48, &x1, &y1);
     project(0, 0.25, 0, T30, a, 96, 48, &xm, &ym);
-    PT_CHECK(t, near3(px(&img, x0, y0), COL, 1e-6), "instance 0 missing at (%u, %u)", x0, y0);
-    PT_CHECK(t, near3(px(&img, x1, y1), COL, 1e-6), "instance 1 missing at (%u, %u)", x1, y1);
-    PT_CHECK(t, is_bg(px(&img, xm, ym)), "no background between the instances at (%u, %u)", xm,
+    LG_TEST_CHECK(t, near3(px(&img, x0, y0), COL, 1e-6), "instance 0 missing at (%u, %u)", x0, y0);
+    LG_TEST_CHECK(t, near3(px(&img, x1, y1), COL, 1e-6), "instance 1 missing at (%u, %u)", x1, y1);
+    LG_TEST_CHECK(t, is_bg(px(&img, xm, ym)), "no background between the instances at (%u, %u)", xm,
              ym);
     /* instance 1 is 0.5 higher: its centre row is above instance 0's */
-    PT_CHECK(t, y1 < y0, "projection: rows %u %u", y0, y1);
-    PT_CHECK(t, is_bg(px(&img, x1, y0 + 4)), "instance 1 drawn at instance 0's height");
+    LG_TEST_CHECK(t, y1 < y0, "projection: rows %u %u", y0, y1);
+    LG_TEST_CHECK(t, is_bg(px(&img, x1, y0 + 4)), "instance 1 drawn at instance 0's height");
     uint32_t covered = 0;
     for (size_t i = 0; i < (size_t)img.width * img.height; i++)
         covered += !is_bg(img.pixels + i * 4);
     /* each unit quad at distance 5: (1 / (2 * 5 * t30)) of the height squared, in pixels */
     double side = 48.0 / (2 * 5 * T30);
-    PT_CHECK(t, fabs(covered - 2 * side * side) < 4 * side + 4,
+    LG_TEST_CHECK(t, fabs(covered - 2 * side * side) < 4 * side + 4,
              "%u pixels covered, two instances make about %.0f", covered, 2 * side * side);
     lg_image_free(&img);
 }
 
-static void case_upright(ptest *t)
+static void case_upright(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = upper_right", "", false, "64x64", &img, NULL);
     uint32_t x, y;
     project(1, 1, 0, T30, 1.0, 64, 64, &x, &y);
-    PT_CHECK(t, y < 32 && x > 32, "projection puts the quad at (%u, %u)", x, y);
-    PT_CHECK(t, near3(px(&img, x, y), COL, 1e-6), "the quad is not in the upper right (%u, %u)",
+    LG_TEST_CHECK(t, y < 32 && x > 32, "projection puts the quad at (%u, %u)", x, y);
+    LG_TEST_CHECK(t, near3(px(&img, x, y), COL, 1e-6), "the quad is not in the upper right (%u, %u)",
              x, y);
-    PT_CHECK(t, is_bg(px(&img, x, 63 - y)), "something in the lower right (mirrored in Y?)");
-    PT_CHECK(t, is_bg(px(&img, 63 - x, y)), "something in the upper left (mirrored in X?)");
+    LG_TEST_CHECK(t, is_bg(px(&img, x, 63 - y)), "something in the lower right (mirrored in Y?)");
+    LG_TEST_CHECK(t, is_bg(px(&img, 63 - x, y)), "something in the upper left (mirrored in X?)");
     lg_image_free(&img);
 }
 
-static void case_cull(ptest *t)
+static void case_cull(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = back_quad", "cull = none", false, "32x32", &img, NULL);
-    PT_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "cull = none hides a back face");
+    LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "cull = none hides a back face");
     lg_image_free(&img);
     RUN_OK(t, "layout = back_quad", "cull = material", false, "32x32", &img, NULL);
-    PT_CHECK(t, is_bg(px(&img, 16, 16)), "cull = material draws a single-sided back face");
+    LG_TEST_CHECK(t, is_bg(px(&img, 16, 16)), "cull = material draws a single-sided back face");
     lg_image_free(&img);
     RUN_OK(t, "layout = back_quad, double_sided = true", "cull = material", false, "32x32", &img,
            NULL);
-    PT_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "cull = material hides a double-sided face");
+    LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "cull = material hides a double-sided face");
     lg_image_free(&img);
     RUN_OK(t, "layout = upper_right", "cull = material", false, "64x64", &img, NULL);
     uint32_t x, y;
     project(1, 1, 0, T30, 1.0, 64, 64, &x, &y);
-    PT_CHECK(t, near3(px(&img, x, y), COL, 1e-6), "cull = material hides a front face");
+    LG_TEST_CHECK(t, near3(px(&img, x, y), COL, 1e-6), "cull = material hides a front face");
     lg_image_free(&img);
     RUN_OK(t, "layout = mirrored", "cull = material", false, "32x32", &img, NULL);
-    PT_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6),
+    LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6),
              "cull = material hides a front face seen through a mirroring instance");
     lg_image_free(&img);
     RUN_OK(t, "layout = mirrored", "cull = material, mode = normals", false, "32x32", &img, NULL);
     const float plus_z[3] = { 0.5f, 0.5f, 1.0f };
-    PT_CHECK(t, near3(px(&img, 16, 16), plus_z, 1e-5), "mirrored quad's normal %g %g %g",
+    LG_TEST_CHECK(t, near3(px(&img, 16, 16), plus_z, 1e-5), "mirrored quad's normal %g %g %g",
              px(&img, 16, 16)[0], px(&img, 16, 16)[1], px(&img, 16, 16)[2]);
     lg_image_free(&img);
 }
 
-static void case_size(ptest *t)
+static void case_size(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = quad_fill", "width = 40, height = 30", false, "64x48", &img, NULL);
-    PT_CHECK(t, img.width == 40 && img.height == 30, "width/height: %ux%u", img.width,
+    LG_TEST_CHECK(t, img.width == 40 && img.height == 30, "width/height: %ux%u", img.width,
              img.height);
     lg_image_free(&img);
     RUN_OK(t, "layout = quad_fill", "", false, "50x20", &img, NULL);
-    PT_CHECK(t, img.width == 50 && img.height == 20, "render size: %ux%u", img.width, img.height);
+    LG_TEST_CHECK(t, img.width == 50 && img.height == 20, "render size: %ux%u", img.width, img.height);
     lg_image_free(&img);
     RUN_OK(t, "layout = quad_fill", "width = 24", false, "50x20", &img, NULL);
-    PT_CHECK(t, img.width == 24 && img.height == 20, "width only: %ux%u", img.width, img.height);
+    LG_TEST_CHECK(t, img.width == 24 && img.height == 20, "width only: %ux%u", img.width, img.height);
     lg_image_free(&img);
 }
 
@@ -319,7 +319,7 @@ static void coverage_box(const lg_image *img, int *w, int *h)
     *h = y1 - y0 + 1;
 }
 
-static void case_aspect(ptest *t)
+static void case_aspect(lg_test *t)
 {
     lg_image img = { 0 };
     int w, h;
@@ -327,7 +327,7 @@ static void case_aspect(ptest *t)
     RUN_OK(t, "layout = back_quad", "", false, "160x80", &img, NULL);
     coverage_box(&img, &w, &h);
     double side = 80.0 * 2 / (2 * 5 * T30);
-    PT_CHECK(t, abs(w - h) <= 1 && fabs(h - side) <= 1.5, "aspect 0 on 2:1: %dx%d, expected %.1f "
+    LG_TEST_CHECK(t, abs(w - h) <= 1 && fabs(h - side) <= 1.5, "aspect 0 on 2:1: %dx%d, expected %.1f "
              "square", w, h, side);
     lg_image_free(&img);
     /* camera aspect 1 on a 1:2 output: the horizontal field is the camera's, so the quad
@@ -335,71 +335,71 @@ static void case_aspect(ptest *t)
     RUN_OK(t, "layout = back_quad, camera_aspect = 1", "", false, "80x160", &img, NULL);
     coverage_box(&img, &w, &h);
     side = 80.0 * 2 / (2 * 5 * T30);
-    PT_CHECK(t, abs(w - h) <= 1 && fabs(w - side) <= 1.5,
+    LG_TEST_CHECK(t, abs(w - h) <= 1 && fabs(w - side) <= 1.5,
              "camera aspect 1 on 1:2: %dx%d, expected %.1f square", w, h, side);
     lg_image_free(&img);
 }
 
-static void case_far(ptest *t)
+static void case_far(lg_test *t)
 {
     lg_image img = { 0 }, dp = { 0 };
     RUN_OK(t, "layout = far, zfar = 0", "mode = depth", true, "32x32", &img, &dp);
     const float *p = px(&img, 16, 16);
     double zfar = 50.0 * 1.01;
-    PT_CHECK(t, !is_bg(p), "the quad 50 away is clipped");
-    PT_CHECK(t, fabs(p[0] - (50 - N) / (zfar - N)) < 1e-3, "grey %g, expected %g", p[0],
+    LG_TEST_CHECK(t, !is_bg(p), "the quad 50 away is clipped");
+    LG_TEST_CHECK(t, fabs(p[0] - (50 - N) / (zfar - N)) < 1e-3, "grey %g, expected %g", p[0],
              (50 - N) / (zfar - N));
     double d = px(&dp, 16, 16)[0];
-    PT_CHECK(t, d > 0.9 && d < 1.0, "window depth %g", d);
+    LG_TEST_CHECK(t, d > 0.9 && d < 1.0, "window depth %g", d);
     lg_image_free(&img);
     lg_image_free(&dp);
 }
 
-static void case_camera(ptest *t)
+static void case_camera(lg_test *t)
 {
     lg_image img = { 0 };
     RUN_OK(t, "layout = quad_fill", "camera = 1", false, "32x32", &img, NULL);
     uint32_t covered = 0;
     for (size_t i = 0; i < (size_t)img.width * img.height; i++)
         covered += !is_bg(img.pixels + i * 4);
-    PT_CHECK(t, covered == 0, "camera 1 looks away, yet %u pixels are covered", covered);
+    LG_TEST_CHECK(t, covered == 0, "camera 1 looks away, yet %u pixels are covered", covered);
     lg_image_free(&img);
     RUN_OK(t, "layout = quad_fill", "camera = 0", false, "32x32", &img, NULL);
-    PT_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "camera 0 does not see the quad");
+    LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "camera 0 does not see the quad");
     lg_image_free(&img);
     char *text = NULL;
     int rc = run(t, "layout = quad_fill", "camera = 2", false, "32x32", NULL, NULL, &text);
-    PT_CHECK(t, rc == 1 && text && strstr(text, "camera 2 does not exist") &&
+    LG_TEST_CHECK(t, rc == 1 && text && strstr(text, "camera 2 does not exist") &&
                     strstr(text, "view"),
              "camera 2: exit %d, message: %s", rc, text ? text : "");
     free(text);
 }
 
-static void case_empty(ptest *t)
+static void case_empty(lg_test *t)
 {
     lg_image img = { 0 }, dp = { 0 };
     RUN_OK(t, "layout = empty", "", true, "16x16", &img, &dp);
     uint32_t bad = 0;
     for (size_t i = 0; i < (size_t)img.width * img.height; i++)
         bad += !is_bg(img.pixels + i * 4) || dp.pixels[i * 4] != 1.0f;
-    PT_CHECK(t, bad == 0, "%u pixels are not background at depth 1", bad);
+    LG_TEST_CHECK(t, bad == 0, "%u pixels are not background at depth 1", bad);
     lg_image_free(&img);
     lg_image_free(&dp);
 }
 
-static void expect_error(ptest *t, const char *layout, const char *const *needles)
+static void expect_error(lg_test *t, const char *layout, const char *const *needles)
 {
     char sp[128], *text = NULL;
     snprintf(sp, sizeof sp, "layout = %s", layout);
     int rc = run(t, sp, "", false, "16x16", NULL, NULL, &text);
-    PT_CHECK(t, rc == 1, "%s: exit %d, expected 1", layout, rc);
+    LG_TEST_CHECK(t, rc == 1, "%s: exit %d, expected 1", layout, rc);
     for (int i = 0; needles[i]; i++)
-        PT_CHECK(t, text && strstr(text, needles[i]), "%s: message lacks '%s': %s", layout,
+        LG_TEST_CHECK(t, text && strstr(text, needles[i]), "%s: message lacks '%s': %s", layout,
                  needles[i], text ? text : "");
     free(text);
 }
 
-static void case_errors(ptest *t)
+static void case_errors(lg_test *t)
 {
     expect_error(t, "bad_index",
                  (const char *const[]){ "mesh 0 'test mesh#0'", "index 9", "out of range",
@@ -414,13 +414,13 @@ static void case_errors(ptest *t)
 static const char *file_arg;
 
 /* Renders `graph_text` (written to g.lgraph) with args; reads out.exr. */
-static bool render_graph(ptest *t, const char *graph_text, const char *const *args,
+static bool render_graph(lg_test *t, const char *graph_text, const char *const *args,
                          lg_image *img)
 {
-    pt_write_text(t, "g.lgraph", graph_text);
-    int rc = pt_render(t, "g.lgraph", args, NULL);
-    PT_CHECK(t, rc == 0, "render failed (exit %d)", rc);
-    return rc == 0 && pt_read(t, "out.exr", img, NULL);
+    lg_test_write_text(t, "g.lgraph", graph_text);
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render failed (exit %d)", rc);
+    return rc == 0 && lg_test_read(t, "out.exr", img, NULL);
 }
 
 typedef struct pv_stats {
@@ -434,7 +434,7 @@ static void stats_add(pv_stats *s, uint32_t x, uint32_t y)
     s->sy += y;
 }
 
-static void render_example(ptest *t, const char *file, lg_image *img)
+static void render_example(lg_test *t, const char *file, lg_image *img)
 {
     char g[8192];
     const char *root = getenv("LG_SOURCE_ROOT");
@@ -447,13 +447,13 @@ static void render_example(ptest *t, const char *file, lg_image *img)
     render_graph(t, g, args, img);
 }
 
-static void case_example(ptest *t)
+static void case_example(lg_test *t)
 {
     lg_image img = { 0 };
     render_example(t, file_arg, &img);
     if (!img.pixels)
         return;
-    PT_CHECK(t, img.width == 640 && img.height == 360, "size %ux%u", img.width, img.height);
+    LG_TEST_CHECK(t, img.width == 640 && img.height == 360, "size %ux%u", img.width, img.height);
     pv_stats red = { 0 }, green = { 0 }, bunny = { 0 }, bg = { 0 };
     for (uint32_t y = 0; y < img.height; y++)
         for (uint32_t x = 0; x < img.width; x++) {
@@ -473,32 +473,31 @@ static void case_example(ptest *t)
                     "%.0f), background %.0f px\n",
             red.n, red.n ? red.sx / red.n : 0, green.n, green.n ? green.sx / green.n : 0, bunny.n,
             bunny.n ? bunny.sx / bunny.n : 0, bunny.n ? bunny.sy / bunny.n : 0, bg.n);
-    PT_CHECK(t, red.n > 0.02 * total && green.n > 0.02 * total, "walls: red %.0f, green %.0f px",
+    LG_TEST_CHECK(t, red.n > 0.02 * total && green.n > 0.02 * total, "walls: red %.0f, green %.0f px",
              red.n, green.n);
     if (red.n && green.n) {
-        PT_CHECK(t, red.sx / red.n < 0.35 * img.width, "the red wall is not on the left");
-        PT_CHECK(t, green.sx / green.n > 0.65 * img.width, "the green wall is not on the right");
-        PT_CHECK(t, fabs(red.n - green.n) < 0.15 * fmax(red.n, green.n),
+        LG_TEST_CHECK(t, red.sx / red.n < 0.35 * img.width, "the red wall is not on the left");
+        LG_TEST_CHECK(t, green.sx / green.n > 0.65 * img.width, "the green wall is not on the right");
+        LG_TEST_CHECK(t, fabs(red.n - green.n) < 0.15 * fmax(red.n, green.n),
                  "the walls are not symmetric: %.0f and %.0f px", red.n, green.n);
     }
-    PT_CHECK(t, bunny.n > 0.01 * total, "the bunny covers %.0f px", bunny.n);
+    LG_TEST_CHECK(t, bunny.n > 0.01 * total, "the bunny covers %.0f px", bunny.n);
     if (bunny.n) {
-        PT_CHECK(t, bunny.sy / bunny.n > 0.6 * img.height, "the bunny is not on the floor "
+        LG_TEST_CHECK(t, bunny.sy / bunny.n > 0.6 * img.height, "the bunny is not on the floor "
                  "(centroid row %.0f of %u)", bunny.sy / bunny.n, img.height);
-        PT_CHECK(t, fabs(bunny.sx / bunny.n - img.width / 2.0) < 0.1 * img.width,
+        LG_TEST_CHECK(t, fabs(bunny.sx / bunny.n - img.width / 2.0) < 0.1 * img.width,
                  "the bunny is not in the middle (centroid column %.0f)", bunny.sx / bunny.n);
     }
-    PT_CHECK(t, bg.n > 0.2 * total && bg.n < 0.7 * total, "background %.0f of %.0f px", bg.n,
+    LG_TEST_CHECK(t, bg.n > 0.2 * total && bg.n < 0.7 * total, "background %.0f of %.0f px", bg.n,
              total);
     lg_image_free(&img);
 }
 
-static void case_draco(ptest *t)
+static void case_draco(lg_test *t)
 {
-    const char *plain = pt_asset("meshes/bunny_cornell_box.glb");
+    const char *plain = lg_test_asset("meshes/bunny_cornell_box.glb");
     if (!plain) {
-        fprintf(stderr, "assets/meshes/bunny_cornell_box.glb is missing\n");
-        t->failures++;
+        LG_TEST_FAILF(t, "assets/meshes/bunny_cornell_box.glb is missing");
         return;
     }
     lg_image a = { 0 }, b = { 0 };
@@ -507,19 +506,19 @@ static void case_draco(ptest *t)
     render_example(t, keep, &a);
     render_example(t, file_arg, &b);
     if (!a.pixels || !b.pixels || a.width != b.width || a.height != b.height) {
-        PT_CHECK(t, false, "no comparable images");
+        LG_TEST_CHECK(t, false, "no comparable images");
     } else {
         size_t differ = 0, total = (size_t)a.width * a.height;
         for (size_t i = 0; i < total; i++)
             differ += !near3(a.pixels + i * 4, b.pixels + i * 4, 1e-3);
         fprintf(stderr, "%zu of %zu pixels differ\n", differ, total);
-        PT_CHECK(t, differ < total / 100, "%zu of %zu pixels differ", differ, total);
+        LG_TEST_CHECK(t, differ < total / 100, "%zu of %zu pixels differ", differ, total);
     }
     lg_image_free(&a);
     lg_image_free(&b);
 }
 
-static void case_sphere(ptest *t)
+static void case_sphere(lg_test *t)
 {
     char g[8192];
     snprintf(g, sizeof g,
@@ -542,13 +541,13 @@ static void case_sphere(ptest *t)
         covered++;
         wrong += !near3(img.pixels + i * 4, col, 1e-6);
     }
-    PT_CHECK(t, wrong == 0, "%zu covered pixels are not the sphere's colour", wrong);
+    LG_TEST_CHECK(t, wrong == 0, "%zu covered pixels are not the sphere's colour", wrong);
     /* the silhouette: angular radius asin(1 / d), d = |(0, 3, 6)| */
     double d = sqrt(45.0), t20 = tan(20.0 * 3.14159265358979323846 / 180.0);
     double r = tan(asin(1.0 / d)) / t20 * img.height / 2.0;
     double area = 3.14159265358979323846 * r * r;
     fprintf(stderr, "sphere covers %.0f px, a disc of radius %.2f px is %.0f\n", covered, r, area);
-    PT_CHECK(t, fabs(covered - area) < 0.02 * area, "coverage %.0f px, expected %.0f", covered,
+    LG_TEST_CHECK(t, fabs(covered - area) < 0.02 * area, "coverage %.0f px, expected %.0f", covered,
              area);
     lg_image_free(&img);
 
@@ -559,21 +558,22 @@ static void case_sphere(ptest *t)
     double n[3] = { 0, 3 / d, 6 / d };
     const float want[3] = { (float)(n[0] * 0.5 + 0.5), (float)(n[1] * 0.5 + 0.5),
                             (float)(n[2] * 0.5 + 0.5) };
-    PT_CHECK(t, near3(c, want, 0.01), "normal at the centre %g %g %g, expected %g %g %g", c[0],
+    LG_TEST_CHECK(t, near3(c, want, 0.01), "normal at the centre %g %g %g, expected %g %g %g", c[0],
              c[1], c[2], want[0], want[1], want[2]);
     lg_image_free(&img);
 }
 
+/* GL is needed by every case; the scene file of the gltf cases follows the case's name */
+static void setup(lg_test *t)
+{
+    file_arg = lg_test_arg(t, 0) ? lg_test_arg(t, 0) : "";
+    lg_test_require_backend(t, "gl");
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 2 && argc != 3) {
-        fprintf(stderr, "usage: test_preview CASE [FILE]\n");
-        return 99;
-    }
-    file_arg = argc == 3 ? argv[2] : "";
-    pt_require_backend("gl");
     setenv("LIGHTGRAPH_PLUGIN_PATH", PV_TEST_PLUGIN_DIR, 1);
-    static const pt_case cases[] = {
+    static const lg_test_case cases[] = {
         { "fill", case_fill },       { "normals", case_normals },
         { "depth", case_depth },     { "instancing", case_instancing },
         { "upright", case_upright }, { "cull", case_cull },
@@ -583,5 +583,6 @@ int main(int argc, char **argv)
         { "example", case_example }, { "draco", case_draco },
         { "sphere", case_sphere },
     };
-    return pt_run_case("test_preview", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    lg_test_main_opts o = { .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

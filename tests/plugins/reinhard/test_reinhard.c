@@ -15,18 +15,21 @@
  *                 the policy, and the other pixels as the closed form over the valid ones
  *   sizes         1x1, 17x3, 3x257, 300x1 and 1100x700 (several grid-stride rounds):
  *                 every pixel of a constant image is mapped
- *   crossbackend  a real HDR photograph: this backend against cpu, both modes, with and
- *                 without a white point (max and mean differences printed)
+ *   backends      (no BACKEND: all of them) every backend the node declares against the
+ *                 double-precision reference and against cpu, through the SDK harness,
+ *                 on a photograph and a synthetic image, in four parameter sets;
+ *                 `test_reinhard --bench[=N] backends` is the benchmark
  *
  * Values come back through the output file; when the host writes half EXR the checks add
- * half's rounding (2^-11 relative) to their tolerance (ptest.h, pt_tol).
+ * half's rounding (2^-11 relative) to their tolerance (lightgraph/test.h, lg_test_tol_of).
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "ptest.h"
+#include "lightgraph/test.h"
+#include "reinhard_cpu.h"
 
 static const char *backend;
 
@@ -61,7 +64,7 @@ static double luma(const float *c, const double w[3])
 
 /* Writes g.lgraph: image in.exr -> reinhard { backend, extra } -> out. The image node
  * keeps negative values (radiance = false): what reinhard does with them is under test. */
-static void write_graph(ptest *t, const char *graph, const char *in, const char *extra,
+static void write_graph(lg_test *t, const char *graph, const char *in, const char *extra,
                         const char *out)
 {
     char text[2048];
@@ -69,27 +72,27 @@ static void write_graph(ptest *t, const char *graph, const char *in, const char 
              "lightgraph 1\nsrc = image { file = \"%s\", radiance = false }\n"
              "tone = reinhard { image = src, backend = %s%s%s }\noutput tone \"%s\"\n",
              in, backend, *extra ? ", " : "", extra, out);
-    pt_write_text(t, graph, text);
+    lg_test_write_text(t, graph, text);
 }
 
-static bool render_read(ptest *t, const char *graph, const char *const *args, const char *out,
+static bool render_read(lg_test *t, const char *graph, const char *const *args, const char *out,
                         lg_image *img, unsigned *bits, char **err)
 {
-    int rc = pt_render(t, graph, args, err);
-    PT_CHECK(t, rc == 0, "%s: render failed (exit %d)", graph, rc);
+    int rc = lg_test_render(t, graph, args, err);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed (exit %d)", graph, rc);
     if (rc)
         return false;
-    return pt_read(t, out, img, bits);
+    return lg_test_read(t, out, img, bits);
 }
 
 /* Compares every pixel of `got` with `want` (within tol plus the file's rounding);
  * reports up to 5 differences. Returns the largest difference. `want` is a closed form,
  * or (files > 1) another output file, rounded on its own. */
-static double compare_n(ptest *t, const lg_image *got, const lg_image *want, unsigned bits,
+static double compare_n(lg_test *t, const lg_image *got, const lg_image *want, unsigned bits,
                         double tol, int files, const char *what)
 {
     if (got->width != want->width || got->height != want->height) {
-        PT_CHECK(t, 0, "%s: size %ux%u, want %ux%u", what, got->width, got->height, want->width,
+        LG_TEST_CHECK(t, 0, "%s: size %ux%u, want %ux%u", what, got->width, got->height, want->width,
                  want->height);
         return INFINITY;
     }
@@ -98,15 +101,15 @@ static double compare_n(ptest *t, const lg_image *got, const lg_image *want, uns
     for (size_t i = 0; i < (size_t)want->width * want->height * 4; i++) {
         double g = got->pixels[i], e = want->pixels[i], d = fabs(g - e);
         md = fmax(md, d);
-        if (!(d <= files * pt_tol(e, bits, tol / files)) && bad++ < 5)
+        if (!(d <= files * lg_test_tol_of(e, bits, tol / files)) && bad++ < 5)
             fprintf(stderr, "%s: pixel %zu (%zu, %zu) channel %zu: %.9g, want %.9g\n", what, i / 4,
                     i / 4 % want->width, i / 4 / want->width, i % 4, g, e);
     }
-    PT_CHECK(t, bad == 0, "%s: %d values beyond tolerance (max diff %.3g)", what, bad, md);
+    LG_TEST_CHECK(t, bad == 0, "%s: %d values beyond tolerance (max diff %.3g)", what, bad, md);
     return md;
 }
 
-static double compare(ptest *t, const lg_image *got, const lg_image *want, unsigned bits,
+static double compare(lg_test *t, const lg_image *got, const lg_image *want, unsigned bits,
                       double tol, const char *what)
 {
     return compare_n(t, got, want, bits, tol, 1, what);
@@ -130,10 +133,10 @@ static void diff_nodes(char *text, size_t cap, const char *a, const char *b, con
 }
 
 /* Max and mean absolute RGB difference from a diff_nodes() file. */
-static bool diff_stats(ptest *t, const char *file, double *max, double *mean)
+static bool diff_stats(lg_test *t, const char *file, double *max, double *mean)
 {
     lg_image d;
-    if (!pt_read(t, file, &d, NULL))
+    if (!lg_test_read(t, file, &d, NULL))
         return false;
     double mx = 0, sum = 0;
     size_t n = (size_t)d.width * d.height;
@@ -168,12 +171,12 @@ static void expect_constant(lg_image *want, const float c[4], double key, double
     fill(want, o);
 }
 
-static void case_constant(ptest *t)
+static void case_constant(lg_test *t)
 {
     const float c[4] = { 0.5f, 1.0f, 2.0f, 0.3f };
     lg_image in = alloc_image(9, 7), want = alloc_image(9, 7), out;
     fill(&in, c);
-    pt_write_exr(t, "in.exr", &in);
+    lg_test_write_exr(t, "in.exr", &in);
     static const struct {
         const char *params;
         double key, delta;
@@ -196,7 +199,7 @@ static void case_constant(ptest *t)
         if (i == 0) {
             /* the textbook value, delta aside: a grey pixel of the mean maps to a/(1+a) */
             double g = out.pixels[0] * luma(c, W709) / c[0];
-            PT_CHECK(t, fabs(g - 0.18 / 1.18) < 1e-4 + pt_tol(g, bits, 0), "Ld = %.6g, a/(1+a) = %.6g",
+            LG_TEST_CHECK(t, fabs(g - 0.18 / 1.18) < 1e-4 + lg_test_tol_of(g, bits, 0), "Ld = %.6g, a/(1+a) = %.6g",
                      g, 0.18 / 1.18);
         }
         lg_image_free(&out);
@@ -207,7 +210,7 @@ static void case_constant(ptest *t)
 
 /* ---- white ------------------------------------------------------------------------------- */
 
-static void case_white(ptest *t)
+static void case_white(lg_test *t)
 {
     const float lv[3] = { 0.5f, 8.0f, 20.0f };
     const double key = 0.18, delta = 1e-4;
@@ -217,7 +220,7 @@ static void case_white(ptest *t)
         float px[4] = { v, v, v, 1.0f };
         memcpy(in.pixels + i * 4, px, 16);
     }
-    pt_write_exr(t, "in.exr", &in);
+    lg_test_write_exr(t, "in.exr", &in);
     double ls[3], sum = 0;
     for (int k = 0; k < 3; k++) {
         float px[3] = { lv[k], lv[k], lv[k] };
@@ -238,7 +241,7 @@ static void case_white(ptest *t)
         for (size_t i = 0; i < 30; i++) {
             double g = out.pixels[i * 4 + 1];
             double e = i % 3 == 0 ? e0 : 1.0;
-            PT_CHECK(t, fabs(g - e) <= pt_tol(e, bits, TOL), "%s pixel %zu (level %g): %.9g, want %.9g",
+            LG_TEST_CHECK(t, fabs(g - e) <= lg_test_tol_of(e, bits, TOL), "%s pixel %zu (level %g): %.9g, want %.9g",
                      rgb ? "rgb" : "luminance", i, lv[i % 3], g, e);
         }
         lg_image_free(&out);
@@ -248,7 +251,7 @@ static void case_white(ptest *t)
     unsigned bits;
     if (render_read(t, "g.lgraph", NULL, "out.exr", &out, &bits, NULL)) {
         double m = s * ls[1];
-        PT_CHECK(t, fabs(out.pixels[1 * 4 + 1] - m / (1 + m)) <= pt_tol(m / (1 + m), bits, TOL),
+        LG_TEST_CHECK(t, fabs(out.pixels[1 * 4 + 1] - m / (1 + m)) <= lg_test_tol_of(m / (1 + m), bits, TOL),
                  "no white: %.9g, want %.9g", out.pixels[5], m / (1 + m));
         lg_image_free(&out);
     }
@@ -257,7 +260,7 @@ static void case_white(ptest *t)
 
 /* ---- monotone ------------------------------------------------------------------------------- */
 
-static void case_monotone(ptest *t)
+static void case_monotone(lg_test *t)
 {
     const uint32_t w = 200, h = 3;
     lg_image in = alloc_image(w, h), out;
@@ -269,7 +272,7 @@ static void case_monotone(ptest *t)
             memcpy(in.pixels + ((size_t)y * w + x) * 4, px, 16);
         }
     }
-    pt_write_exr(t, "in.exr", &in);
+    lg_test_write_exr(t, "in.exr", &in);
     for (int rgb = 0; rgb < 2; rgb++) {
         write_graph(t, "g.lgraph", "in.exr", rgb ? "mode = rgb" : "", "out.exr");
         unsigned bits;
@@ -290,8 +293,8 @@ static void case_monotone(ptest *t)
                 }
             }
         }
-        PT_CHECK(t, bad == 0, "%s: %d violations", rgb ? "rgb" : "luminance", bad);
-        PT_CHECK(t, out.pixels[1] < 0.01f && out.pixels[(w - 1) * 4 + 1] > 0.99f,
+        LG_TEST_CHECK(t, bad == 0, "%s: %d violations", rgb ? "rgb" : "luminance", bad);
+        LG_TEST_CHECK(t, out.pixels[1] < 0.01f && out.pixels[(w - 1) * 4 + 1] > 0.99f,
                  "the ramp does not span the range: %g .. %g", out.pixels[1],
                  out.pixels[(w - 1) * 4 + 1]);
         lg_image_free(&out);
@@ -301,18 +304,12 @@ static void case_monotone(ptest *t)
 
 /* ---- exposure ------------------------------------------------------------------------------ */
 
-static void case_exposure(ptest *t)
+static void case_exposure(lg_test *t)
 {
-    /* a real photograph (no zero pixels, Lmin ~ 1e-3), a repository file: missing is a
-     * failure, never a quieter test; delta small so that only the exposure differs */
-    const char *asset = pt_asset("images/GoldenGate.exr");
-    if (!asset) {
-        fprintf(stderr, "FAIL: assets/images/GoldenGate.exr is missing\n");
-        t->failures++;
-        return;
-    }
+    /* a real photograph (no zero pixels, Lmin ~ 1e-3), a repository file: missing fails
+     * the test (lg_test_asset); delta small so that only the exposure differs */
     char src[4200];
-    snprintf(src, sizeof src, "%s", asset);
+    snprintf(src, sizeof src, "%s", lg_test_asset("images/GoldenGate.exr"));
     for (int rgb = 0; rgb < 2; rgb++) {
         char text[8192];
         const char *mode = rgb ? ", mode = rgb" : "";
@@ -324,12 +321,12 @@ static void case_exposure(ptest *t)
                  "output t1 \"o1.exr\"\noutput t10 \"o10.exr\"\n",
                  src, backend, mode, backend, mode);
         diff_nodes(text, sizeof text, "t10", "t1", "diff.exr");
-        pt_write_text(t, "g.lgraph", text);
-        PT_CHECK(t, pt_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
+        lg_test_write_text(t, "g.lgraph", text);
+        LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
         lg_image a, b;
         unsigned bits;
-        if (pt_read(t, "o1.exr", &a, &bits)) {
-            if (pt_read(t, "o10.exr", &b, NULL)) {
+        if (lg_test_read(t, "o1.exr", &a, &bits)) {
+            if (lg_test_read(t, "o10.exr", &b, NULL)) {
                 compare_n(t, &b, &a, bits, 1e-5, 2, rgb ? "x10 rgb" : "x10");
                 lg_image_free(&b);
             }
@@ -339,20 +336,20 @@ static void case_exposure(ptest *t)
         if (diff_stats(t, "diff.exr", &mx, &mean)) {
             fprintf(stderr, "exposure x10 (%s): max abs diff %.3g, mean %.3g (float)\n",
                     rgb ? "rgb" : "luminance", mx, mean);
-            PT_CHECK(t, mx <= 1e-5, "x10 changed the output by %.3g in float", mx);
+            LG_TEST_CHECK(t, mx <= 1e-5, "x10 changed the output by %.3g in float", mx);
         }
     }
 }
 
 /* ---- adapt -------------------------------------------------------------------------------- */
 
-static void case_adapt(ptest *t)
+static void case_adapt(lg_test *t)
 {
     const float c[4] = { 0.4f, 0.4f, 0.4f, 1.0f };
     const double key = 0.18, delta = 1e-4, la0 = 5.0, rate = 0.98;
     lg_image in = alloc_image(16, 16), want = alloc_image(16, 16), a, b, d, e;
     fill(&in, c);
-    pt_write_exr(t, "in.exr", &in);
+    lg_test_write_exr(t, "in.exr", &in);
     write_graph(t, "g.lgraph", "in.exr", "adapt = true, adapt_from = 5", "out.exr");
     const char *sixty[] = { "--frames", "60", "--dt", "0.016666666666666666", "-o", "a.exr", NULL };
     const char *one[] = { "--frames", "1", "--dt", "1", "-o", "b.exr", NULL };
@@ -380,9 +377,9 @@ static void case_adapt(ptest *t)
     compare(t, &d, &want, bits, TOL, "node dt 1/60, --dt 1");
     compare_n(t, &a, &b, bits, 1e-6, 2, "60 x 1/60 against 1 x 1");
     double s0 = key / lavg, o0 = s0 * l / (1 + s0 * l);
-    PT_CHECK(t, fabs(e.pixels[0] - o0) <= pt_tol(o0, bits, TOL), "adapt off: %.9g, want %.9g",
+    LG_TEST_CHECK(t, fabs(e.pixels[0] - o0) <= lg_test_tol_of(o0, bits, TOL), "adapt off: %.9g, want %.9g",
              e.pixels[0], o0);
-    PT_CHECK(t, fabs(a.pixels[0] - e.pixels[0]) > 1e-3, "adaptation had no effect (%.9g vs %.9g)",
+    LG_TEST_CHECK(t, fabs(a.pixels[0] - e.pixels[0]) > 1e-3, "adaptation had no effect (%.9g vs %.9g)",
              a.pixels[0], e.pixels[0]);
     lg_image_free(&a);
     lg_image_free(&b);
@@ -394,7 +391,7 @@ static void case_adapt(ptest *t)
 
 /* ---- bad pixels ------------------------------------------------------------------------------- */
 
-static void case_badpixels(ptest *t)
+static void case_badpixels(lg_test *t)
 {
     const uint32_t w = 16, h = 8;
     const double key = 0.18, delta = 1e-4;
@@ -416,7 +413,7 @@ static void case_badpixels(ptest *t)
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         memcpy(in.pixels + bad[i].at * 4, bad[i].px, 12);
-    pt_write_exr(t, "in.exr", &in);
+    lg_test_write_exr(t, "in.exr", &in);
 
     /* closed form over the valid pixels: all but 6 nonfinite and 1 negative */
     double sum = 0;
@@ -438,7 +435,7 @@ static void case_badpixels(ptest *t)
         char *err = NULL;
         if (!render_read(t, "g.lgraph", NULL, "out.exr", &out, &bits, &err))
             continue;
-        PT_CHECK(t, err && strstr(err, "7 of 128 pixels") && strstr(err, "6 with NaN or Inf") &&
+        LG_TEST_CHECK(t, err && strstr(err, "7 of 128 pixels") && strstr(err, "6 with NaN or Inf") &&
                         strstr(err, "1 with negative luminance"),
                  "no warning with the counts (7 of 128; 6 NaN or Inf; 1 negative): %s", err ? err : "");
         free(err);
@@ -475,14 +472,14 @@ static void case_badpixels(ptest *t)
 
 /* ---- sizes ----------------------------------------------------------------------------------- */
 
-static void case_sizes(ptest *t)
+static void case_sizes(lg_test *t)
 {
     static const uint32_t sz[][2] = { { 1, 1 }, { 17, 3 }, { 3, 257 }, { 300, 1 }, { 1100, 700 } };
     const float c[4] = { 3.0f, 0.25f, 1.0f, 0.5f };
     for (size_t i = 0; i < sizeof sz / sizeof sz[0]; i++) {
         lg_image in = alloc_image(sz[i][0], sz[i][1]), want = alloc_image(sz[i][0], sz[i][1]), out;
         fill(&in, c);
-        pt_write_exr(t, "in.exr", &in);
+        lg_test_write_exr(t, "in.exr", &in);
         write_graph(t, "g.lgraph", "in.exr", "", "out.exr");
         unsigned bits;
         if (render_read(t, "g.lgraph", NULL, "out.exr", &out, &bits, NULL)) {
@@ -498,68 +495,145 @@ static void case_sizes(ptest *t)
     }
 }
 
-/* ---- cross-backend ----------------------------------------------------------------------------- */
+/* ---- every backend ------------------------------------------------------------------------------ */
 
-static void case_crossbackend(ptest *t)
+/* The reference: the plain double-precision algorithm (reinhard_cpu.c: log sum in double,
+ * the curve in double) on the input as the node reads it. */
+static void reference(const lg_image *in, lg_image *out, lg_rh_mode mode, const double w[3],
+                      double key, double delta, double white)
 {
-    if (strcmp(backend, "cpu") == 0) {
-        fprintf(stderr, "crossbackend compares gl and cl against cpu\n");
+    lg_rh_params p = { .mode = mode, .w = { (float)w[0], (float)w[1], (float)w[2] },
+                       .delta = delta, .white = white };
+    size_t n = (size_t)in->width * in->height;
+    lg_rh_stats st;
+    memset(&st, 0, sizeof st);
+    lg_rh_reduce(in->pixels, n, &p, &st);
+    double lavg = 1;
+    if (!lg_rh_log_average(&st, &lavg)) {
+        fprintf(stderr, "reference: no valid pixel\n");
         exit(99);
     }
-    const char *asset = pt_asset("images/GoldenGate.exr");
-    if (!asset) {
-        /* a repository file: missing is a failure, never a skip */
-        fprintf(stderr, "FAIL: assets/images/GoldenGate.exr is missing (LG_SOURCE_ROOT=%s)\n",
-                getenv("LG_SOURCE_ROOT") ? getenv("LG_SOURCE_ROOT") : "(unset)");
-        exit(1);
-    }
-    static const char *const variants[] = { "", "mode = rgb", "white = 40", "key = 0.72, luminance = seed, mode = rgb" };
-    for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++) {
-        char text[8192];
-        const char *v = variants[i];
-        snprintf(text, sizeof text,
-                 "lightgraph 1\nsrc = image { file = \"%s\" }\n"
-                 "ref = reinhard { image = src, backend = cpu%s%s }\n"
-                 "dev = reinhard { image = src, backend = %s%s%s }\n"
-                 "output ref \"ref.exr\"\noutput dev \"dev.exr\"\n",
-                 asset, *v ? ", " : "", v, backend, *v ? ", " : "", v);
-        diff_nodes(text, sizeof text, "dev", "ref", "diff.exr");
-        pt_write_text(t, "g.lgraph", text);
-        PT_CHECK(t, pt_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
-        lg_image a, b;
-        unsigned bits;
-        char what[128];
-        snprintf(what, sizeof what, "%s vs cpu {%s}", backend, v);
-        if (pt_read(t, "ref.exr", &a, &bits)) {
-            if (pt_read(t, "dev.exr", &b, NULL)) {
-                compare_n(t, &b, &a, bits, 1e-5, 2, what);
-                lg_image_free(&b);
-            }
-            lg_image_free(&a);
+    *out = alloc_image(in->width, in->height);
+    lg_rh_map(in->pixels, out->pixels, n, key / lavg, &p);
+}
+
+/* An HDR test image: log-uniform values over 8 decades per channel, a few exact zeros, a
+ * smooth gradient in one corner (so the worst pixel's place means something). */
+static lg_image synthetic(uint32_t w, uint32_t h)
+{
+    lg_image img = alloc_image(w, h);
+    uint64_t r = 0x9E3779B97F4A7C15ull;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        for (int k = 0; k < 3; k++) {
+            r ^= r << 13, r ^= r >> 7, r ^= r << 17; /* xorshift64 */
+            double u = (double)(r >> 11) * 0x1.0p-53;
+            img.pixels[i * 4 + k] = i % 97 == 0 ? 0.0f : (float)pow(10.0, 8.0 * u - 4.0);
         }
-        double mx, mean;
-        if (diff_stats(t, "diff.exr", &mx, &mean)) {
-            fprintf(stderr, "%s: max abs %.3g, mean abs %.3g (float)\n", what, mx, mean);
-            PT_CHECK(t, mx <= 1e-5, "%s: max abs difference %.3g in float", what, mx);
-        }
+        img.pixels[i * 4 + 3] = 1.0f;
     }
+    return img;
+}
+
+/* Every backend of the node (cpu, gl, cl: what `inspect reinhard --json` lists) through the
+ * harness: each against the double-precision reference and against the cpu backend, in
+ * four parameter sets, on a photograph and on a synthetic image. Under --bench, a
+ * 2048x1396 image and N frames per backend (the bench table). */
+static void case_backends(lg_test *t)
+{
+    static const struct {
+        const char *params;
+        lg_rh_mode mode;
+        bool seed;
+        double key, white;
+    } v[] = {
+        { "", LG_RH_LUMINANCE, false, 0.18, 0 },
+        { "mode = rgb", LG_RH_RGB, false, 0.18, 0 },
+        { "white = 40", LG_RH_LUMINANCE, false, 0.18, 40 },
+        { "key = 0.72, luminance = seed, mode = rgb", LG_RH_RGB, true, 0.72, 0 },
+    };
+    bool bench = lg_test_bench_frames(t) > 0;
+    char missing[32] = "";
+    const char *photo = lg_test_asset("images/GoldenGate.exr"); /* fails when missing */
+    struct { const char *name, *file; lg_image img; } inputs[2];
+    size_t n_inputs = 0;
+    {
+        inputs[n_inputs].name = "photo";
+        inputs[n_inputs].file = photo;
+        char err[512];
+        lg_image_read_info info;
+        memset(&info, 0, sizeof info);
+        if (lg_image_read(photo, 0, &inputs[n_inputs].img, &info, err, sizeof err)) {
+            LG_TEST_FAILF(t, "%s", err);
+            return;
+        }
+        n_inputs++;
+    }
+    if (!bench) {
+        inputs[n_inputs].name = "synthetic";
+        inputs[n_inputs].file = "synthetic.exr";
+        inputs[n_inputs].img = bench ? synthetic(2048, 1396) : synthetic(203, 77);
+        lg_test_write_exr(t, "synthetic.exr", &inputs[n_inputs].img);
+        n_inputs++;
+    }
+    for (size_t in = 0; in < n_inputs; in++) {
+        for (size_t i = 0; i < (bench ? 1 : sizeof v / sizeof v[0]); i++) {
+            lg_image want;
+            reference(&inputs[in].img, &want, v[i].mode, v[i].seed ? WSEED : W709, v[i].key,
+                      1e-4, v[i].white);
+            char graph[8192], what[256];
+            /* radiance = false: the node sees the file's values as they are */
+            snprintf(graph, sizeof graph,
+                     "lightgraph 1\nsrc = image { file = \"%s\", radiance = false }\n"
+                     "tone = reinhard { image = src%s%s }\n",
+                     inputs[in].file, *v[i].params ? ", " : "", v[i].params);
+            snprintf(what, sizeof what, "reinhard {%s} on %s", v[i].params, inputs[in].name);
+            /* float map and a float log sum on gl and cl against the double reference:
+             * a few float ulps of the scale, a few of the curve */
+            lg_test_backends_desc d = {
+                .graph = graph,
+                .node = "tone",
+                .reference = &want,
+                .tol_reference = { .max_abs = 1e-5, .rmse = 1e-6 },
+                .tol_backends = { .max_abs = 1e-5, .rmse = 1e-6 },
+                .what = what,
+                /* a reduction pass and a map pass over rgba32f: 16 B read twice, 16 B written */
+                .bytes_per_frame = 48.0 * inputs[in].img.width * inputs[in].img.height,
+                /* a missing device: a skip at the end, once the images are freed */
+                .allow_missing = true,
+            };
+            lg_test_backends_result res;
+            size_t ran = lg_test_backends(t, &d, &res);
+            for (size_t k = 0; k < res.n; k++)
+                if (res.run[k].status == LG_TEST_RUN_NO_DEVICE)
+                    snprintf(missing, sizeof missing, "%s", res.run[k].backend);
+            LG_TEST_CHECK(t, ran >= 1 && strcmp(res.run[0].backend, "cpu") == 0 &&
+                                 res.run[0].status == LG_TEST_RUN_OK,
+                          "%s: the cpu backend did not run", what);
+            lg_test_backends_free(&res);
+            lg_image_free(&want);
+        }
+        lg_image_free(&inputs[in].img);
+    }
+    if (*missing)
+        lg_test_skip(t, "no %s device here (the other backends were compared)", missing);
+}
+
+/* The per-backend cases read their backend (cpu, gl or cl) from the argument after the
+ * case's name; it defaults to cpu (e.g. under --all or --bench). */
+static void setup(lg_test *t)
+{
+    backend = lg_test_arg(t, 0) ? lg_test_arg(t, 0) : "cpu";
+    lg_test_require_backend(t, backend);
 }
 
 int main(int argc, char **argv)
 {
-    static const pt_case cases[] = {
+    static const lg_test_case cases[] = {
         { "constant", case_constant },   { "white", case_white },
         { "monotone", case_monotone },   { "exposure", case_exposure },
         { "adapt", case_adapt },         { "badpixels", case_badpixels },
-        { "sizes", case_sizes },         { "crossbackend", case_crossbackend },
+        { "sizes", case_sizes },         { "backends", case_backends },
     };
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_reinhard CASE cpu|gl|cl\n");
-        return 99;
-    }
-    backend = argv[2];
-    pt_require_backend(backend);
-    char folder[128];
-    snprintf(folder, sizeof folder, "reinhard-%s-%s", argv[1], backend);
-    return pt_run_case("test_reinhard", argv[1], cases, sizeof cases / sizeof cases[0], folder, NULL);
+    lg_test_main_opts o = { .prefix = "reinhard", .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

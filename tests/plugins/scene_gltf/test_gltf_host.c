@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ptest.h"
+#include "lightgraph/test.h"
 
 #ifndef PT_TESTNODES_DIR
 #define PT_TESTNODES_DIR ""
@@ -22,7 +22,7 @@
 
 static const char *asset(const char *rel)
 {
-    const char *p = pt_asset(rel);
+    const char *p = lg_test_asset(rel);
     if (!p) {
         /* a repository file: missing is a failure, never a skip */
         fprintf(stderr, "FAIL: asset %s is missing\n", rel);
@@ -43,34 +43,34 @@ static void line_of(const char *s, const char *prefix, char *out, size_t size)
         }
 }
 
-static void case_explain(ptest *t)
+static void case_explain(lg_test *t)
 {
-    pt_use_plugins(NULL, PT_TESTNODES_DIR);
+    lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
     char *g = NULL;
     if (asprintf(&g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
                      "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n",
                  asset("meshes/bunny_cornell_box.glb")) < 0)
         exit(99);
-    pt_write_text(t, "g.lgraph", g);
+    lg_test_write_text(t, "g.lgraph", g);
     free(g);
     const char *args[] = {"--explain", "--size", "8x4", NULL};
     char *out = NULL;
-    PT_CHECK(t, pt_render(t, "g.lgraph", args, &out) == 0, "render failed");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "render failed");
     const char *s = out ? out : "";
-    PT_CHECK(t, strstr(s, "scene features (scene): triangles 5009, vertices "), "no scene features: %s", s);
-    PT_CHECK(t, strstr(s, "lights: 0 directional, 0 point, 0 other; medium no (density 0); probe no; "
+    LG_TEST_CHECK(t, strstr(s, "scene features (scene): triangles 5009, vertices "), "no scene features: %s", s);
+    LG_TEST_CHECK(t, strstr(s, "lights: 0 directional, 0 point, 0 other; medium no (density 0); probe no; "
                           "specular material yes"), "features: %s", s);
-    PT_CHECK(t, strstr(s, "gated") && strstr(s, "no participating medium"), "fog was not gated: %s", s);
+    LG_TEST_CHECK(t, strstr(s, "gated") && strstr(s, "no participating medium"), "fog was not gated: %s", s);
     char loaded[512], not_loaded[512];
     line_of(s, "plugins loaded:", loaded, sizeof loaded);
     line_of(s, "plugins not loaded:", not_loaded, sizeof not_loaded);
-    PT_CHECK(t, strstr(loaded, "scene_gltf") && !strstr(loaded, "testfog") && strstr(not_loaded, "testfog"),
+    LG_TEST_CHECK(t, strstr(loaded, "scene_gltf") && !strstr(loaded, "testfog") && strstr(not_loaded, "testfog"),
              "testfog was loaded although gated, or scene_gltf was not: '%s' / '%s'", loaded, not_loaded);
     free(out);
     /* the neutral result: a black image */
     lg_image img;
-    if (pt_read(t, "out.exr", &img, NULL)) {
-        PT_CHECK(t, img.width == 8 && img.height == 4 && img.pixels[0] == 0, "neutral output");
+    if (lg_test_read(t, "out.exr", &img, NULL)) {
+        LG_TEST_CHECK(t, img.width == 8 && img.height == 4 && img.pixels[0] == 0, "neutral output");
         lg_image_free(&img);
     }
     /* --set overrides the file: the Draco variant gives the same features */
@@ -79,15 +79,15 @@ static void case_explain(ptest *t)
     if (asprintf(&set, "scene.file=%s", asset("meshes/bunny_cornell_box_draco.glb")) < 0)
         exit(99);
     args2[4] = set;
-    PT_CHECK(t, pt_render(t, "g.lgraph", args2, &out) == 0, "render with the Draco file failed");
-    PT_CHECK(t, out && strstr(out, "scene features (scene): triangles 5009"), "%s", out ? out : "");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args2, &out) == 0, "render with the Draco file failed");
+    LG_TEST_CHECK(t, out && strstr(out, "scene features (scene): triangles 5009"), "%s", out ? out : "");
     free(out);
     free(set);
 }
 
-static void case_medium(ptest *t)
+static void case_medium(lg_test *t)
 {
-    pt_use_plugins(NULL, PT_TESTNODES_DIR);
+    lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
     /* one triangle, a directional light and a medium on the scene */
     static const char gltf[] =
         "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
@@ -97,29 +97,29 @@ static void case_medium(ptest *t)
         "\"KHR_lights_punctual\":{\"light\":0}}}],\"scenes\":[{\"nodes\":[0,1],\"extras\":{\"medium\":"
         "{\"density\":0.25,\"scattering\":[0.1,0.1,0.1],\"absorption\":0.01,\"g\":0.4}}}],"
         "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":\"directional\",\"intensity\":2}]}}}";
-    pt_write_text(t, "fog.gltf", gltf);
+    lg_test_write_text(t, "fog.gltf", gltf);
     static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-    FILE *f = fopen(pt_path(t, "tri.bin"), "wb");
+    FILE *f = fopen(lg_test_path(t, "tri.bin"), "wb");
     if (!f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f))
         exit(99);
-    pt_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { file = \"fog.gltf\" }\n"
+    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { file = \"fog.gltf\" }\n"
                                  "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n");
     const char *args[] = {"--explain", "--size", "4x2", NULL};
     char *out = NULL;
-    PT_CHECK(t, pt_render(t, "g.lgraph", args, &out) == 0, "render failed");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "render failed");
     const char *s = out ? out : "";
-    PT_CHECK(t, strstr(s, "scene features (scene): triangles 1, vertices 3, lights: 1 directional, 0 point, "
+    LG_TEST_CHECK(t, strstr(s, "scene features (scene): triangles 1, vertices 3, lights: 1 directional, 0 point, "
                           "0 other; medium yes (density 0.25)"), "features: %s", s);
-    PT_CHECK(t, !strstr(s, "gated"), "fog was gated: %s", s);
+    LG_TEST_CHECK(t, !strstr(s, "gated"), "fog was gated: %s", s);
     free(out);
     lg_image img;
-    if (pt_read(t, "out.exr", &img, NULL)) {
-        PT_CHECK(t, img.pixels[0] == 0.5f, "fog did not run: %g", img.pixels[0]);
+    if (lg_test_read(t, "out.exr", &img, NULL)) {
+        LG_TEST_CHECK(t, img.pixels[0] == 0.5f, "fog did not run: %g", img.pixels[0]);
         lg_image_free(&img);
     }
 }
 
-static void case_errors(ptest *t)
+static void case_errors(lg_test *t)
 {
     static const struct {
         const char *file, *content, *want;
@@ -133,34 +133,32 @@ static void case_errors(ptest *t)
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         if (cases[i].content)
-            pt_write_text(t, cases[i].file, cases[i].content);
+            lg_test_write_text(t, cases[i].file, cases[i].content);
         char g[512];
         snprintf(g, sizeof g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
                               "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n", cases[i].file);
-        pt_write_text(t, "g.lgraph", g);
+        lg_test_write_text(t, "g.lgraph", g);
         char *out = NULL;
-        pt_use_plugins(NULL, PT_TESTNODES_DIR);
-        int rc = pt_render(t, "g.lgraph", NULL, &out);
-        PT_CHECK(t, rc == 1, "%s: exit %d, want 1", cases[i].file, rc);
-        PT_CHECK(t, out && strstr(out, cases[i].file) && strstr(out, cases[i].want) && strstr(out, "scene"),
+        lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
+        int rc = lg_test_render(t, "g.lgraph", NULL, &out);
+        LG_TEST_CHECK(t, rc == 1, "%s: exit %d, want 1", cases[i].file, rc);
+        LG_TEST_CHECK(t, out && strstr(out, cases[i].file) && strstr(out, cases[i].want) && strstr(out, "scene"),
                  "%s: the message names neither the node, the file nor the reason: %s", cases[i].file,
                  out ? out : "");
         free(out);
     }
-    pt_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { }\nfog = test_fog { scene = scene }\n"
+    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { }\nfog = test_fog { scene = scene }\n"
                                  "output fog \"out.exr\"\n");
     char *out = NULL;
-    PT_CHECK(t, pt_render(t, "g.lgraph", NULL, &out) == 1, "empty file parameter accepted");
-    PT_CHECK(t, out && strstr(out, "parameter 'file' is empty"), "%s", out ? out : "");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &out) == 1, "empty file parameter accepted");
+    LG_TEST_CHECK(t, out && strstr(out, "parameter 'file' is empty"), "%s", out ? out : "");
     free(out);
 }
 
 int main(int argc, char **argv)
 {
-    static const pt_case cases[] = {
+    static const lg_test_case cases[] = {
         { "explain", case_explain }, { "medium", case_medium }, { "errors", case_errors },
     };
-    if (argc != 2)
-        return 2;
-    return pt_run_case("test_gltf_host", argv[1], cases, sizeof cases / sizeof cases[0], NULL, NULL);
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }

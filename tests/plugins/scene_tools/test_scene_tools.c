@@ -30,7 +30,7 @@
 #include <string.h>
 
 #include "lightgraph/vecmath.h"
-#include "ptest.h"
+#include "lightgraph/test.h"
 
 #ifndef PT_TESTNODES_DIR
 #define PT_TESTNODES_DIR ""
@@ -41,34 +41,34 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 
-static void use_test_plugins(ptest *t)
+static void use_test_plugins(lg_test *t)
 {
     static char path[8300];
     if (*PT_TESTNODES_DIR && *ST_TESTCUBE_DIR)
         snprintf(path, sizeof path, "%s:%s", ST_TESTCUBE_DIR, PT_TESTNODES_DIR);
-    pt_use_plugins(t, path);
+    lg_test_use_plugins(t, path);
 }
 
 /* Renders `graph` (text) and returns the exit status; *out gets what the program printed. */
-static int render_text(ptest *t, const char *graph, const char *const *args, char **out)
+static int render_text(lg_test *t, const char *graph, const char *const *args, char **out)
 {
-    pt_write_text(t, "g.lgraph", graph);
-    return pt_render(t, "g.lgraph", args, out);
+    lg_test_write_text(t, "g.lgraph", graph);
+    return lg_test_render(t, "g.lgraph", args, out);
 }
 
 /* The probe image written to probe.exr by a graph ending in `output probe "probe.exr"`. */
-static bool run_probe(ptest *t, const char *graph, const char *const *args, lg_image *img)
+static bool run_probe(lg_test *t, const char *graph, const char *const *args, lg_image *img)
 {
     char *out = NULL;
     int rc = render_text(t, graph, args, &out);
     free(out);
-    PT_CHECK(t, rc == 0, "render failed (exit %d)", rc);
+    LG_TEST_CHECK(t, rc == 0, "render failed (exit %d)", rc);
     if (rc)
         return false;
     unsigned bits = 0;
-    if (!pt_read(t, "probe.exr", img, &bits))
+    if (!lg_test_read(t, "probe.exr", img, &bits))
         return false;
-    PT_CHECK(t, bits == 32, "probe.exr has %u bits per channel, want 32", bits);
+    LG_TEST_CHECK(t, bits == 32, "probe.exr has %u bits per channel, want 32", bits);
     return true;
 }
 
@@ -153,7 +153,7 @@ static bool plugin_loaded(const char *text, const char *plugin)
 
 /* ---- cases -------------------------------------------------------------------------------- */
 
-static void case_features(ptest *t)
+static void case_features(lg_test *t)
 {
     const char *g =
         "lightgraph 1\n"
@@ -169,43 +169,43 @@ static void case_features(ptest *t)
     const char *args[] = { "--explain", NULL };
     char *out = NULL;
     int rc = render_text(t, g, args, &out);
-    PT_CHECK(t, rc == 0, "render failed: %s", out ? out : "");
+    LG_TEST_CHECK(t, rc == 0, "render failed: %s", out ? out : "");
     const char *o = out ? out : "";
-    PT_CHECK(t, features_say(o, "cube", "triangles 24, vertices 48, lights: 0 directional, 0 point"),
+    LG_TEST_CHECK(t, features_say(o, "cube", "triangles 24, vertices 48, lights: 0 directional, 0 point"),
              "cube features: %s", o);
-    PT_CHECK(t, features_say(o, "cube", "medium no (density 0)"), "cube medium: %s", o);
-    PT_CHECK(t, features_say(o, "sun", "triangles 24, vertices 48, lights: 1 directional, 0 point"),
+    LG_TEST_CHECK(t, features_say(o, "cube", "medium no (density 0)"), "cube medium: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "sun", "triangles 24, vertices 48, lights: 1 directional, 0 point"),
              "sun features: %s", o);
-    PT_CHECK(t, features_say(o, "lamp", "lights: 1 directional, 1 point"), "lamp features: %s", o);
-    PT_CHECK(t, features_say(o, "lamp", "medium no"), "lamp medium: %s", o);
-    PT_CHECK(t, features_say(o, "fog", "lights: 1 directional, 1 point"), "fog lights: %s", o);
-    PT_CHECK(t, features_say(o, "fog", "medium yes (density 0.5)"), "fog medium: %s", o);
-    PT_CHECK(t, features_say(o, "off", "medium no (density 0)"), "off medium: %s", o);
-    PT_CHECK(t, features_say(o, "off", "triangles 24,"), "off triangles: %s", o);
-    PT_CHECK(t, plugin_loaded(o, "scene_tools"), "scene_tools not loaded: %s", o);
-    PT_CHECK(t, strcmp(state_of(o, "sun"), "kept") == 0, "sun is %s", state_of(o, "sun"));
-    PT_CHECK(t, strcmp(state_of(o, "off"), "kept") == 0, "off is %s", state_of(o, "off"));
+    LG_TEST_CHECK(t, features_say(o, "lamp", "lights: 1 directional, 1 point"), "lamp features: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "lamp", "medium no"), "lamp medium: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "fog", "lights: 1 directional, 1 point"), "fog lights: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "fog", "medium yes (density 0.5)"), "fog medium: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "off", "medium no (density 0)"), "off medium: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "off", "triangles 24,"), "off triangles: %s", o);
+    LG_TEST_CHECK(t, plugin_loaded(o, "scene_tools"), "scene_tools not loaded: %s", o);
+    LG_TEST_CHECK(t, strcmp(state_of(o, "sun"), "kept") == 0, "sun is %s", state_of(o, "sun"));
+    LG_TEST_CHECK(t, strcmp(state_of(o, "off"), "kept") == 0, "off is %s", state_of(o, "off"));
     free(out);
 
     lg_image img;
     unsigned bits;
-    if (pt_read(t, "p1.exr", &img, &bits)) {
-        PT_CHECK(t, px(&img, 5)[3] == 1 && px(&img, 6)[3] == 1 && px(&img, 7)[3] == 1 &&
+    if (lg_test_read(t, "p1.exr", &img, &bits)) {
+        LG_TEST_CHECK(t, px(&img, 5)[3] == 1 && px(&img, 6)[3] == 1 && px(&img, 7)[3] == 1 &&
                      px(&img, 8)[3] == 24,
                  "p1: lg_scene.features medium %g dir %g point %g triangles %g",
                  (double)px(&img, 5)[3], (double)px(&img, 6)[3], (double)px(&img, 7)[3],
                  (double)px(&img, 8)[3]);
         lg_image_free(&img);
     }
-    if (pt_read(t, "p2.exr", &img, &bits)) {
-        PT_CHECK(t, px(&img, 5)[3] == 0 && px(&img, 5)[0] == 0,
+    if (lg_test_read(t, "p2.exr", &img, &bits)) {
+        LG_TEST_CHECK(t, px(&img, 5)[3] == 0 && px(&img, 5)[0] == 0,
                  "p2: medium present %g, features.medium %g", (double)px(&img, 5)[0],
                  (double)px(&img, 5)[3]);
         lg_image_free(&img);
     }
 }
 
-static void gating_case(ptest *t, const char *what, const char *chain, const char *scene,
+static void gating_case(lg_test *t, const char *what, const char *chain, const char *scene,
                         bool kept, const char *reason)
 {
     char g[2048];
@@ -220,23 +220,23 @@ static void gating_case(ptest *t, const char *what, const char *chain, const cha
     char *out = NULL;
     int rc = render_text(t, g, args, &out);
     const char *o = out ? out : "";
-    PT_CHECK(t, rc == 0, "%s: render failed: %s", what, o);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed: %s", what, o);
     const char *st = state_of(o, "fogfx");
-    PT_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0, "%s: test_fog is '%s', want %s:\n%s",
+    LG_TEST_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0, "%s: test_fog is '%s', want %s:\n%s",
              what, st, kept ? "kept" : "gated", o);
     if (!kept) {
         char *l = line_with(o, "fogfx ");
-        PT_CHECK(t, l && strstr(l, reason), "%s: the reason is not '%s': %s", what, reason,
+        LG_TEST_CHECK(t, l && strstr(l, reason), "%s: the reason is not '%s': %s", what, reason,
                  l ? l : "");
         free(l);
     }
-    PT_CHECK(t, plugin_loaded(o, "testfog") == kept, "%s: testfog %s:\n%s", what,
+    LG_TEST_CHECK(t, plugin_loaded(o, "testfog") == kept, "%s: testfog %s:\n%s", what,
              kept ? "not loaded though kept" : "loaded though gated", o);
     free(out);
     lg_image img;
-    if (pt_read(t, "fog.exr", &img, NULL)) {
+    if (lg_test_read(t, "fog.exr", &img, NULL)) {
         float want = kept ? 0.5f : 0.0f;
-        PT_CHECK(t, img.width == 4 && img.height == 2 && img.pixels[0] == want &&
+        LG_TEST_CHECK(t, img.width == 4 && img.height == 2 && img.pixels[0] == want &&
                      img.pixels[4 * 7 + 1] == want,
                  "%s: fog image %ux%u, value %g, want %g", what, img.width, img.height,
                  (double)img.pixels[0], (double)want);
@@ -244,7 +244,7 @@ static void gating_case(ptest *t, const char *what, const char *chain, const cha
     }
 }
 
-static void case_gating(ptest *t)
+static void case_gating(lg_test *t)
 {
     gating_case(t, "plain cube", "", "cube", false, "no participating medium");
     gating_case(t, "light only", "sun = light { scene = cube }\n", "sun", false,
@@ -271,32 +271,32 @@ static void case_gating(ptest *t)
 }
 
 /* Depths of the bounds' corners along the view direction lie within [znear, zfar]. */
-static void check_clip(ptest *t, const char *what, const lg_image *img)
+static void check_clip(lg_test *t, const char *what, const lg_image *img)
 {
     lg_vec3 eye = px3(img, 0), target = px3(img, 1);
     lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, 0));
     lg_vec3 lo = px3(img, 8), hi = px3(img, 9);
     float zn = px(img, 1)[3], zf = px(img, 2)[3];
-    PT_CHECK(t, zn > 0 && zf > zn, "%s: znear %g zfar %g", what, (double)zn, (double)zf);
+    LG_TEST_CHECK(t, zn > 0 && zf > zn, "%s: znear %g zfar %g", what, (double)zn, (double)zf);
     for (int k = 0; k < 8; k++) {
         lg_vec3 c = lg_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
         float d = lg_v3_dot(lg_v3_sub(c, eye), f);
-        PT_CHECK(t, d >= zn && d <= zf, "%s: corner %d at depth %g outside [%g, %g]", what, k,
+        LG_TEST_CHECK(t, d >= zn && d <= zf, "%s: corner %d at depth %g outside [%g, %g]", what, k,
                  (double)d, (double)zn, (double)zf);
     }
 }
 
-static void check_up(ptest *t, const char *what, const lg_image *img)
+static void check_up(lg_test *t, const char *what, const lg_image *img)
 {
     lg_vec3 eye = px3(img, 0), target = px3(img, 1), up = px3(img, 2);
     lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, 0));
-    PT_CHECK(t, fabsf(lg_v3_length(up) - 1) < 1e-5f, "%s: |up| = %g", what,
+    LG_TEST_CHECK(t, fabsf(lg_v3_length(up) - 1) < 1e-5f, "%s: |up| = %g", what,
              (double)lg_v3_length(up));
-    PT_CHECK(t, fabsf(lg_v3_dot(up, f)) < 1e-5f, "%s: up . view = %g", what,
+    LG_TEST_CHECK(t, fabsf(lg_v3_dot(up, f)) < 1e-5f, "%s: up . view = %g", what,
              (double)lg_v3_dot(up, f));
 }
 
-static void case_look_at(ptest *t)
+static void case_look_at(lg_test *t)
 {
     const char *g =
         "lightgraph 1\n"
@@ -308,18 +308,18 @@ static void case_look_at(ptest *t)
     lg_image img;
     if (!run_probe(t, g, NULL, &img))
         return;
-    PT_CHECK(t, near3(px3(&img, 0), lg_v3(1, 2, 6), 0), "position");
-    PT_CHECK(t, near3(px3(&img, 1), lg_v3(0.5f, 0, 0), 0), "target");
-    PT_CHECK(t, fabs(px(&img, 0)[3] - 60 * DEG) < 1e-6, "yfov %g", (double)px(&img, 0)[3]);
-    PT_CHECK(t, px(&img, 3)[3] == 2, "aspect %g", (double)px(&img, 3)[3]);
-    PT_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0,
+    LG_TEST_CHECK(t, near3(px3(&img, 0), lg_v3(1, 2, 6), 0), "position");
+    LG_TEST_CHECK(t, near3(px3(&img, 1), lg_v3(0.5f, 0, 0), 0), "target");
+    LG_TEST_CHECK(t, fabs(px(&img, 0)[3] - 60 * DEG) < 1e-6, "yfov %g", (double)px(&img, 0)[3]);
+    LG_TEST_CHECK(t, px(&img, 3)[3] == 2, "aspect %g", (double)px(&img, 3)[3]);
+    LG_TEST_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0,
              "the active camera is replaced: %g cameras, active %g", (double)px(&img, 3)[1],
              (double)px(&img, 3)[2]);
     check_up(t, "look_at", &img);
     /* up stays in the plane of the view direction and world up, on world up's side */
     lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(px3(&img, 1), px3(&img, 0)), lg_v3(0, 0, 0));
     lg_vec3 side = lg_v3_cross(f, lg_v3(0, 1, 0));
-    PT_CHECK(t, fabsf(lg_v3_dot(px3(&img, 2), side)) < 1e-5f && px(&img, 2)[1] > 0,
+    LG_TEST_CHECK(t, fabsf(lg_v3_dot(px3(&img, 2), side)) < 1e-5f && px(&img, 2)[1] > 0,
              "up leaves the plane of view and world up");
     check_clip(t, "look_at", &img);
     lg_image_free(&img);
@@ -332,7 +332,7 @@ static void case_look_at(ptest *t)
         "probe = test_scene_probe { scene = cam }\n"
         "output probe \"probe.exr\"\n";
     if (run_probe(t, g1, NULL, &img)) {
-        PT_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0 &&
+        LG_TEST_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0 &&
                      near3(px3(&img, 0), lg_v3(0, 0, 7), 0),
                  "no camera: %g cameras, active %g", (double)px(&img, 3)[1],
                  (double)px(&img, 3)[2]);
@@ -352,20 +352,20 @@ static void case_look_at(ptest *t)
         "output probe2 \"probe2.exr\"\n";
     if (!run_probe(t, g2, NULL, &img))
         return;
-    PT_CHECK(t, px(&img, 1)[3] == 0.25f && px(&img, 2)[3] == 40, "explicit planes %g %g",
+    LG_TEST_CHECK(t, px(&img, 1)[3] == 0.25f && px(&img, 2)[3] == 40, "explicit planes %g %g",
              (double)px(&img, 1)[3], (double)px(&img, 2)[3]);
     lg_image_free(&img);
-    if (pt_read(t, "probe2.exr", &img, NULL)) {
+    if (lg_test_read(t, "probe2.exr", &img, NULL)) {
         float zn = px(&img, 1)[3], zf = px(&img, 2)[3];
         /* farthest corner: 3 + 1 = 4 along -Z, plus the 1 % margin */
-        PT_CHECK(t, fabsf(zf - 4.04f) < 1e-4f && zn > 0 && fabsf(zn - zf * 1e-3f) < 1e-6f,
+        LG_TEST_CHECK(t, fabsf(zf - 4.04f) < 1e-4f && zn > 0 && fabsf(zn - zf * 1e-3f) < 1e-6f,
                  "inside the box: znear %g zfar %g", (double)zn, (double)zf);
         lg_image_free(&img);
     }
 }
 
 /* Projects the bounds' corners with the probe's camera at `aspect`: all inside clip space. */
-static void check_framed(ptest *t, const char *what, const lg_image *img, float aspect)
+static void check_framed(lg_test *t, const char *what, const lg_image *img, float aspect)
 {
     float view[16], proj[16], vp[16];
     lg_m4_look_at(view, px3(img, 0), px3(img, 1), px3(img, 2));
@@ -377,23 +377,23 @@ static void check_framed(ptest *t, const char *what, const lg_image *img, float 
         float p[4] = { k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1 }, c[4];
         for (int r = 0; r < 4; r++)
             c[r] = vp[r] * p[0] + vp[4 + r] * p[1] + vp[8 + r] * p[2] + vp[12 + r] * p[3];
-        PT_CHECK(t, c[3] > 0, "%s: corner %d behind the camera", what, k);
+        LG_TEST_CHECK(t, c[3] > 0, "%s: corner %d behind the camera", what, k);
         if (!(c[3] > 0))
             continue;
         for (int a = 0; a < 3; a++) {
             float ndc = c[a] / c[3];
-            PT_CHECK(t, ndc >= -1 && ndc <= 1, "%s: corner %d: ndc[%d] = %g outside [-1, 1]",
+            LG_TEST_CHECK(t, ndc >= -1 && ndc <= 1, "%s: corner %d: ndc[%d] = %g outside [-1, 1]",
                      what, k, a, (double)ndc);
             if (a < 2 && fabsf(ndc) > maxabs)
                 maxabs = fabsf(ndc);
         }
     }
     /* the fit is not wasteful either: the scene fills a good part of the image */
-    PT_CHECK(t, maxabs > 0.3f, "%s: the scene spans only %g of the half image", what,
+    LG_TEST_CHECK(t, maxabs > 0.3f, "%s: the scene spans only %g of the half image", what,
              (double)maxabs);
 }
 
-static void case_orbit(ptest *t)
+static void case_orbit(lg_test *t)
 {
     static const struct {
         double az, el, fov;
@@ -422,16 +422,16 @@ static void case_orbit(ptest *t)
         lg_vec3 lo = px3(&img, 8), hi = px3(&img, 9);
         lg_vec3 c = lg_v3_scale(lg_v3_add(lo, hi), 0.5f);
         float r = 0.5f * lg_v3_length(lg_v3_sub(hi, lo));
-        PT_CHECK(t, near3(px3(&img, 1), c, 1e-5f), "%s: target is not the bounds' centre", what);
+        LG_TEST_CHECK(t, near3(px3(&img, 1), c, 1e-5f), "%s: target is not the bounds' centre", what);
         /* the documented distance: 1.1 r / sin(min(half fov y, half fov x)) */
         double a = (double)v[i].w / v[i].h, hy = 0.5 * v[i].fov * DEG, hx = atan(tan(hy) * a);
         double want = 1.1 * r / sin(hx < hy ? hx : hy);
         lg_vec3 off = lg_v3_sub(px3(&img, 0), c);
         double got = lg_v3_length(off);
-        PT_CHECK(t, fabs(got - want) < 1e-4 * want, "%s: distance %g, want %g", what, got, want);
+        LG_TEST_CHECK(t, fabs(got - want) < 1e-4 * want, "%s: distance %g, want %g", what, got, want);
         double az = v[i].az * DEG, el = v[i].el * DEG;
         lg_vec3 dir = lg_v3((float)(cos(el) * sin(az)), (float)sin(el), (float)(cos(el) * cos(az)));
-        PT_CHECK(t, near3(lg_v3_scale(off, 1.0f / (float)got), dir, 1e-5f),
+        LG_TEST_CHECK(t, near3(lg_v3_scale(off, 1.0f / (float)got), dir, 1e-5f),
                  "%s: the camera is not at the azimuth and elevation", what);
         check_up(t, what, &img);
         check_framed(t, what, &img, (float)a);
@@ -449,7 +449,7 @@ static void case_orbit(ptest *t)
                      "probe = test_scene_probe { scene = cam }\noutput probe \"probe.exr\"\n";
     if (run_probe(t, ga, NULL, &a)) {
         if (run_probe(t, gb, NULL, &b)) {
-            PT_CHECK(t, near3(px3(&a, 2), px3(&b, 2), 1e-3f), "up at the pole jumps");
+            LG_TEST_CHECK(t, near3(px3(&a, 2), px3(&b, 2), 1e-3f), "up at the pole jumps");
             lg_image_free(&b);
         }
         lg_image_free(&a);
@@ -462,7 +462,7 @@ static void case_orbit(ptest *t)
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         lg_vec3 e = px3(&img, 0);
-        PT_CHECK(t, near3(e, lg_v3(0, 9 * (float)sin(20 * DEG), 9 * (float)cos(20 * DEG)), 1e-5f),
+        LG_TEST_CHECK(t, near3(e, lg_v3(0, 9 * (float)sin(20 * DEG), 9 * (float)cos(20 * DEG)), 1e-5f),
                  "distance 3 x radius 3: eye [%g, %g, %g]", (double)e.x, (double)e.y,
                  (double)e.z);
         check_clip(t, "distance 3", &img);
@@ -470,21 +470,21 @@ static void case_orbit(ptest *t)
     }
 }
 
-static void check_light(ptest *t, const lg_image *img, uint32_t i, int type, lg_vec3 dir,
+static void check_light(lg_test *t, const lg_image *img, uint32_t i, int type, lg_vec3 dir,
                         lg_vec3 color, float intensity, lg_vec3 pos, float range)
 {
     uint32_t x = 10 + 3 * i;
-    PT_CHECK(t, px(img, x)[3] == (float)type, "light %u: type %g, want %d", i,
+    LG_TEST_CHECK(t, px(img, x)[3] == (float)type, "light %u: type %g, want %d", i,
              (double)px(img, x)[3], type);
-    PT_CHECK(t, near3(px3(img, x), dir, 1e-6f), "light %u: direction [%g, %g, %g]", i,
+    LG_TEST_CHECK(t, near3(px3(img, x), dir, 1e-6f), "light %u: direction [%g, %g, %g]", i,
              (double)px(img, x)[0], (double)px(img, x)[1], (double)px(img, x)[2]);
-    PT_CHECK(t, near3(px3(img, x + 1), color, 0) && px(img, x + 1)[3] == intensity,
+    LG_TEST_CHECK(t, near3(px3(img, x + 1), color, 0) && px(img, x + 1)[3] == intensity,
              "light %u: colour or intensity", i);
-    PT_CHECK(t, near3(px3(img, x + 2), pos, 0) && px(img, x + 2)[3] == range,
+    LG_TEST_CHECK(t, near3(px3(img, x + 2), pos, 0) && px(img, x + 2)[3] == range,
              "light %u: position or range", i);
 }
 
-static void case_lights(ptest *t)
+static void case_lights(lg_test *t)
 {
     const char *g =
         "lightgraph 1\n"
@@ -496,9 +496,9 @@ static void case_lights(ptest *t)
         "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
-        PT_CHECK(t, px(&img, 3)[0] == 3 && img.width == 10 + 9, "3 lights: %g",
+        LG_TEST_CHECK(t, px(&img, 3)[0] == 3 && img.width == 10 + 9, "3 lights: %g",
                  (double)px(&img, 3)[0]);
-        PT_CHECK(t, px(&img, 6)[3] == 2 && px(&img, 7)[3] == 1, "features: %g dir, %g point",
+        LG_TEST_CHECK(t, px(&img, 6)[3] == 2 && px(&img, 7)[3] == 1, "features: %g dir, %g point",
                  (double)px(&img, 6)[3], (double)px(&img, 7)[3]);
         lg_vec3 z = lg_v3(0, 0, 0), w = lg_v3(1, 1, 1);
         check_light(t, &img, 0, 0, lg_v3(0.6f, -0.8f, 0), lg_v3(1, 0.5f, 0.25f), 3, z, 0);
@@ -515,14 +515,14 @@ static void case_lights(ptest *t)
         "probe = test_scene_probe { scene = l3 }\n"
         "output probe \"probe.exr\"\n";
     if (run_probe(t, g2, NULL, &img)) {
-        PT_CHECK(t, px(&img, 3)[0] == 1 && img.width == 13, "replace leaves %g lights",
+        LG_TEST_CHECK(t, px(&img, 3)[0] == 1 && img.width == 13, "replace leaves %g lights",
                  (double)px(&img, 3)[0]);
         check_light(t, &img, 0, 0, lg_v3(0, 0, 1), lg_v3(2, 2, 2), 1, lg_v3(0, 0, 0), 0);
         lg_image_free(&img);
     }
 }
 
-static void case_medium(ptest *t)
+static void case_medium(lg_test *t)
 {
     const char *g =
         "lightgraph 1\n"
@@ -534,11 +534,11 @@ static void case_medium(ptest *t)
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         const float *m = px(&img, 5);
-        PT_CHECK(t, m[0] == 1 && m[1] == 0.5f && m[2] == 0.4f && m[3] == 1,
+        LG_TEST_CHECK(t, m[0] == 1 && m[1] == 0.5f && m[2] == 0.4f && m[3] == 1,
                  "medium present %g density %g g %g feature %g", (double)m[0], (double)m[1],
                  (double)m[2], (double)m[3]);
-        PT_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.2f, 0.3f), 0), "scattering");
-        PT_CHECK(t, near3(px3(&img, 7), lg_v3(0.01f, 0.02f, 0.03f), 0), "absorption");
+        LG_TEST_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.2f, 0.3f), 0), "scattering");
+        LG_TEST_CHECK(t, near3(px3(&img, 7), lg_v3(0.01f, 0.02f, 0.03f), 0), "absorption");
         lg_image_free(&img);
     }
     /* defaults, then replaced by a second node */
@@ -553,18 +553,18 @@ static void case_medium(ptest *t)
         "output probe2 \"probe2.exr\"\n";
     if (run_probe(t, g2, NULL, &img)) {
         const float *m = px(&img, 5);
-        PT_CHECK(t, m[0] == 1 && m[1] == 1 && m[2] == 0, "default medium: %g %g %g",
+        LG_TEST_CHECK(t, m[0] == 1 && m[1] == 1 && m[2] == 0, "default medium: %g %g %g",
                  (double)m[0], (double)m[1], (double)m[2]);
-        PT_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.1f, 0.1f), 0), "default scattering");
+        LG_TEST_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.1f, 0.1f), 0), "default scattering");
         lg_image_free(&img);
-        if (pt_read(t, "probe2.exr", &img, NULL)) {
-            PT_CHECK(t, px(&img, 5)[1] == 2 && px(&img, 5)[2] == -0.5f, "replaced medium");
+        if (lg_test_read(t, "probe2.exr", &img, NULL)) {
+            LG_TEST_CHECK(t, px(&img, 5)[1] == 2 && px(&img, 5)[2] == -0.5f, "replaced medium");
             lg_image_free(&img);
         }
     }
 }
 
-static void case_sharing(ptest *t)
+static void case_sharing(lg_test *t)
 {
     const char *g =
         "lightgraph 1\n"
@@ -579,23 +579,23 @@ static void case_sharing(ptest *t)
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         const float *s = px(&img, 4);
-        PT_CHECK(t, s[0] == 1, "the third derived scene's geometry is not the source's resource");
-        PT_CHECK(t, s[1] == 1, "meshes, instances or materials were copied");
-        PT_CHECK(t, s[3] == 4 && px(&img, 8)[3] == 48 && px(&img, 9)[3] == 0,
+        LG_TEST_CHECK(t, s[0] == 1, "the third derived scene's geometry is not the source's resource");
+        LG_TEST_CHECK(t, s[1] == 1, "meshes, instances or materials were copied");
+        LG_TEST_CHECK(t, s[3] == 4 && px(&img, 8)[3] == 48 && px(&img, 9)[3] == 0,
                  "instances %g, triangles %g, geometry NULL %g", (double)s[3],
                  (double)px(&img, 8)[3], (double)px(&img, 9)[3]);
         lg_image_free(&img);
     }
-    if (pt_read(t, "self.exr", &img, NULL)) {
-        PT_CHECK(t, px(&img, 4)[0] == 0 && px(&img, 9)[3] == 1,
+    if (lg_test_read(t, "self.exr", &img, NULL)) {
+        LG_TEST_CHECK(t, px(&img, 4)[0] == 0 && px(&img, 9)[3] == 1,
                  "the source owns its geometry (geometry NULL)");
         lg_image_free(&img);
     }
 }
 
-static void case_sharing_gl(ptest *t)
+static void case_sharing_gl(lg_test *t)
 {
-    pt_require_backend("gl");
+    lg_test_require_backend(t, "gl");
     const char *g =
         "lightgraph 1\n"
         "cube = test_cube { instances = 2 }\n"
@@ -605,15 +605,15 @@ static void case_sharing_gl(ptest *t)
         "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
-        PT_CHECK(t, px(&img, 4)[2] == 1, "the GL buffers of mesh 0 differ (%g)",
+        LG_TEST_CHECK(t, px(&img, 4)[2] == 1, "the GL buffers of mesh 0 differ (%g)",
                  (double)px(&img, 4)[2]);
         lg_image_free(&img);
     }
 }
 
-static void case_sharing_cl(ptest *t)
+static void case_sharing_cl(lg_test *t)
 {
-    pt_require_backend("cl");
+    lg_test_require_backend(t, "cl");
     const char *g =
         "lightgraph 1\n"
         "cube = test_cube { instances = 2 }\n"
@@ -622,7 +622,7 @@ static void case_sharing_cl(ptest *t)
         "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
-        PT_CHECK(t, px(&img, 4)[2] == 1,
+        LG_TEST_CHECK(t, px(&img, 4)[2] == 1,
                  "the CL copies of mesh 0 are not shared or not the mesh's data (%g)",
                  (double)px(&img, 4)[2]);
         lg_image_free(&img);
@@ -631,7 +631,7 @@ static void case_sharing_cl(ptest *t)
 
 /* Exit status `code`: 1 for a node's error (prepare), 2 for the graph checker's (ranges,
  * enum values); the output holds every string of `msgs`. */
-static void expect_error(ptest *t, const char *what, int code, const char *nodes,
+static void expect_error(lg_test *t, const char *what, int code, const char *nodes,
                          const char *const *msgs)
 {
     char g[2048];
@@ -647,14 +647,14 @@ static void expect_error(ptest *t, const char *what, int code, const char *nodes
     char *out = NULL;
     int rc = render_text(t, g, NULL, &out);
     const char *o = out ? out : "";
-    PT_CHECK(t, rc == code, "%s: exit %d, want %d: %s", what, rc, code, o);
+    LG_TEST_CHECK(t, rc == code, "%s: exit %d, want %d: %s", what, rc, code, o);
     for (int i = 0; msgs[i]; i++)
-        PT_CHECK(t, strstr(o, msgs[i]) != NULL, "%s: the message lacks '%s': %s", what, msgs[i],
+        LG_TEST_CHECK(t, strstr(o, msgs[i]) != NULL, "%s: the message lacks '%s': %s", what, msgs[i],
                  o);
     free(out);
 }
 
-static void case_errors(ptest *t)
+static void case_errors(lg_test *t)
 {
     expect_error(t, "zero direction", 1, "bad = light { scene = cube, direction = [0, 0, 0] }\n",
                  (const char *const[]){ "'bad'", "direction = [0, 0, 0] is the zero vector",
@@ -699,7 +699,7 @@ static void case_errors(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const pt_case cases[] = {
+    static const lg_test_case cases[] = {
         { "features", case_features }, { "gating", case_gating },
         { "look_at", case_look_at },   { "orbit", case_orbit },
         { "lights", case_lights },     { "medium", case_medium },
@@ -707,9 +707,6 @@ int main(int argc, char **argv)
         { "sharing_cl", case_sharing_cl },
         { "errors", case_errors },
     };
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_scene_tools CASE\n");
-        return 99;
-    }
-    return pt_run_case("test_scene_tools", argv[1], cases, sizeof cases / sizeof cases[0], NULL, use_test_plugins);
+    lg_test_main_opts o = { .setup = use_test_plugins };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

@@ -60,7 +60,7 @@
 #include <string.h>
 
 #include "lightgraph/vecmath.h"
-#include "ptest.h"
+#include "lightgraph/test.h"
 
 #ifndef SM_PROBE_DIR
 #define SM_PROBE_DIR ""
@@ -70,9 +70,11 @@
 #define MAX_LIGHTS 40
 #define MAX_POINTS 1200
 
-static void use_test_plugins(ptest *t)
+/* every case needs GL and the probe plugin */
+static void setup_case(lg_test *t)
 {
-    pt_use_plugins(t, SM_PROBE_DIR);
+    lg_test_require_backend(t, "gl");
+    lg_test_use_plugins(t, SM_PROBE_DIR);
 }
 
 /* ---- a graph: the scene, its lights, the shadow map and the probe ----------------------- */
@@ -157,14 +159,14 @@ static char *graph_text(const setup *s)
 }
 
 /* Renders; reads probe.exr into *img. *out gets what the program printed (may be NULL). */
-static bool run(ptest *t, const setup *s, const char *const *args, lg_image *img, char **out)
+static bool run(lg_test *t, const setup *s, const char *const *args, lg_image *img, char **out)
 {
     char *g = graph_text(s);
-    pt_write_text(t, "g.lgraph", g);
+    lg_test_write_text(t, "g.lgraph", g);
     free(g);
     char *text = NULL;
-    int rc = pt_render(t, "g.lgraph", args, &text);
-    PT_CHECK(t, rc == 0, "render failed (exit %d)", rc);
+    int rc = lg_test_render(t, "g.lgraph", args, &text);
+    LG_TEST_CHECK(t, rc == 0, "render failed (exit %d)", rc);
     if (out)
         *out = text;
     else
@@ -172,10 +174,10 @@ static bool run(ptest *t, const setup *s, const char *const *args, lg_image *img
     if (rc)
         return false;
     unsigned bits = 0;
-    if (!pt_read(t, "probe.exr", img, &bits))
+    if (!lg_test_read(t, "probe.exr", img, &bits))
         return false;
-    PT_CHECK(t, bits == 32, "probe.exr has %u bits per channel, want 32", bits);
-    PT_CHECK(t, img->height == (uint32_t)s->n_lights + 1, "probe height %u, want %d",
+    LG_TEST_CHECK(t, bits == 32, "probe.exr has %u bits per channel, want 32", bits);
+    LG_TEST_CHECK(t, img->height == (uint32_t)s->n_lights + 1, "probe height %u, want %d",
              img->height, s->n_lights + 1);
     return bits == 32 && img->height == (uint32_t)s->n_lights + 1;
 }
@@ -274,9 +276,9 @@ static const char *state_of(const char *text, const char *name)
 
 /* ---- cases ------------------------------------------------------------------------------------- */
 
-static void fit_rotation(ptest *t);
+static void fit_rotation(lg_test *t);
 
-static void case_basic(ptest *t)
+static void case_basic(lg_test *t)
 {
     for (int with_normals = 0; with_normals < 2; with_normals++) {
         setup s = { .shadow = "resolution = 256", .normals = with_normals != 0 };
@@ -297,28 +299,28 @@ static void case_basic(ptest *t)
         if (!run(t, &s, NULL, &p, NULL))
             return;
         for (int j = 0; j < s.n_pts; j++) {
-            PT_CHECK(t, S(&p, 0, j) == want[j],
+            LG_TEST_CHECK(t, S(&p, 0, j) == want[j],
                      "%s normals: point %d (%g, %g, %g): Shadow %g, want %g (z %.7g, D %.7g)",
                      with_normals ? "with" : "without", j, (double)s.pts[j].x,
                      (double)s.pts[j].y, (double)s.pts[j].z, (double)S(&p, 0, j),
                      (double)want[j], (double)Z(&p, 0, j), (double)D(&p, 0, j));
-            PT_CHECK(t, HAS(&p, 0, j) == 1 && Z(&p, 0, j) >= 0 && Z(&p, 0, j) <= 1 &&
+            LG_TEST_CHECK(t, HAS(&p, 0, j) == 1 && Z(&p, 0, j) >= 0 && Z(&p, 0, j) <= 1 &&
                             D(&p, 0, j) >= 0 && D(&p, 0, j) <= 1,
                      "point %d: has %g z %g D %g", j, (double)HAS(&p, 0, j), (double)Z(&p, 0, j),
                      (double)D(&p, 0, j));
         }
         (void)n_surface;
         /* light depth grows away from the light: the floor is deeper than the box's top */
-        PT_CHECK(t, Z(&p, 0, 1) > Z(&p, 0, 4), "floor depth %g not beyond the top's %g",
+        LG_TEST_CHECK(t, Z(&p, 0, 1) > Z(&p, 0, 4), "floor depth %g not beyond the top's %g",
                  (double)Z(&p, 0, 1), (double)Z(&p, 0, 4));
         const float *i0 = INFO(&p, &s, 0), *i1 = INFO(&p, &s, 1), *i2 = INFO(&p, &s, 2);
-        PT_CHECK(t, i0[0] == 1 && i0[1] == 256 && i0[2] == 256 && i0[3] == 256,
+        LG_TEST_CHECK(t, i0[0] == 1 && i0[1] == 256 && i0[2] == 256 && i0[3] == 256,
                  "payload: %g lights, resolution %g, atlas %gx%g; want 1, 256, 256x256",
                  (double)i0[0], (double)i0[1], (double)i0[2], (double)i0[3]);
-        PT_CHECK(t, i1[3] == 1, "the payload's atlas is not a depth-only image of its size");
-        PT_CHECK(t, i2[0] == 0, "%g payload lights are not directional lights of the scene",
+        LG_TEST_CHECK(t, i1[3] == 1, "the payload's atlas is not a depth-only image of its size");
+        LG_TEST_CHECK(t, i2[0] == 0, "%g payload lights are not directional lights of the scene",
                  (double)i2[0]);
-        PT_CHECK(t, fabsf(i1[0] - 0.0002f) < 1e-9f && fabsf(i1[1] - 0.0005f) < 1e-9f &&
+        LG_TEST_CHECK(t, fabsf(i1[0] - 0.0002f) < 1e-9f && fabsf(i1[1] - 0.0005f) < 1e-9f &&
                         i1[2] == 1.0f,
                  "default bias %g %g %g, want 0.0002 0.0005 1", (double)i1[0], (double)i1[1],
                  (double)i1[2]);
@@ -326,11 +328,11 @@ static void case_basic(ptest *t)
          * + 1 = 2 texels each side; the depth range is the bounds' sphere, 0.1 % wider */
         const float *tl = TILE(&p, &s, 0);
         double texel = 8.0 / 252.0;
-        PT_CHECK(t, tl[0] == 0 && tl[1] == 0, "tile at (%g, %g)", (double)tl[0], (double)tl[1]);
-        PT_CHECK(t, fabs(tl[2] - texel) < 1e-4 * texel, "texel_world %.7g, want %.7g",
+        LG_TEST_CHECK(t, tl[0] == 0 && tl[1] == 0, "tile at (%g, %g)", (double)tl[0], (double)tl[1]);
+        LG_TEST_CHECK(t, fabs(tl[2] - texel) < 1e-4 * texel, "texel_world %.7g, want %.7g",
                  (double)tl[2], texel);
         double r = 0.5 * sqrt(8.0 * 8.0 * 2 + 2.0 * 2.0), range = 2.002 * r;
-        PT_CHECK(t, fabs(tl[3] - range) < 1e-5 * range, "depth_range %.7g, want %.7g",
+        LG_TEST_CHECK(t, fabs(tl[3] - range) < 1e-5 * range, "depth_range %.7g, want %.7g",
                  (double)tl[3], range);
         lg_image_free(&p);
     }
@@ -341,7 +343,7 @@ static void case_basic(ptest *t)
  * the floor seen from 30 degrees off vertical at azimuth 45 needs a texel within 10 % of
  * the one at azimuth 0 (where its image is an upright rectangle; 7 % measured); with the
  * view's up left at world +Y it would be sqrt(2) coarser. */
-static void fit_rotation(ptest *t)
+static void fit_rotation(lg_test *t)
 {
     setup s = { .scene = "box = false", .shadow = "resolution = 256" };
     add_light(&s, dir_from(30, 0));
@@ -352,17 +354,17 @@ static void fit_rotation(ptest *t)
     if (!run(t, &s, NULL, &p, NULL))
         return;
     float t0 = TILE(&p, &s, 0)[2], t45 = TILE(&p, &s, 1)[2];
-    PT_CHECK(t, t45 < 1.1f * t0, "texel at azimuth 45: %g, at 0: %g", (double)t45, (double)t0);
+    LG_TEST_CHECK(t, t45 < 1.1f * t0, "texel at azimuth 45: %g, at 0: %g", (double)t45, (double)t0);
     for (int l = 0; l < 2; l++)
         for (int j = 0; j < 2; j++)
-            PT_CHECK(t, D(&p, l, j) >= 0 && S(&p, l, j) == 1, "light %d: floor corner %d outside "
+            LG_TEST_CHECK(t, D(&p, l, j) >= 0 && S(&p, l, j) == 1, "light %d: floor corner %d outside "
                      "the map or shadowed", l, j);
     lg_image_free(&p);
 }
 
 /* The stored depth under the box's centre and at a floor point, against the depths of the
  * box's bottom, its top and the floor, for one configuration. */
-static void cull_one(ptest *t, const char *scene, const char *shadow, int want_box, bool floor_in)
+static void cull_one(lg_test *t, const char *scene, const char *shadow, int want_box, bool floor_in)
 {
     setup s = { .scene = scene, .shadow = shadow };
     add_light(&s, lg_v3(0, -1, 0));
@@ -373,19 +375,19 @@ static void cull_one(ptest *t, const char *scene, const char *shadow, int want_b
     if (!run(t, &s, NULL, &p, NULL))
         return;
     float d = D(&p, 0, 0), want = want_box == 0 ? Z(&p, 0, 0) : Z(&p, 0, 1);
-    PT_CHECK(t, fabsf(d - want) < 1e-5f, "{%s} {%s}: depth under the box %.7g, want the %s's "
+    LG_TEST_CHECK(t, fabsf(d - want) < 1e-5f, "{%s} {%s}: depth under the box %.7g, want the %s's "
              "%.7g", scene, shadow, (double)d, want_box == 0 ? "bottom" : "top", (double)want);
     float fd = D(&p, 0, 2);
     if (floor_in)
-        PT_CHECK(t, fabsf(fd - Z(&p, 0, 2)) < 1e-5f, "{%s} {%s}: floor depth %.7g, want %.7g",
+        LG_TEST_CHECK(t, fabsf(fd - Z(&p, 0, 2)) < 1e-5f, "{%s} {%s}: floor depth %.7g, want %.7g",
                  scene, shadow, (double)fd, (double)Z(&p, 0, 2));
     else
-        PT_CHECK(t, fd == 1.0f, "{%s} {%s}: floor drawn (depth %.7g), want 1 (culled)", scene,
+        LG_TEST_CHECK(t, fd == 1.0f, "{%s} {%s}: floor drawn (depth %.7g), want 1 (culled)", scene,
                  shadow, (double)fd);
     lg_image_free(&p);
 }
 
-static void case_cull(ptest *t)
+static void case_cull(lg_test *t)
 {
     cull_one(t, "", "resolution = 128", 0, false);
     cull_one(t, "", "resolution = 128, cull = front", 0, false);
@@ -398,7 +400,7 @@ static void case_cull(ptest *t)
 }
 
 /* N lights at different azimuths and elevations; see the header. */
-static void lights_n(ptest *t, int n, int res)
+static void lights_n(lg_test *t, int n, int res)
 {
     setup s = { .normals = true };
     char shadow[64];
@@ -424,23 +426,23 @@ static void lights_n(ptest *t, int n, int res)
         cols++;
     int rows = (n + cols - 1) / cols;
     const float *i0 = INFO(&p, &s, 0);
-    PT_CHECK(t, i0[0] == n && i0[1] == res && i0[2] == cols * res && i0[3] == rows * res,
+    LG_TEST_CHECK(t, i0[0] == n && i0[1] == res && i0[2] == cols * res && i0[3] == rows * res,
              "payload: %g lights at %g, atlas %gx%g; want %d at %d, %dx%d", (double)i0[0],
              (double)i0[1], (double)i0[2], (double)i0[3], n, res, cols * res, rows * res);
-    PT_CHECK(t, INFO(&p, &s, 1)[3] == 1, "the atlas is not a depth-only image of its size");
-    PT_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names lights that are not "
+    LG_TEST_CHECK(t, INFO(&p, &s, 1)[3] == 1, "the atlas is not a depth-only image of its size");
+    LG_TEST_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names lights that are not "
              "directional");
     int checked = 0, shadowed = 0, bad = 0;
     for (int l = 0; l < n; l++) {
         const float *tl = TILE(&p, &s, l);
-        PT_CHECK(t, tl[0] == (float)((l % cols) * res) && tl[1] == (float)((l / cols) * res),
+        LG_TEST_CHECK(t, tl[0] == (float)((l % cols) * res) && tl[1] == (float)((l / cols) * res),
                  "light %d: tile at (%g, %g), want (%d, %d)", l, (double)tl[0], (double)tl[1],
                  (l % cols) * res, (l / cols) * res);
         float margin = 3.0f * tl[2];
         for (int j = 0; j < s.n_pts; j++) {
             int e = expected(s.pts[j], s.lights[l].v, margin);
             if (j == l)
-                PT_CHECK(t, e == 0, "light %d: its shadow centre is not in its shadow", l);
+                LG_TEST_CHECK(t, e == 0, "light %d: its shadow centre is not in its shadow", l);
             if (e < 0)
                 continue;
             checked++;
@@ -455,18 +457,18 @@ static void lights_n(ptest *t, int n, int res)
             }
         }
     }
-    PT_CHECK(t, bad == 0, "%d of %d light-point pairs disagree with the ray-box test", bad,
+    LG_TEST_CHECK(t, bad == 0, "%d of %d light-point pairs disagree with the ray-box test", bad,
              checked);
-    PT_CHECK(t, shadowed >= n && checked - shadowed >= n * 20,
+    LG_TEST_CHECK(t, shadowed >= n && checked - shadowed >= n * 20,
              "too few pairs tested: %d shadowed, %d lit", shadowed, checked - shadowed);
     lg_image_free(&p);
 }
 
-static void case_lights2(ptest *t) { lights_n(t, 2, 512); }
-static void case_lights8(ptest *t) { lights_n(t, 8, 512); }
-static void case_lights32(ptest *t) { lights_n(t, 32, 256); }
+static void case_lights2(lg_test *t) { lights_n(t, 2, 512); }
+static void case_lights8(lg_test *t) { lights_n(t, 8, 512); }
+static void case_lights32(lg_test *t) { lights_n(t, 32, 256); }
 
-static void case_layout32(ptest *t)
+static void case_layout32(lg_test *t)
 {
     setup s = { .normals = true, .shadow = "" };
     for (int i = 0; i < 32; i++)
@@ -480,19 +482,19 @@ static void case_layout32(ptest *t)
     char *out = NULL;
     lg_image p = { 0 };
     bool ok = run(t, &s, args, &p, &out);
-    PT_CHECK(t, out && strstr(out, "atlas: image 6144x6144 depth32f"),
+    LG_TEST_CHECK(t, out && strstr(out, "atlas: image 6144x6144 depth32f"),
              "--explain does not show a 6144x6144 depth atlas:\n%s", out ? out : "");
     free(out);
     if (!ok)
         return;
     const float *i0 = INFO(&p, &s, 0);
-    PT_CHECK(t, i0[0] == 32 && i0[1] == 1024 && i0[2] == 6144 && i0[3] == 6144,
+    LG_TEST_CHECK(t, i0[0] == 32 && i0[1] == 1024 && i0[2] == 6144 && i0[3] == 6144,
              "payload: %g lights at %g, atlas %gx%g; want 32 at 1024, 6144x6144", (double)i0[0],
              (double)i0[1], (double)i0[2], (double)i0[3]);
     for (int l = 0; l < 32; l++) {
-        PT_CHECK(t, S(&p, l, l) == 0, "light %d: its shadow centre is lit", l);
+        LG_TEST_CHECK(t, S(&p, l, l) == 0, "light %d: its shadow centre is lit", l);
         const float *tl = TILE(&p, &s, l);
-        PT_CHECK(t, tl[0] == (float)((l % 6) * 1024) && tl[1] == (float)((l / 6) * 1024),
+        LG_TEST_CHECK(t, tl[0] == (float)((l % 6) * 1024) && tl[1] == (float)((l / 6) * 1024),
                  "light %d: tile at (%g, %g)", l, (double)tl[0], (double)tl[1]);
     }
     lg_image_free(&p);
@@ -500,7 +502,7 @@ static void case_layout32(ptest *t)
 
 /* Floor points of a 15 x 15 grid, lit by lights 0, 30, 60, 75, 85 degrees off vertical;
  * returns how many (light, point) pairs are self-shadowed, or -1 if the render failed. */
-static int acne(ptest *t, const char *scene, const char *shadow)
+static int acne(lg_test *t, const char *scene, const char *shadow)
 {
     setup s = { .scene = scene, .shadow = shadow, .normals = true };
     static const double angles[5] = { 0, 30, 60, 75, 85 };
@@ -517,11 +519,11 @@ static int acne(ptest *t, const char *scene, const char *shadow)
         int nl = 0;
         for (int j = 0; j < s.n_pts; j++) {
             if (HAS(&p, l, j) != 1 || D(&p, l, j) < 0)
-                PT_CHECK(t, false, "light %d point %d is outside the map (has %g, z %g, D %g)",
+                LG_TEST_CHECK(t, false, "light %d point %d is outside the map (has %g, z %g, D %g)",
                          l, j, (double)HAS(&p, l, j), (double)Z(&p, l, j), (double)D(&p, l, j));
             nl += S(&p, l, j) == 0;
         }
-        if (nl && getenv("PTEST_VERBOSE"))
+        if (nl && getenv("LG_TEST_VERBOSE"))
             fprintf(stderr, "{%s} {%s}: light %d (%g deg): %d of %d points self-shadowed\n",
                     scene, shadow, l, angles[l], nl, s.n_pts);
         n += nl;
@@ -530,7 +532,7 @@ static int acne(ptest *t, const char *scene, const char *shadow)
     return n;
 }
 
-static void case_bias(ptest *t)
+static void case_bias(lg_test *t)
 {
     static const char *const configs[][2] = {
         { "box = false, floor_double_sided = true", "resolution = 256" },
@@ -540,13 +542,13 @@ static void case_bias(ptest *t)
     };
     for (size_t i = 0; i < sizeof configs / sizeof configs[0]; i++) {
         int n = acne(t, configs[i][0], configs[i][1]);
-        PT_CHECK(t, n == 0, "{%s} {%s}: %d floor points self-shadowed with the default bias",
+        LG_TEST_CHECK(t, n == 0, "{%s} {%s}: %d floor points self-shadowed with the default bias",
                  configs[i][0], configs[i][1], n);
     }
     /* without any bias the slanted lights shadow the floor they light */
     int n = acne(t, "box = false, floor_double_sided = true",
                  "resolution = 256, bias_constant = 0, bias_slope = 0, normal_offset = 0");
-    PT_CHECK(t, n > 100, "without bias only %d floor points are self-shadowed; the test "
+    LG_TEST_CHECK(t, n > 100, "without bias only %d floor points are self-shadowed; the test "
              "cannot see acne", n);
 }
 
@@ -555,7 +557,7 @@ static void case_bias(ptest *t)
  * directions; a convex body shadows none of its own points that face a light, so every
  * centroid whose normal and facet both face light L (N.L > 0.2) must be lit. Returns how
  * many such (light, point) pairs are shadowed, or -1. */
-static int sphere_acne(ptest *t, const char *scene, const char *shadow)
+static int sphere_acne(lg_test *t, const char *scene, const char *shadow)
 {
     setup *s = calloc(1, sizeof *s);
     char sc[256];
@@ -611,19 +613,19 @@ static int sphere_acne(ptest *t, const char *scene, const char *shadow)
                 tested++;
                 nl += S(&p, l, j) == 0;
             }
-            if (nl && getenv("PTEST_VERBOSE"))
+            if (nl && getenv("LG_TEST_VERBOSE"))
                 fprintf(stderr, "{%s} {%s}: light %d (%g deg): %d points self-shadowed\n", sc,
                         shadow, l, angles[l], nl);
             bad += nl;
         }
-        PT_CHECK(t, tested > 500, "only %d sphere points face a light", tested);
+        LG_TEST_CHECK(t, tested > 500, "only %d sphere points face a light", tested);
         lg_image_free(&p);
     }
     free(s);
     return bad;
 }
 
-static void case_curved(ptest *t)
+static void case_curved(lg_test *t)
 {
     static const char *const configs[][2] = {
         { "box_double_sided = true", "resolution = 256" },
@@ -633,16 +635,16 @@ static void case_curved(ptest *t)
     };
     for (size_t i = 0; i < sizeof configs / sizeof configs[0]; i++) {
         int n = sphere_acne(t, configs[i][0], configs[i][1]);
-        PT_CHECK(t, n == 0, "{%s} {%s}: %d sphere points facing a light are self-shadowed "
+        LG_TEST_CHECK(t, n == 0, "{%s} {%s}: %d sphere points facing a light are self-shadowed "
                  "with the default bias", configs[i][0], configs[i][1], n);
     }
     int n = sphere_acne(t, "box_double_sided = true",
                         "resolution = 1024, bias_constant = 0, bias_slope = 0, normal_offset = 0");
-    PT_CHECK(t, n > 50, "without bias only %d sphere points are self-shadowed; the test "
+    LG_TEST_CHECK(t, n > 50, "without bias only %d sphere points are self-shadowed; the test "
              "cannot see acne", n);
 }
 
-static void case_gating(ptest *t)
+static void case_gating(lg_test *t)
 {
     const char *args[] = { "--explain", NULL };
     /* no light at all, then only a point light */
@@ -659,20 +661,20 @@ static void case_gating(ptest *t)
         lg_image p = { 0 };
         bool ok = run(t, &s, args, &p, &out);
         const char *o = out ? out : "";
-        PT_CHECK(t, contains_line(o, "plugins not loaded:", "shadowmap"),
+        LG_TEST_CHECK(t, contains_line(o, "plugins not loaded:", "shadowmap"),
                  "%s: shadowmap is not among the plugins not loaded:\n%s",
                  k ? "point light" : "no light", o);
-        PT_CHECK(t, !contains_line(o, "plugins loaded:", "shadowmap"),
+        LG_TEST_CHECK(t, !contains_line(o, "plugins loaded:", "shadowmap"),
                  "%s: shadowmap was loaded:\n%s", k ? "point light" : "no light", o);
-        PT_CHECK(t, strcmp(state_of(o, "shadow"), "gated") == 0,
+        LG_TEST_CHECK(t, strcmp(state_of(o, "shadow"), "gated") == 0,
                  "the node is not shown gated:\n%s", o);
         free(out);
         if (!ok)
             continue;
-        PT_CHECK(t, INFO(&p, &s, 0)[0] == -1, "the probe got shadow maps from a gated node");
+        LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == -1, "the probe got shadow maps from a gated node");
         for (int l = 0; l < s.n_lights; l++)
             for (int j = 0; j < s.n_pts; j++)
-                PT_CHECK(t, S(&p, l, j) == 1 && HAS(&p, l, j) == 0,
+                LG_TEST_CHECK(t, S(&p, l, j) == 1 && HAS(&p, l, j) == 0,
                          "light %d point %d: Shadow %g has %g without shadow maps", l, j,
                          (double)S(&p, l, j), (double)HAS(&p, l, j));
         lg_image_free(&p);
@@ -689,16 +691,16 @@ static void case_gating(ptest *t)
     char *out = NULL;
     lg_image p = { 0 };
     bool ok = run(t, &s, args, &p, &out);
-    PT_CHECK(t, contains_line(out ? out : "", "plugins loaded:", "shadowmap"),
+    LG_TEST_CHECK(t, contains_line(out ? out : "", "plugins loaded:", "shadowmap"),
              "shadowmap not loaded with a directional light:\n%s", out ? out : "");
     free(out);
     if (ok) {
-        PT_CHECK(t, INFO(&p, &s, 0)[0] == 1, "payload has %g lights, want 1",
+        LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == 1, "payload has %g lights, want 1",
                  (double)INFO(&p, &s, 0)[0]);
-        PT_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names a non-directional light");
-        PT_CHECK(t, HAS(&p, 0, 0) == 0 && S(&p, 0, 0) == 1,
+        LG_TEST_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names a non-directional light");
+        LG_TEST_CHECK(t, HAS(&p, 0, 0) == 0 && S(&p, 0, 0) == 1,
                  "the point light (scene light 0) has a shadow map");
-        PT_CHECK(t, HAS(&p, 1, 0) == 1 && S(&p, 1, 0) == 0 && S(&p, 1, 1) == 1,
+        LG_TEST_CHECK(t, HAS(&p, 1, 0) == 1 && S(&p, 1, 0) == 0 && S(&p, 1, 1) == 1,
                  "scene light 1: has %g, Shadow %g %g; want 1, 0 1", (double)HAS(&p, 1, 0),
                  (double)S(&p, 1, 0), (double)S(&p, 1, 1));
         lg_image_free(&p);
@@ -709,13 +711,13 @@ static void case_gating(ptest *t)
     add_light(&u, lg_v3(0, -1, 0));
     add_point(&u, 0, 0, 0);
     if (run(t, &u, NULL, &p, NULL)) {
-        PT_CHECK(t, INFO(&p, &u, 0)[0] == -1 && S(&p, 0, 0) == 1,
+        LG_TEST_CHECK(t, INFO(&p, &u, 0)[0] == -1 && S(&p, 0, 0) == 1,
                  "an unconnected input gave shadow maps");
         lg_image_free(&p);
     }
 }
 
-static void case_frustum(ptest *t)
+static void case_frustum(lg_test *t)
 {
     /* a 40 x 40 floor; the camera looks down at the box from (0, 6, 2) */
     const char *scene = "floor_size = 40, camera_position = [0, 6, 2], camera_target = [0, 0, 0], "
@@ -737,7 +739,7 @@ static void case_frustum(ptest *t)
         int bad = 0, checked = 0;
         for (int j = 0; j < s.n_pts - 1; j++) {
             int e = expected(s.pts[j], dir, 3.0f * texel[fit]);
-            PT_CHECK(t, D(&p, 0, j) >= 0, "fit %d: point %d (%g, 0, %g) outside the map", fit,
+            LG_TEST_CHECK(t, D(&p, 0, j) >= 0, "fit %d: point %d (%g, 0, %g) outside the map", fit,
                      j, (double)s.pts[j].x, (double)s.pts[j].z);
             if (e < 0)
                 continue;
@@ -746,12 +748,12 @@ static void case_frustum(ptest *t)
                 fprintf(stderr, "fit %d: point %d (%g, 0, %g): Shadow %g, want %d\n", fit, j,
                         (double)s.pts[j].x, (double)s.pts[j].z, (double)S(&p, 0, j), e);
         }
-        PT_CHECK(t, bad == 0 && checked > 25, "fit %d: %d of %d points disagree", fit, bad,
+        LG_TEST_CHECK(t, bad == 0 && checked > 25, "fit %d: %d of %d points disagree", fit, bad,
                  checked);
         lg_image_free(&p);
     }
     /* the camera sees about 4.4 m of floor; the bounds are 40 m wide */
-    PT_CHECK(t, texel[1] < texel[0] / 4, "fit = frustum texel %g is not much finer than the "
+    LG_TEST_CHECK(t, texel[1] < texel[0] / 4, "fit = frustum texel %g is not much finer than the "
              "bounds' %g", (double)texel[1], (double)texel[0]);
 
     /* a wider image sees more of the floor: a coarser map */
@@ -761,9 +763,9 @@ static void case_frustum(ptest *t)
     lg_image pw = { 0 };
     if (run(t, &w, (const char *const[]){ "--size", "64x64", NULL }, &pw, NULL)) {
         float tw = TILE(&pw, &w, 0)[2];
-        PT_CHECK(t, tw > 1.5f * texel[1] && tw < texel[0], "aspect 4: texel %g, aspect 1: %g, "
+        LG_TEST_CHECK(t, tw > 1.5f * texel[1] && tw < texel[0], "aspect 4: texel %g, aspect 1: %g, "
                  "bounds: %g", (double)tw, (double)texel[1], (double)texel[0]);
-        PT_CHECK(t, S(&pw, 0, 0) == 0, "aspect 4: the box's shadow is gone");
+        LG_TEST_CHECK(t, S(&pw, 0, 0) == 0, "aspect 4: the box's shadow is gone");
         lg_image_free(&pw);
     }
 
@@ -775,15 +777,15 @@ static void case_frustum(ptest *t)
     add_point(&s, 0, 0, 0);
     lg_image p = { 0 };
     if (run(t, &s, NULL, &p, NULL)) {
-        PT_CHECK(t, fabsf(TILE(&p, &s, 0)[2] - texel[0]) < 1e-6f * texel[0],
+        LG_TEST_CHECK(t, fabsf(TILE(&p, &s, 0)[2] - texel[0]) < 1e-6f * texel[0],
                  "camera seeing nothing: texel %g, want the bounds' %g",
                  (double)TILE(&p, &s, 0)[2], (double)texel[0]);
-        PT_CHECK(t, S(&p, 0, 0) == 0, "camera seeing nothing: the box's shadow is gone");
+        LG_TEST_CHECK(t, S(&p, 0, 0) == 0, "camera seeing nothing: the box's shadow is gone");
         lg_image_free(&p);
     }
 }
 
-static void case_atlas(ptest *t)
+static void case_atlas(lg_test *t)
 {
     /* light from straight above; the box towards the back (-Z) */
     setup s = { .scene = "box_center = [0, 1.5, -2]", .shadow = "resolution = 128",
@@ -794,11 +796,11 @@ static void case_atlas(ptest *t)
     if (!run(t, &s, NULL, &p, NULL))
         return;
     unsigned bits = 0;
-    if (!pt_read(t, "sm.exr", &a, &bits)) {
+    if (!lg_test_read(t, "sm.exr", &a, &bits)) {
         lg_image_free(&p);
         return;
     }
-    PT_CHECK(t, a.width == 128 && a.height == 128, "atlas file %ux%u", a.width, a.height);
+    LG_TEST_CHECK(t, a.width == 128 && a.height == 128, "atlas file %ux%u", a.width, a.height);
     uint32_t grey = 0, range = 0, drawn = 0, top = 0;
     for (uint32_t y = 0; y < a.height; y++)
         for (uint32_t x = 0; x < a.width; x++) {
@@ -811,45 +813,45 @@ static void case_atlas(ptest *t)
             }
         }
     size_t np = (size_t)a.width * a.height;
-    PT_CHECK(t, grey == np, "%zu of %zu atlas pixels are not grey with alpha 1", np - grey, np);
-    PT_CHECK(t, range == np, "%zu atlas values outside [0, 1]", np - range);
+    LG_TEST_CHECK(t, grey == np, "%zu of %zu atlas pixels are not grey with alpha 1", np - grey, np);
+    LG_TEST_CHECK(t, range == np, "%zu atlas values outside [0, 1]", np - range);
     /* the box covers 1 x 1 of the 8 x 8 floor: 1/64 of the tile, minus the margin */
     double want = np / 64.0 * (124.0 / 128.0) * (124.0 / 128.0);
-    PT_CHECK(t, fabs(drawn - want) < 0.15 * want, "%u texels drawn, want about %.0f", drawn,
+    LG_TEST_CHECK(t, fabs(drawn - want) < 0.15 * want, "%u texels drawn, want about %.0f", drawn,
              want);
-    PT_CHECK(t, drawn > 0 && top == drawn, "%u of %u drawn texels in the top half: the tile "
+    LG_TEST_CHECK(t, drawn > 0 && top == drawn, "%u of %u drawn texels in the top half: the tile "
              "is not upright (-Z up under a light from above)", top, drawn);
     /* the probe's texel of the box's bottom point has the file's value */
     const float *tl = TILE(&p, &s, 0);
     double tw = tl[2];
     /* light view: x = world x, y = world -z; the tile's centre is the bounds' (0, 0) */
     uint32_t cx = (uint32_t)floor(64 + 0.1 / tw), cy = (uint32_t)floor(64 - 2.1 / tw);
-    PT_CHECK(t, fabsf(px(&a, cx, cy)[0] - D(&p, 0, 0)) < 1e-6f,
+    LG_TEST_CHECK(t, fabsf(px(&a, cx, cy)[0] - D(&p, 0, 0)) < 1e-6f,
              "file depth %.7g at (%u, %u), the probe read %.7g", (double)px(&a, cx, cy)[0], cx,
              cy, (double)D(&p, 0, 0));
-    PT_CHECK(t, fabsf(D(&p, 0, 0) - Z(&p, 0, 0)) < 1e-5f, "stored %.7g, the bottom's depth %.7g",
+    LG_TEST_CHECK(t, fabsf(D(&p, 0, 0) - Z(&p, 0, 0)) < 1e-5f, "stored %.7g, the bottom's depth %.7g",
              (double)D(&p, 0, 0), (double)Z(&p, 0, 0));
-    FILE *f = fopen(pt_path(t, "sm.png"), "rb");
-    PT_CHECK(t, f != NULL, "sm.png was not written");
+    FILE *f = fopen(lg_test_path(t, "sm.png"), "rb");
+    LG_TEST_CHECK(t, f != NULL, "sm.png was not written");
     if (f)
         fclose(f);
     lg_image_free(&a);
     lg_image_free(&p);
 }
 
-static void expect_error(ptest *t, const setup *s, int code, const char *msg)
+static void expect_error(lg_test *t, const setup *s, int code, const char *msg)
 {
     char *g = graph_text(s);
-    pt_write_text(t, "g.lgraph", g);
+    lg_test_write_text(t, "g.lgraph", g);
     free(g);
     char *out = NULL;
-    int rc = pt_render(t, "g.lgraph", NULL, &out);
-    PT_CHECK(t, rc == code, "exit %d, want %d (%s)", rc, code, msg);
-    PT_CHECK(t, out && strstr(out, msg), "the message lacks '%s':\n%s", msg, out ? out : "");
+    int rc = lg_test_render(t, "g.lgraph", NULL, &out);
+    LG_TEST_CHECK(t, rc == code, "exit %d, want %d (%s)", rc, code, msg);
+    LG_TEST_CHECK(t, out && strstr(out, msg), "the message lacks '%s':\n%s", msg, out ? out : "");
     free(out);
 }
 
-static void case_errors(ptest *t)
+static void case_errors(lg_test *t)
 {
     setup s = { .shadow = "resolution = 8192" };
     for (int i = 0; i < 32; i++)
@@ -875,7 +877,7 @@ static void case_errors(ptest *t)
 
 int main(int argc, char **argv)
 {
-    static const pt_case cases[] = {
+    static const lg_test_case cases[] = {
         { "basic", case_basic },       { "cull", case_cull },
         { "lights2", case_lights2 },   { "lights8", case_lights8 },
         { "lights32", case_lights32 }, { "layout32", case_layout32 },
@@ -884,10 +886,6 @@ int main(int argc, char **argv)
         { "frustum", case_frustum },   { "atlas", case_atlas },
         { "errors", case_errors },
     };
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_shadowmap CASE\n");
-        return 99;
-    }
-    pt_require_backend("gl");
-    return pt_run_case("test_shadowmap", argv[1], cases, sizeof cases / sizeof cases[0], NULL, use_test_plugins);
+    lg_test_main_opts o = { .setup = setup_case };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

@@ -278,6 +278,42 @@ def test_frames_and_profile():
     check(nodes["fog"]["runs"] == 1 and nodes["fog"]["per_frame"] is False,
           "a static node runs once across frames")
     check(nodes["fog"]["bytes_allocated"] == 4 * 4 * 16, "bytes allocated counted")
+    check(nodes["fog"]["first_cpu_ms"] > 0 and nodes["fog"]["min_cpu_ms"] == nodes["fog"]["first_cpu_ms"],
+          "one run: min = first: %r" % nodes["fog"])
+    # --every-frame: static nodes run every frame; =NODE,...: only those
+    run(["render", g, "--frames", "5", "--every-frame", "--profile-json", pj, "--size", "4x4"],
+        expect=0)
+    nodes = {n["name"]: n for n in json.load(open(pj))["nodes"]}
+    check(nodes["fog"]["runs"] == 5 and nodes["scene"]["runs"] == 5, "--every-frame: %r" % nodes)
+    f = nodes["fog"]
+    check(f["min_cpu_ms"] <= f["first_cpu_ms"] and f["min_cpu_ms"] * 5 <= f["cpu_ms"] + 1e-9,
+          "min <= first, 5 runs >= 5 x min: %r" % f)
+    run(["render", g, "--frames", "4", "--every-frame=fog", "--profile-json", pj, "--size", "4x4"],
+        expect=0)
+    nodes = {n["name"]: n for n in json.load(open(pj))["nodes"]}
+    check(nodes["fog"]["runs"] == 4 and nodes["scene"]["runs"] == 1,
+          "--every-frame=fog runs fog only: %r" % nodes)
+
+
+def test_devices():
+    """`lightgraph devices`: one line per device, exit 0 when all can be made, 1 (with the
+    message a render would fail with) when one cannot."""
+    p = run(["devices", "--frob"], expect=2)
+    p = run(["devices", "gl"], expect=None)
+    if p.returncode != 0:
+        print("skipped: " + p.stdout)
+        sys.exit(77)
+    check(p.stdout.startswith("gl: ") and "4.5" in p.stdout, p.stdout)
+    env_gl = dict(os.environ, GALLIUM_DRIVER="softpipe")
+    q = subprocess.run([EXE, "devices", "gl"], capture_output=True, text=True, env=env_gl)
+    check(q.returncode == 1 and q.stdout.startswith("gl: no OpenGL 4.5 device (osmesa): "),
+          "softpipe: %d %s" % (q.returncode, q.stdout))
+    env_cl = dict(os.environ, OCL_ICD_VENDORS=os.path.join(TMP, "no-icds"))
+    q = subprocess.run([EXE, "devices", "cl", "gl"], capture_output=True, text=True, env=env_cl)
+    lines = q.stdout.splitlines()
+    check(q.returncode == 1 and len(lines) == 2 and lines[0].startswith("gl: ") and
+          "no OpenGL" not in lines[0] and lines[1].startswith("cl: no OpenCL device: "),
+          "no ICD: %d %s" % (q.returncode, q.stdout))
 
 
 def test_exit_status():

@@ -10,7 +10,9 @@ meson install -C "$BUILD" --destdir "$TMP/root" --no-rebuild --quiet >"$TMP/inst
   cat "$TMP/install.log"; echo "FAIL: meson install"; exit 1; }
 pc=$(find "$TMP/root" -name lightgraph.pc | head -1)
 [ -n "$pc" ] || { echo "FAIL: lightgraph.pc not installed"; exit 1; }
-for h in lightgraph.h plugin.h host.h types.h image.h gl.h cl.h color.h config.h glad/gl.h; do
+[ -f "$(dirname "$pc")/lightgraph-test.pc" ] || { echo "FAIL: lightgraph-test.pc not installed"; exit 1; }
+find "$TMP/root" -name 'liblightgraph-test.so*' | grep -q . || { echo "FAIL: liblightgraph-test not installed"; exit 1; }
+for h in lightgraph.h plugin.h host.h types.h image.h gl.h cl.h color.h config.h test.h glad/gl.h; do
   find "$TMP/root" -path "*/include/lightgraph/$h" | grep -q . || { echo "FAIL: header $h not installed"; exit 1; }
 done
 find "$TMP/root" -name 'lg_core.so' | grep -q . || { echo "FAIL: plugins not installed"; exit 1; }
@@ -55,4 +57,12 @@ fi
 "$LG_EXE" render "$TMP/e.lgraph" --size 40x24 -q
 "$LG_EXE" diff "$TMP/out_gl.exr" "$TMP/expected.exr" --max-abs 0.001 >/dev/null || {
   echo "FAIL: template_invert backend = gl computed the wrong image"; exit 1; }
-echo "ok: installed SDK builds the template (its shader embedded by the installed embed.py), the host runs it on cpu and gl"
+# The template's own test, on the installed harness (liblightgraph-test): LG_EXE (set by
+# meson for this test) names the program; the library found is the installed one.
+meson test -C "$TMP/template/build" --print-errorlogs >"$TMP/test.log" 2>&1 || {
+  cat "$TMP/test.log"; echo "FAIL: the template's test on the installed harness"; exit 1; }
+grep -E '^ *[0-9]+/[0-9]+ ' "$TMP/test.log"
+grep -Eq '^Ok: +2 *$' "$TMP/test.log" || { cat "$TMP/test.log"; echo "FAIL: the template's 2 tests did not both pass"; exit 1; }
+ldd "$TMP/template/build/test_template" | grep -q "$libdir/liblightgraph-test.so" || {
+  ldd "$TMP/template/build/test_template"; echo "FAIL: test_template does not use the installed harness"; exit 1; }
+echo "ok: installed SDK builds the template (its shader embedded by the installed embed.py) and its test on the installed harness; the host runs it on cpu and gl"
