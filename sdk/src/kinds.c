@@ -179,6 +179,34 @@ static lg_part_spec meta_spec(size_t size)
     return (lg_part_spec){ .name = "info", .type = LG_PART_META, .buffer.size = size };
 }
 
+/* Producer: writes a kind's info struct (which starts with uint32_t struct_size, set here)
+ * into the `info` part of output `port`. */
+static int publish_info(lg_node *n, uint32_t port, const void *info, size_t size)
+{
+    unsigned char copy[512];
+    if (size > sizeof copy || size < sizeof(uint32_t))
+        return lg_error(n, "an info struct of %zu bytes", size);
+    memcpy(copy, info, size);
+    uint32_t ss = (uint32_t)size;
+    memcpy(copy, &ss, sizeof ss);
+    return lg_meta_write(n, lg_output(n, port), "info", copy, size);
+}
+
+/* Consumer: the info struct of `res` (a composite of `kind`) and its main part `name` of
+ * `type` with its description; NULL without an error for NULL or neutral, NULL after lg_error
+ * otherwise. */
+static const lg_resource *consume(lg_node *n, const lg_resource *res, lg_resource_kind kind,
+                                  size_t info_size, const void **info, const char *name,
+                                  lg_part_type type, lg_resource_info *pinfo)
+{
+    lg_resource_info whole;
+    *info = NULL;
+    if (!composite_in(n, res, kind, &whole))
+        return NULL;
+    *info = lg_meta_read(n, res, "info", info_size);
+    return *info ? required_part(n, res, name, type, pinfo) : NULL;
+}
+
 /* ---- shadow maps ------------------------------------------------------------------------ */
 
 int lg_shadowmap_declare(lg_node *n, uint32_t port, uint32_t atlas_width, uint32_t atlas_height,
@@ -215,19 +243,16 @@ int lg_shadowmap_publish(lg_node *n, uint32_t port, const lg_shadowmap_info *inf
     memset(v.pixels, 0, li.buffer.size);
     if (need)
         memcpy(v.pixels, lights, need);
-    lg_shadowmap_info copy = *info;
-    copy.struct_size = sizeof copy;
-    return lg_meta_write(n, out, "info", &copy, sizeof copy);
+    return publish_info(n, port, info, sizeof *info);
 }
 
 const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res, lg_shadowmap *out)
 {
-    lg_resource_info info, ai, li;
+    lg_resource_info ai, li;
+    const lg_shadowmap_info *mi;
     memset(out, 0, sizeof *out);
-    if (!composite_in(n, res, LG_KIND_SHADOWMAP, &info))
-        return NULL;
-    const lg_shadowmap_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
-    const lg_resource *atlas = mi ? required_part(n, res, "atlas", LG_PART_IMAGE, &ai) : NULL;
+    const lg_resource *atlas = consume(n, res, LG_KIND_SHADOWMAP, sizeof *mi,
+                                       (const void **)&mi, "atlas", LG_PART_IMAGE, &ai);
     const lg_resource *lights = atlas ? required_part(n, res, "lights", LG_PART_BUFFER, &li)
                                       : NULL;
     if (!lights)
@@ -280,19 +305,16 @@ int lg_probe_declare(lg_node *n, uint32_t port, lg_probe_layout layout,
 
 int lg_probe_publish(lg_node *n, uint32_t port, const lg_probe_info *info)
 {
-    lg_probe_info copy = *info;
-    copy.struct_size = sizeof copy;
-    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+    return publish_info(n, port, info, sizeof *info);
 }
 
 const lg_probe *lg_probe_get(lg_node *n, const lg_resource *res, lg_probe *out)
 {
-    lg_resource_info info, ri;
+    lg_resource_info ri;
+    const lg_probe_info *mi;
     memset(out, 0, sizeof *out);
-    if (!composite_in(n, res, LG_KIND_PROBE, &info))
-        return NULL;
-    const lg_probe_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
-    const lg_resource *rad = mi ? required_part(n, res, "radiance", LG_PART_IMAGE, &ri) : NULL;
+    const lg_resource *rad = consume(n, res, LG_KIND_PROBE, sizeof *mi, (const void **)&mi,
+                                     "radiance", LG_PART_IMAGE, &ri);
     if (!rad)
         return NULL;
     if ((mi->layout == LG_PROBE_CUBE) != ((ri.image.flags & LG_IMAGE_CUBE) != 0) ||
@@ -324,19 +346,16 @@ int lg_sh_declare(lg_node *n, uint32_t port, uint32_t bands)
 
 int lg_sh_publish(lg_node *n, uint32_t port, const lg_sh_info *info)
 {
-    lg_sh_info copy = *info;
-    copy.struct_size = sizeof copy;
-    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+    return publish_info(n, port, info, sizeof *info);
 }
 
 const lg_sh *lg_sh_get(lg_node *n, const lg_resource *res, lg_sh *out)
 {
-    lg_resource_info info, ci;
+    lg_resource_info ci;
+    const lg_sh_info *mi;
     memset(out, 0, sizeof *out);
-    if (!composite_in(n, res, LG_KIND_SH, &info))
-        return NULL;
-    const lg_sh_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
-    const lg_resource *c = mi ? required_part(n, res, "coeffs", LG_PART_BUFFER, &ci) : NULL;
+    const lg_resource *c = consume(n, res, LG_KIND_SH, sizeof *mi, (const void **)&mi, "coeffs",
+                                   LG_PART_BUFFER, &ci);
     if (!c)
         return NULL;
     if (mi->bands < 1 || mi->bands > LG_SH_MAX_BANDS ||
@@ -370,19 +389,16 @@ int lg_transfer_declare(lg_node *n, uint32_t port, uint32_t bands, uint32_t vert
 
 int lg_transfer_publish(lg_node *n, uint32_t port, const lg_transfer_info *info)
 {
-    lg_transfer_info copy = *info;
-    copy.struct_size = sizeof copy;
-    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+    return publish_info(n, port, info, sizeof *info);
 }
 
 const lg_transfer *lg_transfer_get(lg_node *n, const lg_resource *res, lg_transfer *out)
 {
-    lg_resource_info info, ti;
+    lg_resource_info ti;
+    const lg_transfer_info *mi;
     memset(out, 0, sizeof *out);
-    if (!composite_in(n, res, LG_KIND_TRANSFER, &info))
-        return NULL;
-    const lg_transfer_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
-    const lg_resource *t = mi ? required_part(n, res, "transfer", LG_PART_BUFFER, &ti) : NULL;
+    const lg_resource *t = consume(n, res, LG_KIND_TRANSFER, sizeof *mi, (const void **)&mi,
+                                   "transfer", LG_PART_BUFFER, &ti);
     if (!t)
         return NULL;
     if (mi->bands < 1 || mi->bands > LG_SH_MAX_BANDS ||
@@ -415,19 +431,16 @@ int lg_froxel_declare(lg_node *n, uint32_t port, uint32_t width, uint32_t height
 
 int lg_froxel_publish(lg_node *n, uint32_t port, const lg_froxel_info *info)
 {
-    lg_froxel_info copy = *info;
-    copy.struct_size = sizeof copy;
-    return lg_meta_write(n, lg_output(n, port), "info", &copy, sizeof copy);
+    return publish_info(n, port, info, sizeof *info);
 }
 
 const lg_froxel *lg_froxel_get(lg_node *n, const lg_resource *res, lg_froxel *out)
 {
-    lg_resource_info info, gi;
+    lg_resource_info gi;
+    const lg_froxel_info *mi;
     memset(out, 0, sizeof *out);
-    if (!composite_in(n, res, LG_KIND_FROXEL, &info))
-        return NULL;
-    const lg_froxel_info *mi = lg_meta_read(n, res, "info", sizeof *mi);
-    const lg_resource *g = mi ? required_part(n, res, "grid", LG_PART_VOLUME, &gi) : NULL;
+    const lg_resource *g = consume(n, res, LG_KIND_FROXEL, sizeof *mi, (const void **)&mi, "grid",
+                                   LG_PART_VOLUME, &gi);
     if (!g)
         return NULL;
     if (mi->width != gi.volume.width || mi->height != gi.volume.height ||

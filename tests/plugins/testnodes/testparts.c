@@ -10,6 +10,10 @@
  *                 through an input (`what` = part: lg_part on it; texture: maps its radiance
  *                 part); the host must refuse both.
  *   badparam   -> out: reads a parameter its type does not declare.
+ *   kindmaker  -> sh, transfer, froxel: one of each of the other composite kinds, through
+ *                 their headers' declare / publish; element i of each big part holds i.
+ *   kindcheck  sh, transfer, froxel -> out: reads them back through the kinds' get
+ *                 accessors and fails unless the info and every element arrived.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -259,6 +263,103 @@ static int bad_execute(lg_node *n, const lg_frame *frame)
     return write_1x1(n, (float)v);
 }
 
+/* ---- kindmaker, kindcheck --------------------------------------------------------------- */
+
+static const lg_param_desc kind_params[] = {
+    {.key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "SH bands"},
+    {.key = "vertices", .type = LG_PARAM_INT, .def.i = 5, .min = 1, .max = 1000, .doc = "vertices"},
+};
+static const lg_port_desc kind_ports[] = {
+    {.name = "sh", .kind = LG_KIND_SH, .optional = true},
+    {.name = "transfer", .kind = LG_KIND_TRANSFER, .optional = true},
+    {.name = "froxel", .kind = LG_KIND_FROXEL, .optional = true},
+};
+enum { FX_W = 4, FX_H = 3, FX_D = 5 };
+
+static int kmake_prepare(lg_node *n)
+{
+    uint32_t bands = (uint32_t)lg_param_int(n, "bands");
+    int rc = lg_sh_declare(n, 0, bands);
+    if (!rc)
+        rc = lg_transfer_declare(n, 1, bands, (uint32_t)lg_param_int(n, "vertices"));
+    if (!rc)
+        rc = lg_froxel_declare(n, 2, FX_W, FX_H, FX_D, LG_FORMAT_RGBA32F);
+    return rc;
+}
+
+/* element i of part `name` of output `port` holds i */
+static int fill(lg_node *n, uint32_t port, const char *name)
+{
+    const lg_resource *p = lg_part(n, lg_output(n, port), name);
+    lg_resource_info info;
+    lg_cpu_view v;
+    if (!p || lg_describe(p, &info, n) || lg_map_cpu(n, p, LG_WRITE, &v))
+        return lg_error(n, "part '%s' cannot be written", name);
+    size_t count = info.kind == LG_KIND_VOLUME ? (size_t)FX_W * FX_H * FX_D * 4
+                                               : info.buffer.size / sizeof(float);
+    for (size_t i = 0; i < count; i++)
+        ((float *)v.pixels)[i] = (float)i;
+    return 0;
+}
+
+static int kmake_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    uint32_t bands = (uint32_t)lg_param_int(n, "bands");
+    lg_sh_info si = {.bands = bands, .flags = LG_SH_WINDOWED};
+    lg_transfer_info ti = {.bands = bands, .vertices = (uint32_t)lg_param_int(n, "vertices"),
+                           .mode = LG_TRANSFER_SHADOWED};
+    lg_froxel_info fi = {.width = FX_W, .height = FX_H, .depth = FX_D,
+                         .slicing = LG_FROXEL_EXPONENTIAL, .near = 0.1f, .far = 50.0f};
+    int rc = fill(n, 0, "coeffs");
+    if (!rc)
+        rc = fill(n, 1, "transfer");
+    if (!rc)
+        rc = fill(n, 2, "grid");
+    if (!rc)
+        rc = lg_sh_publish(n, 0, &si);
+    if (!rc)
+        rc = lg_transfer_publish(n, 1, &ti);
+    return rc ? rc : lg_froxel_publish(n, 2, &fi);
+}
+
+static int counts_up(lg_node *n, const lg_resource *p, size_t count, const char *what)
+{
+    lg_cpu_view v;
+    if (lg_map_cpu(n, p, LG_READ, &v))
+        return LG_ERR_INVALID;
+    for (size_t i = 0; i < count; i++)
+        if (((const float *)v.pixels)[i] != (float)i)
+            return lg_error(n, "%s: element %zu is %g", what, i,
+                            (double)((const float *)v.pixels)[i]);
+    return 0;
+}
+
+static int kcheck_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    lg_sh sv;
+    lg_transfer tv;
+    lg_froxel fv;
+    const lg_sh *sh = lg_sh_get(n, lg_input(n, 0), &sv);
+    const lg_transfer *tr = lg_transfer_get(n, lg_input(n, 1), &tv);
+    const lg_froxel *fx = lg_froxel_get(n, lg_input(n, 2), &fv);
+    if (!sh || !tr || !fx)
+        return lg_error(n, "a kind's accessor gave nothing");
+    uint32_t b = (uint32_t)lg_param_int(n, "bands"), nv = (uint32_t)lg_param_int(n, "vertices");
+    if (sh->info.bands != b || sh->n_coeffs != b * b || !(sh->info.flags & LG_SH_WINDOWED) ||
+        tr->info.bands != b || tr->info.vertices != nv || tr->info.mode != LG_TRANSFER_SHADOWED ||
+        fx->info.slicing != LG_FROXEL_EXPONENTIAL || fx->info.far != 50.0f ||
+        fx->info.depth != FX_D)
+        return lg_error(n, "an info struct did not arrive as written");
+    int rc = counts_up(n, sh->coeffs, (size_t)3 * b * b, "sh coeffs");
+    if (!rc)
+        rc = counts_up(n, tr->transfer, (size_t)nv * 3 * b * b, "transfer");
+    if (!rc)
+        rc = counts_up(n, fx->grid, (size_t)FX_W * FX_H * FX_D * 4, "froxel grid");
+    return rc ? rc : write_1x1(n, 1.0f);
+}
+
 static const lg_node_type types[] = {
     {.struct_size = sizeof(lg_node_type), .name = "partmaker", .doc = "a cube probe (test)",
      LG_PARAMS(maker_params), LG_OUTPUTS(maker_out), .prepare = maker_prepare,
@@ -272,6 +373,12 @@ static const lg_node_type types[] = {
     {.struct_size = sizeof(lg_node_type), .name = "badparam",
      .doc = "reads an undeclared parameter (test)", LG_OUTPUTS(img_out), .prepare = out_1x1,
      .execute = bad_execute},
+    {.struct_size = sizeof(lg_node_type), .name = "kindmaker",
+     .doc = "an SH, a transfer and a froxel resource (test)", LG_PARAMS(kind_params),
+     LG_OUTPUTS(kind_ports), .prepare = kmake_prepare, .execute = kmake_execute},
+    {.struct_size = sizeof(lg_node_type), .name = "kindcheck",
+     .doc = "reads them back (test)", LG_PARAMS(kind_params), LG_INPUTS(kind_ports),
+     LG_OUTPUTS(img_out), .prepare = out_1x1, .execute = kcheck_execute},
 };
 
 LG_PLUGIN_DEFINE("testparts", "1.0.0", "Composite resources (test)", types)

@@ -429,6 +429,30 @@ output m.radiant "x.exr"
     check("parts: radiance solid_angle info" in p.stderr, p.stderr)
 
 
+def test_kinds():
+    """The SH, transfer and froxel kinds through their headers' accessors (declare, publish,
+    get), --explain showing their parts, and a part given where the whole kind is wanted."""
+    g = graph("""lightgraph 1
+m = kindmaker { bands = 4, vertices = 7 }
+c = kindcheck { sh = m.sh, transfer = m.transfer, froxel = m.froxel, bands = 4, vertices = 7 }
+output c "%s"
+""" % os.path.join(TMP, "kinds.exr"), "kinds.lgraph")
+    p = run(["render", g, "--explain"])
+    check(p.returncode == 0, p.stderr)
+    check("sh: sh {coeffs: buffer 192 B, info: buffer" in p.stdout, p.stdout)
+    check("transfer: transfer {transfer: buffer 1.3 KiB" in p.stdout, p.stdout)
+    check("froxel: froxel {grid: volume 4x3x5 rgba32f" in p.stdout, p.stdout)
+    # a part where the whole resource is wanted: the kinds differ
+    g = graph("""lightgraph 1
+m = kindmaker { }
+c = kindcheck { sh = m.coeffs }
+output c "x.exr"
+""", "kinds_bad.lgraph")
+    p = run(["check", g], expect=2)
+    check("input 'sh' of node 'c' takes SH coefficients, but 'm.coeffs' gives a buffer" in
+          p.stderr, p.stderr)
+
+
 def test_access_check():
     """A node that maps a resource it did not receive through an input is an error naming
     the node and the resource (debug checks, on in every build of the suite)."""
