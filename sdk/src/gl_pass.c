@@ -279,7 +279,8 @@ static const char *kind_name(GLenum kind)
     }
 }
 
-static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind)
+static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind,
+                                  bool required)
 {
     lg_gl_binding b = { -1, kind };
     const lg_gl *gl = p->gl;
@@ -295,6 +296,8 @@ static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind)
         if (loc >= 0)
             gl->GetUniformiv(p->program, loc, &index);
     }
+    if (index < 0 && !required)
+        return b;
     if (index < 0) {
         lg_error(p->node, "gl pass '%s': the program has no %s '%s' (misspelt, or not used by "
                           "the shaders, which then drop it)",
@@ -314,22 +317,35 @@ static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind)
 
 lg_gl_binding lg_gl_pass_storage(lg_gl_pass *p, const char *block)
 {
-    return find_binding(p, block, GL_SHADER_STORAGE_BLOCK);
+    return find_binding(p, block, GL_SHADER_STORAGE_BLOCK, true);
 }
 
 lg_gl_binding lg_gl_pass_uniform_block(lg_gl_pass *p, const char *block)
 {
-    return find_binding(p, block, GL_UNIFORM_BLOCK);
+    return find_binding(p, block, GL_UNIFORM_BLOCK, true);
 }
 
 lg_gl_binding lg_gl_pass_texture(lg_gl_pass *p, const char *sampler)
 {
-    return find_binding(p, sampler, GL_SAMPLER);
+    return find_binding(p, sampler, GL_SAMPLER, true);
 }
 
 lg_gl_binding lg_gl_pass_image(lg_gl_pass *p, const char *image)
 {
-    return find_binding(p, image, GL_IMAGE_2D);
+    return find_binding(p, image, GL_IMAGE_2D, true);
+}
+
+lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *p, GLenum kind, const char *name)
+{
+    if (kind != GL_SHADER_STORAGE_BLOCK && kind != GL_UNIFORM_BLOCK && kind != GL_SAMPLER &&
+        kind != GL_IMAGE_2D) {
+        lg_error(p->node, "gl pass '%s': binding '%s' of unknown kind 0x%x", p->name,
+                 name ? name : "(null)", (unsigned)kind);
+        p->failed = LG_ERR_INVALID;
+        lg_gl_binding b = { -1, kind };
+        return b;
+    }
+    return find_binding(p, name, kind, false);
 }
 
 void lg_gl_pass_bind_buffer(lg_gl_pass *p, lg_gl_binding b, GLuint buffer)

@@ -218,6 +218,12 @@ LG_API lg_gl_binding lg_gl_pass_uniform_block(lg_gl_pass *pass, const char *bloc
 LG_API lg_gl_binding lg_gl_pass_texture(lg_gl_pass *pass, const char *sampler);
 LG_API lg_gl_binding lg_gl_pass_image(lg_gl_pass *pass, const char *image);
 
+/* Any of the four by `kind` (GL_SHADER_STORAGE_BLOCK, GL_UNIFORM_BLOCK, GL_SAMPLER,
+ * GL_IMAGE_2D), for a binding that some variants of the program do not use: absent gives
+ * index -1 (binding it then does nothing) and no error. */
+LG_API lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *pass, GLenum kind,
+                                                 const char *name);
+
 /* Binds, between begin and end (end unbinds): the whole of `buffer` to a storage or
  * uniform block; texture `tex` to a sampler's unit; level 0 of `tex` to an image unit with
  * `access` (GL_READ_ONLY, GL_WRITE_ONLY, GL_READ_WRITE) and `format` (GL_RGBA32F...). */
