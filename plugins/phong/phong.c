@@ -10,9 +10,9 @@
  * pass (vertex, optional geometry, fragment stage); phong_half takes four passes.
  * README.md gives the ports, parameters, units, conventions and measured costs.
  *
- * The camera, instance collection and instanced draw loop follow plugins/preview/preview.c
- * (copied and adapted: about 150 lines; a shared SDK helper for "draw a scene's instances
- * through its camera" would serve both and the shadowmap node).
+ * The camera is lightgraph/scene_gl.h's (as for preview and shadowmap); the passes are
+ * lg_gl_pass (lightgraph/gl_pass.h), which keep the programs, framebuffers and the scene's
+ * draw data across frames and set and restore the GL state.
  */
 #include <inttypes.h>
 #include <math.h>
