@@ -13,14 +13,15 @@
 #define LG_PASS_MAX_BIND 32u
 
 /* What decides whether the scene's draw data can be kept (gl_pass.h: "made again when the
- * scene's meshes or instances change"). */
+ * scene's meshes or instances change"): copies of the mesh and instance records (counts,
+ * array addresses, matrices) and the material count the checks used. Comparing records
+ * rather than the scene's address also catches a new scene allocated where the old one was. */
 typedef struct pass_scene_key {
-    const lg_mesh *meshes;
+    lg_mesh *meshes;
     uint32_t n_meshes;
-    const lg_instance *instances;
+    lg_instance *instances;
     uint32_t n_instances;
-    float *models;     /* n_instances x 16 */
-    uint32_t *mesh_of; /* n_instances */
+    uint32_t n_materials;
 } pass_scene_key;
 
 struct lg_gl_pass {
@@ -66,8 +67,8 @@ static char *dup_str(const char *s)
 
 static void key_free(pass_scene_key *k)
 {
-    free(k->models);
-    free(k->mesh_of);
+    free(k->meshes);
+    free(k->instances);
     memset(k, 0, sizeof *k);
 }
 
@@ -659,34 +660,29 @@ void lg_gl_pass_clear_depth(lg_gl_pass *p, float depth)
 
 static bool key_matches(const pass_scene_key *k, const lg_scene *s)
 {
-    if (k->meshes != s->meshes || k->n_meshes != s->n_meshes ||
-        k->instances != s->instances || k->n_instances != s->n_instances)
-        return false;
-    for (uint32_t i = 0; i < s->n_instances; i++)
-        if (k->mesh_of[i] != s->instances[i].mesh ||
-            memcmp(&k->models[16 * (size_t)i], s->instances[i].model, 16 * sizeof(float)))
-            return false;
-    return true;
+    return k->n_meshes == s->n_meshes && k->n_instances == s->n_instances &&
+           k->n_materials == s->n_materials &&
+           (!s->n_meshes || memcmp(k->meshes, s->meshes, s->n_meshes * sizeof *s->meshes) == 0) &&
+           (!s->n_instances ||
+            memcmp(k->instances, s->instances, s->n_instances * sizeof *s->instances) == 0);
 }
 
 static int key_make(lg_node *n, pass_scene_key *k, const lg_scene *s)
 {
     key_free(k);
-    size_t ni = s->n_instances ? s->n_instances : 1;
-    k->models = malloc(ni * 16 * sizeof(float));
-    k->mesh_of = malloc(ni * sizeof(uint32_t));
-    if (!k->models || !k->mesh_of) {
+    k->meshes = malloc((s->n_meshes ? s->n_meshes : 1) * sizeof *s->meshes);
+    k->instances = malloc((s->n_instances ? s->n_instances : 1) * sizeof *s->instances);
+    if (!k->meshes || !k->instances) {
         key_free(k);
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     }
-    for (uint32_t i = 0; i < s->n_instances; i++) {
-        memcpy(&k->models[16 * (size_t)i], s->instances[i].model, 16 * sizeof(float));
-        k->mesh_of[i] = s->instances[i].mesh;
-    }
-    k->meshes = s->meshes;
+    if (s->n_meshes)
+        memcpy(k->meshes, s->meshes, s->n_meshes * sizeof *s->meshes);
+    if (s->n_instances)
+        memcpy(k->instances, s->instances, s->n_instances * sizeof *s->instances);
     k->n_meshes = s->n_meshes;
-    k->instances = s->instances;
     k->n_instances = s->n_instances;
+    k->n_materials = s->n_materials;
     return 0;
 }
 

@@ -277,8 +277,9 @@ typedef struct lg_gl_scene_draw {
 
 /* Draws every instance of the scene resource `scene` (lightgraph/scene_gl.h: sorted by mesh
  * and handedness, one instanced draw per batch, the records at storage binding 0). The
- * draw data is made on the first call and kept; it is made again when the scene's meshes
- * or instances change (their arrays, counts or model matrices). Culling: with cull BACK or
+ * draw data is made on the first call and kept; it is made again when a field of a mesh or
+ * instance record changes (counts, array addresses, matrices) or the number of materials
+ * does: a scene payload is immutable, so equal records mean equal geometry. Culling: with cull BACK or
  * FRONT, the faces of single-sided materials are culled and double-sided materials are
  * drawn from both sides (glTF's doubleSided); the window winding accounts for the
  * projection's flipped Y and for mirrored instances. Checks glGetError after. */

@@ -1,7 +1,8 @@
 /* lg_gl_pass (lightgraph/gl_pass.h) on one GL backend (argv[1]: osmesa or egl): a raster pass
  * drawing known triangles into a node's output (depth test, blending, clears), a compute pass
- * with group counts from its local size, name look-ups and their errors, target checks, and
- * the GL state after end. Exits 77 if no context can be made. */
+ * with group counts from its local size, a scene's draw data kept across frames and made
+ * again when the scene changes, name look-ups and their errors, target checks, and the GL
+ * state after end. Exits 77 if no context can be made. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -57,7 +58,28 @@ static int host_gl_check(lg_node *n, const char *what)
     return lg_error_code(n, LG_ERR_DEVICE, "%s: %s", what, lg_gl_strerror(e));
 }
 
-static int dummy_resource;
+static int dummy_resource, scene_resource;
+static lg_scene the_scene;
+
+/* The host's GPU copies of the scene's arrays: one buffer per slot, made on first use. */
+static GLuint slot_buf[16];
+static int host_payload_gl_buffer(lg_node *n, const lg_resource *res, uint32_t slot,
+                                  const void *data, size_t size, uint32_t *buffer)
+{
+    (void)res;
+    if (slot >= 16)
+        return lg_error(n, "slot %u", slot);
+    if (!data) {
+        *buffer = 0;
+        return 0;
+    }
+    if (!slot_buf[slot]) {
+        the_gl->CreateBuffers(1, &slot_buf[slot]);
+        the_gl->NamedBufferStorage(slot_buf[slot], (GLsizeiptr)size, data, 0);
+    }
+    *buffer = slot_buf[slot];
+    return 0;
+}
 
 static lg_resource *host_output(lg_node *n, uint32_t port)
 {
@@ -68,6 +90,11 @@ static lg_resource *host_output(lg_node *n, uint32_t port)
 static int host_describe(const lg_resource *r, lg_resource_info *info)
 {
     memset(info, 0, sizeof *info);
+    if (r == (const lg_resource *)&scene_resource) {
+        info->kind = LG_KIND_SCENE;
+        info->payload = &the_scene;
+        return 0;
+    }
     if (r != (const lg_resource *)&dummy_resource)
         return LG_ERR_INVALID;
     info->kind = LG_KIND_IMAGE;
@@ -99,6 +126,7 @@ static const lg_host_api host = {
     .map_gl = host_map_gl,
     .gl = host_gl,
     .gl_check = host_gl_check,
+    .payload_gl_buffer = host_payload_gl_buffer,
 };
 
 static const lg_port_desc outputs[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
@@ -433,6 +461,88 @@ static void test_compute(const lg_gl *gl)
     gl->DeleteBuffers(1, &buf);
 }
 
+/* The scene's instances through lightgraph/scene_gl.h's records (mat4 model, binding 0). */
+static const char scene_vert[] =
+    "#version 450 core\n"
+    "layout(location = 0) in vec3 a_position;\n"
+    "layout(std430, binding = 0) readonly buffer Instances { mat4 model[]; };\n"
+    "uniform int u_first;\n"
+    "void main()\n"
+    "{\n"
+    "    gl_Position = model[u_first + gl_InstanceID] * vec4(a_position, 1.0);\n"
+    "}\n";
+
+static const char scene_frag[] =
+    "#version 450 core\n"
+    "layout(location = 0) out vec4 o_color;\n"
+    "void main() { o_color = vec4(1.0, 0.5, 0.25, 1.0); }\n";
+
+/* One triangle, drawn; moved (its instance's matrix changes: the draw data is made again);
+ * drawn again unchanged (kept: the scene's checks do not run again). */
+static void test_scene(const lg_gl *gl)
+{
+    clear_errors();
+    static const float pos[9] = { -1, -1, 0, 1, -1, 0, -1, 1, 0 };
+    static const float nrm[9] = { 0, 0, 1, 0, 0, 1, 0, 0, 1 };
+    static uint32_t idx[3] = { 0, 1, 2 };
+    static lg_mesh mesh;
+    static lg_instance inst;
+    static lg_material mat;
+    mesh = (lg_mesh){ .name = "tri", .n_vertices = 3, .n_indices = 3, .positions = pos,
+                      .normals = nrm, .indices = idx };
+    memset(&inst, 0, sizeof inst);
+    for (int i = 0; i < 4; i++)
+        inst.model[i * 5] = 1.0f;
+    mat.double_sided = true;
+    the_scene = (lg_scene){ .struct_size = sizeof(lg_scene), .meshes = &mesh, .n_meshes = 1,
+                            .instances = &inst, .n_instances = 1, .materials = &mat,
+                            .n_materials = 1 };
+    GLuint color = make_tex(gl, GL_RGBA32F, W, H);
+    lg_gl_target t = { .color = { color }, .width = W, .height = H };
+    const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "scene.vert", scene_vert },
+                                      { GL_FRAGMENT_SHADER, "scene.frag", scene_frag } };
+    lg_gl_pass_desc d = { .name = "scene", .stages = src, .n_stages = 2,
+                          .colors = { GL_RGBA32F }, .scene = LG_GL_SCENE_POSITIONS };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    const lg_resource *res = (const lg_resource *)&scene_resource;
+    float px[W * H * 4];
+    for (int frame = 0; frame < 3; frame++) {
+        if (frame == 1) /* moved by (1, 1) in clip space: into the upper-right quadrant */
+            inst.model[12] = inst.model[13] = 1.0f;
+        if (frame == 2) /* unchanged records, so the draw data is kept and not checked */
+            idx[2] = 99;
+        const float bg[4] = { 0, 0, 0, 0 };
+        CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", errors);
+        lg_gl_pass_clear_color(p, 0, bg);
+        int rc = lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, res, NULL));
+        CHECKF(rc == 0, "frame %d: %s", frame, errors);
+        check_restored(gl, "after a scene pass");
+        read_rgba(gl, color, px, W, H);
+        bool at_origin = px[(1 * W + 1) * 4] == 1.0f, moved = px[(4 * W + 4) * 4] == 1.0f;
+        CHECKF(frame == 0 ? at_origin && !moved : !at_origin && moved,
+               "frame %d: triangle at the origin %d, moved %d", frame, at_origin, moved);
+        const lg_scene_gl *sgl = lg_gl_pass_scene(p);
+        CHECKF(sgl && sgl->count == 1 && sgl->triangles == 1, "draw data");
+    }
+    idx[2] = 2;
+    /* a scene the checks refuse: an index out of range, in a new record */
+    clear_errors();
+    mesh.n_vertices = 2;
+    CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, res, NULL)) == LG_ERR_INVALID &&
+               strstr(errors, "out of range"),
+           "a bad index was drawn: %s", errors);
+    check_restored(gl, "after a refused scene");
+    lg_gl_pass_destroy(p);
+    gl->DeleteTextures(1, &color);
+    for (int i = 0; i < 16; i++)
+        if (slot_buf[i])
+            gl->DeleteBuffers(1, &slot_buf[i]);
+}
+
 int main(int argc, char **argv)
 {
     const char *backend = argc > 1 ? argv[1] : "osmesa";
@@ -447,6 +557,7 @@ int main(int argc, char **argv)
     test_raster(the_gl);
     test_names(the_gl);
     test_compute(the_gl);
+    test_scene(the_gl);
     lg_gl_device_destroy(&dev);
     return check_report("gl_pass");
 }
