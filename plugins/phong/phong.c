@@ -534,7 +534,9 @@ static int ph_passes(lg_node *n, ph_state *st, int sv)
         st->program_sv = sv;
         ph_locate(st->pass, &st->u);
     }
-    if (st->shading == PH_HALF && !st->id_pass) {
+    if (st->shading == PH_HALF && (!st->id_pass || !st->half_pass)) {
+        lg_gl_pass_destroy(st->id_pass); /* after a failed attempt */
+        st->id_pass = NULL;
         if ((rc = ph_raster_pass(n, st, PH_HALF, 0, false, GL_R32UI, &st->id_pass)))
             return rc;
         ph_locate(st->id_pass, &st->id_u);
