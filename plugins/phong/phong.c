@@ -477,6 +477,11 @@ static void ph_locate(lg_gl_pass *p, ph_uniforms *u)
     u->lights = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgLights");
     u->shadows = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgShadows");
     u->atlas = lg_gl_pass_binding_optional(p, GL_SAMPLER, "u_atlas");
+    /* the C mirrors against the compiled layout (their static checks hold the numbers) */
+    if (u->lights.index >= 0)
+        lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgLights", sizeof(ph_gpu_light));
+    if (u->shadows.index >= 0)
+        lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgShadows", sizeof(ph_gpu_shadow));
 }
 
 /* How many shadowed lights the per-vertex modes can carry as separate varyings here: each

@@ -256,6 +256,8 @@ static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
     st->m_w = lg_gl_pass_uniform(m, "u_w");
     st->m_in = lg_gl_pass_image(m, "u_in");
     st->m_out = lg_gl_pass_image(m, "u_out");
+    lg_gl_pass_check_block(r, GL_SHADER_STORAGE_BLOCK, "Partials", sizeof(rh_partial));
+    lg_gl_pass_check_block(f, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_partial));
     if (st->gl_partials)
         return 0;
     gl->CreateBuffers(1, &st->gl_partials);

@@ -349,6 +349,94 @@ lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *p, GLenum kind, const char
     return find_binding(p, name, kind, false);
 }
 
+/* Bytes of one value of a buffer variable's type (matrices: columns x matrix stride, as laid
+ * out column-major); 0 for a type this table does not know. */
+static GLint type_bytes(GLenum type, GLint matrix_stride)
+{
+    switch (type) {
+    case GL_FLOAT: case GL_INT: case GL_UNSIGNED_INT: case GL_BOOL: return 4;
+    case GL_FLOAT_VEC2: case GL_INT_VEC2: case GL_UNSIGNED_INT_VEC2: case GL_BOOL_VEC2:
+    case GL_DOUBLE: return 8;
+    case GL_FLOAT_VEC3: case GL_INT_VEC3: case GL_UNSIGNED_INT_VEC3: case GL_BOOL_VEC3: return 12;
+    case GL_FLOAT_VEC4: case GL_INT_VEC4: case GL_UNSIGNED_INT_VEC4: case GL_BOOL_VEC4:
+    case GL_DOUBLE_VEC2: return 16;
+    case GL_DOUBLE_VEC3: return 24;
+    case GL_DOUBLE_VEC4: return 32;
+    case GL_FLOAT_MAT2: case GL_FLOAT_MAT2x3: case GL_FLOAT_MAT2x4: return 2 * matrix_stride;
+    case GL_FLOAT_MAT3: case GL_FLOAT_MAT3x2: case GL_FLOAT_MAT3x4: return 3 * matrix_stride;
+    case GL_FLOAT_MAT4: case GL_FLOAT_MAT4x2: case GL_FLOAT_MAT4x3: return 4 * matrix_stride;
+    default: return 0;
+    }
+}
+
+int lg_gl_pass_check_block(lg_gl_pass *p, GLenum kind, const char *block, size_t size)
+{
+    const lg_gl *gl = p->gl;
+    if (kind != GL_SHADER_STORAGE_BLOCK && kind != GL_UNIFORM_BLOCK) {
+        lg_error(p->node, "gl pass '%s': lg_gl_pass_check_block of '%s': kind 0x%x is not a "
+                          "block",
+                 p->name, block ? block : "(null)", (unsigned)kind);
+        return p->failed = LG_ERR_INVALID;
+    }
+    GLuint res = block ? gl->GetProgramResourceIndex(p->program, kind, block) : GL_INVALID_INDEX;
+    if (res == GL_INVALID_INDEX) {
+        lg_error(p->node, "gl pass '%s': the program has no %s '%s'", p->name, kind_name(kind),
+                 block ? block : "(null)");
+        return p->failed = LG_ERR_INVALID;
+    }
+    const GLenum props[2] = { GL_BUFFER_DATA_SIZE, GL_NUM_ACTIVE_VARIABLES };
+    GLint vals[2] = { 0, 0 };
+    gl->GetProgramResourceiv(p->program, kind, res, 2, props, 2, NULL, vals);
+    GLint data_size = vals[0], n_vars = vals[1];
+    /* The block's extent: the end of its last member. GL_BUFFER_DATA_SIZE may be padded
+     * (Mesa rounds it up to 16), so a C struct may match either. An unsized array at the
+     * end: its stride is what one C element must match. */
+    GLint stride = -1, extent = 0;
+    GLenum var_kind = kind == GL_SHADER_STORAGE_BLOCK ? GL_BUFFER_VARIABLE : GL_UNIFORM;
+    GLint *vars = calloc(n_vars > 0 ? (size_t)n_vars : 1, sizeof *vars);
+    if (!vars) {
+        lg_error_code(p->node, LG_ERR_NOMEM, "out of memory");
+        return p->failed = LG_ERR_NOMEM;
+    }
+    const GLenum av = GL_ACTIVE_VARIABLES;
+    if (n_vars > 0)
+        gl->GetProgramResourceiv(p->program, kind, res, 1, &av, n_vars, NULL, vars);
+    for (GLint i = 0; i < n_vars && extent >= 0; i++) {
+        GLenum q[6] = { GL_OFFSET, GL_TYPE, GL_ARRAY_SIZE, GL_ARRAY_STRIDE, GL_MATRIX_STRIDE,
+                        GL_TOP_LEVEL_ARRAY_SIZE };
+        GLint r[6] = { 0, 0, 1, 0, 0, 1 };
+        gl->GetProgramResourceiv(p->program, var_kind, (GLuint)vars[i],
+                                 kind == GL_SHADER_STORAGE_BLOCK ? 6 : 5, q, 6, NULL, r);
+        if (kind == GL_SHADER_STORAGE_BLOCK && r[5] == 0) {
+            const GLenum ts = GL_TOP_LEVEL_ARRAY_STRIDE;
+            gl->GetProgramResourceiv(p->program, var_kind, (GLuint)vars[i], 1, &ts, 1, NULL,
+                                     &stride);
+            break;
+        }
+        GLint bytes = type_bytes((GLenum)r[1], r[4]);
+        if (bytes == 0) {
+            extent = -1; /* a type the table does not know: the block size decides */
+            break;
+        }
+        GLint end = r[0] + (r[2] > 1 ? (r[2] - 1) * r[3] : 0) + bytes;
+        if (end > extent)
+            extent = end;
+    }
+    free(vars);
+    if (stride >= 0 ? (size_t)stride == size
+                    : (size == (size_t)data_size || (extent > 0 && size == (size_t)extent)))
+        return 0;
+    if (stride >= 0)
+        lg_error(p->node, "gl pass '%s': %s '%s' ends in an array of stride %d bytes, the C "
+                          "struct that mirrors one element has %zu",
+                 p->name, kind_name(kind), block, stride, size);
+    else
+        lg_error(p->node, "gl pass '%s': %s '%s' takes %d bytes (%d with GL's padding), the C "
+                          "struct that mirrors it %zu",
+                 p->name, kind_name(kind), block, extent, data_size, size);
+    return p->failed = LG_ERR_INVALID;
+}
+
 void lg_gl_pass_bind_buffer(lg_gl_pass *p, lg_gl_binding b, GLuint buffer)
 {
     if (b.index < 0)

@@ -224,6 +224,15 @@ LG_API lg_gl_binding lg_gl_pass_image(lg_gl_pass *pass, const char *image);
 LG_API lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *pass, GLenum kind,
                                                  const char *name);
 
+/* The run-time half of LG_GL_BLOCK_SIZE: checks that the program's storage or uniform block
+ * `block` has the layout a C struct of `size` bytes mirrors. For a block that ends in an
+ * unsized array of structs (`LgLight lg_lights[];`) `size` is one element's and is compared
+ * with the array's stride; otherwise with the block's size. A mismatch (or an absent block)
+ * is an error naming the pass, the block and both sizes, and fails the pass. Returns 0 or
+ * LG_ERR_INVALID. */
+LG_API int lg_gl_pass_check_block(lg_gl_pass *pass, GLenum kind, const char *block,
+                                  size_t size);
+
 /* Binds, between begin and end (end unbinds): the whole of `buffer` to a storage or
  * uniform block; texture `tex` to a sampler's unit; level 0 of `tex` to an image unit with
  * `access` (GL_READ_ONLY, GL_WRITE_ONLY, GL_READ_WRITE) and `format` (GL_RGBA32F...). */

@@ -380,6 +380,22 @@ static void test_names(const lg_gl *gl)
     lg_gl_pass_destroy(p);
     gl->DeleteTextures(1, &color);
 
+    /* block layouts: Scale is one float; a wrong size is named */
+    clear_errors();
+    lg_gl_pass *q = NULL;
+    lg_gl_pass_desc dq = { .name = "blocks", .stages = src, .n_stages = 2,
+                           .colors = { GL_RGBA32F } };
+    CHECKF(lg_gl_pass_create(&node, &dq, &q) == 0, "create: %s", errors);
+    if (q) {
+        CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 4) == 0, "%s",
+               errors);
+        CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 8) == LG_ERR_INVALID &&
+                   strstr(errors, "'blocks'") && strstr(errors, "'Scale'") &&
+                   strstr(errors, "takes 4 bytes") && strstr(errors, "mirrors it 8"),
+               "message: %s", errors);
+        lg_gl_pass_destroy(q);
+    }
+
     /* descriptor errors */
     clear_errors();
     lg_gl_pass_desc none = { .name = "empty", .stages = src, .n_stages = 2 };
@@ -395,6 +411,31 @@ static void test_names(const lg_gl *gl)
                strstr(errors, "bad.frag"),
            "a compile error: %s", errors);
     check_restored(gl, "after failed creates");
+}
+
+/* A block ending in an unsized array of a std430 struct with a vec3 (stride 32, not 28). */
+static const char stride_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 1) in;\n"
+    "struct L { vec3 a; float b; vec3 c; };\n"
+    "layout(std430, binding = 0) buffer Ls { uint n; L l[]; };\n"
+    "void main() { l[0].b = float(n); l[0].c = l[0].a; }\n";
+
+static void test_stride(void)
+{
+    clear_errors();
+    const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "stride.comp", stride_comp };
+    lg_gl_pass_desc d = { .name = "stride", .stages = &src, .n_stages = 1 };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 32) == 0, "%s", errors);
+    clear_errors();
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 28) == LG_ERR_INVALID &&
+               strstr(errors, "stride 32 bytes"),
+           "message: %s", errors);
+    lg_gl_pass_destroy(p);
 }
 
 static void test_compute(const lg_gl *gl)
@@ -422,6 +463,8 @@ static void test_compute(const lg_gl *gl)
     lg_gl_binding out = lg_gl_pass_image(p, "u_out");
     lg_gl_binding cnt = lg_gl_pass_storage(p, "Counts");
     CHECKF(error_count == 0 && out.index == 1 && cnt.index == 2, "look-ups: %s", errors);
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Counts", sizeof(counts)) == 0,
+           "Counts: %s", errors);
 
     CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
     GLint prog = 0;
@@ -557,6 +600,7 @@ int main(int argc, char **argv)
     test_raster(the_gl);
     test_names(the_gl);
     test_compute(the_gl);
+    test_stride();
     test_scene(the_gl);
     lg_gl_device_destroy(&dev);
     return check_report("gl_pass");
