@@ -527,8 +527,7 @@ static int ph_passes(lg_node *n, ph_state *st, int sv)
 {
     int rc;
     if (st->pass && st->program_sv != sv) {
-        lg_gl_pass_destroy(st->pass);
-        st->pass = NULL;
+        lg_gl_pass_destroy(&st->pass);
     }
     if (!st->pass) {
         /* phong_half shades its two quarter images with the phong mode's program */
@@ -540,8 +539,7 @@ static int ph_passes(lg_node *n, ph_state *st, int sv)
         ph_locate(st->pass, &st->u);
     }
     if (st->shading == PH_HALF && (!st->id_pass || !st->half_pass)) {
-        lg_gl_pass_destroy(st->id_pass); /* after a failed attempt */
-        st->id_pass = NULL;
+        lg_gl_pass_destroy(&st->id_pass); /* after a failed attempt */
         if ((rc = ph_raster_pass(n, st, PH_HALF, 0, false, GL_R32UI, &st->id_pass)))
             return rc;
         ph_locate(st->id_pass, &st->id_u);
@@ -849,9 +847,9 @@ static void ph_destroy(lg_node *n)
     ph_state *st = n->user;
     if (!st)
         return;
-    lg_gl_pass_destroy(st->pass);
-    lg_gl_pass_destroy(st->id_pass);
-    lg_gl_pass_destroy(st->half_pass);
+    lg_gl_pass_destroy(&st->pass);
+    lg_gl_pass_destroy(&st->id_pass);
+    lg_gl_pass_destroy(&st->half_pass);
     if (st->id_tex || st->eq13 || st->lights_buf || st->shadows_buf) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl) {

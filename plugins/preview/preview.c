@@ -152,7 +152,7 @@ static void pv_destroy(lg_node *n)
     pv_state *st = n->user;
     if (!st)
         return;
-    lg_gl_pass_destroy(st->pass);
+    lg_gl_pass_destroy(&st->pass);
     free(st);
     n->user = NULL;
 }

@@ -222,9 +222,8 @@ static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
                                           lg_src_reinhard_map_comp };
     int rc;
     /* a failed earlier attempt may have made some of them */
-    lg_gl_pass_destroy(st->gl_reduce);
-    lg_gl_pass_destroy(st->gl_final);
-    st->gl_reduce = st->gl_final = NULL;
+    lg_gl_pass_destroy(&st->gl_reduce);
+    lg_gl_pass_destroy(&st->gl_final);
     snprintf(defs, sizeof defs, "#define LG_STAGE 1\n#define LG_IN_FORMAT %s\n", fmt);
     lg_gl_pass_desc d = { .name = "reinhard reduce", .stages = &reduce, .n_stages = 1,
                           .defines = defs };
@@ -460,9 +459,9 @@ static void rh_destroy(lg_node *n)
     rh_state *st = n->user;
     if (!st)
         return;
-    lg_gl_pass_destroy(st->gl_reduce);
-    lg_gl_pass_destroy(st->gl_final);
-    lg_gl_pass_destroy(st->gl_map);
+    lg_gl_pass_destroy(&st->gl_reduce);
+    lg_gl_pass_destroy(&st->gl_final);
+    lg_gl_pass_destroy(&st->gl_map);
     if (st->gl_partials || st->gl_result) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl) {

@@ -629,7 +629,7 @@ static void sm_destroy(lg_node *n)
     sm_state *st = n->user;
     if (!st)
         return;
-    lg_gl_pass_destroy(st->pass);
+    lg_gl_pass_destroy(&st->pass);
     free(st);
     n->user = NULL;
 }

@@ -123,7 +123,7 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
     p->name = dup_str(d->name);
     p->output = dup_str(d->output);
     if (!p->name || (d->output && !p->output)) {
-        lg_gl_pass_destroy(p);
+        lg_gl_pass_destroy(&p);
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     }
     memcpy(p->colors, d->colors, sizeof p->colors);
@@ -140,7 +140,7 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
 
     p->program = lg_gl_program(n, gl, d->stages, d->n_stages, d->defines);
     if (!p->program) {
-        lg_gl_pass_destroy(p);
+        lg_gl_pass_destroy(&p);
         return LG_ERR_DEVICE;
     }
     if (compute)
@@ -149,17 +149,19 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
         p->first = lg_gl_pass_uniform(p, d->first_uniform ? d->first_uniform : "u_first");
     int rc = p->failed ? p->failed : lg_gl_check(n, p->name);
     if (rc) {
-        lg_gl_pass_destroy(p);
+        lg_gl_pass_destroy(&p);
         return rc;
     }
     *out = p;
     return 0;
 }
 
-void lg_gl_pass_destroy(lg_gl_pass *p)
+void lg_gl_pass_destroy(lg_gl_pass **pass)
 {
+    lg_gl_pass *p = pass ? *pass : NULL;
     if (!p)
         return;
+    *pass = NULL;
     const lg_gl *gl = p->gl;
     if (gl) {
         if (p->program)

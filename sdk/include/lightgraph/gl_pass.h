@@ -26,7 +26,7 @@
  *     rc = lg_gl_pass_draw_scene(st->pass, lg_input(n, 0), NULL);
  *     return lg_gl_pass_end(st->pass, rc);                // restores the state
  *
- *     lg_gl_pass_destroy(st->pass);                     // in destroy
+ *     lg_gl_pass_destroy(&st->pass);                     // in destroy
  *
  * Compute. A pass whose one stage is GL_COMPUTE_SHADER is a compute pass: begin makes its
  * program current, lg_gl_pass_dispatch runs it over a size (the group counts come from the
@@ -167,8 +167,9 @@ typedef struct lg_gl_pass lg_gl_pass;
  * pass. Needs the node's GL context: call it from execute. On success *out is the pass. */
 LG_API int lg_gl_pass_create(lg_node *node, const lg_gl_pass_desc *desc, lg_gl_pass **out);
 
-/* Deletes the pass's GL objects and frees it. NULL is allowed. */
-LG_API void lg_gl_pass_destroy(lg_gl_pass *pass);
+/* Deletes the pass's GL objects, frees it and sets *pass to NULL. NULL and a NULL *pass are
+ * allowed. */
+LG_API void lg_gl_pass_destroy(lg_gl_pass **pass);
 
 /* The program's name (for GL calls the pass does not wrap) and the pass's name. */
 LG_API GLuint lg_gl_pass_program(const lg_gl_pass *pass);

@@ -322,7 +322,7 @@ static void test_raster(const lg_gl *gl)
                "added: %g %g %g %g (want 1.25 0.25 0.25 2)", in[0], in[1], in[2], in[3]);
         CHECKF(out[2] == 1.0f && out[0] == 0.0f, "outside changed by the add pass");
     }
-    lg_gl_pass_destroy(b);
+    lg_gl_pass_destroy(&b);
 
     /* a target of the wrong format is named */
     GLuint half = make_tex(gl, GL_RGBA16F, W, H);
@@ -339,7 +339,7 @@ static void test_raster(const lg_gl *gl)
            "missing depth: %s", errors);
     check_restored(gl, "after failed begins");
 
-    lg_gl_pass_destroy(p);
+    lg_gl_pass_destroy(&p);
     GLuint texs[5] = { out_color, out_depth, white, black, half };
     gl->DeleteTextures(5, texs);
     gl->DeleteBuffers(1, &scale_buf);
@@ -377,7 +377,7 @@ static void test_names(const lg_gl *gl)
     CHECKF(lg_gl_pass_begin(p, &t) == LG_ERR_INVALID, "a failed pass began");
     CHECKF(strstr(errors, "'names'") != NULL, "message: %s", errors);
     check_restored(gl, "after a refused begin");
-    lg_gl_pass_destroy(p);
+    lg_gl_pass_destroy(&p);
     gl->DeleteTextures(1, &color);
 
     /* block layouts: Scale is one float; a wrong size is named */
@@ -393,7 +393,7 @@ static void test_names(const lg_gl *gl)
                    strstr(errors, "'blocks'") && strstr(errors, "'Scale'") &&
                    strstr(errors, "takes 4 bytes") && strstr(errors, "mirrors it 8"),
                "message: %s", errors);
-        lg_gl_pass_destroy(q);
+        lg_gl_pass_destroy(&q);
     }
 
     /* descriptor errors */
@@ -435,7 +435,7 @@ static void test_stride(void)
     CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 28) == LG_ERR_INVALID &&
                strstr(errors, "stride 32 bytes"),
            "message: %s", errors);
-    lg_gl_pass_destroy(p);
+    lg_gl_pass_destroy(&p);
 }
 
 static void test_compute(const lg_gl *gl)
@@ -499,7 +499,10 @@ static void test_compute(const lg_gl *gl)
            "0 groups accepted");
     check_restored(gl, "after a refused dispatch");
 
-    lg_gl_pass_destroy(p);
+    lg_gl_pass_destroy(&p);
+    CHECKF(p == NULL, "destroy did not clear the handle");
+    lg_gl_pass_destroy(&p); /* NULL handle: no-op */
+    lg_gl_pass_destroy(NULL);
     gl->DeleteTextures(1, &img);
     gl->DeleteBuffers(1, &buf);
 }
@@ -579,7 +582,7 @@ static void test_scene(const lg_gl *gl)
                strstr(errors, "out of range"),
            "a bad index was drawn: %s", errors);
     check_restored(gl, "after a refused scene");
-    lg_gl_pass_destroy(p);
+    lg_gl_pass_destroy(&p);
     gl->DeleteTextures(1, &color);
     for (int i = 0; i < 16; i++)
         if (slot_buf[i])
