@@ -10,9 +10,9 @@
  * pass (vertex, optional geometry, fragment stage); phong_half takes four passes.
  * README.md gives the ports, parameters, units, conventions and measured costs.
  *
- * The camera, instance collection and instanced draw loop follow plugins/preview/preview.c
- * (copied and adapted: about 150 lines; a shared SDK helper for "draw a scene's instances
- * through its camera" would serve both and the shadowmap node).
+ * The camera is lightgraph/scene_gl.h's (as for preview and shadowmap); the passes are
+ * lg_gl_pass (lightgraph/gl_pass.h), which keep the programs, framebuffers and the scene's
+ * draw data across frames and set and restore the GL state.
  */
 #include <inttypes.h>
 #include <math.h>
@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/gl.h"
+#include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/vecmath.h"
 #include "phong_model.h"
@@ -61,11 +61,23 @@ typedef struct ph_gpu_shadow {
     int32_t light;
 } ph_gpu_shadow;
 
-/* Uniform locations of the raster program (-1 when a stage does not use one). */
+LG_GL_BLOCK_SIZE(ph_gpu_light, 64);
+LG_GL_BLOCK_OFFSET(ph_gpu_light, dir, 16);
+LG_GL_BLOCK_OFFSET(ph_gpu_light, radiance, 32);
+LG_GL_BLOCK_OFFSET(ph_gpu_light, shadow, 44);
+LG_GL_BLOCK_OFFSET(ph_gpu_light, cone, 48);
+LG_GL_BLOCK_SIZE(ph_gpu_shadow, 80);
+LG_GL_BLOCK_OFFSET(ph_gpu_shadow, tile, 64);
+LG_GL_BLOCK_OFFSET(ph_gpu_shadow, texel_world, 72);
+LG_GL_BLOCK_OFFSET(ph_gpu_shadow, light, 76);
+
+/* The uniforms and bindings of a raster pass. Each shading mode compiles its own variant and
+ * drops what it does not use, so all but u_view_proj are optional. */
 typedef struct ph_uniforms {
-    GLint view_proj, first, id_base, n_lights, shadow_res, bias_const, bias_slope,
+    lg_gl_uniform view_proj, id_base, n_lights, shadow_res, bias_const, bias_slope,
         normal_offset, eye, view_dir_inf, viewer_local, depth_cue, K, ambient, spec_model,
         n_scale, ka, kd, ks, shininess, od, os, double_sided, mixed_cos;
+    lg_gl_binding lights, shadows, atlas;
 } ph_uniforms;
 
 typedef struct ph_state {
@@ -75,17 +87,20 @@ typedef struct ph_state {
     int64_t camera;
     uint32_t width, height;
 
-    GLuint program;       /* raster program, for program_sv shadowed varyings (phong_half:
+    lg_gl_pass *pass;     /* the raster pass, for program_sv shadowed varyings (phong_half:
                            * per-pixel Phong, drawn into the two quarter images) */
     int program_sv;
     ph_uniforms u;
-    /* phong_half: the full-size pass that writes surface ids and depth, the compute pass
-     * that assembles the output, and their images */
-    GLuint id_program, half_program;
+    /* phong_half: the full-size pass that writes surface ids and depth, the full-screen
+     * pass that assembles the output, and their images */
+    lg_gl_pass *id_pass, *half_pass;
     ph_uniforms id_u;
+    lg_gl_uniform h_size, h_near_far, h_depth_tol, h_background;
+    lg_gl_binding h_depth, h_even, h_odd, h_id;
     GLuint id_tex;        /* r32ui, full size */
     GLuint quarter[2];    /* rgba32f, ceil(w/2) x ceil(h/2): the pixels with x, y even; odd */
     GLuint quarter_depth; /* depth32f of the quarter passes */
+    GLuint lights_buf, shadows_buf; /* LgLights, LgShadows: filled again every execute */
     GLuint *eq13;         /* vertex_normals = eq13: one buffer per mesh (0 = not made) */
     uint32_t n_eq13;
     bool warned_shadow;
@@ -430,36 +445,43 @@ static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_gl *gl, const lg_sc
     return 0;
 }
 
-/* ---- programs -------------------------------------------------------------------------------- */
+/* ---- passes ---------------------------------------------------------------------------------- */
 
-static void ph_locate(const lg_gl *gl, GLuint p, ph_uniforms *u)
+static void ph_locate(lg_gl_pass *p, ph_uniforms *u)
 {
-#define LOC(f, name) u->f = gl->GetUniformLocation(p, name)
-    LOC(view_proj, "u_view_proj");
-    LOC(first, "u_first");
-    LOC(id_base, "u_id_base");
-    LOC(n_lights, "u_n_lights");
-    LOC(shadow_res, "u_shadow_res");
-    LOC(bias_const, "u_bias_const");
-    LOC(bias_slope, "u_bias_slope");
-    LOC(normal_offset, "u_normal_offset");
-    LOC(eye, "u_eye");
-    LOC(view_dir_inf, "u_view_dir_inf");
-    LOC(viewer_local, "u_viewer_local");
-    LOC(depth_cue, "u_depth_cue");
-    LOC(K, "u_K");
-    LOC(ambient, "u_ambient");
-    LOC(spec_model, "u_spec_model");
-    LOC(n_scale, "u_n_scale");
-    LOC(ka, "u_ka");
-    LOC(kd, "u_kd");
-    LOC(ks, "u_ks");
-    LOC(shininess, "u_shininess");
-    LOC(od, "u_od");
-    LOC(os, "u_os");
-    LOC(double_sided, "u_double_sided");
-    LOC(mixed_cos, "u_mixed_cos");
-#undef LOC
+    u->view_proj = lg_gl_pass_uniform(p, "u_view_proj");
+#define OPT(f, name) u->f = lg_gl_pass_uniform_optional(p, name)
+    OPT(id_base, "u_id_base");
+    OPT(n_lights, "u_n_lights");
+    OPT(shadow_res, "u_shadow_res");
+    OPT(bias_const, "u_bias_const");
+    OPT(bias_slope, "u_bias_slope");
+    OPT(normal_offset, "u_normal_offset");
+    OPT(eye, "u_eye");
+    OPT(view_dir_inf, "u_view_dir_inf");
+    OPT(viewer_local, "u_viewer_local");
+    OPT(depth_cue, "u_depth_cue");
+    OPT(K, "u_K");
+    OPT(ambient, "u_ambient");
+    OPT(spec_model, "u_spec_model");
+    OPT(n_scale, "u_n_scale");
+    OPT(ka, "u_ka");
+    OPT(kd, "u_kd");
+    OPT(ks, "u_ks");
+    OPT(shininess, "u_shininess");
+    OPT(od, "u_od");
+    OPT(os, "u_os");
+    OPT(double_sided, "u_double_sided");
+    OPT(mixed_cos, "u_mixed_cos");
+#undef OPT
+    u->lights = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgLights");
+    u->shadows = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgShadows");
+    u->atlas = lg_gl_pass_binding_optional(p, GL_SAMPLER, "u_atlas");
+    /* the C mirrors against the compiled layout (their static checks hold the numbers) */
+    if (u->lights.index >= 0)
+        lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgLights", sizeof(ph_gpu_light));
+    if (u->shadows.index >= 0)
+        lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgShadows", sizeof(ph_gpu_shadow));
 }
 
 /* How many shadowed lights the per-vertex modes can carry as separate varyings here: each
@@ -477,92 +499,97 @@ static int ph_sv_limit(const lg_gl *gl)
     return sv < PH_MAX_SV ? sv : PH_MAX_SV;
 }
 
-static GLuint ph_raster_program(lg_node *n, const lg_gl *gl, int shading, int sv, bool geom)
+/* A raster pass of the scene: the output's rgba32f colour (r32ui surface ids for phong_half's
+ * id pass) and depth. */
+static int ph_raster_pass(lg_node *n, const ph_state *st, int shading, int sv, bool geom,
+                          GLenum color, lg_gl_pass **out)
 {
     char defines[160];
     snprintf(defines, sizeof defines,
              "#define LG_SHADING %d\n#define LG_SV %d\n#define LG_SV_ARR %d\n", shading, sv,
              sv > 0 ? sv : 1);
-    lg_gl_shader_src src[3] = {
+    static const lg_gl_shader_src src[3] = {
         { GL_VERTEX_SHADER, lg_src_phong_vert_file, lg_src_phong_vert },
         { GL_FRAGMENT_SHADER, lg_src_phong_frag_file, lg_src_phong_frag },
         { GL_GEOMETRY_SHADER, lg_src_phong_geom_file, lg_src_phong_geom },
     };
-    return lg_gl_program(n, gl, src, geom ? 3 : 2, defines);
+    lg_gl_pass_desc d = { .name = shading == PH_HALF ? "phong (surface ids)" : "phong",
+                          .stages = src, .n_stages = geom ? 3 : 2, .defines = defines,
+                          .colors = { color }, .depth = true, .depth_test = true,
+                          .depth_write = true,
+                          .cull = st->cull == PH_CULL_MATERIAL ? LG_GL_CULL_BACK
+                                                               : LG_GL_CULL_NONE,
+                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
+    return lg_gl_pass_create(n, &d, out);
 }
 
-static int ph_program(lg_node *n, ph_state *st, const lg_gl *gl, int sv)
+static int ph_passes(lg_node *n, ph_state *st, int sv)
 {
-    if (st->program && st->program_sv == sv)
-        return 0;
-    if (st->program) {
-        gl->DeleteProgram(st->program);
-        st->program = 0;
+    int rc;
+    if (st->pass && st->program_sv != sv) {
+        lg_gl_pass_destroy(&st->pass);
     }
-    /* phong_half shades its two quarter images with the phong mode's program */
-    int shading = st->shading == PH_HALF ? PH_PHONG : st->shading;
-    st->program = ph_raster_program(n, gl, shading, sv,
-                                    shading == PH_FLAT || shading == PH_MIXED);
-    if (!st->program)
-        return LG_ERR_DEVICE;
-    st->program_sv = sv;
-    ph_locate(gl, st->program, &st->u);
-    if (st->shading == PH_HALF && !st->id_program) {
-        st->id_program = ph_raster_program(n, gl, PH_HALF, 0, false);
-        if (!st->id_program)
-            return LG_ERR_DEVICE;
-        ph_locate(gl, st->id_program, &st->id_u);
-        lg_gl_shader_src c[2] = {
+    if (!st->pass) {
+        /* phong_half shades its two quarter images with the phong mode's program */
+        int shading = st->shading == PH_HALF ? PH_PHONG : st->shading;
+        if ((rc = ph_raster_pass(n, st, shading, sv, shading == PH_FLAT || shading == PH_MIXED,
+                                 GL_RGBA32F, &st->pass)))
+            return rc;
+        st->program_sv = sv;
+        ph_locate(st->pass, &st->u);
+    }
+    if (st->shading == PH_HALF && (!st->id_pass || !st->half_pass)) {
+        lg_gl_pass_destroy(&st->id_pass); /* after a failed attempt */
+        if ((rc = ph_raster_pass(n, st, PH_HALF, 0, false, GL_R32UI, &st->id_pass)))
+            return rc;
+        ph_locate(st->id_pass, &st->id_u);
+        static const lg_gl_shader_src c[2] = {
             { GL_VERTEX_SHADER, lg_src_phong_fullscreen_vert_file, lg_src_phong_fullscreen_vert },
             { GL_FRAGMENT_SHADER, lg_src_phong_half_frag_file, lg_src_phong_half_frag },
         };
-        st->half_program = lg_gl_program(n, gl, c, 2, NULL);
-        if (!st->half_program)
-            return LG_ERR_DEVICE;
+        lg_gl_pass_desc d = { .name = "phong (phong_half assembly)", .stages = c,
+                              .n_stages = 2, .colors = { GL_RGBA32F } };
+        if ((rc = lg_gl_pass_create(n, &d, &st->half_pass)))
+            return rc;
+        lg_gl_pass *h = st->half_pass;
+        st->h_size = lg_gl_pass_uniform(h, "u_size");
+        st->h_near_far = lg_gl_pass_uniform(h, "u_near_far");
+        st->h_depth_tol = lg_gl_pass_uniform(h, "u_depth_tol");
+        st->h_background = lg_gl_pass_uniform(h, "u_background");
+        st->h_depth = lg_gl_pass_texture(h, "u_depth");
+        st->h_even = lg_gl_pass_texture(h, "u_even");
+        st->h_odd = lg_gl_pass_texture(h, "u_odd");
+        st->h_id = lg_gl_pass_texture(h, "u_id");
     }
     return 0;
 }
 
 /* ---- execute ---------------------------------------------------------------------------------- */
 
-static void ph_unbind(const lg_gl *gl)
-{
-    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl->UseProgram(0);
-    gl->BindVertexArray(0);
-    for (GLuint i = 0; i < 3; i++)
-        gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    for (GLuint i = 0; i < 4; i++)
-        gl->BindTextureUnit(i, 0);
-    gl->ActiveTexture(GL_TEXTURE0);
-}
-
-typedef struct ph_gl_objects {
-    GLuint fbo, lights, shadows;
-} ph_gl_objects;
-
-static void ph_gl_free(const lg_gl *gl, ph_gl_objects *o)
-{
-    if (o->fbo)
-        gl->DeleteFramebuffers(1, &o->fbo);
-    GLuint b[2] = { o->lights, o->shadows };
-    for (int i = 0; i < 2; i++)
-        if (b[i])
-            gl->DeleteBuffers(1, &b[i]);
-    memset(o, 0, sizeof *o);
-}
-
-/* A storage buffer holding `bytes` of `data` (at least 16 bytes, so that an empty array
- * still binds). */
-static GLuint ph_ssbo(const lg_gl *gl, const void *data, size_t bytes)
+/* Fills *buf (made on first use) with `bytes` of `data`: at least 16 bytes, so that an empty
+ * array still binds. */
+static void ph_upload(const lg_gl *gl, GLuint *buf, const void *data, size_t bytes)
 {
     static const float zero[4];
-    GLuint b = 0;
-    gl->CreateBuffers(1, &b);
-    gl->NamedBufferStorage(b, (GLsizeiptr)(bytes ? bytes : sizeof zero), bytes ? data : zero, 0);
-    return b;
+    if (!*buf)
+        gl->CreateBuffers(1, buf);
+    gl->NamedBufferData(*buf, (GLsizeiptr)(bytes ? bytes : sizeof zero), bytes ? data : zero,
+                        GL_DYNAMIC_DRAW);
+}
+
+/* The shadow atlas's GL depth texture, read by the raster passes. The one place that knows
+ * how the atlas reaches phong (today: the image the shadow map's payload points to). */
+static int phong_shadow_atlas(lg_node *n, const lg_shadowmap *sm, GLuint *tex)
+{
+    uint32_t color = 0, depth = 0;
+    int rc = lg_map_gl(n, sm->atlas, LG_READ, &color, &depth);
+    if (rc)
+        return rc;
+    if (!depth)
+        return lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
+                                               "texture");
+    *tex = depth;
+    return 0;
 }
 
 typedef struct ph_frame_in {
@@ -572,50 +599,48 @@ typedef struct ph_frame_in {
     lg_shadowmap sm_view;    /* what sm points to */
     GLuint atlas;
     const lg_scene_view *v;
-    const lg_scene_gl *sgl;
     uint32_t n_lights;
 } ph_frame_in;
 
-static void ph_set_globals(ph_state *st, const lg_gl *gl, GLuint p, const ph_uniforms *u,
+static void ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
                            const ph_frame_in *f)
 {
     const lg_scene_view *v = f->v;
-    gl->ProgramUniform1i(p, u->n_lights, (GLint)f->n_lights);
-    gl->ProgramUniform3f(p, u->eye, v->eye.x, v->eye.y, v->eye.z);
-    gl->ProgramUniform3f(p, u->view_dir_inf, -v->forward.x, -v->forward.y, -v->forward.z);
-    gl->ProgramUniform1i(p, u->viewer_local, st->viewer == PH_VIEWER_LOCAL);
-    gl->ProgramUniform1i(p, u->depth_cue, st->depth_cue);
-    gl->ProgramUniform1f(p, u->K, st->K);
-    gl->ProgramUniform3f(p, u->ambient, st->ambient[0], st->ambient[1], st->ambient[2]);
-    gl->ProgramUniform1i(p, u->spec_model, st->specular);
-    gl->ProgramUniform1f(p, u->n_scale,
-                         st->specular == LG_SPEC_BLINN && st->blinn_x4 ? LG_BLINN_CORRECTION
-                                                                         : 1.0f);
-    gl->ProgramUniform1f(p, u->mixed_cos, st->mixed_cos);
+    lg_gl_set_int(p, u->n_lights, (int32_t)f->n_lights);
+    lg_gl_set_vec3(p, u->eye, v->eye.x, v->eye.y, v->eye.z);
+    lg_gl_set_vec3(p, u->view_dir_inf, -v->forward.x, -v->forward.y, -v->forward.z);
+    lg_gl_set_int(p, u->viewer_local, st->viewer == PH_VIEWER_LOCAL);
+    lg_gl_set_int(p, u->depth_cue, st->depth_cue);
+    lg_gl_set_float(p, u->K, st->K);
+    lg_gl_set_vec3v(p, u->ambient, st->ambient);
+    lg_gl_set_int(p, u->spec_model, st->specular);
+    lg_gl_set_float(p, u->n_scale,
+                    st->specular == LG_SPEC_BLINN && st->blinn_x4 ? LG_BLINN_CORRECTION : 1.0f);
+    lg_gl_set_float(p, u->mixed_cos, st->mixed_cos);
     const lg_shadowmap *sm = f->sm;
-    gl->ProgramUniform1i(p, u->shadow_res, sm ? (GLint)sm->resolution : 1);
-    gl->ProgramUniform1f(p, u->bias_const, sm ? sm->bias_constant : 0.0f);
-    gl->ProgramUniform1f(p, u->bias_slope, sm ? sm->bias_slope : 0.0f);
-    gl->ProgramUniform1f(p, u->normal_offset, sm ? sm->normal_offset : 0.0f);
+    lg_gl_set_int(p, u->shadow_res, sm ? (int32_t)sm->resolution : 1);
+    lg_gl_set_float(p, u->bias_const, sm ? sm->bias_constant : 0.0f);
+    lg_gl_set_float(p, u->bias_slope, sm ? sm->bias_slope : 0.0f);
+    lg_gl_set_float(p, u->normal_offset, sm ? sm->normal_offset : 0.0f);
 }
 
-static void ph_set_material(ph_state *st, const lg_gl *gl, GLuint p, const ph_uniforms *u,
+static void ph_set_material(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
                             const lg_material *m)
 {
-    gl->ProgramUniform1f(p, u->ka, m->ka);
-    gl->ProgramUniform1f(p, u->kd, m->kd);
-    gl->ProgramUniform1f(p, u->ks, m->ks * st->ks_scale);
-    gl->ProgramUniform1f(p, u->shininess, m->shininess);
-    gl->ProgramUniform3f(p, u->od, m->od[0], m->od[1], m->od[2]);
-    gl->ProgramUniform3f(p, u->os, m->os[0], m->os[1], m->os[2]);
-    gl->ProgramUniform1i(p, u->double_sided, m->double_sided);
+    lg_gl_set_float(p, u->ka, m->ka);
+    lg_gl_set_float(p, u->kd, m->kd);
+    lg_gl_set_float(p, u->ks, m->ks * st->ks_scale);
+    lg_gl_set_float(p, u->shininess, m->shininess);
+    lg_gl_set_vec3v(p, u->od, m->od);
+    lg_gl_set_vec3v(p, u->os, m->os);
+    lg_gl_set_int(p, u->double_sided, m->double_sided);
 }
 
 typedef struct ph_draw_ctx {
     ph_state *st;
     const lg_gl *gl;
     const lg_scene *s;
-    GLuint prog;
+    lg_gl_pass *pass;
     const ph_uniforms *u;
 } ph_draw_ctx;
 
@@ -629,7 +654,7 @@ static int ph_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
         return rc;
     /* with culling off, a single-sided surface seen from behind is lit as it is (its normal
      * facing away: ambient only), as the seed's model would */
-    ph_set_material(c->st, c->gl, c->prog, c->u, &c->s->materials[c->s->meshes[mi].material]);
+    ph_set_material(c->st, c->pass, c->u, &c->s->materials[c->s->meshes[mi].material]);
     return 0;
 }
 
@@ -637,59 +662,28 @@ static int ph_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
 static void ph_on_batch(void *user, uint32_t first)
 {
     const ph_draw_ctx *c = user;
-    c->gl->ProgramUniform1i(c->prog, c->u->id_base, (GLint)(first + 1));
+    lg_gl_set_int(c->pass, c->u->id_base, (int32_t)(first + 1));
 }
 
-/* One raster pass: every instance through `prog` with `view_proj`, into the framebuffer
- * bound by the caller (viewport w x h, depth test on). */
+/* One raster pass: every instance through `p` with `view_proj` into `target`, cleared first
+ * (colour to `clear`, depth to 1). */
 static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
-                   const ph_gl_objects *o, GLuint prog, const ph_uniforms *u,
-                   const float view_proj[16], uint32_t w, uint32_t h)
+                   lg_gl_pass *p, const ph_uniforms *u, const lg_gl_target *target,
+                   const float clear[4], const float view_proj[16])
 {
-    int rc;
-    gl->Viewport(0, 0, (GLsizei)w, (GLsizei)h);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LESS);
-    gl->DepthMask(GL_TRUE);
-    gl->DepthRangef(0.0f, 1.0f);
-    gl->Disable(GL_BLEND);
-    gl->Disable(GL_SCISSOR_TEST);
-    gl->Disable(GL_CULL_FACE);
-    gl->CullFace(GL_BACK);
-    gl->UseProgram(prog);
-    gl->ProgramUniformMatrix4fv(prog, u->view_proj, 1, GL_FALSE, view_proj);
-    ph_set_globals(st, gl, prog, u, f);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, o->lights);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, o->shadows);
-    gl->BindTextureUnit(0, f->atlas);
-
-    ph_draw_ctx ctx = { st, gl, f->s, prog, u };
-    lg_scene_gl_draw_desc d = { .program = prog, .first_location = u->first,
-                                .cull_material = st->cull == PH_CULL_MATERIAL,
-                                .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };
-    if ((rc = lg_scene_gl_draw(n, gl, f->sgl, &d)))
+    int rc = lg_gl_pass_begin(p, target);
+    if (rc)
         return rc;
-    return lg_gl_check(n, "phong: drawing the scene");
-}
-
-/* Attaches colour (and a second colour) and depth to o->fbo, made on first use, and checks
- * it. */
-static int ph_target(lg_node *n, const lg_gl *gl, ph_gl_objects *o, GLuint color,
-                     GLuint depth, const char *what)
-{
-    if (!o->fbo)
-        gl->CreateFramebuffers(1, &o->fbo);
-    gl->NamedFramebufferTexture(o->fbo, GL_COLOR_ATTACHMENT0, color, 0);
-    gl->NamedFramebufferTexture(o->fbo, GL_DEPTH_ATTACHMENT, depth, 0);
-    gl->NamedFramebufferDrawBuffer(o->fbo, GL_COLOR_ATTACHMENT0);
-    GLenum status = gl->CheckNamedFramebufferStatus(o->fbo, GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-        return lg_error_code(n, LG_ERR_DEVICE,
-                             "phong: the framebuffer for %s is incomplete: status 0x%04x", what,
-                             (unsigned)status);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, o->fbo);
-    gl->ColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    return 0;
+    lg_gl_pass_clear_color(p, 0, clear);
+    lg_gl_pass_clear_depth(p, 1.0f);
+    lg_gl_set_mat4(p, u->view_proj, view_proj);
+    ph_set_globals(st, p, u, f);
+    lg_gl_pass_bind_buffer(p, u->lights, st->lights_buf);
+    lg_gl_pass_bind_buffer(p, u->shadows, st->shadows_buf);
+    lg_gl_pass_bind_texture(p, u->atlas, f->atlas);
+    ph_draw_ctx ctx = { st, gl, f->s, p, u };
+    lg_gl_scene_draw d = { .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };
+    return lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, f->scene_res, &d));
 }
 
 /* phong_half's images, made once at the output's size. */
@@ -735,22 +729,18 @@ static void ph_quarter_view_proj(float out[16], const float vp[16], uint32_t w, 
  * size, per-pixel Phong on the two halves of a checkerboard at quarter size each, and a
  * full-screen pass that puts the evaluated pixels in place and interpolates the others. */
 static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
-                   ph_gl_objects *o, GLuint tex, GLuint depth)
+                   const lg_gl_target *out)
 {
     int rc;
     if ((rc = ph_half_images(n, st, gl)))
         return rc;
     const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
-    const float far = 1.0f;
-    const GLuint zero[4] = { 0, 0, 0, 0 };
+    const float zero[4] = { 0, 0, 0, 0 };
 
     /* ids and the output's depth */
-    if ((rc = ph_target(n, gl, o, st->id_tex, depth, "phong_half's surface ids")))
-        return rc;
-    gl->ClearNamedFramebufferuiv(o->fbo, GL_COLOR, 0, zero);
-    gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
-    if ((rc = ph_pass(n, st, gl, f, o, st->id_program, &st->id_u, f->v->view_proj, st->width,
-                      st->height)))
+    lg_gl_target ids = { .color = { st->id_tex }, .depth = out->depth, .width = st->width,
+                         .height = st->height };
+    if ((rc = ph_pass(n, st, gl, f, st->id_pass, &st->id_u, &ids, zero, f->v->view_proj)))
         return rc;
 
     /* the checkerboard's two halves */
@@ -758,50 +748,27 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     for (int p = 0; p < 2; p++) {
         float vp[16];
         ph_quarter_view_proj(vp, f->v->view_proj, st->width, st->height, p);
-        if ((rc = ph_target(n, gl, o, st->quarter[p], st->quarter_depth,
-                            "phong_half's quarter image")))
-            return rc;
-        gl->ClearNamedFramebufferfv(o->fbo, GL_COLOR, 0, bg);
-        gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
-        if ((rc = ph_pass(n, st, gl, f, o, st->program, &st->u, vp, qw, qh)))
+        lg_gl_target q = { .color = { st->quarter[p] }, .depth = st->quarter_depth,
+                           .width = qw, .height = qh };
+        if ((rc = ph_pass(n, st, gl, f, st->pass, &st->u, &q, bg, vp)))
             return rc;
     }
 
     /* assembly: every output pixel, reading the ids, the depth and the quarter images */
-    gl->NamedFramebufferTexture(o->fbo, GL_DEPTH_ATTACHMENT, 0, 0);
-    if ((rc = ph_target(n, gl, o, tex, 0, "the output (rgba32f)")))
+    lg_gl_pass *h = st->half_pass;
+    lg_gl_target color = { .color = { out->color[0] }, .width = st->width,
+                           .height = st->height };
+    if ((rc = lg_gl_pass_begin(h, &color)))
         return rc;
-    gl->Viewport(0, 0, (GLsizei)st->width, (GLsizei)st->height);
-    gl->Disable(GL_DEPTH_TEST);
-    gl->Disable(GL_CULL_FACE);
-    GLuint c = st->half_program;
-    gl->UseProgram(c);
-    gl->BindTextureUnit(0, depth);
-    gl->BindTextureUnit(1, st->quarter[0]);
-    gl->BindTextureUnit(2, st->quarter[1]);
-    gl->BindTextureUnit(3, st->id_tex);
-    gl->ProgramUniform2i(c, gl->GetUniformLocation(c, "u_size"), (GLint)st->width,
-                         (GLint)st->height);
-    gl->ProgramUniform2f(c, gl->GetUniformLocation(c, "u_near_far"), f->v->znear, f->v->zfar);
-    gl->ProgramUniform1f(c, gl->GetUniformLocation(c, "u_depth_tol"), PH_HALF_DEPTH_TOL);
-    gl->ProgramUniform3f(c, gl->GetUniformLocation(c, "u_background"), st->background[0],
-                         st->background[1], st->background[2]);
-    gl->DrawArrays(GL_TRIANGLES, 0, 3);
-    return lg_gl_check(n, "phong: phong_half's assembly pass");
-}
-
-/* Every mode but phong_half: one raster pass into the output. */
-static int ph_direct(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
-                     ph_gl_objects *o, GLuint tex, GLuint depth)
-{
-    int rc;
-    if ((rc = ph_target(n, gl, o, tex, depth, "the output (rgba32f colour, depth32f)")))
-        return rc;
-    const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
-    const float far = 1.0f;
-    gl->ClearNamedFramebufferfv(o->fbo, GL_COLOR, 0, bg);
-    gl->ClearNamedFramebufferfv(o->fbo, GL_DEPTH, 0, &far);
-    return ph_pass(n, st, gl, f, o, st->program, &st->u, f->v->view_proj, st->width, st->height);
+    lg_gl_pass_bind_texture(h, st->h_depth, out->depth);
+    lg_gl_pass_bind_texture(h, st->h_even, st->quarter[0]);
+    lg_gl_pass_bind_texture(h, st->h_odd, st->quarter[1]);
+    lg_gl_pass_bind_texture(h, st->h_id, st->id_tex);
+    lg_gl_set_ivec2(h, st->h_size, (int32_t)st->width, (int32_t)st->height);
+    lg_gl_set_vec2(h, st->h_near_far, f->v->znear, f->v->zfar);
+    lg_gl_set_float(h, st->h_depth_tol, PH_HALF_DEPTH_TOL);
+    lg_gl_set_vec3v(h, st->h_background, st->background);
+    return lg_gl_pass_end(h, lg_gl_pass_draw(h, GL_TRIANGLES, 3));
 }
 
 static int ph_execute(lg_node *n, const lg_frame *frame)
@@ -828,58 +795,35 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     if (rc)
         return rc;
     f.v = &v;
-    lg_scene_gl *sgl = NULL;
-    if ((rc = lg_scene_gl_create(n, f.scene_res, LG_SCENE_GL_NORMALS, &sgl)))
-        return rc;
-    f.sgl = sgl;
     ph_gpu_light *lights = NULL;
     ph_gpu_shadow *shadows = NULL;
     uint32_t n_shadow = 0;
-    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow))) {
-        lg_scene_gl_destroy(NULL, sgl);
+    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow)))
         return rc;
-    }
     f.n_lights = f.s->n_lights;
 
     const lg_gl *gl = lg_gl_get(n);
-    ph_gl_objects o = { 0 };
-    uint32_t tex = 0, depth = 0;
+    lg_gl_target out;
     if (!gl) {
         rc = LG_ERR_DEVICE;
         goto out;
     }
     int sv = (int)n_shadow < ph_sv_limit(gl) ? (int)n_shadow : ph_sv_limit(gl);
-    if ((rc = ph_program(n, st, gl, sv)))
+    if ((rc = ph_passes(n, st, sv)) || (n_shadow && (rc = phong_shadow_atlas(n, f.sm, &f.atlas))) ||
+        (rc = lg_gl_target_output(n, "out", &out)))
         goto out;
-    if (n_shadow) {
-        uint32_t atlas_name = 0;
-        if ((rc = lg_map_gl(n, f.sm->atlas, LG_READ, &atlas_name, &f.atlas)))
-            goto out;
-        if (!f.atlas) {
-            rc = lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
-                                                 "texture");
-            goto out;
-        }
+    ph_upload(gl, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights);
+    ph_upload(gl, &st->shadows_buf, shadows, (size_t)n_shadow * sizeof *shadows);
+    if (st->shading == PH_HALF) {
+        rc = ph_half(n, st, gl, &f, &out);
+    } else {
+        const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
+        rc = ph_pass(n, st, gl, &f, st->pass, &st->u, &out, bg, v.view_proj);
     }
-    if ((rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tex, &depth)))
-        goto out;
-    if (!depth) {
-        rc = lg_error_code(n, LG_ERR_DEVICE, "the output has no GL depth texture");
-        goto out;
-    }
-    o.lights = ph_ssbo(gl, lights, (size_t)f.n_lights * sizeof *lights);
-    o.shadows = ph_ssbo(gl, shadows, (size_t)n_shadow * sizeof *shadows);
-    if ((rc = lg_scene_gl_upload(n, gl, sgl)))
-        goto out;
-    rc = st->shading == PH_HALF ? ph_half(n, st, gl, &f, &o, tex, depth)
-                                : ph_direct(n, st, gl, &f, &o, tex, depth);
 
 out:
-    if (gl) {
-        ph_unbind(gl);
-        ph_gl_free(gl, &o);
-    }
     if (!rc) {
+        const lg_scene_gl *sgl = lg_gl_pass_scene(st->pass);
         const lg_camera *c = &f.s->cameras[v.camera];
         bool per_vertex = st->shading == PH_FLAT || st->shading == PH_GOURAUD ||
                           st->shading == PH_MIXED;
@@ -894,10 +838,9 @@ out:
                v.camera, c->name ? c->name : "", (double)v.eye.x, (double)v.eye.y,
                (double)v.eye.z, (double)v.forward.x, (double)v.forward.y, (double)v.forward.z);
     }
-    lg_scene_gl_destroy(gl, sgl);
     free(lights);
     free(shadows);
-    return rc ? rc : (gl ? lg_gl_check(n, "phong: cleaning up") : rc);
+    return rc ? rc : (gl ? lg_gl_check(n, "phong: uploading the lights") : rc);
 }
 
 static void ph_destroy(lg_node *n)
@@ -905,17 +848,20 @@ static void ph_destroy(lg_node *n)
     ph_state *st = n->user;
     if (!st)
         return;
-    if (st->program || st->id_program || st->half_program || st->id_tex || st->eq13) {
+    lg_gl_pass_destroy(&st->pass);
+    lg_gl_pass_destroy(&st->id_pass);
+    lg_gl_pass_destroy(&st->half_pass);
+    if (st->id_tex || st->eq13 || st->lights_buf || st->shadows_buf) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl) {
-            GLuint progs[3] = { st->program, st->id_program, st->half_program };
-            for (int i = 0; i < 3; i++)
-                if (progs[i])
-                    gl->DeleteProgram(progs[i]);
             GLuint texs[4] = { st->id_tex, st->quarter[0], st->quarter[1], st->quarter_depth };
             for (int i = 0; i < 4; i++)
                 if (texs[i])
                     gl->DeleteTextures(1, &texs[i]);
+            GLuint bufs[2] = { st->lights_buf, st->shadows_buf };
+            for (int i = 0; i < 2; i++)
+                if (bufs[i])
+                    gl->DeleteBuffers(1, &bufs[i]);
             for (uint32_t i = 0; i < st->n_eq13; i++)
                 if (st->eq13[i])
                     gl->DeleteBuffers(1, &st->eq13[i]);

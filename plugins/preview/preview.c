@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/gl.h"
+#include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
@@ -26,15 +26,13 @@
 enum { PV_BASE_COLOR = 0, PV_NORMALS, PV_DEPTH };
 enum { PV_CULL_NONE = 0, PV_CULL_MATERIAL };
 
-/* Uniform locations (shaders/preview/preview.vert and .frag). */
-enum { U_VIEW_PROJ = 0, U_VIEW, U_FIRST, U_MODE, U_BASE_COLOR, U_NEAR_FAR };
-
 typedef struct pv_state {
     int mode, cull;
     int64_t camera;
     float background[3];
     uint32_t width, height;
-    GLuint program;
+    lg_gl_pass *pass; /* made on the first execute */
+    lg_gl_uniform u_view_proj, u_view, u_mode, u_base_color, u_near_far;
 } pv_state;
 
 /* ---- create / prepare ------------------------------------------------------------------ */
@@ -79,70 +77,37 @@ static int pv_prepare(lg_node *n)
 
 /* ---- execute --------------------------------------------------------------------------------- */
 
-/* Leaves the bindings as the GL state contract wants them (docs/devices.md). */
-static void pv_unbind(const lg_gl *gl)
-{
-    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl->UseProgram(0);
-    gl->BindVertexArray(0);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-}
-
-typedef struct pv_draw_ctx {
-    const lg_gl *gl;
-    const lg_scene *s;
-} pv_draw_ctx;
-
 /* The material's base colour, before the mesh's first draw. */
 static int pv_on_mesh(lg_node *n, void *user, uint32_t mesh, GLuint *normals)
 {
     (void)n, (void)normals;
-    const pv_draw_ctx *c = user;
-    const lg_gl *gl = c->gl;
-    const lg_scene *s = c->s;
-    const lg_material *mat = &s->materials[s->meshes[mesh].material];
-    gl->Uniform3f(U_BASE_COLOR, mat->base_color[0], mat->base_color[1], mat->base_color[2]);
+    pv_state *st = user;
+    const lg_scene *s = lg_gl_pass_scene(st->pass)->scene;
+    lg_gl_set_vec3v(st->pass, st->u_base_color, s->materials[s->meshes[mesh].material].base_color);
     return 0;
 }
 
-static int pv_draw(lg_node *n, pv_state *st, const lg_gl *gl, const lg_scene_view *v,
-                   lg_scene_gl *sgl, GLuint fbo)
+static int pv_make_pass(lg_node *n, pv_state *st)
 {
-    int rc;
-    if ((rc = lg_scene_gl_upload(n, gl, sgl)))
+    static const lg_gl_shader_src src[2] = {
+        { GL_VERTEX_SHADER, lg_src_preview_vert_file, lg_src_preview_vert },
+        { GL_FRAGMENT_SHADER, lg_src_preview_frag_file, lg_src_preview_frag },
+    };
+    lg_gl_pass_desc d = { .name = "preview", .stages = src, .n_stages = 2,
+                          .output = "out", .colors = { GL_RGBA32F }, .depth = true,
+                          .depth_test = true, .depth_write = true,
+                          .cull = st->cull == PV_CULL_MATERIAL ? LG_GL_CULL_BACK
+                                                               : LG_GL_CULL_NONE,
+                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
+    int rc = lg_gl_pass_create(n, &d, &st->pass);
+    if (rc)
         return rc;
-
-    gl->BindFramebuffer(GL_FRAMEBUFFER, fbo);
-    gl->Viewport(0, 0, (GLsizei)st->width, (GLsizei)st->height);
-    gl->ColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    gl->DepthMask(GL_TRUE);
-    gl->Disable(GL_BLEND);
-    gl->Disable(GL_SCISSOR_TEST);
-    const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
-    const float far = 1.0f;
-    gl->ClearNamedFramebufferfv(fbo, GL_COLOR, 0, bg);
-    gl->ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LESS);
-    gl->DepthRangef(0.0f, 1.0f);
-    gl->Disable(GL_CULL_FACE);
-    gl->CullFace(GL_BACK);
-
-    gl->UseProgram(st->program);
-    gl->UniformMatrix4fv(U_VIEW_PROJ, 1, GL_FALSE, v->view_proj);
-    gl->UniformMatrix4fv(U_VIEW, 1, GL_FALSE, v->view);
-    gl->Uniform1i(U_MODE, st->mode);
-    gl->Uniform2f(U_NEAR_FAR, v->znear, v->zfar);
-
-    pv_draw_ctx ctx = { gl, sgl->scene };
-    lg_scene_gl_draw_desc d = { .program = st->program, .first_location = U_FIRST,
-                                .cull_material = st->cull == PV_CULL_MATERIAL,
-                                .on_mesh = pv_on_mesh, .user = &ctx };
-    if ((rc = lg_scene_gl_draw(n, gl, sgl, &d)))
-        return rc;
-    return lg_gl_check(n, "preview: drawing the scene");
+    st->u_view_proj = lg_gl_pass_uniform(st->pass, "u_view_proj");
+    st->u_view = lg_gl_pass_uniform(st->pass, "u_view");
+    st->u_mode = lg_gl_pass_uniform(st->pass, "u_mode");
+    st->u_base_color = lg_gl_pass_uniform(st->pass, "u_base_color");
+    st->u_near_far = lg_gl_pass_uniform(st->pass, "u_near_far");
+    return 0;
 }
 
 static int pv_execute(lg_node *n, const lg_frame *frame)
@@ -157,54 +122,21 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
     int rc = lg_scene_view_make(n, s, st->camera, st->width, st->height, &v);
     if (rc)
         return rc;
-    lg_scene_gl *sgl = NULL;
-    if ((rc = lg_scene_gl_create(n, scene_res, LG_SCENE_GL_NORMALS, &sgl)))
+    if (!st->pass && (rc = pv_make_pass(n, st)))
         return rc;
-
-    const lg_gl *gl = lg_gl_get(n);
-    if (!gl) {
-        lg_scene_gl_destroy(NULL, sgl);
-        return LG_ERR_DEVICE;
-    }
-    if (!st->program) {
-        lg_gl_shader_src src[2] = {
-            { GL_VERTEX_SHADER, lg_src_preview_vert_file, lg_src_preview_vert },
-            { GL_FRAGMENT_SHADER, lg_src_preview_frag_file, lg_src_preview_frag },
-        };
-        st->program = lg_gl_program(n, gl, src, 2, NULL);
-        if (!st->program) {
-            lg_scene_gl_destroy(gl, sgl);
-            return LG_ERR_DEVICE;
-        }
-    }
-
-    uint32_t tex = 0, depth = 0;
-    if ((rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tex, &depth))) {
-        lg_scene_gl_destroy(gl, sgl);
+    if ((rc = lg_gl_pass_begin(st->pass, NULL)))
         return rc;
-    }
-    if (!depth) {
-        lg_scene_gl_destroy(gl, sgl);
-        return lg_error_code(n, LG_ERR_DEVICE, "the output has no GL depth texture");
-    }
-
-    GLuint fbo = 0;
-    gl->CreateFramebuffers(1, &fbo);
-    gl->NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, tex, 0);
-    gl->NamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
-    gl->NamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
-    GLenum status = gl->CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        rc = lg_error_code(n, LG_ERR_DEVICE,
-                           "preview: the framebuffer (rgba32f colour %ux%u, depth32f) is "
-                           "incomplete: status 0x%04x",
-                           st->width, st->height, (unsigned)status);
-    } else {
-        rc = pv_draw(n, st, gl, &v, sgl, fbo);
-    }
-    pv_unbind(gl);
-    gl->DeleteFramebuffers(1, &fbo);
+    const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
+    lg_gl_pass_clear_color(st->pass, 0, bg);
+    lg_gl_pass_clear_depth(st->pass, 1.0f);
+    lg_gl_set_mat4(st->pass, st->u_view_proj, v.view_proj);
+    lg_gl_set_mat4(st->pass, st->u_view, v.view);
+    lg_gl_set_int(st->pass, st->u_mode, st->mode);
+    lg_gl_set_vec2(st->pass, st->u_near_far, v.znear, v.zfar);
+    lg_gl_scene_draw d = { .on_mesh = pv_on_mesh, .user = st };
+    rc = lg_gl_pass_end(st->pass, lg_gl_pass_draw_scene(st->pass, scene_res, &d));
     if (!rc) {
+        const lg_scene_gl *sgl = lg_gl_pass_scene(st->pass);
         const lg_camera *c = &s->cameras[v.camera];
         lg_log(n, LG_LOG_INFO,
                "%u instances, %" PRIu64 " triangles, camera %u '%s', vertical fov %.4g deg, "
@@ -212,8 +144,7 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
                sgl->count, sgl->triangles, v.camera, c->name ? c->name : "", (double)v.yfov * (180.0 / 3.14159265358979323846),
                (double)v.znear, (double)v.zfar);
     }
-    lg_scene_gl_destroy(gl, sgl);
-    return rc ? rc : lg_gl_check(n, "preview: cleaning up");
+    return rc;
 }
 
 static void pv_destroy(lg_node *n)
@@ -221,11 +152,7 @@ static void pv_destroy(lg_node *n)
     pv_state *st = n->user;
     if (!st)
         return;
-    if (st->program) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl)
-            gl->DeleteProgram(st->program);
-    }
+    lg_gl_pass_destroy(&st->pass);
     free(st);
     n->user = NULL;
 }

@@ -18,7 +18,7 @@
 
 #include "lightgraph/cl.h"
 #include "lightgraph/color.h"
-#include "lightgraph/gl.h"
+#include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
 
 #include "reinhard_cpu.h"
@@ -38,6 +38,10 @@ typedef struct rh_partial {
     float sum;
     uint32_t valid, nonfinite, negative;
 } rh_partial;
+LG_GL_BLOCK_SIZE(rh_partial, 16);
+LG_GL_BLOCK_OFFSET(rh_partial, valid, 4);
+LG_GL_BLOCK_OFFSET(rh_partial, nonfinite, 8);
+LG_GL_BLOCK_OFFSET(rh_partial, negative, 12);
 
 typedef struct rh_state {
     lg_rh_params p;
@@ -53,8 +57,11 @@ typedef struct rh_state {
     bool warned_bad, warned_empty;
     float *scratch; /* cpu backend, rgba16f input: the pixels as floats */
 
-    /* gl */
-    GLuint gl_reduce, gl_final, gl_map;
+    /* gl: the three compute passes, their uniforms and bindings (reinhard_reduce.comp stage
+     * 1 and 2, reinhard_map.comp), and the reduction's buffers */
+    lg_gl_pass *gl_reduce, *gl_final, *gl_map;
+    lg_gl_uniform r_size, r_delta, r_w, f_count, m_size, m_scale, m_inv_white2, m_mode, m_w;
+    lg_gl_binding r_in, r_partials, f_partials, f_result, m_in, m_out;
     GLuint gl_partials, gl_result;
 
     /* cl */
@@ -209,33 +216,54 @@ static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
 {
     const char *fmt = st->in_format == LG_FORMAT_RGBA16F ? "rgba16f" : "rgba32f";
     char defs[128];
-    lg_gl_shader_src reduce = { GL_COMPUTE_SHADER, lg_src_reinhard_reduce_comp_file,
-                                lg_src_reinhard_reduce_comp };
-    lg_gl_shader_src map = { GL_COMPUTE_SHADER, lg_src_reinhard_map_comp_file,
-                             lg_src_reinhard_map_comp };
+    static const lg_gl_shader_src reduce = { GL_COMPUTE_SHADER, lg_src_reinhard_reduce_comp_file,
+                                             lg_src_reinhard_reduce_comp };
+    static const lg_gl_shader_src map = { GL_COMPUTE_SHADER, lg_src_reinhard_map_comp_file,
+                                          lg_src_reinhard_map_comp };
+    int rc;
+    /* a failed earlier attempt may have made some of them */
+    lg_gl_pass_destroy(&st->gl_reduce);
+    lg_gl_pass_destroy(&st->gl_final);
     snprintf(defs, sizeof defs, "#define LG_STAGE 1\n#define LG_IN_FORMAT %s\n", fmt);
-    if (!(st->gl_reduce = lg_gl_program(n, gl, &reduce, 1, defs)))
-        return LG_ERR_DEVICE;
-    if (!(st->gl_final = lg_gl_program(n, gl, &reduce, 1, "#define LG_STAGE 2\n")))
-        return LG_ERR_DEVICE;
+    lg_gl_pass_desc d = { .name = "reinhard reduce", .stages = &reduce, .n_stages = 1,
+                          .defines = defs };
+    if ((rc = lg_gl_pass_create(n, &d, &st->gl_reduce)))
+        return rc;
+    d.name = "reinhard reduce (stage 2)";
+    d.defines = "#define LG_STAGE 2\n";
+    if ((rc = lg_gl_pass_create(n, &d, &st->gl_final)))
+        return rc;
     snprintf(defs, sizeof defs, "#define LG_IN_FORMAT %s\n", fmt);
-    if (!(st->gl_map = lg_gl_program(n, gl, &map, 1, defs)))
-        return LG_ERR_DEVICE;
+    d.name = "reinhard map";
+    d.stages = &map;
+    d.defines = defs;
+    if ((rc = lg_gl_pass_create(n, &d, &st->gl_map)))
+        return rc;
+    lg_gl_pass *r = st->gl_reduce, *f = st->gl_final, *m = st->gl_map;
+    st->r_size = lg_gl_pass_uniform(r, "u_size");
+    st->r_delta = lg_gl_pass_uniform(r, "u_delta");
+    st->r_w = lg_gl_pass_uniform(r, "u_w");
+    st->r_in = lg_gl_pass_image(r, "u_in");
+    st->r_partials = lg_gl_pass_storage(r, "Partials");
+    st->f_count = lg_gl_pass_uniform(f, "u_count");
+    st->f_partials = lg_gl_pass_storage(f, "Partials");
+    st->f_result = lg_gl_pass_storage(f, "Result");
+    st->m_size = lg_gl_pass_uniform(m, "u_size");
+    st->m_scale = lg_gl_pass_uniform(m, "u_scale");
+    st->m_inv_white2 = lg_gl_pass_uniform(m, "u_inv_white2");
+    st->m_mode = lg_gl_pass_uniform(m, "u_mode");
+    st->m_w = lg_gl_pass_uniform(m, "u_w");
+    st->m_in = lg_gl_pass_image(m, "u_in");
+    st->m_out = lg_gl_pass_image(m, "u_out");
+    lg_gl_pass_check_block(r, GL_SHADER_STORAGE_BLOCK, "Partials", sizeof(rh_partial));
+    lg_gl_pass_check_block(f, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_partial));
+    if (st->gl_partials)
+        return 0;
     gl->CreateBuffers(1, &st->gl_partials);
     gl->NamedBufferData(st->gl_partials, RH_MAX_GROUPS * sizeof(rh_partial), NULL, GL_DYNAMIC_COPY);
     gl->CreateBuffers(1, &st->gl_result);
     gl->NamedBufferData(st->gl_result, sizeof(rh_partial), NULL, GL_DYNAMIC_READ);
     return lg_gl_check(n, "reinhard: creating the reduction buffers");
-}
-
-/* Leaves the bindings as the GL state contract wants them (docs/sdk.md). */
-static void rh_gl_unbind(const lg_gl *gl)
-{
-    gl->UseProgram(0);
-    gl->BindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    gl->BindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
 }
 
 static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
@@ -254,47 +282,48 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     size_t npx = (size_t)st->width * st->height;
     uint32_t groups = rh_groups(npx);
 
-    /* stage 1 and 2: the log-average */
-    gl->UseProgram(st->gl_reduce);
-    gl->BindImageTexture(0, tin, 0, GL_FALSE, 0, GL_READ_ONLY, in_fmt);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, st->gl_partials);
-    gl->Uniform2i(0, (GLint)st->width, (GLint)st->height);
-    gl->Uniform1f(1, (float)st->p.delta);
-    gl->Uniform3f(2, st->p.w[0], st->p.w[1], st->p.w[2]);
-    gl->DispatchCompute(groups, 1, 1);
-    gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-
-    gl->UseProgram(st->gl_final);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, st->gl_result);
-    gl->Uniform1ui(0, groups);
-    gl->DispatchCompute(1, 1, 1);
-    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-
-    rh_partial r;
-    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof r, &r);
-    if ((rc = lg_gl_check(n, "reinhard: log-average reduction"))) {
-        rh_gl_unbind(gl);
+    /* stage 1 and 2: the log-average (each end makes its writes visible to the next) */
+    lg_gl_pass *r = st->gl_reduce;
+    if ((rc = lg_gl_pass_begin(r, NULL)))
         return rc;
-    }
-    lg_rh_stats s = { .log_sum = r.sum, .valid = r.valid, .nonfinite = r.nonfinite,
-                      .negative = r.negative };
+    lg_gl_pass_bind_image(r, st->r_in, tin, GL_READ_ONLY, in_fmt);
+    lg_gl_pass_bind_buffer(r, st->r_partials, st->gl_partials);
+    lg_gl_set_ivec2(r, st->r_size, (int32_t)st->width, (int32_t)st->height);
+    lg_gl_set_float(r, st->r_delta, (float)st->p.delta);
+    lg_gl_set_vec3(r, st->r_w, st->p.w[0], st->p.w[1], st->p.w[2]);
+    if ((rc = lg_gl_pass_end(r, lg_gl_pass_dispatch_groups(r, groups, 1, 1))))
+        return rc;
+
+    lg_gl_pass *f = st->gl_final;
+    if ((rc = lg_gl_pass_begin(f, NULL)))
+        return rc;
+    lg_gl_pass_bind_buffer(f, st->f_partials, st->gl_partials);
+    lg_gl_pass_bind_buffer(f, st->f_result, st->gl_result);
+    lg_gl_set_uint(f, st->f_count, groups);
+    if ((rc = lg_gl_pass_end(f, lg_gl_pass_dispatch_groups(f, 1, 1, 1))))
+        return rc;
+
+    rh_partial res;
+    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof res, &res);
+    if ((rc = lg_gl_check(n, "reinhard: reading the log-average back")))
+        return rc;
+    lg_rh_stats s = { .log_sum = res.sum, .valid = res.valid, .nonfinite = res.nonfinite,
+                      .negative = res.negative };
     double scale = rh_scale(n, st, &s, frame);
 
-    /* the map */
+    /* the map; end makes the output visible to whoever reads it next */
     double inv_w2 = st->p.white > 0.0 ? 1.0 / (st->p.white * st->p.white) : 0.0;
-    gl->UseProgram(st->gl_map);
-    gl->BindImageTexture(1, tout, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    gl->Uniform2i(0, (GLint)st->width, (GLint)st->height);
-    gl->Uniform1f(1, (float)scale);
-    gl->Uniform1f(2, (float)inv_w2);
-    gl->Uniform1i(3, st->p.mode == LG_RH_RGB ? 1 : 0);
-    gl->Uniform3f(4, st->p.w[0], st->p.w[1], st->p.w[2]);
-    gl->DispatchCompute((st->width + 15) / 16, (st->height + 15) / 16, 1);
-    /* whoever reads the output next (a texture fetch, an image load, a read-back) */
-    gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                      GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
-    rh_gl_unbind(gl);
-    return lg_gl_check(n, "reinhard: map pass");
+    lg_gl_pass *m = st->gl_map;
+    if ((rc = lg_gl_pass_begin(m, NULL)))
+        return rc;
+    lg_gl_pass_bind_image(m, st->m_in, tin, GL_READ_ONLY, in_fmt);
+    lg_gl_pass_bind_image(m, st->m_out, tout, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_set_ivec2(m, st->m_size, (int32_t)st->width, (int32_t)st->height);
+    lg_gl_set_float(m, st->m_scale, (float)scale);
+    lg_gl_set_float(m, st->m_inv_white2, (float)inv_w2);
+    lg_gl_set_int(m, st->m_mode, st->p.mode == LG_RH_RGB ? 1 : 0);
+    lg_gl_set_vec3(m, st->m_w, st->p.w[0], st->p.w[1], st->p.w[2]);
+    return lg_gl_pass_end(m, lg_gl_pass_dispatch(m, st->width, st->height, 1));
 }
 
 /* ---- cl --------------------------------------------------------------------------------------------- */
@@ -430,12 +459,12 @@ static void rh_destroy(lg_node *n)
     rh_state *st = n->user;
     if (!st)
         return;
-    if (st->gl_map || st->gl_reduce || st->gl_final || st->gl_partials || st->gl_result) {
+    lg_gl_pass_destroy(&st->gl_reduce);
+    lg_gl_pass_destroy(&st->gl_final);
+    lg_gl_pass_destroy(&st->gl_map);
+    if (st->gl_partials || st->gl_result) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl) {
-            gl->DeleteProgram(st->gl_reduce);
-            gl->DeleteProgram(st->gl_final);
-            gl->DeleteProgram(st->gl_map);
             gl->DeleteBuffers(1, &st->gl_partials);
             gl->DeleteBuffers(1, &st->gl_result);
         }

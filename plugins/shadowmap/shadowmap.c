@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "lightgraph/gl.h"
+#include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
@@ -29,9 +29,6 @@
 
 enum { SM_FIT_BOUNDS = 0, SM_FIT_FRUSTUM };
 enum { SM_CULL_FRONT = 0, SM_CULL_BACK, SM_CULL_NONE };
-
-/* Uniform locations (shaders/shadowmap/shadowmap.vert). */
-enum { U_VIEW_PROJ = 0, U_FIRST = 1 };
 
 /* Defaults of the bias parameters (README.md, "Bias", says how they were chosen). */
 #define SM_DEF_BIAS_CONSTANT 0.0002
@@ -48,7 +45,8 @@ typedef struct sm_state {
     lg_shadowmap view;       /* what prepare() computed, as consumers will see it */
     lg_shadow_light *lights; /* view.lights, owned here */
     const lg_shadowmap *sm;  /* &view once prepared */
-    GLuint program;
+    lg_gl_pass *pass;        /* made on the first execute */
+    lg_gl_uniform u_view_proj;
 } sm_state;
 
 /* ---- create -------------------------------------------------------------------------- */
@@ -516,58 +514,44 @@ static int sm_prepare(lg_node *n)
 
 /* ---- execute ------------------------------------------------------------------------------ */
 
-/* Leaves the bindings as the GL state contract wants them (docs/devices.md). */
-static void sm_unbind(const lg_gl *gl)
+/* The atlas the pass draws into: output 1's depth plane (the one place that knows where the
+ * atlas lives; prepare publishes it in one place too). */
+/* The atlas part of the output, mapped on GL for writing: depth only, no colour plane. */
+static int sm_atlas_target(lg_node *n, const lg_shadowmap *sm, lg_gl_target *t)
 {
-    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl->UseProgram(0);
-    gl->BindVertexArray(0);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    gl->BindBuffer(GL_ARRAY_BUFFER, 0);
-    gl->Disable(GL_DEPTH_CLAMP);
-    gl->Disable(GL_CULL_FACE);
-    gl->FrontFace(GL_CCW);
+    memset(t, 0, sizeof *t);
+    uint32_t color = 0;
+    int rc = lg_map_gl(n, lg_part(n, lg_output(n, 0), "atlas"), LG_WRITE, &color, &t->depth);
+    if (rc)
+        return rc;
+    if (!t->depth)
+        return lg_error_code(n, LG_ERR_DEVICE, "the atlas has no GL depth texture");
+    t->width = sm->atlas_width;
+    t->height = sm->atlas_height;
+    return 0;
 }
 
-static int sm_draw(lg_node *n, const sm_state *st, const lg_gl *gl, lg_scene_gl *sgl,
-                   GLuint fbo)
+static int sm_make_pass(lg_node *n, sm_state *st)
 {
-    const lg_shadowmap *sm = st->sm;
-    int rc;
-    if ((rc = lg_scene_gl_upload(n, gl, sgl)))
+    static const lg_gl_shader_src src[2] = {
+        { GL_VERTEX_SHADER, lg_src_shadowmap_vert_file, lg_src_shadowmap_vert },
+        { GL_FRAGMENT_SHADER, lg_src_shadowmap_frag_file, lg_src_shadowmap_frag },
+    };
+    /* casters are inside [near, far] by the fit; depth clamp keeps a rounding error from
+     * clipping one away. No polygon offset: the stored depth is unbiased (README.md). A
+     * double-sided material's winding says nothing about which side faces out: both sides
+     * cast shadows whatever `cull` says (the scene draw leaves them unculled). */
+    lg_gl_pass_desc d = { .name = "shadowmap", .stages = src, .n_stages = 2, .depth = true,
+                          .depth_test = true, .depth_write = true, .depth_clamp = true,
+                          .cull = st->cull == SM_CULL_BACK    ? LG_GL_CULL_BACK
+                                  : st->cull == SM_CULL_FRONT ? LG_GL_CULL_FRONT
+                                                              : LG_GL_CULL_NONE,
+                          .scene = LG_GL_SCENE_POSITIONS };
+    int rc = lg_gl_pass_create(n, &d, &st->pass);
+    if (rc)
         return rc;
-
-    gl->BindFramebuffer(GL_FRAMEBUFFER, fbo);
-    gl->DepthMask(GL_TRUE);
-    gl->Disable(GL_SCISSOR_TEST);
-    gl->Disable(GL_RASTERIZER_DISCARD);
-    const float far = 1.0f;
-    gl->ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LESS);
-    gl->DepthRangef(0.0f, 1.0f);
-    /* casters are inside [near, far] by the fit; clamping keeps a rounding error from
-     * clipping one away */
-    gl->Enable(GL_DEPTH_CLAMP);
-    gl->Disable(GL_POLYGON_OFFSET_FILL); /* the stored depth is unbiased (README.md) */
-    gl->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    gl->CullFace(st->cull == SM_CULL_BACK ? GL_BACK : GL_FRONT);
-
-    gl->UseProgram(st->program);
-    /* a double-sided material's winding says nothing about which side faces out: both
-     * sides cast shadows whatever `cull` says (lg_scene_gl_draw leaves them unculled) */
-    lg_scene_gl_draw_desc d = { .program = st->program, .first_location = U_FIRST,
-                                .cull_material = st->cull != SM_CULL_NONE };
-    for (uint32_t li = 0; li < sm->n_lights; li++) {
-        const lg_shadow_light *l = &sm->lights[li];
-        gl->Viewport((GLint)l->tile_x, (GLint)l->tile_y, (GLsizei)sm->resolution,
-                     (GLsizei)sm->resolution);
-        gl->UniformMatrix4fv(U_VIEW_PROJ, 1, GL_FALSE, l->view_proj);
-        if ((rc = lg_scene_gl_draw(n, gl, sgl, &d)))
-            return rc;
-    }
-    return lg_gl_check(n, "shadowmap: drawing the scene into the atlas");
+    st->u_view_proj = lg_gl_pass_uniform(st->pass, "u_view_proj");
+    return 0;
 }
 
 static int sm_execute(lg_node *n, const lg_frame *frame)
@@ -599,21 +583,7 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
                              "(GL_MAX_VIEWPORT_DIMS %dx%d)",
                              sm->resolution, max_vp[0], max_vp[1]);
 
-    lg_scene_gl *sgl = NULL;
-    int rc = lg_scene_gl_create(n, scene_res, 0, &sgl);
-    if (rc)
-        return rc;
-    if (!st->program) {
-        lg_gl_shader_src src[2] = {
-            { GL_VERTEX_SHADER, lg_src_shadowmap_vert_file, lg_src_shadowmap_vert },
-            { GL_FRAGMENT_SHADER, lg_src_shadowmap_frag_file, lg_src_shadowmap_frag },
-        };
-        st->program = lg_gl_program(n, gl, src, 2, NULL);
-        if (!st->program) {
-            lg_scene_gl_destroy(gl, sgl);
-            return LG_ERR_DEVICE;
-        }
-    }
+    /* the lights and info parts, on the CPU: consumers get copies where they read */
     lg_shadowmap_info info = {
         .resolution = sm->resolution,
         .n_lights = sm->n_lights,
@@ -623,53 +593,38 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
         .bias_slope = sm->bias_slope,
         .normal_offset = sm->normal_offset,
     };
-    if ((rc = lg_shadowmap_publish(n, 0, &info, sm->lights))) {
-        lg_scene_gl_destroy(gl, sgl);
+    int rc;
+    lg_gl_target atlas;
+    if ((rc = lg_shadowmap_publish(n, 0, &info, sm->lights)) ||
+        (!st->pass && (rc = sm_make_pass(n, st))) || (rc = sm_atlas_target(n, sm, &atlas)) ||
+        (rc = lg_gl_pass_begin(st->pass, &atlas)))
         return rc;
+    lg_gl_pass_clear_depth(st->pass, 1.0f);
+    for (uint32_t li = 0; li < sm->n_lights && !rc; li++) {
+        const lg_shadow_light *l = &sm->lights[li];
+        lg_gl_pass_viewport(st->pass, (int32_t)l->tile_x, (int32_t)l->tile_y, sm->resolution,
+                            sm->resolution);
+        lg_gl_set_mat4(st->pass, st->u_view_proj, l->view_proj);
+        rc = lg_gl_pass_draw_scene(st->pass, scene_res, NULL);
     }
-    uint32_t tex = 0, depth = 0;
-    if ((rc = lg_map_gl(n, lg_part(n, lg_output(n, 0), "atlas"), LG_WRITE, &tex, &depth))) {
-        lg_scene_gl_destroy(gl, sgl);
+    if ((rc = lg_gl_pass_end(st->pass, rc)))
         return rc;
+    const lg_scene_gl *sgl = lg_gl_pass_scene(st->pass);
+    lg_log(n, LG_LOG_INFO,
+           "%u directional light%s, atlas %ux%u (%ux%u tiles of %u), fit %s, cull %s; "
+           "%u instances, %" PRIu64 " triangles per light",
+           sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height,
+           st->cols, st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
+           st->cull == SM_CULL_FRONT ? "front" : st->cull == SM_CULL_BACK ? "back" : "none",
+           sgl ? sgl->count : 0, sgl ? sgl->triangles : 0);
+    for (uint32_t i = 0; i < sm->n_lights; i++) {
+        const lg_shadow_light *l = &sm->lights[i];
+        lg_log(n, LG_LOG_DEBUG,
+               "light %u '%s': tile at (%u, %u), texel %.6g m, depth range %.6g m", l->light,
+               s->lights[l->light].name ? s->lights[l->light].name : "", l->tile_x,
+               l->tile_y, (double)l->texel_world, (double)l->depth_range);
     }
-    if (!depth) {
-        lg_scene_gl_destroy(gl, sgl);
-        return lg_error_code(n, LG_ERR_DEVICE, "the atlas has no GL depth texture");
-    }
-
-    GLuint fbo = 0;
-    gl->CreateFramebuffers(1, &fbo);
-    gl->NamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
-    gl->NamedFramebufferDrawBuffer(fbo, GL_NONE);
-    gl->NamedFramebufferReadBuffer(fbo, GL_NONE);
-    GLenum status = gl->CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-        rc = lg_error_code(n, LG_ERR_DEVICE,
-                           "shadowmap: the framebuffer (depth32f %ux%u, no colour) is "
-                           "incomplete: status 0x%04x",
-                           sm->atlas_width, sm->atlas_height, (unsigned)status);
-    else
-        rc = sm_draw(n, st, gl, sgl, fbo);
-    sm_unbind(gl);
-    gl->DeleteFramebuffers(1, &fbo);
-    if (!rc) {
-        lg_log(n, LG_LOG_INFO,
-               "%u directional light%s, atlas %ux%u (%ux%u tiles of %u), fit %s, cull %s; "
-               "%u instances, %" PRIu64 " triangles per light",
-               sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height,
-               st->cols, st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
-               st->cull == SM_CULL_FRONT ? "front" : st->cull == SM_CULL_BACK ? "back" : "none",
-               sgl->count, sgl->triangles);
-        for (uint32_t i = 0; i < sm->n_lights; i++) {
-            const lg_shadow_light *l = &sm->lights[i];
-            lg_log(n, LG_LOG_DEBUG,
-                   "light %u '%s': tile at (%u, %u), texel %.6g m, depth range %.6g m", l->light,
-                   s->lights[l->light].name ? s->lights[l->light].name : "", l->tile_x,
-                   l->tile_y, (double)l->texel_world, (double)l->depth_range);
-        }
-    }
-    lg_scene_gl_destroy(gl, sgl);
-    return rc ? rc : lg_gl_check(n, "shadowmap: cleaning up");
+    return 0;
 }
 
 static void sm_destroy(lg_node *n)
@@ -677,11 +632,7 @@ static void sm_destroy(lg_node *n)
     sm_state *st = n->user;
     if (!st)
         return;
-    if (st->program) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl)
-            gl->DeleteProgram(st->program);
-    }
+    lg_gl_pass_destroy(&st->pass);
     free(st->lights);
     free(st);
     n->user = NULL;

@@ -69,6 +69,7 @@ int lg_scene_view_make(lg_node *n, const lg_scene *s, int64_t camera, uint32_t w
     lg_vec3 target = lg_v3(c->target[0], c->target[1], c->target[2]);
     if (lg_v3_length(lg_v3_sub(target, eye)) < 1e-12f)
         return lg_error(n, "camera %u '%s': position and target are the same point", ci, cname);
+    memset(v, 0, sizeof *v); /* the reserved fields */
     lg_m4_look_at(v->view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
 
     /* aspect: the output's; when the camera has its own and the output is narrower, keep
@@ -196,6 +197,7 @@ static int collect(lg_node *n, lg_scene_gl *sgl)
         items[k].mesh = in->mesh;
         items[k].mirrored = det3(in->model) < 0.0f;
         items[k].instance = i;
+        items[k].reserved = 0;
         k++;
     }
     free(checked);

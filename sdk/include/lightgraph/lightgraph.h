@@ -19,6 +19,9 @@
  *   lightgraph/cl.h       OpenCL (optional)
  *   lightgraph/scene_gl.h a scene rasterised on GL: camera matrices, instances, draw loop
  *                         (optional, includes gl.h)
+ *   lightgraph/gl_pass.h  a GL raster or compute pass made once and run every frame:
+ *                         program, uniforms by name, framebuffer, scene draw data, state
+ *                         set and restored (optional, includes gl.h and scene_gl.h)
  *
  * docs/sdk.md is the plugin author's guide.
  */

@@ -61,6 +61,11 @@
  *
  * Errors. Every function returns 0 or an LG_ERR_* after reporting on the node: the
  * message names the camera, mesh or instance and the value at fault.
+ *
+ * Compatibility. Like the other public structs, these end in reserved fields that must be
+ * zero, so that a later minor version can add fields without breaking plugins built
+ * against this one. lightgraph/gl_pass.h builds on these functions and keeps the draw data
+ * across frames; prefer it for a new node.
  */
 #ifndef LIGHTGRAPH_SCENE_GL_H
 #define LIGHTGRAPH_SCENE_GL_H
@@ -85,6 +90,7 @@ typedef struct lg_scene_view {
     uint32_t camera;   /* index of the camera in the scene */
     lg_vec3 eye;       /* the camera's position */
     lg_vec3 forward;   /* unit vector from the position to the target */
+    uint32_t reserved[8]; /* zero (lg_scene_view_make clears them) */
 } lg_scene_view;
 
 /* The view of camera `camera` of `s` (-1: the scene's active camera) for a width x height
@@ -104,6 +110,7 @@ typedef struct lg_scene_gl_item {
     uint32_t mesh;
     uint32_t mirrored; /* 1 when the model matrix has a negative determinant */
     uint32_t instance; /* index in lg_scene.instances */
+    uint32_t reserved; /* zero */
 } lg_scene_gl_item;
 
 typedef struct lg_scene_gl {
@@ -115,6 +122,7 @@ typedef struct lg_scene_gl {
     uint64_t triangles;      /* triangles of one draw of every item */
     size_t record_size;      /* bytes of one storage-buffer record: 64, or 128 with normals */
     GLuint vao, instances;   /* 0 until lg_scene_gl_upload; instances stays 0 if count = 0 */
+    void *reserved[4];       /* zero */
 } lg_scene_gl;
 
 /* Checks and sorts the instances of the scene resource `scene_res` (see "Instances"). On
@@ -140,6 +148,7 @@ typedef struct lg_scene_gl_draw_desc {
      * batch's first instance. */
     void (*on_batch)(void *user, uint32_t first);
     void *user;
+    void *reserved[4]; /* zero (designated initialisers leave them so) */
 } lg_scene_gl_draw_desc;
 
 /* Draws every item: one instanced draw per mesh (per mesh and handedness when culling),

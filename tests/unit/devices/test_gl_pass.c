@@ -1,0 +1,610 @@
+/* lg_gl_pass (lightgraph/gl_pass.h) on one GL backend (argv[1]: osmesa or egl): a raster pass
+ * drawing known triangles into a node's output (depth test, blending, clears), a compute pass
+ * with group counts from its local size, a scene's draw data kept across frames and made
+ * again when the scene changes, name look-ups and their errors, target checks, and the GL
+ * state after end. Exits 77 if no context can be made. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "device.h"
+#include "devtest.h"
+#include "lightgraph/gl_pass.h"
+#include "lightgraph/plugin.h"
+
+/* ---- a minimal host: errors into a buffer, GL, one output image ------------------------ */
+
+static char errors[8192];
+static int error_count;
+static const lg_gl *the_gl;
+static GLuint out_color, out_depth; /* what map_gl hands out for output 0 */
+enum { W = 8, H = 8 };
+
+static void clear_errors(void)
+{
+    errors[0] = '\0';
+    error_count = 0;
+}
+
+static void host_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
+{
+    (void)n, (void)level, (void)fmt, (void)ap;
+}
+
+static void host_error(lg_node *n, const char *fmt, va_list ap)
+{
+    size_t len = strlen(errors);
+    if (len + 2 < sizeof errors) {
+        if (len)
+            errors[len++] = '\n';
+        vsnprintf(errors + len, sizeof errors - len, fmt, ap);
+    }
+    error_count++;
+    fprintf(stderr, "[%s error] %s\n", n->name, errors + len);
+}
+
+static const void *host_gl(lg_node *n)
+{
+    (void)n;
+    return the_gl;
+}
+
+static int host_gl_check(lg_node *n, const char *what)
+{
+    GLenum e = the_gl->GetError();
+    if (e == GL_NO_ERROR)
+        return 0;
+    return lg_error_code(n, LG_ERR_DEVICE, "%s: %s", what, lg_gl_strerror(e));
+}
+
+static int dummy_resource, scene_resource;
+static lg_scene the_scene;
+
+/* The host's GPU copies of the scene's arrays: one buffer per slot, made on first use. */
+static GLuint slot_buf[16];
+static int host_payload_gl_buffer(lg_node *n, const lg_resource *res, uint32_t slot,
+                                  const void *data, size_t size, uint32_t *buffer)
+{
+    (void)res;
+    if (slot >= 16)
+        return lg_error(n, "slot %u", slot);
+    if (!data) {
+        *buffer = 0;
+        return 0;
+    }
+    if (!slot_buf[slot]) {
+        the_gl->CreateBuffers(1, &slot_buf[slot]);
+        the_gl->NamedBufferStorage(slot_buf[slot], (GLsizeiptr)size, data, 0);
+    }
+    *buffer = slot_buf[slot];
+    return 0;
+}
+
+static lg_resource *host_output(lg_node *n, uint32_t port)
+{
+    (void)n;
+    return port == 0 ? (lg_resource *)&dummy_resource : NULL;
+}
+
+static int host_describe(const lg_resource *r, lg_resource_info *info)
+{
+    memset(info, 0, sizeof *info);
+    if (r == (const lg_resource *)&scene_resource) {
+        info->kind = LG_KIND_SCENE;
+        info->payload = &the_scene;
+        return 0;
+    }
+    if (r != (const lg_resource *)&dummy_resource)
+        return LG_ERR_INVALID;
+    info->kind = LG_KIND_IMAGE;
+    info->image.width = W;
+    info->image.height = H;
+    info->image.format = LG_FORMAT_RGBA32F;
+    return 0;
+}
+
+static int host_map_gl(lg_node *n, const lg_resource *r, unsigned access, uint32_t *name,
+                       uint32_t *depth)
+{
+    (void)n, (void)access;
+    if (r != (const lg_resource *)&dummy_resource)
+        return LG_ERR_INVALID;
+    *name = out_color;
+    *depth = out_depth;
+    return 0;
+}
+
+static const lg_host_api host = {
+    .struct_size = sizeof(lg_host_api),
+    .abi_major = LG_ABI_MAJOR,
+    .abi_minor = LG_ABI_MINOR,
+    .log = host_log,
+    .error = host_error,
+    .output = host_output,
+    .describe = host_describe,
+    .map_gl = host_map_gl,
+    .gl = host_gl,
+    .gl_check = host_gl_check,
+    .payload_gl_buffer = host_payload_gl_buffer,
+};
+
+static const lg_port_desc outputs[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
+static const lg_node_type type = { .struct_size = sizeof(lg_node_type), .name = "test",
+                                   LG_OUTPUTS(outputs) };
+static lg_node node = { .host = &host, .name = "passnode", .type = &type };
+
+/* ---- shaders ----------------------------------------------------------------------------- */
+
+/* The lower-left triangle of clip space, (-1,-1) (1,-1) (-1,1), at depth u_z: window pixel
+ * (x, y) with x + y < W - 1 is inside (its centre is strictly below the diagonal). */
+static const char tri_vert[] =
+    "#version 450 core\n"
+    "uniform float u_z;\n"
+    "void main()\n"
+    "{\n"
+    "    vec2 p = vec2(gl_VertexID == 1 ? 1.0 : -1.0, gl_VertexID == 2 ? 1.0 : -1.0);\n"
+    "    gl_Position = vec4(p, u_z, 1.0);\n"
+    "}\n";
+
+static const char tri_frag[] =
+    "#version 450 core\n"
+    "uniform vec4 u_color;\n"
+    "layout(binding = 2) uniform sampler2D u_tex;\n"
+    "layout(std430, binding = 3) readonly buffer Scale { float scale; };\n"
+    "layout(location = 0) out vec4 o_color;\n"
+    "void main()\n"
+    "{\n"
+    "    o_color = u_color * scale + texelFetch(u_tex, ivec2(0), 0);\n"
+    "}\n";
+
+/* Each invocation inside the size writes its id into u_out and counts itself. */
+static const char count_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 8, local_size_y = 4) in;\n"
+    "layout(binding = 1, rgba32f) uniform writeonly image2D u_out;\n"
+    "layout(std430, binding = 2) buffer Counts { uint invocations; uint groups; };\n"
+    "uniform ivec2 u_size;\n"
+    "void main()\n"
+    "{\n"
+    "    ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+    "    if (gl_LocalInvocationIndex == 0u)\n"
+    "        atomicAdd(groups, 1u);\n"
+    "    if (p.x >= u_size.x || p.y >= u_size.y)\n"
+    "        return;\n"
+    "    atomicAdd(invocations, 1u);\n"
+    "    imageStore(u_out, p, vec4(float(p.x), float(p.y), 7.0, 1.0));\n"
+    "}\n";
+
+/* A C mirror of Counts, checked at compile time. */
+typedef struct counts {
+    uint32_t invocations, groups;
+} counts;
+LG_GL_BLOCK_SIZE(counts, 8);
+LG_GL_BLOCK_OFFSET(counts, groups, 4);
+
+/* ---- helpers ------------------------------------------------------------------------------- */
+
+static GLuint make_tex(const lg_gl *gl, GLenum format, int w, int h)
+{
+    GLuint t;
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &t);
+    gl->TextureStorage2D(t, 1, format, w, h);
+    return t;
+}
+
+static void read_rgba(const lg_gl *gl, GLuint tex, float *px, int w, int h)
+{
+    gl->GetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(w * h * 4 * sizeof(float)), px);
+}
+
+/* The bindings and capabilities end promises (besides lg_gl_state_check's list). */
+static void check_restored(const lg_gl *gl, const char *when)
+{
+    char err[1024];
+    CHECKF(lg_gl_state_check(gl, err, sizeof err) == 0, "%s: %s", when, err);
+    GLint v = -1;
+    for (GLuint i = 0; i < 8; i++) {
+        gl->GetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, i, &v);
+        CHECKF(v == 0, "%s: storage binding %u = %d", when, i, v);
+        gl->GetIntegeri_v(GL_IMAGE_BINDING_NAME, i, &v);
+        CHECKF(v == 0, "%s: image unit %u = %d", when, i, v);
+        gl->ActiveTexture(GL_TEXTURE0 + i);
+        gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &v);
+        CHECKF(v == 0, "%s: texture unit %u = %d", when, i, v);
+    }
+    gl->ActiveTexture(GL_TEXTURE0);
+    CHECKF(!gl->IsEnabled(GL_DEPTH_TEST) && !gl->IsEnabled(GL_BLEND) &&
+               !gl->IsEnabled(GL_CULL_FACE) && !gl->IsEnabled(GL_DEPTH_CLAMP),
+           "%s: a capability is left enabled", when);
+    GLboolean mask = GL_FALSE;
+    gl->GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+    CHECKF(mask == GL_TRUE, "%s: depth mask left false", when);
+    GLenum e = gl->GetError();
+    CHECKF(e == GL_NO_ERROR, "%s: %s pending", when, lg_gl_strerror(e));
+}
+
+/* ---- tests ----------------------------------------------------------------------------------- */
+
+static void test_raster(const lg_gl *gl)
+{
+    clear_errors();
+    out_color = make_tex(gl, GL_RGBA32F, W, H);
+    out_depth = make_tex(gl, GL_DEPTH_COMPONENT32F, W, H);
+    GLuint white = make_tex(gl, GL_RGBA32F, 1, 1), black = make_tex(gl, GL_RGBA32F, 1, 1);
+    const float zero[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+    gl->ClearTexImage(black, 0, GL_RGBA, GL_FLOAT, zero);
+    const float w4[4] = { 0.25f, 0.25f, 0.25f, 0.0f };
+    gl->ClearTexImage(white, 0, GL_RGBA, GL_FLOAT, w4);
+    GLuint scale_buf;
+    const float two = 2.0f;
+    gl->CreateBuffers(1, &scale_buf);
+    gl->NamedBufferStorage(scale_buf, sizeof two, &two, 0);
+
+    const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "tri.vert", tri_vert },
+                                      { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
+    lg_gl_pass_desc d = { .name = "triangle", .stages = src, .n_stages = 2, .output = "out",
+                          .colors = { GL_RGBA32F }, .depth = true, .depth_test = true,
+                          .depth_write = true };
+    lg_gl_pass *p = NULL;
+    int rc = lg_gl_pass_create(&node, &d, &p);
+    CHECKF(rc == 0 && p, "create: %s", errors);
+    if (!p)
+        return;
+    lg_gl_uniform u_z = lg_gl_pass_uniform(p, "u_z");
+    lg_gl_uniform u_color = lg_gl_pass_uniform(p, "u_color");
+    lg_gl_binding tex = lg_gl_pass_texture(p, "u_tex");
+    lg_gl_binding scale = lg_gl_pass_storage(p, "Scale");
+    CHECKF(error_count == 0, "look-ups: %s", errors);
+    CHECKF(tex.index == 2 && scale.index == 3, "bindings %d %d", tex.index, scale.index);
+
+    /* two frames: the second reuses the program and framebuffer */
+    for (int frame = 0; frame < 2; frame++) {
+        rc = lg_gl_pass_begin(p, NULL);
+        CHECKF(rc == 0, "begin (frame %d): %s", frame, errors);
+        if (rc)
+            return;
+        const lg_gl_target *t = lg_gl_pass_current_target(p);
+        CHECKF(t && t->color[0] == out_color && t->depth == out_depth && t->width == W,
+               "current target");
+        GLint vp[4];
+        gl->GetIntegerv(GL_VIEWPORT, vp);
+        CHECKF(vp[0] == 0 && vp[1] == 0 && vp[2] == W && vp[3] == H, "viewport %d %d %d %d",
+               vp[0], vp[1], vp[2], vp[3]);
+        const float bg[4] = { 0.0f, 0.0f, 1.0f, 1.0f };
+        lg_gl_pass_clear_color(p, 0, bg);
+        lg_gl_pass_clear_depth(p, 1.0f);
+        lg_gl_pass_bind_buffer(p, scale, scale_buf);
+        lg_gl_pass_bind_texture(p, tex, black);
+        /* in front (z 0): red * 2; then behind (z 0.5): green, hidden by the depth test */
+        const float red[4] = { 0.5f, 0.0f, 0.0f, 1.0f }, green[4] = { 0.0f, 0.5f, 0.0f, 0.5f };
+        lg_gl_set_float(p, u_z, 0.0f);
+        lg_gl_set_vec4v(p, u_color, red);
+        rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
+        lg_gl_set_float(p, u_z, 0.5f);
+        lg_gl_set_vec4v(p, u_color, green);
+        if (!rc)
+            rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
+        rc = lg_gl_pass_end(p, rc);
+        CHECKF(rc == 0, "draw/end (frame %d): %s", frame, errors);
+        check_restored(gl, "after a raster pass");
+    }
+    float px[W * H * 4];
+    read_rgba(gl, out_color, px, W, H);
+    /* texel row 0 is window row 0 (y = 0 at the bottom in GL's window space) */
+    const float *in = &px[(1 * W + 1) * 4], *out = &px[(6 * W + 6) * 4];
+    CHECKF(in[0] == 1.0f && in[1] == 0.0f && in[2] == 0.0f && in[3] == 2.0f,
+           "inside: %g %g %g %g (want 1 0 0 2)", in[0], in[1], in[2], in[3]);
+    CHECKF(out[0] == 0.0f && out[1] == 0.0f && out[2] == 1.0f && out[3] == 1.0f,
+           "outside: %g %g %g %g (want the clear colour 0 0 1 1)", out[0], out[1], out[2],
+           out[3]);
+
+    /* blending: ADD on top of the last image, no depth test, an explicit target */
+    lg_gl_pass *b = NULL;
+    lg_gl_pass_desc db = { .name = "add", .stages = src, .n_stages = 2,
+                           .colors = { GL_RGBA32F }, .blend = LG_GL_BLEND_ADD };
+    CHECKF(lg_gl_pass_create(&node, &db, &b) == 0, "create add: %s", errors);
+    if (b) {
+        lg_gl_uniform bz = lg_gl_pass_uniform(b, "u_z"), bc = lg_gl_pass_uniform(b, "u_color");
+        lg_gl_binding bt = lg_gl_pass_texture(b, "u_tex"), bs = lg_gl_pass_storage(b, "Scale");
+        lg_gl_target tgt = { .color = { out_color }, .width = W, .height = H };
+        CHECKF(lg_gl_pass_begin(b, &tgt) == 0, "begin add: %s", errors);
+        lg_gl_pass_bind_buffer(b, bs, scale_buf);
+        lg_gl_pass_bind_texture(b, bt, white);
+        const float c[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+        lg_gl_set_float(b, bz, 0.9f);
+        lg_gl_set_vec4v(b, bc, c);
+        CHECKF(lg_gl_pass_end(b, lg_gl_pass_draw(b, GL_TRIANGLES, 3)) == 0, "draw add: %s",
+               errors);
+        check_restored(gl, "after a blending pass");
+        read_rgba(gl, out_color, px, W, H);
+        CHECKF(in[0] == 1.25f && in[1] == 0.25f && in[2] == 0.25f && in[3] == 2.0f,
+               "added: %g %g %g %g (want 1.25 0.25 0.25 2)", in[0], in[1], in[2], in[3]);
+        CHECKF(out[2] == 1.0f && out[0] == 0.0f, "outside changed by the add pass");
+    }
+    lg_gl_pass_destroy(&b);
+
+    /* a target of the wrong format is named */
+    GLuint half = make_tex(gl, GL_RGBA16F, W, H);
+    lg_gl_target wrong = { .color = { half }, .depth = out_depth, .width = W, .height = H };
+    clear_errors();
+    CHECKF(lg_gl_pass_begin(p, &wrong) == LG_ERR_DEVICE, "a GL_RGBA16F target was accepted");
+    CHECKF(strstr(errors, "'triangle'") && strstr(errors, "GL_RGBA16F") &&
+               strstr(errors, "GL_RGBA32F"),
+           "format message: %s", errors);
+    /* and a missing depth texture */
+    clear_errors();
+    lg_gl_target nodepth = { .color = { out_color }, .width = W, .height = H };
+    CHECKF(lg_gl_pass_begin(p, &nodepth) == LG_ERR_DEVICE && strstr(errors, "no depth"),
+           "missing depth: %s", errors);
+    check_restored(gl, "after failed begins");
+
+    lg_gl_pass_destroy(&p);
+    GLuint texs[5] = { out_color, out_depth, white, black, half };
+    gl->DeleteTextures(5, texs);
+    gl->DeleteBuffers(1, &scale_buf);
+}
+
+static void test_names(const lg_gl *gl)
+{
+    clear_errors();
+    const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "tri.vert", tri_vert },
+                                      { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
+    lg_gl_pass_desc d = { .name = "names", .stages = src, .n_stages = 2,
+                          .colors = { GL_RGBA32F } };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    lg_gl_uniform u = lg_gl_pass_uniform_optional(p, "u_exposure");
+    CHECKF(u.location == -1 && error_count == 0, "optional look-up reported: %s", errors);
+    lg_gl_binding ob = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "Nope");
+    CHECKF(ob.index == -1 && error_count == 0, "optional binding reported: %s", errors);
+    u = lg_gl_pass_uniform(p, "u_exposure");
+    CHECKF(u.location == -1, "absent uniform has location %d", u.location);
+    CHECKF(error_count == 1 && strstr(errors, "gl pass 'names'") &&
+               strstr(errors, "'u_exposure'"),
+           "message: %s", errors);
+    lg_gl_set_float(p, u, 1.0f); /* absent: nothing happens */
+    CHECKF(gl->GetError() == GL_NO_ERROR, "setting an absent uniform raised a GL error");
+    clear_errors();
+    lg_gl_binding b = lg_gl_pass_storage(p, "Lights");
+    CHECKF(b.index == -1 && strstr(errors, "storage block 'Lights'"), "message: %s", errors);
+    /* the pass is failed now: begin refuses without touching GL */
+    clear_errors();
+    GLuint color = make_tex(gl, GL_RGBA32F, W, H);
+    lg_gl_target t = { .color = { color }, .width = W, .height = H };
+    CHECKF(lg_gl_pass_begin(p, &t) == LG_ERR_INVALID, "a failed pass began");
+    CHECKF(strstr(errors, "'names'") != NULL, "message: %s", errors);
+    check_restored(gl, "after a refused begin");
+    lg_gl_pass_destroy(&p);
+    gl->DeleteTextures(1, &color);
+
+    /* block layouts: Scale is one float; a wrong size is named */
+    clear_errors();
+    lg_gl_pass *q = NULL;
+    lg_gl_pass_desc dq = { .name = "blocks", .stages = src, .n_stages = 2,
+                           .colors = { GL_RGBA32F } };
+    CHECKF(lg_gl_pass_create(&node, &dq, &q) == 0, "create: %s", errors);
+    if (q) {
+        CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 4) == 0, "%s",
+               errors);
+        CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 8) == LG_ERR_INVALID &&
+                   strstr(errors, "'blocks'") && strstr(errors, "'Scale'") &&
+                   strstr(errors, "takes 4 bytes") && strstr(errors, "mirrors it 8"),
+               "message: %s", errors);
+        lg_gl_pass_destroy(&q);
+    }
+
+    /* descriptor errors */
+    clear_errors();
+    lg_gl_pass_desc none = { .name = "empty", .stages = src, .n_stages = 2 };
+    CHECKF(lg_gl_pass_create(&node, &none, &p) == LG_ERR_INVALID && !p &&
+               strstr(errors, "'empty'"),
+           "a raster pass without attachments: %s", errors);
+    clear_errors();
+    lg_gl_shader_src bad = { GL_FRAGMENT_SHADER, "bad.frag", "#version 450\nnot glsl;\n" };
+    lg_gl_shader_src two[2] = { src[0], bad };
+    lg_gl_pass_desc bd = { .name = "bad", .stages = two, .n_stages = 2,
+                           .colors = { GL_RGBA32F } };
+    CHECKF(lg_gl_pass_create(&node, &bd, &p) == LG_ERR_DEVICE && !p &&
+               strstr(errors, "bad.frag"),
+           "a compile error: %s", errors);
+    check_restored(gl, "after failed creates");
+}
+
+/* A block ending in an unsized array of a std430 struct with a vec3 (stride 32, not 28). */
+static const char stride_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 1) in;\n"
+    "struct L { vec3 a; float b; vec3 c; };\n"
+    "layout(std430, binding = 0) buffer Ls { uint n; L l[]; };\n"
+    "void main() { l[0].b = float(n); l[0].c = l[0].a; }\n";
+
+static void test_stride(void)
+{
+    clear_errors();
+    const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "stride.comp", stride_comp };
+    lg_gl_pass_desc d = { .name = "stride", .stages = &src, .n_stages = 1 };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 32) == 0, "%s", errors);
+    clear_errors();
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 28) == LG_ERR_INVALID &&
+               strstr(errors, "stride 32 bytes"),
+           "message: %s", errors);
+    lg_gl_pass_destroy(&p);
+}
+
+static void test_compute(const lg_gl *gl)
+{
+    clear_errors();
+    enum { CW = 13, CH = 7 };
+    GLuint img = make_tex(gl, GL_RGBA32F, CW, CH);
+    const float zero4[4] = { 0, 0, 0, 0 };
+    gl->ClearTexImage(img, 0, GL_RGBA, GL_FLOAT, zero4);
+    GLuint buf;
+    counts c0 = { 0, 0 };
+    gl->CreateBuffers(1, &buf);
+    gl->NamedBufferData(buf, sizeof c0, &c0, GL_DYNAMIC_READ);
+
+    const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "count.comp", count_comp };
+    lg_gl_pass_desc d = { .name = "count", .stages = &src, .n_stages = 1 };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    uint32_t l[3];
+    lg_gl_pass_local_size(p, l);
+    CHECKF(l[0] == 8 && l[1] == 4 && l[2] == 1, "local size %u %u %u", l[0], l[1], l[2]);
+    lg_gl_uniform size = lg_gl_pass_uniform(p, "u_size");
+    lg_gl_binding out = lg_gl_pass_image(p, "u_out");
+    lg_gl_binding cnt = lg_gl_pass_storage(p, "Counts");
+    CHECKF(error_count == 0 && out.index == 1 && cnt.index == 2, "look-ups: %s", errors);
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Counts", sizeof(counts)) == 0,
+           "Counts: %s", errors);
+
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    GLint prog = 0;
+    gl->GetIntegerv(GL_CURRENT_PROGRAM, &prog);
+    CHECKF((GLuint)prog == lg_gl_pass_program(p), "begin did not make the program current");
+    lg_gl_pass_bind_image(p, out, img, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_pass_bind_buffer(p, cnt, buf);
+    lg_gl_set_ivec2(p, size, CW, CH);
+    int rc = lg_gl_pass_dispatch(p, CW, CH, 1);
+    CHECKF(lg_gl_pass_end(p, rc) == 0, "dispatch/end: %s", errors);
+    check_restored(gl, "after a compute pass");
+
+    counts c;
+    gl->GetNamedBufferSubData(buf, 0, sizeof c, &c);
+    CHECKF(c.invocations == CW * CH, "%u invocations inside (want %d)", c.invocations, CW * CH);
+    CHECKF(c.groups == 2 * 2, "%u groups (want ceil(13/8) x ceil(7/4) = 4)", c.groups);
+    float px[CW * CH * 4];
+    read_rgba(gl, img, px, CW, CH);
+    int bad = 0;
+    for (int y = 0; y < CH; y++)
+        for (int x = 0; x < CW; x++) {
+            const float *q = &px[(y * CW + x) * 4];
+            bad += q[0] != (float)x || q[1] != (float)y || q[2] != 7.0f;
+        }
+    CHECKF(bad == 0, "%d pixels wrong", bad);
+
+    /* a dispatch outside begin/end, and a zero group count, are errors */
+    clear_errors();
+    CHECKF(lg_gl_pass_dispatch_groups(p, 1, 1, 1) == LG_ERR_INVALID, "dispatch outside begin");
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_end(p, lg_gl_pass_dispatch_groups(p, 0, 1, 1)) == LG_ERR_UNSUPPORTED,
+           "0 groups accepted");
+    check_restored(gl, "after a refused dispatch");
+
+    lg_gl_pass_destroy(&p);
+    CHECKF(p == NULL, "destroy did not clear the handle");
+    lg_gl_pass_destroy(&p); /* NULL handle: no-op */
+    lg_gl_pass_destroy(NULL);
+    gl->DeleteTextures(1, &img);
+    gl->DeleteBuffers(1, &buf);
+}
+
+/* The scene's instances through lightgraph/scene_gl.h's records (mat4 model, binding 0). */
+static const char scene_vert[] =
+    "#version 450 core\n"
+    "layout(location = 0) in vec3 a_position;\n"
+    "layout(std430, binding = 0) readonly buffer Instances { mat4 model[]; };\n"
+    "uniform int u_first;\n"
+    "void main()\n"
+    "{\n"
+    "    gl_Position = model[u_first + gl_InstanceID] * vec4(a_position, 1.0);\n"
+    "}\n";
+
+static const char scene_frag[] =
+    "#version 450 core\n"
+    "layout(location = 0) out vec4 o_color;\n"
+    "void main() { o_color = vec4(1.0, 0.5, 0.25, 1.0); }\n";
+
+/* One triangle, drawn; moved (its instance's matrix changes: the draw data is made again);
+ * drawn again unchanged (kept: the scene's checks do not run again). */
+static void test_scene(const lg_gl *gl)
+{
+    clear_errors();
+    static const float pos[9] = { -1, -1, 0, 1, -1, 0, -1, 1, 0 };
+    static const float nrm[9] = { 0, 0, 1, 0, 0, 1, 0, 0, 1 };
+    static uint32_t idx[3] = { 0, 1, 2 };
+    static lg_mesh mesh;
+    static lg_instance inst;
+    static lg_material mat;
+    mesh = (lg_mesh){ .name = "tri", .n_vertices = 3, .n_indices = 3, .positions = pos,
+                      .normals = nrm, .indices = idx };
+    memset(&inst, 0, sizeof inst);
+    for (int i = 0; i < 4; i++)
+        inst.model[i * 5] = 1.0f;
+    mat.double_sided = true;
+    the_scene = (lg_scene){ .struct_size = sizeof(lg_scene), .meshes = &mesh, .n_meshes = 1,
+                            .instances = &inst, .n_instances = 1, .materials = &mat,
+                            .n_materials = 1 };
+    GLuint color = make_tex(gl, GL_RGBA32F, W, H);
+    lg_gl_target t = { .color = { color }, .width = W, .height = H };
+    const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "scene.vert", scene_vert },
+                                      { GL_FRAGMENT_SHADER, "scene.frag", scene_frag } };
+    lg_gl_pass_desc d = { .name = "scene", .stages = src, .n_stages = 2,
+                          .colors = { GL_RGBA32F }, .scene = LG_GL_SCENE_POSITIONS };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    const lg_resource *res = (const lg_resource *)&scene_resource;
+    float px[W * H * 4];
+    for (int frame = 0; frame < 3; frame++) {
+        if (frame == 1) /* moved by (1, 1) in clip space: into the upper-right quadrant */
+            inst.model[12] = inst.model[13] = 1.0f;
+        if (frame == 2) /* unchanged records, so the draw data is kept and not checked */
+            idx[2] = 99;
+        const float bg[4] = { 0, 0, 0, 0 };
+        CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", errors);
+        lg_gl_pass_clear_color(p, 0, bg);
+        int rc = lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, res, NULL));
+        CHECKF(rc == 0, "frame %d: %s", frame, errors);
+        check_restored(gl, "after a scene pass");
+        read_rgba(gl, color, px, W, H);
+        bool at_origin = px[(1 * W + 1) * 4] == 1.0f, moved = px[(4 * W + 4) * 4] == 1.0f;
+        CHECKF(frame == 0 ? at_origin && !moved : !at_origin && moved,
+               "frame %d: triangle at the origin %d, moved %d", frame, at_origin, moved);
+        const lg_scene_gl *sgl = lg_gl_pass_scene(p);
+        CHECKF(sgl && sgl->count == 1 && sgl->triangles == 1, "draw data");
+    }
+    idx[2] = 2;
+    /* a scene the checks refuse: an index out of range, in a new record */
+    clear_errors();
+    mesh.n_vertices = 2;
+    CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, res, NULL)) == LG_ERR_INVALID &&
+               strstr(errors, "out of range"),
+           "a bad index was drawn: %s", errors);
+    check_restored(gl, "after a refused scene");
+    lg_gl_pass_destroy(&p);
+    gl->DeleteTextures(1, &color);
+    for (int i = 0; i < 16; i++)
+        if (slot_buf[i])
+            gl->DeleteBuffers(1, &slot_buf[i]);
+}
+
+int main(int argc, char **argv)
+{
+    const char *backend = argc > 1 ? argv[1] : "osmesa";
+    char err[512] = "";
+    lg_gl_device *dev = NULL;
+    if (lg_gl_device_create(&dev, backend, err, sizeof err)) {
+        printf("SKIP: no GL device '%s': %s\n", backend, err);
+        return check_skip("gl_pass");
+    }
+    the_gl = lg_gl_device_table(dev);
+    lg_gl_state_reset(the_gl);
+    test_raster(the_gl);
+    test_names(the_gl);
+    test_compute(the_gl);
+    test_stride();
+    test_scene(the_gl);
+    lg_gl_device_destroy(&dev);
+    return check_report("gl_pass");
+}
