@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <stddef.h>
 
-#include "lightgraph/gl.h"
+#include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
 
 #include "invert.comp.h" /* lg_src_invert_comp, lg_src_invert_comp_file (meson.build) */
@@ -14,7 +14,11 @@ enum { TPL_BACKEND_CPU = 0, TPL_BACKEND_GL = 1 };
 
 typedef struct tpl_state {
     int backend;
-    GLuint program; /* backend gl: compiled on first execute, deleted in destroy */
+    /* backend gl: a compute pass (lightgraph/gl_pass.h), made on the first execute and
+     * destroyed in destroy; its names are looked up once */
+    lg_gl_pass *pass;
+    lg_gl_binding b_in, b_out;
+    lg_gl_uniform u_size, u_white;
 } tpl_state;
 
 static const char *const backends[] = {"cpu", "gl", NULL};
@@ -61,33 +65,31 @@ static int invert_prepare(lg_node *n)
 static int invert_execute_gl(lg_node *n, const lg_resource_info *info)
 {
     tpl_state *st = n->user;
-    const lg_gl *gl = lg_gl_get(n);
-    if (!gl)
-        return LG_ERR_DEVICE;
-    if (!st->program) {
-        lg_gl_shader_src cs = {GL_COMPUTE_SHADER, lg_src_invert_comp_file, lg_src_invert_comp};
-        if (!(st->program = lg_gl_program(n, gl, &cs, 1, NULL)))
-            return LG_ERR_DEVICE;
-    }
-    GLuint tin, tout, depth;
     int rc;
-    if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, &depth)) ||
-        (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &depth)))
+    if (!st->pass) {
+        static const lg_gl_shader_src cs = {GL_COMPUTE_SHADER, lg_src_invert_comp_file,
+                                            lg_src_invert_comp};
+        lg_gl_pass_desc d = {.name = "template_invert", .stages = &cs, .n_stages = 1};
+        if ((rc = lg_gl_pass_create(n, &d, &st->pass)))
+            return rc;
+        st->b_in = lg_gl_pass_image(st->pass, "u_in");
+        st->b_out = lg_gl_pass_image(st->pass, "u_out");
+        st->u_size = lg_gl_pass_uniform(st->pass, "u_size");
+        st->u_white = lg_gl_pass_uniform(st->pass, "u_white");
+    }
+    GLuint tin, tout;
+    if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, NULL)) ||
+        (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, NULL)) ||
+        (rc = lg_gl_pass_begin(st->pass, NULL))) /* a failed name look-up fails here */
         return rc;
-    gl->UseProgram(st->program);
-    gl->BindImageTexture(0, tin, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    gl->BindImageTexture(1, tout, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    gl->Uniform2i(0, (GLint)info->image.width, (GLint)info->image.height);
-    gl->Uniform1f(1, (float)lg_param_float(n, "white"));
-    gl->DispatchCompute((info->image.width + 15) / 16, (info->image.height + 15) / 16, 1);
-    /* whoever reads the output next (a texture fetch, an image load, a download) sees it */
-    gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                      GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
-    /* the state the host expects back (docs/sdk.md): program 0, image units unbound */
-    gl->UseProgram(0);
-    gl->BindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    gl->BindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    return lg_gl_check(n, "template_invert: compute pass");
+    lg_gl_pass_bind_image(st->pass, st->b_in, tin, GL_READ_ONLY, GL_RGBA32F);
+    lg_gl_pass_bind_image(st->pass, st->b_out, tout, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_set_ivec2(st->pass, st->u_size, (int32_t)info->image.width,
+                    (int32_t)info->image.height);
+    lg_gl_set_float(st->pass, st->u_white, (float)lg_param_float(n, "white"));
+    rc = lg_gl_pass_dispatch(st->pass, info->image.width, info->image.height, 1);
+    /* end: the barrier for whoever reads the output next, and the host's GL state back */
+    return lg_gl_pass_end(st->pass, rc);
 }
 
 static int invert_execute(lg_node *n, const lg_frame *frame)
@@ -122,11 +124,7 @@ static void invert_destroy(lg_node *n)
     tpl_state *st = n->user;
     if (!st)
         return;
-    if (st->program) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl)
-            gl->DeleteProgram(st->program);
-    }
+    lg_gl_pass_destroy(&st->pass);
     free(st);
     n->user = NULL;
 }
