@@ -51,7 +51,8 @@ typedef struct rh_state {
     bool have_la; /* adaptation state */
     double la;
     bool warned_bad, warned_empty;
-    float *scratch; /* cpu backend, rgba16f input: the pixels as floats */
+    lg_rh_stats *slots; /* cpu backend: the reduction's per-chunk partial sums */
+    size_t n_slots;
 
     /* gl */
     GLuint gl_reduce, gl_final, gl_map;
@@ -162,6 +163,12 @@ static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_
 
 /* ---- cpu ------------------------------------------------------------------------------------------ */
 
+static int rh_pfor(void *node, size_t count, size_t grain,
+                   void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk), void *ctx)
+{
+    return lg_parallel_for(node, count, grain, fn, ctx);
+}
+
 static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
 {
     lg_cpu_view vi, vo;
@@ -169,38 +176,22 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
     if ((rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &vi)) ||
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo)))
         return rc;
-    uint32_t w = st->width, h = st->height;
-    size_t ps = lg_format_size(st->in_format);
-
-    /* rgba16f: widen once, so that both passes read floats */
-    const float *src = vi.pixels;
-    size_t src_row = vi.row_pixels;
-    if (st->in_format == LG_FORMAT_RGBA16F) {
-        if (!st->scratch) {
-            st->scratch = malloc((size_t)w * h * 16);
-            if (!st->scratch)
-                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%ux%u rgba32f scratch)", w, h);
-        }
-        for (uint32_t y = 0; y < h; y++) {
-            const uint16_t *row = (const uint16_t *)((const unsigned char *)vi.pixels +
-                                                     (size_t)y * vi.row_pixels * ps);
-            float *dst = st->scratch + (size_t)y * w * 4;
-            for (size_t i = 0; i < (size_t)w * 4; i++)
-                dst[i] = lg_float_from_half(row[i]);
-        }
-        src = st->scratch;
-        src_row = w;
+    lg_rh_image in = { .pixels = vi.pixels, .row_pixels = vi.row_pixels, .width = st->width,
+                       .height = st->height, .half = st->in_format == LG_FORMAT_RGBA16F };
+    size_t chunks = lg_rh_cpu_chunks(st->width, st->height);
+    if (chunks > st->n_slots) {
+        lg_rh_stats *s = realloc(st->slots, chunks * sizeof *s);
+        if (!s)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu reduction slots)", chunks);
+        st->slots = s;
+        st->n_slots = chunks;
     }
-
+    /* pass 1, then the scale (in double, with adaptation), then pass 2 */
     lg_rh_stats s;
-    memset(&s, 0, sizeof s);
-    for (uint32_t y = 0; y < h; y++)
-        lg_rh_reduce(src + (size_t)y * src_row * 4, w, &st->p, &s);
-    double scale = rh_scale(n, st, &s, frame);
-    for (uint32_t y = 0; y < h; y++)
-        lg_rh_map(src + (size_t)y * src_row * 4, (float *)vo.pixels + (size_t)y * vo.row_pixels * 4,
-                  w, scale, &st->p);
-    return 0;
+    if ((rc = lg_rh_cpu_reduce(&in, &st->p, st->slots, rh_pfor, n, &s)))
+        return rc;
+    float scale = (float)rh_scale(n, st, &s, frame);
+    return lg_rh_cpu_map(&in, vo.pixels, vo.row_pixels, scale, &st->p, rh_pfor, n);
 }
 
 /* ---- gl --------------------------------------------------------------------------------------------- */
@@ -450,7 +441,7 @@ static void rh_destroy(lg_node *n)
         clReleaseMemObject(st->cl_partials);
     if (st->cl_result)
         clReleaseMemObject(st->cl_result);
-    free(st->scratch);
+    free(st->slots);
     free(st);
     n->user = NULL;
 }
