@@ -4,11 +4,13 @@
  *
  * Every backend does the same three steps per execution:
  *   1. reduce: sum log(delta + L) over the valid pixels and count the bad ones;
- *   2. on the CPU, in double: Lavg, the adaptation step, the scale a / Lavg (or a / La);
+ *   2. Lavg, the adaptation step, the scale a / Lavg (or a / La);
  *   3. map: the tone curve.
- * Step 2 reads the reduction's 16-byte result back from the device; that one small
- * synchronous read keeps the adaptation state and the bad-pixel report in one place for
- * all three backends (README.md, "Known costs").
+ * cpu: float passes threaded through the host's pool (reinhard_cpu.c), step 2 in double.
+ * gl and cl: step 2 runs on the device, in the reduction's second stage, which leaves the
+ * scale where the map reads it (reinhard_launch.h): no host round trip between the
+ * passes. The 32-byte result block is read back after the map was queued, for the
+ * bad-pixel report and the debug log only.
  */
 #include <inttypes.h>
 #include <math.h>
@@ -22,22 +24,12 @@
 #include "lightgraph/lightgraph.h"
 
 #include "reinhard_cpu.h"
+#include "reinhard_launch.h"
 #include "reinhard.cl.h"
 #include "reinhard_map.comp.h"
 #include "reinhard_reduce.comp.h"
 
 enum { RH_BACKEND_CPU = 0, RH_BACKEND_GL, RH_BACKEND_CL };
-
-/* Work-group size of the reductions (GL: local_size_x in reinhard_reduce.comp) and the
- * most work-groups stage 1 uses: the partials then fit one stage-2 work-group's loop. */
-#define RH_GROUP 256u
-#define RH_MAX_GROUPS 256u
-
-/* A partial sum as the shaders and kernels write it (std430 / OpenCL struct layout). */
-typedef struct rh_partial {
-    float sum;
-    uint32_t valid, nonfinite, negative;
-} rh_partial;
 
 typedef struct rh_state {
     lg_rh_params p;
@@ -48,7 +40,7 @@ typedef struct rh_state {
     uint32_t width, height;
     lg_format in_format;
 
-    bool have_la; /* adaptation state */
+    bool have_la; /* adaptation state (gl, cl: the device holds La, this says it does) */
     double la;
     bool warned_bad, warned_empty;
     lg_rh_stats *slots; /* cpu backend: the reduction's per-chunk partial sums */
@@ -62,12 +54,6 @@ typedef struct rh_state {
     cl_kernel cl_reduce, cl_final, cl_map;
     cl_mem cl_partials, cl_result;
 } rh_state;
-
-static uint32_t rh_groups(size_t n)
-{
-    size_t g = (n + RH_GROUP - 1) / RH_GROUP;
-    return g == 0 ? 1u : g > RH_MAX_GROUPS ? RH_MAX_GROUPS : (uint32_t)g;
-}
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
 
@@ -161,6 +147,57 @@ static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_
     return st->key / l;
 }
 
+/* ---- gl and cl: the scale is computed on the device ---------------------------------------------- */
+
+/* What stage 2 needs to compute the scale on the device (reinhard_launch.h). */
+typedef struct rh_adapt_args {
+    float key;
+    int32_t adapt;
+    float k;      /* 1 - rate^(60 dt), in double here */
+    float from;   /* adapt_from */
+    int32_t reset;/* first frame since prepare: forget the adapted luminance */
+} rh_adapt_args;
+
+static rh_adapt_args rh_adapt_args_for(const rh_state *st, const lg_frame *frame)
+{
+    double dt = st->dt > 0.0 ? st->dt : frame->dt;
+    rh_adapt_args a = {
+        .key = (float)st->key,
+        .adapt = st->adapt ? 1 : 0,
+        .k = (float)(1.0 - pow(st->rate, 60.0 * dt)),
+        .from = (float)st->adapt_from,
+        .reset = st->have_la ? 0 : 1,
+    };
+    return a;
+}
+
+/* The bad-pixel report and the debug log, from the result block read back after the map;
+ * the same messages as the cpu backend's rh_scale. */
+static void rh_report(lg_node *n, rh_state *st, const rh_result *r, const lg_frame *frame)
+{
+    lg_rh_stats s = { .log_sum = r->sum, .valid = r->valid, .nonfinite = r->nonfinite,
+                      .negative = r->negative };
+    uint64_t bad = s.nonfinite + s.negative;
+    if (bad && !st->warned_bad) {
+        st->warned_bad = true;
+        lg_log(n, LG_LOG_WARN,
+               "frame %u: %" PRIu64 " of %" PRIu64 " pixels left out of the log-average "
+               "(%" PRIu64 " with NaN or Inf, %" PRIu64 " with negative luminance); they map "
+               "to 0, and +Inf channels to 1 (reported once)",
+               frame->index, bad, bad + s.valid, s.nonfinite, s.negative);
+    }
+    if (!s.valid && !st->warned_empty) {
+        st->warned_empty = true;
+        lg_log(n, LG_LOG_WARN, "frame %u: no valid pixel for the log-average; %s (reported once)",
+               frame->index,
+               st->adapt && st->have_la ? "keeping the adapted luminance" : "using Lavg = 1");
+    }
+    if (st->adapt)
+        st->have_la = true;
+    lg_log(n, LG_LOG_DEBUG, "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
+           frame->index, s.valid ? r->lavg : NAN, s.valid, st->key / r->scale, r->scale);
+}
+
 /* ---- cpu ------------------------------------------------------------------------------------------ */
 
 static int rh_pfor(void *node, size_t count, size_t grain,
@@ -214,8 +251,11 @@ static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
         return LG_ERR_DEVICE;
     gl->CreateBuffers(1, &st->gl_partials);
     gl->NamedBufferData(st->gl_partials, RH_MAX_GROUPS * sizeof(rh_partial), NULL, GL_DYNAMIC_COPY);
+    /* the result block starts zeroed: no adapted luminance yet */
+    rh_result zero;
+    memset(&zero, 0, sizeof zero);
     gl->CreateBuffers(1, &st->gl_result);
-    gl->NamedBufferData(st->gl_result, sizeof(rh_partial), NULL, GL_DYNAMIC_READ);
+    gl->NamedBufferData(st->gl_result, sizeof zero, &zero, GL_DYNAMIC_COPY);
     return lg_gl_check(n, "reinhard: creating the reduction buffers");
 }
 
@@ -242,50 +282,55 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
         (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &dummy)))
         return rc;
     GLenum in_fmt = st->in_format == LG_FORMAT_RGBA16F ? GL_RGBA16F : GL_RGBA32F;
-    size_t npx = (size_t)st->width * st->height;
-    uint32_t groups = rh_groups(npx);
+    uint32_t cols = rh_gl_cols(st->width), rows = rh_gl_rows(st->width, st->height);
+    rh_adapt_args ad = rh_adapt_args_for(st, frame);
 
-    /* stage 1 and 2: the log-average */
+    /* stage 1 and 2: the log-average and the scale, left in gl_result */
     gl->UseProgram(st->gl_reduce);
     gl->BindImageTexture(0, tin, 0, GL_FALSE, 0, GL_READ_ONLY, in_fmt);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, st->gl_partials);
     gl->Uniform2i(0, (GLint)st->width, (GLint)st->height);
     gl->Uniform1f(1, (float)st->p.delta);
     gl->Uniform3f(2, st->p.w[0], st->p.w[1], st->p.w[2]);
-    gl->DispatchCompute(groups, 1, 1);
+    gl->DispatchCompute(cols, rows, 1);
     gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
     gl->UseProgram(st->gl_final);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, st->gl_result);
-    gl->Uniform1ui(0, groups);
+    gl->Uniform1ui(0, cols * rows);
+    gl->Uniform1f(1, ad.key);
+    gl->Uniform1i(2, ad.adapt);
+    gl->Uniform1f(3, ad.k);
+    gl->Uniform1f(4, ad.from);
+    gl->Uniform1i(5, ad.reset);
     gl->DispatchCompute(1, 1, 1);
-    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    rh_partial r;
-    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof r, &r);
-    if ((rc = lg_gl_check(n, "reinhard: log-average reduction"))) {
-        rh_gl_unbind(gl);
-        return rc;
-    }
-    lg_rh_stats s = { .log_sum = r.sum, .valid = r.valid, .nonfinite = r.nonfinite,
-                      .negative = r.negative };
-    double scale = rh_scale(n, st, &s, frame);
-
-    /* the map */
+    /* the map reads the scale from gl_result (still bound at 1) */
     double inv_w2 = st->p.white > 0.0 ? 1.0 / (st->p.white * st->p.white) : 0.0;
     gl->UseProgram(st->gl_map);
     gl->BindImageTexture(1, tout, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     gl->Uniform2i(0, (GLint)st->width, (GLint)st->height);
-    gl->Uniform1f(1, (float)scale);
     gl->Uniform1f(2, (float)inv_w2);
     gl->Uniform1i(3, st->p.mode == LG_RH_RGB ? 1 : 0);
     gl->Uniform3f(4, st->p.w[0], st->p.w[1], st->p.w[2]);
-    gl->DispatchCompute((st->width + 15) / 16, (st->height + 15) / 16, 1);
+    gl->DispatchCompute((st->width + RH_GL_MAP_X - 1) / RH_GL_MAP_X,
+                        (st->height + RH_GL_MAP_Y - 1) / RH_GL_MAP_Y, 1);
     /* whoever reads the output next (a texture fetch, an image load, a read-back) */
     gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                      GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+                      GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT |
+                      GL_BUFFER_UPDATE_BARRIER_BIT);
     rh_gl_unbind(gl);
-    return lg_gl_check(n, "reinhard: map pass");
+    if ((rc = lg_gl_check(n, "reinhard: reduction and map")))
+        return rc;
+
+    /* for the report only, after the map was submitted */
+    rh_result r;
+    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof r, &r);
+    if ((rc = lg_gl_check(n, "reinhard: reading the result block")))
+        return rc;
+    rh_report(n, st, &r, frame);
+    return 0;
 }
 
 /* ---- cl --------------------------------------------------------------------------------------------- */
@@ -295,9 +340,9 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     cl_context ctx = lg_cl_context(n);
     if (!ctx)
         return LG_ERR_DEVICE;
-    char opts[128];
-    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u%s", RH_GROUP,
-             st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
+    char opts[160];
+    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u%s", RH_GROUP,
+             RH_CL_MAP_LOCAL, st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
     cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, lg_src_reinhard_cl, opts);
     if (!prog)
         return LG_ERR_DEVICE;
@@ -316,15 +361,20 @@ static int rh_cl_init(lg_node *n, rh_state *st)
                                    sizeof wg, &wg, NULL);
     if (err)
         return lg_cl_fail(n, err, "clGetKernelWorkGroupInfo(rh_reduce)");
-    if (wg < RH_GROUP)
+    if (wg < RH_GROUP || wg < RH_CL_MAP_LOCAL)
         return lg_error_code(n, LG_ERR_DEVICE,
                              "backend 'cl': the device runs at most %zu work-items per group "
-                             "for rh_reduce, the reduction needs %u", wg, RH_GROUP);
+                             "for rh_reduce, the kernels need %u", wg,
+                             RH_GROUP > RH_CL_MAP_LOCAL ? RH_GROUP : RH_CL_MAP_LOCAL);
     st->cl_partials = clCreateBuffer(ctx, CL_MEM_READ_WRITE, RH_MAX_GROUPS * sizeof(rh_partial),
                                      NULL, &err);
     if (err)
         return lg_cl_fail(n, err, "clCreateBuffer(partials)");
-    st->cl_result = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(rh_partial), NULL, &err);
+    /* the result block starts zeroed: no adapted luminance yet */
+    rh_result zero;
+    memset(&zero, 0, sizeof zero);
+    st->cl_result = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zero,
+                                   &zero, &err);
     if (err)
         return lg_cl_fail(n, err, "clCreateBuffer(result)");
     return 0;
@@ -354,9 +404,11 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
     cl_uint groups = rh_groups(npx);
     cl_float delta = (cl_float)st->p.delta;
     cl_float4 w = { { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f } };
+    rh_adapt_args ad = rh_adapt_args_for(st, frame);
     cl_event ev;
     cl_int err;
 
+    /* stage 1 */
     RH_ARG(st->cl_reduce, 0, min);
     RH_ARG(st->cl_reduce, 1, npx);
     RH_ARG(st->cl_reduce, 2, delta);
@@ -368,39 +420,44 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce)");
     lg_cl_profile(n, ev);
 
+    /* stage 2: the partials, Lavg, adaptation and the scale, on the device */
     RH_ARG(st->cl_final, 0, st->cl_partials);
     RH_ARG(st->cl_final, 1, groups);
     RH_ARG(st->cl_final, 2, st->cl_result);
+    RH_ARG(st->cl_final, 3, ad.key);
+    RH_ARG(st->cl_final, 4, ad.adapt);
+    RH_ARG(st->cl_final, 5, ad.k);
+    RH_ARG(st->cl_final, 6, ad.from);
+    RH_ARG(st->cl_final, 7, ad.reset);
     global = RH_GROUP;
     err = clEnqueueNDRangeKernel(q, st->cl_final, 1, NULL, &global, &local, 0, NULL, &ev);
     if (err)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce_final)");
     lg_cl_profile(n, ev);
 
-    rh_partial r;
-    err = clEnqueueReadBuffer(q, st->cl_result, CL_TRUE, 0, sizeof r, &r, 0, NULL, NULL);
-    if (err)
-        return lg_cl_fail(n, err, "clEnqueueReadBuffer(result)");
-    lg_rh_stats s = { .log_sum = r.sum, .valid = r.valid, .nonfinite = r.nonfinite,
-                      .negative = r.negative };
-    double scale = rh_scale(n, st, &s, frame);
-
-    cl_float fscale = (cl_float)scale;
+    /* the map reads the scale where stage 2 left it */
     cl_float inv_w2 = st->p.white > 0.0 ? (cl_float)(1.0 / (st->p.white * st->p.white)) : 0.0f;
     cl_int mode = st->p.mode == LG_RH_RGB ? 1 : 0;
     RH_ARG(st->cl_map, 0, min);
     RH_ARG(st->cl_map, 1, mout);
     RH_ARG(st->cl_map, 2, npx);
-    RH_ARG(st->cl_map, 3, fscale);
+    RH_ARG(st->cl_map, 3, st->cl_result);
     RH_ARG(st->cl_map, 4, inv_w2);
     RH_ARG(st->cl_map, 5, mode);
     RH_ARG(st->cl_map, 6, w);
-    local = 64;
+    local = RH_CL_MAP_LOCAL;
     global = ((size_t)npx + local - 1) / local * local;
     err = clEnqueueNDRangeKernel(q, st->cl_map, 1, NULL, &global, &local, 0, NULL, &ev);
     if (err)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_map)");
     lg_cl_profile(n, ev);
+
+    /* for the report only, after the map was queued: the device never waits for the host */
+    rh_result r;
+    err = clEnqueueReadBuffer(q, st->cl_result, CL_TRUE, 0, sizeof r, &r, 0, NULL, NULL);
+    if (err)
+        return lg_cl_fail(n, err, "clEnqueueReadBuffer(result)");
+    rh_report(n, st, &r, frame);
     return 0;
 }
 
