@@ -136,10 +136,13 @@ static int triad(size_t mib, int repeat, double *gbs, double *ms_best)
 
 static int rows_printed;
 
-static void row(const char *backend, const char *kernel, double bytes, double ms)
+/* Times are the median and the best of the runs (ms; `v` is sorted here). */
+static void row(const char *backend, const char *kernel, double bytes, double *v, int n)
 {
-    printf("%s\n    {\"backend\": \"%s\", \"kernel\": \"%s\", \"bytes\": %.0f, \"ms\": %.4f}",
-           rows_printed++ ? "," : "", backend, kernel, bytes, ms);
+    double best = minimum(v, n), med = median(v, n);
+    printf("%s\n    {\"backend\": \"%s\", \"kernel\": \"%s\", \"bytes\": %.0f, \"ms\": %.4f, "
+           "\"best_ms\": %.4f}",
+           rows_printed++ ? "," : "", backend, kernel, bytes, med, best);
 }
 
 static void skipped(const char *backend, const char *why)
@@ -184,9 +187,9 @@ static int bench_cpu(const lg_image *img, int repeat)
         t_map[r] = (t2 - t1) * 1e3;
         t_all[r] = (t2 - t0) * 1e3;
     }
-    row("cpu", "reduce", 16.0 * npx, median(t_red, repeat));
-    row("cpu", "map", 32.0 * npx, median(t_map, repeat));
-    row("cpu", "passes", 48.0 * npx, median(t_all, repeat));
+    row("cpu", "reduce", 16.0 * npx, t_red, repeat);
+    row("cpu", "map", 32.0 * npx, t_map, repeat);
+    row("cpu", "passes", 48.0 * npx, t_all, repeat);
     free(t_red);
     free(t_map);
     free(t_all);
@@ -231,8 +234,8 @@ static void bench_cl(const lg_image *img, int repeat)
     cl_context ctx = lg_cl_device_context(dev);
     cl_command_queue q = lg_cl_device_queue(dev);
     char opts[160], *log = NULL;
-    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u", RH_GROUP,
-             RH_CL_MAP_LOCAL);
+    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u",
+             RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI);
     cl_program prog = lg_cl_device_program(dev, lg_src_reinhard_cl_file, lg_src_reinhard_cl,
                                            opts, &log);
     if (!prog) {
@@ -254,14 +257,15 @@ static void bench_cl(const lg_image *img, int repeat)
     CLCHECK(err, "clCreateBuffer(in)");
     mout = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, (size_t)npx * 16, NULL, &err);
     CLCHECK(err, "clCreateBuffer(out)");
-    mpart = clCreateBuffer(ctx, CL_MEM_READ_WRITE, RH_MAX_GROUPS * sizeof(rh_partial), NULL, &err);
+    mpart = clCreateBuffer(ctx, CL_MEM_READ_WRITE, rh_cl_partials(npx) * sizeof(rh_partial), NULL,
+                           &err);
     CLCHECK(err, "clCreateBuffer(partials)");
     rh_result zero;
     memset(&zero, 0, sizeof zero);
     mres = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zero, &zero, &err);
     CLCHECK(err, "clCreateBuffer(result)");
 
-    cl_uint groups = rh_groups(npx);
+    cl_uint groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
     cl_float delta = (cl_float)params.delta, key = 0.18f, k = 0.0f, from = 0.0f, inv_w2 = 0.0f;
     cl_int adapt = 0, reset = 0, mode = 0;
     cl_float4 w = { { params.w[0], params.w[1], params.w[2], 0.0f } };
@@ -271,7 +275,7 @@ static void bench_cl(const lg_image *img, int repeat)
     CLCHECK(clSetKernelArg(kr, 3, sizeof w, &w), "clSetKernelArg");
     CLCHECK(clSetKernelArg(kr, 4, sizeof mpart, &mpart), "clSetKernelArg");
     CLCHECK(clSetKernelArg(kf, 0, sizeof mpart, &mpart), "clSetKernelArg");
-    CLCHECK(clSetKernelArg(kf, 1, sizeof groups, &groups), "clSetKernelArg");
+    CLCHECK(clSetKernelArg(kf, 1, sizeof partials, &partials), "clSetKernelArg");
     CLCHECK(clSetKernelArg(kf, 2, sizeof mres, &mres), "clSetKernelArg");
     CLCHECK(clSetKernelArg(kf, 3, sizeof key, &key), "clSetKernelArg");
     CLCHECK(clSetKernelArg(kf, 4, sizeof adapt, &adapt), "clSetKernelArg");
@@ -293,16 +297,18 @@ static void bench_cl(const lg_image *img, int repeat)
         CLCHECK(clEnqueueNDRangeKernel(q, kf, 1, NULL, &g_fin, &l_red, 0, NULL, &e[1]), "rh_reduce_final");
         CLCHECK(clEnqueueNDRangeKernel(q, km, 1, NULL, &g_map, &l_map, 0, NULL, &e[2]), "rh_map");
         CLCHECK(clFinish(q), "clFinish");
-        double a = ev_ms(e[0]) + ev_ms(e[1]), b = ev_ms(e[2]);
+        double a0 = ev_ms(e[0]), a1 = ev_ms(e[1]), a = a0 + a1, b = ev_ms(e[2]);
+        if (getenv("LG_BENCH_VERBOSE"))
+            fprintf(stderr, "cl: stage 1 %.3f ms, stage 2 %.3f ms, map %.3f ms\n", a0, a1, b);
         if (r >= 0) {
             t_red[r] = a;
             t_map[r] = b;
             t_all[r] = a + b;
         }
     }
-    row("cl", "reduce", 16.0 * npx, median(t_red, repeat));
-    row("cl", "map", 32.0 * npx, median(t_map, repeat));
-    row("cl", "passes", 48.0 * npx, median(t_all, repeat));
+    row("cl", "reduce", 16.0 * npx, t_red, repeat);
+    row("cl", "map", 32.0 * npx, t_map, repeat);
+    row("cl", "passes", 48.0 * npx, t_all, repeat);
     goto done;
 fail:
     skipped("cl", why);
@@ -443,9 +449,9 @@ static void bench_gl(const lg_image *img, int repeat)
         skipped("gl", why);
     } else {
         double npx = (double)w * h;
-        row("gl", "reduce", 16.0 * npx, median(t_red, repeat));
-        row("gl", "map", 32.0 * npx, median(t_map, repeat));
-        row("gl", "passes", 48.0 * npx, median(t_all, repeat));
+        row("gl", "reduce", 16.0 * npx, t_red, repeat);
+        row("gl", "map", 32.0 * npx, t_map, repeat);
+        row("gl", "passes", 48.0 * npx, t_all, repeat);
     }
     gl->UseProgram(0);
     gl->DeleteProgram(p1);

@@ -341,8 +341,9 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     if (!ctx)
         return LG_ERR_DEVICE;
     char opts[160];
-    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u%s", RH_GROUP,
-             RH_CL_MAP_LOCAL, st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
+    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u%s",
+             RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI,
+             st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
     cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, lg_src_reinhard_cl, opts);
     if (!prog)
         return LG_ERR_DEVICE;
@@ -366,8 +367,9 @@ static int rh_cl_init(lg_node *n, rh_state *st)
                              "backend 'cl': the device runs at most %zu work-items per group "
                              "for rh_reduce, the kernels need %u", wg,
                              RH_GROUP > RH_CL_MAP_LOCAL ? RH_GROUP : RH_CL_MAP_LOCAL);
-    st->cl_partials = clCreateBuffer(ctx, CL_MEM_READ_WRITE, RH_MAX_GROUPS * sizeof(rh_partial),
-                                     NULL, &err);
+    size_t partials = rh_cl_partials((size_t)st->width * st->height);
+    st->cl_partials = clCreateBuffer(ctx, CL_MEM_READ_WRITE, partials * sizeof(rh_partial), NULL,
+                                     &err);
     if (err)
         return lg_cl_fail(n, err, "clCreateBuffer(partials)");
     /* the result block starts zeroed: no adapted luminance yet */
@@ -401,7 +403,7 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
         return rc;
     cl_mem min = (cl_mem)pin, mout = (cl_mem)pout;
     cl_uint npx = (cl_uint)((size_t)st->width * st->height);
-    cl_uint groups = rh_groups(npx);
+    cl_uint groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
     cl_float delta = (cl_float)st->p.delta;
     cl_float4 w = { { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f } };
     rh_adapt_args ad = rh_adapt_args_for(st, frame);
@@ -422,7 +424,7 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
 
     /* stage 2: the partials, Lavg, adaptation and the scale, on the device */
     RH_ARG(st->cl_final, 0, st->cl_partials);
-    RH_ARG(st->cl_final, 1, groups);
+    RH_ARG(st->cl_final, 1, partials);
     RH_ARG(st->cl_final, 2, st->cl_result);
     RH_ARG(st->cl_final, 3, ad.key);
     RH_ARG(st->cl_final, 4, ad.adapt);

@@ -5,8 +5,8 @@
  * that the benchmark times the kernels exactly as the node runs them.
  *
  * The pipeline, on both devices, has no host round trip between the passes:
- *   stage 1  RH_GROUPS work-groups of RH_GROUP items sum log(delta + L) over a grid-stride
- *            share of the pixels (branch-free) and write one rh_partial each;
+ *   stage 1  work-groups of RH_GROUP items sum log(delta + L) over their share of the
+ *            pixels (branch-free) and write one rh_partial each;
  *   stage 2  one work-group reduces the partials, then one item computes Lavg, the
  *            adaptation step and the scale a / L into the rh_result block;
  *   map      reads the scale from rh_result; one pixel per item.
@@ -20,11 +20,16 @@
 #include <stdint.h>
 
 /* Work-group size of the reductions (GL: local_size_x in reinhard_reduce.comp; CL:
- * -DLG_LOCAL) and the most stage-1 groups: the partials then fit one stage-2 group. */
+ * -DLG_LOCAL), and the most stage-1 groups on GL. */
 #define RH_GROUP 256u
 #define RH_MAX_GROUPS 256u
-/* Stage 1 gives each item at least this many pixels before it adds more groups. */
+/* GL stage 1 gives each invocation at least this many rows before it adds more groups. */
 #define RH_MIN_PIXELS_PER_ITEM 16u
+
+/* CL stage 1: pixels per work-item (-DLG_PPI). One: PoCL then vectorises across the
+ * work-items of a group (reinhard.cl has the measurements); the groups are as many as the
+ * image needs (rh_cl_groups), and stage 2 loops over their partials. */
+#define RH_CL_PPI 16u
 
 /* CL map: work-items per group (PoCL runs a group as one vectorised loop over its items;
  * large groups amortise the loop's set-up). */
@@ -58,15 +63,21 @@ _Static_assert(sizeof(rh_partial) == 16, "rh_partial mirrors a std430 / OpenCL s
 _Static_assert(sizeof(rh_result) == 32 && offsetof(rh_result, scale) == 24,
                "rh_result mirrors a std430 / OpenCL struct");
 
-/* Stage-1 groups for n pixels (1D, CL). */
-static inline uint32_t rh_groups(size_t n)
+/* CL stage-1 groups for n pixels ... */
+static inline uint32_t rh_cl_groups(size_t n)
 {
-    size_t per_group = (size_t)RH_GROUP * RH_MIN_PIXELS_PER_ITEM;
+    size_t per_group = (size_t)RH_GROUP * RH_CL_PPI;
     size_t g = (n + per_group - 1) / per_group;
-    return g == 0 ? 1u : g > RH_MAX_GROUPS ? RH_MAX_GROUPS : (uint32_t)g;
+    return g == 0 ? 1u : (uint32_t)g;
+}
+/* ... and the partials: one per stage-1 work-item. */
+static inline uint32_t rh_cl_partials(size_t n)
+{
+    return rh_cl_groups(n) * RH_GROUP;
 }
 
-/* GL stage 1: groups along x, and along y (each covering every rh_gl_rows()-th row). */
+/* GL stage 1: groups along x, and along y (each covering every rh_gl_rows()-th row);
+ * cols * rows <= RH_MAX_GROUPS. */
 static inline uint32_t rh_gl_cols(uint32_t width)
 {
     return (width + RH_GROUP - 1) / RH_GROUP;
