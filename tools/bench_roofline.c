@@ -434,9 +434,14 @@ static void bench_gl(const lg_image *img, int repeat)
         gl->Uniform1i(3, 0);
         gl->Uniform3f(4, params.w[0], params.w[1], params.w[2]);
         gl->DispatchCompute((w + RH_GL_MAP_X - 1) / RH_GL_MAP_X, (h + RH_GL_MAP_Y - 1) / RH_GL_MAP_Y, 1);
+        double t_issued = lg_now();
         gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         gl->Finish();
         double t2 = lg_now();
+        if (getenv("LG_BENCH_VERBOSE"))
+            fprintf(stderr, "gl: reduce %.3f ms; map dispatch returned after %.3f ms, "
+                            "finished after %.3f ms\n",
+                    (t1 - t0) * 1e3, (t_issued - t1) * 1e3, (t2 - t1) * 1e3);
         if (r >= 0) {
             t_red[r] = (t1 - t0) * 1e3;
             t_map[r] = (t2 - t1) * 1e3;
