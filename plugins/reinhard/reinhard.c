@@ -531,7 +531,7 @@ static const lg_param_desc rh_params[] = {
     { .key = "dt", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 3600,
       .doc = "seconds per frame for adaptation; 0 = the render's frame time (--dt)" },
     { .key = "backend", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_backends,
-      .doc = "where it runs: cpu (reference, double precision), gl (compute shaders), cl" },
+      .doc = "where it runs: cpu (float, vectorised, on the host's thread pool), gl (compute shaders), cl" },
 };
 static const lg_port_desc rh_inputs[] = {
     { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f or rgba16f" },
