@@ -14,9 +14,10 @@
 // rgba16f input, -DLG_IN_HALF=1. Images are buffers of tightly packed pixels (4 floats, or
 // 4 halves).
 //
-// Speed (PoCL on CPUs, and GPUs alike): the pixel loops have no branch per pixel (the
-// policy is select()s, so PoCL's work-item loops vectorise), loads and stores are float4,
-// and consecutive work-items touch consecutive pixels.
+// Speed (PoCL on CPUs, and GPUs alike): no branch per pixel (the policy is select()s),
+// float4 loads and stores, consecutive work-items touch consecutive pixels, no barrier in
+// the pixel kernels, and a logarithm of our own (rh_log). Measurements on PoCL 3.1, 2
+// CPUs, 2048x1396, are in plugins/reinhard/README.md ("Speed").
 
 #ifndef LG_LOCAL
 #define LG_LOCAL 256
@@ -88,24 +89,6 @@ inline float rh_log(float x)
     return f + y + 0.693359375f * fe;
 }
 
-// One pixel's R, G, B as scalars: PoCL's work-item-loop vectoriser (LLVM's loop
-// vectoriser) gives up on instructions of vector type ("instruction return type cannot be
-// vectorized"), so float4 loads and arithmetic keep a kernel scalar on CPU devices; scalar
-// code is vectorised across 8 or 16 work-items instead, with the loads combined.
-inline void rh_load3(const __global float *in, uint i, float *r, float *g, float *b)
-{
-#ifdef LG_IN_HALF
-    const __global half *h = (const __global half *)in;
-    *r = vload_half(4 * i, h);
-    *g = vload_half(4 * i + 1, h);
-    *b = vload_half(4 * i + 2, h);
-#else
-    *r = in[4 * i];
-    *g = in[4 * i + 1];
-    *b = in[4 * i + 2];
-#endif
-}
-
 inline float4 rh_load(const __global float *in, uint i)
 {
 #ifdef LG_IN_HALF
@@ -132,11 +115,11 @@ inline void rh_local_reduce(__local float *s_sum, __local uint *s_valid,
 
 // Each work-item sums LG_PPI pixels LG_LOCAL apart (neighbouring items read neighbouring
 // pixels) in an unrolled loop, with no branch per pixel (the tail of the image is masked:
-// clamped index, ok = 0), and writes its own partial: no local memory, no barrier. On
+// clamped index, ok = 0), and writes its own partial: no local memory, no barrier (on
 // PoCL a barrier splits the kernel into work-item loops that keep every private value in
-// memory between them; without one, the whole kernel is one loop over the work-items that
-// LLVM vectorises. Stage 2 then reduces one partial per work-item (1/LG_PPI of a 16-byte
-// value per pixel: 6% more traffic with LG_PPI = 16).
+// memory between them; the local-memory tree this replaced took 40-56 ms, this 12 ms).
+// Stage 2 then reduces one partial per work-item (1/LG_PPI of a 16-byte value per pixel:
+// 6% more traffic with LG_PPI = 16).
 __kernel void rh_reduce(const __global float *in, uint n, float delta, float4 w,
                __global rh_partial *part)
 {
@@ -147,11 +130,9 @@ __kernel void rh_reduce(const __global float *in, uint n, float delta, float4 w,
     for (uint k = 0; k < LG_PPI; k++) {
         uint i = base + k * LG_LOCAL;
         int inside = i < n;
-        uint j = inside ? i : n - 1;
-        float r, g, b;
-        rh_load3(in, j, &r, &g, &b);
-        float l = w.x * r + w.y * g + w.z * b;
-        int fin = rh_finite(r) & rh_finite(g) & rh_finite(b) & rh_finite(l);
+        float4 c = rh_load(in, inside ? i : n - 1);
+        float l = w.x * c.x + w.y * c.y + w.z * c.z;
+        int fin = rh_finite(c.x) & rh_finite(c.y) & rh_finite(c.z) & rh_finite(l);
         int neg = fin & (l < 0.0f);
         int ok = fin & !neg & inside;
         sum += rh_log(ok ? delta + l : 1.0f); // log(1) = 0 for the pixels left out
