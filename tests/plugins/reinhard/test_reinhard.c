@@ -17,6 +17,8 @@
  *                 every pixel of a constant image is mapped
  *   crossbackend  a real HDR photograph: this backend against cpu, both modes, with and
  *                 without a white point (max and mean differences printed)
+ *   threads       (cpu) the same output, to the bit, with LIGHTGRAPH_THREADS = 1, 2 and 7:
+ *                 the log-average is reduced per chunk and added in chunk order
  *
  * Values come back through the output file; when the host writes half EXR the checks add
  * half's rounding (2^-11 relative) to their tolerance (ptest.h, pt_tol).
@@ -548,6 +550,50 @@ static void case_crossbackend(ptest *t)
     }
 }
 
+/* ---- threads ----------------------------------------------------------------------------------- */
+
+static void case_threads(ptest *t)
+{
+    if (strcmp(backend, "cpu") != 0) {
+        fprintf(stderr, "threads is a cpu case (the host's pool)\n");
+        exit(99);
+    }
+    /* a few hundred chunks of rows, bad pixels and ten decades of values */
+    const uint32_t w = 1031, h = 677;
+    lg_image in = alloc_image(w, h);
+    uint32_t seed = 5;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        float *p = in.pixels + i * 4;
+        for (int k = 0; k < 3; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            p[k] = (float)pow(10.0, -5.0 + 10.0 * (seed >> 8) / 16777216.0);
+        }
+        p[3] = 1.0f;
+        if (i % 1013 == 7)
+            p[1] = NAN;
+    }
+    pt_write_exr(t, "in.exr", &in);
+    write_graph(t, "g.lgraph", "in.exr", "", "out.exr");
+    static const char *const threads[] = { "1", "2", "7" };
+    lg_image out[3];
+    bool ok = true;
+    for (int k = 0; k < 3; k++) {
+        setenv("LIGHTGRAPH_THREADS", threads[k], 1);
+        const char *args[] = { "-o", k == 0 ? "t1.exr" : k == 1 ? "t2.exr" : "t7.exr", NULL };
+        ok &= render_read(t, "g.lgraph", args, args[1], &out[k], NULL, NULL);
+    }
+    unsetenv("LIGHTGRAPH_THREADS");
+    if (ok) {
+        for (int k = 1; k < 3; k++)
+            PT_CHECK(t, memcmp(out[k].pixels, out[0].pixels, (size_t)w * h * 16) == 0,
+                     "LIGHTGRAPH_THREADS=%s maps differently from LIGHTGRAPH_THREADS=1",
+                     threads[k]);
+        for (int k = 0; k < 3; k++)
+            lg_image_free(&out[k]);
+    }
+    lg_image_free(&in);
+}
+
 int main(int argc, char **argv)
 {
     static const pt_case cases[] = {
@@ -555,6 +601,7 @@ int main(int argc, char **argv)
         { "monotone", case_monotone },   { "exposure", case_exposure },
         { "adapt", case_adapt },         { "badpixels", case_badpixels },
         { "sizes", case_sizes },         { "crossbackend", case_crossbackend },
+        { "threads", case_threads },
     };
     if (argc != 3) {
         fprintf(stderr, "usage: test_reinhard CASE cpu|gl|cl\n");
