@@ -53,6 +53,7 @@ typedef struct rh_state {
     /* cl */
     cl_kernel cl_reduce, cl_final, cl_map;
     cl_mem cl_partials, cl_result;
+    cl_uint cl_n_partials;
 } rh_state;
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
@@ -367,11 +368,6 @@ static int rh_cl_init(lg_node *n, rh_state *st)
                              "backend 'cl': the device runs at most %zu work-items per group "
                              "for rh_reduce, the kernels need %u", wg,
                              RH_GROUP > RH_CL_MAP_LOCAL ? RH_GROUP : RH_CL_MAP_LOCAL);
-    size_t partials = rh_cl_partials((size_t)st->width * st->height);
-    st->cl_partials = clCreateBuffer(ctx, CL_MEM_READ_WRITE, partials * sizeof(rh_partial), NULL,
-                                     &err);
-    if (err)
-        return lg_cl_fail(n, err, "clCreateBuffer(partials)");
     /* the result block starts zeroed: no adapted luminance yet */
     rh_result zero;
     memset(&zero, 0, sizeof zero);
@@ -404,6 +400,19 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
     cl_mem min = (cl_mem)pin, mout = (cl_mem)pout;
     cl_uint npx = (cl_uint)((size_t)st->width * st->height);
     cl_uint groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
+    /* one partial per stage-1 work-item: sized by the image, which prepare may change */
+    if (partials > st->cl_n_partials) {
+        if (st->cl_partials)
+            clReleaseMemObject(st->cl_partials);
+        cl_int e;
+        st->cl_partials = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_WRITE,
+                                         (size_t)partials * sizeof(rh_partial), NULL, &e);
+        st->cl_n_partials = e ? 0 : partials;
+        if (e) {
+            st->cl_partials = NULL;
+            return lg_cl_fail(n, e, "clCreateBuffer(partials)");
+        }
+    }
     cl_float delta = (cl_float)st->p.delta;
     cl_float4 w = { { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f } };
     rh_adapt_args ad = rh_adapt_args_for(st, frame);
