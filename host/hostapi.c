@@ -2,6 +2,7 @@
  * boundary and reports misuse with the node's name, since a plugin bug should read as
  * such and not as a host crash. */
 #include "host.h"
+#include "pool.h"
 
 #include <stdarg.h>
 #include <stdlib.h>
@@ -575,6 +576,43 @@ static const lg_resource *api_part(lg_node *n, const lg_resource *r, const char 
     return r->parts[idx];
 }
 
+/* The pool is made on the first call of either function; a warning from making it (an
+ * invalid LIGHTGRAPH_THREADS, a thread that would not start) is reported once. */
+static lg_pool *pool_for(lg_pnode *p)
+{
+    char *warning = NULL;
+    lg_pool *pool = lg_pool_global(&warning);
+    if (warning) {
+        lg_hlog(LG_HWARN, "%s", warning);
+        free(warning);
+    }
+    (void)p;
+    return pool;
+}
+
+static uint32_t api_cpu_workers(lg_node *n)
+{
+    return lg_pool_size(pool_for(P(n)));
+}
+
+static int api_parallel_for(lg_node *n, size_t count, size_t grain,
+                            void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk),
+                            void *ctx)
+{
+    lg_pnode *p = P(n);
+    if (!fn || grain == 0)
+        return lg_node_errorf(p, "parallel_for: %s", !fn ? "fn is NULL" : "grain is 0"),
+               LG_ERR_INVALID;
+    if (count / grain >= UINT32_MAX)
+        return lg_node_errorf(p, "parallel_for: %zu indices in chunks of %zu make more than "
+                                 "2^32 - 1 chunks; use a larger grain", count, grain),
+               LG_ERR_INVALID;
+    if (lg_pool_run(pool_for(p), count, grain, fn, ctx))
+        return lg_node_errorf(p, "parallel_for(%zu, %zu) refused by the pool", count, grain),
+               LG_ERR_INVALID;
+    return 0;
+}
+
 void lg_host_api_init(lg_host_api *a)
 {
     memset(a, 0, sizeof *a);
@@ -616,6 +654,8 @@ void lg_host_api_init(lg_host_api *a)
     a->payload_cl_buffer = api_payload_cl_buffer;
     a->declare_composite = api_declare_composite;
     a->part = api_part;
+    a->cpu_workers = api_cpu_workers;
+    a->parallel_for = api_parallel_for;
 }
 
 int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)

@@ -35,7 +35,9 @@ static void help(FILE *f)
             "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
             "environment: LIGHTGRAPH_PLUGIN_PATH (plugin directories, ':'-separated, searched\n"
             "  first), LIGHTGRAPH_CACHE_DIR (the on-disk cache; default ~/.cache/lightgraph),\n"
-            "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers)\n"
+            "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers),\n"
+            "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
+            "  default one per online CPU)\n"
             "docs: docs/graph-format.md, docs/sdk.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR);
 }

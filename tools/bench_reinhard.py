@@ -1,11 +1,24 @@
 #!/usr/bin/env python3
-"""Benchmark: lightgraph's reinhard node (cpu, gl, cl) against Debian's pfstmo_reinhard02.
+"""Benchmark: lightgraph's reinhard node (cpu, gl, cl): roofline, and against pfstmo_reinhard02.
 
-usage: tools/bench_reinhard.py [--build DIR] [--util EXE] [--image FILE] [--width N]
-                               [--key A] [--repeat N] [--frames N] [--out DIR]
+usage: tools/bench_reinhard.py [--build DIR] [--util EXE] [--roofline EXE] [--exe EXE]
+                               [--image FILE] [--width N] [--key A] [--repeat N]
+                               [--frames N] [--out DIR] [--no-pfstmo] [--node-only]
 
 One run does everything on the same input, a WIDTH-pixel-wide float EXR resampled
-(bilinear) from IMAGE:
+(bilinear) from IMAGE.
+
+First the roofline table: for every backend (cpu, cl, gl) and kernel (the reduction pass,
+the map pass, both passes, and the whole node as the host runs it, per frame) the bytes
+it must touch, its time (median of --repeat runs), GB/s, and that as a fraction of a
+STREAM triad measured in the same run (tools/bench_roofline.c: C, arrays of 256 MiB,
+threaded through the host's pool with the same number of threads). Kernel times come from
+lg_bench_roofline (cpu: wall time; cl: profiling events; gl: wall time to glFinish); the
+node's from `lightgraph render --profile-json` over --frames frames with adapt = true,
+adapt_rate = 0 (recomputed every frame, input resident on the device). --node-only
+leaves the kernel rows out (for measuring an older build's node with --exe).
+
+Then, unless --no-pfstmo:
 
   pfstmo_reinhard02 --key A (global operator; its white point is the image's largest
   scaled luminance and its log offset 1e-5), timed two ways:
@@ -57,6 +70,70 @@ def timed(cmd, repeat, **kw):
     return statistics.median(times)
 
 
+def node_steady_ms(exe, graph, backend, frames, repeat, out):
+    """The node's time per frame over `frames` frames, recomputed every frame (adapt with
+    rate 0 gives the same output), input resident: (t(frames) - t(1)) / (frames - 1)."""
+    prof = os.path.join(out, "profile_%s.json" % backend)
+    base = [exe, "render", graph, "--set", "tone.backend=" + backend,
+            "--set", "tone.adapt=true", "--set", "tone.adapt_rate=0"]
+    steady = []
+    for _ in range(repeat):
+        t = []
+        for n in (1, frames):
+            run(base + ["--frames", str(n), "--profile-json", prof,
+                        "-o", os.path.join(out, "steady_%s.exr" % backend)])
+            node = [x for x in json.load(open(prof))["nodes"] if x["name"] == "tone"][0]
+            t.append(node["cpu_ms"])
+        steady.append((t[1] - t[0]) / (frames - 1))
+    return statistics.median(steady)
+
+
+def roofline(a, exe, roof, src, w, h, out):
+    r = json.loads(run([roof, src, "--repeat", str(max(a.repeat, 5))]))
+    triad = r["triad"]["gbs"]
+    graph = os.path.join(out, "roofline.lgraph")
+    with open(graph, "w") as f:
+        f.write("lightgraph 1\n# written by tools/bench_reinhard.py\n"
+                "src = image { file = \"%s\" }\n"
+                "tone = reinhard { image = src, key = %r }\n"
+                "output tone \"roofline.exr\"\n" % (os.path.basename(src), a.key))
+    npx = w * h
+    rows = [] if a.node_only else [x for x in r["rows"] if "skipped" not in x]
+    skipped = [x for x in r["rows"] if "skipped" in x]
+    for backend in ("cpu", "cl", "gl"):
+        if any(x["backend"] == backend for x in skipped):
+            continue
+        ms = node_steady_ms(exe, graph, backend, a.frames, a.repeat, out)
+        rows.append({"backend": backend, "kernel": "node", "bytes": 48 * npx, "ms": ms})
+    order = {"cpu": 0, "cl": 1, "gl": 2}
+    korder = {"reduce": 0, "map": 1, "passes": 2, "node": 3}
+    rows.sort(key=lambda x: (order[x["backend"]], korder[x["kernel"]]))
+    load = os.getloadavg()
+    lines = ["Roofline: reinhard on %dx%d rgba32f (%.1f MiB in, %.1f MiB out), %d CPUs, "
+             "pool of %d threads, load average %.2f at the end." % (
+                 w, h, npx * 16 / 2**20, npx * 16 / 2**20, os.cpu_count(), r["threads"], load[0]),
+             "STREAM triad (tools/bench_roofline.c, 3 x %d MiB of doubles, %d threads, best "
+             "of %d): %.2f GB/s." % (r["triad"]["mib_per_array"], r["threads"],
+                                     max(a.repeat, 5), triad),
+             "",
+             "| backend | kernel | bytes touched | time ms (median) | GB/s | of triad |",
+             "|---|---|---|---|---|---|"]
+    what = {"reduce": "reduce (read)", "map": "map (read + write)",
+            "passes": "both passes", "node": "node per frame (host)"}
+    for x in rows:
+        gbs = x["bytes"] / (x["ms"] * 1e-3) / 1e9
+        lines.append("| %s | %s | %.1f MiB | %.2f | %.2f | %.1f%% |" % (
+            x["backend"], what[x["kernel"]], x["bytes"] / 2**20, x["ms"], gbs,
+            100.0 * gbs / triad))
+    for x in skipped:
+        lines.append("| %s | skipped: %s | | | | |" % (x["backend"], x["skipped"]))
+    text = "\n".join(lines) + "\n\n"
+    sys.stdout.write(text)
+    sys.stdout.flush()
+    with open(os.path.join(out, "roofline.md"), "w") as f:
+        f.write(text)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -67,16 +144,19 @@ def main():
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--frames", type=int, default=11)
     ap.add_argument("--out", help="work folder (default: BUILD/bench-reinhard)")
+    ap.add_argument("--roofline", help="lg_bench_roofline (default: BUILD/tools/lg_bench_roofline)")
+    ap.add_argument("--exe", help="the lightgraph program to time (default: BUILD/lightgraph)")
+    ap.add_argument("--no-pfstmo", action="store_true", help="the roofline table only")
+    ap.add_argument("--node-only", action="store_true",
+                    help="roofline: the triad and the node rows, no kernel rows")
     a = ap.parse_args()
 
     build = os.path.abspath(a.build)
-    exe = os.path.join(build, "lightgraph")
+    exe = os.path.abspath(a.exe) if a.exe else os.path.join(build, "lightgraph")
     util = a.util or os.path.join(build, "tools", "lg_bench_reinhard")
+    roof = a.roofline or os.path.join(build, "tools", "lg_bench_roofline")
     out = os.path.abspath(a.out or os.path.join(build, "bench-reinhard"))
-    for tool in ("pfsin", "pfsoutexr", "pfstmo_reinhard02"):
-        if not shutil.which(tool):
-            sys.exit("bench_reinhard: %s not found (Debian package pfstools)" % tool)
-    for f in (exe, util, a.image):
+    for f in (exe, util, roof, a.image):
         if not os.path.exists(f):
             sys.exit("bench_reinhard: %s does not exist" % f)
     os.makedirs(out, exist_ok=True)
@@ -89,6 +169,15 @@ def main():
     print("input: %s resampled to %dx%d (%.2f Mpixel), Lavg %.6g, Lmax %.6g, Lwhite %.6g"
           % (os.path.relpath(a.image, ROOT), w, h, w * h / 1e6, info["lavg"], info["lmax"], white),
           file=sys.stderr)
+
+    roofline(a, exe, roof, src, w, h, out)
+    if a.no_pfstmo:
+        return
+    missing = [t for t in ("pfsin", "pfsoutexr", "pfstmo_reinhard02") if not shutil.which(t)]
+    if missing:
+        print("The comparison with pfstmo_reinhard02 is not run: %s not found (Debian package "
+              "pfstools; tools/deps.sh installs it)." % ", ".join(missing))
+        return
 
     # pfstmo_reinhard02
     pfs_in = os.path.join(out, "input.pfs")

@@ -6,7 +6,7 @@ set -e
 PKGS="meson ninja-build pkg-config gcc g++ python3 python3-glad
 libosmesa6-dev libegl-dev libegl1-mesa-dev libglfw3-dev
 ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
-libopenexr-dev libpng-dev glslang-tools gnuplot-nox pfstools
+libopenexr-dev libpng-dev glslang-tools gnuplot-nox pfstools pfstmo
 libtinygltf-dev libdraco-dev nlohmann-json3-dev"
 missing=""
 for p in $PKGS; do

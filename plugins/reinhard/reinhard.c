@@ -4,11 +4,13 @@
  *
  * Every backend does the same three steps per execution:
  *   1. reduce: sum log(delta + L) over the valid pixels and count the bad ones;
- *   2. on the CPU, in double: Lavg, the adaptation step, the scale a / Lavg (or a / La);
+ *   2. Lavg, the adaptation step, the scale a / Lavg (or a / La);
  *   3. map: the tone curve.
- * Step 2 reads the reduction's 16-byte result back from the device; that one small
- * synchronous read keeps the adaptation state and the bad-pixel report in one place for
- * all three backends (README.md, "Known costs").
+ * cpu: float passes threaded through the host's pool (reinhard_cpu.c), step 2 in double.
+ * gl and cl: step 2 runs on the device, in the reduction's second stage, which leaves the
+ * scale where the map reads it (reinhard_launch.h): no host round trip between the
+ * passes. The 32-byte result block is read back after the map was queued, for the
+ * bad-pixel report and the debug log only.
  */
 #include <inttypes.h>
 #include <math.h>
@@ -22,26 +24,23 @@
 #include "lightgraph/lightgraph.h"
 
 #include "reinhard_cpu.h"
+#include "reinhard_launch.h"
 #include "reinhard.cl.h"
 #include "reinhard_map.comp.h"
 #include "reinhard_reduce.comp.h"
 
 enum { RH_BACKEND_CPU = 0, RH_BACKEND_GL, RH_BACKEND_CL };
 
-/* Work-group size of the reductions (GL: local_size_x in reinhard_reduce.comp) and the
- * most work-groups stage 1 uses: the partials then fit one stage-2 work-group's loop. */
-#define RH_GROUP 256u
-#define RH_MAX_GROUPS 256u
-
-/* A partial sum as the shaders and kernels write it (std430 / OpenCL struct layout). */
-typedef struct rh_partial {
-    float sum;
-    uint32_t valid, nonfinite, negative;
-} rh_partial;
+/* The mirrors of the shaders' std430 blocks (reinhard_launch.h), checked at compile time
+ * against their GLSL layout (and at run time against the compiled program). */
 LG_GL_BLOCK_SIZE(rh_partial, 16);
 LG_GL_BLOCK_OFFSET(rh_partial, valid, 4);
 LG_GL_BLOCK_OFFSET(rh_partial, nonfinite, 8);
 LG_GL_BLOCK_OFFSET(rh_partial, negative, 12);
+LG_GL_BLOCK_SIZE(rh_result, 32);
+LG_GL_BLOCK_OFFSET(rh_result, lavg, 16);
+LG_GL_BLOCK_OFFSET(rh_result, scale, 24);
+LG_GL_BLOCK_OFFSET(rh_result, have_la, 28);
 
 typedef struct rh_state {
     lg_rh_params p;
@@ -52,28 +51,26 @@ typedef struct rh_state {
     uint32_t width, height;
     lg_format in_format;
 
-    bool have_la; /* adaptation state */
+    bool have_la; /* adaptation state (gl, cl: the device holds La, this says it does) */
     double la;
     bool warned_bad, warned_empty;
-    float *scratch; /* cpu backend, rgba16f input: the pixels as floats */
+    lg_rh_stats *slots; /* cpu backend: the reduction's per-chunk partial sums */
+    size_t n_slots;
 
     /* gl: the three compute passes, their uniforms and bindings (reinhard_reduce.comp stage
      * 1 and 2, reinhard_map.comp), and the reduction's buffers */
     lg_gl_pass *gl_reduce, *gl_final, *gl_map;
-    lg_gl_uniform r_size, r_delta, r_w, f_count, m_size, m_scale, m_inv_white2, m_mode, m_w;
-    lg_gl_binding r_in, r_partials, f_partials, f_result, m_in, m_out;
+    lg_gl_uniform r_size, r_delta, r_w;
+    lg_gl_uniform f_count, f_key, f_adapt, f_adapt_k, f_adapt_from, f_reset;
+    lg_gl_uniform m_size, m_inv_white2, m_mode, m_w;
+    lg_gl_binding r_in, r_partials, f_partials, f_result, m_in, m_out, m_result;
     GLuint gl_partials, gl_result;
 
     /* cl */
     cl_kernel cl_reduce, cl_final, cl_map;
     cl_mem cl_partials, cl_result;
+    cl_uint cl_n_partials;
 } rh_state;
-
-static uint32_t rh_groups(size_t n)
-{
-    size_t g = (n + RH_GROUP - 1) / RH_GROUP;
-    return g == 0 ? 1u : g > RH_MAX_GROUPS ? RH_MAX_GROUPS : (uint32_t)g;
-}
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
 
@@ -167,7 +164,64 @@ static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_
     return st->key / l;
 }
 
+/* ---- gl and cl: the scale is computed on the device ---------------------------------------------- */
+
+/* What stage 2 needs to compute the scale on the device (reinhard_launch.h). */
+typedef struct rh_adapt_args {
+    float key;
+    int32_t adapt;
+    float k;      /* 1 - rate^(60 dt), in double here */
+    float from;   /* adapt_from */
+    int32_t reset;/* first frame since prepare: forget the adapted luminance */
+} rh_adapt_args;
+
+static rh_adapt_args rh_adapt_args_for(const rh_state *st, const lg_frame *frame)
+{
+    double dt = st->dt > 0.0 ? st->dt : frame->dt;
+    rh_adapt_args a = {
+        .key = (float)st->key,
+        .adapt = st->adapt ? 1 : 0,
+        .k = (float)(1.0 - pow(st->rate, 60.0 * dt)),
+        .from = (float)st->adapt_from,
+        .reset = st->have_la ? 0 : 1,
+    };
+    return a;
+}
+
+/* The bad-pixel report and the debug log, from the result block read back after the map;
+ * the same messages as the cpu backend's rh_scale. */
+static void rh_report(lg_node *n, rh_state *st, const rh_result *r, const lg_frame *frame)
+{
+    lg_rh_stats s = { .log_sum = r->sum, .valid = r->valid, .nonfinite = r->nonfinite,
+                      .negative = r->negative };
+    uint64_t bad = s.nonfinite + s.negative;
+    if (bad && !st->warned_bad) {
+        st->warned_bad = true;
+        lg_log(n, LG_LOG_WARN,
+               "frame %u: %" PRIu64 " of %" PRIu64 " pixels left out of the log-average "
+               "(%" PRIu64 " with NaN or Inf, %" PRIu64 " with negative luminance); they map "
+               "to 0, and +Inf channels to 1 (reported once)",
+               frame->index, bad, bad + s.valid, s.nonfinite, s.negative);
+    }
+    if (!s.valid && !st->warned_empty) {
+        st->warned_empty = true;
+        lg_log(n, LG_LOG_WARN, "frame %u: no valid pixel for the log-average; %s (reported once)",
+               frame->index,
+               st->adapt && st->have_la ? "keeping the adapted luminance" : "using Lavg = 1");
+    }
+    if (st->adapt)
+        st->have_la = true;
+    lg_log(n, LG_LOG_DEBUG, "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
+           frame->index, s.valid ? r->lavg : NAN, s.valid, st->key / r->scale, r->scale);
+}
+
 /* ---- cpu ------------------------------------------------------------------------------------------ */
+
+static int rh_pfor(void *node, size_t count, size_t grain,
+                   void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk), void *ctx)
+{
+    return lg_parallel_for(node, count, grain, fn, ctx);
+}
 
 static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
 {
@@ -176,38 +230,22 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
     if ((rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &vi)) ||
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo)))
         return rc;
-    uint32_t w = st->width, h = st->height;
-    size_t ps = lg_format_size(st->in_format);
-
-    /* rgba16f: widen once, so that both passes read floats */
-    const float *src = vi.pixels;
-    size_t src_row = vi.row_pixels;
-    if (st->in_format == LG_FORMAT_RGBA16F) {
-        if (!st->scratch) {
-            st->scratch = malloc((size_t)w * h * 16);
-            if (!st->scratch)
-                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%ux%u rgba32f scratch)", w, h);
-        }
-        for (uint32_t y = 0; y < h; y++) {
-            const uint16_t *row = (const uint16_t *)((const unsigned char *)vi.pixels +
-                                                     (size_t)y * vi.row_pixels * ps);
-            float *dst = st->scratch + (size_t)y * w * 4;
-            for (size_t i = 0; i < (size_t)w * 4; i++)
-                dst[i] = lg_float_from_half(row[i]);
-        }
-        src = st->scratch;
-        src_row = w;
+    lg_rh_image in = { .pixels = vi.pixels, .row_pixels = vi.row_pixels, .width = st->width,
+                       .height = st->height, .half = st->in_format == LG_FORMAT_RGBA16F };
+    size_t chunks = lg_rh_cpu_chunks(st->width, st->height);
+    if (chunks > st->n_slots) {
+        lg_rh_stats *s = realloc(st->slots, chunks * sizeof *s);
+        if (!s)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu reduction slots)", chunks);
+        st->slots = s;
+        st->n_slots = chunks;
     }
-
+    /* pass 1, then the scale (in double, with adaptation), then pass 2 */
     lg_rh_stats s;
-    memset(&s, 0, sizeof s);
-    for (uint32_t y = 0; y < h; y++)
-        lg_rh_reduce(src + (size_t)y * src_row * 4, w, &st->p, &s);
-    double scale = rh_scale(n, st, &s, frame);
-    for (uint32_t y = 0; y < h; y++)
-        lg_rh_map(src + (size_t)y * src_row * 4, (float *)vo.pixels + (size_t)y * vo.row_pixels * 4,
-                  w, scale, &st->p);
-    return 0;
+    if ((rc = lg_rh_cpu_reduce(&in, &st->p, st->slots, rh_pfor, n, &s)))
+        return rc;
+    float scale = (float)rh_scale(n, st, &s, frame);
+    return lg_rh_cpu_map(&in, vo.pixels, vo.row_pixels, scale, &st->p, rh_pfor, n);
 }
 
 /* ---- gl --------------------------------------------------------------------------------------------- */
@@ -246,23 +284,32 @@ static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
     st->r_in = lg_gl_pass_image(r, "u_in");
     st->r_partials = lg_gl_pass_storage(r, "Partials");
     st->f_count = lg_gl_pass_uniform(f, "u_count");
+    st->f_key = lg_gl_pass_uniform(f, "u_key");
+    st->f_adapt = lg_gl_pass_uniform(f, "u_adapt");
+    st->f_adapt_k = lg_gl_pass_uniform(f, "u_adapt_k");
+    st->f_adapt_from = lg_gl_pass_uniform(f, "u_adapt_from");
+    st->f_reset = lg_gl_pass_uniform(f, "u_reset");
     st->f_partials = lg_gl_pass_storage(f, "Partials");
     st->f_result = lg_gl_pass_storage(f, "Result");
     st->m_size = lg_gl_pass_uniform(m, "u_size");
-    st->m_scale = lg_gl_pass_uniform(m, "u_scale");
     st->m_inv_white2 = lg_gl_pass_uniform(m, "u_inv_white2");
     st->m_mode = lg_gl_pass_uniform(m, "u_mode");
     st->m_w = lg_gl_pass_uniform(m, "u_w");
     st->m_in = lg_gl_pass_image(m, "u_in");
     st->m_out = lg_gl_pass_image(m, "u_out");
+    st->m_result = lg_gl_pass_storage(m, "Result");
     lg_gl_pass_check_block(r, GL_SHADER_STORAGE_BLOCK, "Partials", sizeof(rh_partial));
-    lg_gl_pass_check_block(f, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_partial));
+    lg_gl_pass_check_block(f, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_result));
+    lg_gl_pass_check_block(m, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_result));
     if (st->gl_partials)
         return 0;
     gl->CreateBuffers(1, &st->gl_partials);
     gl->NamedBufferData(st->gl_partials, RH_MAX_GROUPS * sizeof(rh_partial), NULL, GL_DYNAMIC_COPY);
+    /* the result block starts zeroed: no adapted luminance yet */
+    rh_result zero;
+    memset(&zero, 0, sizeof zero);
     gl->CreateBuffers(1, &st->gl_result);
-    gl->NamedBufferData(st->gl_result, sizeof(rh_partial), NULL, GL_DYNAMIC_READ);
+    gl->NamedBufferData(st->gl_result, sizeof zero, &zero, GL_DYNAMIC_COPY);
     return lg_gl_check(n, "reinhard: creating the reduction buffers");
 }
 
@@ -279,10 +326,10 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
         (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &dummy)))
         return rc;
     GLenum in_fmt = st->in_format == LG_FORMAT_RGBA16F ? GL_RGBA16F : GL_RGBA32F;
-    size_t npx = (size_t)st->width * st->height;
-    uint32_t groups = rh_groups(npx);
+    uint32_t cols = rh_gl_cols(st->width), rows = rh_gl_rows(st->width, st->height);
+    rh_adapt_args ad = rh_adapt_args_for(st, frame);
 
-    /* stage 1 and 2: the log-average (each end makes its writes visible to the next) */
+    /* stage 1: partial sums of log(delta + L), one per work-group of a 2D grid */
     lg_gl_pass *r = st->gl_reduce;
     if ((rc = lg_gl_pass_begin(r, NULL)))
         return rc;
@@ -291,39 +338,48 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     lg_gl_set_ivec2(r, st->r_size, (int32_t)st->width, (int32_t)st->height);
     lg_gl_set_float(r, st->r_delta, (float)st->p.delta);
     lg_gl_set_vec3(r, st->r_w, st->p.w[0], st->p.w[1], st->p.w[2]);
-    if ((rc = lg_gl_pass_end(r, lg_gl_pass_dispatch_groups(r, groups, 1, 1))))
+    if ((rc = lg_gl_pass_end(r, lg_gl_pass_dispatch_groups(r, cols, rows, 1))))
         return rc;
 
+    /* stage 2: Lavg, the adaptation step and the scale, left on the device in gl_result
+     * (no host round trip before the map) */
     lg_gl_pass *f = st->gl_final;
     if ((rc = lg_gl_pass_begin(f, NULL)))
         return rc;
     lg_gl_pass_bind_buffer(f, st->f_partials, st->gl_partials);
     lg_gl_pass_bind_buffer(f, st->f_result, st->gl_result);
-    lg_gl_set_uint(f, st->f_count, groups);
+    lg_gl_set_uint(f, st->f_count, cols * rows);
+    lg_gl_set_float(f, st->f_key, ad.key);
+    lg_gl_set_int(f, st->f_adapt, ad.adapt);
+    lg_gl_set_float(f, st->f_adapt_k, ad.k);
+    lg_gl_set_float(f, st->f_adapt_from, ad.from);
+    lg_gl_set_int(f, st->f_reset, ad.reset);
     if ((rc = lg_gl_pass_end(f, lg_gl_pass_dispatch_groups(f, 1, 1, 1))))
         return rc;
 
-    rh_partial res;
-    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof res, &res);
-    if ((rc = lg_gl_check(n, "reinhard: reading the log-average back")))
-        return rc;
-    lg_rh_stats s = { .log_sum = res.sum, .valid = res.valid, .nonfinite = res.nonfinite,
-                      .negative = res.negative };
-    double scale = rh_scale(n, st, &s, frame);
-
-    /* the map; end makes the output visible to whoever reads it next */
+    /* the map reads the scale from gl_result; end makes the output visible to whoever
+     * reads it next */
     double inv_w2 = st->p.white > 0.0 ? 1.0 / (st->p.white * st->p.white) : 0.0;
     lg_gl_pass *m = st->gl_map;
     if ((rc = lg_gl_pass_begin(m, NULL)))
         return rc;
     lg_gl_pass_bind_image(m, st->m_in, tin, GL_READ_ONLY, in_fmt);
     lg_gl_pass_bind_image(m, st->m_out, tout, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_pass_bind_buffer(m, st->m_result, st->gl_result);
     lg_gl_set_ivec2(m, st->m_size, (int32_t)st->width, (int32_t)st->height);
-    lg_gl_set_float(m, st->m_scale, (float)scale);
     lg_gl_set_float(m, st->m_inv_white2, (float)inv_w2);
     lg_gl_set_int(m, st->m_mode, st->p.mode == LG_RH_RGB ? 1 : 0);
     lg_gl_set_vec3(m, st->m_w, st->p.w[0], st->p.w[1], st->p.w[2]);
-    return lg_gl_pass_end(m, lg_gl_pass_dispatch(m, st->width, st->height, 1));
+    if ((rc = lg_gl_pass_end(m, lg_gl_pass_dispatch(m, st->width, st->height, 1))))
+        return rc;
+
+    /* for the report only, after the map was submitted */
+    rh_result res;
+    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof res, &res);
+    if ((rc = lg_gl_check(n, "reinhard: reading the result block")))
+        return rc;
+    rh_report(n, st, &res, frame);
+    return 0;
 }
 
 /* ---- cl --------------------------------------------------------------------------------------------- */
@@ -333,8 +389,9 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     cl_context ctx = lg_cl_context(n);
     if (!ctx)
         return LG_ERR_DEVICE;
-    char opts[128];
-    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u%s", RH_GROUP,
+    char opts[160];
+    snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u%s",
+             RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI,
              st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
     cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, lg_src_reinhard_cl, opts);
     if (!prog)
@@ -354,15 +411,16 @@ static int rh_cl_init(lg_node *n, rh_state *st)
                                    sizeof wg, &wg, NULL);
     if (err)
         return lg_cl_fail(n, err, "clGetKernelWorkGroupInfo(rh_reduce)");
-    if (wg < RH_GROUP)
+    if (wg < RH_GROUP || wg < RH_CL_MAP_LOCAL)
         return lg_error_code(n, LG_ERR_DEVICE,
                              "backend 'cl': the device runs at most %zu work-items per group "
-                             "for rh_reduce, the reduction needs %u", wg, RH_GROUP);
-    st->cl_partials = clCreateBuffer(ctx, CL_MEM_READ_WRITE, RH_MAX_GROUPS * sizeof(rh_partial),
-                                     NULL, &err);
-    if (err)
-        return lg_cl_fail(n, err, "clCreateBuffer(partials)");
-    st->cl_result = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(rh_partial), NULL, &err);
+                             "for rh_reduce, the kernels need %u", wg,
+                             RH_GROUP > RH_CL_MAP_LOCAL ? RH_GROUP : RH_CL_MAP_LOCAL);
+    /* the result block starts zeroed: no adapted luminance yet */
+    rh_result zero;
+    memset(&zero, 0, sizeof zero);
+    st->cl_result = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zero,
+                                   &zero, &err);
     if (err)
         return lg_cl_fail(n, err, "clCreateBuffer(result)");
     return 0;
@@ -389,12 +447,27 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
         return rc;
     cl_mem min = (cl_mem)pin, mout = (cl_mem)pout;
     cl_uint npx = (cl_uint)((size_t)st->width * st->height);
-    cl_uint groups = rh_groups(npx);
+    cl_uint groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
+    /* one partial per stage-1 work-item: sized by the image, which prepare may change */
+    if (partials > st->cl_n_partials) {
+        if (st->cl_partials)
+            clReleaseMemObject(st->cl_partials);
+        cl_int e;
+        st->cl_partials = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_WRITE,
+                                         (size_t)partials * sizeof(rh_partial), NULL, &e);
+        st->cl_n_partials = e ? 0 : partials;
+        if (e) {
+            st->cl_partials = NULL;
+            return lg_cl_fail(n, e, "clCreateBuffer(partials)");
+        }
+    }
     cl_float delta = (cl_float)st->p.delta;
     cl_float4 w = { { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f } };
+    rh_adapt_args ad = rh_adapt_args_for(st, frame);
     cl_event ev;
     cl_int err;
 
+    /* stage 1 */
     RH_ARG(st->cl_reduce, 0, min);
     RH_ARG(st->cl_reduce, 1, npx);
     RH_ARG(st->cl_reduce, 2, delta);
@@ -406,39 +479,44 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce)");
     lg_cl_profile(n, ev);
 
+    /* stage 2: the partials, Lavg, adaptation and the scale, on the device */
     RH_ARG(st->cl_final, 0, st->cl_partials);
-    RH_ARG(st->cl_final, 1, groups);
+    RH_ARG(st->cl_final, 1, partials);
     RH_ARG(st->cl_final, 2, st->cl_result);
+    RH_ARG(st->cl_final, 3, ad.key);
+    RH_ARG(st->cl_final, 4, ad.adapt);
+    RH_ARG(st->cl_final, 5, ad.k);
+    RH_ARG(st->cl_final, 6, ad.from);
+    RH_ARG(st->cl_final, 7, ad.reset);
     global = RH_GROUP;
     err = clEnqueueNDRangeKernel(q, st->cl_final, 1, NULL, &global, &local, 0, NULL, &ev);
     if (err)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce_final)");
     lg_cl_profile(n, ev);
 
-    rh_partial r;
-    err = clEnqueueReadBuffer(q, st->cl_result, CL_TRUE, 0, sizeof r, &r, 0, NULL, NULL);
-    if (err)
-        return lg_cl_fail(n, err, "clEnqueueReadBuffer(result)");
-    lg_rh_stats s = { .log_sum = r.sum, .valid = r.valid, .nonfinite = r.nonfinite,
-                      .negative = r.negative };
-    double scale = rh_scale(n, st, &s, frame);
-
-    cl_float fscale = (cl_float)scale;
+    /* the map reads the scale where stage 2 left it */
     cl_float inv_w2 = st->p.white > 0.0 ? (cl_float)(1.0 / (st->p.white * st->p.white)) : 0.0f;
     cl_int mode = st->p.mode == LG_RH_RGB ? 1 : 0;
     RH_ARG(st->cl_map, 0, min);
     RH_ARG(st->cl_map, 1, mout);
     RH_ARG(st->cl_map, 2, npx);
-    RH_ARG(st->cl_map, 3, fscale);
+    RH_ARG(st->cl_map, 3, st->cl_result);
     RH_ARG(st->cl_map, 4, inv_w2);
     RH_ARG(st->cl_map, 5, mode);
     RH_ARG(st->cl_map, 6, w);
-    local = 64;
+    local = RH_CL_MAP_LOCAL;
     global = ((size_t)npx + local - 1) / local * local;
     err = clEnqueueNDRangeKernel(q, st->cl_map, 1, NULL, &global, &local, 0, NULL, &ev);
     if (err)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_map)");
     lg_cl_profile(n, ev);
+
+    /* for the report only, after the map was queued: the device never waits for the host */
+    rh_result r;
+    err = clEnqueueReadBuffer(q, st->cl_result, CL_TRUE, 0, sizeof r, &r, 0, NULL, NULL);
+    if (err)
+        return lg_cl_fail(n, err, "clEnqueueReadBuffer(result)");
+    rh_report(n, st, &r, frame);
     return 0;
 }
 
@@ -479,7 +557,7 @@ static void rh_destroy(lg_node *n)
         clReleaseMemObject(st->cl_partials);
     if (st->cl_result)
         clReleaseMemObject(st->cl_result);
-    free(st->scratch);
+    free(st->slots);
     free(st);
     n->user = NULL;
 }
@@ -510,7 +588,7 @@ static const lg_param_desc rh_params[] = {
     { .key = "dt", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 3600,
       .doc = "seconds per frame for adaptation; 0 = the render's frame time (--dt)" },
     { .key = "backend", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_backends,
-      .doc = "where it runs: cpu (reference, double precision), gl (compute shaders), cl" },
+      .doc = "where it runs: cpu (float, vectorised, on the host's thread pool), gl (compute shaders), cl" },
 };
 static const lg_port_desc rh_inputs[] = {
     { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f or rgba16f" },

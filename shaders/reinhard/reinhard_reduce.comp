@@ -1,10 +1,15 @@
 #version 450
 // Reinhard log-average luminance: a two-stage parallel reduction (lightgraph, reinhard).
 //
-// Stage 1 (LG_STAGE == 1): every workgroup walks the image with a grid stride, sums
-// log(delta + L) over its valid pixels and counts the pixels left out, then reduces in
-// shared memory and writes one Partial per workgroup.
-// Stage 2 (LG_STAGE == 2): one workgroup reduces the partials to one Partial.
+// Stage 1 (LG_STAGE == 1): a 2D dispatch (plugins/reinhard/reinhard_launch.h): work-group
+// (gx, gy) of 256 invocations along x covers columns gx * 256 .. + 255; each invocation
+// walks its column over the rows gy, gy + rows, gy + 2 rows, ... (rows = the dispatch's
+// height), summing log(delta + L) over the valid pixels and counting the ones left out
+// with selects, not branches. No integer division per pixel; neighbouring invocations
+// load neighbouring pixels. Each work-group reduces in shared memory and writes one
+// Partial. Stage 2 (LG_STAGE == 2): one work-group reduces the partials; then invocation
+// 0 computes Lavg, the adaptation step and the scale a / L into the Result block, where
+// the map reads it: the host does not read anything between the reduction and the map.
 //
 // Seed 0 (5.2) reduced with log2(N) render-to-texture passes of 2x2 averages; compute
 // shaders reduce in two dispatches whatever the size, and count the bad pixels.
@@ -31,8 +36,20 @@ layout(location = 0) uniform ivec2 u_size;
 layout(location = 1) uniform float u_delta;
 layout(location = 2) uniform vec3 u_w;
 #else
-layout(std430, binding = 1) buffer Result { Partial result; };
+// plugins/reinhard/reinhard_launch.h, rh_result; la and have_la persist across frames
+layout(std430, binding = 1) buffer Result {
+    Partial total;
+    float lavg;      // exp(sum / valid), 1 when no pixel is valid
+    float la;        // adapted luminance
+    float scale;     // a / Lavg or a / La: what the map uses
+    uint have_la;
+} result;
 layout(location = 0) uniform uint u_count;
+layout(location = 1) uniform float u_key;
+layout(location = 2) uniform int u_adapt;       // 0 off, 1 on
+layout(location = 3) uniform float u_adapt_k;   // 1 - rate^(60 dt)
+layout(location = 4) uniform float u_adapt_from;// La before the first frame; 0: first Lavg
+layout(location = 5) uniform int u_reset;       // 1: forget La (first frame since prepare)
 #endif
 
 shared float s_sum[LG_GROUP];
@@ -53,24 +70,20 @@ void main()
     uint valid = 0u, nonfinite = 0u, negative = 0u;
 
 #if LG_STAGE == 1
-    uint w = uint(u_size.x);
-    uint n = w * uint(u_size.y);
-    uint stride = gl_NumWorkGroups.x * LG_GROUP;
-    for (uint i = gl_GlobalInvocationID.x; i < n; i += stride) {
-        vec3 c = imageLoad(u_in, ivec2(int(i % w), int(i / w))).rgb;
-        if (!lg_finite(c.r) || !lg_finite(c.g) || !lg_finite(c.b)) {
-            nonfinite++;
-            continue;
-        }
+    int x = int(gl_GlobalInvocationID.x);
+    int rows = int(gl_NumWorkGroups.y);
+    // invocations right of the image run no iteration (only in the last column group)
+    int yend = x < u_size.x ? u_size.y : 0;
+    for (int y = int(gl_WorkGroupID.y); y < yend; y += rows) {
+        vec3 c = imageLoad(u_in, ivec2(x, y)).rgb;
         float l = u_w.r * c.r + u_w.g * c.g + u_w.b * c.b;
-        if (!lg_finite(l)) {
-            nonfinite++;
-        } else if (l < 0.0) {
-            negative++;
-        } else {
-            sum += log(u_delta + l);
-            valid++;
-        }
+        bool fin = lg_finite(c.r) && lg_finite(c.g) && lg_finite(c.b) && lg_finite(l);
+        bool neg = fin && l < 0.0;
+        bool ok = fin && !neg;
+        sum += log(ok ? u_delta + l : 1.0); // log(1) = 0 for the pixels left out
+        valid += uint(ok);
+        nonfinite += uint(!fin);
+        negative += uint(neg);
     }
 #else
     for (uint i = lid; i < u_count; i += LG_GROUP) {
@@ -98,9 +111,25 @@ void main()
     if (lid == 0u) {
         Partial p = Partial(s_sum[0], s_valid[0], s_nonfinite[0], s_negative[0]);
 #if LG_STAGE == 1
-        part[gl_WorkGroupID.x] = p;
+        part[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = p;
 #else
-        result = p;
+        result.total = p;
+        bool ok = p.valid > 0u;
+        float lavg = ok ? exp(p.sum / float(p.valid)) : 1.0;
+        result.lavg = lavg;
+        float l = lavg;
+        if (u_adapt != 0) {
+            float la = result.la;
+            if (u_reset != 0 || result.have_la == 0u) {
+                la = u_adapt_from > 0.0 ? u_adapt_from : lavg;
+                result.have_la = 1u;
+            }
+            if (ok)
+                la = la + (lavg - la) * u_adapt_k;
+            result.la = la;
+            l = la;
+        }
+        result.scale = u_key / l;
 #endif
     }
 }

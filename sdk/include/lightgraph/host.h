@@ -233,6 +233,14 @@ typedef struct lg_host_api {
     int (*payload_cl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot,
                              const void *data, size_t size, void **mem);
 
+    /* -- since ABI 2.0: CPU parallelism --
+     * The host's thread pool, for nodes that run on the CPU; see lg_parallel_for below for
+     * the contract. */
+    uint32_t (*cpu_workers)(lg_node *node); /* threads the pool runs, >= 1 */
+    int (*parallel_for)(lg_node *node, size_t n, size_t grain,
+                        void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk),
+                        void *ctx);
+
     /* -- since ABI 2.0: composite resources (lightgraph/kinds.h) --
      * declare_composite: in prepare(), declares output `port` (of a composite kind) with
      * its parts; every part the kind requires must be given, each once. The parts are
@@ -248,7 +256,7 @@ typedef struct lg_host_api {
                              uint32_t n_parts);
     const lg_resource *(*part)(lg_node *node, const lg_resource *res, const char *name);
 
-    void *reserved[28];
+    void *reserved[26];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -377,6 +385,60 @@ static inline int lg_map_cl(lg_node *n, const lg_resource *r, unsigned access, v
                             void **depth)
 {
     return n->host->map_cl(n, r, access, mem, depth);
+}
+
+/* ---- CPU parallelism (since ABI 2.0) ------------------------------------------------
+ *
+ * The host runs one thread pool for every node of the process: a node that parallelises
+ * its CPU work through it shares the machine with the others instead of oversubscribing
+ * it with threads of its own. Its size is one thread per online CPU, or the environment
+ * variable LIGHTGRAPH_THREADS (1 makes every node single-threaded); the pool is made on
+ * first use and joined at exit.
+ *
+ * lg_parallel_for(node, n, grain, fn, ctx) splits the indices [0, n) into chunks of
+ * `grain` consecutive indices, the last one shorter:
+ *
+ *     chunk c = [c * grain, min(n, (c + 1) * grain)),   c = 0 .. ceil(n / grain) - 1
+ *
+ * and calls fn(ctx, begin, end, c) once per chunk, on the pool's threads and on the
+ * calling thread (which works too). It returns when every chunk is done; everything fn
+ * wrote is then visible to the caller.
+ *
+ *   Determinism. The chunks are a function of n and grain only, never of the number of
+ *   threads. A reduction that writes chunk c's partial result into slot c of an array
+ *   (ceil(n / grain) slots) and then combines the slots in index order on the calling
+ *   thread gives bit-identical results whatever LIGHTGRAPH_THREADS says. Which thread
+ *   runs a chunk, and in what order chunks run, is not specified.
+ *   Thread safety. fn runs concurrently with itself: it may write only what its chunk
+ *   owns (its output rows, its slot). It must not call host services (lg_log, lg_error,
+ *   lg_map_*, devices, ...) except lg_cpu_workers; record a failure in the chunk's slot
+ *   and report it from the calling thread afterwards. fn must not block waiting for
+ *   another chunk.
+ *   Grain. Pick it so that a chunk is worth a thread hand-off (tens of microseconds of
+ *   work: some thousands of pixels) and so that n / grain is several times the worker
+ *   count; a grain >= n runs fn once, on the calling thread, and costs nothing extra.
+ *   Nesting. A call from inside fn runs all its chunks on the thread that made it, in
+ *   chunk order (no deadlock, no extra parallelism). Calls from several threads of a
+ *   plugin are serialised.
+ *   Errors. Returns 0, or LG_ERR_INVALID after reporting (grain 0, fn NULL, more than
+ *   2^32 - 1 chunks); nothing has run then. n == 0 runs nothing and returns 0.
+ *   Call it from execute() (prepare() too); the node's profile counts the wall time.
+ */
+static inline uint32_t lg_cpu_workers(lg_node *n)
+{
+    return n->host->cpu_workers(n);
+}
+static inline int lg_parallel_for(lg_node *n, size_t count, size_t grain,
+                                  void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk),
+                                  void *ctx)
+{
+    return n->host->parallel_for(n, count, grain, fn, ctx);
+}
+/* The number of chunks lg_parallel_for makes of `count` indices: the size of a reduction's
+ * per-chunk slot array. */
+static inline size_t lg_parallel_chunks(size_t count, size_t grain)
+{
+    return grain ? count / grain + (count % grain != 0) : 0;
 }
 
 /* The size of an image a node makes from two INT parameters (normally "width" and

@@ -16,9 +16,11 @@
  *   sizes         1x1, 17x3, 3x257, 300x1 and 1100x700 (several grid-stride rounds):
  *                 every pixel of a constant image is mapped
  *   backends      (no BACKEND: all of them) every backend the node declares against the
- *                 double-precision reference and against cpu, through the SDK harness,
- *                 on a photograph and a synthetic image, in four parameter sets;
- *                 `test_reinhard --bench[=N] backends` is the benchmark
+ *                 double-precision oracle (reinhard_oracle.c) and against cpu, through the
+ *                 SDK harness, on a photograph and a synthetic image, in four parameter
+ *                 sets; `test_reinhard --bench[=N] backends` is the benchmark
+ *   threads       (cpu) the same output, to the bit, with LIGHTGRAPH_THREADS = 1, 2 and 7:
+ *                 the log-average is reduced per chunk and added in chunk order
  *
  * Values come back through the output file; when the host writes half EXR the checks add
  * half's rounding (2^-11 relative) to their tolerance (lightgraph/test.h, lg_test_tol_of).
@@ -30,6 +32,7 @@
 
 #include "lightgraph/test.h"
 #include "reinhard_cpu.h"
+#include "reinhard_oracle.h"
 
 static const char *backend;
 
@@ -497,8 +500,8 @@ static void case_sizes(lg_test *t)
 
 /* ---- every backend ------------------------------------------------------------------------------ */
 
-/* The reference: the plain double-precision algorithm (reinhard_cpu.c: log sum in double,
- * the curve in double) on the input as the node reads it. */
+/* The reference: the plain double-precision oracle (reinhard_oracle.c: log sum in double,
+ * the curve in double, one pixel at a time) on the input as the node reads it. */
 static void reference(const lg_image *in, lg_image *out, lg_rh_mode mode, const double w[3],
                       double key, double delta, double white)
 {
@@ -507,14 +510,14 @@ static void reference(const lg_image *in, lg_image *out, lg_rh_mode mode, const 
     size_t n = (size_t)in->width * in->height;
     lg_rh_stats st;
     memset(&st, 0, sizeof st);
-    lg_rh_reduce(in->pixels, n, &p, &st);
+    lg_rh_ref_reduce(in->pixels, n, &p, &st);
     double lavg = 1;
     if (!lg_rh_log_average(&st, &lavg)) {
         fprintf(stderr, "reference: no valid pixel\n");
         exit(99);
     }
     *out = alloc_image(in->width, in->height);
-    lg_rh_map(in->pixels, out->pixels, n, key / lavg, &p);
+    lg_rh_ref_map(in->pixels, out->pixels, n, key / lavg, &p);
 }
 
 /* An HDR test image: log-uniform values over 8 decades per channel, a few exact zeros, a
@@ -626,6 +629,50 @@ static void setup(lg_test *t)
     lg_test_require_backend(t, backend);
 }
 
+/* ---- threads ----------------------------------------------------------------------------------- */
+
+static void case_threads(lg_test *t)
+{
+    if (strcmp(backend, "cpu") != 0) {
+        LG_TEST_FAILF(t, "threads is a cpu case (the host's pool), not %s", backend);
+        return;
+    }
+    /* a few hundred chunks of rows, bad pixels and ten decades of values */
+    const uint32_t w = 1031, h = 677;
+    lg_image in = alloc_image(w, h);
+    uint32_t seed = 5;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        float *p = in.pixels + i * 4;
+        for (int k = 0; k < 3; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            p[k] = (float)pow(10.0, -5.0 + 10.0 * (seed >> 8) / 16777216.0);
+        }
+        p[3] = 1.0f;
+        if (i % 1013 == 7)
+            p[1] = NAN;
+    }
+    lg_test_write_exr(t, "in.exr", &in);
+    write_graph(t, "g.lgraph", "in.exr", "", "out.exr");
+    static const char *const threads[] = { "1", "2", "7" };
+    lg_image out[3];
+    bool ok = true;
+    for (int k = 0; k < 3; k++) {
+        setenv("LIGHTGRAPH_THREADS", threads[k], 1);
+        const char *args[] = { "-o", k == 0 ? "t1.exr" : k == 1 ? "t2.exr" : "t7.exr", NULL };
+        ok &= render_read(t, "g.lgraph", args, args[1], &out[k], NULL, NULL);
+    }
+    unsetenv("LIGHTGRAPH_THREADS");
+    if (ok) {
+        for (int k = 1; k < 3; k++)
+            LG_TEST_CHECK(t, memcmp(out[k].pixels, out[0].pixels, (size_t)w * h * 16) == 0,
+                          "LIGHTGRAPH_THREADS=%s maps differently from LIGHTGRAPH_THREADS=1",
+                          threads[k]);
+        for (int k = 0; k < 3; k++)
+            lg_image_free(&out[k]);
+    }
+    lg_image_free(&in);
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
@@ -633,6 +680,7 @@ int main(int argc, char **argv)
         { "monotone", case_monotone },   { "exposure", case_exposure },
         { "adapt", case_adapt },         { "badpixels", case_badpixels },
         { "sizes", case_sizes },         { "backends", case_backends },
+        { "threads", case_threads },
     };
     lg_test_main_opts o = { .prefix = "reinhard", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

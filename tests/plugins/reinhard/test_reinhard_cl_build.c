@@ -31,8 +31,8 @@ int main(void)
         return 77;
     }
     static const char *const options[] = {
-        "-cl-std=CL1.2 -DLG_LOCAL=256",
-        "-cl-std=CL1.2 -DLG_LOCAL=256 -DLG_IN_HALF=1",
+        "-cl-std=CL1.2 -DLG_LOCAL=256 -DLG_MAP_LOCAL=256 -DLG_PPI=1",
+        "-cl-std=CL1.2 -DLG_LOCAL=256 -DLG_MAP_LOCAL=256 -DLG_PPI=1 -DLG_IN_HALF=1",
     };
     static const char *const kernels[] = { "rh_reduce", "rh_reduce_final", "rh_map" };
     int failed = 0;
