@@ -128,7 +128,8 @@ static int rh_prepare(lg_node *n)
 
 /* ---- the scale: Lavg, adaptation, reporting --------------------------------------------------- */
 
-static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_frame *frame)
+/* The warnings every backend gives, once each: pixels left out, no valid pixel. */
+static void rh_warn(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_frame *frame)
 {
     uint64_t bad = s->nonfinite + s->negative;
     if (bad && !st->warned_bad) {
@@ -139,14 +140,19 @@ static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_
                "to 0, and +Inf channels to 1 (reported once)",
                frame->index, bad, bad + s->valid, s->nonfinite, s->negative);
     }
-    double lavg;
-    bool ok = lg_rh_log_average(s, &lavg);
-    if (!ok && !st->warned_empty) {
+    if (!s->valid && !st->warned_empty) {
         st->warned_empty = true;
         lg_log(n, LG_LOG_WARN, "frame %u: no valid pixel for the log-average; %s (reported once)",
                frame->index,
                st->adapt && st->have_la ? "keeping the adapted luminance" : "using Lavg = 1");
     }
+}
+
+static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_frame *frame)
+{
+    rh_warn(n, st, s, frame);
+    double lavg;
+    bool ok = lg_rh_log_average(s, &lavg);
     double l = ok ? lavg : 1.0;
     if (st->adapt) {
         if (!st->have_la) {
@@ -194,21 +200,7 @@ static void rh_report(lg_node *n, rh_state *st, const rh_result *r, const lg_fra
 {
     lg_rh_stats s = { .log_sum = r->sum, .valid = r->valid, .nonfinite = r->nonfinite,
                       .negative = r->negative };
-    uint64_t bad = s.nonfinite + s.negative;
-    if (bad && !st->warned_bad) {
-        st->warned_bad = true;
-        lg_log(n, LG_LOG_WARN,
-               "frame %u: %" PRIu64 " of %" PRIu64 " pixels left out of the log-average "
-               "(%" PRIu64 " with NaN or Inf, %" PRIu64 " with negative luminance); they map "
-               "to 0, and +Inf channels to 1 (reported once)",
-               frame->index, bad, bad + s.valid, s.nonfinite, s.negative);
-    }
-    if (!s.valid && !st->warned_empty) {
-        st->warned_empty = true;
-        lg_log(n, LG_LOG_WARN, "frame %u: no valid pixel for the log-average; %s (reported once)",
-               frame->index,
-               st->adapt && st->have_la ? "keeping the adapted luminance" : "using Lavg = 1");
-    }
+    rh_warn(n, st, &s, frame);
     if (st->adapt)
         st->have_la = true;
     lg_log(n, LG_LOG_DEBUG, "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
