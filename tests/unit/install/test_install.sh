@@ -20,7 +20,12 @@ find "$TMP/root" -name 'lightgraph' -type f -perm -u+x | grep -q . || { echo "FA
 export PKG_CONFIG_PATH="$(dirname "$pc")"
 export PKG_CONFIG_SYSROOT_DIR="$TMP/root"
 cp -r "$SRC/sdk/template" "$TMP/template"
-(cd "$TMP/template" && meson setup build >"$TMP/setup.log" 2>&1 && ninja -C build >"$TMP/ninja.log" 2>&1) || {
+san=""
+if [ -n "${LG_SANITIZE:-}" ] && [ "$LG_SANITIZE" != none ]; then
+  san="-Db_sanitize=$LG_SANITIZE -Db_lundef=false"
+fi
+# shellcheck disable=SC2086 # $san is two words or none
+(cd "$TMP/template" && meson setup build $san >"$TMP/setup.log" 2>&1 && ninja -C build >"$TMP/ninja.log" 2>&1) || {
   cat "$TMP/setup.log" "$TMP/ninja.log" 2>/dev/null; echo "FAIL: template build"; exit 1; }
 libdir=$(dirname "$(find "$TMP/root" -name 'liblightgraph.so*' | head -1)")
 export LD_LIBRARY_PATH="$libdir"
