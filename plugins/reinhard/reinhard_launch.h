@@ -29,9 +29,10 @@
 
 /* CL stage 1: pixels per work-item (-DLG_PPI, a multiple of RH_CL_BLOCK), each item
  * writing one partial; the groups are as many as the image needs (rh_cl_groups), and
- * stage 2 loops over the partials (rh_cl_partials). 16: the partials add 1 byte per pixel
- * of traffic, and stage 2 stays below 1 ms on 2048x1396 (with 4 it took 5-6 ms). */
-#define RH_CL_PPI 16u
+ * stage 2 loops over the partials (rh_cl_partials). 32: the partials add 0.5 byte per
+ * pixel of traffic, and stage 2 takes 0.24 ms on 2048x1396 (0.55 ms with 16, 5-6 ms with
+ * 4; stage 1 the same or faster with 32 than with 16, no faster with 64; PoCL 3.1). */
+#define RH_CL_PPI 32u
 _Static_assert(RH_CL_PPI % 8 == 0, "CL stage 1 reads blocks of 8 pixels");
 
 /* CL: pixels per vector (float8) in both pixel kernels; the map runs one block of this

@@ -181,8 +181,8 @@ inline void rh_local_reduce(__local float *s_sum, __local uint *s_valid,
 // writes its own partial: no local memory, no barrier (on PoCL a barrier splits the kernel
 // into work-item loops that keep every private value in memory between them; the
 // local-memory tree this replaced took 40-56 ms, a per-item partial 12 ms). Stage 2 then
-// reduces one partial per work-item (1/LG_PPI of a 16-byte value per pixel: 6% more
-// traffic with LG_PPI = 16).
+// reduces one partial per work-item (1/LG_PPI of a 16-byte value per pixel: 3% more
+// traffic with LG_PPI = 32).
 __kernel void rh_reduce(const __global float *in, uint n, float delta, float4 w,
                __global rh_partial *part)
 {
