@@ -190,7 +190,7 @@ __kernel void rh_reduce(const __global float *in, uint n, float delta, float4 w,
     float8 sum8 = 0.0f;
     int8 nonfinite8 = 0, negative8 = 0;
     float sum = 0.0f;
-    uint valid = 0, nonfinite = 0, negative = 0;
+    uint nonfinite = 0, negative = 0;   // valid: the pixels looked at, less these
     for (uint k = 0; k < LG_PPI / 8; k++) {
         uint j = first + k * LG_LOCAL;                 // block of pixels 8j .. 8j + 7
         if (8 * j + 8 <= n) {
