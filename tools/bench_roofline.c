@@ -290,7 +290,7 @@ static void bench_cl(const lg_image *img, int repeat)
     CLCHECK(clSetKernelArg(km, 5, sizeof mode, &mode), "clSetKernelArg");
     CLCHECK(clSetKernelArg(km, 6, sizeof w, &w), "clSetKernelArg");
     size_t l_red = RH_GROUP, g_red = (size_t)groups * RH_GROUP, g_fin = RH_GROUP;
-    size_t l_map = RH_CL_MAP_LOCAL, g_map = ((size_t)npx + l_map - 1) / l_map * l_map;
+    size_t l_map = RH_CL_MAP_LOCAL, g_map = rh_cl_map_items(npx);
     for (int r = -1; r < repeat; r++) { /* r = -1: warm-up (first launch compiles work-group code) */
         cl_event e[3];
         CLCHECK(clEnqueueNDRangeKernel(q, kr, 1, NULL, &g_red, &l_red, 0, NULL, &e[0]), "rh_reduce");

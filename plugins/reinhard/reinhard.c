@@ -497,7 +497,7 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
     RH_ARG(st->cl_map, 5, mode);
     RH_ARG(st->cl_map, 6, w);
     local = RH_CL_MAP_LOCAL;
-    global = ((size_t)npx + local - 1) / local * local;
+    global = rh_cl_map_items(npx); /* eight pixels per item */
     err = clEnqueueNDRangeKernel(q, st->cl_map, 1, NULL, &global, &local, 0, NULL, &ev);
     if (err)
         return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_map)");

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "reinhard.cl.h"
+#include "reinhard_launch.h"
 
 int main(void)
 {
@@ -30,10 +31,12 @@ int main(void)
         fprintf(stderr, "clCreateContext: %d: skipped\n", err);
         return 77;
     }
-    static const char *const options[] = {
-        "-cl-std=CL1.2 -DLG_LOCAL=256 -DLG_MAP_LOCAL=256 -DLG_PPI=1",
-        "-cl-std=CL1.2 -DLG_LOCAL=256 -DLG_MAP_LOCAL=256 -DLG_PPI=1 -DLG_IN_HALF=1",
-    };
+    /* as plugins/reinhard/reinhard.c builds it */
+    char options[2][160];
+    for (int i = 0; i < 2; i++)
+        snprintf(options[i], sizeof options[i],
+                 "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u%s", RH_GROUP,
+                 RH_CL_MAP_LOCAL, RH_CL_PPI, i ? " -DLG_IN_HALF=1" : "");
     static const char *const kernels[] = { "rh_reduce", "rh_reduce_final", "rh_map" };
     int failed = 0;
     for (int i = 0; i < 2; i++) {
