@@ -70,6 +70,24 @@ inline int4 rh_finite4(float4 v)
 // plugins/reinhard/reinhard_cpu.c, about 1 ulp. Ours, not log(): PoCL 3.1's log() is not
 // vectorised and cost ~100 ns a call, which made stage 1 take 130-200 ms on 2.86
 // Mpixels; this one is plain arithmetic that vectorises with the work-item loop.
+// The polynomial part on f = m - 1, z = f^2 and the exponent fe, for float and float8 alike
+// (the same operations in the same order): y, with log(x) = f + y + ln2_hi fe.
+#define RH_LOG_POLY(y, f, z, fe)                                                          \
+    do {                                                                                  \
+        (y) = 7.0376836292e-2f;                                                           \
+        (y) = (y) * (f) - 1.1514610310e-1f;                                               \
+        (y) = (y) * (f) + 1.1676998740e-1f;                                               \
+        (y) = (y) * (f) - 1.2420140846e-1f;                                               \
+        (y) = (y) * (f) + 1.4249322787e-1f;                                               \
+        (y) = (y) * (f) - 1.6668057665e-1f;                                               \
+        (y) = (y) * (f) + 2.0000714765e-1f;                                               \
+        (y) = (y) * (f) - 2.4999993993e-1f;                                               \
+        (y) = (y) * (f) + 3.3333331174e-1f;                                               \
+        (y) = (y) * (f) * (z);                                                            \
+        (y) += -2.12194440e-4f * (fe);                                                    \
+        (y) += -0.5f * (z);                                                               \
+    } while (0)
+
 inline float rh_log(float x)
 {
     uint b = as_uint(x);
@@ -80,19 +98,8 @@ inline float rh_log(float x)
     m = small ? m + m : m;
     float f = m - 1.0f;
     float z = f * f;
-    float y = 7.0376836292e-2f;
-    y = y * f - 1.1514610310e-1f;
-    y = y * f + 1.1676998740e-1f;
-    y = y * f - 1.2420140846e-1f;
-    y = y * f + 1.4249322787e-1f;
-    y = y * f - 1.6668057665e-1f;
-    y = y * f + 2.0000714765e-1f;
-    y = y * f - 2.4999993993e-1f;
-    y = y * f + 3.3333331174e-1f;
-    y = y * f * z;
-    float fe = (float)e;
-    y += -2.12194440e-4f * fe;
-    y += -0.5f * z;
+    float fe = (float)e, y;
+    RH_LOG_POLY(y, f, z, fe);
     return f + y + 0.693359375f * fe;
 }
 
@@ -144,19 +151,8 @@ inline float8 rh_log8(float8 x)
     m = select(m, m + m, small);
     float8 f = m - 1.0f;
     float8 z = f * f;
-    float8 y = 7.0376836292e-2f;
-    y = y * f - 1.1514610310e-1f;
-    y = y * f + 1.1676998740e-1f;
-    y = y * f - 1.2420140846e-1f;
-    y = y * f + 1.4249322787e-1f;
-    y = y * f - 1.6668057665e-1f;
-    y = y * f + 2.0000714765e-1f;
-    y = y * f - 2.4999993993e-1f;
-    y = y * f + 3.3333331174e-1f;
-    y = y * f * z;
-    float8 fe = convert_float8(e);
-    y += -2.12194440e-4f * fe;
-    y += -0.5f * z;
+    float8 fe = convert_float8(e), y;
+    RH_LOG_POLY(y, f, z, fe);
     return f + y + 0.693359375f * fe;
 }
 
