@@ -75,6 +75,10 @@ static bool key_ok(lg_pnode *n, const char *key)
     return true;
 }
 
+/* The largest entry read back: the largest buffer a resource may hold (16 GiB) plus the
+ * header. */
+#define CACHE_MAX_ENTRY (((size_t)1 << 34) + 4096)
+
 int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size)
 {
     *data = NULL;
@@ -83,8 +87,17 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
         return LG_ERR_INVALID;
     char *path = entry_path(ex, n, key);
     size_t len = 0;
-    char *buf = lg_read_file(path, &len);
+    char why_read[256];
+    /* bounded: an entry that is a FIFO, a device (a link to /dev/zero) or larger than any
+     * payload can be is refused before it is read, and treated as a corrupt entry */
+    char *buf = lg_read_file_limit(path, CACHE_MAX_ENTRY, &len, why_read, sizeof why_read);
     if (!buf) {
+        if (errno != ENOENT) {
+            lg_hlog(LG_HWARN, "node '%s': cache entry %s cannot be used (%s); removing it and "
+                              "recomputing",
+                    n->pub.name, path, why_read);
+            remove(path);
+        }
         free(path);
         n->cache_misses++;
         return LG_ERR_NOTFOUND;

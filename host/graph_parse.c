@@ -1320,15 +1320,10 @@ static void do_include(parser *p, const tok *f)
     if (read_error_reported(p, f, full))
         goto out;
     size_t len = 0;
-    char *text = lg_read_file(full, &len);
+    char why[256];
+    char *text = lg_read_file_limit(full, MAX_FILE_BYTES, &len, why, sizeof why);
     if (!text) {
-        tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full,
-                   strerror(errno));
-        goto out;
-    }
-    if (len > MAX_FILE_BYTES) { /* it grew since stat() */
-        tok_report(p, f, LG_DIAG_ERROR, "included file '%s' is too large", full);
-        free(text);
+        tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full, why);
         goto out;
     }
     source *src = add_source(pl, full, text, len, 1);
@@ -1596,22 +1591,12 @@ lg_graph *lg_graph_parse_string(const char *name, const char *text, size_t len,
 lg_graph *lg_graph_parse_file(const char *path, lg_diags *diags)
 {
     lg_srcloc loc = {path, 0, 0, 0};
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        lg_diags_add(diags, LG_DIAG_ERROR, loc, NULL, "cannot read graph file: it is a directory");
-        return NULL;
-    }
     size_t len = 0;
-    char *text = lg_read_file(path, &len);
+    char why[256];
+    /* bounded: a FIFO, a device or a huge file is refused before a byte is read */
+    char *text = lg_read_file_limit(path, MAX_FILE_BYTES, &len, why, sizeof why);
     if (!text) {
-        lg_diags_add(diags, LG_DIAG_ERROR, loc, NULL, "cannot read graph file: %s",
-                     strerror(errno));
-        return NULL;
-    }
-    if (len > MAX_FILE_BYTES) {
-        lg_diags_add(diags, LG_DIAG_ERROR, loc, NULL, "graph file is too large (%zu bytes; the "
-                     "limit is %u MiB)", len, MAX_FILE_BYTES >> 20);
-        free(text);
+        lg_diags_add(diags, LG_DIAG_ERROR, loc, NULL, "cannot read graph file: %s", why);
         return NULL;
     }
     lg_graph *g = new_graph();

@@ -45,6 +45,13 @@ char *lg_path_absolute(const char *path);            /* against the cwd, normali
 bool lg_path_exists(const char *path);
 /* Reads a whole file; returns NULL with errno set. *len receives the size. */
 char *lg_read_file(const char *path, size_t *len);
+/* Reads a whole regular file of at most `limit` bytes, bounded: anything that is not a
+ * regular file after following links (a FIFO, a device, a directory, a socket) is refused
+ * without blocking, the size is checked before a byte is read, and no more than `limit`
+ * bytes are ever read (a file that grows while read is refused). Returns a malloc'd buffer
+ * (NUL-terminated, *len bytes) or NULL with errno set and `err` saying why, naming what the
+ * path is ("is a FIFO", "is 22 GiB, over the 16 MiB limit"). */
+char *lg_read_file_limit(const char *path, size_t limit, size_t *len, char *err, size_t errlen);
 
 /* Writes `n` bytes to `path` through a temporary file in the same directory renamed into
  * place: a failure never leaves a partial file. Returns 0, or -1 with errno set. */

@@ -133,6 +133,23 @@ int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': unknown flags 0x%x",
                              path, flags & ~(unsigned)LG_READ_RADIANCE);
 
+    /* Only regular files: a FIFO would block a decoder's open or read forever, a device
+     * (/dev/zero) would feed it without end. Opened without blocking, then checked. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0)
+        return lg_image_fail(err, errlen, errno == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
+                             "cannot read '%s': %s", path, strerror(errno));
+    struct stat st;
+    int st_rc = fstat(fd, &st);
+    close(fd);
+    if (st_rc != 0 || !S_ISREG(st.st_mode))
+        return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': it is %s, not a regular "
+                             "file", path,
+                             st_rc != 0 ? "unreadable" : S_ISDIR(st.st_mode) ? "a directory"
+                             : S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISCHR(st.st_mode)
+                             ? "a character device" : S_ISBLK(st.st_mode) ? "a block device"
+                             : S_ISSOCK(st.st_mode) ? "a socket" : "a special file");
+
     info->format = lg_image_format_from_path(path);
     int rc;
     switch (info->format) {

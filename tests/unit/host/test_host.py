@@ -265,6 +265,21 @@ def test_cache():
         open(e, "wb").write(data[:len(data) - 3])
     what, p = once(1, 0.75)
     check(what == "computed" and "truncated" in p.stderr, "a truncated entry: " + p.stderr)
+    # entries that are not regular files (issue 8): a link to /dev/zero and a FIFO are
+    # refused at once, removed and recomputed; never read without bound, never waited on
+    for make, what_is in ((lambda e: os.symlink("/dev/zero", e), "a character device"),
+                          (lambda e: os.mkfifo(e), "a FIFO")):
+        entries = [os.path.join(cache, f) for f in os.listdir(cache) if f.endswith(".lgc")]
+        check(len(entries) == 3, "three entries: %s" % entries)
+        for e in entries:
+            os.remove(e)
+            make(e)
+        what, p = once(1, 0.75)
+        check(what == "computed" and ("it is %s, not a regular file" % what_is) in p.stderr
+              and "removing it and recomputing" in p.stderr, "%s entry: %s" % (what_is, p.stderr))
+        real = [e for e in entries if os.path.isfile(e) and not os.path.islink(e)]
+        check(len(real) == 1, "the entry this graph reads was replaced by a real one: %s" %
+              [(e, os.path.islink(e), os.path.isfile(e)) for e in entries])
 
 
 def test_frames_and_profile():
@@ -340,6 +355,19 @@ def test_exit_status():
     check("cannot" in p.stderr, p.stderr)
     # -o with an unknown format is bad usage
     run(["render", fog_graph("1"), "-o", os.path.join(TMP, "x.bmp")], expect=2)
+    # special files are refused at once, never waited on or read without end (issue 8): a
+    # FIFO as an image to diff or as a graph, /dev/zero as a graph
+    fifo = os.path.join(TMP, "f.exr")
+    os.mkfifo(fifo)
+    p = run(["diff", fifo, fifo], expect=None)
+    check(p.returncode != 0 and "it is a FIFO, not a regular file" in p.stderr,
+          "diff of a FIFO: %d %s" % (p.returncode, p.stderr))
+    gfifo = os.path.join(TMP, "f.lgraph")
+    os.mkfifo(gfifo)
+    p = run(["check", gfifo], expect=2)
+    check("cannot read graph file: it is a FIFO, not a regular file" in p.stderr, p.stderr)
+    p = run(["check", "/dev/zero"], expect=2)
+    check("it is a character device, not a regular file" in p.stderr, p.stderr)
     # check command
     p = run(["check", fog_graph("1")], expect=0)
     check(": ok (2 nodes, 1 outputs)" in p.stdout, p.stdout)

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -1141,7 +1142,40 @@ static void test_includes(const char *data)
                                   "'nope/none.lgraph': No such file or directory");
     EXPECT_FILE("nonexistent.lgraph",
                 "nonexistent.lgraph: error: cannot read graph file: No such file or directory");
-    EXPECT_FILE("sub", "sub: error: cannot read graph file: it is a directory");
+    EXPECT_FILE("sub", "sub: error: cannot read graph file: it is a directory, not a regular "
+                       "file");
+    /* Bounded reads (issue 8): special files are refused at once, never read or waited on,
+     * and a file over the limit is refused before a byte of it is read. */
+    EXPECT_FILE("/dev/zero", "/dev/zero: error: cannot read graph file: it is a character "
+                             "device, not a regular file");
+    {
+        char fifo[] = "/tmp/lg-parser-fifo-XXXXXX";
+        char big[] = "/tmp/lg-parser-big-XXXXXX";
+        int fd = mkstemp(fifo);
+        CHECK(fd >= 0);
+        if (fd >= 0) {
+            close(fd);
+            unlink(fifo);
+            CHECK(mkfifo(fifo, 0600) == 0); /* no writer: a plain fopen would block */
+            char *want = lg_xasprintf("%s: error: cannot read graph file: it is a FIFO, not a "
+                                      "regular file", fifo);
+            EXPECT_FILE(fifo, want);
+            free(want);
+            unlink(fifo);
+        }
+        fd = mkstemp(big);
+        CHECK(fd >= 0);
+        if (fd >= 0) {
+            /* 500 MB, sparse: refused from its size, without growing the process */
+            CHECK(ftruncate(fd, 500000000) == 0);
+            close(fd);
+            char *want = lg_xasprintf("%s: error: cannot read graph file: it is 476.8 MiB, "
+                                      "over the 16.0 MiB limit", big);
+            EXPECT_FILE(big, want);
+            free(want);
+            unlink(big);
+        }
+    }
 
     /* A file included twice (a diamond) is read once. */
     g = lg_graph_parse_file("diamond.lgraph", &d);
