@@ -1,5 +1,7 @@
 #include "util.h"
 
+#include "lightgraph/file.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -253,91 +255,9 @@ char *lg_read_file(const char *path, size_t *len)
     return lg_str_take(&b);
 }
 
-static const char *file_kind(mode_t m)
-{
-    return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) ? "a character device"
-         : S_ISBLK(m) ? "a block device" : S_ISSOCK(m) ? "a socket" : "not a regular file";
-}
-
 char *lg_read_file_limit(const char *path, size_t limit, size_t *len, char *err, size_t errlen)
 {
-    /* O_NONBLOCK: opening a FIFO with no writer must not hang; it is refused below */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-    if (fd < 0) {
-        int e = errno;
-        snprintf(err, errlen, "%s", strerror(e));
-        errno = e;
-        return NULL;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        int e = errno;
-        snprintf(err, errlen, "%s", strerror(e));
-        close(fd);
-        errno = e;
-        return NULL;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(err, errlen, "it is %s, not a regular file", file_kind(st.st_mode));
-        close(fd);
-        errno = S_ISDIR(st.st_mode) ? EISDIR : EINVAL;
-        return NULL;
-    }
-    if ((unsigned long long)st.st_size > limit) {
-        char a[32], b[32];
-        lg_format_bytes(a, sizeof a, (uint64_t)st.st_size);
-        lg_format_bytes(b, sizeof b, limit);
-        snprintf(err, errlen, "it is %s, over the %s limit", a, b);
-        close(fd);
-        errno = EFBIG;
-        return NULL;
-    }
-    size_t cap = (size_t)st.st_size, n = 0;
-    char *buf = malloc(cap + 1);
-    if (!buf) {
-        snprintf(err, errlen, "out of memory for %zu bytes", cap);
-        close(fd);
-        errno = ENOMEM;
-        return NULL;
-    }
-    for (;;) {
-        if (n == cap) {
-            /* at the size stat() gave: one more byte read means it grew */
-            char extra;
-            ssize_t r = read(fd, &extra, 1);
-            if (r == 0)
-                break;
-            if (r < 0 && errno == EINTR)
-                continue;
-            if (r < 0)
-                snprintf(err, errlen, "%s", strerror(errno));
-            else
-                snprintf(err, errlen, "it grew while being read");
-            free(buf);
-            close(fd);
-            errno = r < 0 ? EIO : EFBIG;
-            return NULL;
-        }
-        ssize_t r = read(fd, buf + n, cap - n);
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r < 0) {
-            int e = errno;
-            snprintf(err, errlen, "%s", strerror(e));
-            free(buf);
-            close(fd);
-            errno = e;
-            return NULL;
-        }
-        if (r == 0)
-            break; /* it shrank: what is there is the file */
-        n += (size_t)r;
-    }
-    close(fd);
-    buf[n] = 0;
-    if (len)
-        *len = n;
-    return buf;
+    return lg_file_read(path, limit, len, err, errlen);
 }
 
 int lg_write_file_atomic(const char *path, const void *data, size_t n)

@@ -6,6 +6,7 @@
  *   lightgraph/plugin.h   the plugin descriptor: node types, parameters, ports, callbacks
  *   lightgraph/host.h     the host's services: parameters, resources, devices, cache, log
  *   lightgraph/image.h    images in memory and in files (EXR, HDR, PNG), metrics
+ *   lightgraph/file.h     bounded, confined reads of regular files (every loader's rules)
  *   lightgraph/color.h    luminance and colour helpers
  *   lightgraph/vecmath.h  vectors and 4x4 matrices (column-major)
  *   lightgraph/scene.h    the scene resource: meshes, instances, materials, lights, cameras
@@ -33,6 +34,7 @@
 #include "lightgraph/plugin.h"
 #include "lightgraph/host.h"
 #include "lightgraph/image.h"
+#include "lightgraph/file.h"
 #include "lightgraph/color.h"
 #include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
