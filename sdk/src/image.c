@@ -14,6 +14,39 @@
 
 #include "image_priv.h"
 
+#include <stdatomic.h>
+
+/* 0 until first use, then the limit in force (never 0 again) */
+static _Atomic uint64_t max_pixels;
+
+uint64_t lg_image_max_pixels(void)
+{
+    uint64_t n = atomic_load(&max_pixels);
+    if (n)
+        return n;
+    n = LG_IMAGE_MAX_PIXELS_DEFAULT;
+    const char *e = getenv("LIGHTGRAPH_MAX_PIXELS");
+    if (e && *e) {
+        char *end = NULL;
+        errno = 0;
+        unsigned long long v = strtoull(e, &end, 10);
+        if (errno == 0 && end && *end == 0 && v > 0 && e[0] != '-')
+            n = v;
+        else
+            fprintf(stderr, "lightgraph: warning: LIGHTGRAPH_MAX_PIXELS='%s' is not a positive "
+                            "integer; the limit stays %llu pixels\n",
+                    e, (unsigned long long)n);
+    }
+    uint64_t zero = 0;
+    atomic_compare_exchange_strong(&max_pixels, &zero, n);
+    return atomic_load(&max_pixels);
+}
+
+void lg_image_set_max_pixels(uint64_t n)
+{
+    atomic_store(&max_pixels, n ? n : LG_IMAGE_MAX_PIXELS_DEFAULT);
+}
+
 int lg_image_fail(char *err, size_t errlen, int code, const char *fmt, ...)
 {
     if (err && errlen) {

@@ -85,6 +85,18 @@ enum {
     LG_READ_RADIANCE = 1u << 0,
 };
 
+/* The pixel limit. Every read checks the size a file declares (width x height, from its
+ * header, before a pixel is decoded or a byte of pixel memory allocated) against this limit,
+ * and refuses a larger image with an error that names the file, its declared size and the
+ * limit. The same limit bounds image sizes known from a graph's parameters (`lightgraph
+ * check`). The default, 2^27 = 134,217,728 pixels (16384 x 8192, 2 GiB as rgba32f), holds
+ * the largest light probes in use; Pillow's comparable default is about 89 million.
+ * LIGHTGRAPH_MAX_PIXELS in the environment (read at first use) or lg_image_set_max_pixels
+ * (the host's --max-pixels) raises or lowers it; 0 restores the default. */
+#define LG_IMAGE_MAX_PIXELS_DEFAULT 134217728ull
+LG_API uint64_t lg_image_max_pixels(void);
+LG_API void lg_image_set_max_pixels(uint64_t n);
+
 /* Reads a file into `img` (which the call fills; free with lg_image_free). A file without
  * alpha gets alpha 1. PNG is decoded from sRGB to linear. `info` may be NULL. */
 LG_API int lg_image_read(const char *path, unsigned flags, lg_image *img,
