@@ -59,6 +59,22 @@ def last_words(r):
     return "(no output)"
 
 
+KEY_WORDS = ("check failed", "error", "Sanitizer", "FAIL", "expected", "differ", "Assertion",
+             "Traceback", "Error")
+
+
+def failure_digest(r, limit=6):
+    """A few lines that say why a test failed: the lines naming a failed check, an error or a
+    sanitizer report, else its last lines. Printed next to the final count so that the tail
+    of a CI log says which check failed, not only which test."""
+    lines = []
+    for stream in ("stdout", "stderr"):
+        lines += [l.rstrip() for l in (r.get(stream) or "").splitlines() if l.strip()]
+    keyed = [l for l in lines if any(k in l for k in KEY_WORDS)]
+    pick = keyed[:limit] if keyed else lines[-limit:]
+    return [l[:300] for l in pick] or ["(no output)"]
+
+
 def main(argv):
     args = argv[1:]
     expected_path = DEFAULT_EXPECTED
@@ -79,6 +95,7 @@ def main(argv):
     if on_ci and not os.path.exists(expected_path):
         print("note: no expectations file %s: every skip fails on CI" % expected_path)
     skipped_names = set()
+    failures = []
     for build in args:
         try:
             with open(os.path.join(build, "meson-logs", "testlog.json")) as f:
@@ -112,11 +129,16 @@ def main(argv):
                           % (os.path.relpath(expected_path), name, last_words(r)))
             else:
                 failed += 1
+                failures.append((name, build, res, failure_digest(r)))
     if on_ci:
         for pat, reason in expected:
             if not any(fnmatch.fnmatchcase(n, pat) for n in skipped_names):
                 print("note: expected to skip but did not: %s (%s): remove it from %s"
                       % (pat, reason, os.path.relpath(expected_path)))
+    for name, build, res, digest in failures:
+        print("FAIL: %s [%s] (%s):" % (name, build, res))
+        for l in digest:
+            print("    " + l)
     print("%d passed, %d failed, %d skipped" % (passed, failed, skipped))
     return 1 if failed or passed == 0 else 0
 

@@ -95,11 +95,16 @@ with tempfile.TemporaryDirectory() as tmp:
     check(rc == 1 and "expected 'test name: reason'" in out, "malformed file accepted:\n" + out)
 
     # 5. an expected skip that passes is noted; a failure fails; several build folders add up
-    b2 = meson_project(tmp, "p2", [("gl device", "pass"), ("broken", "raise SystemExit(1)")])
+    b2 = meson_project(tmp, "p2", [("gl device", "pass"), ("broken", "print(1); print(\"x.c:9: check failed: a == b\"); print(2); raise SystemExit(1)")])
     rc, out, last = run_summary([b, b2], listed, ci=True)
     check(rc == 1 and last == "2 passed, 1 failed, 1 skipped", "two builds:\n" + out)
     rc, out, last = run_summary([b2], listed, ci=True)
     check("expected to skip but did not: gl device" in out, "stale entry not noted:\n" + out)
+    # a failure is named next to the count with the line that says why (CI shows the tail)
+    tail = out.strip().splitlines()[-3:]
+    check(len(tail) == 3 and tail[0].startswith("FAIL: broken [") and
+          tail[1].strip() == "x.c:9: check failed: a == b",
+          "failure digest missing before the count:\n" + out)
 
     # 6. nothing ran: a failure; a build folder without a log: a failure
     b3 = meson_project(tmp, "p3", [("only skip", "raise SystemExit(77)")])
