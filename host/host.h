@@ -197,6 +197,8 @@ typedef struct lg_exec_opts {
     const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */
     const char *profile_json;
     const char *graph_path;
+    struct lg_outputs *outputs;  /* where the output files go (outputs.h); every output
+                                  * path is added to it before the run */
 } lg_exec_opts;
 
 typedef struct lg_exec {
@@ -249,6 +251,9 @@ typedef struct lg_run_result {
 } lg_run_result;
 int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
                    const lg_exec_opts *opts, const char *time_node, lg_run_result *res);
+/* Parses `graph`, applies `sets` and checks it against the scanned plugins, as `check` does
+ * (nothing runs). Diagnostics are printed. Returns 0, or 2 for a bad graph or value. */
+int lg_check_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets);
 
 /* commands (cmd_*.c); argv[0] is the command's name; return the exit status */
 int lg_cmd_render(int argc, char **argv);
