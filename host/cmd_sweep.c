@@ -11,7 +11,12 @@
  * overrides (e.g. the finest tessellation and per-pixel shading). Every run gets the --set
  * overrides, then one combination of the --vary values (their cartesian product). Times
  * are the median over --repeat runs of the --time node's CPU wall time (which includes its
- * GL work, see docs/devices.md), or of all kept nodes when --time is not given. */
+ * GL work, see docs/devices.md), or of all kept nodes when --time is not given.
+ *
+ * All or nothing (outputs.h): every --vary value is checked against its parameter's type and
+ * range, the reference graph is checked, and every file the sweep writes (reference, runs,
+ * heat maps, CSV, script, plot) is given its temporary in DIR (default out/sweep, which must
+ * exist) before the first run; the files are committed together at the end, or none. */
 #include "host.h"
 
 #include <errno.h>
@@ -44,7 +49,8 @@ static int usage(const char *msg, const char *what)
             "usage: lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]\n"
             "                        [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...\n"
             "                        [--set NODE.PARAM=V]... [--time NODE] [--repeat N]\n"
-            "                        [--size WxH] [--gl osmesa|egl] [-o DIR]\n");
+            "                        [--size WxH] [--gl osmesa|egl] [-o DIR]\n"
+            "DIR (default out/sweep) must exist; nothing is written unless every run succeeds\n");
     return 2;
 }
 

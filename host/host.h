@@ -243,7 +243,10 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
 /* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
  * (already scanned), plan, run, write the output (opts->output_override replaces the single
  * output's file), print --explain / --profile per opts. Returns the exit status (0, 1, 2);
- * res gets the kept nodes' total CPU wall time and `time_node`'s (if found). */
+ * res gets the kept nodes' total CPU wall time and `time_node`'s (if found). Every file is
+ * checked before anything runs and written all or nothing (outputs.h): into a set of its
+ * own, committed on success, or, when opts->outputs is given, into that set, which the
+ * caller commits (sweep). */
 typedef struct lg_run_result {
     double total_ms;
     double node_ms;

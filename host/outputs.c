@@ -26,46 +26,52 @@ struct lg_outputs {
 
 /* ---- signals ----------------------------------------------------------------------------- */
 
-/* Every temporary of every live set, for the signal handler. Changed only with the signals
- * blocked, so the handler never sees it half updated. */
+/* Every temporary of every live set, for the signal handler. The main thread changes the
+ * list and writes files only inside busy(): a signal that arrives then (on any thread: the
+ * host has worker threads, so masking the main thread alone would not do) is remembered, and
+ * acted on when the main thread is done, so that neither the list nor an image writer's own
+ * temporary is left half done. */
 static char **g_tmp;
 static size_t g_ntmp, g_cap;
 static bool g_installed;
+static pid_t g_pid; /* a forked child (a plugin scanner) that inherits the handler removes nothing */
+static volatile sig_atomic_t g_busy, g_pending;
 static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP};
 
-static void on_signal(int sig)
+/* Removes every temporary, then dies of `sig` as the process would have without the
+ * handler. Async-signal-safe. */
+static void clean_up_and_die(int sig)
 {
-    for (size_t i = 0; i < g_ntmp; i++)
+    for (size_t i = 0; getpid() == g_pid && i < g_ntmp; i++)
         unlink(g_tmp[i]);
-    /* SA_RESETHAND restored the default action and SA_NODEFER lets it act at once: the
-     * process dies of the signal, as it would have without the handler */
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = SIG_DFL;
+    sigemptyset(&sa.sa_mask);
+    sigaction(sig, &sa, NULL);
+    /* in the handler, SA_NODEFER lets the default action happen at once */
     raise(sig);
     _exit(128 + sig);
 }
 
-static void hold_signals(sigset_t *old)
+static void on_signal(int sig)
 {
-    sigset_t s;
-    sigemptyset(&s);
-    for (size_t i = 0; i < sizeof g_sigs / sizeof g_sigs[0]; i++)
-        sigaddset(&s, g_sigs[i]);
-    sigprocmask(SIG_BLOCK, &s, old);
+    if (g_busy) {
+        g_pending = sig;
+        return;
+    }
+    clean_up_and_die(sig);
 }
 
-static void release_signals(const sigset_t *old)
+static void busy(void)
 {
-    sigprocmask(SIG_SETMASK, old, NULL);
+    g_busy++;
 }
 
-static bool signal_pending(void)
+static void not_busy(void)
 {
-    sigset_t p;
-    if (sigpending(&p) != 0)
-        return false;
-    for (size_t i = 0; i < sizeof g_sigs / sizeof g_sigs[0]; i++)
-        if (sigismember(&p, g_sigs[i]) == 1)
-            return true;
-    return false;
+    if (--g_busy == 0 && g_pending)
+        clean_up_and_die(g_pending);
 }
 
 /* Installs the handler for the signals whose action is still the default: one that is
@@ -75,6 +81,7 @@ static void install_handler(void)
     if (g_installed)
         return;
     g_installed = true;
+    g_pid = getpid();
     for (size_t i = 0; i < sizeof g_sigs / sizeof g_sigs[0]; i++) {
         struct sigaction old;
         if (sigaction(g_sigs[i], NULL, &old) != 0 || old.sa_handler != SIG_DFL ||
@@ -83,7 +90,7 @@ static void install_handler(void)
         struct sigaction sa;
         memset(&sa, 0, sizeof sa);
         sa.sa_handler = on_signal;
-        sa.sa_flags = SA_RESETHAND | SA_NODEFER;
+        sa.sa_flags = SA_NODEFER;
         sigemptyset(&sa.sa_mask);
         sigaction(g_sigs[i], &sa, NULL);
     }
@@ -91,27 +98,25 @@ static void install_handler(void)
 
 static void track(char *tmp)
 {
-    sigset_t old;
-    hold_signals(&old);
+    busy();
     install_handler();
     if (g_ntmp == g_cap) {
         g_cap = g_cap ? 2 * g_cap : 16;
         g_tmp = lg_xrealloc(g_tmp, g_cap * sizeof *g_tmp);
     }
     g_tmp[g_ntmp++] = tmp;
-    release_signals(&old);
+    not_busy();
 }
 
 static void untrack(const char *tmp)
 {
-    sigset_t old;
-    hold_signals(&old);
+    busy();
     for (size_t i = 0; i < g_ntmp; i++)
         if (g_tmp[i] == tmp) {
             g_tmp[i] = g_tmp[--g_ntmp];
             break;
         }
-    release_signals(&old);
+    not_busy();
 }
 
 /* ---- the set ----------------------------------------------------------------------------- */
@@ -246,11 +251,10 @@ int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
         return -1;
     }
     char why[1024];
-    sigset_t old;
-    /* held, so that lg_image_write's own temporary is always renamed or removed */
-    hold_signals(&old);
+    /* busy, so that lg_image_write's own temporary is always renamed or removed */
+    busy();
     int rc = lg_image_write(e->tmp, img, wo, why, sizeof why);
-    release_signals(&old);
+    not_busy();
     if (rc)
         snprintf(err, errlen, "cannot write '%s': %s", path, why);
     return rc ? -1 : 0;
@@ -264,8 +268,7 @@ int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, siz
         snprintf(err, errlen, "cannot write '%s': not checked as an output", path);
         return -1;
     }
-    sigset_t old;
-    hold_signals(&old);
+    busy();
     int fd = open(e->tmp, O_WRONLY | O_TRUNC | O_CLOEXEC);
     int rc = fd < 0 ? -1 : 0;
     const char *p = data;
@@ -287,7 +290,7 @@ int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, siz
         rc = -1;
         saved = errno;
     }
-    release_signals(&old);
+    not_busy();
     if (rc)
         snprintf(err, errlen, "cannot write '%s': %s", path, strerror(saved ? saved : EIO));
     return rc;
@@ -315,12 +318,12 @@ void lg_outputs_drop(lg_outputs *o, const char *path)
 
 int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen)
 {
-    sigset_t old;
-    hold_signals(&old);
-    if (signal_pending()) {
-        /* interrupted while writing: the handler removes the temporaries once released */
+    busy();
+    if (g_pending) {
+        /* a signal arrived while the outputs were written: nothing is committed, not_busy()
+         * removes the temporaries and lets it act */
         snprintf(err, errlen, "interrupted; nothing was written");
-        release_signals(&old);
+        not_busy();
         return -1;
     }
     /* keep each previous file as a hard link, so that a rename failing part way can put
@@ -361,7 +364,7 @@ int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen)
     /* committed: the temporaries are now the destinations; failed: remove them */
     while (o->n)
         remove_entry(o, o->n - 1, rc != 0);
-    release_signals(&old);
+    not_busy();
     return rc;
 }
 
