@@ -34,7 +34,8 @@ struct lg_outputs {
 static char **g_tmp;
 static size_t g_ntmp, g_cap;
 static bool g_installed;
-static pid_t g_pid; /* a forked child (a plugin scanner) that inherits the handler removes nothing */
+/* a forked child (a plugin scanner) that inherits the handler removes nothing */
+static pid_t g_pid;
 static volatile sig_atomic_t g_busy, g_pending;
 static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP};
 
