@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "lightgraph/image.h"
+#include "outputs.h"
 #include "util.h"
 
 static void diff_usage(FILE *f)
@@ -144,6 +145,17 @@ int lg_cmd_diff(int argc, char **argv)
     memset(img, 0, sizeof img);
     char err[1024];
     int status = 0;
+    /* the heat map's destination is checked before the images are read, by the rules of
+     * every output (outputs.h) */
+    lg_outputs *outs = NULL;
+    if (heatmap) {
+        outs = lg_outputs_new();
+        if (lg_outputs_add(outs, heatmap, LG_OUTPUT_IMAGE, err, sizeof err)) {
+            fprintf(stderr, "lightgraph diff: --heatmap: %s\n", err);
+            status = 1;
+            goto done;
+        }
+    }
     for (int k = 0; k < 2; k++) {
         if (lg_image_read(paths[k], 0, &img[k], &info[k], err, sizeof err) != LG_OK) {
             fprintf(stderr, "lightgraph diff: %s\n", err);
@@ -171,7 +183,9 @@ int lg_cmd_diff(int argc, char **argv)
         lg_image_write_opts wo;
         memset(&wo, 0, sizeof wo);
         wo.channels = 3;
-        int rc = lg_image_write(heatmap, &heat, &wo, err, sizeof err);
+        int rc = lg_outputs_write_image(outs, heatmap, &heat, &wo, err, sizeof err);
+        if (rc == 0)
+            rc = lg_outputs_commit(outs, err, sizeof err);
         lg_image_free(&heat);
         if (rc != LG_OK) {
             fprintf(stderr, "lightgraph diff: %s\n", err);
@@ -242,6 +256,7 @@ int lg_cmd_diff(int argc, char **argv)
     lg_str_free(&why);
 
 done:
+    lg_outputs_free(&outs);
     lg_image_free(&img[0]);
     lg_image_free(&img[1]);
     return status;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "lightgraph/image.h"
+#include "outputs.h"
 
 typedef struct args {
     const char *cmd;
@@ -173,6 +174,16 @@ static int load_graph(lg_registry *reg, const char *graph, const char *const *se
     return rc;
 }
 
+int lg_check_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets)
+{
+    lg_graph *g;
+    lg_checked *c;
+    int rc = load_graph(reg, graph, sets, n_sets, &g, &c);
+    lg_checked_free(c);
+    lg_graph_free(g);
+    return rc;
+}
+
 static int open_session(session *s, int argc, char **argv, bool need_check)
 {
     memset(s, 0, sizeof *s);
@@ -192,6 +203,27 @@ static int close_session(session *s, int rc)
     lg_registry_free(&s->reg);
     free(s->a.sets);
     return rc;
+}
+
+/* Adds every file this run writes (the outputs, or -o; --profile-json) to `out`, each
+ * checked before any work. Returns 0, or 1 (printed): a destination that cannot be written
+ * is a failure to run, as a failed write was, not bad usage. */
+static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts *opts)
+{
+    char err[1024];
+    for (uint32_t i = 0; i < c->n_outputs; i++) {
+        const char *path = opts->output_override ? opts->output_override : c->outputs[i].path;
+        if (lg_outputs_add(out, path, LG_OUTPUT_IMAGE, err, sizeof err)) {
+            fprintf(stderr, "lightgraph: %s; nothing was run\n", err);
+            return 1;
+        }
+    }
+    if (opts->profile_json && lg_outputs_add(out, opts->profile_json, LG_OUTPUT_FILE, err,
+                                             sizeof err)) {
+        fprintf(stderr, "lightgraph: --profile-json: %s; nothing was run\n", err);
+        return 1;
+    }
+    return 0;
 }
 
 int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
@@ -218,11 +250,21 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
         fprintf(stderr, "lightgraph: %s has no output statement, so nothing would run\n", graph);
         rc = 2;
     }
+    /* all or nothing: every destination is checked and given its temporary before any node
+     * runs, and the files are renamed into place only once every one was written; a caller
+     * that passes its own set (sweep) commits it itself */
+    lg_outputs *own = NULL;
+    lg_outputs *out = opts->outputs;
+    if (rc == 0 && !out)
+        out = own = lg_outputs_new();
+    if (rc == 0)
+        rc = add_outputs(out, c, opts);
     if (rc == 0) {
         lg_exec ex;
         memset(&ex, 0, sizeof ex);
         ex.opts = *opts;
         ex.opts.graph_path = graph;
+        ex.opts.outputs = out;
         ex.reg = reg;
         ex.graph = g;
         ex.checked = c;
@@ -231,7 +273,9 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
             lg_explain_print(&ex, stdout);
         if (rc == 0)
             rc = lg_execute(&ex) ? 1 : 0;
-        if (rc == 0 && !ex.failed) {
+        if (rc == 0 && ex.failed)
+            rc = 1;
+        if (rc == 0) {
             if (opts->profile)
                 lg_profile_print(&ex, stdout);
             if (opts->profile_json && lg_profile_write_json(&ex, opts->profile_json))
@@ -250,6 +294,18 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
         fflush(stdout);
         lg_exec_free(&ex);
     }
+    if (rc == 0 && own) {
+        char err[1024];
+        if (lg_outputs_commit(own, err, sizeof err)) {
+            fprintf(stderr, "lightgraph: %s\n", err);
+            rc = 1;
+        } else {
+            for (uint32_t i = 0; i < c->n_outputs; i++)
+                lg_hlog(LG_HINFO, "wrote %s",
+                        opts->output_override ? opts->output_override : c->outputs[i].path);
+        }
+    }
+    lg_outputs_free(&own);
     lg_checked_free(c);
     lg_graph_free(g);
     return rc;

@@ -11,7 +11,12 @@
  * overrides (e.g. the finest tessellation and per-pixel shading). Every run gets the --set
  * overrides, then one combination of the --vary values (their cartesian product). Times
  * are the median over --repeat runs of the --time node's CPU wall time (which includes its
- * GL work, see docs/devices.md), or of all kept nodes when --time is not given. */
+ * GL work, see docs/devices.md), or of all kept nodes when --time is not given.
+ *
+ * All or nothing (outputs.h): every --vary value is checked against its parameter's type and
+ * range, the reference graph is checked, and every file the sweep writes (reference, runs,
+ * heat maps, CSV, script, plot) is given its temporary in DIR (default out/sweep, which must
+ * exist) before the first run; the files are committed together at the end, or none. */
 #include "host.h"
 
 #include <errno.h>
@@ -22,8 +27,13 @@
 #include <unistd.h>
 
 #include "lightgraph/image.h"
+#include "outputs.h"
 
 #define MAX_VARY 8
+/* at most this many combinations: each reserves two files before the first run */
+#define MAX_RUNS 10000
+#define LG_STR_(x) #x
+#define LG_STR(x) LG_STR_(x)
 
 typedef struct vary {
     char *key;       /* NODE.PARAM */
@@ -39,7 +49,8 @@ static int usage(const char *msg, const char *what)
             "usage: lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]\n"
             "                        [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...\n"
             "                        [--set NODE.PARAM=V]... [--time NODE] [--repeat N]\n"
-            "                        [--size WxH] [--gl osmesa|egl] [-o DIR]\n");
+            "                        [--size WxH] [--gl osmesa|egl] [-o DIR]\n"
+            "DIR (default out/sweep) must exist; nothing is written unless every run succeeds\n");
     return 2;
 }
 
@@ -74,13 +85,18 @@ static int read_image(const char *path, lg_image *img)
     return 0;
 }
 
-static void write_gnuplot(const char *dir, const vary *v, int n_vary)
+/* The gnuplot script. It names its data and image through the variables `data` and `out`,
+ * which default to sweep.csv and sweep.png in its directory: the sweep runs it on the
+ * temporaries before they are committed, a user reruns it as it is. */
+static int write_gnuplot(lg_outputs *outs, const char *gp, const vary *v, int n_vary, char *err,
+                         size_t errlen)
 {
-    char *gp = lg_xasprintf("%s/sweep.gp", dir);
     lg_str s = {0};
     lg_str_add(&s, "# gnuplot script written by lightgraph sweep: error against time\n");
+    lg_str_add(&s, "if (!exists('data')) data = 'sweep.csv'\n");
+    lg_str_add(&s, "if (!exists('out')) out = 'sweep.png'\n");
     lg_str_add(&s, "set terminal pngcairo size 900,600 noenhanced\n");
-    lg_str_add(&s, "set output 'sweep.png'\nset datafile separator ','\n");
+    lg_str_add(&s, "set output out\nset datafile separator ','\n");
     lg_str_add(&s, "set key off\nset grid\nset logscale y\n");
     lg_str_add(&s, "set xlabel 'time (ms, median)'\nset ylabel 'RMSE against the reference'\n");
     lg_str_add(&s, "set title 'what accuracy costs: ");
@@ -90,31 +106,42 @@ static void write_gnuplot(const char *dir, const vary *v, int n_vary)
     /* columns: run, varied params..., time_ms, time_min_ms, rmse, ... */
     int tcol = 2 + n_vary, ecol = tcol + 2;
     lg_str_addf(&s,
-                "plot 'sweep.csv' every ::1 using %d:($%d > 0 ? $%d : 1e-12) with points pt 7 "
+                "plot data every ::1 using %d:($%d > 0 ? $%d : 1e-12) with points pt 7 "
                 "ps 1.5, \\\n     '' every ::1 using %d:($%d > 0 ? $%d : 1e-12):(",
                 tcol, ecol, ecol, tcol, ecol, ecol);
     for (int i = 0; i < n_vary; i++)
         lg_str_addf(&s, "%sstrcol(%d)", i ? ".' '." : "", 2 + i);
     lg_str_add(&s, ") with labels offset 1,1 left\n");
-    if (lg_write_file_atomic(gp, s.s, s.len) != 0)
-        fprintf(stderr, "lightgraph sweep: cannot write %s: %s\n", gp, strerror(errno));
+    int rc = lg_outputs_write_data(outs, gp, s.s, s.len, err, errlen);
     lg_str_free(&s);
-    free(gp);
+    return rc;
 }
 
-/* Runs gnuplot on sweep.gp inside `dir`; 0 when the plot was made. */
-static int run_gnuplot(const char *dir)
+static const char *base_name(const char *p)
 {
+    const char *slash = strrchr(p, '/');
+    return slash ? slash + 1 : p;
+}
+
+/* Runs gnuplot inside `dir` on the script's temporary, reading the CSV's and writing the
+ * plot's (all three sit in `dir`, named without quotes or slashes); 0 when the plot was
+ * made. */
+static int run_gnuplot(const char *dir, const char *gp, const char *csv, const char *png)
+{
+    char *vars = lg_xasprintf("data='%s'; out='%s'", base_name(csv), base_name(png));
     fflush(NULL);
     pid_t pid = fork();
-    if (pid < 0)
+    if (pid < 0) {
+        free(vars);
         return -1;
+    }
     if (pid == 0) {
         if (chdir(dir) != 0)
             _exit(127);
-        execlp("gnuplot", "gnuplot", "sweep.gp", (char *)NULL);
+        execlp("gnuplot", "gnuplot", "-e", vars, base_name(gp), (char *)NULL);
         _exit(127);
     }
+    free(vars);
     int status = 0;
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
         ;
@@ -211,57 +238,110 @@ int lg_cmd_sweep(int argc, char **argv)
         rc = usage("lightgraph sweep: nothing to vary (give --vary NODE.PARAM=v1,v2,...)%s\n", "");
 
     lg_registry reg = {0};
-    char *csv_path = NULL;
+    lg_outputs *outs = NULL;
     lg_image ref = {0};
     lg_str csv = {0};
+    char **runs = NULL, **heats = NULL;
+    char *ref_out = NULL, *csv_path = NULL, *gp_path = NULL, *png_path = NULL;
+    int total = 1;
+    char err[1024];
     if (rc)
         goto done;
+    for (int i = 0; i < n_vary && rc == 0; i++) {
+        if (v[i].n == 0)
+            rc = usage("lightgraph sweep: --vary %s has no values\n", v[i].key);
+        else if (total > MAX_RUNS / v[i].n)
+            rc = usage("lightgraph sweep: the --vary values make more than " LG_STR(MAX_RUNS)
+                       " runs%s\n", "");
+        else
+            total *= v[i].n;
+    }
+    if (rc)
+        goto done;
+    lg_registry_scan(&reg);
+
+    /* Everything is checked before the first run: every --vary value against the
+     * parameter's type and range (the graph with --set and that value, checked as `check`
+     * does), the reference graph, and every file the sweep writes. */
+    const char **rs = lg_xcalloc((size_t)(n_sets + n_ref_sets) + 2, sizeof *rs);
     {
-        char *mk = lg_xasprintf("%s/.", dir);
-        char *d = lg_path_dirname(mk);
-        /* mkdir -p */
-        for (char *p = d + 1;; p++) {
-            if (*p == '/' || !*p) {
-                char c = *p;
-                *p = 0;
-                if (mkdir(d, 0777) != 0 && errno != EEXIST) {
-                    fprintf(stderr, "lightgraph sweep: cannot create %s: %s\n", d,
-                            strerror(errno));
-                    rc = 1;
-                }
-                *p = c;
-                if (!c || rc)
-                    break;
-            }
+        int nrs = 0;
+        if (!reference)
+            for (int i = 0; i < n_sets; i++)
+                rs[nrs++] = sets[i];
+        for (int i = 0; i < n_ref_sets; i++)
+            rs[nrs++] = ref_sets[i];
+        if (lg_check_file(&reg, reference ? reference : graph, rs, nrs)) {
+            fprintf(stderr, "lightgraph sweep: the reference %s is refused (above); nothing "
+                            "was run\n", reference ? reference : graph);
+            rc = 2;
         }
-        free(d);
-        free(mk);
+        for (int i = 0; i < n_vary && rc == 0; i++)
+            for (int j = 0; j < v[i].n && rc == 0; j++) {
+                for (int k = 0; k < n_sets; k++)
+                    rs[k] = sets[k];
+                char *kv = lg_xasprintf("%s=%s", v[i].key, v[i].values[j]);
+                rs[n_sets] = kv;
+                if (lg_check_file(&reg, graph, rs, n_sets + 1)) {
+                    fprintf(stderr,
+                            "lightgraph sweep: --vary %s: the value '%s' is refused (above); "
+                            "nothing was run\n",
+                            v[i].key, v[i].values[j]);
+                    rc = 2;
+                }
+                free(kv);
+            }
+        free(rs);
         if (rc)
             goto done;
     }
-    lg_registry_scan(&reg);
+    outs = lg_outputs_new();
+    ref_out = lg_xasprintf("%s/reference.exr", dir);
+    csv_path = lg_xasprintf("%s/sweep.csv", dir);
+    gp_path = lg_xasprintf("%s/sweep.gp", dir);
+    png_path = lg_xasprintf("%s/sweep.png", dir);
+    runs = lg_xcalloc((size_t)total, sizeof *runs);
+    heats = lg_xcalloc((size_t)total, sizeof *heats);
+    rc = lg_outputs_add(outs, ref_out, LG_OUTPUT_IMAGE, err, sizeof err);
+    for (int k = 0; k < total && rc == 0; k++) {
+        runs[k] = lg_xasprintf("%s/run-%03d.exr", dir, k);
+        heats[k] = lg_xasprintf("%s/heat-%03d.png", dir, k);
+        rc = lg_outputs_add(outs, runs[k], LG_OUTPUT_IMAGE, err, sizeof err);
+        if (rc == 0)
+            rc = lg_outputs_add(outs, heats[k], LG_OUTPUT_IMAGE, err, sizeof err);
+    }
+    if (rc == 0)
+        rc = lg_outputs_add(outs, csv_path, LG_OUTPUT_FILE, err, sizeof err);
+    if (rc == 0)
+        rc = lg_outputs_add(outs, gp_path, LG_OUTPUT_FILE, err, sizeof err);
+    if (rc == 0)
+        rc = lg_outputs_add(outs, png_path, LG_OUTPUT_IMAGE, err, sizeof err);
+    if (rc) {
+        fprintf(stderr, "lightgraph sweep: %s; nothing was run\n", err);
+        rc = 1;
+        goto done;
+    }
 
-    /* the reference */
-    char *ref_out = lg_xasprintf("%s/reference.exr", dir);
+    /* the reference; each image goes to its output's temporary, read back from there */
     {
-        const char **rs = lg_xcalloc((size_t)(n_sets + n_ref_sets) + 1, sizeof *rs);
+        const char **rsets = lg_xcalloc((size_t)(n_sets + n_ref_sets) + 1, sizeof *rsets);
         int nrs = 0;
         if (!reference) {
             for (int i = 0; i < n_sets; i++)
-                rs[nrs++] = sets[i];
+                rsets[nrs++] = sets[i];
         }
         for (int i = 0; i < n_ref_sets; i++)
-            rs[nrs++] = ref_sets[i];
+            rsets[nrs++] = ref_sets[i];
         lg_exec_opts o = opts;
         o.output_override = ref_out;
+        o.outputs = outs;
         lg_run_result res;
         fprintf(stderr, "sweep: reference (%s)\n", reference ? reference : graph);
-        rc = lg_render_file(&reg, reference ? reference : graph, rs, nrs, &o, NULL, &res);
-        free(rs);
+        rc = lg_render_file(&reg, reference ? reference : graph, rsets, nrs, &o, NULL, &res);
+        free(rsets);
     }
-    if (rc == 0 && read_image(ref_out, &ref))
+    if (rc == 0 && read_image(lg_outputs_temp(outs, ref_out), &ref))
         rc = 1;
-    free(ref_out);
     if (rc)
         goto done;
 
@@ -273,9 +353,6 @@ int lg_cmd_sweep(int argc, char **argv)
     }
     lg_str_add(&csv, ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite\n");
 
-    int total = 1;
-    for (int i = 0; i < n_vary; i++)
-        total *= v[i].n;
     const char **run_sets = lg_xcalloc((size_t)(n_sets + n_vary) + 1, sizeof *run_sets);
     double *times = lg_xcalloc(repeat, sizeof *times);
     for (int k = 0; k < total && rc == 0; k++) {
@@ -294,9 +371,9 @@ int lg_cmd_sweep(int argc, char **argv)
             run_sets[nr++] = owned[i];
             lg_str_addf(&label, "%s%s", i ? " " : "", owned[i]);
         }
-        char *out = lg_xasprintf("%s/run-%03d.exr", dir, k);
         lg_exec_opts o = opts;
-        o.output_override = out;
+        o.output_override = runs[k];
+        o.outputs = outs;
         fprintf(stderr, "sweep: run %d/%d: %s\n", k + 1, total, label.s);
         bool found = true;
         for (uint32_t r = 0; r < repeat && rc == 0; r++) {
@@ -311,20 +388,18 @@ int lg_cmd_sweep(int argc, char **argv)
             rc = 2;
         }
         lg_image img = {0};
-        if (rc == 0 && read_image(out, &img))
+        if (rc == 0 && read_image(lg_outputs_temp(outs, runs[k]), &img))
             rc = 1;
         if (rc == 0) {
             lg_image_metrics m;
             lg_image heat = {0};
-            char err[512];
             if (lg_image_compare(&img, &ref, &m, &heat, 0, err, sizeof err)) {
                 fprintf(stderr, "lightgraph sweep: run %d against the reference: %s\n", k, err);
                 rc = 1;
+            } else if (lg_outputs_write_image(outs, heats[k], &heat, NULL, err, sizeof err)) {
+                fprintf(stderr, "lightgraph sweep: %s\n", err);
+                rc = 1;
             } else {
-                char *hp = lg_xasprintf("%s/heat-%03d.png", dir, k);
-                if (lg_image_write(hp, &heat, NULL, err, sizeof err))
-                    fprintf(stderr, "lightgraph sweep: %s\n", err);
-                free(hp);
                 qsort(times, repeat, sizeof *times, cmp_double);
                 lg_str_addf(&csv, "%d", k);
                 for (int i = 0; i < n_vary; i++) {
@@ -342,7 +417,6 @@ int lg_cmd_sweep(int argc, char **argv)
             lg_image_free(&heat);
         }
         lg_image_free(&img);
-        free(out);
         lg_str_free(&label);
         for (int i = 0; i < n_vary; i++)
             free(owned[i]);
@@ -350,21 +424,43 @@ int lg_cmd_sweep(int argc, char **argv)
     }
     free(run_sets);
     free(times);
-    if (rc == 0) {
-        csv_path = lg_xasprintf("%s/sweep.csv", dir);
-        if (lg_write_file_atomic(csv_path, csv.s, csv.len) != 0) {
-            fprintf(stderr, "lightgraph sweep: cannot write %s: %s\n", csv_path, strerror(errno));
-            rc = 1;
-        } else {
-            write_gnuplot(dir, v, n_vary);
-            bool plotted = run_gnuplot(dir) == 0;
-            printf("wrote %s, %s/sweep.gp%s, heat maps %s/heat-*.png\n", csv_path, dir,
-                   plotted ? " and sweep.png" : " (gnuplot not run: install gnuplot-nox)", dir);
-        }
+    bool plotted = false;
+    if (rc == 0 && (lg_outputs_write_data(outs, csv_path, csv.s, csv.len, err, sizeof err) ||
+                    write_gnuplot(outs, gp_path, v, n_vary, err, sizeof err))) {
+        fprintf(stderr, "lightgraph sweep: %s\n", err);
+        rc = 1;
     }
+    if (rc == 0) {
+        /* the plot is the one optional output: without gnuplot the rest is still written */
+        plotted = run_gnuplot(dir, lg_outputs_temp(outs, gp_path), lg_outputs_temp(outs, csv_path),
+                              lg_outputs_temp(outs, png_path)) == 0;
+        if (!plotted)
+            lg_outputs_drop(outs, png_path);
+    }
+    /* all or nothing: the reference, the runs, the heat maps, the CSV and the plot */
+    if (rc == 0 && lg_outputs_commit(outs, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: %s\n", err);
+        rc = 1;
+    }
+    if (rc == 0)
+        printf("wrote %s, %s/reference.exr, %s/run-*.exr, heat maps %s/heat-*.png, %s%s\n",
+               csv_path, dir, dir, dir, gp_path,
+               plotted ? " and sweep.png" : " (gnuplot not run: install gnuplot-nox)");
+    else
+        fprintf(stderr, "lightgraph sweep: nothing was written to %s\n", dir);
 done:
-    lg_str_free(&csv);
+    lg_outputs_free(&outs);
+    for (int k = 0; runs && k < total; k++) {
+        free(runs[k]);
+        free(heats[k]);
+    }
+    free(runs);
+    free(heats);
+    free(ref_out);
     free(csv_path);
+    free(gp_path);
+    free(png_path);
+    lg_str_free(&csv);
     lg_image_free(&ref);
     lg_registry_free(&reg);
     for (int i = 0; i < n_vary; i++) {

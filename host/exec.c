@@ -6,12 +6,12 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
 #include "lightgraph/image.h"
+#include "outputs.h"
 
 static void read_cl_events(lg_pnode *n)
 {
@@ -88,28 +88,6 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     return rc;
 }
 
-static int mkdirs_for(const char *path, char *err, size_t errlen)
-{
-    char *dir = lg_path_dirname(path);
-    int rc = 0;
-    for (char *p = dir + 1; ; p++) {
-        if (*p == '/' || *p == 0) {
-            char c = *p;
-            *p = 0;
-            if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
-                snprintf(err, errlen, "cannot create directory %s: %s", dir, strerror(errno));
-                rc = -1;
-                break;
-            }
-            *p = c;
-            if (!c)
-                break;
-        }
-    }
-    free(dir);
-    return rc;
-}
-
 static int write_outputs(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
@@ -132,12 +110,14 @@ static int write_outputs(lg_exec *ex)
         lg_image_write_opts wo;
         memset(&wo, 0, sizeof wo);
         wo.exr_pixel = r->image.format == LG_FORMAT_RGBA32F ? LG_EXR_FLOAT : LG_EXR_HALF;
-        if (mkdirs_for(path, err, sizeof err) ||
-            lg_image_write(path, &img, &wo, err, sizeof err)) {
+        /* into the output's temporary: lg_render_file commits every output together once
+         * all of them are written (outputs.h) */
+        if (lg_outputs_write_image(ex->opts.outputs, path, &img, &wo, err, sizeof err)) {
             lg_hlog(LG_HERR, "%s", err);
             rc = -1;
         } else {
-            lg_hlog(LG_HINFO, "wrote %s (%ux%u)", path, img.width, img.height);
+            lg_hlog(LG_HDEBUG, "%s (%ux%u) written to its temporary file", path, img.width,
+                    img.height);
         }
         free(px);
     }

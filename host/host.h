@@ -197,6 +197,8 @@ typedef struct lg_exec_opts {
     const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */
     const char *profile_json;
     const char *graph_path;
+    struct lg_outputs *outputs;  /* where the output files go (outputs.h); every output
+                                  * path is added to it before the run */
 } lg_exec_opts;
 
 typedef struct lg_exec {
@@ -241,7 +243,10 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
 /* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
  * (already scanned), plan, run, write the output (opts->output_override replaces the single
  * output's file), print --explain / --profile per opts. Returns the exit status (0, 1, 2);
- * res gets the kept nodes' total CPU wall time and `time_node`'s (if found). */
+ * res gets the kept nodes' total CPU wall time and `time_node`'s (if found). Every file is
+ * checked before anything runs and written all or nothing (outputs.h): into a set of its
+ * own, committed on success, or, when opts->outputs is given, into that set, which the
+ * caller commits (sweep). */
 typedef struct lg_run_result {
     double total_ms;
     double node_ms;
@@ -249,6 +254,9 @@ typedef struct lg_run_result {
 } lg_run_result;
 int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
                    const lg_exec_opts *opts, const char *time_node, lg_run_result *res);
+/* Parses `graph`, applies `sets` and checks it against the scanned plugins, as `check` does
+ * (nothing runs). Diagnostics are printed. Returns 0, or 2 for a bad graph or value. */
+int lg_check_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets);
 
 /* commands (cmd_*.c); argv[0] is the command's name; return the exit status */
 int lg_cmd_render(int argc, char **argv);

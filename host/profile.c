@@ -7,6 +7,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "outputs.h"
+
 static const char *dev(const lg_pnode *n)
 {
     return n->device == LG_DEVICE_GL ? "gl" : n->device == LG_DEVICE_CL ? "cl" : "cpu";
@@ -101,7 +103,14 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
     }
     lg_str_add(&s, "\n  ]\n}\n");
     int rc = 0;
-    if (lg_write_file_atomic(path, s.s, s.len) != 0) {
+    char err[1024];
+    if (ex->opts.outputs) {
+        /* committed with the images, all or nothing (outputs.h) */
+        if (lg_outputs_write_data(ex->opts.outputs, path, s.s, s.len, err, sizeof err) != 0) {
+            lg_hlog(LG_HERR, "%s", err);
+            rc = -1;
+        }
+    } else if (lg_write_file_atomic(path, s.s, s.len) != 0) {
         lg_hlog(LG_HERR, "cannot write %s: %s", path, strerror(errno));
         rc = -1;
     }

@@ -4,15 +4,20 @@
 #include <dirent.h>
 #include <dlfcn.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <link.h>
 #include <poll.h>
+#include <math.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "lightgraph/file.h"
 
 /* ---- descriptor validation ----------------------------------------------------------- */
 
@@ -402,17 +407,68 @@ static void scan_child(const char *path, int fd)
     lg_str_free(&b);
 }
 
+/* How long one plugin's scan may take (dlopen with its constructors, the entry point, the
+ * validation) before the plugin is refused and its scanner killed: a constructor that blocks
+ * must not hang even `lightgraph check`. Scanning one plugin of this repository (fork,
+ * dlopen with the OpenCL and GL libraries, serialise) took 20 to 50 ms on a 2-core machine
+ * shared by several builds (`lightgraph check GRAPH -v -v` logs each scan's time), so 5 s is
+ * a hundred times any honest scan, and short enough that a user facing a blocked plugin
+ * sees the refusal rather than a hang. */
+#define LG_SCAN_TIMEOUT_DEFAULT 5.0
+#define LG_SCAN_TIMEOUT_MAX 3600.0
+/* The most a scan result (the serialised descriptor) may be: the largest plugin of this
+ * repository (phong) serialises to 4.3 KiB, so 4 MiB leaves room for any real plugin while a
+ * descriptor with megabytes of documentation, or a child writing without end, is refused
+ * after a bounded read. */
+#define LG_SCAN_MAX_BYTES (4u << 20)
+
+/* The scan timeout in seconds: LIGHTGRAPH_SCAN_TIMEOUT if it is a number in
+ * (0, LG_SCAN_TIMEOUT_MAX], else the default (a malformed value is reported once). */
+static double scan_timeout(void)
+{
+    static bool warned;
+    const char *env = getenv("LIGHTGRAPH_SCAN_TIMEOUT");
+    if (!env || !*env)
+        return LG_SCAN_TIMEOUT_DEFAULT;
+    char *end;
+    errno = 0;
+    double t = strtod(env, &end);
+    if (errno || end == env || *end || !isfinite(t) || !(t > 0) || t > LG_SCAN_TIMEOUT_MAX) {
+        if (!warned)
+            lg_hlog(LG_HWARN,
+                    "LIGHTGRAPH_SCAN_TIMEOUT='%s' is not a number of seconds in (0, %g]; using "
+                    "the default %g s",
+                    env, LG_SCAN_TIMEOUT_MAX, LG_SCAN_TIMEOUT_DEFAULT);
+        warned = true;
+        return LG_SCAN_TIMEOUT_DEFAULT;
+    }
+    return t;
+}
+
 static int scan_one(lg_registry *r, const char *path)
 {
     for (uint32_t i = 0; i < r->n_plugins; i++)
         if (strcmp(r->plugins[i].path, path) == 0)
             return 0;
+    /* only a regular file is given to dlopen (a FIFO would block the scanner until its
+     * timeout); lightgraph/file.h's check, which opens without blocking */
+    char why[256];
+    int ffd = lg_file_open(path, UINT64_MAX, NULL, why, sizeof why);
+    if (ffd < 0) {
+        char *m = lg_xasprintf("cannot be read: %s", why);
+        refuse(r, path, m);
+        free(m);
+        return -1;
+    }
+    close(ffd);
+    double timeout = scan_timeout();
     int fds[2];
-    if (pipe(fds) != 0) {
+    if (pipe2(fds, O_CLOEXEC) != 0) {
         refuse(r, path, "cannot scan: pipe() failed");
         return -1;
     }
     fflush(NULL);
+    double t0 = lg_now();
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
@@ -421,6 +477,9 @@ static int scan_one(lg_registry *r, const char *path)
         return -1;
     }
     if (pid == 0) {
+        /* a scanner left behind by a host that died (Ctrl-C while a constructor blocks)
+         * dies with it */
+        prctl(PR_SET_PDEATHSIG, SIGKILL);
         close(fds[0]);
         scan_child(path, fds[1]);
         close(fds[1]);
@@ -429,14 +488,52 @@ static int scan_one(lg_registry *r, const char *path)
     close(fds[1]);
     lg_str b = {0};
     char buf[8192];
+    const char *killed = NULL; /* why the scanner was killed */
     for (;;) {
+        double left = timeout - (lg_now() - t0);
+        if (left <= 0) {
+            killed = "time";
+            break;
+        }
+        struct pollfd pfd = {fds[0], POLLIN, 0};
+        int pr = poll(&pfd, 1, (int)ceil(left * 1e3));
+        if (pr < 0 && errno == EINTR)
+            continue;
+        if (pr < 0)
+            break;
+        if (pr == 0)
+            continue; /* the deadline is checked at the top */
         ssize_t n = read(fds[0], buf, sizeof buf);
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)
             break;
+        if ((size_t)n > LG_SCAN_MAX_BYTES - b.len) {
+            killed = "size";
+            break;
+        }
         lg_str_addn(&b, buf, (size_t)n);
     }
+    if (killed) {
+        close(fds[0]);
+        kill(pid, SIGKILL);
+        while (waitpid(pid, NULL, 0) < 0 && errno == EINTR)
+            ;
+        char *m = strcmp(killed, "time") == 0
+                      ? lg_xasprintf("its scan did not finish within %g s (a constructor or "
+                                     "lg_plugin_entry() that blocks?); the scanner was killed "
+                                     "(LIGHTGRAPH_SCAN_TIMEOUT sets the limit, in seconds)",
+                                     timeout)
+                      : lg_xasprintf("its scan result is larger than the %u MiB limit; the "
+                                     "scanner was killed",
+                                     LG_SCAN_MAX_BYTES >> 20);
+        refuse(r, path, m);
+        free(m);
+        lg_str_free(&b);
+        return -1;
+    }
+    lg_hlog(LG_HDEBUG, "scanned %s in %.1f ms (%zu bytes of descriptor)", path,
+            (lg_now() - t0) * 1e3, b.len);
     close(fds[0]);
     int status = 0;
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR)

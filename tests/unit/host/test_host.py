@@ -589,6 +589,7 @@ t = reinhard { image = c, key = 0.18 }
 output t "%s"
 """ % os.path.join(TMP, "sw.exr"), "sweep.lgraph")
     out = os.path.join(TMP, "sweep")
+    os.makedirs(out)  # sweep -o refuses a missing directory (issue 8)
     core = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
     p = run(["sweep", g, "--vary", "t.key=0.09,0.18", "--vary", "t.mode=luminance,rgb",
              "--ref-set", "t.key=0.18", "--time", "t", "--repeat", "1", "-o", out],

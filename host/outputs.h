@@ -1,0 +1,77 @@
+/*
+ * host/outputs.h: all-or-nothing output files (private to the host).
+ *
+ * Every command that writes files (render and its --profile-json, sweep, diff --heatmap) goes
+ * through one set of outputs, in three steps:
+ *
+ *   1. Before any work, lg_outputs_add() names each destination. It is checked (the directory
+ *      exists and is a directory, the destination is not a directory, a FIFO or a device, an image
+ *      has a known extension) and a temporary file is created beside it, in the same directory:
+ *      ".NAME.lgtmp-XXXXXX.EXT". Creating it proves the directory is writable, the final rename
+ *      stays inside one file system (so it is atomic), and the kept extension selects the
+ *      image format when an image is written to the temporary.
+ *   2. The work writes each output into its temporary (lg_outputs_temp, or the write helpers
+ *      below, which hold SIGINT/SIGTERM/SIGHUP while they write).
+ *   3. Only when everything succeeded, lg_outputs_commit() renames every temporary into
+ *      place. A rename that fails part way puts back what the earlier renames replaced (the
+ *      previous files are kept as hard links until the end), so either every destination
+ *      holds its new file or every destination is as it was.
+ *
+ * lg_outputs_free() of a set that was not committed removes its temporaries: a failure leaves
+ * no new file and every previous file untouched. While a set holds temporaries, SIGINT,
+ * SIGTERM and SIGHUP remove them before the process dies of the signal.
+ *
+ * Missing directories are refused, never created: the message names the directory.
+ *
+ * Not thread-safe (the host writes its outputs from the main thread).
+ */
+#ifndef LG_HOST_OUTPUTS_H
+#define LG_HOST_OUTPUTS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "lightgraph/image.h"
+
+typedef struct lg_outputs lg_outputs;
+
+typedef enum lg_output_kind {
+    LG_OUTPUT_IMAGE, /* .png, .exr, .hdr or .pic */
+    LG_OUTPUT_FILE,  /* any other file (CSV, JSON, a gnuplot script) */
+} lg_output_kind;
+
+/* A new, empty set (free with lg_outputs_free). */
+lg_outputs *lg_outputs_new(void);
+
+/* Checks `path` as a destination and reserves its temporary. Adding a path already in the set
+ * returns 0 and keeps the one temporary (a sweep writes a run's image once per repeat).
+ * Returns 0, or -1 with the reason in err ("cannot write 'out/a.png': the directory 'out' does
+ * not exist (lightgraph does not create directories)"). */
+int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
+                   size_t errlen);
+
+/* The temporary file that stands for `path` until the commit, or NULL when `path` was not
+ * added. Owned by the set. */
+const char *lg_outputs_temp(const lg_outputs *o, const char *path);
+
+/* Writes an image or bytes into the temporary of an added `path`, with the signals held.
+ * Return 0, or -1 with the reason in err. */
+int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
+                           const lg_image_write_opts *wo, char *err, size_t errlen);
+int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, size_t n,
+                          char *err, size_t errlen);
+
+/* Takes `path` out of the set and removes its temporary (an optional output that could not
+ * be made, such as a plot without gnuplot). */
+void lg_outputs_drop(lg_outputs *o, const char *path);
+
+/* Renames every temporary into place, all or nothing (see above). Returns 0, or -1 with the
+ * reason in err, every destination then as it was before. A signal that arrived while the
+ * outputs were written is honoured here, before any rename: nothing is committed. */
+int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen);
+
+/* Removes the temporaries of an uncommitted set, then frees it; NULL is fine; *o is
+ * cleared. */
+void lg_outputs_free(lg_outputs **o);
+
+#endif
