@@ -85,12 +85,12 @@ vec3 lg_probe_cube_plane_dir(int face, float sc, float tc)
 }
 
 // Face and (u, v) of a direction of any length.
-vec3 lg_probe_dir_to_coord(int layout, vec3 d)
+vec3 lg_probe_dir_to_coord(int lay, vec3 d)
 {
     d = lg_probe_safe_dir(d);
-    if (layout == LG_PROBE_CUBE)
+    if (lay == LG_PROBE_CUBE)
         return lg_probe_cube_coord(d);
-    if (layout == LG_PROBE_ANGULAR) {
+    if (lay == LG_PROBE_ANGULAR) {
         float rho = sqrt(d.x * d.x + d.y * d.y);
         float k;
         if (rho >= 1e-4)
@@ -109,12 +109,12 @@ vec3 lg_probe_dir_to_coord(int layout, vec3 d)
 }
 
 // The unit direction at coordinates c.
-vec3 lg_probe_coord_to_dir(int layout, vec3 c)
+vec3 lg_probe_coord_to_dir(int lay, vec3 c)
 {
-    if (layout == LG_PROBE_CUBE)
+    if (lay == LG_PROBE_CUBE)
         return lg_probe_safe_dir(lg_probe_cube_plane_dir(int(c.z), 2.0 * c.x - 1.0,
                                                          2.0 * c.y - 1.0));
-    if (layout == LG_PROBE_ANGULAR) {
+    if (lay == LG_PROBE_ANGULAR) {
         float a = 2.0 * c.x - 1.0, b = 1.0 - 2.0 * c.y;
         float r = sqrt(a * a + b * b);
         if (!(r < 1.0))
@@ -128,19 +128,20 @@ vec3 lg_probe_coord_to_dir(int layout, vec3 c)
     return vec3(st * sin(phi), cos(theta), -st * cos(phi));
 }
 
+// i mod n for i >= -n (GLSL leaves % of a negative operand undefined: llvmpipe computes
+// it unsigned, right only for powers of two)
 int lg_probe_wrap(int i, int n)
 {
-    int m = i % n;
-    return m < 0 ? m + n : m;
+    return int(uint(i + n) % uint(n));
 }
 
-vec4 lg_probe_2d_nearest(sampler2D tex, int layout, int level, vec3 dir)
+vec4 lg_probe_2d_nearest(sampler2D tex, int lay, int level, vec3 dir)
 {
     ivec2 size = textureSize(tex, level);
-    vec3 c = lg_probe_dir_to_coord(layout, dir);
+    vec3 c = lg_probe_dir_to_coord(lay, dir);
     int i = int(floor(c.x * float(size.x)));
     int j = clamp(int(floor(c.y * float(size.y))), 0, size.y - 1);
-    i = layout == LG_PROBE_LATLONG ? lg_probe_wrap(i, size.x) : clamp(i, 0, size.x - 1);
+    i = lay == LG_PROBE_LATLONG ? lg_probe_wrap(i, size.x) : clamp(i, 0, size.x - 1);
     return texelFetch(tex, ivec2(i, j), level);
 }
 
@@ -154,15 +155,15 @@ vec4 lg_probe_latlong_row(sampler2D tex, int level, int W, int j, float x)
            texelFetch(tex, ivec2(lg_probe_wrap(i0 + 1, W), j), level) * fx;
 }
 
-vec4 lg_probe_2d_bilinear(sampler2D tex, int layout, int level, vec3 dir)
+vec4 lg_probe_2d_bilinear(sampler2D tex, int lay, int level, vec3 dir)
 {
     ivec2 size = textureSize(tex, level);
-    vec3 c = lg_probe_dir_to_coord(layout, dir);
+    vec3 c = lg_probe_dir_to_coord(lay, dir);
     float x = c.x * float(size.x) - 0.5, y = c.y * float(size.y) - 0.5;
     float fly = floor(y);
     float fy = y - fly;
     int j0 = int(fly);
-    if (layout == LG_PROBE_LATLONG) {
+    if (lay == LG_PROBE_LATLONG) {
         vec4 o = vec4(0.0);
         for (int k = 0; k < 2; k++) {
             int j = j0 + k;

@@ -391,12 +391,16 @@ int main(int argc, char **argv)
             if (rc)
                 continue;
             compare(argv[1], l, w, h, b, dirs, n, res, rgba, &st);
-            printf("%s %-7s %4ux%-4u %-8s: %u directions, coord %.2e, %s %.2e (%.2f of the tolerance), "
-                   "%.1f ms\n",
-                   argv[1], layout_name(l), w, h, b ? "bilinear" : "nearest", st.compared, st.coord,
-                   b ? "value" : "nearest checked/skipped",
-                   b ? st.bilinear_abs : (double)st.nearest_checked, b ? st.bilinear_ratio : (double)st.nearest_skipped,
-                   (t1 - t0) * 1e3);
+            if (b)
+                printf("%s %-7s %4ux%-4u bilinear: %u directions, coordinates within %.2e, values "
+                       "within %.2e (%.2f of the tolerance), %.1f ms\n",
+                       argv[1], layout_name(l), w, h, st.compared, st.coord, st.bilinear_abs,
+                       st.bilinear_ratio, (t1 - t0) * 1e3);
+            else
+                printf("%s %-7s %4ux%-4u nearest : %u directions, coordinates within %.2e, %u "
+                       "equal, %u within 1e-3 texel of a border not compared, %.1f ms\n",
+                       argv[1], layout_name(l), w, h, st.compared, st.coord, st.nearest_checked,
+                       st.nearest_skipped, (t1 - t0) * 1e3);
             stats *t = &total[l - 1][b];
             t->coord = fmax(t->coord, st.coord);
             t->bilinear_abs = fmax(t->bilinear_abs, st.bilinear_abs);
