@@ -13,7 +13,8 @@
 //   float4 lg_probe_lookup(global const float4 *rgba, int layout, int w, int h,
 //                          float3 dir, int bilinear)
 //     the lookup of lg_probe_lookup (nearest or bilinear), dir in the probe's frame
-//     (lg_probe_from_world first for a world direction).
+//     (lg_probe_from_world(c0, c1, c2, dir) first for a world direction, with the
+//     columns of lg_probe_info.rotation).
 #ifndef LG_PROBE_CL
 #define LG_PROBE_CL
 
@@ -40,11 +41,11 @@ inline float3 lg_probe_safe_dir(float3 d)
     return d * (1.0f / sqrt(d.x * d.x + d.y * d.y + d.z * d.z));
 }
 
-// world -> probe: rotation as lg_probe_info.rotation (probe -> world, column-major 3x3)
-inline float3 lg_probe_from_world(const float *m, float3 d)
+// world -> probe: c0, c1, c2 are the columns of lg_probe_info.rotation (probe -> world,
+// column-major 3x3: c0 = (m[0], m[1], m[2]), ...); the result is its transpose times d
+inline float3 lg_probe_from_world(float3 c0, float3 c1, float3 c2, float3 d)
 {
-    return (float3)(m[0] * d.x + m[1] * d.y + m[2] * d.z, m[3] * d.x + m[4] * d.y + m[5] * d.z,
-                    m[6] * d.x + m[7] * d.y + m[8] * d.z);
+    return (float3)(dot(c0, d), dot(c1, d), dot(c2, d));
 }
 
 inline float3 lg_probe_cube_coord(float3 d)

@@ -14,13 +14,14 @@ layout(binding = 1) uniform samplerCube u_cube;
 layout(location = 0) uniform uint u_count;
 layout(location = 1) uniform int u_layout;
 layout(location = 2) uniform int u_bilinear;
+layout(location = 3) uniform mat3 u_rotation; // probe -> world
 
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
     if (i >= u_count)
         return;
-    vec3 d = dirs[i].xyz;
+    vec3 d = lg_probe_from_world(u_rotation, dirs[i].xyz);
     vec4 v;
     if (u_layout == LG_PROBE_CUBE)
         v = lg_probe_cube(u_cube, 0.0, d);

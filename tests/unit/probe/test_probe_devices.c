@@ -115,9 +115,9 @@ typedef struct stats {
 
 /* Whether a nearest lookup may legitimately pick another texel: the coordinate is within
  * 1e-3 texel of a texel border, or the direction is on a cube face boundary. */
-static int ambiguous(lg_probe_layout l, uint32_t w, uint32_t h, const float *dir)
+static int ambiguous(lg_probe_layout l, uint32_t w, uint32_t h, const float *rot, const float *dir)
 {
-    lg_vec3 d = lg_probe_safe_dir(lg_v3(dir[0], dir[1], dir[2]));
+    lg_vec3 d = lg_probe_safe_dir(lg_probe_from_world(rot, lg_v3(dir[0], dir[1], dir[2])));
     if (l == LG_PROBE_CUBE) {
         float a[3] = {fabsf(d.x), fabsf(d.y), fabsf(d.z)};
         float m = fmaxf(a[0], fmaxf(a[1], a[2]));
@@ -145,9 +145,10 @@ static int ambiguous(lg_probe_layout l, uint32_t w, uint32_t h, const float *dir
 }
 
 static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, int bilinear,
-                    const float *dirs, uint32_t n, const float *res, const float *rgba, stats *st)
+                    const float *rot, const float *dirs, uint32_t n, const float *res,
+                    const float *rgba, stats *st)
 {
-    lg_probe_image img = {l, w, h, rgba, NULL, {0}};
+    lg_probe_image img = {l, w, h, rgba, rot, {0}};
     int bad = 0;
     double tol_b = fmax(TOL_BILINEAR_PER_TEXEL * w, TOL_BILINEAR_MIN);
     for (uint32_t k = 0; k < n; k++) {
@@ -155,14 +156,14 @@ static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, 
         lg_vec3 v = lg_v3(d[0], d[1], d[2]);
         float want[4];
         lg_probe_lookup(&img, v, bilinear ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST, want);
-        lg_probe_coord c = lg_probe_dir_to_coord(l, v);
+        lg_probe_coord c = lg_probe_dir_to_coord(l, lg_probe_from_world(rot, v));
         const float *got = res + 8 * k, *gc = res + 8 * k + 4;
         /* coordinates: the face where no tie is possible, u (mod 1 for lat-long), v */
-        int amb = ambiguous(l, w, h, d);
+        int amb = ambiguous(l, w, h, rot, d);
         double du = fabs(gc[0] - c.u), dv = fabs(gc[1] - c.v);
         if (l == LG_PROBE_LATLONG)
             du = fmin(du, 1 - du);
-        lg_vec3 sd = lg_probe_safe_dir(v);
+        lg_vec3 sd = lg_probe_safe_dir(lg_probe_from_world(rot, v));
         if (l == LG_PROBE_LATLONG && fabsf(sd.y) > 1 - 1e-6f)
             du = 0; /* at a pole u is arbitrary */
         if (l == LG_PROBE_ANGULAR && sd.z > 1 - 1e-5f)
@@ -204,7 +205,8 @@ static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, 
 /* ---- GL ------------------------------------------------------------------------------ */
 
 static int run_gl(const lg_gl *gl, GLuint prog, lg_probe_layout l, uint32_t w, uint32_t h,
-                  int bilinear, const float *rgba, const float *dirs, uint32_t n, float *res)
+                  int bilinear, const float *rot, const float *rgba, const float *dirs, uint32_t n,
+                  float *res)
 {
     GLuint tex = 0, buf[2];
     if (l == LG_PROBE_CUBE) {
@@ -235,6 +237,7 @@ static int run_gl(const lg_gl *gl, GLuint prog, lg_probe_layout l, uint32_t w, u
     gl->Uniform1ui(0, n);
     gl->Uniform1i(1, (GLint)l);
     gl->Uniform1i(2, bilinear);
+    gl->UniformMatrix3fv(3, 1, GL_FALSE, rot);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buf[1]);
     gl->DispatchCompute((n + 63) / 64, 1, 1);
@@ -256,7 +259,8 @@ static int run_gl(const lg_gl *gl, GLuint prog, lg_probe_layout l, uint32_t w, u
 /* ---- CL ------------------------------------------------------------------------------ */
 
 static int run_cl(lg_cl_dev *dev, cl_kernel k, lg_probe_layout l, uint32_t w, uint32_t h,
-                  int bilinear, const float *rgba, const float *dirs, uint32_t n, float *res)
+                  int bilinear, const float *rot, const float *rgba, const float *dirs, uint32_t n,
+                  float *res)
 {
     cl_context ctx = lg_cl_device_context(dev);
     cl_command_queue q = lg_cl_device_queue(dev);
@@ -281,6 +285,10 @@ static int run_cl(lg_cl_dev *dev, cl_kernel k, lg_probe_layout l, uint32_t w, ui
     clSetKernelArg(k, 5, sizeof md, &md);
     clSetKernelArg(k, 6, sizeof mr, &mr);
     clSetKernelArg(k, 7, sizeof cn, &cn);
+    for (int c = 0; c < 3; c++) {
+        cl_float4 col = {{rot[3 * c], rot[3 * c + 1], rot[3 * c + 2], 0}};
+        clSetKernelArg(k, 8 + (cl_uint)c, sizeof col, &col);
+    }
     size_t global = n;
     e = clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, NULL);
     CHECKF(e == CL_SUCCESS, "clEnqueueNDRangeKernel: %s", lg_cl_strerror(e));
@@ -374,6 +382,9 @@ int main(int argc, char **argv)
     };
     stats total[3][2];
     memset(total, 0, sizeof total);
+    const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    float rotation[9];
+    lg_probe_rotation_from_euler(30, -20, 10, rotation);
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         lg_probe_layout l = cases[c].l;
         uint32_t w = cases[c].w, h = cases[c].h;
@@ -381,21 +392,25 @@ int main(int argc, char **argv)
         float *rgba = malloc(texels * 16);
         for (size_t k = 0; k < texels * 4; k++)
             rgba[k] = (float)rnd();
-        for (int b = 0; b < 2; b++) {
+        /* nearest and bilinear with no rotation (the hard cases are probe directions),
+         * then bilinear through a rotation (world directions) */
+        for (int pass = 0; pass < 3; pass++) {
+            int b = pass > 0;
+            const float *rot = pass == 2 ? rotation : identity;
             stats st;
             memset(&st, 0, sizeof st);
             double t0 = devtest_now();
-            int rc = use_gl ? run_gl(gl, prog, l, w, h, b, rgba, dirs, n, res)
-                            : run_cl(cldev, kern, l, w, h, b, rgba, dirs, n, res);
+            int rc = use_gl ? run_gl(gl, prog, l, w, h, b, rot, rgba, dirs, n, res)
+                            : run_cl(cldev, kern, l, w, h, b, rot, rgba, dirs, n, res);
             double t1 = devtest_now();
             if (rc)
                 continue;
-            compare(argv[1], l, w, h, b, dirs, n, res, rgba, &st);
+            compare(argv[1], l, w, h, b, rot, dirs, n, res, rgba, &st);
             if (b)
-                printf("%s %-7s %4ux%-4u bilinear: %u directions, coordinates within %.2e, values "
+                printf("%s %-7s %4ux%-4u bilinear%s: %u directions, coordinates within %.2e, values "
                        "within %.2e (%.2f of the tolerance), %.1f ms\n",
-                       argv[1], layout_name(l), w, h, st.compared, st.coord, st.bilinear_abs,
-                       st.bilinear_ratio, (t1 - t0) * 1e3);
+                       argv[1], layout_name(l), w, h, pass == 2 ? " rotated" : "", st.compared,
+                       st.coord, st.bilinear_abs, st.bilinear_ratio, (t1 - t0) * 1e3);
             else
                 printf("%s %-7s %4ux%-4u nearest : %u directions, coordinates within %.2e, %u "
                        "equal, %u within 1e-3 texel of a border not compared, %.1f ms\n",
