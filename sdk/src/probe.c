@@ -5,6 +5,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PI_D 3.14159265358979323846
@@ -148,17 +149,58 @@ static double angular_edge(double x0, double y0, double x1, double y1)
     return sum;
 }
 
+static bool angular_outside(double x0, double x1, double y0, double y1)
+{
+    /* nearest point of the texel to the centre: outside the disc, nothing */
+    double nx = x0 > 0 ? x0 : x1 < 0 ? x1 : 0, ny = y0 > 0 ? y0 : y1 < 0 ? y1 : 0;
+    return nx * nx + ny * ny >= 1;
+}
+
 static double angular_texel(uint32_t w, uint32_t h, uint32_t i, uint32_t j)
 {
     double x0 = 2.0 * i / w - 1, x1 = 2.0 * (i + 1) / w - 1;
     double y1 = 1 - 2.0 * j / h, y0 = 1 - 2.0 * (j + 1) / h; /* y0 < y1 */
-    /* nearest point of the texel to the centre: outside the disc, nothing */
-    double nx = x0 > 0 ? x0 : x1 < 0 ? x1 : 0, ny = y0 > 0 ? y0 : y1 < 0 ? y1 : 0;
-    if (nx * nx + ny * ny >= 1)
+    if (angular_outside(x0, x1, y0, y1))
         return 0;
     double s = angular_edge(x0, y0, x1, y0) + angular_edge(x1, y0, x1, y1) +
                angular_edge(x1, y1, x0, y1) + angular_edge(x0, y1, x0, y0);
     return s > 0 ? s : 0;
+}
+
+/* The whole table: each edge integral once (a texel's bottom edge is the top edge of the
+ * texel below it, with the opposite orientation), so half the work of texel by texel. */
+static int angular_table(uint32_t w, uint32_t h, float *out)
+{
+    /* row edges: at y = b_j (j = 0..h), from x_i to x_i+1, rightwards;
+     * column edges: at x = a_i (i = 0..w), from b_j+1 up to b_j */
+    double *eh = malloc(sizeof(double) * ((size_t)(h + 1) * w + (size_t)(w + 1) * h));
+    if (!eh)
+        return LG_ERR_NOMEM;
+    double *ev = eh + (size_t)(h + 1) * w;
+    for (uint32_t j = 0; j <= h; j++) {
+        double y = 1 - 2.0 * j / h;
+        for (uint32_t i = 0; i < w; i++)
+            eh[(size_t)j * w + i] = angular_edge(2.0 * i / w - 1, y, 2.0 * (i + 1) / w - 1, y);
+    }
+    for (uint32_t i = 0; i <= w; i++) {
+        double x = 2.0 * i / w - 1;
+        for (uint32_t j = 0; j < h; j++)
+            ev[(size_t)i * h + j] = angular_edge(x, 1 - 2.0 * (j + 1) / h, x, 1 - 2.0 * j / h);
+    }
+    for (uint32_t j = 0; j < h; j++)
+        for (uint32_t i = 0; i < w; i++) {
+            double x0 = 2.0 * i / w - 1, x1 = 2.0 * (i + 1) / w - 1;
+            double y1 = 1 - 2.0 * j / h, y0 = 1 - 2.0 * (j + 1) / h;
+            double s = 0;
+            if (!angular_outside(x0, x1, y0, y1))
+                /* counterclockwise: bottom (row j+1) rightwards, right edge up, top (row
+                 * j) leftwards, left edge down */
+                s = eh[(size_t)(j + 1) * w + i] + ev[(size_t)(i + 1) * h + j] -
+                    eh[(size_t)j * w + i] - ev[(size_t)i * h + j];
+            out[(size_t)j * w + i] = (float)(s > 0 ? s : 0);
+        }
+    free(eh);
+    return 0;
 }
 
 static bool valid_size(lg_probe_layout layout, uint32_t w, uint32_t h)
@@ -223,10 +265,7 @@ int lg_probe_solid_angles(lg_probe_layout layout, uint32_t width, uint32_t heigh
             memcpy(out + f * wh, out, wh * sizeof *out);
         break;
     default:
-        for (uint32_t j = 0; j < height; j++)
-            for (uint32_t i = 0; i < width; i++)
-                out[(size_t)j * width + i] = (float)angular_texel(width, height, i, j);
-        break;
+        return angular_table(width, height, out);
     }
     return 0;
 }

@@ -57,7 +57,7 @@
  * and angular centre): a defined texel, never a NaN.
  *
  * Solid angles are exact (computed in double, stored as float): their sum over a layout
- * is 4 pi within float rounding (tests/unit/probe measures 1e-7 relative or better), so a
+ * is 4 pi within float rounding (tests/unit/probe measures 3e-8 relative or better), so a
  * sum of radiance times solid angle is an integral over the sphere:
  *   lat-long  every texel of row j: (2 pi / W) (cos theta_j - cos theta_j+1),
  *             theta_j = pi j / H;
@@ -90,9 +90,11 @@
  *   A 1 x 1 image of any layout gives its one texel (the cube: a mean of faces
  *   near edges) everywhere.
  *
- * Cost (tests/unit/probe prints them; one x86-64 core, -O2): about 20 ns per texel
- * direction, 30 to 60 ns per nearest or bilinear lookup; a whole solid-angle table in
- * milliseconds (the angular one about 0.5 us per texel).
+ * Cost (tests/unit/probe `probe_cost` prints them; docs/probes.md has the table): on one
+ * thread of a loaded 2-core x86-64 VM, 40 ns per texel direction, 40 to 90 ns per
+ * direction -> coordinates, 140 to 280 ns per lookup of a random direction into a
+ * multi-megabyte image (cache misses included), 20 ns per texel for the lat-long and cube
+ * solid-angle tables and 400 ns for the angular one (compute it once per probe).
  *
  * Thread safety: every function here is pure (no state); call it from any thread.
  */
