@@ -556,6 +556,24 @@ static int cmd_hard_dirs(void)
         lookup(LG_PROBE_LATLONG, 5, 3, img, NULL, lg_v3(-0.0f, 0, 1), LG_PROBE_NEAREST, b);
         CHECKF(a[0] == b[0], "+Z and (-0, 0, 1) read %g and %g", a[0], b[0]);
     }
+    /* a 1x1 cube with six different faces: each axis reads its face exactly (bilinear
+     * and nearest); a corner direction the mean of its three faces */
+    {
+        float img[6 * 4];
+        for (int k = 0; k < 24; k++)
+            img[k] = (float)(k / 4 + 1);
+        static const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        for (int f = 0; f < 6; f++)
+            for (int sm = 0; sm < 2; sm++) {
+                float got[4];
+                lookup(LG_PROBE_CUBE, 1, 1, img, NULL, lg_v3(axes[f][0], axes[f][1], axes[f][2]),
+                       (lg_probe_sampling)sm, got);
+                CHECKF(got[0] == (float)(f + 1), "1x1 cube: axis of face %d reads %g", f, got[0]);
+            }
+        float got[4];
+        lookup(LG_PROBE_CUBE, 1, 1, img, NULL, lg_v3(1, 1, 1), LG_PROBE_BILINEAR, got);
+        CHECKF(fabsf(got[0] - (1 + 3 + 5) / 3.0f) < 1e-6f, "1x1 cube: corner (+X +Y +Z) reads %g, not 3", got[0]);
+    }
     /* empty images */
     {
         float got[4] = {1, 1, 1, 1};
