@@ -87,8 +87,10 @@
  *       holds) is the mean of the three others, the specification's recommended rule.
  *       The result is continuous across edges and corners; a samplerCube with seamless
  *       filtering on gives the same (tests/unit/probe).
- *   A 1 x 1 image of any layout gives its one texel (the cube: a mean of faces
- *   near edges) everywhere.
+ *   A 1 x 1 lat-long or angular image gives its one texel everywhere; a 1 x 1 cube its
+ *   face's texel along the face's axis, blending into the neighbouring faces toward the
+ *   edges (a corner: the mean of its three faces). Lookups do not apply
+ *   lg_probe_info.scale (the texels already carry it).
  *
  * Cost (tests/unit/probe `probe_cost` prints them; docs/probes.md has the table): on one
  * thread of a loaded 2-core x86-64 VM, 40 ns per texel direction, 40 to 90 ns per
