@@ -346,6 +346,25 @@ typedef struct lg_probe_image {
     uint32_t reserved[4];
 } lg_probe_image;
 
+/* The lg_probe_image of `level` of a radiance image mapped on the CPU (`rgba`: the start
+ * of its colour data, every level packed as lg_image_offset says); `rotation` as in
+ * lg_probe_image. A level past the last gives an empty image (lookups read 0). */
+static inline lg_probe_image lg_probe_image_at(lg_probe_layout layout, const lg_image_desc *desc,
+                                               const float *rgba, uint32_t level,
+                                               const float *rotation)
+{
+    lg_probe_image img;
+    memset(&img, 0, sizeof img);
+    img.layout = layout;
+    img.rotation = rotation;
+    if (!desc || !rgba || level >= lg_image_levels(desc))
+        return img;
+    img.width = lg_image_level_width(desc, level);
+    img.height = lg_image_level_height(desc, level);
+    img.rgba = rgba + 4 * lg_image_offset(desc, level, 0);
+    return img;
+}
+
 typedef enum lg_probe_sampling {
     LG_PROBE_NEAREST = 0,
     LG_PROBE_BILINEAR,

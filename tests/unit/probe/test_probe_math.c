@@ -574,6 +574,24 @@ static int cmd_hard_dirs(void)
         lookup(LG_PROBE_CUBE, 1, 1, img, NULL, lg_v3(1, 1, 1), LG_PROBE_BILINEAR, got);
         CHECKF(fabsf(got[0] - (1 + 3 + 5) / 3.0f) < 1e-6f, "1x1 cube: corner (+X +Y +Z) reads %g, not 3", got[0]);
     }
+    /* lg_probe_image_at: level 1 of a 2-level cube (4 then 2 texels a side) */
+    {
+        lg_image_desc desc;
+        memset(&desc, 0, sizeof desc);
+        desc.width = desc.height = 4;
+        desc.flags = LG_IMAGE_CUBE;
+        desc.levels = 2;
+        float data[(6 * 16 + 6 * 4) * 4];
+        for (int k = 0; k < (int)(sizeof data / sizeof data[0]); k++)
+            data[k] = (float)(k / 4);
+        lg_probe_image im = lg_probe_image_at(LG_PROBE_CUBE, &desc, data, 1, NULL);
+        CHECK(im.width == 2 && im.height == 2 && im.rgba == data + 4 * 96);
+        float got[4];
+        lg_probe_lookup(&im, lg_v3(0, 0, -1), LG_PROBE_NEAREST, got); /* face 5, (1, 1) */
+        CHECKF(got[0] == 96 + 5 * 4 + 3, "level 1, -Z: texel %g", got[0]);
+        im = lg_probe_image_at(LG_PROBE_CUBE, &desc, data, 2, NULL);
+        CHECK(im.width == 0 && im.rgba == NULL);
+    }
     /* empty images */
     {
         float got[4] = {1, 1, 1, 1};
