@@ -278,12 +278,21 @@ static inline const float *texel(const lg_probe_image *img, uint32_t face, uint3
     return img->rgba + 4 * (((size_t)face * img->height + j) * img->width + i);
 }
 
-static inline void acc4(float *o, const float *t, float w)
+/* a + (b - a) f: exactly a where a == b, so that a constant probe reads back exactly its
+ * constant (the GLSL and CL twins interpolate the same way) */
+static inline void lerp4(float *o, const float *a, const float *b, float f)
 {
-    o[0] += w * t[0];
-    o[1] += w * t[1];
-    o[2] += w * t[2];
-    o[3] += w * t[3];
+    for (int k = 0; k < 4; k++)
+        o[k] = a[k] + (b[k] - a[k]) * f;
+}
+
+/* The 2x2 footprint t[0..3] = (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1). */
+static inline void bilerp4(float *o, const float *const t[4], float fx, float fy)
+{
+    float r0[4], r1[4];
+    lerp4(r0, t[0], t[1], fx);
+    lerp4(r1, t[2], t[3], fx);
+    lerp4(o, r0, r1, fy);
 }
 
 static inline uint32_t clampi(int64_t i, uint32_t n)
@@ -299,14 +308,13 @@ static inline uint32_t wrapi(int64_t i, uint32_t n)
 
 /* One lat-long row (already inside [0, H)) at column coordinate x (texel centres at
  * integers), linear in x with wrap. */
-static inline void latlong_row_lerp(const lg_probe_image *img, uint32_t j, float x, float w,
-                                    float *o)
+static inline void latlong_row_lerp(const lg_probe_image *img, uint32_t j, float x, float *o)
 {
     float fl = floorf(x);
     float fx = x - fl;
     int64_t i0 = (int64_t)fl;
-    acc4(o, texel(img, 0, wrapi(i0, img->width), j), w * (1 - fx));
-    acc4(o, texel(img, 0, wrapi(i0 + 1, img->width), j), w * fx);
+    lerp4(o, texel(img, 0, wrapi(i0, img->width), j), texel(img, 0, wrapi(i0 + 1, img->width), j),
+          fx);
 }
 
 static void latlong_bilinear(const lg_probe_image *img, lg_probe_coord c, float *o)
@@ -316,9 +324,9 @@ static void latlong_bilinear(const lg_probe_image *img, lg_probe_coord c, float 
     float fy0 = floorf(y);
     float fy = y - fy0;
     int64_t j0 = (int64_t)fy0;
+    float rows[2][4];
     for (int k = 0; k < 2; k++) {
         int64_t j = j0 + k;
-        float w = k ? fy : 1 - fy;
         float xx = x;
         /* beyond a pole: the same ring of texels, half a turn away */
         if (j < 0) {
@@ -328,8 +336,9 @@ static void latlong_bilinear(const lg_probe_image *img, lg_probe_coord c, float 
             j = 2 * (int64_t)H - 1 - j;
             xx = x + 0.5f * (float)W;
         }
-        latlong_row_lerp(img, clampi(j, H), xx, w, o);
+        latlong_row_lerp(img, clampi(j, H), xx, rows[k]);
     }
+    lerp4(o, rows[0], rows[1], fy);
 }
 
 static void angular_bilinear(const lg_probe_image *img, lg_probe_coord c, float *o)
@@ -338,11 +347,10 @@ static void angular_bilinear(const lg_probe_image *img, lg_probe_coord c, float 
     float flx = floorf(x), fly = floorf(y);
     float fx = x - flx, fy = y - fly;
     int64_t i0 = (int64_t)flx, j0 = (int64_t)fly;
-    for (int k = 0; k < 4; k++) {
-        int di = k & 1, dj = k >> 1;
-        float w = (di ? fx : 1 - fx) * (dj ? fy : 1 - fy);
-        acc4(o, texel(img, 0, clampi(i0 + di, img->width), clampi(j0 + dj, img->height)), w);
-    }
+    const float *t[4];
+    for (int k = 0; k < 4; k++)
+        t[k] = texel(img, 0, clampi(i0 + (k & 1), img->width), clampi(j0 + (k >> 1), img->height));
+    bilerp4(o, t, fx, fy);
 }
 
 /* A texel of the 2x2 footprint beyond the edge of `face`: the direction of its centre on
@@ -379,15 +387,16 @@ static void cube_bilinear(const lg_probe_image *img, lg_probe_coord c, float *o)
             corner = k;
         }
     }
-    float cornerv[4] = {0, 0, 0, 0};
+    float cornerv[4];
     if (corner >= 0) {
+        /* the mean of the three others, as a + ((b - a) + (c - a)) / 3: exactly a when
+         * all three are equal */
+        const float *a = t[corner ^ 1], *b = t[corner ^ 2], *d = t[corner ^ 3];
         for (int k = 0; k < 4; k++)
-            if (k != corner)
-                acc4(cornerv, t[k], 1.0f / 3.0f);
+            cornerv[k] = a[k] + ((b[k] - a[k]) + (d[k] - a[k])) * (1.0f / 3.0f);
         t[corner] = cornerv;
     }
-    for (int k = 0; k < 4; k++)
-        acc4(o, t[k], ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy));
+    bilerp4(o, t, fx, fy);
 }
 
 void lg_probe_lookup(const lg_probe_image *img, lg_vec3 dir, lg_probe_sampling sampling,

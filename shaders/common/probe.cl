@@ -136,13 +136,20 @@ inline float4 lg_probe_texel(global const float4 *rgba, int w, int h, int face, 
     return rgba[((size_t)face * h + j) * w + i];
 }
 
+// a + (b - a) f: exactly a where a == b (a constant probe reads back its constant), as on
+// the CPU
+inline float4 lg_probe_lerp(float4 a, float4 b, float f)
+{
+    return a + (b - a) * f;
+}
+
 inline float4 lg_probe_latlong_row(global const float4 *rgba, int w, int j, float x)
 {
     float fl = floor(x);
     float fx = x - fl;
     int i0 = (int)fl;
-    return rgba[(size_t)j * w + lg_probe_wrap(i0, w)] * (1.0f - fx) +
-           rgba[(size_t)j * w + lg_probe_wrap(i0 + 1, w)] * fx;
+    return lg_probe_lerp(rgba[(size_t)j * w + lg_probe_wrap(i0, w)],
+                         rgba[(size_t)j * w + lg_probe_wrap(i0 + 1, w)], fx);
 }
 
 // A cube texel beyond the edge of `face`: its centre on the face's plane extended, looked
@@ -172,10 +179,9 @@ inline float4 lg_probe_lookup(global const float4 *rgba, int layout, int w, int 
     float fy = y - fly;
     int j0 = (int)fly;
     if (layout == LG_PROBE_LATLONG) {
-        float4 o = (float4)(0.0f);
+        float4 rows[2];
         for (int k = 0; k < 2; k++) {
             int j = j0 + k;
-            float wt = k ? fy : 1.0f - fy;
             float xx = x;
             // beyond a pole: the same ring, half a turn away
             if (j < 0) {
@@ -185,9 +191,9 @@ inline float4 lg_probe_lookup(global const float4 *rgba, int layout, int w, int 
                 j = 2 * h - 1 - j;
                 xx = x + 0.5f * (float)w;
             }
-            o += wt * lg_probe_latlong_row(rgba, w, clamp(j, 0, h - 1), xx);
+            rows[k] = lg_probe_latlong_row(rgba, w, clamp(j, 0, h - 1), xx);
         }
-        return o;
+        return lg_probe_lerp(rows[0], rows[1], fy);
     }
     float flx = floor(x);
     float fx = x - flx;
@@ -211,12 +217,14 @@ inline float4 lg_probe_lookup(global const float4 *rgba, int layout, int w, int 
                 corner = k;
             }
         }
-        // the corner beyond two edges: the mean of the three others
-        if (corner >= 0)
-            t[corner] = (t[0] + t[1] + t[2] + t[3]) * (1.0f / 3.0f);
+        // the corner beyond two edges: the mean of the three others, as
+        // a + ((b - a) + (c - a)) / 3 (exactly a when all are equal)
+        if (corner >= 0) {
+            float4 a = t[corner ^ 1];
+            t[corner] = a + ((t[corner ^ 2] - a) + (t[corner ^ 3] - a)) * (1.0f / 3.0f);
+        }
     }
-    return t[0] * ((1.0f - fx) * (1.0f - fy)) + t[1] * (fx * (1.0f - fy)) +
-           t[2] * ((1.0f - fx) * fy) + t[3] * (fx * fy);
+    return lg_probe_lerp(lg_probe_lerp(t[0], t[1], fx), lg_probe_lerp(t[2], t[3], fx), fy);
 }
 
 #endif

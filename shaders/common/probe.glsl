@@ -145,14 +145,21 @@ vec4 lg_probe_2d_nearest(sampler2D tex, int lay, int level, vec3 dir)
     return texelFetch(tex, ivec2(i, j), level);
 }
 
+// a + (b - a) f: exactly a where a == b (a constant probe reads back its constant), as
+// on the CPU
+vec4 lg_probe_lerp(vec4 a, vec4 b, float f)
+{
+    return a + (b - a) * f;
+}
+
 // One lat-long row at column coordinate x (texel centres at integers), wrapping.
 vec4 lg_probe_latlong_row(sampler2D tex, int level, int W, int j, float x)
 {
     float fl = floor(x);
     float fx = x - fl;
     int i0 = int(fl);
-    return texelFetch(tex, ivec2(lg_probe_wrap(i0, W), j), level) * (1.0 - fx) +
-           texelFetch(tex, ivec2(lg_probe_wrap(i0 + 1, W), j), level) * fx;
+    return lg_probe_lerp(texelFetch(tex, ivec2(lg_probe_wrap(i0, W), j), level),
+                         texelFetch(tex, ivec2(lg_probe_wrap(i0 + 1, W), j), level), fx);
 }
 
 vec4 lg_probe_2d_bilinear(sampler2D tex, int lay, int level, vec3 dir)
@@ -164,10 +171,9 @@ vec4 lg_probe_2d_bilinear(sampler2D tex, int lay, int level, vec3 dir)
     float fy = y - fly;
     int j0 = int(fly);
     if (lay == LG_PROBE_LATLONG) {
-        vec4 o = vec4(0.0);
+        vec4 rows[2];
         for (int k = 0; k < 2; k++) {
             int j = j0 + k;
-            float w = k == 1 ? fy : 1.0 - fy;
             float xx = x;
             // beyond a pole: the same ring, half a turn away
             if (j < 0) {
@@ -177,9 +183,9 @@ vec4 lg_probe_2d_bilinear(sampler2D tex, int lay, int level, vec3 dir)
                 j = 2 * size.y - 1 - j;
                 xx = x + 0.5 * float(size.x);
             }
-            o += w * lg_probe_latlong_row(tex, level, size.x, clamp(j, 0, size.y - 1), xx);
+            rows[k] = lg_probe_latlong_row(tex, level, size.x, clamp(j, 0, size.y - 1), xx);
         }
-        return o;
+        return lg_probe_lerp(rows[0], rows[1], fy);
     }
     float flx = floor(x);
     float fx = x - flx;
@@ -189,7 +195,7 @@ vec4 lg_probe_2d_bilinear(sampler2D tex, int lay, int level, vec3 dir)
     vec4 t10 = texelFetch(tex, clamp(ivec2(i0 + 1, j0), ivec2(0), hi), level);
     vec4 t01 = texelFetch(tex, clamp(ivec2(i0, j0 + 1), ivec2(0), hi), level);
     vec4 t11 = texelFetch(tex, clamp(ivec2(i0 + 1, j0 + 1), ivec2(0), hi), level);
-    return (t00 * (1.0 - fx) + t10 * fx) * (1.0 - fy) + (t01 * (1.0 - fx) + t11 * fx) * fy;
+    return lg_probe_lerp(lg_probe_lerp(t00, t10, fx), lg_probe_lerp(t01, t11, fx), fy);
 }
 
 vec4 lg_probe_cube(samplerCube tex, float lod, vec3 dir)
