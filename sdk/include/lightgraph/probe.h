@@ -14,16 +14,93 @@
  *   info         meta: lg_probe_info
  *
  * Directions are world directions with +Y up. A texel's direction in the probe's own
- * frame, d_probe, maps to the world as d_world = rotation * d_probe.
+ * frame, d_probe, maps to the world as d_world = rotation * d_probe (lg_probe_info.rotation;
+ * lg_probe_rotation_from_euler makes one). The conventions below are the only ones in
+ * lightgraph: the C functions of this header, shaders/common/probe.glsl and
+ * shaders/common/probe.cl implement them, and docs/probes.md draws them.
  *
- *   lat-long: texel (i, j) of W x H, row 0 at the top, u = (i + 0.5)/W, v = (j + 0.5)/H,
- *     phi = 2 pi (u - 0.5), theta = pi v measured from +Y,
+ * Texture coordinates. A direction lands on a face (0 for the 2D layouts; 0..5 for the
+ * cube in the order +X, -X, +Y, -Y, +Z, -Z) at continuous coordinates (u, v) in [0, 1]:
+ * u to the right, v down, texel (i, j) of a W x H image covering [i/W, (i+1)/W] x
+ * [j/H, (j+1)/H] (row 0 at the top, the first row in memory); its centre is
+ * ((i + 0.5)/W, (j + 0.5)/H).
+ *
+ *   lat-long: phi = 2 pi (u - 0.5), theta = pi v measured from +Y,
  *     d = (sin theta sin phi, cos theta, -sin theta cos phi): the centre looks along -Z,
- *     u = 0.75 along +X, the top row is +Y.
- *   angular (Debevec): the centre looks along -Z, up is +Y, radius r = theta / pi with
- *     theta the angle from -Z.
- *   cube: OpenGL's cube-map convention (major axis, then s/t per face as the GL
- *     specification's table 8.19 gives).
+ *     u = 0.75 along +X, u = 0.25 along -X, the left and right edges along +Z (the seam),
+ *     the top row is +Y; seen from inside, the panorama is not mirrored. Inverse:
+ *     phi = atan2(x, -z) (0 at the poles, where x = z = 0), theta = atan2(sqrt(x^2+z^2), y).
+ *     Any W x H (not only 2:1).
+ *   angular (Debevec): a = 2u - 1 (right), b = 1 - 2v (up), r = sqrt(a^2 + b^2);
+ *     theta = pi r is the angle from -Z, and d = (a/r sin theta, b/r sin theta, -cos theta):
+ *     the centre looks along -Z, right is +X, up is +Y, the rim (r = 1) is +Z. Inverse
+ *     with theta = atan2(sqrt(x^2+y^2), -z); near the centre (sqrt(x^2+y^2) < 1e-4) the
+ *     factor theta/sqrt(x^2+y^2) is its limit 1/(-z), so there is no division by a
+ *     vanishing radius and no acos. +Z itself (the rim, every point of it) maps to the
+ *     bottom of the rim, (u, v) = (0.5, 1). Coordinates outside the unit disc (r > 1,
+ *     the image's corners) have the direction +Z: they are not part of the sphere, their
+ *     solid angle is 0.
+ *   cube: OpenGL's convention (the GL 4.5 specification, table 8.19): the major axis is
+ *     the component of largest magnitude (ties: X before Y before Z), then
+ *         face   major  sc   tc        face   major  sc   tc
+ *         +X      x    -z   -y          -X     -x   +z   -y
+ *         +Y      y    +x   +z          -Y     -y   +x   -z
+ *         +Z      z    +x   -y          -Z     -z   -x   -y
+ *     u = (sc/|ma| + 1)/2, v = (tc/|ma| + 1)/2; v grows with the row index, so that the
+ *     faces uploaded row 0 first (glTexImage2D / glTextureSubImage3D) sample the same in
+ *     a GL cube texture. Every face is square (W == H).
+ *
+ * Direction arguments need not be unit: every function that takes one normalises it
+ * first (lg_probe_safe_dir). A zero vector, one whose components are all below 1e-30 in
+ * magnitude (denormals: a GPU flushes them to zero, so every device treats them alike),
+ * or one with a NaN or infinite component means LG_PROBE_FALLBACK_DIR, -Z (the lat-long
+ * and angular centre): a defined texel, never a NaN.
+ *
+ * Solid angles are exact (computed in double, stored as float): their sum over a layout
+ * is 4 pi within float rounding (tests/unit/probe measures 3e-8 relative or better), so a
+ * sum of radiance times solid angle is an integral over the sphere:
+ *   lat-long  every texel of row j: (2 pi / W) (cos theta_j - cos theta_j+1),
+ *             theta_j = pi j / H;
+ *   cube      texel [x0, x1] x [y0, y1] of a face in its plane at distance 1 (x, y in
+ *             [-1, 1]): A(x0,y0) - A(x0,y1) - A(x1,y0) + A(x1,y1) with
+ *             A(x, y) = atan2(x y, sqrt(x^2 + y^2 + 1)), the same for every face;
+ *   angular   the integral over the part of the texel inside the unit disc of the map's
+ *             Jacobian pi sin(pi r) / r (texels outside the disc: 0; texels on the rim:
+ *             only their covered part), evaluated exactly as the line integral of
+ *             (1 - cos(pi min(r, 1))) dphi around the texel (Green's theorem: a closed form
+ *             where the edge lies outside the disc, Gauss-Legendre quadrature to double
+ *             precision inside).
+ *
+ * Lookups (lg_probe_lookup; the GLSL and CL twins do the same):
+ *   nearest   the texel containing (u, v) (clamped to the image; lat-long u wraps).
+ *   bilinear  the four texels around (u, v), weights from the distance to their centres;
+ *     lat-long: columns wrap (the seam at u = 0 / 1 is invisible); a row beyond the top
+ *       (bottom) is the first (last) row continued across the pole, at phi + pi: the
+ *       row above row 0 at u is row 0 at u + 0.5, interpolated there. Exactly at a pole
+ *       the result is the mean of row 0 at u and at u + 0.5: continuous along every
+ *       meridian, as a bilinear lat-long lookup can be;
+ *     angular: GL's clamp-to-edge bilinear filter on the image;
+ *     cube: GL's seamless cube filtering (GL_TEXTURE_CUBE_MAP_SEAMLESS): a texel of the
+ *       2x2 footprint beyond a face edge is found by extending the face's plane: the
+ *       direction of that texel's centre is looked up again, which lands in the edge
+ *       texel of the neighbouring face; the corner texel beyond two edges (which no face
+ *       holds) is the mean of the three others, the specification's recommended rule.
+ *       The result is continuous across edges and corners; a samplerCube with seamless
+ *       filtering on gives the same (tests/unit/probe).
+ *   Interpolation is a + (b - a) f (a cube corner's mean a + ((b - a) + (c - a)) / 3):
+ *   a constant probe reads back exactly its constant.
+ *   A 1 x 1 lat-long or angular image gives its one texel everywhere; a 1 x 1 cube its
+ *   face's texel along the face's axis, blending into the neighbouring faces toward the
+ *   edges (a corner: the mean of its three faces). Lookups do not apply
+ *   lg_probe_info.scale (the texels already carry it).
+ *
+ * Cost (tests/unit/probe `probe_cost` prints them; docs/probes.md has the table): on one
+ * thread of a loaded 2-core x86-64 VM, 40 ns per texel direction, 40 to 90 ns per
+ * direction -> coordinates, 140 to 280 ns per lookup of a random direction into a
+ * multi-megabyte image (cache misses included), 20 ns per texel for the lat-long and cube
+ * solid-angle tables and 400 ns for the angular one (compute it once per probe).
+ *
+ * Thread safety: every function here is pure (no state); call it from any thread.
  */
 #ifndef LIGHTGRAPH_PROBE_H
 #define LIGHTGRAPH_PROBE_H
@@ -33,6 +110,7 @@
 
 #include "lightgraph/config.h"
 #include "lightgraph/host.h"
+#include "lightgraph/vecmath.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -82,6 +160,223 @@ LG_API int lg_probe_publish(lg_node *node, uint32_t port, const lg_probe_info *i
 /* Consumer: fills *out and returns it; NULL without an error for NULL or neutral, NULL
  * after lg_error for another kind or inconsistent parts. */
 LG_API const lg_probe *lg_probe_get(lg_node *node, const lg_resource *res, lg_probe *out);
+
+/* ---- conventions as code ----------------------------------------------------------- */
+
+/* Where a direction lands: face (0 for 2D layouts, 0..5 = +X, -X, +Y, -Y, +Z, -Z for the
+ * cube) and continuous coordinates in [0, 1] (u right, v down), as described above. */
+typedef struct lg_probe_coord {
+    uint32_t face;
+    float u, v;
+} lg_probe_coord;
+
+/* What a direction-less vector means (see above): -Z. */
+#define LG_PROBE_FALLBACK_DIR lg_v3(0.0f, 0.0f, -1.0f)
+
+#define LG_PROBE_PI_F 3.14159265358979323846f
+
+/* Unit vector along d; zero, denormal-only, NaN or infinite input gives -Z. */
+static inline lg_vec3 lg_probe_safe_dir(lg_vec3 d)
+{
+    return lg_v3_normalize_or(d, LG_PROBE_FALLBACK_DIR);
+}
+
+/* Cube: face and (u, v) of a direction (any length but not zero: callers go through
+ * lg_probe_safe_dir first). */
+static inline lg_probe_coord lg_probe_cube_coord(lg_vec3 d)
+{
+    float ax = fabsf(d.x), ay = fabsf(d.y), az = fabsf(d.z);
+    float sc, tc, ma;
+    uint32_t face;
+    if (ax >= ay && ax >= az) {
+        face = d.x >= 0 ? 0u : 1u;
+        ma = ax;
+        sc = d.x >= 0 ? -d.z : d.z;
+        tc = -d.y;
+    } else if (ay >= az) {
+        face = d.y >= 0 ? 2u : 3u;
+        ma = ay;
+        sc = d.x;
+        tc = d.y >= 0 ? d.z : -d.z;
+    } else {
+        face = d.z >= 0 ? 4u : 5u;
+        ma = az;
+        sc = d.z >= 0 ? d.x : -d.x;
+        tc = -d.y;
+    }
+    lg_probe_coord c;
+    c.face = face;
+    c.u = 0.5f * (sc / ma + 1.0f);
+    c.v = 0.5f * (tc / ma + 1.0f);
+    return c;
+}
+
+/* Cube: the (not normalised) direction of face coordinates (sc, tc) in [-1, 1] (or
+ * beyond, on the face's plane extended). */
+static inline lg_vec3 lg_probe_cube_plane_dir(uint32_t face, float sc, float tc)
+{
+    switch (face) {
+    case 0: return lg_v3(1.0f, -tc, -sc);
+    case 1: return lg_v3(-1.0f, -tc, sc);
+    case 2: return lg_v3(sc, 1.0f, tc);
+    case 3: return lg_v3(sc, -1.0f, -tc);
+    case 4: return lg_v3(sc, -tc, 1.0f);
+    default: return lg_v3(-sc, -tc, -1.0f);
+    }
+}
+
+/* Face and (u, v) of a direction of any length (lg_probe_safe_dir is applied). */
+static inline lg_probe_coord lg_probe_dir_to_coord(lg_probe_layout layout, lg_vec3 d)
+{
+    d = lg_probe_safe_dir(d);
+    lg_probe_coord c;
+    c.face = 0;
+    if (layout == LG_PROBE_CUBE)
+        return lg_probe_cube_coord(d);
+    if (layout == LG_PROBE_ANGULAR) {
+        float rho = sqrtf(d.x * d.x + d.y * d.y);
+        float k; /* r / rho = theta / (pi rho) */
+        if (rho >= 1e-4f)
+            k = atan2f(rho, -d.z) / (LG_PROBE_PI_F * rho);
+        else if (d.z < 0)
+            k = 1.0f / (LG_PROBE_PI_F * -d.z); /* atan(t)/t = 1 - t^2/3 + ..., t < 1e-4 */
+        else if (rho > 0)
+            k = atan2f(rho, -d.z) / (LG_PROBE_PI_F * rho);
+        else {
+            c.u = 0.5f; /* +Z: the bottom of the rim */
+            c.v = 1.0f;
+            return c;
+        }
+        c.u = 0.5f * (d.x * k + 1.0f);
+        c.v = 0.5f * (1.0f - d.y * k);
+        return c;
+    }
+    /* lat-long */
+    float phi = (d.x == 0.0f && d.z == 0.0f) ? 0.0f : atan2f(d.x, -d.z);
+    float theta = atan2f(sqrtf(d.x * d.x + d.z * d.z), d.y);
+    c.u = phi * (0.5f / LG_PROBE_PI_F) + 0.5f;
+    c.v = theta * (1.0f / LG_PROBE_PI_F);
+    return c;
+}
+
+/* The unit direction at face coordinates c (any values: lat-long is periodic, angular
+ * outside the disc gives +Z, the cube's plane is extended). */
+static inline lg_vec3 lg_probe_coord_to_dir(lg_probe_layout layout, lg_probe_coord c)
+{
+    if (layout == LG_PROBE_CUBE)
+        return lg_probe_safe_dir(lg_probe_cube_plane_dir(c.face, 2.0f * c.u - 1.0f,
+                                                         2.0f * c.v - 1.0f));
+    if (layout == LG_PROBE_ANGULAR) {
+        float a = 2.0f * c.u - 1.0f, b = 1.0f - 2.0f * c.v;
+        float r = sqrtf(a * a + b * b);
+        if (!(r < 1.0f))
+            return lg_v3(0.0f, 0.0f, 1.0f);
+        float t = LG_PROBE_PI_F * r;
+        /* sin(pi r) / r, its series near the centre */
+        float s = r < 1e-4f ? LG_PROBE_PI_F * (1.0f - t * t * (1.0f / 6.0f)) : sinf(t) / r;
+        return lg_v3(a * s, b * s, -cosf(t));
+    }
+    float phi = 2.0f * LG_PROBE_PI_F * (c.u - 0.5f), theta = LG_PROBE_PI_F * c.v;
+    float st = sinf(theta);
+    return lg_v3(st * sinf(phi), cosf(theta), -st * cosf(phi));
+}
+
+/* The direction of the centre of texel (i, j) of face `face` of a W x H level. */
+static inline lg_vec3 lg_probe_texel_dir(lg_probe_layout layout, uint32_t width,
+                                         uint32_t height, uint32_t face, uint32_t i,
+                                         uint32_t j)
+{
+    lg_probe_coord c;
+    c.face = face;
+    c.u = ((float)i + 0.5f) / (float)width;
+    c.v = ((float)j + 0.5f) / (float)height;
+    return lg_probe_coord_to_dir(layout, c);
+}
+
+/* Probe <-> world with a rotation (probe -> world, column-major 3x3 as
+ * lg_probe_info.rotation; NULL is the identity). */
+static inline lg_vec3 lg_probe_to_world(const float *rotation, lg_vec3 d)
+{
+    if (!rotation)
+        return d;
+    const float *m = rotation;
+    return lg_v3(m[0] * d.x + m[3] * d.y + m[6] * d.z, m[1] * d.x + m[4] * d.y + m[7] * d.z,
+                 m[2] * d.x + m[5] * d.y + m[8] * d.z);
+}
+static inline lg_vec3 lg_probe_from_world(const float *rotation, lg_vec3 d)
+{
+    if (!rotation)
+        return d;
+    const float *m = rotation;
+    return lg_v3(m[0] * d.x + m[1] * d.y + m[2] * d.z, m[3] * d.x + m[4] * d.y + m[5] * d.z,
+                 m[6] * d.x + m[7] * d.y + m[8] * d.z);
+}
+
+/* The probe -> world rotation for yaw, pitch and roll in degrees:
+ * R = Ry(yaw) Rx(pitch) Rz(roll), each a right-handed rotation about the world axis
+ * (counterclockwise seen from the axis' positive end): roll first, about +Z (positive
+ * roll turns the probe's up, +Y, toward -X), then pitch about +X (positive pitch raises
+ * the probe's centre, -Z, toward +Y), then yaw about +Y (positive yaw turns the centre
+ * toward -X, to the left seen from above). Angles are reduced modulo 360 first and
+ * multiples of 90 degrees are exact, so 360 is the identity bit for bit. Non-finite
+ * angles count as 0. Writes 9 floats, column-major (lg_probe_info.rotation). */
+LG_API void lg_probe_rotation_from_euler(float yaw_deg, float pitch_deg, float roll_deg,
+                                         float rotation[9]);
+
+/* The solid angle (steradians) of texel (i, j) of face `face` of a W x H level 0 (for the
+ * cube, W == H is the face size), computed in double as described above. 0 for a texel
+ * outside the image or an invalid layout or size. */
+LG_API double lg_probe_texel_solid_angle(lg_probe_layout layout, uint32_t width,
+                                         uint32_t height, uint32_t face, uint32_t i,
+                                         uint32_t j);
+
+/* Fills `out` with the solid angle of every texel of a W x H level 0 in the radiance
+ * image's texel order (face, then row 0 first, then column): W * H floats for the 2D
+ * layouts, 6 * W * W for the cube (the `solid_angle` part). Returns 0, or LG_ERR_INVALID
+ * for an unknown layout, a zero size or a cube with W != H. `out` is the caller's. */
+LG_API int lg_probe_solid_angles(lg_probe_layout layout, uint32_t width, uint32_t height,
+                                 float *out);
+
+/* A level of a probe on the CPU, for lookups. The struct need only live for the call. */
+typedef struct lg_probe_image {
+    lg_probe_layout layout;
+    uint32_t width, height;   /* the level's size; a cube's face size (width == height) */
+    const float *rgba;        /* RGBA float texels, W*H (2D) or 6*W*H (cube: faces in
+                               * order, each row 0 first), e.g. lg_image_offset() into a
+                               * mapped radiance image */
+    const float *rotation;    /* probe -> world (lg_probe_info.rotation), NULL = identity */
+    uint32_t reserved[4];
+} lg_probe_image;
+
+/* The lg_probe_image of `level` of a radiance image mapped on the CPU (`rgba`: the start
+ * of its colour data, every level packed as lg_image_offset says); `rotation` as in
+ * lg_probe_image. A level past the last gives an empty image (lookups read 0). */
+static inline lg_probe_image lg_probe_image_at(lg_probe_layout layout, const lg_image_desc *desc,
+                                               const float *rgba, uint32_t level,
+                                               const float *rotation)
+{
+    lg_probe_image img;
+    memset(&img, 0, sizeof img);
+    img.layout = layout;
+    img.rotation = rotation;
+    if (!desc || !rgba || level >= lg_image_levels(desc))
+        return img;
+    img.width = lg_image_level_width(desc, level);
+    img.height = lg_image_level_height(desc, level);
+    img.rgba = rgba + 4 * lg_image_offset(desc, level, 0);
+    return img;
+}
+
+typedef enum lg_probe_sampling {
+    LG_PROBE_NEAREST = 0,
+    LG_PROBE_BILINEAR,
+} lg_probe_sampling;
+
+/* The radiance seen along world direction `dir` (any length; see lg_probe_safe_dir),
+ * nearest or bilinear as described above. Writes RGBA to out. An image with a zero
+ * size or no texels gives 0. */
+LG_API void lg_probe_lookup(const lg_probe_image *img, lg_vec3 dir, lg_probe_sampling sampling,
+                            float out[4]);
 
 #ifdef __cplusplus
 }
