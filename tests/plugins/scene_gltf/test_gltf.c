@@ -1002,7 +1002,7 @@ static void case_bad_input(void)
     /* a missing external buffer */
     expect_fail_json("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"missing.bin\"}]}",
                      "missing.bin", "missing buffer file");
-    expect_fail_file(gt_path("does-not-exist.glb"), "cannot open", "missing file");
+    expect_fail_file(gt_path("does-not-exist.glb"), "cannot read it: No such file", "missing file");
     expect_fail_bytes("empty.gltf", "", 0, "neither a GLB", "empty file");
     expect_fail_json("garbage", "neither a GLB", "not JSON");
 
@@ -1100,7 +1100,8 @@ static void case_bad_input(void)
     expect_fail_json(claim, "Failed to decode 'uri'", "buffer longer than its data");
     gt_write("short.bin", pts, 20);
     expect_fail_json("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"short.bin\"}]}",
-                     "File size mismatch", "buffer file shorter than byteLength");
+                     "buffer 0: cannot read 'short.bin': it has 20 bytes, fewer than its byteLength 36",
+                     "buffer file shorter than byteLength");
     free(claim);
     free(json);
     free(nodes);
