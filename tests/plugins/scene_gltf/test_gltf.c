@@ -1340,6 +1340,12 @@ static void case_limits(void)
     expect_refused("long.gltf", json, (const char *const[]){"buffer 0: cannot read 'tri.bin': it has 36 bytes, fewer than "
                                                            "its byteLength 1000000000", NULL}, "byteLength > file");
     free(json);
+    /* a file longer than its byteLength is valid glTF: only byteLength bytes are read */
+    static const float tri_and_more[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 7, 7};
+    gt_write("longer.bin", tri_and_more, sizeof tri_and_more);
+    json = tri_json("longer.bin", 36, NULL);
+    expect_load("longer.gltf", json, "file longer than byteLength");
+    free(json);
     /* a byteLength over the 2 GiB a buffer may hold (the file is sparse: no disk used) */
     int fd = open(gt_path("huge.bin"), O_CREAT | O_WRONLY | O_TRUNC, 0644);
     CHECK(fd >= 0 && ftruncate(fd, (off_t)LG_GLTF_MAX_BUFFER + 4096) == 0);
