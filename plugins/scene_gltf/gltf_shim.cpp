@@ -45,14 +45,18 @@
 #include <vector>
 
 #include "gltf_doc.h"
+extern "C" {
+#include "gltf_load.h" // the limits
+}
 #include "lightgraph/file.h"
 
 namespace {
 
 // Deepest JSON nesting accepted (glTF itself needs 6; extras get the rest).
 constexpr int kMaxJsonDepth = 64;
-// Largest file the loader reads (tinygltf takes sizes as unsigned int): LG_GLTF_MAX_FILE.
-constexpr size_t kMaxFileSize = size_t(1) << 31;
+// Largest file the loader reads (tinygltf takes sizes as unsigned int).
+constexpr size_t kMaxFileSize = size_t(LG_GLTF_MAX_FILE);
+static_assert(LG_GLTF_MAX_FILE <= UINT32_MAX, "tinygltf 2.7.0 takes sizes as unsigned int");
 
 void set_err(char *err, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 void set_err(char *err, size_t size, const char *fmt, ...)
@@ -211,10 +215,9 @@ std::vector<uint8_t> replace_glb_json(const uint8_t *glb, size_t size, size_t ol
 // None of that reads a byte of the file. Images are never read (the loader ignores
 // textures), but are held to the same folder.
 
-// Largest external buffer (a byteLength), and all external buffers of a file together
-// (LG_GLTF_MAX_BUFFER and LG_GLTF_MAX_EXTERNAL).
-constexpr uint64_t kMaxBufferSize = uint64_t(1) << 31;
-constexpr uint64_t kMaxExternalTotal = uint64_t(1) << 32;
+// Largest external buffer (a byteLength), and all external buffers of a file together.
+constexpr uint64_t kMaxBufferSize = LG_GLTF_MAX_BUFFER;
+constexpr uint64_t kMaxExternalTotal = LG_GLTF_MAX_EXTERNAL;
 
 // One external (non-data:) buffer, in file order: tinygltf loads them in that order.
 struct ext_buffer {
@@ -232,10 +235,28 @@ struct fs_context {
     std::string error;    // the first refusal, reported instead of tinygltf's message
 };
 
+// s for a one-line message: control characters as \xNN, at most 200 bytes.
+std::string printable(const std::string &s)
+{
+    std::string out;
+    size_t i = 0;
+    for (; i < s.size() && out.size() < 200; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c < 0x20 || c == 0x7f) {
+            char hex[8];
+            snprintf(hex, sizeof hex, "\\x%02x", c);
+            out += hex;
+        } else {
+            out += char(c);
+        }
+    }
+    return i < s.size() ? out + "..." : out;
+}
+
 // "'a%20b.bin' ('a b.bin')", or "'x.bin'" when decoding changes nothing.
 std::string quoted_uri(const std::string &uri, const std::string &path)
 {
-    return uri == path ? "'" + uri + "'" : "'" + uri + "' ('" + path + "')";
+    return uri == path ? "'" + printable(uri) + "'" : "'" + printable(uri) + "' ('" + printable(path) + "')";
 }
 
 int hex_digit(char c)
@@ -335,9 +356,9 @@ std::string check_uri(const fs_context &ctx, const std::string &what, const std:
 {
     std::string why = percent_decode(uri, path);
     if (!why.empty())
-        return what + ": cannot read '" + uri + "': " + why;
+        return what + ": cannot read '" + printable(uri) + "': " + why;
     if (has_scheme(uri))
-        return what + ": cannot read '" + (uri.size() > 80 ? uri.substr(0, 80) + "..." : uri) +
+        return what + ": cannot read '" + printable(uri) +
                "': only relative paths inside the model's folder and base64 data: URIs are read";
     if (ctx.base.empty()) {
         if (must_exist)
@@ -351,8 +372,8 @@ std::string check_uri(const fs_context &ctx, const std::string &what, const std:
     bool escapes = false;
     std::string lexical = lexical_join(ctx.base, *path, &escapes);
     if (escapes)
-        return what + ": cannot read " + quoted_uri(uri, *path) + ": it leads to '" + lexical + "', outside '" +
-               ctx.base + "'";
+        return what + ": cannot read " + quoted_uri(uri, *path) + ": it leads to '" + printable(lexical) +
+               "', outside '" + ctx.base + "'";
     char err[PATH_MAX + 512];
     if (lg_path_within(ctx.base.c_str(), path->c_str(), err, sizeof err) != 0 && (must_exist || errno == EACCES))
         return what + ": cannot read " + quoted_uri(uri, *path) + ": " + file_reason(err, *path);
