@@ -1,7 +1,8 @@
 /* The on-disk cache for expensive static results.
  *
  * Directory: $LIGHTGRAPH_CACHE_DIR, else $XDG_CACHE_HOME/lightgraph, else
- * ~/.cache/lightgraph. One file per entry, named by a digest of the node's identity (plugin,
+ * ~/.cache/lightgraph, else a private ${TMPDIR:-/tmp}/lightgraph-cache-UID, each checked
+ * before use (cache_ready below). One file per entry, named by a digest of the node's identity (plugin,
  * version, type, parameters, content keys, inputs' identities) and the entry key, so a
  * change to any of them looks up another file: stale entries are never found. The file
  * repeats the identity and key and carries the payload size and a checksum; an entry whose
@@ -22,19 +23,92 @@
 #define CACHE_VERSION 1u
 #define CACHE_MAX_KEY 1024u
 
-char *lg_cache_dir(void)
+/* Where the cache lives, and why it can be trusted (issue 8). Whoever can write into the
+ * cache directory chooses the results a render reuses, so the directory must be the user's
+ * own: $LIGHTGRAPH_CACHE_DIR, else $XDG_CACHE_HOME/lightgraph (an absolute XDG_CACHE_HOME;
+ * the XDG spec says to ignore a relative one), else $HOME/.cache/lightgraph, else, with
+ * neither HOME nor XDG_CACHE_HOME, a private ${TMPDIR:-/tmp}/lightgraph-cache-UID. Never a
+ * shared folder such as /tmp/.cache/lightgraph.
+ *
+ * Checked once per render, on first use:
+ *   - a directory lightgraph creates is made 0700 (missing parents too), then lstat'ed: a
+ *     real directory owned by the effective user, writable by no one else;
+ *   - the private fallback, when it exists already, must be that too, and 0700 exactly (no
+ *     symbolic link, no access for others: /tmp is shared and another user may have made
+ *     it first);
+ *   - a directory the user named (the first three) that exists is followed if it is a link
+ *     and must be a directory owned by the user and not writable by every user (world
+ *     write lets anyone plant entries, with or without the sticky bit). Group write is left
+ *     to the user (user-private groups make it common).
+ * A directory that fails disables the cache for the render with one warning: nothing is
+ * reused or written, and the render goes on. */
+typedef struct cache_choice {
+    char *dir;
+    bool private_dir; /* the /tmp fallback: must be 0700 and no link */
+    const char *from; /* the variable it came from, for the warning */
+} cache_choice;
+
+static cache_choice choose_dir(void)
 {
+    cache_choice c = {0};
     const char *e = getenv("LIGHTGRAPH_CACHE_DIR");
-    if (e && *e)
-        return lg_xstrdup(e);
+    if (e && *e) {
+        c.dir = lg_xstrdup(e);
+        c.from = "LIGHTGRAPH_CACHE_DIR";
+        return c;
+    }
     e = getenv("XDG_CACHE_HOME");
-    if (e && *e)
-        return lg_xasprintf("%s/lightgraph", e);
+    if (e && e[0] == '/') {
+        c.dir = lg_xasprintf("%s/lightgraph", e);
+        c.from = "XDG_CACHE_HOME";
+        return c;
+    }
     e = getenv("HOME");
-    return lg_xasprintf("%s/.cache/lightgraph", e && *e ? e : "/tmp");
+    if (e && *e) {
+        c.dir = lg_xasprintf("%s/.cache/lightgraph", e);
+        c.from = "HOME";
+        return c;
+    }
+    e = getenv("TMPDIR");
+    c.dir = lg_xasprintf("%s/lightgraph-cache-%u", e && e[0] == '/' ? e : "/tmp", (unsigned)geteuid());
+    c.private_dir = true;
+    c.from = "neither HOME nor XDG_CACHE_HOME is set";
+    return c;
 }
 
-static int mkdir_p(const char *dir)
+/* The directory the cache would use, before its check (malloc'd). */
+char *lg_cache_dir(void)
+{
+    return choose_dir().dir;
+}
+
+/* Why a directory with these attributes cannot be the cache, or NULL. `st` comes from
+ * lstat for a directory lightgraph made or the private fallback (strict: no link, no
+ * group or other write; `private_dir`: no group or other access at all) and from stat for
+ * an existing directory the user named. */
+static const char *distrust(const struct stat *st, bool strict, bool private_dir, char *buf, size_t n)
+{
+    if (S_ISLNK(st->st_mode))
+        return "it is a symbolic link, not a directory of your own";
+    if (!S_ISDIR(st->st_mode))
+        return "it is not a directory";
+    if (st->st_uid != geteuid()) {
+        snprintf(buf, n, "it is owned by uid %u, not by you (uid %u)", (unsigned)st->st_uid, (unsigned)geteuid());
+        return buf;
+    }
+    mode_t m = st->st_mode & 07777;
+    if ((private_dir && (m & 077)) || (strict && (m & 022))) {
+        snprintf(buf, n, "its mode is %04o; a private cache directory is 0700", (unsigned)m);
+        return buf;
+    }
+    if (m & S_IWOTH) {
+        snprintf(buf, n, "it is writable by every user (mode %04o)", (unsigned)m);
+        return buf;
+    }
+    return NULL;
+}
+
+static int mkdir_p(const char *dir, mode_t mode)
 {
     char *d = lg_xstrdup(dir);
     int rc = 0;
@@ -42,7 +116,7 @@ static int mkdir_p(const char *dir)
         if (*p == '/' || !*p) {
             char c = *p;
             *p = 0;
-            if (mkdir(d, 0777) != 0 && errno != EEXIST) {
+            if (mkdir(d, mode) != 0 && errno != EEXIST) {
                 rc = -1;
                 break;
             }
@@ -55,15 +129,57 @@ static int mkdir_p(const char *dir)
     return rc;
 }
 
-static char *entry_path(lg_exec *ex, lg_pnode *n, const char *key)
+/* The checked cache directory, or NULL: not there yet and !create (a miss), or disabled
+ * (warned once). */
+static const char *cache_ready(lg_exec *ex, bool create)
 {
-    if (!ex->cache_dir)
-        ex->cache_dir = lg_cache_dir();
+    if (ex->cache_off)
+        return NULL;
+    if (ex->cache_dir)
+        return ex->cache_dir;
+    cache_choice c = choose_dir();
+    struct stat st;
+    char buf[160];
+    const char *why = NULL;
+    bool made = false;
+    int r = c.private_dir ? lstat(c.dir, &st) : stat(c.dir, &st);
+    if (r != 0 && errno == ENOENT && !create) {
+        free(c.dir);
+        return NULL;
+    }
+    if (r != 0 && errno == ENOENT) {
+        /* 0700: new directories, the missing parents too, are the user's alone */
+        r = c.private_dir ? mkdir(c.dir, 0700) : mkdir_p(c.dir, 0700);
+        if (r == 0 || errno == EEXIST) {
+            made = r == 0;
+            r = lstat(c.dir, &st);
+        }
+    }
+    if (r != 0) {
+        snprintf(buf, sizeof buf, "%s", strerror(errno));
+        why = buf;
+    } else {
+        why = distrust(&st, made || c.private_dir, c.private_dir, buf, sizeof buf);
+    }
+    if (why) {
+        lg_hlog(LG_HWARN, "cache disabled for this run: '%s' (%s) cannot be the cache directory: %s; "
+                          "set LIGHTGRAPH_CACHE_DIR to a directory of your own",
+                c.dir, c.from, why);
+        free(c.dir);
+        ex->cache_off = true;
+        return NULL;
+    }
+    ex->cache_dir = c.dir;
+    return ex->cache_dir;
+}
+
+static char *entry_path(const char *dir, lg_pnode *n, const char *key)
+{
     lg_digest d = n->identity;
     lg_digest_add_str(&d, key);
     char hex[33];
     lg_digest_hex(&d, hex);
-    return lg_xasprintf("%s/%s-%s.lgc", ex->cache_dir, n->schema->name, hex);
+    return lg_xasprintf("%s/%s-%s.lgc", dir, n->schema->name, hex);
 }
 
 static bool key_ok(lg_pnode *n, const char *key)
@@ -85,7 +201,12 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     *size = 0;
     if (!key_ok(n, key))
         return LG_ERR_INVALID;
-    char *path = entry_path(ex, n, key);
+    const char *dir = cache_ready(ex, false);
+    if (!dir) {
+        n->cache_misses++;
+        return LG_ERR_NOTFOUND;
+    }
+    char *path = entry_path(dir, n, key);
     size_t len = 0;
     char why_read[256];
     /* bounded: an entry that is a FIFO, a device (a link to /dev/zero) or larger than any
@@ -159,13 +280,10 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
         return LG_ERR_INVALID;
     if (!data && size)
         return lg_node_errorf(n, "cache_put with NULL data"), LG_ERR_INVALID;
-    char *path = entry_path(ex, n, key);
-    if (mkdir_p(ex->cache_dir) != 0) {
-        lg_hlog(LG_HWARN, "node '%s': cannot create cache directory %s: %s", n->pub.name,
-                ex->cache_dir, strerror(errno));
-        free(path);
-        return LG_ERR_IO;
-    }
+    const char *dir = cache_ready(ex, true);
+    if (!dir)
+        return LG_OK; /* the cache is off (said once): nothing to store, nothing failed */
+    char *path = entry_path(dir, n, key);
     lg_str b = {0};
     uint32_t ver = CACHE_VERSION, kl = (uint32_t)strlen(key);
     uint64_t psize = size, sum = lg_hash64(data, size, 0);

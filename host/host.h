@@ -213,7 +213,8 @@ typedef struct lg_exec {
     lg_cl_dev *cl;
     char *gl_error, *cl_error;   /* why a device could not be made (reported once per node) */
     uint32_t gl_timer_query;
-    char *cache_dir;
+    char *cache_dir;             /* checked on first use (cache.c); NULL until then */
+    bool cache_off;              /* the directory failed its check: no caching this run */
     bool failed;
     uint32_t frame;
     double t_plan_ms, t_total_ms;

@@ -24,6 +24,7 @@
 
 #include "gltf_doc.h"
 #include "gltf_normals.h"
+#include "lightgraph/file.h"
 #include "lightgraph/vecmath.h"
 
 #define PI_D 3.14159265358979323846
@@ -1527,9 +1528,9 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     if (!glb && !(at < size && bytes[at] == '{'))
         return fail(&l, LG_ERR_INVALID, "neither a GLB file (magic 'glTF') nor glTF JSON (a '{' first)");
 
-    char perr[768];
+    char perr[1536];
     const lg_gltf *g = NULL;
-    lg_gltf_doc *doc = lg_gltf_parse(bytes, size, base_dir ? base_dir : "/nonexistent", &g, perr, sizeof perr);
+    lg_gltf_doc *doc = lg_gltf_parse(bytes, size, base_dir, &g, perr, sizeof perr);
     if (!doc)
         return fail(&l, LG_ERR_INVALID, "%s", perr);
     l.g = g;
@@ -1573,40 +1574,17 @@ int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out, u
                  char *err, size_t err_size)
 {
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    struct stat stt;
-    if (!f) {
-        int e = errno;
-        snprintf(err, err_size, "file '%s': cannot open: %s", path, strerror(e));
-        return e == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO;
-    }
-    if (fstat(fileno(f), &stt) != 0 || !S_ISREG(stt.st_mode)) {
-        fclose(f);
-        snprintf(err, err_size, "file '%s': not a regular file", path);
-        return LG_ERR_IO;
-    }
-    if ((uint64_t)stt.st_size > (1ull << 31)) {
-        fclose(f);
-        snprintf(err, err_size, "file '%s': %lld bytes, more than the 2 GiB the loader reads", path,
-                 (long long)stt.st_size);
-        return LG_ERR_INVALID;
-    }
-    size_t size = (size_t)stt.st_size;
-    uint8_t *bytes = malloc(size ? size : 1);
+    /* bounded: a FIFO, a device or a file over the limit is refused before a byte is read */
+    char why[256];
+    size_t size = 0;
+    uint8_t *bytes = lg_file_read(path, LG_GLTF_MAX_FILE, &size, why, sizeof why);
     if (!bytes) {
-        fclose(f);
-        snprintf(err, err_size, "file '%s': out of memory for %zu bytes", path, size);
-        return LG_ERR_NOMEM;
+        int e = errno;
+        snprintf(err, err_size, "file '%s': cannot read it: %s", path, why);
+        return e == ENOENT ? LG_ERR_NOTFOUND : e == EFBIG ? LG_ERR_INVALID : e == ENOMEM ? LG_ERR_NOMEM : LG_ERR_IO;
     }
-    size_t got = size ? fread(bytes, 1, size, f) : 0;
-    int bad = ferror(f) || got != size;
-    fclose(f);
-    if (bad) {
-        free(bytes);
-        snprintf(err, err_size, "file '%s': read error", path);
-        return LG_ERR_IO;
-    }
-    /* external buffers resolve against the file's folder, as an absolute path */
+    /* External buffers and images resolve against, and must stay inside, the folder of the
+     * path as given (a link to the file does not move its folder), links resolved. */
     char *dir = strdup(path), *base = NULL;
     if (dir) {
         char *slash = strrchr(dir, '/');
@@ -1616,7 +1594,14 @@ int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out, u
             *slash = 0;
         base = realpath(slash ? dir : ".", NULL);
     }
-    int rc = lg_gltf_load_memory(bytes, size, path, base, opt, out, content_hash, err, err_size);
+    int rc;
+    if (!base) {
+        int e = errno;
+        snprintf(err, err_size, "file '%s': its folder cannot be resolved: %s", path, dir ? strerror(e) : "out of memory");
+        rc = LG_ERR_IO;
+    } else {
+        rc = lg_gltf_load_memory(bytes, size, path, base, opt, out, content_hash, err, err_size);
+    }
     free(base);
     free(dir);
     free(bytes);

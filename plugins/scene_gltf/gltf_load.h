@@ -36,14 +36,19 @@ typedef struct lg_gltf_options {
 /* The defaults of the node's parameters. */
 lg_gltf_options lg_gltf_default_options(void);
 
-/* Loads `path`. On success *out is the scene (free with lg_gltf_scene_free) and
- * *content_hash (if not NULL) a 64-bit FNV-1a hash of the file and every buffer it
- * loaded. Returns 0 or an LG_ERR_* code with the reason in err. */
+/* Loads `path`: a regular file of at most LG_GLTF_MAX_FILE bytes, read through
+ * lightgraph/file.h (a FIFO, a device or a larger file is refused before a byte is read).
+ * External buffers are read only from the file's folder (the folder of `path` as given,
+ * links resolved): README.md, "Files the model may read". On success *out is the scene
+ * (free with lg_gltf_scene_free) and *content_hash (if not NULL) a 64-bit FNV-1a hash of
+ * the file and every buffer it loaded. Returns 0 or an LG_ERR_* code with the reason in
+ * err. */
 int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out,
                  uint64_t *content_hash, char *err, size_t err_size);
 
 /* The same from bytes in memory: `name` is the file name used in messages; external
- * buffers resolve against base_dir (absolute; NULL: none can be loaded). */
+ * buffers are read from, and confined to, base_dir (NULL: none can be loaded, and image
+ * uris must still not leave the folder lexically). */
 int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name,
                         const char *base_dir, const lg_gltf_options *opt, lg_scene **out,
                         uint64_t *content_hash, char *err, size_t err_size);
@@ -55,5 +60,11 @@ void lg_gltf_scene_free(lg_scene *scene);
 #define LG_GLTF_MAX_COUNT (1u << 28)      /* elements of one accessor, points of a Draco mesh */
 #define LG_GLTF_MAX_DEPTH 256             /* node nesting */
 #define LG_GLTF_MAX_INSTANCES (1u << 24)  /* mesh primitives placed in the scene */
+/* The .gltf or .glb file itself, each external buffer (its byteLength), and all external
+ * buffers of one model together. 2 GiB: tinygltf 2.7.0 takes a file's size as an unsigned
+ * int and GLB lengths are 32-bit; 2^31 keeps the Draco rewrite's copy below both. */
+#define LG_GLTF_MAX_FILE ((uint64_t)1 << 31)
+#define LG_GLTF_MAX_BUFFER ((uint64_t)1 << 31)
+#define LG_GLTF_MAX_EXTERNAL ((uint64_t)1 << 32)
 
 #endif

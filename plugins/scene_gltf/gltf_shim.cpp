@@ -29,8 +29,11 @@
 #include <draco/core/decoder_buffer.h>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
+#include <climits>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
@@ -42,13 +45,18 @@
 #include <vector>
 
 #include "gltf_doc.h"
+extern "C" {
+#include "gltf_load.h" // the limits
+}
+#include "lightgraph/file.h"
 
 namespace {
 
 // Deepest JSON nesting accepted (glTF itself needs 6; extras get the rest).
 constexpr int kMaxJsonDepth = 64;
 // Largest file the loader reads (tinygltf takes sizes as unsigned int).
-constexpr size_t kMaxFileSize = size_t(1) << 31;
+constexpr size_t kMaxFileSize = size_t(LG_GLTF_MAX_FILE);
+static_assert(LG_GLTF_MAX_FILE <= UINT32_MAX, "tinygltf 2.7.0 takes sizes as unsigned int");
 
 void set_err(char *err, size_t size, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 void set_err(char *err, size_t size, const char *fmt, ...)
@@ -193,35 +201,337 @@ std::vector<uint8_t> replace_glb_json(const uint8_t *glb, size_t size, size_t ol
     return out;
 }
 
-// Filesystem callbacks: only absolute paths (base_dir joined with the URI; tinygltf also
-// tries "./uri", relative to the process's directory, which must not be found), only
-// regular files, and no file larger than the loader accepts.
-bool fs_exists(const std::string &path, void *)
+// ---- external files: what the model may read, and from where --------------------------
+//
+// tinygltf never touches the filesystem by itself: its callbacks below answer only for the
+// external buffers that scan_refs found and checked, and read them through lightgraph/file.h
+// (regular files only, confined to the model's folder with every link resolved, bounded).
+// Before tinygltf runs, scan_refs reads the JSON's "buffers" and "images" and refuses, with
+// the uri in the message: a uri that is not a relative reference (a scheme such as file: or
+// http:, or a data: URI tinygltf would not decode), malformed percent-encoding or a NUL, a
+// path that leaves the model's folder (lexically, or once its links are resolved), a buffer
+// file that is not a regular file (a FIFO, /dev/zero), a byteLength over kMaxBufferSize or
+// external buffers over kMaxExternalTotal in all, and a file shorter than its byteLength.
+// None of that reads a byte of the file. Images are never read (the loader ignores
+// textures), but are held to the same folder.
+
+// Largest external buffer (a byteLength), and all external buffers of a file together.
+constexpr uint64_t kMaxBufferSize = LG_GLTF_MAX_BUFFER;
+constexpr uint64_t kMaxExternalTotal = LG_GLTF_MAX_EXTERNAL;
+
+// One external (non-data:) buffer, in file order: tinygltf loads them in that order.
+struct ext_buffer {
+    size_t index;         // in "buffers"
+    std::string uri;      // as the file writes it
+    std::string path;     // percent-decoded (RFC 3986), relative to the model's folder
+    std::string asked;    // the path tinygltf asks for: base + "/" + its own decoding
+    uint64_t byte_length;
+};
+
+struct fs_context {
+    std::string base;     // the model's folder (absolute, links resolved), "" when none
+    std::vector<ext_buffer> buffers;
+    size_t next = 0;      // the buffer tinygltf reads next
+    std::string error;    // the first refusal, reported instead of tinygltf's message
+};
+
+// s for a one-line message: control characters as \xNN, at most 200 bytes.
+std::string printable(const std::string &s)
 {
-    struct stat st;
-    return !path.empty() && path[0] == '/' && stat(path.c_str(), &st) == 0;
+    std::string out;
+    size_t i = 0;
+    for (; i < s.size() && out.size() < 200; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c < 0x20 || c == 0x7f) {
+            char hex[8];
+            snprintf(hex, sizeof hex, "\\x%02x", c);
+            out += hex;
+        } else {
+            out += char(c);
+        }
+    }
+    return i < s.size() ? out + "..." : out;
+}
+
+// "'a%20b.bin' ('a b.bin')", or "'x.bin'" when decoding changes nothing.
+std::string quoted_uri(const std::string &uri, const std::string &path)
+{
+    return uri == path ? "'" + printable(uri) + "'" : "'" + printable(uri) + "' ('" + printable(path) + "')";
+}
+
+int hex_digit(char c)
+{
+    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+}
+
+// Percent-decodes a URI reference (RFC 3986 2.1; glTF 2.0 URIs are RFC 3986 references).
+// Unlike tinygltf's decoder, '+' stays '+' (turning it into a space is form encoding), and
+// a '%' without two hex digits, or a NUL (encoded or not), is refused rather than guessed.
+// Returns "" or why not.
+std::string percent_decode(const std::string &uri, std::string *out)
+{
+    out->clear();
+    for (size_t i = 0; i < uri.size(); i++) {
+        char c = uri[i];
+        if (c == '%') {
+            int hi = i + 2 < uri.size() ? hex_digit(uri[i + 1]) : -1;
+            int lo = i + 2 < uri.size() ? hex_digit(uri[i + 2]) : -1;
+            if (hi < 0 || lo < 0)
+                return "malformed percent-encoding at character " + std::to_string(i + 1);
+            c = char(hi * 16 + lo);
+            i += 2;
+        }
+        if (c == 0)
+            return "it holds a NUL character";
+        *out += c;
+    }
+    return "";
+}
+
+// Whether a URI reference starts with a scheme ("file:", "http:", "C:"): RFC 3986 3.1,
+// ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":" before any '/'. A relative path whose
+// first segment holds a colon must be written "./a:b" (RFC 3986 4.2).
+bool has_scheme(const std::string &uri)
+{
+    if (uri.empty() || !isalpha((unsigned char)uri[0]))
+        return false;
+    for (size_t i = 1; i < uri.size(); i++) {
+        char c = uri[i];
+        if (c == ':')
+            return true;
+        if (!isalnum((unsigned char)c) && c != '+' && c != '-' && c != '.')
+            return false;
+    }
+    return false;
+}
+
+// base (absolute, normalised) joined with path and normalised without looking at the
+// filesystem ("." and ".." applied, as RFC 3986 5.2.4 does); *escapes when the result is
+// not base or below it. Links are the filesystem check's (lg_path_within).
+std::string lexical_join(const std::string &base, const std::string &path, bool *escapes)
+{
+    std::vector<std::string> parts;
+    auto add = [&](const std::string &p) {
+        size_t at = 0;
+        while (at <= p.size()) {
+            size_t slash = p.find('/', at);
+            if (slash == std::string::npos)
+                slash = p.size();
+            std::string seg = p.substr(at, slash - at);
+            at = slash + 1;
+            if (seg == "..") {
+                if (!parts.empty())
+                    parts.pop_back();
+            } else if (!seg.empty() && seg != ".") {
+                parts.push_back(seg);
+            }
+        }
+    };
+    if (path.empty() || path[0] != '/')
+        add(base);
+    add(path);
+    std::string out;
+    for (const auto &p : parts)
+        out += "/" + p;
+    if (out.empty())
+        out = "/";
+    *escapes = !(base == "/" || out == base || out.compare(0, base.size() + 1, base + "/") == 0);
+    return out;
+}
+
+// The reason lightgraph/file.h gave, with its "'PATH' leads to" made "it leads to" (the
+// caller already names the uri).
+std::string file_reason(const char *why, const std::string &path)
+{
+    std::string w = why, lead = "'" + path + "' leads to";
+    if (w.compare(0, lead.size(), lead) == 0)
+        return "it leads to" + w.substr(lead.size());
+    return w;
+}
+
+// Checks a referenced uri: relative, well encoded, inside the folder (lexically; then, when
+// the file exists, with its links resolved). Returns "" or the refusal, naming the uri.
+std::string check_uri(const fs_context &ctx, const std::string &what, const std::string &uri, std::string *path,
+                      bool must_exist)
+{
+    std::string why = percent_decode(uri, path);
+    if (!why.empty())
+        return what + ": cannot read '" + printable(uri) + "': " + why;
+    if (has_scheme(uri))
+        return what + ": cannot read '" + printable(uri) +
+               "': only relative paths inside the model's folder and base64 data: URIs are read";
+    if (ctx.base.empty()) {
+        if (must_exist)
+            return what + ": cannot read " + quoted_uri(uri, *path) +
+                   ": the model was loaded from memory, without a folder for external files";
+        // no folder: the uri must not climb out of one, wherever the model would be
+        bool escapes = false;
+        lexical_join("/m", *path, &escapes);
+        return escapes ? what + ": cannot read " + quoted_uri(uri, *path) + ": it leaves the model's folder" : "";
+    }
+    bool escapes = false;
+    std::string lexical = lexical_join(ctx.base, *path, &escapes);
+    if (escapes)
+        return what + ": cannot read " + quoted_uri(uri, *path) + ": it leads to '" + printable(lexical) +
+               "', outside '" + ctx.base + "'";
+    char err[PATH_MAX + 512];
+    if (lg_path_within(ctx.base.c_str(), path->c_str(), err, sizeof err) != 0 && (must_exist || errno == EACCES))
+        return what + ": cannot read " + quoted_uri(uri, *path) + ": " + file_reason(err, *path);
+    return "";
+}
+
+// Opens buffer b (confined, regular, at least byte_length bytes). Returns the descriptor,
+// or -1 with the refusal in *why.
+int open_buffer(const fs_context &ctx, const ext_buffer &b, std::string *why)
+{
+    char err[PATH_MAX + 512];
+    uint64_t size = 0;
+    int fd = lg_file_open_within(ctx.base.c_str(), b.path.c_str(), UINT64_MAX, &size, err, sizeof err);
+    std::string what = "buffer " + std::to_string(b.index) + ": cannot read " + quoted_uri(b.uri, b.path) + ": ";
+    if (fd < 0) {
+        *why = what + file_reason(err, b.path);
+        return -1;
+    }
+    if (size < b.byte_length) {
+        close(fd);
+        *why = what + "it has " + std::to_string(size) + " bytes, fewer than its byteLength " +
+               std::to_string(b.byte_length);
+        return -1;
+    }
+    return fd;
+}
+
+// Reads the JSON's buffers and images and checks every external reference (above). The
+// JSON is parsed keeping only those two arrays, and only the head of each data: URI.
+std::string scan_refs(const uint8_t *json_text, size_t size, fs_context *ctx)
+{
+    using nlohmann::json;
+    auto keep = [](int depth, json::parse_event_t ev, json &v) {
+        if (ev == json::parse_event_t::key && depth == 1)
+            return v == "buffers" || v == "images";
+        if (ev == json::parse_event_t::value && v.is_string()) {
+            const std::string &s = v.get_ref<const std::string &>();
+            if (s.size() > 64 && s.compare(0, 5, "data:") == 0)
+                v = s.substr(0, 64);
+        }
+        return true;
+    };
+    const char *text = reinterpret_cast<const char *>(json_text);
+    json j = json::parse(text, text + size, keep);
+    if (!j.is_object())
+        return ""; // tinygltf says what is wrong
+    uint64_t total = 0;
+    auto buffers = j.find("buffers");
+    if (buffers != j.end() && buffers->is_array())
+        for (size_t i = 0; i < buffers->size(); i++) {
+            const json &b = (*buffers)[i];
+            auto uri = b.is_object() ? b.find("uri") : b.end();
+            if (!b.is_object() || uri == b.end() || !uri->is_string() || uri->get_ref<const std::string &>().empty())
+                continue; // a GLB's BIN chunk, or an error tinygltf reports
+            const std::string &u = uri->get_ref<const std::string &>();
+            if (tinygltf::IsDataURI(u))
+                continue;
+            std::string what = "buffer " + std::to_string(i);
+            auto bl = b.find("byteLength");
+            if (bl == b.end() || !bl->is_number_unsigned())
+                return what + ": byteLength is missing or not a whole number";
+            uint64_t len = bl->get<uint64_t>();
+            if (len > kMaxBufferSize)
+                return what + ": byteLength " + std::to_string(len) + " is more than the " +
+                       std::to_string(kMaxBufferSize >> 30) + " GiB a buffer may hold";
+            if ((total += len) > kMaxExternalTotal)
+                return what + ": the external buffers' byteLengths add up to more than the " +
+                       std::to_string(kMaxExternalTotal >> 30) + " GiB a model may read";
+            ext_buffer e{i, u, "", "", len};
+            std::string why = check_uri(*ctx, what, u, &e.path, true);
+            if (!why.empty())
+                return why;
+            // what tinygltf's JoinPath makes of the folder and its own decoding of the uri
+            e.asked = ctx->base + (ctx->base.back() == '/' ? "" : "/") + tinygltf::dlib::urldecode(u);
+            int fd = open_buffer(*ctx, e, &why);
+            if (fd < 0)
+                return why;
+            close(fd);
+            ctx->buffers.push_back(std::move(e));
+        }
+    auto images = j.find("images");
+    if (images != j.end() && images->is_array())
+        for (size_t i = 0; i < images->size(); i++) {
+            const json &im = (*images)[i];
+            auto uri = im.is_object() ? im.find("uri") : im.end();
+            if (!im.is_object() || uri == im.end() || !uri->is_string())
+                continue;
+            const std::string &u = uri->get_ref<const std::string &>();
+            if (u.empty() || tinygltf::IsDataURI(u))
+                continue;
+            std::string path, why = check_uri(*ctx, "image " + std::to_string(i), u, &path, false);
+            if (!why.empty())
+                return why;
+        }
+    return "";
+}
+
+// The callbacks: nothing exists but the checked buffers, each read once, in order.
+bool fs_exists(const std::string &path, void *user)
+{
+    const fs_context *ctx = static_cast<const fs_context *>(user);
+    for (const auto &b : ctx->buffers)
+        if (b.asked == path)
+            return true;
+    return false;
 }
 
 std::string fs_expand(const std::string &path, void *) { return path; }
 
-bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *)
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
 {
-    FILE *f = fopen(path.c_str(), "rb");
-    struct stat st;
-    if (!f || fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || size_t(st.st_size) > kMaxFileSize) {
+    fs_context *ctx = static_cast<fs_context *>(user);
+    if (ctx->next >= ctx->buffers.size() || ctx->buffers[ctx->next].asked != path) {
+        // never expected: tinygltf 2.7.0 reads external buffers once each, in file order
+        ctx->error = "tinygltf asked for '" + path + "', not the next checked buffer";
         if (err)
-            *err += f ? "not a regular file, or larger than 2 GiB" : std::strerror(errno);
-        if (f)
-            fclose(f);
+            *err += ctx->error;
         return false;
     }
-    out->resize(size_t(st.st_size));
-    size_t got = out->empty() ? 0 : fread(out->data(), 1, out->size(), f);
-    bool ok = got == out->size() && !ferror(f);
-    fclose(f);
-    if (!ok && err)
-        *err += "read error";
-    return ok;
+    const ext_buffer &b = ctx->buffers[ctx->next++];
+    std::string why;
+    int fd = open_buffer(*ctx, b, &why); // checked again on the descriptor read
+    if (fd < 0) {
+        ctx->error = why;
+        if (err)
+            *err += why;
+        return false;
+    }
+    out->resize(size_t(b.byte_length)); // checked: at most kMaxBufferSize, the file has it
+    size_t got = 0;
+    while (got < out->size()) {
+        ssize_t r = read(fd, out->data() + got, out->size() - got);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0) {
+            ctx->error = "buffer " + std::to_string(b.index) + ": cannot read " + quoted_uri(b.uri, b.path) + ": " +
+                         (r < 0 ? std::strerror(errno) : "it shrank while being read");
+            break;
+        }
+        got += size_t(r);
+    }
+    close(fd);
+    if (got < out->size()) {
+        if (err)
+            *err += ctx->error;
+        out->clear();
+        return false;
+    }
+    return true;
+}
+
+bool fs_write(std::string *err, const std::string &path, const std::vector<unsigned char> &, void *user)
+{
+    fs_context *ctx = static_cast<fs_context *>(user);
+    ctx->error = "tinygltf tried to write '" + path + "'; the loader never writes";
+    if (err)
+        *err += ctx->error;
+    return false;
 }
 
 // Images are neither decoded nor kept: the loader ignores textures.
@@ -520,6 +830,20 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
             set_err(err, err_size, "JSON nested more than %d levels deep", kMaxJsonDepth);
             return nullptr;
         }
+        fs_context fs;
+        if (base_dir && *base_dir) {
+            char real[PATH_MAX];
+            if (!realpath(base_dir, real)) {
+                set_err(err, err_size, "the model's folder '%s' cannot be resolved: %s", base_dir, std::strerror(errno));
+                return nullptr;
+            }
+            fs.base = real;
+        }
+        std::string refused = scan_refs(json, json_size, &fs);
+        if (!refused.empty()) {
+            set_err(err, err_size, "%s", refused.c_str());
+            return nullptr;
+        }
         std::string rewritten = without_draco_indices(json, json_size);
         std::vector<uint8_t> glb_copy;
         if (!rewritten.empty()) {
@@ -540,15 +864,18 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
         std::unique_ptr<lg_gltf_doc> doc(new lg_gltf_doc);
         tinygltf::TinyGLTF loader;
         loader.SetImageLoader(skip_image, nullptr);
-        loader.SetFsCallbacks({fs_exists, fs_expand, fs_read, nullptr, nullptr});
+        loader.SetFsCallbacks({fs_exists, fs_expand, fs_read, fs_write, &fs});
         std::string terr, twarn;
+        // without a folder, tinygltf gets one that cannot hold a file (and asks fs_exists,
+        // which knows no file then)
+        const std::string tbase = fs.base.empty() ? std::string("/nonexistent") : fs.base;
         bool ok = glb ? loader.LoadBinaryFromMemory(&doc->model, &terr, &twarn, bytes, unsigned(size),
-                                                    base_dir, tinygltf::REQUIRE_VERSION)
+                                                    tbase, tinygltf::REQUIRE_VERSION)
                       : loader.LoadASCIIFromString(&doc->model, &terr, &twarn,
                                                    reinterpret_cast<const char *>(bytes), unsigned(size),
-                                                   base_dir, tinygltf::REQUIRE_VERSION);
+                                                   tbase, tinygltf::REQUIRE_VERSION);
         if (!ok) {
-            std::string why = one_line(terr);
+            std::string why = fs.error.empty() ? one_line(terr) : fs.error;
             set_err(err, err_size, "%s", why.empty() ? "tinygltf failed without a message" : why.c_str());
             return nullptr;
         }

@@ -3,10 +3,13 @@
  * gltf_normals.c, and tinygltf and libdraco behind gltf_shim.cpp) on arbitrary bytes.
  *
  * Each input is loaded from memory with lg_gltf_load_memory, named .glb or .gltf and with
- * normals auto, smooth or flat by turns, with no folder for external buffers. A load must
- * either fail with a message naming the file, or return a scene whose every index is in
- * range and whose every position and normal is finite (normals unit length); anything else
- * aborts, and the sanitizers catch the rest.
+ * normals auto, smooth or flat by turns. Every fourth input is given a folder for external
+ * files (a scratch folder made once: tri.bin, sub/tri.bin, a link to tri.bin, a link to
+ * /etc/passwd, a link to /dev/zero and a FIFO), so that the uri checks and the confined,
+ * bounded reads are fuzzed too; the others have none. A load must either fail with a
+ * message naming the file, or return a scene whose every index is in range and whose every
+ * position and normal is finite (normals unit length); anything else aborts, and the
+ * sanitizers catch the rest. A load that waits on the FIFO hangs the run (a finding).
  *
  * A failed check prints what failed and aborts; LG_FUZZ_DUMP=FILE also writes the input to
  * FILE, to replay it with `fuzz_gltf FILE`.
@@ -22,11 +25,61 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "fuzz_driver.h"
 #include "gltf_load.h"
 
-static unsigned long n_runs, n_ok;
+static unsigned long n_runs, n_ok, n_folder_ok;
+static char folder[4096];
+
+static void remove_folder(void)
+{
+    static const char *const names[] = {"tri.bin", "sub/tri.bin", "sub", "inside.bin", "outside.bin", "zero.bin",
+                                        "fifo.bin"};
+    char p[4200];
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
+        snprintf(p, sizeof p, "%s/%s", folder, names[i]);
+        remove(p);
+    }
+    remove(folder);
+}
+
+/* The folder for external files, made on first use (see the top of the file). */
+static const char *external_folder(void)
+{
+    if (folder[0])
+        return folder;
+    const char *tmp = getenv("TMPDIR");
+    snprintf(folder, sizeof folder, "%s/lg-fuzz-gltf-XXXXXX", tmp && tmp[0] == '/' ? tmp : "/tmp");
+    if (!mkdtemp(folder)) {
+        perror("fuzz_gltf: mkdtemp");
+        exit(2);
+    }
+    atexit(remove_folder);
+    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    char p[4200], q[4200];
+    snprintf(p, sizeof p, "%s/sub", folder);
+    int bad = mkdir(p, 0700);
+    for (int k = 0; k < 2 && !bad; k++) {
+        snprintf(p, sizeof p, k ? "%s/sub/tri.bin" : "%s/tri.bin", folder);
+        FILE *f = fopen(p, "wb");
+        bad = !f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f);
+    }
+    static const char *const links[][2] = {{"tri.bin", "inside.bin"}, {"/etc/passwd", "outside.bin"},
+                                           {"/dev/zero", "zero.bin"}};
+    for (size_t i = 0; i < 3 && !bad; i++) {
+        snprintf(q, sizeof q, "%s/%s", folder, links[i][1]);
+        bad = symlink(links[i][0], q) != 0;
+    }
+    snprintf(p, sizeof p, "%s/fifo.bin", folder);
+    if (bad || mkfifo(p, 0600) != 0) {
+        perror("fuzz_gltf: making the external folder");
+        exit(2);
+    }
+    return folder;
+}
 static const uint8_t *cur_data;
 static size_t cur_size;
 
@@ -102,13 +155,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     err[0] = 0;
     lg_scene *s = NULL;
     uint64_t hash = 0;
-    int rc = lg_gltf_load_memory(data, size, name, NULL, &opt, &s, &hash, err, sizeof err);
+    const char *base = run % 4 == 3 ? external_folder() : NULL;
+    int rc = lg_gltf_load_memory(data, size, name, base, &opt, &s, &hash, err, sizeof err);
     if (rc) {
         if (rc >= 0 || s || strncmp(err, "file 'in.gl", 11) != 0)
             bad("a failure without a message naming the file, or with a scene");
         return 0;
     }
     n_ok++;
+    n_folder_ok += base != NULL;
     check_scene(s);
     lg_gltf_scene_free(s);
     return 0;
@@ -128,6 +183,10 @@ static const lg_fuzz_token tokens[] = {
     LG_FUZZ_TOKEN("\"KHR_lights_punctual\""), LG_FUZZ_TOKEN("\"extensionsRequired\":["),
     LG_FUZZ_TOKEN("\"extras\":{\"medium\":{"), LG_FUZZ_TOKEN("\"camera\":"), LG_FUZZ_TOKEN("\"scene\":"),
     LG_FUZZ_TOKEN("\"material\":"), LG_FUZZ_TOKEN("\"uri\":\"data:application/octet-stream;base64,"),
+    LG_FUZZ_TOKEN("\"uri\":\"tri.bin\""), LG_FUZZ_TOKEN("\"uri\":\"sub/tri.bin\""), LG_FUZZ_TOKEN("../"),
+    LG_FUZZ_TOKEN("%2e%2e/"), LG_FUZZ_TOKEN("%"), LG_FUZZ_TOKEN("inside.bin"), LG_FUZZ_TOKEN("outside.bin"),
+    LG_FUZZ_TOKEN("zero.bin"), LG_FUZZ_TOKEN("fifo.bin"), LG_FUZZ_TOKEN("\"images\":[{\"uri\":\""),
+    LG_FUZZ_TOKEN("file:///"),
     LG_FUZZ_TOKEN("5120"), LG_FUZZ_TOKEN("5121"), LG_FUZZ_TOKEN("5123"), LG_FUZZ_TOKEN("5125"),
     LG_FUZZ_TOKEN("5126"), LG_FUZZ_TOKEN("5127"), LG_FUZZ_TOKEN("-1"), LG_FUZZ_TOKEN("4294967295"),
     LG_FUZZ_TOKEN("2147483647"), LG_FUZZ_TOKEN("1e308"), LG_FUZZ_TOKEN("[[[[[[[["),
@@ -136,7 +195,7 @@ static const lg_fuzz_token tokens[] = {
 
 static void summary(FILE *out)
 {
-    fprintf(out, "%lu loaded", n_ok);
+    fprintf(out, "%lu loaded (%lu with the external folder)", n_ok, n_folder_ok);
 }
 
 int main(int argc, char **argv)

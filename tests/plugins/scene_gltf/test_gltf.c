@@ -17,12 +17,22 @@
  *   materials       PBR to Phong mapping, extensions, extras overrides, default material
  *   medium          extras.medium of the scene, root and asset; errors
  *   bad_input       malformed files: each a clear error, no crash (suite stability)
+ *   confinement     external buffers and images only from the model's folder: ../, absolute
+ *                   paths, schemes, links leading out, FIFOs and devices refused with the
+ *                   uri and where it leads, never read; links and ".." that stay inside work
+ *   limits          the file and its buffers bounded before reading: a byteLength over the
+ *                   file, over 2 GiB, 4 GiB of buffers, a sparse file over 2 GiB, a FIFO
  */
+#include <fcntl.h>
 #include <float.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "common/check.h"
 #include "gltf_test.h"
@@ -1002,7 +1012,7 @@ static void case_bad_input(void)
     /* a missing external buffer */
     expect_fail_json("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"missing.bin\"}]}",
                      "missing.bin", "missing buffer file");
-    expect_fail_file(gt_path("does-not-exist.glb"), "cannot open", "missing file");
+    expect_fail_file(gt_path("does-not-exist.glb"), "cannot read it: No such file", "missing file");
     expect_fail_bytes("empty.gltf", "", 0, "neither a GLB", "empty file");
     expect_fail_json("garbage", "neither a GLB", "not JSON");
 
@@ -1100,7 +1110,8 @@ static void case_bad_input(void)
     expect_fail_json(claim, "Failed to decode 'uri'", "buffer longer than its data");
     gt_write("short.bin", pts, 20);
     expect_fail_json("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"short.bin\"}]}",
-                     "File size mismatch", "buffer file shorter than byteLength");
+                     "buffer 0: cannot read 'short.bin': it has 20 bytes, fewer than its byteLength 36",
+                     "buffer file shorter than byteLength");
     free(claim);
     free(json);
     free(nodes);
@@ -1109,6 +1120,264 @@ static void case_bad_input(void)
     free(inf_uri);
     free(huge_uri);
     free(idx_uri);
+}
+
+/* ---- files the model may read (issue 8): confinement and limits ------------------------------- */
+
+/* A one-triangle file whose buffer 0 is `uri` with `byte_length`, and `images` (a JSON array
+ * or NULL); malloc'd. */
+static char *tri_json(const char *uri, unsigned long long byte_length, const char *images)
+{
+    return gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"%s\"}],"
+                  "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+                  "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
+                  "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]%s%s}",
+                  byte_length, uri, images ? ",\"images\":" : "", images ? images : "");
+}
+
+/* Loads `json` as NAME in the scratch folder and expects one triangle. */
+static void expect_load(const char *name, const char *json, const char *what)
+{
+    lg_scene *s = gt_load_text(name, json, NULL, err, sizeof err, NULL);
+    CHECKF(s && s->features.triangles == 1, "%s: %s", what, s ? "not one triangle" : err);
+    lg_gltf_scene_free(s);
+}
+
+/* Loads `json` as NAME and expects a failure whose message holds every string of `want`
+ * (NULL-terminated) and none of `never`. */
+static void expect_refused(const char *name, const char *json, const char *const *want, const char *what)
+{
+    int rc = 0;
+    lg_scene *s = gt_load_text(name, json, NULL, err, sizeof err, &rc);
+    bool ok = !s && rc < 0 && strstr(err, name);
+    for (const char *const *w = want; ok && *w; w++)
+        ok = strstr(err, *w) != NULL;
+    /* what the old loader printed after reading the file it should have refused */
+    static const char *const never[] = {"bounds", "NaN", "infinite", "element", "File size mismatch", NULL};
+    for (const char *const *n = never; ok && *n; n++)
+        ok = !strstr(err, *n);
+    CHECKF(ok, "%s: rc %d, message '%s' (want '%s'%s)", what, rc, err, want[0], want[1] ? " ..." : "");
+    lg_gltf_scene_free(s);
+}
+
+/* "../" enough times to reach / from the scratch folder (at least 6), then `rest`. */
+static char *climb(const char *rest)
+{
+    int depth = 0;
+    for (const char *p = gt_path(""); *p; p++)
+        depth += *p == '/';
+    char *s = malloc(3 * (size_t)(depth + 6) + strlen(rest) + 1);
+    s[0] = 0;
+    for (int i = 0; i < (depth > 6 ? depth : 6); i++)
+        strcat(s, "../");
+    strcat(s, rest);
+    return s;
+}
+
+static void on_alarm(int sig)
+{
+    (void)sig;
+    static const char msg[] = "test_gltf: a load hung (a FIFO was waited on)\n";
+    (void)!write(2, msg, sizeof msg - 1);
+    _exit(1);
+}
+
+static void case_confinement(void)
+{
+    /* a FIFO must be refused at once: if a load waits on one, fail instead of hanging */
+    signal(SIGALRM, on_alarm);
+    alarm(20);
+    static const float tri[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    gt_write("tri.bin", tri, sizeof tri);
+    CHECK(mkdir(gt_path("sub"), 0755) == 0);
+    gt_write("sub/a b+c.bin", tri, sizeof tri);
+    CHECK(symlink("tri.bin", gt_path("inside.bin")) == 0);
+    CHECK(symlink("../tri.bin", gt_path("sub/up.bin")) == 0);
+    CHECK(symlink("/etc/passwd", gt_path("outside.bin")) == 0);
+    CHECK(symlink("/etc", gt_path("etc")) == 0);
+    CHECK(symlink("/dev/zero", gt_path("zero.bin")) == 0);
+    CHECK(mkfifo(gt_path("fifo.bin"), 0644) == 0);
+    char *json;
+
+    /* allowed: links that stay inside, subfolders, percent-encoding ('+' is a plus), "."
+     * and ".." that stay inside, a missing image (images are never read) */
+    static const char *const ok[] = {"inside.bin", "sub/up.bin", "sub/a%20b+c.bin", "./sub/../tri.bin",
+                                     "sub/../sub/../tri.bin"};
+    for (size_t i = 0; i < sizeof ok / sizeof *ok; i++) {
+        json = tri_json(ok[i], 36, "[{\"uri\":\"textures/missing.png\"},{\"uri\":\"tri.bin\"}]");
+        expect_load("ok.gltf", json, ok[i]);
+        free(json);
+    }
+
+    /* the README's promise, broken before: ../../../../../../etc/passwd was read and the error
+     * reported world bounds computed from its bytes (byteLength = its size, so that the old
+     * loader's size check passed) */
+    struct stat st;
+    unsigned long long passwd_size = stat("/etc/passwd", &st) == 0 ? (unsigned long long)st.st_size : 36;
+    char *up = climb("etc/passwd");
+    json = tri_json(up, passwd_size, NULL);
+    char *want_up = gt_fmt("buffer 0: cannot read '%s': it leads to '/etc/passwd', outside '", up);
+    expect_refused("escape.gltf", json, (const char *const[]){want_up, NULL}, "../ to /etc/passwd");
+    free(json);
+    free(want_up);
+    json = tri_json("../../../../../../etc/passwd", passwd_size, NULL);
+    expect_refused("escape6.gltf", json, (const char *const[]){"cannot read '../../../../../../etc/passwd': it leads to '/",
+                                                              "outside '", NULL}, "six ../");
+    free(json);
+    /* the same, percent-encoded */
+    char *enc = climb("etc/passwd"), *e = malloc(strlen(enc) * 3 + 1), *o = e;
+    for (const char *p = enc; *p; p++)
+        o += *p == '.' ? sprintf(o, "%%2e") : *p == '/' ? sprintf(o, "%%2F") : sprintf(o, "%c", *p);
+    json = tri_json(e, passwd_size, NULL);
+    expect_refused("encoded.gltf", json, (const char *const[]){e, "leads to '/etc/passwd', outside", NULL},
+                   "percent-encoded ../");
+    free(json);
+    free(enc);
+    free(e);
+    /* an absolute path, a scheme */
+    json = tri_json("/etc/passwd", passwd_size, NULL);
+    expect_refused("abs.gltf", json, (const char *const[]){"cannot read '/etc/passwd': it leads to '/etc/passwd', outside", NULL},
+                   "absolute path");
+    free(json);
+    json = tri_json("file:///etc/passwd", passwd_size, NULL);
+    expect_refused("scheme.gltf", json, (const char *const[]){"cannot read 'file:///etc/passwd': only relative paths", NULL},
+                   "file: URI");
+    free(json);
+    /* links that leave the folder: to a file, through a linked folder, to /dev/zero */
+    json = tri_json("outside.bin", passwd_size, NULL);
+    expect_refused("link.gltf", json, (const char *const[]){"buffer 0: cannot read 'outside.bin': it leads to "
+                                                           "'/etc/passwd', outside '", NULL}, "link to /etc/passwd");
+    free(json);
+    json = tri_json("etc/passwd", passwd_size, NULL);
+    expect_refused("dirlink.gltf", json, (const char *const[]){"cannot read 'etc/passwd': it leads to '/etc/passwd', outside", NULL},
+                   "linked folder");
+    free(json);
+    json = tri_json("zero.bin", 36, NULL);
+    expect_refused("zero.gltf", json, (const char *const[]){"cannot read 'zero.bin': it leads to '/dev/zero', outside", NULL},
+                   "link to /dev/zero");
+    free(json);
+    /* not a regular file: refused at once (the alarm above fails the test if it waits) */
+    json = tri_json("fifo.bin", 36, NULL);
+    expect_refused("fifo.gltf", json, (const char *const[]){"cannot read 'fifo.bin': it is a FIFO, not a regular file", NULL},
+                   "FIFO buffer");
+    free(json);
+    json = tri_json("sub", 36, NULL);
+    expect_refused("dir.gltf", json, (const char *const[]){"cannot read 'sub': it is a directory", NULL}, "folder buffer");
+    free(json);
+    /* malformed uris */
+    json = tri_json("tri%2.bin", 36, NULL);
+    expect_refused("pct.gltf", json, (const char *const[]){"cannot read 'tri%2.bin': malformed percent-encoding", NULL},
+                   "bad percent-encoding");
+    free(json);
+    json = tri_json("tri.bin%00../x", 36, NULL);
+    expect_refused("nul.gltf", json, (const char *const[]){"NUL", NULL}, "encoded NUL");
+    free(json);
+
+    /* images are never read, but are held to the folder too */
+    char *img_up = climb("etc/passwd"), *images = gt_fmt("[{\"uri\":\"tri.bin\"},{\"uri\":\"%s\"}]", img_up);
+    json = tri_json("tri.bin", 36, images);
+    char *want_img = gt_fmt("image 1: cannot read '%s': it leads to '/etc/passwd', outside", img_up);
+    expect_refused("image.gltf", json, (const char *const[]){want_img, NULL}, "image ../");
+    free(json);
+    free(images);
+    free(want_img);
+    free(img_up);
+    json = tri_json("tri.bin", 36, "[{\"uri\":\"../missing/x.png\"}]");
+    expect_refused("image_missing.gltf", json, (const char *const[]){"image 0: cannot read '../missing/x.png': it leads to '",
+                                                                    "outside", NULL}, "missing image outside");
+    free(json);
+    json = tri_json("tri.bin", 36, "[{\"uri\":\"outside.bin\"}]");
+    expect_refused("image_link.gltf", json, (const char *const[]){"image 0: cannot read 'outside.bin': it leads to '/etc/passwd'", NULL},
+                   "image link");
+    free(json);
+
+    /* from memory there is no folder: external buffers cannot be read at all */
+    json = tri_json("tri.bin", 36, NULL);
+    lg_scene *s = NULL;
+    int rc = lg_gltf_load_memory((const uint8_t *)json, strlen(json), "mem.gltf", NULL, NULL, &s, NULL, err, sizeof err);
+    CHECKF(rc < 0 && !s && strstr(err, "file 'mem.gltf': buffer 0: cannot read 'tri.bin': the model was loaded from memory"),
+           "from memory: rc %d, '%s'", rc, err);
+    lg_gltf_scene_free(s);
+    free(json);
+
+    /* a GLB's external buffer: the same rules */
+    json = tri_json("outside.bin", passwd_size, NULL);
+    size_t jl = (strlen(json) + 3) & ~(size_t)3, total = 20 + jl;
+    uint8_t *glb = calloc(1, total);
+    uint32_t hdr[5] = {0x46546C67u, 2, (uint32_t)total, (uint32_t)jl, 0x4E4F534Au};
+    memcpy(glb, hdr, 20);
+    memset(glb + 20, ' ', jl);
+    memcpy(glb + 20, json, strlen(json));
+    gt_write("ext.glb", glb, total);
+    s = gt_load_file(gt_path("ext.glb"), NULL, err, sizeof err, &rc);
+    CHECKF(!s && strstr(err, "cannot read 'outside.bin': it leads to '/etc/passwd'"), "GLB: %s", err);
+    lg_gltf_scene_free(s);
+    free(glb);
+    free(json);
+    free(up);
+    alarm(0);
+}
+
+/* Peak resident memory of this process, KiB. */
+static long max_rss_kib(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : 0;
+}
+
+static void case_limits(void)
+{
+    signal(SIGALRM, on_alarm);
+    alarm(20);
+    long rss0 = max_rss_kib();
+    static const float tri[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    gt_write("tri.bin", tri, sizeof tri);
+    char *json;
+
+    /* a byteLength larger than its file: refused with both numbers, before anything of that
+     * size is allocated or read */
+    json = tri_json("tri.bin", 1000000000ull, NULL);
+    expect_refused("long.gltf", json, (const char *const[]){"buffer 0: cannot read 'tri.bin': it has 36 bytes, fewer than "
+                                                           "its byteLength 1000000000", NULL}, "byteLength > file");
+    free(json);
+    /* a file longer than its byteLength is valid glTF: only byteLength bytes are read */
+    static const float tri_and_more[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 7, 7};
+    gt_write("longer.bin", tri_and_more, sizeof tri_and_more);
+    json = tri_json("longer.bin", 36, NULL);
+    expect_load("longer.gltf", json, "file longer than byteLength");
+    free(json);
+    /* a byteLength over the 2 GiB a buffer may hold (the file is sparse: no disk used) */
+    int fd = open(gt_path("huge.bin"), O_CREAT | O_WRONLY | O_TRUNC, 0644);
+    CHECK(fd >= 0 && ftruncate(fd, (off_t)LG_GLTF_MAX_BUFFER + 4096) == 0);
+    close(fd);
+    json = tri_json("huge.bin", (unsigned long long)LG_GLTF_MAX_BUFFER + 1, NULL);
+    expect_refused("huge.gltf", json, (const char *const[]){"buffer 0: byteLength 2147483649 is more than the 2 GiB", NULL},
+                   "byteLength over the limit");
+    free(json);
+    /* three 2 GiB buffers: over the 4 GiB of external buffers a model may read */
+    char *three = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"huge.bin\"},"
+                         "{\"byteLength\":%llu,\"uri\":\"huge.bin\"},{\"byteLength\":%llu,\"uri\":\"huge.bin\"}]}",
+                         (unsigned long long)LG_GLTF_MAX_BUFFER, (unsigned long long)LG_GLTF_MAX_BUFFER,
+                         (unsigned long long)LG_GLTF_MAX_BUFFER);
+    expect_refused("three.gltf", three, (const char *const[]){"buffer 2: the external buffers' byteLengths add up to more "
+                                                             "than the 4 GiB", NULL}, "external total");
+    free(three);
+
+    /* the file itself over LG_GLTF_MAX_FILE (sparse), a FIFO, a device: refused unread */
+    fd = open(gt_path("big.gltf"), O_CREAT | O_WRONLY | O_TRUNC, 0644);
+    CHECK(fd >= 0 && ftruncate(fd, (off_t)LG_GLTF_MAX_FILE + 1) == 0);
+    close(fd);
+    expect_fail_file(gt_path("big.gltf"), "cannot read it: it is 2.0 GiB, over the 2.0 GiB limit", "file over the limit");
+    CHECK(mkfifo(gt_path("fifo.glb"), 0644) == 0);
+    expect_fail_file(gt_path("fifo.glb"), "cannot read it: it is a FIFO, not a regular file", "FIFO file");
+    expect_fail_file("/dev/zero", "cannot read it: it is a character device", "device");
+    CHECK(symlink("/dev/zero", gt_path("zero.glb")) == 0);
+    expect_fail_file(gt_path("zero.glb"), "cannot read it: it is a character device", "link to a device");
+
+    /* none of it was read: the process grew by far less than one such file */
+    long grown = max_rss_kib() - rss0;
+    CHECKF(grown < 64 * 1024, "peak memory grew by %ld KiB", grown);
+    alarm(0);
 }
 
 int main(int argc, char **argv)
@@ -1122,6 +1391,7 @@ int main(int argc, char **argv)
         {"normals_degenerate", case_normals_degenerate}, {"primitives", case_primitives},
         {"hierarchy", case_hierarchy}, {"cameras", case_cameras}, {"lights", case_lights},
         {"materials", case_materials}, {"medium", case_medium}, {"bad_input", case_bad_input},
+        {"confinement", case_confinement}, {"limits", case_limits},
     };
     if (argc != 2) {
         fprintf(stderr, "usage: test_gltf CASE\n");

@@ -8,11 +8,13 @@
  *   explain        --explain prints the bunny box's scene features; test_fog is gated (no
  *                  medium) and its plugin never loaded
  *   medium         a scene with a medium and a light: test_fog runs and writes its value
- *   errors         bad files and parameters: exit status 1, the node and the file named
+ *   errors         bad files and parameters: exit status 1, the node and the file named;
+ *                  a buffer uri leading to /etc/passwd refused (no bounds from its bytes)
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "lightgraph/test.h"
 
@@ -129,7 +131,7 @@ static void case_errors(lg_test *t)
          "requires extension 'EXT_meshopt_compression'"},
         {"missing.gltf", "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":4,\"uri\":\"nope.bin\"}]}",
          "nope.bin"},
-        {"nothing.gltf", NULL, "cannot open"},
+        {"nothing.gltf", NULL, "cannot read it: No such file or directory"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         if (cases[i].content)
@@ -147,6 +149,32 @@ static void case_errors(lg_test *t)
                  out ? out : "");
         free(out);
     }
+    /* a buffer uri leaving the model's folder (issue 8): refused with the uri and where it
+     * leads; before, /etc/passwd was read and the error gave world bounds from its bytes */
+    struct stat st;
+    unsigned long long passwd_size = stat("/etc/passwd", &st) == 0 ? (unsigned long long)st.st_size : 36;
+    char up[512] = "";
+    int depth = 0;
+    for (const char *p = lg_test_path(t, "x"); *p; p++)
+        depth += *p == '/';
+    for (int i = 0; i < depth && strlen(up) + 16 < sizeof up; i++)
+        strcat(up, "../");
+    strcat(up, "etc/passwd");
+    char gltf[1024], want[600];
+    snprintf(gltf, sizeof gltf, "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"%s\"}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+             "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
+             "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]}", passwd_size, up);
+    lg_test_write_text(t, "escape.gltf", gltf);
+    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { file = \"escape.gltf\" }\n"
+                                      "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n");
+    char *esc = NULL;
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &esc) == 1, "escaping buffer: not exit 1");
+    snprintf(want, sizeof want, "buffer 0: cannot read '%s': it leads to '/etc/passwd', outside '", up);
+    LG_TEST_CHECK(t, esc && strstr(esc, "node 'scene' (gltf): file '") && strstr(esc, want) && !strstr(esc, "bounds"),
+                  "escaping buffer: want '%s' and no bounds: %s", want, esc ? esc : "");
+    free(esc);
+
     lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { }\nfog = test_fog { scene = scene }\n"
                                  "output fog \"out.exr\"\n");
     char *out = NULL;
