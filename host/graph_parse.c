@@ -1263,7 +1263,7 @@ static void parse_output(parser *p)
         last = p->cur;
         advance(p);
     }
-    if (!expect_eol(p, "the output statement (or 'half' or 'float' after an .exr name)"))
+    if (!expect_eol(p, "the output statement"))
         return;
     cvec c = {0};
     cvec_above(p, &c, kw);
