@@ -112,9 +112,9 @@ int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec
                         uint64_t codec_fixed, char *err, size_t errlen)
 {
     if (w == 0 || h == 0)
-        return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': it declares %llu x %llu "
-                             "pixels, an empty image", path, (unsigned long long)w,
-                             (unsigned long long)h);
+        return lg_image_fail(err, errlen, LG_ERR_INVALID,
+                             "cannot read '%s': it declares %llu x %llu pixels, an empty image",
+                             path, (unsigned long long)w, (unsigned long long)h);
     uint64_t limit = lg_image_max_pixels(), px;
     if (__builtin_mul_overflow(w, h, &px) || px > limit)
         return lg_image_fail(err, errlen, LG_ERR_INVALID,
