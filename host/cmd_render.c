@@ -26,6 +26,7 @@ static int usage(const char *cmd, const char *fmt, const char *what)
     fprintf(stderr,
             "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
             "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
+            "                 [--exr half|float]\n"
             "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
             "(see lightgraph help)\n",
             cmd);
@@ -104,6 +105,11 @@ static int parse_args(int argc, char **argv, args *a)
             if (strcmp(v, "osmesa") && strcmp(v, "egl"))
                 return usage(a->cmd, "lightgraph: --gl wants osmesa or egl (got '%s')\n", v);
             a->opts.gl_backend = v;
+        } else if (strcmp(s, "--exr") == 0) {
+            NEEDV();
+            if (strcmp(v, "half") && strcmp(v, "float"))
+                return usage(a->cmd, "lightgraph: --exr wants half or float (got '%s')\n", v);
+            a->opts.exr_pixel = v[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
         } else if (strcmp(s, "--explain") == 0) {
             a->opts.explain = true;
         } else if (strcmp(s, "--every-frame") == 0) {

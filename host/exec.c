@@ -106,10 +106,14 @@ static int write_outputs(lg_exec *ex)
             continue;
         }
         lg_image img = {r->image.width, r->image.height, px};
-        /* EXR keeps what the resource holds: float for rgba32f, half otherwise */
+        /* EXR: what `render --exr`, else the output statement, asks for; by default what
+         * the resource holds: float for rgba32f, half otherwise */
         lg_image_write_opts wo;
         memset(&wo, 0, sizeof wo);
-        wo.exr_pixel = r->image.format == LG_FORMAT_RGBA32F ? LG_EXR_FLOAT : LG_EXR_HALF;
+        int want = ex->opts.exr_pixel ? ex->opts.exr_pixel : o->g ? o->g->exr_pixel : 0;
+        wo.exr_pixel = want == LG_OUT_EXR_HALF ? LG_EXR_HALF : want == LG_OUT_EXR_FLOAT
+                       ? LG_EXR_FLOAT : r->image.format == LG_FORMAT_RGBA32F ? LG_EXR_FLOAT
+                       : LG_EXR_HALF;
         /* into the output's temporary: lg_render_file commits every output together once
          * all of them are written (outputs.h) */
         if (lg_outputs_write_image(ex->opts.outputs, path, &img, &wo, err, sizeof err)) {

@@ -87,9 +87,13 @@ typedef struct lg_gnode {
     bool included;       /* it came from an included file (fmt does not print it) */
 } lg_gnode;
 
+/* The pixel type of an EXR output: `output NODE "f.exr" half` (or float). */
+enum { LG_OUT_EXR_AUTO = 0, LG_OUT_EXR_HALF = 1, LG_OUT_EXR_FLOAT = 2 };
+
 typedef struct lg_goutput {
     lg_gvalue ref;       /* IDENT */
     char *path;          /* as written */
+    int exr_pixel;       /* LG_OUT_EXR_*: AUTO is float for rgba32f, half for rgba16f */
     lg_srcloc path_loc;
     const char *base_dir;
     char **comments;

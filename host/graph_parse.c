@@ -22,6 +22,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "util.h"
@@ -1212,7 +1213,7 @@ static void parse_node(parser *p)
     add_node(p, &n);
 }
 
-/* output REF "path" */
+/* output REF "path" [half | float] */
 static void parse_output(parser *p)
 {
     uint32_t first = p->cur;
@@ -1251,6 +1252,17 @@ static void parse_output(parser *p)
     if (!o.path[0])
         tok_report(p, f, LG_DIAG_ERROR, "the output file name is empty");
     advance(p);
+    /* optional: the EXR pixel type, half or float */
+    tok *x = peek(p);
+    if (x->kind == T_IDENT && (!strcmp(x->s, "half") || !strcmp(x->s, "float"))) {
+        size_t n = strlen(o.path);
+        if (n < 4 || strcasecmp(o.path + n - 4, ".exr") != 0)
+            tok_report(p, x, LG_DIAG_ERROR, "'%s' chooses the pixel type of an .exr output; "
+                       "'%.60s' is not one", x->s, o.path);
+        o.exr_pixel = x->s[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
+        last = p->cur;
+        advance(p);
+    }
     if (!expect_eol(p, "the output statement"))
         return;
     cvec c = {0};

@@ -179,6 +179,8 @@ char *lg_graph_format(const lg_graph *g)
         add_value(&b, &o->ref);
         lg_str_addc(&b, ' ');
         add_string(&b, o->path);
+        if (o->exr_pixel)
+            lg_str_add(&b, o->exr_pixel == LG_OUT_EXR_HALF ? " half" : " float");
         add_eol(&b, o->eol_comment);
     }
     if (g->n_trailing_comments) {

@@ -192,6 +192,7 @@ typedef struct lg_exec_opts {
     double dt;
     const char *gl_backend;      /* "osmesa" (default) or "egl" */
     const char *output_override; /* -o */
+    int exr_pixel;               /* render --exr half|float (LG_OUT_EXR_*): every EXR output */
     bool explain, profile;
     bool every_frame;            /* --every-frame: static nodes run every frame too ... */
     const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */

@@ -1,9 +1,48 @@
 /* lightgraph: the host program. Each command lives in host/cmd_*.c. */
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"
 #include "host.h"
+#include "lightgraph/image.h"
+
+/* --max-pixels N (or =N), accepted anywhere on the command line and taken out of argv before
+ * the command parses its own options: the pixel limit of every image read (render's image
+ * nodes, diff, sweep) and of check. Returns 0, or 2 after a message. */
+static int take_max_pixels(int *argc, char **argv)
+{
+    for (int i = 1; i < *argc;) {
+        const char *a = argv[i], *v = NULL;
+        int used = 1;
+        if (strcmp(a, "--max-pixels") == 0) {
+            v = i + 1 < *argc ? argv[i + 1] : NULL;
+            used = 2;
+            if (!v) {
+                fprintf(stderr, "lightgraph: --max-pixels needs a number of pixels\n");
+                return 2;
+            }
+        } else if (strncmp(a, "--max-pixels=", 13) == 0) {
+            v = a + 13;
+        } else {
+            i++;
+            continue;
+        }
+        char *end = NULL;
+        errno = 0;
+        unsigned long long n = strtoull(v, &end, 10);
+        if (errno || !end || *end || v[0] == '-' || v[0] == 0 || n == 0) {
+            fprintf(stderr, "lightgraph: --max-pixels '%s': expected a positive whole number of "
+                            "pixels (default %llu)\n", v, LG_IMAGE_MAX_PIXELS_DEFAULT);
+            return 2;
+        }
+        lg_image_set_max_pixels(n);
+        memmove(argv + i, argv + i + used, (size_t)(*argc - i - used + 1) * sizeof *argv);
+        *argc -= used;
+    }
+    return 0;
+}
 
 static void help(FILE *f)
 {
@@ -32,6 +71,8 @@ static void help(FILE *f)
             "                   (exit 0: all named ones (default: both) can; 1: one cannot)\n"
             "  lightgraph --version | help\n"
             "\n"
+            "option of every command: --max-pixels N  the largest image read, in pixels\n"
+            "  (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/sdk.md, Images)\n"
             "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
             "environment: LIGHTGRAPH_PLUGIN_PATH (plugin directories, ':'-separated, searched\n"
             "  first), LIGHTGRAPH_CACHE_DIR (the on-disk cache; default ~/.cache/lightgraph),\n"
@@ -39,11 +80,13 @@ static void help(FILE *f)
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
             "  default one per online CPU)\n"
             "docs: docs/graph-format.md, docs/sdk.md\n",
-            LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR);
+            LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
 int main(int argc, char **argv)
 {
+    if (take_max_pixels(&argc, argv))
+        return 2;
     if (argc < 2) {
         help(stderr);
         return 2;

@@ -197,6 +197,13 @@ __attribute__((always_inline)) static inline void rh_map_luminance(const float *
         /* c Ld / L as c (Ld / L): one division per pixel, not three */
         float k = l > 0.0f ? ld / l : 0.0f;
         float orr = cr * k, og = cg * k, ob = cb * k;
+        /* a grey pixel maps to Ld itself: c / L is 1, but L's rounding can make c k one ulp
+         * above Ld, and a grey brighter than the scale's range (s L = +Inf, Ld = 1) gave
+         * 1.0000001 */
+        int grey = (cr == cg) & (cg == cb);
+        orr = grey ? ld : orr;
+        og = grey ? ld : og;
+        ob = grey ? ld : ob;
         /* lim c Ld / L as L -> Inf: 1 for the infinite channels, 0 for the others */
         d[0] = any ? (ir ? 1.0f : 0.0f) : orr;
         d[1] = any ? (ig ? 1.0f : 0.0f) : og;

@@ -25,6 +25,7 @@
 
 typedef struct exr_io {
     int fd;
+    uint64_t size; /* reads: the size lg_image_read found when it opened the file */
     char msg[256]; /* the library's first error message */
 } exr_io;
 
@@ -74,9 +75,8 @@ static int64_t exr_read_cb(exr_const_context_t ctxt, void *ud, void *buffer, uin
 static int64_t exr_size_cb(exr_const_context_t ctxt, void *ud)
 {
     exr_io *io = ud;
-    struct stat st;
     (void)ctxt;
-    return fstat(io->fd, &st) == 0 ? (int64_t)st.st_size : -1;
+    return (int64_t)io->size; /* the size checked at open, not whatever it is now */
 }
 
 static int64_t exr_write_cb(exr_const_context_t ctxt, void *ud, const void *buffer, uint64_t sz,
@@ -186,21 +186,18 @@ static void exr_plane_to_rgba(const void *plane, int type, size_t n, float *rgba
     }
 }
 
-int lg_exr_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                size_t errlen)
+int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image_read_info *info,
+                char *err, size_t errlen)
 {
     exr_reader rd;
     memset(&rd, 0, sizeof rd);
     exr_reader *r = &rd;
     r->path = path;
-    r->io.fd = -1;
+    r->io.fd = fd; /* image.c's: read with pread, never closed here */
+    r->io.size = size;
     int rc = LG_OK, use_cxx = 0;
     exr_result_t rv;
 
-    r->io.fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (r->io.fd < 0)
-        return lg_image_fail(err, errlen, errno == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
-                             "cannot open '%s': %s", path, strerror(errno));
     {
         /* Check the magic ourselves: the library's message for a non-EXR file is vague. */
         unsigned char magic[4];
@@ -222,8 +219,10 @@ int lg_exr_read(const char *path, lg_image *img, lg_image_read_info *info, char 
     init.user_data = &r->io;
     init.read_fn = exr_read_cb;
     init.size_fn = exr_size_cb;
-    init.max_image_width = 1 << 20;
-    init.max_image_height = 1 << 20;
+    /* no size limit of the library's own: lg_image_check_size below applies lightgraph's,
+     * with its message, before anything sized by the header is allocated */
+    init.max_image_width = 0;
+    init.max_image_height = 0;
     init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
     rv = exr_start_read(&r->ctx, path, &init);
     if (rv != EXR_ERR_SUCCESS) {
@@ -251,11 +250,33 @@ int lg_exr_read(const char *path, lg_image *img, lg_image_read_info *info, char 
         goto done;
     }
     int64_t w64 = (int64_t)dw.max.x - dw.min.x + 1, h64 = (int64_t)dw.max.y - dw.min.y + 1;
-    if (w64 <= 0 || h64 <= 0 || w64 * h64 > (int64_t)LG_IMAGE_MAX_PIXELS) {
+    if (w64 <= 0 || h64 <= 0 || w64 > INT32_MAX || h64 > INT32_MAX) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                           "cannot read '%s': data window %lldx%lld is empty or too large", path,
+                           "cannot read '%s': data window %lldx%lld is empty or too wide", path,
                            (long long)w64, (long long)h64);
         goto done;
+    }
+    /* The declared size, before a chunk table or a pixel plane is allocated: against the
+     * pixel limit, and the memory of the decode (a plane of at most 4 bytes per channel
+     * used, R G B A or Y, plus the plane of unused channels; the C++ path needs no more),
+     * plus the chunk table, which must also fit in the file. */
+    {
+        int32_t nchunks = 0;
+        if ((rv = exr_get_chunk_count(r->ctx, 0, &nchunks)) != EXR_ERR_SUCCESS || nchunks <= 0) {
+            rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': %s", path,
+                               rv ? exr_reason(&r->io, rv) : "no chunks");
+            goto done;
+        }
+        if ((rc = lg_image_check_size(path, (uint64_t)w64, (uint64_t)h64, 4 * 4 + 4,
+                                      (uint64_t)nchunks * 8, err, errlen)) != LG_OK)
+            goto done;
+        if ((uint64_t)nchunks * 8 > size) {
+            rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
+                               "cannot read '%s': file truncated: the table of its %d chunks "
+                               "cannot fit in %llu bytes", path, nchunks,
+                               (unsigned long long)size);
+            goto done;
+        }
     }
     r->w = (int32_t)w64;
     r->h = (int32_t)h64;
@@ -452,11 +473,9 @@ done:
     for (int pl = 0; pl < PL_COUNT; pl++)
         free(r->planes[pl]);
     free(r->discard);
-    if (r->io.fd >= 0)
-        close(r->io.fd);
     if (use_cxx && rc == LG_OK) {
         lg_image_free(img);
-        return lg_exr_cxx_read(path, img, info, err, errlen);
+        return lg_exr_cxx_read(fd, size, path, img, info, err, errlen);
     }
     if (rc)
         lg_image_free(img);

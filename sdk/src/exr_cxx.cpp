@@ -17,6 +17,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfRgbaFile.h>
+#include <ImfStdIO.h>
 
 #include <cerrno>
 #include <cstdint>
@@ -67,10 +68,47 @@ class FdOStream : public Imf::OStream {
     uint64_t pos_;
 };
 
-int read_rgba_file(const char *path, const Imath::Box2i &dw, lg_image *img,
+// An IStream on the descriptor lg_image_read opened and checked: the C++ library never opens
+// the path by name, and never reads past the size found at open.
+class FdIStream : public Imf::IStream {
+  public:
+    FdIStream(int fd, uint64_t size, const char *name)
+        : Imf::IStream(name), fd_(fd), size_(size), pos_(0)
+    {
+    }
+    bool read(char c[], int n) override
+    {
+        if (n < 0 || pos_ > size_ || static_cast<uint64_t>(n) > size_ - pos_)
+            throw std::runtime_error("file truncated (unexpected end of file)");
+        size_t done = 0;
+        while (done < static_cast<size_t>(n)) {
+            ssize_t k = pread(fd_, c + done, static_cast<size_t>(n) - done,
+                              static_cast<off_t>(pos_ + done));
+            if (k < 0 && errno == EINTR)
+                continue;
+            if (k < 0)
+                throw std::runtime_error(std::string("read error: ") + std::strerror(errno));
+            if (k == 0)
+                throw std::runtime_error("file truncated (unexpected end of file)");
+            done += static_cast<size_t>(k);
+        }
+        pos_ += done;
+        return pos_ < size_;
+    }
+    uint64_t tellg() override { return pos_; }
+    void seekg(uint64_t pos) override { pos_ = pos; }
+    void clear() override {}
+
+  private:
+    int fd_;
+    uint64_t size_, pos_;
+};
+
+int read_rgba_file(int fd, uint64_t size, const char *path, const Imath::Box2i &dw, lg_image *img,
                    lg_image_read_info *info)
 {
-    Imf::RgbaInputFile file(path);
+    FdIStream is(fd, size, path);
+    Imf::RgbaInputFile file(is);
     size_t w = static_cast<size_t>(static_cast<int64_t>(dw.max.x) - dw.min.x + 1);
     size_t h = static_cast<size_t>(static_cast<int64_t>(dw.max.y) - dw.min.y + 1);
     std::vector<Imf::Rgba> px(w * h);
@@ -101,19 +139,27 @@ int read_rgba_file(const char *path, const Imath::Box2i &dw, lg_image *img,
 
 } // namespace
 
-extern "C" int lg_exr_cxx_read(const char *path, lg_image *img, lg_image_read_info *info,
-                               char *err, size_t errlen)
+extern "C" int lg_exr_cxx_read(int fd, uint64_t size, const char *path, lg_image *img,
+                               lg_image_read_info *info, char *err, size_t errlen)
 {
     try {
-        Imf::InputFile file(path);
+        FdIStream is(fd, size, path);
+        Imf::InputFile file(is);
         const Imf::Header &hdr = file.header();
         const Imath::Box2i dw = hdr.dataWindow();
         int64_t w = static_cast<int64_t>(dw.max.x) - dw.min.x + 1;
         int64_t h = static_cast<int64_t>(dw.max.y) - dw.min.y + 1;
-        if (w <= 0 || h <= 0 || w * h > static_cast<int64_t>(LG_IMAGE_MAX_PIXELS))
+        if (w <= 0 || h <= 0 || w > INT32_MAX || h > INT32_MAX)
             return lg_image_fail(err, errlen, LG_ERR_INVALID,
-                                 "cannot read '%s': data window %lldx%lld is empty or too large",
+                                 "cannot read '%s': data window %lldx%lld is empty or too wide",
                                  path, static_cast<long long>(w), static_cast<long long>(h));
+        // The C path checked this already (it sends files here only after its own checks);
+        // again, since this is the size the buffers below are made for. RgbaInputFile
+        // needs 8 bytes of half RGBA per pixel besides the result.
+        int rc = lg_image_check_size(path, static_cast<uint64_t>(w), static_cast<uint64_t>(h), 8,
+                                     0, err, errlen);
+        if (rc != LG_OK)
+            return rc;
         std::snprintf(info->compression, sizeof info->compression, "%s",
                       compression_name(hdr.compression()));
 
@@ -132,7 +178,7 @@ extern "C" int lg_exr_cxx_read(const char *path, lg_image *img, lg_image_read_in
                 is_float = true;
         }
         if (chroma || subsampled)
-            return read_rgba_file(path, dw, img, info);
+            return read_rgba_file(fd, size, path, dw, img, info);
 
         bool has_r = cl.findChannel("R"), has_g = cl.findChannel("G"), has_b = cl.findChannel("B");
         bool has_a = cl.findChannel("A"), has_y = cl.findChannel("Y");

@@ -2,16 +2,19 @@
  * Radiance .hdr / .pic (RGBE): read flat, old-style RLE and new-style RLE scanlines; write
  * new-style RLE when the width allows it (8..32767), flat otherwise.
  *
- * The whole file is read into memory first so that every access is bounds-checked against
- * a known end; the files are small next to their decoded floats.
+ * The header is read first and the declared size checked (lg_image_check_size); then the
+ * whole file is read into memory so that every access is bounds-checked against a known end
+ * (the files are small next to their decoded floats).
  */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "image_priv.h"
+#include "lightgraph/file.h"
 
 #define HDR_MAX_HEADER (64 * 1024)
 
@@ -142,14 +145,31 @@ static int hdr_parse_resolution(const char *line, int *flip_y, int *flip_x, uint
     return 0;
 }
 
-int lg_hdr_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                size_t errlen)
+int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image_read_info *info,
+                char *err, size_t errlen)
 {
-    unsigned char *data;
-    size_t len;
-    int rc = lg_image_slurp(path, &data, &len, err, errlen);
-    if (rc)
-        return rc;
+    /* First the header and the resolution line alone (at most 64 KiB + 256 bytes), so that
+     * the declared size is checked before the file, up to the image file limit, is read
+     * into memory; then the whole file. */
+    size_t len = 0, head_cap = size < HDR_MAX_HEADER + 512 ? (size_t)size : HDR_MAX_HEADER + 512;
+    unsigned char *data = malloc(head_cap + 1);
+    if (!data)
+        return lg_image_fail(err, errlen, LG_ERR_NOMEM, "cannot read '%s': out of memory", path);
+    while (len < head_cap) {
+        ssize_t n = pread(fd, data + len, head_cap - len, (off_t)len);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            int e = errno;
+            free(data);
+            return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path,
+                                 strerror(e));
+        }
+        if (n == 0)
+            break;
+        len += (size_t)n;
+    }
+    int rc = LG_OK;
 
     info->channels = 3;
     info->bits = 8;
@@ -177,7 +197,8 @@ int lg_hdr_read(const char *path, lg_image *img, lg_image_read_info *info, char 
         if (!nl || nl - data > HDR_MAX_HEADER) {
             rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
                                "cannot read '%s': %s", path,
-                               nl ? "header longer than 64 KiB" : "file ends inside the header");
+                               nl || len < size ? "header longer than 64 KiB"
+                                                 : "file ends inside the header");
             goto done;
         }
         size_t n = (size_t)(nl - p);
@@ -250,17 +271,35 @@ int lg_hdr_read(const char *path, lg_image *img, lg_image_read_info *info, char 
                            text);
         goto done;
     }
-    if ((uint64_t)w * h > LG_IMAGE_MAX_PIXELS) {
+    /* the declared size against the pixel limit and the memory: one scanline of RGBE
+     * besides the rgba32f result (the file itself is in memory already) */
+    if ((rc = lg_image_check_size(path, w, h, 0, (uint64_t)w * 4 + size, err, errlen)) != LG_OK)
+        goto done;
+    /* Every scanline takes at least 4 bytes: refuse absurd sizes before allocating. */
+    size_t offset = (size_t)(p - data);
+    if (size - offset < (uint64_t)h * 4) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                           "cannot read '%s': %ux%u is too large (more than 2^28 pixels)", path, w, h);
+                           "cannot read '%s': file truncated: %u scanlines cannot fit in %llu bytes",
+                           path, h, (unsigned long long)(size - offset));
         goto done;
     }
-    /* Every scanline takes at least 4 bytes: refuse absurd sizes before allocating. */
-    if ((uint64_t)(end - p) < (uint64_t)h * 4) {
-        rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                           "cannot read '%s': file truncated: %u scanlines cannot fit in %zu bytes",
-                           path, h, (size_t)(end - p));
-        goto done;
+    /* Now the whole file (its size was checked against the image file limit at open). */
+    {
+        char why[200];
+        free(data);
+        data = lg_file_read_fd(fd, size, &len, why, sizeof why);
+        if (!data) {
+            rc = lg_image_fail(err, errlen, errno == ENOMEM ? LG_ERR_NOMEM : LG_ERR_IO,
+                               "cannot read '%s': %s", path, why);
+            goto done;
+        }
+        if (len < offset) {
+            rc = lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': it shrank while being "
+                               "read", path);
+            goto done;
+        }
+        p = data + offset;
+        end = data + len;
     }
 
     line = malloc((size_t)w * 4);

@@ -9,10 +9,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include "image_priv.h"
+#include "lightgraph/file.h"
 
 #include <stdatomic.h>
 
@@ -47,6 +49,105 @@ void lg_image_set_max_pixels(uint64_t n)
     atomic_store(&max_pixels, n ? n : LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
+uint64_t lg_image_max_file_bytes(void)
+{
+    uint64_t px = lg_image_max_pixels();
+    uint64_t b = px > UINT64_MAX / 32 ? UINT64_MAX : px * 32;
+    return b < (64ull << 20) ? (64ull << 20) : b;
+}
+
+uint64_t lg_image_alloc_cap(void)
+{
+    uint64_t n = lg_image_max_pixels();
+    return n > LG_IMAGE_MAX_PIXELS ? n : LG_IMAGE_MAX_PIXELS;
+}
+
+static void human_bytes(char *out, size_t n, uint64_t b)
+{
+    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    if (b < 1024) {
+        snprintf(out, n, "%llu bytes", (unsigned long long)b);
+        return;
+    }
+    double v = (double)b;
+    int u = 0;
+    while (v >= 1024.0 && u < 6) {
+        v /= 1024.0;
+        u++;
+    }
+    snprintf(out, n, "%.1f %s", v, unit[u]);
+}
+
+/* What the machine can give a decode: physical memory, or less when an address-space limit
+ * (RLIMIT_AS, `ulimit -v`) is set, less what the process maps already. */
+static uint64_t memory_available(const char **what)
+{
+    uint64_t avail = UINT64_MAX;
+    *what = "memory";
+    long pages = sysconf(_SC_PHYS_PAGES), psize = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && psize > 0) {
+        avail = (uint64_t)pages * (uint64_t)psize;
+        *what = "physical memory";
+    }
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
+        uint64_t mapped = 0;
+        FILE *f = fopen("/proc/self/statm", "re");
+        if (f) {
+            unsigned long long vm = 0;
+            if (fscanf(f, "%llu", &vm) == 1 && psize > 0)
+                mapped = vm * (uint64_t)psize;
+            fclose(f);
+        }
+        uint64_t left = (uint64_t)rl.rlim_cur > mapped ? (uint64_t)rl.rlim_cur - mapped : 0;
+        if (left < avail) {
+            avail = left;
+            *what = "address space that the process's limit (RLIMIT_AS, ulimit -v) leaves";
+        }
+    }
+    return avail;
+}
+
+int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec_per_pixel,
+                        uint64_t codec_fixed, char *err, size_t errlen)
+{
+    if (w == 0 || h == 0)
+        return lg_image_fail(err, errlen, LG_ERR_INVALID,
+                             "cannot read '%s': it declares %llu x %llu pixels, an empty image",
+                             path, (unsigned long long)w, (unsigned long long)h);
+    uint64_t limit = lg_image_max_pixels(), px;
+    if (__builtin_mul_overflow(w, h, &px) || px > limit)
+        return lg_image_fail(err, errlen, LG_ERR_INVALID,
+                             "cannot read '%s': it declares %llu x %llu pixels, over the limit of "
+                             "%llu pixels (raise it with LIGHTGRAPH_MAX_PIXELS=N in the "
+                             "environment or the option --max-pixels N)",
+                             path, (unsigned long long)w, (unsigned long long)h,
+                             (unsigned long long)limit);
+    /* the rgba32f result, the codec's buffers */
+    uint64_t per = 0, need = 0;
+    const char *what;
+    char a[32], b[32];
+    if (__builtin_add_overflow(codec_per_pixel, (uint64_t)(4 * sizeof(float)), &per) ||
+        __builtin_mul_overflow(px, per, &need) ||
+        __builtin_add_overflow(need, codec_fixed, &need) || need > (uint64_t)SIZE_MAX / 2) {
+        human_bytes(b, sizeof b, (uint64_t)SIZE_MAX / 2);
+        return lg_image_fail(err, errlen, LG_ERR_NOMEM,
+                             "cannot read '%s': decoding its %llu x %llu pixels needs more than "
+                             "%s, more than this machine can address", path,
+                             (unsigned long long)w, (unsigned long long)h, b);
+    }
+    uint64_t avail = memory_available(&what);
+    if (need > avail) {
+        human_bytes(a, sizeof a, need);
+        human_bytes(b, sizeof b, avail);
+        return lg_image_fail(err, errlen, LG_ERR_NOMEM,
+                             "cannot read '%s': decoding its %llu x %llu pixels needs %s, more "
+                             "than the %s of %s", path, (unsigned long long)w,
+                             (unsigned long long)h, a, b, what);
+    }
+    return LG_OK;
+}
+
 int lg_image_fail(char *err, size_t errlen, int code, const char *fmt, ...)
 {
     if (err && errlen) {
@@ -63,7 +164,7 @@ int lg_image_alloc(lg_image *img, uint32_t width, uint32_t height)
     if (!img)
         return LG_ERR_INVALID;
     memset(img, 0, sizeof *img);
-    if (width == 0 || height == 0 || (uint64_t)width * height > LG_IMAGE_MAX_PIXELS)
+    if (width == 0 || height == 0 || (uint64_t)width * height > lg_image_alloc_cap())
         return LG_ERR_INVALID;
     img->pixels = calloc((size_t)width * height, 4 * sizeof(float));
     if (!img->pixels)
@@ -99,53 +200,6 @@ lg_file_format lg_image_format_from_path(const char *path)
     return LG_FILE_UNKNOWN;
 }
 
-int lg_image_slurp(const char *path, unsigned char **data, size_t *len, char *err, size_t errlen)
-{
-    *data = NULL;
-    *len = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return lg_image_fail(err, errlen, errno == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
-                             "cannot open '%s': %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        int e = errno;
-        close(fd);
-        return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path, strerror(e));
-    }
-    if (!S_ISREG(st.st_mode)) {
-        close(fd);
-        return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path,
-                             S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file");
-    }
-    size_t size = (size_t)st.st_size;
-    unsigned char *buf = malloc(size ? size : 1);
-    if (!buf) {
-        close(fd);
-        return lg_image_fail(err, errlen, LG_ERR_NOMEM, "cannot read '%s': out of memory (%zu bytes)",
-                             path, size);
-    }
-    size_t got = 0;
-    while (got < size) {
-        ssize_t n = read(fd, buf + got, size - got);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n < 0) {
-            int e = errno;
-            free(buf);
-            close(fd);
-            return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path, strerror(e));
-        }
-        if (n == 0)
-            break; /* shrank meanwhile: parse what is there */
-        got += (size_t)n;
-    }
-    close(fd);
-    *data = buf;
-    *len = got;
-    return LG_OK;
-}
-
 /* ---- reading ------------------------------------------------------------------------- */
 
 int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read_info *info,
@@ -166,34 +220,39 @@ int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': unknown flags 0x%x",
                              path, flags & ~(unsigned)LG_READ_RADIANCE);
 
-    /* Only regular files: a FIFO would block a decoder's open or read forever, a device
-     * (/dev/zero) would feed it without end. Opened without blocking, then checked. */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-    if (fd < 0)
-        return lg_image_fail(err, errlen, errno == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
-                             "cannot read '%s': %s", path, strerror(errno));
-    struct stat st;
-    int st_rc = fstat(fd, &st);
-    close(fd);
-    if (st_rc != 0 || !S_ISREG(st.st_mode))
-        return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': it is %s, not a regular "
-                             "file", path,
-                             st_rc != 0 ? "unreadable" : S_ISDIR(st.st_mode) ? "a directory"
-                             : S_ISFIFO(st.st_mode) ? "a FIFO" : S_ISCHR(st.st_mode)
-                             ? "a character device" : S_ISBLK(st.st_mode) ? "a block device"
-                             : S_ISSOCK(st.st_mode) ? "a socket" : "a special file");
-
     info->format = lg_image_format_from_path(path);
-    int rc;
-    switch (info->format) {
-    case LG_FILE_EXR: rc = lg_exr_read(path, img, info, err, errlen); break;
-    case LG_FILE_HDR: rc = lg_hdr_read(path, img, info, err, errlen); break;
-    case LG_FILE_PNG: rc = lg_png_read(path, img, info, err, errlen); break;
-    default:
+    if (info->format == LG_FILE_UNKNOWN)
         return lg_image_fail(err, errlen, LG_ERR_UNSUPPORTED,
                              "cannot read '%s': unknown extension (expected .exr, .hdr, .pic or .png)",
                              path);
+
+    /* Opened once, here: regular files only (a FIFO would block a decoder, a device such as
+     * /dev/zero would feed it without end), the size checked before a byte is read. Every
+     * decoder reads this descriptor; none opens the path again, so the file checked is the
+     * file decoded. */
+    uint64_t size = 0;
+    char why[256];
+    uint64_t file_limit = lg_image_max_file_bytes();
+    int fd = lg_file_open(path, file_limit, &size, why, sizeof why);
+    if (fd < 0) {
+        int e = errno;
+        if (e == EFBIG)
+            return lg_image_fail(err, errlen, LG_ERR_INVALID,
+                                 "cannot read '%s': %s for images (32 bytes per pixel of the "
+                                 "%llu-pixel limit; raise it with LIGHTGRAPH_MAX_PIXELS=N or "
+                                 "--max-pixels N)", path, why,
+                                 (unsigned long long)lg_image_max_pixels());
+        return lg_image_fail(err, errlen, e == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
+                             "cannot read '%s': %s", path, why);
     }
+
+    int rc;
+    switch (info->format) {
+    case LG_FILE_EXR: rc = lg_exr_read(fd, size, path, img, info, err, errlen); break;
+    case LG_FILE_HDR: rc = lg_hdr_read(fd, size, path, img, info, err, errlen); break;
+    default: rc = lg_png_read(fd, size, path, img, info, err, errlen); break;
+    }
+    close(fd);
     if (rc != LG_OK) {
         lg_image_free(img);
         return rc;
@@ -261,7 +320,7 @@ int lg_image_write(const char *path, const lg_image *img, const lg_image_write_o
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "lg_image_write: empty path");
     if (!img || !img->pixels || img->width == 0 || img->height == 0)
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot write '%s': empty image", path);
-    if ((uint64_t)img->width * img->height > LG_IMAGE_MAX_PIXELS)
+    if ((uint64_t)img->width * img->height > lg_image_alloc_cap())
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot write '%s': %ux%u is too large",
                              path, img->width, img->height);
     lg_image_write_opts defaults;

@@ -27,28 +27,40 @@ extern "C" {
 int lg_image_fail(char *err, size_t errlen, int code, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
-/* Reads a whole file into memory (for the formats parsed by hand). *data is malloc'd. */
-int lg_image_slurp(const char *path, unsigned char **data, size_t *len, char *err,
-                   size_t errlen);
+/* The larger of LG_IMAGE_MAX_PIXELS and lg_image_max_pixels(): what lg_image_alloc accepts. */
+uint64_t lg_image_alloc_cap(void);
 
-int lg_hdr_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                size_t errlen);
+/* The checks every reader makes once it knows the declared size, before it allocates or
+ * decodes: w x h (overflow-checked) against lg_image_max_pixels(), then the memory the decode
+ * needs, (16 + codec_per_pixel) bytes per pixel plus codec_fixed, against what the machine
+ * can give (lightgraph/image.h). Returns LG_OK, or an error naming the file, the declared
+ * size and the limit met (and how to raise the pixel limit). */
+int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec_per_pixel,
+                        uint64_t codec_fixed, char *err, size_t errlen);
+
+/* Readers read the open, regular file `fd` of `size` bytes (lg_image_read opened it and
+ * closes it; a reader may read it from any offset but never closes it), named `path` in
+ * messages. */
+int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img,
+                lg_image_read_info *info, char *err, size_t errlen);
 int lg_hdr_write(FILE *f, const char *path, const lg_image *img, char *err, size_t errlen);
 
-int lg_png_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                size_t errlen);
+int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img,
+                lg_image_read_info *info, char *err, size_t errlen);
 int lg_png_write(FILE *f, const char *path, const lg_image *img, uint32_t channels, char *err,
                  size_t errlen);
 
-int lg_exr_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                size_t errlen);
+int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img,
+                lg_image_read_info *info, char *err, size_t errlen);
 int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image *img,
                  const lg_image_write_opts *opts, char *err, size_t errlen);
 
 /* The C++ shim (exr_cxx.cpp): OpenEXR's C++ API, for what the C API cannot do. Never
- * throws. lg_exr_cxx_read fills channels and bits in `info` (and compression). */
-int lg_exr_cxx_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                    size_t errlen);
+ * throws. lg_exr_cxx_read reads the open file `fd` as the C readers do (through an
+ * Imf::IStream on the descriptor, never by name) and fills channels and bits in `info` (and
+ * compression). */
+int lg_exr_cxx_read(int fd, uint64_t size, const char *path, lg_image *img,
+                    lg_image_read_info *info, char *err, size_t errlen);
 /* Writes to the open, empty file `fd` (named `path` in messages). half: 1 for half, 0 for
  * float; channels: 3 or 4; compression: an lg_exr_compression value. */
 int lg_exr_cxx_write(int fd, const char *path, const lg_image *img, int half,

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "image_priv.h"
 
@@ -57,29 +58,70 @@ static void png_warning_fn(png_structp png, png_const_charp msg)
     (void)msg;
 }
 
-int lg_png_read(const char *path, lg_image *img, lg_image_read_info *info, char *err,
-                size_t errlen)
+/* Ancillary chunks lightgraph does not use, skipped unread: the compressed ones (iCCP,
+ * zTXt, iTXt) are where a small file can ask for a large inflate. */
+static const png_byte png_skipped_chunks[] = {
+    'i', 'C', 'C', 'P', '\0', 'z', 'T', 'X', 't', '\0', 'i', 'T', 'X', 't', '\0',
+    't', 'E', 'X', 't', '\0', 's', 'P', 'L', 'T', '\0', 'e', 'X', 'I', 'f', '\0',
+};
+
+int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image_read_info *info,
+                char *err, size_t errlen)
 {
     png_state *st = calloc(1, sizeof *st);
     if (!st)
         return lg_image_fail(err, errlen, LG_ERR_NOMEM, "cannot read '%s': out of memory", path);
     int rc = LG_OK;
 
-    st->file = fopen(path, "rbe");
-    if (!st->file) {
-        rc = lg_image_fail(err, errlen, errno == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
-                           "cannot open '%s': %s", path, strerror(errno));
-        goto done;
+    /* The declared size, from IHDR (always the first chunk, at byte 8), checked before
+     * libpng is even set up. */
+    unsigned char head[33];
+    size_t got = 0;
+    while (got < sizeof head) {
+        ssize_t n = pread(fd, head + got, sizeof head - got, (off_t)got);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            rc = lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path,
+                               strerror(errno));
+            goto done;
+        }
+        if (n == 0)
+            break;
+        got += (size_t)n;
     }
-    unsigned char sig[8];
-    size_t got = fread(sig, 1, sizeof sig, st->file);
     if (got == 0) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': empty file", path);
         goto done;
     }
-    if (got < sizeof sig || png_sig_cmp(sig, 0, sizeof sig)) {
+    if (got < 8 || png_sig_cmp(head, 0, 8)) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
                            "cannot read '%s': not a PNG file (bad signature)", path);
+        goto done;
+    }
+    if (got == sizeof head && !memcmp(head + 12, "IHDR", 4)) {
+        uint32_t dw = (uint32_t)head[16] << 24 | (uint32_t)head[17] << 16 |
+                      (uint32_t)head[18] << 8 | head[19];
+        uint32_t dh = (uint32_t)head[20] << 24 | (uint32_t)head[21] << 16 |
+                      (uint32_t)head[22] << 8 | head[23];
+        /* after expansion at most RGBA (tRNS may add alpha to any type), 8 or 16 bits; and a
+         * row pointer and a filter byte per row */
+        uint64_t per = head[24] == 16 ? 8 : 4;
+        if (dw != 0 && dh != 0 &&
+            (rc = lg_image_check_size(path, dw, dh, per, (uint64_t)dh * 9, err, errlen)) != LG_OK)
+            goto done;
+    }
+
+    int dfd = dup(fd);
+    st->file = dfd >= 0 ? fdopen(dfd, "rb") : NULL;
+    if (!st->file) {
+        rc = lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path, strerror(errno));
+        if (dfd >= 0)
+            close(dfd);
+        goto done;
+    }
+    if (fseek(st->file, 8, SEEK_SET) != 0) {
+        rc = lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path, strerror(errno));
         goto done;
     }
 
@@ -102,7 +144,19 @@ int lg_png_read(const char *path, lg_image *img, lg_image_read_info *info, char 
     }
     png_set_read_fn(st->png, st, png_read_fn);
     png_set_read_status_fn(st->png, png_row_fn);
-    png_set_sig_bytes(st->png, sizeof sig);
+    png_set_sig_bytes(st->png, 8);
+    /* libpng's own bounds, behind ours: each side within the pixel limit (and PNG's 2^31 - 1),
+     * at most 8 MiB for any one ancillary chunk (and its inflated text or profile), at most
+     * 256 stored ancillary chunks; the ones lightgraph ignores are skipped unread. */
+    {
+        uint64_t lim = lg_image_max_pixels();
+        png_uint_32 side = lim < 0x7fffffffu ? (png_uint_32)lim : 0x7fffffffu;
+        png_set_user_limits(st->png, side, side);
+        png_set_chunk_malloc_max(st->png, 8u << 20);
+        png_set_chunk_cache_max(st->png, 256);
+        png_set_keep_unknown_chunks(st->png, PNG_HANDLE_CHUNK_NEVER, png_skipped_chunks,
+                                    (int)(sizeof png_skipped_chunks / 5));
+    }
     png_read_info(st->png, st->info);
 
     png_uint_32 w = png_get_image_width(st->png, st->info);
@@ -110,22 +164,17 @@ int lg_png_read(const char *path, lg_image *img, lg_image_read_info *info, char 
     int depth = png_get_bit_depth(st->png, st->info);
     int type = png_get_color_type(st->png, st->info);
     int trns = png_get_valid(st->png, st->info, PNG_INFO_tRNS) != 0;
-    if ((uint64_t)w * h > LG_IMAGE_MAX_PIXELS || w == 0 || h == 0) {
-        rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                           "cannot read '%s': %ux%u is too large (more than 2^28 pixels)", path,
-                           (unsigned)w, (unsigned)h);
+    if ((rc = lg_image_check_size(path, w, h, depth == 16 ? 8 : 4, (uint64_t)h * 9, err,
+                                  errlen)) != LG_OK)
         goto done;
-    }
     /* Deflate compresses at most 1032:1: a header promising far more pixel data than the
      * file could hold is damaged. Refuse it before allocating for it. */
     {
-        struct stat st_file;
         uint64_t raw = ((uint64_t)png_get_rowbytes(st->png, st->info) + 1) * h;
-        if (fstat(fileno(st->file), &st_file) == 0 &&
-            raw > 1100u * (uint64_t)st_file.st_size + (1u << 20)) {
+        if (raw > 1100u * size + (1u << 20)) {
             rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                               "cannot read '%s': %ux%u needs more data than a %lld-byte file can hold",
-                               path, (unsigned)w, (unsigned)h, (long long)st_file.st_size);
+                               "cannot read '%s': %ux%u needs more data than a %llu-byte file can hold",
+                               path, (unsigned)w, (unsigned)h, (unsigned long long)size);
             goto done;
         }
     }

@@ -307,6 +307,8 @@ inline void rh_map1(const __global float *in, __global float4 *out, uint i, floa
         float l = w.x * c.x + w.y * c.y + w.z * c.z;
         float ld = rh_curve4((float4)(scale * l), inv_white2).x;
         o = l > 0.0f ? c / l * ld : (float4)0.0f;
+        // grey: Ld itself (c / L is 1, but L's rounding can make it 1 + 1 ulp)
+        o = (c.x == c.y && c.y == c.z) ? (float4)ld : o;
         o = any(pinf.xyz) ? (float4)0.0f : o;
     }
     o = select(o, (float4)1.0f, pinf);
@@ -341,9 +343,10 @@ __kernel void rh_map(const __global float *in, __global float4 *out, uint n,
         float8 l = w.x * cr + w.y * cg + w.z * cb;
         float8 ld = rh_curve8(scale * l, inv_white2);
         int8 z = !(l > 0.0f) | ir | ig | ib;   // black, or a +Inf channel: 0
-        orr = select(cr / l * ld, (float8)0.0f, z);
-        og = select(cg / l * ld, (float8)0.0f, z);
-        ob = select(cb / l * ld, (float8)0.0f, z);
+        int8 grey = (cr == cg) & (cg == cb);   // Ld itself (c / L is 1 but for rounding)
+        orr = select(select(cr / l * ld, ld, grey), (float8)0.0f, z);
+        og = select(select(cg / l * ld, ld, grey), (float8)0.0f, z);
+        ob = select(select(cb / l * ld, ld, grey), (float8)0.0f, z);
     }
     orr = select(orr, (float8)1.0f, ir);
     og = select(og, (float8)1.0f, ig);

@@ -58,6 +58,9 @@ void main()
         float l = u_w.r * c.r + u_w.g * c.g + u_w.b * c.b;
         float ld = lg_curve(vec3(s * l)).x;
         o = l > 0.0 ? c / l * ld : vec3(0.0);
+        // grey: c / L is 1 exactly, but not in float (L's rounding makes it 1 + 1 ulp, so a
+        // bright grey would map to 1.0000001): Ld itself
+        o = (c.r == c.g && c.g == c.b) ? vec3(ld) : o;
         o = any(pinf) ? vec3(0.0) : o; // lim c Ld / L as L -> Inf: 0 but the Inf channels
     }
     o = mix(o, vec3(1.0), pinf);

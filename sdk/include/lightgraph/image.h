@@ -50,7 +50,7 @@ typedef struct lg_image {
 } lg_image;
 
 /* Allocates a zeroed image. Returns LG_OK or LG_ERR_NOMEM / LG_ERR_INVALID (zero or
- * absurd sizes: more than 2^28 pixels). */
+ * absurd sizes: more than 2^28 pixels, or the pixel limit below when it is higher). */
 LG_API int lg_image_alloc(lg_image *img, uint32_t width, uint32_t height);
 /* Frees the pixels and zeroes the struct. Accepts NULL and an already freed image. */
 LG_API void lg_image_free(lg_image *img);
@@ -97,6 +97,19 @@ enum {
 LG_API uint64_t lg_image_max_pixels(void);
 LG_API void lg_image_set_max_pixels(uint64_t n);
 
+/* The other two bounds of every read, both checked before anything is decoded:
+ *   - File size: at most lg_image_max_file_bytes(), 32 bytes per pixel of the pixel limit
+ *     (an uncompressed float RGBA file of that many pixels takes 16, plus room for extra
+ *     channels and tables), but never less than 64 MiB: 4 GiB by default. It follows the
+ *     pixel limit when that is raised or lowered.
+ *   - Memory: the bytes the decode needs (the codec's buffers plus the rgba32f result,
+ *     computed without overflow from the declared size) must fit in what the machine can
+ *     give: the physical memory (sysconf) and, when one is set, the address-space limit
+ *     (RLIMIT_AS) less what the process already maps. The message says which bound it met.
+ * The file is opened once (lightgraph/file.h: regular files only, never blocking on a
+ * FIFO) and every decoder reads that open file; no decoder opens the path again. */
+LG_API uint64_t lg_image_max_file_bytes(void);
+
 /* Reads a file into `img` (which the call fills; free with lg_image_free). A file without
  * alpha gets alpha 1. PNG is decoded from sRGB to linear. `info` may be NULL. */
 LG_API int lg_image_read(const char *path, unsigned flags, lg_image *img,
@@ -118,7 +131,9 @@ typedef enum lg_exr_compression {
 
 /* How to write. Zero means the default for every field. */
 typedef struct lg_image_write_opts {
-    lg_exr_pixel exr_pixel;             /* EXR: half (default) or float */
+    lg_exr_pixel exr_pixel;             /* EXR: half (the zero value) or float; the host
+                                         * writes rgba32f renders as float unless an output
+                                         * asks for half */
     lg_exr_compression exr_compression; /* EXR: ZIP by default */
     uint32_t channels;                  /* 0 or 4: RGBA; 3: RGB (EXR and PNG) */
     uint32_t reserved[8];

@@ -13,6 +13,8 @@
  *                 La = Lavg + (La0 - Lavg) rate^60; the node's dt overrides --dt
  *   badpixels     NaN, +-Inf, negative and zero pixels: counted in one warning, mapped by
  *                 the policy, and the other pixels as the closed form over the valid ones
+ *   bright        greys so bright that s L is +Inf (and +Inf pixels) map to exactly 1 in
+ *                 both modes, with and without a white point; no grey maps above 1
  *   sizes         1x1, 17x3, 3x257, 300x1 and 1100x700 (several grid-stride rounds):
  *                 every pixel of a constant image is mapped
  *   backends      (no BACKEND: all of them) every backend the node declares against the
@@ -473,6 +475,57 @@ static void case_badpixels(lg_test *t)
     lg_image_free(&in);
 }
 
+/* ---- bright -------------------------------------------------------------------------------- */
+
+/* Greys so bright that the scaled luminance s L is +Inf or Ld rounds to 1 (and +Inf pixels):
+ * exactly 1, as the README promises (x / (1 + x) is 1 for x = +Inf), never 1 + 1 ulp, in both
+ * modes and with a white point; and every grey pixel maps to at most 1. 20 pixels wide, so
+ * that the cl backend's float8 blocks and its last, partial block both see them. */
+static void case_bright(lg_test *t)
+{
+    const uint32_t w = 20, h = 2;
+    lg_image in = alloc_image(w, h), out;
+    const float inf = INFINITY;
+    const float greys[] = { 1e30f, 3.4028235e38f, 3e38f, 1e20f, inf, 1e9f, 0.5f, 2.0f, 1e30f };
+    const size_t at[] = { 0, 3, 7, 9, 13, 17, 19, 22, 38 };
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        float *p = in.pixels + i * 4;
+        p[0] = 0.1f + 0.01f * (float)i;
+        p[1] = 0.2f;
+        p[2] = 0.05f + 0.02f * (float)(i % 7);
+        p[3] = 1.0f;
+    }
+    for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+        float *p = in.pixels + at[i] * 4;
+        p[0] = p[1] = p[2] = greys[i];
+    }
+    lg_test_write_exr(t, "in.exr", &in);
+    const char *extras[] = { "", "mode = rgb", "white = 2", "mode = rgb, white = 2" };
+    for (size_t e = 0; e < sizeof extras / sizeof extras[0]; e++) {
+        write_graph(t, "g.lgraph", "in.exr", extras[e], "out.exr");
+        unsigned bits;
+        if (!render_read(t, "g.lgraph", NULL, "out.exr", &out, &bits, NULL))
+            continue;
+        LG_TEST_CHECK(t, bits == 32, "the output should be float EXR (got %u bits)", bits);
+        for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+            const float *q = out.pixels + at[i] * 4;
+            for (int k = 0; k < 3; k++) {
+                if (greys[i] >= 1e20f)
+                    LG_TEST_CHECK(t, q[k] == 1.0f, "%s: grey %g (pixel %zu) channel %d maps to "
+                                  "%.9g, not exactly 1", *extras[e] ? extras[e] : "defaults",
+                                  (double)greys[i], at[i], k, (double)q[k]);
+                else
+                    LG_TEST_CHECK(t, q[k] <= 1.0f && q[k] == q[0], "%s: grey %g (pixel %zu) "
+                                  "channel %d maps to %.9g (channel 0: %.9g)",
+                                  *extras[e] ? extras[e] : "defaults", (double)greys[i], at[i],
+                                  k, (double)q[k], (double)q[0]);
+            }
+        }
+        lg_image_free(&out);
+    }
+    lg_image_free(&in);
+}
+
 /* ---- sizes ----------------------------------------------------------------------------------- */
 
 static void case_sizes(lg_test *t)
@@ -680,7 +733,7 @@ int main(int argc, char **argv)
         { "monotone", case_monotone },   { "exposure", case_exposure },
         { "adapt", case_adapt },         { "badpixels", case_badpixels },
         { "sizes", case_sizes },         { "backends", case_backends },
-        { "threads", case_threads },
+        { "threads", case_threads },     { "bright", case_bright },
     };
     lg_test_main_opts o = { .prefix = "reinhard", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""Image inputs and outputs through the real program (docs/images.md):
+
+  max_pixels     --max-pixels N and LIGHTGRAPH_MAX_PIXELS bound every image read: `diff`
+                 and a render's image node refuse a 20x20 PNG at 100 pixels, with the
+                 message naming the file, its size and the limit, and accept it at 400; the
+                 option wins over the environment; a bad value is a usage error
+  exr_precision  EXR outputs are float32 by default, half or float per output statement
+                 (`output n "f.exr" half`), for every EXR output with `render --exr`; fmt
+                 keeps the word; half after a .png name is refused; the files are read back
+                 to see their pixel type
+  special        an image node or diff argument that is a FIFO or /dev/zero fails at once
+
+usage: test_images.py TEST_NAME
+"""
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+EXE = os.environ["LG_EXE"]
+TMP = tempfile.mkdtemp(prefix="lg-images-test-")
+
+
+class Fail(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Fail(msg)
+
+
+def run(args, env_extra=None, expect=None, timeout=60):
+    env = dict(os.environ)
+    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
+    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
+    env.pop("LIGHTGRAPH_MAX_PIXELS", None)
+    env.update(env_extra or {})
+    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
+    if expect is not None and p.returncode != expect:
+        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
+                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
+    return p
+
+
+def path(name):
+    return os.path.join(TMP, name)
+
+
+def write(name, text):
+    with open(path(name), "w") as f:
+        f.write(text)
+    return path(name)
+
+
+def png(name, w, h):
+    """An 8-bit RGB PNG, mid grey."""
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    raw = b"".join(b"\0" + bytes([128] * 3 * w) for _ in range(h))
+    data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+    with open(path(name), "wb") as f:
+        f.write(data)
+    return path(name)
+
+
+def pixel_bits(file):
+    """16 (half) or 32 (float) for an EXR, from diff's description of the file."""
+    out = run(["diff", file, file], expect=0).stdout
+    first = out.splitlines()[0]
+    for bits in ("16-bit", "32-bit"):
+        if bits in first:
+            return int(bits[:2])
+    raise Fail("diff does not say the pixel type: " + first)
+
+
+def test_max_pixels():
+    a = png("a.png", 20, 20)
+    # diff: the environment, the option, the option over the environment
+    p = run(["diff", a, a], {"LIGHTGRAPH_MAX_PIXELS": "100"}, expect=1)
+    check("a.png" in p.stderr and "20 x 20" in p.stderr and "over the limit of 100 pixels" in p.stderr
+          and "LIGHTGRAPH_MAX_PIXELS" in p.stderr and "--max-pixels" in p.stderr, p.stderr)
+    run(["diff", a, a], {"LIGHTGRAPH_MAX_PIXELS": "400"}, expect=0)
+    p = run(["diff", a, a, "--max-pixels", "100"], expect=1)
+    check("over the limit of 100 pixels" in p.stderr, p.stderr)
+    run(["diff", "--max-pixels=400", a, a], {"LIGHTGRAPH_MAX_PIXELS": "100"}, expect=0)
+    run(["--max-pixels", "400", "diff", a, a], {"LIGHTGRAPH_MAX_PIXELS": "100"}, expect=0)
+    for bad in ("abc", "0", "-5", ""):
+        p = run(["diff", a, a, "--max-pixels", bad], expect=2)
+        check("--max-pixels" in p.stderr, p.stderr)
+    p = run(["diff", a, a, "--max-pixels"], expect=2)
+
+    # render: the image node reads with the same limit
+    g = write("g.lgraph", 'lightgraph 1\nsrc = image { file = "a.png" }\noutput src "o.exr"\n')
+    p = run(["render", g, "--max-pixels", "100"], expect=1)
+    check("a.png" in p.stderr and "over the limit of 100 pixels" in p.stderr, p.stderr)
+    check(not os.path.exists(path("o.exr")), "an output was written")
+    p = run(["render", g], {"LIGHTGRAPH_MAX_PIXELS": "100"}, expect=1)
+    check("over the limit of 100 pixels" in p.stderr, p.stderr)
+    run(["render", g, "--max-pixels", "400"], expect=0)
+    check(os.path.exists(path("o.exr")), "no output")
+
+
+def test_exr_precision():
+    png("a.png", 20, 20)
+    g = write("g.lgraph",
+              'lightgraph 1\nsrc = image { file = "a.png" }\n'
+              'output src "default.exr"\noutput src "h.exr" half  # small\n'
+              'output src "f.exr" float\n')
+    run(["render", g], expect=0)
+    check(pixel_bits(path("default.exr")) == 32, "default EXR output is not float32")
+    check(pixel_bits(path("h.exr")) == 16, "'half' output is not half")
+    check(pixel_bits(path("f.exr")) == 32, "'float' output is not float32")
+    # fmt keeps the words (and the comment)
+    out = run(["fmt", g], expect=0).stdout
+    check('output src "h.exr" half  # small' in out and 'output src "f.exr" float' in out, out)
+    fmt2 = write("g2.lgraph", out)
+    check(run(["fmt", fmt2], expect=0).stdout == out, "fmt is not a fixed point")
+
+    # render --exr: every EXR output, -o included
+    one = write("one.lgraph", 'lightgraph 1\nsrc = image { file = "a.png" }\noutput src "x.exr"\n')
+    run(["render", one, "-o", path("o_half.exr"), "--exr", "half"], expect=0)
+    check(pixel_bits(path("o_half.exr")) == 16, "-o with --exr half is not half")
+    run(["render", g, "--exr", "half"], expect=0)
+    check(pixel_bits(path("f.exr")) == 16 and pixel_bits(path("default.exr")) == 16,
+          "--exr half did not apply to every output")
+    p = run(["render", one, "--exr", "quarter"], expect=2)
+    check("--exr wants half or float" in p.stderr, p.stderr)
+
+    # 'half' after another extension, or another word
+    bad = write("bad.lgraph", 'lightgraph 1\nsrc = image { file = "a.png" }\n'
+                'output src "o.png" half\n')
+    p = run(["check", bad], expect=2)
+    check("'half' chooses the pixel type of an .exr output; 'o.png' is not one" in p.stderr, p.stderr)
+    bad = write("bad2.lgraph", 'lightgraph 1\nsrc = image { file = "a.png" }\n'
+                'output src "o.exr" quarter\n')
+    p = run(["check", bad], expect=2)
+    check("found 'quarter'" in p.stderr, p.stderr)
+
+
+def test_special():
+    os.mkfifo(path("f.exr"))
+    os.symlink("/dev/zero", path("z.png"))
+    png("a.png", 4, 4)
+    for name, what in (("f.exr", "it is a FIFO, not a regular file"),
+                       ("z.png", "it is a character device, not a regular file")):
+        g = write("s.lgraph", 'lightgraph 1\nsrc = image { file = "%s" }\noutput src "o.exr"\n' % name)
+        p = run(["render", g], expect=1, timeout=20)
+        check(name in p.stderr and what in p.stderr, p.stderr)
+        p = run(["diff", path(name), path("a.png")], expect=1, timeout=20)
+        check(name in p.stderr and what in p.stderr, p.stderr)
+
+
+TESTS = {"max_pixels": test_max_pixels, "exr_precision": test_exr_precision,
+         "special": test_special}
+
+if __name__ == "__main__":
+    name = sys.argv[1] if len(sys.argv) > 1 else ""
+    if name not in TESTS:
+        print("usage: test_images.py {%s}" % "|".join(TESTS), file=sys.stderr)
+        sys.exit(2)
+    try:
+        TESTS[name]()
+    except Fail as e:
+        print("FAIL %s: %s" % (name, e), file=sys.stderr)
+        sys.exit(1)
+    finally:
+        shutil.rmtree(TMP, ignore_errors=True)
+    print("ok", name)
