@@ -74,7 +74,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             bad("a decoded node type out of its limits", size);
         for (uint32_t k = 0; k < t->n_params; k++) {
             const lg_param_desc *q = &t->params[k];
-            if (q->type == LG_PARAM_ENUM && (!q->def.s || strcmp(q->def.s, q->enum_values[q->def.e])))
+            if (q->type == LG_PARAM_ENUM &&
+                (!q->def.s || strcmp(q->def.s, q->enum_values[q->def.e]) != 0))
                 bad("an enum default that does not name its index", size);
         }
     }
