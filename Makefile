@@ -1,4 +1,4 @@
-# The README's two commands: `make demo` and `make test`.
+# The README's two commands: `make demo` and `make test` (and `make fuzz`, docs/fuzzing.md).
 # Both install missing Debian packages (as root; otherwise they print the apt-get line),
 # configure, build, then render the default example / run the whole test suite.
 
@@ -7,7 +7,10 @@ ASAN_BUILD ?= build-asan
 MESON_OPTS ?= -Dwerror=true
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build demo test test-sanitize bench clean
+FUZZ_BUILD ?= build-fuzz
+SECONDS    ?= 60
+
+.PHONY: all deps build demo test test-sanitize fuzz bench clean
 
 all: build
 
@@ -43,8 +46,22 @@ test-sanitize: $(ASAN_BUILD)/build.ninja
 	-meson test -C $(ASAN_BUILD) --num-processes $(JOBS) --print-errorlogs --timeout-multiplier 4
 	@python3 tools/test_summary.py $(ASAN_BUILD)
 
+# Every libFuzzer target (tests/fuzz) for SECONDS seconds each, in its own build with
+# Debian's clang, ASan and UBSan, memory bounded; a finding is copied into the target's
+# seed corpus (tests/fuzz/corpus_NAME/finding-SHA1) and fails the command. docs/fuzzing.md.
+FUZZ_TARGETS = graph image gltf cache registry
+
+$(FUZZ_BUILD)/build.ninja:
+	@sh tools/deps.sh fuzz
+	CC=clang CXX=clang++ meson setup $(FUZZ_BUILD) $(MESON_OPTS) -Dfuzzing=true \
+	  -Db_sanitize=address,undefined -Db_lundef=false -Dbuildtype=debugoptimized
+
+fuzz: $(FUZZ_BUILD)/build.ninja
+	ninja -C $(FUZZ_BUILD) $(addprefix tests/fuzz/fuzz_,$(FUZZ_TARGETS))
+	python3 tools/fuzz.py --build $(FUZZ_BUILD) --seconds $(SECONDS) $(FUZZ_TARGETS)
+
 bench: build
 	ninja -C $(BUILD) bench-reinhard
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) out
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out

@@ -7,9 +7,7 @@
  * change to any of them looks up another file: stale entries are never found. The file
  * repeats the identity and key and carries the payload size and a checksum; an entry whose
  * header, size or checksum disagrees is corrupt: reported, removed, and treated as a miss.
- *
- *   "LGCACHE\1" | u32 format version | 16 bytes identity | u32 key length | key
- *   | u64 payload size | u64 payload checksum | payload
+ * The entry's bytes are written and checked by cache_entry.c (the format is there).
  */
 #include "host.h"
 
@@ -19,8 +17,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define CACHE_MAGIC "LGCACHE\1"
-#define CACHE_VERSION 1u
 #define CACHE_MAX_KEY 1024u
 
 /* Where the cache lives, and why it can be trusted (issue 8). Whoever can write into the
@@ -223,31 +219,9 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
         n->cache_misses++;
         return LG_ERR_NOTFOUND;
     }
-    const char *why = NULL;
-    size_t klen = strlen(key);
-    size_t head = 8 + 4 + 16 + 4 + klen + 8 + 8;
-    uint32_t ver = 0, kl = 0;
-    uint64_t psize = 0, sum = 0;
-    if (len < head || memcmp(buf, CACHE_MAGIC, 8) != 0) {
-        why = "bad header";
-    } else {
-        memcpy(&ver, buf + 8, 4);
-        memcpy(&kl, buf + 28, 4);
-        if (ver != CACHE_VERSION)
-            why = "written by another cache format version";
-        else if (memcmp(buf + 12, &n->identity, 16) != 0)
-            why = "its identity does not match (stale)";
-        else if (kl != klen || memcmp(buf + 32, key, klen) != 0)
-            why = "its key does not match";
-        else {
-            memcpy(&psize, buf + 32 + klen, 8);
-            memcpy(&sum, buf + 40 + klen, 8);
-            if (psize != len - head)
-                why = "truncated or padded";
-            else if (lg_hash64(buf + head, psize, 0) != sum)
-                why = "checksum mismatch";
-        }
-    }
+    const char *payload = NULL;
+    size_t psize = 0;
+    const char *why = lg_cache_entry_check(buf, len, &n->identity, key, &payload, &psize);
     if (why) {
         lg_hlog(LG_HWARN, "node '%s': cache entry %s is corrupt (%s); removing it and recomputing",
                 n->pub.name, path, why);
@@ -263,7 +237,7 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
         free(path);
         return LG_ERR_NOMEM;
     }
-    memcpy(out, buf + head, psize);
+    memcpy(out, payload, psize);
     free(buf);
     lg_hlog(LG_HINFO, "node '%s': cache hit %s (%llu bytes)", n->pub.name, path,
             (unsigned long long)psize);
@@ -285,17 +259,7 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
         return LG_OK; /* the cache is off (said once): nothing to store, nothing failed */
     char *path = entry_path(dir, n, key);
     lg_str b = {0};
-    uint32_t ver = CACHE_VERSION, kl = (uint32_t)strlen(key);
-    uint64_t psize = size, sum = lg_hash64(data, size, 0);
-    lg_str_addn(&b, CACHE_MAGIC, 8);
-    lg_str_addn(&b, (const char *)&ver, 4);
-    lg_str_addn(&b, (const char *)&n->identity, 16);
-    lg_str_addn(&b, (const char *)&kl, 4);
-    lg_str_addn(&b, key, kl);
-    lg_str_addn(&b, (const char *)&psize, 8);
-    lg_str_addn(&b, (const char *)&sum, 8);
-    if (size)
-        lg_str_addn(&b, data, size);
+    lg_cache_entry_encode(&b, &n->identity, key, data, size);
     int rc = 0;
     if (lg_write_file_atomic(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,

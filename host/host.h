@@ -71,6 +71,22 @@ char *lg_registry_loaded_list(const lg_registry *r);
  * within ranges. Returns 0, or -1 with the first problem in err. */
 int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err, size_t errlen);
 
+/* The scan result, the bytes the scanning child writes through the pipe after its 'O'
+ * status byte: "LGSCAN1\0", then the descriptor's fields and tables, counts and strings
+ * length-prefixed (u32, host byte order; UINT32_MAX for NULL). encode appends d's (the
+ * child's side). decode reads n untrusted bytes (the child ran the plugin's code) into *p:
+ * name, version, doc, ABI and host-owned copies of the types, without callbacks; path,
+ * handle and live stay zero. A string's length is checked against the bytes there are and
+ * a count against the validator's limits (1024 types, 256 parameters and list items, 64
+ * ports) before anything is allocated for it, and the result is validated as
+ * lg_descriptor_validate validates a live descriptor (but for its callbacks), so what the
+ * host keeps is what a valid plugin can describe. Returns 0, or -1 with "malformed scan
+ * result: WHY" in err and nothing left allocated. */
+void lg_registry_encode(lg_str *b, const lg_plugin_desc *d);
+int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_t errlen);
+/* Frees what decode allocated in p (not path, handle or live) and zeroes it. */
+void lg_plugin_free_schema(lg_plugin *p);
+
 /* ---- JSON and text introspection (cmd_info.c) ---------------------------------------- */
 void lg_print_type_json(lg_str *out, const lg_node_type *t, const lg_plugin *p);
 void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type);
@@ -241,6 +257,16 @@ int lg_exec_need_cl(lg_exec *ex, lg_pnode *n);
 char *lg_cache_dir(void);
 int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
 int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
+/* One entry's bytes (cache_entry.c, which has the format). encode appends the entry for
+ * `identity`, `key` and the payload to b. check reads an entry's bytes (untrusted: read back
+ * from disk) as the entry for `identity` and `key`: returns NULL with *payload pointing
+ * into buf and *payload_size set, or the reason it cannot be used ("bad header", "truncated
+ * or padded", "checksum mismatch", ...). Nothing is allocated; the declared size is only
+ * compared with `len`. */
+void lg_cache_entry_encode(lg_str *b, const lg_digest *identity, const char *key,
+                           const void *data, size_t size);
+const char *lg_cache_entry_check(const char *buf, size_t len, const lg_digest *identity,
+                                 const char *key, const char **payload, size_t *payload_size);
 
 /* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
  * (already scanned), plan, run, write the output (opts->output_override replaces the single

@@ -36,6 +36,15 @@ static bool str_ok(const char *s, size_t max)
     return s && strnlen(s, max + 1) <= max;
 }
 
+/* Whether an enum parameter has a value at index i (its list is NULL-terminated). */
+static bool enum_has(const lg_param_desc *p, int32_t i)
+{
+    for (int32_t k = 0; k <= i; k++)
+        if (!p->enum_values[k])
+            return false;
+    return true;
+}
+
 #define FAIL(...)                                                                          \
     do {                                                                                   \
         snprintf(err, errlen, __VA_ARGS__);                                                \
@@ -87,7 +96,9 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
     return 0;
 }
 
-int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err, size_t errlen)
+/* live: a plugin's own descriptor, whose callbacks are checked too; otherwise a decoded
+ * scan result (no callbacks), whose enum defaults must also name their index. */
+static int check_desc(const lg_plugin_desc *d, bool live, char *err, size_t errlen)
 {
     if (!d)
         FAIL("lg_plugin_entry() returned NULL");
@@ -117,7 +128,7 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
                  d->name, t->struct_size);
         if (!valid_ident(t->name))
             FAIL("malformed descriptor: node type %u of '%s' has no valid name", i, d->name);
-        if (!t->execute)
+        if (live && !t->execute)
             FAIL("node type '%s' has no execute callback", t->name);
         if (t->n_params > 256 || (t->n_params && !t->params))
             FAIL("node type '%s': bad parameter table (%u entries)", t->name, t->n_params);
@@ -125,8 +136,15 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
             (t->n_outputs && !t->outputs))
             FAIL("node type '%s': bad port tables", t->name);
         for (uint32_t k = 0; k < t->n_params; k++) {
-            if (validate_param(t, &t->params[k], err, errlen))
+            const lg_param_desc *p = &t->params[k];
+            if (validate_param(t, p, err, errlen))
                 return -1;
+            /* the encoder (put_desc) writes an enum default's name and index, agreeing */
+            if (!live && p->type == LG_PARAM_ENUM &&
+                (!p->def.s || p->def.e < 0 || p->def.e >= 256 || !enum_has(p, p->def.e) ||
+                 strcmp(p->enum_values[p->def.e], p->def.s) != 0))
+                FAIL("node type '%s', parameter '%s': default name and index disagree",
+                     t->name, p->key);
             for (uint32_t j = 0; j < k; j++)
                 if (strcmp(t->params[j].key, t->params[k].key) == 0)
                     FAIL("node type '%s': parameter '%s' declared twice", t->name,
@@ -140,11 +158,18 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
             if ((int)p->kind < 0 || p->kind >= LG_KIND_COUNT_)
                 FAIL("node type '%s', port '%s': unknown resource kind", t->name, p->name);
         }
+        if ((int)t->neutral < LG_NEUTRAL_ZERO || t->neutral > LG_NEUTRAL_PASSTHROUGH)
+            FAIL("node type '%s': unknown neutral result %d", t->name, (int)t->neutral);
         if (t->neutral == LG_NEUTRAL_PASSTHROUGH && t->neutral_input >= t->n_inputs)
             FAIL("node type '%s': neutral_input %u is not an input", t->name, t->neutral_input);
     }
-    (void)path;
     return 0;
+}
+
+int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err, size_t errlen)
+{
+    (void)path;
+    return check_desc(d, true, err, errlen);
 }
 #undef FAIL
 
@@ -246,7 +271,8 @@ typedef struct reader {
 static uint32_t get_u32(reader *r)
 {
     uint32_t v = 0;
-    if (r->end - r->p < 4) {
+    /* once bad, nothing more is read: the position is no longer where the encoder was */
+    if (r->bad || r->end - r->p < 4) {
         r->bad = true;
         return 0;
     }
@@ -256,7 +282,7 @@ static uint32_t get_u32(reader *r)
 }
 static void get_raw(reader *r, void *out, size_t n)
 {
-    if ((size_t)(r->end - r->p) < n) {
+    if (r->bad || (size_t)(r->end - r->p) < n) {
         r->bad = true;
         memset(out, 0, n);
         return;
@@ -277,33 +303,50 @@ static char *get_s(reader *r)
     r->p += n;
     return s;
 }
+/* A list put_list wrote: NULL for none, else at most 256 strings, none of them NULL (a
+ * NULL would end the list early and leave the rest unowned). */
 static const char *const *get_list(reader *r)
 {
     uint32_t n = get_u32(r);
-    if (n == UINT32_MAX || r->bad || n > 256)
+    if (n == UINT32_MAX || r->bad)
         return NULL;
+    if (n > 256) {
+        r->bad = true;
+        return NULL;
+    }
     char **l = lg_xcalloc(n + 1, sizeof *l);
-    for (uint32_t i = 0; i < n; i++)
-        l[i] = get_s(r);
+    for (uint32_t i = 0; i < n && !r->bad; i++)
+        if (!(l[i] = get_s(r)))
+            r->bad = true;
     return (const char *const *)l;
 }
 
-static int get_desc(reader *r, lg_plugin *p)
+#define DFAIL(...)                                                                         \
+    do {                                                                                   \
+        snprintf(err, errlen, __VA_ARGS__);                                                \
+        return -1;                                                                         \
+    } while (0)
+
+/* Decodes what put_desc wrote into p. Each count is set together with its array, so that
+ * lg_plugin_free_schema frees a half-decoded p. Returns 0 (r->bad may still be set), or -1
+ * with the reason in err. */
+static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
 {
     char magic[8];
     get_raw(r, magic, 8);
     if (r->bad || memcmp(magic, "LGSCAN1", 8) != 0)
-        return -1;
+        DFAIL("it does not start with LGSCAN1");
     p->abi_major = (uint16_t)get_u32(r);
     p->abi_minor = (uint16_t)get_u32(r);
     p->name = get_s(r);
     p->version = get_s(r);
     p->doc = get_s(r);
-    p->n_types = get_u32(r);
-    if (r->bad || p->n_types > 1024)
-        return -1;
-    p->types = lg_xcalloc(p->n_types, sizeof *p->types);
-    for (uint32_t i = 0; i < p->n_types && !r->bad; i++) {
+    uint32_t n_types = get_u32(r);
+    if (!r->bad && n_types > 1024)
+        DFAIL("%u node types, over the limit of 1024", n_types);
+    p->types = lg_xcalloc(n_types ? n_types : 1, sizeof *p->types);
+    p->n_types = n_types;
+    for (uint32_t i = 0; i < n_types && !r->bad; i++) {
         lg_node_type *t = &p->types[i];
         t->struct_size = sizeof *t;
         t->name = get_s(r);
@@ -312,38 +355,55 @@ static int get_desc(reader *r, lg_plugin *p)
         t->flags = get_u32(r);
         t->neutral = (lg_neutral)get_u32(r);
         t->neutral_input = get_u32(r);
-        t->n_params = get_u32(r);
-        if (r->bad || t->n_params > 256)
-            return -1;
-        lg_param_desc *params = lg_xcalloc(t->n_params ? t->n_params : 1, sizeof *params);
-        for (uint32_t k = 0; k < t->n_params && !r->bad; k++) {
+        uint32_t n_params = get_u32(r);
+        if (!r->bad && n_params > 256)
+            DFAIL("node type %u: %u parameters, over the limit of 256", i, n_params);
+        lg_param_desc *params = lg_xcalloc(n_params ? n_params : 1, sizeof *params);
+        t->params = params;
+        t->n_params = n_params;
+        for (uint32_t k = 0; k < n_params && !r->bad; k++) {
             lg_param_desc *q = &params[k];
             q->key = get_s(r);
             q->type = (lg_param_type)get_u32(r);
-            get_raw(r, &q->def, sizeof q->def);
+            /* put_desc wrote a normalised lg_value: take the member the type uses, as a
+             * value of its type (a bool byte other than 0 or 1 is not a bool) */
+            lg_value raw, def;
+            get_raw(r, &raw, sizeof raw);
+            memset(&def, 0, sizeof def);
+            def.type = q->type;
+            switch (q->type) {
+            case LG_PARAM_BOOL: {
+                unsigned char c;
+                memcpy(&c, &raw.b, 1);
+                def.b = c != 0;
+                break;
+            }
+            case LG_PARAM_INT: def.i = raw.i; break;
+            case LG_PARAM_FLOAT: def.f = raw.f; break;
+            case LG_PARAM_VEC2: case LG_PARAM_VEC3: case LG_PARAM_COLOR:
+                memcpy(def.v, raw.v, sizeof def.v);
+                break;
+            case LG_PARAM_INT3: memcpy(def.i3, raw.i3, sizeof def.i3); break;
+            case LG_PARAM_ENUM: def.e = raw.e; break;
+            default: break; /* strings: the name follows; unknown types are refused later */
+            }
             char *s = get_s(r);
             if (q->type == LG_PARAM_STRING || q->type == LG_PARAM_PATH || q->type == LG_PARAM_ENUM)
-                q->def.s = s;
+                def.s = s;
             else
                 free(s);
+            q->def = def;
             get_raw(r, &q->min, sizeof q->min);
             get_raw(r, &q->max, sizeof q->max);
             q->enum_values = get_list(r);
             q->doc = get_s(r);
             q->renamed_from = get_list(r);
         }
-        t->params = params;
         for (int io = 0; io < 2 && !r->bad; io++) {
             uint32_t n = get_u32(r);
-            if (n > 64)
-                return -1;
+            if (!r->bad && n > 64)
+                DFAIL("node type %u: %u %s, over the limit of 64", i, n, io ? "outputs" : "inputs");
             lg_port_desc *ports = lg_xcalloc(n ? n : 1, sizeof *ports);
-            for (uint32_t k = 0; k < n && !r->bad; k++) {
-                ports[k].name = get_s(r);
-                ports[k].kind = (lg_resource_kind)get_u32(r);
-                ports[k].optional = get_u32(r) != 0;
-                ports[k].doc = get_s(r);
-            }
             if (io) {
                 t->outputs = ports;
                 t->n_outputs = n;
@@ -351,9 +411,58 @@ static int get_desc(reader *r, lg_plugin *p)
                 t->inputs = ports;
                 t->n_inputs = n;
             }
+            for (uint32_t k = 0; k < n && !r->bad; k++) {
+                ports[k].name = get_s(r);
+                ports[k].kind = (lg_resource_kind)get_u32(r);
+                ports[k].optional = get_u32(r) != 0;
+                ports[k].doc = get_s(r);
+            }
         }
     }
-    return r->bad ? -1 : 0;
+    return 0;
+}
+#undef DFAIL
+
+int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_t errlen)
+{
+    memset(p, 0, sizeof *p);
+    reader r = {buf, buf + n, false};
+    char why[512];
+    int rc = get_desc(&r, p, why, sizeof why);
+    if (rc == 0 && r.bad) {
+        snprintf(why, sizeof why, "truncated (%zu bytes)", n);
+        rc = -1;
+    }
+    if (rc == 0 && r.p != r.end) {
+        snprintf(why, sizeof why, "%zu bytes after the descriptor", (size_t)(r.end - r.p));
+        rc = -1;
+    }
+    if (rc == 0) {
+        /* what the child validated, checked again: the bytes came from a process that ran
+         * the plugin's code, which could have written anything to the pipe */
+        lg_plugin_desc d = {
+            .struct_size = sizeof d,
+            .abi_major = p->abi_major,
+            .abi_minor = p->abi_minor,
+            .name = p->name,
+            .version = p->version,
+            .doc = p->doc,
+            .types = p->types,
+            .n_types = p->n_types,
+        };
+        rc = check_desc(&d, false, why, sizeof why);
+    }
+    if (rc != 0) {
+        lg_plugin_free_schema(p);
+        snprintf(err, errlen, "malformed scan result: %s", why);
+        return -1;
+    }
+    return 0;
+}
+
+void lg_registry_encode(lg_str *b, const lg_plugin_desc *d)
+{
+    put_desc(b, d);
 }
 
 /* ---- scanning --------------------------------------------------------------------------- */
@@ -559,10 +668,10 @@ static int scan_one(lg_registry *r, const char *path)
         refuse(r, path, b.s + 1);
         rc = -1;
     } else {
-        lg_plugin p = {0};
-        reader rd = {b.s + 1, b.s + b.len, false};
-        if (get_desc(&rd, &p) != 0) {
-            refuse(r, path, "malformed scan result");
+        lg_plugin p;
+        char why[600];
+        if (lg_registry_decode(b.s + 1, b.len - 1, &p, why, sizeof why) != 0) {
+            refuse(r, path, why);
             rc = -1;
         } else {
             bool dup = false;
@@ -577,8 +686,8 @@ static int scan_one(lg_registry *r, const char *path)
                 r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
                 r->plugins[r->n_plugins++] = p;
             }
-            /* a shadowed plugin's copy is small; it is leaked deliberately rather than
-             * freed field by field (scan happens once per process) */
+            if (dup)
+                lg_plugin_free_schema(&p);
         }
     }
     lg_str_free(&b);
@@ -823,46 +932,53 @@ static void free_list(const char *const *l)
     free((void *)l);
 }
 
+void lg_plugin_free_schema(lg_plugin *p)
+{
+    for (uint32_t j = 0; j < p->n_types; j++) {
+        lg_node_type *t = &p->types[j];
+        for (uint32_t k = 0; k < t->n_params; k++) {
+            lg_param_desc *q = (lg_param_desc *)&t->params[k];
+            free((char *)q->key);
+            free((char *)q->doc);
+            if (q->type == LG_PARAM_STRING || q->type == LG_PARAM_PATH || q->type == LG_PARAM_ENUM)
+                free((char *)q->def.s);
+            free_list(q->enum_values);
+            free_list(q->renamed_from);
+        }
+        free((void *)t->params);
+        for (uint32_t k = 0; k < t->n_inputs; k++) {
+            free((char *)t->inputs[k].name);
+            free((char *)t->inputs[k].doc);
+        }
+        for (uint32_t k = 0; k < t->n_outputs; k++) {
+            free((char *)t->outputs[k].name);
+            free((char *)t->outputs[k].doc);
+        }
+        free((void *)t->inputs);
+        free((void *)t->outputs);
+        free((char *)t->name);
+        free((char *)t->doc);
+    }
+    free(p->types);
+    free(p->name);
+    free(p->version);
+    free(p->doc);
+    p->types = NULL;
+    p->n_types = 0;
+    p->name = p->version = p->doc = NULL;
+}
+
 void lg_registry_free(lg_registry *r)
 {
     for (uint32_t i = 0; i < r->n_plugins; i++) {
         lg_plugin *p = &r->plugins[i];
-        for (uint32_t j = 0; j < p->n_types; j++) {
-            lg_node_type *t = &p->types[j];
-            for (uint32_t k = 0; k < t->n_params; k++) {
-                lg_param_desc *q = (lg_param_desc *)&t->params[k];
-                free((char *)q->key);
-                free((char *)q->doc);
-                if (q->type == LG_PARAM_STRING || q->type == LG_PARAM_PATH ||
-                    q->type == LG_PARAM_ENUM)
-                    free((char *)q->def.s);
-                free_list(q->enum_values);
-                free_list(q->renamed_from);
-            }
-            free((void *)t->params);
-            for (uint32_t k = 0; k < t->n_inputs; k++) {
-                free((char *)t->inputs[k].name);
-                free((char *)t->inputs[k].doc);
-            }
-            for (uint32_t k = 0; k < t->n_outputs; k++) {
-                free((char *)t->outputs[k].name);
-                free((char *)t->outputs[k].doc);
-            }
-            free((void *)t->inputs);
-            free((void *)t->outputs);
-            free((char *)t->name);
-            free((char *)t->doc);
-        }
-        free(p->types);
+        lg_plugin_free_schema(p);
         /* Plugins stay loaded until every object they made is gone; by the time the
          * registry is freed the executor has destroyed them all. LIGHTGRAPH_NO_DLCLOSE keeps
          * them mapped, so that a leak checker can still name their functions. */
         if (p->handle && p->live_refs == 0 && !getenv("LIGHTGRAPH_NO_DLCLOSE"))
             dlclose(p->handle);
         free(p->path);
-        free(p->name);
-        free(p->version);
-        free(p->doc);
     }
     free(r->plugins);
     for (uint32_t i = 0; i < r->n_refused; i++) {

@@ -8,8 +8,52 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
+
+/* Memory bounded as in `make fuzz` (tools/fuzz.py: -rss_limit_mb=2048, -malloc_limit_mb=
+ * 1024), so that a finding that was a memory blow-up fails its replay here too rather than
+ * taking the machine's memory: under AddressSanitizer (gcc or clang) through its options,
+ * a block over 1 GiB or an RSS over 2 GiB being an error; otherwise an address space of
+ * 4 GiB, over which allocations fail (and the host's x-allocators abort). */
+#if defined(__SANITIZE_ADDRESS__)
+#define LG_FUZZ_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LG_FUZZ_ASAN 1
+#endif
+#endif
+
+#define LG_FUZZ_MAX_BLOCK_MB 1024
+#define LG_FUZZ_MAX_RSS_MB 2048
+#define LG_FUZZ_MAX_AS_MB 4096
+
+#ifdef LG_FUZZ_ASAN
+#define STR_(x) #x
+#define STR(x) STR_(x)
+/* Read by the ASan runtime at start, before ASAN_OPTIONS (which may override it). */
+__attribute__((visibility("default"), used)) const char *__asan_default_options(void);
+const char *__asan_default_options(void)
+{
+    return "max_allocation_size_mb=" STR(LG_FUZZ_MAX_BLOCK_MB)
+           ":hard_rss_limit_mb=" STR(LG_FUZZ_MAX_RSS_MB) ":allocator_may_return_null=0";
+}
+#endif
+
+static void bound_memory(void)
+{
+#ifndef LG_FUZZ_ASAN
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_AS, &rl) == 0) {
+        rlim_t want = (rlim_t)LG_FUZZ_MAX_AS_MB << 20;
+        if (rl.rlim_max == RLIM_INFINITY || rl.rlim_max > want) {
+            rl.rlim_cur = want;
+            setrlimit(RLIMIT_AS, &rl);
+        }
+    }
+#endif
+}
 
 typedef struct input {
     char *name;
@@ -244,6 +288,7 @@ static double now(void)
 
 int lg_fuzz_main(int argc, char **argv, const lg_fuzz_target *t)
 {
+    bound_memory();
     long per_file = t->mutations;
     corpus c = {0};
     int rc = 0;

@@ -8,7 +8,9 @@
  * mutations of each from a fixed-seed PRNG: bit flips, random bytes, boundary values over
  * 1, 2 or 4 bytes, dictionary tokens, deleted, copied and swapped bytes, truncations, and
  * splices with other corpus files. The same corpus and count give the same inputs on
- * every run and machine.
+ * every run and machine. Memory is bounded as in `make fuzz` (fuzz_driver.c): a block over
+ * 1 GiB or an RSS over 2 GiB fails a sanitizer build, and an address space over 4 GiB
+ * makes allocations fail in the others.
  *
  *     fuzz_NAME [-n MUTATIONS_PER_FILE] CORPUS_DIR_OR_FILE...
  */

@@ -42,11 +42,6 @@ static void make_tmp_dir(void)
 {
     if (tmp_dir[0])
         return;
-    /* Bounded: a mutated header may declare any size up to the pixel limit, and an accepted
-     * one costs its pixels; 2^22 (64 MiB as rgba32f) keeps every run small, so that a memory
-     * blow-up past -rss_limit_mb is a finding, not the limit at work. The oversized
-     * declarations of the corpus (16384 x 16384) are refused by it as by the default. */
-    lg_image_set_max_pixels(1u << 22);
     const char *base = getenv("TMPDIR");
     snprintf(tmp_dir, sizeof tmp_dir, "%s/lg-fuzz-image.XXXXXX", base && base[0] ? base : "/tmp");
     if (!mkdtemp(tmp_dir)) {
@@ -56,9 +51,17 @@ static void make_tmp_dir(void)
     atexit(cleanup);
 }
 
+/* The pixel limit while fuzzing: 2^22 pixels (64 MiB as RGBA floats), well under the
+ * default, so that an input just over it is refused before it is decoded rather than
+ * allocating gigabytes (`make fuzz` counts a block over 1 GiB as a finding), and a memory
+ * blow-up past -rss_limit_mb is a finding, not the limit at work. The oversized
+ * declarations of the corpus (16384 x 16384) are refused by it as by the default. */
+#define FUZZ_MAX_PIXELS (1ull << 22)
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     make_tmp_dir();
+    lg_image_set_max_pixels(FUZZ_MAX_PIXELS);
     const char *ext;
     if (size >= 4 && !memcmp(data, "\x76\x2f\x31\x01", 4))
         ext = "exr";
