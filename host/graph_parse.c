@@ -163,8 +163,9 @@ typedef struct source {
     const char *text;     /* NUL-terminated copy (may contain NULs, which are errors) */
     uint32_t len;
     uint32_t first_line;  /* 1 for files; n for the n-th --set */
-    uint32_t *line_starts;
-    uint32_t n_lines;
+    /* The last line looked up (messages come mostly in file order): lines are found by
+     * scanning from here, so that a file of 16 million empty lines costs no table. */
+    uint32_t seen_line, seen_off;
 } source;
 
 typedef struct pool {
@@ -183,15 +184,8 @@ static source *add_source(pool *pl, const char *name, const char *text, size_t l
     s->text = arena_strndup(&pl->a, text, len);
     s->len = (uint32_t)len;
     s->first_line = first_line;
-    uint32_t n = 1;
-    for (uint32_t i = 0; i < s->len; i++)
-        n += s->text[i] == '\n';
-    s->line_starts = arena_alloc(&pl->a, n * sizeof *s->line_starts);
-    s->line_starts[0] = 0;
-    s->n_lines = 1;
-    for (uint32_t i = 0; i < s->len; i++)
-        if (s->text[i] == '\n')
-            s->line_starts[s->n_lines++] = i + 1;
+    s->seen_line = first_line;
+    s->seen_off = 0;
     if (pl->n_src == pl->cap_src) {
         pl->cap_src = pl->cap_src ? pl->cap_src * 2 : 8;
         pl->src = lg_xrealloc(pl->src, pl->cap_src * sizeof *pl->src);
@@ -200,17 +194,33 @@ static source *add_source(pool *pl, const char *name, const char *text, size_t l
     return s;
 }
 
-/* The text of line `line` of `s` without its line break, malloc'd; NULL if out of range. */
-static char *source_line(const source *s, uint32_t line)
+/* Line `line` of `s` without its line break: *n bytes at the returned pointer (inside the
+ * source's text, not copied); NULL if out of range. */
+static const char *source_line(source *s, uint32_t line, size_t *n)
 {
-    if (line < s->first_line || line - s->first_line >= s->n_lines)
+    if (line < s->first_line)
         return NULL;
-    uint32_t a = s->line_starts[line - s->first_line], b = a;
-    while (b < s->len && s->text[b] != '\n')
-        b++;
-    while (b > a && s->text[b - 1] == '\r')
+    uint32_t l = s->seen_line, off = s->seen_off;
+    if (line < l) {
+        l = s->first_line;
+        off = 0;
+    }
+    while (l < line) {
+        const char *nl = memchr(s->text + off, '\n', s->len - off);
+        if (!nl)
+            return NULL;
+        off = (uint32_t)(nl - s->text) + 1;
+        l++;
+    }
+    s->seen_line = l;
+    s->seen_off = off;
+    uint32_t b = off;
+    const char *nl = memchr(s->text + off, '\n', s->len - off);
+    b = nl ? (uint32_t)(nl - s->text) : s->len;
+    while (b > off && s->text[b - 1] == '\r')
         b--;
-    return lg_xstrndup(s->text + a, b - a);
+    *n = b - off;
+    return s->text + off;
 }
 
 /* ---- parse session (one lg_graph_parse_* call, all files) ----------------------------- */
@@ -236,17 +246,17 @@ typedef struct session {
     uint32_t n_done, cap_done;
 } session;
 
-static void vreport(session *s, const source *src, lg_diag_level lvl, uint32_t line,
+static void vreport(session *s, source *src, lg_diag_level lvl, uint32_t line,
                     uint32_t col, uint32_t len, const char *fmt, va_list ap)
 {
     if (s->stop)
         return;
     char *msg = lg_vformat(fmt, ap);
-    char *text = src ? source_line(src, line) : NULL;
+    size_t n = 0;
+    const char *text = src ? source_line(src, line, &n) : NULL;
     lg_srcloc loc = {src ? src->name : NULL, line, col, len};
-    lg_diags_add(s->d, lvl, loc, text, "%s", msg);
+    lg_diags_add_line(s->d, lvl, loc, text, n, "%s", msg);
     free(msg);
-    free(text);
     if (lvl == LG_DIAG_ERROR && ++s->errors >= MAX_ERRORS) {
         lg_srcloc none = {src ? src->name : NULL, 0, 0, 0};
         lg_diags_add(s->d, LG_DIAG_NOTE, none, NULL, "too many errors (%u); stopping here",
@@ -255,10 +265,10 @@ static void vreport(session *s, const source *src, lg_diag_level lvl, uint32_t l
     }
 }
 
-static void report(session *s, const source *src, lg_diag_level lvl, uint32_t line,
+static void report(session *s, source *src, lg_diag_level lvl, uint32_t line,
                    uint32_t col, uint32_t len, const char *fmt, ...)
     __attribute__((format(printf, 7, 8)));
-static void report(session *s, const source *src, lg_diag_level lvl, uint32_t line,
+static void report(session *s, source *src, lg_diag_level lvl, uint32_t line,
                    uint32_t col, uint32_t len, const char *fmt, ...)
 {
     va_list ap;
@@ -1019,7 +1029,7 @@ static void add_node(parser *p, lg_gnode *n)
         const lg_gnode *f = &s->nodes[prev];
         report(s, p->src, LG_DIAG_ERROR, n->loc.line, n->loc.col, n->loc.len,
                "node '%s' is defined twice", n->name);
-        const source *fs = NULL;
+        source *fs = NULL;
         for (uint32_t i = 0; i < s->pl->n_src; i++)
             if (s->pl->src[i]->name == f->loc.file)
                 fs = s->pl->src[i];
@@ -1626,20 +1636,20 @@ int32_t lg_graph_find_node(const lg_graph *g, const char *name)
 void lg_graph_diag(lg_diags *d, const lg_graph *g, lg_diag_level level, lg_srcloc loc,
                    const char *fmt, ...)
 {
-    char *text = NULL;
+    const char *text = NULL;
+    size_t n = 0;
     const pool *pl = g ? g->pool : NULL;
     for (uint32_t i = 0; pl && i < pl->n_src; i++)
         if (pl->src[i]->name == loc.file) {
-            text = source_line(pl->src[i], loc.line);
+            text = source_line(pl->src[i], loc.line, &n);
             break;
         }
     va_list ap;
     va_start(ap, fmt);
     char *msg = lg_vformat(fmt, ap);
     va_end(ap);
-    lg_diags_add(d, level, loc, text, "%s", msg);
+    lg_diags_add_line(d, level, loc, text, n, "%s", msg);
     free(msg);
-    free(text);
 }
 
 /* ---- --set ------------------------------------------------------------------------------ */
