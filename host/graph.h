@@ -192,6 +192,9 @@ typedef struct lg_schema {
     /* all known type names, for did-you-mean */
     uint32_t n_names;
     const char *const *names;
+    /* The pixel limit in force (lg_image_max_pixels()): an image size that parameters
+     * marked LG_ROLE_IMAGE_WIDTH / _HEIGHT give beyond it is an error. 0: not checked. */
+    uint64_t max_pixels;
 } lg_schema;
 
 typedef struct lg_edge {

@@ -22,14 +22,16 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "lightgraph/file.h"
 #include "util.h"
 
 /* The limits of a graph (docs/graph-format.md, "Limits"); each is tested in
  * tests/unit/parser. They keep the parser's memory linear in its input and small: a token
  * costs about 72 bytes while it is parsed, a list item about 200. */
-#define MAX_FILE_BYTES (16u << 20)  /* one file; this also keeps offsets in 32 bits */
-#define MAX_GRAPH_BYTES (64u << 20) /* a file and everything it includes, in all */
+#define MAX_FILE_BYTES (16u << 20)  /* a file and everything it includes, in all; this
+                                     * also keeps offsets in 32 bits */
 #define MAX_TOKENS (1u << 20)       /* names, numbers, strings and punctuation, all files */
 #define MAX_LIST_ITEMS 65536        /* items of one list (no parameter takes more than 3) */
 #define MAX_LIST_DEPTH 32
@@ -263,7 +265,7 @@ typedef struct session {
     const char **done;
     uint32_t n_done, cap_done;
     uint32_t n_tokens;    /* lexed so far, all files (MAX_TOKENS) */
-    uint64_t n_bytes;     /* read so far, all files (MAX_GRAPH_BYTES) */
+    uint64_t n_bytes;     /* read so far, all files (MAX_FILE_BYTES in all) */
 } session;
 
 static void vreport(session *s, source *src, lg_diag_level lvl, uint32_t line,
@@ -1486,17 +1488,25 @@ static void do_include(parser *p, const tok *f)
     size_t len = 0;
     char why[256];
     /* The one bounded reader: regular files only (a FIFO, a device or a directory is
-     * refused without blocking), the size checked before a byte is read. */
-    char *text = lg_read_file_limit(full, MAX_FILE_BYTES, &len, why, sizeof why);
-    if (!text) {
+     * refused without blocking), the size checked against what is left of the graph's
+     * MAX_FILE_BYTES before a byte is read. */
+    uint64_t size = 0;
+    int fd = lg_file_open(full, MAX_FILE_BYTES, &size, why, sizeof why);
+    if (fd < 0) {
         tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full, why);
         goto out;
     }
-    if (s->n_bytes + len > MAX_GRAPH_BYTES) {
-        tok_report(p, f, LG_DIAG_ERROR, "cannot include '%s' (%zu bytes): the graph and its "
-                   "includes would pass %u MiB in all, the limit", full, len,
-                   MAX_GRAPH_BYTES >> 20);
-        free(text);
+    if (s->n_bytes + size > MAX_FILE_BYTES) {
+        close(fd);
+        tok_report(p, f, LG_DIAG_ERROR, "cannot include '%s' (%llu bytes): a graph file and "
+                   "its includes have at most %u MiB in all", full, (unsigned long long)size,
+                   MAX_FILE_BYTES >> 20);
+        goto out;
+    }
+    char *text = lg_file_read_fd(fd, size, &len, why, sizeof why);
+    close(fd);
+    if (!text) {
+        tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full, why);
         goto out;
     }
     if (!looks_like_graph(text, len)) {

@@ -14,6 +14,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "lightgraph/image.h"
+
 /* ---- descriptor validation ----------------------------------------------------------- */
 
 static bool valid_ident(const char *s)
@@ -169,7 +171,7 @@ static void put_list(lg_str *b, const char *const *l)
 
 static void put_desc(lg_str *b, const lg_plugin_desc *d)
 {
-    put_raw(b, "LGSCAN1", 8);
+    put_raw(b, "LGSCAN2", 8);
     put_u32(b, d->abi_major);
     put_u32(b, d->abi_minor);
     put_s(b, d->name);
@@ -218,6 +220,7 @@ static void put_desc(lg_str *b, const lg_plugin_desc *d)
             put_list(b, p->enum_values);
             put_s(b, p->doc);
             put_list(b, p->renamed_from);
+            put_u32(b, p->role);
         }
         for (int io = 0; io < 2; io++) {
             uint32_t n = io ? t->n_outputs : t->n_inputs;
@@ -287,7 +290,7 @@ static int get_desc(reader *r, lg_plugin *p)
 {
     char magic[8];
     get_raw(r, magic, 8);
-    if (r->bad || memcmp(magic, "LGSCAN1", 8) != 0)
+    if (r->bad || memcmp(magic, "LGSCAN2", 8) != 0)
         return -1;
     p->abi_major = (uint16_t)get_u32(r);
     p->abi_minor = (uint16_t)get_u32(r);
@@ -326,6 +329,7 @@ static int get_desc(reader *r, lg_plugin *p)
             q->enum_values = get_list(r);
             q->doc = get_s(r);
             q->renamed_from = get_list(r);
+            q->role = get_u32(r);
         }
         t->params = params;
         for (int io = 0; io < 2 && !r->bad; io++) {
@@ -628,6 +632,7 @@ void lg_registry_schema(const lg_registry *r, lg_schema *out)
     out->lookup = schema_lookup;
     out->n_names = r->n_names;
     out->names = r->names;
+    out->max_pixels = lg_image_max_pixels();
 }
 
 int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)
