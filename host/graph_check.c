@@ -607,11 +607,18 @@ static void check_image_size(checker *k, const lg_gnode *n, const lg_node_type *
     bool too_big = overflow || px > SIZE_MAX / 16;
     if (!too_many && !too_big)
         return;
-    /* At the value that was set (the later of the two), else at the node. */
+    /* At a value that was set: one from the command line (--set) first, else the later of
+     * the two in the file; at the node when both are defaults. */
     lg_srcloc loc = n->loc;
     int32_t at = winner[hi] >= 0 ? winner[hi] : winner[wi];
-    if (winner[wi] >= 0 && winner[hi] >= 0 && winner[wi] > winner[hi])
-        at = winner[wi];
+    if (winner[wi] >= 0 && winner[hi] >= 0) {
+        bool wraw = n->assigns[winner[wi]].value.kind == LG_GV_RAW;
+        bool hraw = n->assigns[winner[hi]].value.kind == LG_GV_RAW;
+        if (wraw != hraw)
+            at = wraw ? winner[wi] : winner[hi];
+        else if (winner[wi] > winner[hi])
+            at = winner[wi];
+    }
     if (at >= 0)
         loc = n->assigns[at].value.loc;
     const char *wk = ty->params[wi].key, *hk = ty->params[hi].key;
