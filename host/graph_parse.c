@@ -447,7 +447,7 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
     bool pend_blank = false, saw_blank = false, line_has_content = false;
     int32_t last_on_line = -1;
     /* The lists open here: their items are counted (MAX_LIST_ITEMS); `want` is whether an
-     * item may start (after '[' or ','). Nesting beyond MAX_LIST_DEPTH counts at the last
+     * item may start (after '[', ',' or a new line). Nesting beyond MAX_LIST_DEPTH counts at the last
      * level; the parser refuses it. */
     uint32_t ldepth = 0, litems[MAX_LIST_DEPTH + 1];
     bool lwant[MAX_LIST_DEPTH + 1];
@@ -462,6 +462,8 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             continue;
         }
         if (c == '\n') {
+            if (ldepth > 0) /* a new line separates list items as a comma does */
+                lwant[ldepth < MAX_LIST_DEPTH ? ldepth : MAX_LIST_DEPTH] = true;
             if (!line_has_content) {
                 saw_blank = true;
                 /* A blank line inside or after a run of comments is kept in the run, so

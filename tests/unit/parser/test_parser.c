@@ -1452,6 +1452,13 @@ static void test_limits(void)
                  "line");
     free(h);
     free(t);
+    /* items separated by new lines count as well (fmt would write them with commas) */
+    t = repeat("lightgraph 1\nx = blur { tint = [", "1\n", 65536, "1] }\n", &len);
+    h = parse_headers(t, len, &ok);
+    CHECK_STR(h, "t.lgraph:65538:1: error: this list has more than 65536 items; that is the "
+                 "limit");
+    free(h);
+    free(t);
     /* the skipped tail may span lines, hold nested lists, strings with ']' and comments */
     t = repeat("lightgraph 1\nx = blur { tint = [", "1,", 65536,
                "[2, [3]], \"]\" # ]\n 4, 5\n], radius = 1 }\nlightgraph 1\n", &len);
