@@ -148,7 +148,11 @@ typedef struct lg_graph {
 } lg_graph;
 
 /* Parses `path` (and the files it includes; relative include paths resolve against the
- * including file; include cycles are errors; a file included a second time adds nothing).
+ * including file, absolute paths and '..' are allowed; include cycles are errors; a file
+ * included a second time adds nothing; an included file that does not start with the
+ * version line is refused with one message). Every file is read by the bounded reader
+ * (regular files only, 16 MiB for the graph with its includes); the other limits (tokens,
+ * list items, nodes, depth) are in docs/graph-format.md "Limits".
  * Syntax errors, duplicate node names (across files too) and keys set twice in one node
  * are found here. Returns NULL when any error was found; the diagnostics are in `diags`
  * either way. */
