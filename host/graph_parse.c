@@ -1858,6 +1858,21 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
     s.d = diags;
     const char *form = " (--set NODE.PARAM=VALUE)";
 
+    /* The value may be taken as raw text (a path, a string, an enum), not only lexed: the
+     * whole assignment must be UTF-8, as a graph file is. */
+    for (uint32_t i = 0; i < alen; i++) {
+        unsigned char ch = (unsigned char)a[i];
+        if (ch < 0x80)
+            continue;
+        int u = lg_utf8_char_len((const unsigned char *)a + i, alen - i);
+        if (u == 0) {
+            report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, 1, "invalid UTF-8: byte 0x%02X at "
+                   "byte offset %u%s", ch, i, form);
+            return -1;
+        }
+        i += (uint32_t)u - 1;
+    }
+
     uint32_t i = 0;
     while (i < alen && is_space(a[i]))
         i++;

@@ -1422,12 +1422,16 @@ static void test_utf8(void)
            "graph file is UTF-8 text)");
     /* --set values are graph text too */
     static const char *const sets[] = {"x.file=\"\xC3\x28\"", NULL};
-    run r;
-    run_text(&r, "lightgraph 1\nx = image {}\n", sets);
-    CHECK(r.c == NULL && r.d.errors == 1);
-    if (r.d.n)
-        CHECK(strstr(r.d.items[0].message, "invalid UTF-8 in a string: byte 0xC3") != NULL);
-    run_free(&r);
+    EXPECT_SET("lightgraph 1\nx = image {}\n", sets,
+               "<command line>:1:9: error: invalid UTF-8: byte 0xC3 at byte offset 8 (--set "
+               "NODE.PARAM=VALUE)");
+    /* unquoted, where the text would be taken as it is */
+    static const char *const sets2[] = {"x.file=caf\xE9.exr", NULL};
+    EXPECT_SET("lightgraph 1\nx = image {}\n", sets2,
+               "<command line>:1:11: error: invalid UTF-8: byte 0xE9 at byte offset 10 (--set "
+               "NODE.PARAM=VALUE)");
+    static const char *const sets3[] = {"x.file=caf\xC3\xA9.exr", NULL};
+    EXPECT_SET("lightgraph 1\nx = image {}\n", sets3, "");
 }
 
 static void test_limits(void)
