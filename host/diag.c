@@ -130,6 +130,13 @@ static void diags_addv(lg_diags *d, lg_diag_level level, lg_srcloc loc, const ch
         d->items = lg_xrealloc(d->items, d->cap * sizeof *d->items);
     }
     char *msg = lg_vformat(fmt, ap);
+    size_t mlen = strlen(msg);
+    if (mlen > LG_DIAG_MAX_MESSAGE) {
+        size_t cut = LG_DIAG_MAX_MESSAGE - 3;
+        while (cut > 0 && ((unsigned char)msg[cut] & 0xC0) == 0x80)
+            cut--; /* not inside a UTF-8 character */
+        memcpy(msg + cut, "...", 4);
+    }
 
     lg_diag *g = &d->items[d->n++];
     g->level = level;

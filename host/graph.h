@@ -123,6 +123,9 @@ typedef struct lg_diag {
 /* How much of a source line a diagnostic shows: a line of a 10 MB graph file is not echoed
  * whole, only this many characters around the column (plus "..." marks where cut). */
 #define LG_DIAG_EXCERPT_COLS 100
+/* A message longer than this many bytes is cut (at a character boundary, "..." added): a
+ * message that quotes a name or a path quotes at most this much of it. */
+#define LG_DIAG_MAX_MESSAGE 1024
 
 typedef struct lg_diags {
     lg_diag *items;

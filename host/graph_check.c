@@ -753,11 +753,19 @@ static void report_cycle(checker *k, const graph_adj *a, const int32_t *comp, in
     uint32_t len = 0;
     for (int32_t v = last; v >= 0 && (uint32_t)v != start; v = parent[v])
         queue[len++] = (uint32_t)v;
+    /* The cycle is start, queue[len - 1], ..., queue[0], start: len + 2 names. A long one is
+     * shown by its first 8 and last 7, so that the message stays short. */
+    uint32_t total = len + 2, head = 8, tail = 7;
     lg_str b = {0};
-    lg_str_add(&b, k->g->nodes[start].name);
-    for (uint32_t i = len; i > 0; i--)
-        lg_str_addf(&b, " -> %s", k->g->nodes[queue[i - 1]].name);
-    lg_str_addf(&b, " -> %s", k->g->nodes[start].name);
+    for (uint32_t j = 0; j < total; j++) {
+        if (total > head + tail + 1 && j == head) {
+            lg_str_addf(&b, " -> ... (%u more)", total - head - tail);
+            j = total - tail - 1;
+            continue;
+        }
+        uint32_t v = j == 0 || j == total - 1 ? start : queue[len - j];
+        lg_str_addf(&b, "%s%s", j ? " -> " : "", k->g->nodes[v].name);
+    }
     diag(k, LG_DIAG_ERROR, k->g->nodes[start].loc, "cycle: %s", b.s);
     lg_str_free(&b);
     free(parent);

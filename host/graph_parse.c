@@ -37,6 +37,7 @@
 #define MAX_LIST_DEPTH 32
 #define MAX_INCLUDE_DEPTH 32
 #define MAX_NODES 100000
+#define MAX_NAME_BYTES 256          /* a name, key, type or NODE.PORT reference */
 #define MAX_ERRORS 100
 
 /* ---- arena ---------------------------------------------------------------------------- */
@@ -627,6 +628,9 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
                             (int)(e - pos), s + pos);
                 }
             }
+            if (e - pos > MAX_NAME_BYTES)
+                set_err(p, t, t->col, e - pos, "this name is %u characters long; names have at "
+                        "most %u", e - pos, MAX_NAME_BYTES);
             t->len = e - pos;
             pos = e;
             continue;
