@@ -5,23 +5,138 @@
 
 #include <ctype.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "util.h"
 
 
-void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line_text,
-                  const char *fmt, ...)
+int lg_utf8_char_len(const unsigned char *s, size_t n)
+{
+    if (n == 0)
+        return 0;
+    unsigned c = s[0];
+    if (c < 0x80)
+        return 1;
+    int len;
+    uint32_t cp, min;
+    if (c >= 0xC2 && c <= 0xDF) {
+        len = 2, cp = c & 0x1F, min = 0x80;
+    } else if ((c & 0xF0) == 0xE0) {
+        len = 3, cp = c & 0x0F, min = 0x800;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        len = 4, cp = c & 0x07, min = 0x10000;
+    } else {
+        return 0; /* a continuation byte, C0/C1 (always overlong), F5..FF */
+    }
+    if ((size_t)len > n)
+        return 0;
+    for (int i = 1; i < len; i++) {
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+        cp = cp << 6 | (s[i] & 0x3F);
+    }
+    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
+        return 0;
+    return len;
+}
+
+/* One character of a line as shown: itself when it is printable UTF-8 or a tab (kept so
+ * the caret lines up in a terminal), '?' for a control byte or a byte that is not UTF-8
+ * (an escape sequence in a graph file must not drive the terminal). Returns the number of
+ * input bytes it takes. */
+static size_t show_char(lg_str *out, const unsigned char *s, size_t n)
+{
+    int k = lg_utf8_char_len(s, n);
+    if (k == 0 || (k == 1 && ((s[0] < 0x20 && s[0] != '\t') || s[0] == 0x7F)) ||
+        (k == 2 && s[0] == 0xC2 && s[1] < 0xA0)) { /* C1 controls U+0080..U+009F */
+        lg_str_addc(out, '?');
+        return k ? (size_t)k : 1;
+    }
+    lg_str_addn(out, (const char *)s, (size_t)k);
+    return (size_t)k;
+}
+
+/* Steps back over one character from `i` (at most 3 continuation bytes). */
+static size_t char_back(const unsigned char *s, size_t i)
+{
+    size_t j = i - 1;
+    while (j > 0 && i - j < 4 && (s[j] & 0xC0) == 0x80)
+        j--;
+    return lg_utf8_char_len(s + j, i - j) == (int)(i - j) ? j : i - 1;
+}
+
+/* The excerpt of line[0, n) around byte column `col` (1-based) with `len` bytes underlined:
+ * at most LG_DIAG_EXCERPT_COLS characters, a third of them before the column, "..." where
+ * the line is cut. Sets the caret's column and the underline's length inside the excerpt.
+ * Costs O(LG_DIAG_EXCERPT_COLS), whatever the line's length. */
+static char *excerpt(const char *line, size_t n, uint32_t col, uint32_t len, uint32_t *ecol,
+                     uint32_t *elen)
+{
+    const unsigned char *s = (const unsigned char *)line;
+    size_t at = col > 0 ? col - 1 : 0;
+    if (at > n)
+        at = n;
+    /* The window [a, b): back a third, then forward to the full width; at the end of the
+     * line, back again to fill the width. */
+    size_t a = at, chars = 0;
+    while (a > 0 && chars < LG_DIAG_EXCERPT_COLS / 3) {
+        a = char_back(s, a);
+        chars++;
+    }
+    size_t b = a;
+    while (b < n && chars < LG_DIAG_EXCERPT_COLS) {
+        int k = lg_utf8_char_len(s + b, n - b);
+        if (b < at) {
+            b += k ? (size_t)k : 1;
+            continue; /* already counted */
+        }
+        b += k ? (size_t)k : 1;
+        chars++;
+    }
+    while (a > 0 && chars < LG_DIAG_EXCERPT_COLS) {
+        a = char_back(s, a);
+        chars++;
+    }
+    lg_str out = {0};
+    if (a > 0)
+        lg_str_add(&out, "...");
+    size_t cs = SIZE_MAX, ce = SIZE_MAX, end = at + (len > 0 ? len : 0);
+    size_t i = a;
+    while (i < b) {
+        if (cs == SIZE_MAX && i >= at)
+            cs = out.len;
+        if (ce == SIZE_MAX && i >= end && i > at)
+            ce = out.len;
+        i += show_char(&out, s + i, b - i);
+    }
+    if (cs == SIZE_MAX)
+        cs = out.len;
+    if (ce == SIZE_MAX)
+        ce = out.len;
+    if (b < n)
+        lg_str_add(&out, "...");
+    *ecol = (uint32_t)cs + 1;
+    *elen = ce > cs ? (uint32_t)(ce - cs) : 0;
+    return lg_str_take(&out);
+}
+
+static void diags_addv(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line,
+                       size_t n, const char *fmt, va_list ap)
 {
     if (d->n == d->cap) {
         d->cap = d->cap ? d->cap * 2 : 16;
         d->items = lg_xrealloc(d->items, d->cap * sizeof *d->items);
     }
-    va_list ap;
-    va_start(ap, fmt);
     char *msg = lg_vformat(fmt, ap);
-    va_end(ap);
+    size_t mlen = strlen(msg);
+    if (mlen > LG_DIAG_MAX_MESSAGE) {
+        size_t cut = LG_DIAG_MAX_MESSAGE - 3;
+        while (cut > 0 && ((unsigned char)msg[cut] & 0xC0) == 0x80)
+            cut--; /* not inside a UTF-8 character */
+        memcpy(msg + cut, "...", 4);
+    }
 
     lg_diag *g = &d->items[d->n++];
     g->level = level;
@@ -29,9 +144,30 @@ void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *l
     /* The diagnostics outlive the graph whose pool holds the file name. */
     g->loc.file = loc.file ? lg_xstrdup(loc.file) : NULL;
     g->message = msg;
-    g->line_text = line_text ? lg_xstrdup(line_text) : NULL;
+    g->line_text = NULL;
+    g->text_col = g->text_len = 0;
+    if (line)
+        g->line_text = excerpt(line, n, loc.col, loc.len, &g->text_col, &g->text_len);
     if (level == LG_DIAG_ERROR)
         d->errors++;
+}
+
+void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line_text,
+                  const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    diags_addv(d, level, loc, line_text, line_text ? strlen(line_text) : 0, fmt, ap);
+    va_end(ap);
+}
+
+void lg_diags_add_line(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line,
+                       size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    diags_addv(d, level, loc, line, n, fmt, ap);
+    va_end(ap);
 }
 
 static const char *level_name(lg_diag_level l)
@@ -80,7 +216,7 @@ void lg_diags_print(const lg_diags *d, FILE *f)
         fprintf(f, "%s: %s\n", level_name(g->level), g->message);
         if (g->line_text && g->loc.line > 0) {
             fprintf(f, "%s\n", g->line_text);
-            print_caret(f, g->line_text, g->loc.col, g->loc.len);
+            print_caret(f, g->line_text, g->text_col, g->text_len);
         }
     }
 }

@@ -117,8 +117,19 @@ typedef struct lg_diag {
     lg_diag_level level;
     lg_srcloc loc;       /* loc.file is the diagnostic's own copy */
     char *message;
-    char *line_text;     /* the source line, or NULL */
+    char *line_text;     /* an excerpt of the source line (at most LG_DIAG_EXCERPT_COLS
+                          * characters around the column, "..." where cut, control bytes
+                          * and invalid UTF-8 shown as '?'), or NULL */
+    uint32_t text_col;   /* the caret's byte column (1-based) inside line_text */
+    uint32_t text_len;   /* the underline's length in bytes inside line_text */
 } lg_diag;
+
+/* How much of a source line a diagnostic shows: a line of a 10 MB graph file is not echoed
+ * whole, only this many characters around the column (plus "..." marks where cut). */
+#define LG_DIAG_EXCERPT_COLS 100
+/* A message longer than this many bytes is cut (at a character boundary, "..." added): a
+ * message that quotes a name or a path quotes at most this much of it. */
+#define LG_DIAG_MAX_MESSAGE 1024
 
 typedef struct lg_diags {
     lg_diag *items;
@@ -144,7 +155,11 @@ typedef struct lg_graph {
 } lg_graph;
 
 /* Parses `path` (and the files it includes; relative include paths resolve against the
- * including file; include cycles are errors; a file included a second time adds nothing).
+ * including file, absolute paths and '..' are allowed; include cycles are errors; a file
+ * included a second time adds nothing; an included file that does not start with the
+ * version line is refused with one message). Every file is read by the bounded reader
+ * (regular files only, 16 MiB for the graph with its includes); the other limits (tokens,
+ * list items, nodes, depth) are in docs/graph-format.md "Limits".
  * Syntax errors, duplicate node names (across files too) and keys set twice in one node
  * are found here. Returns NULL when any error was found; the diagnostics are in `diags`
  * either way. */
@@ -188,6 +203,9 @@ typedef struct lg_schema {
     /* all known type names, for did-you-mean */
     uint32_t n_names;
     const char *const *names;
+    /* The pixel limit in force (lg_image_max_pixels()): an image size that parameters
+     * marked LG_ROLE_IMAGE_WIDTH / _HEIGHT give beyond it is an error. 0: not checked. */
+    uint64_t max_pixels;
 } lg_schema;
 
 typedef struct lg_edge {
@@ -246,15 +264,30 @@ char *lg_graph_dot(const lg_graph *g, const lg_checked *c);
 
 /* ---- diagnostics ------------------------------------------------------------------------ */
 
+/* Adds a diagnostic; `line_text` (NUL-terminated, or NULL) is the whole source line: only
+ * a bounded excerpt around loc.col is kept. */
 void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line_text,
                   const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 5, 6)))
 #endif
     ;
+/* The same with the line given as `n` bytes (no NUL needed, `line` may be NULL): the
+ * caller need not copy a long line to report on it. */
+void lg_diags_add_line(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line,
+                       size_t n, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 6, 7)))
+#endif
+    ;
 /* Prints "file:line:col: error: message", the source line and a caret line, colourless. */
 void lg_diags_print(const lg_diags *d, FILE *f);
 void lg_diags_free(lg_diags *d);
+
+/* The length (1 to 4) of the well-formed UTF-8 character at s[0, n), or 0 when the bytes
+ * there are not one: a stray continuation byte, a truncated sequence, an overlong form, a
+ * UTF-16 surrogate (U+D800..U+DFFF) or a code point above U+10FFFF. */
+int lg_utf8_char_len(const unsigned char *s, size_t n);
 
 /* The closest of `names` to `word` by edit distance (case-insensitive, allowing one
  * transposition), or NULL if none is close enough to suggest. */

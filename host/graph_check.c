@@ -14,6 +14,7 @@
 #include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -573,6 +574,65 @@ static int32_t find_slot(checker *k, const lg_gnode *n, const lg_node_type *ty,
     return SLOT_NONE;
 }
 
+/* The parameter role (lightgraph/plugin.h) takes the first of lg_param_desc's four reserved
+ * pointers of ABI 2.0 without moving anything else. */
+_Static_assert(offsetof(lg_param_desc, role) + 4 * sizeof(void *) == sizeof(lg_param_desc),
+               "lg_param_desc.role must fill exactly one reserved slot");
+
+/* An image size that the parameters alone make impossible (LG_ROLE_IMAGE_WIDTH / _HEIGHT):
+ * width x height beyond the pixel limit, or bytes beyond what this machine can address
+ * (16 bytes a pixel, the widest format). 0 takes the render size, unknown here: the
+ * render checks that one. */
+static void check_image_size(checker *k, const lg_gnode *n, const lg_node_type *ty,
+                             const lg_cnode *cn, const int32_t *winner)
+{
+    int32_t wi = -1, hi = -1;
+    for (uint32_t i = 0; i < ty->n_params; i++) {
+        if (ty->params[i].type != LG_PARAM_INT)
+            continue;
+        if (ty->params[i].role == LG_ROLE_IMAGE_WIDTH && wi < 0)
+            wi = (int32_t)i;
+        else if (ty->params[i].role == LG_ROLE_IMAGE_HEIGHT && hi < 0)
+            hi = (int32_t)i;
+    }
+    if (wi < 0 || hi < 0)
+        return;
+    int64_t w = cn->params[wi].i, h = cn->params[hi].i;
+    if (w <= 0 || h <= 0)
+        return;
+    uint64_t px = (uint64_t)w * (uint64_t)h; /* both below 2^63 / 2^31 in practice */
+    bool overflow = (uint64_t)w > UINT64_MAX / (uint64_t)h;
+    uint64_t limit = k->sc->max_pixels;
+    bool too_many = limit && (overflow || px > limit);
+    bool too_big = overflow || px > SIZE_MAX / 16;
+    if (!too_many && !too_big)
+        return;
+    /* At a value that was set: one from the command line (--set) first, else the later of
+     * the two in the file; at the node when both are defaults. */
+    lg_srcloc loc = n->loc;
+    int32_t at = winner[hi] >= 0 ? winner[hi] : winner[wi];
+    if (winner[wi] >= 0 && winner[hi] >= 0) {
+        bool wraw = n->assigns[winner[wi]].value.kind == LG_GV_RAW;
+        bool hraw = n->assigns[winner[hi]].value.kind == LG_GV_RAW;
+        if (wraw != hraw)
+            at = wraw ? winner[wi] : winner[hi];
+        else if (winner[wi] > winner[hi])
+            at = winner[wi];
+    }
+    if (at >= 0)
+        loc = n->assigns[at].value.loc;
+    const char *wk = ty->params[wi].key, *hk = ty->params[hi].key;
+    if (too_many)
+        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) makes a %lldx%lld image (%s x %s): "
+             "%llu pixels, over the limit of %llu (LIGHTGRAPH_MAX_PIXELS raises it)", n->name,
+             ty->name, (long long)w, (long long)h, wk, hk, overflow ? 0ull : (unsigned long long)px,
+             (unsigned long long)limit);
+    else
+        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) makes a %lldx%lld image (%s x %s): too "
+             "large for this machine's memory", n->name, ty->name, (long long)w, (long long)h,
+             wk, hk);
+}
+
 static void check_node(checker *k, uint32_t ni)
 {
     const lg_gnode *n = &k->g->nodes[ni];
@@ -616,6 +676,7 @@ static void check_node(checker *k, uint32_t ni)
             default_param(pd, &cn->params[i]);
         }
     }
+    check_image_size(k, n, ty, cn, winner);
     for (uint32_t i = 0; i < ty->n_inputs; i++) {
         int32_t w = winner[ty->n_params + i];
         if (w >= 0)
@@ -692,11 +753,19 @@ static void report_cycle(checker *k, const graph_adj *a, const int32_t *comp, in
     uint32_t len = 0;
     for (int32_t v = last; v >= 0 && (uint32_t)v != start; v = parent[v])
         queue[len++] = (uint32_t)v;
+    /* The cycle is start, queue[len - 1], ..., queue[0], start: len + 2 names. A long one is
+     * shown by its first 8 and last 7, so that the message stays short. */
+    uint32_t total = len + 2, head = 8, tail = 7;
     lg_str b = {0};
-    lg_str_add(&b, k->g->nodes[start].name);
-    for (uint32_t i = len; i > 0; i--)
-        lg_str_addf(&b, " -> %s", k->g->nodes[queue[i - 1]].name);
-    lg_str_addf(&b, " -> %s", k->g->nodes[start].name);
+    for (uint32_t j = 0; j < total; j++) {
+        if (total > head + tail + 1 && j == head) {
+            lg_str_addf(&b, " -> ... (%u more)", total - head - tail);
+            j = total - tail - 1;
+            continue;
+        }
+        uint32_t v = j == 0 || j == total - 1 ? start : queue[len - j];
+        lg_str_addf(&b, "%s%s", j ? " -> " : "", k->g->nodes[v].name);
+    }
     diag(k, LG_DIAG_ERROR, k->g->nodes[start].loc, "cycle: %s", b.s);
     lg_str_free(&b);
     free(parent);

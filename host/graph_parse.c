@@ -24,12 +24,22 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include "lightgraph/file.h"
 #include "util.h"
 
-#define MAX_FILE_BYTES (16u << 20) /* graph files are small; this keeps offsets in 32 bits */
+/* The limits of a graph (docs/graph-format.md, "Limits"); each is tested in
+ * tests/unit/parser. They keep the parser's memory linear in its input and small: a token
+ * costs about 72 bytes while it is parsed, a list item about 200. */
+#define MAX_FILE_BYTES (16u << 20)  /* a file and everything it includes, in all; this
+                                     * also keeps offsets in 32 bits */
+#define MAX_TOKENS (1u << 20)       /* names, numbers, strings and punctuation, all files */
+#define MAX_LIST_ITEMS 65536        /* items of one list (no parameter takes more than 3) */
 #define MAX_LIST_DEPTH 32
 #define MAX_INCLUDE_DEPTH 32
+#define MAX_NODES 100000
+#define MAX_NAME_BYTES 256          /* a name, key, type or NODE.PORT reference */
 #define MAX_ERRORS 100
 
 /* ---- arena ---------------------------------------------------------------------------- */
@@ -164,8 +174,10 @@ typedef struct source {
     const char *text;     /* NUL-terminated copy (may contain NULs, which are errors) */
     uint32_t len;
     uint32_t first_line;  /* 1 for files; n for the n-th --set */
-    uint32_t *line_starts;
-    uint32_t n_lines;
+    /* The last line looked up (messages come mostly in file order): lines are found by
+     * scanning from here, so that a file of 16 million empty lines costs no table. */
+    uint32_t seen_line, seen_off;
+    char *owned;          /* the text when the source took it over (freed with the pool) */
 } source;
 
 typedef struct pool {
@@ -176,23 +188,21 @@ typedef struct pool {
     uint32_t n_sets;
 } pool;
 
-static source *add_source(pool *pl, const char *name, const char *text, size_t len,
-                          uint32_t first_line)
+/* `text` is copied, or taken over when `take` (a malloc'd block of len + 1 bytes ending in
+ * a NUL, as lg_read_file_limit gives): a file's text is not held twice. */
+static source *add_source_ex(pool *pl, const char *name, const char *text, size_t len,
+                             uint32_t first_line, bool take)
 {
     source *s = arena_zalloc(&pl->a, sizeof *s);
     s->name = arena_strdup(&pl->a, name);
-    s->text = arena_strndup(&pl->a, text, len);
+    if (take)
+        s->text = s->owned = (char *)text;
+    else
+        s->text = arena_strndup(&pl->a, text, len);
     s->len = (uint32_t)len;
     s->first_line = first_line;
-    uint32_t n = 1;
-    for (uint32_t i = 0; i < s->len; i++)
-        n += s->text[i] == '\n';
-    s->line_starts = arena_alloc(&pl->a, n * sizeof *s->line_starts);
-    s->line_starts[0] = 0;
-    s->n_lines = 1;
-    for (uint32_t i = 0; i < s->len; i++)
-        if (s->text[i] == '\n')
-            s->line_starts[s->n_lines++] = i + 1;
+    s->seen_line = first_line;
+    s->seen_off = 0;
     if (pl->n_src == pl->cap_src) {
         pl->cap_src = pl->cap_src ? pl->cap_src * 2 : 8;
         pl->src = lg_xrealloc(pl->src, pl->cap_src * sizeof *pl->src);
@@ -201,17 +211,39 @@ static source *add_source(pool *pl, const char *name, const char *text, size_t l
     return s;
 }
 
-/* The text of line `line` of `s` without its line break, malloc'd; NULL if out of range. */
-static char *source_line(const source *s, uint32_t line)
+static source *add_source(pool *pl, const char *name, const char *text, size_t len,
+                          uint32_t first_line)
 {
-    if (line < s->first_line || line - s->first_line >= s->n_lines)
+    return add_source_ex(pl, name, text, len, first_line, false);
+}
+
+/* Line `line` of `s` without its line break: *n bytes at the returned pointer (inside the
+ * source's text, not copied); NULL if out of range. */
+static const char *source_line(source *s, uint32_t line, size_t *n)
+{
+    if (line < s->first_line)
         return NULL;
-    uint32_t a = s->line_starts[line - s->first_line], b = a;
-    while (b < s->len && s->text[b] != '\n')
-        b++;
-    while (b > a && s->text[b - 1] == '\r')
+    uint32_t l = s->seen_line, off = s->seen_off;
+    if (line < l) {
+        l = s->first_line;
+        off = 0;
+    }
+    while (l < line) {
+        const char *nl = memchr(s->text + off, '\n', s->len - off);
+        if (!nl)
+            return NULL;
+        off = (uint32_t)(nl - s->text) + 1;
+        l++;
+    }
+    s->seen_line = l;
+    s->seen_off = off;
+    uint32_t b = off;
+    const char *nl = memchr(s->text + off, '\n', s->len - off);
+    b = nl ? (uint32_t)(nl - s->text) : s->len;
+    while (b > off && s->text[b - 1] == '\r')
         b--;
-    return lg_xstrndup(s->text + a, b - a);
+    *n = b - off;
+    return s->text + off;
 }
 
 /* ---- parse session (one lg_graph_parse_* call, all files) ----------------------------- */
@@ -235,19 +267,21 @@ typedef struct session {
     uint32_t depth;
     const char **done;
     uint32_t n_done, cap_done;
+    uint32_t n_tokens;    /* lexed so far, all files (MAX_TOKENS) */
+    uint64_t n_bytes;     /* read so far, all files (MAX_FILE_BYTES in all) */
 } session;
 
-static void vreport(session *s, const source *src, lg_diag_level lvl, uint32_t line,
+static void vreport(session *s, source *src, lg_diag_level lvl, uint32_t line,
                     uint32_t col, uint32_t len, const char *fmt, va_list ap)
 {
     if (s->stop)
         return;
     char *msg = lg_vformat(fmt, ap);
-    char *text = src ? source_line(src, line) : NULL;
+    size_t n = 0;
+    const char *text = src ? source_line(src, line, &n) : NULL;
     lg_srcloc loc = {src ? src->name : NULL, line, col, len};
-    lg_diags_add(s->d, lvl, loc, text, "%s", msg);
+    lg_diags_add_line(s->d, lvl, loc, text, n, "%s", msg);
     free(msg);
-    free(text);
     if (lvl == LG_DIAG_ERROR && ++s->errors >= MAX_ERRORS) {
         lg_srcloc none = {src ? src->name : NULL, 0, 0, 0};
         lg_diags_add(s->d, LG_DIAG_NOTE, none, NULL, "too many errors (%u); stopping here",
@@ -256,10 +290,10 @@ static void vreport(session *s, const source *src, lg_diag_level lvl, uint32_t l
     }
 }
 
-static void report(session *s, const source *src, lg_diag_level lvl, uint32_t line,
+static void report(session *s, source *src, lg_diag_level lvl, uint32_t line,
                    uint32_t col, uint32_t len, const char *fmt, ...)
     __attribute__((format(printf, 7, 8)));
-static void report(session *s, const source *src, lg_diag_level lvl, uint32_t line,
+static void report(session *s, source *src, lg_diag_level lvl, uint32_t line,
                    uint32_t col, uint32_t len, const char *fmt, ...)
 {
     va_list ap;
@@ -368,6 +402,44 @@ static void set_err(parser *p, tok *t, uint32_t col, uint32_t len, const char *f
     t->len = len;
 }
 
+/* Past the items of a list beyond MAX_LIST_ITEMS: up to the ']' that closes it (not
+ * consumed), a brace or the end, making no tokens, so that the rest of a list costs
+ * nothing however long it is. Strings and comments are stepped over whole (a ']' in them
+ * does not count); line breaks are counted. */
+static uint32_t skip_list_tail(const char *s, uint32_t pos, uint32_t end, uint32_t *line,
+                               uint32_t *line_start)
+{
+    int depth = 0;
+    while (pos < end) {
+        char c = s[pos];
+        if (c == '\n') {
+            (*line)++;
+            *line_start = pos + 1;
+        } else if (c == '#') {
+            while (pos + 1 < end && s[pos + 1] != '\n')
+                pos++;
+        } else if (c == '"') {
+            pos++;
+            while (pos < end && s[pos] != '"' && s[pos] != '\n')
+                pos += s[pos] == '\\' && pos + 1 < end && s[pos + 1] != '\n' ? 2 : 1;
+            if (pos >= end)
+                return end;
+            if (s[pos] == '\n')
+                continue; /* counted above */
+        } else if (c == '[') {
+            depth++;
+        } else if (c == ']') {
+            if (depth == 0)
+                return pos;
+            depth--;
+        } else if (c == '{' || c == '}') {
+            return pos;
+        }
+        pos++;
+    }
+    return end;
+}
+
 /* Splits text[pos, end) into tokens. `pos` is 0 for files; for a --set value it is the
  * offset of the value inside the assignment, so that columns point into it. */
 static void lex(parser *p, uint32_t pos, uint32_t end)
@@ -377,6 +449,11 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
     uint32_t pend_first = 0, pend_n = 0;
     bool pend_blank = false, saw_blank = false, line_has_content = false;
     int32_t last_on_line = -1;
+    /* The lists open here: their items are counted (MAX_LIST_ITEMS); `want` is whether an
+     * item may start (after '[', ',' or a new line). Nesting beyond MAX_LIST_DEPTH counts at the last
+     * level; the parser refuses it. */
+    uint32_t ldepth = 0, litems[MAX_LIST_DEPTH + 1];
+    bool lwant[MAX_LIST_DEPTH + 1];
 
     if (pos == 0 && end >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
         pos = 3; /* a UTF-8 byte order mark */
@@ -388,6 +465,8 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             continue;
         }
         if (c == '\n') {
+            if (ldepth > 0) /* a new line separates list items as a comma does */
+                lwant[ldepth < MAX_LIST_DEPTH ? ldepth : MAX_LIST_DEPTH] = true;
             if (!line_has_content) {
                 saw_blank = true;
                 /* A blank line inside or after a run of comments is kept in the run, so
@@ -417,14 +496,35 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             uint32_t e = pos + 1;
             while (e < end && s[e] != '\n')
                 e++;
-            const char *nul = memchr(s + pos + 1, 0, e - pos - 1);
-            if (nul) {
-                /* Not allowed anywhere; the comment would be cut at the NUL. */
+            /* A NUL is not allowed anywhere (the comment would be cut at it), nor bytes
+             * that are not UTF-8: fmt writes comments back, and a graph file is text. */
+            uint32_t bad = UINT32_MAX;
+            for (uint32_t i = pos + 1; i < e; i++) {
+                unsigned char ch = (unsigned char)s[i];
+                if (ch == 0) {
+                    bad = i;
+                    break;
+                }
+                if (ch >= 0x80) {
+                    int k = lg_utf8_char_len((const unsigned char *)s + i, e - i);
+                    if (k == 0) {
+                        bad = i;
+                        break;
+                    }
+                    i += (uint32_t)k - 1;
+                }
+            }
+            if (bad != UINT32_MAX) {
                 uint32_t k = push_tok(p);
                 tok *t = &p->t[k];
-                t->off = (uint32_t)(nul - s);
+                t->off = bad;
                 t->line = line;
-                set_err(p, t, t->off - line_start + 1, 1, "unexpected NUL byte in a comment");
+                if (s[bad] == 0)
+                    set_err(p, t, bad - line_start + 1, 1, "unexpected NUL byte in a comment");
+                else
+                    set_err(p, t, bad - line_start + 1, 1, "invalid UTF-8 in a comment: byte "
+                            "0x%02X at byte offset %u (a graph file is UTF-8 text)",
+                            (unsigned char)s[bad], bad);
                 last_on_line = (int32_t)k;
             }
             uint32_t te = e;
@@ -452,6 +552,50 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
         t->off = pos;
         t->line = line;
         t->col = pos - line_start + 1;
+        if (++p->s->n_tokens > MAX_TOKENS) {
+            /* One error, then the end: the rest of the file is not read. */
+            t->len = 1;
+            set_err(p, t, t->col, 1, "the graph has more than %u tokens (names, numbers, "
+                    "strings and punctuation, its includes counted); that is the limit",
+                    MAX_TOKENS);
+            pos = end;
+            break;
+        }
+        {
+            uint32_t ld = ldepth < MAX_LIST_DEPTH ? ldepth : MAX_LIST_DEPTH;
+            if (ldepth > 0 && lwant[ld] && c != ',' && c != ']' && c != '{' && c != '}') {
+                lwant[ld] = false;
+                if (++litems[ld] > MAX_LIST_ITEMS) {
+                    t->len = 1;
+                    set_err(p, t, t->col, 1, "this list has more than %u items; that is the "
+                            "limit", MAX_LIST_ITEMS);
+                    last_on_line = (int32_t)k;
+                    line_has_content = true;
+                    pend_n = 0;
+                    lwant[ld] = true; /* the next item is not counted again */
+                    litems[ld] = 0;
+                    uint32_t l0 = line;
+                    pos = skip_list_tail(s, pos, end, &line, &line_start);
+                    if (line != l0) {
+                        line_has_content = false;
+                        last_on_line = -1;
+                    }
+                    continue;
+                }
+            }
+            if (c == ',' && ldepth > 0) {
+                lwant[ld] = true;
+            } else if (c == '[') {
+                ldepth++;
+                ld = ldepth < MAX_LIST_DEPTH ? ldepth : MAX_LIST_DEPTH;
+                litems[ld] = 0;
+                lwant[ld] = true;
+            } else if (c == ']' && ldepth > 0) {
+                ldepth--;
+            } else if (c == '{' || c == '}') {
+                ldepth = 0;
+            }
+        }
         t->c_first = pend_first;
         t->c_n = pend_n;
         t->blank_before = pend_n ? pend_blank : saw_blank;
@@ -486,6 +630,9 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
                             (int)(e - pos), s + pos);
                 }
             }
+            if (e - pos > MAX_NAME_BYTES)
+                set_err(p, t, t->col, e - pos, "this name is %u characters long; names have at "
+                        "most %u", e - pos, MAX_NAME_BYTES);
             t->len = e - pos;
             pos = e;
             continue;
@@ -618,6 +765,22 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
                     e++;
                     continue;
                 }
+                if (ch >= 0x80) {
+                    int u = lg_utf8_char_len((const unsigned char *)s + e, end - e);
+                    if (u == 0) {
+                        if (!msg) {
+                            mcol = e - line_start + 1;
+                            mlen = 1;
+                            msg = lg_xasprintf("invalid UTF-8 in a string: byte 0x%02X at byte "
+                                               "offset %u (strings are UTF-8 text)", ch, e);
+                        }
+                        e++;
+                        continue;
+                    }
+                    lg_str_addn(&b, s + e, (size_t)u);
+                    e += (uint32_t)u;
+                    continue;
+                }
                 lg_str_addc(&b, (char)ch);
                 e++;
             }
@@ -655,17 +818,13 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
         default:
             if (c >= 0x80) {
                 /* Show a whole UTF-8 character. */
-                uint32_t e = pos + 1;
-                while (e < end && e - pos < 4 && ((unsigned char)s[e] & 0xC0) == 0x80)
-                    e++;
-                bool valid = (c & 0xE0) == 0xC0 ? e - pos == 2 : (c & 0xF0) == 0xE0 ? e - pos == 3
-                           : (c & 0xF8) == 0xF0 ? e - pos == 4 : false;
-                t->len = e - pos;
-                if (valid)
-                    set_err(p, t, t->col, t->len, "unexpected character '%.*s'", (int)(e - pos),
-                            s + pos);
+                int u = lg_utf8_char_len((const unsigned char *)s + pos, end - pos);
+                t->len = u > 0 ? (uint32_t)u : 1;
+                if (u > 0)
+                    set_err(p, t, t->col, t->len, "unexpected character '%.*s'", u, s + pos);
                 else
-                    set_err(p, t, t->col, t->len, "unexpected byte 0x%02X (not UTF-8 text)", c);
+                    set_err(p, t, t->col, t->len, "unexpected byte 0x%02X at byte offset %u "
+                            "(not UTF-8 text)", c, pos);
             } else if (c < 0x20 || c == 0x7f) {
                 set_err(p, t, t->col, 1, "unexpected control character 0x%02X", c);
             } else {
@@ -1020,12 +1179,19 @@ static void add_node(parser *p, lg_gnode *n)
         const lg_gnode *f = &s->nodes[prev];
         report(s, p->src, LG_DIAG_ERROR, n->loc.line, n->loc.col, n->loc.len,
                "node '%s' is defined twice", n->name);
-        const source *fs = NULL;
+        source *fs = NULL;
         for (uint32_t i = 0; i < s->pl->n_src; i++)
             if (s->pl->src[i]->name == f->loc.file)
                 fs = s->pl->src[i];
         report(s, fs, LG_DIAG_NOTE, f->loc.line, f->loc.col, f->loc.len,
                "'%s' was first defined here", n->name);
+        return;
+    }
+    if (s->n_nodes >= MAX_NODES) {
+        report(s, p->src, LG_DIAG_ERROR, n->loc.line, n->loc.col, n->loc.len,
+               "the graph has more than %u nodes (its includes counted); that is the limit",
+               MAX_NODES);
+        s->stop = true; /* one message, not one per node */
         return;
     }
     if (s->n_nodes == s->cap_nodes) {
@@ -1280,25 +1446,34 @@ static void parse_output(parser *p)
 
 static void parse_body(parser *p);
 
-static bool read_error_reported(parser *p, const tok *f, const char *full)
+/* Whether `text` starts like a graph file: after blank lines, comments and a byte order
+ * mark, the word 'lightgraph' as the version line's (not a node called so). An included
+ * file that does not is not parsed at all, so that including /proc/self/status or a PNG
+ * gives one message instead of an echo of its lines. */
+static bool looks_like_graph(const char *text, size_t len)
 {
-    struct stat st;
-    if (stat(full, &st) != 0) {
-        tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full,
-                   strerror(errno));
-        return true;
+    size_t i = len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    for (;;) {
+        while (i < len && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r' ||
+                           text[i] == '\n' || text[i] == '\f' || text[i] == '\v'))
+            i++;
+        if (i < len && text[i] == '#') {
+            while (i < len && text[i] != '\n')
+                i++;
+            continue;
+        }
+        break;
     }
-    if (!S_ISREG(st.st_mode)) {
-        tok_report(p, f, LG_DIAG_ERROR, "included file '%s' is not a regular file", full);
-        return true;
-    }
-    if ((unsigned long long)st.st_size > MAX_FILE_BYTES) {
-        tok_report(p, f, LG_DIAG_ERROR, "included file '%s' is too large (%llu bytes; the "
-                   "limit is %u MiB)", full, (unsigned long long)st.st_size,
-                   MAX_FILE_BYTES >> 20);
-        return true;
-    }
-    return false;
+    static const char word[] = "lightgraph";
+    size_t n = sizeof word - 1;
+    if (len - i < n || memcmp(text + i, word, n) != 0)
+        return false;
+    i += n;
+    if (i < len && (is_ident_char((unsigned char)text[i]) || text[i] == '.'))
+        return false;
+    while (i < len && (text[i] == ' ' || text[i] == '\t'))
+        i++;
+    return !(i < len && text[i] == '=');
 }
 
 static void do_include(parser *p, const tok *f)
@@ -1329,17 +1504,38 @@ static void do_include(parser *p, const tok *f)
                    MAX_INCLUDE_DEPTH);
         goto out;
     }
-    if (read_error_reported(p, f, full))
-        goto out;
     size_t len = 0;
     char why[256];
-    char *text = lg_read_file_limit(full, MAX_FILE_BYTES, &len, why, sizeof why);
+    /* The one bounded reader: regular files only (a FIFO, a device or a directory is
+     * refused without blocking), the size checked against what is left of the graph's
+     * MAX_FILE_BYTES before a byte is read. */
+    uint64_t size = 0;
+    int fd = lg_file_open(full, MAX_FILE_BYTES, &size, why, sizeof why);
+    if (fd < 0) {
+        tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full, why);
+        goto out;
+    }
+    if (s->n_bytes + size > MAX_FILE_BYTES) {
+        close(fd);
+        tok_report(p, f, LG_DIAG_ERROR, "cannot include '%s' (%llu bytes): a graph file and "
+                   "its includes have at most %u MiB in all", full, (unsigned long long)size,
+                   MAX_FILE_BYTES >> 20);
+        goto out;
+    }
+    char *text = lg_file_read_fd(fd, size, &len, why, sizeof why);
+    close(fd);
     if (!text) {
         tok_report(p, f, LG_DIAG_ERROR, "cannot read included file '%s': %s", full, why);
         goto out;
     }
-    source *src = add_source(pl, full, text, len, 1);
-    free(text);
+    if (!looks_like_graph(text, len)) {
+        tok_report(p, f, LG_DIAG_ERROR, "included file '%s' is not a graph file: it does not "
+                   "start with the version line 'lightgraph 1'", full);
+        free(text);
+        goto out;
+    }
+    s->n_bytes += len;
+    source *src = add_source_ex(pl, full, text, len, 1, true);
     const char *abs_i = arena_strdup(&pl->a, abs);
     if (s->n_done == s->cap_done) {
         s->cap_done = s->cap_done ? s->cap_done * 2 : 8;
@@ -1528,6 +1724,8 @@ void lg_graph_free(lg_graph *g)
         return;
     pool *pl = g->pool;
     if (pl) {
+        for (uint32_t i = 0; i < pl->n_src; i++)
+            free(pl->src[i]->owned);
         arena_free(&pl->a);
         free(pl->src);
         strmap_free(&pl->nodes);
@@ -1547,6 +1745,7 @@ static lg_graph *parse_root(lg_graph *g, source *src, const char *base_dir, cons
     s.g = g;
     s.d = d;
     g->path = (char *)src->name;
+    s.n_bytes = src->len;
     s.stack_name[0] = src->name;
     s.stack_abs[0] = abs ? arena_strdup(&pl->a, abs) : NULL;
     s.depth = 1;
@@ -1612,8 +1811,7 @@ lg_graph *lg_graph_parse_file(const char *path, lg_diags *diags)
         return NULL;
     }
     lg_graph *g = new_graph();
-    source *src = add_source(g->pool, path, text, len, 1);
-    free(text);
+    source *src = add_source_ex(g->pool, path, text, len, 1, true);
     char *dir = lg_path_dirname(path);
     char *abs = lg_path_absolute(path);
     g = parse_root(g, src, dir, abs, diags);
@@ -1638,20 +1836,20 @@ int32_t lg_graph_find_node(const lg_graph *g, const char *name)
 void lg_graph_diag(lg_diags *d, const lg_graph *g, lg_diag_level level, lg_srcloc loc,
                    const char *fmt, ...)
 {
-    char *text = NULL;
+    const char *text = NULL;
+    size_t n = 0;
     const pool *pl = g ? g->pool : NULL;
     for (uint32_t i = 0; pl && i < pl->n_src; i++)
         if (pl->src[i]->name == loc.file) {
-            text = source_line(pl->src[i], loc.line);
+            text = source_line(pl->src[i], loc.line, &n);
             break;
         }
     va_list ap;
     va_start(ap, fmt);
     char *msg = lg_vformat(fmt, ap);
     va_end(ap);
-    lg_diags_add(d, level, loc, text, "%s", msg);
+    lg_diags_add_line(d, level, loc, text, n, "%s", msg);
     free(msg);
-    free(text);
 }
 
 /* ---- --set ------------------------------------------------------------------------------ */
@@ -1676,6 +1874,21 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
     s.g = g;
     s.d = diags;
     const char *form = " (--set NODE.PARAM=VALUE)";
+
+    /* The value may be taken as raw text (a path, a string, an enum), not only lexed: the
+     * whole assignment must be UTF-8, as a graph file is. */
+    for (uint32_t i = 0; i < alen; i++) {
+        unsigned char ch = (unsigned char)a[i];
+        if (ch < 0x80)
+            continue;
+        int u = lg_utf8_char_len((const unsigned char *)a + i, alen - i);
+        if (u == 0) {
+            report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, 1, "invalid UTF-8: byte 0x%02X at "
+                   "byte offset %u%s", ch, i, form);
+            return -1;
+        }
+        i += (uint32_t)u - 1;
+    }
 
     uint32_t i = 0;
     while (i < alen && is_space(a[i]))

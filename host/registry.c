@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "lightgraph/file.h"
+#include "lightgraph/image.h"
 
 /* ---- descriptor validation ----------------------------------------------------------- */
 
@@ -199,7 +200,7 @@ static void put_list(lg_str *b, const char *const *l)
 
 static void put_desc(lg_str *b, const lg_plugin_desc *d)
 {
-    put_raw(b, "LGSCAN1", 8);
+    put_raw(b, "LGSCAN2", 8);
     put_u32(b, d->abi_major);
     put_u32(b, d->abi_minor);
     put_s(b, d->name);
@@ -248,6 +249,7 @@ static void put_desc(lg_str *b, const lg_plugin_desc *d)
             put_list(b, p->enum_values);
             put_s(b, p->doc);
             put_list(b, p->renamed_from);
+            put_u32(b, p->role);
         }
         for (int io = 0; io < 2; io++) {
             uint32_t n = io ? t->n_outputs : t->n_inputs;
@@ -334,8 +336,8 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
 {
     char magic[8];
     get_raw(r, magic, 8);
-    if (r->bad || memcmp(magic, "LGSCAN1", 8) != 0)
-        DFAIL("it does not start with LGSCAN1");
+    if (r->bad || memcmp(magic, "LGSCAN2", 8) != 0)
+        DFAIL("it does not start with LGSCAN2");
     p->abi_major = (uint16_t)get_u32(r);
     p->abi_minor = (uint16_t)get_u32(r);
     p->name = get_s(r);
@@ -398,6 +400,7 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
             q->enum_values = get_list(r);
             q->doc = get_s(r);
             q->renamed_from = get_list(r);
+            q->role = get_u32(r);
         }
         for (int io = 0; io < 2 && !r->bad; io++) {
             uint32_t n = get_u32(r);
@@ -669,9 +672,9 @@ static int scan_one(lg_registry *r, const char *path)
         rc = -1;
     } else {
         lg_plugin p;
-        char why[600];
-        if (lg_registry_decode(b.s + 1, b.len - 1, &p, why, sizeof why) != 0) {
-            refuse(r, path, why);
+        char bad[600];
+        if (lg_registry_decode(b.s + 1, b.len - 1, &p, bad, sizeof bad) != 0) {
+            refuse(r, path, bad);
             rc = -1;
         } else {
             bool dup = false;
@@ -834,6 +837,7 @@ void lg_registry_schema(const lg_registry *r, lg_schema *out)
     out->lookup = schema_lookup;
     out->n_names = r->n_names;
     out->names = r->names;
+    out->max_pixels = lg_image_max_pixels();
 }
 
 int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)

@@ -344,9 +344,11 @@ static const lg_param_desc constant_params[] = {
       .doc = "linear RGB of every pixel" },
     { .key = "alpha", .type = LG_PARAM_FLOAT, .def.f = 1.0, .doc = "alpha of every pixel" },
     { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 65536,
-      .doc = "pixels; 0 = the render width (--size)" },
+      .doc = "pixels; 0 = the render width (--size)",
+      .role = LG_ROLE_IMAGE_WIDTH },
     { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 65536,
-      .doc = "pixels; 0 = the render height (--size)" },
+      .doc = "pixels; 0 = the render height (--size)",
+      .role = LG_ROLE_IMAGE_HEIGHT },
 };
 static const lg_port_desc constant_outputs[] = {
     { .name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f" },

@@ -925,9 +925,11 @@ static const lg_param_desc ph_params[] = {
       .doc = "none: draw both sides of every triangle; material: cull back faces unless the "
              "material is double-sided (glTF)" },
     { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
-      .doc = "output width in pixels; 0 = the render size (--size)" },
+      .doc = "output width in pixels; 0 = the render size (--size)",
+      .role = LG_ROLE_IMAGE_WIDTH },
     { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
-      .doc = "output height in pixels; 0 = the render size (--size)" },
+      .doc = "output height in pixels; 0 = the render size (--size)",
+      .role = LG_ROLE_IMAGE_HEIGHT },
     { .key = "background", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
       .doc = "radiance where no surface is, linear RGB (alpha is 1 everywhere)" },
     { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,

@@ -167,9 +167,11 @@ static const lg_param_desc pv_params[] = {
       .doc = "base_color: the material's base colour, unlit; normals: world normal * 0.5 + "
              "0.5; depth: linear depth from znear (black) to zfar (white)" },
     { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
-      .doc = "output width in pixels; 0 = the render size (--size)" },
+      .doc = "output width in pixels; 0 = the render size (--size)",
+      .role = LG_ROLE_IMAGE_WIDTH },
     { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
-      .doc = "output height in pixels; 0 = the render size (--size)" },
+      .doc = "output height in pixels; 0 = the render size (--size)",
+      .role = LG_ROLE_IMAGE_HEIGHT },
     { .key = "background", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
       .doc = "colour where no surface is, linear RGB (alpha is 1 everywhere)" },
     { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,

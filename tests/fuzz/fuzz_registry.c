@@ -102,7 +102,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* Pieces of a scan result: the magic, small and boundary counts, NULL strings. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("LGSCAN1\0"), LG_FUZZ_TOKEN("\0\0\0\0"), LG_FUZZ_TOKEN("\1\0\0\0"),
+    LG_FUZZ_TOKEN("LGSCAN2\0"), LG_FUZZ_TOKEN("\0\0\0\0"), LG_FUZZ_TOKEN("\1\0\0\0"),
     LG_FUZZ_TOKEN("\2\0\0\0"), LG_FUZZ_TOKEN("\x40\0\0\0"), LG_FUZZ_TOKEN("\0\1\0\0"),
     LG_FUZZ_TOKEN("\xff\xff\xff\xff"), LG_FUZZ_TOKEN("\x01\0\0\0x"), LG_FUZZ_TOKEN("\x03\0\0\0key"),
 };

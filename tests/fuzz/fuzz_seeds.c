@@ -119,7 +119,7 @@ typedef struct mini {
  * b) and float `gain` in [0, 2], one image input and one image output. */
 static void mini_result(lg_str *b, const mini *m)
 {
-    lg_str_addn(b, "LGSCAN1", 8);
+    lg_str_addn(b, "LGSCAN2", 8);
     u32(b, LG_ABI_MAJOR);
     u32(b, LG_ABI_MINOR);
     str(b, "mini");
@@ -155,6 +155,7 @@ static void mini_result(lg_str *b, const mini *m)
     } else {
         u32(b, UINT32_MAX);
     }
+    u32(b, 0); /* role */
 
     str(b, "mode");
     u32(b, LG_PARAM_ENUM);
@@ -170,6 +171,7 @@ static void mini_result(lg_str *b, const mini *m)
     str(b, "b");
     str(b, "how");
     u32(b, UINT32_MAX);
+    u32(b, 0); /* role */
 
     str(b, "gain");
     u32(b, LG_PARAM_FLOAT);
@@ -183,6 +185,7 @@ static void mini_result(lg_str *b, const mini *m)
     u32(b, UINT32_MAX);
     str(b, "linear factor");
     u32(b, UINT32_MAX);
+    u32(b, 0); /* role */
 
     u32(b, m->n_inputs);
     str(b, "image");
@@ -263,7 +266,7 @@ static int registry_seeds(const char *dir, int n, char **plugins)
 
     /* huge counts and lengths right after the header */
     lg_str h = {0};
-    lg_str_addn(&h, "LGSCAN1", 8);
+    lg_str_addn(&h, "LGSCAN2", 8);
     u32(&h, LG_ABI_MAJOR);
     u32(&h, LG_ABI_MINOR);
     size_t at = h.len;

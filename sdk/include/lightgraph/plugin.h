@@ -77,6 +77,20 @@ typedef struct lg_value {
     };
 } lg_value;
 
+/* What a parameter means to the host beyond its type (lg_param_desc.role, since ABI 2.1;
+ * zero, the default, says nothing). `lightgraph check` uses it to refuse, before anything
+ * runs, what the parameters alone make impossible. */
+typedef enum lg_param_role {
+    LG_ROLE_NONE = 0,
+    /* INT: the width / height in pixels of the images the node makes, 0 meaning the render
+     * size (as lg_output_size reads them). A node type that declares one of the pair
+     * declares both. With both set above 0, check refuses width x height beyond the pixel
+     * limit (lg_image_max_pixels(), LIGHTGRAPH_MAX_PIXELS) naming the node, the two
+     * parameters and the limit. */
+    LG_ROLE_IMAGE_WIDTH,
+    LG_ROLE_IMAGE_HEIGHT,
+} lg_param_role;
+
 /* One parameter of a node type, declared as data. Zero means "no": min == max means no
  * range; a NULL enum_values or renamed_from means none. For vectors and colours the
  * range applies to every component. */
@@ -88,7 +102,11 @@ typedef struct lg_param_desc {
     const char *const *enum_values;   /* LG_PARAM_ENUM: NULL-terminated list */
     const char *doc;                  /* one line: meaning and unit */
     const char *const *renamed_from;  /* old keys still accepted, with a warning */
-    void *reserved[4];
+    /* lg_param_role (since ABI 2.1). It takes the place of the first of four reserved
+     * pointers, which ABI 2.0 plugins leave zero: the struct's size and the offsets of
+     * the other fields are unchanged. */
+    uint32_t role;
+    void *reserved[3];
 } lg_param_desc;
 
 /* ---- Ports -------------------------------------------------------------------------- */

@@ -52,6 +52,15 @@ static const lg_port_desc sink_inputs[] = {
     {.name = "image", .kind = LG_KIND_IMAGE, .optional = true},
 };
 
+/* An image made at a size its parameters give (core's constant): check refuses sizes over
+ * the schema's pixel limit. */
+static const lg_param_desc solid_params[] = {
+    {.key = "w", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1 << 20,
+     .role = LG_ROLE_IMAGE_WIDTH},
+    {.key = "h", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1 << 20,
+     .role = LG_ROLE_IMAGE_HEIGHT},
+};
+
 static const lg_node_type types[] = {
     {.struct_size = sizeof(lg_node_type), .name = "image", LG_PARAMS(image_params),
      LG_OUTPUTS(out_image)},
@@ -66,11 +75,13 @@ static const lg_node_type types[] = {
     {.struct_size = sizeof(lg_node_type), .name = "blur", LG_PARAMS(blur_params),
      LG_INPUTS(blur_inputs), LG_OUTPUTS(out_image)},
     {.struct_size = sizeof(lg_node_type), .name = "sink", LG_INPUTS(sink_inputs)},
+    {.struct_size = sizeof(lg_node_type), .name = "solid", LG_PARAMS(solid_params),
+     LG_OUTPUTS(out_image)},
 };
 #define N_TYPES (sizeof types / sizeof types[0])
 
 static const char *const type_names[] = {"image", "reinhard", "add", "scene",
-                                         "gbuffer", "blur", "sink"};
+                                         "gbuffer", "blur", "sink", "solid"};
 
 static const lg_node_type *lookup(void *ctx, const char *name)
 {
@@ -85,6 +96,7 @@ static const lg_schema schema = {
     .lookup = lookup,
     .n_names = N_TYPES,
     .names = type_names,
+    .max_pixels = 1u << 27, /* LG_IMAGE_MAX_PIXELS_DEFAULT */
 };
 
 const lg_schema *lg_fake_schema(void)

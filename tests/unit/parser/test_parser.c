@@ -206,8 +206,8 @@ static void test_syntax_errors(void)
                                "output or include), found '='");
     EXPECT(HDR "x = image { } @\n", "t.lgraph:3:15: error: unexpected character '@'");
     EXPECT(HDR "x = image { } \xC3\xA9\n", "t.lgraph:3:15: error: unexpected character '\xC3\xA9'");
-    EXPECT(HDR "x = image { } \xFF\n", "t.lgraph:3:15: error: unexpected byte 0xFF (not UTF-8 "
-                                       "text)");
+    EXPECT(HDR "x = image { } \xFF\n", "t.lgraph:3:15: error: unexpected byte 0xFF at byte "
+                                       "offset 42 (not UTF-8 text)");
     EXPECT(HDR "tone = reinhard {\n  image = src\n", "t.lgraph:3:17: error: '{' of node 'tone' "
                                                     "is never closed");
     EXPECT(HDR "b = blur { image = src, grid = [1, 2\n",
@@ -1195,7 +1195,8 @@ static void test_includes(const char *data)
     g = lg_graph_parse_string("s.lgraph", inc, sizeof inc - 1, ".", &d);
     CHECK(!g);
     char *h = headers(&d);
-    CHECK_STR(h, "s.lgraph:3:9: error: included file 'sub' is not a regular file");
+    CHECK_STR(h, "s.lgraph:3:9: error: cannot read included file 'sub': it is a directory, not "
+                 "a regular file");
     free(h);
     lg_diags_free(&d);
     static const char inc2[] = "lightgraph 1\ninclude \"\"\n";
@@ -1267,8 +1268,9 @@ static void test_large(void)
     t1 = lg_now();
     CHECK(g && !c && d.errors == 1);
     if (d.n == 1) {
-        CHECK(strncmp(d.items[0].message, "cycle: n0 -> n49999 -> n49998 -> ", 33) == 0);
-        CHECK(ends_with(d.items[0].message, " -> n1 -> n0"));
+        CHECK_STR(d.items[0].message, "cycle: n0 -> n49999 -> n49998 -> n49997 -> n49996 -> "
+                  "n49995 -> n49994 -> n49993 -> ... (49986 more) -> n6 -> n5 -> n4 -> n3 -> n2 "
+                  "-> n1 -> n0");
     }
     printf("%d-node ring: check %.3f s\n", n, t1 - t0);
     lg_graph_free(g);
@@ -1292,6 +1294,390 @@ static void test_large(void)
     lg_graph_free(g);
     lg_diags_free(&d);
     lg_str_free(&b);
+}
+
+/* ---- limits (docs/graph-format.md "Limits") ------------------------------------------- */
+
+/* A text of `n` copies of `unit` between `head` and `tail`. */
+static char *repeat(const char *head, const char *unit, size_t n, const char *tail, size_t *len)
+{
+    size_t hu = strlen(head), uu = strlen(unit), tu = strlen(tail);
+    char *t = lg_xmalloc(hu + uu * n + tu + 1);
+    memcpy(t, head, hu);
+    for (size_t i = 0; i < n; i++)
+        memcpy(t + hu + i * uu, unit, uu);
+    memcpy(t + hu + uu * n, tail, tu + 1);
+    *len = hu + uu * n + tu;
+    return t;
+}
+
+static char *parse_headers(const char *text, size_t len, bool *ok)
+{
+    lg_diags d = {0};
+    lg_graph *g = lg_graph_parse_string("t.lgraph", text, len, "/base", &d);
+    *ok = g != NULL;
+    lg_graph_free(g);
+    char *h = headers(&d);
+    lg_diags_free(&d);
+    return h;
+}
+
+/* The source line shown under a message is an excerpt: at most LG_DIAG_EXCERPT_COLS
+ * characters around the column, "..." where cut, control bytes as '?'. */
+static void test_excerpt(void)
+{
+    size_t len;
+    /* an error at column 10023 of a 20 kB line: 33 characters before it, 66 after */
+    char *t = repeat("lightgraph 1\nx = image { file = \"", "x", 10000, "\" @ } # ", &len);
+    char *big = lg_xmalloc(len + 10001);
+    memcpy(big, t, len);
+    memset(big + len, 'y', 10000);
+    big[len + 10000] = 0;
+    run r;
+    run_text(&r, big, NULL);
+    char *p = printed(&r.d);
+    CHECK_STR(p, "t.lgraph:2:10023: error: unexpected character '@'\n"
+                 "...xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\" @ } # yyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyyy"
+                 "yyyyyyyyyyyyyyyyyyyyyyy...\n"
+                 "                                    ^\n");
+    free(p);
+    run_free(&r);
+    free(big);
+    free(t);
+    /* near the end of a long line: the window fills up backwards */
+    t = repeat("lightgraph 1\nx = image { file = \"", "x", 300, "\" @ }", &len);
+    run_text(&r, t, NULL);
+    p = printed(&r.d);
+    /* "..." and 95 x, the quote and a space: the caret in column 101 */
+    size_t wl;
+    char *w1 = repeat("t.lgraph:2:323: error: unexpected character '@'\n...", "x", 95,
+                      "\" @ }\n", &wl);
+    char *w2 = repeat(w1, " ", 100, "^\n", &wl);
+    CHECK_STR(p, w2);
+    free(w1);
+    free(w2);
+    free(p);
+    run_free(&r);
+    free(t);
+    /* an escape sequence in the file does not reach the terminal; the underline stays
+     * under the string */
+    run_text(&r, "lightgraph 1\nx = image { file = \"\x1b[31mred\" }\n", NULL);
+    p = printed(&r.d);
+    CHECK_STR(p, "t.lgraph:2:21: error: control character 0x1B in a string\n"
+                 "x = image { file = \"?[31mred\" }\n"
+                 "                    ^\n");
+    free(p);
+    run_free(&r);
+    /* lg_diags_add with a long line from any caller keeps an excerpt, not the line */
+    lg_diags d = {0};
+    char *line = lg_xmalloc(1000001);
+    memset(line, 'a', 1000000);
+    line[1000000] = 0;
+    lg_srcloc at = {"x.lgraph", 7, 500000, 3};
+    lg_diags_add(&d, LG_DIAG_ERROR, at, line, "here");
+    CHECK(d.items[0].line_text && strlen(d.items[0].line_text) <= LG_DIAG_EXCERPT_COLS + 6);
+    CHECK(d.items[0].text_col == 37 && d.items[0].text_len == 3);
+    free(line);
+    lg_diags_free(&d);
+}
+
+/* Graph text is UTF-8: strings and comments with bytes that are not are refused with the
+ * byte offset; overlong forms, surrogates and code points past U+10FFFF included. */
+static void test_utf8(void)
+{
+    static const struct {
+        const char *bytes;
+        int len;
+    } cases[] = {
+        {"a", 1}, {"\xC3\xA9", 2}, {"\xE2\x82\xAC", 3}, {"\xF0\x9F\x98\x80", 4},
+        {"\xF4\x8F\xBF\xBF", 4},                     /* U+10FFFF */
+        {"\xC0\x80", 0}, {"\xC1\xBF", 0},             /* overlong 2-byte */
+        {"\xE0\x80\xAF", 0}, {"\xF0\x80\x80\xAF", 0}, /* overlong 3- and 4-byte */
+        {"\xED\xA0\x80", 0}, {"\xED\xBF\xBF", 0},     /* surrogates */
+        {"\xF4\x90\x80\x80", 0}, {"\xF5\x80\x80\x80", 0}, /* past U+10FFFF */
+        {"\x80", 0}, {"\xE2\x82", 0}, {"\xFF", 0},    /* stray, truncated, never UTF-8 */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        CHECK(lg_utf8_char_len((const unsigned char *)cases[i].bytes,
+                               strlen(cases[i].bytes)) == cases[i].len);
+
+    EXPECT("lightgraph 1\nx = image { file = \"caf\xC3\xA9 \xF0\x9F\x98\x80\" }\n", "");
+    EXPECT("lightgraph 1\nx = image { file = \"a\xC0\x80\" }\n",
+           "t.lgraph:2:22: error: invalid UTF-8 in a string: byte 0xC0 at byte offset 34 "
+           "(strings are UTF-8 text)");
+    EXPECT("lightgraph 1\nx = image { file = \"\xED\xA0\x80\" }\n",
+           "t.lgraph:2:21: error: invalid UTF-8 in a string: byte 0xED at byte offset 33 "
+           "(strings are UTF-8 text)");
+    EXPECT("lightgraph 1\nx = image { file = \"\xF4\x90\x80\x80\" }\n",
+           "t.lgraph:2:21: error: invalid UTF-8 in a string: byte 0xF4 at byte offset 33 "
+           "(strings are UTF-8 text)");
+    EXPECT("lightgraph 1\nx = image { file = \"ab\xE2\x82\" }\n",
+           "t.lgraph:2:23: error: invalid UTF-8 in a string: byte 0xE2 at byte offset 35 "
+           "(strings are UTF-8 text)");
+    /* comments too: fmt writes them back */
+    EXPECT("lightgraph 1\n# caf\xC3\xA9 ok\n# bad \xFF here\nx = image {}\n",
+           "t.lgraph:3:7: error: invalid UTF-8 in a comment: byte 0xFF at byte offset 30 (a "
+           "graph file is UTF-8 text)");
+    EXPECT("lightgraph 1\nx = image {} # \xED\xB0\x80\n",
+           "t.lgraph:2:16: error: invalid UTF-8 in a comment: byte 0xED at byte offset 28 (a "
+           "graph file is UTF-8 text)");
+    /* --set values are graph text too */
+    static const char *const sets[] = {"x.file=\"\xC3\x28\"", NULL};
+    EXPECT_SET("lightgraph 1\nx = image {}\n", sets,
+               "<command line>:1:9: error: invalid UTF-8: byte 0xC3 at byte offset 8 (--set "
+               "NODE.PARAM=VALUE)");
+    /* unquoted, where the text would be taken as it is */
+    static const char *const sets2[] = {"x.file=caf\xE9.exr", NULL};
+    EXPECT_SET("lightgraph 1\nx = image {}\n", sets2,
+               "<command line>:1:11: error: invalid UTF-8: byte 0xE9 at byte offset 10 (--set "
+               "NODE.PARAM=VALUE)");
+    static const char *const sets3[] = {"x.file=caf\xC3\xA9.exr", NULL};
+    EXPECT_SET("lightgraph 1\nx = image {}\n", sets3, "");
+}
+
+static void test_limits(void)
+{
+    size_t len;
+    bool ok;
+    /* lists: 65536 items parse; one more is refused where it starts, and the rest of the
+     * list is skipped (no token made for it) */
+    char *t = repeat("lightgraph 1\nx = blur { tint = [", "1,", 65535, "1] }\n", &len);
+    char *h = parse_headers(t, len, &ok);
+    CHECK(ok);
+    CHECK_STR(h, "");
+    free(h);
+    free(t);
+    t = repeat("lightgraph 1\nx = blur { tint = [", "1,", 100000, "1], radius = x }\ny = z\n",
+               &len);
+    h = parse_headers(t, len, &ok);
+    CHECK(!ok);
+    CHECK_STR(h, "t.lgraph:2:131092: error: this list has more than 65536 items; that is the "
+                 "limit\n"
+                 "t.lgraph:3:6: error: expected '{' after the node type 'z', found the end of the "
+                 "line");
+    free(h);
+    free(t);
+    /* items separated by new lines count as well (fmt would write them with commas) */
+    t = repeat("lightgraph 1\nx = blur { tint = [", "1\n", 65536, "1] }\n", &len);
+    h = parse_headers(t, len, &ok);
+    CHECK_STR(h, "t.lgraph:65538:1: error: this list has more than 65536 items; that is the "
+                 "limit");
+    free(h);
+    free(t);
+    /* the skipped tail may span lines, hold nested lists, strings with ']' and comments */
+    t = repeat("lightgraph 1\nx = blur { tint = [", "1,", 65536,
+               "[2, [3]], \"]\" # ]\n 4, 5\n], radius = 1 }\nlightgraph 1\n", &len);
+    h = parse_headers(t, len, &ok);
+    CHECK_STR(h, "t.lgraph:2:131092: error: this list has more than 65536 items; that is the "
+                 "limit\n"
+                 "t.lgraph:5:1: error: the version line must come first, and only once");
+    free(h);
+    free(t);
+    /* tokens: 2^20 in all (here 26 a line: the 21st of line 40331 is one too many); the
+     * rest of the file is not lexed */
+    lg_str b = {0};
+    lg_str_add(&b, "lightgraph 1\n");
+    for (int i = 0; i < 50000; i++)
+        lg_str_addf(&b, "n%05d = blur { radius = 1, offset = [1, 2], grid = [1, 2, 3] }\n", i);
+    h = parse_headers(b.s, b.len, &ok);
+    CHECK(!ok);
+    CHECK_STR(h, "t.lgraph:40331:55: error: the graph has more than 1048576 tokens (names, "
+                 "numbers, strings and punctuation, its includes counted); that is the limit\n"
+                 "t.lgraph:40331:15: error: '{' of node 'n40329' is never closed");
+    free(h);
+    lg_str_free(&b);
+    /* names: 256 characters, NODE.PORT counted whole */
+    char name[300];
+    memset(name, 'k', sizeof name);
+    name[256] = 0;
+    lg_str nb = {0};
+    lg_str_addf(&nb, "lightgraph 1\nx = image { %s = 1 }\n", name);
+    h = parse_headers(nb.s, nb.len, &ok);
+    CHECK(ok);
+    CHECK_STR(h, "");
+    free(h);
+    lg_str_free(&nb);
+    name[256] = 'k';
+    name[257] = 0;
+    lg_str_addf(&nb, "lightgraph 1\nx = image { %s = 1, y = a.%s }\n", name, name + 2);
+    h = parse_headers(nb.s, nb.len, &ok);
+    CHECK(!ok);
+    CHECK_STR(h, "t.lgraph:2:13: error: this name is 257 characters long; names have at most "
+                 "256\n"
+                 "t.lgraph:2:280: error: this name is 257 characters long; names have at most "
+                 "256");
+    free(h);
+    lg_str_free(&nb);
+    /* a message that quotes something long is cut at LG_DIAG_MAX_MESSAGE bytes */
+    lg_str_add(&nb, "lightgraph 1\ninclude \"");
+    for (int i = 0; i < 3000; i++)
+        lg_str_add(&nb, "\xC3\xA9");
+    lg_str_add(&nb, "\"\n");
+    lg_diags dd = {0};
+    lg_graph *gg = lg_graph_parse_string("t.lgraph", nb.s, nb.len, "/nonexistent", &dd);
+    CHECK(!gg && dd.n == 1);
+    if (dd.n == 1) {
+        const char *m = dd.items[0].message;
+        size_t ml = strlen(m);
+        CHECK(ml <= LG_DIAG_MAX_MESSAGE && ml >= LG_DIAG_MAX_MESSAGE - 4);
+        CHECK(strncmp(m, "cannot read included file '/nonexistent/\xC3\xA9", 42) == 0);
+        CHECK(strcmp(m + ml - 5, "\xC3\xA9...") == 0); /* cut between characters */
+    }
+    lg_diags_free(&dd);
+    lg_str_free(&nb);
+    /* nodes: 100000 */
+    lg_str_add(&b, "lightgraph 1\n");
+    for (int i = 0; i <= 100000; i++)
+        lg_str_addf(&b, "n%d = image {}\n", i);
+    h = parse_headers(b.s, b.len, &ok);
+    CHECK(!ok);
+    CHECK_STR(h, "t.lgraph:100002:1: error: the graph has more than 100000 nodes (its includes "
+                 "counted); that is the limit");
+    free(h);
+    lg_str_free(&b);
+}
+
+/* Includes: depth, the bytes of a graph in all, files that are not graphs, and the path
+ * rule (relative to the including file; absolute paths and '..' allowed). */
+static void test_include_limits(void)
+{
+    char dir[] = "/tmp/lg-parser-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(!"mkdtemp");
+        return;
+    }
+    char path[PATH_MAX];
+    /* a chain of 34 files: the 33rd include is one too deep */
+    for (int i = 0; i < 34; i++) {
+        snprintf(path, sizeof path, "%s/c%d.lgraph", dir, i);
+        FILE *f = fopen(path, "w");
+        fprintf(f, "lightgraph 1\nn%d = image {}\n", i);
+        if (i < 33)
+            fprintf(f, "include \"c%d.lgraph\"\n", i + 1);
+        fclose(f);
+    }
+    lg_diags d = {0};
+    snprintf(path, sizeof path, "%s/c0.lgraph", dir);
+    lg_graph *g = lg_graph_parse_file(path, &d);
+    CHECK(!g && d.errors == 1);
+    char want[PATH_MAX + 200];
+    snprintf(want, sizeof want, "%s/c31.lgraph:3:9: error: includes are nested more than 32 "
+             "deep", dir);
+    char *h = headers(&d);
+    CHECK_STR(h, want);
+    free(h);
+    lg_diags_free(&d);
+    /* 32 files deep (the top one and 31 nested includes) is fine */
+    snprintf(path, sizeof path, "%s/c2.lgraph", dir);
+    g = lg_graph_parse_file(path, &d);
+    CHECK(g && g->n_nodes == 32 && d.n == 0);
+    lg_graph_free(g);
+    lg_diags_free(&d);
+
+    /* 16 MiB for a graph with its includes: a sparse file of 16 MiB less 10 bytes passes
+     * the per-file check but not the total (refused before a byte of it is read) */
+    snprintf(path, sizeof path, "%s/huge.lgraph", dir);
+    FILE *f = fopen(path, "w");
+    CHECK(f && ftruncate(fileno(f), (16 << 20) - 10) == 0);
+    fclose(f);
+    static const char top[] = "lightgraph 1\ninclude \"huge.lgraph\"\n";
+    g = lg_graph_parse_string("t.lgraph", top, sizeof top - 1, dir, &d);
+    CHECK(!g);
+    snprintf(want, sizeof want, "t.lgraph:2:9: error: cannot include '%s/huge.lgraph' (16777206 "
+             "bytes): a graph file and its includes have at most 16 MiB in all", dir);
+    h = headers(&d);
+    CHECK_STR(h, want);
+    free(h);
+    lg_diags_free(&d);
+
+    /* not a graph file: one message, none of its lines */
+    snprintf(path, sizeof path, "%s/notes.txt", dir);
+    f = fopen(path, "w");
+    fprintf(f, "Name:\tx\nState:\tR (running)\n= { [ \"\n");
+    fclose(f);
+    snprintf(path, sizeof path, "%s/empty.lgraph", dir);
+    f = fopen(path, "w");
+    fprintf(f, "# only a comment\n\n");
+    fclose(f);
+    snprintf(path, sizeof path, "%s/named.lgraph", dir);
+    f = fopen(path, "w");
+    fprintf(f, "lightgraph = image {}\n");
+    fclose(f);
+    static const char inc[] = "lightgraph 1\ninclude \"notes.txt\"\ninclude \"empty.lgraph\"\n"
+                              "include \"named.lgraph\"\n";
+    g = lg_graph_parse_string("t.lgraph", inc, sizeof inc - 1, dir, &d);
+    CHECK(!g && d.errors == 3);
+    h = headers(&d);
+    snprintf(want, sizeof want,
+             "t.lgraph:2:9: error: included file '%s/notes.txt' is not a graph file: it does not "
+             "start with the version line 'lightgraph 1'\n"
+             "t.lgraph:3:9: error: included file '%s/empty.lgraph' is not a graph file: it does "
+             "not start with the version line 'lightgraph 1'\n"
+             "t.lgraph:4:9: error: included file '%s/named.lgraph' is not a graph file: it does "
+             "not start with the version line 'lightgraph 1'", dir, dir, dir);
+    CHECK_STR(h, want);
+    free(h);
+    lg_diags_free(&d);
+    /* a special file goes through the bounded reader too: one message, no hang */
+    static const char proc[] = "lightgraph 1\ninclude \"/proc/self/status\"\n"
+                               "include \"/dev/zero\"\n";
+    g = lg_graph_parse_string("t.lgraph", proc, sizeof proc - 1, dir, &d);
+    CHECK(!g && d.errors == 2);
+    h = headers(&d);
+    CHECK(strstr(h, "t.lgraph:2:9: error: cannot read included file '/proc/self/status'") ||
+          strstr(h, "t.lgraph:2:9: error: included file '/proc/self/status' is not a graph"));
+    CHECK(strstr(h, "t.lgraph:3:9: error: cannot read included file '/dev/zero': it is a "
+                    "character device, not a regular file") != NULL);
+    CHECK(!strstr(h, "Pid") && !strstr(h, "VmRSS"));
+    free(h);
+    lg_diags_free(&d);
+
+    /* paths: relative to the including file, '..' and absolute paths allowed */
+    snprintf(path, sizeof path, "%s/sub", dir);
+    CHECK(mkdir(path, 0700) == 0);
+    snprintf(path, sizeof path, "%s/sub/up.lgraph", dir);
+    f = fopen(path, "w");
+    fprintf(f, "lightgraph 1\ninclude \"../c33.lgraph\"\n");
+    fclose(f);
+    char abs_inc[PATH_MAX + 64];
+    int n = snprintf(abs_inc, sizeof abs_inc, "lightgraph 1\ninclude \"sub/up.lgraph\"\n"
+                     "include \"%s/c32.lgraph\"\n", dir);
+    g = lg_graph_parse_string("t.lgraph", abs_inc, (size_t)n, dir, &d);
+    CHECK(g && g->n_nodes == 2 && d.n == 0);
+    if (g && g->n_nodes == 2)
+        CHECK(strcmp(g->nodes[0].name, "n33") == 0 && strcmp(g->nodes[1].name, "n32") == 0);
+    lg_graph_free(g);
+    lg_diags_free(&d);
+
+    char cmd[PATH_MAX + 16];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+}
+
+/* check refuses what the parameters alone make impossible: an image size (parameters with
+ * the LG_ROLE_IMAGE_WIDTH / _HEIGHT role) over the schema's pixel limit. */
+static void test_image_size(void)
+{
+    EXPECT("lightgraph 1\ns = solid { w = 65536, h = 65536 }\n",
+           "t.lgraph:2:28: error: node 's' (solid) makes a 65536x65536 image (w x h): "
+           "4294967296 pixels, over the limit of 134217728 (LIGHTGRAPH_MAX_PIXELS raises it)");
+    EXPECT("lightgraph 1\ns = solid { h = 1048576, w = 1048576 }\n",
+           "t.lgraph:2:30: error: node 's' (solid) makes a 1048576x1048576 image (w x h): "
+           "1099511627776 pixels, over the limit of 134217728 (LIGHTGRAPH_MAX_PIXELS raises "
+           "it)");
+    EXPECT("lightgraph 1\ns = solid { w = 4096, h = 4096 }\n", "");
+    EXPECT("lightgraph 1\ns = solid { w = 16384, h = 8192 }\n", ""); /* 2^27 exactly */
+    EXPECT("lightgraph 1\ns = solid { w = 16385, h = 8192 }\n",
+           "t.lgraph:2:28: error: node 's' (solid) makes a 16385x8192 image (w x h): "
+           "134225920 pixels, over the limit of 134217728 (LIGHTGRAPH_MAX_PIXELS raises it)");
+    /* 0 is the render size, which check does not know */
+    EXPECT("lightgraph 1\ns = solid { w = 0, h = 1048576 }\n", "");
+    /* a --set value is judged as well, at its place on the command line */
+    static const char *const sets[] = {"s.w=100000", NULL};
+    EXPECT_SET("lightgraph 1\ns = solid { w = 10, h = 100000 }\n", sets,
+               "<command line>:1:5: error: node 's' (solid) makes a 100000x100000 image (w x h): "
+               "10000000000 pixels, over the limit of 134217728 (LIGHTGRAPH_MAX_PIXELS raises "
+               "it)");
 }
 
 int main(int argc, char **argv)
@@ -1327,6 +1713,11 @@ int main(int argc, char **argv)
     test_dot();
     test_includes(data_abs);
     test_large();
+    test_excerpt();
+    test_utf8();
+    test_limits();
+    test_include_limits();
+    test_image_size();
 
     free(examples);
     free(data_abs);
