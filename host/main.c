@@ -72,14 +72,19 @@ static void help(FILE *f)
             "  lightgraph --version | help\n"
             "\n"
             "option of every command: --max-pixels N  the largest image read, in pixels\n"
-            "  (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/sdk.md, Images)\n"
+            "  (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/images.md)\n"
             "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
             "environment: LIGHTGRAPH_PLUGIN_PATH (plugin directories, ':'-separated, searched\n"
-            "  first), LIGHTGRAPH_CACHE_DIR (the on-disk cache; default ~/.cache/lightgraph),\n"
+            "  first), LIGHTGRAPH_CACHE_DIR (the on-disk cache; default\n"
+            "  $XDG_CACHE_HOME/lightgraph, ~/.cache/lightgraph, else a private\n"
+            "  $TMPDIR/lightgraph-cache-UID made 0700; a folder others can write is refused),\n"
+            "  LIGHTGRAPH_MAX_PIXELS=N (largest image read or made; default 134217728, as\n"
+            "  --max-pixels N), LIGHTGRAPH_SCAN_TIMEOUT=S (seconds a plugin scan may take;\n"
+            "  default 5),\n"
             "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers),\n"
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
             "  default one per online CPU)\n"
-            "docs: docs/graph-format.md, docs/sdk.md\n",
+            "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/fuzzing.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
