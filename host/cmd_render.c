@@ -168,6 +168,7 @@ static int load_graph(lg_registry *reg, const char *graph, const char *const *se
     if (*g && !d.errors && reg) {
         lg_schema schema;
         lg_registry_schema(reg, &schema);
+        schema.max_pixels = lg_image_max_pixels();
         *c = lg_graph_check(*g, &schema, &d);
         if (!*c)
             for (uint32_t i = 0; i < reg->n_refused; i++)

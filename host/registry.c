@@ -18,7 +18,6 @@
 #include <unistd.h>
 
 #include "lightgraph/file.h"
-#include "lightgraph/image.h"
 
 /* ---- descriptor validation ----------------------------------------------------------- */
 
@@ -837,7 +836,7 @@ void lg_registry_schema(const lg_registry *r, lg_schema *out)
     out->lookup = schema_lookup;
     out->n_names = r->n_names;
     out->names = r->names;
-    out->max_pixels = lg_image_max_pixels();
+    out->max_pixels = 0; /* the caller sets the pixel limit in force (lg_image_max_pixels) */
 }
 
 int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)

@@ -139,69 +139,191 @@ int read_rgba_file(int fd, uint64_t size, const char *path, const Imath::Box2i &
     return LG_OK;
 }
 
-// OpenEXR's C++ reader allocates each header attribute's declared size before reading it:
-// a 1 KiB file whose unknown attribute declares 1.6 GB took that much (found by `make
-// fuzz`). The headers are walked here first, and an attribute that declares more bytes
-// than the file has left is refused with its name. Anything else odd is left for OpenEXR
-// to report. Returns true when an attribute is over, with the reason in why.
-bool attribute_over_file(const char *path, char *why, size_t whylen)
-{
-    FILE *f = std::fopen(path, "rb");
-    struct stat st;
-    if (!f)
-        return false;
-    unsigned char v[8];
-    if (fstat(fileno(f), &st) != 0 || std::fread(v, 1, 8, f) != 8) {
-        std::fclose(f);
-        return false;
+// OpenEXR's C++ reader allocates an unknown attribute's declared size before reading it,
+// and reads known types by their own layout, not by the declared size: a box2i always takes
+// 16 bytes, a chlist runs to its empty name, a preview takes 8 + 4 w h. A header whose
+// declared sizes disagree with those layouts is parsed one way by the C API (by size) and
+// another way by the C++ library, which then takes bytes of a value for the next attribute's
+// name, type and size: a 1 KiB file made it allocate 1.6 GB (both found by `make fuzz`).
+// The headers are walked here first, from the open descriptor (no second open by name),
+// and refused when an attribute declares more bytes than the file has left or a size its
+// type cannot have; then both libraries see the same attributes. Returns true when the
+// header is refused, with the reason in why.
+
+// A bounded reader over the descriptor, from offset 0 to size.
+struct HeadReader {
+    int fd;
+    long long size, at;
+    unsigned char buf[4096];
+    long long buf_at;
+    int buf_n;
+    int getc()
+    {
+        if (at >= size)
+            return -1;
+        if (at < buf_at || at >= buf_at + buf_n) {
+            ssize_t r = pread(fd, buf, sizeof buf, at);
+            if (r <= 0)
+                return -1;
+            buf_at = at;
+            buf_n = static_cast<int>(r);
+        }
+        return buf[at++ - buf_at];
     }
-    const long long size = static_cast<long long>(st.st_size);
-    const bool multipart = (v[5] & 0x10) != 0; // version flag 0x1000: headers until an empty one
-    bool over = false, done = false;
-    while (!done && !over) {
-        int n_attrs = 0;
+    bool read(unsigned char *d, int n)
+    {
+        for (int i = 0; i < n; i++) {
+            int c = getc();
+            if (c < 0)
+                return false;
+            d[i] = static_cast<unsigned char>(c);
+        }
+        return true;
+    }
+};
+
+static int32_t le32(const unsigned char *b)
+{
+    return static_cast<int32_t>(static_cast<uint32_t>(b[0]) | (static_cast<uint32_t>(b[1]) << 8) |
+                                (static_cast<uint32_t>(b[2]) << 16) |
+                                (static_cast<uint32_t>(b[3]) << 24));
+}
+
+// The size a known type always takes, or -1 for types read by their declared size (string,
+// floatvector, opaque) or checked apart (chlist, preview, stringvector).
+static long long fixed_size(const char *type)
+{
+    static const struct {
+        const char *name;
+        int size;
+    } known[] = {
+        { "box2i", 16 }, { "box2f", 16 }, { "chromaticities", 32 }, { "compression", 1 },
+        { "double", 8 }, { "envmap", 1 }, { "float", 4 }, { "int", 4 }, { "keycode", 28 },
+        { "lineOrder", 1 }, { "m33f", 36 }, { "m33d", 72 }, { "m44f", 64 }, { "m44d", 128 },
+        { "rational", 8 }, { "tiledesc", 9 }, { "timecode", 8 }, { "v2i", 8 }, { "v2f", 8 },
+        { "v2d", 16 }, { "v3i", 12 }, { "v3f", 12 }, { "v3d", 24 }, { "deepImageState", 1 },
+    };
+    for (const auto &k : known)
+        if (std::strcmp(k.name, type) == 0)
+            return k.size;
+    return -1;
+}
+
+// Checks a value of `len` bytes at the reader's position against its type's layout; the
+// reader ends after the value either way. False with the reason in why.
+static bool value_ok(HeadReader &r, const char *name, const char *type, long long len,
+                     char *why, size_t whylen)
+{
+    const long long end = r.at + len;
+    long long want = fixed_size(type);
+    bool ok = true;
+    if (want >= 0) {
+        ok = len == want;
+        if (!ok)
+            std::snprintf(why, whylen, "header attribute '%.120s' of type %.40s declares %lld bytes, "
+                          "not %lld", name, type, len, want);
+    } else if (std::strcmp(type, "chlist") == 0) {
+        // entries: name (1..255 bytes), NUL, 16 bytes; then an empty name
         for (;;) {
-            char name[256], type[256];
-            int c = 0;
-            size_t n = 0;
-            while (n < sizeof name && (c = std::fgetc(f)) > 0)
-                name[n++] = c < 0x20 || c > 0x7e ? '?' : static_cast<char>(c); // for the message
-            if (c < 0 || n == sizeof name) {
-                done = true; // a short file or an overlong name: OpenEXR says which
+            int c = r.getc(), n = 0;
+            while (c > 0 && r.at <= end) {
+                n++;
+                c = r.getc();
+            }
+            if (c < 0 || r.at > end || n > 255) {
+                ok = false;
                 break;
             }
-            name[n] = 0;
-            if (n == 0) // the empty name ending a header
+            if (n == 0)
                 break;
-            n = 0;
-            while (n < sizeof type && (c = std::fgetc(f)) > 0)
-                type[n++] = static_cast<char>(c);
-            unsigned char b[4];
-            if (c < 0 || n == sizeof type || std::fread(b, 1, 4, f) != 4) {
-                done = true;
-                break;
-            }
-            n_attrs++;
-            int32_t len = static_cast<int32_t>(static_cast<uint32_t>(b[0]) | (b[1] << 8) |
-                                               (b[2] << 16) | (static_cast<uint32_t>(b[3]) << 24));
-            long long at = std::ftell(f);
-            if (len < 0 || at < 0 || len > size - at) {
-                std::snprintf(why, whylen, "header attribute '%s' declares %lld bytes, more than "
-                              "the %lld left in the file", name, static_cast<long long>(len),
-                              at < 0 ? 0 : size - at);
-                over = true;
-                break;
-            }
-            if (std::fseek(f, len, SEEK_CUR) != 0) {
-                done = true;
+            r.at += 16;
+            if (r.at > end) {
+                ok = false;
                 break;
             }
         }
-        if (!multipart || n_attrs == 0)
-            done = true;
+        ok = ok && r.at == end;
+        if (!ok)
+            std::snprintf(why, whylen, "header attribute '%.120s' (chlist) does not fill its %lld "
+                          "declared bytes exactly", name, len);
+    } else if (std::strcmp(type, "preview") == 0) {
+        unsigned char b[8];
+        ok = len >= 8 && r.read(b, 8);
+        long long w = ok ? static_cast<uint32_t>(le32(b)) : 0;
+        long long h = ok ? static_cast<uint32_t>(le32(b + 4)) : 0;
+        ok = ok && w <= 65535 && h <= 65535 && 8 + 4 * w * h == len;
+        if (!ok)
+            std::snprintf(why, whylen, "header attribute '%.120s' (preview) declares %lld bytes, "
+                          "not 8 + 4 x its %lld x %lld pixels", name, len, w, h);
+    } else if (std::strcmp(type, "stringvector") == 0) {
+        // [int length][bytes] until the declared size is used up, exactly
+        while (ok && r.at < end) {
+            unsigned char b[4];
+            ok = end - r.at >= 4 && r.read(b, 4);
+            long long n = ok ? le32(b) : -1;
+            ok = ok && n >= 0 && n <= end - r.at;
+            if (ok)
+                r.at += n;
+        }
+        ok = ok && r.at == end;
+        if (!ok)
+            std::snprintf(why, whylen, "header attribute '%.120s' (stringvector) holds a string "
+                          "longer than its %lld declared bytes", name, len);
+    } else if (std::strcmp(type, "floatvector") == 0) {
+        ok = len % 4 == 0;
+        if (!ok)
+            std::snprintf(why, whylen, "header attribute '%.120s' (floatvector) declares %lld "
+                          "bytes, not a whole number of floats", name, len);
     }
-    std::fclose(f);
-    return over;
+    r.at = end;
+    return ok;
+}
+
+bool attribute_over_file(int fd, uint64_t size, char *why, size_t whylen)
+{
+    HeadReader r{ fd, static_cast<long long>(size), 0, {}, 0, 0 };
+    unsigned char v[8];
+    if (!r.read(v, 8))
+        return false; // short: OpenEXR says so
+    const bool multipart = (v[5] & 0x10) != 0; // version flag 0x1000: headers until an empty one
+    const int max_name = (v[5] & 0x04) ? 255 : 31; // long names (flag 0x400)
+    for (;;) {
+        int n_attrs = 0;
+        for (;;) {
+            char name[256], type[256];
+            int c = 0, n = 0;
+            while (n < 255 && (c = r.getc()) > 0)
+                name[n++] = c < 0x20 || c > 0x7e ? '?' : static_cast<char>(c); // for the message
+            if (c < 0 || (n == 255 && c != 0))
+                return false; // a short file or an overlong name: OpenEXR says which
+            if (n == 255)
+                (void)r.getc(); // the NUL after a 255-byte name was not read yet
+            name[n] = 0;
+            if (n == 0) // the empty name ending a header
+                break;
+            (void)max_name;
+            n = 0;
+            while (n < 255 && (c = r.getc()) > 0)
+                type[n++] = static_cast<char>(c);
+            if (c < 0 || n == 255)
+                return false;
+            type[n] = 0;
+            unsigned char b[4];
+            if (!r.read(b, 4))
+                return false;
+            n_attrs++;
+            long long len = le32(b);
+            if (len < 0 || len > r.size - r.at) {
+                std::snprintf(why, whylen, "header attribute '%.120s' declares %lld bytes, more "
+                              "than the %lld left in the file", name, len, r.size - r.at);
+                return true;
+            }
+            if (!value_ok(r, name, type, len, why, whylen))
+                return true;
+        }
+        if (!multipart || n_attrs == 0)
+            return false;
+    }
 }
 
 } // namespace
@@ -210,7 +332,7 @@ extern "C" int lg_exr_cxx_read(int fd, uint64_t size, const char *path, lg_image
                                lg_image_read_info *info, char *err, size_t errlen)
 {
     char why[512];
-    if (attribute_over_file(path, why, sizeof why))
+    if (attribute_over_file(fd, size, why, sizeof why))
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': %s", path, why);
     try {
         FdIStream is(fd, size, path);
