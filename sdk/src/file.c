@@ -135,27 +135,37 @@ static char *joined(const char *root, const char *path)
     return j;
 }
 
-int lg_file_open_within(const char *root, const char *path, uint64_t limit, uint64_t *size,
-                        char *err, size_t errlen)
+/* The root resolved (into rroot, PATH_MAX bytes) and path joined to it (malloc'd), or NULL
+ * with the reason in err. */
+static char *resolve_join(const char *root, const char *path, char *rroot, char *err,
+                          size_t errlen)
 {
     if (!root || !root[0] || !path || !path[0]) {
         say(err, errlen, "empty path");
         errno = EINVAL;
-        return -1;
+        return NULL;
     }
-    char rroot[PATH_MAX];
     if (!realpath(root, rroot)) {
         int e = errno;
         say(err, errlen, "its folder '%s' cannot be resolved: %s", root, strerror(e));
         errno = e;
-        return -1;
+        return NULL;
     }
     char *j = joined(rroot, path);
     if (!j) {
         say(err, errlen, "out of memory");
         errno = ENOMEM;
-        return -1;
     }
+    return j;
+}
+
+int lg_file_open_within(const char *root, const char *path, uint64_t limit, uint64_t *size,
+                        char *err, size_t errlen)
+{
+    char rroot[PATH_MAX];
+    char *j = resolve_join(root, path, rroot, err, errlen);
+    if (!j)
+        return -1;
     int fd = open_nb(j, err, errlen);
     free(j);
     if (fd < 0)
@@ -277,24 +287,10 @@ void *lg_file_read_within(const char *root, const char *path, uint64_t limit, si
 
 int lg_path_within(const char *root, const char *path, char *err, size_t errlen)
 {
-    if (!root || !root[0] || !path || !path[0]) {
-        say(err, errlen, "empty path");
-        errno = EINVAL;
-        return -1;
-    }
     char rroot[PATH_MAX], real[PATH_MAX];
-    if (!realpath(root, rroot)) {
-        int e = errno;
-        say(err, errlen, "its folder '%s' cannot be resolved: %s", root, strerror(e));
-        errno = e;
+    char *j = resolve_join(root, path, rroot, err, errlen);
+    if (!j)
         return -1;
-    }
-    char *j = joined(rroot, path);
-    if (!j) {
-        say(err, errlen, "out of memory");
-        errno = ENOMEM;
-        return -1;
-    }
     char *ok = realpath(j, real);
     int e = errno;
     free(j);
