@@ -21,6 +21,8 @@
  *   exposure_scale    texels times 2^exposure * scale; info.scale says it
  *   bad_texels        NaN, Inf and negative channels set to 0, one warning with the counts
  *   environment       the scene feature `probe` and gating on it
+ *   content_key       a downstream cache entry is invalidated by changed pixels (same file
+ *                     size), exposure and rotation, and reused otherwise
  */
 #include <math.h>
 #include <stdio.h>
@@ -33,6 +35,9 @@
 #ifndef PR_TESTPROBE_DIR
 #define PR_TESTPROBE_DIR ""
 #endif
+#ifndef PR_TESTNODES_DIR
+#define PR_TESTNODES_DIR ""
+#endif
 #ifndef PR_TESTCUBE_DIR
 #define PR_TESTCUBE_DIR ""
 #endif
@@ -42,7 +47,7 @@
 static void setup(lg_test *t)
 {
     static char path[8300];
-    snprintf(path, sizeof path, "%s:%s", PR_TESTPROBE_DIR, PR_TESTCUBE_DIR);
+    snprintf(path, sizeof path, "%s:%s:%s", PR_TESTPROBE_DIR, PR_TESTCUBE_DIR, PR_TESTNODES_DIR);
     lg_test_use_plugins(t, path);
 }
 
@@ -766,6 +771,52 @@ static void case_environment(lg_test *t)
     }
 }
 
+/* ---- cache identity ----------------------------------------------------------------------- */
+
+/* Renders probe -> raw tap -> test_cached; true when the cached node computed (a miss). */
+static bool cache_computed(lg_test *t, const char *probe_def)
+{
+    char g[1024];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n%s"
+             "tap = probe_tap { probe = sky, mode = raw }\n"
+             "m = test_cached { image = tap }\n"
+             "output m \"m.exr\"\n",
+             probe_def);
+    lg_test_write_text(t, "c.lgraph", g);
+    char *out = NULL;
+    int rc = lg_test_render(t, "c.lgraph", NULL, &out);
+    LG_TEST_CHECK(t, rc == 0, "render failed:\n%s", out ? out : "");
+    bool computed = out && strstr(out, "computed");
+    LG_TEST_CHECK(t, out && (computed || strstr(out, "reused")), "neither computed nor reused:\n%s",
+                  out ? out : "");
+    free(out);
+    return computed;
+}
+
+static void case_content_key(lg_test *t)
+{
+    lg_image a = alloc_image(8, 4), b = alloc_image(8, 4);
+    for (size_t k = 0; k < 32 * 4; k++) {
+        a.pixels[k] = 0.5f + (float)k;
+        b.pixels[k] = 0.5f + (float)k;
+    }
+    b.pixels[4 * 17 + 1] = 99.0f; /* one channel differs; same size, uncompressed */
+    lg_test_write_exr(t, "p.exr", &a);
+    const char *def = "sky = probe { file = \"p.exr\" }\n";
+    LG_TEST_CHECK(t, cache_computed(t, def), "first render: not computed");
+    LG_TEST_CHECK(t, !cache_computed(t, def), "same file: the cache was not used");
+    lg_test_write_exr(t, "p.exr", &b);
+    LG_TEST_CHECK(t, cache_computed(t, def), "changed pixels: stale cache entry used");
+    LG_TEST_CHECK(t, !cache_computed(t, def), "same changed file: the cache was not used");
+    LG_TEST_CHECK(t, cache_computed(t, "sky = probe { file = \"p.exr\", exposure = 1 }\n"),
+                  "exposure changed: stale cache entry used");
+    LG_TEST_CHECK(t, cache_computed(t, "sky = probe { file = \"p.exr\", rotate_deg = [0, 0, 1] }\n"),
+                  "rotation changed: stale cache entry used");
+    lg_image_free(&a);
+    lg_image_free(&b);
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
@@ -784,6 +835,7 @@ int main(int argc, char **argv)
         { "exposure_scale", case_exposure_scale },
         { "bad_texels", case_bad_texels },
         { "environment", case_environment },
+        { "content_key", case_content_key },
     };
     lg_test_main_opts opts = { .prefix = "probe", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &opts);
