@@ -59,13 +59,18 @@ typedef struct pr_state {
     lg_probe_layout layout;
     uint32_t width, height; /* the radiance image's size (a cube's face size) */
     float *texels;          /* level 0, RGBA, packed as the CPU copy (faces, rows) */
+    lg_image decoded;       /* 2D layouts: the decoded file, whose pixels are `texels`
+                             * (freed by the SDK that allocated them) */
     float rotation[9];
     float scale;
 } pr_state;
 
 static void pr_state_clear(pr_state *st)
 {
-    free(st->texels);
+    if (st->decoded.pixels)
+        lg_image_free(&st->decoded);
+    else
+        free(st->texels);
     st->texels = NULL;
 }
 
@@ -344,7 +349,8 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
         st->layout = src == PR_LATLONG ? LG_PROBE_LATLONG : LG_PROBE_ANGULAR;
         st->width = img.width;
         st->height = img.height;
-        st->texels = img.pixels; /* taken over */
+        st->decoded = img; /* kept: texels are its pixels */
+        st->texels = img.pixels;
         return 0;
     }
     uint32_t N = src == PR_CROSS_H ? img.width / 4 : src == PR_CROSS_V ? img.width / 3
