@@ -5,6 +5,8 @@
  *   camera   sets the active camera (look_at, or orbit around the scene's bounds)
  *   light    adds a directional or point light, or replaces all lights with one
  *   medium   sets (replaces) the participating medium
+ *   environment  attaches a light probe: the scene feature `probe` becomes true, so nodes
+ *            that need a probe (reflection, background, PRT) are planned, not gated
  *
  * Each node reads the input scene in prepare() and publishes a derived lg_scene: a shallow
  * copy of the input's struct with its own array for what it changes (lights or cameras),
@@ -417,6 +419,33 @@ static int medium_prepare(lg_node *n)
     return st_publish(n, p);
 }
 
+/* ---- environment ------------------------------------------------------------------------ */
+
+/* The derived scene records only that a probe lights it (features.probe): the probe's data
+ * reaches the nodes that use it through their own `probe` input, an edge the planner sees,
+ * rather than through a pointer hidden in the scene (which the host could not track: the
+ * probe is written in execute(), after this node's prepare()). lg_scene therefore needs no
+ * new field. A gated (neutral) probe attaches nothing. */
+static int environment_prepare(lg_node *n)
+{
+    const lg_resource *in;
+    const lg_scene *src;
+    int rc = st_input(n, &in, &src);
+    if (rc)
+        return rc;
+    const lg_resource *pr = lg_input(n, 1);
+    lg_resource_info pi;
+    if (!pr || lg_describe(pr, &pi, n) != 0)
+        return lg_error(n, "input 'probe' is not connected");
+    if (pi.kind != LG_KIND_PROBE)
+        return lg_error(n, "input 'probe' is not a probe (a `probe` node makes one)");
+    st_payload *p;
+    if ((rc = st_derive(n, in, src, pi.neutral ? "environment (none)" : "environment", &p)))
+        return rc;
+    p->scene.features.probe = !pi.neutral;
+    return st_publish(n, p); /* lg_scene_compute_features keeps features.probe */
+}
+
 static int st_execute(lg_node *n, const lg_frame *frame)
 {
     /* the derived scene was made in prepare(), where the planner needs its features */
@@ -429,6 +458,12 @@ static int st_execute(lg_node *n, const lg_frame *frame)
 
 static const lg_port_desc st_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to derive from (unchanged)" },
+};
+
+static const lg_port_desc environment_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to derive from (unchanged)" },
+    { .name = "probe", .kind = LG_KIND_PROBE,
+      .doc = "the light probe around the scene (a `probe` node)" },
 };
 
 static const char *const camera_modes[] = { "look_at", "orbit", NULL };
@@ -500,6 +535,12 @@ static const lg_port_desc medium_outputs[] = {
       .doc = "the input scene with this medium (geometry shared)" },
 };
 
+static const lg_port_desc environment_outputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the input scene with feature `probe` set (geometry shared; the probe's data "
+             "goes to its consumers through their own `probe` input)" },
+};
+
 static const lg_node_type st_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
@@ -522,7 +563,15 @@ static const lg_node_type st_types[] = {
         LG_PARAMS(medium_params), LG_INPUTS(st_inputs), LG_OUTPUTS(medium_outputs),
         .prepare = medium_prepare, .execute = st_execute,
     },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "environment",
+        .doc = "attaches a light probe to the scene (scene feature `probe`)",
+        LG_INPUTS(environment_inputs), LG_OUTPUTS(environment_outputs),
+        .prepare = environment_prepare, .execute = st_execute,
+    },
 };
 
-LG_PLUGIN_DEFINE("scene_tools", "1.0.0", "Camera, lights and medium set from the graph",
+LG_PLUGIN_DEFINE("scene_tools", "1.0.0",
+                 "Camera, lights, medium and environment probe set from the graph",
                  st_types)
