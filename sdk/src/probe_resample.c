@@ -212,6 +212,89 @@ static bool box_split(const lg_probe_image *src, const double *c, uint32_t strid
     return true;
 }
 
+/* Source texels no sub-rectangle read (lat-long slivers at the poles, angular rim
+ * slivers, when max_subdiv caps the subdivision): each joins the destination texel that
+ * holds its centre's direction with its exact solid angle, so that its energy is kept
+ * (the balancing then makes room for it). Rebuilds the matrix with those entries. */
+static bool add_unread(const lg_probe_image *src, lg_probe_layout layout, uint32_t width,
+                       uint32_t height, const float *rotation, const float *omega,
+                       double *area, const double *rows, overlap *m, size_t dst_n)
+{
+    size_t src_n = (size_t)src->width * src->height * (src->layout == LG_PROBE_CUBE ? 6 : 1);
+    size_t *extra = calloc(dst_n + 1, sizeof *extra);
+    size_t *dst_of = malloc(src_n * sizeof *dst_of);
+    if (!extra || !dst_of) {
+        free(extra);
+        free(dst_of);
+        return false;
+    }
+    size_t added = 0;
+    for (size_t s = 0; s < src_n; s++) {
+        dst_of[s] = SIZE_MAX;
+        if (!(omega[s] > 0) || area[s] != 0)
+            continue;
+        uint32_t i = (uint32_t)(s % src->width), j = (uint32_t)(s / src->width % src->height);
+        uint32_t f = (uint32_t)(s / ((size_t)src->width * src->height));
+        lg_vec3 d = lg_probe_to_world(src->rotation,
+                                      lg_probe_texel_dir(src->layout, src->width, src->height, f, i, j));
+        lg_probe_image di = {layout, width, height, NULL, NULL, {0}};
+        size_t t = source_index(&di, lg_probe_from_world(rotation, d));
+        if (!(rows[t] > 0))
+            continue;
+        dst_of[s] = t;
+        extra[t]++;
+        added++;
+    }
+    size_t n = m->n + added;
+    uint32_t *ns = malloc(n * sizeof *ns);
+    float *nw = malloc(n * sizeof *nw);
+    if (!ns || !nw) {
+        free(ns);
+        free(nw);
+        free(extra);
+        free(dst_of);
+        return false;
+    }
+    size_t *nrow = malloc((dst_n + 1) * sizeof *nrow);
+    if (!nrow) {
+        free(ns);
+        free(nw);
+        free(extra);
+        free(dst_of);
+        return false;
+    }
+    /* each row: its old entries, then its extras */
+    size_t at = 0;
+    for (size_t t = 0; t < dst_n; t++) {
+        size_t len = m->row[t + 1] - m->row[t];
+        memcpy(ns + at, m->src + m->row[t], len * sizeof *ns);
+        memcpy(nw + at, m->w + m->row[t], len * sizeof *nw);
+        nrow[t] = at;
+        at += len;
+        size_t cnt = extra[t];
+        extra[t] = at; /* the cursor of its extras */
+        at += cnt;
+    }
+    nrow[dst_n] = at;
+    for (size_t s = 0; s < src_n; s++)
+        if (dst_of[s] != SIZE_MAX) {
+            size_t e = extra[dst_of[s]]++;
+            ns[e] = (uint32_t)s;
+            nw[e] = omega[s];
+            area[s] += omega[s];
+        }
+    free(m->src);
+    free(m->w);
+    free(m->row);
+    m->src = ns;
+    m->w = nw;
+    m->row = nrow;
+    m->n = m->cap = n;
+    free(extra);
+    free(dst_of);
+    return true;
+}
+
 int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_t width,
                       uint32_t height, const float *rotation, const lg_probe_resample_opts *opts,
                       float *out, lg_probe_resample_stats *stats)
@@ -227,7 +310,8 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
     uint32_t kmax = opts && opts->max_subdiv > 0 ? opts->max_subdiv : 64;
     if (kmax > 1024)
         kmax = 1024;
-    uint32_t max_iter = opts && opts->no_balance ? 0 : 200;
+    uint32_t max_iter = opts && opts->no_balance ? 0 : 40;
+    const double tol = 1e-7;
 
     uint32_t faces = layout == LG_PROBE_CUBE ? 6 : 1;
     size_t dst_n = (size_t)width * height * faces;
@@ -407,6 +491,9 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
         m.row[dst_n] = m.n;
         for (size_t s = 0; s < src_n; s++)
             unread += omega[s] > 0 && area[s] == 0;
+        if (unread && !add_unread(src, layout, width, height, rotation, omega, area, rows, &m,
+                                  dst_n))
+            goto done;
         raw_total = integral_error(src, src_n, area, omega, &raw_area);
         /* Balancing (Sinkhorn): the sub-rectangles resolve the source texels' boundaries
          * only to a fraction of a sub-rectangle, so the solid angle a source texel
@@ -420,11 +507,13 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
          * by about the sub-rectangle resolution. */
         double *colsum = area;
         for (iter = 0; iter < max_iter; iter++) {
+            /* the L1 distance of the columns from their targets, over 4 pi: it bounds how
+             * much solid angle any region can gain or lose */
             resid = 0;
             for (size_t s = 0; s < src_n; s++)
-                if (colsum[s] > 0)
-                    resid = fmax(resid, fabs(colsum[s] - omega[s]) / colsum[s]);
-            if (resid < 1e-6)
+                resid += fabs(colsum[s] - omega[s]);
+            resid /= 4 * PI_D;
+            if (resid < tol)
                 break;
             for (size_t e = 0; e < m.n; e++) {
                 uint32_t s = m.src[e];
