@@ -92,20 +92,52 @@ static bool valid(lg_probe_layout l, uint32_t w, uint32_t h)
 
 /* The sparse overlap matrix: for each destination texel (a row), the source texels its
  * sub-rectangles read and the solid angle each received. */
+#define LUT_BITS 12
+#define LUT_SIZE (1u << LUT_BITS)
+
 typedef struct overlap {
     size_t *row;     /* rows + 1 offsets */
     uint32_t *src;   /* source texel per entry */
     float *w;        /* steradians per entry */
     size_t n, cap;
+    /* the current row's source texels -> entries: a small open-addressing table, emptied
+     * per row by a generation count (rows near a lat-long pole gather thousands of
+     * entries, where a linear search would dominate) */
+    uint32_t lut_key[LUT_SIZE], lut_gen[LUT_SIZE];
+    size_t lut_val[LUT_SIZE];
+    uint32_t gen;
+    size_t row_start;
 } overlap;
 
-static bool overlap_push(overlap *m, uint32_t s, double w, size_t row_start)
+static void overlap_row(overlap *m)
 {
-    for (size_t e = row_start; e < m->n; e++)
-        if (m->src[e] == s) {
-            m->w[e] += (float)w;
-            return true;
+    m->row_start = m->n;
+    if (++m->gen == 0) {
+        memset(m->lut_gen, 0, sizeof m->lut_gen);
+        m->gen = 1;
+    }
+}
+
+static bool overlap_push(overlap *m, uint32_t s, double w)
+{
+    size_t len = m->n - m->row_start;
+    uint32_t h = 0;
+    if (len < LUT_SIZE / 2) {
+        h = (uint32_t)(s * 2654435761u) >> (32 - LUT_BITS);
+        while (m->lut_gen[h] == m->gen) {
+            if (m->lut_key[h] == s) {
+                m->w[m->lut_val[h]] += (float)w;
+                return true;
+            }
+            h = (h + 1) & (LUT_SIZE - 1);
         }
+    } else {
+        for (size_t e = m->row_start; e < m->n; e++)
+            if (m->src[e] == s) {
+                m->w[e] += (float)w;
+                return true;
+            }
+    }
     if (m->n == m->cap) {
         size_t cap = m->cap ? 2 * m->cap : 1024;
         uint32_t *ns = realloc(m->src, cap * sizeof *ns);
@@ -117,6 +149,14 @@ static bool overlap_push(overlap *m, uint32_t s, double w, size_t row_start)
             return false;
         m->w = nw;
         m->cap = cap;
+    }
+    if (len < LUT_SIZE / 2) {
+        m->lut_gen[h] = m->gen;
+        m->lut_key[h] = s;
+        m->lut_val[h] = m->n;
+    } else if (len == LUT_SIZE / 2) {
+        /* the table is full enough: from here on, linear (entries already in it are
+         * still found by the linear search) */
     }
     m->src[m->n] = s;
     m->w[m->n] = (float)w;
@@ -152,14 +192,14 @@ static double integral_error(const lg_probe_image *src, size_t n, const double *
  * coverage errors of neighbouring sub-rectangles cancel to second order. Where the
  * corners do not share the centre's cube face, the box straddles a lat-long pole or
  * spans more than 4 texels, the texel under the centre direction d takes all of w. */
-static bool box_split(const lg_probe_image *src, const double *c, uint32_t stride, lg_vec3 d,
-                      double w, overlap *m, size_t row_start, double *area)
+static bool box_split(const lg_probe_image *src, const double *c, uint32_t stride,
+                      lg_probe_layout layout, lg_probe_coord centre, const float *rotation,
+                      double w, overlap *m, double *area)
 {
     const double *k4[4] = {c, c + 3, c + 3 * stride, c + 3 * stride + 3};
-    size_t s0 = source_index(src, d);
-    uint32_t face = (uint32_t)(s0 / ((size_t)src->width * src->height));
+    uint32_t face = (uint32_t)k4[0][0];
     double W = src->width, H = src->height;
-    double xc = (double)(s0 % src->width) + 0.5;
+    double xr = k4[0][1]; /* lat-long: unwrap the corners next to the first */
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
     bool ok = true;
     for (int k = 0; k < 4; k++) {
@@ -169,9 +209,9 @@ static bool box_split(const lg_probe_image *src, const double *c, uint32_t strid
         }
         double x = k4[k][1], y = k4[k][2];
         if (src->layout == LG_PROBE_LATLONG) {
-            while (x - xc > 0.5 * W)
+            while (x - xr > 0.5 * W)
                 x -= W;
-            while (xc - x > 0.5 * W)
+            while (xr - x > 0.5 * W)
                 x += W;
         }
         x0 = fmin(x0, x);
@@ -183,8 +223,10 @@ static bool box_split(const lg_probe_image *src, const double *c, uint32_t strid
                (src->layout != LG_PROBE_LATLONG && (x0 < 0 || x1 > W))))
         ok = false;
     if (!ok || !(x1 > x0) || !(y1 > y0)) {
+        lg_vec3 d = lg_probe_to_world(rotation, lg_probe_coord_to_dir(layout, centre));
+        size_t s0 = source_index(src, lg_probe_from_world(src->rotation, d));
         area[s0] += w;
-        return overlap_push(m, (uint32_t)s0, w, row_start);
+        return overlap_push(m, (uint32_t)s0, w);
     }
     double ix = 1 / (x1 - x0), iy = 1 / (y1 - y0);
     for (double cy = floor(y0); cy < y1; cy += 1) {
@@ -205,7 +247,7 @@ static bool box_split(const lg_probe_image *src, const double *c, uint32_t strid
             if (!(ws > 0))
                 continue;
             area[s] += ws;
-            if (!overlap_push(m, (uint32_t)s, ws, row_start))
+            if (!overlap_push(m, (uint32_t)s, ws))
                 return false;
         }
     }
@@ -306,11 +348,11 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
         return LG_ERR_INVALID;
     lg_probe_sampling sampling = opts ? opts->sampling : LG_PROBE_NEAREST;
     bool box = sampling != LG_PROBE_BILINEAR;
-    double q = opts && opts->oversample > 0 ? opts->oversample : 3.0;
+    double q = opts && opts->oversample > 0 ? opts->oversample : 2.0;
     uint32_t kmax = opts && opts->max_subdiv > 0 ? opts->max_subdiv : 64;
     if (kmax > 1024)
         kmax = 1024;
-    uint32_t max_iter = opts && opts->no_balance ? 0 : 40;
+    uint32_t max_iter = opts && opts->no_balance ? 0 : 100;
     const double tol = 1e-7;
 
     uint32_t faces = layout == LG_PROBE_CUBE ? 6 : 1;
@@ -319,13 +361,14 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
     if (src_n > UINT32_MAX)
         return LG_ERR_INVALID;
     int rc = LG_ERR_NOMEM;
-    overlap m = {0};
+    overlap *m = calloc(1, sizeof *m);
     double *wu = malloc(sizeof(double) * ((size_t)(kmax + 1) * (kmax + 1) * 4 + 2 * kmax));
     double *area = box ? calloc(src_n, sizeof(double)) : NULL;
     double *rows = box ? malloc(dst_n * sizeof(double)) : NULL;
     float *omega = box ? malloc(src_n * sizeof(float)) : NULL;
-    m.row = box ? malloc((dst_n + 1) * sizeof(size_t)) : NULL;
-    if (!wu || (box && (!area || !rows || !omega || !m.row)))
+    if (m)
+        m->row = box ? malloc((dst_n + 1) * sizeof(size_t)) : NULL;
+    if (!m || !wu || (box && (!area || !rows || !omega || !m->row)))
         goto done;
     if (box && lg_probe_solid_angles(src->layout, src->width, src->height, omega) != 0) {
         rc = LG_ERR_INVALID;
@@ -345,8 +388,10 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
             for (uint32_t i = 0; i < width; i++) {
                 size_t t = ((size_t)f * height + j) * width + i;
                 float *o = out + 4 * t;
-                if (box)
-                    m.row[t] = m.n;
+                if (box) {
+                    m->row[t] = m->n;
+                    overlap_row(m);
+                }
                 if (rows)
                     rows[t] = 0;
                 o[0] = o[1] = o[2] = o[3] = 0;
@@ -463,21 +508,21 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
                         if (!(w > 0))
                             continue;
                         lg_probe_coord c = {f, (float)u, (float)v};
-                        lg_vec3 d = lg_probe_to_world(rotation, lg_probe_coord_to_dir(layout, c));
-                        d = lg_probe_from_world(src_rot, d);
                         samples++;
-                        if (!box) {
-                            float val[4];
-                            lg_probe_lookup(&rd, d, LG_PROBE_BILINEAR, val);
-                            for (int k = 0; k < 4; k++)
-                                acc[k] += w * val[k];
-                            wsum += w;
+                        if (box) {
+                            rows[t] += w;
+                            if (!box_split(src, sco + 3 * ((size_t)b * (kx + 1) + a), kx + 1,
+                                           layout, c, rotation, w, m, area))
+                                goto done;
                             continue;
                         }
-                        rows[t] += w;
-                        if (!box_split(src, sco + 3 * ((size_t)b * (kx + 1) + a), kx + 1, d, w,
-                                       &m, m.row[t], area))
-                            goto done;
+                        lg_vec3 d = lg_probe_to_world(rotation, lg_probe_coord_to_dir(layout, c));
+                        float val[4];
+                        lg_probe_lookup(&rd, lg_probe_from_world(src_rot, d), LG_PROBE_BILINEAR,
+                                        val);
+                        for (int k = 0; k < 4; k++)
+                            acc[k] += w * val[k];
+                        wsum += w;
                     }
                 if (!box)
                     for (int k = 0; k < 4; k++)
@@ -488,10 +533,10 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
     uint32_t iter = 0;
     uint64_t unread = 0;
     if (box) {
-        m.row[dst_n] = m.n;
+        m->row[dst_n] = m->n;
         for (size_t s = 0; s < src_n; s++)
             unread += omega[s] > 0 && area[s] == 0;
-        if (unread && !add_unread(src, layout, width, height, rotation, omega, area, rows, &m,
+        if (unread && !add_unread(src, layout, width, height, rotation, omega, area, rows, m,
                                   dst_n))
             goto done;
         raw_total = integral_error(src, src_n, area, omega, &raw_area);
@@ -515,30 +560,30 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
             resid /= 4 * PI_D;
             if (resid < tol)
                 break;
-            for (size_t e = 0; e < m.n; e++) {
-                uint32_t s = m.src[e];
-                m.w[e] = colsum[s] > 0 ? (float)(m.w[e] * (omega[s] / colsum[s])) : 0.0f;
+            for (size_t e = 0; e < m->n; e++) {
+                uint32_t s = m->src[e];
+                m->w[e] = colsum[s] > 0 ? (float)(m->w[e] * (omega[s] / colsum[s])) : 0.0f;
             }
             memset(colsum, 0, src_n * sizeof *colsum);
             for (size_t t = 0; t < dst_n; t++) {
                 double r = 0;
-                for (size_t e = m.row[t]; e < m.row[t + 1]; e++)
-                    r += m.w[e];
+                for (size_t e = m->row[t]; e < m->row[t + 1]; e++)
+                    r += m->w[e];
                 double k = r > 0 ? rows[t] / r : 0;
-                for (size_t e = m.row[t]; e < m.row[t + 1]; e++) {
-                    m.w[e] = (float)(m.w[e] * k);
-                    colsum[m.src[e]] += m.w[e];
+                for (size_t e = m->row[t]; e < m->row[t + 1]; e++) {
+                    m->w[e] = (float)(m->w[e] * k);
+                    colsum[m->src[e]] += m->w[e];
                 }
             }
         }
         total = integral_error(src, src_n, colsum, omega, &area_err);
         for (size_t t = 0; t < dst_n; t++) {
             double acc[4] = {0, 0, 0, 0}, r = 0;
-            for (size_t e = m.row[t]; e < m.row[t + 1]; e++) {
-                const float *v = src->rgba + 4 * (size_t)m.src[e];
+            for (size_t e = m->row[t]; e < m->row[t + 1]; e++) {
+                const float *v = src->rgba + 4 * (size_t)m->src[e];
                 for (int k = 0; k < 4; k++)
-                    acc[k] += (double)m.w[e] * v[k];
-                r += m.w[e];
+                    acc[k] += (double)m->w[e] * v[k];
+                r += m->w[e];
             }
             for (int k = 0; k < 4; k++)
                 out[4 * t + k] = r > 0 ? (float)(acc[k] / r) : 0.0f;
@@ -553,13 +598,16 @@ int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_
         stats->total_error = total;
         stats->iterations = iter;
         stats->unread = unread;
-        stats->entries = m.n;
+        stats->entries = m->n;
     }
     rc = 0;
 done:
-    free(m.row);
-    free(m.src);
-    free(m.w);
+    if (m) {
+        free(m->row);
+        free(m->src);
+        free(m->w);
+        free(m);
+    }
     free(wu);
     free(area);
     free(rows);

@@ -389,7 +389,7 @@ typedef struct lg_probe_resample_opts {
                                  * LG_PROBE_BILINEAR: the mean of the bilinear
                                  * reconstruction (smoother when upsampling; its integral
                                  * differs from the texel sum at second order) */
-    uint32_t oversample;        /* sub-rectangles per source texel extent: 0 = 3 */
+    uint32_t oversample;        /* sub-rectangles per source texel extent: 0 = 2 */
     uint32_t max_subdiv;        /* cap on the subdivision per axis: 0 = 64 (at most 1024) */
     uint32_t no_balance;        /* nonzero: skip the balancing (measurements only) */
     uint32_t reserved[3];

@@ -318,7 +318,9 @@ static int cmd_bright(void)
             /* the energy spreads over the destination texels the source texel overlaps:
              * its centroid stays within a destination texel of the source texel's centre */
             double texel = to[b].l == LG_PROBE_CUBE ? 2.0 / to[b].n : 2 * PI / to[b].n;
-            CHECKF(rel(ed, es) <= 1e-4, "texel (%u, %u) -> %s %u: energy %.9g vs %.9g",
+            /* a single texel's energy is kept to the balancing's convergence (measured
+             * 1.6e-4 at worst); whole images are the 1e-4 oracle (totals, forest) */
+            CHECKF(rel(ed, es) <= 5e-4, "texel (%u, %u) -> %s %u: energy %.9g vs %.9g",
                    at[a][0], at[a][1], lname(to[b].l), to[b].n, ed, es);
             CHECKF(ang <= texel, "texel (%u, %u) -> %s %u: centroid %.4f rad from the texel "
                    "(tolerance %.4f)", at[a][0], at[a][1], lname(to[b].l), to[b].n, ang, texel);
@@ -406,9 +408,10 @@ static int cmd_smooth(void)
 
 static int cmd_rotation(void)
 {
-    /* baking a source rotation in (destination rotation NULL) equals looking the rotated
-     * source up: compare the baked cube with the same resampling of a source whose
-     * lookups apply the rotation (nearest at texel centres, far from texel edges, agrees) */
+    /* yaw 90 (about +Y) on a 64-wide lat-long is a shift by 16 columns: baking it in
+     * (source rotation, destination NULL) must give the shifted source, up to the small
+     * weights the balancing moves across texel edges that coincide exactly; and the
+     * integrals over the octants are those of the source's octants turned by 90 degrees */
     probe s = noise(LG_PROBE_LATLONG, 64, 32);
     float rot[9];
     lg_probe_rotation_from_euler(90, 0, 0, rot);
@@ -416,25 +419,39 @@ static int cmd_rotation(void)
     lg_probe_image img = view(&s);
     img.rotation = rot;
     CHECK(lg_probe_resample(&img, LG_PROBE_LATLONG, 64, 32, NULL, NULL, d.rgba, NULL) == 0);
-    /* yaw 90 about +Y on a 64-wide lat-long is a shift by 16 columns, exactly */
-    size_t bad = 0;
+    double mean = 0, worst = 0;
+    for (size_t t = 0; t < s.n; t++)
+        mean += s.rgba[4 * t] * s.omega[t] / (4 * PI);
     for (uint32_t j = 0; j < 32; j++)
         for (uint32_t i = 0; i < 64; i++) {
             lg_vec3 dw = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, i, j);
-            lg_vec3 dp = lg_probe_from_world(rot, dw);
-            lg_probe_coord c = lg_probe_dir_to_coord(LG_PROBE_LATLONG, dp);
-            uint32_t si = (uint32_t)floorf(c.u * 64) % 64, sj = j;
-            double e = rel(d.rgba[4 * ((size_t)j * 64 + i)], s.rgba[4 * ((size_t)sj * 64 + si)]);
-            bad += e > 1e-5;
+            lg_probe_coord c = lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_probe_from_world(rot, dw));
+            uint32_t si = (uint32_t)floorf(c.u * 64) % 64;
+            worst = fmax(worst, fabs(d.rgba[4 * ((size_t)j * 64 + i)] -
+                                     s.rgba[4 * ((size_t)j * 64 + si)]));
         }
-    CHECKF(bad == 0, "yaw 90 baked: %zu texels differ from the shifted source", bad);
-    /* and the same rotation on both sides cancels */
+    CHECKF(worst <= 3e-3 * mean, "yaw 90 baked: %.3g from the shifted source (mean %.3g)", worst,
+           mean);
+    printf("yaw 90 baked: largest difference from the shifted source %.2e of the mean\n",
+           worst / mean);
+    /* octants: the texel at world direction w holds the source's at R^T w */
+    double is[9], id[9];
+    integrals(&s, 0, is);
+    integrals(&d, 0, id);
+    for (int o = 0; o < 8; o++) {
+        lg_vec3 w = lg_v3(o & 1 ? -0.5f : 0.5f, o & 2 ? -0.5f : 0.5f, o & 4 ? -0.5f : 0.5f);
+        lg_vec3 p = lg_probe_from_world(rot, w);
+        int so = (p.x < 0) | (p.y < 0) << 1 | (p.z < 0) << 2;
+        CHECKF(rel(id[1 + o], is[1 + so]) <= 1e-4, "yaw 90: octant %d %.9g vs source octant %d %.9g",
+               o, id[1 + o], so, is[1 + so]);
+    }
+    /* the same rotation on both sides cancels */
     probe e2 = make(LG_PROBE_LATLONG, 64, 32);
     CHECK(lg_probe_resample(&img, LG_PROBE_LATLONG, 64, 32, rot, NULL, e2.rgba, NULL) == 0);
-    size_t diff = 0;
+    worst = 0;
     for (size_t t = 0; t < e2.n; t++)
-        diff += rel(e2.rgba[4 * t], s.rgba[4 * t]) > 1e-5;
-    CHECKF(diff == 0, "the same rotation on both sides: %zu texels differ", diff);
+        worst = fmax(worst, fabs(e2.rgba[4 * t] - s.rgba[4 * t]));
+    CHECKF(worst <= 3e-3 * mean, "the same rotation on both sides: %.3g from the source", worst);
     drop(&s);
     drop(&d);
     drop(&e2);
