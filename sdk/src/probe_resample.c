@@ -3,12 +3,15 @@
  * Each destination texel is split into kx x ky sub-rectangles in its own (u, v); each
  * sub-rectangle carries its own solid angle (exact closed forms for lat-long and cube; the
  * angular map's Jacobian at the sub-rectangle's centre times its area, rescaled so that
- * the texel's sub-weights sum to its exact solid angle) and reads the source at its
- * centre. The texel's value is the weighted mean: exactly the mean of the source over the
- * texel's footprint as the sub-rectangles resolve it, and a constant stays that constant.
- * kx and ky follow the ratio of the destination texel's extent to the source texel's
- * local extent (both in radians, measured where the texel is), so every sub-rectangle is
- * smaller than a source texel by the oversampling factor. */
+ * the texel's sub-weights sum to its exact solid angle). kx and ky follow the ratio of the
+ * destination texel's extent to the source texel's local extent (both in radians, where
+ * the texel lands), so every sub-rectangle is smaller than a source texel by the
+ * oversampling factor. A sub-rectangle's solid angle goes to the source texels under the
+ * bounding box of its corners' images (box_split), which gives a sparse matrix of
+ * overlaps; balancing it (Sinkhorn) to the exact solid angles of both layouts makes every
+ * source texel hand out exactly its solid angle. A destination texel's value is the
+ * weighted mean of its row: a constant stays that constant. docs/probes.md "Resampling"
+ * has the measurements. */
 #include "lightgraph/probe.h"
 
 #include <math.h>
@@ -35,9 +38,7 @@ static double angular_jacobian(double a, double b)
 }
 
 /* The extents (radians) of a texel of layout l, size w x h, along its u and v axes, at
- * face coordinates (u, v); `small` picks the smaller of the two sides of a stretched
- * texel (used for the source: the sub-rectangles must be smaller than it), else the
- * larger (the destination: the sub-rectangles must split it finely enough). */
+ * face coordinates (u, v): local, first order. */
 static void texel_extent(lg_probe_layout l, uint32_t w, uint32_t h, double u, double v,
                          double *eu, double *ev)
 {
@@ -154,10 +155,9 @@ static bool overlap_push(overlap *m, uint32_t s, double w)
         m->lut_gen[h] = m->gen;
         m->lut_key[h] = s;
         m->lut_val[h] = m->n;
-    } else if (len == LUT_SIZE / 2) {
-        /* the table is full enough: from here on, linear (entries already in it are
-         * still found by the linear search) */
     }
+    /* past LUT_SIZE / 2 entries the row is searched linearly (which also finds the
+     * entries the table holds) */
     m->src[m->n] = s;
     m->w[m->n] = (float)w;
     m->n++;

@@ -419,23 +419,33 @@ typedef struct lg_probe_resample_stats {
  * radiance x lg_probe_solid_angles) over the sphere, and over any region made of whole
  * destination texels, is the source's as far as the destination resolution allows.
  *
- * Method: each destination texel is split into kx x ky sub-rectangles of its (u, v),
- * kx and ky chosen per texel so that a sub-rectangle spans at most 1/oversample of the
- * source texel's local extent (in radians, at the sub-rectangles' place on the sphere:
- * lat-long texels narrow toward the poles, cube texels toward the corners, angular
- * texels tangentially toward the rim), up to max_subdiv. Each sub-rectangle has its own
- * exact solid angle (lat-long: rows in closed form; cube: the corners' closed form; the
+ * Method (docs/probes.md "Resampling"): each destination texel is split into kx x ky
+ * sub-rectangles of its (u, v), kx and ky chosen per texel so that a sub-rectangle spans
+ * at most 1/oversample of the source texel's local extent (in radians, where it lands on
+ * the sphere: lat-long texels narrow toward the poles, cube texels toward the corners,
+ * angular texels tangentially toward the rim), up to max_subdiv. Each sub-rectangle has
+ * its own solid angle (lat-long: rows in closed form; cube: the corners' closed form; the
  * angular map: its Jacobian at the sub-rectangle's centre times its area, rescaled so
- * that a texel's sub-weights sum to the texel's exact solid angle), so a texel's weights
- * sum to its exact solid angle; each reads the source along its centre's direction. The
- * texel's value is the weighted mean: a constant probe stays exactly constant. Angular
- * destination texels outside the disc are 0; a rim texel averages over its covered
- * part only. Every channel (alpha too) is resampled alike.
+ * that a texel's weights sum to the texel's exact solid angle), which goes to the source
+ * texels under the bounding box of its corners' images in proportion to their overlap.
+ * The overlaps form a sparse matrix whose row sums are the destination texels' exact
+ * solid angles; its columns (what each source texel hands out) are then balanced to the
+ * source texels' exact solid angles by alternate column and row scaling (Sinkhorn, up to
+ * 100 rounds): each source texel's energy is kept, each destination texel still averages
+ * with weights summing to its own solid angle. A texel's value is the weighted mean of
+ * its row: a constant probe stays exactly constant. Angular destination texels outside
+ * the disc are 0; a rim texel averages over its covered part only. Every channel (alpha
+ * too) is resampled alike. LG_PROBE_BILINEAR skips the matrix (no balancing).
  *
- * Accuracy (docs/probes.md "Resampling" has the measurements): with the defaults the
- * total and each octant's integral survive lat-long -> cube -> lat-long, lat-long ->
- * angular -> lat-long and cube -> angular within 1e-4 relative, on random and real
- * probes (tests/unit/probe test_probe_resample).
+ * Accuracy (measured; tests/unit/probe/test_probe_resample.c): the real probe
+ * assets/probes/forest_1024x512.hdr through cube 256 and back keeps its total and each
+ * octant's integral within 6e-6 relative; white noise over 4 decades (the adversarial
+ * case) within 1.6e-4 through a cube and 2.8e-3 through the angular map, whose rim
+ * texels the balancing does not fully converge on; one texel's energy within 1.6e-4.
+ *
+ * Cost: forest 1024x512 -> cube 256 about 4.6 s of one loaded core's CPU time, cube 256
+ * -> lat-long 1024x512 about 1.8 s; memory about 8 bytes per overlapping texel pair
+ * (2 million here) plus 8 per texel of each side. For converters, not per frame.
  *
  * src: the source level (its rotation, probe -> world, applies); layout, width, height:
  * the destination (cube: width == height, the face size); rotation: the destination's
@@ -443,8 +453,9 @@ typedef struct lg_probe_resample_stats {
  * R_src^T R_dst d, so resampling with rotation NULL bakes the source's rotation in.
  * out: 4 floats per destination texel in the radiance image's order (faces, rows from
  * row 0, columns), the caller's. opts and stats may be NULL.
- * Returns 0, LG_ERR_INVALID (unknown layout, zero size or a cube that is not square, on
- * either side; no pixels) or LG_ERR_NOMEM. Pure and re-entrant; one thread. */
+ * Returns 0, LG_ERR_INVALID (unknown layout, zero size, a side above 65536 or a cube that
+ * is not square, on either side; no pixels) or LG_ERR_NOMEM. Pure and re-entrant; one
+ * thread. */
 LG_API int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_t width,
                              uint32_t height, const float *rotation,
                              const lg_probe_resample_opts *opts, float *out,
