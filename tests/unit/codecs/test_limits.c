@@ -236,7 +236,7 @@ static void expect_refused(const char *what, const char *path, uint64_t max_pixe
     CHECKF(r.ran && r.rc < 0 && strstr(r.err, base), "%s: rc %d, '%s'", what, r.rc, r.err);
     for (int i = 0; want[i]; i++)
         CHECKF(strstr(r.err, want[i]), "%s: '%s' does not say '%s'", what, r.err, want[i]);
-    CHECKF(r.ms < 1000, "%s: %.0f ms to refuse", what, r.ms);
+    CHECKF(r.ms < 20000, "%s: %.0f ms to refuse (a hang guard; memory is the bound tested)", what, r.ms);
     CHECKF(r.maxrss_kb < RSS_BOUND_KB, "%s: peak RSS %ld KiB", what, r.maxrss_kb);
     printf("%-34s refused in %6.2f ms, peak RSS %5ld KiB: %s\n", what, r.ms, r.maxrss_kb,
            r.err + strlen("cannot read '") + strlen(path) + 3);
@@ -281,7 +281,7 @@ static void test_png_bomb(void)
         CHECKF(r.ran, "%s: %s", anc[i].name, r.err);
         if (anc[i].type)
             CHECKF(r.rc == 0, "%s: %s", anc[i].name, r.err);
-        CHECKF(r.ms < 2000 && r.maxrss_kb < RSS_BOUND_KB, "%s: %.0f ms, %ld KiB", anc[i].name,
+        CHECKF(r.ms < 20000 && r.maxrss_kb < RSS_BOUND_KB, "%s: %.0f ms, %ld KiB", anc[i].name,
                r.ms, r.maxrss_kb);
         printf("%-34s rc %d in %6.2f ms, peak RSS %5ld KiB %s\n", anc[i].name, r.rc, r.ms,
                r.maxrss_kb, r.err);
