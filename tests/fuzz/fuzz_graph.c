@@ -73,9 +73,11 @@ static bool same_value(const lg_gvalue *a, const lg_gvalue *b)
     case LG_GV_LIST:
         if (a->n_items != b->n_items)
             return false;
-        for (uint32_t i = 0; i < a->n_items; i++)
-            if (!same_value(&a->items[i], &b->items[i]))
+        for (uint32_t i = 0; i < a->n_items; i++) {
+            lg_gitem ta, tb;
+            if (!same_value(lg_glist_item(a, i, &ta, false), lg_glist_item(b, i, &tb, false)))
                 return false;
+        }
         return true;
     default: return false;
     }

@@ -278,9 +278,10 @@ static void test_numbers(void)
         CHECK(u->assigns[2].value.kind == LG_GV_INT && u->assigns[2].value.i == 7);
         CHECK(u->assigns[3].value.f == -0.2);
         const lg_gnode *b = &r.g->nodes[3];
-        CHECK(b->assigns[2].value.items[2].i == 7);
+        lg_gitem tmp;
+        CHECK(lg_glist_item(&b->assigns[2].value, 2, &tmp, false)->i == 7);
         const lg_gnode *c = &r.g->nodes[4];
-        CHECK(c->assigns[2].value.items[0].i == INT64_MIN);
+        CHECK(lg_glist_item(&c->assigns[2].value, 0, &tmp, false)->i == INT64_MIN);
     }
     char *h = headers(&r.d);
     CHECK_STR(h, "t.lgraph:6:47: error: offset[0] = -9223372036854775808 is out of range [-10, "
