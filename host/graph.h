@@ -70,7 +70,8 @@ typedef struct lg_gvalue {
     struct lg_gvalue *items; /* LIST: the items (NULL when `nums` holds them); RAW: below */
     uint32_t n_items;
     const lg_gnums *nums; /* LIST of numbers only: its n_items items, compact; else NULL */
-    char *text;       /* the literal as written (for messages) */
+    char *text;       /* the literal as written (for messages); NULL for a compact LIST
+                       * (`nums`), whose items have theirs (lg_glist_item) */
     const char *base_dir; /* directory against which a relative path resolves; NULL: the
                            * current directory */
 } lg_gvalue;

@@ -1334,7 +1334,9 @@ static bool parse_list(parser *p, lg_gvalue *v)
     set_loc(p, &v->loc, open);
     if (close->line == open->line)
         v->loc.len = close->off + 1 - open->off;
-    v->text = arena_strndup(parena(p), p->src->text + open->off, close->off + 1 - open->off);
+    /* A compact list is not copied again as text (lg_gvalue.text) */
+    if (!compact)
+        v->text = arena_strndup(parena(p), p->src->text + open->off, close->off + 1 - open->off);
     return true;
 fail:
     free(items);
