@@ -12,6 +12,10 @@
  *
  * Everything a graph points to lives in one arena (the pool), freed by lg_graph_free.
  *
+ * Lists of numbers are kept compact (lg_gnums in graph.h): the lexer makes one T_NUMS token
+ * of the numbers that follow each other on a line in a list, and a list of numbers only
+ * keeps a value and a tag for each item, no lg_gvalue (lg_glist_item makes one on demand).
+ *
  * Numbers are read with strtoll/strtod: the host never calls setlocale(), so the decimal
  * separator is always '.'.
  */
@@ -31,7 +35,8 @@
 
 /* The limits of a graph (docs/graph-format.md, "Limits"); each is tested in
  * tests/unit/parser. They keep the parser's memory linear in its input and small: a token
- * costs about 72 bytes while it is parsed, a list item about 200. */
+ * costs about 64 bytes while it is parsed, an item of a list that is not all numbers about
+ * 180; an item of a list of numbers 12 (a run of them on a line is one token: numrun). */
 #define MAX_FILE_BYTES (16u << 20)  /* a file and everything it includes, in all; this
                                      * also keeps offsets in 32 bits */
 #define MAX_TOKENS (1u << 20)       /* names, numbers, strings and punctuation, all files */
