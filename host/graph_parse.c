@@ -35,8 +35,9 @@
 
 /* The limits of a graph (docs/graph-format.md, "Limits"); each is tested in
  * tests/unit/parser. They keep the parser's memory linear in its input and small: a token
- * costs about 64 bytes while it is parsed, an item of a list that is not all numbers about
- * 180; an item of a list of numbers 12 (a run of them on a line is one token: numrun). */
+ * costs 64 bytes while it is parsed; an item of a list that holds more than numbers about
+ * 250 (its token, its comma's, an lg_gvalue and its text); an item of a list of numbers 12
+ * (the numbers of a line of a list are one token: numrun). */
 #define MAX_FILE_BYTES (16u << 20)  /* a file and everything it includes, in all; this
                                      * also keeps offsets in 32 bits */
 #define MAX_TOKENS (1u << 20)       /* names, numbers, strings and punctuation, all files */
