@@ -43,6 +43,22 @@ typedef enum lg_gv_kind {
                    * literal when it is one, otherwise `s` says why it is not */
 } lg_gv_kind;
 
+/* The items of a list of plain numbers, kept compact (12 bytes an item): a value and a
+ * tag each. A tag packs the item's byte offset from the list's '[' (bits 0-23), the length
+ * of its literal (bits 24-30, at most LG_GNUM_MAX_TEXT) and whether it is a float (bit 31).
+ * Use lg_glist_item() to see an item as an lg_gvalue. */
+#define LG_GNUM_MAX_TEXT 64
+typedef union lg_gnum {
+    int64_t i;
+    double f;
+} lg_gnum;
+
+typedef struct lg_gnums {
+    const char *at;      /* the source text at the list's '[' (owned by the graph) */
+    uint32_t *tag;
+    lg_gnum *val;
+} lg_gnums;
+
 typedef struct lg_gvalue {
     lg_gv_kind kind;
     lg_srcloc loc;
@@ -51,9 +67,11 @@ typedef struct lg_gvalue {
     double f;
     char *s;          /* STRING: the unescaped text; IDENT: the node name */
     char *port;       /* IDENT: after the dot, or NULL */
-    struct lg_gvalue *items;
+    struct lg_gvalue *items; /* LIST: the items (NULL when `nums` holds them); RAW: below */
     uint32_t n_items;
-    char *text;       /* the literal as written (for messages) */
+    const lg_gnums *nums; /* LIST of numbers only: its n_items items, compact; else NULL */
+    char *text;       /* the literal as written (for messages); NULL for a compact LIST
+                       * (`nums`), whose items have theirs (lg_glist_item) */
     const char *base_dir; /* directory against which a relative path resolves; NULL: the
                            * current directory */
 } lg_gvalue;
@@ -153,6 +171,15 @@ typedef struct lg_graph {
     uint32_t n_trailing_comments;
     void *pool;             /* private: interned strings, file texts */
 } lg_graph;
+
+/* Item i of a LIST as an lg_gvalue: &list->items[i], or for a compact list of numbers
+ * one made in *tmp (its text in tmp->text; its location computed when `want_loc`, which
+ * costs a scan from the '[' to the item). */
+typedef struct lg_gitem {
+    lg_gvalue v;
+    char text[LG_GNUM_MAX_TEXT + 1];
+} lg_gitem;
+const lg_gvalue *lg_glist_item(const lg_gvalue *list, uint32_t i, lg_gitem *tmp, bool want_loc);
 
 /* Parses `path` (and the files it includes; relative include paths resolve against the
  * including file, absolute paths and '..' are allowed; include cycles are errors; a file

@@ -287,7 +287,8 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
             goto wrong;
         bool ok = true;
         for (uint32_t i = 0; i < want; i++) {
-            const lg_gvalue *it = &v->items[i];
+            lg_gitem tmpi;
+            const lg_gvalue *it = lg_glist_item(v, i, &tmpi, true);
             char name[160];
             snprintf(name, sizeof name, "%s[%u]", pd->key, i);
             char itwhat[200];

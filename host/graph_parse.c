@@ -12,6 +12,10 @@
  *
  * Everything a graph points to lives in one arena (the pool), freed by lg_graph_free.
  *
+ * Lists of numbers are kept compact (lg_gnums in graph.h): the lexer makes one T_NUMS token
+ * of the numbers that follow each other on a line in a list, and a list of numbers only
+ * keeps a value and a tag for each item, no lg_gvalue (lg_glist_item makes one on demand).
+ *
  * Numbers are read with strtoll/strtod: the host never calls setlocale(), so the decimal
  * separator is always '.'.
  */
@@ -31,7 +35,9 @@
 
 /* The limits of a graph (docs/graph-format.md, "Limits"); each is tested in
  * tests/unit/parser. They keep the parser's memory linear in its input and small: a token
- * costs about 72 bytes while it is parsed, a list item about 200. */
+ * costs 64 bytes while it is parsed; an item of a list that holds more than numbers about
+ * 250 (its token, its comma's, an lg_gvalue and its text); an item of a list of numbers 12
+ * (the numbers of a line of a list are one token: numrun). */
 #define MAX_FILE_BYTES (16u << 20)  /* a file and everything it includes, in all; this
                                      * also keeps offsets in 32 bits */
 #define MAX_TOKENS (1u << 20)       /* names, numbers, strings and punctuation, all files */
@@ -318,7 +324,28 @@ enum {
     T_RBRACK,
     T_COMMA,
     T_ERR,
+    T_NUMS,   /* a run of numbers in a list on one line, "1, 2.5, 3": tok.s points to a
+               * numrun; off, len, line and col are those of its first number */
 };
+
+/* The numbers of a T_NUMS token: tags as in lg_gnums, but with offsets into the source
+ * text (made relative to the '[' when a list takes them). A run holds only numbers that
+ * lex cleanly, at most LG_GNUM_MAX_TEXT long, ending before offset 2^24, each separated
+ * from the one before by one ',' and blanks: a list item then costs 12 bytes, not a token
+ * for it and one for its comma. */
+typedef struct numrun {
+    uint32_t n;
+    uint32_t *tag;
+    lg_gnum *val;
+} numrun;
+
+#define TAG_OFF_MASK 0xFFFFFFu
+#define TAG_FLOAT 0x80000000u
+
+static uint32_t make_tag(uint32_t off, uint32_t len, bool is_float)
+{
+    return off | len << 24 | (is_float ? TAG_FLOAT : 0);
+}
 
 typedef struct tok {
     uint8_t kind;
@@ -438,6 +465,83 @@ static uint32_t skip_list_tail(const char *s, uint32_t pos, uint32_t end, uint32
         pos++;
     }
     return end;
+}
+
+/* Whether a number that lexes cleanly starts at s[pos] (what lex() makes a T_INT or
+ * T_FLOAT of, with no error): its end, kind and value. The same rules as lex(). */
+static bool clean_number(const char *s, uint32_t pos, uint32_t end, uint32_t *e_out,
+                         bool *is_float_out, lg_gnum *val)
+{
+    if (pos >= end)
+        return false;
+    unsigned char c = (unsigned char)s[pos];
+    bool num = is_digit(c);
+    if (!num && (c == '-' || c == '.') && pos + 1 < end) {
+        unsigned char c1 = (unsigned char)s[pos + 1];
+        num = is_digit(c1) ||
+              (c == '-' && c1 == '.' && pos + 2 < end && is_digit((unsigned char)s[pos + 2]));
+    }
+    if (!num)
+        return false;
+    uint32_t e = pos;
+    bool is_float = false;
+    if (s[e] == '-')
+        e++;
+    while (e < end && is_digit((unsigned char)s[e]))
+        e++;
+    if (e < end && s[e] == '.') {
+        is_float = true;
+        e++;
+        while (e < end && is_digit((unsigned char)s[e]))
+            e++;
+    }
+    if (e < end && (s[e] == 'e' || s[e] == 'E')) {
+        uint32_t x = e + 1;
+        if (x < end && (s[x] == '+' || s[x] == '-'))
+            x++;
+        if (x < end && is_digit((unsigned char)s[x])) {
+            is_float = true;
+            e = x;
+            while (e < end && is_digit((unsigned char)s[e]))
+                e++;
+        }
+    }
+    if (e < end && (is_ident_char((unsigned char)s[e]) || s[e] == '.'))
+        return false;
+    char *endp;
+    errno = 0;
+    if (is_float) {
+        double f = strtod(s + pos, &endp);
+        if (f > 1.7976931348623157e308 || f < -1.7976931348623157e308)
+            return false;
+        val->f = f;
+    } else {
+        long long v = strtoll(s + pos, &endp, 10);
+        if (errno == ERANGE)
+            return false;
+        val->i = v;
+    }
+    if (endp != s + e)
+        return false;
+    *e_out = e;
+    *is_float_out = is_float;
+    return true;
+}
+
+/* After a clean number that ends at `pos`: the start of the next number of the same run
+ * (past one ',' and blanks, on the same line), or UINT32_MAX. */
+static uint32_t run_next(const char *s, uint32_t pos, uint32_t end)
+{
+    while (pos < end && (s[pos] == ' ' || s[pos] == '\t' || s[pos] == '\r' || s[pos] == '\f' ||
+                         s[pos] == '\v'))
+        pos++;
+    if (pos >= end || s[pos] != ',')
+        return UINT32_MAX;
+    pos++;
+    while (pos < end && (s[pos] == ' ' || s[pos] == '\t' || s[pos] == '\r' || s[pos] == '\f' ||
+                         s[pos] == '\v'))
+        pos++;
+    return pos;
 }
 
 /* Splits text[pos, end) into tokens. `pos` is 0 for files; for a --set value it is the
@@ -561,10 +665,14 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             pos = end;
             break;
         }
+        bool item_start = false; /* this token starts an item of a list */
+        uint32_t item_ld = 0;
         {
             uint32_t ld = ldepth < MAX_LIST_DEPTH ? ldepth : MAX_LIST_DEPTH;
             if (ldepth > 0 && lwant[ld] && c != ',' && c != ']' && c != '{' && c != '}') {
                 lwant[ld] = false;
+                item_start = ldepth < MAX_LIST_DEPTH;
+                item_ld = ld;
                 if (++litems[ld] > MAX_LIST_ITEMS) {
                     t->len = 1;
                     set_err(p, t, t->col, 1, "this list has more than %u items; that is the "
@@ -699,6 +807,48 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             }
             if (t->kind != T_ERR && endp != s + e)
                 set_err(p, t, t->col, t->len, "invalid number '%.*s'", (int)t->len, s + pos);
+            if (t->kind != T_ERR && item_start && t->len <= LG_GNUM_MAX_TEXT &&
+                e <= TAG_OFF_MASK) {
+                /* More numbers after this one on its line: one T_NUMS token for them all.
+                 * They count as the tokens and list items they would have been. */
+                uint32_t q = e, n = 1, ntok = p->s->n_tokens, nitems = litems[item_ld];
+                for (;;) {
+                    uint32_t r = run_next(s, q, end), ne;
+                    bool f;
+                    lg_gnum val;
+                    if (r == UINT32_MAX || !clean_number(s, r, end, &ne, &f, &val) ||
+                        ne - r > LG_GNUM_MAX_TEXT || ne > TAG_OFF_MASK ||
+                        ntok + 2 > MAX_TOKENS || nitems + 1 > MAX_LIST_ITEMS)
+                        break;
+                    ntok += 2;
+                    nitems++;
+                    n++;
+                    q = ne;
+                }
+                if (n > 1) {
+                    numrun *run = arena_alloc(parena(p), sizeof *run);
+                    run->n = n;
+                    run->tag = arena_alloc(parena(p), n * sizeof *run->tag);
+                    run->val = arena_alloc(parena(p), n * sizeof *run->val);
+                    bool f = t->kind == T_FLOAT;
+                    run->tag[0] = make_tag(pos, t->len, f);
+                    if (f)
+                        run->val[0].f = t->f;
+                    else
+                        run->val[0].i = t->i;
+                    uint32_t r = e;
+                    for (uint32_t j = 1; j < n; j++) {
+                        uint32_t b = run_next(s, r, end);
+                        clean_number(s, b, end, &r, &f, &run->val[j]);
+                        run->tag[j] = make_tag(b, r - b, f);
+                    }
+                    t->kind = T_NUMS;
+                    t->s = (char *)run;
+                    p->s->n_tokens = ntok;
+                    litems[item_ld] = nitems;
+                    e = q;
+                }
+            }
             pos = e;
             continue;
         }
@@ -909,6 +1059,7 @@ static const char *describe(const parser *p, const tok *t, char buf[80])
         return buf;
     case T_INT:
     case T_FLOAT:
+    case T_NUMS:
         snprintf(buf, 80, "'%.*s'", (int)(t->len < 60 ? t->len : 60), p->src->text + t->off);
         return buf;
     default:
@@ -1056,6 +1207,36 @@ static bool parse_list(parser *p, lg_gvalue *v)
     uint32_t n = 0, cap = 0;
     bool sep = true; /* a separator (or the '[') came since the last item */
     tok *close = NULL;
+    /* A list of numbers only (up to its ']') is kept compact: lg_gnums, no lg_gvalue per
+     * item; a list that is one T_NUMS run takes that run's arrays as they are. */
+    uint32_t total = 0, runs = 0, plain = 0;
+    bool compact = true;
+    for (uint32_t k = p->cur; compact && k < p->nt; k++) {
+        const tok *t = &p->t[k];
+        if (t->kind == T_RBRACK)
+            break;
+        if (t->kind == T_NUMS) {
+            total += ((const numrun *)(const void *)t->s)->n;
+            runs++;
+        } else if (t->kind == T_INT || t->kind == T_FLOAT) {
+            if (t->len > LG_GNUM_MAX_TEXT || t->off + t->len > TAG_OFF_MASK)
+                compact = false;
+            total++;
+            plain++;
+        } else if (t->kind != T_COMMA && t->kind != T_NL) {
+            compact = false;
+        }
+    }
+    compact = compact && total > 0;
+    lg_gnums *nums = NULL;
+    if (compact) {
+        nums = arena_zalloc(parena(p), sizeof *nums);
+        nums->at = p->src->text + open->off;
+        if (!(runs == 1 && plain == 0)) {
+            nums->tag = arena_alloc(parena(p), total * sizeof *nums->tag);
+            nums->val = arena_alloc(parena(p), total * sizeof *nums->val);
+        }
+    }
     for (;;) {
         if (skip_nl(p))
             sep = true;
@@ -1077,13 +1258,67 @@ static bool parse_list(parser *p, lg_gvalue *v)
             expected(p, "',' or ']' after a list item");
             goto fail;
         }
-        if (n == cap) {
-            cap = cap ? cap * 2 : 4;
-            items = lg_xrealloc(items, cap * sizeof *items);
+        if (compact) {
+            if (t->kind == T_NUMS) {
+                numrun *run = (numrun *)(void *)t->s;
+                if (!nums->tag) { /* the list's only run: its arrays become the list's */
+                    nums->tag = run->tag;
+                    nums->val = run->val;
+                } else {
+                    memcpy(nums->val + n, run->val, run->n * sizeof *run->val);
+                    memcpy(nums->tag + n, run->tag, run->n * sizeof *run->tag);
+                }
+                for (uint32_t j = 0; j < run->n; j++) {
+                    uint32_t g = nums->tag[n + j];
+                    nums->tag[n + j] = make_tag((g & TAG_OFF_MASK) - open->off,
+                                                (g >> 24) & 0x7F, (g & TAG_FLOAT) != 0);
+                }
+                n += run->n;
+            } else { /* T_INT or T_FLOAT */
+                bool f = t->kind == T_FLOAT;
+                nums->tag[n] = make_tag(t->off - open->off, t->len, f);
+                if (f)
+                    nums->val[n].f = t->f;
+                else
+                    nums->val[n].i = t->i;
+                n++;
+            }
+            advance(p);
+        } else if (t->kind == T_NUMS) {
+            /* In a list that is not all numbers: an lg_gvalue for each (on t's line). */
+            const numrun *run = (const numrun *)(const void *)t->s;
+            for (uint32_t j = 0; j < run->n; j++) {
+                if (n == cap) {
+                    cap = cap ? cap * 2 : 4;
+                    items = lg_xrealloc(items, cap * sizeof *items);
+                }
+                lg_gvalue *it = &items[n++];
+                memset(it, 0, sizeof *it);
+                uint32_t g = run->tag[j], off = g & TAG_OFF_MASK, len = (g >> 24) & 0x7F;
+                it->base_dir = p->base_dir;
+                it->loc.file = p->src->name;
+                it->loc.line = t->line;
+                it->loc.col = t->col + (off - t->off);
+                it->loc.len = len;
+                if (g & TAG_FLOAT) {
+                    it->kind = LG_GV_FLOAT;
+                    it->f = run->val[j].f;
+                } else {
+                    it->kind = LG_GV_INT;
+                    it->i = run->val[j].i;
+                }
+                it->text = arena_strndup(parena(p), p->src->text + off, len);
+            }
+            advance(p);
+        } else {
+            if (n == cap) {
+                cap = cap ? cap * 2 : 4;
+                items = lg_xrealloc(items, cap * sizeof *items);
+            }
+            if (!parse_value(p, &items[n]))
+                goto fail;
+            n++;
         }
-        if (!parse_value(p, &items[n]))
-            goto fail;
-        n++;
         sep = false;
         if (skip_nl(p))
             sep = true;
@@ -1094,13 +1329,20 @@ static bool parse_list(parser *p, lg_gvalue *v)
     }
     p->list_depth--;
     v->kind = LG_GV_LIST;
-    v->items = arena_copy(parena(p), items, n * sizeof *items);
+    if (compact) {
+        v->items = NULL;
+        v->nums = nums;
+    } else {
+        v->items = arena_copy(parena(p), items, n * sizeof *items);
+    }
     v->n_items = n;
     free(items);
     set_loc(p, &v->loc, open);
     if (close->line == open->line)
         v->loc.len = close->off + 1 - open->off;
-    v->text = arena_strndup(parena(p), p->src->text + open->off, close->off + 1 - open->off);
+    /* A compact list is not copied again as text (lg_gvalue.text) */
+    if (!compact)
+        v->text = arena_strndup(parena(p), p->src->text + open->off, close->off + 1 - open->off);
     return true;
 fail:
     free(items);
@@ -1818,6 +2060,40 @@ lg_graph *lg_graph_parse_file(const char *path, lg_diags *diags)
     free(dir);
     free(abs);
     return g;
+}
+
+const lg_gvalue *lg_glist_item(const lg_gvalue *list, uint32_t i, lg_gitem *tmp, bool want_loc)
+{
+    if (!list->nums)
+        return &list->items[i];
+    lg_gvalue *v = &tmp->v;
+    memset(v, 0, sizeof *v);
+    uint32_t g = list->nums->tag[i], off = g & TAG_OFF_MASK, len = (g >> 24) & 0x7F;
+    if (g & TAG_FLOAT) {
+        v->kind = LG_GV_FLOAT;
+        v->f = list->nums->val[i].f;
+    } else {
+        v->kind = LG_GV_INT;
+        v->i = list->nums->val[i].i;
+    }
+    memcpy(tmp->text, list->nums->at + off, len);
+    tmp->text[len] = 0;
+    v->text = tmp->text;
+    v->base_dir = list->base_dir;
+    v->loc = list->loc;
+    v->loc.len = len;
+    if (want_loc) {
+        const char *at = list->nums->at;
+        uint32_t lines = 0, last = 0;
+        for (uint32_t k = 0; k < off; k++)
+            if (at[k] == '\n') {
+                lines++;
+                last = k;
+            }
+        v->loc.line = list->loc.line + lines;
+        v->loc.col = lines ? off - last : list->loc.col + off;
+    }
+    return v;
 }
 
 int32_t lg_graph_find_node(const lg_graph *g, const char *name)

@@ -67,7 +67,12 @@ static void add_value(lg_str *b, const lg_gvalue *v)
         for (uint32_t i = 0; i < v->n_items; i++) {
             if (i)
                 lg_str_add(b, ", ");
-            add_value(b, &v->items[i]);
+            if (!v->nums)
+                add_value(b, &v->items[i]);
+            else if (v->nums->tag[i] & 0x80000000u) /* a float (lg_gnums) */
+                add_float(b, v->nums->val[i].f);
+            else
+                lg_str_addf(b, "%" PRId64, v->nums->val[i].i);
         }
         lg_str_addc(b, ']');
         break;

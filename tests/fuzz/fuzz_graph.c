@@ -73,9 +73,11 @@ static bool same_value(const lg_gvalue *a, const lg_gvalue *b)
     case LG_GV_LIST:
         if (a->n_items != b->n_items)
             return false;
-        for (uint32_t i = 0; i < a->n_items; i++)
-            if (!same_value(&a->items[i], &b->items[i]))
+        for (uint32_t i = 0; i < a->n_items; i++) {
+            lg_gitem ta, tb;
+            if (!same_value(lg_glist_item(a, i, &ta, false), lg_glist_item(b, i, &tb, false)))
                 return false;
+        }
         return true;
     default: return false;
     }
@@ -189,9 +191,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             const lg_gnode *n = &g->nodes[i];
             const lg_gnode *m = &g->nodes[(i + 1) % g->n_nodes];
             const char *key = n->n_assigns ? n->assigns[0].key : "key";
-            const char *val = m->n_assigns && m->assigns[0].value.text ? m->assigns[0].value.text
-                                                                        : "1";
+            const lg_gvalue *mv = m->n_assigns ? &m->assigns[0].value : NULL;
+            lg_str lt = {0};
+            if (mv && mv->kind == LG_GV_LIST && mv->nums) { /* compact: no text of its own */
+                lg_str_addc(&lt, '[');
+                for (uint32_t k = 0; k < mv->n_items; k++) {
+                    lg_gitem it;
+                    lg_str_addf(&lt, "%s%s", k ? ", " : "", lg_glist_item(mv, k, &it, false)->text);
+                }
+                lg_str_addc(&lt, ']');
+            }
+            const char *val = lt.s ? lt.s : mv && mv->text ? mv->text : "1";
             char *set = lg_xasprintf("%s.%s=%s", n->name, key, val);
+            lg_str_free(&lt);
             lg_graph_set(g, set, &d);
             free(set);
         }
