@@ -88,33 +88,6 @@ typedef struct core_image_state {
 /* 64-bit FNV-1a over the file's bytes: the whole content, so that a file rewritten within
  * the same second and with the same size still changes the cache key. A 4 MB EXR takes a
  * few milliseconds, next to the tens the decoder needs. */
-/* The content key of a decoded image: its size and its pixels, hashed 8 bytes at a time
- * (FNV-1a over words, then a final mix). Hashing what was decoded, rather than the file's
- * bytes, needs no second open of the path (the file could change between the two) and gives
- * the same key to the same pixels from any encoding. */
-static uint64_t core_hash_image(const lg_image *img)
-{
-    uint64_t h = 0xcbf29ce484222325ull;
-    uint64_t head[2] = { img->width, img->height };
-    for (int i = 0; i < 2; i++)
-        h = (h ^ head[i]) * 0x100000001b3ull;
-    const unsigned char *p = (const unsigned char *)img->pixels;
-    size_t n = (size_t)img->width * img->height * 4 * sizeof(float);
-    size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        uint64_t w;
-        memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001b3ull;
-        h ^= h >> 29;
-    }
-    for (; i < n; i++)
-        h = (h ^ p[i]) * 0x100000001b3ull;
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    return h;
-}
-
 static int image_prepare(lg_node *n)
 {
     const char *path = lg_param_string(n, "file");
@@ -148,7 +121,9 @@ static int image_prepare(lg_node *n)
         lg_log(n, LG_LOG_WARN, "file '%s': %" PRIu64 " pixel%s with a NaN or Inf channel, kept as found",
                path, info.nonfinite, info.nonfinite == 1 ? "" : "s");
 
-    uint64_t h = core_hash_image(&st->img);
+    /* the decoded pixels, not the file's bytes: no second open of the path (the file could
+     * change between the two), and the same key for the same pixels in any encoding */
+    uint64_t h = lg_image_hash(&st->img, LG_IMAGE_HASH_SEED);
     n->host->add_content_key(n, &h, sizeof h);
 
     rc = core_declare_rgba32f(n, 0, st->img.width, st->img.height);

@@ -74,30 +74,6 @@ static void pr_state_clear(pr_state *st)
     st->texels = NULL;
 }
 
-/* The content key of a decoded image, as core's image node makes it: its size and its
- * pixels (FNV-1a over 8-byte words, then a final mix). */
-static uint64_t pr_hash_image(uint64_t h, const lg_image *img)
-{
-    uint64_t head[2] = { img->width, img->height };
-    for (int i = 0; i < 2; i++)
-        h = (h ^ head[i]) * 0x100000001b3ull;
-    const unsigned char *p = (const unsigned char *)img->pixels;
-    size_t n = (size_t)img->width * img->height * 4 * sizeof(float);
-    size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        uint64_t w;
-        memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001b3ull;
-        h ^= h >> 29;
-    }
-    for (; i < n; i++)
-        h = (h ^ p[i]) * 0x100000001b3ull;
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    return h;
-}
-
 /* Reads one file as stored (no clamping: pr_sanitize counts and zeroes what a probe
  * cannot hold, with one warning per file). */
 static int pr_read(lg_node *n, const char *path, const char *what, lg_image *img)
@@ -267,7 +243,7 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
     }
     if (want == PR_LAYOUT_AUTO && !have_file && have_faces)
         want = PR_LAYOUT_FACES;
-    uint64_t h = 0xcbf29ce484222325ull;
+    uint64_t h = LG_IMAGE_HASH_SEED;
 
     if (want == PR_LAYOUT_FACES) {
         if (have_file)
@@ -310,7 +286,7 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
         }
         for (int f = 0; f < 6 && !rc; f++) {
             pr_sanitize(n, lg_param_string(n, pr_face_keys[f]), &img[f]);
-            h = pr_hash_image(h, &img[f]);
+            h = lg_image_hash(&img[f], h);
             memcpy(st->texels + (size_t)4 * f * N * N, img[f].pixels, (size_t)N * N * 16);
         }
         for (int f = 0; f < 6; f++)
@@ -339,7 +315,7 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
         return LG_ERR_INVALID;
     }
     pr_sanitize(n, file, &img);
-    h = pr_hash_image(h, &img);
+    h = lg_image_hash(&img, h);
     h = (h ^ (uint64_t)src) * 0x100000001b3ull;
     *key = h;
     lg_log(n, LG_LOG_DEBUG, "file '%s' (%ux%u): %s", file, img.width, img.height,

@@ -44,6 +44,30 @@ uint64_t lg_image_max_pixels(void)
     return atomic_load(&max_pixels);
 }
 
+uint64_t lg_image_hash(const lg_image *img, uint64_t h)
+{
+    if (!img || !img->pixels)
+        return h;
+    uint64_t head[2] = { img->width, img->height };
+    for (int i = 0; i < 2; i++)
+        h = (h ^ head[i]) * 0x100000001b3ull;
+    const unsigned char *p = (const unsigned char *)img->pixels;
+    size_t n = (size_t)img->width * img->height * 4 * sizeof(float);
+    size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint64_t w;
+        memcpy(&w, p + i, 8);
+        h = (h ^ w) * 0x100000001b3ull;
+        h ^= h >> 29;
+    }
+    for (; i < n; i++)
+        h = (h ^ p[i]) * 0x100000001b3ull;
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    return h;
+}
+
 void lg_image_set_max_pixels(uint64_t n)
 {
     atomic_store(&max_pixels, n ? n : LG_IMAGE_MAX_PIXELS_DEFAULT);

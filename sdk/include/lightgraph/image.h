@@ -110,6 +110,14 @@ LG_API void lg_image_set_max_pixels(uint64_t n);
  * FIFO) and every decoder reads that open file; no decoder opens the path again. */
 LG_API uint64_t lg_image_max_file_bytes(void);
 
+/* A 64-bit hash of an image's size and pixels (FNV-1a over 8-byte words, then a final mix),
+ * continuing from `seed` (LG_IMAGE_HASH_SEED to start; pass a previous result to chain
+ * several images). For content keys: the same pixels give the same key from any file
+ * encoding, and hashing what was decoded needs no second open of the file. Not a
+ * cryptographic hash. */
+#define LG_IMAGE_HASH_SEED 0xcbf29ce484222325ull
+LG_API uint64_t lg_image_hash(const lg_image *img, uint64_t seed);
+
 /* Reads a file into `img` (which the call fills; free with lg_image_free). A file without
  * alpha gets alpha 1. PNG is decoded from sRGB to linear. `info` may be NULL. */
 LG_API int lg_image_read(const char *path, unsigned flags, lg_image *img,
