@@ -467,13 +467,11 @@ static uint32_t skip_list_tail(const char *s, uint32_t pos, uint32_t end, uint32
     return end;
 }
 
-/* Whether a number that lexes cleanly starts at s[pos] (what lex() makes a T_INT or
- * T_FLOAT of, with no error): its end, kind and value. The same rules as lex(). */
-static bool clean_number(const char *s, uint32_t pos, uint32_t end, uint32_t *e_out,
-                         bool *is_float_out, lg_gnum *val)
+/* Where a number starting at s[pos] ends (pos when none starts there): digits with an
+ * optional '-', fraction and exponent; *is_float_out when it has a fraction or an exponent.
+ * What follows it (a letter or a '.', which make it an error) is the caller's to judge. */
+static uint32_t number_end(const char *s, uint32_t pos, uint32_t end, bool *is_float_out)
 {
-    if (pos >= end)
-        return false;
     unsigned char c = (unsigned char)s[pos];
     bool num = is_digit(c);
     if (!num && (c == '-' || c == '.') && pos + 1 < end) {
@@ -482,7 +480,7 @@ static bool clean_number(const char *s, uint32_t pos, uint32_t end, uint32_t *e_
               (c == '-' && c1 == '.' && pos + 2 < end && is_digit((unsigned char)s[pos + 2]));
     }
     if (!num)
-        return false;
+        return pos;
     uint32_t e = pos;
     bool is_float = false;
     if (s[e] == '-')
@@ -506,6 +504,21 @@ static bool clean_number(const char *s, uint32_t pos, uint32_t end, uint32_t *e_
                 e++;
         }
     }
+    *is_float_out = is_float;
+    return e;
+}
+
+/* Whether a number that lexes cleanly starts at s[pos] (what lex() makes a T_INT or
+ * T_FLOAT of, with no error): its end, kind and value. The same rules as lex(). */
+static bool clean_number(const char *s, uint32_t pos, uint32_t end, uint32_t *e_out,
+                         bool *is_float_out, lg_gnum *val)
+{
+    if (pos >= end)
+        return false;
+    bool is_float = false;
+    uint32_t e = number_end(s, pos, end, &is_float);
+    if (e == pos)
+        return false;
     if (e < end && (is_ident_char((unsigned char)s[e]) || s[e] == '.'))
         return false;
     char *endp;
@@ -746,36 +759,10 @@ static void lex(parser *p, uint32_t pos, uint32_t end)
             continue;
         }
 
-        bool num = is_digit(c);
-        if (!num && (c == '-' || c == '.') && pos + 1 < end) {
-            unsigned char c1 = (unsigned char)s[pos + 1];
-            num = is_digit(c1) ||
-                  (c == '-' && c1 == '.' && pos + 2 < end && is_digit((unsigned char)s[pos + 2]));
-        }
-        if (num) {
-            uint32_t e = pos;
-            bool is_float = false;
-            if (s[e] == '-')
-                e++;
-            while (e < end && is_digit((unsigned char)s[e]))
-                e++;
-            if (e < end && s[e] == '.') {
-                is_float = true;
-                e++;
-                while (e < end && is_digit((unsigned char)s[e]))
-                    e++;
-            }
-            if (e < end && (s[e] == 'e' || s[e] == 'E')) {
-                uint32_t x = e + 1;
-                if (x < end && (s[x] == '+' || s[x] == '-'))
-                    x++;
-                if (x < end && is_digit((unsigned char)s[x])) {
-                    is_float = true;
-                    e = x;
-                    while (e < end && is_digit((unsigned char)s[e]))
-                        e++;
-                }
-            }
+        bool is_float = false;
+        uint32_t num_end = number_end(s, pos, end, &is_float);
+        if (num_end != pos) {
+            uint32_t e = num_end;
             if (e < end && (is_ident_char((unsigned char)s[e]) || s[e] == '.')) {
                 while (e < end && (is_ident_char((unsigned char)s[e]) || s[e] == '.'))
                     e++;
