@@ -267,10 +267,12 @@ static void print_features(FILE *f, const char *name, const lg_scene_features *s
 {
     fprintf(f,
             "scene features (%s): triangles %llu, vertices %llu, lights: %u directional, %u "
-            "point, %u other; medium %s (density %g); probe %s; specular material %s\n",
+            "point, %u other; medium %s (density %g); probe %s; specular material %s; "
+            "reflective materials %u\n",
             name, (unsigned long long)sf->triangles, (unsigned long long)sf->vertices,
             sf->dir_lights, sf->point_lights, sf->other_lights, sf->medium ? "yes" : "no",
-            (double)sf->medium_density, sf->probe ? "yes" : "no", sf->specular ? "yes" : "no");
+            (double)sf->medium_density, sf->probe ? "yes" : "no", sf->specular ? "yes" : "no",
+            sf->reflective_materials);
 }
 
 void lg_explain_print(lg_exec *ex, FILE *f)

@@ -65,6 +65,8 @@ static const char *needs_text(uint32_t unmet)
         return "no light probe";
     if (unmet & LG_NEEDS_SPECULAR)
         return "no material with a specular term";
+    if (unmet & LG_NEEDS_REFLECTIVE)
+        return "no reflective material";
     if (unmet & LG_NEEDS_GEOMETRY)
         return "no geometry";
     return "unmet needs";
@@ -123,6 +125,8 @@ static uint32_t unmet_needs(uint32_t needs, const lg_scene_features *f)
         unmet |= LG_NEEDS_PROBE;
     if ((needs & LG_NEEDS_SPECULAR) && !f->specular)
         unmet |= LG_NEEDS_SPECULAR;
+    if ((needs & LG_NEEDS_REFLECTIVE) && f->reflective_materials == 0)
+        unmet |= LG_NEEDS_REFLECTIVE;
     return unmet;
 }
 

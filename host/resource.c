@@ -214,6 +214,7 @@ static void gl_formats(lg_format f, GLenum *internal, GLenum *format, GLenum *ty
         *type = GL_HALF_FLOAT;
         break;
     case LG_FORMAT_RGBA8:
+    case LG_FORMAT_RGBE8: /* an RGBA8 target; shaders encode and decode (rgbe.glsl) */
         *internal = GL_RGBA8;
         *type = GL_UNSIGNED_BYTE;
         break;
@@ -634,6 +635,14 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
         const uint8_t *b = r->cpu;
         for (size_t i = 0; i < np * 4; i++)
             f[i] = (float)b[i] / 255.0f;
+        break;
+    }
+    case LG_FORMAT_RGBE8: {
+        const uint8_t *b = r->cpu;
+        for (size_t i = 0; i < np; i++) {
+            lg_rgbe_decode(b + 4 * i, f + 4 * i);
+            f[4 * i + 3] = 1.0f;
+        }
         break;
     }
     }

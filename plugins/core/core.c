@@ -47,6 +47,7 @@ static const char *core_format_name(lg_format f)
     case LG_FORMAT_RGBA32F: return "rgba32f";
     case LG_FORMAT_RGBA16F: return "rgba16f";
     case LG_FORMAT_RGBA8: return "rgba8";
+    case LG_FORMAT_RGBE8: return "rgbe8";
     }
     return "unknown";
 }

@@ -56,6 +56,18 @@ void lg_scene_compute_features(lg_scene *s)
         if (s->materials[i].ks > 0 &&
             (s->materials[i].os[0] > 0 || s->materials[i].os[1] > 0 || s->materials[i].os[2] > 0))
             f.specular = true;
+    /* reflective: materials with a non-zero reflectivity that some instance draws */
+    for (uint32_t i = 0; i < s->n_materials; i++) {
+        const float *r = s->materials[i].reflectivity;
+        if (!(r[0] > 0 || r[1] > 0 || r[2] > 0))
+            continue;
+        bool used = false;
+        for (uint32_t k = 0; k < s->n_instances && !used; k++) {
+            uint32_t m = s->instances[k].mesh;
+            used = m < s->n_meshes && s->meshes[m].material == i;
+        }
+        f.reflective_materials += used;
+    }
     f.probe = s->features.probe;
     s->features = f;
 }

@@ -502,7 +502,8 @@ static inline size_t lg_image_offset(const lg_image_desc *d, uint32_t level, uin
 /* Bytes per pixel of a format. */
 static inline size_t lg_format_size(lg_format f)
 {
-    return f == LG_FORMAT_RGBA32F ? 16 : f == LG_FORMAT_RGBA16F ? 8 : f == LG_FORMAT_RGBA8 ? 4 : 0;
+    return f == LG_FORMAT_RGBA32F ? 16 : f == LG_FORMAT_RGBA16F ? 8 :
+           (f == LG_FORMAT_RGBA8 || f == LG_FORMAT_RGBE8) ? 4 : 0;
 }
 
 #ifdef __cplusplus

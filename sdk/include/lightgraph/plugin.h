@@ -134,6 +134,8 @@ enum {
     LG_NEEDS_MEDIUM      = 1u << 4, /* a participating medium with density > 0 */
     LG_NEEDS_PROBE       = 1u << 5, /* a light probe */
     LG_NEEDS_SPECULAR    = 1u << 6, /* a material with a non-zero specular term */
+    LG_NEEDS_REFLECTIVE  = 1u << 7, /* since ABI 2.2: a material with a non-zero
+                                     * reflectivity (lg_material.reflectivity) */
 };
 
 /* What stands in for a gated node's outputs. */

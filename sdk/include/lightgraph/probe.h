@@ -125,7 +125,9 @@ typedef enum lg_probe_layout {
 /* What the levels above 0 hold. */
 typedef enum lg_probe_filter {
     LG_PROBE_FILTER_NONE = 0,  /* a plain box-filtered mip chain (or no chain) */
-    LG_PROBE_FILTER_GLOSSY,    /* level l prefiltered for a Phong lobe (lg_probe_info) */
+    LG_PROBE_FILTER_GGX,       /* level l of L prefiltered for GGX of perceptual roughness
+                                * l / (L - 1) (lightgraph/probe_filter.h): level 0 is the
+                                * probe itself, the last level roughness 1 */
 } lg_probe_filter;
 
 /* The `info` part. */
@@ -135,8 +137,8 @@ typedef struct lg_probe_info {
     float rotation[9];         /* probe -> world, column-major 3x3, orthonormal */
     float scale;               /* radiance multiplier already applied to the texels: 1 */
     lg_probe_filter filter;
-    float exponent0;           /* LG_PROBE_FILTER_GLOSSY: Phong exponent of level 1 */
-    float exponent_ratio;      /* ... each further level divides the exponent by this */
+    uint32_t filter_samples;   /* LG_PROBE_FILTER_GGX: samples per texel it used */
+    uint32_t filter_reserved;
     uint32_t reserved[8];
 } lg_probe_info;
 

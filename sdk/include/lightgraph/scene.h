@@ -74,7 +74,17 @@ typedef struct lg_material {
     float metallic, roughness; /* glTF metallicRoughness factors */
     float emissive[3];
     bool double_sided;
-    void *reserved[4];
+    /* Since ABI 2.2 (in the place of two of four reserved pointers): how much of the
+     * environment the surface mirrors, per channel, at normal incidence (the F0 that
+     * image-based lighting uses; Fresnel-Schlick raises it toward 1 at grazing angles).
+     * From glTF: metals (metallic > 0) mix(F0 dielectric, baseColor, metallic) weighted
+     * so that metallic 0 without KHR_materials_specular gives 0; a dielectric with
+     * KHR_materials_specular its specular F0; `extras.reflectivity` (a number or
+     * [r, g, b]) overrides. 0 means the material reflects nothing (plugins/scene_gltf/
+     * README.md, "Materials"). roughness above is glTF's perceptual roughness. */
+    float reflectivity[3];
+    uint32_t reserved_u32;
+    void *reserved[2];
 } lg_material;
 
 typedef enum lg_light_type {
@@ -143,7 +153,8 @@ typedef struct lg_scene {
 LG_API const lg_scene *lg_scene_get(lg_node *node, const lg_resource *res);
 
 /* Fills scene->features from its contents (triangles and vertices over instances, light
- * counts by type, medium with density > 0, any material with ks > 0). */
+ * counts by type, medium with density > 0, any material with ks > 0, the materials with
+ * a non-zero reflectivity that some instance draws). */
 LG_API void lg_scene_compute_features(lg_scene *scene);
 
 /* GPU copies of a mesh's arrays. Names are 0 (or NULL) for arrays the mesh lacks. */

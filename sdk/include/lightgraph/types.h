@@ -62,6 +62,10 @@ typedef enum lg_format {
     LG_FORMAT_RGBA32F = 1, /* 4 x float, linear */
     LG_FORMAT_RGBA16F,     /* 4 x IEEE half, linear */
     LG_FORMAT_RGBA8,       /* 4 x unorm8; the encoding (sRGB or linear) is the producer's to say */
+    LG_FORMAT_RGBE8,       /* since ABI 2.2: Ward's RGBE (the .hdr pixel): R, G, B mantissas
+                            * and a shared exponent in A, 4 x uint8 (lg_rgbe_encode /
+                            * lg_rgbe_decode; shaders/common/rgbe.glsl, rgbe.cl); linear
+                            * radiance, decoded by its consumers (lightgraph/image.h) */
 } lg_format;
 
 /* Devices a node can run on and a resource can live on. */
@@ -90,7 +94,10 @@ typedef struct lg_scene_features {
     bool probe;              /* a light probe */
     bool specular;           /* a material with a non-zero specular term */
     float medium_density;
-    uint32_t reserved[8];
+    /* since ABI 2.2: materials whose reflectivity (lg_material.reflectivity) is not zero;
+     * it takes the place of the first reserved word */
+    uint32_t reflective_materials;
+    uint32_t reserved[7];
 } lg_scene_features;
 
 #ifdef __cplusplus
