@@ -1035,6 +1035,16 @@ static int map_material(loader *l, uint32_t i, lg_material *out)
         n = (2.0 / (alpha * alpha) - 2.0) / 4.0;
     n = fmin(fmax(n, 1.0), 10000.0);
     double ka = 0.1, kd = 1 - metal, ks = 1, shininess = n;
+    /* What image-based lighting mirrors (lg_material.reflectivity): the same F0, for
+     * materials that ask for a reflection: metals, and dielectrics that state their
+     * specular reflectance with KHR_materials_specular. A plain dielectric (a wall, the
+     * default 0.04 of every glTF material) mirrors nothing, so that a scene of them gates
+     * reflect and envmap off. */
+    double reflectivity[3] = {0, 0, 0};
+    bool khr_specular = lg_json_get(gm->extensions, "KHR_materials_specular") != NULL;
+    if (metal > 0 || khr_specular)
+        for (int k = 0; k < 3; k++)
+            reflectivity[k] = os[k];
 
     /* extras override any of them, by lg_material's names */
     const lg_json *x = gm->extras;
@@ -1045,7 +1055,9 @@ static int map_material(loader *l, uint32_t i, lg_material *out)
         (rc = json_number(l, where, "extras.ks", lg_json_get(x, "ks"), 0, 1e30, &ks)) ||
         (rc = json_number(l, where, "extras.shininess", lg_json_get(x, "shininess"), 0, 1e30, &shininess)) ||
         (rc = json_rgb(l, where, "extras.od", lg_json_get(x, "od"), 0, 1e30, od)) ||
-        (rc = json_rgb(l, where, "extras.os", lg_json_get(x, "os"), 0, 1e30, os)))
+        (rc = json_rgb(l, where, "extras.os", lg_json_get(x, "os"), 0, 1e30, os)) ||
+        (rc = json_rgb(l, where, "extras.reflectivity", lg_json_get(x, "reflectivity"), 0, 1,
+                       reflectivity)))
         return rc;
 
     memset(out, 0, sizeof *out);
@@ -1058,6 +1070,7 @@ static int map_material(loader *l, uint32_t i, lg_material *out)
         out->od[k] = (float)od[k];
         out->os[k] = (float)os[k];
         out->emissive[k] = (float)(emissive[k] * strength);
+        out->reflectivity[k] = (float)reflectivity[k];
     }
     for (int k = 0; k < 4; k++)
         out->base_color[k] = (float)base[k];
@@ -1078,7 +1091,7 @@ static void default_material(lg_material *m)
     m->ks = 1.0f;
     m->shininess = 1.0f;
     for (int k = 0; k < 3; k++)
-        m->od[k] = m->os[k] = 1.0f;
+        m->od[k] = m->os[k] = m->reflectivity[k] = 1.0f; /* a metal: it reflects */
     for (int k = 0; k < 4; k++)
         m->base_color[k] = 1.0f;
     m->metallic = m->roughness = 1.0f;

@@ -1,0 +1,61 @@
+// shaders/common/rgbe.cl: Ward's RGBE (LG_FORMAT_RGBE8) and the rgba16f range in OpenCL C
+// 1.2, the twins of lg_rgbe_encode / lg_rgbe_decode (sdk/src/rgbe.c) and of
+// shaders/common/rgbe.glsl. Embedded byte for byte (lg_src_rgbe_cl); a kernel is built
+// from this text followed by its own.
+//
+// An rgbe8 image on CL is a buffer of uchar4 (the CPU's bytes): store
+// lg_rgbe_encode(rgb), read with lg_rgbe_decode. lg_half_range clamps what an rgba16f
+// store would turn into +Inf (above 65504) to 65504, and NaN to 0.
+#ifndef LG_RGBE_CL
+#define LG_RGBE_CL
+
+inline float lg_rgbe_channel(float c)
+{
+    return c > 0.0f ? c : 0.0f;
+}
+
+inline uchar4 lg_rgbe_encode(float3 rgb)
+{
+    float3 c = (float3)(lg_rgbe_channel(rgb.x), lg_rgbe_channel(rgb.y), lg_rgbe_channel(rgb.z));
+    float m = fmax(c.x, fmax(c.y, c.z));
+    if (m <= 1e-38f)
+        return (uchar4)(0, 0, 0, 0);
+    int e = 0;
+    int saturate = isinf(m);
+    if (!saturate) {
+        float mant = frexp(m, &e);
+        if (floor(mant * 256.0f + 0.5f) >= 256.0f)
+            e++;
+        saturate = e > 127;
+    }
+    if (saturate) {
+        float3 ratio = isinf(m) ? (float3)(isinf(c.x) ? 1.0f : 0.0f, isinf(c.y) ? 1.0f : 0.0f,
+                                           isinf(c.z) ? 1.0f : 0.0f)
+                                : c / m;
+        float3 q = floor(ratio * 255.0f + 0.5f);
+        return (uchar4)((uchar)q.x, (uchar)q.y, (uchar)q.z, (uchar)255);
+    }
+    float3 q = (float3)(floor(ldexp(c.x, 8 - e) + 0.5f), floor(ldexp(c.y, 8 - e) + 0.5f),
+                        floor(ldexp(c.z, 8 - e) + 0.5f));
+    q = fmin(q, (float3)(255.0f));
+    return (uchar4)((uchar)q.x, (uchar)q.y, (uchar)q.z, (uchar)(e + 128));
+}
+
+inline float3 lg_rgbe_decode(uchar4 b)
+{
+    int e = (int)b.w;
+    if (e == 0)
+        return (float3)(0.0f);
+    return (float3)(ldexp((float)b.x, e - 136), ldexp((float)b.y, e - 136),
+                    ldexp((float)b.z, e - 136));
+}
+
+inline float4 lg_half_range(float4 v)
+{
+    return (float4)(v.x < 65504.0f ? v.x : (v.x >= 65504.0f ? 65504.0f : 0.0f),
+                    v.y < 65504.0f ? v.y : (v.y >= 65504.0f ? 65504.0f : 0.0f),
+                    v.z < 65504.0f ? v.z : (v.z >= 65504.0f ? 65504.0f : 0.0f),
+                    v.w < 65504.0f ? v.w : (v.w >= 65504.0f ? 65504.0f : 0.0f));
+}
+
+#endif
