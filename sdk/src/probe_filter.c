@@ -468,6 +468,23 @@ static uint32_t build_mips(lg_probe_layout layout, uint32_t w0, uint32_t h0, uin
     return n;
 }
 
+/* Texels of a resampled angular level 0 outside the disc (solid angle 0, not part of the
+ * sphere) are 0 from lg_probe_resample. Bilinear lookups near the rim, and the rim's mips,
+ * read them, which would darken the rim: give them the radiance along +Z, the direction
+ * lg_probe_coord_to_dir gives every point outside the disc, so the map continues smoothly
+ * past its rim and a constant probe stays constant there. Integrals are unchanged. */
+static void fill_outside_disc(const lg_probe_image *src, uint32_t w, uint32_t h, float *out)
+{
+    float rim[4];
+    /* +Z of the chain's frame (the source's), as a world direction for the lookup */
+    lg_probe_lookup(src, lg_probe_to_world(src->rotation, lg_v3(0.0f, 0.0f, 1.0f)),
+                    LG_PROBE_BILINEAR, rim);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+            if (lg_probe_texel_solid_angle(LG_PROBE_ANGULAR, w, h, 0, x, y) == 0.0)
+                memcpy(out + 4 * ((size_t)y * w + x), rim, sizeof rim);
+}
+
 static int valid_layout(lg_probe_layout l)
 {
     return l == LG_PROBE_LATLONG || l == LG_PROBE_ANGULAR || l == LG_PROBE_CUBE;
@@ -489,6 +506,9 @@ int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src, lg_probe_la
         return LG_ERR_INVALID;
     uint32_t samples = opts && opts->samples ? opts->samples : 256;
     int source_lod = !(opts && opts->no_source_lod);
+    int vis_weight = opts && opts->weighting == LG_PROBE_WEIGHT_NOL_VIS;
+    if (opts && opts->weighting != LG_PROBE_WEIGHT_NOL && !vis_weight)
+        return LG_ERR_INVALID;
     uint32_t faces = layout == LG_PROBE_CUBE ? 6u : 1u;
 
     /* level 0: the source itself (same layout and size) or resampled into the layout, in
@@ -499,6 +519,8 @@ int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src, lg_probe_la
         int rc = lg_probe_resample(src, layout, width, height, src->rotation, NULL, out, NULL);
         if (rc)
             return rc;
+        if (layout == LG_PROBE_ANGULAR)
+            fill_outside_disc(src, width, height, out);
     }
 
     filter_job j;
@@ -551,7 +573,9 @@ int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src, lg_probe_la
             s->l[3 * c + 0] = (float)(2.0 * h[2] * h[0]);
             s->l[3 * c + 1] = (float)(2.0 * h[2] * h[1]);
             s->l[3 * c + 2] = (float)lz;
-            s->w[c] = (float)lz;
+            /* n.l (Karis, Filament), or n.l Vis(n.l, n.v = 1): the integrand's own
+             * weight for n = v, which makes the split sum exact there */
+            s->w[c] = (float)(vis_weight ? lz * smith_vis(1.0, lz, a2) : lz);
             /* pdf(l) = D(n.h) (n.h) / (4 v.h) = D / 4 with v = n; Filament's
              * lod = log4(omega_s) - log4(omega_p) + log4(K), K = 4 */
             double lod = 0.0;

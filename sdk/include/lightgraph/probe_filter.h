@@ -83,6 +83,18 @@ static inline float lg_probe_roughness_lod(float roughness, uint32_t levels)
     return roughness * (float)(levels - 1);
 }
 
+/* How lg_probe_prefilter_ggx weights its samples (lg_probe_prefilter_opts.weighting). */
+typedef enum lg_probe_prefilter_weighting {
+    LG_PROBE_WEIGHT_NOL = 0,  /* n.l: Karis 2013 and Filament's cmgen (the default). Better
+                               * for views away from the normal, but biased even at
+                               * n = v, where the true lobe also carries Vis(l, v): about
+                               * 10% relative RMS on the sunlit forest probe at roughness
+                               * 0.5 .. 1 (docs/probes.md "Glossy prefiltering") */
+    LG_PROBE_WEIGHT_NOL_VIS,  /* n.l Vis(n.l, n.v = 1): the integrand's own lobe for
+                               * n = v, so that the split sum converges to the oracle
+                               * there; worse than n.l at 45 degrees and beyond */
+} lg_probe_prefilter_weighting;
+
 /* How lg_probe_prefilter_ggx samples. Zeroed (or a NULL pointer) means the defaults. */
 typedef struct lg_probe_prefilter_opts {
     uint32_t samples;       /* GGX samples per texel (a Hammersley set), 0 = 256 */
@@ -95,7 +107,9 @@ typedef struct lg_probe_prefilter_opts {
                              * + 1 with omega_s = 1 / (samples pdf) the sample's solid
                              * angle and omega_p a level-0 texel's (trilinear between
                              * mips) */
-    uint32_t reserved[6];
+    uint32_t weighting;     /* an lg_probe_prefilter_weighting (since this header's first
+                             * version; 0 = n.l) */
+    uint32_t reserved[5];
 } lg_probe_prefilter_opts;
 
 /* What a prefiltering measured. */
@@ -115,12 +129,16 @@ typedef struct lg_probe_prefilter_stats {
  * all; a cube's six faces per level); `out` is the caller's.
  *
  * Level 0 is src copied when layout and size match (bit for bit), else area-resampled
- * into the layout (lg_probe_resample, its default options). Level l > 0, of perceptual
+ * into the layout (lg_probe_resample, its default options); a resampled angular map's
+ * texels outside the disc (solid angle 0) then hold the radiance along +Z, the
+ * direction of every point outside the disc, instead of 0, so that bilinear lookups at
+ * the rim do not darken (a constant probe stays constant). Level l > 0, of perceptual
  * roughness r = l / (levels - 1), is at every texel of direction n
  *     sum_k L(l_k) (n.l_k) / sum_k (n.l_k)     over k with n.l_k > 0,
  * l_k = reflect(-n, h_k), h_k the GGX (alpha = r^2) importance samples about n of a
  * Hammersley set (the same set for every texel, turned into the texel's frame): the
- * split-sum assumption n = v = r of Karis 2013. L reads level 0 (no_source_lod) or the
+ * split-sum assumption n = v = r of Karis 2013. (With opts->weighting =
+ * LG_PROBE_WEIGHT_NOL_VIS the weight is (n.l_k) Vis(n.l_k, 1) instead.) L reads level 0 (no_source_lod) or the
  * source's box-filtered mip chain (the default; see lg_probe_prefilter_opts). The sum is
  * formed as L(l_0) + sum_k w_k (L(l_k) - L(l_0)) / sum_k w_k, so that a constant probe
  * stays exactly constant at every level and in every layout.
@@ -129,8 +147,8 @@ typedef struct lg_probe_prefilter_stats {
  * node's prepare() or execute()), or NULL for the calling thread alone. The result is the
  * same bit for bit either way. stats and opts may be NULL.
  * Returns 0, or LG_ERR_INVALID (src NULL or empty, unknown layout, a zero size or a side
- * above 65536, a cube that is not square, levels outside 1..16, out NULL) or
- * LG_ERR_NOMEM. Nothing is reported through the host (the caller does, with its
+ * above 65536, a cube that is not square, levels outside 1..16, out NULL, an unknown
+ * weighting) or LG_ERR_NOMEM. Nothing is reported through the host (the caller does, with its
  * context). */
 LG_API int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src,
                                   lg_probe_layout layout, uint32_t width, uint32_t height,
