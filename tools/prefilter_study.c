@@ -4,11 +4,12 @@
  *
  *     make study-prefilter          (or: ninja -C build study-prefilter)
  *     build/tools/lg_prefilter_study --probe assets/probes/forest_1024x512.hdr \
- *         --face 64 --levels 6 --threads 2 --csv docs/images/prefilter_study.csv
+ *         --face 128 --levels 5 --threads 2 --csv docs/images/prefilter_study.csv
  *
- * The probe (lat-long) is box-downsampled by --down (default 4: 256 x 128) and
- * prefiltered (lightgraph/probe_filter.h) into a cube chain of face --face and --levels
- * levels, with 16, 32, ..., 4096 samples per texel, with and without source-lod
+ * The probe (lat-long) is box-downsampled by --down (default 4: 256 x 128), resampled
+ * once into a cube of face --face (lg_probe_resample) and prefiltered from that cube
+ * (lightgraph/probe_filter.h; level 0 is then a copy, so the time is the filtering's)
+ * into a chain of --levels levels (default 5: roughness 0, 0.25, 0.5, 0.75, 1), with 16, 32, ..., 4096 samples per texel, with and without source-lod
  * filtering (filtered importance sampling), and with the n.l Vis weighting
  * (LG_PROBE_WEIGHT_NOL_VIS, source lod), on a pool of --threads threads (the host's
  * pool, host/pool.c). For each run it measures the wall time and the error of the split
@@ -96,7 +97,7 @@ static void usage(void)
 int main(int argc, char **argv)
 {
     const char *probe = "assets/probes/forest_1024x512.hdr", *csv_path = NULL;
-    uint32_t down = 4, face = 64, levels = 6, threads = 2, ndirs = 32, oracle = 1u << 16;
+    uint32_t down = 4, face = 128, levels = 5, threads = 2, ndirs = 32, oracle = 1u << 16;
     uint32_t max_samples = 4096;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -195,6 +196,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "lg_prefilter_study: prefiltering failed\n");
         return 1;
     }
+    /* every run starts from this cube (level 0 is then a copy): the times measure the
+     * filtering alone, not the lat-long -> cube resampling */
+    float *cube0 = malloc(sizeof(float) * 4 * 6 * (size_t)face * face);
+    memcpy(cube0, chain, sizeof(float) * 4 * 6 * (size_t)face * face);
+    lg_probe_image cimg;
+    memset(&cimg, 0, sizeof cimg);
+    cimg.layout = LG_PROBE_CUBE;
+    cimg.width = cimg.height = face;
+    cimg.rgba = cube0;
     lg_vec3 *n = malloc(sizeof *n * ndirs);
     double *ref = malloc(sizeof(double) * 3 * ndirs * NR * NV);
     double noise[NR][NV];
@@ -245,7 +255,7 @@ int main(int argc, char **argv)
             o.samples = s;
             o.no_source_lod = mode == 1;
             o.weighting = mode == 2 ? LG_PROBE_WEIGHT_NOL_VIS : LG_PROBE_WEIGHT_NOL;
-            if (lg_probe_prefilter_ggx(&node, &simg, LG_PROBE_CUBE, face, face, levels, &o,
+            if (lg_probe_prefilter_ggx(&node, &cimg, LG_PROBE_CUBE, face, face, levels, &o,
                                        chain, &st)) {
                 fprintf(stderr, "lg_prefilter_study: prefiltering failed\n");
                 return 1;
@@ -292,6 +302,7 @@ int main(int argc, char **argv)
     free(n);
     free(ref);
     free(chain);
+    free(cube0);
     free(src);
     return 0;
 }

@@ -125,6 +125,14 @@ static void dfg_entry(double nov, double roughness, uint32_t samples, double *a_
                       double *b_out)
 {
     double alpha = roughness * roughness, a2 = alpha * alpha;
+    if (a2 == 0.0) {
+        /* the mirror: h = n, l = reflect(-v, n), f (n.l) / pdf = 1, F at v.h = n.v (and
+         * its limit at n.v = 0, where no sample has v.h > 0) */
+        double fc = pow(1.0 - fmin(fmax(nov, 0.0), 1.0), 5.0);
+        *a_out = 1.0 - fc;
+        *b_out = fc;
+        return;
+    }
     double v[3] = { sqrt(fmax(0.0, 1.0 - nov * nov)), 0.0, nov };
     double a = 0.0, b = 0.0;
     for (uint32_t k = 0; k < samples; k++) {
@@ -173,7 +181,16 @@ const float *lg_ggx_dfg_shared(void)
         return g_dfg;
     int expect = 0;
     if (atomic_compare_exchange_strong(&g_dfg_state, &expect, 1)) {
-        lg_ggx_dfg_table(LG_GGX_DFG_SIZE, LG_GGX_DFG_SAMPLES, g_dfg);
+        /* entries on the end points (i / (N - 1)), not on texel centres: see
+         * lg_ggx_dfg_shared in the header */
+        for (uint32_t j = 0; j < LG_GGX_DFG_SIZE; j++)
+            for (uint32_t i = 0; i < LG_GGX_DFG_SIZE; i++) {
+                double a, b;
+                dfg_entry((double)i / (LG_GGX_DFG_SIZE - 1), (double)j / (LG_GGX_DFG_SIZE - 1),
+                          LG_GGX_DFG_SAMPLES, &a, &b);
+                g_dfg[2 * (j * LG_GGX_DFG_SIZE + i) + 0] = (float)a;
+                g_dfg[2 * (j * LG_GGX_DFG_SIZE + i) + 1] = (float)b;
+            }
         atomic_store_explicit(&g_dfg_state, 2, memory_order_release);
         return g_dfg;
     }
@@ -185,15 +202,16 @@ const float *lg_ggx_dfg_shared(void)
 void lg_ggx_dfg(float n_dot_v, float roughness, float out[2])
 {
     const float *t = lg_ggx_dfg_shared();
-    const float n = (float)LG_GGX_DFG_SIZE;
-    float x = (n_dot_v > 0.0f ? (n_dot_v < 1.0f ? n_dot_v : 1.0f) : 0.0f) * n - 0.5f;
-    float y = clamp_roughness(roughness) * n - 0.5f;
-    /* clamp-to-edge: below the first centre or past the last the edge entry holds */
-    x = x < 0.0f ? 0.0f : (x > n - 1.0f ? n - 1.0f : x);
-    y = y < 0.0f ? 0.0f : (y > n - 1.0f ? n - 1.0f : y);
+    const float last = (float)(LG_GGX_DFG_SIZE - 1);
+    /* entry i at i / (N - 1): x in [0, N - 1] */
+    float x = (n_dot_v > 0.0f ? (n_dot_v < 1.0f ? n_dot_v : 1.0f) : 0.0f) * last;
+    float y = clamp_roughness(roughness) * last;
     uint32_t i0 = (uint32_t)x, j0 = (uint32_t)y;
-    uint32_t i1 = i0 + 1 < LG_GGX_DFG_SIZE ? i0 + 1 : i0;
-    uint32_t j1 = j0 + 1 < LG_GGX_DFG_SIZE ? j0 + 1 : j0;
+    if (i0 > LG_GGX_DFG_SIZE - 2)
+        i0 = LG_GGX_DFG_SIZE - 2;
+    if (j0 > LG_GGX_DFG_SIZE - 2)
+        j0 = LG_GGX_DFG_SIZE - 2;
+    uint32_t i1 = i0 + 1, j1 = j0 + 1;
     float fx = x - (float)i0, fy = y - (float)j0;
     for (int c = 0; c < 2; c++) {
         float t00 = t[2 * (j0 * LG_GGX_DFG_SIZE + i0) + c];

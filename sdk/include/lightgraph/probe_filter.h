@@ -178,16 +178,32 @@ LG_API void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_level
  * does nothing. At roughness 0, A + B = 1 exactly. */
 LG_API void lg_ggx_dfg_table(uint32_t size, uint32_t samples, float *out);
 
-/* (A, B) at any n.v and roughness (both clamped to [0, 1]; NaN counts as 0): bilinear, as
- * a GL texture with GL_LINEAR and clamp-to-edge does, in a 32 x 32 table of 1024 samples
- * per entry (lg_ggx_dfg_table(32, 1024, ...)) made once per process. The ibl plugin
- * uploads the same table (LG_GGX_DFG_SIZE, lg_ggx_dfg_shared) to the GPU. */
+/* (A, B) at any n.v and roughness (both clamped to [0, 1]; NaN counts as 0): bilinear in
+ * the process's table (lg_ggx_dfg_shared), made once on first use (some 0.1 s). */
 #define LG_GGX_DFG_SIZE 32u
 #define LG_GGX_DFG_SAMPLES 1024u
 LG_API void lg_ggx_dfg(float n_dot_v, float roughness, float out[2]);
-/* The process's table itself (2 LG_GGX_DFG_SIZE^2 floats as lg_ggx_dfg_table writes
- * them), made on first use; owned by the library, valid until the process ends. */
+
+/* The process's table: LG_GGX_DFG_SIZE^2 entries of LG_GGX_DFG_SAMPLES samples, two
+ * floats (A, B) each, entry (i, j) at out[2 (j N + i)] -- but on the END POINTS, n.v =
+ * i / (N - 1) and roughness = j / (N - 1), not on texel centres as lg_ggx_dfg_table: the
+ * albedo falls steeply with roughness near 1 (d(A + B)/dr about -1.2), and a table of
+ * centres clamped at its edge read n.v = 1, roughness 1 half an entry inside, 6% high
+ * (measured). lg_ggx_dfg reads it at x = n.v (N - 1), y = roughness (N - 1). A GL
+ * texture of it (GL_LINEAR, clamp to edge) gives the same with texture coordinates
+ * lg_ggx_dfg_uv (GLSL: uv = (vec2(n_dot_v, roughness) * (N - 1) + 0.5) / N). Owned by
+ * the library, valid until the process ends. Accuracy (tests/unit/probe_filter `dfg`):
+ * within 1e-2 absolute of the converged integral (the worst near grazing n.v, where
+ * GGX samples fall below the horizon), bilinear included. */
 LG_API const float *lg_ggx_dfg_shared(void);
+static inline void lg_ggx_dfg_uv(float n_dot_v, float roughness, float uv[2])
+{
+    const float n = (float)LG_GGX_DFG_SIZE;
+    n_dot_v = n_dot_v > 0.0f ? (n_dot_v < 1.0f ? n_dot_v : 1.0f) : 0.0f;
+    roughness = roughness > 0.0f ? (roughness < 1.0f ? roughness : 1.0f) : 0.0f;
+    uv[0] = (n_dot_v * (n - 1.0f) + 0.5f) / n;
+    uv[1] = (roughness * (n - 1.0f) + 0.5f) / n;
+}
 
 /* The oracle: a Monte Carlo estimate (accumulated in double) of
  *     integral over the hemisphere of n of  L(l) f_spec(l, v) (n.l) dl
