@@ -70,4 +70,14 @@ inline float4 lg_half_range(float4 v)
                     lg_half_range1(v.w));
 }
 
+// How many channels of v lg_half_range changes (NaN, beyond +-65504): what a producer
+// adds to its count (atomic_add) to report once, as lg_pixels_from_rgba32f counts.
+inline uint lg_half_range_count(float4 v)
+{
+    return (uint)(!(v.x >= -65504.0f && v.x <= 65504.0f)) +
+           (uint)(!(v.y >= -65504.0f && v.y <= 65504.0f)) +
+           (uint)(!(v.z >= -65504.0f && v.z <= 65504.0f)) +
+           (uint)(!(v.w >= -65504.0f && v.w <= 65504.0f));
+}
+
 #endif

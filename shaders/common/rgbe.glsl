@@ -86,4 +86,14 @@ vec4 lg_half_range(vec4 v)
                 lg_half_range1(v.a));
 }
 
+// How many channels of v lg_half_range changes (NaN, beyond +-65504): what a producer
+// adds to its count (e.g. atomicAdd on a buffer) to report once, as lg_pixels_from_rgba32f
+// counts on the CPU.
+uint lg_half_range_count(vec4 v)
+{
+    bvec4 kept = bvec4(v.r >= -65504.0 && v.r <= 65504.0, v.g >= -65504.0 && v.g <= 65504.0,
+                       v.b >= -65504.0 && v.b <= 65504.0, v.a >= -65504.0 && v.a <= 65504.0);
+    return 4u - uint(kept.r) - uint(kept.g) - uint(kept.b) - uint(kept.a);
+}
+
 #endif

@@ -8,6 +8,7 @@ kernel void rgbe_eval(global const float4 *inputs, global const uchar4 *bytes_in
     if (i >= n)
         return;
     encoded[i] = lg_rgbe_encode(inputs[i].xyz);
-    decoded[i] = (float4)(lg_rgbe_decode(bytes_in[i]), 0.0f);
+    // .w: lg_half_range_count of the input
+    decoded[i] = (float4)(lg_rgbe_decode(bytes_in[i]), (float)lg_half_range_count(inputs[i]));
     half_range[i] = lg_half_range(inputs[i]);
 }

@@ -25,7 +25,8 @@ void main()
     vec4 b = lg_rgbe_encode(inputs[i].rgb);
     encoded[i] = uvec4(b);
     imageStore(u_target, ivec2(int(i), 0), b / 255.0);
-    decoded[2 * i] = vec4(lg_rgbe_decode(vec4(bytes_in[i])), 0.0);
+    // .w: lg_half_range_count of the input
+    decoded[2 * i] = vec4(lg_rgbe_decode(vec4(bytes_in[i])), float(lg_half_range_count(inputs[i])));
     decoded[2 * i + 1] = vec4(lg_rgbe_decode_unorm(texelFetch(u_bytes_tex, ivec2(int(i), 0), 0)), 0.0);
     half_range[i] = lg_half_range(inputs[i]);
 }

@@ -15,7 +15,8 @@
  * +Inf, -Inf, 1e-38, FLT_MIN, values at and above 2^127, FLT_MAX, one channel at the
  * maximum with zero others. The encoded bytes must equal the C encoder's exactly; the
  * decode of every exponent byte with a spread of mantissas must equal the C decoder's
- * exactly; lg_half_range must give clamp(v, -65504, 65504) (Inf included), 0 for NaN.
+ * exactly; lg_half_range must give clamp(v, -65504, 65504) (Inf included), 0 for NaN, and
+ * lg_half_range_count the count lg_pixels_from_rgba32f gives.
  *
  * Intended difference, measured here: float denormals (below FLT_MIN = 1.18e-38). The C
  * encoder treats a largest channel below FLT_MIN as black (so do the twins), so no input
@@ -301,9 +302,19 @@ static void compare_decode(const char *what, const uint8_t *bytes, const float *
     printf("%s: %u of %u byte quads decode to the C floats exactly\n", what, exact, n);
 }
 
-static void compare_half(const char *what, const float *got, uint32_t n)
+static void compare_half(const char *what, const float *got, const float *dec, uint32_t n)
 {
     int bad = 0;
+    /* the count in dec[].w against lg_pixels_from_rgba32f's */
+    for (uint32_t k = 0; k < n; k++) {
+        uint16_t h[4];
+        uint64_t want = 0;
+        lg_pixels_from_rgba32f(LG_FORMAT_RGBA16F, in + 4 * k, 1, h, &want);
+        if (dec[4 * k + 3] != (float)want && bad++ < 8)
+            CHECKF(0, "%s: lg_half_range_count(%a %a %a %a) = %g, C %llu", what, in[4 * k],
+                   in[4 * k + 1], in[4 * k + 2], in[4 * k + 3], dec[4 * k + 3],
+                   (unsigned long long)want);
+    }
     for (uint32_t k = 0; k < n; k++)
         for (int c = 0; c < 4; c++) {
             float v = in[4 * k + c];
@@ -313,7 +324,8 @@ static void compare_half(const char *what, const float *got, uint32_t n)
             if (!ok && bad++ < 8)
                 CHECKF(0, "%s: lg_half_range(%a) = %a, want %a", what, v, g, want);
         }
-    printf("%s: lg_half_range is clamp(v, -65504, 65504) with NaN 0 on %u x 4 values%s\n", what, n,
+    printf("%s: lg_half_range is clamp(v, -65504, 65504) with NaN 0 on %u x 4 values, "
+           "lg_half_range_count the C count%s\n", what, n,
            bad ? " EXCEPT the above" : "");
 }
 
@@ -394,7 +406,7 @@ int main(int argc, char **argv)
         compare_decode(use_gl ? "gl decode" : "cl decode", bytes, r.dec, N, &flushed);
         if (use_gl)
             compare_decode("gl decode_unorm (RGBA8 texelFetch)", bytes, r.dec_unorm, N, &flushed);
-        compare_half(argv[1], r.half, N);
+        compare_half(argv[1], r.half, r.dec, N);
         printf("%s: intended differences: %u encodings of inputs with a denormal channel, %u "
                "decodes below FLT_MIN read as 0 (flush to zero); %.1f ms\n",
                argv[1], denormal, flushed, (t1 - t0) * 1e3);
