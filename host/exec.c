@@ -107,12 +107,14 @@ static int write_outputs(lg_exec *ex)
         }
         lg_image img = {r->image.width, r->image.height, px};
         /* EXR: what `render --exr`, else the output statement, asks for; by default what
-         * the resource holds: float for rgba32f, half otherwise */
+         * the resource holds: float for rgba32f, and for rgbe8 (whose range, to 1.7e38,
+         * half cannot hold: a sun would become Inf), half otherwise */
         lg_image_write_opts wo;
         memset(&wo, 0, sizeof wo);
         int want = ex->opts.exr_pixel ? ex->opts.exr_pixel : o->g ? o->g->exr_pixel : 0;
         wo.exr_pixel = want == LG_OUT_EXR_HALF ? LG_EXR_HALF : want == LG_OUT_EXR_FLOAT
-                       ? LG_EXR_FLOAT : r->image.format == LG_FORMAT_RGBA32F ? LG_EXR_FLOAT
+                       ? LG_EXR_FLOAT : (r->image.format == LG_FORMAT_RGBA32F ||
+                                         r->image.format == LG_FORMAT_RGBE8) ? LG_EXR_FLOAT
                        : LG_EXR_HALF;
         /* into the output's temporary: lg_render_file commits every output together once
          * all of them are written (outputs.h) */
@@ -187,7 +189,7 @@ static const char *device_name(lg_device d)
 
 static const char *format_name(lg_format f)
 {
-    return f == LG_FORMAT_RGBA16F ? "rgba16f" : f == LG_FORMAT_RGBA8 ? "rgba8" : "rgba32f";
+    return lg_format_name(f); /* rgba32f, rgba16f, rgba8, rgbe8 */
 }
 
 static void describe_resource(lg_str *s, const lg_resource *r)

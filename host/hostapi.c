@@ -175,7 +175,7 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
                               what, d ? d->width : 0, d ? d->height : 0, MAX_DIM),
                LG_ERR_INVALID;
     bool depth_only = (d->flags & LG_IMAGE_DEPTH_ONLY) != 0;
-    if (!depth_only && (d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8))
+    if (!depth_only && (d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBE8))
         return lg_node_errorf(p, "declares %s with unknown format %d", what, (int)d->format),
                LG_ERR_INVALID;
     if (d->flags & ~(uint32_t)(LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY | LG_IMAGE_CUBE))
@@ -234,7 +234,7 @@ static int check_volume_desc(lg_pnode *p, const lg_volume_desc *d, const char *w
 {
     if (!d || !d->width || !d->height || !d->depth || d->width > 4096 || d->height > 4096 ||
         d->depth > 4096 || (uint64_t)d->width * d->height * d->depth > (1ull << 28) ||
-        d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBA8)
+        d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBE8)
         return lg_node_errorf(p, "declares %s of %ux%ux%u (each side 1..4096, at most 2^28 "
                                  "cells, a known format)",
                               what, d ? d->width : 0, d ? d->height : 0, d ? d->depth : 0),

@@ -20,20 +20,14 @@
 /* ---- shared helpers ------------------------------------------------------------------ */
 
 /* Reads one row of an image mapped on the CPU as rgba32f floats, whatever its declared
- * float format. rgba8 is refused in prepare (its encoding is not known), so only the two
- * linear formats reach here. */
+ * linear format (rgba32f, rgba16f, rgbe8 decoded with alpha 1: lg_pixels_to_rgba32f).
+ * rgba8 is refused in prepare (its encoding is not known). */
 static void core_row_to_float(const lg_cpu_view *v, lg_format fmt, uint32_t y, uint32_t w,
                               float *dst)
 {
     size_t ps = lg_format_size(fmt);
     const unsigned char *row = (const unsigned char *)v->pixels + (size_t)y * v->row_pixels * ps;
-    if (fmt == LG_FORMAT_RGBA32F) {
-        memcpy(dst, row, (size_t)w * 16);
-        return;
-    }
-    const uint16_t *h = (const uint16_t *)row;
-    for (size_t i = 0; i < (size_t)w * 4; i++)
-        dst[i] = lg_float_from_half(h[i]);
+    lg_pixels_to_rgba32f(fmt, row, w, dst);
 }
 
 static float *core_row_out(const lg_cpu_view *v, uint32_t y)
@@ -43,13 +37,7 @@ static float *core_row_out(const lg_cpu_view *v, uint32_t y)
 
 static const char *core_format_name(lg_format f)
 {
-    switch (f) {
-    case LG_FORMAT_RGBA32F: return "rgba32f";
-    case LG_FORMAT_RGBA16F: return "rgba16f";
-    case LG_FORMAT_RGBA8: return "rgba8";
-    case LG_FORMAT_RGBE8: return "rgbe8";
-    }
-    return "unknown";
+    return lg_format_name(f);
 }
 
 /* Describes image input `port`; refuses formats the CPU nodes cannot read as linear
@@ -66,10 +54,10 @@ static int core_image_input(lg_node *n, uint32_t port, const char *what,
     if (info->kind != LG_KIND_IMAGE)
         return lg_error(n, "input '%s' is not an image", what);
     if (!info->neutral && info->image.format != LG_FORMAT_RGBA32F &&
-        info->image.format != LG_FORMAT_RGBA16F)
+        info->image.format != LG_FORMAT_RGBA16F && info->image.format != LG_FORMAT_RGBE8)
         return lg_error_code(n, LG_ERR_UNSUPPORTED,
                              "input '%s' is %s (display-encoded); this node adds and scales "
-                             "linear light and takes rgba32f or rgba16f",
+                             "linear light and takes rgba32f, rgba16f or rgbe8",
                              what, core_format_name(info->image.format));
     return 0;
 }
@@ -347,7 +335,7 @@ static const lg_param_desc scale_params[] = {
       .doc = "per-channel multiplier, linear RGB" },
 };
 static const lg_port_desc scale_inputs[] = {
-    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear image (rgba32f or rgba16f)" },
+    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear image (rgba32f, rgba16f or rgbe8)" },
 };
 static const lg_port_desc scale_outputs[] = {
     { .name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f: RGB * factor * tint, alpha unchanged" },

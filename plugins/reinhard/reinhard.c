@@ -26,6 +26,7 @@
 #include "reinhard_cpu.h"
 #include "reinhard_launch.h"
 #include "reinhard.cl.h"
+#include "rgbe.cl.h"
 #include "reinhard_map.comp.h"
 #include "reinhard_reduce.comp.h"
 
@@ -104,10 +105,12 @@ static int rh_prepare(lg_node *n)
         return lg_error_code(n, rc, "input 'image': cannot describe the resource");
     if (info.kind != LG_KIND_IMAGE)
         return lg_error(n, "input 'image' is not an image");
-    if (info.image.format != LG_FORMAT_RGBA32F && info.image.format != LG_FORMAT_RGBA16F)
+    if (info.image.format != LG_FORMAT_RGBA32F && info.image.format != LG_FORMAT_RGBA16F &&
+        info.image.format != LG_FORMAT_RGBE8)
         return lg_error_code(n, LG_ERR_UNSUPPORTED,
-                             "input 'image' is rgba8 (display-encoded); reinhard maps linear "
-                             "HDR images (rgba32f or rgba16f)");
+                             "input 'image' is %s (display-encoded); reinhard maps linear "
+                             "HDR images (rgba32f, rgba16f or rgbe8)",
+                             lg_format_name(info.image.format));
     st->width = info.image.width;
     st->height = info.image.height;
     st->in_format = info.image.format;
@@ -223,7 +226,8 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo)))
         return rc;
     lg_rh_image in = { .pixels = vi.pixels, .row_pixels = vi.row_pixels, .width = st->width,
-                       .height = st->height, .half = st->in_format == LG_FORMAT_RGBA16F };
+                       .height = st->height, .half = st->in_format == LG_FORMAT_RGBA16F,
+                       .rgbe = st->in_format == LG_FORMAT_RGBE8 };
     size_t chunks = lg_rh_cpu_chunks(st->width, st->height);
     if (chunks > st->n_slots) {
         lg_rh_stats *s = realloc(st->slots, chunks * sizeof *s);
@@ -244,8 +248,11 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
 
 static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
 {
-    const char *fmt = st->in_format == LG_FORMAT_RGBA16F ? "rgba16f" : "rgba32f";
-    char defs[128];
+    /* rgbe8: the bytes of an RGBA8 image, decoded after imageLoad (LG_IN_RGBE) */
+    const char *fmt = st->in_format == LG_FORMAT_RGBA16F ? "rgba16f"
+                      : st->in_format == LG_FORMAT_RGBE8 ? "rgba8\n#define LG_IN_RGBE 1"
+                      : "rgba32f";
+    char defs[160];
     static const lg_gl_shader_src reduce = { GL_COMPUTE_SHADER, lg_src_reinhard_reduce_comp_file,
                                              lg_src_reinhard_reduce_comp };
     static const lg_gl_shader_src map = { GL_COMPUTE_SHADER, lg_src_reinhard_map_comp_file,
@@ -317,7 +324,8 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, &dummy)) ||
         (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &dummy)))
         return rc;
-    GLenum in_fmt = st->in_format == LG_FORMAT_RGBA16F ? GL_RGBA16F : GL_RGBA32F;
+    GLenum in_fmt = st->in_format == LG_FORMAT_RGBA16F ? GL_RGBA16F
+                    : st->in_format == LG_FORMAT_RGBE8 ? GL_RGBA8 : GL_RGBA32F;
     uint32_t cols = rh_gl_cols(st->width), rows = rh_gl_rows(st->width, st->height);
     rh_adapt_args ad = rh_adapt_args_for(st, frame);
 
@@ -384,8 +392,18 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     char opts[160];
     snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u%s",
              RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI,
-             st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1" : "");
-    cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, lg_src_reinhard_cl, opts);
+             st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1"
+             : st->in_format == LG_FORMAT_RGBE8 ? " -DLG_IN_RGBE=1" : "");
+    /* shaders/common/rgbe.cl, then the kernels (which use its decoder for rgbe8 input) */
+    size_t la = strlen(lg_src_rgbe_cl), lb = strlen(lg_src_reinhard_cl);
+    char *src = malloc(la + lb + 2);
+    if (!src)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    memcpy(src, lg_src_rgbe_cl, la);
+    src[la] = '\n';
+    memcpy(src + la + 1, lg_src_reinhard_cl, lb + 1);
+    cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, src, opts);
+    free(src);
     if (!prog)
         return LG_ERR_DEVICE;
     cl_int err;
@@ -583,7 +601,7 @@ static const lg_param_desc rh_params[] = {
       .doc = "where it runs: cpu (float, vectorised, on the host's thread pool), gl (compute shaders), cl" },
 };
 static const lg_port_desc rh_inputs[] = {
-    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f or rgba16f" },
+    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f, rgba16f or rgbe8 (decoded as read)" },
 };
 static const lg_port_desc rh_outputs[] = {
     { .name = "out", .kind = LG_KIND_IMAGE,

@@ -9,7 +9,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "lightgraph/image.h" /* lg_float_from_half */
+#include "lightgraph/image.h" /* lg_pixels_to_rgba32f */
 
 /* The two passes are compiled for AVX-512, AVX2 and baseline x86-64, and the loader picks
  * the best the CPU has (GCC's target_clones, an ifunc): 16 or 8 floats per instruction
@@ -270,25 +270,24 @@ size_t lg_rh_cpu_chunks(uint32_t width, uint32_t height)
 }
 
 /* Calls fn on runs of rgba32f pixels of row y: the row itself, or blocks of it widened
- * from half. */
+ * from half or decoded from RGBE (lg_pixels_to_rgba32f). */
 static void rh_row_runs(const rh_job *j, size_t y,
                         void (*fn)(const rh_job *j, const float *px, size_t x, size_t n,
                                    size_t y, void *arg),
                         void *arg)
 {
     const lg_rh_image *in = j->in;
-    size_t px_bytes = in->half ? 8 : 16;
+    size_t px_bytes = in->rgbe ? 4 : in->half ? 8 : 16;
     const unsigned char *row = (const unsigned char *)in->pixels + y * in->row_pixels * px_bytes;
-    if (!in->half) {
+    if (!in->half && !in->rgbe) {
         fn(j, (const float *)(const void *)row, 0, in->width, y, arg);
         return;
     }
     float buf[RH_HALF_BLOCK * 4];
-    const uint16_t *h = (const uint16_t *)(const void *)row;
+    lg_format f = in->rgbe ? LG_FORMAT_RGBE8 : LG_FORMAT_RGBA16F;
     for (size_t x = 0; x < in->width; x += RH_HALF_BLOCK) {
         size_t n = in->width - x < RH_HALF_BLOCK ? in->width - x : RH_HALF_BLOCK;
-        for (size_t i = 0; i < n * 4; i++)
-            buf[i] = lg_float_from_half(h[x * 4 + i]);
+        lg_pixels_to_rgba32f(f, row + x * px_bytes, n, buf);
         fn(j, buf, x, n, y, arg);
     }
 }

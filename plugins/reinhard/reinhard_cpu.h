@@ -88,12 +88,14 @@ typedef int (*lg_rh_pfor)(void *pctx, size_t count, size_t grain,
                           void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk),
                           void *ctx);
 
-/* An input image: rows of `width` pixels, `row_pixels` apart, rgba32f or rgba16f. */
+/* An input image: rows of `width` pixels, `row_pixels` apart, rgba32f, rgba16f or rgbe8
+ * (decoded into float blocks as the passes read them). */
 typedef struct lg_rh_image {
     const void *pixels;
     size_t row_pixels;
     uint32_t width, height;
     bool half; /* rgba16f */
+    bool rgbe; /* rgbe8 (lg_rgbe_decode; alpha 1) */
 } lg_rh_image;
 
 /* Pixels per chunk: enough work to be worth a hand-off to a thread, and hundreds of

@@ -9,7 +9,9 @@
  * two; frexp's mantissa is in [0.5, 1), and the one rounding case that reaches 256 bumps
  * the exponent instead.
  */
+#include <float.h>
 #include <math.h>
+#include <string.h>
 
 #include "lightgraph/image.h"
 
@@ -26,7 +28,10 @@ void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4])
     if (c[2] > max)
         max = c[2];
 
-    if (max <= 1e-38) {
+    /* Below FLT_MIN (a float denormal) is black: a GPU flushes denormals to zero, and with
+     * this rule the twins in shaders/common/rgbe.glsl and rgbe.cl give the same bytes
+     * (tests/unit/formats/test_rgbe_devices.c). */
+    if (!(max >= FLT_MIN)) {
         rgbe[0] = rgbe[1] = rgbe[2] = rgbe[3] = 0;
         return;
     }
@@ -41,10 +46,13 @@ void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4])
     }
     if (saturate) {
         /* The largest value RGBE holds is 255 * 2^(255-136), about 1.7e38: the largest
-         * channel gets it, the others keep their ratio to it (0 beside an infinity). */
+         * channel gets it, the others keep their ratio to it (0 beside an infinity).
+         * In float, step by step as the GPU twins compute it, so that the bytes agree
+         * (in double, 0.7 * 2^127 / 2^127 * 255 rounds to 178, in float to 179). */
         for (int i = 0; i < 3; i++) {
-            double ratio = isinf(max) ? (isinf(c[i]) ? 1.0 : 0.0) : c[i] / max;
-            rgbe[i] = (uint8_t)floor(ratio * 255.0 + 0.5);
+            float ratio = isinf(max) ? (isinf(c[i]) ? 1.0f : 0.0f) : (float)c[i] / (float)max;
+            float scaled = ratio * 255.0f;
+            rgbe[i] = (uint8_t)floorf(scaled + 0.5f);
         }
         rgbe[3] = 255;
         return;
@@ -64,11 +72,15 @@ void lg_rgbe_decode(const uint8_t rgbe[4], float rgb[3])
         rgb[0] = rgb[1] = rgb[2] = 0.0f;
         return;
     }
-    /* 2^(E-136) ranges over 2^-135 .. 2^119; every m * 2^(E-136) is exact in float
-     * (the smallest are float denormals with at most 8 significant bits). */
-    double f = ldexp(1.0, (int)rgbe[3] - 136);
+    /* 2^(E-136) ranges over 2^-135 .. 2^119, every one a float (below 2^-126 a denormal),
+     * made from its bits (ldexp in double cost 4x more in a decode loop); every
+     * m * 2^(E-136) is then exact in float (at most 8 significant bits, none below 2^-149). */
+    int k = (int)rgbe[3] - 136;
+    uint32_t bits = k >= -126 ? (uint32_t)(k + 127) << 23 : 1u << (k + 149);
+    float f;
+    memcpy(&f, &bits, sizeof f);
     for (int i = 0; i < 3; i++)
-        rgb[i] = (float)(rgbe[i] * f);
+        rgb[i] = (float)rgbe[i] * f;
 }
 
 float lg_srgb_encode(float linear)

@@ -14,8 +14,9 @@
 // Build options: -DLG_LOCAL=<work-group size of the reductions, a power of two>,
 // -DLG_MAP_LOCAL=<work-group size of the map>, -DLG_PPI=<pixels per stage-1 item, a multiple
 // of 8> and, for
-// rgba16f input, -DLG_IN_HALF=1. Images are buffers of tightly packed pixels (4 floats, or
-// 4 halves).
+// rgba16f input, -DLG_IN_HALF=1, for rgbe8 input -DLG_IN_RGBE=1 (shaders/common/rgbe.cl
+// precedes this file then). Images are buffers of tightly packed pixels (4 floats, 4
+// halves, or 4 RGBE bytes decoded as they are loaded, alpha 1).
 //
 // Speed (PoCL on CPUs, and GPUs alike): no branch per pixel (the policy is select()s),
 // eight pixels per work-item as float8 vectors (two 64-byte loads and stores), consecutive
@@ -105,8 +106,10 @@ inline float rh_log(float x)
 
 inline float4 rh_load(const __global float *in, uint i)
 {
-#ifdef LG_IN_HALF
+#if defined(LG_IN_HALF)
     return vload_half4(i, (const __global half *)in);
+#elif defined(LG_IN_RGBE)
+    return (float4)(lg_rgbe_decode(vload4(i, (const __global uchar *)in)), 1.0f);
 #else
     return vload4(i, in);
 #endif
@@ -119,8 +122,16 @@ inline float4 rh_load(const __global float *in, uint i)
 // widen vector-typed instructions ("instruction return type cannot be vectorized" with
 // POCL_VECTORIZER_REMARKS=1), so each work-item ran as scalar code. Explicit float8 code
 // is SIMD whatever the work-group method does.
-#ifdef LG_IN_HALF
+#if defined(LG_IN_HALF)
 #define RH_LOAD16(j, p) vload_half16((j), (const __global half *)(p))
+#elif defined(LG_IN_RGBE)
+// four pixels 4j .. 4j + 3, decoded one by one
+inline float16 rh_load16_rgbe(uint j, const __global float *p)
+{
+    return (float16)(rh_load(p, 4 * j), rh_load(p, 4 * j + 1), rh_load(p, 4 * j + 2),
+                     rh_load(p, 4 * j + 3));
+}
+#define RH_LOAD16(j, p) rh_load16_rgbe((j), (p))
 #else
 #define RH_LOAD16(j, p) vload16((j), (p))
 #endif

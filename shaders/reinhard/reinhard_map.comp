@@ -12,11 +12,18 @@
 // through. The policy is selects (mix with a bvec), not branches, so llvmpipe's SIMD
 // lanes stay together; u_mode is uniform. Work-groups of 64x1 along rows
 // (plugins/reinhard/reinhard_launch.h): contiguous loads and stores.
-// Defines: LG_IN_FORMAT (rgba32f or rgba16f).
+// Defines: LG_IN_FORMAT (rgba32f, rgba16f, or rgba8 with LG_IN_RGBE for rgbe8 input).
+#include "rgbe.glsl"
 
 layout(local_size_x = 64, local_size_y = 1) in;
 
 layout(binding = 0, LG_IN_FORMAT) uniform readonly image2D u_in;
+#ifdef LG_IN_RGBE
+// rgbe8: the RGBA8 texel's bytes decoded (shaders/common/rgbe.glsl); alpha 1
+#define rh_in(p) vec4(lg_rgbe_decode_unorm(imageLoad(u_in, p)), 1.0)
+#else
+#define rh_in(p) imageLoad(u_in, p)
+#endif
 layout(binding = 1, rgba32f) uniform writeonly image2D u_out;
 layout(std430, binding = 1) readonly buffer Result {
     float sum;
@@ -44,7 +51,7 @@ void main()
     if (p.x >= u_size.x || p.y >= u_size.y)
         return;
     float s = result.scale;
-    vec4 src = imageLoad(u_in, p);
+    vec4 src = rh_in( p);
     uvec3 b = floatBitsToUint(src.rgb);
     bvec3 pinf = equal(b, uvec3(0x7f800000u));
     // NaN, negative and +-Inf read as 0 (finite by the bits)

@@ -14,9 +14,10 @@
 // Seed 0 (5.2) reduced with log2(N) render-to-texture passes of 2x2 averages; compute
 // shaders reduce in two dispatches whatever the size, and count the bad pixels.
 //
-// Defines set by the plugin: LG_STAGE (1 or 2), LG_IN_FORMAT (rgba32f or rgba16f, stage 1).
+// Defines set by the plugin: LG_STAGE (1 or 2), LG_IN_FORMAT (rgba32f, rgba16f, or rgba8 with LG_IN_RGBE for rgbe8 input, stage 1).
 // Bad pixels, as on the CPU (plugins/reinhard/reinhard_cpu.h): an R, G or B channel that
 // is NaN or Inf, or a luminance that is not finite, counts as nonfinite; L < 0 as negative.
+#include "rgbe.glsl"
 
 #define LG_GROUP 256u
 layout(local_size_x = 256) in;
@@ -32,6 +33,12 @@ layout(std430, binding = 0) buffer Partials { Partial part[]; };
 
 #if LG_STAGE == 1
 layout(binding = 0, LG_IN_FORMAT) uniform readonly image2D u_in;
+#ifdef LG_IN_RGBE
+// rgbe8: the RGBA8 texel's bytes decoded (shaders/common/rgbe.glsl); alpha 1
+#define rh_in(p) vec4(lg_rgbe_decode_unorm(imageLoad(u_in, p)), 1.0)
+#else
+#define rh_in(p) imageLoad(u_in, p)
+#endif
 layout(location = 0) uniform ivec2 u_size;
 layout(location = 1) uniform float u_delta;
 layout(location = 2) uniform vec3 u_w;
@@ -75,7 +82,7 @@ void main()
     // invocations right of the image run no iteration (only in the last column group)
     int yend = x < u_size.x ? u_size.y : 0;
     for (int y = int(gl_WorkGroupID.y); y < yend; y += rows) {
-        vec3 c = imageLoad(u_in, ivec2(x, y)).rgb;
+        vec3 c = rh_in( ivec2(x, y)).rgb;
         float l = u_w.r * c.r + u_w.g * c.g + u_w.b * c.b;
         bool fin = lg_finite(c.r) && lg_finite(c.g) && lg_finite(c.b) && lg_finite(l);
         bool neg = fin && l < 0.0;

@@ -168,7 +168,9 @@ LG_API float lg_float_from_half(uint16_t h);
  * step, unbiased, and makes powers of two exact. Files from writers that truncate (as
  * Radiance does) read about half a step (~0.2%) low on average.
  * Edge cases, all deliberate:
- *   - all channels <= 1e-38 (or zero): (0,0,0,0), which decodes to exactly 0;
+ *   - a largest channel below FLT_MIN (1.18e-38: zero or a float denormal) encodes as
+ *     (0,0,0,0), which decodes to exactly 0 (a GPU flushes denormals: shaders/common/
+ *     rgbe.glsl gives the same bytes);
  *   - negative channels encode as 0 (RGBE has no sign);
  *   - NaN channels encode as 0;
  *   - +Inf, and finite values at or above 2^127 (the largest power RGBE's exponent byte
@@ -177,6 +179,62 @@ LG_API float lg_float_from_half(uint16_t h);
  *   - exact powers of two round trip exactly. */
 LG_API void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4]);
 LG_API void lg_rgbe_decode(const uint8_t rgbe[4], float rgb[3]);
+
+/* ---- pixel formats (lg_format) ------------------------------------------------------
+ *
+ * The three formats an HDR image node offers for its output (`format = rgba32f | rgba16f |
+ * rgbe8`), and what each does to the values a producer computes in float:
+ *
+ *   rgba32f  16 bytes a pixel; every float kept as it is.
+ *   rgba16f   8 bytes; IEEE half: 11 significant bits (relative step 2^-11, 0.05%), largest
+ *            65504. A plain half store turns anything above 65504 into +Inf, and real
+ *            suns in probes are brighter than that (1e5 .. 1e9); one Inf then poisons
+ *            every filter, average and tone map downstream. The policy: producers CLAMP
+ *            to +-65504 and turn NaN into 0 before the store, count the values they
+ *            changed, and report once per node and frame with the count (lg_log at
+ *            LG_LOG_WARN, e.g. "rgba16f output: 12 values above 65504 clamped, NaN set
+ *            to 0"). lg_pixels_from_rgba32f below does it on the CPU; lg_half_range in
+ *            shaders/common/rgbe.glsl and rgbe.cl is the GPU twin (same values). The
+ *            clamp loses the energy above 65504: a sun of 1e6 integrates 15x too dark.
+ *   rgbe8     4 bytes; Ward's RGBE (lg_rgbe_encode above): three 8-bit mantissas and a
+ *            shared exponent, so the range is 2^-126 .. 1.7e38 but a channel much darker
+ *            than the pixel's brightest loses its precision (steps of max/256); the
+ *            relative error of the largest channel is at most 2^-8 (0.39%, half a step of the
+ *            smallest mantissa, 128), about 0.1% on average. No sign, no
+ *            alpha (reads back as 1). On GL the bytes live in an RGBA8 (unorm) texture and
+ *            must be decoded by every consumer (lg_rgbe_decode_unorm); the hardware's
+ *            filtering and blending of the raw bytes are meaningless, so an rgbe8 image is
+ *            read with texelFetch and decoded before any filtering.
+ *   rgba8     4 bytes; unorm, a display encoding (sRGB or linear is the producer's to say);
+ *            not an HDR format: nodes that add and scale light refuse it.
+ *
+ * A consumer that cannot decode a format refuses it in prepare with an error naming the
+ * node, the input and the format. */
+
+/* "rgba32f", "rgba16f", "rgba8", "rgbe8" (static strings); "unknown" for anything else. */
+LG_API const char *lg_format_name(lg_format f);
+/* The format named `name` (as lg_format_name spells it) into *out: 0, or LG_ERR_NOTFOUND. */
+LG_API int lg_format_from_name(const char *name, lg_format *out);
+
+/* Converts `n` float RGBA pixels `src` into format `f` at `dst` (n * lg_format_size(f)
+ * bytes, caller's memory; dst may be src). The policy above:
+ *   rgba32f: copied unchanged;
+ *   rgba16f: NaN -> 0, values beyond +-65504 (Inf included) -> +-65504, then rounded to
+ *            nearest even (lg_half_from_float);
+ *   rgba8:   NaN -> 0, clamped to [0, 1], round(v * 255) (no transfer function);
+ *   rgbe8:   lg_rgbe_encode of R, G, B; alpha is not stored.
+ * Adds to *clamped (when not NULL) the number of channel values replaced rather than
+ * rounded: rgba16f NaN and beyond +-65504; rgba8 NaN and outside [0, 1]; rgbe8 NaN,
+ * negative, +Inf and 2^127 or more (saturated). Returns 0, or LG_ERR_INVALID for an unknown
+ * format. */
+LG_API int lg_pixels_from_rgba32f(lg_format f, const float *src, size_t n, void *dst,
+                                  uint64_t *clamped);
+
+/* Converts `n` pixels of format `f` at `src` into float RGBA at `dst` (n * 16 bytes; dst
+ * may be src when the buffer holds n * 16 bytes). rgba16f: exact (lg_float_from_half);
+ * rgba8: byte / 255; rgbe8: lg_rgbe_decode (exact), alpha 1. Returns 0, or LG_ERR_INVALID
+ * for an unknown format. */
+LG_API int lg_pixels_to_rgba32f(lg_format f, const void *src, size_t n, float *dst);
 
 /* sRGB transfer function (IEC 61966-2-1), per channel; input clamped to [0,1]. */
 LG_API float lg_srgb_encode(float linear);

@@ -3,6 +3,7 @@
  * the scanline) and PNG (8/16-bit, grey, palette, alpha, interlaced; sRGB both ways),
  * checked against libpng's own simplified API and against a real file of each kind.
  */
+#include <float.h>
 #include <math.h>
 #include <png.h>
 #include <stdint.h>
@@ -239,7 +240,7 @@ static void test_hdr(void)
             float mx = fmaxf(pe[0], fmaxf(pe[1], pe[2]));
             int e2;
             frexpf(mx, &e2);
-            double step = mx > 1e-38f ? ldexp(1.0, e2 - 8) : 0.0;
+            double step = mx >= FLT_MIN ? ldexp(1.0, e2 - 8) : 0.0;
             for (int c = 0; c < 3; c++) {
                 worse += fabs((double)ph[c] - pe[c]) > step * 1.0001;
                 sum_h += ph[c];

@@ -1,0 +1,263 @@
+#!/usr/bin/env python3
+"""The HDR precision formats through the real program (lightgraph/image.h "Pixel formats",
+docs/images.md), with the test plugin testformats (test_hdr: a known HDR pattern in any
+format; test_copy: a byte copy on cpu, gl or cl):
+
+  roundtrip        an rgbe8 image moved cpu -> gl -> cl -> cpu -> cl -> gl -> cpu by byte
+                   copies keeps its bytes: its float EXR output equals the producer's bit
+                   for bit, its .hdr output reads back the same values (`lightgraph diff
+                   --max-abs 0`), its PNG output equals the producer's PNG; --explain and the
+                   profile name the format rgbe8
+  rgbe_precision   the rgbe8 image written as float EXR is within half a mantissa step of
+                   the rgba32f one in every channel (|c - c32| <= max(R, G, B) / 256), and
+                   not equal to it (RGBE rounds); an rgbe8 EXR output is float by default
+  half_policy      rgba16f: a sun of 1e6 reads 65504 (never Inf) and NaN reads 0; the node
+                   reports it once, with the count, over 3 frames
+  reinhard         reinhard of the rgbe8 image equals reinhard of the rgba32f one within
+                   RGBE's precision (max abs 0.015 on [0, 1]: a channel at a quarter of the
+                   pixel's largest carries up to 1.6% error, times c / L; mean below 2e-3),
+                   on cpu, gl and cl; and the three backends agree on the rgbe8 input within
+                   1e-5
+  core             core's add and scale take rgbe8 (decoded) and agree with rgba32f within
+                   RGBE's precision; rgba8 is refused, naming the node, input and format
+  format_study     tools/format_study.py on tests/unit/formats/format_study.lgraph: its CSV,
+                   table and plot exist; rgba32f has error 0, rgbe8 below 0.7% (half a step
+                   over the luminance), rgba16f shows the clamped sun
+
+usage: test_formats.py TEST_NAME
+"""
+import csv
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+EXE = os.environ["LG_EXE"]
+TEST_PLUGINS = os.environ["LG_TEST_PLUGINS"]
+BUILD = os.environ["LG_BUILD_ROOT"]
+SOURCE = os.environ["LG_SOURCE_ROOT"]
+TMP = tempfile.mkdtemp(prefix="lg-formats-test-")
+sys.path.insert(0, os.path.join(SOURCE, "tools"))
+import format_study  # noqa: E402  (its EXR and PNG readers, independent of lightgraph's)
+
+
+class Fail(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Fail(msg)
+
+
+def run(args, expect=0):
+    env = dict(os.environ)
+    env["LIGHTGRAPH_PLUGIN_PATH"] = TEST_PLUGINS + ":" + os.path.join(BUILD, "plugins")
+    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
+    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=120,
+                       cwd=TMP)
+    if expect is not None and p.returncode != expect:
+        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
+                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
+    return p
+
+
+def graph(text, name="g.lgraph"):
+    path = os.path.join(TMP, name)
+    with open(path, "w") as f:
+        f.write("lightgraph 1\n" + text)
+    return path
+
+
+def exr(name):
+    return format_study.read_exr(os.path.join(TMP, name))
+
+
+def bits_equal(a, b):
+    wa, ha, ca = a
+    wb, hb, cb = b
+    check((wa, ha) == (wb, hb), "sizes differ")
+    for c in "RGBA":
+        for i, (x, y) in enumerate(zip(ca[c], cb[c])):
+            if not (x == y or (math.isnan(x) and math.isnan(y))):
+                raise Fail("channel %s pixel %d: %r vs %r" % (c, i, x, y))
+
+
+HDR = 'hdr = test_hdr { format = %s, width = 37, height = 23, peak = %s, nan = true }\n'
+
+
+def t_roundtrip():
+    g = graph(HDR % ("rgbe8", "1e6") +
+              "g1 = test_copy { image = hdr, backend = gl }\n"
+              "c1 = test_copy { image = g1, backend = cl }\n"
+              "p1 = test_copy { image = c1, backend = cpu }\n"
+              "c2 = test_copy { image = p1, backend = cl }\n"
+              "g2 = test_copy { image = c2, backend = gl }\n"
+              "p2 = test_copy { image = g2, backend = cpu }\n"
+              'output hdr "src.exr"\noutput p2 "chain.exr"\noutput p2 "chain.hdr"\n'
+              'output hdr "src.png"\noutput p2 "chain.png"\n')
+    p = run(["render", g, "--explain", "--profile"])
+    check("37x23 rgbe8 (3.3 KiB)" in p.stdout + p.stderr,
+          "--explain does not name rgbe8:\n" + p.stdout + p.stderr)
+    for dev in ("gl", "cl"):
+        check(any(l.split()[:3] == ["g1" if dev == "gl" else "c1", "test_copy", dev]
+                  for l in (p.stdout + p.stderr).splitlines()),
+              "the copy did not run on %s:\n%s" % (dev, p.stdout + p.stderr))
+    src, chain = exr("src.exr"), exr("chain.exr")
+    bits_equal(src, chain)
+    # the sun is kept (RGBE's range), the NaN is 0, alpha is 1
+    check(abs(src[2]["R"][0] - 1e6) <= 1e6 / 256, "sun %r" % src[2]["R"][0])
+    check(src[2]["R"][1] == 0 and src[2]["A"][5] == 1.0, "NaN or alpha")
+    d = run(["diff", os.path.join(TMP, "chain.hdr"), os.path.join(TMP, "src.exr"),
+             "--max-abs", "0"], expect=None)
+    check(d.returncode == 0, "chain.hdr differs from src.exr:\n" + d.stdout + d.stderr)
+    with open(os.path.join(TMP, "src.png"), "rb") as a, open(os.path.join(TMP, "chain.png"), "rb") as b:
+        check(a.read() == b.read(), "the PNG outputs differ")
+    print("rgbe8 through gl, cl, cpu, cl, gl, cpu: bytes unchanged (EXR bit for bit, HDR, PNG)")
+
+
+def t_rgbe_precision():
+    g = graph(HDR % ("rgbe8", "0") + 'output hdr "e.exr"\n', "e.lgraph")
+    run(["render", g])
+    g = graph(HDR % ("rgba32f", "0") + 'output hdr "f.exr"\n', "f.lgraph")
+    run(["render", g])
+    e, f = exr("e.exr"), exr("f.exr")
+    w, h, ce = e
+    cf = f[2]
+    differ = 0
+    for i in range(w * h):
+        if i == 1:
+            continue  # the NaN pixel
+        m = max(cf["R"][i], cf["G"][i], cf["B"][i])
+        for c in "RGB":
+            err = abs(ce[c][i] - cf[c][i])
+            check(err <= m / 256, "pixel %d %s: rgbe8 %r, rgba32f %r (max %r)" %
+                  (i, c, ce[c][i], cf[c][i], m))
+            differ += err > 0
+    check(differ > w * h, "rgbe8 equals rgba32f almost everywhere: RGBE did not round?")
+    # float EXR by default for rgbe8 (half would turn its range into Inf): read the type
+    with open(os.path.join(TMP, "e.exr"), "rb") as fh:
+        data = fh.read()
+    k = data.index(b"channels\0chlist\0")
+    check(data[k + 16 + 4 + 2:k + 16 + 4 + 6] == b"\x02\x00\x00\x00",
+          "rgbe8 output EXR is not float32")
+    print("rgbe8 within half a step (max/256) of rgba32f in %d x 3 channels, %d rounded" %
+          (w * h - 1, differ))
+
+
+def t_half_policy():
+    g = graph(HDR % ("rgba16f", "1e6") + 'output hdr "h.exr" float\n', "h.lgraph")
+    p = run(["render", g, "--frames", "3", "--every-frame"])
+    img = exr("h.exr")[2]
+    check(img["R"][0] == 65504.0 and img["G"][0] == 65504.0 and img["B"][0] == 65504.0,
+          "sun in rgba16f: %r %r %r, want 65504 (never Inf)" %
+          (img["R"][0], img["G"][0], img["B"][0]))
+    check(img["R"][1] == 0.0, "NaN in rgba16f reads %r, want 0" % img["R"][1])
+    check(all(math.isfinite(v) for c in "RGBA" for v in img[c]), "a non-finite value")
+    warns = [l for l in p.stderr.splitlines() if "values it cannot hold" in l]
+    check(len(warns) == 1, "want one report over 3 frames, got:\n" + p.stderr)
+    check("rgba16f output, frame 0: 4 values" in warns[0], "report: " + warns[0])
+    print("rgba16f: sun 1e6 -> 65504, NaN -> 0, reported once: " + warns[0].split(": ", 1)[1])
+
+
+def t_reinhard():
+    per_backend = {}
+    for be in ("cpu", "gl", "cl"):
+        outs = {}
+        for fmt in ("rgba32f", "rgbe8"):
+            g = graph(HDR % (fmt, "0") + "tone = reinhard { image = hdr, backend = %s }\n"
+                      'output tone "t_%s_%s.exr"\n' % (be, be, fmt), "r_%s_%s.lgraph" % (be, fmt))
+            run(["render", g])
+            outs[fmt] = os.path.join(TMP, "t_%s_%s.exr" % (be, fmt))
+        per_backend[be] = outs["rgbe8"]
+        d = run(["diff", outs["rgbe8"], outs["rgba32f"], "--json", "--max-abs", "0.015"],
+                expect=None)
+        check(d.returncode == 0, "reinhard %s: rgbe8 vs rgba32f beyond 0.01:\n%s%s" %
+              (be, d.stdout, d.stderr))
+        a, b = format_study.read_exr(outs["rgbe8"]), format_study.read_exr(outs["rgba32f"])
+        w, h = a[0], a[1]
+        errs = [abs(a[2][c][i] - b[2][c][i]) for i in range(w * h) if i != 1 for c in "RGB"]
+        mean = sum(errs) / len(errs)
+        check(0 < mean < 2e-3, "reinhard %s: mean abs %g (want 0 < mean < 2e-3)" % (be, mean))
+        print("reinhard %s: rgbe8 vs rgba32f input: max abs %.3g, mean abs %.3g" %
+              (be, max(errs), mean))
+    for be in ("gl", "cl"):
+        d = run(["diff", per_backend[be], per_backend["cpu"], "--max-abs", "1e-5"], expect=None)
+        check(d.returncode == 0, "reinhard on rgbe8: %s vs cpu beyond 1e-5:\n%s%s" %
+              (be, d.stdout, d.stderr))
+        print("reinhard on rgbe8: %s vs cpu: %s" % (be, d.stdout.strip().splitlines()[-1]))
+
+
+def t_core():
+    for fmt in ("rgba32f", "rgbe8"):
+        g = graph(HDR % (fmt, "0") + "s = scale { image = hdr, factor = 2 }\n"
+                  "a = add { a = hdr, b = s }\n" 'output a "core_%s.exr"\n' % fmt,
+                  "core_%s.lgraph" % fmt)
+        run(["render", g])
+    a, b = exr("core_rgbe8.exr"), exr("core_rgba32f.exr")
+    w, h = a[0], a[1]
+    for i in range(w * h):
+        if i == 1:
+            continue
+        m = max(b[2]["R"][i], b[2]["G"][i], b[2]["B"][i])
+        for c in "RGB":
+            # output 3x; input error <= max/256 per channel, so output error <= m/256
+            check(abs(a[2][c][i] - b[2][c][i]) <= m / 256 * 1.0001,
+                  "core add(x, 2x) pixel %d %s: %r vs %r" % (i, c, a[2][c][i], b[2][c][i]))
+    # rgba8 is refused with the node, the input and the format named
+    g = graph(HDR % ("rgba8", "0") + "s = scale { image = hdr }\n"
+              "t = reinhard { image = hdr }\n" 'output s "r8.exr"\noutput t "r8t.exr"\n',
+              "r8.lgraph")
+    p = run(["render", g], expect=1)
+    check("input 'image' is rgba8 (display-encoded)" in p.stderr and "'s'" in p.stderr,
+          "scale does not refuse rgba8 clearly:\n" + p.stderr)
+    print("core add and scale take rgbe8 within RGBE's precision; rgba8 refused: " +
+          [l for l in p.stderr.splitlines() if "rgba8" in l][0])
+
+
+def t_format_study():
+    out = os.path.join(TMP, "study")
+    env = dict(os.environ)
+    env["LIGHTGRAPH_PLUGIN_PATH"] = TEST_PLUGINS + ":" + os.path.join(BUILD, "plugins")
+    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
+    # the graph is copied into TMP: the tool writes its temporary copy beside the graph
+    gsrc = os.path.join(SOURCE, "tests", "unit", "formats", "format_study.lgraph")
+    g = os.path.join(TMP, "format_study.lgraph")
+    shutil.copy(gsrc, g)
+    p = subprocess.run([sys.executable, os.path.join(SOURCE, "tools", "format_study.py"), g,
+                        "hdr", "--repeat", "1", "--frames", "2", "--out", out, "--build", BUILD],
+                       env=env, capture_output=True, text=True, timeout=120)
+    check(p.returncode == 0, "format_study.py failed:\n" + p.stdout + p.stderr)
+    for f in ("format_study.csv", "format_study.md", "format_study.png", "hdr_rgbe8.exr",
+              "rgba16f_tone.png"):
+        check(os.path.getsize(os.path.join(out, f)) > 0, "no " + f)
+    check(not [f for f in os.listdir(TMP) if f.startswith(".format_study_")],
+          "the temporary graph copy was left behind")
+    rows = {r["format"]: r for r in csv.DictReader(open(os.path.join(out, "format_study.csv")))}
+    check(set(rows) == {"rgba32f", "rgba16f", "rgbe8"}, "rows: %s" % list(rows))
+    check(float(rows["rgba32f"]["max_rel"]) == 0, "rgba32f against itself is not exact")
+    check(0 < float(rows["rgbe8"]["max_rel"]) < 0.007, "rgbe8 max_rel %s" % rows["rgbe8"]["max_rel"])
+    check(int(rows["rgba16f"]["clamped"]) >= 1, "rgba16f: the sun was not seen clamped")
+    check(float(rows["rgbe8"]["node_ms"]) > 0 and float(rows["rgbe8"]["frame_ms"]) > 0, "times")
+    check(rows["rgba32f"]["psnr_db"] == "inf" and float(rows["rgba16f"]["psnr_db"]) < 80,
+          "psnr: %s" % [(k, r["psnr_db"]) for k, r in rows.items()])
+    sys.stdout.write(p.stdout)
+
+
+TESTS = {"roundtrip": t_roundtrip, "rgbe_precision": t_rgbe_precision,
+         "half_policy": t_half_policy, "reinhard": t_reinhard, "core": t_core,
+         "format_study": t_format_study}
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or sys.argv[1] not in TESTS:
+        sys.stderr.write("usage: test_formats.py %s\n" % "|".join(TESTS))
+        sys.exit(2)
+    try:
+        TESTS[sys.argv[1]]()
+    except Fail as e:
+        sys.stderr.write("FAIL: %s\n" % e)
+        sys.exit(1)
+    finally:
+        shutil.rmtree(TMP, ignore_errors=True)
