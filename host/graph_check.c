@@ -905,9 +905,15 @@ static void check_outputs(checker *k)
             co->part = part;
             if (port != UINT32_MAX) {
                 lg_resource_kind kind = edge_kind(c->nodes[node].type, port, part);
-                if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY)
-                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images can be written "
-                         "to files", o->ref.text, kind_name(kind));
+                const char *sl = strrchr(o->path, '/');
+                const char *ext = strrchr(sl ? sl + 1 : o->path, '.');
+                /* a probe is written as an image file in its layout (lg_probe_pack) */
+                if (kind == LG_KIND_PROBE && ext && strcasecmp(ext, ".png") == 0)
+                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives a probe, which is HDR: "
+                         "write it as .exr or .hdr, not '%s'", o->ref.text, o->path);
+                else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE)
+                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images and probes "
+                         "can be written to files", o->ref.text, kind_name(kind));
             }
         }
         const char *slash = strrchr(o->path, '/');
