@@ -42,8 +42,6 @@ static const char *const pr_source_names[] = {
 enum { PR_LAYOUT_AUTO = 0, PR_LAYOUT_LATLONG, PR_LAYOUT_ANGULAR, PR_LAYOUT_CROSS,
        PR_LAYOUT_STRIP, PR_LAYOUT_FACES };
 
-static const char *const pr_face_keys[6] = { "face_px", "face_nx", "face_py",
-                                             "face_ny", "face_pz", "face_nz" };
 static const char *const pr_face_names[6] = { "+X", "-X", "+Y", "-Y", "+Z", "-Z" };
 
 /* Where the faces sit in a cross or a strip: lg_probe_file_cell (lightgraph/probe.h), the
@@ -241,48 +239,39 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
     int want = lg_param_enum(n, "layout");
     const char *file = lg_param_string(n, "file");
     bool have_file = file && *file;
-    unsigned have_faces = 0;
-    for (int f = 0; f < 6; f++) {
-        const char *p = lg_param_string(n, pr_face_keys[f]);
-        if (p && *p)
-            have_faces++;
-    }
+    uint32_t have_faces = lg_param_list_count(n, "faces");
     if (want == PR_LAYOUT_AUTO && !have_file && have_faces)
         want = PR_LAYOUT_FACES;
     uint64_t h = LG_IMAGE_HASH_SEED;
 
     if (want == PR_LAYOUT_FACES) {
         if (have_file)
-            return lg_error(n, "layout = faces reads face_px .. face_nz; 'file' ('%s') is set "
-                               "too: leave it empty",
+            return lg_error(n, "layout = faces reads the six files of 'faces'; 'file' ('%s') "
+                               "is set too: leave it empty",
                             file);
-        if (have_faces != 6) {
-            for (int f = 0; f < 6; f++) {
-                const char *p = lg_param_string(n, pr_face_keys[f]);
-                if (!p || !*p)
-                    return lg_error(n, "layout = faces needs six files; '%s' (the %s face) is "
-                                       "empty",
-                                    pr_face_keys[f], pr_face_names[f]);
-            }
-        }
+        if (have_faces != 6)
+            return lg_error(n, "layout = faces needs six files in 'faces' (+X, -X, +Y, -Y, +Z, "
+                               "-Z), found %u",
+                            have_faces);
         lg_image img[6];
         memset(img, 0, sizeof img);
         int rc = 0;
         uint32_t N = 0;
-        for (int f = 0; f < 6 && !rc; f++) {
-            const char *p = lg_param_string(n, pr_face_keys[f]);
-            if ((rc = pr_read(n, p, pr_face_keys[f], &img[f])))
+        const char *first = lg_param_list_item(n, "faces", 0);
+        for (uint32_t f = 0; f < 6 && !rc; f++) {
+            const char *p = lg_param_list_item(n, "faces", f);
+            char what[64];
+            snprintf(what, sizeof what, "faces[%u]", f);
+            if ((rc = pr_read(n, p, what, &img[f])))
                 break;
             if (img[f].width != img[f].height)
-                rc = lg_error(n, "face file '%s' (%s = the %s face) is %ux%u: faces are square",
-                              p, pr_face_keys[f], pr_face_names[f], img[f].width,
-                              img[f].height);
+                rc = lg_error(n, "face file '%s' (faces[%u], the %s face) is %ux%u: faces are "
+                                 "square",
+                              p, f, pr_face_names[f], img[f].width, img[f].height);
             else if (f > 0 && img[f].width != N)
-                rc = lg_error(n, "face file '%s' (%s = the %s face) is %ux%u but '%s' (%s) is "
-                                 "%ux%u: the six faces have one size",
-                              p, pr_face_keys[f], pr_face_names[f], img[f].width,
-                              img[f].height, lg_param_string(n, pr_face_keys[0]),
-                              pr_face_keys[0], N, N);
+                rc = lg_error(n, "face file '%s' (faces[%u], the %s face) is %ux%u but '%s' "
+                                 "(faces[0]) is %ux%u: the six faces have one size",
+                              p, f, pr_face_names[f], img[f].width, img[f].height, first, N, N);
             N = img[f].width;
         }
         if (!rc) {
@@ -290,8 +279,8 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
             if (!st->texels)
                 rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (a cube of 6 x %ux%u)", N, N);
         }
-        for (int f = 0; f < 6 && !rc; f++) {
-            pr_sanitize(n, lg_param_string(n, pr_face_keys[f]), &img[f]);
+        for (uint32_t f = 0; f < 6 && !rc; f++) {
+            pr_sanitize(n, lg_param_list_item(n, "faces", f), &img[f]);
             h = lg_image_hash(&img[f], h);
             memcpy(st->texels + (size_t)4 * f * N * N, img[f].pixels, (size_t)N * N * 16);
         }
@@ -307,8 +296,8 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
     }
 
     if (have_faces)
-        return lg_error(n, "face_px .. face_nz are for layout = faces; this probe reads 'file' "
-                           "(layout = %s): leave them empty",
+        return lg_error(n, "'faces' is for layout = faces; this probe reads 'file' (layout = %s): "
+                           "leave 'faces' empty",
                         want == PR_LAYOUT_AUTO ? "auto" : "a single-file layout");
     lg_image img;
     memset(&img, 0, sizeof img);
@@ -604,13 +593,9 @@ static const lg_param_desc probe_params[] = {
       .doc = "probe image: .exr (any compression) or .hdr; empty with layout = faces" },
     { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PR_LAYOUT_AUTO, .enum_values = pr_layouts,
       .doc = "auto (from the size: 2:1 latlong, 1:1 angular, 4:3 / 3:4 cross, 6:1 / 1:6 "
-             "strip), or say which; faces reads face_px .. face_nz" },
-    { .key = "face_px", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the +X face" },
-    { .key = "face_nx", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the -X face" },
-    { .key = "face_py", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the +Y face" },
-    { .key = "face_ny", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the -Y face" },
-    { .key = "face_pz", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the +Z face" },
-    { .key = "face_nz", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the -Z face" },
+             "strip), or say which; faces reads the list `faces`" },
+    { .key = "faces", .type = LG_PARAM_PATH_LIST,
+      .doc = "layout = faces: six files, [+X, -X, +Y, -Y, +Z, -Z], square, one size" },
     { .key = "rotate_deg", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -1e6, .max = 1e6,
       .doc = "[yaw, pitch, roll], degrees: probe -> world, R = Ry(yaw) Rx(pitch) Rz(roll)" },
     { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -64, .max = 64,
