@@ -553,6 +553,11 @@ static int convert_execute(lg_node *n, const lg_frame *frame)
     lg_probe_resample_stats stats;
     rc = lg_probe_resample_pool(n, &img, st->layout, st->width, st->height, NULL, NULL, buf,
                                 &stats);
+    /* alpha 1 everywhere, as the probe node makes it (a probe's alpha has no meaning; the
+     * resampler leaves 0 outside the angular disc), so that a written probe read back is
+     * the same probe */
+    for (size_t k = 0; !rc && k < texels; k++)
+        buf[4 * k + 3] = 1.0f;
     if (buf != v.pixels) {
         for (size_t row = 0; !rc && row < (size_t)faces * st->height; row++)
             memcpy((float *)v.pixels + row * v.row_pixels * 4, buf + row * st->width * 4,

