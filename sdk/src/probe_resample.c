@@ -559,6 +559,18 @@ static void build_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
     free(wu);
 }
 
+/* f^p for the over-relaxed column step. Near convergence f = 1 + e with e tiny: the
+ * binomial series to e^3 (error below 2e-12 for |e| < 1e-3, far below the 1e-9 the
+ * balancing aims at), which spares a pow() per source texel and round (it was most of the
+ * balancing's time). */
+static double relaxed(double f, double p)
+{
+    double e = f - 1;
+    if (fabs(e) < 1e-3)
+        return 1 + e * (p + e * (0.5 * p * (p - 1) + e * (p * (p - 1) * (p - 2) / 6)));
+    return pow(f, p);
+}
+
 /* Balancing, column step: each entry scaled by its source texel's target over its sum. */
 static void scale_columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
@@ -772,7 +784,7 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
                 break;
             hist[iter % 100] = resid;
             for (size_t s = 0; s < src_n; s++)
-                factor[s] = colsum[s] > 0 ? pow(omega[s] / colsum[s], relax) : 0.0;
+                factor[s] = colsum[s] > 0 ? relaxed(omega[s] / colsum[s], relax) : 0.0;
             if ((rc = run_chunks(pool, m->n, 1u << 16, scale_columns, &x)) ||
                 (rc = run_chunks(pool, dst_n, 4096, scale_rows, &x)))
                 goto done;
