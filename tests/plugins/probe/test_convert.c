@@ -17,6 +17,9 @@
  *   assets            every probe in assets/probes loads with layout = auto; the forest's
  *                     variants (lat-long EXR and HDR, angular, cross, strip) have the same
  *                     integral over the sphere within the stated tolerances
+ *   faces_list        faces = [six paths] relative to the graph file, and --set
+ *                     sky.faces=[...] relative to the working directory: the written cross
+ *                     holds each face in its cell
  *   output_errors     a probe output to .png is refused before anything runs; a probe with
  *                     a rotation cannot be written (probe_convert bakes it in, and its file
  *                     then equals the turned probe's); --explain shows the output
@@ -25,6 +28,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
@@ -517,6 +521,69 @@ static void case_output_errors(lg_test *t)
     }
 }
 
+static void case_faces_list(lg_test *t)
+{
+    /* six 8x8 faces of different constants in f/; the graph in g/ names them relative to
+     * itself, --set relative to the working directory */
+    static const char *names[6] = { "px", "nx", "py", "ny", "pz", "nz" };
+    char path[64];
+    mkdir(lg_test_path(t, "f"), 0777);
+    mkdir(lg_test_path(t, "g"), 0777);
+    for (int f = 0; f < 6; f++) {
+        lg_image img;
+        if (lg_image_alloc(&img, 8, 8))
+            exit(99);
+        for (size_t k = 0; k < 64; k++) {
+            img.pixels[4 * k] = img.pixels[4 * k + 1] = img.pixels[4 * k + 2] = (float)(f + 1);
+            img.pixels[4 * k + 3] = 1;
+        }
+        snprintf(path, sizeof path, "f/%s.exr", names[f]);
+        lg_test_write_exr(t, path, &img);
+        lg_image_free(&img);
+    }
+    lg_test_write_text(t, "g/faces.lgraph",
+                       "lightgraph 1\n"
+                       "sky = probe { faces = [\"../f/px.exr\", \"../f/nx.exr\", \"../f/py.exr\",\n"
+                       "                       \"../f/ny.exr\", \"../f/pz.exr\", \"../f/nz.exr\"] }\n"
+                       "output sky \"cube.exr\"\n");
+    char *out = NULL;
+    int rc = lg_test_render(t, "g/faces.lgraph", NULL, &out);
+    LG_TEST_CHECK(t, rc == 0, "faces relative to the graph: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    /* six faces are written as a horizontal cross: face f's cell holds f + 1 */
+    lg_image img;
+    if (rc == 0 && lg_test_read(t, "g/cube.exr", &img, NULL)) {
+        LG_TEST_CHECK(t, img.width == 32 && img.height == 24, "cross %ux%u, want 32x24",
+                      img.width, img.height);
+        for (uint32_t f = 0; f < 6 && img.width == 32; f++) {
+            uint32_t cx, cy;
+            bool turn;
+            lg_probe_file_cell(LG_PROBE_FILE_CROSS, f, &cx, &cy, &turn);
+            float v = img.pixels[4 * ((size_t)(cy * 8 + 3) * 32 + cx * 8 + 4)];
+            LG_TEST_CHECK(t, v == (float)(f + 1), "face %u's cell holds %g", f, v);
+        }
+        lg_image_free(&img);
+    }
+    /* --set, relative to the working directory (the scratch folder); a list in reverse
+     * order swaps the faces */
+    const char *args[] = { "--set",
+                           "sky.faces=[\"f/nz.exr\", \"f/pz.exr\", \"f/ny.exr\", \"f/py.exr\", "
+                           "\"f/nx.exr\", \"f/px.exr\"]",
+                           NULL };
+    out = NULL;
+    rc = lg_test_render(t, "g/faces.lgraph", args, &out);
+    LG_TEST_CHECK(t, rc == 0, "--set faces: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    if (rc == 0 && lg_test_read(t, "g/cube.exr", &img, NULL)) {
+        uint32_t cx, cy;
+        bool turn;
+        lg_probe_file_cell(LG_PROBE_FILE_CROSS, 0, &cx, &cy, &turn);
+        float v = img.pixels[4 * ((size_t)(cy * 8 + 3) * 32 + cx * 8 + 4)];
+        LG_TEST_CHECK(t, v == 6.0f, "--set reversed: +X holds %g, want 6 (nz.exr)", v);
+        lg_image_free(&img);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
@@ -526,6 +593,7 @@ int main(int argc, char **argv)
         { "forest_roundtrip", case_forest_roundtrip },
         { "assets", case_assets },
         { "output_errors", case_output_errors },
+        { "faces_list", case_faces_list },
     };
     lg_test_main_opts opts = { .prefix = "probe", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &opts);
