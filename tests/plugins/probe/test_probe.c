@@ -14,7 +14,8 @@
  *   cross_seams       in both crosses, pixels adjacent in the file across a face edge are
  *                     adjacent on the sphere (the crosses are unfoldings of the GL cube)
  *   auto_errors       impossible and ambiguous sizes, explicit layouts that do not fit,
- *                     faces of unequal size or not square, a missing file, file + faces
+ *                     faces of unequal size or not square, a missing file, file + faces,
+ *                     `faces` with 0, 5 or 7 items, an item not a string or empty
  *   latlong_not_2to1  layout = latlong accepts 7x3 with a note; auto refuses it
  *   one_by_one        a 1x1 file: angular (auto) and lat-long; lookups give its texel
  *   rotate_360        rotate_deg = [360, 360, 360] equals none bit for bit; yaw 90 moves
