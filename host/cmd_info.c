@@ -9,7 +9,8 @@
 #include <string.h>
 
 static const char *type_names[] = {"?",      "bool", "int",    "float", "vec2", "vec3",
-                                   "color",  "string", "path", "enum",  "int3"};
+                                   "color",  "string", "path", "enum",  "int3",
+                                   "path_list"};
 
 static const char *kind_name(lg_resource_kind k)
 {
@@ -24,7 +25,7 @@ static const char *part_type_name(lg_part_type t)
 
 static const char *ptype_name(lg_param_type t)
 {
-    return (unsigned)t <= LG_PARAM_INT3 ? type_names[t] : "?";
+    return (unsigned)t <= LG_PARAM_PATH_LIST ? type_names[t] : "?";
 }
 
 static void num(lg_str *o, double v, bool json)
@@ -79,6 +80,17 @@ static void value(lg_str *o, const lg_value *v, lg_param_type t, bool json)
     case LG_PARAM_ENUM:
         lg_str_add_json(o, v->s ? v->s : "");
         break;
+    case LG_PARAM_PATH_LIST: {
+        lg_str_add(o, "[");
+        const char *s = v->s;
+        for (int32_t i = 0; s && i < v->e; i++, s += strlen(s) + 1) {
+            if (i)
+                lg_str_add(o, ", ");
+            lg_str_add_json(o, s);
+        }
+        lg_str_add(o, "]");
+        break;
+    }
     }
 }
 

@@ -99,13 +99,25 @@ static int write_outputs(lg_exec *ex)
         lg_resource *r = lg_edge_resource(ex, (lg_edge){o->node, o->port, o->part});
         char err[1024];
         float *px = NULL;
-        if (lg_resource_to_rgba32f(ex, r, &px, err, sizeof err)) {
+        lg_image img = {0, 0, NULL};
+        /* a probe: its radiance laid out as a file (lat-long, angular, cross or strip) */
+        bool probe = r && r->kind == LG_KIND_PROBE;
+        if (probe && lg_image_format_from_path(path) == LG_FILE_PNG) {
+            /* `render -o x.png` on a graph whose output is a probe */
+            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: a probe is HDR: write it as "
+                    ".exr or .hdr", n->schema->outputs[o->port].name, n->pub.name, path);
+            rc = -1;
+            continue;
+        }
+        if (probe ? lg_resource_probe_file(ex, r, &img, err, sizeof err)
+                  : lg_resource_to_rgba32f(ex, r, &px, err, sizeof err)) {
             lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
                     n->pub.name, path, err);
             rc = -1;
             continue;
         }
-        lg_image img = {r->image.width, r->image.height, px};
+        if (!probe)
+            img = (lg_image){r->image.width, r->image.height, px};
         /* EXR: what `render --exr`, else the output statement, asks for; by default what
          * the resource holds: float for rgba32f, and for rgbe8 (whose range, to 1.7e38,
          * half cannot hold: a sun would become Inf), half otherwise */
@@ -113,7 +125,7 @@ static int write_outputs(lg_exec *ex)
         memset(&wo, 0, sizeof wo);
         int want = ex->opts.exr_pixel ? ex->opts.exr_pixel : o->g ? o->g->exr_pixel : 0;
         wo.exr_pixel = want == LG_OUT_EXR_HALF ? LG_EXR_HALF : want == LG_OUT_EXR_FLOAT
-                       ? LG_EXR_FLOAT : (r->image.format == LG_FORMAT_RGBA32F ||
+                       ? LG_EXR_FLOAT : (probe || r->image.format == LG_FORMAT_RGBA32F ||
                                          r->image.format == LG_FORMAT_RGBE8) ? LG_EXR_FLOAT
                        : LG_EXR_HALF;
         /* into the output's temporary: lg_render_file commits every output together once
@@ -125,6 +137,8 @@ static int write_outputs(lg_exec *ex)
             lg_hlog(LG_HDEBUG, "%s (%ux%u) written to its temporary file", path, img.width,
                     img.height);
         }
+        if (probe)
+            lg_image_free(&img);
         free(px);
     }
     return rc;

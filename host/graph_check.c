@@ -113,6 +113,7 @@ static char *expected_name(const lg_param_desc *pd)
     case LG_PARAM_STRING: lg_str_add(&b, "a string"); break;
     case LG_PARAM_PATH: lg_str_add(&b, "a file path (a string)"); break;
     case LG_PARAM_INT3: lg_str_add(&b, "a list of 3 integers"); break;
+    case LG_PARAM_PATH_LIST: lg_str_add(&b, "a list of file paths (strings)"); break;
     case LG_PARAM_ENUM:
         lg_str_add(&b, "one of ");
         enum_list(&b, pd);
@@ -328,6 +329,42 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
             goto wrong;
         out->s = resolve_path(v->base_dir, v->s);
         return true;
+    case LG_PARAM_PATH_LIST: {
+        /* ["a", "b", ...]: each item a string, resolved like a PATH against the file (or
+         * the current directory for --set) that wrote it; packed "a\0b\0" (lg_value) */
+        if (v->kind != LG_GV_LIST)
+            goto wrong;
+        lg_str packed = {0};
+        bool ok = true;
+        for (uint32_t i = 0; i < v->n_items; i++) {
+            lg_gitem tmpi;
+            const lg_gvalue *it = lg_glist_item(v, i, &tmpi, true);
+            if (it->kind != LG_GV_STRING) {
+                char itwhat[200];
+                snprintf(itwhat, sizeof itwhat, "item %u of parameter '%s'", i, pd->key);
+                type_error(k, n, pd, itwhat, it, "a file path (a string)");
+                ok = false;
+                continue;
+            }
+            if (!it->s[0]) {
+                diag(k, LG_DIAG_ERROR, it->loc, "item %u of parameter '%s' of node '%s' is an "
+                     "empty path", i, pd->key, n->name);
+                ok = false;
+                continue;
+            }
+            char *path = resolve_path(it->base_dir ? it->base_dir : v->base_dir, it->s);
+            lg_str_add(&packed, path);
+            lg_str_addn(&packed, "", 1);
+            free(path);
+        }
+        if (!ok) {
+            lg_str_free(&packed);
+            return false;
+        }
+        out->e = (int32_t)v->n_items;
+        out->s = packed.s ? lg_str_take(&packed) : lg_xstrdup("");
+        return true;
+    }
     case LG_PARAM_ENUM: {
         if (!(v->kind == LG_GV_STRING || (v->kind == LG_GV_IDENT && !v->port)))
             goto wrong;
@@ -383,6 +420,9 @@ static void default_param(const lg_param_desc *pd, lg_value *out)
         out->s = lg_xstrdup(nv ? pd->enum_values[e] : "");
     } else if (pd->type == LG_PARAM_STRING || pd->type == LG_PARAM_PATH) {
         out->s = lg_xstrdup(pd->def.s ? pd->def.s : "");
+    } else if (pd->type == LG_PARAM_PATH_LIST) {
+        out->e = 0; /* the empty list (registry.c refuses another default) */
+        out->s = lg_xstrdup("");
     }
 }
 
@@ -905,9 +945,15 @@ static void check_outputs(checker *k)
             co->part = part;
             if (port != UINT32_MAX) {
                 lg_resource_kind kind = edge_kind(c->nodes[node].type, port, part);
-                if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY)
-                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images can be written "
-                         "to files", o->ref.text, kind_name(kind));
+                const char *sl = strrchr(o->path, '/');
+                const char *ext = strrchr(sl ? sl + 1 : o->path, '.');
+                /* a probe is written as an image file in its layout (lg_probe_pack) */
+                if (kind == LG_KIND_PROBE && ext && strcasecmp(ext, ".png") == 0)
+                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives a probe, which is HDR: "
+                         "write it as .exr or .hdr, not '%s'", o->ref.text, o->path);
+                else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE)
+                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images and probes "
+                         "can be written to files", o->ref.text, kind_name(kind));
             }
         }
         const char *slash = strrchr(o->path, '/');
@@ -941,7 +987,8 @@ void lg_checked_free(lg_checked *c)
         if (cn->params && cn->type) {
             for (uint32_t j = 0; j < cn->type->n_params; j++) {
                 lg_param_type t = cn->type->params[j].type;
-                if (t == LG_PARAM_STRING || t == LG_PARAM_PATH || t == LG_PARAM_ENUM)
+                if (t == LG_PARAM_STRING || t == LG_PARAM_PATH || t == LG_PARAM_ENUM ||
+                    t == LG_PARAM_PATH_LIST)
                     free((char *)cn->params[j].s);
             }
         }

@@ -9,6 +9,7 @@
 #include <stdio.h>
 
 #include "lightgraph/host.h"
+#include "lightgraph/image.h"
 #include "device.h"
 #include "graph.h"
 #include "util.h"
@@ -164,6 +165,9 @@ int lg_resource_payload_cl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *
                            const void *data, size_t size, void **mem);
 /* RGBA float copy of an image resource (for output files). Caller frees. */
 int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char *err, size_t errlen);
+/* The image file of a probe resource (lightgraph/probe.h lg_probe_pack). Caller frees. */
+int lg_resource_probe_file(struct lg_exec *ex, lg_resource *r, lg_image *out, char *err,
+                           size_t errlen);
 
 /* ---- plan and execution (plan.c, exec.c) ------------------------------------------------ */
 

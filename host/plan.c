@@ -47,6 +47,13 @@ static void digest_params(lg_digest *d, const lg_cnode *c)
         case LG_PARAM_ENUM:
             lg_digest_add_str(d, v->s);
             break;
+        case LG_PARAM_PATH_LIST: {
+            lg_digest_add(d, &v->e, sizeof v->e);
+            const char *s = v->s;
+            for (int32_t k = 0; s && k < v->e; k++, s += strlen(s) + 1)
+                lg_digest_add_str(d, s);
+            break;
+        }
         }
     }
 }

@@ -55,10 +55,13 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
 {
     if (!valid_ident(p->key))
         FAIL("node type '%s': a parameter has an invalid key", t->name);
-    if (p->type < LG_PARAM_BOOL || p->type > LG_PARAM_INT3)
+    if (p->type < LG_PARAM_BOOL || p->type > LG_PARAM_PATH_LIST)
         FAIL("node type '%s', parameter '%s': unknown type %d", t->name, p->key, (int)p->type);
     if (p->min > p->max)
         FAIL("node type '%s', parameter '%s': min %g > max %g", t->name, p->key, p->min, p->max);
+    if (p->type == LG_PARAM_PATH_LIST && ((p->def.s && p->def.s[0]) || p->def.e != 0))
+        FAIL("node type '%s', parameter '%s': a path list's default is the empty list", t->name,
+             p->key);
     bool ranged = p->min < p->max;
     switch (p->type) {
     case LG_PARAM_INT:
@@ -233,6 +236,7 @@ static void put_desc(lg_str *b, const lg_plugin_desc *d)
                 break;
             case LG_PARAM_INT3: memcpy(v.i3, p->def.i3, sizeof v.i3); break;
             case LG_PARAM_STRING: case LG_PARAM_PATH: sv = p->def.s; break;
+            case LG_PARAM_PATH_LIST: break; /* always empty (validate_param) */
             case LG_PARAM_ENUM:
                 v.e = p->def.e;
                 sv = p->def.s ? p->def.s : p->enum_values[p->def.e];

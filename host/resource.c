@@ -15,6 +15,7 @@
 #include "lightgraph/cl.h"
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
+#include "lightgraph/probe.h"
 
 /* Pixels of the colour data: every level and face of an image. */
 static size_t pixel_count(const lg_resource *r)
@@ -648,6 +649,36 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
     }
     *out = f;
     return 0;
+}
+
+/* The image file of a probe resource (an `output` of a probe): level 0 of its radiance,
+ * laid out by lg_probe_pack as its info says (a cube as the cross or strip it was read
+ * from or converted to). *out is the caller's (lg_image_free). */
+int lg_resource_probe_file(lg_exec *ex, lg_resource *r, lg_image *out, char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    int32_t ri = lg_kind_part_index(LG_KIND_PROBE, "radiance");
+    int32_t ii = lg_kind_part_index(LG_KIND_PROBE, "info");
+    lg_resource *rad = r->kind == LG_KIND_PROBE && ri >= 0 && (uint32_t)ri < r->n_parts
+                       ? r->parts[ri] : NULL;
+    lg_resource *meta = ii >= 0 && (uint32_t)ii < r->n_parts ? r->parts[ii] : NULL;
+    if (!rad || !meta || !meta->cpu || !meta->cpu_valid ||
+        meta->buffer.size < sizeof(lg_probe_info)) {
+        snprintf(err, errlen, "the probe was not written (no radiance or info)");
+        return LG_ERR_INVALID;
+    }
+    lg_probe_info info;
+    memcpy(&info, meta->cpu, sizeof info);
+    if (info.struct_size < sizeof info) /* an older producer: the rest is zero */
+        memset((char *)&info + info.struct_size, 0, sizeof info - info.struct_size);
+    float *px = NULL;
+    int rc = lg_resource_to_rgba32f(ex, rad, &px, err, errlen);
+    if (rc)
+        return rc;
+    /* level 0 comes first (lg_image_offset), a cube's six faces one after the other */
+    rc = lg_probe_pack(&info, rad->image.width, rad->image.height, px, out, err, errlen);
+    free(px);
+    return rc;
 }
 
 /* ---- composite resources -------------------------------------------------------------- */

@@ -42,18 +42,19 @@ static const char *const pr_source_names[] = {
 enum { PR_LAYOUT_AUTO = 0, PR_LAYOUT_LATLONG, PR_LAYOUT_ANGULAR, PR_LAYOUT_CROSS,
        PR_LAYOUT_STRIP, PR_LAYOUT_FACES };
 
-static const char *const pr_face_keys[6] = { "face_px", "face_nx", "face_py",
-                                             "face_ny", "face_pz", "face_nz" };
 static const char *const pr_face_names[6] = { "+X", "-X", "+Y", "-Y", "+Z", "-Z" };
 
-/* Where face f (GL order) sits in a cross, in face-size cells, and whether it is turned
- * by 180 degrees there. The horizontal cross holds every face as OpenGL orients it; the
- * vertical one turns -Z (below -Y) by 180 degrees, as cmft and HDRShop do, so that its
- * edges meet -Y's. docs/probes.md draws both. */
-static const int pr_cross_h[6][3] = { { 2, 1, 0 }, { 0, 1, 0 }, { 1, 0, 0 },
-                                      { 1, 2, 0 }, { 1, 1, 0 }, { 3, 1, 0 } };
-static const int pr_cross_v[6][3] = { { 2, 1, 0 }, { 0, 1, 0 }, { 1, 0, 0 },
-                                      { 1, 2, 0 }, { 1, 1, 0 }, { 1, 3, 1 } };
+/* Where the faces sit in a cross or a strip: lg_probe_file_cell (lightgraph/probe.h), the
+ * table lg_probe_pack writes with, so that reading and writing are inverses. The
+ * horizontal cross holds every face as OpenGL orients it; the vertical one turns -Z
+ * (below -Y) by 180 degrees, as cmft and HDRShop do, so that its edges meet -Y's.
+ * docs/probes.md draws both. */
+static lg_probe_file_layout pr_file_layout(pr_source src)
+{
+    return src == PR_CROSS_H ? LG_PROBE_FILE_CROSS : src == PR_CROSS_V ? LG_PROBE_FILE_VCROSS
+         : src == PR_STRIP_H ? LG_PROBE_FILE_STRIP : src == PR_STRIP_V ? LG_PROBE_FILE_VSTRIP
+         : LG_PROBE_FILE_DEFAULT;
+}
 
 typedef struct pr_state {
     lg_probe_layout layout;
@@ -63,6 +64,7 @@ typedef struct pr_state {
                              * (freed by the SDK that allocated them) */
     float rotation[9];
     float scale;
+    lg_probe_file_layout file_layout; /* how the cube was stored: an output writes it so */
 } pr_state;
 
 static void pr_state_clear(pr_state *st)
@@ -72,6 +74,8 @@ static void pr_state_clear(pr_state *st)
     else
         free(st->texels);
     st->texels = NULL;
+    memset(&st->decoded, 0, sizeof st->decoded);
+    st->file_layout = LG_PROBE_FILE_DEFAULT;
 }
 
 /* Reads one file as stored (no clamping: pr_sanitize counts and zeroes what a probe
@@ -235,48 +239,39 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
     int want = lg_param_enum(n, "layout");
     const char *file = lg_param_string(n, "file");
     bool have_file = file && *file;
-    unsigned have_faces = 0;
-    for (int f = 0; f < 6; f++) {
-        const char *p = lg_param_string(n, pr_face_keys[f]);
-        if (p && *p)
-            have_faces++;
-    }
+    uint32_t have_faces = lg_param_list_count(n, "faces");
     if (want == PR_LAYOUT_AUTO && !have_file && have_faces)
         want = PR_LAYOUT_FACES;
     uint64_t h = LG_IMAGE_HASH_SEED;
 
     if (want == PR_LAYOUT_FACES) {
         if (have_file)
-            return lg_error(n, "layout = faces reads face_px .. face_nz; 'file' ('%s') is set "
-                               "too: leave it empty",
+            return lg_error(n, "layout = faces reads the six files of 'faces'; 'file' ('%s') "
+                               "is set too: leave it empty",
                             file);
-        if (have_faces != 6) {
-            for (int f = 0; f < 6; f++) {
-                const char *p = lg_param_string(n, pr_face_keys[f]);
-                if (!p || !*p)
-                    return lg_error(n, "layout = faces needs six files; '%s' (the %s face) is "
-                                       "empty",
-                                    pr_face_keys[f], pr_face_names[f]);
-            }
-        }
+        if (have_faces != 6)
+            return lg_error(n, "layout = faces needs six files in 'faces' (+X, -X, +Y, -Y, +Z, "
+                               "-Z), found %u",
+                            have_faces);
         lg_image img[6];
         memset(img, 0, sizeof img);
         int rc = 0;
         uint32_t N = 0;
-        for (int f = 0; f < 6 && !rc; f++) {
-            const char *p = lg_param_string(n, pr_face_keys[f]);
-            if ((rc = pr_read(n, p, pr_face_keys[f], &img[f])))
+        const char *first = lg_param_list_item(n, "faces", 0);
+        for (uint32_t f = 0; f < 6 && !rc; f++) {
+            const char *p = lg_param_list_item(n, "faces", f);
+            char what[64];
+            snprintf(what, sizeof what, "faces[%u]", f);
+            if ((rc = pr_read(n, p, what, &img[f])))
                 break;
             if (img[f].width != img[f].height)
-                rc = lg_error(n, "face file '%s' (%s = the %s face) is %ux%u: faces are square",
-                              p, pr_face_keys[f], pr_face_names[f], img[f].width,
-                              img[f].height);
+                rc = lg_error(n, "face file '%s' (faces[%u], the %s face) is %ux%u: faces are "
+                                 "square",
+                              p, f, pr_face_names[f], img[f].width, img[f].height);
             else if (f > 0 && img[f].width != N)
-                rc = lg_error(n, "face file '%s' (%s = the %s face) is %ux%u but '%s' (%s) is "
-                                 "%ux%u: the six faces have one size",
-                              p, pr_face_keys[f], pr_face_names[f], img[f].width,
-                              img[f].height, lg_param_string(n, pr_face_keys[0]),
-                              pr_face_keys[0], N, N);
+                rc = lg_error(n, "face file '%s' (faces[%u], the %s face) is %ux%u but '%s' "
+                                 "(faces[0]) is %ux%u: the six faces have one size",
+                              p, f, pr_face_names[f], img[f].width, img[f].height, first, N, N);
             N = img[f].width;
         }
         if (!rc) {
@@ -284,8 +279,8 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
             if (!st->texels)
                 rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (a cube of 6 x %ux%u)", N, N);
         }
-        for (int f = 0; f < 6 && !rc; f++) {
-            pr_sanitize(n, lg_param_string(n, pr_face_keys[f]), &img[f]);
+        for (uint32_t f = 0; f < 6 && !rc; f++) {
+            pr_sanitize(n, lg_param_list_item(n, "faces", f), &img[f]);
             h = lg_image_hash(&img[f], h);
             memcpy(st->texels + (size_t)4 * f * N * N, img[f].pixels, (size_t)N * N * 16);
         }
@@ -301,8 +296,8 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
     }
 
     if (have_faces)
-        return lg_error(n, "face_px .. face_nz are for layout = faces; this probe reads 'file' "
-                           "(layout = %s): leave them empty",
+        return lg_error(n, "'faces' is for layout = faces; this probe reads 'file' (layout = %s): "
+                           "leave 'faces' empty",
                         want == PR_LAYOUT_AUTO ? "auto" : "a single-file layout");
     lg_image img;
     memset(&img, 0, sizeof img);
@@ -336,16 +331,12 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
         lg_image_free(&img);
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (a cube of 6 x %ux%u)", N, N);
     }
-    for (int f = 0; f < 6; f++) {
-        float *dst = st->texels + (size_t)4 * f * N * N;
-        if (src == PR_CROSS_H)
-            pr_copy_face(dst, &img, N, pr_cross_h[f][0], pr_cross_h[f][1], pr_cross_h[f][2]);
-        else if (src == PR_CROSS_V)
-            pr_copy_face(dst, &img, N, pr_cross_v[f][0], pr_cross_v[f][1], pr_cross_v[f][2]);
-        else if (src == PR_STRIP_H)
-            pr_copy_face(dst, &img, N, f, 0, 0);
-        else
-            pr_copy_face(dst, &img, N, 0, f, 0);
+    st->file_layout = pr_file_layout(src);
+    for (uint32_t f = 0; f < 6; f++) {
+        uint32_t cx, cy;
+        bool turn;
+        lg_probe_file_cell(st->file_layout, f, &cx, &cy, &turn);
+        pr_copy_face(st->texels + (size_t)4 * f * N * N, &img, N, (int)cx, (int)cy, turn);
     }
     lg_image_free(&img);
     st->layout = LG_PROBE_CUBE;
@@ -446,6 +437,7 @@ static int probe_execute(lg_node *n, const lg_frame *frame)
     memcpy(info.rotation, st->rotation, sizeof info.rotation);
     info.scale = st->scale;
     info.filter = LG_PROBE_FILTER_NONE;
+    info.file_layout = st->file_layout;
     return lg_probe_publish(n, 0, &info);
 }
 
@@ -459,6 +451,146 @@ static void probe_destroy(lg_node *n)
     n->user = NULL;
 }
 
+/* ---- probe_convert ------------------------------------------------------------------------ */
+
+/* The `layout` parameter of probe_convert, in the enum's order. */
+enum { PC_LATLONG = 0, PC_ANGULAR, PC_CROSS, PC_VCROSS, PC_STRIP, PC_VSTRIP };
+
+typedef struct pc_state {
+    lg_probe_layout layout;
+    lg_probe_file_layout file_layout;
+    uint32_t width, height; /* the output's radiance size (a cube's face size) */
+} pc_state;
+
+/* The output size for `size` = 0: the destination whose texel count over the sphere is
+ * nearest the source image's (W x H for a 2D image, 6 N^2 for a cube): lat-long 2H x H
+ * with 2 H^2 texels, a cube 6 N^2, an angular map's disc pi S^2 / 4. The source's layout
+ * is not needed (its info is written in execute, after this prepare): only the number of
+ * texels it holds. */
+static void pc_auto_size(double texels, lg_probe_layout l, uint32_t *w, uint32_t *h)
+{
+    double s = l == LG_PROBE_LATLONG ? sqrt(texels / 2) : l == LG_PROBE_CUBE
+             ? sqrt(texels / 6) : sqrt(texels * 4 / LG_PROBE_PI_F);
+    uint32_t n = s < 1 ? 1 : s > 8192 ? 8192 : (uint32_t)lround(s);
+    *h = n;
+    *w = l == LG_PROBE_LATLONG ? 2 * n : n;
+}
+
+static int convert_prepare(lg_node *n)
+{
+    pc_state *st = n->user;
+    if (!st) {
+        st = calloc(1, sizeof *st);
+        if (!st)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        n->user = st;
+    }
+    const lg_resource *in = lg_input(n, 0);
+    lg_resource_info ri, rad;
+    if (!in || lg_describe(in, &ri, n) != 0 || ri.kind != LG_KIND_PROBE)
+        return lg_error(n, "input 'probe' is not a probe (a `probe` node makes one)");
+    const lg_resource *r = ri.neutral ? NULL : lg_part(n, in, "radiance");
+    if (!r || lg_describe(r, &rad, n) != 0)
+        return lg_error(n, "input 'probe' has no radiance (is its producer gated?)");
+    int layout = lg_param_enum(n, "layout");
+    static const lg_probe_layout layouts[] = { LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE,
+                                               LG_PROBE_CUBE, LG_PROBE_CUBE, LG_PROBE_CUBE };
+    static const lg_probe_file_layout files[] = {
+        LG_PROBE_FILE_DEFAULT, LG_PROBE_FILE_DEFAULT, LG_PROBE_FILE_CROSS,
+        LG_PROBE_FILE_VCROSS, LG_PROBE_FILE_STRIP, LG_PROBE_FILE_VSTRIP };
+    if (layout < 0 || layout > PC_VSTRIP)
+        return lg_error(n, "unknown layout %d", layout);
+    st->layout = layouts[layout];
+    st->file_layout = files[layout];
+    int64_t size = lg_param_int(n, "size");
+    if (size > 0) {
+        st->height = (uint32_t)size;
+        st->width = st->layout == LG_PROBE_LATLONG ? 2 * (uint32_t)size : (uint32_t)size;
+    } else {
+        double texels = (double)rad.image.width * rad.image.height *
+                        ((rad.image.flags & LG_IMAGE_CUBE) ? 6 : 1);
+        pc_auto_size(texels, st->layout, &st->width, &st->height);
+    }
+    lg_log(n, LG_LOG_DEBUG, "%ux%u%s -> %s %ux%u", rad.image.width, rad.image.height,
+           (rad.image.flags & LG_IMAGE_CUBE) ? " cube" : "",
+           st->layout == LG_PROBE_LATLONG ? "lat-long" : st->layout == LG_PROBE_ANGULAR
+           ? "angular map" : "cube", st->width, st->height);
+    lg_image_desc d = { .width = st->width, .height = st->height,
+                        .format = LG_FORMAT_RGBA32F,
+                        .flags = st->layout == LG_PROBE_CUBE ? LG_IMAGE_CUBE : 0u };
+    int rc = lg_probe_declare(n, 0, st->layout, &d, true);
+    if (rc)
+        return rc;
+    return lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int convert_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    pc_state *st = n->user;
+    lg_probe src;
+    if (!st || !lg_probe_get(n, lg_input(n, 0), &src))
+        return lg_error(n, "input 'probe' is not a probe");
+    const lg_resource *out = lg_output(n, 0);
+    const lg_resource *rad = out ? lg_part(n, out, "radiance") : NULL;
+    const lg_resource *sa = out ? lg_part(n, out, "solid_angle") : NULL;
+    if (!rad || !sa)
+        return lg_error(n, "the probe's parts were not declared (prepare failed?)");
+    lg_cpu_view in, v, sv;
+    int rc;
+    if ((rc = lg_map_cpu(n, src.radiance, LG_READ, &in)) ||
+        (rc = lg_map_cpu(n, rad, LG_WRITE, &v)) || (rc = lg_map_cpu(n, sa, LG_WRITE, &sv)))
+        return rc;
+    /* level 0 of the source (a prefiltered chain's other levels are not converted), read
+     * with its rotation: resampling into the identity bakes it in */
+    lg_probe_image img = lg_probe_image_at(src.info.layout, &src.radiance_desc, in.pixels, 0,
+                                           src.info.rotation);
+    uint32_t faces = st->layout == LG_PROBE_CUBE ? 6 : 1;
+    size_t texels = (size_t)st->width * st->height * faces;
+    float *buf = v.row_pixels == st->width ? v.pixels : malloc(texels * 16);
+    if (!buf)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu texels)", texels);
+    lg_probe_resample_stats stats;
+    rc = lg_probe_resample_pool(n, &img, st->layout, st->width, st->height, NULL, NULL, buf,
+                                &stats);
+    /* alpha 1 everywhere, as the probe node makes it (a probe's alpha has no meaning; the
+     * resampler leaves 0 outside the angular disc), so that a written probe read back is
+     * the same probe */
+    for (size_t k = 0; !rc && k < texels; k++)
+        buf[4 * k + 3] = 1.0f;
+    if (buf != v.pixels) {
+        for (size_t row = 0; !rc && row < (size_t)faces * st->height; row++)
+            memcpy((float *)v.pixels + row * v.row_pixels * 4, buf + row * st->width * 4,
+                   (size_t)st->width * 16);
+        free(buf);
+    }
+    if (rc)
+        return lg_error_code(n, rc, "resampling the %ux%u probe into %ux%u failed%s",
+                             img.width, img.height, st->width, st->height,
+                             rc == LG_ERR_NOMEM ? ": out of memory" : "");
+    lg_log(n, LG_LOG_DEBUG, "%llu sub-rectangles, %llu texel pairs, %u balancing rounds; "
+           "integral error %.2e before balancing, %.2e after",
+           (unsigned long long)stats.samples, (unsigned long long)stats.entries,
+           stats.iterations, stats.raw_total_error, stats.total_error);
+    if ((rc = lg_probe_solid_angles(st->layout, st->width, st->height, sv.pixels)))
+        return lg_error_code(n, rc, "solid angles of a %ux%u probe", st->width, st->height);
+    lg_probe_info info;
+    memset(&info, 0, sizeof info);
+    info.struct_size = sizeof info;
+    info.layout = st->layout;
+    lg_probe_rotation_from_euler(0, 0, 0, info.rotation); /* baked in */
+    info.scale = src.info.scale;
+    info.filter = LG_PROBE_FILTER_NONE;
+    info.file_layout = st->file_layout;
+    return lg_probe_publish(n, 0, &info);
+}
+
+static void convert_destroy(lg_node *n)
+{
+    free(n->user);
+    n->user = NULL;
+}
+
 static const char *const pr_layouts[] = { "auto", "latlong", "angular", "cross", "strip",
                                           "faces", NULL };
 static const lg_param_desc probe_params[] = {
@@ -466,13 +598,9 @@ static const lg_param_desc probe_params[] = {
       .doc = "probe image: .exr (any compression) or .hdr; empty with layout = faces" },
     { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PR_LAYOUT_AUTO, .enum_values = pr_layouts,
       .doc = "auto (from the size: 2:1 latlong, 1:1 angular, 4:3 / 3:4 cross, 6:1 / 1:6 "
-             "strip), or say which; faces reads face_px .. face_nz" },
-    { .key = "face_px", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the +X face" },
-    { .key = "face_nx", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the -X face" },
-    { .key = "face_py", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the +Y face" },
-    { .key = "face_ny", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the -Y face" },
-    { .key = "face_pz", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the +Z face" },
-    { .key = "face_nz", .type = LG_PARAM_PATH, .def.s = "", .doc = "layout = faces: the -Z face" },
+             "strip), or say which; faces reads the list `faces`" },
+    { .key = "faces", .type = LG_PARAM_PATH_LIST,
+      .doc = "layout = faces: six files, [+X, -X, +Y, -Y, +Z, -Z], square, one size" },
     { .key = "rotate_deg", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -1e6, .max = 1e6,
       .doc = "[yaw, pitch, roll], degrees: probe -> world, R = Ry(yaw) Rx(pitch) Rz(roll)" },
     { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -64, .max = 64,
@@ -485,6 +613,24 @@ static const lg_port_desc probe_outputs[] = {
       .doc = "radiance (rgba32f; 2D or GL cube), solid_angle, info; on the CPU" },
 };
 
+static const char *const pc_layouts[] = { "latlong", "angular", "cross", "vcross", "strip",
+                                          "vstrip", NULL };
+static const lg_param_desc convert_params[] = {
+    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PC_LATLONG, .enum_values = pc_layouts,
+      .doc = "latlong, angular, or a cube written (by an output) as a horizontal cross, a "
+             "vertical cross, a 6x1 strip or a 1x6 strip" },
+    { .key = "size", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 8192,
+      .doc = "cube face size, lat-long height (width 2x), angular side; 0 = as many texels "
+             "on the sphere as the source image has" },
+};
+static const lg_port_desc convert_inputs[] = {
+    { .name = "probe", .kind = LG_KIND_PROBE, .doc = "the probe to convert (any layout)" },
+};
+static const lg_port_desc convert_outputs[] = {
+    { .name = "probe", .kind = LG_KIND_PROBE,
+      .doc = "the probe area-resampled into `layout`, its rotation baked in; on the CPU" },
+};
+
 static const lg_node_type probe_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
@@ -492,6 +638,14 @@ static const lg_node_type probe_types[] = {
         .doc = "reads a light probe: lat-long, angular map, cross, strip or six faces",
         LG_PARAMS(probe_params), LG_OUTPUTS(probe_outputs),
         .prepare = probe_prepare, .execute = probe_execute, .destroy = probe_destroy,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "probe_convert",
+        .doc = "area-weighted resampling of a probe into another layout and size (its "
+               "integral over any region kept); an output writes it as EXR or HDR",
+        LG_PARAMS(convert_params), LG_INPUTS(convert_inputs), LG_OUTPUTS(convert_outputs),
+        .prepare = convert_prepare, .execute = convert_execute, .destroy = convert_destroy,
     },
 };
 

@@ -5,6 +5,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -423,4 +424,88 @@ void lg_probe_lookup(const lg_probe_image *img, lg_vec3 dir, lg_probe_sampling s
     case LG_PROBE_CUBE: cube_bilinear(img, c, out); break;
     default: angular_bilinear(img, c, out); break;
     }
+}
+
+/* ---- probes as image files ------------------------------------------------------------ */
+
+bool lg_probe_file_cell(lg_probe_file_layout file, uint32_t face, uint32_t *cx, uint32_t *cy,
+                        bool *turn)
+{
+    /* (cx, cy, turn) per face, GL order; docs/probes.md draws them */
+    static const uint8_t cells[5][6][3] = {
+        {{2, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 2, 0}, {1, 1, 0}, {3, 1, 0}}, /* DEFAULT */
+        {{2, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 2, 0}, {1, 1, 0}, {3, 1, 0}}, /* CROSS */
+        {{2, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 2, 0}, {1, 1, 0}, {1, 3, 1}}, /* VCROSS */
+        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}, {5, 0, 0}}, /* STRIP */
+        {{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}, {0, 4, 0}, {0, 5, 0}}, /* VSTRIP */
+    };
+    if ((unsigned)file > LG_PROBE_FILE_VSTRIP || face > 5)
+        return false;
+    *cx = cells[file][face][0];
+    *cy = cells[file][face][1];
+    *turn = cells[file][face][2] != 0;
+    return true;
+}
+
+static bool is_identity(const float r[9])
+{
+    for (int k = 0; k < 9; k++)
+        if (r[k] != (k % 4 == 0 ? 1.0f : 0.0f))
+            return false;
+    return true;
+}
+
+int lg_probe_pack(const lg_probe_info *info, uint32_t width, uint32_t height, const float *rgba,
+                  lg_image *out, char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    if (!info || !rgba || !valid_size(info->layout, width, height)) {
+        snprintf(err, errlen, "not a probe level 0 of a known layout and size (%ux%u)", width,
+                 height);
+        return LG_ERR_INVALID;
+    }
+    if (!is_identity(info->rotation)) {
+        snprintf(err, errlen, "the probe has a rotation (rotate_deg) that an image file cannot "
+                 "hold: write it through probe_convert, which bakes the rotation into the "
+                 "texels");
+        return LG_ERR_INVALID;
+    }
+    if (info->layout != LG_PROBE_CUBE) {
+        if (lg_image_alloc(out, width, height)) {
+            snprintf(err, errlen, "out of memory (a %ux%u image)", width, height);
+            return LG_ERR_NOMEM;
+        }
+        memcpy(out->pixels, rgba, (size_t)width * height * 16);
+        return 0;
+    }
+    lg_probe_file_layout file = (lg_probe_file_layout)info->file_layout;
+    if ((unsigned)file > LG_PROBE_FILE_VSTRIP) {
+        snprintf(err, errlen, "unknown file layout %u in the probe's info", info->file_layout);
+        return LG_ERR_INVALID;
+    }
+    uint32_t n = width;
+    uint32_t cw = file == LG_PROBE_FILE_VCROSS ? 3 : file == LG_PROBE_FILE_STRIP ? 6
+                : file == LG_PROBE_FILE_VSTRIP ? 1 : 4;
+    uint32_t ch = file == LG_PROBE_FILE_VCROSS ? 4 : file == LG_PROBE_FILE_STRIP ? 1
+                : file == LG_PROBE_FILE_VSTRIP ? 6 : 3;
+    if ((uint64_t)n * cw > 65536 || (uint64_t)n * ch > 65536 ||
+        lg_image_alloc(out, n * cw, n * ch)) {
+        snprintf(err, errlen, "cannot make a %ux%u image for a cube of face %u",
+                 n * cw, n * ch, n);
+        return LG_ERR_NOMEM;
+    }
+    /* lg_image_alloc zeroes: unused cells are black, alpha 0 */
+    for (uint32_t f = 0; f < 6; f++) {
+        uint32_t cx, cy;
+        bool turn;
+        lg_probe_file_cell(file, f, &cx, &cy, &turn);
+        const float *face = rgba + (size_t)4 * f * n * n;
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++) {
+                uint32_t sx = turn ? n - 1 - x : x, sy = turn ? n - 1 - y : y;
+                float *d = out->pixels + 4 * ((size_t)(cy * n + y) * out->width + cx * n + x);
+                memcpy(d, face + 4 * ((size_t)sy * n + sx), 16);
+            }
+    }
+    return 0;
 }

@@ -36,6 +36,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "lightgraph/config.h"
 #include "lightgraph/plugin.h"
@@ -346,6 +347,23 @@ static inline int lg_param_enum(lg_node *n, const char *key)
 {
     const lg_value *v = lg_param(n, key);
     return v ? v->e : 0;
+}
+/* LG_PARAM_PATH_LIST (since ABI 2.2): the number of items, and item i (absolute paths,
+ * host-owned, living as long as the node; NULL past the last). */
+static inline uint32_t lg_param_list_count(lg_node *n, const char *key)
+{
+    const lg_value *v = lg_param(n, key);
+    return v && v->type == LG_PARAM_PATH_LIST && v->e > 0 ? (uint32_t)v->e : 0u;
+}
+static inline const char *lg_param_list_item(lg_node *n, const char *key, uint32_t i)
+{
+    const lg_value *v = lg_param(n, key);
+    if (!v || v->type != LG_PARAM_PATH_LIST || v->e < 0 || i >= (uint32_t)v->e || !v->s)
+        return NULL;
+    const char *s = v->s;
+    while (i--)
+        s += strlen(s) + 1;
+    return s;
 }
 
 static inline const lg_resource *lg_input(lg_node *n, uint32_t port)

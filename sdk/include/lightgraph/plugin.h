@@ -61,12 +61,17 @@ typedef enum lg_param_type {
     LG_PARAM_PATH,     /* "file", resolved against the graph file that set it -> v.s    */
     LG_PARAM_ENUM,     /* one of enum_values; v.e is its index, v.s its name            */
     LG_PARAM_INT3,     /* [i, j, k]                                           -> v.i3   */
+    LG_PARAM_PATH_LIST,/* since ABI 2.2: ["file", ...], each resolved like a PATH -> v.s, v.e */
 } lg_param_type;
 
-/* A parameter value. The host owns the strings; they live as long as the node. */
+/* A parameter value. The host owns the strings; they live as long as the node.
+ * LG_PARAM_PATH_LIST (since ABI 2.2): e is the number of items and s holds them packed,
+ * each followed by its NUL ("a\0b\0" for two; "" for none); read them with
+ * lg_param_list_count and lg_param_list_item (lightgraph/host.h). Its default is always
+ * the empty list (the registry refuses another). */
 typedef struct lg_value {
     lg_param_type type;
-    int32_t e; /* LG_PARAM_ENUM: index into enum_values */
+    int32_t e; /* LG_PARAM_ENUM: index into enum_values; LG_PARAM_PATH_LIST: item count */
     union {
         bool b;
         int64_t i;

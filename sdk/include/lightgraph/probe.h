@@ -106,10 +106,12 @@
 #define LIGHTGRAPH_PROBE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "lightgraph/config.h"
 #include "lightgraph/host.h"
+#include "lightgraph/image.h"
 #include "lightgraph/vecmath.h"
 
 #ifdef __cplusplus
@@ -130,6 +132,31 @@ typedef enum lg_probe_filter {
                                 * probe itself, the last level roughness 1 */
 } lg_probe_filter;
 
+/* How a probe is laid out in an image file (lg_probe_info.file_layout; lg_probe_pack).
+ * A cube is one layout in memory (LG_PROBE_CUBE) and several in files; the one a probe
+ * was read from, or that probe_convert was asked for, is remembered so that an `output`
+ * statement writes the probe back that way. For LG_PROBE_LATLONG and LG_PROBE_ANGULAR
+ * the file is the image itself and this field is ignored. Cells of a cross, in face-size
+ * units (x right, y down), with the face order +X, -X, +Y, -Y, +Z, -Z:
+ *
+ *   horizontal cross (4N x 3N)        vertical cross (3N x 4N)
+ *         .  +Y  .   .                      .  +Y  .
+ *        -X  +Z  +X  -Z                    -X  +Z  +X
+ *         .  -Y  .   .                      .  -Y  .
+ *                                           .  -Z  .     (-Z turned by 180 degrees)
+ *
+ * Every face is stored as OpenGL orients it (row 0 of the face at the top of its cell),
+ * except the vertical cross's -Z, turned by 180 degrees as cmft and HDRShop store it so
+ * that its edge meets -Y's. Strips hold the faces left to right (6N x N) or top to bottom
+ * (N x 6N) in the face order. */
+typedef enum lg_probe_file_layout {
+    LG_PROBE_FILE_DEFAULT = 0, /* lat-long and angular: the image; a cube: LG_PROBE_FILE_CROSS */
+    LG_PROBE_FILE_CROSS,       /* horizontal cross, 4N x 3N */
+    LG_PROBE_FILE_VCROSS,      /* vertical cross, 3N x 4N */
+    LG_PROBE_FILE_STRIP,       /* 6x1 strip, 6N x N */
+    LG_PROBE_FILE_VSTRIP,      /* 1x6 strip, N x 6N */
+} lg_probe_file_layout;
+
 /* The `info` part. */
 typedef struct lg_probe_info {
     uint32_t struct_size;      /* sizeof(lg_probe_info) */
@@ -139,7 +166,10 @@ typedef struct lg_probe_info {
     lg_probe_filter filter;
     uint32_t filter_samples;   /* LG_PROBE_FILTER_GGX: samples per texel it used */
     uint32_t filter_reserved;
-    uint32_t reserved[8];
+    uint32_t file_layout;      /* since ABI 2.2 (was reserved, so 0 = DEFAULT from older
+                                * producers): an lg_probe_file_layout, how a cube is
+                                * written to a file (lg_probe_pack) */
+    uint32_t reserved[7];
 } lg_probe_info;
 
 /* What a consumer sees (lg_probe_get). */
@@ -380,6 +410,29 @@ typedef enum lg_probe_sampling {
 LG_API void lg_probe_lookup(const lg_probe_image *img, lg_vec3 dir, lg_probe_sampling sampling,
                             float out[4]);
 
+/* ---- probes as image files ------------------------------------------------------------- */
+
+/* Where face `face` (0..5, the GL order) of a cube sits in a file of layout `file` (a
+ * cube layout; DEFAULT is the horizontal cross): its cell (*cx, *cy) in face-size units
+ * and whether it is turned by 180 degrees there (*turn), as drawn above. Returns false
+ * for a face or layout outside the enums. The `probe` node reads with this table and
+ * lg_probe_pack writes with it, so the two are inverses. */
+LG_API bool lg_probe_file_cell(lg_probe_file_layout file, uint32_t face, uint32_t *cx,
+                               uint32_t *cy, bool *turn);
+
+/* The image file of level 0 of a probe: lat-long and angular images as they are, a cube
+ * assembled into info->file_layout (a cross's unused cells are black with alpha 0, which
+ * marks them as no part of the sphere; the faces keep their alpha, 1 from the probe
+ * node). `rgba`: level 0's texels as lg_probe_image holds them (width x height, a cube's
+ * six faces one after the other), `width` and `height` level 0's size (a cube's face
+ * size). The probe's scale is already in its texels; a rotation other than the identity
+ * cannot be held by a file: that is LG_ERR_INVALID with the reason in err (probe_convert
+ * bakes a rotation in). On success *out is the caller's (lg_image_free); reading it back
+ * with the probe node (layout = auto) gives the same texels. Returns 0, LG_ERR_INVALID or
+ * LG_ERR_NOMEM, with a message in err (errlen bytes) on failure. */
+LG_API int lg_probe_pack(const lg_probe_info *info, uint32_t width, uint32_t height,
+                         const float *rgba, lg_image *out, char *err, size_t errlen);
+
 /* ---- resampling between layouts -------------------------------------------------------- */
 
 /* How lg_probe_resample reads the source. Zeroed (or a NULL pointer) means the defaults. */
@@ -435,19 +488,24 @@ typedef struct lg_probe_resample_stats {
  * source texels' exact solid angles by alternate column and row scaling (Sinkhorn, up to
  * 100 rounds): each source texel's energy is kept, each destination texel still averages
  * with weights summing to its own solid angle. A texel's value is the weighted mean of
- * its row: a constant probe stays exactly constant. Angular destination texels outside
+ * its row: a constant probe stays exactly constant. The balancing's column step is
+ * over-relaxed (factor^1.8), in double, to 1e-9 of 4 pi or 300 rounds, stopping early when
+ * the residual has not fallen by 10% in 100 rounds. Angular destination texels outside
  * the disc are 0; a rim texel averages over its covered part only. Every channel (alpha
  * too) is resampled alike. LG_PROBE_BILINEAR skips the matrix (no balancing).
  *
  * Accuracy (measured; tests/unit/probe/test_probe_resample.c): the real probe
  * assets/probes/forest_1024x512.hdr through cube 256 and back keeps its total and each
- * octant's integral within 6e-6 relative; white noise over 4 decades (the adversarial
- * case) within 1.6e-4 through a cube and 2.8e-3 through the angular map, whose rim
- * texels the balancing does not fully converge on; one texel's energy within 1.6e-4.
+ * octant's integral within 5e-6 relative; white noise over 4 decades (the adversarial
+ * case) within 1.8e-5 through a cube (the issue's 1e-4 oracle) and 2.8e-3 through the
+ * angular map, whose rim texels the balancing cannot converge on (no matrix of that
+ * sparsity meets both marginals there); one texel's energy within 1.6e-4.
  *
- * Cost: forest 1024x512 -> cube 256 about 4.6 s of one loaded core's CPU time, cube 256
- * -> lat-long 1024x512 about 1.8 s; memory about 8 bytes per overlapping texel pair
- * (2 million here) plus 8 per texel of each side. For converters, not per frame.
+ * Cost: forest 1024x512 -> cube 256 about 7 s of CPU time on a loaded 2-core VM (the
+ * overlap matrix about half, the balancing's up to 300 rounds the rest), divided among
+ * the pool's threads by lg_probe_resample_pool; memory about 12 bytes per overlapping
+ * texel pair (2 million here) plus 8 per texel of each side. For converters, not per
+ * frame.
  *
  * src: the source level (its rotation, probe -> world, applies); layout, width, height:
  * the destination (cube: width == height, the face size); rotation: the destination's
@@ -456,12 +514,25 @@ typedef struct lg_probe_resample_stats {
  * out: 4 floats per destination texel in the radiance image's order (faces, rows from
  * row 0, columns), the caller's. opts and stats may be NULL.
  * Returns 0, LG_ERR_INVALID (unknown layout, zero size, a side above 65536 or a cube that
- * is not square, on either side; no pixels) or LG_ERR_NOMEM. Pure and re-entrant; one
- * thread. */
+ * is not square, on either side; no pixels) or LG_ERR_NOMEM. Pure and re-entrant; runs on
+ * the calling thread (lg_probe_resample_pool with NULL). */
 LG_API int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_t width,
                              uint32_t height, const float *rotation,
                              const lg_probe_resample_opts *opts, float *out,
                              lg_probe_resample_stats *stats);
+
+/* lg_probe_resample on the host's thread pool (lightgraph/host.h, lg_parallel_for) of node
+ * `pool`, from its execute() or prepare(); NULL runs on the calling thread. The work is
+ * cut into chunks that depend on the sizes only (destination rows for the overlap matrix,
+ * entries and texels for the balancing), each chunk writes only what it owns, and the
+ * sums across chunks are made in one fixed order: the result is bit for bit the same on
+ * any number of threads (tests/plugins/probe `convert_threads`). Besides LG_ERR_INVALID
+ * and LG_ERR_NOMEM it returns LG_ERR_INVALID when the pool refuses the work (it has then
+ * reported why through the node). */
+LG_API int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src,
+                                  lg_probe_layout layout, uint32_t width, uint32_t height,
+                                  const float *rotation, const lg_probe_resample_opts *opts,
+                                  float *out, lg_probe_resample_stats *stats);
 
 #ifdef __cplusplus
 }

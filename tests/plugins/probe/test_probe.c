@@ -14,7 +14,8 @@
  *   cross_seams       in both crosses, pixels adjacent in the file across a face edge are
  *                     adjacent on the sphere (the crosses are unfoldings of the GL cube)
  *   auto_errors       impossible and ambiguous sizes, explicit layouts that do not fit,
- *                     faces of unequal size or not square, a missing file, file + faces
+ *                     faces of unequal size or not square, a missing file, file + faces,
+ *                     `faces` with 0, 5 or 7 items, an item not a string or empty
  *   latlong_not_2to1  layout = latlong accepts 7x3 with a note; auto refuses it
  *   one_by_one        a 1x1 file: angular (auto) and lat-long; lookups give its texel
  *   rotate_360        rotate_deg = [360, 360, 360] equals none bit for bit; yaw 90 moves
@@ -295,8 +296,7 @@ static void write_faces(lg_test *t, const lg_image *faces)
 }
 
 #define FACES_PARAMS                                                                         \
-    "face_px = \"px.exr\", face_nx = \"nx.exr\", face_py = \"py.exr\", face_ny = \"ny.exr\", " \
-    "face_pz = \"pz.exr\", face_nz = \"nz.exr\""
+    "faces = [\"px.exr\", \"nx.exr\", \"py.exr\", \"ny.exr\", \"pz.exr\", \"nz.exr\"]"
 
 static void case_faces(lg_test *t)
 {
@@ -466,7 +466,18 @@ static void case_angular_asset(lg_test *t)
 
 /* ---- errors ---------------------------------------------------------------------------- */
 
+/* Renders `def` with a tap and expects exit `want_rc` (1: the node failed; 2: the graph
+ * was refused before anything ran) with a message containing want1 (and want2). */
+static void expect_exit(lg_test *t, int want_rc, const char *def, const char *want1,
+                        const char *want2);
+
 static void expect_error(lg_test *t, const char *def, const char *want1, const char *want2)
+{
+    expect_exit(t, 1, def, want1, want2);
+}
+
+static void expect_exit(lg_test *t, int want_rc, const char *def, const char *want1,
+                        const char *want2)
 {
     char g[4096];
     snprintf(g, sizeof g, "lightgraph 1\n%stap = probe_tap { probe = sky, mode = info }\n"
@@ -474,8 +485,8 @@ static void expect_error(lg_test *t, const char *def, const char *want1, const c
     char *out = NULL;
     int rc = render(t, g, &out);
     const char *o = out ? out : "";
-    LG_TEST_CHECK(t, rc == 1, "%s: exit %d, want 1 (a failure naming the problem):\n%s", def,
-                  rc, o);
+    LG_TEST_CHECK(t, rc == want_rc, "%s: exit %d, want %d (a failure naming the problem):\n%s",
+                  def, rc, want_rc, o);
     LG_TEST_CHECK(t, strstr(o, want1) && (!want2 || strstr(o, want2)),
                   "%s: the message does not say '%s'%s%s:\n%s", def, want1,
                   want2 ? " and " : "", want2 ? want2 : "", o);
@@ -515,24 +526,36 @@ static void case_auto_errors(lg_test *t)
     expect_error(t, "sky = probe { file = \"missing.exr\" }\n", "missing.exr", NULL);
     expect_error(t, "sky = probe { file = \"\" }\n", "'file' is empty", NULL);
     /* faces */
-    const char *base = "face_px = \"sq8.exr\", face_nx = \"sq8.exr\", face_py = \"sq8.exr\", "
-                       "face_ny = \"sq8.exr\", face_pz = \"sq8.exr\"";
+    const char *base = "\"sq8.exr\", \"sq8.exr\", \"sq8.exr\", \"sq8.exr\", \"sq8.exr\"";
     char def[1024];
-    snprintf(def, sizeof def, "sky = probe { %s, face_nz = \"sq4.exr\" }\n", base);
-    expect_error(t, def, "sq4.exr' (face_nz = the -Z face) is 4x4", "one size");
-    snprintf(def, sizeof def, "sky = probe { %s, face_nz = \"rect.exr\" }\n", base);
-    expect_error(t, def, "rect.exr' (face_nz = the -Z face) is 8x6", "square");
-    snprintf(def, sizeof def, "sky = probe { %s }\n", base);
-    expect_error(t, def, "'face_nz' (the -Z face) is empty", NULL);
-    snprintf(def, sizeof def, "sky = probe { %s, face_nz = \"nope.exr\" }\n", base);
+    snprintf(def, sizeof def, "sky = probe { faces = [%s, \"sq4.exr\"] }\n", base);
+    expect_error(t, def, "sq4.exr' (faces[5], the -Z face) is 4x4", "one size");
+    snprintf(def, sizeof def, "sky = probe { faces = [%s, \"rect.exr\"] }\n", base);
+    expect_error(t, def, "rect.exr' (faces[5], the -Z face) is 8x6", "square");
+    snprintf(def, sizeof def, "sky = probe { faces = [\"rect.exr\", %s] }\n", base);
+    expect_error(t, def, "rect.exr' (faces[0], the +X face) is 8x6", "square");
+    snprintf(def, sizeof def, "sky = probe { faces = [%s] }\n", base);
+    expect_error(t, def, "needs six files in 'faces' (+X, -X, +Y, -Y, +Z, -Z), found 5", NULL);
+    snprintf(def, sizeof def, "sky = probe { faces = [%s, \"sq8.exr\", \"sq8.exr\"] }\n", base);
+    expect_error(t, def, "needs six files in 'faces' (+X, -X, +Y, -Y, +Z, -Z), found 7", NULL);
+    expect_error(t, "sky = probe { layout = faces }\n", "needs six files in 'faces'", "found 0");
+    snprintf(def, sizeof def, "sky = probe { faces = [%s, \"nope.exr\"] }\n", base);
     expect_error(t, def, "nope.exr", NULL);
-    snprintf(def, sizeof def, "sky = probe { file = \"sq8.exr\", %s, face_nz = \"sq8.exr\" }\n",
+    snprintf(def, sizeof def, "sky = probe { file = \"sq8.exr\", faces = [%s, \"sq8.exr\"] }\n",
              base);
-    expect_error(t, def, "face_px .. face_nz are for layout = faces", NULL);
+    expect_error(t, def, "'faces' is for layout = faces", NULL);
     snprintf(def, sizeof def,
-             "sky = probe { layout = faces, file = \"sq8.exr\", %s, face_nz = \"sq8.exr\" }\n",
+             "sky = probe { layout = faces, file = \"sq8.exr\", faces = [%s, \"sq8.exr\"] }\n",
              base);
     expect_error(t, def, "'file' ('", "leave it empty");
+    /* the list's type, checked before anything runs */
+    expect_exit(t, 2, "sky = probe { faces = [\"a.exr\", 3] }\n",
+                 "expected a file path (a string), found an integer (item 1 of parameter 'faces'",
+                 NULL);
+    expect_exit(t, 2, "sky = probe { faces = \"a.exr\" }\n",
+                 "expected a list of file paths (strings), found a string", NULL);
+    expect_exit(t, 2, "sky = probe { faces = [\"a.exr\", \"\"] }\n",
+                 "item 1 of parameter 'faces' of node 'sky' is an empty path", NULL);
 }
 
 static void case_latlong_not_2to1(lg_test *t)

@@ -608,7 +608,7 @@ static void test_outputs(void)
                                             "extension (use .png, .exr or .hdr)");
     EXPECT(HDR "output src \"\"\n", "t.lgraph:3:12: error: the output file name is empty");
     EXPECT(HDR "sc = scene {}\noutput sc \"a.png\"\n",
-           "t.lgraph:4:8: error: 'sc' gives a scene; only images can be written to files");
+           "t.lgraph:4:8: error: 'sc' gives a scene; only images and probes can be written to files");
     EXPECT(HDR "output src \"a.png\"\noutput src \"./a.png\"\n",
            "t.lgraph:4:12: error: file './a.png' is written by two output statements\n"
            "t.lgraph:3:12: note: the first one is here");
