@@ -196,7 +196,7 @@ static int ibl_materials(lg_node *n, ibl_state *st, ibl_frame *f)
             o[c] = isfinite(r) && r > 0 ? r : 0.0f;
         }
         o[3] = 0.0f;
-        if (st->glossy == IBL_GLOSSY_AUTO && isfinite(m->roughness) && m->roughness > 0 &&
+        if (st->mode != IBL_BACKGROUND && st->glossy == IBL_GLOSSY_AUTO && isfinite(m->roughness) && m->roughness > 0 &&
             (o[0] > 0 || o[1] > 0 || o[2] > 0))
             rough++;
         o[4] = m->double_sided ? 1.0f : 0.0f;
@@ -621,6 +621,12 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
     j.clamped = calloc(chunks ? chunks : 1, sizeof *j.clamped);
     if (!j.clamped)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    if (getenv("IBL_DEBUG") && j.gbuf) {
+        size_t ci = (size_t)(st->height / 2) * st->width + st->width / 2;
+        fprintf(stderr, "gbuf centre %g %g %g %g depth %g mats %g %g %g n %u\n", j.gbuf[4 * ci],
+                j.gbuf[4 * ci + 1], j.gbuf[4 * ci + 2], j.gbuf[4 * ci + 3], j.gdepth[ci],
+                f->mats[0], f->mats[1], f->mats[2], f->n_mats);
+    }
     rc = lg_parallel_for(n, st->height, grain, ibl_cpu_rows, &j);
     for (size_t c = 0; c < chunks; c++)
         *clamped += j.clamped[c];
