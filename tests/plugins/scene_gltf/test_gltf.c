@@ -181,6 +181,9 @@ static void case_assets(void)
         {"meshes/draco-box/Box.gltf", 1, 1, 12, 12}, /* external Box0.bin */
         {"meshes/dragon_vrip_draco.glb", 1, 1, 871000, 871414},
         {"meshes/dragon_vrip_x6_instanced_draco.glb", 1, 6, 6 * 871000ull, 6 * 871414ull},
+        /* 2 spheres of 96 x 48 quads less the poles' 96 degenerate triangles each, and the
+         * bunny of the bunny box */
+        {"meshes/ibl_spheres.glb", 3, 3, 2 * (2 * 96 * 48 - 2 * 96) + 4999, 2 * (2 * 96 * 48 - 2 * 96) + 4999},
     };
     for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
         lg_scene *s = load_asset(want[i].file);
@@ -210,6 +213,45 @@ static void case_assets(void)
         for (uint32_t i = 0; i < 3; i++)
             CHECKF(s->materials[i].os[0] == 0 && s->materials[i].os[1] == 0, "material %u os", i);
         CHECK(near(s->materials[3].os[0], 0.04, 1e-6) && near(s->materials[3].shininess, (2 / pow(0.16, 2) - 2) / 4, 1e-3));
+        lg_gltf_scene_free(s);
+    }
+    /* the IBL scene (tools/make_ibl_scene.py): three metals side by side on no ground, each
+     * reflective; unit spheres at x = -2.3 and 0 standing on y = 0 with their normals their
+     * unit positions; the bunny 1.9 tall at x = 2.3; a camera at (0, 1.3, 9.5) */
+    s = load_asset("meshes/ibl_spheres.glb");
+    if (s) {
+        CHECKF(s->n_materials == 3 && s->features.reflective_materials == 3, "%u materials, %u reflective",
+               s->n_materials, s->features.reflective_materials);
+        static const char *const names[3] = {"mirror", "gold", "copper"};
+        static const double rough[3] = {0, 0.35, 0.2};
+        for (uint32_t i = 0; i < 3 && i < s->n_materials; i++) {
+            const lg_material *m = &s->materials[i];
+            CHECKF(!strcmp(m->name, names[i]) && m->metallic == 1 && near(m->roughness, rough[i], 1e-7) &&
+                       m->reflectivity[0] == m->base_color[0] && m->reflectivity[2] == m->base_color[2],
+                   "material %u: %s metallic %g roughness %g reflectivity %g", i, m->name, m->metallic, m->roughness,
+                   m->reflectivity[0]);
+        }
+        CHECKF(near(s->bounds_min[0], -3.3, 1e-5) && near(s->bounds_min[1], 0, 1e-5) && near(s->bounds_max[1], 2, 1e-5),
+               "bounds %g %g %g .. %g %g %g", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2], s->bounds_max[0],
+               s->bounds_max[1], s->bounds_max[2]);
+        CHECKF(s->n_cameras >= 1 && near(s->cameras[0].position[2], 9.5, 1e-5) && near(s->cameras[0].yfov, PI / 6, 1e-6) &&
+                   near(s->cameras[0].target[1] - s->cameras[0].position[1], -0.35 / 9.5 * (s->cameras[0].position[2] - s->cameras[0].target[2]), 1e-4),
+               "%u cameras, position z %g, yfov %g, target %g %g %g", s->n_cameras,
+               s->n_cameras ? s->cameras[0].position[2] : 0, s->n_cameras ? s->cameras[0].yfov : 0,
+               s->n_cameras ? s->cameras[0].target[0] : 0, s->n_cameras ? s->cameras[0].target[1] : 0,
+               s->n_cameras ? s->cameras[0].target[2] : 0);
+        double worst = 0;
+        for (uint32_t i = 0; i < 2 && i < s->n_meshes; i++) {
+            const lg_mesh *m = &s->meshes[i];
+            double cx = i == 0 ? -2.3 : 0;
+            for (uint32_t v = 0; v < m->n_vertices; v++) {
+                const float *p = m->positions + 3 * v, *n = m->normals + 3 * v;
+                double d[3] = {p[0] - cx, p[1] - 1.0, p[2]};
+                for (int k = 0; k < 3; k++)
+                    worst = fmax(worst, fabs(d[k] - n[k]));
+            }
+        }
+        CHECKF(worst < 1e-6, "sphere normals differ from the unit positions by %g", worst);
         lg_gltf_scene_free(s);
     }
     /* the dragon's bounds are the file's accessor min/max, within the Draco quantisation */
