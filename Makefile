@@ -10,7 +10,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_BUILD ?= build-fuzz
 SECONDS    ?= 60
 
-.PHONY: all deps build demo test test-sanitize fuzz bench clean
+.PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter clean
 
 all: build
 
@@ -62,6 +62,11 @@ fuzz: $(FUZZ_BUILD)/build.ninja
 
 bench: build
 	ninja -C $(BUILD) bench-reinhard
+
+# GGX prefiltering: error vs time for 16 .. 4096 samples per texel, into docs/images/
+# (prefilter_study.csv and .png; docs/probes.md "Glossy prefiltering").
+study-prefilter: build
+	ninja -C $(BUILD) study-prefilter
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out

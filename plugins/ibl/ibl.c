@@ -31,6 +31,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
+#include "lightgraph/probe_filter.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 #include "lightgraph/vecmath.h"
@@ -58,16 +59,26 @@ typedef struct ibl_state {
     float reflectivity[3]; /* < 0: the material's */
     int64_t camera;
     uint32_t width, height;
-    bool warned_clamp, warned_rough;
+    uint32_t levels_param, size_param, samples;
+    bool warned_clamp;
+
+    /* the GGX chain (glossy = auto, some reflective material rough): a cube of face
+     * chain_size with chain_levels levels, in the probe's frame, made once (or loaded from
+     * the host's cache); its GL texture and CL buffer are made on first use */
+    float *chain;
+    uint32_t chain_size, chain_levels;
+    bool chain_tried;
+    GLuint chain_tex, dfg_buf;
+    cl_mem cl_chain, cl_dfg;
 
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
     lg_gl_uniform g_view_proj, g_material;
     lg_gl_uniform s_inv_vp, s_size, s_mode, s_layout, s_bilinear, s_fresnel, s_has_base,
-        s_has_base_depth, s_format, s_rotation;
+        s_has_base_depth, s_format, s_rotation, s_chain_levels, s_dfg_size;
     lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
-        s_clamped;
-    GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf, sampler[2];
+        s_clamped, s_chain, s_dfg;
+    GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf, sampler[3];
 
     /* CL */
     cl_kernel kernel;
@@ -94,6 +105,9 @@ static int ibl_create(lg_node *n, int mode)
     if (mode != IBL_BACKGROUND) {
         st->fresnel = lg_param_enum(n, "fresnel");
         st->glossy = lg_param_enum(n, "glossy");
+        st->levels_param = (uint32_t)lg_param_int(n, "levels");
+        st->size_param = (uint32_t)lg_param_int(n, "prefilter_size");
+        st->samples = (uint32_t)lg_param_int(n, "prefilter_samples");
         const lg_value *r = lg_param(n, "reflectivity");
         bool any_neg = false, all_neg = true;
         for (int i = 0; i < 3; i++) {
@@ -176,6 +190,7 @@ typedef struct ibl_frame {
     bool geometry;            /* the scene has triangles: the G-buffer pass runs */
     float *mats;              /* 8 floats per material: F0 rgb, roughness; double-sided */
     uint32_t n_mats;
+    uint32_t rough;           /* reflective materials with roughness > 0 (glossy = auto) */
 } ibl_frame;
 
 /* The material table every backend reads: F0 (the material's reflectivity or the node's),
@@ -187,7 +202,7 @@ static int ibl_materials(lg_node *n, ibl_state *st, ibl_frame *f)
     f->mats = calloc((size_t)f->n_mats * 8, sizeof(float));
     if (!f->mats)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u materials)", f->n_mats);
-    uint32_t rough = 0;
+    f->rough = 0;
     for (uint32_t i = 0; i < s->n_materials; i++) {
         const lg_material *m = &s->materials[i];
         float *o = f->mats + 8 * (size_t)i;
@@ -196,17 +211,13 @@ static int ibl_materials(lg_node *n, ibl_state *st, ibl_frame *f)
             o[c] = isfinite(r) && r > 0 ? r : 0.0f;
         }
         o[3] = 0.0f;
-        if (st->glossy == IBL_GLOSSY_AUTO && isfinite(m->roughness) && m->roughness > 0 &&
-            (o[0] > 0 || o[1] > 0 || o[2] > 0))
-            rough++;
+        if (st->mode != IBL_BACKGROUND && st->glossy == IBL_GLOSSY_AUTO &&
+            m->roughness > 0 && (o[0] > 0 || o[1] > 0 || o[2] > 0)) {
+            /* NaN fails the test above; glTF's range is [0, 1] */
+            o[3] = m->roughness < 1.0f ? m->roughness : 1.0f;
+            f->rough++;
+        }
         o[4] = m->double_sided ? 1.0f : 0.0f;
-    }
-    if (rough && !st->warned_rough) {
-        st->warned_rough = true;
-        lg_log(n, LG_LOG_WARN,
-               "%u reflective material%s with roughness > 0: this build renders them as "
-               "mirrors (roughness 0); the prefiltered GGX chain is not built yet",
-               rough, rough == 1 ? "" : "s");
     }
     return 0;
 }
@@ -247,6 +258,128 @@ static int ibl_frame_in(lg_node *n, ibl_state *st, ibl_frame *f)
         f->base = b;
     f->geometry = f->s->features.triangles > 0;
     return ibl_materials(n, st, f);
+}
+
+
+/* ---- the GGX chain (glossy reflection) ------------------------------------------------- */
+
+/* What the cache holds: this header, then the chain's floats. */
+typedef struct ibl_chain_header {
+    char magic[8];            /* "lgibl01" */
+    uint32_t size, levels, samples, floats;
+} ibl_chain_header;
+
+static size_t ibl_chain_floats(uint32_t size, uint32_t levels)
+{
+    lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE,
+                        .levels = levels };
+    return 4 * lg_image_offset(&d, levels, 0);
+}
+
+/* The chain's level `l` as a lookup image (the probe's rotation: the chain is in its
+ * frame). */
+static lg_probe_image ibl_chain_level(const ibl_state *st, const float *rotation, uint32_t l)
+{
+    lg_image_desc d = { .width = st->chain_size, .height = st->chain_size,
+                        .format = LG_FORMAT_RGBA32F, .flags = LG_IMAGE_CUBE,
+                        .levels = st->chain_levels };
+    return lg_probe_image_at(LG_PROBE_CUBE, &d, st->chain, l, rotation);
+}
+
+/* Makes the chain once: from the host's cache, else lg_probe_prefilter_ggx (then cached).
+ * The cache key is scoped by the node's identity, which includes the probe's content and
+ * this node's parameters. */
+static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
+{
+    if (st->chain || st->chain_tried)
+        return st->chain ? 0 : LG_ERR_INVALID;
+    st->chain_tried = true;
+    const lg_image_desc *rd = &f->probe->radiance_desc;
+    uint32_t size = st->size_param;
+    if (size == 0) {
+        /* auto: 128 per face at most, and no finer than the probe (a cube's face; a 2D
+         * probe's width / 4, the face of a cube of the same texel density at the equator) */
+        uint32_t src = f->probe->info.layout == LG_PROBE_CUBE ? rd->width : rd->width / 4;
+        size = 128;
+        while (size > 8 && size > src)
+            size /= 2;
+    }
+    uint32_t max_levels = 1;
+    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
+        max_levels++;
+    uint32_t levels = st->levels_param ? st->levels_param : 6;
+    if (levels > max_levels)
+        levels = max_levels;
+    if (levels < 2)
+        return lg_error(n, "levels = %u: a GGX chain needs at least 2 levels (roughness 0 and 1); "
+                           "prefilter_size %u allows %u",
+                        levels, size, max_levels);
+    uint32_t samples = st->samples ? st->samples : 256;
+    size_t nf = ibl_chain_floats(size, levels);
+    char key[96];
+    snprintf(key, sizeof key, "ggx-cube%u-l%u-s%u", size, levels, samples);
+
+    void *data = NULL;
+    size_t bytes = 0;
+    if (n->host->cache_get(n, key, &data, &bytes) == LG_OK) {
+        ibl_chain_header h;
+        if (bytes == sizeof h + nf * sizeof(float)) {
+            memcpy(&h, data, sizeof h);
+            if (!memcmp(h.magic, "lgibl01", 8) && h.size == size && h.levels == levels &&
+                h.samples == samples && h.floats == nf) {
+                st->chain = malloc(nf * sizeof(float));
+                if (st->chain)
+                    memcpy(st->chain, (const char *)data + sizeof h, nf * sizeof(float));
+            }
+        }
+        n->host->cache_free(data);
+        if (st->chain) {
+            st->chain_size = size;
+            st->chain_levels = levels;
+            lg_log(n, LG_LOG_INFO,
+                   "GGX chain loaded from the cache (cube %u, %u levels, %u samples per "
+                   "texel)",
+                   size, levels, samples);
+            return 0;
+        }
+    }
+
+    lg_cpu_view pv;
+    int rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);
+    if (rc)
+        return rc;
+    /* rotation NULL: the chain stays in the probe's frame (probe_filter.h, "Frames") */
+    lg_probe_image src = lg_probe_image_at(f->probe->info.layout, rd, pv.pixels, 0, NULL);
+    st->chain = malloc(nf * sizeof(float));
+    if (!st->chain)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (GGX chain, %zu floats)", nf);
+    lg_probe_prefilter_opts o = { .samples = samples };
+    lg_probe_prefilter_stats ps;
+    rc = lg_probe_prefilter_ggx(n, &src, LG_PROBE_CUBE, size, size, levels, &o, st->chain, &ps);
+    if (rc) {
+        free(st->chain);
+        st->chain = NULL;
+        return lg_error_code(n, rc, "prefiltering the probe (cube %u, %u levels, %u samples) "
+                                    "failed",
+                             size, levels, samples);
+    }
+    st->chain_size = size;
+    st->chain_levels = levels;
+    lg_log(n, LG_LOG_INFO,
+           "GGX chain prefiltered in %.3f s (cube %u, %u levels, %u samples per texel, %u "
+           "threads); cached",
+           ps.seconds, size, levels, samples, ps.threads);
+    size_t total = sizeof(ibl_chain_header) + nf * sizeof(float);
+    char *blob = malloc(total);
+    if (blob) {
+        ibl_chain_header h = { .magic = "lgibl01", .size = size, .levels = levels,
+                               .samples = samples, .floats = (uint32_t)nf };
+        memcpy(blob, &h, sizeof h);
+        memcpy(blob + sizeof h, st->chain, nf * sizeof(float));
+        n->host->cache_put(n, key, blob, total); /* a failed put is only a lost speed-up */
+        free(blob);
+    }
+    return 0;
 }
 
 /* ---- GL: the G-buffer ------------------------------------------------------------------- */
@@ -376,13 +509,19 @@ static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
     st->s_base_depth = lg_gl_pass_texture(p, "u_base_depth");
     st->s_probe2d = lg_gl_pass_texture(p, "u_probe2d");
     st->s_probecube = lg_gl_pass_texture(p, "u_probecube");
+    st->s_chain_levels = lg_gl_pass_uniform(p, "u_chain_levels");
+    st->s_dfg_size = lg_gl_pass_uniform(p, "u_dfg_size");
     st->s_mats = lg_gl_pass_storage(p, "Materials");
     st->s_clamped = lg_gl_pass_storage(p, "Clamped");
+    st->s_chain = lg_gl_pass_texture(p, "u_chain");
+    st->s_dfg = lg_gl_pass_storage(p, "Dfg");
     /* the cube's filter: GL's seamless bilinear (the CPU's rule) or nearest */
-    gl->CreateSamplers(2, st->sampler);
-    for (int i = 0; i < 2; i++) {
-        GLint filt = i == 0 ? GL_LINEAR : GL_NEAREST;
-        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_MIN_FILTER, filt);
+    gl->CreateSamplers(3, st->sampler);
+    for (int i = 0; i < 3; i++) {
+        /* 0: bilinear, 1: nearest, 2: the chain's trilinear */
+        GLint filt = i == 1 ? GL_NEAREST : GL_LINEAR;
+        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_MIN_FILTER,
+                              i == 2 ? GL_LINEAR_MIPMAP_LINEAR : filt);
         gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_MAG_FILTER, filt);
         gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -423,6 +562,25 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
                         GL_DYNAMIC_DRAW);
     if (!st->clamp_buf)
         gl->CreateBuffers(1, &st->clamp_buf);
+    if (!st->dfg_buf) {
+        gl->CreateBuffers(1, &st->dfg_buf);
+        gl->NamedBufferStorage(st->dfg_buf,
+                               (GLsizeiptr)(2 * LG_GGX_DFG_SIZE * LG_GGX_DFG_SIZE * sizeof(float)),
+                               lg_ggx_dfg_shared(), 0);
+    }
+    if (st->chain && !st->chain_tex) {
+        /* the chain as a cube texture with one mip level per roughness level */
+        gl->CreateTextures(GL_TEXTURE_CUBE_MAP, 1, &st->chain_tex);
+        gl->TextureStorage2D(st->chain_tex, (GLsizei)st->chain_levels, GL_RGBA32F,
+                             (GLsizei)st->chain_size, (GLsizei)st->chain_size);
+        lg_image_desc cd = { .width = st->chain_size, .height = st->chain_size,
+                             .flags = LG_IMAGE_CUBE, .levels = st->chain_levels };
+        for (uint32_t l = 0; l < st->chain_levels; l++) {
+            GLsizei w = (GLsizei)lg_image_level_width(&cd, l);
+            gl->TextureSubImage3D(st->chain_tex, (GLint)l, 0, 0, 0, w, w, 6, GL_RGBA, GL_FLOAT,
+                                  st->chain + 4 * lg_image_offset(&cd, l, 0));
+        }
+    }
     const uint32_t zero_u = 0;
     gl->NamedBufferData(st->clamp_buf, sizeof zero_u, &zero_u, GL_DYNAMIC_READ);
 
@@ -454,8 +612,18 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         gl->Enable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     lg_gl_pass_bind_buffer(p, st->s_mats, st->mats_buf);
     lg_gl_pass_bind_buffer(p, st->s_clamped, st->clamp_buf);
+    lg_gl_pass_bind_buffer(p, st->s_dfg, st->dfg_buf);
+    lg_gl_set_int(p, st->s_dfg_size, (int32_t)LG_GGX_DFG_SIZE);
+    lg_gl_set_int(p, st->s_chain_levels, st->chain_tex ? (int32_t)st->chain_levels : 0);
+    GLuint chain_unit = (GLuint)st->s_chain.index;
+    if (st->chain_tex) {
+        lg_gl_pass_bind_texture(p, st->s_chain, st->chain_tex);
+        gl->BindSampler(chain_unit, st->sampler[2]);
+        gl->Enable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    }
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
     gl->BindSampler(unit, 0);
+    gl->BindSampler(chain_unit, 0);
     gl->Disable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     if ((rc = lg_gl_pass_end(p, rc)))
         return rc;
@@ -474,6 +642,8 @@ typedef struct ibl_cpu_job {
     const ibl_state *st;
     const ibl_frame *f;
     lg_probe_image img;
+    lg_probe_image chain[LG_PROBE_FILTER_MAX_LEVELS];
+    uint32_t chain_levels;    /* 0: no chain */
     const float *gbuf, *gdepth, *base, *base_depth;
     void *out;
     float *out_depth;
@@ -516,6 +686,29 @@ static float ibl_clean(float x)
     return isnan(x) ? 0.0f : x;
 }
 
+/* The radiance along dir for a perceptual roughness (as ibl_radiance in ibl_shade.frag):
+ * the probe itself at 0; lg_probe_lookup_rough in the chain from lod 1 on; below lod 1 the
+ * probe blended with level 1, so that roughness 0+ continues roughness 0. */
+static void ibl_radiance(const ibl_cpu_job *j, lg_vec3 dir, float rough, float out[4])
+{
+    lg_probe_sampling smp =
+        j->st->sampling == IBL_BILINEAR ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST;
+    if (!(rough > 0.0f) || j->chain_levels < 2) {
+        lg_probe_lookup(&j->img, dir, smp, out);
+        return;
+    }
+    float lod = lg_probe_roughness_lod(rough, j->chain_levels);
+    if (lod < 1.0f) {
+        float a[4], b[4];
+        lg_probe_lookup(&j->img, dir, smp, a);
+        lg_probe_lookup(&j->chain[1], dir, LG_PROBE_BILINEAR, b);
+        for (int c = 0; c < 4; c++)
+            out[c] = a[c] + (b[c] - a[c]) * lod;
+        return;
+    }
+    lg_probe_lookup_rough(j->chain, j->chain_levels, dir, rough, out);
+}
+
 /* One pixel: colour (RGBA, NaN-free, before the format's encoding) and depth. */
 static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float c[4],
                             float *depth)
@@ -554,14 +747,21 @@ static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float 
         float ndv = lg_v3_dot(N, V);
         float cosv = fminf(fmaxf(-ndv, 0.0f), 1.0f);
         lg_vec3 L = st->mode == IBL_REFLECT ? lg_v3_sub(V, lg_v3_scale(N, 2.0f * ndv)) : N;
+        float rough = j->chain_levels >= 2 ? m[3] : 0.0f;
         float F[3] = { m[0], m[1], m[2] };
         if (st->fresnel == IBL_FRESNEL_SCHLICK) {
-            float k = 1.0f - cosv, k2 = k * k;
-            for (int ch = 0; ch < 3; ch++)
-                F[ch] = F[ch] + (1.0f - F[ch]) * (k2 * k2 * k);
+            if (rough > 0.0f) {
+                float ab[2];
+                lg_ggx_dfg(cosv, rough, ab);
+                for (int ch = 0; ch < 3; ch++)
+                    F[ch] = F[ch] * ab[0] + ab[1];
+            } else {
+                float k = 1.0f - cosv, k2 = k * k;
+                for (int ch = 0; ch < 3; ch++)
+                    F[ch] = F[ch] + (1.0f - F[ch]) * (k2 * k2 * k);
+            }
         }
-        lg_probe_lookup(&j->img, L,
-                        st->sampling == IBL_BILINEAR ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST, look);
+        ibl_radiance(j, L, rough, look);
         for (int ch = 0; ch < 3; ch++)
             c[ch] = bc[ch] + F[ch] * look[ch];
         c[3] = bc[3];
@@ -616,6 +816,11 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
                       .base_depth = bv.depth, .out = ov.pixels, .out_depth = ov.depth };
     j.img = lg_probe_image_at(f->probe->info.layout, &f->probe->radiance_desc, pv.pixels, 0,
                               f->probe->info.rotation);
+    if (st->chain) {
+        j.chain_levels = st->chain_levels;
+        for (uint32_t l = 0; l < st->chain_levels; l++)
+            j.chain[l] = ibl_chain_level(st, f->probe->info.rotation, l);
+    }
     size_t grain = 8;
     size_t chunks = lg_parallel_chunks(st->height, grain);
     j.clamped = calloc(chunks ? chunks : 1, sizeof *j.clamped);
@@ -674,7 +879,16 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         st->cl_clamped = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint), NULL, &e);
         if (!st->cl_clamped)
             return lg_cl_fail(n, e, "clCreateBuffer(clamped)");
+        if ((rc = ibl_cl_buffer(n, &st->cl_dfg,
+                                2 * LG_GGX_DFG_SIZE * LG_GGX_DFG_SIZE * sizeof(float),
+                                lg_ggx_dfg_shared(), "clCreateBuffer(DFG table)")))
+            return rc;
     }
+    if (st->chain && !st->cl_chain &&
+        (rc = ibl_cl_buffer(n, &st->cl_chain,
+                            ibl_chain_floats(st->chain_size, st->chain_levels) * sizeof(float),
+                            st->chain, "clCreateBuffer(GGX chain)")))
+        return rc;
     size_t np = (size_t)st->width * st->height;
     cl_mem gbuf = NULL, gdepth = NULL;
     if (f->geometry) {
@@ -739,6 +953,13 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     e |= clSetKernelArg(k, a++, sizeof mo, &mo);
     e |= clSetKernelArg(k, a++, sizeof mod, &mod);
     e |= clSetKernelArg(k, a++, sizeof st->cl_clamped, &st->cl_clamped);
+    cl_int csz = (cl_int)st->chain_size, clev = st->cl_chain ? (cl_int)st->chain_levels : 0;
+    cl_int dsz = (cl_int)LG_GGX_DFG_SIZE;
+    e |= clSetKernelArg(k, a++, sizeof st->cl_chain, &st->cl_chain);
+    e |= clSetKernelArg(k, a++, sizeof csz, &csz);
+    e |= clSetKernelArg(k, a++, sizeof clev, &clev);
+    e |= clSetKernelArg(k, a++, sizeof st->cl_dfg, &st->cl_dfg);
+    e |= clSetKernelArg(k, a++, sizeof dsz, &dsz);
     if (e)
         return lg_cl_fail(n, e, "clSetKernelArg(ibl_shade)");
     size_t global[2] = { st->width, st->height };
@@ -762,6 +983,8 @@ static int ibl_execute(lg_node *n, const lg_frame *frame)
     ibl_frame f;
     int rc = ibl_frame_in(n, st, &f);
     uint64_t clamped = 0;
+    if (!rc && f.rough)
+        rc = ibl_chain(n, st, &f);
     if (!rc) {
         if (st->backend == IBL_GL)
             rc = ibl_exec_gl(n, st, &f, &clamped);
@@ -798,7 +1021,8 @@ static void ibl_destroy(lg_node *n)
         return;
     lg_gl_pass_destroy(&st->gpass);
     lg_gl_pass_destroy(&st->spass);
-    if (st->gbuf_tex || st->mats_buf || st->clamp_buf || st->sampler[0]) {
+    if (st->gbuf_tex || st->mats_buf || st->clamp_buf || st->sampler[0] || st->chain_tex ||
+        st->dfg_buf) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl) {
             GLuint t[2] = { st->gbuf_tex, st->gdepth_tex };
@@ -810,17 +1034,23 @@ static void ibl_destroy(lg_node *n)
                 if (b[i])
                     gl->DeleteBuffers(1, &b[i]);
             if (st->sampler[0])
-                gl->DeleteSamplers(2, st->sampler);
+                gl->DeleteSamplers(3, st->sampler);
+            if (st->chain_tex)
+                gl->DeleteTextures(1, &st->chain_tex);
+            if (st->dfg_buf)
+                gl->DeleteBuffers(1, &st->dfg_buf);
         }
     }
     if (st->kernel)
         clReleaseKernel(st->kernel);
-    cl_mem m[4] = { st->cl_gbuf, st->cl_gdepth, st->cl_mats, st->cl_clamped };
-    for (int i = 0; i < 4; i++)
+    cl_mem m[6] = { st->cl_gbuf, st->cl_gdepth, st->cl_mats, st->cl_clamped, st->cl_chain,
+                    st->cl_dfg };
+    for (int i = 0; i < 6; i++)
         if (m[i])
             clReleaseMemObject(m[i]);
     free(st->gbuf);
     free(st->gdepth);
+    free(st->chain);
     free(st);
     n->user = NULL;
 }
@@ -866,8 +1096,17 @@ static const lg_param_desc ibl_mirror_params[] = {
              "material" },
     { .key = "glossy", .type = LG_PARAM_ENUM, .def.e = IBL_GLOSSY_AUTO,
       .enum_values = ibl_glossies,
-      .doc = "auto: rough materials would read a GGX-prefiltered chain (not built yet: they "
-             "render as mirrors, with a warning); off: every material is a mirror" },
+      .doc = "auto: a material with roughness > 0 reads the GGX-prefiltered chain at its "
+             "roughness (split sum); off: every material is a mirror" },
+    { .key = "levels", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16,
+      .doc = "levels of the GGX chain (level l of L: roughness l/(L-1)); 0 = 6 (fewer when "
+             "the face is too small)" },
+    { .key = "prefilter_size", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 4096,
+      .doc = "face size of the GGX chain (a cube); 0 = 128, halved while larger than the "
+             "probe (a cube's face, a 2D probe's width / 4), at least 8" },
+    { .key = "prefilter_samples", .type = LG_PARAM_INT, .def.i = 256, .min = 1,
+      .max = 1048576, .doc = "GGX samples per texel of the chain (filtered importance "
+                             "sampling)" },
 };
 static const lg_param_desc ibl_bg_params[] = { IBL_COMMON_PARAMS };
 

@@ -17,6 +17,54 @@ inline float3 ibl_lookup(global const float4 *probe, int layout, int pw, int ph,
     return lg_probe_lookup(probe, layout, pw, ph, d, bilinear).xyz;
 }
 
+// As ibl_dfg in ibl_shade.frag (lg_ggx_dfg).
+inline float2 ibl_dfg(global const float2 *t, int n, float ndv, float r)
+{
+    float last = (float)(n - 1);
+    float x = clamp(ndv, 0.0f, 1.0f) * last, y = clamp(r, 0.0f, 1.0f) * last;
+    int i0 = min((int)x, n - 2), j0 = min((int)y, n - 2);
+    float fx = x - (float)i0, fy = y - (float)j0;
+    float2 t00 = t[j0 * n + i0], t10 = t[j0 * n + i0 + 1];
+    float2 t01 = t[(j0 + 1) * n + i0], t11 = t[(j0 + 1) * n + i0 + 1];
+    float2 a = t00 + (t10 - t00) * fx, b = t01 + (t11 - t01) * fx;
+    return a + (b - a) * fy;
+}
+
+// Level l of the chain (a cube of face `size`, levels packed as lg_image_offset says),
+// bilinear.
+inline float3 ibl_chain_level(global const float4 *chain, int size, int l, float3 d)
+{
+    size_t off = 0;
+    for (int k = 0; k < l; k++) {
+        size_t s = (size_t)max(size >> k, 1);
+        off += 6 * s * s;
+    }
+    int s = max(size >> l, 1);
+    return lg_probe_lookup(chain + off, LG_PROBE_CUBE, s, s, d, 1).xyz;
+}
+
+// As ibl_radiance in ibl_shade.frag (lg_probe_lookup_rough above lod 1).
+inline float3 ibl_radiance(global const float4 *probe, int layout, int pw, int ph,
+                           int bilinear, float4 r0, float4 r1, float4 r2,
+                           global const float4 *chain, int size, int levels, float3 dir,
+                           float rough)
+{
+    if (!(rough > 0.0f) || levels < 2)
+        return ibl_lookup(probe, layout, pw, ph, bilinear, r0, r1, r2, dir);
+    float lod = rough * (float)(levels - 1);
+    float3 d = lg_probe_from_world(r0.xyz, r1.xyz, r2.xyz, dir);
+    if (lod < 1.0f) {
+        float3 a = ibl_lookup(probe, layout, pw, ph, bilinear, r0, r1, r2, dir);
+        float3 b = ibl_chain_level(chain, size, 1, d);
+        return a + (b - a) * lod;
+    }
+    int lo = (int)floor(lod);
+    float f = lod - (float)lo;
+    int hi = min(lo + 1, levels - 1);
+    float3 a = ibl_chain_level(chain, size, lo, d), b = ibl_chain_level(chain, size, hi, d);
+    return a + (b - a) * f;
+}
+
 // As ibl_normal in ibl_shade.frag.
 inline float3 ibl_normal(float3 n, float3 V, int double_sided)
 {
@@ -52,7 +100,9 @@ kernel void ibl_shade(int mode, int width, int height, float16 inv_view_proj,
                       global const float *base_depth, global const float4 *mats,
                       global const float4 *probe, int layout, int pw, int ph, int bilinear,
                       float4 r0, float4 r1, float4 r2, int fresnel, int format,
-                      global void *out, global float *out_depth, global uint *clamped)
+                      global void *out, global float *out_depth, global uint *clamped,
+                      global const float4 *chain, int chain_size, int chain_levels,
+                      global const float2 *dfg, int dfg_size)
 {
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height)
@@ -86,12 +136,19 @@ kernel void ibl_shade(int mode, int width, int height, float16 inv_view_proj,
         float ndv = dot(N, V);
         float cosv = clamp(-ndv, 0.0f, 1.0f);
         float3 L = mode == IBL_REFLECT ? V - 2.0f * ndv * N : N;
+        float rough = chain_levels >= 2 ? m0.w : 0.0f;
         float3 F = m0.xyz;
         if (fresnel) {
-            float k = 1.0f - cosv, k2 = k * k;
-            F = F + ((float3)(1.0f) - F) * (k2 * k2 * k);
+            if (rough > 0.0f) {
+                float2 ab = ibl_dfg(dfg, dfg_size, cosv, rough);
+                F = F * ab.x + ab.y;
+            } else {
+                float k = 1.0f - cosv, k2 = k * k;
+                F = F + ((float3)(1.0f) - F) * (k2 * k2 * k);
+            }
         }
-        float3 rad = ibl_lookup(probe, layout, pw, ph, bilinear, r0, r1, r2, L);
+        float3 rad = ibl_radiance(probe, layout, pw, ph, bilinear, r0, r1, r2, chain,
+                                  chain_size, chain_levels, L, rough);
         c = (float4)(bc.xyz + F * rad, bc.w);
         depth = gd;
     }

@@ -19,11 +19,15 @@ layout(binding = 2) uniform sampler2D u_base;       // the base image (rgba32f)
 layout(binding = 3) uniform sampler2D u_base_depth; // its depth plane
 layout(binding = 4) uniform sampler2D u_probe2d;    // lat-long or angular radiance
 layout(binding = 5) uniform samplerCube u_probecube;
+layout(binding = 6) uniform samplerCube u_chain;    // the GGX chain (GL_LINEAR_MIPMAP_LINEAR)
 
 // two vec4 per material: (F0 rgb, roughness), (double-sided, 0, 0, 0)
 layout(std430, binding = 1) readonly buffer Materials { vec4 mats[]; };
 // pixels whose colour an rgba16f store clamped
 layout(std430, binding = 2) buffer Clamped { uint clamped; };
+// the split-sum DFG table (lightgraph/probe_filter.h, lg_ggx_dfg_shared): (A, B) on end
+// points, entry (i, j) at n.v = i / (N - 1), roughness = j / (N - 1)
+layout(std430, binding = 3) readonly buffer Dfg { vec2 dfg[]; };
 
 uniform mat4 u_inv_view_proj;
 uniform ivec2 u_size;
@@ -35,6 +39,8 @@ uniform int u_has_base;
 uniform int u_has_base_depth;
 uniform int u_format;
 uniform mat3 u_rotation; // probe -> world
+uniform int u_chain_levels; // 0: no chain (every material a mirror)
+uniform int u_dfg_size;
 
 layout(location = 0) out vec4 o_color;
 
@@ -46,6 +52,35 @@ vec3 ibl_lookup(vec3 dir)
     if (u_bilinear != 0)
         return lg_probe_2d_bilinear(u_probe2d, u_layout, 0, d).rgb;
     return lg_probe_2d_nearest(u_probe2d, u_layout, 0, d).rgb;
+}
+
+// lg_ggx_dfg: bilinear in the table, exactly the CPU's arithmetic
+vec2 ibl_dfg(float ndv, float r)
+{
+    float last = float(u_dfg_size - 1);
+    float x = clamp(ndv, 0.0, 1.0) * last, y = clamp(r, 0.0, 1.0) * last;
+    int i0 = min(int(x), u_dfg_size - 2), j0 = min(int(y), u_dfg_size - 2);
+    float fx = x - float(i0), fy = y - float(j0);
+    vec2 t00 = dfg[j0 * u_dfg_size + i0], t10 = dfg[j0 * u_dfg_size + i0 + 1];
+    vec2 t01 = dfg[(j0 + 1) * u_dfg_size + i0], t11 = dfg[(j0 + 1) * u_dfg_size + i0 + 1];
+    vec2 a = t00 + (t10 - t00) * fx, b = t01 + (t11 - t01) * fx;
+    return a + (b - a) * fy;
+}
+
+// The radiance along dir for a perceptual roughness: the probe itself at 0; the GGX chain
+// at lod = roughness (L - 1), trilinear; below lod 1, the probe blended with level 1 (so
+// that roughness 0+ continues roughness 0).
+vec3 ibl_radiance(vec3 dir, float rough)
+{
+    if (!(rough > 0.0) || u_chain_levels < 2)
+        return ibl_lookup(dir);
+    float lod = rough * float(u_chain_levels - 1);
+    vec3 d = lg_probe_safe_dir(lg_probe_from_world(u_rotation, dir));
+    if (lod < 1.0) {
+        vec3 a = ibl_lookup(dir), b = textureLod(u_chain, d, 1.0).rgb;
+        return a + (b - a) * lod;
+    }
+    return textureLod(u_chain, d, lod).rgb;
 }
 
 // The shading normal facing the viewer (V from the eye to the point): a normal facing away
@@ -102,12 +137,18 @@ void main()
         float ndv = dot(N, V);
         float cosv = clamp(-ndv, 0.0, 1.0);
         vec3 L = u_mode == IBL_REFLECT ? V - 2.0 * ndv * N : N;
+        float rough = u_chain_levels >= 2 ? m0.a : 0.0;
         vec3 F = m0.rgb;
         if (u_fresnel != 0) {
-            float k = 1.0 - cosv, k2 = k * k;
-            F = F + (vec3(1.0) - F) * (k2 * k2 * k);
+            if (rough > 0.0) {
+                vec2 ab = ibl_dfg(cosv, rough);
+                F = F * ab.x + ab.y;
+            } else {
+                float k = 1.0 - cosv, k2 = k * k;
+                F = F + (vec3(1.0) - F) * (k2 * k2 * k);
+            }
         }
-        c = vec4(base.rgb + F * ibl_lookup(L), base.a);
+        c = vec4(base.rgb + F * ibl_radiance(L, rough), base.a);
         depth = gd;
     }
     c = vec4(ibl_clean(c.r), ibl_clean(c.g), ibl_clean(c.b), ibl_clean(c.a));
