@@ -559,7 +559,7 @@ int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src, lg_probe_la
     float *mip_storage = NULL;
     mip mips[32];
     j.n_mips = build_mips(layout, width, height, faces, out, mips,
-                          source_lod ? 32u : 1u, &mip_storage);
+                          source_lod && levels > 1 ? 32u : 1u, &mip_storage);
     if (!j.n_mips)
         return LG_ERR_NOMEM;
     j.mips = mips;
