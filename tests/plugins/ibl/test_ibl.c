@@ -16,6 +16,10 @@
  *                envmap and background
  *   axes         the background seen exactly along +-X, +-Y, +-Z (poles, seam, cube edges):
  *                the centre pixel is the probe along the axis, backends agree, no NaN
+ *   rotation     the probe's rotation (rotate_deg) applies on every backend
+ *   glossy       the split sum against lg_probe_ggx_split_sum and the Monte Carlo oracle;
+ *                the chain from the host's cache on a second render; roughness 0 = the probe
+ *   glossy_backends  rough spheres on the forest probe: cpu, gl and cl agree
  *   grazing      Schlick on a sphere: every covered pixel finite, within [F0 c, c], and
  *                F(cos) of the analytic sphere where cos > 0.2; no NaN
  *   backface     a double-sided quad seen from behind (envmap along the flipped normal) and
@@ -470,6 +474,52 @@ static void case_axes(lg_test *t)
             LG_TEST_CHECK(t, res.n_ok == 3, "%s: %zu of 3 backends ran", what, res.n_ok);
             lg_test_backends_free(&res);
         }
+}
+
+/* The probe's rotation (info.rotation, rotate_deg = [90, 0, 0]: yaw 90 turns the probe's
+ * centre, -Z, toward -X): looking along world -Z sees the probe's own +X, so the centre
+ * of the linear probe 1 + d reads (2, 1, 1) on every backend. */
+static void case_rotation(lg_test *t)
+{
+    lg_image ll = { 0 };
+    lg_image_alloc(&ll, 64, 32);
+    for (uint32_t j = 0; j < 32; j++)
+        for (uint32_t i = 0; i < 64; i++) {
+            lg_vec3 d = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, i, j);
+            float *p = ll.pixels + 4 * ((size_t)j * 64 + i);
+            p[0] = 1.0f + d.x, p[1] = 1.0f + d.y, p[2] = 1.0f + d.z, p[3] = 1.0f;
+        }
+    lg_test_write_exr(t, "ll.exr", &ll);
+    lg_image_free(&ll);
+    const char *g = "lightgraph 1\n"
+                    "s = test_ibl_scene { layout = none, camera_position = [0, 0, 0], "
+                    "camera_target = [0, 0, -1] }\n"
+                    "sky = probe { file = \"ll.exr\", layout = latlong, rotate_deg = [90, 0, 0] }\n"
+                    "env = environment { scene = s, probe = sky }\n"
+                    "n = background { scene = env, probe = sky }\n";
+    const char *args[] = { "--size", "32x32", NULL };
+    const char *bk[] = { "cpu", "gl", "cl", NULL };
+    lg_test_backends_desc d = { .graph = g, .node = "n", .backends = bk, .args = args,
+                                .tol_backends = { .max_abs = 1e-3, .rel = 1e-2 },
+                                .what = "rotated probe" };
+    lg_test_backends_result res;
+    lg_test_backends(t, &d, &res);
+    for (size_t r = 0; r < res.n; r++) {
+        if (res.run[r].status != LG_TEST_RUN_OK)
+            continue;
+        const lg_image *img = &res.run[r].image;
+        double m[3] = { 0, 0, 0 }, want[3] = { 2, 1, 1 };
+        for (int k = 0; k < 4; k++)
+            for (int ch = 0; ch < 3; ch++)
+                m[ch] += 0.25 * px(img, 15 + (k & 1), 15 + (k >> 1))[ch];
+        for (int ch = 0; ch < 3; ch++)
+            LG_TEST_CHECK(t, fabs(m[ch] - want[ch]) < 0.05,
+                          "%s: rotated probe, centre channel %d = %g, want %g",
+                          res.run[r].backend, ch, m[ch], want[ch]);
+        CHECK_FINITE(t, img, res.run[r].backend);
+    }
+    LG_TEST_CHECK(t, res.n_ok == 3, "%zu of 3 backends ran", res.n_ok);
+    lg_test_backends_free(&res);
 }
 
 /* ---- grazing views -------------------------------------------------------------------------- */
@@ -1027,6 +1077,7 @@ int main(int argc, char **argv)
         { "constant", case_constant }, { "constant_rgbe8", case_constant_rgbe8 },
         { "bright_texel", case_bright_texel },
         { "backends", case_backends }, { "axes", case_axes },
+        { "rotation", case_rotation },
         { "grazing", case_grazing },   { "backface", case_backface },
         { "half_clamp", case_half_clamp }, { "base", case_base },
         { "glossy", case_glossy }, { "glossy_backends", case_glossy_backends },
