@@ -105,6 +105,7 @@ static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool
             f->medium |= r->features.medium;
             f->probe |= r->features.probe;
             f->specular |= r->features.specular;
+            f->reflective_materials += r->features.reflective_materials;
             if (r->features.medium_density > f->medium_density)
                 f->medium_density = r->features.medium_density;
             any = true;

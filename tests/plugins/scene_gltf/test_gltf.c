@@ -15,6 +15,11 @@
  *   cameras         perspective, orthographic (approximated), the automatic camera, choice
  *   lights          KHR_lights_punctual directional, point, spot
  *   materials       PBR to Phong mapping, extensions, extras overrides, default material
+ *   reflectivity    lg_material.reflectivity: metals (any roughness) reflect their base
+ *                   colour, KHR_materials_specular dielectrics their F0, plain dielectrics 0,
+ *                   extras.reflectivity (number, list, 0) overrides, the default material 1;
+ *                   invalid values name the material; features.reflective_materials counts
+ *                   materials some instance draws (instanced meshes once, unused ones not)
  *   medium          extras.medium of the scene, root and asset; errors
  *   bad_input       malformed files: each a clear error, no crash (suite stability)
  *   confinement     external buffers and images only from the model's folder: ../, absolute
@@ -176,6 +181,9 @@ static void case_assets(void)
         {"meshes/draco-box/Box.gltf", 1, 1, 12, 12}, /* external Box0.bin */
         {"meshes/dragon_vrip_draco.glb", 1, 1, 871000, 871414},
         {"meshes/dragon_vrip_x6_instanced_draco.glb", 1, 6, 6 * 871000ull, 6 * 871414ull},
+        /* 2 spheres of 96 x 48 quads less the poles' 96 degenerate triangles each, and the
+         * bunny of the bunny box */
+        {"meshes/ibl_spheres.glb", 3, 3, 2 * (2 * 96 * 48 - 2 * 96) + 4999, 2 * (2 * 96 * 48 - 2 * 96) + 4999},
     };
     for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
         lg_scene *s = load_asset(want[i].file);
@@ -205,6 +213,45 @@ static void case_assets(void)
         for (uint32_t i = 0; i < 3; i++)
             CHECKF(s->materials[i].os[0] == 0 && s->materials[i].os[1] == 0, "material %u os", i);
         CHECK(near(s->materials[3].os[0], 0.04, 1e-6) && near(s->materials[3].shininess, (2 / pow(0.16, 2) - 2) / 4, 1e-3));
+        lg_gltf_scene_free(s);
+    }
+    /* the IBL scene (tools/make_ibl_scene.py): three metals side by side on no ground, each
+     * reflective; unit spheres at x = -2.3 and 0 standing on y = 0 with their normals their
+     * unit positions; the bunny 1.9 tall at x = 2.3; a camera at (0, 1.3, 9.5) */
+    s = load_asset("meshes/ibl_spheres.glb");
+    if (s) {
+        CHECKF(s->n_materials == 3 && s->features.reflective_materials == 3, "%u materials, %u reflective",
+               s->n_materials, s->features.reflective_materials);
+        static const char *const names[3] = {"mirror", "gold", "copper"};
+        static const double rough[3] = {0, 0.35, 0.2};
+        for (uint32_t i = 0; i < 3 && i < s->n_materials; i++) {
+            const lg_material *m = &s->materials[i];
+            CHECKF(!strcmp(m->name, names[i]) && m->metallic == 1 && near(m->roughness, rough[i], 1e-7) &&
+                       m->reflectivity[0] == m->base_color[0] && m->reflectivity[2] == m->base_color[2],
+                   "material %u: %s metallic %g roughness %g reflectivity %g", i, m->name, m->metallic, m->roughness,
+                   m->reflectivity[0]);
+        }
+        CHECKF(near(s->bounds_min[0], -3.3, 1e-5) && near(s->bounds_min[1], 0, 1e-5) && near(s->bounds_max[1], 2, 1e-5),
+               "bounds %g %g %g .. %g %g %g", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2], s->bounds_max[0],
+               s->bounds_max[1], s->bounds_max[2]);
+        CHECKF(s->n_cameras >= 1 && near(s->cameras[0].position[2], 9.5, 1e-5) && near(s->cameras[0].yfov, PI / 6, 1e-6) &&
+                   near(s->cameras[0].target[1] - s->cameras[0].position[1], -0.35 / 9.5 * (s->cameras[0].position[2] - s->cameras[0].target[2]), 1e-4),
+               "%u cameras, position z %g, yfov %g, target %g %g %g", s->n_cameras,
+               s->n_cameras ? s->cameras[0].position[2] : 0, s->n_cameras ? s->cameras[0].yfov : 0,
+               s->n_cameras ? s->cameras[0].target[0] : 0, s->n_cameras ? s->cameras[0].target[1] : 0,
+               s->n_cameras ? s->cameras[0].target[2] : 0);
+        double worst = 0;
+        for (uint32_t i = 0; i < 2 && i < s->n_meshes; i++) {
+            const lg_mesh *m = &s->meshes[i];
+            double cx = i == 0 ? -2.3 : 0;
+            for (uint32_t v = 0; v < m->n_vertices; v++) {
+                const float *p = m->positions + 3 * v, *n = m->normals + 3 * v;
+                double d[3] = {p[0] - cx, p[1] - 1.0, p[2]};
+                for (int k = 0; k < 3; k++)
+                    worst = fmax(worst, fabs(d[k] - n[k]));
+            }
+        }
+        CHECKF(worst < 1e-6, "sphere normals differ from the unit positions by %g", worst);
         lg_gltf_scene_free(s);
     }
     /* the dragon's bounds are the file's accessor min/max, within the Draco quantisation */
@@ -896,6 +943,175 @@ static void case_materials(void)
     free(json);
 }
 
+/* ---- reflectivity -------------------------------------------------------------------------- */
+
+/* The unit triangle's file with `mats` (",\"materials\":[...]") and `nodes` (NULL: one node
+ * drawing mesh 0), mesh 0 holding one primitive per entry of `prim_mats` (-1: no material). */
+static char *multi_prim_json(const char *mats, const char *nodes, const char *scenes, const int *prim_mats,
+                             int n)
+{
+    prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
+    char *json = mesh_json_scenes(&p, nodes, scenes, mats);
+    char *at = strstr(json, "\"mode\":4}]");
+    if (!at) {
+        free(json);
+        return NULL;
+    }
+    char prims[4096] = "";
+    size_t len = 0;
+    for (int i = 0; i < n; i++) {
+        const char *head = i == 0 ? "\"mode\":4" : "{\"attributes\":{\"POSITION\":0},\"indices\":1,\"mode\":4";
+        if (prim_mats[i] >= 0)
+            len += (size_t)snprintf(prims + len, sizeof prims - len, "%s%s,\"material\":%d}", i ? "," : "", head,
+                                    prim_mats[i]);
+        else
+            len += (size_t)snprintf(prims + len, sizeof prims - len, "%s%s}", i ? "," : "", head);
+    }
+    char *r = gt_fmt("%.*s%s]%s", (int)(at - json), json, prims, at + strlen("\"mode\":4}]"));
+    free(json);
+    return r;
+}
+
+static bool rgb_near(const float *v, double r, double g, double b, double tol)
+{
+    return near(v[0], r, tol) && near(v[1], g, tol) && near(v[2], b, tol);
+}
+
+static void case_reflectivity(void)
+{
+    /* F0 closed forms: a metal reflects its base colour (glTF Appendix B, metallic 1:
+     * F0 = baseColor); a dielectric with KHR_materials_specular F0 = min(0.04 * specular
+     * colour, 1) * specularFactor (ior 1.5); half metal 0.5 * 0.04 + 0.5 * base. */
+    const char *mats =
+        ",\"materials\":["
+        "{\"name\":\"mirror\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.95,0.95,0.95,1],\"metallicFactor\":1,"
+        "\"roughnessFactor\":0}},"
+        "{\"name\":\"rough gold\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,0.78,0.34,1],\"metallicFactor\":1,"
+        "\"roughnessFactor\":0.9}},"
+        "{\"name\":\"coated\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extensions\":{\"KHR_materials_specular\":"
+        "{\"specularFactor\":0.5,\"specularColorFactor\":[1,0.5,0.25]}}},"
+        "{\"name\":\"plastic\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.2,0.5,0.9,1],\"metallicFactor\":0,"
+        "\"roughnessFactor\":0.1}},"
+        "{\"name\":\"painted\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extras\":{\"reflectivity\":0.3}},"
+        "{\"name\":\"tinted\",\"pbrMetallicRoughness\":{\"metallicFactor\":1},\"extras\":{\"reflectivity\":[0.1,0.2,0.3]}},"
+        "{\"name\":\"matte metal\",\"pbrMetallicRoughness\":{\"metallicFactor\":1},\"extras\":{\"reflectivity\":0}},"
+        "{\"name\":\"half\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.8,0.4,0.2,1],\"metallicFactor\":0.5}},"
+        "{\"name\":\"ior1\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extensions\":{\"KHR_materials_specular\":"
+        "{},\"KHR_materials_ior\":{\"ior\":1}}}]";
+    static const int used[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, -1};
+    char *json = multi_prim_json(mats, NULL, NULL, used, 10);
+    lg_scene *s = json ? gt_load_text("refl.gltf", json, NULL, err, sizeof err, NULL) : NULL;
+    CHECKF(s, "%s", err);
+    if (s) {
+        CHECKF(s->n_materials == 10, "%u materials", s->n_materials);
+        const lg_material *m = s->materials;
+        CHECKF(rgb_near(m[0].reflectivity, 0.95, 0.95, 0.95, 1e-7), "mirror %g", m[0].reflectivity[0]);
+        /* roughness does not change reflectivity (it selects the prefiltered level) */
+        CHECKF(rgb_near(m[1].reflectivity, 1, 0.78, 0.34, 1e-7) && near(m[1].roughness, 0.9, 1e-7),
+               "rough gold %g %g %g", m[1].reflectivity[0], m[1].reflectivity[1], m[1].reflectivity[2]);
+        CHECKF(rgb_near(m[2].reflectivity, 0.02, 0.01, 0.005, 1e-8), "coated %g %g %g", m[2].reflectivity[0],
+               m[2].reflectivity[1], m[2].reflectivity[2]);
+        /* a plain dielectric has a specular term (os 0.04) but mirrors nothing */
+        CHECKF(rgb_near(m[3].reflectivity, 0, 0, 0, 0) && near(m[3].os[0], 0.04, 1e-7), "plastic %g, os %g",
+               m[3].reflectivity[0], m[3].os[0]);
+        CHECKF(rgb_near(m[4].reflectivity, 0.3, 0.3, 0.3, 1e-7), "extras number %g", m[4].reflectivity[0]);
+        CHECKF(rgb_near(m[5].reflectivity, 0.1, 0.2, 0.3, 1e-7) && near(m[5].os[0], 1, 0),
+               "extras list %g %g %g (os %g unchanged)", m[5].reflectivity[0], m[5].reflectivity[1],
+               m[5].reflectivity[2], m[5].os[0]);
+        CHECKF(rgb_near(m[6].reflectivity, 0, 0, 0, 0), "extras 0 on a metal %g", m[6].reflectivity[0]);
+        CHECKF(rgb_near(m[7].reflectivity, 0.42, 0.22, 0.12, 1e-7), "half metal %g %g %g", m[7].reflectivity[0],
+               m[7].reflectivity[1], m[7].reflectivity[2]);
+        /* KHR_materials_specular with ior 1: F0 0, so a reflectivity of 0 */
+        CHECKF(rgb_near(m[8].reflectivity, 0, 0, 0, 0), "ior 1 %g", m[8].reflectivity[0]);
+        CHECKF(!strcmp(m[9].name, "default") && rgb_near(m[9].reflectivity, 1, 1, 1, 0), "default %s %g",
+               m[9].name, m[9].reflectivity[0]);
+        /* reflective: mirror, rough gold, coated, painted, tinted, half, default */
+        CHECKF(s->features.reflective_materials == 7, "reflective materials %u, want 7",
+               s->features.reflective_materials);
+        lg_gltf_scene_free(s);
+    }
+    free(json);
+
+    /* an instanced mesh counts its material once; a material no primitive uses, and one
+     * whose mesh no node draws, count nothing. Mesh 0 (plastic) is drawn by three nodes,
+     * mesh 1 (gold) by two; mesh 2 (copper) by none; silver is used by no primitive. */
+    const char *mats2 =
+        ",\"materials\":[{\"name\":\"plastic\",\"pbrMetallicRoughness\":{\"metallicFactor\":0}},"
+        "{\"name\":\"gold\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,0.78,0.34,1],\"metallicFactor\":1}},"
+        "{\"name\":\"copper\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.95,0.64,0.54,1],\"metallicFactor\":1}},"
+        "{\"name\":\"silver\",\"pbrMetallicRoughness\":{\"metallicFactor\":1}}]";
+    static const int plastic[] = {0};
+    json = multi_prim_json(mats2,
+                           "[{\"mesh\":0},{\"mesh\":0,\"translation\":[3,0,0]},{\"mesh\":0,\"translation\":[6,0,0]},"
+                           "{\"mesh\":1,\"translation\":[0,3,0]},{\"mesh\":1,\"translation\":[0,6,0]}]",
+                           ",\"scenes\":[{\"nodes\":[0,1,2,3,4]}],\"scene\":0", plastic, 1);
+    /* meshes 1 and 2: copies of mesh 0 with gold and copper */
+    char *at = json ? strstr(json, "\"meshes\":[") : NULL;
+    const char *m0 = at ? at + strlen("\"meshes\":[") : NULL;
+    const char *end = m0 ? strstr(m0, "],\"nodes\"") : NULL;
+    char *j2 = NULL;
+    if (end) {
+        int m0len = (int)(end - m0);
+        char *gold = gt_fmt("%.*s", m0len, m0);
+        char *copper = gt_fmt("%.*s", m0len, m0);
+        char *g = strstr(gold, "\"material\":0"), *c = strstr(copper, "\"material\":0");
+        if (g && c) {
+            g[strlen("\"material\":")] = '1';
+            c[strlen("\"material\":")] = '2';
+            j2 = gt_fmt("%.*s,%s,%s%s", (int)(end - json), json, gold, copper, end);
+        }
+        free(gold);
+        free(copper);
+    }
+    CHECKF(j2 != NULL, "could not build the instanced file from %s", json ? json : "(null)");
+    s = j2 ? gt_load_text("inst_refl.gltf", j2, NULL, err, sizeof err, NULL) : NULL;
+    CHECKF(s || !j2, "%s", err);
+    if (s) {
+        /* the loader keeps the meshes that nodes draw (copper's is not one) and every material */
+        CHECKF(s->n_meshes == 2 && s->n_instances == 5 && s->n_materials == 4, "%u meshes, %u instances, %u materials",
+               s->n_meshes, s->n_instances, s->n_materials);
+        CHECK(s->n_meshes == 2 && s->meshes[0].material == 0 && s->meshes[1].material == 1);
+        CHECKF(s->materials[2].reflectivity[0] > 0 && s->materials[3].reflectivity[0] > 0,
+               "copper and silver reflect (%g, %g) though nothing draws them", s->materials[2].reflectivity[0],
+               s->materials[3].reflectivity[0]);
+        CHECKF(s->features.reflective_materials == 1, "reflective materials %u, want 1 (gold)",
+               s->features.reflective_materials);
+        lg_gltf_scene_free(s);
+    }
+    free(j2);
+    free(json);
+
+    /* no reflective material drawn: 0 */
+    json = multi_prim_json(mats2, NULL, NULL, plastic, 1);
+    s = json ? gt_load_text("plastic.gltf", json, NULL, err, sizeof err, NULL) : NULL;
+    CHECKF(s && s->features.reflective_materials == 0 && s->features.specular, "%s: reflective %u", err,
+           s ? s->features.reflective_materials : 99);
+    lg_gltf_scene_free(s);
+    free(json);
+
+    /* invalid values: an error naming the material and the key */
+    static const struct {
+        const char *value, *want;
+    } bad[] = {
+        {"1.5", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
+        {"-0.1", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
+        {"[0.5,0.5]", "material 0 ('shiny'): extras.reflectivity must be [r, g, b] or one number, each in [0, 1]"},
+        {"[0.5,0.5,2]", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
+        {"\"high\"", "material 0 ('shiny'): extras.reflectivity must be [r, g, b] or one number"},
+        {"[0.1,\"x\",0.2]", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char *m = gt_fmt(",\"materials\":[{\"name\":\"shiny\",\"extras\":{\"reflectivity\":%s}}]", bad[i].value);
+        json = multi_prim_json(m, NULL, NULL, plastic, 1);
+        s = json ? gt_load_text("badrefl.gltf", json, NULL, err, sizeof err, NULL) : NULL;
+        CHECKF(!s && strstr(err, bad[i].want) && strstr(err, "badrefl.gltf"), "reflectivity %s: %s", bad[i].value,
+               err);
+        lg_gltf_scene_free(s);
+        free(json);
+        free(m);
+    }
+}
+
 static void case_medium(void)
 {
     prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
@@ -1390,7 +1606,7 @@ int main(int argc, char **argv)
         {"normals_cube", case_normals_cube}, {"normals_sphere", case_normals_sphere},
         {"normals_degenerate", case_normals_degenerate}, {"primitives", case_primitives},
         {"hierarchy", case_hierarchy}, {"cameras", case_cameras}, {"lights", case_lights},
-        {"materials", case_materials}, {"medium", case_medium}, {"bad_input", case_bad_input},
+        {"materials", case_materials}, {"reflectivity", case_reflectivity}, {"medium", case_medium}, {"bad_input", case_bad_input},
         {"confinement", case_confinement}, {"limits", case_limits},
     };
     if (argc != 2) {

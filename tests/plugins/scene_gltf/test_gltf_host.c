@@ -8,9 +8,14 @@
  *   explain        --explain prints the bunny box's scene features; test_fog is gated (no
  *                  medium) and its plugin never loaded
  *   medium         a scene with a medium and a light: test_fog runs and writes its value
+ *   reflective     test_reflective (needs a reflective material) on the bunny box, whose
+ *                  materials are dielectrics: gated ("no reflective material"), plugin not
+ *                  loaded, "reflective materials 0"; on a triangle of a metal: kept, run,
+ *                  "reflective materials 1"; with extras.reflectivity 0 on the metal: gated
  *   errors         bad files and parameters: exit status 1, the node and the file named;
  *                  a buffer uri leading to /etc/passwd refused (no bounds from its bytes)
  */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,12 +38,13 @@ static const char *asset(const char *rel)
     return p;
 }
 
-/* The line of `s` that starts with `prefix`, or "". */
+/* The line of `s` that starts with `prefix` (after leading spaces: the explain table's
+ * rows are indented), or "". */
 static void line_of(const char *s, const char *prefix, char *out, size_t size)
 {
     out[0] = 0;
     for (const char *l = s; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
-        if (!strncmp(l, prefix, strlen(prefix))) {
+        if (!strncmp(l + strspn(l, " "), prefix, strlen(prefix))) {
             size_t n = strcspn(l, "\n");
             snprintf(out, size, "%.*s", (int)n, l);
             return;
@@ -121,6 +127,83 @@ static void case_medium(lg_test *t)
     }
 }
 
+/* One triangle drawn with material `mat` (JSON of one glTF material). */
+static void write_triangle(lg_test *t, const char *name, const char *mat)
+{
+    char *gltf = NULL;
+    if (asprintf(&gltf,
+                 "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+                 "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"materials\":[%s],\"meshes\":[{\"primitives\":"
+                 "[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}",
+                 mat) < 0)
+        exit(99);
+    lg_test_write_text(t, name, gltf);
+    free(gltf);
+    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    FILE *f = fopen(lg_test_path(t, "tri.bin"), "wb");
+    if (!f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f))
+        exit(99);
+}
+
+/* Renders test_reflective on `file`: checks the features line says `features`, the node's
+ * state (and reason when gated), testfog loaded or not, and the image it wrote. */
+static void reflective_run(lg_test *t, const char *what, const char *file, const char *features, bool kept)
+{
+    lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
+    char *g = NULL;
+    if (asprintf(&g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                     "mirror = test_reflective { scene = scene, value = 0.75 }\noutput mirror \"out.exr\"\n",
+                 file) < 0)
+        exit(99);
+    lg_test_write_text(t, "g.lgraph", g);
+    free(g);
+    const char *args[] = {"--explain", "--size", "8x4", NULL};
+    char *out = NULL;
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "%s: render failed: %s", what, out ? out : "");
+    const char *s = out ? out : "";
+    char line[1024];
+    line_of(s, "scene features (scene):", line, sizeof line);
+    LG_TEST_CHECK(t, strstr(line, features), "%s: features do not say '%s': %s", what, features, s);
+    line_of(s, "mirror ", line, sizeof line);
+    if (kept)
+        LG_TEST_CHECK(t, strstr(line, "kept") != NULL, "%s: test_reflective not kept: %s", what, s);
+    else
+        LG_TEST_CHECK(t, strstr(line, "gated") && strstr(line, "no reflective material"),
+                      "%s: test_reflective not gated with 'no reflective material': %s", what, s);
+    char loaded[512];
+    line_of(s, "plugins loaded:", loaded, sizeof loaded);
+    LG_TEST_CHECK(t, (strstr(loaded, "testfog") != NULL) == kept, "%s: testfog %s: '%s'", what,
+                  kept ? "not loaded though kept" : "loaded though gated", loaded);
+    free(out);
+    lg_image img;
+    if (lg_test_read(t, "out.exr", &img, NULL)) {
+        float want = kept ? 0.75f : 0.0f;
+        LG_TEST_CHECK(t, img.width == 8 && img.height == 4 && img.pixels[0] == want && img.pixels[4 * 31 + 1] == want,
+                      "%s: image %ux%u value %g, want %g", what, img.width, img.height, (double)img.pixels[0],
+                      (double)want);
+        lg_image_free(&img);
+    }
+}
+
+static void case_reflective(lg_test *t)
+{
+    /* the bunny box: walls with KHR_materials_specular colour 0 and a plain dielectric bunny */
+    reflective_run(t, "bunny box", asset("meshes/bunny_cornell_box.glb"),
+                   "specular material yes; reflective materials 0", false);
+    write_triangle(t, "metal.gltf",
+                   "{\"name\":\"steel\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.6,0.6,0.6,1],"
+                   "\"metallicFactor\":1,\"roughnessFactor\":0.3}}");
+    reflective_run(t, "metal", "metal.gltf", "reflective materials 1", true);
+    write_triangle(t, "off.gltf",
+                   "{\"name\":\"steel\",\"pbrMetallicRoughness\":{\"metallicFactor\":1},\"extras\":{\"reflectivity\":0}}");
+    reflective_run(t, "metal with extras.reflectivity 0", "off.gltf", "reflective materials 0", false);
+    write_triangle(t, "painted.gltf",
+                   "{\"name\":\"paint\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extras\":{\"reflectivity\":"
+                   "[0,0,0.1]}}");
+    reflective_run(t, "dielectric with extras.reflectivity", "painted.gltf", "reflective materials 1", true);
+}
+
 static void case_errors(lg_test *t)
 {
     static const struct {
@@ -186,7 +269,8 @@ static void case_errors(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "explain", case_explain }, { "medium", case_medium }, { "errors", case_errors },
+        { "explain", case_explain }, { "medium", case_medium }, { "reflective", case_reflective },
+        { "errors", case_errors },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }

@@ -1,5 +1,5 @@
 /*
- * The scene_tools plugin (camera, light, medium) through the host: `test_scene_tools CASE`.
+ * The scene_tools plugin (camera, light, medium, environment) through the host: `test_scene_tools CASE`.
  * Scenes come from the test plugin `testcube` (this folder): `test_cube` makes a real
  * lg_scene in memory, `test_scene_probe` writes what a scene holds into a 1-row EXR
  * (layout in testcube.c). `test_fog` (tests/plugins/testnodes) needs a medium and a light.
@@ -9,6 +9,12 @@
  *   gating        test_fog gated on the plain cube, kept after light + medium, gated again
  *                 by medium { density = 0 } after a foggy scene and without a light; its
  *                 plugin is loaded only when kept
+ *   environment   `environment` attaches a probe: features say "probe yes"; test_mirror
+ *                 (tests/plugins/testnodes: needs a reflective material and a probe, as
+ *                 reflect does) is gated with "no light probe" without it and "no reflective
+ *                 material" on a cube of reflectivity 0, kept and run with both; the count of
+ *                 reflective materials is of materials, not instances, and 0 when no
+ *                 instance draws the material
  *   look_at       position, target, fov, aspect as given; up unit and orthogonal; clip
  *                 planes from the bounds hold every corner, explicit ones are kept; the
  *                 active camera is replaced, or added to a scene without one
@@ -268,6 +274,82 @@ static void case_gating(lg_test *t)
                 "sun = light { scene = cube }\nm = medium { scene = sun, density = 0.3 }\n"
                 "cam = camera { scene = m }\n",
                 "cam", true, NULL);
+}
+
+/* One graph: `chain` derives scene `scene` from `cube` (test_cube with `cube_params`),
+ * test_mirror reads it. Checks the features line of `scene`, test_mirror's state and reason,
+ * whether testfog was loaded, and the image it wrote (0.25 when kept, 0 when gated). */
+static void mirror_case(lg_test *t, const char *what, const char *cube_params, const char *chain,
+                        const char *scene, const char *features, bool kept, const char *reason)
+{
+    const char *probe_file = lg_test_asset("probes/studio_512x256_half_dwab.exr");
+    LG_TEST_CHECK(t, probe_file != NULL, "assets/probes/studio_512x256_half_dwab.exr is missing");
+    if (!probe_file)
+        return;
+    char g[4096];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cube = test_cube { %s }\n"
+             "sky = probe { file = \"%s\" }\n"
+             "%s"
+             "mirror = test_mirror { scene = %s, value = 0.25 }\n"
+             "output mirror \"mirror.exr\"\n",
+             cube_params, probe_file, chain, scene);
+    const char *args[] = { "--explain", "--size", "4x2", NULL };
+    char *out = NULL;
+    int rc = render_text(t, g, args, &out);
+    const char *o = out ? out : "";
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed: %s", what, o);
+    LG_TEST_CHECK(t, features_say(o, scene, features), "%s: the features of '%s' do not say '%s':\n%s",
+                  what, scene, features, o);
+    const char *st = state_of(o, "mirror");
+    LG_TEST_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0, "%s: test_mirror is '%s', want %s:\n%s",
+                  what, st, kept ? "kept" : "gated", o);
+    if (!kept) {
+        char *l = line_with(o, "mirror ");
+        LG_TEST_CHECK(t, l && strstr(l, reason), "%s: the reason is not '%s': %s", what, reason,
+                      l ? l : "");
+        free(l);
+    }
+    LG_TEST_CHECK(t, plugin_loaded(o, "testfog") == kept, "%s: testfog %s:\n%s", what,
+                  kept ? "not loaded though kept" : "loaded though gated", o);
+    free(out);
+    lg_image img;
+    if (lg_test_read(t, "mirror.exr", &img, NULL)) {
+        float want = kept ? 0.25f : 0.0f;
+        LG_TEST_CHECK(t, img.width == 4 && img.height == 2 && img.pixels[0] == want &&
+                         img.pixels[4 * 7 + 2] == want,
+                      "%s: mirror image %ux%u, value %g, want %g", what, img.width, img.height,
+                      (double)img.pixels[0], (double)want);
+        lg_image_free(&img);
+    }
+}
+
+static void case_environment(lg_test *t)
+{
+    const char *env = "env = environment { scene = cube, probe = sky }\n";
+    mirror_case(t, "reflective cube, no probe", "reflectivity = 0.5", "", "cube",
+                "probe no; specular material no; reflective materials 1", false, "no light probe");
+    mirror_case(t, "probe, cube of reflectivity 0", "", env, "env",
+                "probe yes; specular material no; reflective materials 0", false,
+                "no reflective material");
+    mirror_case(t, "probe and a reflective cube", "reflectivity = 0.5", env, "env",
+                "probe yes; specular material no; reflective materials 1", true, NULL);
+    /* three instances of the one reflective material: one reflective material */
+    mirror_case(t, "three instances", "reflectivity = 0.04, instances = 3", env, "env",
+                "triangles 36, vertices 72,", true, NULL);
+    mirror_case(t, "three instances count one material", "reflectivity = 0.04, instances = 3", env,
+                "env", "reflective materials 1", true, NULL);
+    /* no instance draws the material: it does not count, the node is gated */
+    mirror_case(t, "a material nobody draws", "reflectivity = 1, instances = 0", env, "env",
+                "triangles 0, vertices 0,", false, "no reflective material");
+    /* the environment keeps through a derived scene downstream, and the camera keeps it */
+    mirror_case(t, "camera after environment", "reflectivity = 1",
+                "env = environment { scene = cube, probe = sky }\ncam = camera { scene = env }\n", "cam",
+                "probe yes; specular material no; reflective materials 1", true, NULL);
+    mirror_case(t, "environment after camera", "reflectivity = 1",
+                "cam = camera { scene = cube }\nenv = environment { scene = cam, probe = sky }\n", "env",
+                "probe yes; specular material no; reflective materials 1", true, NULL);
 }
 
 /* Depths of the bounds' corners along the view direction lie within [znear, zfar]. */
@@ -700,7 +782,7 @@ static void case_errors(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "features", case_features }, { "gating", case_gating },
+        { "features", case_features }, { "gating", case_gating }, { "environment", case_environment },
         { "look_at", case_look_at },   { "orbit", case_orbit },
         { "lights", case_lights },     { "medium", case_medium },
         { "sharing", case_sharing },   { "sharing_gl", case_sharing_gl },

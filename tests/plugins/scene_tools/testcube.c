@@ -4,7 +4,8 @@
  *
  *   test_cube         a real lg_scene made in memory: one box mesh (24 vertices, 12
  *                     triangles), `instances` instances side by side along +X, one
- *                     material, one camera (or none), no light, no medium
+ *                     material (reflectivity from the parameter), one camera (or none),
+ *                     no light, no medium
  *   test_scene_probe  writes what a scene holds as pixels of a 1-row rgba32f image (layout
  *                     below), so a test reads the derived scene through an EXR; with a
  *                     `source` scene it reports whether the geometry is shared, and with
@@ -105,6 +106,8 @@ static int cube_prepare(lg_node *n)
     c->material.shininess = 32;
     for (int i = 0; i < 3; i++)
         c->material.od[i] = c->material.os[i] = c->material.base_color[i] = 0.8f;
+    for (int i = 0; i < 3; i++)
+        c->material.reflectivity[i] = (float)lg_param_float(n, "reflectivity");
     c->material.base_color[3] = 1;
     c->material.roughness = 1;
 
@@ -283,6 +286,8 @@ static const lg_param_desc cube_params[] = {
     { .key = "instances", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = 64,
       .doc = "copies side by side along +X, 3 half sizes apart (0: an empty scene)" },
     { .key = "specular", .type = LG_PARAM_BOOL, .def.b = false, .doc = "material ks 0.5" },
+    { .key = "reflectivity", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1,
+      .doc = "the material's reflectivity (all three channels): > 0 makes it reflective" },
     { .key = "camera", .type = LG_PARAM_BOOL, .def.b = true,
       .doc = "the scene has a camera (false: none, which scene.h forbids a loader)" },
 };

@@ -1,5 +1,12 @@
 /* Test plugin "testfog": nodes that need scene features, to test gating. If gating works,
- * a graph whose scene lacks a medium never loads this plugin at all. */
+ * a graph whose scene lacks a medium never loads this plugin at all.
+ *
+ *   test_fog         needs a medium and a light
+ *   test_specular    needs a specular material
+ *   test_reflective  needs a reflective material (lg_material.reflectivity), nothing else
+ *   test_mirror      needs a reflective material and a probe, as `reflect` and `envmap` do
+ *
+ * Each writes `value` into every channel of an image the size of `image` or the render. */
 #include <string.h>
 
 #include "lightgraph/lightgraph.h"
@@ -79,6 +86,31 @@ static const lg_node_type types[] = {
         .neutral = LG_NEUTRAL_PASSTHROUGH,
         .neutral_input = 1,
         .prepare = spec_prepare,
+        .execute = fog_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_reflective",
+        .doc = "Needs a reflective material; writes a constant image (test)",
+        LG_PARAMS(fog_params),
+        LG_INPUTS(fog_in),
+        LG_OUTPUTS(fog_out),
+        .needs = LG_NEEDS_REFLECTIVE,
+        .neutral = LG_NEUTRAL_ZERO,
+        .prepare = fog_prepare,
+        .execute = fog_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_mirror",
+        .doc = "Needs a reflective material and a light probe, like reflect; writes a constant "
+               "image (test)",
+        LG_PARAMS(fog_params),
+        LG_INPUTS(fog_in),
+        LG_OUTPUTS(fog_out),
+        .needs = LG_NEEDS_REFLECTIVE | LG_NEEDS_PROBE,
+        .neutral = LG_NEUTRAL_ZERO,
+        .prepare = fog_prepare,
         .execute = fog_execute,
     },
 };

@@ -1,0 +1,309 @@
+#!/usr/bin/env python3
+"""examples/ibl.lgraph through the real program, with every probe of assets/probes/.
+
+  every_probe   `render examples/ibl.lgraph --size 96x54 --set sky.file=P` for each probe
+                file P in assets/probes/ (EXR of every compression there, Radiance .hdr;
+                lat-long, angular, cube cross and strip: `layout = auto` tells them apart),
+                exit 0, and the tone-mapped picture read back:
+                  - every pixel finite, none negative;
+                  - the background (pixels whose camera ray misses the bounding spheres of
+                    the three objects, computed here from the example's camera) is the
+                    probe: not black (mean above 0.02, under 5 % of its pixels black);
+                  - the mirror and gold spheres' pixels are not black;
+                  - the same environment agrees across files: each probe's picture is
+                    compared with the one of the lossless source of its scene (the prefix
+                    before the first '_': forest, studio, apartment), mean absolute
+                    difference over the background below TOL_BG and over the spheres below
+                    TOL_SPHERES, whatever the layout, compression, size or pixel type.
+                The probes present must cover lat-long and angular maps (by their sizes:
+                2:1, 1:1; 4:3, 3:4, 6:1, 1:6 are the cube layouts).
+  set_errors    --set sky.file= a missing file, or one of a size no layout has, exits 1
+                naming the node and the file.
+
+The ibl plugin (reflect, background) must be built: a missing node is a failure.
+
+usage: test_ibl_example.py TEST_NAME
+"""
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+EXE = os.environ["LG_EXE"]
+SRC = os.environ["LG_SOURCE_ROOT"]
+TMP = tempfile.mkdtemp(prefix="lg-ibl-example-")
+GRAPH = os.path.join(SRC, "examples", "ibl.lgraph")
+PROBES = os.path.join(SRC, "assets", "probes")
+W, H = 96, 54
+
+# The example's camera (examples/ibl.lgraph `cam`) and the objects of
+# assets/meshes/ibl_spheres.glb (tools/make_ibl_scene.py): unit spheres at x = -2.3 and 0,
+# centre height 1; the bunny at x = 2.3, 1.9 tall from y = 0 (its bounding sphere: centre
+# (2.3, 0.95, 0), radius 1.6 holds it).
+EYE, TARGET, FOV_DEG = (0.0, 1.3, 9.5), (0.0, 0.95, 0.0), 30.0
+SPHERES = [((-2.3, 1.0, 0.0), 1.0), ((0.0, 1.0, 0.0), 1.0)]
+BUNNY = ((2.3, 0.95, 0.0), 1.6)
+
+# The lossless reference of each environment, and the tolerances of the comparison (in the
+# tone-mapped picture's units, 0..1): measured worst cases are in the README's IBL section
+# and in the report printed on failure.
+# A probe is compared with the reference of its environment and size when there is one (a
+# 256x128 probe blurs the background of a 96x54 picture at 30 degrees more than a 1024x512
+# one: 1.4 degrees a texel against 0.55 a pixel), else with its environment's.
+REFERENCE = {"forest": "forest_1024x512_zip.exr", "forest_256x128": "forest_256x128_half_none.exr",
+             "studio": "studio_1024x512_float_dwab.exr", "apartment": "apartment_512x256_half_dwab.exr",
+             # another studio (@pmndrs/assets, not blender's): its own reference
+             "studio_512x256": "studio_512x256_half_dwab.exr"}
+TOL_BG = 0.035
+TOL_SPHERES = 0.035
+
+
+class Fail(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Fail(msg)
+
+
+def run(args, expect=None, timeout=120):
+    env = dict(os.environ)
+    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
+    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
+    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
+    if expect is not None and p.returncode != expect:
+        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
+                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
+    return p
+
+
+# ---- an EXR reader for what lightgraph writes: scanline, ZIP or none, half or float --------
+
+def half_to_float(h):
+    return struct.unpack("<e", struct.pack("<H", h))[0]
+
+
+def read_exr(path):
+    """Rows of (r, g, b, a) float tuples, top row first."""
+    with open(path, "rb") as f:
+        data = f.read()
+    check(data[:4] == b"\x76\x2f\x31\x01", "%s: not an EXR file" % path)
+    check(data[5] & 0x02 == 0, "%s: tiled, not scanline" % path)
+    pos, attrs = 8, {}
+    while data[pos] != 0:
+        end = data.index(b"\0", pos)
+        name = data[pos:end].decode()
+        tend = data.index(b"\0", end + 1)
+        size = struct.unpack_from("<i", data, tend + 1)[0]
+        attrs[name] = data[tend + 5:tend + 5 + size]
+        pos = tend + 5 + size
+    pos += 1
+    channels, c = [], attrs["channels"]
+    i = 0
+    while c[i] != 0:
+        end = c.index(b"\0", i)
+        ptype = struct.unpack_from("<i", c, end + 1)[0]
+        channels.append((c[i:end].decode(), ptype))
+        i = end + 17
+    comp = attrs["compression"][0]
+    check(comp in (0, 3), "%s: compression %d is not none or zip" % (path, comp))
+    x0, y0, x1, y1 = struct.unpack("<4i", attrs["dataWindow"])
+    w, h = x1 - x0 + 1, y1 - y0 + 1
+    per_block = 16 if comp == 3 else 1
+    nblocks = (h + per_block - 1) // per_block
+    offsets = struct.unpack_from("<%dQ" % nblocks, data, pos)
+    sizes = {0: 4, 1: 2, 2: 4}  # UINT, HALF, FLOAT
+    line_bytes = sum(sizes[t] for _, t in channels) * w
+    rows = [[[0.0, 0.0, 0.0, 1.0] for _ in range(w)] for _ in range(h)]
+    index = {"R": 0, "G": 1, "B": 2, "A": 3}
+    for off in offsets:
+        y, n = struct.unpack_from("<ii", data, off)
+        raw = data[off + 8:off + 8 + n]
+        lines = min(per_block, y1 + 1 - y)
+        if comp == 3 and n < line_bytes * lines:
+            t = bytearray(zlib.decompress(raw))
+            for k in range(1, len(t)):  # undo the predictor
+                t[k] = (t[k - 1] + t[k] - 128) & 255
+            half = (len(t) + 1) // 2  # undo the interleave
+            u = bytearray(len(t))
+            u[0::2] = t[:half]
+            u[1::2] = t[half:]
+            raw = bytes(u)
+        p = 0
+        for yy in range(y - y0, y - y0 + lines):
+            for name, ptype in channels:  # channels in the file's (alphabetical) order
+                for x in range(w):
+                    if ptype == 2:  # FLOAT
+                        v = struct.unpack_from("<f", raw, p)[0]
+                        p += 4
+                    elif ptype == 1:  # HALF
+                        v = half_to_float(struct.unpack_from("<H", raw, p)[0])
+                        p += 2
+                    else:  # UINT
+                        v = float(struct.unpack_from("<I", raw, p)[0])
+                        p += 4
+                    if name in index:
+                        rows[yy][x][index[name]] = v
+    return rows
+
+
+# ---- which pixels are background, which are sphere -------------------------------------
+
+def norm(v):
+    n = math.sqrt(sum(x * x for x in v))
+    return tuple(x / n for x in v)
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def ray_distance(d, centre):
+    """Distance from `centre` to the camera ray of unit direction d (inf behind the eye)."""
+    oc = tuple(centre[k] - EYE[k] for k in range(3))
+    t = sum(oc[k] * d[k] for k in range(3))
+    if t <= 0:
+        return math.inf
+    p = tuple(EYE[k] + t * d[k] - centre[k] for k in range(3))
+    return math.sqrt(sum(x * x for x in p))
+
+
+def masks():
+    """(background, spheres): lists of (x, y). Background: the ray misses every bounding
+    sphere by a pixel's angle at least; spheres: it passes well inside a sphere."""
+    f = norm(tuple(TARGET[k] - EYE[k] for k in range(3)))
+    r = norm(cross(f, (0.0, 1.0, 0.0)))
+    u = cross(r, f)
+    th = math.tan(math.radians(FOV_DEG) / 2)
+    aspect = W / H
+    pixel = 2 * th / H * 10.0  # a pixel's width, in radians, at 10 units: a margin
+    bg, sp = [], []
+    for y in range(H):
+        for x in range(W):
+            a = (2 * (x + 0.5) / W - 1) * th * aspect
+            b = (1 - 2 * (y + 0.5) / H) * th
+            d = norm(tuple(f[k] + a * r[k] + b * u[k] for k in range(3)))
+            dist = [(ray_distance(d, c), rad) for c, rad in SPHERES + [BUNNY]]
+            if all(di > rad + 2 * pixel for di, rad in dist):
+                bg.append((x, y))
+            elif any(di < rad - 0.15 for di, rad in dist[:2]):
+                sp.append((x, y))
+    return bg, sp
+
+
+def lum(p):
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+
+
+def probe_size(path):
+    out = run(["diff", path, path], expect=0).stdout.splitlines()[0]
+    # "A   file (WxH fmt, ...)"
+    inner = out[out.rindex("(") + 1:]
+    w, h = inner.split()[0].split("x")
+    return int(w), int(h)
+
+
+def layout_of(w, h):
+    if w == 2 * h:
+        return "latlong"
+    if w == h:
+        return "angular"
+    if 3 * w == 4 * h or 4 * w == 3 * h:
+        return "cross"
+    if w == 6 * h or h == 6 * w:
+        return "strip"
+    return "?"
+
+
+def render(probe, out):
+    # a small GGX chain (faces of 16 texels, 32 samples): the glossy path runs with every
+    # probe, at a tenth of the default chain's cost (the chain is cached per probe, and each
+    # probe here is new)
+    return run(["render", GRAPH, "--size", "%dx%d" % (W, H), "--set", "sky.file=" + probe,
+                "--set", "refl.prefilter_size=16", "--set", "refl.prefilter_samples=32", "-o", out],
+               expect=0, timeout=300)
+
+
+def mean_abs(a, b, pixels):
+    return sum(abs(a[y][x][c] - b[y][x][c]) for x, y in pixels for c in range(3)) / (3 * len(pixels))
+
+
+def test_every_probe():
+    files = sorted(f for f in os.listdir(PROBES)
+                   if f.lower().endswith((".exr", ".hdr", ".pic")) and os.path.isfile(os.path.join(PROBES, f)))
+    check(len(files) >= 10, "only %d probes in %s" % (len(files), PROBES))
+    bg, sp = masks()
+    check(len(bg) > W * H // 3 and len(sp) > 200, "masks: %d background, %d sphere pixels" % (len(bg), len(sp)))
+    layouts, pictures, report = {}, {}, []
+    for f in files:
+        path = os.path.join(PROBES, f)
+        layout = layout_of(*probe_size(path))
+        layouts.setdefault(layout, []).append(f)
+        out = os.path.join(TMP, f + ".exr")
+        render(path, out)
+        img = read_exr(out)
+        check(len(img) == H and len(img[0]) == W, "%s: picture %dx%d" % (f, len(img[0]), len(img)))
+        bad = [(x, y) for y in range(H) for x in range(W)
+               if not all(math.isfinite(v) and v >= 0 for v in img[y][x][:3])]
+        check(not bad, "%s: %d pixels not finite or negative, first %s: %s" %
+              (f, len(bad), bad[0] if bad else "", img[bad[0][1]][bad[0][0]] if bad else ""))
+        bl = [lum(img[y][x]) for x, y in bg]
+        black = sum(1 for v in bl if v <= 1e-4)
+        check(sum(bl) / len(bl) > 0.02 and black < 0.05 * len(bl),
+              "%s: the background is black: mean %.4f, %d of %d pixels black" % (f, sum(bl) / len(bl), black, len(bl)))
+        sl = [lum(img[y][x]) for x, y in sp]
+        check(sum(sl) / len(sl) > 0.02, "%s: the spheres are black (mean %.4f)" % (f, sum(sl) / len(sl)))
+        pictures[f] = img
+    for f in files:
+        env = f.split("_")[0]
+        ref = REFERENCE.get("_".join(f.split("_")[:2]), REFERENCE.get(env))
+        check(ref in pictures, "%s: no reference probe %s for environment '%s'" % (f, ref, env))
+        e_bg = mean_abs(pictures[f], pictures[ref], bg)
+        e_sp = mean_abs(pictures[f], pictures[ref], sp)
+        report.append("%-36s %-8s background %.4f spheres %.4f" % (f, layout_of(*probe_size(os.path.join(PROBES, f))),
+                                                                    e_bg, e_sp))
+        check(e_bg < TOL_BG and e_sp < TOL_SPHERES,
+              "%s differs from %s: mean abs %.4f over the background (tolerance %g), %.4f over the spheres (%g)\n%s" %
+              (f, ref, e_bg, TOL_BG, e_sp, TOL_SPHERES, "\n".join(report)))
+    print("\n".join(report))
+    print("layouts: " + ", ".join("%s %d" % (k, len(v)) for k, v in sorted(layouts.items())))
+    check("?" not in layouts, "probes of no known layout: %s" % layouts.get("?"))
+    for need in ("latlong", "angular"):
+        check(need in layouts, "no %s probe in %s" % (need, PROBES))
+
+
+def test_set_errors():
+    missing = os.path.join(TMP, "nope.hdr")
+    p = run(["render", GRAPH, "--size", "%dx%d" % (W, H), "--set", "sky.file=" + missing,
+             "-o", os.path.join(TMP, "x.exr")], expect=1)
+    check("'sky'" in p.stderr and "nope.hdr" in p.stderr, "missing probe: %s" % p.stderr)
+    # a 3x1 Radiance file (flat RGBE, three pixels of 1.0): no layout has that shape
+    odd = os.path.join(TMP, "odd.hdr")
+    with open(odd, "wb") as fh:
+        fh.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 3\n" + bytes([128, 128, 128, 129]) * 3)
+    p = run(["render", GRAPH, "--size", "%dx%d" % (W, H), "--set", "sky.file=" + odd,
+             "-o", os.path.join(TMP, "y.exr")], expect=1)
+    check("'sky'" in p.stderr and "odd.hdr" in p.stderr and "3x1" in p.stderr.replace(" x ", "x"),
+          "a 3x1 probe: %s" % p.stderr)
+
+
+TESTS = {"every_probe": test_every_probe, "set_errors": test_set_errors}
+
+if __name__ == "__main__":
+    name = sys.argv[1] if len(sys.argv) > 1 else ""
+    if name not in TESTS:
+        print("usage: test_ibl_example.py {%s}" % "|".join(TESTS), file=sys.stderr)
+        sys.exit(2)
+    try:
+        TESTS[name]()
+    except Fail as e:
+        print("FAIL %s: %s" % (name, e), file=sys.stderr)
+        sys.exit(1)
+    finally:
+        shutil.rmtree(TMP, ignore_errors=True)
+    print("ok", name)
