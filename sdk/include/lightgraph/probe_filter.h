@@ -85,17 +85,14 @@ static inline float lg_probe_roughness_lod(float roughness, uint32_t levels)
 
 /* How lg_probe_prefilter_ggx weights its samples (lg_probe_prefilter_opts.weighting). */
 typedef enum lg_probe_prefilter_weighting {
-    LG_PROBE_WEIGHT_NOL_VIS = 0, /* n.l Vis(n.l, n.v = 1) (the default): the integrand's own
-                               * lobe for n = v, so that the split sum converges to the
-                               * oracle there as samples grow (0.2 .. 1.3% at 4096 samples
-                               * on the sunlit forest probe); away from the normal within a
-                               * few percent of n.l's error, better at roughness 0.25,
-                               * worse at 0.5 .. 0.75 (docs/probes.md "Glossy
-                               * prefiltering") */
-    LG_PROBE_WEIGHT_NOL,      /* n.l: Karis 2013 and Filament's cmgen. Biased even at
+    LG_PROBE_WEIGHT_NOL = 0,  /* n.l: Karis 2013 and Filament's cmgen (the default). Better
+                               * for views away from the normal, but biased even at
                                * n = v, where the true lobe also carries Vis(l, v): about
                                * 10% relative RMS on the sunlit forest probe at roughness
-                               * 0.5 .. 1, whatever the sample count */
+                               * 0.5 .. 1 (docs/probes.md "Glossy prefiltering") */
+    LG_PROBE_WEIGHT_NOL_VIS,  /* n.l Vis(n.l, n.v = 1): the integrand's own lobe for
+                               * n = v, so that the split sum converges to the oracle
+                               * there; worse than n.l at 45 degrees and beyond */
 } lg_probe_prefilter_weighting;
 
 /* How lg_probe_prefilter_ggx samples. Zeroed (or a NULL pointer) means the defaults. */
@@ -111,7 +108,7 @@ typedef struct lg_probe_prefilter_opts {
                              * angle and omega_p a level-0 texel's (trilinear between
                              * mips) */
     uint32_t weighting;     /* an lg_probe_prefilter_weighting (since this header's first
-                             * version; 0 = n.l Vis) */
+                             * version; 0 = n.l) */
     uint32_t reserved[5];
 } lg_probe_prefilter_opts;
 
@@ -137,12 +134,11 @@ typedef struct lg_probe_prefilter_stats {
  * direction of every point outside the disc, instead of 0, so that bilinear lookups at
  * the rim do not darken (a constant probe stays constant). Level l > 0, of perceptual
  * roughness r = l / (levels - 1), is at every texel of direction n
- *     sum_k L(l_k) w_k / sum_k w_k,  w_k = (n.l_k) Vis(n.l_k, 1)   over k with n.l_k > 0,
+ *     sum_k L(l_k) (n.l_k) / sum_k (n.l_k)     over k with n.l_k > 0,
  * l_k = reflect(-n, h_k), h_k the GGX (alpha = r^2) importance samples about n of a
  * Hammersley set (the same set for every texel, turned into the texel's frame): the
- * split-sum assumption n = v = r of Karis 2013, weighted by the integrand's own lobe at
- * n = v (with opts->weighting = LG_PROBE_WEIGHT_NOL, Karis's w_k = n.l_k instead; see
- * lg_probe_prefilter_weighting). L reads level 0 (no_source_lod) or the
+ * split-sum assumption n = v = r of Karis 2013. (With opts->weighting =
+ * LG_PROBE_WEIGHT_NOL_VIS the weight is (n.l_k) Vis(n.l_k, 1) instead.) L reads level 0 (no_source_lod) or the
  * source's box-filtered mip chain (the default; see lg_probe_prefilter_opts). The sum is
  * formed as L(l_0) + sum_k w_k (L(l_k) - L(l_0)) / sum_k w_k, so that a constant probe
  * stays exactly constant at every level and in every layout.
