@@ -59,7 +59,7 @@ typedef struct ibl_state {
     float reflectivity[3]; /* < 0: the material's */
     int64_t camera;
     uint32_t width, height;
-    uint32_t levels_param, size_param, samples;
+    uint32_t levels_param, size_param, samples, weighting;
     bool warned_clamp;
 
     /* the GGX chain (glossy = auto, some reflective material rough): a cube of face
@@ -108,6 +108,8 @@ static int ibl_create(lg_node *n, int mode)
         st->levels_param = (uint32_t)lg_param_int(n, "levels");
         st->size_param = (uint32_t)lg_param_int(n, "prefilter_size");
         st->samples = (uint32_t)lg_param_int(n, "prefilter_samples");
+        /* the enum's order is lg_probe_prefilter_weighting's */
+        st->weighting = (uint32_t)lg_param_enum(n, "prefilter_weighting");
         const lg_value *r = lg_param(n, "reflectivity");
         bool any_neg = false, all_neg = true;
         for (int i = 0; i < 3; i++) {
@@ -317,7 +319,9 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     uint32_t samples = st->samples ? st->samples : 256;
     size_t nf = ibl_chain_floats(size, levels);
     char key[96];
-    snprintf(key, sizeof key, "ggx-cube%u-l%u-s%u", size, levels, samples);
+    /* the weighting is in the node's identity already (a parameter); naming it in the key
+     * too keeps entries of the two apart should its default change */
+    snprintf(key, sizeof key, "ggx-cube%u-l%u-s%u-w%u", size, levels, samples, st->weighting);
 
     void *data = NULL;
     size_t bytes = 0;
@@ -353,7 +357,7 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     st->chain = malloc(nf * sizeof(float));
     if (!st->chain)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (GGX chain, %zu floats)", nf);
-    lg_probe_prefilter_opts o = { .samples = samples };
+    lg_probe_prefilter_opts o = { .samples = samples, .weighting = st->weighting };
     lg_probe_prefilter_stats ps;
     rc = lg_probe_prefilter_ggx(n, &src, LG_PROBE_CUBE, size, size, levels, &o, st->chain, &ps);
     if (rc) {
@@ -1057,6 +1061,8 @@ static void ibl_destroy(lg_node *n)
 
 /* ---- the descriptors -------------------------------------------------------------------- */
 
+/* in lg_probe_prefilter_weighting order */
+static const char *const ibl_weightings[] = { "nol", "nol_vis", NULL };
 static const char *const ibl_backends[] = { "gl", "cl", "cpu", NULL };
 static const char *const ibl_samplings[] = { "bilinear", "nearest", NULL };
 static const char *const ibl_fresnels[] = { "none", "schlick", NULL };
@@ -1107,6 +1113,11 @@ static const lg_param_desc ibl_mirror_params[] = {
     { .key = "prefilter_samples", .type = LG_PARAM_INT, .def.i = 256, .min = 1,
       .max = 1048576, .doc = "GGX samples per texel of the chain (filtered importance "
                              "sampling)" },
+    { .key = "prefilter_weighting", .type = LG_PARAM_ENUM, .def.e = LG_PROBE_WEIGHT_NOL,
+      .enum_values = ibl_weightings,
+      .doc = "nol: Karis's n.l weights (better for views away from the normal); nol_vis: "
+             "n.l Vis, whose split sum converges to the BRDF integral where n = v "
+             "(docs/probes.md, Glossy prefiltering)" },
 };
 static const lg_param_desc ibl_bg_params[] = { IBL_COMMON_PARAMS };
 
