@@ -10,7 +10,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_BUILD ?= build-fuzz
 SECONDS    ?= 60
 
-.PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter clean
+.PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter study-format clean
 
 all: build
 
@@ -67,6 +67,20 @@ bench: build
 # (prefilter_study.csv and .png; docs/probes.md "Glossy prefiltering").
 study-prefilter: build
 	ninja -C $(BUILD) study-prefilter
+
+# What HDR precision costs (issue 9 item 3): examples/ibl.lgraph with refl.format =
+# rgba32f, rgba16f, rgbe8, time and error against rgba32f, for the forest probe as it is
+# and 2^12 brighter (a sun in physical units, beyond half's 65504); tables and plots into
+# plugins/ibl/images/ (plugins/ibl/README.md "Precision").
+study-format: build
+	python3 tools/format_study.py examples/ibl.lgraph refl --build $(BUILD) --size 640x360 \
+	  --repeat 3 --out out/format_study
+	python3 tools/format_study.py examples/ibl.lgraph refl --build $(BUILD) --size 640x360 \
+	  --repeat 3 --set sky.exposure=12 --out out/format_study_sun
+	for d in format_study format_study_sun; do \
+	  cp out/$$d/format_study.png plugins/ibl/images/$$d.png; \
+	  cp out/$$d/format_study.md plugins/ibl/images/$$d.md; \
+	  cp out/$$d/format_study.csv plugins/ibl/images/$$d.csv; done
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out
