@@ -72,7 +72,7 @@ LG_API double lg_sh_clamped_cosine(uint32_t l);
 /*
  * Rotation. A rotation of n bands is a block-diagonal matrix: one (2l+1) x (2l+1) block
  * per band, stored one after the other, each row-major (rows and columns m = -l .. l);
- * lg_sh_rotation_size(n) doubles in all (n (2n - 1)(2n + 1) / 3; 11 for n = 2 ... 349,504
+ * lg_sh_rotation_size(n) doubles in all (n (2n - 1)(2n + 1) / 3: 10 for n = 2, 349,504
  * for 64). Caller-owned.
  *
  * R is a 3x3 rotation, row-major, acting on column vectors (world' = R world). The built

@@ -15,7 +15,10 @@
  *   zonal        A_l: pi, 2pi/3, pi/4, 0, -pi/24, 0, pi/64, and any l (to 1000) against a
  *                quadrature of the clamped cosine 2 pi int_0^1 z P_l(z) dz (l <= 40), finite
  *   irradiance   a constant environment c projected by quadrature gives irradiance pi c at
- *                every normal; a light at +x gives more irradiance at +x than at -x
+ *                every normal; a light at +x gives more irradiance at +x than at -x; an
+ *                upper-hemisphere sky gives (pi/2)(1 + n_y) with 9 coefficients (exact:
+ *                the truncation error is zero, closed-form coefficients rotated to +y;
+ *                by quadrature of the discontinuous sky within 1e-3)
  *   rotation     identity; per-band energy preserved to band 20; rotate(project(f)) equals
  *                project(f o R^T) (a sum of clamped-cosine lobes, band 8, quadrature),
  *                1e-10; R1 R2 composition; the float planes version
@@ -372,6 +375,13 @@ static double irradiance(int n, const double *c, const double nrm[3])
     return e;
 }
 
+static void axis_angle(const double ax[3], double ang, double *R);
+static double f_sky(const double d[3], const void *ctx)
+{
+    (void)ctx;
+    return d[1] > 0.0 ? 1.0 : 0.0;
+}
+
 static int cmd_irradiance(void)
 {
     double c = 2.5, co[NC];
@@ -390,6 +400,36 @@ static int cmd_irradiance(void)
     double ep = irradiance(3, yl, axes[0]), em = irradiance(3, yl, axes[1]);
     printf("delta light at +x, 9 coefficients: E(+x) %.6f, E(-x) %.6f\n", ep, em);
     CHECK(ep > em && ep > 0.0);
+
+    /* An upper-hemisphere sky (radiance 1 for w.y > 0): its irradiance is exactly
+     * (pi/2)(1 + n_y), and so is its 9-coefficient one: about +z the sky is zonal with
+     * L_00 = sqrt(pi), L_10 = pi sqrt(3 / (4 pi)), L_20 = 0 (2 pi K_l int_0^1 P_l), and
+     * A_l = 0 for odd l > 1, so no band beyond 1 contributes. Built about +z, turned to +y
+     * by lg_sh_rotation_build (rotation about x by -90 degrees: +z -> +y). */
+    double sky[9] = {0}, skyy[9], Rx[9], Msky[35];
+    sky[0] = sqrt(M_PI);
+    sky[2] = M_PI * sqrt(3.0 / (4.0 * M_PI));
+    axis_angle((const double[3]){1, 0, 0}, -0.5 * M_PI, Rx);
+    CHECK(fabs(Rx[5] + 1.0) < 1e-15 || fabs(Rx[5] - 1.0) < 1e-15);
+    lg_sh_rotation_build(3, Rx, Msky);
+    lg_sh_rotate(3, Msky, sky, skyy);
+    /* And by quadrature of the discontinuous sky (not exact: printed, loose bound). */
+    static double skyq[NC];
+    project(3, f_sky, NULL, 200, 400, skyq);
+    double worst_sky = 0.0, worst_q = 0.0;
+    for (int t = 0; t < 200; t++) {
+        double d[3];
+        if (t < 6) memcpy(d, axes[t], sizeof d);
+        else rnd_dir(d);
+        double want = 0.5 * M_PI * (1.0 + d[1]);
+        worst_sky = fmax(worst_sky, fabs(irradiance(3, skyy, d) - want));
+        worst_q = fmax(worst_q, fabs(irradiance(3, skyq, d) - want));
+    }
+    printf("upper-hemisphere sky, 9 coefficients: worst |E - (pi/2)(1 + n_y)| %.3g (closed "
+           "form coefficients, rotated), %.3g (projected by 200 x 400 quadrature)\n",
+           worst_sky, worst_q);
+    CHECKF(worst_sky < 1e-12, "%g", worst_sky);
+    CHECKF(worst_q < 1e-3, "%g", worst_q);
     return check_report("sh_irradiance");
 }
 
