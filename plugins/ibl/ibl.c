@@ -863,16 +863,10 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         return LG_ERR_DEVICE;
     cl_int e;
     if (!st->kernel) {
-        size_t l1 = strlen(lg_src_probe_cl), l2 = strlen(lg_src_rgbe_cl),
-               l3 = strlen(lg_src_ibl_cl);
-        char *src = malloc(l1 + l2 + l3 + 3);
+        const char *parts[] = { lg_src_probe_cl, lg_src_rgbe_cl, lg_src_ibl_cl };
+        char *src = lg_cl_source_join(parts, 3);
         if (!src)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-        memcpy(src, lg_src_probe_cl, l1);
-        src[l1] = '\n';
-        memcpy(src + l1 + 1, lg_src_rgbe_cl, l2);
-        src[l1 + 1 + l2] = '\n';
-        memcpy(src + l1 + l2 + 2, lg_src_ibl_cl, l3 + 1);
         cl_program prog = lg_cl_program(n, lg_src_ibl_cl_file, src, "-cl-std=CL1.2");
         free(src);
         if (!prog)

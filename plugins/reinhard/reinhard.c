@@ -395,13 +395,10 @@ static int rh_cl_init(lg_node *n, rh_state *st)
              st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1"
              : st->in_format == LG_FORMAT_RGBE8 ? " -DLG_IN_RGBE=1" : "");
     /* shaders/common/rgbe.cl, then the kernels (which use its decoder for rgbe8 input) */
-    size_t la = strlen(lg_src_rgbe_cl), lb = strlen(lg_src_reinhard_cl);
-    char *src = malloc(la + lb + 2);
+    const char *parts[] = { lg_src_rgbe_cl, lg_src_reinhard_cl };
+    char *src = lg_cl_source_join(parts, 2);
     if (!src)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    memcpy(src, lg_src_rgbe_cl, la);
-    src[la] = '\n';
-    memcpy(src + la + 1, lg_src_reinhard_cl, lb + 1);
     cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, src, opts);
     free(src);
     if (!prog)

@@ -3,8 +3,8 @@
 // twins; tests/unit/probe holds the three together.
 //
 // Embedded byte for byte (tools/embed.py: lg_src_probe_cl); a kernel that uses it is
-// built from this text followed by its own (lg_probe_cl_source() in a plugin, or a
-// concatenation: OpenCL has no #include of embedded text).
+// built from this text followed by its own, joined by lg_cl_source_join
+// (lightgraph/cl.h): OpenCL has no #include of embedded text.
 //
 // Images are buffers of float4 laid out as the CPU copy of a radiance image
 // (lg_image_offset): W*H texels for the 2D layouts, 6 faces of W*W for the cube (+X, -X,

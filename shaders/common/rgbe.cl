@@ -1,7 +1,7 @@
 // shaders/common/rgbe.cl: Ward's RGBE (LG_FORMAT_RGBE8) and the rgba16f range in OpenCL C
 // 1.2, the twins of lg_rgbe_encode / lg_rgbe_decode (sdk/src/rgbe.c) and of
 // shaders/common/rgbe.glsl. Embedded byte for byte (lg_src_rgbe_cl); a kernel is built
-// from this text followed by its own.
+// from this text followed by its own (lg_cl_source_join, lightgraph/cl.h).
 //
 // An rgbe8 image on CL is a buffer of uchar4 (the CPU's bytes): store
 // lg_rgbe_encode(rgb), read with lg_rgbe_decode. lg_half_range clamps what an rgba16f

@@ -365,13 +365,11 @@ int main(int argc, char **argv)
             return check_report(name);
         }
         printf("cl: %s\n", lg_cl_device_description(cldev));
-        size_t la = strlen(lg_src_rgbe_cl), lb = strlen(lg_src_rgbe_eval_cl);
-        char *src = malloc(la + lb + 2);
-        memcpy(src, lg_src_rgbe_cl, la);
-        src[la] = '\n';
-        memcpy(src + la + 1, lg_src_rgbe_eval_cl, lb + 1);
+        const char *parts[] = { lg_src_rgbe_cl, lg_src_rgbe_eval_cl };
+        char *src = lg_cl_source_join(parts, 2);
+        CHECKF(src != NULL, "out of memory");
         char *log = NULL;
-        cl_program p = lg_cl_device_program(cldev, "rgbe_eval.cl", src, NULL, &log);
+        cl_program p = src ? lg_cl_device_program(cldev, "rgbe_eval.cl", src, NULL, &log) : NULL;
         free(src);
         CHECKF(p != NULL, "%s", log ? log : "build failed");
         free(log);

@@ -347,13 +347,11 @@ int main(int argc, char **argv)
         }
         printf("cl: %s\n", lg_cl_device_description(cldev));
         /* probe.cl, then the kernel */
-        size_t la = strlen(lg_src_probe_cl), lb = strlen(lg_src_probe_eval_cl);
-        char *src = malloc(la + lb + 2);
-        memcpy(src, lg_src_probe_cl, la);
-        src[la] = '\n';
-        memcpy(src + la + 1, lg_src_probe_eval_cl, lb + 1);
+        const char *parts[] = { lg_src_probe_cl, lg_src_probe_eval_cl };
+        char *src = lg_cl_source_join(parts, 2);
+        CHECKF(src != NULL, "out of memory");
         char *log = NULL;
-        cl_program p = lg_cl_device_program(cldev, "probe_eval.cl", src, NULL, &log);
+        cl_program p = src ? lg_cl_device_program(cldev, "probe_eval.cl", src, NULL, &log) : NULL;
         free(src);
         CHECKF(p != NULL, "%s", log ? log : "build failed");
         free(log);
