@@ -49,6 +49,24 @@ typedef struct lg_transfer {
     void *reserved[4];
 } lg_transfer;
 
+/*
+ * Per-vertex values as an image (since ABI 2.3). A node that computes one RGB value per
+ * vertex (the `prt` node's exit radiance, `prt_reference`'s oracle) publishes it as an
+ * ordinary rgba32f image output named `vertices`, so that every device maps it, the host
+ * moves it, and `output NODE.vertices "file.exr"` writes it like any image:
+ *   vertex i (numbered as above) is texel (i mod LG_VERTEX_IMAGE_WIDTH,
+ *   i / LG_VERTEX_IMAGE_WIDTH), RGB its value and alpha 1; texels past the last vertex are
+ *   (0, 0, 0, 0). The image is LG_VERTEX_IMAGE_WIDTH wide (lg_vertex_image_size).
+ */
+#define LG_VERTEX_IMAGE_WIDTH 1024u
+
+/* The size of a per-vertex image holding `vertices` values (at least 1 x 1). */
+static inline void lg_vertex_image_size(uint32_t vertices, uint32_t *width, uint32_t *height)
+{
+    *width = LG_VERTEX_IMAGE_WIDTH;
+    *height = vertices ? (vertices + LG_VERTEX_IMAGE_WIDTH - 1u) / LG_VERTEX_IMAGE_WIDTH : 1u;
+}
+
 /* Producer, prepare(): declares output `port` for `vertices` vertices of `bands` bands. */
 LG_API int lg_transfer_declare(lg_node *node, uint32_t port, uint32_t bands,
                                uint32_t vertices);
