@@ -6,12 +6,9 @@
 
 layout(location = 0) in vec3 a_position; // object space
 
-struct lg_prt_instance {
-    mat4 model;  // object to world
-    mat4 normal; // inverse transpose of model's 3x3 (upper-left)
-};
+// lightgraph/scene_gl.h's records without normals: the model matrix only
 layout(std430, binding = 0) readonly buffer Instances {
-    lg_prt_instance inst[];
+    mat4 inst_model[]; // object to world
 };
 
 uniform mat4 u_view_proj; // projection (Y flipped) * view
@@ -23,7 +20,7 @@ out vec3 v_radiance;
 
 void main()
 {
-    mat4 model = inst[u_first + gl_InstanceID].model;
+    mat4 model = inst_model[u_first + gl_InstanceID];
     int w = textureSize(u_vertices, 0).x;
     int i = u_offset + gl_VertexID;
     v_radiance = texelFetch(u_vertices, ivec2(i % w, i / w), 0).rgb;
