@@ -237,7 +237,8 @@ static void bench_cl(const bench_data *d, int repeat, bench_row *row)
     row->backend = "cl";
     lg_cl_dev *dev = NULL;
     cl_kernel k = NULL;
-    cl_mem mt = NULL, ml = NULL, mo = NULL;
+    cl_mem mt = NULL, ml = NULL, mr = NULL, mo = NULL;
+    float rec[3 * PRT_RECORD_PAD(16 * 16)];
     double *ms = calloc((size_t)repeat, sizeof *ms);
     float *out = malloc((size_t)d->texels * 16);
     cl_int e = 0;
@@ -251,9 +252,9 @@ static void bench_cl(const bench_data *d, int repeat, bench_row *row)
     }
     cl_context ctx = lg_cl_device_context(dev);
     cl_command_queue q = lg_cl_device_queue(dev);
-    char *log = NULL;
-    cl_program prog = lg_cl_device_program(dev, lg_src_prt_cl_file, lg_src_prt_cl,
-                                           "-cl-std=CL1.2", &log);
+    char *log = NULL, opts[160];
+    prt_cl_options(opts, sizeof opts, d->n, d->n);
+    cl_program prog = lg_cl_device_program(dev, lg_src_prt_cl_file, lg_src_prt_cl, opts, &log);
     if (!prog) {
         snprintf(cl_why, sizeof cl_why, "%s", log ? log : "build failed");
         free(log);
@@ -268,17 +269,20 @@ static void bench_cl(const bench_data *d, int repeat, bench_row *row)
     if (!e)
         ml = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                             (size_t)3 * d->n * sizeof(float), d->lighting, &e);
+    prt_record_lighting(d->lighting, d->n, d->n, rec);
+    if (!e)
+        mr = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            3 * PRT_RECORD_PAD(d->n) * sizeof(float), rec, &e);
     if (!e)
         mo = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, (size_t)d->texels * 16, NULL, &e);
-    cl_uint n = d->n, stride = d->n, verts = d->vertices, texels = d->texels;
-    if (!e) {
+    cl_uint verts = d->vertices, texels = d->texels;
+    if (!e) { /* as prt_dot_cl sets them */
         e |= clSetKernelArg(k, 0, sizeof mt, &mt);
-        e |= clSetKernelArg(k, 1, sizeof ml, &ml);
-        e |= clSetKernelArg(k, 2, sizeof n, &n);
-        e |= clSetKernelArg(k, 3, sizeof stride, &stride);
-        e |= clSetKernelArg(k, 4, sizeof verts, &verts);
-        e |= clSetKernelArg(k, 5, sizeof texels, &texels);
-        e |= clSetKernelArg(k, 6, sizeof mo, &mo);
+        e |= clSetKernelArg(k, 1, sizeof mr, &mr);
+        e |= clSetKernelArg(k, 2, sizeof ml, &ml);
+        e |= clSetKernelArg(k, 3, sizeof verts, &verts);
+        e |= clSetKernelArg(k, 4, sizeof texels, &texels);
+        e |= clSetKernelArg(k, 5, sizeof mo, &mo);
     }
     size_t global = prt_cl_global(texels), local = PRT_CL_LOCAL;
     for (int r = -1; r < repeat && !e; r++) { /* r = -1: warm-up (PoCL compiles then) */
@@ -308,6 +312,8 @@ done:
         clReleaseMemObject(mt);
     if (ml)
         clReleaseMemObject(ml);
+    if (mr)
+        clReleaseMemObject(mr);
     if (mo)
         clReleaseMemObject(mo);
     lg_cl_device_destroy(&dev);

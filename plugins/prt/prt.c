@@ -70,8 +70,9 @@ typedef struct prt_state {
 
     /* CL */
     cl_kernel kernel;
-    cl_mem cl_light;
-    size_t cl_light_size;
+    uint32_t k_n, k_stride; /* the kernel's build (prt_cl_options) */
+    cl_mem cl_light, cl_record;
+    size_t cl_light_size, cl_record_size;
 } prt_state;
 
 /* ---- create / prepare ---------------------------------------------------------------- */
@@ -320,54 +321,80 @@ static int prt_dot_cpu(lg_node *n, prt_state *st, const prt_frame *f)
     return lg_parallel_for(n, (size_t)st->tex_w * st->tex_h, PRT_CPU_GRAIN, prt_cpu_chunk, &c);
 }
 
+/* (Re)makes CL buffer *m for at least `size` bytes and writes `data` into it (blocking:
+ * the data is the frame's). */
+static int prt_cl_upload(lg_node *n, cl_mem *m, size_t *have, const void *data, size_t size,
+                         const char *what)
+{
+    cl_int e;
+    if (*have < size) {
+        if (*m)
+            clReleaseMemObject(*m);
+        *m = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_ONLY, size, NULL, &e);
+        if (e) {
+            *m = NULL;
+            *have = 0;
+            return lg_cl_fail(n, e, what);
+        }
+        *have = size;
+    }
+    if ((e = clEnqueueWriteBuffer(lg_cl_queue(n), *m, CL_TRUE, 0, size, data, 0, NULL, NULL)))
+        return lg_cl_fail(n, e, what);
+    return 0;
+}
+
 static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
 {
     cl_int e;
     cl_command_queue q = lg_cl_queue(n);
     if (!q)
         return LG_ERR_DEVICE;
-    if (!st->kernel) {
-        cl_program p = lg_cl_program(n, lg_src_prt_cl_file, lg_src_prt_cl, "-cl-std=CL1.2");
+    uint32_t stride = f->tr->n_coeffs;
+    if (!st->kernel || st->k_n != f->nc || st->k_stride != stride) {
+        /* one program per coefficient count: the kernel's loops unroll (prt.cl) */
+        char opts[160];
+        prt_cl_options(opts, sizeof opts, f->nc, stride);
+        cl_program p = lg_cl_program(n, lg_src_prt_cl_file, lg_src_prt_cl, opts);
         if (!p)
             return LG_ERR_DEVICE;
+        if (st->kernel)
+            clReleaseKernel(st->kernel);
         st->kernel = clCreateKernel(p, "prt_dot", &e);
-        if (e)
-            return lg_cl_fail(n, e, "clCreateKernel(prt_dot)");
-    }
-    size_t lsize = (size_t)3 * f->nc * sizeof(float);
-    if (st->cl_light_size < lsize) {
-        if (st->cl_light)
-            clReleaseMemObject(st->cl_light);
-        st->cl_light = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_ONLY, lsize, NULL, &e);
         if (e) {
-            st->cl_light = NULL;
-            st->cl_light_size = 0;
-            return lg_cl_fail(n, e, "clCreateBuffer(lighting)");
+            st->kernel = NULL;
+            return lg_cl_fail(n, e, "clCreateKernel(prt_dot)");
         }
-        st->cl_light_size = lsize;
+        st->k_n = f->nc;
+        st->k_stride = stride;
     }
-    /* blocking: f->lighting is freed after the frame */
-    if ((e = clEnqueueWriteBuffer(q, st->cl_light, CL_TRUE, 0, lsize, f->lighting, 0, NULL,
-                                  NULL)))
-        return lg_cl_fail(n, e, "clEnqueueWriteBuffer(lighting)");
+    size_t pad = PRT_RECORD_PAD(stride);
+    float *rec = malloc(3 * pad * sizeof(float));
+    if (!rec)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu floats)", 3 * pad);
+    prt_record_lighting(f->lighting, f->nc, stride, rec);
+    int rc = prt_cl_upload(n, &st->cl_record, &st->cl_record_size, rec,
+                           3 * pad * sizeof(float), "clCreateBuffer(record lighting)");
+    free(rec);
+    if (!rc)
+        rc = prt_cl_upload(n, &st->cl_light, &st->cl_light_size, f->lighting,
+                           (size_t)3 * f->nc * sizeof(float), "clCreateBuffer(lighting)");
     void *tm = NULL, *om = NULL, *dummy = NULL;
-    int rc = lg_map_cl(n, f->tr->transfer, LG_READ, &tm, &dummy);
+    if (!rc)
+        rc = lg_map_cl(n, f->tr->transfer, LG_READ, &tm, &dummy);
     if (!rc)
         rc = lg_map_cl(n, lg_output(n, OUT_VERTICES), LG_WRITE, &om, &dummy);
     if (rc)
         return rc;
     cl_mem mt = tm, mo = om;
-    cl_uint nc = f->nc, stride = f->tr->n_coeffs, verts = st->vertices,
-            texels = st->tex_w * st->tex_h;
+    cl_uint verts = st->vertices, texels = st->tex_w * st->tex_h;
     cl_kernel k = st->kernel;
     e = 0;
     e |= clSetKernelArg(k, 0, sizeof mt, &mt);
-    e |= clSetKernelArg(k, 1, sizeof st->cl_light, &st->cl_light);
-    e |= clSetKernelArg(k, 2, sizeof nc, &nc);
-    e |= clSetKernelArg(k, 3, sizeof stride, &stride);
-    e |= clSetKernelArg(k, 4, sizeof verts, &verts);
-    e |= clSetKernelArg(k, 5, sizeof texels, &texels);
-    e |= clSetKernelArg(k, 6, sizeof mo, &mo);
+    e |= clSetKernelArg(k, 1, sizeof st->cl_record, &st->cl_record);
+    e |= clSetKernelArg(k, 2, sizeof st->cl_light, &st->cl_light);
+    e |= clSetKernelArg(k, 3, sizeof verts, &verts);
+    e |= clSetKernelArg(k, 4, sizeof texels, &texels);
+    e |= clSetKernelArg(k, 5, sizeof mo, &mo);
     if (e)
         return lg_cl_fail(n, e, "clSetKernelArg(prt_dot)");
     size_t global = prt_cl_global(texels), local = PRT_CL_LOCAL;
@@ -552,6 +579,8 @@ static void prt_destroy(lg_node *n)
         clReleaseKernel(st->kernel);
     if (st->cl_light)
         clReleaseMemObject(st->cl_light);
+    if (st->cl_record)
+        clReleaseMemObject(st->cl_record);
     free(st->offsets);
     free(st);
     n->user = NULL;

@@ -19,12 +19,11 @@
  */
 #include "prt_launch.h"
 
-#define PRT_W 4
+#define PRT_W 4 /* PRT_RECORD_PAD rounds to it */
 /* vertices to prefetch ahead (~10 KB at 5 bands) */
 #define PRT_PREFETCH 32
 /* the record path's largest stride (8 bands); beyond it, prt_dot1 per channel */
 #define PRT_RECORD_MAX 64u
-#define PRT_RECORD_PAD(s) ((3u * (s) + PRT_W - 1u) / PRT_W * PRT_W)
 
 /* sum_{i < n} l[i] t[i] in PRT_W partial sums (the generic path) */
 static inline __attribute__((always_inline)) float prt_dot1(const float *restrict l,
@@ -97,12 +96,7 @@ void lg_prt_cpu_range(const prt_cpu_job *job, size_t begin, size_t end)
     size_t rec_end = last < job->vertices ? last : job->vertices - 1;
     if (stride <= PRT_RECORD_MAX && v < rec_end) {
         float lr[3 * PRT_RECORD_PAD(PRT_RECORD_MAX)];
-        const uint32_t pad = PRT_RECORD_PAD(stride);
-        for (uint32_t c = 0; c < 3; c++)
-            for (uint32_t j = 0; j < pad; j++) {
-                uint32_t i = j - c * stride;
-                lr[c * pad + j] = j >= c * stride && i < n ? job->lighting[c * n + i] : 0.0f;
-            }
+        prt_record_lighting(job->lighting, n, stride, lr);
         switch (stride) {
 #define PRT_CASE(s)                                                                          \
     case s:                                                                                  \

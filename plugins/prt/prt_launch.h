@@ -15,6 +15,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* GL: invocations per work-group (local_size_x of shaders/prt/prt_dot.comp), one per
  * texel; ceil(texels / PRT_GL_GROUP) groups, at most PRT_GL_MAX_X along x, then rows of
@@ -28,6 +29,29 @@
 /* CPU: vertices per lg_parallel_for chunk (about 75 floats each at 5 bands: ~300 KB of
  * transfer per chunk, far above the hand-off cost, and 1M vertices make ~240 chunks). */
 #define PRT_CPU_GRAIN 4096u
+
+/* CL: the build options of shaders/prt/prt.cl for n coefficients of a transfer of `stride`
+ * (one program per pair, cached by the host). */
+#define PRT_RECORD_PAD(s) ((3u * (s) + 3u) / 4u * 4u)
+static inline void prt_cl_options(char *buf, size_t size, uint32_t n, uint32_t stride)
+{
+    snprintf(buf, size, "-cl-std=CL1.2 -DLG_N=%uu -DLG_STRIDE=%uu -DLG_PAD=%uu", n, stride,
+             PRT_RECORD_PAD(stride));
+}
+
+/* The lighting laid out like a vertex's record (prt.cl's `record`): 3 rows of
+ * PRT_RECORD_PAD(stride) floats, row c holding lighting[c][0 .. n) at [c stride, c stride
+ * + n) and zero elsewhere. `out` is the caller's. */
+static inline void prt_record_lighting(const float *lighting, uint32_t n, uint32_t stride,
+                                       float *out)
+{
+    const uint32_t pad = PRT_RECORD_PAD(stride);
+    for (uint32_t c = 0; c < 3; c++)
+        for (uint32_t j = 0; j < pad; j++) {
+            uint32_t i = j - c * stride; /* wraps for j < c stride: then not used */
+            out[c * pad + j] = j >= c * stride && i < n ? lighting[c * n + i] : 0.0f;
+        }
+}
 
 static inline size_t prt_cl_global(size_t texels)
 {
