@@ -325,10 +325,18 @@ done:
 
 static char gl_why[2048];
 
-static GLuint gl_program(const GladGLContext *gl, const char *src)
+/* Compiles the compute shader with `defines` after its #version line (as lg_gl_program). */
+static GLuint gl_program(const GladGLContext *gl, const char *src, const char *defines)
 {
+    const char *nl = strchr(src, '\n');
+    if (!nl) {
+        snprintf(gl_why, sizeof gl_why, "shader without a #version line");
+        return 0;
+    }
+    const char *parts[3] = { src, defines, nl + 1 };
+    GLint lens[3] = { (GLint)(nl + 1 - src), (GLint)strlen(defines), (GLint)strlen(nl + 1) };
     GLuint sh = gl->CreateShader(GL_COMPUTE_SHADER);
-    gl->ShaderSource(sh, 1, &src, NULL);
+    gl->ShaderSource(sh, 3, parts, lens);
     gl->CompileShader(sh);
     GLint ok = 0;
     gl->GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
@@ -365,7 +373,9 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row)
         goto done;
     }
     const GladGLContext *gl = lg_gl_device_table(dev);
-    GLuint p = gl_program(gl, lg_src_prt_dot_comp);
+    char defines[96];
+    prt_gl_defines(defines, sizeof defines, d->n, d->n);
+    GLuint p = gl_program(gl, lg_src_prt_dot_comp, defines);
     if (!p) {
         row->skipped = gl_why;
         goto done;
@@ -381,8 +391,6 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row)
                            0);
     /* as prt_dot_gl binds and dispatches them */
     gl->UseProgram(p);
-    gl->Uniform1ui(gl->GetUniformLocation(p, "u_n"), d->n);
-    gl->Uniform1ui(gl->GetUniformLocation(p, "u_stride"), d->n);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_texels"), d->texels);

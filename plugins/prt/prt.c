@@ -62,7 +62,8 @@ typedef struct prt_state {
 
     /* GL */
     lg_gl_pass *dot, *raster, *refl;
-    lg_gl_uniform d_n, d_stride, d_vertices, d_width, d_texels;
+    uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_defines) */
+    lg_gl_uniform d_vertices, d_width, d_texels;
     lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
     lg_gl_binding r_vertices, f_reflect;
@@ -411,15 +412,21 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     if (!gl)
         return LG_ERR_DEVICE;
     int rc;
+    if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs))
+        lg_gl_pass_destroy(&st->dot);
     if (!st->dot) {
+        /* one program per coefficient count: its loops unroll (prt_dot.comp) */
         static const lg_gl_shader_src src[1] = {
             { GL_COMPUTE_SHADER, lg_src_prt_dot_comp_file, lg_src_prt_dot_comp },
         };
-        lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = src, .n_stages = 1 };
+        char defines[96];
+        prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs);
+        lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = src, .n_stages = 1,
+                              .defines = defines };
         if ((rc = lg_gl_pass_create(n, &d, &st->dot)))
             return rc;
-        st->d_n = lg_gl_pass_uniform(st->dot, "u_n");
-        st->d_stride = lg_gl_pass_uniform(st->dot, "u_stride");
+        st->g_n = f->nc;
+        st->g_stride = f->tr->n_coeffs;
         st->d_vertices = lg_gl_pass_uniform(st->dot, "u_vertices");
         st->d_width = lg_gl_pass_uniform(st->dot, "u_width");
         st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
@@ -439,8 +446,6 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     if ((rc = lg_gl_pass_begin(st->dot, NULL)))
         return rc;
     uint32_t texels = st->tex_w * st->tex_h, gx, gy;
-    lg_gl_set_uint(st->dot, st->d_n, f->nc);
-    lg_gl_set_uint(st->dot, st->d_stride, f->tr->n_coeffs);
     lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
     lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
     lg_gl_set_uint(st->dot, st->d_texels, texels);

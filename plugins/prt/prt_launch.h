@@ -59,6 +59,13 @@ static inline size_t prt_cl_global(size_t texels)
     return g ? g : PRT_CL_LOCAL;
 }
 
+/* GL: the defines of shaders/prt/prt_dot.comp for n coefficients of a transfer of
+ * `stride`. */
+static inline void prt_gl_defines(char *buf, size_t size, uint32_t n, uint32_t stride)
+{
+    snprintf(buf, size, "#define LG_N %uu\n#define LG_STRIDE %uu\n", n, stride);
+}
+
 static inline void prt_gl_groups(size_t texels, uint32_t *gx, uint32_t *gy)
 {
     size_t g = (texels + PRT_GL_GROUP - 1) / PRT_GL_GROUP;

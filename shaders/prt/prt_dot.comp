@@ -3,14 +3,16 @@
 // `vertices` image (lightgraph/transfer.h, "Per-vertex values as an image"), i.e. per
 // vertex; texels past the last vertex get (0, 0, 0, 0).
 //
-//   radiance_c(v) = sum_{i < u_n} lighting[c][i] * transfer[v][c][i]
+//   radiance_c(v) = sum_{i < LG_N} lighting[c][i] * transfer[v][c][i]
 //
-// transfer is the LG_KIND_TRANSFER buffer as the host holds it (float[V][3][u_stride]),
-// lighting the already rotated coefficients truncated to the common prefix (float[3][u_n]).
-// Groups of PRT_GL_GROUP invocations along x (plugins/prt/prt_launch.h), in a 2D grid of
-// groups when one row of groups would pass GL's group-count limit; texel = x + y * (groups
-// along x) * PRT_GL_GROUP. A group's vertices are consecutive, so its reads are one
-// contiguous stretch of the transfer buffer.
+// Built per coefficient count (defines LG_N, the common prefix's n^2, and LG_STRIDE, the
+// transfer's n^2: plugins/prt/prt_launch.h, prt_gl_defines), so that the loops unroll and
+// the lighting's indices are constants: llvmpipe then loads each coefficient once for
+// all the lanes of a SIMD batch. transfer is the LG_KIND_TRANSFER buffer as the host holds
+// it (float[V][3][LG_STRIDE]), lighting the rotated coefficients truncated to the common
+// prefix (float[3][LG_N]). Groups of PRT_GL_GROUP invocations along x (prt_launch.h), in a
+// 2D grid of groups when one row would pass GL's group-count limit; texel = x + y *
+// (groups along x) * PRT_GL_GROUP.
 
 layout(local_size_x = 64, local_size_y = 1) in;
 
@@ -18,12 +20,10 @@ layout(std430, binding = 0) readonly buffer Transfer {
     float transfer[];
 };
 layout(std430, binding = 1) readonly buffer Lighting {
-    float lighting[];
+    float lighting[3 * LG_N];
 };
 layout(binding = 0, rgba32f) uniform writeonly image2D u_out;
 
-uniform uint u_n;        // coefficients per channel used (common prefix)
-uniform uint u_stride;   // coefficients per channel in the transfer (its n^2)
 uniform uint u_vertices; // vertices in the transfer
 uniform uint u_width;    // the image's width (LG_VERTEX_IMAGE_WIDTH)
 uniform uint u_texels;   // width * height
@@ -38,12 +38,12 @@ void main()
         imageStore(u_out, p, vec4(0.0));
         return;
     }
-    uint base = v * 3u * u_stride;
+    uint base = v * (3u * LG_STRIDE);
     vec3 acc = vec3(0.0);
-    for (uint i = 0u; i < u_n; i++) {
+    for (uint i = 0u; i < LG_N; i++) {
         acc.r += lighting[i] * transfer[base + i];
-        acc.g += lighting[u_n + i] * transfer[base + u_stride + i];
-        acc.b += lighting[2u * u_n + i] * transfer[base + 2u * u_stride + i];
+        acc.g += lighting[LG_N + i] * transfer[base + LG_STRIDE + i];
+        acc.b += lighting[2u * LG_N + i] * transfer[base + 2u * LG_STRIDE + i];
     }
     imageStore(u_out, p, vec4(acc, 1.0));
 }
