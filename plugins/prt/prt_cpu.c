@@ -22,8 +22,9 @@
 #define PRT_W 4 /* PRT_RECORD_PAD rounds to it */
 /* vertices to prefetch ahead (~10 KB at 5 bands) */
 #define PRT_PREFETCH 32
-/* the record path's largest stride (8 bands); beyond it, prt_dot1 per channel */
-#define PRT_RECORD_MAX 64u
+/* the record path's largest stride (16 bands: a 9 KB lighting record on the stack);
+ * beyond it, prt_dot1 per channel */
+#define PRT_RECORD_MAX 256u
 
 /* sum_{i < n} l[i] t[i] in PRT_W partial sums (the generic path) */
 static inline __attribute__((always_inline)) float prt_dot1(const float *restrict l,
