@@ -374,7 +374,10 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row)
     }
     const GladGLContext *gl = lg_gl_device_table(dev);
     char defines[96];
-    prt_gl_defines(defines, sizeof defines, d->n, d->n);
+    GLint max_tbo = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    int tbo = (double)d->vertices * 3 * d->n <= (double)max_tbo && !getenv("LG_PRT_SSBO");
+    prt_gl_defines(defines, sizeof defines, d->n, d->n, tbo);
     GLuint p = gl_program(gl, lg_src_prt_dot_comp, defines);
     if (!p) {
         row->skipped = gl_why;
@@ -394,7 +397,15 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row)
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_texels"), d->texels);
-    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);
+    GLuint tb = 0;
+    if (tbo) { /* as prt_dot_gl: an R32F buffer texture over the transfer */
+        gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
+        gl->TextureBuffer(tb, GL_R32F, buf[0]);
+        gl->BindTextureUnit(0, tb);
+        gl->Uniform1i(gl->GetUniformLocation(p, "u_transfer"), 0);
+    } else {
+        gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);
+    }
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buf[1]);
     gl->BindImageTexture(0, tex, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     uint32_t gx, gy;
@@ -420,6 +431,8 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row)
     gl->UseProgram(0);
     gl->DeleteProgram(p);
     gl->DeleteTextures(1, &tex);
+    if (tb)
+        gl->DeleteTextures(1, &tb);
     gl->DeleteBuffers(2, buf);
 done:
     lg_gl_device_destroy(&dev);

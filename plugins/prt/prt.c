@@ -63,6 +63,8 @@ typedef struct prt_state {
     /* GL */
     lg_gl_pass *dot, *raster, *refl;
     uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_defines) */
+    int g_tbo;
+    GLuint tbo_tex, tbo_buf; /* the R32F buffer texture over the transfer, and its buffer */
     lg_gl_uniform d_vertices, d_width, d_texels;
     lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
@@ -412,7 +414,10 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     if (!gl)
         return LG_ERR_DEVICE;
     int rc;
-    if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs))
+    GLint max_tbo = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    int tbo = (double)st->vertices * 3 * f->tr->n_coeffs <= (double)max_tbo;
+    if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs || st->g_tbo != tbo))
         lg_gl_pass_destroy(&st->dot);
     if (!st->dot) {
         /* one program per coefficient count: its loops unroll (prt_dot.comp) */
@@ -420,17 +425,19 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
             { GL_COMPUTE_SHADER, lg_src_prt_dot_comp_file, lg_src_prt_dot_comp },
         };
         char defines[96];
-        prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs);
+        prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, tbo);
         lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = src, .n_stages = 1,
                               .defines = defines };
         if ((rc = lg_gl_pass_create(n, &d, &st->dot)))
             return rc;
         st->g_n = f->nc;
         st->g_stride = f->tr->n_coeffs;
+        st->g_tbo = tbo;
         st->d_vertices = lg_gl_pass_uniform(st->dot, "u_vertices");
         st->d_width = lg_gl_pass_uniform(st->dot, "u_width");
         st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
-        st->d_transfer = lg_gl_pass_storage(st->dot, "Transfer");
+        st->d_transfer = tbo ? lg_gl_pass_texture(st->dot, "u_transfer")
+                             : lg_gl_pass_storage(st->dot, "Transfer");
         st->d_lighting = lg_gl_pass_storage(st->dot, "Lighting");
         st->d_out = lg_gl_pass_image(st->dot, "u_out");
     }
@@ -449,7 +456,19 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
     lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
     lg_gl_set_uint(st->dot, st->d_texels, texels);
-    lg_gl_pass_bind_buffer(st->dot, st->d_transfer, tbuf);
+    if (tbo) {
+        /* the buffer texture is remade when the host's buffer object changes */
+        if (!st->tbo_tex || st->tbo_buf != tbuf) {
+            if (st->tbo_tex)
+                gl->DeleteTextures(1, &st->tbo_tex);
+            gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &st->tbo_tex);
+            gl->TextureBuffer(st->tbo_tex, GL_R32F, tbuf);
+            st->tbo_buf = tbuf;
+        }
+        lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
+    } else {
+        lg_gl_pass_bind_buffer(st->dot, st->d_transfer, tbuf);
+    }
     lg_gl_pass_bind_buffer(st->dot, st->d_lighting, st->light_buf);
     lg_gl_pass_bind_image(st->dot, st->d_out, otex, GL_WRITE_ONLY, GL_RGBA32F);
     prt_gl_groups(texels, &gx, &gy);
@@ -575,10 +594,12 @@ static void prt_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->dot);
     lg_gl_pass_destroy(&st->raster);
     lg_gl_pass_destroy(&st->refl);
-    if (st->light_buf) {
+    if (st->light_buf || st->tbo_tex) {
         const lg_gl *gl = lg_gl_get(n);
-        if (gl)
+        if (gl && st->light_buf)
             gl->DeleteBuffers(1, &st->light_buf);
+        if (gl && st->tbo_tex)
+            gl->DeleteTextures(1, &st->tbo_tex);
     }
     if (st->kernel)
         clReleaseKernel(st->kernel);
