@@ -1,0 +1,679 @@
+/*
+ * The prt plugin: diffuse precomputed radiance transfer at run time (TECHNIQUES.md §5,
+ * seed 0 §4.3 eq. 4.10-4.12 and §5.4).
+ *
+ *   prt   scene + lighting (SH) + transfer [+ reflect] -> out (image), vertices (image)
+ *
+ * Every frame: the lighting's coefficients, truncated to the bands both inputs have, are
+ * rotated on the CPU (lightgraph/sh.h; n^2 x 3 values) by rotate_deg (+ spin x time), then
+ * each vertex's exit radiance radiance_c = sum_i lighting_c[i] transfer[v][c][i] is
+ * computed on the chosen backend (GL compute, CL kernel, or the host's pool: prt_cpu.c)
+ * into the `vertices` image (lightgraph/transfer.h, "Per-vertex values as an image"), and
+ * the scene is rasterised on GL with the camera, each vertex fetching its value from that
+ * image and the rasteriser interpolating it (Gouraud, as seed 0). `reflect`, when given,
+ * is added. The transfer buffer is mapped on the backend's device where the host keeps it
+ * (a static input is moved once); only the lighting (a few hundred bytes) is uploaded per
+ * frame. README.md gives the ports, parameters, equations and measured cost.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/cl.h"
+#include "lightgraph/gl_pass.h"
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/probe.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/scene_gl.h"
+#include "lightgraph/sh.h"
+#include "lightgraph/shcoeffs.h"
+#include "lightgraph/transfer.h"
+
+#include "prt.cl.h"
+#include "prt.frag.h"
+#include "prt.vert.h"
+#include "prt_dot.comp.h"
+#include "prt_launch.h"
+#include "prt_reflect.frag.h"
+#include "prt_reflect.vert.h"
+
+enum { PRT_GL = 0, PRT_CL, PRT_CPU };
+enum { IN_SCENE = 0, IN_LIGHTING, IN_TRANSFER, IN_REFLECT };
+enum { OUT_IMAGE = 0, OUT_VERTICES };
+
+/* The largest |angle| in degrees (rotate_deg) and |spin| in degrees per second: beyond
+ * them a value is a mistake (and float angles lose their fraction). */
+#define PRT_MAX_DEG 36000.0
+
+typedef struct prt_state {
+    int backend;
+    int64_t camera;
+    uint32_t width, height;
+    double rotate[3];  /* yaw, pitch, roll (degrees) */
+    double spin;       /* degrees of yaw per second */
+    uint32_t vertices; /* the scene's vertex count (sum over meshes), from prepare */
+    uint32_t tex_w, tex_h;
+    bool logged_bands;
+
+    /* the frame's mesh offsets (first vertex of each mesh) */
+    uint32_t *offsets;
+    uint32_t n_offsets;
+
+    /* GL */
+    lg_gl_pass *dot, *raster, *refl;
+    uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_defines) */
+    int g_tbo;
+    GLuint tbo_tex, tbo_buf; /* the R32F buffer texture over the transfer, and its buffer */
+    lg_gl_uniform d_vertices, d_width, d_texels;
+    lg_gl_binding d_transfer, d_lighting, d_out;
+    lg_gl_uniform r_view_proj, r_offset;
+    lg_gl_binding r_vertices, f_reflect;
+    GLuint light_buf;
+
+    /* CL */
+    cl_kernel kernel;
+    uint32_t k_n, k_stride; /* the kernel's build (prt_cl_options) */
+    cl_mem cl_light, cl_record;
+    size_t cl_light_size, cl_record_size;
+} prt_state;
+
+/* ---- create / prepare ---------------------------------------------------------------- */
+
+static int prt_create(lg_node *n)
+{
+    prt_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    st->backend = lg_param_enum(n, "backend");
+    st->camera = lg_param_int(n, "camera");
+    const lg_value *r = lg_param(n, "rotate_deg");
+    static const char *const names[3] = { "yaw", "pitch", "roll" };
+    for (int i = 0; i < 3; i++) {
+        double v = r ? r->v[i] : 0.0;
+        if (!isfinite(v) || fabs(v) > PRT_MAX_DEG)
+            return lg_error(n, "rotate_deg[%d] (%s) = %g: give a finite angle within +-%g "
+                               "degrees",
+                            i, names[i], v, PRT_MAX_DEG);
+        st->rotate[i] = v;
+    }
+    st->spin = lg_param_float(n, "spin_deg_per_s");
+    if (!isfinite(st->spin) || fabs(st->spin) > PRT_MAX_DEG)
+        return lg_error(n, "spin_deg_per_s = %g: give a finite rate within +-%g degrees per "
+                           "second",
+                        st->spin, PRT_MAX_DEG);
+    return 0;
+}
+
+static int prt_prepare(lg_node *n)
+{
+    prt_state *st = n->user;
+    lg_output_size(n, "width", "height", &st->width, &st->height);
+    if (st->width == 0 || st->height == 0)
+        return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
+                        st->height);
+    lg_resource_info info;
+    const lg_resource *in = lg_input(n, IN_SCENE);
+    if (!in || lg_describe(in, &info, n) != 0 || info.kind != LG_KIND_SCENE)
+        return lg_error(n, "input 'scene' is not a scene");
+    /* the vertex count sizes the `vertices` image; the scene's payload exists from its
+     * producer's prepare on */
+    const lg_scene *s = lg_scene_get(n, in);
+    if (!s)
+        return LG_ERR_INVALID;
+    uint64_t total = 0;
+    for (uint32_t m = 0; m < s->n_meshes; m++)
+        total += s->meshes[m].n_vertices;
+    if (total > UINT32_MAX / 2)
+        return lg_error(n, "input 'scene' has %llu vertices: more than the per-vertex image "
+                           "can number",
+                        (unsigned long long)total);
+    st->vertices = (uint32_t)total;
+    const lg_resource *sh = lg_input(n, IN_LIGHTING);
+    if (!sh || lg_describe(sh, &info, n) != 0 || info.kind != LG_KIND_SH)
+        return lg_error(n, "input 'lighting' is not SH coefficients (LG_KIND_SH: sh_project's "
+                           "output)");
+    const lg_resource *tr = lg_input(n, IN_TRANSFER);
+    if (!tr || lg_describe(tr, &info, n) != 0 || info.kind != LG_KIND_TRANSFER)
+        return lg_error(n, "input 'transfer' is not per-vertex transfer (LG_KIND_TRANSFER: "
+                           "prt_bake's output)");
+    const lg_resource *refl = lg_input(n, IN_REFLECT);
+    if (refl) {
+        if (lg_describe(refl, &info, n) != 0 || info.kind != LG_KIND_IMAGE)
+            return lg_error(n, "input 'reflect' is not an image");
+        if (!info.neutral && (info.image.format != LG_FORMAT_RGBA32F ||
+                              (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
+            return lg_error(n, "input 'reflect' must be a 2D rgba32f image; convert it first");
+        if (!info.neutral &&
+            (info.image.width != st->width || info.image.height != st->height))
+            return lg_error(n, "input 'reflect' is %ux%u but the output is %ux%u: give the "
+                               "node width and height of the reflect image (or render both "
+                               "at the same size)",
+                            info.image.width, info.image.height, st->width, st->height);
+    }
+    lg_image_desc d = { .width = st->width, .height = st->height,
+                        .format = LG_FORMAT_RGBA32F, .flags = LG_IMAGE_DEPTH };
+    int rc = lg_declare_image(n, OUT_IMAGE, &d);
+    if (rc)
+        return rc;
+    lg_vertex_image_size(st->vertices, &st->tex_w, &st->tex_h);
+    lg_image_desc vd = { .width = st->tex_w, .height = st->tex_h,
+                         .format = LG_FORMAT_RGBA32F };
+    if ((rc = lg_declare_image(n, OUT_VERTICES, &vd)))
+        return rc;
+    if (st->spin != 0.0)
+        lg_set_per_frame(n, true);
+    return lg_set_device(n, st->backend == PRT_GL ? LG_DEVICE_GL
+                            : st->backend == PRT_CL ? LG_DEVICE_CL
+                                                    : LG_DEVICE_CPU);
+}
+
+/* ---- the frame's inputs ----------------------------------------------------------------- */
+
+typedef struct prt_frame {
+    const lg_scene *s;
+    const lg_resource *scene_res;
+    lg_sh sh_view;
+    lg_transfer tr_view;
+    const lg_sh *sh;
+    const lg_transfer *tr;
+    uint32_t bands;    /* the common prefix */
+    uint32_t nc;       /* bands^2 */
+    float *lighting;   /* float[3][nc], rotated; malloc'd, freed by prt_execute */
+    const lg_resource *reflect; /* NULL, or a non-neutral image */
+} prt_frame;
+
+/* The rotation of frame `frame`: R = Ry(yaw + spin t) Rx(pitch) Rz(roll) (probe.h's
+ * convention), row-major double for lightgraph/sh.h. Rebuilt from the absolute angle
+ * every frame, never composed (sh.h, "Rotation"). Returns false for the identity. */
+static bool prt_rotation(const prt_state *st, const lg_frame *frame, double R[9])
+{
+    double yaw = st->rotate[0];
+    if (st->spin != 0.0)
+        yaw += st->spin * (frame ? frame->time : 0.0);
+    /* reduced in double so that a long run keeps its fraction of a degree */
+    yaw = fmod(yaw, 360.0);
+    if (yaw == 0.0 && st->rotate[1] == 0.0 && st->rotate[2] == 0.0)
+        return false;
+    float c[9];
+    lg_probe_rotation_from_euler((float)yaw, (float)st->rotate[1], (float)st->rotate[2], c);
+    for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 3; k++)
+            R[3 * r + k] = c[3 * k + r]; /* column-major -> row-major */
+    return true;
+}
+
+static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    f->scene_res = lg_input(n, IN_SCENE);
+    f->s = lg_scene_get(n, f->scene_res);
+    if (!f->s)
+        return LG_ERR_INVALID;
+    const lg_scene *s = f->s;
+    if (st->n_offsets < s->n_meshes + 1) {
+        uint32_t *o = realloc(st->offsets, (s->n_meshes + 1) * sizeof *o);
+        if (!o)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u meshes)", s->n_meshes);
+        st->offsets = o;
+        st->n_offsets = s->n_meshes + 1;
+    }
+    uint64_t total = 0;
+    for (uint32_t m = 0; m < s->n_meshes; m++) {
+        st->offsets[m] = (uint32_t)total;
+        total += s->meshes[m].n_vertices;
+    }
+    if (total != st->vertices)
+        return lg_error(n, "input 'scene' has %llu vertices now but %u when the node was "
+                           "prepared",
+                        (unsigned long long)total, st->vertices);
+
+    lg_resource_info info;
+    const lg_resource *lr = lg_input(n, IN_LIGHTING), *tres = lg_input(n, IN_TRANSFER);
+    f->sh = lg_sh_get(n, lr, &f->sh_view);
+    if (!f->sh) {
+        if (lr && lg_describe(lr, &info, n) == 0 && info.neutral)
+            return lg_error(n, "input 'lighting' is empty (its producer was gated)");
+        return LG_ERR_INVALID;
+    }
+    f->tr = lg_transfer_get(n, tres, &f->tr_view);
+    if (!f->tr) {
+        if (tres && lg_describe(tres, &info, n) == 0 && info.neutral)
+            return lg_error(n, "input 'transfer' is empty (its producer was gated)");
+        return LG_ERR_INVALID;
+    }
+    if (f->tr->info.vertices != st->vertices)
+        return lg_error(n, "input 'transfer' has %u vertices but the scene has %u (%u meshes): "
+                           "the transfer was baked for another scene",
+                        f->tr->info.vertices, st->vertices, s->n_meshes);
+    uint32_t lb = f->sh->info.bands, tb = f->tr->info.bands;
+    f->bands = lb < tb ? lb : tb;
+    f->nc = f->bands * f->bands;
+    if (lb != tb && !st->logged_bands) {
+        st->logged_bands = true;
+        lg_log(n, LG_LOG_DEBUG,
+               "lighting has %u bands, transfer %u: using the first %u (SH is hierarchical: "
+               "the common prefix is the exact truncation)",
+               lb, tb, f->bands);
+    }
+
+    /* the lighting truncated to the common prefix, then rotated (the rotation is
+     * block-diagonal by band, so truncating first is exact) */
+    lg_cpu_view cv;
+    int rc = lg_map_cpu(n, f->sh->coeffs, LG_READ, &cv);
+    if (rc)
+        return rc;
+    const float *src = cv.pixels;
+    f->lighting = malloc((size_t)3 * f->nc * sizeof(float));
+    if (!f->lighting)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u coefficients)", f->nc);
+    for (int c = 0; c < 3; c++)
+        memcpy(f->lighting + (size_t)c * f->nc, src + (size_t)c * f->sh->n_coeffs,
+               f->nc * sizeof(float));
+    double R[9];
+    if (prt_rotation(st, frame, R)) {
+        double *mats = malloc(lg_sh_rotation_size(f->bands) * sizeof(double));
+        if (!mats)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (SH rotation, %u bands)",
+                                 f->bands);
+        if (lg_sh_rotation_build(f->bands, R, mats) != 0) {
+            free(mats);
+            return lg_error(n, "the rotation of rotate_deg = [%g, %g, %g] (spin %g deg/s) is "
+                               "not finite",
+                            st->rotate[0], st->rotate[1], st->rotate[2], st->spin);
+        }
+        lg_sh_rotate_planes_f(f->bands, mats, 3, f->lighting, f->lighting);
+        free(mats);
+    }
+    for (size_t i = 0; i < (size_t)3 * f->nc; i++)
+        if (!isfinite(f->lighting[i]))
+            return lg_error(n, "input 'lighting': coefficient %zu of channel %zu is %g (not "
+                               "finite)",
+                            i % f->nc, i / f->nc, (double)f->lighting[i]);
+    const lg_resource *b = lg_input(n, IN_REFLECT);
+    if (b && lg_describe(b, &info, n) == 0 && !info.neutral)
+        f->reflect = b;
+    return 0;
+}
+
+/* ---- the dot products ------------------------------------------------------------------ */
+
+typedef struct prt_pool_ctx {
+    prt_cpu_job job;
+} prt_pool_ctx;
+
+static void prt_cpu_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    const prt_pool_ctx *c = ctx;
+    lg_prt_cpu_range(&c->job, begin, end);
+}
+
+static int prt_dot_cpu(lg_node *n, prt_state *st, const prt_frame *f)
+{
+    lg_cpu_view tv, ov;
+    int rc = lg_map_cpu(n, f->tr->transfer, LG_READ, &tv);
+    if (!rc)
+        rc = lg_map_cpu(n, lg_output(n, OUT_VERTICES), LG_WRITE, &ov);
+    if (rc)
+        return rc;
+    prt_pool_ctx c = { .job = { .transfer = tv.pixels, .lighting = f->lighting, .n = f->nc,
+                                .stride = f->tr->n_coeffs, .vertices = st->vertices,
+                                .out = ov.pixels } };
+    return lg_parallel_for(n, (size_t)st->tex_w * st->tex_h, PRT_CPU_GRAIN, prt_cpu_chunk, &c);
+}
+
+/* (Re)makes CL buffer *m for at least `size` bytes and writes `data` into it (blocking:
+ * the data is the frame's). */
+static int prt_cl_upload(lg_node *n, cl_mem *m, size_t *have, const void *data, size_t size,
+                         const char *what)
+{
+    cl_int e;
+    if (*have < size) {
+        if (*m)
+            clReleaseMemObject(*m);
+        *m = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_ONLY, size, NULL, &e);
+        if (e) {
+            *m = NULL;
+            *have = 0;
+            return lg_cl_fail(n, e, what);
+        }
+        *have = size;
+    }
+    if ((e = clEnqueueWriteBuffer(lg_cl_queue(n), *m, CL_TRUE, 0, size, data, 0, NULL, NULL)))
+        return lg_cl_fail(n, e, what);
+    return 0;
+}
+
+static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
+{
+    cl_int e;
+    cl_command_queue q = lg_cl_queue(n);
+    if (!q)
+        return LG_ERR_DEVICE;
+    uint32_t stride = f->tr->n_coeffs;
+    if (!st->kernel || st->k_n != f->nc || st->k_stride != stride) {
+        /* one program per coefficient count: the kernel's loops unroll (prt.cl) */
+        char opts[160];
+        prt_cl_options(opts, sizeof opts, f->nc, stride);
+        cl_program p = lg_cl_program(n, lg_src_prt_cl_file, lg_src_prt_cl, opts);
+        if (!p)
+            return LG_ERR_DEVICE;
+        if (st->kernel)
+            clReleaseKernel(st->kernel);
+        st->kernel = clCreateKernel(p, "prt_dot", &e);
+        if (e) {
+            st->kernel = NULL;
+            return lg_cl_fail(n, e, "clCreateKernel(prt_dot)");
+        }
+        st->k_n = f->nc;
+        st->k_stride = stride;
+    }
+    size_t pad = PRT_RECORD_PAD(stride);
+    float *rec = malloc(3 * pad * sizeof(float));
+    if (!rec)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu floats)", 3 * pad);
+    prt_record_lighting(f->lighting, f->nc, stride, rec);
+    int rc = prt_cl_upload(n, &st->cl_record, &st->cl_record_size, rec,
+                           3 * pad * sizeof(float), "clCreateBuffer(record lighting)");
+    free(rec);
+    if (!rc)
+        rc = prt_cl_upload(n, &st->cl_light, &st->cl_light_size, f->lighting,
+                           (size_t)3 * f->nc * sizeof(float), "clCreateBuffer(lighting)");
+    void *tm = NULL, *om = NULL, *dummy = NULL;
+    if (!rc)
+        rc = lg_map_cl(n, f->tr->transfer, LG_READ, &tm, &dummy);
+    if (!rc)
+        rc = lg_map_cl(n, lg_output(n, OUT_VERTICES), LG_WRITE, &om, &dummy);
+    if (rc)
+        return rc;
+    cl_mem mt = tm, mo = om;
+    cl_uint verts = st->vertices, texels = st->tex_w * st->tex_h;
+    cl_kernel k = st->kernel;
+    e = 0;
+    e |= clSetKernelArg(k, 0, sizeof mt, &mt);
+    e |= clSetKernelArg(k, 1, sizeof st->cl_record, &st->cl_record);
+    e |= clSetKernelArg(k, 2, sizeof st->cl_light, &st->cl_light);
+    e |= clSetKernelArg(k, 3, sizeof verts, &verts);
+    e |= clSetKernelArg(k, 4, sizeof texels, &texels);
+    e |= clSetKernelArg(k, 5, sizeof mo, &mo);
+    if (e)
+        return lg_cl_fail(n, e, "clSetKernelArg(prt_dot)");
+    size_t global = prt_cl_global(texels), local = PRT_CL_LOCAL;
+    cl_event ev;
+    if ((e = clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, &ev)))
+        return lg_cl_fail(n, e, "clEnqueueNDRangeKernel(prt_dot)");
+    lg_cl_profile(n, ev);
+    return 0;
+}
+
+static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
+{
+    const lg_gl *gl = lg_gl_get(n);
+    if (!gl)
+        return LG_ERR_DEVICE;
+    int rc;
+    GLint max_tbo = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    int tbo = (double)st->vertices * 3 * f->tr->n_coeffs <= (double)max_tbo;
+    if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs || st->g_tbo != tbo))
+        lg_gl_pass_destroy(&st->dot);
+    if (!st->dot) {
+        /* one program per coefficient count: its loops unroll (prt_dot.comp) */
+        static const lg_gl_shader_src src[1] = {
+            { GL_COMPUTE_SHADER, lg_src_prt_dot_comp_file, lg_src_prt_dot_comp },
+        };
+        char defines[96];
+        prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, tbo);
+        lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = src, .n_stages = 1,
+                              .defines = defines };
+        if ((rc = lg_gl_pass_create(n, &d, &st->dot)))
+            return rc;
+        st->g_n = f->nc;
+        st->g_stride = f->tr->n_coeffs;
+        st->g_tbo = tbo;
+        st->d_vertices = lg_gl_pass_uniform(st->dot, "u_vertices");
+        st->d_width = lg_gl_pass_uniform(st->dot, "u_width");
+        st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
+        st->d_transfer = tbo ? lg_gl_pass_texture(st->dot, "u_transfer")
+                             : lg_gl_pass_storage(st->dot, "Transfer");
+        st->d_lighting = lg_gl_pass_storage(st->dot, "Lighting");
+        st->d_out = lg_gl_pass_image(st->dot, "u_out");
+    }
+    if (!st->light_buf)
+        gl->CreateBuffers(1, &st->light_buf);
+    gl->NamedBufferData(st->light_buf, (GLsizeiptr)(3 * (size_t)f->nc * sizeof(float)),
+                        f->lighting, GL_DYNAMIC_DRAW);
+    GLuint tbuf = 0, otex = 0, dummy = 0;
+    if ((rc = lg_map_gl(n, f->tr->transfer, LG_READ, &tbuf, &dummy)))
+        return rc;
+    if ((rc = lg_map_gl(n, lg_output(n, OUT_VERTICES), LG_WRITE, &otex, &dummy)))
+        return rc;
+    if ((rc = lg_gl_pass_begin(st->dot, NULL)))
+        return rc;
+    uint32_t texels = st->tex_w * st->tex_h, gx, gy;
+    lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
+    lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
+    lg_gl_set_uint(st->dot, st->d_texels, texels);
+    if (tbo) {
+        /* the buffer texture is remade when the host's buffer object changes */
+        if (!st->tbo_tex || st->tbo_buf != tbuf) {
+            if (st->tbo_tex)
+                gl->DeleteTextures(1, &st->tbo_tex);
+            gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &st->tbo_tex);
+            gl->TextureBuffer(st->tbo_tex, GL_R32F, tbuf);
+            st->tbo_buf = tbuf;
+        }
+        lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
+    } else {
+        lg_gl_pass_bind_buffer(st->dot, st->d_transfer, tbuf);
+    }
+    lg_gl_pass_bind_buffer(st->dot, st->d_lighting, st->light_buf);
+    lg_gl_pass_bind_image(st->dot, st->d_out, otex, GL_WRITE_ONLY, GL_RGBA32F);
+    prt_gl_groups(texels, &gx, &gy);
+    return lg_gl_pass_end(st->dot, lg_gl_pass_dispatch_groups(st->dot, gx, gy, 1));
+}
+
+/* ---- the raster pass ------------------------------------------------------------------- */
+
+typedef struct prt_draw_ctx {
+    prt_state *st;
+} prt_draw_ctx;
+
+static int prt_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
+{
+    (void)n;
+    (void)normals;
+    prt_state *st = ((prt_draw_ctx *)user)->st;
+    lg_gl_set_int(st->raster, st->r_offset, (int32_t)st->offsets[mi]);
+    return 0;
+}
+
+static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
+{
+    const lg_gl *gl = lg_gl_get(n);
+    if (!gl)
+        return LG_ERR_DEVICE;
+    int rc;
+    if (!st->raster) {
+        static const lg_gl_shader_src src[2] = {
+            { GL_VERTEX_SHADER, lg_src_prt_vert_file, lg_src_prt_vert },
+            { GL_FRAGMENT_SHADER, lg_src_prt_frag_file, lg_src_prt_frag },
+        };
+        lg_gl_pass_desc d = { .name = "prt (raster)", .stages = src, .n_stages = 2,
+                              .colors = { GL_RGBA32F }, .depth = true, .depth_test = true,
+                              .depth_write = true, .cull = LG_GL_CULL_BACK,
+                              .scene = LG_GL_SCENE_POSITIONS };
+        if ((rc = lg_gl_pass_create(n, &d, &st->raster)))
+            return rc;
+        st->r_view_proj = lg_gl_pass_uniform(st->raster, "u_view_proj");
+        st->r_offset = lg_gl_pass_uniform(st->raster, "u_offset");
+        st->r_vertices = lg_gl_pass_texture(st->raster, "u_vertices");
+    }
+    lg_scene_view v;
+    if ((rc = lg_scene_view_make(n, f->s, st->camera, st->width, st->height, &v)))
+        return rc;
+    GLuint vtex = 0, dummy = 0;
+    /* the values the backend just wrote (moved to GL by the host for cl and cpu) */
+    if ((rc = lg_map_gl(n, lg_output(n, OUT_VERTICES), LG_READ, &vtex, &dummy)))
+        return rc;
+    lg_gl_target t;
+    if ((rc = lg_gl_target_output(n, "out", &t)))
+        return rc;
+    if ((rc = lg_gl_pass_begin(st->raster, &t)))
+        return rc;
+    static const float zero[4] = { 0, 0, 0, 0 };
+    lg_gl_pass_clear_color(st->raster, 0, zero);
+    lg_gl_pass_clear_depth(st->raster, 1.0f);
+    if (f->s->features.triangles > 0) {
+        lg_gl_set_mat4(st->raster, st->r_view_proj, v.view_proj);
+        lg_gl_pass_bind_texture(st->raster, st->r_vertices, vtex);
+        prt_draw_ctx ctx = { st };
+        lg_gl_scene_draw d = { .on_mesh = prt_on_mesh, .user = &ctx };
+        rc = lg_gl_pass_draw_scene(st->raster, f->scene_res, &d);
+    }
+    if ((rc = lg_gl_pass_end(st->raster, rc)))
+        return rc;
+    if (!f->reflect)
+        return 0;
+
+    /* reflect: its RGB added texel for texel (alpha and depth stay the raster's) */
+    if (!st->refl) {
+        static const lg_gl_shader_src src[2] = {
+            { GL_VERTEX_SHADER, lg_src_prt_reflect_vert_file, lg_src_prt_reflect_vert },
+            { GL_FRAGMENT_SHADER, lg_src_prt_reflect_frag_file, lg_src_prt_reflect_frag },
+        };
+        lg_gl_pass_desc d = { .name = "prt (reflect)", .stages = src, .n_stages = 2,
+                              .colors = { GL_RGBA32F }, .depth = true,
+                              .blend = LG_GL_BLEND_ADD };
+        if ((rc = lg_gl_pass_create(n, &d, &st->refl)))
+            return rc;
+        st->f_reflect = lg_gl_pass_texture(st->refl, "u_reflect");
+    }
+    GLuint rtex = 0;
+    if ((rc = lg_map_gl(n, f->reflect, LG_READ, &rtex, &dummy)))
+        return rc;
+    if ((rc = lg_gl_pass_begin(st->refl, &t)))
+        return rc;
+    lg_gl_pass_bind_texture(st->refl, st->f_reflect, rtex);
+    return lg_gl_pass_end(st->refl, lg_gl_pass_draw(st->refl, GL_TRIANGLES, 3));
+}
+
+/* ---- execute / destroy --------------------------------------------------------------- */
+
+static int prt_execute(lg_node *n, const lg_frame *frame)
+{
+    prt_state *st = n->user;
+    prt_frame f;
+    int rc = prt_frame_in(n, st, frame, &f);
+    if (!rc) {
+        if (st->backend == PRT_GL)
+            rc = prt_dot_gl(n, st, &f);
+        else if (st->backend == PRT_CL)
+            rc = prt_dot_cl(n, st, &f);
+        else
+            rc = prt_dot_cpu(n, st, &f);
+    }
+    if (!rc)
+        rc = prt_raster(n, st, &f);
+    if (!rc)
+        lg_log(n, LG_LOG_INFO, "%u vertices, %u bands (lighting %u, transfer %u), %s%s",
+               st->vertices, f.bands, f.sh->info.bands, f.tr->info.bands,
+               st->backend == PRT_GL ? "gl" : st->backend == PRT_CL ? "cl" : "cpu",
+               f.reflect ? ", reflect added" : "");
+    free(f.lighting);
+    return rc;
+}
+
+static void prt_destroy(lg_node *n)
+{
+    prt_state *st = n->user;
+    if (!st)
+        return;
+    lg_gl_pass_destroy(&st->dot);
+    lg_gl_pass_destroy(&st->raster);
+    lg_gl_pass_destroy(&st->refl);
+    if (st->light_buf || st->tbo_tex) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (gl && st->light_buf)
+            gl->DeleteBuffers(1, &st->light_buf);
+        if (gl && st->tbo_tex)
+            gl->DeleteTextures(1, &st->tbo_tex);
+    }
+    if (st->kernel)
+        clReleaseKernel(st->kernel);
+    if (st->cl_light)
+        clReleaseMemObject(st->cl_light);
+    if (st->cl_record)
+        clReleaseMemObject(st->cl_record);
+    free(st->offsets);
+    free(st);
+    n->user = NULL;
+}
+
+/* ---- the descriptor -------------------------------------------------------------------- */
+
+static const char *const prt_backends[] = { "gl", "cl", "cpu", NULL };
+
+static const lg_param_desc prt_params[] = {
+    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = PRT_GL, .enum_values = prt_backends,
+      .doc = "where the dot products run: gl (compute shader), cl (kernel) or cpu (thread "
+             "pool); the scene is rasterised on GL in every case" },
+    { .key = "rotate_deg", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -PRT_MAX_DEG,
+      .max = PRT_MAX_DEG,
+      .doc = "[yaw, pitch, roll], degrees: the lighting turned by R = Ry(yaw) Rx(pitch) "
+             "Rz(roll), the probe node's rotate_deg convention (a light at v moves to R v)" },
+    { .key = "spin_deg_per_s", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -PRT_MAX_DEG,
+      .max = PRT_MAX_DEG,
+      .doc = "degrees of yaw per second added to rotate_deg's yaw (frame time x rate); "
+             "non-zero makes the node run every frame" },
+    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "output width in pixels; 0 = the render size (--size)",
+      .role = LG_ROLE_IMAGE_WIDTH },
+    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "output height in pixels; 0 = the render size (--size)",
+      .role = LG_ROLE_IMAGE_HEIGHT },
+    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+      .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },
+};
+
+static const lg_port_desc prt_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the scene the transfer was baked for (its camera and geometry)" },
+    { .name = "lighting", .kind = LG_KIND_SH, .doc = "SH lighting (sh_project)" },
+    { .name = "transfer", .kind = LG_KIND_TRANSFER,
+      .doc = "per-vertex transfer vectors of the scene (prt_bake)" },
+    { .name = "reflect", .kind = LG_KIND_IMAGE, .optional = true,
+      .doc = "rgba32f image of the output's size (reflect's output, say): its RGB is added "
+             "(the specular part, seed 0 §5.7)" },
+};
+static const lg_port_desc prt_outputs[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE,
+      .doc = "linear HDR radiance, rgba32f, alpha 1 where geometry covers the pixel and 0 "
+             "elsewhere (RGB 0 there, plus reflect), with a depth plane (GL window depth, 1 "
+             "= nothing)" },
+    { .name = "vertices", .kind = LG_KIND_IMAGE,
+      .doc = "the per-vertex radiance, rgba32f, LG_VERTEX_IMAGE_WIDTH wide: vertex i at (i "
+             "mod W, i / W), alpha 1, padding 0 (lightgraph/transfer.h)" },
+};
+
+static const lg_node_type prt_types[] = { {
+    .struct_size = sizeof(lg_node_type),
+    .name = "prt",
+    .doc = "Diffuse PRT: per-vertex radiance = lighting . transfer per channel (gl, cl or "
+           "cpu), the lighting rotated at run time, rasterised with the scene's camera",
+    LG_PARAMS(prt_params),
+    LG_INPUTS(prt_inputs),
+    LG_OUTPUTS(prt_outputs),
+    .needs = LG_NEEDS_GEOMETRY,
+    .create = prt_create,
+    .prepare = prt_prepare,
+    .execute = prt_execute,
+    .destroy = prt_destroy,
+} };
+
+LG_PLUGIN_DEFINE("prt", "1.0.0",
+                 "Precomputed radiance transfer at run time: per-vertex SH dot products on "
+                 "gl, cl and cpu, rotation, rasterised",
+                 prt_types)

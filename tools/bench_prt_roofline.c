@@ -1,0 +1,557 @@
+/*
+ * lg_bench_prt_roofline: how close the prt node's dot products come to the memory
+ * bandwidth of this machine, measured in one run (issue 10, item 5; plugins/prt/README.md
+ * has the figures).
+ *
+ *   lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N] [--backends cpu,gl,cl]
+ *                         [--triad-mib M] [--json]
+ *
+ * Defaults: 1,000,000 vertices, 5 bands (25 coefficients), RGB, a random transfer
+ * (prt_test_value-like hash, fixed seed), 9 repeats, a 256 MiB triad.
+ *
+ *   triad   STREAM's a[i] = b[i] + s c[i] over three arrays of doubles, M MiB each, through
+ *           the host's pool (first-touched by it), 24 bytes per element, best of N (as
+ *           STREAM reports; tools/bench_roofline.c's)
+ *   rows    per backend: bytes = transfer read (V x 3 x n^2 x 4) + lighting read
+ *           (3 x n^2 x 4) + the vertices image written (texels x 16); the time, median and
+ *           best of N; GB/s and the fraction of the triad (median)
+ *
+ * How each backend is timed, with the plugin's own code and launch geometry
+ * (plugins/prt/prt_launch.h, prt_cpu.c, shaders/prt/prt.cl, prt_dot.comp):
+ *   cpu  wall time of lg_prt_cpu_range over the pool (chunks of PRT_CPU_GRAIN);
+ *   cl   the kernel's CL profiling event (start to end);
+ *   gl   wall time around the dispatch followed by glFinish (llvmpipe's timer queries do
+ *        not measure compute dispatches).
+ * The transfer stays on the device; uploads are not timed (the node maps it once).
+ * Prints a table on stderr and one JSON object on stdout. Exit status 0, or 1 with a
+ * message. A backend whose device cannot be made is reported ("skipped": reason).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include "device.h"
+#include "pool.h"
+#include "util.h"
+
+#include "lightgraph/transfer.h"
+
+#include "prt.cl.h"
+#include "prt_dot.comp.h"
+#include "prt_launch.h"
+
+static lg_pool *pool;
+
+typedef struct bench_data {
+    uint32_t vertices, n;  /* n = coefficients per channel */
+    uint32_t texels, tex_w;
+    float *transfer, *lighting;
+    double bytes;
+} bench_data;
+
+typedef struct bench_row {
+    const char *backend;
+    const char *skipped; /* NULL, or why */
+    double ms, best_ms;
+} bench_row;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static void summarise(double *v, int n, bench_row *r)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    r->ms = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    r->best_ms = v[0];
+}
+
+/* ---- triad (as tools/bench_roofline.c) ------------------------------------------------- */
+
+typedef struct triad_ctx {
+    double *a, *b, *c;
+    double s;
+} triad_ctx;
+
+static void triad_init(void *arg, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    triad_ctx *t = arg;
+    for (size_t i = begin; i < end; i++) {
+        t->a[i] = 0.0;
+        t->b[i] = 1.0;
+        t->c[i] = 2.0;
+    }
+}
+
+static void triad_run(void *arg, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    triad_ctx *t = arg;
+    double *restrict a = t->a;
+    const double *restrict b = t->b, *restrict c = t->c;
+    const double s = t->s;
+    for (size_t i = begin; i < end; i++)
+        a[i] = b[i] + s * c[i];
+}
+
+static int triad(size_t mib, int repeat, double *gbs, double *ms_best)
+{
+    size_t n = mib * 1024 * 1024 / sizeof(double);
+    triad_ctx t = { malloc(n * 8), malloc(n * 8), malloc(n * 8), 3.0 };
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    if (!t.a || !t.b || !t.c || !ms) {
+        fprintf(stderr, "lg_bench_prt_roofline: cannot allocate 3 x %zu MiB for the triad\n",
+                mib);
+        return 1;
+    }
+    const size_t grain = 1u << 16;
+    lg_pool_run(pool, n, grain, triad_init, &t);
+    lg_pool_run(pool, n, grain, triad_run, &t);
+    for (int r = 0; r < repeat; r++) {
+        double t0 = lg_now();
+        lg_pool_run(pool, n, grain, triad_run, &t);
+        ms[r] = (lg_now() - t0) * 1e3;
+    }
+    qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
+    *ms_best = ms[0];
+    *gbs = 24.0 * (double)n / (*ms_best * 1e-3) / 1e9;
+    if (t.a[n / 2] != 7.0)
+        fprintf(stderr, "lg_bench_prt_roofline: triad computed %g\n", t.a[n / 2]);
+    free(ms);
+    free(t.a);
+    free(t.b);
+    free(t.c);
+    return 0;
+}
+
+/* ---- the data ------------------------------------------------------------------------------ */
+
+static float hash_value(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return (float)((double)(x >> 40) / (double)(1u << 23) - 1.0);
+}
+
+typedef struct fill_ctx {
+    float *t;
+} fill_ctx;
+
+static void fill_run(void *arg, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    fill_ctx *f = arg;
+    for (size_t i = begin; i < end; i++)
+        f->t[i] = hash_value(i);
+}
+
+/* The reference value of vertex v, channel c (double), for the spot checks. */
+static double reference(const bench_data *d, uint32_t v, uint32_t c)
+{
+    double s = 0;
+    for (uint32_t i = 0; i < d->n; i++)
+        s += (double)d->lighting[c * d->n + i] *
+             (double)d->transfer[((size_t)v * 3 + c) * d->n + i];
+    return s;
+}
+
+/* Checks a few vertices and a padding texel of `out` (float4 per texel). */
+static const char *verify(const bench_data *d, const float *out)
+{
+    static char why[256];
+    uint32_t probe[4] = { 0, d->vertices / 3, d->vertices / 2 + 7, d->vertices - 1 };
+    for (int k = 0; k < 4; k++)
+        for (uint32_t c = 0; c < 3; c++) {
+            double want = reference(d, probe[k], c), got = out[4 * (size_t)probe[k] + c];
+            if (!(fabs(got - want) <= 1e-4 * (1.0 + fabs(want)))) {
+                snprintf(why, sizeof why, "wrong result: vertex %u channel %u is %g, not %g",
+                         probe[k], c, got, want);
+                return why;
+            }
+        }
+    if (d->texels > d->vertices && out[4 * (size_t)d->vertices + 3] != 0.0f) {
+        snprintf(why, sizeof why, "the padding texel is not 0");
+        return why;
+    }
+    return NULL;
+}
+
+/* ---- cpu ------------------------------------------------------------------------------------ */
+
+static void cpu_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    lg_prt_cpu_range(ctx, begin, end);
+}
+
+static void bench_cpu(const bench_data *d, int repeat, bench_row *row)
+{
+    float *out = malloc((size_t)d->texels * 16);
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    row->backend = "cpu";
+    if (!out || !ms) {
+        row->skipped = "out of memory";
+        free(out);
+        free(ms);
+        return;
+    }
+    prt_cpu_job job = { .transfer = d->transfer, .lighting = d->lighting, .n = d->n,
+                        .stride = d->n, .vertices = d->vertices, .out = out };
+    lg_pool_run(pool, d->texels, PRT_CPU_GRAIN, cpu_chunk, &job); /* first touch */
+    for (int r = 0; r < repeat; r++) {
+        double t0 = lg_now();
+        lg_pool_run(pool, d->texels, PRT_CPU_GRAIN, cpu_chunk, &job);
+        ms[r] = (lg_now() - t0) * 1e3;
+    }
+    row->skipped = verify(d, out);
+    summarise(ms, repeat, row);
+    free(ms);
+    free(out);
+}
+
+/* ---- cl --------------------------------------------------------------------------------------- */
+
+static double ev_ms(cl_event e)
+{
+    cl_ulong a = 0, b = 0;
+    clWaitForEvents(1, &e);
+    clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof a, &a, NULL);
+    clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof b, &b, NULL);
+    clReleaseEvent(e);
+    return (double)(b - a) * 1e-6;
+}
+
+static char cl_why[1024];
+
+static void bench_cl(const bench_data *d, int repeat, bench_row *row)
+{
+    row->backend = "cl";
+    lg_cl_dev *dev = NULL;
+    cl_kernel k = NULL;
+    cl_mem mt = NULL, ml = NULL, mr = NULL, mo = NULL;
+    float rec[3 * PRT_RECORD_PAD(16 * 16)];
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    float *out = malloc((size_t)d->texels * 16);
+    cl_int e = 0;
+    if (!ms || !out) {
+        row->skipped = "out of memory";
+        goto done;
+    }
+    if (lg_cl_device_create(&dev, cl_why, sizeof cl_why)) {
+        row->skipped = cl_why;
+        goto done;
+    }
+    cl_context ctx = lg_cl_device_context(dev);
+    cl_command_queue q = lg_cl_device_queue(dev);
+    char *log = NULL, opts[160];
+    prt_cl_options(opts, sizeof opts, d->n, d->n);
+    cl_program prog = lg_cl_device_program(dev, lg_src_prt_cl_file, lg_src_prt_cl, opts, &log);
+    if (!prog) {
+        snprintf(cl_why, sizeof cl_why, "%s", log ? log : "build failed");
+        free(log);
+        row->skipped = cl_why;
+        goto done;
+    }
+    free(log);
+    k = clCreateKernel(prog, "prt_dot", &e);
+    size_t tbytes = (size_t)d->vertices * 3 * d->n * sizeof(float);
+    if (!e)
+        mt = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, tbytes, d->transfer, &e);
+    if (!e)
+        ml = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            (size_t)3 * d->n * sizeof(float), d->lighting, &e);
+    prt_record_lighting(d->lighting, d->n, d->n, rec);
+    if (!e)
+        mr = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                            3 * PRT_RECORD_PAD(d->n) * sizeof(float), rec, &e);
+    if (!e)
+        mo = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, (size_t)d->texels * 16, NULL, &e);
+    cl_uint verts = d->vertices, texels = d->texels;
+    if (!e) { /* as prt_dot_cl sets them */
+        e |= clSetKernelArg(k, 0, sizeof mt, &mt);
+        e |= clSetKernelArg(k, 1, sizeof mr, &mr);
+        e |= clSetKernelArg(k, 2, sizeof ml, &ml);
+        e |= clSetKernelArg(k, 3, sizeof verts, &verts);
+        e |= clSetKernelArg(k, 4, sizeof texels, &texels);
+        e |= clSetKernelArg(k, 5, sizeof mo, &mo);
+    }
+    size_t global = prt_cl_global(texels), local = PRT_CL_LOCAL;
+    for (int r = -1; r < repeat && !e; r++) { /* r = -1: warm-up (PoCL compiles then) */
+        cl_event ev;
+        e = clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, &ev);
+        if (!e)
+            e = clFinish(q);
+        if (!e) {
+            double t = ev_ms(ev);
+            if (r >= 0)
+                ms[r] = t;
+        }
+    }
+    if (!e)
+        e = clEnqueueReadBuffer(q, mo, CL_TRUE, 0, (size_t)d->texels * 16, out, 0, NULL, NULL);
+    if (e) {
+        snprintf(cl_why, sizeof cl_why, "OpenCL error %d", e);
+        row->skipped = cl_why;
+        goto done;
+    }
+    row->skipped = verify(d, out);
+    summarise(ms, repeat, row);
+done:
+    if (k)
+        clReleaseKernel(k);
+    if (mt)
+        clReleaseMemObject(mt);
+    if (ml)
+        clReleaseMemObject(ml);
+    if (mr)
+        clReleaseMemObject(mr);
+    if (mo)
+        clReleaseMemObject(mo);
+    lg_cl_device_destroy(&dev);
+    free(ms);
+    free(out);
+}
+
+/* ---- gl ---------------------------------------------------------------------------------------- */
+
+static char gl_why[2048];
+
+/* Compiles the compute shader with `defines` after its #version line (as lg_gl_program). */
+static GLuint gl_program(const GladGLContext *gl, const char *src, const char *defines)
+{
+    const char *nl = strchr(src, '\n');
+    if (!nl) {
+        snprintf(gl_why, sizeof gl_why, "shader without a #version line");
+        return 0;
+    }
+    const char *parts[3] = { src, defines, nl + 1 };
+    GLint lens[3] = { (GLint)(nl + 1 - src), (GLint)strlen(defines), (GLint)strlen(nl + 1) };
+    GLuint sh = gl->CreateShader(GL_COMPUTE_SHADER);
+    gl->ShaderSource(sh, 3, parts, lens);
+    gl->CompileShader(sh);
+    GLint ok = 0;
+    gl->GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        gl->GetShaderInfoLog(sh, (GLsizei)sizeof gl_why, NULL, gl_why);
+        gl->DeleteShader(sh);
+        return 0;
+    }
+    GLuint p = gl->CreateProgram();
+    gl->AttachShader(p, sh);
+    gl->LinkProgram(p);
+    gl->DeleteShader(sh);
+    gl->GetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        gl->GetProgramInfoLog(p, (GLsizei)sizeof gl_why, NULL, gl_why);
+        gl->DeleteProgram(p);
+        return 0;
+    }
+    return p;
+}
+
+static void bench_gl(const bench_data *d, int repeat, bench_row *row)
+{
+    row->backend = "gl";
+    lg_gl_device *dev = NULL;
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    float *out = malloc((size_t)d->texels * 16);
+    if (!ms || !out) {
+        row->skipped = "out of memory";
+        goto done;
+    }
+    if (lg_gl_device_create(&dev, "osmesa", gl_why, sizeof gl_why)) {
+        row->skipped = gl_why;
+        goto done;
+    }
+    const GladGLContext *gl = lg_gl_device_table(dev);
+    char defines[96];
+    GLint max_tbo = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    int tbo = (double)d->vertices * 3 * d->n <= (double)max_tbo && !getenv("LG_PRT_SSBO");
+    prt_gl_defines(defines, sizeof defines, d->n, d->n, tbo);
+    GLuint p = gl_program(gl, lg_src_prt_dot_comp, defines);
+    if (!p) {
+        row->skipped = gl_why;
+        goto done;
+    }
+    uint32_t tex_h = d->texels / d->tex_w;
+    GLuint tex, buf[2];
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &tex);
+    gl->TextureStorage2D(tex, 1, GL_RGBA32F, (GLsizei)d->tex_w, (GLsizei)tex_h);
+    gl->CreateBuffers(2, buf);
+    gl->NamedBufferStorage(buf[0], (GLsizeiptr)((size_t)d->vertices * 3 * d->n * sizeof(float)),
+                           d->transfer, 0);
+    gl->NamedBufferStorage(buf[1], (GLsizeiptr)(3 * (size_t)d->n * sizeof(float)), d->lighting,
+                           0);
+    /* as prt_dot_gl binds and dispatches them */
+    gl->UseProgram(p);
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_texels"), d->texels);
+    GLuint tb = 0;
+    if (tbo) { /* as prt_dot_gl: an R32F buffer texture over the transfer */
+        gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
+        gl->TextureBuffer(tb, GL_R32F, buf[0]);
+        gl->BindTextureUnit(0, tb);
+        gl->Uniform1i(gl->GetUniformLocation(p, "u_transfer"), 0);
+    } else {
+        gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);
+    }
+    gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buf[1]);
+    gl->BindImageTexture(0, tex, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    uint32_t gx, gy;
+    prt_gl_groups(d->texels, &gx, &gy);
+    gl->Finish();
+    for (int r = -1; r < repeat; r++) {
+        double t0 = lg_now();
+        gl->DispatchCompute(gx, gy, 1);
+        gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        gl->Finish();
+        if (r >= 0)
+            ms[r] = (lg_now() - t0) * 1e3;
+    }
+    gl->GetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)((size_t)d->texels * 16), out);
+    GLenum err = gl->GetError();
+    if (err != GL_NO_ERROR) {
+        snprintf(gl_why, sizeof gl_why, "GL error 0x%04x", err);
+        row->skipped = gl_why;
+    } else {
+        row->skipped = verify(d, out);
+        summarise(ms, repeat, row);
+    }
+    gl->UseProgram(0);
+    gl->DeleteProgram(p);
+    gl->DeleteTextures(1, &tex);
+    if (tb)
+        gl->DeleteTextures(1, &tb);
+    gl->DeleteBuffers(2, buf);
+done:
+    lg_gl_device_destroy(&dev);
+    free(ms);
+    free(out);
+}
+
+/* ---- main ------------------------------------------------------------------------------------- */
+
+static int usage(void)
+{
+    fprintf(stderr, "usage: lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N] "
+                    "[--backends cpu,gl,cl] [--triad-mib M]\n");
+    return 2;
+}
+
+int main(int argc, char **argv)
+{
+    const char *backends = "cpu,cl,gl";
+    long vertices = 1000000, bands = 5, repeat = 9, triad_mib = 256;
+    for (int i = 1; i < argc; i++) {
+        long *dst = NULL;
+        if (strcmp(argv[i], "--vertices") == 0)
+            dst = &vertices;
+        else if (strcmp(argv[i], "--bands") == 0)
+            dst = &bands;
+        else if (strcmp(argv[i], "--repeat") == 0)
+            dst = &repeat;
+        else if (strcmp(argv[i], "--triad-mib") == 0)
+            dst = &triad_mib;
+        else if (strcmp(argv[i], "--backends") == 0 && i + 1 < argc) {
+            backends = argv[++i];
+            continue;
+        } else
+            return usage();
+        if (i + 1 >= argc)
+            return usage();
+        char *end;
+        *dst = strtol(argv[++i], &end, 10);
+        if (*end)
+            return usage();
+    }
+    if (vertices < 1 || vertices > 16000000 || bands < 1 || bands > 16 || repeat < 1 ||
+        repeat > 1000 || triad_mib < 1 || triad_mib > 4096) {
+        fprintf(stderr, "lg_bench_prt_roofline: vertices 1..16e6, bands 1..16, repeat "
+                        "1..1000, triad-mib 1..4096\n");
+        return 2;
+    }
+    char *warning = NULL;
+    pool = lg_pool_new(lg_pool_configured_size(&warning), NULL);
+    if (warning) {
+        fprintf(stderr, "lg_bench_prt_roofline: %s\n", warning);
+        free(warning);
+    }
+    bench_data d = { .vertices = (uint32_t)vertices, .n = (uint32_t)(bands * bands) };
+    uint32_t th;
+    lg_vertex_image_size(d.vertices, &d.tex_w, &th);
+    d.texels = d.tex_w * th;
+    size_t nt = (size_t)d.vertices * 3 * d.n;
+    d.transfer = malloc(nt * sizeof(float));
+    d.lighting = malloc((size_t)3 * d.n * sizeof(float));
+    if (!d.transfer || !d.lighting) {
+        fprintf(stderr, "lg_bench_prt_roofline: out of memory (%zu MiB of transfer)\n",
+                nt * 4 >> 20);
+        return 1;
+    }
+    fill_ctx fc = { d.transfer };
+    lg_pool_run(pool, nt, 1u << 16, fill_run, &fc);
+    for (uint32_t i = 0; i < 3 * d.n; i++)
+        d.lighting[i] = hash_value(0xabcdef00ull + i);
+    d.bytes = (double)nt * 4 + 3.0 * d.n * 4 + (double)d.texels * 16;
+
+    double gbs, triad_ms;
+    if (triad((size_t)triad_mib, (int)repeat, &gbs, &triad_ms))
+        return 1;
+    bench_row rows[3];
+    int nr = 0;
+    memset(rows, 0, sizeof rows);
+    if (strstr(backends, "cpu"))
+        bench_cpu(&d, (int)repeat, &rows[nr++]);
+    if (strstr(backends, "cl"))
+        bench_cl(&d, (int)repeat, &rows[nr++]);
+    if (strstr(backends, "gl"))
+        bench_gl(&d, (int)repeat, &rows[nr++]);
+
+    fprintf(stderr, "prt dot products: %u vertices, %u bands (%u coefficients), RGB; %.1f MB "
+                    "per pass; %u threads\n",
+            d.vertices, (uint32_t)bands, d.n, d.bytes / 1e6, lg_pool_size(pool));
+    fprintf(stderr, "triad (%ld MiB x 3): %.2f GB/s (best of %ld)\n", triad_mib, gbs, repeat);
+    fprintf(stderr, "%-8s %10s %10s %10s %10s\n", "backend", "ms (med)", "ms (best)", "GB/s",
+            "of triad");
+    printf("{\n  \"threads\": %u, \"vertices\": %u, \"bands\": %ld, \"bytes\": %.0f,\n"
+           "  \"triad\": {\"mib_per_array\": %ld, \"ms\": %.4f, \"gbs\": %.3f},\n  \"rows\": [",
+           lg_pool_size(pool), d.vertices, bands, d.bytes, triad_mib, triad_ms, gbs);
+    int rc = 0;
+    for (int i = 0; i < nr; i++) {
+        const bench_row *r = &rows[i];
+        printf("%s\n    {\"backend\": \"%s\", ", i ? "," : "", r->backend);
+        if (r->skipped) {
+            rc = 1;
+            fprintf(stderr, "%-8s skipped: %s\n", r->backend, r->skipped);
+            printf("\"skipped\": \"");
+            for (const char *p = r->skipped; *p; p++)
+                if (*p == '"' || *p == '\\')
+                    printf("\\%c", *p);
+                else if ((unsigned char)*p >= 0x20)
+                    putchar(*p);
+            printf("\"}");
+            continue;
+        }
+        double g = d.bytes / (r->ms * 1e-3) / 1e9;
+        fprintf(stderr, "%-8s %10.3f %10.3f %10.2f %9.0f%%\n", r->backend, r->ms, r->best_ms, g,
+                100.0 * g / gbs);
+        printf("\"ms\": %.4f, \"best_ms\": %.4f, \"gbs\": %.3f, \"of_triad\": %.4f}", r->ms,
+               r->best_ms, g, g / gbs);
+    }
+    printf("\n  ]\n}\n");
+    free(d.transfer);
+    free(d.lighting);
+    lg_pool_free(pool);
+    return rc;
+}
