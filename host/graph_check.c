@@ -979,13 +979,23 @@ static void check_outputs(checker *k)
                 lg_resource_kind kind = edge_kind(c->nodes[node].type, port, part);
                 const char *sl = strrchr(o->path, '/');
                 const char *ext = strrchr(sl ? sl + 1 : o->path, '.');
+                bool txt = ext && strcasecmp(ext, ".txt") == 0;
                 /* a probe is written as an image file in its layout (lg_probe_pack) */
                 if (kind == LG_KIND_PROBE && ext && strcasecmp(ext, ".png") == 0)
                     diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives a probe, which is HDR: "
                          "write it as .exr or .hdr, not '%s'", o->ref.text, o->path);
-                else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE)
-                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images and probes "
-                         "can be written to files", o->ref.text, kind_name(kind));
+                /* SH coefficients are written as text, and only they */
+                else if (kind == LG_KIND_SH && !txt)
+                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives SH coefficients, which are "
+                         "written as text: name the file .txt, not '%s'", o->ref.text, o->path);
+                else if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY)
+                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives %s, which cannot be written "
+                         "as text ('%s'): only SH coefficients are; use .png, .exr or .hdr",
+                         o->ref.text, kind_name(kind), o->path);
+                else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE &&
+                         kind != LG_KIND_SH)
+                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images, probes and SH "
+                         "coefficients can be written to files", o->ref.text, kind_name(kind));
             }
         }
         const char *slash = strrchr(o->path, '/');
@@ -993,9 +1003,10 @@ static void check_outputs(checker *k)
         if (!dot || dot[1] == 0) {
             diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s' has no extension (use .png, "
                  ".exr or .hdr)", o->path);
-        } else if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr") && strcasecmp(dot, ".hdr")) {
+        } else if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr") && strcasecmp(dot, ".hdr") &&
+                   strcasecmp(dot, ".txt")) {
             diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s' has an unsupported extension "
-                 "'%s' (use .png, .exr or .hdr)", o->path, dot);
+                 "'%s' (use .png, .exr or .hdr; .txt for SH coefficients)", o->path, dot);
         }
         for (uint32_t j = 0; j < i; j++) {
             if (o->path[0] && strcmp(c->outputs[j].path, co->path) == 0) {
