@@ -155,6 +155,32 @@ static void shp_accumulate(lg_sum *acc, uint32_t nc, const double *y, const doub
     }
 }
 
+/* The direction a quadrature texel stands for: its centre's. An angular probe's rim
+ * texel whose centre lies outside the unit disc (direction +Z, lightgraph/probe.h) but
+ * whose solid angle is its part inside stands for that part: the point on the centre's
+ * ray half-way between the texel's nearest point to the disc's centre and the rim. */
+static lg_vec3 shp_texel_dir(const lg_probe_image *img, uint32_t face, uint32_t i, uint32_t j)
+{
+    lg_vec3 d = lg_probe_texel_dir(img->layout, img->width, img->height, face, i, j);
+    if (img->layout != LG_PROBE_ANGULAR)
+        return d;
+    double w = img->width, h = img->height;
+    double a = 2.0 * (i + 0.5) / w - 1.0, b = 1.0 - 2.0 * (j + 0.5) / h;
+    double r = sqrt(a * a + b * b);
+    if (r < 1.0)
+        return d;
+    /* nearest point of the texel [a0, a1] x [b0, b1] to the origin */
+    double a0 = 2.0 * i / w - 1.0, a1 = 2.0 * (i + 1) / w - 1.0;
+    double b0 = 1.0 - 2.0 * (j + 1) / h, b1 = 1.0 - 2.0 * j / h;
+    double na = a0 > 0 ? a0 : a1 < 0 ? a1 : 0.0, nb = b0 > 0 ? b0 : b1 < 0 ? b1 : 0.0;
+    double rm = 0.5 * (sqrt(na * na + nb * nb) + 1.0);
+    lg_probe_coord c;
+    c.face = 0;
+    c.u = (float)(0.5 * (a / r * rm + 1.0));
+    c.v = (float)(0.5 * (1.0 - b / r * rm));
+    return lg_probe_coord_to_dir(LG_PROBE_ANGULAR, c);
+}
+
 /* One chunk of terms [begin, end): texels (quadrature) or sample indices. */
 static void shp_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
@@ -176,9 +202,8 @@ static void shp_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
             uint32_t face = (uint32_t)(k / ((size_t)w * h));
             size_t r = k % ((size_t)w * h);
             uint32_t row = (uint32_t)(r / w), col = (uint32_t)(r % w);
-            lg_vec3 d = lg_probe_to_world(j->img.rotation,
-                                          lg_probe_texel_dir(j->img.layout, w, h, face, col,
-                                                             row));
+            lg_vec3 d = lg_probe_to_world(j->img.rotation, shp_texel_dir(&j->img, face, col,
+                                                                         row));
             const float *t = j->img.rgba + 4 * k;
             dir[0] = d.x, dir[1] = d.y, dir[2] = d.z;
             for (int ch = 0; ch < 3; ch++)
