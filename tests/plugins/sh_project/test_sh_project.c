@@ -97,8 +97,9 @@ static bool read_coeffs(lg_test *t, const char *rel, coeffs *out)
     uint32_t perch = 0, got = 0;
     bool ok = true;
     if (!fgets(line, sizeof line, f) ||
-        sscanf(line, "# lightgraph SH coefficients: %u band%*[s], %u per channel", &out->bands,
-               &perch) != 2 ||
+        sscanf(line, "# lightgraph SH coefficients: %u band", &out->bands) != 1 ||
+        !strstr(line, out->bands == 1 ? " band, " : " bands, ") ||
+        sscanf(strstr(line, ", ") + 2, "%u per channel", &perch) != 1 ||
         out->bands < 1 || out->bands > 64 || perch != out->bands * out->bands) {
         LG_TEST_FAILF(t, "%s: bad first line: %s", rel, line);
         fclose(f);
