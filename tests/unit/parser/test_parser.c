@@ -601,14 +601,20 @@ static void test_outputs(void)
     EXPECT(HDR "output src.x \"a.png\"\n",
            "t.lgraph:3:12: error: node 'src' (image) has no output 'x' (outputs: out)");
     EXPECT(HDR "output src \"a.jpg\"\n", "t.lgraph:3:12: error: output file 'a.jpg' has an "
-                                         "unsupported extension '.jpg' (use .png, .exr or .hdr)");
+                                         "unsupported extension '.jpg' (use .png, .exr or "
+                                         ".hdr; .txt for SH coefficients)");
     EXPECT(HDR "output src \"a\"\n", "t.lgraph:3:12: error: output file 'a' has no extension "
                                      "(use .png, .exr or .hdr)");
     EXPECT(HDR "output src \"dir.v2/a\"\n", "t.lgraph:3:12: error: output file 'dir.v2/a' has no "
                                             "extension (use .png, .exr or .hdr)");
     EXPECT(HDR "output src \"\"\n", "t.lgraph:3:12: error: the output file name is empty");
     EXPECT(HDR "sc = scene {}\noutput sc \"a.png\"\n",
-           "t.lgraph:4:8: error: 'sc' gives a scene; only images and probes can be written to files");
+           "t.lgraph:4:8: error: 'sc' gives a scene; only images, probes and SH coefficients "
+           "can be written to files");
+    /* .txt is for SH coefficients only */
+    EXPECT(HDR "output src \"a.txt\"\n",
+           "t.lgraph:3:12: error: 'src' gives an image, which cannot be written as text "
+           "('a.txt'): only SH coefficients are; use .png, .exr or .hdr");
     EXPECT(HDR "output src \"a.png\"\noutput src \"./a.png\"\n",
            "t.lgraph:4:12: error: file './a.png' is written by two output statements\n"
            "t.lgraph:3:12: note: the first one is here");
