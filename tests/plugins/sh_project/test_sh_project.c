@@ -7,7 +7,8 @@
  *   constant     constant probe c: c_0 = 2 sqrt(pi) c, the rest ~0, by quadrature in the
  *                lat-long, angular and cube (strip) layouts and by every sampler
  *   sign         a probe bright around +x gives positive Y_1,1 (+y: Y_1,-1, +z: Y_1,0),
- *                and around -x negative Y_1,1; the other band-1 coefficients ~0
+ *                and around -x negative Y_1,1; the other band-1 coefficients ~0; in the
+ *                lat-long and cube layouts
  *   orthonormal  a probe painted with 1 + Y_l,m (every function of 4 bands, three per
  *                render in R, G, B) projects by quadrature to 2 sqrt(pi) e_0 + e_lm
  *   sky          L = 1 for y > 0: with 9 coefficients the irradiance sum_lm A_l L_lm Y_lm(n)
@@ -206,20 +207,26 @@ static void case_sign(lg_test *t)
     static const float axes[][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}};
     static const int idx[] = {3, 1, 2, 3}; /* Y_1,1 ~ x, Y_1,-1 ~ y, Y_1,0 ~ z */
     static const double sgn[] = {1, 1, 1, -1};
-    for (int a = 0; a < 4; a++) {
-        write_probe(t, "cap.exr", LG_PROBE_LATLONG, 128, 64, paint_cap, axes[a]);
+    for (int a = 0; a < 8; a++) {
+        /* lat-long, then a cube strip (the faces' order and orientation) */
+        bool cube = a >= 4;
+        write_probe(t, "cap.exr", cube ? LG_PROBE_CUBE : LG_PROBE_LATLONG, cube ? 32 : 128, 64,
+                    paint_cap, axes[a % 4]);
         coeffs k;
-        if (!project(t, "file = \"cap.exr\"", "bands = 2", &k))
+        if (!project(t, cube ? "file = \"cap.exr\", layout = strip" : "file = \"cap.exr\"",
+                     "bands = 2", &k))
             continue;
+        int ax = a % 4;
         /* the cap's band-1 coefficient along its axis: 0.488603 * 2 pi (1 - 0.8^2) / 2 */
-        double along = sgn[a] * k.c[idx[a]], want = 0.488603 * PI * (1 - 0.64);
+        double along = sgn[ax] * k.c[idx[ax]], want = 0.488603 * PI * (1 - 0.64);
         LG_TEST_CHECK(t, fabs(along - want) < 0.05 * want,
-                      "cap around axis %d: Y_1 coefficient %d = %g, want %g", a, idx[a],
-                      k.c[idx[a]], sgn[a] * want);
+                      "%s cap around axis %d: Y_1 coefficient %d = %g, want %g",
+                      cube ? "cube" : "lat-long", ax, idx[ax], k.c[idx[ax]], sgn[ax] * want);
         for (int i = 1; i < 4; i++)
-            if (i != idx[a])
+            if (i != idx[ax])
                 LG_TEST_CHECK(t, fabs(k.c[i]) < 0.02 * want,
-                              "cap around axis %d: coefficient %d = %g, want ~0", a, i, k.c[i]);
+                              "%s cap around axis %d: coefficient %d = %g, want ~0",
+                              cube ? "cube" : "lat-long", ax, i, k.c[i]);
     }
 }
 
