@@ -94,6 +94,20 @@ static void value(lg_str *o, const lg_value *v, lg_param_type t, bool json)
     }
 }
 
+/* A parameter's default as written in a graph file (or as JSON): a colour that also takes
+ * keywords (ABI 2.3) may default to a keyword, def.e >= 0, printed as its word. */
+static void default_value(lg_str *o, const lg_param_desc *q, bool json)
+{
+    if (q->type == LG_PARAM_COLOR && q->enum_values && q->def.e >= 0) {
+        if (json)
+            lg_str_add_json(o, q->enum_values[q->def.e]);
+        else
+            lg_str_add(o, q->enum_values[q->def.e]);
+        return;
+    }
+    value(o, &q->def, q->type, json);
+}
+
 void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type)
 {
     value(out, v, type, false);
@@ -144,7 +158,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
         lg_str_add(o, i ? ", {\"key\": " : "{\"key\": ");
         lg_str_add_json(o, q->key);
         lg_str_addf(o, ", \"type\": \"%s\", \"default\": ", ptype_name(q->type));
-        value(o, &q->def, q->type, true);
+        default_value(o, q, true);
         if (q->min < q->max) {
             lg_str_add(o, ", \"min\": ");
             num(o, q->min, true);
@@ -217,8 +231,23 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
     for (uint32_t i = 0; i < t->n_params; i++) {
         const lg_param_desc *q = &t->params[i];
         lg_str d = {0}, r = {0};
-        value(&d, &q->def, q->type, false);
-        if (q->min < q->max && (q->type == LG_PARAM_INT || q->type == LG_PARAM_INT3)) {
+        default_value(&d, q, false);
+        if (q->type == LG_PARAM_COLOR && q->enum_values) {
+            /* a colour or a keyword (ABI 2.3): "[0, 1] or {material}" */
+            if (q->min < q->max) {
+                lg_str_add(&r, "[");
+                num(&r, q->min, false);
+                lg_str_add(&r, ", ");
+                num(&r, q->max, false);
+                lg_str_add(&r, "] or ");
+            } else {
+                lg_str_add(&r, "colour or ");
+            }
+            lg_str_add(&r, "{");
+            for (int e = 0; q->enum_values[e]; e++)
+                lg_str_addf(&r, "%s%s", e ? ", " : "", q->enum_values[e]);
+            lg_str_add(&r, "}");
+        } else if (q->min < q->max && (q->type == LG_PARAM_INT || q->type == LG_PARAM_INT3)) {
             lg_str_addf(&r, "[%.0f, %.0f]", q->min, q->max);
         } else if (q->min < q->max) {
             lg_str_add(&r, "[");

@@ -220,7 +220,9 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
     char err[1024];
     for (uint32_t i = 0; i < c->n_outputs; i++) {
         const char *path = opts->output_override ? opts->output_override : c->outputs[i].path;
-        if (lg_outputs_add(out, path, LG_OUTPUT_IMAGE, err, sizeof err)) {
+        /* .txt: SH coefficients as text (checked against the output's kind before) */
+        lg_output_kind kind = lg_path_has_ext(path, ".txt") ? LG_OUTPUT_FILE : LG_OUTPUT_IMAGE;
+        if (lg_outputs_add(out, path, kind, err, sizeof err)) {
             fprintf(stderr, "lightgraph: %s; nothing was run\n", err);
             return 1;
         }
@@ -247,10 +249,30 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
                     "statements; -o needs exactly one\n",
                     graph, c->n_outputs);
             rc = 2;
-        } else if (lg_image_format_from_path(opts->output_override) == LG_FILE_UNKNOWN) {
-            fprintf(stderr, "lightgraph: -o %s: unknown image format (use .png, .exr or .hdr)\n",
-                    opts->output_override);
-            rc = 2;
+        } else {
+            /* what the graph's one output gives decides the format: SH coefficients .txt,
+             * anything else an image format */
+            const lg_coutput *o = &c->outputs[0];
+            const lg_node_type *ty = o->node >= 0 ? c->nodes[o->node].type : NULL;
+            lg_resource_kind kind = ty && o->part == 0 && o->port < ty->n_outputs
+                                    ? ty->outputs[o->port].kind : LG_KIND_ANY;
+            bool txt = lg_path_has_ext(opts->output_override, ".txt");
+            if (kind == LG_KIND_SH && !txt) {
+                fprintf(stderr, "lightgraph: -o %s: the graph's output '%s' gives SH "
+                        "coefficients, which are written as text: name the file .txt\n",
+                        opts->output_override, o->g ? o->g->ref.text : "?");
+                rc = 2;
+            } else if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY) {
+                fprintf(stderr, "lightgraph: -o %s: only SH coefficients are written as .txt, "
+                        "and the graph's output '%s' is not (use .png, .exr or .hdr)\n",
+                        opts->output_override, o->g ? o->g->ref.text : "?");
+                rc = 2;
+            } else if (!txt &&
+                       lg_image_format_from_path(opts->output_override) == LG_FILE_UNKNOWN) {
+                fprintf(stderr, "lightgraph: -o %s: unknown image format (use .png, .exr or "
+                        ".hdr; .txt for SH coefficients)\n", opts->output_override);
+                rc = 2;
+            }
         }
     }
     if (rc == 0 && c->n_outputs == 0) {

@@ -100,6 +100,34 @@ static int write_outputs(lg_exec *ex)
         char err[1024];
         float *px = NULL;
         lg_image img = {0, 0, NULL};
+        /* SH coefficients: a text file, and only they (graph_check.c refuses the other
+         * pairings before anything runs; -o and LG_KIND_ANY outputs meet them here) */
+        bool sh = r && r->kind == LG_KIND_SH;
+        bool txt = lg_path_has_ext(path, ".txt");
+        if (sh != txt) {
+            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s",
+                    n->schema->outputs[o->port].name, n->pub.name, path,
+                    sh ? "SH coefficients are written as text: name the file .txt"
+                       : "only SH coefficients are written as .txt (images and probes: .png, "
+                         ".exr or .hdr)");
+            rc = -1;
+            continue;
+        }
+        if (sh) {
+            char *text = NULL;
+            size_t len = 0;
+            if (lg_resource_sh_text(ex, r, &text, &len, err, sizeof err) ||
+                lg_outputs_write_data(ex->opts.outputs, path, text, len, err, sizeof err)) {
+                lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s",
+                        n->schema->outputs[o->port].name, n->pub.name, path, err);
+                rc = -1;
+            } else {
+                lg_hlog(LG_HDEBUG, "%s (SH coefficients, %zu bytes) written to its temporary "
+                        "file", path, len);
+            }
+            free(text);
+            continue;
+        }
         /* a probe: its radiance laid out as a file (lat-long, angular, cross or strip) */
         bool probe = r && r->kind == LG_KIND_PROBE;
         if (probe && lg_image_format_from_path(path) == LG_FILE_PNG) {

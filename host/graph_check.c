@@ -109,7 +109,14 @@ static char *expected_name(const lg_param_desc *pd)
     case LG_PARAM_FLOAT: lg_str_add(&b, "a float"); break;
     case LG_PARAM_VEC2: lg_str_add(&b, "a list of 2 numbers"); break;
     case LG_PARAM_VEC3: lg_str_add(&b, "a list of 3 numbers"); break;
-    case LG_PARAM_COLOR: lg_str_add(&b, "a colour (a list of 3 numbers)"); break;
+    case LG_PARAM_COLOR:
+        if (pd->enum_values) { /* keywords (ABI 2.3) */
+            lg_str_add(&b, "a colour [r, g, b] or one of: ");
+            enum_list(&b, pd);
+        } else {
+            lg_str_add(&b, "a colour (a list of 3 numbers)");
+        }
+        break;
     case LG_PARAM_STRING: lg_str_add(&b, "a string"); break;
     case LG_PARAM_PATH: lg_str_add(&b, "a file path (a string)"); break;
     case LG_PARAM_INT3: lg_str_add(&b, "a list of 3 integers"); break;
@@ -240,6 +247,37 @@ static char *resolve_path(const char *base_dir, const char *s)
     return a;
 }
 
+/* A word for an enum, or for a colour that also takes keywords: its index in out->e (and
+ * for an enum its name in out->s); reports and returns false when it is not one of them. */
+static bool convert_keyword(checker *k, const lg_gnode *n, const lg_param_desc *pd,
+                            const lg_gvalue *v, lg_value *out)
+{
+    uint32_t nv = 0;
+    while (pd->enum_values && pd->enum_values[nv])
+        nv++;
+    for (uint32_t i = 0; i < nv; i++) {
+        if (strcmp(v->s, pd->enum_values[i]) == 0) {
+            out->e = (int32_t)i;
+            if (pd->type == LG_PARAM_ENUM)
+                out->s = lg_xstrdup(pd->enum_values[i]);
+            return true;
+        }
+    }
+    lg_str b = {0};
+    enum_list(&b, pd);
+    const char *one_of = pd->type == LG_PARAM_COLOR ? "a colour [r, g, b] or one of: "
+                                                    : "one of ";
+    const char *sug = lg_suggest(v->s, (const char *const *)pd->enum_values, nv);
+    if (sug)
+        diag(k, LG_DIAG_ERROR, v->loc, "'%s' is not %s%s (parameter '%s' of node '%s'); "
+             "did you mean '%s'?", v->s, one_of, b.s ? b.s : "", pd->key, n->name, sug);
+    else
+        diag(k, LG_DIAG_ERROR, v->loc, "'%s' is not %s%s (parameter '%s' of node '%s')", v->s,
+             one_of, b.s ? b.s : "", pd->key, n->name);
+    lg_str_free(&b);
+    return false;
+}
+
 /* Converts one parameter value; reports and returns false when it does not fit. */
 static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd,
                           const lg_gvalue *v0, lg_value *out)
@@ -279,9 +317,17 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
         }
         out->f = x;
         return true;
+    case LG_PARAM_COLOR:
+        if (pd->enum_values) {
+            /* a colour that also takes keywords (ABI 2.3): e = -1 for a colour, else the
+             * keyword's index with v zero */
+            out->e = -1;
+            if (v->kind == LG_GV_STRING || (v->kind == LG_GV_IDENT && !v->port))
+                return convert_keyword(k, n, pd, v, out);
+        }
+        /* fall through */
     case LG_PARAM_VEC2:
     case LG_PARAM_VEC3:
-    case LG_PARAM_COLOR:
     case LG_PARAM_INT3: {
         uint32_t want = pd->type == LG_PARAM_VEC2 ? 2 : 3;
         if (v->kind != LG_GV_LIST || v->n_items != want)
@@ -368,27 +414,7 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
     case LG_PARAM_ENUM: {
         if (!(v->kind == LG_GV_STRING || (v->kind == LG_GV_IDENT && !v->port)))
             goto wrong;
-        uint32_t nv = 0;
-        while (pd->enum_values && pd->enum_values[nv])
-            nv++;
-        for (uint32_t i = 0; i < nv; i++) {
-            if (strcmp(v->s, pd->enum_values[i]) == 0) {
-                out->e = (int32_t)i;
-                out->s = lg_xstrdup(pd->enum_values[i]);
-                return true;
-            }
-        }
-        lg_str b = {0};
-        enum_list(&b, pd);
-        const char *sug = lg_suggest(v->s, (const char *const *)pd->enum_values, nv);
-        if (sug)
-            diag(k, LG_DIAG_ERROR, v->loc, "'%s' is not one of %s (parameter '%s' of node '%s'); "
-                 "did you mean '%s'?", v->s, b.s ? b.s : "", pd->key, n->name, sug);
-        else
-            diag(k, LG_DIAG_ERROR, v->loc, "'%s' is not one of %s (parameter '%s' of node '%s')",
-                 v->s, b.s ? b.s : "", pd->key, n->name);
-        lg_str_free(&b);
-        return false;
+        return convert_keyword(k, n, pd, v, out);
     }
     default:
         diag(k, LG_DIAG_ERROR, v->loc, "parameter '%s' of node '%s' has an unknown type (%d) in "
@@ -423,6 +449,12 @@ static void default_param(const lg_param_desc *pd, lg_value *out)
     } else if (pd->type == LG_PARAM_PATH_LIST) {
         out->e = 0; /* the empty list (registry.c refuses another default) */
         out->s = lg_xstrdup("");
+    } else if (pd->type == LG_PARAM_COLOR && pd->enum_values) {
+        /* def.e: the default keyword's index, or -1 for the colour def.v (registry.c) */
+        if (pd->def.e >= 0)
+            memset(out->v, 0, sizeof out->v);
+    } else if (pd->type == LG_PARAM_COLOR) {
+        out->e = 0;
     }
 }
 
@@ -947,13 +979,23 @@ static void check_outputs(checker *k)
                 lg_resource_kind kind = edge_kind(c->nodes[node].type, port, part);
                 const char *sl = strrchr(o->path, '/');
                 const char *ext = strrchr(sl ? sl + 1 : o->path, '.');
+                bool txt = ext && strcasecmp(ext, ".txt") == 0;
                 /* a probe is written as an image file in its layout (lg_probe_pack) */
                 if (kind == LG_KIND_PROBE && ext && strcasecmp(ext, ".png") == 0)
                     diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives a probe, which is HDR: "
                          "write it as .exr or .hdr, not '%s'", o->ref.text, o->path);
-                else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE)
-                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images and probes "
-                         "can be written to files", o->ref.text, kind_name(kind));
+                /* SH coefficients are written as text, and only they */
+                else if (kind == LG_KIND_SH && !txt)
+                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives SH coefficients, which are "
+                         "written as text: name the file .txt, not '%s'", o->ref.text, o->path);
+                else if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY)
+                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives %s, which cannot be written "
+                         "as text ('%s'): only SH coefficients are; use .png, .exr or .hdr",
+                         o->ref.text, kind_name(kind), o->path);
+                else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE &&
+                         kind != LG_KIND_SH)
+                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images, probes and SH "
+                         "coefficients can be written to files", o->ref.text, kind_name(kind));
             }
         }
         const char *slash = strrchr(o->path, '/');
@@ -961,9 +1003,10 @@ static void check_outputs(checker *k)
         if (!dot || dot[1] == 0) {
             diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s' has no extension (use .png, "
                  ".exr or .hdr)", o->path);
-        } else if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr") && strcasecmp(dot, ".hdr")) {
+        } else if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr") && strcasecmp(dot, ".hdr") &&
+                   strcasecmp(dot, ".txt")) {
             diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s' has an unsupported extension "
-                 "'%s' (use .png, .exr or .hdr)", o->path, dot);
+                 "'%s' (use .png, .exr or .hdr; .txt for SH coefficients)", o->path, dot);
         }
         for (uint32_t j = 0; j < i; j++) {
             if (o->path[0] && strcmp(c->outputs[j].path, co->path) == 0) {

@@ -168,6 +168,10 @@ int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char
 /* The image file of a probe resource (lightgraph/probe.h lg_probe_pack). Caller frees. */
 int lg_resource_probe_file(struct lg_exec *ex, lg_resource *r, lg_image *out, char *err,
                            size_t errlen);
+/* The text file of an SH coefficient resource (docs/graph-format.md "Outputs"): *out
+ * (*len bytes, NUL-terminated) is the caller's to free. */
+int lg_resource_sh_text(struct lg_exec *ex, lg_resource *r, char **out, size_t *len,
+                        char *err, size_t errlen);
 
 /* ---- plan and execution (plan.c, exec.c) ------------------------------------------------ */
 

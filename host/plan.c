@@ -38,6 +38,8 @@ static void digest_params(lg_digest *d, const lg_cnode *c)
         case LG_PARAM_VEC3:
         case LG_PARAM_COLOR:
             lg_digest_add(d, v->v, sizeof v->v);
+            if (p->type == LG_PARAM_COLOR && p->enum_values) /* keyword index, or -1 */
+                lg_digest_add(d, &v->e, sizeof v->e);
             break;
         case LG_PARAM_INT3:
             lg_digest_add(d, v->i3, sizeof v->i3);

@@ -93,6 +93,30 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
         }
         break;
     }
+    case LG_PARAM_COLOR: {
+        /* keywords (ABI 2.3): def.e names the default keyword, or -1 for the colour def.v */
+        if (!p->enum_values)
+            break;
+        int n = 0;
+        while (p->enum_values[n] && n < 256)
+            n++;
+        if (n == 0 || p->enum_values[n])
+            FAIL("node type '%s', parameter '%s': a colour's keyword list is empty or longer "
+                 "than 256", t->name, p->key);
+        for (int i = 0; i < n; i++)
+            if (!valid_ident(p->enum_values[i]))
+                FAIL("node type '%s', parameter '%s': keyword %d is not a bare word "
+                     "[a-z_][a-z0-9_]*", t->name, p->key, i);
+        if (p->def.e < -1 || p->def.e >= n)
+            FAIL("node type '%s', parameter '%s': default keyword index %d out of range (-1 "
+                 "for the colour .def.v, 0 .. %d for a keyword)", t->name, p->key,
+                 (int)p->def.e, n - 1);
+        for (int i = 0; p->def.e == -1 && ranged && i < 3; i++)
+            if (!(p->def.v[i] >= p->min && p->def.v[i] <= p->max))
+                FAIL("node type '%s', parameter '%s': default colour component %d = %g outside "
+                     "[%g, %g]", t->name, p->key, i, p->def.v[i], p->min, p->max);
+        break;
+    }
     default:
         break;
     }
@@ -233,6 +257,8 @@ static void put_desc(lg_str *b, const lg_plugin_desc *d)
             case LG_PARAM_FLOAT: v.f = p->def.f; break;
             case LG_PARAM_VEC2: case LG_PARAM_VEC3: case LG_PARAM_COLOR:
                 memcpy(v.v, p->def.v, sizeof v.v);
+                if (p->type == LG_PARAM_COLOR && p->enum_values) /* keyword index or -1 */
+                    v.e = p->def.e;
                 break;
             case LG_PARAM_INT3: memcpy(v.i3, p->def.i3, sizeof v.i3); break;
             case LG_PARAM_STRING: case LG_PARAM_PATH: sv = p->def.s; break;
@@ -387,6 +413,8 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
             case LG_PARAM_FLOAT: def.f = raw.f; break;
             case LG_PARAM_VEC2: case LG_PARAM_VEC3: case LG_PARAM_COLOR:
                 memcpy(def.v, raw.v, sizeof def.v);
+                if (q->type == LG_PARAM_COLOR)
+                    def.e = raw.e; /* the keyword index (validated with the list) */
                 break;
             case LG_PARAM_INT3: memcpy(def.i3, raw.i3, sizeof def.i3); break;
             case LG_PARAM_ENUM: def.e = raw.e; break;

@@ -16,6 +16,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
 #include "lightgraph/probe.h"
+#include "lightgraph/shcoeffs.h"
 
 /* Pixels of the colour data: every level and face of an image. */
 static size_t pixel_count(const lg_resource *r)
@@ -679,6 +680,54 @@ int lg_resource_probe_file(lg_exec *ex, lg_resource *r, lg_image *out, char *err
     rc = lg_probe_pack(&info, rad->image.width, rad->image.height, px, out, err, errlen);
     free(px);
     return rc;
+}
+
+/* The text file of an SH coefficient resource (docs/graph-format.md "Outputs"): two
+ * comment lines, then one line per coefficient i = l (l + 1) + m, "i l m R G B", each
+ * float with %.9g (9 significant digits: every float reads back to the same bits). */
+int lg_resource_sh_text(lg_exec *ex, lg_resource *r, char **out, size_t *len, char *err,
+                        size_t errlen)
+{
+    *out = NULL;
+    *len = 0;
+    int32_t ci = lg_kind_part_index(LG_KIND_SH, "coeffs");
+    int32_t ii = lg_kind_part_index(LG_KIND_SH, "info");
+    lg_resource *co = r->kind == LG_KIND_SH && ci >= 0 && (uint32_t)ci < r->n_parts
+                      ? r->parts[ci] : NULL;
+    lg_resource *meta = r->kind == LG_KIND_SH && ii >= 0 && (uint32_t)ii < r->n_parts
+                        ? r->parts[ii] : NULL;
+    if (!co || !meta || !meta->cpu || !meta->cpu_valid ||
+        meta->buffer.size < sizeof(lg_sh_info)) {
+        snprintf(err, errlen, "the SH coefficients were not written (no coeffs or info)");
+        return LG_ERR_INVALID;
+    }
+    lg_sh_info info;
+    memcpy(&info, meta->cpu, sizeof info);
+    if (info.bands < 1 || info.bands > LG_SH_MAX_BANDS ||
+        co->buffer.size != (size_t)3 * info.bands * info.bands * sizeof(float)) {
+        snprintf(err, errlen, "the SH coefficients are inconsistent: %u bands in %zu bytes",
+                 info.bands, co->buffer.size);
+        return LG_ERR_INVALID;
+    }
+    int rc = sync_cpu(ex, co->producer, co);
+    if (rc) {
+        snprintf(err, errlen, "could not read the SH coefficients back from their device");
+        return rc;
+    }
+    uint32_t n = info.bands, nc = n * n;
+    const float *c = co->cpu;
+    lg_str b = {0};
+    lg_str_addf(&b, "# lightgraph SH coefficients: %u band%s, %u per channel, basis "
+                "lightgraph/sh.h%s\n", n, n == 1 ? "" : "s", nc,
+                (info.flags & LG_SH_WINDOWED) ? ", windowed" : "");
+    lg_str_add(&b, "# index l m R G B\n");
+    for (uint32_t l = 0, i = 0; l < n; l++)
+        for (int m = -(int)l; m <= (int)l; m++, i++)
+            lg_str_addf(&b, "%u %u %d %.9g %.9g %.9g\n", i, l, m, (double)c[i],
+                        (double)c[nc + i], (double)c[2 * nc + i]);
+    *len = b.len;
+    *out = lg_str_take(&b);
+    return 0;
 }
 
 /* ---- composite resources -------------------------------------------------------------- */

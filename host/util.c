@@ -7,6 +7,7 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -357,4 +358,11 @@ void lg_digest_add_str(lg_digest *d, const char *s)
 void lg_digest_hex(const lg_digest *d, char out[33])
 {
     snprintf(out, 33, "%016llx%016llx", (unsigned long long)d->h[0], (unsigned long long)d->h[1]);
+}
+
+bool lg_path_has_ext(const char *path, const char *ext)
+{
+    const char *slash = strrchr(path, '/');
+    const char *dot = strrchr(slash ? slash + 1 : path, '.');
+    return dot && strcasecmp(dot, ext) == 0;
 }

@@ -43,6 +43,8 @@ char *lg_path_join(const char *dir, const char *rel); /* rel if absolute */
 char *lg_path_absolute(const char *path);            /* against the cwd, normalised, no
                                                       * symlink resolution */
 bool lg_path_exists(const char *path);
+/* Whether the file name's last extension is `ext` (".txt"), ignoring case. */
+bool lg_path_has_ext(const char *path, const char *ext);
 /* Reads a whole file; returns NULL with errno set. *len receives the size. */
 char *lg_read_file(const char *path, size_t *len);
 /* Reads a whole regular file of at most `limit` bytes, bounded: anything that is not a

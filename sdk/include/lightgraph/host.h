@@ -342,7 +342,9 @@ static inline const char *lg_param_string(lg_node *n, const char *key)
     const lg_value *v = lg_param(n, key);
     return v ? v->s : "";
 }
-/* LG_PARAM_ENUM: the index into enum_values */
+/* LG_PARAM_ENUM: the index into enum_values. An LG_PARAM_COLOR with keywords (since ABI
+ * 2.3, lightgraph/plugin.h): the keyword's index, or -1 when a colour was given (read it
+ * from lg_param(n, key)->v). */
 static inline int lg_param_enum(lg_node *n, const char *key)
 {
     const lg_value *v = lg_param(n, key);

@@ -56,7 +56,7 @@ typedef enum lg_param_type {
     LG_PARAM_FLOAT,    /* double                                              -> v.f    */
     LG_PARAM_VEC2,     /* [x, y]                                              -> v.v[0..1] */
     LG_PARAM_VEC3,     /* [x, y, z]                                           -> v.v[0..2] */
-    LG_PARAM_COLOR,    /* [r, g, b], linear                                   -> v.v[0..2] */
+    LG_PARAM_COLOR,    /* [r, g, b], linear (or a keyword, see below)         -> v.v[0..2] */
     LG_PARAM_STRING,   /* "text"                                              -> v.s    */
     LG_PARAM_PATH,     /* "file", resolved against the graph file that set it -> v.s    */
     LG_PARAM_ENUM,     /* one of enum_values; v.e is its index, v.s its name            */
@@ -71,7 +71,8 @@ typedef enum lg_param_type {
  * the empty list (the registry refuses another). */
 typedef struct lg_value {
     lg_param_type type;
-    int32_t e; /* LG_PARAM_ENUM: index into enum_values; LG_PARAM_PATH_LIST: item count */
+    int32_t e; /* LG_PARAM_ENUM: index into enum_values; LG_PARAM_PATH_LIST: item count;
+                * LG_PARAM_COLOR with keywords: the keyword's index, -1 for a colour */
     union {
         bool b;
         int64_t i;
@@ -98,13 +99,28 @@ typedef enum lg_param_role {
 
 /* One parameter of a node type, declared as data. Zero means "no": min == max means no
  * range; a NULL enum_values or renamed_from means none. For vectors and colours the
- * range applies to every component. */
+ * range applies to every component.
+ *
+ * Colours that also take keywords (since ABI 2.3). An LG_PARAM_COLOR with enum_values
+ * accepts either a colour [r, g, b] or one of the keywords, written as a bare word like
+ * an enum (`albedo = material`, `--set bake.albedo=material`, `--set bake.albedo=[1,1,1]`).
+ * The node reads lg_value.e: the keyword's index into enum_values, or -1 when a colour was
+ * given, which is then in v.v[0..2] (range-checked against min and max; v.v is zero when
+ * a keyword was given). The default follows the same rule: .def.e is the index of the
+ * default keyword, or -1 with the colour in .def.v, e.g.
+ *     static const char *const albedo_kw[] = {"material", NULL};
+ *     {.key = "albedo", .type = LG_PARAM_COLOR, .def.e = 0, .enum_values = albedo_kw,
+ *      .min = 0, .max = 1, .doc = "material | [r, g, b]"}                  default material
+ *     {..., .def = {.e = -1, .v = {0.8, 0.8, 0.8}}, .enum_values = albedo_kw, ...}  a grey
+ * (.def.s cannot name the keyword: it shares its storage with .def.v.) Without
+ * enum_values a colour is a colour and e is 0, as before ABI 2.3. */
 typedef struct lg_param_desc {
     const char *key;                  /* snake_case name used in graph files */
     lg_param_type type;
     lg_value def;                     /* default; .type need not be set */
     double min, max;                  /* inclusive range of numeric values */
-    const char *const *enum_values;   /* LG_PARAM_ENUM: NULL-terminated list */
+    const char *const *enum_values;   /* LG_PARAM_ENUM (and, optionally, LG_PARAM_COLOR
+                                         * keywords): a NULL-terminated list */
     const char *doc;                  /* one line: meaning and unit */
     const char *const *renamed_from;  /* old keys still accepted, with a warning */
     /* lg_param_role (since ABI 2.1). It takes the place of the first of four reserved

@@ -7,6 +7,9 @@
  *   test_copy { backend = cpu | gl | cl }           copies its input's bytes, whatever the
  *             format, on the device named (glCopyImageSubData, clEnqueueCopyBuffer,
  *             memcpy): a chain of copies moves an image through every transfer of the host
+ *   test_fill { color = checker | [r, g, b] }        a colour parameter that also takes a
+ *             keyword (ABI 2.3): the image filled with the colour, or with a checker of
+ *             (1, 1, 1) and (0, 0, 0) pixels (pixel (x, y) white when x + y is even)
  *
  * The pattern, pixel (x, y) of W x H, u = (x + 0.5) / W, v = (y + 0.5) / H:
  *   L = 2^(20 u - 8) (2^-8 .. 2^12 across the image), RGB = L (1, 0.5 + 0.5 v, 1 - 0.75 v),
@@ -187,6 +190,47 @@ static int copy_execute(lg_node *n, const lg_frame *frame)
     }
 }
 
+static const char *const fill_words[] = {"checker", NULL};
+static const lg_param_desc fill_params[] = {
+    {.key = "color", .type = LG_PARAM_COLOR, .def.e = 0, .enum_values = fill_words, .min = 0,
+     .max = 100, .doc = "the fill colour, or checker"},
+    {.key = "width", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 64,
+     .doc = "pixels", .role = LG_ROLE_IMAGE_WIDTH},
+    {.key = "height", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 64,
+     .doc = "pixels", .role = LG_ROLE_IMAGE_HEIGHT},
+};
+
+static int fill_prepare(lg_node *n)
+{
+    lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
+    d.width = (uint32_t)lg_param_int(n, "width");
+    d.height = (uint32_t)lg_param_int(n, "height");
+    int rc = lg_declare_image(n, 0, &d);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int fill_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    lg_resource_info info;
+    int rc = lg_describe(lg_output(n, 0), &info, n);
+    if (rc)
+        return rc;
+    lg_cpu_view v;
+    if ((rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &v)))
+        return rc;
+    const lg_value *c = lg_param(n, "color");
+    for (uint32_t y = 0; y < info.image.height; y++) {
+        float *row = (float *)v.pixels + (size_t)y * v.row_pixels * 4;
+        for (uint32_t x = 0; x < info.image.width; x++) {
+            for (int k = 0; k < 3; k++)
+                row[4 * x + k] = c->e < 0 ? (float)c->v[k] : (float)((x + y + 1) % 2);
+            row[4 * x + 3] = 1;
+        }
+    }
+    return 0;
+}
+
 static const lg_node_type types[] = {
     {
         .struct_size = sizeof(lg_node_type),
@@ -208,6 +252,15 @@ static const lg_node_type types[] = {
         LG_OUTPUTS(hdr_out),
         .prepare = copy_prepare,
         .execute = copy_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_fill",
+        .doc = "An image of one colour, or a checker (test)",
+        LG_PARAMS(fill_params),
+        LG_OUTPUTS(hdr_out),
+        .prepare = fill_prepare,
+        .execute = fill_execute,
     },
 };
 

@@ -23,10 +23,16 @@ format; test_copy: a byte copy on cpu, gl or cl):
   format_study     tools/format_study.py on tests/unit/formats/format_study.lgraph: its CSV,
                    table and plot exist; rgba32f has error 0, rgbe8 below 0.7% (half a step
                    over the luminance), rgba16f shows the clamped sun
+  keyword_colour   a colour parameter that also takes keywords (ABI 2.3; test_fill's
+                   `color = checker | [r, g, b]`): inspect (text and --json) shows the
+                   keyword default and list, the default renders the checker, a colour from
+                   the file or --set renders that colour, [0, 0, 0] after checker is not
+                   mistaken for it, a misspelt word and an out-of-range colour are refused
 
 usage: test_formats.py TEST_NAME
 """
 import csv
+import json
 import math
 import os
 import shutil
@@ -246,7 +252,50 @@ def t_format_study():
     sys.stdout.write(p.stdout)
 
 
-TESTS = {"roundtrip": t_roundtrip, "rgbe_precision": t_rgbe_precision,
+def t_keyword_colour():
+    p = run(["inspect", "test_fill"])
+    line = [l for l in p.stdout.splitlines() if l.split()[:1] == ["color"]]
+    check(line and "= checker" in line[0] and "or {checker}" in line[0],
+          "inspect text:\n" + p.stdout)
+    doc = json.loads(run(["inspect", "test_fill", "--json"]).stdout)
+    doc = doc[0] if isinstance(doc, list) else doc
+    q = [x for x in doc["parameters"] if x["key"] == "color"][0]
+    check(q["type"] == "color" and q["default"] == "checker" and q["values"] == ["checker"]
+          and q["min"] == 0 and q["max"] == 100, "inspect --json: %r" % q)
+
+    g = graph('f = test_fill { width = 3, height = 2 }\noutput f "f.exr"\n')
+    run(["render", g])
+    w, h, c = exr("f.exr")
+    check((w, h) == (3, 2), "size %dx%d" % (w, h))
+    for i in range(6):
+        x, y = i % 3, i // 3
+        want = 1.0 if (x + y) % 2 == 0 else 0.0
+        check(c["R"][i] == want and c["B"][i] == want, "checker pixel %d: %r" % (i, c["R"][i]))
+    # black right after the checker, with the same cache: the keyword is part of the identity
+    run(["render", g, "--set", "f.color=[0,0,0]"])
+    check(max(exr("f.exr")[2]["R"]) == 0, "[0, 0, 0] rendered as the checker")
+    g2 = graph('f = test_fill { width = 3, height = 2, color = [0.25, 0.5, 2] }\n'
+               'output f "f.exr"\n', "g2.lgraph")
+    run(["render", g2])
+    c = exr("f.exr")[2]
+    check(set(c["R"]) == {0.25} and set(c["G"]) == {0.5} and set(c["B"]) == {2.0},
+          "colour fill: %r" % c)
+    run(["render", g2, "--set", "f.color=checker"])
+    check(exr("f.exr")[2]["R"][0] == 1.0, "--set color=checker")
+    p = run(["check", g2, "--set", "f.color=chekcer"], expect=None)
+    check(p.returncode != 0 and "'chekcer' is not a colour [r, g, b] or one of: checker "
+          "(parameter 'color' of node 'f'); did you mean 'checker'?" in p.stderr,
+          "misspelt keyword:\n" + p.stderr)
+    p = run(["check", g2, "--set", "f.color=[1,1,1000]"], expect=None)
+    check(p.returncode != 0 and "color[2] = 1000 is out of range [0, 100]" in p.stderr,
+          "range:\n" + p.stderr)
+    p = run(["check", g2, "--set", "f.color=1"], expect=None)
+    check(p.returncode != 0 and "expected a colour [r, g, b] or one of: checker, found an "
+          "integer" in p.stderr, "wrong kind:\n" + p.stderr)
+    print("test_fill: keyword default, colours from the file and --set, errors")
+
+
+TESTS = {"keyword_colour": t_keyword_colour, "roundtrip": t_roundtrip, "rgbe_precision": t_rgbe_precision,
          "half_policy": t_half_policy, "reinhard": t_reinhard, "core": t_core,
          "format_study": t_format_study}
 

@@ -143,6 +143,8 @@ def test_broken_refused():
         "lg_broken_noentry.so": "no 'lg_plugin_entry' symbol",
         "lg_broken_crash.so": "crashed while being scanned",
         "lg_broken_baddefault.so": "default 5 outside [0, 1]",
+        "lg_broken_badkeyword.so": "parameter 'x': default keyword index 2 out of range (-1 "
+                                   "for the colour .def.v, 0 .. 0 for a keyword)",
     }
     for f, why in expect.items():
         check(f in refused, "%s was not refused (refused: %s)" % (f, list(refused)))

@@ -61,6 +61,16 @@ static const lg_param_desc solid_params[] = {
      .role = LG_ROLE_IMAGE_HEIGHT},
 };
 
+/* Colours that also take keywords (ABI 2.3): `albedo = material | [r, g, b]` defaulting
+ * to the keyword, `tint` to a colour. */
+static const char *const albedo_words[] = {"material", "vertex", NULL};
+static const lg_param_desc bake_params[] = {
+    {.key = "albedo", .type = LG_PARAM_COLOR, .def.e = 1, .enum_values = albedo_words,
+     .min = 0, .max = 1, .doc = "material | vertex | [r, g, b]"},
+    {.key = "tint", .type = LG_PARAM_COLOR, .def = {.e = -1, .v = {0.25, 0.5, 1}},
+     .enum_values = albedo_words, .min = 0, .max = 1},
+};
+
 static const lg_node_type types[] = {
     {.struct_size = sizeof(lg_node_type), .name = "image", LG_PARAMS(image_params),
      LG_OUTPUTS(out_image)},
@@ -77,11 +87,13 @@ static const lg_node_type types[] = {
     {.struct_size = sizeof(lg_node_type), .name = "sink", LG_INPUTS(sink_inputs)},
     {.struct_size = sizeof(lg_node_type), .name = "solid", LG_PARAMS(solid_params),
      LG_OUTPUTS(out_image)},
+    {.struct_size = sizeof(lg_node_type), .name = "bake", LG_PARAMS(bake_params),
+     LG_OUTPUTS(out_image)},
 };
 #define N_TYPES (sizeof types / sizeof types[0])
 
 static const char *const type_names[] = {"image", "reinhard", "add", "scene",
-                                         "gbuffer", "blur", "sink", "solid"};
+                                         "gbuffer", "blur", "sink", "solid", "bake"};
 
 static const lg_node_type *lookup(void *ctx, const char *name)
 {

@@ -601,14 +601,20 @@ static void test_outputs(void)
     EXPECT(HDR "output src.x \"a.png\"\n",
            "t.lgraph:3:12: error: node 'src' (image) has no output 'x' (outputs: out)");
     EXPECT(HDR "output src \"a.jpg\"\n", "t.lgraph:3:12: error: output file 'a.jpg' has an "
-                                         "unsupported extension '.jpg' (use .png, .exr or .hdr)");
+                                         "unsupported extension '.jpg' (use .png, .exr or "
+                                         ".hdr; .txt for SH coefficients)");
     EXPECT(HDR "output src \"a\"\n", "t.lgraph:3:12: error: output file 'a' has no extension "
                                      "(use .png, .exr or .hdr)");
     EXPECT(HDR "output src \"dir.v2/a\"\n", "t.lgraph:3:12: error: output file 'dir.v2/a' has no "
                                             "extension (use .png, .exr or .hdr)");
     EXPECT(HDR "output src \"\"\n", "t.lgraph:3:12: error: the output file name is empty");
     EXPECT(HDR "sc = scene {}\noutput sc \"a.png\"\n",
-           "t.lgraph:4:8: error: 'sc' gives a scene; only images and probes can be written to files");
+           "t.lgraph:4:8: error: 'sc' gives a scene; only images, probes and SH coefficients "
+           "can be written to files");
+    /* .txt is for SH coefficients only */
+    EXPECT(HDR "output src \"a.txt\"\n",
+           "t.lgraph:3:12: error: 'src' gives an image, which cannot be written as text "
+           "('a.txt'): only SH coefficients are; use .png, .exr or .hdr");
     EXPECT(HDR "output src \"a.png\"\noutput src \"./a.png\"\n",
            "t.lgraph:4:12: error: file './a.png' is written by two output statements\n"
            "t.lgraph:3:12: note: the first one is here");
@@ -1790,6 +1796,77 @@ static void test_image_size(void)
                "it)");
 }
 
+/* A colour that also takes keywords (ABI 2.3): a word sets e to its index (v zero), a
+ * colour sets e = -1; the default is a keyword (def.e >= 0) or a colour (def.e = -1);
+ * errors name both forms; --set takes either. */
+static void test_keyword_colour(void)
+{
+#define BAKE "lightgraph 1\nk = bake { " /* the next key starts at column 12 */
+    run r;
+    run_text(&r, BAKE "albedo = material, tint = [0.5, 0, 1] }\n", NULL);
+    CHECK(r.c != NULL);
+    if (r.c) {
+        const lg_value *a = &r.c->nodes[0].params[0], *t = &r.c->nodes[0].params[1];
+        CHECK(a->type == LG_PARAM_COLOR && a->e == 0 && a->v[0] == 0 && a->v[2] == 0);
+        CHECK(t->e == -1 && t->v[0] == 0.5 && t->v[1] == 0 && t->v[2] == 1);
+    }
+    run_free(&r);
+    /* defaults: albedo the keyword 'vertex', tint the colour */
+    run_text(&r, BAKE "}\n", NULL);
+    CHECK(r.c != NULL);
+    if (r.c) {
+        const lg_value *a = &r.c->nodes[0].params[0], *t = &r.c->nodes[0].params[1];
+        CHECK(a->e == 1 && a->v[0] == 0 && a->v[1] == 0 && a->v[2] == 0);
+        CHECK(t->e == -1 && t->v[0] == 0.25 && t->v[1] == 0.5 && t->v[2] == 1);
+    }
+    run_free(&r);
+    /* quoted like an enum; and a colour replacing a keyword default */
+    run_text(&r, BAKE "albedo = [1, 1, 1], tint = \"vertex\" }\n", NULL);
+    CHECK(r.c != NULL);
+    if (r.c) {
+        CHECK(r.c->nodes[0].params[0].e == -1 && r.c->nodes[0].params[0].v[1] == 1);
+        CHECK(r.c->nodes[0].params[1].e == 1);
+    }
+    run_free(&r);
+    /* --set either way */
+    static const char *const s_word[] = {"k.tint=material", "k.albedo=[0.5,0.5,0.5]", NULL};
+    run_text(&r, BAKE "}\n", s_word);
+    CHECK(r.c != NULL);
+    if (r.c) {
+        CHECK(r.c->nodes[0].params[1].e == 0);
+        CHECK(r.c->nodes[0].params[0].e == -1 && r.c->nodes[0].params[0].v[2] == 0.5);
+    }
+    run_free(&r);
+    /* errors */
+    EXPECT(BAKE "albedo = materal }\n",
+           "t.lgraph:2:21: error: 'materal' is not a colour [r, g, b] or one of: material, "
+           "vertex (parameter 'albedo' of node 'k'); did you mean 'material'?");
+    EXPECT(BAKE "albedo = 0.5 }\n",
+           "t.lgraph:2:21: error: expected a colour [r, g, b] or one of: material, vertex, "
+           "found a float (parameter 'albedo' of node 'k')");
+    EXPECT(BAKE "albedo = [1, 1] }\n",
+           "t.lgraph:2:21: error: expected a colour [r, g, b] or one of: material, vertex, "
+           "found a list of 2 items (parameter 'albedo' of node 'k')");
+    EXPECT(BAKE "albedo = [1, 1, 2] }\n",
+           "t.lgraph:2:28: error: albedo[2] = 2 is out of range [0, 1]");
+    EXPECT(BAKE "albedo = material.x }\n",
+           "t.lgraph:2:21: error: expected a colour [r, g, b] or one of: material, vertex, "
+           "found a reference 'material.x' (parameter 'albedo' of node 'k')");
+    static const char *const s_bad[] = {"k.albedo=[0.5,nan,0.5]", NULL};
+    EXPECT_SET(BAKE "}\n", s_bad,
+               "<command line>:1:15: error: expected a number, found 'nan' (item 1 of "
+               "parameter 'albedo' of node 'k'); only finite numbers are allowed");
+    static const char *const s_miss[] = {"k.albedo=plastic", NULL};
+    EXPECT_SET(BAKE "}\n", s_miss,
+               "<command line>:1:10: error: 'plastic' is not a colour [r, g, b] or one of: "
+               "material, vertex (parameter 'albedo' of node 'k')");
+    /* a colour without keywords is unchanged: e stays 0, a word is an error */
+    EXPECT(BLUR "tint = material }\n",
+           "t.lgraph:3:32: error: expected a colour (a list of 3 numbers), found a reference "
+           "'material' (parameter 'tint' of node 'b')");
+#undef BAKE
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -1830,6 +1907,7 @@ int main(int argc, char **argv)
     test_compact_lists();
     test_include_limits();
     test_image_size();
+    test_keyword_colour();
 
     free(examples);
     free(data_abs);

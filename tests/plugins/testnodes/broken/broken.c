@@ -11,9 +11,17 @@ static int execute(lg_node *n, const lg_frame *f)
     return 0;
 }
 
+#ifdef BROKEN_BAD_KEYWORD
+static const char *const keywords[] = {"material", NULL};
+#endif
+
 static const lg_param_desc params[] = {
 #ifdef BROKEN_BAD_DEFAULT
     {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 5, .min = 0, .max = 1, .doc = "out of range"},
+#elif defined(BROKEN_BAD_KEYWORD)
+    /* a colour with keywords (ABI 2.3) whose default index names no keyword */
+    {.key = "x", .type = LG_PARAM_COLOR, .def.e = 2, .enum_values = keywords, .min = 0,
+     .max = 1, .doc = "default keyword 2 of 1"},
 #else
     {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1, .doc = "fine"},
 #endif
