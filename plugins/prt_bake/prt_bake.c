@@ -49,6 +49,8 @@ typedef struct pb_world {
     uint32_t n_vertices;           /* sum of the meshes' vertex counts */
     uint32_t *mesh_offset;         /* n_meshes + 1: mesh m's first vertex */
     double *pos, *nrm;             /* 3 per vertex: world position and unit normal */
+    double *in;                    /* 3 per vertex: unit tangent toward its own mesh's
+                                    * triangles at a boundary, else 0 (pb_offset) */
     float *albedo;                 /* 3 per vertex */
     /* per instance (Embree geometry id = instance index) */
     uint32_t n_inst;
@@ -75,6 +77,7 @@ static void pb_world_free(pb_world *w)
     free(w->mesh_offset);
     free(w->pos);
     free(w->nrm);
+    free(w->in);
     free(w->albedo);
     memset(w, 0, sizeof *w);
 }
@@ -98,6 +101,54 @@ static void pb_xform_normal(const float m[9], const float nv[3], double out[3])
         out[r] = l > 0 ? out[r] / l : 0.0;
 }
 
+/* For every vertex, the direction from it into its own mesh's surface (pb_offset): the sum
+ * over its triangles of (centroid - vertex), its normal component removed, normalised when
+ * it is not negligible against the sum of the lengths (a vertex inside a symmetric fan
+ * gets 0; one on a mesh's boundary points away from the boundary). */
+static void pb_world_inward(pb_world *w)
+{
+    const lg_scene *s = w->s;
+    double *len = calloc(w->n_vertices, sizeof(double));
+    if (!len)
+        return; /* no tangent offset: the normal offset alone still applies */
+    for (uint32_t m = 0; m < s->n_meshes; m++) {
+        const lg_mesh *me = &s->meshes[m];
+        uint32_t off = w->mesh_offset[m];
+        for (uint32_t t = 0; t + 2 < me->n_indices; t += 3) {
+            const uint32_t *ix = me->indices + t;
+            if (ix[0] >= me->n_vertices || ix[1] >= me->n_vertices || ix[2] >= me->n_vertices)
+                continue; /* reported when the Embree scene is built */
+            double c[3];
+            for (int k = 0; k < 3; k++)
+                c[k] = (w->pos[3 * (size_t)(off + ix[0]) + k] + w->pos[3 * (size_t)(off + ix[1]) + k] +
+                        w->pos[3 * (size_t)(off + ix[2]) + k]) / 3.0;
+            for (int q = 0; q < 3; q++) {
+                size_t v = off + ix[q];
+                double d[3], l = 0;
+                for (int k = 0; k < 3; k++) {
+                    d[k] = c[k] - w->pos[3 * v + k];
+                    l += d[k] * d[k];
+                    w->in[3 * v + k] += d[k];
+                }
+                len[v] += sqrt(l);
+            }
+        }
+    }
+    for (uint32_t v = 0; v < w->n_vertices; v++) {
+        double *d = w->in + 3 * (size_t)v;
+        const double *N = w->nrm + 3 * (size_t)v;
+        double dn = d[0] * N[0] + d[1] * N[1] + d[2] * N[2], l = 0;
+        for (int k = 0; k < 3; k++) {
+            d[k] -= dn * N[k];
+            l += d[k] * d[k];
+        }
+        l = sqrt(l);
+        for (int k = 0; k < 3; k++)
+            d[k] = l > 1e-3 * len[v] && l > 0 ? d[k] / l : 0.0;
+    }
+    free(len);
+}
+
 /* albedo_param: [r, g, b] or NULL for the materials' base colours. Reports bad input
  * (non-finite positions or normals, an albedo outside [0, 1]) naming mesh and vertex. */
 static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_param,
@@ -119,11 +170,12 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
     w->pos = malloc(nv * 3 * sizeof(double));
     w->nrm = malloc(nv * 3 * sizeof(double));
     w->albedo = malloc(nv * 3 * sizeof(float));
+    w->in = calloc(nv * 3, sizeof(double));
     w->n_inst = s->n_instances;
     w->inst_mesh_store = calloc(w->n_inst ? w->n_inst : 1, sizeof(uint32_t));
     w->inst_pos = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
     w->inst_nrm = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
-    if (!w->mesh_offset || !w->pos || !w->nrm || !w->albedo || !w->inst_mesh_store ||
+    if (!w->mesh_offset || !w->pos || !w->nrm || !w->albedo || !w->in || !w->inst_mesh_store ||
         !w->inst_pos || !w->inst_nrm)
         goto nomem;
     w->inst_mesh = w->inst_mesh_store;
@@ -215,6 +267,7 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
         }
     }
     w->mesh_offset[s->n_meshes] = off;
+    pb_world_inward(w);
     return 0;
 nomem:
     return lg_error_code(n, LG_ERR_NOMEM, "out of memory (world copy of %llu vertices)",
@@ -223,20 +276,28 @@ nomem:
 
 /*
  * The self-intersection rule. A ray leaves vertex x along w from the origin
- *     o = x + eps(x) N,   eps(x) = 2^-16 extent + 8 ulp(max(|x|, |y|, |z|)),   tnear = 0,
- * N the vertex's (shading) normal, extent the largest side of the scene's world bounds.
- * The first term is scale-free (the same geometry scaled gives the same rays, scaled); the
- * second covers the rounding of float coordinates, which grows with the distance from the
- * origin (a scene translated by 10^6 has 0.06-wide float steps): Embree's intersection
- * error is a few ulps of the coordinates involved, so 8 ulps lift the origin clear of the
- * vertex's own (coplanar) triangles on a flat plane anywhere. N rather than the geometric
- * normal because a vertex has one normal but several triangles; rays with N.w <= 0 are
- * never cast (their weight is 0).
+ *     o = x + eps(x) (N + D),   eps(x) = 2^-16 extent + PB_ULPS ulp(max(|x|, |y|, |z|)),
+ * with tnear = 0, N the vertex's (shading) normal, D the unit tangent from x into its own
+ * mesh's triangles (pb_world_inward: 0 inside a mesh, pointing away from a mesh's boundary)
+ * and extent the largest side of the scene's world bounds.
+ *   - eps: the first term is scale-free (the same geometry scaled gives the same rays,
+ *     scaled); the second covers the rounding of float coordinates, which grows with the
+ *     distance from the origin (a scene translated by 10^6 has 0.06-wide float steps):
+ *     Embree's intersection error is a few ulps of the coordinates involved, so PB_ULPS
+ *     ulps lift the origin clear of the vertex's own (coplanar) triangles on a flat plane
+ *     anywhere (tests/plugins/prt_bake `large_coords`).
+ *   - N rather than a geometric normal: a vertex has one normal but several triangles;
+ *     rays with N.w <= 0 are never cast (their weight is 0).
+ *   - D: a vertex where two meshes meet (the foot of a wall on a floor) lies ON the other
+ *     mesh, whose triangle a ray leaving it would hit at t = 0 whichever way it goes (a
+ *     black seam); moved by eps into its own surface it sees the wall block the directions
+ *     into the wall only.
  */
+#define PB_ULPS 4.0
 static double pb_offset(const pb_world *w, const double *p)
 {
     double m = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
-    return ldexp(w->extent, -16) + 8.0 * m * (double)FLT_EPSILON;
+    return ldexp(w->extent, -16) + PB_ULPS * m * (double)FLT_EPSILON;
 }
 
 /* ---- visibility ---------------------------------------------------------------------------- */
@@ -481,8 +542,6 @@ static int pb_read_params(lg_node *n, pb_state *st)
 {
     pb_params *p = &st->p;
     p->mode = lg_param_enum(n, "mode");
-    p->bands = (uint32_t)lg_param_int(n, "bands");
-    p->visibility = lg_param_enum(n, "visibility");
     const lg_value *a = lg_param(n, "albedo");
     p->albedo_material = a && a->e == 0;
     if (a && !p->albedo_material)
@@ -501,6 +560,8 @@ static int pb_read_params(lg_node *n, pb_state *st)
                                "path tracer)");
         return 0;
     }
+    p->bands = (uint32_t)lg_param_int(n, "bands");
+    p->visibility = lg_param_enum(n, "visibility");
     p->sampler = lg_param_enum(n, "sampler");
     p->samples = (uint32_t)lg_param_int(n, "samples");
     p->seed = (uint64_t)lg_param_int(n, "seed");
@@ -618,10 +679,10 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
     bool keep_hits = b->p->mode == PB_INTERREFLECTED;
     uint64_t rays = 0;
     for (size_t i = begin; i < end; i++) {
-        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i;
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
         double eps = pb_offset(w, x), o[3];
         for (int c = 0; c < 3; c++)
-            o[c] = x[c] + eps * N[c];
+            o[c] = x[c] + eps * (N[c] + D[c]);
         memset(acc, 0, n2 * sizeof(double));
         uint32_t nh = 0;
         for (uint32_t j = 0; j < T; j++) {
@@ -1031,10 +1092,10 @@ static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
     pb_ref *r = ctx;
     const pb_world *w = r->w;
     for (size_t i = begin; i < end; i++) {
-        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i;
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
         double eps = pb_offset(w, x), o[3], acc[3] = { 0, 0, 0 };
         for (int c = 0; c < 3; c++)
-            o[c] = x[c] + eps * N[c];
+            o[c] = x[c] + eps * (N[c] + D[c]);
         for (uint32_t t = 0; t < r->n_tex; t++) {
             const float *df = r->dirs + 3 * (size_t)t;
             double d[3] = { df[0], df[1], df[2] };
