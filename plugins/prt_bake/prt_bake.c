@@ -507,6 +507,7 @@ typedef struct pb_params {
     uint32_t bands, samples, bounces, resolution;
     uint64_t seed;
     double threshold;
+    bool bench;
     bool albedo_material;
     double albedo[3];
 } pb_params;
@@ -566,6 +567,7 @@ static int pb_read_params(lg_node *n, pb_state *st)
     p->samples = (uint32_t)lg_param_int(n, "samples");
     p->seed = (uint64_t)lg_param_int(n, "seed");
     p->bounces = (uint32_t)lg_param_int(n, "bounces");
+    p->bench = lg_param_bool(n, "bench");
     p->threshold = lg_param_float(n, "bounce_threshold");
     if (!isfinite(p->threshold) || p->threshold < 0)
         return lg_error(n, "bounce_threshold = %g: must be a finite energy ratio >= 0",
@@ -788,6 +790,70 @@ static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chu
     }
 }
 
+/* bench = true: the bake's rays again, with nothing but the occlusion query (b->p->mode
+ * decides nothing here). rays[chunk] counts the rays, failed[chunk] the blocked ones (kept
+ * so that the loop is not optimised away). packet: 16 rays per rtcOccluded16 call. */
+static void pb_raw_vertices_impl(pb_bake *b, size_t begin, size_t end, uint32_t chunk,
+                                 bool packet)
+{
+    const pb_world *w = b->w;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    uint64_t rays = 0, blocked = 0;
+    struct RTCRay16 r16;
+    int valid[16];
+    uint32_t k = 0;
+    for (size_t i = begin; i < end; i++) {
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
+        double eps = pb_offset(w, x), o[3];
+        for (int c = 0; c < 3; c++)
+            o[c] = x[c] + eps * (N[c] + D[c]);
+        for (uint32_t j = 0; j < b->T; j++) {
+            const double *d = b->dirs + 3 * (size_t)j;
+            if (!(N[0] * d[0] + N[1] * d[1] + N[2] * d[2] > 0.0))
+                continue;
+            rays++;
+            if (!packet) {
+                struct RTCRay r = { .org_x = (float)o[0], .org_y = (float)o[1],
+                                    .org_z = (float)o[2], .tnear = 0.0f, .dir_x = (float)d[0],
+                                    .dir_y = (float)d[1], .dir_z = (float)d[2],
+                                    .tfar = INFINITY, .mask = ~0u };
+                rtcOccluded1(b->vis->scene, &ctx, &r);
+                blocked += r.tfar < 0.0f;
+                continue;
+            }
+            r16.org_x[k] = (float)o[0], r16.org_y[k] = (float)o[1], r16.org_z[k] = (float)o[2];
+            r16.dir_x[k] = (float)d[0], r16.dir_y[k] = (float)d[1], r16.dir_z[k] = (float)d[2];
+            r16.tnear[k] = 0.0f, r16.tfar[k] = INFINITY, r16.mask[k] = ~0u, r16.time[k] = 0;
+            r16.id[k] = 0, r16.flags[k] = 0;
+            valid[k] = -1;
+            if (++k == 16) {
+                rtcOccluded16(valid, b->vis->scene, &ctx, &r16);
+                for (uint32_t q = 0; q < 16; q++)
+                    blocked += r16.tfar[q] < 0.0f;
+                k = 0;
+            }
+        }
+    }
+    if (packet && k) {
+        for (uint32_t q = k; q < 16; q++)
+            valid[q] = 0;
+        rtcOccluded16(valid, b->vis->scene, &ctx, &r16);
+        for (uint32_t q = 0; q < k; q++)
+            blocked += r16.tfar[q] < 0.0f;
+    }
+    b->rays[chunk] += rays;
+    b->failed[chunk] += (int)(blocked & 1);
+}
+static void pb_raw1(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    pb_raw_vertices_impl(ctx, begin, end, chunk, false);
+}
+static void pb_raw16(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    pb_raw_vertices_impl(ctx, begin, end, chunk, true);
+}
+
 /* Runs fn over every vertex in batches so that the progress bar moves between them (the
  * pool's chunks must not call the host). Chunk c of the whole range is [c PB_GRAIN,
  * (c + 1) PB_GRAIN): the slot arrays (failed, rays) have pb_chunks(nv) entries. */
@@ -976,6 +1042,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         }
     }
     double share = p->mode == PB_INTERREFLECTED ? 0.8 : 1.0;
+    double tp = n->host->now();
     rc = pb_run(n, nv, pb_bake_vertices, &b, pb_modes[p->mode], 0.0, share);
     if (rc)
         goto done;
@@ -1049,11 +1116,33 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                info.bounces, n->host->now() - t1, why, p->threshold);
     }
     double secs = n->host->now() - t0;
+    if (p->bench && p->mode != PB_UNSHADOWED && p->visibility == PB_EMBREE) {
+        double rate[2];
+        for (int q = 0; q < 2; q++) {
+            memset(rays, 0, nc * sizeof *rays);
+            double tq = n->host->now();
+            rc = pb_run(n, nv, q ? pb_raw16 : pb_raw1, &b, "bench", 0.0, 1.0);
+            if (rc)
+                goto done;
+            uint64_t r = 0;
+            for (size_t c = 0; c < nc; c++)
+                r += rays[c];
+            double dt = n->host->now() - tq;
+            rate[q] = dt > 0 ? r / dt : 0.0;
+        }
+        double bake_rate = t1 > tp ? total_rays / (t1 - tp) : 0.0;
+        lg_log(n, LG_LOG_INFO, "bench: bake %.4g rays/s, bare rtcOccluded1 %.4g rays/s, "
+                               "rtcOccluded16 %.4g rays/s (same %llu rays, %u threads): the "
+                               "bake at %.0f%% of rtcOccluded1",
+               bake_rate, rate[0], rate[1], (unsigned long long)total_rays, lg_cpu_workers(n),
+               rate[0] > 0 ? 100.0 * bake_rate / rate[0] : 0.0);
+    }
     lg_log(n, LG_LOG_INFO, "transfer baked in %.3f s (%u vertices, %u bands, %s, %u directions, "
-                           "%s visibility, %llu rays, %.3g rays/s in the visibility pass); "
-                           "cached",
+                           "%s visibility, %llu rays, %.3g rays/s in the visibility pass of %.3f s, "
+                           "%u threads); cached",
            secs, nv, p->bands, pb_modes[p->mode], T, pb_visibilities[p->visibility],
-           (unsigned long long)total_rays, t1 > t0 ? total_rays / (t1 - t0) : 0.0);
+           (unsigned long long)total_rays, t1 > tp ? total_rays / (t1 - tp) : 0.0, t1 - tp,
+           lg_cpu_workers(n));
     want.bounces = info.bounces;
     pb_cache_store(n, key, &want, out);
     rc = lg_transfer_publish(n, 0, &info);
@@ -1257,6 +1346,10 @@ static const lg_param_desc pb_bake_params[] = {
              "every ray: for comparison only, it warns above about 2e10 tests)" },
     { .key = "bounces", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64,
       .doc = "interreflected: at most this many bounces" },
+    { .key = "bench", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "after the bake, time bare Embree occlusion queries on the same rays "
+             "(rtcOccluded1, and rtcOccluded16 packets) and log rays/s; for "
+             "tools/bench_prt_bake.py" },
     { .key = "bounce_threshold", .type = LG_PARAM_FLOAT, .def.f = 1e-3, .min = 0, .max = 1,
       .doc = "interreflected: stop once a bounce adds less than this fraction of the direct "
              "transfer's energy (sum over vertices and channels of |t_0|)" },

@@ -200,10 +200,10 @@ static void case_cone(lg_test *t)
     for (int a = 0; a < 3; a++) {
         char scene[256];
         snprintf(scene, sizeof scene,
-                 "layout = cone, alpha_deg = %g, segments = 256, base_color = [0.9, 0.6, 0.3]",
+                 "layout = cone, alpha_deg = %g, segments = 128, base_color = [0.9, 0.6, 0.3]",
                  alphas[a]);
         tr x;
-        if (!bake(t, scene, "mode = shadowed, samples = 64", 3, &x, NULL))
+        if (!bake(t, scene, "mode = shadowed, samples = 128", 3, &x, NULL))
             return;
         double s = sin(alphas[a] * PI / 180), rho[3] = { 0.9, 0.6, 0.3 };
         for (int c = 0; c < 3; c++) {
@@ -211,7 +211,7 @@ static void case_cone(lg_test *t)
             if (c == 0)
                 fprintf(stderr, "cone alpha %g: apex radiance %.5f, rho sin^2 alpha %.5f\n",
                               alphas[a], got, want);
-            LG_TEST_CHECK(t, fabs(got - want) < 0.01, "alpha %g channel %d: %.5f, want %.5f",
+            LG_TEST_CHECK(t, fabs(got - want) < 0.005, "alpha %g channel %d: %.5f, want %.5f",
                           alphas[a], c, got, want);
         }
         tr_free(&x);
