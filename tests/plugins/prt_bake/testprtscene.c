@@ -4,9 +4,11 @@
  * shows a transfer resource as an image.
  *
  *   test_prt_scene     -> scene
- *   test_transfer_image  transfer -> image: texel (k, i) = (t_R[k], t_G[k], t_B[k], 1) of
- *                        vertex i (width n^2 = bands^2, height the vertex count), so a test
- *                        reads every coefficient from an EXR and does its own dot products
+ *   test_transfer_image  transfer -> image: coefficient k of vertex i is texel
+ *                        ((i mod V) n^2 + k, i / V) = (t_R[k], t_G[k], t_B[k], 1), with
+ *                        V = max(1, 1024 / n^2) vertices per row (tp_vertices_per_row), so
+ *                        a test reads every coefficient from an EXR and does its own dot
+ *                        products; texels past the last vertex are 0
  *
  * Layouts (every mesh's material 0, base colour `base_color`; all of it moved by the
  * instances' model matrix, a translation by `translate`):
@@ -246,6 +248,8 @@ static int tp_execute(lg_node *n, const lg_frame *frame)
 
 /* ---- test_transfer_image ------------------------------------------------------------------ */
 
+static uint32_t tp_vertices_per_row(uint32_t n2) { return n2 >= 1024 ? 1 : 1024 / n2; }
+
 static int ti_prepare(lg_node *n)
 {
     const lg_resource *in = lg_input(n, 0);
@@ -258,7 +262,8 @@ static int ti_prepare(lg_node *n)
     if (info.buffer.size == 0 || info.buffer.size % per)
         return lg_error(n, "the transfer's %zu bytes are not a whole number of %u-band vertices",
                         info.buffer.size, bands);
-    lg_image_desc d = { .width = n2, .height = (uint32_t)(info.buffer.size / per),
+    size_t nv = info.buffer.size / per, V = tp_vertices_per_row(n2);
+    lg_image_desc d = { .width = (uint32_t)(V * n2), .height = (uint32_t)((nv + V - 1) / V),
                         .format = LG_FORMAT_RGBA32F };
     int rc = lg_declare_image(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
@@ -284,9 +289,12 @@ static int ti_execute(lg_node *n, const lg_frame *frame)
         return rc;
     const float *t = in.pixels;
     float *o = out.pixels;
+    uint32_t V = tp_vertices_per_row(n2);
+    size_t rows = (tr->info.vertices + V - 1) / V;
+    memset(o, 0, rows * V * n2 * 4 * sizeof(float));
     for (uint32_t i = 0; i < tr->info.vertices; i++)
         for (uint32_t k = 0; k < n2; k++) {
-            float *p = o + 4 * ((size_t)i * n2 + k);
+            float *p = o + 4 * ((size_t)(i / V) * V * n2 + (size_t)(i % V) * n2 + k);
             for (int c = 0; c < 3; c++)
                 p[c] = t[(size_t)i * 3 * n2 + (size_t)c * n2 + k];
             p[3] = 1.0f;
