@@ -7,7 +7,7 @@ prints markdown tables:
   1. occlusion throughput on the bunny box: the bake's visibility pass against bare Embree
      queries (rtcOccluded1, rtcOccluded16) on the same rays in the same run (prt_bake
      `bench = true`), and against `visibility = brute`. Brute is measured with samples = 2
-     (4 directions: about 2 rays per vertex) and compared per ray: its cost per ray does not
+     (16 directions: about 8 rays per vertex) and compared per ray: its cost per ray does not
      depend on the direction count, only on the triangle count.
   2. bake time and peak memory against mesh size (bunny box, the 871k-triangle dragon).
   3. bake time and peak memory against bands (1 .. 8) on the bunny box.
@@ -56,6 +56,11 @@ def graph(mesh, params, bands=3):
             "output v \"t.exr\"\n")
 
 
+def triangles(text):
+    m = re.search(r"(\d+) triangles", text)
+    return int(m.group(1)) if m else 0
+
+
 def baked(text):
     m = re.search(r"transfer baked in ([0-9.]+) s \((\d+) vertices, (\d+) bands, \w+, "
                   r"(\d+) directions, (\w+) visibility, (\d+) rays, ([0-9.e+]+) rays/s in the "
@@ -85,26 +90,27 @@ def main():
     m = re.search(r"bench: bake ([0-9.e+]+) rays/s, bare rtcOccluded1 ([0-9.e+]+) rays/s, "
                   r"rtcOccluded16 ([0-9.e+]+) rays/s", text)
     bake_r, raw1, raw16 = (float(x) for x in m.groups())
-    text_b, _ = render(exe, graph(bunny, "samples = 2, visibility = brute"))
+    text_b, _ = render(exe, graph(bunny, "samples = 4, visibility = brute"))
     br = baked(text_b)
     print("| what | rays/s | ratio |")
     print("|---|---:|---:|")
     print(f"| bake (rtcOccluded1 + SH accumulation), {b['threads']} threads | {bake_r:.3g} | 1 |")
     print(f"| bare rtcOccluded1, same rays | {raw1:.3g} | bake at {100 * bake_r / raw1:.0f}% |")
     print(f"| bare rtcOccluded16 packets, same rays | {raw16:.3g} | bake at {100 * bake_r / raw16:.0f}% |")
-    print(f"| brute (seed's loop; {br['rays']} rays, per-ray rate) | {br['rate']:.3g} | bake {bake_r / br['rate']:.0f}x faster |")
-    print(f"\n({b['vertices']} vertices, {b['rays']} rays.)\n")
+    print(f"| brute (seed's loop, per-ray rate) | {br['rate']:.3g} | bake {bake_r / br['rate']:.0f}x faster |")
+    print(f"\n({b['vertices']} vertices, {triangles(text)} triangles, {b['rays']} rays; "
+          f"brute: {br['rays']} rays with 16 directions, rate per ray.)\n")
 
     print("## Bake time and memory against mesh size (shadowed, 3 bands, %d^2 directions)\n" % a.samples)
-    print("| mesh | vertices | rays | bake s | visibility pass s | rays/s | peak RSS MiB |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+    print("| mesh | triangles | vertices | rays | bake s | visibility pass s | rays/s | peak RSS MiB |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     meshes = [("bunny box", bunny)]
     if os.path.exists(a.dragon):
         meshes.append(("dragon 871k", a.dragon))
     for name, path in meshes:
         text, rss = render(exe, graph(path, f"samples = {a.samples}"))
         r = baked(text)
-        print(f"| {name} | {r['vertices']} | {r['rays']} | {r['seconds']:.2f} | {r['pass_s']:.2f} "
+        print(f"| {name} | {triangles(text)} | {r['vertices']} | {r['rays']} | {r['seconds']:.2f} | {r['pass_s']:.2f} "
               f"| {r['rate']:.3g} | {rss:.0f} |")
 
     print("\n## Bake time and memory against bands (bunny box, shadowed, %d^2 directions)\n" % a.samples)

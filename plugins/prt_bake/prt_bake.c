@@ -666,6 +666,54 @@ typedef struct pb_bake {
     uint64_t *rays;       /* per chunk: rays cast */
 } pb_bake;
 
+/* Shadowed with Embree: the vertex's rays (N.w > 0) in packets of 16 through
+ * rtcOccluded16, which bench = true measured about 1.3x faster than rtcOccluded1 on the
+ * same rays (rays from one origin are coherent); the unblocked directions accumulate
+ * max(N.w, 0) Y(w) into acc. Returns the rays cast. */
+static uint64_t pb_vertex_packets(const pb_bake *b, const double o[3], const double N[3],
+                                  double *acc)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay16 r;
+    int valid[16];
+    uint32_t idx[16], k = 0, n2 = b->n2;
+    double cws[16];
+    uint64_t rays = 0;
+    for (uint32_t j = 0; j <= b->T; j++) {
+        if (j < b->T) {
+            const double *d = b->dirs + 3 * (size_t)j;
+            double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2];
+            if (!(cw > 0.0))
+                continue;
+            r.org_x[k] = (float)o[0], r.org_y[k] = (float)o[1], r.org_z[k] = (float)o[2];
+            r.dir_x[k] = (float)d[0], r.dir_y[k] = (float)d[1], r.dir_z[k] = (float)d[2];
+            r.tnear[k] = 0.0f, r.tfar[k] = INFINITY, r.time[k] = 0.0f;
+            r.mask[k] = ~0u, r.id[k] = k, r.flags[k] = 0;
+            valid[k] = -1;
+            idx[k] = j;
+            cws[k] = cw;
+            if (++k < 16)
+                continue;
+        }
+        if (k == 0)
+            break;
+        for (uint32_t q = k; q < 16; q++)
+            valid[q] = 0;
+        rtcOccluded16(valid, b->vis->scene, &ctx, &r);
+        rays += k;
+        for (uint32_t q = 0; q < k; q++) {
+            if (r.tfar[q] < 0.0f) /* -inf: occluded */
+                continue;
+            const float *y = b->Y + (size_t)idx[q] * n2;
+            for (uint32_t c = 0; c < n2; c++)
+                acc[c] += cws[q] * y[c];
+        }
+        k = 0;
+    }
+    return rays;
+}
+
 static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
     pb_bake *b = ctx;
@@ -687,6 +735,10 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
             o[c] = x[c] + eps * (N[c] + D[c]);
         memset(acc, 0, n2 * sizeof(double));
         uint32_t nh = 0;
+        if (b->p->mode == PB_SHADOWED && b->vis->kind == PB_EMBREE) {
+            rays += pb_vertex_packets(b, o, N, acc);
+            goto store;
+        }
         for (uint32_t j = 0; j < T; j++) {
             const double *d = b->dirs + 3 * (size_t)j;
             double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2];
@@ -723,6 +775,7 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
             for (uint32_t k = 0; k < n2; k++)
                 acc[k] += cw * y[k];
         }
+    store:;
         /* (rho / pi) (4 pi / T) sum = 4 rho / T sum */
         float *t = b->out + i * 3 * n2;
         for (int c = 0; c < 3; c++) {
@@ -1131,7 +1184,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
             rate[q] = dt > 0 ? r / dt : 0.0;
         }
         double bake_rate = t1 > tp ? total_rays / (t1 - tp) : 0.0;
-        lg_log(n, LG_LOG_INFO, "bench: bake %.4g rays/s, bare rtcOccluded1 %.4g rays/s, "
+        lg_log(n, LG_LOG_INFO, "bench: bake (rtcOccluded16) %.4g rays/s, bare rtcOccluded1 %.4g rays/s, "
                                "rtcOccluded16 %.4g rays/s (same %llu rays, %u threads): the "
                                "bake at %.0f%% of rtcOccluded1",
                bake_rate, rate[0], rate[1], (unsigned long long)total_rays, lg_cpu_workers(n),
