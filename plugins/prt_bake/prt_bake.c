@@ -37,8 +37,6 @@ enum { PB_EMBREE = 0, PB_BRUTE };
 
 /* Above this many ray-triangle tests the brute-force option warns (about a minute here). */
 #define PB_BRUTE_WARN 2e10
-/* The hits kept from the shadowed pass for the bounces; above it the bake refuses. */
-#define PB_HIT_BUDGET ((size_t)2 << 30)
 
 /* ---- the scene in world space ------------------------------------------------------------ */
 
@@ -508,6 +506,7 @@ typedef struct pb_params {
     uint64_t seed;
     double threshold;
     bool bench;
+    uint32_t hit_mib;
     bool albedo_material;
     double albedo[3];
 } pb_params;
@@ -568,6 +567,7 @@ static int pb_read_params(lg_node *n, pb_state *st)
     p->seed = (uint64_t)lg_param_int(n, "seed");
     p->bounces = (uint32_t)lg_param_int(n, "bounces");
     p->bench = lg_param_bool(n, "bench");
+    p->hit_mib = (uint32_t)lg_param_int(n, "hit_memory_mib");
     p->threshold = lg_param_float(n, "bounce_threshold");
     if (!isfinite(p->threshold) || p->threshold < 0)
         return lg_error(n, "bounce_threshold = %g: must be a finite energy ratio >= 0",
@@ -658,6 +658,7 @@ typedef struct pb_bake {
     const float *Y;       /* n2 per direction */
     float *out;           /* [vertex][3][n2] */
     /* interreflection */
+    bool keep;            /* interreflected: hits kept (else every bounce casts again) */
     pb_hit **hits;        /* per vertex: its front-face hits (malloc'd), or NULL */
     uint32_t *n_hits;
     const float *prev;    /* the previous bounce's increment */
@@ -726,7 +727,7 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
         b->failed[chunk] = 1;
         return;
     }
-    bool keep_hits = b->p->mode == PB_INTERREFLECTED;
+    bool keep_hits = b->keep;
     uint64_t rays = 0;
     for (size_t i = begin; i < end; i++) {
         const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
@@ -735,7 +736,7 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
             o[c] = x[c] + eps * (N[c] + D[c]);
         memset(acc, 0, n2 * sizeof(double));
         uint32_t nh = 0;
-        if (b->p->mode == PB_SHADOWED && b->vis->kind == PB_EMBREE) {
+        if (b->p->mode != PB_UNSHADOWED && !keep_hits && b->vis->kind == PB_EMBREE) {
             rays += pb_vertex_packets(b, o, N, acc);
             goto store;
         }
@@ -821,8 +822,25 @@ static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chu
             return;
         }
         memset(a, 0, stride * sizeof(double));
-        for (uint32_t h = 0; h < b->n_hits[i]; h++) {
-            const pb_hit *hh = &b->hits[i][h];
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
+        double eps = pb_offset(w, x), o[3];
+        for (int c = 0; c < 3; c++)
+            o[c] = x[c] + eps * (N[c] + D[c]);
+        /* kept hits, or (hits not kept) the same rays cast again: the j loop below */
+        uint32_t count = b->keep ? b->n_hits[i] : b->T;
+        for (uint32_t h = 0; h < count; h++) {
+            pb_hit again;
+            const pb_hit *hh = b->keep ? &b->hits[i][h] : &again;
+            if (!b->keep) {
+                const double *d = b->dirs + 3 * (size_t)h;
+                double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2], hn[3];
+                if (!(cw > 0.0) || !pb_trace(b->vis, o, d, false, &again))
+                    continue;
+                pb_hit_normal(w, &again, hn);
+                if (!(hn[0] * d[0] + hn[1] * d[1] + hn[2] * d[2] < 0.0))
+                    continue; /* a back face: carries nothing */
+                again.cosw = (float)cw;
+            }
             uint32_t m = w->inst_mesh[hh->inst];
             const uint32_t *ix = w->s->meshes[m].indices + 3 * (size_t)hh->prim;
             uint32_t off = w->mesh_offset[m];
@@ -1086,7 +1104,16 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
            (double)T * (n2 * 4 + 24) / 1048576.0, (double)floats * 4 / 1048576.0);
     b = (pb_bake){ .p = p, .w = &w, .vis = &vis, .n2 = n2, .T = T, .dirs = dirs, .Y = Y,
                    .out = out, .failed = failed, .rays = rays };
-    if (p->mode == PB_INTERREFLECTED) {
+    /* interreflected: keep the shadowed pass's hits when their bound (every ray a hit, 20
+     * bytes each) fits hit_memory_mib; else every bounce casts its rays again */
+    double hit_bound = (double)nv * (T / 2 + 1) * sizeof(pb_hit);
+    b.keep = p->mode == PB_INTERREFLECTED && hit_bound <= (double)p->hit_mib * 1048576.0;
+    if (p->mode == PB_INTERREFLECTED)
+        lg_log(n, LG_LOG_DEBUG, "interreflections: hits %s (at most %.1f MiB; hit_memory_mib "
+                                "= %u)",
+               b.keep ? "kept for the bounces" : "cast again every bounce",
+               hit_bound / 1048576.0, p->hit_mib);
+    if (b.keep) {
         b.hits = calloc(nv, sizeof *b.hits);
         b.n_hits = calloc(nv, sizeof *b.n_hits);
         if (!b.hits || !b.n_hits) {
@@ -1111,17 +1138,11 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     double t1 = n->host->now();
     if (p->mode == PB_INTERREFLECTED) {
         uint64_t nh = 0;
-        for (uint32_t i = 0; i < nv; i++)
+        for (uint32_t i = 0; b.keep && i < nv; i++)
             nh += b.n_hits[i];
-        lg_log(n, LG_LOG_DEBUG, "kept %llu front-face hits for the bounces: %.1f MiB",
-               (unsigned long long)nh, (double)nh * sizeof(pb_hit) / 1048576.0);
-        if (nh * sizeof(pb_hit) > PB_HIT_BUDGET) {
-            rc = lg_error(n, "interreflections: %llu hits (%.1f GiB) exceed the %.0f GiB the "
-                             "node keeps; lower samples",
-                          (unsigned long long)nh, (double)nh * sizeof(pb_hit) / 1073741824.0,
-                          (double)PB_HIT_BUDGET / 1073741824.0);
-            goto done;
-        }
+        if (b.keep)
+            lg_log(n, LG_LOG_DEBUG, "kept %llu front-face hits for the bounces: %.1f MiB",
+                   (unsigned long long)nh, (double)nh * sizeof(pb_hit) / 1048576.0);
         incr[0] = malloc(floats * sizeof(float));
         incr[1] = malloc(floats * sizeof(float));
         if (!incr[0] || !incr[1]) {
@@ -1399,6 +1420,10 @@ static const lg_param_desc pb_bake_params[] = {
              "every ray: for comparison only, it warns above about 2e10 tests)" },
     { .key = "bounces", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64,
       .doc = "interreflected: at most this many bounces" },
+    { .key = "hit_memory_mib", .type = LG_PARAM_INT, .def.i = 2048, .min = 0, .max = 1 << 20,
+      .doc = "interreflected: the shadowed pass's ray hits (20 bytes each) are kept for the "
+             "bounces when at most this many MiB could be needed (vertices x directions / 2); "
+             "else, or with 0, every bounce casts its rays again (same result, slower)" },
     { .key = "bench", .type = LG_PARAM_BOOL, .def.b = false,
       .doc = "after the bake, time bare Embree occlusion queries on the same rays "
              "(rtcOccluded1, and rtcOccluded16 packets) and log rays/s; for "

@@ -265,6 +265,22 @@ static void case_furnace(lg_test *t)
             LG_TEST_CHECK(t, fabs(1 - mean) < 0.01, "32 bounces: mean %.4f, want 1 within 0.01",
                           mean);
         prev = mean;
+        if (bounces[b] == 4) {
+            /* hits not kept (hit_memory_mib = 0): every bounce casts its rays again, and
+             * finds the same hits */
+            tr y;
+            char q[300];
+            snprintf(q, sizeof q, "%s, hit_memory_mib = 0", p);
+            if (bake(t, "layout = box, grid = 6", q, 3, &y, NULL)) {
+                double worst = 0;
+                for (size_t k = 0; k < (size_t)x.nv * 3 * x.n2; k++)
+                    worst = fmax(worst, fabs(x.t[k] - y.t[k]));
+                fprintf(stderr, "furnace, 4 bounces, hits cast again: worst difference %.2e\n",
+                        worst);
+                LG_TEST_CHECK(t, worst < 1e-5, "hits kept or cast again differ by %.3g", worst);
+                tr_free(&y);
+            }
+        }
         tr_free(&x);
     }
 }
