@@ -515,7 +515,6 @@ typedef struct pb_state {
     pb_params p;
     bool reference;     /* prt_reference */
     uint32_t vertices;  /* declared in prepare */
-    bool done;          /* static: computed once */
 } pb_state;
 
 /* Cache entries: this header, then the floats. Any field that disagrees with what the node
@@ -984,7 +983,7 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
             why = "its bands, vertices, mode or samples differ from the node's";
         else if (h.floats != want->floats || bytes != sizeof h + h.floats * sizeof(float))
             why = "its size does not add up";
-        else if (want->mode == PB_INTERREFLECTED + 1 && h.bounces > 1000)
+        else if (h.bounces > 64)
             why = "an impossible bounce count";
     }
     if (!why) {
@@ -1383,13 +1382,10 @@ done:
 static int pb_execute(lg_node *n, const lg_frame *frame)
 {
     (void)frame;
+    /* static: the host runs it again only when the scene (or probe) changed, and then the
+     * cache is looked up under the new identity */
     pb_state *st = n->user;
-    if (st->done)
-        return 0;
-    int rc = st->reference ? pb_ref_execute(n, st) : pb_bake_execute(n, st);
-    if (rc == 0)
-        st->done = true;
-    return rc;
+    return st->reference ? pb_ref_execute(n, st) : pb_bake_execute(n, st);
 }
 
 /* ---- the node types -------------------------------------------------------------------------------- */
