@@ -196,6 +196,28 @@ static void case_unshadowed(lg_test *t)
         LG_TEST_CHECK(t, worst < 4e-3, "%u bands: worst error %.3g", bands, worst);
         tr_free(&x);
     }
+    /* the other samplers, same oracle (jittered converges more slowly: a looser bound) */
+    static const char *const samplers[] = { "jittered", "hammersley" };
+    for (int k = 0; k < 2; k++) {
+        char p[128];
+        snprintf(p, sizeof p, "mode = unshadowed, samples = 64, sampler = %s, seed = 7",
+                 samplers[k]);
+        tr x;
+        if (!bake(t, "layout = sphere, segments = 24", p, 3, &x, NULL))
+            return;
+        double L[9], worst = 0;
+        env_coeffs(3, L);
+        for (uint32_t j = 0, v = 0; j <= rows; j++)
+            for (uint32_t i = 0; i <= cols; i++, v++) {
+                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
+                worst = fmax(worst, fabs(radiance(&x, v, 1, L) - env_E(N) / PI));
+            }
+        fprintf(stderr, "unshadowed, %s: worst error %.2e\n", samplers[k], worst);
+        LG_TEST_CHECK(t, worst < (k == 0 ? 1e-2 : 4e-3), "%s: worst error %.3g", samplers[k],
+                      worst);
+        tr_free(&x);
+    }
 }
 
 static void case_cone(lg_test *t)
@@ -579,6 +601,27 @@ static void case_reference(lg_test *t)
         LG_TEST_CHECK(t, img.pixels[4 * nv + 3] == 0.0f, "padding texel %u not 0", nv);
         fprintf(stderr, "reference, unshadowed: worst |r - (rho/pi) E| = %.2e\n", worst);
         LG_TEST_CHECK(t, worst < 3e-3, "unshadowed reference off by %.3g", worst);
+        /* cached like the bake: the same graph again loads it, bit for bit */
+        char g[1024];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\ns = test_prt_scene { layout = sphere, segments = 24, "
+                 "base_color = [0.8, 0.5, 0.2] }\n"
+                 "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                 "r = prt_reference { scene = s, probe = sky, mode = unshadowed, "
+                 "resolution = 32 }\noutput r \"ref2.exr\"\n");
+        char *text = NULL;
+        int rc = run(t, g, &text);
+        lg_image again;
+        LG_TEST_CHECK(t, rc == 0 && text && strstr(text, "reference loaded from the cache"),
+                      "second reference render did not load the cache (%d):\n%s", rc,
+                      text ? text : "");
+        if (rc == 0 && lg_test_read(t, "ref2.exr", &again, NULL)) {
+            LG_TEST_CHECK(t, memcmp(again.pixels, img.pixels,
+                                    (size_t)img.width * img.height * 16) == 0,
+                          "the cached reference differs");
+            lg_image_free(&again);
+        }
+        free(text);
         lg_image_free(&img);
     }
 
