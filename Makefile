@@ -63,6 +63,7 @@ fuzz: $(FUZZ_BUILD)/build.ninja
 bench: build
 	ninja -C $(BUILD) bench-reinhard
 	ninja -C $(BUILD) bench-prt
+	ninja -C $(BUILD) bench-prt-bake
 
 # GGX prefiltering: error vs time for 16 .. 4096 samples per texel, into docs/images/
 # (prefilter_study.csv and .png; docs/probes.md "Glossy prefiltering").

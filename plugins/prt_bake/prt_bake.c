@@ -1,0 +1,1491 @@
+/*
+ * The prt_bake plugin (README.md beside this file; TECHNIQUES.md §5, seed 0 eq. 4.8, 4.9,
+ * §4.2.2.3; Sloan, Kautz and Snyder 2002):
+ *
+ *   prt_bake       scene -> out (LG_KIND_TRANSFER): per-vertex transfer vectors, the albedo
+ *                  folded in, unshadowed, shadowed (Embree or brute-force visibility) or
+ *                  interreflected, over one global set of sphere directions
+ *   prt_reference  scene, probe -> vertices (rgba32f per-vertex image): the exit radiance
+ *                  of every vertex by exact quadrature over the probe's texels, with the
+ *                  same visibility: the oracle of the accuracy study
+ *
+ * Both run on the CPU (the host's pool), are static, and keep their result in the host's
+ * cache under a header of their own that is checked before anything is trusted.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <embree3/rtcore.h>
+
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/probe.h"
+#include "lightgraph/sampling.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/sh.h"
+#include "lightgraph/shcoeffs.h"
+#include "lightgraph/transfer.h"
+#include "lightgraph/vecmath.h"
+
+#define PB_PI 3.14159265358979323846
+
+enum { PB_UNSHADOWED = 0, PB_SHADOWED, PB_INTERREFLECTED };
+enum { PB_EMBREE = 0, PB_BRUTE };
+
+/* Above this many ray-triangle tests the brute-force option warns (about a minute here). */
+#define PB_BRUTE_WARN 2e10
+
+/* ---- the scene in world space ------------------------------------------------------------ */
+
+/* Every instance's triangles in world space (float, as Embree takes them), every vertex's
+ * world position and normal (the frame of its mesh's first instance), and the albedo of
+ * each vertex. Owned by the node state; freed by pb_world_free. */
+typedef struct pb_world {
+    uint32_t n_vertices;           /* sum of the meshes' vertex counts */
+    uint32_t *mesh_offset;         /* n_meshes + 1: mesh m's first vertex */
+    double *pos, *nrm;             /* 3 per vertex: world position and unit normal */
+    double *in;                    /* 3 per vertex: unit tangent toward its own mesh's
+                                    * triangles at a boundary, else 0 (pb_offset) */
+    float *albedo;                 /* 3 per vertex */
+    /* per instance (Embree geometry id = instance index) */
+    uint32_t n_inst;
+    const uint32_t *inst_mesh;     /* scene->instances[i].mesh, copied */
+    uint32_t *inst_mesh_store;
+    float **inst_pos;              /* world positions of instance i's mesh */
+    float **inst_nrm;              /* world normals of instance i's mesh (unit) */
+    uint64_t n_triangles;          /* over every instance */
+    double extent, max_abs;        /* world bounds' largest side; largest |coordinate| */
+    const lg_scene *s;
+} pb_world;
+
+static void pb_world_free(pb_world *w)
+{
+    if (w->inst_pos)
+        for (uint32_t i = 0; i < w->n_inst; i++)
+            free(w->inst_pos[i]);
+    if (w->inst_nrm)
+        for (uint32_t i = 0; i < w->n_inst; i++)
+            free(w->inst_nrm[i]);
+    free(w->inst_pos);
+    free(w->inst_nrm);
+    free(w->inst_mesh_store);
+    free(w->mesh_offset);
+    free(w->pos);
+    free(w->nrm);
+    free(w->in);
+    free(w->albedo);
+    memset(w, 0, sizeof *w);
+}
+
+static void pb_xform_point(const float m[16], const float p[3], double out[3])
+{
+    for (int r = 0; r < 3; r++)
+        out[r] = (double)m[r] * p[0] + (double)m[4 + r] * p[1] + (double)m[8 + r] * p[2] +
+                 (double)m[12 + r];
+}
+
+static void pb_xform_normal(const float m[9], const float nv[3], double out[3])
+{
+    double l = 0;
+    for (int r = 0; r < 3; r++) {
+        out[r] = (double)m[r] * nv[0] + (double)m[3 + r] * nv[1] + (double)m[6 + r] * nv[2];
+        l += out[r] * out[r];
+    }
+    l = sqrt(l);
+    for (int r = 0; r < 3; r++)
+        out[r] = l > 0 ? out[r] / l : 0.0;
+}
+
+/* For every vertex, the direction from it into its own mesh's surface (pb_offset): the sum
+ * over its triangles of (centroid - vertex), its normal component removed, normalised when
+ * it is not negligible against the sum of the lengths (a vertex inside a symmetric fan
+ * gets 0; one on a mesh's boundary points away from the boundary). */
+static void pb_world_inward(pb_world *w)
+{
+    const lg_scene *s = w->s;
+    double *len = calloc(w->n_vertices, sizeof(double));
+    if (!len)
+        return; /* no tangent offset: the normal offset alone still applies */
+    for (uint32_t m = 0; m < s->n_meshes; m++) {
+        const lg_mesh *me = &s->meshes[m];
+        uint32_t off = w->mesh_offset[m];
+        for (uint32_t t = 0; t + 2 < me->n_indices; t += 3) {
+            const uint32_t *ix = me->indices + t;
+            if (ix[0] >= me->n_vertices || ix[1] >= me->n_vertices || ix[2] >= me->n_vertices)
+                continue; /* reported when the Embree scene is built */
+            double c[3];
+            for (int k = 0; k < 3; k++)
+                c[k] = (w->pos[3 * (size_t)(off + ix[0]) + k] + w->pos[3 * (size_t)(off + ix[1]) + k] +
+                        w->pos[3 * (size_t)(off + ix[2]) + k]) / 3.0;
+            for (int q = 0; q < 3; q++) {
+                size_t v = off + ix[q];
+                double d[3], l = 0;
+                for (int k = 0; k < 3; k++) {
+                    d[k] = c[k] - w->pos[3 * v + k];
+                    l += d[k] * d[k];
+                    w->in[3 * v + k] += d[k];
+                }
+                len[v] += sqrt(l);
+            }
+        }
+    }
+    for (uint32_t v = 0; v < w->n_vertices; v++) {
+        double *d = w->in + 3 * (size_t)v;
+        const double *N = w->nrm + 3 * (size_t)v;
+        double dn = d[0] * N[0] + d[1] * N[1] + d[2] * N[2], l = 0;
+        for (int k = 0; k < 3; k++) {
+            d[k] -= dn * N[k];
+            l += d[k] * d[k];
+        }
+        l = sqrt(l);
+        for (int k = 0; k < 3; k++)
+            d[k] = l > 1e-3 * len[v] && l > 0 ? d[k] / l : 0.0;
+    }
+    free(len);
+}
+
+/* albedo_param: [r, g, b] or NULL for the materials' base colours. Reports bad input
+ * (non-finite positions or normals, an albedo outside [0, 1]) naming mesh and vertex. */
+static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_param,
+                         pb_world *w)
+{
+    memset(w, 0, sizeof *w);
+    w->s = s;
+    uint64_t nv = 0;
+    for (uint32_t m = 0; m < s->n_meshes; m++)
+        nv += s->meshes[m].n_vertices;
+    if (nv == 0)
+        return lg_error(n, "input 'scene' (%s) has no vertices: nothing to bake",
+                        s->source ? s->source : "?");
+    if (nv > UINT32_MAX / 2)
+        return lg_error(n, "input 'scene' has %llu vertices: more than this node handles",
+                        (unsigned long long)nv);
+    w->n_vertices = (uint32_t)nv;
+    w->mesh_offset = calloc((size_t)s->n_meshes + 1, sizeof *w->mesh_offset);
+    w->pos = malloc(nv * 3 * sizeof(double));
+    w->nrm = malloc(nv * 3 * sizeof(double));
+    w->albedo = malloc(nv * 3 * sizeof(float));
+    w->in = calloc(nv * 3, sizeof(double));
+    w->n_inst = s->n_instances;
+    w->inst_mesh_store = calloc(w->n_inst ? w->n_inst : 1, sizeof(uint32_t));
+    w->inst_pos = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
+    w->inst_nrm = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
+    if (!w->mesh_offset || !w->pos || !w->nrm || !w->albedo || !w->in || !w->inst_mesh_store ||
+        !w->inst_pos || !w->inst_nrm)
+        goto nomem;
+    w->inst_mesh = w->inst_mesh_store;
+
+    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t i = 0; i < s->n_instances; i++) {
+        const lg_instance *in = &s->instances[i];
+        if (in->mesh >= s->n_meshes)
+            return lg_error(n, "instance %u names mesh %u of %u", i, in->mesh, s->n_meshes);
+        const lg_mesh *me = &s->meshes[in->mesh];
+        if (!me->positions || !me->normals || (!me->indices && me->n_indices))
+            return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions, normals "
+                               "and indices",
+                            in->mesh, me->name ? me->name : "", !me->positions ? "positions"
+                                                                : !me->normals ? "normals"
+                                                                               : "indices");
+        w->inst_mesh_store[i] = in->mesh;
+        w->inst_pos[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
+        w->inst_nrm[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
+        if (!w->inst_pos[i] || !w->inst_nrm[i])
+            goto nomem;
+        for (uint32_t v = 0; v < me->n_vertices; v++) {
+            double p[3], q[3];
+            pb_xform_point(in->model, me->positions + 3 * (size_t)v, p);
+            pb_xform_normal(in->normal_matrix, me->normals + 3 * (size_t)v, q);
+            for (int c = 0; c < 3; c++) {
+                if (!isfinite(p[c]) || !isfinite(q[c]))
+                    return lg_error(n, "mesh %u '%s' vertex %u (instance %u): its %s is not "
+                                       "finite",
+                                    in->mesh, me->name ? me->name : "", v, i,
+                                    isfinite(p[c]) ? "normal" : "position");
+                w->inst_pos[i][3 * (size_t)v + c] = (float)p[c];
+                w->inst_nrm[i][3 * (size_t)v + c] = (float)q[c];
+                lo[c] = fmin(lo[c], p[c]);
+                hi[c] = fmax(hi[c], p[c]);
+                w->max_abs = fmax(w->max_abs, fabs(p[c]));
+            }
+        }
+        w->n_triangles += me->n_indices / 3;
+    }
+    for (int c = 0; c < 3; c++)
+        if (hi[c] >= lo[c])
+            w->extent = fmax(w->extent, hi[c] - lo[c]);
+
+    /* the vertices, numbered as transfer.h says, in the frame of their mesh's first
+     * instance (a mesh without an instance keeps its object frame and occludes nothing) */
+    uint32_t off = 0;
+    for (uint32_t m = 0; m < s->n_meshes; m++) {
+        const lg_mesh *me = &s->meshes[m];
+        w->mesh_offset[m] = off;
+        const lg_instance *first = NULL;
+        for (uint32_t i = 0; i < s->n_instances && !first; i++)
+            if (s->instances[i].mesh == m)
+                first = &s->instances[i];
+        float id[16], idn[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+        lg_m4_identity(id);
+        if (me->n_vertices && (!me->positions || !me->normals))
+            return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions and normals",
+                            m, me->name ? me->name : "", !me->positions ? "positions" : "normals");
+        const lg_material *mat = me->material < s->n_materials ? &s->materials[me->material] : NULL;
+        float rho[3];
+        for (int c = 0; c < 3; c++) {
+            double a = albedo_param ? albedo_param[c] : mat ? mat->base_color[c] : 1.0;
+            if (!(a >= 0.0 && a <= 1.0)) {
+                if (albedo_param)
+                    return lg_error(n, "albedo [%g, %g, %g]: every channel must be in [0, 1] "
+                                       "(an albedo above 1 makes energy)",
+                                    albedo_param[0], albedo_param[1], albedo_param[2]);
+                return lg_error(n, "mesh %u '%s': material %u '%s' has base colour [%g, %g, "
+                                   "%g], outside [0, 1]; give the node an albedo = [r, g, b]",
+                                m, me->name ? me->name : "", me->material,
+                                mat->name ? mat->name : "", (double)mat->base_color[0],
+                                (double)mat->base_color[1], (double)mat->base_color[2]);
+            }
+            rho[c] = (float)a;
+        }
+        for (uint32_t v = 0; v < me->n_vertices; v++, off++) {
+            pb_xform_point(first ? first->model : id, me->positions + 3 * (size_t)v,
+                           w->pos + 3 * (size_t)off);
+            pb_xform_normal(first ? first->normal_matrix : idn, me->normals + 3 * (size_t)v,
+                            w->nrm + 3 * (size_t)off);
+            for (int c = 0; c < 3; c++) {
+                if (!isfinite(w->pos[3 * (size_t)off + c]) || !isfinite(w->nrm[3 * (size_t)off + c]))
+                    return lg_error(n, "mesh %u '%s' vertex %u: its position or normal is not "
+                                       "finite",
+                                    m, me->name ? me->name : "", v);
+                w->albedo[3 * (size_t)off + c] = rho[c];
+            }
+        }
+    }
+    w->mesh_offset[s->n_meshes] = off;
+    pb_world_inward(w);
+    return 0;
+nomem:
+    return lg_error_code(n, LG_ERR_NOMEM, "out of memory (world copy of %llu vertices)",
+                         (unsigned long long)nv);
+}
+
+/*
+ * The self-intersection rule. A ray leaves vertex x along w from the origin
+ *     o = x + eps(x) (N + D),   eps(x) = 2^-16 extent + PB_ULPS ulp(max(|x|, |y|, |z|)),
+ * with tnear = 0, N the vertex's (shading) normal, D the unit tangent from x into its own
+ * mesh's triangles (pb_world_inward: 0 inside a mesh, pointing away from a mesh's boundary)
+ * and extent the largest side of the scene's world bounds.
+ *   - eps: the first term is scale-free (the same geometry scaled gives the same rays,
+ *     scaled); the second covers the rounding of float coordinates, which grows with the
+ *     distance from the origin (a scene translated by 10^6 has 0.06-wide float steps):
+ *     Embree's intersection error is a few ulps of the coordinates involved, so PB_ULPS
+ *     ulps lift the origin clear of the vertex's own (coplanar) triangles on a flat plane
+ *     anywhere (tests/plugins/prt_bake `large_coords`).
+ *   - N rather than a geometric normal: a vertex has one normal but several triangles;
+ *     rays with N.w <= 0 are never cast (their weight is 0).
+ *   - D: a vertex where two meshes meet (the foot of a wall on a floor) lies ON the other
+ *     mesh, whose triangle a ray leaving it would hit at t = 0 whichever way it goes (a
+ *     black seam); moved by eps into its own surface it sees the wall block the directions
+ *     into the wall only.
+ */
+#define PB_ULPS 4.0
+static double pb_offset(const pb_world *w, const double *p)
+{
+    double m = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
+    return ldexp(w->extent, -16) + PB_ULPS * m * (double)FLT_EPSILON;
+}
+
+/* ---- visibility ---------------------------------------------------------------------------- */
+
+typedef struct pb_hit {
+    uint32_t inst, prim;
+    float u, v;  /* Embree's barycentrics: p = (1-u-v) v0 + u v1 + v v2 */
+    float cosw;  /* max(N.w, 0) of the ray from the vertex */
+} pb_hit;
+
+typedef struct pb_vis {
+    int kind;               /* PB_EMBREE or PB_BRUTE */
+    RTCDevice dev;
+    RTCScene scene;
+    const pb_world *w;
+    size_t embree_bytes;    /* the geometry buffers Embree holds (estimate, for the log) */
+    char error[256];        /* the first Embree error, from its callback */
+} pb_vis;
+
+static void pb_embree_error(void *user, enum RTCError code, const char *str)
+{
+    pb_vis *v = user;
+    if (!v->error[0])
+        snprintf(v->error, sizeof v->error, "Embree error %d: %s", (int)code, str ? str : "");
+}
+
+static void pb_vis_free(pb_vis *v)
+{
+    if (v->scene)
+        rtcReleaseScene(v->scene);
+    if (v->dev)
+        rtcReleaseDevice(v->dev);
+    memset(v, 0, sizeof *v);
+}
+
+/* Builds the Embree scene of every instance (world space, geometry id = instance index);
+ * brute force needs nothing beyond the world copy. Both faces occlude: Embree's
+ * backface culling is a build option, refused here when the library has it on. */
+static int pb_vis_make(lg_node *n, const pb_world *w, int kind, pb_vis *v)
+{
+    memset(v, 0, sizeof *v);
+    v->kind = kind;
+    v->w = w;
+    if (kind == PB_BRUTE)
+        return 0;
+    char cfg[64];
+    snprintf(cfg, sizeof cfg, "threads=%u", lg_cpu_workers(n));
+    v->dev = rtcNewDevice(cfg);
+    if (!v->dev)
+        return lg_error(n, "Embree: no device (rtcNewDevice failed: error %d)",
+                        (int)rtcGetDeviceError(NULL));
+    rtcSetDeviceErrorFunction(v->dev, pb_embree_error, v);
+    if (rtcGetDeviceProperty(v->dev, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
+        return lg_error(n, "this Embree library was built with backface culling: single-sided "
+                           "triangles would let light through from behind; use visibility = "
+                           "brute or an Embree built without EMBREE_BACKFACE_CULLING");
+    v->scene = rtcNewScene(v->dev);
+    rtcSetSceneBuildQuality(v->scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(v->scene, RTC_SCENE_FLAG_ROBUST);
+    const lg_scene *s = w->s;
+    for (uint32_t i = 0; i < w->n_inst; i++) {
+        const lg_mesh *me = &s->meshes[w->inst_mesh[i]];
+        uint32_t nt = me->n_indices / 3;
+        RTCGeometry g = rtcNewGeometry(v->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+        float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                            3 * sizeof(float), me->n_vertices ? me->n_vertices : 1);
+        unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                               3 * sizeof(unsigned), nt);
+        if (!vb || (nt && !ib)) {
+            rtcReleaseGeometry(g);
+            return lg_error(n, "Embree: out of memory for instance %u (%s)", i,
+                            v->error[0] ? v->error : "no buffer");
+        }
+        memcpy(vb, w->inst_pos[i], (size_t)me->n_vertices * 3 * sizeof(float));
+        for (uint32_t t = 0; t < nt * 3; t++) {
+            if (me->indices[t] >= me->n_vertices) {
+                rtcReleaseGeometry(g);
+                return lg_error(n, "mesh %u '%s': index %u (triangle %u) is %u, past its %u "
+                                   "vertices",
+                                w->inst_mesh[i], me->name ? me->name : "", t, t / 3,
+                                me->indices[t], me->n_vertices);
+            }
+            ib[t] = me->indices[t];
+        }
+        v->embree_bytes += (size_t)me->n_vertices * 12 + (size_t)nt * 12;
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(v->scene, g, i);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(v->scene);
+    if (v->error[0])
+        return lg_error(n, "building the Embree scene: %s", v->error);
+    /* the BVH: about 1.5x the geometry for a high-quality build (not reported by Embree 3) */
+    lg_log(n, LG_LOG_DEBUG, "Embree scene: %u instances, %llu triangles, about %.1f MiB of "
+                            "geometry buffers plus its BVH",
+           w->n_inst, (unsigned long long)w->n_triangles, (double)v->embree_bytes / 1048576.0);
+    return 0;
+}
+
+/* Moller-Trumbore, both faces: the distance t > 0 to the triangle, or -1. */
+static double pb_mt(const double o[3], const double d[3], const float *a, const float *b,
+                    const float *c, double *bu, double *bv)
+{
+    double e1[3], e2[3], pv[3], tv[3], qv[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)b[k] - a[k];
+        e2[k] = (double)c[k] - a[k];
+    }
+    pv[0] = d[1] * e2[2] - d[2] * e2[1];
+    pv[1] = d[2] * e2[0] - d[0] * e2[2];
+    pv[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+    if (det == 0.0)
+        return -1;
+    double inv = 1.0 / det;
+    for (int k = 0; k < 3; k++)
+        tv[k] = o[k] - a[k];
+    double u = (tv[0] * pv[0] + tv[1] * pv[1] + tv[2] * pv[2]) * inv;
+    if (u < 0.0 || u > 1.0)
+        return -1;
+    qv[0] = tv[1] * e1[2] - tv[2] * e1[1];
+    qv[1] = tv[2] * e1[0] - tv[0] * e1[2];
+    qv[2] = tv[0] * e1[1] - tv[1] * e1[0];
+    double vv = (d[0] * qv[0] + d[1] * qv[1] + d[2] * qv[2]) * inv;
+    if (vv < 0.0 || u + vv > 1.0)
+        return -1;
+    double t = (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) * inv;
+    *bu = u;
+    *bv = vv;
+    return t > 0.0 ? t : -1;
+}
+
+/* The first hit along the ray (o, d), or false. With any_hit, stops at the first blocker
+ * found (occlusion only; *h untouched). */
+static bool pb_trace(const pb_vis *v, const double o[3], const double d[3], bool any_hit,
+                     pb_hit *h)
+{
+    if (v->kind == PB_EMBREE) {
+        struct RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        if (any_hit) {
+            struct RTCRay r = { .org_x = (float)o[0], .org_y = (float)o[1], .org_z = (float)o[2],
+                                .tnear = 0.0f, .dir_x = (float)d[0], .dir_y = (float)d[1],
+                                .dir_z = (float)d[2], .tfar = INFINITY, .mask = ~0u };
+            rtcOccluded1(v->scene, &ctx, &r);
+            return r.tfar < 0.0f; /* -inf when occluded */
+        }
+        struct RTCRayHit rh;
+        memset(&rh, 0, sizeof rh);
+        rh.ray.org_x = (float)o[0], rh.ray.org_y = (float)o[1], rh.ray.org_z = (float)o[2];
+        rh.ray.dir_x = (float)d[0], rh.ray.dir_y = (float)d[1], rh.ray.dir_z = (float)d[2];
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = INFINITY;
+        rh.ray.mask = ~0u;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(v->scene, &ctx, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+            return false;
+        h->inst = rh.hit.geomID;
+        h->prim = rh.hit.primID;
+        h->u = rh.hit.u;
+        h->v = rh.hit.v;
+        return true;
+    }
+    /* the seed's loop: every triangle of every instance (for comparison only) */
+    const pb_world *w = v->w;
+    double best = INFINITY;
+    bool found = false;
+    for (uint32_t i = 0; i < w->n_inst; i++) {
+        const lg_mesh *me = &w->s->meshes[w->inst_mesh[i]];
+        const float *P = w->inst_pos[i];
+        for (uint32_t t = 0; t + 2 < me->n_indices; t += 3) {
+            double bu, bv;
+            double d_ = pb_mt(o, d, P + 3 * (size_t)me->indices[t], P + 3 * (size_t)me->indices[t + 1],
+                              P + 3 * (size_t)me->indices[t + 2], &bu, &bv);
+            if (d_ > 0 && d_ < best) {
+                if (any_hit)
+                    return true;
+                best = d_;
+                found = true;
+                h->inst = i;
+                h->prim = t / 3;
+                h->u = (float)bu;
+                h->v = (float)bv;
+            }
+        }
+    }
+    return found;
+}
+
+/* The world shading normal at a hit (instance's normals interpolated). */
+static void pb_hit_normal(const pb_world *w, const pb_hit *h, double out[3])
+{
+    const lg_mesh *me = &w->s->meshes[w->inst_mesh[h->inst]];
+    const uint32_t *ix = me->indices + 3 * (size_t)h->prim;
+    const float *N = w->inst_nrm[h->inst];
+    double b[3] = { 1.0 - h->u - h->v, h->u, h->v };
+    for (int c = 0; c < 3; c++)
+        out[c] = b[0] * N[3 * (size_t)ix[0] + c] + b[1] * N[3 * (size_t)ix[1] + c] +
+                 b[2] * N[3 * (size_t)ix[2] + c];
+}
+
+/* ---- node state ----------------------------------------------------------------------------- */
+
+typedef struct pb_params {
+    int mode, sampler, visibility;
+    uint32_t bands, samples, bounces, resolution;
+    uint64_t seed;
+    double threshold;
+    bool bench;
+    uint32_t hit_mib;
+    bool albedo_material;
+    double albedo[3];
+} pb_params;
+
+typedef struct pb_state {
+    pb_params p;
+    bool reference;     /* prt_reference */
+    uint32_t vertices;  /* declared in prepare */
+} pb_state;
+
+/* Cache entries: this header, then the floats. Any field that disagrees with what the node
+ * asks for, a size that does not add up or a value that is not finite: the entry is not
+ * trusted (a warning, then the bake runs again). */
+#define PB_CACHE_VERSION 1u
+typedef struct pb_cache_header {
+    char magic[8];        /* "lgprtb1" (bake) or "lgprtr1" (reference) */
+    uint32_t version;     /* PB_CACHE_VERSION */
+    uint32_t bands;
+    uint32_t vertices;
+    uint32_t mode;
+    uint32_t bounces;     /* bounces computed (interreflected) */
+    uint32_t samples;     /* directions per axis (bake) or cube face size (reference) */
+    uint64_t floats;      /* floats after the header */
+} pb_cache_header;
+
+static const char *const pb_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
+static const char *const pb_samplers[] = { "jittered", "hammersley", "sobol", NULL };
+static const char *const pb_visibilities[] = { "embree", "brute", NULL };
+static const char *const pb_albedo_words[] = { "material", NULL };
+
+static int pb_read_params(lg_node *n, pb_state *st)
+{
+    pb_params *p = &st->p;
+    p->mode = lg_param_enum(n, "mode");
+    const lg_value *a = lg_param(n, "albedo");
+    p->albedo_material = a && a->e == 0;
+    if (a && !p->albedo_material)
+        for (int c = 0; c < 3; c++) {
+            p->albedo[c] = a->v[c];
+            if (!(a->v[c] >= 0.0 && a->v[c] <= 1.0))
+                return lg_error(n, "albedo = [%g, %g, %g]: every channel must be in [0, 1] "
+                                   "(above 1 a surface makes energy)",
+                                a->v[0], a->v[1], a->v[2]);
+        }
+    if (st->reference) {
+        p->resolution = (uint32_t)lg_param_int(n, "resolution");
+        if (p->mode == PB_INTERREFLECTED)
+            return lg_error(n, "mode = interreflected: prt_reference computes unshadowed and "
+                               "shadowed radiance only (an interreflected oracle would be a "
+                               "path tracer)");
+        return 0;
+    }
+    p->bands = (uint32_t)lg_param_int(n, "bands");
+    p->visibility = lg_param_enum(n, "visibility");
+    p->sampler = lg_param_enum(n, "sampler");
+    p->samples = (uint32_t)lg_param_int(n, "samples");
+    p->seed = (uint64_t)lg_param_int(n, "seed");
+    p->bounces = (uint32_t)lg_param_int(n, "bounces");
+    p->bench = lg_param_bool(n, "bench");
+    p->hit_mib = (uint32_t)lg_param_int(n, "hit_memory_mib");
+    p->threshold = lg_param_float(n, "bounce_threshold");
+    if (!isfinite(p->threshold) || p->threshold < 0)
+        return lg_error(n, "bounce_threshold = %g: must be a finite energy ratio >= 0",
+                        p->threshold);
+    /* the direction table: T n^2 floats */
+    double table = (double)p->samples * p->samples * p->bands * p->bands * sizeof(float);
+    if (table > 4.0 * 1073741824.0)
+        return lg_error(n, "samples = %u with bands = %u: the table of SH values at the %u^2 "
+                           "directions would take %.1f GiB; lower one of them",
+                        p->samples, p->bands, p->samples, table / 1073741824.0);
+    return 0;
+}
+
+static int pb_create(lg_node *n, bool reference)
+{
+    pb_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    st->reference = reference;
+    n->user = st;
+    return 0;
+}
+static int pb_create_bake(lg_node *n) { return pb_create(n, false); }
+static int pb_create_ref(lg_node *n) { return pb_create(n, true); }
+
+static void pb_destroy(lg_node *n)
+{
+    free(n->user);
+    n->user = NULL;
+}
+
+static const lg_scene *pb_scene_in(lg_node *n, const lg_resource **res)
+{
+    lg_resource_info info;
+    const lg_resource *in = lg_input(n, 0);
+    if (!in || lg_describe(in, &info, n) != 0 || info.kind != LG_KIND_SCENE) {
+        lg_error(n, "input 'scene' is not a scene");
+        return NULL;
+    }
+    if (res)
+        *res = in;
+    return lg_scene_get(n, in);
+}
+
+static int pb_prepare(lg_node *n)
+{
+    pb_state *st = n->user;
+    int rc = pb_read_params(n, st);
+    if (rc)
+        return rc;
+    const lg_scene *s = pb_scene_in(n, NULL);
+    if (!s)
+        return LG_ERR_INVALID;
+    uint64_t nv = 0;
+    for (uint32_t m = 0; m < s->n_meshes; m++)
+        nv += s->meshes[m].n_vertices;
+    if (nv == 0)
+        return lg_error(n, "input 'scene' (%s) has no vertices: nothing to bake",
+                        s->source ? s->source : "?");
+    if (nv > UINT32_MAX / 2)
+        return lg_error(n, "input 'scene' has %llu vertices: too many",
+                        (unsigned long long)nv);
+    st->vertices = (uint32_t)nv;
+    if (st->reference) {
+        lg_resource_info info;
+        const lg_resource *pr = lg_input(n, 1);
+        if (!pr || lg_describe(pr, &info, n) != 0 || info.kind != LG_KIND_PROBE)
+            return lg_error(n, "input 'probe' is not a light probe");
+        lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
+        lg_vertex_image_size(st->vertices, &d.width, &d.height);
+        rc = lg_declare_image(n, 0, &d);
+    } else {
+        rc = lg_transfer_declare(n, 0, st->p.bands, st->vertices);
+    }
+    if (rc)
+        return rc;
+    return lg_set_device(n, LG_DEVICE_CPU);
+}
+
+/* ---- the bake --------------------------------------------------------------------------------- */
+
+typedef struct pb_bake {
+    const pb_params *p;
+    const pb_world *w;
+    const pb_vis *vis;
+    uint32_t n2, T;
+    const double *dirs;   /* 3 per direction */
+    const float *Y;       /* n2 per direction */
+    float *out;           /* [vertex][3][n2] */
+    /* interreflection */
+    bool keep;            /* interreflected: hits kept (else every bounce casts again) */
+    pb_hit **hits;        /* per vertex: its front-face hits (malloc'd), or NULL */
+    uint32_t *n_hits;
+    const float *prev;    /* the previous bounce's increment */
+    float *next;          /* this bounce's increment */
+    int *failed;          /* per chunk: 1 = out of memory */
+    uint64_t *rays;       /* per chunk: rays cast */
+} pb_bake;
+
+/* Shadowed with Embree: the vertex's rays (N.w > 0) in packets of 16 through
+ * rtcOccluded16, which bench = true measured about 1.3x faster than rtcOccluded1 on the
+ * same rays (rays from one origin are coherent); the unblocked directions accumulate
+ * max(N.w, 0) Y(w) into acc. Returns the rays cast. */
+static uint64_t pb_vertex_packets(const pb_bake *b, const double o[3], const double N[3],
+                                  double *acc)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay16 r;
+    int valid[16];
+    uint32_t idx[16], k = 0, n2 = b->n2;
+    double cws[16];
+    uint64_t rays = 0;
+    for (uint32_t j = 0; j <= b->T; j++) {
+        if (j < b->T) {
+            const double *d = b->dirs + 3 * (size_t)j;
+            double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2];
+            if (!(cw > 0.0))
+                continue;
+            r.org_x[k] = (float)o[0], r.org_y[k] = (float)o[1], r.org_z[k] = (float)o[2];
+            r.dir_x[k] = (float)d[0], r.dir_y[k] = (float)d[1], r.dir_z[k] = (float)d[2];
+            r.tnear[k] = 0.0f, r.tfar[k] = INFINITY, r.time[k] = 0.0f;
+            r.mask[k] = ~0u, r.id[k] = k, r.flags[k] = 0;
+            valid[k] = -1;
+            idx[k] = j;
+            cws[k] = cw;
+            if (++k < 16)
+                continue;
+        }
+        if (k == 0)
+            break;
+        for (uint32_t q = k; q < 16; q++)
+            valid[q] = 0;
+        rtcOccluded16(valid, b->vis->scene, &ctx, &r);
+        rays += k;
+        for (uint32_t q = 0; q < k; q++) {
+            if (r.tfar[q] < 0.0f) /* -inf: occluded */
+                continue;
+            const float *y = b->Y + (size_t)idx[q] * n2;
+            for (uint32_t c = 0; c < n2; c++)
+                acc[c] += cws[q] * y[c];
+        }
+        k = 0;
+    }
+    return rays;
+}
+
+static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    pb_bake *b = ctx;
+    const pb_world *w = b->w;
+    uint32_t n2 = b->n2, T = b->T;
+    double *acc = malloc(n2 * sizeof(double));
+    pb_hit *tmp = NULL;
+    uint32_t tmp_cap = 0;
+    if (!acc) {
+        b->failed[chunk] = 1;
+        return;
+    }
+    bool keep_hits = b->keep;
+    uint64_t rays = 0;
+    for (size_t i = begin; i < end; i++) {
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
+        double eps = pb_offset(w, x), o[3];
+        for (int c = 0; c < 3; c++)
+            o[c] = x[c] + eps * (N[c] + D[c]);
+        memset(acc, 0, n2 * sizeof(double));
+        uint32_t nh = 0;
+        if (b->p->mode != PB_UNSHADOWED && !keep_hits && b->vis->kind == PB_EMBREE) {
+            rays += pb_vertex_packets(b, o, N, acc);
+            goto store;
+        }
+        for (uint32_t j = 0; j < T; j++) {
+            const double *d = b->dirs + 3 * (size_t)j;
+            double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2];
+            if (!(cw > 0.0))
+                continue;
+            if (b->p->mode != PB_UNSHADOWED) {
+                pb_hit h;
+                rays++;
+                if (pb_trace(b->vis, o, d, !keep_hits, &h)) {
+                    if (keep_hits) {
+                        /* a back face has no baked transfer on the side the ray sees: it
+                         * blocks and carries nothing */
+                        double hn[3];
+                        pb_hit_normal(w, &h, hn);
+                        if (hn[0] * d[0] + hn[1] * d[1] + hn[2] * d[2] < 0.0) {
+                            if (nh == tmp_cap) {
+                                uint32_t cap = tmp_cap ? 2 * tmp_cap : 64;
+                                pb_hit *g = realloc(tmp, cap * sizeof *g);
+                                if (!g) {
+                                    b->failed[chunk] = 1;
+                                    goto out;
+                                }
+                                tmp = g;
+                                tmp_cap = cap;
+                            }
+                            h.cosw = (float)cw;
+                            tmp[nh++] = h;
+                        }
+                    }
+                    continue;
+                }
+            }
+            const float *y = b->Y + (size_t)j * n2;
+            for (uint32_t k = 0; k < n2; k++)
+                acc[k] += cw * y[k];
+        }
+    store:;
+        /* (rho / pi) (4 pi / T) sum = 4 rho / T sum */
+        float *t = b->out + i * 3 * n2;
+        for (int c = 0; c < 3; c++) {
+            double f = 4.0 * w->albedo[3 * i + c] / T;
+            for (uint32_t k = 0; k < n2; k++)
+                t[c * n2 + k] = (float)(f * acc[k]);
+        }
+        if (keep_hits) {
+            b->n_hits[i] = nh;
+            if (nh) {
+                b->hits[i] = malloc(nh * sizeof(pb_hit));
+                if (!b->hits[i]) {
+                    b->failed[chunk] = 1;
+                    goto out;
+                }
+                memcpy(b->hits[i], tmp, nh * sizeof(pb_hit));
+            }
+        }
+    }
+out:
+    b->rays[chunk] += rays;
+    free(tmp);
+    free(acc);
+}
+
+/* One bounce: next(x) = (rho_x / pi) (4 pi / T) sum over x's front-face hits of
+ * max(N.w, 0) prev(hit), prev interpolated at the hit from its triangle's vertices. */
+static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    pb_bake *b = ctx;
+    const pb_world *w = b->w;
+    uint32_t n2 = b->n2, stride = 3 * n2;
+    for (size_t i = begin; i < end; i++) {
+        float *t = b->next + i * stride;
+        double acc[3 * 64];
+        double *a = stride <= 3 * 64 ? acc : NULL;
+        double *heap = a ? NULL : calloc(stride, sizeof(double));
+        if (!a)
+            a = heap;
+        if (!a) {
+            b->failed[chunk] = 1;
+            return;
+        }
+        memset(a, 0, stride * sizeof(double));
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
+        double eps = pb_offset(w, x), o[3];
+        for (int c = 0; c < 3; c++)
+            o[c] = x[c] + eps * (N[c] + D[c]);
+        /* kept hits, or (hits not kept) the same rays cast again: the j loop below */
+        uint32_t count = b->keep ? b->n_hits[i] : b->T;
+        for (uint32_t h = 0; h < count; h++) {
+            pb_hit again;
+            const pb_hit *hh = b->keep ? &b->hits[i][h] : &again;
+            if (!b->keep) {
+                const double *d = b->dirs + 3 * (size_t)h;
+                double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2], hn[3];
+                if (!(cw > 0.0) || !pb_trace(b->vis, o, d, false, &again))
+                    continue;
+                pb_hit_normal(w, &again, hn);
+                if (!(hn[0] * d[0] + hn[1] * d[1] + hn[2] * d[2] < 0.0))
+                    continue; /* a back face: carries nothing */
+                again.cosw = (float)cw;
+            }
+            uint32_t m = w->inst_mesh[hh->inst];
+            const uint32_t *ix = w->s->meshes[m].indices + 3 * (size_t)hh->prim;
+            uint32_t off = w->mesh_offset[m];
+            double bw[3] = { 1.0 - hh->u - hh->v, hh->u, hh->v };
+            for (int q = 0; q < 3; q++) {
+                const float *pv = b->prev + (size_t)(off + ix[q]) * stride;
+                double f = bw[q] * hh->cosw;
+                for (uint32_t k = 0; k < stride; k++)
+                    a[k] += f * pv[k];
+            }
+        }
+        for (int c = 0; c < 3; c++) {
+            double f = 4.0 * w->albedo[3 * i + c] / b->T;
+            for (uint32_t k = 0; k < n2; k++)
+                t[c * n2 + k] = (float)(f * a[c * n2 + k]);
+        }
+        free(heap);
+    }
+}
+
+/* bench = true: the bake's rays again, with nothing but the occlusion query (b->p->mode
+ * decides nothing here). rays[chunk] counts the rays, failed[chunk] the blocked ones (kept
+ * so that the loop is not optimised away). packet: 16 rays per rtcOccluded16 call. */
+static void pb_raw_vertices_impl(pb_bake *b, size_t begin, size_t end, uint32_t chunk,
+                                 bool packet)
+{
+    const pb_world *w = b->w;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    uint64_t rays = 0, blocked = 0;
+    struct RTCRay16 r16;
+    int valid[16];
+    uint32_t k = 0;
+    for (size_t i = begin; i < end; i++) {
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
+        double eps = pb_offset(w, x), o[3];
+        for (int c = 0; c < 3; c++)
+            o[c] = x[c] + eps * (N[c] + D[c]);
+        for (uint32_t j = 0; j < b->T; j++) {
+            const double *d = b->dirs + 3 * (size_t)j;
+            if (!(N[0] * d[0] + N[1] * d[1] + N[2] * d[2] > 0.0))
+                continue;
+            rays++;
+            if (!packet) {
+                struct RTCRay r = { .org_x = (float)o[0], .org_y = (float)o[1],
+                                    .org_z = (float)o[2], .tnear = 0.0f, .dir_x = (float)d[0],
+                                    .dir_y = (float)d[1], .dir_z = (float)d[2],
+                                    .tfar = INFINITY, .mask = ~0u };
+                rtcOccluded1(b->vis->scene, &ctx, &r);
+                blocked += r.tfar < 0.0f;
+                continue;
+            }
+            r16.org_x[k] = (float)o[0], r16.org_y[k] = (float)o[1], r16.org_z[k] = (float)o[2];
+            r16.dir_x[k] = (float)d[0], r16.dir_y[k] = (float)d[1], r16.dir_z[k] = (float)d[2];
+            r16.tnear[k] = 0.0f, r16.tfar[k] = INFINITY, r16.mask[k] = ~0u, r16.time[k] = 0;
+            r16.id[k] = 0, r16.flags[k] = 0;
+            valid[k] = -1;
+            if (++k == 16) {
+                rtcOccluded16(valid, b->vis->scene, &ctx, &r16);
+                for (uint32_t q = 0; q < 16; q++)
+                    blocked += r16.tfar[q] < 0.0f;
+                k = 0;
+            }
+        }
+    }
+    if (packet && k) {
+        for (uint32_t q = k; q < 16; q++)
+            valid[q] = 0;
+        rtcOccluded16(valid, b->vis->scene, &ctx, &r16);
+        for (uint32_t q = 0; q < k; q++)
+            blocked += r16.tfar[q] < 0.0f;
+    }
+    b->rays[chunk] += rays;
+    b->failed[chunk] += (int)(blocked & 1);
+}
+static void pb_raw1(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    pb_raw_vertices_impl(ctx, begin, end, chunk, false);
+}
+static void pb_raw16(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    pb_raw_vertices_impl(ctx, begin, end, chunk, true);
+}
+
+/* Runs fn over every vertex in batches so that the progress bar moves between them (the
+ * pool's chunks must not call the host). Chunk c of the whole range is [c PB_GRAIN,
+ * (c + 1) PB_GRAIN): the slot arrays (failed, rays) have pb_chunks(nv) entries. */
+#define PB_GRAIN 16u
+static size_t pb_chunks(uint32_t nv) { return lg_parallel_chunks(nv, PB_GRAIN); }
+
+typedef struct pb_tramp {
+    void (*fn)(void *, size_t, size_t, uint32_t);
+    void *ctx;
+    size_t base;
+} pb_tramp;
+
+static void pb_tramp_fn(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    pb_tramp *t = ctx;
+    t->fn(t->ctx, t->base + begin, t->base + end, (uint32_t)(t->base / PB_GRAIN) + chunk);
+}
+
+static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, uint32_t),
+                  void *ctx, const char *what, double f0, double f1)
+{
+    size_t per = ((size_t)nv + 31) / 32;
+    per = (per + PB_GRAIN - 1) / PB_GRAIN * PB_GRAIN;
+    for (size_t b0 = 0; b0 < nv; b0 += per) {
+        size_t b1 = b0 + per < nv ? b0 + per : nv;
+        pb_tramp t = { fn, ctx, b0 };
+        int rc = lg_parallel_for(n, b1 - b0, PB_GRAIN, pb_tramp_fn, &t);
+        if (rc)
+            return rc;
+        n->host->progress(n, f0 + (f1 - f0) * (double)b1 / nv, what);
+    }
+    return 0;
+}
+
+/* Looks up the node's cache entry; true with `out` (floats) filled when the entry is
+ * whole and agrees with `want` (magic, version, bands, vertices, mode, samples, size,
+ * every value finite). Anything else: a warning, and false. */
+static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *want,
+                          float *out, uint32_t *bounces)
+{
+    void *data = NULL;
+    size_t bytes = 0;
+    if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
+        return false;
+    pb_cache_header h;
+    const char *why = NULL;
+    if (bytes < sizeof h) {
+        why = "shorter than its header";
+    } else {
+        memcpy(&h, data, sizeof h);
+        if (memcmp(h.magic, want->magic, 8) != 0)
+            why = "bad magic";
+        else if (h.version != want->version)
+            why = "another format version";
+        else if (h.bands != want->bands || h.vertices != want->vertices ||
+                 h.mode != want->mode || h.samples != want->samples)
+            why = "its bands, vertices, mode or samples differ from the node's";
+        else if (h.floats != want->floats || bytes != sizeof h + h.floats * sizeof(float))
+            why = "its size does not add up";
+        else if (h.bounces > 64)
+            why = "an impossible bounce count";
+    }
+    if (!why) {
+        const float *f = (const float *)((const char *)data + sizeof h);
+        for (uint64_t i = 0; i < h.floats && !why; i++)
+            if (!isfinite(f[i]))
+                why = "a value that is not finite";
+        if (!why) {
+            memcpy(out, f, h.floats * sizeof(float));
+            *bounces = h.bounces;
+        }
+    }
+    n->host->cache_free(data);
+    if (why)
+        lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): computing it again", key, why);
+    return why == NULL;
+}
+
+static void pb_cache_store(lg_node *n, const char *key, const pb_cache_header *h,
+                           const float *f)
+{
+    size_t total = sizeof *h + h->floats * sizeof(float);
+    char *blob = malloc(total);
+    if (!blob)
+        return; /* a lost speed-up, not an error */
+    memcpy(blob, h, sizeof *h);
+    memcpy(blob + sizeof *h, f, h->floats * sizeof(float));
+    n->host->cache_put(n, key, blob, total);
+    free(blob);
+}
+
+static int pb_bake_execute(lg_node *n, pb_state *st)
+{
+    const pb_params *p = &st->p;
+    const lg_scene *s = pb_scene_in(n, NULL);
+    if (!s)
+        return LG_ERR_INVALID;
+    uint32_t n2 = p->bands * p->bands, T = p->samples * p->samples, nv = st->vertices;
+    const lg_resource *outr = lg_output(n, 0);
+    const lg_resource *part = outr ? lg_part(n, outr, "transfer") : NULL;
+    if (!part)
+        return lg_error(n, "output 'out' has no transfer part");
+    lg_cpu_view view;
+    int rc = lg_map_cpu(n, part, LG_WRITE, &view);
+    if (rc)
+        return rc;
+    float *out = view.pixels;
+    size_t floats = (size_t)nv * 3 * n2;
+
+    pb_cache_header want = { .magic = "lgprtb1", .version = PB_CACHE_VERSION,
+                             .bands = p->bands, .vertices = nv, .mode = (uint32_t)p->mode + 1,
+                             .samples = p->samples, .floats = floats };
+    char key[96];
+    snprintf(key, sizeof key, "transfer-m%d-b%u-s%u-v%u", p->mode, p->bands, p->samples, nv);
+    lg_transfer_info info = { .struct_size = sizeof info, .bands = p->bands, .vertices = nv,
+                              .mode = (lg_transfer_mode)(p->mode + 1) };
+    uint32_t bounces = 0;
+    if (pb_cache_load(n, key, &want, out, &bounces)) {
+        info.bounces = bounces;
+        lg_log(n, LG_LOG_INFO, "transfer loaded from the cache (%u vertices, %u bands, %s)",
+               nv, p->bands, pb_modes[p->mode]);
+        return lg_transfer_publish(n, 0, &info);
+    }
+
+    double t0 = n->host->now();
+    pb_world w;
+    pb_vis vis;
+    memset(&vis, 0, sizeof vis);
+    double *dirs = NULL;
+    float *Y = NULL, *incr[2] = { NULL, NULL };
+    int *failed = NULL;
+    uint64_t *rays = NULL;
+    pb_bake b;
+    memset(&b, 0, sizeof b);
+    rc = pb_world_make(n, s, p->albedo_material ? NULL : p->albedo, &w);
+    if (rc)
+        goto done;
+    if (p->mode != PB_UNSHADOWED) {
+        rc = pb_vis_make(n, &w, p->visibility, &vis);
+        if (rc)
+            goto done;
+        double tests = (double)w.n_triangles * nv * T * 0.5;
+        if (p->visibility == PB_BRUTE && tests > PB_BRUTE_WARN)
+            lg_log(n, LG_LOG_WARN, "visibility = brute: about %.2g ray-triangle tests (%u "
+                                   "vertices, %llu triangles, %u directions); it is there for "
+                                   "comparison only, use visibility = embree",
+                   tests, nv, (unsigned long long)w.n_triangles, T);
+    }
+    /* one global set of directions and their SH values, tabulated once (seed 0 §5.6) */
+    dirs = malloc((size_t)T * 3 * sizeof(double));
+    Y = malloc((size_t)T * n2 * sizeof(float));
+    size_t nc = pb_chunks(nv);
+    failed = calloc(nc, sizeof *failed);
+    rays = calloc(nc, sizeof *rays);
+    if (!dirs || !Y || !failed || !rays) {
+        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u directions x %u coefficients)",
+                           T, n2);
+        goto done;
+    }
+    {
+        double *yd = malloc(n2 * sizeof(double));
+        if (!yd) {
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+            goto done;
+        }
+        for (uint32_t j = 0; j < T; j++) {
+            double uv[2];
+            lg_sample_square((lg_sampler)p->sampler, p->samples, p->seed, j, uv);
+            lg_sample_sphere(uv, dirs + 3 * (size_t)j);
+            lg_sh_eval_d(p->bands, dirs + 3 * (size_t)j, yd);
+            for (uint32_t k = 0; k < n2; k++)
+                Y[(size_t)j * n2 + k] = (float)yd[k];
+        }
+        free(yd);
+    }
+    lg_log(n, LG_LOG_DEBUG, "direction table: %.1f MiB; transfer %.1f MiB",
+           (double)T * (n2 * 4 + 24) / 1048576.0, (double)floats * 4 / 1048576.0);
+    b = (pb_bake){ .p = p, .w = &w, .vis = &vis, .n2 = n2, .T = T, .dirs = dirs, .Y = Y,
+                   .out = out, .failed = failed, .rays = rays };
+    /* interreflected: keep the shadowed pass's hits when their bound (every ray a hit, 20
+     * bytes each) fits hit_memory_mib; else every bounce casts its rays again */
+    double hit_bound = (double)nv * (T / 2 + 1) * sizeof(pb_hit);
+    b.keep = p->mode == PB_INTERREFLECTED && hit_bound <= (double)p->hit_mib * 1048576.0;
+    if (p->mode == PB_INTERREFLECTED)
+        lg_log(n, LG_LOG_DEBUG, "interreflections: hits %s (at most %.1f MiB; hit_memory_mib "
+                                "= %u)",
+               b.keep ? "kept for the bounces" : "cast again every bounce",
+               hit_bound / 1048576.0, p->hit_mib);
+    if (b.keep) {
+        b.hits = calloc(nv, sizeof *b.hits);
+        b.n_hits = calloc(nv, sizeof *b.n_hits);
+        if (!b.hits || !b.n_hits) {
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (hit lists of %u vertices)", nv);
+            goto done;
+        }
+    }
+    double share = p->mode == PB_INTERREFLECTED ? 0.8 : 1.0;
+    double tp = n->host->now();
+    rc = pb_run(n, nv, pb_bake_vertices, &b, pb_modes[p->mode], 0.0, share);
+    if (rc)
+        goto done;
+    uint64_t total_rays = 0;
+    for (size_t c = 0; c < nc; c++) {
+        if (failed[c]) {
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory while baking (vertices %zu..)",
+                               c * PB_GRAIN);
+            goto done;
+        }
+        total_rays += rays[c];
+    }
+    double t1 = n->host->now();
+    if (p->mode == PB_INTERREFLECTED) {
+        uint64_t nh = 0;
+        for (uint32_t i = 0; b.keep && i < nv; i++)
+            nh += b.n_hits[i];
+        if (b.keep)
+            lg_log(n, LG_LOG_DEBUG, "kept %llu front-face hits for the bounces: %.1f MiB",
+                   (unsigned long long)nh, (double)nh * sizeof(pb_hit) / 1048576.0);
+        incr[0] = malloc(floats * sizeof(float));
+        incr[1] = malloc(floats * sizeof(float));
+        if (!incr[0] || !incr[1]) {
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (two transfer copies, %.1f MiB)",
+                               (double)floats * 8 / 1048576.0);
+            goto done;
+        }
+        memcpy(incr[0], out, floats * sizeof(float));
+        /* energy of a transfer: sum over vertices and channels of |t_0| */
+        double e0 = 0;
+        for (uint32_t i = 0; i < nv; i++)
+            for (int c = 0; c < 3; c++)
+                e0 += fabs(out[(size_t)i * 3 * n2 + (size_t)c * n2]);
+        const char *why = "the bounce count";
+        uint32_t k;
+        for (k = 1; k <= p->bounces; k++) {
+            b.prev = incr[(k - 1) & 1];
+            b.next = incr[k & 1];
+            rc = pb_run(n, nv, pb_bounce_vertices, &b, "interreflections",
+                        share + (1 - share) * (k - 1) / p->bounces,
+                        share + (1 - share) * k / p->bounces);
+            if (rc)
+                goto done;
+            double e = 0;
+            for (size_t c = 0; c < nc; c++)
+                if (failed[c]) {
+                    rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory in bounce %u", k);
+                    goto done;
+                }
+            for (size_t q = 0; q < floats; q++)
+                out[q] += b.next[q];
+            for (uint32_t i = 0; i < nv; i++)
+                for (int c = 0; c < 3; c++)
+                    e += fabs(b.next[(size_t)i * 3 * n2 + (size_t)c * n2]);
+            double ratio = e0 > 0 ? e / e0 : 0;
+            lg_log(n, LG_LOG_DEBUG, "bounce %u: energy %.4g of the direct transfer's", k, ratio);
+            if (ratio < p->threshold) {
+                why = "the energy threshold";
+                break;
+            }
+        }
+        info.bounces = k <= p->bounces ? k : p->bounces;
+        lg_log(n, LG_LOG_INFO, "interreflections: %u bounces in %.3f s, stopped by %s "
+                               "(bounce_threshold %g)",
+               info.bounces, n->host->now() - t1, why, p->threshold);
+    }
+    double secs = n->host->now() - t0;
+    if (p->bench && p->mode != PB_UNSHADOWED && p->visibility == PB_EMBREE) {
+        double rate[2];
+        for (int q = 0; q < 2; q++) {
+            memset(rays, 0, nc * sizeof *rays);
+            double tq = n->host->now();
+            rc = pb_run(n, nv, q ? pb_raw16 : pb_raw1, &b, "bench", 0.0, 1.0);
+            if (rc)
+                goto done;
+            uint64_t r = 0;
+            for (size_t c = 0; c < nc; c++)
+                r += rays[c];
+            double dt = n->host->now() - tq;
+            rate[q] = dt > 0 ? r / dt : 0.0;
+        }
+        double bake_rate = t1 > tp ? total_rays / (t1 - tp) : 0.0;
+        lg_log(n, LG_LOG_INFO, "bench: bake (rtcOccluded16) %.4g rays/s, bare rtcOccluded1 %.4g rays/s, "
+                               "rtcOccluded16 %.4g rays/s (same %llu rays, %u threads): the "
+                               "bake at %.0f%% of rtcOccluded1",
+               bake_rate, rate[0], rate[1], (unsigned long long)total_rays, lg_cpu_workers(n),
+               rate[0] > 0 ? 100.0 * bake_rate / rate[0] : 0.0);
+    }
+    lg_log(n, LG_LOG_INFO, "transfer baked in %.3f s (%u vertices, %u bands, %s, %u directions, "
+                           "%s visibility, %llu rays, %.3g rays/s in the visibility pass of %.3f s, "
+                           "%u threads); cached",
+           secs, nv, p->bands, pb_modes[p->mode], T, pb_visibilities[p->visibility],
+           (unsigned long long)total_rays, t1 > tp ? total_rays / (t1 - tp) : 0.0, t1 - tp,
+           lg_cpu_workers(n));
+    want.bounces = info.bounces;
+    pb_cache_store(n, key, &want, out);
+    rc = lg_transfer_publish(n, 0, &info);
+done:
+    if (b.hits)
+        for (uint32_t i = 0; i < nv; i++)
+            free(b.hits[i]);
+    free(b.hits);
+    free(b.n_hits);
+    free(incr[0]);
+    free(incr[1]);
+    free(failed);
+    free(rays);
+    free(dirs);
+    free(Y);
+    pb_vis_free(&vis);
+    pb_world_free(&w);
+    return rc;
+}
+
+/* ---- the reference ----------------------------------------------------------------------------- */
+
+typedef struct pb_ref {
+    const pb_params *p;
+    const pb_world *w;
+    const pb_vis *vis;
+    uint32_t n_tex;        /* 6 R^2 */
+    const float *dirs;     /* 3 per texel (world) */
+    const float *L;        /* 3 per texel: radiance x solid angle */
+    float *out;            /* rgba per vertex */
+} pb_ref;
+
+static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    pb_ref *r = ctx;
+    const pb_world *w = r->w;
+    for (size_t i = begin; i < end; i++) {
+        const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
+        double eps = pb_offset(w, x), o[3], acc[3] = { 0, 0, 0 };
+        for (int c = 0; c < 3; c++)
+            o[c] = x[c] + eps * (N[c] + D[c]);
+        for (uint32_t t = 0; t < r->n_tex; t++) {
+            const float *df = r->dirs + 3 * (size_t)t;
+            double d[3] = { df[0], df[1], df[2] };
+            double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2];
+            if (!(cw > 0.0))
+                continue;
+            pb_hit h;
+            if (r->p->mode != PB_UNSHADOWED && pb_trace(r->vis, o, d, true, &h))
+                continue;
+            for (int c = 0; c < 3; c++)
+                acc[c] += cw * r->L[3 * (size_t)t + c];
+        }
+        for (int c = 0; c < 3; c++)
+            r->out[4 * i + c] = (float)(w->albedo[3 * i + c] / PB_PI * acc[c]);
+        r->out[4 * i + 3] = 1.0f;
+    }
+}
+
+static int pb_ref_execute(lg_node *n, pb_state *st)
+{
+    const pb_params *p = &st->p;
+    const lg_scene *s = pb_scene_in(n, NULL);
+    if (!s)
+        return LG_ERR_INVALID;
+    lg_probe pv;
+    const lg_resource *pres = lg_input(n, 1);
+    const lg_probe *probe = lg_probe_get(n, pres, &pv);
+    if (!probe)
+        return lg_error(n, "input 'probe' is empty or not a probe");
+    const lg_image_desc *rd = &probe->radiance_desc;
+    if (rd->format != LG_FORMAT_RGBA32F || rd->width == 0 || rd->height == 0)
+        return lg_error(n, "input 'probe': the radiance image must be a non-empty rgba32f image");
+    uint32_t nv = st->vertices, R = p->resolution;
+    lg_cpu_view ov;
+    int rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &ov);
+    if (rc)
+        return rc;
+    uint32_t W, H;
+    lg_vertex_image_size(nv, &W, &H);
+    float *out = ov.pixels;
+    memset(out, 0, (size_t)W * H * 4 * sizeof(float));
+
+    pb_cache_header want = { .magic = "lgprtr1", .version = PB_CACHE_VERSION, .bands = 0,
+                             .vertices = nv, .mode = (uint32_t)p->mode + 1, .samples = R,
+                             .floats = (uint64_t)nv * 4 };
+    char key[96];
+    snprintf(key, sizeof key, "reference-m%d-r%u-v%u", p->mode, R, nv);
+    uint32_t unused = 0;
+    if (pb_cache_load(n, key, &want, out, &unused)) {
+        lg_log(n, LG_LOG_INFO, "reference loaded from the cache (%u vertices, %s)", nv,
+               pb_modes[p->mode]);
+        return 0;
+    }
+    double t0 = n->host->now();
+    lg_cpu_view prv;
+    rc = lg_map_cpu(n, probe->radiance, LG_READ, &prv);
+    if (rc)
+        return rc;
+    size_t n_tex = (size_t)6 * R * R;
+    float *cube = malloc(n_tex * 4 * sizeof(float));
+    float *sa = malloc(n_tex * sizeof(float));
+    float *dirs = malloc(n_tex * 3 * sizeof(float));
+    float *L = malloc(n_tex * 3 * sizeof(float));
+    pb_world w;
+    memset(&w, 0, sizeof w);
+    pb_vis vis;
+    memset(&vis, 0, sizeof vis);
+    if (!cube || !sa || !dirs || !L) {
+        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (cube of face %u)", R);
+        goto done;
+    }
+    /* resampled with the probe's rotation baked in: texel directions are world directions */
+    lg_probe_image src = lg_probe_image_at(probe->info.layout, rd, prv.pixels, 0,
+                                           probe->info.rotation);
+    rc = lg_probe_resample_pool(n, &src, LG_PROBE_CUBE, R, R, NULL, NULL, cube, NULL);
+    if (rc) {
+        rc = lg_error_code(n, rc, "resampling the probe to a cube of face %u failed", R);
+        goto done;
+    }
+    if (lg_probe_solid_angles(LG_PROBE_CUBE, R, R, sa) != 0) {
+        rc = lg_error(n, "solid angles of a cube of face %u: failed", R);
+        goto done;
+    }
+    for (uint32_t f = 0, t = 0; f < 6; f++)
+        for (uint32_t j = 0; j < R; j++)
+            for (uint32_t i = 0; i < R; i++, t++) {
+                lg_vec3 d = lg_probe_texel_dir(LG_PROBE_CUBE, R, R, f, i, j);
+                double l = sqrt((double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z);
+                dirs[3 * t] = (float)(d.x / l);
+                dirs[3 * t + 1] = (float)(d.y / l);
+                dirs[3 * t + 2] = (float)(d.z / l);
+                for (int c = 0; c < 3; c++)
+                    L[3 * t + c] = cube[4 * (size_t)t + c] * sa[t];
+            }
+    rc = pb_world_make(n, s, p->albedo_material ? NULL : p->albedo, &w);
+    if (rc)
+        goto done;
+    if (p->mode != PB_UNSHADOWED) {
+        rc = pb_vis_make(n, &w, PB_EMBREE, &vis);
+        if (rc)
+            goto done;
+    }
+    pb_ref r = { .p = p, .w = &w, .vis = &vis, .n_tex = (uint32_t)n_tex, .dirs = dirs, .L = L,
+                 .out = out };
+    rc = pb_run(n, nv, pb_ref_vertices, &r, "reference", 0.0, 1.0);
+    if (rc)
+        goto done;
+    lg_log(n, LG_LOG_INFO, "reference computed in %.3f s (%u vertices, %s, cube %u: %zu "
+                           "texels); cached",
+           n->host->now() - t0, nv, pb_modes[p->mode], R, n_tex);
+    pb_cache_store(n, key, &want, out);
+done:
+    free(cube);
+    free(sa);
+    free(dirs);
+    free(L);
+    pb_vis_free(&vis);
+    pb_world_free(&w);
+    return rc;
+}
+
+static int pb_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    /* static: the host runs it again only when the scene (or probe) changed, and then the
+     * cache is looked up under the new identity */
+    pb_state *st = n->user;
+    return st->reference ? pb_ref_execute(n, st) : pb_bake_execute(n, st);
+}
+
+/* ---- the node types -------------------------------------------------------------------------------- */
+
+#define PB_ALBEDO_PARAM                                                                       \
+    { .key = "albedo", .type = LG_PARAM_COLOR, .def.e = 0, .min = 0, .max = 1,                 \
+      .enum_values = pb_albedo_words,                                                         \
+      .doc = "material (the glTF base colour's RGB of each mesh's material) or [r, g, b] "    \
+             "in [0, 1] for every surface: folded into the result" }
+
+static const lg_param_desc pb_bake_params[] = {
+    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = PB_SHADOWED, .enum_values = pb_modes,
+      .doc = "unshadowed (cosine only), shadowed (visibility by rays), interreflected "
+             "(shadowed plus bounces)" },
+    { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = LG_SH_MAX_BANDS,
+      .doc = "SH bands n (n^2 coefficients per channel); the bake's cost is rays + "
+             "T n^2 multiply-adds per vertex, its memory 12 n^2 bytes per vertex" },
+    { .key = "sampler", .type = LG_PARAM_ENUM, .def.e = LG_SAMPLER_SOBOL,
+      .enum_values = pb_samplers, .doc = "how the directions are drawn (lightgraph/sampling.h)" },
+    { .key = "samples", .type = LG_PARAM_INT, .def.i = 32, .min = 1, .max = 2048,
+      .doc = "N: N^2 directions over the sphere (about half of them cast rays)" },
+    { .key = "seed", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 0x7fffffff,
+      .doc = "the point set's seed (jittered: the jitter; hammersley, sobol: a digital shift)" },
+    PB_ALBEDO_PARAM,
+    { .key = "visibility", .type = LG_PARAM_ENUM, .def.e = PB_EMBREE,
+      .enum_values = pb_visibilities,
+      .doc = "embree (BVH occlusion rays) or brute (the seed's test of every triangle for "
+             "every ray: for comparison only, it warns above about 2e10 tests)" },
+    { .key = "bounces", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64,
+      .doc = "interreflected: at most this many bounces" },
+    { .key = "hit_memory_mib", .type = LG_PARAM_INT, .def.i = 2048, .min = 0, .max = 1 << 20,
+      .doc = "interreflected: the shadowed pass's ray hits (20 bytes each) are kept for the "
+             "bounces when at most this many MiB could be needed (vertices x directions / 2); "
+             "else, or with 0, every bounce casts its rays again (same result, slower)" },
+    { .key = "bench", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "after the bake, time bare Embree occlusion queries on the same rays "
+             "(rtcOccluded1, and rtcOccluded16 packets) and log rays/s; for "
+             "tools/bench_prt_bake.py" },
+    { .key = "bounce_threshold", .type = LG_PARAM_FLOAT, .def.f = 1e-3, .min = 0, .max = 1,
+      .doc = "interreflected: stop once a bounce adds less than this fraction of the direct "
+             "transfer's energy (sum over vertices and channels of |t_0|)" },
+};
+
+static const char *const pb_ref_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
+
+static const lg_param_desc pb_ref_params[] = {
+    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = PB_SHADOWED, .enum_values = pb_ref_modes,
+      .doc = "unshadowed or shadowed (interreflected is refused)" },
+    { .key = "resolution", .type = LG_PARAM_INT, .def.i = 64, .min = 4, .max = 512,
+      .doc = "face size of the cube the probe is resampled to (integral-preserving): "
+             "6 R^2 directions per vertex" },
+    PB_ALBEDO_PARAM,
+};
+
+static const lg_port_desc pb_bake_in[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene (every instance occludes)" },
+};
+static const lg_port_desc pb_bake_out[] = {
+    { .name = "out", .kind = LG_KIND_TRANSFER,
+      .doc = "per-vertex transfer (lightgraph/transfer.h), the albedo folded in" },
+};
+static const lg_port_desc pb_ref_in[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene" },
+    { .name = "probe", .kind = LG_KIND_PROBE, .doc = "the lighting (any layout)" },
+};
+static const lg_port_desc pb_ref_out[] = {
+    { .name = "vertices", .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f per-vertex image (transfer.h): each vertex's exit radiance, alpha 1" },
+};
+
+static const lg_node_type pb_types[] = {
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "prt_bake",
+        .doc = "Per-vertex PRT transfer vectors (unshadowed, shadowed, interreflected) with "
+               "Embree visibility, cached on disk",
+        LG_PARAMS(pb_bake_params),
+        LG_INPUTS(pb_bake_in),
+        LG_OUTPUTS(pb_bake_out),
+        .create = pb_create_bake,
+        .prepare = pb_prepare,
+        .execute = pb_execute,
+        .destroy = pb_destroy,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "prt_reference",
+        .doc = "Per-vertex exit radiance under a probe by exact quadrature over its texels "
+               "with Embree visibility: the oracle of the PRT accuracy study",
+        LG_PARAMS(pb_ref_params),
+        LG_INPUTS(pb_ref_in),
+        LG_OUTPUTS(pb_ref_out),
+        .create = pb_create_ref,
+        .prepare = pb_prepare,
+        .execute = pb_execute,
+        .destroy = pb_destroy,
+    },
+};
+
+LG_PLUGIN_DEFINE("prt_bake", "1.0.0",
+                 "Precomputed radiance transfer: the per-vertex bake (Embree visibility, "
+                 "interreflections, cached) and its quadrature reference",
+                 pb_types)

@@ -1,0 +1,689 @@
+/*
+ * The prt_bake plugin's nodes (prt_bake, prt_reference) through the host, on scenes built
+ * in memory by the test plugin testprtscene. The transfer is read back as an image
+ * (test_transfer_image: every coefficient) and dotted here with lighting computed here
+ * (lightgraph/sh.h), so every oracle is independent of the plugin:
+ *
+ *   unshadowed    transfer . L = (rho / pi) E_n on a sphere, L = 1 + 0.5 x + 0.3 z^2 (its
+ *                 coefficients by quadrature here, E in closed form), bands 3 and 5
+ *   cone          the apex of a conical pit of half-angle alpha under a constant sky 1:
+ *                 rho sin^2(alpha), alpha = 20, 45, 70 degrees
+ *   furnace       an open white box under a constant sky 1: interreflected radiance rises
+ *                 with the bounces toward 1 (error printed per bounce count); shadowed < 1
+ *   backface      a square above a floor point blocks 1 - F (F: the form factor of the
+ *                 square) whether the point sees its front or its back (Embree's backface
+ *                 culling off)
+ *   large_coords  the quad scene translated by 1e5 gives the transfer of the untranslated
+ *                 one; a plane at 1e6 (and 0) has no self-shadowing: shadowed == unshadowed
+ *   brute         visibility = brute and = embree agree (same rays; a handful of ties)
+ *   params        albedo material == [r, g, b] of the same colour; albedo scales; bands;
+ *                 bad parameters fail with a message naming the node and value
+ *   cache         a second render loads the bake; a corrupt entry is reported and baked
+ *                 again, equal; changed parameters make a new entry
+ *   reference     prt_reference: unshadowed = (rho / pi) E of a smooth probe; the cone's
+ *                 shadowed value rho sin^2(alpha); the bake approaches it as samples grow
+ */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/image.h"
+#include "lightgraph/sh.h"
+#include "lightgraph/test.h"
+
+#define PI 3.14159265358979323846
+
+/* ---- helpers ------------------------------------------------------------------------------ */
+
+/* Renders graph text `g` with `extra` args (NULL-terminated, may be NULL); returns the exit
+ * status; *text (may be NULL) gets the output. */
+static int run(lg_test *t, const char *g, char **text)
+{
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "-v", NULL };
+    return lg_test_render(t, "g.lgraph", args, text);
+}
+
+/* A transfer read back: nv vertices, n2 coefficients, [i][c][k]. */
+typedef struct tr {
+    uint32_t nv, n2;
+    float *t;
+} tr;
+
+static void tr_free(tr *x)
+{
+    free(x->t);
+    memset(x, 0, sizeof *x);
+}
+
+/* Bakes `scene` (a test_prt_scene parameter list) with prt_bake parameters `bake` and reads
+ * the transfer; false after a failed check. */
+static bool bake(lg_test *t, const char *scene, const char *bakep, uint32_t bands, tr *out,
+                 char **text)
+{
+    char g[2048];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_prt_scene { %s }\n"
+             "b = prt_bake { scene = s, bands = %u, %s }\n"
+             "v = test_transfer_image { transfer = b, bands = %u }\n"
+             "output v \"t.exr\"\n",
+             scene, bands, bakep, bands);
+    memset(out, 0, sizeof *out);
+    char *txt = NULL;
+    int rc = run(t, g, &txt);
+    LG_TEST_CHECK(t, rc == 0, "bake of { %s } with { %s } failed (%d):\n%s", scene, bakep, rc,
+                  txt ? txt : "");
+    if (text)
+        *text = txt;
+    else
+        free(txt);
+    if (rc != 0)
+        return false;
+    lg_image img;
+    if (!lg_test_read(t, "t.exr", &img, NULL))
+        return false;
+    /* testprtscene.c: V vertices per row, n^2 texels each; alpha 1 marks a vertex */
+    out->n2 = bands * bands;
+    uint32_t V = out->n2 >= 1024 ? 1 : 1024 / out->n2;
+    LG_TEST_CHECK(t, img.width == V * out->n2, "transfer image %u wide, want %u", img.width,
+                  V * out->n2);
+    out->nv = 0;
+    while (out->nv < V * img.height &&
+           img.pixels[4 * ((size_t)(out->nv / V) * img.width + (size_t)(out->nv % V) * out->n2) + 3] == 1.0f)
+        out->nv++;
+    out->t = malloc(((size_t)out->nv * 3 * out->n2 + 1) * sizeof(float));
+    for (uint32_t i = 0; i < out->nv; i++)
+        for (uint32_t k = 0; k < out->n2; k++)
+            for (int c = 0; c < 3; c++)
+                out->t[(size_t)i * 3 * out->n2 + (size_t)c * out->n2 + k] =
+                    img.pixels[4 * ((size_t)(i / V) * img.width + (size_t)(i % V) * out->n2 + k) + c];
+    lg_image_free(&img);
+    return true;
+}
+
+/* The radiance of vertex i, channel c, under lighting coefficients L[n2] (same for RGB). */
+static double radiance(const tr *x, uint32_t i, int c, const double *L)
+{
+    double s = 0;
+    for (uint32_t k = 0; k < x->n2; k++)
+        s += (double)x->t[(size_t)i * 3 * x->n2 + (size_t)c * x->n2 + k] * L[k];
+    return s;
+}
+
+/* The constant sky 1: only L_0 = sqrt(4 pi). */
+static void sky_const(double *L, uint32_t n2)
+{
+    memset(L, 0, n2 * sizeof *L);
+    L[0] = sqrt(4 * PI);
+}
+
+/* The smooth environment of the tests and its irradiance (Funk-Hecke, closed form):
+ *   L(w) = 1 + 0.5 x + 0.3 z^2,
+ *   E(N) = pi + 0.5 (2 pi / 3) N_x + 0.3 [pi / 3 + (pi / 4)(N_z^2 - 1/3)]
+ * (1 -> pi; x -> A_1 x; z^2 = 1/3 + (z^2 - 1/3), a band-2 function -> A_2 (z^2 - 1/3)). */
+static double env_L(const double d[3]) { return 1 + 0.5 * d[0] + 0.3 * d[2] * d[2]; }
+static double env_E(const double N[3])
+{
+    return PI + 0.5 * (2 * PI / 3) * N[0] + 0.3 * (PI / 3 + (PI / 4) * (N[2] * N[2] - 1.0 / 3));
+}
+
+/* Its SH coefficients by a product rule exact for polynomials of degree <= 2 + 2 (bands
+ * up to 3 matter; higher ones are 0 and come out 0 to rounding): Gauss-Legendre in
+ * cos theta (8 points) times 16 equal steps in phi. */
+static void env_coeffs(uint32_t bands, double *L)
+{
+    static const double gx[8] = { -0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                  -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                  0.7966664774136267,  0.9602898564975363 };
+    static const double gw[8] = { 0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                  0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                                  0.2223810344533745, 0.1012285362903763 };
+    uint32_t n2 = bands * bands;
+    double *y = malloc(n2 * sizeof *y);
+    memset(L, 0, n2 * sizeof *L);
+    for (int a = 0; a < 8; a++)
+        for (int b = 0; b < 16; b++) {
+            double ct = gx[a], st = sqrt(1 - ct * ct), ph = 2 * PI * (b + 0.5) / 16;
+            double d[3] = { st * cos(ph), ct, st * sin(ph) };
+            lg_sh_eval_d(bands, d, y);
+            double w = gw[a] * (2 * PI / 16) * env_L(d);
+            for (uint32_t k = 0; k < n2; k++)
+                L[k] += w * y[k];
+        }
+    free(y);
+}
+
+/* The form factor from a point to a parallel square [-a, a]^2 at height h above it (four
+ * corner rectangles of the classic formula). */
+static double square_ff(double a, double h)
+{
+    double X = a / h, Y = a / h;
+    double f = (X / sqrt(1 + X * X) * atan(Y / sqrt(1 + X * X)) +
+                Y / sqrt(1 + Y * Y) * atan(X / sqrt(1 + Y * Y))) /
+               (2 * PI);
+    return 4 * f;
+}
+
+/* ---- cases ---------------------------------------------------------------------------------- */
+
+static void case_unshadowed(lg_test *t)
+{
+    const double rho[3] = { 0.8, 0.5, 0.2 };
+    const uint32_t seg = 24, cols = seg, rows = seg / 2;
+    for (uint32_t bands = 3; bands <= 5; bands += 2) {
+        tr x;
+        if (!bake(t, "layout = sphere, segments = 24, base_color = [0.8, 0.5, 0.2]",
+                  "mode = unshadowed, samples = 64", bands, &x, NULL))
+            return;
+        double L[25];
+        env_coeffs(bands, L);
+        LG_TEST_CHECK(t, x.nv == (cols + 1) * (rows + 1), "%u vertices", x.nv);
+        double worst = 0;
+        for (uint32_t j = 0, v = 0; j <= rows; j++)
+            for (uint32_t i = 0; i <= cols && v < x.nv; i++, v++) {
+                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
+                for (int c = 0; c < 3; c++) {
+                    double want = rho[c] / PI * env_E(N), got = radiance(&x, v, c, L);
+                    worst = fmax(worst, fabs(got - want));
+                }
+            }
+        /* 4096 Sobol directions: the cosine lobe's quadrature error is about 1e-3 */
+        fprintf(stderr, "unshadowed, %u bands: worst |t.L - (rho/pi) E| = %.2e\n", bands, worst);
+        LG_TEST_CHECK(t, worst < 4e-3, "%u bands: worst error %.3g", bands, worst);
+        tr_free(&x);
+    }
+    /* the other samplers, same oracle (jittered converges more slowly: a looser bound) */
+    static const char *const samplers[] = { "jittered", "hammersley" };
+    for (int k = 0; k < 2; k++) {
+        char p[128];
+        snprintf(p, sizeof p, "mode = unshadowed, samples = 64, sampler = %s, seed = 7",
+                 samplers[k]);
+        tr x;
+        if (!bake(t, "layout = sphere, segments = 24", p, 3, &x, NULL))
+            return;
+        double L[9], worst = 0;
+        env_coeffs(3, L);
+        for (uint32_t j = 0, v = 0; j <= rows; j++)
+            for (uint32_t i = 0; i <= cols; i++, v++) {
+                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
+                worst = fmax(worst, fabs(radiance(&x, v, 1, L) - env_E(N) / PI));
+            }
+        fprintf(stderr, "unshadowed, %s: worst error %.2e\n", samplers[k], worst);
+        LG_TEST_CHECK(t, worst < (k == 0 ? 1e-2 : 4e-3), "%s: worst error %.3g", samplers[k],
+                      worst);
+        tr_free(&x);
+    }
+}
+
+static void case_cone(lg_test *t)
+{
+    static const double alphas[] = { 20, 45, 70 };
+    double L[9];
+    sky_const(L, 9);
+    for (int a = 0; a < 3; a++) {
+        char scene[256];
+        snprintf(scene, sizeof scene,
+                 "layout = cone, alpha_deg = %g, segments = 128, base_color = [0.9, 0.6, 0.3]",
+                 alphas[a]);
+        tr x;
+        if (!bake(t, scene, "mode = shadowed, samples = 128", 3, &x, NULL))
+            return;
+        double s = sin(alphas[a] * PI / 180), rho[3] = { 0.9, 0.6, 0.3 };
+        for (int c = 0; c < 3; c++) {
+            double got = radiance(&x, 0, c, L), want = rho[c] * s * s;
+            if (c == 0)
+                fprintf(stderr, "cone alpha %g: apex radiance %.5f, rho sin^2 alpha %.5f\n",
+                              alphas[a], got, want);
+            LG_TEST_CHECK(t, fabs(got - want) < 0.005, "alpha %g channel %d: %.5f, want %.5f",
+                          alphas[a], c, got, want);
+        }
+        tr_free(&x);
+    }
+}
+
+static void case_furnace(lg_test *t)
+{
+    double L[9];
+    sky_const(L, 9);
+    /* the opening is a sixth of the box: light stays for many bounces (each keeps about
+     * 0.83 of the last one's error here), so the count goes to 32 */
+    static const int bounces[] = { 0, 1, 2, 4, 8, 16, 32 };
+    double prev = 0;
+    for (int b = 0; b < 7; b++) {
+        char p[256];
+        if (bounces[b] == 0)
+            snprintf(p, sizeof p, "mode = shadowed, samples = 32");
+        else
+            snprintf(p, sizeof p,
+                     "mode = interreflected, samples = 32, bounces = %d, bounce_threshold = 0",
+                     bounces[b]);
+        tr x;
+        if (!bake(t, "layout = box, grid = 6", p, 3, &x, NULL))
+            return;
+        double sum = 0, lo = 1e9, hi = -1e9;
+        for (uint32_t i = 0; i < x.nv; i++) {
+            double r = radiance(&x, i, 1, L);
+            sum += r;
+            lo = fmin(lo, r);
+            hi = fmax(hi, r);
+        }
+        double mean = sum / x.nv;
+        fprintf(stderr, "furnace, %2d bounces: mean radiance %.4f (error %.4f), min %.4f, max "
+                      "%.4f\n",
+                      bounces[b], mean, 1 - mean, lo, hi);
+        if (bounces[b] == 0)
+            LG_TEST_CHECK(t, mean < 0.9 && hi < 1.0, "shadowed: mean %.4f, max %.4f (want < 1)",
+                          mean, hi);
+        else
+            LG_TEST_CHECK(t, mean > prev, "%d bounces: mean %.4f not above %.4f", bounces[b],
+                          mean, prev);
+        LG_TEST_CHECK(t, hi < 1.01, "%d bounces: a vertex at %.4f, above 1", bounces[b], hi);
+        if (bounces[b] == 32)
+            LG_TEST_CHECK(t, fabs(1 - mean) < 0.01, "32 bounces: mean %.4f, want 1 within 0.01",
+                          mean);
+        prev = mean;
+        if (bounces[b] == 4) {
+            /* hits not kept (hit_memory_mib = 0): every bounce casts its rays again, and
+             * finds the same hits */
+            tr y;
+            char q[300];
+            snprintf(q, sizeof q, "%s, hit_memory_mib = 0", p);
+            if (bake(t, "layout = box, grid = 6", q, 3, &y, NULL)) {
+                double worst = 0;
+                for (size_t k = 0; k < (size_t)x.nv * 3 * x.n2; k++)
+                    worst = fmax(worst, fabs(x.t[k] - y.t[k]));
+                fprintf(stderr, "furnace, 4 bounces, hits cast again: worst difference %.2e\n",
+                        worst);
+                LG_TEST_CHECK(t, worst < 1e-5, "hits kept or cast again differ by %.3g", worst);
+                tr_free(&y);
+            }
+        }
+        tr_free(&x);
+    }
+}
+
+static void case_backface(lg_test *t)
+{
+    double L[9];
+    sky_const(L, 9);
+    double want = 1 - square_ff(0.5, 1.0);
+    for (int f = 0; f < 2; f++) {
+        char scene[256];
+        snprintf(scene, sizeof scene, "layout = quad, grid = 4, quad_size = 0.5, quad_flip = %s",
+                 f ? "true" : "false");
+        tr x;
+        if (!bake(t, scene, "mode = shadowed, samples = 128", 3, &x, NULL))
+            return;
+        /* the floor's centre vertex: grid 4, row 2, column 2 */
+        double got = radiance(&x, 2 * 5 + 2, 1, L);
+        fprintf(stderr, "square seen from its %s: %.5f, 1 - F = %.5f\n", f ? "front" : "back", got,
+                      want);
+        LG_TEST_CHECK(t, fabs(got - want) < 0.005, "square seen from its %s: %.5f, want %.5f",
+                      f ? "front" : "back", got, want);
+        tr_free(&x);
+    }
+}
+
+static void case_large_coords(lg_test *t)
+{
+    double L[9];
+    sky_const(L, 9);
+    tr a, b;
+    if (!bake(t, "layout = quad, grid = 8", "samples = 32", 3, &a, NULL) ||
+        !bake(t, "layout = quad, grid = 8, translate = [1e5, -1e5, 1e5]", "samples = 32", 3, &b,
+              NULL))
+        return;
+    double worst = 0;
+    for (uint32_t i = 0; i < 81; i++)
+        worst = fmax(worst, fabs(radiance(&a, i, 1, L) - radiance(&b, i, 1, L)));
+    /* at 1e5 float coordinates are 0.0078 apart (the square's corners move by that) and
+     * the rays' origins rise by 4 ulps (0.03, pb_offset): the square, 1 above the floor,
+     * then blocks about 0.01 more of the sky */
+    fprintf(stderr, "quad scene at 0 and at 1e5: worst floor radiance difference %.2e\n", worst);
+    LG_TEST_CHECK(t, worst < 0.02, "translated by 1e5: the floor's radiance moves by %.3g", worst);
+    tr_free(&a);
+    tr_free(&b);
+    /* no acne: a lone plane is unoccluded everywhere, at any distance from the origin */
+    static const char *const where[] = { "[0, 0, 0]", "[1e5, 1e5, 1e5]", "[-1e6, 1e6, 3e5]" };
+    for (int w = 0; w < 3; w++) {
+        char scene[256];
+        snprintf(scene, sizeof scene, "layout = plane, grid = 16, translate = %s", where[w]);
+        tr s, u;
+        if (!bake(t, scene, "mode = shadowed, samples = 32", 3, &s, NULL) ||
+            !bake(t, scene, "mode = unshadowed, samples = 32", 3, &u, NULL))
+            return;
+        uint32_t acne = 0;
+        for (size_t q = 0; q < (size_t)s.nv * 3 * s.n2; q++)
+            acne += s.t[q] != u.t[q];
+        LG_TEST_CHECK(t, acne == 0, "plane at %s: %u coefficients differ between shadowed and "
+                                    "unshadowed (self-shadowing)",
+                      where[w], acne);
+        tr_free(&s);
+        tr_free(&u);
+    }
+}
+
+static void case_brute(lg_test *t)
+{
+    tr e, b;
+    if (!bake(t, "layout = quad, grid = 4", "samples = 16, visibility = embree", 3, &e, NULL) ||
+        !bake(t, "layout = quad, grid = 4", "samples = 16, visibility = brute", 3, &b, NULL))
+        return;
+    /* one ray more or less moves a coefficient by at most 4 rho |Y| / T <= 4 (0.55) / 256 */
+    double one = 4 * 0.55 / 256, worst = 0;
+    uint32_t differ = 0;
+    for (uint32_t i = 0; i < e.nv; i++) {
+        bool d = false;
+        for (uint32_t q = 0; q < 3 * e.n2; q++) {
+            double diff = fabs(e.t[(size_t)i * 3 * e.n2 + q] - b.t[(size_t)i * 3 * e.n2 + q]);
+            worst = fmax(worst, diff);
+            d |= diff > 1e-6;
+        }
+        differ += d;
+    }
+    fprintf(stderr, "brute vs embree: %u of %u vertices differ, worst %.2e (one ray %.2e)\n",
+                  differ, e.nv, worst, one);
+    LG_TEST_CHECK(t, worst <= 3 * one, "brute and embree differ by %.3g (%.1f rays)", worst,
+                  worst / one);
+    LG_TEST_CHECK(t, differ <= 3, "%u vertices differ between brute and embree", differ);
+    tr_free(&e);
+    tr_free(&b);
+}
+
+static void case_params(lg_test *t)
+{
+    tr m, c, h;
+    if (!bake(t, "layout = quad, grid = 2, base_color = [0.8, 0.5, 0.2]", "albedo = material",
+              3, &m, NULL) ||
+        !bake(t, "layout = quad, grid = 2", "albedo = [0.8, 0.5, 0.2]", 3, &c, NULL) ||
+        !bake(t, "layout = quad, grid = 2", "albedo = [0.4, 0.25, 0.1]", 3, &h, NULL))
+        return;
+    uint32_t diff = 0, half = 0;
+    for (size_t q = 0; q < (size_t)m.nv * 3 * m.n2; q++) {
+        diff += m.t[q] != c.t[q];
+        half += fabs(h.t[q] - 0.5 * c.t[q]) > 1e-7 * (1 + fabs(c.t[q]));
+    }
+    LG_TEST_CHECK(t, diff == 0, "albedo material and the same [r, g, b]: %u values differ", diff);
+    LG_TEST_CHECK(t, half == 0, "half the albedo: %u values are not half", half);
+    /* the planes are R, G, B: ratios 0.8 : 0.5 : 0.2 on a lit coefficient */
+    double cr = c.t[0], cg = c.t[c.n2], cb = c.t[2 * c.n2];
+    LG_TEST_CHECK(t, cr > 0 && fabs(cg / cr - 0.625) < 1e-5 && fabs(cb / cr - 0.25) < 1e-5,
+                  "channel planes %g %g %g, not in the ratio 0.8 : 0.5 : 0.2", cr, cg, cb);
+    tr_free(&m);
+    tr_free(&c);
+    tr_free(&h);
+    tr x;
+    if (bake(t, "layout = quad, grid = 2", "samples = 8", 6, &x, NULL)) {
+        LG_TEST_CHECK(t, x.nv == 9 + 4 && x.n2 == 36, "bands 6: %u vertices x %u", x.nv, x.n2);
+        tr_free(&x);
+    }
+    /* bad input: an error naming node and value, non-zero exit */
+    static const struct {
+        const char *bake, *says;
+    } bad[] = {
+        { "albedo = [2, 0.5, 0.5]", "albedo" },
+        { "samples = 0", "samples" },
+        { "bands = 65", "bands" },
+        { "bounce_threshold = nan", "bounce_threshold" },
+        { "mode = glossy", "mode" },
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char g[1024];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\ns = test_prt_scene { layout = plane, grid = 2 }\n"
+                 "b = prt_bake { scene = s, %s }\n"
+                 "v = test_transfer_image { transfer = b }\noutput v \"bad.exr\"\n",
+                 bad[k].bake);
+        char *text = NULL;
+        int rc = run(t, g, &text);
+        LG_TEST_CHECK(t, rc != 0 && text && strstr(text, bad[k].says) && strstr(text, "b"),
+                      "{ %s }: exit %d, output:\n%s", bad[k].bake, rc, text ? text : "");
+        free(text);
+    }
+    char g[512];
+    snprintf(g, sizeof g,
+             "lightgraph 1\ns = test_prt_scene { layout = plane, grid = 2 }\n"
+             "sky = probe { file = \"none.exr\" }\n"
+             "r = prt_reference { scene = s, probe = sky, mode = interreflected }\n"
+             "output r \"bad.exr\"\n");
+    lg_image one = { 0 };
+    lg_image_alloc(&one, 2, 1);
+    for (int q = 0; q < 8; q++)
+        one.pixels[q] = 1;
+    lg_test_write_exr(t, "none.exr", &one);
+    lg_image_free(&one);
+    char *text = NULL;
+    int rc = run(t, g, &text);
+    LG_TEST_CHECK(t, rc != 0 && text && strstr(text, "interreflected"),
+                  "prt_reference, mode = interreflected: exit %d, output:\n%s", rc,
+                  text ? text : "");
+    free(text);
+}
+
+/* The prt_bake entries in the case's cache folder: how many, and the first one's path. */
+static int cache_entries(char *first, size_t n)
+{
+    const char *dir = getenv("LIGHTGRAPH_CACHE_DIR");
+    DIR *d = dir ? opendir(dir) : NULL;
+    int count = 0;
+    if (!d)
+        return 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (!strncmp(e->d_name, "prt_bake-", 9)) {
+            if (count++ == 0)
+                snprintf(first, n, "%s/%s", dir, e->d_name);
+        }
+    closedir(d);
+    return count;
+}
+
+static void case_cache(lg_test *t)
+{
+    const char *scene = "layout = quad, grid = 4";
+    const char *p = "mode = interreflected, samples = 16, bounces = 2";
+    tr r[3];
+    char *text[3] = { NULL, NULL, NULL };
+    for (int k = 0; k < 2; k++)
+        if (!bake(t, scene, p, 3, &r[k], &text[k]))
+            return;
+    LG_TEST_CHECK(t, strstr(text[0], "transfer baked") && !strstr(text[0], "from the cache"),
+                  "first render did not bake:\n%s", text[0]);
+    LG_TEST_CHECK(t, strstr(text[1], "transfer loaded from the cache") &&
+                         !strstr(text[1], "transfer baked"),
+                  "second render did not load the cache:\n%s", text[1]);
+    LG_TEST_CHECK(t, memcmp(r[0].t, r[1].t, (size_t)r[0].nv * 3 * r[0].n2 * 4) == 0,
+                  "the cached transfer differs from the baked one");
+    char path[1024] = "";
+    int n0 = cache_entries(path, sizeof path);
+    LG_TEST_CHECK(t, n0 == 1, "%d prt_bake cache entries, want 1", n0);
+    /* corrupt one byte in the middle of the payload */
+    FILE *f = fopen(path, "r+b");
+    LG_TEST_CHECK(t, f != NULL, "cannot open the cache entry %s", path);
+    if (f) {
+        fseek(f, 0, SEEK_END);
+        long size = ftell(f);
+        fseek(f, size / 2, SEEK_SET);
+        int ch = fgetc(f);
+        fseek(f, size / 2, SEEK_SET);
+        fputc(ch ^ 0x5a, f);
+        fclose(f);
+    }
+    if (bake(t, scene, p, 3, &r[2], &text[2])) {
+        LG_TEST_CHECK(t, strstr(text[2], "corrupt") && strstr(text[2], "transfer baked"),
+                      "a corrupt entry was not reported and baked again:\n%s", text[2]);
+        LG_TEST_CHECK(t, memcmp(r[0].t, r[2].t, (size_t)r[0].nv * 3 * r[0].n2 * 4) == 0,
+                      "the transfer baked again differs");
+        tr_free(&r[2]);
+    }
+    tr x;
+    char *tx = NULL;
+    if (bake(t, scene, "mode = interreflected, samples = 16, bounces = 3", 3, &x, &tx)) {
+        LG_TEST_CHECK(t, strstr(tx, "transfer baked"), "changed bounces did not bake:\n%s", tx);
+        int n1 = cache_entries(path, sizeof path);
+        LG_TEST_CHECK(t, n1 == 2, "%d prt_bake cache entries after a parameter change, want 2",
+                      n1);
+        tr_free(&x);
+    }
+    free(tx);
+    for (int k = 0; k < 3; k++)
+        free(text[k]);
+    tr_free(&r[0]);
+    tr_free(&r[1]);
+}
+
+/* Writes a lat-long probe of env_L (or a constant 1). */
+static void write_probe(lg_test *t, bool smooth)
+{
+    lg_image img = { 0 };
+    uint32_t W = 128, H = 64;
+    lg_image_alloc(&img, W, H);
+    for (uint32_t j = 0; j < H; j++)
+        for (uint32_t i = 0; i < W; i++) {
+            /* lat-long convention of probe.h: phi = 2 pi (u - 1/2), theta = pi v,
+             * d = (sin th sin phi, cos th, -sin th cos phi) */
+            double u = (i + 0.5) / W, v = (j + 0.5) / H;
+            double ph = 2 * PI * (u - 0.5), th = PI * v;
+            double d[3] = { sin(th) * sin(ph), cos(th), -sin(th) * cos(ph) };
+            double L = smooth ? env_L(d) : 1.0;
+            float *p = img.pixels + 4 * ((size_t)j * W + i);
+            p[0] = p[1] = p[2] = (float)L;
+            p[3] = 1;
+        }
+    lg_test_write_exr(t, "probe.exr", &img);
+    lg_image_free(&img);
+}
+
+static bool reference(lg_test *t, const char *scene, const char *params, lg_image *img)
+{
+    char g[1024];
+    snprintf(g, sizeof g,
+             "lightgraph 1\ns = test_prt_scene { %s }\n"
+             "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+             "r = prt_reference { scene = s, probe = sky, %s }\n"
+             "output r \"ref.exr\"\n",
+             scene, params);
+    char *text = NULL;
+    int rc = run(t, g, &text);
+    LG_TEST_CHECK(t, rc == 0, "prt_reference { %s } failed (%d):\n%s", params, rc,
+                  text ? text : "");
+    free(text);
+    return rc == 0 && lg_test_read(t, "ref.exr", img, NULL);
+}
+
+static void case_reference(lg_test *t)
+{
+    /* unshadowed, smooth probe: (rho / pi) E on the sphere's vertices */
+    write_probe(t, true);
+    lg_image img;
+    const uint32_t cols = 24, rows = 12;
+    if (reference(t, "layout = sphere, segments = 24, base_color = [0.8, 0.5, 0.2]",
+                  "mode = unshadowed, resolution = 32", &img)) {
+        const double rho[3] = { 0.8, 0.5, 0.2 };
+        double worst = 0;
+        LG_TEST_CHECK(t, img.width == 1024 && img.height == 1, "vertex image %ux%u", img.width,
+                      img.height);
+        for (uint32_t j = 0, v = 0; j <= rows; j++)
+            for (uint32_t i = 0; i <= cols; i++, v++) {
+                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
+                for (int c = 0; c < 3; c++)
+                    worst = fmax(worst, fabs(img.pixels[4 * v + c] - rho[c] / PI * env_E(N)));
+                LG_TEST_CHECK(t, img.pixels[4 * v + 3] == 1.0f, "vertex %u: alpha %g", v,
+                              (double)img.pixels[4 * v + 3]);
+            }
+        uint32_t nv = (cols + 1) * (rows + 1);
+        LG_TEST_CHECK(t, img.pixels[4 * nv + 3] == 0.0f, "padding texel %u not 0", nv);
+        fprintf(stderr, "reference, unshadowed: worst |r - (rho/pi) E| = %.2e\n", worst);
+        LG_TEST_CHECK(t, worst < 3e-3, "unshadowed reference off by %.3g", worst);
+        /* cached like the bake: the same graph again loads it, bit for bit */
+        char g[1024];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\ns = test_prt_scene { layout = sphere, segments = 24, "
+                 "base_color = [0.8, 0.5, 0.2] }\n"
+                 "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                 "r = prt_reference { scene = s, probe = sky, mode = unshadowed, "
+                 "resolution = 32 }\noutput r \"ref2.exr\"\n");
+        char *text = NULL;
+        int rc = run(t, g, &text);
+        lg_image again;
+        LG_TEST_CHECK(t, rc == 0 && text && strstr(text, "reference loaded from the cache"),
+                      "second reference render did not load the cache (%d):\n%s", rc,
+                      text ? text : "");
+        if (rc == 0 && lg_test_read(t, "ref2.exr", &again, NULL)) {
+            LG_TEST_CHECK(t, memcmp(again.pixels, img.pixels,
+                                    (size_t)img.width * img.height * 16) == 0,
+                          "the cached reference differs");
+            lg_image_free(&again);
+        }
+        free(text);
+        lg_image_free(&img);
+    }
+
+    /* shadowed cone under a constant probe */
+    write_probe(t, false);
+    if (reference(t, "layout = cone, alpha_deg = 45, segments = 256",
+                  "mode = shadowed, resolution = 64", &img)) {
+        double got = img.pixels[1], want = 0.5;
+        fprintf(stderr, "reference, cone 45 degrees: %.5f, sin^2 alpha %.5f\n", got, want);
+        LG_TEST_CHECK(t, fabs(got - want) < 0.01, "cone reference %.5f, want %.5f", got, want);
+        lg_image_free(&img);
+    }
+
+    /* the bake approaches the reference as samples grow (L has bands <= 2 only, so the
+     * transfer's truncation costs nothing: only the sampling error is left) */
+    write_probe(t, true);
+    const char *scene = "layout = quad, grid = 6, quad_size = 0.7";
+    if (!reference(t, scene, "mode = shadowed, resolution = 64", &img))
+        return;
+    double L[9];
+    env_coeffs(3, L);
+    double prev = INFINITY;
+    static const int samples[] = { 8, 32, 128 };
+    for (int s = 0; s < 3; s++) {
+        char p[128];
+        snprintf(p, sizeof p, "mode = shadowed, samples = %d", samples[s]);
+        tr x;
+        if (!bake(t, scene, p, 3, &x, NULL))
+            break;
+        double se = 0, sr = 0;
+        for (uint32_t i = 0; i < x.nv; i++) {
+            double r = img.pixels[4 * i + 1], b = radiance(&x, i, 1, L);
+            se += (b - r) * (b - r);
+            sr += r * r;
+        }
+        double rel = sqrt(se / sr);
+        fprintf(stderr, "bake (%d^2 sobol directions) vs reference: relative RMSE %.2e\n",
+                      samples[s], rel);
+        LG_TEST_CHECK(t, rel < prev * 1.05, "samples %d: RMSE %.3g did not fall (%.3g)",
+                      samples[s], rel, prev);
+        if (samples[s] == 128)
+            LG_TEST_CHECK(t, rel < 0.01, "samples 128: relative RMSE %.3g", rel);
+        prev = rel;
+        tr_free(&x);
+    }
+    lg_image_free(&img);
+}
+
+static void setup(lg_test *t)
+{
+    lg_test_use_plugins(t, PRT_TEST_PLUGIN_DIR);
+}
+
+int main(int argc, char **argv)
+{
+    static const lg_test_case cases[] = {
+        { "unshadowed", case_unshadowed }, { "cone", case_cone },
+        { "furnace", case_furnace },       { "backface", case_backface },
+        { "large_coords", case_large_coords }, { "brute", case_brute },
+        { "params", case_params },         { "cache", case_cache },
+        { "reference", case_reference },
+    };
+    lg_test_main_opts o = { .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
+}

@@ -1,0 +1,353 @@
+/*
+ * Test plugin "testprtscene": scenes whose transfer is known in closed form, built in
+ * memory for the prt_bake tests (tests/plugins/prt_bake/test_prt_bake.c), and a node that
+ * shows a transfer resource as an image.
+ *
+ *   test_prt_scene     -> scene
+ *   test_transfer_image  transfer -> image: coefficient k of vertex i is texel
+ *                        ((i mod V) n^2 + k, i / V) = (t_R[k], t_G[k], t_B[k], 1), with
+ *                        V = max(1, 1024 / n^2) vertices per row (tp_vertices_per_row), so
+ *                        a test reads every coefficient from an EXR and does its own dot
+ *                        products; texels past the last vertex are 0
+ *
+ * Layouts (every mesh's material 0, base colour `base_color`; all of it moved by the
+ * instances' model matrix, a translation by `translate`):
+ *   cone    one mesh: a pit shaped as a cone of half-angle alpha_deg about +Y with its apex
+ *           at the origin, height 1, `segments` sides, its front faces (counter-clockwise)
+ *           and normals facing the axis. Vertex 0 is the apex, normal +Y: it sees the sky
+ *           through the opening only, sin^2(alpha) of the cosine-weighted hemisphere.
+ *   box     an open box [-1, 1]^3 without its top (y = 1): five walls (meshes 0..4: floor
+ *           y = -1, x = -1, x = 1, z = -1, z = 1), each a `grid` x grid quad grid with its
+ *           own vertices, front faces and normals inward.
+ *   quad    mesh 0: a floor y = 0, [-2, 2]^2, `grid` x grid cells, normals +Y; mesh 1: a
+ *           square [-quad_size, quad_size]^2 at y = 1, front face and normals +Y (the floor
+ *           sees its back) or, with quad_flip, -Y (its front).
+ *   plane   mesh 0 alone: the floor of `quad` (nothing occludes it).
+ *   sphere  a UV sphere of radius 1: (segments + 1) x (segments / 2 + 1) vertices,
+ *           vertex (i, j) (column i, row j, j = 0 at +Y) at index j (segments + 1) + i with
+ *           normal (sin th cos ph, cos th, -sin th sin ph), th = pi j / rows, ph = 2 pi i /
+ *           segments.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/transfer.h"
+#include "lightgraph/vecmath.h"
+
+#include "common/testscene.h"
+
+enum { TP_CONE = 0, TP_BOX, TP_QUAD, TP_PLANE, TP_SPHERE };
+#define TP_MAX 5
+
+typedef struct tp_scene {
+    lg_scene s;
+    lg_mesh meshes[TP_MAX];
+    float *pos[TP_MAX], *nrm[TP_MAX];
+    uint32_t *idx[TP_MAX];
+    lg_instance instances[TP_MAX];
+    lg_material material;
+    lg_camera camera;
+} tp_scene;
+
+static void tp_free(void *p)
+{
+    tp_scene *t = p;
+    if (!t)
+        return;
+    for (int i = 0; i < TP_MAX; i++) {
+        free(t->pos[i]);
+        free(t->nrm[i]);
+        free(t->idx[i]);
+    }
+    free(t);
+}
+
+static bool tp_alloc(tp_scene *t, int k, uint32_t nv, uint32_t ni)
+{
+    t->pos[k] = malloc((size_t)nv * 12);
+    t->nrm[k] = malloc((size_t)nv * 12);
+    t->idx[k] = malloc((size_t)ni * 4);
+    t->meshes[k].n_vertices = nv;
+    t->meshes[k].n_indices = ni;
+    return t->pos[k] && t->nrm[k] && t->idx[k];
+}
+
+static void tp_set(float *a, size_t v, double x, double y, double z)
+{
+    a[3 * v] = (float)x, a[3 * v + 1] = (float)y, a[3 * v + 2] = (float)z;
+}
+
+/* A g x g grid in mesh slot k: point(s, t) = o + s U + t V for s, t in [0, 1], normal nn;
+ * triangles counter-clockwise seen from the side U x V points to (flip: the other side). */
+static bool tp_grid(tp_scene *t, int k, uint32_t g, const double o[3], const double U[3],
+                    const double V[3], const double nn[3], bool flip)
+{
+    uint32_t nv = (g + 1) * (g + 1);
+    if (!tp_alloc(t, k, nv, g * g * 6))
+        return false;
+    for (uint32_t j = 0, v = 0; j <= g; j++)
+        for (uint32_t i = 0; i <= g; i++, v++) {
+            double s = (double)i / g, r = (double)j / g;
+            tp_set(t->pos[k], v, o[0] + s * U[0] + r * V[0], o[1] + s * U[1] + r * V[1],
+                   o[2] + s * U[2] + r * V[2]);
+            tp_set(t->nrm[k], v, nn[0], nn[1], nn[2]);
+        }
+    uint32_t q = 0;
+    for (uint32_t j = 0; j < g; j++)
+        for (uint32_t i = 0; i < g; i++) {
+            uint32_t a = j * (g + 1) + i, b = a + 1, c = a + g + 2, d = a + g + 1;
+            uint32_t tri[6] = { a, b, c, a, c, d };
+            if (flip) {
+                tri[1] = c, tri[2] = b, tri[4] = d, tri[5] = c;
+            }
+            memcpy(t->idx[k] + q, tri, sizeof tri);
+            q += 6;
+        }
+    return true;
+}
+
+static bool tp_cone(tp_scene *t, double alpha, uint32_t seg)
+{
+    /* apex + one ring at height 1 */
+    if (!tp_alloc(t, 0, seg + 1, seg * 3))
+        return false;
+    tp_set(t->pos[0], 0, 0, 0, 0);
+    tp_set(t->nrm[0], 0, 0, 1, 0);
+    double r = tan(alpha), pi = 3.14159265358979323846;
+    for (uint32_t i = 0; i < seg; i++) {
+        double ph = 2 * pi * i / seg, c = cos(ph), s = sin(ph);
+        tp_set(t->pos[0], i + 1, r * c, 1, r * s);
+        /* the wall's normal, toward the axis: (-cos a c, sin a, -cos a s) */
+        tp_set(t->nrm[0], i + 1, -cos(alpha) * c, sin(alpha), -cos(alpha) * s);
+    }
+    for (uint32_t i = 0; i < seg; i++) {
+        /* seen from the axis (inside), apex, ring i + 1, ring i is counter-clockwise */
+        uint32_t tri[3] = { 0, 1 + (i + 1) % seg, 1 + i };
+        memcpy(t->idx[0] + 3 * i, tri, sizeof tri);
+    }
+    return true;
+}
+
+static bool tp_sphere(tp_scene *t, uint32_t seg)
+{
+    uint32_t rows = seg / 2 < 2 ? 2 : seg / 2, cols = seg;
+    if (!tp_alloc(t, 0, (cols + 1) * (rows + 1), cols * rows * 6))
+        return false;
+    const double pi = 3.14159265358979323846;
+    for (uint32_t j = 0, v = 0; j <= rows; j++)
+        for (uint32_t i = 0; i <= cols; i++, v++) {
+            double th = pi * j / rows, ph = 2 * pi * i / cols;
+            double x = sin(th) * cos(ph), y = cos(th), z = -sin(th) * sin(ph);
+            tp_set(t->nrm[0], v, x, y, z);
+            tp_set(t->pos[0], v, x, y, z);
+        }
+    uint32_t q = 0;
+    for (uint32_t j = 0; j < rows; j++)
+        for (uint32_t i = 0; i < cols; i++) {
+            uint32_t a = j * (cols + 1) + i, b = a + 1, d = a + cols + 1, e = d + 1;
+            uint32_t tri[6] = { a, d, e, a, e, b };
+            memcpy(t->idx[0] + q, tri, sizeof tri);
+            q += 6;
+        }
+    return true;
+}
+
+static int tp_prepare(lg_node *n)
+{
+    tp_scene *t = calloc(1, sizeof *t);
+    if (!t)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    int layout = lg_param_enum(n, "layout");
+    uint32_t grid = (uint32_t)lg_param_int(n, "grid"), seg = (uint32_t)lg_param_int(n, "segments");
+    t->s.struct_size = sizeof t->s;
+    t->s.source = "test_prt_scene";
+    t->s.meshes = t->meshes;
+    t->s.instances = t->instances;
+    t->s.materials = &t->material;
+    t->s.n_materials = 1;
+    t->s.cameras = &t->camera;
+    t->s.n_cameras = 1;
+    const lg_value *bc = lg_param(n, "base_color");
+    t->material.name = "test";
+    t->material.kd = 1.0f;
+    for (int c = 0; c < 3; c++)
+        t->material.base_color[c] = t->material.od[c] = (float)bc->v[c];
+    t->material.base_color[3] = 1.0f;
+    lg_camera *c = &t->camera;
+    c->name = "test";
+    c->position[2] = 5;
+    c->up[1] = 1;
+    c->yfov = 0.8f;
+    c->znear = 0.1f;
+    c->zfar = 50.0f;
+
+    bool ok = true;
+    if (layout == TP_CONE) {
+        t->s.n_meshes = 1;
+        ok = tp_cone(t, lg_param_float(n, "alpha_deg") * 3.14159265358979323846 / 180.0, seg);
+    } else if (layout == TP_BOX) {
+        /* o, U, V, inward normal; U x V must point inward (else flip) */
+        static const double w[5][4][3] = {
+            { { -1, -1, -1 }, { 0, 0, 2 }, { 2, 0, 0 }, { 0, 1, 0 } },  /* floor: z x x = +y */
+            { { -1, -1, -1 }, { 0, 2, 0 }, { 0, 0, 2 }, { 1, 0, 0 } },  /* x = -1: y x z = +x */
+            { { 1, -1, -1 }, { 0, 0, 2 }, { 0, 2, 0 }, { -1, 0, 0 } },  /* x = 1: z x y = -x */
+            { { -1, -1, -1 }, { 2, 0, 0 }, { 0, 2, 0 }, { 0, 0, 1 } },  /* z = -1: x x y = +z */
+            { { -1, -1, 1 }, { 0, 2, 0 }, { 2, 0, 0 }, { 0, 0, -1 } },  /* z = 1: y x x = -z */
+        };
+        t->s.n_meshes = 5;
+        for (int k = 0; k < 5 && ok; k++)
+            ok = tp_grid(t, k, grid, w[k][0], w[k][1], w[k][2], w[k][3], false);
+    } else if (layout == TP_QUAD || layout == TP_PLANE) {
+        static const double o[3] = { -2, 0, 2 }, U[3] = { 4, 0, 0 }, V[3] = { 0, 0, -4 },
+                            up[3] = { 0, 1, 0 };
+        t->s.n_meshes = 1;
+        ok = tp_grid(t, 0, grid, o, U, V, up, false); /* x x -z = +y */
+        if (ok && layout == TP_QUAD) {
+            double a = lg_param_float(n, "quad_size");
+            bool flip = lg_param_bool(n, "quad_flip");
+            double qo[3] = { -a, 1, a }, qU[3] = { 2 * a, 0, 0 }, qV[3] = { 0, 0, -2 * a };
+            double qn[3] = { 0, flip ? -1 : 1, 0 };
+            t->s.n_meshes = 2;
+            ok = tp_grid(t, 1, 1, qo, qU, qV, qn, flip);
+        }
+    } else {
+        t->s.n_meshes = 1;
+        ok = tp_sphere(t, seg);
+    }
+    if (!ok) {
+        tp_free(t);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    }
+    const lg_value *tr = lg_param(n, "translate");
+    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
+        t->meshes[i].name = "test mesh";
+        t->meshes[i].positions = t->pos[i];
+        t->meshes[i].normals = t->nrm[i];
+        t->meshes[i].indices = t->idx[i];
+        lg_instance *in = &t->instances[t->s.n_instances++];
+        in->mesh = i;
+        lg_m4_identity(in->model);
+        for (int k = 0; k < 3; k++)
+            in->model[12 + k] = (float)tr->v[k];
+        lg_m4_normal_matrix(in->normal_matrix, in->model);
+    }
+    lg_test_scene_bounds(&t->s, t->meshes);
+    lg_scene_compute_features(&t->s);
+    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
+}
+
+static int tp_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)n;
+    (void)frame;
+    return 0;
+}
+
+/* ---- test_transfer_image ------------------------------------------------------------------ */
+
+static uint32_t tp_vertices_per_row(uint32_t n2) { return n2 >= 1024 ? 1 : 1024 / n2; }
+
+static int ti_prepare(lg_node *n)
+{
+    const lg_resource *in = lg_input(n, 0);
+    const lg_resource *part = in ? lg_part(n, in, "transfer") : NULL;
+    lg_resource_info info;
+    if (!part || lg_describe(part, &info, n) != 0)
+        return lg_error(n, "input 'transfer' has no transfer part");
+    uint32_t bands = (uint32_t)lg_param_int(n, "bands"), n2 = bands * bands;
+    size_t per = (size_t)12 * n2;
+    if (info.buffer.size == 0 || info.buffer.size % per)
+        return lg_error(n, "the transfer's %zu bytes are not a whole number of %u-band vertices",
+                        info.buffer.size, bands);
+    size_t nv = info.buffer.size / per, V = tp_vertices_per_row(n2);
+    lg_image_desc d = { .width = (uint32_t)(V * n2), .height = (uint32_t)((nv + V - 1) / V),
+                        .format = LG_FORMAT_RGBA32F };
+    int rc = lg_declare_image(n, 0, &d);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int ti_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    lg_transfer tv;
+    const lg_transfer *tr = lg_transfer_get(n, lg_input(n, 0), &tv);
+    if (!tr)
+        return lg_error(n, "input 'transfer' is not a transfer");
+    uint32_t bands = (uint32_t)lg_param_int(n, "bands"), n2 = bands * bands;
+    if (tr->info.bands != bands)
+        return lg_error(n, "the transfer has %u bands, the node was told %u", tr->info.bands,
+                        bands);
+    lg_cpu_view in, out;
+    int rc = lg_map_cpu(n, tr->transfer, LG_READ, &in);
+    if (rc)
+        return rc;
+    rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &out);
+    if (rc)
+        return rc;
+    const float *t = in.pixels;
+    float *o = out.pixels;
+    uint32_t V = tp_vertices_per_row(n2);
+    size_t rows = (tr->info.vertices + V - 1) / V;
+    memset(o, 0, rows * V * n2 * 4 * sizeof(float));
+    for (uint32_t i = 0; i < tr->info.vertices; i++)
+        for (uint32_t k = 0; k < n2; k++) {
+            float *p = o + 4 * ((size_t)(i / V) * V * n2 + (size_t)(i % V) * n2 + k);
+            for (int c = 0; c < 3; c++)
+                p[c] = t[(size_t)i * 3 * n2 + (size_t)c * n2 + k];
+            p[3] = 1.0f;
+        }
+    lg_log(n, LG_LOG_INFO, "transfer: %u vertices, %u bands, mode %d, %u bounces",
+           tr->info.vertices, tr->info.bands, (int)tr->info.mode, tr->info.bounces);
+    return 0;
+}
+
+static const char *const tp_layouts[] = { "cone", "box", "quad", "plane", "sphere", NULL };
+
+static const lg_param_desc tp_params[] = {
+    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = tp_layouts,
+      .doc = "cone, box, quad, plane or sphere (testprtscene.c)" },
+    { .key = "alpha_deg", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 1, .max = 89, .doc = "" },
+    { .key = "segments", .type = LG_PARAM_INT, .def.i = 64, .min = 3, .max = 4096, .doc = "" },
+    { .key = "grid", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 256, .doc = "" },
+    { .key = "quad_size", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0.01, .max = 10,
+      .doc = "" },
+    { .key = "quad_flip", .type = LG_PARAM_BOOL, .def.b = false, .doc = "" },
+    { .key = "base_color", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 10,
+      .doc = "" },
+    { .key = "translate", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .doc = "" },
+};
+static const lg_port_desc tp_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
+
+static const lg_param_desc ti_params[] = {
+    { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "" },
+};
+static const lg_port_desc ti_in[] = { { .name = "transfer", .kind = LG_KIND_TRANSFER } };
+static const lg_port_desc ti_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
+
+static const lg_node_type types[] = {
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_prt_scene",
+        .doc = "A small scene built in memory for the prt_bake tests",
+        LG_PARAMS(tp_params),
+        LG_OUTPUTS(tp_out),
+        .prepare = tp_prepare,
+        .execute = tp_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_transfer_image",
+        .doc = "A transfer's coefficients as an image (bands^2 x vertices)",
+        LG_PARAMS(ti_params),
+        LG_INPUTS(ti_in),
+        LG_OUTPUTS(ti_out),
+        .prepare = ti_prepare,
+        .execute = ti_execute,
+    },
+};
+
+LG_PLUGIN_DEFINE("testprtscene", "1.0.0", "Scenes and a transfer viewer for the prt_bake tests",
+                 types)
