@@ -10,7 +10,8 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_BUILD ?= build-fuzz
 SECONDS    ?= 60
 
-.PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter study-format clean
+.PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter study-format study-prt \
+	pictures-prt clean
 
 all: build
 
@@ -83,6 +84,21 @@ study-format: build
 	  cp out/$$d/format_study.png plugins/ibl/images/$$d.png; \
 	  cp out/$$d/format_study.md plugins/ibl/images/$$d.md; \
 	  cp out/$$d/format_study.csv plugins/ibl/images/$$d.csv; done
+
+# PRT: bands 1..8 x 16^2..512^2 directions x the three samplers, error against the project's
+# reference (prt_reference) and bake time; CSV, table and plots into docs/images/
+# (docs/prt.md "What accuracy costs"). About 10 minutes on 2 cores.
+study-prt: build
+	mkdir -p out
+	python3 tools/prt_study.py --build $(BUILD) --out out/prt_study
+	cp out/prt_study/prt_study.csv out/prt_study/prt_study.md out/prt_study/prt_study_time.png \
+	  out/prt_study/prt_study_bands.png out/prt_study/prt_study_samples.png docs/images/
+
+# The pictures of docs/prt.md: examples/prt.lgraph with each transfer mode.
+pictures-prt: build
+	for m in unshadowed shadowed interreflected; do \
+	  $(BUILD)/lightgraph render examples/prt.lgraph --size 480x270 --set bake.mode=$$m \
+	    -o docs/images/prt_$$m.png || exit 1; done
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out

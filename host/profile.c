@@ -1,5 +1,5 @@
-/* --profile: per node CPU wall time, GPU time, bytes allocated and moved; as a table and
- * as JSON. */
+/* --profile: per node CPU wall time, GPU time, bytes allocated and moved, on-disk cache
+ * hits and misses; as a table and as JSON. */
 #include "host.h"
 
 #include <errno.h>
@@ -24,8 +24,8 @@ void lg_profile_print(lg_exec *ex, FILE *f)
         wt = b > wt ? b : wt;
     }
     fprintf(f, "profile (%u frame%s):\n", ex->opts.frames, ex->opts.frames == 1 ? "" : "s");
-    fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10s  %10s  %11s  %11s\n", wn, "node", wt, "type",
-            "device", "runs", "cpu ms", "gpu ms", "allocated", "moved");
+    fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10s  %10s  %11s  %11s  %s\n", wn, "node", wt, "type",
+            "device", "runs", "cpu ms", "gpu ms", "allocated", "moved", "cache");
     double tc = 0, tg = 0;
     uint64_t ta = 0, tm = 0;
     for (uint32_t t = 0; t < c->n_nodes; t++) {
@@ -41,8 +41,22 @@ void lg_profile_print(lg_exec *ex, FILE *f)
             snprintf(g, sizeof g, "n/a");
         else
             snprintf(g, sizeof g, "%.3f", n->gpu_ms);
-        fprintf(f, "  %-*s  %-*s  %-6s  %5llu  %10.3f  %10s  %11s  %11s\n", wn, n->pub.name, wt,
-                n->schema->name, dev(n), (unsigned long long)n->runs, n->cpu_ms, g, a, m);
+        /* the on-disk cache (host.h cache_get): "hit" when the node's result came from it,
+         * "miss" when it was computed and stored, both counts when a node did each */
+        char k[64];
+        if (!n->cache_hits && !n->cache_misses)
+            snprintf(k, sizeof k, "-");
+        else if (!n->cache_misses)
+            snprintf(k, sizeof k, n->cache_hits == 1 ? "hit" : "%llu hits",
+                     (unsigned long long)n->cache_hits);
+        else if (!n->cache_hits)
+            snprintf(k, sizeof k, n->cache_misses == 1 ? "miss" : "%llu misses",
+                     (unsigned long long)n->cache_misses);
+        else
+            snprintf(k, sizeof k, "%llu hit, %llu miss", (unsigned long long)n->cache_hits,
+                     (unsigned long long)n->cache_misses);
+        fprintf(f, "  %-*s  %-*s  %-6s  %5llu  %10.3f  %10s  %11s  %11s  %s\n", wn, n->pub.name,
+                wt, n->schema->name, dev(n), (unsigned long long)n->runs, n->cpu_ms, g, a, m, k);
         tc += n->cpu_ms;
         tg += n->gpu_ms;
         ta += n->bytes_alloc;

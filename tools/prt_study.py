@@ -28,14 +28,17 @@ directions per vertex) and band count n:
             sqrt(sum (x - ref)^2 / sum ref^2)
   max_rel   the largest per-vertex error |x - ref| over the RGB channels, relative to the
             RMS of the reference
+  vs_finest the sampling error alone: the relative RMSE against the same sampler's bake
+            with the most samples, at the same band count (the truncation cancels)
 
 Two sources of error meet: truncation to n bands (the visibility and the lighting have
 detail above band n: the floor each curve reaches) and sampling (N^2 directions per vertex:
 falls with N, fastest for the low-discrepancy samplers).
 
 Writes into DIR (default out/prt_study): prt_study.csv, prt_study.md (a markdown table),
-prt_study_time.png (error against bake time, one curve per sampler and band count) and
-prt_study_bands.png (error against bands, one curve per sample count, sobol), the gnuplot
+prt_study_time.png (error against bake time, one curve per sampler and band count),
+prt_study_bands.png (error against bands, one curve per sample count, sobol) and
+prt_study_samples.png (the sampling error alone against bake time), the gnuplot
 scripts, the graphs and the vertex images. Plain python and gnuplot; EXR read by
 tools/format_study.py's independent reader.
 """
@@ -152,6 +155,7 @@ def main():
         ref_ms = nodes["ref"]["cpu_ms"]
         print("reference: %d vertices, cube %d, %.1f s" % (len(ref), args.reference_resolution, ref_ms / 1e3))
         rows = []
+        values = {}
         top = max(bands)
         for sm in samplers:
             for n_s in samples:
@@ -172,7 +176,9 @@ def main():
                         bake_ms = b["cpu_ms"]
                     elif not b.get("cache_hits", 0):
                         die("the %d-band render baked again instead of loading the bake" % nb)
-                    rel, worst = errors(vertex_values(lit_exr), ref)
+                    vals = vertex_values(lit_exr)
+                    rel, worst = errors(vals, ref)
+                    values[(sm, n_s, nb)] = vals
                     row = {"sampler": sm, "samples": n_s, "directions": n_s * n_s, "bands": nb,
                            "bake_ms": bake_ms, "project_ms": nodes["light"]["cpu_ms"],
                            "dot_ms": nodes["lit"]["cpu_ms"], "rel_rmse": rel, "max_rel": worst}
@@ -181,7 +187,14 @@ def main():
                           (sm, n_s, nb, bake_ms, rel, worst), flush=True)
                 shutil.rmtree(cache, ignore_errors=True)
 
-    cols = ["sampler", "samples", "directions", "bands", "bake_ms", "project_ms", "dot_ms", "rel_rmse", "max_rel"]
+    # the sampling error alone: against the same sampler's finest bake, same bands (the
+    # truncation to n bands is common to both and cancels)
+    finest = max(samples)
+    for r in rows:
+        r["vs_finest"] = errors(values[(r["sampler"], r["samples"], r["bands"])],
+                                values[(r["sampler"], finest, r["bands"])])[0]
+
+    cols = ["sampler", "samples", "directions", "bands", "bake_ms", "project_ms", "dot_ms", "rel_rmse", "max_rel", "vs_finest"]
     with open(os.path.join(out, "prt_study.csv"), "w") as f:
         f.write(",".join(cols) + "\n")
         for r in rows:
@@ -247,6 +260,41 @@ def main():
         f.write("plot " + ", \\\n     ".join('"%s" index %d using 1:2 with linespoints title "%d^2 samples"' %
                                             (dat2, i, n_s) for i, n_s in enumerate(samples)) + "\n")
     subprocess.run(["gnuplot", gp2], check=True)
+    dat3 = os.path.join(out, "prt_study_samples.dat")
+    blocks3 = []
+    with open(dat3, "w") as f:
+        for sm in samplers:
+            for nb in [b for b in (3, 8) if b in bands] or bands[-1:]:
+                blocks3.append((sm, nb))
+                for n_s in samples:
+                    if n_s == finest:
+                        continue
+                    r = next(r for r in rows if r["sampler"] == sm and r["samples"] == n_s and r["bands"] == nb)
+                    f.write("%d %.6g %.6g\n" % (n_s, r["bake_ms"], max(r["vs_finest"], 1e-9)))
+                f.write("\n\n")
+    gp3 = os.path.join(out, "prt_study_samples.gp")
+    with open(gp3, "w") as f:
+        f.write('set terminal pngcairo size 900,560\nset output "%s"\n'
+                'set title "PRT (%s): sampling error alone (against the %d^2 bake, same bands)" noenhanced\n'
+                'set xlabel "bake time (ms)"\nset ylabel "relative RMSE over vertices"\n'
+                'set logscale xy\nset key outside right\nset grid\n' %
+                (os.path.join(out, "prt_study_samples.png"), args.mode, finest))
+        styles = {"jittered": 1, "hammersley": 2, "sobol": 3}
+        f.write("plot " + ", \\\n     ".join(
+            '"%s" index %d using 2:3 with linespoints lc %d pt %d title "%s, %d bands"' %
+            (dat3, i, styles.get(sm, 0), 4 + 2 * (nb == 8), sm, nb) for i, (sm, nb) in enumerate(blocks3)) + "\n")
+    subprocess.run(["gnuplot", gp3], check=True)
+    with open(os.path.join(out, "prt_study.md"), "a") as f:
+        f.write("\nThe sampling error alone (relative RMSE against the same sampler's %d^2 bake, "
+                "same bands):\n\n" % finest)
+        f.write("| sampler | bands | " + " | ".join("%d^2" % n for n in samples if n != finest) + " |\n")
+        f.write("|---|---|" + "---|" * (len(samples) - 1) + "\n")
+        for sm in samplers:
+            for nb in [b for b in (3, 8) if b in bands] or bands[-1:]:
+                cells = ["%.2g" % next(r["vs_finest"] for r in rows if r["sampler"] == sm and
+                                        r["samples"] == n and r["bands"] == nb)
+                         for n in samples if n != finest]
+                f.write("| %s | %d | %s |\n" % (sm, nb, " | ".join(cells)))
     with open(os.path.join(out, "prt_study.md")) as f:
         sys.stdout.write(f.read())
 

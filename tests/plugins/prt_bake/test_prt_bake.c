@@ -22,6 +22,12 @@
  *                 again, equal; changed parameters make a new entry
  *   reference     prt_reference: unshadowed = (rho / pi) E of a smooth probe; the cone's
  *                 shadowed value rho sin^2(alpha); the bake approaches it as samples grow
+ *   chain         the oracles through the whole chain users run, on every backend of the
+ *                 `prt` node (cpu, gl, cl): a probe written here -> sh_project (quadrature)
+ *                 -> prt_bake -> prt, its `vertices` output read back: the cone's apex
+ *                 rho sin^2(alpha) (a constant probe has only L_0: no truncation), the open
+ *                 white box's interreflected radiance -> 1, and unshadowed = (rho / pi) E_n
+ *                 on the sphere under the smooth probe; the three backends agree
  */
 #include <dirent.h>
 #include <math.h>
@@ -32,6 +38,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/sh.h"
 #include "lightgraph/test.h"
+#include "lightgraph/transfer.h"
 
 #define PI 3.14159265358979323846
 
@@ -670,6 +677,109 @@ static void case_reference(lg_test *t)
     lg_image_free(&img);
 }
 
+/* The radiance of vertex i, channel c, from a per-vertex image (transfer.h's layout). */
+static double vertex_value(const lg_image *img, uint32_t i, int c)
+{
+    return img->pixels[4 * ((size_t)(i / LG_VERTEX_IMAGE_WIDTH) * img->width +
+                            i % LG_VERTEX_IMAGE_WIDTH) + c];
+}
+
+/* sh_project -> prt_bake -> prt on `backend`, the `vertices` output read into *img. */
+static bool chain(lg_test *t, const char *scene, const char *bakep, uint32_t bands,
+                  const char *backend, lg_image *img)
+{
+    char g[2048];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_prt_scene { %s }\n"
+             "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+             "light = sh_project { probe = sky, bands = %u }\n"
+             "b = prt_bake { scene = s, bands = %u, %s }\n"
+             "lit = prt { scene = s, lighting = light, transfer = b, backend = %s }\n"
+             "output lit.vertices \"v.exr\"\n",
+             scene, bands, bands, bakep, backend);
+    char *text = NULL;
+    int rc = run(t, g, &text);
+    if (rc != 0 && lg_test_output_says_no_device(text ? text : ""))
+        LG_TEST_CHECK(t, 0, "backend %s: no device (a missing device is a failure):\n%s", backend,
+                      text ? text : "");
+    else
+        LG_TEST_CHECK(t, rc == 0, "chain { %s } { %s } on %s failed (%d):\n%s", scene, bakep,
+                      backend, rc, text ? text : "");
+    free(text);
+    return rc == 0 && lg_test_read(t, "v.exr", img, NULL);
+}
+
+static void case_chain(lg_test *t)
+{
+    static const char *const backends[] = { "cpu", "gl", "cl" };
+    /* constant sky 1: the cone's apex and the furnace */
+    write_probe(t, false);
+    for (int b = 0; b < 3; b++) {
+        lg_image img;
+        if (!chain(t, "layout = cone, alpha_deg = 45, segments = 128, base_color = [0.9, 0.6, 0.3]",
+                   "mode = shadowed, samples = 128", 3, backends[b], &img))
+            return;
+        double rho[3] = { 0.9, 0.6, 0.3 };
+        for (int c = 0; c < 3; c++) {
+            double got = vertex_value(&img, 0, c), want = rho[c] * 0.5;
+            if (c == 0)
+                fprintf(stderr, "chain %s: cone apex %.5f, rho sin^2 45 = %.5f\n", backends[b],
+                        got, want);
+            LG_TEST_CHECK(t, fabs(got - want) < 0.006, "%s: cone apex channel %d %.5f, want %.5f",
+                          backends[b], c, got, want);
+        }
+        lg_image_free(&img);
+        if (!chain(t, "layout = box, grid = 6",
+                   "mode = interreflected, samples = 32, bounces = 32, bounce_threshold = 0", 3,
+                   backends[b], &img))
+            return;
+        uint32_t nv = 5 * 7 * 7; /* five walls of (grid + 1)^2 vertices */
+        double sum = 0;
+        for (uint32_t i = 0; i < nv; i++)
+            sum += vertex_value(&img, i, 1);
+        LG_TEST_CHECK(t, img.pixels[4 * nv + 3] == 0.0f && img.pixels[4 * (nv - 1) + 3] == 1.0f,
+                      "%s: the box should have %u vertices", backends[b], nv);
+        fprintf(stderr, "chain %s: furnace, 32 bounces: mean radiance %.4f\n", backends[b],
+                sum / nv);
+        LG_TEST_CHECK(t, fabs(1 - sum / nv) < 0.01, "%s: furnace mean %.4f, want 1 within 0.01",
+                      backends[b], sum / nv);
+        lg_image_free(&img);
+    }
+    /* the smooth probe, unshadowed sphere: (rho / pi) E(N), 3 bands hold it exactly */
+    write_probe(t, true);
+    lg_image ref = { 0 };
+    for (int b = 0; b < 3; b++) {
+        lg_image img;
+        if (!chain(t, "layout = sphere, segments = 16, base_color = [0.8, 0.8, 0.8]",
+                   "mode = unshadowed, samples = 64", 3, backends[b], &img))
+            return;
+        uint32_t seg = 16, rows = seg / 2, nv = (seg + 1) * (rows + 1);
+        double worst = 0;
+        for (uint32_t j = 0; j <= rows; j++)
+            for (uint32_t i = 0; i <= seg; i++) {
+                double th = PI * j / rows, ph = 2 * PI * i / seg;
+                double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
+                double want = 0.8 / PI * env_E(N);
+                worst = fmax(worst, fabs(vertex_value(&img, j * (seg + 1) + i, 0) - want));
+            }
+        fprintf(stderr, "chain %s: unshadowed sphere, worst |radiance - (rho/pi) E| %.2e\n",
+                backends[b], worst);
+        LG_TEST_CHECK(t, worst < 3e-3, "%s: unshadowed sphere off by %.3g", backends[b], worst);
+        if (b == 0) {
+            ref = img;
+            continue;
+        }
+        double diff = 0;
+        for (uint32_t i = 0; i < nv; i++)
+            for (int c = 0; c < 3; c++)
+                diff = fmax(diff, fabs(vertex_value(&img, i, c) - vertex_value(&ref, i, c)));
+        LG_TEST_CHECK(t, diff < 1e-5, "%s against cpu: %.3g", backends[b], diff);
+        lg_image_free(&img);
+    }
+    lg_image_free(&ref);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, PRT_TEST_PLUGIN_DIR);
@@ -682,7 +792,7 @@ int main(int argc, char **argv)
         { "furnace", case_furnace },       { "backface", case_backface },
         { "large_coords", case_large_coords }, { "brute", case_brute },
         { "params", case_params },         { "cache", case_cache },
-        { "reference", case_reference },
+        { "reference", case_reference },   { "chain", case_chain },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
