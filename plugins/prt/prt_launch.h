@@ -69,6 +69,24 @@ static inline void prt_gl_defines(char *buf, size_t size, uint32_t n, uint32_t s
              tbo ? "#define LG_TBO 1\n" : "");
 }
 
+/* GL: the defines of shaders/prt/prt_dot.frag (the dot products as a full-screen draw into
+ * the `vertices` image, the version the node runs when the transfer's floats fit
+ * GL_MAX_TEXTURE_BUFFER_SIZE: prt_gl_frag_fits); vec4: read the records 4 floats per fetch
+ * through an RGBA32F buffer texture (LG_VEC4), else 1 through the R32F one. */
+static inline void prt_gl_frag_defines(char *buf, size_t size, uint32_t n, uint32_t stride,
+                                       int vec4)
+{
+    snprintf(buf, size, "#define LG_N %uu\n#define LG_STRIDE %uu\n%s", n, stride,
+             vec4 ? "#define LG_VEC4 1\n" : "");
+}
+
+/* Whether prt_dot.frag can read a transfer of `floats` floats: its R32F buffer texture
+ * (every float a texel) must fit max_tbo = GL_MAX_TEXTURE_BUFFER_SIZE. */
+static inline int prt_gl_frag_fits(double floats, int max_tbo)
+{
+    return floats <= (double)max_tbo;
+}
+
 static inline void prt_gl_groups(size_t texels, uint32_t *gx, uint32_t *gy)
 {
     size_t g = (texels + PRT_GL_GROUP - 1) / PRT_GL_GROUP;
