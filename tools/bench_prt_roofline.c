@@ -17,11 +17,17 @@
  *           best of N; GB/s and the fraction of the triad (median)
  *
  * How each backend is timed, with the plugin's own code and launch geometry
- * (plugins/prt/prt_launch.h, prt_cpu.c, shaders/prt/prt.cl, prt_dot.comp):
+ * (plugins/prt/prt_launch.h, prt_cpu.c, shaders/prt/prt.cl, prt_dot.frag, prt_dot.comp):
  *   cpu  wall time of lg_prt_cpu_range over the pool (chunks of PRT_CPU_GRAIN);
  *   cl   the kernel's CL profiling event (start to end);
- *   gl   wall time around the dispatch followed by glFinish (llvmpipe's timer queries do
- *        not measure compute dispatches).
+ *   gl   wall time around the draw followed by glFinish (prt_dot.frag, the version the
+ *        node runs: records read through an RGB32F buffer texture);
+ *   gl-frag1  the same through an R32F buffer texture (1 float per fetch), for comparison;
+ *   gl-comp   the compute shader prt_dot.comp (the node's version before, and its fallback
+ *        for a transfer past GL_MAX_TEXTURE_BUFFER_SIZE, here reading an R32F buffer
+ *        texture; LG_PRT_SSBO=1: a storage buffer as the node's fallback does), wall time
+ *        around the dispatch and glFinish.
+ * gl-frag1 and gl-comp run only when named in --backends.
  * The transfer stays on the device; uploads are not timed (the node maps it once).
  * Prints a table on stderr and one JSON object on stdout. Exit status 0, or 1 with a
  * message. A backend whose device cannot be made is reported ("skipped": reason).
@@ -465,10 +471,11 @@ done:
 }
 
 /* The version the node runs (prt_dot_gl): prt_dot.frag drawn as a full-screen triangle
- * into the `vertices` image; vec4 0: the R32F reads only (row "gl-frag1"). */
-static void bench_gl(const bench_data *d, int repeat, bench_row *row, int vec4)
+ * into the `vertices` image, reading the transfer through an RGB32F buffer texture; r32f:
+ * through an R32F one (row "gl-frag1"). */
+static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
 {
-    row->backend = vec4 ? "gl" : "gl-frag1";
+    row->backend = r32f ? "gl-frag1" : "gl";
     lg_gl_device *dev = NULL;
     double *ms = calloc((size_t)repeat, sizeof *ms);
     float *out = malloc((size_t)d->texels * 16);
@@ -483,21 +490,21 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int vec4)
     const GladGLContext *gl = lg_gl_device_table(dev);
     GLint max_tbo = 0;
     gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
-    if (!prt_gl_frag_fits((double)d->vertices * 3 * d->n, max_tbo)) {
+    if (!prt_gl_frag_fits(d->vertices, r32f ? 3 * d->n : d->n, max_tbo)) {
         snprintf(gl_why, sizeof gl_why, "transfer past GL_MAX_TEXTURE_BUFFER_SIZE (%d)",
                  max_tbo);
         row->skipped = gl_why;
         goto done;
     }
     char defines[96];
-    prt_gl_frag_defines(defines, sizeof defines, d->n, d->n, vec4);
+    prt_gl_frag_defines(defines, sizeof defines, d->n, d->n, r32f);
     GLuint p = gl_program(gl, lg_src_prt_dot_vert, lg_src_prt_dot_frag, defines);
     if (!p) {
         row->skipped = gl_why;
         goto done;
     }
     uint32_t tex_h = d->texels / d->tex_w;
-    GLuint tex, buf, tb[2] = { 0, 0 }, fbo, vao;
+    GLuint tex, buf, tb, fbo, vao;
     gl->CreateTextures(GL_TEXTURE_2D, 1, &tex);
     gl->TextureStorage2D(tex, 1, GL_RGBA32F, (GLsizei)d->tex_w, (GLsizei)tex_h);
     gl->CreateBuffers(1, &buf);
@@ -511,13 +518,9 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int vec4)
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
     gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n), d->lighting);
-    gl->CreateTextures(GL_TEXTURE_BUFFER, vec4 ? 2 : 1, tb);
-    gl->TextureBuffer(tb[0], GL_R32F, buf);
-    gl->BindTextureUnit(0, tb[0]); /* the shader's layout(binding = 0) */
-    if (vec4) {
-        gl->TextureBuffer(tb[1], GL_RGBA32F, buf);
-        gl->BindTextureUnit(1, tb[1]);
-    }
+    gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
+    gl->TextureBuffer(tb, r32f ? GL_R32F : GL_RGB32F, buf);
+    gl->BindTextureUnit(0, tb); /* the shader's layout(binding = 0) */
     gl->BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl->Viewport(0, 0, (GLsizei)d->tex_w, (GLsizei)tex_h);
     gl->BindVertexArray(vao);
@@ -536,6 +539,7 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int vec4)
     gl->GetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)((size_t)d->texels * 16), out);
     GLenum err = gl->GetError();
     if (row->skipped) {
+        /* the framebuffer's message */
     } else if (err != GL_NO_ERROR) {
         snprintf(gl_why, sizeof gl_why, "GL error 0x%04x", err);
         row->skipped = gl_why;
@@ -550,7 +554,7 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int vec4)
     gl->DeleteVertexArrays(1, &vao);
     gl->DeleteFramebuffers(1, &fbo);
     gl->DeleteTextures(1, &tex);
-    gl->DeleteTextures(vec4 ? 2 : 1, tb);
+    gl->DeleteTextures(1, &tb);
     gl->DeleteBuffers(1, &buf);
 done:
     lg_gl_device_destroy(&dev);
@@ -648,9 +652,9 @@ int main(int argc, char **argv)
     if (has_backend(backends, "cl"))
         bench_cl(&d, (int)repeat, &rows[nr++]);
     if (has_backend(backends, "gl"))
-        bench_gl(&d, (int)repeat, &rows[nr++], 1);
-    if (has_backend(backends, "gl-frag1"))
         bench_gl(&d, (int)repeat, &rows[nr++], 0);
+    if (has_backend(backends, "gl-frag1"))
+        bench_gl(&d, (int)repeat, &rows[nr++], 1);
     if (has_backend(backends, "gl-comp"))
         bench_gl_comp(&d, (int)repeat, &rows[nr++]);
 

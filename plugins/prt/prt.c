@@ -66,10 +66,9 @@ typedef struct prt_state {
     lg_gl_pass *dot, *raster, *refl;
     uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_frag_defines, prt_gl_defines) */
     int g_frag;             /* 1: prt_dot.frag, 0: prt_dot.comp over a storage buffer */
-    GLuint tbo_tex, tbo_buf;   /* the R32F buffer texture over the transfer, and its buffer */
-    GLuint tbo4_tex, tbo4_buf; /* the RGBA32F one */
+    GLuint tbo_tex, tbo_buf; /* the RGB32F buffer texture over the transfer, and its buffer */
     lg_gl_uniform d_vertices, d_width, d_texels, d_light;
-    lg_gl_binding d_transfer, d_transfer4, d_lighting, d_out;
+    lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
     lg_gl_binding r_vertices, f_reflect;
     GLuint light_buf;
@@ -425,8 +424,8 @@ static void prt_gl_tbo(const lg_gl *gl, GLuint *tex, GLuint *of, GLenum format, 
 }
 
 /* The dot products on GL: shaders/prt/prt_dot.frag drawn as a full-screen triangle into the
- * `vertices` image (llvmpipe runs fragments 3-4x faster than the same work as a compute
- * shader: README.md, Roofline), or, for a transfer past GL_MAX_TEXTURE_BUFFER_SIZE floats,
+ * `vertices` image (on llvmpipe 2-3.5x faster than the same work as a compute shader:
+ * README.md, Roofline), or, for a transfer past GL_MAX_TEXTURE_BUFFER_SIZE floats,
  * prt_dot.comp reading it as a storage buffer. */
 static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
 {
@@ -436,7 +435,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     int rc;
     GLint max_tbo = 0;
     gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
-    int frag = prt_gl_frag_fits((double)st->vertices * 3 * f->tr->n_coeffs, max_tbo);
+    int frag = prt_gl_frag_fits(st->vertices, f->tr->n_coeffs, max_tbo);
     if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs || st->g_frag != frag))
         lg_gl_pass_destroy(&st->dot);
     if (!st->dot) {
@@ -450,7 +449,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
         };
         char defines[96];
         if (frag)
-            prt_gl_frag_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 1);
+            prt_gl_frag_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 0);
         else
             prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 0);
         lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = frag ? frag_src : comp_src,
@@ -466,7 +465,6 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
         if (frag) {
             st->d_light = lg_gl_pass_uniform(st->dot, "u_lighting[0]");
             st->d_transfer = lg_gl_pass_texture(st->dot, "u_transfer");
-            st->d_transfer4 = lg_gl_pass_texture(st->dot, "u_transfer4");
         } else {
             st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
             st->d_transfer = lg_gl_pass_storage(st->dot, "Transfer");
@@ -481,8 +479,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
         lg_gl_target t;
         if ((rc = lg_gl_target_output(n, "vertices", &t)))
             return rc;
-        prt_gl_tbo(gl, &st->tbo_tex, &st->tbo_buf, GL_R32F, tbuf);
-        prt_gl_tbo(gl, &st->tbo4_tex, &st->tbo4_buf, GL_RGBA32F, tbuf);
+        prt_gl_tbo(gl, &st->tbo_tex, &st->tbo_buf, GL_RGB32F, tbuf);
         if ((rc = lg_gl_pass_begin(st->dot, &t)))
             return rc;
         lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
@@ -490,7 +487,6 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
         gl->ProgramUniform1fv(lg_gl_pass_program(st->dot), st->d_light.location,
                               (GLsizei)(3 * f->nc), f->lighting);
         lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
-        lg_gl_pass_bind_texture(st->dot, st->d_transfer4, st->tbo4_tex);
         return lg_gl_pass_end(st->dot, lg_gl_pass_draw(st->dot, GL_TRIANGLES, 3));
     }
     if (!st->light_buf)
@@ -632,14 +628,12 @@ static void prt_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->dot);
     lg_gl_pass_destroy(&st->raster);
     lg_gl_pass_destroy(&st->refl);
-    if (st->light_buf || st->tbo_tex || st->tbo4_tex) {
+    if (st->light_buf || st->tbo_tex) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl && st->light_buf)
             gl->DeleteBuffers(1, &st->light_buf);
         if (gl && st->tbo_tex)
             gl->DeleteTextures(1, &st->tbo_tex);
-        if (gl && st->tbo4_tex)
-            gl->DeleteTextures(1, &st->tbo4_tex);
     }
     if (st->kernel)
         clReleaseKernel(st->kernel);
