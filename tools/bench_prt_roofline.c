@@ -490,6 +490,8 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
     const GladGLContext *gl = lg_gl_device_table(dev);
     GLint max_tbo = 0;
     gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    if (!r32f)
+        fprintf(stderr, "gl: GL_MAX_TEXTURE_BUFFER_SIZE %d texels\n", max_tbo);
     if (!prt_gl_frag_fits(d->vertices, r32f ? 3 * d->n : d->n, max_tbo)) {
         snprintf(gl_why, sizeof gl_why, "transfer past GL_MAX_TEXTURE_BUFFER_SIZE (%d)",
                  max_tbo);
