@@ -44,9 +44,12 @@ void main()
     }
     vec3 acc = vec3(0.0);
 #ifdef LG_R32F
+    // channel by channel: a loop of 3 LG_STRIDE iterations would pass the compiler's
+    // unroll limit at 5 bands and index the lighting at run time (measured slower)
     int t = int(v * 3u * LG_STRIDE);
-    for (uint j = 0u; j < 3u * LG_STRIDE; j++)
-        LG_ACC(j, texelFetch(u_transfer, t + int(j)).r);
+    for (uint c = 0u; c < 3u; c++)
+        for (uint i = 0u; i < LG_N; i++)
+            acc[c] += u_lighting[c * LG_N + i] * texelFetch(u_transfer, t + int(c * LG_STRIDE + i)).r;
 #else
     int t = int(v * LG_STRIDE);
     for (uint k = 0u; k < LG_STRIDE; k++) {
