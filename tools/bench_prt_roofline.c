@@ -3,7 +3,8 @@
  * bandwidth of this machine, measured in one run (issue 10, item 5; plugins/prt/README.md
  * has the figures).
  *
- *   lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N] [--backends cpu,cl,gl,gl-frag1,gl-comp]
+ *   lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N]
+ *                         [--backends cpu,cl,gl,gl-frag1,gl-comp]
  *                         [--triad-mib M] [--json]
  *
  * Defaults: 1,000,000 vertices, 5 bands (25 coefficients), RGB, a random transfer
@@ -519,7 +520,8 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
     gl->UseProgram(p);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
-    gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n), d->lighting);
+    gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n),
+                   d->lighting);
     gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
     gl->TextureBuffer(tb, r32f ? GL_R32F : GL_RGB32F, buf);
     gl->BindTextureUnit(0, tb); /* the shader's layout(binding = 0) */

@@ -49,7 +49,8 @@ void main()
     int t = int(v * 3u * LG_STRIDE);
     for (uint c = 0u; c < 3u; c++)
         for (uint i = 0u; i < LG_N; i++)
-            acc[c] += u_lighting[c * LG_N + i] * texelFetch(u_transfer, t + int(c * LG_STRIDE + i)).r;
+            acc[c] += u_lighting[c * LG_N + i] *
+                      texelFetch(u_transfer, t + int(c * LG_STRIDE + i)).r;
 #else
     int t = int(v * LG_STRIDE);
     for (uint k = 0u; k < LG_STRIDE; k++) {
