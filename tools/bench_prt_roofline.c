@@ -3,7 +3,8 @@
  * bandwidth of this machine, measured in one run (issue 10, item 5; plugins/prt/README.md
  * has the figures).
  *
- *   lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N] [--backends cpu,gl,cl]
+ *   lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N]
+ *                         [--backends cpu,cl,gl,gl-frag1,gl-comp]
  *                         [--triad-mib M] [--json]
  *
  * Defaults: 1,000,000 vertices, 5 bands (25 coefficients), RGB, a random transfer
@@ -17,11 +18,17 @@
  *           best of N; GB/s and the fraction of the triad (median)
  *
  * How each backend is timed, with the plugin's own code and launch geometry
- * (plugins/prt/prt_launch.h, prt_cpu.c, shaders/prt/prt.cl, prt_dot.comp):
+ * (plugins/prt/prt_launch.h, prt_cpu.c, shaders/prt/prt.cl, prt_dot.frag, prt_dot.comp):
  *   cpu  wall time of lg_prt_cpu_range over the pool (chunks of PRT_CPU_GRAIN);
  *   cl   the kernel's CL profiling event (start to end);
- *   gl   wall time around the dispatch followed by glFinish (llvmpipe's timer queries do
- *        not measure compute dispatches).
+ *   gl   wall time around the draw followed by glFinish (prt_dot.frag, the version the
+ *        node runs: records read through an RGB32F buffer texture);
+ *   gl-frag1  the same through an R32F buffer texture (1 float per fetch), for comparison;
+ *   gl-comp   the compute shader prt_dot.comp (the node's version before, and its fallback
+ *        for a transfer past GL_MAX_TEXTURE_BUFFER_SIZE, here reading an R32F buffer
+ *        texture; LG_PRT_SSBO=1: a storage buffer as the node's fallback does), wall time
+ *        around the dispatch and glFinish.
+ * gl-frag1 and gl-comp run only when named in --backends.
  * The transfer stays on the device; uploads are not timed (the node maps it once).
  * Prints a table on stderr and one JSON object on stdout. Exit status 0, or 1 with a
  * message. A backend whose device cannot be made is reported ("skipped": reason).
@@ -42,6 +49,8 @@
 
 #include "prt.cl.h"
 #include "prt_dot.comp.h"
+#include "prt_dot.frag.h"
+#include "prt_dot.vert.h"
 #include "prt_launch.h"
 
 static lg_pool *pool;
@@ -325,8 +334,10 @@ done:
 
 static char gl_why[2048];
 
-/* Compiles the compute shader with `defines` after its #version line (as lg_gl_program). */
-static GLuint gl_program(const GladGLContext *gl, const char *src, const char *defines)
+/* Compiles one stage with `defines` after its #version line (as lg_gl_program); 0 and
+ * gl_why on failure. */
+static GLuint gl_shader(const GladGLContext *gl, GLenum stage, const char *src,
+                        const char *defines)
 {
     const char *nl = strchr(src, '\n');
     if (!nl) {
@@ -335,7 +346,7 @@ static GLuint gl_program(const GladGLContext *gl, const char *src, const char *d
     }
     const char *parts[3] = { src, defines, nl + 1 };
     GLint lens[3] = { (GLint)(nl + 1 - src), (GLint)strlen(defines), (GLint)strlen(nl + 1) };
-    GLuint sh = gl->CreateShader(GL_COMPUTE_SHADER);
+    GLuint sh = gl->CreateShader(stage);
     gl->ShaderSource(sh, 3, parts, lens);
     gl->CompileShader(sh);
     GLint ok = 0;
@@ -345,10 +356,30 @@ static GLuint gl_program(const GladGLContext *gl, const char *src, const char *d
         gl->DeleteShader(sh);
         return 0;
     }
+    return sh;
+}
+
+/* Links the stages (a compute shader: fs_src NULL); 0 and gl_why on failure. */
+static GLuint gl_program(const GladGLContext *gl, const char *src, const char *fs_src,
+                         const char *defines)
+{
+    GLuint sh[2] = { 0, 0 };
+    unsigned ns = fs_src ? 2 : 1;
+    sh[0] = gl_shader(gl, fs_src ? GL_VERTEX_SHADER : GL_COMPUTE_SHADER, src, defines);
+    if (sh[0] && fs_src)
+        sh[1] = gl_shader(gl, GL_FRAGMENT_SHADER, fs_src, defines);
+    if (!sh[0] || (fs_src && !sh[1])) {
+        if (sh[0])
+            gl->DeleteShader(sh[0]);
+        return 0;
+    }
     GLuint p = gl->CreateProgram();
-    gl->AttachShader(p, sh);
+    for (unsigned i = 0; i < ns; i++) {
+        gl->AttachShader(p, sh[i]);
+        gl->DeleteShader(sh[i]);
+    }
     gl->LinkProgram(p);
-    gl->DeleteShader(sh);
+    GLint ok = 0;
     gl->GetProgramiv(p, GL_LINK_STATUS, &ok);
     if (!ok) {
         gl->GetProgramInfoLog(p, (GLsizei)sizeof gl_why, NULL, gl_why);
@@ -358,9 +389,9 @@ static GLuint gl_program(const GladGLContext *gl, const char *src, const char *d
     return p;
 }
 
-static void bench_gl(const bench_data *d, int repeat, bench_row *row)
+static void bench_gl_comp(const bench_data *d, int repeat, bench_row *row)
 {
-    row->backend = "gl";
+    row->backend = "gl-comp";
     lg_gl_device *dev = NULL;
     double *ms = calloc((size_t)repeat, sizeof *ms);
     float *out = malloc((size_t)d->texels * 16);
@@ -378,7 +409,7 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row)
     gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
     int tbo = (double)d->vertices * 3 * d->n <= (double)max_tbo && !getenv("LG_PRT_SSBO");
     prt_gl_defines(defines, sizeof defines, d->n, d->n, tbo);
-    GLuint p = gl_program(gl, lg_src_prt_dot_comp, defines);
+    GLuint p = gl_program(gl, lg_src_prt_dot_comp, NULL, defines);
     if (!p) {
         row->skipped = gl_why;
         goto done;
@@ -440,12 +471,121 @@ done:
     free(out);
 }
 
+/* The version the node runs (prt_dot_gl): prt_dot.frag drawn as a full-screen triangle
+ * into the `vertices` image, reading the transfer through an RGB32F buffer texture; r32f:
+ * through an R32F one (row "gl-frag1"). */
+static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
+{
+    row->backend = r32f ? "gl-frag1" : "gl";
+    lg_gl_device *dev = NULL;
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    float *out = malloc((size_t)d->texels * 16);
+    if (!ms || !out) {
+        row->skipped = "out of memory";
+        goto done;
+    }
+    if (lg_gl_device_create(&dev, "osmesa", gl_why, sizeof gl_why)) {
+        row->skipped = gl_why;
+        goto done;
+    }
+    const GladGLContext *gl = lg_gl_device_table(dev);
+    GLint max_tbo = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
+    if (!r32f)
+        fprintf(stderr, "gl: GL_MAX_TEXTURE_BUFFER_SIZE %d texels\n", max_tbo);
+    if (!prt_gl_frag_fits(d->vertices, r32f ? 3 * d->n : d->n, max_tbo)) {
+        snprintf(gl_why, sizeof gl_why, "transfer past GL_MAX_TEXTURE_BUFFER_SIZE (%d)",
+                 max_tbo);
+        row->skipped = gl_why;
+        goto done;
+    }
+    char defines[96];
+    prt_gl_frag_defines(defines, sizeof defines, d->n, d->n, r32f);
+    GLuint p = gl_program(gl, lg_src_prt_dot_vert, lg_src_prt_dot_frag, defines);
+    if (!p) {
+        row->skipped = gl_why;
+        goto done;
+    }
+    uint32_t tex_h = d->texels / d->tex_w;
+    GLuint tex, buf, tb, fbo, vao;
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &tex);
+    gl->TextureStorage2D(tex, 1, GL_RGBA32F, (GLsizei)d->tex_w, (GLsizei)tex_h);
+    gl->CreateBuffers(1, &buf);
+    gl->NamedBufferStorage(buf, (GLsizeiptr)((size_t)d->vertices * 3 * d->n * sizeof(float)),
+                           d->transfer, 0);
+    gl->CreateFramebuffers(1, &fbo);
+    gl->NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, tex, 0);
+    gl->CreateVertexArrays(1, &vao);
+    /* as prt_dot_gl binds and draws them */
+    gl->UseProgram(p);
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
+    gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n),
+                   d->lighting);
+    gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
+    gl->TextureBuffer(tb, r32f ? GL_R32F : GL_RGB32F, buf);
+    gl->BindTextureUnit(0, tb); /* the shader's layout(binding = 0) */
+    gl->BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl->Viewport(0, 0, (GLsizei)d->tex_w, (GLsizei)tex_h);
+    gl->BindVertexArray(vao);
+    if (gl->CheckNamedFramebufferStatus(fbo, GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        snprintf(gl_why, sizeof gl_why, "RGBA32F framebuffer incomplete");
+        row->skipped = gl_why;
+    }
+    gl->Finish();
+    for (int r = -1; r < repeat && !row->skipped; r++) {
+        double t0 = lg_now();
+        gl->DrawArrays(GL_TRIANGLES, 0, 3);
+        gl->Finish();
+        if (r >= 0)
+            ms[r] = (lg_now() - t0) * 1e3;
+    }
+    gl->GetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)((size_t)d->texels * 16), out);
+    GLenum err = gl->GetError();
+    if (row->skipped) {
+        /* the framebuffer's message */
+    } else if (err != GL_NO_ERROR) {
+        snprintf(gl_why, sizeof gl_why, "GL error 0x%04x", err);
+        row->skipped = gl_why;
+    } else {
+        row->skipped = verify(d, out);
+        summarise(ms, repeat, row);
+    }
+    gl->BindVertexArray(0);
+    gl->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl->UseProgram(0);
+    gl->DeleteProgram(p);
+    gl->DeleteVertexArrays(1, &vao);
+    gl->DeleteFramebuffers(1, &fbo);
+    gl->DeleteTextures(1, &tex);
+    gl->DeleteTextures(1, &tb);
+    gl->DeleteBuffers(1, &buf);
+done:
+    lg_gl_device_destroy(&dev);
+    free(ms);
+    free(out);
+}
+
 /* ---- main ------------------------------------------------------------------------------------- */
+
+/* Whether the comma-separated `list` names `name`. */
+static int has_backend(const char *list, const char *name)
+{
+    size_t len = strlen(name);
+    for (const char *p = list; *p;) {
+        const char *e = strchr(p, ',');
+        size_t l = e ? (size_t)(e - p) : strlen(p);
+        if (l == len && strncmp(p, name, len) == 0)
+            return 1;
+        p += l + (e ? 1 : 0);
+    }
+    return 0;
+}
 
 static int usage(void)
 {
     fprintf(stderr, "usage: lg_bench_prt_roofline [--vertices N] [--bands B] [--repeat N] "
-                    "[--backends cpu,gl,cl] [--triad-mib M]\n");
+                    "[--backends cpu,cl,gl,gl-frag1,gl-comp] [--triad-mib M]\n");
     return 2;
 }
 
@@ -508,15 +648,19 @@ int main(int argc, char **argv)
     double gbs, triad_ms;
     if (triad((size_t)triad_mib, (int)repeat, &gbs, &triad_ms))
         return 1;
-    bench_row rows[3];
+    bench_row rows[5];
     int nr = 0;
     memset(rows, 0, sizeof rows);
-    if (strstr(backends, "cpu"))
+    if (has_backend(backends, "cpu"))
         bench_cpu(&d, (int)repeat, &rows[nr++]);
-    if (strstr(backends, "cl"))
+    if (has_backend(backends, "cl"))
         bench_cl(&d, (int)repeat, &rows[nr++]);
-    if (strstr(backends, "gl"))
-        bench_gl(&d, (int)repeat, &rows[nr++]);
+    if (has_backend(backends, "gl"))
+        bench_gl(&d, (int)repeat, &rows[nr++], 0);
+    if (has_backend(backends, "gl-frag1"))
+        bench_gl(&d, (int)repeat, &rows[nr++], 1);
+    if (has_backend(backends, "gl-comp"))
+        bench_gl_comp(&d, (int)repeat, &rows[nr++]);
 
     fprintf(stderr, "prt dot products: %u vertices, %u bands (%u coefficients), RGB; %.1f MB "
                     "per pass; %u threads\n",

@@ -7,7 +7,7 @@
  * Every frame: the lighting's coefficients, truncated to the bands both inputs have, are
  * rotated on the CPU (lightgraph/sh.h; n^2 x 3 values) by rotate_deg (+ spin x time), then
  * each vertex's exit radiance radiance_c = sum_i lighting_c[i] transfer[v][c][i] is
- * computed on the chosen backend (GL compute, CL kernel, or the host's pool: prt_cpu.c)
+ * computed on the chosen backend (GL fragment pass, CL kernel, or the host's pool: prt_cpu.c)
  * into the `vertices` image (lightgraph/transfer.h, "Per-vertex values as an image"), and
  * the scene is rasterised on GL with the camera, each vertex fetching its value from that
  * image and the rasteriser interpolating it (Gouraud, as seed 0). `reflect`, when given,
@@ -34,6 +34,8 @@
 #include "prt.frag.h"
 #include "prt.vert.h"
 #include "prt_dot.comp.h"
+#include "prt_dot.frag.h"
+#include "prt_dot.vert.h"
 #include "prt_launch.h"
 #include "prt_reflect.frag.h"
 #include "prt_reflect.vert.h"
@@ -62,10 +64,10 @@ typedef struct prt_state {
 
     /* GL */
     lg_gl_pass *dot, *raster, *refl;
-    uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_defines) */
-    int g_tbo;
-    GLuint tbo_tex, tbo_buf; /* the R32F buffer texture over the transfer, and its buffer */
-    lg_gl_uniform d_vertices, d_width, d_texels;
+    uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_frag_defines, prt_gl_defines) */
+    int g_frag;             /* 1: prt_dot.frag, 0: prt_dot.comp over a storage buffer */
+    GLuint tbo_tex, tbo_buf; /* the RGB32F buffer texture over the transfer, and its buffer */
+    lg_gl_uniform d_vertices, d_width, d_texels, d_light;
     lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
     lg_gl_binding r_vertices, f_reflect;
@@ -408,6 +410,23 @@ static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
     return 0;
 }
 
+/* The buffer texture `*tex` of `format` over the host's buffer `buf`, remade when the host's
+ * buffer object changes (*of remembers which it views). */
+static void prt_gl_tbo(const lg_gl *gl, GLuint *tex, GLuint *of, GLenum format, GLuint buf)
+{
+    if (*tex && *of == buf)
+        return;
+    if (*tex)
+        gl->DeleteTextures(1, tex);
+    gl->CreateTextures(GL_TEXTURE_BUFFER, 1, tex);
+    gl->TextureBuffer(*tex, format, buf);
+    *of = buf;
+}
+
+/* The dot products on GL: shaders/prt/prt_dot.frag drawn as a full-screen triangle into the
+ * `vertices` image (on llvmpipe 2-3.5x faster than the same work as a compute shader:
+ * README.md, Roofline), or, for a transfer past GL_MAX_TEXTURE_BUFFER_SIZE floats,
+ * prt_dot.comp reading it as a storage buffer. */
 static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
 {
     const lg_gl *gl = lg_gl_get(n);
@@ -416,38 +435,65 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     int rc;
     GLint max_tbo = 0;
     gl->GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_tbo);
-    int tbo = (double)st->vertices * 3 * f->tr->n_coeffs <= (double)max_tbo;
-    if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs || st->g_tbo != tbo))
+    int frag = prt_gl_frag_fits(st->vertices, f->tr->n_coeffs, max_tbo);
+    if (st->dot && (st->g_n != f->nc || st->g_stride != f->tr->n_coeffs || st->g_frag != frag))
         lg_gl_pass_destroy(&st->dot);
     if (!st->dot) {
-        /* one program per coefficient count: its loops unroll (prt_dot.comp) */
-        static const lg_gl_shader_src src[1] = {
+        /* one program per coefficient count: its loops unroll (prt_dot.frag, .comp) */
+        static const lg_gl_shader_src frag_src[2] = {
+            { GL_VERTEX_SHADER, lg_src_prt_dot_vert_file, lg_src_prt_dot_vert },
+            { GL_FRAGMENT_SHADER, lg_src_prt_dot_frag_file, lg_src_prt_dot_frag },
+        };
+        static const lg_gl_shader_src comp_src[1] = {
             { GL_COMPUTE_SHADER, lg_src_prt_dot_comp_file, lg_src_prt_dot_comp },
         };
         char defines[96];
-        prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, tbo);
-        lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = src, .n_stages = 1,
-                              .defines = defines };
+        if (frag)
+            prt_gl_frag_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 0);
+        else
+            prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 0);
+        lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = frag ? frag_src : comp_src,
+                              .n_stages = frag ? 2 : 1, .defines = defines,
+                              .colors = { frag ? GL_RGBA32F : 0 } };
         if ((rc = lg_gl_pass_create(n, &d, &st->dot)))
             return rc;
         st->g_n = f->nc;
         st->g_stride = f->tr->n_coeffs;
-        st->g_tbo = tbo;
+        st->g_frag = frag;
         st->d_vertices = lg_gl_pass_uniform(st->dot, "u_vertices");
         st->d_width = lg_gl_pass_uniform(st->dot, "u_width");
-        st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
-        st->d_transfer = tbo ? lg_gl_pass_texture(st->dot, "u_transfer")
-                             : lg_gl_pass_storage(st->dot, "Transfer");
-        st->d_lighting = lg_gl_pass_storage(st->dot, "Lighting");
-        st->d_out = lg_gl_pass_image(st->dot, "u_out");
+        if (frag) {
+            st->d_light = lg_gl_pass_uniform(st->dot, "u_lighting[0]");
+            st->d_transfer = lg_gl_pass_texture(st->dot, "u_transfer");
+        } else {
+            st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
+            st->d_transfer = lg_gl_pass_storage(st->dot, "Transfer");
+            st->d_lighting = lg_gl_pass_storage(st->dot, "Lighting");
+            st->d_out = lg_gl_pass_image(st->dot, "u_out");
+        }
+    }
+    GLuint tbuf = 0, dummy = 0;
+    if ((rc = lg_map_gl(n, f->tr->transfer, LG_READ, &tbuf, &dummy)))
+        return rc;
+    if (frag) {
+        lg_gl_target t;
+        if ((rc = lg_gl_target_output(n, "vertices", &t)))
+            return rc;
+        prt_gl_tbo(gl, &st->tbo_tex, &st->tbo_buf, GL_RGB32F, tbuf);
+        if ((rc = lg_gl_pass_begin(st->dot, &t)))
+            return rc;
+        lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
+        lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
+        gl->ProgramUniform1fv(lg_gl_pass_program(st->dot), st->d_light.location,
+                              (GLsizei)(3 * f->nc), f->lighting);
+        lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
+        return lg_gl_pass_end(st->dot, lg_gl_pass_draw(st->dot, GL_TRIANGLES, 3));
     }
     if (!st->light_buf)
         gl->CreateBuffers(1, &st->light_buf);
     gl->NamedBufferData(st->light_buf, (GLsizeiptr)(3 * (size_t)f->nc * sizeof(float)),
                         f->lighting, GL_DYNAMIC_DRAW);
-    GLuint tbuf = 0, otex = 0, dummy = 0;
-    if ((rc = lg_map_gl(n, f->tr->transfer, LG_READ, &tbuf, &dummy)))
-        return rc;
+    GLuint otex = 0;
     if ((rc = lg_map_gl(n, lg_output(n, OUT_VERTICES), LG_WRITE, &otex, &dummy)))
         return rc;
     if ((rc = lg_gl_pass_begin(st->dot, NULL)))
@@ -456,19 +502,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
     lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
     lg_gl_set_uint(st->dot, st->d_texels, texels);
-    if (tbo) {
-        /* the buffer texture is remade when the host's buffer object changes */
-        if (!st->tbo_tex || st->tbo_buf != tbuf) {
-            if (st->tbo_tex)
-                gl->DeleteTextures(1, &st->tbo_tex);
-            gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &st->tbo_tex);
-            gl->TextureBuffer(st->tbo_tex, GL_R32F, tbuf);
-            st->tbo_buf = tbuf;
-        }
-        lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
-    } else {
-        lg_gl_pass_bind_buffer(st->dot, st->d_transfer, tbuf);
-    }
+    lg_gl_pass_bind_buffer(st->dot, st->d_transfer, tbuf);
     lg_gl_pass_bind_buffer(st->dot, st->d_lighting, st->light_buf);
     lg_gl_pass_bind_image(st->dot, st->d_out, otex, GL_WRITE_ONLY, GL_RGBA32F);
     prt_gl_groups(texels, &gx, &gy);

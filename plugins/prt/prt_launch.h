@@ -69,6 +69,25 @@ static inline void prt_gl_defines(char *buf, size_t size, uint32_t n, uint32_t s
              tbo ? "#define LG_TBO 1\n" : "");
 }
 
+/* GL: the defines of shaders/prt/prt_dot.frag (the dot products as a full-screen draw into
+ * the `vertices` image, the version the node runs when its transfer fits a buffer
+ * texture: prt_gl_frag_fits); r32f: read the records 1 float per fetch through an R32F
+ * buffer texture (LG_R32F, the benchmark's comparison), else 3 through an RGB32F one. */
+static inline void prt_gl_frag_defines(char *buf, size_t size, uint32_t n, uint32_t stride,
+                                       int r32f)
+{
+    snprintf(buf, size, "#define LG_N %uu\n#define LG_STRIDE %uu\n%s", n, stride,
+             r32f ? "#define LG_R32F 1\n" : "");
+}
+
+/* Whether prt_dot.frag can read a transfer of `vertices` records of 3 x `stride` floats
+ * through its RGB32F buffer texture (vertices x stride texels): max_tbo =
+ * GL_MAX_TEXTURE_BUFFER_SIZE. */
+static inline int prt_gl_frag_fits(uint32_t vertices, uint32_t stride, int max_tbo)
+{
+    return (double)vertices * stride <= (double)max_tbo;
+}
+
 static inline void prt_gl_groups(size_t texels, uint32_t *gx, uint32_t *gy)
 {
     size_t g = (texels + PRT_GL_GROUP - 1) / PRT_GL_GROUP;
