@@ -43,6 +43,7 @@
 
 #include "device.h"
 #include "pool.h"
+#include "bench_triad.h"
 #include "util.h"
 
 #include "lightgraph/transfer.h"
@@ -81,64 +82,6 @@ static void summarise(double *v, int n, bench_row *r)
     r->best_ms = v[0];
 }
 
-/* ---- triad (as tools/bench_roofline.c) ------------------------------------------------- */
-
-typedef struct triad_ctx {
-    double *a, *b, *c;
-    double s;
-} triad_ctx;
-
-static void triad_init(void *arg, size_t begin, size_t end, uint32_t chunk)
-{
-    (void)chunk;
-    triad_ctx *t = arg;
-    for (size_t i = begin; i < end; i++) {
-        t->a[i] = 0.0;
-        t->b[i] = 1.0;
-        t->c[i] = 2.0;
-    }
-}
-
-static void triad_run(void *arg, size_t begin, size_t end, uint32_t chunk)
-{
-    (void)chunk;
-    triad_ctx *t = arg;
-    double *restrict a = t->a;
-    const double *restrict b = t->b, *restrict c = t->c;
-    const double s = t->s;
-    for (size_t i = begin; i < end; i++)
-        a[i] = b[i] + s * c[i];
-}
-
-static int triad(size_t mib, int repeat, double *gbs, double *ms_best)
-{
-    size_t n = mib * 1024 * 1024 / sizeof(double);
-    triad_ctx t = { malloc(n * 8), malloc(n * 8), malloc(n * 8), 3.0 };
-    double *ms = calloc((size_t)repeat, sizeof *ms);
-    if (!t.a || !t.b || !t.c || !ms) {
-        fprintf(stderr, "lg_bench_prt_roofline: cannot allocate 3 x %zu MiB for the triad\n",
-                mib);
-        return 1;
-    }
-    const size_t grain = 1u << 16;
-    lg_pool_run(pool, n, grain, triad_init, &t);
-    lg_pool_run(pool, n, grain, triad_run, &t);
-    for (int r = 0; r < repeat; r++) {
-        double t0 = lg_now();
-        lg_pool_run(pool, n, grain, triad_run, &t);
-        ms[r] = (lg_now() - t0) * 1e3;
-    }
-    qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
-    *ms_best = ms[0];
-    *gbs = 24.0 * (double)n / (*ms_best * 1e-3) / 1e9;
-    if (t.a[n / 2] != 7.0)
-        fprintf(stderr, "lg_bench_prt_roofline: triad computed %g\n", t.a[n / 2]);
-    free(ms);
-    free(t.a);
-    free(t.b);
-    free(t.c);
-    return 0;
-}
 
 /* ---- the data ------------------------------------------------------------------------------ */
 
@@ -646,7 +589,8 @@ int main(int argc, char **argv)
     d.bytes = (double)nt * 4 + 3.0 * d.n * 4 + (double)d.texels * 16;
 
     double gbs, triad_ms;
-    if (triad((size_t)triad_mib, (int)repeat, &gbs, &triad_ms))
+    if (lg_bench_triad(pool, (size_t)triad_mib, (int)repeat, "lg_bench_prt_roofline", &gbs,
+                       &triad_ms))
         return 1;
     bench_row rows[5];
     int nr = 0;

@@ -38,6 +38,7 @@
 
 #include "device.h"
 #include "pool.h"
+#include "bench_triad.h"
 #include "util.h"
 
 #include "lightgraph/image.h"
@@ -76,61 +77,6 @@ static double minimum(const double *v, int n)
     return m;
 }
 
-/* ---- triad ------------------------------------------------------------------------------ */
-
-typedef struct triad_ctx {
-    double *a, *b, *c;
-    double s;
-} triad_ctx;
-
-static void triad_init(void *arg, size_t begin, size_t end, uint32_t chunk)
-{
-    triad_ctx *t = arg;
-    for (size_t i = begin; i < end; i++) {
-        t->a[i] = 0.0;
-        t->b[i] = 1.0;
-        t->c[i] = 2.0;
-    }
-}
-
-static void triad_run(void *arg, size_t begin, size_t end, uint32_t chunk)
-{
-    triad_ctx *t = arg;
-    double *restrict a = t->a;
-    const double *restrict b = t->b, *restrict c = t->c;
-    const double s = t->s;
-    for (size_t i = begin; i < end; i++)
-        a[i] = b[i] + s * c[i];
-}
-
-static int triad(size_t mib, int repeat, double *gbs, double *ms_best)
-{
-    size_t n = mib * 1024 * 1024 / sizeof(double);
-    triad_ctx t = { malloc(n * 8), malloc(n * 8), malloc(n * 8), 3.0 };
-    if (!t.a || !t.b || !t.c) {
-        fprintf(stderr, "lg_bench_roofline: cannot allocate 3 x %zu MiB for the triad\n", mib);
-        return 1;
-    }
-    const size_t grain = 1u << 16;
-    lg_pool_run(pool, n, grain, triad_init, &t); /* first touch by the pool's threads */
-    double *ms = calloc((size_t)repeat, sizeof *ms);
-    lg_pool_run(pool, n, grain, triad_run, &t); /* warm-up */
-    for (int r = 0; r < repeat; r++) {
-        double t0 = lg_now();
-        lg_pool_run(pool, n, grain, triad_run, &t);
-        ms[r] = (lg_now() - t0) * 1e3;
-    }
-    *ms_best = minimum(ms, repeat);
-    *gbs = 24.0 * (double)n / (*ms_best * 1e-3) / 1e9;
-    /* keep the result alive */
-    if (t.a[n / 2] != 1.0 + 3.0 * 2.0)
-        fprintf(stderr, "lg_bench_roofline: triad computed %g\n", t.a[n / 2]);
-    free(ms);
-    free(t.a);
-    free(t.b);
-    free(t.c);
-    return 0;
-}
 
 /* ---- output ------------------------------------------------------------------------------- */
 
@@ -509,7 +455,7 @@ int main(int argc, char **argv)
         free(warning);
     }
     double gbs, triad_ms;
-    if (triad(triad_mib, repeat, &gbs, &triad_ms))
+    if (lg_bench_triad(pool, triad_mib, repeat, "lg_bench_roofline", &gbs, &triad_ms))
         return 1;
     printf("{\n  \"threads\": %u,\n  \"width\": %u, \"height\": %u,\n"
            "  \"triad\": {\"mib_per_array\": %zu, \"ms\": %.4f, \"gbs\": %.3f},\n  \"rows\": [",
