@@ -1,5 +1,5 @@
 /*
- * The known values of the prt tests: shared by the test plugin (testprtscene.c, which
+ * The known values of the prt tests: shared by the test plugin (testprtinputs.c, which
  * publishes them as LG_KIND_SH and LG_KIND_TRANSFER) and the test (test_prt.c, whose C
  * reference recomputes them), so that both sides see the same numbers without files.
  */

@@ -1,6 +1,6 @@
 /*
  * The prt node through the host, on scenes, SH lighting and transfer with known values
- * built in memory by the test plugin testprtscene (prt_testdata.h holds the values), on
+ * built in memory by the test plugin testprtinputs (prt_testdata.h holds the values), on
  * cpu, gl and cl. A missing device is a failure (llvmpipe and PoCL are dependencies).
  *
  *   exact        the `vertices` output (EXR) against a C double reference of the dot
@@ -114,7 +114,7 @@ static const char *graph_vertices(char *g, size_t n, const char *backend, uint32
 {
     snprintf(g, n,
              "lightgraph 1\n"
-             "s = test_prt_scene { }\n"
+             "s = test_prt_inputs_scene { }\n"
              "l = test_prt_sh { bands = %u, seed = 1 }\n"
              "tr = test_prt_transfer { bands = %u, seed = 2 }\n"
              "p = prt { scene = s, lighting = l, transfer = tr, backend = %s%s }\n"
@@ -196,7 +196,7 @@ static void case_vertex_count(lg_test *t)
         char g[1024];
         snprintf(g, sizeof g,
                  "lightgraph 1\n"
-                 "s = test_prt_scene { }\n"
+                 "s = test_prt_inputs_scene { }\n"
                  "l = test_prt_sh { bands = 3 }\n"
                  "tr = test_prt_transfer { bands = 3, vertices = 100 }\n"
                  "p = prt { scene = s, lighting = l, transfer = tr, backend = %s }\n"
@@ -227,7 +227,7 @@ static int delta_render(lg_test *t, const char *backend, uint32_t bands, const d
     char g[1024];
     snprintf(g, sizeof g,
              "lightgraph 1\n"
-             "s = test_prt_scene { }\n"
+             "s = test_prt_inputs_scene { }\n"
              "l = test_prt_sh { bands = %u, mode = delta, dir = [%.17g, %.17g, %.17g] }\n"
              "tr = test_prt_transfer { bands = %u }\n"
              "p = prt { scene = s, lighting = l, transfer = tr, backend = %s, "
@@ -348,7 +348,7 @@ static void case_raster(lg_test *t)
             char g[1024];
             snprintf(g, sizeof g,
                      "lightgraph 1\n"
-                     "s = test_prt_scene { layout = quad }\n"
+                     "s = test_prt_inputs_scene { layout = quad }\n"
                      "l = test_prt_sh { bands = 3, seed = 1 }\n"
                      "tr = test_prt_transfer { bands = 3, seed = 2, vertices = 4, mode = %s }\n"
                      "%s"
@@ -440,7 +440,7 @@ static void case_instances(lg_test *t)
         char g[1024];
         snprintf(g, sizeof g,
                  "lightgraph 1\n"
-                 "s = test_prt_scene { }\n"
+                 "s = test_prt_inputs_scene { }\n"
                  "l = test_prt_sh { bands = 3, mode = delta, dir = [0, 1, 0] }\n"
                  "tr = test_prt_transfer { bands = 3, mode = normal, scene = s }\n"
                  "p = prt { scene = s, lighting = l, transfer = tr, backend = %s }\n"
@@ -511,7 +511,7 @@ static void case_bad_params(lg_test *t)
         char g[1024];
         snprintf(g, sizeof g,
                  "lightgraph 1\n"
-                 "s = test_prt_scene { }\n"
+                 "s = test_prt_inputs_scene { }\n"
                  "l = test_prt_sh { bands = 3 }\n"
                  "tr = test_prt_transfer { bands = 3 }\n"
                  "r = constant { width = 7, height = 5 }\n"
@@ -533,7 +533,7 @@ static void case_bad_params(lg_test *t)
     }
 }
 
-/* testprtscene's folder, and an empty cache per case */
+/* testprtinputs's folder, and an empty cache per case */
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, PRT_TEST_PLUGIN_DIR);

@@ -1,8 +1,8 @@
 /*
- * Test plugin "testprtscene": a scene, SH lighting and per-vertex transfer with known
+ * Test plugin "testprtinputs": a scene, SH lighting and per-vertex transfer with known
  * values, built in memory for the prt tests (tests/plugins/prt/test_prt.c).
  *
- *   test_prt_scene     -> scene
+ *   test_prt_inputs_scene -> scene
  *   test_prt_sh        -> lighting (LG_KIND_SH)
  *   test_prt_transfer  -> transfer (LG_KIND_TRANSFER)
  *
@@ -131,7 +131,7 @@ static int tp_scene_prepare(lg_node *n)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     int layout = lg_param_enum(n, "layout");
     t->s.struct_size = sizeof t->s;
-    t->s.source = "test_prt_scene";
+    t->s.source = "test_prt_inputs_scene";
     t->s.meshes = t->meshes;
     t->s.instances = t->instances;
     t->s.materials = &t->material;
@@ -306,7 +306,7 @@ static const char *const tp_tr_modes[] = { "random", "constant", "normal", NULL 
 
 static const lg_param_desc tp_scene_params[] = {
     { .key = "layout", .type = LG_PARAM_ENUM, .def.e = TP_MIXED, .enum_values = tp_layouts,
-      .doc = "mixed or quad (testprtscene.c)" },
+      .doc = "mixed or quad (testprtinputs.c)" },
 };
 static const lg_param_desc tp_sh_params[] = {
     { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "" },
@@ -334,7 +334,7 @@ static const lg_port_desc tp_tr_in[] = { { .name = "scene", .kind = LG_KIND_SCEN
 static const lg_node_type types[] = {
     {
         .struct_size = sizeof(lg_node_type),
-        .name = "test_prt_scene",
+        .name = "test_prt_inputs_scene",
         .doc = "A small scene built in memory for the prt tests",
         LG_PARAMS(tp_scene_params),
         LG_OUTPUTS(tp_scene_out),
@@ -362,5 +362,5 @@ static const lg_node_type types[] = {
     },
 };
 
-LG_PLUGIN_DEFINE("testprtscene", "1.0.0", "Scenes, lighting and transfer for the prt tests",
+LG_PLUGIN_DEFINE("testprtinputs", "1.0.0", "Scenes, lighting and transfer for the prt tests",
                  types)
