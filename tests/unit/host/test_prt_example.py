@@ -12,6 +12,9 @@
   include    a graph that includes the example and adds `output lit "lit.exr"` writes the
              linear image: float RGBA of the render size, finite, covered pixels alpha 1
              and some positive radiance, the background's alpha 0
+  gating     the example's nodes on a glTF scene without geometry: `--explain` shows
+             `bake` and `lit` gated ("no geometry") and neither prt_bake nor prt loaded;
+             the output is the neutral (zero) image
 
 The example bakes 128 x 128 directions per vertex; the tests set `bake.samples = 16` (a
 tenth of a second) and a small size. The example is copied with the assets it names
@@ -186,8 +189,35 @@ def test_include():
     check(os.path.exists(os.path.join(TMP, "out", "prt.png")), "the example's own output was not written")
 
 
+def test_gating():
+    empty = os.path.join(TMP, "empty.gltf")
+    with open(empty, "w") as f:
+        f.write('{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": []}]}\n')
+    graph = os.path.join(TMP, "gating.lgraph")
+    out = os.path.join(TMP, "gated.exr")
+    with open(graph, "w") as f:
+        f.write('lightgraph 1\n'
+                'scene = gltf { file = "empty.gltf" }\n'
+                'sky = probe { file = "%s" }\n'
+                'light = sh_project { probe = sky }\n'
+                'bake = prt_bake { scene = scene }\n'
+                'lit = prt { scene = scene, lighting = light, transfer = bake }\n'
+                'output lit "%s"\n' % (os.path.join(SRC, "assets", "probes", "forest_256x128_half_none.exr"), out))
+    p = run(["render", graph, "--explain", "--size", "32x16"], os.path.join(TMP, "cache"))
+    text = p.stdout + p.stderr
+    for node in ("bake", "lit"):
+        row = next((l for l in text.splitlines() if l.split()[:1] == [node]), "")
+        check("gated" in row and "no geometry" in row, "%s is not gated for want of geometry:\n%s" % (node, text))
+    loaded = next((l for l in text.splitlines() if l.startswith("plugins loaded:")), "")
+    check(loaded and "prt" not in loaded.split(), "prt was loaded:\n%s" % text)
+    check("prt_bake" not in loaded.split(), "prt_bake was loaded:\n%s" % text)
+    rows = exr_read.read_exr(out)
+    check(all(v == 0.0 for r in rows for px in r for v in px[:3]), "the gated output is not zero")
+
+
 def main():
-    tests = {"cache": test_cache, "variants": test_variants, "include": test_include}
+    tests = {"cache": test_cache, "variants": test_variants, "include": test_include,
+             "gating": test_gating}
     name = sys.argv[1] if len(sys.argv) > 1 else ""
     if name not in tests:
         sys.stderr.write("usage: test_prt_example.py %s\n" % "|".join(tests))
