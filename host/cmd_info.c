@@ -114,7 +114,7 @@ void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type)
 }
 
 static const char *need_names[] = {"geometry", "light",  "directional_light", "point_light",
-                                   "medium",   "probe", "specular_material"};
+                                   "medium",   "probe", "specular_material", "reflective_material"};
 
 void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
 {
@@ -189,7 +189,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
     }
     lg_str_add(o, "], \"needs\": [");
     bool first = true;
-    for (int b = 0; b < 7; b++)
+    for (int b = 0; b < 8; b++)
         if (t->needs & (1u << b)) {
             lg_str_addf(o, "%s\"%s\"", first ? "" : ", ", need_names[b]);
             first = false;
@@ -197,8 +197,10 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
     lg_str_addf(o, "], \"side_effect\": %s, \"per_frame\": %s, \"neutral\": ",
                 (t->flags & LG_NODE_SIDE_EFFECT) ? "true" : "false",
                 (t->flags & LG_NODE_PER_FRAME) ? "true" : "false");
-    if (t->neutral == LG_NEUTRAL_PASSTHROUGH && t->neutral_input < t->n_inputs) {
-        lg_str_add(o, "{\"passthrough\": ");
+    if ((t->neutral == LG_NEUTRAL_PASSTHROUGH || t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST) &&
+        t->neutral_input < t->n_inputs) {
+        lg_str_add(o, t->neutral == LG_NEUTRAL_PASSTHROUGH ? "{\"passthrough\": "
+                                                           : "{\"passthrough_first\": ");
         lg_str_add_json(o, t->inputs[t->neutral_input].name);
         lg_str_add(o, "}");
     } else {
@@ -274,12 +276,14 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
     }
     if (t->needs) {
         fprintf(f, "  needs from the scene:");
-        for (int b = 0; b < 7; b++)
+        for (int b = 0; b < 8; b++)
             if (t->needs & (1u << b))
                 fprintf(f, " %s", need_names[b]);
         fprintf(f, " (otherwise gated: %s)\n",
                 t->neutral == LG_NEUTRAL_PASSTHROUGH ? "passes its input through"
-                                                     : "yields black / empty");
+                : t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST
+                    ? "its first output passes its input through, the others are black / empty"
+                    : "yields black / empty");
     }
 }
 

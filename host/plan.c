@@ -146,7 +146,8 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
     const lg_node_type *t = n->schema;
     for (uint32_t o = 0; o < t->n_outputs; o++) {
         lg_resource *in = NULL;
-        if (t->neutral == LG_NEUTRAL_PASSTHROUGH) {
+        if (t->neutral == LG_NEUTRAL_PASSTHROUGH ||
+            (t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST && o == 0)) {
             in = lg_edge_resource(ex, n->c->inputs[t->neutral_input]);
         }
         if (in && (t->outputs[o].kind == LG_KIND_ANY || t->outputs[o].kind == in->kind)) {

@@ -185,9 +185,10 @@ static int check_desc(const lg_plugin_desc *d, bool live, char *err, size_t errl
             if ((int)p->kind < 0 || p->kind >= LG_KIND_COUNT_)
                 FAIL("node type '%s', port '%s': unknown resource kind", t->name, p->name);
         }
-        if ((int)t->neutral < LG_NEUTRAL_ZERO || t->neutral > LG_NEUTRAL_PASSTHROUGH)
+        if ((int)t->neutral < LG_NEUTRAL_ZERO || t->neutral > LG_NEUTRAL_PASSTHROUGH_FIRST)
             FAIL("node type '%s': unknown neutral result %d", t->name, (int)t->neutral);
-        if (t->neutral == LG_NEUTRAL_PASSTHROUGH && t->neutral_input >= t->n_inputs)
+        if ((t->neutral == LG_NEUTRAL_PASSTHROUGH || t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST) &&
+            t->neutral_input >= t->n_inputs)
             FAIL("node type '%s': neutral_input %u is not an input", t->name, t->neutral_input);
     }
     return 0;

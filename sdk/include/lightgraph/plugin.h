@@ -164,6 +164,10 @@ typedef enum lg_neutral {
     LG_NEUTRAL_ZERO = 0,    /* images: black, at the size of the first image input, or the
                              * render size; other kinds: an empty resource */
     LG_NEUTRAL_PASSTHROUGH, /* every output is the input named by neutral_input */
+    LG_NEUTRAL_PASSTHROUGH_FIRST, /* since ABI 2.4: output 0 is the input named by
+                             * neutral_input, the others as LG_NEUTRAL_ZERO (a filter whose
+                             * second output is an effect alone: volumetric `out` passes
+                             * the lit image through, `inscatter` is black) */
 } lg_neutral;
 
 /* Node type flags. */
