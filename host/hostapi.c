@@ -613,6 +613,11 @@ static int api_parallel_for(lg_node *n, size_t count, size_t grain,
     return 0;
 }
 
+static void api_account_alloc(lg_node *n, uint64_t bytes)
+{
+    P(n)->bytes_alloc += bytes;
+}
+
 void lg_host_api_init(lg_host_api *a)
 {
     memset(a, 0, sizeof *a);
@@ -636,6 +641,7 @@ void lg_host_api_init(lg_host_api *a)
     a->set_device = api_set_device;
     a->set_per_frame = api_set_per_frame;
     a->add_content_key = api_add_content_key;
+    a->account_alloc = api_account_alloc;
     a->map_cpu = api_map_cpu;
     a->map_gl = api_map_gl;
     a->map_cl = api_map_cl;

@@ -257,7 +257,15 @@ typedef struct lg_host_api {
                              uint32_t n_parts);
     const lg_resource *(*part)(lg_node *node, const lg_resource *res, const char *name);
 
-    void *reserved[26];
+    /* -- since ABI 2.4: memory a plugin allocates itself --
+     * Adds `bytes` to the node's bytes allocated in the profile (--profile's `allocated`
+     * column): for device memory the plugin makes and keeps itself (a GL buffer of
+     * per-light geometry, a history volume), so that a node's memory is all counted.
+     * Call it once per allocation, where the allocation happens; call it
+     * through lg_account_alloc(), which does nothing on an older host. */
+    void (*account_alloc)(lg_node *node, uint64_t bytes);
+
+    void *reserved[25];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -484,6 +492,15 @@ static inline int lg_declare_composite(lg_node *n, uint32_t port, const lg_part_
 static inline const lg_resource *lg_part(lg_node *n, const lg_resource *r, const char *name)
 {
     return n->host->part(n, r, name);
+}
+
+/* Since ABI 2.4: counts memory the plugin allocated itself (see account_alloc). A no-op on
+ * an older host. */
+static inline void lg_account_alloc(lg_node *n, uint64_t bytes)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, account_alloc) + sizeof(void *) &&
+        n->host->account_alloc)
+        n->host->account_alloc(n, bytes);
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and
