@@ -1,11 +1,13 @@
 /* Planning: simulate only what the outputs need and the scene calls for.
  *
  *   1. cull: keep the nodes on a path to an output statement, and side-effect nodes;
- *   2. in topological order, for each kept node:
- *      gate: if the scene upstream of it does not meet its declared needs, it becomes its
- *            neutral result and its plugin is not loaded;
- *      else: load its plugin (dlopen, only now), create, prepare (outputs declared,
- *            device chosen, once or per frame).
+ *   2. prepare the nodes that make scenes, and everything upstream of them;
+ *   3. gate: a node whose needs the scene upstream of it does not meet becomes its neutral
+ *      result and its plugin is not loaded;
+ *   4. cull again: a node that only gated nodes read (other than through the input a gated
+ *      node passes on) is not needed either;
+ *   5. in topological order, load the plugin of each remaining node (dlopen, only now),
+ *      create, prepare (outputs declared, device chosen, once or per frame).
  *
  * A node's identity (for the cache, and for everything downstream) is a digest of its
  * plugin, version, type, parameters, content keys and its inputs' identities. */
@@ -256,6 +258,121 @@ static int prepare_node(lg_exec *ex, lg_pnode *n)
     return 0;
 }
 
+/* Nodes with an output of kind scene, and every node upstream of one: prepared first. */
+static void mark_scene_producers(lg_exec *ex, bool *early)
+{
+    const lg_checked *c = ex->checked;
+    for (uint32_t t = c->n_nodes; t-- > 0;) {
+        uint32_t i = c->topo[t];
+        const lg_node_type *ty = ex->nodes[i].schema;
+        bool scene = early[i];
+        for (uint32_t o = 0; o < ty->n_outputs && !scene; o++)
+            scene = ty->outputs[o].kind == LG_KIND_SCENE;
+        if (!scene)
+            continue;
+        early[i] = true;
+        for (uint32_t k = 0; k < ty->n_inputs; k++)
+            if (c->nodes[i].inputs[k].node >= 0)
+                early[c->nodes[i].inputs[k].node] = true;
+    }
+}
+
+/* Gates n (state GATED, with the reason) when the scenes upstream do not meet its needs. */
+static void decide_gate(lg_exec *ex, lg_pnode *n, bool *seen)
+{
+    if (!n->schema->needs || n->state == LG_STATE_GATED)
+        return;
+    lg_scene_features f;
+    memset(&f, 0, sizeof f);
+    memset(seen, 0, ex->checked->n_nodes * sizeof *seen);
+    bool any = collect_features(ex, n->index, &f, seen);
+    uint32_t unmet = any ? unmet_needs(n->schema->needs, &f) : n->schema->needs;
+    if (unmet) {
+        n->state = LG_STATE_GATED;
+        n->reason = any ? lg_xasprintf("the scene upstream has %s", needs_text(unmet))
+                        : lg_xstrdup("no scene is upstream of it, so its needs "
+                                     "cannot be met");
+    }
+}
+
+/* The second cull: from the outputs and side-effect nodes through the inputs of kept
+ * nodes, and through a gated node's passed-through input only. Nodes already prepared
+ * (the scene producers) stay. */
+static void cull_behind_gated(lg_exec *ex, const bool *early)
+{
+    const lg_checked *c = ex->checked;
+    bool *keep = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *keep);
+    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + 1, sizeof *stack);
+    uint32_t sp = 0;
+    for (uint32_t i = 0; i < c->n_outputs; i++)
+        if (c->outputs[i].node >= 0 && !keep[c->outputs[i].node]) {
+            keep[c->outputs[i].node] = true;
+            stack[sp++] = (uint32_t)c->outputs[i].node;
+        }
+    for (uint32_t i = 0; i < c->n_nodes; i++)
+        if ((c->nodes[i].type->flags & LG_NODE_SIDE_EFFECT) && !keep[i]) {
+            keep[i] = true;
+            stack[sp++] = i;
+        }
+    while (sp > 0) {
+        uint32_t i = stack[--sp];
+        const lg_node_type *t = ex->nodes[i].schema;
+        bool gated = ex->nodes[i].state == LG_STATE_GATED;
+        bool passes = t->neutral == LG_NEUTRAL_PASSTHROUGH ||
+                      t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST;
+        for (uint32_t k = 0; k < t->n_inputs; k++) {
+            if (gated && !(passes && k == t->neutral_input))
+                continue;
+            int32_t s = c->nodes[i].inputs[k].node;
+            if (s >= 0 && !keep[s]) {
+                keep[s] = true;
+                stack[sp++] = (uint32_t)s;
+            }
+        }
+    }
+    for (uint32_t i = 0; i < c->n_nodes; i++)
+        if (!keep[i] && !early[i] && ex->nodes[i].state == LG_STATE_KEPT) {
+            ex->nodes[i].state = LG_STATE_CULLED;
+            ex->nodes[i].reason = lg_xstrdup("only gated nodes read it");
+        }
+    free(keep);
+    free(stack);
+}
+
+/* One node: its identity and per-frame flag, then gated (its neutral result) or prepared. */
+static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
+{
+    lg_digest_init(&n->identity);
+    lg_digest_add_str(&n->identity, n->plugin ? n->plugin->name : "");
+    lg_digest_add_str(&n->identity, n->plugin ? n->plugin->version : "");
+    lg_digest_add_str(&n->identity, n->schema->name);
+    digest_params(&n->identity, n->c);
+    for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node < 0) {
+            lg_digest_add_str(&n->identity, NULL);
+            continue;
+        }
+        lg_digest_add(&n->identity, &ex->nodes[e.node].identity, sizeof(lg_digest));
+        lg_digest_add(&n->identity, &e.port, sizeof e.port);
+        lg_digest_add(&n->identity, &e.part, sizeof e.part);
+    }
+    for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node >= 0 && ex->nodes[e.node].per_frame)
+            n->per_frame = true;
+    }
+    if (n->schema->flags & LG_NODE_PER_FRAME)
+        n->per_frame = true;
+
+    decide_gate(ex, n, seen);
+    if (n->state == LG_STATE_GATED) {
+        make_neutral(ex, n);
+        return 0;
+    }
+    return prepare_node(ex, n);
+}
+
 int lg_plan(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
@@ -278,52 +395,35 @@ int lg_plan(lg_exec *ex)
     }
     cull(ex);
 
+    /* Gating needs the scenes' features, which exist once the nodes that make scenes are
+     * prepared. So: (a) prepare the scene producers and everything upstream of them; (b)
+     * decide which other nodes are gated; (c) cull again, this time walking into a gated
+     * node only through the input its neutral result passes on, so that a node that only
+     * gated nodes read (the shadow map of a gated fog pass, say) is not loaded either; (d)
+     * prepare the rest. Each pass goes in topological order. */
     bool *seen = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *seen);
+    bool *early = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *early);
+    mark_scene_producers(ex, early);
     int rc = 0;
     for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
-        lg_pnode *n = &ex->nodes[c->topo[t]];
-        if (n->state == LG_STATE_CULLED)
-            continue;
-        lg_digest_init(&n->identity);
-        lg_digest_add_str(&n->identity, n->plugin ? n->plugin->name : "");
-        lg_digest_add_str(&n->identity, n->plugin ? n->plugin->version : "");
-        lg_digest_add_str(&n->identity, n->schema->name);
-        digest_params(&n->identity, n->c);
-        for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
-            lg_edge e = n->c->inputs[k];
-            if (e.node < 0) {
-                lg_digest_add_str(&n->identity, NULL);
-                continue;
-            }
-            lg_digest_add(&n->identity, &ex->nodes[e.node].identity, sizeof(lg_digest));
-            lg_digest_add(&n->identity, &e.port, sizeof e.port);
-            lg_digest_add(&n->identity, &e.part, sizeof e.part);
-        }
-        for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
-            lg_edge e = n->c->inputs[k];
-            if (e.node >= 0 && ex->nodes[e.node].per_frame)
-                n->per_frame = true;
-        }
-        if (n->schema->flags & LG_NODE_PER_FRAME)
-            n->per_frame = true;
-
-        if (n->schema->needs) {
-            lg_scene_features f;
-            memset(&f, 0, sizeof f);
-            memset(seen, 0, c->n_nodes * sizeof *seen);
-            bool any = collect_features(ex, n->index, &f, seen);
-            uint32_t unmet = any ? unmet_needs(n->schema->needs, &f) : n->schema->needs;
-            if (unmet) {
-                n->state = LG_STATE_GATED;
-                n->reason = any ? lg_xasprintf("the scene upstream has %s", needs_text(unmet))
-                                : lg_xstrdup("no scene is upstream of it, so its needs "
-                                             "cannot be met");
-                make_neutral(ex, n);
-                continue;
-            }
-        }
-        rc = prepare_node(ex, n);
+        uint32_t i = c->topo[t];
+        if (early[i] && ex->nodes[i].state != LG_STATE_CULLED)
+            rc = plan_node(ex, &ex->nodes[i], seen);
     }
+    if (rc == 0) {
+        for (uint32_t t = 0; t < c->n_nodes; t++) {
+            lg_pnode *n = &ex->nodes[c->topo[t]];
+            if (!early[n->index] && n->state != LG_STATE_CULLED)
+                decide_gate(ex, n, seen);
+        }
+        cull_behind_gated(ex, early);
+    }
+    for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
+        uint32_t i = c->topo[t];
+        if (!early[i] && ex->nodes[i].state != LG_STATE_CULLED)
+            rc = plan_node(ex, &ex->nodes[i], seen);
+    }
+    free(early);
     free(seen);
     ex->t_plan_ms = (lg_now() - t0) * 1e3;
     return rc || ex->failed ? -1 : 0;

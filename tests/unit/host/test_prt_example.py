@@ -211,6 +211,11 @@ def test_gating():
     loaded = next((l for l in text.splitlines() if l.startswith("plugins loaded:")), "")
     check(loaded and "prt" not in loaded.split(), "prt was loaded:\n%s" % text)
     check("prt_bake" not in loaded.split(), "prt_bake was loaded:\n%s" % text)
+    # sh_project takes no scene: only the gated prt reads it, so it is culled, not loaded
+    row = next((l for l in text.splitlines() if l.split()[:1] == ["light"]), "")
+    check("culled" in row and "only gated nodes read it" in row,
+          "light (sh_project) is not culled behind the gated prt:\n%s" % text)
+    check("sh_project" not in loaded.split(), "sh_project was loaded:\n%s" % text)
     rows = exr_read.read_exr(out)
     check(all(v == 0.0 for r in rows for px in r for v in px[:3]), "the gated output is not zero")
 
