@@ -315,7 +315,9 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
                     continue;
                 res->total_ms += n->cpu_ms;
                 if (time_node && strcmp(time_node, n->pub.name) == 0) {
-                    res->node_ms = n->cpu_ms;
+                    /* per frame in steady state when it ran on several frames (sweep) */
+                    res->node_ms = n->runs > 1 ? (n->cpu_ms - n->first_cpu_ms) / (double)(n->runs - 1)
+                                               : n->cpu_ms;
                     res->node_found = true;
                 }
             }

@@ -4,14 +4,18 @@
  *
  *   lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]
  *                    [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...
- *                    [--set NODE.PARAM=V]... [--time NODE] [--repeat N] [--size WxH]
- *                    [--gl osmesa|egl] [-o DIR]
+ *                    [--set NODE.PARAM=V]... [--time NODE] [--repeat N] [--frames N]
+ *                    [--size WxH] [--gl osmesa|egl] [-o DIR]
  *
  * The reference is REF_GRAPH if given, else GRAPH itself with the --set and --ref-set
  * overrides (e.g. the finest tessellation and per-pixel shading). Every run gets the --set
  * overrides, then one combination of the --vary values (their cartesian product). Times
  * are the median over --repeat runs of the --time node's CPU wall time (which includes its
- * GL work, see docs/devices.md), or of all kept nodes when --time is not given.
+ * GL work, see docs/devices.md), or of all kept nodes when --time is not given. With
+ * --frames N (default 1) every run renders N frames (the outputs are the last frame's, so
+ * that state carried across frames, a temporal filter's, shows in the error) and a node that
+ * ran on several frames is timed per frame in steady state: the mean of its runs after the
+ * first (which pays for shader compilation and first uploads).
  *
  * All or nothing (outputs.h): every --vary value is checked against its parameter's type and
  * range, the reference graph is checked, and every file the sweep writes (reference, runs,
@@ -49,7 +53,7 @@ static int usage(const char *msg, const char *what)
             "usage: lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]\n"
             "                        [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...\n"
             "                        [--set NODE.PARAM=V]... [--time NODE] [--repeat N]\n"
-            "                        [--size WxH] [--gl osmesa|egl] [-o DIR]\n"
+            "                        [--frames N] [--size WxH] [--gl osmesa|egl] [-o DIR]\n"
             "DIR (default out/sweep) must exist; nothing is written unless every run succeeds\n");
     return 2;
 }
@@ -170,7 +174,8 @@ int lg_cmd_sweep(int argc, char **argv)
         bool takes = strcmp(a, "--vary") == 0 || strcmp(a, "--reference") == 0 ||
                      strcmp(a, "--ref-set") == 0 || strcmp(a, "--set") == 0 ||
                      strcmp(a, "--time") == 0 || strcmp(a, "--repeat") == 0 ||
-                     strcmp(a, "--size") == 0 || strcmp(a, "-o") == 0 || strcmp(a, "--gl") == 0;
+                     strcmp(a, "--size") == 0 || strcmp(a, "-o") == 0 || strcmp(a, "--gl") == 0 ||
+                     strcmp(a, "--frames") == 0;
         if (takes && !val) {
             rc = usage("lightgraph sweep: %s needs a value\n", a);
             break;
@@ -209,6 +214,12 @@ int lg_cmd_sweep(int argc, char **argv)
             if (*end || r < 1 || r > 1000)
                 rc = usage("lightgraph sweep: --repeat wants 1..1000, got '%s'\n", val);
             repeat = (uint32_t)r;
+        } else if (strcmp(a, "--frames") == 0) {
+            char *end;
+            long f = strtol(val, &end, 10);
+            if (*end || f < 1 || f > 100000)
+                rc = usage("lightgraph sweep: --frames wants 1..100000, got '%s'\n", val);
+            opts.frames = (uint32_t)f;
         } else if (strcmp(a, "--size") == 0) {
             unsigned w = 0, h = 0;
             char tail;

@@ -612,6 +612,16 @@ output t "%s"
     check(os.path.exists(os.path.join(out, "sweep.gp")), "gnuplot script")
     run(["sweep", g, "--vary", "t.kye=1"], plugin_path=core, expect=2)
     run(["sweep", g], plugin_path=core, expect=2)
+    # --frames: every run renders N frames; the last frame's output is compared
+    out3 = os.path.join(TMP, "sweep3")
+    os.makedirs(out3)
+    run(["sweep", g, "--vary", "t.key=0.18", "--ref-set", "t.key=0.18", "--time", "t",
+         "--repeat", "1", "--frames", "3", "-o", out3], plugin_path=core, expect=0)
+    rows = open(os.path.join(out3, "sweep.csv")).read().strip().splitlines()
+    check(len(rows) == 2 and float(rows[1].split(",")[4]) == 0, "--frames 3: %s" % rows)
+    for bad in ("0", "x", "-2"):
+        run(["sweep", g, "--vary", "t.key=0.18", "--frames", bad, "-o", out3], plugin_path=core,
+            expect=2)
 
 
 TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
