@@ -11,7 +11,7 @@ FUZZ_BUILD ?= build-fuzz
 SECONDS    ?= 60
 
 .PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter study-format study-prt \
-	pictures-prt clean
+	pictures-prt bench-volumetric study-volumetric pictures-volumetric clean
 
 all: build
 
@@ -99,6 +99,32 @@ pictures-prt: build
 	for m in unshadowed shadowed interreflected; do \
 	  $(BUILD)/lightgraph render examples/prt.lgraph --size 480x270 --set bake.mode=$$m \
 	    -o docs/images/prt_$$m.png || exit 1; done
+
+# The volumetric thesis's experiments (seed 2, chapter 4): the three methods on the bunny
+# box, the dragon and six instanced dragons, and 1..32 lights, at the thesis's settings
+# (2134 x 1459; QUICK=1 for a smoke run); tables and plots into docs/images/volumetric/
+# (plugins/volumetric_froxel/README.md, "The thesis's experiments").
+bench-volumetric: build
+	mkdir -p out docs/images/volumetric
+	python3 tools/bench_volumetric.py --build $(BUILD) --out out/bench_volumetric \
+	  $(if $(QUICK),--quick,)
+	cp out/bench_volumetric/bench_volumetric.md out/bench_volumetric/scenes.csv \
+	  out/bench_volumetric/lights.csv out/bench_volumetric/lights_time.png \
+	  out/bench_volumetric/lights_memory.png docs/images/volumetric/
+
+# What volumetric accuracy costs: every method's knobs swept with `lightgraph sweep` against
+# volumetric_reference; CSV, table and plot into docs/images/volumetric/ (docs/volumetric.md).
+study-volumetric: build
+	mkdir -p out docs/images/volumetric
+	python3 tools/volumetric_study.py --build $(BUILD) --out out/volumetric_study \
+	  $(if $(QUICK),--quick,)
+	cp out/volumetric_study/volumetric_study.csv out/volumetric_study/volumetric_study.md \
+	  out/volumetric_study/volumetric_study.png docs/images/volumetric/
+
+# The pictures of docs/volumetric.md: the four examples side by side, in-scatter and error.
+pictures-volumetric: build
+	mkdir -p docs/images/volumetric
+	python3 tools/volumetric_pictures.py --build $(BUILD) --out docs/images/volumetric
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) out
