@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""volumetric_pictures.py: the pictures of docs/volumetric.md: the four volumetric examples
+side by side (tone-mapped), their in-scatter, and each method's error heat map against the
+reference (`lightgraph diff --heatmap`).
+
+usage: tools/volumetric_pictures.py [--build DIR] [--out DIR] [--size WxH]
+                                    [--ref-steps N] [--ref-spp N]
+
+For each of screen, polygonal, froxel and reference: renders examples/volumetric_<m>.lgraph
+into <m>.png (the example's own tone-mapped output) and <m>_inscatter.exr (linear L_v);
+then `lightgraph diff <m>_inscatter.exr reference_inscatter.exr --heatmap heat_<m>.png
+--json` for the three methods, and writes pictures.md: a markdown table with the pictures
+and the RMSE figures (relative to the reference's RMS).
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from format_study import read_exr  # noqa: E402
+
+METHODS = ["screen", "polygonal", "froxel", "reference"]
+
+
+def die(msg):
+    sys.stderr.write("volumetric_pictures: %s\n" % msg)
+    sys.exit(1)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "images", "volumetric"))
+    ap.add_argument("--size", default="480x270")
+    ap.add_argument("--ref-steps", type=int, default=512)
+    ap.add_argument("--ref-spp", type=int, default=16)
+    a = ap.parse_args()
+    exe = os.path.join(a.build, "lightgraph")
+    os.makedirs(a.out, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="vol-pictures-") as tmp:
+        for m in METHODS:
+            g = os.path.join(tmp, m + ".lgraph")
+            with open(g, "w") as f:
+                f.write('lightgraph 1\ninclude "%s"\noutput vol.inscatter "%s"\n'
+                        % (os.path.join(ROOT, "examples", "volumetric_%s.lgraph" % m),
+                           os.path.join(a.out, m + "_inscatter.exr")))
+            cmd = [exe, "render", g, "--size", a.size, "-o", os.path.join(a.out, m + ".png")]
+            if m == "reference":
+                cmd += ["--set", "vol.steps=%d" % a.ref_steps, "--set", "vol.spp=%d" % a.ref_spp]
+            sys.stderr.write("volumetric_pictures: %s\n" % " ".join(cmd))
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            if r.returncode != 0:
+                die("%s failed:\n%s%s" % (" ".join(cmd), r.stdout, r.stderr))
+    ref = os.path.join(a.out, "reference_inscatter.exr")
+    img = read_exr(ref)
+    vals = [c for row in img for px in row for c in px[:3]]
+    ref_rms = math.sqrt(sum(v * v for v in vals) / len(vals))
+    md = ["| method | image (tone-mapped `out`) | in-scatter error against the reference | "
+          "relative RMSE |", "|---|---|---|---:|"]
+    for m in METHODS:
+        if m == "reference":
+            md.append("| reference (%d steps, %d spp) | ![reference](images/volumetric/"
+                      "reference.png) | | |" % (a.ref_steps, a.ref_spp))
+            continue
+        heat = os.path.join(a.out, "heat_%s.png" % m)
+        r = subprocess.run([exe, "diff", os.path.join(a.out, m + "_inscatter.exr"), ref,
+                            "--heatmap", heat, "--json"], capture_output=True, text=True)
+        if r.returncode not in (0, 1):
+            die("diff %s failed:\n%s%s" % (m, r.stdout, r.stderr))
+        d = json.loads(r.stdout)
+        md.append("| %s | ![%s](images/volumetric/%s.png) | ![heat](images/volumetric/heat_%s.png)"
+                  " | %.4f |" % (m, m, m, m, d["rmse"] / ref_rms))
+    with open(os.path.join(a.out, "pictures.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+
+
+if __name__ == "__main__":
+    main()
