@@ -749,7 +749,8 @@ static void scan_dir(lg_registry *r, const char *dir, int depth)
         names[n++] = lg_xstrdup(e->d_name);
     }
     closedir(d);
-    qsort(names, n, sizeof *names, cmp_str);
+    if (n > 1) /* qsort(NULL, 0, ...) is undefined (UBSan stops on an empty folder) */
+        qsort(names, n, sizeof *names, cmp_str);
     for (size_t i = 0; i < n; i++) {
         char *full = lg_path_join(dir, names[i]);
         struct stat st;
