@@ -8,10 +8,12 @@
 // depths (as vol_shadow_cpu: outside the tile and before the light's near plane is lit).
 // Vertices, in this order:
 //
-//   [0, G = Ws Hs)        the grid: vertex (i, j) over the light's tile at
-//                         u = i / (Ws - 1), v = j / (Hs - 1), at the depth stored in the
-//                         texel under it (plus the map's constant bias). A texel where
-//                         nothing was drawn (depth 1) is put at u_far: unshadowed.
+//   [0, G = Ws Hs)        the grid: vertex (i, j) at the centre of texel
+//                         round(i (res - 1) / (Ws - 1)), round(j (res - 1) / (Hs - 1)) of
+//                         the light's tile, at the depth stored there (plus the map's
+//                         constant bias). A texel where nothing was drawn (depth 1) is put
+//                         at u_far: unshadowed. (The outer half texel of the tile is thus
+//                         outside the grid: lit, as the box around it.)
 //   [G, G + P)            the grid's P = 2 (Ws - 1) + 2 (Hs - 1) border vertices,
 //                         counter-clockwise, at u_far: the dent's walls join them to the grid
 //   G + P + s, s < 4      the box's corners at u_far (s = 0 (X0, Y0), 1 (X1, Y0), 2 (X1, Y1),
@@ -50,10 +52,13 @@ ivec2 ring_cell(int k)
     return ivec2(0, H - k);
 }
 
+// Grid vertex c sits at the centre of texel t = round(c (res - 1) / (grid - 1)), where the
+// map's depth is exact (the rasteriser sampled it there): vertices 0 and grid - 1 on the
+// tile's first and last texels, every texel one vertex when grid = res.
 vec3 grid_ndc(ivec2 c)
 {
-    vec2 uv = vec2(c) / vec2(u_grid - 1);
-    ivec2 t = min(ivec2(uv * float(u_res)), ivec2(u_res - 1));
+    ivec2 t = (c * (u_res - 1) + (u_grid - 1) / 2) / (u_grid - 1);
+    vec2 uv = (vec2(t) + 0.5) / float(u_res);
     float d = texelFetch(u_atlas, u_tile + t, 0).r;
     float z = d >= 1.0 ? u_far : 2.0 * (d + u_bias) - 1.0;
     return vec3(2.0 * uv - 1.0, z);

@@ -388,7 +388,7 @@ static void case_balance(lg_test *t)
     light l[2] = { mk_light(0.2, -1, 0.1, 5, 5, 5), mk_light(-0.5, -1, 0.3, 2, 2, 2) };
     fog m = default_fog;
     char g[16384];
-    graph(g, sizeof g, "shadow", &c, l, 2, &m, 1.0, 64, "resolution = 24, mesh_file = \"mesh.ply\"",
+    graph(g, sizeof g, "shadow", &c, l, 2, &m, 1.0, 64, "mesh_file = \"mesh.ply\"",
           true);
     int rc = render(t, g, NULL, NULL);
     LG_TEST_CHECK(t, rc == 0, "render failed (%d)", rc);
@@ -426,7 +426,33 @@ static void case_balance(lg_test *t)
                                 starts[s].want[li]);
                 }
             }
-    fprintf(stderr, "balance: %d of %d rays wrong\n", bad, rays);
+    /* random points in and around the fog: every ray from one point gives the same count,
+     * 0 or 1 */
+    int incons = 0, points = 0;
+    for (int li = 0; li < 2; li++)
+        for (int s = 0; s < 150; s++) {
+            double p[3] = { 8 * rnd() - 4, 3.5 * rnd() - 1, 8 * rnd() - 4 };
+            int first = -99;
+            points++;
+            for (int r = 0; r < 6; r++) {
+                double w[3], z = 2 * rnd() - 1, ph = 2 * 3.14159265358979 * rnd();
+                double sr = sqrt(1 - z * z);
+                w[0] = sr * cos(ph), w[1] = sr * sin(ph), w[2] = z;
+                int got = crossings(&one[li], p, w);
+                rays++;
+                if (first == -99)
+                    first = got;
+                if (got != first || (got != 0 && got != 1)) {
+                    if (incons++ < 5)
+                        fprintf(stderr, "light %d, from (%g %g %g): #back - #front = %d and %d\n",
+                                li, p[0], p[1], p[2], first, got);
+                    break;
+                }
+            }
+        }
+    LG_TEST_CHECK(t, incons == 0, "%d of %d random points see unbalanced crossings", incons,
+                  points);
+    fprintf(stderr, "balance: %d of %d rays wrong\n", bad + incons, rays);
     LG_TEST_CHECK(t, bad == 0, "%d of %d rays cross the mesh unbalanced", bad, rays);
     free(all.v);
     free(all.tri);
