@@ -246,7 +246,7 @@ static double check_closed(lg_test *t, const char *what, const cam *c, const lig
                 }
                 /* fp32: the shaders' F and the exp differ from the double closed form by
                  * a few ulp; d from the depth buffer by ~1e-5 relative */
-                if (!(rel <= 1e-3))
+                if (!(rel <= 1e-4))
                     over++;
                 double T = exp(-m->sigma_t[ch] * d);
                 double want_out = lit.pixels[i] * T + got;
@@ -256,7 +256,7 @@ static double check_closed(lg_test *t, const char *what, const cam *c, const lig
         }
     fprintf(stderr, "%s: inscatter max relative error %.3g at (%d, %d); out %.3g\n", what,
             worst, wx, wy, worst_out);
-    LG_TEST_CHECK(t, over == 0, "%s: %llu values beyond 1e-3 relative (worst %.3g at %d, %d)",
+    LG_TEST_CHECK(t, over == 0, "%s: %llu values beyond 1e-4 relative (worst %.3g at %d, %d)",
                   what, (unsigned long long)over, worst, wx, wy);
     LG_TEST_CHECK(t, worst_out < 1e-3, "%s: out differs from base T + inscatter by %.3g",
                   what, worst_out);
@@ -500,7 +500,7 @@ static void check_shaft(lg_test *t, const char *what, const cam *c, const light 
                     "value, node %.3f\n", what, rel_rmse, best_drop, best_got);
     LG_TEST_CHECK(t, rel_rmse < max_rel_rmse, "%s: relative RMSE %.4f against the oracle",
                   what, rel_rmse);
-    LG_TEST_CHECK(t, best_drop < 0.8, "%s: the view misses the shaft (oracle %.3f)", what,
+    LG_TEST_CHECK(t, best_drop < 0.9, "%s: the view misses the shaft (oracle %.3f)", what,
                   best_drop);
     LG_TEST_CHECK(t, fabs(best_got - best_drop) < 0.05, "%s: through the shaft the node keeps "
                   "%.3f of the unshadowed in-scatter, the oracle %.3f", what, best_got, best_drop);
