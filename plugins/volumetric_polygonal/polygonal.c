@@ -4,9 +4,11 @@
  *
  * Per directional light (1..32), with its record in the shadow map:
  *   1. poly_mesh.comp turns the light's shadow-map tile into a closed mesh bounding the lit
- *      volume: a Ws x Hs grid at the stored depths, walls along the tile's border and a
- *      cap on the light's side (the vertex order is the shader's comment; the triangles,
- *      fixed for a grid size, come from poly_indices below and are shared by all lights);
+ *      volume: a box around the camera's fog in the light's NDC, less the shadowed dent
+ *      under the tile's depths (a Ws x Hs grid at the stored depths, walls down to the
+ *      box's far side, a frame there; the vertex order is the shader's comment; the
+ *      triangles, fixed for a grid size, come from poly_indices below and are shared by
+ *      all lights);
  *   2. poly_volume.vert/.frag rasterise it from the camera into `inscatter` with additive
  *      blending and no depth test: each crossing at distance s adds sign F(min(s, d)),
  *      + where the ray leaves the volume, - where it enters (the triangle's outward normal
@@ -19,7 +21,7 @@
  * which treats [0, znear] as lit exactly when the ray is inside the volume at the near
  * plane (error at most F(znear / cos) per pixel; README "Camera inside").
  *
- * Memory per light: one vertex buffer of (Ws Hs + 2 (Ws - 1) + 2 (Hs - 1) + 1) vec4; once
+ * Memory per light: one vertex buffer of (Ws Hs + 2 (Ws - 1) + 2 (Hs - 1) + 8) vec4; once
  * for all lights the index buffer (3 uint32 per triangle). Both are kept between frames
  * (remade when the grid size or the number of lights grows) and counted with
  * lg_account_alloc; the mesh itself is generated again on every execute.
