@@ -69,7 +69,7 @@ typedef struct poly_state {
     uint64_t n_indices;
 } poly_state;
 
-/* ---- the mesh's topology ----------------------------------------------------------------- */
+/* ---- the mesh's topology -------------------------------------------------------------------- */
 
 /* Vertex and triangle counts of a Ws x Hs grid's closed mesh. */
 static uint64_t poly_vertices(uint32_t ws, uint32_t hs)
@@ -140,7 +140,7 @@ static void poly_indices(uint32_t ws, uint32_t hs, uint32_t *out)
     out[k++] = nc + 0, out[k++] = nc + 3, out[k++] = nc + 2;
 }
 
-/* ---- create / prepare ---------------------------------------------------------------------- */
+/* ---- create / prepare ----------------------------------------------------------------------- */
 
 static int poly_create(lg_node *n)
 {
@@ -181,7 +181,7 @@ static int poly_prepare(lg_node *n)
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
-/* ---- the passes ---------------------------------------------------------------------------- */
+/* ---- the passes ----------------------------------------------------------------------------- */
 
 static int poly_passes(lg_node *n, poly_state *st)
 {
@@ -258,7 +258,7 @@ static int poly_passes(lg_node *n, poly_state *st)
     return 0;
 }
 
-/* ---- geometry helpers ------------------------------------------------------------------------ */
+/* ---- geometry helpers ----------------------------------------------------------------------- */
 
 static void poly_mat_mul(float out[16], const float a[16], const float b[16])
 {
@@ -339,7 +339,7 @@ static void poly_fog_box(const vol_setup *v, const float light_vp[16], float lo_
     }
 }
 
-/* ---- the debug dump ---------------------------------------------------------------------------- */
+/* ---- the debug dump ------------------------------------------------------------------------- */
 
 /* Writes every light's mesh (read back from GL) as one binary little-endian PLY: vertex
  * positions (float x y z, world) and triangles (uchar count, int indices) turning
@@ -430,7 +430,7 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
     return rc;
 }
 
-/* ---- execute ------------------------------------------------------------------------------------ */
+/* ---- execute -------------------------------------------------------------------------------- */
 
 /* Makes (or keeps) a GL buffer of `bytes`, counted once per allocation. */
 static int poly_buffer(lg_node *n, const lg_gl *gl, GLuint *buf, uint64_t bytes, bool remake,
@@ -480,8 +480,8 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         return LG_ERR_DEVICE;
     GLint max_block = 0;
     gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
-    if ((uint64_t)ntris * 12 > (uint64_t)(GLuint)max_block || nverts * 16 > (uint64_t)(GLuint)max_block ||
-        ntris * 3 > 0x7fffffffu)
+    uint64_t max_bytes = (uint64_t)(GLuint)max_block;
+    if (ntris * 12 > max_bytes || nverts * 16 > max_bytes || ntris * 3 > 0x7fffffffu)
         return lg_error(n, "resolution %u: the mesh (%llu vertices, %llu triangles) exceeds "
                            "the GL device's largest storage buffer (%d bytes); lower "
                            "`resolution`",
@@ -536,6 +536,13 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     lg_gl_pass_bind_texture(st->mesh, st->m_atlas, atlas);
     for (uint32_t l = 0; l < v.n_lights && !rc; l++) {
         const lg_shadow_light *L = &sm->lights[v.lights[l].shadow];
+        if ((uint64_t)L->tile_x + R > sm->atlas_width ||
+            (uint64_t)L->tile_y + R > sm->atlas_height) {
+            rc = lg_error(n, "input 'shadows': light %u's tile at (%u, %u) of side %u lies "
+                             "outside the %ux%u atlas", v.lights[l].scene_index, L->tile_x,
+                          L->tile_y, R, sm->atlas_width, sm->atlas_height);
+            break;
+        }
         float inv[16];
         double det;
         if (poly_inv_affine(L->view_proj, inv, &det) != 0) {
@@ -650,7 +657,7 @@ static void poly_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor -------------------------------------------------------------------------- */
+/* ---- the descriptor ------------------------------------------------------------------------- */
 
 static const lg_param_desc poly_params[] = {
     { .key = "resolution", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,

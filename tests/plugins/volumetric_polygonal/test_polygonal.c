@@ -148,7 +148,7 @@ static double marched(const fog *m, const light *l, const quad *quads, int nq, c
     return sum;
 }
 
-/* ---- graphs ------------------------------------------------------------------------------ */
+/* ---- graphs --------------------------------------------------------------------------------- */
 
 /* The scene part: s (testphongscene), the lights chained to `ls`, `fog`, `shadow`, `lit`. */
 static void graph(char *g, size_t cap, const char *layout, const cam *c, const light *lights,
@@ -157,7 +157,8 @@ static void graph(char *g, size_t cap, const char *layout, const cam *c, const l
 {
     int k = snprintf(g, cap,
                      "lightgraph 1\n"
-                     "s = test_phong_scene { layout = %s, size = 10, double_sided = true, ka = 0.1, "
+                     "s = test_phong_scene { layout = %s, size = 10, double_sided = true, "
+                     "ka = 0.1, "
                      "camera_position = [%.17g, %.17g, %.17g], camera_target = [%.17g, %.17g, "
                      "%.17g], camera_up = [%.17g, %.17g, %.17g], yfov_deg = %.17g }\n",
                      layout, c->eye[0], c->eye[1], c->eye[2], c->target[0], c->target[1],
@@ -293,7 +294,7 @@ static void case_closed_form(lg_test *t)
     check_closed(t, "camera outside the light's frustum", &far, &above, 1, "", 64);
 }
 
-/* ---- balance: the PLY read back -------------------------------------------------------------- */
+/* ---- balance: the PLY read back ------------------------------------------------------------- */
 
 typedef struct mesh {
     float *v;
@@ -458,7 +459,7 @@ static void case_balance(lg_test *t)
     free(all.tri);
 }
 
-/* ---- the shaft ---------------------------------------------------------------------------------- */
+/* ---- the shaft ------------------------------------------------------------------------------ */
 
 static void check_shaft(lg_test *t, const char *what, const cam *c, const light *l,
                         const char *vol_params, double max_rel_rmse)
@@ -521,13 +522,14 @@ static void case_inside_shadow(lg_test *t)
     /* under the quad (its shadow spans y < 1 around the axis for a light straight down),
      * looking sideways and up past its edge: rays start in the shadow and the shaft's
      * walls pass through the near plane */
-    cam c = { .eye = { 0.1, 0.6, 0.05 }, .target = { 3, 1.3, -1 }, .up = { 0, 1, 0 }, .fov_deg = 70 };
+    cam c = { .eye = { 0.1, 0.6, 0.05 }, .target = { 3, 1.3, -1 }, .up = { 0, 1, 0 },
+              .fov_deg = 70 };
     cam_init(&c);
     light l = mk_light(0.05, -1, 0.02, 5, 5, 5);
     check_shaft(t, "camera inside the shadow", &c, &l, "", 0.04);
 }
 
-/* ---- 32 lights, memory ---------------------------------------------------------------------------- */
+/* ---- 32 lights, memory ---------------------------------------------------------------------- */
 
 static light light_k(int k)
 {
@@ -582,7 +584,7 @@ static void case_lights32(lg_test *t)
                       counts[i] - 1, per_light);
 }
 
-/* ---- gating, errors --------------------------------------------------------------------------- */
+/* ---- gating, errors ------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
 {
