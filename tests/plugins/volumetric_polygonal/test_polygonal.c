@@ -551,10 +551,11 @@ static void check_shaft(lg_test *t, const char *what, const cam *c, const light 
     if (ply && read_ply(t, ply, &msh)) {
         /* fp32 against double on the same mesh: the node's accumulation (and its d from
          * the depth buffer) against the signed sum recomputed here, relative to F(d) */
+        /* every 4th pixel each way: 130 k triangles per ray (the sanitizer build is slow) */
         double *err = malloc(sizeof(double) * W * H), worst_cancel = 0.0;
         int k = 0;
-        for (int y = 0; y < H; y++)
-            for (int x = 0; x < W; x++) {
+        for (int y = 1; y < H; y += 4)
+            for (int x = 1; x < W; x += 4) {
                 double w[3], sa;
                 cam_ray(c, x, y, w);
                 double d = fog_length(c, &m, quads, 2, w);
