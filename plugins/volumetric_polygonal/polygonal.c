@@ -1,0 +1,714 @@
+/*
+ * The volumetric_polygonal plugin: in-scattering through polygonal light volumes (seed 2,
+ * 3.2.2, eq. 9; Billeter et al. 2010, Hoobler 2016; TECHNIQUES.md §6) on GL.
+ *
+ * Per directional light (1..32), with its record in the shadow map:
+ *   1. poly_mesh.comp turns the light's shadow-map tile into a closed mesh bounding the lit
+ *      volume: a box around the camera's fog in the light's NDC, less the shadowed dent
+ *      under the tile's depths (a Ws x Hs grid at the stored depths, walls down to the
+ *      box's far side, a frame there; the vertex order is the shader's comment; the
+ *      triangles, fixed for a grid size, come from poly_indices below and are shared by
+ *      all lights);
+ *   2. poly_volume.vert/.frag rasterise it from the camera into `inscatter` with additive
+ *      blending and no depth test: each crossing at distance s adds sign F(min(s, d)),
+ *      + where the ray leaves the volume, - where it enters (the triangle's outward normal
+ *      against the ray), F(s) = L_c sigma_s p (1 - e^(-sigma_t s)) / sigma_t.
+ * Then poly_composite.frag writes out = base e^(-sigma_t d) + inscatter.
+ *
+ * Geometry conventions (view rays, d, z_limit) are plugins/volumetric_common/vol_common.h's.
+ * The camera's far plane is moved to infinity for step 2 so that no crossing before the
+ * fog's end is clipped away; its near plane stays: a crossing closer than znear is lost,
+ * which treats [0, znear] as lit exactly when the ray is inside the volume at the near
+ * plane (error at most F(znear / cos) per pixel; README "Camera inside").
+ *
+ * Memory per light: one vertex buffer of (Ws Hs + 2 (Ws - 1) + 2 (Hs - 1) + 8) vec4; once
+ * for all lights the index buffer (3 uint32 per triangle). Both are kept between frames
+ * (remade when the grid size or the number of lights grows) and counted with
+ * lg_account_alloc; the mesh itself is generated again on every execute.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "lightgraph/gl_pass.h"
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/medium.h"
+#include "lightgraph/scene.h"
+#include "lightgraph/shadowmap.h"
+
+#include "vol_common.h"
+
+#include "poly_composite.frag.h"
+#include "poly_fullscreen.vert.h"
+#include "poly_mesh.comp.h"
+#include "poly_volume.frag.h"
+#include "poly_volume.vert.h"
+
+typedef struct poly_state {
+    int64_t resolution; /* 0: one vertex per texel */
+    float z_limit;
+    bool per_frame;
+    const char *mesh_file; /* debug: the meshes as PLY ("" none) */
+    uint32_t width, height;
+
+    lg_gl_pass *mesh, *vol, *comp;
+    lg_gl_uniform m_inv_light, m_tile, m_res, m_grid, m_bias, m_near, m_far, m_outer;
+    lg_gl_binding m_atlas, m_verts;
+    lg_gl_uniform v_view_proj, v_eye, v_flip, v_inv_vp, v_fwd, v_size, v_zlim, v_lc,
+        v_dir, v_ss, v_st, v_g;
+    lg_gl_binding v_verts, v_idx, v_depth;
+    lg_gl_uniform c_inv_vp, c_eye, c_fwd, c_size, c_zlim, c_st;
+    lg_gl_binding c_base, c_depth, c_ins;
+
+    GLuint vbuf[VOL_MAX_LIGHTS], ibuf;
+    uint32_t vbuf_grid[VOL_MAX_LIGHTS][2]; /* the grid each vertex buffer was made for */
+    uint32_t ibuf_grid[2];
+    uint64_t n_indices;
+} poly_state;
+
+/* ---- the mesh's topology -------------------------------------------------------------------- */
+
+/* Vertex and triangle counts of a Ws x Hs grid's closed mesh. */
+static uint64_t poly_vertices(uint32_t ws, uint32_t hs)
+{
+    return (uint64_t)ws * hs + 2u * (ws - 1) + 2u * (hs - 1) + 8;
+}
+static uint64_t poly_triangles(uint32_t ws, uint32_t hs)
+{
+    uint64_t ring = 2u * (uint64_t)(ws - 1) + 2u * (hs - 1);
+    return 2u * (uint64_t)(ws - 1) * (hs - 1) + 3u * ring + 14;
+}
+
+/* Grid vertex of border (ring) index q, as ring_cell() in poly_mesh.comp. */
+static uint32_t poly_ring_cell(uint32_t ws, uint32_t hs, uint32_t q)
+{
+    uint32_t W = ws - 1, H = hs - 1, i, j;
+    if (q < W)
+        i = q, j = 0;
+    else if (q < W + H)
+        i = W, j = q - W;
+    else if (q < 2 * W + H)
+        i = W - (q - W - H), j = H;
+    else
+        i = 0, j = H - (q - 2 * W - H);
+    return j * ws + i;
+}
+
+/* The triangles (3 indices each) in the vertex order of poly_mesh.comp, each turning
+ * counter-clockwise about the lit volume's outward normal in light NDC (x, y across the
+ * tile, z away from the light): the grid +z; the dent's walls towards the tile's centre;
+ * the frame around the tile on the far side +z; the box's walls away from it; its cap on
+ * the light's side -z. Every edge is shared by exactly two triangles (watertight).
+ * `out` holds 3 poly_triangles(ws, hs) entries. */
+static void poly_indices(uint32_t ws, uint32_t hs, uint32_t *out)
+{
+    size_t k = 0;
+    for (uint32_t j = 0; j + 1 < hs; j++)
+        for (uint32_t i = 0; i + 1 < ws; i++) {
+            uint32_t a = j * ws + i, b = a + 1, c = a + ws + 1, d = a + ws;
+            out[k++] = a, out[k++] = b, out[k++] = c;
+            out[k++] = a, out[k++] = c, out[k++] = d;
+        }
+    uint32_t W = ws - 1, H = hs - 1;
+    uint32_t ring = 2 * W + 2 * H, far = ws * hs, fc = far + ring, nc = fc + 4;
+    /* where each side of the tile starts on the ring: bottom, right, top, left */
+    const uint32_t side_start[5] = { 0, W, W + H, 2 * W + H, ring };
+    for (uint32_t side = 0; side < 4; side++) {
+        for (uint32_t r = side_start[side]; r < side_start[side + 1]; r++) {
+            uint32_t r1 = (r + 1) % ring;
+            uint32_t g0 = poly_ring_cell(ws, hs, r), g1 = poly_ring_cell(ws, hs, r1);
+            uint32_t f0 = far + r, f1 = far + r1;
+            /* the dent's wall under the border edge g0 -> g1 (normal towards the centre) */
+            out[k++] = f0, out[k++] = f1, out[k++] = g1;
+            out[k++] = f0, out[k++] = g1, out[k++] = g0;
+            /* the far frame: a fan from the side's starting outer corner */
+            out[k++] = fc + side, out[k++] = f1, out[k++] = f0;
+        }
+        /* the rest of the frame's trapezoid, to the side's ending corners */
+        uint32_t c0 = fc + side, c1 = fc + (side + 1) % 4;
+        out[k++] = c0, out[k++] = c1, out[k++] = far + side_start[side + 1] % ring;
+        /* the box's wall on this side (normal outwards) */
+        uint32_t n0 = nc + side, n1 = nc + (side + 1) % 4;
+        out[k++] = c0, out[k++] = n1, out[k++] = c1;
+        out[k++] = c0, out[k++] = n0, out[k++] = n1;
+    }
+    /* the cap on the light's side */
+    out[k++] = nc + 0, out[k++] = nc + 2, out[k++] = nc + 1;
+    out[k++] = nc + 0, out[k++] = nc + 3, out[k++] = nc + 2;
+}
+
+/* ---- create / prepare ----------------------------------------------------------------------- */
+
+static int poly_create(lg_node *n)
+{
+    poly_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    st->resolution = lg_param_int(n, "resolution");
+    double z = lg_param_float(n, "z_limit");
+    st->per_frame = lg_param_bool(n, "per_frame");
+    st->mesh_file = lg_param_string(n, "mesh_file");
+    if (st->resolution == 1)
+        return lg_error(n, "resolution = 1: the mesh needs at least 2 x 2 vertices; give 0 "
+                           "(one per shadow-map texel) or 2 .. 16384");
+    if (!isfinite(z) || z < 0.0)
+        return lg_error(n, "z_limit = %g: give a view depth > 0, or 0 for the camera's zfar",
+                        z);
+    st->z_limit = (float)z;
+    return 0;
+}
+
+static int poly_prepare(lg_node *n)
+{
+    poly_state *st = n->user;
+    int rc = vol_declare_outputs(n, &st->width, &st->height);
+    if (rc)
+        return rc;
+    lg_resource_info info;
+    const lg_resource *sh = lg_input(n, VOL_IN_SHADOWS);
+    if (!sh)
+        return lg_error(n, "input 'shadows' is not connected: the polygonal method builds "
+                           "its light volumes from shadow maps (connect a shadowmap node of "
+                           "the same scene)");
+    if (lg_describe(sh, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP)
+        return lg_error(n, "input 'shadows' is not a shadow map");
+    if (st->per_frame)
+        lg_set_per_frame(n, true);
+    return lg_set_device(n, LG_DEVICE_GL);
+}
+
+/* ---- the passes ----------------------------------------------------------------------------- */
+
+static int poly_passes(lg_node *n, poly_state *st)
+{
+    int rc;
+    if (!st->mesh) {
+        static const lg_gl_shader_src src[] = {
+            { GL_COMPUTE_SHADER, lg_src_poly_mesh_comp_file, lg_src_poly_mesh_comp },
+        };
+        lg_gl_pass_desc d = { .name = "volumetric_polygonal mesh", .stages = src,
+                              .n_stages = 1 };
+        if ((rc = lg_gl_pass_create(n, &d, &st->mesh)))
+            return rc;
+        lg_gl_pass *p = st->mesh;
+        st->m_inv_light = lg_gl_pass_uniform(p, "u_inv_light");
+        st->m_tile = lg_gl_pass_uniform(p, "u_tile");
+        st->m_res = lg_gl_pass_uniform(p, "u_res");
+        st->m_grid = lg_gl_pass_uniform(p, "u_grid");
+        st->m_bias = lg_gl_pass_uniform(p, "u_bias");
+        st->m_near = lg_gl_pass_uniform(p, "u_near");
+        st->m_far = lg_gl_pass_uniform(p, "u_far");
+        st->m_outer = lg_gl_pass_uniform(p, "u_outer");
+        st->m_atlas = lg_gl_pass_texture(p, "u_atlas");
+        st->m_verts = lg_gl_pass_storage(p, "Vertices");
+    }
+    if (!st->vol) {
+        static const lg_gl_shader_src src[] = {
+            { GL_VERTEX_SHADER, lg_src_poly_volume_vert_file, lg_src_poly_volume_vert },
+            { GL_FRAGMENT_SHADER, lg_src_poly_volume_frag_file, lg_src_poly_volume_frag },
+        };
+        /* every fragment counts: no depth test, no culling, additive blending */
+        lg_gl_pass_desc d = { .name = "volumetric_polygonal volume", .stages = src,
+                              .n_stages = 2, .output = "inscatter",
+                              .colors = { GL_RGBA32F }, .blend = LG_GL_BLEND_ADD };
+        if ((rc = lg_gl_pass_create(n, &d, &st->vol)))
+            return rc;
+        lg_gl_pass *p = st->vol;
+        st->v_view_proj = lg_gl_pass_uniform(p, "u_view_proj");
+        st->v_eye = lg_gl_pass_uniform(p, "u_eye");
+        st->v_flip = lg_gl_pass_uniform(p, "u_flip");
+        st->v_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
+        st->v_fwd = lg_gl_pass_uniform(p, "u_forward");
+        st->v_size = lg_gl_pass_uniform(p, "u_size");
+        st->v_zlim = lg_gl_pass_uniform(p, "u_z_limit");
+        st->v_lc = lg_gl_pass_uniform(p, "u_l_c");
+        st->v_dir = lg_gl_pass_uniform(p, "u_dir");
+        st->v_ss = lg_gl_pass_uniform(p, "u_sigma_s");
+        st->v_st = lg_gl_pass_uniform(p, "u_sigma_t");
+        st->v_g = lg_gl_pass_uniform(p, "u_g");
+        st->v_verts = lg_gl_pass_storage(p, "Vertices");
+        st->v_idx = lg_gl_pass_storage(p, "Indices");
+        st->v_depth = lg_gl_pass_texture(p, "u_base_depth");
+    }
+    if (!st->comp) {
+        static const lg_gl_shader_src src[] = {
+            { GL_VERTEX_SHADER, lg_src_poly_fullscreen_vert_file, lg_src_poly_fullscreen_vert },
+            { GL_FRAGMENT_SHADER, lg_src_poly_composite_frag_file, lg_src_poly_composite_frag },
+        };
+        lg_gl_pass_desc d = { .name = "volumetric_polygonal composite", .stages = src,
+                              .n_stages = 2, .output = "out", .colors = { GL_RGBA32F },
+                              .depth = true, .depth_test = true, .depth_write = true };
+        if ((rc = lg_gl_pass_create(n, &d, &st->comp)))
+            return rc;
+        lg_gl_pass *p = st->comp;
+        st->c_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
+        st->c_eye = lg_gl_pass_uniform(p, "u_eye");
+        st->c_fwd = lg_gl_pass_uniform(p, "u_forward");
+        st->c_size = lg_gl_pass_uniform(p, "u_size");
+        st->c_zlim = lg_gl_pass_uniform(p, "u_z_limit");
+        st->c_st = lg_gl_pass_uniform(p, "u_sigma_t");
+        st->c_base = lg_gl_pass_texture(p, "u_base");
+        st->c_depth = lg_gl_pass_texture(p, "u_base_depth");
+        st->c_ins = lg_gl_pass_texture(p, "u_inscatter");
+    }
+    return 0;
+}
+
+/* ---- geometry helpers ----------------------------------------------------------------------- */
+
+static void poly_mat_mul(float out[16], const float a[16], const float b[16])
+{
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) {
+            double s = 0.0;
+            for (int k = 0; k < 4; k++)
+                s += (double)a[k * 4 + r] * b[c * 4 + k];
+            out[c * 4 + r] = (float)s;
+        }
+}
+
+/* Inverse of an affine (orthographic) 4x4 in double, column-major; its 3x3 determinant in
+ * *det. Returns -1 when singular or when the bottom row is not (0 0 0 1). */
+static int poly_inv_affine(const float m[16], float out[16], double *det)
+{
+    if (m[3] != 0.0f || m[7] != 0.0f || m[11] != 0.0f || m[15] != 1.0f)
+        return -1;
+    double a[3][3], inv[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            a[r][c] = m[c * 4 + r];
+    double d = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+               a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+               a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    if (!(fabs(d) > 0.0) || !isfinite(d))
+        return -1;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+            inv[r][c] = (a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1]) / d;
+        }
+    memset(out, 0, 16 * sizeof(float));
+    for (int r = 0; r < 3; r++) {
+        double t = 0.0;
+        for (int c = 0; c < 3; c++) {
+            out[c * 4 + r] = (float)inv[r][c];
+            t -= inv[r][c] * m[12 + c];
+        }
+        out[12 + r] = (float)t;
+    }
+    out[15] = 1.0f;
+    *det = d;
+    return 0;
+}
+
+/* The box in light NDC that holds the camera's fog (its eye, its near-plane corners and the
+ * corners of the plane at view depth z_limit; the fog is their convex hull and the map is
+ * affine) and the light's tile [-1, 1]^2 x [-1, 1], with a margin so that no crossing sits
+ * on its faces: lo/hi = x, y, z. */
+static void poly_fog_box(const vol_setup *v, const float light_vp[16], float lo_out[3],
+                         float hi_out[3])
+{
+    double pts[9][3];
+    memcpy(pts[0], v->eye, sizeof pts[0]);
+    for (int k = 0; k < 4; k++) {
+        double x = (k & 1) ? v->width : 0.0, y = (k & 2) ? v->height : 0.0, w[3];
+        vol_ray(v, x, y, w);
+        double c = w[0] * v->forward[0] + w[1] * v->forward[1] + w[2] * v->forward[2];
+        double tn = v->view.znear / c, tf = v->z_limit / c;
+        for (int i = 0; i < 3; i++) {
+            pts[1 + k][i] = v->eye[i] + w[i] * tn;
+            pts[5 + k][i] = v->eye[i] + w[i] * tf;
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        double lo = -1.0, hi = 1.0;
+        for (int k = 0; k < 9; k++) {
+            double z = light_vp[c] * pts[k][0] + light_vp[4 + c] * pts[k][1] +
+                       light_vp[8 + c] * pts[k][2] + light_vp[12 + c];
+            lo = z < lo ? z : lo;
+            hi = z > hi ? z : hi;
+        }
+        /* a margin of 1 % of the range and at least 0.01 */
+        double m = 0.01 * (hi - lo) + 0.01;
+        lo_out[c] = (float)(lo - m);
+        hi_out[c] = (float)(hi + m);
+    }
+}
+
+/* ---- the debug dump ------------------------------------------------------------------------- */
+
+/* Writes every light's mesh (read back from GL) as one binary little-endian PLY: vertex
+ * positions (float x y z, world) and triangles (uchar count, int indices) turning
+ * counter-clockwise about the outward normal in world space. Through a temporary file and
+ * rename. */
+static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t n_lights,
+                          const uint32_t grid[][2], const double flip[])
+{
+    const char *path = st->mesh_file;
+    size_t len = strlen(path);
+    char *tmp = malloc(len + 16);
+    if (!tmp)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    snprintf(tmp, len + 16, "%s.tmp-XXXXXX", path);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(tmp);
+        return lg_error_code(n, LG_ERR_IO, "mesh_file '%s': cannot create a temporary: %s",
+                             path, strerror(e));
+    }
+    FILE *f = fdopen(fd, "wb");
+    if (!f) {
+        close(fd);
+        unlink(tmp);
+        free(tmp);
+        return lg_error_code(n, LG_ERR_IO, "mesh_file '%s': %s", path, strerror(errno));
+    }
+    uint64_t nv = 0, nt = 0;
+    for (uint32_t l = 0; l < n_lights; l++) {
+        nv += poly_vertices(grid[l][0], grid[l][1]);
+        nt += poly_triangles(grid[l][0], grid[l][1]);
+    }
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment lightgraph "
+               "volumetric_polygonal: the lit volume of %u light(s), outward "
+               "counter-clockwise\nelement vertex %llu\nproperty float x\nproperty float y\n"
+               "property float z\nelement face %llu\nproperty list uchar int "
+               "vertex_indices\nend_header\n",
+            n_lights, (unsigned long long)nv, (unsigned long long)nt);
+    int rc = 0;
+    for (uint32_t l = 0; l < n_lights && !rc; l++) {
+        uint64_t v = poly_vertices(grid[l][0], grid[l][1]);
+        float *buf = malloc((size_t)v * 16);
+        if (!buf) {
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+            break;
+        }
+        gl->GetNamedBufferSubData(st->vbuf[l], 0, (GLsizeiptr)(v * 16), buf);
+        for (uint64_t i = 0; i < v; i++)
+            fwrite(buf + 4 * i, 4, 3, f);
+        free(buf);
+    }
+    uint64_t offset = 0;
+    for (uint32_t l = 0; l < n_lights && !rc; l++) {
+        uint64_t t = poly_triangles(grid[l][0], grid[l][1]);
+        uint32_t *idx = malloc((size_t)t * 12);
+        if (!idx) {
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+            break;
+        }
+        poly_indices(grid[l][0], grid[l][1], idx);
+        for (uint64_t i = 0; i < t; i++) {
+            unsigned char three = 3;
+            int32_t tri[3] = { (int32_t)(idx[3 * i] + offset), (int32_t)(idx[3 * i + 1] + offset),
+                               (int32_t)(idx[3 * i + 2] + offset) };
+            if (flip[l] < 0) {
+                int32_t s = tri[1];
+                tri[1] = tri[2];
+                tri[2] = s;
+            }
+            fwrite(&three, 1, 1, f);
+            fwrite(tri, 4, 3, f);
+        }
+        free(idx);
+        offset += poly_vertices(grid[l][0], grid[l][1]);
+    }
+    if (ferror(f) && !rc)
+        rc = lg_error_code(n, LG_ERR_IO, "mesh_file '%s': write failed", path);
+    if (fclose(f) != 0 && !rc)
+        rc = lg_error_code(n, LG_ERR_IO, "mesh_file '%s': write failed: %s", path,
+                           strerror(errno));
+    if (!rc && rename(tmp, path) != 0)
+        rc = lg_error_code(n, LG_ERR_IO, "mesh_file '%s': cannot rename the temporary: %s",
+                           path, strerror(errno));
+    if (rc)
+        unlink(tmp);
+    free(tmp);
+    return rc;
+}
+
+/* ---- execute -------------------------------------------------------------------------------- */
+
+/* Makes (or keeps) a GL buffer of `bytes`, counted once per allocation. */
+static int poly_buffer(lg_node *n, const lg_gl *gl, GLuint *buf, uint64_t bytes, bool remake,
+                       const void *data)
+{
+    if (*buf && !remake)
+        return 0;
+    if (*buf)
+        gl->DeleteBuffers(1, buf);
+    *buf = 0;
+    gl->CreateBuffers(1, buf);
+    gl->NamedBufferStorage(*buf, (GLsizeiptr)bytes, data, 0);
+    lg_account_alloc(n, bytes);
+    return lg_gl_check(n, "volumetric_polygonal: allocating a mesh buffer");
+}
+
+static int poly_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    poly_state *st = n->user;
+    const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
+    if (!s)
+        return LG_ERR_INVALID;
+    lg_shadowmap smv;
+    const lg_shadowmap *sm = lg_shadowmap_get(n, lg_input(n, VOL_IN_SHADOWS), &smv);
+    if (!sm)
+        return lg_error(n, "input 'shadows' holds no shadow map (its node was gated: the "
+                           "scene has no directional light)");
+    if (!sm->atlas || sm->resolution < 2 || !sm->lights)
+        return lg_error(n, "input 'shadows': the shadow maps have no atlas, a resolution "
+                           "below 2 or no light list");
+    vol_setup v;
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, &v);
+    if (rc)
+        return rc;
+    uint32_t R = sm->resolution;
+    uint32_t ws = st->resolution == 0 ? R : (uint32_t)st->resolution;
+    if (ws > R) {
+        lg_log(n, LG_LOG_INFO, "resolution %u is above the shadow maps' %u: capped", ws, R);
+        ws = R;
+    }
+    uint32_t hs = ws;
+    uint64_t nverts = poly_vertices(ws, hs), ntris = poly_triangles(ws, hs);
+
+    const lg_gl *gl = lg_gl_get(n);
+    if (!gl)
+        return LG_ERR_DEVICE;
+    GLint max_block = 0;
+    gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+    uint64_t max_bytes = (uint64_t)(GLuint)max_block;
+    if (ntris * 12 > max_bytes || nverts * 16 > max_bytes || ntris * 3 > 0x7fffffffu)
+        return lg_error(n, "resolution %u: the mesh (%llu vertices, %llu triangles) exceeds "
+                           "the GL device's largest storage buffer (%d bytes); lower "
+                           "`resolution`",
+                        ws, (unsigned long long)nverts, (unsigned long long)ntris, max_block);
+    for (uint32_t l = 0; l < v.n_lights; l++)
+        if (v.lights[l].shadow < 0)
+            return lg_error(n, "light %u (scene light %u) has no shadow map in input "
+                               "'shadows': connect a shadowmap node of this scene",
+                            l, v.lights[l].scene_index);
+    if ((rc = poly_passes(n, st)))
+        return rc;
+
+    /* the buffers: indices for this grid, a vertex buffer per light */
+    bool regrid = st->ibuf_grid[0] != ws || st->ibuf_grid[1] != hs;
+    if (regrid || !st->ibuf) {
+        uint32_t *idx = malloc((size_t)ntris * 12);
+        if (!idx)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%llu triangles)",
+                                 (unsigned long long)ntris);
+        poly_indices(ws, hs, idx);
+        rc = poly_buffer(n, gl, &st->ibuf, ntris * 12, true, idx);
+        free(idx);
+        if (rc)
+            return rc;
+        st->ibuf_grid[0] = ws;
+        st->ibuf_grid[1] = hs;
+    }
+    for (uint32_t l = 0; l < v.n_lights; l++) {
+        bool remake = st->vbuf_grid[l][0] != ws || st->vbuf_grid[l][1] != hs;
+        if ((rc = poly_buffer(n, gl, &st->vbuf[l], nverts * 16, remake, NULL)))
+            return rc;
+        st->vbuf_grid[l][0] = ws;
+        st->vbuf_grid[l][1] = hs;
+    }
+
+    uint32_t atlas_color = 0, atlas = 0, base_tex = 0, base_depth = 0;
+    if ((rc = lg_map_gl(n, sm->atlas, LG_READ, &atlas_color, &atlas)))
+        return rc;
+    if (!atlas)
+        return lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
+                                               "texture");
+    if ((rc = lg_map_gl(n, lg_input(n, VOL_IN_BASE), LG_READ, &base_tex, &base_depth)))
+        return rc;
+    if (!base_depth)
+        return lg_error(n, "input 'base' has no depth plane on GL");
+
+    /* step 1: the meshes */
+    double flip[VOL_MAX_LIGHTS];
+    uint32_t grid[VOL_MAX_LIGHTS][2];
+    if ((rc = lg_gl_pass_begin(st->mesh, NULL)))
+        return rc;
+    lg_gl_pass_bind_texture(st->mesh, st->m_atlas, atlas);
+    for (uint32_t l = 0; l < v.n_lights && !rc; l++) {
+        const lg_shadow_light *L = &sm->lights[v.lights[l].shadow];
+        if ((uint64_t)L->tile_x + R > sm->atlas_width ||
+            (uint64_t)L->tile_y + R > sm->atlas_height) {
+            rc = lg_error(n, "input 'shadows': light %u's tile at (%u, %u) of side %u lies "
+                             "outside the %ux%u atlas", v.lights[l].scene_index, L->tile_x,
+                          L->tile_y, R, sm->atlas_width, sm->atlas_height);
+            break;
+        }
+        float inv[16];
+        double det;
+        if (poly_inv_affine(L->view_proj, inv, &det) != 0) {
+            rc = lg_error(n, "light %u: its shadow map's view_proj is singular or not "
+                             "orthographic", v.lights[l].scene_index);
+            break;
+        }
+        /* NDC -> world turns orientation when the inverse's determinant (of det's sign) is
+         * negative: the shaders' cross products then point inwards */
+        flip[l] = det > 0 ? 1.0 : -1.0;
+        grid[l][0] = ws;
+        grid[l][1] = hs;
+        float lo[3], hi[3];
+        poly_fog_box(&v, L->view_proj, lo, hi);
+        lg_gl_set_mat4(st->mesh, st->m_inv_light, inv);
+        lg_gl_set_ivec2(st->mesh, st->m_tile, (int32_t)L->tile_x, (int32_t)L->tile_y);
+        lg_gl_set_int(st->mesh, st->m_res, (int32_t)R);
+        lg_gl_set_ivec2(st->mesh, st->m_grid, (int32_t)ws, (int32_t)hs);
+        lg_gl_set_float(st->mesh, st->m_bias, sm->bias_constant);
+        lg_gl_set_float(st->mesh, st->m_near, lo[2]);
+        lg_gl_set_float(st->mesh, st->m_far, hi[2]);
+        const float outer[4] = { lo[0], lo[1], hi[0], hi[1] };
+        lg_gl_set_vec4v(st->mesh, st->m_outer, outer);
+        lg_gl_pass_bind_buffer(st->mesh, st->m_verts, st->vbuf[l]);
+        rc = lg_gl_pass_dispatch(st->mesh, (uint32_t)nverts, 1, 1);
+    }
+    if ((rc = lg_gl_pass_end(st->mesh, rc)))
+        return rc;
+
+    /* step 2: the volumes from the camera, the far plane at infinity */
+    float proj[16], vp_inf[16], inv_vp[16];
+    memcpy(proj, v.view.proj, sizeof proj);
+    if (proj[11] != -1.0f || proj[15] != 0.0f || proj[3] != 0.0f || proj[7] != 0.0f)
+        return lg_error(n, "the camera's projection is not a perspective one");
+    proj[10] = -1.0f;
+    proj[14] = -2.0f * v.view.znear;
+    poly_mat_mul(vp_inf, proj, v.view.view);
+    for (int i = 0; i < 16; i++)
+        inv_vp[i] = (float)v.inv_view_proj[i];
+    float eye[3] = { (float)v.eye[0], (float)v.eye[1], (float)v.eye[2] };
+    float fwd[3] = { (float)v.forward[0], (float)v.forward[1], (float)v.forward[2] };
+    lg_gl_pass *p = st->vol;
+    if ((rc = lg_gl_pass_begin(p, NULL)))
+        return rc;
+    const float clear[4] = { 0, 0, 0, 1 };
+    lg_gl_pass_clear_color(p, 0, clear);
+    lg_gl_set_mat4(p, st->v_view_proj, vp_inf);
+    lg_gl_set_vec3v(p, st->v_eye, eye);
+    lg_gl_set_mat4(p, st->v_inv_vp, inv_vp);
+    lg_gl_set_vec3v(p, st->v_fwd, fwd);
+    lg_gl_set_vec2(p, st->v_size, (float)v.width, (float)v.height);
+    lg_gl_set_float(p, st->v_zlim, v.z_limit);
+    lg_gl_set_vec3v(p, st->v_ss, v.sigma_s);
+    lg_gl_set_vec3v(p, st->v_st, v.sigma_t);
+    lg_gl_set_float(p, st->v_g, v.g);
+    lg_gl_pass_bind_texture(p, st->v_depth, base_depth);
+    lg_gl_pass_bind_buffer(p, st->v_idx, st->ibuf);
+    for (uint32_t l = 0; l < v.n_lights && !rc; l++) {
+        lg_gl_set_float(p, st->v_flip, (float)flip[l]);
+        lg_gl_set_vec3v(p, st->v_lc, v.lights[l].l_c);
+        lg_gl_set_vec3v(p, st->v_dir, v.lights[l].dir);
+        lg_gl_pass_bind_buffer(p, st->v_verts, st->vbuf[l]);
+        rc = lg_gl_pass_draw(p, GL_TRIANGLES, (uint32_t)(ntris * 3));
+    }
+    if ((rc = lg_gl_pass_end(p, rc)))
+        return rc;
+
+    /* step 3: the composite */
+    lg_gl_target ins;
+    if ((rc = lg_gl_target_output(n, "inscatter", &ins)))
+        return rc;
+    p = st->comp;
+    if ((rc = lg_gl_pass_begin(p, NULL)))
+        return rc;
+    /* every pixel is written, its depth base's: no test against the cleared plane */
+    gl->DepthFunc(GL_ALWAYS);
+    lg_gl_set_mat4(p, st->c_inv_vp, inv_vp);
+    lg_gl_set_vec3v(p, st->c_eye, eye);
+    lg_gl_set_vec3v(p, st->c_fwd, fwd);
+    lg_gl_set_vec2(p, st->c_size, (float)v.width, (float)v.height);
+    lg_gl_set_float(p, st->c_zlim, v.z_limit);
+    lg_gl_set_vec3v(p, st->c_st, v.sigma_t);
+    lg_gl_pass_bind_texture(p, st->c_base, base_tex);
+    lg_gl_pass_bind_texture(p, st->c_depth, base_depth);
+    lg_gl_pass_bind_texture(p, st->c_ins, ins.color[0]);
+    rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
+    if ((rc = lg_gl_pass_end(p, rc)))
+        return rc;
+
+    if (st->mesh_file && st->mesh_file[0])
+        rc = poly_write_ply(n, st, gl, v.n_lights, (const uint32_t(*)[2])grid, flip);
+    return rc;
+}
+
+static void poly_destroy(lg_node *n)
+{
+    poly_state *st = n->user;
+    if (!st)
+        return;
+    const lg_gl *gl = st->mesh || st->vol || st->comp || st->ibuf ? lg_gl_get(n) : NULL;
+    if (gl) {
+        for (int l = 0; l < VOL_MAX_LIGHTS; l++)
+            if (st->vbuf[l])
+                gl->DeleteBuffers(1, &st->vbuf[l]);
+        if (st->ibuf)
+            gl->DeleteBuffers(1, &st->ibuf);
+    }
+    lg_gl_pass_destroy(&st->mesh);
+    lg_gl_pass_destroy(&st->vol);
+    lg_gl_pass_destroy(&st->comp);
+    free(st);
+    n->user = NULL;
+}
+
+/* ---- the descriptor ------------------------------------------------------------------------- */
+
+static const lg_param_desc poly_params[] = {
+    { .key = "resolution", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "vertices per side of each light's mesh (Ws = Hs); 0 = one per shadow-map texel "
+             "(the thesis); capped at the shadow maps' resolution" },
+    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "view depth where the fog ends, scene units; 0 = the camera's zfar" },
+    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "render again on every frame (--frames), for timing; the result is the same" },
+    { .key = "mesh_file", .type = LG_PARAM_PATH, .def.s = "",
+      .doc = "debug: write every light's generated mesh (read back from GL) to this binary "
+             "PLY file, triangles counter-clockwise about the outward normal; \"\" = none" },
+};
+static const lg_port_desc poly_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the scene: its directional lights (1..32), its medium, its active camera" },
+    { .name = "base", .kind = LG_KIND_IMAGE,
+      .doc = "the lit image with its depth (phong's out), of the output's size" },
+    { .name = "shadows", .kind = LG_KIND_SHADOWMAP,
+      .doc = "shadow maps of the same scene's directional lights: each light's volume is "
+             "built from its map" },
+};
+static const lg_port_desc poly_outputs[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f + depth: base e^(-sigma_t d) + inscatter; depth = base's" },
+    { .name = "inscatter", .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f: the in-scattered radiance L_v alone (lightgraph/medium.h units), "
+             "alpha 1" },
+};
+
+static const lg_node_type poly_types[] = {
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "volumetric_polygonal",
+        .doc = "Light shafts through polygonal light volumes built from the shadow maps "
+               "(seed 2, 3.2.2, eq. 9), signed additive accumulation on GL",
+        LG_PARAMS(poly_params),
+        LG_INPUTS(poly_inputs),
+        LG_OUTPUTS(poly_outputs),
+        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
+        .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
+        .neutral_input = VOL_IN_BASE,
+        .create = poly_create,
+        .prepare = poly_prepare,
+        .execute = poly_execute,
+        .destroy = poly_destroy,
+    },
+};
+
+LG_PLUGIN_DEFINE("volumetric_polygonal", "1.0.0",
+                 "In-scattering through polygonal light volumes (Billeter 2010, Hoobler "
+                 "2016): a mesh per directional light from its shadow map, rasterised with "
+                 "signed additive blending",
+                 poly_types)

@@ -1,0 +1,87 @@
+#version 450
+// volumetric_polygonal, step 1: the lit-volume mesh of one light from its shadow map
+// (seed 2, 3.2.2; Billeter et al. 2010). One invocation per vertex; the topology (which
+// vertices make each triangle) is fixed for a grid size and built once on the CPU
+// (plugins/volumetric_polygonal/polygonal.c, poly_indices). In the light's NDC (x, y
+// across the tile, z away from the light) the lit volume is a box [X0, X1] x [Y0, Y1] x
+// [u_near, u_far] that holds the camera's fog, less the shadowed dent under the tile's
+// depths (as vol_shadow_cpu: outside the tile and before the light's near plane is lit).
+// Vertices, in this order:
+//
+//   [0, G = Ws Hs)        the grid: vertex (i, j) at the centre of texel
+//                         round(i (res - 1) / (Ws - 1)), round(j (res - 1) / (Hs - 1)) of
+//                         the light's tile, at the depth stored there (plus the map's
+//                         constant bias). A texel where nothing was drawn (depth 1) is put
+//                         at u_far: unshadowed. (The outer half texel of the tile is thus
+//                         outside the grid: lit, as the box around it.)
+//   [G, G + P)            the grid's P = 2 (Ws - 1) + 2 (Hs - 1) border vertices,
+//                         counter-clockwise, at u_far: the dent's walls join them to the grid
+//   G + P + s, s < 4      the box's corners at u_far (s = 0 (X0, Y0), 1 (X1, Y0), 2 (X1, Y1),
+//                         3 (X0, Y1))
+//   G + P + 4 + s         the same at u_near
+//
+// Positions are light NDC unprojected by the light's inverse view_proj (orthographic: w =
+// 1), written as world-space vec4 (w = 1).
+layout(local_size_x = 64) in;
+
+layout(binding = 0) uniform sampler2D u_atlas;   // the shadow map atlas (depth)
+layout(std430, binding = 0) writeonly buffer Vertices { vec4 verts[]; };
+
+uniform mat4 u_inv_light;   // inverse of the light's view_proj
+uniform ivec2 u_tile;       // the tile's top-left texel in the atlas
+uniform int u_res;          // the tile's side, texels
+uniform ivec2 u_grid;       // Ws, Hs (>= 2)
+uniform float u_bias;       // the map's constant bias, window depth units
+uniform float u_near;       // NDC z of the box's cap on the light's side (< -1)
+uniform float u_far;        // NDC z of the box's far side (> 1)
+uniform vec4 u_outer;       // X0, Y0, X1, Y1 (X0 < -1, Y0 < -1, X1 > 1, Y1 > 1)
+
+// The border loop: ring index k -> grid (i, j), counter-clockwise in (u, v).
+ivec2 ring_cell(int k)
+{
+    int W = u_grid.x - 1, H = u_grid.y - 1;
+    if (k < W)
+        return ivec2(k, 0);
+    k -= W;
+    if (k < H)
+        return ivec2(W, k);
+    k -= H;
+    if (k < W)
+        return ivec2(W - k, H);
+    k -= W;
+    return ivec2(0, H - k);
+}
+
+// Grid vertex c sits at the centre of texel t = round(c (res - 1) / (grid - 1)), where the
+// map's depth is exact (the rasteriser sampled it there): vertices 0 and grid - 1 on the
+// tile's first and last texels, every texel one vertex when grid = res.
+vec3 grid_ndc(ivec2 c)
+{
+    ivec2 t = (c * (u_res - 1) + (u_grid - 1) / 2) / (u_grid - 1);
+    vec2 uv = (vec2(t) + 0.5) / float(u_res);
+    float d = texelFetch(u_atlas, u_tile + t, 0).r;
+    float z = d >= 1.0 ? u_far : 2.0 * (d + u_bias) - 1.0;
+    return vec3(2.0 * uv - 1.0, z);
+}
+
+void main()
+{
+    int id = int(gl_GlobalInvocationID.x);
+    int n_grid = u_grid.x * u_grid.y;
+    int P = 2 * (u_grid.x - 1) + 2 * (u_grid.y - 1);
+    if (id >= n_grid + P + 8)
+        return;
+    vec3 ndc;
+    if (id < n_grid) {
+        ndc = grid_ndc(ivec2(id % u_grid.x, id / u_grid.x));
+    } else if (id < n_grid + P) {
+        ndc = vec3(grid_ndc(ring_cell(id - n_grid)).xy, u_far);
+    } else {
+        int s = (id - n_grid - P) & 3;
+        float x = (s == 1 || s == 2) ? u_outer.z : u_outer.x;
+        float y = s >= 2 ? u_outer.w : u_outer.y;
+        ndc = vec3(x, y, id - n_grid - P < 4 ? u_far : u_near);
+    }
+    vec4 w = u_inv_light * vec4(ndc, 1.0);
+    verts[id] = vec4(w.xyz / w.w, 1.0);
+}

@@ -1,0 +1,53 @@
+#version 450
+// volumetric_polygonal, step 2: one crossing of the lit volume's boundary at distance s
+// along the pixel's view ray adds sign F(min(s, d)) (eq. 9 with sigma_s):
+//
+//     F(s) = L_c sigma_s p_HG(g, dot(w, -L)) s segment(sigma_t s)
+//          = L_c sigma_s p_HG (1 - e^(-sigma_t s)) / sigma_t
+//
+// (lightgraph/medium.h), leaving +, entering -. d is the fog's length along the ray
+// (plugins/volumetric_common/vol_common.h: min(surface distance, z_limit / dot(w, fwd));
+// fragments beyond it are clamped to it, so a lit interval that goes past the surface
+// ends there. Blending adds every fragment (no depth test): the sum over the crossings
+// is the in-scatter of the lit intervals; a ray starting inside needs no entry (F(0) = 0).
+#include "medium.glsl"
+
+in vec3 v_world;
+flat in float v_sign;
+
+layout(binding = 0) uniform sampler2D u_base_depth; // base's depth plane (window depth)
+uniform mat4 u_inv_view_proj;  // the camera's (the finite one phong drew base with)
+uniform vec3 u_eye;
+uniform vec3 u_forward;
+uniform vec2 u_size;
+uniform float u_z_limit;
+uniform vec3 u_l_c;            // L_c of this light
+uniform vec3 u_dir;            // the direction its light travels
+uniform vec3 u_sigma_s;
+uniform vec3 u_sigma_t;
+uniform float u_g;
+
+layout(location = 0) out vec4 o_color;
+
+vec3 unproject(vec2 xy, float z)
+{
+    vec4 p = u_inv_view_proj * vec4(2.0 * xy / u_size - 1.0, z, 1.0);
+    return p.xyz / p.w;
+}
+
+void main()
+{
+    vec2 xy = gl_FragCoord.xy; // the pixel's centre
+    vec3 w = normalize(unproject(xy, 0.0) - u_eye);
+    float depth = texelFetch(u_base_depth, ivec2(xy), 0).r;
+    float d = 3.0e38;
+    if (depth < 1.0)
+        d = length(unproject(xy, 2.0 * depth - 1.0) - u_eye);
+    float c = dot(w, u_forward);
+    if (c > 0.0)
+        d = min(d, u_z_limit / c);
+    float s = min(length(v_world - u_eye), d);
+    float phase = lg_hg_phase(u_g, dot(w, -u_dir));
+    vec3 f = u_l_c * u_sigma_s * (phase * s) * lg_medium_segment3(u_sigma_t * s);
+    o_color = vec4(v_sign * f, 0.0);
+}

@@ -1,0 +1,771 @@
+/*
+ * The volumetric_polygonal node through the host (GL: a missing device fails), on scenes
+ * built in memory by the test plugin testphongscene (tests/plugins/phong) and derived with
+ * scene_tools' light and medium nodes. Every expected value is computed here from the scene's
+ * numbers with lightgraph/medium.h, and every view ray from the camera's own definition
+ * (look_at, vertical field of view, image row 0 at the top: vol_common.h), not from the
+ * node. `test_polygonal CASE`:
+ *
+ *   closed_form   a plane (no other occluder), one light from above, from behind the camera
+ *                 or from in front of it, the camera inside the lit volume, and one with the
+ *                 camera outside the shadow map's frustum (the box beyond the tile is lit,
+ *                 as vol_shadow_cpu has it): inscatter = L_c sigma_s p d seg(sigma_t d)
+ *                 (lg_medium_inscatter) at every pixel, d = min(plane distance, z_limit /
+ *                 cos) computed here; out = base e^(-sigma_t d) + inscatter
+ *   balance       the generated meshes read back (mesh_file, a PLY) and intersected with
+ *                 random rays here: #back - #front crossings is 1 from points in the lit fog
+ *                 (the eye among them) and 0 from points in a shadow, on every ray
+ *   shaft         a quad above the plane casts a shaft: against a ray-marched oracle with
+ *                 exact visibility (the quad and the plane as occluders), relative RMSE below
+ *                 4 % (8 % at resolution 32), and the in-scatter through the shaft drops as
+ *                 the oracle's does; the fp32 accumulation against the same signed sum in
+ *                 double on the mesh read back (the cancellation of the +-F terms)
+ *   inside_shadow the camera under the quad, inside the shadow shaft, looking out (rays
+ *                 start outside the lit volume; near-plane clipping of the shaft's walls)
+ *   lights32      32 lights of known directions and colours on the plane: the sum of the 32
+ *                 closed forms; the node's profile memory grows by exactly one vertex buffer
+ *                 per light (1, 2, 4, 8 lights, --profile-json)
+ *   gating        fog density 0: the node is gated (its plugin not loaded), out = base
+ *   errors        no shadows input, resolution = 1, z_limit before the near plane, a base
+ *                 without depth, 33 lights: exit status != 0 and a message naming the node
+ *                 and the value
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/image.h"
+#include "lightgraph/medium.h"
+#include "lightgraph/test.h"
+
+#define W 64
+#define H 48
+
+typedef struct cam {
+    double eye[3], target[3], up[3], fov_deg;
+    double f[3], r[3], u[3];
+} cam;
+
+static void v3_norm(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int i = 0; i < 3; i++)
+        v[i] /= l;
+}
+static void v3_cross(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double v3_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cam_init(cam *c)
+{
+    for (int i = 0; i < 3; i++)
+        c->f[i] = c->target[i] - c->eye[i];
+    v3_norm(c->f);
+    v3_cross(c->f, c->up, c->r);
+    v3_norm(c->r);
+    v3_cross(c->r, c->f, c->u);
+}
+
+/* The unit ray through pixel (x, y) (row 0 at the top). */
+static void cam_ray(const cam *c, double x, double y, double w[3])
+{
+    double t = tan(c->fov_deg * 3.14159265358979323846 / 360.0), a = (double)W / H;
+    double nx = 2.0 * (x + 0.5) / W - 1.0, ny = 1.0 - 2.0 * (y + 0.5) / H;
+    for (int i = 0; i < 3; i++)
+        w[i] = c->f[i] + nx * t * a * c->r[i] + ny * t * c->u[i];
+    v3_norm(w);
+}
+
+/* An axis-aligned square at height y0, half side h, centred on the Y axis. */
+typedef struct quad {
+    double y0, h;
+} quad;
+
+/* Distance along the ray to the square, or INFINITY. */
+static double quad_hit(const quad *q, const double e[3], const double w[3])
+{
+    if (w[1] == 0.0)
+        return INFINITY;
+    double t = (q->y0 - e[1]) / w[1];
+    if (!(t > 0.0))
+        return INFINITY;
+    double x = e[0] + t * w[0], z = e[2] + t * w[2];
+    return fabs(x) <= q->h && fabs(z) <= q->h ? t : INFINITY;
+}
+
+typedef struct fog {
+    double sigma_s[3], sigma_t[3], g, z_limit;
+} fog;
+
+typedef struct light {
+    double dir[3]; /* unit: the direction the light travels */
+    double l_c[3];
+} light;
+
+/* The fog's length along the pixel's ray: min(first hit of `quads`, z_limit / cos). */
+static double fog_length(const cam *c, const fog *m, const quad *quads, int nq, const double w[3])
+{
+    double d = m->z_limit / v3_dot(w, c->f);
+    for (int k = 0; k < nq; k++) {
+        double t = quad_hit(&quads[k], c->eye, w);
+        d = t < d ? t : d;
+    }
+    return d;
+}
+
+/* The in-scatter of an unshadowed segment [0, s] (lightgraph/medium.h), channel ch. */
+static double closed(const fog *m, const light *l, const double w[3], int ch, double s)
+{
+    double mw[3] = { -l->dir[0], -l->dir[1], -l->dir[2] };
+    double p = lg_hg_phase(m->g, v3_dot(w, mw));
+    return lg_medium_inscatter(l->l_c[ch], m->sigma_s[ch], m->sigma_t[ch], p, s);
+}
+
+/* Oracle with exact visibility: [0, d] cut in `steps` pieces, each lit or not at its middle
+ * (a point is shadowed when the ray from it towards the light hits a quad), each adding
+ * the exact closed-form increment of its piece. */
+static double marched(const fog *m, const light *l, const quad *quads, int nq, const double e[3],
+                      const double w[3], int ch, double d, int steps)
+{
+    double sum = 0.0, back[3] = { -l->dir[0], -l->dir[1], -l->dir[2] };
+    for (int i = 0; i < steps; i++) {
+        double t0 = d * i / steps, t1 = d * (i + 1) / steps, tm = 0.5 * (t0 + t1), p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = e[k] + tm * w[k];
+        bool lit = true;
+        for (int q = 0; q < nq && lit; q++)
+            lit = !isfinite(quad_hit(&quads[q], p, back));
+        if (lit)
+            sum += closed(m, l, w, ch, t1) - closed(m, l, w, ch, t0);
+    }
+    return sum;
+}
+
+/* ---- graphs --------------------------------------------------------------------------------- */
+
+/* The scene part: s (testphongscene), the lights chained to `ls`, `fog`, `shadow`, `lit`. */
+static void graph(char *g, size_t cap, const char *layout, const cam *c, const light *lights,
+                  int nl, const fog *m, double density, int sm_res, const char *vol_params,
+                  bool shadows)
+{
+    int k = snprintf(g, cap,
+                     "lightgraph 1\n"
+                     "s = test_phong_scene { layout = %s, size = 10, double_sided = true, "
+                     "ka = 0.1, "
+                     "camera_position = [%.17g, %.17g, %.17g], camera_target = [%.17g, %.17g, "
+                     "%.17g], camera_up = [%.17g, %.17g, %.17g], yfov_deg = %.17g }\n",
+                     layout, c->eye[0], c->eye[1], c->eye[2], c->target[0], c->target[1],
+                     c->target[2], c->up[0], c->up[1], c->up[2], c->fov_deg);
+    for (int i = 0; i < nl; i++) {
+        const light *l = &lights[i];
+        double in = fmax(l->l_c[0], fmax(l->l_c[1], l->l_c[2]));
+        char prev[16];
+        snprintf(prev, sizeof prev, i ? "l%d" : "s", i - 1);
+        k += snprintf(g + k, cap - (size_t)k,
+                      "l%d = light { scene = %s, direction = [%.17g, %.17g, %.17g], color = "
+                      "[%.17g, %.17g, %.17g], intensity = %.17g }\n",
+                      i, prev, l->dir[0], l->dir[1], l->dir[2], l->l_c[0] / in,
+                      l->l_c[1] / in, l->l_c[2] / in, in);
+    }
+    /* the scattering and absorption of density 1; the node gets density separately */
+    k += snprintf(g + k, cap - (size_t)k,
+                  "fog = medium { scene = l%d, density = %.17g, scattering = [%.17g, %.17g, "
+                  "%.17g], absorption = [%.17g, %.17g, %.17g], g = %.17g }\n"
+                  "shadow = shadowmap { scene = fog, resolution = %d }\n"
+                  "lit = phong { scene = fog, shadows = shadow }\n"
+                  "vol = volumetric_polygonal { scene = fog, base = lit%s, z_limit = %.17g%s%s }\n"
+                  "output vol.inscatter \"ins.exr\"\n"
+                  "output vol \"out.exr\"\n"
+                  "output lit \"lit.exr\"\n",
+                  nl - 1, density, m->sigma_s[0], m->sigma_s[1], m->sigma_s[2],
+                  m->sigma_t[0] - m->sigma_s[0], m->sigma_t[1] - m->sigma_s[1],
+                  m->sigma_t[2] - m->sigma_s[2], m->g, sm_res,
+                  shadows ? ", shadows = shadow" : "", m->z_limit, vol_params[0] ? ", " : "",
+                  vol_params);
+}
+
+static int render(lg_test *t, const char *g, const char *const *extra, char **text)
+{
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[12] = { "--size", "64x48" };
+    int na = 2;
+    for (int i = 0; extra && extra[i] && na < 11; i++)
+        args[na++] = extra[i];
+    args[na] = NULL;
+    return lg_test_render(t, "g.lgraph", args, text);
+}
+
+static const fog default_fog = { .sigma_s = { 0.1, 0.2, 0.3 },
+                                 .sigma_t = { 0.15, 0.25, 0.35 },
+                                 .g = 0.4,
+                                 .z_limit = 8 };
+
+/* Renders the plane with `lights` and checks inscatter against the sum of closed forms and
+ * out against base e^(-sigma_t d) + inscatter. Returns the largest relative error. */
+static double check_closed(lg_test *t, const char *what, const cam *c, const light *lights,
+                           int nl, const char *vol_params, int sm_res)
+{
+    const fog *m = &default_fog;
+    char g[16384];
+    graph(g, sizeof g, "plane", c, lights, nl, m, 1.0, sm_res, vol_params, true);
+    char *text = NULL;
+    int rc = render(t, g, NULL, &text);
+    free(text);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d)", what, rc);
+    if (rc)
+        return INFINITY;
+    lg_image ins, out, lit;
+    if (!lg_test_read(t, "ins.exr", &ins, NULL) || !lg_test_read(t, "out.exr", &out, NULL) ||
+        !lg_test_read(t, "lit.exr", &lit, NULL))
+        return INFINITY;
+    quad plane = { 0.0, 5.0 };
+    double worst = 0.0, worst_out = 0.0;
+    uint64_t over = 0;
+    int wx = 0, wy = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double w[3];
+            cam_ray(c, x, y, w);
+            double d = fog_length(c, m, &plane, 1, w);
+            for (int ch = 0; ch < 3; ch++) {
+                double want = 0.0;
+                for (int l = 0; l < nl; l++)
+                    want += closed(m, &lights[l], w, ch, d);
+                size_t i = ((size_t)y * W + x) * 4 + ch;
+                double got = ins.pixels[i];
+                double rel = fabs(got - want) / want;
+                if (rel > worst) {
+                    worst = rel;
+                    wx = x, wy = y;
+                }
+                /* fp32: the shaders' F and the exp differ from the double closed form by
+                 * a few ulp; d from the depth buffer by ~1e-5 relative */
+                if (!(rel <= 1e-4))
+                    over++;
+                double T = exp(-m->sigma_t[ch] * d);
+                double want_out = lit.pixels[i] * T + got;
+                double e = fabs(out.pixels[i] - want_out) / (fabs(want_out) + 1e-6);
+                worst_out = e > worst_out ? e : worst_out;
+            }
+        }
+    fprintf(stderr, "%s: inscatter max relative error %.3g at (%d, %d); out %.3g\n", what,
+            worst, wx, wy, worst_out);
+    LG_TEST_CHECK(t, over == 0, "%s: %llu values beyond 1e-4 relative (worst %.3g at %d, %d)",
+                  what, (unsigned long long)over, worst, wx, wy);
+    LG_TEST_CHECK(t, worst_out < 1e-3, "%s: out differs from base T + inscatter by %.3g",
+                  what, worst_out);
+    lg_image_free(&ins);
+    lg_image_free(&out);
+    lg_image_free(&lit);
+    return worst;
+}
+
+static light mk_light(double dx, double dy, double dz, double r, double g, double b)
+{
+    light l = { { dx, dy, dz }, { r, g, b } };
+    v3_norm(l.dir);
+    return l;
+}
+
+static void case_closed_form(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_deg = 40 };
+    cam_init(&c);
+    /* from above; from behind the camera (the camera looks along -Z, this light travels
+     * along -Z too); from in front of it, low, towards the camera (g = 0.4 brightens) */
+    light above = mk_light(0.3, -1, 0.2, 5, 5, 5);
+    light behind = mk_light(0.2, -0.5, -1, 3, 4, 5);
+    light front = mk_light(-0.1, -0.4, 1, 6, 5, 4);
+    check_closed(t, "light above", &c, &above, 1, "", 64);
+    check_closed(t, "light behind the camera", &c, &behind, 1, "", 64);
+    check_closed(t, "light in front", &c, &front, 1, "resolution = 16", 64);
+    check_closed(t, "one vertex per texel", &c, &front, 1, "resolution = 0", 128);
+    /* the camera far outside the shadow map's frustum (the map fits the plane, 10 x 10):
+     * the fog around it is lit all the same */
+    cam far = { .eye = { 0, 3, 14 }, .target = { 0, 0, 4 }, .up = { 0, 1, 0 }, .fov_deg = 30 };
+    cam_init(&far);
+    check_closed(t, "camera outside the light's frustum", &far, &above, 1, "", 64);
+}
+
+/* ---- balance: the PLY read back ------------------------------------------------------------- */
+
+typedef struct mesh {
+    float *v;
+    int32_t *tri;
+    uint64_t nv, nt;
+} mesh;
+
+static bool read_ply(lg_test *t, const char *rel, mesh *m)
+{
+    memset(m, 0, sizeof *m);
+    FILE *f = fopen(lg_test_path(t, rel), "rb");
+    LG_TEST_CHECK(t, f != NULL, "cannot open %s", rel);
+    if (!f)
+        return false;
+    char line[512];
+    bool ok = fgets(line, sizeof line, f) && strcmp(line, "ply\n") == 0;
+    while (ok && fgets(line, sizeof line, f)) {
+        unsigned long long n;
+        if (sscanf(line, "element vertex %llu", &n) == 1)
+            m->nv = n;
+        else if (sscanf(line, "element face %llu", &n) == 1)
+            m->nt = n;
+        else if (strcmp(line, "end_header\n") == 0)
+            break;
+    }
+    ok = ok && m->nv && m->nt;
+    if (ok) {
+        m->v = malloc(m->nv * 12);
+        m->tri = malloc(m->nt * 12);
+        ok = m->v && m->tri && fread(m->v, 12, m->nv, f) == m->nv;
+        for (uint64_t i = 0; ok && i < m->nt; i++) {
+            unsigned char cnt;
+            ok = fread(&cnt, 1, 1, f) == 1 && cnt == 3 && fread(m->tri + 3 * i, 4, 3, f) == 3;
+            for (int k = 0; ok && k < 3; k++)
+                ok = m->tri[3 * i + k] >= 0 && (uint64_t)m->tri[3 * i + k] < m->nv;
+        }
+    }
+    fclose(f);
+    LG_TEST_CHECK(t, ok, "%s is not the PLY the node documents", rel);
+    return ok;
+}
+
+/* #back - #front crossings of the ray (o, w) with the mesh (Moller-Trumbore in double). */
+static int crossings(const mesh *m, const double o[3], const double w[3])
+{
+    int sum = 0;
+    for (uint64_t i = 0; i < m->nt; i++) {
+        double a[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = m->v[3 * m->tri[3 * i] + k];
+            b[k] = m->v[3 * m->tri[3 * i + 1] + k];
+            c[k] = m->v[3 * m->tri[3 * i + 2] + k];
+        }
+        double e1[3], e2[3], s[3], p[3], q[3], n[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = b[k] - a[k];
+            e2[k] = c[k] - a[k];
+            s[k] = o[k] - a[k];
+        }
+        v3_cross(w, e2, p);
+        double det = v3_dot(e1, p);
+        if (det == 0.0)
+            continue;
+        double u = v3_dot(s, p) / det;
+        if (u < 0.0 || u > 1.0)
+            continue;
+        v3_cross(s, e1, q);
+        double v = v3_dot(w, q) / det;
+        if (v < 0.0 || u + v > 1.0)
+            continue;
+        if (v3_dot(e2, q) / det <= 0.0)
+            continue;
+        v3_cross(e1, e2, n);
+        sum += v3_dot(n, w) > 0.0 ? 1 : -1; /* leaving (back) : entering (front) */
+    }
+    return sum;
+}
+
+/* The signed sum the node accumulates, in double: every crossing of the ray (o, w) with the
+ * mesh at s > 0 adds +-F(min(s, d)) (+ leaving); *abs_sum gets the sum of |F|. */
+static double crossing_sum(const mesh *m, const fog *f, const light *l, const double o[3],
+                           const double w[3], int ch, double d, double *abs_sum)
+{
+    double sum = 0.0, sa = 0.0;
+    for (uint64_t i = 0; i < m->nt; i++) {
+        double a[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = m->v[3 * m->tri[3 * i] + k];
+            b[k] = m->v[3 * m->tri[3 * i + 1] + k];
+            c[k] = m->v[3 * m->tri[3 * i + 2] + k];
+        }
+        double e1[3], e2[3], sv[3], p[3], q[3], n[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = b[k] - a[k];
+            e2[k] = c[k] - a[k];
+            sv[k] = o[k] - a[k];
+        }
+        v3_cross(w, e2, p);
+        double det = v3_dot(e1, p);
+        if (det == 0.0)
+            continue;
+        double u = v3_dot(sv, p) / det;
+        if (u < 0.0 || u > 1.0)
+            continue;
+        v3_cross(sv, e1, q);
+        double v = v3_dot(w, q) / det;
+        if (v < 0.0 || u + v > 1.0)
+            continue;
+        double s = v3_dot(e2, q) / det;
+        if (s <= 0.0)
+            continue;
+        v3_cross(e1, e2, n);
+        double F = closed(f, l, w, ch, s < d ? s : d);
+        sum += v3_dot(n, w) > 0.0 ? F : -F;
+        sa += F;
+    }
+    *abs_sum = sa;
+    return sum;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+static double rnd(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static void case_balance(lg_test *t)
+{
+    cam c = { .eye = { 2.5, 1.6, 3.5 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    light l[2] = { mk_light(0.2, -1, 0.1, 5, 5, 5), mk_light(-0.5, -1, 0.3, 2, 2, 2) };
+    fog m = default_fog;
+    char g[16384];
+    graph(g, sizeof g, "shadow", &c, l, 2, &m, 1.0, 64, "mesh_file = \"mesh.ply\"",
+          true);
+    int rc = render(t, g, NULL, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render failed (%d)", rc);
+    if (rc)
+        return;
+    mesh all;
+    if (!read_ply(t, "mesh.ply", &all))
+        return;
+    /* two lights: the first half of the vertices and triangles is light 0's */
+    mesh one[2] = { { all.v, all.tri, all.nv / 2, all.nt / 2 },
+                    { all.v, all.tri + 3 * (all.nt / 2), all.nv, all.nt / 2 } };
+    LG_TEST_CHECK(t, all.nv % 2 == 0 && all.nt % 2 == 0, "odd counts %llu %llu",
+                  (unsigned long long)all.nv, (unsigned long long)all.nt);
+    /* start points: the eye and a point in open fog (lit: 1); under the quad, in its
+     * shadow for both lights (0); under the plane, in its shadow (0) */
+    struct { double p[3]; int want[2]; const char *what; } starts[] = {
+        { { c.eye[0], c.eye[1], c.eye[2] }, { 1, 1 }, "the eye" },
+        { { -3, 2.5, 1 }, { 1, 1 }, "open fog" },
+        { { 0.05, 0.5, 0.0 }, { 0, 0 }, "under the quad" },
+        { { 0.5, -0.7, 0.5 }, { 0, 0 }, "under the plane" },
+    };
+    int bad = 0, rays = 0;
+    for (int li = 0; li < 2; li++)
+        for (size_t s = 0; s < sizeof starts / sizeof starts[0]; s++)
+            for (int r = 0; r < 300; r++) {
+                double w[3], z = 2 * rnd() - 1, ph = 2 * 3.14159265358979 * rnd();
+                double sr = sqrt(1 - z * z);
+                w[0] = sr * cos(ph), w[1] = sr * sin(ph), w[2] = z;
+                int got = crossings(&one[li], starts[s].p, w);
+                rays++;
+                if (got != starts[s].want[li]) {
+                    if (bad++ < 5)
+                        fprintf(stderr, "light %d, from %s, ray (%g %g %g): #back - #front = %d, "
+                                        "want %d\n", li, starts[s].what, w[0], w[1], w[2], got,
+                                starts[s].want[li]);
+                }
+            }
+    /* random points in and around the fog: every ray from one point gives the same count,
+     * 0 or 1 */
+    int incons = 0, points = 0;
+    for (int li = 0; li < 2; li++)
+        for (int s = 0; s < 150; s++) {
+            double p[3] = { 8 * rnd() - 4, 3.5 * rnd() - 1, 8 * rnd() - 4 };
+            int first = -99;
+            points++;
+            for (int r = 0; r < 6; r++) {
+                double w[3], z = 2 * rnd() - 1, ph = 2 * 3.14159265358979 * rnd();
+                double sr = sqrt(1 - z * z);
+                w[0] = sr * cos(ph), w[1] = sr * sin(ph), w[2] = z;
+                int got = crossings(&one[li], p, w);
+                rays++;
+                if (first == -99)
+                    first = got;
+                if (got != first || (got != 0 && got != 1)) {
+                    if (incons++ < 5)
+                        fprintf(stderr, "light %d, from (%g %g %g): #back - #front = %d and %d\n",
+                                li, p[0], p[1], p[2], first, got);
+                    break;
+                }
+            }
+        }
+    LG_TEST_CHECK(t, incons == 0, "%d of %d random points see unbalanced crossings", incons,
+                  points);
+    fprintf(stderr, "balance: %d of %d rays wrong\n", bad + incons, rays);
+    LG_TEST_CHECK(t, bad == 0, "%d of %d rays cross the mesh unbalanced", bad, rays);
+    free(all.v);
+    free(all.tri);
+}
+
+/* ---- the shaft ------------------------------------------------------------------------------ */
+
+static void check_shaft(lg_test *t, const char *what, const cam *c, const light *l,
+                        const char *vol_params, const char *ply, double max_rel_rmse)
+{
+    fog m = default_fog;
+    m.z_limit = 7;
+    char g[16384];
+    graph(g, sizeof g, "shadow", c, l, 1, &m, 1.0, 256, vol_params, true);
+    int rc = render(t, g, NULL, NULL);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d)", what, rc);
+    if (rc)
+        return;
+    lg_image ins;
+    if (!lg_test_read(t, "ins.exr", &ins, NULL))
+        return;
+    /* testphongscene's shadow layout: the plane (edge 10 here) and the quad x, z in
+     * [-0.5, 0.5] at y = 1 */
+    quad quads[2] = { { 0.0, 5.0 }, { 1.0, 0.5 } };
+    double se = 0.0, sw = 0.0, best_drop = 1.0, best_got = 0.0;
+    int n = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double w[3];
+            cam_ray(c, x, y, w);
+            double d = fog_length(c, &m, quads, 2, w);
+            double want = marched(&m, l, quads, 2, c->eye, w, 1, d, 2000);
+            double open = closed(&m, l, w, 1, d);
+            double got = ins.pixels[((size_t)y * W + x) * 4 + 1];
+            se += (got - want) * (got - want);
+            sw += want;
+            n++;
+            if (want / open < best_drop) {
+                best_drop = want / open;
+                best_got = got / open;
+            }
+        }
+    double rel_rmse = sqrt(se / n) / (sw / n);
+    mesh msh;
+    if (ply && read_ply(t, ply, &msh)) {
+        /* fp32 against double on the same mesh: the node's accumulation (and its d from
+         * the depth buffer) against the signed sum recomputed here, relative to F(d) */
+        /* every 4th pixel each way: 130 k triangles per ray (the sanitizer build is slow) */
+        double *err = malloc(sizeof(double) * W * H), worst_cancel = 0.0;
+        int k = 0;
+        for (int y = 1; y < H; y += 4)
+            for (int x = 1; x < W; x += 4) {
+                double w[3], sa;
+                cam_ray(c, x, y, w);
+                double d = fog_length(c, &m, quads, 2, w);
+                double net = crossing_sum(&msh, &m, l, c->eye, w, 1, d, &sa);
+                double open = closed(&m, l, w, 1, d);
+                double got = ins.pixels[((size_t)y * W + x) * 4 + 1];
+                err[k++] = fabs(got - net) / open;
+                worst_cancel = fmax(worst_cancel, sa / fmax(net, 1e-3 * open));
+            }
+        qsort(err, (size_t)k, sizeof *err, cmp_double);
+        double p99 = err[(size_t)(0.99 * (k - 1))], p50 = err[k / 2];
+        fprintf(stderr, "%s: fp32 accumulation against double on the same mesh: median %.2g, "
+                        "99th percentile %.2g, max %.2g of F(d); sum of |terms| up to %.1f x "
+                        "the net\n", what, p50, p99, err[k - 1], worst_cancel);
+        /* the largest errors sit where a ray grazes a mesh edge and the rasteriser and
+         * the double test pick different triangles: the 99th percentile is the fp32 one */
+        LG_TEST_CHECK(t, p99 < 1e-4, "%s: fp32 accumulation differs from double by %.3g "
+                      "of F(d) at the 99th percentile", what, p99);
+        free(err);
+        free(msh.v);
+        free(msh.tri);
+    }
+    fprintf(stderr, "%s: relative RMSE %.4f; deepest shaft: oracle %.3f of the unshadowed "
+                    "value, node %.3f\n", what, rel_rmse, best_drop, best_got);
+    LG_TEST_CHECK(t, rel_rmse < max_rel_rmse, "%s: relative RMSE %.4f against the oracle",
+                  what, rel_rmse);
+    LG_TEST_CHECK(t, best_drop < 0.9, "%s: the view misses the shaft (oracle %.3f)", what,
+                  best_drop);
+    LG_TEST_CHECK(t, fabs(best_got - best_drop) < 0.05, "%s: through the shaft the node keeps "
+                  "%.3f of the unshadowed in-scatter, the oracle %.3f", what, best_got, best_drop);
+    lg_image_free(&ins);
+}
+
+static void case_shaft(lg_test *t)
+{
+    cam c = { .eye = { 2.5, 1.6, 3.5 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    light l = mk_light(0.2, -1, 0.1, 5, 5, 5);
+    check_shaft(t, "shaft", &c, &l, "mesh_file = \"shaft.ply\"", "shaft.ply", 0.04);
+    check_shaft(t, "shaft, resolution 32", &c, &l, "resolution = 32", NULL, 0.08);
+}
+
+static void case_inside_shadow(lg_test *t)
+{
+    /* under the quad (its shadow spans y < 1 around the axis for a light straight down),
+     * looking sideways and up past its edge: rays start in the shadow and the shaft's
+     * walls pass through the near plane */
+    cam c = { .eye = { 0.1, 0.6, 0.05 }, .target = { 3, 1.3, -1 }, .up = { 0, 1, 0 },
+              .fov_deg = 70 };
+    cam_init(&c);
+    light l = mk_light(0.05, -1, 0.02, 5, 5, 5);
+    check_shaft(t, "camera inside the shadow", &c, &l, "", NULL, 0.04);
+}
+
+/* ---- 32 lights, memory ---------------------------------------------------------------------- */
+
+static light light_k(int k)
+{
+    double a = 2 * 3.14159265358979 * k / 32.0;
+    return mk_light(0.6 * cos(a), -1, 0.6 * sin(a), 0.2 + 0.02 * k, 0.5, 0.8 - 0.01 * k);
+}
+
+/* bytes_allocated of node "vol" in a profile JSON file, or -1. */
+static long long profile_bytes(lg_test *t, const char *rel)
+{
+    FILE *f = fopen(lg_test_path(t, rel), "rb");
+    if (!f)
+        return -1;
+    static char buf[1 << 16];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    const char *p = strstr(buf, "\"name\": \"vol\"");
+    if (!p || !(p = strstr(p, "\"bytes_allocated\": ")))
+        return -1;
+    return atoll(p + strlen("\"bytes_allocated\": "));
+}
+
+static void case_lights32(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_deg = 40 };
+    cam_init(&c);
+    light l[32];
+    for (int k = 0; k < 32; k++)
+        l[k] = light_k(k);
+    check_closed(t, "32 lights", &c, l, 32, "resolution = 16", 32);
+
+    /* memory: per light one vertex buffer of (16^2 + 4 * 15 + 8) vec4 */
+    long long b[4];
+    const int counts[4] = { 1, 2, 4, 8 };
+    for (int i = 0; i < 4; i++) {
+        char g[16384];
+        graph(g, sizeof g, "plane", &c, l, counts[i], &default_fog, 1.0, 32, "resolution = 16",
+              true);
+        const char *extra[] = { "--profile-json", "prof.json", NULL };
+        int rc = render(t, g, extra, NULL);
+        LG_TEST_CHECK(t, rc == 0, "%d lights: render failed", counts[i]);
+        b[i] = profile_bytes(t, "prof.json");
+        LG_TEST_CHECK(t, b[i] > 0, "%d lights: no bytes_allocated for vol", counts[i]);
+    }
+    const long long per_light = (16 * 16 + 4 * 15 + 8) * 16;
+    fprintf(stderr, "bytes_allocated for 1, 2, 4, 8 lights: %lld %lld %lld %lld\n", b[0], b[1],
+            b[2], b[3]);
+    for (int i = 1; i < 4; i++)
+        LG_TEST_CHECK(t, b[i] - b[0] == (counts[i] - 1) * per_light,
+                      "%d lights: %lld bytes, want %lld + %d x %lld", counts[i], b[i], b[0],
+                      counts[i] - 1, per_light);
+}
+
+/* ---- gating, errors ------------------------------------------------------------------------- */
+
+static void case_gating(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_deg = 40 };
+    cam_init(&c);
+    light l = mk_light(0.3, -1, 0.2, 5, 5, 5);
+    char g[16384];
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 0.0, 64, "", true);
+    const char *extra[] = { "--explain", NULL };
+    char *text = NULL;
+    int rc = render(t, g, extra, &text);
+    LG_TEST_CHECK(t, rc == 0, "render failed (%d)", rc);
+    LG_TEST_CHECK(t, text && strstr(text, "gated"),
+                  "--explain does not say the node is gated:\n%s", text ? text : "");
+    free(text);
+    if (rc)
+        return;
+    lg_image out, lit, ins;
+    if (!lg_test_read(t, "out.exr", &out, NULL) || !lg_test_read(t, "lit.exr", &lit, NULL) ||
+        !lg_test_read(t, "ins.exr", &ins, NULL))
+        return;
+    lg_test_tol tol = { .max_abs = 0 };
+    lg_test_check_image(t, &out, &lit, 32, &tol, "gated out = base");
+    double mx = 0;
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        for (int ch = 0; ch < 3; ch++)
+            mx = fmax(mx, fabs(ins.pixels[4 * i + ch]));
+    LG_TEST_CHECK(t, mx == 0.0, "gated inscatter is not black (%g)", mx);
+    lg_image_free(&out);
+    lg_image_free(&lit);
+    lg_image_free(&ins);
+}
+
+static void expect_error(lg_test *t, const char *what, const char *g, const char *needle)
+{
+    lg_test_write_text(t, "e.lgraph", g);
+    const char *args[] = { "--size", "32x24", NULL };
+    char *text = NULL;
+    int rc = lg_test_render(t, "e.lgraph", args, &text);
+    LG_TEST_CHECK(t, rc == 1 || rc == 2, "%s: exit status %d, want 1 or 2", what, rc);
+    LG_TEST_CHECK(t, text && strstr(text, needle), "%s: the message lacks \"%s\":\n%s", what,
+                  needle, text ? text : "");
+    LG_TEST_CHECK(t, text && strstr(text, "vol"), "%s: the message does not name the node:\n%s",
+                  what, text ? text : "");
+    free(text);
+}
+
+static void case_errors(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_deg = 40 };
+    cam_init(&c);
+    light l = mk_light(0.3, -1, 0.2, 5, 5, 5);
+    char g[16384];
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "", false);
+    expect_error(t, "no shadows", g, "shadows");
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "resolution = 1", true);
+    expect_error(t, "resolution 1", g, "resolution");
+    fog near = default_fog;
+    near.z_limit = 0.05; /* the camera's znear is 0.1 */
+    graph(g, sizeof g, "plane", &c, &l, 1, &near, 1.0, 64, "", true);
+    expect_error(t, "z_limit before znear", g, "z_limit 0.05");
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "resolution = -3", true);
+    expect_error(t, "negative resolution", g, "resolution");
+
+    /* a base without depth: an image read from a file */
+    lg_image img;
+    lg_image_alloc(&img, 32, 24);
+    lg_test_write_exr(t, "flat.exr", &img);
+    lg_image_free(&img);
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "", true);
+    char *at = strstr(g, "base = lit");
+    char g2[16500];
+    snprintf(g2, sizeof g2, "%.*sbase = flat%s", (int)(at - g), g, at + strlen("base = lit"));
+    at = strstr(g2, "vol = ");
+    char g3[16600];
+    snprintf(g3, sizeof g3, "%.*sflat = image { file = \"flat.exr\" }\n%s", (int)(at - g2), g2,
+             at);
+    expect_error(t, "base without depth", g3, "no depth plane");
+
+    /* 33 directional lights */
+    light many[33];
+    for (int k = 0; k < 33; k++)
+        many[k] = light_k(k % 32);
+    graph(g, sizeof g, "plane", &c, many, 33, &default_fog, 1.0, 16, "", true);
+    expect_error(t, "33 lights", g, "more than 32");
+}
+
+static void setup(lg_test *t)
+{
+    lg_test_use_plugins(t, POLY_TEST_PLUGIN_DIR);
+}
+
+int main(int argc, char **argv)
+{
+    static const lg_test_case cases[] = {
+        { "closed_form", case_closed_form }, { "balance", case_balance },
+        { "shaft", case_shaft },             { "inside_shadow", case_inside_shadow },
+        { "lights32", case_lights32 },       { "gating", case_gating },
+        { "errors", case_errors },
+    };
+    lg_test_main_opts o = { .prefix = NULL, .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
+}
