@@ -13,6 +13,11 @@
  * previous frame's blended S), so that no copy is needed between frames. They are made
  * with the grid size, counted with lg_account_alloc, remade (and counted again) when the
  * size changes, and deleted in fx_gl_destroy.
+ *
+ * Why 3D textures (image load/store) and not storage buffers: on llvmpipe the same three
+ * passes with S in two SSBOs ([k][j][i] vec4) ran about 2x slower in the light pass and
+ * 3-4x slower in the accumulation (190x90x128 grid, 640x360; README's numbers), as the PRT
+ * work found for wide buffer reads in compute shaders there.
  */
 #include <math.h>
 #include <stddef.h>
