@@ -53,7 +53,11 @@
  *    inscatter = (L_v, 1); out = (base.rgb exp(-sigma_t d) + L_v, base.a) for
  *    energy_conserving, (base.rgb + L_v, base.a) for thesis; out's depth = base's depth.
  *    (For an unshadowed homogeneous medium S is constant along a column, and the energy-
- *    conserving lookup is the closed form L_c sigma_s p d seg(sigma_t d) at any slicing.)
+ *    conserving lookup is the closed form L_c sigma_s p d seg(sigma_t d) at any slicing,
+ *    exactly where the pixel's centre is a column's centre (image size = W x H, or a 1 x 1
+ *    image on a 1 x 1 grid). Between columns the bilinear blend of A and S (whose phase and
+ *    1 / cos belong to the columns, not the pixel) is an interpolation error of the
+ *    method, not of a backend; tests compare at column centres.)
  *
  * Every backend maps its inputs and outputs itself on its device (lg_map_cpu / _gl / _cl):
  * base = lg_input(VOL_IN_BASE) (colour + depth), the shadow atlas = f->sm->atlas, outputs

@@ -1,0 +1,320 @@
+/*
+ * The volumetric_froxel plugin: single scattering in a homogeneous medium through a froxel
+ * grid (TECHNIQUES.md §6; seed 2, chapter 3, eqs. 10-12), on gl, cl and cpu.
+ *
+ *   volumetric_froxel   scene + base [+ shadows] -> out, inscatter, grid
+ *
+ * This file is the node: parameters, prepare, the frame's set-up (camera, lights, medium,
+ * slice map, jitter) and the temporal state (the previous frame's camera); froxel.h is the
+ * spec of what each backend computes (froxel_cpu.c, froxel_cl.c, froxel_gl.c) and the
+ * interface between them. README.md gives the ports, parameters, equations and
+ * measurements.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/froxel.h"
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/medium.h"
+
+#include "froxel.h"
+
+enum { FX_GL = 0, FX_CL, FX_CPU };
+enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
+
+/* Caps: each side, and the grid's bytes (rgba32f, W x H x D x 16 <= 1 GiB; the backends
+ * hold two more volumes of the same size, S and its history). */
+#define FX_MAX_W 1024
+#define FX_MAX_H 1024
+#define FX_MAX_D 512
+#define FX_MAX_BYTES (1ull << 30)
+
+/* The temporal jitter of frame f: the fractional part of 0.5 + f / phi (golden ratio
+ * sequence; frame 0 samples the slice centres as without temporal). */
+#define FX_GOLDEN 0.61803398875
+
+typedef struct fx_state {
+    int backend, slicing;
+    uint32_t gw, gh, gd;        /* grid */
+    float z_near, z_limit, near_offset, history;
+    bool temporal, per_frame;
+    fx_accum accum;
+    uint32_t width, height;     /* image */
+
+    /* temporal: the previous frame's camera and slice map */
+    bool has_prev;
+    vol_setup prev;
+    lg_slice_map prev_map;
+
+    void *backend_state;        /* the backend's (fx_*_execute makes it) */
+} fx_state;
+
+static int fx_create(lg_node *n)
+{
+    fx_state *st = calloc(1, sizeof *st);
+    if (!st)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    n->user = st;
+    st->backend = lg_param_enum(n, "backend");
+    st->slicing = lg_param_enum(n, "slicing");
+    st->accum = lg_param_enum(n, "accumulation") == 0 ? FX_ACC_THESIS : FX_ACC_ENERGY;
+    st->gw = (uint32_t)lg_param_int(n, "width");
+    st->gh = (uint32_t)lg_param_int(n, "height");
+    st->gd = (uint32_t)lg_param_int(n, "depth");
+    st->z_near = (float)lg_param_float(n, "z_near");
+    st->z_limit = (float)lg_param_float(n, "z_limit");
+    st->near_offset = (float)lg_param_float(n, "near_offset");
+    st->history = (float)lg_param_float(n, "history");
+    st->temporal = lg_param_bool(n, "temporal");
+    st->per_frame = lg_param_bool(n, "per_frame");
+
+    const struct { const char *key; float v; float max; } f[] = {
+        { "z_near", st->z_near, 1e30f },
+        { "z_limit", st->z_limit, 1e30f },
+        { "near_offset", st->near_offset, 1e30f },
+        { "history", st->history, 0.99f },
+    };
+    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
+        if (!isfinite(f[i].v) || f[i].v < 0 || f[i].v > f[i].max)
+            return lg_error(n, "%s = %g: must be a finite number in [0, %g]", f[i].key,
+                            (double)f[i].v, (double)f[i].max);
+    if (st->gw < 1 || st->gh < 1 || st->gd < 1 || st->gw > FX_MAX_W || st->gh > FX_MAX_H ||
+        st->gd > FX_MAX_D)
+        return lg_error(n, "grid %ux%ux%u: width, height and depth must be in [1, %d], "
+                           "[1, %d], [1, %d]",
+                        st->gw, st->gh, st->gd, FX_MAX_W, FX_MAX_H, FX_MAX_D);
+    uint64_t bytes = (uint64_t)st->gw * st->gh * st->gd * 16u;
+    if (bytes > FX_MAX_BYTES)
+        return lg_error(n, "grid %ux%ux%u: %.2f GiB of rgba32f, more than the 1 GiB cap",
+                        st->gw, st->gh, st->gd, (double)bytes / (double)(1ull << 30));
+    if (st->z_limit > 0 && st->z_near > 0 && !(st->z_near < st->z_limit))
+        return lg_error(n, "z_near = %g, z_limit = %g: the grid needs z_near < z_limit",
+                        (double)st->z_near, (double)st->z_limit);
+    return 0;
+}
+
+static int fx_prepare(lg_node *n)
+{
+    fx_state *st = n->user;
+    int rc = vol_declare_outputs(n, &st->width, &st->height);
+    if (rc)
+        return rc;
+    rc = lg_froxel_declare(n, FX_OUT_GRID, st->gw, st->gh, st->gd, LG_FORMAT_RGBA32F);
+    if (rc)
+        return rc;
+    /* temporal needs one execution per frame; per_frame re-runs for timing */
+    if (st->per_frame || (st->temporal && st->history > 0))
+        lg_set_per_frame(n, true);
+    return lg_set_device(n, st->backend == FX_GL   ? LG_DEVICE_GL
+                            : st->backend == FX_CL ? LG_DEVICE_CL
+                                                   : LG_DEVICE_CPU);
+}
+
+/* The grid's slice map for this frame's camera: near = z_near (0: the camera's znear), far
+ * = the fog's end; exponential near_offset 0 = the end of slice 0 of a geometric series
+ * from near to far (near (far / near)^(1 / depth)), so that every slice after the first
+ * spans the same ratio of depths as the first spans near..near_offset. */
+static int fx_slice_map(lg_node *n, const fx_state *st, const vol_setup *v, lg_slice_map *map)
+{
+    double near = st->z_near > 0 ? st->z_near : v->view.znear;
+    double far = v->z_limit;
+    if (!(near > 0) || !(far > near))
+        return lg_error(n, "the grid spans view depths %g .. %g (z_near %g, z_limit %g, the "
+                           "camera's znear %g and zfar %g): it needs 0 < near < far",
+                        near, far, (double)st->z_near, (double)st->z_limit,
+                        (double)v->view.znear, (double)v->view.zfar);
+    lg_froxel_slicing s = st->slicing == FX_SLICE_EXP ? LG_FROXEL_EXPONENTIAL
+                                                      : LG_FROXEL_UNIFORM_CLIP;
+    double off = st->near_offset;
+    if (s == LG_FROXEL_EXPONENTIAL && off <= 0)
+        off = st->gd > 1 ? near * pow(far / near, 1.0 / st->gd) : 0.5 * (near + far);
+    if (s == LG_FROXEL_EXPONENTIAL && st->gd > 1 && !(off > near && off < far))
+        return lg_error(n, "near_offset = %g: exponential slicing needs it between the grid's "
+                           "near %g and far %g",
+                        off, near, far);
+    if (lg_slice_map_init(map, s, st->gd, near, far, off))
+        return lg_error(n, "slice map (near %g, far %g, near_offset %g, depth %u) refused",
+                        near, far, off, st->gd);
+    return 0;
+}
+
+static int fx_execute(lg_node *n, const lg_frame *frame)
+{
+    fx_state *st = n->user;
+    const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
+    if (!s)
+        return LG_ERR_INVALID;
+    lg_shadowmap smv;
+    const lg_shadowmap *sm = NULL;
+    const lg_resource *sres = lg_input(n, VOL_IN_SHADOWS);
+    if (sres) {
+        lg_resource_info info;
+        sm = lg_shadowmap_get(n, sres, &smv);
+        if (!sm && (lg_describe(sres, &info, n) != 0 ||
+                    (info.kind != LG_KIND_SHADOWMAP && !info.neutral)))
+            return LG_ERR_INVALID;
+        if (sm && (!sm->atlas || sm->resolution == 0 || (sm->n_lights && !sm->lights)))
+            return lg_error(n, "input 'shadows': the shadow maps have no atlas, no "
+                               "resolution or no light list");
+    }
+    /* large (32 lights): kept off the stack of the pool's callers */
+    vol_setup *v = malloc(sizeof *v);
+    if (!v)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, v);
+    fx_frame f = { 0 };
+    if (!rc)
+        rc = fx_slice_map(n, st, v, &f.map);
+    if (rc) {
+        free(v);
+        return rc;
+    }
+    bool temporal = st->temporal && st->history > 0;
+    f.v = v;
+    f.w = st->gw;
+    f.h = st->gh;
+    f.d = st->gd;
+    f.accum = st->accum;
+    f.frame = frame ? frame->index : 0;
+    if (temporal) {
+        double j = 0.5 + (double)f.frame * FX_GOLDEN;
+        f.jitter = (float)(j - floor(j));
+        f.history = st->history;
+        if (st->has_prev) {
+            f.prev = &st->prev;
+            f.prev_map = st->prev_map;
+        }
+    } else {
+        f.jitter = 0.5f;
+    }
+    f.sm = sm;
+    switch (st->backend) {
+    case FX_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
+    case FX_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
+    default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
+    }
+    if (!rc) {
+        lg_froxel_info info = { .struct_size = sizeof info, .width = st->gw,
+                                .height = st->gh, .depth = st->gd,
+                                .slicing = f.map.slicing, .near = (float)f.map.near,
+                                .far = (float)f.map.far,
+                                .near_offset = (float)f.map.near_offset };
+        memcpy(info.view, v->view.view, sizeof info.view);
+        memcpy(info.proj, v->view.proj, sizeof info.proj);
+        rc = lg_froxel_publish(n, FX_OUT_GRID, &info);
+    }
+    if (!rc && temporal) {
+        st->prev = *v;
+        st->prev_map = f.map;
+        st->has_prev = true;
+    }
+    if (!rc && f.frame == 0)
+        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s",
+               st->gw, st->gh, st->gd,
+               f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip",
+               f.map.near, f.map.far, v->n_lights, v->n_lights == 1 ? "" : "s",
+               sm ? "shadowed" : "unshadowed",
+               st->accum == FX_ACC_THESIS ? "thesis" : "energy_conserving",
+               temporal ? ", temporal" : "");
+    free(v);
+    return rc;
+}
+
+static void fx_destroy(lg_node *n)
+{
+    fx_state *st = n->user;
+    if (!st)
+        return;
+    if (st->backend_state) {
+        if (st->backend == FX_GL)
+            fx_gl_destroy(n, st->backend_state);
+        else if (st->backend == FX_CL)
+            fx_cl_destroy(n, st->backend_state);
+        else
+            fx_cpu_destroy(n, st->backend_state);
+    }
+    free(st);
+    n->user = NULL;
+}
+
+static const char *const fx_backends[] = { "gl", "cl", "cpu", NULL };
+static const char *const fx_slicings[] = { "uniform_clip", "exponential", NULL };
+static const char *const fx_accums[] = { "thesis", "energy_conserving", NULL };
+
+static const lg_param_desc fx_params[] = {
+    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = FX_GL, .enum_values = fx_backends,
+      .doc = "device of the light pass, the accumulation and the lookup: gl (compute "
+             "shaders), cl (kernels) or cpu (the host's thread pool)" },
+    { .key = "width", .type = LG_PARAM_INT, .def.i = 190, .min = 1, .max = FX_MAX_W,
+      .doc = "grid columns across the image (the thesis: 190)" },
+    { .key = "height", .type = LG_PARAM_INT, .def.i = 90, .min = 1, .max = FX_MAX_H,
+      .doc = "grid rows (the thesis: 90)" },
+    { .key = "depth", .type = LG_PARAM_INT, .def.i = 128, .min = 1, .max = FX_MAX_D,
+      .doc = "depth slices (the thesis: 128); W x H x D x 16 bytes <= 1 GiB" },
+    { .key = "slicing", .type = LG_PARAM_ENUM, .def.e = FX_SLICE_UNIFORM,
+      .enum_values = fx_slicings,
+      .doc = "uniform_clip: uniform in clip depth (the thesis, eq. 10); exponential: a "
+             "linear first slice to near_offset, exponential after it (lightgraph/medium.h)" },
+    { .key = "z_near", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "view depth where the slice map starts; 0 = the camera's znear (the fog "
+             "between the eye and z_near counts in slice 0)" },
+    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "view depth where the fog (and the grid) ends; 0 = the camera's zfar" },
+    { .key = "near_offset", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+      .doc = "exponential: view depth where slice 0 ends; 0 = near (far / near)^(1 / depth) "
+             "(every slice then spans the same ratio of depths)" },
+    { .key = "accumulation", .type = LG_PARAM_ENUM, .def.e = 1, .enum_values = fx_accums,
+      .doc = "thesis: eq. 12 as the thesis sums it (S x slice length, no extinction); "
+             "energy_conserving: each slice integrated with the transmittance from the eye" },
+    { .key = "temporal", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "jitter the sample in each slice (frame f: frac(0.5 + 0.61803398875 f)) and "
+             "blend with the previous frame's reprojected S (the node then runs every "
+             "frame); off when history = 0" },
+    { .key = "history", .type = LG_PARAM_FLOAT, .def.f = 0.9, .min = 0, .max = 0.99,
+      .doc = "temporal: weight of the reprojected history in the blend" },
+    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+      .doc = "run every frame (timing) instead of once" },
+};
+
+static const lg_port_desc fx_inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE,
+      .doc = "the scene: its directional lights (at most 32), its medium, its active camera" },
+    { .name = "base", .kind = LG_KIND_IMAGE,
+      .doc = "the lit image with its depth plane (phong's out)" },
+    { .name = "shadows", .kind = LG_KIND_SHADOWMAP, .optional = true,
+      .doc = "shadow maps of the directional lights; unconnected: unshadowed" },
+};
+static const lg_port_desc fx_outputs[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f + depth: base x e^(-sigma_t d) + L_v (thesis: base + L_v)" },
+    { .name = "inscatter", .kind = LG_KIND_IMAGE, .doc = "rgba32f: L_v alone, alpha 1" },
+    { .name = "grid", .kind = LG_KIND_FROXEL,
+      .doc = "rgba32f W x H x D: in-scattered radiance from the eye to each slice's far "
+             "boundary (rgb), mean transmittance (a); info: the slice map and camera" },
+};
+
+static const lg_node_type fx_types[] = {
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "volumetric_froxel",
+        .doc = "Single scattering in a homogeneous medium through a froxel grid (light pass, "
+               "front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on gl, cl, cpu",
+        LG_PARAMS(fx_params),
+        LG_INPUTS(fx_inputs),
+        LG_OUTPUTS(fx_outputs),
+        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
+        .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
+        .neutral_input = VOL_IN_BASE,
+        .create = fx_create,
+        .prepare = fx_prepare,
+        .execute = fx_execute,
+        .destroy = fx_destroy,
+    },
+};
+
+LG_PLUGIN_DEFINE("volumetric_froxel", "1.0.0",
+                 "Froxel-grid volumetric lighting (single scattering, homogeneous medium) "
+                 "on gl, cl and cpu",
+                 fx_types)

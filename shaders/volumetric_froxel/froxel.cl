@@ -1,0 +1,176 @@
+// shaders/volumetric_froxel/froxel.cl: the cl backend of volumetric_froxel, built after
+// shaders/common/medium.cl. plugins/volumetric_froxel/froxel.h is the spec; froxel_cpu.c
+// computes the same in C. Volumes are rgba float4 arrays [k][j][i].
+//
+// Per light l, `lights` holds 8 floats: dir.xyz (travels), shadow record (as a float,
+// -1 = unshadowed), l_c.rgb, 0. Per shadow record, `shadows` holds 20 floats: view_proj
+// (column-major), tile_x, tile_y, 0, 0.
+
+// The unit view ray through image point (x, y) (vol_ray).
+float3 fx_ray(float16 ivp, float3 eye, float x, float y, float W, float H)
+{
+    float4 ndc = (float4)(2.0f * x / W - 1.0f, 2.0f * y / H - 1.0f, 0.0f, 1.0f);
+    float4 r = ivp.s0123 * ndc.x + ivp.s4567 * ndc.y + ivp.s89ab * ndc.z + ivp.scdef;
+    return normalize(r.xyz / r.w - eye);
+}
+
+// vol_shadow_cpu: 1 lit, 0 shadowed.
+float fx_shadow(__global const float *shadows, int rec, __global const float *atlas,
+                int aw, int ah, int res, float bias, float3 p)
+{
+    if (rec < 0)
+        return 1.0f;
+    __global const float *m = shadows + 20 * rec;
+    float4 c = (float4)(m[0], m[1], m[2], m[3]) * p.x + (float4)(m[4], m[5], m[6], m[7]) * p.y +
+               (float4)(m[8], m[9], m[10], m[11]) * p.z + (float4)(m[12], m[13], m[14], m[15]);
+    float u = c.x / c.w * 0.5f + 0.5f, v = c.y / c.w * 0.5f + 0.5f, z = c.z / c.w * 0.5f + 0.5f;
+    if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f) || !(z >= 0.0f))
+        return 1.0f;
+    int tx = (int)m[16] + (int)(u * res), ty = (int)m[17] + (int)(v * res);
+    if (tx >= aw || ty >= ah)
+        return 1.0f;
+    return z > atlas[ty * aw + tx] + bias ? 0.0f : 1.0f;
+}
+
+float3 fx_trilinear(__global const float4 *vol, int W, int H, int D, float3 c)
+{
+    float3 lim = (float3)(W - 1, H - 1, D - 1);
+    c = clamp(c, (float3)(0.0f), lim);
+    float3 fl = floor(c), fr = c - fl;
+    int3 i0 = convert_int3(fl);
+    int3 i1 = min(i0 + 1, convert_int3(lim));
+    float3 r = (float3)(0.0f);
+    for (int corner = 0; corner < 8; corner++) {
+        int ii = (corner & 1) ? i1.x : i0.x, jj = (corner & 2) ? i1.y : i0.y,
+            kk = (corner & 4) ? i1.z : i0.z;
+        float w = ((corner & 1) ? fr.x : 1.0f - fr.x) * ((corner & 2) ? fr.y : 1.0f - fr.y) *
+                  ((corner & 4) ? fr.z : 1.0f - fr.z);
+        r += w * vol[(kk * H + jj) * W + ii].xyz;
+    }
+    return r;
+}
+
+// Light pass (eq. 11) and accumulation (eq. 12): one work-item per column.
+__kernel void fx_columns(int W, int H, int D, float16 ivp, float4 eye, float4 fwd, float4 img,
+                         int slicing, float4 map, float jitter, int accum,
+                         float4 sigma_s, float4 sigma_t, float g,
+                         int n_lights, __global const float *lights,
+                         __global const float *shadows, __global const float *atlas,
+                         int aw, int ah, int res, float bias,
+                         int blend, float history, float16 prev_vp, float4 prev_eye,
+                         float4 prev_fwd, int prev_slicing, float4 prev_map,
+                         __global const float4 *hist, __global float4 *S,
+                         __global float4 *grid)
+{
+    int col = get_global_id(0);
+    if (col >= W * H)
+        return;
+    int i = col % W, j = col / W;
+    float3 w = fx_ray(ivp, eye.xyz, (i + 0.5f) * img.x / W, (j + 0.5f) * img.y / H, img.x,
+                      img.y);
+    float cosv = dot(w, fwd.xyz);
+    float3 acc = (float3)(0.0f), tr = (float3)(1.0f);
+    float t_prev = 0.0f;
+    for (int k = 0; k < D; k++) {
+        float t = lg_slice_to_depth(slicing, map, k + jitter);
+        float3 p = eye.xyz + w * (t / cosv);
+        float3 sum = (float3)(0.0f);
+        for (int l = 0; l < n_lights; l++) {
+            __global const float *L = lights + 8 * l;
+            float3 dir = (float3)(L[0], L[1], L[2]);
+            float vis = fx_shadow(shadows, (int)L[3], atlas, aw, ah, res, bias, p);
+            if (vis > 0.0f)
+                sum += (float3)(L[4], L[5], L[6]) * lg_hg_phase(g, -dot(w, dir));
+        }
+        float3 s = sigma_s.xyz * sum;
+        if (blend) {
+            float3 q = eye.xyz + w * (lg_slice_to_depth(slicing, map, k + 0.5f) / cosv);
+            float4 c = prev_vp.s0123 * q.x + prev_vp.s4567 * q.y + prev_vp.s89ab * q.z +
+                       prev_vp.scdef;
+            if (c.w > 0.0f) {
+                float u = (c.x / c.w + 1.0f) * W * 0.5f, v = (c.y / c.w + 1.0f) * H * 0.5f;
+                float z = lg_depth_to_slice(prev_slicing, prev_map, dot(q - prev_eye.xyz,
+                                                                        prev_fwd.xyz));
+                if (u >= 0.0f && u <= W && v >= 0.0f && v <= H && z >= 0.0f && z <= D)
+                    s = mix(s, fx_trilinear(hist, W, H, D, (float3)(u, v, z) - 0.5f),
+                            history);
+            }
+        }
+        int idx = k * W * H + col;
+        S[idx] = (float4)(s, 1.0f);
+        float t_next = lg_slice_to_depth(slicing, map, k + 1.0f);
+        float delta = (t_next - t_prev) / cosv;
+        t_prev = t_next;
+        if (accum == 0) {
+            acc += s * delta;
+        } else {
+            float3 tau = sigma_t.xyz * delta;
+            float3 seg = (float3)(lg_medium_segment(tau.x), lg_medium_segment(tau.y),
+                                  lg_medium_segment(tau.z));
+            acc += tr * s * delta * seg;
+            tr *= exp(-tau);
+        }
+        grid[idx] = (float4)(acc, (tr.x + tr.y + tr.z) / 3.0f);
+    }
+}
+
+float3 fx_bilinear(__global const float4 *vol, int W, int H, int k, float u, float v)
+{
+    u = clamp(u, 0.0f, (float)(W - 1));
+    v = clamp(v, 0.0f, (float)(H - 1));
+    int i0 = (int)u, j0 = (int)v;
+    int i1 = min(i0 + 1, W - 1), j1 = min(j0 + 1, H - 1);
+    float fu = u - i0, fv = v - j0;
+    __global const float4 *s = vol + k * W * H;
+    float3 a = mix(s[j0 * W + i0].xyz, s[j0 * W + i1].xyz, fu);
+    float3 b = mix(s[j1 * W + i0].xyz, s[j1 * W + i1].xyz, fu);
+    return mix(a, b, fv);
+}
+
+// Lookup: one work-item per pixel.
+__kernel void fx_lookup(int W, int H, int D, float16 ivp, float4 eye, float4 fwd, float4 img,
+                        int slicing, float4 map, float z_limit, int accum, float4 sigma_t,
+                        __global const float4 *grid, __global const float4 *S,
+                        __global const float4 *base, __global const float *base_depth,
+                        __global float4 *out, __global float *out_depth,
+                        __global float4 *ins)
+{
+    int p = get_global_id(0);
+    int iw = (int)img.x, ih = (int)img.y;
+    if (p >= iw * ih)
+        return;
+    float x = (p % iw) + 0.5f, y = (p / iw) + 0.5f;
+    float depth = base_depth[p];
+    float3 w = fx_ray(ivp, eye.xyz, x, y, img.x, img.y);
+    float cosv = dot(w, fwd.xyz);
+    // vol_fog_length
+    float d = cosv > 0.0f ? z_limit / cosv : INFINITY;
+    if (depth < 1.0f && isfinite(depth)) {
+        float4 ndc = (float4)(2.0f * x / img.x - 1.0f, 2.0f * y / img.y - 1.0f,
+                              2.0f * depth - 1.0f, 1.0f);
+        float4 r = ivp.s0123 * ndc.x + ivp.s4567 * ndc.y + ivp.s89ab * ndc.z + ivp.scdef;
+        d = fmin(d, length(r.xyz / r.w - eye.xyz));
+    }
+    float t_end = d * cosv;
+    float zc = clamp(lg_depth_to_slice(slicing, map, t_end), 0.0f, (float)D);
+    int k = min((int)floor(zc), D - 1);
+    float t_s = k == 0 ? 0.0f : lg_slice_to_depth(slicing, map, (float)k);
+    float delta = fmax(t_end - t_s, 0.0f) / cosv;
+    float u = x * W / img.x - 0.5f, v = y * H / img.y - 0.5f;
+    float3 a = k > 0 ? fx_bilinear(grid, W, H, k - 1, u, v) : (float3)(0.0f);
+    float3 s = fx_bilinear(S, W, H, k, u, v);
+    float4 b = base[p];
+    float3 lv, tv = (float3)(1.0f);
+    if (accum == 0) {
+        lv = a + s * delta;
+    } else {
+        float3 tau = sigma_t.xyz * delta;
+        float3 seg = (float3)(lg_medium_segment(tau.x), lg_medium_segment(tau.y),
+                              lg_medium_segment(tau.z));
+        lv = a + exp(-sigma_t.xyz * (t_s / cosv)) * s * delta * seg;
+        tv = exp(-sigma_t.xyz * d);
+    }
+    ins[p] = (float4)(lv, 1.0f);
+    out[p] = (float4)(b.xyz * tv + lv, b.w);
+    out_depth[p] = depth;
+}
