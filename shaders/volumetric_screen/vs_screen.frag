@@ -17,8 +17,8 @@
 layout(location = 0) out vec4 o_out;
 layout(location = 1) out vec4 o_inscatter;
 
-uniform sampler2D u_base;
-uniform sampler2D u_base_depth;
+layout(binding = 0) uniform sampler2D u_base;        // base colour (rgba32f)
+layout(binding = 1) uniform sampler2D u_base_depth;  // its depth plane, 1 = sky
 uniform ivec2 u_size;
 uniform int u_samples;
 uniform int u_lights;
