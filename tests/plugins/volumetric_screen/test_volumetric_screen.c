@@ -21,6 +21,8 @@
  *              = z_limit / cos (and = zfar with z_limit = 0); out = base e^(-sigma_t d) + L_v
  *   example    gl and cpu agree on examples/volumetric_scene.lgraph (64 x 36); the shafts
  *              are there (inscatter > 0 somewhere, not everywhere the same)
+ *   gating     a medium of density 0: the node does not run, out = base, inscatter black,
+ *              --explain says why
  *   errors     absurd and NaN parameters, a base without depth, 33 lights: a clear error
  *              naming the value, no output file
  */
@@ -519,6 +521,43 @@ static void case_errors(lg_test *t)
         }
 }
 
+/* ---- gating -------------------------------------------------------------------------------- */
+
+static void case_gating(lg_test *t)
+{
+    /* the medium removed downstream of the test scene: the node must not run */
+    const char *g = "lightgraph 1\n"
+                    "s = test_vs_scene { }\n"
+                    "clear = medium { scene = s, density = 0 }\n"
+                    "b = test_vs_base { }\n"
+                    "vol = volumetric_screen { scene = clear, base = b }\n"
+                    "output vol.inscatter \"ins.exr\" float\n"
+                    "output vol \"out.exr\" float\n";
+    lg_image ins = { 0 }, out = { 0 };
+    char *text = NULL;
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "--size", "32x24", "--explain", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, &text);
+    LG_TEST_CHECK(t, rc == 0, "the gated render failed (%d)", rc);
+    LG_TEST_CHECK(t, text && strstr(text, "vol") && strstr(text, "medium"),
+                  "--explain does not say why vol is gated:\n%s", text ? text : "");
+    free(text);
+    if (rc || !lg_test_read(t, "ins.exr", &ins, NULL) || !lg_test_read(t, "out.exr", &out, NULL))
+        return;
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+        const float *a = ins.pixels + 4 * i, *o = out.pixels + 4 * i;
+        if (a[0] != 0 || a[1] != 0 || a[2] != 0 || o[0] != 0.2f || o[1] != 0.3f ||
+            o[2] != 0.4f) {
+            LG_TEST_FAILF(t, "gated: pixel %zu inscatter (%g, %g, %g), out (%g, %g, %g): want "
+                          "black and base",
+                          i, a[0], a[1], a[2], o[0], o[1], o[2]);
+            break;
+        }
+    }
+    lg_image_free(&ins);
+    lg_image_free(&out);
+}
+
 /* testvsinputs's folder, and an empty cache per case */
 static void setup(lg_test *t)
 {
@@ -532,7 +571,7 @@ int main(int argc, char **argv)
         { "behind", case_behind },     { "outside", case_outside },
         { "occluder", case_occluder }, { "lights32", case_lights32 },
         { "physical", case_physical }, { "example", case_example },
-        { "errors", case_errors },
+        { "errors", case_errors },     { "gating", case_gating },
     };
     lg_test_main_opts o = { .prefix = "volumetric_screen", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
