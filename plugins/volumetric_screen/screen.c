@@ -64,6 +64,7 @@ typedef struct vs_frame {
     float lc[VOL_MAX_LIGHTS][4];
     float to[VOL_MAX_LIGHTS][4];   /* -L */
     float k;                       /* log2 of one step's decay */
+    float wt[1025];                /* cpu: wt[i] = exp2f(i k), the shader's values */
     float norm;                    /* 1 / N or 1 / sum of weights */
     float scale;                   /* exposure weight (thesis) or exposure (physical) */
     uint32_t active;
@@ -154,8 +155,10 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
     double step = st->normalize ? 64.0 / N : 1.0; /* decay's exponent per sample */
     f->k = (float)(log2((double)st->decay) * step);
     double wsum = 0.0;
-    for (uint32_t i = 1; i <= st->samples; i++)
+    for (uint32_t i = 1; i <= st->samples; i++) {
         wsum += exp2((double)i * (double)f->k);
+        f->wt[i] = exp2f((float)i * f->k);
+    }
     f->norm = st->model == VS_THESIS && !st->normalize ? (float)(1.0 / N) : (float)(1.0 / wsum);
     f->scale = st->model == VS_THESIS ? st->exposure * st->weight : st->exposure;
     return 0;
@@ -292,7 +295,7 @@ static void vs_pixel(const vs_job *j, uint32_t x, uint32_t y)
             float qx = px + (float)i * dx, qy = py + (float)i * dy;
             if (qx >= 0.0f && qy >= 0.0f && qx < W && qy < H &&
                 j->depth[(size_t)(uint32_t)qy * st->width + (uint32_t)qx] >= 1.0f)
-                s += exp2f((float)i * f->k);
+                s += f->wt[i];
         }
         float a = f->scale * f->norm * s;
         if (st->model == VS_PHYSICAL) {
