@@ -459,9 +459,10 @@ static void case_example(lg_test *t)
         hi = fmax(hi, c.pixels[4 * i]);
     }
     LG_TEST_CHECK(t, hi > 0 && hi > 2 * lo, "no shafts: inscatter spans %g .. %g", lo, hi);
-    /* gl and cpu: the same float arithmetic; a sample on a texel's edge may fall either
-     * way, and the view rays are float on gl, double on the cpu */
-    lg_test_tol tol = { .max_abs = 0.05 * hi, .rel = 1e-4, .rmse = 2e-3 * hi };
+    /* gl and cpu: the same float arithmetic, the view rays float on gl and double on the
+     * cpu (measured here: max 2e-5, RMSE 3e-6); max_abs leaves room for one sample on a
+     * texel's edge falling the other way (1/64 of a pixel's value) */
+    lg_test_tol tol = { .max_abs = 0.02 * hi, .rel = 1e-4, .rmse = 2e-4 * hi };
     lg_test_check_image(t, &a, &c, 32, &tol, "example inscatter, gl vs cpu");
     lg_test_check_image(t, &ao, &co, 32, &tol, "example out, gl vs cpu");
     lg_image_free(&a);
