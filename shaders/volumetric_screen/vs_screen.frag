@@ -1,0 +1,85 @@
+#version 450 core
+// volumetric_screen: Mitchell's screen-space light shafts (seed 2 3.2.1, eq. 6-8), one
+// fragment per pixel. The C twin is vs_pixel in plugins/volumetric_screen/screen.c: the
+// same float arithmetic in the same order, so that the gl and cpu backends agree.
+//
+// Per light l with screen position p_l (pixels, computed on the host in double; u_light_pos
+// .z = 0 marks a light with no contribution: behind the camera, in the image plane, or so
+// far off-screen that every sample falls outside the image):
+//   p_i = p + i (p_l - p) / N, i = 1..N                          (eq. 7)
+//   V_i = 1 where p_i lies inside the image and depth(p_i) = 1   (eq. 8, the sky)
+//   S   = sum_i 2^(i u_k) V_i    (2^(i u_k) = decay^i, or decay^(64 i / N) normalised)
+// thesis:   L_v += u_scale u_norm S L_c                          (eq. 6)
+// physical: L_v += u_scale u_norm S L_c sigma_s p_HG(g, w.(-L)) d seg(sigma_t d)
+//           (u_norm S is then the decay-weighted fraction of visible samples)
+#include "medium.glsl"
+
+layout(location = 0) out vec4 o_out;
+layout(location = 1) out vec4 o_inscatter;
+
+layout(binding = 0) uniform sampler2D u_base;        // base colour (rgba32f)
+layout(binding = 1) uniform sampler2D u_base_depth;  // its depth plane, 1 = sky
+uniform ivec2 u_size;
+uniform int u_samples;
+uniform int u_lights;
+uniform int u_physical;
+uniform float u_k;       // log2 of the decay of one sample step
+uniform float u_norm;    // 1/N (thesis, not normalised) or 1 / sum of the weights
+uniform float u_scale;   // exposure x weight (thesis), exposure (physical)
+uniform vec4 u_light_pos[32];  // xy: pixels; z: 1 contributes, 0 not
+uniform vec4 u_light_c[32];    // L_c
+uniform vec4 u_light_to[32];   // unit direction towards the light, -L
+uniform mat4 u_inv_view_proj;
+uniform vec3 u_eye;
+uniform vec3 u_forward;
+uniform float u_z_limit;
+uniform vec3 u_sigma_s;
+uniform vec3 u_sigma_t;
+uniform float u_g;
+
+vec3 unproject(vec2 ndc, float z)
+{
+    vec4 r = u_inv_view_proj * vec4(ndc, z, 1.0);
+    return r.xyz / r.w;
+}
+
+void main()
+{
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec4 base = texelFetch(u_base, px, 0);
+    float depth = texelFetch(u_base_depth, px, 0).r;
+    vec2 p = vec2(px) + 0.5;
+    vec2 size = vec2(u_size);
+
+    // the view ray and the fog's extent along it (vol_common.h)
+    vec2 ndc = 2.0 * p / size - 1.0;
+    vec3 w = normalize(unproject(ndc, 0.0) - u_eye);
+    float cw = dot(w, u_forward);
+    float d = cw > 0.0 ? u_z_limit / cw : 0.0;
+    if (depth < 1.0)
+        d = min(d, length(unproject(ndc, 2.0 * depth - 1.0) - u_eye));
+
+    vec3 lv = vec3(0.0);
+    float nf = float(u_samples);
+    for (int l = 0; l < u_lights; l++) {
+        if (u_light_pos[l].z == 0.0)
+            continue;
+        vec2 dp = (u_light_pos[l].xy - p) / nf;
+        float s = 0.0;
+        for (int i = 1; i <= u_samples; i++) {
+            vec2 q = p + float(i) * dp;
+            if (q.x >= 0.0 && q.y >= 0.0 && q.x < size.x && q.y < size.y &&
+                texelFetch(u_base_depth, ivec2(q), 0).r >= 1.0)
+                s += exp2(float(i) * u_k);
+        }
+        vec3 c = u_light_c[l].rgb * (u_scale * u_norm * s);
+        if (u_physical != 0)
+            c *= u_sigma_s * lg_hg_phase(u_g, dot(w, u_light_to[l].xyz)) * d *
+                 lg_medium_segment3(u_sigma_t * d);
+        lv += c;
+    }
+    vec3 t = u_physical != 0 ? exp(-u_sigma_t * d) : vec3(1.0);
+    o_out = vec4(base.rgb * t + lv, base.a);
+    o_inscatter = vec4(lv, 1.0);
+    gl_FragDepth = depth;
+}

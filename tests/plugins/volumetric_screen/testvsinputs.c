@@ -1,0 +1,181 @@
+/*
+ * Test plugin "testvsinputs": the inputs of the volumetric_screen tests
+ * (test_volumetric_screen.c), made in memory so that every value is known.
+ *
+ *   test_vs_scene -> scene   no geometry; one camera at the origin looking down -Z (up +Y,
+ *                            60 degrees vertical field of view, znear 0.1, zfar 20, aspect
+ *                            from the image); a medium (density 1, `scattering`,
+ *                            `absorption`, `g`); `lights` directional lights: light 0
+ *                            travels along `direction`, light k > 0 along direction +
+ *                            0.25 (cos 2.4k, sin 2.4k, 0) (normalised); colour of light k
+ *                            (1, 1 - k/64, 1 - k/128), intensity `intensity`. only = k
+ *                            keeps light k alone (-1: all).
+ *   test_vs_base  -> image   rgba32f `color`, alpha 1, with a depth plane: `depth`
+ *                            everywhere except the box [box_x0, box_x1) x [box_y0, box_y1)
+ *                            (pixels) at `box_depth`; depth_plane = false: no depth plane.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/lightgraph.h"
+#include "lightgraph/scene.h"
+
+#include "common/testscene.h"
+
+#define VS_TEST_MAX_LIGHTS 40
+
+typedef struct tv_scene {
+    lg_scene s;
+    lg_light lights[VS_TEST_MAX_LIGHTS];
+    lg_camera camera;
+} tv_scene;
+
+static void tv_free(void *p)
+{
+    free(p);
+}
+
+static int tv_scene_prepare(lg_node *n)
+{
+    int64_t count = lg_param_int(n, "lights"), only = lg_param_int(n, "only");
+    if (only >= count)
+        return lg_error(n, "only = %lld but there are %lld lights", (long long)only,
+                        (long long)count);
+    tv_scene *t = calloc(1, sizeof *t);
+    if (!t)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    t->s.struct_size = sizeof t->s;
+    t->s.source = "test_vs_scene";
+    t->s.cameras = &t->camera;
+    t->s.n_cameras = 1;
+    lg_camera *c = &t->camera;
+    c->name = "test";
+    c->target[2] = -1.0f;
+    c->up[1] = 1.0f;
+    c->yfov = (float)(60.0 * 3.14159265358979323846 / 180.0);
+    c->znear = 0.1f;
+    c->zfar = 20.0f;
+    const lg_value *dir = lg_param(n, "direction");
+    for (int64_t k = 0; k < count; k++) {
+        if (only >= 0 && k != only)
+            continue;
+        lg_light *l = &t->lights[t->s.n_lights++];
+        l->name = "test";
+        l->type = LG_LIGHT_DIRECTIONAL;
+        double d[3] = { dir->v[0], dir->v[1], dir->v[2] };
+        if (k > 0) {
+            d[0] += 0.25 * cos(2.4 * (double)k);
+            d[1] += 0.25 * sin(2.4 * (double)k);
+        }
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int i = 0; i < 3; i++)
+            l->direction[i] = len > 0 ? (float)(d[i] / len) : 0.0f;
+        l->color[0] = 1.0f;
+        l->color[1] = 1.0f - (float)k / 64.0f;
+        l->color[2] = 1.0f - (float)k / 128.0f;
+        l->intensity = (float)lg_param_float(n, "intensity");
+    }
+    t->s.lights = t->lights;
+    t->s.medium.present = true;
+    t->s.medium.density = 1.0f;
+    for (int i = 0; i < 3; i++) {
+        t->s.medium.scattering[i] = (float)lg_param_float(n, "scattering");
+        t->s.medium.absorption[i] = (float)lg_param_float(n, "absorption");
+    }
+    t->s.medium.g = (float)lg_param_float(n, "g");
+    lg_test_scene_bounds(&t->s, NULL);
+    lg_scene_compute_features(&t->s);
+    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tv_free);
+}
+
+static int tv_nothing(lg_node *n, const lg_frame *frame)
+{
+    (void)n;
+    (void)frame;
+    return 0;
+}
+
+static int tv_base_prepare(lg_node *n)
+{
+    lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
+    lg_output_size(n, "width", "height", &d.width, &d.height);
+    if (lg_param_bool(n, "depth_plane"))
+        d.flags = LG_IMAGE_DEPTH;
+    int rc = lg_declare_image(n, 0, &d);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int tv_base_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    lg_resource_info info;
+    int rc = lg_describe(lg_output(n, 0), &info, n);
+    lg_cpu_view v;
+    if (rc || (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &v)))
+        return rc;
+    const lg_value *col = lg_param(n, "color");
+    float depth = (float)lg_param_float(n, "depth"), box = (float)lg_param_float(n, "box_depth");
+    int64_t x0 = lg_param_int(n, "box_x0"), x1 = lg_param_int(n, "box_x1");
+    int64_t y0 = lg_param_int(n, "box_y0"), y1 = lg_param_int(n, "box_y1");
+    float *px = v.pixels;
+    for (uint32_t y = 0; y < info.image.height; y++)
+        for (uint32_t x = 0; x < info.image.width; x++) {
+            size_t i = (size_t)y * info.image.width + x;
+            for (int c = 0; c < 3; c++)
+                px[4 * i + c] = (float)col->v[c];
+            px[4 * i + 3] = 1.0f;
+            if (v.depth)
+                v.depth[i] = x >= x0 && x < x1 && y >= y0 && y < y1 ? box : depth;
+        }
+    return 0;
+}
+
+static const lg_param_desc tv_scene_params[] = {
+    { .key = "lights", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = VS_TEST_MAX_LIGHTS,
+      .doc = "directional lights" },
+    { .key = "only", .type = LG_PARAM_INT, .def.i = -1, .min = -1,
+      .max = VS_TEST_MAX_LIGHTS - 1, .doc = "keep light k alone; -1 all" },
+    { .key = "direction", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 1 }, .min = -1e3,
+      .max = 1e3, .doc = "the direction light 0 travels" },
+    { .key = "intensity", .type = LG_PARAM_FLOAT, .def.f = 10, .min = 0, .max = 1e6,
+      .doc = "every light's intensity" },
+    { .key = "scattering", .type = LG_PARAM_FLOAT, .def.f = 0.1, .min = 0, .max = 1e3,
+      .doc = "sigma_s, 1 / scene unit" },
+    { .key = "absorption", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e3,
+      .doc = "sigma_a, 1 / scene unit" },
+    { .key = "g", .type = LG_PARAM_FLOAT, .def.f = 0.4, .min = -1, .max = 1,
+      .doc = "Henyey-Greenstein anisotropy" },
+};
+static const lg_param_desc tv_base_params[] = {
+    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "pixels; 0 = the render width", .role = LG_ROLE_IMAGE_WIDTH },
+    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+      .doc = "pixels; 0 = the render height", .role = LG_ROLE_IMAGE_HEIGHT },
+    { .key = "color", .type = LG_PARAM_COLOR, .def.v = { 0.2, 0.3, 0.4 }, .min = 0,
+      .max = 1e6, .doc = "every pixel's colour" },
+    { .key = "depth", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1,
+      .doc = "window depth outside the box (1 = sky)" },
+    { .key = "box_depth", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1,
+      .doc = "window depth inside the box" },
+    { .key = "box_x0", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384, .doc = "" },
+    { .key = "box_y0", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384, .doc = "" },
+    { .key = "box_x1", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384, .doc = "" },
+    { .key = "box_y1", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384, .doc = "" },
+    { .key = "depth_plane", .type = LG_PARAM_BOOL, .def.b = true,
+      .doc = "false: an image without a depth plane" },
+};
+static const lg_port_desc tv_scene_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
+static const lg_port_desc tv_image_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
+
+static const lg_node_type tv_types[] = {
+    { .struct_size = sizeof(lg_node_type), .name = "test_vs_scene",
+      .doc = "a camera, directional lights and a medium (test)", LG_PARAMS(tv_scene_params),
+      LG_OUTPUTS(tv_scene_out), .prepare = tv_scene_prepare, .execute = tv_nothing },
+    { .struct_size = sizeof(lg_node_type), .name = "test_vs_base",
+      .doc = "a lit image with a depth plane of known values (test)",
+      LG_PARAMS(tv_base_params), LG_OUTPUTS(tv_image_out), .prepare = tv_base_prepare,
+      .execute = tv_base_execute },
+};
+
+LG_PLUGIN_DEFINE("testvsinputs", "1.0.0", "inputs of the volumetric_screen tests", tv_types)
