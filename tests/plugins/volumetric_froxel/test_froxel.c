@@ -222,9 +222,9 @@ static void shadows(lg_test *t, const char *backend)
     char g[4096];
     snprintf(g, sizeof g,
              SCENE "sh = volumetric_froxel { scene = fog, base = lit, shadows = shadow, "
-                   "backend = %s, width = 32, height = 18, depth = 32 }\n"
+                   "backend = %s, width = 32, height = 18, depth = 32, z_near = 0.2 }\n"
                    "un = volumetric_froxel { scene = fog, base = lit, backend = %s, "
-                   "width = 32, height = 18, depth = 32 }\n"
+                   "width = 32, height = 18, depth = 32, z_near = 0.2 }\n"
                    "output sh.inscatter \"sh.exr\" float\noutput un.inscatter \"un.exr\" float\n",
              backend, backend);
     const char *args[] = { "--size", "64x36", NULL };

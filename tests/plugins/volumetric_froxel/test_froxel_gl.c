@@ -104,8 +104,12 @@ static void agree(lg_test *t, const lg_image *got, const lg_image *want, double 
     LG_TEST_CHECK(t, over <= n / 200,
                   "%s: %zu values (of %zu) differ by more than %g of their channel's largest",
                   what, over, n, tol);
-    LG_TEST_CHECK(t, rmse <= 2 * tol, "%s: rmse %g of the channels' largest values > %g",
-                  what, rmse, 2 * tol);
+    /* 5 tol: a froxel whose sample point lies within float rounding of a stored shadow depth
+     * may test lit on one device and shadowed on the other, and the accumulation carries
+     * that step down its whole column (0.07 % of the grid's values on the example scene, up
+     * to 0.8 % of the scale each); the count bound above is the primary check */
+    LG_TEST_CHECK(t, rmse <= 5 * tol, "%s: rmse %g of the channels' largest values > %g",
+                  what, rmse, 5 * tol);
 }
 
 static bool read(lg_test *t, const char *file, lg_image *img)
