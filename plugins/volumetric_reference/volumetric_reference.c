@@ -28,6 +28,8 @@
 
 #include <embree3/rtcore.h>
 
+#include "lg_embree.h"
+
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/medium.h"
 #include "lightgraph/scene.h"
@@ -60,122 +62,12 @@ static uint64_t vr_mix(uint64_t z)
 /* A uniform double in [0, 1) from the 53 high bits. */
 static double vr_unit(uint64_t h) { return (double)(h >> 11) * 0x1.0p-53; }
 
-/* ---- the scene for Embree ------------------------------------------------------------------ */
-
-typedef struct vr_embree {
-    RTCDevice dev;
-    RTCScene scene;
-    double extent;       /* the world bounds' largest side (1 when empty) */
-    size_t bytes;        /* geometry buffers (the BVH comes on top) */
-    char error[256];     /* the first Embree error, from its callback */
-} vr_embree;
-
-static void vr_embree_error(void *user, enum RTCError code, const char *str)
-{
-    vr_embree *e = user;
-    if (!e->error[0])
-        snprintf(e->error, sizeof e->error, "Embree error %d: %s", (int)code, str ? str : "");
-}
-
-static void vr_embree_free(vr_embree *e)
-{
-    if (e->scene)
-        rtcReleaseScene(e->scene);
-    if (e->dev)
-        rtcReleaseDevice(e->dev);
-    memset(e, 0, sizeof *e);
-}
-
-/* Every instance's triangles in world space (geometry id = instance index), both faces
- * occluding, as prt_bake builds them. Reports bad meshes (indices past the vertices,
- * positions that are not finite) naming mesh and instance. */
-static int vr_embree_make(lg_node *n, const lg_scene *s, vr_embree *e)
-{
-    memset(e, 0, sizeof *e);
-    char cfg[64];
-    snprintf(cfg, sizeof cfg, "threads=%u", lg_cpu_workers(n));
-    e->dev = rtcNewDevice(cfg);
-    if (!e->dev)
-        return lg_error(n, "Embree: no device (rtcNewDevice failed: error %d)",
-                        (int)rtcGetDeviceError(NULL));
-    rtcSetDeviceErrorFunction(e->dev, vr_embree_error, e);
-    if (rtcGetDeviceProperty(e->dev, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
-        return lg_error(n, "this Embree library was built with backface culling: single-sided "
-                           "triangles would let light through from behind");
-    e->scene = rtcNewScene(e->dev);
-    rtcSetSceneBuildQuality(e->scene, RTC_BUILD_QUALITY_HIGH);
-    rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
-    double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
-    for (uint32_t i = 0; i < s->n_instances; i++) {
-        const lg_instance *in = &s->instances[i];
-        if (in->mesh >= s->n_meshes)
-            return lg_error(n, "instance %u names mesh %u of %u", i, in->mesh, s->n_meshes);
-        const lg_mesh *me = &s->meshes[in->mesh];
-        uint32_t nt = me->n_indices / 3;
-        if (nt == 0 || me->n_vertices == 0)
-            continue;
-        if (!me->positions || !me->indices)
-            return lg_error(n, "mesh %u '%s' has no %s", in->mesh, me->name ? me->name : "",
-                            me->positions ? "indices" : "positions");
-        RTCGeometry g = rtcNewGeometry(e->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-        float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                            3 * sizeof(float), me->n_vertices);
-        unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                               3 * sizeof(unsigned), nt);
-        if (!vb || !ib) {
-            rtcReleaseGeometry(g);
-            return lg_error_code(n, LG_ERR_NOMEM, "Embree: out of memory for instance %u (%s)",
-                                 i, e->error[0] ? e->error : "no buffer");
-        }
-        const float *m = in->model;
-        for (uint32_t v = 0; v < me->n_vertices; v++) {
-            const float *p = me->positions + 3 * (size_t)v;
-            for (int r = 0; r < 3; r++) {
-                double w = (double)m[r] * p[0] + (double)m[4 + r] * p[1] +
-                           (double)m[8 + r] * p[2] + (double)m[12 + r];
-                if (!isfinite(w)) {
-                    rtcReleaseGeometry(g);
-                    return lg_error(n, "mesh %u '%s' vertex %u (instance %u): its world "
-                                       "position is not finite",
-                                    in->mesh, me->name ? me->name : "", v, i);
-                }
-                vb[3 * (size_t)v + r] = (float)w;
-                lo[r] = fmin(lo[r], w);
-                hi[r] = fmax(hi[r], w);
-            }
-        }
-        for (uint32_t t = 0; t < nt * 3; t++) {
-            if (me->indices[t] >= me->n_vertices) {
-                rtcReleaseGeometry(g);
-                return lg_error(n, "mesh %u '%s': index %u (triangle %u) is %u, past its %u "
-                                   "vertices",
-                                in->mesh, me->name ? me->name : "", t, t / 3, me->indices[t],
-                                me->n_vertices);
-            }
-            ib[t] = me->indices[t];
-        }
-        e->bytes += (size_t)me->n_vertices * 12 + (size_t)nt * 12;
-        rtcCommitGeometry(g);
-        rtcAttachGeometryByID(e->scene, g, i);
-        rtcReleaseGeometry(g);
-    }
-    rtcCommitScene(e->scene);
-    if (e->error[0])
-        return lg_error(n, "building the Embree scene: %s", e->error);
-    for (int c = 0; c < 3; c++)
-        if (hi[c] >= lo[c])
-            e->extent = fmax(e->extent, hi[c] - lo[c]);
-    if (!(e->extent > 0.0))
-        e->extent = 1.0;
-    return 0;
-}
-
 /* ---- the march ----------------------------------------------------------------------------- */
 
 typedef struct vr_run {
     const vr_state *st;
     const vol_setup *v;
-    const vr_embree *e;
+    const lg_embree *e;
     const float *base, *depth; /* rgba32f and window depth, row_pixels apart */
     size_t base_row;
     float *out, *out_depth, *insc;
@@ -412,10 +304,11 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
     if (lg_map_cpu(n, lg_output(n, VOL_OUT_INSCATTER), LG_WRITE, &iv) || !iv.pixels)
         return lg_error(n, "output 'inscatter' cannot be written");
 
-    vr_embree e;
-    rc = vr_embree_make(n, s, &e);
+    /* every instance in world space, as prt_bake builds it (plugins/embree_common) */
+    lg_embree e;
+    rc = lg_embree_make(n, s, &e);
     if (rc) {
-        vr_embree_free(&e);
+        lg_embree_free(&e);
         return rc;
     }
     lg_account_alloc(n, (uint64_t)e.bytes * 5 / 2); /* buffers + about 1.5x for the BVH */
@@ -428,7 +321,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         .side = side * side == st->spp ? side : 0,
         /* occlusion rays start in the medium, not on a surface: a small fraction of the
          * scene's size clears float rounding at the origin without skipping geometry */
-        .tnear_light = 1e-5 * e.extent,
+        .tnear_light = 1e-5 * (e.extent > 0.0 ? e.extent : 1.0),
     };
     /* the rows in about 32 batches, so that the progress bar moves between them (the
      * pool's chunks must not call the host); each row is one chunk: the work of a row is
@@ -444,7 +337,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         lg_log(n, LG_LOG_DEBUG, "%ux%u, %u lights, spp %u, steps %u: %.3g occlusion rays",
                st->width, st->height, v.n_lights, st->spp, st->steps,
                (double)st->width * st->height * st->spp * st->steps * v.n_lights);
-    vr_embree_free(&e);
+    lg_embree_free(&e);
     return rc;
 }
 
