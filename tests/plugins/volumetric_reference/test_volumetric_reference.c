@@ -22,6 +22,8 @@
  *                the sum of the two single renders within 1e-5; 33 lights: a clear error
  *   threads      LIGHTGRAPH_THREADS 1, 2 and 3 give the same bits (jittered, spp 3: the
  *                Latin hypercube; and spp 4: the square grid)
+ *   gated        fog density 0: out is base bit for bit, inscatter black (the planner
+ *                gates the node; its plugin is not loaded)
  *   bad_params   steps 0, spp 0 and 5000, z_limit -1, NaN and inside the near plane, a
  *                base without depth: non-zero exit, the node and the value named, no file
  */
@@ -452,6 +454,39 @@ static void case_bad_params(lg_test *t)
     expect_error(t, g, "depth");
 }
 
+static void case_gated(lg_test *t)
+{
+    /* density 0: no medium, the node is gated (out = base, inscatter black) */
+    static const double L[3] = { 0, 0, -1 };
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 10.0);
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cam = test_vol_scene { }\n"
+             "%s"
+             "fog = medium { scene = lights, density = 0 }\n"
+             "lit = phong { scene = fog, background = [0.6, 0.7, 0.9] }\n"
+             "vol = volumetric_reference { scene = fog, base = lit }\n"
+             "output vol.inscatter \"i.exr\" float\n"
+             "output vol.out \"o.exr\" float\n"
+             "output lit.out \"b.exr\" float\n",
+             lights);
+    lg_image in = { 0 }, out = { 0 }, base = { 0 };
+    int rc = render(t, g, "i.exr", &in, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render: %d", rc);
+    if (rc == 0 && lg_test_read(t, "o.exr", &out, NULL) && lg_test_read(t, "b.exr", &base, NULL)) {
+        LG_TEST_CHECK(t, memcmp(out.pixels, base.pixels, (size_t)W * H * 16) == 0,
+                      "gated: out differs from base");
+        for (size_t i = 0; i < (size_t)W * H * 4; i++)
+            if (i % 4 != 3)
+                LG_TEST_CHECK(t, in.pixels[i] == 0.0f, "gated: inscatter value %zu is %g", i,
+                              (double)in.pixels[i]);
+    }
+    lg_image_free(&in);
+    lg_image_free(&out);
+    lg_image_free(&base);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, VR_TEST_PLUGIN_DIR);
@@ -463,6 +498,7 @@ int main(int argc, char **argv)
         { "closed_form", case_closed_form }, { "tau0", case_tau0 },
         { "occluder", case_occluder },       { "lights32", case_lights32 },
         { "threads", case_threads },         { "bad_params", case_bad_params },
+        { "gated", case_gated },
     };
     lg_test_main_opts o = { .prefix = "volumetric_reference", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
