@@ -21,6 +21,8 @@
 
 #include <embree3/rtcore.h>
 
+#include "lg_embree.h"
+
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
 #include "lightgraph/sampling.h"
@@ -308,32 +310,20 @@ typedef struct pb_hit {
 
 typedef struct pb_vis {
     int kind;               /* PB_EMBREE or PB_BRUTE */
-    RTCDevice dev;
-    RTCScene scene;
+    RTCScene scene;         /* embree: e.scene */
+    lg_embree e;            /* the Embree scene (plugins/embree_common) */
     const pb_world *w;
-    size_t embree_bytes;    /* the geometry buffers Embree holds (estimate, for the log) */
-    char error[256];        /* the first Embree error, from its callback */
 } pb_vis;
-
-static void pb_embree_error(void *user, enum RTCError code, const char *str)
-{
-    pb_vis *v = user;
-    if (!v->error[0])
-        snprintf(v->error, sizeof v->error, "Embree error %d: %s", (int)code, str ? str : "");
-}
 
 static void pb_vis_free(pb_vis *v)
 {
-    if (v->scene)
-        rtcReleaseScene(v->scene);
-    if (v->dev)
-        rtcReleaseDevice(v->dev);
+    lg_embree_free(&v->e);
     memset(v, 0, sizeof *v);
 }
 
-/* Builds the Embree scene of every instance (world space, geometry id = instance index);
- * brute force needs nothing beyond the world copy. Both faces occlude: Embree's
- * backface culling is a build option, refused here when the library has it on. */
+/* Builds the Embree scene of every instance (lg_embree.h: world space, geometry id =
+ * instance index, both faces occlude); brute force needs nothing beyond the world copy,
+ * whose float positions are the same bits (the model matrix in double, rounded once). */
 static int pb_vis_make(lg_node *n, const pb_world *w, int kind, pb_vis *v)
 {
     memset(v, 0, sizeof *v);
@@ -341,57 +331,13 @@ static int pb_vis_make(lg_node *n, const pb_world *w, int kind, pb_vis *v)
     v->w = w;
     if (kind == PB_BRUTE)
         return 0;
-    char cfg[64];
-    snprintf(cfg, sizeof cfg, "threads=%u", lg_cpu_workers(n));
-    v->dev = rtcNewDevice(cfg);
-    if (!v->dev)
-        return lg_error(n, "Embree: no device (rtcNewDevice failed: error %d)",
-                        (int)rtcGetDeviceError(NULL));
-    rtcSetDeviceErrorFunction(v->dev, pb_embree_error, v);
-    if (rtcGetDeviceProperty(v->dev, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
-        return lg_error(n, "this Embree library was built with backface culling: single-sided "
-                           "triangles would let light through from behind; use visibility = "
-                           "brute or an Embree built without EMBREE_BACKFACE_CULLING");
-    v->scene = rtcNewScene(v->dev);
-    rtcSetSceneBuildQuality(v->scene, RTC_BUILD_QUALITY_HIGH);
-    rtcSetSceneFlags(v->scene, RTC_SCENE_FLAG_ROBUST);
-    const lg_scene *s = w->s;
-    for (uint32_t i = 0; i < w->n_inst; i++) {
-        const lg_mesh *me = &s->meshes[w->inst_mesh[i]];
-        uint32_t nt = me->n_indices / 3;
-        RTCGeometry g = rtcNewGeometry(v->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-        float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                            3 * sizeof(float), me->n_vertices ? me->n_vertices : 1);
-        unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                               3 * sizeof(unsigned), nt);
-        if (!vb || (nt && !ib)) {
-            rtcReleaseGeometry(g);
-            return lg_error(n, "Embree: out of memory for instance %u (%s)", i,
-                            v->error[0] ? v->error : "no buffer");
-        }
-        memcpy(vb, w->inst_pos[i], (size_t)me->n_vertices * 3 * sizeof(float));
-        for (uint32_t t = 0; t < nt * 3; t++) {
-            if (me->indices[t] >= me->n_vertices) {
-                rtcReleaseGeometry(g);
-                return lg_error(n, "mesh %u '%s': index %u (triangle %u) is %u, past its %u "
-                                   "vertices",
-                                w->inst_mesh[i], me->name ? me->name : "", t, t / 3,
-                                me->indices[t], me->n_vertices);
-            }
-            ib[t] = me->indices[t];
-        }
-        v->embree_bytes += (size_t)me->n_vertices * 12 + (size_t)nt * 12;
-        rtcCommitGeometry(g);
-        rtcAttachGeometryByID(v->scene, g, i);
-        rtcReleaseGeometry(g);
-    }
-    rtcCommitScene(v->scene);
-    if (v->error[0])
-        return lg_error(n, "building the Embree scene: %s", v->error);
-    /* the BVH: about 1.5x the geometry for a high-quality build (not reported by Embree 3) */
+    int rc = lg_embree_make(n, w->s, &v->e);
+    if (rc)
+        return rc;
+    v->scene = v->e.scene;
     lg_log(n, LG_LOG_DEBUG, "Embree scene: %u instances, %llu triangles, about %.1f MiB of "
                             "geometry buffers plus its BVH",
-           w->n_inst, (unsigned long long)w->n_triangles, (double)v->embree_bytes / 1048576.0);
+           w->n_inst, (unsigned long long)w->n_triangles, (double)v->e.bytes / 1048576.0);
     return 0;
 }
 

@@ -1,0 +1,505 @@
+/*
+ * volumetric_reference through the host, on the scene of the test plugin testvolscene (a
+ * square of half-edge 1 in z = 0 seen from (0, 0, 5), 40 degrees, znear 0.1, zfar 50) with
+ * scene_tools' light and medium, base = phong. The test knows every ray (pixel centres:
+ * subpixel = centre) and every distance, so it computes the single-scattering integral in
+ * closed form (lightgraph/medium.h, in double) and compares.
+ *
+ *   closed_form  one light travelling -Z (from behind the camera: nothing in the fog is
+ *                shadowed): inscatter = L_c sigma_s p d seg(sigma_t d) within 1e-5
+ *                relative on square pixels (d to the square) and sky pixels (d to z_limit,
+ *                given, and the camera's zfar by default); steps 1 and 64 agree (the
+ *                segment integral is exact); out = base e^(-sigma_t d) + inscatter
+ *   tau0         sigma_t = 1e-7: inscatter = L_c sigma_s p d within 1e-5 (thin fog does
+ *                not vanish)
+ *   occluder     the light travels +Z (from behind the square): every square pixel gets
+ *                exactly 0; a sky pixel's ray starts inside the square's shadow (the prism
+ *                |x|, |y| < 1, z > 0) and leaves it at t_exit: inscatter = L_c sigma_s p
+ *                (e^(-sigma_t t_exit) - e^(-sigma_t d)) / sigma_t within one segment's
+ *                share, and below the unshadowed value
+ *   lights32     32 unshadowed lights (fog cut at z_limit 4, in front of the square) equal
+ *                the sum of their 32 closed forms within 1e-5; two lights (one shadowed) =
+ *                the sum of the two single renders within 1e-5; 33 lights: a clear error
+ *   threads      LIGHTGRAPH_THREADS 1, 2 and 3 give the same bits (jittered, spp 3: the
+ *                Latin hypercube; and spp 4: the square grid)
+ *   gated        fog density 0: out is base bit for bit, inscatter black (the planner
+ *                gates the node; its plugin is not loaded)
+ *   bad_params   steps 0, spp 0 and 5000, z_limit -1, NaN and inside the near plane, a
+ *                base without depth: non-zero exit, the node and the value named, no file
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lightgraph/image.h"
+#include "lightgraph/medium.h"
+#include "lightgraph/test.h"
+
+#define W 24
+#define H 16
+#define EYE_Z 5.0
+#define TAN_HALF 0.36397023426620234 /* tan(20 degrees) */
+
+/* the medium of most cases: sigma_s = (0.1, 0.2, 0.05), sigma_t = (0.15, 0.2, 0.15) */
+static const double SIG_S[3] = { 0.1, 0.2, 0.05 }, SIG_T[3] = { 0.15, 0.2, 0.15 };
+#define MEDIUM "fog = medium { scene = %s, density = 1, scattering = [0.1, 0.2, 0.05], " \
+               "absorption = [0.05, 0, 0.1], g = %s }\n"
+
+/* The unit view ray through the centre of pixel (x, y) (row 0 at the top). */
+static void ray(int x, int y, double w[3])
+{
+    double a = (2.0 * (x + 0.5) / W - 1.0) * TAN_HALF * ((double)W / H);
+    double b = -(2.0 * (y + 0.5) / H - 1.0) * TAN_HALF;
+    double l = sqrt(a * a + b * b + 1.0);
+    w[0] = a / l, w[1] = b / l, w[2] = -1.0 / l;
+}
+
+/* The fog length of pixel (x, y): to the square (half-edge 1) or to view depth z_limit;
+ * *square says which. Pixels within 1e-3 of the square's edge: *edge. */
+static double fog_length(int x, int y, double z_limit, bool *square, bool *edge)
+{
+    double w[3];
+    ray(x, y, w);
+    double cf = -w[2], t = EYE_Z / cf;
+    double px = fabs(t * w[0]), py = fabs(t * w[1]);
+    *square = z_limit > EYE_Z && px < 1.0 && py < 1.0;
+    *edge = fabs(px - 1.0) < 1e-3 || fabs(py - 1.0) < 1e-3;
+    return *square ? t : z_limit / cf;
+}
+
+static double closed(double lc, double ss, double st, double g, const double w[3],
+                     const double L[3], double d)
+{
+    double c = -(w[0] * L[0] + w[1] * L[1] + w[2] * L[2]);
+    return lg_medium_inscatter(lc, ss, st, lg_hg_phase(g, c), d);
+}
+
+/* Writes and renders graph text; reads `file` (if given) into *img. Returns the status. */
+static int render(lg_test *t, const char *g, const char *file, lg_image *img, char **text)
+{
+    static const char *const args[] = { "--size", "24x16", NULL };
+    lg_test_write_text(t, "g.lgraph", g);
+    int rc = lg_test_render(t, "g.lgraph", args, text);
+    if (rc != 0 || !file)
+        return rc;
+    return lg_test_read(t, file, img, NULL) ? 0 : -2;
+}
+
+/* The graph: the square, lights (text of `light` nodes chained from `cam`, the last one
+ * named `lights`), the medium, phong, the node with `params` (subpixel = centre unless
+ * they say otherwise); writes the inscatter to
+ * i.exr, out to o.exr and base to b.exr. */
+static const char *graph(char *buf, size_t size, const char *lights, const char *g,
+                         const char *params)
+{
+    char med[512];
+    snprintf(med, sizeof med, MEDIUM, "lights", g);
+    snprintf(buf, size,
+             "lightgraph 1\n"
+             "cam = test_vol_scene { }\n"
+             "%s"
+             "%s"
+             "lit = phong { scene = fog, background = [0.6, 0.7, 0.9] }\n"
+             "vol = volumetric_reference { scene = fog, base = lit%s%s }\n"
+             "output vol.inscatter \"i.exr\" float\n"
+             "output vol.out \"o.exr\" float\n"
+             "output lit.out \"b.exr\" float\n",
+             lights, med, strstr(params, "subpixel") ? "" : ", subpixel = centre", params);
+    return buf;
+}
+
+static const char *one_light(char *buf, size_t size, const double L[3], double intensity)
+{
+    snprintf(buf, size, "lights = light { scene = cam, direction = [%.17g, %.17g, %.17g], "
+                        "intensity = %.17g }\n", L[0], L[1], L[2], intensity);
+    return buf;
+}
+
+static double rel(double got, double want)
+{
+    return fabs(got - want) / fmax(fabs(want), 1e-30);
+}
+
+/* ---- cases --------------------------------------------------------------------------------- */
+
+static void case_closed_form(lg_test *t)
+{
+    static const double L[3] = { 0, 0, -1 };
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 10.0);
+    static const struct { const char *params; double z_limit; } runs[] = {
+        { ", steps = 1, spp = 1, z_limit = 20", 20.0 },
+        { ", steps = 64, spp = 2, z_limit = 20", 20.0 },
+        { ", steps = 3", 50.0 },        /* z_limit 0: the camera's zfar */
+        { ", steps = 8, z_limit = 4", 4.0 }, /* the fog ends before the square */
+    };
+    for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
+        lg_image in = { 0 }, out = { 0 }, base = { 0 };
+        int rc = render(t, graph(g, sizeof g, lights, "0.4", runs[r].params), "i.exr", &in,
+                        NULL);
+        LG_TEST_CHECK(t, rc == 0, "render %s: %d", runs[r].params, rc);
+        if (rc != 0)
+            continue;
+        LG_TEST_CHECK(t, lg_test_read(t, "o.exr", &out, NULL) && lg_test_read(t, "b.exr", &base, NULL),
+                      "outputs");
+        double worst = 0, worst_out = 0;
+        int squares = 0, skies = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                bool sq, edge;
+                double d = fog_length(x, y, runs[r].z_limit, &sq, &edge);
+                if (edge)
+                    continue;
+                squares += sq, skies += !sq;
+                double w[3];
+                ray(x, y, w);
+                const float *pi = in.pixels + ((size_t)y * W + x) * 4;
+                const float *po = out.pixels + ((size_t)y * W + x) * 4;
+                const float *pb = base.pixels + ((size_t)y * W + x) * 4;
+                for (int c = 0; c < 3; c++) {
+                    double want = closed(10.0, SIG_S[c], SIG_T[c], 0.4, w, L, d);
+                    double e = rel(pi[c], want);
+                    if (e > worst)
+                        worst = e;
+                    LG_TEST_CHECK(t, e < 1e-5, "%s: pixel (%d, %d) %s channel %d: %.9g, want "
+                                  "%.9g (d %.6g)", runs[r].params, x, y, sq ? "square" : "sky",
+                                  c, (double)pi[c], want, d);
+                    double wo = pb[c] * exp(-SIG_T[c] * d) + want;
+                    double eo = fabs(po[c] - wo) / (fabs(wo) + 1e-6);
+                    worst_out = fmax(worst_out, eo);
+                    LG_TEST_CHECK(t, eo < 1e-4, "%s: pixel (%d, %d) out channel %d: %.9g, want "
+                                  "%.9g", runs[r].params, x, y, c, (double)po[c], wo);
+                }
+                LG_TEST_CHECK(t, pi[3] == 1.0f && po[3] == pb[3], "alpha");
+            }
+        LG_TEST_CHECK(t, skies > 0 && (runs[r].z_limit < EYE_Z || squares > 0),
+                      "%d square, %d sky pixels", squares, skies);
+        lg_test_note_("closed_form %s: %d square and %d sky pixels, worst relative error "
+                      "%.2g (out %.2g)\n", runs[r].params, squares, skies, worst, worst_out);
+        lg_image_free(&in);
+        lg_image_free(&out);
+        lg_image_free(&base);
+    }
+}
+
+static void case_tau0(lg_test *t)
+{
+    static const double L[3] = { 0, 0, -1 };
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 3.0);
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cam = test_vol_scene { }\n"
+             "%s"
+             "fog = medium { scene = lights, density = 1, scattering = [1e-7, 1e-7, 1e-7], "
+             "absorption = [0, 0, 0], g = -0.3 }\n"
+             "lit = phong { scene = fog }\n"
+             "vol = volumetric_reference { scene = fog, base = lit, subpixel = centre, "
+             "steps = 5, z_limit = 30 }\n"
+             "output vol.inscatter \"i.exr\" float\n",
+             lights);
+    lg_image in = { 0 };
+    int rr = render(t, g, "i.exr", &in, NULL);
+    LG_TEST_CHECK(t, rr == 0, "render: %d", rr);
+    if (rr != 0)
+        return;
+    double worst = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            bool sq, edge;
+            double d = fog_length(x, y, 30.0, &sq, &edge);
+            if (edge)
+                continue;
+            double w[3];
+            ray(x, y, w);
+            double p = lg_hg_phase(-0.3, -(w[0] * L[0] + w[1] * L[1] + w[2] * L[2]));
+            double want = 3.0 * 1e-7 * p * d; /* sigma_t -> 0: no extinction */
+            for (int c = 0; c < 3; c++) {
+                double e = rel(in.pixels[((size_t)y * W + x) * 4 + c], want);
+                worst = fmax(worst, e);
+                LG_TEST_CHECK(t, e < 1e-5, "pixel (%d, %d): %.9g, want %.9g", x, y,
+                              (double)in.pixels[((size_t)y * W + x) * 4 + c], want);
+            }
+        }
+    lg_test_note_("tau0: worst relative error %.2g against L_c sigma_s p d\n", worst);
+    lg_image_free(&in);
+}
+
+static void case_occluder(lg_test *t)
+{
+    static const double L[3] = { 0, 0, 1 };
+    const int steps = 256;
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 10.0);
+    lg_image in = { 0 };
+    int rc = render(t, graph(g, sizeof g, lights, "0.4", ", steps = 256, z_limit = 20"),
+                    "i.exr", &in, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render: %d", rc);
+    if (rc != 0)
+        return;
+    int zero = 0, partial = 0;
+    double worst = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            bool sq, edge;
+            double d = fog_length(x, y, 20.0, &sq, &edge);
+            if (edge)
+                continue;
+            const float *pi = in.pixels + ((size_t)y * W + x) * 4;
+            double w[3];
+            ray(x, y, w);
+            if (sq) {
+                /* the whole ray lies in the square's shadow */
+                LG_TEST_CHECK(t, pi[0] == 0.0f && pi[1] == 0.0f && pi[2] == 0.0f,
+                              "square pixel (%d, %d): %g %g %g, want exactly 0", x, y,
+                              (double)pi[0], (double)pi[1], (double)pi[2]);
+                zero++;
+                continue;
+            }
+            double t_exit = 1.0 / fmax(fabs(w[0]), fabs(w[1]));
+            double c = -(w[0] * L[0] + w[1] * L[1] + w[2] * L[2]), p = lg_hg_phase(0.4, c);
+            for (int ch = 0; ch < 3; ch++) {
+                double lit = 10.0 * SIG_S[ch] * p;
+                double want = lit * (exp(-SIG_T[ch] * t_exit) - exp(-SIG_T[ch] * d)) / SIG_T[ch];
+                double share = lit * d / steps; /* one segment, unattenuated */
+                double full = closed(10.0, SIG_S[ch], SIG_T[ch], 0.4, w, L, d);
+                worst = fmax(worst, fabs(pi[ch] - want) / share);
+                LG_TEST_CHECK(t, fabs(pi[ch] - want) <= share, "sky pixel (%d, %d) channel %d: "
+                              "%.9g, want %.9g (one segment %.3g)", x, y, ch, (double)pi[ch],
+                              want, share);
+                LG_TEST_CHECK(t, pi[ch] < full, "sky pixel (%d, %d): %.9g, not below the "
+                              "unshadowed %.9g", x, y, (double)pi[ch], full);
+            }
+            partial++;
+        }
+    LG_TEST_CHECK(t, zero > 0 && partial > 0, "%d square, %d sky pixels", zero, partial);
+    lg_test_note_("occluder: %d square pixels exactly 0; %d sky pixels within %.2f of a "
+                  "segment's share of the analytic value\n", zero, partial, worst);
+    lg_image_free(&in);
+}
+
+static void case_lights32(lg_test *t)
+{
+    /* 32 directions travelling away from +Z's fog side: (-L).z > 0, so the rays towards
+     * the lights leave the square behind them; the fog ends at view depth 4 (z >= 1) */
+    char g[8192];
+    double Ls[33][3];
+    size_t len = 0;
+    for (int l = 0; l < 33; l++) {
+        double a = l * 2.399963, z = -0.2 - 0.75 * (l % 11) / 10.0;
+        double r = sqrt(1.0 - z * z);
+        Ls[l][0] = r * cos(a), Ls[l][1] = r * sin(a), Ls[l][2] = z;
+    }
+    /* the names: l0 .. l30, then lights */
+    char text[32 * 200];
+    len = 0;
+    for (int l = 0; l < 32; l++) {
+        char name[16], prev[16];
+        snprintf(name, sizeof name, l == 31 ? "lights" : "l%d", l);
+        snprintf(prev, sizeof prev, l == 0 ? "cam" : "l%d", l - 1);
+        len += (size_t)snprintf(text + len, sizeof text - len,
+                                "%s = light { scene = %s, direction = [%.17g, %.17g, %.17g], "
+                                "intensity = %d }\n", name, prev, Ls[l][0], Ls[l][1], Ls[l][2],
+                                1 + l % 5);
+    }
+    lg_image in = { 0 };
+    int rc = render(t, graph(g, sizeof g, text, "0.6", ", steps = 2, z_limit = 4"), "i.exr", &in,
+                    NULL);
+    LG_TEST_CHECK(t, rc == 0, "render 32 lights: %d", rc);
+    if (rc == 0) {
+        double worst = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                bool sq, edge;
+                double d = fog_length(x, y, 4.0, &sq, &edge), w[3];
+                ray(x, y, w);
+                for (int c = 0; c < 3; c++) {
+                    double want = 0;
+                    for (int l = 0; l < 32; l++)
+                        want += closed(1 + l % 5, SIG_S[c], SIG_T[c], 0.6, w, Ls[l], d);
+                    double e = rel(in.pixels[((size_t)y * W + x) * 4 + c], want);
+                    worst = fmax(worst, e);
+                    LG_TEST_CHECK(t, e < 1e-5, "pixel (%d, %d) channel %d: %.9g, want %.9g", x, y,
+                                  c, (double)in.pixels[((size_t)y * W + x) * 4 + c], want);
+                }
+            }
+        lg_test_note_("lights32: worst relative error %.2g against the sum of 32 closed "
+                      "forms\n", worst);
+    }
+    lg_image_free(&in);
+
+    /* linearity with shadows: A (shadowed by the square) + B = A, B rendered alone */
+    static const double A[3] = { 0.2, 0.1, 1 }, B[3] = { -0.3, -0.5, -1 };
+    lg_image ia = { 0 }, ib = { 0 }, iab = { 0 };
+    char la[256], lb[256], lab[512];
+    const char *params = ", steps = 16, spp = 3, subpixel = jittered, z_limit = 20";
+    one_light(la, sizeof la, A, 7.0);
+    one_light(lb, sizeof lb, B, 2.0);
+    snprintf(lab, sizeof lab,
+             "la = light { scene = cam, direction = [0.2, 0.1, 1], intensity = 7 }\n"
+             "lights = light { scene = la, direction = [-0.3, -0.5, -1], intensity = 2 }\n");
+    int r1 = render(t, graph(g, sizeof g, la, "0.4", params), "i.exr", &ia, NULL);
+    int r2 = render(t, graph(g, sizeof g, lb, "0.4", params), "i.exr", &ib, NULL);
+    int r3 = render(t, graph(g, sizeof g, lab, "0.4", params), "i.exr", &iab, NULL);
+    LG_TEST_CHECK(t, r1 == 0 && r2 == 0 && r3 == 0, "renders %d %d %d", r1, r2, r3);
+    if (r1 == 0 && r2 == 0 && r3 == 0) {
+        int shadowed = 0;
+        for (size_t i = 0; i < (size_t)W * H * 4; i++) {
+            if (i % 4 == 3)
+                continue;
+            double want = (double)ia.pixels[i] + ib.pixels[i];
+            LG_TEST_CHECK(t, fabs(iab.pixels[i] - want) <= 1e-5 * want, "value %zu: %.9g, want "
+                          "%.9g", i, (double)iab.pixels[i], want);
+            shadowed += ia.pixels[i] == 0.0f;
+        }
+        LG_TEST_CHECK(t, shadowed > 0, "light A shadows no pixel entirely");
+    }
+    lg_image_free(&ia);
+    lg_image_free(&ib);
+    lg_image_free(&iab);
+
+    /* 33 lights */
+    len = strlen(text);
+    char *p = strstr(text, "lights = light");
+    memcpy(p, "l31   ", 6);
+    snprintf(text + len, sizeof text - len,
+             "lights = light { scene = l31, direction = [0, 0, -1] }\n");
+    char *msg = NULL;
+    rc = render(t, graph(g, sizeof g, text, "0.6", ""), NULL, NULL, &msg);
+    LG_TEST_CHECK(t, rc != 0 && msg && strstr(msg, "node 'vol'") && strstr(msg, "more than 32"),
+                  "33 lights: status %d, %s", rc, msg ? msg : "");
+    free(msg);
+}
+
+static void case_threads(lg_test *t)
+{
+    static const double L[3] = { 0.3, -0.2, 1 };
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 10.0);
+    const char *params[] = { ", subpixel = jittered, spp = 3, steps = 24, seed = 7",
+                             ", subpixel = jittered, spp = 4, steps = 24" };
+    for (int k = 0; k < 2; k++) {
+        lg_image img[3] = { { 0 } };
+        for (int th = 0; th < 3; th++) {
+            char v[8];
+            snprintf(v, sizeof v, "%d", th + 1);
+            setenv("LIGHTGRAPH_THREADS", v, 1);
+            int rc = render(t, graph(g, sizeof g, lights, "0.4", params[k]), "i.exr", &img[th],
+                            NULL);
+            LG_TEST_CHECK(t, rc == 0, "render with %d threads", th + 1);
+        }
+        unsetenv("LIGHTGRAPH_THREADS");
+        for (int th = 1; th < 3; th++)
+            LG_TEST_CHECK(t, img[0].pixels && img[th].pixels &&
+                          memcmp(img[0].pixels, img[th].pixels, (size_t)W * H * 16) == 0,
+                          "%s: %d threads differ from 1", params[k], th + 1);
+        double sum = 0;
+        for (size_t i = 0; img[0].pixels && i < (size_t)W * H * 4; i++)
+            sum += img[0].pixels[i];
+        LG_TEST_CHECK(t, sum > W * H, "an image with fog: %g", sum);
+        for (int th = 0; th < 3; th++)
+            lg_image_free(&img[th]);
+    }
+}
+
+static void expect_error(lg_test *t, const char *g, const char *want)
+{
+    char *msg = NULL;
+    remove(lg_test_path(t, "i.exr"));
+    remove(lg_test_path(t, "o.exr"));
+    int rc = render(t, g, NULL, NULL, &msg);
+    LG_TEST_CHECK(t, rc != 0 && rc != -1, "status %d for %s", rc, want);
+    /* the node by name, or the place of its line in the graph (the parser's range errors) */
+    LG_TEST_CHECK(t, msg && (strstr(msg, "node 'vol'") || strstr(msg, "g.lgraph:6:")) &&
+                  strstr(msg, want), "the message does not "
+                  "say '%s': %s", want, msg ? msg : "");
+    FILE *f = fopen(lg_test_path(t, "i.exr"), "rb");
+    LG_TEST_CHECK(t, f == NULL, "i.exr written despite the error (%s)", want);
+    if (f)
+        fclose(f);
+    free(msg);
+}
+
+static void case_bad_params(lg_test *t)
+{
+    static const double L[3] = { 0, 0, -1 };
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 10.0);
+    static const struct { const char *p, *want; } bad[] = {
+        { ", steps = 0", "steps" },
+        { ", spp = 0", "spp" },
+        { ", spp = 5000", "spp" },
+        { ", z_limit = -1", "z_limit" },
+        { ", z_limit = nan", "z_limit" },
+        { ", z_limit = 0.01", "z_limit" },
+        { ", seed = -3", "seed" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        expect_error(t, graph(g, sizeof g, lights, "0.4", bad[i].p), bad[i].want);
+    /* a base without depth: an image read from a file */
+    lg_image img = { 0 };
+    LG_TEST_CHECK(t, lg_image_alloc(&img, W, H) == 0, "alloc");
+    lg_test_write_exr(t, "flat.exr", &img);
+    lg_image_free(&img);
+    char med[512];
+    snprintf(med, sizeof med, MEDIUM, "lights", "0.4");
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cam = test_vol_scene { }\n%s%s"
+             "flat = image { file = \"flat.exr\" }\n"
+             "vol = volumetric_reference { scene = fog, base = flat }\n"
+             "output vol.inscatter \"i.exr\" float\n",
+             lights, med);
+    expect_error(t, g, "depth");
+}
+
+static void case_gated(lg_test *t)
+{
+    /* density 0: no medium, the node is gated (out = base, inscatter black) */
+    static const double L[3] = { 0, 0, -1 };
+    char lights[256], g[2048];
+    one_light(lights, sizeof lights, L, 10.0);
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cam = test_vol_scene { }\n"
+             "%s"
+             "fog = medium { scene = lights, density = 0 }\n"
+             "lit = phong { scene = fog, background = [0.6, 0.7, 0.9] }\n"
+             "vol = volumetric_reference { scene = fog, base = lit }\n"
+             "output vol.inscatter \"i.exr\" float\n"
+             "output vol.out \"o.exr\" float\n"
+             "output lit.out \"b.exr\" float\n",
+             lights);
+    lg_image in = { 0 }, out = { 0 }, base = { 0 };
+    int rc = render(t, g, "i.exr", &in, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render: %d", rc);
+    if (rc == 0 && lg_test_read(t, "o.exr", &out, NULL) && lg_test_read(t, "b.exr", &base, NULL)) {
+        LG_TEST_CHECK(t, memcmp(out.pixels, base.pixels, (size_t)W * H * 16) == 0,
+                      "gated: out differs from base");
+        for (size_t i = 0; i < (size_t)W * H * 4; i++)
+            if (i % 4 != 3)
+                LG_TEST_CHECK(t, in.pixels[i] == 0.0f, "gated: inscatter value %zu is %g", i,
+                              (double)in.pixels[i]);
+    }
+    lg_image_free(&in);
+    lg_image_free(&out);
+    lg_image_free(&base);
+}
+
+static void setup(lg_test *t)
+{
+    lg_test_use_plugins(t, VR_TEST_PLUGIN_DIR);
+}
+
+int main(int argc, char **argv)
+{
+    static const lg_test_case cases[] = {
+        { "closed_form", case_closed_form }, { "tau0", case_tau0 },
+        { "occluder", case_occluder },       { "lights32", case_lights32 },
+        { "threads", case_threads },         { "bad_params", case_bad_params },
+        { "gated", case_gated },
+    };
+    lg_test_main_opts o = { .prefix = "volumetric_reference", .setup = setup };
+    return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
+}
