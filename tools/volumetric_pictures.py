@@ -38,7 +38,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "images", "volumetric"))
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--ref-steps", type=int, default=512)
-    ap.add_argument("--ref-spp", type=int, default=16)
+    ap.add_argument("--ref-spp", type=int, default=4)
     a = ap.parse_args()
     exe = os.path.join(a.build, "lightgraph")
     os.makedirs(a.out, exist_ok=True)
@@ -51,7 +51,8 @@ def main():
                            os.path.join(a.out, m + "_inscatter.exr")))
             cmd = [exe, "render", g, "--size", a.size, "-o", os.path.join(a.out, m + ".png")]
             if m == "reference":
-                cmd += ["--set", "vol.steps=%d" % a.ref_steps, "--set", "vol.spp=%d" % a.ref_spp]
+                cmd += ["--set", "vol.steps=%d" % a.ref_steps, "--set", "vol.spp=%d" % a.ref_spp,
+                        "--set", "vol.subpixel=centre"]
             sys.stderr.write("volumetric_pictures: %s\n" % " ".join(cmd))
             r = subprocess.run(cmd, capture_output=True, text=True)
             if r.returncode != 0:
@@ -64,7 +65,7 @@ def main():
           "relative RMSE |", "|---|---|---|---:|"]
     for m in METHODS:
         if m == "reference":
-            md.append("| reference (%d steps, %d spp) | ![reference](images/volumetric/"
+            md.append("| reference (%d steps, %d spp, pixel centres) | ![reference](images/volumetric/"
                       "reference.png) | | |" % (a.ref_steps, a.ref_spp))
             continue
         heat = os.path.join(a.out, "heat_%s.png" % m)
