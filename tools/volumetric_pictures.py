@@ -22,7 +22,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from format_study import read_exr  # noqa: E402
+from format_study import read_exr  # noqa: E402  (width, height, {channel: values})
 
 METHODS = ["screen", "polygonal", "froxel", "reference"]
 
@@ -58,8 +58,8 @@ def main():
             if r.returncode != 0:
                 die("%s failed:\n%s%s" % (" ".join(cmd), r.stdout, r.stderr))
     ref = os.path.join(a.out, "reference_inscatter.exr")
-    img = read_exr(ref)
-    vals = [c for row in img for px in row for c in px[:3]]
+    _, _, ch = read_exr(ref)
+    vals = [v for c in ("R", "G", "B") for v in ch[c]]
     ref_rms = math.sqrt(sum(v * v for v in vals) / len(vals))
     md = ["| method | image (tone-mapped `out`) | in-scatter error against the reference | "
           "relative RMSE |", "|---|---|---|---:|"]

@@ -33,13 +33,14 @@ import argparse
 import csv
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from format_study import read_exr  # noqa: E402
+from format_study import read_exr  # noqa: E402  (width, height, {channel: values})
 
 
 def die(msg):
@@ -52,20 +53,27 @@ def write(path, text):
         f.write(text)
 
 
+def vol_block(example):
+    """The `vol = ... { ... }` node of an example, as its file writes it (so that the study
+    measures the example's own settings; the example's `tone` and output are left out, since
+    a sweep compares exactly one output)."""
+    text = open(os.path.join(ROOT, "examples", example)).read()
+    m = re.search(r"^vol = [a-z_]+ \{.*?^\}", text, re.S | re.M)
+    if not m:
+        die("examples/%s: no `vol = ... { ... }` node" % example)
+    return m.group(0)
+
+
 def graph_for(example, out_dir):
-    return ('lightgraph 1\ninclude "%s"\noutput vol.inscatter "%s"\n'
-            % (os.path.join(ROOT, "examples", example), os.path.join(out_dir, "inscatter.exr")))
+    return ('lightgraph 1\ninclude "%s"\n%s\noutput vol.inscatter "%s"\n'
+            % (os.path.join(ROOT, "examples", "volumetric_scene.lgraph"), vol_block(example),
+               os.path.join(out_dir, "inscatter.exr")))
 
 
 def rms_of(path):
-    img = read_exr(path)
-    s, n = 0.0, 0
-    for row in img:
-        for px in row:
-            for c in px[:3]:
-                s += c * c
-                n += 1
-    return math.sqrt(s / n)
+    _, _, ch = read_exr(path)
+    vals = [v for c in ("R", "G", "B") for v in ch[c]]
+    return math.sqrt(sum(v * v for v in vals) / len(vals))
 
 
 SWEEPS = [
@@ -121,9 +129,8 @@ def main():
     # the reference: rendered once here; the sweeps read the image through a graph of one
     # `image` node (rendering it again per sweep would cost minutes each)
     ref = os.path.join(gdir, "reference.lgraph")
-    write(ref, 'lightgraph 1\ninclude "%s"\noutput vol.inscatter "%s"\n'
-          % (os.path.join(ROOT, "examples", "volumetric_reference.lgraph"),
-             os.path.join(gdir, "reference.exr")))
+    write(ref, graph_for("volumetric_reference.lgraph", gdir).replace("inscatter.exr",
+                                                                       "reference.exr"))
     # through pixel centres, as the three methods sample (their error then holds no
     # antialiasing term); spp averages the visibility jitter
     ref_sets = ["vol.steps=%d" % a.ref_steps, "vol.spp=%d" % a.ref_spp, "vol.subpixel=centre"]
