@@ -7,8 +7,9 @@ usage: tools/volumetric_pictures.py [--build DIR] [--out DIR] [--size WxH]
                                     [--ref-steps N] [--ref-spp N]
 
 For each of screen, polygonal, froxel and reference: renders examples/volumetric_<m>.lgraph
-into <m>.png (the example's own tone-mapped output) and <m>_inscatter.exr (linear L_v);
-then `lightgraph diff <m>_inscatter.exr reference_inscatter.exr --heatmap heat_<m>.png
+into <m>.png (the example's own tone-mapped output), <m>_inscatter.png (L_v alone, tone
+mapped with Reinhard's operator, key 0.18) and a temporary <m>_inscatter.exr
+(linear L_v); then `lightgraph diff <m>_inscatter.exr reference_inscatter.exr --heatmap heat_<m>.png
 --json` for the three methods, and writes pictures.md: a markdown table with the pictures
 and the RMSE figures (relative to the reference's RMS).
 """
@@ -16,6 +17,8 @@ import argparse
 import json
 import math
 import os
+import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -23,6 +26,7 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 from format_study import read_exr  # noqa: E402  (width, height, {channel: values})
+from volumetric_study import vol_block  # noqa: E402  (the example's own `vol` node)
 
 METHODS = ["screen", "polygonal", "froxel", "reference"]
 
@@ -42,22 +46,39 @@ def main():
     a = ap.parse_args()
     exe = os.path.join(a.build, "lightgraph")
     os.makedirs(a.out, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="vol-pictures-") as tmp:
-        for m in METHODS:
-            g = os.path.join(tmp, m + ".lgraph")
-            with open(g, "w") as f:
-                f.write('lightgraph 1\ninclude "%s"\noutput vol.inscatter "%s"\n'
-                        % (os.path.join(ROOT, "examples", "volumetric_%s.lgraph" % m),
-                           os.path.join(a.out, m + "_inscatter.exr")))
-            cmd = [exe, "render", g, "--size", a.size, "-o", os.path.join(a.out, m + ".png")]
-            if m == "reference":
-                cmd += ["--set", "vol.steps=%d" % a.ref_steps, "--set", "vol.spp=%d" % a.ref_spp,
-                        "--set", "vol.subpixel=centre"]
-            sys.stderr.write("volumetric_pictures: %s\n" % " ".join(cmd))
-            r = subprocess.run(cmd, capture_output=True, text=True)
-            if r.returncode != 0:
-                die("%s failed:\n%s%s" % (" ".join(cmd), r.stdout, r.stderr))
-    ref = os.path.join(a.out, "reference_inscatter.exr")
+    tmp = tempfile.mkdtemp(prefix="vol-pictures-")  # the linear in-scatter EXRs stay out of git
+    try:
+        pictures(exe, a, tmp)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def pictures(exe, a, tmp):
+    for m in METHODS:
+        example = "volumetric_%s.lgraph" % m
+        tone = re.search(r"^tone = .*$", open(os.path.join(ROOT, "examples", example)).read(),
+                         re.M)
+        if not tone:
+            die("examples/%s: no `tone = ...` line" % example)
+        g = os.path.join(tmp, m + ".lgraph")
+        with open(g, "w") as f:
+            f.write('lightgraph 1\ninclude "%s"\n%s\n%s\noutput tone "%s"\n'
+                    'output vol.inscatter "%s"\n'
+                    'tone_lv = reinhard { image = vol.inscatter, key = 0.18 }\n'
+                    'output tone_lv "%s"\n'
+                    % (os.path.join(ROOT, "examples", "volumetric_scene.lgraph"),
+                       vol_block(example), tone.group(0), os.path.join(a.out, m + ".png"),
+                       os.path.join(tmp, m + "_inscatter.exr"),
+                       os.path.join(a.out, m + "_inscatter.png")))
+        cmd = [exe, "render", g, "--size", a.size]
+        if m == "reference":
+            cmd += ["--set", "vol.steps=%d" % a.ref_steps, "--set", "vol.spp=%d" % a.ref_spp,
+                    "--set", "vol.subpixel=centre"]
+        sys.stderr.write("volumetric_pictures: %s\n" % " ".join(cmd))
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            die("%s failed:\n%s%s" % (" ".join(cmd), r.stdout, r.stderr))
+    ref = os.path.join(tmp, "reference_inscatter.exr")
     _, _, ch = read_exr(ref)
     vals = [v for c in ("R", "G", "B") for v in ch[c]]
     ref_rms = math.sqrt(sum(v * v for v in vals) / len(vals))
@@ -69,7 +90,7 @@ def main():
                       "reference.png) | | |" % (a.ref_steps, a.ref_spp))
             continue
         heat = os.path.join(a.out, "heat_%s.png" % m)
-        r = subprocess.run([exe, "diff", os.path.join(a.out, m + "_inscatter.exr"), ref,
+        r = subprocess.run([exe, "diff", os.path.join(tmp, m + "_inscatter.exr"), ref,
                             "--heatmap", heat, "--json"], capture_output=True, text=True)
         if r.returncode not in (0, 1):
             die("diff %s failed:\n%s%s" % (m, r.stdout, r.stderr))
