@@ -53,20 +53,18 @@ uniform vec3 u_prev_fwd;
 uniform int u_prev_slicing;
 uniform vec4 u_prev_map;
 
-// vol_shadow_cpu's rule: nearest texel of the light's tile; lit outside the tile, in front
+// Light l's shadow test (shadow >= 0), vol_shadow_cpu's rule: nearest texel of the light's tile; lit outside the tile, in front
 // of the light's near plane, or beyond the atlas.
-float fx_shadow(FxLight l, vec3 p)
+float fx_shadow(int l, vec3 p)
 {
-    if (l.shadow < 0)
-        return 1.0;
-    vec4 c = l.view_proj * vec4(p, 1.0);
+    vec4 c = fx_lights[l].view_proj * vec4(p, 1.0);
     vec3 q = c.xyz / c.w;
     vec2 t = q.xy * 0.5 + 0.5;
     float z = q.z * 0.5 + 0.5;
     if (!(t.x >= 0.0 && t.x < 1.0 && t.y >= 0.0 && t.y < 1.0) || !(z >= 0.0))
         return 1.0;
     // t < 1, but t * res may round up to res in float: the last texel then
-    ivec2 texel = l.tile + min(ivec2(t * float(u_shadow_res)), ivec2(u_shadow_res - 1));
+    ivec2 texel = fx_lights[l].tile + min(ivec2(t * float(u_shadow_res)), ivec2(u_shadow_res - 1));
     if (any(greaterThanEqual(texel, textureSize(u_atlas, 0))))
         return 1.0;
     float stored = texelFetch(u_atlas, texel, 0).r;
@@ -103,9 +101,11 @@ void main()
     float t = lg_slice_to_depth(u_slicing, u_map, float(c.z) + u_jitter);
     vec3 p = u_eye + w * (t / cs);
     vec3 sum = vec3(0.0);
+    // fields read in place: a copy of the whole record (112 bytes, the matrix even for an
+    // unshadowed light) per light and froxel is what llvmpipe would otherwise load
     for (int l = 0; l < u_n_lights; l++) {
-        FxLight L = fx_lights[l];
-        sum += L.l_c * (fx_shadow(L, p) * lg_hg_phase(u_g, dot(w, -L.dir)));
+        float vis = fx_lights[l].shadow < 0 ? 1.0 : fx_shadow(l, p);
+        sum += fx_lights[l].l_c * (vis * lg_hg_phase(u_g, dot(w, -fx_lights[l].dir)));
     }
     vec3 S = u_sigma_s * sum;
     if (u_history > 0.0) {
