@@ -21,6 +21,8 @@ typedef struct fx_cl {
     cl_kernel columns, lookup;
     cl_mem s, hist;          /* rgba32f W x H x D each */
     cl_mem lights, shadows;  /* per frame */
+    cl_mem slices;           /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5) */
+    float *slices_host;      /* 3 D floats */
     bool hist_valid;
 } fx_cl;
 
@@ -49,6 +51,9 @@ static int fx_cl_init(lg_node *n, fx_cl *c, const fx_frame *f)
     if (!c->hist)
         return lg_cl_fail(n, e, "clCreateBuffer(S history)");
     lg_account_alloc(n, 2 * (uint64_t)bytes);
+    c->slices_host = malloc(3 * (size_t)f->d * sizeof(float));
+    if (!c->slices_host)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     c->w = f->w;
     c->h = f->h;
     c->d = f->d;
@@ -135,6 +140,19 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
                            "clCreateBuffer(shadow records)")))
         return rc;
 
+    /* the slice tables (froxel.cl's fx_columns) */
+    double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
+    for (uint32_t k = 0; k < f->d; k++) {
+        double t_next = lg_slice_to_depth(&f->map, k + 1.0);
+        c->slices_host[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
+        c->slices_host[f->d + k] = (float)(t_next - t_prev);
+        c->slices_host[2 * f->d + k] = (float)lg_slice_to_depth(&f->map, k + 0.5);
+        t_prev = t_next;
+    }
+    if ((rc = fx_cl_upload(n, &c->slices, c->slices_host, 3 * (size_t)f->d,
+                           "clCreateBuffer(slice tables)")))
+        return rc;
+
     void *base, *base_depth, *atlas = NULL, *atlas_depth = NULL, *out, *out_depth, *ins, *insd,
                                     *grid, *gd;
     if ((rc = lg_map_cl(n, lg_input(n, VOL_IN_BASE), LG_READ, &base, &base_depth)))
@@ -161,7 +179,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     cl_float4 img = v4(v->width, v->height, 0, 0);
     cl_int slicing = (cl_int)f->map.slicing, accum = f->accum == FX_ACC_THESIS ? 0 : 1;
     cl_float4 map = map4(&f->map);
-    cl_float jitter = f->jitter, g = v->g, history = f->history;
+    cl_float g = v->g, history = f->history;
     cl_float4 ss = v4(v->sigma_s[0], v->sigma_s[1], v->sigma_s[2], 0);
     cl_float4 stt = v4(v->sigma_t[0], v->sigma_t[1], v->sigma_t[2], 0);
     cl_int nl = (cl_int)v->n_lights;
@@ -183,8 +201,8 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     cl_uint a = 0;
     cl_int e = 0;
 #define ARG(x) (e |= clSetKernelArg(k, a++, sizeof(x), &(x)))
-    ARG(W), ARG(H), ARG(D), ARG(ivp), ARG(eye), ARG(fwd), ARG(img), ARG(slicing), ARG(map);
-    ARG(jitter), ARG(accum), ARG(ss), ARG(stt), ARG(g), ARG(nl), ARG(c->lights);
+    ARG(W), ARG(H), ARG(D), ARG(ivp), ARG(eye), ARG(fwd), ARG(img), ARG(c->slices);
+    ARG(accum), ARG(ss), ARG(stt), ARG(g), ARG(nl), ARG(c->lights);
     ARG(c->shadows), ARG(m_atlas), ARG(aw), ARG(ah), ARG(res), ARG(bias), ARG(blend);
     ARG(history), ARG(pvp), ARG(peye), ARG(pfwd), ARG(pslicing), ARG(pmap), ARG(c->hist);
     ARG(c->s), ARG(m_grid);
@@ -229,9 +247,10 @@ void fx_cl_destroy(lg_node *n, void *state)
         clReleaseKernel(c->columns);
     if (c->lookup)
         clReleaseKernel(c->lookup);
-    cl_mem m[4] = { c->s, c->hist, c->lights, c->shadows };
-    for (int i = 0; i < 4; i++)
+    cl_mem m[5] = { c->s, c->hist, c->lights, c->shadows, c->slices };
+    for (int i = 0; i < 5; i++)
         if (m[i])
             clReleaseMemObject(m[i]);
+    free(c->slices_host);
     free(c);
 }

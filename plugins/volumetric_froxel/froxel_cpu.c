@@ -21,6 +21,8 @@ typedef struct fx_cpu {
     float *s;        /* S of this frame, rgba, [k][j][i] */
     float *hist;     /* the previous frame's blended S (valid when hist_valid) */
     bool hist_valid;
+    float *tj;       /* the frame's slice tables (froxel_cpu.c's columns) */
+    double *tlen, *tq;
 } fx_cpu;
 
 typedef struct fx_cpu_ctx {
@@ -32,6 +34,16 @@ typedef struct fx_cpu_ctx {
     float *out, *out_depth, *ins;
     float prev_vp[16];         /* the previous camera's view_proj (temporal) */
     bool blend;
+    bool grey;                 /* sigma_t the same in r, g, b: one exp per froxel */
+    /* per frame: the slice tables (D entries each) */
+    const float *tj;           /* T(k + jitter) */
+    const double *tlen;        /* t_{k+1} - t_k (t_0 = 0) */
+    const double *tq;          /* T(k + 0.5) (temporal) */
+    /* per light: its shadow record or -1; the shadowed lights in order: */
+    int32_t rec[VOL_MAX_LIGHTS];
+    uint32_t n_sh;
+    float ca[VOL_MAX_LIGHTS][4];     /* a_l = VP_l e */
+    uint32_t tile[VOL_MAX_LIGHTS][2];
 } fx_cpu_ctx;
 
 static double dot3(const double a[3], const double b[3])
@@ -96,78 +108,126 @@ static bool history_at(const fx_cpu_ctx *x, const double q[3], double out[3])
     return true;
 }
 
-/* Light pass and accumulation of columns [begin, end). */
+/* Columns per chunk of the fused pass: the per-column constants of a chunk live on the
+ * stack (FX_CPU_GRAIN x 32 lights x 7 floats = 28 KiB at most). */
+#define FX_CPU_GRAIN 32
+
+/* Light pass and accumulation of columns [begin, end) (at most FX_CPU_GRAIN, consecutive
+ * in memory). Everything that depends only on the column is computed once per column:
+ * 1 / cos, the sum over unshadowed lights sigma_s C_l p_HG (a column constant), per
+ * shadowed light sigma_s C_l p_HG and the light-clip position as an affine function of
+ * view depth, clip(t) = a_l + b_l t (a_l = VP_l e, b_l = VP_l w / cos). Everything that
+ * depends only on the slice comes from the frame's tables (x->tj, x->tlen, x->tq). The
+ * loop then walks k outside and the chunk's columns inside, so that S and the grid are
+ * written in runs of consecutive texels and the inner loop has no per-column set-up. */
 static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
     (void)chunk;
     const fx_cpu_ctx *x = ctx;
     const fx_frame *f = x->f;
     const vol_setup *v = f->v;
-    size_t plane = (size_t)f->w * f->h;
-    for (size_t col = begin; col < end; col++) {
+    const size_t plane = (size_t)f->w * f->h;
+    const uint32_t nc = (uint32_t)(end - begin), nsh = x->n_sh;
+    float inv_cos[FX_CPU_GRAIN], unsh[FX_CPU_GRAIN][3];
+    float lp[VOL_MAX_LIGHTS][FX_CPU_GRAIN][3];
+    float cb[VOL_MAX_LIGHTS][FX_CPU_GRAIN][4];
+    double wv[FX_CPU_GRAIN][3], acc[FX_CPU_GRAIN][3], tr[FX_CPU_GRAIN][3];
+    for (uint32_t c = 0; c < nc; c++) {
+        size_t col = begin + c;
         uint32_t i = (uint32_t)(col % f->w), j = (uint32_t)(col / f->w);
-        double w[3], cosv;
-        column_ray(f, i, j, w, &cosv);
-        /* the per-light factor C_l p_HG of this column, and the shadowed lights */
-        double lp[VOL_MAX_LIGHTS][3];
+        double cosv;
+        column_ray(f, i, j, wv[c], &cosv);
+        inv_cos[c] = (float)(1.0 / cosv);
+        double u[3] = { 0, 0, 0 };
+        uint32_t s = 0;
         for (uint32_t l = 0; l < v->n_lights; l++) {
             const vol_light *L = &v->lights[l];
-            double c = -(w[0] * L->dir[0] + w[1] * L->dir[1] + w[2] * L->dir[2]);
-            double p = lg_hg_phasef(v->g, (float)c);
-            for (int ch = 0; ch < 3; ch++)
-                lp[l][ch] = L->l_c[ch] * p;
-        }
-        double acc[3] = { 0, 0, 0 }, tr[3] = { 1, 1, 1 };
-        double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
-        for (uint32_t k = 0; k < f->d; k++) {
-            /* 1. light pass */
-            double t = lg_slice_to_depth(&f->map, k + (double)f->jitter);
-            double pt[3];
-            for (int a = 0; a < 3; a++)
-                pt[a] = v->eye[a] + w[a] * t / cosv;
-            double sum[3] = { 0, 0, 0 };
-            for (uint32_t l = 0; l < v->n_lights; l++) {
-                float vis = x->atlas ? vol_shadow_cpu(f->sm, x->atlas, v->lights[l].shadow, pt)
-                                     : 1.0f;
-                if (vis > 0)
-                    for (int ch = 0; ch < 3; ch++)
-                        sum[ch] += lp[l][ch];
+            double cth = -(wv[c][0] * L->dir[0] + wv[c][1] * L->dir[1] + wv[c][2] * L->dir[2]);
+            double p = lg_hg_phasef(v->g, (float)cth);
+            if (x->rec[l] < 0) {
+                for (int ch = 0; ch < 3; ch++)
+                    u[ch] += v->sigma_s[ch] * L->l_c[ch] * p;
+                continue;
             }
-            double s[3];
             for (int ch = 0; ch < 3; ch++)
-                s[ch] = (float)(v->sigma_s[ch] * sum[ch]);
+                lp[s][c][ch] = (float)(v->sigma_s[ch] * L->l_c[ch] * p);
+            const float *m = f->sm->lights[x->rec[l]].view_proj;
+            for (int r = 0; r < 4; r++)
+                cb[s][c][r] = (float)((m[r] * wv[c][0] + m[4 + r] * wv[c][1] +
+                                       m[8 + r] * wv[c][2]) / cosv);
+            s++;
+        }
+        for (int ch = 0; ch < 3; ch++) {
+            unsh[c][ch] = (float)u[ch];
+            acc[c][ch] = 0;
+            tr[c][ch] = 1;
+        }
+    }
+    const float res = f->sm ? (float)f->sm->resolution : 0;
+    const float bias = f->sm ? f->sm->bias_constant : 0;
+    const uint32_t aw = f->sm ? f->sm->atlas_width : 0, ah = f->sm ? f->sm->atlas_height : 0;
+    const bool thesis = f->accum == FX_ACC_THESIS;
+    for (uint32_t k = 0; k < f->d; k++) {
+        const float t = x->tj[k];
+        const double len = x->tlen[k];
+        float *sk = x->c->s + 4 * (k * plane + begin);
+        float *gk = x->grid + 4 * (k * plane + begin);
+        for (uint32_t c = 0; c < nc; c++) {
+            /* 1. light pass */
+            float s[3] = { unsh[c][0], unsh[c][1], unsh[c][2] };
+            for (uint32_t l = 0; l < nsh; l++) {
+                const float *a = x->ca[l], *b = cb[l][c];
+                float cx = a[0] + b[0] * t, cy = a[1] + b[1] * t, cz = a[2] + b[2] * t;
+                float iw = 1.0f / (a[3] + b[3] * t);
+                float u = cx * iw * 0.5f + 0.5f, vv = cy * iw * 0.5f + 0.5f;
+                float z = cz * iw * 0.5f + 0.5f;
+                bool lit = true;
+                if (u >= 0.0f && u < 1.0f && vv >= 0.0f && vv < 1.0f && z >= 0.0f) {
+                    uint32_t tx = x->tile[l][0] + (uint32_t)(u * res);
+                    uint32_t ty = x->tile[l][1] + (uint32_t)(vv * res);
+                    if (tx < aw && ty < ah)
+                        lit = !(z > x->atlas[(size_t)ty * aw + tx] + bias);
+                }
+                float m = lit ? 1.0f : 0.0f;
+                s[0] += m * lp[l][c][0];
+                s[1] += m * lp[l][c][1];
+                s[2] += m * lp[l][c][2];
+            }
             if (x->blend) {
-                double tq = lg_slice_to_depth(&f->map, k + 0.5), q[3], hv[3];
+                double tq = x->tq[k], q[3], hv[3];
                 for (int a = 0; a < 3; a++)
-                    q[a] = v->eye[a] + w[a] * tq / cosv;
+                    q[a] = v->eye[a] + wv[c][a] * tq * inv_cos[c];
                 if (history_at(x, q, hv))
                     for (int ch = 0; ch < 3; ch++)
                         s[ch] = (float)(s[ch] + (hv[ch] - s[ch]) * f->history);
             }
-            size_t idx = 4 * (k * plane + col);
-            float *sp = x->c->s + idx;
-            for (int ch = 0; ch < 3; ch++)
-                sp[ch] = (float)s[ch];
-            sp[3] = 1.0f;
+            float *sp = sk + 4 * c;
+            sp[0] = s[0], sp[1] = s[1], sp[2] = s[2], sp[3] = 1.0f;
 
             /* 2. accumulation */
-            double t_next = lg_slice_to_depth(&f->map, k + 1.0);
-            double delta = (t_next - t_prev) / cosv;
-            t_prev = t_next;
-            for (int ch = 0; ch < 3; ch++) {
-                double sv = sp[ch];
-                if (f->accum == FX_ACC_THESIS) {
-                    acc[ch] += sv * delta;
-                } else {
+            double delta = len * inv_cos[c];
+            double *ac = acc[c], *trc = tr[c];
+            if (thesis) {
+                for (int ch = 0; ch < 3; ch++)
+                    ac[ch] += s[ch] * delta;
+            } else if (x->grey) {
+                double tau = v->sigma_t[0] * delta, e = exp(-tau);
+                double seg = tau < 1e-4 ? 1.0 - 0.5 * tau + tau * tau / 6.0
+                                        : (1.0 - e) / tau;
+                for (int ch = 0; ch < 3; ch++) {
+                    ac[ch] += trc[ch] * s[ch] * delta * seg;
+                    trc[ch] *= e;
+                }
+            } else {
+                for (int ch = 0; ch < 3; ch++) {
                     double tau = v->sigma_t[ch] * delta;
-                    acc[ch] += tr[ch] * sv * delta * lg_medium_segment(tau);
-                    tr[ch] *= exp(-tau);
+                    ac[ch] += trc[ch] * s[ch] * delta * lg_medium_segment(tau);
+                    trc[ch] *= exp(-tau);
                 }
             }
-            float *g = x->grid + idx;
-            for (int ch = 0; ch < 3; ch++)
-                g[ch] = (float)acc[ch];
-            g[3] = (float)((tr[0] + tr[1] + tr[2]) / 3.0);
+            float *g = gk + 4 * c;
+            g[0] = (float)ac[0], g[1] = (float)ac[1], g[2] = (float)ac[2];
+            g[3] = (float)((trc[0] + trc[1] + trc[2]) / 3.0);
         }
     }
 }
@@ -255,8 +315,11 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         if (c) {
             c->s = malloc(vox * 16);
             c->hist = malloc(vox * 16);
+            c->tj = malloc(f->d * sizeof *c->tj);
+            c->tlen = malloc(f->d * sizeof *c->tlen);
+            c->tq = malloc(f->d * sizeof *c->tq);
         }
-        if (!c || !c->s || !c->hist) {
+        if (!c || !c->s || !c->hist || !c->tj || !c->tlen || !c->tq) {
             fx_cpu_destroy(n, c);
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (two %ux%ux%u rgba32f "
                                                   "volumes, S and its history)",
@@ -300,8 +363,37 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
     if (!x.base || !x.out || !x.out_depth || !x.ins || !x.grid)
         return lg_error(n, "a mapping of base, out, inscatter or grid gave no pixels");
 
-    /* columns: a chunk of 64 columns is D x 64 light evaluations */
-    rc = lg_parallel_for(n, (size_t)f->w * f->h, 64, columns, &x);
+    /* the slice tables */
+    double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
+    for (uint32_t k = 0; k < f->d; k++) {
+        double t_next = lg_slice_to_depth(&f->map, k + 1.0);
+        c->tj[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
+        c->tlen[k] = t_next - t_prev;
+        c->tq[k] = lg_slice_to_depth(&f->map, k + 0.5);
+        t_prev = t_next;
+    }
+    x.tj = c->tj;
+    x.tlen = c->tlen;
+    x.tq = c->tq;
+    /* the lights: shadowed ones get a_l and their tile */
+    const vol_setup *v = f->v;
+    x.grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
+    for (uint32_t l = 0; l < v->n_lights; l++) {
+        int32_t r = v->lights[l].shadow;
+        bool sh = x.atlas && f->sm && r >= 0 && (uint32_t)r < f->sm->n_lights;
+        x.rec[l] = sh ? r : -1;
+        if (!sh)
+            continue;
+        const lg_shadow_light *L = &f->sm->lights[r];
+        const float *m = L->view_proj;
+        for (int row = 0; row < 4; row++)
+            x.ca[x.n_sh][row] = (float)(m[row] * v->eye[0] + m[4 + row] * v->eye[1] +
+                                        m[8 + row] * v->eye[2] + m[12 + row]);
+        x.tile[x.n_sh][0] = L->tile_x;
+        x.tile[x.n_sh][1] = L->tile_y;
+        x.n_sh++;
+    }
+    rc = lg_parallel_for(n, (size_t)f->w * f->h, FX_CPU_GRAIN, columns, &x);
     if (!rc)
         rc = lg_parallel_for(n, f->v->height, 4, rows, &x);
     if (rc)
@@ -322,5 +414,8 @@ void fx_cpu_destroy(lg_node *n, void *state)
         return;
     free(c->s);
     free(c->hist);
+    free(c->tj);
+    free(c->tlen);
+    free(c->tq);
     free(c);
 }

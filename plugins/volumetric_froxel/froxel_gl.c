@@ -1,20 +1,25 @@
 /*
- * plugins/volumetric_froxel/froxel_gl.c: the gl backend of volumetric_froxel, three compute
- * passes (shaders/volumetric_froxel/froxel_{light,accum,lookup}.comp) that compute what
+ * plugins/volumetric_froxel/froxel_gl.c: the gl backend of volumetric_froxel, two compute
+ * passes (shaders/volumetric_froxel/froxel_{column,lookup}.comp) that compute what
  * froxel.h specifies:
  *
- *   light   one invocation per froxel: S = sigma_s sum_l C_l Shadow_l p_HG, blended with
- *           the reprojected history; written to this frame's S volume
- *   accum   one invocation per column, front to back: the grid part (A_k, mean Tr_k)
+ *   column  one invocation per column, front to back: the light pass (S = sigma_s sum_l
+ *           C_l Shadow_l p_HG, blended with the reprojected history; written to this
+ *           frame's S volume) fused with the accumulation (the grid part: A_k, mean Tr_k),
+ *           with the column's constants (phase, light-clip line) computed once
  *   lookup  one invocation per pixel: `inscatter` and `out`; out's depth = base's (copied)
  *
- * State kept across frames (fx_gl): the three passes, the lights buffer, and two rgba32f
+ * (Before, the light pass ran one invocation per froxel, each doing the phase and the full
+ * shadow projection, and a second pass accumulated: 305 / 902 / 2588 ms at the thesis grid
+ * with 1 / 8 / 32 lights against 219 / 371 / 1003 ms fused; README.)
+ *
+ * State kept across frames (fx_gl): the two passes, the lights buffer, and two rgba32f
  * 3D textures of W x H x D that take turns as "this frame's S" and "the history" (the
  * previous frame's blended S), so that no copy is needed between frames. They are made
  * with the grid size, counted with lg_account_alloc, remade (and counted again) when the
  * size changes, and deleted in fx_gl_destroy.
  *
- * Why 3D textures (image load/store) and not storage buffers: on llvmpipe the same three
+ * Why 3D textures (image load/store) and not storage buffers: on llvmpipe the earlier three
  * passes with S in two SSBOs ([k][j][i] vec4) ran about 2x slower in the light pass and
  * 3-4x slower in the accumulation (190x90x128 grid, 640x360; README's numbers), as the PRT
  * work found for wide buffer reads in compute shaders there.
@@ -28,11 +33,10 @@
 #include "lightgraph/lightgraph.h"
 
 #include "froxel.h"
-#include "froxel_accum.comp.h"
-#include "froxel_light.comp.h"
+#include "froxel_column.comp.h"
 #include "froxel_lookup.comp.h"
 
-/* One light of the FxLights block (froxel_light.comp): the light and its shadow record. */
+/* One light of the FxLights block (froxel_column.comp): the light and its shadow record. */
 typedef struct fx_gl_light {
     float view_proj[16]; /* the shadow record's world -> clip (zero when unshadowed) */
     float dir[3];        /* unit, the direction the light travels */
@@ -54,17 +58,14 @@ typedef struct fx_gl_view_u {
 } fx_gl_view_u;
 
 typedef struct fx_gl {
-    lg_gl_pass *light, *accum, *lookup;
-    fx_gl_view_u lv, av, kv;
+    lg_gl_pass *column, *lookup;
+    fx_gl_view_u lv, kv;
     struct {
         lg_gl_uniform sigma_s, g, n_lights, shadow_res, bias, jitter, history;
         lg_gl_uniform prev_vp, prev_eye, prev_fwd, prev_slicing, prev_map;
-        lg_gl_binding lights, atlas, s, hist;
-    } l;
-    struct {
         lg_gl_uniform sigma_t, energy;
-        lg_gl_binding s, out;
-    } a;
+        lg_gl_binding lights, atlas, s, hist, out;
+    } l;
     struct {
         lg_gl_uniform size, z_limit, sigma_t, energy;
         lg_gl_binding base, depth, acc, s, out, inscatter;
@@ -76,10 +77,9 @@ typedef struct fx_gl {
     bool hist_valid;     /* vol[1 - cur] holds a frame's S (false after (re)making them) */
 } fx_gl;
 
-static const lg_gl_shader_src fx_src_light = { GL_COMPUTE_SHADER, lg_src_froxel_light_comp_file,
-                                               lg_src_froxel_light_comp };
-static const lg_gl_shader_src fx_src_accum = { GL_COMPUTE_SHADER, lg_src_froxel_accum_comp_file,
-                                               lg_src_froxel_accum_comp };
+static const lg_gl_shader_src fx_src_column = { GL_COMPUTE_SHADER,
+                                                lg_src_froxel_column_comp_file,
+                                                lg_src_froxel_column_comp };
 static const lg_gl_shader_src fx_src_lookup = { GL_COMPUTE_SHADER,
                                                 lg_src_froxel_lookup_comp_file,
                                                 lg_src_froxel_lookup_comp };
@@ -98,20 +98,16 @@ static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u)
 static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
 {
     int rc;
-    lg_gl_pass_desc d = { .name = "volumetric_froxel light", .stages = &fx_src_light,
+    lg_gl_pass_desc d = { .name = "volumetric_froxel column", .stages = &fx_src_column,
                           .n_stages = 1 };
-    if ((rc = lg_gl_pass_create(n, &d, &st->light)))
-        return rc;
-    d.name = "volumetric_froxel accum";
-    d.stages = &fx_src_accum;
-    if ((rc = lg_gl_pass_create(n, &d, &st->accum)))
+    if ((rc = lg_gl_pass_create(n, &d, &st->column)))
         return rc;
     d.name = "volumetric_froxel lookup";
     d.stages = &fx_src_lookup;
     if ((rc = lg_gl_pass_create(n, &d, &st->lookup)))
         return rc;
 
-    lg_gl_pass *p = st->light;
+    lg_gl_pass *p = st->column;
     fx_gl_view_lookup(p, &st->lv);
     st->l.sigma_s = lg_gl_pass_uniform(p, "u_sigma_s");
     st->l.g = lg_gl_pass_uniform(p, "u_g");
@@ -129,14 +125,10 @@ static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
     st->l.atlas = lg_gl_pass_texture(p, "u_atlas");
     st->l.s = lg_gl_pass_image(p, "u_s");
     st->l.hist = lg_gl_pass_image(p, "u_hist");
+    st->l.sigma_t = lg_gl_pass_uniform(p, "u_sigma_t");
+    st->l.energy = lg_gl_pass_uniform(p, "u_energy");
+    st->l.out = lg_gl_pass_image(p, "u_out");
     lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "FxLights", sizeof(fx_gl_light));
-
-    p = st->accum;
-    fx_gl_view_lookup(p, &st->av);
-    st->a.sigma_t = lg_gl_pass_uniform(p, "u_sigma_t");
-    st->a.energy = lg_gl_pass_uniform(p, "u_energy");
-    st->a.s = lg_gl_pass_image(p, "u_s");
-    st->a.out = lg_gl_pass_image(p, "u_out");
 
     p = st->lookup;
     fx_gl_view_lookup(p, &st->kv);
@@ -292,8 +284,7 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     }
     if (!st->lookup || !st->lights_buf) {
         /* first frame, or an earlier attempt failed part-way: make them all again */
-        lg_gl_pass_destroy(&st->light);
-        lg_gl_pass_destroy(&st->accum);
+        lg_gl_pass_destroy(&st->column);
         lg_gl_pass_destroy(&st->lookup);
         if (st->lights_buf)
             gl->DeleteBuffers(1, &st->lights_buf);
@@ -343,8 +334,8 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     bool hist = f->history > 0.0f && f->prev && st->hist_valid;
     GLuint s_now = st->vol[st->cur], s_prev = st->vol[1 - st->cur];
 
-    /* 1. light pass */
-    lg_gl_pass *p = st->light;
+    /* 1. and 2. light pass and accumulation, one invocation per column */
+    lg_gl_pass *p = st->column;
     if ((rc = lg_gl_pass_begin(p, NULL)))
         return rc;
     fx_gl_set_view(gl, p, &st->lv, f);
@@ -371,18 +362,9 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
         lg_gl_pass_bind_texture(p, st->l.atlas, atlas);
     fx_gl_bind_volume(gl, p, st->l.s, s_now, GL_WRITE_ONLY);
     fx_gl_bind_volume(gl, p, st->l.hist, s_prev, GL_READ_ONLY);
-    if ((rc = lg_gl_pass_end(p, lg_gl_pass_dispatch(p, f->w, f->h, f->d))))
-        return rc;
-
-    /* 2. accumulation, front to back per column */
-    p = st->accum;
-    if ((rc = lg_gl_pass_begin(p, NULL)))
-        return rc;
-    fx_gl_set_view(gl, p, &st->av, f);
-    lg_gl_set_vec3v(p, st->a.sigma_t, v->sigma_t);
-    lg_gl_set_int(p, st->a.energy, f->accum == FX_ACC_ENERGY);
-    fx_gl_bind_volume(gl, p, st->a.s, s_now, GL_READ_ONLY);
-    fx_gl_bind_volume(gl, p, st->a.out, grid_tex, GL_WRITE_ONLY);
+    lg_gl_set_vec3v(p, st->l.sigma_t, v->sigma_t);
+    lg_gl_set_int(p, st->l.energy, f->accum == FX_ACC_ENERGY);
+    fx_gl_bind_volume(gl, p, st->l.out, grid_tex, GL_WRITE_ONLY);
     if ((rc = lg_gl_pass_end(p, lg_gl_pass_dispatch(p, f->w, f->h, 1))))
         return rc;
 
@@ -422,8 +404,7 @@ void fx_gl_destroy(lg_node *n, void *state)
     if (!st)
         return;
     const lg_gl *gl = lg_gl_get(n);
-    lg_gl_pass_destroy(&st->light);
-    lg_gl_pass_destroy(&st->accum);
+    lg_gl_pass_destroy(&st->column);
     lg_gl_pass_destroy(&st->lookup);
     if (gl) {
         if (st->vol[0])

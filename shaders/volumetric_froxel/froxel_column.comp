@@ -1,0 +1,171 @@
+#version 450
+// volumetric_froxel, passes 1 and 2 of 3 fused: the light pass and the accumulation
+// (plugins/volumetric_froxel/froxel.h, steps 1 and 2; seed 2, eqs. 11 and 12). One
+// invocation per column (i, j), walking k = 0 .. D-1 front to back:
+//
+//   p     = e + w_ij T(k + jitter) / cos_ij
+//   S_ijk = sigma_s sum_l C_l Shadow_l(p) p_HG(g, dot(w_ij, -L_l))
+//
+// then, with a history, the blend with the previous frame's S read trilinearly where the
+// slice's centre falls in the previous grid. S goes to u_s (rgba32f, alpha 1: this frame's
+// S, the lookup's partial slice and the next frame's history), and the running sum to the
+// grid u_out:
+//
+//   thesis:            A_k = A_{k-1} + S_k Delta_k                              Tr_k = 1
+//   energy_conserving: A_k = A_{k-1} + Tr_{k-1} S_k Delta_k seg(sigma_t Delta_k)
+//                      Tr_k = Tr_{k-1} exp(-sigma_t Delta_k)
+//
+// What depends only on the column is computed once, before the walk: 1 / cos, the sum of
+// sigma_s C_l p_HG over the unshadowed lights, and per shadowed light sigma_s C_l p_HG and
+// its clip position as an affine function of view depth, clip(t) = a_l + b_l t (a_l = VP_l
+// e, b_l = VP_l w / cos): a shadow test per froxel is 4 multiply-adds, a reciprocal and a
+// fetch. (Measured on llvmpipe: the per-froxel light pass followed by a per-column
+// accumulation, each froxel doing all of this work, was 305 ms at the thesis grid with
+// one light; this pass, README's table.)
+//
+// Work-groups of 8x8 columns: each step k touches one 8x8 tile of a slice, so neighbouring
+// invocations write neighbouring texels and their shadow fetches land near each other.
+#include "froxel_common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#define FX_MAX_LIGHTS 32
+
+// One directional light with its shadow record folded in (froxel_gl.c, fx_gl_light).
+struct FxLight {
+    mat4 view_proj;    // world -> the shadow record's clip space (shadow >= 0)
+    vec3 dir;          // unit, the direction the light travels
+    int shadow;        // >= 0: shadowed through the atlas tile at `tile`; -1: unshadowed
+    vec3 l_c;          // colour x intensity
+    float pad0;
+    ivec2 tile;        // the tile's top-left texel
+    ivec2 pad1;
+};
+layout(std430, binding = 0) readonly buffer FxLights {
+    FxLight fx_lights[];
+};
+
+layout(binding = 0) uniform sampler2D u_atlas;                 // depth-only, texelFetch
+layout(binding = 0, rgba32f) uniform writeonly image3D u_s;    // this frame's S
+layout(binding = 1, rgba32f) uniform readonly image3D u_hist;  // the previous frame's S
+layout(binding = 2, rgba32f) uniform writeonly image3D u_out;  // the grid
+
+uniform ivec3 u_grid;        // W, H, D
+uniform mat4 u_inv_vp;       // this frame's camera
+uniform vec3 u_eye;
+uniform vec3 u_fwd;
+uniform int u_slicing;       // LG_SLICING_*
+uniform vec4 u_map;          // near, far, near_offset, D
+uniform vec3 u_sigma_s;
+uniform float u_g;
+uniform int u_n_lights;      // 1 .. 32
+uniform int u_shadow_res;    // tile side, texels
+uniform float u_bias;        // bias_constant, depth units
+uniform float u_jitter;      // [0, 1)
+uniform float u_history;     // weight of the history; 0: none (or no previous frame)
+uniform mat4 u_prev_vp;      // the previous frame's view-projection
+uniform vec3 u_prev_eye;
+uniform vec3 u_prev_fwd;
+uniform int u_prev_slicing;
+uniform vec4 u_prev_map;
+uniform vec3 u_sigma_t;
+uniform int u_energy;        // 1: energy_conserving, 0: thesis
+
+// The history at continuous cell coordinates x (cell centres at integers), trilinear,
+// clamped to the edge.
+vec3 fx_history(vec3 x)
+{
+    ivec3 hi = u_grid - 1;
+    vec3 x0 = floor(x);
+    vec3 f = x - x0;
+    ivec3 a = clamp(ivec3(x0), ivec3(0), hi);
+    ivec3 b = clamp(ivec3(x0) + 1, ivec3(0), hi);
+    vec3 c00 = mix(imageLoad(u_hist, ivec3(a.x, a.y, a.z)).rgb,
+                   imageLoad(u_hist, ivec3(b.x, a.y, a.z)).rgb, f.x);
+    vec3 c10 = mix(imageLoad(u_hist, ivec3(a.x, b.y, a.z)).rgb,
+                   imageLoad(u_hist, ivec3(b.x, b.y, a.z)).rgb, f.x);
+    vec3 c01 = mix(imageLoad(u_hist, ivec3(a.x, a.y, b.z)).rgb,
+                   imageLoad(u_hist, ivec3(b.x, a.y, b.z)).rgb, f.x);
+    vec3 c11 = mix(imageLoad(u_hist, ivec3(a.x, b.y, b.z)).rgb,
+                   imageLoad(u_hist, ivec3(b.x, b.y, b.z)).rgb, f.x);
+    return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+}
+
+void main()
+{
+    ivec2 c = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(c, u_grid.xy)))
+        return;
+    vec3 w = fx_ray(u_inv_vp, u_eye, fx_ndc(c, u_grid.xy));
+    float ic = 1.0 / dot(w, u_fwd);
+
+    // the column's constants
+    vec3 unsh = vec3(0.0);
+    vec3 lp[FX_MAX_LIGHTS];
+    vec4 la[FX_MAX_LIGHTS], lb[FX_MAX_LIGHTS];
+    ivec2 tile[FX_MAX_LIGHTS];
+    int nsh = 0;
+    for (int l = 0; l < u_n_lights; l++) {
+        vec3 cl = u_sigma_s * fx_lights[l].l_c * lg_hg_phase(u_g, dot(w, -fx_lights[l].dir));
+        if (fx_lights[l].shadow < 0) {
+            unsh += cl;
+            continue;
+        }
+        mat4 m = fx_lights[l].view_proj;
+        la[nsh] = m * vec4(u_eye, 1.0);
+        lb[nsh] = m * vec4(w * ic, 0.0);
+        lp[nsh] = cl;
+        tile[nsh] = fx_lights[l].tile;
+        nsh++;
+    }
+    ivec2 atlas_size = textureSize(u_atlas, 0);
+    float res = float(u_shadow_res);
+
+    vec3 A = vec3(0.0), Tr = vec3(1.0);
+    float t0 = 0.0;
+    for (int k = 0; k < u_grid.z; k++) {
+        float t = lg_slice_to_depth(u_slicing, u_map, float(k) + u_jitter);
+        vec3 S = unsh;
+        for (int l = 0; l < nsh; l++) {
+            // vol_shadow_cpu's rule: nearest texel of the light's tile; lit outside the
+            // tile, in front of the light's near plane, or beyond the atlas
+            vec4 q = la[l] + lb[l] * t;
+            vec3 n = q.xyz * (1.0 / q.w);
+            vec2 uv = n.xy * 0.5 + 0.5;
+            float z = n.z * 0.5 + 0.5;
+            bool lit = true;
+            if (uv.x >= 0.0 && uv.x < 1.0 && uv.y >= 0.0 && uv.y < 1.0 && z >= 0.0) {
+                // uv < 1, but uv * res may round up to res in float: the last texel then
+                ivec2 texel = tile[l] + min(ivec2(uv * res), ivec2(u_shadow_res - 1));
+                if (all(lessThan(texel, atlas_size)))
+                    lit = !(z > texelFetch(u_atlas, texel, 0).r + u_bias);
+            }
+            S += lit ? lp[l] : vec3(0.0);
+        }
+        if (u_history > 0.0) {
+            // the slice's centre, projected into the previous grid
+            float tc = lg_slice_to_depth(u_slicing, u_map, float(k) + 0.5);
+            vec3 q = u_eye + w * (tc * ic);
+            vec4 pc = u_prev_vp * vec4(q, 1.0);
+            vec2 uv = (pc.xy / pc.w + 1.0) * vec2(u_grid.xy) * 0.5;
+            float z = lg_depth_to_slice(u_prev_slicing, u_prev_map,
+                                        dot(q - u_prev_eye, u_prev_fwd));
+            if (pc.w > 0.0 && uv.x >= 0.0 && uv.x <= float(u_grid.x) && uv.y >= 0.0 &&
+                uv.y <= float(u_grid.y) && z >= 0.0 && z <= float(u_grid.z))
+                S = mix(S, fx_history(vec3(uv, z) - 0.5), u_history);
+        }
+        imageStore(u_s, ivec3(c, k), vec4(S, 1.0));
+
+        float t1 = lg_slice_to_depth(u_slicing, u_map, float(k + 1));
+        float delta = (t1 - t0) * ic;
+        if (u_energy != 0) {
+            vec3 tau = u_sigma_t * delta;
+            A += Tr * S * delta * lg_medium_segment3(tau);
+            Tr *= exp(-tau);
+        } else {
+            A += S * delta;
+        }
+        imageStore(u_out, ivec3(c, k), vec4(A, (Tr.x + Tr.y + Tr.z) / 3.0));
+        t0 = t1;
+    }
+}
