@@ -65,6 +65,7 @@ bench: build
 	ninja -C $(BUILD) bench-reinhard
 	ninja -C $(BUILD) bench-prt
 	ninja -C $(BUILD) bench-prt-bake
+	ninja -C $(BUILD) bench-froxel
 
 # GGX prefiltering: error vs time for 16 .. 4096 samples per texel, into docs/images/
 # (prefilter_study.csv and .png; docs/probes.md "Glossy prefiltering").
