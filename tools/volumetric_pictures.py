@@ -44,7 +44,8 @@ def main():
     ap.add_argument("--ref-steps", type=int, default=512)
     ap.add_argument("--ref-spp", type=int, default=4)
     a = ap.parse_args()
-    exe = os.path.join(a.build, "lightgraph")
+    a.out = os.path.abspath(a.out)  # graphs name their files relative to their own folder
+    exe = os.path.abspath(os.path.join(a.build, "lightgraph"))
     os.makedirs(a.out, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix="vol-pictures-")  # the linear in-scatter EXRs stay out of git
     try:

@@ -119,7 +119,8 @@ def main():
     a = ap.parse_args()
     if a.quick:
         a.size, a.repeat, a.ref_steps, a.ref_spp = "160x90", 1, 256, 1
-    exe = os.path.join(a.build, "lightgraph")
+    a.out = os.path.abspath(a.out)  # graphs name their files relative to their own folder
+    exe = os.path.abspath(os.path.join(a.build, "lightgraph"))
     if not os.path.exists(exe):
         die("%s does not exist: build first" % exe)
     os.makedirs(a.out, exist_ok=True)
