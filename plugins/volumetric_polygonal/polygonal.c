@@ -567,7 +567,10 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         const float outer[4] = { lo[0], lo[1], hi[0], hi[1] };
         lg_gl_set_vec4v(st->mesh, st->m_outer, outer);
         lg_gl_pass_bind_buffer(st->mesh, st->m_verts, st->vbuf[l]);
-        rc = lg_gl_pass_dispatch(st->mesh, (uint32_t)nverts, 1, 1);
+        /* rows of 65536 invocations (1024 groups of 64; the shader rebuilds the index), so
+         * that no axis exceeds GL's 65535 groups however large the mesh */
+        uint32_t row = 65536u, rows = (uint32_t)((nverts + row - 1) / row);
+        rc = lg_gl_pass_dispatch(st->mesh, nverts < row ? (uint32_t)nverts : row, rows, 1);
     }
     if ((rc = lg_gl_pass_end(st->mesh, rc)))
         return rc;

@@ -66,7 +66,10 @@ vec3 grid_ndc(ivec2 c)
 
 void main()
 {
-    int id = int(gl_GlobalInvocationID.x);
+    // rows of gl_NumWorkGroups.x * 64 vertices: a 2048^2 mesh needs more than the 65535
+    // groups one axis may have
+    int id = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x +
+                 gl_GlobalInvocationID.x);
     int n_grid = u_grid.x * u_grid.y;
     int P = 2 * (u_grid.x - 1) + 2 * (u_grid.y - 1);
     if (id >= n_grid + P + 8)
