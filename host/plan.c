@@ -185,41 +185,6 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
     }
 }
 
-static void cull(lg_exec *ex)
-{
-    const lg_checked *c = ex->checked;
-    bool *keep = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *keep);
-    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + 1, sizeof *stack);
-    uint32_t sp = 0;
-    for (uint32_t i = 0; i < c->n_outputs; i++)
-        if (c->outputs[i].node >= 0 && !keep[c->outputs[i].node]) {
-            keep[c->outputs[i].node] = true;
-            stack[sp++] = (uint32_t)c->outputs[i].node;
-        }
-    for (uint32_t i = 0; i < c->n_nodes; i++)
-        if ((c->nodes[i].type->flags & LG_NODE_SIDE_EFFECT) && !keep[i]) {
-            keep[i] = true;
-            stack[sp++] = i;
-        }
-    while (sp > 0) {
-        uint32_t i = stack[--sp];
-        for (uint32_t k = 0; k < c->nodes[i].type->n_inputs; k++) {
-            int32_t s = c->nodes[i].inputs[k].node;
-            if (s >= 0 && !keep[s]) {
-                keep[s] = true;
-                stack[sp++] = (uint32_t)s;
-            }
-        }
-    }
-    for (uint32_t i = 0; i < c->n_nodes; i++)
-        if (!keep[i]) {
-            ex->nodes[i].state = LG_STATE_CULLED;
-            ex->nodes[i].reason = lg_xstrdup("no output depends on it");
-        }
-    free(keep);
-    free(stack);
-}
-
 static int prepare_node(lg_exec *ex, lg_pnode *n)
 {
     char err[1024];
@@ -295,10 +260,12 @@ static void decide_gate(lg_exec *ex, lg_pnode *n, bool *seen)
     }
 }
 
-/* The second cull: from the outputs and side-effect nodes through the inputs of kept
- * nodes, and through a gated node's passed-through input only. Nodes already prepared
- * (the scene producers) stay. */
-static void cull_behind_gated(lg_exec *ex, const bool *early)
+/* Culls what no output needs: walks from the outputs and side-effect nodes through the
+ * inputs of the nodes it reaches; into a gated node only through the input its neutral
+ * result passes on (a gated node reads nothing else). Nodes not reached are culled with
+ * `reason`, but for those already prepared (`early`, may be NULL). Run once before anything
+ * is gated (every node is then reached through all its inputs), and again after gating. */
+static void cull(lg_exec *ex, const bool *early, const char *reason)
 {
     const lg_checked *c = ex->checked;
     bool *keep = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *keep);
@@ -331,9 +298,9 @@ static void cull_behind_gated(lg_exec *ex, const bool *early)
         }
     }
     for (uint32_t i = 0; i < c->n_nodes; i++)
-        if (!keep[i] && !early[i] && ex->nodes[i].state == LG_STATE_KEPT) {
+        if (!keep[i] && !(early && early[i]) && ex->nodes[i].state == LG_STATE_KEPT) {
             ex->nodes[i].state = LG_STATE_CULLED;
-            ex->nodes[i].reason = lg_xstrdup("only gated nodes read it");
+            ex->nodes[i].reason = lg_xstrdup(reason);
         }
     free(keep);
     free(stack);
@@ -393,7 +360,7 @@ int lg_plan(lg_exec *ex)
         n->outputs = lg_xcalloc(n->schema->n_outputs ? n->schema->n_outputs : 1,
                                 sizeof *n->outputs);
     }
-    cull(ex);
+    cull(ex, NULL, "no output depends on it");
 
     /* Gating needs the scenes' features, which exist once the nodes that make scenes are
      * prepared. So: (a) prepare the scene producers and everything upstream of them; (b)
@@ -416,7 +383,7 @@ int lg_plan(lg_exec *ex)
             if (!early[n->index] && n->state != LG_STATE_CULLED)
                 decide_gate(ex, n, seen);
         }
-        cull_behind_gated(ex, early);
+        cull(ex, early, "only gated nodes read it");
     }
     for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
         uint32_t i = c->topo[t];
