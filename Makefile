@@ -104,7 +104,7 @@ pictures-prt: build
 # The volumetric thesis's experiments (seed 2, chapter 4): the three methods on the bunny
 # box, the dragon and six instanced dragons, and 1..32 lights, at the thesis's settings
 # (2134 x 1459; QUICK=1 for a smoke run); tables and plots into docs/images/volumetric/
-# (plugins/volumetric_froxel/README.md, "The thesis's experiments").
+# (docs/volumetric.md, "The thesis's experiments").
 bench-volumetric: build
 	mkdir -p out docs/images/volumetric
 	python3 tools/bench_volumetric.py --build $(BUILD) --out out/bench_volumetric \

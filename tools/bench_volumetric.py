@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """bench_volumetric.py: the volumetric thesis's experiments reproduced (issue 11, item 3; seed 2,
-chapter 4). plugins/volumetric_froxel/README.md ("The thesis's experiments") has the figures.
+chapter 4). docs/volumetric.md ("The thesis's experiments") has the figures.
 
 usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frames N]
                                  [--scenes bunny,dragon,dragons] [--lights 1,2,4,...]
