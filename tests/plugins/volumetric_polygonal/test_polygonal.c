@@ -339,39 +339,48 @@ static bool read_ply(lg_test *t, const char *rel, mesh *m)
     return ok;
 }
 
-/* #back - #front crossings of the ray (o, w) with the mesh (Moller-Trumbore in double). */
+/* Triangle i against the ray (o, w) (Moller-Trumbore in double): 0 when it misses or is hit
+ * at s <= 0; else the hit's distance *s and +1 if the ray leaves through it (back face, its
+ * normal along w), -1 if it enters. */
+static int hit(const mesh *m, uint64_t i, const double o[3], const double w[3], double *s)
+{
+    double a[3], b[3], c[3];
+    for (int k = 0; k < 3; k++) {
+        a[k] = m->v[3 * m->tri[3 * i] + k];
+        b[k] = m->v[3 * m->tri[3 * i + 1] + k];
+        c[k] = m->v[3 * m->tri[3 * i + 2] + k];
+    }
+    double e1[3], e2[3], sv[3], p[3], q[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = b[k] - a[k];
+        e2[k] = c[k] - a[k];
+        sv[k] = o[k] - a[k];
+    }
+    v3_cross(w, e2, p);
+    double det = v3_dot(e1, p);
+    if (det == 0.0)
+        return 0;
+    double u = v3_dot(sv, p) / det;
+    if (u < 0.0 || u > 1.0)
+        return 0;
+    v3_cross(sv, e1, q);
+    double v = v3_dot(w, q) / det;
+    if (v < 0.0 || u + v > 1.0)
+        return 0;
+    *s = v3_dot(e2, q) / det;
+    if (*s <= 0.0)
+        return 0;
+    v3_cross(e1, e2, n);
+    return v3_dot(n, w) > 0.0 ? 1 : -1;
+}
+
+/* #back - #front crossings of the ray (o, w) with the mesh. */
 static int crossings(const mesh *m, const double o[3], const double w[3])
 {
     int sum = 0;
-    for (uint64_t i = 0; i < m->nt; i++) {
-        double a[3], b[3], c[3];
-        for (int k = 0; k < 3; k++) {
-            a[k] = m->v[3 * m->tri[3 * i] + k];
-            b[k] = m->v[3 * m->tri[3 * i + 1] + k];
-            c[k] = m->v[3 * m->tri[3 * i + 2] + k];
-        }
-        double e1[3], e2[3], s[3], p[3], q[3], n[3];
-        for (int k = 0; k < 3; k++) {
-            e1[k] = b[k] - a[k];
-            e2[k] = c[k] - a[k];
-            s[k] = o[k] - a[k];
-        }
-        v3_cross(w, e2, p);
-        double det = v3_dot(e1, p);
-        if (det == 0.0)
-            continue;
-        double u = v3_dot(s, p) / det;
-        if (u < 0.0 || u > 1.0)
-            continue;
-        v3_cross(s, e1, q);
-        double v = v3_dot(w, q) / det;
-        if (v < 0.0 || u + v > 1.0)
-            continue;
-        if (v3_dot(e2, q) / det <= 0.0)
-            continue;
-        v3_cross(e1, e2, n);
-        sum += v3_dot(n, w) > 0.0 ? 1 : -1; /* leaving (back) : entering (front) */
-    }
+    double s;
+    for (uint64_t i = 0; i < m->nt; i++)
+        sum += hit(m, i, o, w, &s);
     return sum;
 }
 
@@ -380,37 +389,13 @@ static int crossings(const mesh *m, const double o[3], const double w[3])
 static double crossing_sum(const mesh *m, const fog *f, const light *l, const double o[3],
                            const double w[3], int ch, double d, double *abs_sum)
 {
-    double sum = 0.0, sa = 0.0;
+    double sum = 0.0, sa = 0.0, s;
     for (uint64_t i = 0; i < m->nt; i++) {
-        double a[3], b[3], c[3];
-        for (int k = 0; k < 3; k++) {
-            a[k] = m->v[3 * m->tri[3 * i] + k];
-            b[k] = m->v[3 * m->tri[3 * i + 1] + k];
-            c[k] = m->v[3 * m->tri[3 * i + 2] + k];
-        }
-        double e1[3], e2[3], sv[3], p[3], q[3], n[3];
-        for (int k = 0; k < 3; k++) {
-            e1[k] = b[k] - a[k];
-            e2[k] = c[k] - a[k];
-            sv[k] = o[k] - a[k];
-        }
-        v3_cross(w, e2, p);
-        double det = v3_dot(e1, p);
-        if (det == 0.0)
+        int sign = hit(m, i, o, w, &s);
+        if (!sign)
             continue;
-        double u = v3_dot(sv, p) / det;
-        if (u < 0.0 || u > 1.0)
-            continue;
-        v3_cross(sv, e1, q);
-        double v = v3_dot(w, q) / det;
-        if (v < 0.0 || u + v > 1.0)
-            continue;
-        double s = v3_dot(e2, q) / det;
-        if (s <= 0.0)
-            continue;
-        v3_cross(e1, e2, n);
         double F = closed(f, l, w, ch, s < d ? s : d);
-        sum += v3_dot(n, w) > 0.0 ? F : -F;
+        sum += sign * F;
         sa += F;
     }
     *abs_sum = sa;
