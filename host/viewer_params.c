@@ -35,14 +35,35 @@ static void set_err(char *err, size_t errlen, const char *fmt, ...)
     va_end(ap);
 }
 
-/* The shortest text that reads back as `v`, for messages and ranges ("1000", "0.3",
- * "1e+06"). */
+/* The shortest text that reads back as `v`, for messages and ranges: plain decimals for
+ * everyday magnitudes ("1000", "0.3"), else the exponent form written short ("1e6",
+ * "2.5e-7"). */
 static void fmt_short(char out[64], double v)
 {
+    double m = fabs(v);
+    if (m == 0 || (m >= 1e-4 && m < 1e5)) {
+        for (int d = 0; d <= 20; d++) {
+            snprintf(out, 64, "%.*f", d, v);
+            if (strtod(out, NULL) == v)
+                return;
+        }
+    }
     for (int prec = 1; prec <= 17; prec++) {
         snprintf(out, 64, "%.*g", prec, v);
         if (strtod(out, NULL) == v)
-            return;
+            break;
+    }
+    /* "1e+06" -> "1e6", "1e-05" -> "1e-5" */
+    char *e = strchr(out, 'e');
+    if (e) {
+        char *d = e + 1, *q = e + 1;
+        if (*q == '+')
+            q++;
+        else if (*q == '-')
+            *d++ = *q++;
+        while (*q == '0' && q[1])
+            q++;
+        memmove(d, q, strlen(q) + 1);
     }
 }
 
@@ -290,7 +311,10 @@ static int step_float(const lg_param_desc *pd, double v, int dir, double scale, 
         return -1;
     }
     double step = wide_or_open(pd) ? (v != 0 ? 0.1 * fabs(v) : 0.1) : (pd->max - pd->min) / 100;
-    double x = v + (dir > 0 ? 1 : -1) * step * scale;
+    step *= scale;
+    double x = v + (dir > 0 ? step : -step);
+    if (fabs(x) < 1e-9 * step) /* 2.2 - 10 x 0.22 is 0, not -4.4e-16 */
+        x = 0;
     if (has_range(pd))
         x = x > pd->max ? pd->max : x < pd->min ? pd->min : x;
     if (!isfinite(x)) {
