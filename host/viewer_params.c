@@ -791,7 +791,21 @@ static int32_t output_named(const lg_node_type *t, const char *name)
     return -1;
 }
 
-static bool alternatives(const lg_checked *c, uint32_t x, uint32_t y)
+/* Every node's sources (sources()), made once per switch: the walk compares many pairs. */
+typedef struct src_sets {
+    src_ref **s;
+    uint32_t *n;
+} src_sets;
+
+static void free_src_sets(src_sets *ss, uint32_t n)
+{
+    for (uint32_t k = 0; k < n; k++)
+        free(ss->s[k]);
+    free(ss->s);
+    free(ss->n);
+}
+
+static bool alternatives(const lg_checked *c, const src_sets *ss, uint32_t x, uint32_t y)
 {
     const lg_cnode *a = &c->nodes[x], *b = &c->nodes[y];
     if (x == y || !a->type || !b->type || !a->type->n_outputs ||
@@ -802,17 +816,13 @@ static bool alternatives(const lg_checked *c, uint32_t x, uint32_t y)
         if (ob < 0 || b->type->outputs[ob].kind != a->type->outputs[o].kind)
             return false;
     }
+    if (ss->n[x] != ss->n[y] || memcmp(ss->s[x], ss->s[y], ss->n[x] * sizeof **ss->s) != 0)
+        return false;
+    /* a twin (same type, same values) is the same method, not another */
     bool differ = strcmp(a->type->name, b->type->name) != 0;
     for (uint32_t j = 0; !differ && j < a->type->n_params; j++)
         differ = !same_value(&a->type->params[j], &a->params[j], &b->params[j]);
-    if (!differ)
-        return false;
-    src_ref *sa, *sb;
-    uint32_t na = sources(a, &sa), nb = sources(b, &sb);
-    bool same = na == nb && memcmp(sa, sb, na * sizeof *sa) == 0;
-    free(sa);
-    free(sb);
-    return same;
+    return differ;
 }
 
 /* The reference to output `port` (part `part`) of `y` that stands where one to X was, or
@@ -853,6 +863,10 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
         return 0;
     }
     /* breadth first upstream of `shown`, itself first, inputs in their order */
+    src_sets ss = {lg_xcalloc(c->n_nodes, sizeof *ss.s), lg_xcalloc(c->n_nodes, sizeof *ss.n)};
+    for (uint32_t k = 0; k < c->n_nodes; k++)
+        if (c->nodes[k].type)
+            ss.n[k] = sources(&c->nodes[k], &ss.s[k]);
     bool *seen = lg_xcalloc(c->n_nodes, sizeof *seen);
     int32_t *queue = lg_xmalloc(c->n_nodes * sizeof *queue);
     uint32_t head = 0, tail = 0, walked = 0;
@@ -863,7 +877,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
         int32_t u = queue[head++];
         walked++;
         for (uint32_t k = 0; k < c->n_nodes && x < 0; k++)
-            if (alternatives(c, (uint32_t)u, k))
+            if (alternatives(c, &ss, (uint32_t)u, k))
                 x = u;
         const lg_cnode *cn = &c->nodes[u];
         for (uint32_t j = 0; cn->type && j < cn->type->n_inputs; j++) {
@@ -878,6 +892,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     free(queue);
     const char *shown_name = c->nodes[shown].g->name;
     if (x < 0) {
+        free_src_sets(&ss, c->n_nodes);
         set_err(err, errlen, "no node upstream of '%s' has an alternative: none of the %u "
                 "node(s) it is made from (itself included) has another node beside it with "
                 "the same outputs reading the same sources", shown_name, walked);
@@ -887,7 +902,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     /* X and its alternatives in file order; Y is the next (previous) after X, cyclic */
     int32_t y = -1, first = -1, last = -1;
     for (uint32_t k = 0; k < c->n_nodes; k++) {
-        if (!alternatives(c, (uint32_t)x, k))
+        if (!alternatives(c, &ss, (uint32_t)x, k))
             continue;
         if (first < 0)
             first = (int32_t)k;
@@ -899,6 +914,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     }
     if (y < 0)
         y = dir >= 0 ? first : last;
+    free_src_sets(&ss, c->n_nodes);
 
     const lg_node_type *tx = c->nodes[x].type, *ty = c->nodes[y].type;
     char **out = NULL;
