@@ -21,6 +21,7 @@ enum {
     U_RECT = 0,
     U_FB_SIZE = 1,
     U_EXPOSURE = 2, /* display_image.frag */
+    U_TAPS = 3,
     U_ORIGIN = 2,   /* display_text.frag from here on */
     U_SCALE = 3,
     U_CELL = 4,
@@ -279,6 +280,21 @@ void lg_vdisplay_cell(const lg_vdisplay *d, int *cw, int *ch)
 
 /* ---- the image ------------------------------------------------------------------------- */
 
+lg_vdisplay_rect lg_vdisplay_fit(int fb_w, int fb_h, uint32_t w, uint32_t h)
+{
+    lg_vdisplay_rect r = {0, 0, 0, 0, 0.0};
+    if (fb_w <= 0 || fb_h <= 0 || w == 0 || h == 0)
+        return r;
+    r.scale = fmin((double)fb_w / w, (double)fb_h / h);
+    r.w = (int)lround(w * r.scale);
+    r.h = (int)lround(h * r.scale);
+    r.w = r.w < 1 ? 1 : r.w > fb_w ? fb_w : r.w;
+    r.h = r.h < 1 ? 1 : r.h > fb_h ? fb_h : r.h;
+    r.x = (fb_w - r.w) / 2;
+    r.y = (fb_h - r.h) / 2;
+    return r;
+}
+
 static const char *format_name(GLint f)
 {
     switch (f) {
@@ -342,15 +358,14 @@ int lg_vdisplay_draw_image(lg_vdisplay *d, uint32_t fbo, int fb_w, int fb_h, uin
     if (check_target(d, what, fbo, fb_w, fb_h) || check_texture(d, tex, w, h))
         return -1;
 
-    /* Fit: the largest scale at which the whole image shows, rounded to whole pixels and
-     * centred. A whole-number scale samples nearest, texel for pixel block. */
-    double s = fmin((double)fb_w / w, (double)fb_h / h);
-    int dw = (int)lround(w * s), dh = (int)lround(h * s);
-    dw = dw < 1 ? 1 : dw > fb_w ? fb_w : dw;
-    dh = dh < 1 ? 1 : dh > fb_h ? fb_h : dh;
-    int ox = (fb_w - dw) / 2, oy = (fb_h - dh) / 2;
-    bool whole = s >= 1.0 && s == floor(s) && (uint32_t)dw == w * (uint32_t)s &&
-                 (uint32_t)dh == h * (uint32_t)s;
+    lg_vdisplay_rect r = lg_vdisplay_fit(fb_w, fb_h, w, h);
+    int ox = r.x, oy = fb_h - r.y - r.h, dw = r.w, dh = r.h; /* GL's y grows upwards */
+    /* A whole-number scale samples nearest, texel for pixel block; a shrunk image is
+     * box-filtered with taps bilinear taps per axis. */
+    bool whole = r.scale >= 1.0 && r.scale == floor(r.scale) &&
+                 (uint32_t)dw == w * (uint32_t)r.scale && (uint32_t)dh == h * (uint32_t)r.scale;
+    int taps = r.scale >= 1.0 ? 1 : (int)ceil(1.0 / r.scale - 1e-9);
+    taps = taps > LG_VDISPLAY_MAX_TAPS ? LG_VDISPLAY_MAX_TAPS : taps;
 
     begin_pass(gl, fbo, fb_w, fb_h);
     const GLfloat clear[4] = {LG_VDISPLAY_CLEAR, LG_VDISPLAY_CLEAR, LG_VDISPLAY_CLEAR, 1.0f};
@@ -363,6 +378,7 @@ int lg_vdisplay_draw_image(lg_vdisplay *d, uint32_t fbo, int fb_w, int fb_h, uin
     gl->Uniform4f(U_RECT, (float)ox, (float)oy, (float)(ox + dw), (float)(oy + dh));
     gl->Uniform2f(U_FB_SIZE, (float)fb_w, (float)fb_h);
     gl->Uniform1f(U_EXPOSURE, exposure);
+    gl->Uniform1i(U_TAPS, taps);
     gl->DrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     end_pass(gl);
     return check_error(d, what);

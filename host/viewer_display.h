@@ -28,11 +28,14 @@
  *
  * Layout. The image is fitted into the framebuffer keeping its aspect ratio: the scale is
  * min(fb_w / w, fb_h / h) (images smaller than the window are magnified too), the fitted
- * size is rounded to whole pixels and centred, and the rest is the clear colour
- * (LG_VDISPLAY_CLEAR, a dark grey). When the scale is a whole number (1:1 included) the
- * image is sampled nearest, pixel for pixel; otherwise bilinearly (on linear values, before
- * the exposure and the encoding). Minification has no prefiltering: an image much larger
- * than the window aliases.
+ * size is rounded to whole pixels and centred (lg_vdisplay_fit), and the rest is the clear
+ * colour (LG_VDISPLAY_CLEAR, a dark grey). When the scale is a whole number (1:1 included)
+ * the image is sampled nearest, each texel a block of pixels; magnified by another factor,
+ * bilinearly; shrunk, each pixel is the mean of n x n bilinear taps spread over its
+ * footprint, n = ceil(1 / scale) up to LG_VDISPLAY_MAX_TAPS (a box filter, exact for
+ * shrinking by a whole factor up to 8). All filtering is on linear values, before the
+ * exposure and the encoding; a NaN or Inf texel under a filter makes the pixel's mean NaN
+ * (shown 0) or Inf (shown 1).
  *
  * GL state. Each draw sets what it needs (framebuffer, viewport, program, vertex array,
  * textures and samplers on units 0 and 1, blending, colour mask; scissor, depth and
@@ -70,8 +73,21 @@
 #define LG_VDISPLAY_BOX_ALPHA 0.6f
 /* The largest text scale accepted. */
 #define LG_VDISPLAY_MAX_SCALE 16
+/* The most taps per axis when an image is shrunk (a box filter of up to 8 x 8 texels). */
+#define LG_VDISPLAY_MAX_TAPS 8
 
 typedef struct lg_vdisplay lg_vdisplay;
+
+/* Where an image of w x h texels shows in a framebuffer of fb_w x fb_h pixels: the rectangle
+ * x, y (its top-left, counted from the framebuffer's top-left, y down), w, h in pixels, and
+ * the scale (framebuffer pixels per texel, before rounding). Texel (u, v) of the image
+ * (v = 0 the top row) covers pixels x + u * scale .. from the top-left. All zero when a
+ * size is 0 or negative. For mapping the mouse to image pixels, and what draw_image uses. */
+typedef struct lg_vdisplay_rect {
+    int x, y, w, h;
+    double scale;
+} lg_vdisplay_rect;
+lg_vdisplay_rect lg_vdisplay_fit(int fb_w, int fb_h, uint32_t w, uint32_t h);
 
 /* Compiles the display's programs (shaders/viewer/: display.vert with display_image.frag
  * and display_text.frag, embedded at build time by tools/embed.py) and uploads the font

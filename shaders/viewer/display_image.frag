@@ -7,6 +7,10 @@
 
 layout(location = 0) uniform vec4 u_rect;   // x0, y0, x1, y1 of the image in pixels
 layout(location = 2) uniform float u_exposure;
+// Taps per axis over the pixel's footprint: 1 at scales >= 1; ceil(1 / scale) (at most 8)
+// when the image is shrunk, so that each pixel is the mean of the texels it covers (a box
+// filter) rather than the two or four next to its centre.
+layout(location = 3) uniform int u_taps;
 layout(binding = 0) uniform sampler2D u_image;
 
 layout(location = 0) out vec4 o_color;
@@ -26,8 +30,15 @@ float display_encode(float v)
 
 void main()
 {
-    vec2 uv = vec2((gl_FragCoord.x - u_rect.x) / (u_rect.z - u_rect.x),
-                   (u_rect.w - gl_FragCoord.y) / (u_rect.w - u_rect.y));
-    vec3 v = texture(u_image, uv).rgb * u_exposure;
+    vec2 size = vec2(u_rect.z - u_rect.x, u_rect.w - u_rect.y);
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < u_taps; j++) {
+        for (int i = 0; i < u_taps; i++) {
+            vec2 p = gl_FragCoord.xy + (vec2(i, j) + 0.5) / float(u_taps) - 0.5;
+            vec2 uv = vec2((p.x - u_rect.x) / size.x, (u_rect.w - p.y) / size.y);
+            sum += texture(u_image, uv).rgb;
+        }
+    }
+    vec3 v = sum / float(u_taps * u_taps) * u_exposure;
     o_color = vec4(display_encode(v.r), display_encode(v.g), display_encode(v.b), 1.0);
 }

@@ -4,7 +4,8 @@
  *              exposures, and an RGBA8 one: each pixel is png.c's encoding of
  *              value * exposure (+-1 code value), texel row 0 at the top of the picture
  *   letterbox  a 4x2 image in an 8x8 framebuffer: clear rows above and below the band,
- *              2x2 blocks of the texels inside; a 16x8 constant image shrunk into it
+ *              2x2 blocks of the texels inside; images shrunk into it by 2 and 4 (each
+ *              pixel the mean of the texels it covers); lg_vdisplay_fit's rectangles
  *   text       "A|" at a known spot: the lit pixels are the font file's glyph bits, the
  *              box behind darker than the clear colour; scale 2, '?' for other bytes,
  *              cutting at the framebuffer's edges
@@ -224,6 +225,39 @@ static void test_letterbox(void)
                    at(&t, x, y)[0], want);
     }
     gl->DeleteTextures(1, &tex);
+
+    /* shrunk by 4: each pixel the mean of the 4x4 texels it covers (the box filter); the
+     * texels are 1 in every fourth column plus 2 in every fourth row, so the mean is
+     * 0.25 + 0.5, where one bilinear tap at the pixel's centre would give 0 + 1 */
+    enum { BW = 32, BH = 16 };
+    float *stripes = malloc(sizeof(float) * BW * BH * 4);
+    for (int y = 0; y < BH; y++)
+        for (int x = 0; x < BW; x++)
+            for (int c = 0; c < 4; c++)
+                stripes[(y * BW + x) * 4 + c] = (x % 4 == 0 ? 1.0f : 0.0f) + (y % 4 == 1 ? 2.0f : 0.0f);
+    tex = make_texture(GL_RGBA32F, BW, BH, stripes);
+    free(stripes);
+    lg_vdisplay_rect r = lg_vdisplay_fit(F, F, BW, BH);
+    CHECKF(r.x == 0 && r.y == 2 && r.w == 8 && r.h == 4 && r.scale == 0.25,
+           "fit %d %d %d %d %g", r.x, r.y, r.w, r.h, r.scale);
+    CHECKF(lg_vdisplay_draw_image(disp, t.fbo, F, F, tex, BW, BH, 1.0f) == 0, "%s",
+           lg_vdisplay_error(disp));
+    check_state("draw_image shrunk by 4");
+    read_target(&t);
+    for (int y = 2; y < 6; y++)
+        for (int x = 0; x < F; x++)
+            CHECKF(CLOSE(at(&t, x, y)[0], png_code(0.75f)), "shrunk by 4 (%d, %d): %d, want %d",
+                   x, y, at(&t, x, y)[0], png_code(0.75f));
+    gl->DeleteTextures(1, &tex);
+
+    /* the fitted rectangle: centred, rounded; nothing for an empty size */
+    r = lg_vdisplay_fit(F, F, W, H);
+    CHECK(r.x == 0 && r.y == 2 && r.w == 8 && r.h == 4 && r.scale == 2.0);
+    r = lg_vdisplay_fit(800, 600, 1920, 1080);
+    CHECKF(r.x == 0 && r.y == 75 && r.w == 800 && r.h == 450, "fit %d %d %d %d", r.x, r.y, r.w,
+           r.h);
+    r = lg_vdisplay_fit(0, 600, 1920, 1080);
+    CHECK(r.w == 0 && r.h == 0 && r.scale == 0.0);
     free_target(&t);
 }
 
