@@ -23,6 +23,11 @@
     (IN_CLOSE_WRITE | IN_MODIFY | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |     \
      IN_ATTRIB | IN_ONLYDIR | IN_EXCL_UNLINK)
 
+/* A file still open for writing is reported once it has been quiet for this many quiet
+ * periods even without its close: a writer that keeps it open for good (a log, a database)
+ * or a hard link made with link() (created, never closed) must not hide it forever. */
+#define WATCH_WRITING_HOLD 10.0
+
 /* How often a vanished directory is looked for again, in seconds of lg_watch_poll's now. */
 #define WATCH_RETRY_S 0.25
 
@@ -54,6 +59,8 @@ typedef struct wpending {
     char *path;
     int tags;
     double last;      /* the now of the poll that read its last event */
+    bool writing;     /* its last event says a writer has it open (created as a regular
+                       * file, or modified) and no close has been seen since */
 } wpending;
 
 struct lg_watch {
@@ -134,7 +141,26 @@ static bool in_some_tree(const lg_watch *w, const char *dir)
     return false;
 }
 
-static void mark(lg_watch *w, const char *path, int tags, double now)
+/* Whether an event with `mask` on `path` leaves it open for writing: a linker creates the
+ * .so, writes it in bursts that may pause longer than any quiet period on a loaded machine,
+ * and only its close says that it is complete. `mask` 0 (not an event: a scan, an
+ * overflow) says nothing is known to be writing. */
+static bool still_writing(const char *path, uint32_t mask, bool before)
+{
+    if (mask & (IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_DELETE))
+        return false;
+    if (mask & IN_MODIFY)
+        return true;
+    if ((mask & IN_CREATE) && !(mask & IN_ISDIR)) {
+        /* open(O_CREAT) makes a regular file and a close follows; a symbolic link (meson's
+         * libfoo.so -> libfoo.so.1) is complete when it appears */
+        struct stat st;
+        return lstat(path, &st) == 0 && S_ISREG(st.st_mode);
+    }
+    return mask ? before : false; /* IN_ATTRIB: as it was */
+}
+
+static void mark(lg_watch *w, const char *path, int tags, uint32_t mask, double now)
 {
     if (!tags)
         return;
@@ -142,10 +168,12 @@ static void mark(lg_watch *w, const char *path, int tags, double now)
         if (strcmp(w->pending[i].path, path) == 0) {
             w->pending[i].tags |= tags;
             w->pending[i].last = now;
+            w->pending[i].writing = still_writing(path, mask, w->pending[i].writing);
             return;
         }
     GROW(w->pending, w->n_pending, w->cap_pending);
-    w->pending[w->n_pending++] = (wpending){lg_xstrdup(path), tags, now};
+    w->pending[w->n_pending++] =
+        (wpending){lg_xstrdup(path), tags, now, still_writing(path, mask, false)};
 }
 
 /* ---- directory watches --------------------------------------------------------------- */
@@ -238,7 +266,7 @@ static int add_subtree(lg_watch *w, const char *dir, bool required, bool report,
         if (is_dir)
             rc = add_subtree(w, sub, false, report, now, depth + 1, err, errlen);
         else if (report)
-            mark(w, sub, tags_for(w, sub, false), now);
+            mark(w, sub, tags_for(w, sub, false), 0, now);
         free(sub);
     }
     closedir(d);
@@ -264,7 +292,7 @@ static int sync_dirs(lg_watch *w, bool report, double now, char *err, size_t err
             rc = -1;
         }
         if (report)
-            mark(w, w->files[i].path, w->files[i].tag, now);
+            mark(w, w->files[i].path, w->files[i].tag, 0, now);
     }
     for (uint32_t i = 0; rc == 0 && i < w->n_trees; i++) {
         int k = dir_find(w, w->trees[i].root);
@@ -509,7 +537,7 @@ static void handle_event(lg_watch *w, const struct inotify_event *ev, double now
     bool is_dir = (ev->mask & IN_ISDIR) != 0;
     for (int k = 0; k < np; k++) {
         const char *path = paths[k];
-        mark(w, path, tags_for(w, path, is_dir), now);
+        mark(w, path, tags_for(w, path, is_dir), ev->mask, now);
         if (is_dir && in_some_tree(w, path)) {
             if (ev->mask & (IN_CREATE | IN_MOVED_TO)) {
                 /* a failure here (the watch limit) cannot be returned to anybody useful:
@@ -542,11 +570,16 @@ static void retry_lost(lg_watch *w, double now, char *err, size_t errlen)
         char *path = lg_xstrdup(d->path);
         for (uint32_t f = 0; f < w->n_files; f++)
             if (strcmp(w->files[f].dir, path) == 0)
-                mark(w, w->files[f].path, w->files[f].tag, now);
+                mark(w, w->files[f].path, w->files[f].tag, 0, now);
         if (in_some_tree(w, path) && add_subtree(w, path, true, true, now, 0, err, errlen) < 0)
             lg_hlog(LG_HWARN, "%s", err);
         free(path);
     }
+}
+
+static bool is_ready(const wpending *p, double now, double quiet_s)
+{
+    return now - p->last >= (p->writing ? WATCH_WRITING_HOLD * quiet_s : quiet_s);
 }
 
 static int cmp_change(const void *a, const void *b)
@@ -592,7 +625,7 @@ int lg_watch_poll(lg_watch *w, double now, double quiet_s, lg_watch_change **out
 
     uint32_t ready = 0;
     for (uint32_t i = 0; i < w->n_pending; i++)
-        if (now - w->pending[i].last >= quiet_s)
+        if (is_ready(&w->pending[i], now, quiet_s))
             ready++;
     if (!ready)
         return 0;
@@ -600,7 +633,7 @@ int lg_watch_poll(lg_watch *w, double now, double quiet_s, lg_watch_change **out
     int m = 0;
     for (uint32_t i = 0; i < w->n_pending;) {
         wpending *p = &w->pending[i];
-        if (now - p->last < quiet_s) {
+        if (!is_ready(p, now, quiet_s)) {
             i++;
             continue;
         }

@@ -15,6 +15,9 @@
  * writes in steps, a linker writes a .so over a while, ninja touches many files, and none of
  * that should trigger a reload of a half-written file. Each changed path is reported once
  * per quiet period. A file being written continuously is not reported until it stops.
+ * A file still open for writing (its last events were its creation as a regular file or a
+ * write, and no close has come yet: a linker pausing between bursts) waits for its close,
+ * or for 10 quiet periods without an event (a writer that never closes, a hard link).
  *
  * Tags are bit flags (LG_WATCH_*, or the caller's own powers of two): a path registered
  * under several tags (a file both listed and inside a watched tree) is reported once, with

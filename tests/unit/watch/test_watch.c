@@ -10,6 +10,8 @@
  *   recreated     deleted, then created again later (the quiet period restarts)
  *   created       created after the watch started
  *   steps         written in steps: reported once the steps stop
+ *   open_writer   kept open by its writer: held until closed, or for 10 quiet periods;
+ *                 a symbolic link is complete when it appears
  *   only_listed   two files in a directory, one registered; several reported sorted, once
  *   tree          a suffix filter, a subdirectory made after the watch started (and one
  *                 made with its files before we could watch it), tags OR'ed
@@ -214,6 +216,46 @@ static void test_single_files(void)
     expect_none(w, 0.30, "steps: third");
     expect_none(w, 0.45, "steps: 0.15 s after the last");
     expect_one(w, 0.51, "steps: after it", "single/a.lgraph", LG_WATCH_GRAPH);
+
+    /* kept open by its writer (a linker between bursts): held until the close, however
+     * long the pause ... */
+    T += 10;
+    char *a = at("single/a.lgraph");
+    int fd = open(a, O_WRONLY | O_TRUNC);
+    CHECK(fd >= 0 && write(fd, "burst 1", 7) == 7);
+    seen(w);
+    expect_none(w, 0.25, "open_writer: quiet but open");
+    CHECK(fd < 0 || write(fd, "burst 2", 7) == 7);
+    expect_none(w, 1.0, "open_writer: second burst");
+    expect_none(w, 1.5, "open_writer: quiet but open again");
+    if (fd >= 0)
+        close(fd);
+    expect_none(w, 1.6, "open_writer: closed");
+    expect_one(w, 1.85, "open_writer: after its close", "single/a.lgraph", LG_WATCH_GRAPH);
+    /* ... or until 10 quiet periods passed without one */
+    T += 10;
+    fd = open(a, O_WRONLY | O_APPEND);
+    CHECK(fd >= 0 && write(fd, "more", 4) == 4);
+    seen(w);
+    expect_none(w, 1.9, "open_writer: never closed, 1.9 s");
+    expect_one(w, 2.05, "open_writer: never closed, 2 s", "single/a.lgraph", LG_WATCH_GRAPH);
+    if (fd >= 0)
+        close(fd);
+    T += 10;
+    seen(w);
+    expect_one(w, 0.25, "open_writer: the late close", "single/a.lgraph", LG_WATCH_GRAPH);
+    free(a);
+
+    /* a symbolic link appearing is complete at once (no close follows) */
+    T += 10;
+    char *target = at("single/a.lgraph"), *link = at("single/link.lgraph");
+    const char *with_link[] = {"single/link.lgraph"};
+    watch_files(w, LG_WATCH_PLUGIN, 1, with_link);
+    CHECK(symlink(target, link) == 0);
+    seen(w);
+    expect_one(w, 0.25, "symlink", "single/link.lgraph", LG_WATCH_PLUGIN);
+    free(target);
+    free(link);
 
     lg_watch_close(&w);
     CHECK(w == NULL);
