@@ -325,7 +325,7 @@ int lg_cmd_plugins(int argc, char **argv)
         }
         lg_str_add(&o, "],\n \"plugins\": [");
         for (uint32_t i = 0; i < reg.n_plugins; i++) {
-            lg_plugin *p = &reg.plugins[i];
+            lg_plugin *p = reg.plugins[i];
             lg_str_add(&o, i ? ",\n  {\"name\": " : "\n  {\"name\": ");
             lg_str_add_json(&o, p->name);
             lg_str_add(&o, ", \"version\": ");
@@ -359,7 +359,7 @@ int lg_cmd_plugins(int argc, char **argv)
             printf(" %s", reg.dirs[i]);
         printf("\n");
         for (uint32_t i = 0; i < reg.n_plugins; i++) {
-            lg_plugin *p = &reg.plugins[i];
+            lg_plugin *p = reg.plugins[i];
             printf("\n%s %s (ABI %u.%u) %s\n  %s\n", p->name, p->version, p->abi_major,
                    p->abi_minor, p->path, p->doc ? p->doc : "");
             for (uint32_t j = 0; j < p->n_types; j++) {

@@ -310,7 +310,7 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
             if (opts->profile_json && lg_profile_write_json(&ex, opts->profile_json))
                 rc = 1;
             for (uint32_t i = 0; i < ex.n_nodes; i++) {
-                const lg_pnode *n = &ex.nodes[i];
+                const lg_pnode *n = ex.nodes[i];
                 if (n->state != LG_STATE_KEPT)
                     continue;
                 res->total_ms += n->cpu_ms;

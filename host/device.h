@@ -30,6 +30,12 @@ typedef struct lg_gl_device lg_gl_device;
  * ("OSMesa: libOSMesa.so.8 not found (dlopen: ...)", "EGL: no display", "context is GL
  * 3.1, need 4.5", ...). The context is current on return. */
 int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size_t errlen);
+/* A device on a context someone else made and made current (the viewer's GLFW window,
+ * host/gl_backend.h): the same loading and checks as create. `backend->destroy` may be
+ * NULL (the caller destroys the context, after lg_gl_device_destroy). */
+struct lg_gl_backend;
+int lg_gl_device_wrap(lg_gl_device **out, const struct lg_gl_backend *backend, char *err,
+                      size_t errlen);
 /* The function table; valid until destroy. */
 const GladGLContext *lg_gl_device_table(const lg_gl_device *dev);
 /* "OSMesa, llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6" */

@@ -4,6 +4,8 @@
 #include "lightgraph/kinds.h"
 
 #include <errno.h>
+#include <setjmp.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -32,6 +34,62 @@ static void read_cl_events(lg_pnode *n)
     n->n_cl_events = 0;
 }
 
+/* ---- the crash guard (ex->guard) ------------------------------------------------------ */
+
+static sigjmp_buf guard_jmp;
+static volatile sig_atomic_t guard_active, guard_sig;
+static const int guard_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+#define N_GUARD_SIGNALS (sizeof guard_signals / sizeof guard_signals[0])
+
+static void guard_handler(int sig)
+{
+    if (guard_active) {
+        guard_active = 0;
+        guard_sig = sig;
+        siglongjmp(guard_jmp, 1);
+    }
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx)
+{
+    if (!on) {
+        fn(ctx);
+        return 0;
+    }
+    /* the handlers are installed only around the call: elsewhere a crash stays a crash
+     * (and a sanitizer's report stays the sanitizer's) */
+    struct sigaction sa, old[N_GUARD_SIGNALS];
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = guard_handler;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_NODEFER;
+    for (size_t i = 0; i < N_GUARD_SIGNALS; i++)
+        sigaction(guard_signals[i], &sa, &old[i]);
+    guard_sig = 0;
+    if (sigsetjmp(guard_jmp, 1) == 0) {
+        guard_active = 1;
+        fn(ctx);
+        guard_active = 0;
+    }
+    for (size_t i = 0; i < N_GUARD_SIGNALS; i++)
+        sigaction(guard_signals[i], &old[i], NULL);
+    return (int)guard_sig;
+}
+
+typedef struct exec_call {
+    lg_pnode *n;
+    const lg_frame *frame;
+    int rc;
+} exec_call;
+
+static void call_execute(void *p)
+{
+    exec_call *c = p;
+    c->rc = c->n->pub.type->execute(&c->n->pub, c->frame);
+}
+
 static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
 {
     const GladGLContext *gl = ex->gl ? lg_gl_device_table(ex->gl) : NULL;
@@ -41,7 +99,19 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     if (timed_gl)
         gl->BeginQuery(GL_TIME_ELAPSED, ex->gl_timer_query);
     double t0 = lg_now();
-    int rc = n->pub.type->execute(&n->pub, frame);
+    double gpu0 = n->gpu_ms;
+    exec_call call = {n, frame, 0};
+    int sig = lg_guard_call(ex->guard, call_execute, &call);
+    int rc = call.rc;
+    if (sig) {
+        if (timed_gl)
+            gl->EndQuery(GL_TIME_ELAPSED);
+        n->crashed = true;
+        n->plugin->poisoned = true;
+        lg_node_errorf(n, "crashed in execute() (signal %d, %s); plugin %s", sig, strsignal(sig),
+                       n->plugin->path);
+        return -1;
+    }
     if (timed_gl) {
         gl->EndQuery(GL_TIME_ELAPSED);
         /* waits for the node's GL work: the wall time then includes it, as a user timing
@@ -63,6 +133,11 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     read_cl_events(n);
     double ms = (lg_now() - t0) * 1e3;
     n->cpu_ms += ms;
+    n->last_cpu_ms = ms;
+    n->last_gpu_ms = n->gpu_ms - gpu0;
+    n->last_frame = frame->index;
+    n->ran_this_frame = true;
+    n->camera_gen = ex->camera_gen;
     if (n->runs == 0)
         n->first_cpu_ms = n->min_cpu_ms = ms;
     else if (ms < n->min_cpu_ms)
@@ -95,7 +170,7 @@ static int write_outputs(lg_exec *ex)
     for (uint32_t i = 0; i < c->n_outputs; i++) {
         const lg_coutput *o = &c->outputs[i];
         const char *path = ex->opts.output_override ? ex->opts.output_override : o->path;
-        lg_pnode *n = &ex->nodes[o->node];
+        lg_pnode *n = ex->nodes[o->node];
         lg_resource *r = lg_edge_resource(ex, (lg_edge){o->node, o->port, o->part});
         char err[1024];
         float *px = NULL;
@@ -207,7 +282,7 @@ int lg_execute(lg_exec *ex)
         frame.height = ex->opts.height;
         ex->frame = f;
         for (uint32_t t = 0; t < c->n_nodes; t++) {
-            lg_pnode *n = &ex->nodes[c->topo[t]];
+            lg_pnode *n = ex->nodes[c->topo[t]];
             if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame && !runs_every_frame(ex, n)))
                 continue;
             if (run_node(ex, n, &frame))
@@ -217,6 +292,37 @@ int lg_execute(lg_exec *ex)
     int rc = write_outputs(ex);
     ex->t_total_ms = (lg_now() - t0) * 1e3;
     return rc;
+}
+
+int lg_exec_frame(lg_exec *ex, uint32_t index)
+{
+    const lg_checked *c = ex->checked;
+    lg_frame frame;
+    memset(&frame, 0, sizeof frame);
+    frame.index = index;
+    frame.count = UINT32_MAX; /* open-ended: the viewer runs until it is closed */
+    frame.dt = ex->opts.dt;
+    frame.time = index * ex->opts.dt;
+    frame.width = ex->opts.width;
+    frame.height = ex->opts.height;
+    ex->frame = index;
+    for (uint32_t i = 0; i < ex->n_nodes; i++)
+        if (ex->nodes[i])
+            ex->nodes[i]->ran_this_frame = false;
+    for (uint32_t t = 0; t < c->n_nodes; t++) {
+        lg_pnode *n = ex->nodes[c->topo[t]];
+        if (!n || n->state != LG_STATE_KEPT)
+            continue;
+        bool run = !n->ran || n->per_frame || runs_every_frame(ex, n) ||
+                   (n->reads_scene && n->camera_gen != ex->camera_gen);
+        for (uint32_t k = 0; k < n->schema->n_inputs && !run; k++) {
+            int32_t s = n->c->inputs[k].node;
+            run = s >= 0 && ex->nodes[s] && ex->nodes[s]->ran_this_frame;
+        }
+        if (run && run_node(ex, n, &frame))
+            return -1;
+    }
+    return 0;
 }
 
 static const char *state_name(lg_node_state s)
@@ -293,7 +399,7 @@ static void describe_inputs(lg_exec *ex, lg_str *d, const lg_pnode *n)
         lg_edge e = n->c->inputs[k];
         if (e.node < 0)
             continue;
-        const lg_pnode *src = &ex->nodes[e.node];
+        const lg_pnode *src = ex->nodes[e.node];
         const char *port = src->schema->outputs[e.port].name;
         lg_str_addf(d, "%s%s <- %s.", d->len ? "; " : "", n->schema->inputs[k].name,
                     src->pub.name);
@@ -327,14 +433,14 @@ void lg_explain_print(lg_exec *ex, FILE *f)
             ex->opts.frames, ex->opts.frames == 1 ? "" : "s", ex->opts.width, ex->opts.height);
     int wn = 4, wt = 4;
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
-        int a = (int)strlen(ex->nodes[i].pub.name), b = (int)strlen(ex->nodes[i].schema->name);
+        int a = (int)strlen(ex->nodes[i]->pub.name), b = (int)strlen(ex->nodes[i]->schema->name);
         wn = a > wn ? a : wn;
         wt = b > wt ? b : wt;
     }
     fprintf(f, "  %-*s  %-*s  %-6s  %-9s  %-6s  %s\n", wn, "node", wt, "type", "state", "runs",
             "device", "details");
     for (uint32_t t = 0; t < c->n_nodes; t++) {
-        lg_pnode *n = &ex->nodes[c->topo[t]];
+        lg_pnode *n = ex->nodes[c->topo[t]];
         lg_str d = {0};
         if (n->state == LG_STATE_KEPT) {
             describe_inputs(ex, &d, n);
@@ -358,7 +464,7 @@ void lg_explain_print(lg_exec *ex, FILE *f)
         lg_str_free(&d);
     }
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
-        lg_pnode *n = &ex->nodes[i];
+        lg_pnode *n = ex->nodes[i];
         for (uint32_t o = 0; n->outputs && o < n->schema->n_outputs; o++) {
             lg_resource *r = n->outputs[o];
             if (r && r->kind == LG_KIND_SCENE && r->has_features && r->producer == n &&
@@ -371,8 +477,8 @@ void lg_explain_print(lg_exec *ex, FILE *f)
     free(loaded);
     lg_str notl = {0};
     for (uint32_t i = 0; i < ex->reg->n_plugins; i++)
-        if (!ex->reg->plugins[i].handle)
-            lg_str_addf(&notl, "%s%s", notl.len ? " " : "", ex->reg->plugins[i].name);
+        if (!ex->reg->plugins[i]->handle)
+            lg_str_addf(&notl, "%s%s", notl.len ? " " : "", ex->reg->plugins[i]->name);
     fprintf(f, "plugins not loaded: %s\n", notl.s ? notl.s : "(none)");
     lg_str_free(&notl);
     if (ex->gl)
@@ -386,35 +492,45 @@ void lg_exec_free(lg_exec *ex)
     if (!ex->nodes)
         goto devices;
     /* destroy instances in reverse topological order, then resources, so that a plugin is
-     * dlclose'd only after every object it made is gone */
+     * dlclose'd only after every object it made is gone. A slot is NULL for a node a newer
+     * plan took over (lg_plan_commit) or gave back (lg_plan_rollback). A node that crashed
+     * is not called again: its state is whatever the crash left. */
     for (uint32_t t = ex->checked->n_nodes; t-- > 0;) {
-        lg_pnode *n = &ex->nodes[ex->checked->topo[t]];
+        lg_pnode *n = ex->nodes[ex->checked->topo[t]];
+        if (!n)
+            continue;
         if (n->created) {
-            if (n->pub.type->destroy)
+            if (n->pub.type->destroy && !n->crashed)
                 n->pub.type->destroy(&n->pub);
-            n->plugin->live_refs--;
+            if (!n->crashed)
+                n->plugin->live_refs--;
         }
         for (uint32_t i = 0; i < n->n_cl_events; i++)
             clReleaseEvent((cl_event)n->cl_events[i]);
         free(n->cl_events);
     }
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
-        lg_pnode *n = &ex->nodes[i];
+        lg_pnode *n = ex->nodes[i];
+        if (!n)
+            continue;
         for (uint32_t o = 0; o < n->schema->n_outputs; o++)
             lg_resource_unref(ex, n->outputs[o]);
         free(n->outputs);
         free(n->reason);
+        free(n);
     }
     free(ex->nodes);
     ex->nodes = NULL;
 devices:
-    if (ex->gl) {
-        const GladGLContext *gl = lg_gl_device_table(ex->gl);
-        if (ex->gl_timer_query)
-            gl->DeleteQueries(1, &ex->gl_timer_query);
+    if (!ex->keep_devices) {
+        if (ex->gl) {
+            const GladGLContext *gl = lg_gl_device_table(ex->gl);
+            if (ex->gl_timer_query)
+                gl->DeleteQueries(1, &ex->gl_timer_query);
+        }
+        lg_gl_device_destroy(&ex->gl);
+        lg_cl_device_destroy(&ex->cl);
     }
-    lg_gl_device_destroy(&ex->gl);
-    lg_cl_device_destroy(&ex->cl);
     free(ex->gl_error);
     free(ex->cl_error);
     free(ex->cache_dir);

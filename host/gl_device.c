@@ -25,6 +25,8 @@ static const char *gl_string(const GladGLContext *gl, GLenum name)
     return s ? (const char *)s : "?";
 }
 
+static int finish(lg_gl_device **out, lg_gl_device *dev, char *err, size_t errlen);
+
 int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size_t errlen)
 {
     *out = NULL;
@@ -50,7 +52,25 @@ int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size
         free(dev);
         return rc;
     }
+    return finish(out, dev, err, errlen);
+}
 
+int lg_gl_device_wrap(lg_gl_device **out, const lg_gl_backend *backend, char *err,
+                      size_t errlen)
+{
+    *out = NULL;
+    lg_gl_device *dev = calloc(1, sizeof *dev);
+    if (!dev) {
+        snprintf(err, errlen, "out of memory creating the GL device");
+        return LG_ERR_DEVICE;
+    }
+    dev->backend = *backend;
+    return finish(out, dev, err, errlen);
+}
+
+/* Loads the entry points of dev's backend (its context current) and checks them. */
+static int finish(lg_gl_device **out, lg_gl_device *dev, char *err, size_t errlen)
+{
     const char *label = dev->backend.label;
     int version = gladLoadGLContextUserPtr(&dev->gl, dev->backend.load, dev->backend.state);
     if (!version) {
@@ -84,7 +104,8 @@ int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size
     return 0;
 
 fail:
-    dev->backend.destroy(dev->backend.state);
+    if (dev->backend.destroy)
+        dev->backend.destroy(dev->backend.state);
     free(dev);
     return LG_ERR_DEVICE;
 }
@@ -106,7 +127,8 @@ void lg_gl_device_destroy(lg_gl_device **pdev)
     lg_gl_device *dev = *pdev;
     /* Objects nodes forgot to delete die with the context; the backend releases the
      * context from this thread before destroying it. */
-    dev->backend.destroy(dev->backend.state);
+    if (dev->backend.destroy)
+        dev->backend.destroy(dev->backend.state);
     free(dev);
     *pdev = NULL;
 }

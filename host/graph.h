@@ -197,6 +197,11 @@ lg_graph *lg_graph_parse_string(const char *name, const char *text, size_t len,
                                 const char *base_dir, lg_diags *diags);
 void lg_graph_free(lg_graph *g);
 
+/* The files g was read from: the top file and every file it includes, as absolute paths
+ * (the viewer watches them). *out is a malloc'd array of malloc'd strings (free each, then
+ * the array); returns their number. */
+uint32_t lg_graph_files(const lg_graph *g, char ***out);
+
 /* The index of the node called `name` in g->nodes, or -1. */
 int32_t lg_graph_find_node(const lg_graph *g, const char *name);
 

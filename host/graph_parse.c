@@ -2122,6 +2122,21 @@ static bool is_space(char c)
     return c == ' ' || c == '\t' || c == '\r' || c == '\n';
 }
 
+uint32_t lg_graph_files(const lg_graph *g, char ***out)
+{
+    const pool *pl = g->pool;
+    char **files = lg_xcalloc(pl->n_src + 1, sizeof *files);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < pl->n_src; i++) {
+        const source *s = pl->src[i];
+        if (s->first_line != 1 || strcmp(s->name, "<command line>") == 0)
+            continue;
+        files[n++] = lg_path_absolute(s->name);
+    }
+    *out = files;
+    return n;
+}
+
 int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
 {
     pool *pl = g->pool;

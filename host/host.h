@@ -10,6 +10,7 @@
 
 #include "lightgraph/host.h"
 #include "lightgraph/image.h"
+#include "lightgraph/scene.h"
 #include "device.h"
 #include "graph.h"
 #include "util.h"
@@ -30,6 +31,11 @@ typedef struct lg_plugin {
     void *handle;            /* dlopen handle once loaded */
     const lg_plugin_desc *live; /* the plugin's own descriptor once loaded */
     int live_refs;           /* resources and instances alive that came from it */
+    /* A plugin reloaded by the viewer (lg_registry_rescan): dlopen'ed from a private copy
+     * of the file, since dlopen of a path already loaded returns the library loaded
+     * before. NULL: loaded from `path`. */
+    char *load_path;
+    bool poisoned;           /* crashed in create/prepare/execute: never dlclose'd */
 } lg_plugin;
 
 typedef struct lg_refusal {
@@ -38,7 +44,7 @@ typedef struct lg_refusal {
 } lg_refusal;
 
 typedef struct lg_registry {
-    lg_plugin *plugins;
+    lg_plugin **plugins;     /* each allocated on its own: nodes point at them */
     uint32_t n_plugins;
     lg_refusal *refused;
     uint32_t n_refused;
@@ -46,6 +52,16 @@ typedef struct lg_registry {
     uint32_t n_names;
     char **dirs;             /* the directories searched, in order */
     uint32_t n_dirs;
+    /* the viewer's reloads: entries replaced (kept until the registry is freed, since
+     * nodes, resources and checked graphs may still point at them), and the private
+     * directory of reloaded copies */
+    lg_plugin **retired;
+    uint32_t n_retired;
+    char *reload_dir;
+    uint32_t reloads;
+    /* the viewer: every plugin is loaded from a private copy, so that a build that writes
+     * a .so in place (cp, an install step) never changes code the process runs */
+    bool private_copies;
 } lg_registry;
 
 /* Finds the plugin directories (LIGHTGRAPH_PLUGIN_PATH, then the build tree when the
@@ -64,6 +80,20 @@ const lg_node_type *lg_plugin_live_type(const lg_plugin *p, const char *type);
 void lg_registry_schema(const lg_registry *r, lg_schema *out);
 /* Drops the plugins that have no live objects (dlclose) and frees everything. */
 void lg_registry_free(lg_registry *r);
+
+/* The viewer's plugin reload. rescan: the file at `path` (absolute) changed on disk; it is
+ * copied to the registry's private directory and the copy scanned in a child process.
+ * Returns 0 with *fresh (a heap entry not yet in the registry, its `path` the original
+ * one, `load_path` the copy) and *old (the entry for `path` now, or NULL for a new file),
+ * or -1 with the reason in err (the file does not scan: not a plugin, wrong ABI, crashes
+ * while scanned, ...). replace: puts `to` where `from` is (appends `to` when `from` is
+ * NULL; removes `from` when `to` is NULL) and keeps `from` among the retired entries
+ * (a retired entry put back is taken out of them): rollback is replace(r, fresh, old). */
+int lg_registry_rescan(lg_registry *r, const char *path, lg_plugin **fresh, lg_plugin **old,
+                       char *err, size_t errlen);
+void lg_registry_replace(lg_registry *r, lg_plugin *from, lg_plugin *to);
+/* The entry whose file is `path` (absolute), or NULL. */
+lg_plugin *lg_registry_find_path(const lg_registry *r, const char *path);
 /* The plugins whose shared object is mapped into this process right now, by walking the
  * loaded objects (dl_iterate_phdr): the evidence --explain prints. */
 char *lg_registry_loaded_list(const lg_registry *r);
@@ -138,6 +168,10 @@ struct lg_resource {
     struct lg_resource *parent; /* a part: its composite */
     int32_t part_index;         /* a part: its index in the kind's table */
     lg_part_type part_type;     /* a part: its declared type */
+    /* a scene with the viewer's camera (ex->camera): the copy describe() hands out */
+    void *view_scene;
+    void *view_cameras;
+    uint64_t view_gen;
 };
 
 size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth and parts included */
@@ -197,6 +231,8 @@ typedef struct lg_pnode {
     bool ran;                    /* executed at least once */
     lg_resource **outputs;       /* schema->n_outputs */
     lg_digest identity;
+    lg_digest plan_identity;     /* identity before prepare() added content keys: what a
+                                  * later plan compares to adopt the node (lg_plan) */
     /* profile */
     double cpu_ms, gpu_ms;
     double first_cpu_ms;         /* the first run: includes one-off set-up (programs, kernels) */
@@ -208,6 +244,16 @@ typedef struct lg_pnode {
     void **cl_events;
     uint32_t n_cl_events, cap_cl_events;
     bool warned_once;
+    /* the viewer (lg_exec_frame, lg_plan with ex->prev) */
+    double last_cpu_ms, last_gpu_ms; /* its last run */
+    uint32_t last_frame;         /* the frame of its last run */
+    bool ran_this_frame;
+    bool reads_scene;            /* an input delivers a scene; it makes none itself */
+    uint64_t camera_gen;         /* ex->camera_gen when it last ran */
+    bool lent;                   /* adopted by a newer plan that is not committed yet */
+    uint32_t prev_index;         /* while lent: its index in the plan it came from */
+    bool crashed;                /* a callback crashed under the guard: never called again */
+    double avg_cpu_ms, avg_gpu_ms; /* the viewer's moving averages */
 } lg_pnode;
 
 typedef struct lg_exec_opts {
@@ -231,7 +277,8 @@ typedef struct lg_exec {
     lg_registry *reg;
     const lg_graph *graph;
     const lg_checked *checked;
-    lg_pnode *nodes;
+    lg_pnode **nodes;            /* n_nodes, each allocated on its own: a node kept across a
+                                  * reload (lg_plan_reuse) moves with its address */
     uint32_t n_nodes;
     lg_host_api api;
     lg_gl_device *gl;
@@ -243,11 +290,43 @@ typedef struct lg_exec {
     bool failed;
     uint32_t frame;
     double t_plan_ms, t_total_ms;
+    /* -- the viewer (host/cmd_view.c) -- */
+    /* lg_plan adopts the nodes of this earlier plan of the same registry whose identity,
+     * plugin entry and input resources are unchanged (their instances, resources and
+     * caches are kept, and they do not run again unless they run per frame); see
+     * lg_plan_commit and lg_plan_rollback. NULL: every node is made afresh. */
+    struct lg_exec *prev;
+    /* When set, the outputs the planner keeps what they need of, instead of the graph's
+     * output statements (the viewer: the one image it shows). */
+    const lg_edge *roots;
+    uint32_t n_roots;
+    bool keep_devices;           /* lg_exec_free leaves gl, cl and the timer query alone:
+                                  * the caller owns them (the viewer passes them on) */
+    /* When set, every scene an input delivers has this camera as its active camera
+     * (api describe; the copy is made again when camera_gen changes), and lg_exec_frame
+     * runs again the nodes that read a scene. */
+    const lg_camera *camera;
+    uint64_t camera_gen;
+    /* Plugin callbacks of nodes made in this plan run under a guard that turns a crash
+     * (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT) into an error of that node (the viewer's
+     * reloads: a broken plugin must not take the window down). */
+    bool guard;
 } lg_exec;
 
 /* Makes the plan: cull (kept only what an output or a side-effect node needs), then in
  * topological order: gate by scene features, load plugins, create and prepare. */
 int lg_plan(lg_exec *ex);
+/* After lg_plan with ex->prev: the adopted nodes now belong to ex (the earlier plan may
+ * be freed), or go back to ex->prev as they were (ex failed: free it, keep ex->prev). */
+void lg_plan_commit(lg_exec *ex);
+void lg_plan_rollback(lg_exec *ex);
+/* Runs one frame for the viewer: a kept node runs when it has not run yet, runs per
+ * frame, reads a scene whose camera changed since it last ran (but for nodes that make
+ * scenes and LG_NODE_VIEW_INDEPENDENT ones), or reads a node that ran in this frame.
+ * Returns 0, or -1 after reporting. */
+int lg_exec_frame(lg_exec *ex, uint32_t index);
+/* A guarded call (ex->guard): 0, or the signal that interrupted fn. */
+int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx);
 /* Runs the frames and writes the outputs. */
 int lg_execute(lg_exec *ex);
 void lg_exec_free(lg_exec *ex);
@@ -303,5 +382,6 @@ int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
 int lg_cmd_sweep(int argc, char **argv);
 int lg_cmd_devices(int argc, char **argv);
+int lg_cmd_view(int argc, char **argv);
 
 #endif

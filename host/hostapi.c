@@ -114,6 +114,41 @@ static lg_resource *api_output(lg_node *n, uint32_t port)
     return p->outputs[port];
 }
 
+/* The scene on r with the viewer's camera as its active camera (ex->camera), or r's own
+ * payload. The copy is shallow (meshes, materials, lights are the producer's) but for the
+ * cameras, and is made again when the camera changes. */
+static const void *scene_payload(const lg_resource *cr)
+{
+    lg_resource *r = (lg_resource *)cr; /* the copy is the host's cache on the resource */
+    lg_exec *ex = r->producer ? r->producer->ex : NULL;
+    const lg_scene *s = r->payload;
+    if (!ex || !ex->camera || r->kind != LG_KIND_SCENE || !s ||
+        s->struct_size < offsetof(lg_scene, reserved))
+        return r->payload;
+    if (r->view_scene && r->view_gen == ex->camera_gen)
+        return r->view_scene;
+    size_t size = s->struct_size > sizeof(lg_scene) ? s->struct_size : sizeof(lg_scene);
+    uint32_t nc = s->n_cameras ? s->n_cameras : 1;
+    uint32_t active = s->camera < s->n_cameras ? s->camera : 0;
+    free(r->view_scene);
+    free(r->view_cameras);
+    lg_scene *copy = lg_xcalloc(1, size);
+    memcpy(copy, s, s->struct_size);
+    lg_camera *cams = lg_xcalloc(nc, sizeof *cams);
+    if (s->n_cameras && s->cameras)
+        memcpy(cams, s->cameras, s->n_cameras * sizeof *cams);
+    const char *name = s->n_cameras && s->cameras ? s->cameras[active].name : "viewer";
+    cams[active] = *ex->camera;
+    cams[active].name = name;
+    copy->cameras = cams;
+    copy->n_cameras = nc;
+    copy->camera = active;
+    r->view_scene = copy;
+    r->view_cameras = cams;
+    r->view_gen = ex->camera_gen;
+    return copy;
+}
+
 static int api_describe(const lg_resource *r, lg_resource_info *out)
 {
     memset(out, 0, sizeof *out);
@@ -125,7 +160,7 @@ static int api_describe(const lg_resource *r, lg_resource_info *out)
     out->buffer = r->buffer;
     out->volume = r->volume;
     out->scene = r->has_features ? &r->features : NULL;
-    out->payload = r->payload;
+    out->payload = scene_payload(r);
     out->n_parts = r->neutral ? 0 : r->n_parts;
     if (r->parent) {
         const lg_kind_desc *kd = lg_kind_describe(r->parent->kind);

@@ -58,6 +58,9 @@ static void help(FILE *f)
             "                    frame too (all, or the named ones), to time them; the\n"
             "                    profile's first_cpu_ms and min_cpu_ms then tell set-up from\n"
             "                    steady state)\n"
+            "  lightgraph view GRAPH [--set N.P=V]... [--show NODE.PORT] [--size WxH]\n"
+            "                  [--script FILE]        the graph in a window: camera, live\n"
+            "                  parameters, method switching, hot reload (docs/viewer.md)\n"
             "  lightgraph check GRAPH [--set ...]     check a graph against the plugins\n"
             "  lightgraph fmt GRAPH [-i]              print (or rewrite) it canonically\n"
             "  lightgraph dot GRAPH                   Graphviz text of the graph\n"
@@ -104,6 +107,7 @@ int main(int argc, char **argv)
         {"render", lg_cmd_render}, {"check", lg_cmd_check},     {"fmt", lg_cmd_fmt},
         {"dot", lg_cmd_dot},       {"plugins", lg_cmd_plugins}, {"inspect", lg_cmd_inspect},
         {"diff", lg_cmd_diff},     {"sweep", lg_cmd_sweep},     {"devices", lg_cmd_devices},
+        {"view", lg_cmd_view},
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
@@ -117,9 +121,9 @@ int main(int argc, char **argv)
         help(stdout);
         return 0;
     }
-    const char *names[] = {"render", "check", "fmt",   "dot",     "plugins",
-                           "inspect", "diff", "sweep", "devices", "help"};
-    const char *s = lg_suggest(cmd, names, 10);
+    const char *names[] = {"render", "check", "fmt",     "dot",  "plugins", "inspect",
+                           "diff",   "sweep", "devices", "view", "help"};
+    const char *s = lg_suggest(cmd, names, 11);
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;

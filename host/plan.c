@@ -15,6 +15,7 @@
 
 #include "lightgraph/kinds.h"
 
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -94,7 +95,7 @@ static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool
         return false;
     seen[i] = true;
     bool any = false;
-    lg_pnode *n = &ex->nodes[i];
+    lg_pnode *n = ex->nodes[i];
     for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
         lg_edge e = n->c->inputs[k];
         if (e.node < 0)
@@ -185,6 +186,33 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
     }
 }
 
+/* create() or prepare() of a node, under the crash guard when ex->guard. */
+typedef struct callback_call {
+    lg_pnode *n;
+    int (*fn)(lg_node *);
+    int rc;
+} callback_call;
+
+static void call_callback(void *p)
+{
+    callback_call *c = p;
+    c->rc = c->fn(&c->n->pub);
+}
+
+static int guarded(lg_exec *ex, lg_pnode *n, int (*fn)(lg_node *), const char *what)
+{
+    callback_call call = {n, fn, 0};
+    int sig = lg_guard_call(ex->guard, call_callback, &call);
+    if (sig) {
+        n->crashed = true;
+        n->plugin->poisoned = true;
+        lg_node_errorf(n, "crashed in %s() (signal %d, %s); plugin %s", what, sig,
+                       strsignal(sig), n->plugin->path);
+        return -1;
+    }
+    return call.rc;
+}
+
 static int prepare_node(lg_exec *ex, lg_pnode *n)
 {
     char err[1024];
@@ -200,12 +228,12 @@ static int prepare_node(lg_exec *ex, lg_pnode *n)
     n->pub.type = live;
     n->plugin->live_refs++;
     n->created = true;
-    if (live->create && live->create(&n->pub) != 0) {
+    if (live->create && guarded(ex, n, live->create, "create") != 0) {
         if (!ex->failed)
             lg_node_errorf(n, "create() failed without saying why");
         return -1;
     }
-    if (live->prepare && live->prepare(&n->pub) != 0) {
+    if (live->prepare && guarded(ex, n, live->prepare, "prepare") != 0) {
         if (!ex->failed)
             lg_node_errorf(n, "prepare() failed without saying why");
         return -1;
@@ -223,13 +251,81 @@ static int prepare_node(lg_exec *ex, lg_pnode *n)
     return 0;
 }
 
+/* Points a node at plan `ex`, where it is node `index`. */
+static void attach(lg_exec *ex, lg_pnode *n, uint32_t index)
+{
+    n->ex = ex;
+    n->index = index;
+    n->c = &ex->checked->nodes[index];
+    n->schema = n->c->type;
+    n->pub.host = &ex->api;
+    n->pub.name = n->c->g->name;
+}
+
+/* Node i of ex, about to be prepared: the node of ex->prev it can be instead, or NULL.
+ * Same identity before prepare (plugin, version, type, parameters, inputs' identities: a
+ * content key is added in prepare, which an adopted node does not run again; a file the
+ * node read is not read again either, see docs/viewer.md),
+ * same plugin entry (a reloaded plugin makes its nodes again), the same resources on
+ * every input (an input made again means this node's preparation may not hold), and the
+ * same render size. */
+static lg_pnode *adoptable(lg_exec *ex, const lg_pnode *n)
+{
+    lg_exec *pv = ex->prev;
+    if (!pv || pv->opts.width != ex->opts.width || pv->opts.height != ex->opts.height)
+        return NULL;
+    for (uint32_t j = 0; j < pv->n_nodes; j++) {
+        lg_pnode *o = pv->nodes[j];
+        if (!o || o->lent || o->crashed || !o->prepared || o->state != LG_STATE_KEPT ||
+            o->plugin != n->plugin || o->schema != n->schema ||
+            memcmp(&o->plan_identity, &n->plan_identity, sizeof n->identity) != 0)
+            continue;
+        bool same = true;
+        for (uint32_t k = 0; k < n->schema->n_inputs && same; k++) {
+            lg_edge en = n->c->inputs[k], eo = o->c->inputs[k];
+            if ((en.node < 0) != (eo.node < 0))
+                same = false;
+            else if (en.node >= 0)
+                same = lg_edge_resource(ex, en) == lg_edge_resource(pv, eo);
+        }
+        if (same)
+            return o;
+    }
+    return NULL;
+}
+
+void lg_plan_commit(lg_exec *ex)
+{
+    for (uint32_t i = 0; ex->prev && i < ex->n_nodes; i++) {
+        lg_pnode *n = ex->nodes[i];
+        if (n && n->lent) {
+            ex->prev->nodes[n->prev_index] = NULL;
+            n->lent = false;
+        }
+    }
+    ex->prev = NULL;
+}
+
+void lg_plan_rollback(lg_exec *ex)
+{
+    for (uint32_t i = 0; ex->prev && i < ex->n_nodes; i++) {
+        lg_pnode *n = ex->nodes[i];
+        if (n && n->lent) {
+            attach(ex->prev, n, n->prev_index);
+            n->lent = false;
+            ex->nodes[i] = NULL;
+        }
+    }
+    ex->prev = NULL;
+}
+
 /* Nodes with an output of kind scene, and every node upstream of one: prepared first. */
 static void mark_scene_producers(lg_exec *ex, bool *early)
 {
     const lg_checked *c = ex->checked;
     for (uint32_t t = c->n_nodes; t-- > 0;) {
         uint32_t i = c->topo[t];
-        const lg_node_type *ty = ex->nodes[i].schema;
+        const lg_node_type *ty = ex->nodes[i]->schema;
         bool scene = early[i];
         for (uint32_t o = 0; o < ty->n_outputs && !scene; o++)
             scene = ty->outputs[o].kind == LG_KIND_SCENE;
@@ -269,13 +365,16 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
 {
     const lg_checked *c = ex->checked;
     bool *keep = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *keep);
-    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + 1, sizeof *stack);
+    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + ex->n_roots + 1, sizeof *stack);
     uint32_t sp = 0;
-    for (uint32_t i = 0; i < c->n_outputs; i++)
-        if (c->outputs[i].node >= 0 && !keep[c->outputs[i].node]) {
-            keep[c->outputs[i].node] = true;
-            stack[sp++] = (uint32_t)c->outputs[i].node;
+    uint32_t n_roots = ex->roots ? ex->n_roots : c->n_outputs;
+    for (uint32_t i = 0; i < n_roots; i++) {
+        int32_t r = ex->roots ? ex->roots[i].node : c->outputs[i].node;
+        if (r >= 0 && !keep[r]) {
+            keep[r] = true;
+            stack[sp++] = (uint32_t)r;
         }
+    }
     for (uint32_t i = 0; i < c->n_nodes; i++)
         if ((c->nodes[i].type->flags & LG_NODE_SIDE_EFFECT) && !keep[i]) {
             keep[i] = true;
@@ -283,8 +382,8 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
         }
     while (sp > 0) {
         uint32_t i = stack[--sp];
-        const lg_node_type *t = ex->nodes[i].schema;
-        bool gated = ex->nodes[i].state == LG_STATE_GATED;
+        const lg_node_type *t = ex->nodes[i]->schema;
+        bool gated = ex->nodes[i]->state == LG_STATE_GATED;
         bool passes = t->neutral == LG_NEUTRAL_PASSTHROUGH ||
                       t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST;
         for (uint32_t k = 0; k < t->n_inputs; k++) {
@@ -298,9 +397,9 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
         }
     }
     for (uint32_t i = 0; i < c->n_nodes; i++)
-        if (!keep[i] && !(early && early[i]) && ex->nodes[i].state == LG_STATE_KEPT) {
-            ex->nodes[i].state = LG_STATE_CULLED;
-            ex->nodes[i].reason = lg_xstrdup(reason);
+        if (!keep[i] && !(early && early[i]) && ex->nodes[i]->state == LG_STATE_KEPT) {
+            ex->nodes[i]->state = LG_STATE_CULLED;
+            ex->nodes[i]->reason = lg_xstrdup(reason);
         }
     free(keep);
     free(stack);
@@ -320,21 +419,38 @@ static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
             lg_digest_add_str(&n->identity, NULL);
             continue;
         }
-        lg_digest_add(&n->identity, &ex->nodes[e.node].identity, sizeof(lg_digest));
+        lg_digest_add(&n->identity, &ex->nodes[e.node]->identity, sizeof(lg_digest));
         lg_digest_add(&n->identity, &e.port, sizeof e.port);
         lg_digest_add(&n->identity, &e.part, sizeof e.part);
     }
     for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
         lg_edge e = n->c->inputs[k];
-        if (e.node >= 0 && ex->nodes[e.node].per_frame)
+        if (e.node >= 0 && ex->nodes[e.node]->per_frame)
             n->per_frame = true;
     }
     if (n->schema->flags & LG_NODE_PER_FRAME)
         n->per_frame = true;
 
+    n->plan_identity = n->identity;
     decide_gate(ex, n, seen);
     if (n->state == LG_STATE_GATED) {
         make_neutral(ex, n);
+        return 0;
+    }
+    lg_pnode *o = adoptable(ex, n);
+    if (o) {
+        /* the earlier plan's node, with its instance, resources and state, takes this
+         * node's place; `n` (nothing made yet) is dropped */
+        uint32_t i = n->index;
+        o->prev_index = o->index;
+        o->lent = true;
+        attach(ex, o, i);
+        o->per_frame |= n->per_frame;
+        free(n->outputs);
+        free(n->reason);
+        free(n);
+        ex->nodes[i] = o;
+        lg_hlog(LG_HDEBUG, "node '%s' kept from the previous plan", o->pub.name);
         return 0;
     }
     return prepare_node(ex, n);
@@ -348,7 +464,7 @@ int lg_plan(lg_exec *ex)
     ex->n_nodes = c->n_nodes;
     ex->nodes = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *ex->nodes);
     for (uint32_t i = 0; i < c->n_nodes; i++) {
-        lg_pnode *n = &ex->nodes[i];
+        lg_pnode *n = ex->nodes[i] = lg_xcalloc(1, sizeof *n);
         n->pub.host = &ex->api;
         n->pub.name = c->nodes[i].g->name;
         n->pub.type = c->nodes[i].type;
@@ -374,12 +490,12 @@ int lg_plan(lg_exec *ex)
     int rc = 0;
     for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
         uint32_t i = c->topo[t];
-        if (early[i] && ex->nodes[i].state != LG_STATE_CULLED)
-            rc = plan_node(ex, &ex->nodes[i], seen);
+        if (early[i] && ex->nodes[i]->state != LG_STATE_CULLED)
+            rc = plan_node(ex, ex->nodes[i], seen);
     }
     if (rc == 0) {
         for (uint32_t t = 0; t < c->n_nodes; t++) {
-            lg_pnode *n = &ex->nodes[c->topo[t]];
+            lg_pnode *n = ex->nodes[c->topo[t]];
             if (!early[n->index] && n->state != LG_STATE_CULLED)
                 decide_gate(ex, n, seen);
         }
@@ -387,11 +503,25 @@ int lg_plan(lg_exec *ex)
     }
     for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
         uint32_t i = c->topo[t];
-        if (!early[i] && ex->nodes[i].state != LG_STATE_CULLED)
-            rc = plan_node(ex, &ex->nodes[i], seen);
+        if (!early[i] && ex->nodes[i]->state != LG_STATE_CULLED)
+            rc = plan_node(ex, ex->nodes[i], seen);
     }
     free(early);
     free(seen);
+    for (uint32_t i = 0; i < c->n_nodes && rc == 0; i++) {
+        lg_pnode *n = ex->nodes[i];
+        if (n->state != LG_STATE_KEPT)
+            continue;
+        bool makes = false, reads = false;
+        for (uint32_t o = 0; o < n->schema->n_outputs; o++)
+            makes |= n->schema->outputs[o].kind == LG_KIND_SCENE;
+        for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+            lg_resource *r = n->c->inputs[k].node >= 0 ? lg_edge_resource(ex, n->c->inputs[k])
+                                                       : NULL;
+            reads |= r && r->kind == LG_KIND_SCENE;
+        }
+        n->reads_scene = reads && !makes && !(n->schema->flags & LG_NODE_VIEW_INDEPENDENT);
+    }
     ex->t_plan_ms = (lg_now() - t0) * 1e3;
     return rc || ex->failed ? -1 : 0;
 }

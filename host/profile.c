@@ -19,7 +19,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     const lg_checked *c = ex->checked;
     int wn = 4, wt = 4;
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
-        int a = (int)strlen(ex->nodes[i].pub.name), b = (int)strlen(ex->nodes[i].schema->name);
+        int a = (int)strlen(ex->nodes[i]->pub.name), b = (int)strlen(ex->nodes[i]->schema->name);
         wn = a > wn ? a : wn;
         wt = b > wt ? b : wt;
     }
@@ -29,7 +29,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     double tc = 0, tg = 0;
     uint64_t ta = 0, tm = 0;
     for (uint32_t t = 0; t < c->n_nodes; t++) {
-        const lg_pnode *n = &ex->nodes[c->topo[t]];
+        const lg_pnode *n = ex->nodes[c->topo[t]];
         if (n->state != LG_STATE_KEPT)
             continue;
         char a[32], m[32], g[32];
@@ -68,7 +68,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s\n", wn, "total", wt, "", "",
             "", tc, tg, a, m);
     for (uint32_t t = 0; t < c->n_nodes; t++)
-        if (ex->nodes[c->topo[t]].gpu_unmeasured) {
+        if (ex->nodes[c->topo[t]]->gpu_unmeasured) {
             fprintf(f, "  n/a: the GL timer query gave no usable value (llvmpipe times only "
                        "rasterisation); the node's cpu ms include its GL work (glFinish)\n");
             break;
@@ -89,7 +89,7 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
                 ex->t_plan_ms, ex->t_total_ms);
     bool first = true;
     for (uint32_t t = 0; t < c->n_nodes; t++) {
-        const lg_pnode *n = &ex->nodes[c->topo[t]];
+        const lg_pnode *n = ex->nodes[c->topo[t]];
         lg_str_add(&s, first ? "\n    {" : ",\n    {");
         first = false;
         lg_str_add(&s, "\"name\": ");

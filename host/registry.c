@@ -589,26 +589,25 @@ static double scan_timeout(void)
     return t;
 }
 
-static int scan_one(lg_registry *r, const char *path)
+/* Scans the shared object at `path` in a child process. Returns 0 with *out filled
+ * (host-owned schema; path, handle and live zero), or -1 with *why (malloc'd). */
+static int scan_file(const char *path, lg_plugin *out, char **why_out)
 {
-    for (uint32_t i = 0; i < r->n_plugins; i++)
-        if (strcmp(r->plugins[i].path, path) == 0)
-            return 0;
+    memset(out, 0, sizeof *out);
+    *why_out = NULL;
     /* only a regular file is given to dlopen (a FIFO would block the scanner until its
      * timeout); lightgraph/file.h's check, which opens without blocking */
     char why[256];
     int ffd = lg_file_open(path, UINT64_MAX, NULL, why, sizeof why);
     if (ffd < 0) {
-        char *m = lg_xasprintf("cannot be read: %s", why);
-        refuse(r, path, m);
-        free(m);
+        *why_out = lg_xasprintf("cannot be read: %s", why);
         return -1;
     }
     close(ffd);
     double timeout = scan_timeout();
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) {
-        refuse(r, path, "cannot scan: pipe() failed");
+        *why_out = lg_xstrdup("cannot scan: pipe() failed");
         return -1;
     }
     fflush(NULL);
@@ -617,7 +616,7 @@ static int scan_one(lg_registry *r, const char *path)
     if (pid < 0) {
         close(fds[0]);
         close(fds[1]);
-        refuse(r, path, "cannot scan: fork() failed");
+        *why_out = lg_xstrdup("cannot scan: fork() failed");
         return -1;
     }
     if (pid == 0) {
@@ -663,7 +662,7 @@ static int scan_one(lg_registry *r, const char *path)
         kill(pid, SIGKILL);
         while (waitpid(pid, NULL, 0) < 0 && errno == EINTR)
             ;
-        char *m = strcmp(killed, "time") == 0
+        *why_out = strcmp(killed, "time") == 0
                       ? lg_xasprintf("its scan did not finish within %g s (a constructor or "
                                      "lg_plugin_entry() that blocks?); the scanner was killed "
                                      "(LIGHTGRAPH_SCAN_TIMEOUT sets the limit, in seconds)",
@@ -671,8 +670,6 @@ static int scan_one(lg_registry *r, const char *path)
                       : lg_xasprintf("its scan result is larger than the %u MiB limit; the "
                                      "scanner was killed",
                                      LG_SCAN_MAX_BYTES >> 20);
-        refuse(r, path, m);
-        free(m);
         lg_str_free(&b);
         return -1;
     }
@@ -684,49 +681,55 @@ static int scan_one(lg_registry *r, const char *path)
         ;
     int rc = 0;
     if (WIFSIGNALED(status)) {
-        char *m = lg_xasprintf("crashed while being scanned (signal %d, %s)", WTERMSIG(status),
-                               strsignal(WTERMSIG(status)));
-        refuse(r, path, m);
-        free(m);
+        *why_out = lg_xasprintf("crashed while being scanned (signal %d, %s)",
+                                WTERMSIG(status), strsignal(WTERMSIG(status)));
         rc = -1;
     } else if (b.len == 0 && WIFEXITED(status) && WEXITSTATUS(status) != 0) {
         /* a sanitizer's handler turns a crash into an exit status */
-        char *m = lg_xasprintf("crashed while being scanned (the scanner exited with status %d)",
-                               WEXITSTATUS(status));
-        refuse(r, path, m);
-        free(m);
+        *why_out = lg_xasprintf("crashed while being scanned (the scanner exited with "
+                                "status %d)", WEXITSTATUS(status));
         rc = -1;
     } else if (b.len == 0) {
-        refuse(r, path, "the scanner produced nothing (the plugin exited while loading?)");
+        *why_out = lg_xstrdup("the scanner produced nothing (the plugin exited while loading?)");
         rc = -1;
     } else if (b.s[0] == 'E') {
-        refuse(r, path, b.s + 1);
+        *why_out = lg_xstrdup(b.s + 1);
         rc = -1;
     } else {
-        lg_plugin p;
         char bad[600];
-        if (lg_registry_decode(b.s + 1, b.len - 1, &p, bad, sizeof bad) != 0) {
-            refuse(r, path, bad);
+        if (lg_registry_decode(b.s + 1, b.len - 1, out, bad, sizeof bad) != 0) {
+            *why_out = lg_xstrdup(bad);
             rc = -1;
-        } else {
-            bool dup = false;
-            for (uint32_t i = 0; i < r->n_plugins; i++)
-                if (strcmp(r->plugins[i].name, p.name) == 0) {
-                    lg_hlog(LG_HDEBUG, "plugin '%s' at %s is shadowed by %s", p.name, path,
-                            r->plugins[i].path);
-                    dup = true;
-                }
-            if (!dup) {
-                p.path = lg_xstrdup(path);
-                r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
-                r->plugins[r->n_plugins++] = p;
-            }
-            if (dup)
-                lg_plugin_free_schema(&p);
         }
     }
     lg_str_free(&b);
     return rc;
+}
+
+static int scan_one(lg_registry *r, const char *path)
+{
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        if (strcmp(r->plugins[i]->path, path) == 0)
+            return 0;
+    lg_plugin p;
+    char *why = NULL;
+    if (scan_file(path, &p, &why) != 0) {
+        refuse(r, path, why);
+        free(why);
+        return -1;
+    }
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        if (strcmp(r->plugins[i]->name, p.name) == 0) {
+            lg_hlog(LG_HDEBUG, "plugin '%s' at %s is shadowed by %s", p.name, path,
+                    r->plugins[i]->path);
+            lg_plugin_free_schema(&p);
+            return 0;
+        }
+    p.path = lg_xstrdup(path);
+    r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
+    r->plugins[r->n_plugins] = lg_xmalloc(sizeof p);
+    *r->plugins[r->n_plugins++] = p;
+    return 0;
 }
 
 static int cmp_str(const void *a, const void *b)
@@ -808,12 +811,12 @@ static void finish_names(lg_registry *r)
     free(r->names);
     r->n_names = 0;
     for (uint32_t i = 0; i < r->n_plugins; i++)
-        r->n_names += r->plugins[i].n_types;
+        r->n_names += r->plugins[i]->n_types;
     r->names = lg_xcalloc(r->n_names ? r->n_names : 1, sizeof *r->names);
     uint32_t k = 0;
     for (uint32_t i = 0; i < r->n_plugins; i++)
-        for (uint32_t j = 0; j < r->plugins[i].n_types; j++)
-            r->names[k++] = r->plugins[i].types[j].name;
+        for (uint32_t j = 0; j < r->plugins[i]->n_types; j++)
+            r->names[k++] = r->plugins[i]->types[j].name;
 }
 
 int lg_registry_scan(lg_registry *r)
@@ -850,11 +853,11 @@ int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n)
 const lg_node_type *lg_registry_lookup(const lg_registry *r, const char *type, lg_plugin **plugin)
 {
     for (uint32_t i = 0; i < r->n_plugins; i++)
-        for (uint32_t j = 0; j < r->plugins[i].n_types; j++)
-            if (strcmp(r->plugins[i].types[j].name, type) == 0) {
+        for (uint32_t j = 0; j < r->plugins[i]->n_types; j++)
+            if (strcmp(r->plugins[i]->types[j].name, type) == 0) {
                 if (plugin)
-                    *plugin = &r->plugins[i];
-                return &r->plugins[i].types[j];
+                    *plugin = r->plugins[i];
+                return &r->plugins[i]->types[j];
             }
     return NULL;
 }
@@ -873,12 +876,25 @@ void lg_registry_schema(const lg_registry *r, lg_schema *out)
     out->max_pixels = 0; /* the caller sets the pixel limit in force (lg_image_max_pixels) */
 }
 
+static int reload_dir(lg_registry *r, char *err, size_t errlen);
+static int copy_file(const char *src, const char *dst, char *err, size_t errlen);
+static char *private_copy_path(lg_registry *r, const char *path);
+
 int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)
 {
-    (void)r;
     if (p->handle)
         return 0;
-    void *h = dlopen(p->path, RTLD_NOW | RTLD_LOCAL);
+    if (r->private_copies && !p->load_path) {
+        if (reload_dir(r, err, errlen))
+            return -1;
+        char *copy = private_copy_path(r, p->path);
+        if (copy_file(p->path, copy, err, errlen)) {
+            free(copy);
+            return -1;
+        }
+        p->load_path = copy;
+    }
+    void *h = dlopen(p->load_path ? p->load_path : p->path, RTLD_NOW | RTLD_LOCAL);
     if (!h) {
         const char *e = dlerror();
         snprintf(err, errlen, "plugin %s: cannot be loaded: %s", p->path, e ? e : "?");
@@ -945,9 +961,9 @@ static int phdr_cb(struct dl_phdr_info *info, size_t size, void *data)
         return 0;
     for (uint32_t i = 0; i < c->r->n_plugins; i++) {
         char a[PATH_MAX], b[PATH_MAX];
-        if (realpath(info->dlpi_name, a) && realpath(c->r->plugins[i].path, b) &&
+        if (realpath(info->dlpi_name, a) && realpath(c->r->plugins[i]->path, b) &&
             strcmp(a, b) == 0)
-            lg_str_addf(c->out, "%s%s", c->out->len ? " " : "", c->r->plugins[i].name);
+            lg_str_addf(c->out, "%s%s", c->out->len ? " " : "", c->r->plugins[i]->name);
     }
     return 0;
 }
@@ -1005,19 +1021,33 @@ void lg_plugin_free_schema(lg_plugin *p)
     p->name = p->version = p->doc = NULL;
 }
 
+static void plugin_entry_free(lg_plugin *p)
+{
+    lg_plugin_free_schema(p);
+    /* Plugins stay loaded until every object they made is gone; by the time the
+     * registry is freed the executor has destroyed them all. LIGHTGRAPH_NO_DLCLOSE keeps
+     * them mapped, so that a leak checker can still name their functions. A plugin that
+     * crashed may have left anything behind: it stays mapped. */
+    if (p->handle && p->live_refs == 0 && !p->poisoned && !getenv("LIGHTGRAPH_NO_DLCLOSE"))
+        dlclose(p->handle);
+    if (p->load_path)
+        unlink(p->load_path);
+    free(p->load_path);
+    free(p->path);
+    free(p);
+}
+
 void lg_registry_free(lg_registry *r)
 {
-    for (uint32_t i = 0; i < r->n_plugins; i++) {
-        lg_plugin *p = &r->plugins[i];
-        lg_plugin_free_schema(p);
-        /* Plugins stay loaded until every object they made is gone; by the time the
-         * registry is freed the executor has destroyed them all. LIGHTGRAPH_NO_DLCLOSE keeps
-         * them mapped, so that a leak checker can still name their functions. */
-        if (p->handle && p->live_refs == 0 && !getenv("LIGHTGRAPH_NO_DLCLOSE"))
-            dlclose(p->handle);
-        free(p->path);
-    }
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        plugin_entry_free(r->plugins[i]);
     free(r->plugins);
+    for (uint32_t i = 0; i < r->n_retired; i++)
+        plugin_entry_free(r->retired[i]);
+    free(r->retired);
+    if (r->reload_dir)
+        rmdir(r->reload_dir);
+    free(r->reload_dir);
     for (uint32_t i = 0; i < r->n_refused; i++) {
         free(r->refused[i].path);
         free(r->refused[i].reason);
@@ -1028,4 +1058,162 @@ void lg_registry_free(lg_registry *r)
         free(r->dirs[i]);
     free(r->dirs);
     memset(r, 0, sizeof *r);
+}
+
+/* ---- the viewer's reloads ------------------------------------------------------------- */
+
+lg_plugin *lg_registry_find_path(const lg_registry *r, const char *path)
+{
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        if (strcmp(r->plugins[i]->path, path) == 0)
+            return r->plugins[i];
+    return NULL;
+}
+
+/* Copies `src` to `dst` (a new file). Returns 0 or -1 with err. */
+static int copy_file(const char *src, const char *dst, char *err, size_t errlen)
+{
+    char why[256];
+    int in = lg_file_open(src, UINT64_MAX, NULL, why, sizeof why);
+    if (in < 0) {
+        snprintf(err, errlen, "%s cannot be read: %s", src, why);
+        return -1;
+    }
+    int out = open(dst, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0700);
+    if (out < 0) {
+        snprintf(err, errlen, "cannot create %s: %s", dst, strerror(errno));
+        close(in);
+        return -1;
+    }
+    char buf[65536];
+    int rc = 0;
+    for (;;) {
+        ssize_t n = read(in, buf, sizeof buf);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            snprintf(err, errlen, "reading %s: %s", src, strerror(errno));
+            rc = -1;
+            break;
+        }
+        if (n == 0)
+            break;
+        for (ssize_t off = 0; off < n;) {
+            ssize_t w = write(out, buf + off, (size_t)(n - off));
+            if (w < 0 && errno == EINTR)
+                continue;
+            if (w < 0) {
+                snprintf(err, errlen, "writing %s: %s", dst, strerror(errno));
+                rc = -1;
+                break;
+            }
+            off += w;
+        }
+        if (rc)
+            break;
+    }
+    if (close(out) != 0 && rc == 0) {
+        snprintf(err, errlen, "writing %s: %s", dst, strerror(errno));
+        rc = -1;
+    }
+    close(in);
+    if (rc)
+        unlink(dst);
+    return rc;
+}
+
+/* The registry's private directory for plugin copies, made on first use. */
+static int reload_dir(lg_registry *r, char *err, size_t errlen)
+{
+    if (r->reload_dir)
+        return 0;
+    const char *tmp = getenv("TMPDIR");
+    char *tmpl = lg_xasprintf("%s/lightgraph-reload-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (!mkdtemp(tmpl)) {
+        snprintf(err, errlen, "cannot make a directory for plugin copies (%s): %s", tmpl,
+                 strerror(errno));
+        free(tmpl);
+        return -1;
+    }
+    r->reload_dir = tmpl;
+    return 0;
+}
+
+/* DIR/lg_name.N.so, a new name for every copy. */
+static char *private_copy_path(lg_registry *r, const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t blen = strlen(base);
+    if (blen > 3 && strcmp(base + blen - 3, ".so") == 0)
+        blen -= 3;
+    return lg_xasprintf("%s/%.*s.%u.so", r->reload_dir, (int)blen, base, ++r->reloads);
+}
+
+int lg_registry_rescan(lg_registry *r, const char *path, lg_plugin **fresh, lg_plugin **old,
+                       char *err, size_t errlen)
+{
+    *fresh = NULL;
+    *old = lg_registry_find_path(r, path);
+    if (reload_dir(r, err, errlen))
+        return -1;
+    char *copy = private_copy_path(r, path);
+    if (copy_file(path, copy, err, errlen) != 0) {
+        free(copy);
+        return -1;
+    }
+    lg_plugin p;
+    char *why = NULL;
+    if (scan_file(copy, &p, &why) != 0) {
+        snprintf(err, errlen, "plugin %s is refused: %s", path, why);
+        free(why);
+        unlink(copy);
+        free(copy);
+        return -1;
+    }
+    for (uint32_t i = 0; i < r->n_plugins; i++)
+        if (r->plugins[i] != *old && strcmp(r->plugins[i]->name, p.name) == 0) {
+            snprintf(err, errlen, "plugin %s is refused: its name '%s' is the name of %s",
+                     path, p.name, r->plugins[i]->path);
+            lg_plugin_free_schema(&p);
+            unlink(copy);
+            free(copy);
+            return -1;
+        }
+    p.path = lg_xstrdup(path);
+    p.load_path = copy;
+    *fresh = lg_xmalloc(sizeof p);
+    **fresh = p;
+    return 0;
+}
+
+void lg_registry_replace(lg_registry *r, lg_plugin *from, lg_plugin *to)
+{
+    /* `to` may come back from the retired entries (a rollback) */
+    for (uint32_t i = 0; to && i < r->n_retired; i++)
+        if (r->retired[i] == to) {
+            r->retired[i] = r->retired[--r->n_retired];
+            break;
+        }
+    uint32_t at = r->n_plugins;
+    for (uint32_t i = 0; from && i < r->n_plugins; i++)
+        if (r->plugins[i] == from)
+            at = i;
+    if (at == r->n_plugins) {
+        if (to) {
+            r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
+            r->plugins[r->n_plugins++] = to;
+        }
+    } else if (to) {
+        r->plugins[at] = to;
+    } else {
+        memmove(&r->plugins[at], &r->plugins[at + 1],
+                (r->n_plugins - at - 1) * sizeof *r->plugins);
+        r->n_plugins--;
+    }
+    if (from) {
+        r->retired = lg_xrealloc(r->retired, (r->n_retired + 1) * sizeof *r->retired);
+        r->retired[r->n_retired++] = from;
+    }
+    finish_names(r);
 }

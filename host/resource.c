@@ -87,6 +87,8 @@ void lg_resource_unref(lg_exec *ex, lg_resource *r)
     free(r->parts);
     free(r->cpu);
     free(r->cpu_depth);
+    free(r->view_scene);
+    free(r->view_cameras);
     if (ex->gl && (r->gl_name || r->gl_depth)) {
         const GladGLContext *gl = lg_gl_device_table(ex->gl);
         if (r->kind == LG_KIND_BUFFER) {
@@ -734,9 +736,9 @@ int lg_resource_sh_text(lg_exec *ex, lg_resource *r, char **out, size_t *len, ch
 
 lg_resource *lg_edge_resource(lg_exec *ex, lg_edge e)
 {
-    if (e.node < 0 || !ex->nodes[e.node].outputs)
+    if (e.node < 0 || !ex->nodes[e.node]->outputs)
         return NULL;
-    lg_resource *r = ex->nodes[e.node].outputs[e.port];
+    lg_resource *r = ex->nodes[e.node]->outputs[e.port];
     if (!r || e.part == 0)
         return r;
     return e.part <= r->n_parts ? r->parts[e.part - 1] : NULL;

@@ -293,8 +293,20 @@ void lg_format_bytes(char *out, size_t n, uint64_t b)
         snprintf(out, n, "%llu B", (unsigned long long)b);
 }
 
+void (*lg_hlog_error_hook)(const char *message);
+
 void lg_hlog(int level, const char *fmt, ...)
 {
+    if (level == LG_HERR && lg_hlog_error_hook) {
+        va_list aq;
+        va_start(aq, fmt);
+        char *m = NULL;
+        if (vasprintf(&m, fmt, aq) >= 0) {
+            lg_hlog_error_hook(m);
+            free(m);
+        }
+        va_end(aq);
+    }
     if (level >= LG_HINFO && lg_verbosity < level - 1)
         return;
     if (level == LG_HWARN && lg_verbosity < 0)

@@ -64,6 +64,9 @@ void lg_format_bytes(char *out, size_t n, uint64_t bytes);
 /* Host-side logging to stderr, with the level; verbosity from -v/-q. */
 extern int lg_verbosity; /* 0 = errors and warnings, 1 = info, 2 = debug; -1 = errors only */
 void lg_hlog(int level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Called with every error message lg_hlog prints (the viewer shows them in its window);
+ * NULL: none. Single-threaded use only. */
+extern void (*lg_hlog_error_hook)(const char *message);
 #define LG_HERR 0
 #define LG_HWARN 1
 #define LG_HINFO 2

@@ -253,6 +253,12 @@ void lg_vparams_next_entry(lg_vparams *p, int dir)
     p->sel_entry = (p->sel_entry + (dir < 0 ? n - 1 : 1)) % n;
 }
 
+void lg_vparams_first_entry(lg_vparams *p)
+{
+    if (p && p->n_nodes)
+        p->sel_entry = 0;
+}
+
 const char *lg_vparams_node(const lg_vparams *p)
 {
     return p && p->n_nodes ? p->nodes[p->sel_node].name : NULL;
@@ -816,7 +822,28 @@ static bool alternatives(const lg_checked *c, const src_sets *ss, uint32_t x, ui
         if (ob < 0 || b->type->outputs[ob].kind != a->type->outputs[o].kind)
             return false;
     }
-    if (ss->n[x] != ss->n[y] || memcmp(ss->s[x], ss->s[y], ss->n[x] * sizeof **ss->s) != 0)
+    /* the same sources: every input both types have and both connect reads the same edge,
+     * and there is at least one (two scene loaders are not alternatives). An input only one
+     * of them has is free: the screen-space method reads no shadow maps and is still the
+     * froxel method's alternative. */
+    (void)ss;
+    uint32_t shared = 0;
+    for (uint32_t i = 0; i < a->type->n_inputs; i++) {
+        lg_edge ea = a->inputs[i];
+        for (uint32_t j = 0; j < b->type->n_inputs; j++) {
+            if (strcmp(a->type->inputs[i].name, b->type->inputs[j].name) != 0)
+                continue;
+            lg_edge eb = b->inputs[j];
+            if ((ea.node >= 0) != (eb.node >= 0))
+                return false;
+            if (ea.node < 0)
+                continue;
+            if (ea.node != eb.node || ea.port != eb.port || ea.part != eb.part)
+                return false;
+            shared++;
+        }
+    }
+    if (shared == 0)
         return false;
     /* a twin (same type, same values) is the same method, not another */
     bool differ = strcmp(a->type->name, b->type->name) != 0;

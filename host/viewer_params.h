@@ -75,6 +75,8 @@ void lg_vparams_sync(lg_vparams *p, const lg_graph *g, const lg_checked *c, cons
 void lg_vparams_next_node(lg_vparams *p, int dir);
 /* Moves to the next or previous entry within the selected node, cyclic. */
 void lg_vparams_next_entry(lg_vparams *p, int dir);
+/* Selects the node's first entry (its first parameter). */
+void lg_vparams_first_entry(lg_vparams *p);
 
 /* The selected node's name (owned by p, valid until the next sync or free), or NULL when
  * nothing is selected. */

@@ -1412,6 +1412,7 @@ static const lg_node_type pb_types[] = {
         LG_INPUTS(pb_bake_in),
         LG_OUTPUTS(pb_bake_out),
         .needs = LG_NEEDS_GEOMETRY,
+        .flags = LG_NODE_VIEW_INDEPENDENT, /* per vertex: the camera plays no part */
         .create = pb_create_bake,
         .prepare = pb_prepare,
         .execute = pb_execute,
@@ -1426,6 +1427,7 @@ static const lg_node_type pb_types[] = {
         LG_INPUTS(pb_ref_in),
         LG_OUTPUTS(pb_ref_out),
         .needs = LG_NEEDS_GEOMETRY,
+        .flags = LG_NODE_VIEW_INDEPENDENT,
         .create = pb_create_ref,
         .prepare = pb_prepare,
         .execute = pb_execute,

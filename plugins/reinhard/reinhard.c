@@ -611,6 +611,7 @@ static const lg_node_type rh_types[] = { {
     .name = "reinhard",
     .doc = "Reinhard global tone mapping: log-average luminance, key, optional white point",
     LG_PARAMS(rh_params), LG_INPUTS(rh_inputs), LG_OUTPUTS(rh_outputs),
+    .flags = LG_NODE_DISPLAY_REFERRED,
     .create = rh_create, .prepare = rh_prepare, .execute = rh_execute, .destroy = rh_destroy,
 } };
 

@@ -684,6 +684,9 @@ static const lg_node_type sm_types[] = { {
     LG_INPUTS(sm_inputs),
     LG_OUTPUTS(sm_outputs),
     .needs = LG_NEEDS_DIR_LIGHT,
+    /* the light matrices are fitted in prepare(); execute() renders them whatever the
+     * camera (fit = frustum follows the camera of the plan, not the viewer's moves) */
+    .flags = LG_NODE_VIEW_INDEPENDENT,
     .neutral = LG_NEUTRAL_ZERO,
     .create = sm_create,
     .prepare = sm_prepare,

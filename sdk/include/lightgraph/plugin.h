@@ -179,6 +179,15 @@ enum {
      * runs every frame even when its inputs do not change. prepare() may also decide this
      * per instance with lg_set_per_frame(). */
     LG_NODE_PER_FRAME = 1u << 1,
+    /* since ABI 2.5: the node's results do not depend on the scene's camera although it
+     * reads a scene (a transfer bake, a shadow map fitted to the scene's bounds): when the
+     * viewer moves the camera it does not run the node again. Without the flag a node that
+     * reads a scene runs again on every camera move (correct, maybe slower). */
+    LG_NODE_VIEW_INDEPENDENT = 1u << 2,
+    /* since ABI 2.5: the node's image outputs hold display-referred values in [0, 1] (a
+     * tone mapper): the viewer shows an image at or downstream of such a node as it is,
+     * and any other image with an exposure it chooses (lightgraph view). */
+    LG_NODE_DISPLAY_REFERRED = 1u << 3,
 };
 
 typedef struct lg_node lg_node; /* a node instance, as the host shows it (lightgraph/host.h) */

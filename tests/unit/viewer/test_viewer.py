@@ -1,0 +1,487 @@
+#!/usr/bin/env python3
+"""lightgraph view under Xvfb, driven by --script (issue 12, item 7; docs/viewer.md).
+
+Each test starts its own X server (Xvfb -displayfd: the server picks a free display and
+says which, so parallel tests never race for one), runs the viewer with a script, and checks
+what it wrote and said:
+
+  no_display     without DISPLAY: one line that says so, exit 1
+  bad_script     a script with an unknown event: FILE:LINE and exit 2, no window needed
+  headless       the window's frame of examples/phong.lgraph matches `render` of the same
+                 graph: the linear EXR screenshot within float noise, the PNG screenshot
+                 exactly, and the window's own pixels (overlay hidden) within 1 code value
+  keys           Tab/Down select lit.shading, Right cycles it through every mode (each a
+                 different picture, the overlay's change printed), a rejected --set value
+                 keeps the last good frame and says why, O prints the overrides
+  edit           an edit of the graph file is picked up (the picture changes, the
+                 unchanged nodes are adopted, not made again); a broken edit keeps the last
+                 good frame and reports file:line; fixing it recovers
+  shader         a shader edit runs the build: a failed build is shown and changes nothing,
+                 a build that relinks a plugin gets it reloaded
+  plugin         a rebuilt plugin is reloaded (the picture shows the new build) with the
+                 parameter it had; a build that crashes in create() and one built for ABI 1
+                 are rolled back to the working one, the error shown
+  camera         a drag changes the picture, R restores the graph's camera exactly, C prints
+                 a camera node that `lightgraph check` accepts in a graph
+  method         M switches between alternative nodes feeding the shown image, and back
+
+usage: test_viewer.py TEST_NAME
+"""
+import os
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "host"))
+import exr_read  # noqa: E402
+
+EXE = os.environ["LG_EXE"]
+SRC = os.environ["LG_SOURCE_ROOT"]
+TMP = tempfile.mkdtemp(prefix="lg-viewer-")
+W, H = 160, 90
+SIZE = ["--size", "%dx%d" % (W, H)]
+
+
+class Fail(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Fail(msg)
+
+
+# ---- X server -------------------------------------------------------------------------
+
+class Xvfb:
+    def __init__(self):
+        exe = shutil.which("Xvfb")
+        if not exe:
+            print("SKIP: Xvfb is not installed (Debian package xvfb; `sh tools/deps.sh` "
+                  "installs it): the viewer's tests need an X server")
+            sys.exit(77)
+        r, w = os.pipe()
+        self.p = subprocess.Popen([exe, "-displayfd", str(w), "-screen", "0", "1024x768x24",
+                                   "-nolisten", "tcp", "-noreset"],
+                                  pass_fds=(w,), stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.DEVNULL)
+        os.close(w)
+        data = b""
+        deadline = time.time() + 30
+        while not data.endswith(b"\n") and time.time() < deadline:
+            chunk = os.read(r, 64)
+            if not chunk:
+                break
+            data += chunk
+        os.close(r)
+        check(data.strip().isdigit(), "Xvfb did not start (said %r)" % data)
+        self.display = ":" + data.strip().decode()
+
+    def close(self):
+        self.p.send_signal(signal.SIGTERM)
+        try:
+            self.p.wait(10)
+        except subprocess.TimeoutExpired:
+            self.p.kill()
+            self.p.wait()
+
+
+XV = None
+
+
+def env_with_display(extra=None):
+    e = dict(os.environ)
+    e["DISPLAY"] = XV.display
+    if extra:
+        e.update(extra)
+    return e
+
+
+def view(graph, script, args=(), env=None, timeout=600, expect=0):
+    """Runs the viewer with `script` (a list of lines) written next to the graph."""
+    path = os.path.join(TMP, "script-%d.txt" % int(time.time() * 1e6))
+    with open(path, "w") as f:
+        f.write("\n".join(script) + "\n")
+    cmd = [EXE, "view", graph, "--script", path] + SIZE + list(args)
+    p = subprocess.run(cmd, env=env if env is not None else env_with_display(),
+                       capture_output=True, text=True, timeout=timeout)
+    out = p.stdout + p.stderr
+    if expect is not None and p.returncode != expect:
+        raise Fail("%s exited %d, expected %d:\n%s" % (" ".join(cmd), p.returncode, expect,
+                                                        out[-6000:]))
+    return p.returncode, p.stdout, p.stderr
+
+
+def render(graph, out, args=()):
+    cmd = [EXE, "render", graph, "-o", out] + SIZE + list(args)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    check(p.returncode == 0, "%s failed:\n%s" % (" ".join(cmd), p.stderr[-4000:]))
+
+
+# ---- images ---------------------------------------------------------------------------
+
+def read_png(path):
+    """8-bit RGB or RGBA PNG (what lightgraph writes) -> (w, h, channels, bytes rows)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    check(data[:8] == b"\x89PNG\r\n\x1a\n", "%s is not a PNG" % path)
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        n, = struct.unpack(">I", data[pos:pos + 4])
+        tag = data[pos + 4:pos + 8]
+        body = data[pos + 8:pos + 8 + n]
+        if tag == b"IHDR":
+            w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
+            check(depth == 8 and ctype in (2, 6), "%s: unexpected PNG type" % path)
+            ch = 3 if ctype == 2 else 4
+        elif tag == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw = zlib.decompress(idat)
+    stride = w * ch
+    rows, prev = [], bytearray(stride)
+    for y in range(h):
+        ft = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - ch] if i >= ch else 0
+            b = prev[i]
+            c = prev[i - ch] if i >= ch else 0
+            if ft == 1:
+                line[i] = (line[i] + a) & 255
+            elif ft == 2:
+                line[i] = (line[i] + b) & 255
+            elif ft == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif ft == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line))
+        prev = line
+    return w, h, ch, rows
+
+
+def png_rgb(path):
+    w, h, ch, rows = read_png(path)
+    return w, h, [tuple(r[x * ch:x * ch + 3]) for r in rows for x in range(w)]
+
+
+def exr_rows(path):
+    """Rows of (r, g, b, a), top row first."""
+    return exr_read.read_exr(path)
+
+
+def max_exr_diff(a, b):
+    ra, rb = exr_rows(a), exr_rows(b)
+    check(len(ra) == len(rb) and len(ra[0]) == len(rb[0]),
+          "%s and %s differ in size" % (a, b))
+    return max(abs(x - y) for p, q in zip(ra, rb) for u, v in zip(p, q)
+               for x, y in zip(u[:3], v[:3]))
+
+
+def max_png_diff(a, b):
+    wa, ha, pa = png_rgb(a)
+    wb, hb, pb = png_rgb(b)
+    check((wa, ha) == (wb, hb), "%s is %dx%d, %s is %dx%d" % (a, wa, ha, b, wb, hb))
+    return max(max(abs(x - y) for x, y in zip(p, q)) for p, q in zip(pa, pb))
+
+
+def diff(a, b, args=()):
+    """lightgraph diff A B --json: the metrics."""
+    import json
+    p = subprocess.run([EXE, "diff", a, b, "--json"] + list(args), capture_output=True,
+                       text=True, timeout=120)
+    check(p.returncode in (0, 1), "diff %s %s failed: %s" % (a, b, p.stderr))
+    return json.loads(p.stdout)
+
+
+def mean_png(path):
+    w, h, px = png_rgb(path)
+    return [sum(p[k] for p in px) / len(px) for k in range(3)]
+
+
+# ---- graphs ---------------------------------------------------------------------------
+
+def phong_graph(name="g.lgraph", key=0.12, extra=""):
+    """A graph like examples/phong.lgraph that includes the example's scene by absolute
+    path, in TMP (edits go there, never into the source tree)."""
+    path = os.path.join(TMP, name)
+    with open(path, "w") as f:
+        f.write("""lightgraph 1
+include "%s"
+
+lit = phong {
+    scene = bulb
+    shadows = shadow
+    shading = phong
+    specular = phong
+    ambient = [0.3, 0.3, 0.3]
+    ks_scale = 20
+    background = [0.02, 0.02, 0.03]
+}
+
+tone = reinhard { image = lit, key = %g }
+%s
+output tone "out.png"
+""" % (os.path.join(SRC, "examples", "phong_scene.lgraph"), key, extra))
+    return path
+
+
+# ---- tests ----------------------------------------------------------------------------
+
+def t_no_display():
+    e = dict(os.environ)
+    e.pop("DISPLAY", None)
+    e.pop("WAYLAND_DISPLAY", None)
+    p = subprocess.run([EXE, "view", os.path.join(SRC, "examples", "phong.lgraph")], env=e,
+                       capture_output=True, text=True, timeout=60)
+    check(p.returncode == 1, "exit %d without a display:\n%s" % (p.returncode, p.stderr))
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    check(len(lines) == 1 and "no display" in lines[0],
+          "expected one line saying 'no display', got:\n%s" % p.stderr)
+
+
+def t_bad_script():
+    g = phong_graph()
+    path = os.path.join(TMP, "bad.txt")
+    with open(path, "w") as f:
+        f.write("wait_frames 2\n# fine so far\nfrobnicate 3\n")
+    p = subprocess.run([EXE, "view", g, "--script", path], env=env_with_display(),
+                       capture_output=True, text=True, timeout=60)
+    check(p.returncode == 2, "exit %d for a bad script:\n%s" % (p.returncode, p.stderr))
+    check("%s:3:" % path in p.stderr, "the error does not name bad.txt:3:\n%s" % p.stderr)
+
+
+def t_headless():
+    g = phong_graph()
+    render(g, os.path.join(TMP, "h.exr"))
+    render(g, os.path.join(TMP, "h.png"))
+    view(g, ["wait_frames 3", "screenshot v.exr", "screenshot v.png", "key H", "wait_frames 2",
+             "screenshot_window w.png", "key F12", "quit"])
+    rows = exr_rows(os.path.join(TMP, "v.exr"))
+    check(len(rows) == H and len(rows[0]) == W, "the screenshot is not %dx%d" % (W, H))
+    worst = max_exr_diff(os.path.join(TMP, "h.exr"), os.path.join(TMP, "v.exr"))
+    check(worst < 1e-3, "the viewer's EXR differs from render's by %g" % worst)
+    d = max_png_diff(os.path.join(TMP, "h.png"), os.path.join(TMP, "v.png"))
+    check(d <= 1, "the viewer's PNG differs from render's by %d code values" % d)
+    # the window at the render's size shows the picture 1:1 (overlay hidden with H)
+    d = max_png_diff(os.path.join(TMP, "h.png"), os.path.join(TMP, "w.png"))
+    check(d <= 2, "the window's pixels differ from render's PNG by %d code values" % d)
+    shots = sorted(f for f in os.listdir(TMP) if f.startswith("g-") and f[-4:] in (".png", ".exr"))
+    check(len(shots) == 2 and shots[0].endswith(".exr") and shots[1].endswith(".png"),
+          "F12 did not write a PNG and an EXR next to the graph: %s" % shots)
+    check(max_exr_diff(os.path.join(TMP, shots[0]), os.path.join(TMP, "h.exr")) < 1e-3,
+          "F12's EXR is not the shown image")
+    m = mean_png(os.path.join(TMP, "w.png"))
+    check(sum(m) > 30, "the window is (nearly) black: mean %s" % m)
+
+
+def selections(stdout):
+    return [l for l in stdout.splitlines() if l.startswith("lightgraph view: select: ")]
+
+
+def t_keys():
+    g = phong_graph()
+    # the nodes offered are the kept ones in file order (scene, sun, bulb, shadow from the
+    # included file, then lit, tone): lit is four Tabs from the first; Home selects its
+    # first entry, shading
+    modes = ["mixed", "phong_half", "flat", "gouraud", "phong"]
+    script = ["wait_frames 2", "screenshot k0.exr"] + ["key TAB"] * 4 + ["key HOME"]
+    for i, m in enumerate(modes):
+        script += ["key RIGHT", "expect_ok", "wait_frames 1", "screenshot k%d.exr" % (i + 1)]
+    script += ["set lit.shading=bogus", "expect_error bogus", "screenshot kbad.exr",
+               "set tone.key=-1", "expect_error", "key O", "quit"]
+    rc, out, err = view(g, script)
+    sel = selections(out)
+    check(sel and "lit" in sel[-1] and "shading" in sel[-1],
+          "four Tabs did not select lit.shading: %s" % (sel[-1:] or out[-2000:]))
+    for m in modes:
+        check("lit.shading=%s" % m in out, "no change to %s reported:\n%s" % (m, out[-3000:]))
+    k = [os.path.join(TMP, "k%d.exr" % i) for i in range(6)]
+    for i in range(1, 5):
+        for j in range(i):
+            check(max_exr_diff(k[i], k[j]) > 1e-3, "shading %s and %s look the same" %
+                  (modes[i - 1], modes[j - 1] if j else "phong (start)"))
+    check(max_exr_diff(k[5], k[0]) < 1e-6, "back to phong is not the first picture")
+    check(max_exr_diff(os.path.join(TMP, "kbad.exr"), k[5]) == 0,
+          "a rejected value changed the picture")
+    check("--set lit.shading=phong" in out, "O did not print the overrides:\n%s" % out[-2000:])
+
+
+def t_edit():
+    g = phong_graph(key=0.12)
+    script = ["wait_frames 2", "screenshot e0.png",
+              "shell sed -i 's/key = 0.12/key = 0.5/' g.lgraph",
+              "wait_reload 120", "expect_ok", "wait_frames 1", "screenshot e1.png",
+              "shell printf 'broken = {\\n' >> g.lgraph",
+              "wait_reload 120", "expect_error g.lgraph", "wait_frames 1", "screenshot e2.png",
+              "shell sed -i '$d' g.lgraph",
+              "wait_reload 120", "expect_ok", "wait_frames 1", "screenshot e3.png", "quit"]
+    rc, out, err = view(g, script, args=["-v", "-v"])
+    e = [os.path.join(TMP, "e%d.png" % i) for i in range(4)]
+    check(sum(mean_png(e[1])) > sum(mean_png(e[0])) + 10,
+          "key 0.12 -> 0.5 did not brighten the picture: %s -> %s" % (mean_png(e[0]),
+                                                                   mean_png(e[1])))
+    check(max_png_diff(e[2], e[1]) == 0, "the broken edit changed the picture")
+    check(max_png_diff(e[3], e[1]) == 0, "the fixed graph does not show the same picture")
+    for node in ("scene", "shadow", "lit"):
+        check("node '%s' kept from the previous plan" % node in err,
+              "'%s' was made again although only tone's key changed:\n%s" % (node,
+                                                                             err[-3000:]))
+    check("g.lgraph:" in out + err, "the broken edit's error does not name the file")
+
+
+RELOADABLE = os.environ.get("LG_RELOADABLE_DIRS", "")
+
+
+def reloadable(variant):
+    dirs = dict(kv.split("=", 1) for kv in RELOADABLE.split(":") if kv)
+    return os.path.join(dirs[variant], "lg_reloadable.so")
+
+
+def t_plugin():
+    plug = os.path.join(TMP, "plug")
+    os.makedirs(plug)
+    shutil.copy(reloadable("v1"), os.path.join(plug, "lg_reloadable.so"))
+    g = os.path.join(TMP, "r.lgraph")
+    with open(g, "w") as f:
+        f.write('lightgraph 1\nc = reloadable { gain = 1.5 }\noutput c "out.exr"\n')
+
+    def swap(variant):
+        return ("shell cp '%s' plug/.next && mv plug/.next plug/lg_reloadable.so"
+                % reloadable(variant))
+    script = ["wait_frames 2", "screenshot p1.exr", "set c.gain=1.8", "expect_ok",
+              swap("v2"), "wait_reload 120", "expect_ok", "wait_frames 1", "screenshot p2.exr",
+              swap("crash"), "wait_reload 120", "expect_error crashed", "wait_frames 1",
+              "screenshot p3.exr",
+              swap("abi1"), "wait_reload 120", "expect_error ABI", "wait_frames 1",
+              "screenshot p4.exr",
+              swap("v2"), "wait_reload 120", "expect_ok", "set c.gain=1", "expect_ok",
+              "screenshot p5.exr", "quit"]
+    rc, out, err = view(g, script, env=env_with_display({"LIGHTGRAPH_PLUGIN_PATH": plug}))
+    px = {i: exr_rows(os.path.join(TMP, "p%d.exr" % i))[3][5] for i in range(1, 6)}
+    check(abs(px[1][0] - 0.75) < 1e-6 and px[1][1] == 0, "build 1 shows %s" % (px[1],))
+    check(abs(px[2][1] - 0.9) < 1e-6 and px[2][0] == 0,
+          "the rebuilt plugin is not shown with gain 1.8: %s" % (px[2],))
+    check(px[3] == px[2] and px[4] == px[2],
+          "a broken build changed the picture: %s, %s" % (px[3], px[4]))
+    check(abs(px[5][1] - 0.5) < 1e-6, "after the rollbacks the plugin does not work: %s" %
+          (px[5],))
+    check("rolled back" in out + err, "no rollback reported:\n%s" % (out + err)[-3000:])
+
+
+def t_shader():
+    """A shader edit runs the build (LIGHTGRAPH_REBUILD stands for `ninja -C build`, and
+    LIGHTGRAPH_SHADER_DIR for the source tree's shaders/): a failing build shows its error
+    and changes nothing; a build that relinks the plugin gets it reloaded."""
+    plug = os.path.join(TMP, "plug")
+    shaders = os.path.join(TMP, "shaders")
+    os.makedirs(plug)
+    os.makedirs(shaders)
+    shutil.copy(reloadable("v1"), os.path.join(plug, "lg_reloadable.so"))
+    with open(os.path.join(shaders, "fill.frag"), "w") as f:
+        f.write("// version 1\n")
+    build = os.path.join(TMP, "build.sh")
+    with open(build, "w") as f:
+        f.write("""#!/bin/sh
+if grep -q broken '%s'; then echo "fill.frag:2: error: 'broken' : syntax error" >&2; exit 1; fi
+cp '%s' '%s/.next' && mv '%s/.next' '%s/lg_reloadable.so'
+""" % (os.path.join(shaders, "fill.frag"), reloadable("v2"), plug, plug, plug))
+    g = os.path.join(TMP, "r.lgraph")
+    with open(g, "w") as f:
+        f.write('lightgraph 1\nc = reloadable { gain = 1.5 }\noutput c "out.exr"\n')
+    script = ["wait_frames 2", "screenshot s1.exr",
+              "shell echo broken >> shaders/fill.frag", "wait_reload 120",
+              "expect_error syntax error", "wait_frames 1", "screenshot s2.exr",
+              "shell echo '// version 2' > shaders/fill.frag", "wait_reload 120", "expect_ok",
+              "wait_frames 1", "screenshot s3.exr", "quit"]
+    rc, out, err = view(g, script, env=env_with_display({
+        "LIGHTGRAPH_PLUGIN_PATH": plug, "LIGHTGRAPH_SHADER_DIR": shaders,
+        "LIGHTGRAPH_REBUILD": "sh " + build}))
+    px = {i: exr_rows(os.path.join(TMP, "s%d.exr" % i))[3][5] for i in range(1, 4)}
+    check(abs(px[1][0] - 0.75) < 1e-6, "build 1 shows %s" % (px[1],))
+    check(px[2] == px[1], "a failed rebuild changed the picture: %s" % (px[2],))
+    check(abs(px[3][1] - 0.75) < 1e-6 and px[3][0] == 0,
+          "the rebuilt plugin is not shown: %s" % (px[3],))
+    check("rebuild failed" in out + err, "the failed build was not reported")
+
+
+def t_camera():
+    g = phong_graph()
+    script = ["wait_frames 2", "screenshot c0.exr", "drag 40 10", "wait_frames 2",
+              "screenshot c1.exr", "key C", "key R", "wait_frames 2", "screenshot c2.exr",
+              "scroll 2", "wait_frames 1", "screenshot c3.exr", "key F", "hold W 5",
+              "wait_frames 1", "screenshot c4.exr", "quit"]
+    rc, out, err = view(g, script)
+    c = [os.path.join(TMP, "c%d.exr" % i) for i in range(5)]
+    check(max_exr_diff(c[1], c[0]) > 1e-2, "the drag did not move the camera")
+    check(max_exr_diff(c[2], c[0]) < 1e-6, "R did not restore the graph's camera")
+    check(max_exr_diff(c[3], c[0]) > 1e-2, "the wheel did not zoom")
+    check(max_exr_diff(c[4], c[3]) > 1e-2, "flying forward did not move the camera")
+    start = out.find("cam = camera {")
+    check(start >= 0, "C printed no camera node:\n%s" % out[-2000:])
+    node = out[start:out.index("}", start) + 1]
+    g2 = os.path.join(TMP, "cam.lgraph")
+    with open(g, "r") as f:
+        text = f.read()
+    text = text.replace("scene = bulb", "scene = cam")
+    text = text.replace("\ntone = ", node + "\n\ntone = ")
+    with open(g2, "w") as f:
+        f.write(text.replace('"out.png"', '"cam.exr"'))
+    render(g2, os.path.join(TMP, "cam.exr"))
+    d = max_exr_diff(os.path.join(TMP, "cam.exr"), c[1])
+    check(d < 0.05, "the printed camera node does not render the dragged view (max %g)" % d)
+
+
+def t_method():
+    g = os.path.join(TMP, "m.lgraph")
+    with open(g, "w") as f:
+        f.write("""lightgraph 1
+include "%s"
+lit_a = phong { scene = bulb, shadows = shadow, shading = flat, ks_scale = 20 }
+lit_b = phong { scene = bulb, shadows = shadow, shading = phong, ks_scale = 20,
+                background = [0.3, 0.1, 0.1] }
+tone = reinhard { image = lit_a, key = 0.12 }
+output tone "out.png"
+""" % os.path.join(SRC, "examples", "phong_scene.lgraph"))
+    script = ["wait_frames 2", "screenshot m0.exr", "key M", "expect_ok", "wait_frames 1",
+              "screenshot m1.exr", "key M", "expect_ok", "wait_frames 1", "screenshot m2.exr",
+              "key O", "quit"]
+    rc, out, err = view(g, script)
+    m = [os.path.join(TMP, "m%d.exr" % i) for i in range(3)]
+    check(max_exr_diff(m[1], m[0]) > 1e-2, "M did not switch the method")
+    check(max_exr_diff(m[2], m[0]) < 1e-6, "M twice did not come back")
+    check("lit_a -> lit_b" in out and "lit_b -> lit_a" in out,
+          "the switches were not reported:\n%s" % out[-2000:])
+
+
+def main():
+    global XV
+    name = sys.argv[1] if len(sys.argv) > 1 else ""
+    tests = {k[2:]: v for k, v in globals().items() if k.startswith("t_")}
+    if name not in tests:
+        print("usage: test_viewer.py TEST (%s)" % " ".join(sorted(tests)))
+        return 2
+    if name != "no_display":
+        XV = Xvfb()
+    try:
+        tests[name]()
+    except Fail as e:
+        print("FAIL %s: %s" % (name, e))
+        return 1
+    finally:
+        if XV:
+            XV.close()
+        shutil.rmtree(TMP, ignore_errors=True)
+    print("ok %s" % name)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
