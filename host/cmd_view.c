@@ -20,7 +20,9 @@
  */
 #include "host.h"
 
+#include <dlfcn.h>
 #include <errno.h>
+#include <link.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1432,6 +1434,22 @@ static void cb_glfw_error(int code, const char *desc)
     glfw_error_text = glfw_error_buf;
 }
 
+/* Every shared object mapped now stays mapped until the process ends (RTLD_NODELETE): the
+ * GL driver the window's context loaded (libGL, the DRI driver, llvmpipe) keeps threads and
+ * exit handlers, as OSMesa does (gl_osmesa.c), and unloading it at glfwTerminate would also
+ * hide its allocations from the leak checker behind "unknown module". */
+static int pin_object(struct dl_phdr_info *info, size_t size, void *data)
+{
+    (void)size;
+    (void)data;
+    if (info->dlpi_name && info->dlpi_name[0]) {
+        void *h = dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        if (h)
+            dlclose(h);
+    }
+    return 0;
+}
+
 static GLADapiproc glfw_load(void *state, const char *name)
 {
     (void)state;
@@ -1535,6 +1553,7 @@ int lg_cmd_view(int argc, char **argv)
     }
     glfwMakeContextCurrent(v->win);
     glfwSwapInterval(v->scripted ? 0 : 1);
+    dl_iterate_phdr(pin_object, NULL);
     lg_gl_backend be = {.label = "GLFW window", .load = glfw_load, .destroy = NULL, .state = NULL};
     rc = lg_gl_device_wrap(&v->gl, &be, err, sizeof err);
     if (rc == 0 && lg_vdisplay_create(lg_gl_device_table(v->gl), &v->disp, err, sizeof err))
