@@ -98,6 +98,7 @@ typedef struct viewer {
     lg_camera cam_out;
     uint64_t cam_gen;
     char *cam_scene_ref;        /* the node whose scene the camera node would read */
+    float cam_bmin[3], cam_bmax[3]; /* that scene's bounds: the moved camera's clip planes */
     bool fly_speed_fast;
 
     /* display */
@@ -516,6 +517,8 @@ static const lg_scene *graph_scene(viewer *v, const char **scene_node)
 
 static void camera_changed(viewer *v)
 {
+    if (v->cam_on)
+        lg_vcam_fit_clip(&v->vcam, v->cam_bmin, v->cam_bmax);
     lg_vcam_to_camera(&v->vcam, &v->cam_out);
     v->cam_gen++;
     if (v->cur.ex) {
@@ -540,6 +543,8 @@ static bool camera_take(viewer *v)
     if (s->n_cameras && s->cameras)
         cam = s->cameras[s->camera < s->n_cameras ? s->camera : 0];
     lg_vcam_init(&v->vcam, &cam, s->bounds_min, s->bounds_max);
+    memcpy(v->cam_bmin, s->bounds_min, sizeof v->cam_bmin);
+    memcpy(v->cam_bmax, s->bounds_max, sizeof v->cam_bmax);
     free(v->cam_scene_ref);
     v->cam_scene_ref = lg_xstrdup(node ? node : "scene");
     v->cam_on = true;

@@ -391,3 +391,42 @@ char *lg_vcam_node_text(const lg_vcam *v, const char *name, const char *scene_re
         snprintf(text, (size_t)n + 1, fmt, name, scene_ref, pos, tgt, up, fov_deg, extra);
     return text;
 }
+
+void lg_vcam_fit_clip(lg_vcam *v, const float bmin[3], const float bmax[3])
+{
+    dv3 eye = d3f(v->position), t = d3f(v->target);
+    double dist = len(sub(t, eye));
+    if (!(dist > 0) || !isfinite(dist))
+        return;
+    dv3 f = mul(sub(t, eye), 1.0 / dist);
+    bool have = bmin && bmax && finite3f(bmin) && finite3f(bmax) && bmin[0] <= bmax[0] &&
+                bmin[1] <= bmax[1] && bmin[2] <= bmax[2];
+    double near, far;
+    if (!have) {
+        near = dist / 100.0;
+        far = dist * 100.0;
+    } else {
+        double dmin = INFINITY, dmax = -INFINITY;
+        for (int k = 0; k < 8; k++) {
+            dv3 c = d3(k & 1 ? bmax[0] : bmin[0], k & 2 ? bmax[1] : bmin[1],
+                       k & 4 ? bmax[2] : bmin[2]);
+            double d = dot(sub(c, eye), f);
+            dmin = d < dmin ? d : dmin;
+            dmax = d > dmax ? d : dmax;
+        }
+        far = dmax * 1.01;
+        if (!(far > 0)) { /* the scene behind the camera: any far plane past it */
+            dv3 centre = mul(add(d3f(bmin), d3f(bmax)), 0.5);
+            far = len(sub(centre, eye)) + 0.5 * len(sub(d3f(bmax), d3f(bmin)));
+        }
+        if (!(far > 0))
+            far = 1.0;
+        near = dmin * 0.99;
+        if (!(near > far * 1e-3)) /* inside the bounds: keep depth precision usable */
+            near = far * 1e-3;
+    }
+    if (isfinite(near) && isfinite(far) && near > 0 && far > near) {
+        v->znear = (float)near;
+        v->zfar = (float)far;
+    }
+}

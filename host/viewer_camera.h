@@ -94,4 +94,11 @@ void lg_vcam_move(lg_vcam *v, const float rul[3], double dt, double speed);
  * floats back exactly. The text parses, checks and renders as a scene_tools `camera` node. */
 char *lg_vcam_node_text(const lg_vcam *v, const char *name, const char *scene_ref);
 
+/* Near and far planes that hold the box [bmin, bmax] as seen from the camera, by the rule of
+ * scene_tools' `camera` node (far: the farthest corner along the view x 1.01; near: the
+ * nearest x 0.99, at least far / 1000): the graph camera's planes were fitted to where it
+ * stood, and a camera moved outside them would clip the scene. Without usable bounds the
+ * planes are the target's distance / 100 and x 100. */
+void lg_vcam_fit_clip(lg_vcam *v, const float bmin[3], const float bmax[3]);
+
 #endif

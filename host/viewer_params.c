@@ -811,16 +811,43 @@ static void free_src_sets(src_sets *ss, uint32_t n)
     free(ss->n);
 }
 
+/* Does node `from` read node `to`, directly or through other nodes? */
+static bool reads_node(const lg_checked *c, uint32_t from, uint32_t to, uint32_t depth)
+{
+    const lg_cnode *n = &c->nodes[from];
+    if (!n->type || depth > c->n_nodes)
+        return false;
+    for (uint32_t j = 0; j < n->type->n_inputs; j++) {
+        int32_t s = n->inputs[j].node;
+        if (s >= 0 && ((uint32_t)s == to || reads_node(c, (uint32_t)s, to, depth + 1)))
+            return true;
+    }
+    return false;
+}
+
 static bool alternatives(const lg_checked *c, const src_sets *ss, uint32_t x, uint32_t y)
 {
     const lg_cnode *a = &c->nodes[x], *b = &c->nodes[y];
-    if (x == y || !a->type || !b->type || !a->type->n_outputs ||
-        a->type->n_outputs != b->type->n_outputs)
+    if (x == y || !a->type || !b->type || !a->type->n_outputs || !b->type->n_outputs)
+        return false;
+    /* the same outputs: the first output of each is the other's too, every output both have
+     * is of one kind, and every output of x that a node reads, y has (froxel's extra `grid`
+     * does not keep it from being the polygonal method's alternative, unless it is read) */
+    if (output_named(b->type, a->type->outputs[0].name) < 0 ||
+        output_named(a->type, b->type->outputs[0].name) < 0)
         return false;
     for (uint32_t o = 0; o < a->type->n_outputs; o++) {
         int32_t ob = output_named(b->type, a->type->outputs[o].name);
-        if (ob < 0 || b->type->outputs[ob].kind != a->type->outputs[o].kind)
+        if (ob >= 0 && b->type->outputs[ob].kind != a->type->outputs[o].kind)
             return false;
+        if (ob >= 0)
+            continue;
+        for (uint32_t k = 0; k < c->n_nodes; k++) {
+            const lg_cnode *r = &c->nodes[k];
+            for (uint32_t j = 0; r->type && j < r->type->n_inputs; j++)
+                if (r->inputs[j].node == (int32_t)x && r->inputs[j].port == o)
+                    return false;
+        }
     }
     /* the same sources: every input both types have and both connect reads the same edge,
      * and there is at least one (two scene loaders are not alternatives). An input only one
@@ -843,7 +870,9 @@ static bool alternatives(const lg_checked *c, const src_sets *ss, uint32_t x, ui
             shared++;
         }
     }
-    if (shared == 0)
+    /* siblings, not a node and one it is made from (phong's lit image is not an
+     * alternative of the fog drawn over it) */
+    if (shared == 0 || reads_node(c, x, y, 0) || reads_node(c, y, x, 0))
         return false;
     /* a twin (same type, same values) is the same method, not another */
     bool differ = strcmp(a->type->name, b->type->name) != 0;

@@ -24,6 +24,9 @@ what it wrote and said:
   camera         a drag changes the picture, R restores the graph's camera exactly, C prints
                  a camera node that `lightgraph check` accepts in a graph
   method         M switches between alternative nodes feeding the shown image, and back
+  methods_example  examples/volumetric_methods.lgraph: M cycles the three volumetric methods
+                 (different inputs and outputs, still alternatives), plugins loaded only
+                 when switched to; the camera moves the froxel view
 
 usage: test_viewer.py TEST_NAME
 """
@@ -459,6 +462,42 @@ output tone "out.png"
     check(max_exr_diff(m[2], m[0]) < 1e-6, "M twice did not come back")
     check("lit_a -> lit_b" in out and "lit_b -> lit_a" in out,
           "the switches were not reported:\n%s" % out[-2000:])
+
+
+def t_methods_example():
+    """examples/volumetric_methods.lgraph: M cycles froxel -> screen -> polygonal -> froxel
+    (file order); the screen-space method reads no shadow maps and froxel has an extra
+    output, and both are still alternatives; `lit`, which they are made from, is not. A
+    method not shown is culled and its plugin not loaded until it is switched to. The camera
+    moves with froxel's temporal reprojection on."""
+    g = os.path.join(SRC, "examples", "volumetric_methods.lgraph")
+    shots = []
+    script = ["wait_frames 2", "screenshot x0.exr", "shell echo SWITCHING >&2"]
+    for i in range(1, 4):
+        script += ["key M", "expect_ok", "wait_frames 1", "screenshot x%d.exr" % i]
+    script += ["drag 8 0", "wait_frames 3", "screenshot x4.exr", "quit"]
+    fast = ["--set", "vol_froxel.width=48", "--set", "vol_froxel.height=27",
+            "--set", "vol_froxel.depth=32", "--set", "vol_froxel.temporal=true",
+            "--set", "shadow.resolution=256", "--size", "96x54", "-v", "-v"]
+    rc, out, err = view(g, script, args=fast)
+    order = ["vol_froxel -> vol_screen", "vol_screen -> vol_polygonal",
+             "vol_polygonal -> vol_froxel"]
+    for o in order:
+        check(("method: %s" % o) in out, "no switch %s:\n%s" % (o, out[-3000:]))
+    x = [os.path.join(TMP, "x%d.exr" % i) for i in range(5)]
+    for i in (1, 2):
+        check(max_exr_diff(x[i], x[0]) > 1e-3, "method %d looks like froxel" % i)
+    check(max_exr_diff(x[1], x[2]) > 1e-3, "screen and polygonal look the same")
+    check(max_exr_diff(x[4], x[3]) > 1e-3, "the drag did not move the froxel view")
+    # the marker goes to the viewer's stderr (the script's shell inherits it), in order
+    mark = err.find("SWITCHING")
+    check(mark > 0, "the marker is missing from stderr")
+    for p in ("volumetric_screen", "volumetric_polygonal"):
+        at = err.find("loaded plugin %s " % p)
+        check(at > mark, "%s was loaded %s it was switched to" %
+              (p, "never when" if at < 0 else "before"))
+    check(0 <= err.find("loaded plugin volumetric_froxel ") < mark,
+          "volumetric_froxel was not loaded for the first frame")
 
 
 def main():

@@ -482,6 +482,34 @@ static int print_cases(void)
     return 0;
 }
 
+/* The clip planes follow a moved camera: they hold the box from where it stands. */
+static void test_fit_clip(void)
+{
+    const float lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    lg_vcam v;
+    memset(&v, 0, sizeof v);
+    v.yfov = 1.0f;
+    v.up[1] = 1;
+    /* outside, looking at the centre from +Z at 5: near 0.99 x 4, far 1.01 x 6 */
+    v.position[2] = 5;
+    lg_vcam_fit_clip(&v, lo, hi);
+    CHECKF(fabs(v.znear - 3.96) < 1e-5 && fabs(v.zfar - 6.06) < 1e-5, "near %g far %g",
+           (double)v.znear, (double)v.zfar);
+    /* inside: near is far / 1000 */
+    v.position[2] = 0.5f;
+    lg_vcam_fit_clip(&v, lo, hi);
+    CHECKF(fabs(v.zfar - 1.01 * 1.5) < 1e-5 && fabs(v.znear - v.zfar * 1e-3) < 1e-7,
+           "inside: near %g far %g", (double)v.znear, (double)v.zfar);
+    /* the box behind the camera: still a valid pair */
+    v.position[2] = -5;
+    v.target[2] = -10;
+    lg_vcam_fit_clip(&v, lo, hi);
+    CHECK(v.znear > 0 && v.zfar > v.znear && isfinite(v.zfar));
+    /* no bounds: the target's distance / 100 and x 100 */
+    lg_vcam_fit_clip(&v, NULL, NULL);
+    CHECK(fabs(v.znear - 0.05) < 1e-6 && fabs(v.zfar - 500) < 1e-3);
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 2 && strcmp(argv[1], "cases") == 0)
@@ -492,5 +520,6 @@ int main(int argc, char **argv)
     test_zoom();
     test_fly();
     test_node_text();
+    test_fit_clip();
     return check_report("viewer_camera");
 }
