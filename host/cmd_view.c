@@ -474,9 +474,17 @@ static bool attempt_ex(viewer *v, const char *what, bool full)
 {
     char err[8192];
     v->changes++;
+    double t0 = lg_now();
     if (try_load(v, false, full, err, sizeof err) == 0) {
         v->last_change_ok = true;
-        set_status(v, false, "%s", what);
+        uint32_t kept = 0, made = 0;
+        for (uint32_t i = 0; i < v->cur.ex->n_nodes; i++) {
+            const lg_pnode *n = v->cur.ex->nodes[i];
+            if (n && n->state == LG_STATE_KEPT)
+                n->runs > 1 || (n->ran && !n->ran_this_frame) ? kept++ : made++;
+        }
+        set_status(v, false, "%s (%.0f ms: %u node%s made, %u kept)", what,
+                   (lg_now() - t0) * 1e3, made, made == 1 ? "" : "s", kept);
         return true;
     }
     v->changes_failed++;
@@ -1275,8 +1283,8 @@ static void overlay_text(viewer *v, lg_str *s)
         wn = 18;
     if (wt > 20)
         wt = 20;
-    lg_str_addf(s, "%-*.*s %-*.*s %-9s %9s %9s %9s\n", wn, wn, "node", wt, wt, "type", "runs",
-                "last ms", "avg ms", "gpu ms");
+    lg_str_addf(s, "%-*.*s %-*.*s %-9s %9s %9s %9s %9s\n", wn, wn, "node", wt, wt, "type",
+                "runs", "last ms", "avg ms", "gpu last", "gpu avg");
     lg_str culled = {0}, gated = {0};
     for (uint32_t t = 0; t < l->c->n_nodes; t++) {
         const lg_pnode *n = l->ex->nodes[l->c->topo[t]];
@@ -1291,16 +1299,16 @@ static void overlay_text(viewer *v, lg_str *s)
                         n->reason ? n->reason : "");
             continue;
         }
-        char gpu[32] = "-";
+        /* GL timer queries read 0 for llvmpipe's compute work: "n/a", as --profile says */
+        char gpu[32] = "-", gpu_avg[32] = "-";
         if (n->device == LG_DEVICE_GL || n->device == LG_DEVICE_CL) {
-            if (n->gpu_unmeasured && n->last_gpu_ms == 0)
-                snprintf(gpu, sizeof gpu, "n/a");
-            else
-                snprintf(gpu, sizeof gpu, "%.2f", n->last_gpu_ms);
+            bool na = n->gpu_unmeasured && n->last_gpu_ms == 0;
+            snprintf(gpu, sizeof gpu, na ? "n/a" : "%.2f", n->last_gpu_ms);
+            snprintf(gpu_avg, sizeof gpu_avg, na ? "n/a" : "%.2f", n->avg_gpu_ms);
         }
-        lg_str_addf(s, "%-*.*s %-*.*s %-9s %9.2f %9.2f %9s%s\n", wn, wn, n->pub.name, wt, wt,
-                    n->schema->name, n->per_frame ? "per-frame" : "once", n->last_cpu_ms,
-                    n->avg_cpu_ms, gpu,
+        lg_str_addf(s, "%-*.*s %-*.*s %-9s %9.2f %9.2f %9s %9s%s\n", wn, wn, n->pub.name, wt,
+                    wt, n->schema->name, n->per_frame ? "per-frame" : "once", n->last_cpu_ms,
+                    n->avg_cpu_ms, gpu, gpu_avg,
                     n->ran_this_frame ? "" : (n->per_frame ? "" : "  (cached)"));
     }
     if (culled.len)

@@ -248,7 +248,9 @@ typedef struct lg_pnode {
     double last_cpu_ms, last_gpu_ms; /* its last run */
     uint32_t last_frame;         /* the frame of its last run */
     bool ran_this_frame;
-    bool reads_scene;            /* an input delivers a scene; it makes none itself */
+    bool reads_scene;            /* an input delivers a scene; it makes none itself; not
+                                  * view independent */
+    bool view_independent_set, view_independent; /* lg_set_view_independent in prepare */
     uint64_t camera_gen;         /* ex->camera_gen when it last ran */
     bool lent;                   /* adopted by a newer plan that is not committed yet */
     uint32_t prev_index;         /* while lent: its index in the plan it came from */

@@ -356,6 +356,13 @@ static int api_set_device(lg_node *n, lg_device d)
     return 0;
 }
 
+static void api_set_view_independent(lg_node *n, bool independent)
+{
+    lg_pnode *p = P(n);
+    p->view_independent_set = true;
+    p->view_independent = independent;
+}
+
 static void api_set_per_frame(lg_node *n, bool per_frame)
 {
     if (per_frame)
@@ -675,6 +682,7 @@ void lg_host_api_init(lg_host_api *a)
     a->declare_payload = api_declare_payload;
     a->set_device = api_set_device;
     a->set_per_frame = api_set_per_frame;
+    a->set_view_independent = api_set_view_independent;
     a->add_content_key = api_add_content_key;
     a->account_alloc = api_account_alloc;
     a->map_cpu = api_map_cpu;

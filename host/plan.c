@@ -520,7 +520,10 @@ int lg_plan(lg_exec *ex)
                                                        : NULL;
             reads |= r && r->kind == LG_KIND_SCENE;
         }
-        n->reads_scene = reads && !makes && !(n->schema->flags & LG_NODE_VIEW_INDEPENDENT);
+        bool independent = n->view_independent_set
+                               ? n->view_independent
+                               : (n->schema->flags & LG_NODE_VIEW_INDEPENDENT) != 0;
+        n->reads_scene = reads && !makes && !independent;
     }
     ex->t_plan_ms = (lg_now() - t0) * 1e3;
     return rc || ex->failed ? -1 : 0;

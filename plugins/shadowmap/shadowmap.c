@@ -410,6 +410,47 @@ static void sm_fit_light(const sm_state *st, lg_vec3 dir, const float lo[3], con
 
 /* ---- prepare ----------------------------------------------------------------------------- */
 
+/* Fits every directional light's map (st->lights, nl of them, allocated) to the scene: its
+ * bounds, or what the camera sees of them (fit = frustum); assigns the atlas tiles. */
+static int sm_fit(lg_node *n, sm_state *st, const lg_scene *s, uint32_t nl)
+{
+    float lo[3], hi[3];
+    int rc = sm_bounds(n, s, lo, hi);
+    if (rc)
+        return rc;
+    lg_vec3 pts[SM_MAX_CUT_POINTS];
+    uint32_t n_pts = 0;
+    if (st->fit == SM_FIT_FRUSTUM && nl) {
+        float cam_vp[16];
+        if ((rc = sm_camera_view_proj(n, st, s, lo, hi, cam_vp)))
+            return rc;
+        n_pts = sm_frustum_points(cam_vp, lo, hi, pts);
+        if (n_pts == 0)
+            lg_log(n, LG_LOG_INFO, "fit = frustum: the camera sees none of the scene's bounds; "
+                                   "fitting to the bounds");
+    }
+    if (n_pts == 0) {
+        for (int k = 0; k < 8; k++)
+            pts[k] = sm_corner(lo, hi, k);
+        n_pts = 8;
+    }
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < s->n_lights; i++) {
+        const lg_light *L = &s->lights[i];
+        if (L->type != LG_LIGHT_DIRECTIONAL)
+            continue;
+        lg_shadow_light *l = &st->lights[k];
+        lg_vec3 d = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
+                                       lg_v3(0, -1, 0));
+        l->light = i;
+        sm_fit_light(st, d, lo, hi, pts, n_pts, l);
+        l->tile_x = (k % st->cols) * st->resolution;
+        l->tile_y = (k / st->cols) * st->resolution;
+        k++;
+    }
+    return 0;
+}
+
 static int sm_prepare(lg_node *n)
 {
     sm_state *st = n->user;
@@ -455,46 +496,17 @@ static int sm_prepare(lg_node *n)
     st->cols = cols;
     st->rows = rows;
 
-    float lo[3], hi[3];
-    int rc = sm_bounds(n, s, lo, hi);
-    if (rc)
-        return rc;
-    lg_vec3 pts[SM_MAX_CUT_POINTS];
-    uint32_t n_pts = 0;
-    if (st->fit == SM_FIT_FRUSTUM && nl) {
-        float cam_vp[16];
-        if ((rc = sm_camera_view_proj(n, st, s, lo, hi, cam_vp)))
-            return rc;
-        n_pts = sm_frustum_points(cam_vp, lo, hi, pts);
-        if (n_pts == 0)
-            lg_log(n, LG_LOG_INFO, "fit = frustum: the camera sees none of the scene's bounds; "
-                                   "fitting to the bounds");
-    }
-    if (n_pts == 0) {
-        for (int k = 0; k < 8; k++)
-            pts[k] = sm_corner(lo, hi, k);
-        n_pts = 8;
-    }
-
     free(st->lights);
     st->sm = NULL;
     st->lights = calloc(tiles, sizeof(lg_shadow_light));
     if (!st->lights)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u shadow lights)", nl);
-    uint32_t k = 0;
-    for (uint32_t i = 0; i < s->n_lights; i++) {
-        const lg_light *L = &s->lights[i];
-        if (L->type != LG_LIGHT_DIRECTIONAL)
-            continue;
-        lg_shadow_light *l = &st->lights[k];
-        lg_vec3 d = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
-                                       lg_v3(0, -1, 0));
-        l->light = i;
-        sm_fit_light(st, d, lo, hi, pts, n_pts, l);
-        l->tile_x = (k % cols) * res;
-        l->tile_y = (k / cols) * res;
-        k++;
-    }
+    int rc = sm_fit(n, st, s, nl);
+    if (rc)
+        return rc;
+    /* fitted to the camera's frustum, the maps follow the camera: execute() fits them again
+     * and the viewer runs it again when its camera moves */
+    lg_set_view_independent(n, st->fit != SM_FIT_FRUSTUM);
 
     if ((rc = lg_shadowmap_declare(n, 0, (uint32_t)aw, (uint32_t)ah, nl)))
         return rc;
@@ -566,6 +578,10 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;
+    /* the camera may have moved since prepare (lightgraph view) */
+    int rc0 = st->fit == SM_FIT_FRUSTUM ? sm_fit(n, st, s, sm->n_lights) : 0;
+    if (rc0)
+        return rc0;
 
     GLint max_tex = 0, max_vp[2] = { 0, 0 };
     gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);

@@ -265,7 +265,15 @@ typedef struct lg_host_api {
      * through lg_account_alloc(), which does nothing on an older host. */
     void (*account_alloc)(lg_node *node, uint64_t bytes);
 
-    void *reserved[25];
+    /* -- since ABI 2.5: camera dependence, per instance --
+     * In prepare(): whether this instance's results depend on the scene's camera, in place
+     * of its type's LG_NODE_VIEW_INDEPENDENT flag (a shadow map fitted to the bounds does
+     * not, one fitted to the camera's frustum does). The viewer runs a node that reads a
+     * scene again when the camera moves unless it is view independent. Call it through
+     * lg_set_view_independent(), which does nothing on an older host. */
+    void (*set_view_independent)(lg_node *node, bool independent);
+
+    void *reserved[24];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -501,6 +509,13 @@ static inline void lg_account_alloc(lg_node *n, uint64_t bytes)
     if (n->host->struct_size >= offsetof(lg_host_api, account_alloc) + sizeof(void *) &&
         n->host->account_alloc)
         n->host->account_alloc(n, bytes);
+}
+
+static inline void lg_set_view_independent(lg_node *n, bool independent)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, set_view_independent) + sizeof(void *) &&
+        n->host->set_view_independent)
+        n->host->set_view_independent(n, independent);
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and

@@ -22,7 +22,8 @@ what it wrote and said:
                  parameter it had; a build that crashes in create() and one built for ABI 1
                  are rolled back to the working one, the error shown
   camera         a drag changes the picture, R restores the graph's camera exactly, C prints
-                 a camera node that `lightgraph check` accepts in a graph
+                 a camera node that renders the dragged view headless (with shadow maps
+                 fitted to the camera's frustum, which follow the viewer's camera)
   method         M switches between alternative nodes feeding the shown image, and back
   methods_example  examples/volumetric_methods.lgraph: M cycles the three volumetric methods
                  (different inputs and outputs, still alternatives), plugins loaded only
@@ -376,7 +377,9 @@ def t_camera():
               "screenshot c1.exr", "key C", "key R", "wait_frames 2", "screenshot c2.exr",
               "scroll 2", "wait_frames 1", "screenshot c3.exr", "key F", "hold W 5",
               "wait_frames 1", "screenshot c4.exr", "quit"]
-    rc, out, err = view(g, script)
+    # the shadow maps fitted to the camera's frustum follow the viewer's camera
+    frustum = ["--set", "shadow.fit=frustum"]
+    rc, out, err = view(g, script, args=frustum)
     c = [os.path.join(TMP, "c%d.exr" % i) for i in range(5)]
     check(max_exr_diff(c[1], c[0]) > 1e-2, "the drag did not move the camera")
     check(max_exr_diff(c[2], c[0]) < 1e-6, "R did not restore the graph's camera")
@@ -392,7 +395,7 @@ def t_camera():
     text = text.replace("\ntone = ", node + "\n\ntone = ")
     with open(g2, "w") as f:
         f.write(text.replace('"out.png"', '"cam.exr"'))
-    render(g2, os.path.join(TMP, "cam.exr"))
+    render(g2, os.path.join(TMP, "cam.exr"), frustum)
     d = max_exr_diff(os.path.join(TMP, "cam.exr"), c[1])
     check(d < 0.05, "the printed camera node does not render the dragged view (max %g)" % d)
 
