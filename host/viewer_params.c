@@ -760,34 +760,6 @@ static bool same_value(const lg_param_desc *pd, const lg_value *a, const lg_valu
     }
 }
 
-typedef struct src_ref {
-    int32_t node;
-    uint32_t port, part;
-} src_ref;
-
-static int cmp_src(const void *a, const void *b)
-{
-    const src_ref *x = a, *y = b;
-    return cmp_ref(x->node, x->port, x->part, y->node, y->port, y->part);
-}
-
-/* The connected input edges of a node as a sorted set. */
-static uint32_t sources(const lg_cnode *cn, src_ref **out)
-{
-    uint32_t n = 0;
-    src_ref *s = lg_xmalloc((cn->type->n_inputs + 1) * sizeof *s);
-    for (uint32_t j = 0; j < cn->type->n_inputs; j++)
-        if (cn->inputs[j].node >= 0)
-            s[n++] = (src_ref){cn->inputs[j].node, cn->inputs[j].port, cn->inputs[j].part};
-    qsort(s, n, sizeof *s, cmp_src);
-    uint32_t m = 0;
-    for (uint32_t j = 0; j < n; j++)
-        if (m == 0 || cmp_src(&s[m - 1], &s[j]) != 0)
-            s[m++] = s[j];
-    *out = s;
-    return m;
-}
-
 /* The output of `t` called `name`, or -1. */
 static int32_t output_named(const lg_node_type *t, const char *name)
 {
@@ -795,20 +767,6 @@ static int32_t output_named(const lg_node_type *t, const char *name)
         if (strcmp(t->outputs[o].name, name) == 0)
             return (int32_t)o;
     return -1;
-}
-
-/* Every node's sources (sources()), made once per switch: the walk compares many pairs. */
-typedef struct src_sets {
-    src_ref **s;
-    uint32_t *n;
-} src_sets;
-
-static void free_src_sets(src_sets *ss, uint32_t n)
-{
-    for (uint32_t k = 0; k < n; k++)
-        free(ss->s[k]);
-    free(ss->s);
-    free(ss->n);
 }
 
 /* Does node `from` read node `to`, directly or through other nodes? */
@@ -825,7 +783,7 @@ static bool reads_node(const lg_checked *c, uint32_t from, uint32_t to, uint32_t
     return false;
 }
 
-static bool alternatives(const lg_checked *c, const src_sets *ss, uint32_t x, uint32_t y)
+static bool alternatives(const lg_checked *c, uint32_t x, uint32_t y)
 {
     const lg_cnode *a = &c->nodes[x], *b = &c->nodes[y];
     if (x == y || !a->type || !b->type || !a->type->n_outputs || !b->type->n_outputs)
@@ -853,7 +811,6 @@ static bool alternatives(const lg_checked *c, const src_sets *ss, uint32_t x, ui
      * and there is at least one (two scene loaders are not alternatives). An input only one
      * of them has is free: the screen-space method reads no shadow maps and is still the
      * froxel method's alternative. */
-    (void)ss;
     uint32_t shared = 0;
     for (uint32_t i = 0; i < a->type->n_inputs; i++) {
         lg_edge ea = a->inputs[i];
@@ -919,10 +876,6 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
         return 0;
     }
     /* breadth first upstream of `shown`, itself first, inputs in their order */
-    src_sets ss = {lg_xcalloc(c->n_nodes, sizeof *ss.s), lg_xcalloc(c->n_nodes, sizeof *ss.n)};
-    for (uint32_t k = 0; k < c->n_nodes; k++)
-        if (c->nodes[k].type)
-            ss.n[k] = sources(&c->nodes[k], &ss.s[k]);
     bool *seen = lg_xcalloc(c->n_nodes, sizeof *seen);
     int32_t *queue = lg_xmalloc(c->n_nodes * sizeof *queue);
     uint32_t head = 0, tail = 0, walked = 0;
@@ -933,7 +886,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
         int32_t u = queue[head++];
         walked++;
         for (uint32_t k = 0; k < c->n_nodes && x < 0; k++)
-            if (alternatives(c, &ss, (uint32_t)u, k))
+            if (alternatives(c, (uint32_t)u, k))
                 x = u;
         const lg_cnode *cn = &c->nodes[u];
         for (uint32_t j = 0; cn->type && j < cn->type->n_inputs; j++) {
@@ -948,7 +901,6 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     free(queue);
     const char *shown_name = c->nodes[shown].g->name;
     if (x < 0) {
-        free_src_sets(&ss, c->n_nodes);
         set_err(err, errlen, "no node upstream of '%s' has an alternative: none of the %u "
                 "node(s) it is made from (itself included) has another node beside it with "
                 "the same outputs reading the same sources", shown_name, walked);
@@ -958,7 +910,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     /* X and its alternatives in file order; Y is the next (previous) after X, cyclic */
     int32_t y = -1, first = -1, last = -1;
     for (uint32_t k = 0; k < c->n_nodes; k++) {
-        if (!alternatives(c, &ss, (uint32_t)x, k))
+        if (!alternatives(c, (uint32_t)x, k))
             continue;
         if (first < 0)
             first = (int32_t)k;
@@ -970,7 +922,6 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     }
     if (y < 0)
         y = dir >= 0 ? first : last;
-    free_src_sets(&ss, c->n_nodes);
 
     const lg_node_type *tx = c->nodes[x].type, *ty = c->nodes[y].type;
     char **out = NULL;
