@@ -224,22 +224,31 @@ static int resolve_shown(viewer *v, loaded *l, char *err, size_t errlen)
         }
         free(name);
         const lg_node_type *t = c->nodes[ni].type;
-        uint32_t port = 0;
+        uint32_t port = 0, part = 0;
         if (dot) {
             port = t->n_outputs;
             for (uint32_t o = 0; o < t->n_outputs; o++)
                 if (strcmp(t->outputs[o].name, dot + 1) == 0)
                     port = o;
+            /* NODE.PART, as in a graph: the part of the first output of a kind that has it
+             * (shadow.atlas) */
+            for (uint32_t o = 0; o < t->n_outputs && port == t->n_outputs; o++) {
+                int32_t pi = lg_kind_part_index(t->outputs[o].kind, dot + 1);
+                if (pi >= 0) {
+                    port = o;
+                    part = (uint32_t)pi + 1;
+                }
+            }
             if (port == t->n_outputs) {
-                snprintf(err, errlen, "--show %s: node '%.*s' (%s) has no output '%s'", v->show,
-                         (int)(dot - v->show), v->show, t->name, dot + 1);
+                snprintf(err, errlen, "--show %s: node '%.*s' (%s) has no output or part '%s'",
+                         v->show, (int)(dot - v->show), v->show, t->name, dot + 1);
                 return -1;
             }
         } else if (t->n_outputs == 0) {
             snprintf(err, errlen, "--show %s: node '%s' has no output", v->show, v->show);
             return -1;
         }
-        l->shown = (lg_edge){ni, port, 0};
+        l->shown = (lg_edge){ni, port, part};
     } else {
         if (c->n_outputs == 0) {
             snprintf(err, errlen, "%s has no output statement: name the image to show with "
@@ -250,7 +259,14 @@ static int resolve_shown(viewer *v, loaded *l, char *err, size_t errlen)
     }
     const lg_node_type *t = c->nodes[l->shown.node].type;
     lg_resource_kind k = t->outputs[l->shown.port].kind;
-    if (l->shown.part == 0 && k != LG_KIND_IMAGE && k != LG_KIND_PROBE && k != LG_KIND_ANY) {
+    if (l->shown.part) {
+        const lg_kind_desc *kd = lg_kind_describe(k);
+        if (kd->parts[l->shown.part - 1].type != LG_PART_IMAGE) {
+            snprintf(err, errlen, "--show %s: the part '%s' of a %s is not an image", v->show,
+                     kd->parts[l->shown.part - 1].name, kd->name);
+            return -1;
+        }
+    } else if (k != LG_KIND_IMAGE && k != LG_KIND_PROBE && k != LG_KIND_ANY) {
         const lg_kind_desc *kd = lg_kind_describe(k);
         snprintf(err, errlen, "'%s.%s' gives %s: the viewer shows images and probes (name an "
                  "image with --show NODE.PORT)", l->g->nodes[l->shown.node].name,
@@ -258,7 +274,8 @@ static int resolve_shown(viewer *v, loaded *l, char *err, size_t errlen)
         return -1;
     }
     l->shown_name = lg_xasprintf("%s.%s", l->g->nodes[l->shown.node].name,
-                                 t->outputs[l->shown.port].name);
+                                 l->shown.part ? lg_kind_describe(k)->parts[l->shown.part - 1].name
+                                               : t->outputs[l->shown.port].name);
     return 0;
 }
 
@@ -1592,7 +1609,7 @@ int lg_cmd_view(int argc, char **argv)
     lg_registry_scan(&v->reg);
     rc = try_load(v, true, true, err, sizeof err);
     if (rc) {
-        fprintf(stderr, "%s\n", err);
+        fprintf(stderr, "lightgraph view: %s\n", err);
         goto out;
     }
     v->ev_auto_pending = true;
