@@ -4,6 +4,7 @@
 #include "lightgraph/kinds.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <setjmp.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -38,12 +39,15 @@ static void read_cl_events(lg_pnode *n)
 
 static sigjmp_buf guard_jmp;
 static volatile sig_atomic_t guard_active, guard_sig;
+static pthread_t guard_thread;
 static const int guard_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 #define N_GUARD_SIGNALS (sizeof guard_signals / sizeof guard_signals[0])
 
 static void guard_handler(int sig)
 {
-    if (guard_active) {
+    /* only the thread that made the call can jump back to it: a crash on a pool thread
+     * (lg_parallel_for) stays a crash */
+    if (guard_active && pthread_equal(pthread_self(), guard_thread)) {
         guard_active = 0;
         guard_sig = sig;
         siglongjmp(guard_jmp, 1);
@@ -68,6 +72,7 @@ int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx)
     for (size_t i = 0; i < N_GUARD_SIGNALS; i++)
         sigaction(guard_signals[i], &sa, &old[i]);
     guard_sig = 0;
+    guard_thread = pthread_self();
     if (sigsetjmp(guard_jmp, 1) == 0) {
         guard_active = 1;
         fn(ctx);
