@@ -486,6 +486,16 @@ static int try_load(viewer *v, bool initial, bool full, char *err, size_t errlen
     return 0;
 }
 
+/* A change that could not even be tried (a step past a range's end, no alternative, a
+ * build that failed): counted as a failed change, the reason on screen. */
+static void refuse_change(viewer *v, const char *why)
+{
+    v->changes++;
+    v->changes_failed++;
+    v->last_change_ok = false;
+    set_status(v, true, "%s", why);
+}
+
 /* An attempt at a change (a parameter, a switch, a reload): its outcome is the status. */
 static bool attempt_ex(viewer *v, const char *what, bool full)
 {
@@ -619,10 +629,7 @@ static void step_selected(viewer *v, int dir)
     char err[512];
     char *a = lg_vparams_step(v->vp, v->cur.g, v->cur.c, dir, scale, err, sizeof err);
     if (!a) {
-        v->changes++;
-        v->changes_failed++;
-        v->last_change_ok = false;
-        set_status(v, true, "%s", err);
+        refuse_change(v, err);
         return;
     }
     apply_assignment(v, a);
@@ -637,22 +644,18 @@ static void switch_method(viewer *v, int dir)
     char err[1024];
     if (!lg_vparams_switch_method(v->cur.g, v->cur.c, v->cur.shown.node, dir, &as, &n, &from,
                                   &to, &new_shown, err, sizeof err)) {
-        v->changes++;
-        v->changes_failed++;
-        v->last_change_ok = false;
-        set_status(v, true, "%s", err);
+        refuse_change(v, err);
         return;
     }
-    uint32_t before = v->ov.n;
     for (uint32_t i = 0; i < n; i++)
         lg_overrides_set(&v->ov, as[i]);
     char *old_show = v->show ? lg_xstrdup(v->show) : NULL;
     if (new_shown >= 0) {
-        const lg_node_type *t = v->cur.c->nodes[new_shown].type;
+        /* the output of the same name (alternatives share it) */
+        const lg_node_type *tx = v->cur.c->nodes[v->cur.shown.node].type;
         free(v->show);
         v->show = lg_xasprintf("%s.%s", v->cur.g->nodes[new_shown].name,
-                               t->outputs[v->cur.shown.port < t->n_outputs ? v->cur.shown.port
-                                                                            : 0].name);
+                               tx->outputs[v->cur.shown.port].name);
     }
     char *what = lg_xasprintf("method: %s -> %s (%s)", v->cur.g->nodes[from].name,
                               v->cur.g->nodes[to].name, v->cur.c->nodes[to].type->name);
@@ -660,7 +663,6 @@ static void switch_method(viewer *v, int dir)
         /* undo exactly the sets made here */
         for (uint32_t i = 0; i < n && v->ov.n > 0; i++)
             lg_overrides_remove_last(&v->ov);
-        (void)before;
         free(v->show);
         v->show = old_show;
         old_show = NULL;
