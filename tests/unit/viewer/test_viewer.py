@@ -24,6 +24,8 @@ what it wrote and said:
   camera         a drag changes the picture, R restores the graph's camera exactly, C prints
                  a camera node that renders the dragged view headless (with shadow maps
                  fitted to the camera's frustum, which follow the viewer's camera)
+  view_independent  a camera move runs the shadow maps again only when they are fitted to
+                 the camera's frustum; phong on every move
   method         M switches between alternative nodes feeding the shown image, and back
   methods_example  examples/volumetric_methods.lgraph: M cycles the three volumetric methods
                  (different inputs and outputs, still alternatives), plugins loaded only
@@ -398,6 +400,27 @@ def t_camera():
     render(g2, os.path.join(TMP, "cam.exr"), frustum)
     d = max_exr_diff(os.path.join(TMP, "cam.exr"), c[1])
     check(d < 0.05, "the printed camera node does not render the dragged view (max %g)" % d)
+
+
+def t_view_independent():
+    """A camera move runs again what depends on the camera and nothing else: with
+    `fit = bounds` the shadow maps (LG_NODE_VIEW_INDEPENDENT) render once while phong renders
+    on every move; with `fit = frustum` the instance declares itself view dependent
+    (lg_set_view_independent) and the maps render again after the move."""
+    g = phong_graph()
+    script = ["wait_frames 2", "drag 30 0", "wait_frames 2", "scroll 1", "wait_frames 2",
+              "quit"]
+    counts = {}
+    for fit in ("bounds", "frustum"):
+        rc, out, err = view(g, script, args=["-v", "--set", "shadow.fit=" + fit])
+        counts[fit] = (err.count("node 'shadow' (shadowmap): 1 directional light"),
+                       err.count("node 'lit' (phong): "))
+    check(counts["bounds"][0] == 1, "fit = bounds: the shadow maps rendered %d times, not once"
+          % counts["bounds"][0])
+    check(counts["bounds"][1] >= 3, "phong did not render again after the moves (%d runs)"
+          % counts["bounds"][1])
+    check(counts["frustum"][0] >= 3, "fit = frustum: the shadow maps did not follow the "
+          "camera (%d renders)" % counts["frustum"][0])
 
 
 def t_method():
