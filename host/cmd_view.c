@@ -940,7 +940,10 @@ static void poll_reloads(viewer *v)
         int r = lg_rebuild_poll(v->rebuild, &status, &log);
         if (r == 0)
             return; /* plugins relinked by the build are reloaded together once it ends */
-        if (r > 0 && status != 0) {
+        if (r < 0) {
+            refuse_change(v, "the rebuild's process could not be followed; the plugins are "
+                             "as they were");
+        } else if (status != 0) {
             v->changes++;
             v->changes_failed++;
             v->last_change_ok = false;
