@@ -8,7 +8,7 @@
  *
  * The probe (lat-long) is box-downsampled by --down (default 4: 256 x 128), resampled
  * once into a cube of face --face (lg_probe_resample) and prefiltered from that cube
- * (lightgraph/probe_filter.h; level 0 is then a copy, so the time is the filtering's)
+ * (plugins/ibl/ggx_prefilter.h; level 0 is then a copy, so the time is the filtering's)
  * into a chain of --levels levels (default 5: roughness 0, 0.25, 0.5, 0.75, 1), with 16, 32, ..., 4096 samples per texel, with and without source-lod
  * filtering (filtered importance sampling), and with the n.l Vis weighting
  * (LG_PROBE_WEIGHT_NOL_VIS, source lod), on a pool of --threads threads (the host's
@@ -33,7 +33,7 @@
 
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
-#include "lightgraph/probe_filter.h"
+#include "ggx_prefilter.h"
 #include "pool.h"
 
 #define PI 3.14159265358979323846

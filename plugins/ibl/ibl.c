@@ -31,7 +31,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
-#include "lightgraph/probe_filter.h"
+#include "ggx_prefilter.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 #include "lightgraph/vecmath.h"
@@ -352,7 +352,7 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     int rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);
     if (rc)
         return rc;
-    /* rotation NULL: the chain stays in the probe's frame (probe_filter.h, "Frames") */
+    /* rotation NULL: the chain stays in the probe's frame (ggx_prefilter.h, "Frames") */
     lg_probe_image src = lg_probe_image_at(f->probe->info.layout, rd, pv.pixels, 0, NULL);
     st->chain = malloc(nf * sizeof(float));
     if (!st->chain)

@@ -25,7 +25,7 @@ layout(binding = 6) uniform samplerCube u_chain;    // the GGX chain (GL_LINEAR_
 layout(std430, binding = 1) readonly buffer Materials { vec4 mats[]; };
 // pixels whose colour an rgba16f store clamped
 layout(std430, binding = 2) buffer Clamped { uint clamped; };
-// the split-sum DFG table (lightgraph/probe_filter.h, lg_ggx_dfg_shared): (A, B) on end
+// the split-sum DFG table (plugins/ibl/ggx_prefilter.h, lg_ggx_dfg_shared): (A, B) on end
 // points, entry (i, j) at n.v = i / (N - 1), roughness = j / (N - 1)
 layout(std430, binding = 3) readonly buffer Dfg { vec2 dfg[]; };
 

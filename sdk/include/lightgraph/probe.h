@@ -127,9 +127,10 @@ typedef enum lg_probe_layout {
 /* What the levels above 0 hold. */
 typedef enum lg_probe_filter {
     LG_PROBE_FILTER_NONE = 0,  /* a plain box-filtered mip chain (or no chain) */
-    LG_PROBE_FILTER_GGX,       /* level l of L prefiltered for GGX of perceptual roughness
-                                * l / (L - 1) (lightgraph/probe_filter.h): level 0 is the
-                                * probe itself, the last level roughness 1 */
+    LG_PROBE_FILTER_GGX,       /* level l of L prefiltered for GGX (alpha = roughness^2)
+                                * of perceptual roughness l / (L - 1): level 0 is the probe
+                                * itself, the last level roughness 1 (the ibl plugin makes
+                                * such chains: plugins/ibl/ggx_prefilter.h) */
 } lg_probe_filter;
 
 /* How a probe is laid out in an image file (lg_probe_info.file_layout; lg_probe_pack).

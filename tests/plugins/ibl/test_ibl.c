@@ -37,7 +37,7 @@
 
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
-#include "lightgraph/probe_filter.h"
+#include "ggx_prefilter.h"
 #include "lightgraph/test.h"
 #include "lightgraph/vecmath.h"
 

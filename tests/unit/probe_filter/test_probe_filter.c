@@ -1,5 +1,5 @@
 /*
- * tests/unit/probe_filter: lightgraph/probe_filter.h (GGX prefiltering, the DFG table,
+ * tests/unit/probe_filter: plugins/ibl/ggx_prefilter.h (GGX prefiltering, the DFG table,
  * the rough lookup, the Monte Carlo oracle, the split sum). One command per meson test:
  *
  *   constant     a constant probe stays constant (1e-6 relative) at every level of every
@@ -39,7 +39,7 @@
 #include "common/check.h"
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
-#include "lightgraph/probe_filter.h"
+#include "ggx_prefilter.h"
 #include "pool.h"
 
 #define PI 3.14159265358979323846
@@ -178,7 +178,7 @@ static int load_forest(uint32_t f, srcimg *out)
 /* integral over the hemisphere of n of L(l) f_spec(l, v) (n.l) dl by the midpoint rule on
  * a (theta, phi) grid about r = reflect(-v, n) (the lobe's centre, so the peak is well
  * resolved), l outside the hemisphere masked. No importance sampling: the formulas of
- * lightgraph/probe_filter.h written out again. L = lg_probe_lookup of img, or 1 when img
+ * ggx_prefilter.h written out again. L = lg_probe_lookup of img, or 1 when img
  * is NULL; f0 NULL = no Fresnel. */
 static void quadrature(const lg_probe_image *img, lg_vec3 nf, lg_vec3 vf, double roughness,
                        const double *f0, uint32_t nt, uint32_t np, double out[3])

@@ -1,6 +1,13 @@
 /*
- * lightgraph/probe_filter.h: glossy prefiltering of light probes (GGX), the split-sum DFG
- * table, and a Monte Carlo oracle of the glossy integral, since ABI 2.2.
+ * ggx_prefilter.h: the ibl plugin's glossy prefiltering of light probes (GGX), the
+ * split-sum DFG table, and a Monte Carlo oracle of the glossy integral.
+ *
+ * Technique code, not the SDK's: it was lightgraph/probe_filter.h from ABI 2.2 to 2.5 and
+ * left the installed SDK in 2.6 (docs/sdk.md changelog), as the Phong equation left it in
+ * 2.0. It is built into a static library (plugins/ibl/meson.build) that the plugin, its
+ * tests and tools/prefilter_study link, so that they all check the code the plugin runs.
+ * The contract a consumer of a chain needs (LG_PROBE_FILTER_GGX, level l of L is
+ * roughness l / (L - 1)) stays in lightgraph/probe.h.
  *
  * A rough surface reflects the environment convolved with its BRDF lobe. Doing that
  * integral per pixel is too slow; the split-sum approximation (Karis 2013, "Real Shading
@@ -42,8 +49,8 @@
  * Thread safety: every function is re-entrant. lg_ggx_dfg builds its table once per
  * process on first use (thread-safe; concurrent first callers wait for it).
  */
-#ifndef LIGHTGRAPH_PROBE_FILTER_H
-#define LIGHTGRAPH_PROBE_FILTER_H
+#ifndef LG_IBL_GGX_PREFILTER_H
+#define LG_IBL_GGX_PREFILTER_H
 
 #include <math.h>
 #include <stdint.h>
@@ -158,7 +165,7 @@ typedef struct lg_probe_prefilter_stats {
  * above 65536, a cube that is not square, levels outside 1..16, out NULL, an unknown
  * weighting) or LG_ERR_NOMEM. Nothing is reported through the host (the caller does, with its
  * context). */
-LG_API int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src,
+int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src,
                                   lg_probe_layout layout, uint32_t width, uint32_t height,
                                   uint32_t levels, const lg_probe_prefilter_opts *opts,
                                   float *out, lg_probe_prefilter_stats *stats);
@@ -171,7 +178,7 @@ LG_API int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src,
  * GL_LINEAR_MIPMAP_LINEAR and textureLod(dir, lod) does, and what the GLSL and CL code of
  * the ibl plugin reproduce. Roughness 0 is lg_probe_lookup of level 0 exactly. n_levels 0
  * or levels NULL gives 0. Writes RGBA to out. */
-LG_API void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_levels,
+void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_levels,
                                   lg_vec3 dir, float roughness, float out[4]);
 
 /* The split-sum DFG table (Karis 2013; Filament's DFG LUT): for n.v and perceptual
@@ -184,13 +191,13 @@ LG_API void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_level
  * out[2 (j size + i) + 0..1] (2 size^2 floats, the caller's), each estimated from
  * `samples` GGX importance samples of a Hammersley set (0 = 1024). size 0 or out NULL
  * does nothing. At roughness 0, A + B = 1 exactly. */
-LG_API void lg_ggx_dfg_table(uint32_t size, uint32_t samples, float *out);
+void lg_ggx_dfg_table(uint32_t size, uint32_t samples, float *out);
 
 /* (A, B) at any n.v and roughness (both clamped to [0, 1]; NaN counts as 0): bilinear in
  * the process's table (lg_ggx_dfg_shared), made once on first use (some 0.1 s). */
 #define LG_GGX_DFG_SIZE 32u
 #define LG_GGX_DFG_SAMPLES 1024u
-LG_API void lg_ggx_dfg(float n_dot_v, float roughness, float out[2]);
+void lg_ggx_dfg(float n_dot_v, float roughness, float out[2]);
 
 /* The process's table: LG_GGX_DFG_SIZE^2 entries of LG_GGX_DFG_SAMPLES samples, two
  * floats (A, B) each, entry (i, j) at out[2 (j N + i)] -- but on the END POINTS, n.v =
@@ -203,7 +210,7 @@ LG_API void lg_ggx_dfg(float n_dot_v, float roughness, float out[2]);
  * the library, valid until the process ends. Accuracy (tests/unit/probe_filter `dfg`):
  * within 1e-2 absolute of the converged integral (the worst near grazing n.v, where
  * GGX samples fall below the horizon), bilinear included. */
-LG_API const float *lg_ggx_dfg_shared(void);
+const float *lg_ggx_dfg_shared(void);
 static inline void lg_ggx_dfg_uv(float n_dot_v, float roughness, float uv[2])
 {
     const float n = (float)LG_GGX_DFG_SIZE;
@@ -224,7 +231,7 @@ static inline void lg_ggx_dfg_uv(float n_dot_v, float roughness, float uv[2])
  * to [0, 1] (NaN: 0); roughness 0 gives F(n.v) L(reflect(-v, n)) exactly (one lookup).
  * A viewer behind the surface (n.v <= 0) gives 0. Writes RGB to out[0..2].
  * Returns 0, or LG_ERR_INVALID (src, its texels or out NULL, or a zero size). */
-LG_API int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n, lg_vec3 v,
+int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n, lg_vec3 v,
                                   float roughness, const float f0[3], uint64_t samples,
                                   uint32_t seed, double out[3]);
 
@@ -232,7 +239,7 @@ LG_API int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n, lg_vec3 
  *     lg_probe_lookup_rough(levels, n_levels, reflect(-v, n), roughness) * (f0 A + B)
  * (f0 NULL: A + B), (A, B) = lg_ggx_dfg(n.v, roughness), n and v normalised first, n.v
  * clamped to [0, 1]: the formula `reflect` uses on every backend. Writes RGB to out. */
-LG_API void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels,
+void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels,
                                    lg_vec3 n, lg_vec3 v, float roughness,
                                    const float f0[3], float out[3]);
 

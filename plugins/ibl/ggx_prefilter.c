@@ -1,4 +1,4 @@
-/* lightgraph/probe_filter.h: GGX prefiltering of probes (the split-sum chain), the DFG
+/* ggx_prefilter.c: the ibl plugin's GGX prefiltering of probes (the split-sum chain), the DFG
  * table, the rough lookup, and the Monte Carlo oracle.
  *
  * Prefiltering follows Filament's cmgen (CubemapIBL::roughnessFilter) and Karis 2013: one
@@ -8,7 +8,7 @@
  * Colbert 2008). Work is split by texel rows; every texel is computed from its own inputs
  * only, so a thread pool gives the same bits as one thread. docs/probes.md "Glossy
  * prefiltering" has the measurements. */
-#include "lightgraph/probe_filter.h"
+#include "ggx_prefilter.h"
 
 #include <math.h>
 #include <sched.h>
