@@ -33,17 +33,6 @@ static int usage(const char *cmd, const char *fmt, const char *what)
     return 2;
 }
 
-static bool parse_uint(const char *s, uint32_t *out, uint32_t max)
-{
-    char *end;
-    errno = 0;
-    unsigned long v = strtoul(s, &end, 10);
-    if (errno || end == s || *end || v == 0 || v > max || s[0] == '-')
-        return false;
-    *out = (uint32_t)v;
-    return true;
-}
-
 static int parse_args(int argc, char **argv, args *a)
 {
     memset(a, 0, sizeof *a);
@@ -73,17 +62,12 @@ static int parse_args(int argc, char **argv, args *a)
             a->sets[a->n_sets++] = s + 6;
         } else if (strcmp(s, "--size") == 0) {
             NEEDV();
-            char *x = strchr(v, 'x');
-            char *wd = x ? lg_xstrndup(v, (size_t)(x - v)) : NULL;
-            bool ok = x && parse_uint(wd, &a->opts.width, 16384) &&
-                      parse_uint(x + 1, &a->opts.height, 16384);
-            free(wd);
-            if (!ok)
+            if (!lg_parse_size(v, &a->opts.width, &a->opts.height))
                 return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n",
                              v);
         } else if (strcmp(s, "--frames") == 0) {
             NEEDV();
-            if (!parse_uint(v, &a->opts.frames, 1000000))
+            if (!lg_parse_uint(v, &a->opts.frames, 1000000))
                 return usage(a->cmd, "lightgraph: --frames wants 1..1000000 (got '%s')\n", v);
         } else if (strcmp(s, "--dt") == 0) {
             NEEDV();

@@ -221,12 +221,8 @@ int lg_cmd_sweep(int argc, char **argv)
                 rc = usage("lightgraph sweep: --frames wants 1..100000, got '%s'\n", val);
             opts.frames = (uint32_t)f;
         } else if (strcmp(a, "--size") == 0) {
-            unsigned w = 0, h = 0;
-            char tail;
-            if (sscanf(val, "%ux%u%c", &w, &h, &tail) != 2 || !w || !h || w > 16384 || h > 16384)
-                rc = usage("lightgraph sweep: --size wants WxH, got '%s'\n", val);
-            opts.width = w;
-            opts.height = h;
+            if (!lg_parse_size(val, &opts.width, &opts.height))
+                rc = usage("lightgraph sweep: --size wants WxH, 1..16384 each (got '%s')\n", val);
         } else if (strcmp(a, "--gl") == 0) {
             if (strcmp(val, "osmesa") && strcmp(val, "egl"))
                 rc = usage("lightgraph sweep: --gl wants osmesa or egl, got '%s'\n", val);

@@ -1444,22 +1444,6 @@ static int usage(const char *fmt, const char *what)
     return 2;
 }
 
-static bool parse_size(const char *s, uint32_t *w, uint32_t *h)
-{
-    char *end;
-    errno = 0;
-    unsigned long a = strtoul(s, &end, 10);
-    if (errno || end == s || *end != 'x' || s[0] == '-')
-        return false;
-    const char *t = end + 1;
-    unsigned long b = strtoul(t, &end, 10);
-    if (errno || end == t || *end || t[0] == '-' || a == 0 || b == 0 || a > 16384 || b > 16384)
-        return false;
-    *w = (uint32_t)a;
-    *h = (uint32_t)b;
-    return true;
-}
-
 static const char *glfw_error_text;
 static char glfw_error_buf[512];
 static void cb_glfw_error(int code, const char *desc)
@@ -1514,7 +1498,7 @@ int lg_cmd_view(int argc, char **argv)
             v->show = lg_xstrdup(val);
             i++;
         } else if (strcmp(s, "--size") == 0 && val) {
-            if (!parse_size(val, &v->opts.width, &v->opts.height))
+            if (!lg_parse_size(val, &v->opts.width, &v->opts.height))
                 rc = usage("lightgraph view: --size wants WxH, 1..16384 each (got '%s')\n", val);
             i++;
         } else if (strcmp(s, "--script") == 0 && val) {

@@ -57,25 +57,6 @@ static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, 
     }
 }
 
-/* The shortest text that reads back as the same double (plain decimals for everyday
- * magnitudes, the exponent form beyond), as fmt prints floats but without the ".0". */
-static void fmt_num(char out[64], double v)
-{
-    double m = v < 0 ? -v : v;
-    if (m == 0 || (m >= 1e-4 && m < 1e15)) {
-        for (int d = 0; d <= 25; d++) {
-            snprintf(out, 64, "%.*f", d, v);
-            if (strtod(out, NULL) == v)
-                return;
-        }
-    }
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, 64, "%.*g", prec, v);
-        if (strtod(out, NULL) == v)
-            return;
-    }
-}
-
 static const char *kind_name(lg_resource_kind k)
 {
     switch (k) {
@@ -207,8 +188,8 @@ static void range_error(checker *k, const lg_param_desc *pd, const char *name,
                         const lg_gvalue *v)
 {
     char lo[64], hi[64];
-    fmt_num(lo, pd->min);
-    fmt_num(hi, pd->max);
+    lg_format_shortest(lo, pd->min, 1e15, false);
+    lg_format_shortest(hi, pd->max, 1e15, false);
     diag(k, LG_DIAG_ERROR, v->loc, "%s = %s is out of range [%s, %s]", name, v->text, lo, hi);
 }
 

@@ -283,6 +283,64 @@ int lg_write_file_atomic(const char *path, const void *data, size_t n)
     return ok ? 0 : -1;
 }
 
+void lg_format_shortest(char out[64], double v, double plain_below, bool short_exponent)
+{
+    double m = v < 0 ? -v : v;
+    if (m == 0 || (m >= 1e-4 && m < plain_below)) {
+        for (int d = 0; d <= 25; d++) {
+            snprintf(out, 64, "%.*f", d, v);
+            if (strtod(out, NULL) == v)
+                return;
+        }
+    }
+    for (int prec = 1; prec <= 17; prec++) {
+        snprintf(out, 64, "%.*g", prec, v);
+        if (strtod(out, NULL) == v)
+            break;
+    }
+    char *e = short_exponent ? strchr(out, 'e') : NULL;
+    if (e) { /* "1e+06" -> "1e6", "1e-05" -> "1e-5" */
+        char *d = e + 1, *q = e + 1;
+        if (*q == '+')
+            q++;
+        else if (*q == '-')
+            *d++ = *q++;
+        while (*q == '0' && q[1])
+            q++;
+        memmove(d, q, strlen(q) + 1);
+    }
+}
+
+bool lg_parse_uint(const char *s, uint32_t *out, uint32_t max)
+{
+    char *end;
+    errno = 0;
+    /* strtoul accepts a sign and leading blanks ("-1" wraps round): only digits here */
+    if (!s || *s < '0' || *s > '9')
+        return false;
+    unsigned long v = strtoul(s, &end, 10);
+    if (errno || *end || v == 0 || v > max)
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+bool lg_parse_size(const char *s, uint32_t *w, uint32_t *h)
+{
+    const char *x = s ? strchr(s, 'x') : NULL;
+    if (!x || x == s || (size_t)(x - s) > 10)
+        return false;
+    char wd[12];
+    memcpy(wd, s, (size_t)(x - s));
+    wd[x - s] = 0;
+    uint32_t a, b;
+    if (!lg_parse_uint(wd, &a, LG_MAX_SIZE) || !lg_parse_uint(x + 1, &b, LG_MAX_SIZE))
+        return false;
+    *w = a;
+    *h = b;
+    return true;
+}
+
 void lg_format_bytes(char *out, size_t n, uint64_t b)
 {
     if (b >= (1ull << 20))

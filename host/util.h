@@ -60,6 +60,16 @@ char *lg_read_file_limit(const char *path, size_t limit, size_t *len, char *err,
 int lg_write_file_atomic(const char *path, const void *data, size_t n);
 /* "12 B", "3.4 KiB", "16.6 MiB" */
 void lg_format_bytes(char *out, size_t n, uint64_t bytes);
+/* The shortest text that reads back as the same double: plain decimals ("1000", "0.3")
+ * for 1e-4 <= |v| < plain_below and for 0, else the shortest %g form. With short_exponent
+ * the exponent is written short ("1e6", "2.5e-7"; %g gives "1e+06", "2.5e-07"). */
+void lg_format_shortest(char out[64], double v, double plain_below, bool short_exponent);
+
+/* Command-line numbers. lg_parse_uint: a decimal integer in 1..max, nothing after it.
+ * lg_parse_size: "WxH", each in 1..LG_MAX_SIZE (the --size option of every command). */
+#define LG_MAX_SIZE 16384u
+bool lg_parse_uint(const char *s, uint32_t *out, uint32_t max);
+bool lg_parse_size(const char *s, uint32_t *w, uint32_t *h);
 
 /* Host-side logging to stderr, with the level; verbosity from -v/-q. */
 extern int lg_verbosity; /* 0 = errors and warnings, 1 = info, 2 = debug; -1 = errors only */

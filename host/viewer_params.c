@@ -35,36 +35,11 @@ static void set_err(char *err, size_t errlen, const char *fmt, ...)
     va_end(ap);
 }
 
-/* The shortest text that reads back as `v`, for messages and ranges: plain decimals for
- * everyday magnitudes ("1000", "0.3"), else the exponent form written short ("1e6",
- * "2.5e-7"). */
+/* For messages and ranges: plain decimals for everyday magnitudes ("1000", "0.3"), else the
+ * exponent form written short ("1e6", "2.5e-7"). */
 static void fmt_short(char out[64], double v)
 {
-    double m = fabs(v);
-    if (m == 0 || (m >= 1e-4 && m < 1e5)) {
-        for (int d = 0; d <= 20; d++) {
-            snprintf(out, 64, "%.*f", d, v);
-            if (strtod(out, NULL) == v)
-                return;
-        }
-    }
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, 64, "%.*g", prec, v);
-        if (strtod(out, NULL) == v)
-            break;
-    }
-    /* "1e+06" -> "1e6", "1e-05" -> "1e-5" */
-    char *e = strchr(out, 'e');
-    if (e) {
-        char *d = e + 1, *q = e + 1;
-        if (*q == '+')
-            q++;
-        else if (*q == '-')
-            *d++ = *q++;
-        while (*q == '0' && q[1])
-            q++;
-        memmove(d, q, strlen(q) + 1);
-    }
+    lg_format_shortest(out, v, 1e5, true);
 }
 
 static bool has_range(const lg_param_desc *pd)

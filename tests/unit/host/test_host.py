@@ -375,6 +375,23 @@ def test_exit_status():
     check(": ok (2 nodes, 1 outputs)" in p.stdout, p.stdout)
 
 
+def test_size_option():
+    """--size is read by one parser in render, sweep and view (host/util.c lg_parse_size):
+    WxH with each side 1..16384 and nothing else; anything else exits 2 naming the option
+    and the value, before any work (view: before it looks for a display)."""
+    g = fog_graph("1")
+    bad = ["0x4", "4x0", "4x", "x4", "4", "-1x4", "4x-1", "+4x4", " 4x4", "4x 4", "4x4x",
+           "16385x4", "4x16385", "4294967297x4", "4X4", "4x4.5", ""]
+    for cmd in (["render", g], ["sweep", g, "--vary", "fog.value=0.1,0.2"], ["view", g]):
+        for s in bad:
+            p = run(cmd + ["--size", s], expect=2)
+            check("--size" in p.stderr and ("'%s'" % s) in p.stderr,
+                  "%s --size %r: %s" % (cmd[0], s, p.stderr))
+    for s, w, h in (("1x1", 1, 1), ("16384x2", 16384, 2), ("7x3", 7, 3)):
+        p = run(["render", g, "--explain", "--size", s], expect=0)
+        check(("%dx%d" % (w, h)) in p.stdout + p.stderr, "render --size %s: %s" % (s, p.stdout))
+
+
 def test_residency():
     """A resource is copied only when a consumer on another device asks, and every copy is
     counted against that consumer: CPU -> GL for the gl node's input, GL -> CL for the cl
