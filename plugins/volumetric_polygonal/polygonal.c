@@ -11,8 +11,9 @@
  *      all lights);
  *   2. poly_volume.vert/.frag rasterise it from the camera into `inscatter` with additive
  *      blending and no depth test: each crossing at distance s adds sign F(min(s, d)),
- *      + where the ray leaves the volume, - where it enters (the triangle's outward normal
- *      against the ray), F(s) = L_c sigma_s p (1 - e^(-sigma_t s)) / sigma_t.
+ *      + where the ray leaves the volume, - where it enters (the triangle's winding in the
+ *      window, gl_FrontFacing, with the light's handedness u_flip),
+ *      F(s) = L_c sigma_s p (1 - e^(-sigma_t s)) / sigma_t.
  * Then poly_composite.frag writes out = base e^(-sigma_t d) + inscatter.
  *
  * Geometry conventions (view rays, d, z_limit) are plugins/volumetric_common/vol_common.h's.
