@@ -11,15 +11,16 @@
  *      all lights);
  *   2. poly_volume.vert/.frag rasterise it from the camera into `inscatter` with additive
  *      blending and no depth test: each crossing at distance s adds sign F(min(s, d)),
- *      + where the ray leaves the volume, - where it enters (the triangle's outward normal
- *      against the ray), F(s) = L_c sigma_s p (1 - e^(-sigma_t s)) / sigma_t.
+ *      + where the ray leaves the volume, - where it enters (the triangle's winding in the
+ *      window, gl_FrontFacing, with the light's handedness u_flip),
+ *      F(s) = L_c sigma_s p (1 - e^(-sigma_t s)) / sigma_t.
  * Then poly_composite.frag writes out = base e^(-sigma_t d) + inscatter.
  *
  * Geometry conventions (view rays, d, z_limit) are plugins/volumetric_common/vol_common.h's.
- * The camera's far plane is moved to infinity for step 2 so that no crossing before the
- * fog's end is clipped away; its near plane stays: a crossing closer than znear is lost,
- * which treats [0, znear] as lit exactly when the ray is inside the volume at the near
- * plane (error at most F(znear / cos) per pixel; README "Camera inside").
+ * For step 2 the camera's far plane is moved to infinity and its near plane to
+ * POLY_NEAR_REL z_limit from the eye, so that no crossing between the eye and the fog's end
+ * is clipped away (README "Near plane": the camera's own znear dropped the crossings before
+ * it, and a ray in a shadow at znear lost its whole lit interval before it).
  *
  * Memory per light: one vertex buffer of (Ws Hs + 2 (Ws - 1) + 2 (Hs - 1) + 8) vec4; once
  * for all lights the index buffer (3 uint32 per triangle). Both are kept between frames
@@ -46,6 +47,9 @@
 #include "poly_mesh.comp.h"
 #include "poly_volume.frag.h"
 #include "poly_volume.vert.h"
+
+/* The near plane of the volume pass, relative to z_limit (see poly_execute, step 2). */
+#define POLY_NEAR_REL 1e-6f
 
 typedef struct poly_state {
     int64_t resolution; /* 0: one vertex per texel */
@@ -575,13 +579,22 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     if ((rc = lg_gl_pass_end(st->mesh, rc)))
         return rc;
 
-    /* step 2: the volumes from the camera, the far plane at infinity */
+    /* step 2: the volumes from the camera, the far plane at infinity and the near plane
+     * brought up to the eye. The fog starts at the eye, not at the camera's near plane: a
+     * boundary crossed between the two must still add its term, or a ray that enters a
+     * shadow before znear and is in it there loses its whole lit interval [0, s] (a camera
+     * outside the scene's bounds has znear = 0.99 x the nearest corner's depth, often
+     * most of the fog's length). No depth test or write here, so the near plane only
+     * clips: at POLY_NEAR_REL x z_limit, a crossing it still drops costs its pixel at
+     * most F(1e-6 z_limit / cos), 1e-6 of an unshadowed ray's in-scatter to z_limit
+     * (README "Near plane"). */
     float proj[16], vp_inf[16], inv_vp[16];
     memcpy(proj, v.view.proj, sizeof proj);
     if (proj[11] != -1.0f || proj[15] != 0.0f || proj[3] != 0.0f || proj[7] != 0.0f)
         return lg_error(n, "the camera's projection is not a perspective one");
+    float near = fminf(v.view.znear, POLY_NEAR_REL * v.z_limit);
     proj[10] = -1.0f;
-    proj[14] = -2.0f * v.view.znear;
+    proj[14] = -2.0f * near;
     poly_mat_mul(vp_inf, proj, v.view.view);
     for (int i = 0; i < 16; i++)
         inv_vp[i] = (float)v.inv_view_proj[i];

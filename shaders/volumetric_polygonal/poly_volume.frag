@@ -10,10 +10,19 @@
 // fragments beyond it are clamped to it, so a lit interval that goes past the surface
 // ends there. Blending adds every fragment (no depth test): the sum over the crossings
 // is the in-scatter of the lit intervals; a ray starting inside needs no entry (F(0) = 0).
+//
+// Leaving or entering: the triangles turn counter-clockwise about the lit volume's
+// outward normal (in world space once u_flip, the sign of the light's inverse view_proj's
+// determinant, is applied); the camera's projection flips Y (row 0 at the top), so a face
+// seen from outside (entering) is clockwise in the window: back facing. gl_FrontFacing
+// comes from the same window coordinates as the coverage, so every pixel a triangle covers
+// gets the sign of its winding there; a sign computed per triangle in world space
+// (dot(n, p - eye) in fp32) can disagree with the coverage on triangles seen almost
+// edge-on (the dent's walls when the view runs along the light), and one such fragment
+// turns a pixel's +F(d) into -F(d) (README, "Entering or leaving").
 #include "medium.glsl"
 
 in vec3 v_world;
-flat in float v_sign;
 
 layout(binding = 0) uniform sampler2D u_base_depth; // base's depth plane (window depth)
 uniform mat4 u_inv_view_proj;  // the camera's (the finite one phong drew base with)
@@ -26,6 +35,7 @@ uniform vec3 u_dir;            // the direction its light travels
 uniform vec3 u_sigma_s;
 uniform vec3 u_sigma_t;
 uniform float u_g;
+uniform float u_flip;          // +1, or -1 when the light's NDC -> world map mirrors
 
 layout(location = 0) out vec4 o_color;
 
@@ -49,5 +59,6 @@ void main()
     float s = min(length(v_world - u_eye), d);
     float phase = lg_hg_phase(u_g, dot(w, -u_dir));
     vec3 f = u_l_c * u_sigma_s * (phase * s) * lg_medium_segment3(u_sigma_t * s);
-    o_color = vec4(v_sign * f, 0.0);
+    float sgn = (gl_FrontFacing ? 1.0 : -1.0) * u_flip; // leaving +, entering -
+    o_color = vec4(sgn * f, 0.0);
 }
