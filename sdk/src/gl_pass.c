@@ -242,6 +242,12 @@ void lg_gl_set_ivec2(lg_gl_pass *p, lg_gl_uniform u, int32_t x, int32_t y)
         p->gl->ProgramUniform2i(p->program, u.location, x, y);
 }
 
+void lg_gl_set_ivec3(lg_gl_pass *p, lg_gl_uniform u, int32_t x, int32_t y, int32_t z)
+{
+    if (u.location >= 0)
+        p->gl->ProgramUniform3i(p->program, u.location, x, y, z);
+}
+
 void lg_gl_set_vec2(lg_gl_pass *p, lg_gl_uniform u, float x, float y)
 {
     if (u.location >= 0)
@@ -463,15 +469,23 @@ void lg_gl_pass_bind_texture(lg_gl_pass *p, lg_gl_binding b, GLuint tex)
     p->bound_tex |= 1u << b.index;
 }
 
-void lg_gl_pass_bind_image(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLenum access,
-                           GLenum format)
+void lg_gl_pass_bind_image_level(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLint level,
+                                 GLint layer, GLenum access, GLenum format)
 {
     if (b.index < 0)
         return;
-    p->gl->BindImageTexture((GLuint)b.index, tex, 0, GL_FALSE, 0, access, format);
+    bool all = layer == LG_GL_ALL_LAYERS;
+    p->gl->BindImageTexture((GLuint)b.index, tex, level, all ? GL_TRUE : GL_FALSE,
+                            all ? 0 : layer, access, format);
     p->bound_img |= 1u << b.index;
     if (access != GL_READ_ONLY)
         p->wrote_images = true;
+}
+
+void lg_gl_pass_bind_image(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLenum access,
+                           GLenum format)
+{
+    lg_gl_pass_bind_image_level(p, b, tex, 0, 0, access, format);
 }
 
 /* ---- targets -------------------------------------------------------------------------------- */

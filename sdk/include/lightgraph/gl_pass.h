@@ -196,6 +196,8 @@ LG_API void lg_gl_set_int(lg_gl_pass *pass, lg_gl_uniform u, int32_t v);
 LG_API void lg_gl_set_uint(lg_gl_pass *pass, lg_gl_uniform u, uint32_t v);
 LG_API void lg_gl_set_float(lg_gl_pass *pass, lg_gl_uniform u, float v);
 LG_API void lg_gl_set_ivec2(lg_gl_pass *pass, lg_gl_uniform u, int32_t x, int32_t y);
+LG_API void lg_gl_set_ivec3(lg_gl_pass *pass, lg_gl_uniform u, int32_t x, int32_t y,
+                            int32_t z); /* since ABI 2.6 */
 LG_API void lg_gl_set_vec2(lg_gl_pass *pass, lg_gl_uniform u, float x, float y);
 LG_API void lg_gl_set_vec3(lg_gl_pass *pass, lg_gl_uniform u, float x, float y, float z);
 LG_API void lg_gl_set_vec3v(lg_gl_pass *pass, lg_gl_uniform u, const float v[3]);
@@ -241,6 +243,17 @@ LG_API void lg_gl_pass_bind_buffer(lg_gl_pass *pass, lg_gl_binding b, GLuint buf
 LG_API void lg_gl_pass_bind_texture(lg_gl_pass *pass, lg_gl_binding b, GLuint tex);
 LG_API void lg_gl_pass_bind_image(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
                                   GLenum access, GLenum format);
+
+/* Since ABI 2.6: lg_gl_pass_bind_image for any image of `tex`: mip `level`, and either one
+ * `layer` (a layer of a 3D, array or cube-map texture, seen by the shader as a 2D image) or,
+ * with layer = LG_GL_ALL_LAYERS, every layer at once (a 3D volume as an image3D, a cube
+ * map as an imageCube). lg_gl_pass_bind_image(p, b, t, a, f) is
+ * lg_gl_pass_bind_image_level(p, b, t, 0, 0, a, f): level 0, layer 0 (the whole of a 2D
+ * texture). A level or layer outside the texture is GL's error, reported at end. */
+#define LG_GL_ALL_LAYERS (-1)
+LG_API void lg_gl_pass_bind_image_level(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
+                                        GLint level, GLint layer, GLenum access,
+                                        GLenum format);
 
 /* ---- a raster pass ------------------------------------------------------------------------- */
 

@@ -507,6 +507,130 @@ static void test_compute(const lg_gl *gl)
     gl->DeleteBuffers(1, &buf);
 }
 
+/* Each invocation writes (x, y, z, tag) into every layer of a 3D image (layered binding). */
+static const char volume_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 4, local_size_y = 4, local_size_z = 2) in;\n"
+    "layout(binding = 0, rgba32f) uniform writeonly image3D u_vol;\n"
+    "uniform ivec3 u_size;\n"
+    "uniform float u_tag;\n"
+    "void main()\n"
+    "{\n"
+    "    ivec3 p = ivec3(gl_GlobalInvocationID);\n"
+    "    if (any(greaterThanEqual(p, u_size)))\n"
+    "        return;\n"
+    "    imageStore(u_vol, p, vec4(vec3(p), u_tag));\n"
+    "}\n";
+
+/* The same through a 2D image: one layer of a 3D texture, or one mip level of a 2D one. */
+static const char slice_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 4, local_size_y = 4) in;\n"
+    "layout(binding = 0, rgba32f) uniform writeonly image2D u_img;\n"
+    "uniform ivec2 u_size;\n"
+    "uniform float u_tag;\n"
+    "void main()\n"
+    "{\n"
+    "    ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+    "    if (any(greaterThanEqual(p, u_size)))\n"
+    "        return;\n"
+    "    imageStore(u_img, p, vec4(vec2(p), -1.0, u_tag));\n"
+    "}\n";
+
+/* lg_gl_pass_bind_image_level: a 3D volume bound layered (every layer written), one layer of
+ * it bound alone (only that layer written), and a mip level above 0 of a 2D texture. */
+static void test_image_levels(const lg_gl *gl)
+{
+    clear_errors();
+    enum { VW = 5, VH = 3, VD = 6, LAYER = 4 };
+    GLuint vol;
+    gl->CreateTextures(GL_TEXTURE_3D, 1, &vol);
+    gl->TextureStorage3D(vol, 1, GL_RGBA32F, VW, VH, VD);
+    const float zero4[4] = { 0, 0, 0, 0 };
+    gl->ClearTexImage(vol, 0, GL_RGBA, GL_FLOAT, zero4);
+
+    const lg_gl_shader_src vsrc = { GL_COMPUTE_SHADER, "volume.comp", volume_comp };
+    lg_gl_pass_desc vd = { .name = "volume", .stages = &vsrc, .n_stages = 1 };
+    const lg_gl_shader_src ssrc = { GL_COMPUTE_SHADER, "slice.comp", slice_comp };
+    lg_gl_pass_desc sd = { .name = "slice", .stages = &ssrc, .n_stages = 1 };
+    lg_gl_pass *pv = NULL, *ps = NULL;
+    CHECKF(lg_gl_pass_create(&node, &vd, &pv) == 0 && lg_gl_pass_create(&node, &sd, &ps) == 0,
+           "create: %s", errors);
+    if (!pv || !ps) {
+        lg_gl_pass_destroy(&pv);
+        lg_gl_pass_destroy(&ps);
+        gl->DeleteTextures(1, &vol);
+        return;
+    }
+    lg_gl_binding vb = lg_gl_pass_image(pv, "u_vol"), sb = lg_gl_pass_image(ps, "u_img");
+    lg_gl_uniform vsize = lg_gl_pass_uniform(pv, "u_size"), vtag = lg_gl_pass_uniform(pv, "u_tag");
+    lg_gl_uniform ssize = lg_gl_pass_uniform(ps, "u_size"), stag = lg_gl_pass_uniform(ps, "u_tag");
+
+    /* every layer at once */
+    CHECKF(lg_gl_pass_begin(pv, NULL) == 0, "begin: %s", errors);
+    lg_gl_pass_bind_image_level(pv, vb, vol, 0, LG_GL_ALL_LAYERS, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_set_ivec3(pv, vsize, VW, VH, VD);
+    lg_gl_set_float(pv, vtag, 1.0f);
+    int rc = lg_gl_pass_dispatch(pv, VW, VH, VD);
+    CHECKF(lg_gl_pass_end(pv, rc) == 0, "layered dispatch: %s", errors);
+    check_restored(gl, "after a layered image pass");
+
+    /* then layer LAYER alone, as a 2D image */
+    CHECKF(lg_gl_pass_begin(ps, NULL) == 0, "begin: %s", errors);
+    lg_gl_pass_bind_image_level(ps, sb, vol, 0, LAYER, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_set_ivec2(ps, ssize, VW, VH);
+    lg_gl_set_float(ps, stag, 2.0f);
+    rc = lg_gl_pass_dispatch(ps, VW, VH, 1);
+    CHECKF(lg_gl_pass_end(ps, rc) == 0, "layer dispatch: %s", errors);
+    check_restored(gl, "after a one-layer image pass");
+
+    static float vpx[VW * VH * VD * 4];
+    gl->GetTextureImage(vol, 0, GL_RGBA, GL_FLOAT, (GLsizei)sizeof vpx, vpx);
+    int bad = 0;
+    for (int z = 0; z < VD; z++)
+        for (int y = 0; y < VH; y++)
+            for (int x = 0; x < VW; x++) {
+                const float *q = &vpx[((z * VH + y) * VW + x) * 4];
+                bool ok = z == LAYER ? q[0] == x && q[1] == y && q[2] == -1 && q[3] == 2
+                                     : q[0] == x && q[1] == y && q[2] == z && q[3] == 1;
+                bad += !ok;
+            }
+    CHECKF(bad == 0, "%d of %d texels of the volume wrong (layered: every layer; then layer %d "
+           "alone)", bad, VW * VH * VD, LAYER);
+
+    /* mip level 1 of a 2D texture: level 0 untouched */
+    enum { MW = 9, MH = 6 };
+    GLuint mip;
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &mip);
+    gl->TextureStorage2D(mip, 2, GL_RGBA32F, MW, MH);
+    gl->ClearTexImage(mip, 0, GL_RGBA, GL_FLOAT, zero4);
+    gl->ClearTexImage(mip, 1, GL_RGBA, GL_FLOAT, zero4);
+    CHECKF(lg_gl_pass_begin(ps, NULL) == 0, "begin: %s", errors);
+    lg_gl_pass_bind_image_level(ps, sb, mip, 1, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    lg_gl_set_ivec2(ps, ssize, MW / 2, MH / 2);
+    lg_gl_set_float(ps, stag, 3.0f);
+    rc = lg_gl_pass_dispatch(ps, MW / 2, MH / 2, 1);
+    CHECKF(lg_gl_pass_end(ps, rc) == 0, "level dispatch: %s", errors);
+    float l0[MW * MH * 4], l1[(MW / 2) * (MH / 2) * 4];
+    gl->GetTextureImage(mip, 0, GL_RGBA, GL_FLOAT, (GLsizei)sizeof l0, l0);
+    gl->GetTextureImage(mip, 1, GL_RGBA, GL_FLOAT, (GLsizei)sizeof l1, l1);
+    int bad0 = 0, bad1 = 0;
+    for (int i = 0; i < MW * MH * 4; i++)
+        bad0 += l0[i] != 0.0f;
+    for (int y = 0; y < MH / 2; y++)
+        for (int x = 0; x < MW / 2; x++) {
+            const float *q = &l1[(y * (MW / 2) + x) * 4];
+            bad1 += !(q[0] == x && q[1] == y && q[2] == -1 && q[3] == 3);
+        }
+    CHECKF(bad0 == 0 && bad1 == 0, "mip level 1: %d values of level 0 changed, %d texels of "
+           "level 1 wrong", bad0, bad1);
+
+    lg_gl_pass_destroy(&pv);
+    lg_gl_pass_destroy(&ps);
+    gl->DeleteTextures(1, &vol);
+    gl->DeleteTextures(1, &mip);
+}
+
 /* The scene's instances through lightgraph/scene_gl.h's records (mat4 model, binding 0). */
 static const char scene_vert[] =
     "#version 450 core\n"
@@ -603,6 +727,7 @@ int main(int argc, char **argv)
     test_raster(the_gl);
     test_names(the_gl);
     test_compute(the_gl);
+    test_image_levels(the_gl);
     test_stride();
     test_scene(the_gl);
     lg_gl_device_destroy(&dev);
