@@ -13,7 +13,8 @@
  * shadow projection, and a second pass accumulated: 305 / 902 / 2588 ms at the thesis grid
  * with 1 / 8 / 32 lights against 219 / 371 / 1003 ms fused; README.)
  *
- * State kept across frames (fx_gl): the two passes, the lights buffer, and two rgba32f
+ * State kept across frames (fx_gl): the two passes, the lights buffer, the slice-table
+ * buffer (refilled each frame: T(k + jitter), T(k), T(k + 0.5)), and two rgba32f
  * 3D textures of W x H x D that take turns as "this frame's S" and "the history" (the
  * previous frame's blended S), so that no copy is needed between frames. They are made
  * with the grid size, counted with lg_account_alloc, remade (and counted again) when the
