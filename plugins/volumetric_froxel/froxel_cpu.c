@@ -9,12 +9,8 @@
  * values are float, as the GPU backends store them.
  */
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "lightgraph/lightgraph.h"
 
@@ -39,7 +35,6 @@ typedef struct fx_cpu_ctx {
     float prev_vp[16];         /* the previous camera's view_proj (temporal) */
     bool blend;
     bool grey;                 /* sigma_t the same in r, g, b: one exp per froxel */
-    bool stream;               /* S and the grid 16-byte aligned: non-temporal stores */
     double inv_sigma_t;        /* grey: 1 / sigma_t (0 when sigma_t = 0) */
     /* per frame: the slice tables (D entries each; tk D + 1) */
     const float *tj;           /* T(k + jitter) */
@@ -113,25 +108,6 @@ static bool history_at(const fx_cpu_ctx *x, const double q[3], double out[3])
         return false;
     trilinear(x->c->hist, f->w, f->h, f->d, u - 0.5, v - 0.5, z - 0.5, out);
     return true;
-}
-
-/* Stores one rgba texel of S or the grid. Both volumes are written once per frame, W x H x
- * D x 16 bytes each (70 MB at the thesis grid), far more than the caches hold, and read
- * back only by the lookup (two slices per pixel) and the next frame: an ordinary store
- * first reads each line it writes (read for ownership), a non-temporal store does not.
- * The chunk's loop writes 32 consecutive texels per slice (full 64-byte lines), as the
- * write-combining buffers need. Measured: README, "Cost and the roofline". */
-static inline void fx_store4(bool stream, float *p, float a, float b, float c, float d)
-{
-#if defined(__SSE2__)
-    if (stream) {
-        _mm_stream_ps(p, _mm_setr_ps(a, b, c, d));
-        return;
-    }
-#else
-    (void)stream;
-#endif
-    p[0] = a, p[1] = b, p[2] = c, p[3] = d;
 }
 
 /* Columns per chunk of the fused pass: the per-column constants of a chunk live on the
@@ -227,7 +203,8 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
                     for (int ch = 0; ch < 3; ch++)
                         s[ch] = (float)(s[ch] + (hv[ch] - s[ch]) * f->history);
             }
-            fx_store4(x->stream, sk + 4 * c, s[0], s[1], s[2], 1.0f);
+            float *sp = sk + 4 * c;
+            sp[0] = s[0], sp[1] = s[1], sp[2] = s[2], sp[3] = 1.0f;
 
             /* 2. accumulation */
             double delta = len * inv_cos[c];
@@ -252,15 +229,11 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
                     trc[ch] *= exp(-tau);
                 }
             }
-            fx_store4(x->stream, gk + 4 * c, (float)ac[0], (float)ac[1], (float)ac[2],
-                      (float)((trc[0] + trc[1] + trc[2]) / 3.0));
+            float *g = gk + 4 * c;
+            g[0] = (float)ac[0], g[1] = (float)ac[1], g[2] = (float)ac[2];
+            g[3] = (float)((trc[0] + trc[1] + trc[2]) / 3.0);
         }
     }
-#if defined(__SSE2__)
-    /* the non-temporal stores are weakly ordered: done before the pool's join */
-    if (x->stream)
-        _mm_sfence();
-#endif
 }
 
 /* Bilinear read of slice k of an rgba [k][j][i] volume at (u, v) (clamped). */
@@ -430,7 +403,6 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
     const vol_setup *v = f->v;
     x.grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
     x.inv_sigma_t = x.grey && v->sigma_t[0] > 0 ? 1.0 / v->sigma_t[0] : 0.0;
-    x.stream = ((uintptr_t)c->s % 16) == 0 && ((uintptr_t)x.grid % 16) == 0;
     for (uint32_t l = 0; l < v->n_lights; l++) {
         int32_t r = v->lights[l].shadow;
         bool sh = x.atlas && f->sm && r >= 0 && (uint32_t)r < f->sm->n_lights;
