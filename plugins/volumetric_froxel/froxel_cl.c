@@ -21,8 +21,8 @@ typedef struct fx_cl {
     cl_kernel columns, lookup;
     cl_mem s, hist;          /* rgba32f W x H x D each */
     cl_mem lights, shadows;  /* per frame */
-    cl_mem slices;           /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5) */
-    float *slices_host;      /* 3 D floats */
+    cl_mem slices;           /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5), T(k) */
+    float *slices_host;      /* 4 D + 1 floats */
     bool hist_valid;
 } fx_cl;
 
@@ -51,7 +51,7 @@ static int fx_cl_init(lg_node *n, fx_cl *c, const fx_frame *f)
     if (!c->hist)
         return lg_cl_fail(n, e, "clCreateBuffer(S history)");
     lg_account_alloc(n, 2 * (uint64_t)bytes);
-    c->slices_host = malloc(3 * (size_t)f->d * sizeof(float));
+    c->slices_host = malloc((4 * (size_t)f->d + 1) * sizeof(float));
     if (!c->slices_host)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     c->w = f->w;
@@ -140,16 +140,18 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
                            "clCreateBuffer(shadow records)")))
         return rc;
 
-    /* the slice tables (froxel.cl's fx_columns) */
+    /* the slice tables (froxel.cl's fx_columns and fx_lookup) */
     double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
+    c->slices_host[3 * f->d] = (float)lg_slice_to_depth(&f->map, 0.0);
     for (uint32_t k = 0; k < f->d; k++) {
         double t_next = lg_slice_to_depth(&f->map, k + 1.0);
         c->slices_host[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
         c->slices_host[f->d + k] = (float)(t_next - t_prev);
         c->slices_host[2 * f->d + k] = (float)lg_slice_to_depth(&f->map, k + 0.5);
+        c->slices_host[3 * f->d + k + 1] = (float)t_next;
         t_prev = t_next;
     }
-    if ((rc = fx_cl_upload(n, &c->slices, c->slices_host, 3 * (size_t)f->d,
+    if ((rc = fx_cl_upload(n, &c->slices, c->slices_host, 4 * (size_t)f->d + 1,
                            "clCreateBuffer(slice tables)")))
         return rc;
 
@@ -178,6 +180,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     cl_float4 fwd = v4(v->forward[0], v->forward[1], v->forward[2], 0);
     cl_float4 img = v4(v->width, v->height, 0, 0);
     cl_int slicing = (cl_int)f->map.slicing, accum = f->accum == FX_ACC_THESIS ? 0 : 1;
+    cl_int grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
     cl_float4 map = map4(&f->map);
     cl_float g = v->g, history = f->history;
     cl_float4 ss = v4(v->sigma_s[0], v->sigma_s[1], v->sigma_s[2], 0);
@@ -202,7 +205,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     cl_int e = 0;
 #define ARG(x) (e |= clSetKernelArg(k, a++, sizeof(x), &(x)))
     ARG(W), ARG(H), ARG(D), ARG(ivp), ARG(eye), ARG(fwd), ARG(img), ARG(c->slices);
-    ARG(accum), ARG(ss), ARG(stt), ARG(g), ARG(nl), ARG(c->lights);
+    ARG(accum), ARG(grey), ARG(ss), ARG(stt), ARG(g), ARG(nl), ARG(c->lights);
     ARG(c->shadows), ARG(m_atlas), ARG(aw), ARG(ah), ARG(res), ARG(bias), ARG(blend);
     ARG(history), ARG(pvp), ARG(peye), ARG(pfwd), ARG(pslicing), ARG(pmap), ARG(c->hist);
     ARG(c->s), ARG(m_grid);
@@ -220,7 +223,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     cl_float zl = v->z_limit;
     cl_mem mb = base, mbd = base_depth, mo = out, mod = out_depth, mi = ins;
     ARG(W), ARG(H), ARG(D), ARG(ivp), ARG(eye), ARG(fwd), ARG(img), ARG(slicing), ARG(map);
-    ARG(zl), ARG(accum), ARG(stt), ARG(m_grid), ARG(c->s), ARG(mb), ARG(mbd), ARG(mo);
+    ARG(c->slices), ARG(zl), ARG(accum), ARG(grey), ARG(stt), ARG(m_grid), ARG(c->s), ARG(mb), ARG(mbd), ARG(mo);
     ARG(mod), ARG(mi);
 #undef ARG
     if (e)

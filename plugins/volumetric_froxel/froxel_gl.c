@@ -13,7 +13,8 @@
  * shadow projection, and a second pass accumulated: 305 / 902 / 2588 ms at the thesis grid
  * with 1 / 8 / 32 lights against 219 / 371 / 1003 ms fused; README.)
  *
- * State kept across frames (fx_gl): the two passes, the lights buffer, and two rgba32f
+ * State kept across frames (fx_gl): the two passes, the lights buffer, the slice-table
+ * buffer (refilled each frame: T(k + jitter), T(k), T(k + 0.5)), and two rgba32f
  * 3D textures of W x H x D that take turns as "this frame's S" and "the history" (the
  * previous frame's blended S), so that no copy is needed between frames. They are made
  * with the grid size, counted with lg_account_alloc, remade (and counted again) when the
@@ -52,7 +53,12 @@ LG_GL_BLOCK_OFFSET(fx_gl_light, shadow, 76);
 LG_GL_BLOCK_OFFSET(fx_gl_light, l_c, 80);
 LG_GL_BLOCK_OFFSET(fx_gl_light, tile, 96);
 
-/* The uniforms every pass has: the grid, this frame's camera and slice map. */
+/* The slice table FxSlices (froxel_column.comp): T(k + jitter) for k < D, T(k) for k <= D,
+ * T(k + 0.5) for k < D; sized for the largest grid depth (512). */
+#define FX_GL_SLICES_MAX (3 * 512 + 1)
+
+/* The uniforms of both passes: the grid, this frame's camera, and the slice map (the lookup
+ * only: the column pass reads the slice table). */
 typedef struct fx_gl_view_u {
     lg_gl_uniform grid, inv_vp, eye, fwd, slicing, map;
 } fx_gl_view_u;
@@ -61,16 +67,17 @@ typedef struct fx_gl {
     lg_gl_pass *column, *lookup;
     fx_gl_view_u lv, kv;
     struct {
-        lg_gl_uniform sigma_s, g, n_lights, shadow_res, bias, jitter, history;
+        lg_gl_uniform sigma_s, g, n_lights, shadow_res, bias, history;
         lg_gl_uniform prev_vp, prev_eye, prev_fwd, prev_slicing, prev_map;
         lg_gl_uniform sigma_t, energy;
-        lg_gl_binding lights, atlas, s, hist, out;
+        lg_gl_binding lights, slices, atlas, s, hist, out;
     } l;
     struct {
         lg_gl_uniform size, z_limit, sigma_t, energy;
-        lg_gl_binding base, depth, acc, s, out, inscatter;
+        lg_gl_binding slices, base, depth, acc, s, out, inscatter;
     } k;
     GLuint lights_buf;   /* VOL_MAX_LIGHTS fx_gl_light */
+    GLuint slices_buf;   /* FX_GL_SLICES_MAX floats: the frame's slice table (fx_gl_slices) */
     GLuint vol[2];       /* S volumes; vol[cur] is written this frame, vol[1 - cur] is history */
     uint32_t w, h, d;    /* their size */
     int cur;
@@ -84,14 +91,17 @@ static const lg_gl_shader_src fx_src_lookup = { GL_COMPUTE_SHADER,
                                                 lg_src_froxel_lookup_comp_file,
                                                 lg_src_froxel_lookup_comp };
 
-static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u)
+static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u, bool slice_map)
 {
     u->grid = lg_gl_pass_uniform(p, "u_grid");
     u->inv_vp = lg_gl_pass_uniform(p, "u_inv_vp");
     u->eye = lg_gl_pass_uniform(p, "u_eye");
     u->fwd = lg_gl_pass_uniform(p, "u_fwd");
-    u->slicing = lg_gl_pass_uniform(p, "u_slicing");
-    u->map = lg_gl_pass_uniform(p, "u_map");
+    u->slicing.location = u->map.location = -1;
+    if (slice_map) {
+        u->slicing = lg_gl_pass_uniform(p, "u_slicing");
+        u->map = lg_gl_pass_uniform(p, "u_map");
+    }
 }
 
 /* The passes and the lights buffer, made on the first execute. */
@@ -108,13 +118,12 @@ static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
         return rc;
 
     lg_gl_pass *p = st->column;
-    fx_gl_view_lookup(p, &st->lv);
+    fx_gl_view_lookup(p, &st->lv, false);
     st->l.sigma_s = lg_gl_pass_uniform(p, "u_sigma_s");
     st->l.g = lg_gl_pass_uniform(p, "u_g");
     st->l.n_lights = lg_gl_pass_uniform(p, "u_n_lights");
     st->l.shadow_res = lg_gl_pass_uniform(p, "u_shadow_res");
     st->l.bias = lg_gl_pass_uniform(p, "u_bias");
-    st->l.jitter = lg_gl_pass_uniform(p, "u_jitter");
     st->l.history = lg_gl_pass_uniform(p, "u_history");
     st->l.prev_vp = lg_gl_pass_uniform(p, "u_prev_vp");
     st->l.prev_eye = lg_gl_pass_uniform(p, "u_prev_eye");
@@ -122,6 +131,7 @@ static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
     st->l.prev_slicing = lg_gl_pass_uniform(p, "u_prev_slicing");
     st->l.prev_map = lg_gl_pass_uniform(p, "u_prev_map");
     st->l.lights = lg_gl_pass_storage(p, "FxLights");
+    st->l.slices = lg_gl_pass_storage(p, "FxSlices");
     st->l.atlas = lg_gl_pass_texture(p, "u_atlas");
     st->l.s = lg_gl_pass_image(p, "u_s");
     st->l.hist = lg_gl_pass_image(p, "u_hist");
@@ -131,11 +141,12 @@ static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
     lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "FxLights", sizeof(fx_gl_light));
 
     p = st->lookup;
-    fx_gl_view_lookup(p, &st->kv);
+    fx_gl_view_lookup(p, &st->kv, true);
     st->k.size = lg_gl_pass_uniform(p, "u_size");
     st->k.z_limit = lg_gl_pass_uniform(p, "u_z_limit");
     st->k.sigma_t = lg_gl_pass_uniform(p, "u_sigma_t");
     st->k.energy = lg_gl_pass_uniform(p, "u_energy");
+    st->k.slices = lg_gl_pass_storage(p, "FxSlices");
     st->k.base = lg_gl_pass_texture(p, "u_base");
     st->k.depth = lg_gl_pass_texture(p, "u_depth");
     st->k.acc = lg_gl_pass_image(p, "u_acc");
@@ -148,7 +159,10 @@ static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
     gl->NamedBufferData(st->lights_buf, VOL_MAX_LIGHTS * sizeof(fx_gl_light), NULL,
                         GL_DYNAMIC_DRAW);
     lg_account_alloc(n, VOL_MAX_LIGHTS * sizeof(fx_gl_light));
-    return lg_gl_check(n, "volumetric_froxel: the lights buffer");
+    gl->CreateBuffers(1, &st->slices_buf);
+    gl->NamedBufferData(st->slices_buf, FX_GL_SLICES_MAX * sizeof(float), NULL, GL_DYNAMIC_DRAW);
+    lg_account_alloc(n, FX_GL_SLICES_MAX * sizeof(float));
+    return lg_gl_check(n, "volumetric_froxel: the lights and slice buffers");
 }
 
 /* The two S volumes at W x H x D, made (cleared to 0) when absent or of another size. */
@@ -249,6 +263,20 @@ static void fx_gl_lights(const fx_frame *f, fx_gl_light *out)
     }
 }
 
+/* The frame's slice table (FX_GL_SLICES_MAX floats at most), from the slice map in double as
+ * the cpu backend's tables. */
+static uint32_t fx_gl_slices(const fx_frame *f, float *out)
+{
+    uint32_t D = f->d;
+    for (uint32_t k = 0; k < D; k++) {
+        out[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
+        out[2 * D + 1 + k] = (float)lg_slice_to_depth(&f->map, k + 0.5);
+    }
+    for (uint32_t k = 0; k <= D; k++)
+        out[D + k] = (float)lg_slice_to_depth(&f->map, (double)k);
+    return 3 * D + 1;
+}
+
 /* Maps the grid part for writing, after checking it is the rgba32f volume froxel.h wants. */
 static int fx_gl_grid(lg_node *n, const fx_frame *f, GLuint *tex)
 {
@@ -282,13 +310,15 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
             return lg_error_code(n, LG_ERR_NOMEM, "volumetric_froxel (gl): out of memory");
         *state = st;
     }
-    if (!st->lookup || !st->lights_buf) {
+    if (!st->lookup || !st->lights_buf || !st->slices_buf) {
         /* first frame, or an earlier attempt failed part-way: make them all again */
         lg_gl_pass_destroy(&st->column);
         lg_gl_pass_destroy(&st->lookup);
         if (st->lights_buf)
             gl->DeleteBuffers(1, &st->lights_buf);
-        st->lights_buf = 0;
+        if (st->slices_buf)
+            gl->DeleteBuffers(1, &st->slices_buf);
+        st->lights_buf = st->slices_buf = 0;
         if ((rc = fx_gl_make_passes(n, gl, st))) {
             lg_gl_pass_destroy(&st->lookup); /* so that the next frame tries again */
             return rc;
@@ -297,6 +327,9 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     if (v->n_lights < 1 || v->n_lights > VOL_MAX_LIGHTS)
         return lg_error(n, "volumetric_froxel (gl): %u directional lights (1 .. %d)",
                         v->n_lights, VOL_MAX_LIGHTS);
+    if (f->d > (FX_GL_SLICES_MAX - 1) / 3)
+        return lg_error(n, "volumetric_froxel (gl): grid depth %u, more than the slice table's "
+                           "%d", f->d, (FX_GL_SLICES_MAX - 1) / 3);
     if ((rc = fx_gl_volumes(n, gl, st, f)))
         return rc;
 
@@ -329,6 +362,9 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     }
     gl->NamedBufferSubData(st->lights_buf, 0, (GLsizeiptr)(v->n_lights * sizeof *lights),
                            lights);
+    float slices[FX_GL_SLICES_MAX];
+    uint32_t n_slices = fx_gl_slices(f, slices);
+    gl->NamedBufferSubData(st->slices_buf, 0, (GLsizeiptr)(n_slices * sizeof(float)), slices);
 
     /* history: the other volume holds the previous frame's S only if a frame ran into it */
     bool hist = f->history > 0.0f && f->prev && st->hist_valid;
@@ -344,7 +380,6 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     lg_gl_set_int(p, st->l.n_lights, (int32_t)v->n_lights);
     lg_gl_set_int(p, st->l.shadow_res, f->sm ? (int32_t)f->sm->resolution : 1);
     lg_gl_set_float(p, st->l.bias, f->sm ? f->sm->bias_constant : 0.0f);
-    lg_gl_set_float(p, st->l.jitter, f->jitter);
     lg_gl_set_float(p, st->l.history, hist ? f->history : 0.0f);
     if (hist) {
         const vol_setup *q = f->prev;
@@ -358,6 +393,7 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
         lg_gl_set_vec4v(p, st->l.prev_map, pmap);
     }
     lg_gl_pass_bind_buffer(p, st->l.lights, st->lights_buf);
+    lg_gl_pass_bind_buffer(p, st->l.slices, st->slices_buf);
     if (atlas)
         lg_gl_pass_bind_texture(p, st->l.atlas, atlas);
     fx_gl_bind_volume(gl, p, st->l.s, s_now, GL_WRITE_ONLY);
@@ -377,6 +413,7 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     lg_gl_set_float(p, st->k.z_limit, v->z_limit);
     lg_gl_set_vec3v(p, st->k.sigma_t, v->sigma_t);
     lg_gl_set_int(p, st->k.energy, f->accum == FX_ACC_ENERGY);
+    lg_gl_pass_bind_buffer(p, st->k.slices, st->slices_buf);
     lg_gl_pass_bind_texture(p, st->k.base, base_tex);
     lg_gl_pass_bind_texture(p, st->k.depth, base_depth);
     fx_gl_bind_volume(gl, p, st->k.acc, grid_tex, GL_READ_ONLY);
@@ -411,6 +448,8 @@ void fx_gl_destroy(lg_node *n, void *state)
             gl->DeleteTextures(2, st->vol);
         if (st->lights_buf)
             gl->DeleteBuffers(1, &st->lights_buf);
+        if (st->slices_buf)
+            gl->DeleteBuffers(1, &st->slices_buf);
     }
     free(st);
 }

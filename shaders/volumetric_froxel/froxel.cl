@@ -55,11 +55,12 @@ float3 fx_trilinear(__global const float4 *vol, int W, int H, int D, float3 c)
 // sigma_s C_l p_HG, and per shadowed light sigma_s C_l p_HG and the light-clip position
 // as an affine function of view depth, clip(t) = a_l + b_l t (a_l = VP_l e, b_l = VP_l w /
 // cos), so that a shadow test is 4 multiply-adds, a reciprocal and one fetch. What depends
-// only on the slice comes from `slices` (3 D floats): T(k + jitter), t_{k+1} - t_k (t_0 =
-// 0), T(k + 0.5).
+// only on the slice comes from `slices` (4 D + 1 floats): T(k + jitter), t_{k+1} - t_k (t_0
+// = 0), T(k + 0.5), and T(k) for k = 0 .. D (the lookup's). grey (sigma_t the same in r, g,
+// b): one exp and one segment factor per froxel instead of three; the same values.
 #define FX_MAX_LIGHTS 32
 __kernel void fx_columns(int W, int H, int D, float16 ivp, float4 eye, float4 fwd, float4 img,
-                         __global const float *slices, int accum,
+                         __global const float *slices, int accum, int grey,
                          float4 sigma_s, float4 sigma_t, float g,
                          int n_lights, __global const float *lights,
                          __global const float *shadows, __global const float *atlas,
@@ -135,6 +136,10 @@ __kernel void fx_columns(int W, int H, int D, float16 ivp, float4 eye, float4 fw
         float delta = slices[D + k] * inv_cos;
         if (accum == 0) {
             acc += s * delta;
+        } else if (grey) {
+            float tau = sigma_t.x * delta;
+            acc += tr * s * (delta * lg_medium_segment(tau));
+            tr *= exp(-tau);
         } else {
             float3 tau = sigma_t.xyz * delta;
             float3 seg = (float3)(lg_medium_segment(tau.x), lg_medium_segment(tau.y),
@@ -159,9 +164,11 @@ float3 fx_bilinear(__global const float4 *vol, int W, int H, int k, float u, flo
     return mix(a, b, fv);
 }
 
-// Lookup: one work-item per pixel.
+// Lookup: one work-item per pixel. The slice start T(k) comes from `slices` (fx_columns'
+// table; a pow per pixel otherwise); grey: one exp per factor, as fx_columns.
 __kernel void fx_lookup(int W, int H, int D, float16 ivp, float4 eye, float4 fwd, float4 img,
-                        int slicing, float4 map, float z_limit, int accum, float4 sigma_t,
+                        int slicing, float4 map, __global const float *slices,
+                        float z_limit, int accum, int grey, float4 sigma_t,
                         __global const float4 *grid, __global const float4 *S,
                         __global const float4 *base, __global const float *base_depth,
                         __global float4 *out, __global float *out_depth,
@@ -186,7 +193,7 @@ __kernel void fx_lookup(int W, int H, int D, float16 ivp, float4 eye, float4 fwd
     float t_end = d * cosv;
     float zc = clamp(lg_depth_to_slice(slicing, map, t_end), 0.0f, (float)D);
     int k = min((int)floor(zc), D - 1);
-    float t_s = k == 0 ? 0.0f : lg_slice_to_depth(slicing, map, (float)k);
+    float t_s = k == 0 ? 0.0f : slices[3 * D + k];
     float delta = fmax(t_end - t_s, 0.0f) / cosv;
     float u = x * W / img.x - 0.5f, v = y * H / img.y - 0.5f;
     float3 a = k > 0 ? fx_bilinear(grid, W, H, k - 1, u, v) : (float3)(0.0f);
@@ -195,6 +202,10 @@ __kernel void fx_lookup(int W, int H, int D, float16 ivp, float4 eye, float4 fwd
     float3 lv, tv = (float3)(1.0f);
     if (accum == 0) {
         lv = a + s * delta;
+    } else if (grey) {
+        float st = sigma_t.x;
+        lv = a + exp(-st * (t_s / cosv)) * s * (delta * lg_medium_segment(st * delta));
+        tv = (float3)(exp(-st * d));
     } else {
         float3 tau = sigma_t.xyz * delta;
         float3 seg = (float3)(lg_medium_segment(tau.x), lg_medium_segment(tau.y),

@@ -44,6 +44,12 @@ struct FxLight {
 layout(std430, binding = 0) readonly buffer FxLights {
     FxLight fx_lights[];
 };
+// The frame's slice table (froxel_gl.c, fx_gl_slices): D floats T(k + jitter), D + 1
+// floats T(k) (k = 0 .. D), D floats T(k + 0.5). Before it, each froxel evaluated the slice
+// map two or three times (a pow each, exponential slicing).
+layout(std430, binding = 1) readonly buffer FxSlices {
+    float fx_slices[];
+};
 
 layout(binding = 0) uniform sampler2D u_atlas;                 // depth-only, texelFetch
 layout(binding = 0, rgba32f) uniform writeonly image3D u_s;    // this frame's S
@@ -54,14 +60,11 @@ uniform ivec3 u_grid;        // W, H, D
 uniform mat4 u_inv_vp;       // this frame's camera
 uniform vec3 u_eye;
 uniform vec3 u_fwd;
-uniform int u_slicing;       // LG_SLICING_*
-uniform vec4 u_map;          // near, far, near_offset, D
 uniform vec3 u_sigma_s;
 uniform float u_g;
 uniform int u_n_lights;      // 1 .. 32
 uniform int u_shadow_res;    // tile side, texels
 uniform float u_bias;        // bias_constant, depth units
-uniform float u_jitter;      // [0, 1)
 uniform float u_history;     // weight of the history; 0: none (or no previous frame)
 uniform mat4 u_prev_vp;      // the previous frame's view-projection
 uniform vec3 u_prev_eye;
@@ -123,8 +126,11 @@ void main()
 
     vec3 A = vec3(0.0), Tr = vec3(1.0);
     float t0 = 0.0;
-    for (int k = 0; k < u_grid.z; k++) {
-        float t = lg_slice_to_depth(u_slicing, u_map, float(k) + u_jitter);
+    int D = u_grid.z;
+    // sigma_t the same in r, g, b: one exp and one segment factor per froxel (same values)
+    bool grey = u_sigma_t.x == u_sigma_t.y && u_sigma_t.y == u_sigma_t.z;
+    for (int k = 0; k < D; k++) {
+        float t = fx_slices[k];
         vec3 S = unsh;
         for (int l = 0; l < nsh; l++) {
             // vol_shadow_cpu's rule: nearest texel of the light's tile; lit outside the
@@ -144,7 +150,7 @@ void main()
         }
         if (u_history > 0.0) {
             // the slice's centre, projected into the previous grid
-            float tc = lg_slice_to_depth(u_slicing, u_map, float(k) + 0.5);
+            float tc = fx_slices[2 * D + 1 + k];
             vec3 q = u_eye + w * (tc * ic);
             vec4 pc = u_prev_vp * vec4(q, 1.0);
             vec2 uv = (pc.xy / pc.w + 1.0) * vec2(u_grid.xy) * 0.5;
@@ -156,9 +162,13 @@ void main()
         }
         imageStore(u_s, ivec3(c, k), vec4(S, 1.0));
 
-        float t1 = lg_slice_to_depth(u_slicing, u_map, float(k + 1));
+        float t1 = fx_slices[D + k + 1];
         float delta = (t1 - t0) * ic;
-        if (u_energy != 0) {
+        if (u_energy != 0 && grey) {
+            float tau = u_sigma_t.x * delta;
+            A += Tr * S * (delta * lg_medium_segment(tau));
+            Tr *= exp(-tau);
+        } else if (u_energy != 0) {
             vec3 tau = u_sigma_t * delta;
             A += Tr * S * delta * lg_medium_segment3(tau);
             Tr *= exp(-tau);

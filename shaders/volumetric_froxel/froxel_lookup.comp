@@ -33,6 +33,10 @@ uniform int u_slicing;
 uniform vec4 u_map;
 uniform vec3 u_sigma_t;
 uniform int u_energy;
+// The frame's slice table (froxel_column.comp's): T(k) at fx_slices[D + k]
+layout(std430, binding = 1) readonly buffer FxSlices {
+    float fx_slices[];
+};
 
 // Bilinear in cell coordinates uv (already clamped to [0, W-1] x [0, H-1]) of slice k.
 vec3 fx_bilerp_acc(vec2 uv, int k)
@@ -74,7 +78,7 @@ void main()
     int D = u_grid.z;
     float zc = clamp(lg_depth_to_slice(u_slicing, u_map, t_end), 0.0, float(D));
     int k = min(int(floor(zc)), D - 1);
-    float t_s = k == 0 ? 0.0 : lg_slice_to_depth(u_slicing, u_map, float(k));
+    float t_s = k == 0 ? 0.0 : fx_slices[D + k];
     float delta = max(t_end - t_s, 0.0) / cs;
 
     vec2 uv = (vec2(px) + 0.5) * vec2(u_grid.xy) / vec2(u_size) - 0.5;
@@ -83,7 +87,12 @@ void main()
     vec3 S = fx_bilerp_s(uv, k);
     vec4 base = texelFetch(u_base, px, 0);
     vec3 L, o;
-    if (u_energy != 0) {
+    if (u_energy != 0 && u_sigma_t.x == u_sigma_t.y && u_sigma_t.y == u_sigma_t.z) {
+        // grey: one exp per factor (the same values)
+        float st = u_sigma_t.x;
+        L = A + exp(-st * (t_s / cs)) * S * (delta * lg_medium_segment(st * delta));
+        o = base.rgb * exp(-st * d) + L;
+    } else if (u_energy != 0) {
         L = A + exp(-u_sigma_t * (t_s / cs)) * S * delta * lg_medium_segment3(u_sigma_t * delta);
         o = base.rgb * exp(-u_sigma_t * d) + L;
     } else {
