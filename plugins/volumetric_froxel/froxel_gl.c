@@ -205,14 +205,6 @@ static void fx_gl_map_vec4(const lg_slice_map *m, float out[4])
     out[3] = (float)m->depth;
 }
 
-/* lg_gl_pass has no ivec3 setter: glProgramUniform3i through the table. */
-static void fx_gl_set_ivec3(const lg_gl *gl, lg_gl_pass *p, lg_gl_uniform u, uint32_t x,
-                            uint32_t y, uint32_t z)
-{
-    if (u.location >= 0)
-        gl->ProgramUniform3i(lg_gl_pass_program(p), u.location, (GLint)x, (GLint)y, (GLint)z);
-}
-
 static void fx_gl_set_view(const lg_gl *gl, lg_gl_pass *p, const fx_gl_view_u *u,
                            const fx_frame *f)
 {
@@ -221,7 +213,7 @@ static void fx_gl_set_view(const lg_gl *gl, lg_gl_pass *p, const fx_gl_view_u *u
     for (int i = 0; i < 16; i++)
         inv[i] = (float)v->inv_view_proj[i];
     fx_gl_map_vec4(&f->map, map);
-    fx_gl_set_ivec3(gl, p, u->grid, f->w, f->h, f->d);
+    lg_gl_set_ivec3(p, u->grid, (int32_t)f->w, (int32_t)f->h, (int32_t)f->d);
     lg_gl_set_mat4(p, u->inv_vp, inv);
     lg_gl_set_vec3(p, u->eye, (float)v->eye[0], (float)v->eye[1], (float)v->eye[2]);
     lg_gl_set_vec3(p, u->fwd, (float)v->forward[0], (float)v->forward[1], (float)v->forward[2]);
@@ -229,17 +221,10 @@ static void fx_gl_set_view(const lg_gl *gl, lg_gl_pass *p, const fx_gl_view_u *u
     lg_gl_set_vec4v(p, u->map, map);
 }
 
-/* Binds level 0 of 3D texture `tex`, all its layers, to image binding b. lg_gl_pass_bind_image
- * binds one layer (layered = GL_FALSE, right for 2D images); it is called first so that the
- * pass records the unit (lg_gl_pass_end unbinds it and adds the write barrier), then the
- * binding is made layered. */
-static void fx_gl_bind_volume(const lg_gl *gl, lg_gl_pass *p, lg_gl_binding b, GLuint tex,
-                              GLenum access)
+/* Binds level 0 of 3D texture `tex`, every layer (an image3D), to image binding b. */
+static void fx_gl_bind_volume(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLenum access)
 {
-    if (b.index < 0)
-        return;
-    lg_gl_pass_bind_image(p, b, tex, access, GL_RGBA32F);
-    gl->BindImageTexture((GLuint)b.index, tex, 0, GL_TRUE, 0, access, GL_RGBA32F);
+    lg_gl_pass_bind_image_level(p, b, tex, 0, LG_GL_ALL_LAYERS, access, GL_RGBA32F);
 }
 
 /* The FxLights records of this frame: each light with its shadow record (if any). */
@@ -396,11 +381,11 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     lg_gl_pass_bind_buffer(p, st->l.slices, st->slices_buf);
     if (atlas)
         lg_gl_pass_bind_texture(p, st->l.atlas, atlas);
-    fx_gl_bind_volume(gl, p, st->l.s, s_now, GL_WRITE_ONLY);
-    fx_gl_bind_volume(gl, p, st->l.hist, s_prev, GL_READ_ONLY);
+    fx_gl_bind_volume(p, st->l.s, s_now, GL_WRITE_ONLY);
+    fx_gl_bind_volume(p, st->l.hist, s_prev, GL_READ_ONLY);
     lg_gl_set_vec3v(p, st->l.sigma_t, v->sigma_t);
     lg_gl_set_int(p, st->l.energy, f->accum == FX_ACC_ENERGY);
-    fx_gl_bind_volume(gl, p, st->l.out, grid_tex, GL_WRITE_ONLY);
+    fx_gl_bind_volume(p, st->l.out, grid_tex, GL_WRITE_ONLY);
     if ((rc = lg_gl_pass_end(p, lg_gl_pass_dispatch(p, f->w, f->h, 1))))
         return rc;
 
@@ -416,8 +401,8 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     lg_gl_pass_bind_buffer(p, st->k.slices, st->slices_buf);
     lg_gl_pass_bind_texture(p, st->k.base, base_tex);
     lg_gl_pass_bind_texture(p, st->k.depth, base_depth);
-    fx_gl_bind_volume(gl, p, st->k.acc, grid_tex, GL_READ_ONLY);
-    fx_gl_bind_volume(gl, p, st->k.s, s_now, GL_READ_ONLY);
+    fx_gl_bind_volume(p, st->k.acc, grid_tex, GL_READ_ONLY);
+    fx_gl_bind_volume(p, st->k.s, s_now, GL_READ_ONLY);
     lg_gl_pass_bind_image(p, st->k.out, out_tex, GL_WRITE_ONLY, GL_RGBA32F);
     lg_gl_pass_bind_image(p, st->k.inscatter, ins_tex, GL_WRITE_ONLY, GL_RGBA32F);
     if ((rc = lg_gl_pass_end(p, lg_gl_pass_dispatch(p, v->width, v->height, 1))))
