@@ -28,7 +28,6 @@ enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
  * hold two more volumes of the same size, S and its history). */
 #define FX_MAX_W 1024
 #define FX_MAX_H 1024
-#define FX_MAX_D 512
 #define FX_MAX_BYTES (1ull << 30)
 
 /* The temporal jitter of frame f: the fractional part of 0.5 + f / phi (golden ratio
@@ -49,6 +48,7 @@ typedef struct fx_state {
     lg_slice_map prev_map;
 
     void *backend_state;        /* the backend's (fx_*_execute makes it) */
+    fx_slices slices;           /* this frame's slice tables (fx_slice_tables) */
 } fx_state;
 
 static int fx_create(lg_node *n)
@@ -110,6 +110,21 @@ static int fx_prepare(lg_node *n)
     return lg_set_device(n, st->backend == FX_GL   ? LG_DEVICE_GL
                             : st->backend == FX_CL ? LG_DEVICE_CL
                                                    : LG_DEVICE_CPU);
+}
+
+/* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
+static void fx_slice_tables(const fx_frame *f, fx_slices *t)
+{
+    double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
+    t->tk[0] = lg_slice_to_depth(&f->map, 0.0);
+    for (uint32_t k = 0; k < f->d; k++) {
+        double t_next = lg_slice_to_depth(&f->map, k + 1.0);
+        t->tj[k] = lg_slice_to_depth(&f->map, k + (double)f->jitter);
+        t->tlen[k] = t_next - t_prev;
+        t->tq[k] = lg_slice_to_depth(&f->map, k + 0.5);
+        t->tk[k + 1] = t_next;
+        t_prev = t_next;
+    }
 }
 
 /* The grid's slice map for this frame's camera: near = z_near (0: the camera's znear), far
@@ -190,6 +205,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         f.jitter = 0.5f;
     }
     f.sm = sm;
+    fx_slice_tables(&f, &st->slices);
+    f.slices = &st->slices;
     switch (st->backend) {
     case FX_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
     case FX_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;

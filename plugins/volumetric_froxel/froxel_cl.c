@@ -140,17 +140,16 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
                            "clCreateBuffer(shadow records)")))
         return rc;
 
-    /* the slice tables (froxel.cl's fx_columns and fx_lookup) */
-    double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
-    c->slices_host[3 * f->d] = (float)lg_slice_to_depth(&f->map, 0.0);
+    /* the slice tables (froxel.cl's fx_columns and fx_lookup): T(k + jitter), the steps,
+     * T(k + 0.5), T(k) for k <= D */
+    const fx_slices *tab = f->slices;
     for (uint32_t k = 0; k < f->d; k++) {
-        double t_next = lg_slice_to_depth(&f->map, k + 1.0);
-        c->slices_host[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
-        c->slices_host[f->d + k] = (float)(t_next - t_prev);
-        c->slices_host[2 * f->d + k] = (float)lg_slice_to_depth(&f->map, k + 0.5);
-        c->slices_host[3 * f->d + k + 1] = (float)t_next;
-        t_prev = t_next;
+        c->slices_host[k] = (float)tab->tj[k];
+        c->slices_host[f->d + k] = (float)tab->tlen[k];
+        c->slices_host[2 * f->d + k] = (float)tab->tq[k];
     }
+    for (uint32_t k = 0; k <= f->d; k++)
+        c->slices_host[3 * f->d + k] = (float)tab->tk[k];
     if ((rc = fx_cl_upload(n, &c->slices, c->slices_host, 4 * (size_t)f->d + 1,
                            "clCreateBuffer(slice tables)")))
         return rc;

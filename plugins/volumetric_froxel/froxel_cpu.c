@@ -21,8 +21,7 @@ typedef struct fx_cpu {
     float *s;        /* S of this frame, rgba, [k][j][i] */
     float *hist;     /* the previous frame's blended S (valid when hist_valid) */
     bool hist_valid;
-    float *tj;       /* the frame's slice tables (froxel_cpu.c's columns and rows) */
-    double *tlen, *tq, *tk;
+    float *tj;       /* the frame's T(k + jitter) in float (columns' inner loop) */
 } fx_cpu;
 
 typedef struct fx_cpu_ctx {
@@ -336,11 +335,8 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
             c->s = malloc(vox * 16);
             c->hist = malloc(vox * 16);
             c->tj = malloc(f->d * sizeof *c->tj);
-            c->tlen = malloc(f->d * sizeof *c->tlen);
-            c->tq = malloc(f->d * sizeof *c->tq);
-            c->tk = malloc((f->d + 1) * sizeof *c->tk);
         }
-        if (!c || !c->s || !c->hist || !c->tj || !c->tlen || !c->tq || !c->tk) {
+        if (!c || !c->s || !c->hist || !c->tj) {
             fx_cpu_destroy(n, c);
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (two %ux%ux%u rgba32f "
                                                   "volumes, S and its history)",
@@ -384,21 +380,13 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
     if (!x.base || !x.out || !x.out_depth || !x.ins || !x.grid)
         return lg_error(n, "a mapping of base, out, inscatter or grid gave no pixels");
 
-    /* the slice tables */
-    double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
-    c->tk[0] = lg_slice_to_depth(&f->map, 0.0);
-    for (uint32_t k = 0; k < f->d; k++) {
-        double t_next = lg_slice_to_depth(&f->map, k + 1.0);
-        c->tj[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
-        c->tlen[k] = t_next - t_prev;
-        c->tq[k] = lg_slice_to_depth(&f->map, k + 0.5);
-        c->tk[k + 1] = t_next;
-        t_prev = t_next;
-    }
+    /* the slice tables (froxel.c's, T(k + jitter) in float for the columns) */
+    for (uint32_t k = 0; k < f->d; k++)
+        c->tj[k] = (float)f->slices->tj[k];
     x.tj = c->tj;
-    x.tlen = c->tlen;
-    x.tq = c->tq;
-    x.tk = c->tk;
+    x.tlen = f->slices->tlen;
+    x.tq = f->slices->tq;
+    x.tk = f->slices->tk;
     /* the lights: shadowed ones get a_l and their tile */
     const vol_setup *v = f->v;
     x.grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
@@ -440,8 +428,5 @@ void fx_cpu_destroy(lg_node *n, void *state)
     free(c->s);
     free(c->hist);
     free(c->tj);
-    free(c->tlen);
-    free(c->tq);
-    free(c->tk);
     free(c);
 }

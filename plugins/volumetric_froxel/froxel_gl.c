@@ -54,8 +54,8 @@ LG_GL_BLOCK_OFFSET(fx_gl_light, l_c, 80);
 LG_GL_BLOCK_OFFSET(fx_gl_light, tile, 96);
 
 /* The slice table FxSlices (froxel_column.comp): T(k + jitter) for k < D, T(k) for k <= D,
- * T(k + 0.5) for k < D; sized for the largest grid depth (512). */
-#define FX_GL_SLICES_MAX (3 * 512 + 1)
+ * T(k + 0.5) for k < D; sized for the largest grid depth. */
+#define FX_GL_SLICES_MAX (3 * FX_MAX_D + 1)
 
 /* The uniforms of both passes: the grid, this frame's camera, and the slice map (the lookup
  * only: the column pass reads the slice table). */
@@ -248,17 +248,18 @@ static void fx_gl_lights(const fx_frame *f, fx_gl_light *out)
     }
 }
 
-/* The frame's slice table (FX_GL_SLICES_MAX floats at most), from the slice map in double as
- * the cpu backend's tables. */
+/* The frame's slice table in FxSlices' layout (FX_GL_SLICES_MAX floats at most), from
+ * froxel.c's tables. */
 static uint32_t fx_gl_slices(const fx_frame *f, float *out)
 {
+    const fx_slices *t = f->slices;
     uint32_t D = f->d;
     for (uint32_t k = 0; k < D; k++) {
-        out[k] = (float)lg_slice_to_depth(&f->map, k + (double)f->jitter);
-        out[2 * D + 1 + k] = (float)lg_slice_to_depth(&f->map, k + 0.5);
+        out[k] = (float)t->tj[k];
+        out[2 * D + 1 + k] = (float)t->tq[k];
     }
     for (uint32_t k = 0; k <= D; k++)
-        out[D + k] = (float)lg_slice_to_depth(&f->map, (double)k);
+        out[D + k] = (float)t->tk[k];
     return 3 * D + 1;
 }
 
