@@ -96,10 +96,10 @@ static void osmesa_destroy(void *p)
 
 int lg_gl_osmesa_open(lg_gl_backend *out, char *err, size_t errlen)
 {
-    /* Mesa 22.3's OSMesa picks its gallium driver from GALLIUM_DRIVER; llvmpipe is the
-     * only one here with GL 4.5. A user's choice wins. */
-    setenv("GALLIUM_DRIVER", "llvmpipe", 0);
-
+    /* Mesa 22.3's OSMesa picks its gallium driver from GALLIUM_DRIVER (else zink first,
+     * then llvmpipe); llvmpipe is the only one here with GL 4.5. main() sets that default
+     * before any thread starts (lg_env_defaults): setting it here, after PoCL's and the
+     * pool's threads exist, raced their getenv() and crashed (issue 20). */
     int rc = load_library(err, errlen);
     if (rc)
         return rc;

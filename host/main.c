@@ -91,8 +91,25 @@ static void help(FILE *f)
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
+/* The process's environment is decided here, before anything else runs, and never written
+ * again: once a thread exists (the CPU pool, PoCL's and llvmpipe's workers), setenv() may move
+ * `environ` while another thread's getenv() walks it, a crash we had (issue 20). Everything
+ * that needs an environment variable set for a library reads it from here.
+ * tests/unit/env checks the rule: no other setenv/putenv/unsetenv in host/, sdk/src or
+ * plugins/, and a render of the cl-then-GL path under an interposer that aborts on an
+ * environment write after the first thread. */
+static void env_defaults(void)
+{
+    /* Mesa 22.3's OSMesa picks its gallium driver from GALLIUM_DRIVER, trying zink first
+     * when it is unset; llvmpipe is the one with GL 4.5 here. A user's choice wins. It
+     * touches only software rendering: a hardware EGL or GLX driver is chosen by device. */
+    if (!getenv("GALLIUM_DRIVER"))
+        setenv("GALLIUM_DRIVER", "llvmpipe", 0);
+}
+
 int main(int argc, char **argv)
 {
+    env_defaults();
     if (take_max_pixels(&argc, argv))
         return 2;
     if (argc < 2) {

@@ -210,7 +210,9 @@ LG_TEST_API const char *lg_test_exe(void);
  * there. Returns the exit status (0 success, 1 failure while running, 2 bad graph or
  * usage; -1 if the program died on a signal). `*out`, when `out` is not NULL, receives
  * what the program printed, stdout and stderr together (malloc'd: free() it). The command
- * and its output are echoed when the status is not 0, or always with LG_TEST_VERBOSE.
+ * and its output are echoed when the status is not 0, or always with LG_TEST_VERBOSE; a
+ * death by a signal is echoed with its number and name ("killed by signal 11 (SIGSEGV:
+ * Segmentation fault)").
  * Not a check: the caller decides what a status means. */
 LG_TEST_API int lg_test_render(lg_test *t, const char *graph, const char *const *args,
                                char **out);
@@ -227,7 +229,10 @@ LG_TEST_API void lg_test_require_backend(lg_test *t, const char *backend);
 /* Points the host at extra plugin folders: sets LIGHTGRAPH_PLUGIN_PATH to `path` (folders
  * joined with ':') and, with `t`, LIGHTGRAPH_CACHE_DIR to a folder in t's scratch folder so
  * that the case starts with an empty cache. Fails (exit 99) when `path` is NULL or empty:
- * the build defines the folder, so that is a build error, never a skip. */
+ * the build defines the folder, so that is a build error, never a skip.
+ * It writes the test process's environment (for the host it spawns), so call it, as the
+ * set-up hook of lg_test_main does, before the test program starts any thread: setenv()
+ * while another thread reads the environment is undefined (glibc crashes). */
 LG_TEST_API void lg_test_use_plugins(lg_test *t, const char *path);
 
 /* $LG_SOURCE_ROOT/assets/<rel>. A repository asset is never optional: when LG_SOURCE_ROOT is

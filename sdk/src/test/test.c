@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <ftw.h>
 #include <math.h>
+#include <signal.h>
 #include <spawn.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -380,6 +381,24 @@ const char *lg_test_exe(void)
     return exe && *exe ? exe : LG_TEST_DEFAULT_EXE;
 }
 
+/* "SIGSEGV" for 11: a CI log should name the signal, not only its number. */
+static const char *signal_name(int sig)
+{
+    static const struct {
+        int sig;
+        const char *name;
+    } names[] = {
+        {SIGSEGV, "SIGSEGV"}, {SIGBUS, "SIGBUS"},   {SIGFPE, "SIGFPE"},   {SIGILL, "SIGILL"},
+        {SIGABRT, "SIGABRT"}, {SIGKILL, "SIGKILL"}, {SIGTERM, "SIGTERM"}, {SIGINT, "SIGINT"},
+        {SIGHUP, "SIGHUP"},   {SIGPIPE, "SIGPIPE"}, {SIGALRM, "SIGALRM"}, {SIGTRAP, "SIGTRAP"},
+        {SIGXCPU, "SIGXCPU"}, {SIGXFSZ, "SIGXFSZ"}, {SIGQUIT, "SIGQUIT"}, {SIGSYS, "SIGSYS"},
+    };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (names[i].sig == sig)
+            return names[i].name;
+    return "SIG?";
+}
+
 int lg_test_spawn_(const char *const *argv, const char *cwd, char **out)
 {
     int fd[2];
@@ -438,7 +457,12 @@ int lg_test_spawn_(const char *const *argv, const char *cwd, char **out)
         fprintf(stderr, "$");
         for (int i = 0; argv[i]; i++)
             fprintf(stderr, " %s", argv[i]);
-        fprintf(stderr, "\n-> exit %d%s\n%s", code, WIFSIGNALED(status) ? " (signal)" : "", text);
+        if (WIFSIGNALED(status))
+            fprintf(stderr, "\n-> killed by signal %d (%s: %s)%s\n%s", WTERMSIG(status),
+                    signal_name(WTERMSIG(status)), strsignal(WTERMSIG(status)),
+                    WCOREDUMP(status) ? ", core dumped" : "", text);
+        else
+            fprintf(stderr, "\n-> exit %d\n%s", code, text);
     }
     if (out)
         *out = text;

@@ -9,6 +9,7 @@
  *               runs, gl and cl are reported as "no device", nothing fails (allow_missing)
  *   partial     the same without allow_missing: the case ends as a skip (77), checked by
  *               running this program's `partial_inner` case
+ *   signal      a host killed by SIGSEGV is reported with the signal's number and name
  *   bench       (run with --bench=3) three executions per backend, times filled in
  */
 #include <ftw.h>
@@ -16,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -193,6 +195,47 @@ static void case_partial(lg_test *t)
                   "the skip does not name the missing devices: %s", text);
 }
 
+/* A host that dies on a signal: the harness names the signal (issue 20: CI's log said only
+ * "exit -1 (signal)"). The inner case runs a stand-in for the host that kills itself with
+ * SIGSEGV; the outer one reads what the harness printed. */
+static void case_signal_inner(lg_test *t)
+{
+    const char *script = lg_test_path(t, "segv.sh");
+    FILE *f = fopen(script, "w");
+    if (!f || fputs("#!/bin/sh\nkill -SEGV $$\n", f) < 0 || fclose(f) || chmod(script, 0755)) {
+        LG_TEST_FAILF(t, "cannot write %s", script);
+        return;
+    }
+    setenv("LG_EXE", script, 1); /* single-threaded test process: allowed */
+    int rc = lg_test_render(t, "none.lgraph", NULL, NULL);
+    LG_TEST_CHECK(t, rc == -1, "status %d, want -1 (a signal)", rc);
+}
+
+static void case_signal(lg_test *t)
+{
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) {
+        LG_TEST_FAILF(t, "readlink /proc/self/exe failed");
+        return;
+    }
+    self[n] = 0;
+    char cmd[9000];
+    snprintf(cmd, sizeof cmd, "'%s' signal_inner >'%s' 2>&1", self, lg_test_path(t, "inner.txt"));
+    int st = system(cmd);
+    int code = st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    FILE *f = fopen(lg_test_path(t, "inner.txt"), "r");
+    char text[8192] = "";
+    if (f) {
+        size_t len = fread(text, 1, sizeof text - 1, f);
+        text[len] = 0;
+        fclose(f);
+    }
+    LG_TEST_CHECK(t, code == 0, "the inner case exited %d: %s", code, text);
+    LG_TEST_CHECK(t, strstr(text, "killed by signal 11 (SIGSEGV") != NULL,
+                  "the signal is not named: %s", text);
+}
+
 static void case_bench(lg_test *t)
 {
     uint32_t frames = lg_test_bench_frames(t);
@@ -233,6 +276,8 @@ int main(int argc, char **argv)
         {"no_device", case_no_device},
         {"partial", case_partial},
         {"partial_inner", case_partial_inner},
+        {"signal", case_signal},
+        {"signal_inner", case_signal_inner},
         {"bench", case_bench},
     };
     lg_test_main_opts o = {.prefix = "harness"};
