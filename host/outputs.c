@@ -1,6 +1,8 @@
 /* All-or-nothing output files. See outputs.h. */
 #include "outputs.h"
 
+#include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -120,6 +122,82 @@ static void untrack(const char *tmp)
     not_busy();
 }
 
+void lg_temp_track(char *tmp)
+{
+    track(tmp);
+}
+
+void lg_temp_untrack(const char *tmp)
+{
+    untrack(tmp);
+}
+
+bool lg_temp_owner_dead(long pid)
+{
+    /* EPERM: a live process of another user; only ESRCH says nobody has the pid */
+    return pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
+/* ---- stale temporaries ------------------------------------------------------------------- */
+
+/* Whether `s` starts with six letters or digits (what mkstemp puts for XXXXXX). */
+static bool six_alnum(const char *s)
+{
+    for (int k = 0; k < 6; k++)
+        if (!isalnum((unsigned char)s[k]))
+            return false;
+    return true;
+}
+
+/* The length of "PID-XXXXXX" at `s` (the pid's digits, a dash, mkstemp's six letters and
+ * digits), with the pid in *pid, or 0 when `s` does not start so. */
+static size_t pid_and_suffix(const char *s, long *pid)
+{
+    size_t i = 0;
+    *pid = 0;
+    while (isdigit((unsigned char)s[i]) && i < 10)
+        *pid = *pid * 10 + (s[i++] - '0');
+    if (i == 0 || s[i] != '-' || !six_alnum(s + i + 1))
+        return 0;
+    return i + 7;
+}
+
+/* Removes what a killed run left beside this destination: its temporaries
+ * ("PREFIX" "PID-XXXXXX" "EXT"), their commit backups (the same + ".old") and the image
+ * writer's own temporaries inside them ("." the same ".XXXXXX"), whose PID is no running
+ * process. A live pid's are kept: the directory may be shared by concurrent renders (a pid
+ * reused since keeps them too; they go once that process is gone). Names that do not match
+ * exactly, such as the pid-less temporaries of older versions, are never touched. */
+static void remove_stale(const char *dir, const char *prefix, const char *ext)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    size_t np = strlen(prefix), ne = strlen(ext);
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        const char *name = de->d_name;
+        bool inner = name[0] == '.' && strncmp(name + 1, prefix, np) == 0;
+        const char *rest = inner ? name + 1 + np : name + np;
+        if (!inner && strncmp(name, prefix, np) != 0)
+            continue;
+        long pid;
+        size_t k = pid_and_suffix(rest, &pid);
+        if (!k || strncmp(rest + k, ext, ne) != 0)
+            continue;
+        const char *tail = rest + k + ne;
+        bool ok = inner ? strlen(tail) == 7 && tail[0] == '.' && six_alnum(tail + 1)
+                        : tail[0] == 0 || strcmp(tail, ".old") == 0;
+        if (!ok || !lg_temp_owner_dead(pid))
+            continue;
+        char *p = lg_xasprintf("%s/%s", dir, name);
+        if (unlink(p) == 0)
+            lg_hlog(LG_HINFO, "removed %s, left by process %ld, which is gone", p, pid);
+        free(p);
+    }
+    closedir(d);
+}
+
 /* ---- the set ----------------------------------------------------------------------------- */
 
 static mode_t new_file_mode(void)
@@ -207,13 +285,17 @@ int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *e
         goto out;
     }
 
-    /* ".NAME.lgtmp-XXXXXX.EXT" beside the destination: the extension stays last because it
-     * chooses the image format; the name is cut so that it stays well within NAME_MAX */
+    /* ".NAME.lgtmp-PID-XXXXXX.EXT" beside the destination: the extension stays last because
+     * it chooses the image format; the name is cut so that it stays well within NAME_MAX;
+     * the pid tells a later run whether the process that made it is gone (remove_stale) */
     const char *dot = strrchr(base, '.');
     const char *ext = dot && dot != base && strlen(dot) <= 16 ? dot : "";
     size_t stem = strlen(base) - strlen(ext);
-    char *tmp = lg_xasprintf("%.*s.%.*s.lgtmp-XXXXXX%s", (int)(base - path), path,
-                             (int)(stem > 100 ? 100 : stem), base, ext);
+    char *prefix = lg_xasprintf(".%.*s.lgtmp-", (int)(stem > 100 ? 100 : stem), base);
+    remove_stale(dir, prefix, ext);
+    char *tmp = lg_xasprintf("%.*s%s%ld-XXXXXX%s", (int)(base - path), path, prefix,
+                             (long)getpid(), ext);
+    free(prefix);
     int fd = mkostemps(tmp, (int)strlen(ext), O_CLOEXEC);
     if (fd < 0) {
         snprintf(err, errlen, "cannot write '%s': cannot create a file in the directory '%s': %s",

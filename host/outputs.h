@@ -7,7 +7,7 @@
  *   1. Before any work, lg_outputs_add() names each destination. It is checked (the directory
  *      exists and is a directory, the destination is not a directory, a FIFO or a device, an image
  *      has a known extension) and a temporary file is created beside it, in the same directory:
- *      ".NAME.lgtmp-XXXXXX.EXT". Creating it proves the directory is writable, the final rename
+ *      ".NAME.lgtmp-PID-XXXXXX.EXT". Creating it proves the directory is writable, the final rename
  *      stays inside one file system (so it is atomic), and the kept extension selects the
  *      image format when an image is written to the temporary.
  *   2. The work writes each output into its temporary (lg_outputs_temp, or the write helpers
@@ -22,6 +22,11 @@
  * SIGTERM and SIGHUP remove them before the process dies of the signal.
  *
  * Missing directories are refused, never created: the message names the directory.
+ *
+ * Stale temporaries. A process killed outright (SIGKILL, a crash) leaves its temporaries.
+ * Adding a destination removes those of earlier processes beside it whose PID (in the name)
+ * is no running process; a live process's are kept (a directory can be shared by
+ * concurrent renders); only names of exactly that pattern are touched.
  *
  * Not thread-safe (the host writes its outputs from the main thread).
  */
@@ -73,5 +78,15 @@ int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen);
 /* Removes the temporaries of an uncommitted set, then frees it; NULL is fine; *o is
  * cleared. */
 void lg_outputs_free(lg_outputs **o);
+
+/* Other temporaries the signal handler removes (the cache's entries being written):
+ * lg_temp_track before the file is created, lg_temp_untrack once it is renamed or removed.
+ * `tmp` stays the caller's and must stay valid until untracked. */
+void lg_temp_track(char *tmp);
+void lg_temp_untrack(const char *tmp);
+
+/* Whether no process has `pid` (kill(pid, 0) fails with ESRCH): the temporaries it named
+ * after itself are stale. False for this process and for a live process of another user. */
+bool lg_temp_owner_dead(long pid);
 
 #endif

@@ -296,6 +296,66 @@ output t "slow.exr"
         check(open(os.path.join(d, "slow.exr")).read() == "previous", "slow.exr replaced")
 
 
+# ---- temporaries of killed processes --------------------------------------------------------
+
+def dead_pid():
+    """The pid of a process that has exited (and been reaped)."""
+    p = subprocess.Popen(["true"])
+    p.wait()
+    return p.pid
+
+
+def wait_for(cond, what, timeout=20):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if cond():
+            return
+        time.sleep(0.02)
+    raise Fail("timed out waiting for " + what)
+
+
+def test_stale_output_temporaries():
+    """Temporaries that a dead process left beside an output (named with its pid) are
+    removed by the next render that writes there; a live process's, and names that are not
+    exactly a temporary's, are kept. A render killed with SIGKILL leaves its temporary, and
+    the next render removes it."""
+    d = fresh_dir("stale")
+    g = one_output_graph(d)
+    dead, live = dead_pid(), os.getpid()
+    stale = [".one.lgtmp-%d-aB3xYz.exr" % dead, ".one.lgtmp-%d-aB3xYz.exr.old" % dead,
+             "..one.lgtmp-%d-aB3xYz.exr.Q1w2E3" % dead]
+    kept = [".one.lgtmp-%d-aB3xYz.exr" % live, ".one.lgtmp-aB3xYz.exr",
+            ".one.lgtmp-%d-aB3xYz.exr.bak" % dead, ".one.lgtmp-%d-aB3.exr" % dead,
+            ".other.lgtmp-%d-aB3xYz.exr" % dead]
+    for n in stale + kept:
+        write(os.path.join(d, n), "")
+    run(["render", g], expect=0)
+    left = set(temporaries(d))
+    check(not (left & set(stale)), "stale temporaries kept: %s" % (left & set(stale)))
+    check(left == set(kept), "kept %s, expected %s" % (left, kept))
+    for n in kept:
+        os.unlink(os.path.join(d, n))
+    # SIGKILL: nothing can clean up, so the temporary stays, named with the pid ...
+    slow = write(os.path.join(d, "slow.lgraph"), """lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 64, height = 64 }
+t = reinhard { image = c, key = 0.18 }
+output t "one.exr"
+""")
+    p = subprocess.Popen([EXE, "render", slow, "--every-frame", "--frames", "1000000"],
+                         env=env_for(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        wait_for(lambda: temporaries(d), "the render's temporary")
+    finally:
+        p.kill()
+        p.wait()
+    left = temporaries(d)
+    check(left == [".one.lgtmp-%d-%s" % (p.pid, left[0][-10:])] if left else False,
+          "SIGKILL left %s (pid %d)" % (left, p.pid))
+    # ... and the next render removes it
+    run(["render", g], expect=0)
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+
+
 # ---- plugin scanning ------------------------------------------------------------------------
 
 def test_scan_timeout():
