@@ -356,6 +356,60 @@ output t "one.exr"
     check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
 
 
+def cached_graph(d, salt):
+    return write(os.path.join(d, "cached%d.lgraph" % salt), """lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 4, height = 4 }
+m = test_cached { image = c, salt = %d }
+output m "mean.hdr"
+""" % salt)
+
+
+def cache_temporaries(cache):
+    return [n for n in os.listdir(cache) if ".lgc.tmp" in n] if os.path.isdir(cache) else []
+
+
+def test_cache_signal():
+    """SIGINT in the middle of writing a cache entry removes the entry's temporary
+    (LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE holds the write half way); SIGKILL leaves it, and the
+    next render removes it, keeping a live process's."""
+    d = fresh_dir("cachesig")
+    cache = os.path.join(d, "cache")
+    tp = os.environ["LG_TEST_PLUGINS"] + ":" + CORE
+    env = dict(env_for(tp), LIGHTGRAPH_CACHE_DIR=cache, LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE="30")
+    for sig, salt in ((signal.SIGINT, 1), (signal.SIGTERM, 2), (signal.SIGKILL, 3)):
+        p = subprocess.Popen([EXE, "render", cached_graph(d, salt)], env=env,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        try:
+            wait_for(lambda: any(os.path.getsize(os.path.join(cache, n)) > 0
+                                 for n in cache_temporaries(cache)),
+                     "the cache entry's temporary, half written")
+            check(p.poll() is None, "still writing")
+            p.send_signal(sig)
+            _, err = p.communicate(timeout=20)
+        finally:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+        check(p.returncode == -sig, "died of %s: exit %s %s" % (sig, p.returncode, err))
+        left = cache_temporaries(cache)
+        if sig != signal.SIGKILL:
+            check(left == [], "%s left %s" % (sig, left))
+        else:
+            check(len(left) == 1 and left[0].endswith(".lgc.tmp%d" % p.pid),
+                  "SIGKILL left %s (pid %d)" % (left, p.pid))
+        check(not os.path.exists(os.path.join(d, "mean.hdr")), "mean.hdr written")
+    # a live process's temporary and names of another pattern are kept; the dead one goes
+    live = "test_cached-%s.lgc.tmp%d" % ("0" * 32, os.getpid())
+    other = ["test_cached-%s.lgc.tmp%dx" % ("0" * 32, dead_pid()), "notes.lgc.tmp1"]
+    for n in [live] + other:
+        write(os.path.join(cache, n), "")
+    p = run(["render", cached_graph(d, 4)], expect=0, plugin_path=tp,
+            extra_env={"LIGHTGRAPH_CACHE_DIR": cache})
+    check("testcache: computed" in p.stderr, p.stderr)
+    left = sorted(n for n in os.listdir(cache) if ".lgc.tmp" in n)
+    check(left == sorted([live] + other), "left %s" % left)
+
+
 # ---- plugin scanning ------------------------------------------------------------------------
 
 def test_scan_timeout():
