@@ -19,6 +19,8 @@ typedef struct entry {
     char *abs;    /* normalised, to find the same destination again */
     char *tmp;    /* the temporary beside it */
     char *backup; /* during the commit: a hard link to the previous file, if any */
+    char *owner;  /* a node's file: "node 'vol' (mesh_file)"; NULL for the run's own */
+    bool written; /* something was written into the temporary */
 } entry;
 
 struct lg_outputs {
@@ -232,15 +234,23 @@ static entry *find(const lg_outputs *o, const char *path)
     return found;
 }
 
-int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
-                   size_t errlen)
+static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char *owner,
+               char *err, size_t errlen)
 {
     if (!path || !path[0]) {
         snprintf(err, errlen, "an output file name is empty");
         return -1;
     }
-    if (find(o, path))
-        return 0;
+    const entry *have = find(o, path);
+    if (have) {
+        if ((!have->owner && !owner) || (have->owner && owner && !strcmp(have->owner, owner)))
+            return 0;
+        /* two writers of one destination: one of them would be lost */
+        snprintf(err, errlen, "cannot write '%s' as %s: it is already %s", path,
+                 owner ? owner : "an output of the render",
+                 have->owner ? have->owner : "an output of the render");
+        return -1;
+    }
     const char *slash = strrchr(path, '/');
     const char *base = slash ? slash + 1 : path;
     if (!base[0] || strcmp(base, ".") == 0 || strcmp(base, "..") == 0) {
@@ -312,11 +322,24 @@ int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *e
     e->path = lg_xstrdup(path);
     e->abs = lg_path_absolute(path);
     e->tmp = tmp;
+    e->owner = owner ? lg_xstrdup(owner) : NULL;
     track(tmp);
     rc = 0;
 out:
     free(dir);
     return rc;
+}
+
+int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
+                   size_t errlen)
+{
+    return add(o, path, kind, NULL, err, errlen);
+}
+
+int lg_outputs_add_owned(lg_outputs *o, const char *path, const char *owner, char *err,
+                         size_t errlen)
+{
+    return add(o, path, LG_OUTPUT_FILE, owner, err, errlen);
 }
 
 const char *lg_outputs_temp(const lg_outputs *o, const char *path)
@@ -337,6 +360,7 @@ int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
     /* busy, so that lg_image_write's own temporary is always renamed or removed */
     busy();
     int rc = lg_image_write(e->tmp, img, wo, why, sizeof why);
+    e->written = true;
     not_busy();
     if (rc)
         snprintf(err, errlen, "cannot write '%s': %s", path, why);
@@ -352,6 +376,7 @@ int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, siz
         return -1;
     }
     busy();
+    e->written = true;
     int fd = open(e->tmp, O_WRONLY | O_TRUNC | O_CLOEXEC);
     int rc = fd < 0 ? -1 : 0;
     const char *p = data;
@@ -389,6 +414,7 @@ static void remove_entry(lg_outputs *o, size_t i, bool unlink_tmp)
     free(e->abs);
     free(e->tmp);
     free(e->backup);
+    free(e->owner);
     o->e[i] = o->e[--o->n];
 }
 
@@ -409,6 +435,14 @@ int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen)
         not_busy();
         return -1;
     }
+    /* a node's file that the node never wrote (it was gated, or did not run): no empty
+     * file takes the place of the destination */
+    for (size_t i = o->n; i-- > 0;)
+        if (o->e[i].owner && !o->e[i].written) {
+            lg_hlog(LG_HINFO, "%s: '%s' not written (the node wrote nothing)", o->e[i].owner,
+                    o->e[i].path);
+            remove_entry(o, i, true);
+        }
     /* keep each previous file as a hard link, so that a rename failing part way can put
      * back what the earlier ones replaced */
     for (size_t i = 0; i < o->n; i++) {

@@ -1,8 +1,9 @@
 /*
  * host/outputs.h: all-or-nothing output files (private to the host).
  *
- * Every command that writes files (render and its --profile-json, sweep, diff --heatmap) goes
- * through one set of outputs, in three steps:
+ * Every command that writes files (render and its --profile-json, sweep, diff --heatmap, and
+ * the files nodes write: parameters marked LG_ROLE_OUTPUT_FILE) goes through one set of
+ * outputs, in three steps:
  *
  *   1. Before any work, lg_outputs_add() names each destination. It is checked (the directory
  *      exists and is a directory, the destination is not a directory, a FIFO or a device, an image
@@ -54,6 +55,15 @@ lg_outputs *lg_outputs_new(void);
  * not exist (lightgraph does not create directories)"). */
 int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
                    size_t errlen);
+
+/* A file a node writes (a parameter marked LG_ROLE_OUTPUT_FILE), checked and reserved like
+ * an LG_OUTPUT_FILE. `owner` says whose it is ("node 'vol' (mesh_file)"; copied): a
+ * destination that another owner, or the run's own outputs, already holds is refused
+ * (adding it again under the same owner returns 0, as lg_outputs_add does). It is written
+ * with lg_outputs_write_data; one that was never written when the set is committed (the
+ * node was gated or failed to run) is dropped: no file is made and the previous one stays. */
+int lg_outputs_add_owned(lg_outputs *o, const char *path, const char *owner, char *err,
+                         size_t errlen);
 
 /* The temporary file that stands for `path` until the commit, or NULL when `path` was not
  * added. Owned by the set. */
