@@ -11,11 +11,17 @@
  */
 #include "host.h"
 
+#include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
+
+#include "outputs.h"
 
 #define CACHE_MAX_KEY 1024u
 
@@ -125,6 +131,45 @@ static int mkdir_p(const char *dir, mode_t mode)
     return rc;
 }
 
+/* Whether `name` is an entry's temporary, "NAME-HEX32.lgc.tmpPID" (put_entry), with its pid. */
+static bool temporary_name(const char *name, long *pid)
+{
+    const char *t = strstr(name, ".lgc.tmp");
+    if (!t || t - name < 34 || t[-33] != '-')
+        return false;
+    for (const char *h = t - 32; h < t; h++)
+        if (!isxdigit((unsigned char)*h))
+            return false;
+    const char *d = t + strlen(".lgc.tmp");
+    size_t nd = strspn(d, "0123456789");
+    if (nd == 0 || nd > 10 || d[nd])
+        return false;
+    *pid = strtol(d, NULL, 10);
+    return true;
+}
+
+/* Removes the entry temporaries that processes killed outright (SIGKILL, a crash, a power
+ * cut) left in the cache: those whose pid is no running process. The directory may be
+ * shared by concurrent renders, so a live pid's are kept, and only names of exactly the
+ * temporary's pattern are touched. Once per render, when the directory is first used. */
+static void remove_stale(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        long pid;
+        if (!temporary_name(de->d_name, &pid) || !lg_temp_owner_dead(pid))
+            continue;
+        char *p = lg_xasprintf("%s/%s", dir, de->d_name);
+        if (unlink(p) == 0)
+            lg_hlog(LG_HINFO, "cache: removed %s, left by process %ld, which is gone", p, pid);
+        free(p);
+    }
+    closedir(d);
+}
+
 /* The checked cache directory, or NULL: not there yet and !create (a miss), or disabled
  * (warned once). */
 static const char *cache_ready(lg_exec *ex, bool create)
@@ -166,6 +211,7 @@ static const char *cache_ready(lg_exec *ex, bool create)
         return NULL;
     }
     ex->cache_dir = c.dir;
+    remove_stale(ex->cache_dir);
     return ex->cache_dir;
 }
 
@@ -248,6 +294,66 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     return LG_OK;
 }
 
+/* A test hook: LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE=S pauses S seconds (at most 60) half way
+ * through writing an entry, so that a test can interrupt the write at a known point. */
+static void test_pause(void)
+{
+    const char *e = getenv("LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE");
+    double s = e ? strtod(e, NULL) : 0;
+    if (!(s > 0))
+        return;
+    s = s < 60 ? s : 60;
+    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR)
+        ;
+}
+
+/* Writes the entry through "PATH.tmpPID", renamed into place. The temporary is on the
+ * signal handler's list (outputs.h) from before it exists until it is renamed or removed:
+ * SIGINT, SIGTERM or SIGHUP in the middle of a large entry leaves no torn file; the pid in
+ * its name lets a later run remove one that SIGKILL left (remove_stale). Sets errno on
+ * failure. */
+static int put_entry(const char *path, const void *data, size_t n)
+{
+    char *tmp = lg_xasprintf("%s.tmp%ld", path, (long)getpid());
+    lg_temp_track(tmp);
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    int rc = fd < 0 ? -1 : 0, saved = fd < 0 ? errno : 0;
+    const char *p = data;
+    size_t left = n, half = n / 2;
+    while (rc == 0 && left > 0) {
+        size_t chunk = left > ((size_t)1 << 24) ? (size_t)1 << 24 : left;
+        if (n - left < half && n - left + chunk > half)
+            chunk = half - (n - left);
+        ssize_t w = write(fd, p, chunk);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            rc = -1;
+            saved = w < 0 ? errno : EIO;
+            break;
+        }
+        p += w;
+        left -= (size_t)w;
+        if (n - left == half && half)
+            test_pause();
+    }
+    if (fd >= 0 && close(fd) != 0 && rc == 0) {
+        rc = -1;
+        saved = errno;
+    }
+    if (rc == 0 && rename(tmp, path) != 0) {
+        rc = -1;
+        saved = errno;
+    }
+    if (rc)
+        unlink(tmp);
+    lg_temp_untrack(tmp);
+    free(tmp);
+    errno = saved;
+    return rc;
+}
+
 int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
 {
     if (!key_ok(n, key))
@@ -261,7 +367,7 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
     lg_str b = {0};
     lg_cache_entry_encode(&b, &n->identity, key, data, size);
     int rc = 0;
-    if (lg_write_file_atomic(path, b.s, b.len) != 0) {
+    if (put_entry(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,
                 strerror(errno));
         rc = LG_ERR_IO;

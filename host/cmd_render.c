@@ -216,6 +216,27 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
         fprintf(stderr, "lightgraph: --profile-json: %s; nothing was run\n", err);
         return 1;
     }
+    /* the files nodes write (LG_ROLE_OUTPUT_FILE, set to a path): checked here with the
+     * others, written by the node into the temporary (lg_output_file_write), committed
+     * with the others or not at all */
+    for (uint32_t i = 0; i < c->n_nodes; i++) {
+        const lg_cnode *cn = &c->nodes[i];
+        for (uint32_t k = 0; cn->type && k < cn->type->n_params; k++) {
+            const lg_param_desc *pd = &cn->type->params[k];
+            const char *path = cn->params[k].s;
+            if (pd->role != LG_ROLE_OUTPUT_FILE || pd->type != LG_PARAM_PATH || !path ||
+                !path[0])
+                continue;
+            char *owner = lg_xasprintf("node '%s' (%s)", cn->g->name, pd->key);
+            int bad = lg_outputs_add_owned(out, path, owner, err, sizeof err);
+            if (bad)
+                fprintf(stderr, "lightgraph: node '%s', parameter %s: %s; nothing was run\n",
+                        cn->g->name, pd->key, err);
+            free(owner);
+            if (bad)
+                return 1;
+        }
+    }
     return 0;
 }
 

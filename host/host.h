@@ -255,6 +255,7 @@ typedef struct lg_pnode {
     bool lent;                   /* adopted by a newer plan that is not committed yet */
     uint32_t prev_index;         /* while lent: its index in the plan it came from */
     bool crashed;                /* a callback crashed under the guard: never called again */
+    bool output_file_noted;      /* the viewer said it does not write the node's files */
     double avg_cpu_ms, avg_gpu_ms; /* the viewer's moving averages */
 } lg_pnode;
 

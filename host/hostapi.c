@@ -2,6 +2,7 @@
  * boundary and reports misuse with the node's name, since a plugin bug should read as
  * such and not as a host crash. */
 #include "host.h"
+#include "outputs.h"
 #include "pool.h"
 
 #include <stdarg.h>
@@ -35,6 +36,15 @@ void lg_node_errorf(lg_pnode *n, const char *fmt, ...)
     vnode_msg(n, LG_HERR, fmt, ap);
     va_end(ap);
     n->ex->failed = true;
+}
+
+static void node_warnf(lg_pnode *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void node_warnf(lg_pnode *n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vnode_msg(n, LG_HWARN, fmt, ap);
+    va_end(ap);
 }
 
 static void api_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
@@ -75,7 +85,20 @@ static const lg_value *api_param(lg_node *n, uint32_t index)
                        p->schema->n_params);
         return NULL;
     }
-    return &p->c->params[index];
+    const lg_value *v = &p->c->params[index];
+    /* without a set of outputs (lightgraph view) no node writes a file: the node reads ""
+     * and so writes nothing, rather than rewriting it on every camera move */
+    if (p->schema->params[index].role == LG_ROLE_OUTPUT_FILE && !p->ex->opts.outputs &&
+        v->s && v->s[0]) {
+        static const lg_value none = {.type = LG_PARAM_PATH, .s = ""};
+        if (!p->output_file_noted)
+            node_warnf(p, "%s '%s' is not written: the viewer writes no files but its "
+                          "screenshots (lightgraph render writes it)",
+                       p->schema->params[index].key, v->s);
+        p->output_file_noted = true;
+        return &none;
+    }
+    return v;
 }
 
 static int32_t api_param_index(lg_node *n, const char *key)
@@ -655,6 +678,38 @@ static int api_parallel_for(lg_node *n, size_t count, size_t grain,
     return 0;
 }
 
+static int api_output_file_write(lg_node *n, const char *key, const void *data, size_t size)
+{
+    lg_pnode *p = P(n);
+    const lg_param_desc *pd = NULL;
+    uint32_t i = 0;
+    for (; key && i < p->schema->n_params && !pd; i++)
+        if (strcmp(p->schema->params[i].key, key) == 0)
+            pd = &p->schema->params[i];
+    if (!pd || pd->role != LG_ROLE_OUTPUT_FILE || pd->type != LG_PARAM_PATH)
+        return lg_node_errorf(p, "output_file_write: parameter '%s' is not a file the node "
+                                 "writes (a PATH parameter with .role = LG_ROLE_OUTPUT_FILE)",
+                              key ? key : "(null)"),
+               LG_ERR_INVALID;
+    if (!data && size)
+        return lg_node_errorf(p, "output_file_write(%s): data is NULL", key), LG_ERR_INVALID;
+    struct lg_outputs *outs = p->ex->opts.outputs;
+    if (!outs)
+        return 0; /* the viewer: the file is not written (api_param said so) */
+    const char *path = p->c->params[i - 1].s;
+    if (!path || !path[0])
+        return lg_node_errorf(p, "output_file_write: parameter %s names no file", key),
+               LG_ERR_INVALID;
+    char err[1024];
+    if (!lg_outputs_temp(outs, path))
+        return lg_node_errorf(p, "%s: '%s' was not checked as an output before the run (a "
+                                 "host bug)", key, path),
+               LG_ERR_INVALID;
+    if (lg_outputs_write_data(outs, path, data, size, err, sizeof err))
+        return lg_node_errorf(p, "%s: %s", key, err), LG_ERR_IO;
+    return 0;
+}
+
 static void api_account_alloc(lg_node *n, uint64_t bytes)
 {
     P(n)->bytes_alloc += bytes;
@@ -705,6 +760,7 @@ void lg_host_api_init(lg_host_api *a)
     a->part = api_part;
     a->cpu_workers = api_cpu_workers;
     a->parallel_for = api_parallel_for;
+    a->output_file_write = api_output_file_write;
 }
 
 int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)

@@ -1,6 +1,8 @@
 /* All-or-nothing output files. See outputs.h. */
 #include "outputs.h"
 
+#include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -17,6 +19,8 @@ typedef struct entry {
     char *abs;    /* normalised, to find the same destination again */
     char *tmp;    /* the temporary beside it */
     char *backup; /* during the commit: a hard link to the previous file, if any */
+    char *owner;  /* a node's file: "node 'vol' (mesh_file)"; NULL for the run's own */
+    bool written; /* something was written into the temporary */
 } entry;
 
 struct lg_outputs {
@@ -120,6 +124,82 @@ static void untrack(const char *tmp)
     not_busy();
 }
 
+void lg_temp_track(char *tmp)
+{
+    track(tmp);
+}
+
+void lg_temp_untrack(const char *tmp)
+{
+    untrack(tmp);
+}
+
+bool lg_temp_owner_dead(long pid)
+{
+    /* EPERM: a live process of another user; only ESRCH says nobody has the pid */
+    return pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
+/* ---- stale temporaries ------------------------------------------------------------------- */
+
+/* Whether `s` starts with six letters or digits (what mkstemp puts for XXXXXX). */
+static bool six_alnum(const char *s)
+{
+    for (int k = 0; k < 6; k++)
+        if (!isalnum((unsigned char)s[k]))
+            return false;
+    return true;
+}
+
+/* The length of "PID-XXXXXX" at `s` (the pid's digits, a dash, mkstemp's six letters and
+ * digits), with the pid in *pid, or 0 when `s` does not start so. */
+static size_t pid_and_suffix(const char *s, long *pid)
+{
+    size_t i = 0;
+    *pid = 0;
+    while (isdigit((unsigned char)s[i]) && i < 10)
+        *pid = *pid * 10 + (s[i++] - '0');
+    if (i == 0 || s[i] != '-' || !six_alnum(s + i + 1))
+        return 0;
+    return i + 7;
+}
+
+/* Removes what a killed run left beside this destination: its temporaries
+ * ("PREFIX" "PID-XXXXXX" "EXT"), their commit backups (the same + ".old") and the image
+ * writer's own temporaries inside them ("." the same ".XXXXXX"), whose PID is no running
+ * process. A live pid's are kept: the directory may be shared by concurrent renders (a pid
+ * reused since keeps them too; they go once that process is gone). Names that do not match
+ * exactly, such as the pid-less temporaries of older versions, are never touched. */
+static void remove_stale(const char *dir, const char *prefix, const char *ext)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    size_t np = strlen(prefix), ne = strlen(ext);
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        const char *name = de->d_name;
+        bool inner = name[0] == '.' && strncmp(name + 1, prefix, np) == 0;
+        const char *rest = inner ? name + 1 + np : name + np;
+        if (!inner && strncmp(name, prefix, np) != 0)
+            continue;
+        long pid;
+        size_t k = pid_and_suffix(rest, &pid);
+        if (!k || strncmp(rest + k, ext, ne) != 0)
+            continue;
+        const char *tail = rest + k + ne;
+        bool ok = inner ? strlen(tail) == 7 && tail[0] == '.' && six_alnum(tail + 1)
+                        : tail[0] == 0 || strcmp(tail, ".old") == 0;
+        if (!ok || !lg_temp_owner_dead(pid))
+            continue;
+        char *p = lg_xasprintf("%s/%s", dir, name);
+        if (unlink(p) == 0)
+            lg_hlog(LG_HINFO, "removed %s, left by process %ld, which is gone", p, pid);
+        free(p);
+    }
+    closedir(d);
+}
+
 /* ---- the set ----------------------------------------------------------------------------- */
 
 static mode_t new_file_mode(void)
@@ -154,15 +234,23 @@ static entry *find(const lg_outputs *o, const char *path)
     return found;
 }
 
-int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
-                   size_t errlen)
+static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char *owner,
+               char *err, size_t errlen)
 {
     if (!path || !path[0]) {
         snprintf(err, errlen, "an output file name is empty");
         return -1;
     }
-    if (find(o, path))
-        return 0;
+    const entry *have = find(o, path);
+    if (have) {
+        if ((!have->owner && !owner) || (have->owner && owner && !strcmp(have->owner, owner)))
+            return 0;
+        /* two writers of one destination: one of them would be lost */
+        snprintf(err, errlen, "cannot write '%s' as %s: it is already %s", path,
+                 owner ? owner : "an output of the render",
+                 have->owner ? have->owner : "an output of the render");
+        return -1;
+    }
     const char *slash = strrchr(path, '/');
     const char *base = slash ? slash + 1 : path;
     if (!base[0] || strcmp(base, ".") == 0 || strcmp(base, "..") == 0) {
@@ -207,13 +295,17 @@ int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *e
         goto out;
     }
 
-    /* ".NAME.lgtmp-XXXXXX.EXT" beside the destination: the extension stays last because it
-     * chooses the image format; the name is cut so that it stays well within NAME_MAX */
+    /* ".NAME.lgtmp-PID-XXXXXX.EXT" beside the destination: the extension stays last because
+     * it chooses the image format; the name is cut so that it stays well within NAME_MAX;
+     * the pid tells a later run whether the process that made it is gone (remove_stale) */
     const char *dot = strrchr(base, '.');
     const char *ext = dot && dot != base && strlen(dot) <= 16 ? dot : "";
     size_t stem = strlen(base) - strlen(ext);
-    char *tmp = lg_xasprintf("%.*s.%.*s.lgtmp-XXXXXX%s", (int)(base - path), path,
-                             (int)(stem > 100 ? 100 : stem), base, ext);
+    char *prefix = lg_xasprintf(".%.*s.lgtmp-", (int)(stem > 100 ? 100 : stem), base);
+    remove_stale(dir, prefix, ext);
+    char *tmp = lg_xasprintf("%.*s%s%ld-XXXXXX%s", (int)(base - path), path, prefix,
+                             (long)getpid(), ext);
+    free(prefix);
     int fd = mkostemps(tmp, (int)strlen(ext), O_CLOEXEC);
     if (fd < 0) {
         snprintf(err, errlen, "cannot write '%s': cannot create a file in the directory '%s': %s",
@@ -230,11 +322,24 @@ int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *e
     e->path = lg_xstrdup(path);
     e->abs = lg_path_absolute(path);
     e->tmp = tmp;
+    e->owner = owner ? lg_xstrdup(owner) : NULL;
     track(tmp);
     rc = 0;
 out:
     free(dir);
     return rc;
+}
+
+int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
+                   size_t errlen)
+{
+    return add(o, path, kind, NULL, err, errlen);
+}
+
+int lg_outputs_add_owned(lg_outputs *o, const char *path, const char *owner, char *err,
+                         size_t errlen)
+{
+    return add(o, path, LG_OUTPUT_FILE, owner, err, errlen);
 }
 
 const char *lg_outputs_temp(const lg_outputs *o, const char *path)
@@ -255,6 +360,7 @@ int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
     /* busy, so that lg_image_write's own temporary is always renamed or removed */
     busy();
     int rc = lg_image_write(e->tmp, img, wo, why, sizeof why);
+    e->written = true;
     not_busy();
     if (rc)
         snprintf(err, errlen, "cannot write '%s': %s", path, why);
@@ -270,6 +376,7 @@ int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, siz
         return -1;
     }
     busy();
+    e->written = true;
     int fd = open(e->tmp, O_WRONLY | O_TRUNC | O_CLOEXEC);
     int rc = fd < 0 ? -1 : 0;
     const char *p = data;
@@ -307,6 +414,7 @@ static void remove_entry(lg_outputs *o, size_t i, bool unlink_tmp)
     free(e->abs);
     free(e->tmp);
     free(e->backup);
+    free(e->owner);
     o->e[i] = o->e[--o->n];
 }
 
@@ -327,6 +435,14 @@ int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen)
         not_busy();
         return -1;
     }
+    /* a node's file that the node never wrote (it was gated, or did not run): no empty
+     * file takes the place of the destination */
+    for (size_t i = o->n; i-- > 0;)
+        if (o->e[i].owner && !o->e[i].written) {
+            lg_hlog(LG_HINFO, "%s: '%s' not written (the node wrote nothing)", o->e[i].owner,
+                    o->e[i].path);
+            remove_entry(o, i, true);
+        }
     /* keep each previous file as a hard link, so that a rename failing part way can put
      * back what the earlier ones replaced */
     for (size_t i = 0; i < o->n; i++) {

@@ -1,13 +1,14 @@
 /*
  * host/outputs.h: all-or-nothing output files (private to the host).
  *
- * Every command that writes files (render and its --profile-json, sweep, diff --heatmap) goes
- * through one set of outputs, in three steps:
+ * Every command that writes files (render and its --profile-json, sweep, diff --heatmap, and
+ * the files nodes write: parameters marked LG_ROLE_OUTPUT_FILE) goes through one set of
+ * outputs, in three steps:
  *
  *   1. Before any work, lg_outputs_add() names each destination. It is checked (the directory
  *      exists and is a directory, the destination is not a directory, a FIFO or a device, an image
  *      has a known extension) and a temporary file is created beside it, in the same directory:
- *      ".NAME.lgtmp-XXXXXX.EXT". Creating it proves the directory is writable, the final rename
+ *      ".NAME.lgtmp-PID-XXXXXX.EXT". Creating it proves the directory is writable, the final rename
  *      stays inside one file system (so it is atomic), and the kept extension selects the
  *      image format when an image is written to the temporary.
  *   2. The work writes each output into its temporary (lg_outputs_temp, or the write helpers
@@ -22,6 +23,11 @@
  * SIGTERM and SIGHUP remove them before the process dies of the signal.
  *
  * Missing directories are refused, never created: the message names the directory.
+ *
+ * Stale temporaries. A process killed outright (SIGKILL, a crash) leaves its temporaries.
+ * Adding a destination removes those of earlier processes beside it whose PID (in the name)
+ * is no running process; a live process's are kept (a directory can be shared by
+ * concurrent renders); only names of exactly that pattern are touched.
  *
  * Not thread-safe (the host writes its outputs from the main thread).
  */
@@ -50,6 +56,15 @@ lg_outputs *lg_outputs_new(void);
 int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
                    size_t errlen);
 
+/* A file a node writes (a parameter marked LG_ROLE_OUTPUT_FILE), checked and reserved like
+ * an LG_OUTPUT_FILE. `owner` says whose it is ("node 'vol' (mesh_file)"; copied): a
+ * destination that another owner, or the run's own outputs, already holds is refused
+ * (adding it again under the same owner returns 0, as lg_outputs_add does). It is written
+ * with lg_outputs_write_data; one that was never written when the set is committed (the
+ * node was gated or failed to run) is dropped: no file is made and the previous one stays. */
+int lg_outputs_add_owned(lg_outputs *o, const char *path, const char *owner, char *err,
+                         size_t errlen);
+
 /* The temporary file that stands for `path` until the commit, or NULL when `path` was not
  * added. Owned by the set. */
 const char *lg_outputs_temp(const lg_outputs *o, const char *path);
@@ -73,5 +88,15 @@ int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen);
 /* Removes the temporaries of an uncommitted set, then frees it; NULL is fine; *o is
  * cleared. */
 void lg_outputs_free(lg_outputs **o);
+
+/* Other temporaries the signal handler removes (the cache's entries being written):
+ * lg_temp_track before the file is created, lg_temp_untrack once it is renamed or removed.
+ * `tmp` stays the caller's and must stay valid until untracked. */
+void lg_temp_track(char *tmp);
+void lg_temp_untrack(const char *tmp);
+
+/* Whether no process has `pid` (kill(pid, 0) fails with ESRCH): the temporaries it named
+ * after itself are stale. False for this process and for a live process of another user. */
+bool lg_temp_owner_dead(long pid);
 
 #endif

@@ -62,6 +62,12 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
     if (p->type == LG_PARAM_PATH_LIST && ((p->def.s && p->def.s[0]) || p->def.e != 0))
         FAIL("node type '%s', parameter '%s': a path list's default is the empty list", t->name,
              p->key);
+    /* an output file is written only where the graph names one: a default would write it
+     * on every render without anyone asking */
+    if (p->role == LG_ROLE_OUTPUT_FILE &&
+        (p->type != LG_PARAM_PATH || (p->def.s && p->def.s[0])))
+        FAIL("node type '%s', parameter '%s': an output file (LG_ROLE_OUTPUT_FILE) is a PATH "
+             "parameter whose default is \"\"", t->name, p->key);
     bool ranged = p->min < p->max;
     switch (p->type) {
     case LG_PARAM_INT:

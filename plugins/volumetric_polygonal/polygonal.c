@@ -27,12 +27,10 @@
  * (remade when the grid size or the number of lights grows) and counted with
  * lg_account_alloc; the mesh itself is generated again on every execute.
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
@@ -347,42 +345,34 @@ static void poly_fog_box(const vol_setup *v, const float light_vp[16], float lo_
 
 /* Writes every light's mesh (read back from GL) as one binary little-endian PLY: vertex
  * positions (float x y z, world) and triangles (uchar count, int indices) turning
- * counter-clockwise about the outward normal in world space. Through a temporary file and
- * rename. */
+ * counter-clockwise about the outward normal in world space. Made in memory, then handed to
+ * the host (lg_output_file_write), which checked the destination before the render and
+ * renames it into place with the render's other outputs, or not at all. */
 static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t n_lights,
                           const uint32_t grid[][2], const double flip[])
 {
-    const char *path = st->mesh_file;
-    size_t len = strlen(path);
-    char *tmp = malloc(len + 16);
-    if (!tmp)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    snprintf(tmp, len + 16, "%s.tmp-XXXXXX", path);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(tmp);
-        return lg_error_code(n, LG_ERR_IO, "mesh_file '%s': cannot create a temporary: %s",
-                             path, strerror(e));
-    }
-    FILE *f = fdopen(fd, "wb");
-    if (!f) {
-        close(fd);
-        unlink(tmp);
-        free(tmp);
-        return lg_error_code(n, LG_ERR_IO, "mesh_file '%s': %s", path, strerror(errno));
-    }
     uint64_t nv = 0, nt = 0;
     for (uint32_t l = 0; l < n_lights; l++) {
         nv += poly_vertices(grid[l][0], grid[l][1]);
         nt += poly_triangles(grid[l][0], grid[l][1]);
     }
-    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment lightgraph "
-               "volumetric_polygonal: the lit volume of %u light(s), outward "
-               "counter-clockwise\nelement vertex %llu\nproperty float x\nproperty float y\n"
-               "property float z\nelement face %llu\nproperty list uchar int "
-               "vertex_indices\nend_header\n",
-            n_lights, (unsigned long long)nv, (unsigned long long)nt);
+    char header[512];
+    int hl = snprintf(header, sizeof header,
+                      "ply\nformat binary_little_endian 1.0\ncomment lightgraph "
+                      "volumetric_polygonal: the lit volume of %u light(s), outward "
+                      "counter-clockwise\nelement vertex %llu\nproperty float x\nproperty "
+                      "float y\nproperty float z\nelement face %llu\nproperty list uchar int "
+                      "vertex_indices\nend_header\n",
+                      n_lights, (unsigned long long)nv, (unsigned long long)nt);
+    /* 12 bytes a vertex, 13 a face; at most 32 lights of 16384^2 vertices, which a 64-bit
+     * size_t holds (the allocation fails first) */
+    size_t size = (size_t)hl + (size_t)nv * 12 + (size_t)nt * 13;
+    unsigned char *out = malloc(size);
+    if (!out)
+        return lg_error_code(n, LG_ERR_NOMEM, "mesh_file: out of memory for %zu bytes", size);
+    unsigned char *w = out;
+    memcpy(w, header, (size_t)hl);
+    w += hl;
     int rc = 0;
     for (uint32_t l = 0; l < n_lights && !rc; l++) {
         uint64_t v = poly_vertices(grid[l][0], grid[l][1]);
@@ -392,8 +382,8 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
             break;
         }
         gl->GetNamedBufferSubData(st->vbuf[l], 0, (GLsizeiptr)(v * 16), buf);
-        for (uint64_t i = 0; i < v; i++)
-            fwrite(buf + 4 * i, 4, 3, f);
+        for (uint64_t i = 0; i < v; i++, w += 12)
+            memcpy(w, buf + 4 * i, 12);
         free(buf);
     }
     uint64_t offset = 0;
@@ -405,8 +395,7 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
             break;
         }
         poly_indices(grid[l][0], grid[l][1], idx);
-        for (uint64_t i = 0; i < t; i++) {
-            unsigned char three = 3;
+        for (uint64_t i = 0; i < t; i++, w += 13) {
             int32_t tri[3] = { (int32_t)(idx[3 * i] + offset), (int32_t)(idx[3 * i + 1] + offset),
                                (int32_t)(idx[3 * i + 2] + offset) };
             if (flip[l] < 0) {
@@ -414,23 +403,15 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
                 tri[1] = tri[2];
                 tri[2] = s;
             }
-            fwrite(&three, 1, 1, f);
-            fwrite(tri, 4, 3, f);
+            w[0] = 3;
+            memcpy(w + 1, tri, 12);
         }
         free(idx);
         offset += poly_vertices(grid[l][0], grid[l][1]);
     }
-    if (ferror(f) && !rc)
-        rc = lg_error_code(n, LG_ERR_IO, "mesh_file '%s': write failed", path);
-    if (fclose(f) != 0 && !rc)
-        rc = lg_error_code(n, LG_ERR_IO, "mesh_file '%s': write failed: %s", path,
-                           strerror(errno));
-    if (!rc && rename(tmp, path) != 0)
-        rc = lg_error_code(n, LG_ERR_IO, "mesh_file '%s': cannot rename the temporary: %s",
-                           path, strerror(errno));
-    if (rc)
-        unlink(tmp);
-    free(tmp);
+    if (!rc)
+        rc = lg_output_file_write(n, "mesh_file", out, size);
+    free(out);
     return rc;
 }
 
@@ -683,7 +664,7 @@ static const lg_param_desc poly_params[] = {
       .doc = "view depth where the fog ends, scene units; 0 = the camera's zfar" },
     { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
       .doc = "render again on every frame (--frames), for timing; the result is the same" },
-    { .key = "mesh_file", .type = LG_PARAM_PATH, .def.s = "",
+    { .key = "mesh_file", .type = LG_PARAM_PATH, .def.s = "", .role = LG_ROLE_OUTPUT_FILE,
       .doc = "debug: write every light's generated mesh (read back from GL) to this binary "
              "PLY file, triangles counter-clockwise about the outward normal; \"\" = none" },
 };

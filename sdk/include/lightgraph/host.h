@@ -273,7 +273,21 @@ typedef struct lg_host_api {
      * lg_set_view_independent(), which does nothing on an older host. */
     void (*set_view_independent)(lg_node *node, bool independent);
 
-    void *reserved[24];
+    /* -- since ABI 2.7: files a node writes --
+     * Writes `size` bytes of `data` as the whole content of the file named by parameter
+     * `key`, a PATH parameter the node type marks LG_ROLE_OUTPUT_FILE (lightgraph/plugin.h).
+     * The bytes go into the temporary the host made beside the destination before anything
+     * ran; the host renames it into place with the render's other outputs once everything
+     * succeeded, and removes it on a failure or a signal. Calling it again replaces the
+     * content (a node that runs every frame leaves the last frame's). Returns 0, or an
+     * LG_ERR_* after reporting the reason (the key is not an output file, the value is "",
+     * the write failed). The data is the caller's; the host copies it before returning.
+     * `lightgraph view` writes no such file: there the parameter reads "" (the host says so
+     * once), so a node that writes only when the value is not "" does nothing.
+     * Call it through lg_output_file_write(). */
+    int (*output_file_write)(lg_node *node, const char *key, const void *data, size_t size);
+
+    void *reserved[23];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -516,6 +530,23 @@ static inline void lg_set_view_independent(lg_node *n, bool independent)
     if (n->host->struct_size >= offsetof(lg_host_api, set_view_independent) + sizeof(void *) &&
         n->host->set_view_independent)
         n->host->set_view_independent(n, independent);
+}
+
+/* Since ABI 2.7: writes the file named by output-file parameter `key` (see
+ * output_file_write; the only way a plugin writes a file). On an older host, which cannot
+ * write it all or nothing, reports that and returns LG_ERR_UNSUPPORTED: nothing is
+ * written. */
+static inline int lg_output_file_write(lg_node *n, const char *key, const void *data,
+                                       size_t size)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, output_file_write) + sizeof(void *) &&
+        n->host->output_file_write)
+        return n->host->output_file_write(n, key, data, size);
+    return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                         "cannot write the file of parameter '%s': this host (ABI %u.%u) has "
+                         "no output_file_write; ABI 2.7 or later is needed",
+                         key ? key : "", (unsigned)n->host->abi_major,
+                         (unsigned)n->host->abi_minor);
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and

@@ -95,6 +95,15 @@ typedef enum lg_param_role {
      * parameters and the limit. */
     LG_ROLE_IMAGE_WIDTH,
     LG_ROLE_IMAGE_HEIGHT,
+    /* since ABI 2.7: PATH: a file the node writes (a debug dump, a mesh), "" meaning none.
+     * The default must be "" (the registry refuses another): a file is written only when
+     * the graph or --set names it. The host checks the destination with the render's other
+     * outputs before anything runs (its directory exists; it is not a directory, a FIFO or
+     * a device; no other output names it), and the node writes it only through
+     * lg_output_file_write (lightgraph/host.h): into a temporary beside it that is renamed
+     * with the render's other outputs when everything succeeded, or removed. A plugin never
+     * writes files itself. */
+    LG_ROLE_OUTPUT_FILE,
 } lg_param_role;
 
 /* One parameter of a node type, declared as data. Zero means "no": min == max means no

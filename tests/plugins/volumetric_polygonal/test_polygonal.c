@@ -31,6 +31,10 @@
  *                 closed forms; the node's profile memory grows by exactly one vertex buffer
  *                 per light (1, 2, 4, 8 lights, --profile-json)
  *   gating        fog density 0: the node is gated (its plugin not loaded), out = base
+ *   mesh_file     the PLY goes through the host's outputs (LG_ROLE_OUTPUT_FILE): a FIFO, or
+ *                 a link to one, is refused before anything runs and left as it was; a
+ *                 failure later in the render (a node after vol that fails) and a gated
+ *                 node leave no mesh and no temporary; success writes it
  *   errors        no shadows input, resolution = 1, z_limit before the near plane, a base
  *                 without depth, 33 lights: exit status != 0 and a message naming the node
  *                 and the value
@@ -40,6 +44,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "lightgraph/image.h"
 #include "lightgraph/medium.h"
@@ -861,6 +868,112 @@ static void case_errors(lg_test *t)
     expect_error(t, "33 lights", g, "more than 32");
 }
 
+/* ---- mesh_file through the host's outputs -------------------------------------------------- */
+
+/* Files in the test's folder that are temporaries: the host's (".m.lgtmp-PID-XXXXXX.ply", the
+ * image writer's "..NAME.XXXXXX") or the plugin's own of old ("m.ply.tmp-XXXXXX"). */
+static int temporaries(lg_test *t, char *names, size_t cap)
+{
+    DIR *d = opendir(lg_test_dir(t));
+    int n = 0;
+    names[0] = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        if (e->d_name[0] == '.' || strstr(e->d_name, ".tmp")) {
+            size_t k = strlen(names);
+            snprintf(names + k, cap - k, " %s", e->d_name);
+            n++;
+        }
+    }
+    if (d)
+        closedir(d);
+    return n;
+}
+
+static bool exists(lg_test *t, const char *rel)
+{
+    struct stat st;
+    return lstat(lg_test_path(t, rel), &st) == 0;
+}
+
+static void case_mesh_file(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0, 0 }, .up = { 0, 1, 0 }, .fov_deg = 40 };
+    cam_init(&c);
+    light l = mk_light(0.3, -1, 0.2, 5, 5, 5);
+    char g[16384], names[4096];
+    char *text = NULL;
+    struct stat st;
+
+    /* a FIFO, then a link to it: refused before anything runs (no image written), the FIFO
+     * still a FIFO */
+    const char *fifo = lg_test_path(t, "fifo.ply");
+    LG_TEST_CHECK(t, mkfifo(fifo, 0600) == 0, "mkfifo %s", fifo);
+    LG_TEST_CHECK(t, symlink("fifo.ply", lg_test_path(t, "link.ply")) == 0, "symlink");
+    const char *dests[] = { "fifo.ply", "link.ply" };
+    for (int k = 0; k < 2; k++) {
+        char p[64];
+        snprintf(p, sizeof p, "mesh_file = \"%s\"", dests[k]);
+        graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, p, true);
+        int rc = render(t, g, NULL, &text);
+        LG_TEST_CHECK(t, rc == 1, "%s: exit status %d, want 1", dests[k], rc);
+        LG_TEST_CHECK(t, text && strstr(text, "node 'vol', parameter mesh_file") &&
+                             strstr(text, "it is a FIFO") && strstr(text, "nothing was run"),
+                      "%s: the message lacks the node, the parameter and why:\n%s", dests[k],
+                      text ? text : "");
+        free(text);
+        text = NULL;
+        LG_TEST_CHECK(t, lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode), "the FIFO was replaced");
+        LG_TEST_CHECK(t, !exists(t, "out.exr") && !exists(t, "lit.exr"),
+                      "%s: an image was written", dests[k]);
+        LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "%s: temporaries left:%s",
+                      dests[k], names);
+    }
+
+    /* the node writes its mesh, then a node after it fails: no mesh, no temporary */
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "mesh_file = \"m.ply\"",
+          true);
+    size_t k = strlen(g);
+    snprintf(g + k, sizeof g - k, "late = test_file_writer { image = vol, fail = true }\n"
+                                  "output late \"late.exr\"\n");
+    int rc = render(t, g, NULL, &text);
+    if (text && lg_test_output_says_no_device(text))
+        LG_TEST_FAILF(t, "no GL device:\n%s", text);
+    LG_TEST_CHECK(t, rc == 1 && text && strstr(text, "failing as asked"),
+                  "the late failure: exit status %d:\n%s", rc, text ? text : "");
+    free(text);
+    text = NULL;
+    LG_TEST_CHECK(t, !exists(t, "m.ply"), "a failed render left m.ply");
+    LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "temporaries left:%s", names);
+
+    /* gated (density 0): the node never runs, no mesh file is made */
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 0.0, 64, "mesh_file = \"m.ply\"",
+          true);
+    rc = render(t, g, NULL, NULL);
+    LG_TEST_CHECK(t, rc == 0, "gated render: exit status %d", rc);
+    LG_TEST_CHECK(t, !exists(t, "m.ply"), "a gated node made m.ply");
+    LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "temporaries left:%s", names);
+
+    /* success: the PLY is written with the images */
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "mesh_file = \"m.ply\"",
+          true);
+    rc = render(t, g, NULL, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render: exit status %d", rc);
+    FILE *f = fopen(lg_test_path(t, "m.ply"), "rb");
+    char head[32] = "";
+    if (f) {
+        size_t got = fread(head, 1, sizeof head - 1, f);
+        head[got] = 0;
+        fclose(f);
+    }
+    LG_TEST_CHECK(t, strncmp(head, "ply\nformat binary_little_endian", 31) == 0,
+                  "m.ply is not a binary PLY: \"%s\"", head);
+    LG_TEST_CHECK(t, exists(t, "out.exr"), "out.exr not written");
+    LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "temporaries left:%s", names);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, POLY_TEST_PLUGIN_DIR);
@@ -873,7 +986,7 @@ int main(int argc, char **argv)
         { "shaft", case_shaft },             { "inside_shadow", case_inside_shadow },
         { "outside", case_outside },         { "outside_box", case_outside_box },
         { "lights32", case_lights32 },       { "gating", case_gating },
-        { "errors", case_errors },
+        { "errors", case_errors },           { "mesh_file", case_mesh_file },
     };
     lg_test_main_opts o = { .prefix = NULL, .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

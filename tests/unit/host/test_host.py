@@ -145,6 +145,8 @@ def test_broken_refused():
         "lg_broken_baddefault.so": "default 5 outside [0, 1]",
         "lg_broken_badkeyword.so": "parameter 'x': default keyword index 2 out of range (-1 "
                                    "for the colour .def.v, 0 .. 0 for a keyword)",
+        "lg_broken_outputdefault.so": "parameter 'x': an output file (LG_ROLE_OUTPUT_FILE) is "
+                                      "a PATH parameter whose default is \"\"",
     }
     for f, why in expect.items():
         check(f in refused, "%s was not refused (refused: %s)" % (f, list(refused)))

@@ -14,6 +14,7 @@ import os
 import shutil
 import resource
 import signal
+import stat
 import subprocess
 import sys
 import tempfile
@@ -294,6 +295,212 @@ output t "slow.exr"
         check(p.returncode == -sig, "died of %s: exit %s %s" % (sig, p.returncode, err))
         check(temporaries(d) == [], "%s left temporaries: %s" % (sig, temporaries(d)))
         check(open(os.path.join(d, "slow.exr")).read() == "previous", "slow.exr replaced")
+
+
+# ---- files nodes write (LG_ROLE_OUTPUT_FILE, ABI 2.7) ---------------------------------------
+
+TEST_PLUGINS = os.environ.get("LG_TEST_PLUGINS", "")
+
+
+def writer_graph(d, extra, name="w.lgraph", out="out.exr"):
+    """test_file_writer (tests/plugins/testnodes/testfile.c) between a constant and the
+    render's one output."""
+    return write(os.path.join(d, name), """lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 8, height = 4 }
+w = test_file_writer { image = c%s }
+output w "%s"
+""" % (", " + extra if extra else "", out))
+
+
+def test_node_file():
+    """A file a node writes goes through the render's outputs: a FIFO (or a link to one) or a
+    destination another output names is refused before anything runs, the FIFO untouched;
+    a failure after the node wrote leaves neither the file nor a temporary; success writes
+    it with the other outputs."""
+    d = fresh_dir("nodefile")
+    tp = TEST_PLUGINS + ":" + CORE
+    fifo = os.path.join(d, "dump.txt")
+    os.mkfifo(fifo)
+    p = run(["render", writer_graph(d, 'file = "dump.txt"')], expect=1, plugin_path=tp,
+            timeout=20)
+    check("node 'w', parameter file: cannot write '%s': it is a FIFO, not a regular file; "
+          "nothing was run" % fifo in p.stderr, p.stderr)
+    check(stat.S_ISFIFO(os.lstat(fifo).st_mode), "the FIFO was replaced")
+    check(not os.path.exists(os.path.join(d, "out.exr")), "out.exr written")
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+    # a symbolic link to a FIFO is judged by what it points to
+    link = os.path.join(d, "link.txt")
+    os.symlink(fifo, link)
+    p = run(["render", writer_graph(d, 'file = "link.txt"')], expect=1, plugin_path=tp,
+            timeout=20)
+    check("cannot write '%s': it is a FIFO" % link in p.stderr, p.stderr)
+    check(os.path.islink(link) and stat.S_ISFIFO(os.lstat(fifo).st_mode), "link or FIFO changed")
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+    # the render's own output and the node's file at one destination: one would be lost
+    p = run(["render", writer_graph(d, 'file = "out.exr"')], expect=1, plugin_path=tp)
+    check("cannot write '%s' as node 'w' (file): it is already an output of the render"
+          % os.path.join(d, "out.exr") in p.stderr, p.stderr)
+    check(temporaries(d) == [] and not os.path.exists(os.path.join(d, "out.exr")),
+          "files left: %s" % os.listdir(d))
+    # the node writes, then fails: no file, the previous one untouched, no temporary
+    dump = os.path.join(d, "dump2.txt")
+    write(dump, "previous\n")
+    p = run(["render", writer_graph(d, 'file = "dump2.txt", fail = true')], expect=1,
+            plugin_path=tp)
+    check("failing as asked" in p.stderr, p.stderr)
+    check(open(dump).read() == "previous\n", "dump2.txt replaced by a failed render")
+    check(not os.path.exists(os.path.join(d, "out.exr")), "out.exr written")
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+    # a parameter that is not an output file cannot be written through
+    p = run(["render", writer_graph(d, "wrong_key = true")], expect=1, plugin_path=tp)
+    check("parameter 'text' is not a file the node writes" in p.stderr, p.stderr)
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+    # success: written with the other output, the mode of any new file
+    p = run(["render", writer_graph(d, 'file = "dump2.txt", text = "mesh\\n"')], expect=0,
+            plugin_path=tp)
+    check(open(dump).read() == "mesh\n", "dump2.txt: %r" % open(dump).read())
+    check(os.path.exists(os.path.join(d, "out.exr")), "out.exr not written")
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+    # a node that does not run (no output reaches it) writes nothing, and no empty file
+    # takes the place of the previous one
+    write(dump, "previous\n")
+    g = write(os.path.join(d, "culled.lgraph"), """lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 8, height = 4 }
+w = test_file_writer { image = c, file = "dump2.txt" }
+output c "out.exr"
+""")
+    run(["render", g], expect=0, plugin_path=tp)
+    check(open(dump).read() == "previous\n", "dump2.txt replaced by a node that did not run")
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+    # sweep: checked before the reference runs, then the last run's file with the others
+    out = fresh_dir("nodefile/sweep")
+    os.unlink(dump)
+    os.mkfifo(dump)
+    g = writer_graph(d, 'file = "dump2.txt"', name="s.lgraph")
+    p = run(["sweep", g, "--vary", "w.text=a,b", "--repeat", "1", "-o", out], expect=1,
+            plugin_path=tp, timeout=20)
+    check("it is a FIFO" in p.stderr and "nothing was run" in p.stderr, p.stderr)
+    check(stat.S_ISFIFO(os.lstat(dump).st_mode), "the FIFO was replaced")
+    check(temporaries(d) == [] and temporaries(out) == [], "temporaries left")
+    os.unlink(dump)
+    run(["sweep", g, "--vary", "w.text=a,b", "--repeat", "1", "-o", out], expect=0,
+        plugin_path=tp)
+    check(open(dump).read() == "b", "the last run's file: %r" % open(dump).read())
+    check(temporaries(d) == [] and temporaries(out) == [], "temporaries left")
+
+
+# ---- temporaries of killed processes --------------------------------------------------------
+
+def dead_pid():
+    """The pid of a process that has exited (and been reaped)."""
+    p = subprocess.Popen(["true"])
+    p.wait()
+    return p.pid
+
+
+def wait_for(cond, what, timeout=20):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if cond():
+            return
+        time.sleep(0.02)
+    raise Fail("timed out waiting for " + what)
+
+
+def test_stale_output_temporaries():
+    """Temporaries that a dead process left beside an output (named with its pid) are
+    removed by the next render that writes there; a live process's, and names that are not
+    exactly a temporary's, are kept. A render killed with SIGKILL leaves its temporary, and
+    the next render removes it."""
+    d = fresh_dir("stale")
+    g = one_output_graph(d)
+    dead, live = dead_pid(), os.getpid()
+    stale = [".one.lgtmp-%d-aB3xYz.exr" % dead, ".one.lgtmp-%d-aB3xYz.exr.old" % dead,
+             "..one.lgtmp-%d-aB3xYz.exr.Q1w2E3" % dead]
+    kept = [".one.lgtmp-%d-aB3xYz.exr" % live, ".one.lgtmp-aB3xYz.exr",
+            ".one.lgtmp-%d-aB3xYz.exr.bak" % dead, ".one.lgtmp-%d-aB3.exr" % dead,
+            ".other.lgtmp-%d-aB3xYz.exr" % dead]
+    for n in stale + kept:
+        write(os.path.join(d, n), "")
+    run(["render", g], expect=0)
+    left = set(temporaries(d))
+    check(not (left & set(stale)), "stale temporaries kept: %s" % (left & set(stale)))
+    check(left == set(kept), "kept %s, expected %s" % (left, kept))
+    for n in kept:
+        os.unlink(os.path.join(d, n))
+    # SIGKILL: nothing can clean up, so the temporary stays, named with the pid ...
+    slow = write(os.path.join(d, "slow.lgraph"), """lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 64, height = 64 }
+t = reinhard { image = c, key = 0.18 }
+output t "one.exr"
+""")
+    p = subprocess.Popen([EXE, "render", slow, "--every-frame", "--frames", "1000000"],
+                         env=env_for(), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        wait_for(lambda: temporaries(d), "the render's temporary")
+    finally:
+        p.kill()
+        p.wait()
+    left = temporaries(d)
+    check(left == [".one.lgtmp-%d-%s" % (p.pid, left[0][-10:])] if left else False,
+          "SIGKILL left %s (pid %d)" % (left, p.pid))
+    # ... and the next render removes it
+    run(["render", g], expect=0)
+    check(temporaries(d) == [], "temporaries left: %s" % temporaries(d))
+
+
+def cached_graph(d, salt):
+    return write(os.path.join(d, "cached%d.lgraph" % salt), """lightgraph 1
+c = constant { color = [0.5, 1, 2], width = 4, height = 4 }
+m = test_cached { image = c, salt = %d }
+output m "mean.hdr"
+""" % salt)
+
+
+def cache_temporaries(cache):
+    return [n for n in os.listdir(cache) if ".lgc.tmp" in n] if os.path.isdir(cache) else []
+
+
+def test_cache_signal():
+    """SIGINT in the middle of writing a cache entry removes the entry's temporary
+    (LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE holds the write half way); SIGKILL leaves it, and the
+    next render removes it, keeping a live process's."""
+    d = fresh_dir("cachesig")
+    cache = os.path.join(d, "cache")
+    tp = TEST_PLUGINS + ":" + CORE
+    env = dict(env_for(tp), LIGHTGRAPH_CACHE_DIR=cache, LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE="30")
+    for sig, salt in ((signal.SIGINT, 1), (signal.SIGTERM, 2), (signal.SIGKILL, 3)):
+        p = subprocess.Popen([EXE, "render", cached_graph(d, salt)], env=env,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        try:
+            wait_for(lambda: any(os.path.getsize(os.path.join(cache, n)) > 0
+                                 for n in cache_temporaries(cache)),
+                     "the cache entry's temporary, half written")
+            check(p.poll() is None, "still writing")
+            p.send_signal(sig)
+            _, err = p.communicate(timeout=20)
+        finally:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+        check(p.returncode == -sig, "died of %s: exit %s %s" % (sig, p.returncode, err))
+        left = cache_temporaries(cache)
+        if sig != signal.SIGKILL:
+            check(left == [], "%s left %s" % (sig, left))
+        else:
+            check(len(left) == 1 and left[0].endswith(".lgc.tmp%d" % p.pid),
+                  "SIGKILL left %s (pid %d)" % (left, p.pid))
+        check(not os.path.exists(os.path.join(d, "mean.hdr")), "mean.hdr written")
+    # a live process's temporary and names of another pattern are kept; the dead one goes
+    live = "test_cached-%s.lgc.tmp%d" % ("0" * 32, os.getpid())
+    other = ["test_cached-%s.lgc.tmp%dx" % ("0" * 32, dead_pid()), "notes.lgc.tmp1"]
+    for n in [live] + other:
+        write(os.path.join(cache, n), "")
+    p = run(["render", cached_graph(d, 4)], expect=0, plugin_path=tp,
+            extra_env={"LIGHTGRAPH_CACHE_DIR": cache})
+    check("testcache: computed" in p.stderr, p.stderr)
+    left = sorted(n for n in os.listdir(cache) if ".lgc.tmp" in n)
+    check(left == sorted([live] + other), "left %s" % left)
 
 
 # ---- plugin scanning ------------------------------------------------------------------------

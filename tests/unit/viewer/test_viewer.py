@@ -36,6 +36,7 @@ usage: test_viewer.py TEST_NAME
 import os
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import tempfile
@@ -241,6 +242,26 @@ def t_headless():
           "F12's EXR is not the shown image")
     check(diff(os.path.join(TMP, "w.png"), os.path.join(TMP, "black.png"))["mean_abs"] > 0.02,
           "the window is (nearly) black")
+
+
+def t_node_file():
+    """The viewer writes no file a node would write (LG_ROLE_OUTPUT_FILE): the parameter
+    reads "" there, one warning says so, and the destination (a FIFO here) is not touched."""
+    plugins = os.environ["LG_TEST_PLUGINS"] + ":" + os.path.join(os.environ["LG_BUILD_ROOT"],
+                                                                 "plugins")
+    g = os.path.join(TMP, "file.lgraph")
+    with open(g, "w") as f:
+        f.write('lightgraph 1\nc = constant { color = [0.5, 1, 2] }\n'
+                'w = test_file_writer { image = c, file = "dump.txt" }\noutput w "w.exr"\n')
+    fifo = os.path.join(TMP, "dump.txt")
+    os.mkfifo(fifo)
+    _, out, err = view(g, ["wait_frames 3", "quit"],
+                       env=env_with_display({"LIGHTGRAPH_PLUGIN_PATH": plugins}), timeout=120)
+    check("file '%s' is not written: the viewer writes no files" % fifo in err, err[-3000:])
+    check(err.count("is not written") == 1, "said more than once:\n" + err[-3000:])
+    check(stat.S_ISFIFO(os.lstat(fifo).st_mode), "the FIFO was replaced")
+    left = [n for n in os.listdir(TMP) if n.startswith(".")]
+    check(left == [], "temporaries left: %s" % left)
 
 
 def selections(stdout):

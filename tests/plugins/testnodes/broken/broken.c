@@ -22,6 +22,10 @@ static const lg_param_desc params[] = {
     /* a colour with keywords (ABI 2.3) whose default index names no keyword */
     {.key = "x", .type = LG_PARAM_COLOR, .def.e = 2, .enum_values = keywords, .min = 0,
      .max = 1, .doc = "default keyword 2 of 1"},
+#elif defined(BROKEN_OUTPUT_DEFAULT)
+    /* an output file (ABI 2.7) with a default: it would be written on every render */
+    {.key = "x", .type = LG_PARAM_PATH, .def.s = "dump.ply", .role = LG_ROLE_OUTPUT_FILE,
+     .doc = "an output file that is not \"\" by default"},
 #else
     {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1, .doc = "fine"},
 #endif
