@@ -321,9 +321,12 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     void *data = NULL;
     size_t bytes = 0;
     if (n->host->cache_get(n, key, &data, &bytes) == LG_OK) {
-        /* an entry that does not fit is prefiltered again (and replaced) */
-        (void)ibl_chain_read(data, bytes, size, levels, samples, nf, &st->chain);
+        /* an entry that does not fit is said, prefiltered again and replaced */
+        const char *why = ibl_chain_read(data, bytes, size, levels, samples, nf, &st->chain);
         n->host->cache_free(data);
+        if (why)
+            lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again",
+                   key, why);
         if (st->chain) {
             st->chain_size = size;
             st->chain_levels = levels;

@@ -22,6 +22,14 @@ const char *ibl_chain_read(const void *data, size_t bytes, uint32_t size, uint32
     if (!c)
         return "out of memory";
     memcpy(c, (const char *)data + sizeof h, floats * sizeof(float));
+    /* a NaN or an infinity would be looked up by every glossy pixel that reaches it and
+     * spread through the tone mapper's average: the prefilter never makes one from a
+     * probe (the probe node zeroes them), so such an entry is not this node's */
+    for (size_t i = 0; i < floats; i++)
+        if (!isfinite(c[i])) {
+            free(c);
+            return "a value that is not finite";
+        }
     *chain = c;
     return NULL;
 }

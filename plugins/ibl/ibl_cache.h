@@ -19,7 +19,7 @@ typedef struct ibl_chain_header {
 /* Checks the payload `data` (`bytes` bytes, any alignment) against the chain the node
  * wants: cube face `size`, `levels` levels, `samples` samples per texel, `floats` floats.
  * Returns NULL with *chain a malloc'd copy of the floats (the caller's), or why the entry
- * is not used (its header or size disagrees, out of memory) with
+ * is not used (its header or size disagrees, a value is not finite, out of memory) with
  * *chain NULL. */
 const char *ibl_chain_read(const void *data, size_t bytes, uint32_t size, uint32_t levels,
                            uint32_t samples, size_t floats, float **chain);
