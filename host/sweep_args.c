@@ -72,17 +72,13 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
         } else if (strcmp(o, "--time") == 0) {
             a->time_node = val;
         } else if (strcmp(o, "--repeat") == 0) {
-            char *end;
-            long r = strtol(val, &end, 10);
-            if (*end || r < 1 || r > 1000)
+            /* lg_parse_uint, as every command reads a count: digits only (strtol took
+             * ' 3' and '+3', which render's --frames refuses) */
+            if (!lg_parse_uint(val, &a->repeat, 1000))
                 return bad(err, errlen, "--repeat wants 1..1000, got '%s'", val);
-            a->repeat = (uint32_t)r;
         } else if (strcmp(o, "--frames") == 0) {
-            char *end;
-            long f = strtol(val, &end, 10);
-            if (*end || f < 1 || f > 100000)
+            if (!lg_parse_uint(val, &a->frames, 100000))
                 return bad(err, errlen, "--frames wants 1..100000, got '%s'", val);
-            a->frames = (uint32_t)f;
         } else if (strcmp(o, "--size") == 0) {
             if (!lg_parse_size(val, &a->width, &a->height))
                 return bad(err, errlen, "--size wants WxH, 1..16384 each (got '%s')", val);

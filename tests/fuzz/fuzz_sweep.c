@@ -7,8 +7,9 @@
  *   - a refusal must return 2 with a one-line reason;
  *   - an acceptance must hold what sweep_args.h promises: a graph, 1 to 8 --vary each with
  *     a key and values that are non-empty and hold no ',', the run count their product and
- *     at most 10000, every number within its range, --gl osmesa or egl, one --set and
- *     --ref-set entry per option given;
+ *     at most 10000, every number within its range and written in digits only (as
+ *     lg_parse_uint reads the numbers of every command: no blank, no sign), --gl osmesa or
+ *     egl, one --set and --ref-set entry per option given;
  *   - the result written back as a canonical argument list (every option once, in a fixed
  *     order) parses to the same result.
  * lg_sweep_args_free runs on both, so that a leak shows under ASan.
@@ -81,6 +82,17 @@ static void check(const lg_sweep_args *a, int argc, char **argv)
     if (a->repeat < 1 || a->repeat > 1000 || a->frames < 1 || a->frames > 100000 ||
         a->width < 1 || a->width > LG_MAX_SIZE || a->height < 1 || a->height > LG_MAX_SIZE)
         bad("a number out of its range");
+    /* numbers as every command reads them (lg_parse_uint): digits only, so that
+     * `--frames ' 4'` or `+4` is refused by sweep as by render */
+    for (int i = 1; i + 1 < argc; i++) {
+        if (strcmp(argv[i], "--repeat") == 0 || strcmp(argv[i], "--frames") == 0) {
+            const char *v = argv[i + 1];
+            if (!v[0] || strspn(v, "0123456789") != strlen(v))
+                bad("a --repeat or --frames that is not digits only, accepted");
+        }
+        if (takes_value(argv[i]))
+            i++;
+    }
     if (!a->gl_backend || (strcmp(a->gl_backend, "osmesa") && strcmp(a->gl_backend, "egl")))
         bad("an unknown --gl");
     if (a->n_sets != count(argc, argv, "--set") || a->n_ref_sets != count(argc, argv, "--ref-set"))
