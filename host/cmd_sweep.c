@@ -32,23 +32,14 @@
 
 #include "lightgraph/image.h"
 #include "outputs.h"
+#include "sweep_args.h"
 
-#define MAX_VARY 8
-/* at most this many combinations: each reserves two files before the first run */
-#define MAX_RUNS 10000
-#define LG_STR_(x) #x
-#define LG_STR(x) LG_STR_(x)
+typedef lg_sweep_vary vary;
 
-typedef struct vary {
-    char *key;       /* NODE.PARAM */
-    char **values;
-    int n;
-} vary;
-
-static int usage(const char *msg, const char *what)
+/* The reason (sweep_args.c), then the usage. */
+static int usage(const char *msg)
 {
-    if (msg)
-        fprintf(stderr, msg, what);
+    fprintf(stderr, "lightgraph sweep: %s\n", msg);
     fprintf(stderr,
             "usage: lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]\n"
             "                        [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...\n"
@@ -154,95 +145,30 @@ static int run_gnuplot(const char *dir, const char *gp, const char *csv, const c
 
 int lg_cmd_sweep(int argc, char **argv)
 {
-    const char *graph = NULL, *reference = NULL, *time_node = NULL, *dir = "out/sweep";
-    const char **sets = lg_xcalloc((size_t)argc + 1, sizeof *sets);
-    const char **ref_sets = lg_xcalloc((size_t)argc + 1, sizeof *ref_sets);
-    int n_sets = 0, n_ref_sets = 0, n_vary = 0;
-    vary v[MAX_VARY];
-    memset(v, 0, sizeof v);
-    uint32_t repeat = 3;
+    lg_sweep_args args;
+    char err[1024];
+    int rc = lg_sweep_parse_args(argc, argv, &args, err, sizeof err);
+    if (rc) {
+        usage(err);
+        lg_sweep_args_free(&args);
+        return rc;
+    }
+    if (args.quiet)
+        lg_verbosity = -1;
+    const char *graph = args.graph, *reference = args.reference, *time_node = args.time_node;
+    const char *dir = args.dir;
+    const char **sets = args.sets, **ref_sets = args.ref_sets;
+    int n_sets = args.n_sets, n_ref_sets = args.n_ref_sets, n_vary = args.n_vary;
+    const vary *v = args.vary;
+    uint32_t repeat = args.repeat;
+    int total = args.total;
     lg_exec_opts opts;
     memset(&opts, 0, sizeof opts);
-    opts.width = 640;
-    opts.height = 360;
-    opts.frames = 1;
+    opts.width = args.width;
+    opts.height = args.height;
+    opts.frames = args.frames;
     opts.dt = 1.0 / 60.0;
-    opts.gl_backend = "osmesa";
-    int rc = 0;
-    for (int i = 1; i < argc && rc == 0; i++) {
-        const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes = strcmp(a, "--vary") == 0 || strcmp(a, "--reference") == 0 ||
-                     strcmp(a, "--ref-set") == 0 || strcmp(a, "--set") == 0 ||
-                     strcmp(a, "--time") == 0 || strcmp(a, "--repeat") == 0 ||
-                     strcmp(a, "--size") == 0 || strcmp(a, "-o") == 0 || strcmp(a, "--gl") == 0 ||
-                     strcmp(a, "--frames") == 0;
-        if (takes && !val) {
-            rc = usage("lightgraph sweep: %s needs a value\n", a);
-            break;
-        }
-        if (takes)
-            i++;
-        if (strcmp(a, "--vary") == 0) {
-            const char *eq = strchr(val, '=');
-            if (!eq || eq == val || !eq[1] || n_vary == MAX_VARY) {
-                rc = usage("lightgraph sweep: --vary wants NODE.PARAM=v1,v2,... (at most 8), "
-                           "got '%s'\n",
-                           val);
-                break;
-            }
-            v[n_vary].key = lg_xstrndup(val, (size_t)(eq - val));
-            char *list = lg_xstrdup(eq + 1);
-            for (char *save = NULL, *t = strtok_r(list, ",", &save); t;
-                 t = strtok_r(NULL, ",", &save)) {
-                v[n_vary].values =
-                    lg_xrealloc(v[n_vary].values, (size_t)(v[n_vary].n + 1) * sizeof(char *));
-                v[n_vary].values[v[n_vary].n++] = lg_xstrdup(t);
-            }
-            free(list);
-            n_vary++;
-        } else if (strcmp(a, "--reference") == 0) {
-            reference = val;
-        } else if (strcmp(a, "--ref-set") == 0) {
-            ref_sets[n_ref_sets++] = val;
-        } else if (strcmp(a, "--set") == 0) {
-            sets[n_sets++] = val;
-        } else if (strcmp(a, "--time") == 0) {
-            time_node = val;
-        } else if (strcmp(a, "--repeat") == 0) {
-            char *end;
-            long r = strtol(val, &end, 10);
-            if (*end || r < 1 || r > 1000)
-                rc = usage("lightgraph sweep: --repeat wants 1..1000, got '%s'\n", val);
-            repeat = (uint32_t)r;
-        } else if (strcmp(a, "--frames") == 0) {
-            char *end;
-            long f = strtol(val, &end, 10);
-            if (*end || f < 1 || f > 100000)
-                rc = usage("lightgraph sweep: --frames wants 1..100000, got '%s'\n", val);
-            opts.frames = (uint32_t)f;
-        } else if (strcmp(a, "--size") == 0) {
-            if (!lg_parse_size(val, &opts.width, &opts.height))
-                rc = usage("lightgraph sweep: --size wants WxH, 1..16384 each (got '%s')\n", val);
-        } else if (strcmp(a, "--gl") == 0) {
-            if (strcmp(val, "osmesa") && strcmp(val, "egl"))
-                rc = usage("lightgraph sweep: --gl wants osmesa or egl, got '%s'\n", val);
-            opts.gl_backend = val;
-        } else if (strcmp(a, "-o") == 0) {
-            dir = val;
-        } else if (strcmp(a, "-q") == 0) {
-            lg_verbosity = -1;
-        } else if (a[0] == '-') {
-            rc = usage("lightgraph sweep: unknown option '%s'\n", a);
-        } else if (!graph) {
-            graph = a;
-        } else {
-            rc = usage("lightgraph sweep: unexpected argument '%s'\n", a);
-        }
-    }
-    if (rc == 0 && !graph)
-        rc = usage("lightgraph sweep: no graph given%s\n", "");
-    if (rc == 0 && n_vary == 0)
-        rc = usage("lightgraph sweep: nothing to vary (give --vary NODE.PARAM=v1,v2,...)%s\n", "");
+    opts.gl_backend = args.gl_backend;
 
     lg_registry reg = {0};
     lg_outputs *outs = NULL;
@@ -250,21 +176,6 @@ int lg_cmd_sweep(int argc, char **argv)
     lg_str csv = {0};
     char **runs = NULL, **heats = NULL;
     char *ref_out = NULL, *csv_path = NULL, *gp_path = NULL, *png_path = NULL;
-    int total = 1;
-    char err[1024];
-    if (rc)
-        goto done;
-    for (int i = 0; i < n_vary && rc == 0; i++) {
-        if (v[i].n == 0)
-            rc = usage("lightgraph sweep: --vary %s has no values\n", v[i].key);
-        else if (total > MAX_RUNS / v[i].n)
-            rc = usage("lightgraph sweep: the --vary values make more than " LG_STR(MAX_RUNS)
-                       " runs%s\n", "");
-        else
-            total *= v[i].n;
-    }
-    if (rc)
-        goto done;
     lg_registry_scan(&reg);
 
     /* Everything is checked before the first run: every --vary value against the
@@ -470,13 +381,6 @@ done:
     lg_str_free(&csv);
     lg_image_free(&ref);
     lg_registry_free(&reg);
-    for (int i = 0; i < n_vary; i++) {
-        free(v[i].key);
-        for (int j = 0; j < v[i].n; j++)
-            free(v[i].values[j]);
-        free(v[i].values);
-    }
-    free(sets);
-    free(ref_sets);
+    lg_sweep_args_free(&args);
     return rc;
 }

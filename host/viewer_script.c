@@ -543,13 +543,29 @@ int lg_script_load(const char *path, lg_script *out, char *err, size_t errlen)
     char *text = read_script(path, &len, err, errlen);
     if (!text)
         return -1;
+    char *dir = script_dir(path);
+    if (!dir) {
+        snprintf(err, errlen, "%s: cannot find the script's folder: %s", path, strerror(errno));
+        free(text);
+        return -1;
+    }
+    int rc = lg_script_parse(path, dir, text, len, out, err, errlen);
+    free(dir);
+    free(text);
+    return rc;
+}
+
+int lg_script_parse(const char *path, const char *dir, char *text, size_t len, lg_script *out,
+                    char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    if (errlen)
+        err[0] = '\0';
     lg_script s = {0};
     s.path = dup_text(path);
-    s.dir = script_dir(path);
+    s.dir = dup_text(dir);
     if (!s.path || !s.dir) {
-        snprintf(err, errlen, "%s: cannot find the script's folder: %s", path,
-                 strerror(s.path ? errno : ENOMEM));
-        free(text);
+        snprintf(err, errlen, "%s: out of memory", path);
         lg_script_free(&s);
         return -1;
     }
@@ -596,7 +612,6 @@ int lg_script_load(const char *path, lg_script *out, char *err, size_t errlen)
         /* a failed event may hold text already: count it so that lg_script_free frees it */
         s.n++;
     }
-    free(text);
     if (rc) {
         lg_script_free(&s);
         return -1;

@@ -83,6 +83,14 @@ typedef struct lg_script {
  * "FILE:LINE: message" in err, the message naming what was expected and what was found
  * ("FILE: message" when the file cannot be read at all). */
 int lg_script_load(const char *path, lg_script *out, char *err, size_t errlen);
+/* The parsing of lg_script_load, on text already read (tests/fuzz/fuzz_script.c feeds it
+ * arbitrary bytes): `text` is `len` bytes followed by a NUL, the caller's, cut into tokens
+ * in place; `path` names the script in messages; `dir` is its folder (relative PATHs are
+ * resolved against it). No limit on `len` here (lg_script_load's is LG_SCRIPT_MAX_BYTES);
+ * the LG_SCRIPT_MAX_EVENTS limit holds. Returns as lg_script_load, *out owning copies of
+ * path and dir. */
+int lg_script_parse(const char *path, const char *dir, char *text, size_t len, lg_script *out,
+                    char *err, size_t errlen);
 /* Frees what lg_script_load made and zeroes *s; s may be zeroed already. */
 void lg_script_free(lg_script *s);
 

@@ -32,6 +32,7 @@
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
 #include "ggx_prefilter.h"
+#include "ibl_cache.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 #include "lightgraph/vecmath.h"
@@ -265,12 +266,6 @@ static int ibl_frame_in(lg_node *n, ibl_state *st, ibl_frame *f)
 
 /* ---- the GGX chain (glossy reflection) ------------------------------------------------- */
 
-/* What the cache holds: this header, then the chain's floats. */
-typedef struct ibl_chain_header {
-    char magic[8];            /* "lgibl01" */
-    uint32_t size, levels, samples, floats;
-} ibl_chain_header;
-
 static size_t ibl_chain_floats(uint32_t size, uint32_t levels)
 {
     lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE,
@@ -326,17 +321,12 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     void *data = NULL;
     size_t bytes = 0;
     if (n->host->cache_get(n, key, &data, &bytes) == LG_OK) {
-        ibl_chain_header h;
-        if (bytes == sizeof h + nf * sizeof(float)) {
-            memcpy(&h, data, sizeof h);
-            if (!memcmp(h.magic, "lgibl01", 8) && h.size == size && h.levels == levels &&
-                h.samples == samples && h.floats == nf) {
-                st->chain = malloc(nf * sizeof(float));
-                if (st->chain)
-                    memcpy(st->chain, (const char *)data + sizeof h, nf * sizeof(float));
-            }
-        }
+        /* an entry that does not fit is said, prefiltered again and replaced */
+        const char *why = ibl_chain_read(data, bytes, size, levels, samples, nf, &st->chain);
         n->host->cache_free(data);
+        if (why)
+            lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again",
+                   key, why);
         if (st->chain) {
             st->chain_size = size;
             st->chain_levels = levels;
@@ -373,13 +363,9 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
            "GGX chain prefiltered in %.3f s (cube %u, %u levels, %u samples per texel, %u "
            "threads); cached",
            ps.seconds, size, levels, samples, ps.threads);
-    size_t total = sizeof(ibl_chain_header) + nf * sizeof(float);
-    char *blob = malloc(total);
+    size_t total = 0;
+    char *blob = ibl_chain_encode(size, levels, samples, nf, st->chain, &total);
     if (blob) {
-        ibl_chain_header h = { .magic = "lgibl01", .size = size, .levels = levels,
-                               .samples = samples, .floats = (uint32_t)nf };
-        memcpy(blob, &h, sizeof h);
-        memcpy(blob + sizeof h, st->chain, nf * sizeof(float));
         n->host->cache_put(n, key, blob, total); /* a failed put is only a lost speed-up */
         free(blob);
     }

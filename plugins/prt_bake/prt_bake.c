@@ -22,6 +22,7 @@
 #include <embree3/rtcore.h>
 
 #include "lg_embree.h"
+#include "pb_cache.h"
 
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
@@ -463,21 +464,6 @@ typedef struct pb_state {
     uint32_t vertices;  /* declared in prepare */
 } pb_state;
 
-/* Cache entries: this header, then the floats. Any field that disagrees with what the node
- * asks for, a size that does not add up or a value that is not finite: the entry is not
- * trusted (a warning, then the bake runs again). */
-#define PB_CACHE_VERSION 1u
-typedef struct pb_cache_header {
-    char magic[8];        /* "lgprtb1" (bake) or "lgprtr1" (reference) */
-    uint32_t version;     /* PB_CACHE_VERSION */
-    uint32_t bands;
-    uint32_t vertices;
-    uint32_t mode;
-    uint32_t bounces;     /* bounces computed (interreflected) */
-    uint32_t samples;     /* directions per axis (bake) or cube face size (reference) */
-    uint64_t floats;      /* floats after the header */
-} pb_cache_header;
-
 static const char *const pb_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
 static const char *const pb_samplers[] = { "jittered", "hammersley", "sobol", NULL };
 static const char *const pb_visibilities[] = { "embree", "brute", NULL };
@@ -905,8 +891,8 @@ static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, ui
 }
 
 /* Looks up the node's cache entry; true with `out` (floats) filled when the entry is
- * whole and agrees with `want` (magic, version, bands, vertices, mode, samples, size,
- * every value finite). Anything else: a warning, and false. */
+ * whole and agrees with `want` (pb_cache_read: magic, version, bands, vertices, mode,
+ * samples, size, every value finite). Anything else: a warning, and false. */
 static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *want,
                           float *out, uint32_t *bounces)
 {
@@ -914,34 +900,7 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
     size_t bytes = 0;
     if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
         return false;
-    pb_cache_header h;
-    const char *why = NULL;
-    if (bytes < sizeof h) {
-        why = "shorter than its header";
-    } else {
-        memcpy(&h, data, sizeof h);
-        if (memcmp(h.magic, want->magic, 8) != 0)
-            why = "bad magic";
-        else if (h.version != want->version)
-            why = "another format version";
-        else if (h.bands != want->bands || h.vertices != want->vertices ||
-                 h.mode != want->mode || h.samples != want->samples)
-            why = "its bands, vertices, mode or samples differ from the node's";
-        else if (h.floats != want->floats || bytes != sizeof h + h.floats * sizeof(float))
-            why = "its size does not add up";
-        else if (h.bounces > 64)
-            why = "an impossible bounce count";
-    }
-    if (!why) {
-        const float *f = (const float *)((const char *)data + sizeof h);
-        for (uint64_t i = 0; i < h.floats && !why; i++)
-            if (!isfinite(f[i]))
-                why = "a value that is not finite";
-        if (!why) {
-            memcpy(out, f, h.floats * sizeof(float));
-            *bounces = h.bounces;
-        }
-    }
+    const char *why = pb_cache_read(data, bytes, want, out, bounces);
     n->host->cache_free(data);
     if (why)
         lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): computing it again", key, why);
@@ -951,12 +910,10 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
 static void pb_cache_store(lg_node *n, const char *key, const pb_cache_header *h,
                            const float *f)
 {
-    size_t total = sizeof *h + h->floats * sizeof(float);
-    char *blob = malloc(total);
+    size_t total = 0;
+    char *blob = pb_cache_encode(h, f, &total);
     if (!blob)
         return; /* a lost speed-up, not an error */
-    memcpy(blob, h, sizeof *h);
-    memcpy(blob + sizeof *h, f, h->floats * sizeof(float));
     n->host->cache_put(n, key, blob, total);
     free(blob);
 }

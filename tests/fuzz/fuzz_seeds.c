@@ -4,6 +4,8 @@
  *
  *     fuzz_seeds cache DIR
  *     fuzz_seeds registry DIR PLUGIN.so...
+ *     fuzz_seeds cache_kinds DIR
+ *     fuzz_seeds probe DIR
  *
  * cache: an entry for the identity and key of fuzz_seeds.h written by the host's own
  * encoder (lg_cache_entry_encode), an empty one, and broken ones: truncated, padded, wrong
@@ -16,16 +18,30 @@
  * lengths, an enum default whose name and index disagree, a NULL inside a list, a bool byte
  * that is not 0 or 1, an unknown neutral result.
  *
+ * cache_kinds: per kind of plugin cache payload (fuzz_cache_kinds.c) and per config of
+ * fuzz_seeds.h, the payload the plugin's own encoder writes, with the kind and config
+ * bytes before it; then broken ones: a NaN, an infinity, another magic or version, 65
+ * bounces, a float short, a chain's header for another level count.
+ *
+ * probe: small probe images in every layout (lat-long, angular, horizontal and vertical
+ * cross, 6x1 and 1x6 strip) as EXR, HDR and PNG, written by the SDK's own writer; a float
+ * EXR of three of them with a negative, a NaN and an infinite texel; and shapes the probe
+ * node refuses (10x7, 17x8 near 2:1) or reads in a corner case (1x1).
+ *
  * The files are committed; run this again when a format or a plugin's schema changes.
  */
 #include <dlfcn.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fuzz_seeds.h"
+#include "ibl_cache.h"
+#include "pb_cache.h"
 #include "host.h"
+#include "lightgraph/image.h"
 
 static int write_seed(const char *dir, const char *name, const void *data, size_t n)
 {
@@ -286,13 +302,201 @@ static int registry_seeds(const char *dir, int n, char **plugins)
     return rc;
 }
 
+
+/* ---- probe ------------------------------------------------------------------------------- */
+
+/* A small probe image in every layout the probe node knows, in each format: smooth colours
+ * (so that a face cut from the wrong cell shows), one texel out of range per EXR (negative,
+ * NaN, infinite: the node zeroes them), and shapes the node refuses or must be told about. */
+static int probe_seed(const char *dir, const char *name, uint32_t w, uint32_t h, int odd,
+                      const lg_image_write_opts *o)
+{
+    lg_image img;
+    if (lg_image_alloc(&img, w, h))
+        return -1;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            float *p = img.pixels + 4 * ((size_t)y * w + x);
+            p[0] = (float)(x + 1) / (float)w;
+            p[1] = (float)(y + 1) / (float)h;
+            p[2] = 0.25f + 0.5f * (float)((x + y) & 1);
+            p[3] = 1.0f;
+        }
+    if (odd == 1)
+        img.pixels[0] = -2.0f;
+    else if (odd == 2)
+        img.pixels[1] = NAN;
+    else if (odd == 3)
+        img.pixels[6] = INFINITY;
+    char *path = lg_path_join(dir, name);
+    char err[512];
+    int rc = lg_image_write(path, &img, o, err, sizeof err);
+    if (rc)
+        fprintf(stderr, "fuzz_seeds: %s\n", err);
+    else
+        printf("%s\n", path);
+    free(path);
+    lg_image_free(&img);
+    return rc ? -1 : 0;
+}
+
+static int probe_seeds(const char *dir)
+{
+    static const struct { const char *name; uint32_t w, h; } shapes[] = {
+        {"latlong", 16, 8}, {"angular", 8, 8},   {"cross", 16, 12}, {"vcross", 12, 16},
+        {"strip", 24, 4},   {"vstrip", 4, 24},   {"near_latlong", 17, 8}, /* ambiguous */
+        {"odd", 10, 7},     {"one", 1, 1}, /* no layout; the smallest cube face */
+    };
+    static const char *const exts[] = {"exr", "hdr", "png"};
+    lg_image_write_opts half = {0}, flt = {.exr_pixel = LG_EXR_FLOAT, .exr_compression = LG_EXR_NONE};
+    int rc = 0;
+    for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
+        for (int e = 0; e < 3; e++) {
+            /* the cross, the strip and the angular map also as float EXR, each with one
+             * value a probe cannot hold */
+            char name[64];
+            snprintf(name, sizeof name, "%s.%s", shapes[i].name, exts[e]);
+            rc |= probe_seed(dir, name, shapes[i].w, shapes[i].h, 0, &half);
+            if (e == 0 && i < 3) {
+                snprintf(name, sizeof name, "%s_float_odd.exr", shapes[i].name);
+                rc |= probe_seed(dir, name, shapes[i].w, shapes[i].h, (int)i + 1, &flt);
+            }
+        }
+    return rc;
+}
+
+/* ---- cache_kinds ------------------------------------------------------------------------- */
+
+/* A seed: the kind and config bytes, then the payload. */
+static int kind_seed(const char *dir, const char *name, int kind, unsigned config,
+                     const char *payload, size_t n)
+{
+    char *b = lg_xmalloc(n + 2);
+    b[0] = (char)kind;
+    b[1] = (char)config;
+    memcpy(b + 2, payload, n);
+    int rc = write_seed(dir, name, b, n + 2);
+    free(b);
+    return rc;
+}
+
+static float *seed_floats(size_t n)
+{
+    float *f = lg_xcalloc(n ? n : 1, sizeof *f);
+    for (size_t i = 0; i < n; i++)
+        f[i] = 0.125f * (float)(i % 17) - 0.5f;
+    return f;
+}
+
+/* Per kind and config an entry written by the plugin's own encoder (pb_cache_encode,
+ * ibl_chain_encode); for the first config of each, broken ones: a NaN, an infinity,
+ * another magic, another version (the bakes), 65 bounces (the bake), cut by one float,
+ * a float more. */
+static int cache_kind_seeds(const char *dir)
+{
+    int rc = 0;
+    char name[64];
+    for (int kind = LG_FUZZ_KIND_BAKE; kind <= LG_FUZZ_KIND_REFERENCE; kind++) {
+        const lg_fuzz_prt_config *cs = kind == LG_FUZZ_KIND_BAKE ? lg_fuzz_bake_configs
+                                                                 : lg_fuzz_reference_configs;
+        unsigned nc = kind == LG_FUZZ_KIND_BAKE
+                          ? sizeof lg_fuzz_bake_configs / sizeof lg_fuzz_bake_configs[0]
+                          : sizeof lg_fuzz_reference_configs / sizeof lg_fuzz_reference_configs[0];
+        const char *kn = kind == LG_FUZZ_KIND_BAKE ? "bake" : "reference";
+        for (unsigned c = 0; c < nc; c++) {
+            pb_cache_header h;
+            memset(&h, 0, sizeof h);
+            memcpy(h.magic, kind == LG_FUZZ_KIND_BAKE ? "lgprtb1" : "lgprtr1", 8);
+            h.version = PB_CACHE_VERSION;
+            h.bands = cs[c].bands;
+            h.vertices = cs[c].vertices;
+            h.mode = cs[c].mode;
+            h.samples = cs[c].samples;
+            h.bounces = cs[c].mode == 3 ? 3 : 0;
+            h.floats = kind == LG_FUZZ_KIND_BAKE
+                           ? (uint64_t)cs[c].vertices * 3 * cs[c].bands * cs[c].bands
+                           : (uint64_t)cs[c].vertices * 4;
+            float *f = seed_floats((size_t)h.floats);
+            size_t n = 0;
+            char *p = pb_cache_encode(&h, f, &n);
+            snprintf(name, sizeof name, "%s_%u.bin", kn, c);
+            rc |= kind_seed(dir, name, kind, c, p, n);
+            free(p);
+            if (c == 0) {
+                f[0] = NAN;
+                p = pb_cache_encode(&h, f, &n);
+                snprintf(name, sizeof name, "%s_nan.bin", kn);
+                rc |= kind_seed(dir, name, kind, c, p, n);
+                free(p);
+                f[0] = INFINITY;
+                p = pb_cache_encode(&h, f, &n);
+                snprintf(name, sizeof name, "%s_inf.bin", kn);
+                rc |= kind_seed(dir, name, kind, c, p, n);
+                free(p);
+                f[0] = 1.0f;
+                pb_cache_header o = h;
+                o.magic[6] = '9';
+                p = pb_cache_encode(&o, f, &n);
+                snprintf(name, sizeof name, "%s_magic.bin", kn);
+                rc |= kind_seed(dir, name, kind, c, p, n);
+                free(p);
+                o = h;
+                o.version = 2;
+                p = pb_cache_encode(&o, f, &n);
+                snprintf(name, sizeof name, "%s_version.bin", kn);
+                rc |= kind_seed(dir, name, kind, c, p, n);
+                free(p);
+                o = h;
+                o.bounces = 65;
+                p = pb_cache_encode(&o, f, &n);
+                snprintf(name, sizeof name, "%s_bounces.bin", kn);
+                rc |= kind_seed(dir, name, kind, c, p, n);
+                snprintf(name, sizeof name, "%s_short.bin", kn);
+                rc |= kind_seed(dir, name, kind, c, p, n - 4);
+                free(p);
+            }
+            free(f);
+        }
+    }
+    unsigned nc = sizeof lg_fuzz_chain_configs / sizeof lg_fuzz_chain_configs[0];
+    for (unsigned c = 0; c < nc; c++) {
+        const lg_fuzz_chain_config *cc = &lg_fuzz_chain_configs[c];
+        lg_image_desc d = {.width = cc->size, .height = cc->size, .flags = LG_IMAGE_CUBE,
+                           .levels = cc->levels};
+        size_t nf = 4 * lg_image_offset(&d, cc->levels, 0), n = 0;
+        float *f = seed_floats(nf);
+        char *p = ibl_chain_encode(cc->size, cc->levels, cc->samples, nf, f, &n);
+        snprintf(name, sizeof name, "chain_%u.bin", c);
+        rc |= kind_seed(dir, name, LG_FUZZ_KIND_CHAIN, c, p, n);
+        free(p);
+        if (c == 0) {
+            f[nf - 1] = NAN;
+            p = ibl_chain_encode(cc->size, cc->levels, cc->samples, nf, f, &n);
+            rc |= kind_seed(dir, "chain_nan.bin", LG_FUZZ_KIND_CHAIN, c, p, n);
+            free(p);
+            p = ibl_chain_encode(cc->size, cc->levels + 1, cc->samples, nf, f, &n);
+            rc |= kind_seed(dir, "chain_levels.bin", LG_FUZZ_KIND_CHAIN, c, p, n);
+            rc |= kind_seed(dir, "chain_short.bin", LG_FUZZ_KIND_CHAIN, c, p, n - 4);
+            free(p);
+        }
+        free(f);
+    }
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc >= 3 && strcmp(argv[1], "cache") == 0)
         return cache_seeds(argv[2]) ? 1 : 0;
     if (argc >= 4 && strcmp(argv[1], "registry") == 0)
         return registry_seeds(argv[2], argc - 3, argv + 3) ? 1 : 0;
+    if (argc >= 3 && strcmp(argv[1], "cache_kinds") == 0)
+        return cache_kind_seeds(argv[2]) ? 1 : 0;
+    if (argc >= 3 && strcmp(argv[1], "probe") == 0)
+        return probe_seeds(argv[2]) ? 1 : 0;
     fprintf(stderr, "usage: fuzz_seeds cache DIR\n"
-                    "       fuzz_seeds registry DIR PLUGIN.so...\n");
+                    "       fuzz_seeds registry DIR PLUGIN.so...\n"
+                    "       fuzz_seeds cache_kinds DIR\n"
+                    "       fuzz_seeds probe DIR\n");
     return 2;
 }
