@@ -7,6 +7,9 @@
  *                    [--set NODE.PARAM=V]... [--time NODE] [--repeat N] [--frames N]
  *                    [--size WxH] [--gl osmesa|egl] [-o DIR]
  *
+ * Each --vary names one parameter, once, and its comma-separated values, none empty
+ * ("0.1,,0.2", "0.1," and a second --vary of the same parameter are usage errors).
+ *
  * The reference is REF_GRAPH if given, else GRAPH itself with the --set and --ref-set
  * overrides (e.g. the finest tessellation and per-pixel shading). Every run gets the --set
  * overrides, then one combination of the --vary values (their cartesian product). Times
@@ -160,6 +163,7 @@ int lg_cmd_sweep(int argc, char **argv)
     int n_sets = 0, n_ref_sets = 0, n_vary = 0;
     vary v[MAX_VARY];
     memset(v, 0, sizeof v);
+    int vary_arg[MAX_VARY]; /* argv index of each --vary's value, for messages */
     uint32_t repeat = 3;
     lg_exec_opts opts;
     memset(&opts, 0, sizeof opts);
@@ -191,15 +195,44 @@ int lg_cmd_sweep(int argc, char **argv)
                 break;
             }
             v[n_vary].key = lg_xstrndup(val, (size_t)(eq - val));
-            char *list = lg_xstrdup(eq + 1);
-            for (char *save = NULL, *t = strtok_r(list, ",", &save); t;
-                 t = strtok_r(NULL, ",", &save)) {
-                v[n_vary].values =
-                    lg_xrealloc(v[n_vary].values, (size_t)(v[n_vary].n + 1) * sizeof(char *));
-                v[n_vary].values[v[n_vary].n++] = lg_xstrdup(t);
+            /* One --vary per parameter: a second one used to replace the first's values
+             * silently, and the sweep ran once with the last value. */
+            for (int k = 0; k < n_vary && rc == 0; k++)
+                if (strcmp(v[k].key, v[n_vary].key) == 0) {
+                    fprintf(stderr,
+                            "lightgraph sweep: --vary %s is given twice ('%s' and '%s'): give "
+                            "all its values in one --vary %s=v1,v2,...\n",
+                            v[k].key, argv[vary_arg[k]], val, v[k].key);
+                    rc = usage(NULL, NULL);
+                }
+            vary_arg[n_vary] = i;
+            n_vary++; /* owned by v[] from here: freed at the end */
+            if (rc)
+                break;
+            /* Every item counts, empty ones too: strtok dropped them, so "0.1,,0.2" and
+             * "0.1," ran fewer values than written. */
+            vary *cur = &v[n_vary - 1];
+            for (const char *t = eq + 1;; ) {
+                const char *comma = strchr(t, ',');
+                size_t len = comma ? (size_t)(comma - t) : strlen(t);
+                size_t blank = strspn(t, " \t");
+                if (blank >= len) {
+                    fprintf(stderr,
+                            "lightgraph sweep: --vary %s: item %d of '%s' is empty (the "
+                            "values are separated by single commas, none before the first "
+                            "or after the last)\n",
+                            cur->key, cur->n + 1, eq + 1);
+                    rc = usage(NULL, NULL);
+                    break;
+                }
+                cur->values = lg_xrealloc(cur->values, (size_t)(cur->n + 1) * sizeof(char *));
+                cur->values[cur->n++] = lg_xstrndup(t, len);
+                if (!comma)
+                    break;
+                t = comma + 1;
             }
-            free(list);
-            n_vary++;
+            if (rc)
+                break;
         } else if (strcmp(a, "--reference") == 0) {
             reference = val;
         } else if (strcmp(a, "--ref-set") == 0) {
