@@ -248,7 +248,8 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     return LG_OK;
 }
 
-int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+                        size_t size)
 {
     if (!key_ok(n, key))
         return LG_ERR_INVALID;
@@ -256,17 +257,23 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
         return lg_node_errorf(n, "cache_put with NULL data"), LG_ERR_INVALID;
     const char *dir = cache_ready(ex, true);
     if (!dir)
-        return LG_OK; /* the cache is off (said once): nothing to store, nothing failed */
+        return LG_CACHE_OFF; /* said once: nothing to store, nothing failed */
     char *path = entry_path(dir, n, key);
     lg_str b = {0};
     lg_cache_entry_encode(&b, &n->identity, key, data, size);
-    int rc = 0;
+    int rc = LG_CACHE_STORED;
     if (lg_write_file_atomic(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,
                 strerror(errno));
-        rc = LG_ERR_IO;
+        rc = LG_CACHE_NOT_STORED;
     }
     free(path);
     lg_str_free(&b);
     return rc;
+}
+
+int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+{
+    int rc = lg_cache_put_status(ex, n, key, data, size);
+    return rc < 0 ? rc : rc == LG_CACHE_NOT_STORED ? LG_ERR_IO : LG_OK;
 }

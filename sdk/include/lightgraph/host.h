@@ -273,7 +273,13 @@ typedef struct lg_host_api {
      * lg_set_view_independent(), which does nothing on an older host. */
     void (*set_view_independent)(lg_node *node, bool independent);
 
-    void *reserved[24];
+    /* -- since ABI 2.7: what a cache store did --
+     * Stores like cache_put and says what happened: an lg_cache_store_result (>= 0), or an
+     * LG_ERR_* (< 0) after reporting a missing or too long key or NULL data. Call it
+     * through lg_cache_store(), which on an older host calls cache_put instead. */
+    int (*cache_store)(lg_node *node, const char *key, const void *data, size_t size);
+
+    void *reserved[23];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -516,6 +522,32 @@ static inline void lg_set_view_independent(lg_node *n, bool independent)
     if (n->host->struct_size >= offsetof(lg_host_api, set_view_independent) + sizeof(void *) &&
         n->host->set_view_independent)
         n->host->set_view_independent(n, independent);
+}
+
+/* What lg_cache_store did with an entry (since ABI 2.7), for a message that says so: a
+ * node that logs "cached" when nothing was stored sends its user looking for a file that
+ * is not there. */
+typedef enum lg_cache_store_result {
+    LG_CACHE_STORED = 0,     /* on disk: a later render with the same identity finds it */
+    LG_CACHE_OFF = 1,        /* the cache is disabled for this render (the host warned once
+                              * why): nothing stored */
+    LG_CACHE_NOT_STORED = 2, /* the entry could not be written (the host warned why) */
+    LG_CACHE_UNKNOWN = 3     /* a host older than ABI 2.7 took the entry: whether it stored
+                              * it, it does not say */
+} lg_cache_store_result;
+
+/* Stores `size` bytes of `data` under `key` (cache_put's contract: the host copies them,
+ * the caller keeps ownership) and returns an lg_cache_store_result, or an LG_ERR_* (< 0)
+ * for a bad key or NULL data. Not storing is no error: the result is only lost speed. On a
+ * host older than ABI 2.7 it calls cache_put: LG_CACHE_UNKNOWN when that returned LG_OK
+ * (stored, or the cache was off), LG_CACHE_NOT_STORED for LG_ERR_IO. */
+static inline int lg_cache_store(lg_node *n, const char *key, const void *data, size_t size)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, cache_store) + sizeof(void *) &&
+        n->host->cache_store)
+        return n->host->cache_store(n, key, data, size);
+    int rc = n->host->cache_put(n, key, data, size);
+    return rc == LG_OK ? LG_CACHE_UNKNOWN : rc == LG_ERR_IO ? LG_CACHE_NOT_STORED : rc;
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and
