@@ -7,6 +7,8 @@
  * change to any of them looks up another file: stale entries are never found. The file
  * repeats the identity and key and carries the payload size and a checksum; an entry whose
  * header, size or checksum disagrees is corrupt: reported, removed, and treated as a miss.
+ * An entry that cannot be removed (a folder with files in it where the entry belongs) is
+ * said so, once, and bypassed for the render: computed, not stored (drop_entry).
  * The entry's bytes are written and checked by cache_entry.c (the format is there).
  */
 #include "host.h"
@@ -187,6 +189,24 @@ static bool key_ok(lg_pnode *n, const char *key)
     return true;
 }
 
+/* Removes an entry that cannot be used, and says what happened. When it cannot be removed
+ * (a non-empty folder in its place; a cache folder we may not write to), saying "removing
+ * it" would be false and every render would compute again without knowing why: the
+ * message says so and why, and the node's entries are bypassed for the render (cache_put
+ * stores nothing at a folder, and says nothing more). */
+static void drop_entry(lg_pnode *n, const char *path, const char *problem)
+{
+    if (remove(path) == 0) {
+        lg_hlog(LG_HWARN, "node '%s': cache entry %s %s; removing it and recomputing",
+                n->pub.name, path, problem);
+        return;
+    }
+    lg_hlog(LG_HWARN, "node '%s': cache entry %s %s and cannot be removed (%s): recomputing, "
+                      "and not cached in this render (remove it yourself to cache it again)",
+            n->pub.name, path, problem, strerror(errno));
+    n->cache_stuck = true;
+}
+
 /* The largest entry read back: the largest buffer a resource may hold (16 GiB) plus the
  * header. */
 #define CACHE_MAX_ENTRY (((size_t)1 << 34) + 4096)
@@ -210,10 +230,9 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     char *buf = lg_read_file_limit(path, CACHE_MAX_ENTRY, &len, why_read, sizeof why_read);
     if (!buf) {
         if (errno != ENOENT) {
-            lg_hlog(LG_HWARN, "node '%s': cache entry %s cannot be used (%s); removing it and "
-                              "recomputing",
-                    n->pub.name, path, why_read);
-            remove(path);
+            char problem[300];
+            snprintf(problem, sizeof problem, "cannot be used (%s)", why_read);
+            drop_entry(n, path, problem);
         }
         free(path);
         n->cache_misses++;
@@ -223,9 +242,9 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     size_t psize = 0;
     const char *why = lg_cache_entry_check(buf, len, &n->identity, key, &payload, &psize);
     if (why) {
-        lg_hlog(LG_HWARN, "node '%s': cache entry %s is corrupt (%s); removing it and recomputing",
-                n->pub.name, path, why);
-        remove(path);
+        char problem[300];
+        snprintf(problem, sizeof problem, "is corrupt (%s)", why);
+        drop_entry(n, path, problem);
         free(buf);
         free(path);
         n->cache_misses++;
@@ -259,6 +278,11 @@ int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *d
     if (!dir)
         return LG_CACHE_OFF; /* said once: nothing to store, nothing failed */
     char *path = entry_path(dir, n, key);
+    struct stat st;
+    if (n->cache_stuck && lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        free(path); /* cache_get said why; a rename onto the folder would fail again */
+        return LG_CACHE_NOT_STORED;
+    }
     lg_str b = {0};
     lg_cache_entry_encode(&b, &n->identity, key, data, size);
     int rc = LG_CACHE_STORED;

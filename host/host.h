@@ -244,6 +244,8 @@ typedef struct lg_pnode {
     void **cl_events;
     uint32_t n_cl_events, cap_cl_events;
     bool warned_once;
+    bool cache_stuck;            /* an entry of this node could not be removed (cache.c):
+                                  * said once by cache_get, bypassed by cache_put */
     /* the viewer (lg_exec_frame, lg_plan with ex->prev) */
     double last_cpu_ms, last_gpu_ms; /* its last run */
     uint32_t last_frame;         /* the frame of its last run */
