@@ -79,11 +79,12 @@ static void pr_state_clear(pr_state *st)
 }
 
 /* Reads one file as stored (no clamping: pr_sanitize counts and zeroes what a probe
- * cannot hold, with one warning per file). */
+ * cannot hold, with one warning per file). A PNG arrives decoded from sRGB to linear by
+ * the SDK's reader, in [0, 1]: a valid probe, of low dynamic range (README, "Files"). */
 static int pr_read(lg_node *n, const char *path, const char *what, lg_image *img)
 {
     if (!path || !*path)
-        return lg_error(n, "parameter '%s' is empty: name an .exr or .hdr file", what);
+        return lg_error(n, "parameter '%s' is empty: name an .exr, .hdr or .png file", what);
     char err[512];
     int rc = lg_image_read(path, 0, img, NULL, err, sizeof err);
     if (rc)
@@ -595,7 +596,8 @@ static const char *const pr_layouts[] = { "auto", "latlong", "angular", "cross",
                                           "faces", NULL };
 static const lg_param_desc probe_params[] = {
     { .key = "file", .type = LG_PARAM_PATH, .def.s = "",
-      .doc = "probe image: .exr (any compression) or .hdr; empty with layout = faces" },
+      .doc = "probe image: .exr (any compression), .hdr, or .png (sRGB decoded to linear, "
+             "at most 1: low dynamic range); empty with layout = faces" },
     { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PR_LAYOUT_AUTO, .enum_values = pr_layouts,
       .doc = "auto (from the size: 2:1 latlong, 1:1 angular, 4:3 / 3:4 cross, 6:1 / 1:6 "
              "strip), or say which; faces reads the list `faces`" },
