@@ -7,6 +7,8 @@
  * change to any of them looks up another file: stale entries are never found. The file
  * repeats the identity and key and carries the payload size and a checksum; an entry whose
  * header, size or checksum disagrees is corrupt: reported, removed, and treated as a miss.
+ * An entry that cannot be removed (a folder with files in it where the entry belongs) is
+ * said so, once, and bypassed for the render: computed, not stored (drop_entry).
  * The entry's bytes are written and checked by cache_entry.c (the format is there).
  */
 #include "host.h"
@@ -233,6 +235,24 @@ static bool key_ok(lg_pnode *n, const char *key)
     return true;
 }
 
+/* Removes an entry that cannot be used, and says what happened. When it cannot be removed
+ * (a non-empty folder in its place; a cache folder we may not write to), saying "removing
+ * it" would be false and every render would compute again without knowing why: the
+ * message says so and why, and the node's entries are bypassed for the render (cache_put
+ * stores nothing at a folder, and says nothing more). */
+static void drop_entry(lg_pnode *n, const char *path, const char *problem)
+{
+    if (remove(path) == 0) {
+        lg_hlog(LG_HWARN, "node '%s': cache entry %s %s; removing it and recomputing",
+                n->pub.name, path, problem);
+        return;
+    }
+    lg_hlog(LG_HWARN, "node '%s': cache entry %s %s and cannot be removed (%s): recomputing, "
+                      "and not cached in this render (remove it yourself to cache it again)",
+            n->pub.name, path, problem, strerror(errno));
+    n->cache_stuck = true;
+}
+
 /* The largest entry read back: the largest buffer a resource may hold (16 GiB) plus the
  * header. */
 #define CACHE_MAX_ENTRY (((size_t)1 << 34) + 4096)
@@ -256,10 +276,9 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     char *buf = lg_read_file_limit(path, CACHE_MAX_ENTRY, &len, why_read, sizeof why_read);
     if (!buf) {
         if (errno != ENOENT) {
-            lg_hlog(LG_HWARN, "node '%s': cache entry %s cannot be used (%s); removing it and "
-                              "recomputing",
-                    n->pub.name, path, why_read);
-            remove(path);
+            char problem[300];
+            snprintf(problem, sizeof problem, "cannot be used (%s)", why_read);
+            drop_entry(n, path, problem);
         }
         free(path);
         n->cache_misses++;
@@ -269,9 +288,9 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     size_t psize = 0;
     const char *why = lg_cache_entry_check(buf, len, &n->identity, key, &payload, &psize);
     if (why) {
-        lg_hlog(LG_HWARN, "node '%s': cache entry %s is corrupt (%s); removing it and recomputing",
-                n->pub.name, path, why);
-        remove(path);
+        char problem[300];
+        snprintf(problem, sizeof problem, "is corrupt (%s)", why);
+        drop_entry(n, path, problem);
         free(buf);
         free(path);
         n->cache_misses++;
@@ -354,7 +373,8 @@ static int put_entry(const char *path, const void *data, size_t n)
     return rc;
 }
 
-int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+                        size_t size)
 {
     if (!key_ok(n, key))
         return LG_ERR_INVALID;
@@ -362,17 +382,28 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
         return lg_node_errorf(n, "cache_put with NULL data"), LG_ERR_INVALID;
     const char *dir = cache_ready(ex, true);
     if (!dir)
-        return LG_OK; /* the cache is off (said once): nothing to store, nothing failed */
+        return LG_CACHE_OFF; /* said once: nothing to store, nothing failed */
     char *path = entry_path(dir, n, key);
+    struct stat st;
+    if (n->cache_stuck && lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        free(path); /* cache_get said why; a rename onto the folder would fail again */
+        return LG_CACHE_NOT_STORED;
+    }
     lg_str b = {0};
     lg_cache_entry_encode(&b, &n->identity, key, data, size);
-    int rc = 0;
+    int rc = LG_CACHE_STORED;
     if (put_entry(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,
                 strerror(errno));
-        rc = LG_ERR_IO;
+        rc = LG_CACHE_NOT_STORED;
     }
     free(path);
     lg_str_free(&b);
     return rc;
+}
+
+int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+{
+    int rc = lg_cache_put_status(ex, n, key, data, size);
+    return rc < 0 ? rc : rc == LG_CACHE_NOT_STORED ? LG_ERR_IO : LG_OK;
 }

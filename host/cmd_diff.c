@@ -17,12 +17,17 @@ static void diff_usage(FILE *f)
 {
     fprintf(f,
             "usage: lightgraph diff A B [--heatmap OUT.png|OUT.exr] [--heat-max X] [--json]\n"
-            "                         [--max-rmse X] [--max-abs X]\n"
+            "                         [--max-rmse X] [--max-abs X] [--ignore-nonfinite]\n"
             "\n"
             "Compares two images of the same size (.exr, .hdr, .pic, .png; PNG is decoded to\n"
             "linear) over their RGB channels: RMSE, PSNR (peak 1.0), mean and max absolute\n"
-            "error, relative MSE (mean of (a-b)^2 / (b^2 + 1e-4), B being the reference), and\n"
-            "the number of pixels with NaN or Inf in either image (left out of the metrics).\n"
+            "error, relative MSE (mean of (a-b)^2 / (b^2 + 1e-4), B being the reference).\n"
+            "\n"
+            "Pixels with NaN or Inf in R, G or B are counted first, in A and in B, and left out\n"
+            "of the metrics: any such pixel fails the comparison (exit 1) unless\n"
+            "--ignore-nonfinite is given. With it the metrics cover the pixels finite in both\n"
+            "images (the counts are still printed); when no pixel is, nothing is compared and\n"
+            "the exit status is 1.\n"
             "\n"
             "  --heatmap OUT   write the per-pixel error (max over RGB) as a colour ramp:\n"
             "                  black, blue, red, yellow, white; non-finite pixels magenta\n"
@@ -30,10 +35,13 @@ static void diff_usage(FILE *f)
             "  --json          print one JSON object instead of text (PSNR null if infinite)\n"
             "  --max-rmse X    fail (exit 1) if RMSE > X\n"
             "  --max-abs X     fail (exit 1) if max abs error > X\n"
-            "                  with either threshold, non-finite pixels also fail\n"
+            "  --ignore-nonfinite\n"
+            "                  pixels with NaN or Inf do not fail the comparison: the\n"
+            "                  metrics are over the pixels finite in both images\n"
             "\n"
-            "exit status: 0 ok, 1 threshold exceeded or an image cannot be read or the\n"
-            "sizes differ, 2 bad usage\n");
+            "exit status: 0 ok, 1 a threshold exceeded, a pixel with NaN or Inf (without\n"
+            "--ignore-nonfinite), no pixel finite in both, an image that cannot be read or\n"
+            "sizes that differ, 2 bad usage\n");
 }
 
 /* A non-negative finite number, or -1 with a message. */
@@ -61,6 +69,19 @@ static const char *format_name(lg_file_format f)
     }
 }
 
+/* Pixels with NaN or Inf in R, G or B: the pixels lg_image_compare leaves out when either
+ * image has one (alpha is not compared, so it does not count). */
+static uint64_t count_nonfinite(const lg_image *img)
+{
+    uint64_t k = 0;
+    size_t n = (size_t)img->width * img->height;
+    for (size_t i = 0; i < n; i++) {
+        const float *p = img->pixels + i * 4;
+        k += !(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]));
+    }
+    return k;
+}
+
 static void json_number(lg_str *b, const char *key, double v)
 {
     if (isfinite(v))
@@ -73,7 +94,7 @@ int lg_cmd_diff(int argc, char **argv)
 {
     const char *paths[2] = {NULL, NULL}, *heatmap = NULL;
     double heat_max = 0.0, max_rmse = -1.0, max_abs = -1.0;
-    int json = 0, npaths = 0, options_done = 0;
+    int json = 0, npaths = 0, options_done = 0, ignore_nonfinite = 0;
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -96,6 +117,10 @@ int lg_cmd_diff(int argc, char **argv)
         }
         if (!strcmp(a, "--json")) {
             json = 1;
+            continue;
+        }
+        if (!strcmp(a, "--ignore-nonfinite")) {
+            ignore_nonfinite = 1;
             continue;
         }
         /* options with a value: "--opt VALUE" or "--opt=VALUE" */
@@ -194,18 +219,31 @@ int lg_cmd_diff(int argc, char **argv)
         }
     }
 
-    /* thresholds */
-    int thresholds = max_rmse >= 0.0 || max_abs >= 0.0;
+    /* Non-finite pixels first: metrics over what is left of the images must not read as a
+     * clean result (all of B NaN gave "RMSE 0, PSNR inf"). */
+    uint64_t total = (uint64_t)img[0].width * img[0].height;
+    uint64_t bad[2] = {count_nonfinite(&img[0]), count_nonfinite(&img[1])};
+    uint64_t compared = total - m.nonfinite;
     lg_str why = {0};
+    if (!compared) /* a failure even with --ignore-nonfinite: there is no result */
+        lg_str_addf(&why, "NaN or Inf in %llu of %llu pixels of A and %llu of B: no pixel is "
+                          "finite in both images, nothing was compared",
+                    (unsigned long long)bad[0], (unsigned long long)total,
+                    (unsigned long long)bad[1]);
+    else if (m.nonfinite && !ignore_nonfinite)
+        lg_str_addf(&why,
+                    "NaN or Inf in %llu of %llu pixels of A and %llu of B: the metrics cover "
+                    "only the %llu pixels finite in both (--ignore-nonfinite accepts that)",
+                    (unsigned long long)bad[0], (unsigned long long)total,
+                    (unsigned long long)bad[1], (unsigned long long)compared);
+
+    /* thresholds */
     if (max_rmse >= 0.0 && m.rmse > max_rmse)
         lg_str_addf(&why, "%sRMSE %.6g exceeds --max-rmse %.6g", why.len ? "; " : "", m.rmse,
                     max_rmse);
     if (max_abs >= 0.0 && m.max_abs > max_abs)
         lg_str_addf(&why, "%smax abs error %.6g exceeds --max-abs %.6g", why.len ? "; " : "",
                     m.max_abs, max_abs);
-    if (thresholds && m.nonfinite)
-        lg_str_addf(&why, "%s%llu pixel(s) with NaN or Inf", why.len ? "; " : "",
-                    (unsigned long long)m.nonfinite);
     int failed = why.len > 0;
 
     if (json) {
@@ -215,18 +253,22 @@ int lg_cmd_diff(int argc, char **argv)
         lg_str_add(&b, ", \"b\": ");
         lg_str_add_json(&b, paths[1]);
         lg_str_addf(&b, ", \"width\": %u, \"height\": %u", img[0].width, img[0].height);
-        json_number(&b, "rmse", m.rmse);
-        json_number(&b, "psnr", m.psnr);
-        json_number(&b, "mean_abs", m.mean_abs);
-        json_number(&b, "max_abs", m.max_abs);
-        json_number(&b, "rel_mse", m.rel_mse);
-        lg_str_addf(&b, ", \"nonfinite\": %llu", (unsigned long long)m.nonfinite);
+        lg_str_addf(&b, ", \"nonfinite_a\": %llu, \"nonfinite_b\": %llu, \"nonfinite\": %llu, "
+                        "\"compared\": %llu",
+                    (unsigned long long)bad[0], (unsigned long long)bad[1],
+                    (unsigned long long)m.nonfinite, (unsigned long long)compared);
+        /* nothing compared: no metric, rather than the zeros of an empty sum */
+        double none = compared ? 0.0 : NAN;
+        json_number(&b, "rmse", m.rmse + none);
+        json_number(&b, "psnr", m.psnr + none);
+        json_number(&b, "mean_abs", m.mean_abs + none);
+        json_number(&b, "max_abs", m.max_abs + none);
+        json_number(&b, "rel_mse", m.rel_mse + none);
         if (heatmap) {
             lg_str_add(&b, ", \"heatmap\": ");
             lg_str_add_json(&b, heatmap);
         }
-        if (thresholds)
-            lg_str_addf(&b, ", \"pass\": %s", failed ? "false" : "true");
+        lg_str_addf(&b, ", \"pass\": %s", failed ? "false" : "true");
         lg_str_add(&b, "}\n");
         fputs(b.s, stdout);
         lg_str_free(&b);
@@ -235,16 +277,25 @@ int lg_cmd_diff(int argc, char **argv)
             printf("%s          %s (%ux%u %s, %u channel%s, %u-bit, %s)\n", k ? "B" : "A", paths[k],
                    img[k].width, img[k].height, format_name(info[k].format), info[k].channels,
                    info[k].channels == 1 ? "" : "s", info[k].bits, info[k].compression);
-        printf("RMSE       %.6g\n", m.rmse);
-        if (isfinite(m.psnr))
-            printf("PSNR       %.2f dB\n", m.psnr);
-        else
-            printf("PSNR       inf (no difference)\n");
-        printf("mean abs   %.6g\n", m.mean_abs);
-        printf("max abs    %.6g\n", m.max_abs);
-        printf("rel MSE    %.6g\n", m.rel_mse);
-        printf("nonfinite  %llu pixel%s\n", (unsigned long long)m.nonfinite,
-               m.nonfinite == 1 ? "" : "s");
+        printf("nonfinite  A %llu, B %llu of %llu pixel%s (NaN or Inf in R, G or B)\n",
+               (unsigned long long)bad[0], (unsigned long long)bad[1],
+               (unsigned long long)total, total == 1 ? "" : "s");
+        if (m.nonfinite)
+            printf("compared   %llu of %llu pixels (finite in both images)\n",
+                   (unsigned long long)compared, (unsigned long long)total);
+        if (!compared) {
+            printf("RMSE       n/a (no pixel is finite in both images)\n");
+        } else {
+            printf("RMSE       %.6g\n", m.rmse);
+            if (isfinite(m.psnr))
+                printf("PSNR       %.2f dB\n", m.psnr);
+            else
+                printf("PSNR       inf (no difference%s)\n",
+                       m.nonfinite ? " in the pixels compared" : "");
+            printf("mean abs   %.6g\n", m.mean_abs);
+            printf("max abs    %.6g\n", m.max_abs);
+            printf("rel MSE    %.6g\n", m.rel_mse);
+        }
         if (heatmap)
             printf("heat map   %s (white = %.6g)\n", heatmap, heat_max > 0.0 ? heat_max : m.max_abs);
     }

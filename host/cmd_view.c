@@ -142,6 +142,7 @@ typedef struct viewer {
     int hold_key;
     uint32_t hold_until;
     char *window_shot;          /* screenshot_window pending */
+    const lg_sevent *window_shot_ev; /* its script event (for the failure's line) */
     bool expect_failed;
     bool quit;
     int exit_status;
@@ -1238,6 +1239,7 @@ static void script_step(viewer *v)
         case LG_SEV_SCREENSHOT_WINDOW:
             free(v->window_shot);
             v->window_shot = lg_xstrdup(e->text);
+            v->window_shot_ev = e;
             v->wait_until = v->frame + 1;
             return;
         case LG_SEV_SET:
@@ -1393,8 +1395,10 @@ static void present(viewer *v)
         lg_str_free(&s);
     }
     if (v->window_shot) {
+        /* taken here, after drawing: a failure fails the script as screenshot's does (it
+         * used to be printed while the script went on to exit 0) */
         if (window_screenshot(v, v->window_shot, err, sizeof err))
-            fprintf(stderr, "lightgraph view: screenshot_window %s: %s\n", v->window_shot, err);
+            script_fail(v, v->window_shot_ev, "screenshot_window %s: %s", v->window_shot, err);
         else
             printf("lightgraph view: wrote %s\n", v->window_shot);
         free(v->window_shot);

@@ -244,6 +244,8 @@ typedef struct lg_pnode {
     void **cl_events;
     uint32_t n_cl_events, cap_cl_events;
     bool warned_once;
+    bool cache_stuck;            /* an entry of this node could not be removed (cache.c):
+                                  * said once by cache_get, bypassed by cache_put */
     /* the viewer (lg_exec_frame, lg_plan with ex->prev) */
     double last_cpu_ms, last_gpu_ms; /* its last run */
     uint32_t last_frame;         /* the frame of its last run */
@@ -347,6 +349,10 @@ int lg_exec_need_cl(lg_exec *ex, lg_pnode *n);
 char *lg_cache_dir(void);
 int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
 int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
+/* cache_put saying what it did: an lg_cache_store_result, or an LG_ERR_* (< 0) for a bad
+ * key or NULL data (lg_host_api.cache_store). lg_cache_put maps it to LG_OK / LG_ERR_IO. */
+int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+                        size_t size);
 /* One entry's bytes (cache_entry.c, which has the format). encode appends the entry for
  * `identity`, `key` and the payload to b. check reads an entry's bytes (untrusted: read back
  * from disk) as the entry for `identity` and `key`: returns NULL with *payload pointing

@@ -504,6 +504,11 @@ static int api_cache_put(lg_node *n, const char *key, const void *data, size_t s
     return lg_cache_put(P(n)->ex, P(n), key, data, size);
 }
 
+static int api_cache_store(lg_node *n, const char *key, const void *data, size_t size)
+{
+    return lg_cache_put_status(P(n)->ex, P(n), key, data, size);
+}
+
 static void api_cache_free(void *data)
 {
     free(data);
@@ -752,6 +757,7 @@ void lg_host_api_init(lg_host_api *a)
     a->gl_check = api_gl_check;
     a->cache_get = api_cache_get;
     a->cache_put = api_cache_put;
+    a->cache_store = api_cache_store;
     a->cache_free = api_cache_free;
     a->render_size = api_render_size;
     a->payload_gl_buffer = api_payload_gl_buffer;

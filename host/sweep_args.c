@@ -56,13 +56,29 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
                            LG_STR(LG_SWEEP_MAX_VARY) "), got '%s'", val);
             lg_sweep_vary *v = &a->vary[a->n_vary++];
             v->key = lg_xstrndup(val, (size_t)(eq - val));
-            char *list = lg_xstrdup(eq + 1);
-            for (char *save = NULL, *t = strtok_r(list, ",", &save); t;
-                 t = strtok_r(NULL, ",", &save)) {
+            v->arg = val;
+            /* One --vary per parameter: a second one used to replace the first's values
+             * silently, and the sweep ran once with the last value. */
+            for (int k = 0; k < a->n_vary - 1; k++)
+                if (strcmp(a->vary[k].key, v->key) == 0)
+                    return bad(err, errlen, "--vary %s is given twice ('%s' and '%s'): give "
+                               "all its values in one --vary %s=v1,v2,...", v->key,
+                               a->vary[k].arg, val, v->key);
+            /* Every item counts, empty ones too: strtok dropped them, so "0.1,,0.2" and
+             * "0.1," ran fewer values than written. */
+            for (const char *t = eq + 1;;) {
+                const char *comma = strchr(t, ',');
+                size_t len = comma ? (size_t)(comma - t) : strlen(t);
+                if (strspn(t, " \t") >= len)
+                    return bad(err, errlen, "--vary %s: item %d of '%s' is empty (the values "
+                               "are separated by single commas, none before the first or "
+                               "after the last)", v->key, v->n + 1, eq + 1);
                 v->values = lg_xrealloc(v->values, (size_t)(v->n + 1) * sizeof(char *));
-                v->values[v->n++] = lg_xstrdup(t);
+                v->values[v->n++] = lg_xstrndup(t, len);
+                if (!comma)
+                    break;
+                t = comma + 1;
             }
-            free(list);
         } else if (strcmp(o, "--reference") == 0) {
             a->reference = val;
         } else if (strcmp(o, "--ref-set") == 0) {

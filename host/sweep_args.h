@@ -16,7 +16,8 @@
 
 typedef struct lg_sweep_vary {
     char *key;       /* NODE.PARAM (owned) */
-    char **values;   /* n values, each non-empty and without ',' (owned) */
+    char **values;   /* n values, each non-blank and without ',' (owned) */
+    const char *arg; /* the whole --vary value, for messages (points into argv) */
     int n;
 } lg_sweep_vary;
 

@@ -21,6 +21,8 @@
  *   scroll D                 wheel by D clicks (> 0 = away from the user = zoom in)
  *   screenshot PATH          PATH ends in .png (display) or .exr (linear)
  *   screenshot_window PATH   .png: the window's pixels as shown (overlay included)
+ *                            (either, not written: reported with its line, and the
+ *                            viewer's exit status is 1)
  *   set NODE.PARAM=VALUE     a live parameter change, as --set (VALUE is the rest of the
  *                            line and may hold spaces: set sun.direction=[0, -1, 0])
  *   wait_reload [SECONDS]    until the next reload attempt has finished; default 60

@@ -359,16 +359,26 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     }
     st->chain_size = size;
     st->chain_levels = levels;
-    lg_log(n, LG_LOG_INFO,
-           "GGX chain prefiltered in %.3f s (cube %u, %u levels, %u samples per texel, %u "
-           "threads); cached",
-           ps.seconds, size, levels, samples, ps.threads);
+    /* a failed store is only a lost speed-up; the log line says which it was, never
+     * "cached" when nothing was stored */
+    const char *stored = "not cached: no memory for the cache entry";
     size_t total = 0;
     char *blob = ibl_chain_encode(size, levels, samples, nf, st->chain, &total);
     if (blob) {
-        n->host->cache_put(n, key, blob, total); /* a failed put is only a lost speed-up */
+        int r = lg_cache_store(n, key, blob, total);
         free(blob);
+        stored = r == LG_CACHE_STORED ? "cached"
+                 : r == LG_CACHE_OFF ? "not cached: the cache is disabled for this render "
+                                       "(the warning above says why)"
+                 : r == LG_CACHE_UNKNOWN ? "handed to the cache (this host does not say whether "
+                                           "it stored it)"
+                                         : "not cached: the host could not store it (its "
+                                           "message above says why)";
     }
+    lg_log(n, LG_LOG_INFO,
+           "GGX chain prefiltered in %.3f s (cube %u, %u levels, %u samples per texel, %u "
+           "threads); %s",
+           ps.seconds, size, levels, samples, ps.threads, stored);
     return 0;
 }
 

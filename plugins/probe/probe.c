@@ -292,7 +292,8 @@ static const char *const pr_layouts[] = { "auto", "latlong", "angular", "cross",
                                           "faces", NULL };
 static const lg_param_desc probe_params[] = {
     { .key = "file", .type = LG_PARAM_PATH, .def.s = "",
-      .doc = "probe image: .exr (any compression) or .hdr; empty with layout = faces" },
+      .doc = "probe image: .exr (any compression), .hdr, or .png (sRGB decoded to linear, "
+             "at most 1: low dynamic range); empty with layout = faces" },
     { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PR_LAYOUT_AUTO, .enum_values = pr_layouts,
       .doc = "auto (from the size: 2:1 latlong, 1:1 angular, 4:3 / 3:4 cross, 6:1 / 1:6 "
              "strip), or say which; faces reads the list `faces`" },

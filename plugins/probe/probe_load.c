@@ -44,11 +44,12 @@ static lg_probe_file_layout pr_file_layout(pr_source src)
 }
 
 /* Reads one file as stored (no clamping: pr_sanitize counts and zeroes what a probe
- * cannot hold, with one warning per file). */
+ * cannot hold, with one warning per file). A PNG arrives decoded from sRGB to linear by
+ * the SDK's reader, in [0, 1]: a valid probe, of low dynamic range (README, "Files"). */
 static int pr_read(lg_node *n, const char *path, const char *what, lg_image *img)
 {
     if (!path || !*path)
-        return lg_error(n, "parameter '%s' is empty: name an .exr or .hdr file", what);
+        return lg_error(n, "parameter '%s' is empty: name an .exr, .hdr or .png file", what);
     char err[512];
     int rc = lg_image_read(path, 0, img, NULL, err, sizeof err);
     if (rc)

@@ -907,15 +907,31 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
     return why == NULL;
 }
 
-static void pb_cache_store(lg_node *n, const char *key, const pb_cache_header *h,
-                           const float *f)
+/* Stores the entry and returns what happened, in the words of the node's log line: a line
+ * that says "cached" when nothing was stored (the cache disabled, a write that failed)
+ * sends the user looking for an entry that is not there. Not storing is a lost speed-up,
+ * not an error. */
+static const char *pb_cache_store(lg_node *n, const char *key, const pb_cache_header *h,
+                                  const float *f)
 {
     size_t total = 0;
     char *blob = pb_cache_encode(h, f, &total);
     if (!blob)
-        return; /* a lost speed-up, not an error */
-    n->host->cache_put(n, key, blob, total);
+        return "not cached: no memory for the cache entry";
+    int r = lg_cache_store(n, key, blob, total);
     free(blob);
+    switch (r) {
+    case LG_CACHE_STORED:
+        return "cached";
+    case LG_CACHE_OFF:
+        return "not cached: the cache is disabled for this render (the warning above says why)";
+    case LG_CACHE_NOT_STORED:
+        return "not cached: the host could not store it (its warning above says why)";
+    case LG_CACHE_UNKNOWN:
+        return "handed to the cache (this host does not say whether it stored it)";
+    default:
+        return "not cached: the host refused the entry (its error above says why)";
+    }
 }
 
 static int pb_bake_execute(lg_node *n, pb_state *st)
@@ -1113,14 +1129,14 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                bake_rate, rate[0], rate[1], (unsigned long long)total_rays, lg_cpu_workers(n),
                rate[0] > 0 ? 100.0 * bake_rate / rate[0] : 0.0);
     }
+    want.bounces = info.bounces;
+    const char *stored = pb_cache_store(n, key, &want, out);
     lg_log(n, LG_LOG_INFO, "transfer baked in %.3f s (%u vertices, %u bands, %s, %u directions, "
                            "%s visibility, %llu rays, %.3g rays/s in the visibility pass of %.3f s, "
-                           "%u threads); cached",
+                           "%u threads); %s",
            secs, nv, p->bands, pb_modes[p->mode], T, pb_visibilities[p->visibility],
            (unsigned long long)total_rays, t1 > tp ? total_rays / (t1 - tp) : 0.0, t1 - tp,
-           lg_cpu_workers(n));
-    want.bounces = info.bounces;
-    pb_cache_store(n, key, &want, out);
+           lg_cpu_workers(n), stored);
     rc = lg_transfer_publish(n, 0, &info);
 done:
     if (b.hits)
@@ -1268,10 +1284,11 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
     rc = pb_run(n, nv, pb_ref_vertices, &r, "reference", 0.0, 1.0);
     if (rc)
         goto done;
+    double secs_ref = n->host->now() - t0;
+    const char *stored = pb_cache_store(n, key, &want, out);
     lg_log(n, LG_LOG_INFO, "reference computed in %.3f s (%u vertices, %s, cube %u: %zu "
-                           "texels); cached",
-           n->host->now() - t0, nv, pb_modes[p->mode], R, n_tex);
-    pb_cache_store(n, key, &want, out);
+                           "texels); %s",
+           secs_ref, nv, pb_modes[p->mode], R, n_tex, stored);
 done:
     free(cube);
     free(sa);

@@ -287,7 +287,13 @@ typedef struct lg_host_api {
      * Call it through lg_output_file_write(). */
     int (*output_file_write)(lg_node *node, const char *key, const void *data, size_t size);
 
-    void *reserved[23];
+    /* -- since ABI 2.7: what a cache store did --
+     * Stores like cache_put and says what happened: an lg_cache_store_result (>= 0), or an
+     * LG_ERR_* (< 0) after reporting a missing or too long key or NULL data. Call it
+     * through lg_cache_store(), which on an older host calls cache_put instead. */
+    int (*cache_store)(lg_node *node, const char *key, const void *data, size_t size);
+
+    void *reserved[22];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -547,6 +553,32 @@ static inline int lg_output_file_write(lg_node *n, const char *key, const void *
                          "no output_file_write; ABI 2.7 or later is needed",
                          key ? key : "", (unsigned)n->host->abi_major,
                          (unsigned)n->host->abi_minor);
+}
+
+/* What lg_cache_store did with an entry (since ABI 2.7), for a message that says so: a
+ * node that logs "cached" when nothing was stored sends its user looking for a file that
+ * is not there. */
+typedef enum lg_cache_store_result {
+    LG_CACHE_STORED = 0,     /* on disk: a later render with the same identity finds it */
+    LG_CACHE_OFF = 1,        /* the cache is disabled for this render (the host warned once
+                              * why): nothing stored */
+    LG_CACHE_NOT_STORED = 2, /* the entry could not be written (the host warned why) */
+    LG_CACHE_UNKNOWN = 3     /* a host older than ABI 2.7 took the entry: whether it stored
+                              * it, it does not say */
+} lg_cache_store_result;
+
+/* Stores `size` bytes of `data` under `key` (cache_put's contract: the host copies them,
+ * the caller keeps ownership) and returns an lg_cache_store_result, or an LG_ERR_* (< 0)
+ * for a bad key or NULL data. Not storing is no error: the result is only lost speed. On a
+ * host older than ABI 2.7 it calls cache_put: LG_CACHE_UNKNOWN when that returned LG_OK
+ * (stored, or the cache was off), LG_CACHE_NOT_STORED for LG_ERR_IO. */
+static inline int lg_cache_store(lg_node *n, const char *key, const void *data, size_t size)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, cache_store) + sizeof(void *) &&
+        n->host->cache_store)
+        return n->host->cache_store(n, key, data, size);
+    int rc = n->host->cache_put(n, key, data, size);
+    return rc == LG_OK ? LG_CACHE_UNKNOWN : rc == LG_ERR_IO ? LG_CACHE_NOT_STORED : rc;
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and

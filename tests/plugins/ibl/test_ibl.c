@@ -20,6 +20,8 @@
  *   glossy       the split sum against lg_probe_ggx_split_sum and the Monte Carlo oracle;
  *                the chain from the host's cache on a second render; roughness 0 = the probe
  *   glossy_backends  rough spheres on the forest probe: cpu, gl and cl agree
+ *   cache_said   the chain's log line says "cached" only when the host stored it: with
+ *                a world-writable cache folder (the cache off) it says "not cached" and why
  *   grazing      Schlick on a sphere: every covered pixel finite, within [F0 c, c], and
  *                F(cos) of the analytic sphere where cos > 0.2; no NaN
  *   backface     a double-sided quad seen from behind (envmap along the flipped normal) and
@@ -34,6 +36,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
@@ -1065,6 +1068,54 @@ static void case_gating(lg_test *t)
     }
 }
 
+/* "; cached" at the end of the chain's line only when the host stored it (ABI 2.7). */
+static void case_cache_said(lg_test *t)
+{
+    lg_image probe = { 0 };
+    smooth_latlong(&probe, 32, 16);
+    lg_test_write_exr(t, "probe.exr", &probe);
+    lg_image_free(&probe);
+    const cam cm = { { 0, 0, 4 }, { 0, 0, 0 }, { 0, 1, 0 }, 35 };
+    char cp[512], g[2048];
+    cam_params(cp, sizeof cp, &cm);
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_ibl_scene { layout = sphere, segments = 16, roughness = 0.5, "
+             "reflectivity = [0.9, 0.9, 0.9], %s }\n"
+             "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+             "env = environment { scene = s, probe = sky }\n"
+             "r = reflect { scene = env, probe = sky, backend = cpu, prefilter_size = 8, "
+             "prefilter_samples = 8 }\n"
+             "output r \"r.exr\"\n",
+             cp);
+    const char *args[] = { "--size", "16x16", "-v", NULL };
+    const char *outs[] = { "r.exr" };
+    const char *dir = getenv("LIGHTGRAPH_CACHE_DIR"); /* the case's own (setup) */
+    LG_TEST_CHECK(t, dir && mkdir(dir, 0700) == 0 && chmod(dir, 0777) == 0,
+                  "cannot make the cache folder %s 0777", dir ? dir : "(unset)");
+    for (int k = 0; k < 2; k++) {
+        if (k == 1)
+            LG_TEST_CHECK(t, chmod(dir, 0700) == 0, "chmod %s", dir);
+        lg_image img = { 0 };
+        char *text = NULL;
+        int rc = render(t, g, args, outs, &img, 1, &text);
+        const char *o = text ? text : "";
+        LG_TEST_CHECK(t, rc == 0, "render failed (%d):\n%s", rc, o);
+        const char *line = strstr(o, "GGX chain prefiltered");
+        LG_TEST_CHECK(t, line != NULL, "no chain was made:\n%s", o);
+        if (line && k == 0)
+            LG_TEST_CHECK(t, strstr(line, "not cached: the cache is disabled for this render") &&
+                                 !strstr(line, "; cached"),
+                          "the cache off:\n%s", o);
+        if (line && k == 1)
+            LG_TEST_CHECK(t, strstr(line, "; cached") && !strstr(line, "not cached"),
+                          "a usable cache:\n%s", o);
+        if (img.pixels)
+            lg_image_free(&img);
+        free(text);
+    }
+}
+
 /* testiblscene's folder, and an empty cache per case */
 static void setup(lg_test *t)
 {
@@ -1081,6 +1132,7 @@ int main(int argc, char **argv)
         { "grazing", case_grazing },   { "backface", case_backface },
         { "half_clamp", case_half_clamp }, { "base", case_base },
         { "glossy", case_glossy }, { "glossy_backends", case_glossy_backends },
+        { "cache_said", case_cache_said },
         { "gating", case_gating },
     };
     lg_test_main_opts o = { .setup = setup };

@@ -21,6 +21,9 @@
  *   rotate_360        rotate_deg = [360, 360, 360] equals none bit for bit; yaw 90 moves
  *   exposure_scale    texels times 2^exposure * scale; info.scale says it
  *   bad_texels        NaN, Inf and negative channels set to 0, one warning with the counts
+ *   png               a PNG probe: texels are the file's 8-bit sRGB codes decoded to linear
+ *                     (lg_srgb_decode(code / 255), exactly; alpha ignored), at most 1, times
+ *                     the exposure; a cross PNG is a cube like an EXR one
  *   environment       the scene feature `probe` and gating on it
  *   content_key       a downstream cache entry is invalidated by changed pixels (same file
  *                     size), exposure and rotation, and reused otherwise
@@ -745,6 +748,99 @@ static void case_bad_texels(lg_test *t)
     lg_image_free(&img);
 }
 
+/* ---- PNG files ------------------------------------------------------------------------------ */
+
+/* An 8-bit code per channel, decoded as the SDK's PNG reader does. */
+static float code_lin(unsigned code)
+{
+    return lg_srgb_decode((float)code / 255.0f);
+}
+
+/* Writes `img` (linear values whose sRGB encodings are whole 8-bit codes) as an RGBA PNG
+ * and checks that reading it back gives the same values: the codes are in the file. */
+static void write_png(lg_test *t, const char *name, const lg_image *img)
+{
+    char err[512];
+    lg_image_write_opts wo;
+    memset(&wo, 0, sizeof wo);
+    if (lg_image_write(lg_test_path(t, name), img, &wo, err, sizeof err)) {
+        fprintf(stderr, "writing %s: %s\n", name, err);
+        exit(99);
+    }
+    lg_image back;
+    if (lg_test_read(t, name, &back, NULL)) {
+        size_t bad = 0;
+        for (size_t i = 0; i < (size_t)img->width * img->height * 4; i++)
+            bad += i % 4 != 3 && back.pixels[i] != img->pixels[i];
+        LG_TEST_CHECK(t, bad == 0, "%s: %zu channels did not survive the PNG round trip", name,
+                      bad);
+        lg_image_free(&back);
+    }
+}
+
+static void case_png(lg_test *t)
+{
+    /* a 16 x 8 lat-long whose codes cover 0 .. 255, with an alpha the probe ignores */
+    lg_image img = alloc_image(16, 8);
+    for (uint32_t k = 0; k < 128; k++) {
+        float *p = img.pixels + 4 * k;
+        p[0] = code_lin(2 * k);
+        p[1] = code_lin(255 - 2 * k);
+        p[2] = code_lin((k * 37 + 1) % 256);
+        p[3] = 0.5f;
+    }
+    write_png(t, "sky.png", &img);
+    check_info(t, "sky = probe { file = \"sky.png\" }\n", LG_PROBE_LATLONG, 16, 8, 1.0f,
+               "PNG lat-long (auto)");
+    for (int e = 0; e < 2; e++) {
+        lg_image raw;
+        const char *def = e ? "sky = probe { file = \"sky.png\", exposure = 2 }\n"
+                            : "sky = probe { file = \"sky.png\" }\n";
+        if (!tap(t, def, "raw", NULL, &raw, NULL))
+            continue;
+        float peak = 0.0f;
+        for (uint32_t k = 0; k < 128; k++)
+            for (int c = 0; c < 4; c++) {
+                float want = c == 3 ? 1.0f : img.pixels[4 * k + c] * (e ? 4.0f : 1.0f);
+                float got = raw.pixels[4 * k + c];
+                peak = c < 3 && got > peak ? got : peak;
+                LG_TEST_CHECK(t, got == want, "%s texel %u channel %d: %.9g, want %.9g",
+                              e ? "exposure 2:" : "PNG:", k, c, (double)got, (double)want);
+            }
+        LG_TEST_CHECK(t, peak == (e ? 4.0f : 1.0f), "the brightest texel is %g: code 255 is 1",
+                      (double)peak);
+        lg_image_free(&raw);
+    }
+    lg_image_free(&img);
+
+    /* a horizontal cross PNG: a cube, its faces the decoded codes */
+    lg_image faces = alloc_image(CN, 6 * CN);
+    for (uint32_t f = 0; f < 6; f++)
+        for (uint32_t j = 0; j < CN; j++)
+            for (uint32_t i = 0; i < CN; i++) {
+                float *p = pix(&faces, i, f * CN + j);
+                p[0] = code_lin(20 + 40 * f + (i == MARK_I && j == MARK_J ? 3 : 0));
+                p[1] = code_lin(200 - 30 * f);
+                p[2] = code_lin(5 + 10 * f + j);
+                p[3] = 1.0f;
+            }
+    lg_image cross = make_layout(&faces, 4, 3, cells_h);
+    for (size_t k = 0; k < (size_t)cross.width * cross.height * 4; k++)
+        if (cross.pixels[k] < 0.0f)
+            cross.pixels[k] = 0.0f; /* unused cells: black (a PNG holds no negatives) */
+    write_png(t, "cross.png", &cross);
+    const char *def = "sky = probe { file = \"cross.png\" }\n";
+    check_info(t, def, LG_PROBE_CUBE, CN, CN, 1.0f, "PNG cross (auto)");
+    lg_image raw;
+    if (tap(t, def, "raw", NULL, &raw, NULL)) {
+        lg_test_tol tol = { 0 };
+        lg_test_check_image(t, &raw, &faces, 32, &tol, "PNG cross: the GL cube's faces");
+        lg_image_free(&raw);
+    }
+    lg_image_free(&cross);
+    lg_image_free(&faces);
+}
+
 /* ---- environment -------------------------------------------------------------------------- */
 
 static bool line_has(const char *text, const char *prefix, const char *what)
@@ -857,6 +953,7 @@ int main(int argc, char **argv)
         { "rotate_360", case_rotate_360 },
         { "exposure_scale", case_exposure_scale },
         { "bad_texels", case_bad_texels },
+        { "png", case_png },
         { "environment", case_environment },
         { "content_key", case_content_key },
     };

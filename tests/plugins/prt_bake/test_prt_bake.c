@@ -20,6 +20,9 @@
  *                 bad parameters fail with a message naming the node and value
  *   cache         a second render loads the bake; a corrupt entry is reported and baked
  *                 again, equal; changed parameters make a new entry
+ *   cache_said    "cached" only when the host stored the entry: a disabled cache (a
+ *                 world-writable cache folder) and an entry that cannot be stored (a folder
+ *                 with a file in its place) say "not cached" and why
  *   reference     prt_reference: unshadowed = (rho / pi) E of a smooth probe; the cone's
  *                 shadowed value rho sin^2(alpha); the bake approaches it as samples grow
  *   chain         the oracles through the whole chain users run, on every backend of the
@@ -34,6 +37,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "lightgraph/image.h"
 #include "lightgraph/sh.h"
@@ -544,6 +548,63 @@ static void case_cache(lg_test *t)
     tr_free(&r[1]);
 }
 
+/* The bake's log line ends in what became of the entry: "; cached" only when it was stored. */
+static void case_cache_said(lg_test *t)
+{
+    const char *scene = "layout = quad, grid = 2";
+    const char *p = "mode = unshadowed, samples = 8";
+    const char *dir = getenv("LIGHTGRAPH_CACHE_DIR"); /* the case's own (lg_test_use_plugins) */
+    LG_TEST_CHECK(t, dir && *dir, "LIGHTGRAPH_CACHE_DIR is not set");
+    if (!dir || !*dir)
+        return;
+    tr r;
+    char *text = NULL;
+    /* a cache folder every user may write to is refused: the cache is off for the render */
+    LG_TEST_CHECK(t, mkdir(dir, 0700) == 0 && chmod(dir, 0777) == 0, "cannot make %s 0777",
+                  dir);
+    if (bake(t, scene, p, 3, &r, &text)) {
+        LG_TEST_CHECK(t, strstr(text, "cache disabled for this run") &&
+                             strstr(text, "not cached: the cache is disabled for this render") &&
+                             !strstr(text, "; cached"),
+                      "a disabled cache:\n%s", text);
+        tr_free(&r);
+    }
+    free(text);
+    text = NULL;
+    char path[1024] = "";
+    LG_TEST_CHECK(t, cache_entries(path, sizeof path) == 0, "an entry was written: %s", path);
+    /* a usable cache: stored, and said so */
+    LG_TEST_CHECK(t, chmod(dir, 0700) == 0, "chmod %s", dir);
+    if (bake(t, scene, p, 3, &r, &text)) {
+        LG_TEST_CHECK(t, strstr(text, "transfer baked") && strstr(text, "; cached"),
+                      "a stored entry:\n%s", text);
+        tr_free(&r);
+    }
+    free(text);
+    text = NULL;
+    LG_TEST_CHECK(t, cache_entries(path, sizeof path) == 1, "no entry written");
+    /* a folder with a file in the entry's place: it cannot be removed, nothing is stored */
+    char keep[1100];
+    snprintf(keep, sizeof keep, "%s/keep", path);
+    FILE *f = NULL;
+    LG_TEST_CHECK(t, remove(path) == 0 && mkdir(path, 0700) == 0 && (f = fopen(keep, "w")),
+                  "cannot put a folder at %s", path);
+    if (f)
+        fclose(f);
+    if (bake(t, scene, p, 3, &r, &text)) {
+        LG_TEST_CHECK(t, strstr(text, "cannot be removed") && strstr(text, "transfer baked") &&
+                             strstr(text, "not cached: the host could not store it") &&
+                             !strstr(text, "; cached"),
+                      "an entry that cannot be stored:\n%s", text);
+        tr_free(&r);
+    }
+    free(text);
+    struct stat st;
+    LG_TEST_CHECK(t, stat(keep, &st) == 0, "the folder's file is gone");
+    remove(keep);
+    remove(path);
+}
+
 /* Writes a lat-long probe of env_L (or a constant 1). */
 static void write_probe(lg_test *t, bool smooth)
 {
@@ -792,6 +853,7 @@ int main(int argc, char **argv)
         { "furnace", case_furnace },       { "backface", case_backface },
         { "large_coords", case_large_coords }, { "brute", case_brute },
         { "params", case_params },         { "cache", case_cache },
+        { "cache_said", case_cache_said },
         { "reference", case_reference },   { "chain", case_chain },
     };
     lg_test_main_opts o = { .setup = setup };

@@ -1,6 +1,8 @@
 /*
  * `lightgraph diff` (host/cmd_diff.c), called in-process with stdout and stderr captured:
- * text and JSON output, thresholds, heat maps, and the exit statuses (0, 1, 2).
+ * text and JSON output, thresholds, heat maps, and the exit statuses (0, 1, 2); pixels
+ * with NaN or Inf counted per image and failing unless --ignore-nonfinite (an all-NaN B
+ * once read "RMSE 0, PSNR inf (no difference)" with exit 0).
  */
 #include <fcntl.h>
 #include <stdarg.h>
@@ -60,14 +62,17 @@ static int run(const char *first, ...)
     return rc;
 }
 
-static void write_img(const char *name, uint32_t w, uint32_t h, float v, float bump, char *path)
+/* w x h pixels of v (alpha 1), the first `nbump` pixels' red channel plus `bump`. */
+static void write_img_n(const char *name, uint32_t w, uint32_t h, float v, float bump,
+                        size_t nbump, char *path)
 {
     lg_image img;
     char err[512];
     lg_image_alloc(&img, w, h);
     for (size_t i = 0; i < (size_t)w * h * 4; i++)
         img.pixels[i] = (i % 4 == 3) ? 1.0f : v;
-    img.pixels[0] += bump;
+    for (size_t i = 0; i < nbump; i++)
+        img.pixels[4 * i] += bump;
     sprintf(path, "%s/%s", scratch, name);
     lg_image_write_opts o = {.exr_pixel = LG_EXR_FLOAT};
     if (lg_image_write(path, &img, &o, err, sizeof err))
@@ -75,15 +80,23 @@ static void write_img(const char *name, uint32_t w, uint32_t h, float v, float b
     lg_image_free(&img);
 }
 
+static void write_img(const char *name, uint32_t w, uint32_t h, float v, float bump, char *path)
+{
+    write_img_n(name, w, h, v, bump, 1, path);
+}
+
 int main(void)
 {
     snprintf(scratch, sizeof scratch, "%s", make_scratch("codecs-diff"));
     char a[4300], b[4300], c[4300], small[4300], nan[4300], heat[4300], missing[4300], bad[4300];
+    char allnan[4300], someinf[4300];
     write_img("a.exr", 16, 8, 0.5f, 0.0f, a);
     write_img("b.exr", 16, 8, 0.5f, 0.25f, b);   /* one channel of one pixel off by 0.25 */
     write_img("c.hdr", 16, 8, 0.5f, 0.0f, c);    /* 0.5 is exact in RGBE */
     write_img("small.exr", 4, 8, 0.5f, 0.0f, small);
     write_img("nan.exr", 16, 8, 0.5f, NAN, nan);
+    write_img_n("allnan.exr", 16, 8, 0.5f, NAN, 16 * 8, allnan);     /* every pixel NaN */
+    write_img_n("someinf.exr", 16, 8, 0.5f, INFINITY, 3, someinf); /* 3 pixels +Inf */
     snprintf(heat, sizeof heat, "%s/heat.png", scratch);
     snprintf(missing, sizeof missing, "%s/missing.exr", scratch);
     snprintf(bad, sizeof bad, "%s/bad.exr", scratch);
@@ -94,8 +107,9 @@ int main(void)
     /* identical, text output */
     int rc = run(a, c, NULL);
     CHECKF(rc == 0, "rc %d: %s", rc, err_buf);
-    CHECKF(strstr(out_buf, "RMSE       0\n") && strstr(out_buf, "PSNR       inf") &&
-               strstr(out_buf, "nonfinite  0 pixels"), "%s", out_buf);
+    CHECKF(strstr(out_buf, "RMSE       0\n") && strstr(out_buf, "PSNR       inf (no difference)\n") &&
+               strstr(out_buf, "nonfinite  A 0, B 0 of 128 pixels") && !strstr(out_buf, "compared"),
+           "%s", out_buf);
 
     /* a difference, JSON output */
     rc = run("--json", a, b, NULL);
@@ -105,7 +119,9 @@ int main(void)
     snprintf(want, sizeof want, "\"rmse\": %.9g", rmse);
     CHECKF(strstr(out_buf, want) && strstr(out_buf, "\"max_abs\": 0.25") &&
                strstr(out_buf, "\"width\": 16, \"height\": 8") && strstr(out_buf, "\"nonfinite\": 0") &&
-               out_buf[0] == '{' && !strstr(out_buf, "\"pass\""), "%s", out_buf);
+               strstr(out_buf, "\"nonfinite_a\": 0, \"nonfinite_b\": 0") &&
+               strstr(out_buf, "\"compared\": 128") && out_buf[0] == '{' &&
+               strstr(out_buf, "\"pass\": true"), "%s", out_buf);
 
     /* thresholds */
     CHECK(run(a, b, "--max-abs", "0.3", NULL) == 0);
@@ -114,10 +130,46 @@ int main(void)
           strstr(err_buf, "RMSE"));
     CHECK(run(a, b, "--max-rmse", "0.1", "--json", NULL) == 0 && strstr(out_buf, "\"pass\": true"));
 
-    /* NaN: counted, and failing any threshold */
+    /* NaN and Inf: counted per image, said before the metrics, and failing unless
+     * --ignore-nonfinite */
     rc = run(a, nan, NULL);
-    CHECKF(rc == 0 && strstr(out_buf, "nonfinite  1 pixel\n"), "%d %s", rc, out_buf);
+    CHECKF(rc == 1 && strstr(out_buf, "nonfinite  A 0, B 1 of 128 pixels") &&
+               strstr(out_buf, "compared   127 of 128 pixels") &&
+               strstr(err_buf, "NaN or Inf in 0 of 128 pixels of A and 1 of B") &&
+               strstr(err_buf, "--ignore-nonfinite"), "%d %s %s", rc, out_buf, err_buf);
     CHECK(run(a, nan, "--max-rmse", "1", NULL) == 1 && strstr(err_buf, "NaN or Inf"));
+    rc = run(a, nan, "--ignore-nonfinite", NULL);
+    CHECKF(rc == 0 && strstr(out_buf, "nonfinite  A 0, B 1 of 128 pixels") &&
+               strstr(out_buf, "PSNR       inf (no difference in the pixels compared)") &&
+               !err_buf[0], "%d %s %s", rc, out_buf, err_buf);
+    CHECK(run(a, nan, "--ignore-nonfinite", "--max-rmse", "1", NULL) == 0);
+    /* every pixel of B NaN: said first, no metric, exit 1 even when ignoring non-finite */
+    rc = run(a, allnan, NULL);
+    const char *said = strstr(out_buf, "nonfinite  A 0, B 128 of 128 pixels");
+    const char *metric = strstr(out_buf, "RMSE");
+    CHECKF(rc == 1 && said && metric && said < metric &&
+               strstr(out_buf, "RMSE       n/a (no pixel is finite in both images)") &&
+               !strstr(out_buf, "PSNR") && !strstr(out_buf, "no difference") &&
+               strstr(err_buf, "NaN or Inf in 0 of 128 pixels of A and 128 of B") &&
+               strstr(err_buf, "nothing was compared") && !strstr(err_buf, "accepts"),
+           "%d %s %s", rc, out_buf, err_buf);
+    rc = run(allnan, a, "--ignore-nonfinite", NULL);
+    CHECKF(rc == 1 && strstr(out_buf, "nonfinite  A 128, B 0 of 128 pixels") &&
+               strstr(err_buf, "no pixel is finite in both images") &&
+               strstr(err_buf, "nothing was compared"), "%d %s %s", rc, out_buf, err_buf);
+    rc = run("--json", a, allnan, NULL);
+    CHECKF(rc == 1 && strstr(out_buf, "\"nonfinite_a\": 0, \"nonfinite_b\": 128, \"nonfinite\": 128") &&
+               strstr(out_buf, "\"compared\": 0") && strstr(out_buf, "\"rmse\": null") &&
+               strstr(out_buf, "\"psnr\": null") && strstr(out_buf, "\"pass\": false"),
+           "%d %s", rc, out_buf);
+    /* both images have some: each counted on its own, the union left out */
+    rc = run("--json", nan, someinf, "--ignore-nonfinite", NULL);
+    CHECKF(rc == 0 && strstr(out_buf, "\"nonfinite_a\": 1, \"nonfinite_b\": 3, \"nonfinite\": 3") &&
+               strstr(out_buf, "\"compared\": 125") && strstr(out_buf, "\"pass\": true"),
+           "%d %s", rc, out_buf);
+    CHECK(run(someinf, a, "--ignore-nonfinite", "--json", NULL) == 0 &&
+          strstr(out_buf, "\"nonfinite_a\": 3, \"nonfinite_b\": 0"));
+    CHECK(run(someinf, a, NULL) == 1 && strstr(err_buf, "3 of 128 pixels of A and 0 of B"));
 
     /* heat map */
     rc = run(a, b, "--heatmap", heat, NULL);

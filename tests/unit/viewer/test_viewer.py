@@ -7,6 +7,9 @@ what it wrote and said:
 
   no_display     without DISPLAY: one line that says so, exit 1
   bad_script     a script with an unknown event: FILE:LINE and exit 2, no window needed
+  screenshot_fail  a screenshot_window (and a screenshot) that cannot be written fails the
+                 script: SCRIPT:LINE and the reason, exit 1, the script goes on (it used to
+                 print the error and exit 0)
   headless       the window's frame of examples/phong.lgraph matches `render` of the same
                  graph: the linear EXR screenshot within float noise, the PNG screenshot
                  exactly, and the window's own pixels (overlay hidden) within 1 code value
@@ -262,6 +265,28 @@ def t_node_file():
     check(stat.S_ISFIFO(os.lstat(fifo).st_mode), "the FIFO was replaced")
     left = [n for n in os.listdir(TMP) if n.startswith(".")]
     check(left == [], "temporaries left: %s" % left)
+
+
+def t_screenshot_fail():
+    g = os.path.join(TMP, "flat.lgraph")
+    with open(g, "w") as f:
+        f.write('lightgraph 1\nk = constant { color = [0.2, 0.4, 0.6] }\noutput k "flat.png"\n')
+    os.mkdir(os.path.join(TMP, "taken.png"))
+    missing = os.path.join(TMP, "no", "such", "w.png")
+    for event in ("screenshot_window", "screenshot"):
+        for bad, why in ((os.path.join(TMP, "taken.png"), "it is a directory"),
+                         (missing, "does not exist")):
+            ok = os.path.join(TMP, "after.png")
+            if os.path.exists(ok):
+                os.remove(ok)
+            rc, out, err = view(g, ["wait_frames 2", "%s %s" % (event, bad), "wait_frames 1",
+                                    "screenshot_window after.png", "quit"], expect=1)
+            check(":2: %s %s: " % (event, bad) in err and why in err,
+                  "%s into %s: the failure does not say where and why:\n%s" % (event, bad, err))
+            check(os.path.exists(ok), "the script stopped at the failed %s" % event)
+    # and written, exit 0
+    view(g, ["wait_frames 2", "screenshot_window w.png", "quit"], expect=0)
+    check(open(os.path.join(TMP, "w.png"), "rb").read(4) == b"\x89PNG", "w.png written")
 
 
 def selections(stdout):
