@@ -223,6 +223,8 @@ int lg_cmd_sweep(int argc, char **argv)
         } else if (strcmp(a, "--size") == 0) {
             if (!lg_parse_size(val, &opts.width, &opts.height))
                 rc = usage("lightgraph sweep: --size wants WxH, 1..16384 each (got '%s')\n", val);
+            else if (lg_size_over_limit("sweep", opts.width, opts.height))
+                rc = 2;
         } else if (strcmp(a, "--gl") == 0) {
             if (strcmp(val, "osmesa") && strcmp(val, "egl"))
                 rc = usage("lightgraph sweep: --gl wants osmesa or egl, got '%s'\n", val);
