@@ -273,8 +273,8 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
     if (d->flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY))
         bytes += (uint64_t)d->width * d->height * sizeof(float);
     char dims[96];
-    snprintf(dims, sizeof dims, "%ux%u%s%s", d->width, d->height, cube ? " (a cube: 6 faces)" : "",
-             depth_only ? " (depth)" : "");
+    snprintf(dims, sizeof dims, "%ux%u%s%s", d->width, d->height,
+             cube ? " (a cube: 6 faces)" : "", depth_only ? " (depth)" : "");
     if (levels > 1) {
         size_t len = strlen(dims);
         snprintf(dims + len, sizeof dims - len, " with %u mip levels", levels);
