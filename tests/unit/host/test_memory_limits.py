@@ -12,6 +12,9 @@ makes"), through the real program:
                   of three 2048x2048 rgba32f images fits alone but their 192 MiB do not, the
                   plan is refused before any node runs, naming the total, the largest
                   resource and the bound; three 1024x1024 images under the same limit render
+                  (in a build with AddressSanitizer, which reserves terabytes of address
+                  space at start-up and so cannot start under such a limit, only the plan
+                  within the machine's memory is checked, and the test says so)
 
 usage: test_memory_limits.py TEST_NAME
 """
@@ -51,6 +54,12 @@ def run(args, expect=None, address_space=None, timeout=60):
         raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
                    (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
     return p
+
+
+def sanitized():
+    """Whether the program is built with AddressSanitizer (make test-sanitize)."""
+    p = subprocess.run(["ldd", EXE], capture_output=True, text=True)
+    return "libasan" in p.stdout
 
 
 def path(name):
@@ -107,6 +116,12 @@ def graph_of_three(side):
 
 
 def test_plan_memory():
+    if sanitized():
+        print("AddressSanitizer build: RLIMIT_AS cases not run (its shadow memory needs "
+              "terabytes of address space); the plan within memory only")
+        run(["render", graph_of_three(1024)], expect=0)
+        check(os.path.exists(path("o1024.exr")), "the 48 MiB plan was not written")
+        return
     limit = 200 << 20  # each 64 MiB image fits what it leaves, the three together do not
     g = graph_of_three(2048)
     p = run(["render", g], expect=1, address_space=limit)
