@@ -1072,8 +1072,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     failed = calloc(nc, sizeof *failed);
     rays = calloc(nc, sizeof *rays);
     if (!dirs || !Y || !failed || !rays) {
-        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u directions x %u coefficients)",
-                           T, n2);
+        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (the direction table: %u directions x "
+                                            "%u coefficients, %.1f MiB)",
+                           T, n2, (double)T * (n2 * 4 + 24) / 1048576.0);
         goto done;
     }
     {
@@ -1109,7 +1110,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         b.hits = calloc(nv, sizeof *b.hits);
         b.n_hits = calloc(nv, sizeof *b.n_hits);
         if (!b.hits || !b.n_hits) {
-            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (hit lists of %u vertices)", nv);
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (hit lists of %u vertices, %.1f "
+                                                "MiB)",
+                               nv, (double)nv * (sizeof *b.hits + sizeof *b.n_hits) / 1048576.0);
             goto done;
         }
     }
