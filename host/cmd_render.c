@@ -19,6 +19,17 @@ typedef struct args {
     bool in_place;
 } args;
 
+bool lg_size_over_limit(const char *cmd, uint32_t w, uint32_t h)
+{
+    uint64_t px = (uint64_t)w * h, limit = lg_image_max_pixels();
+    if (px <= limit)
+        return false;
+    fprintf(stderr, "lightgraph %s: --size %ux%u is %llu pixels, over the limit of %llu pixels "
+                    "(raise it with --max-pixels N or LIGHTGRAPH_MAX_PIXELS=N); nothing was run\n",
+            cmd, w, h, (unsigned long long)px, (unsigned long long)limit);
+    return true;
+}
+
 static int usage(const char *cmd, const char *fmt, const char *what)
 {
     if (fmt)
@@ -65,6 +76,8 @@ static int parse_args(int argc, char **argv, args *a)
             if (!lg_parse_size(v, &a->opts.width, &a->opts.height))
                 return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n",
                              v);
+            if (lg_size_over_limit(a->cmd, a->opts.width, a->opts.height))
+                return 2;
         } else if (strcmp(s, "--frames") == 0) {
             NEEDV();
             if (!lg_parse_uint(v, &a->opts.frames, 1000000))

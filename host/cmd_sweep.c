@@ -153,6 +153,10 @@ int lg_cmd_sweep(int argc, char **argv)
         lg_sweep_args_free(&args);
         return rc;
     }
+    if (args.size_given && lg_size_over_limit("sweep", args.width, args.height)) {
+        lg_sweep_args_free(&args);
+        return 2;
+    }
     if (args.quiet)
         lg_verbosity = -1;
     const char *graph = args.graph, *reference = args.reference, *time_node = args.time_node;

@@ -1504,6 +1504,8 @@ int lg_cmd_view(int argc, char **argv)
         } else if (strcmp(s, "--size") == 0 && val) {
             if (!lg_parse_size(val, &v->opts.width, &v->opts.height))
                 rc = usage("lightgraph view: --size wants WxH, 1..16384 each (got '%s')\n", val);
+            else if (lg_size_over_limit("view", v->opts.width, v->opts.height))
+                rc = 2;
             i++;
         } else if (strcmp(s, "--script") == 0 && val) {
             v->script_path = val;

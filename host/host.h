@@ -393,4 +393,10 @@ int lg_cmd_sweep(int argc, char **argv);
 int lg_cmd_devices(int argc, char **argv);
 int lg_cmd_view(int argc, char **argv);
 
+/* (cmd_render.c) A --size the user gave, against the pixel limit (--max-pixels,
+ * LIGHTGRAPH_MAX_PIXELS): true, after a message naming `cmd`, the size, its pixels and the
+ * limit, when W x H is over it (bad usage: exit 2). The default size is not checked here: a
+ * node that makes an image of it is, when it declares that image. */
+bool lg_size_over_limit(const char *cmd, uint32_t w, uint32_t h);
+
 #endif

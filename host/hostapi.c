@@ -223,7 +223,39 @@ static lg_resource *declare(lg_pnode *p, uint32_t port, lg_resource_kind kind, c
 
 #define MAX_DIM 65536u
 
-/* Checks an image description; reports with `what` ("an image", "part 'atlas'"). */
+/* The bounds every image, volume and buffer a node declares obeys, checked here in
+ * prepare() so that a size the parameters, --size or an input make impossible is refused
+ * before any node runs (docs/images.md "Images a graph makes"): its texels, every face and
+ * mip level counted, at most the pixel limit (--max-pixels, LIGHTGRAPH_MAX_PIXELS; the
+ * limit of every read and of `check`), and its bytes within what this machine can give
+ * (lg_memory_available, the bound of every read). texels 0: a buffer, bytes only. */
+static int check_size_limits(lg_pnode *p, const char *what, const char *dims, uint64_t texels,
+                             uint64_t bytes)
+{
+    uint64_t limit = lg_image_max_pixels();
+    if (texels > limit)
+        return lg_node_errorf(p, "declares %s of %s: %llu pixels (every face and mip level "
+                                 "counted), over the limit of %llu pixels (raise it with "
+                                 "--max-pixels N or LIGHTGRAPH_MAX_PIXELS=N)",
+                              what, dims, (unsigned long long)texels,
+                              (unsigned long long)limit),
+               LG_ERR_INVALID;
+    const char *bound;
+    uint64_t avail = lg_memory_available(&bound);
+    if (bytes > avail) {
+        char need[32], have[32];
+        lg_bytes_text(need, sizeof need, bytes);
+        lg_bytes_text(have, sizeof have, avail);
+        return lg_node_errorf(p, "declares %s of %s: it needs %s (%llu bytes), more than the "
+                                 "%s (%llu bytes) of %s",
+                              what, dims, need, (unsigned long long)bytes, have,
+                              (unsigned long long)avail, bound),
+               LG_ERR_NOMEM;
+    }
+    return 0;
+}
+
+/* Checks an image description; reports with `what` ("output 'out'", "part 'atlas'"). */
 static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *what)
 {
     if (!d || d->width == 0 || d->height == 0 || d->width > MAX_DIM || d->height > MAX_DIM ||
@@ -256,13 +288,38 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
                                  "depth planes are 2D with one level",
                               what),
                LG_ERR_INVALID;
-    return 0;
+    uint32_t levels = d->levels ? d->levels : 1;
+    bool cube = (d->flags & LG_IMAGE_CUBE) != 0;
+    uint64_t texels = depth_only ? (uint64_t)d->width * d->height
+                                 : (uint64_t)lg_image_offset(d, levels, 0);
+    uint64_t bytes = depth_only ? 0 : texels * lg_format_size(d->format);
+    if (d->flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY))
+        bytes += (uint64_t)d->width * d->height * sizeof(float);
+    char dims[96];
+    snprintf(dims, sizeof dims, "%ux%u%s%s", d->width, d->height,
+             cube ? " (a cube: 6 faces)" : "", depth_only ? " (depth)" : "");
+    if (levels > 1) {
+        size_t len = strlen(dims);
+        snprintf(dims + len, sizeof dims - len, " with %u mip levels", levels);
+    }
+    return check_size_limits(p, what, dims, texels, bytes);
+}
+
+/* "output 'name'" for messages about output `port` (checked against the schema later). */
+static const char *output_label(lg_pnode *p, uint32_t port, char *buf, size_t len)
+{
+    if (port < p->schema->n_outputs)
+        snprintf(buf, len, "output '%s'", p->schema->outputs[port].name);
+    else
+        snprintf(buf, len, "output #%u", port);
+    return buf;
 }
 
 static int api_declare_image(lg_node *n, uint32_t port, const lg_image_desc *d)
 {
     lg_pnode *p = P(n);
-    int rc = check_image_desc(p, d, "an image");
+    char what[96];
+    int rc = check_image_desc(p, d, output_label(p, port, what, sizeof what));
     if (rc)
         return rc;
     lg_resource *r = declare(p, port, LG_KIND_IMAGE, "an image");
@@ -281,6 +338,11 @@ static int api_declare_buffer(lg_node *n, uint32_t port, const lg_buffer_desc *d
     lg_pnode *p = P(n);
     if (!d || d->size > (1ull << 34))
         return lg_node_errorf(p, "declares a buffer of absurd size"), LG_ERR_INVALID;
+    char what[96], dims[48];
+    snprintf(dims, sizeof dims, "%zu bytes", d->size);
+    int rc = check_size_limits(p, output_label(p, port, what, sizeof what), dims, 0, d->size);
+    if (rc)
+        return rc;
     lg_resource *r = declare(p, port, LG_KIND_BUFFER, "a buffer");
     if (!r)
         return LG_ERR_INVALID;
@@ -297,14 +359,19 @@ static int check_volume_desc(lg_pnode *p, const lg_volume_desc *d, const char *w
                                  "cells, a known format)",
                               what, d ? d->width : 0, d ? d->height : 0, d ? d->depth : 0),
                LG_ERR_INVALID;
-    return 0;
+    uint64_t cells = (uint64_t)d->width * d->height * d->depth;
+    char dims[64];
+    snprintf(dims, sizeof dims, "%ux%ux%u", d->width, d->height, d->depth);
+    return check_size_limits(p, what, dims, cells, cells * lg_format_size(d->format));
 }
 
 static int api_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
 {
     lg_pnode *p = P(n);
-    if (check_volume_desc(p, d, "a volume"))
-        return LG_ERR_INVALID;
+    char what[96];
+    int rc = check_volume_desc(p, d, output_label(p, port, what, sizeof what));
+    if (rc)
+        return rc;
     lg_resource *r = declare(p, port, LG_KIND_VOLUME, "a volume");
     if (!r)
         return LG_ERR_INVALID;
@@ -580,16 +647,24 @@ static int api_declare_composite(lg_node *n, uint32_t port, const lg_part_spec *
                                      "declared as %d",
                                   sp->name, kd->name, (int)want, (int)sp->type),
                    LG_ERR_INVALID;
-        char what[96];
-        snprintf(what, sizeof what, "part '%s'", sp->name);
-        if (want == LG_PART_IMAGE && check_image_desc(p, &sp->image, what))
-            return LG_ERR_INVALID;
-        if (want == LG_PART_VOLUME && check_volume_desc(p, &sp->volume, what))
-            return LG_ERR_INVALID;
+        char what[160];
+        snprintf(what, sizeof what, "part '%s' of output '%s'", sp->name,
+                 p->schema->outputs[port].name);
+        int rc = 0;
+        if (want == LG_PART_IMAGE && (rc = check_image_desc(p, &sp->image, what)))
+            return rc;
+        if (want == LG_PART_VOLUME && (rc = check_volume_desc(p, &sp->volume, what)))
+            return rc;
         if (want == LG_PART_BUFFER && sp->buffer.size > (1ull << 34))
             return lg_node_errorf(p, "declares %s of %zu bytes (at most 16 GiB)", what,
                                   sp->buffer.size),
                    LG_ERR_INVALID;
+        if (want == LG_PART_BUFFER) {
+            char dims[48];
+            snprintf(dims, sizeof dims, "%zu bytes", sp->buffer.size);
+            if ((rc = check_size_limits(p, what, dims, 0, sp->buffer.size)))
+                return rc;
+        }
         if (want == LG_PART_META && (sp->buffer.size == 0 || sp->buffer.size > LG_META_MAX))
             return lg_node_errorf(p, "declares metadata %s of %zu bytes (1..%u)", what,
                                   sp->buffer.size, LG_META_MAX),

@@ -10,7 +10,8 @@
 
 /* --max-pixels N (or =N), accepted anywhere on the command line and taken out of argv before
  * the command parses its own options: the pixel limit of every image read (render's image
- * nodes, diff, sweep) and of check. Returns 0, or 2 after a message. */
+ * nodes, diff, sweep), of check, of --size and of every image a node declares. Returns 0,
+ * or 2 after a message. */
 static int take_max_pixels(int *argc, char **argv)
 {
     for (int i = 1; i < *argc;) {
@@ -74,8 +75,8 @@ static void help(FILE *f)
             "                   (exit 0: all named ones (default: both) can; 1: one cannot)\n"
             "  lightgraph --version | help\n"
             "\n"
-            "option of every command: --max-pixels N  the largest image read, in pixels\n"
-            "  (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/images.md)\n"
+            "option of every command: --max-pixels N  the largest image read or made, in\n"
+            "  pixels (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/images.md)\n"
             "exit status: 0 success, 1 failure while running, 2 bad usage or bad graph\n"
             "environment: LIGHTGRAPH_PLUGIN_PATH (plugin directories, ':'-separated, searched\n"
             "  first), LIGHTGRAPH_CACHE_DIR (the on-disk cache; default\n"

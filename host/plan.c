@@ -456,6 +456,55 @@ static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
     return prepare_node(ex, n);
 }
 
+/* The sum of what the plan's resources will take (each image, volume and buffer a kept
+ * node declared, once, however many nodes read it; every part of a composite), against
+ * what the machine can give (lg_memory_available, the bound of every image read). Each
+ * resource passed that bound alone when it was declared; together they may not, and a
+ * render that would run out of memory after minutes of work is refused before it starts.
+ * Returns 0, or -1 after reporting the total, the largest resource and the bound. */
+static int check_plan_memory(lg_exec *ex)
+{
+    uint64_t total = 0, largest = 0;
+    uint32_t count = 0;
+    const lg_pnode *big = NULL;
+    const char *big_port = NULL;
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        const lg_pnode *n = ex->nodes[i];
+        if (n->state != LG_STATE_KEPT || !n->outputs)
+            continue;
+        for (uint32_t o = 0; o < n->schema->n_outputs; o++) {
+            const lg_resource *r = n->outputs[o];
+            if (!r || r->producer != n) /* an alias is its input, counted at its producer */
+                continue;
+            uint64_t b = lg_resource_bytes(r);
+            if (!b)
+                continue;
+            total += b;
+            count++;
+            if (b > largest) {
+                largest = b;
+                big = n;
+                big_port = n->schema->outputs[o].name;
+            }
+        }
+    }
+    const char *bound;
+    uint64_t avail = lg_memory_available(&bound);
+    if (total <= avail)
+        return 0;
+    char need[32], have[32], most[32];
+    lg_bytes_text(need, sizeof need, total);
+    lg_bytes_text(have, sizeof have, avail);
+    lg_bytes_text(most, sizeof most, largest);
+    lg_hlog(LG_HERR, "the plan's %u images, volumes and buffers need %s (%llu bytes) in all, "
+                     "more than the %s (%llu bytes) of %s; the largest is output '%s' of node "
+                     "'%s' (%s); nothing was run",
+            count, need, (unsigned long long)total, have, (unsigned long long)avail, bound,
+            big_port ? big_port : "?", big ? big->pub.name : "?", most);
+    ex->failed = true;
+    return -1;
+}
+
 int lg_plan(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
@@ -525,6 +574,8 @@ int lg_plan(lg_exec *ex)
                                : (n->schema->flags & LG_NODE_VIEW_INDEPENDENT) != 0;
         n->reads_scene = reads && !makes && !independent;
     }
+    if (rc == 0 && !ex->failed)
+        rc = check_plan_memory(ex);
     ex->t_plan_ms = (lg_now() - t0) * 1e3;
     return rc || ex->failed ? -1 : 0;
 }

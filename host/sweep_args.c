@@ -98,6 +98,7 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
         } else if (strcmp(o, "--size") == 0) {
             if (!lg_parse_size(val, &a->width, &a->height))
                 return bad(err, errlen, "--size wants WxH, 1..16384 each (got '%s')", val);
+            a->size_given = true;
         } else if (strcmp(o, "--gl") == 0) {
             if (strcmp(val, "osmesa") && strcmp(val, "egl"))
                 return bad(err, errlen, "--gl wants osmesa or egl, got '%s'", val);

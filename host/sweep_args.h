@@ -32,6 +32,7 @@ typedef struct lg_sweep_args {
     uint32_t repeat;               /* --repeat, 1..1000, default 3 */
     uint32_t frames;               /* --frames, 1..100000, default 1 */
     uint32_t width, height;        /* --size, default 640x360 */
+    bool size_given;               /* --size was given (its pixel limit is the command's) */
     const char *gl_backend;        /* --gl: "osmesa" (default) or "egl" */
     bool quiet;                    /* -q */
 } lg_sweep_args;

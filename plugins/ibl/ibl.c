@@ -137,6 +137,8 @@ static int ibl_create_background(lg_node *n) { return ibl_create(n, IBL_BACKGROU
 static const lg_format ibl_formats[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8 };
 static const char *const ibl_format_names[] = { "rgba32f", "rgba16f", "rgbe8", NULL };
 
+static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe);
+
 static int ibl_prepare(lg_node *n)
 {
     ibl_state *st = n->user;
@@ -174,6 +176,8 @@ static int ibl_prepare(lg_node *n)
                         .format = ibl_formats[st->format], .flags = LG_IMAGE_DEPTH };
     int rc = lg_declare_image(n, 0, &d);
     if (rc)
+        return rc;
+    if (st->mode != IBL_BACKGROUND && (rc = ibl_check_chain(n, st, pr)))
         return rc;
     return lg_set_device(n, st->backend == IBL_GL ? LG_DEVICE_GL
                             : st->backend == IBL_CL ? LG_DEVICE_CL
@@ -283,6 +287,135 @@ static lg_probe_image ibl_chain_level(const ibl_state *st, const float *rotation
     return lg_probe_image_at(LG_PROBE_CUBE, &d, st->chain, l, rotation);
 }
 
+/* The chain's face size and levels from the parameters and the probe's radiance image
+ * (a cube, or a 2D layout). prefilter_size 0: 128, halved while larger than the probe's
+ * face (a cube's face; a 2D probe's width / 4, the face of a cube of the same texel
+ * density at the equator), at least 8. A prefilter_size above what the probe can fill
+ * (that face rounded up to a power of two, at least 8) is clamped to it: a finer chain
+ * only interpolates the probe, at 6 size^2 (samples + 22) floats of work and memory (a
+ * 1x1 probe at 4096 took 4.4 GiB and 78 s for nothing); levels beyond what the face
+ * allows are clamped too. *note (note_len > 0) receives what was clamped, or "". */
+static int ibl_chain_shape(lg_node *n, const ibl_state *st, const lg_image_desc *rd,
+                           uint32_t *size_out, uint32_t *levels_out, char *note, size_t note_len)
+{
+    note[0] = 0;
+    uint32_t src = (rd->flags & LG_IMAGE_CUBE) ? rd->width : rd->width / 4;
+    uint32_t size = st->size_param;
+    if (size == 0) {
+        size = 128;
+        while (size > 8 && size > src)
+            size /= 2;
+    } else {
+        uint32_t fill = 8;
+        while (fill < src && fill < 4096)
+            fill *= 2;
+        if (size > fill) {
+            snprintf(note, note_len, "prefilter_size = %u is finer than the %ux%u%s probe can "
+                                     "fill: the chain is made at %u per face (set "
+                                     "prefilter_size to %u or less, or 0, to silence this)",
+                     size, rd->width, rd->height, (rd->flags & LG_IMAGE_CUBE) ? " cube" : "",
+                     fill, fill);
+            size = fill;
+        }
+    }
+    uint32_t max_levels = 1;
+    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
+        max_levels++;
+    uint32_t levels = st->levels_param ? st->levels_param : 6;
+    if (levels > max_levels) {
+        if (st->levels_param) {
+            size_t len = strlen(note);
+            snprintf(note + len, note_len - len, "%slevels = %u: a chain of face %u has %u "
+                                                 "levels, so it has %u",
+                     len ? "; " : "", levels, size, max_levels, max_levels);
+        }
+        levels = max_levels;
+    }
+    if (levels < 2)
+        return lg_error(n, "levels = %u: a GGX chain needs at least 2 levels (roughness 0 and 1); "
+                           "prefilter_size %u allows %u",
+                        levels, size, max_levels);
+    *size_out = size;
+    *levels_out = levels;
+    return 0;
+}
+
+/* Bytes the making of a chain of face `size` and `levels` levels needs at its peak: the
+ * chain, its copy for the cache, the box-filtered mips of level 0 (a third of it) and their
+ * solid angles, the sample sets, and resampling the probe into level 0 (unless it is a
+ * cube of that size already; lg_probe_resample_bytes). *resample receives the last. */
+static uint64_t ibl_chain_bytes(const lg_image_desc *rd, uint32_t size, uint32_t levels,
+                                uint32_t samples, uint64_t *resample)
+{
+    bool cube = (rd->flags & LG_IMAGE_CUBE) != 0;
+    uint64_t level0 = 6ull * size * size;
+    uint64_t src = (uint64_t)rd->width * rd->height * (cube ? 6 : 1);
+    *resample = cube && rd->width == size ? 0 : lg_probe_resample_bytes(src, level0);
+    double b = 2.0 * ibl_chain_floats(size, levels) * sizeof(float) +
+               (double)level0 / 3 * 4 * sizeof(float) + (double)level0 * sizeof(float) +
+               (double)levels * samples * 5 * sizeof(float) + (double)*resample;
+    return b >= 1.8e19 ? UINT64_MAX : (uint64_t)b;
+}
+
+/* Whether the scene has a material that reads the chain (reflective, roughness > 0, glossy
+ * = auto): ibl_materials' test. */
+static bool ibl_scene_rough(const ibl_state *st, const lg_scene *s)
+{
+    if (st->mode == IBL_BACKGROUND || st->glossy != IBL_GLOSSY_AUTO || !s)
+        return false;
+    for (uint32_t i = 0; i < s->n_materials; i++) {
+        const lg_material *m = &s->materials[i];
+        bool reflects = false;
+        for (int c = 0; c < 3; c++) {
+            float r = st->reflectivity[0] >= 0 ? st->reflectivity[c] : m->reflectivity[c];
+            reflects |= isfinite(r) && r > 0;
+        }
+        if (reflects && m->roughness > 0)
+            return true;
+    }
+    return false;
+}
+
+/* In prepare: the chain this node will make, clamped with a note (a warning, shown at the
+ * default verbosity) when its parameters ask for more than the probe can fill, and its
+ * memory against what the machine can give, before anything runs. */
+static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe)
+{
+    const lg_resource *rad = lg_part(n, probe, "radiance");
+    lg_resource_info ri;
+    if (!rad || lg_describe(rad, &ri, n) != 0 || !ri.image.width || !ri.image.height)
+        return 0; /* a gated or empty probe: execute says so */
+    if (!ibl_scene_rough(st, lg_scene_get(n, lg_input(n, IN_SCENE))))
+        return 0;
+    uint32_t size, levels;
+    char note[512];
+    int rc = ibl_chain_shape(n, st, &ri.image, &size, &levels, note, sizeof note);
+    if (rc)
+        return rc;
+    if (note[0])
+        lg_log(n, LG_LOG_WARN, "%s", note);
+    uint32_t samples = st->samples ? st->samples : 256;
+    uint64_t resample, need = ibl_chain_bytes(&ri.image, size, levels, samples, &resample);
+    const char *bound;
+    uint64_t avail = lg_memory_available(&bound);
+    if (need <= avail)
+        return 0;
+    char need_s[32], have_s[32], rs_s[32];
+    lg_bytes_text(need_s, sizeof need_s, need);
+    lg_bytes_text(have_s, sizeof have_s, avail);
+    lg_bytes_text(rs_s, sizeof rs_s, resample);
+    return lg_error_code(n, LG_ERR_NOMEM,
+                         "the GGX chain (prefilter_size = %u: cube %u, %u levels, "
+                         "prefilter_samples = %u) from the %ux%u%s probe needs %s (%llu bytes; "
+                         "resampling the probe into its first level %s), more than the %s "
+                         "(%llu bytes) of %s; use a smaller probe (probe_convert), a smaller "
+                         "prefilter_size, or glossy = off",
+                         st->size_param, size, levels, samples, ri.image.width, ri.image.height,
+                         (ri.image.flags & LG_IMAGE_CUBE) ? " cube" : "", need_s,
+                         (unsigned long long)need, rs_s, have_s, (unsigned long long)avail,
+                         bound);
+}
+
 /* Makes the chain once: from the host's cache, else lg_probe_prefilter_ggx (then cached).
  * The cache key is scoped by the node's identity, which includes the probe's content and
  * this node's parameters. */
@@ -292,25 +425,11 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
         return st->chain ? 0 : LG_ERR_INVALID;
     st->chain_tried = true;
     const lg_image_desc *rd = &f->probe->radiance_desc;
-    uint32_t size = st->size_param;
-    if (size == 0) {
-        /* auto: 128 per face at most, and no finer than the probe (a cube's face; a 2D
-         * probe's width / 4, the face of a cube of the same texel density at the equator) */
-        uint32_t src = f->probe->info.layout == LG_PROBE_CUBE ? rd->width : rd->width / 4;
-        size = 128;
-        while (size > 8 && size > src)
-            size /= 2;
-    }
-    uint32_t max_levels = 1;
-    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
-        max_levels++;
-    uint32_t levels = st->levels_param ? st->levels_param : 6;
-    if (levels > max_levels)
-        levels = max_levels;
-    if (levels < 2)
-        return lg_error(n, "levels = %u: a GGX chain needs at least 2 levels (roughness 0 and 1); "
-                           "prefilter_size %u allows %u",
-                        levels, size, max_levels);
+    uint32_t size, levels;
+    char note[512]; /* said in prepare already */
+    int rc = ibl_chain_shape(n, st, rd, &size, &levels, note, sizeof note);
+    if (rc)
+        return rc;
     uint32_t samples = st->samples ? st->samples : 256;
     size_t nf = ibl_chain_floats(size, levels);
     char key[96];
@@ -339,23 +458,35 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     }
 
     lg_cpu_view pv;
-    int rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);
+    rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);
     if (rc)
         return rc;
     /* rotation NULL: the chain stays in the probe's frame (ggx_prefilter.h, "Frames") */
     lg_probe_image src = lg_probe_image_at(f->probe->info.layout, rd, pv.pixels, 0, NULL);
     st->chain = malloc(nf * sizeof(float));
     if (!st->chain)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (GGX chain, %zu floats)", nf);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (GGX chain, %zu floats: %zu bytes)",
+                             nf, nf * sizeof(float));
     lg_probe_prefilter_opts o = { .samples = samples, .weighting = st->weighting };
     lg_probe_prefilter_stats ps;
     rc = lg_probe_prefilter_ggx(n, &src, LG_PROBE_CUBE, size, size, levels, &o, st->chain, &ps);
     if (rc) {
         free(st->chain);
         st->chain = NULL;
+        /* the prefilter reports nothing itself: say why, and how much it was after */
+        char why[256] = "";
+        if (rc == LG_ERR_NOMEM) {
+            uint64_t resample, need = ibl_chain_bytes(rd, size, levels, samples, &resample);
+            char a[32], b[32];
+            lg_bytes_text(a, sizeof a, need);
+            lg_bytes_text(b, sizeof b, resample);
+            snprintf(why, sizeof why, ": out of memory (it needs about %s, %s of it to "
+                                      "resample the %ux%u probe into the chain's first level)",
+                     a, b, rd->width, rd->height);
+        }
         return lg_error_code(n, rc, "prefiltering the probe (cube %u, %u levels, %u samples) "
-                                    "failed",
-                             size, levels, samples);
+                                    "failed%s",
+                             size, levels, samples, why);
     }
     st->chain_size = size;
     st->chain_levels = levels;
@@ -1099,7 +1230,9 @@ static const lg_param_desc ibl_mirror_params[] = {
              "the face is too small)" },
     { .key = "prefilter_size", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 4096,
       .doc = "face size of the GGX chain (a cube); 0 = 128, halved while larger than the "
-             "probe (a cube's face, a 2D probe's width / 4), at least 8" },
+             "probe (a cube's face, a 2D probe's width / 4), at least 8; a size finer than "
+             "the probe can fill (that face rounded up to a power of two, at least 8) is "
+             "clamped to it, with a warning" },
     { .key = "prefilter_samples", .type = LG_PARAM_INT, .def.i = 256, .min = 1,
       .max = 1048576, .doc = "GGX samples per texel of the chain (filtered importance "
                              "sampling)" },

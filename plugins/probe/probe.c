@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lightgraph/image.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
 #include "probe_load.h"
@@ -217,7 +218,31 @@ static int convert_prepare(lg_node *n)
                         .flags = st->layout == LG_PROBE_CUBE ? LG_IMAGE_CUBE : 0u };
     int rc = lg_probe_declare(n, 0, st->layout, &d, true);
     if (rc)
-        return rc;
+        return rc; /* the host refused a size over the pixel limit or the machine's memory */
+    /* the resampling's working memory (the overlap matrix and its balancing), which the
+     * declared output does not include, before anything runs */
+    uint64_t src_n = (uint64_t)rad.image.width * rad.image.height *
+                     ((rad.image.flags & LG_IMAGE_CUBE) ? 6 : 1);
+    uint64_t dst_n = (uint64_t)st->width * st->height * (st->layout == LG_PROBE_CUBE ? 6 : 1);
+    uint64_t need = lg_probe_resample_bytes(src_n, dst_n);
+    const char *bound;
+    uint64_t avail = lg_memory_available(&bound);
+    if (need > avail) {
+        char a[32], b[32];
+        lg_bytes_text(a, sizeof a, need);
+        lg_bytes_text(b, sizeof b, avail);
+        return lg_error_code(n, LG_ERR_NOMEM,
+                             "size = %lld: resampling the %ux%u%s probe (%llu texels) into "
+                             "%ux%u%s (%llu texels) needs %s (%llu bytes) of working memory, "
+                             "more than the %s (%llu bytes) of %s; lower size (0 keeps the "
+                             "probe's texel count)",
+                             (long long)size, rad.image.width, rad.image.height,
+                             (rad.image.flags & LG_IMAGE_CUBE) ? " cube" : "",
+                             (unsigned long long)src_n, st->width, st->height,
+                             st->layout == LG_PROBE_CUBE ? " x 6 faces" : "",
+                             (unsigned long long)dst_n, a, (unsigned long long)need, b,
+                             (unsigned long long)avail, bound);
+    }
     return lg_set_device(n, LG_DEVICE_CPU);
 }
 
@@ -261,10 +286,18 @@ static int convert_execute(lg_node *n, const lg_frame *frame)
                    (size_t)st->width * 16);
         free(buf);
     }
-    if (rc)
-        return lg_error_code(n, rc, "resampling the %ux%u probe into %ux%u failed%s",
+    if (rc) {
+        char a[32] = "";
+        lg_bytes_text(a, sizeof a, lg_probe_resample_bytes(
+                                       (uint64_t)img.width * img.height *
+                                           (img.layout == LG_PROBE_CUBE ? 6 : 1),
+                                       (uint64_t)texels));
+        return lg_error_code(n, rc, "resampling the %ux%u probe into %ux%u failed%s%s%s",
                              img.width, img.height, st->width, st->height,
-                             rc == LG_ERR_NOMEM ? ": out of memory" : "");
+                             rc == LG_ERR_NOMEM ? ": out of memory (its working memory, at "
+                                                  "least " : "",
+                             rc == LG_ERR_NOMEM ? a : "", rc == LG_ERR_NOMEM ? ")" : "");
+    }
     lg_log(n, LG_LOG_DEBUG, "%llu sub-rectangles, %llu texel pairs, %u balancing rounds; "
            "integral error %.2e before balancing, %.2e after",
            (unsigned long long)stats.samples, (unsigned long long)stats.entries,

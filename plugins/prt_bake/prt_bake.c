@@ -24,6 +24,7 @@
 #include "lg_embree.h"
 #include "pb_cache.h"
 
+#include "lightgraph/image.h"
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/probe.h"
 #include "lightgraph/sampling.h"
@@ -543,6 +544,50 @@ static const lg_scene *pb_scene_in(lg_node *n, const lg_resource **res)
     return lg_scene_get(n, in);
 }
 
+/* The bake's working memory, from its parameters and the vertex count, against what the
+ * machine can give (lg_memory_available), before anything runs: the direction table (T
+ * directions, 24 bytes and n^2 floats each), the world copy (84 bytes per vertex), with
+ * mode = interreflected two more transfers and, when hit_memory_mib lets them be kept, the
+ * shadowed pass's hits (20 bytes each, up to T / 2 + 1 per vertex; the bound the bake
+ * itself uses to decide). A hit_memory_mib the machine cannot give would otherwise grow
+ * the hit lists until the process is killed. Returns 0 or an error naming the parameter,
+ * its value, the bytes needed and the bytes available. */
+static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
+{
+    double T = (double)p->samples * p->samples, n2 = (double)p->bands * p->bands;
+    double table = T * (3 * sizeof(double) + n2 * sizeof(float));
+    double world = (double)nv * (3 * 3 * sizeof(double) + 3 * sizeof(float));
+    double incr = p->mode == PB_INTERREFLECTED ? 2.0 * nv * 3 * n2 * sizeof(float) : 0.0;
+    double hits = (double)nv * (floor(T / 2) + 1) * sizeof(pb_hit);
+    bool keep = p->mode == PB_INTERREFLECTED && hits <= (double)p->hit_mib * 1048576.0;
+    double need = table + world + incr + (keep ? hits : 0.0);
+    const char *bound;
+    uint64_t avail = lg_memory_available(&bound);
+    if (need <= (double)avail)
+        return 0;
+    char need_s[32], have_s[32], hits_s[32];
+    lg_bytes_text(need_s, sizeof need_s, (uint64_t)need);
+    lg_bytes_text(have_s, sizeof have_s, avail);
+    lg_bytes_text(hits_s, sizeof hits_s, (uint64_t)hits);
+    if (keep)
+        return lg_error_code(n, LG_ERR_NOMEM,
+                             "hit_memory_mib = %u keeps the shadowed pass's ray hits for the "
+                             "bounces, up to %s (%u vertices x %.0f directions x %zu bytes), "
+                             "and the bake then needs %s (%.0f bytes), more than the %s "
+                             "(%llu bytes) of %s; lower hit_memory_mib below %.0f, or to 0 "
+                             "(every bounce casts its rays again: the same result, slower)",
+                             p->hit_mib, hits_s, nv, floor(T / 2) + 1, sizeof(pb_hit), need_s,
+                             need, have_s, (unsigned long long)avail, bound,
+                             hits / 1048576.0);
+    return lg_error_code(n, LG_ERR_NOMEM,
+                         "samples = %u with bands = %u: the bake needs %s (%.0f bytes: the "
+                         "table of %.0f directions, %u vertices%s), more than the %s (%llu "
+                         "bytes) of %s; lower samples or bands",
+                         p->samples, p->bands, need_s, need, T, nv,
+                         incr > 0 ? " and two transfers for the bounces" : "", have_s,
+                         (unsigned long long)avail, bound);
+}
+
 static int pb_prepare(lg_node *n)
 {
     pb_state *st = n->user;
@@ -562,6 +607,8 @@ static int pb_prepare(lg_node *n)
         return lg_error(n, "input 'scene' has %llu vertices: too many",
                         (unsigned long long)nv);
     st->vertices = (uint32_t)nv;
+    if (!st->reference && (rc = pb_check_memory(n, &st->p, st->vertices)))
+        return rc;
     if (st->reference) {
         lg_resource_info info;
         const lg_resource *pr = lg_input(n, 1);
@@ -998,8 +1045,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     failed = calloc(nc, sizeof *failed);
     rays = calloc(nc, sizeof *rays);
     if (!dirs || !Y || !failed || !rays) {
-        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u directions x %u coefficients)",
-                           T, n2);
+        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (the direction table: %u directions x "
+                                            "%u coefficients, %.1f MiB)",
+                           T, n2, (double)T * (n2 * 4 + 24) / 1048576.0);
         goto done;
     }
     {
@@ -1035,7 +1083,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         b.hits = calloc(nv, sizeof *b.hits);
         b.n_hits = calloc(nv, sizeof *b.n_hits);
         if (!b.hits || !b.n_hits) {
-            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (hit lists of %u vertices)", nv);
+            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (hit lists of %u vertices, %.1f "
+                                                "MiB)",
+                               nv, (double)nv * (sizeof *b.hits + sizeof *b.n_hits) / 1048576.0);
             goto done;
         }
     }
@@ -1047,8 +1097,16 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     uint64_t total_rays = 0;
     for (size_t c = 0; c < nc; c++) {
         if (failed[c]) {
-            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory while baking (vertices %zu..)",
-                               c * PB_GRAIN);
+            if (b.keep)
+                rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory while baking (vertices "
+                                   "%zu..): keeping their ray hits, up to %.1f MiB per vertex "
+                                   "(hit_memory_mib = %u; 0 keeps none)",
+                                   c * PB_GRAIN, (double)(T / 2 + 1) * sizeof(pb_hit) / 1048576.0,
+                                   p->hit_mib);
+            else
+                rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory while baking (vertices "
+                                   "%zu..: %u coefficients of accumulator per vertex)",
+                                   c * PB_GRAIN, n2);
             goto done;
         }
         total_rays += rays[c];

@@ -86,7 +86,7 @@ uint64_t lg_image_alloc_cap(void)
     return n > LG_IMAGE_MAX_PIXELS ? n : LG_IMAGE_MAX_PIXELS;
 }
 
-static void human_bytes(char *out, size_t n, uint64_t b)
+void lg_bytes_text(char *out, size_t n, uint64_t b)
 {
     static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
     if (b < 1024) {
@@ -102,11 +102,13 @@ static void human_bytes(char *out, size_t n, uint64_t b)
     snprintf(out, n, "%.1f %s", v, unit[u]);
 }
 
-/* What the machine can give a decode: physical memory, or less when an address-space limit
- * (RLIMIT_AS, `ulimit -v`) is set, less what the process maps already. */
-static uint64_t memory_available(const char **what)
+/* What the machine can give a decode (or a plan, or a node's working memory): physical
+ * memory, or less when an address-space limit (RLIMIT_AS, `ulimit -v`) is set, less what
+ * the process maps already. */
+uint64_t lg_memory_available(const char **what_out)
 {
     uint64_t avail = UINT64_MAX;
+    const char *unused, **what = what_out ? what_out : &unused;
     *what = "memory";
     long pages = sysconf(_SC_PHYS_PAGES), psize = sysconf(_SC_PAGESIZE);
     if (pages > 0 && psize > 0) {
@@ -154,16 +156,16 @@ int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec
     if (__builtin_add_overflow(codec_per_pixel, (uint64_t)(4 * sizeof(float)), &per) ||
         __builtin_mul_overflow(px, per, &need) ||
         __builtin_add_overflow(need, codec_fixed, &need) || need > (uint64_t)SIZE_MAX / 2) {
-        human_bytes(b, sizeof b, (uint64_t)SIZE_MAX / 2);
+        lg_bytes_text(b, sizeof b, (uint64_t)SIZE_MAX / 2);
         return lg_image_fail(err, errlen, LG_ERR_NOMEM,
                              "cannot read '%s': decoding its %llu x %llu pixels needs more than "
                              "%s, more than this machine can address", path,
                              (unsigned long long)w, (unsigned long long)h, b);
     }
-    uint64_t avail = memory_available(&what);
+    uint64_t avail = lg_memory_available(&what);
     if (need > avail) {
-        human_bytes(a, sizeof a, need);
-        human_bytes(b, sizeof b, avail);
+        lg_bytes_text(a, sizeof a, need);
+        lg_bytes_text(b, sizeof b, avail);
         return lg_image_fail(err, errlen, LG_ERR_NOMEM,
                              "cannot read '%s': decoding its %llu x %llu pixels needs %s, more "
                              "than the %s of %s", path, (unsigned long long)w,

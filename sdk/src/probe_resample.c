@@ -627,6 +627,17 @@ static void column_sums(const overlap *m, double *colsum, size_t src_n)
         colsum[m->src[e]] += m->w[e];
 }
 
+uint64_t lg_probe_resample_bytes(uint64_t src_texels, uint64_t dst_texels)
+{
+    /* area, omega, factor per source texel; rows, row per destination texel; src + w per
+     * entry in the chunks and again in the merged matrix (lg_probe_resample_pool below) */
+    uint64_t pairs = src_texels > dst_texels ? src_texels : dst_texels;
+    double b = (double)src_texels * (sizeof(double) + sizeof(float) + sizeof(double)) +
+               (double)dst_texels * (sizeof(double) + sizeof(size_t)) +
+               (double)pairs * 2 * (sizeof(uint32_t) + sizeof(double));
+    return b >= 1.8e19 ? UINT64_MAX : (uint64_t)b;
+}
+
 int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, uint32_t width,
                       uint32_t height, const float *rotation, const lg_probe_resample_opts *opts,
                       float *out, lg_probe_resample_stats *stats)

@@ -110,6 +110,21 @@ LG_API void lg_image_set_max_pixels(uint64_t n);
  * FIFO) and every decoder reads that open file; no decoder opens the path again. */
 LG_API uint64_t lg_image_max_file_bytes(void);
 
+/* Since ABI 2.7. The memory this process can still be given, in bytes: the machine's
+ * physical memory (sysconf), or, when an address-space limit is set (RLIMIT_AS, `ulimit
+ * -v`, `prlimit --as`), that limit less what the process maps already, whichever is less.
+ * It is the bound of every image read (above); the host checks each declared image and
+ * volume and the sum of a plan's resources against it before anything runs, and a node
+ * whose working memory a parameter sets checks it in prepare() (docs/sdk.md "Memory").
+ * `what` (may be NULL) receives a static description of the bound met, for messages:
+ * "physical memory", or "address space that the process's limit (RLIMIT_AS, ulimit -v)
+ * leaves". Reads /proc/self/statm when a limit is set; thread-safe. */
+LG_API uint64_t lg_memory_available(const char **what);
+
+/* Since ABI 2.7. `b` bytes as text for messages: "512 bytes", "1.5 KiB", "4.0 GiB" (one
+ * decimal, binary units), written into out[n] (always terminated when n > 0). */
+LG_API void lg_bytes_text(char *out, size_t n, uint64_t b);
+
 /* A 64-bit hash of an image's size and pixels (FNV-1a over 8-byte words, then a final mix),
  * continuing from `seed` (LG_IMAGE_HASH_SEED to start; pass a previous result to chain
  * several images). For content keys: the same pixels give the same key from any file

@@ -535,6 +535,17 @@ LG_API int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src,
                                   const float *rotation, const lg_probe_resample_opts *opts,
                                   float *out, lg_probe_resample_stats *stats);
 
+/* Since ABI 2.7. The working memory, in bytes, that lg_probe_resample (LG_PROBE_NEAREST)
+ * needs to resample `src_texels` texels (every face of a cube counted) into `dst_texels`:
+ * 20 bytes per source texel (its solid angle, received area and balancing factor), 16 per
+ * destination texel (row sums and starts) and 24 per overlapping texel pair (the chunks'
+ * matrices and the merged one, 12 bytes each), with at least max(src, dst) pairs, since
+ * every texel of either side overlaps one of the other. A lower bound, within about 2x of
+ * what a resampling of very different sizes takes; the caller's `out` is not included. For
+ * checking in prepare() against lg_memory_available (lightgraph/image.h) before a
+ * resampling of a large probe runs. */
+LG_API uint64_t lg_probe_resample_bytes(uint64_t src_texels, uint64_t dst_texels);
+
 #ifdef __cplusplus
 }
 #endif

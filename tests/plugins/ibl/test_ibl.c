@@ -31,7 +31,15 @@
  *   base         the reflection added to a base image; where no geometry, base passes
  *   gating       no reflective material, and no probe: reflect and envmap gated, the ibl
  *                plugin not loaded, --explain says why
+ *   chain_limits a 1x1 probe with prefilter_size = 4096, levels = 16 (4.4 GiB and 78 s
+ *                before): the chain is clamped to 8 per face and 4 levels with a warning
+ *                shown at the default verbosity, and the render finishes with the constant;
+ *                under an address-space limit of 100 MiB (RLIMIT_AS, set in this process and
+ *                so in the host) a 2048x1024 probe's chain (94 MiB, mostly the resampling)
+ *                is refused in prepare, naming the chain, the bytes needed and available
  */
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -1117,6 +1125,77 @@ static void case_cache_said(lg_test *t)
 }
 
 /* testiblscene's folder, and an empty cache per case */
+static void case_chain_limits(lg_test *t)
+{
+    const float c[3] = { 0.5f, 1.0f, 2.0f };
+    lg_image one = constant_image(1, 1, c);
+    lg_test_write_exr(t, "one.exr", &one);
+    lg_image_free(&one);
+    const char *g = "lightgraph 1\n"
+                    "s = test_ibl_scene { layout = sphere, segments = 16, roughness = 0.5, "
+                    "reflectivity = [0.5, 0.5, 0.5] }\n"
+                    "sky = probe { file = \"%s\", layout = latlong }\n"
+                    "env = environment { scene = s, probe = sky }\n"
+                    "r = reflect { scene = env, probe = sky, backend = cpu%s }\n"
+                    "output r \"r.exr\"\n";
+    char text[1024];
+    snprintf(text, sizeof text, g, "one.exr", ", prefilter_size = 4096, levels = 16");
+    const char *args[] = { "--size", "16x16", NULL };
+    const char *outs[] = { "r.exr" };
+    lg_image img = { 0 };
+    char *out = NULL;
+    int rc = render(t, text, args, outs, &img, 1, &out);
+    LG_TEST_CHECK(t, rc == 0 && out && strstr(out, "warning: node 'r' (reflect): prefilter_size = "
+                                                   "4096 is finer than the 1x1 probe can fill: "
+                                                   "the chain is made at 8 per face") &&
+                         strstr(out, "levels = 16: a chain of face 8 has 4 levels, so it has 4"),
+                  "a 4096 chain of a 1x1 probe: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    /* every pixel: 0 where no geometry, the sphere's 0.5 c where covered (a constant chain
+     * at any size: test `constant`) */
+    uint32_t bad = 0, covered = 0;
+    for (uint32_t y = 0; rc == 0 && y < img.height; y++)
+        for (uint32_t x = 0; x < img.width; x++) {
+            const float *p = px(&img, x, y);
+            bool none = p[0] == 0.0f && p[2] == 0.0f;
+            bool sphere = fabsf(p[0] - 0.5f * c[0]) < 1e-4f && fabsf(p[2] - 0.5f * c[2]) < 1e-4f;
+            bad += !none && !sphere;
+            covered += sphere;
+        }
+    LG_TEST_CHECK(t, rc == 0 && bad == 0 && covered > 0,
+                  "%u pixels neither empty nor the sphere's 0.5 c, %u covered", bad, covered);
+    lg_image_free(&img);
+
+#ifdef __SANITIZE_ADDRESS__
+    /* AddressSanitizer reserves terabytes of address space for its shadow at start-up: the
+     * host cannot start under a 100 MiB RLIMIT_AS. The normal build runs this part. */
+    printf("AddressSanitizer build: the RLIMIT_AS part is not run\n");
+    return;
+#endif
+    lg_image big = constant_image(2048, 1024, c);
+    lg_test_write_exr(t, "big.exr", &big);
+    lg_image_free(&big);
+    snprintf(text, sizeof text, g, "big.exr", "");
+    lg_test_write_text(t, "g.lgraph", text);
+    remove(lg_test_path(t, "r.exr")); /* the first render's */
+    struct rlimit rl = { 100u << 20, 100u << 20 };
+    LG_TEST_CHECK(t, setrlimit(RLIMIT_AS, &rl) == 0, "setrlimit(RLIMIT_AS, 100 MiB) failed");
+    out = NULL;
+    rc = lg_test_render(t, "g.lgraph", args, &out);
+    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "node 'r' (reflect): the GGX chain "
+                                                   "(prefilter_size = 0: cube 128, 6 levels, "
+                                                   "prefilter_samples = 256) from the 2048x1024 "
+                                                   "probe needs 94.4 MiB (98989056 bytes; "
+                                                   "resampling the probe into its first level "
+                                                   "89.5 MiB), more than the") &&
+                         strstr(out, "of address space that the process's limit (RLIMIT_AS, "
+                                     "ulimit -v) leaves"),
+                  "a 2048x1024 probe's chain under 100 MiB: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    struct stat sb;
+    LG_TEST_CHECK(t, stat(lg_test_path(t, "r.exr"), &sb) != 0, "r.exr was written");
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, IBL_TEST_PLUGIN_DIR);
@@ -1134,6 +1213,7 @@ int main(int argc, char **argv)
         { "glossy", case_glossy }, { "glossy_backends", case_glossy_backends },
         { "cache_said", case_cache_said },
         { "gating", case_gating },
+        { "chain_limits", case_chain_limits },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

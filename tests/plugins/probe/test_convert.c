@@ -20,6 +20,10 @@
  *   faces_list        faces = [six paths] relative to the graph file, and --set
  *                     sky.faces=[...] relative to the working directory: the written cross
  *                     holds each face in its cell
+ *   convert_limits    the output's texels, all six faces counted, against the pixel limit in
+ *                     prepare: a cube of face 16 (1536 texels) is refused at --max-pixels 1000
+ *                     and passes at 1536; size = 8192 (a 402,653,184-texel cube from a 16x8
+ *                     probe) is refused at the default limit at once, exit 1, no file
  *   output_errors     a probe output to .png is refused before anything runs; a probe with
  *                     a rotation cannot be written (probe_convert bakes it in, and its file
  *                     then equals the turned probe's); --explain shows the output
@@ -521,6 +525,45 @@ static void case_output_errors(lg_test *t)
     }
 }
 
+static void case_convert_limits(lg_test *t)
+{
+    lg_image src = noise_image(16, 8);
+    lg_test_write_exr(t, "noise.exr", &src);
+    lg_image_free(&src);
+    lg_test_write_text(t, "c.lgraph", "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
+                                      "conv = probe_convert { probe = sky, layout = cross, "
+                                      "size = 16 }\noutput conv \"cube.exr\"\n");
+    const char *low[] = { "--max-pixels", "1000", NULL };
+    char *out = NULL;
+    int rc = lg_test_render(t, "c.lgraph", low, &out);
+    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "node 'conv' (probe_convert): declares part "
+                                                   "'radiance' of output 'probe' of 16x16 (a "
+                                                   "cube: 6 faces): 1536 pixels (every face and "
+                                                   "mip level counted), over the limit of 1000 "
+                                                   "pixels"),
+                  "cube 16 at --max-pixels 1000: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    struct stat sb;
+    LG_TEST_CHECK(t, stat(lg_test_path(t, "cube.exr"), &sb) != 0, "cube.exr was written");
+    const char *exact[] = { "--max-pixels", "1536", NULL };
+    out = NULL;
+    rc = lg_test_render(t, "c.lgraph", exact, &out);
+    LG_TEST_CHECK(t, rc == 0, "cube 16 at --max-pixels 1536: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    /* the finding: 8192 from a small probe ran past 9.6 GB; now refused in prepare */
+    lg_test_write_text(t, "big.lgraph", "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
+                                        "conv = probe_convert { probe = sky, layout = cross, "
+                                        "size = 8192 }\noutput conv \"big.exr\"\n");
+    out = NULL;
+    rc = lg_test_render(t, "big.lgraph", NULL, &out);
+    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "of 8192x8192 (a cube: 6 faces): 402653184 "
+                                                   "pixels (every face and mip level counted), "
+                                                   "over the limit of 134217728 pixels"),
+                  "cube 8192: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    LG_TEST_CHECK(t, stat(lg_test_path(t, "big.exr"), &sb) != 0, "big.exr was written");
+}
+
 static void case_faces_list(lg_test *t)
 {
     /* six 8x8 faces of different constants in f/; the graph in g/ names them relative to
@@ -593,6 +636,7 @@ int main(int argc, char **argv)
         { "forest_roundtrip", case_forest_roundtrip },
         { "assets", case_assets },
         { "output_errors", case_output_errors },
+        { "convert_limits", case_convert_limits },
         { "faces_list", case_faces_list },
     };
     lg_test_main_opts opts = { .prefix = "probe", .setup = setup };

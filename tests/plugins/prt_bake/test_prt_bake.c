@@ -18,6 +18,12 @@
  *   brute         visibility = brute and = embree agree (same rays; a handful of ties)
  *   params        albedo material == [r, g, b] of the same colour; albedo scales; bands;
  *                 bad parameters fail with a message naming the node and value
+ *   memory        under an address-space limit of 2 GiB (RLIMIT_AS, set in this process and
+ *                 so in the host it runs): interreflected with samples = 2048 and
+ *                 hit_memory_mib = 1048576 on the box (hits up to 40 MiB per vertex) is
+ *                 refused in prepare, naming hit_memory_mib, its value, the bytes needed and
+ *                 the bytes available; samples = 2048 with bands = 12 (a 2.3 GiB direction
+ *                 table) likewise names samples; the same box at samples = 32 bakes
  *   cache         a second render loads the bake; a corrupt entry is reported and baked
  *                 again, equal; changed parameters make a new entry
  *   cache_said    "cached" only when the host stored the entry: a disabled cache (a
@@ -33,6 +39,8 @@
  *                 on the sphere under the smooth probe; the three backends agree
  */
 #include <dirent.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -477,6 +485,47 @@ static void case_params(lg_test *t)
 }
 
 /* The prt_bake entries in the case's cache folder: how many, and the first one's path. */
+static void case_memory(lg_test *t)
+{
+#ifdef __SANITIZE_ADDRESS__
+    /* AddressSanitizer reserves terabytes of address space for its shadow at start-up: the
+     * host cannot start under a 2 GiB RLIMIT_AS. The normal build runs this case. */
+    printf("AddressSanitizer build: the RLIMIT_AS case is not run\n");
+    (void)t;
+    return;
+#endif
+    struct rlimit rl = { 2ull << 30, 2ull << 30 };
+    LG_TEST_CHECK(t, setrlimit(RLIMIT_AS, &rl) == 0, "setrlimit(RLIMIT_AS, 2 GiB) failed");
+    char *out = NULL;
+    int rc = run(t, "lightgraph 1\nscene = test_prt_scene { layout = box, grid = 6 }\n"
+                    "bake = prt_bake { scene = scene, mode = interreflected, samples = 2048, "
+                    "hit_memory_mib = 1048576 }\nimg = test_transfer_image { transfer = bake }\n"
+                    "output img \"t.exr\"\n", &out);
+    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "node 'bake' (prt_bake): hit_memory_mib = "
+                                                   "1048576 keeps the shadowed pass's ray hits") &&
+                         strstr(out, "x 2097153 directions x 20 bytes)") &&
+                         strstr(out, "of address space that the process's limit (RLIMIT_AS, "
+                                     "ulimit -v) leaves; lower hit_memory_mib below"),
+                  "hits beyond the limit: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    struct stat sb;
+    LG_TEST_CHECK(t, stat(lg_test_path(t, "t.exr"), &sb) != 0, "t.exr was written");
+    out = NULL;
+    rc = run(t, "lightgraph 1\nscene = test_prt_scene { layout = box, grid = 6 }\n"
+                "bake = prt_bake { scene = scene, samples = 2048, bands = 12 }\n"
+                "img = test_transfer_image { transfer = bake, bands = 12 }\n"
+                "output img \"t.exr\"\n", &out);
+    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "node 'bake' (prt_bake): samples = 2048 with "
+                                                   "bands = 12: the bake needs 2.3 GiB") &&
+                         strstr(out, "lower samples or bands"),
+                  "a direction table beyond the limit: exit %d\n%s", rc, out ? out : "");
+    free(out);
+    LG_TEST_CHECK(t, stat(lg_test_path(t, "t.exr"), &sb) != 0, "t.exr was written");
+    tr x;
+    if (bake(t, "layout = box, grid = 6", "mode = interreflected, samples = 32", 3, &x, NULL))
+        tr_free(&x);
+}
+
 static int cache_entries(char *first, size_t n)
 {
     const char *dir = getenv("LIGHTGRAPH_CACHE_DIR");
@@ -854,6 +903,7 @@ int main(int argc, char **argv)
         { "large_coords", case_large_coords }, { "brute", case_brute },
         { "params", case_params },         { "cache", case_cache },
         { "cache_said", case_cache_said },
+        { "memory", case_memory },
         { "reference", case_reference },   { "chain", case_chain },
     };
     lg_test_main_opts o = { .setup = setup };
