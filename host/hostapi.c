@@ -4,6 +4,7 @@
 #include "host.h"
 #include "pool.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -655,6 +656,23 @@ static int api_parallel_for(lg_node *n, size_t count, size_t grain,
     return 0;
 }
 
+static void api_declare_work(lg_node *n, double units, double seconds, const char *what)
+{
+    lg_pnode *p = P(n);
+    /* a NaN or negative estimate is a plugin bug: shown as such rather than summed into a
+     * warning that makes no sense */
+    if (!(units >= 0) || !(seconds >= 0) || isinf(units) || isinf(seconds)) {
+        lg_node_errorf(p, "declare_work: units = %g, seconds = %g; both must be finite and "
+                          ">= 0 (a plugin bug)", units, seconds);
+        return;
+    }
+    p->work_declared = true;
+    p->work_units = units;
+    p->work_seconds = seconds;
+    free(p->work_what);
+    p->work_what = lg_xstrdup(what && what[0] ? what : "units");
+}
+
 static void api_account_alloc(lg_node *n, uint64_t bytes)
 {
     P(n)->bytes_alloc += bytes;
@@ -685,6 +703,7 @@ void lg_host_api_init(lg_host_api *a)
     a->set_view_independent = api_set_view_independent;
     a->add_content_key = api_add_content_key;
     a->account_alloc = api_account_alloc;
+    a->declare_work = api_declare_work;
     a->map_cpu = api_map_cpu;
     a->map_gl = api_map_gl;
     a->map_cl = api_map_cl;

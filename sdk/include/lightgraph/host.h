@@ -273,7 +273,18 @@ typedef struct lg_host_api {
      * lg_set_view_independent(), which does nothing on an older host. */
     void (*set_view_independent)(lg_node *node, bool independent);
 
-    void *reserved[24];
+    /* -- since ABI 2.7: what a run will cost, declared before it starts --
+     * In prepare(): one execute() of this node will do `units` of its own work (rays,
+     * samples x texels, voxels x steps, ...: `what` names the unit, e.g. "occlusion
+     * rays"), which should take about `seconds` of wall time here, the host's threads
+     * working (the plugin's calibrated cost per unit, divided by lg_cpu_workers()). The
+     * host shows it in --explain and warns before a render whose estimates add up to more
+     * than a minute. A later call replaces an earlier one; `what` is copied. units and
+     * seconds must be finite and >= 0, else the node fails (a plugin bug). Call it
+     * through lg_declare_work(), which does nothing on an older host. */
+    void (*declare_work)(lg_node *node, double units, double seconds, const char *what);
+
+    void *reserved[23];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -516,6 +527,15 @@ static inline void lg_set_view_independent(lg_node *n, bool independent)
     if (n->host->struct_size >= offsetof(lg_host_api, set_view_independent) + sizeof(void *) &&
         n->host->set_view_independent)
         n->host->set_view_independent(n, independent);
+}
+
+/* Since ABI 2.7: the estimated cost of one execute() (see declare_work). A no-op on an
+ * older host. */
+static inline void lg_declare_work(lg_node *n, double units, double seconds, const char *what)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, declare_work) + sizeof(void *) &&
+        n->host->declare_work)
+        n->host->declare_work(n, units, seconds, what);
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and
