@@ -91,8 +91,27 @@ static void help(FILE *f)
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
+/* LIGHTGRAPH_TEST_FREE_BYTES: the test hook of util.h (lg_test_free_bytes), read here once
+ * while the process has one thread. */
+static void take_test_free_bytes(void)
+{
+    const char *v = getenv("LIGHTGRAPH_TEST_FREE_BYTES");
+    if (!v)
+        return;
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = strtoull(v, &end, 10);
+    if (errno || !end || *end || v[0] < '0' || v[0] > '9' || n > INT64_MAX) {
+        fprintf(stderr, "lightgraph: warning: LIGHTGRAPH_TEST_FREE_BYTES='%s' is not a byte "
+                        "count; ignored\n", v);
+        return;
+    }
+    lg_test_free_bytes = (int64_t)n;
+}
+
 int main(int argc, char **argv)
 {
+    take_test_free_bytes();
     if (take_max_pixels(&argc, argv))
         return 2;
     if (argc < 2) {

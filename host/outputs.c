@@ -154,15 +154,12 @@ static entry *find(const lg_outputs *o, const char *path)
     return found;
 }
 
-int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
-                   size_t errlen)
+int lg_outputs_check(const char *path, lg_output_kind kind, char *err, size_t errlen)
 {
     if (!path || !path[0]) {
         snprintf(err, errlen, "an output file name is empty");
         return -1;
     }
-    if (find(o, path))
-        return 0;
     const char *slash = strrchr(path, '/');
     const char *base = slash ? slash + 1 : path;
     if (!base[0] || strcmp(base, ".") == 0 || strcmp(base, "..") == 0) {
@@ -206,6 +203,23 @@ int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *e
         snprintf(err, errlen, "cannot write '%s': %s", path, strerror(errno));
         goto out;
     }
+    rc = 0;
+out:
+    free(dir);
+    return rc;
+}
+
+int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
+                   size_t errlen)
+{
+    if (path && path[0] && find(o, path))
+        return 0;
+    if (lg_outputs_check(path, kind, err, errlen))
+        return -1;
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    char *dir = lg_path_dirname(path);
+    int rc = -1;
 
     /* ".NAME.lgtmp-XXXXXX.EXT" beside the destination: the extension stays last because it
      * chooses the image format; the name is cut so that it stays well within NAME_MAX */
