@@ -159,7 +159,8 @@ static int run_gnuplot(const char *dir, const char *gp, const char *csv, const c
 /* Bytes a sweep writes into DIR, at most: the reference and every run as an EXR of the
  * render size (--size) in float RGBA, which is what the host writes an rgba32f render as
  * (ZIP compression saves little on noisy renders, so the raw size is the estimate), a heat
- * map per run (PNG, RGBA8 raw), a CSV row per run, the script and a 900x600 plot. The
+ * map per run (PNG, RGBA8 raw), a CSV row per run, the script and the plot (a 900x600
+ * PNG of points and labels: tens of KiB, 256 KiB allowed). The
  * temporaries stay until the commit, and a file they replace stays until then too (as a
  * backup), so all of it must fit at once. */
 static double sweep_bytes(int total, int n_vary, const lg_exec_opts *opts)
@@ -167,7 +168,7 @@ static double sweep_bytes(int total, int n_vary, const lg_exec_opts *opts)
     double px = (double)opts->width * opts->height;
     double exr = px * 16 + 4096, heat = px * 4 + 4096;
     double csv = 256.0 + (double)total * (96.0 + 32.0 * n_vary);
-    return (total + 1.0) * exr + total * heat + csv + 4096 + 900.0 * 600 * 4;
+    return (total + 1.0) * exr + total * heat + csv + 4096 + 256.0 * 1024;
 }
 
 /* Refuses, before the first run, a sweep whose outputs the file system of DIR has no room
