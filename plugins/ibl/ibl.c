@@ -136,6 +136,55 @@ static int ibl_create_background(lg_node *n) { return ibl_create(n, IBL_BACKGROU
 static const lg_format ibl_formats[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8 };
 static const char *const ibl_format_names[] = { "rgba32f", "rgba16f", "rgbe8", NULL };
 
+/* The work estimate (lg_declare_work): the GGX chain's prefiltering, the only part that can
+ * run long (the shading is one lookup per pixel). Seconds one thread takes, measured here
+ * (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1, examples/ibl.lgraph's 1024x512
+ * probe into a 128 cube of 6 levels): the level-0 resampling (lg_probe_resample, area
+ * weighted, on the calling thread) 14-18 s for 524288 + 98304 texels, about 3e-5 s per
+ * texel; the filter 17 s more for 1024 samples a texel instead of 1, 5e-7 s per sample,
+ * on the host's threads. */
+#define IBL_SECONDS_PER_RESAMPLED_TEXEL 3e-5
+#define IBL_SECONDS_PER_SAMPLE 5e-7
+
+static void ibl_declare_estimate(lg_node *n, const ibl_state *st, const lg_resource *probe)
+{
+    lg_resource_info info;
+    const lg_resource *in = lg_input(n, IN_SCENE);
+    const lg_resource *rad = lg_part(n, probe, "radiance");
+    if (st->mode != IBL_REFLECT || st->glossy != IBL_GLOSSY_AUTO || !rad ||
+        lg_describe(in, &info, n) != 0 || !info.scene || !info.scene->reflective_materials)
+        return; /* no chain: nothing long */
+    lg_resource_info ri;
+    if (lg_describe(rad, &ri, n) != 0)
+        return;
+    bool cube = (ri.image.flags & LG_IMAGE_CUBE) != 0;
+    /* as ibl_chain chooses them */
+    uint32_t size = st->size_param;
+    if (size == 0) {
+        uint32_t src = cube ? ri.image.width : ri.image.width / 4;
+        size = 128;
+        while (size > 8 && size > src)
+            size /= 2;
+    }
+    uint32_t max_levels = 1;
+    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
+        max_levels++;
+    uint32_t levels = st->levels_param ? st->levels_param : 6;
+    if (levels > max_levels)
+        levels = max_levels;
+    double samples = st->samples ? st->samples : 256, texels = 0;
+    for (uint32_t l = 1; l < levels; l++) {
+        double side = size >> l ? size >> l : 1;
+        texels += 6 * side * side;
+    }
+    double src = (double)ri.image.width * ri.image.height * (cube ? 6 : 1);
+    double secs = (src + 6.0 * size * size) * IBL_SECONDS_PER_RESAMPLED_TEXEL +
+                  texels * samples * IBL_SECONDS_PER_SAMPLE / lg_cpu_workers(n);
+    lg_declare_work(n, texels * samples, secs,
+                    "GGX prefilter samples (if a reflective material is rough and the chain "
+                    "is not in the cache)");
+}
+
 static int ibl_prepare(lg_node *n)
 {
     ibl_state *st = n->user;
@@ -174,6 +223,7 @@ static int ibl_prepare(lg_node *n)
     int rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
+    ibl_declare_estimate(n, st, pr);
     return lg_set_device(n, st->backend == IBL_GL ? LG_DEVICE_GL
                             : st->backend == IBL_CL ? LG_DEVICE_CL
                                                     : LG_DEVICE_CPU);
