@@ -86,7 +86,8 @@ static void help(FILE *f)
             "  default 5),\n"
             "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers),\n"
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
-            "  default one per online CPU)\n"
+            "  default one per online CPU), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
+            "  free bytes sweep assumes its output directory has)\n"
             "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/fuzzing.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }

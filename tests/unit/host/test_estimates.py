@@ -145,6 +145,14 @@ def test_explain_work():
     g = sh_graph(d, "bands = 4, sampler = sobol, samples = 64")
     p = run(["render", g, "--explain"], expect=0)
     check("work: 6.55e+04 sample x coefficient products" in p.stdout, p.stdout)
+    # probe_convert: the source's texels and the result's, 256 * 128 + 32 * 16
+    g = write(os.path.join(d, "conv.lgraph"), """lightgraph 1
+sky = probe { file = "%s" }
+conv = probe_convert { probe = sky, layout = latlong, size = 16 }
+output conv "conv.hdr"
+""" % PROBE)
+    p = run(["render", g, "--explain"], expect=0)
+    check("work: 3.33e+04 texels resampled (source and result), about " in p.stdout, p.stdout)
 
 
 def test_render_warns():
