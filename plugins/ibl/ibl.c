@@ -68,6 +68,7 @@ typedef struct ibl_state {
     float *chain;
     uint32_t chain_size, chain_levels;
     bool chain_tried;
+    bool cache_probed;        /* prepare() looked the chain up in the cache (and missed) */
     GLuint chain_tex, dfg_buf;
     cl_mem cl_chain, cl_dfg;
 
@@ -136,6 +137,83 @@ static int ibl_create_background(lg_node *n) { return ibl_create(n, IBL_BACKGROU
 static const lg_format ibl_formats[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8 };
 static const char *const ibl_format_names[] = { "rgba32f", "rgba16f", "rgbe8", NULL };
 
+/* The GGX chain's face size, levels and samples for a probe whose radiance is `rd`, as the
+ * parameters ask (size 0: 128 at most and no finer than the probe: a cube's face, a 2D
+ * probe's width / 4, the face of a cube of the same texel density at the equator). 0 when
+ * the levels allowed are fewer than 2. */
+static uint32_t ibl_chain_params(const ibl_state *st, const lg_image_desc *rd, uint32_t *levels,
+                                 uint32_t *samples)
+{
+    uint32_t size = st->size_param;
+    if (size == 0) {
+        uint32_t src = (rd->flags & LG_IMAGE_CUBE) ? rd->width : rd->width / 4;
+        size = 128;
+        while (size > 8 && size > src)
+            size /= 2;
+    }
+    uint32_t max_levels = 1;
+    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
+        max_levels++;
+    *levels = st->levels_param ? st->levels_param : 6;
+    if (*levels > max_levels)
+        *levels = max_levels;
+    *samples = st->samples ? st->samples : 256;
+    return size;
+}
+
+/* What the cache holds: this header, then the chain's floats. */
+typedef struct ibl_chain_header {
+    char magic[8];            /* "lgibl01" */
+    uint32_t size, levels, samples, floats;
+} ibl_chain_header;
+
+static size_t ibl_chain_floats(uint32_t size, uint32_t levels)
+{
+    lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE,
+                        .levels = levels };
+    return 4 * lg_image_offset(&d, levels, 0);
+}
+
+static void ibl_chain_key(char *key, size_t len, uint32_t size, uint32_t levels,
+                          uint32_t samples, uint32_t weighting)
+{
+    /* the weighting is in the node's identity already (a parameter); naming it in the key
+     * too keeps entries of the two apart should its default change */
+    snprintf(key, len, "ggx-cube%u-l%u-s%u-w%u", size, levels, samples, weighting);
+}
+
+/* The chain from the host's cache into st->chain: true on a hit. */
+static bool ibl_chain_from_cache(lg_node *n, ibl_state *st, uint32_t size, uint32_t levels,
+                                 uint32_t samples)
+{
+    size_t nf = ibl_chain_floats(size, levels);
+    char key[96];
+    ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
+    void *data = NULL;
+    size_t bytes = 0;
+    if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
+        return false;
+    ibl_chain_header h;
+    if (bytes == sizeof h + nf * sizeof(float)) {
+        memcpy(&h, data, sizeof h);
+        if (!memcmp(h.magic, "lgibl01", 8) && h.size == size && h.levels == levels &&
+            h.samples == samples && h.floats == nf) {
+            st->chain = malloc(nf * sizeof(float));
+            if (st->chain)
+                memcpy(st->chain, (const char *)data + sizeof h, nf * sizeof(float));
+        }
+    }
+    n->host->cache_free(data);
+    if (!st->chain)
+        return false;
+    st->chain_size = size;
+    st->chain_levels = levels;
+    lg_log(n, LG_LOG_INFO,
+           "GGX chain loaded from the cache (cube %u, %u levels, %u samples per texel)", size,
+           levels, samples);
+    return true;
+}
+
 /* The work estimate (lg_declare_work): the GGX chain's prefiltering, the only part that can
  * run long (the shading is one lookup per pixel). Seconds one thread takes, measured here
  * (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1, examples/ibl.lgraph's 1024x512
@@ -146,43 +224,53 @@ static const char *const ibl_format_names[] = { "rgba32f", "rgba16f", "rgbe8", N
 #define IBL_SECONDS_PER_RESAMPLED_TEXEL 3e-5
 #define IBL_SECONDS_PER_SAMPLE 5e-7
 
-static void ibl_declare_estimate(lg_node *n, const ibl_state *st, const lg_resource *probe)
+/* Whether execute will make a chain: glossy = auto and a reflective material with a
+ * roughness > 0 (as ibl_materials decides). */
+static bool ibl_needs_chain(lg_node *n, const ibl_state *st)
 {
-    lg_resource_info info;
-    const lg_resource *in = lg_input(n, IN_SCENE);
-    const lg_resource *rad = lg_part(n, probe, "radiance");
-    if (st->mode != IBL_REFLECT || st->glossy != IBL_GLOSSY_AUTO || !rad ||
-        lg_describe(in, &info, n) != 0 || !info.scene || !info.scene->reflective_materials)
-        return; /* no chain: nothing long */
-    lg_resource_info ri;
-    if (lg_describe(rad, &ri, n) != 0)
-        return;
-    bool cube = (ri.image.flags & LG_IMAGE_CUBE) != 0;
-    /* as ibl_chain chooses them */
-    uint32_t size = st->size_param;
-    if (size == 0) {
-        uint32_t src = cube ? ri.image.width : ri.image.width / 4;
-        size = 128;
-        while (size > 8 && size > src)
-            size /= 2;
+    if (st->mode == IBL_BACKGROUND || st->glossy != IBL_GLOSSY_AUTO)
+        return false;
+    const lg_scene *s = lg_scene_get(n, lg_input(n, IN_SCENE));
+    for (uint32_t i = 0; s && i < s->n_materials; i++) {
+        const lg_material *m = &s->materials[i];
+        bool reflective = false;
+        for (int c = 0; c < 3; c++) {
+            float r = st->reflectivity[0] >= 0 ? st->reflectivity[c] : m->reflectivity[c];
+            reflective |= isfinite(r) && r > 0;
+        }
+        if (reflective && m->roughness > 0)
+            return true;
     }
-    uint32_t max_levels = 1;
-    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
-        max_levels++;
-    uint32_t levels = st->levels_param ? st->levels_param : 6;
-    if (levels > max_levels)
-        levels = max_levels;
-    double samples = st->samples ? st->samples : 256, texels = 0;
+    return false;
+}
+
+/* Looks the chain up in the cache (kept on a hit) and declares what making it costs, or
+ * nothing when execute will not make it. */
+static void ibl_declare_estimate(lg_node *n, ibl_state *st, const lg_resource *probe)
+{
+    const lg_resource *rad = lg_part(n, probe, "radiance");
+    lg_resource_info ri;
+    if (!rad || lg_describe(rad, &ri, n) != 0 || !ibl_needs_chain(n, st))
+        return;
+    uint32_t levels, samples;
+    uint32_t size = ibl_chain_params(st, &ri.image, &levels, &samples);
+    if (levels < 2)
+        return; /* execute reports it */
+    st->cache_probed = true;
+    if (st->chain || ibl_chain_from_cache(n, st, size, levels, samples)) {
+        lg_declare_work(n, 0, 0, "GGX prefilter samples (the chain is in the cache)");
+        return;
+    }
+    double texels = 0;
     for (uint32_t l = 1; l < levels; l++) {
         double side = size >> l ? size >> l : 1;
         texels += 6 * side * side;
     }
-    double src = (double)ri.image.width * ri.image.height * (cube ? 6 : 1);
+    double src = (double)ri.image.width * ri.image.height *
+                 ((ri.image.flags & LG_IMAGE_CUBE) ? 6 : 1);
     double secs = (src + 6.0 * size * size) * IBL_SECONDS_PER_RESAMPLED_TEXEL +
                   texels * samples * IBL_SECONDS_PER_SAMPLE / lg_cpu_workers(n);
-    lg_declare_work(n, texels * samples, secs,
-                    "GGX prefilter samples (if a reflective material is rough and the chain "
-                    "is not in the cache)");
+    lg_declare_work(n, texels * samples, secs, "GGX prefilter samples");
 }
 
 static int ibl_prepare(lg_node *n)
@@ -315,19 +403,6 @@ static int ibl_frame_in(lg_node *n, ibl_state *st, ibl_frame *f)
 
 /* ---- the GGX chain (glossy reflection) ------------------------------------------------- */
 
-/* What the cache holds: this header, then the chain's floats. */
-typedef struct ibl_chain_header {
-    char magic[8];            /* "lgibl01" */
-    uint32_t size, levels, samples, floats;
-} ibl_chain_header;
-
-static size_t ibl_chain_floats(uint32_t size, uint32_t levels)
-{
-    lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE,
-                        .levels = levels };
-    return 4 * lg_image_offset(&d, levels, 0);
-}
-
 /* The chain's level `l` as a lookup image (the probe's rotation: the chain is in its
  * frame). */
 static lg_probe_image ibl_chain_level(const ibl_state *st, const float *rotation, uint32_t l)
@@ -347,56 +422,22 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
         return st->chain ? 0 : LG_ERR_INVALID;
     st->chain_tried = true;
     const lg_image_desc *rd = &f->probe->radiance_desc;
-    uint32_t size = st->size_param;
-    if (size == 0) {
-        /* auto: 128 per face at most, and no finer than the probe (a cube's face; a 2D
-         * probe's width / 4, the face of a cube of the same texel density at the equator) */
-        uint32_t src = f->probe->info.layout == LG_PROBE_CUBE ? rd->width : rd->width / 4;
-        size = 128;
-        while (size > 8 && size > src)
-            size /= 2;
-    }
-    uint32_t max_levels = 1;
-    while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
-        max_levels++;
-    uint32_t levels = st->levels_param ? st->levels_param : 6;
-    if (levels > max_levels)
-        levels = max_levels;
-    if (levels < 2)
+    uint32_t levels, samples;
+    uint32_t size = ibl_chain_params(st, rd, &levels, &samples);
+    if (levels < 2) {
+        uint32_t max_levels = 1;
+        while ((size >> max_levels) > 0 && max_levels < LG_PROBE_FILTER_MAX_LEVELS)
+            max_levels++;
         return lg_error(n, "levels = %u: a GGX chain needs at least 2 levels (roughness 0 and 1); "
                            "prefilter_size %u allows %u",
                         levels, size, max_levels);
-    uint32_t samples = st->samples ? st->samples : 256;
+    }
     size_t nf = ibl_chain_floats(size, levels);
     char key[96];
-    /* the weighting is in the node's identity already (a parameter); naming it in the key
-     * too keeps entries of the two apart should its default change */
-    snprintf(key, sizeof key, "ggx-cube%u-l%u-s%u-w%u", size, levels, samples, st->weighting);
-
-    void *data = NULL;
-    size_t bytes = 0;
-    if (n->host->cache_get(n, key, &data, &bytes) == LG_OK) {
-        ibl_chain_header h;
-        if (bytes == sizeof h + nf * sizeof(float)) {
-            memcpy(&h, data, sizeof h);
-            if (!memcmp(h.magic, "lgibl01", 8) && h.size == size && h.levels == levels &&
-                h.samples == samples && h.floats == nf) {
-                st->chain = malloc(nf * sizeof(float));
-                if (st->chain)
-                    memcpy(st->chain, (const char *)data + sizeof h, nf * sizeof(float));
-            }
-        }
-        n->host->cache_free(data);
-        if (st->chain) {
-            st->chain_size = size;
-            st->chain_levels = levels;
-            lg_log(n, LG_LOG_INFO,
-                   "GGX chain loaded from the cache (cube %u, %u levels, %u samples per "
-                   "texel)",
-                   size, levels, samples);
-            return 0;
-        }
-    }
+    ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
+    /* prepare() looked already (ibl_declare_estimate): a hit is in st->chain above */
+    if (!st->cache_probed && ibl_chain_from_cache(n, st, size, levels, samples))
+        return 0;
 
     lg_cpu_view pv;
     int rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);
