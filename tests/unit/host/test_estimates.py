@@ -10,7 +10,8 @@ warning is out, and the disk's free space comes from the LIGHTGRAPH_TEST_FREE_BY
 
 usage: test_estimates.py TEST_NAME   (meson runs each test as its own case)
 
-Environment (tests/unit/host/meson.build): LG_EXE, LG_BUILD_ROOT, LG_SOURCE_ROOT.
+Environment (tests/unit/host/meson.build): LG_EXE, LG_BUILD_ROOT, LG_SOURCE_ROOT,
+LG_TEST_PLUGINS.
 """
 import os
 import re
@@ -182,6 +183,57 @@ def test_render_warns():
     g = sh_graph(d, "bands = 64, sampler = sobol, samples = 8")
     p = run(["render", g], expect=0)
     check("will take" not in p.stderr, p.stderr)
+
+
+def test_host_rules():
+    """What the host makes of declared estimates, with the test plugin testwork (which
+    declares its parameters and does nothing): the warning above 60 s and the render still
+    runs; -q hides it; a per-frame node counts once per frame; several nodes are listed
+    largest first; a negative or NaN estimate fails the node as a plugin bug."""
+    d = fresh_dir("rules")
+    path = os.environ["LG_TEST_PLUGINS"] + ":" + CORE
+
+    def graph(name, nodes, out):
+        return write(os.path.join(d, name), """lightgraph 1
+c = constant { color = [1, 1, 1], width = 4, height = 4 }
+%s
+output %s "%s.exr"
+""" % (nodes, out, name))
+
+    def render(g, *extra, expect=0):
+        return run(["render", g] + list(extra), expect=expect,
+                   extra_env={"LIGHTGRAPH_PLUGIN_PATH": path})
+
+    g = graph("long", "w = test_work { image = c, units = 1e9, seconds = 5400 }", "w")
+    p = render(g, "--explain")
+    check("work: 1e+09 test units, about 1.5 h" in p.stdout, p.stdout)
+    check("warning: this render will take about 1.5 h: w (test_work): 1e+09 test units, "
+          "about 1.5 h; it runs anyway" in p.stderr, p.stderr)
+    check(os.path.exists(os.path.join(d, "long.exr")), "the render did not run")
+    p = render(g, "-q")
+    check("will take" not in p.stderr, "-q: " + p.stderr)
+    # 30 s: no warning; the same every frame over 4 frames: 2 min
+    g = graph("short", "w = test_work { image = c, units = 10, seconds = 30 }", "w")
+    check("will take" not in render(g).stderr, "30 s warned")
+    g = graph("frames", "w = test_work { image = c, units = 10, seconds = 30, "
+                        "per_frame = true }", "w")
+    p = render(g, "--frames", "4", "--explain")
+    check("work: 10 test units x 4 runs, about 2 min" in p.stdout, p.stdout)
+    check("this render will take about 2 min: w (test_work): 10 test units x 4 runs, about "
+          "2 min; it runs anyway" in p.stderr, p.stderr)
+    # two nodes: the total, the larger first
+    g = graph("two", "a = test_work { image = c, units = 1, seconds = 600 }\n"
+                     "b = test_work { image = a, units = 2, seconds = 5400 }", "b")
+    p = render(g)
+    check("this render will take about 1.7 h: b (test_work): 2 test units, about 1.5 h; "
+          "a (test_work): 1 test units, about 10 min; it runs anyway" in p.stderr, p.stderr)
+    # malformed estimates: the node fails, nothing is written
+    for secs, shown in (("-1", "-1"), ("-1e300", "nan")):
+        g = graph("bad", "w = test_work { image = c, units = 1e9, seconds = %s }" % secs, "w")
+        p = render(g, expect=1)
+        check("node 'w' (test_work): declare_work: units = 1e+09, seconds = %s; both must be "
+              "finite and >= 0 (a plugin bug)" % shown in p.stderr, p.stderr)
+        check(not os.path.exists(os.path.join(d, "bad.exr")), "bad.exr written")
 
 
 # ---- sweep --------------------------------------------------------------------------------
