@@ -185,6 +185,37 @@ def test_render_warns():
     check("will take" not in p.stderr, p.stderr)
 
 
+def test_volumetric():
+    """The volumetric nodes declare their work from the image, the lights and their own
+    parameters: volumetric_reference width x height x spp x steps x lights occlusion rays
+    (32 x 18 x 4 x 16 x 1), volumetric_froxel its grid x lights per run (190 x 90 x 128)."""
+    ex = os.path.join(SRC, "examples")
+    p = run(["render", os.path.join(ex, "volumetric_reference.lgraph"), "-o",
+             os.path.join(fresh_dir("vol"), "vr.png"), "--size", "32x18", "--set",
+             "vol.steps=16", "--explain"], expect=0)
+    check(re.search(r"^  vol .*; work: 3\.69e\+04 occlusion rays, about ", p.stdout, re.M),
+          p.stdout)
+    p = run(["render", os.path.join(ex, "volumetric_froxel.lgraph"), "-o",
+             os.path.join(TMP, "vol", "fx.png"), "--size", "32x18", "--explain"], expect=0)
+    check(re.search(r"^  vol .*; work: 2\.19e\+06 froxel x light visits, about ", p.stdout,
+                    re.M), p.stdout)
+
+
+def test_prt_cache():
+    """prt_bake declares vertices x directions (23733 x 8^2 for examples/prt.lgraph with
+    samples = 8), and nothing once its result is in the cache (it looks in prepare).
+    (samples = 2 to 4 trip an Embree assertion in the bake itself, on main too.)"""
+    args = ["render", os.path.join(SRC, "examples", "prt.lgraph"), "-o",
+            os.path.join(fresh_dir("prt"), "prt.png"), "--size", "32x18", "--set",
+            "bake.samples=8", "--explain"]
+    p = run(args, expect=0)
+    check(re.search(r"^  bake .*; work: 1\.52e\+06 vertex x direction pairs, about ",
+                    p.stdout, re.M), p.stdout)
+    p = run(args, expect=0)
+    check(re.search(r"^  bake .*; work: 0 vertex x direction pairs \(the result is in the "
+                    r"cache\), about 0 s", p.stdout, re.M), p.stdout)
+
+
 def test_host_rules():
     """What the host makes of declared estimates, with the test plugin testwork (which
     declares its parameters and does nothing): the warning above 60 s and the render still
