@@ -253,6 +253,25 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
     return 0;
 }
 
+/* Above this many estimated seconds a render says so before it starts (a warning, not a
+ * refusal: a long reference render is often what the user wants, and the estimate is
+ * only an order of magnitude; -q hides it). */
+#define LG_LONG_RUN_SECONDS 60.0
+
+static void warn_long_run(const lg_exec *ex)
+{
+    lg_str top = {0};
+    double est = lg_plan_estimate(ex, &top);
+    if (est > LG_LONG_RUN_SECONDS) {
+        char t[64];
+        lg_format_duration(t, sizeof t, est);
+        lg_hlog(LG_HWARN, "this render will take about %s: %s; it runs anyway (the estimates "
+                          "are the nodes' own, see --explain; -q hides this)",
+                t, top.s);
+    }
+    lg_str_free(&top);
+}
+
 int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
                    const lg_exec_opts *opts, const char *time_node, lg_run_result *res)
 {
@@ -316,8 +335,12 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
         ex.graph = g;
         ex.checked = c;
         rc = lg_plan(&ex) ? 1 : 0;
-        if (opts->explain && ex.nodes)
+        if (opts->explain && ex.nodes) {
             lg_explain_print(&ex, stdout);
+            fflush(stdout); /* shown before a long run starts, also through a pipe */
+        }
+        if (rc == 0)
+            warn_long_run(&ex);
         if (rc == 0)
             rc = lg_execute(&ex) ? 1 : 0;
         if (rc == 0 && ex.failed)

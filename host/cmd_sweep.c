@@ -19,14 +19,18 @@
  *
  * All or nothing (outputs.h): every --vary value is checked against its parameter's type and
  * range, the reference graph is checked, and every file the sweep writes (reference, runs,
- * heat maps, CSV, script, plot) is given its temporary in DIR (default out/sweep, which must
- * exist) before the first run; the files are committed together at the end, or none. */
+ * heat maps, CSV, script, plot) is checked before the first run, as is the free space of
+ * DIR's file system against what the outputs need (sweep_bytes); the reference, CSV, script
+ * and plot get their temporaries in DIR (default out/sweep, which must exist) then, each
+ * run's image and heat map when the run starts; the files are committed together at the
+ * end, or none. */
 #include "host.h"
 
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -143,6 +147,53 @@ static int run_gnuplot(const char *dir, const char *gp, const char *csv, const c
     return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
 }
 
+/* Bytes a sweep writes into DIR, at most: the reference and every run as an EXR of the
+ * render size (--size) in float RGBA, which is what the host writes an rgba32f render as
+ * (ZIP compression saves little on noisy renders, so the raw size is the estimate), a heat
+ * map per run (PNG, RGBA8 raw), a CSV row per run, the script and the plot (a 900x600
+ * PNG of points and labels: tens of KiB, 256 KiB allowed). The
+ * temporaries stay until the commit, and a file they replace stays until then too (as a
+ * backup), so all of it must fit at once. */
+static double sweep_bytes(int total, int n_vary, const lg_exec_opts *opts)
+{
+    double px = (double)opts->width * opts->height;
+    double exr = px * 16 + 4096, heat = px * 4 + 4096;
+    double csv = 256.0 + (double)total * (96.0 + 32.0 * n_vary);
+    return (total + 1.0) * exr + total * heat + csv + 4096 + 256.0 * 1024;
+}
+
+/* Refuses, before the first run, a sweep whose outputs the file system of DIR has no room
+ * for (statvfs: the blocks an unprivileged user may use). Returns 0, or 1 after a message.
+ * A file system that cannot say is not refused. */
+static int check_space(const char *dir, int total, int n_vary, const lg_exec_opts *opts)
+{
+    double need = sweep_bytes(total, n_vary, opts);
+    double have;
+    if (lg_test_free_bytes >= 0) {
+        have = (double)lg_test_free_bytes;
+    } else {
+        struct statvfs sv;
+        if (statvfs(dir, &sv) != 0) {
+            lg_hlog(LG_HWARN, "sweep: cannot tell the free space in '%s' (%s); not checked",
+                    dir, strerror(errno));
+            return 0;
+        }
+        have = (double)sv.f_bavail * (double)sv.f_frsize;
+    }
+    lg_hlog(LG_HINFO, "sweep: the outputs need up to %.3g GiB in '%s', which has %.3g GiB free",
+            need / 1073741824.0, dir, have / 1073741824.0);
+    if (need <= have)
+        return 0;
+    fprintf(stderr,
+            "lightgraph sweep: the %d runs need about %.3g GiB in '%s' (%d EXR images of %ux%u "
+            "at 16 bytes a pixel, %d heat maps, the CSV and the plot), and its file system "
+            "has %.3g GiB free; nothing was run (sweep fewer values, render smaller with "
+            "--size, or write elsewhere with -o DIR)\n",
+            total, need / 1073741824.0, dir, total + 1, opts->width, opts->height, total,
+            have / 1073741824.0);
+    return 1;
+}
+
 int lg_cmd_sweep(int argc, char **argv)
 {
     lg_sweep_args args;
@@ -224,13 +275,16 @@ int lg_cmd_sweep(int argc, char **argv)
     png_path = lg_xasprintf("%s/sweep.png", dir);
     runs = lg_xcalloc((size_t)total, sizeof *runs);
     heats = lg_xcalloc((size_t)total, sizeof *heats);
+    /* the runs' images and heat maps are checked now and get their temporaries when their
+     * run starts (a sweep that stops early has made only what it reached); the reference,
+     * the CSV, the script and the plot get theirs now, which also proves DIR writable */
     rc = lg_outputs_add(outs, ref_out, LG_OUTPUT_IMAGE, err, sizeof err);
     for (int k = 0; k < total && rc == 0; k++) {
         runs[k] = lg_xasprintf("%s/run-%03d.exr", dir, k);
         heats[k] = lg_xasprintf("%s/heat-%03d.png", dir, k);
-        rc = lg_outputs_add(outs, runs[k], LG_OUTPUT_IMAGE, err, sizeof err);
+        rc = lg_outputs_check(runs[k], LG_OUTPUT_IMAGE, err, sizeof err);
         if (rc == 0)
-            rc = lg_outputs_add(outs, heats[k], LG_OUTPUT_IMAGE, err, sizeof err);
+            rc = lg_outputs_check(heats[k], LG_OUTPUT_IMAGE, err, sizeof err);
     }
     if (rc == 0)
         rc = lg_outputs_add(outs, csv_path, LG_OUTPUT_FILE, err, sizeof err);
@@ -240,6 +294,10 @@ int lg_cmd_sweep(int argc, char **argv)
         rc = lg_outputs_add(outs, png_path, LG_OUTPUT_IMAGE, err, sizeof err);
     if (rc) {
         fprintf(stderr, "lightgraph sweep: %s; nothing was run\n", err);
+        rc = 1;
+        goto done;
+    }
+    if (check_space(dir, total, n_vary, &opts)) {
         rc = 1;
         goto done;
     }
@@ -297,6 +355,12 @@ int lg_cmd_sweep(int argc, char **argv)
         o.output_override = runs[k];
         o.outputs = outs;
         fprintf(stderr, "sweep: run %d/%d: %s\n", k + 1, total, label.s);
+        /* this run's temporaries, now that it starts (checked before the reference) */
+        if (lg_outputs_add(outs, runs[k], LG_OUTPUT_IMAGE, err, sizeof err) ||
+            lg_outputs_add(outs, heats[k], LG_OUTPUT_IMAGE, err, sizeof err)) {
+            fprintf(stderr, "lightgraph sweep: run %d: %s\n", k, err);
+            rc = 1;
+        }
         bool found = true;
         for (uint32_t r = 0; r < repeat && rc == 0; r++) {
             lg_run_result res;

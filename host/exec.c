@@ -430,6 +430,62 @@ static void print_features(FILE *f, const char *name, const lg_scene_features *s
             sf->reflective_materials);
 }
 
+/* How many times lg_execute will run a kept node: once, or on every frame. */
+static uint32_t planned_runs(const lg_exec *ex, const lg_pnode *n)
+{
+    uint32_t frames = ex->opts.frames ? ex->opts.frames : 1;
+    return n->per_frame || runs_every_frame(ex, n) ? frames : 1;
+}
+
+/* "2.7e+08 samples x 4096 coefficients, about 1.4 h" (per run; "x 10 runs" when it runs
+ * on several frames) */
+static void describe_work(lg_str *d, const lg_exec *ex, const lg_pnode *n)
+{
+    char t[64];
+    uint32_t runs = planned_runs(ex, n);
+    lg_format_duration(t, sizeof t, n->work_seconds * runs);
+    lg_str_addf(d, "%.3g %s", n->work_units, n->work_what ? n->work_what : "units");
+    if (runs > 1)
+        lg_str_addf(d, " x %u runs", runs);
+    lg_str_addf(d, ", about %s", t);
+}
+
+static int cmp_seconds_desc(const void *a, const void *b)
+{
+    double x = (*(const lg_pnode *const *)a)->work_seconds,
+           y = (*(const lg_pnode *const *)b)->work_seconds;
+    return x > y ? -1 : x < y;
+}
+
+double lg_plan_estimate(const lg_exec *ex, lg_str *top)
+{
+    double total = 0;
+    const lg_pnode **list = lg_xcalloc(ex->n_nodes ? ex->n_nodes : 1, sizeof *list);
+    uint32_t n_list = 0;
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        const lg_pnode *n = ex->nodes[i];
+        /* an adopted node (the viewer) does not run again unless it runs per frame */
+        if (!n || n->state != LG_STATE_KEPT || !n->work_declared || n->lent)
+            continue;
+        total += n->work_seconds * planned_runs(ex, n);
+        list[n_list++] = n;
+    }
+    if (top) {
+        /* largest first, by the time of one run (what a user changes a parameter of) */
+        qsort(list, n_list, sizeof *list, cmp_seconds_desc);
+        for (uint32_t k = 0; k < n_list && k < 3; k++) {
+            /* only those that matter: a tenth of the total or more */
+            if (k > 0 && list[k]->work_seconds * planned_runs(ex, list[k]) < 0.1 * total)
+                break;
+            lg_str_addf(top, "%s%s (%s): ", k ? "; " : "", list[k]->pub.name,
+                        list[k]->schema->name);
+            describe_work(top, ex, list[k]);
+        }
+    }
+    free(list);
+    return total;
+}
+
 void lg_explain_print(lg_exec *ex, FILE *f)
 {
     const lg_checked *c = ex->checked;
@@ -457,6 +513,10 @@ void lg_explain_print(lg_exec *ex, FILE *f)
                     describe_resource(&d, n->outputs[o]);
             }
             lg_str_addf(&d, "%splugin %s", d.len ? "; " : "", n->plugin ? n->plugin->name : "?");
+            if (n->work_declared) {
+                lg_str_add(&d, "; work: ");
+                describe_work(&d, ex, n);
+            }
         } else {
             lg_str_add(&d, n->reason ? n->reason : "");
             if (n->plugin)
@@ -477,6 +537,16 @@ void lg_explain_print(lg_exec *ex, FILE *f)
                 print_features(f, n->pub.name, &r->features);
         }
     }
+    lg_str top = {0};
+    double est = lg_plan_estimate(ex, &top);
+    if (top.len) {
+        char t[64];
+        lg_format_duration(t, sizeof t, est);
+        fprintf(f, "estimated time: about %s (from what the nodes declared: %s)\n", t, top.s);
+    } else {
+        fprintf(f, "estimated time: no node declared its work\n");
+    }
+    lg_str_free(&top);
     char *loaded = lg_registry_loaded_list(ex->reg);
     fprintf(f, "plugins loaded: %s\n", loaded[0] ? loaded : "(none)");
     free(loaded);
@@ -522,6 +592,7 @@ void lg_exec_free(lg_exec *ex)
             lg_resource_unref(ex, n->outputs[o]);
         free(n->outputs);
         free(n->reason);
+        free(n->work_what);
         free(n);
     }
     free(ex->nodes);

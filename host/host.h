@@ -259,6 +259,11 @@ typedef struct lg_pnode {
     bool crashed;                /* a callback crashed under the guard: never called again */
     bool output_file_noted;      /* the viewer said it does not write the node's files */
     double avg_cpu_ms, avg_gpu_ms; /* the viewer's moving averages */
+    /* lg_declare_work in prepare (ABI 2.7): one run's work in the plugin's own unit and
+     * its estimated wall time; work_what is owned (freed with the node) */
+    bool work_declared;
+    double work_units, work_seconds;
+    char *work_what;
 } lg_pnode;
 
 typedef struct lg_exec_opts {
@@ -336,6 +341,12 @@ int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx);
 int lg_execute(lg_exec *ex);
 void lg_exec_free(lg_exec *ex);
 void lg_explain_print(lg_exec *ex, FILE *f);
+/* The estimated wall time of lg_execute() from what the kept nodes declared in prepare
+ * (lg_declare_work): each node's estimate times the runs it will make (once, or every
+ * frame). When `top` is given, it receives the nodes that make most of it, largest first
+ * ("sh (sh_project): 2.7e+08 samples x 4096 coefficients, about 1.4 h; ..."). Nodes that
+ * declared nothing count as 0. */
+double lg_plan_estimate(const lg_exec *ex, lg_str *top);
 void lg_profile_print(lg_exec *ex, FILE *f);
 int lg_profile_write_json(lg_exec *ex, const char *path);
 

@@ -5,6 +5,7 @@
 #include "outputs.h"
 #include "pool.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -790,6 +791,23 @@ static int api_output_file_write(lg_node *n, const char *key, const void *data, 
     return 0;
 }
 
+static void api_declare_work(lg_node *n, double units, double seconds, const char *what)
+{
+    lg_pnode *p = P(n);
+    /* a NaN or negative estimate is a plugin bug: shown as such rather than summed into a
+     * warning that makes no sense */
+    if (!(units >= 0) || !(seconds >= 0) || isinf(units) || isinf(seconds)) {
+        lg_node_errorf(p, "declare_work: units = %g, seconds = %g; both must be finite and "
+                          ">= 0 (a plugin bug)", units, seconds);
+        return;
+    }
+    p->work_declared = true;
+    p->work_units = units;
+    p->work_seconds = seconds;
+    free(p->work_what);
+    p->work_what = lg_xstrdup(what && what[0] ? what : "units");
+}
+
 static void api_account_alloc(lg_node *n, uint64_t bytes)
 {
     P(n)->bytes_alloc += bytes;
@@ -820,6 +838,7 @@ void lg_host_api_init(lg_host_api *a)
     a->set_view_independent = api_set_view_independent;
     a->add_content_key = api_add_content_key;
     a->account_alloc = api_account_alloc;
+    a->declare_work = api_declare_work;
     a->map_cpu = api_map_cpu;
     a->map_gl = api_map_gl;
     a->map_cl = api_map_cl;

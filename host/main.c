@@ -87,7 +87,8 @@ static void help(FILE *f)
             "  default 5),\n"
             "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers),\n"
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
-            "  default one per online CPU)\n"
+            "  default one per online CPU), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
+            "  free bytes sweep assumes its output directory has)\n"
             "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/fuzzing.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
@@ -108,9 +109,28 @@ static void env_defaults(void)
         setenv("GALLIUM_DRIVER", "llvmpipe", 0);
 }
 
+/* LIGHTGRAPH_TEST_FREE_BYTES: the test hook of util.h (lg_test_free_bytes), read here once
+ * while the process has one thread. */
+static void take_test_free_bytes(void)
+{
+    const char *v = getenv("LIGHTGRAPH_TEST_FREE_BYTES");
+    if (!v)
+        return;
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = strtoull(v, &end, 10);
+    if (errno || !end || *end || v[0] < '0' || v[0] > '9' || n > INT64_MAX) {
+        fprintf(stderr, "lightgraph: warning: LIGHTGRAPH_TEST_FREE_BYTES='%s' is not a byte "
+                        "count; ignored\n", v);
+        return;
+    }
+    lg_test_free_bytes = (int64_t)n;
+}
+
 int main(int argc, char **argv)
 {
     env_defaults();
+    take_test_free_bytes();
     if (take_max_pixels(&argc, argv))
         return 2;
     if (argc < 2) {

@@ -234,21 +234,10 @@ static entry *find(const lg_outputs *o, const char *path)
     return found;
 }
 
-static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char *owner,
-               char *err, size_t errlen)
+int lg_outputs_check(const char *path, lg_output_kind kind, char *err, size_t errlen)
 {
     if (!path || !path[0]) {
         snprintf(err, errlen, "an output file name is empty");
-        return -1;
-    }
-    const entry *have = find(o, path);
-    if (have) {
-        if ((!have->owner && !owner) || (have->owner && owner && !strcmp(have->owner, owner)))
-            return 0;
-        /* two writers of one destination: one of them would be lost */
-        snprintf(err, errlen, "cannot write '%s' as %s: it is already %s", path,
-                 owner ? owner : "an output of the render",
-                 have->owner ? have->owner : "an output of the render");
         return -1;
     }
     const char *slash = strrchr(path, '/');
@@ -294,6 +283,33 @@ static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char 
         snprintf(err, errlen, "cannot write '%s': %s", path, strerror(errno));
         goto out;
     }
+    rc = 0;
+out:
+    free(dir);
+    return rc;
+}
+
+static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char *owner,
+               char *err, size_t errlen)
+{
+    if (path && path[0]) {
+        const entry *have = find(o, path);
+        if (have) {
+            if ((!have->owner && !owner) || (have->owner && owner && !strcmp(have->owner, owner)))
+                return 0;
+            /* two writers of one destination: one of them would be lost */
+            snprintf(err, errlen, "cannot write '%s' as %s: it is already %s", path,
+                     owner ? owner : "an output of the render",
+                     have->owner ? have->owner : "an output of the render");
+            return -1;
+        }
+    }
+    if (lg_outputs_check(path, kind, err, errlen))
+        return -1;
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    char *dir = lg_path_dirname(path);
+    int rc = -1;
 
     /* ".NAME.lgtmp-PID-XXXXXX.EXT" beside the destination: the extension stays last because
      * it chooses the image format; the name is cut so that it stays well within NAME_MAX;

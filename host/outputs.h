@@ -64,6 +64,12 @@ int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *e
  * node was gated or failed to run) is dropped: no file is made and the previous one stays. */
 int lg_outputs_add_owned(lg_outputs *o, const char *path, const char *owner, char *err,
                          size_t errlen);
+/* The checks of lg_outputs_add without the temporary: for a caller with many outputs that
+ * checks every destination before any work and adds each one (which makes its temporary)
+ * only when the work that writes it starts (sweep: one run's image and heat map at a
+ * time, not 20,000 empty files up front). The directory's writability is proven only by
+ * a temporary made there. Returns 0, or -1 with the reason in err, as lg_outputs_add. */
+int lg_outputs_check(const char *path, lg_output_kind kind, char *err, size_t errlen);
 
 /* The temporary file that stands for `path` until the commit, or NULL when `path` was not
  * added. Owned by the set. */

@@ -11,7 +11,7 @@
 #include <stdint.h>
 
 #define LG_SWEEP_MAX_VARY 8
-/* at most this many combinations: each reserves two files before the first run */
+/* at most this many combinations: each writes two files, reserved when its run starts */
 #define LG_SWEEP_MAX_RUNS 10000
 
 typedef struct lg_sweep_vary {

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 int lg_verbosity = 0;
+int64_t lg_test_free_bytes = -1;
 
 static void oom(size_t n)
 {
@@ -349,6 +350,27 @@ void lg_format_bytes(char *out, size_t n, uint64_t b)
         snprintf(out, n, "%.1f KiB", (double)b / 1024);
     else
         snprintf(out, n, "%llu B", (unsigned long long)b);
+}
+
+void lg_format_duration(char *out, size_t n, double s)
+{
+    static const struct {
+        double unit;
+        const char *name;
+    } units[] = {{365.25 * 86400, "years"}, {7 * 86400, "weeks"}, {86400, "days"},
+                 {3600, "h"},               {60, "min"},          {1, "s"}};
+    if (!(s >= 0) || s > 1e300) {
+        snprintf(out, n, "an unbounded time");
+        return;
+    }
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++)
+        if (s >= 2 * units[i].unit || (units[i].unit == 1 && s >= 0) ||
+            (units[i].unit <= 3600 && s >= units[i].unit)) {
+            double v = s / units[i].unit;
+            snprintf(out, n, v >= 100 ? "%.0f %s" : "%.2g %s", v, units[i].name);
+            return;
+        }
+    snprintf(out, n, "%.2g s", s);
 }
 
 void (*lg_hlog_error_hook)(const char *message);

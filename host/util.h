@@ -60,6 +60,9 @@ char *lg_read_file_limit(const char *path, size_t limit, size_t *len, char *err,
 int lg_write_file_atomic(const char *path, const void *data, size_t n);
 /* "12 B", "3.4 KiB", "16.6 MiB" */
 void lg_format_bytes(char *out, size_t n, uint64_t bytes);
+/* A duration for people, two significant figures: "0.5 s", "42 s", "3.5 min", "1.4 h",
+ * "2.3 days", "3.1 weeks", "2.1 years". */
+void lg_format_duration(char *out, size_t n, double seconds);
 /* The shortest text that reads back as the same double: plain decimals ("1000", "0.3")
  * for 1e-4 <= |v| < plain_below and for 0, else the shortest %g form. With short_exponent
  * the exponent is written short ("1e6", "2.5e-7"; %g gives "1e+06", "2.5e-07"). */
@@ -81,6 +84,12 @@ extern void (*lg_hlog_error_hook)(const char *message);
 #define LG_HWARN 1
 #define LG_HINFO 2
 #define LG_HDEBUG 3
+
+/* A test hook: the free bytes that `sweep` believes its output directory's file system
+ * has, in place of what statvfs says (-1: not set). main() sets it once, before any
+ * thread exists, from LIGHTGRAPH_TEST_FREE_BYTES (a decimal byte count), so that a test
+ * can show the refusal of a sweep too large for the disk without filling one. */
+extern int64_t lg_test_free_bytes;
 
 /* Monotonic seconds. */
 double lg_now(void);

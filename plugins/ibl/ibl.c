@@ -69,6 +69,7 @@ typedef struct ibl_state {
     float *chain;
     uint32_t chain_size, chain_levels;
     bool chain_tried;
+    bool cache_probed;        /* prepare() looked the chain up in the cache (and missed) */
     GLuint chain_tex, dfg_buf;
     cl_mem cl_chain, cl_dfg;
 
@@ -379,6 +380,54 @@ static bool ibl_scene_rough(const ibl_state *st, const lg_scene *s)
 /* In prepare: the chain this node will make, clamped with a note (a warning, shown at the
  * default verbosity) when its parameters ask for more than the probe can fill, and its
  * memory against what the machine can give, before anything runs. */
+static void ibl_chain_key(char *key, size_t len, uint32_t size, uint32_t levels,
+                          uint32_t samples, uint32_t weighting)
+{
+    /* the weighting is in the node's identity already (a parameter); naming it in the key
+     * too keeps entries of the two apart should its default change */
+    snprintf(key, len, "ggx-cube%u-l%u-s%u-w%u", size, levels, samples, weighting);
+}
+
+/* The chain from the host's cache into st->chain: true on a hit. An entry that does not fit
+ * (ibl_chain_read: header, size, a value that is not finite) is said, and the chain is
+ * prefiltered again and stored over it. */
+static bool ibl_chain_from_cache(lg_node *n, ibl_state *st, uint32_t size, uint32_t levels,
+                                 uint32_t samples)
+{
+    size_t nf = ibl_chain_floats(size, levels);
+    char key[96];
+    ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
+    void *data = NULL;
+    size_t bytes = 0;
+    if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
+        return false;
+    const char *why = ibl_chain_read(data, bytes, size, levels, samples, nf, &st->chain);
+    n->host->cache_free(data);
+    if (why)
+        lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again", key, why);
+    if (!st->chain)
+        return false;
+    st->chain_size = size;
+    st->chain_levels = levels;
+    lg_log(n, LG_LOG_INFO,
+           "GGX chain loaded from the cache (cube %u, %u levels, %u samples per texel)", size,
+           levels, samples);
+    return true;
+}
+
+/* The work estimate (lg_declare_work): the GGX chain's prefiltering, the only part that can
+ * run long (the shading is one lookup per pixel). Seconds one thread takes, measured here
+ * (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1, examples/ibl.lgraph's 1024x512
+ * probe into a 128 cube of 6 levels): the level-0 resampling (lg_probe_resample, area
+ * weighted, on the calling thread) 14-18 s for 524288 + 98304 texels, about 3e-5 s per
+ * texel; the filter 17 s more for 1024 samples a texel instead of 1, 5e-7 s per sample,
+ * on the host's threads. */
+#define IBL_SECONDS_PER_RESAMPLED_TEXEL 3e-5
+#define IBL_SECONDS_PER_SAMPLE 5e-7
+
+/* In prepare(), when execute will make a GGX chain: its shape (a prefilter_size or levels
+ * the probe cannot justify is clamped, with a warning), its memory against the machine's,
+ * then the cache (a hit is kept for execute) and the work a miss costs (lg_declare_work). */
 static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe)
 {
     const lg_resource *rad = lg_part(n, probe, "radiance");
@@ -398,8 +447,24 @@ static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe)
     uint64_t resample, need = ibl_chain_bytes(&ri.image, size, levels, samples, &resample);
     const char *bound;
     uint64_t avail = lg_memory_available(&bound);
-    if (need <= avail)
+    if (need <= avail) {
+        st->cache_probed = true;
+        if (st->chain || ibl_chain_from_cache(n, st, size, levels, samples)) {
+            lg_declare_work(n, 0, 0, "GGX prefilter samples (the chain is in the cache)");
+            return 0;
+        }
+        double texels = 0;
+        for (uint32_t l = 1; l < levels; l++) {
+            double side = size >> l ? size >> l : 1;
+            texels += 6 * side * side;
+        }
+        double src = (double)ri.image.width * ri.image.height *
+                     ((ri.image.flags & LG_IMAGE_CUBE) ? 6 : 1);
+        double secs = (src + 6.0 * size * size) * IBL_SECONDS_PER_RESAMPLED_TEXEL +
+                      texels * samples * IBL_SECONDS_PER_SAMPLE / lg_cpu_workers(n);
+        lg_declare_work(n, texels * samples, secs, "GGX prefilter samples");
         return 0;
+    }
     char need_s[32], have_s[32], rs_s[32];
     lg_bytes_text(need_s, sizeof need_s, need);
     lg_bytes_text(have_s, sizeof have_s, avail);
@@ -433,29 +498,10 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     uint32_t samples = st->samples ? st->samples : 256;
     size_t nf = ibl_chain_floats(size, levels);
     char key[96];
-    /* the weighting is in the node's identity already (a parameter); naming it in the key
-     * too keeps entries of the two apart should its default change */
-    snprintf(key, sizeof key, "ggx-cube%u-l%u-s%u-w%u", size, levels, samples, st->weighting);
-
-    void *data = NULL;
-    size_t bytes = 0;
-    if (n->host->cache_get(n, key, &data, &bytes) == LG_OK) {
-        /* an entry that does not fit is said, prefiltered again and replaced */
-        const char *why = ibl_chain_read(data, bytes, size, levels, samples, nf, &st->chain);
-        n->host->cache_free(data);
-        if (why)
-            lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again",
-                   key, why);
-        if (st->chain) {
-            st->chain_size = size;
-            st->chain_levels = levels;
-            lg_log(n, LG_LOG_INFO,
-                   "GGX chain loaded from the cache (cube %u, %u levels, %u samples per "
-                   "texel)",
-                   size, levels, samples);
-            return 0;
-        }
-    }
+    ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
+    /* prepare() looked already (ibl_check_chain): a hit is in st->chain above */
+    if (!st->cache_probed && ibl_chain_from_cache(n, st, size, levels, samples))
+        return 0;
 
     lg_cpu_view pv;
     rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);

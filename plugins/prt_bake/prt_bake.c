@@ -463,6 +463,11 @@ typedef struct pb_state {
     pb_params p;
     bool reference;     /* prt_reference */
     uint32_t vertices;  /* declared in prepare */
+    /* prepare() looks the result up in the cache, so that the work it declares is 0 for a
+     * hit: the entry's floats (freed once copied out, or in destroy) and bounces */
+    bool cache_probed;
+    float *cached;
+    uint32_t cached_bounces;
 } pb_state;
 
 static const char *const pb_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
@@ -527,6 +532,9 @@ static int pb_create_ref(lg_node *n) { return pb_create(n, true); }
 
 static void pb_destroy(lg_node *n)
 {
+    pb_state *st = n->user;
+    if (st)
+        free(st->cached);
     free(n->user);
     n->user = NULL;
 }
@@ -588,6 +596,95 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
                          (unsigned long long)avail, bound);
 }
 
+/* The cache entry of this node: its key and the header it must have. */
+static void pb_cache_id(const pb_state *st, pb_cache_header *want, char *key, size_t keylen)
+{
+    const pb_params *p = &st->p;
+    uint32_t nv = st->vertices;
+    memset(want, 0, sizeof *want);
+    want->version = PB_CACHE_VERSION;
+    want->vertices = nv;
+    want->mode = (uint32_t)p->mode + 1;
+    if (st->reference) {
+        memcpy(want->magic, "lgprtr1", 8);
+        want->samples = p->resolution;
+        want->floats = (uint64_t)nv * 4;
+        snprintf(key, keylen, "reference-m%d-r%u-v%u", p->mode, p->resolution, nv);
+    } else {
+        memcpy(want->magic, "lgprtb1", 8);
+        want->bands = p->bands;
+        want->samples = p->samples;
+        want->floats = (uint64_t)nv * 3 * p->bands * p->bands;
+        snprintf(key, keylen, "transfer-m%d-b%u-s%u-v%u", p->mode, p->bands, p->samples, nv);
+    }
+}
+
+static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *want,
+                          float *out, uint32_t *bounces);
+
+/* The work estimates (lg_declare_work): seconds one thread takes per vertex x direction.
+ * Measured here (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1):
+ * examples/prt.lgraph's bake (23733 vertices, 128^2 directions, 6 bands, shadowed,
+ * Embree) in 747 s, 1.9e-6 s per pair, nearly all of it the occlusion ray of the half of
+ * the directions above a vertex; the SH accumulation (3 n^2 per unblocked direction)
+ * matters at high band counts only, taken as sh_project's 3e-8 s per product over a
+ * third (a float table, no compensated sums); brute-force visibility tests each
+ * triangle, 3e-9 s per test (PB_BRUTE_WARN's "about a minute" at 2e10). */
+#define PB_SECONDS_PER_RAY 3.8e-6
+#define PB_SECONDS_PER_PRODUCT 1e-8
+#define PB_SECONDS_PER_TEST 3e-9
+
+/* Looks the result up in the cache (kept for execute on a hit) and declares the work a
+ * miss costs, or none for a hit. */
+static void pb_declare_estimate(lg_node *n, pb_state *st, const lg_scene *s)
+{
+    pb_cache_header want;
+    char key[96];
+    pb_cache_id(st, &want, key, sizeof key);
+    st->cache_probed = true;
+    float *buf = malloc(want.floats ? want.floats * sizeof(float) : 1);
+    if (buf && pb_cache_load(n, key, &want, buf, &st->cached_bounces))
+        st->cached = buf;
+    else
+        free(buf);
+    if (st->cached) {
+        lg_declare_work(n, 0, 0, "vertex x direction pairs (the result is in the cache)");
+        return;
+    }
+    const pb_params *p = &st->p;
+    uint64_t tris = 0;
+    for (uint32_t i = 0; i < s->n_instances; i++)
+        if (s->instances[i].mesh < s->n_meshes)
+            tris += s->meshes[s->instances[i].mesh].n_indices / 3;
+    double dirs = st->reference ? 6.0 * p->resolution * p->resolution
+                                : (double)p->samples * p->samples;
+    double pairs = (double)st->vertices * dirs;
+    double n2 = st->reference ? 1.0 : (double)p->bands * p->bands;
+    double per = 0.5 * 3 * n2 * PB_SECONDS_PER_PRODUCT; /* half the sphere is above */
+    if (p->mode != PB_UNSHADOWED)
+        per += 0.5 * (p->visibility == PB_BRUTE && !st->reference
+                          ? (double)tris * PB_SECONDS_PER_TEST
+                          : PB_SECONDS_PER_RAY);
+    if (!st->reference && p->mode == PB_INTERREFLECTED)
+        per += 0.5 * p->bounces * 3 * n2 * PB_SECONDS_PER_PRODUCT;
+    lg_declare_work(n, pairs, pairs * per / lg_cpu_workers(n), "vertex x direction pairs");
+}
+
+/* The cache entry prepare() found, copied into `out` (then freed), or a lookup now when
+ * prepare did not look. */
+static bool pb_cache_take(lg_node *n, pb_state *st, const char *key,
+                          const pb_cache_header *want, float *out, uint32_t *bounces)
+{
+    if (st->cached) {
+        memcpy(out, st->cached, want->floats * sizeof(float));
+        *bounces = st->cached_bounces;
+        free(st->cached);
+        st->cached = NULL;
+        return true;
+    }
+    return st->cache_probed ? false : pb_cache_load(n, key, want, out, bounces);
+}
+
 static int pb_prepare(lg_node *n)
 {
     pb_state *st = n->user;
@@ -622,6 +719,7 @@ static int pb_prepare(lg_node *n)
     }
     if (rc)
         return rc;
+    pb_declare_estimate(n, st, s);
     return lg_set_device(n, LG_DEVICE_CPU);
 }
 
@@ -1007,7 +1105,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     lg_transfer_info info = { .struct_size = sizeof info, .bands = p->bands, .vertices = nv,
                               .mode = (lg_transfer_mode)(p->mode + 1) };
     uint32_t bounces = 0;
-    if (pb_cache_load(n, key, &want, out, &bounces)) {
+    if (pb_cache_take(n, st, key, &want, out, &bounces)) {
         info.bounces = bounces;
         lg_log(n, LG_LOG_INFO, "transfer loaded from the cache (%u vertices, %u bands, %s)",
                nv, p->bands, pb_modes[p->mode]);
@@ -1283,7 +1381,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
     char key[96];
     snprintf(key, sizeof key, "reference-m%d-r%u-v%u", p->mode, R, nv);
     uint32_t unused = 0;
-    if (pb_cache_load(n, key, &want, out, &unused)) {
+    if (pb_cache_take(n, st, key, &want, out, &unused)) {
         lg_log(n, LG_LOG_INFO, "reference loaded from the cache (%u vertices, %s)", nv,
                pb_modes[p->mode]);
         return 0;

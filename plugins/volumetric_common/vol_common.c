@@ -174,6 +174,16 @@ float vol_shadow_cpu(const lg_shadowmap *sm, const float *atlas, int32_t rec, co
     return (float)z > stored + sm->bias_constant ? 0.0f : 1.0f;
 }
 
+uint32_t vol_scene_lights(lg_node *n)
+{
+    lg_resource_info info;
+    const lg_resource *sc = lg_input(n, VOL_IN_SCENE);
+    uint32_t l = 1;
+    if (sc && lg_describe(sc, &info, n) == 0 && info.kind == LG_KIND_SCENE && info.scene)
+        l = info.scene->dir_lights;
+    return l < 1 ? 1 : l > VOL_MAX_LIGHTS ? VOL_MAX_LIGHTS : l;
+}
+
 int vol_declare_outputs(lg_node *n, uint32_t *width, uint32_t *height)
 {
     lg_resource_info info;

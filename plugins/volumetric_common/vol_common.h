@@ -66,6 +66,11 @@ typedef struct vol_setup {
 int vol_setup_make(lg_node *node, const lg_scene *scene, uint32_t width, uint32_t height,
                    float z_limit, const lg_shadowmap *shadows, vol_setup *out);
 
+/* The directional lights the scene on the node's input 'scene' declares (its features),
+ * within 1 .. VOL_MAX_LIGHTS: what the work estimates of prepare() count (vol_setup_make
+ * refuses the scenes outside that range when the node runs). */
+uint32_t vol_scene_lights(lg_node *node);
+
 /* Unit direction of the view ray through image point (x, y) (continuous image coordinates:
  * pixel centres at i + 0.5). */
 void vol_ray(const vol_setup *v, double x, double y, double dir[3]);

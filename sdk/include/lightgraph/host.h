@@ -293,7 +293,18 @@ typedef struct lg_host_api {
      * through lg_cache_store(), which on an older host calls cache_put instead. */
     int (*cache_store)(lg_node *node, const char *key, const void *data, size_t size);
 
-    void *reserved[22];
+    /* -- since ABI 2.7: what a run will cost, declared before it starts --
+     * In prepare(): one execute() of this node will do `units` of its own work (rays,
+     * samples x texels, voxels x steps, ...: `what` names the unit, e.g. "occlusion
+     * rays"), which should take about `seconds` of wall time here, the host's threads
+     * working (the plugin's calibrated cost per unit, divided by lg_cpu_workers()). The
+     * host shows it in --explain and warns before a render whose estimates add up to more
+     * than a minute. A later call replaces an earlier one; `what` is copied. units and
+     * seconds must be finite and >= 0, else the node fails (a plugin bug). Call it
+     * through lg_declare_work(), which does nothing on an older host. */
+    void (*declare_work)(lg_node *node, double units, double seconds, const char *what);
+
+    void *reserved[21];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -579,6 +590,15 @@ static inline int lg_cache_store(lg_node *n, const char *key, const void *data, 
         return n->host->cache_store(n, key, data, size);
     int rc = n->host->cache_put(n, key, data, size);
     return rc == LG_OK ? LG_CACHE_UNKNOWN : rc == LG_ERR_IO ? LG_CACHE_NOT_STORED : rc;
+}
+
+/* Since ABI 2.7: the estimated cost of one execute() (see declare_work). A no-op on an
+ * older host. */
+static inline void lg_declare_work(lg_node *n, double units, double seconds, const char *what)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, declare_work) + sizeof(void *) &&
+        n->host->declare_work)
+        n->host->declare_work(n, units, seconds, what);
 }
 
 /* Mip levels of an image description (0 means 1), faces (6 for a cube, else 1), and
