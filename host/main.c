@@ -107,6 +107,14 @@ static void env_defaults(void)
      * touches only software rendering: a hardware EGL or GLX driver is chosen by device. */
     if (!getenv("GALLIUM_DRIVER"))
         setenv("GALLIUM_DRIVER", "llvmpipe", 0);
+    /* PoCL writes the environment itself whenever its CPU device starts:
+     * setenv("HWLOC_PLUGINS_PATH", "/dev/null", 1) before hwloc's topology (so that hwloc's
+     * OpenCL plugin does not load PoCL again), by then on a process with the pool's and
+     * llvmpipe's threads. A variable that does not exist yet makes glibc grow `environ`
+     * (realloc) under their getenv; one that exists only has its entry's pointer replaced,
+     * and the old string stays valid. So it is made to exist here, with the value PoCL
+     * forces anyway: its later write changes nothing that a reader can trip on. */
+    setenv("HWLOC_PLUGINS_PATH", "/dev/null", 1);
 }
 
 /* LIGHTGRAPH_TEST_FREE_BYTES: the test hook of util.h (lg_test_free_bytes), read here once

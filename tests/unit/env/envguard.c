@@ -2,7 +2,8 @@
  * envguard: an LD_PRELOAD interposer that makes "no environment write once a thread exists"
  * a hard failure. It wraps pthread_create (every thread, the host's pool, PoCL's and
  * llvmpipe's workers, starts through it) and setenv, putenv, unsetenv and clearenv: a write
- * after the first thread started prints what was written and aborts the process.
+ * after the first thread started prints what was written and aborts the process (but for
+ * setting a variable to the value it has: see same_value).
  *
  * Why: setenv() may reallocate `environ` while another thread's getenv() walks it; glibc
  * makes no promise for that, and the host crashed that way (issue 20: GALLIUM_DRIVER set when
@@ -43,6 +44,16 @@ static void say(const char *s)
     (void)r;
 }
 
+/* A write after the first thread is refused, except setenv of a variable that exists
+ * with that very value: glibc then replaces only that entry's pointer (the old string stays
+ * valid), never `environ` itself, and PoCL does exactly that for HWLOC_PLUGINS_PATH every
+ * time its device starts (host/main.c sets the variable first for that reason). */
+static int same_value(const char *name, const char *value)
+{
+    const char *have = name ? getenv(name) : NULL;
+    return have && value && strcmp(have, value) == 0;
+}
+
 static void check(const char *call, const char *what)
 {
     if (!atomic_load(&g_threads))
@@ -65,7 +76,8 @@ static void check(const char *call, const char *what)
 
 EXPORT int setenv(const char *name, const char *value, int overwrite)
 {
-    check("setenv", name);
+    if (!same_value(name, value))
+        check("setenv", name);
     typedef int (*fn_t)(const char *, const char *, int);
     REAL(fn_t, "setenv");
     return real_(name, value, overwrite);
