@@ -752,7 +752,11 @@ static uint64_t pb_vertex_packets(const pb_bake *b, const double o[3], const dou
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
+    /* zeroed: a packet's unused lanes are masked off, but Embree (Debian's build keeps its
+     * assertions) checks every lane for a finite ray, and lanes no packet filled yet (a
+     * vertex with fewer than 16 rays: samples 2..4) held garbage and aborted the process */
     struct RTCRay16 r;
+    memset(&r, 0, sizeof r);
     int valid[16];
     uint32_t idx[16], k = 0, n2 = b->n2;
     double cws[16];
@@ -948,6 +952,7 @@ static void pb_raw_vertices_impl(pb_bake *b, size_t begin, size_t end, uint32_t 
     rtcInitIntersectContext(&ctx);
     uint64_t rays = 0, blocked = 0;
     struct RTCRay16 r16;
+    memset(&r16, 0, sizeof r16); /* as pb_vertex_packets: unused lanes hold a finite ray */
     int valid[16];
     uint32_t k = 0;
     for (size_t i = begin; i < end; i++) {

@@ -24,6 +24,7 @@
  *                 refused in prepare, naming hit_memory_mib, its value, the bytes needed and
  *                 the bytes available; samples = 2048 with bands = 12 (a 2.3 GiB direction
  *                 table) likewise names samples; the same box at samples = 32 bakes
+ *   few_samples   samples 1..5 (fewer rays than a packet holds) bake, finite
  *   cache         a second render loads the bake; a corrupt entry is reported and baked
  *                 again, equal; changed parameters make a new entry
  *   cache_said    "cached" only when the host stored the entry: a disabled cache (a
@@ -344,6 +345,31 @@ static void case_backface(lg_test *t)
                       want);
         LG_TEST_CHECK(t, fabs(got - want) < 0.005, "square seen from its %s: %.5f, want %.5f",
                       f ? "front" : "back", got, want);
+        tr_free(&x);
+    }
+}
+
+/* Very few directions (samples 1..5: 1 to 25 directions, fewer than a 16-ray packet per
+ * vertex): the bake runs (Embree's assertion on the packet's unused lanes aborted the process
+ * for samples 2..4, issue 20) and every coefficient is finite; the constant sky's radiance
+ * at the open floor's centre stays within [0, 2] however crude the estimate. */
+static void case_few_samples(lg_test *t)
+{
+    double L[9];
+    sky_const(L, 9);
+    for (int n = 1; n <= 5; n++) {
+        char bp[128];
+        snprintf(bp, sizeof bp, "mode = shadowed, samples = %d", n);
+        tr x;
+        if (!bake(t, "layout = quad, grid = 4, quad_size = 0.5", bp, 3, &x, NULL))
+            return;
+        size_t bad = 0;
+        for (size_t i = 0; i < (size_t)x.nv * 3 * x.n2; i++)
+            bad += !isfinite(x.t[i]);
+        double got = radiance(&x, 2 * 5 + 2, 1, L);
+        LG_TEST_CHECK(t, bad == 0 && got >= 0 && got <= 2,
+                      "samples = %d: %zu non-finite coefficients, centre radiance %g", n, bad,
+                      got);
         tr_free(&x);
     }
 }
@@ -900,7 +926,7 @@ int main(int argc, char **argv)
     static const lg_test_case cases[] = {
         { "unshadowed", case_unshadowed }, { "cone", case_cone },
         { "furnace", case_furnace },       { "backface", case_backface },
-        { "large_coords", case_large_coords }, { "brute", case_brute },
+        { "large_coords", case_large_coords }, { "few_samples", case_few_samples }, { "brute", case_brute },
         { "params", case_params },         { "cache", case_cache },
         { "cache_said", case_cache_said },
         { "memory", case_memory },
