@@ -390,11 +390,13 @@ static void cube_bilinear(const lg_probe_image *img, lg_probe_coord c, float *o)
     }
     float cornerv[4];
     if (corner >= 0) {
-        /* the mean of the three others, as a + ((b - a) + (c - a)) / 3: exactly a when
-         * all three are equal */
+        /* the mean of the three others, as a + (b - a) / 3 + (c - a) / 3: exactly a when
+         * all three are equal, and each third at most a third of the float range, so a
+         * texel at FLT_MAX beside a 0 gives a finite mean ((b - a) + (c - a) would
+         * overflow to Inf there: reflect's non-finite pixels under a clamped probe) */
         const float *a = t[corner ^ 1], *b = t[corner ^ 2], *d = t[corner ^ 3];
         for (int k = 0; k < 4; k++)
-            cornerv[k] = a[k] + ((b[k] - a[k]) + (d[k] - a[k])) * (1.0f / 3.0f);
+            cornerv[k] = a[k] + (b[k] - a[k]) * (1.0f / 3.0f) + (d[k] - a[k]) * (1.0f / 3.0f);
         t[corner] = cornerv;
     }
     bilerp4(o, t, fx, fy);

@@ -218,10 +218,11 @@ inline float4 lg_probe_lookup(global const float4 *rgba, int layout, int w, int 
             }
         }
         // the corner beyond two edges: the mean of the three others, as
-        // a + ((b - a) + (c - a)) / 3 (exactly a when all are equal)
+        // a + (b - a) / 3 + (c - a) / 3 (exactly a when all are equal; no sum of two
+        // differences, which overflows beside a texel at FLT_MAX), as on the CPU
         if (corner >= 0) {
             float4 a = t[corner ^ 1];
-            t[corner] = a + ((t[corner ^ 2] - a) + (t[corner ^ 3] - a)) * (1.0f / 3.0f);
+            t[corner] = a + (t[corner ^ 2] - a) * (1.0f / 3.0f) + (t[corner ^ 3] - a) * (1.0f / 3.0f);
         }
     }
     return lg_probe_lerp(lg_probe_lerp(t[0], t[1], fx), lg_probe_lerp(t[2], t[3], fx), fy);

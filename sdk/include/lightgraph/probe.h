@@ -87,8 +87,9 @@
  *       holds) is the mean of the three others, the specification's recommended rule.
  *       The result is continuous across edges and corners; a samplerCube with seamless
  *       filtering on gives the same (tests/unit/probe).
- *   Interpolation is a + (b - a) f (a cube corner's mean a + ((b - a) + (c - a)) / 3):
- *   a constant probe reads back exactly its constant.
+ *   Interpolation is a + (b - a) f (a cube corner's mean a + (b - a) / 3 + (c - a) / 3):
+ *   a constant probe reads back exactly its constant, and finite texels of one sign
+ *   (FLT_MAX beside 0 included) never give a non-finite value.
  *   A 1 x 1 lat-long or angular image gives its one texel everywhere; a 1 x 1 cube its
  *   face's texel along the face's axis, blending into the neighbouring faces toward the
  *   edges (a corner: the mean of its three faces). Lookups do not apply

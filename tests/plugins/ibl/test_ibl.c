@@ -37,7 +37,11 @@
  *                under an address-space limit of 100 MiB (RLIMIT_AS, set in this process and
  *                so in the host) a 2048x1024 probe's chain (94 MiB, mostly the resampling)
  *                is refused in prepare, naming the chain, the bytes needed and available
+ *   float_max    probes (lat-long, cube strip) of 0, FLT_MAX and sizes between, made by
+ *                exposure = 2 clamping: reflect (mirror and rough), envmap and background
+ *                write no non-finite value on any backend
  */
+#include <float.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <math.h>
@@ -948,6 +952,94 @@ static void case_half_clamp(lg_test *t)
     }
 }
 
+/* ---- a probe at the float maximum ---------------------------------------------------------- */
+
+/* Probes whose texels, times 2^exposure (exposure = 2), pass the float range: the probe
+ * node clamps them to FLT_MAX (and says so), next to texels of 0 and of every size between
+ * (a hash of the texel's position picks one): a lat-long map and a cube strip. reflect
+ * (mirror and rough, fresnel none and schlick), envmap and background on every backend
+ * must stay finite: every value they compute is a weighted mean of texels with weights
+ * <= 1, which a float holds. */
+static void write_float_max_probes(lg_test *t)
+{
+    for (int cube = 0; cube < 2; cube++) {
+        lg_image img = { 0 };
+        const uint32_t W = cube ? 6 * 16 : 64, H = cube ? 16 : 32;
+        lg_image_alloc(&img, W, H);
+        for (uint32_t j = 0; j < H; j++)
+            for (uint32_t i = 0; i < W; i++) {
+                float *p = img.pixels + 4 * ((size_t)j * W + i);
+                uint32_t h = (i * 73856093u) ^ (j * 19349663u);
+                h = (h ^ (h >> 13)) * 0x5bd1e995u;
+                for (int c = 0; c < 3; c++) {
+                    uint32_t r = (h >> (8 * c)) & 0xff;
+                    /* a third 0, a third at 1e38 (FLT_MAX once scaled), a third between */
+                    p[c] = r < 85 ? 0.0f : r < 170 ? 1e38f : (float)(r - 170) * (1e38f / 85);
+                }
+                p[3] = 1;
+            }
+        lg_test_write_exr(t, cube ? "probe_cube.exr" : "probe_latlong.exr", &img);
+        lg_image_free(&img);
+    }
+}
+
+static void case_float_max(lg_test *t)
+{
+    write_float_max_probes(t);
+    static const char *const probes[] = {
+        "file = \"probe_latlong.exr\", layout = latlong",
+        "file = \"probe_cube.exr\", layout = strip",
+    };
+    static const char *const nodes[] = {
+        "reflect { scene = env, probe = sky, backend = %s, fresnel = none }",
+        "reflect { scene = env, probe = sky, backend = %s, fresnel = schlick }",
+        "envmap { scene = env, probe = sky, backend = %s, fresnel = schlick }",
+        "background { scene = env, probe = sky, backend = %s }",
+    };
+    static const char *const rough[] = { "0", "0.5" };
+    for (int b = 0; b < 3; b++)
+        for (int pr = 0; pr < 2; pr++)
+            for (size_t k = 0; k < sizeof nodes / sizeof nodes[0]; k++)
+                for (int r = 0; r < 2; r++) {
+                    if (r == 1 && k == 3)
+                        continue; /* background has no roughness */
+                    char node[256], g[2048], what[512];
+                    snprintf(node, sizeof node, nodes[k], BACKENDS[b]);
+                    snprintf(what, sizeof what, "%s, probe { %s }, roughness %s", node,
+                             probes[pr], rough[r]);
+                    snprintf(g, sizeof g,
+                             "lightgraph 1\n"
+                             "s = test_ibl_scene { layout = sphere, segments = 64, "
+                             "reflectivity = [1, 0.5, 0.04], roughness = %s }\n"
+                             "sky = probe { %s, exposure = 2 }\n"
+                             "env = environment { scene = s, probe = sky }\n"
+                             "r = %s\n"
+                             "output r \"r.exr\"\n",
+                             rough[r], probes[pr], node);
+                    const char *args[] = { "--size", "64x64", NULL };
+                    const char *outs[] = { "r.exr" };
+                    lg_image img = { 0 };
+                    char *text = NULL;
+                    int rc = render(t, g, args, outs, &img, 1, &text);
+                    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d):\n%s", what, rc,
+                                  text ? text : "");
+                    free(text);
+                    if (rc)
+                        continue;
+                    uint64_t bad = 0, at_max = 0;
+                    for (size_t i = 0; i < (size_t)img.width * img.height; i++)
+                        for (int c = 0; c < 4; c++) {
+                            bad += !isfinite(img.pixels[4 * i + c]);
+                            at_max += img.pixels[4 * i + c] == FLT_MAX;
+                        }
+                    LG_TEST_CHECK(t, bad == 0, "%s: %llu non-finite values", what,
+                                  (unsigned long long)bad);
+                    /* the mirror reads FLT_MAX somewhere (else the case tests nothing) */
+                    LG_TEST_CHECK(t, r == 1 || at_max > 0, "%s: no value at FLT_MAX", what);
+                    lg_image_free(&img);
+                }
+}
+
 /* ---- base image ---------------------------------------------------------------------------- */
 
 static void case_base(lg_test *t)
@@ -1213,7 +1305,7 @@ int main(int argc, char **argv)
         { "glossy", case_glossy }, { "glossy_backends", case_glossy_backends },
         { "cache_said", case_cache_said },
         { "gating", case_gating },
-        { "chain_limits", case_chain_limits },
+        { "chain_limits", case_chain_limits }, { "float_max", case_float_max },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
