@@ -106,9 +106,9 @@ static int image_prepare(lg_node *n)
                "file '%s': %" PRIu64 " pixel%s with a negative channel clamped to 0 "
                "(radiance = true; lossy compression makes them)",
                path, info.negatives_clamped, info.negatives_clamped == 1 ? "" : "s");
-    if (info.nonfinite)
-        lg_log(n, LG_LOG_WARN, "file '%s': %" PRIu64 " pixel%s with a NaN or Inf channel, kept as found",
-               path, info.nonfinite, info.nonfinite == 1 ? "" : "s");
+    char what[600];
+    snprintf(what, sizeof what, "file '%s'", path);
+    lg_warn_nonfinite(n, what, info.nonfinite, "kept as found");
 
     /* the decoded pixels, not the file's bytes: no second open of the path (the file could
      * change between the two), and the same key for the same pixels in any encoding */

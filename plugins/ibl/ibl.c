@@ -62,6 +62,7 @@ typedef struct ibl_state {
     uint32_t width, height;
     uint32_t levels_param, size_param, samples, weighting;
     bool warned_clamp;
+    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 
     /* the GGX chain (glossy = auto, some reflective material rough): a cube of face
      * chain_size with chain_levels levels, in the probe's frame, made once (or loaded from
@@ -1149,11 +1150,15 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
 
 static int ibl_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     ibl_state *st = n->user;
     ibl_frame f;
     int rc = ibl_frame_in(n, st, &f);
     uint64_t clamped = 0;
+    /* base passes into the output (added to, or drawn over): its NaN and Inf are said once,
+     * as `image` says a file's; step 7 of the README writes NaN as 0 */
+    if (!rc && f.base)
+        rc = lg_check_input_finite(n, frame, IN_BASE, "base",
+                                   "NaN written as 0, Inf passed on", &st->reported_nonfinite);
     if (!rc && f.rough)
         rc = ibl_chain(n, st, &f);
     if (!rc) {

@@ -49,6 +49,7 @@ typedef struct fx_state {
 
     void *backend_state;        /* the backend's (fx_*_execute makes it) */
     fx_slices slices;           /* this frame's slice tables (fx_slice_tables) */
+    bool reported_nonfinite;    /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } fx_state;
 
 static int fx_create(lg_node *n)
@@ -169,6 +170,10 @@ static int fx_slice_map(lg_node *n, const fx_state *st, const vol_setup *v, lg_s
 static int fx_execute(lg_node *n, const lg_frame *frame)
 {
     fx_state *st = n->user;
+    /* base passes into `out`: its NaN and Inf are said once, as `image` says a file's */
+    int rc0 = lg_check_input_finite(n, frame, VOL_IN_BASE, "base", NULL, &st->reported_nonfinite);
+    if (rc0)
+        return rc0;
     const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
     if (!s)
         return LG_ERR_INVALID;

@@ -69,6 +69,7 @@ typedef struct poly_state {
     uint32_t vbuf_grid[VOL_MAX_LIGHTS][2]; /* the grid each vertex buffer was made for */
     uint32_t ibuf_grid[2];
     uint64_t n_indices;
+    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } poly_state;
 
 /* ---- the mesh's topology -------------------------------------------------------------------- */
@@ -434,8 +435,11 @@ static int poly_buffer(lg_node *n, const lg_gl *gl, GLuint *buf, uint64_t bytes,
 
 static int poly_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     poly_state *st = n->user;
+    /* base passes into `out`: its NaN and Inf are said once, as `image` says a file's */
+    int rc0 = lg_check_input_finite(n, frame, VOL_IN_BASE, "base", NULL, &st->reported_nonfinite);
+    if (rc0)
+        return rc0;
     const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
     if (!s)
         return LG_ERR_INVALID;

@@ -52,6 +52,7 @@ typedef struct vr_state {
     float z_limit;
     bool per_frame;
     uint32_t width, height;
+    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vr_state;
 
 /* ---- random numbers ------------------------------------------------------------------------ */
@@ -281,13 +282,16 @@ static int vr_prepare(lg_node *n)
 
 static int vr_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     vr_state *st = n->user;
     const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
     if (!s)
         return lg_error(n, "input 'scene' holds no scene");
+    /* base passes into `out`: its NaN and Inf are said once, as `image` says a file's */
+    int rc = lg_check_input_finite(n, frame, VOL_IN_BASE, "base", NULL, &st->reported_nonfinite);
+    if (rc)
+        return rc;
     vol_setup v;
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, &v);
+    rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, &v);
     if (rc)
         return rc;
     for (int ch = 0; ch < 3; ch++)

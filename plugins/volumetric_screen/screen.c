@@ -55,6 +55,7 @@ typedef struct vs_state {
         u_light_c, u_light_to, u_inv_vp, u_eye, u_forward, u_z_limit, u_sigma_s, u_sigma_t,
         u_g;
     lg_gl_binding b_base, b_depth;
+    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vs_state;
 
 /* What one frame computes with: per light its screen position and colour, the sums. */
@@ -351,12 +352,15 @@ static int vs_exec_cpu(lg_node *n, vs_state *st, const vs_frame *f)
 
 static int vs_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     vs_state *st = n->user;
+    /* base passes into `out`: its NaN and Inf are said once, as `image` says a file's */
+    int rc = lg_check_input_finite(n, frame, VOL_IN_BASE, "base", NULL, &st->reported_nonfinite);
+    if (rc)
+        return rc;
     vs_frame *f = malloc(sizeof *f);
     if (!f)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    int rc = vs_frame_make(n, st, f);
+    rc = vs_frame_make(n, st, f);
     if (!rc)
         rc = st->backend == VS_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
     if (!rc)

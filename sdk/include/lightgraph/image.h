@@ -32,6 +32,7 @@
 #ifndef LIGHTGRAPH_IMAGE_H
 #define LIGHTGRAPH_IMAGE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -132,6 +133,37 @@ LG_API void lg_bytes_text(char *out, size_t n, uint64_t b);
  * cryptographic hash. */
 #define LG_IMAGE_HASH_SEED 0xcbf29ce484222325ull
 LG_API uint64_t lg_image_hash(const lg_image *img, uint64_t seed);
+
+/* ---- non-finite pixels: one count and one warning for every node ----
+ *
+ * A NaN or Inf pixel is reported, never silently passed on: the `image` node says how many
+ * a file holds, and every node that passes an image input on into its output (background,
+ * the volumetric nodes) says how many it received, with the same words:
+ *
+ *     <what>: N pixel(s) with a NaN or Inf channel, <fate>
+ *
+ * lg_pixels_nonfinite: the pixels of a width x height rgba32f image (rows `row_pixels`
+ * pixels apart, >= width) with a NaN or Inf in any of the four channels.
+ * lg_warn_nonfinite: that warning on node `node` (`what` names the pixels: "file 'a.exr'",
+ * "input 'base'"; `fate` says what the node did with them: "kept as found"); nothing when
+ * count is 0.
+ * lg_check_input_finite: for a node's rgba32f image input `port`, called from execute():
+ * counts its pixels through a CPU mapping for reading (an input current only on GL or CL is
+ * copied to the host for it, and the copy counted in the profile like any move) and warns
+ * "input '<port_name>' (frame F): N pixels with a NaN or Inf channel, <fate> (reported
+ * once)" the first time a frame has any (`fate` NULL: "passed on as found"). `*reported` is the node's own flag
+ * (false at create): once it is set no later frame is counted, so a clean input costs one
+ * count per frame and a dirty one a single warning per render. An unconnected, neutral or
+ * non-rgba32f input counts nothing. Returns 0, or the mapping's error (already reported). */
+struct lg_node;
+struct lg_frame;
+LG_API uint64_t lg_pixels_nonfinite(const float *rgba, uint32_t width, uint32_t height,
+                                    size_t row_pixels);
+LG_API void lg_warn_nonfinite(struct lg_node *node, const char *what, uint64_t count,
+                              const char *fate);
+LG_API int lg_check_input_finite(struct lg_node *node, const struct lg_frame *frame,
+                                 uint32_t port, const char *port_name, const char *fate,
+                                 bool *reported);
 
 /* Reads a file into `img` (which the call fills; free with lg_image_free). A file without
  * alpha gets alpha 1. PNG is decoded from sRGB to linear. `info` may be NULL. */

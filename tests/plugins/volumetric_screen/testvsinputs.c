@@ -13,6 +13,9 @@
  *   test_vs_base  -> image   rgba32f `color`, alpha 1, with a depth plane: `depth`
  *                            everywhere except the box [box_x0, box_x1) x [box_y0, box_y1)
  *                            (pixels) at `box_depth`; depth_plane = false: no depth plane.
+ *                            nan_pixels = N: the first N pixels (row-major) get a NaN red;
+ *                            inf_pixels = M: the next M get +Inf green and -Inf blue (two
+ *                            channels, one pixel): N + M non-finite pixels in all.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -118,6 +121,7 @@ static int tv_base_execute(lg_node *n, const lg_frame *frame)
     float depth = (float)lg_param_float(n, "depth"), box = (float)lg_param_float(n, "box_depth");
     int64_t x0 = lg_param_int(n, "box_x0"), x1 = lg_param_int(n, "box_x1");
     int64_t y0 = lg_param_int(n, "box_y0"), y1 = lg_param_int(n, "box_y1");
+    int64_t n_nan = lg_param_int(n, "nan_pixels"), n_inf = lg_param_int(n, "inf_pixels");
     float *px = v.pixels;
     for (uint32_t y = 0; y < info.image.height; y++)
         for (uint32_t x = 0; x < info.image.width; x++) {
@@ -125,6 +129,10 @@ static int tv_base_execute(lg_node *n, const lg_frame *frame)
             for (int c = 0; c < 3; c++)
                 px[4 * i + c] = (float)col->v[c];
             px[4 * i + 3] = 1.0f;
+            if ((int64_t)i < n_nan)
+                px[4 * i] = NAN;
+            else if ((int64_t)i < n_nan + n_inf)
+                px[4 * i + 1] = INFINITY, px[4 * i + 2] = -INFINITY;
             if (v.depth)
                 v.depth[i] = x >= x0 && x < x1 && y >= y0 && y < y1 ? box : depth;
         }
@@ -164,6 +172,10 @@ static const lg_param_desc tv_base_params[] = {
     { .key = "box_y1", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384, .doc = "" },
     { .key = "depth_plane", .type = LG_PARAM_BOOL, .def.b = true,
       .doc = "false: an image without a depth plane" },
+    { .key = "nan_pixels", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1 << 28,
+      .doc = "the first N pixels get a NaN red" },
+    { .key = "inf_pixels", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1 << 28,
+      .doc = "the next M pixels get +Inf green and -Inf blue" },
 };
 static const lg_port_desc tv_scene_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
 static const lg_port_desc tv_image_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
