@@ -313,6 +313,25 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     return LG_OK;
 }
 
+/* The node's own check found the values of an entry it read impossible (host.h,
+ * cache_reject): the same words, the same removal and the same miss as the checksum's. */
+void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
+{
+    if (!key_ok(n, key))
+        return;
+    const char *dir = cache_ready(ex, false);
+    if (!dir)
+        return;
+    char *path = entry_path(dir, n, key);
+    char *problem = lg_xasprintf("is corrupt (%s)", why && *why ? why : "its node rejected its values");
+    drop_entry(n, path, problem);
+    free(problem);
+    free(path);
+    if (n->cache_hits)
+        n->cache_hits--;
+    n->cache_misses++;
+}
+
 /* A test hook: LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE=S pauses S seconds (at most 60) half way
  * through writing an entry, so that a test can interrupt the write at a known point. */
 static void test_pause(void)

@@ -364,6 +364,9 @@ int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, si
  * key or NULL data (lg_host_api.cache_store). lg_cache_put maps it to LG_OK / LG_ERR_IO. */
 int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
                         size_t size);
+/* A hit the node found bad (lg_host_api.cache_reject): warned as corrupt, removed, counted
+ * as a miss instead of a hit. */
+void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why);
 /* One entry's bytes (cache_entry.c, which has the format). encode appends the entry for
  * `identity`, `key` and the payload to b. check reads an entry's bytes (untrusted: read back
  * from disk) as the entry for `identity` and `key`: returns NULL with *payload pointing

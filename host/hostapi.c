@@ -582,6 +582,11 @@ static void api_cache_free(void *data)
     free(data);
 }
 
+static void api_cache_reject(lg_node *n, const char *key, const char *why)
+{
+    lg_cache_drop(P(n)->ex, P(n), key, why);
+}
+
 static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
 {
     if (w)
@@ -853,6 +858,7 @@ void lg_host_api_init(lg_host_api *a)
     a->cache_put = api_cache_put;
     a->cache_store = api_cache_store;
     a->cache_free = api_cache_free;
+    a->cache_reject = api_cache_reject;
     a->render_size = api_render_size;
     a->payload_gl_buffer = api_payload_gl_buffer;
     a->payload_cl_buffer = api_payload_cl_buffer;

@@ -71,6 +71,8 @@ typedef struct ibl_state {
     uint32_t chain_size, chain_levels;
     bool chain_tried;
     bool cache_probed;        /* prepare() looked the chain up in the cache (and missed) */
+    bool chain_unchecked;     /* st->chain came from the cache: its values not yet held to
+                               * the probe's range (ibl_chain_bad, in execute) */
     GLuint chain_tex, dfg_buf;
     cl_mem cl_chain, cl_dfg;
 
@@ -289,6 +291,56 @@ static lg_probe_image ibl_chain_level(const ibl_state *st, const float *rotation
     return lg_probe_image_at(LG_PROBE_CUBE, &d, st->chain, l, rotation);
 }
 
+/* Why the chain of floats `f` (a cube of `size`, `levels` levels) cannot have been made from
+ * the probe `pr` (into why), or false when it can. The checksum of the host's cache proves
+ * only that an entry is whole (anyone who can write into the cache can recompute it), so a
+ * chain read back is held to what lg_probe_prefilter_ggx can make: every texel of every
+ * level is a weighted mean, with weights >= 0, of lookups (bilinear: means too) into the
+ * probe resampled by area (means again), so each channel lies within the probe's own
+ * [min, max] of that channel; a relative 1e-4 of the range covers the rounding. */
+static bool ibl_chain_bad(lg_node *n, const ibl_frame *f, const float *chain, size_t nf,
+                          uint32_t size, uint32_t levels, char *why, size_t wn)
+{
+    const lg_image_desc *rd = &f->probe->radiance_desc;
+    lg_cpu_view pv;
+    if (lg_map_cpu(n, f->probe->radiance, LG_READ, &pv) || !pv.pixels) {
+        snprintf(why, wn, "the probe cannot be read to check it");
+        return true;
+    }
+    size_t texels = (size_t)rd->width * rd->height * (rd->flags & LG_IMAGE_CUBE ? 6u : 1u);
+    double lo[4] = { INFINITY, INFINITY, INFINITY, INFINITY };
+    double hi[4] = { -INFINITY, -INFINITY, -INFINITY, -INFINITY };
+    const float *px = pv.pixels;
+    for (size_t i = 0; i < texels; i++)
+        for (int c = 0; c < 4; c++) {
+            lo[c] = fmin(lo[c], px[4 * i + c]);
+            hi[c] = fmax(hi[c], px[4 * i + c]);
+        }
+    for (int c = 0; c < 4; c++) {
+        double slack = 1e-4 * fmax(fabs(lo[c]), fabs(hi[c]));
+        lo[c] -= slack;
+        hi[c] += slack;
+    }
+    lg_image_desc cd = { .width = size, .height = size, .flags = LG_IMAGE_CUBE, .levels = levels };
+    for (size_t i = 0; i < nf; i++) {
+        int c = (int)(i % 4);
+        double v = chain[i];
+        if (isfinite(chain[i]) && v >= lo[c] && v <= hi[c])
+            continue;
+        size_t t = i / 4;
+        uint32_t l = 0;
+        while (l + 1 < levels && t >= lg_image_offset(&cd, l + 1, 0))
+            l++;
+        uint32_t w = lg_image_level_width(&cd, l);
+        size_t r = t - lg_image_offset(&cd, l, 0);
+        snprintf(why, wn, "float %zu (level %u, face %zu, texel %zu, %zu, channel %c) = %g, "
+                          "outside the probe's range [%g, %g] that a prefiltered chain keeps",
+                 i, l, r / ((size_t)w * w), r % w, (r / w) % w, "RGBA"[c], v, lo[c], hi[c]);
+        return true;
+    }
+    return false;
+}
+
 /* The chain's face size and levels from the parameters and the probe's radiance image
  * (a cube, or a 2D layout). prefilter_size 0: 128, halved while larger than the probe's
  * face (a cube's face; a 2D probe's width / 4, the face of a cube of the same texel
@@ -402,12 +454,15 @@ static bool ibl_chain_from_cache(lg_node *n, ibl_state *st, uint32_t size, uint3
     size_t bytes = 0;
     if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
         return false;
-    const char *why = ibl_chain_read(data, bytes, size, levels, samples, nf, &st->chain);
+    /* header and size here; the values in execute, against the probe (ibl_chain_bad), which
+     * names the first bad one */
+    const char *why = ibl_chain_read_raw(data, bytes, size, levels, samples, nf, &st->chain);
     n->host->cache_free(data);
     if (why)
         lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again", key, why);
     if (!st->chain)
         return false;
+    st->chain_unchecked = true;
     st->chain_size = size;
     st->chain_levels = levels;
     lg_log(n, LG_LOG_INFO,
@@ -487,8 +542,10 @@ static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe)
  * this node's parameters. */
 static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
 {
-    if (st->chain || st->chain_tried)
-        return st->chain ? 0 : LG_ERR_INVALID;
+    if (st->chain && !st->chain_unchecked)
+        return 0;
+    if (!st->chain && st->chain_tried)
+        return LG_ERR_INVALID;
     st->chain_tried = true;
     const lg_image_desc *rd = &f->probe->radiance_desc;
     uint32_t size, levels;
@@ -500,9 +557,20 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     size_t nf = ibl_chain_floats(size, levels);
     char key[96];
     ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
-    /* prepare() looked already (ibl_check_chain): a hit is in st->chain above */
-    if (!st->cache_probed && ibl_chain_from_cache(n, st, size, levels, samples))
-        return 0;
+    /* prepare() looked already (ibl_check_chain): a hit is in st->chain */
+    if (!st->chain && !st->cache_probed)
+        ibl_chain_from_cache(n, st, size, levels, samples);
+    if (st->chain) {
+        /* a chain from the cache, held to what prefiltering this probe can make before any
+         * lookup: a bad one is said once (naming the value), removed and made again */
+        st->chain_unchecked = false;
+        char bad[256];
+        if (!ibl_chain_bad(n, f, st->chain, nf, size, levels, bad, sizeof bad))
+            return 0;
+        lg_cache_reject(n, key, bad);
+        free(st->chain);
+        st->chain = NULL;
+    }
 
     lg_cpu_view pv;
     rc = lg_map_cpu(n, f->probe->radiance, LG_READ, &pv);

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *ibl_chain_read(const void *data, size_t bytes, uint32_t size, uint32_t levels,
-                           uint32_t samples, size_t floats, float **chain)
+const char *ibl_chain_read_raw(const void *data, size_t bytes, uint32_t size, uint32_t levels,
+                               uint32_t samples, size_t floats, float **chain)
 {
     *chain = NULL;
     ibl_chain_header h;
@@ -22,6 +22,18 @@ const char *ibl_chain_read(const void *data, size_t bytes, uint32_t size, uint32
     if (!c)
         return "out of memory";
     memcpy(c, (const char *)data + sizeof h, floats * sizeof(float));
+    *chain = c;
+    return NULL;
+}
+
+const char *ibl_chain_read(const void *data, size_t bytes, uint32_t size, uint32_t levels,
+                           uint32_t samples, size_t floats, float **chain)
+{
+    *chain = NULL;
+    float *c;
+    const char *why = ibl_chain_read_raw(data, bytes, size, levels, samples, floats, &c);
+    if (why)
+        return why;
     /* a NaN or an infinity would be looked up by every glossy pixel that reaches it and
      * spread through the tone mapper's average: the prefilter never makes one from a
      * probe (the probe node zeroes them), so such an entry is not this node's */

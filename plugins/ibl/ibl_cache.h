@@ -24,6 +24,11 @@ typedef struct ibl_chain_header {
 const char *ibl_chain_read(const void *data, size_t bytes, uint32_t size, uint32_t levels,
                            uint32_t samples, size_t floats, float **chain);
 
+/* ibl_chain_read without the test of the values: the node holds them to the probe's range
+ * itself (ibl.c, ibl_chain_bad), naming the first bad one. */
+const char *ibl_chain_read_raw(const void *data, size_t bytes, uint32_t size, uint32_t levels,
+                               uint32_t samples, size_t floats, float **chain);
+
 /* The payload for `chain` (the header made from the other arguments): malloc'd (the
  * caller frees it), *bytes long; NULL when out of memory. */
 char *ibl_chain_encode(uint32_t size, uint32_t levels, uint32_t samples, size_t floats,

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header *want,
-                          float *out, uint32_t *bounces)
+const char *pb_cache_header_check(const void *data, size_t bytes, const pb_cache_header *want,
+                                  pb_cache_header *out)
 {
     pb_cache_header h;
     if (bytes < sizeof h)
@@ -26,6 +26,17 @@ const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header 
         return "its size does not add up";
     if (h.bounces > PB_CACHE_MAX_BOUNCES)
         return "an impossible bounce count";
+    *out = h;
+    return NULL;
+}
+
+const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header *want,
+                          float *out, uint32_t *bounces)
+{
+    pb_cache_header h;
+    const char *why = pb_cache_header_check(data, bytes, want, &h);
+    if (why)
+        return why;
     /* read through memcpy: the payload need not be aligned for floats */
     const char *f = (const char *)data + sizeof h;
     for (uint64_t i = 0; i < h.floats; i++) {

@@ -27,6 +27,11 @@ typedef struct pb_cache_header {
     uint64_t floats;      /* floats after the header */
 } pb_cache_header;
 
+/* The header part of pb_cache_read: NULL with *h filled (the payload's floats follow it,
+ * h->floats of them, not yet looked at), or why the entry is not used. */
+const char *pb_cache_header_check(const void *data, size_t bytes, const pb_cache_header *want,
+                                  pb_cache_header *h);
+
 /* Checks the payload `data` (`bytes` bytes, any alignment) against `want` (every field
  * but bounces). Returns NULL with `want->floats` floats copied to `out` and the entry's
  * bounce count in *bounces, or why the entry is not used ("bad magic", ...) with `out` and

@@ -151,6 +151,31 @@ static void pb_world_inward(pb_world *w)
     free(len);
 }
 
+/* The albedo of mesh m: albedo_param ([r, g, b]) or NULL for its material's base colour
+ * (1 without a material). An albedo outside [0, 1] is an error naming mesh and material. */
+static int pb_mesh_albedo(lg_node *n, const lg_scene *s, uint32_t m, const double *albedo_param,
+                          float rho[3])
+{
+    const lg_mesh *me = &s->meshes[m];
+    const lg_material *mat = me->material < s->n_materials ? &s->materials[me->material] : NULL;
+    for (int c = 0; c < 3; c++) {
+        double a = albedo_param ? albedo_param[c] : mat ? mat->base_color[c] : 1.0;
+        if (!(a >= 0.0 && a <= 1.0)) {
+            if (albedo_param)
+                return lg_error(n, "albedo [%g, %g, %g]: every channel must be in [0, 1] "
+                                   "(an albedo above 1 makes energy)",
+                                albedo_param[0], albedo_param[1], albedo_param[2]);
+            return lg_error(n, "mesh %u '%s': material %u '%s' has base colour [%g, %g, "
+                               "%g], outside [0, 1]; give the node an albedo = [r, g, b]",
+                            m, me->name ? me->name : "", me->material,
+                            mat->name ? mat->name : "", (double)mat->base_color[0],
+                            (double)mat->base_color[1], (double)mat->base_color[2]);
+        }
+        rho[c] = (float)a;
+    }
+    return 0;
+}
+
 /* albedo_param: [r, g, b] or NULL for the materials' base colours. Reports bad input
  * (non-finite positions or normals, an albedo outside [0, 1]) naming mesh and vertex. */
 static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_param,
@@ -237,23 +262,10 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
         if (me->n_vertices && (!me->positions || !me->normals))
             return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions and normals",
                             m, me->name ? me->name : "", !me->positions ? "positions" : "normals");
-        const lg_material *mat = me->material < s->n_materials ? &s->materials[me->material] : NULL;
         float rho[3];
-        for (int c = 0; c < 3; c++) {
-            double a = albedo_param ? albedo_param[c] : mat ? mat->base_color[c] : 1.0;
-            if (!(a >= 0.0 && a <= 1.0)) {
-                if (albedo_param)
-                    return lg_error(n, "albedo [%g, %g, %g]: every channel must be in [0, 1] "
-                                       "(an albedo above 1 makes energy)",
-                                    albedo_param[0], albedo_param[1], albedo_param[2]);
-                return lg_error(n, "mesh %u '%s': material %u '%s' has base colour [%g, %g, "
-                                   "%g], outside [0, 1]; give the node an albedo = [r, g, b]",
-                                m, me->name ? me->name : "", me->material,
-                                mat->name ? mat->name : "", (double)mat->base_color[0],
-                                (double)mat->base_color[1], (double)mat->base_color[2]);
-            }
-            rho[c] = (float)a;
-        }
+        int arc = pb_mesh_albedo(n, s, m, albedo_param, rho);
+        if (arc)
+            return arc;
         for (uint32_t v = 0; v < me->n_vertices; v++, off++) {
             pb_xform_point(first ? first->model : id, me->positions + 3 * (size_t)v,
                            w->pos + 3 * (size_t)off);
@@ -620,7 +632,7 @@ static void pb_cache_id(const pb_state *st, pb_cache_header *want, char *key, si
 }
 
 static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *want,
-                          float *out, uint32_t *bounces);
+                          uint32_t max_bounces, float *out, uint32_t *bounces);
 
 /* The work estimates (lg_declare_work): seconds one thread takes per vertex x direction.
  * Measured here (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1):
@@ -643,7 +655,9 @@ static void pb_declare_estimate(lg_node *n, pb_state *st, const lg_scene *s)
     pb_cache_id(st, &want, key, sizeof key);
     st->cache_probed = true;
     float *buf = malloc(want.floats ? want.floats * sizeof(float) : 1);
-    if (buf && pb_cache_load(n, key, &want, buf, &st->cached_bounces))
+    /* the header here; the values in execute, against bounds that need the probe */
+    uint32_t max_bounces = !st->reference && st->p.mode == PB_INTERREFLECTED ? st->p.bounces : 0;
+    if (buf && pb_cache_load(n, key, &want, max_bounces, buf, &st->cached_bounces))
         st->cached = buf;
     else
         free(buf);
@@ -670,19 +684,32 @@ static void pb_declare_estimate(lg_node *n, pb_state *st, const lg_scene *s)
     lg_declare_work(n, pairs, pairs * per / lg_cpu_workers(n), "vertex x direction pairs");
 }
 
+typedef struct pb_bounds pb_bounds;
+typedef double (*pb_scale_fn)(const void *ctx, uint32_t bounces);
+static bool pb_cache_values_ok(lg_node *n, const char *key, pb_bounds *bounds,
+                               pb_scale_fn scale, const void *scale_ctx, const float *f,
+                               uint64_t floats, uint32_t bounces);
+
 /* The cache entry prepare() found, copied into `out` (then freed), or a lookup now when
- * prepare did not look. */
+ * prepare did not look; then every value held to `bounds` (pb_cache_values_ok): an entry
+ * that fails is rejected (lg_cache_reject) and this returns false. */
 static bool pb_cache_take(lg_node *n, pb_state *st, const char *key,
-                          const pb_cache_header *want, float *out, uint32_t *bounces)
+                          const pb_cache_header *want, uint32_t max_bounces, pb_bounds *bounds,
+                          pb_scale_fn scale, const void *scale_ctx, float *out,
+                          uint32_t *bounces)
 {
+    bool hit = false;
     if (st->cached) {
         memcpy(out, st->cached, want->floats * sizeof(float));
         *bounces = st->cached_bounces;
         free(st->cached);
         st->cached = NULL;
-        return true;
+        hit = true;
+    } else if (!st->cache_probed) {
+        hit = pb_cache_load(n, key, want, max_bounces, out, bounces);
     }
-    return st->cache_probed ? false : pb_cache_load(n, key, want, out, bounces);
+    return hit && pb_cache_values_ok(n, key, bounds, scale, scale_ctx, out, want->floats,
+                                     *bounces);
 }
 
 static int pb_prepare(lg_node *n)
@@ -1040,21 +1067,188 @@ static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, ui
     return 0;
 }
 
-/* Looks up the node's cache entry; true with `out` (floats) filled when the entry is
- * whole and agrees with `want` (pb_cache_read: magic, version, bands, vertices, mode,
- * samples, size, every value finite). Anything else: a warning, and false. */
+/* What the node can have written into an entry, value by value (pb_bounds_*): the host's
+ * checksum proves only that an entry is whole, and anyone who can write into the cache can
+ * recompute it (issue "Reliability 3", finding 7), so each value is held to the bound of
+ * the computation that makes it.
+ *
+ * The bake (t = (rho / pi) (4 pi / T) sum_j Y_k(w_j) V max(N.w_j, 0), README "What is
+ * computed"): |Y_k| <= Y_l = sqrt((2l + 1) / (4 pi)) for k in band l (the addition theorem:
+ * sum_m Y_lm^2 = (2l + 1) / (4 pi)), V in {0, 1}, so |t| <= rho Y_l W with
+ *     W = max over unit N of (4 / T) sum_j max(N.w_j, 0)
+ *       = max_N (2 / T) (sum_j |N.w_j| + N.sum_j w_j)
+ *      <= (2 / T) (sqrt(T lambda_max(sum_j w_j w_j^T)) + |sum_j w_j|)   (Cauchy-Schwarz),
+ * which the direction set gives exactly (about 2 / sqrt(3) = 1.155 for any even set; a
+ * true cosine integral would be 1). A bounce adds rho_x (4 / T) sum max(N.w, 0) prev(hit),
+ * prev interpolated (a convex combination): |dt_b| <= rho_x W max|dt_{b-1}|, so after B
+ * bounces |t| <= rho_x Y_l W sum_{i=0..B} (rho_max W)^i.
+ * The reference (r = (rho / pi) sum_t L_t V max(N.w_t, 0) dOmega_t over a cube's texels):
+ * 0 <= r <= (rho / pi) L_max (1 / 2) sqrt(4 pi (4 pi / 3)) = rho L_max 2 / sqrt(3) (the
+ * same inequality; a cube's texels are symmetric: sum w dOmega = 0, sum w w^T dOmega =
+ * (4 pi / 3) I), L_max the probe's largest texel per channel (the resampling averages
+ * texels). Both get a relative slack of 1e-3 for float rounding. */
+#define PB_BOUND_SLACK 1.001
+typedef struct pb_bounds {
+    bool reference;      /* prt_reference's rgba per vertex, else the bake's [v][3][n2] */
+    uint32_t n2;         /* bake: coefficients per channel */
+    const float *rho;    /* 3 per vertex: the albedo */
+    double scale;        /* bake: W sum (rho_max W)^i; reference: 2 / sqrt(3) */
+    double lmax[3];      /* reference: the probe's largest texel per channel */
+} pb_bounds;
+
+/* The largest |value| float i can hold (bake: symmetric; reference: [0, hi], alpha 1). */
+static double pb_bound(const pb_bounds *b, uint64_t i)
+{
+    if (b->reference) {
+        uint64_t v = i / 4;
+        int c = (int)(i % 4);
+        return c == 3 ? 1.0 : b->rho[3 * v + c] * b->lmax[c] * b->scale * PB_BOUND_SLACK;
+    }
+    uint64_t v = i / (3 * (uint64_t)b->n2), r = i % (3 * (uint64_t)b->n2);
+    int c = (int)(r / b->n2);
+    uint32_t k = (uint32_t)(r % b->n2), l = 0;
+    while ((l + 1) * (l + 1) <= k)
+        l++;
+    double yl = sqrt((2.0 * l + 1.0) / (4.0 * PB_PI));
+    return b->rho[3 * v + c] * yl * b->scale * PB_BOUND_SLACK;
+}
+
+/* Why float i, f, cannot be the node's (into why), or false when it can. */
+static bool pb_value_bad(const pb_bounds *b, uint64_t i, float f, char *why, size_t n)
+{
+    static const char ch[4] = { 'R', 'G', 'B', 'A' };
+    char where[96];
+    if (b->reference)
+        snprintf(where, sizeof where, "float %llu (vertex %llu, %c)", (unsigned long long)i,
+                 (unsigned long long)(i / 4), ch[i % 4]);
+    else
+        snprintf(where, sizeof where, "float %llu (vertex %llu, %c, coefficient %llu)",
+                 (unsigned long long)i, (unsigned long long)(i / (3 * (uint64_t)b->n2)),
+                 ch[(i % (3 * (uint64_t)b->n2)) / b->n2], (unsigned long long)(i % b->n2));
+    double hi = pb_bound(b, i);
+    if (!isfinite(f))
+        snprintf(why, n, "%s = %g is not finite", where, (double)f);
+    else if (b->reference && i % 4 == 3 && f != 1.0f)
+        snprintf(why, n, "%s = %g, where the reference writes alpha 1", where, (double)f);
+    else if (b->reference && f < 0.0f)
+        snprintf(why, n, "%s = %g, below the 0 a reference can make", where, (double)f);
+    else if (fabs((double)f) > hi)
+        snprintf(why, n, "%s = %g, beyond the %s%.6g this %s can make", where, (double)f,
+                 b->reference ? "" : "+-", hi, b->reference ? "reference" : "bake");
+    else
+        return false;
+    return true;
+}
+
+/* The bake's bound (pb_bounds above) for direction set (sampler, samples, seed), albedo
+ * rho (3 per vertex) and `bounces` bounces. */
+static double pb_bake_scale(const pb_params *p, const float *rho, uint32_t nv, uint32_t bounces)
+{
+    uint32_t T = p->samples * p->samples;
+    double A[3][3] = { { 0 } }, sum[3] = { 0, 0, 0 };
+    for (uint32_t j = 0; j < T; j++) {
+        double uv[2], d[3];
+        lg_sample_square((lg_sampler)p->sampler, p->samples, p->seed, j, uv);
+        lg_sample_sphere(uv, d);
+        for (int r = 0; r < 3; r++) {
+            sum[r] += d[r];
+            for (int c = 0; c < 3; c++)
+                A[r][c] += d[r] * d[c];
+        }
+    }
+    /* lambda_max <= the largest absolute row sum (Gershgorin) */
+    double lam = 0;
+    for (int r = 0; r < 3; r++)
+        lam = fmax(lam, fabs(A[r][0]) + fabs(A[r][1]) + fabs(A[r][2]));
+    double W = 2.0 / T * (sqrt(T * lam) + sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]));
+    double rmax = 0;
+    for (size_t i = 0; i < 3 * (size_t)nv; i++)
+        rmax = fmax(rmax, rho[i]);
+    double g = 0, term = 1;
+    for (uint32_t i = 0; i <= bounces; i++, term *= rmax * W)
+        g += term;
+    return W * g;
+}
+
+/* The albedo of every vertex (3 floats each, malloc'd), numbered as transfer.h says; NULL
+ * after an error. */
+static float *pb_vertex_albedo(lg_node *n, const lg_scene *s, const pb_params *p, uint32_t nv)
+{
+    float *rho = malloc(((size_t)nv * 3 + 3) * sizeof(float));
+    if (!rho) {
+        lg_error_code(n, LG_ERR_NOMEM, "out of memory (albedo of %u vertices)", nv);
+        return NULL;
+    }
+    size_t v = 0;
+    for (uint32_t m = 0; m < s->n_meshes; m++) {
+        float a[3];
+        if (pb_mesh_albedo(n, s, m, p->albedo_material ? NULL : p->albedo, a)) {
+            free(rho);
+            return NULL;
+        }
+        for (uint32_t i = 0; i < s->meshes[m].n_vertices && v < nv; i++, v++)
+            memcpy(rho + 3 * v, a, sizeof a);
+    }
+    for (; v < nv; v++) /* cannot happen (prepare counted these meshes): no bound then */
+        rho[3 * v] = rho[3 * v + 1] = rho[3 * v + 2] = 0.0f;
+    return rho;
+}
+
+/* Looks up the node's cache entry; true with `out` (floats) filled and *bounces set when
+ * the entry is whole and its header agrees with `want` (pb_cache_header_check: magic,
+ * version, bands, vertices, mode, samples, size) with at most max_bounces bounces. Anything
+ * else: a warning ("not used (why)"), and false. The values are not looked at here:
+ * pb_cache_values_ok holds them to what the node can make, in execute. */
 static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *want,
-                          float *out, uint32_t *bounces)
+                          uint32_t max_bounces, float *out, uint32_t *bounces)
 {
     void *data = NULL;
     size_t bytes = 0;
     if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
         return false;
-    const char *why = pb_cache_read(data, bytes, want, out, bounces);
+    pb_cache_header h;
+    const char *why = pb_cache_header_check(data, bytes, want, &h);
+    if (!why && h.bounces > max_bounces)
+        why = "an impossible bounce count";
+    if (!why) {
+        /* copied (the payload need not be aligned for floats) */
+        memcpy(out, (const char *)data + sizeof h, h.floats * sizeof(float));
+        *bounces = h.bounces;
+    }
     n->host->cache_free(data);
     if (why)
         lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): computing it again", key, why);
-    return why == NULL;
+    return !why;
+}
+
+/* Whether every value f[0 .. floats) of the entry `key` (of `bounces` bounces) is one the
+ * node can have made (`bounds`, its scale from scale(scale_ctx, bounces) when given). The
+ * first that is not is handed back with lg_cache_reject (one warning naming it, the file
+ * removed, as the host does for a corrupt entry): false. */
+static bool pb_cache_values_ok(lg_node *n, const char *key, pb_bounds *bounds,
+                               pb_scale_fn scale, const void *scale_ctx, const float *f,
+                               uint64_t floats, uint32_t bounces)
+{
+    if (scale)
+        bounds->scale = scale(scale_ctx, bounces);
+    char bad[256] = "";
+    for (uint64_t i = 0; i < floats && !bad[0]; i++)
+        pb_value_bad(bounds, i, f[i], bad, sizeof bad);
+    if (bad[0])
+        lg_cache_reject(n, key, bad);
+    return !bad[0];
+}
+
+typedef struct pb_bake_scale_ctx {
+    const pb_params *p;
+    const float *rho;
+    uint32_t nv;
+} pb_bake_scale_ctx;
+
+static double pb_bake_scale_cb(const void *ctx, uint32_t bounces)
+{
+    const pb_bake_scale_ctx *c = ctx;
+    return pb_bake_scale(c->p, c->rho, c->nv, bounces);
 }
 
 /* Stores the entry and returns what happened, in the words of the node's log line: a line
@@ -1110,7 +1304,15 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     lg_transfer_info info = { .struct_size = sizeof info, .bands = p->bands, .vertices = nv,
                               .mode = (lg_transfer_mode)(p->mode + 1) };
     uint32_t bounces = 0;
-    if (pb_cache_take(n, st, key, &want, out, &bounces)) {
+    float *rho = pb_vertex_albedo(n, s, p, nv);
+    if (!rho)
+        return LG_ERR_INVALID;
+    pb_bounds bounds = { .n2 = n2, .rho = rho };
+    pb_bake_scale_ctx sc = { p, rho, nv };
+    bool hit = pb_cache_take(n, st, key, &want, p->mode == PB_INTERREFLECTED ? p->bounces : 0,
+                             &bounds, pb_bake_scale_cb, &sc, out, &bounces);
+    free(rho);
+    if (hit) {
         info.bounces = bounces;
         lg_log(n, LG_LOG_INFO, "transfer loaded from the cache (%u vertices, %u bands, %s)",
                nv, p->bands, pb_modes[p->mode]);
@@ -1386,7 +1588,28 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
     char key[96];
     snprintf(key, sizeof key, "reference-m%d-r%u-v%u", p->mode, R, nv);
     uint32_t unused = 0;
-    if (pb_cache_take(n, st, key, &want, out, &unused)) {
+    float *rho = pb_vertex_albedo(n, s, p, nv);
+    if (!rho)
+        return LG_ERR_INVALID;
+    pb_bounds bounds = { .reference = true, .rho = rho, .scale = 2.0 / sqrt(3.0) };
+    {
+        lg_cpu_view pview;
+        if ((rc = lg_map_cpu(n, probe->radiance, LG_READ, &pview))) {
+            free(rho);
+            return rc;
+        }
+        /* the largest texel per channel of every level the resampling can read */
+        size_t texels = (size_t)rd->width * rd->height *
+                        (probe->info.layout == LG_PROBE_CUBE ? 6u : 1u);
+        const float *px = pview.pixels;
+        for (size_t i = 0; i < texels; i++)
+            for (int c = 0; c < 3; c++)
+                if (px[4 * i + c] > bounds.lmax[c]) /* NaN never passes: the probe zeroes it */
+                    bounds.lmax[c] = px[4 * i + c];
+    }
+    bool hit = pb_cache_take(n, st, key, &want, 0, &bounds, NULL, NULL, out, &unused);
+    free(rho);
+    if (hit) {
         lg_log(n, LG_LOG_INFO, "reference loaded from the cache (%u vertices, %s)", nv,
                pb_modes[p->mode]);
         return 0;

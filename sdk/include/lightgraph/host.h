@@ -304,7 +304,19 @@ typedef struct lg_host_api {
      * through lg_declare_work(), which does nothing on an older host. */
     void (*declare_work)(lg_node *node, double units, double seconds, const char *what);
 
-    void *reserved[21];
+    /* -- since ABI 2.7: a cache entry whose values the node cannot have made --
+     * The host's checksum proves only that an entry was written whole: anyone who can
+     * write into the cache can write a well-formed one. A node that reads an entry checks
+     * its values against what it can produce (finite, within the bounds of its
+     * computation) and, for an entry that fails, calls this with the entry's `key` and
+     * `why` (the bad value and where it is): the host warns as for a corrupt entry
+     * ("cache entry PATH is corrupt (why); removing it and recomputing"), removes the
+     * file and counts a miss in place of the hit; the node then recomputes as on a miss.
+     * Call it through lg_cache_reject(), which on an older host only warns (the entry is
+     * then replaced by the node's next cache_put). */
+    void (*cache_reject)(lg_node *node, const char *key, const char *why);
+
+    void *reserved[20];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -540,6 +552,19 @@ static inline void lg_account_alloc(lg_node *n, uint64_t bytes)
     if (n->host->struct_size >= offsetof(lg_host_api, account_alloc) + sizeof(void *) &&
         n->host->account_alloc)
         n->host->account_alloc(n, bytes);
+}
+
+/* Since ABI 2.7: rejects the cache entry `key` that cache_get returned (see cache_reject).
+ * On an older host: the same warning from the node, and the file stays until the node's
+ * cache_put replaces it. */
+static inline void lg_cache_reject(lg_node *n, const char *key, const char *why)
+{
+    if (n->host->struct_size >= offsetof(lg_host_api, cache_reject) + sizeof(void *) &&
+        n->host->cache_reject)
+        n->host->cache_reject(n, key, why);
+    else
+        lg_log(n, LG_LOG_WARN, "cache entry '%s' is corrupt (%s); computing it again", key,
+               why);
 }
 
 static inline void lg_set_view_independent(lg_node *n, bool independent)

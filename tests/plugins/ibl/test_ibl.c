@@ -37,6 +37,11 @@
  *                under an address-space limit of 100 MiB (RLIMIT_AS, set in this process and
  *                so in the host) a 2048x1024 probe's chain (94 MiB, mostly the resampling)
  *                is refused in prepare, naming the chain, the bytes needed and available
+ *   forged_chain GGX chains in the host's cache with a valid checksum but values no
+ *                prefiltering of the probe can make (NaN, Inf, 3e38, and 10 above a probe
+ *                of at most 3) at the first, a middle and the last float: each reported
+ *                once ("is corrupt (float N ..."), removed, prefiltered again, and the
+ *                image equal bit for bit to a cold run; the remade chain then loads
  *   float_max    probes (lat-long, cube strip) of 0, FLT_MAX and sizes between, made by
  *                exposure = 2 clamping: reflect (mirror and rough), envmap and background
  *                write no non-finite value on any backend
@@ -55,6 +60,8 @@
 #include "ggx_prefilter.h"
 #include "lightgraph/test.h"
 #include "lightgraph/vecmath.h"
+
+#include "common/cache_forge.h"
 
 #define PI 3.14159265358979323846
 
@@ -1040,6 +1047,93 @@ static void case_float_max(lg_test *t)
                 }
 }
 
+/* ---- forged cache entries ------------------------------------------------------------------ */
+
+static int occurrences(const char *text, const char *needle)
+{
+    int k = 0;
+    for (const char *p = text ? strstr(text, needle) : NULL; p; p = strstr(p + 1, needle))
+        k++;
+    return k;
+}
+
+static void case_forged_chain(lg_test *t)
+{
+    lg_image probe = { 0 };
+    lg_image_alloc(&probe, 64, 32);
+    for (uint32_t j = 0; j < 32; j++)
+        for (uint32_t i = 0; i < 64; i++) {
+            float *p = probe.pixels + 4 * ((size_t)j * 64 + i);
+            p[0] = 1.0f + 2.0f * (float)i / 63; /* 1 .. 3 */
+            p[1] = 1.0f + (float)j / 31;
+            p[2] = 0.5f;
+            p[3] = 1.0f;
+        }
+    lg_test_write_exr(t, "probe.exr", &probe);
+    lg_image_free(&probe);
+    const char *g = "lightgraph 1\n"
+                    "s = test_ibl_scene { layout = sphere, segments = 48, roughness = 0.5, "
+                    "reflectivity = [0.9, 0.9, 0.9] }\n"
+                    "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                    "env = environment { scene = s, probe = sky }\n"
+                    "r = reflect { scene = env, probe = sky, backend = cpu, "
+                    "prefilter_samples = 32 }\n"
+                    "output r \"r.exr\"\n";
+    const char *args[] = { "--size", "32x32", "-v", NULL };
+    const char *outs[] = { "r.exr" };
+    lg_image cold = { 0 };
+    char *text = NULL;
+    int rc = render(t, g, args, outs, &cold, 1, &text);
+    LG_TEST_CHECK(t, rc == 0 && text && strstr(text, "GGX chain prefiltered"),
+                  "the cold run did not prefilter (%d):\n%s", rc, text ? text : "");
+    free(text);
+    if (rc)
+        return;
+    const char *dir = getenv("LIGHTGRAPH_CACHE_DIR");
+    char path[1024] = "";
+    LG_TEST_CHECK(t, cache_forge_find(dir, "reflect-", path, sizeof path) == 1,
+                  "want one reflect entry in %s", dir ? dir : "(unset)");
+    long nf = cache_forge_floats(path, 24); /* sizeof(ibl_chain_header) */
+    LG_TEST_CHECK(t, nf > 8, "chain of %ld floats", nf);
+    if (nf <= 8)
+        return;
+    static const struct {
+        float v;
+        const char *what;
+    } forged[] = { { NAN, "NaN" }, { INFINITY, "Inf" }, { 3e38f, "3e38" }, { 10.0f, "10" } };
+    size_t at[3] = { 0, 4 * (size_t)(nf / 8) + 1, (size_t)nf - 3 }; /* R, G, G */
+    for (size_t f = 0; f < sizeof forged / sizeof forged[0]; f++)
+        for (int a = 0; a < 3; a++) {
+            LG_TEST_CHECK(t, cache_forge_float(path, 24, at[a], forged[f].v) == 0,
+                          "cannot forge %s", path);
+            lg_image img = { 0 };
+            rc = render(t, g, args, outs, &img, 1, &text);
+            char want[64];
+            snprintf(want, sizeof want, "is corrupt (float %zu ", at[a]);
+            LG_TEST_CHECK(t, rc == 0 && occurrences(text, "is corrupt") == 1 &&
+                                 strstr(text, want) && strstr(text, "GGX chain prefiltered"),
+                          "%s at float %zu: not reported once and prefiltered again (%d):\n%s",
+                          forged[f].what, at[a], rc, text ? text : "");
+            if (rc == 0) {
+                CHECK_FINITE(t, &img, forged[f].what);
+                LG_TEST_CHECK(t, memcmp(img.pixels, cold.pixels, (size_t)32 * 32 * 16) == 0,
+                              "%s at float %zu: the image differs from the cold run",
+                              forged[f].what, at[a]);
+                lg_image_free(&img);
+            }
+            free(text);
+        }
+    lg_image img = { 0 };
+    rc = render(t, g, args, outs, &img, 1, &text);
+    LG_TEST_CHECK(t, rc == 0 && strstr(text, "GGX chain loaded from the cache") &&
+                         !strstr(text, "corrupt"),
+                  "the remade chain was not loaded (%d):\n%s", rc, text ? text : "");
+    if (rc == 0)
+        lg_image_free(&img);
+    free(text);
+    lg_image_free(&cold);
+}
+
 /* ---- base image ---------------------------------------------------------------------------- */
 
 static void case_base(lg_test *t)
@@ -1306,6 +1400,7 @@ int main(int argc, char **argv)
         { "cache_said", case_cache_said },
         { "gating", case_gating },
         { "chain_limits", case_chain_limits }, { "float_max", case_float_max },
+        { "forged_chain", case_forged_chain },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

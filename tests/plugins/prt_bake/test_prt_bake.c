@@ -30,6 +30,11 @@
  *   cache_said    "cached" only when the host stored the entry: a disabled cache (a
  *                 world-writable cache folder) and an entry that cannot be stored (a folder
  *                 with a file in its place) say "not cached" and why
+ *   forged        entries of the bake and of the reference with a valid checksum but values
+ *                 the node cannot make (NaN, Inf, 3e38, and a finite value just beyond the
+ *                 bound of the computation) at the first, a middle and the last float:
+ *                 each is reported once ("is corrupt (float N ..."), removed and made again,
+ *                 equal bit for bit to a cold run; the remade entry then loads
  *   reference     prt_reference: unshadowed = (rho / pi) E of a smooth probe; the cone's
  *                 shadowed value rho sin^2(alpha); the bake approaches it as samples grow
  *   chain         the oracles through the whole chain users run, on every backend of the
@@ -52,6 +57,8 @@
 #include "lightgraph/sh.h"
 #include "lightgraph/test.h"
 #include "lightgraph/transfer.h"
+
+#include "common/cache_forge.h"
 
 #define PI 3.14159265358979323846
 
@@ -680,6 +687,127 @@ static void case_cache_said(lg_test *t)
     remove(path);
 }
 
+/* Counts the occurrences of `needle` in `text`. */
+static int occurrences(const char *text, const char *needle)
+{
+    int k = 0;
+    for (const char *p = text ? strstr(text, needle) : NULL; p; p = strstr(p + 1, needle))
+        k++;
+    return k;
+}
+
+static void write_probe(lg_test *t, bool smooth);
+
+/* The forged values of case_forged: what a writer of the cache could plant. */
+typedef struct forgery {
+    float v;
+    const char *what;
+} forgery;
+
+static const forgery forgeries[] = {
+    { NAN, "NaN" }, { INFINITY, "Inf" }, { 3e38f, "3e38" },
+    /* finite, and beyond the bound: a bake's DC coefficient is at most rho Y_0 W (1 + ...)
+     * (about 1.14 with 2 bounces), a reference's radiance rho L_max 2 / sqrt(3) */
+    { 2.5f, "2.5" },
+};
+
+static void case_forged(lg_test *t)
+{
+    /* the bake: interreflected (two bounces: the widest bound) on the quad scene */
+    const char *scene = "layout = quad, grid = 4";
+    const char *p = "mode = interreflected, samples = 16, bounces = 2";
+    tr cold;
+    char *text = NULL;
+    if (!bake(t, scene, p, 3, &cold, &text))
+        return;
+    LG_TEST_CHECK(t, strstr(text, "transfer baked") != NULL, "the cold run did not bake:\n%s",
+                  text);
+    free(text);
+    const char *dir = getenv("LIGHTGRAPH_CACHE_DIR");
+    char path[1024] = "";
+    LG_TEST_CHECK(t, cache_forge_find(dir, "prt_bake-", path, sizeof path) == 1,
+                  "want one prt_bake entry in %s", dir ? dir : "(unset)");
+    long nf = cache_forge_floats(path, 40); /* sizeof(pb_cache_header) */
+    LG_TEST_CHECK(t, nf == (long)cold.nv * 3 * 9, "entry of %ld floats, want %u", nf,
+                  cold.nv * 3 * 9);
+    size_t at[3] = { 0, (size_t)nf / 2, (size_t)nf - 1 };
+    for (size_t f = 0; f < sizeof forgeries / sizeof forgeries[0]; f++)
+        for (int a = 0; a < 3; a++) {
+            /* a finite value just beyond the bound is meaningful for the DC term only */
+            if (f == 3 && at[a] % 9 != 0)
+                continue;
+            LG_TEST_CHECK(t, cache_forge_float(path, 40, at[a], forgeries[f].v) == 0,
+                          "cannot forge %s", path);
+            tr again;
+            if (!bake(t, scene, p, 3, &again, &text))
+                return;
+            char want[64];
+            snprintf(want, sizeof want, "is corrupt (float %zu ", at[a]);
+            LG_TEST_CHECK(t, occurrences(text, "is corrupt") == 1 && strstr(text, want) &&
+                                 strstr(text, "transfer baked"),
+                          "%s at float %zu: not reported once and baked again:\n%s",
+                          forgeries[f].what, at[a], text);
+            LG_TEST_CHECK(t, again.nv == cold.nv &&
+                                 memcmp(again.t, cold.t, (size_t)cold.nv * 3 * 9 * 4) == 0,
+                          "%s at float %zu: the transfer baked again differs from the cold "
+                          "run", forgeries[f].what, at[a]);
+            free(text);
+            tr_free(&again);
+        }
+    /* the entry made again is a good one */
+    tr last;
+    if (bake(t, scene, p, 3, &last, &text)) {
+        LG_TEST_CHECK(t, strstr(text, "transfer loaded from the cache") && !strstr(text, "corrupt"),
+                      "the remade entry was not loaded:\n%s", text);
+        tr_free(&last);
+    }
+    free(text);
+    tr_free(&cold);
+
+    /* the reference: unshadowed sphere under the smooth probe */
+    write_probe(t, true);
+    char g[1024];
+    snprintf(g, sizeof g,
+             "lightgraph 1\ns = test_prt_scene { layout = sphere, segments = 12, "
+             "base_color = [0.8, 0.5, 0.2] }\n"
+             "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+             "r = prt_reference { scene = s, probe = sky, mode = unshadowed, "
+             "resolution = 16 }\noutput r \"ref.exr\"\n");
+    int rc = run(t, g, &text);
+    lg_image ref;
+    LG_TEST_CHECK(t, rc == 0 && strstr(text, "reference computed"),
+                  "the cold reference failed (%d):\n%s", rc, text ? text : "");
+    free(text);
+    if (rc != 0 || !lg_test_read(t, "ref.exr", &ref, NULL))
+        return;
+    LG_TEST_CHECK(t, cache_forge_find(dir, "prt_reference-", path, sizeof path) == 1,
+                  "want one prt_reference entry in %s", dir);
+    nf = cache_forge_floats(path, 40);
+    size_t rat[3] = { 0, 4 * (size_t)(nf / 8) + 1, (size_t)nf - 2 }; /* R, G, B of three vertices */
+    for (size_t f = 0; f < sizeof forgeries / sizeof forgeries[0]; f++)
+        for (int a = 0; a < 3; a++) {
+            LG_TEST_CHECK(t, cache_forge_float(path, 40, rat[a], forgeries[f].v) == 0,
+                          "cannot forge %s", path);
+            rc = run(t, g, &text);
+            char want[64];
+            snprintf(want, sizeof want, "is corrupt (float %zu ", rat[a]);
+            LG_TEST_CHECK(t, rc == 0 && occurrences(text, "is corrupt") == 1 &&
+                                 strstr(text, want) && strstr(text, "reference computed"),
+                          "reference, %s at float %zu: not reported once and computed again "
+                          "(%d):\n%s", forgeries[f].what, rat[a], rc, text ? text : "");
+            free(text);
+            lg_image img;
+            if (rc == 0 && lg_test_read(t, "ref.exr", &img, NULL)) {
+                LG_TEST_CHECK(t, memcmp(img.pixels, ref.pixels,
+                                        (size_t)ref.width * ref.height * 16) == 0,
+                              "reference, %s at float %zu: differs from the cold run",
+                              forgeries[f].what, rat[a]);
+                lg_image_free(&img);
+            }
+        }
+    lg_image_free(&ref);
+}
+
 /* Writes a lat-long probe of env_L (or a constant 1). */
 static void write_probe(lg_test *t, bool smooth)
 {
@@ -931,6 +1059,7 @@ int main(int argc, char **argv)
         { "cache_said", case_cache_said },
         { "memory", case_memory },
         { "reference", case_reference },   { "chain", case_chain },
+        { "forged", case_forged },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
