@@ -634,16 +634,19 @@ static void pb_cache_id(const pb_state *st, pb_cache_header *want, char *key, si
 static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *want,
                           uint32_t max_bounces, float *out, uint32_t *bounces);
 
-/* The work estimates (lg_declare_work): seconds one thread takes per vertex x direction.
- * Measured here (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1):
- * examples/prt.lgraph's bake (23733 vertices, 128^2 directions, 6 bands, shadowed,
- * Embree) in 747 s, 1.9e-6 s per pair, nearly all of it the occlusion ray of the half of
- * the directions above a vertex; the SH accumulation (3 n^2 per unblocked direction)
- * matters at high band counts only, taken as sh_project's 3e-8 s per product over a
- * third (a float table, no compensated sums); brute-force visibility tests each
- * triangle, 3e-9 s per test (PB_BRUTE_WARN's "about a minute" at 2e10). */
-#define PB_SECONDS_PER_RAY 3.8e-6
-#define PB_SECONDS_PER_PRODUCT 1e-8
+/* The work estimates (lg_declare_work): seconds one thread takes per ray and per product.
+ * From the README's "Cost" tables (tools/bench_prt_bake.py): the bake casts 7.8e6 to
+ * 1.4e7 rays/s on 2 threads on the bunny box, SH accumulation included, 3.3e6 on an 871k
+ * triangle mesh; 2.5e-7 s per ray and thread is the first figure. The accumulation (3 n^2
+ * products per unblocked direction) is nearly free at 6 bands (bands 1..6 take 0.06 to
+ * 0.07 s there) and matters at high band counts: 3e-10 s per product. Checked on
+ * examples/prt.lgraph (23733 vertices, 128^2 directions, 6 bands, shadowed): 2.8e6 rays/s
+ * on 2 threads with the machine's load at 4, 69 s, where the estimate says about 27 s for a
+ * quiet machine. (An earlier figure, 3.8e-6 s per ray, had been measured with seven builds
+ * running and made that bake "about 8 min".) Brute-force visibility tests each triangle,
+ * 3e-9 s per test (PB_BRUTE_WARN's "about a minute" at 2e10). */
+#define PB_SECONDS_PER_RAY 2.5e-7
+#define PB_SECONDS_PER_PRODUCT 3e-10
 #define PB_SECONDS_PER_TEST 3e-9
 
 /* Looks the result up in the cache (kept for execute on a hit) and declares the work a
