@@ -170,26 +170,34 @@ static void case_partial_inner(lg_test *t)
     LG_TEST_FAILF(t, "lg_test_backends returned although gl and cl were missing");
 }
 
-static void case_partial(lg_test *t)
+/* Runs this program's case `inner` in a child, its stdout and stderr into text; returns its
+ * exit status (-1 if it did not exit). */
+static int run_inner(lg_test *t, const char *inner, char *text, size_t len)
 {
+    text[0] = 0;
     char self[4096];
     ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
     if (n <= 0) {
         LG_TEST_FAILF(t, "readlink /proc/self/exe failed");
-        return;
+        return -1;
     }
     self[n] = 0;
     char cmd[9000];
-    snprintf(cmd, sizeof cmd, "'%s' partial_inner >'%s' 2>&1", self, lg_test_path(t, "inner.txt"));
+    snprintf(cmd, sizeof cmd, "'%s' %s >'%s' 2>&1", self, inner, lg_test_path(t, "inner.txt"));
     int st = system(cmd);
-    int code = st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
     FILE *f = fopen(lg_test_path(t, "inner.txt"), "r");
-    char text[8192] = "";
     if (f) {
-        size_t len = fread(text, 1, sizeof text - 1, f);
-        text[len] = 0;
+        size_t got = fread(text, 1, len - 1, f);
+        text[got] = 0;
         fclose(f);
     }
+    return st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void case_partial(lg_test *t)
+{
+    char text[8192];
+    int code = run_inner(t, "partial_inner", text, sizeof text);
     LG_TEST_CHECK(t, code == LG_TEST_SKIP, "exit %d, want 77: %s", code, text);
     LG_TEST_CHECK(t, strstr(text, "no device here for gl, cl (the 1 other backend(s) passed)") != NULL,
                   "the skip does not name the missing devices: %s", text);
@@ -213,24 +221,8 @@ static void case_signal_inner(lg_test *t)
 
 static void case_signal(lg_test *t)
 {
-    char self[4096];
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) {
-        LG_TEST_FAILF(t, "readlink /proc/self/exe failed");
-        return;
-    }
-    self[n] = 0;
-    char cmd[9000];
-    snprintf(cmd, sizeof cmd, "'%s' signal_inner >'%s' 2>&1", self, lg_test_path(t, "inner.txt"));
-    int st = system(cmd);
-    int code = st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    FILE *f = fopen(lg_test_path(t, "inner.txt"), "r");
-    char text[8192] = "";
-    if (f) {
-        size_t len = fread(text, 1, sizeof text - 1, f);
-        text[len] = 0;
-        fclose(f);
-    }
+    char text[8192];
+    int code = run_inner(t, "signal_inner", text, sizeof text);
     LG_TEST_CHECK(t, code == 0, "the inner case exited %d: %s", code, text);
     LG_TEST_CHECK(t, strstr(text, "killed by signal 11 (SIGSEGV") != NULL,
                   "the signal is not named: %s", text);
