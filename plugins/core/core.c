@@ -184,11 +184,35 @@ static int constant_execute(lg_node *n, const lg_frame *frame)
 
 /* ---- add ------------------------------------------------------------------------------------ */
 
-/* node->user of an add whose output aliases an input (no state to free) */
-static const char add_aliased = 1;
+/* node->user of add and scale: whether the output aliases an input (add with a gated
+ * input), and which inputs' NaN/Inf pixels were reported (lg_check_input_finite: once per
+ * render; a node that passes a non-finite input on says so, issue 20). */
+typedef struct core_pass {
+    bool aliased;
+    bool reported[2];
+} core_pass;
+
+static core_pass *core_pass_get(lg_node *n)
+{
+    if (!n->user)
+        n->user = calloc(1, sizeof(core_pass));
+    if (!n->user)
+        lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of node state)",
+                      sizeof(core_pass));
+    return n->user;
+}
+
+static void core_pass_destroy(lg_node *n)
+{
+    free(n->user);
+    n->user = NULL;
+}
 
 static int add_prepare(lg_node *n)
 {
+    core_pass *st = core_pass_get(n);
+    if (!st)
+        return LG_ERR_NOMEM;
     lg_resource_info a, b;
     int rc = core_image_input(n, 0, "a", &a);
     if (rc)
@@ -198,12 +222,11 @@ static int add_prepare(lg_node *n)
         return rc;
     /* A gated input (zero): the sum is the other input, with no copy; execute then has
      * nothing to do (the output is the input, so it must not write). */
-    if (a.neutral || b.neutral) {
-        n->user = (void *)&add_aliased;
+    st->aliased = a.neutral || b.neutral;
+    if (st->aliased) {
         rc = n->host->declare_alias(n, 0, b.neutral ? 0 : 1);
         return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
     }
-    n->user = NULL;
     if (a.image.width != b.image.width || a.image.height != b.image.height)
         return lg_error(n, "input sizes differ: a is %ux%u, b is %ux%u", a.image.width,
                         a.image.height, b.image.width, b.image.height);
@@ -215,11 +238,16 @@ static int add_prepare(lg_node *n)
 
 static int add_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
-    if (n->user == &add_aliased)
-        return 0;
+    core_pass *st = n->user;
+    if (st->aliased)
+        return 0; /* the aliased input reports its own NaN/Inf, if its producer does */
+    int rc = lg_check_input_finite(n, frame, 0, "a", NULL, &st->reported[0]);
+    if (!rc)
+        rc = lg_check_input_finite(n, frame, 1, "b", NULL, &st->reported[1]);
+    if (rc)
+        return rc;
     lg_resource_info a, b;
-    int rc = lg_describe(lg_input(n, 0), &a, n);
+    rc = lg_describe(lg_input(n, 0), &a, n);
     if (!rc)
         rc = lg_describe(lg_input(n, 1), &b, n);
     if (rc)
@@ -256,6 +284,8 @@ static int add_execute(lg_node *n, const lg_frame *frame)
 
 static int scale_prepare(lg_node *n)
 {
+    if (!core_pass_get(n))
+        return LG_ERR_NOMEM;
     lg_resource_info in;
     int rc = core_image_input(n, 0, "image", &in);
     if (rc)
@@ -268,9 +298,12 @@ static int scale_prepare(lg_node *n)
 
 static int scale_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
+    core_pass *st = n->user;
+    int rc = lg_check_input_finite(n, frame, 0, "image", NULL, &st->reported[0]);
+    if (rc)
+        return rc;
     lg_resource_info in;
-    int rc = lg_describe(lg_input(n, 0), &in, n);
+    rc = lg_describe(lg_input(n, 0), &in, n);
     if (rc)
         return rc;
     double f = lg_param_float(n, "factor");
@@ -361,14 +394,14 @@ static const lg_node_type core_types[] = {
         .name = "add",
         .doc = "sum of two images of the same size",
         LG_INPUTS(add_inputs), LG_OUTPUTS(add_outputs),
-        .prepare = add_prepare, .execute = add_execute,
+        .prepare = add_prepare, .execute = add_execute, .destroy = core_pass_destroy,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "scale",
         .doc = "image times a factor and a tint",
         LG_PARAMS(scale_params), LG_INPUTS(scale_inputs), LG_OUTPUTS(scale_outputs),
-        .prepare = scale_prepare, .execute = scale_execute,
+        .prepare = scale_prepare, .execute = scale_execute, .destroy = core_pass_destroy,
     },
 };
 

@@ -10,6 +10,7 @@
  *   polygonal    volumetric_polygonal (gl)
  *   froxel       volumetric_froxel, on cpu, gl and cl
  *   reference    volumetric_reference (cpu)
+ *   core         core's scale (port 'image') and add (ports 'a' and 'b'), on the cpu
  *
  * Each case renders two frames with the node run in both (--every-frame): the warning
  * "input 'base' (frame 0): N pixels with a NaN or Inf channel" must appear exactly once,
@@ -38,7 +39,8 @@ static int count_of(const char *text, const char *needle)
 
 /* Renders `node` (a node text with `base` as its base input, named n) over a base of
  * nan + inf bad pixels, two frames, and checks the warning. */
-static void check_node(lg_test *t, const char *scene_text, const char *node, int nan, int inf)
+static void check_node(lg_test *t, const char *scene_text, const char *node, const char *port,
+                       int nan, int inf)
 {
     char g[4096];
     snprintf(g, sizeof g,
@@ -63,7 +65,7 @@ static void check_node(lg_test *t, const char *scene_text, const char *node, int
     if (rc == 0) {
         char want[160];
         snprintf(want, sizeof want,
-                 "input 'base' (frame 0): %d pixel%s with a NaN or Inf channel", nan + inf,
+                 "input '%s' (frame 0): %d pixel%s with a NaN or Inf channel", port, nan + inf,
                  nan + inf == 1 ? "" : "s");
         int said = count_of(text, "with a NaN or Inf channel");
         if (nan + inf == 0)
@@ -83,12 +85,18 @@ static const char *vol_scene(void)
     return s;
 }
 
-static void run_all(lg_test *t, const char *scene, const char *const *nodes, size_t n_nodes)
+static void run_port(lg_test *t, const char *scene, const char *const *nodes, size_t n_nodes,
+                     const char *port)
 {
     static const int cases[][2] = { { 5, 2 }, { 0, 1 }, { 0, 0 } };
     for (size_t k = 0; k < n_nodes; k++)
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++)
-            check_node(t, scene, nodes[k], cases[c][0], cases[c][1]);
+            check_node(t, scene, nodes[k], port, cases[c][0], cases[c][1]);
+}
+
+static void run_all(lg_test *t, const char *scene, const char *const *nodes, size_t n_nodes)
+{
+    run_port(t, scene, nodes, n_nodes, "base");
 }
 
 static void case_background(lg_test *t)
@@ -149,6 +157,18 @@ static void case_reference(lg_test *t)
     run_all(t, vol_scene(), nodes, 1);
 }
 
+/* core's add and scale (cpu), each input by its port's name; add's other input is a clean
+ * constant of the same size */
+static void case_core(lg_test *t)
+{
+    static const char *const scale[] = { "scale { image = base, factor = 2 }" };
+    run_port(t, "", scale, 1, "image");
+    static const char *const add_a[] = { "add { a = base, b = k }" };
+    run_port(t, "k = constant { width = 32, height = 24 }\n", add_a, 1, "a");
+    static const char *const add_b[] = { "add { a = k, b = base }" };
+    run_port(t, "k = constant { width = 32, height = 24 }\n", add_b, 1, "b");
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, NF_TEST_PLUGIN_DIR);
@@ -159,7 +179,7 @@ int main(int argc, char **argv)
     static const lg_test_case cases[] = {
         { "background", case_background }, { "screen", case_screen },
         { "polygonal", case_polygonal },    { "froxel", case_froxel },
-        { "reference", case_reference },
+        { "reference", case_reference }, { "core", case_core },
     };
     lg_test_main_opts o = { .setup = setup, .prefix = "nonfinite" };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
