@@ -22,34 +22,11 @@
 #include <unistd.h>
 
 #include "fuzz_driver.h"
+#include "fuzz_image_file.h"
 #include "lightgraph/image.h"
 
-static char tmp_dir[4096];
 static unsigned long n_runs, n_ok;
 
-static void cleanup(void)
-{
-    static const char *const names[] = {"in.exr", "in.hdr", "in.png"};
-    for (int i = 0; i < 3; i++) {
-        char p[4200];
-        snprintf(p, sizeof p, "%s/%s", tmp_dir, names[i]);
-        unlink(p);
-    }
-    rmdir(tmp_dir);
-}
-
-static void make_tmp_dir(void)
-{
-    if (tmp_dir[0])
-        return;
-    const char *base = getenv("TMPDIR");
-    snprintf(tmp_dir, sizeof tmp_dir, "%s/lg-fuzz-image.XXXXXX", base && base[0] ? base : "/tmp");
-    if (!mkdtemp(tmp_dir)) {
-        perror("fuzz_image: mkdtemp");
-        abort();
-    }
-    atexit(cleanup);
-}
 
 /* The pixel limit while fuzzing: 2^22 pixels (64 MiB as RGBA floats), well under the
  * default, so that an input just over it is refused before it is decoded rather than
@@ -60,28 +37,8 @@ static void make_tmp_dir(void)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    make_tmp_dir();
     lg_image_set_max_pixels(FUZZ_MAX_PIXELS);
-    const char *ext;
-    if (size >= 4 && !memcmp(data, "\x76\x2f\x31\x01", 4))
-        ext = "exr";
-    else if (size >= 2 && data[0] == '#' && data[1] == '?')
-        ext = "hdr";
-    else if (size >= 8 && !memcmp(data, "\x89PNG", 4))
-        ext = "png";
-    else
-        ext = (const char *[]){"exr", "hdr", "png"}[size ? data[0] % 3 : 0];
-
-    char path[4200];
-    snprintf(path, sizeof path, "%s/in.%s", tmp_dir, ext);
-    /* a new file each time (ext4 flushes files truncated and rewritten in place) */
-    unlink(path);
-    FILE *f = fopen(path, "wb");
-    if (!f || (size && fwrite(data, 1, size, f) != size)) {
-        perror("fuzz_image: writing the input");
-        abort();
-    }
-    fclose(f);
+    const char *path = lg_fuzz_image_file("fuzz-image", data, size);
 
     lg_image img;
     lg_image_read_info info;

@@ -32,10 +32,10 @@
 #include <unistd.h>
 
 #include "fuzz_driver.h"
+#include "fuzz_image_file.h"
 #include "lightgraph/image.h"
 #include "probe_load.h"
 
-static char tmp_dir[4096];
 static unsigned long n_runs, n_ok[6];
 
 /* ---- a host that only takes messages -------------------------------------------------- */
@@ -67,29 +67,6 @@ static lg_node fake_node = {.host = &fake_host, .name = "fuzz_probe"};
 
 /* ---- the input as a file -------------------------------------------------------------- */
 
-static void cleanup(void)
-{
-    static const char *const names[] = {"in.exr", "in.hdr", "in.png"};
-    for (int i = 0; i < 3; i++) {
-        char p[4200];
-        snprintf(p, sizeof p, "%s/%s", tmp_dir, names[i]);
-        unlink(p);
-    }
-    rmdir(tmp_dir);
-}
-
-static void make_tmp_dir(void)
-{
-    if (tmp_dir[0])
-        return;
-    const char *base = getenv("TMPDIR");
-    snprintf(tmp_dir, sizeof tmp_dir, "%s/lg-fuzz-probe.XXXXXX", base && base[0] ? base : "/tmp");
-    if (!mkdtemp(tmp_dir)) {
-        perror("fuzz_probe: mkdtemp");
-        abort();
-    }
-    atexit(cleanup);
-}
 
 static void bad(const char *layout, const char *what)
 {
@@ -193,27 +170,9 @@ static void check_pack(const char *name, const pr_file *cube, const pr_file *ref
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    make_tmp_dir();
     lg_image_set_max_pixels(FUZZ_MAX_PIXELS);
     n_runs++;
-    const char *ext;
-    if (size >= 4 && !memcmp(data, "\x76\x2f\x31\x01", 4))
-        ext = "exr";
-    else if (size >= 2 && data[0] == '#' && data[1] == '?')
-        ext = "hdr";
-    else if (size >= 8 && !memcmp(data, "\x89PNG", 4))
-        ext = "png";
-    else
-        ext = (const char *[]){"exr", "hdr", "png"}[size ? data[0] % 3 : 0];
-    char path[4200];
-    snprintf(path, sizeof path, "%s/in.%s", tmp_dir, ext);
-    unlink(path); /* a new file each time (ext4 flushes files truncated in place) */
-    FILE *f = fopen(path, "wb");
-    if (!f || (size && fwrite(data, 1, size, f) != size)) {
-        perror("fuzz_probe: writing the input");
-        abort();
-    }
-    fclose(f);
+    const char *path = lg_fuzz_image_file("fuzz-probe", data, size);
 
     /* the reference: latlong reads any image the loaders decode, as it is */
     pr_file ref;
