@@ -240,6 +240,9 @@ typedef struct lg_pnode {
     bool gpu_unmeasured;         /* a GL timer query gave no plausible value */
     uint64_t runs;
     uint64_t bytes_alloc, bytes_moved;
+    /* memory the plugin counted itself (lg_account_alloc / lg_account_free): live now, and
+     * the most live at once */
+    uint64_t bytes_plugin_live, bytes_plugin_peak;
     uint64_t cache_hits, cache_misses;
     void **cl_events;
     uint32_t n_cl_events, cap_cl_events;

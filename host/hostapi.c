@@ -815,7 +815,26 @@ static void api_declare_work(lg_node *n, double units, double seconds, const cha
 
 static void api_account_alloc(lg_node *n, uint64_t bytes)
 {
-    P(n)->bytes_alloc += bytes;
+    lg_pnode *p = P(n);
+    p->bytes_alloc += bytes;
+    p->bytes_plugin_live += bytes;
+    if (p->bytes_plugin_live > p->bytes_plugin_peak)
+        p->bytes_plugin_peak = p->bytes_plugin_live;
+}
+
+/* A release larger than what is live is a plugin's bookkeeping bug: said once, and the live
+ * count clamps at zero rather than wrapping round. */
+static void api_account_free(lg_node *n, uint64_t bytes)
+{
+    lg_pnode *p = P(n);
+    if (bytes > p->bytes_plugin_live) {
+        lg_log(n, LG_LOG_WARN, "account_free: releasing %llu bytes with %llu counted as live (a "
+                               "plugin bug)", (unsigned long long)bytes,
+               (unsigned long long)p->bytes_plugin_live);
+        p->bytes_plugin_live = 0;
+        return;
+    }
+    p->bytes_plugin_live -= bytes;
 }
 
 void lg_host_api_init(lg_host_api *a)
@@ -843,6 +862,7 @@ void lg_host_api_init(lg_host_api *a)
     a->set_view_independent = api_set_view_independent;
     a->add_content_key = api_add_content_key;
     a->account_alloc = api_account_alloc;
+    a->account_free = api_account_free;
     a->declare_work = api_declare_work;
     a->map_cpu = api_map_cpu;
     a->map_gl = api_map_gl;

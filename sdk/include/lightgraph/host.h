@@ -316,7 +316,15 @@ typedef struct lg_host_api {
      * then replaced by the node's next cache_put). */
     void (*cache_reject)(lg_node *node, const char *key, const char *why);
 
-    void *reserved[20];
+    /* -- since ABI 3.0: memory a plugin releases --
+     * The release matching an account_alloc of the same `bytes`: the profile then shows
+     * the node's live device and host memory (allocated minus released, and its peak), so
+     * that a buffer remade every frame is not counted once per frame. The SDK's device
+     * objects (lightgraph/devmem.h) call both; a plugin that still allocates by hand calls
+     * lg_account_free() where it frees. */
+    void (*account_free)(lg_node *node, uint64_t bytes);
+
+    void *reserved[19];
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -552,6 +560,28 @@ static inline void lg_account_alloc(lg_node *n, uint64_t bytes)
     if (n->host->struct_size >= offsetof(lg_host_api, account_alloc) + sizeof(void *) &&
         n->host->account_alloc)
         n->host->account_alloc(n, bytes);
+}
+
+/* Since ABI 3.0: the release of memory counted with lg_account_alloc (see account_free). */
+static inline void lg_account_free(lg_node *n, uint64_t bytes)
+{
+    if (n->host->account_free)
+        n->host->account_free(n, bytes);
+}
+
+/* Since ABI 3.0: the device the node's `backend` parameter (LG_PARAM_BACKEND,
+ * lightgraph/plugin.h) names: LG_DEVICE_CPU, LG_DEVICE_GL or LG_DEVICE_CL. A node type
+ * without the parameter gets LG_DEVICE_CPU. */
+static inline lg_device lg_param_backend(lg_node *n)
+{
+    const lg_value *v = lg_param(n, "backend");
+    if (!v || v->type != LG_PARAM_ENUM || !v->s)
+        return LG_DEVICE_CPU;
+    if (strcmp(v->s, "gl") == 0)
+        return LG_DEVICE_GL;
+    if (strcmp(v->s, "cl") == 0)
+        return LG_DEVICE_CL;
+    return LG_DEVICE_CPU;
 }
 
 /* Since ABI 2.7: rejects the cache entry `key` that cache_get returned (see cache_reject).

@@ -239,8 +239,46 @@ typedef struct lg_node_type {
     lg_prepare_fn prepare;
     lg_execute_fn execute;
     lg_destroy_fn destroy;
-    void *reserved[8];
+    /* since ABI 3.0: how far the outputs of this node's backends may differ on the same
+     * input and still agree: the largest absolute difference of any channel divided by
+     * max(1, the largest absolute value of the reference (cpu) output), as `lightgraph
+     * conform` measures it. 0 means the default, 1e-3. A node with one backend leaves it 0. */
+    double tolerance;
+    void *reserved[7];
 } lg_node_type;
+
+/* ---- The backend parameter (since ABI 3.0) ------------------------------------------ */
+
+/* A node that runs on more than one device declares the one shared parameter `backend`
+ * with this macro, naming the set of backends it has and the default; the choices are
+ * always listed in the order cpu, gl, cl:
+ *
+ *     static const lg_param_desc params[] = {
+ *         LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),
+ *         ...
+ *     };
+ *     lg_device dev = lg_param_backend(node);   // lightgraph/host.h, in create or prepare
+ *
+ * The default must be one of the set (a compile-time error otherwise). */
+enum { LG_BACKEND_CPU = 1u << 0, LG_BACKEND_GL = 1u << 1, LG_BACKEND_CL = 1u << 2 };
+
+/* The NULL-terminated choices of each set, indexed by the set (1..7), in the order cpu, gl,
+ * cl. Data of liblightgraph. */
+LG_API extern const char *const lg_backend_names[8][4];
+
+#define LG_BACKEND_INDEX_(set_, def_)                                                       \
+    ((((def_) > LG_BACKEND_CPU && ((set_) & LG_BACKEND_CPU)) ? 1 : 0) +                     \
+     (((def_) > LG_BACKEND_GL && ((set_) & LG_BACKEND_GL)) ? 1 : 0))
+#define LG_PARAM_BACKEND(set_, def_)                                                        \
+    {                                                                                       \
+        .key = "backend", .type = LG_PARAM_ENUM,                                            \
+        .def.e = LG_BACKEND_INDEX_(set_, def_)                                              \
+                 + 0 * (int)sizeof(char[(((set_) & (def_)) && ((def_) & ((def_) - 1)) == 0  \
+                                         && (set_) > 0 && (set_) < 8) ? 1 : -1]),           \
+        .enum_values = lg_backend_names[(set_)],                                            \
+        .doc = "the device the node runs on: cpu (the reference), gl (OpenGL compute or "   \
+               "raster), cl (OpenCL)",                                                      \
+    }
 
 #define LG_PARAMS(a) .params = (a), .n_params = (uint32_t)(sizeof(a) / sizeof((a)[0]))
 #define LG_INPUTS(a) .inputs = (a), .n_inputs = (uint32_t)(sizeof(a) / sizeof((a)[0]))
