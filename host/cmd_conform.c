@@ -32,6 +32,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "commands.h"
 #include "host.h"
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
@@ -106,8 +107,11 @@ typedef struct cf_case {
 } cf_case;
 
 #define CF_MAX_OUT 32
-#define CF_FRAMES_N 20
-#define CF_FRAMES_FROM 5 /* memory measured from the end of this frame to the last */
+/* The memory check: frames run, the frame after which growth is measured, and the resident
+ * growth over the frames measured that is noise (allocator, driver caches), not a leak;
+ * --quick runs fewer frames (a leak of 1 MiB a frame still shows) */
+static uint32_t cf_frames_n = 20, cf_frames_from = 5;
+static uint64_t cf_rss_slack = 8u << 20;
 
 typedef struct cf_out {
     char *name;          /* "out", "probe.radiance" */
@@ -135,7 +139,7 @@ typedef struct cf_result {
     char *diff_where;
     /* CF_RESIZE: why the second plan's outputs are not at the new size, or NULL */
     char *resize_bad;
-    /* CF_FRAMES: resident memory and the plugin's live bytes after frame CF_FRAMES_FROM
+    /* CF_FRAMES: resident memory and the plugin's live bytes after frame cf_frames_from
      * and after the last */
     uint64_t rss0, rss1, live0, live1, peak;
     double ms;
@@ -237,6 +241,13 @@ static char *case_graph(const lg_node_type *t, const cf_case *k, uint32_t w, uin
                 lg_str_addf(&g, ", squeeze = %u", n_images);
         } else if (strcmp(src, "conform_scene") == 0) {
             lg_str_addf(&g, "variant = %s", lg_conform_scenes[k->scene]);
+        } else if (strcmp(src, "conform_shadowmap") == 0) {
+            /* one map per directional light of the scene it goes with */
+            lg_str_addf(&g, "pattern = %s, lights = %d", lg_conform_patterns[k->pattern],
+                        k->scene == LG_CONFORM_SCENE_FULL ? 1 : 0);
+        } else if (strcmp(src, "conform_transfer") == 0) {
+            lg_str_addf(&g, "pattern = %s, empty_scene = %s", lg_conform_patterns[k->pattern],
+                        k->scene == LG_CONFORM_SCENE_EMPTY ? "true" : "false");
         } else {
             lg_str_addf(&g, "pattern = %s", lg_conform_patterns[k->pattern]);
         }
@@ -318,7 +329,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
     /* an alias (declare_alias) is its input, written upstream; a neutral stand-in is the
      * host's */
     bool own = r->producer == n || (r->parent && r->parent->producer == n);
-    o->written = !own || r->neutral || r->cpu_valid || r->gl_valid || r->cl_valid;
+    /* a composite is written through its parts, judged one by one below */
+    o->written = !own || r->neutral || r->cpu_valid || r->gl_valid || r->cl_valid ||
+                 lg_kind_is_composite(r->kind);
     char err[512];
     if (r->kind == LG_KIND_IMAGE) {
         o->w = r->image.width;
@@ -502,9 +515,9 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
     if (!res->phase && k->mode != CF_GATE) {
         if (k->mode == CF_FRAMES) {
             lg_pnode *n = r1.ex.nodes[r1.node];
-            for (uint32_t f = 0; f < CF_FRAMES_N && !res->phase; f++) {
+            for (uint32_t f = 0; f < cf_frames_n && !res->phase; f++) {
                 res->phase = run_frame(&r1, f);
-                if (f + 1 == CF_FRAMES_FROM) {
+                if (f + 1 == cf_frames_from) {
                     res->rss0 = rss_bytes();
                     res->live0 = n->bytes_plugin_live;
                 }
@@ -933,8 +946,6 @@ static double disagreement(const cf_result *a, const cf_result *b, char *where, 
     return worst;
 }
 
-#define CF_RSS_SLACK (8u << 20) /* resident growth over CF_FRAMES_N - CF_FRAMES_FROM frames
-                                 * that is noise (allocator, driver caches), not a leak */
 
 static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, uint32_t n,
                        cf_result *res)
@@ -975,6 +986,8 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
         }
         if (base_skip[bi])
             continue;
+        if (r->ms > 2000)
+            report(rep, CF_NOTE, name, "time", "%s took %.1f s", label, r->ms / 1e3);
         if (device_missing(r)) {
             if (first_of_backend) {
                 base_skip[bi] = true;
@@ -1092,21 +1105,21 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
             int64_t grow = (int64_t)r->rss1 - (int64_t)r->rss0;
             if (r->live1 > r->live0)
                 report(rep, CF_FAIL, name, "memory", "%s: the profile's live plugin memory "
-                       "(bytes_plugin_live) grew from %llu bytes after frame %d to %llu after "
-                       "frame %d (peak %llu): lg_account_alloc without lg_account_free",
-                       label, (unsigned long long)r->live0, CF_FRAMES_FROM,
-                       (unsigned long long)r->live1, CF_FRAMES_N, (unsigned long long)r->peak);
-            else if (grow > (int64_t)CF_RSS_SLACK)
+                       "(bytes_plugin_live) grew from %llu bytes after frame %u to %llu after "
+                       "frame %u (peak %llu): lg_account_alloc without lg_account_free",
+                       label, (unsigned long long)r->live0, cf_frames_from,
+                       (unsigned long long)r->live1, cf_frames_n, (unsigned long long)r->peak);
+            else if (grow > (int64_t)cf_rss_slack)
                 report(rep, CF_FAIL, name, "memory", "%s: resident memory grew by %.1f MiB "
-                       "from frame %d to frame %d (%.2f MiB a frame; %u MiB allowed in all)",
-                       label, (double)grow / 1048576.0, CF_FRAMES_FROM, CF_FRAMES_N,
-                       (double)grow / 1048576.0 / (CF_FRAMES_N - CF_FRAMES_FROM),
-                       CF_RSS_SLACK >> 20);
+                       "from frame %u to frame %u (%.2f MiB a frame; %u MiB allowed in all)",
+                       label, (double)grow / 1048576.0, cf_frames_from, cf_frames_n,
+                       (double)grow / 1048576.0 / (cf_frames_n - cf_frames_from),
+                       (unsigned)(cf_rss_slack >> 20));
             else
                 report(rep, CF_PASS, name, "memory", "%s: resident %+.2f MiB, plugin live %llu "
-                       "-> %llu bytes over frames %d..%d", label, (double)grow / 1048576.0,
+                       "-> %llu bytes over frames %u..%u", label, (double)grow / 1048576.0,
                        (unsigned long long)r->live0, (unsigned long long)r->live1,
-                       CF_FRAMES_FROM, CF_FRAMES_N);
+                       cf_frames_from, cf_frames_n);
         }
     }
     /* backends against the first one (cpu when it has one), same inputs */
@@ -1398,6 +1411,11 @@ int lg_cmd_conform(int argc, char **argv)
     }
     if (!c.path)
         return usage("lightgraph conform: no plugin given\n", "");
+    if (quick) {
+        cf_frames_n = 10;
+        cf_frames_from = 4;
+        cf_rss_slack = 4u << 20;
+    }
     struct stat st;
     if (stat(c.path, &st) != 0 || !S_ISREG(st.st_mode)) {
         fprintf(stderr, "lightgraph conform: %s: %s\n", c.path,

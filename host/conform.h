@@ -10,11 +10,6 @@
 
 #include "lightgraph/plugin.h"
 
-/* lightgraph conform PLUGIN.so [--json] [-v] [--quick]; argv[0] is "conform". Returns the
- * exit status: 0 every contract holds, 1 one is broken (the report names the node, the
- * check and the values), 2 bad usage (no such file). */
-int lg_cmd_conform(int argc, char **argv);
-
 /* The descriptor of the program's own plugin "conform" (conform_sources.c): one node type
  * per resource kind, making the synthetic inputs. Static data. */
 const lg_plugin_desc *lg_conform_sources(void);
