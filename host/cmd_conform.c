@@ -1171,7 +1171,7 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
     cf_case *c = lg_xcalloc(cap, sizeof *c);
     for (int b = nb ? 0 : -1; b < (int)(nb ? nb : 0); b++) {
         cf_case base = {.mode = CF_RUN, .backend = b, .w = 7, .h = 5, .baseline = true};
-        for (int s = 0; s < (quick ? 1 : 3); s++)
+        for (int s = 0; s < (quick ? 2 : 3); s++) /* --quick: no 256x256 */
             for (int f = 0; f < (img ? 4 : 1); f++) {
                 c[n] = base;
                 c[n].w = sizes[s][0], c[n].h = sizes[s][1], c[n].format = f;
