@@ -1122,15 +1122,22 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
                        cf_frames_from, cf_frames_n);
         }
     }
-    /* backends against the first one (cpu when it has one), same inputs */
+    /* backends against the reference, cpu (the first one, for a node without cpu), on the
+     * same inputs */
+    int ref = 0;
+    const char *const *bv;
+    uint32_t nb = backends_of(t, &bv);
+    for (uint32_t b = 0; b < nb; b++)
+        if (strcmp(bv[b], "cpu") == 0)
+            ref = (int)b;
     for (uint32_t i = 0; i < n; i++) {
         const cf_case *k = &cases[i];
-        if (k->mode != CF_RUN || !k->baseline || k->backend <= 0 || !res[i].done ||
-            res[i].crashed || res[i].phase)
+        if (k->mode != CF_RUN || !k->baseline || k->backend < 0 || k->backend == ref ||
+            !res[i].done || res[i].crashed || res[i].phase)
             continue;
         for (uint32_t j = 0; j < n; j++) {
             const cf_case *q = &cases[j];
-            if (q->mode != CF_RUN || !q->baseline || q->backend != 0 || q->w != k->w ||
+            if (q->mode != CF_RUN || !q->baseline || q->backend != ref || q->w != k->w ||
                 q->h != k->h || q->format != k->format || !res[j].done || res[j].crashed ||
                 res[j].phase)
                 continue;
@@ -1139,11 +1146,11 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
             double d = disagreement(&res[j], &res[i], where, sizeof where);
             if (d > tol)
                 report(rep, CF_FAIL, name, "backends", "%s against %s: %s = %.6g > tolerance "
-                       "%g%s", label, backend_name(t, 0), where, d, tol,
+                       "%g%s", label, backend_name(t, ref), where, d, tol,
                        t->tolerance > 0 ? "" : " (the default; lg_node_type.tolerance)");
             else
                 report(rep, CF_PASS, name, "backends", "%s against %s: %.3g <= %g", label,
-                       backend_name(t, 0), d, tol);
+                       backend_name(t, ref), d, tol);
         }
     }
     if ((int)rep->counts[CF_FAIL] == n_fail_before) {
