@@ -892,7 +892,9 @@ static const char *error_check(const char *e)
         return "runs";
     if (strstr(e, "left GL state behind"))
         return "gl_state";
-    if (strstr(e, "GL error") || strstr(e, "CL error") || strstr(e, "OpenCL error"))
+    /* the host's GL check after execute ("GL error GL_INVALID_... while executing"), and
+     * lg_cl_fail's "clCall: CL_INVALID_... (-NN)" */
+    if (strstr(e, "GL error") || strstr(e, ": CL_") || strstr(e, "OpenCL error"))
         return "device_errors";
     return "runs";
 }

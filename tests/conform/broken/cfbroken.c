@@ -17,7 +17,7 @@
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/scene.h"
 
-#if defined(CF_DISAGREE) || defined(CF_GLDIRTY)
+#if defined(CF_DISAGREE) || defined(CF_GLDIRTY) || defined(CF_GLERROR)
 #define CF_TWO_BACKENDS 1
 #endif
 
@@ -162,6 +162,14 @@ static int execute(lg_node *n, const lg_frame *frame)
         GLuint b = 0;
         gl->CreateBuffers(1, &b);
         gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, b); /* left bound */
+    }
+#endif
+#ifdef CF_GLERROR
+    if (lg_param_backend(n) == LG_DEVICE_GL) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (!gl)
+            return LG_ERR_DEVICE;
+        gl->BindBuffer(GL_ARRAY_BUFFER, 987654); /* no such buffer: GL_INVALID_OPERATION */
     }
 #endif
     s->frames++;
