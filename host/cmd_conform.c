@@ -1062,6 +1062,9 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
             continue;
         }
         /* it ran */
+        if (r->gated && k->mode != CF_GATE)
+            report(rep, CF_NOTE, name, "gating", "%s: gated by the planner (needs 0x%x), so "
+                   "not run", label, t->needs);
         for (uint32_t o = 0; o < r->n_outs; o++)
             if (!r->outs[o].written)
                 report(rep, CF_FAIL, name, "outputs", "%s: output '%s' was declared and never "
@@ -1155,7 +1158,10 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
                        backend_name(t, ref), d, tol);
         }
     }
-    if ((int)rep->counts[CF_FAIL] == n_fail_before) {
+    bool any_skip = false;
+    for (int b = 0; b < 8; b++)
+        any_skip |= base_skip[b];
+    if ((int)rep->counts[CF_FAIL] == n_fail_before && !any_skip) {
         double ms = 0;
         for (uint32_t i = 0; i < n; i++)
             ms += res[i].ms;
@@ -1426,6 +1432,7 @@ int lg_cmd_conform(int argc, char **argv)
         cf_rss_slack = 4u << 20;
     }
     struct stat st;
+    errno = 0;
     if (stat(c.path, &st) != 0 || !S_ISREG(st.st_mode)) {
         fprintf(stderr, "lightgraph conform: %s: %s\n", c.path,
                 errno ? strerror(errno) : "not a regular file");

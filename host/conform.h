@@ -31,8 +31,9 @@ enum { LG_CONFORM_SCENE_FULL = 0, LG_CONFORM_SCENE_EMPTY, LG_CONFORM_SCENE_UNLIT
  * VENDOR_NAME and each node type VENDOR_..., VENDOR 2 to 16 of [a-z0-9] and not "lg";
  * the plugins of this repository are exempt. `type` NULL checks the plugin's name alone.
  * False with the reason in why[n].
- * (A local stand-in with the signature branch `names` gives lg_name_rule_ok; replace the
- * call once that branch is merged.) */
+ * A local stand-in: branch `names` gives the same rule as lg_name_rule_ok (host/names.h),
+ * with this very signature, and its lg_shipped_plugins list; once it is merged, the two
+ * calls in cmd_conform.c call that and this function and in_tree_plugins go. */
 bool lg_conform_name_rule_ok(const char *plugin, const char *type, char *why, size_t n);
 
 #endif
