@@ -70,14 +70,6 @@ static inline void lg_cl_profile(lg_node *n, cl_event ev)
     n->host->cl_profile(n, (void *)ev);
 }
 
-/* OpenCL C has no #include of embedded text, so a kernel that uses shared code
- * (shaders/common/probe.cl, rgbe.cl) is built from the texts one after the other:
- *     const char *parts[] = { lg_src_rgbe_cl, lg_src_reinhard_cl };
- *     char *src = lg_cl_source_join(parts, 2);
- * Returns the parts joined with a newline between them, NUL-terminated, malloc'd: the
- * caller frees it with free(). NULL when out of memory or a part is NULL. */
-LG_API char *lg_cl_source_join(const char *const *parts, size_t n_parts);
-
 /* The name of an OpenCL error code ("CL_OUT_OF_RESOURCES"), or "unknown". */
 LG_API const char *lg_cl_strerror(cl_int err);
 
