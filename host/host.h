@@ -36,6 +36,8 @@ typedef struct lg_plugin {
      * before. NULL: loaded from `path`. */
     char *load_path;
     bool poisoned;           /* crashed in create/prepare/execute: never dlclose'd */
+    uint64_t dev, ino;       /* the file's identity when scanned: one file reached through
+                              * two folders of the search path is scanned once */
 } lg_plugin;
 
 typedef struct lg_refusal {
@@ -64,10 +66,14 @@ typedef struct lg_registry {
     bool private_copies;
 } lg_registry;
 
-/* Finds the plugin directories (LIGHTGRAPH_PLUGIN_PATH, then the build tree when the
- * program runs from it, then the install directory) and scans every lg_*.so in them
- * (and in their immediate subdirectories). Refused plugins are recorded with the reason
- * and reported as warnings. Returns 0 (an empty registry is not an error here). */
+/* Finds the plugin directories (LIGHTGRAPH_PLUGIN_PATH, then the program's own: the build
+ * tree's plugins/ when the program runs from it, else the install directory) and scans
+ * every lg_*.so in them and in their immediate subdirectories (not deeper; a file reached
+ * twice is scanned once). Names are unique (names.h): a plugin whose name, or one of whose
+ * node type names, a plugin found before it already has is refused, naming both files;
+ * the shipped plugins of the program's own directory are taken before any other. Refused
+ * plugins are recorded with the reason and reported as warnings. Returns 0 (an empty
+ * registry is not an error here). */
 int lg_registry_scan(lg_registry *r);
 /* Scans exactly these files (tests). */
 int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n);
