@@ -101,6 +101,11 @@ void lg_outputs_free(lg_outputs **o);
 void lg_temp_track(char *tmp);
 void lg_temp_untrack(const char *tmp);
 
+/* Removes every temporary the handlers know (the outputs' and the cache's), for a handler
+ * that then ends the process (a plugin's crash: exec.c, LG_GUARD_EXIT). Async-signal-safe
+ * (unlink only); a no-op in a forked child. */
+void lg_temp_remove_all(void);
+
 /* Whether no process has `pid` (kill(pid, 0) fails with ESRCH): the temporaries it named
  * after itself are stale. False for this process and for a live process of another user. */
 bool lg_temp_owner_dead(long pid);
