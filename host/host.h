@@ -297,11 +297,12 @@ typedef struct lg_exec_opts {
 
 /* What a crash in a plugin callback does (lg_guard_call). */
 typedef enum lg_guard_mode {
-    LG_GUARD_NONE = 0, /* nothing: a crash stays a crash */
+    LG_GUARD_NONE = 0, /* nothing: a crash stays a crash (false, before ABI 3.0) */
     /* the viewer's reloads (a broken plugin must not take the window down): the call
      * returns, the node fails with the signal and is never called again, its plugin is
-     * never dlclose'd; a crash on another thread stays a crash */
-    LG_GUARD_RECOVER,
+     * never dlclose'd; a crash on another thread stays a crash (1: the `true` of the
+     * bool this field was before ABI 3.0) */
+    LG_GUARD_RECOVER = 1,
     /* render and sweep: the handler writes the message lg_node_call prepared (node, type,
      * plugin and its path, callback, signal) with write(2), removes every temporary of the
      * outputs and the cache (lg_temp_remove_all) and _exit()s with LG_EXIT_CRASH; a crash

@@ -821,10 +821,15 @@ static void admit(lg_registry *r, scan_list *l)
 static void scan_one(lg_registry *r, scan_list *l, const char *path, bool own_dir)
 {
     struct stat st;
+    memset(&st, 0, sizeof st);
     if (stat(path, &st) == 0) {
         for (uint32_t i = 0; i < l->n; i++)
             if (l->c[i].p->dev == (uint64_t)st.st_dev && l->c[i].p->ino == (uint64_t)st.st_ino) {
                 lg_hlog(LG_HDEBUG, "%s is %s, scanned once", path, l->c[i].p->path);
+                /* a shipped plugin's file reached first through LIGHTGRAPH_PLUGIN_PATH is
+                 * still the program's own */
+                if (own_dir && lg_shipped_plugin(l->c[i].p->name))
+                    l->c[i].first = true;
                 return;
             }
         for (uint32_t i = 0; i < r->n_plugins; i++)

@@ -136,6 +136,13 @@ def test_core_first():
     p = run(["render", g, "--size", "4x4"], os.path.dirname(s), expect=0)
     check(os.path.exists(os.path.join(TMP, "out.exr")), "no output")
     check("refusing plugin %s" % s in p.stderr, "render does not warn:\n" + p.stderr)
+    # core's file reached first through the path (its folder named after names_scale's) is
+    # still the program's own, and still comes first
+    core_dir = os.path.dirname(core["path"])
+    by_name, refused, err = plugins_json(os.path.dirname(s) + ":" + core_dir)
+    check(by_name.get("core", {}).get("path") == core["path"] and "names_scale" not in by_name
+          and s in refused, "with core's folder on the path, after names_scale's: %s, %s"
+          % (sorted(by_name), refused))
 
 
 def test_type_twice():
