@@ -24,7 +24,9 @@
  *
  * Missing directories are refused, never created: the message names the directory.
  *
- * Stale temporaries. A process killed outright (SIGKILL, a crash) leaves its temporaries.
+ * Stale temporaries. A process killed outright (SIGKILL, a crash outside a plugin callback:
+ * a plugin's crash in render or sweep removes them, lg_temp_remove_all) leaves its
+ * temporaries.
  * Adding a destination removes those of earlier processes beside it whose PID (in the name)
  * is no running process; a live process's are kept (a directory can be shared by
  * concurrent renders); only names of exactly that pattern are touched.
