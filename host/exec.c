@@ -4,6 +4,7 @@
 #include "lightgraph/kinds.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <pthread.h>
 #include <setjmp.h>
 #include <signal.h>
@@ -46,7 +47,7 @@ static const int guard_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 /* LG_GUARD_EXIT: what the handler writes, prepared before the call (lg_node_call), since
  * nothing but write(2) can be trusted in the handler: the head names the node, its type,
  * its plugin and the callback, the signal's number and name follow, then the tail. */
-static char guard_head[1536];
+static char guard_head[PATH_MAX + 2048]; /* a plugin path of up to PATH_MAX, names */
 static size_t guard_head_len;
 /* the main thread's stack for the handler, so that a plugin that overflowed its stack is
  * reported too (pool threads have none: such a crash there stays a crash) */
