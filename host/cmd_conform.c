@@ -34,6 +34,7 @@
 
 #include "commands.h"
 #include "host.h"
+#include "names.h"
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
 
@@ -1223,42 +1224,6 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
 
 /* ---- the descriptor ------------------------------------------------------------------- */
 
-static const char *const in_tree_plugins[] = {
-    "core", "reinhard", "scene_tools", "preview", "scene_gltf", "shadowmap", "phong", "probe",
-    "ibl", "prt", "sh_project", "volumetric_froxel", "volumetric_screen", "volumetric_polygonal",
-    "prt_bake", "volumetric_reference", NULL,
-};
-
-static bool vendor_ok(const char *s, size_t len)
-{
-    if (len < 2 || len > 16 || (len == 2 && strncmp(s, "lg", 2) == 0))
-        return false;
-    for (size_t i = 0; i < len; i++)
-        if (!((s[i] >= 'a' && s[i] <= 'z') || (s[i] >= '0' && s[i] <= '9')))
-            return false;
-    return true;
-}
-
-bool lg_conform_name_rule_ok(const char *plugin, const char *type, char *why, size_t n)
-{
-    for (int i = 0; in_tree_plugins[i]; i++)
-        if (strcmp(plugin, in_tree_plugins[i]) == 0)
-            return true;
-    const char *us = strchr(plugin, '_');
-    if (!us || !us[1] || !vendor_ok(plugin, (size_t)(us - plugin))) {
-        snprintf(why, n, "plugin name '%s' is not VENDOR_NAME (VENDOR: 2 to 16 of [a-z0-9], "
-                 "not 'lg'; e.g. 'acme_blur')", plugin);
-        return false;
-    }
-    size_t vl = (size_t)(us - plugin) + 1;
-    if (type && (strncmp(type, plugin, vl) != 0 || !type[vl])) {
-        snprintf(why, n, "node type '%s' does not start with its vendor's prefix '%.*s' (plugin "
-                 "'%s')", type, (int)vl, plugin, plugin);
-        return false;
-    }
-    return true;
-}
-
 static void check_descriptor(cf_ctx *c)
 {
     cf_report *rep = &c->rep;
@@ -1267,7 +1232,7 @@ static void check_descriptor(cf_ctx *c)
     report(rep, CF_PASS, NULL, "descriptor", "plugin '%s' %s, ABI %u.%u (host %d.%d), %u node "
            "types", p->name, p->version, p->abi_major, p->abi_minor, LG_ABI_MAJOR, LG_ABI_MINOR,
            p->n_types);
-    if (!lg_conform_name_rule_ok(p->name, NULL, why, sizeof why))
+    if (!lg_name_rule_ok(p->name, NULL, why, sizeof why))
         report(rep, CF_FAIL, NULL, "naming", "%s", why);
     if (!p->doc || !p->doc[0])
         report(rep, CF_FAIL, NULL, "docs", "plugin '%s' has no doc line", p->name);
@@ -1280,7 +1245,7 @@ static void check_descriptor(cf_ctx *c)
         if (strncmp(t->name, "conform_", 8) == 0)
             report(rep, CF_FAIL, t->name, "naming", "node type '%s' uses the prefix conform_, "
                    "which the program's own synthetic sources hold", t->name);
-        if (!lg_conform_name_rule_ok(p->name, t->name, why, sizeof why))
+        if (!lg_name_rule_ok(p->name, t->name, why, sizeof why))
             report(rep, CF_FAIL, t->name, "naming", "%s", why);
         if (!t->doc || !t->doc[0])
             report(rep, CF_FAIL, t->name, "docs", "node type '%s' has no doc line", t->name);
