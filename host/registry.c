@@ -812,6 +812,35 @@ static bool running_from_build_tree(void)
     return same;
 }
 
+/* The installed plugins: <the program's folder>/LG_PLUGIN_DIR_FROM_BIN when the program
+ * runs from an installed prefix (the folder exists), so that a prefix installed with
+ * --destdir or moved finds its own plugins and not another installation's; else the
+ * prefix's folder compiled in (a build-tree program, or a prefix that is not relocatable:
+ * LG_PLUGIN_DIR_FROM_BIN is ""). */
+static void add_install_dir(lg_registry *r)
+{
+    char exe[PATH_MAX];
+    ssize_t n = *LG_PLUGIN_DIR_FROM_BIN && !running_from_build_tree()
+                    ? readlink("/proc/self/exe", exe, sizeof exe - 1)
+                    : -1;
+    if (n > 0) {
+        exe[n] = 0;
+        char *dir = lg_path_dirname(exe);
+        size_t len = strlen(dir) + sizeof LG_PLUGIN_DIR_FROM_BIN + 1;
+        char *plugins = lg_xmalloc(len);
+        snprintf(plugins, len, "%s/%s", dir, LG_PLUGIN_DIR_FROM_BIN);
+        free(dir);
+        struct stat st;
+        bool found = stat(plugins, &st) == 0 && S_ISDIR(st.st_mode);
+        if (found)
+            add_dir(r, plugins);
+        free(plugins);
+        if (found)
+            return;
+    }
+    add_dir(r, LG_INSTALL_PLUGIN_DIR);
+}
+
 static void finish_names(lg_registry *r)
 {
     free(r->names);
@@ -838,7 +867,7 @@ int lg_registry_scan(lg_registry *r)
     }
     if (running_from_build_tree())
         add_dir(r, LG_BUILD_PLUGIN_DIR);
-    add_dir(r, LG_INSTALL_PLUGIN_DIR);
+    add_install_dir(r);
     for (uint32_t i = 0; i < r->n_dirs; i++)
         scan_dir(r, r->dirs[i], 0);
     finish_names(r);
