@@ -28,7 +28,7 @@ smaj=${stored_version%%.*} smin=${stored_version#*.}
 cmaj=${current%%.*} cmin=${current#*.}
 case "$smaj.$smin.$cmaj.$cmin" in *[!0-9.]*|*..*|.*|*.) echo "FAIL: bad versions '$stored_version' / '$current'"; exit 99 ;; esac
 sval=$((smaj * 100000 + smin)) cval=$((cmaj * 100000 + cmin))
-regen="If the change is intended: bump the version as docs/sdk.md \"ABI\" says (a new changelog entry), rebuild, then run tools/abi_dump.sh BUILD to store the new dump and commit sdk/abi/."
+regen="If the change is intended: give it the version docs/sdk.md \"ABI\" asks for (a new changelog entry, unless it belongs to the newest entry, a version not yet released, as 3.0 while its branches merge), rebuild, then run tools/abi_dump.sh BUILD (it rewrites sdk/abi/ from the build) and commit sdk/abi/."
 if [ "$cval" -lt "$sval" ]; then
   echo "FAIL: the ABI version went back: $current is older than the stored dump's $stored_version"; exit 1
 fi
