@@ -242,9 +242,11 @@ static int poly_passes(lg_node *n, poly_state *st)
             { GL_VERTEX_SHADER, lg_src_poly_fullscreen_vert_file, lg_src_poly_fullscreen_vert },
             { GL_FRAGMENT_SHADER, lg_src_poly_composite_frag_file, lg_src_poly_composite_frag },
         };
+        /* every pixel is written, its depth base's: no test against the cleared plane */
         lg_gl_pass_desc d = { .name = "volumetric_polygonal composite", .stages = src,
                               .n_stages = 2, .output = "out", .colors = { GL_RGBA32F },
-                              .depth = true, .depth_test = true, .depth_write = true };
+                              .depth = true, .depth_test = true, .depth_write = true,
+                              .depth_func = GL_ALWAYS };
         if ((rc = lg_gl_pass_create(n, &d, &st->comp)))
             return rc;
         lg_gl_pass *p = st->comp;
@@ -618,8 +620,6 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     p = st->comp;
     if ((rc = lg_gl_pass_begin(p, NULL)))
         return rc;
-    /* every pixel is written, its depth base's: no test against the cleared plane */
-    gl->DepthFunc(GL_ALWAYS);
     lg_gl_set_mat4(p, st->c_inv_vp, inv_vp);
     lg_gl_set_vec3v(p, st->c_eye, eye);
     lg_gl_set_vec3v(p, st->c_fwd, fwd);

@@ -40,11 +40,11 @@
 #include "vs_fullscreen.vert.h"
 #include "vs_screen.frag.h"
 
-enum { VS_GL = 0, VS_CPU };
 enum { VS_THESIS = 0, VS_PHYSICAL };
 
 typedef struct vs_state {
-    int backend, model;
+    int model;
+    lg_device backend;
     bool normalize, per_frame;
     uint32_t samples;
     float exposure, decay, weight, z_limit;
@@ -79,7 +79,7 @@ static int vs_create(lg_node *n)
     if (!st)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     n->user = st;
-    st->backend = lg_param_enum(n, "backend");
+    st->backend = lg_param_backend(n);
     st->model = lg_param_enum(n, "model");
     st->normalize = lg_param_bool(n, "normalize");
     st->per_frame = lg_param_bool(n, "per_frame");
@@ -114,7 +114,7 @@ static int vs_prepare(lg_node *n)
         return rc;
     if (st->per_frame)
         lg_set_per_frame(n, true);
-    return lg_set_device(n, st->backend == VS_GL ? LG_DEVICE_GL : LG_DEVICE_CPU);
+    return lg_set_device(n, st->backend);
 }
 
 /* ---- the frame ------------------------------------------------------------------------- */
@@ -178,7 +178,10 @@ static int vs_gl_pass(lg_node *n, vs_state *st)
     /* out (colour + depth) and inscatter: the outputs themselves, no other image */
     lg_gl_pass_desc d = { .name = "volumetric_screen", .stages = src, .n_stages = 2,
                           .colors = { GL_RGBA32F, GL_RGBA32F }, .depth = true,
-                          .depth_test = true, .depth_write = true };
+                          .depth_test = true, .depth_write = true,
+                          /* every pixel is written, depth included (base's): no test
+                           * against the old plane */
+                          .depth_func = GL_ALWAYS };
     int rc = lg_gl_pass_create(n, &d, &st->pass);
     if (rc)
         return rc;
@@ -226,13 +229,10 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     lg_gl_pass *p = st->pass;
     if ((rc = lg_gl_pass_begin(p, &t)))
         return rc;
-    /* every pixel is written, depth included (base's): no test against the old plane */
-    gl->DepthFunc(GL_ALWAYS);
     const vol_setup *v = &f->v;
     float ivp[16];
     for (int i = 0; i < 16; i++)
         ivp[i] = (float)v->inv_view_proj[i];
-    GLuint prog = lg_gl_pass_program(p);
     lg_gl_set_ivec2(p, st->u_size, (int32_t)st->width, (int32_t)st->height);
     lg_gl_set_int(p, st->u_samples, (int32_t)st->samples);
     lg_gl_set_int(p, st->u_lights, (int32_t)v->n_lights);
@@ -240,11 +240,9 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     lg_gl_set_float(p, st->u_k, f->k);
     lg_gl_set_float(p, st->u_norm, f->norm);
     lg_gl_set_float(p, st->u_scale, f->scale);
-    gl->ProgramUniform4fv(prog, st->u_light_pos.location, (GLsizei)v->n_lights, &f->pos[0][0]);
-    gl->ProgramUniform4fv(prog, st->u_light_c.location, (GLsizei)v->n_lights, &f->lc[0][0]);
-    if (st->u_light_to.location >= 0)
-        gl->ProgramUniform4fv(prog, st->u_light_to.location, (GLsizei)v->n_lights,
-                              &f->to[0][0]);
+    lg_gl_set_vec4_array(p, st->u_light_pos, v->n_lights, &f->pos[0][0]);
+    lg_gl_set_vec4_array(p, st->u_light_c, v->n_lights, &f->lc[0][0]);
+    lg_gl_set_vec4_array(p, st->u_light_to, v->n_lights, &f->to[0][0]);
     lg_gl_set_mat4(p, st->u_inv_vp, ivp);
     lg_gl_set_vec3(p, st->u_eye, (float)v->eye[0], (float)v->eye[1], (float)v->eye[2]);
     lg_gl_set_vec3(p, st->u_forward, (float)v->forward[0], (float)v->forward[1],
@@ -362,7 +360,7 @@ static int vs_execute(lg_node *n, const lg_frame *frame)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     rc = vs_frame_make(n, st, f);
     if (!rc)
-        rc = st->backend == VS_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
+        rc = st->backend == LG_DEVICE_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
     if (!rc)
         lg_log(n, LG_LOG_DEBUG, "%u of %u directional lights on screen (the others behind the "
                                 "camera or too far off-screen: no shafts), %u samples, %s",
@@ -384,12 +382,11 @@ static void vs_destroy(lg_node *n)
 
 /* ---- the descriptor -------------------------------------------------------------------- */
 
-static const char *const vs_backends[] = { "gl", "cpu", NULL };
 static const char *const vs_models[] = { "thesis", "physical", NULL };
 
 static const lg_param_desc vs_params[] = {
-    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = VS_GL, .enum_values = vs_backends,
-      .doc = "gl (one fragment pass) or cpu (the host's thread pool); they agree" },
+    /* gl (one fragment pass) or cpu (the host's thread pool); they agree */
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL, LG_BACKEND_GL),
     { .key = "samples", .type = LG_PARAM_INT, .def.i = 64, .min = 1, .max = 1024,
       .doc = "N: samples from each pixel towards each light's screen position (eq. 7)" },
     { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
@@ -429,7 +426,7 @@ static const lg_node_type vs_types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "volumetric_screen",
     .doc = "Screen-space light shafts (Mitchell 2007): samples towards each directional "
-           "light's screen position, sky visibility from depth (gl, cpu)",
+           "light's screen position, sky visibility from depth (cpu, gl)",
     LG_PARAMS(vs_params),
     LG_INPUTS(vs_inputs),
     LG_OUTPUTS(vs_outputs),
