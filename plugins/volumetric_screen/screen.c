@@ -51,10 +51,7 @@ typedef struct vs_state {
     uint32_t width, height;
 
     lg_gl_pass *pass;
-    lg_gl_uniform u_size, u_samples, u_lights, u_physical, u_k, u_norm, u_scale, u_light_pos,
-        u_light_c, u_light_to, u_inv_vp, u_eye, u_forward, u_z_limit, u_sigma_s, u_sigma_t,
-        u_g;
-    lg_gl_binding b_base, b_depth;
+    lg_gl_binding b_params, b_base, b_depth;
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vs_state;
 
@@ -70,6 +67,39 @@ typedef struct vs_frame {
     float scale;                   /* exposure weight (thesis) or exposure (physical) */
     uint32_t active;
 } vs_frame;
+
+/* The pass's uniform block VsParams (std140, shaders/volumetric_screen/vs_screen.frag),
+ * uploaded with one lg_gl_pass_uniforms per frame. */
+typedef struct vs_gpu_params {
+    float inv_view_proj[16];
+    float light_pos[VOL_MAX_LIGHTS][4];
+    float light_c[VOL_MAX_LIGHTS][4];
+    float light_to[VOL_MAX_LIGHTS][4];
+    float eye[3];
+    float z_limit;
+    float forward[3];
+    float g;
+    float sigma_s[3];
+    float k;
+    float sigma_t[3];
+    float norm;
+    int32_t size[2];
+    int32_t samples;
+    int32_t lights;
+    int32_t physical;
+    float scale;
+    float pad_[2];
+} vs_gpu_params;
+
+LG_GL_BLOCK_SIZE(vs_gpu_params, 1696);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, light_pos, 64);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, light_to, 1088);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, eye, 1600);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, g, 1628);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, norm, 1660);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, size, 1664);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, physical, 1680);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, scale, 1684);
 
 /* ---- create / prepare ------------------------------------------------------------------ */
 
@@ -186,23 +216,7 @@ static int vs_gl_pass(lg_node *n, vs_state *st)
     if (rc)
         return rc;
     lg_gl_pass *p = st->pass;
-    st->u_size = lg_gl_pass_uniform(p, "u_size");
-    st->u_samples = lg_gl_pass_uniform(p, "u_samples");
-    st->u_lights = lg_gl_pass_uniform(p, "u_lights");
-    st->u_physical = lg_gl_pass_uniform(p, "u_physical");
-    st->u_k = lg_gl_pass_uniform(p, "u_k");
-    st->u_norm = lg_gl_pass_uniform(p, "u_norm");
-    st->u_scale = lg_gl_pass_uniform(p, "u_scale");
-    st->u_light_pos = lg_gl_pass_uniform(p, "u_light_pos");
-    st->u_light_c = lg_gl_pass_uniform(p, "u_light_c");
-    st->u_light_to = lg_gl_pass_uniform_optional(p, "u_light_to");
-    st->u_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
-    st->u_eye = lg_gl_pass_uniform(p, "u_eye");
-    st->u_forward = lg_gl_pass_uniform(p, "u_forward");
-    st->u_z_limit = lg_gl_pass_uniform(p, "u_z_limit");
-    st->u_sigma_s = lg_gl_pass_uniform(p, "u_sigma_s");
-    st->u_sigma_t = lg_gl_pass_uniform(p, "u_sigma_t");
-    st->u_g = lg_gl_pass_uniform(p, "u_g");
+    st->b_params = lg_gl_pass_uniform_block(p, "VsParams");
     st->b_base = lg_gl_pass_texture(p, "u_base");
     st->b_depth = lg_gl_pass_texture(p, "u_base_depth");
     return 0;
@@ -230,27 +244,28 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     if ((rc = lg_gl_pass_begin(p, &t)))
         return rc;
     const vol_setup *v = &f->v;
-    float ivp[16];
+    vs_gpu_params u = {
+        .eye = { (float)v->eye[0], (float)v->eye[1], (float)v->eye[2] },
+        .z_limit = v->z_limit,
+        .forward = { (float)v->forward[0], (float)v->forward[1], (float)v->forward[2] },
+        .g = v->g,
+        .k = f->k,
+        .norm = f->norm,
+        .size = { (int32_t)st->width, (int32_t)st->height },
+        .samples = (int32_t)st->samples,
+        .lights = (int32_t)v->n_lights,
+        .physical = st->model == VS_PHYSICAL,
+        .scale = f->scale,
+    };
     for (int i = 0; i < 16; i++)
-        ivp[i] = (float)v->inv_view_proj[i];
-    lg_gl_set_ivec2(p, st->u_size, (int32_t)st->width, (int32_t)st->height);
-    lg_gl_set_int(p, st->u_samples, (int32_t)st->samples);
-    lg_gl_set_int(p, st->u_lights, (int32_t)v->n_lights);
-    lg_gl_set_int(p, st->u_physical, st->model == VS_PHYSICAL);
-    lg_gl_set_float(p, st->u_k, f->k);
-    lg_gl_set_float(p, st->u_norm, f->norm);
-    lg_gl_set_float(p, st->u_scale, f->scale);
-    lg_gl_set_vec4_array(p, st->u_light_pos, v->n_lights, &f->pos[0][0]);
-    lg_gl_set_vec4_array(p, st->u_light_c, v->n_lights, &f->lc[0][0]);
-    lg_gl_set_vec4_array(p, st->u_light_to, v->n_lights, &f->to[0][0]);
-    lg_gl_set_mat4(p, st->u_inv_vp, ivp);
-    lg_gl_set_vec3(p, st->u_eye, (float)v->eye[0], (float)v->eye[1], (float)v->eye[2]);
-    lg_gl_set_vec3(p, st->u_forward, (float)v->forward[0], (float)v->forward[1],
-                   (float)v->forward[2]);
-    lg_gl_set_float(p, st->u_z_limit, v->z_limit);
-    lg_gl_set_vec3v(p, st->u_sigma_s, v->sigma_s);
-    lg_gl_set_vec3v(p, st->u_sigma_t, v->sigma_t);
-    lg_gl_set_float(p, st->u_g, v->g);
+        u.inv_view_proj[i] = (float)v->inv_view_proj[i];
+    memcpy(u.light_pos, f->pos, sizeof u.light_pos);
+    memcpy(u.light_c, f->lc, sizeof u.light_c);
+    memcpy(u.light_to, f->to, sizeof u.light_to);
+    memcpy(u.sigma_s, v->sigma_s, sizeof u.sigma_s);
+    memcpy(u.sigma_t, v->sigma_t, sizeof u.sigma_t);
+    if ((rc = lg_gl_pass_uniforms(p, st->b_params, &u, sizeof u)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->b_base, base);
     lg_gl_pass_bind_texture(p, st->b_depth, base_depth);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
