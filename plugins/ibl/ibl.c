@@ -79,8 +79,7 @@ typedef struct ibl_state {
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
     lg_gl_uniform g_view_proj, g_material;
-    lg_gl_uniform s_inv_vp, s_size, s_mode, s_layout, s_bilinear, s_fresnel, s_has_base,
-        s_has_base_depth, s_format, s_rotation, s_chain_levels, s_dfg_size;
+    lg_gl_binding s_params;
     lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
         s_clamped, s_chain, s_dfg;
     GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf;
@@ -721,6 +720,24 @@ static int ibl_gbuffer_cpu(lg_node *n, ibl_state *st, const ibl_frame *f)
 
 /* ---- GL shading ----------------------------------------------------------------------- */
 
+/* The shading pass's uniform block IblShade (std140, shaders/ibl/ibl_shade.frag), uploaded
+ * with one lg_gl_pass_uniforms per frame. */
+typedef struct ibl_gpu_shade {
+    float inv_view_proj[16];
+    float rotation[3][4]; /* mat3: three columns of vec4 stride */
+    int32_t size[2];
+    int32_t mode, layout, bilinear, fresnel, has_base, has_base_depth, format, chain_levels,
+        dfg_size;
+    int32_t pad_;
+} ibl_gpu_shade;
+
+LG_GL_BLOCK_SIZE(ibl_gpu_shade, 160);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, rotation, 64);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, size, 112);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, mode, 120);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, has_base_depth, 140);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, dfg_size, 152);
+
 static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
 {
     if (st->spass)
@@ -738,24 +755,13 @@ static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
     if (rc)
         return rc;
     lg_gl_pass *p = st->spass;
-    st->s_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
-    st->s_size = lg_gl_pass_uniform(p, "u_size");
-    st->s_mode = lg_gl_pass_uniform(p, "u_mode");
-    st->s_layout = lg_gl_pass_uniform(p, "u_layout");
-    st->s_bilinear = lg_gl_pass_uniform(p, "u_bilinear");
-    st->s_fresnel = lg_gl_pass_uniform(p, "u_fresnel");
-    st->s_has_base = lg_gl_pass_uniform(p, "u_has_base");
-    st->s_has_base_depth = lg_gl_pass_uniform(p, "u_has_base_depth");
-    st->s_format = lg_gl_pass_uniform(p, "u_format");
-    st->s_rotation = lg_gl_pass_uniform(p, "u_rotation");
+    st->s_params = lg_gl_pass_uniform_block(p, "IblShade");
     st->s_gbuf = lg_gl_pass_texture(p, "u_gbuf");
     st->s_gdepth = lg_gl_pass_texture(p, "u_gdepth");
     st->s_base = lg_gl_pass_texture(p, "u_base");
     st->s_base_depth = lg_gl_pass_texture(p, "u_base_depth");
     st->s_probe2d = lg_gl_pass_texture(p, "u_probe2d");
     st->s_probecube = lg_gl_pass_texture(p, "u_probecube");
-    st->s_chain_levels = lg_gl_pass_uniform(p, "u_chain_levels");
-    st->s_dfg_size = lg_gl_pass_uniform(p, "u_dfg_size");
     st->s_mats = lg_gl_pass_storage(p, "Materials");
     st->s_clamped = lg_gl_pass_storage(p, "Clamped");
     st->s_chain = lg_gl_pass_texture(p, "u_chain");
@@ -820,16 +826,23 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     lg_gl_pass *p = st->spass;
     if ((rc = lg_gl_pass_begin(p, NULL)))
         return rc;
-    lg_gl_set_mat4(p, st->s_inv_vp, f->inv_vp);
-    lg_gl_set_ivec2(p, st->s_size, (int32_t)st->width, (int32_t)st->height);
-    lg_gl_set_int(p, st->s_mode, st->mode);
-    lg_gl_set_int(p, st->s_layout, (int32_t)pr->info.layout);
-    lg_gl_set_int(p, st->s_bilinear, st->sampling == IBL_BILINEAR);
-    lg_gl_set_int(p, st->s_fresnel, st->fresnel == IBL_FRESNEL_SCHLICK);
-    lg_gl_set_int(p, st->s_has_base, base_tex != 0);
-    lg_gl_set_int(p, st->s_has_base_depth, base_depth != 0);
-    lg_gl_set_int(p, st->s_format, st->format);
-    lg_gl_set_mat3(p, st->s_rotation, pr->info.rotation);
+    ibl_gpu_shade u = {
+        .size = { (int32_t)st->width, (int32_t)st->height },
+        .mode = st->mode,
+        .layout = (int32_t)pr->info.layout,
+        .bilinear = st->sampling == IBL_BILINEAR,
+        .fresnel = st->fresnel == IBL_FRESNEL_SCHLICK,
+        .has_base = base_tex != 0,
+        .has_base_depth = base_depth != 0,
+        .format = st->format,
+        .chain_levels = st->chain_tex ? (int32_t)st->chain_levels : 0,
+        .dfg_size = (int32_t)LG_GGX_DFG_SIZE,
+    };
+    memcpy(u.inv_view_proj, f->inv_vp, sizeof u.inv_view_proj);
+    for (int c = 0; c < 3; c++)
+        memcpy(u.rotation[c], &pr->info.rotation[3 * c], 3 * sizeof(float));
+    if ((rc = lg_gl_pass_uniforms(p, st->s_params, &u, sizeof u)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->s_gbuf, st->gbuf_tex);
     lg_gl_pass_bind_texture(p, st->s_gdepth, st->gdepth_tex);
     lg_gl_pass_bind_texture(p, st->s_base, base_tex);
@@ -846,8 +859,6 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     lg_gl_pass_bind_buffer(p, st->s_mats, st->mats_buf);
     lg_gl_pass_bind_buffer(p, st->s_clamped, st->clamp_buf);
     lg_gl_pass_bind_buffer(p, st->s_dfg, st->dfg_buf);
-    lg_gl_set_int(p, st->s_dfg_size, (int32_t)LG_GGX_DFG_SIZE);
-    lg_gl_set_int(p, st->s_chain_levels, st->chain_tex ? (int32_t)st->chain_levels : 0);
     if (st->chain_tex)
         lg_gl_pass_bind_texture_sampled(p, st->s_chain, st->chain_tex, &chain_s);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
