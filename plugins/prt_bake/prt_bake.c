@@ -480,6 +480,7 @@ typedef struct pb_state {
     bool cache_probed;
     float *cached;
     uint32_t cached_bounces;
+    bool reported_nonfinite; /* reference: the probe's NaN/Inf texels said (pb_ref_clean) */
 } pb_state;
 
 static const char *const pb_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
@@ -1561,6 +1562,69 @@ static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
     }
 }
 
+/* The probe's level 0 (`texels` RGBA texels, faces in order for a cube) with every NaN or
+ * infinite colour channel set to 0, so that a texel that is not radiance adds nothing to
+ * the integral instead of turning every vertex that sees it into NaN or Inf (a single texel
+ * reaches a whole hemisphere of vertices through the resampling). The channel alone is
+ * zeroed, as the `probe` node does for a file's texels; alpha is not read. Returns NULL
+ * when every colour channel is finite (the probe is then used as it is, so the quadrature on
+ * a finite probe is unchanged bit for bit), else a malloc'd copy the caller frees, and
+ * *bad, *first: the texels changed and the index of the first. *nomem is set when the copy
+ * could not be made. */
+static float *pb_ref_clean(const float *px, size_t texels, uint64_t *bad, size_t *first,
+                           bool *nomem)
+{
+    *bad = 0;
+    *nomem = false;
+    for (size_t i = 0; i < texels; i++)
+        if (!isfinite(px[4 * i]) || !isfinite(px[4 * i + 1]) || !isfinite(px[4 * i + 2])) {
+            if (!*bad)
+                *first = i;
+            ++*bad;
+        }
+    if (!*bad)
+        return NULL;
+    float *c = malloc(texels * 4 * sizeof(float));
+    if (!c) {
+        *nomem = true;
+        return NULL;
+    }
+    memcpy(c, px, texels * 4 * sizeof(float));
+    for (size_t i = *first; i < texels; i++)
+        for (int k = 0; k < 3; k++)
+            if (!isfinite(c[4 * i + k]))
+                c[4 * i + k] = 0.0f;
+    return c;
+}
+
+/* Says the probe's non-finite texels once per node (the words of lg_warn_nonfinite, as
+ * `image`, ibl and the volumetric nodes say theirs), with where the first one is. */
+static void pb_ref_say_nonfinite(lg_node *n, pb_state *st, const lg_probe *probe,
+                                 uint64_t bad, size_t first)
+{
+    if (!bad || st->reported_nonfinite)
+        return;
+    const lg_image_desc *rd = &probe->radiance_desc;
+    size_t face_texels = (size_t)rd->width * rd->height;
+    uint32_t face = (uint32_t)(first / face_texels);
+    size_t in_face = first % face_texels;
+    char what[96], fate[256];
+    snprintf(what, sizeof what, "input 'probe' (%ux%u%s)", rd->width, rd->height,
+             probe->info.layout == LG_PROBE_CUBE ? " per cube face" : "");
+    if (probe->info.layout == LG_PROBE_CUBE)
+        snprintf(fate, sizeof fate,
+                 "left out of the integral (those channels count as radiance 0); the first at "
+                 "texel (%zu, %zu) of face %u (reported once)",
+                 in_face % rd->width, in_face / rd->width, face);
+    else
+        snprintf(fate, sizeof fate,
+                 "left out of the integral (those channels count as radiance 0); the first at "
+                 "texel (%zu, %zu) (reported once)",
+                 in_face % rd->width, in_face / rd->width);
+    lg_warn_nonfinite(n, what, bad, fate);
+    st->reported_nonfinite = true;
+}
+
 static int pb_ref_execute(lg_node *n, pb_state *st)
 {
     const pb_params *p = &st->p;
@@ -1595,33 +1659,41 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
     if (!rho)
         return LG_ERR_INVALID;
     pb_bounds bounds = { .reference = true, .rho = rho, .scale = 2.0 / sqrt(3.0) };
-    {
-        lg_cpu_view pview;
-        if ((rc = lg_map_cpu(n, probe->radiance, LG_READ, &pview))) {
-            free(rho);
-            return rc;
-        }
-        /* the largest texel per channel of every level the resampling can read */
-        size_t texels = (size_t)rd->width * rd->height *
-                        (probe->info.layout == LG_PROBE_CUBE ? 6u : 1u);
-        const float *px = pview.pixels;
-        for (size_t i = 0; i < texels; i++)
-            for (int c = 0; c < 3; c++)
-                if (px[4 * i + c] > bounds.lmax[c]) /* NaN never passes: the probe zeroes it */
-                    bounds.lmax[c] = px[4 * i + c];
+    /* level 0, the one the resampling reads; its non-finite channels zeroed in a copy
+     * (pb_ref_clean), said whether or not the cache holds the result */
+    lg_cpu_view prv;
+    if ((rc = lg_map_cpu(n, probe->radiance, LG_READ, &prv))) {
+        free(rho);
+        return rc;
     }
+    size_t texels = (size_t)rd->width * rd->height *
+                    (probe->info.layout == LG_PROBE_CUBE ? 6u : 1u);
+    uint64_t bad = 0;
+    size_t first = 0;
+    bool nomem = false;
+    float *clean = pb_ref_clean(prv.pixels, texels, &bad, &first, &nomem);
+    if (nomem) {
+        free(rho);
+        return lg_error_code(n, LG_ERR_NOMEM,
+                             "out of memory (a copy of the probe's %zu texels without its NaN "
+                             "and Inf)", texels);
+    }
+    pb_ref_say_nonfinite(n, st, probe, bad, first);
+    const float *px = clean ? clean : prv.pixels;
+    /* the largest texel per channel (finite, after the cleaning) */
+    for (size_t i = 0; i < texels; i++)
+        for (int c = 0; c < 3; c++)
+            if (px[4 * i + c] > bounds.lmax[c])
+                bounds.lmax[c] = px[4 * i + c];
     bool hit = pb_cache_take(n, st, key, &want, 0, &bounds, NULL, NULL, out, &unused);
     free(rho);
     if (hit) {
+        free(clean);
         lg_log(n, LG_LOG_INFO, "reference loaded from the cache (%u vertices, %s)", nv,
                pb_modes[p->mode]);
         return 0;
     }
     double t0 = n->host->now();
-    lg_cpu_view prv;
-    rc = lg_map_cpu(n, probe->radiance, LG_READ, &prv);
-    if (rc)
-        return rc;
     size_t n_tex = (size_t)6 * R * R;
     float *cube = malloc(n_tex * 4 * sizeof(float));
     float *sa = malloc(n_tex * sizeof(float));
@@ -1636,7 +1708,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
         goto done;
     }
     /* resampled with the probe's rotation baked in: texel directions are world directions */
-    lg_probe_image src = lg_probe_image_at(probe->info.layout, rd, prv.pixels, 0,
+    lg_probe_image src = lg_probe_image_at(probe->info.layout, rd, px, 0,
                                            probe->info.rotation);
     rc = lg_probe_resample_pool(n, &src, LG_PROBE_CUBE, R, R, NULL, NULL, cube, NULL);
     if (rc) {
@@ -1677,6 +1749,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
                            "texels); %s",
            secs_ref, nv, pb_modes[p->mode], R, n_tex, stored);
 done:
+    free(clean);
     free(cube);
     free(sa);
     free(dirs);

@@ -35,6 +35,10 @@
  *                 bound of the computation) at the first, a middle and the last float:
  *                 each is reported once ("is corrupt (float N ..."), removed and made again,
  *                 equal bit for bit to a cold run; the remade entry then loads
+ *   nonfinite     prt_reference under a probe with one NaN, +Inf or -Inf texel (lat-long
+ *                 and cube, the test plugin's test_raw_probe, never cleaned): every float
+ *                 finite and equal bit for bit to the same probe with the texel 0, computed
+ *                 and from the cache; one warning naming the count and the texel
  *   reference     prt_reference: unshadowed = (rho / pi) E of a smooth probe; the cone's
  *                 shadowed value rho sin^2(alpha); the bake approaches it as samples grow
  *   chain         the oracles through the whole chain users run, on every backend of the
@@ -941,6 +945,122 @@ static void case_reference(lg_test *t)
     lg_image_free(&img);
 }
 
+/* prt_reference of `scene` under a test_raw_probe { probe } into `file`: the exit status,
+ * the output in *text (the caller frees it) and the image in *img when it rendered. */
+static int raw_reference(lg_test *t, const char *scene, const char *probe, const char *params,
+                         const char *file, lg_image *img, char **text)
+{
+    char g[1024];
+    snprintf(g, sizeof g,
+             "lightgraph 1\ns = test_prt_scene { %s }\n"
+             "sky = test_raw_probe { %s }\n"
+             "r = prt_reference { scene = s, probe = sky, %s }\n"
+             "output r \"%s\"\n",
+             scene, probe, params, file);
+    int rc = run(t, g, text);
+    LG_TEST_CHECK(t, rc == 0, "prt_reference under test_raw_probe { %s } failed (%d):\n%s",
+                  probe, rc, *text ? *text : "");
+    if (rc == 0 && !lg_test_read(t, file, img, NULL))
+        rc = -1;
+    return rc;
+}
+
+/* The vertices' floats of img (nv vertices) that are NaN or infinite. */
+static uint32_t nonfinite_floats(const lg_image *img, uint32_t nv)
+{
+    uint32_t bad = 0;
+    for (size_t i = 0; i < (size_t)nv * 4; i++)
+        bad += !isfinite(img->pixels[i]);
+    return bad;
+}
+
+static void case_nonfinite(lg_test *t)
+{
+    /* one texel of a constant probe set to NaN, +Inf or -Inf (the producer test_raw_probe
+     * does not clean it, as `probe` would): the integral leaves it out, so the result is
+     * the one of the same probe with that texel 0, bit for bit, every float finite, and
+     * the node says it once, naming the count and the texel. Before: every vertex that
+     * saw the texel was NaN (Inf). A lat-long probe (unshadowed sphere: every direction
+     * is seen by some vertex) and a cube (shadowed quad scene, the texel on face 2, +Y,
+     * above the floor). */
+    static const struct {
+        const char *scene, *probe, *params, *where;
+        uint32_t nv;
+    } setups[] = {
+        { "layout = sphere, segments = 12", "width = 32, bad_x = 10, bad_y = 5",
+          "mode = unshadowed, resolution = 16",
+          "input 'probe' (32x16): 1 pixel with a NaN or Inf channel, left out of the "
+          "integral (those channels count as radiance 0); the first at texel (10, 5) "
+          "(reported once)",
+          13 * 7 },
+        { "layout = quad, grid = 4", "width = 8, cube = true, bad_face = 2, bad_x = 3, bad_y = 4",
+          "mode = shadowed, resolution = 8",
+          "input 'probe' (8x8 per cube face): 1 pixel with a NaN or Inf channel, left out "
+          "of the integral (those channels count as radiance 0); the first at texel (3, 4) "
+          "of face 2 (reported once)",
+          25 + 4 },
+    };
+    static const char *const bad[] = { "nan", "inf", "neg_inf" };
+    for (size_t k = 0; k < sizeof setups / sizeof setups[0]; k++) {
+        char probe[256];
+        char *text = NULL;
+        lg_image zero, none;
+        snprintf(probe, sizeof probe, "%s, bad = zero", setups[k].probe);
+        if (raw_reference(t, setups[k].scene, probe, setups[k].params, "zero.exr", &zero,
+                          &text) != 0) {
+            free(text);
+            continue;
+        }
+        LG_TEST_CHECK(t, !strstr(text, "NaN or Inf"), "a finite probe was said to hold NaN:\n%s",
+                      text);
+        free(text);
+        text = NULL;
+        /* the texel matters: without it (the constant everywhere) some vertex differs */
+        snprintf(probe, sizeof probe, "%s, bad = none", setups[k].probe);
+        if (raw_reference(t, setups[k].scene, probe, setups[k].params, "none.exr", &none,
+                          &text) == 0) {
+            uint32_t differ = 0;
+            for (uint32_t i = 0; i < setups[k].nv * 4; i++)
+                differ += none.pixels[i] != zero.pixels[i];
+            LG_TEST_CHECK(t, differ > 0, "%s: zeroing the texel changed no vertex (a test "
+                                         "that cannot see the texel)", setups[k].probe);
+            lg_image_free(&none);
+        }
+        free(text);
+        for (int b = 0; b < 3; b++) {
+            snprintf(probe, sizeof probe, "%s, bad = %s", setups[k].probe, bad[b]);
+            /* twice: computed, then loaded from the cache (said the same way) */
+            for (int pass = 0; pass < 2; pass++) {
+                lg_image img;
+                text = NULL;
+                if (raw_reference(t, setups[k].scene, probe, setups[k].params, "bad.exr", &img,
+                                  &text) != 0) {
+                    free(text);
+                    break;
+                }
+                const char *how = pass ? "reference loaded from the cache" : "reference computed";
+                LG_TEST_CHECK(t, strstr(text, how) != NULL, "%s (run %d): '%s' not said:\n%s",
+                              probe, pass + 1, how, text);
+                LG_TEST_CHECK(t, occurrences(text, setups[k].where) == 1,
+                              "%s (run %d): want the warning once:\n  %s\noutput:\n%s", probe,
+                              pass + 1, setups[k].where, text);
+                uint32_t nf = nonfinite_floats(&img, setups[k].nv);
+                LG_TEST_CHECK(t, nf == 0, "%s (run %d): %u of the %u vertices' floats are NaN "
+                                          "or infinite", probe, pass + 1, nf, setups[k].nv * 4);
+                LG_TEST_CHECK(t, img.width == zero.width && img.height == zero.height &&
+                                     memcmp(img.pixels, zero.pixels,
+                                            (size_t)img.width * img.height * 16) == 0,
+                              "%s (run %d): not the result of the texel set to 0 (vertex 0 "
+                              "R %g, want %g)", probe, pass + 1, (double)img.pixels[0],
+                              (double)zero.pixels[0]);
+                lg_image_free(&img);
+                free(text);
+            }
+        }
+        lg_image_free(&zero);
+    }
+}
+
 /* The radiance of vertex i, channel c, from a per-vertex image (transfer.h's layout). */
 static double vertex_value(const lg_image *img, uint32_t i, int c)
 {
@@ -1059,7 +1179,7 @@ int main(int argc, char **argv)
         { "cache_said", case_cache_said },
         { "memory", case_memory },
         { "reference", case_reference },   { "chain", case_chain },
-        { "forged", case_forged },
+        { "forged", case_forged },         { "nonfinite", case_nonfinite },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

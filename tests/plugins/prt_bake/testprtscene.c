@@ -9,6 +9,12 @@
  *                        V = max(1, 1024 / n^2) vertices per row (tp_vertices_per_row), so
  *                        a test reads every coefficient from an EXR and does its own dot
  *                        products; texels past the last vertex are 0
+ *   test_raw_probe     -> probe: a lat-long probe (width x width / 2) or a cube (faces of
+ *                        width), every colour channel `value`, alpha 1, except texel
+ *                        (bad_x, bad_y) of face bad_face (cube) whose colour channels are
+ *                        `bad`: none (value), zero, nan, inf or neg_inf. Published as made,
+ *                        never cleaned (the `probe` node zeroes NaN and Inf in a file's
+ *                        texels, so a consumer's own handling cannot be reached through it)
  *
  * Layouts (every mesh's material 0, base colour `base_color`; all of it moved by the
  * instances' model matrix, a translation by `translate`):
@@ -33,6 +39,7 @@
 #include <string.h>
 
 #include "lightgraph/lightgraph.h"
+#include "lightgraph/probe.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/transfer.h"
 #include "lightgraph/vecmath.h"
@@ -304,6 +311,71 @@ static int ti_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
+/* ---- test_raw_probe ------------------------------------------------------------------------ */
+
+static bool rp_cube(lg_node *n) { return lg_param_bool(n, "cube"); }
+
+static int rp_prepare(lg_node *n)
+{
+    uint32_t w = (uint32_t)lg_param_int(n, "width");
+    bool cube = rp_cube(n);
+    lg_image_desc d = { .width = w, .height = cube ? w : w / 2, .format = LG_FORMAT_RGBA32F,
+                        .flags = cube ? LG_IMAGE_CUBE : 0 };
+    if ((uint32_t)lg_param_int(n, "bad_x") >= d.width ||
+        (uint32_t)lg_param_int(n, "bad_y") >= d.height)
+        return lg_error(n, "bad_x, bad_y = %d, %d: outside the %ux%u image",
+                        (int)lg_param_int(n, "bad_x"), (int)lg_param_int(n, "bad_y"), d.width,
+                        d.height);
+    int rc = lg_probe_declare(n, 0, cube ? LG_PROBE_CUBE : LG_PROBE_LATLONG, &d, false);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int rp_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    bool cube = rp_cube(n);
+    const lg_resource *rad = lg_part(n, lg_output(n, 0), "radiance");
+    lg_resource_info info;
+    lg_cpu_view v;
+    int rc;
+    if (!rad)
+        return lg_error(n, "the probe has no radiance part");
+    if ((rc = lg_describe(rad, &info, n)) || (rc = lg_map_cpu(n, rad, LG_WRITE, &v)))
+        return rc;
+    uint32_t W = info.image.width, H = info.image.height, faces = cube ? 6 : 1;
+    float value = (float)lg_param_float(n, "value");
+    float *p = v.pixels;
+    for (size_t i = 0; i < (size_t)W * H * faces; i++) {
+        p[4 * i] = p[4 * i + 1] = p[4 * i + 2] = value;
+        p[4 * i + 3] = 1.0f;
+    }
+    static const float bad_values[] = { 0.0f, 0.0f, NAN, INFINITY, -INFINITY };
+    int bad = lg_param_enum(n, "bad");
+    if (bad > 0) {
+        uint32_t face = cube ? (uint32_t)lg_param_int(n, "bad_face") : 0;
+        float *q = p + 4 * ((size_t)face * W * H + (size_t)lg_param_int(n, "bad_y") * W +
+                            (size_t)lg_param_int(n, "bad_x"));
+        q[0] = q[1] = q[2] = bad_values[bad];
+    }
+    lg_probe_info pi = { .struct_size = sizeof pi,
+                         .layout = cube ? LG_PROBE_CUBE : LG_PROBE_LATLONG, .scale = 1 };
+    pi.rotation[0] = pi.rotation[4] = pi.rotation[8] = 1;
+    return lg_probe_publish(n, 0, &pi);
+}
+
+static const char *const rp_bad[] = { "none", "zero", "nan", "inf", "neg_inf", NULL };
+
+static const lg_param_desc rp_params[] = {
+    { .key = "width", .type = LG_PARAM_INT, .def.i = 32, .min = 2, .max = 1024, .doc = "" },
+    { .key = "cube", .type = LG_PARAM_BOOL, .def.b = false, .doc = "" },
+    { .key = "value", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6, .doc = "" },
+    { .key = "bad", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rp_bad, .doc = "" },
+    { .key = "bad_x", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1023, .doc = "" },
+    { .key = "bad_y", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1023, .doc = "" },
+    { .key = "bad_face", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 5, .doc = "" },
+};
+static const lg_port_desc rp_out[] = { { .name = "probe", .kind = LG_KIND_PROBE } };
+
 static const char *const tp_layouts[] = { "cone", "box", "quad", "plane", "sphere", NULL };
 
 static const lg_param_desc tp_params[] = {
@@ -346,6 +418,15 @@ static const lg_node_type types[] = {
         LG_OUTPUTS(ti_out),
         .prepare = ti_prepare,
         .execute = ti_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_raw_probe",
+        .doc = "A constant probe with one texel set to 0, NaN or an infinity, never cleaned",
+        LG_PARAMS(rp_params),
+        LG_OUTPUTS(rp_out),
+        .prepare = rp_prepare,
+        .execute = rp_execute,
     },
 };
 
