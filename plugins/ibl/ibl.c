@@ -74,7 +74,7 @@ typedef struct ibl_state {
     bool chain_unchecked;     /* st->chain came from the cache: its values not yet held to
                                * the probe's range (ibl_chain_bad, in execute) */
     GLuint chain_tex, dfg_buf;
-    cl_mem cl_chain, cl_dfg;
+    lg_cl_buffer cl_chain, cl_dfg;
 
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
@@ -86,8 +86,8 @@ typedef struct ibl_state {
     GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf, sampler[3];
 
     /* CL */
-    cl_kernel kernel;
-    cl_mem cl_gbuf, cl_gdepth, cl_mats, cl_clamped;
+    lg_cl_pass *kernel;
+    lg_cl_buffer cl_gbuf, cl_gdepth, cl_mats, cl_clamped;
 
     /* CPU copies of the G-buffer (cpu and cl backends) */
     float *gbuf, *gdepth;
@@ -1081,17 +1081,11 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
 
 /* ---- CL shading ----------------------------------------------------------------------- */
 
-static int ibl_cl_buffer(lg_node *n, cl_mem *m, size_t bytes, const void *data,
-                         const char *what)
+/* A read-only table of the kernel's, kept while large enough and rewritten. */
+static int ibl_cl_upload(lg_node *n, lg_cl_buffer *b, size_t bytes, const void *data)
 {
-    if (*m)
-        clReleaseMemObject(*m);
-    cl_int e;
-    *m = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
-                        (void *)data, &e);
-    if (!*m)
-        return lg_cl_fail(n, e, what);
-    return 0;
+    int rc = lg_cl_buffer_recreate(n, b, bytes, CL_MEM_READ_ONLY);
+    return rc ? rc : lg_cl_buffer_write(n, b, 0, bytes, data);
 }
 
 static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *clamped)
@@ -1099,49 +1093,33 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     int rc = ibl_gbuffer_cpu(n, st, f);
     if (rc)
         return rc;
-    cl_context ctx = lg_cl_context(n);
-    cl_command_queue q = lg_cl_queue(n);
-    if (!ctx || !q)
-        return LG_ERR_DEVICE;
-    cl_int e;
     if (!st->kernel) {
-        const char *parts[] = { lg_src_probe_cl, lg_src_rgbe_cl, lg_src_ibl_cl };
-        char *src = lg_cl_source_join(parts, 3);
-        if (!src)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-        cl_program prog = lg_cl_program(n, lg_src_ibl_cl_file, src, "-cl-std=CL1.2");
-        free(src);
-        if (!prog)
-            return LG_ERR_DEVICE;
-        st->kernel = clCreateKernel(prog, "ibl_shade", &e);
-        if (!st->kernel)
-            return lg_cl_fail(n, e, "clCreateKernel(ibl_shade)");
-        st->cl_clamped = clCreateBuffer(ctx, CL_MEM_READ_WRITE, sizeof(cl_uint), NULL, &e);
-        if (!st->cl_clamped)
-            return lg_cl_fail(n, e, "clCreateBuffer(clamped)");
-        if ((rc = ibl_cl_buffer(n, &st->cl_dfg,
-                                2 * LG_GGX_DFG_SIZE * LG_GGX_DFG_SIZE * sizeof(float),
-                                lg_ggx_dfg_shared(), "clCreateBuffer(DFG table)")))
+        static const char *const src[] = { lg_src_probe_cl, lg_src_rgbe_cl, lg_src_ibl_cl };
+        static const char *const names[] = { lg_src_probe_cl_file, lg_src_rgbe_cl_file,
+                                             lg_src_ibl_cl_file };
+        lg_cl_pass_desc d = { .name = "ibl shade", .sources = src, .source_names = names,
+                              .n_sources = 3, .options = "-cl-std=CL1.2",
+                              .kernel = "ibl_shade" };
+        if ((rc = lg_cl_pass_create(n, &d, &st->kernel)))
             return rc;
     }
-    if (st->chain && !st->cl_chain &&
-        (rc = ibl_cl_buffer(n, &st->cl_chain,
+    if (!st->cl_dfg.mem &&
+        (rc = ibl_cl_upload(n, &st->cl_dfg, 2 * LG_GGX_DFG_SIZE * LG_GGX_DFG_SIZE * sizeof(float),
+                            lg_ggx_dfg_shared())))
+        return rc;
+    if (st->chain && !st->cl_chain.mem &&
+        (rc = ibl_cl_upload(n, &st->cl_chain,
                             ibl_chain_floats(st->chain_size, st->chain_levels) * sizeof(float),
-                            st->chain, "clCreateBuffer(GGX chain)")))
+                            st->chain)))
         return rc;
     size_t np = (size_t)st->width * st->height;
-    cl_mem gbuf = NULL, gdepth = NULL;
-    if (f->geometry) {
-        if ((rc = ibl_cl_buffer(n, &st->cl_gbuf, np * 16, st->gbuf, "clCreateBuffer(G-buffer)")) ||
-            (rc = ibl_cl_buffer(n, &st->cl_gdepth, np * 4, st->gdepth,
-                                "clCreateBuffer(G-buffer depth)")))
-            return rc;
-        gbuf = st->cl_gbuf;
-        gdepth = st->cl_gdepth;
-    }
-    if ((rc = ibl_cl_buffer(n, &st->cl_mats, (size_t)f->n_mats * 32, f->mats,
-                            "clCreateBuffer(materials)")))
+    if (f->geometry &&
+        ((rc = ibl_cl_upload(n, &st->cl_gbuf, np * 16, st->gbuf)) ||
+         (rc = ibl_cl_upload(n, &st->cl_gdepth, np * 4, st->gdepth))))
         return rc;
+    if ((rc = ibl_cl_upload(n, &st->cl_mats, (size_t)f->n_mats * 32, f->mats)))
+        return rc;
+    /* the depth planes too: mapped here rather than by lg_cl_pass_arg_resource */
     void *probe = NULL, *pd = NULL, *base = NULL, *base_depth = NULL, *out = NULL,
          *out_depth = NULL;
     if ((rc = lg_map_cl(n, f->probe->radiance, LG_READ, &probe, &pd)))
@@ -1150,66 +1128,52 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         return rc;
     if ((rc = lg_map_cl(n, lg_output(n, 0), LG_WRITE, &out, &out_depth)))
         return rc;
-    cl_uint zero = 0;
-    if ((e = clEnqueueWriteBuffer(q, st->cl_clamped, CL_FALSE, 0, sizeof zero, &zero, 0, NULL,
-                                  NULL)))
-        return lg_cl_fail(n, e, "clEnqueueWriteBuffer(clamped)");
+    const uint32_t zero = 0;
+    if ((rc = lg_cl_buffer_recreate(n, &st->cl_clamped, sizeof zero, 0)) ||
+        (rc = lg_cl_buffer_write(n, &st->cl_clamped, 0, sizeof zero, &zero)))
+        return rc;
     cl_float16 ivp;
     memcpy(ivp.s, f->inv_vp, sizeof ivp.s);
     const float *r = f->probe->info.rotation;
-    cl_float4 r0 = { { r[0], r[1], r[2], 0 } }, r1 = { { r[3], r[4], r[5], 0 } },
-              r2 = { { r[6], r[7], r[8], 0 } };
-    cl_int mode = st->mode, w = (cl_int)st->width, h = (cl_int)st->height;
-    cl_int has_base = base != NULL, has_bd = base_depth != NULL;
-    cl_int layout = (cl_int)f->probe->info.layout;
-    cl_int pw = (cl_int)f->probe->radiance_desc.width, ph = (cl_int)f->probe->radiance_desc.height;
-    cl_int bil = st->sampling == IBL_BILINEAR, fres = st->fresnel == IBL_FRESNEL_SCHLICK;
-    cl_int fmt = st->format;
-    cl_mem mb = base, mbd = base_depth, mp = probe, mo = out, mod = out_depth;
-    cl_kernel k = st->kernel;
-    cl_uint a = 0;
-    e = 0;
-    e |= clSetKernelArg(k, a++, sizeof mode, &mode);
-    e |= clSetKernelArg(k, a++, sizeof w, &w);
-    e |= clSetKernelArg(k, a++, sizeof h, &h);
-    e |= clSetKernelArg(k, a++, sizeof ivp, &ivp);
-    e |= clSetKernelArg(k, a++, sizeof gbuf, &gbuf);
-    e |= clSetKernelArg(k, a++, sizeof gdepth, &gdepth);
-    e |= clSetKernelArg(k, a++, sizeof has_base, &has_base);
-    e |= clSetKernelArg(k, a++, sizeof mb, &mb);
-    e |= clSetKernelArg(k, a++, sizeof has_bd, &has_bd);
-    e |= clSetKernelArg(k, a++, sizeof mbd, &mbd);
-    e |= clSetKernelArg(k, a++, sizeof st->cl_mats, &st->cl_mats);
-    e |= clSetKernelArg(k, a++, sizeof mp, &mp);
-    e |= clSetKernelArg(k, a++, sizeof layout, &layout);
-    e |= clSetKernelArg(k, a++, sizeof pw, &pw);
-    e |= clSetKernelArg(k, a++, sizeof ph, &ph);
-    e |= clSetKernelArg(k, a++, sizeof bil, &bil);
-    e |= clSetKernelArg(k, a++, sizeof r0, &r0);
-    e |= clSetKernelArg(k, a++, sizeof r1, &r1);
-    e |= clSetKernelArg(k, a++, sizeof r2, &r2);
-    e |= clSetKernelArg(k, a++, sizeof fres, &fres);
-    e |= clSetKernelArg(k, a++, sizeof fmt, &fmt);
-    e |= clSetKernelArg(k, a++, sizeof mo, &mo);
-    e |= clSetKernelArg(k, a++, sizeof mod, &mod);
-    e |= clSetKernelArg(k, a++, sizeof st->cl_clamped, &st->cl_clamped);
-    cl_int csz = (cl_int)st->chain_size, clev = st->cl_chain ? (cl_int)st->chain_levels : 0;
-    cl_int dsz = (cl_int)LG_GGX_DFG_SIZE;
-    e |= clSetKernelArg(k, a++, sizeof st->cl_chain, &st->cl_chain);
-    e |= clSetKernelArg(k, a++, sizeof csz, &csz);
-    e |= clSetKernelArg(k, a++, sizeof clev, &clev);
-    e |= clSetKernelArg(k, a++, sizeof st->cl_dfg, &st->cl_dfg);
-    e |= clSetKernelArg(k, a++, sizeof dsz, &dsz);
-    if (e)
-        return lg_cl_fail(n, e, "clSetKernelArg(ibl_shade)");
+    const float r0[4] = { r[0], r[1], r[2], 0 }, r1[4] = { r[3], r[4], r[5], 0 },
+                r2[4] = { r[6], r[7], r[8], 0 };
+    lg_cl_pass *k = st->kernel;
+    unsigned a = 0;
+    lg_cl_pass_arg_int(k, a++, st->mode);
+    lg_cl_pass_arg_int(k, a++, (int32_t)st->width);
+    lg_cl_pass_arg_int(k, a++, (int32_t)st->height);
+    lg_cl_pass_arg(k, a++, sizeof ivp, &ivp);
+    lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gbuf.mem : NULL);
+    lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gdepth.mem : NULL);
+    lg_cl_pass_arg_int(k, a++, base != NULL);
+    lg_cl_pass_arg_mem(k, a++, base);
+    lg_cl_pass_arg_int(k, a++, base_depth != NULL);
+    lg_cl_pass_arg_mem(k, a++, base_depth);
+    lg_cl_pass_arg_mem(k, a++, st->cl_mats.mem);
+    lg_cl_pass_arg_mem(k, a++, probe);
+    lg_cl_pass_arg_int(k, a++, (int32_t)f->probe->info.layout);
+    lg_cl_pass_arg_int(k, a++, (int32_t)f->probe->radiance_desc.width);
+    lg_cl_pass_arg_int(k, a++, (int32_t)f->probe->radiance_desc.height);
+    lg_cl_pass_arg_int(k, a++, st->sampling == IBL_BILINEAR);
+    lg_cl_pass_arg_float4(k, a++, r0);
+    lg_cl_pass_arg_float4(k, a++, r1);
+    lg_cl_pass_arg_float4(k, a++, r2);
+    lg_cl_pass_arg_int(k, a++, st->fresnel == IBL_FRESNEL_SCHLICK);
+    lg_cl_pass_arg_int(k, a++, st->format);
+    lg_cl_pass_arg_mem(k, a++, out);
+    lg_cl_pass_arg_mem(k, a++, out_depth);
+    lg_cl_pass_arg_mem(k, a++, st->cl_clamped.mem);
+    lg_cl_pass_arg_mem(k, a++, st->cl_chain.mem);
+    lg_cl_pass_arg_int(k, a++, (int32_t)st->chain_size);
+    lg_cl_pass_arg_int(k, a++, st->cl_chain.mem ? (int32_t)st->chain_levels : 0);
+    lg_cl_pass_arg_mem(k, a++, st->cl_dfg.mem);
+    lg_cl_pass_arg_int(k, a++, (int32_t)LG_GGX_DFG_SIZE);
     size_t global[2] = { st->width, st->height };
-    cl_event ev;
-    if ((e = clEnqueueNDRangeKernel(q, k, 2, NULL, global, NULL, 0, NULL, &ev)))
-        return lg_cl_fail(n, e, "clEnqueueNDRangeKernel(ibl_shade)");
-    lg_cl_profile(n, ev);
-    cl_uint c = 0;
-    if ((e = clEnqueueReadBuffer(q, st->cl_clamped, CL_TRUE, 0, sizeof c, &c, 0, NULL, NULL)))
-        return lg_cl_fail(n, e, "clEnqueueReadBuffer(clamped)");
+    if ((rc = lg_cl_pass_run(k, 2, global, NULL)))
+        return rc;
+    uint32_t c = 0;
+    if ((rc = lg_cl_buffer_read(n, &st->cl_clamped, 0, sizeof c, &c)))
+        return rc;
     *clamped = c;
     return 0;
 }
@@ -1285,13 +1249,11 @@ static void ibl_destroy(lg_node *n)
                 gl->DeleteBuffers(1, &st->dfg_buf);
         }
     }
-    if (st->kernel)
-        clReleaseKernel(st->kernel);
-    cl_mem m[6] = { st->cl_gbuf, st->cl_gdepth, st->cl_mats, st->cl_clamped, st->cl_chain,
-                    st->cl_dfg };
+    lg_cl_pass_destroy(&st->kernel);
+    lg_cl_buffer *m[6] = { &st->cl_gbuf, &st->cl_gdepth, &st->cl_mats, &st->cl_clamped,
+                           &st->cl_chain, &st->cl_dfg };
     for (int i = 0; i < 6; i++)
-        if (m[i])
-            clReleaseMemObject(m[i]);
+        lg_cl_buffer_destroy(n, m[i]);
     free(st->gbuf);
     free(st->gdepth);
     free(st->chain);

@@ -74,10 +74,9 @@ typedef struct prt_state {
     GLuint light_buf;
 
     /* CL */
-    cl_kernel kernel;
+    lg_cl_pass *kernel;
     uint32_t k_n, k_stride; /* the kernel's build (prt_cl_options) */
-    cl_mem cl_light, cl_record;
-    size_t cl_light_size, cl_record_size;
+    lg_cl_buffer cl_light, cl_record;
 } prt_state;
 
 /* ---- create / prepare ---------------------------------------------------------------- */
@@ -326,49 +325,29 @@ static int prt_dot_cpu(lg_node *n, prt_state *st, const prt_frame *f)
     return lg_parallel_for(n, (size_t)st->tex_w * st->tex_h, PRT_CPU_GRAIN, prt_cpu_chunk, &c);
 }
 
-/* (Re)makes CL buffer *m for at least `size` bytes and writes `data` into it (blocking:
- * the data is the frame's). */
-static int prt_cl_upload(lg_node *n, cl_mem *m, size_t *have, const void *data, size_t size,
-                         const char *what)
+/* A table of this frame's, in a buffer kept while large enough (the write blocks: the
+ * data is the frame's). */
+static int prt_cl_upload(lg_node *n, lg_cl_buffer *b, const void *data, size_t size)
 {
-    cl_int e;
-    if (*have < size) {
-        if (*m)
-            clReleaseMemObject(*m);
-        *m = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_ONLY, size, NULL, &e);
-        if (e) {
-            *m = NULL;
-            *have = 0;
-            return lg_cl_fail(n, e, what);
-        }
-        *have = size;
-    }
-    if ((e = clEnqueueWriteBuffer(lg_cl_queue(n), *m, CL_TRUE, 0, size, data, 0, NULL, NULL)))
-        return lg_cl_fail(n, e, what);
-    return 0;
+    int rc = lg_cl_buffer_recreate(n, b, size, CL_MEM_READ_ONLY);
+    return rc ? rc : lg_cl_buffer_write(n, b, 0, size, data);
 }
 
 static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
 {
-    cl_int e;
-    cl_command_queue q = lg_cl_queue(n);
-    if (!q)
-        return LG_ERR_DEVICE;
+    int rc;
     uint32_t stride = f->tr->n_coeffs;
     if (!st->kernel || st->k_n != f->nc || st->k_stride != stride) {
         /* one program per coefficient count: the kernel's loops unroll (prt.cl) */
         char opts[160];
         prt_cl_options(opts, sizeof opts, f->nc, stride);
-        cl_program p = lg_cl_program(n, lg_src_prt_cl_file, lg_src_prt_cl, opts);
-        if (!p)
-            return LG_ERR_DEVICE;
-        if (st->kernel)
-            clReleaseKernel(st->kernel);
-        st->kernel = clCreateKernel(p, "prt_dot", &e);
-        if (e) {
-            st->kernel = NULL;
-            return lg_cl_fail(n, e, "clCreateKernel(prt_dot)");
-        }
+        static const char *const src[] = { lg_src_prt_cl };
+        static const char *const names[] = { lg_src_prt_cl_file };
+        lg_cl_pass_desc d = { .name = "prt dot", .sources = src, .source_names = names,
+                              .n_sources = 1, .options = opts, .kernel = "prt_dot" };
+        lg_cl_pass_destroy(&st->kernel);
+        if ((rc = lg_cl_pass_create(n, &d, &st->kernel)))
+            return rc;
         st->k_n = f->nc;
         st->k_stride = stride;
     }
@@ -377,37 +356,22 @@ static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
     if (!rec)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu floats)", 3 * pad);
     prt_record_lighting(f->lighting, f->nc, stride, rec);
-    int rc = prt_cl_upload(n, &st->cl_record, &st->cl_record_size, rec,
-                           3 * pad * sizeof(float), "clCreateBuffer(record lighting)");
+    rc = prt_cl_upload(n, &st->cl_record, rec, 3 * pad * sizeof(float));
     free(rec);
     if (!rc)
-        rc = prt_cl_upload(n, &st->cl_light, &st->cl_light_size, f->lighting,
-                           (size_t)3 * f->nc * sizeof(float), "clCreateBuffer(lighting)");
-    void *tm = NULL, *om = NULL, *dummy = NULL;
-    if (!rc)
-        rc = lg_map_cl(n, f->tr->transfer, LG_READ, &tm, &dummy);
-    if (!rc)
-        rc = lg_map_cl(n, lg_output(n, OUT_VERTICES), LG_WRITE, &om, &dummy);
+        rc = prt_cl_upload(n, &st->cl_light, f->lighting, (size_t)3 * f->nc * sizeof(float));
     if (rc)
         return rc;
-    cl_mem mt = tm, mo = om;
-    cl_uint verts = st->vertices, texels = st->tex_w * st->tex_h;
-    cl_kernel k = st->kernel;
-    e = 0;
-    e |= clSetKernelArg(k, 0, sizeof mt, &mt);
-    e |= clSetKernelArg(k, 1, sizeof st->cl_record, &st->cl_record);
-    e |= clSetKernelArg(k, 2, sizeof st->cl_light, &st->cl_light);
-    e |= clSetKernelArg(k, 3, sizeof verts, &verts);
-    e |= clSetKernelArg(k, 4, sizeof texels, &texels);
-    e |= clSetKernelArg(k, 5, sizeof mo, &mo);
-    if (e)
-        return lg_cl_fail(n, e, "clSetKernelArg(prt_dot)");
+    uint32_t texels = st->tex_w * st->tex_h;
+    lg_cl_pass *k = st->kernel;
+    lg_cl_pass_arg_resource(k, 0, f->tr->transfer, LG_READ);
+    lg_cl_pass_arg_mem(k, 1, st->cl_record.mem);
+    lg_cl_pass_arg_mem(k, 2, st->cl_light.mem);
+    lg_cl_pass_arg_uint(k, 3, st->vertices);
+    lg_cl_pass_arg_uint(k, 4, texels);
+    lg_cl_pass_arg_resource(k, 5, lg_output(n, OUT_VERTICES), LG_WRITE);
     size_t global = prt_cl_global(texels), local = PRT_CL_LOCAL;
-    cl_event ev;
-    if ((e = clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, &ev)))
-        return lg_cl_fail(n, e, "clEnqueueNDRangeKernel(prt_dot)");
-    lg_cl_profile(n, ev);
-    return 0;
+    return lg_cl_pass_run(k, 1, &global, &local);
 }
 
 /* The buffer texture `*tex` of `format` over the host's buffer `buf`, remade when the host's
@@ -635,12 +599,9 @@ static void prt_destroy(lg_node *n)
         if (gl && st->tbo_tex)
             gl->DeleteTextures(1, &st->tbo_tex);
     }
-    if (st->kernel)
-        clReleaseKernel(st->kernel);
-    if (st->cl_light)
-        clReleaseMemObject(st->cl_light);
-    if (st->cl_record)
-        clReleaseMemObject(st->cl_record);
+    lg_cl_pass_destroy(&st->kernel);
+    lg_cl_buffer_destroy(n, &st->cl_light);
+    lg_cl_buffer_destroy(n, &st->cl_record);
     free(st->offsets);
     free(st);
     n->user = NULL;

@@ -67,10 +67,9 @@ typedef struct rh_state {
     lg_gl_binding r_in, r_partials, f_partials, f_result, m_in, m_out, m_result;
     GLuint gl_partials, gl_result;
 
-    /* cl */
-    cl_kernel cl_reduce, cl_final, cl_map;
-    cl_mem cl_partials, cl_result;
-    cl_uint cl_n_partials;
+    /* cl: the same three passes (reinhard.cl after rgbe.cl) and buffers */
+    lg_cl_pass *cl_reduce, *cl_final, *cl_map;
+    lg_cl_buffer cl_partials, cl_result;
 } rh_state;
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
@@ -386,36 +385,30 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
 
 static int rh_cl_init(lg_node *n, rh_state *st)
 {
-    cl_context ctx = lg_cl_context(n);
-    if (!ctx)
-        return LG_ERR_DEVICE;
     char opts[160];
     snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u%s",
              RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI,
              st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1"
              : st->in_format == LG_FORMAT_RGBE8 ? " -DLG_IN_RGBE=1" : "");
-    /* shaders/common/rgbe.cl, then the kernels (which use its decoder for rgbe8 input) */
-    const char *parts[] = { lg_src_rgbe_cl, lg_src_reinhard_cl };
-    char *src = lg_cl_source_join(parts, 2);
-    if (!src)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    cl_program prog = lg_cl_program(n, lg_src_reinhard_cl_file, src, opts);
-    free(src);
-    if (!prog)
-        return LG_ERR_DEVICE;
-    cl_int err;
-    st->cl_reduce = clCreateKernel(prog, "rh_reduce", &err);
-    if (err)
-        return lg_cl_fail(n, err, "clCreateKernel(rh_reduce)");
-    st->cl_final = clCreateKernel(prog, "rh_reduce_final", &err);
-    if (err)
-        return lg_cl_fail(n, err, "clCreateKernel(rh_reduce_final)");
-    st->cl_map = clCreateKernel(prog, "rh_map", &err);
-    if (err)
-        return lg_cl_fail(n, err, "clCreateKernel(rh_map)");
+    /* shaders/common/rgbe.cl, then the kernels (which use its decoder for rgbe8 input); one
+     * program for the three passes (same texts and options) */
+    static const char *const src[] = { lg_src_rgbe_cl, lg_src_reinhard_cl };
+    static const char *const names[] = { lg_src_rgbe_cl_file, lg_src_reinhard_cl_file };
+    lg_cl_pass_desc d = { .sources = src, .source_names = names, .n_sources = 2,
+                          .options = opts };
+    int rc;
+    d.name = "reinhard reduce", d.kernel = "rh_reduce";
+    if ((rc = lg_cl_pass_create(n, &d, &st->cl_reduce)))
+        return rc;
+    d.name = "reinhard reduce final", d.kernel = "rh_reduce_final";
+    if ((rc = lg_cl_pass_create(n, &d, &st->cl_final)))
+        return rc;
+    d.name = "reinhard map", d.kernel = "rh_map";
+    if ((rc = lg_cl_pass_create(n, &d, &st->cl_map)))
+        return rc;
     size_t wg = 0;
-    err = clGetKernelWorkGroupInfo(st->cl_reduce, lg_cl_device(n), CL_KERNEL_WORK_GROUP_SIZE,
-                                   sizeof wg, &wg, NULL);
+    cl_int err = clGetKernelWorkGroupInfo(lg_cl_pass_kernel(st->cl_reduce), lg_cl_device(n),
+                                          CL_KERNEL_WORK_GROUP_SIZE, sizeof wg, &wg, NULL);
     if (err)
         return lg_cl_fail(n, err, "clGetKernelWorkGroupInfo(rh_reduce)");
     if (wg < RH_GROUP || wg < RH_CL_MAP_LOCAL)
@@ -426,103 +419,71 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     /* the result block starts zeroed: no adapted luminance yet */
     rh_result zero;
     memset(&zero, 0, sizeof zero);
-    st->cl_result = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof zero,
-                                   &zero, &err);
-    if (err)
-        return lg_cl_fail(n, err, "clCreateBuffer(result)");
+    if ((rc = lg_cl_buffer_recreate(n, &st->cl_result, sizeof zero, 0)) ||
+        (rc = lg_cl_buffer_write(n, &st->cl_result, 0, sizeof zero, &zero)))
+        return rc;
     return 0;
 }
 
-#define RH_ARG(k, i, v)                                                                      \
-    do {                                                                                     \
-        cl_int e_ = clSetKernelArg((k), (i), sizeof(v), &(v));                               \
-        if (e_)                                                                              \
-            return lg_cl_fail(n, e_, "clSetKernelArg(" #k ", " #i ")");                      \
-    } while (0)
-
 static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
 {
-    cl_command_queue q = lg_cl_queue(n);
-    if (!q)
-        return LG_ERR_DEVICE;
     int rc;
     if (!st->cl_map && (rc = rh_cl_init(n, st)))
         return rc;
-    void *pin = NULL, *pout = NULL, *dummy = NULL;
-    if ((rc = lg_map_cl(n, lg_input(n, 0), LG_READ, &pin, &dummy)) ||
-        (rc = lg_map_cl(n, lg_output(n, 0), LG_WRITE, &pout, &dummy)))
-        return rc;
-    cl_mem min = (cl_mem)pin, mout = (cl_mem)pout;
-    cl_uint npx = (cl_uint)((size_t)st->width * st->height);
-    cl_uint groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
+    const lg_resource *in = lg_input(n, 0), *out = lg_output(n, 0);
+    uint32_t npx = (uint32_t)((size_t)st->width * st->height);
+    uint32_t groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
     /* one partial per stage-1 work-item: sized by the image, which prepare may change */
-    if (partials > st->cl_n_partials) {
-        if (st->cl_partials)
-            clReleaseMemObject(st->cl_partials);
-        cl_int e;
-        st->cl_partials = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_WRITE,
-                                         (size_t)partials * sizeof(rh_partial), NULL, &e);
-        st->cl_n_partials = e ? 0 : partials;
-        if (e) {
-            st->cl_partials = NULL;
-            return lg_cl_fail(n, e, "clCreateBuffer(partials)");
-        }
-    }
-    cl_float delta = (cl_float)st->p.delta;
-    cl_float4 w = { { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f } };
+    if ((rc = lg_cl_buffer_recreate(n, &st->cl_partials, (size_t)partials * sizeof(rh_partial),
+                                    0)))
+        return rc;
+    const float w[4] = { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f };
     rh_adapt_args ad = rh_adapt_args_for(st, frame);
-    cl_event ev;
-    cl_int err;
 
     /* stage 1 */
-    RH_ARG(st->cl_reduce, 0, min);
-    RH_ARG(st->cl_reduce, 1, npx);
-    RH_ARG(st->cl_reduce, 2, delta);
-    RH_ARG(st->cl_reduce, 3, w);
-    RH_ARG(st->cl_reduce, 4, st->cl_partials);
+    lg_cl_pass *k = st->cl_reduce;
+    lg_cl_pass_arg_resource(k, 0, in, LG_READ);
+    lg_cl_pass_arg_uint(k, 1, npx);
+    lg_cl_pass_arg_float(k, 2, (float)st->p.delta);
+    lg_cl_pass_arg_float4(k, 3, w);
+    lg_cl_pass_arg_mem(k, 4, st->cl_partials.mem);
     size_t local = RH_GROUP, global = (size_t)groups * RH_GROUP;
-    err = clEnqueueNDRangeKernel(q, st->cl_reduce, 1, NULL, &global, &local, 0, NULL, &ev);
-    if (err)
-        return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce)");
-    lg_cl_profile(n, ev);
+    if ((rc = lg_cl_pass_run(k, 1, &global, &local)))
+        return rc;
 
     /* stage 2: the partials, Lavg, adaptation and the scale, on the device */
-    RH_ARG(st->cl_final, 0, st->cl_partials);
-    RH_ARG(st->cl_final, 1, partials);
-    RH_ARG(st->cl_final, 2, st->cl_result);
-    RH_ARG(st->cl_final, 3, ad.key);
-    RH_ARG(st->cl_final, 4, ad.adapt);
-    RH_ARG(st->cl_final, 5, ad.k);
-    RH_ARG(st->cl_final, 6, ad.from);
-    RH_ARG(st->cl_final, 7, ad.reset);
+    k = st->cl_final;
+    lg_cl_pass_arg_mem(k, 0, st->cl_partials.mem);
+    lg_cl_pass_arg_uint(k, 1, partials);
+    lg_cl_pass_arg_mem(k, 2, st->cl_result.mem);
+    lg_cl_pass_arg_float(k, 3, ad.key);
+    lg_cl_pass_arg_int(k, 4, ad.adapt);
+    lg_cl_pass_arg_float(k, 5, ad.k);
+    lg_cl_pass_arg_float(k, 6, ad.from);
+    lg_cl_pass_arg_int(k, 7, ad.reset);
     global = RH_GROUP;
-    err = clEnqueueNDRangeKernel(q, st->cl_final, 1, NULL, &global, &local, 0, NULL, &ev);
-    if (err)
-        return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_reduce_final)");
-    lg_cl_profile(n, ev);
+    if ((rc = lg_cl_pass_run(k, 1, &global, &local)))
+        return rc;
 
     /* the map reads the scale where stage 2 left it */
-    cl_float inv_w2 = st->p.white > 0.0 ? (cl_float)(1.0 / (st->p.white * st->p.white)) : 0.0f;
-    cl_int mode = st->p.mode == LG_RH_RGB ? 1 : 0;
-    RH_ARG(st->cl_map, 0, min);
-    RH_ARG(st->cl_map, 1, mout);
-    RH_ARG(st->cl_map, 2, npx);
-    RH_ARG(st->cl_map, 3, st->cl_result);
-    RH_ARG(st->cl_map, 4, inv_w2);
-    RH_ARG(st->cl_map, 5, mode);
-    RH_ARG(st->cl_map, 6, w);
+    k = st->cl_map;
+    lg_cl_pass_arg_resource(k, 0, in, LG_READ);
+    lg_cl_pass_arg_resource(k, 1, out, LG_WRITE);
+    lg_cl_pass_arg_uint(k, 2, npx);
+    lg_cl_pass_arg_mem(k, 3, st->cl_result.mem);
+    lg_cl_pass_arg_float(k, 4, st->p.white > 0.0 ? (float)(1.0 / (st->p.white * st->p.white))
+                                                 : 0.0f);
+    lg_cl_pass_arg_int(k, 5, st->p.mode == LG_RH_RGB ? 1 : 0);
+    lg_cl_pass_arg_float4(k, 6, w);
     local = RH_CL_MAP_LOCAL;
     global = rh_cl_map_items(npx); /* eight pixels per item */
-    err = clEnqueueNDRangeKernel(q, st->cl_map, 1, NULL, &global, &local, 0, NULL, &ev);
-    if (err)
-        return lg_cl_fail(n, err, "clEnqueueNDRangeKernel(rh_map)");
-    lg_cl_profile(n, ev);
+    if ((rc = lg_cl_pass_run(k, 1, &global, &local)))
+        return rc;
 
     /* for the report only, after the map was queued: the device never waits for the host */
     rh_result r;
-    err = clEnqueueReadBuffer(q, st->cl_result, CL_TRUE, 0, sizeof r, &r, 0, NULL, NULL);
-    if (err)
-        return lg_cl_fail(n, err, "clEnqueueReadBuffer(result)");
+    if ((rc = lg_cl_buffer_read(n, &st->cl_result, 0, sizeof r, &r)))
+        return rc;
     rh_report(n, st, &r, frame);
     return 0;
 }
@@ -554,16 +515,11 @@ static void rh_destroy(lg_node *n)
             gl->DeleteBuffers(1, &st->gl_result);
         }
     }
-    if (st->cl_reduce)
-        clReleaseKernel(st->cl_reduce);
-    if (st->cl_final)
-        clReleaseKernel(st->cl_final);
-    if (st->cl_map)
-        clReleaseKernel(st->cl_map);
-    if (st->cl_partials)
-        clReleaseMemObject(st->cl_partials);
-    if (st->cl_result)
-        clReleaseMemObject(st->cl_result);
+    lg_cl_pass_destroy(&st->cl_reduce);
+    lg_cl_pass_destroy(&st->cl_final);
+    lg_cl_pass_destroy(&st->cl_map);
+    lg_cl_buffer_destroy(n, &st->cl_partials);
+    lg_cl_buffer_destroy(n, &st->cl_result);
     free(st->slots);
     free(st);
     n->user = NULL;

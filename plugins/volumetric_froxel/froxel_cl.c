@@ -18,39 +18,30 @@
 
 typedef struct fx_cl {
     uint32_t w, h, d;
-    cl_kernel columns, lookup;
-    cl_mem s, hist;          /* rgba32f W x H x D each */
-    cl_mem lights, shadows;  /* per frame */
-    cl_mem slices;           /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5), T(k) */
-    float *slices_host;      /* 4 D + 1 floats */
+    lg_cl_pass *columns, *lookup;
+    lg_cl_buffer s, hist;          /* rgba32f W x H x D each */
+    lg_cl_buffer lights, shadows;  /* per frame */
+    lg_cl_buffer slices;           /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5), T(k) */
+    float *slices_host;            /* 4 D + 1 floats */
     bool hist_valid;
 } fx_cl;
 
 static int fx_cl_init(lg_node *n, fx_cl *c, const fx_frame *f)
 {
-    cl_int e;
-    const char *parts[] = { lg_src_medium_cl, lg_src_froxel_cl };
-    char *src = lg_cl_source_join(parts, 2);
-    if (!src)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    cl_program prog = lg_cl_program(n, lg_src_froxel_cl_file, src, "-cl-std=CL1.2");
-    free(src);
-    if (!prog)
-        return LG_ERR_DEVICE;
-    c->columns = clCreateKernel(prog, "fx_columns", &e);
-    if (!c->columns)
-        return lg_cl_fail(n, e, "clCreateKernel(fx_columns)");
-    c->lookup = clCreateKernel(prog, "fx_lookup", &e);
-    if (!c->lookup)
-        return lg_cl_fail(n, e, "clCreateKernel(fx_lookup)");
+    static const char *const src[] = { lg_src_medium_cl, lg_src_froxel_cl };
+    static const char *const names[] = { lg_src_medium_cl_file, lg_src_froxel_cl_file };
+    lg_cl_pass_desc d = { .name = "froxel columns", .sources = src, .source_names = names,
+                          .n_sources = 2, .options = "-cl-std=CL1.2", .kernel = "fx_columns" };
+    int rc;
+    if ((rc = lg_cl_pass_create(n, &d, &c->columns)))
+        return rc;
+    d.name = "froxel lookup", d.kernel = "fx_lookup";
+    if ((rc = lg_cl_pass_create(n, &d, &c->lookup)))
+        return rc;
     size_t bytes = (size_t)f->w * f->h * f->d * 16;
-    c->s = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_WRITE, bytes, NULL, &e);
-    if (!c->s)
-        return lg_cl_fail(n, e, "clCreateBuffer(S)");
-    c->hist = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_WRITE, bytes, NULL, &e);
-    if (!c->hist)
-        return lg_cl_fail(n, e, "clCreateBuffer(S history)");
-    lg_account_alloc(n, 2 * (uint64_t)bytes);
+    if ((rc = lg_cl_buffer_recreate(n, &c->s, bytes, 0)) ||
+        (rc = lg_cl_buffer_recreate(n, &c->hist, bytes, 0)))
+        return rc;
     c->slices_host = malloc((4 * (size_t)f->d + 1) * sizeof(float));
     if (!c->slices_host)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
@@ -60,17 +51,11 @@ static int fx_cl_init(lg_node *n, fx_cl *c, const fx_frame *f)
     return 0;
 }
 
-static int fx_cl_upload(lg_node *n, cl_mem *m, const float *data, size_t floats,
-                        const char *what)
+/* A table of this frame's, in a buffer kept while large enough. */
+static int fx_cl_upload(lg_node *n, lg_cl_buffer *b, const float *data, size_t floats)
 {
-    if (*m)
-        clReleaseMemObject(*m);
-    cl_int e;
-    *m = clCreateBuffer(lg_cl_context(n), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                        floats * sizeof(float), (void *)data, &e);
-    if (!*m)
-        return lg_cl_fail(n, e, what);
-    return 0;
+    int rc = lg_cl_buffer_recreate(n, b, floats * sizeof(float), CL_MEM_READ_ONLY);
+    return rc ? rc : lg_cl_buffer_write(n, b, 0, floats * sizeof(float), data);
 }
 
 static cl_float16 m16(const float *m)
@@ -93,8 +78,6 @@ static cl_float4 map4(const lg_slice_map *m)
 
 int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
 {
-    if (!lg_cl_context(n) || !lg_cl_queue(n))
-        return LG_ERR_DEVICE;
     fx_cl *c = *state;
     if (c && (c->w != f->w || c->h != f->h || c->d != f->d)) {
         fx_cl_destroy(n, c);
@@ -135,9 +118,8 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     }
     if (!n_sh)
         memset(sh, 0, 20 * sizeof(float));
-    if ((rc = fx_cl_upload(n, &c->lights, lt, 8 * (size_t)v->n_lights, "clCreateBuffer(lights)")) ||
-        (rc = fx_cl_upload(n, &c->shadows, sh, 20 * (size_t)(n_sh ? n_sh : 1),
-                           "clCreateBuffer(shadow records)")))
+    if ((rc = fx_cl_upload(n, &c->lights, lt, 8 * (size_t)v->n_lights)) ||
+        (rc = fx_cl_upload(n, &c->shadows, sh, 20 * (size_t)(n_sh ? n_sh : 1))))
         return rc;
 
     /* the slice tables (froxel.cl's fx_columns and fx_lookup): T(k + jitter), the steps,
@@ -150,8 +132,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     }
     for (uint32_t k = 0; k <= f->d; k++)
         c->slices_host[3 * f->d + k] = (float)tab->tk[k];
-    if ((rc = fx_cl_upload(n, &c->slices, c->slices_host, 4 * (size_t)f->d + 1,
-                           "clCreateBuffer(slice tables)")))
+    if ((rc = fx_cl_upload(n, &c->slices, c->slices_host, 4 * (size_t)f->d + 1)))
         return rc;
 
     void *base, *base_depth, *atlas = NULL, *atlas_depth = NULL, *out, *out_depth, *ins, *insd,
@@ -168,9 +149,9 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
                         &gd)))
         return rc;
     /* a depth-only image's plane comes as the depth mapping */
-    cl_mem m_atlas = atlas_depth ? atlas_depth : atlas ? atlas : c->shadows;
+    cl_mem m_atlas = atlas_depth ? atlas_depth : atlas ? atlas : c->shadows.mem;
 
-    cl_int W = (cl_int)f->w, H = (cl_int)f->h, D = (cl_int)f->d;
+    int32_t W = (int32_t)f->w, H = (int32_t)f->h, D = (int32_t)f->d;
     float ivpf[16];
     for (int i = 0; i < 16; i++)
         ivpf[i] = (float)v->inv_view_proj[i];
@@ -178,61 +159,70 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     cl_float4 eye = v4(v->eye[0], v->eye[1], v->eye[2], 0);
     cl_float4 fwd = v4(v->forward[0], v->forward[1], v->forward[2], 0);
     cl_float4 img = v4(v->width, v->height, 0, 0);
-    cl_int slicing = (cl_int)f->map.slicing, accum = f->accum == FX_ACC_THESIS ? 0 : 1;
-    cl_int grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
+    int32_t slicing = (int32_t)f->map.slicing, accum = f->accum == FX_ACC_THESIS ? 0 : 1;
+    int32_t grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
     cl_float4 map = map4(&f->map);
-    cl_float g = v->g, history = f->history;
     cl_float4 ss = v4(v->sigma_s[0], v->sigma_s[1], v->sigma_s[2], 0);
     cl_float4 stt = v4(v->sigma_t[0], v->sigma_t[1], v->sigma_t[2], 0);
-    cl_int nl = (cl_int)v->n_lights;
-    cl_int aw = f->sm ? (cl_int)f->sm->atlas_width : 0, ah = f->sm ? (cl_int)f->sm->atlas_height : 0;
-    cl_int res = f->sm ? (cl_int)f->sm->resolution : 0;
-    cl_float bias = f->sm ? f->sm->bias_constant : 0;
-    cl_int blend = f->history > 0 && f->prev && c->hist_valid;
+    int32_t blend = f->history > 0 && f->prev && c->hist_valid;
     float zero16[16] = { 0 };
     cl_float16 pvp = m16(blend ? f->prev->view.view_proj : zero16);
     cl_float4 peye = blend ? v4(f->prev->eye[0], f->prev->eye[1], f->prev->eye[2], 0)
                            : v4(0, 0, 0, 0);
     cl_float4 pfwd = blend ? v4(f->prev->forward[0], f->prev->forward[1], f->prev->forward[2], 0)
                            : v4(0, 0, 1, 0);
-    cl_int pslicing = blend ? (cl_int)f->prev_map.slicing : slicing;
     cl_float4 pmap = blend ? map4(&f->prev_map) : map;
-    cl_mem m_grid = grid;
 
-    cl_kernel k = c->columns;
-    cl_uint a = 0;
-    cl_int e = 0;
-#define ARG(x) (e |= clSetKernelArg(k, a++, sizeof(x), &(x)))
-    ARG(W), ARG(H), ARG(D), ARG(ivp), ARG(eye), ARG(fwd), ARG(img), ARG(c->slices);
-    ARG(accum), ARG(grey), ARG(ss), ARG(stt), ARG(g), ARG(nl), ARG(c->lights);
-    ARG(c->shadows), ARG(m_atlas), ARG(aw), ARG(ah), ARG(res), ARG(bias), ARG(blend);
-    ARG(history), ARG(pvp), ARG(peye), ARG(pfwd), ARG(pslicing), ARG(pmap), ARG(c->hist);
-    ARG(c->s), ARG(m_grid);
-    if (e)
-        return lg_cl_fail(n, e, "clSetKernelArg(fx_columns)");
-    cl_command_queue q = lg_cl_queue(n);
+    lg_cl_pass *k = c->columns;
+    unsigned a = 0;
+#define ARG(x) lg_cl_pass_arg(k, a++, sizeof(x), &(x))
+    lg_cl_pass_arg_int(k, a++, W), lg_cl_pass_arg_int(k, a++, H), lg_cl_pass_arg_int(k, a++, D);
+    ARG(ivp), ARG(eye), ARG(fwd), ARG(img);
+    lg_cl_pass_arg_mem(k, a++, c->slices.mem);
+    lg_cl_pass_arg_int(k, a++, accum), lg_cl_pass_arg_int(k, a++, grey);
+    ARG(ss), ARG(stt);
+    lg_cl_pass_arg_float(k, a++, v->g);
+    lg_cl_pass_arg_int(k, a++, (int32_t)v->n_lights);
+    lg_cl_pass_arg_mem(k, a++, c->lights.mem);
+    lg_cl_pass_arg_mem(k, a++, c->shadows.mem);
+    lg_cl_pass_arg_mem(k, a++, m_atlas);
+    lg_cl_pass_arg_int(k, a++, f->sm ? (int32_t)f->sm->atlas_width : 0);
+    lg_cl_pass_arg_int(k, a++, f->sm ? (int32_t)f->sm->atlas_height : 0);
+    lg_cl_pass_arg_int(k, a++, f->sm ? (int32_t)f->sm->resolution : 0);
+    lg_cl_pass_arg_float(k, a++, f->sm ? f->sm->bias_constant : 0);
+    lg_cl_pass_arg_int(k, a++, blend);
+    lg_cl_pass_arg_float(k, a++, f->history);
+    ARG(pvp), ARG(peye), ARG(pfwd);
+    lg_cl_pass_arg_int(k, a++, blend ? (int32_t)f->prev_map.slicing : slicing);
+    ARG(pmap);
+    lg_cl_pass_arg_mem(k, a++, c->hist.mem);
+    lg_cl_pass_arg_mem(k, a++, c->s.mem);
+    lg_cl_pass_arg_mem(k, a++, grid);
     size_t gsz = (size_t)f->w * f->h;
-    cl_event ev;
-    if ((e = clEnqueueNDRangeKernel(q, k, 1, NULL, &gsz, NULL, 0, NULL, &ev)))
-        return lg_cl_fail(n, e, "clEnqueueNDRangeKernel(fx_columns)");
-    lg_cl_profile(n, ev);
+    if ((rc = lg_cl_pass_run(k, 1, &gsz, NULL)))
+        return rc;
 
     k = c->lookup;
     a = 0;
-    cl_float zl = v->z_limit;
-    cl_mem mb = base, mbd = base_depth, mo = out, mod = out_depth, mi = ins;
-    ARG(W), ARG(H), ARG(D), ARG(ivp), ARG(eye), ARG(fwd), ARG(img), ARG(slicing), ARG(map);
-    ARG(c->slices), ARG(zl), ARG(accum), ARG(grey), ARG(stt), ARG(m_grid), ARG(c->s), ARG(mb), ARG(mbd), ARG(mo);
-    ARG(mod), ARG(mi);
+    lg_cl_pass_arg_int(k, a++, W), lg_cl_pass_arg_int(k, a++, H), lg_cl_pass_arg_int(k, a++, D);
+    ARG(ivp), ARG(eye), ARG(fwd), ARG(img);
+    lg_cl_pass_arg_int(k, a++, slicing);
+    ARG(map);
+    lg_cl_pass_arg_mem(k, a++, c->slices.mem);
+    lg_cl_pass_arg_float(k, a++, v->z_limit);
+    lg_cl_pass_arg_int(k, a++, accum), lg_cl_pass_arg_int(k, a++, grey);
+    ARG(stt);
+    lg_cl_pass_arg_mem(k, a++, grid);
+    lg_cl_pass_arg_mem(k, a++, c->s.mem);
+    lg_cl_pass_arg_mem(k, a++, base), lg_cl_pass_arg_mem(k, a++, base_depth);
+    lg_cl_pass_arg_mem(k, a++, out), lg_cl_pass_arg_mem(k, a++, out_depth);
+    lg_cl_pass_arg_mem(k, a++, ins);
 #undef ARG
-    if (e)
-        return lg_cl_fail(n, e, "clSetKernelArg(fx_lookup)");
     gsz = (size_t)v->width * v->height;
-    if ((e = clEnqueueNDRangeKernel(q, k, 1, NULL, &gsz, NULL, 0, NULL, &ev)))
-        return lg_cl_fail(n, e, "clEnqueueNDRangeKernel(fx_lookup)");
-    lg_cl_profile(n, ev);
+    if ((rc = lg_cl_pass_run(k, 1, &gsz, NULL)))
+        return rc;
     /* this frame's blended S is the next frame's history */
-    cl_mem t = c->s;
+    lg_cl_buffer t = c->s;
     c->s = c->hist;
     c->hist = t;
     c->hist_valid = true;
@@ -241,18 +231,14 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
 
 void fx_cl_destroy(lg_node *n, void *state)
 {
-    (void)n;
     fx_cl *c = state;
     if (!c)
         return;
-    if (c->columns)
-        clReleaseKernel(c->columns);
-    if (c->lookup)
-        clReleaseKernel(c->lookup);
-    cl_mem m[5] = { c->s, c->hist, c->lights, c->shadows, c->slices };
+    lg_cl_pass_destroy(&c->columns);
+    lg_cl_pass_destroy(&c->lookup);
+    lg_cl_buffer *m[5] = { &c->s, &c->hist, &c->lights, &c->shadows, &c->slices };
     for (int i = 0; i < 5; i++)
-        if (m[i])
-            clReleaseMemObject(m[i]);
+        lg_cl_buffer_destroy(n, m[i]);
     free(c->slices_host);
     free(c);
 }

@@ -1,6 +1,4 @@
-/* lg_cl_strerror, lg_cl_fail and lg_cl_source_join (lightgraph/cl.h). */
-#include <stdlib.h>
-#include <string.h>
+/* lg_cl_strerror and lg_cl_fail (lightgraph/cl.h). */
 
 #include "lightgraph/cl.h"
 
@@ -91,26 +89,4 @@ int lg_cl_fail(lg_node *node, cl_int err, const char *what)
         return LG_ERR_DEVICE;
     return lg_error_code(node, LG_ERR_DEVICE, "%s: %s (%d)", what ? what : "OpenCL",
                          lg_cl_strerror(err), (int)err);
-}
-
-char *lg_cl_source_join(const char *const *parts, size_t n_parts)
-{
-    size_t total = 1;
-    for (size_t i = 0; i < n_parts; i++) {
-        if (!parts || !parts[i])
-            return NULL;
-        total += strlen(parts[i]) + 1;
-    }
-    char *src = malloc(total), *w = src;
-    if (!src)
-        return NULL;
-    for (size_t i = 0; i < n_parts; i++) {
-        size_t len = strlen(parts[i]);
-        memcpy(w, parts[i], len);
-        w += len;
-        if (i + 1 < n_parts)
-            *w++ = '\n';
-    }
-    *w = '\0';
-    return src;
 }

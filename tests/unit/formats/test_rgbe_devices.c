@@ -34,6 +34,7 @@
 #include <string.h>
 
 #include "device.h"
+#include "common/cl_join.h"
 #include "devtest.h"
 #include "lightgraph/cl.h"
 #include "lightgraph/gl.h"
@@ -366,7 +367,7 @@ int main(int argc, char **argv)
         }
         printf("cl: %s\n", lg_cl_device_description(cldev));
         const char *parts[] = { lg_src_rgbe_cl, lg_src_rgbe_eval_cl };
-        char *src = lg_cl_source_join(parts, 2);
+        char *src = test_cl_join(parts, 2);
         CHECKF(src != NULL, "out of memory");
         char *log = NULL;
         cl_program p = src ? lg_cl_device_program(cldev, "rgbe_eval.cl", src, NULL, &log) : NULL;

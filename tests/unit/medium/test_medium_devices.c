@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "device.h"
+#include "common/cl_join.h"
 #include "devtest.h"
 #include "lightgraph/cl.h"
 #include "lightgraph/gl.h"
@@ -206,7 +207,7 @@ static void run_cl(void)
     }
     printf("cl: %s\n", lg_cl_device_description(cldev));
     const char *parts[] = { lg_src_medium_cl, lg_src_medium_eval_cl };
-    char *src = lg_cl_source_join(parts, 2);
+    char *src = test_cl_join(parts, 2);
     CHECKF(src != NULL, "out of memory");
     char *log = NULL;
     cl_program p = src ? lg_cl_device_program(cldev, "medium_eval.cl", src, NULL, &log) : NULL;
