@@ -36,6 +36,8 @@ typedef struct lg_plugin {
      * before. NULL: loaded from `path`. */
     char *load_path;
     bool poisoned;           /* crashed in create/prepare/execute: never dlclose'd */
+    bool builtin;            /* part of this program (lg_registry_add_builtin): `handle`
+                              * is not a dlopen handle, never dlclose'd */
 } lg_plugin;
 
 typedef struct lg_refusal {
@@ -71,6 +73,13 @@ typedef struct lg_registry {
 int lg_registry_scan(lg_registry *r);
 /* Scans exactly these files (tests). */
 int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n);
+/* Adds a plugin that is part of this program (the synthetic sources of `lightgraph
+ * conform`): `d` is validated as a loaded descriptor, its schema copied as a scanned one,
+ * and the entry counts as loaded from the start (never dlopen'ed, never dlclose'd). `d`
+ * must outlive the registry; `path` names it in messages. Returns 0, or -1 with the
+ * problem in err. */
+int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char *path,
+                            char *err, size_t errlen);
 const lg_node_type *lg_registry_lookup(const lg_registry *r, const char *type, lg_plugin **plugin);
 /* dlopens the plugin in this process, checks its descriptor again and that it matches the
  * scanned one. Returns 0 or -1 with a message in err. */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "conform.h"
 #include "host.h"
 #include "lightgraph/image.h"
 
@@ -73,6 +74,11 @@ static void help(FILE *f)
             "                   [--repeat N] [--size WxH] [-o DIR]   error against time\n"
             "  lightgraph devices [gl] [cl] [--gl osmesa|egl]  can the devices be made here?\n"
             "                   (exit 0: all named ones (default: both) can; 1: one cannot)\n"
+            "  lightgraph conform PLUGIN.so [--json] [--quick] [-v]  check one plugin's\n"
+            "                   contracts: descriptor, runs on synthetic inputs on every\n"
+            "                   backend, backends agree, hostile input, lifecycle, memory,\n"
+            "                   GL state, gating (docs/conform.md; exit 1 names the node,\n"
+            "                   the check and the values)\n"
             "  lightgraph --version | help\n"
             "\n"
             "option of every command: --max-pixels N  the largest image read or made, in\n"
@@ -89,7 +95,8 @@ static void help(FILE *f)
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
             "  default one per online CPU), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
             "  free bytes sweep assumes its output directory has)\n"
-            "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/fuzzing.md\n",
+            "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/conform.md,\n"
+            "  docs/fuzzing.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
@@ -153,7 +160,7 @@ int main(int argc, char **argv)
         {"render", lg_cmd_render}, {"check", lg_cmd_check},     {"fmt", lg_cmd_fmt},
         {"dot", lg_cmd_dot},       {"plugins", lg_cmd_plugins}, {"inspect", lg_cmd_inspect},
         {"diff", lg_cmd_diff},     {"sweep", lg_cmd_sweep},     {"devices", lg_cmd_devices},
-        {"view", lg_cmd_view},
+        {"view", lg_cmd_view},     {"conform", lg_cmd_conform},
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
@@ -168,8 +175,8 @@ int main(int argc, char **argv)
         return 0;
     }
     const char *names[] = {"render", "check", "fmt",     "dot",  "plugins", "inspect",
-                           "diff",   "sweep", "devices", "view", "help"};
-    const char *s = lg_suggest(cmd, names, 11);
+                           "diff",   "sweep", "devices", "view", "conform", "help"};
+    const char *s = lg_suggest(cmd, names, 12);
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;

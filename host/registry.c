@@ -856,6 +856,31 @@ int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n)
     return 0;
 }
 
+int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char *path,
+                            char *err, size_t errlen)
+{
+    if (lg_descriptor_validate(d, path, err, errlen))
+        return -1;
+    /* the same host-owned schema copy a scan makes, so that everything downstream (the
+     * checker, the planner, lg_registry_load's comparison) treats it as any plugin */
+    lg_str b = {0};
+    put_desc(&b, d);
+    lg_plugin p;
+    int rc = lg_registry_decode(b.s, b.len, &p, err, errlen);
+    lg_str_free(&b);
+    if (rc)
+        return -1;
+    p.path = lg_xstrdup(path);
+    p.handle = (void *)d;
+    p.live = d;
+    p.builtin = true;
+    r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
+    r->plugins[r->n_plugins] = lg_xmalloc(sizeof p);
+    *r->plugins[r->n_plugins++] = p;
+    finish_names(r);
+    return 0;
+}
+
 const lg_node_type *lg_registry_lookup(const lg_registry *r, const char *type, lg_plugin **plugin)
 {
     for (uint32_t i = 0; i < r->n_plugins; i++)
@@ -1034,7 +1059,8 @@ static void plugin_entry_free(lg_plugin *p)
      * registry is freed the executor has destroyed them all. LIGHTGRAPH_NO_DLCLOSE keeps
      * them mapped, so that a leak checker can still name their functions. A plugin that
      * crashed may have left anything behind: it stays mapped. */
-    if (p->handle && p->live_refs == 0 && !p->poisoned && !getenv("LIGHTGRAPH_NO_DLCLOSE"))
+    if (p->handle && !p->builtin && p->live_refs == 0 && !p->poisoned &&
+        !getenv("LIGHTGRAPH_NO_DLCLOSE"))
         dlclose(p->handle);
     if (p->load_path)
         unlink(p->load_path);
