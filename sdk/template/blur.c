@@ -24,7 +24,7 @@ static const lg_param_desc params[] = {
      .doc = "taps on each side of a pixel; 0 = ceil(3 sigma)"},
     /* The one backend parameter (lightgraph/plugin.h): the backends this node has, in the
      * order cpu, gl, cl, and its default. */
-    LG_PARAM_BACKEND(LG_BACKEND_CPU, LG_BACKEND_CPU),
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_CL, LG_BACKEND_CPU),
 };
 static const lg_port_desc inputs[] = {
     {.name = "image", .kind = LG_KIND_IMAGE, .doc = "the image to blur, rgba32f"},
@@ -96,7 +96,12 @@ static int blur_execute(lg_node *n, const lg_frame *frame)
                                    &st->reported_nonfinite);
     if (rc)
         return rc;
-    return acme_blur_cpu(n, st); /* gl and cl: next commit */
+    switch (st->device) {
+    case LG_DEVICE_CL:
+        return acme_blur_cl(n, st);
+    default:
+        return acme_blur_cpu(n, st);
+    }
 }
 
 static void blur_destroy(lg_node *n)
@@ -105,6 +110,7 @@ static void blur_destroy(lg_node *n)
     if (!st)
         return;
     acme_blur_cpu_free(n, st);
+    acme_blur_cl_free(n, st);
     free(st->weights);
     free(st);
     n->user = NULL;
