@@ -9,7 +9,8 @@
 #include "blur.h"
 
 struct acme_blur_cpu {
-    float *scratch; /* width x height rgba32f: the horizontal pass's result */
+    float *scratch; /* width x height rgba32f: the horizontal pass's result, then one padded
+                     * row (width + 2 radius pixels) per chunk of rows */
     size_t bytes;
 };
 
@@ -27,30 +28,39 @@ typedef struct blur_job {
     const float *src; /* the pass's input, rgba32f */
     float *dst;       /* its output */
     size_t src_row, dst_row; /* floats from one row to the next (lg_cpu_view.row_pixels x 4) */
+    float *pad;       /* pass_h: one padded row per chunk */
     const float *w;   /* radius + 1 weights */
     int radius;
     uint32_t width, height;
 } blur_job;
 
+/* A row at a time: its pixels sanitized and clamped to the edge into the chunk's padded row
+ * (r pixels more on each side), then the taps summed over whole rows, which vectorises as
+ * pass_v does. The sum's order (i = -r .. r, from 0) is the GPU backends'. */
 static void pass_h(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
-    (void)chunk;
     const blur_job *j = ctx;
     const int r = j->radius, wd = (int)j->width;
+    const size_t row = 4 * (size_t)j->width;
+    float *restrict pad = j->pad + (size_t)chunk * (row + 8 * (size_t)r);
     for (size_t y = begin; y < end; y++) {
         const float *src = j->src + y * j->src_row;
-        float *dst = j->dst + y * j->dst_row;
-        for (int x = 0; x < wd; x++) {
-            float acc[4] = {0, 0, 0, 0};
-            for (int i = -r; i <= r; i++) {
-                int xi = x + i < 0 ? 0 : x + i >= wd ? wd - 1 : x + i; /* clamp to edge */
-                float wt = j->w[i < 0 ? -i : i];
-                for (int c = 0; c < 4; c++)
-                    acc[c] += wt * acme_sanitize(src[4 * xi + c]);
-            }
+        float *restrict dst = j->dst + y * j->dst_row;
+        for (int x = -r; x < wd + r; x++) {
+            int xi = x < 0 ? 0 : x >= wd ? wd - 1 : x; /* clamp to edge */
             for (int c = 0; c < 4; c++)
-                dst[4 * x + c] = acme_sanitize(acc[c]);
+                pad[4 * (size_t)(x + r) + c] = acme_sanitize(src[4 * xi + c]);
         }
+        for (size_t k = 0; k < row; k++)
+            dst[k] = 0;
+        for (int i = -r; i <= r; i++) {
+            const float *restrict p = pad + 4 * (size_t)(i + r);
+            float wt = j->w[i < 0 ? -i : i];
+            for (size_t k = 0; k < row; k++)
+                dst[k] += wt * p[k];
+        }
+        for (size_t k = 0; k < row; k++)
+            dst[k] = acme_sanitize(dst[k]);
     }
 }
 
@@ -78,7 +88,11 @@ static void pass_v(void *ctx, size_t begin, size_t end, uint32_t chunk)
 
 int acme_blur_cpu(lg_node *n, acme_blur *st)
 {
-    size_t bytes = (size_t)st->width * st->height * 4 * sizeof(float);
+    /* chunks of about 16K pixels (whole rows): worth a hand-off, many per worker */
+    size_t grain = st->width >= 16384 ? 1 : 16384 / st->width;
+    size_t chunks = lg_parallel_chunks(st->height, grain);
+    size_t image = (size_t)st->width * st->height * 4, pad = 4 * ((size_t)st->width + 2 * st->radius);
+    size_t bytes = (image + chunks * pad) * sizeof(float);
     if (!st->cpu && !(st->cpu = calloc(1, sizeof *st->cpu)))
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (cpu backend state)");
     struct acme_blur_cpu *c = st->cpu;
@@ -96,15 +110,13 @@ int acme_blur_cpu(lg_node *n, acme_blur *st)
     if ((rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &in)) ||
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &out)))
         return rc;
-    /* chunks of about 16K pixels (whole rows): worth a hand-off, many per worker */
-    size_t grain = st->width >= 16384 ? 1 : 16384 / st->width;
     size_t row = 4 * (size_t)st->width;
-    blur_job h = {in.pixels, c->scratch, 4 * in.row_pixels, row, st->weights, st->radius,
-                  st->width, st->height};
+    blur_job h = {in.pixels, c->scratch, 4 * in.row_pixels, row, c->scratch + image,
+                  st->weights, st->radius, st->width, st->height};
     if ((rc = lg_parallel_for(n, st->height, grain, pass_h, &h)))
         return rc;
-    blur_job v = {c->scratch, out.pixels, row, 4 * out.row_pixels, st->weights, st->radius,
-                  st->width, st->height};
+    blur_job v = {c->scratch, out.pixels, row, 4 * out.row_pixels, NULL, st->weights,
+                  st->radius, st->width, st->height};
     return lg_parallel_for(n, st->height, grain, pass_v, &v);
 }
 
