@@ -12,6 +12,24 @@
  * the pass handles the first 32 of each (an index beyond is an error at look-up). */
 #define LG_PASS_MAX_BIND 32u
 
+/* Distinct sampler states a pass keeps objects for (ibl needs three). */
+#define LG_PASS_MAX_SAMPLERS 8u
+
+/* One GL sampler object per distinct lg_gl_sampler state (the reserved fields excluded). */
+typedef struct pass_sampler {
+    lg_gl_filter filter;
+    lg_gl_wrap wrap;
+    bool compare;
+    GLuint name;
+} pass_sampler;
+
+/* The buffer behind a uniform block binding (lg_gl_pass_uniforms): `checked` is the size
+ * that lg_gl_pass_check_block accepted, so that the layout is checked once. */
+typedef struct pass_ubo {
+    GLuint name;
+    size_t size, checked;
+} pass_ubo;
+
 /* What decides whether the scene's draw data can be kept (gl_pass.h: "made again when the
  * scene's meshes or instances change"): copies of the mesh and instance records (counts,
  * array addresses, matrices) and the material count the checks used. Comparing records
@@ -32,6 +50,7 @@ struct lg_gl_pass {
     GLenum colors[LG_GL_PASS_MAX_COLORS];
     unsigned n_colors;
     bool depth, depth_test, depth_write, depth_clamp;
+    GLenum depth_func;
     lg_gl_blend blend;
     lg_gl_cull cull;
     unsigned scene_attribs;
@@ -50,8 +69,13 @@ struct lg_gl_pass {
     pass_scene_key key;
 
     /* bound between begin and end: bit i = binding i */
-    uint32_t bound_ssbo, bound_ubo, bound_tex, bound_img;
-    bool wrote_images;
+    uint32_t bound_ssbo, bound_ubo, bound_tex, bound_img, bound_smp;
+    bool wrote_images, seamless;
+    int bind_failed; /* a binding reported an error between begin and end: end returns it */
+
+    pass_sampler samplers[LG_PASS_MAX_SAMPLERS];
+    unsigned n_samplers;
+    pass_ubo ubos[LG_PASS_MAX_BIND];
 };
 
 static char *dup_str(const char *s)
@@ -111,6 +135,17 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
     if ((unsigned)d->blend > LG_GL_BLEND_ADD || (unsigned)d->cull > LG_GL_CULL_FRONT)
         return lg_error(n, "gl pass '%s': unknown blend %d or cull %d", d->name, (int)d->blend,
                         (int)d->cull);
+    switch (d->depth_func) {
+    case 0: case GL_LESS: case GL_ALWAYS: case GL_LEQUAL: case GL_EQUAL: case GL_GREATER:
+    case GL_GEQUAL: case GL_NOTEQUAL: case GL_NEVER: break;
+    default:
+        return lg_error(n, "gl pass '%s': depth_func 0x%04x is not a GL comparison (GL_LESS, "
+                           "GL_ALWAYS, GL_LEQUAL, ...)",
+                        d->name, (unsigned)d->depth_func);
+    }
+    if (compute && d->depth_func)
+        return lg_error(n, "gl pass '%s': a compute pass has no depth test (depth_func 0x%04x)",
+                        d->name, (unsigned)d->depth_func);
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;
@@ -132,6 +167,7 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
     p->depth_test = d->depth_test;
     p->depth_write = d->depth_write;
     p->depth_clamp = d->depth_clamp;
+    p->depth_func = d->depth_func ? d->depth_func : GL_LESS;
     p->blend = d->blend;
     p->cull = d->cull;
     p->scene_attribs = d->scene ? d->scene | LG_GL_SCENE_POSITIONS : 0;
@@ -170,6 +206,13 @@ void lg_gl_pass_destroy(lg_gl_pass **pass)
             gl->DeleteFramebuffers(1, &p->fbo);
         if (p->empty_vao)
             gl->DeleteVertexArrays(1, &p->empty_vao);
+        for (unsigned i = 0; i < p->n_samplers; i++)
+            gl->DeleteSamplers(1, &p->samplers[i].name);
+        for (unsigned i = 0; i < LG_PASS_MAX_BIND; i++)
+            if (p->ubos[i].name) {
+                gl->DeleteBuffers(1, &p->ubos[i].name);
+                lg_account_free(p->node, p->ubos[i].size);
+            }
     }
     lg_scene_gl_destroy(gl, p->sgl);
     key_free(&p->key);
@@ -278,6 +321,36 @@ void lg_gl_set_mat4(lg_gl_pass *p, lg_gl_uniform u, const float m[16])
         p->gl->ProgramUniformMatrix4fv(p->program, u.location, 1, GL_FALSE, m);
 }
 
+void lg_gl_set_mat3(lg_gl_pass *p, lg_gl_uniform u, const float m[9])
+{
+    if (u.location >= 0)
+        p->gl->ProgramUniformMatrix3fv(p->program, u.location, 1, GL_FALSE, m);
+}
+
+void lg_gl_set_floatv(lg_gl_pass *p, lg_gl_uniform u, uint32_t count, const float *v)
+{
+    if (u.location >= 0 && count)
+        p->gl->ProgramUniform1fv(p->program, u.location, (GLsizei)count, v);
+}
+
+void lg_gl_set_intv(lg_gl_pass *p, lg_gl_uniform u, uint32_t count, const int32_t *v)
+{
+    if (u.location >= 0 && count)
+        p->gl->ProgramUniform1iv(p->program, u.location, (GLsizei)count, v);
+}
+
+void lg_gl_set_vec3_array(lg_gl_pass *p, lg_gl_uniform u, uint32_t count, const float *v)
+{
+    if (u.location >= 0 && count)
+        p->gl->ProgramUniform3fv(p->program, u.location, (GLsizei)count, v);
+}
+
+void lg_gl_set_vec4_array(lg_gl_pass *p, lg_gl_uniform u, uint32_t count, const float *v)
+{
+    if (u.location >= 0 && count)
+        p->gl->ProgramUniform4fv(p->program, u.location, (GLsizei)count, v);
+}
+
 static const char *kind_name(GLenum kind)
 {
     switch (kind) {
@@ -377,21 +450,11 @@ static GLint type_bytes(GLenum type, GLint matrix_stride)
     }
 }
 
-int lg_gl_pass_check_block(lg_gl_pass *p, GLenum kind, const char *block, size_t size)
+/* lg_gl_pass_check_block for the program's block resource `res` (named `block`). */
+static int check_block_res(lg_gl_pass *p, GLenum kind, GLuint res, const char *block,
+                           size_t size)
 {
     const lg_gl *gl = p->gl;
-    if (kind != GL_SHADER_STORAGE_BLOCK && kind != GL_UNIFORM_BLOCK) {
-        lg_error(p->node, "gl pass '%s': lg_gl_pass_check_block of '%s': kind 0x%x is not a "
-                          "block",
-                 p->name, block ? block : "(null)", (unsigned)kind);
-        return p->failed = LG_ERR_INVALID;
-    }
-    GLuint res = block ? gl->GetProgramResourceIndex(p->program, kind, block) : GL_INVALID_INDEX;
-    if (res == GL_INVALID_INDEX) {
-        lg_error(p->node, "gl pass '%s': the program has no %s '%s'", p->name, kind_name(kind),
-                 block ? block : "(null)");
-        return p->failed = LG_ERR_INVALID;
-    }
     const GLenum props[2] = { GL_BUFFER_DATA_SIZE, GL_NUM_ACTIVE_VARIABLES };
     GLint vals[2] = { 0, 0 };
     gl->GetProgramResourceiv(p->program, kind, res, 2, props, 2, NULL, vals);
@@ -445,6 +508,99 @@ int lg_gl_pass_check_block(lg_gl_pass *p, GLenum kind, const char *block, size_t
     return p->failed = LG_ERR_INVALID;
 }
 
+int lg_gl_pass_check_block(lg_gl_pass *p, GLenum kind, const char *block, size_t size)
+{
+    if (kind != GL_SHADER_STORAGE_BLOCK && kind != GL_UNIFORM_BLOCK) {
+        lg_error(p->node, "gl pass '%s': lg_gl_pass_check_block of '%s': kind 0x%x is not a "
+                          "block",
+                 p->name, block ? block : "(null)", (unsigned)kind);
+        return p->failed = LG_ERR_INVALID;
+    }
+    GLuint res = block ? p->gl->GetProgramResourceIndex(p->program, kind, block)
+                       : GL_INVALID_INDEX;
+    if (res == GL_INVALID_INDEX) {
+        lg_error(p->node, "gl pass '%s': the program has no %s '%s'", p->name, kind_name(kind),
+                 block ? block : "(null)");
+        return p->failed = LG_ERR_INVALID;
+    }
+    return check_block_res(p, kind, res, block, size);
+}
+
+/* The uniform block at binding `index`: its resource index and name (for messages), found
+ * by walking the program's blocks (a binding carries only its index). */
+static GLuint block_at_binding(lg_gl_pass *p, GLint index, char *name, size_t len)
+{
+    const lg_gl *gl = p->gl;
+    GLint n_blocks = 0;
+    gl->GetProgramInterfaceiv(p->program, GL_UNIFORM_BLOCK, GL_ACTIVE_RESOURCES, &n_blocks);
+    for (GLint i = 0; i < n_blocks; i++) {
+        const GLenum prop = GL_BUFFER_BINDING;
+        GLint binding = -1;
+        gl->GetProgramResourceiv(p->program, GL_UNIFORM_BLOCK, (GLuint)i, 1, &prop, 1, NULL,
+                                 &binding);
+        if (binding == index) {
+            gl->GetProgramResourceName(p->program, GL_UNIFORM_BLOCK, (GLuint)i, (GLsizei)len,
+                                       NULL, name);
+            return (GLuint)i;
+        }
+    }
+    snprintf(name, len, "(binding %d)", index);
+    return GL_INVALID_INDEX;
+}
+
+int lg_gl_pass_uniforms(lg_gl_pass *p, lg_gl_binding b, const void *data, size_t size)
+{
+    if (b.index < 0)
+        return 0;
+    if (b.kind != GL_UNIFORM_BLOCK || (GLuint)b.index >= LG_PASS_MAX_BIND)
+        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms on a %s at binding %d (it "
+                                 "takes a uniform block: lg_gl_pass_uniform_block)",
+                        p->name, kind_name(b.kind), b.index);
+    if (!p->active)
+        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms outside begin/end",
+                        p->name);
+    if (!data || size == 0)
+        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms at binding %d with %s",
+                        p->name, b.index, data ? "0 bytes" : "no data");
+    const lg_gl *gl = p->gl;
+    pass_ubo *u = &p->ubos[b.index];
+    if (u->checked != size) {
+        /* the layout is checked once per size: a struct that mirrors the block has one */
+        char name[128];
+        GLuint res = block_at_binding(p, b.index, name, sizeof name);
+        if (res == GL_INVALID_INDEX) {
+            lg_error(p->node, "gl pass '%s': the program has no uniform block at binding %d",
+                     p->name, b.index);
+            return p->failed = LG_ERR_INVALID;
+        }
+        int rc = check_block_res(p, GL_UNIFORM_BLOCK, res, name, size);
+        if (rc)
+            return rc;
+        u->checked = size;
+    }
+    if (u->name && u->size < size) {
+        gl->DeleteBuffers(1, &u->name);
+        lg_account_free(p->node, u->size);
+        u->name = 0;
+        u->size = 0;
+    }
+    if (!u->name) {
+        /* immutable storage, updated in place: a few hundred bytes per pass */
+        gl->CreateBuffers(1, &u->name);
+        gl->NamedBufferStorage(u->name, (GLsizeiptr)size, data, GL_DYNAMIC_STORAGE_BIT);
+        u->size = size;
+        lg_account_alloc(p->node, size);
+    } else {
+        gl->NamedBufferSubData(u->name, 0, (GLsizeiptr)size, data);
+    }
+    gl->BindBufferBase(GL_UNIFORM_BUFFER, (GLuint)b.index, u->name);
+    p->bound_ubo |= 1u << b.index;
+    char what[160];
+    snprintf(what, sizeof what, "gl pass '%s': uploading uniform block binding %d (%zu bytes)",
+             p->name, b.index, size);
+    return lg_gl_check(p->node, what);
+}
+
 void lg_gl_pass_bind_buffer(lg_gl_pass *p, lg_gl_binding b, GLuint buffer)
 {
     if (b.index < 0)
@@ -463,10 +619,77 @@ void lg_gl_pass_bind_buffer(lg_gl_pass *p, lg_gl_binding b, GLuint buffer)
 
 void lg_gl_pass_bind_texture(lg_gl_pass *p, lg_gl_binding b, GLuint tex)
 {
+    lg_gl_pass_bind_texture_sampled(p, b, tex, NULL);
+}
+
+/* The pass's sampler object for state `s`, made at its first use; 0 after an error. */
+static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
+{
+    for (unsigned i = 0; i < p->n_samplers; i++) {
+        const pass_sampler *k = &p->samplers[i];
+        if (k->filter == s->filter && k->wrap == s->wrap && k->compare == s->compare_less_equal)
+            return k->name;
+    }
+    static const GLint wraps[] = { GL_CLAMP_TO_EDGE, GL_REPEAT, GL_MIRRORED_REPEAT,
+                                   GL_CLAMP_TO_BORDER };
+    if ((unsigned)s->filter > LG_GL_FILTER_LINEAR_MIPMAP ||
+        (unsigned)s->wrap > LG_GL_WRAP_BORDER_ZERO) {
+        p->bind_failed = lg_error(p->node, "gl pass '%s': sampler with unknown filter %d or "
+                                           "wrap %d",
+                                  p->name, (int)s->filter, (int)s->wrap);
+        return 0;
+    }
+    if (p->n_samplers == LG_PASS_MAX_SAMPLERS) {
+        p->bind_failed = lg_error_code(p->node, LG_ERR_UNSUPPORTED,
+                                       "gl pass '%s': more than %u distinct sampler states",
+                                       p->name, LG_PASS_MAX_SAMPLERS);
+        return 0;
+    }
+    const lg_gl *gl = p->gl;
+    GLuint name = 0;
+    gl->CreateSamplers(1, &name);
+    GLint mag = s->filter == LG_GL_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR;
+    GLint min = s->filter == LG_GL_FILTER_LINEAR_MIPMAP ? GL_LINEAR_MIPMAP_LINEAR : mag;
+    gl->SamplerParameteri(name, GL_TEXTURE_MIN_FILTER, min);
+    gl->SamplerParameteri(name, GL_TEXTURE_MAG_FILTER, mag);
+    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_S, wraps[s->wrap]);
+    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_T, wraps[s->wrap]);
+    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_R, wraps[s->wrap]);
+    const float border[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+    gl->SamplerParameterfv(name, GL_TEXTURE_BORDER_COLOR, border);
+    if (s->compare_less_equal) {
+        gl->SamplerParameteri(name, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        gl->SamplerParameteri(name, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    }
+    p->samplers[p->n_samplers++] =
+        (pass_sampler){ .filter = s->filter, .wrap = s->wrap,
+                        .compare = s->compare_less_equal, .name = name };
+    return name;
+}
+
+void lg_gl_pass_bind_texture_sampled(lg_gl_pass *p, lg_gl_binding b, GLuint tex,
+                                     const lg_gl_sampler *s)
+{
     if (b.index < 0)
         return;
-    p->gl->BindTextureUnit((GLuint)b.index, tex);
-    p->bound_tex |= 1u << b.index;
+    const lg_gl *gl = p->gl;
+    GLuint unit = (GLuint)b.index, smp = 0;
+    if (s && !(smp = sampler_for(p, s)))
+        return;
+    gl->BindTextureUnit(unit, tex);
+    p->bound_tex |= 1u << unit;
+    /* a sampler this pass put on the unit earlier would override the texture's own state */
+    if (smp || (p->bound_smp & (1u << unit))) {
+        gl->BindSampler(unit, smp);
+        if (smp)
+            p->bound_smp |= 1u << unit;
+        else
+            p->bound_smp &= ~(1u << unit);
+    }
+    if (s && s->seamless_cube && !p->seamless) {
+        gl->Enable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+        p->seamless = true;
+    }
 }
 
 void lg_gl_pass_bind_image_level(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLint level,
@@ -620,7 +843,7 @@ static void set_raster_state(lg_gl_pass *p)
         gl->Enable(GL_DEPTH_TEST);
     else
         gl->Disable(GL_DEPTH_TEST);
-    gl->DepthFunc(GL_LESS);
+    gl->DepthFunc(p->depth_func);
     gl->DepthRangef(0.0f, 1.0f);
     gl->DepthMask(p->depth_write ? GL_TRUE : GL_FALSE);
     if (p->depth_clamp)
@@ -687,8 +910,11 @@ int lg_gl_pass_begin(lg_gl_pass *p, const lg_gl_target *target)
         p->target = *target;
     }
     p->active = true;
-    p->bound_ssbo = p->bound_ubo = p->bound_tex = p->bound_img = 0;
+    p->bound_ssbo = p->bound_ubo = p->bound_tex = p->bound_img = p->bound_smp = 0;
     p->wrote_images = false;
+    p->bind_failed = 0;
+    p->gl->Disable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    p->seamless = false;
     if (!p->compute)
         set_raster_state(p);
     p->gl->UseProgram(p->program);
@@ -941,6 +1167,11 @@ int lg_gl_pass_end(lg_gl_pass *p, int rc)
     for (GLuint i = 0, m = p->bound_tex; m; i++, m >>= 1)
         if (m & 1u)
             gl->BindTextureUnit(i, 0);
+    for (GLuint i = 0, m = p->bound_smp; m; i++, m >>= 1)
+        if (m & 1u)
+            gl->BindSampler(i, 0);
+    if (p->seamless)
+        gl->Disable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     for (GLuint i = 0, m = p->bound_img; m; i++, m >>= 1)
         if (m & 1u)
             gl->BindImageTexture(i, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8);
@@ -961,10 +1192,14 @@ int lg_gl_pass_end(lg_gl_pass *p, int rc)
         gl->BlendFunc(GL_ONE, GL_ZERO);
     }
     p->active = false;
-    p->bound_ssbo = p->bound_ubo = p->bound_tex = p->bound_img = 0;
+    p->seamless = false;
+    p->bound_ssbo = p->bound_ubo = p->bound_tex = p->bound_img = p->bound_smp = 0;
     memset(&p->target, 0, sizeof p->target);
     char what[160];
     snprintf(what, sizeof what, "gl pass '%s'", p->name);
     int e = lg_gl_check(p->node, what);
+    if (!e)
+        e = p->bind_failed;
+    p->bind_failed = 0;
     return rc ? rc : e;
 }

@@ -35,30 +35,33 @@
  * State. lg_gl_pass_begin sets all the state the pass relies on (below); lg_gl_pass_end
  * leaves GL as docs/devices.md ("The GL state contract") wants it after a node: framebuffer
  * 0 (draw and read), program 0, vertex array 0, buffer 0 on the generic GL_ARRAY_BUFFER,
- * GL_SHADER_STORAGE_BUFFER and GL_UNIFORM_BUFFER points, every indexed buffer binding,
- * texture unit and image unit the pass bound unbound again, active texture GL_TEXTURE0;
- * and for a raster pass the capabilities it changed at GL's defaults (depth test, depth
- * clamp, blend, cull face and scissor test disabled, depth mask true, glDepthFunc
- * GL_LESS, glCullFace GL_BACK, glFrontFace GL_CCW, blend GL_ONE, GL_ZERO, GL_FUNC_ADD). A
- * node that runs only passes therefore needs no unbinding code of its own. Between begin
- * and end the pass's program is current and its framebuffer bound; a node may call GL
- * itself there (it then restores what it changed beyond the list above).
+ * GL_SHADER_STORAGE_BUFFER and GL_UNIFORM_BUFFER points, every indexed buffer binding
+ * (lg_gl_pass_uniforms' blocks included), texture unit, sampler object and image unit the
+ * pass bound unbound again, seamless cube maps off, active texture GL_TEXTURE0; and for a
+ * raster pass the capabilities it changed at GL's defaults (depth test, depth clamp, blend,
+ * cull face and scissor test disabled, depth mask true, glDepthFunc GL_LESS, glCullFace
+ * GL_BACK, glFrontFace GL_CCW, blend GL_ONE, GL_ZERO, GL_FUNC_ADD). A node that runs only
+ * passes therefore needs no unbinding code of its own, and needs no GL state call of its
+ * own either: what a pass may change is in its descriptor (depth function, blending,
+ * culling), its texture bindings (sampler state) and its uniforms (arrays, mat3, blocks).
+ * Between begin and end the pass's program is current and its framebuffer bound.
  *
- * Raster state set by begin: the framebuffer with the target's textures attached (made once,
- * attached again at every begin, so that a texture the host re-made is never missed), draw
- * buffers = the colour attachments, viewport = the whole target, scissor test off, colour
- * mask all true, depth test (glDepthFunc GL_LESS, glDepthRange 0..1) and depth mask as the
- * descriptor says, depth clamp, polygon offset off, rasterizer discard off, polygon mode
- * fill, blending, glCullFace (culling itself: see lg_gl_pass_draw_scene), glFrontFace
- * GL_CCW, the program.
+ * State set by begin, every pass: seamless cube maps off (a seamless binding turns them
+ * on), the program. Raster passes also: the framebuffer with the target's textures
+ * attached (made once, attached again at every begin, so that a texture the host re-made
+ * is never missed), draw buffers = the colour attachments, viewport = the whole target,
+ * scissor test off, colour mask all true, depth test (glDepthFunc = the descriptor's
+ * depth_func, GL_LESS by default; glDepthRange 0..1) and depth mask as the descriptor
+ * says, depth clamp, polygon offset off, rasterizer discard off, polygon mode fill,
+ * blending, glCullFace (culling itself: see lg_gl_pass_draw_scene), glFrontFace GL_CCW.
  *
  * Errors. Every int function returns 0 or an LG_ERR_* after reporting on the node (the
  * message names the pass). lg_gl_pass_uniform and the binding look-ups report a name the
  * program does not have and leave the pass failed: its next begin returns LG_ERR_INVALID
  * without drawing, so that a node may look up all its names in a row and check once.
  *
- * Ownership. The pass owns its program, framebuffer, vertex arrays and instance buffer;
- * lg_gl_pass_destroy deletes them and needs the node's GL context current (call it from
+ * Ownership. The pass owns its program, framebuffer, vertex arrays, instance buffer,
+ * sampler objects and uniform-block buffers; lg_gl_pass_destroy deletes them and needs the node's GL context current (call it from
  * the node's destroy, or execute). Textures and buffers handed to the pass stay the
  * caller's (or the host's); the pass never deletes them. The descriptor and its strings
  * are copied: they need not outlive lg_gl_pass_create. One pass belongs to one node and one
@@ -146,7 +149,7 @@ typedef struct lg_gl_pass_desc {
     bool depth;
 
     /* Raster state (zero: off). */
-    bool depth_test;  /* GL_LESS against the depth attachment */
+    bool depth_test;  /* against the depth attachment, with depth_func (GL_LESS) */
     bool depth_write; /* else glDepthMask(GL_FALSE) */
     bool depth_clamp; /* GL_DEPTH_CLAMP: nothing is clipped by the near and far planes */
     lg_gl_blend blend;
@@ -157,6 +160,12 @@ typedef struct lg_gl_pass_desc {
      * receives the index of a batch's first record (NULL: "u_first"). */
     unsigned scene;
     const char *first_uniform;
+
+    /* Since ABI 3.0: the depth test's comparison (glDepthFunc), set at begin and restored
+     * to GL_LESS at end. 0 = GL_LESS; GL_ALWAYS (a full-screen pass that writes every
+     * pixel's depth whatever the cleared plane holds), GL_LEQUAL, GL_EQUAL, GL_GREATER,
+     * GL_GEQUAL, GL_NOTEQUAL, GL_NEVER. Only meaningful with depth_test. */
+    GLenum depth_func;
 
     void *reserved[4];
 } lg_gl_pass_desc;
@@ -204,6 +213,18 @@ LG_API void lg_gl_set_vec3v(lg_gl_pass *pass, lg_gl_uniform u, const float v[3])
 LG_API void lg_gl_set_vec4v(lg_gl_pass *pass, lg_gl_uniform u, const float v[4]);
 LG_API void lg_gl_set_mat4(lg_gl_pass *pass, lg_gl_uniform u, const float m[16]); /* column-major */
 
+/* Since ABI 3.0: a mat3 (9 floats, column-major, as lightgraph/probe.h's rotation), and
+ * arrays: `count` elements from element 0 of the array uniform `u` (look it up as "u_x" or
+ * "u_x[0]"); v holds count floats, ints, vec3s (3 * count floats, packed) or vec4s
+ * (4 * count floats). A count beyond the array's length is GL's error, reported at end. */
+LG_API void lg_gl_set_mat3(lg_gl_pass *pass, lg_gl_uniform u, const float m[9]);
+LG_API void lg_gl_set_floatv(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count, const float *v);
+LG_API void lg_gl_set_intv(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count, const int32_t *v);
+LG_API void lg_gl_set_vec3_array(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count,
+                                 const float *v);
+LG_API void lg_gl_set_vec4_array(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count,
+                                 const float *v);
+
 /* A binding point of the program, by the name of what the shader binds there:
  *   lg_gl_pass_storage        a shader storage block ("LgLights", the block's name)
  *   lg_gl_pass_uniform_block  a uniform block
@@ -236,6 +257,36 @@ LG_API lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *pass, GLenum kind,
 LG_API int lg_gl_pass_check_block(lg_gl_pass *pass, GLenum kind, const char *block,
                                   size_t size);
 
+/* Since ABI 3.0: a whole uniform block from one C struct that mirrors it (sokol's
+ * sg_apply_uniforms), in place of a setter call per uniform:
+ *
+ *     typedef struct my_params {            // layout(std140, binding = 1) uniform MyParams {
+ *         float view_proj[16];              //     mat4 view_proj;
+ *         float light_dir[3];               //     vec3 light_dir;
+ *         float exposure;                   //     float exposure;
+ *     } my_params;                          // };
+ *     LG_GL_BLOCK_SIZE(my_params, 80);
+ *     LG_GL_BLOCK_OFFSET(my_params, exposure, 76);
+ *
+ *     st->b_params = lg_gl_pass_uniform_block(st->pass, "MyParams");   // once
+ *     ...
+ *     my_params u = { .exposure = 2.0f, ... };                          // between begin and end
+ *     if ((rc = lg_gl_pass_uniforms(st->pass, st->b_params, &u, sizeof u)))
+ *         return lg_gl_pass_end(st->pass, rc);
+ *
+ * The pass owns one buffer per block binding (made at the first call, counted in the
+ * node's profile with lg_account_alloc, deleted by lg_gl_pass_destroy). The first call for
+ * a binding, and any call with another `size`, checks `size` against the block as
+ * lg_gl_pass_check_block does (std140's rounding included: mirror a float array as
+ * vec4-strided); a mismatch is an error naming the pass, the block and both sizes, and
+ * fails the pass. Then `data` is uploaded and the buffer bound to the block's binding
+ * until end. Calling it again before another draw replaces the values (GL keeps what an
+ * earlier draw of the same pass read). An absent optional binding (index -1) does nothing
+ * and returns 0. Returns 0, LG_ERR_INVALID (outside begin/end, not a uniform block, size
+ * mismatch) or LG_ERR_DEVICE. */
+LG_API int lg_gl_pass_uniforms(lg_gl_pass *pass, lg_gl_binding block, const void *data,
+                               size_t size);
+
 /* Binds, between begin and end (end unbinds): the whole of `buffer` to a storage or
  * uniform block; texture `tex` to a sampler's unit; level 0 of `tex` to an image unit with
  * `access` (GL_READ_ONLY, GL_WRITE_ONLY, GL_READ_WRITE) and `format` (GL_RGBA32F...). */
@@ -254,6 +305,40 @@ LG_API void lg_gl_pass_bind_image(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
 LG_API void lg_gl_pass_bind_image_level(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
                                         GLint level, GLint layer, GLenum access,
                                         GLenum format);
+
+/* Since ABI 3.0: how a texture binding samples (zero = bilinear, clamped to the edge, not
+ * seamless, no comparison). */
+typedef enum lg_gl_filter {
+    LG_GL_FILTER_LINEAR = 0,  /* bilinear, level 0's neighbours (GL_LINEAR both ways) */
+    LG_GL_FILTER_NEAREST,     /* the nearest texel (GL_NEAREST both ways) */
+    LG_GL_FILTER_LINEAR_MIPMAP, /* trilinear: GL_LINEAR_MIPMAP_LINEAR, magnified GL_LINEAR */
+} lg_gl_filter;
+
+typedef enum lg_gl_wrap {
+    LG_GL_WRAP_CLAMP = 0,     /* GL_CLAMP_TO_EDGE */
+    LG_GL_WRAP_REPEAT,        /* GL_REPEAT */
+    LG_GL_WRAP_MIRROR,        /* GL_MIRRORED_REPEAT */
+    LG_GL_WRAP_BORDER_ZERO,   /* GL_CLAMP_TO_BORDER with a border of (0, 0, 0, 0) */
+} lg_gl_wrap;
+
+typedef struct lg_gl_sampler {
+    lg_gl_filter filter;
+    lg_gl_wrap wrap;         /* all axes (S, T, R) */
+    bool seamless_cube;      /* cube-map fetches filter across faces (see below) */
+    bool compare_less_equal; /* depth comparison for a sampler2DShadow: GL_LEQUAL */
+    uint32_t reserved[4];
+} lg_gl_sampler;
+
+/* Binds `tex` to the unit of sampler `b` with the sampler state `s` (NULL: the texture's
+ * own parameters, as lg_gl_pass_bind_texture), between begin and end. The pass owns the
+ * GL sampler objects: one per distinct state, made at its first use and deleted by
+ * lg_gl_pass_destroy; end unbinds them from their units. seamless_cube sets
+ * GL_TEXTURE_CUBE_MAP_SEAMLESS, which GL 4.5 core has as one switch for the whole context:
+ * from this bind to end every cube-map fetch of the pass is seamless (begin turns it off,
+ * end turns it off again). An unknown filter or wrap is an error reported on the node and
+ * the binding is left unmade. */
+LG_API void lg_gl_pass_bind_texture_sampled(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
+                                            const lg_gl_sampler *s);
 
 /* ---- a raster pass ------------------------------------------------------------------------- */
 

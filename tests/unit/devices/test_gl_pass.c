@@ -2,7 +2,11 @@
  * drawing known triangles into a node's output (depth test, blending, clears), a compute pass
  * with group counts from its local size, a scene's draw data kept across frames and made
  * again when the scene changes, name look-ups and their errors, target checks, and the GL
- * state after end. Exits 77 if no context can be made. */
+ * state after end; since ABI 3.0 the depth function, sampler state in texture bindings
+ * (filter, wrap, comparison, seamless cube maps), mat3 and array uniforms and whole uniform
+ * blocks (lg_gl_pass_uniforms), each proved by pixels or values read back. Exits 77 if no
+ * context can be made. */
+#include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -115,6 +119,19 @@ static int host_map_gl(lg_node *n, const lg_resource *r, unsigned access, uint32
     return 0;
 }
 
+/* The profile's count of what the SDK allocates for the node (uniform-block buffers). */
+static int64_t accounted;
+static void host_account_alloc(lg_node *n, uint64_t bytes)
+{
+    (void)n;
+    accounted += (int64_t)bytes;
+}
+static void host_account_free(lg_node *n, uint64_t bytes)
+{
+    (void)n;
+    accounted -= (int64_t)bytes;
+}
+
 static const lg_host_api host = {
     .struct_size = sizeof(lg_host_api),
     .abi_major = LG_ABI_MAJOR,
@@ -127,6 +144,8 @@ static const lg_host_api host = {
     .gl = host_gl,
     .gl_check = host_gl_check,
     .payload_gl_buffer = host_payload_gl_buffer,
+    .account_alloc = host_account_alloc,
+    .account_free = host_account_free,
 };
 
 static const lg_port_desc outputs[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
@@ -213,13 +232,26 @@ static void check_restored(const lg_gl *gl, const char *when)
         gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &v);
         CHECKF(v == 0, "%s: texture unit %u = %d", when, i, v);
     }
+    for (GLuint i = 0; i < 8; i++) {
+        gl->ActiveTexture(GL_TEXTURE0 + i);
+        gl->GetIntegerv(GL_SAMPLER_BINDING, &v);
+        CHECKF(v == 0, "%s: sampler object %d left on unit %u", when, v, i);
+        gl->GetIntegerv(GL_TEXTURE_BINDING_CUBE_MAP, &v);
+        CHECKF(v == 0, "%s: cube map %d left on unit %u", when, v, i);
+        gl->GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, i, &v);
+        CHECKF(v == 0, "%s: uniform buffer binding %u = %d", when, i, v);
+    }
     gl->ActiveTexture(GL_TEXTURE0);
     CHECKF(!gl->IsEnabled(GL_DEPTH_TEST) && !gl->IsEnabled(GL_BLEND) &&
                !gl->IsEnabled(GL_CULL_FACE) && !gl->IsEnabled(GL_DEPTH_CLAMP),
            "%s: a capability is left enabled", when);
+    CHECKF(!gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS), "%s: seamless cube maps left on",
+           when);
     GLboolean mask = GL_FALSE;
     gl->GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
     CHECKF(mask == GL_TRUE, "%s: depth mask left false", when);
+    gl->GetIntegerv(GL_DEPTH_FUNC, &v);
+    CHECKF(v == GL_LESS, "%s: glDepthFunc left 0x%04x (want GL_LESS)", when, (unsigned)v);
     GLenum e = gl->GetError();
     CHECKF(e == GL_NO_ERROR, "%s: %s pending", when, lg_gl_strerror(e));
 }
@@ -713,6 +745,430 @@ static void test_scene(const lg_gl *gl)
             gl->DeleteBuffers(1, &slot_buf[i]);
 }
 
+
+/* ---- ABI 3.0: depth function, sampler state, more uniforms, uniform blocks ------------------ */
+
+/* depth_func: a depth plane cleared to 0 hides everything from GL_LESS; GL_ALWAYS draws
+ * behind it and writes the fragment's depth. */
+static void test_depth_func(const lg_gl *gl)
+{
+    clear_errors();
+    out_color = make_tex(gl, GL_RGBA32F, W, H);
+    out_depth = make_tex(gl, GL_DEPTH_COMPONENT32F, W, H);
+    GLuint black = make_tex(gl, GL_RGBA32F, 1, 1), scale_buf;
+    const float zero[4] = { 0, 0, 0, 0 }, one = 1.0f;
+    gl->ClearTexImage(black, 0, GL_RGBA, GL_FLOAT, zero);
+    gl->CreateBuffers(1, &scale_buf);
+    gl->NamedBufferStorage(scale_buf, sizeof one, &one, 0);
+    const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "tri.vert", tri_vert },
+                                      { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
+    float px[W * H * 4], dp[W * H];
+    for (int always = 0; always < 2; always++) {
+        lg_gl_pass_desc d = { .name = always ? "always" : "less", .stages = src,
+                              .n_stages = 2, .output = "out", .colors = { GL_RGBA32F },
+                              .depth = true, .depth_test = true, .depth_write = true,
+                              .depth_func = always ? GL_ALWAYS : 0 };
+        lg_gl_pass *p = NULL;
+        CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create %s: %s", d.name, errors);
+        if (!p)
+            continue;
+        lg_gl_uniform u_z = lg_gl_pass_uniform(p, "u_z"), u_c = lg_gl_pass_uniform(p, "u_color");
+        lg_gl_binding t = lg_gl_pass_texture(p, "u_tex"), sc = lg_gl_pass_storage(p, "Scale");
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin %s: %s", d.name, errors);
+        GLint func = 0;
+        gl->GetIntegerv(GL_DEPTH_FUNC, &func);
+        CHECKF(func == (always ? GL_ALWAYS : GL_LESS), "%s: begin set glDepthFunc 0x%04x",
+               d.name, (unsigned)func);
+        lg_gl_pass_clear_color(p, 0, zero);
+        lg_gl_pass_clear_depth(p, 0.0f);
+        lg_gl_pass_bind_texture(p, t, black);
+        lg_gl_pass_bind_buffer(p, sc, scale_buf);
+        const float red[4] = { 1, 0, 0, 1 };
+        lg_gl_set_float(p, u_z, 0.5f); /* window depth 0.75, behind the plane */
+        lg_gl_set_vec4v(p, u_c, red);
+        CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw(p, GL_TRIANGLES, 3)) == 0, "draw %s: %s",
+               d.name, errors);
+        check_restored(gl, always ? "after a GL_ALWAYS pass" : "after a GL_LESS pass");
+        read_rgba(gl, out_color, px, W, H);
+        gl->GetTextureImage(out_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)sizeof dp, dp);
+        const float *in = &px[(1 * W + 1) * 4];
+        float din = dp[1 * W + 1];
+        if (always)
+            CHECKF(in[0] == 1.0f && din == 0.75f, "GL_ALWAYS: pixel %g, depth %g (want 1, 0.75: "
+                   "drawn behind the plane)", in[0], din);
+        else
+            CHECKF(in[0] == 0.0f && din == 0.0f, "GL_LESS: pixel %g, depth %g (want 0, 0: "
+                   "hidden)", in[0], din);
+        lg_gl_pass_destroy(&p);
+    }
+    clear_errors();
+    lg_gl_pass *bad = NULL;
+    lg_gl_pass_desc bd = { .name = "badfunc", .stages = src, .n_stages = 2,
+                           .colors = { GL_RGBA32F }, .depth_func = GL_RGBA32F };
+    CHECKF(lg_gl_pass_create(&node, &bd, &bad) == LG_ERR_INVALID && !bad &&
+               strstr(errors, "'badfunc'") && strstr(errors, "depth_func"),
+           "a bad depth_func: %s", errors);
+    GLuint texs[3] = { out_color, out_depth, black };
+    gl->DeleteTextures(3, texs);
+    gl->DeleteBuffers(1, &scale_buf);
+}
+
+/* Samples u_tex at (u_u[i], 0.5), level u_lod, into o[i] (also lg_gl_set_floatv). */
+static const char sample2d_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 8) in;\n"
+    "layout(binding = 0) uniform sampler2D u_tex;\n"
+    "uniform float u_u[8];\n"
+    "uniform float u_lod;\n"
+    "layout(std430, binding = 1) writeonly buffer Out { vec4 o[8]; };\n"
+    "void main()\n"
+    "{\n"
+    "    uint i = gl_GlobalInvocationID.x;\n"
+    "    o[i] = textureLod(u_tex, vec2(u_u[i], 0.5), u_lod);\n"
+    "}\n";
+
+static const char samplecube_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 1) in;\n"
+    "layout(binding = 3) uniform samplerCube u_cube;\n"
+    "uniform vec3 u_dir;\n"
+    "layout(std430, binding = 1) writeonly buffer Out { vec4 o[8]; };\n"
+    "void main() { o[0] = textureLod(u_cube, u_dir, 0.0); }\n";
+
+static const char shadow_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 2) in;\n"
+    "layout(binding = 2) uniform sampler2DShadow u_shadow;\n"
+    "uniform float u_ref[2];\n"
+    "layout(std430, binding = 1) writeonly buffer Out { vec4 o[8]; };\n"
+    "void main()\n"
+    "{\n"
+    "    uint i = gl_GlobalInvocationID.x;\n"
+    "    o[i] = vec4(textureLod(u_shadow, vec3(0.5, 0.5, u_ref[i]), 0.0));\n"
+    "}\n";
+
+/* Runs `p` (one of the shaders above) once and reads o[0..n) (their red channels) back. */
+static int run_sample(const lg_gl *gl, lg_gl_pass *p, GLuint out, uint32_t n, float *r)
+{
+    lg_gl_binding ob = lg_gl_pass_storage(p, "Out");
+    lg_gl_pass_bind_buffer(p, ob, out);
+    int rc = lg_gl_pass_end(p, lg_gl_pass_dispatch(p, n, 1, 1));
+    float o[8 * 4];
+    gl->GetNamedBufferSubData(out, 0, sizeof o, o);
+    for (uint32_t i = 0; i < n; i++)
+        r[i] = o[i * 4];
+    return rc;
+}
+
+static void test_samplers(const lg_gl *gl)
+{
+    clear_errors();
+    GLuint out;
+    gl->CreateBuffers(1, &out);
+    gl->NamedBufferStorage(out, 8 * 4 * sizeof(float), NULL, GL_DYNAMIC_STORAGE_BIT);
+    /* a 4x1 texture of red 0, 1, 2, 3 at level 0 and 10, 30 at level 1; its own
+     * parameters say nearest */
+    GLuint tex;
+    gl->CreateTextures(GL_TEXTURE_2D, 1, &tex);
+    gl->TextureStorage2D(tex, 2, GL_RGBA32F, 4, 1);
+    const float l0[16] = { 0, 0, 0, 1, 1, 0, 0, 1, 2, 0, 0, 1, 3, 0, 0, 1 };
+    const float l1[8] = { 10, 0, 0, 1, 30, 0, 0, 1 };
+    gl->TextureSubImage2D(tex, 0, 0, 0, 4, 1, GL_RGBA, GL_FLOAT, l0);
+    gl->TextureSubImage2D(tex, 1, 0, 0, 2, 1, GL_RGBA, GL_FLOAT, l1);
+    gl->TextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl->TextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+    const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "sample2d.comp", sample2d_comp };
+    lg_gl_pass_desc d = { .name = "sample", .stages = &src, .n_stages = 1 };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    lg_gl_binding t = lg_gl_pass_texture(p, "u_tex");
+    lg_gl_uniform uu = lg_gl_pass_uniform(p, "u_u"), lod = lg_gl_pass_uniform(p, "u_lod");
+    CHECKF(error_count == 0, "look-ups: %s", errors);
+
+    /* filters at u = 0.4 (between texels 1 and 2; x = 1.6 - 0.5 = 1.1 texels), level 0 */
+    const float at[8] = { 0.4f, 1.4f };
+    struct { const char *what; const lg_gl_sampler *s; float want; } f[] = {
+        { "texture's own (nearest)", NULL, 1.0f },
+        { "LINEAR", &(lg_gl_sampler){ .filter = LG_GL_FILTER_LINEAR }, 1.1f },
+        { "NEAREST", &(lg_gl_sampler){ .filter = LG_GL_FILTER_NEAREST }, 1.0f },
+        { "NULL again after a sampler", NULL, 1.0f },
+    };
+    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
+        float r[1];
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        lg_gl_pass_bind_texture_sampled(p, t, tex, f[i].s);
+        if (i == 3) /* a LINEAR sampler first, then the texture's own state on the same unit */
+            lg_gl_pass_bind_texture_sampled(p, t, tex, f[1].s),
+                lg_gl_pass_bind_texture_sampled(p, t, tex, NULL);
+        lg_gl_set_floatv(p, uu, 2, at);
+        lg_gl_set_float(p, lod, 0.0f);
+        CHECKF(run_sample(gl, p, out, 1, r) == 0, "%s: %s", f[i].what, errors);
+        CHECKF(fabsf(r[0] - f[i].want) < 1e-3f, "%s at u 0.4: %g (want %g)", f[i].what, r[0],
+               f[i].want);
+        check_restored(gl, f[i].what);
+    }
+    /* trilinear: level 0.5 blends levels 0 and 1 (level 1 at u 0.4: x = 0.3 texels, 16);
+     * LINEAR reads level 0 alone */
+    for (int tri = 0; tri < 2; tri++) {
+        lg_gl_sampler s = { .filter = tri ? LG_GL_FILTER_LINEAR_MIPMAP : LG_GL_FILTER_LINEAR };
+        float r[1];
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        lg_gl_pass_bind_texture_sampled(p, t, tex, &s);
+        lg_gl_set_floatv(p, uu, 1, at);
+        lg_gl_set_float(p, lod, 0.5f);
+        CHECKF(run_sample(gl, p, out, 1, r) == 0, "mip: %s", errors);
+        float want = tri ? 0.5f * 1.1f + 0.5f * 16.0f : 1.1f;
+        CHECKF(fabsf(r[0] - want) < 2e-2f, "%s at level 0.5: %g (want %g)",
+               tri ? "LINEAR_MIPMAP" : "LINEAR", r[0], want);
+    }
+    /* wraps at u = 1.4, nearest: clamp gives texel 3, repeat 0.4 -> texel 1, mirror 0.6 ->
+     * texel 2, the zero border 0 */
+    const float want_wrap[4] = { 3, 1, 2, 0 };
+    for (int w = 0; w < 4; w++) {
+        lg_gl_sampler s = { .filter = LG_GL_FILTER_NEAREST, .wrap = (lg_gl_wrap)w };
+        float r[2];
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        lg_gl_pass_bind_texture_sampled(p, t, tex, &s);
+        lg_gl_set_floatv(p, uu, 2, at);
+        lg_gl_set_float(p, lod, 0.0f);
+        CHECKF(run_sample(gl, p, out, 2, r) == 0, "wrap %d: %s", w, errors);
+        CHECKF(r[1] == want_wrap[w] && r[0] == 1.0f, "wrap %d at u 1.4: %g (want %g)", w, r[1],
+               want_wrap[w]);
+    }
+    check_restored(gl, "after sampled bindings");
+    /* an unknown wrap is an error at end, and nothing is bound */
+    clear_errors();
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    lg_gl_sampler bad = { .wrap = (lg_gl_wrap)9 };
+    lg_gl_pass_bind_texture_sampled(p, t, tex, &bad);
+    CHECKF(lg_gl_pass_end(p, 0) == LG_ERR_INVALID && strstr(errors, "'sample'") &&
+               strstr(errors, "wrap 9"),
+           "a bad sampler: %s", errors);
+    check_restored(gl, "after a bad sampler");
+    lg_gl_pass_destroy(&p);
+
+    /* depth comparison: a depth texel of 0.5 passes a reference of 0.4 and fails 0.6 */
+    clear_errors();
+    GLuint depth = make_tex(gl, GL_DEPTH_COMPONENT32F, 1, 1);
+    const float half = 0.5f;
+    gl->ClearTexImage(depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, &half);
+    const lg_gl_shader_src ssrc = { GL_COMPUTE_SHADER, "shadow.comp", shadow_comp };
+    lg_gl_pass_desc sd = { .name = "shadow", .stages = &ssrc, .n_stages = 1 };
+    CHECKF(lg_gl_pass_create(&node, &sd, &p) == 0, "create shadow: %s", errors);
+    if (p) {
+        lg_gl_binding sb = lg_gl_pass_texture(p, "u_shadow");
+        lg_gl_uniform ref = lg_gl_pass_uniform(p, "u_ref");
+        const float refs[2] = { 0.4f, 0.6f };
+        lg_gl_sampler s = { .filter = LG_GL_FILTER_NEAREST, .compare_less_equal = true };
+        float r[2];
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        lg_gl_pass_bind_texture_sampled(p, sb, depth, &s);
+        lg_gl_set_floatv(p, ref, 2, refs);
+        CHECKF(run_sample(gl, p, out, 2, r) == 0, "shadow: %s", errors);
+        CHECKF(r[0] == 1.0f && r[1] == 0.0f, "compare: ref 0.4 -> %g, 0.6 -> %g (want 1, 0)",
+               r[0], r[1]);
+        check_restored(gl, "after a shadow sampler");
+        lg_gl_pass_destroy(&p);
+    }
+
+    /* seamless cube maps: 2x2 faces, +X red 1, the others 0; a direction next to the edge
+     * of +X and +Z: clamped to +X alone (1) or filtered across the edge (about 1/2) */
+    clear_errors();
+    GLuint cube;
+    gl->CreateTextures(GL_TEXTURE_CUBE_MAP, 1, &cube);
+    gl->TextureStorage2D(cube, 1, GL_RGBA32F, 2, 2);
+    for (int face = 0; face < 6; face++) {
+        float v[16];
+        for (int k = 0; k < 4; k++) {
+            v[k * 4] = face == 0 ? 1.0f : 0.0f;
+            v[k * 4 + 1] = v[k * 4 + 2] = 0.0f;
+            v[k * 4 + 3] = 1.0f;
+        }
+        gl->TextureSubImage3D(cube, 0, 0, 0, face, 2, 2, 1, GL_RGBA, GL_FLOAT, v);
+    }
+    const lg_gl_shader_src csrc = { GL_COMPUTE_SHADER, "cube.comp", samplecube_comp };
+    lg_gl_pass_desc cd = { .name = "cube", .stages = &csrc, .n_stages = 1 };
+    CHECKF(lg_gl_pass_create(&node, &cd, &p) == 0, "create cube: %s", errors);
+    if (p) {
+        lg_gl_binding cb = lg_gl_pass_texture(p, "u_cube");
+        lg_gl_uniform dir = lg_gl_pass_uniform(p, "u_dir");
+        for (int seamless = 0; seamless < 2; seamless++) {
+            lg_gl_sampler s = { .seamless_cube = seamless };
+            float r[1];
+            CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+            CHECKF(!gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS), "begin left seamless on");
+            lg_gl_pass_bind_texture_sampled(p, cb, cube, &s);
+            CHECKF(gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS) == (GLboolean)seamless,
+                   "seamless %d: the switch is %d", seamless,
+                   gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS));
+            lg_gl_set_vec3(p, dir, 1.0f, 0.0f, 0.999f);
+            CHECKF(run_sample(gl, p, out, 1, r) == 0, "cube: %s", errors);
+            if (seamless)
+                CHECKF(r[0] > 0.4f && r[0] < 0.6f, "seamless at the edge: %g (want about 0.5)",
+                       r[0]);
+            else
+                CHECKF(r[0] == 1.0f, "not seamless at the edge: %g (want +X's 1)", r[0]);
+            check_restored(gl, seamless ? "after a seamless cube" : "after a clamped cube");
+        }
+        lg_gl_pass_destroy(&p);
+    }
+    gl->DeleteTextures(1, &tex);
+    gl->DeleteTextures(1, &depth);
+    gl->DeleteTextures(1, &cube);
+    gl->DeleteBuffers(1, &out);
+}
+
+/* mat3, int/vec3/vec4 arrays and a std140 block, written out for the C side to compare. */
+static const char uniforms_comp[] =
+    "#version 450\n"
+    "layout(local_size_x = 1) in;\n"
+    "uniform mat3 u_m;\n"
+    "uniform int u_i[3];\n"
+    "uniform vec3 u_v3[2];\n"
+    "uniform vec4 u_v4[2];\n"
+    "layout(std140, binding = 4) uniform Params {\n"
+    "    mat4 view_proj;\n"
+    "    vec3 dir;\n"
+    "    float exposure;\n"
+    "    ivec2 size;\n"
+    "    float weights[3];\n"
+    "} u_p;\n"
+    "layout(std430, binding = 1) writeonly buffer Out { vec4 o[16]; };\n"
+    "void main()\n"
+    "{\n"
+    "    o[0] = vec4(u_m * vec3(1.0, 10.0, 100.0), 0.0);\n"
+    "    o[1] = vec4(u_i[0], u_i[1], u_i[2], 0.0);\n"
+    "    o[2] = vec4(u_v3[0], 0.0);\n"
+    "    o[3] = vec4(u_v3[1], 0.0);\n"
+    "    o[4] = u_v4[0];\n"
+    "    o[5] = u_v4[1];\n"
+    "    o[6] = u_p.view_proj * vec4(1.0, 2.0, 3.0, 1.0);\n"
+    "    o[7] = vec4(u_p.dir, u_p.exposure);\n"
+    "    o[8] = vec4(u_p.size, 0.0, 0.0);\n"
+    "    o[9] = vec4(u_p.weights[0], u_p.weights[1], u_p.weights[2], 0.0);\n"
+    "}\n";
+
+/* The C mirror of Params: std140 strides a float array by 16 bytes. */
+typedef struct params {
+    float view_proj[16];
+    float dir[3];
+    float exposure;
+    int32_t size[2];
+    float pad_[2];
+    float weights[3][4];
+} params;
+LG_GL_BLOCK_SIZE(params, 144);
+LG_GL_BLOCK_OFFSET(params, exposure, 76);
+LG_GL_BLOCK_OFFSET(params, size, 80);
+LG_GL_BLOCK_OFFSET(params, weights, 96);
+
+static void test_uniforms(const lg_gl *gl)
+{
+    clear_errors();
+    accounted = 0;
+    GLuint out;
+    gl->CreateBuffers(1, &out);
+    gl->NamedBufferStorage(out, 16 * 4 * sizeof(float), NULL, GL_DYNAMIC_STORAGE_BIT);
+    const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "uniforms.comp", uniforms_comp };
+    lg_gl_pass_desc d = { .name = "uniforms", .stages = &src, .n_stages = 1 };
+    lg_gl_pass *p = NULL;
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (!p)
+        return;
+    lg_gl_uniform um = lg_gl_pass_uniform(p, "u_m"), ui = lg_gl_pass_uniform(p, "u_i");
+    lg_gl_uniform uv3 = lg_gl_pass_uniform(p, "u_v3"), uv4 = lg_gl_pass_uniform(p, "u_v4[0]");
+    lg_gl_binding blk = lg_gl_pass_uniform_block(p, "Params");
+    lg_gl_binding ob = lg_gl_pass_storage(p, "Out");
+    CHECKF(error_count == 0 && blk.index == 4, "look-ups (block at %d): %s", blk.index, errors);
+
+    /* columns (1,2,3), (4,5,6), (7,8,9): m * (1, 10, 100) = (741, 852, 963) */
+    const float m[9] = { 1, 2, 3, 4, 5, 6, 7, 8, 9 };
+    const int32_t iv[3] = { -7, 0, 2147483647 };
+    const float v3[6] = { 1.5f, 2.5f, 3.5f, -1, -2, -3 };
+    const float v4[8] = { 0.25f, 0.5f, 0.75f, 1, 5, 6, 7, 8 };
+    params u = { .dir = { 0.1f, 0.2f, 0.3f }, .exposure = 2.5f, .size = { 640, -360 },
+                 .weights = { { 0.125f }, { 0.25f }, { 0.375f } } };
+    for (int i = 0; i < 4; i++)
+        u.view_proj[i * 5] = (float)(i + 2); /* diag(2, 3, 4, 5) */
+    u.view_proj[12] = 100.0f;                 /* + 100 in x */
+    for (int frame = 0; frame < 2; frame++) {
+        if (frame == 1) /* a new value in the same buffer */
+            u.exposure = -4.0f;
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        lg_gl_set_mat3(p, um, m);
+        lg_gl_set_intv(p, ui, 3, iv);
+        lg_gl_set_vec3_array(p, uv3, 2, v3);
+        lg_gl_set_vec4_array(p, uv4, 2, v4);
+        int rc = lg_gl_pass_uniforms(p, blk, &u, sizeof u);
+        CHECKF(rc == 0, "uniforms: %s", errors);
+        GLint bound = 0;
+        gl->GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, 4, &bound);
+        CHECKF(bound != 0, "the block's buffer is not bound between begin and end");
+        lg_gl_pass_bind_buffer(p, ob, out);
+        CHECKF(lg_gl_pass_end(p, lg_gl_pass_dispatch(p, 1, 1, 1)) == 0, "dispatch: %s", errors);
+        check_restored(gl, "after a uniform-block pass");
+        float o[16 * 4];
+        gl->GetNamedBufferSubData(out, 0, sizeof o, o);
+        CHECKF(o[0] == 741 && o[1] == 852 && o[2] == 963, "mat3: %g %g %g (want 741 852 963)",
+               o[0], o[1], o[2]);
+        CHECKF(o[4] == -7 && o[5] == 0 && o[6] == 2147483647.0f, "int array: %g %g %g", o[4],
+               o[5], o[6]);
+        CHECKF(o[8] == 1.5f && o[10] == 3.5f && o[12] == -1 && o[14] == -3,
+               "vec3 array: %g %g / %g %g", o[8], o[10], o[12], o[14]);
+        CHECKF(o[16] == 0.25f && o[19] == 1 && o[20] == 5 && o[23] == 8,
+               "vec4 array: %g %g / %g %g", o[16], o[19], o[20], o[23]);
+        CHECKF(o[24] == 102 && o[25] == 6 && o[26] == 12 && o[27] == 5,
+               "block mat4: %g %g %g %g (want 102 6 12 5)", o[24], o[25], o[26], o[27]);
+        CHECKF(o[28] == 0.1f && o[30] == 0.3f && o[31] == u.exposure,
+               "block vec3 + float: %g %g %g (want 0.1 0.3 %g)", o[28], o[30], o[31],
+               u.exposure);
+        CHECKF(o[32] == 640 && o[33] == -360, "block ivec2: %g %g", o[32], o[33]);
+        CHECKF(o[36] == 0.125f && o[37] == 0.25f && o[38] == 0.375f,
+               "block float[3]: %g %g %g", o[36], o[37], o[38]);
+    }
+    CHECKF(accounted == (int64_t)sizeof u, "the block's buffer counts %lld bytes (want %zu)",
+           (long long)accounted, sizeof u);
+
+    /* outside begin/end; a struct of the wrong size (named, and the pass fails) */
+    clear_errors();
+    CHECKF(lg_gl_pass_uniforms(p, blk, &u, sizeof u) == LG_ERR_INVALID &&
+               strstr(errors, "outside begin/end"),
+           "outside: %s", errors);
+    clear_errors();
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    int rc = lg_gl_pass_uniforms(p, blk, &u, sizeof u - 16);
+    CHECKF(rc == LG_ERR_INVALID && strstr(errors, "'uniforms'") && strstr(errors, "'Params'") &&
+               strstr(errors, "mirrors it 128"),
+           "a short struct: %s", errors);
+    lg_gl_pass_end(p, rc);
+    check_restored(gl, "after a refused block");
+    clear_errors();
+    CHECKF(lg_gl_pass_begin(p, NULL) == LG_ERR_INVALID, "the pass began after a bad block");
+    lg_gl_pass_destroy(&p);
+    CHECKF(accounted == 0, "%lld bytes still counted after destroy", (long long)accounted);
+
+    /* an absent optional block does nothing; a storage binding is refused */
+    clear_errors();
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    if (p) {
+        lg_gl_binding none = lg_gl_pass_binding_optional(p, GL_UNIFORM_BLOCK, "Nope");
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_uniforms(p, none, &u, sizeof u) == 0 && error_count == 0,
+               "absent block: %s", errors);
+        CHECKF(lg_gl_pass_uniforms(p, lg_gl_pass_storage(p, "Out"), &u, sizeof u) ==
+                       LG_ERR_INVALID &&
+                   strstr(errors, "storage block"),
+               "a storage block taken for uniforms: %s", errors);
+        lg_gl_pass_end(p, 0);
+        check_restored(gl, "after an absent block");
+        lg_gl_pass_destroy(&p);
+    }
+    gl->DeleteBuffers(1, &out);
+}
+
 int main(int argc, char **argv)
 {
     const char *backend = argc > 1 ? argv[1] : "osmesa";
@@ -730,6 +1186,9 @@ int main(int argc, char **argv)
     test_image_levels(the_gl);
     test_stride();
     test_scene(the_gl);
+    test_depth_func(the_gl);
+    test_samplers(the_gl);
+    test_uniforms(the_gl);
     lg_gl_device_destroy(&dev);
     return check_report("gl_pass");
 }
