@@ -1,5 +1,5 @@
 /* lightgraph render | check | fmt | dot. Exit status: 0 success, 1 failure while running,
- * 2 bad usage or bad graph. */
+ * 2 bad usage or bad graph, 3 (LG_EXIT_CRASH) a plugin crashed in a callback. */
 #include "host.h"
 
 #include <errno.h>
@@ -334,6 +334,9 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
         ex.reg = reg;
         ex.graph = g;
         ex.checked = c;
+        /* a plugin that crashes in a callback ends the run with its node named, its
+         * temporaries removed and LG_EXIT_CRASH (sweep shares this path) */
+        ex.guard = LG_GUARD_EXIT;
         rc = lg_plan(&ex) ? 1 : 0;
         if (opts->explain && ex.nodes) {
             lg_explain_print(&ex, stdout);

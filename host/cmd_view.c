@@ -453,7 +453,7 @@ static int try_load(viewer *v, bool initial, bool full, char *err, size_t errlen
     ex->cl = v->cl;
     ex->camera = v->cam_on ? &v->cam_out : NULL;
     ex->camera_gen = v->cam_gen;
-    ex->guard = true;
+    ex->guard = LG_GUARD_RECOVER;
     l.ex = ex;
     int rc = lg_plan(ex);
     if (rc == 0)

@@ -4,11 +4,13 @@
 #include "lightgraph/kinds.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <pthread.h>
 #include <setjmp.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
@@ -38,15 +40,76 @@ static void read_cl_events(lg_pnode *n)
 /* ---- the crash guard (ex->guard) ------------------------------------------------------ */
 
 static sigjmp_buf guard_jmp;
-static volatile sig_atomic_t guard_active, guard_sig;
+static volatile sig_atomic_t guard_active, guard_sig, guard_exit;
 static pthread_t guard_thread;
 static const int guard_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 #define N_GUARD_SIGNALS (sizeof guard_signals / sizeof guard_signals[0])
+/* LG_GUARD_EXIT: what the handler writes, prepared before the call (lg_node_call), since
+ * nothing but write(2) can be trusted in the handler: the head names the node, its type,
+ * its plugin and the callback, the signal's number and name follow, then the tail. */
+static char guard_head[PATH_MAX + 2048]; /* a plugin path of up to PATH_MAX, names */
+static size_t guard_head_len;
+/* the main thread's stack for the handler, so that a plugin that overflowed its stack is
+ * reported too (pool threads have none: such a crash there stays a crash) */
+static char guard_stack[64 * 1024];
+
+/* The signal's description without strsignal(), which is not async-signal-safe. */
+static const char *guard_signal_text(int sig)
+{
+    switch (sig) {
+    case SIGSEGV: return "SIGSEGV, segmentation fault";
+    case SIGBUS: return "SIGBUS, bus error";
+    case SIGFPE: return "SIGFPE, arithmetic exception";
+    case SIGILL: return "SIGILL, illegal instruction";
+    case SIGABRT: return "SIGABRT, aborted";
+    default: return "?";
+    }
+}
+
+static void guard_write(const char *s, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(2, s, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return;
+        s += w;
+        n -= (size_t)w;
+    }
+}
+
+/* LG_GUARD_EXIT: the prepared message, the signal, every temporary removed, and the
+ * process ends with LG_EXIT_CRASH. Only async-signal-safe calls (write, unlink, _exit). */
+static void guard_die(int sig)
+{
+    char num[16];
+    size_t k = sizeof num;
+    unsigned v = (unsigned)sig;
+    do
+        num[--k] = (char)('0' + v % 10);
+    while ((v /= 10) && k > 0);
+    static const char tail[] = "); the run is stopped and no output file is written (exit "
+                               "status 3)\n";
+    _Static_assert(LG_EXIT_CRASH == 3, "the message above names the exit status");
+    guard_write(guard_head, guard_head_len);
+    guard_write(num + k, sizeof num - k);
+    guard_write(", ", 2);
+    const char *name = guard_signal_text(sig);
+    guard_write(name, strlen(name));
+    guard_write(tail, sizeof tail - 1);
+    lg_temp_remove_all();
+    _exit(LG_EXIT_CRASH);
+}
 
 static void guard_handler(int sig)
 {
-    /* only the thread that made the call can jump back to it: a crash on a pool thread
-     * (lg_parallel_for) stays a crash */
+    /* LG_GUARD_EXIT: a crash on any thread while the callback runs is the node's (a pool
+     * thread running its lg_parallel_for body, a driver thread it started) */
+    if (guard_active && guard_exit)
+        guard_die(sig);
+    /* LG_GUARD_RECOVER: only the thread that made the call can jump back to it: a crash on
+     * a pool thread (lg_parallel_for) stays a crash */
     if (guard_active && pthread_equal(pthread_self(), guard_thread)) {
         guard_active = 0;
         guard_sig = sig;
@@ -56,9 +119,9 @@ static void guard_handler(int sig)
     raise(sig);
 }
 
-int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx)
+int lg_guard_call(lg_guard_mode mode, void (*fn)(void *ctx), void *ctx)
 {
-    if (!on) {
+    if (mode == LG_GUARD_NONE) {
         fn(ctx);
         return 0;
     }
@@ -69,9 +132,20 @@ int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx)
     sa.sa_handler = guard_handler;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_NODEFER;
+    stack_t alt, old_alt;
+    bool on_alt = false;
+    if (mode == LG_GUARD_EXIT) {
+        memset(&alt, 0, sizeof alt);
+        alt.ss_sp = guard_stack;
+        alt.ss_size = sizeof guard_stack;
+        on_alt = sigaltstack(&alt, &old_alt) == 0;
+        if (on_alt)
+            sa.sa_flags |= SA_ONSTACK;
+    }
     for (size_t i = 0; i < N_GUARD_SIGNALS; i++)
         sigaction(guard_signals[i], &sa, &old[i]);
     guard_sig = 0;
+    guard_exit = mode == LG_GUARD_EXIT;
     guard_thread = pthread_self();
     if (sigsetjmp(guard_jmp, 1) == 0) {
         guard_active = 1;
@@ -80,7 +154,35 @@ int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx)
     }
     for (size_t i = 0; i < N_GUARD_SIGNALS; i++)
         sigaction(guard_signals[i], &old[i], NULL);
+    if (on_alt)
+        sigaltstack(&old_alt, NULL);
     return (int)guard_sig;
+}
+
+int lg_node_call(lg_exec *ex, lg_pnode *n, const char *what, void (*fn)(void *ctx), void *ctx)
+{
+    if (ex->guard == LG_GUARD_EXIT) {
+        /* the description the handler writes, set before every callback: formatting it in
+         * the handler would call what a crashed process cannot trust (malloc, stdio) */
+        int len = snprintf(guard_head, sizeof guard_head,
+                           "lightgraph: error: node '%s' (%s): crashed in %s() (plugin %s, %s; "
+                           "signal ",
+                           n->pub.name, n->schema ? n->schema->name : "?", what,
+                           n->plugin ? n->plugin->name : "?", n->plugin ? n->plugin->path : "?");
+        guard_head_len = len < 0 ? 0 : (size_t)len < sizeof guard_head ? (size_t)len
+                                                                        : sizeof guard_head - 1;
+        /* what this process printed so far comes before the message */
+        fflush(stdout);
+        fflush(stderr);
+    }
+    int sig = lg_guard_call(ex->guard, fn, ctx);
+    if (sig) {
+        n->crashed = true;
+        n->plugin->poisoned = true;
+        lg_node_errorf(n, "crashed in %s() (signal %d, %s); plugin %s", what, sig,
+                       strsignal(sig), n->plugin->path);
+    }
+    return sig;
 }
 
 typedef struct exec_call {
@@ -106,15 +208,11 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     double t0 = lg_now();
     double gpu0 = n->gpu_ms;
     exec_call call = {n, frame, 0};
-    int sig = lg_guard_call(ex->guard, call_execute, &call);
+    int sig = lg_node_call(ex, n, "execute", call_execute, &call);
     int rc = call.rc;
     if (sig) {
         if (timed_gl)
             gl->EndQuery(GL_TIME_ELAPSED);
-        n->crashed = true;
-        n->plugin->poisoned = true;
-        lg_node_errorf(n, "crashed in execute() (signal %d, %s); plugin %s", sig, strsignal(sig),
-                       n->plugin->path);
         return -1;
     }
     if (timed_gl) {
@@ -562,6 +660,12 @@ void lg_explain_print(lg_exec *ex, FILE *f)
         fprintf(f, "cl device: %s\n", lg_cl_device_description(ex->cl));
 }
 
+static void call_destroy(void *p)
+{
+    lg_pnode *n = p;
+    n->pub.type->destroy(&n->pub);
+}
+
 void lg_exec_free(lg_exec *ex)
 {
     if (!ex->nodes)
@@ -576,7 +680,7 @@ void lg_exec_free(lg_exec *ex)
             continue;
         if (n->created) {
             if (n->pub.type->destroy && !n->crashed)
-                n->pub.type->destroy(&n->pub);
+                lg_node_call(ex, n, "destroy", call_destroy, n);
             if (!n->crashed)
                 n->plugin->live_refs--;
         }

@@ -38,6 +38,8 @@ typedef struct lg_plugin {
     bool poisoned;           /* crashed in create/prepare/execute: never dlclose'd */
     bool builtin;            /* part of this program (lg_registry_add_builtin): `handle`
                               * is not a dlopen handle, never dlclose'd */
+    uint64_t dev, ino;       /* the file's identity when scanned: one file reached through
+                              * two folders of the search path is scanned once */
 } lg_plugin;
 
 typedef struct lg_refusal {
@@ -66,10 +68,14 @@ typedef struct lg_registry {
     bool private_copies;
 } lg_registry;
 
-/* Finds the plugin directories (LIGHTGRAPH_PLUGIN_PATH, then the build tree when the
- * program runs from it, then the install directory) and scans every lg_*.so in them
- * (and in their immediate subdirectories). Refused plugins are recorded with the reason
- * and reported as warnings. Returns 0 (an empty registry is not an error here). */
+/* Finds the plugin directories (LIGHTGRAPH_PLUGIN_PATH, then the program's own: the build
+ * tree's plugins/ when the program runs from it, else the install directory) and scans
+ * every lg_*.so in them and in their immediate subdirectories (not deeper; a file reached
+ * twice is scanned once). Names are unique (names.h): a plugin whose name, or one of whose
+ * node type names, a plugin found before it already has is refused, naming both files;
+ * the shipped plugins of the program's own directory are taken before any other. Refused
+ * plugins are recorded with the reason and reported as warnings. Returns 0 (an empty
+ * registry is not an error here). */
 int lg_registry_scan(lg_registry *r);
 /* Scans exactly these files (tests). */
 int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n);
@@ -294,6 +300,26 @@ typedef struct lg_exec_opts {
                                   * path is added to it before the run */
 } lg_exec_opts;
 
+/* The exit status of render and sweep when a plugin crashed in one of its callbacks
+ * (LG_GUARD_EXIT); 0, 1 and 2 are main.c's. */
+#define LG_EXIT_CRASH 3
+
+/* What a crash in a plugin callback does (lg_guard_call). */
+typedef enum lg_guard_mode {
+    LG_GUARD_NONE = 0, /* nothing: a crash stays a crash (false, before ABI 3.0) */
+    /* the viewer's reloads (a broken plugin must not take the window down): the call
+     * returns, the node fails with the signal and is never called again, its plugin is
+     * never dlclose'd; a crash on another thread stays a crash (1: the `true` of the
+     * bool this field was before ABI 3.0) */
+    LG_GUARD_RECOVER = 1,
+    /* render and sweep: the handler writes the message lg_node_call prepared (node, type,
+     * plugin and its path, callback, signal) with write(2), removes every temporary of the
+     * outputs and the cache (lg_temp_remove_all) and _exit()s with LG_EXIT_CRASH; a crash
+     * on any thread during the callback counts, and the calling thread's stack overflow
+     * too (the handler runs on a stack of its own) */
+    LG_GUARD_EXIT,
+} lg_guard_mode;
+
 typedef struct lg_exec {
     lg_exec_opts opts;
     lg_registry *reg;
@@ -329,10 +355,9 @@ typedef struct lg_exec {
      * runs again the nodes that read a scene. */
     const lg_camera *camera;
     uint64_t camera_gen;
-    /* Plugin callbacks of nodes made in this plan run under a guard that turns a crash
-     * (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT) into an error of that node (the viewer's
-     * reloads: a broken plugin must not take the window down). */
-    bool guard;
+    /* How plugin callbacks (create, prepare, execute, destroy) of nodes made in this plan
+     * meet a crash (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT): see lg_guard_mode. */
+    lg_guard_mode guard;
 } lg_exec;
 
 /* Makes the plan: cull (kept only what an output or a side-effect node needs), then in
@@ -347,8 +372,15 @@ void lg_plan_rollback(lg_exec *ex);
  * scenes and LG_NODE_VIEW_INDEPENDENT ones), or reads a node that ran in this frame.
  * Returns 0, or -1 after reporting. */
 int lg_exec_frame(lg_exec *ex, uint32_t index);
-/* A guarded call (ex->guard): 0, or the signal that interrupted fn. */
-int lg_guard_call(bool on, void (*fn)(void *ctx), void *ctx);
+/* fn(ctx) under the guard `mode` asks for: 0, or (LG_GUARD_RECOVER) the signal that
+ * interrupted fn. With LG_GUARD_EXIT a crash does not return (lg_node_call prepares the
+ * message first). */
+int lg_guard_call(lg_guard_mode mode, void (*fn)(void *ctx), void *ctx);
+/* A plugin callback of node n (`what`: "create", "prepare", "execute", "destroy") under
+ * ex->guard: with LG_GUARD_EXIT the handler's message is prepared first; with
+ * LG_GUARD_RECOVER a crash marks n crashed and its plugin poisoned and reports it as the
+ * node's error. Returns 0, or the signal. */
+int lg_node_call(lg_exec *ex, lg_pnode *n, const char *what, void (*fn)(void *ctx), void *ctx);
 /* Runs the frames and writes the outputs. */
 int lg_execute(lg_exec *ex);
 void lg_exec_free(lg_exec *ex);

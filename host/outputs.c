@@ -45,10 +45,15 @@ static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP};
 
 /* Removes every temporary, then dies of `sig` as the process would have without the
  * handler. Async-signal-safe. */
-static void clean_up_and_die(int sig)
+void lg_temp_remove_all(void)
 {
     for (size_t i = 0; getpid() == g_pid && i < g_ntmp; i++)
         unlink(g_tmp[i]);
+}
+
+static void clean_up_and_die(int sig)
+{
+    lg_temp_remove_all();
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = SIG_DFL;

@@ -24,7 +24,9 @@
  *
  * Missing directories are refused, never created: the message names the directory.
  *
- * Stale temporaries. A process killed outright (SIGKILL, a crash) leaves its temporaries.
+ * Stale temporaries. A process killed outright (SIGKILL, a crash outside a plugin callback:
+ * a plugin's crash in render or sweep removes them, lg_temp_remove_all) leaves its
+ * temporaries.
  * Adding a destination removes those of earlier processes beside it whose PID (in the name)
  * is no running process; a live process's are kept (a directory can be shared by
  * concurrent renders); only names of exactly that pattern are touched.
@@ -100,6 +102,11 @@ void lg_outputs_free(lg_outputs **o);
  * `tmp` stays the caller's and must stay valid until untracked. */
 void lg_temp_track(char *tmp);
 void lg_temp_untrack(const char *tmp);
+
+/* Removes every temporary the handlers know (the outputs' and the cache's), for a handler
+ * that then ends the process (a plugin's crash: exec.c, LG_GUARD_EXIT). Async-signal-safe
+ * (unlink only); a no-op in a forked child. */
+void lg_temp_remove_all(void);
 
 /* Whether no process has `pid` (kill(pid, 0) fails with ESRCH): the temporaries it named
  * after itself are stale. False for this process and for a live process of another user. */

@@ -186,7 +186,7 @@ static void make_neutral(lg_exec *ex, lg_pnode *n)
     }
 }
 
-/* create() or prepare() of a node, under the crash guard when ex->guard. */
+/* create() or prepare() of a node, under the crash guard ex->guard asks for. */
 typedef struct callback_call {
     lg_pnode *n;
     int (*fn)(lg_node *);
@@ -202,14 +202,8 @@ static void call_callback(void *p)
 static int guarded(lg_exec *ex, lg_pnode *n, int (*fn)(lg_node *), const char *what)
 {
     callback_call call = {n, fn, 0};
-    int sig = lg_guard_call(ex->guard, call_callback, &call);
-    if (sig) {
-        n->crashed = true;
-        n->plugin->poisoned = true;
-        lg_node_errorf(n, "crashed in %s() (signal %d, %s); plugin %s", what, sig,
-                       strsignal(sig), n->plugin->path);
+    if (lg_node_call(ex, n, what, call_callback, &call))
         return -1;
-    }
     return call.rc;
 }
 

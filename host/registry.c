@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "lightgraph/file.h"
+#include "names.h"
 
 /* ---- descriptor validation ----------------------------------------------------------- */
 
@@ -196,6 +197,13 @@ static int check_desc(const lg_plugin_desc *d, bool live, char *err, size_t errl
         if ((t->neutral == LG_NEUTRAL_PASSTHROUGH || t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST) &&
             t->neutral_input >= t->n_inputs)
             FAIL("node type '%s': neutral_input %u is not an input", t->name, t->neutral_input);
+        /* a graph names a type by its name alone: of two with one name, one could never
+         * be reached (names.h) */
+        for (uint32_t j = 0; j < i; j++)
+            if (strcmp(d->types[j].name, t->name) == 0)
+                FAIL("malformed descriptor: plugin '%s' declares node type '%s' twice (types "
+                     "%u and %u); node type names are unique",
+                     d->name, t->name, j, i);
     }
     return 0;
 }
@@ -712,30 +720,139 @@ static int scan_file(const char *path, lg_plugin *out, char **why_out)
     return rc;
 }
 
-static int scan_one(lg_registry *r, const char *path)
+/* ---- names: every plugin and node type name once (names.h) ------------------------------ */
+
+/* A plugin scanned but not yet in the registry. */
+typedef struct candidate {
+    lg_plugin *p;      /* heap entry, path set */
+    bool first;        /* a shipped plugin (names.h) in the program's own plugin directory:
+                        * admitted before any other */
+    bool admitted;     /* first: no other first one took its names (pass 1) */
+} candidate;
+
+typedef struct scan_list {
+    candidate *c;
+    uint32_t n;
+} scan_list;
+
+/* Whether a and b may not both be loaded: the same plugin name, or a node type name both
+ * declare. Writes why b is refused (a was there first) into why. */
+static bool names_clash(const lg_plugin *a, const lg_plugin *b, bool a_first, char *why,
+                        size_t n)
 {
-    for (uint32_t i = 0; i < r->n_plugins; i++)
-        if (strcmp(r->plugins[i]->path, path) == 0)
-            return 0;
+    const char *first = a_first ? ", one of lightgraph's own plugins, which are taken before "
+                                  "any other"
+                                : "";
+    if (strcmp(a->name, b->name) == 0) {
+        snprintf(why, n,
+                 "its name '%s' is also the name of the plugin at %s%s; plugin names are "
+                 "unique: keep one of the two on the search path (docs/sdk.md \"Names\")",
+                 b->name, a->path, first);
+        return true;
+    }
+    for (uint32_t i = 0; i < b->n_types; i++)
+        for (uint32_t j = 0; j < a->n_types; j++)
+            if (strcmp(a->types[j].name, b->types[i].name) == 0) {
+                snprintf(why, n,
+                         "its node type '%s' is also declared by the plugin '%s' at %s%s; node "
+                         "type names are unique across plugins (a third-party plugin starts "
+                         "its types with its vendor prefix, docs/sdk.md \"Names\")",
+                         b->types[i].name, a->name, a->path, first);
+                return true;
+            }
+    return false;
+}
+
+static void plugin_entry_free(lg_plugin *p);
+
+static void append(lg_registry *r, lg_plugin *p)
+{
+    r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
+    r->plugins[r->n_plugins++] = p;
+}
+
+/* Puts the candidates into the registry, in the order they were found, refusing each whose
+ * names another took before it: the shipped plugins of the program's own directory first
+ * (pass 1), then everything in search order. A refusal names both files. */
+static void admit(lg_registry *r, scan_list *l)
+{
+    char why[PATH_MAX * 2 + 512];
+    for (uint32_t i = 0; i < l->n; i++) {
+        candidate *c = &l->c[i];
+        if (!c->first)
+            continue;
+        c->admitted = true;
+        for (uint32_t k = 0; k < i && c->admitted; k++)
+            if (l->c[k].admitted && names_clash(l->c[k].p, c->p, true, why, sizeof why))
+                c->admitted = false;
+        if (!c->admitted) {
+            refuse(r, c->p->path, why);
+            plugin_entry_free(c->p);
+            c->p = NULL;
+        }
+    }
+    for (uint32_t i = 0; i < l->n; i++) {
+        candidate *c = &l->c[i];
+        if (!c->p)
+            continue;
+        if (c->admitted) {
+            append(r, c->p);
+            continue;
+        }
+        bool clash = false;
+        for (uint32_t k = 0; k < r->n_plugins && !clash; k++)
+            clash = names_clash(r->plugins[k], c->p, false, why, sizeof why);
+        for (uint32_t k = i + 1; k < l->n && !clash; k++)
+            clash = l->c[k].admitted && names_clash(l->c[k].p, c->p, true, why, sizeof why);
+        if (clash) {
+            refuse(r, c->p->path, why);
+            plugin_entry_free(c->p);
+        } else {
+            append(r, c->p);
+        }
+        c->p = NULL;
+    }
+    free(l->c);
+    memset(l, 0, sizeof *l);
+}
+
+/* Scans one file into the list. A file already there (the same device and inode, reached
+ * through two folders of the path or a link) is scanned once. */
+static void scan_one(lg_registry *r, scan_list *l, const char *path, bool own_dir)
+{
+    struct stat st;
+    memset(&st, 0, sizeof st);
+    if (stat(path, &st) == 0) {
+        for (uint32_t i = 0; i < l->n; i++)
+            if (l->c[i].p->dev == (uint64_t)st.st_dev && l->c[i].p->ino == (uint64_t)st.st_ino) {
+                lg_hlog(LG_HDEBUG, "%s is %s, scanned once", path, l->c[i].p->path);
+                /* a shipped plugin's file reached first through LIGHTGRAPH_PLUGIN_PATH is
+                 * still the program's own */
+                if (own_dir && lg_shipped_plugin(l->c[i].p->name))
+                    l->c[i].first = true;
+                return;
+            }
+        for (uint32_t i = 0; i < r->n_plugins; i++)
+            if (r->plugins[i]->dev == (uint64_t)st.st_dev &&
+                r->plugins[i]->ino == (uint64_t)st.st_ino)
+                return;
+    }
     lg_plugin p;
     char *why = NULL;
     if (scan_file(path, &p, &why) != 0) {
         refuse(r, path, why);
         free(why);
-        return -1;
+        return;
     }
-    for (uint32_t i = 0; i < r->n_plugins; i++)
-        if (strcmp(r->plugins[i]->name, p.name) == 0) {
-            lg_hlog(LG_HDEBUG, "plugin '%s' at %s is shadowed by %s", p.name, path,
-                    r->plugins[i]->path);
-            lg_plugin_free_schema(&p);
-            return 0;
-        }
     p.path = lg_xstrdup(path);
-    r->plugins = lg_xrealloc(r->plugins, (r->n_plugins + 1) * sizeof *r->plugins);
-    r->plugins[r->n_plugins] = lg_xmalloc(sizeof p);
-    *r->plugins[r->n_plugins++] = p;
-    return 0;
+    p.dev = (uint64_t)st.st_dev;
+    p.ino = (uint64_t)st.st_ino;
+    l->c = lg_xrealloc(l->c, (l->n + 1) * sizeof *l->c);
+    l->c[l->n].p = lg_xmalloc(sizeof p);
+    *l->c[l->n].p = p;
+    l->c[l->n].first = own_dir && lg_shipped_plugin(p.name);
+    l->c[l->n].admitted = false;
+    l->n++;
 }
 
 static int cmp_str(const void *a, const void *b)
@@ -743,7 +860,9 @@ static int cmp_str(const void *a, const void *b)
     return strcmp(*(const char *const *)a, *(const char *const *)b);
 }
 
-static void scan_dir(lg_registry *r, const char *dir, int depth)
+/* The lg_*.so files of `dir` and of its immediate subdirectories (depth 0 -> 1, no deeper),
+ * in name order, hidden entries skipped, links followed. */
+static void scan_dir(lg_registry *r, scan_list *l, const char *dir, int depth, bool own_dir)
 {
     DIR *d = opendir(dir);
     if (!d)
@@ -766,10 +885,10 @@ static void scan_dir(lg_registry *r, const char *dir, int depth)
         if (stat(full, &st) == 0) {
             size_t len = strlen(names[i]);
             if (S_ISDIR(st.st_mode) && depth == 0)
-                scan_dir(r, full, 1);
+                scan_dir(r, l, full, 1, own_dir);
             else if (S_ISREG(st.st_mode) && strncmp(names[i], "lg_", 3) == 0 && len > 3 &&
                      strcmp(names[i] + len - 3, ".so") == 0)
-                scan_one(r, full);
+                scan_one(r, l, full, own_dir);
         }
         free(full);
         free(names[i]);
@@ -836,22 +955,30 @@ int lg_registry_scan(lg_registry *r)
                 add_dir(r, tok);
         free(copy);
     }
-    if (running_from_build_tree())
-        add_dir(r, LG_BUILD_PLUGIN_DIR);
-    add_dir(r, LG_INSTALL_PLUGIN_DIR);
+    /* The program's own plugins: the build tree's when it runs from there, else the
+     * installed ones. A program of the build tree does not look at an installed lightgraph's
+     * plugins: they may be of another version, and each would clash with its twin here. */
+    char *own = lg_path_absolute(running_from_build_tree() ? LG_BUILD_PLUGIN_DIR
+                                                           : LG_INSTALL_PLUGIN_DIR);
+    add_dir(r, own);
+    scan_list l = {0};
     for (uint32_t i = 0; i < r->n_dirs; i++)
-        scan_dir(r, r->dirs[i], 0);
+        scan_dir(r, &l, r->dirs[i], 0, strcmp(r->dirs[i], own) == 0);
+    free(own);
+    admit(r, &l);
     finish_names(r);
     return 0;
 }
 
 int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n)
 {
+    scan_list l = {0};
     for (uint32_t i = 0; i < n; i++) {
         char *abs = lg_path_absolute(paths[i]);
-        scan_one(r, abs);
+        scan_one(r, &l, abs, false);
         free(abs);
     }
+    admit(r, &l);
     finish_names(r);
     return 0;
 }
@@ -1203,16 +1330,19 @@ int lg_registry_rescan(lg_registry *r, const char *path, lg_plugin **fresh, lg_p
         free(copy);
         return -1;
     }
-    for (uint32_t i = 0; i < r->n_plugins; i++)
-        if (r->plugins[i] != *old && strcmp(r->plugins[i]->name, p.name) == 0) {
-            snprintf(err, errlen, "plugin %s is refused: its name '%s' is the name of %s",
-                     path, p.name, r->plugins[i]->path);
+    p.path = lg_xstrdup(path);
+    for (uint32_t i = 0; i < r->n_plugins; i++) {
+        char reason[PATH_MAX * 2 + 512];
+        if (r->plugins[i] != *old &&
+            names_clash(r->plugins[i], &p, false, reason, sizeof reason)) {
+            snprintf(err, errlen, "plugin %s is refused: %s", path, reason);
             lg_plugin_free_schema(&p);
+            free(p.path);
             unlink(copy);
             free(copy);
             return -1;
         }
-    p.path = lg_xstrdup(path);
+    }
     p.load_path = copy;
     *fresh = lg_xmalloc(sizeof p);
     **fresh = p;
