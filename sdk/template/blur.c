@@ -24,7 +24,7 @@ static const lg_param_desc params[] = {
      .doc = "taps on each side of a pixel; 0 = ceil(3 sigma)"},
     /* The one backend parameter (lightgraph/plugin.h): the backends this node has, in the
      * order cpu, gl, cl, and its default. */
-    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_CL, LG_BACKEND_CPU),
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_CPU),
 };
 static const lg_port_desc inputs[] = {
     {.name = "image", .kind = LG_KIND_IMAGE, .doc = "the image to blur, rgba32f"},
@@ -97,6 +97,8 @@ static int blur_execute(lg_node *n, const lg_frame *frame)
     if (rc)
         return rc;
     switch (st->device) {
+    case LG_DEVICE_GL:
+        return acme_blur_gl(n, st);
     case LG_DEVICE_CL:
         return acme_blur_cl(n, st);
     default:
@@ -110,6 +112,7 @@ static void blur_destroy(lg_node *n)
     if (!st)
         return;
     acme_blur_cpu_free(n, st);
+    acme_blur_gl_free(n, st);
     acme_blur_cl_free(n, st);
     free(st->weights);
     free(st);
