@@ -16,7 +16,8 @@ the file's own lines.
 GLSL includes. In a GLSL file (.vert .frag .comp .geom .tesc .tese .glsl), a line
 `#include "file"` is replaced by the file's text, found relative to the including file's
 folder, then in each -I folder in the order given (the lightgraph build passes
-shaders/common/). Included text is wrapped in GLSL core #line directives:
+shaders/common/), then, for the installed script, the SDK's shader twins installed beside
+it (<datadir>/lightgraph/shaders, the pkg-config variable `shadersdir`). Included text is wrapped in GLSL core #line directives:
 `#line 1 N` before it (N: the included file's source-string number, 1, 2, ... in order of
 first inclusion; the top file is 0) and `#line NEXT P` after it (NEXT: the number of the
 line after the #include, P: the includer's number), so that a compiler message "N:L"
@@ -152,6 +153,13 @@ def main(argv):
             # a typo in the build file must not turn into "not found" at some later #include
             sys.stderr.write("embed.py: -I %s: not a folder\n" % d)
             return 2
+    # Installed with the SDK, the script sits in <datadir>/lightgraph beside shaders/, the
+    # SDK's GLSL twins (rgbe.glsl, probe.glsl, medium.glsl): searched after every -I folder,
+    # so that an out-of-tree shader's `#include "rgbe.glsl"` needs no -I at all. (In the
+    # source tree tools/shaders does not exist; the build passes -I shaders/common.)
+    installed_twins = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
+    if os.path.isdir(installed_twins) and installed_twins not in include_dirs:
+        include_dirs.append(installed_twins)
     src, out = args[0], args[1]
     depfile = args[2] if len(args) == 3 else None
     base = os.path.basename(src)

@@ -17,7 +17,9 @@
  * start per render (a few ms plus device creation).
  *
  * Which program. $LG_EXE when set (in-tree tests: meson sets it), else the `lightgraph`
- * installed beside this library (the pkg-config variable `lightgraph`). Plugins are found
+ * installed beside this library (<libdir>/../bin, found from the library's own file, so
+ * that a prefix installed with --destdir or moved runs its own program), else the one of
+ * the prefix it was built for (the pkg-config variable `lightgraph`). Plugins are found
  * by the host as usual: LIGHTGRAPH_PLUGIN_PATH (see lg_test_use_plugins), the build tree,
  * the install directory.
  *
@@ -51,10 +53,13 @@
  *   1   a check failed (the scratch folder is kept)  LG_TEST_FAIL
  *   77  skipped: a device the case needs is missing  LG_TEST_SKIP
  *       (never when a check has already failed: a skip does not hide a failure)
- *   99  the harness itself failed (cannot write a file, start the program, bad usage)
+ *   99  the harness itself failed (cannot write a file, start the program, bad usage).
+ *       A program that cannot start is named with the cause: the exec error, or for exit
+ *       127 (the dynamic loader gave up before main) the loader's own message.
  *
  * Scratch folders: $LG_BUILD_ROOT/test-tmp/NAME-XXXXXX, else $TMPDIR or /tmp. Removed when
- * the case passes (or skips), kept (and its path printed) when a check failed.
+ * the case passes (or skips), kept when a check failed or the harness failed (exit 99):
+ * every kept folder is named on stderr ("files kept in DIR", "scratch folder kept: DIR").
  *
  * Output on stderr; set LG_TEST_VERBOSE=1 to see every command and the host's output
  * (printed anyway when a render fails).

@@ -146,9 +146,14 @@ static size_t declared_backends(const char *type, char names[][32], size_t cap)
     const char *argv[] = {lg_test_exe(), "inspect", type, "--json", NULL};
     char *out = NULL;
     int rc = lg_test_spawn_(argv, NULL, &out);
+    /* (exit 127, a host that cannot start, was named by lg_test_spawn_ already) */
+    if (rc != 0 && strstr(out, "unknown node type"))
+        lg_test_die_("`%s inspect %s --json`: the host knows no node type '%s' (exit %d): is "
+                     "its plugin in a folder of LIGHTGRAPH_PLUGIN_PATH (lg_test_use_plugins)?",
+                     argv[0], type, type, rc);
     if (rc != 0)
-        lg_test_die_("`%s inspect %s --json` failed (exit %d): is the plugin on "
-                     "LIGHTGRAPH_PLUGIN_PATH?", argv[0], type, rc);
+        lg_test_die_("`%s inspect %s --json` failed (exit %d; its output is above)", argv[0],
+                     type, rc);
     size_t n = 0;
     const char *p = strstr(out, "\"key\": \"backend\"");
     const char *v = p ? strstr(p, "\"values\": [") : NULL;

@@ -2,7 +2,9 @@
  * lightgraph/test.h). Backend comparison and the bench table are in backends.c. */
 #include "test_priv.h"
 
+#include <dlfcn.h>
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <ftw.h>
 #include <math.h>
@@ -18,6 +20,32 @@
 
 extern char **environ;
 
+/* The cases whose scratch folder exists now (made by test_new, forgotten when removed or
+ * freed), so that any exit of the harness names each folder it leaves behind: a test that
+ * ends with 99 or a failed asset otherwise leaves folders nobody can find. */
+static lg_test *live_tests;
+
+static void live_add(lg_test *t)
+{
+    t->next_live = live_tests;
+    live_tests = t;
+}
+
+static void live_remove(lg_test *t)
+{
+    for (lg_test **p = &live_tests; *p; p = &(*p)->next_live)
+        if (*p == t) {
+            *p = t->next_live;
+            return;
+        }
+}
+
+static void name_kept_folders(void)
+{
+    for (const lg_test *t = live_tests; t; t = t->next_live)
+        fprintf(stderr, "lightgraph-test: scratch folder kept: %s\n", t->dir);
+}
+
 void lg_test_die_(const char *fmt, ...)
 {
     va_list ap;
@@ -26,6 +54,7 @@ void lg_test_die_(const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
+    name_kept_folders();
     exit(LG_TEST_ERROR); /* meson: a hard error, not a test failure */
 }
 
@@ -119,9 +148,19 @@ static lg_test *test_new(const char *name)
     lg_test *t = calloc(1, sizeof *t);
     if (!t)
         lg_test_die_("out of memory");
-    if (scratch_make(name, t->dir, sizeof t->dir))
+    if (scratch_make(name, t->dir, sizeof t->dir)) {
+        name_kept_folders();
         exit(LG_TEST_ERROR);
+    }
+    live_add(t);
     return t;
+}
+
+/* Removes the case's folder and forgets it. */
+static void test_remove_dir(lg_test *t)
+{
+    scratch_remove(t->dir);
+    live_remove(t);
 }
 
 lg_test *lg_test_begin(const char *name)
@@ -134,9 +173,10 @@ static int test_finish(lg_test *t)
 {
     if (t->failures) {
         fprintf(stderr, "%d check(s) failed; files kept in %s\n", t->failures, t->dir);
+        live_remove(t); /* named once, here */
         return LG_TEST_FAIL;
     }
-    scratch_remove(t->dir);
+    test_remove_dir(t);
     return LG_TEST_PASS;
 }
 
@@ -145,6 +185,7 @@ int lg_test_end(lg_test **t)
     if (!t || !*t)
         return LG_TEST_ERROR;
     int rc = test_finish(*t);
+    live_remove(*t);
     free(*t);
     *t = NULL;
     return rc;
@@ -163,10 +204,13 @@ void lg_test_skip(lg_test *t, const char *fmt, ...)
     if (t && t->failures) {
         fprintf(stderr, "(but %d check(s) had failed already; files kept in %s)\n", t->failures,
                 t->dir);
+        live_remove(t);
+        name_kept_folders();
         exit(LG_TEST_FAIL);
     }
     if (t)
-        scratch_remove(t->dir);
+        test_remove_dir(t);
+    name_kept_folders();
     exit(LG_TEST_SKIP);
 }
 
@@ -192,10 +236,11 @@ static int run_one(const lg_test_case *c, const char *folder, void (*setup)(lg_t
             fprintf(stderr, "(but %d check(s) had failed already)\n", t->failures);
             rc = test_finish(t);
         } else {
-            scratch_remove(t->dir);
+            test_remove_dir(t);
             rc = LG_TEST_SKIP;
         }
     }
+    live_remove(t);
     free(t);
     return rc;
 }
@@ -363,11 +408,13 @@ const char *lg_test_asset(const char *rel)
     /* a repository file is never optional: missing is a failure, never a quieter test */
     if (!root || !*root) {
         fprintf(stderr, "FAIL: asset %s: LG_SOURCE_ROOT is not set (the build sets it)\n", rel);
+        name_kept_folders();
         exit(1);
     }
     snprintf(p, sizeof p, "%s/assets/%s", root, rel);
     if (access(p, R_OK) != 0) {
         fprintf(stderr, "FAIL: asset %s is missing or unreadable\n", p);
+        name_kept_folders();
         exit(1);
     }
     return p;
@@ -375,10 +422,57 @@ const char *lg_test_asset(const char *rel)
 
 /* ---- running the host ------------------------------------------------------------------- */
 
+/* The program installed with this library: <this library's folder>/LG_TEST_EXE_FROM_LIBDIR
+ * (../../bin/lightgraph from lib/x86_64-linux-gnu), when the library sits in an installed
+ * <libdir> (its folder ends in LG_TEST_LIBDIR) and the program is there. Found from the
+ * library's own file, so that a prefix moved or installed with --destdir runs its own host,
+ * never another installation's. NULL otherwise (a build tree, a non-relocatable prefix). */
+static const char *exe_beside_library(void)
+{
+    static char path[PATH_MAX + 64];
+    static int done;
+    if (done)
+        return *path ? path : NULL;
+    done = 1;
+    Dl_info info;
+    char lib[PATH_MAX];
+    if (!*LG_TEST_EXE_FROM_LIBDIR || !dladdr((void *)&lg_test_exe, &info) || !info.dli_fname ||
+        !realpath(info.dli_fname, lib))
+        return NULL;
+    char *slash = strrchr(lib, '/');
+    if (!slash)
+        return NULL;
+    *slash = 0;
+    size_t ll = strlen(lib), dl = strlen(LG_TEST_LIBDIR);
+    if (ll < dl + 1 || strcmp(lib + ll - dl, LG_TEST_LIBDIR) || lib[ll - dl - 1] != '/')
+        return NULL;
+    char rel[sizeof path];
+    snprintf(rel, sizeof rel, "%s/%s", lib, LG_TEST_EXE_FROM_LIBDIR);
+    /* resolved, so that messages name .../bin/lightgraph, not .../lib/../../bin/lightgraph */
+    if (!realpath(rel, path) || access(path, X_OK) != 0) {
+        *path = 0;
+        return NULL;
+    }
+    return path;
+}
+
 const char *lg_test_exe(void)
 {
     const char *exe = getenv("LG_EXE");
-    return exe && *exe ? exe : LG_TEST_DEFAULT_EXE;
+    if (exe && *exe)
+        return exe;
+    const char *beside = exe_beside_library();
+    return beside ? beside : LG_TEST_DEFAULT_EXE;
+}
+
+/* Where lg_test_exe() came from, for the message when it cannot start. */
+static const char *exe_origin(void)
+{
+    const char *exe = getenv("LG_EXE");
+    if (exe && *exe)
+        return "$LG_EXE";
+    return exe_beside_library() ? "installed beside liblightgraph-test"
+                                : "the prefix liblightgraph-test was built for";
 }
 
 /* "SIGSEGV" for 11: a CI log should name the signal, not only its number. */
@@ -425,8 +519,8 @@ int lg_test_spawn_(const char *const *argv, const char *cwd, char **out)
     close(fd[1]);
     if (rc) {
         close(fd[0]);
-        lg_test_die_("cannot run %s: %s (set LG_EXE to the lightgraph program)", argv[0],
-                     strerror(rc));
+        lg_test_die_("cannot run %s (%s): %s (set LG_EXE to the lightgraph program)", argv[0],
+                     strcmp(argv[0], lg_test_exe()) ? "a program" : exe_origin(), strerror(rc));
     }
     size_t len = 0, cap = 4096;
     char *text = malloc(cap);
@@ -463,6 +557,17 @@ int lg_test_spawn_(const char *const *argv, const char *cwd, char **out)
                     WCOREDUMP(status) ? ", core dumped" : "", text);
         else
             fprintf(stderr, "\n-> exit %d\n%s", code, text);
+    }
+    /* 127: the program never ran its main. The dynamic loader (a missing or unloadable
+     * shared library) or the shell says why in the output; that is the cause to name, not
+     * what the caller would guess from a failed command (a plugin not found, no device). */
+    if (WIFEXITED(status) && code == 127) {
+        size_t l = strlen(text);
+        while (l && text[l - 1] == '\n')
+            text[--l] = 0;
+        lg_test_die_("%s (%s) could not start (exit 127, it never ran): %s", argv[0],
+                     strcmp(argv[0], lg_test_exe()) ? "a program" : exe_origin(),
+                     *text ? text : "no message: is it a lightgraph program?");
     }
     if (out)
         *out = text;

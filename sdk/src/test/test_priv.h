@@ -9,6 +9,12 @@
 #ifndef LG_TEST_DEFAULT_EXE
 #error "LG_TEST_DEFAULT_EXE (the installed lightgraph program) must be defined by the build"
 #endif
+#ifndef LG_TEST_EXE_FROM_LIBDIR
+#error "LG_TEST_EXE_FROM_LIBDIR (the program relative to <libdir>; may be \"\") must be defined by the build"
+#endif
+#ifndef LG_TEST_LIBDIR
+#error "LG_TEST_LIBDIR (the libdir option, relative to the prefix) must be defined by the build"
+#endif
 
 struct lg_test {
     char dir[4096];          /* the scratch folder */
@@ -20,6 +26,7 @@ struct lg_test {
     uint32_t bench_frames;   /* 0, or N under --bench=N */
     bool can_jump;           /* inside run_one: lg_test_skip returns there */
     jmp_buf skip_jump;
+    lg_test *next_live;      /* test.c's list of cases whose folder exists */
 };
 
 /* Prints "lightgraph-test: ..." and exits 99. */
