@@ -32,7 +32,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "commands.h"
 #include "host.h"
+#include "names.h"
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
 
@@ -106,8 +108,11 @@ typedef struct cf_case {
 } cf_case;
 
 #define CF_MAX_OUT 32
-#define CF_FRAMES_N 20
-#define CF_FRAMES_FROM 5 /* memory measured from the end of this frame to the last */
+/* The memory check: frames run, the frame after which growth is measured, and the resident
+ * growth over the frames measured that is noise (allocator, driver caches), not a leak;
+ * --quick runs fewer frames (a leak of 1 MiB a frame still shows) */
+static uint32_t cf_frames_n = 20, cf_frames_from = 5;
+static uint64_t cf_rss_slack = 8u << 20;
 
 typedef struct cf_out {
     char *name;          /* "out", "probe.radiance" */
@@ -135,7 +140,7 @@ typedef struct cf_result {
     char *diff_where;
     /* CF_RESIZE: why the second plan's outputs are not at the new size, or NULL */
     char *resize_bad;
-    /* CF_FRAMES: resident memory and the plugin's live bytes after frame CF_FRAMES_FROM
+    /* CF_FRAMES: resident memory and the plugin's live bytes after frame cf_frames_from
      * and after the last */
     uint64_t rss0, rss1, live0, live1, peak;
     double ms;
@@ -237,6 +242,13 @@ static char *case_graph(const lg_node_type *t, const cf_case *k, uint32_t w, uin
                 lg_str_addf(&g, ", squeeze = %u", n_images);
         } else if (strcmp(src, "conform_scene") == 0) {
             lg_str_addf(&g, "variant = %s", lg_conform_scenes[k->scene]);
+        } else if (strcmp(src, "conform_shadowmap") == 0) {
+            /* one map per directional light of the scene it goes with */
+            lg_str_addf(&g, "pattern = %s, lights = %d", lg_conform_patterns[k->pattern],
+                        k->scene == LG_CONFORM_SCENE_FULL ? 1 : 0);
+        } else if (strcmp(src, "conform_transfer") == 0) {
+            lg_str_addf(&g, "pattern = %s, empty_scene = %s", lg_conform_patterns[k->pattern],
+                        k->scene == LG_CONFORM_SCENE_EMPTY ? "true" : "false");
         } else {
             lg_str_addf(&g, "pattern = %s", lg_conform_patterns[k->pattern]);
         }
@@ -318,7 +330,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
     /* an alias (declare_alias) is its input, written upstream; a neutral stand-in is the
      * host's */
     bool own = r->producer == n || (r->parent && r->parent->producer == n);
-    o->written = !own || r->neutral || r->cpu_valid || r->gl_valid || r->cl_valid;
+    /* a composite is written through its parts, judged one by one below */
+    o->written = !own || r->neutral || r->cpu_valid || r->gl_valid || r->cl_valid ||
+                 lg_kind_is_composite(r->kind);
     char err[512];
     if (r->kind == LG_KIND_IMAGE) {
         o->w = r->image.width;
@@ -502,9 +516,9 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
     if (!res->phase && k->mode != CF_GATE) {
         if (k->mode == CF_FRAMES) {
             lg_pnode *n = r1.ex.nodes[r1.node];
-            for (uint32_t f = 0; f < CF_FRAMES_N && !res->phase; f++) {
+            for (uint32_t f = 0; f < cf_frames_n && !res->phase; f++) {
                 res->phase = run_frame(&r1, f);
-                if (f + 1 == CF_FRAMES_FROM) {
+                if (f + 1 == cf_frames_from) {
                     res->rss0 = rss_bytes();
                     res->live0 = n->bytes_plugin_live;
                 }
@@ -879,7 +893,9 @@ static const char *error_check(const char *e)
         return "runs";
     if (strstr(e, "left GL state behind"))
         return "gl_state";
-    if (strstr(e, "GL error") || strstr(e, "CL error") || strstr(e, "OpenCL error"))
+    /* the host's GL check after execute ("GL error GL_INVALID_... while executing"), and
+     * lg_cl_fail's "clCall: CL_INVALID_... (-NN)" */
+    if (strstr(e, "GL error") || strstr(e, ": CL_") || strstr(e, "OpenCL error"))
         return "device_errors";
     return "runs";
 }
@@ -933,8 +949,6 @@ static double disagreement(const cf_result *a, const cf_result *b, char *where, 
     return worst;
 }
 
-#define CF_RSS_SLACK (8u << 20) /* resident growth over CF_FRAMES_N - CF_FRAMES_FROM frames
-                                 * that is noise (allocator, driver caches), not a leak */
 
 static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, uint32_t n,
                        cf_result *res)
@@ -975,6 +989,8 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
         }
         if (base_skip[bi])
             continue;
+        if (r->ms > 2000)
+            report(rep, CF_NOTE, name, "time", "%s took %.1f s", label, r->ms / 1e3);
         if (device_missing(r)) {
             if (first_of_backend) {
                 base_skip[bi] = true;
@@ -1047,6 +1063,9 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
             continue;
         }
         /* it ran */
+        if (r->gated && k->mode != CF_GATE)
+            report(rep, CF_NOTE, name, "gating", "%s: gated by the planner (needs 0x%x), so "
+                   "not run", label, t->needs);
         for (uint32_t o = 0; o < r->n_outs; o++)
             if (!r->outs[o].written)
                 report(rep, CF_FAIL, name, "outputs", "%s: output '%s' was declared and never "
@@ -1092,32 +1111,39 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
             int64_t grow = (int64_t)r->rss1 - (int64_t)r->rss0;
             if (r->live1 > r->live0)
                 report(rep, CF_FAIL, name, "memory", "%s: the profile's live plugin memory "
-                       "(bytes_plugin_live) grew from %llu bytes after frame %d to %llu after "
-                       "frame %d (peak %llu): lg_account_alloc without lg_account_free",
-                       label, (unsigned long long)r->live0, CF_FRAMES_FROM,
-                       (unsigned long long)r->live1, CF_FRAMES_N, (unsigned long long)r->peak);
-            else if (grow > (int64_t)CF_RSS_SLACK)
+                       "(bytes_plugin_live) grew from %llu bytes after frame %u to %llu after "
+                       "frame %u (peak %llu): lg_account_alloc without lg_account_free",
+                       label, (unsigned long long)r->live0, cf_frames_from,
+                       (unsigned long long)r->live1, cf_frames_n, (unsigned long long)r->peak);
+            else if (grow > (int64_t)cf_rss_slack)
                 report(rep, CF_FAIL, name, "memory", "%s: resident memory grew by %.1f MiB "
-                       "from frame %d to frame %d (%.2f MiB a frame; %u MiB allowed in all)",
-                       label, (double)grow / 1048576.0, CF_FRAMES_FROM, CF_FRAMES_N,
-                       (double)grow / 1048576.0 / (CF_FRAMES_N - CF_FRAMES_FROM),
-                       CF_RSS_SLACK >> 20);
+                       "from frame %u to frame %u (%.2f MiB a frame; %u MiB allowed in all)",
+                       label, (double)grow / 1048576.0, cf_frames_from, cf_frames_n,
+                       (double)grow / 1048576.0 / (cf_frames_n - cf_frames_from),
+                       (unsigned)(cf_rss_slack >> 20));
             else
                 report(rep, CF_PASS, name, "memory", "%s: resident %+.2f MiB, plugin live %llu "
-                       "-> %llu bytes over frames %d..%d", label, (double)grow / 1048576.0,
+                       "-> %llu bytes over frames %u..%u", label, (double)grow / 1048576.0,
                        (unsigned long long)r->live0, (unsigned long long)r->live1,
-                       CF_FRAMES_FROM, CF_FRAMES_N);
+                       cf_frames_from, cf_frames_n);
         }
     }
-    /* backends against the first one (cpu when it has one), same inputs */
+    /* backends against the reference, cpu (the first one, for a node without cpu), on the
+     * same inputs */
+    int ref = 0;
+    const char *const *bv;
+    uint32_t nb = backends_of(t, &bv);
+    for (uint32_t b = 0; b < nb; b++)
+        if (strcmp(bv[b], "cpu") == 0)
+            ref = (int)b;
     for (uint32_t i = 0; i < n; i++) {
         const cf_case *k = &cases[i];
-        if (k->mode != CF_RUN || !k->baseline || k->backend <= 0 || !res[i].done ||
-            res[i].crashed || res[i].phase)
+        if (k->mode != CF_RUN || !k->baseline || k->backend < 0 || k->backend == ref ||
+            !res[i].done || res[i].crashed || res[i].phase)
             continue;
         for (uint32_t j = 0; j < n; j++) {
             const cf_case *q = &cases[j];
-            if (q->mode != CF_RUN || !q->baseline || q->backend != 0 || q->w != k->w ||
+            if (q->mode != CF_RUN || !q->baseline || q->backend != ref || q->w != k->w ||
                 q->h != k->h || q->format != k->format || !res[j].done || res[j].crashed ||
                 res[j].phase)
                 continue;
@@ -1126,14 +1152,17 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
             double d = disagreement(&res[j], &res[i], where, sizeof where);
             if (d > tol)
                 report(rep, CF_FAIL, name, "backends", "%s against %s: %s = %.6g > tolerance "
-                       "%g%s", label, backend_name(t, 0), where, d, tol,
+                       "%g%s", label, backend_name(t, ref), where, d, tol,
                        t->tolerance > 0 ? "" : " (the default; lg_node_type.tolerance)");
             else
                 report(rep, CF_PASS, name, "backends", "%s against %s: %.3g <= %g", label,
-                       backend_name(t, 0), d, tol);
+                       backend_name(t, ref), d, tol);
         }
     }
-    if ((int)rep->counts[CF_FAIL] == n_fail_before) {
+    bool any_skip = false;
+    for (int b = 0; b < 8; b++)
+        any_skip |= base_skip[b];
+    if ((int)rep->counts[CF_FAIL] == n_fail_before && !any_skip) {
         double ms = 0;
         for (uint32_t i = 0; i < n; i++)
             ms += res[i].ms;
@@ -1158,7 +1187,7 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
     cf_case *c = lg_xcalloc(cap, sizeof *c);
     for (int b = nb ? 0 : -1; b < (int)(nb ? nb : 0); b++) {
         cf_case base = {.mode = CF_RUN, .backend = b, .w = 7, .h = 5, .baseline = true};
-        for (int s = 0; s < (quick ? 1 : 3); s++)
+        for (int s = 0; s < (quick ? 2 : 3); s++) /* --quick: no 256x256 */
             for (int f = 0; f < (img ? 4 : 1); f++) {
                 c[n] = base;
                 c[n].w = sizes[s][0], c[n].h = sizes[s][1], c[n].format = f;
@@ -1195,42 +1224,6 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
 
 /* ---- the descriptor ------------------------------------------------------------------- */
 
-static const char *const in_tree_plugins[] = {
-    "core", "reinhard", "scene_tools", "preview", "scene_gltf", "shadowmap", "phong", "probe",
-    "ibl", "prt", "sh_project", "volumetric_froxel", "volumetric_screen", "volumetric_polygonal",
-    "prt_bake", "volumetric_reference", NULL,
-};
-
-static bool vendor_ok(const char *s, size_t len)
-{
-    if (len < 2 || len > 16 || (len == 2 && strncmp(s, "lg", 2) == 0))
-        return false;
-    for (size_t i = 0; i < len; i++)
-        if (!((s[i] >= 'a' && s[i] <= 'z') || (s[i] >= '0' && s[i] <= '9')))
-            return false;
-    return true;
-}
-
-bool lg_conform_name_rule_ok(const char *plugin, const char *type, char *why, size_t n)
-{
-    for (int i = 0; in_tree_plugins[i]; i++)
-        if (strcmp(plugin, in_tree_plugins[i]) == 0)
-            return true;
-    const char *us = strchr(plugin, '_');
-    if (!us || !us[1] || !vendor_ok(plugin, (size_t)(us - plugin))) {
-        snprintf(why, n, "plugin name '%s' is not VENDOR_NAME (VENDOR: 2 to 16 of [a-z0-9], "
-                 "not 'lg'; e.g. 'acme_blur')", plugin);
-        return false;
-    }
-    size_t vl = (size_t)(us - plugin) + 1;
-    if (type && (strncmp(type, plugin, vl) != 0 || !type[vl])) {
-        snprintf(why, n, "node type '%s' does not start with its vendor's prefix '%.*s' (plugin "
-                 "'%s')", type, (int)vl, plugin, plugin);
-        return false;
-    }
-    return true;
-}
-
 static void check_descriptor(cf_ctx *c)
 {
     cf_report *rep = &c->rep;
@@ -1239,7 +1232,7 @@ static void check_descriptor(cf_ctx *c)
     report(rep, CF_PASS, NULL, "descriptor", "plugin '%s' %s, ABI %u.%u (host %d.%d), %u node "
            "types", p->name, p->version, p->abi_major, p->abi_minor, LG_ABI_MAJOR, LG_ABI_MINOR,
            p->n_types);
-    if (!lg_conform_name_rule_ok(p->name, NULL, why, sizeof why))
+    if (!lg_name_rule_ok(p->name, NULL, why, sizeof why))
         report(rep, CF_FAIL, NULL, "naming", "%s", why);
     if (!p->doc || !p->doc[0])
         report(rep, CF_FAIL, NULL, "docs", "plugin '%s' has no doc line", p->name);
@@ -1252,7 +1245,7 @@ static void check_descriptor(cf_ctx *c)
         if (strncmp(t->name, "conform_", 8) == 0)
             report(rep, CF_FAIL, t->name, "naming", "node type '%s' uses the prefix conform_, "
                    "which the program's own synthetic sources hold", t->name);
-        if (!lg_conform_name_rule_ok(p->name, t->name, why, sizeof why))
+        if (!lg_name_rule_ok(p->name, t->name, why, sizeof why))
             report(rep, CF_FAIL, t->name, "naming", "%s", why);
         if (!t->doc || !t->doc[0])
             report(rep, CF_FAIL, t->name, "docs", "node type '%s' has no doc line", t->name);
@@ -1398,7 +1391,13 @@ int lg_cmd_conform(int argc, char **argv)
     }
     if (!c.path)
         return usage("lightgraph conform: no plugin given\n", "");
+    if (quick) {
+        cf_frames_n = 10;
+        cf_frames_from = 4;
+        cf_rss_slack = 4u << 20;
+    }
     struct stat st;
+    errno = 0;
     if (stat(c.path, &st) != 0 || !S_ISREG(st.st_mode)) {
         fprintf(stderr, "lightgraph conform: %s: %s\n", c.path,
                 errno ? strerror(errno) : "not a regular file");

@@ -105,7 +105,8 @@ static const lg_param_desc image_params[] = {
      .doc = "k > 0: the k-th squeezing source to declare its image lowers the pixel limit to 1 "
             "(the node they feed then fails its prepare)"},
 };
-static const lg_port_desc image_out[] = {{.name = "out", .kind = LG_KIND_IMAGE, .doc = "the image"}};
+static const lg_port_desc image_out[] = {{.name = "out", .kind = LG_KIND_IMAGE,
+                                          .doc = "the image, with a depth plane"}};
 
 static int image_prepare(lg_node *n)
 {
@@ -113,7 +114,8 @@ static int image_prepare(lg_node *n)
                                      LG_FORMAT_RGBE8};
     lg_image_desc d = {.width = (uint32_t)lg_param_int(n, "width"),
                        .height = (uint32_t)lg_param_int(n, "height"),
-                       .format = fmts[lg_param_enum(n, "format")]};
+                       .format = fmts[lg_param_enum(n, "format")],
+                       .flags = LG_IMAGE_DEPTH};
     int rc = lg_declare_image(n, 0, &d);
     int64_t k = lg_param_int(n, "squeeze");
     /* every image source of the node is given the count; the last one to be prepared
@@ -138,6 +140,9 @@ static int image_execute(lg_node *n, const lg_frame *frame)
     if (!f)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory for %zu pixels", texels);
     fill_floats(f, texels, lg_param_enum(n, "pattern"));
+    /* the depth plane: window depth from 0.2 (top left) to 0.9, finite in every pattern */
+    for (size_t i = 0; v.depth && i < texels; i++)
+        v.depth[i] = 0.2f + 0.7f * (texels > 1 ? (float)i / (float)(texels - 1) : 0.5f);
     rc = lg_pixels_from_rgba32f(info.image.format, f, texels, v.pixels, NULL);
     free(f);
     return rc ? lg_error(n, "cannot convert the pattern to %s", lg_format_name(info.image.format))
@@ -355,19 +360,28 @@ static int sh_execute(lg_node *n, const lg_frame *f)
     return rc ? rc : lg_sh_publish(n, 0, &info);
 }
 
+static const lg_param_desc transfer_params[] = {
+    {.key = "pattern", .type = LG_PARAM_ENUM, .enum_values = lg_conform_patterns,
+     .doc = "ramp, or one of the hostile patterns"},
+    {.key = "empty_scene", .type = LG_PARAM_BOOL,
+     .doc = "for the empty scene: one vertex (a transfer holds at least one)"},
+};
+
 static const lg_port_desc transfer_out[] = {{.name = "transfer", .kind = LG_KIND_TRANSFER,
                                              .doc = "the transfer vectors"}};
 
 static int transfer_prepare(lg_node *n)
 {
-    int rc = lg_transfer_declare(n, 0, 3, SCENE_VERTS);
+    int rc = lg_transfer_declare(n, 0, 3, lg_param_bool(n, "empty_scene") ? 1 : SCENE_VERTS);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }
 
 static int transfer_execute(lg_node *n, const lg_frame *f)
 {
     (void)f;
-    lg_transfer_info info = {.bands = 3, .vertices = SCENE_VERTS, .mode = LG_TRANSFER_SHADOWED};
+    lg_transfer_info info = {.bands = 3,
+                             .vertices = lg_param_bool(n, "empty_scene") ? 1 : SCENE_VERTS,
+                             .mode = LG_TRANSFER_SHADOWED};
     int rc = write_part(n, 0, "transfer", lg_param_enum(n, "pattern"));
     return rc ? rc : lg_transfer_publish(n, 0, &info);
 }
@@ -391,12 +405,19 @@ static int froxel_execute(lg_node *n, const lg_frame *f)
     return rc ? rc : lg_froxel_publish(n, 0, &info);
 }
 
+static const lg_param_desc shadow_params[] = {
+    {.key = "pattern", .type = LG_PARAM_ENUM, .enum_values = lg_conform_patterns,
+     .doc = "ramp, or one of the hostile patterns"},
+    {.key = "lights", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = 1,
+     .doc = "maps: one for the full scene's directional light, none for the others"},
+};
+
 static const lg_port_desc shadow_out[] = {{.name = "shadow", .kind = LG_KIND_SHADOWMAP,
                                            .doc = "the shadow map"}};
 
 static int shadow_prepare(lg_node *n)
 {
-    int rc = lg_shadowmap_declare(n, 0, 16, 16, 1);
+    int rc = lg_shadowmap_declare(n, 0, 16, 16, (uint32_t)lg_param_int(n, "lights"));
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }
 
@@ -419,7 +440,8 @@ static int shadow_execute(lg_node *n, const lg_frame *f)
     memcpy(l.view_proj, l.proj, sizeof l.proj);
     l.texel_world = 0.5f;
     l.depth_range = 8;
-    lg_shadowmap_info info = {.resolution = 16, .n_lights = 1, .atlas_width = 16,
+    lg_shadowmap_info info = {.resolution = 16,
+                              .n_lights = (uint32_t)lg_param_int(n, "lights"), .atlas_width = 16,
                               .atlas_height = 16, .bias_constant = 1e-3f};
     return lg_shadowmap_publish(n, 0, &info, &l);
 }
@@ -473,11 +495,11 @@ static const lg_node_type types[] = {
             probe_prepare, probe_execute),
     CF_TYPE("conform_sh", "3 bands of SH coefficients", pattern_params, sh_out, sh_prepare,
             sh_execute),
-    CF_TYPE("conform_transfer", "transfer vectors for the full scene", pattern_params,
+    CF_TYPE("conform_transfer", "transfer vectors for the full scene", transfer_params,
             transfer_out, transfer_prepare, transfer_execute),
     CF_TYPE("conform_froxel", "a 4 x 3 x 5 froxel grid", pattern_params, froxel_out,
             froxel_prepare, froxel_execute),
-    CF_TYPE("conform_shadowmap", "a shadow map where nothing occludes", pattern_params,
+    CF_TYPE("conform_shadowmap", "a shadow map where nothing occludes", shadow_params,
             shadow_out, shadow_prepare, shadow_execute),
     CF_TYPE("conform_buffer", "64 floats", pattern_params, buffer_out, buffer_prepare,
             buffer_execute),

@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "commands.h"
-#include "conform.h"
 #include "host.h"
 #include "lightgraph/image.h"
 

@@ -43,14 +43,15 @@ static pid_t g_pid;
 static volatile sig_atomic_t g_busy, g_pending;
 static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP};
 
-/* Removes every temporary, then dies of `sig` as the process would have without the
- * handler. Async-signal-safe. */
+/* Async-signal-safe (see outputs.h). */
 void lg_temp_remove_all(void)
 {
     for (size_t i = 0; getpid() == g_pid && i < g_ntmp; i++)
         unlink(g_tmp[i]);
 }
 
+/* Removes every temporary, then dies of `sig` as the process would have without the
+ * handler. Async-signal-safe. */
 static void clean_up_and_die(int sig)
 {
     lg_temp_remove_all();

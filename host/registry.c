@@ -1021,6 +1021,16 @@ int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char 
 {
     if (lg_descriptor_validate(d, path, err, errlen))
         return -1;
+    /* unique names, as for any plugin: a scanned plugin that declares one of these types
+     * keeps it, and the program's plugin is refused */
+    for (uint32_t i = 0; i < d->n_types; i++) {
+        lg_plugin *other = NULL;
+        if (lg_registry_lookup(r, d->types[i].name, &other)) {
+            snprintf(err, errlen, "node type '%s' of %s is declared by plugin '%s' (%s) too",
+                     d->types[i].name, path, other->name, other->path);
+            return -1;
+        }
+    }
     /* the same host-owned schema copy a scan makes, so that everything downstream (the
      * checker, the planner, lg_registry_load's comparison) treats it as any plugin */
     lg_str b = {0};

@@ -196,6 +196,12 @@ int vol_declare_outputs(lg_node *n, uint32_t *width, uint32_t *height)
     if (!(info.image.flags & LG_IMAGE_DEPTH) || (info.image.flags & LG_IMAGE_CUBE))
         return lg_error(n, "input 'base' (%ux%u) has no depth plane: connect a lit image "
                         "with depth (phong's out)", info.image.width, info.image.height);
+    /* the cpu and cl paths read base's pixels as floats as they are (and the NaN/Inf count
+     * with them): another format would be read as garbage (found by lightgraph conform,
+     * which fed an rgba16f base: 1e25 and NaN on cpu and cl, the right image on gl) */
+    if (info.image.format != LG_FORMAT_RGBA32F)
+        return lg_error(n, "input 'base' must be an rgba32f image (it is %s): phong's out is; "
+                        "convert it first", lg_format_name(info.image.format));
     *width = info.image.width;
     *height = info.image.height;
     lg_image_desc d = { .width = *width, .height = *height, .format = LG_FORMAT_RGBA32F,
