@@ -46,7 +46,6 @@
 #include "rgbe.cl.h"
 
 enum { IBL_REFLECT = 0, IBL_ENVMAP, IBL_BACKGROUND };
-enum { IBL_GL = 0, IBL_CL, IBL_CPU };
 enum { IBL_RGBA32F = 0, IBL_RGBA16F, IBL_RGBE8 };
 enum { IBL_BILINEAR = 0, IBL_NEAREST };
 enum { IBL_FRESNEL_NONE = 0, IBL_FRESNEL_SCHLICK };
@@ -56,7 +55,8 @@ enum { IBL_GLOSSY_AUTO = 0, IBL_GLOSSY_OFF };
 enum { IN_SCENE = 0, IN_PROBE, IN_BASE };
 
 typedef struct ibl_state {
-    int mode, backend, format, sampling, fresnel, glossy;
+    int mode, format, sampling, fresnel, glossy;
+    lg_device backend;
     float reflectivity[3]; /* < 0: the material's */
     int64_t camera;
     uint32_t width, height;
@@ -79,11 +79,10 @@ typedef struct ibl_state {
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
     lg_gl_uniform g_view_proj, g_material;
-    lg_gl_uniform s_inv_vp, s_size, s_mode, s_layout, s_bilinear, s_fresnel, s_has_base,
-        s_has_base_depth, s_format, s_rotation, s_chain_levels, s_dfg_size;
+    lg_gl_binding s_params;
     lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
         s_clamped, s_chain, s_dfg;
-    GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf, sampler[3];
+    GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf;
 
     /* CL */
     lg_cl_pass *kernel;
@@ -102,7 +101,7 @@ static int ibl_create(lg_node *n, int mode)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     n->user = st;
     st->mode = mode;
-    st->backend = lg_param_enum(n, "backend");
+    st->backend = lg_param_backend(n);
     st->format = lg_param_enum(n, "format");
     st->sampling = lg_param_enum(n, "sampling");
     st->camera = lg_param_int(n, "camera");
@@ -183,9 +182,7 @@ static int ibl_prepare(lg_node *n)
         return rc;
     if (st->mode != IBL_BACKGROUND && (rc = ibl_check_chain(n, st, pr)))
         return rc;
-    return lg_set_device(n, st->backend == IBL_GL ? LG_DEVICE_GL
-                            : st->backend == IBL_CL ? LG_DEVICE_CL
-                                                    : LG_DEVICE_CPU);
+    return lg_set_device(n, st->backend);
 }
 
 /* ---- the frame's inputs ----------------------------------------------------------------- */
@@ -723,6 +720,24 @@ static int ibl_gbuffer_cpu(lg_node *n, ibl_state *st, const ibl_frame *f)
 
 /* ---- GL shading ----------------------------------------------------------------------- */
 
+/* The shading pass's uniform block IblShade (std140, shaders/ibl/ibl_shade.frag), uploaded
+ * with one lg_gl_pass_uniforms per frame. */
+typedef struct ibl_gpu_shade {
+    float inv_view_proj[16];
+    float rotation[3][4]; /* mat3: three columns of vec4 stride */
+    int32_t size[2];
+    int32_t mode, layout, bilinear, fresnel, has_base, has_base_depth, format, chain_levels,
+        dfg_size;
+    int32_t pad_;
+} ibl_gpu_shade;
+
+LG_GL_BLOCK_SIZE(ibl_gpu_shade, 160);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, rotation, 64);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, size, 112);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, mode, 120);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, has_base_depth, 140);
+LG_GL_BLOCK_OFFSET(ibl_gpu_shade, dfg_size, 152);
+
 static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
 {
     if (st->spass)
@@ -732,47 +747,25 @@ static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
         { GL_FRAGMENT_SHADER, lg_src_ibl_shade_frag_file, lg_src_ibl_shade_frag },
     };
     static const GLenum internal[3] = { GL_RGBA32F, GL_RGBA16F, GL_RGBA8 };
+    /* every pixel is written, depth included: no test against the cleared plane */
     lg_gl_pass_desc d = { .name = "ibl (shading)", .stages = src, .n_stages = 2,
                           .output = "out", .colors = { internal[st->format] }, .depth = true,
-                          .depth_test = true, .depth_write = true };
+                          .depth_test = true, .depth_write = true, .depth_func = GL_ALWAYS };
     int rc = lg_gl_pass_create(n, &d, &st->spass);
     if (rc)
         return rc;
     lg_gl_pass *p = st->spass;
-    st->s_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
-    st->s_size = lg_gl_pass_uniform(p, "u_size");
-    st->s_mode = lg_gl_pass_uniform(p, "u_mode");
-    st->s_layout = lg_gl_pass_uniform(p, "u_layout");
-    st->s_bilinear = lg_gl_pass_uniform(p, "u_bilinear");
-    st->s_fresnel = lg_gl_pass_uniform(p, "u_fresnel");
-    st->s_has_base = lg_gl_pass_uniform(p, "u_has_base");
-    st->s_has_base_depth = lg_gl_pass_uniform(p, "u_has_base_depth");
-    st->s_format = lg_gl_pass_uniform(p, "u_format");
-    st->s_rotation = lg_gl_pass_uniform(p, "u_rotation");
+    st->s_params = lg_gl_pass_uniform_block(p, "IblShade");
     st->s_gbuf = lg_gl_pass_texture(p, "u_gbuf");
     st->s_gdepth = lg_gl_pass_texture(p, "u_gdepth");
     st->s_base = lg_gl_pass_texture(p, "u_base");
     st->s_base_depth = lg_gl_pass_texture(p, "u_base_depth");
     st->s_probe2d = lg_gl_pass_texture(p, "u_probe2d");
     st->s_probecube = lg_gl_pass_texture(p, "u_probecube");
-    st->s_chain_levels = lg_gl_pass_uniform(p, "u_chain_levels");
-    st->s_dfg_size = lg_gl_pass_uniform(p, "u_dfg_size");
     st->s_mats = lg_gl_pass_storage(p, "Materials");
     st->s_clamped = lg_gl_pass_storage(p, "Clamped");
     st->s_chain = lg_gl_pass_texture(p, "u_chain");
     st->s_dfg = lg_gl_pass_storage(p, "Dfg");
-    /* the cube's filter: GL's seamless bilinear (the CPU's rule) or nearest */
-    gl->CreateSamplers(3, st->sampler);
-    for (int i = 0; i < 3; i++) {
-        /* 0: bilinear, 1: nearest, 2: the chain's trilinear */
-        GLint filt = i == 1 ? GL_NEAREST : GL_LINEAR;
-        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_MIN_FILTER,
-                              i == 2 ? GL_LINEAR_MIPMAP_LINEAR : filt);
-        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_MAG_FILTER, filt);
-        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        gl->SamplerParameteri(st->sampler[i], GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    }
     return lg_gl_check(n, "ibl: making the shading pass");
 }
 
@@ -833,44 +826,42 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     lg_gl_pass *p = st->spass;
     if ((rc = lg_gl_pass_begin(p, NULL)))
         return rc;
-    /* every pixel is written, depth included: no test against the cleared plane */
-    gl->DepthFunc(GL_ALWAYS);
-    lg_gl_set_mat4(p, st->s_inv_vp, f->inv_vp);
-    lg_gl_set_ivec2(p, st->s_size, (int32_t)st->width, (int32_t)st->height);
-    lg_gl_set_int(p, st->s_mode, st->mode);
-    lg_gl_set_int(p, st->s_layout, (int32_t)pr->info.layout);
-    lg_gl_set_int(p, st->s_bilinear, st->sampling == IBL_BILINEAR);
-    lg_gl_set_int(p, st->s_fresnel, st->fresnel == IBL_FRESNEL_SCHLICK);
-    lg_gl_set_int(p, st->s_has_base, base_tex != 0);
-    lg_gl_set_int(p, st->s_has_base_depth, base_depth != 0);
-    lg_gl_set_int(p, st->s_format, st->format);
-    gl->ProgramUniformMatrix3fv(lg_gl_pass_program(p), st->s_rotation.location, 1, GL_FALSE,
-                                pr->info.rotation);
+    ibl_gpu_shade u = {
+        .size = { (int32_t)st->width, (int32_t)st->height },
+        .mode = st->mode,
+        .layout = (int32_t)pr->info.layout,
+        .bilinear = st->sampling == IBL_BILINEAR,
+        .fresnel = st->fresnel == IBL_FRESNEL_SCHLICK,
+        .has_base = base_tex != 0,
+        .has_base_depth = base_depth != 0,
+        .format = st->format,
+        .chain_levels = st->chain_tex ? (int32_t)st->chain_levels : 0,
+        .dfg_size = (int32_t)LG_GGX_DFG_SIZE,
+    };
+    memcpy(u.inv_view_proj, f->inv_vp, sizeof u.inv_view_proj);
+    for (int c = 0; c < 3; c++)
+        memcpy(u.rotation[c], &pr->info.rotation[3 * c], 3 * sizeof(float));
+    if ((rc = lg_gl_pass_uniforms(p, st->s_params, &u, sizeof u)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->s_gbuf, st->gbuf_tex);
     lg_gl_pass_bind_texture(p, st->s_gdepth, st->gdepth_tex);
     lg_gl_pass_bind_texture(p, st->s_base, base_tex);
     lg_gl_pass_bind_texture(p, st->s_base_depth, base_depth);
+    /* the probe's filter: GL's seamless bilinear (the CPU's rule) or nearest; the chain's
+     * trilinear, seamless too */
     bool cube = pr->info.layout == LG_PROBE_CUBE;
-    lg_gl_pass_bind_texture(p, cube ? st->s_probecube : st->s_probe2d, probe_tex);
-    GLuint unit = (GLuint)(cube ? st->s_probecube.index : st->s_probe2d.index);
-    gl->BindSampler(unit, st->sampler[st->sampling == IBL_BILINEAR ? 0 : 1]);
-    if (cube)
-        gl->Enable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+    const lg_gl_sampler probe_s = { .filter = st->sampling == IBL_BILINEAR ? LG_GL_FILTER_LINEAR
+                                                                          : LG_GL_FILTER_NEAREST,
+                                    .seamless_cube = cube };
+    const lg_gl_sampler chain_s = { .filter = LG_GL_FILTER_LINEAR_MIPMAP, .seamless_cube = true };
+    lg_gl_pass_bind_texture_sampled(p, cube ? st->s_probecube : st->s_probe2d, probe_tex,
+                                    &probe_s);
     lg_gl_pass_bind_buffer(p, st->s_mats, st->mats_buf);
     lg_gl_pass_bind_buffer(p, st->s_clamped, st->clamp_buf);
     lg_gl_pass_bind_buffer(p, st->s_dfg, st->dfg_buf);
-    lg_gl_set_int(p, st->s_dfg_size, (int32_t)LG_GGX_DFG_SIZE);
-    lg_gl_set_int(p, st->s_chain_levels, st->chain_tex ? (int32_t)st->chain_levels : 0);
-    GLuint chain_unit = (GLuint)st->s_chain.index;
-    if (st->chain_tex) {
-        lg_gl_pass_bind_texture(p, st->s_chain, st->chain_tex);
-        gl->BindSampler(chain_unit, st->sampler[2]);
-        gl->Enable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
-    }
+    if (st->chain_tex)
+        lg_gl_pass_bind_texture_sampled(p, st->s_chain, st->chain_tex, &chain_s);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
-    gl->BindSampler(unit, 0);
-    gl->BindSampler(chain_unit, 0);
-    gl->Disable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     if ((rc = lg_gl_pass_end(p, rc)))
         return rc;
     if (st->format == IBL_RGBA16F) {
@@ -1194,9 +1185,9 @@ static int ibl_execute(lg_node *n, const lg_frame *frame)
     if (!rc && f.rough)
         rc = ibl_chain(n, st, &f);
     if (!rc) {
-        if (st->backend == IBL_GL)
+        if (st->backend == LG_DEVICE_GL)
             rc = ibl_exec_gl(n, st, &f, &clamped);
-        else if (st->backend == IBL_CL)
+        else if (st->backend == LG_DEVICE_CL)
             rc = ibl_exec_cl(n, st, &f, &clamped);
         else
             rc = ibl_exec_cpu(n, st, &f, &clamped);
@@ -1229,7 +1220,7 @@ static void ibl_destroy(lg_node *n)
         return;
     lg_gl_pass_destroy(&st->gpass);
     lg_gl_pass_destroy(&st->spass);
-    if (st->gbuf_tex || st->mats_buf || st->clamp_buf || st->sampler[0] || st->chain_tex ||
+    if (st->gbuf_tex || st->mats_buf || st->clamp_buf || st->chain_tex ||
         st->dfg_buf) {
         const lg_gl *gl = lg_gl_get(n);
         if (gl) {
@@ -1241,8 +1232,6 @@ static void ibl_destroy(lg_node *n)
             for (int i = 0; i < 2; i++)
                 if (b[i])
                     gl->DeleteBuffers(1, &b[i]);
-            if (st->sampler[0])
-                gl->DeleteSamplers(3, st->sampler);
             if (st->chain_tex)
                 gl->DeleteTextures(1, &st->chain_tex);
             if (st->dfg_buf)
@@ -1265,15 +1254,13 @@ static void ibl_destroy(lg_node *n)
 
 /* in lg_probe_prefilter_weighting order */
 static const char *const ibl_weightings[] = { "nol", "nol_vis", NULL };
-static const char *const ibl_backends[] = { "gl", "cl", "cpu", NULL };
 static const char *const ibl_samplings[] = { "bilinear", "nearest", NULL };
 static const char *const ibl_fresnels[] = { "none", "schlick", NULL };
 static const char *const ibl_glossies[] = { "auto", "off", NULL };
 
 #define IBL_COMMON_PARAMS                                                                      \
-    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = IBL_GL, .enum_values = ibl_backends,   \
-      .doc = "where the shading runs: gl (fragment pass), cl (kernel) or cpu (thread pool); "  \
-             "the G-buffer is rasterised on GL in every case" },                               \
+    /* where the shading runs; the G-buffer is rasterised on GL in every case */            \
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),           \
     { .key = "format", .type = LG_PARAM_ENUM, .def.e = IBL_RGBA32F,                            \
       .enum_values = ibl_format_names,                                                         \
       .doc = "output format: rgba32f; rgba16f (values above 65504 clamped to 65504, reported " \

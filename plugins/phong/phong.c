@@ -71,13 +71,43 @@ LG_GL_BLOCK_OFFSET(ph_gpu_shadow, tile, 64);
 LG_GL_BLOCK_OFFSET(ph_gpu_shadow, texel_world, 72);
 LG_GL_BLOCK_OFFSET(ph_gpu_shadow, light, 76);
 
+/* The pass's uniform block PhFrame (std140, shaders/phong/phong_scene.glsl): one upload per
+ * pass with lg_gl_pass_uniforms. */
+typedef struct ph_gpu_frame {
+    float view_proj[16];
+    float eye[3];
+    int32_t n_lights;
+    float view_dir_inf[3];
+    int32_t viewer_local;
+    float ambient[3];
+    int32_t depth_cue;
+    float K;
+    int32_t spec_model;
+    float n_scale;
+    float mixed_cos;
+    int32_t shadow_res;
+    float bias_const;
+    float bias_slope;
+    float normal_offset;
+} ph_gpu_frame;
+
+LG_GL_BLOCK_SIZE(ph_gpu_frame, 144);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, eye, 64);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, n_lights, 76);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, view_dir_inf, 80);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, viewer_local, 92);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, ambient, 96);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, depth_cue, 108);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, K, 112);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, mixed_cos, 124);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, shadow_res, 128);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, normal_offset, 140);
+
 /* The uniforms and bindings of a raster pass. Each shading mode compiles its own variant and
- * drops what it does not use, so all but u_view_proj are optional. */
+ * drops what it does not use, so all but the PhFrame block are optional. */
 typedef struct ph_uniforms {
-    lg_gl_uniform view_proj, id_base, n_lights, shadow_res, bias_const, bias_slope,
-        normal_offset, eye, view_dir_inf, viewer_local, depth_cue, K, ambient, spec_model,
-        n_scale, ka, kd, ks, shininess, od, os, double_sided, mixed_cos;
-    lg_gl_binding lights, shadows, atlas;
+    lg_gl_uniform id_base, ka, kd, ks, shininess, od, os, double_sided;
+    lg_gl_binding frame, lights, shadows, atlas;
 } ph_uniforms;
 
 typedef struct ph_state {
@@ -449,22 +479,9 @@ static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_gl *gl, const lg_sc
 
 static void ph_locate(lg_gl_pass *p, ph_uniforms *u)
 {
-    u->view_proj = lg_gl_pass_uniform(p, "u_view_proj");
+    u->frame = lg_gl_pass_uniform_block(p, "PhFrame");
 #define OPT(f, name) u->f = lg_gl_pass_uniform_optional(p, name)
     OPT(id_base, "u_id_base");
-    OPT(n_lights, "u_n_lights");
-    OPT(shadow_res, "u_shadow_res");
-    OPT(bias_const, "u_bias_const");
-    OPT(bias_slope, "u_bias_slope");
-    OPT(normal_offset, "u_normal_offset");
-    OPT(eye, "u_eye");
-    OPT(view_dir_inf, "u_view_dir_inf");
-    OPT(viewer_local, "u_viewer_local");
-    OPT(depth_cue, "u_depth_cue");
-    OPT(K, "u_K");
-    OPT(ambient, "u_ambient");
-    OPT(spec_model, "u_spec_model");
-    OPT(n_scale, "u_n_scale");
     OPT(ka, "u_ka");
     OPT(kd, "u_kd");
     OPT(ks, "u_ks");
@@ -472,7 +489,6 @@ static void ph_locate(lg_gl_pass *p, ph_uniforms *u)
     OPT(od, "u_od");
     OPT(os, "u_os");
     OPT(double_sided, "u_double_sided");
-    OPT(mixed_cos, "u_mixed_cos");
 #undef OPT
     u->lights = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgLights");
     u->shadows = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgShadows");
@@ -602,26 +618,29 @@ typedef struct ph_frame_in {
     uint32_t n_lights;
 } ph_frame_in;
 
-static void ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
-                           const ph_frame_in *f)
+static int ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
+                          const ph_frame_in *f, const float view_proj[16])
 {
     const lg_scene_view *v = f->v;
-    lg_gl_set_int(p, u->n_lights, (int32_t)f->n_lights);
-    lg_gl_set_vec3(p, u->eye, v->eye.x, v->eye.y, v->eye.z);
-    lg_gl_set_vec3(p, u->view_dir_inf, -v->forward.x, -v->forward.y, -v->forward.z);
-    lg_gl_set_int(p, u->viewer_local, st->viewer == PH_VIEWER_LOCAL);
-    lg_gl_set_int(p, u->depth_cue, st->depth_cue);
-    lg_gl_set_float(p, u->K, st->K);
-    lg_gl_set_vec3v(p, u->ambient, st->ambient);
-    lg_gl_set_int(p, u->spec_model, st->specular);
-    lg_gl_set_float(p, u->n_scale,
-                    st->specular == LG_SPEC_BLINN && st->blinn_x4 ? LG_BLINN_CORRECTION : 1.0f);
-    lg_gl_set_float(p, u->mixed_cos, st->mixed_cos);
     const lg_shadowmap *sm = f->sm;
-    lg_gl_set_int(p, u->shadow_res, sm ? (int32_t)sm->resolution : 1);
-    lg_gl_set_float(p, u->bias_const, sm ? sm->bias_constant : 0.0f);
-    lg_gl_set_float(p, u->bias_slope, sm ? sm->bias_slope : 0.0f);
-    lg_gl_set_float(p, u->normal_offset, sm ? sm->normal_offset : 0.0f);
+    ph_gpu_frame g = {
+        .eye = { v->eye.x, v->eye.y, v->eye.z },
+        .n_lights = (int32_t)f->n_lights,
+        .view_dir_inf = { -v->forward.x, -v->forward.y, -v->forward.z },
+        .viewer_local = st->viewer == PH_VIEWER_LOCAL,
+        .ambient = { st->ambient[0], st->ambient[1], st->ambient[2] },
+        .depth_cue = st->depth_cue,
+        .K = st->K,
+        .spec_model = st->specular,
+        .n_scale = st->specular == LG_SPEC_BLINN && st->blinn_x4 ? LG_BLINN_CORRECTION : 1.0f,
+        .mixed_cos = st->mixed_cos,
+        .shadow_res = sm ? (int32_t)sm->resolution : 1,
+        .bias_const = sm ? sm->bias_constant : 0.0f,
+        .bias_slope = sm ? sm->bias_slope : 0.0f,
+        .normal_offset = sm ? sm->normal_offset : 0.0f,
+    };
+    memcpy(g.view_proj, view_proj, sizeof g.view_proj);
+    return lg_gl_pass_uniforms(p, u->frame, &g, sizeof g);
 }
 
 static void ph_set_material(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
@@ -676,8 +695,8 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
         return rc;
     lg_gl_pass_clear_color(p, 0, clear);
     lg_gl_pass_clear_depth(p, 1.0f);
-    lg_gl_set_mat4(p, u->view_proj, view_proj);
-    ph_set_globals(st, p, u, f);
+    if ((rc = ph_set_globals(st, p, u, f, view_proj)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_buffer(p, u->lights, st->lights_buf);
     lg_gl_pass_bind_buffer(p, u->shadows, st->shadows_buf);
     lg_gl_pass_bind_texture(p, u->atlas, f->atlas);

@@ -40,7 +40,6 @@
 #include "prt_reflect.frag.h"
 #include "prt_reflect.vert.h"
 
-enum { PRT_GL = 0, PRT_CL, PRT_CPU };
 enum { IN_SCENE = 0, IN_LIGHTING, IN_TRANSFER, IN_REFLECT };
 enum { OUT_IMAGE = 0, OUT_VERTICES };
 
@@ -49,7 +48,7 @@ enum { OUT_IMAGE = 0, OUT_VERTICES };
 #define PRT_MAX_DEG 36000.0
 
 typedef struct prt_state {
-    int backend;
+    lg_device backend;
     int64_t camera;
     uint32_t width, height;
     double rotate[3];  /* yaw, pitch, roll (degrees) */
@@ -87,7 +86,7 @@ static int prt_create(lg_node *n)
     if (!st)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     n->user = st;
-    st->backend = lg_param_enum(n, "backend");
+    st->backend = lg_param_backend(n);
     st->camera = lg_param_int(n, "camera");
     const lg_value *r = lg_param(n, "rotate_deg");
     static const char *const names[3] = { "yaw", "pitch", "roll" };
@@ -165,9 +164,7 @@ static int prt_prepare(lg_node *n)
         return rc;
     if (st->spin != 0.0)
         lg_set_per_frame(n, true);
-    return lg_set_device(n, st->backend == PRT_GL ? LG_DEVICE_GL
-                            : st->backend == PRT_CL ? LG_DEVICE_CL
-                                                    : LG_DEVICE_CPU);
+    return lg_set_device(n, st->backend);
 }
 
 /* ---- the frame's inputs ----------------------------------------------------------------- */
@@ -448,8 +445,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
             return rc;
         lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
         lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
-        gl->ProgramUniform1fv(lg_gl_pass_program(st->dot), st->d_light.location,
-                              (GLsizei)(3 * f->nc), f->lighting);
+        lg_gl_set_floatv(st->dot, st->d_light, 3 * f->nc, f->lighting);
         lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
         return lg_gl_pass_end(st->dot, lg_gl_pass_draw(st->dot, GL_TRIANGLES, 3));
     }
@@ -566,9 +562,9 @@ static int prt_execute(lg_node *n, const lg_frame *frame)
     prt_frame f;
     int rc = prt_frame_in(n, st, frame, &f);
     if (!rc) {
-        if (st->backend == PRT_GL)
+        if (st->backend == LG_DEVICE_GL)
             rc = prt_dot_gl(n, st, &f);
-        else if (st->backend == PRT_CL)
+        else if (st->backend == LG_DEVICE_CL)
             rc = prt_dot_cl(n, st, &f);
         else
             rc = prt_dot_cpu(n, st, &f);
@@ -578,7 +574,7 @@ static int prt_execute(lg_node *n, const lg_frame *frame)
     if (!rc)
         lg_log(n, LG_LOG_INFO, "%u vertices, %u bands (lighting %u, transfer %u), %s%s",
                st->vertices, f.bands, f.sh->info.bands, f.tr->info.bands,
-               st->backend == PRT_GL ? "gl" : st->backend == PRT_CL ? "cl" : "cpu",
+               st->backend == LG_DEVICE_GL ? "gl" : st->backend == LG_DEVICE_CL ? "cl" : "cpu",
                f.reflect ? ", reflect added" : "");
     free(f.lighting);
     return rc;
@@ -609,12 +605,9 @@ static void prt_destroy(lg_node *n)
 
 /* ---- the descriptor -------------------------------------------------------------------- */
 
-static const char *const prt_backends[] = { "gl", "cl", "cpu", NULL };
-
 static const lg_param_desc prt_params[] = {
-    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = PRT_GL, .enum_values = prt_backends,
-      .doc = "where the dot products run: gl (compute shader), cl (kernel) or cpu (thread "
-             "pool); the scene is rasterised on GL in every case" },
+    /* where the dot products run; the scene is rasterised on GL in every case */
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),
     { .key = "rotate_deg", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -PRT_MAX_DEG,
       .max = PRT_MAX_DEG,
       .doc = "[yaw, pitch, roll], degrees: the lighting turned by R = Ry(yaw) Rx(pitch) "

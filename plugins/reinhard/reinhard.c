@@ -30,7 +30,6 @@
 #include "reinhard_map.comp.h"
 #include "reinhard_reduce.comp.h"
 
-enum { RH_BACKEND_CPU = 0, RH_BACKEND_GL, RH_BACKEND_CL };
 
 /* The mirrors of the shaders' std430 blocks (reinhard_launch.h), checked at compile time
  * against their GLSL layout (and at run time against the compiled program). */
@@ -47,7 +46,7 @@ typedef struct rh_state {
     lg_rh_params p;
     double key, rate, adapt_from, dt;
     bool adapt;
-    int backend;
+    lg_device backend;
 
     uint32_t width, height;
     lg_format in_format;
@@ -90,7 +89,7 @@ static int rh_create(lg_node *n)
     st->rate = lg_param_float(n, "adapt_rate");
     st->adapt_from = lg_param_float(n, "adapt_from");
     st->dt = lg_param_float(n, "dt");
-    st->backend = lg_param_enum(n, "backend");
+    st->backend = lg_param_backend(n);
     return 0;
 }
 
@@ -118,8 +117,7 @@ static int rh_prepare(lg_node *n)
     rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
-    static const lg_device devs[] = { LG_DEVICE_CPU, LG_DEVICE_GL, LG_DEVICE_CL };
-    rc = lg_set_device(n, devs[st->backend]);
+    rc = lg_set_device(n, st->backend);
     if (rc)
         return rc;
     /* adaptation carries state from frame to frame */
@@ -494,8 +492,8 @@ static int rh_execute(lg_node *n, const lg_frame *frame)
 {
     rh_state *st = n->user;
     switch (st->backend) {
-    case RH_BACKEND_GL: return rh_execute_gl(n, st, frame);
-    case RH_BACKEND_CL: return rh_execute_cl(n, st, frame);
+    case LG_DEVICE_GL: return rh_execute_gl(n, st, frame);
+    case LG_DEVICE_CL: return rh_execute_cl(n, st, frame);
     default: return rh_execute_cpu(n, st, frame);
     }
 }
@@ -529,7 +527,6 @@ static void rh_destroy(lg_node *n)
 
 static const char *const rh_modes[] = { "luminance", "rgb", NULL };
 static const char *const rh_lumas[] = { "rec709", "seed", NULL };
-static const char *const rh_backends[] = { "cpu", "gl", "cl", NULL };
 
 static const lg_param_desc rh_params[] = {
     { .key = "key", .type = LG_PARAM_FLOAT, .def.f = 0.18, .min = 1e-4, .max = 10,
@@ -550,8 +547,8 @@ static const lg_param_desc rh_params[] = {
       .doc = "adapted luminance before the first frame; 0 = the first frame's Lavg" },
     { .key = "dt", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 3600,
       .doc = "seconds per frame for adaptation; 0 = the render's frame time (--dt)" },
-    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_backends,
-      .doc = "where it runs: cpu (float, vectorised, on the host's thread pool), gl (compute shaders), cl" },
+    /* cpu (float, vectorised, on the host's thread pool), gl (compute shaders), cl */
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_CPU),
 };
 static const lg_port_desc rh_inputs[] = {
     { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f, rgba16f or rgbe8 (decoded as read)" },

@@ -21,7 +21,6 @@
 
 #include "froxel.h"
 
-enum { FX_GL = 0, FX_CL, FX_CPU };
 enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
 
 /* Caps: each side, and the grid's bytes (rgba32f, W x H x D x 16 <= 1 GiB; the backends
@@ -35,7 +34,8 @@ enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
 #define FX_GOLDEN 0.61803398875
 
 typedef struct fx_state {
-    int backend, slicing;
+    int slicing;
+    lg_device backend;
     uint32_t gw, gh, gd;        /* grid */
     float z_near, z_limit, near_offset, history;
     bool temporal, per_frame;
@@ -58,7 +58,7 @@ static int fx_create(lg_node *n)
     if (!st)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     n->user = st;
-    st->backend = lg_param_enum(n, "backend");
+    st->backend = lg_param_backend(n);
     st->slicing = lg_param_enum(n, "slicing");
     st->accum = lg_param_enum(n, "accumulation") == 0 ? FX_ACC_THESIS : FX_ACC_ENERGY;
     st->gw = (uint32_t)lg_param_int(n, "width");
@@ -119,9 +119,7 @@ static int fx_prepare(lg_node *n)
     double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n);
     lg_declare_work(n, froxels, froxels * FX_SECONDS_PER_FROXEL / lg_cpu_workers(n),
                     "froxel x light visits");
-    return lg_set_device(n, st->backend == FX_GL   ? LG_DEVICE_GL
-                            : st->backend == FX_CL ? LG_DEVICE_CL
-                                                   : LG_DEVICE_CPU);
+    return lg_set_device(n, st->backend);
 }
 
 /* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
@@ -224,8 +222,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     fx_slice_tables(&f, &st->slices);
     f.slices = &st->slices;
     switch (st->backend) {
-    case FX_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
-    case FX_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
+    case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
+    case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
     default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
     }
     if (!rc) {
@@ -261,9 +259,9 @@ static void fx_destroy(lg_node *n)
     if (!st)
         return;
     if (st->backend_state) {
-        if (st->backend == FX_GL)
+        if (st->backend == LG_DEVICE_GL)
             fx_gl_destroy(n, st->backend_state);
-        else if (st->backend == FX_CL)
+        else if (st->backend == LG_DEVICE_CL)
             fx_cl_destroy(n, st->backend_state);
         else
             fx_cpu_destroy(n, st->backend_state);
@@ -272,14 +270,12 @@ static void fx_destroy(lg_node *n)
     n->user = NULL;
 }
 
-static const char *const fx_backends[] = { "gl", "cl", "cpu", NULL };
 static const char *const fx_slicings[] = { "uniform_clip", "exponential", NULL };
 static const char *const fx_accums[] = { "thesis", "energy_conserving", NULL };
 
 static const lg_param_desc fx_params[] = {
-    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = FX_GL, .enum_values = fx_backends,
-      .doc = "device of the light pass, the accumulation and the lookup: gl (compute "
-             "shaders), cl (kernels) or cpu (the host's thread pool)" },
+    /* the device of the light pass, the accumulation and the lookup */
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),
     { .key = "width", .type = LG_PARAM_INT, .def.i = 190, .min = 1, .max = FX_MAX_W,
       .doc = "grid columns across the image (the thesis: 190)" },
     { .key = "height", .type = LG_PARAM_INT, .def.i = 90, .min = 1, .max = FX_MAX_H,
@@ -333,7 +329,7 @@ static const lg_node_type fx_types[] = {
         .struct_size = sizeof(lg_node_type),
         .name = "volumetric_froxel",
         .doc = "Single scattering in a homogeneous medium through a froxel grid (light pass, "
-               "front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on gl, cl, cpu",
+               "front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on cpu, gl, cl",
         LG_PARAMS(fx_params),
         LG_INPUTS(fx_inputs),
         LG_OUTPUTS(fx_outputs),

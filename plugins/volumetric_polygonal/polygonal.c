@@ -59,10 +59,10 @@ typedef struct poly_state {
     lg_gl_pass *mesh, *vol, *comp;
     lg_gl_uniform m_inv_light, m_tile, m_res, m_grid, m_bias, m_near, m_far, m_outer;
     lg_gl_binding m_atlas, m_verts;
-    lg_gl_uniform v_view_proj, v_eye, v_flip, v_inv_vp, v_fwd, v_size, v_zlim, v_lc,
-        v_dir, v_ss, v_st, v_g;
+    lg_gl_uniform v_flip, v_lc, v_dir;
+    lg_gl_binding v_view;
     lg_gl_binding v_verts, v_idx, v_depth;
-    lg_gl_uniform c_inv_vp, c_eye, c_fwd, c_size, c_zlim, c_st;
+    lg_gl_binding c_view;
     lg_gl_binding c_base, c_depth, c_ins;
 
     GLuint vbuf[VOL_MAX_LIGHTS], ibuf;
@@ -186,6 +186,30 @@ static int poly_prepare(lg_node *n)
 
 /* ---- the passes ----------------------------------------------------------------------------- */
 
+/* The block PolyView (std140, shaders/volumetric_polygonal/poly_view.glsl) that the volume
+ * pass and the composite read, uploaded with one lg_gl_pass_uniforms in each. */
+typedef struct poly_gpu_view {
+    float view_proj[16];
+    float inv_view_proj[16];
+    float eye[3];
+    float z_limit;
+    float forward[3];
+    float g;
+    float sigma_s[3];
+    float pad0_;
+    float sigma_t[3];
+    float pad1_;
+    float size[2];
+    float pad2_[2];
+} poly_gpu_view;
+
+LG_GL_BLOCK_SIZE(poly_gpu_view, 208);
+LG_GL_BLOCK_OFFSET(poly_gpu_view, inv_view_proj, 64);
+LG_GL_BLOCK_OFFSET(poly_gpu_view, z_limit, 140);
+LG_GL_BLOCK_OFFSET(poly_gpu_view, g, 156);
+LG_GL_BLOCK_OFFSET(poly_gpu_view, sigma_t, 176);
+LG_GL_BLOCK_OFFSET(poly_gpu_view, size, 192);
+
 static int poly_passes(lg_node *n, poly_state *st)
 {
     int rc;
@@ -221,18 +245,10 @@ static int poly_passes(lg_node *n, poly_state *st)
         if ((rc = lg_gl_pass_create(n, &d, &st->vol)))
             return rc;
         lg_gl_pass *p = st->vol;
-        st->v_view_proj = lg_gl_pass_uniform(p, "u_view_proj");
-        st->v_eye = lg_gl_pass_uniform(p, "u_eye");
+        st->v_view = lg_gl_pass_uniform_block(p, "PolyView");
         st->v_flip = lg_gl_pass_uniform(p, "u_flip");
-        st->v_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
-        st->v_fwd = lg_gl_pass_uniform(p, "u_forward");
-        st->v_size = lg_gl_pass_uniform(p, "u_size");
-        st->v_zlim = lg_gl_pass_uniform(p, "u_z_limit");
         st->v_lc = lg_gl_pass_uniform(p, "u_l_c");
         st->v_dir = lg_gl_pass_uniform(p, "u_dir");
-        st->v_ss = lg_gl_pass_uniform(p, "u_sigma_s");
-        st->v_st = lg_gl_pass_uniform(p, "u_sigma_t");
-        st->v_g = lg_gl_pass_uniform(p, "u_g");
         st->v_verts = lg_gl_pass_storage(p, "Vertices");
         st->v_idx = lg_gl_pass_storage(p, "Indices");
         st->v_depth = lg_gl_pass_texture(p, "u_base_depth");
@@ -242,18 +258,15 @@ static int poly_passes(lg_node *n, poly_state *st)
             { GL_VERTEX_SHADER, lg_src_poly_fullscreen_vert_file, lg_src_poly_fullscreen_vert },
             { GL_FRAGMENT_SHADER, lg_src_poly_composite_frag_file, lg_src_poly_composite_frag },
         };
+        /* every pixel is written, its depth base's: no test against the cleared plane */
         lg_gl_pass_desc d = { .name = "volumetric_polygonal composite", .stages = src,
                               .n_stages = 2, .output = "out", .colors = { GL_RGBA32F },
-                              .depth = true, .depth_test = true, .depth_write = true };
+                              .depth = true, .depth_test = true, .depth_write = true,
+                              .depth_func = GL_ALWAYS };
         if ((rc = lg_gl_pass_create(n, &d, &st->comp)))
             return rc;
         lg_gl_pass *p = st->comp;
-        st->c_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
-        st->c_eye = lg_gl_pass_uniform(p, "u_eye");
-        st->c_fwd = lg_gl_pass_uniform(p, "u_forward");
-        st->c_size = lg_gl_pass_uniform(p, "u_size");
-        st->c_zlim = lg_gl_pass_uniform(p, "u_z_limit");
-        st->c_st = lg_gl_pass_uniform(p, "u_sigma_t");
+        st->c_view = lg_gl_pass_uniform_block(p, "PolyView");
         st->c_base = lg_gl_pass_texture(p, "u_base");
         st->c_depth = lg_gl_pass_texture(p, "u_base_depth");
         st->c_ins = lg_gl_pass_texture(p, "u_inscatter");
@@ -583,22 +596,25 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     poly_mat_mul(vp_inf, proj, v.view.view);
     for (int i = 0; i < 16; i++)
         inv_vp[i] = (float)v.inv_view_proj[i];
-    float eye[3] = { (float)v.eye[0], (float)v.eye[1], (float)v.eye[2] };
-    float fwd[3] = { (float)v.forward[0], (float)v.forward[1], (float)v.forward[2] };
+    /* what the volume pass and the composite read: the block PolyView */
+    poly_gpu_view view = {
+        .eye = { (float)v.eye[0], (float)v.eye[1], (float)v.eye[2] },
+        .z_limit = v.z_limit,
+        .forward = { (float)v.forward[0], (float)v.forward[1], (float)v.forward[2] },
+        .g = v.g,
+        .size = { (float)v.width, (float)v.height },
+    };
+    memcpy(view.view_proj, vp_inf, sizeof view.view_proj);
+    memcpy(view.inv_view_proj, inv_vp, sizeof view.inv_view_proj);
+    memcpy(view.sigma_s, v.sigma_s, sizeof view.sigma_s);
+    memcpy(view.sigma_t, v.sigma_t, sizeof view.sigma_t);
     lg_gl_pass *p = st->vol;
     if ((rc = lg_gl_pass_begin(p, NULL)))
         return rc;
     const float clear[4] = { 0, 0, 0, 1 };
     lg_gl_pass_clear_color(p, 0, clear);
-    lg_gl_set_mat4(p, st->v_view_proj, vp_inf);
-    lg_gl_set_vec3v(p, st->v_eye, eye);
-    lg_gl_set_mat4(p, st->v_inv_vp, inv_vp);
-    lg_gl_set_vec3v(p, st->v_fwd, fwd);
-    lg_gl_set_vec2(p, st->v_size, (float)v.width, (float)v.height);
-    lg_gl_set_float(p, st->v_zlim, v.z_limit);
-    lg_gl_set_vec3v(p, st->v_ss, v.sigma_s);
-    lg_gl_set_vec3v(p, st->v_st, v.sigma_t);
-    lg_gl_set_float(p, st->v_g, v.g);
+    if ((rc = lg_gl_pass_uniforms(p, st->v_view, &view, sizeof view)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->v_depth, base_depth);
     lg_gl_pass_bind_buffer(p, st->v_idx, st->ibuf);
     for (uint32_t l = 0; l < v.n_lights && !rc; l++) {
@@ -618,14 +634,8 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     p = st->comp;
     if ((rc = lg_gl_pass_begin(p, NULL)))
         return rc;
-    /* every pixel is written, its depth base's: no test against the cleared plane */
-    gl->DepthFunc(GL_ALWAYS);
-    lg_gl_set_mat4(p, st->c_inv_vp, inv_vp);
-    lg_gl_set_vec3v(p, st->c_eye, eye);
-    lg_gl_set_vec3v(p, st->c_fwd, fwd);
-    lg_gl_set_vec2(p, st->c_size, (float)v.width, (float)v.height);
-    lg_gl_set_float(p, st->c_zlim, v.z_limit);
-    lg_gl_set_vec3v(p, st->c_st, v.sigma_t);
+    if ((rc = lg_gl_pass_uniforms(p, st->c_view, &view, sizeof view)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->c_base, base_tex);
     lg_gl_pass_bind_texture(p, st->c_depth, base_depth);
     lg_gl_pass_bind_texture(p, st->c_ins, ins.color[0]);

@@ -40,21 +40,18 @@
 #include "vs_fullscreen.vert.h"
 #include "vs_screen.frag.h"
 
-enum { VS_GL = 0, VS_CPU };
 enum { VS_THESIS = 0, VS_PHYSICAL };
 
 typedef struct vs_state {
-    int backend, model;
+    int model;
+    lg_device backend;
     bool normalize, per_frame;
     uint32_t samples;
     float exposure, decay, weight, z_limit;
     uint32_t width, height;
 
     lg_gl_pass *pass;
-    lg_gl_uniform u_size, u_samples, u_lights, u_physical, u_k, u_norm, u_scale, u_light_pos,
-        u_light_c, u_light_to, u_inv_vp, u_eye, u_forward, u_z_limit, u_sigma_s, u_sigma_t,
-        u_g;
-    lg_gl_binding b_base, b_depth;
+    lg_gl_binding b_params, b_base, b_depth;
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vs_state;
 
@@ -71,6 +68,39 @@ typedef struct vs_frame {
     uint32_t active;
 } vs_frame;
 
+/* The pass's uniform block VsParams (std140, shaders/volumetric_screen/vs_screen.frag),
+ * uploaded with one lg_gl_pass_uniforms per frame. */
+typedef struct vs_gpu_params {
+    float inv_view_proj[16];
+    float light_pos[VOL_MAX_LIGHTS][4];
+    float light_c[VOL_MAX_LIGHTS][4];
+    float light_to[VOL_MAX_LIGHTS][4];
+    float eye[3];
+    float z_limit;
+    float forward[3];
+    float g;
+    float sigma_s[3];
+    float k;
+    float sigma_t[3];
+    float norm;
+    int32_t size[2];
+    int32_t samples;
+    int32_t lights;
+    int32_t physical;
+    float scale;
+    float pad_[2];
+} vs_gpu_params;
+
+LG_GL_BLOCK_SIZE(vs_gpu_params, 1696);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, light_pos, 64);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, light_to, 1088);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, eye, 1600);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, g, 1628);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, norm, 1660);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, size, 1664);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, physical, 1680);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, scale, 1684);
+
 /* ---- create / prepare ------------------------------------------------------------------ */
 
 static int vs_create(lg_node *n)
@@ -79,7 +109,7 @@ static int vs_create(lg_node *n)
     if (!st)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     n->user = st;
-    st->backend = lg_param_enum(n, "backend");
+    st->backend = lg_param_backend(n);
     st->model = lg_param_enum(n, "model");
     st->normalize = lg_param_bool(n, "normalize");
     st->per_frame = lg_param_bool(n, "per_frame");
@@ -114,7 +144,7 @@ static int vs_prepare(lg_node *n)
         return rc;
     if (st->per_frame)
         lg_set_per_frame(n, true);
-    return lg_set_device(n, st->backend == VS_GL ? LG_DEVICE_GL : LG_DEVICE_CPU);
+    return lg_set_device(n, st->backend);
 }
 
 /* ---- the frame ------------------------------------------------------------------------- */
@@ -178,28 +208,15 @@ static int vs_gl_pass(lg_node *n, vs_state *st)
     /* out (colour + depth) and inscatter: the outputs themselves, no other image */
     lg_gl_pass_desc d = { .name = "volumetric_screen", .stages = src, .n_stages = 2,
                           .colors = { GL_RGBA32F, GL_RGBA32F }, .depth = true,
-                          .depth_test = true, .depth_write = true };
+                          .depth_test = true, .depth_write = true,
+                          /* every pixel is written, depth included (base's): no test
+                           * against the old plane */
+                          .depth_func = GL_ALWAYS };
     int rc = lg_gl_pass_create(n, &d, &st->pass);
     if (rc)
         return rc;
     lg_gl_pass *p = st->pass;
-    st->u_size = lg_gl_pass_uniform(p, "u_size");
-    st->u_samples = lg_gl_pass_uniform(p, "u_samples");
-    st->u_lights = lg_gl_pass_uniform(p, "u_lights");
-    st->u_physical = lg_gl_pass_uniform(p, "u_physical");
-    st->u_k = lg_gl_pass_uniform(p, "u_k");
-    st->u_norm = lg_gl_pass_uniform(p, "u_norm");
-    st->u_scale = lg_gl_pass_uniform(p, "u_scale");
-    st->u_light_pos = lg_gl_pass_uniform(p, "u_light_pos");
-    st->u_light_c = lg_gl_pass_uniform(p, "u_light_c");
-    st->u_light_to = lg_gl_pass_uniform_optional(p, "u_light_to");
-    st->u_inv_vp = lg_gl_pass_uniform(p, "u_inv_view_proj");
-    st->u_eye = lg_gl_pass_uniform(p, "u_eye");
-    st->u_forward = lg_gl_pass_uniform(p, "u_forward");
-    st->u_z_limit = lg_gl_pass_uniform(p, "u_z_limit");
-    st->u_sigma_s = lg_gl_pass_uniform(p, "u_sigma_s");
-    st->u_sigma_t = lg_gl_pass_uniform(p, "u_sigma_t");
-    st->u_g = lg_gl_pass_uniform(p, "u_g");
+    st->b_params = lg_gl_pass_uniform_block(p, "VsParams");
     st->b_base = lg_gl_pass_texture(p, "u_base");
     st->b_depth = lg_gl_pass_texture(p, "u_base_depth");
     return 0;
@@ -226,33 +243,29 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     lg_gl_pass *p = st->pass;
     if ((rc = lg_gl_pass_begin(p, &t)))
         return rc;
-    /* every pixel is written, depth included (base's): no test against the old plane */
-    gl->DepthFunc(GL_ALWAYS);
     const vol_setup *v = &f->v;
-    float ivp[16];
+    vs_gpu_params u = {
+        .eye = { (float)v->eye[0], (float)v->eye[1], (float)v->eye[2] },
+        .z_limit = v->z_limit,
+        .forward = { (float)v->forward[0], (float)v->forward[1], (float)v->forward[2] },
+        .g = v->g,
+        .k = f->k,
+        .norm = f->norm,
+        .size = { (int32_t)st->width, (int32_t)st->height },
+        .samples = (int32_t)st->samples,
+        .lights = (int32_t)v->n_lights,
+        .physical = st->model == VS_PHYSICAL,
+        .scale = f->scale,
+    };
     for (int i = 0; i < 16; i++)
-        ivp[i] = (float)v->inv_view_proj[i];
-    GLuint prog = lg_gl_pass_program(p);
-    lg_gl_set_ivec2(p, st->u_size, (int32_t)st->width, (int32_t)st->height);
-    lg_gl_set_int(p, st->u_samples, (int32_t)st->samples);
-    lg_gl_set_int(p, st->u_lights, (int32_t)v->n_lights);
-    lg_gl_set_int(p, st->u_physical, st->model == VS_PHYSICAL);
-    lg_gl_set_float(p, st->u_k, f->k);
-    lg_gl_set_float(p, st->u_norm, f->norm);
-    lg_gl_set_float(p, st->u_scale, f->scale);
-    gl->ProgramUniform4fv(prog, st->u_light_pos.location, (GLsizei)v->n_lights, &f->pos[0][0]);
-    gl->ProgramUniform4fv(prog, st->u_light_c.location, (GLsizei)v->n_lights, &f->lc[0][0]);
-    if (st->u_light_to.location >= 0)
-        gl->ProgramUniform4fv(prog, st->u_light_to.location, (GLsizei)v->n_lights,
-                              &f->to[0][0]);
-    lg_gl_set_mat4(p, st->u_inv_vp, ivp);
-    lg_gl_set_vec3(p, st->u_eye, (float)v->eye[0], (float)v->eye[1], (float)v->eye[2]);
-    lg_gl_set_vec3(p, st->u_forward, (float)v->forward[0], (float)v->forward[1],
-                   (float)v->forward[2]);
-    lg_gl_set_float(p, st->u_z_limit, v->z_limit);
-    lg_gl_set_vec3v(p, st->u_sigma_s, v->sigma_s);
-    lg_gl_set_vec3v(p, st->u_sigma_t, v->sigma_t);
-    lg_gl_set_float(p, st->u_g, v->g);
+        u.inv_view_proj[i] = (float)v->inv_view_proj[i];
+    memcpy(u.light_pos, f->pos, sizeof u.light_pos);
+    memcpy(u.light_c, f->lc, sizeof u.light_c);
+    memcpy(u.light_to, f->to, sizeof u.light_to);
+    memcpy(u.sigma_s, v->sigma_s, sizeof u.sigma_s);
+    memcpy(u.sigma_t, v->sigma_t, sizeof u.sigma_t);
+    if ((rc = lg_gl_pass_uniforms(p, st->b_params, &u, sizeof u)))
+        return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->b_base, base);
     lg_gl_pass_bind_texture(p, st->b_depth, base_depth);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
@@ -362,7 +375,7 @@ static int vs_execute(lg_node *n, const lg_frame *frame)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     rc = vs_frame_make(n, st, f);
     if (!rc)
-        rc = st->backend == VS_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
+        rc = st->backend == LG_DEVICE_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
     if (!rc)
         lg_log(n, LG_LOG_DEBUG, "%u of %u directional lights on screen (the others behind the "
                                 "camera or too far off-screen: no shafts), %u samples, %s",
@@ -384,12 +397,11 @@ static void vs_destroy(lg_node *n)
 
 /* ---- the descriptor -------------------------------------------------------------------- */
 
-static const char *const vs_backends[] = { "gl", "cpu", NULL };
 static const char *const vs_models[] = { "thesis", "physical", NULL };
 
 static const lg_param_desc vs_params[] = {
-    { .key = "backend", .type = LG_PARAM_ENUM, .def.e = VS_GL, .enum_values = vs_backends,
-      .doc = "gl (one fragment pass) or cpu (the host's thread pool); they agree" },
+    /* gl (one fragment pass) or cpu (the host's thread pool); they agree */
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL, LG_BACKEND_GL),
     { .key = "samples", .type = LG_PARAM_INT, .def.i = 64, .min = 1, .max = 1024,
       .doc = "N: samples from each pixel towards each light's screen position (eq. 7)" },
     { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
@@ -429,7 +441,7 @@ static const lg_node_type vs_types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "volumetric_screen",
     .doc = "Screen-space light shafts (Mitchell 2007): samples towards each directional "
-           "light's screen position, sky visibility from depth (gl, cpu)",
+           "light's screen position, sky visibility from depth (cpu, gl)",
     LG_PARAMS(vs_params),
     LG_INPUTS(vs_inputs),
     LG_OUTPUTS(vs_outputs),

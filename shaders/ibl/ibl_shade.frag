@@ -29,18 +29,23 @@ layout(std430, binding = 2) buffer Clamped { uint clamped; };
 // points, entry (i, j) at n.v = i / (N - 1), roughness = j / (N - 1)
 layout(std430, binding = 3) readonly buffer Dfg { vec2 dfg[]; };
 
-uniform mat4 u_inv_view_proj;
-uniform ivec2 u_size;
-uniform int u_mode;
-uniform int u_layout;
-uniform int u_bilinear;
-uniform int u_fresnel;
-uniform int u_has_base;
-uniform int u_has_base_depth;
-uniform int u_format;
-uniform mat3 u_rotation; // probe -> world
-uniform int u_chain_levels; // 0: no chain (every material a mirror)
-uniform int u_dfg_size;
+// The pass's values, uploaded in one call from the C struct that mirrors the block
+// (ibl_gpu_shade in plugins/ibl/ibl.c, std140, 160 bytes). No instance name: the members
+// read as plain uniforms.
+layout(std140, binding = 0) uniform IblShade {
+    mat4 u_inv_view_proj;
+    mat3 u_rotation;        // probe -> world (std140: three vec4 columns)
+    ivec2 u_size;
+    int u_mode;
+    int u_layout;
+    int u_bilinear;
+    int u_fresnel;
+    int u_has_base;
+    int u_has_base_depth;
+    int u_format;
+    int u_chain_levels;     // 0: no chain (every material a mirror)
+    int u_dfg_size;
+};
 
 layout(location = 0) out vec4 o_color;
 

@@ -54,8 +54,6 @@ layout(location = 5) out vec3 o_c0b;
 layout(location = 6) out vec3 o_cs[LG_SV_ARR];
 layout(location = 6 + LG_SV_ARR) out vec3 o_csb[LG_SV_ARR];
 
-uniform float u_mixed_cos; // cos(mixed_threshold_deg)
-
 // The largest cos(V, R) over the lights at the seven samples of the facet (P0..P2 with
 // their vertex normals g_nrm, C the centroid), on its front side or (back) its back side.
 float facet_max_cos(bool back, vec3 C, vec3 Nf)

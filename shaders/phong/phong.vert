@@ -24,7 +24,6 @@ layout(std430, binding = 0) readonly buffer LgInstances {
     LgInstance lg_inst[];
 };
 
-uniform mat4 u_view_proj; // projection (Y flipped, the image row rule) * view
 uniform int u_first;      // this draw's first entry in the bound range of LgInstances
 uniform int u_id_base;    // surface id of the draw's first instance (ids start at 1)
 

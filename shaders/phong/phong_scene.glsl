@@ -41,21 +41,29 @@ layout(std430, binding = 2) readonly buffer LgShadows {
 };
 layout(binding = 0) uniform sampler2D u_atlas; // the depth-only atlas (read with texelFetch)
 
-uniform int u_n_lights;
-uniform int u_shadow_res;       // tile side, texels
-uniform float u_bias_const;     // depth units
-uniform float u_bias_slope;     // depth units per unit of tan(angle(N, L))
-uniform float u_normal_offset;  // texels
+// What is the same for the whole pass, uploaded in one call from the C struct that mirrors
+// it (ph_gpu_frame in plugins/phong/phong.c, std140, 144 bytes). No instance name: the
+// members read as plain uniforms.
+layout(std140, binding = 1) uniform PhFrame {
+    mat4 u_view_proj;         // projection (Y flipped, the image row rule) * view
+    vec3 u_eye;               // the camera's position, world
+    int u_n_lights;
+    vec3 u_view_dir_inf;      // V for a viewer at infinity: unit, towards the camera
+    int u_viewer_local;       // 1: V = normalize(eye - P)
+    vec3 u_ambient;           // Ia
+    int u_depth_cue;          // 1: light terms divided by (r + K), eq. 1-12
+    float u_K;
+    int u_spec_model;         // LG_SPEC_PHONG or LG_SPEC_BLINN
+    float u_n_scale;          // n' = n * u_n_scale (Blinn's exponent correction: 1 or 4)
+    float u_mixed_cos;        // cos(mixed_threshold_deg) (phong.geom)
+    int u_shadow_res;         // tile side, texels
+    float u_bias_const;       // depth units
+    float u_bias_slope;       // depth units per unit of tan(angle(N, L))
+    float u_normal_offset;    // texels
+};
 
-uniform vec3 u_eye;             // the camera's position, world
-uniform vec3 u_view_dir_inf;    // V for a viewer at infinity: unit, towards the camera
-uniform int u_viewer_local;     // 1: V = normalize(eye - P)
-uniform int u_depth_cue;        // 1: light terms divided by (r + K), eq. 1-12
-uniform float u_K;
-
-uniform vec3 u_ambient;         // Ia
-uniform int u_spec_model;       // LG_SPEC_PHONG or LG_SPEC_BLINN
-uniform float u_n_scale;        // n' = n * u_n_scale (Blinn's exponent correction: 1 or 4)
+// The mesh's material: set per mesh between the draws of one pass (uniforms, not a block:
+// rewriting a buffer that the pass's earlier draws read makes llvmpipe finish them first).
 uniform float u_ka, u_kd, u_ks, u_shininess;
 uniform vec3 u_od, u_os;
 uniform int u_double_sided;     // 1: back faces are lit with the normal turned towards V

@@ -6,12 +6,7 @@
 layout(binding = 0) uniform sampler2D u_base;
 layout(binding = 1) uniform sampler2D u_base_depth;
 layout(binding = 2) uniform sampler2D u_inscatter;
-uniform mat4 u_inv_view_proj;
-uniform vec3 u_eye;
-uniform vec3 u_forward;
-uniform vec2 u_size;
-uniform float u_z_limit;
-uniform vec3 u_sigma_t;
+#include "poly_view.glsl"
 
 layout(location = 0) out vec4 o_color;
 

@@ -25,16 +25,11 @@
 in vec3 v_world;
 
 layout(binding = 0) uniform sampler2D u_base_depth; // base's depth plane (window depth)
-uniform mat4 u_inv_view_proj;  // the camera's (the finite one phong drew base with)
-uniform vec3 u_eye;
-uniform vec3 u_forward;
-uniform vec2 u_size;
-uniform float u_z_limit;
+#include "poly_view.glsl"
+// per light, set between the draws of the pass (uniforms, not a block: rewriting a buffer
+// that the pass's earlier draws read makes llvmpipe finish them first)
 uniform vec3 u_l_c;            // L_c of this light
 uniform vec3 u_dir;            // the direction its light travels
-uniform vec3 u_sigma_s;
-uniform vec3 u_sigma_t;
-uniform float u_g;
 uniform float u_flip;          // +1, or -1 when the light's NDC -> world map mirrors
 
 layout(location = 0) out vec4 o_color;

@@ -7,7 +7,7 @@
 layout(std430, binding = 0) readonly buffer Vertices { vec4 verts[]; };
 layout(std430, binding = 1) readonly buffer Indices { uint indices[]; };
 
-uniform mat4 u_view_proj;   // the camera's, far plane at infinity, near plane at the eye
+#include "poly_view.glsl"
 
 out vec3 v_world;
 

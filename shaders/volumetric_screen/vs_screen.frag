@@ -19,23 +19,28 @@ layout(location = 1) out vec4 o_inscatter;
 
 layout(binding = 0) uniform sampler2D u_base;        // base colour (rgba32f)
 layout(binding = 1) uniform sampler2D u_base_depth;  // its depth plane, 1 = sky
-uniform ivec2 u_size;
-uniform int u_samples;
-uniform int u_lights;
-uniform int u_physical;
-uniform float u_k;       // log2 of the decay of one sample step
-uniform float u_norm;    // 1/N (thesis, not normalised) or 1 / sum of the weights
-uniform float u_scale;   // exposure x weight (thesis), exposure (physical)
-uniform vec4 u_light_pos[32];  // xy: pixels; z: 1 contributes, 0 not
-uniform vec4 u_light_c[32];    // L_c
-uniform vec4 u_light_to[32];   // unit direction towards the light, -L
-uniform mat4 u_inv_view_proj;
-uniform vec3 u_eye;
-uniform vec3 u_forward;
-uniform float u_z_limit;
-uniform vec3 u_sigma_s;
-uniform vec3 u_sigma_t;
-uniform float u_g;
+// Everything the pass reads but the images, uploaded in one call from the C struct that
+// mirrors it (vs_gpu_params in plugins/volumetric_screen/screen.c, std140, 1696 bytes). No
+// instance name: the members read as plain uniforms.
+layout(std140, binding = 0) uniform VsParams {
+    mat4 u_inv_view_proj;
+    vec4 u_light_pos[32];  // xy: pixels; z: 1 contributes, 0 not
+    vec4 u_light_c[32];    // L_c
+    vec4 u_light_to[32];   // unit direction towards the light, -L
+    vec3 u_eye;
+    float u_z_limit;
+    vec3 u_forward;
+    float u_g;
+    vec3 u_sigma_s;
+    float u_k;             // log2 of the decay of one sample step
+    vec3 u_sigma_t;
+    float u_norm;          // 1/N (thesis, not normalised) or 1 / sum of the weights
+    ivec2 u_size;
+    int u_samples;
+    int u_lights;
+    int u_physical;
+    float u_scale;         // exposure x weight (thesis), exposure (physical)
+};
 
 vec3 unproject(vec2 ndc, float z)
 {
