@@ -562,12 +562,14 @@ int lg_test_spawn_(const char *const *argv, const char *cwd, char **out)
      * shared library) or the shell says why in the output; that is the cause to name, not
      * what the caller would guess from a failed command (a plugin not found, no device). */
     if (WIFEXITED(status) && code == 127) {
-        size_t l = strlen(text);
-        while (l && text[l - 1] == '\n')
-            text[--l] = 0;
+        char why[2048]; /* copied, so that nothing is left allocated at the exit */
+        snprintf(why, sizeof why, "%s", *text ? text : "no message: is it a lightgraph program?");
+        free(text);
+        size_t l = strlen(why);
+        while (l && why[l - 1] == '\n')
+            why[--l] = 0;
         lg_test_die_("%s (%s) could not start (exit 127, it never ran): %s", argv[0],
-                     strcmp(argv[0], lg_test_exe()) ? "a program" : exe_origin(),
-                     *text ? text : "no message: is it a lightgraph program?");
+                     strcmp(argv[0], lg_test_exe()) ? "a program" : exe_origin(), why);
     }
     if (out)
         *out = text;

@@ -10,6 +10,9 @@
  *   partial     the same without allow_missing: the case ends as a skip (77), checked by
  *               running this program's `partial_inner` case
  *   signal      a host killed by SIGSEGV is reported with the signal's number and name
+ *   cannot_start  a host that exits 127 before its main (the dynamic loader's "cannot open
+ *               shared object file"): the harness prints that message, not a guess about
+ *               the plugin path, exits 99 and names the scratch folder it keeps
  *   bench       (run with --bench=3) three executions per backend, times filled in
  */
 #include <ftw.h>
@@ -228,6 +231,49 @@ static void case_signal(lg_test *t)
                   "the signal is not named: %s", text);
 }
 
+/* A host that cannot start (issue 21: an installed program without its RPATH gave exit 127
+ * and the hint "is the plugin on LIGHTGRAPH_PLUGIN_PATH?", and the scratch folder was left
+ * unnamed). The stand-in prints what ld.so prints and exits 127, as ld.so does. */
+static void case_cannot_start_inner(lg_test *t)
+{
+    const char *script = lg_test_path(t, "noload.sh");
+    FILE *f = fopen(script, "w");
+    if (!f ||
+        fputs("#!/bin/sh\necho \"$0: error while loading shared libraries: liblightgraph.so.3: "
+              "cannot open shared object file: No such file or directory\" >&2\nexit 127\n",
+              f) < 0 ||
+        fclose(f) || chmod(script, 0755)) {
+        LG_TEST_FAILF(t, "cannot write %s", script);
+        return;
+    }
+    setenv("LG_EXE", script, 1); /* single-threaded test process: allowed */
+    lg_test_backends_desc d = {.graph = graph_for(t), .node = "tone"};
+    lg_test_backends(t, &d, NULL); /* asks `inspect` first: the harness must exit there */
+    LG_TEST_FAILF(t, "lg_test_backends returned although the host could not start");
+}
+
+static void case_cannot_start(lg_test *t)
+{
+    char text[8192];
+    int code = run_inner(t, "cannot_start_inner", text, sizeof text);
+    LG_TEST_CHECK(t, code == LG_TEST_ERROR, "exit %d, want 99: %s", code, text);
+    LG_TEST_CHECK(t, strstr(text, "could not start (exit 127") != NULL &&
+                         strstr(text, "liblightgraph.so.3: cannot open shared object file") != NULL,
+                  "the loader's message is not given as the cause: %s", text);
+    LG_TEST_CHECK(t, strstr(text, "LIGHTGRAPH_PLUGIN_PATH") == NULL,
+                  "a host that cannot start is blamed on the plugin path: %s", text);
+    const char *kept = strstr(text, "scratch folder kept: ");
+    char dir[4096] = "";
+    if (kept)
+        sscanf(kept + strlen("scratch folder kept: "), "%4095[^\n]", dir);
+    struct stat st;
+    LG_TEST_CHECK(t, *dir && strstr(dir, "harness-cannot_start_inner-") && stat(dir, &st) == 0 &&
+                         S_ISDIR(st.st_mode),
+                  "the kept scratch folder is not named (or not there): '%s' in %s", dir, text);
+    if (*dir && strstr(dir, "harness-cannot_start_inner-"))
+        nftw(dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
+}
+
 static void case_bench(lg_test *t)
 {
     uint32_t frames = lg_test_bench_frames(t);
@@ -270,6 +316,8 @@ int main(int argc, char **argv)
         {"partial_inner", case_partial_inner},
         {"signal", case_signal},
         {"signal_inner", case_signal_inner},
+        {"cannot_start", case_cannot_start},
+        {"cannot_start_inner", case_cannot_start_inner},
         {"bench", case_bench},
     };
     lg_test_main_opts o = {.prefix = "harness"};

@@ -110,6 +110,10 @@ fi
 # shellcheck disable=SC2086 # $san is two words or none
 (cd "$TMP/template" && meson setup build $san >"$TMP/setup.log" 2>&1 && ninja -C build >"$TMP/ninja.log" 2>&1) || {
   cat "$TMP/setup.log" "$TMP/ninja.log" 2>/dev/null; echo "FAIL: template build"; exit 1; }
+# The template, built against the installed SDK, exports lg_plugin_entry only (the rule of
+# tests/unit/abi, plugin_exports, for every in-tree plugin).
+sh "$SRC/tests/unit/abi/check_exports.sh" "$TMP/template/build/lg_acme_blur.so" || {
+  echo "FAIL: the template plugin exports more than lg_plugin_entry"; exit 1; }
 export LIGHTGRAPH_PLUGIN_PATH="$TMP/template/build"
 # From here on the installed program, not the build's.
 LG_EXE="$EXE"
