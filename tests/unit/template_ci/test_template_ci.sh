@@ -8,7 +8,8 @@
 #   2. its tests (meson test) on the installed harness, which runs the installed host;
 #   3. the plugin exports lg_plugin_entry alone;
 #   4. lightgraph conform on it;
-#   5. a graph rendered with it by the installed host on each backend, checked.
+#   5. graphs rendered with it by the installed host on each backend: a constant image stays
+#      that constant, and the installed test image is blurred alike by cpu, gl and cl.
 # A failure keeps the folder and names it.
 set -eu
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/lg-template-ci-XXXXXX")
@@ -93,6 +94,25 @@ for b in cpu gl cl; do
     fail "acme_blur backend $b changed a constant image"
   rm -f out.exr
 done
+# ... and the installed test image (pkg-config testdatadir) blurred on each backend: gl and
+# cl agree with cpu within the node's tolerance (1e-5; the values are below 1)
+testdata=$(author pkg-config --variable=testdatadir lightgraph)
+[ -f "$testdata/forest_256x128.exr" ] || fail "no test image in testdatadir '$testdata'"
+cat >"$TMP/f.lgraph" <<G
+lightgraph 1
+src = image { file = "$testdata/forest_256x128.exr" }
+blur = acme_blur { image = src, sigma = 2 }
+output blur "forest.exr"
+G
+for b in cpu gl cl; do
+  author "$exe" render f.lgraph -q --set blur.backend=$b 2>"$TMP/$b.err" ||
+    { cat "$TMP/$b.err"; fail "render of the test image with acme_blur, backend $b"; }
+  mv forest.exr "forest_$b.exr"
+done
+author "$exe" diff forest_cpu.exr forest_gl.exr --max-abs 1e-5 >/dev/null ||
+  fail "acme_blur: gl and cpu differ on the installed test image"
+author "$exe" diff forest_cpu.exr forest_cl.exr --max-abs 1e-5 >/dev/null ||
+  fail "acme_blur: cl and cpu differ on the installed test image"
 ok=1
 echo "ok: the installed template builds with pkg-config only, passes its 5 tests on the" \
   "installed harness, exports lg_plugin_entry alone, passes conform and renders on cpu, gl" \
