@@ -95,7 +95,8 @@ for b in cpu gl cl; do
   rm -f out.exr
 done
 # ... and the installed test image (pkg-config testdatadir) blurred on each backend: gl and
-# cl agree with cpu within the node's tolerance (1e-5; the values are below 1)
+# cl agree with cpu within the node's tolerance, 1e-5 x max(1, largest value), the image's
+# largest being about 450 (measured: gl 0, cl 3.8e-6)
 testdata=$(author pkg-config --variable=testdatadir lightgraph)
 [ -f "$testdata/forest_256x128.exr" ] || fail "no test image in testdatadir '$testdata'"
 cat >"$TMP/f.lgraph" <<G
@@ -109,12 +110,13 @@ for b in cpu gl cl; do
     { cat "$TMP/$b.err"; fail "render of the test image with acme_blur, backend $b"; }
   mv forest.exr "forest_$b.exr"
 done
-author "$exe" diff forest_cpu.exr forest_gl.exr --max-abs 1e-5 >/dev/null ||
+author "$exe" diff forest_cpu.exr forest_gl.exr --max-abs 4.5e-3 >/dev/null ||
   fail "acme_blur: gl and cpu differ on the installed test image"
-author "$exe" diff forest_cpu.exr forest_cl.exr --max-abs 1e-5 >/dev/null ||
+author "$exe" diff forest_cpu.exr forest_cl.exr --max-abs 4.5e-3 >/dev/null ||
   fail "acme_blur: cl and cpu differ on the installed test image"
 ok=1
 echo "ok: the installed template builds with pkg-config only, passes its 5 tests on the" \
   "installed harness, exports lg_plugin_entry alone, passes conform and renders on cpu, gl" \
-  "and cl through the installed host; environment: PATH, HOME, PKG_CONFIG_PATH," \
+  "and cl through the installed host (a constant image kept, the installed forest_256x128.exr" \
+  "blurred alike); environment: PATH, HOME, PKG_CONFIG_PATH," \
   "LIGHTGRAPH_PLUGIN_PATH"
