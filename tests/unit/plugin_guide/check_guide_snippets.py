@@ -9,6 +9,9 @@ Fenced blocks:
                         kernel) is embedded with embed.py into NAME's basename + .h, which the
                         C files may include. GLSL files without #include are also compiled by
                         glslangValidator when it is installed.
+  ```meson from=PATH    an excerpt of the file PATH (relative to --root): every non-blank
+                        line of the block, stripped, must be a line of that file, so that an
+                        excerpt of the template's meson.build cannot drift from it.
 Other languages (sh, meson, text...) and plain ``` blocks are prose, not checked. Each C
 chunk starts with a #line directive naming the page and line, so the compiler's messages
 point into the guide. A C file that defines a plugin (LG_PLUGIN_DEFINE) is also linked as a
@@ -41,10 +44,11 @@ def parse(path):
                 for word in m.group(2).split():
                     if '=' not in word:
                         sys.exit(f'{path}:{no}: unknown fence attribute {word!r} '
-                                 '(only file=NAME)')
+                                 '(file=NAME or from=PATH)')
                     k, v = word.split('=', 1)
-                    if k != 'file':
-                        sys.exit(f'{path}:{no}: unknown fence attribute {k!r} (only file=NAME)')
+                    if k not in ('file', 'from'):
+                        sys.exit(f'{path}:{no}: unknown fence attribute {k!r} '
+                                 '(file=NAME or from=PATH)')
                     attrs[k] = v
                 cur = (m.group(1), attrs, no + 1, [])
             elif cur is not None and line.startswith('```'):
@@ -68,6 +72,7 @@ def main():
     ap.add_argument('--embed', required=True)
     ap.add_argument('-I', dest='includes', action='append', default=[])
     ap.add_argument('-L', dest='libdir', required=True)
+    ap.add_argument('--root', default=None, help='where from=PATH excerpts are read')
     ap.add_argument('--min', type=int, default=1, help='fewest C snippets the page must have')
     ap.add_argument('--expect-fail', default=None)
     ap.add_argument('guide')
@@ -78,7 +83,21 @@ def main():
     a.libdir = os.path.abspath(a.libdir)
     a.includes = [os.path.abspath(d) for d in a.includes]
     files, units, n_snippets = {}, [], 0
+    failures = []
     for lang, attrs, line, text in parse(guide):
+        if 'from' in attrs:  # an excerpt: every line must be in the file
+            src = os.path.join(a.root or '.', attrs['from'])
+            try:
+                with open(src, encoding='utf-8') as f:
+                    have = {l.strip() for l in f}
+            except OSError as e:
+                failures.append(f'{guide}:{line - 1}: excerpt of {attrs["from"]}: {e}')
+                continue
+            for k, l in enumerate(text.splitlines()):
+                if l.strip() and l.strip() not in have:
+                    failures.append(f'{guide}:{line + k}: this line of the excerpt is not in '
+                                    f'{attrs["from"]}: {l.strip()}')
+            continue
         name = attrs.get('file')
         if lang != 'c' and name is None:
             continue  # prose: a shell session, a meson excerpt, a graph file
@@ -92,7 +111,6 @@ def main():
         files.setdefault(name, []).append(chunk)
 
     tmp = tempfile.mkdtemp(prefix='guide-snippets-')
-    failures = []
     try:
         gen = os.path.join(tmp, 'gen')
         os.makedirs(gen)
