@@ -931,20 +931,14 @@ static bool running_from_build_tree(void)
     return same;
 }
 
-/* The installed plugins: <the program's folder>/LG_PLUGIN_DIR_FROM_BIN when the program
- * runs from an installed prefix (the folder exists), so that a prefix installed with
- * --destdir or moved finds its own plugins and not another installation's; else the
- * prefix's folder compiled in (a build-tree program, or a prefix that is not relocatable:
- * LG_PLUGIN_DIR_FROM_BIN is ""). */
-/* The installed program's plugin folder, absolute and malloc'd: LG_PLUGIN_DIR_FROM_BIN
- * relative to the program's own file when that folder exists (an installed prefix works
- * wherever it lands), else the configured LG_INSTALL_PLUGIN_DIR. */
-static char *install_plugin_dir(void)
+/* The installed plugins (absolute, malloc'd): <the program's folder>/LG_PLUGIN_DIR_FROM_BIN
+ * when that folder exists, so that a prefix installed with --destdir or moved finds its own
+ * plugins and not another installation's; else the prefix's folder compiled in (a prefix
+ * that is not relocatable: LG_PLUGIN_DIR_FROM_BIN is ""). */
+static char *installed_plugin_dir(void)
 {
     char exe[PATH_MAX];
-    ssize_t n = *LG_PLUGIN_DIR_FROM_BIN && !running_from_build_tree()
-                    ? readlink("/proc/self/exe", exe, sizeof exe - 1)
-                    : -1;
+    ssize_t n = *LG_PLUGIN_DIR_FROM_BIN ? readlink("/proc/self/exe", exe, sizeof exe - 1) : -1;
     if (n > 0) {
         exe[n] = 0;
         char *dir = lg_path_dirname(exe);
@@ -988,11 +982,11 @@ int lg_registry_scan(lg_registry *r)
         free(copy);
     }
     /* The program's own plugins: the build tree's when it runs from there, else the
-     * installed ones (found from the program's file). A program of the build tree does not
-     * look at an installed lightgraph's plugins: they may be of another version, and each
-     * would clash with its twin here. */
+     * installed ones, found from the program's own file. A program of the build tree does
+     * not look at an installed lightgraph's plugins: they may be of another version, and
+     * each would clash with its twin here. */
     char *own = running_from_build_tree() ? lg_path_absolute(LG_BUILD_PLUGIN_DIR)
-                                          : install_plugin_dir();
+                                          : installed_plugin_dir();
     add_dir(r, own);
     scan_list l = {0};
     for (uint32_t i = 0; i < r->n_dirs; i++)
