@@ -254,9 +254,11 @@ typedef struct lg_pnode {
     double min_cpu_ms;           /* the fastest run */
     bool gpu_unmeasured;         /* a GL timer query gave no plausible value */
     uint64_t runs;
+    /* bytes_alloc: the resources the host made for the node (outputs, device copies,
+     * payload buffers); bytes_moved: what it copied between devices for the node */
     uint64_t bytes_alloc, bytes_moved;
     /* memory the plugin counted itself (lg_account_alloc / lg_account_free): live now, and
-     * the most live at once */
+     * the most live at once; the profile's `allocated` is bytes_alloc + the peak */
     uint64_t bytes_plugin_live, bytes_plugin_peak;
     uint64_t cache_hits, cache_misses;
     void **cl_events;

@@ -813,10 +813,11 @@ static void api_declare_work(lg_node *n, double units, double seconds, const cha
     p->work_what = lg_xstrdup(what && what[0] ? what : "units");
 }
 
+/* Plugin memory is kept apart from bytes_alloc (the host's resources for the node): the
+ * profile adds its peak, not its sum, so a buffer remade every frame counts once. */
 static void api_account_alloc(lg_node *n, uint64_t bytes)
 {
     lg_pnode *p = P(n);
-    p->bytes_alloc += bytes;
     p->bytes_plugin_live += bytes;
     if (p->bytes_plugin_live > p->bytes_plugin_peak)
         p->bytes_plugin_peak = p->bytes_plugin_live;

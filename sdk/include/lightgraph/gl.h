@@ -13,7 +13,10 @@
  *     if (lg_gl_check(node, "reinhard map pass")) return LG_ERR_DEVICE;
  *
  * The header also gives lg_gl_program(), which compiles and links a program from shader
- * sources with their file names in messages, and reports the info log on failure.
+ * sources with their file names in messages, and reports the info log on failure, and
+ * (since ABI 3.0) the node's scratch device memory: lg_gl_buffer, lg_gl_texture and
+ * lg_gl_buffer_texture, below. A plugin makes its GL buffers and textures only through
+ * them (a test greps plugins/ for raw glCreateBuffers, glNamedBufferStorage, ...).
  */
 #ifndef LIGHTGRAPH_GL_H
 #define LIGHTGRAPH_GL_H
@@ -52,6 +55,125 @@ typedef struct lg_gl_shader_src {
  * or linker's log through lg_error(). The caller owns the program (glDeleteProgram). */
 LG_API GLuint lg_gl_program(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *stages,
                             unsigned count, const char *defines);
+
+/* ---- Scratch device memory (since ABI 3.0) ------------------------------------------------
+ *
+ * GL buffers and textures a node makes for itself (a G-buffer, a light list, a history
+ * volume), in libplacebo's recreate idiom: the node keeps a zero-initialised handle in its
+ * state and calls *_recreate with what it needs every time it is about to use it; the
+ * object is made when absent and made again only when it no longer fits, so a node that
+ * asks for the same thing every frame makes it once:
+ *
+ *     typedef struct my_state { lg_gl_texture gbuf; lg_gl_buffer lights; ... } my_state;
+ *
+ *     // in execute (GL current)
+ *     lg_gl_texture_desc td = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F,
+ *                               .width = w, .height = h };
+ *     int made = lg_gl_texture_recreate(n, &st->gbuf, &td);   // 1: new, contents undefined
+ *     if (made < 0) return made;
+ *     if ((rc = lg_gl_buffer_recreate(n, &st->lights, bytes, 0, lights))) return rc;
+ *     lg_gl_pass_bind_texture(pass, u_gbuf, st->gbuf.name);
+ *
+ *     // in destroy (GL current)
+ *     lg_gl_texture_destroy(n, &st->gbuf);
+ *     lg_gl_buffer_destroy(n, &st->lights);
+ *
+ * Accounting. Every make counts its bytes with lg_account_alloc and every release (a
+ * remake or a destroy) with lg_account_free, so `--profile` shows the node's live and
+ * peak memory: a buffer remade every frame counts once, not once per frame.
+ *
+ * Errors. The int functions return 0 (or 1, see lg_gl_texture_recreate) or a negative
+ * LG_ERR_* after reporting on the node what was asked and why it failed: a zero size, an
+ * unknown format or target, a size beyond the device's limits (LG_ERR_INVALID), the GL
+ * error of the allocation (LG_ERR_DEVICE: GL_OUT_OF_MEMORY, ...). A GL error pending from
+ * the node's own earlier calls is reported as such before anything is made. After a
+ * failure the handle is empty (name 0, nothing counted): the next call tries again.
+ *
+ * Ownership. The node owns the handle and what it names; the functions need the node's GL
+ * context current (execute, or destroy) and a handle belongs to one node. The name may be
+ * bound and used directly (lg_gl_pass_bind_buffer, lg_gl_target, ...) but never deleted
+ * or re-specified by hand. Destroy functions accept an empty handle (or NULL) and leave it
+ * zeroed. `data` pointers are read during the call only. */
+
+/* A buffer object (glNamedBufferStorage). */
+typedef struct lg_gl_buffer {
+    GLuint name;           /* 0: none */
+    size_t size;           /* bytes it holds */
+    GLbitfield flags;      /* glNamedBufferStorage flags it was made with */
+} lg_gl_buffer;
+
+/* Makes the buffer when absent, smaller than `size` or of other flags
+ * (0 = GL_DYNAMIC_STORAGE_BIT); else keeps it (a larger buffer is kept: `size` bytes of it
+ * are what the caller uses). `data` (may be NULL) is uploaded to its start either way:
+ * `size` bytes of it; a new buffer without data has undefined contents. A kept buffer
+ * whose flags lack GL_DYNAMIC_STORAGE_BIT cannot be written: data for it makes it anew.
+ * A zero `size` is an error. Counted with lg_account_alloc / lg_account_free. GL context
+ * current. Returns 0 or an LG_ERR_*. */
+LG_API int lg_gl_buffer_recreate(lg_node *n, lg_gl_buffer *b, size_t size, GLbitfield flags,
+                                 const void *data);
+
+/* Uploads `size` bytes of `data` at `offset` (glNamedBufferSubData): the buffer must
+ * exist, hold offset + size bytes and have GL_DYNAMIC_STORAGE_BIT. A zero `size` does
+ * nothing. Returns 0 or an LG_ERR_*. */
+LG_API int lg_gl_buffer_upload(lg_node *n, lg_gl_buffer *b, size_t offset, size_t size,
+                               const void *data);
+
+/* Deletes the buffer and counts its release; leaves *b zeroed. NULL and empty are fine. */
+LG_API void lg_gl_buffer_destroy(lg_node *n, lg_gl_buffer *b);
+
+/* What a texture is: zero means default where a default is given. */
+typedef struct lg_gl_texture_desc {
+    GLenum target;         /* GL_TEXTURE_2D, _3D, _2D_ARRAY, _CUBE_MAP */
+    GLenum format;         /* sized internal format: GL_RGBA32F, GL_R32UI, GL_DEPTH_COMPONENT32F... */
+    uint32_t width, height, depth;   /* depth: 3D depth or array layers; 0 = 1 */
+    uint32_t levels;                 /* 0 = 1 */
+    uint32_t reserved[4];
+} lg_gl_texture_desc;
+
+typedef struct lg_gl_texture {
+    GLuint name;           /* 0: none */
+    lg_gl_texture_desc desc;  /* what it was made with, defaults filled in (depth, levels >= 1) */
+    uint64_t bytes;        /* what it counts in the profile */
+} lg_gl_texture;
+
+/* Makes the texture (glTextureStorage2D/3D) when absent or when any field of desc differs;
+ * else keeps it. Returns 0 (kept) or 1 (made anew: contents undefined) or an LG_ERR_*.
+ *
+ * A cube map has width == height and depth 1 (its six faces are counted); a 2D texture
+ * has depth 1; levels go up to 1 + log2 of the largest extent; formats: the sized colour
+ * formats of 8, 16 and 32 bits per channel (GL_R8 ... GL_RGBA32F, the integer ones, and
+ * GL_R11F_G11F_B10F, GL_RGB10_A2, GL_SRGB8_ALPHA8) and the depth formats
+ * (GL_DEPTH_COMPONENT16/24/32F, GL_DEPTH24_STENCIL8, GL_DEPTH32F_STENCIL8). A texture made
+ * anew samples GL_NEAREST (GL_NEAREST_MIPMAP_NEAREST with levels) and clamps to the edge,
+ * as the host's own images: complete as made, whatever the shader reads it with; a pass's
+ * sampler state overrides it. Counted with lg_account_alloc / lg_account_free (every level,
+ * layer and face, at the format's nominal size). */
+LG_API int lg_gl_texture_recreate(lg_node *n, lg_gl_texture *t, const lg_gl_texture_desc *d);
+
+/* Deletes the texture and counts its release; leaves *t zeroed. NULL and empty are fine. */
+LG_API void lg_gl_texture_destroy(lg_node *n, lg_gl_texture *t);
+
+/* The bytes a texture of `d` holds (defaults filled in), or 0 for a desc that
+ * lg_gl_texture_recreate refuses (unknown target or format, a zero extent). */
+LG_API uint64_t lg_gl_texture_bytes(const lg_gl_texture_desc *d);
+
+/* A buffer texture (GL_TEXTURE_BUFFER, a samplerBuffer in GLSL) over a buffer someone else
+ * owns: an input's GL buffer (lg_map_gl) or the node's lg_gl_buffer. It holds no storage of
+ * its own (counted 0) and is remade when the buffer or the format changes. */
+typedef struct lg_gl_buffer_texture {
+    GLuint name;           /* 0: none */
+    GLuint buffer;         /* the buffer it views */
+    GLenum format;         /* GL_R32F, GL_RGB32F, GL_RGBA32F, GL_R32UI, ... */
+} lg_gl_buffer_texture;
+
+/* Makes the buffer texture over `buffer` (not 0) in `format` (a format glTextureBuffer
+ * accepts) when absent or different; else keeps it. Returns 0 (kept), 1 (made) or an
+ * LG_ERR_*. The buffer must outlive the view's use; the view never deletes it. */
+LG_API int lg_gl_buffer_texture_recreate(lg_node *n, lg_gl_buffer_texture *t, GLenum format,
+                                         GLuint buffer);
+
+/* Deletes the buffer texture (not its buffer); leaves *t zeroed. NULL and empty are fine. */
+LG_API void lg_gl_buffer_texture_destroy(lg_node *n, lg_gl_buffer_texture *t);
 
 #ifdef __cplusplus
 }

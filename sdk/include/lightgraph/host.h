@@ -258,11 +258,14 @@ typedef struct lg_host_api {
     const lg_resource *(*part)(lg_node *node, const lg_resource *res, const char *name);
 
     /* -- since ABI 2.4: memory a plugin allocates itself --
-     * Adds `bytes` to the node's bytes allocated in the profile (--profile's `allocated`
-     * column): for device memory the plugin makes and keeps itself (a GL buffer of
-     * per-light geometry, a history volume), so that a node's memory is all counted.
-     * Call it once per allocation, where the allocation happens; call it
-     * through lg_account_alloc(), which does nothing on an older host. */
+     * Adds `bytes` to the memory the node's plugin holds (live), for memory the plugin
+     * makes and keeps itself (a GL buffer of per-light geometry, a history volume), so
+     * that a node's memory is all counted; account_free (ABI 3.0) takes it off again.
+     * --profile's `allocated` is the node's resources plus the most the plugin held at
+     * once (its peak), not the sum of every allocation. Call it once per allocation, where
+     * the allocation happens, through lg_account_alloc(), which does nothing on an older
+     * host. The SDK's device objects (lg_gl_buffer, lg_gl_texture in lightgraph/gl.h)
+     * call it and account_free themselves. */
     void (*account_alloc)(lg_node *node, uint64_t bytes);
 
     /* -- since ABI 2.5: camera dependence, per instance --
@@ -320,8 +323,9 @@ typedef struct lg_host_api {
      * The release matching an account_alloc of the same `bytes`: the profile then shows
      * the node's live device and host memory (allocated minus released, and its peak), so
      * that a buffer remade every frame is not counted once per frame. The SDK's device
-     * objects (lightgraph/devmem.h) call both; a plugin that still allocates by hand calls
-     * lg_account_free() where it frees. */
+     * objects (lg_gl_buffer, lg_gl_texture: lightgraph/gl.h; lg_cl_buffer: lightgraph/cl.h)
+     * call both; a plugin that counts host memory itself calls lg_account_free() where it
+     * frees. */
     void (*account_free)(lg_node *node, uint64_t bytes);
 
     void *reserved[19];

@@ -33,8 +33,8 @@
  *         lg_test_backends_desc d = {
  *             .graph = "lightgraph 1\n"
  *                      "src = image { file = \"in.exr\" }\n"
- *                      "inv = template_invert { image = src }\n",
- *             .node = "inv",
+ *                      "blur = acme_blur { image = src, sigma = 2 }\n",
+ *             .node = "blur",
  *             .reference = &want,
  *             .tol_reference = { .max_abs = 1e-6 },
  *             .tol_backends = { .max_abs = 1e-6 },

@@ -314,6 +314,57 @@ def test_frames_and_profile():
           "--every-frame=fog runs fog only: %r" % nodes)
 
 
+def test_plugin_memory():
+    """--profile counts a plugin's own memory as the most it held at once (lg_account_alloc
+    and lg_account_free, here through lg_gl_buffer and lg_gl_texture), added to the host's
+    resources: N frames of a node that keeps its buffer, or remakes it every execute, show
+    what one frame shows; a texture whose size changes counts each release."""
+    size = 8
+    one = size * size * 16
+    pj = os.path.join(TMP, "mem.json")
+
+    def profile(mode, frames, table=False):
+        g = graph("lightgraph 1\nm = test_mem { mode = %s, size = %d }\noutput m \"%s\"\n"
+                  % (mode, size, os.path.join(TMP, "mem.exr")), "mem.lgraph")
+        args = ["render", g, "--frames", str(frames), "--size", "4x4", "--profile-json", pj]
+        p = run(args + (["--profile"] if table else []), expect=None)
+        skip_if_no_device(p)
+        check(p.returncode == 0, "%s, %d frames: %s" % (mode, frames, p.stderr))
+        m = {n["name"]: n for n in json.load(open(pj))["nodes"]}["m"]
+        check(m["runs"] == frames, "%s: %d runs, want %d" % (mode, m["runs"], frames))
+        check(m["bytes_allocated"] == m["resource_bytes"] + m["plugin_bytes_peak"],
+              "%s: allocated = resources + plugin peak: %r" % (mode, m))
+        check(m["resource_bytes"] >= 4 * 4 * 16, "%s: the output counted: %r" % (mode, m))
+        return m, p.stdout
+
+    for mode, live in (("keep", one), ("remake", 0)):
+        m1, _ = profile(mode, 1)
+        m5, _ = profile(mode, 5)
+        check(m1["plugin_bytes_peak"] == one and m5["plugin_bytes_peak"] == one,
+              "%s: the plugin's peak is one buffer (%d bytes) after 1 and 5 frames: %d, %d"
+              % (mode, one, m1["plugin_bytes_peak"], m5["plugin_bytes_peak"]))
+        check(m1["plugin_bytes_live"] == live and m5["plugin_bytes_live"] == live,
+              "%s: live after the last frame %d: %r %r" % (mode, live, m1, m5))
+        check(m5["bytes_allocated"] == m1["bytes_allocated"],
+              "%s: 5 frames allocate what 1 frame does: %d vs %d"
+              % (mode, m5["bytes_allocated"], m1["bytes_allocated"]))
+    # resize: 8x8, 16x8, 8x8: each remake releases the old texture first
+    m, _ = profile("resize", 2)
+    check(m["plugin_bytes_peak"] == 2 * one and m["plugin_bytes_live"] == 2 * one, "%r" % m)
+    m, out = profile("resize", 3, table=True)
+    check(m["plugin_bytes_live"] == one and m["plugin_bytes_peak"] == 2 * one,
+          "resize over 3 frames: live %d (want %d), peak %d (want %d)"
+          % (m["plugin_bytes_live"], one, m["plugin_bytes_peak"], 2 * one))
+    # the table: allocated (resources + peak) and the plugin's peak, in their columns
+    head = [l for l in out.splitlines() if "allocated" in l and "plugin" in l and "moved" in l]
+    row = [l for l in out.splitlines() if l.split()[:2] == ["m", "test_mem"]]
+    check(head and row, "profile table: %s" % out)
+    cols = head[0].split()
+    check(cols.index("allocated") + 1 == cols.index("plugin"), "columns: %s" % head[0])
+    check(("%.1f KiB" % ((m["resource_bytes"] + 2 * one) / 1024.0)) in row[0]
+          and "2.0 KiB" in row[0], "row: %s (json %r)" % (row[0], m))
+
+
 def test_devices():
     """`lightgraph devices`: one line per device, exit 0 when all can be made, 1 (with the
     message a render would fail with) when one cannot."""
