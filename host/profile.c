@@ -119,7 +119,8 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
         if (n->state == LG_STATE_KEPT)
             lg_str_addf(&s,
                         ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
-                        "%.6f, \"first_cpu_ms\": %.6f, \"min_cpu_ms\": %.6f, \"gpu_ms\": %.6f, \"gpu_measured\": %s, \"bytes_allocated\": %llu, \"resource_bytes\": %llu, "
+                        "%.6f, \"first_cpu_ms\": %.6f, \"min_cpu_ms\": %.6f, \"gpu_ms\": %.6f, "
+                        "\"gpu_measured\": %s, \"bytes_allocated\": %llu, \"resource_bytes\": %llu, "
                         "\"plugin_bytes_live\": %llu, \"plugin_bytes_peak\": %llu, "
                         "\"bytes_moved\": %llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
                         dev(n), n->per_frame ? "true" : "false", (unsigned long long)n->runs,

@@ -73,7 +73,8 @@ typedef struct ibl_state {
     bool cache_probed;        /* prepare() looked the chain up in the cache (and missed) */
     bool chain_unchecked;     /* st->chain came from the cache: its values not yet held to
                                * the probe's range (ibl_chain_bad, in execute) */
-    GLuint chain_tex, dfg_buf;
+    lg_gl_texture chain_tex;
+    lg_gl_buffer dfg_buf;
     lg_cl_buffer cl_chain, cl_dfg;
 
     /* GL: the G-buffer pass and its images, the shading pass */
@@ -82,7 +83,8 @@ typedef struct ibl_state {
     lg_gl_binding s_params;
     lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
         s_clamped, s_chain, s_dfg;
-    GLuint gbuf_tex, gdepth_tex, mats_buf, clamp_buf;
+    lg_gl_texture gbuf_tex, gdepth_tex;
+    lg_gl_buffer mats_buf, clamp_buf;
 
     /* CL */
     lg_cl_pass *kernel;
@@ -642,21 +644,19 @@ static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
     return 0;
 }
 
-static int ibl_gbuffer_images(lg_node *n, ibl_state *st, const lg_gl *gl)
+/* The G-buffer at the output's size: made on the first frame, then kept (sampled nearest,
+ * as lg_gl_texture makes them). */
+static int ibl_gbuffer_images(lg_node *n, ibl_state *st)
 {
-    if (st->gbuf_tex)
-        return 0;
-    gl->CreateTextures(GL_TEXTURE_2D, 1, &st->gbuf_tex);
-    gl->TextureStorage2D(st->gbuf_tex, 1, GL_RGBA32F, (GLsizei)st->width, (GLsizei)st->height);
-    gl->CreateTextures(GL_TEXTURE_2D, 1, &st->gdepth_tex);
-    gl->TextureStorage2D(st->gdepth_tex, 1, GL_DEPTH_COMPONENT32F, (GLsizei)st->width,
-                         (GLsizei)st->height);
-    GLuint all[2] = { st->gbuf_tex, st->gdepth_tex };
-    for (int i = 0; i < 2; i++) {
-        gl->TextureParameteri(all[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl->TextureParameteri(all[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    }
-    return lg_gl_check(n, "ibl: making the G-buffer");
+    const lg_gl_texture_desc c = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F,
+                                   .width = st->width, .height = st->height };
+    const lg_gl_texture_desc d = { .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F,
+                                   .width = st->width, .height = st->height };
+    int rc;
+    if ((rc = lg_gl_texture_recreate(n, &st->gbuf_tex, &c)) < 0 ||
+        (rc = lg_gl_texture_recreate(n, &st->gdepth_tex, &d)) < 0)
+        return rc;
+    return 0;
 }
 
 /* Rasterises the scene into the G-buffer (cleared to no geometry, depth 1). */
@@ -677,10 +677,10 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
         st->g_view_proj = lg_gl_pass_uniform(st->gpass, "u_view_proj");
         st->g_material = lg_gl_pass_uniform(st->gpass, "u_material");
     }
-    if ((rc = ibl_gbuffer_images(n, st, gl)))
+    if ((rc = ibl_gbuffer_images(n, st)))
         return rc;
-    lg_gl_target t = { .color = { st->gbuf_tex }, .depth = st->gdepth_tex, .width = st->width,
-                       .height = st->height };
+    lg_gl_target t = { .color = { st->gbuf_tex.name }, .depth = st->gdepth_tex.name,
+                       .width = st->width, .height = st->height };
     if ((rc = lg_gl_pass_begin(st->gpass, &t)))
         return rc;
     static const float zero[4] = { 0, 0, 0, 0 };
@@ -712,8 +712,9 @@ static int ibl_gbuffer_cpu(lg_node *n, ibl_state *st, const ibl_frame *f)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (G-buffer %ux%u)", st->width,
                                  st->height);
     }
-    gl->GetTextureImage(st->gbuf_tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16), st->gbuf);
-    gl->GetTextureImage(st->gdepth_tex, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(np * 4),
+    gl->GetTextureImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16),
+                        st->gbuf);
+    gl->GetTextureImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(np * 4),
                         st->gdepth);
     return lg_gl_check(n, "ibl: reading the G-buffer back");
 }
@@ -775,7 +776,7 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     if (!gl)
         return LG_ERR_DEVICE;
     int rc;
-    if ((rc = ibl_gbuffer_images(n, st, gl)))
+    if ((rc = ibl_gbuffer_images(n, st)))
         return rc;
     if (f->geometry) {
         if ((rc = ibl_gbuffer(n, st, gl, f)))
@@ -784,8 +785,8 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         /* no triangles: an empty G-buffer */
         static const float zero[4] = { 0, 0, 0, 0 };
         const float one = 1.0f;
-        gl->ClearTexImage(st->gbuf_tex, 0, GL_RGBA, GL_FLOAT, zero);
-        gl->ClearTexImage(st->gdepth_tex, 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
+        gl->ClearTexImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, zero);
+        gl->ClearTexImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
     }
     if ((rc = ibl_gl_shade_pass(n, st, gl)))
         return rc;
@@ -795,33 +796,31 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         return rc;
     if (f->base && (rc = lg_map_gl(n, f->base, LG_READ, &base_tex, &base_depth)))
         return rc;
-    if (!st->mats_buf)
-        gl->CreateBuffers(1, &st->mats_buf);
-    gl->NamedBufferData(st->mats_buf, (GLsizeiptr)f->n_mats * 8 * sizeof(float), f->mats,
-                        GL_DYNAMIC_DRAW);
-    if (!st->clamp_buf)
-        gl->CreateBuffers(1, &st->clamp_buf);
-    if (!st->dfg_buf) {
-        gl->CreateBuffers(1, &st->dfg_buf);
-        gl->NamedBufferStorage(st->dfg_buf,
-                               (GLsizeiptr)(2 * LG_GGX_DFG_SIZE * LG_GGX_DFG_SIZE * sizeof(float)),
-                               lg_ggx_dfg_shared(), 0);
-    }
-    if (st->chain && !st->chain_tex) {
-        /* the chain as a cube texture with one mip level per roughness level */
-        gl->CreateTextures(GL_TEXTURE_CUBE_MAP, 1, &st->chain_tex);
-        gl->TextureStorage2D(st->chain_tex, (GLsizei)st->chain_levels, GL_RGBA32F,
-                             (GLsizei)st->chain_size, (GLsizei)st->chain_size);
+    const uint32_t zero_u = 0;
+    if ((rc = lg_gl_buffer_recreate(n, &st->mats_buf, (size_t)f->n_mats * 8 * sizeof(float), 0,
+                                    f->mats)) ||
+        (rc = lg_gl_buffer_recreate(n, &st->clamp_buf, sizeof zero_u, 0, &zero_u)))
+        return rc;
+    if (!st->dfg_buf.name &&
+        (rc = lg_gl_buffer_recreate(n, &st->dfg_buf,
+                                    2 * LG_GGX_DFG_SIZE * LG_GGX_DFG_SIZE * sizeof(float), 0,
+                                    lg_ggx_dfg_shared())))
+        return rc;
+    /* the chain as a cube texture with one mip level per roughness level, filled when made */
+    const lg_gl_texture_desc chain_desc = { .target = GL_TEXTURE_CUBE_MAP, .format = GL_RGBA32F,
+                                            .width = st->chain_size, .height = st->chain_size,
+                                            .levels = st->chain_levels };
+    if (st->chain && (rc = lg_gl_texture_recreate(n, &st->chain_tex, &chain_desc)) < 0)
+        return rc;
+    if (st->chain && rc == 1) {
         lg_image_desc cd = { .width = st->chain_size, .height = st->chain_size,
                              .flags = LG_IMAGE_CUBE, .levels = st->chain_levels };
         for (uint32_t l = 0; l < st->chain_levels; l++) {
             GLsizei w = (GLsizei)lg_image_level_width(&cd, l);
-            gl->TextureSubImage3D(st->chain_tex, (GLint)l, 0, 0, 0, w, w, 6, GL_RGBA, GL_FLOAT,
-                                  st->chain + 4 * lg_image_offset(&cd, l, 0));
+            gl->TextureSubImage3D(st->chain_tex.name, (GLint)l, 0, 0, 0, w, w, 6, GL_RGBA,
+                                  GL_FLOAT, st->chain + 4 * lg_image_offset(&cd, l, 0));
         }
     }
-    const uint32_t zero_u = 0;
-    gl->NamedBufferData(st->clamp_buf, sizeof zero_u, &zero_u, GL_DYNAMIC_READ);
 
     lg_gl_pass *p = st->spass;
     if ((rc = lg_gl_pass_begin(p, NULL)))
@@ -835,7 +834,7 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         .has_base = base_tex != 0,
         .has_base_depth = base_depth != 0,
         .format = st->format,
-        .chain_levels = st->chain_tex ? (int32_t)st->chain_levels : 0,
+        .chain_levels = st->chain_tex.name ? (int32_t)st->chain_levels : 0,
         .dfg_size = (int32_t)LG_GGX_DFG_SIZE,
     };
     memcpy(u.inv_view_proj, f->inv_vp, sizeof u.inv_view_proj);
@@ -843,8 +842,8 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         memcpy(u.rotation[c], &pr->info.rotation[3 * c], 3 * sizeof(float));
     if ((rc = lg_gl_pass_uniforms(p, st->s_params, &u, sizeof u)))
         return lg_gl_pass_end(p, rc);
-    lg_gl_pass_bind_texture(p, st->s_gbuf, st->gbuf_tex);
-    lg_gl_pass_bind_texture(p, st->s_gdepth, st->gdepth_tex);
+    lg_gl_pass_bind_texture(p, st->s_gbuf, st->gbuf_tex.name);
+    lg_gl_pass_bind_texture(p, st->s_gdepth, st->gdepth_tex.name);
     lg_gl_pass_bind_texture(p, st->s_base, base_tex);
     lg_gl_pass_bind_texture(p, st->s_base_depth, base_depth);
     /* the probe's filter: GL's seamless bilinear (the CPU's rule) or nearest; the chain's
@@ -856,18 +855,18 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     const lg_gl_sampler chain_s = { .filter = LG_GL_FILTER_LINEAR_MIPMAP, .seamless_cube = true };
     lg_gl_pass_bind_texture_sampled(p, cube ? st->s_probecube : st->s_probe2d, probe_tex,
                                     &probe_s);
-    lg_gl_pass_bind_buffer(p, st->s_mats, st->mats_buf);
-    lg_gl_pass_bind_buffer(p, st->s_clamped, st->clamp_buf);
-    lg_gl_pass_bind_buffer(p, st->s_dfg, st->dfg_buf);
-    if (st->chain_tex)
-        lg_gl_pass_bind_texture_sampled(p, st->s_chain, st->chain_tex, &chain_s);
+    lg_gl_pass_bind_buffer(p, st->s_mats, st->mats_buf.name);
+    lg_gl_pass_bind_buffer(p, st->s_clamped, st->clamp_buf.name);
+    lg_gl_pass_bind_buffer(p, st->s_dfg, st->dfg_buf.name);
+    if (st->chain_tex.name)
+        lg_gl_pass_bind_texture_sampled(p, st->s_chain, st->chain_tex.name, &chain_s);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
     if ((rc = lg_gl_pass_end(p, rc)))
         return rc;
     if (st->format == IBL_RGBA16F) {
         uint32_t c = 0;
         gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        gl->GetNamedBufferSubData(st->clamp_buf, 0, sizeof c, &c);
+        gl->GetNamedBufferSubData(st->clamp_buf.name, 0, sizeof c, &c);
         *clamped = c;
     }
     return lg_gl_check(n, "ibl: shading");
@@ -1220,24 +1219,12 @@ static void ibl_destroy(lg_node *n)
         return;
     lg_gl_pass_destroy(&st->gpass);
     lg_gl_pass_destroy(&st->spass);
-    if (st->gbuf_tex || st->mats_buf || st->clamp_buf || st->chain_tex ||
-        st->dfg_buf) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl) {
-            GLuint t[2] = { st->gbuf_tex, st->gdepth_tex };
-            for (int i = 0; i < 2; i++)
-                if (t[i])
-                    gl->DeleteTextures(1, &t[i]);
-            GLuint b[2] = { st->mats_buf, st->clamp_buf };
-            for (int i = 0; i < 2; i++)
-                if (b[i])
-                    gl->DeleteBuffers(1, &b[i]);
-            if (st->chain_tex)
-                gl->DeleteTextures(1, &st->chain_tex);
-            if (st->dfg_buf)
-                gl->DeleteBuffers(1, &st->dfg_buf);
-        }
-    }
+    lg_gl_texture_destroy(n, &st->gbuf_tex);
+    lg_gl_texture_destroy(n, &st->gdepth_tex);
+    lg_gl_buffer_destroy(n, &st->mats_buf);
+    lg_gl_buffer_destroy(n, &st->clamp_buf);
+    lg_gl_texture_destroy(n, &st->chain_tex);
+    lg_gl_buffer_destroy(n, &st->dfg_buf);
     lg_cl_pass_destroy(&st->kernel);
     lg_cl_buffer *m[6] = { &st->cl_gbuf, &st->cl_gdepth, &st->cl_mats, &st->cl_clamped,
                            &st->cl_chain, &st->cl_dfg };

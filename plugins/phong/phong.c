@@ -127,11 +127,13 @@ typedef struct ph_state {
     ph_uniforms id_u;
     lg_gl_uniform h_size, h_near_far, h_depth_tol, h_background;
     lg_gl_binding h_depth, h_even, h_odd, h_id;
-    GLuint id_tex;        /* r32ui, full size */
-    GLuint quarter[2];    /* rgba32f, ceil(w/2) x ceil(h/2): the pixels with x, y even; odd */
-    GLuint quarter_depth; /* depth32f of the quarter passes */
-    GLuint lights_buf, shadows_buf; /* LgLights, LgShadows: filled again every execute */
-    GLuint *eq13;         /* vertex_normals = eq13: one buffer per mesh (0 = not made) */
+    lg_gl_texture id_tex;        /* r32ui, full size */
+    lg_gl_texture quarter[2];    /* rgba32f, ceil(w/2) x ceil(h/2): the pixels with x, y
+                                  * even; odd */
+    lg_gl_texture quarter_depth; /* depth32f of the quarter passes */
+    lg_gl_buffer lights_buf, shadows_buf; /* LgLights, LgShadows: filled again every execute */
+    lg_gl_buffer *eq13;          /* vertex_normals = eq13: one buffer per mesh (name 0 = not
+                                  * made) */
     uint32_t n_eq13;
     bool warned_shadow;
 } ph_state;
@@ -443,8 +445,8 @@ done:
 }
 
 /* The GL buffer of mesh mi's eq. 1-13 normals, made on first use and kept. */
-static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_gl *gl, const lg_scene *s,
-                          uint32_t mi, GLuint *buf)
+static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_scene *s, uint32_t mi,
+                          GLuint *buf)
 {
     if (!st->eq13) {
         st->eq13 = calloc(s->n_meshes ? s->n_meshes : 1, sizeof *st->eq13);
@@ -454,24 +456,20 @@ static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_gl *gl, const lg_sc
     }
     if (mi >= st->n_eq13)
         return lg_error(n, "mesh %u: the scene changed its mesh count between frames", mi);
-    if (!st->eq13[mi]) {
+    if (!st->eq13[mi].name) {
         const lg_mesh *m = &s->meshes[mi];
         float *nrm = malloc((size_t)m->n_vertices * 3 * sizeof *nrm);
         if (!nrm)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
         int rc = ph_eq13_normals(n, m, nrm);
-        if (!rc) {
-            gl->CreateBuffers(1, &st->eq13[mi]);
-            gl->NamedBufferStorage(st->eq13[mi], (GLsizeiptr)m->n_vertices * 3 * sizeof(float),
-                                   nrm, 0);
-        }
+        if (!rc)
+            rc = lg_gl_buffer_recreate(n, &st->eq13[mi],
+                                       (size_t)m->n_vertices * 3 * sizeof(float), 0, nrm);
         free(nrm);
         if (rc)
             return rc;
-        if ((rc = lg_gl_check(n, "phong: uploading eq. 1-13 normals")))
-            return rc;
     }
-    *buf = st->eq13[mi];
+    *buf = st->eq13[mi].name;
     return 0;
 }
 
@@ -582,15 +580,12 @@ static int ph_passes(lg_node *n, ph_state *st, int sv)
 
 /* ---- execute ---------------------------------------------------------------------------------- */
 
-/* Fills *buf (made on first use) with `bytes` of `data`: at least 16 bytes, so that an empty
- * array still binds. */
-static void ph_upload(const lg_gl *gl, GLuint *buf, const void *data, size_t bytes)
+/* Fills *buf (kept while it is large enough) with `bytes` of `data`: at least 16 bytes, so
+ * that an empty array still binds. */
+static int ph_upload(lg_node *n, lg_gl_buffer *buf, const void *data, size_t bytes)
 {
     static const float zero[4];
-    if (!*buf)
-        gl->CreateBuffers(1, buf);
-    gl->NamedBufferData(*buf, (GLsizeiptr)(bytes ? bytes : sizeof zero), bytes ? data : zero,
-                        GL_DYNAMIC_DRAW);
+    return lg_gl_buffer_recreate(n, buf, bytes ? bytes : sizeof zero, 0, bytes ? data : zero);
 }
 
 /* The shadow atlas's GL depth texture, read by the raster passes. The one place that knows
@@ -669,7 +664,7 @@ static int ph_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
     const ph_draw_ctx *c = user;
     int rc;
     if (c->st->normals == PH_NORMALS_EQ13 &&
-        (rc = ph_eq13_buffer(n, c->st, c->gl, c->s, mi, normals)))
+        (rc = ph_eq13_buffer(n, c->st, c->s, mi, normals)))
         return rc;
     /* with culling off, a single-sided surface seen from behind is lit as it is (its normal
      * facing away: ambient only), as the seed's model would */
@@ -697,33 +692,32 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     lg_gl_pass_clear_depth(p, 1.0f);
     if ((rc = ph_set_globals(st, p, u, f, view_proj)))
         return lg_gl_pass_end(p, rc);
-    lg_gl_pass_bind_buffer(p, u->lights, st->lights_buf);
-    lg_gl_pass_bind_buffer(p, u->shadows, st->shadows_buf);
+    lg_gl_pass_bind_buffer(p, u->lights, st->lights_buf.name);
+    lg_gl_pass_bind_buffer(p, u->shadows, st->shadows_buf.name);
     lg_gl_pass_bind_texture(p, u->atlas, f->atlas);
     ph_draw_ctx ctx = { st, gl, f->s, p, u };
     lg_gl_scene_draw d = { .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };
     return lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, f->scene_res, &d));
 }
 
-/* phong_half's images, made once at the output's size. */
-static int ph_half_images(lg_node *n, ph_state *st, const lg_gl *gl)
+/* phong_half's images at the output's size (made on the first frame, then kept; sampled
+ * nearest, as lg_gl_texture makes them). */
+static int ph_half_images(lg_node *n, ph_state *st)
 {
-    if (st->id_tex)
-        return 0;
-    GLsizei qw = (GLsizei)((st->width + 1) / 2), qh = (GLsizei)((st->height + 1) / 2);
-    gl->CreateTextures(GL_TEXTURE_2D, 1, &st->id_tex);
-    gl->TextureStorage2D(st->id_tex, 1, GL_R32UI, (GLsizei)st->width, (GLsizei)st->height);
-    gl->CreateTextures(GL_TEXTURE_2D, 2, st->quarter);
-    gl->CreateTextures(GL_TEXTURE_2D, 1, &st->quarter_depth);
-    for (int i = 0; i < 2; i++)
-        gl->TextureStorage2D(st->quarter[i], 1, GL_RGBA32F, qw, qh);
-    gl->TextureStorage2D(st->quarter_depth, 1, GL_DEPTH_COMPONENT32F, qw, qh);
-    GLuint all[4] = { st->id_tex, st->quarter[0], st->quarter[1], st->quarter_depth };
-    for (int i = 0; i < 4; i++) {
-        gl->TextureParameteri(all[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl->TextureParameteri(all[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    }
-    return lg_gl_check(n, "phong: making phong_half's images");
+    uint32_t qw = (st->width + 1) / 2, qh = (st->height + 1) / 2;
+    const lg_gl_texture_desc id = { .target = GL_TEXTURE_2D, .format = GL_R32UI,
+                                    .width = st->width, .height = st->height };
+    const lg_gl_texture_desc q = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = qw,
+                                   .height = qh };
+    const lg_gl_texture_desc qd = { .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F,
+                                    .width = qw, .height = qh };
+    int rc;
+    if ((rc = lg_gl_texture_recreate(n, &st->id_tex, &id)) < 0 ||
+        (rc = lg_gl_texture_recreate(n, &st->quarter[0], &q)) < 0 ||
+        (rc = lg_gl_texture_recreate(n, &st->quarter[1], &q)) < 0 ||
+        (rc = lg_gl_texture_recreate(n, &st->quarter_depth, &qd)) < 0)
+        return rc;
+    return 0;
 }
 
 /* The view_proj that draws the pixels (2 x + p, 2 y + p) of the w x h output, p = 0 or 1,
@@ -751,13 +745,13 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
                    const lg_gl_target *out)
 {
     int rc;
-    if ((rc = ph_half_images(n, st, gl)))
+    if ((rc = ph_half_images(n, st)))
         return rc;
     const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };
     const float zero[4] = { 0, 0, 0, 0 };
 
     /* ids and the output's depth */
-    lg_gl_target ids = { .color = { st->id_tex }, .depth = out->depth, .width = st->width,
+    lg_gl_target ids = { .color = { st->id_tex.name }, .depth = out->depth, .width = st->width,
                          .height = st->height };
     if ((rc = ph_pass(n, st, gl, f, st->id_pass, &st->id_u, &ids, zero, f->v->view_proj)))
         return rc;
@@ -767,7 +761,7 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     for (int p = 0; p < 2; p++) {
         float vp[16];
         ph_quarter_view_proj(vp, f->v->view_proj, st->width, st->height, p);
-        lg_gl_target q = { .color = { st->quarter[p] }, .depth = st->quarter_depth,
+        lg_gl_target q = { .color = { st->quarter[p].name }, .depth = st->quarter_depth.name,
                            .width = qw, .height = qh };
         if ((rc = ph_pass(n, st, gl, f, st->pass, &st->u, &q, bg, vp)))
             return rc;
@@ -780,9 +774,9 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     if ((rc = lg_gl_pass_begin(h, &color)))
         return rc;
     lg_gl_pass_bind_texture(h, st->h_depth, out->depth);
-    lg_gl_pass_bind_texture(h, st->h_even, st->quarter[0]);
-    lg_gl_pass_bind_texture(h, st->h_odd, st->quarter[1]);
-    lg_gl_pass_bind_texture(h, st->h_id, st->id_tex);
+    lg_gl_pass_bind_texture(h, st->h_even, st->quarter[0].name);
+    lg_gl_pass_bind_texture(h, st->h_odd, st->quarter[1].name);
+    lg_gl_pass_bind_texture(h, st->h_id, st->id_tex.name);
     lg_gl_set_ivec2(h, st->h_size, (int32_t)st->width, (int32_t)st->height);
     lg_gl_set_vec2(h, st->h_near_far, f->v->znear, f->v->zfar);
     lg_gl_set_float(h, st->h_depth_tol, PH_HALF_DEPTH_TOL);
@@ -831,8 +825,9 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     if ((rc = ph_passes(n, st, sv)) || (n_shadow && (rc = phong_shadow_atlas(n, f.sm, &f.atlas))) ||
         (rc = lg_gl_target_output(n, "out", &out)))
         goto out;
-    ph_upload(gl, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights);
-    ph_upload(gl, &st->shadows_buf, shadows, (size_t)n_shadow * sizeof *shadows);
+    if ((rc = ph_upload(n, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights)) ||
+        (rc = ph_upload(n, &st->shadows_buf, shadows, (size_t)n_shadow * sizeof *shadows)))
+        goto out;
     if (st->shading == PH_HALF) {
         rc = ph_half(n, st, gl, &f, &out);
     } else {
@@ -870,22 +865,14 @@ static void ph_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->pass);
     lg_gl_pass_destroy(&st->id_pass);
     lg_gl_pass_destroy(&st->half_pass);
-    if (st->id_tex || st->eq13 || st->lights_buf || st->shadows_buf) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl) {
-            GLuint texs[4] = { st->id_tex, st->quarter[0], st->quarter[1], st->quarter_depth };
-            for (int i = 0; i < 4; i++)
-                if (texs[i])
-                    gl->DeleteTextures(1, &texs[i]);
-            GLuint bufs[2] = { st->lights_buf, st->shadows_buf };
-            for (int i = 0; i < 2; i++)
-                if (bufs[i])
-                    gl->DeleteBuffers(1, &bufs[i]);
-            for (uint32_t i = 0; i < st->n_eq13; i++)
-                if (st->eq13[i])
-                    gl->DeleteBuffers(1, &st->eq13[i]);
-        }
-    }
+    lg_gl_texture_destroy(n, &st->id_tex);
+    lg_gl_texture_destroy(n, &st->quarter[0]);
+    lg_gl_texture_destroy(n, &st->quarter[1]);
+    lg_gl_texture_destroy(n, &st->quarter_depth);
+    lg_gl_buffer_destroy(n, &st->lights_buf);
+    lg_gl_buffer_destroy(n, &st->shadows_buf);
+    for (uint32_t i = 0; i < st->n_eq13; i++)
+        lg_gl_buffer_destroy(n, &st->eq13[i]);
     free(st->eq13);
     free(st);
     n->user = NULL;

@@ -65,12 +65,12 @@ typedef struct prt_state {
     lg_gl_pass *dot, *raster, *refl;
     uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_frag_defines, prt_gl_defines) */
     int g_frag;             /* 1: prt_dot.frag, 0: prt_dot.comp over a storage buffer */
-    GLuint tbo_tex, tbo_buf; /* the RGB32F buffer texture over the transfer, and its buffer */
+    lg_gl_buffer_texture tbo; /* the RGB32F buffer texture over the transfer's GL buffer */
     lg_gl_uniform d_vertices, d_width, d_texels, d_light;
     lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
     lg_gl_binding r_vertices, f_reflect;
-    GLuint light_buf;
+    lg_gl_buffer light_buf;
 
     /* CL */
     lg_cl_pass *kernel;
@@ -371,19 +371,6 @@ static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
     return lg_cl_pass_run(k, 1, &global, &local);
 }
 
-/* The buffer texture `*tex` of `format` over the host's buffer `buf`, remade when the host's
- * buffer object changes (*of remembers which it views). */
-static void prt_gl_tbo(const lg_gl *gl, GLuint *tex, GLuint *of, GLenum format, GLuint buf)
-{
-    if (*tex && *of == buf)
-        return;
-    if (*tex)
-        gl->DeleteTextures(1, tex);
-    gl->CreateTextures(GL_TEXTURE_BUFFER, 1, tex);
-    gl->TextureBuffer(*tex, format, buf);
-    *of = buf;
-}
-
 /* The dot products on GL: shaders/prt/prt_dot.frag drawn as a full-screen triangle into the
  * `vertices` image (on llvmpipe 2-3.5x faster than the same work as a compute shader:
  * README.md, Roofline), or, for a transfer past GL_MAX_TEXTURE_BUFFER_SIZE floats,
@@ -440,19 +427,20 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
         lg_gl_target t;
         if ((rc = lg_gl_target_output(n, "vertices", &t)))
             return rc;
-        prt_gl_tbo(gl, &st->tbo_tex, &st->tbo_buf, GL_RGB32F, tbuf);
+        /* remade when the host's buffer object changes */
+        if ((rc = lg_gl_buffer_texture_recreate(n, &st->tbo, GL_RGB32F, tbuf)) < 0)
+            return rc;
         if ((rc = lg_gl_pass_begin(st->dot, &t)))
             return rc;
         lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
         lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
         lg_gl_set_floatv(st->dot, st->d_light, 3 * f->nc, f->lighting);
-        lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo_tex);
+        lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo.name);
         return lg_gl_pass_end(st->dot, lg_gl_pass_draw(st->dot, GL_TRIANGLES, 3));
     }
-    if (!st->light_buf)
-        gl->CreateBuffers(1, &st->light_buf);
-    gl->NamedBufferData(st->light_buf, (GLsizeiptr)(3 * (size_t)f->nc * sizeof(float)),
-                        f->lighting, GL_DYNAMIC_DRAW);
+    if ((rc = lg_gl_buffer_recreate(n, &st->light_buf, 3 * (size_t)f->nc * sizeof(float), 0,
+                                    f->lighting)))
+        return rc;
     GLuint otex = 0;
     if ((rc = lg_map_gl(n, lg_output(n, OUT_VERTICES), LG_WRITE, &otex, &dummy)))
         return rc;
@@ -463,7 +451,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
     lg_gl_set_uint(st->dot, st->d_texels, texels);
     lg_gl_pass_bind_buffer(st->dot, st->d_transfer, tbuf);
-    lg_gl_pass_bind_buffer(st->dot, st->d_lighting, st->light_buf);
+    lg_gl_pass_bind_buffer(st->dot, st->d_lighting, st->light_buf.name);
     lg_gl_pass_bind_image(st->dot, st->d_out, otex, GL_WRITE_ONLY, GL_RGBA32F);
     prt_gl_groups(texels, &gx, &gy);
     return lg_gl_pass_end(st->dot, lg_gl_pass_dispatch_groups(st->dot, gx, gy, 1));
@@ -588,13 +576,8 @@ static void prt_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->dot);
     lg_gl_pass_destroy(&st->raster);
     lg_gl_pass_destroy(&st->refl);
-    if (st->light_buf || st->tbo_tex) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl && st->light_buf)
-            gl->DeleteBuffers(1, &st->light_buf);
-        if (gl && st->tbo_tex)
-            gl->DeleteTextures(1, &st->tbo_tex);
-    }
+    lg_gl_buffer_destroy(n, &st->light_buf);
+    lg_gl_buffer_texture_destroy(n, &st->tbo);
     lg_cl_pass_destroy(&st->kernel);
     lg_cl_buffer_destroy(n, &st->cl_light);
     lg_cl_buffer_destroy(n, &st->cl_record);

@@ -64,7 +64,7 @@ typedef struct rh_state {
     lg_gl_uniform f_count, f_key, f_adapt, f_adapt_k, f_adapt_from, f_reset;
     lg_gl_uniform m_size, m_inv_white2, m_mode, m_w;
     lg_gl_binding r_in, r_partials, f_partials, f_result, m_in, m_out, m_result;
-    GLuint gl_partials, gl_result;
+    lg_gl_buffer gl_partials, gl_result;
 
     /* cl: the same three passes (reinhard.cl after rgbe.cl) and buffers */
     lg_cl_pass *cl_reduce, *cl_final, *cl_map;
@@ -243,7 +243,7 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
 
 /* ---- gl --------------------------------------------------------------------------------------------- */
 
-static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
+static int rh_gl_init(lg_node *n, rh_state *st)
 {
     /* rgbe8: the bytes of an RGBA8 image, decoded after imageLoad (LG_IN_RGBE) */
     const char *fmt = st->in_format == LG_FORMAT_RGBA16F ? "rgba16f"
@@ -297,16 +297,15 @@ static int rh_gl_init(lg_node *n, rh_state *st, const lg_gl *gl)
     lg_gl_pass_check_block(r, GL_SHADER_STORAGE_BLOCK, "Partials", sizeof(rh_partial));
     lg_gl_pass_check_block(f, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_result));
     lg_gl_pass_check_block(m, GL_SHADER_STORAGE_BLOCK, "Result", sizeof(rh_result));
-    if (st->gl_partials)
+    if (st->gl_result.name)
         return 0;
-    gl->CreateBuffers(1, &st->gl_partials);
-    gl->NamedBufferData(st->gl_partials, RH_MAX_GROUPS * sizeof(rh_partial), NULL, GL_DYNAMIC_COPY);
+    if ((rc = lg_gl_buffer_recreate(n, &st->gl_partials, RH_MAX_GROUPS * sizeof(rh_partial), 0,
+                                    NULL)))
+        return rc;
     /* the result block starts zeroed: no adapted luminance yet */
     rh_result zero;
     memset(&zero, 0, sizeof zero);
-    gl->CreateBuffers(1, &st->gl_result);
-    gl->NamedBufferData(st->gl_result, sizeof zero, &zero, GL_DYNAMIC_COPY);
-    return lg_gl_check(n, "reinhard: creating the reduction buffers");
+    return lg_gl_buffer_recreate(n, &st->gl_result, sizeof zero, 0, &zero);
 }
 
 static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
@@ -315,7 +314,7 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     if (!gl)
         return LG_ERR_DEVICE;
     int rc;
-    if (!st->gl_map && (rc = rh_gl_init(n, st, gl)))
+    if (!st->gl_map && (rc = rh_gl_init(n, st)))
         return rc;
     uint32_t tin = 0, tout = 0, dummy;
     if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, &dummy)) ||
@@ -331,7 +330,7 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     if ((rc = lg_gl_pass_begin(r, NULL)))
         return rc;
     lg_gl_pass_bind_image(r, st->r_in, tin, GL_READ_ONLY, in_fmt);
-    lg_gl_pass_bind_buffer(r, st->r_partials, st->gl_partials);
+    lg_gl_pass_bind_buffer(r, st->r_partials, st->gl_partials.name);
     lg_gl_set_ivec2(r, st->r_size, (int32_t)st->width, (int32_t)st->height);
     lg_gl_set_float(r, st->r_delta, (float)st->p.delta);
     lg_gl_set_vec3(r, st->r_w, st->p.w[0], st->p.w[1], st->p.w[2]);
@@ -343,8 +342,8 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     lg_gl_pass *f = st->gl_final;
     if ((rc = lg_gl_pass_begin(f, NULL)))
         return rc;
-    lg_gl_pass_bind_buffer(f, st->f_partials, st->gl_partials);
-    lg_gl_pass_bind_buffer(f, st->f_result, st->gl_result);
+    lg_gl_pass_bind_buffer(f, st->f_partials, st->gl_partials.name);
+    lg_gl_pass_bind_buffer(f, st->f_result, st->gl_result.name);
     lg_gl_set_uint(f, st->f_count, cols * rows);
     lg_gl_set_float(f, st->f_key, ad.key);
     lg_gl_set_int(f, st->f_adapt, ad.adapt);
@@ -362,7 +361,7 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
         return rc;
     lg_gl_pass_bind_image(m, st->m_in, tin, GL_READ_ONLY, in_fmt);
     lg_gl_pass_bind_image(m, st->m_out, tout, GL_WRITE_ONLY, GL_RGBA32F);
-    lg_gl_pass_bind_buffer(m, st->m_result, st->gl_result);
+    lg_gl_pass_bind_buffer(m, st->m_result, st->gl_result.name);
     lg_gl_set_ivec2(m, st->m_size, (int32_t)st->width, (int32_t)st->height);
     lg_gl_set_float(m, st->m_inv_white2, (float)inv_w2);
     lg_gl_set_int(m, st->m_mode, st->p.mode == LG_RH_RGB ? 1 : 0);
@@ -372,7 +371,7 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
 
     /* for the report only, after the map was submitted */
     rh_result res;
-    gl->GetNamedBufferSubData(st->gl_result, 0, sizeof res, &res);
+    gl->GetNamedBufferSubData(st->gl_result.name, 0, sizeof res, &res);
     if ((rc = lg_gl_check(n, "reinhard: reading the result block")))
         return rc;
     rh_report(n, st, &res, frame);
@@ -506,13 +505,8 @@ static void rh_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->gl_reduce);
     lg_gl_pass_destroy(&st->gl_final);
     lg_gl_pass_destroy(&st->gl_map);
-    if (st->gl_partials || st->gl_result) {
-        const lg_gl *gl = lg_gl_get(n);
-        if (gl) {
-            gl->DeleteBuffers(1, &st->gl_partials);
-            gl->DeleteBuffers(1, &st->gl_result);
-        }
-    }
+    lg_gl_buffer_destroy(n, &st->gl_partials);
+    lg_gl_buffer_destroy(n, &st->gl_result);
     lg_cl_pass_destroy(&st->cl_reduce);
     lg_cl_pass_destroy(&st->cl_final);
     lg_cl_pass_destroy(&st->cl_map);

@@ -62,8 +62,9 @@
  * Every backend maps its inputs and outputs itself on its device (lg_map_cpu / _gl / _cl):
  * base = lg_input(VOL_IN_BASE) (colour + depth), the shadow atlas = f->sm->atlas, outputs
  * VOL_OUT_OUT, VOL_OUT_INSCATTER, and FX_OUT_GRID's part "grid" (rgba32f volume W x H x D).
- * The scattering volume S and its history are the backend's own (device memory it makes
- * once, counts with lg_account_alloc, keeps across frames, frees in destroy). froxel.c
+ * The scattering volume S and its history are the backend's own (memory it makes once,
+ * keeps across frames and frees in destroy, counted in the profile when made and when
+ * freed: lg_gl_texture on gl, lg_account_alloc / lg_account_free on cpu). froxel.c
  * publishes the grid's info part after the backend returns.
  */
 #ifndef LG_VOLUMETRIC_FROXEL_H

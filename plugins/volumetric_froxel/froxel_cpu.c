@@ -22,6 +22,7 @@ typedef struct fx_cpu {
     float *hist;     /* the previous frame's blended S (valid when hist_valid) */
     bool hist_valid;
     float *tj;       /* the frame's T(k + jitter) in float (columns' inner loop) */
+    uint64_t counted; /* bytes counted with lg_account_alloc (S and its history) */
 } fx_cpu;
 
 typedef struct fx_cpu_ctx {
@@ -345,7 +346,8 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         c->w = f->w;
         c->h = f->h;
         c->d = f->d;
-        lg_account_alloc(n, 2 * (uint64_t)vox * 16);
+        c->counted = 2 * (uint64_t)vox * 16;
+        lg_account_alloc(n, c->counted);
         *state = c;
     }
     fx_cpu_ctx x = { .f = f, .c = c };
@@ -421,10 +423,11 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
 
 void fx_cpu_destroy(lg_node *n, void *state)
 {
-    (void)n;
     fx_cpu *c = state;
     if (!c)
         return;
+    if (c->counted)
+        lg_account_free(n, c->counted);
     free(c->s);
     free(c->hist);
     free(c->tj);

@@ -16,9 +16,9 @@
  * State kept across frames (fx_gl): the two passes, the lights buffer, the slice-table
  * buffer (refilled each frame: T(k + jitter), T(k), T(k + 0.5)), and two rgba32f
  * 3D textures of W x H x D that take turns as "this frame's S" and "the history" (the
- * previous frame's blended S), so that no copy is needed between frames. They are made
- * with the grid size, counted with lg_account_alloc, remade (and counted again) when the
- * size changes, and deleted in fx_gl_destroy.
+ * previous frame's blended S), so that no copy is needed between frames. All four are the
+ * SDK's lg_gl_buffer / lg_gl_texture: the volumes are made with the grid size, remade when
+ * it changes (the old ones released in the profile first), and deleted in fx_gl_destroy.
  *
  * Why 3D textures (image load/store) and not storage buffers: on llvmpipe the earlier three
  * passes with S in two SSBOs ([k][j][i] vec4) ran about 2x slower in the light pass and
@@ -76,10 +76,10 @@ typedef struct fx_gl {
         lg_gl_uniform size, z_limit, sigma_t, energy;
         lg_gl_binding slices, base, depth, acc, s, out, inscatter;
     } k;
-    GLuint lights_buf;   /* VOL_MAX_LIGHTS fx_gl_light */
-    GLuint slices_buf;   /* FX_GL_SLICES_MAX floats: the frame's slice table (fx_gl_slices) */
-    GLuint vol[2];       /* S volumes; vol[cur] is written this frame, vol[1 - cur] is history */
-    uint32_t w, h, d;    /* their size */
+    lg_gl_buffer lights_buf; /* VOL_MAX_LIGHTS fx_gl_light */
+    lg_gl_buffer slices_buf; /* FX_GL_SLICES_MAX floats: the frame's slice table (fx_gl_slices) */
+    lg_gl_texture vol[2];    /* S volumes; vol[cur] is written this frame, vol[1 - cur] is
+                              * history */
     int cur;
     bool hist_valid;     /* vol[1 - cur] holds a frame's S (false after (re)making them) */
 } fx_gl;
@@ -105,7 +105,7 @@ static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u, bool slice_map)
 }
 
 /* The passes and the lights buffer, made on the first execute. */
-static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
+static int fx_gl_make_passes(lg_node *n, fx_gl *st)
 {
     int rc;
     lg_gl_pass_desc d = { .name = "volumetric_froxel column", .stages = &fx_src_column,
@@ -155,46 +155,34 @@ static int fx_gl_make_passes(lg_node *n, const lg_gl *gl, fx_gl *st)
     st->k.inscatter = lg_gl_pass_image(p, "u_inscatter");
     /* a failed look-up fails the pass: its begin reports LG_ERR_INVALID */
 
-    gl->CreateBuffers(1, &st->lights_buf);
-    gl->NamedBufferData(st->lights_buf, VOL_MAX_LIGHTS * sizeof(fx_gl_light), NULL,
-                        GL_DYNAMIC_DRAW);
-    lg_account_alloc(n, VOL_MAX_LIGHTS * sizeof(fx_gl_light));
-    gl->CreateBuffers(1, &st->slices_buf);
-    gl->NamedBufferData(st->slices_buf, FX_GL_SLICES_MAX * sizeof(float), NULL, GL_DYNAMIC_DRAW);
-    lg_account_alloc(n, FX_GL_SLICES_MAX * sizeof(float));
-    return lg_gl_check(n, "volumetric_froxel: the lights and slice buffers");
+    if ((rc = lg_gl_buffer_recreate(n, &st->lights_buf, VOL_MAX_LIGHTS * sizeof(fx_gl_light), 0,
+                                    NULL)))
+        return rc;
+    return lg_gl_buffer_recreate(n, &st->slices_buf, FX_GL_SLICES_MAX * sizeof(float), 0, NULL);
 }
 
 /* The two S volumes at W x H x D, made (cleared to 0) when absent or of another size. */
 static int fx_gl_volumes(lg_node *n, const lg_gl *gl, fx_gl *st, const fx_frame *f)
 {
-    if (st->vol[0] && st->w == f->w && st->h == f->h && st->d == f->d)
+    const lg_gl_texture_desc d = { .target = GL_TEXTURE_3D, .format = GL_RGBA32F,
+                                   .width = f->w, .height = f->h, .depth = f->d };
+    int made0 = lg_gl_texture_recreate(n, &st->vol[0], &d);
+    int made1 = made0 < 0 ? made0 : lg_gl_texture_recreate(n, &st->vol[1], &d);
+    if (made0 < 0 || made1 < 0) {
+        lg_gl_texture_destroy(n, &st->vol[0]);
+        lg_gl_texture_destroy(n, &st->vol[1]);
+        return lg_error_code(n, made0 < 0 ? made0 : made1,
+                             "volumetric_froxel: two %ux%ux%u rgba32f volumes (%.1f MB) could "
+                             "not be made", f->w, f->h, f->d, 2.0 * f->w * f->h * f->d * 16 / 1e6);
+    }
+    if (!made0 && !made1)
         return 0;
-    if (st->vol[0])
-        gl->DeleteTextures(2, st->vol);
-    st->vol[0] = st->vol[1] = 0;
-    gl->CreateTextures(GL_TEXTURE_3D, 2, st->vol);
     static const float zero[4] = { 0, 0, 0, 0 };
-    for (int i = 0; i < 2; i++) {
-        gl->TextureStorage3D(st->vol[i], 1, GL_RGBA32F, (GLsizei)f->w, (GLsizei)f->h,
-                             (GLsizei)f->d);
-        gl->ClearTexImage(st->vol[i], 0, GL_RGBA, GL_FLOAT, zero);
-    }
-    int rc = lg_gl_check(n, "volumetric_froxel: making the scattering volumes");
-    if (rc) {
-        gl->DeleteTextures(2, st->vol);
-        st->vol[0] = st->vol[1] = 0;
-        return lg_error_code(n, rc, "volumetric_froxel: two %ux%ux%u rgba32f volumes (%.1f MB)"
-                                    " could not be made", f->w, f->h, f->d,
-                             2.0 * f->w * f->h * f->d * 16 / 1e6);
-    }
-    lg_account_alloc(n, 2ull * f->w * f->h * f->d * 16);
-    st->w = f->w;
-    st->h = f->h;
-    st->d = f->d;
+    for (int i = 0; i < 2; i++)
+        gl->ClearTexImage(st->vol[i].name, 0, GL_RGBA, GL_FLOAT, zero);
     st->cur = 0;
     st->hist_valid = false;
-    return 0;
+    return lg_gl_check(n, "volumetric_froxel: clearing the scattering volumes");
 }
 
 static void fx_gl_map_vec4(const lg_slice_map *m, float out[4])
@@ -296,16 +284,13 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
             return lg_error_code(n, LG_ERR_NOMEM, "volumetric_froxel (gl): out of memory");
         *state = st;
     }
-    if (!st->lookup || !st->lights_buf || !st->slices_buf) {
+    if (!st->lookup || !st->lights_buf.name || !st->slices_buf.name) {
         /* first frame, or an earlier attempt failed part-way: make them all again */
         lg_gl_pass_destroy(&st->column);
         lg_gl_pass_destroy(&st->lookup);
-        if (st->lights_buf)
-            gl->DeleteBuffers(1, &st->lights_buf);
-        if (st->slices_buf)
-            gl->DeleteBuffers(1, &st->slices_buf);
-        st->lights_buf = st->slices_buf = 0;
-        if ((rc = fx_gl_make_passes(n, gl, st))) {
+        lg_gl_buffer_destroy(n, &st->lights_buf);
+        lg_gl_buffer_destroy(n, &st->slices_buf);
+        if ((rc = fx_gl_make_passes(n, st))) {
             lg_gl_pass_destroy(&st->lookup); /* so that the next frame tries again */
             return rc;
         }
@@ -346,15 +331,16 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
             return lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
                                                    "texture");
     }
-    gl->NamedBufferSubData(st->lights_buf, 0, (GLsizeiptr)(v->n_lights * sizeof *lights),
-                           lights);
     float slices[FX_GL_SLICES_MAX];
     uint32_t n_slices = fx_gl_slices(f, slices);
-    gl->NamedBufferSubData(st->slices_buf, 0, (GLsizeiptr)(n_slices * sizeof(float)), slices);
+    if ((rc = lg_gl_buffer_upload(n, &st->lights_buf, 0, v->n_lights * sizeof *lights,
+                                  lights)) ||
+        (rc = lg_gl_buffer_upload(n, &st->slices_buf, 0, n_slices * sizeof(float), slices)))
+        return rc;
 
     /* history: the other volume holds the previous frame's S only if a frame ran into it */
     bool hist = f->history > 0.0f && f->prev && st->hist_valid;
-    GLuint s_now = st->vol[st->cur], s_prev = st->vol[1 - st->cur];
+    GLuint s_now = st->vol[st->cur].name, s_prev = st->vol[1 - st->cur].name;
 
     /* 1. and 2. light pass and accumulation, one invocation per column */
     lg_gl_pass *p = st->column;
@@ -378,8 +364,8 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
         lg_gl_set_int(p, st->l.prev_slicing, (int32_t)f->prev_map.slicing);
         lg_gl_set_vec4v(p, st->l.prev_map, pmap);
     }
-    lg_gl_pass_bind_buffer(p, st->l.lights, st->lights_buf);
-    lg_gl_pass_bind_buffer(p, st->l.slices, st->slices_buf);
+    lg_gl_pass_bind_buffer(p, st->l.lights, st->lights_buf.name);
+    lg_gl_pass_bind_buffer(p, st->l.slices, st->slices_buf.name);
     if (atlas)
         lg_gl_pass_bind_texture(p, st->l.atlas, atlas);
     fx_gl_bind_volume(p, st->l.s, s_now, GL_WRITE_ONLY);
@@ -399,7 +385,7 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     lg_gl_set_float(p, st->k.z_limit, v->z_limit);
     lg_gl_set_vec3v(p, st->k.sigma_t, v->sigma_t);
     lg_gl_set_int(p, st->k.energy, f->accum == FX_ACC_ENERGY);
-    lg_gl_pass_bind_buffer(p, st->k.slices, st->slices_buf);
+    lg_gl_pass_bind_buffer(p, st->k.slices, st->slices_buf.name);
     lg_gl_pass_bind_texture(p, st->k.base, base_tex);
     lg_gl_pass_bind_texture(p, st->k.depth, base_depth);
     fx_gl_bind_volume(p, st->k.acc, grid_tex, GL_READ_ONLY);
@@ -426,16 +412,11 @@ void fx_gl_destroy(lg_node *n, void *state)
     fx_gl *st = state;
     if (!st)
         return;
-    const lg_gl *gl = lg_gl_get(n);
     lg_gl_pass_destroy(&st->column);
     lg_gl_pass_destroy(&st->lookup);
-    if (gl) {
-        if (st->vol[0])
-            gl->DeleteTextures(2, st->vol);
-        if (st->lights_buf)
-            gl->DeleteBuffers(1, &st->lights_buf);
-        if (st->slices_buf)
-            gl->DeleteBuffers(1, &st->slices_buf);
-    }
+    lg_gl_texture_destroy(n, &st->vol[0]);
+    lg_gl_texture_destroy(n, &st->vol[1]);
+    lg_gl_buffer_destroy(n, &st->lights_buf);
+    lg_gl_buffer_destroy(n, &st->slices_buf);
     free(st);
 }

@@ -23,9 +23,10 @@
  * it, and a ray in a shadow at znear lost its whole lit interval before it).
  *
  * Memory per light: one vertex buffer of (Ws Hs + 2 (Ws - 1) + 2 (Hs - 1) + 8) vec4; once
- * for all lights the index buffer (3 uint32 per triangle). Both are kept between frames
- * (remade when the grid size or the number of lights grows) and counted with
- * lg_account_alloc; the mesh itself is generated again on every execute.
+ * for all lights the index buffer (3 uint32 per triangle). Both are lg_gl_buffers, kept
+ * between frames (remade when the grid grows or a light is added; the indices uploaded
+ * again when the grid changes) and counted by the SDK, release included; the mesh itself
+ * is generated again on every execute.
  */
 #include <math.h>
 #include <stdio.h>
@@ -65,9 +66,8 @@ typedef struct poly_state {
     lg_gl_binding c_view;
     lg_gl_binding c_base, c_depth, c_ins;
 
-    GLuint vbuf[VOL_MAX_LIGHTS], ibuf;
-    uint32_t vbuf_grid[VOL_MAX_LIGHTS][2]; /* the grid each vertex buffer was made for */
-    uint32_t ibuf_grid[2];
+    lg_gl_buffer vbuf[VOL_MAX_LIGHTS], ibuf;
+    uint32_t ibuf_grid[2]; /* the grid whose indices ibuf holds */
     uint64_t n_indices;
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } poly_state;
@@ -395,7 +395,7 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
             rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory");
             break;
         }
-        gl->GetNamedBufferSubData(st->vbuf[l], 0, (GLsizeiptr)(v * 16), buf);
+        gl->GetNamedBufferSubData(st->vbuf[l].name, 0, (GLsizeiptr)(v * 16), buf);
         for (uint64_t i = 0; i < v; i++, w += 12)
             memcpy(w, buf + 4 * i, 12);
         free(buf);
@@ -430,21 +430,6 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
 }
 
 /* ---- execute -------------------------------------------------------------------------------- */
-
-/* Makes (or keeps) a GL buffer of `bytes`, counted once per allocation. */
-static int poly_buffer(lg_node *n, const lg_gl *gl, GLuint *buf, uint64_t bytes, bool remake,
-                       const void *data)
-{
-    if (*buf && !remake)
-        return 0;
-    if (*buf)
-        gl->DeleteBuffers(1, buf);
-    *buf = 0;
-    gl->CreateBuffers(1, buf);
-    gl->NamedBufferStorage(*buf, (GLsizeiptr)bytes, data, 0);
-    lg_account_alloc(n, bytes);
-    return lg_gl_check(n, "volumetric_polygonal: allocating a mesh buffer");
-}
 
 static int poly_execute(lg_node *n, const lg_frame *frame)
 {
@@ -498,26 +483,22 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
 
     /* the buffers: indices for this grid, a vertex buffer per light */
     bool regrid = st->ibuf_grid[0] != ws || st->ibuf_grid[1] != hs;
-    if (regrid || !st->ibuf) {
+    if (regrid || !st->ibuf.name) {
         uint32_t *idx = malloc((size_t)ntris * 12);
         if (!idx)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%llu triangles)",
                                  (unsigned long long)ntris);
         poly_indices(ws, hs, idx);
-        rc = poly_buffer(n, gl, &st->ibuf, ntris * 12, true, idx);
+        rc = lg_gl_buffer_recreate(n, &st->ibuf, (size_t)ntris * 12, 0, idx);
         free(idx);
         if (rc)
             return rc;
         st->ibuf_grid[0] = ws;
         st->ibuf_grid[1] = hs;
     }
-    for (uint32_t l = 0; l < v.n_lights; l++) {
-        bool remake = st->vbuf_grid[l][0] != ws || st->vbuf_grid[l][1] != hs;
-        if ((rc = poly_buffer(n, gl, &st->vbuf[l], nverts * 16, remake, NULL)))
+    for (uint32_t l = 0; l < v.n_lights; l++)
+        if ((rc = lg_gl_buffer_recreate(n, &st->vbuf[l], (size_t)nverts * 16, 0, NULL)))
             return rc;
-        st->vbuf_grid[l][0] = ws;
-        st->vbuf_grid[l][1] = hs;
-    }
 
     uint32_t atlas_color = 0, atlas = 0, base_tex = 0, base_depth = 0;
     if ((rc = lg_map_gl(n, sm->atlas, LG_READ, &atlas_color, &atlas)))
@@ -568,7 +549,7 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         lg_gl_set_float(st->mesh, st->m_far, hi[2]);
         const float outer[4] = { lo[0], lo[1], hi[0], hi[1] };
         lg_gl_set_vec4v(st->mesh, st->m_outer, outer);
-        lg_gl_pass_bind_buffer(st->mesh, st->m_verts, st->vbuf[l]);
+        lg_gl_pass_bind_buffer(st->mesh, st->m_verts, st->vbuf[l].name);
         /* rows of 65536 invocations (1024 groups of 64; the shader rebuilds the index), so
          * that no axis exceeds GL's 65535 groups however large the mesh */
         uint32_t row = 65536u, rows = (uint32_t)((nverts + row - 1) / row);
@@ -616,12 +597,12 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     if ((rc = lg_gl_pass_uniforms(p, st->v_view, &view, sizeof view)))
         return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->v_depth, base_depth);
-    lg_gl_pass_bind_buffer(p, st->v_idx, st->ibuf);
+    lg_gl_pass_bind_buffer(p, st->v_idx, st->ibuf.name);
     for (uint32_t l = 0; l < v.n_lights && !rc; l++) {
         lg_gl_set_float(p, st->v_flip, (float)flip[l]);
         lg_gl_set_vec3v(p, st->v_lc, v.lights[l].l_c);
         lg_gl_set_vec3v(p, st->v_dir, v.lights[l].dir);
-        lg_gl_pass_bind_buffer(p, st->v_verts, st->vbuf[l]);
+        lg_gl_pass_bind_buffer(p, st->v_verts, st->vbuf[l].name);
         rc = lg_gl_pass_draw(p, GL_TRIANGLES, (uint32_t)(ntris * 3));
     }
     if ((rc = lg_gl_pass_end(p, rc)))
@@ -653,14 +634,9 @@ static void poly_destroy(lg_node *n)
     poly_state *st = n->user;
     if (!st)
         return;
-    const lg_gl *gl = st->mesh || st->vol || st->comp || st->ibuf ? lg_gl_get(n) : NULL;
-    if (gl) {
-        for (int l = 0; l < VOL_MAX_LIGHTS; l++)
-            if (st->vbuf[l])
-                gl->DeleteBuffers(1, &st->vbuf[l]);
-        if (st->ibuf)
-            gl->DeleteBuffers(1, &st->ibuf);
-    }
+    for (int l = 0; l < VOL_MAX_LIGHTS; l++)
+        lg_gl_buffer_destroy(n, &st->vbuf[l]);
+    lg_gl_buffer_destroy(n, &st->ibuf);
     lg_gl_pass_destroy(&st->mesh);
     lg_gl_pass_destroy(&st->vol);
     lg_gl_pass_destroy(&st->comp);

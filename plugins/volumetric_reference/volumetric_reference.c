@@ -324,7 +324,9 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         lg_embree_free(&e);
         return rc;
     }
-    lg_account_alloc(n, (uint64_t)e.bytes * 5 / 2); /* buffers + about 1.5x for the BVH */
+    /* buffers + about 1.5x for the BVH; made and released in every execute */
+    const uint64_t counted = (uint64_t)e.bytes * 5 / 2;
+    lg_account_alloc(n, counted);
     uint32_t side = (uint32_t)lround(sqrt((double)st->spp));
     vr_run r = {
         .st = st, .v = &v, .e = &e,
@@ -351,6 +353,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
                st->width, st->height, v.n_lights, st->spp, st->steps,
                (double)st->width * st->height * st->spp * st->steps * v.n_lights);
     lg_embree_free(&e);
+    lg_account_free(n, counted);
     return rc;
 }
 

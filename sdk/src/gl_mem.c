@@ -82,7 +82,7 @@ static int pending_error(lg_node *n, const char *fn)
     return lg_gl_check(n, what);
 }
 
-/* ---- buffers ----------------------------------------------------------------------------------- */
+/* ---- buffers -------------------------------------------------------------------------------- */
 
 void lg_gl_buffer_destroy(lg_node *n, lg_gl_buffer *b)
 {
@@ -177,7 +177,7 @@ int lg_gl_buffer_upload(lg_node *n, lg_gl_buffer *b, size_t offset, size_t size,
     return lg_gl_check(n, what);
 }
 
-/* ---- textures ---------------------------------------------------------------------------------- */
+/* ---- textures ------------------------------------------------------------------------------- */
 
 /* d with its defaults filled in (depth and levels 0 -> 1, reserved cleared). */
 static lg_gl_texture_desc normalised(const lg_gl_texture_desc *d)
@@ -360,7 +360,7 @@ int lg_gl_texture_recreate(lg_node *n, lg_gl_texture *t, const lg_gl_texture_des
     return 1;
 }
 
-/* ---- buffer textures --------------------------------------------------------------------------- */
+/* ---- buffer textures ------------------------------------------------------------------------ */
 
 void lg_gl_buffer_texture_destroy(lg_node *n, lg_gl_buffer_texture *t)
 {
