@@ -286,17 +286,6 @@ static void child_error_hook(const char *m)
     }
 }
 
-static void put(lg_str *b, const void *p, size_t n) { lg_str_addn(b, p, n); }
-static void put_u64(lg_str *b, uint64_t v) { put(b, &v, sizeof v); }
-static void put_f64(lg_str *b, double v) { put(b, &v, sizeof v); }
-static void put_text(lg_str *b, const char *s)
-{
-    uint64_t n = s ? strlen(s) : UINT64_MAX;
-    put_u64(b, n);
-    if (s)
-        put(b, s, n);
-}
-
 static void write_all(int fd, const char *p, size_t n)
 {
     while (n > 0) {
@@ -627,40 +616,40 @@ static void child_main(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
     for (uint32_t i = from; i < n; i++) {
         lg_str b = {0};
         lg_str_addc(&b, 'B');
-        put_u64(&b, i);
+        lg_wire_put_u64(&b, i);
         write_all(fd, b.s, b.len);
         lg_str_free(&b);
         cf_result res;
         memset(&res, 0, sizeof res);
         child_case(c, t, &cases[i], &d, &res);
         lg_str_addc(&b, 'R');
-        put_u64(&b, i);
-        put_u64(&b, (uint64_t)res.phase);
-        put_u64(&b, res.gated);
-        put_text(&b, res.error);
-        put_u64(&b, res.diff_count);
-        put_f64(&b, res.diff_max);
-        put_text(&b, res.diff_where);
-        put_text(&b, res.resize_bad);
-        put_u64(&b, res.rss0);
-        put_u64(&b, res.rss1);
-        put_u64(&b, res.live0);
-        put_u64(&b, res.live1);
-        put_u64(&b, res.peak);
-        put_f64(&b, res.ms);
-        put_u64(&b, res.n_outs);
+        lg_wire_put_u64(&b, i);
+        lg_wire_put_u64(&b, (uint64_t)res.phase);
+        lg_wire_put_u64(&b, res.gated);
+        lg_wire_put_text(&b, res.error);
+        lg_wire_put_u64(&b, res.diff_count);
+        lg_wire_put_f64(&b, res.diff_max);
+        lg_wire_put_text(&b, res.diff_where);
+        lg_wire_put_text(&b, res.resize_bad);
+        lg_wire_put_u64(&b, res.rss0);
+        lg_wire_put_u64(&b, res.rss1);
+        lg_wire_put_u64(&b, res.live0);
+        lg_wire_put_u64(&b, res.live1);
+        lg_wire_put_u64(&b, res.peak);
+        lg_wire_put_f64(&b, res.ms);
+        lg_wire_put_u64(&b, res.n_outs);
         for (uint32_t o = 0; o < res.n_outs; o++) {
             const cf_out *x = &res.outs[o];
-            put_text(&b, x->name);
-            put_u64(&b, (uint64_t)x->kind);
-            put_u64(&b, x->written);
-            put_u64(&b, x->values);
-            put_u64(&b, x->w);
-            put_u64(&b, x->h);
-            put_u64(&b, x->d);
-            put_u64(&b, x->nf);
+            lg_wire_put_text(&b, x->name);
+            lg_wire_put_u64(&b, (uint64_t)x->kind);
+            lg_wire_put_u64(&b, x->written);
+            lg_wire_put_u64(&b, x->values);
+            lg_wire_put_u64(&b, x->w);
+            lg_wire_put_u64(&b, x->h);
+            lg_wire_put_u64(&b, x->d);
+            lg_wire_put_u64(&b, x->nf);
             if (x->nf)
-                put(&b, x->f, x->nf * sizeof(float));
+                lg_wire_put_raw(&b, x->f, x->nf * sizeof(float));
         }
         write_all(fd, b.s, b.len);
         lg_str_free(&b);
@@ -672,58 +661,15 @@ static void child_main(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
 
 /* ---- the parent: reads records ---------------------------------------------------------- */
 
-typedef struct reader {
-    const char *p, *end;
-    bool bad;
-} reader;
-
-static void get(reader *r, void *out, size_t n)
-{
-    if (r->bad || (size_t)(r->end - r->p) < n) {
-        r->bad = true;
-        memset(out, 0, n);
-        return;
-    }
-    memcpy(out, r->p, n);
-    r->p += n;
-}
-static uint64_t get_u64(reader *r)
-{
-    uint64_t v;
-    get(r, &v, sizeof v);
-    return v;
-}
-static double get_f64(reader *r)
-{
-    double v;
-    get(r, &v, sizeof v);
-    return v;
-}
-static char *get_text(reader *r)
-{
-    uint64_t n = get_u64(r);
-    if (n == UINT64_MAX || r->bad)
-        return NULL;
-    if ((uint64_t)(r->end - r->p) < n) {
-        r->bad = true;
-        return NULL;
-    }
-    char *s = lg_xmalloc(n + 1);
-    memcpy(s, r->p, n);
-    s[n] = 0;
-    r->p += n;
-    return s;
-}
-
 /* Parses the records in buf: fills results, returns the index of a case begun and not
  * reported (the one a crash interrupted), or UINT32_MAX. */
 static uint32_t read_records(const char *buf, size_t len, cf_result *results, uint32_t n)
 {
-    reader r = {buf, buf + len, false};
+    lg_wire_reader r = {buf, buf + len, false};
     uint32_t open = UINT32_MAX;
     while (r.p < r.end && !r.bad) {
         char tag = *r.p++;
-        uint64_t i = get_u64(&r);
+        uint64_t i = lg_wire_get_u64(&r);
         if (r.bad || i >= n)
             break;
         if (tag == 'B') {
@@ -733,34 +679,34 @@ static uint32_t read_records(const char *buf, size_t len, cf_result *results, ui
         if (tag != 'R')
             break;
         cf_result *x = &results[i];
-        reader save = r;
-        x->phase = (int)get_u64(&r);
-        x->gated = get_u64(&r) != 0;
-        x->error = get_text(&r);
-        x->diff_count = get_u64(&r);
-        x->diff_max = get_f64(&r);
-        x->diff_where = get_text(&r);
-        x->resize_bad = get_text(&r);
-        x->rss0 = get_u64(&r);
-        x->rss1 = get_u64(&r);
-        x->live0 = get_u64(&r);
-        x->live1 = get_u64(&r);
-        x->peak = get_u64(&r);
-        x->ms = get_f64(&r);
-        uint64_t no = get_u64(&r);
+        lg_wire_reader save = r;
+        x->phase = (int)lg_wire_get_u64(&r);
+        x->gated = lg_wire_get_u64(&r) != 0;
+        x->error = lg_wire_get_text(&r);
+        x->diff_count = lg_wire_get_u64(&r);
+        x->diff_max = lg_wire_get_f64(&r);
+        x->diff_where = lg_wire_get_text(&r);
+        x->resize_bad = lg_wire_get_text(&r);
+        x->rss0 = lg_wire_get_u64(&r);
+        x->rss1 = lg_wire_get_u64(&r);
+        x->live0 = lg_wire_get_u64(&r);
+        x->live1 = lg_wire_get_u64(&r);
+        x->peak = lg_wire_get_u64(&r);
+        x->ms = lg_wire_get_f64(&r);
+        uint64_t no = lg_wire_get_u64(&r);
         for (uint64_t o = 0; o < no && o < CF_MAX_OUT && !r.bad; o++) {
             cf_out *y = &x->outs[x->n_outs++];
-            y->name = get_text(&r);
-            y->kind = (lg_resource_kind)get_u64(&r);
-            y->written = get_u64(&r) != 0;
-            y->values = get_u64(&r) != 0;
-            y->w = (uint32_t)get_u64(&r);
-            y->h = (uint32_t)get_u64(&r);
-            y->d = (uint32_t)get_u64(&r);
-            y->nf = (size_t)get_u64(&r);
+            y->name = lg_wire_get_text(&r);
+            y->kind = (lg_resource_kind)lg_wire_get_u64(&r);
+            y->written = lg_wire_get_u64(&r) != 0;
+            y->values = lg_wire_get_u64(&r) != 0;
+            y->w = (uint32_t)lg_wire_get_u64(&r);
+            y->h = (uint32_t)lg_wire_get_u64(&r);
+            y->d = (uint32_t)lg_wire_get_u64(&r);
+            y->nf = (size_t)lg_wire_get_u64(&r);
             if (y->nf && (size_t)(r.end - r.p) / sizeof(float) >= y->nf) {
                 y->f = lg_xmalloc(y->nf * sizeof(float));
-                get(&r, y->f, y->nf * sizeof(float));
+                lg_wire_get_raw(&r, y->f, y->nf * sizeof(float));
             } else if (y->nf) {
                 r.bad = true;
             }

@@ -217,50 +217,38 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
 
 /* ---- serialisation of a descriptor (child -> parent) ------------------------------------ */
 
-static void put_u32(lg_str *b, uint32_t v) { lg_str_addn(b, (const char *)&v, 4); }
-static void put_raw(lg_str *b, const void *p, size_t n) { lg_str_addn(b, p, n); }
-static void put_s(lg_str *b, const char *s)
-{
-    if (!s) {
-        put_u32(b, UINT32_MAX);
-        return;
-    }
-    uint32_t n = (uint32_t)strnlen(s, 1u << 20);
-    put_u32(b, n);
-    lg_str_addn(b, s, n);
-}
 static void put_list(lg_str *b, const char *const *l)
 {
     uint32_t n = 0;
     while (l && l[n] && n < 256)
         n++;
-    put_u32(b, l ? n : UINT32_MAX);
+    lg_wire_put_u32(b, l ? n : UINT32_MAX);
     for (uint32_t i = 0; i < n; i++)
-        put_s(b, l[i]);
+        lg_wire_put_text(b, l[i]);
 }
 
 static void put_desc(lg_str *b, const lg_plugin_desc *d)
 {
-    put_raw(b, "LGSCAN2", 8);
-    put_u32(b, d->abi_major);
-    put_u32(b, d->abi_minor);
-    put_s(b, d->name);
-    put_s(b, d->version);
-    put_s(b, d->doc);
-    put_u32(b, d->n_types);
+    lg_wire_put_raw(b, "LGSCAN2", 8);
+    lg_wire_put_u32(b, d->abi_major);
+    lg_wire_put_u32(b, d->abi_minor);
+    lg_wire_put_text(b, d->name);
+    lg_wire_put_text(b, d->version);
+    lg_wire_put_text(b, d->doc);
+    lg_wire_put_u32(b, d->n_types);
     for (uint32_t i = 0; i < d->n_types; i++) {
         const lg_node_type *t = &d->types[i];
-        put_s(b, t->name);
-        put_s(b, t->doc);
-        put_u32(b, t->needs);
-        put_u32(b, t->flags);
-        put_u32(b, (uint32_t)t->neutral);
-        put_u32(b, t->neutral_input);
-        put_u32(b, t->n_params);
+        lg_wire_put_text(b, t->name);
+        lg_wire_put_text(b, t->doc);
+        lg_wire_put_u32(b, t->needs);
+        lg_wire_put_u32(b, t->flags);
+        lg_wire_put_u32(b, (uint32_t)t->neutral);
+        lg_wire_put_u32(b, t->neutral_input);
+        lg_wire_put_u32(b, t->n_params);
         for (uint32_t k = 0; k < t->n_params; k++) {
             const lg_param_desc *p = &t->params[k];
-            put_s(b, p->key);
-            put_u32(b, (uint32_t)p->type);
+            lg_wire_put_text(b, p->key);
+            lg_wire_put_u32(b, (uint32_t)p->type);
             /* a normalised copy: no padding garbage, enum index and name both set */
             lg_value v;
             memset(&v, 0, sizeof v);
@@ -286,74 +274,34 @@ static void put_desc(lg_str *b, const lg_plugin_desc *d)
                         v.e = e;
                 break;
             }
-            put_raw(b, &v, sizeof v);
-            put_s(b, sv);
-            put_raw(b, &p->min, sizeof p->min);
-            put_raw(b, &p->max, sizeof p->max);
+            lg_wire_put_raw(b, &v, sizeof v);
+            lg_wire_put_text(b, sv);
+            lg_wire_put_raw(b, &p->min, sizeof p->min);
+            lg_wire_put_raw(b, &p->max, sizeof p->max);
             put_list(b, p->enum_values);
-            put_s(b, p->doc);
+            lg_wire_put_text(b, p->doc);
             put_list(b, p->renamed_from);
-            put_u32(b, p->role);
+            lg_wire_put_u32(b, p->role);
         }
         for (int io = 0; io < 2; io++) {
             uint32_t n = io ? t->n_outputs : t->n_inputs;
             const lg_port_desc *ports = io ? t->outputs : t->inputs;
-            put_u32(b, n);
+            lg_wire_put_u32(b, n);
             for (uint32_t k = 0; k < n; k++) {
-                put_s(b, ports[k].name);
-                put_u32(b, (uint32_t)ports[k].kind);
-                put_u32(b, ports[k].optional);
-                put_s(b, ports[k].doc);
+                lg_wire_put_text(b, ports[k].name);
+                lg_wire_put_u32(b, (uint32_t)ports[k].kind);
+                lg_wire_put_u32(b, ports[k].optional);
+                lg_wire_put_text(b, ports[k].doc);
             }
         }
     }
 }
 
-typedef struct reader {
-    const char *p, *end;
-    bool bad;
-} reader;
-
-static uint32_t get_u32(reader *r)
-{
-    uint32_t v = 0;
-    /* once bad, nothing more is read: the position is no longer where the encoder was */
-    if (r->bad || r->end - r->p < 4) {
-        r->bad = true;
-        return 0;
-    }
-    memcpy(&v, r->p, 4);
-    r->p += 4;
-    return v;
-}
-static void get_raw(reader *r, void *out, size_t n)
-{
-    if (r->bad || (size_t)(r->end - r->p) < n) {
-        r->bad = true;
-        memset(out, 0, n);
-        return;
-    }
-    memcpy(out, r->p, n);
-    r->p += n;
-}
-static char *get_s(reader *r)
-{
-    uint32_t n = get_u32(r);
-    if (n == UINT32_MAX || r->bad)
-        return NULL;
-    if ((size_t)(r->end - r->p) < n) {
-        r->bad = true;
-        return NULL;
-    }
-    char *s = lg_xstrndup(r->p, n);
-    r->p += n;
-    return s;
-}
 /* A list put_list wrote: NULL for none, else at most 256 strings, none of them NULL (a
  * NULL would end the list early and leave the rest unowned). */
-static const char *const *get_list(reader *r)
+static const char *const *get_list(lg_wire_reader *r)
 {
-    uint32_t n = get_u32(r);
+    uint32_t n = lg_wire_get_u32(r);
     if (n == UINT32_MAX || r->bad)
         return NULL;
     if (n > 256) {
@@ -362,7 +310,7 @@ static const char *const *get_list(reader *r)
     }
     char **l = lg_xcalloc(n + 1, sizeof *l);
     for (uint32_t i = 0; i < n && !r->bad; i++)
-        if (!(l[i] = get_s(r)))
+        if (!(l[i] = lg_wire_get_text(r)))
             r->bad = true;
     return (const char *const *)l;
 }
@@ -376,18 +324,18 @@ static const char *const *get_list(reader *r)
 /* Decodes what put_desc wrote into p. Each count is set together with its array, so that
  * lg_plugin_free_schema frees a half-decoded p. Returns 0 (r->bad may still be set), or -1
  * with the reason in err. */
-static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
+static int get_desc(lg_wire_reader *r, lg_plugin *p, char *err, size_t errlen)
 {
     char magic[8];
-    get_raw(r, magic, 8);
+    lg_wire_get_raw(r, magic, 8);
     if (r->bad || memcmp(magic, "LGSCAN2", 8) != 0)
         DFAIL("it does not start with LGSCAN2");
-    p->abi_major = (uint16_t)get_u32(r);
-    p->abi_minor = (uint16_t)get_u32(r);
-    p->name = get_s(r);
-    p->version = get_s(r);
-    p->doc = get_s(r);
-    uint32_t n_types = get_u32(r);
+    p->abi_major = (uint16_t)lg_wire_get_u32(r);
+    p->abi_minor = (uint16_t)lg_wire_get_u32(r);
+    p->name = lg_wire_get_text(r);
+    p->version = lg_wire_get_text(r);
+    p->doc = lg_wire_get_text(r);
+    uint32_t n_types = lg_wire_get_u32(r);
     if (!r->bad && n_types > 1024)
         DFAIL("%u node types, over the limit of 1024", n_types);
     p->types = lg_xcalloc(n_types ? n_types : 1, sizeof *p->types);
@@ -395,13 +343,13 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
     for (uint32_t i = 0; i < n_types && !r->bad; i++) {
         lg_node_type *t = &p->types[i];
         t->struct_size = sizeof *t;
-        t->name = get_s(r);
-        t->doc = get_s(r);
-        t->needs = get_u32(r);
-        t->flags = get_u32(r);
-        t->neutral = (lg_neutral)get_u32(r);
-        t->neutral_input = get_u32(r);
-        uint32_t n_params = get_u32(r);
+        t->name = lg_wire_get_text(r);
+        t->doc = lg_wire_get_text(r);
+        t->needs = lg_wire_get_u32(r);
+        t->flags = lg_wire_get_u32(r);
+        t->neutral = (lg_neutral)lg_wire_get_u32(r);
+        t->neutral_input = lg_wire_get_u32(r);
+        uint32_t n_params = lg_wire_get_u32(r);
         if (!r->bad && n_params > 256)
             DFAIL("node type %u: %u parameters, over the limit of 256", i, n_params);
         lg_param_desc *params = lg_xcalloc(n_params ? n_params : 1, sizeof *params);
@@ -409,12 +357,12 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
         t->n_params = n_params;
         for (uint32_t k = 0; k < n_params && !r->bad; k++) {
             lg_param_desc *q = &params[k];
-            q->key = get_s(r);
-            q->type = (lg_param_type)get_u32(r);
+            q->key = lg_wire_get_text(r);
+            q->type = (lg_param_type)lg_wire_get_u32(r);
             /* put_desc wrote a normalised lg_value: take the member the type uses, as a
              * value of its type (a bool byte other than 0 or 1 is not a bool) */
             lg_value raw, def;
-            get_raw(r, &raw, sizeof raw);
+            lg_wire_get_raw(r, &raw, sizeof raw);
             memset(&def, 0, sizeof def);
             def.type = q->type;
             switch (q->type) {
@@ -435,21 +383,21 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
             case LG_PARAM_ENUM: def.e = raw.e; break;
             default: break; /* strings: the name follows; unknown types are refused later */
             }
-            char *s = get_s(r);
+            char *s = lg_wire_get_text(r);
             if (q->type == LG_PARAM_STRING || q->type == LG_PARAM_PATH || q->type == LG_PARAM_ENUM)
                 def.s = s;
             else
                 free(s);
             q->def = def;
-            get_raw(r, &q->min, sizeof q->min);
-            get_raw(r, &q->max, sizeof q->max);
+            lg_wire_get_raw(r, &q->min, sizeof q->min);
+            lg_wire_get_raw(r, &q->max, sizeof q->max);
             q->enum_values = get_list(r);
-            q->doc = get_s(r);
+            q->doc = lg_wire_get_text(r);
             q->renamed_from = get_list(r);
-            q->role = get_u32(r);
+            q->role = lg_wire_get_u32(r);
         }
         for (int io = 0; io < 2 && !r->bad; io++) {
-            uint32_t n = get_u32(r);
+            uint32_t n = lg_wire_get_u32(r);
             if (!r->bad && n > 64)
                 DFAIL("node type %u: %u %s, over the limit of 64", i, n, io ? "outputs" : "inputs");
             lg_port_desc *ports = lg_xcalloc(n ? n : 1, sizeof *ports);
@@ -461,10 +409,10 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
                 t->n_inputs = n;
             }
             for (uint32_t k = 0; k < n && !r->bad; k++) {
-                ports[k].name = get_s(r);
-                ports[k].kind = (lg_resource_kind)get_u32(r);
-                ports[k].optional = get_u32(r) != 0;
-                ports[k].doc = get_s(r);
+                ports[k].name = lg_wire_get_text(r);
+                ports[k].kind = (lg_resource_kind)lg_wire_get_u32(r);
+                ports[k].optional = lg_wire_get_u32(r) != 0;
+                ports[k].doc = lg_wire_get_text(r);
             }
         }
     }
@@ -475,7 +423,7 @@ static int get_desc(reader *r, lg_plugin *p, char *err, size_t errlen)
 int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
-    reader r = {buf, buf + n, false};
+    lg_wire_reader r = {buf, buf + n, false};
     char why[512];
     int rc = get_desc(&r, p, why, sizeof why);
     if (rc == 0 && r.bad) {

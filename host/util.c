@@ -458,3 +458,68 @@ bool lg_path_has_ext(const char *path, const char *ext)
     const char *dot = strrchr(slash ? slash + 1 : path, '.');
     return dot && strcasecmp(dot, ext) == 0;
 }
+
+/* ---- records through a pipe ----------------------------------------------------------- */
+
+void lg_wire_put_raw(lg_str *b, const void *p, size_t n) { lg_str_addn(b, p, n); }
+void lg_wire_put_u32(lg_str *b, uint32_t v) { lg_wire_put_raw(b, &v, sizeof v); }
+void lg_wire_put_u64(lg_str *b, uint64_t v) { lg_wire_put_raw(b, &v, sizeof v); }
+void lg_wire_put_f64(lg_str *b, double v) { lg_wire_put_raw(b, &v, sizeof v); }
+
+void lg_wire_put_text(lg_str *b, const char *s)
+{
+    if (!s) {
+        lg_wire_put_u32(b, UINT32_MAX);
+        return;
+    }
+    uint32_t n = (uint32_t)strnlen(s, 1u << 20);
+    lg_wire_put_u32(b, n);
+    lg_wire_put_raw(b, s, n);
+}
+
+void lg_wire_get_raw(lg_wire_reader *r, void *out, size_t n)
+{
+    /* once bad, nothing more is read: the position is no longer where the writer was */
+    if (r->bad || (size_t)(r->end - r->p) < n) {
+        r->bad = true;
+        memset(out, 0, n);
+        return;
+    }
+    memcpy(out, r->p, n);
+    r->p += n;
+}
+
+uint32_t lg_wire_get_u32(lg_wire_reader *r)
+{
+    uint32_t v;
+    lg_wire_get_raw(r, &v, sizeof v);
+    return v;
+}
+
+uint64_t lg_wire_get_u64(lg_wire_reader *r)
+{
+    uint64_t v;
+    lg_wire_get_raw(r, &v, sizeof v);
+    return v;
+}
+
+double lg_wire_get_f64(lg_wire_reader *r)
+{
+    double v;
+    lg_wire_get_raw(r, &v, sizeof v);
+    return v;
+}
+
+char *lg_wire_get_text(lg_wire_reader *r)
+{
+    uint32_t n = lg_wire_get_u32(r);
+    if (n == UINT32_MAX || r->bad)
+        return NULL;
+    if ((size_t)(r->end - r->p) < n) {
+        r->bad = true;
+        return NULL;
+    }
+    char *s = lg_xstrndup(r->p, n);
+    r->p += n;
+    return s;
+}

@@ -37,6 +37,30 @@ void lg_str_add_json(lg_str *b, const char *s);
 char *lg_str_take(lg_str *b);
 void lg_str_free(lg_str *b);
 
+/* Records passed from a child process to its parent through a pipe (the plugin scanner's
+ * descriptor, conform's results): fixed-size values in the machine's own byte order (both
+ * ends are this program), and texts as a 32-bit length, UINT32_MAX for NULL, then the bytes
+ * (at most 1 MiB: a longer text is cut). */
+void lg_wire_put_raw(lg_str *b, const void *p, size_t n);
+void lg_wire_put_u32(lg_str *b, uint32_t v);
+void lg_wire_put_u64(lg_str *b, uint64_t v);
+void lg_wire_put_f64(lg_str *b, double v);
+void lg_wire_put_text(lg_str *b, const char *s);
+
+/* Reads what the lg_wire_put_* functions wrote, bounded by `end`. A read past the end makes
+ * the reader bad: it then returns zeros and NULL and reads nothing more (the position is no
+ * longer where the writer was), so a caller reads a whole record and checks `bad` once. */
+typedef struct lg_wire_reader {
+    const char *p, *end;
+    bool bad;
+} lg_wire_reader;
+void lg_wire_get_raw(lg_wire_reader *r, void *out, size_t n);
+uint32_t lg_wire_get_u32(lg_wire_reader *r);
+uint64_t lg_wire_get_u64(lg_wire_reader *r);
+double lg_wire_get_f64(lg_wire_reader *r);
+/* A text: malloc'd (the caller frees it), or NULL for a NULL text or a bad reader. */
+char *lg_wire_get_text(lg_wire_reader *r);
+
 /* Paths. All return malloc'd strings. */
 char *lg_path_dirname(const char *path);             /* "." for a bare name */
 char *lg_path_join(const char *dir, const char *rel); /* rel if absolute */
