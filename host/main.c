@@ -4,8 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "commands.h"
-#include "host.h"
+#include "cli/commands.h"
 #include "lightgraph/image.h"
 
 /* --max-pixels N (or =N), accepted anywhere on the command line and taken out of argv before

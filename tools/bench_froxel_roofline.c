@@ -38,9 +38,9 @@
 #include <unistd.h>
 
 #include "bench_triad.h"
-#include "host.h"
-#include "pool.h"
-#include "util.h"
+#include "cli/commands.h"
+#include "base/pool.h"
+#include "base/util.h"
 
 #ifndef LG_FROXEL_BENCH_EXAMPLES
 #error "LG_FROXEL_BENCH_EXAMPLES (the examples folder) must be defined by the build"

@@ -41,10 +41,10 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
-#include "device.h"
-#include "pool.h"
+#include "exec/device.h"
+#include "base/pool.h"
 #include "bench_triad.h"
-#include "util.h"
+#include "base/util.h"
 
 #include "lightgraph/transfer.h"
 

@@ -15,7 +15,7 @@
 
 #include <stddef.h>
 
-#include "pool.h"
+#include "base/pool.h"
 
 int lg_bench_triad(lg_pool *pool, size_t mib, int repeat, const char *prog, double *gbs,
                    double *ms_best);

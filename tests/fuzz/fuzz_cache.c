@@ -24,7 +24,7 @@
 
 #include "fuzz_driver.h"
 #include "fuzz_seeds.h"
-#include "host.h"
+#include "exec/exec.h"
 
 static unsigned long n_runs, n_ok;
 

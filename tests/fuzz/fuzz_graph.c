@@ -20,8 +20,8 @@
 
 #include "fake_schema.h"
 #include "fuzz_driver.h"
-#include "graph.h"
-#include "util.h"
+#include "graph/graph.h"
+#include "base/util.h"
 
 /* Relative includes resolve here, where nothing exists. */
 #define FUZZ_BASE "/nonexistent-lightgraph-fuzz"

@@ -22,7 +22,7 @@
 #include <string.h>
 
 #include "fuzz_driver.h"
-#include "host.h"
+#include "exec/exec.h"
 
 static unsigned long n_runs, n_ok;
 

@@ -27,8 +27,8 @@
 #include <strings.h>
 
 #include "fuzz_driver.h"
-#include "util.h"
-#include "viewer_script.h"
+#include "base/util.h"
+#include "viewer/script.h"
 
 #define PATH "fuzz.script"
 #define DIR "/fuzz/dir"

@@ -40,7 +40,7 @@
 #include "fuzz_seeds.h"
 #include "ibl_cache.h"
 #include "pb_cache.h"
-#include "host.h"
+#include "exec/exec.h"
 #include "lightgraph/image.h"
 
 static int write_seed(const char *dir, const char *name, const void *data, size_t n)

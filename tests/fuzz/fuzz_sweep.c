@@ -25,8 +25,8 @@
 #include <string.h>
 
 #include "fuzz_driver.h"
-#include "sweep_args.h"
-#include "util.h"
+#include "cli/sweep_args.h"
+#include "base/util.h"
 
 static unsigned long n_runs, n_ok;
 

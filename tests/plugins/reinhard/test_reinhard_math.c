@@ -17,7 +17,7 @@
 #include "common/check.h"
 #include "reinhard_cpu.h"
 #include "reinhard_oracle.h"
-#include "pool.h"
+#include "base/pool.h"
 
 #include "lightgraph/image.h"
 

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "codectest.h"
-#include "commands.h"
+#include "cli/commands.h"
 #include "lightgraph/image.h"
 
 static char scratch[4096];

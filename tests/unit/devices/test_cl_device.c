@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "lightgraph/cl.h"
-#include "device.h"
+#include "exec/device.h"
 #include "devtest.h"
 
 static const char square_cl[] =

@@ -21,7 +21,7 @@
 #include <string.h>
 
 #include "lightgraph/cl.h"
-#include "device.h"
+#include "exec/device.h"
 #include "devtest.h"
 
 static lg_cl_dev *dev;

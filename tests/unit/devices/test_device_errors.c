@@ -6,7 +6,7 @@
 #include <unistd.h>
 
 #include "lightgraph/cl.h"
-#include "device.h"
+#include "exec/device.h"
 #include "devtest.h"
 
 int main(void)

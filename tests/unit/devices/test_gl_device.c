@@ -4,7 +4,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "device.h"
+#include "exec/device.h"
 #include "devtest.h"
 #include "lightgraph/gl.h"
 

@@ -12,7 +12,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "device.h"
+#include "exec/device.h"
 #include "devtest.h"
 #include "lightgraph/gl_pass.h"
 #include "lightgraph/plugin.h"

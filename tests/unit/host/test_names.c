@@ -14,8 +14,8 @@
 #include <sys/stat.h>
 
 #include "common/check.h"
-#include "host.h"
-#include "names.h"
+#include "exec/exec.h"
+#include "exec/names.h"
 
 /* ---- rule --------------------------------------------------------------------------- */
 

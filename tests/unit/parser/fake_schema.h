@@ -17,7 +17,7 @@
 #ifndef LG_TEST_FAKE_SCHEMA_H
 #define LG_TEST_FAKE_SCHEMA_H
 
-#include "graph.h"
+#include "graph/graph.h"
 
 /* A schema over the types above; lookup is a linear search by name. */
 const lg_schema *lg_fake_schema(void);

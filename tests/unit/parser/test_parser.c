@@ -21,8 +21,8 @@
 #include <unistd.h>
 
 #include "fake_schema.h"
-#include "graph.h"
-#include "util.h"
+#include "graph/graph.h"
+#include "base/util.h"
 
 static int failures;
 static int checks;

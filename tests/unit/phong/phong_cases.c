@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "device.h"
+#include "exec/device.h"
 #include "devtest.h"
 #include "lightgraph/gl.h"
 #include "phong_eval.comp.h"

@@ -21,7 +21,7 @@
 #include <unistd.h>
 
 #include "common/check.h"
-#include "pool.h"
+#include "base/pool.h"
 
 /* ---- chunks ------------------------------------------------------------------------ */
 

@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "device.h"
+#include "exec/device.h"
 #include "common/cl_join.h"
 #include "devtest.h"
 #include "lightgraph/cl.h"

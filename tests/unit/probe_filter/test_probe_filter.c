@@ -40,7 +40,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
 #include "ggx_prefilter.h"
-#include "pool.h"
+#include "base/pool.h"
 
 #define PI 3.14159265358979323846
 

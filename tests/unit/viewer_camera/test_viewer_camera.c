@@ -19,7 +19,7 @@
 #include "common/check.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
-#include "viewer_camera.h"
+#include "viewer/camera.h"
 
 static const double kPi = 3.14159265358979323846;
 

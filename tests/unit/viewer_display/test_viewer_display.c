@@ -19,9 +19,9 @@
 #include <string.h>
 
 #include "common/check.h"
-#include "device.h"
+#include "exec/device.h"
 #include "lightgraph/image.h"
-#include "viewer_display.h"
+#include "viewer/display.h"
 
 #include "unifont-ascii.hex.h"
 

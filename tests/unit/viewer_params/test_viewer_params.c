@@ -25,9 +25,9 @@
 #include <string.h>
 
 #include "common/check.h"
-#include "graph.h"
-#include "util.h"
-#include "viewer_params.h"
+#include "graph/graph.h"
+#include "base/util.h"
+#include "viewer/params.h"
 
 /* ---- the schema ------------------------------------------------------------------------ */
 

@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 #include "common/check.h"
-#include "viewer_script.h"
+#include "viewer/script.h"
 
 static char g_dir[PATH_MAX]; /* the temporary folder, links resolved */
 static char g_path[PATH_MAX + 32];

@@ -26,8 +26,8 @@
 #include <unistd.h>
 
 #include "common/check.h"
-#include "rebuild.h"
-#include "util.h"
+#include "viewer/rebuild.h"
+#include "base/util.h"
 
 static char tmp[256];
 

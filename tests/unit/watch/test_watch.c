@@ -32,8 +32,8 @@
 #include <unistd.h>
 
 #include "common/check.h"
-#include "util.h"
-#include "watch.h"
+#include "base/util.h"
+#include "viewer/watch.h"
 
 static char tmp[256];
 static double T = 1000.0; /* the made-up clock; each check moves it on */
