@@ -288,9 +288,9 @@ static bool upstream_display_referred(const lg_exec *ex, int32_t i, bool *seen)
         return false;
     seen[i] = true;
     const lg_pnode *n = ex->nodes[i];
-    if (!n || n->state == LG_STATE_CULLED)
+    if (!n || n->plan.state == LG_STATE_CULLED)
         return false;
-    if (n->state == LG_STATE_KEPT && (n->schema->flags & LG_NODE_DISPLAY_REFERRED))
+    if (n->plan.state == LG_STATE_KEPT && (n->schema->flags & LG_NODE_DISPLAY_REFERRED))
         return true;
     for (uint32_t k = 0; k < n->schema->n_inputs; k++)
         if (upstream_display_referred(ex, n->c->inputs[k].node, seen))
@@ -303,7 +303,7 @@ static lg_resource *shown_resource(const loaded *l, lg_pnode **mapper)
 {
     lg_resource *r = lg_edge_resource(l->ex, l->shown);
     if (mapper)
-        *mapper = r ? (r->parent ? r->parent->producer : r->producer) : NULL;
+        *mapper = r ? (r->parts.parent ? r->parts.parent->producer : r->producer) : NULL;
     return r;
 }
 
@@ -335,7 +335,7 @@ static int shown_texture(viewer *v, uint32_t *tex, uint32_t *w, uint32_t *h, cha
     }
     /* other formats and kinds: through the CPU, as the output files are written; only when
      * the producer ran (the texture keeps the last copy) */
-    if (!v->cpu_tex || mapper->ran_this_frame) {
+    if (!v->cpu_tex || mapper->viewer.ran_this_frame) {
         float *px = NULL;
         lg_image img = {0, 0, NULL};
         if (r->kind == LG_KIND_PROBE) {
@@ -445,15 +445,15 @@ static int try_load(viewer *v, bool initial, bool full, char *err, size_t errlen
     ex->reg = &v->reg;
     ex->graph = l.g;
     ex->checked = l.c;
-    ex->prev = full ? NULL : v->cur.ex;
-    ex->roots = &l.shown;
-    ex->n_roots = 1;
-    ex->keep_devices = true;
-    ex->gl = v->gl;
-    ex->gl_timer_query = v->timer_query;
-    ex->cl = v->cl;
-    ex->camera = v->cam_on ? &v->cam_out : NULL;
-    ex->camera_gen = v->cam_gen;
+    ex->viewer.prev = full ? NULL : v->cur.ex;
+    ex->viewer.roots = &l.shown;
+    ex->viewer.n_roots = 1;
+    ex->dev.keep = true;
+    ex->dev.gl = v->gl;
+    ex->dev.gl_timer_query = v->timer_query;
+    ex->dev.cl = v->cl;
+    ex->viewer.camera = v->cam_on ? &v->cam_out : NULL;
+    ex->viewer.camera_gen = v->cam_gen;
     ex->guard = LG_GUARD_RECOVER;
     l.ex = ex;
     int rc = lg_plan(ex);
@@ -461,8 +461,8 @@ static int try_load(viewer *v, bool initial, bool full, char *err, size_t errlen
         rc = lg_exec_frame(ex, v->frame);
     if (rc == 0 && ex->failed)
         rc = -1;
-    if (ex->cl && !v->cl)
-        v->cl = ex->cl; /* made by this plan: the viewer keeps it for every later one */
+    if (ex->dev.cl && !v->cl)
+        v->cl = ex->dev.cl; /* made by this plan: the viewer keeps it for every later one */
     if (rc != 0) {
         snprintf(err, errlen, "%s", v->last_error ? v->last_error : "the graph failed to run");
         lg_plan_rollback(ex);
@@ -478,7 +478,7 @@ static int try_load(viewer *v, bool initial, bool full, char *err, size_t errlen
     free(seen);
     bool *offer = lg_xcalloc(l.c->n_nodes + 1, sizeof *offer);
     for (uint32_t i = 0; i < l.c->n_nodes; i++)
-        offer[i] = ex->nodes[i] && ex->nodes[i]->state == LG_STATE_KEPT;
+        offer[i] = ex->nodes[i] && ex->nodes[i]->plan.state == LG_STATE_KEPT;
     lg_vparams_sync(v->vp, v->cur.g, v->cur.c, offer);
     free(offer);
     v->frame_failed = false;
@@ -509,8 +509,8 @@ static bool attempt_ex(viewer *v, const char *what, bool full)
         uint32_t kept = 0, made = 0;
         for (uint32_t i = 0; i < v->cur.ex->n_nodes; i++) {
             const lg_pnode *n = v->cur.ex->nodes[i];
-            if (n && n->state == LG_STATE_KEPT)
-                n->runs > 1 || (n->ran && !n->ran_this_frame) ? kept++ : made++;
+            if (n && n->plan.state == LG_STATE_KEPT)
+                n->prof.runs > 1 || (n->run.ran && !n->viewer.ran_this_frame) ? kept++ : made++;
         }
         set_status(v, false, "%s (%.0f ms: %u node%s made, %u kept)", what,
                    (lg_now() - t0) * 1e3, made, made == 1 ? "" : "s", kept);
@@ -537,15 +537,15 @@ static const lg_scene *graph_scene(viewer *v, const char **scene_node)
     const lg_checked *c = l->c;
     for (uint32_t t = c->n_nodes; t-- > 0;) {
         const lg_pnode *n = l->ex->nodes[c->topo[t]];
-        if (!n || n->state != LG_STATE_KEPT)
+        if (!n || n->plan.state != LG_STATE_KEPT)
             continue;
         for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
             lg_edge e = n->c->inputs[k];
             lg_resource *r = e.node >= 0 ? lg_edge_resource(l->ex, e) : NULL;
-            if (r && r->kind == LG_KIND_SCENE && r->payload && !r->neutral) {
+            if (r && r->kind == LG_KIND_SCENE && r->payload.data && !r->neutral) {
                 if (scene_node)
                     *scene_node = l->g->nodes[e.node].name;
-                return r->payload;
+                return r->payload.data;
             }
         }
     }
@@ -559,8 +559,8 @@ static void camera_changed(viewer *v)
     lg_vcam_to_camera(&v->vcam, &v->cam_out);
     v->cam_gen++;
     if (v->cur.ex) {
-        v->cur.ex->camera = v->cam_on ? &v->cam_out : NULL;
-        v->cur.ex->camera_gen = v->cam_gen;
+        v->cur.ex->viewer.camera = v->cam_on ? &v->cam_out : NULL;
+        v->cur.ex->viewer.camera_gen = v->cam_gen;
     }
 }
 
@@ -1315,26 +1315,26 @@ static void overlay_text(viewer *v, lg_str *s)
         const lg_pnode *n = l->ex->nodes[l->c->topo[t]];
         if (!n)
             continue;
-        if (n->state == LG_STATE_CULLED) {
+        if (n->plan.state == LG_STATE_CULLED) {
             lg_str_addf(&culled, "%s%s", culled.len ? ", " : "", n->pub.name);
             continue;
         }
-        if (n->state == LG_STATE_GATED) {
+        if (n->plan.state == LG_STATE_GATED) {
             lg_str_addf(&gated, "%s%s (%s)", gated.len ? ", " : "", n->pub.name,
-                        n->reason ? n->reason : "");
+                        n->plan.reason ? n->plan.reason : "");
             continue;
         }
         /* GL timer queries read 0 for llvmpipe's compute work: "n/a", as --profile says */
         char gpu[32] = "-", gpu_avg[32] = "-";
-        if (n->device == LG_DEVICE_GL || n->device == LG_DEVICE_CL) {
-            bool na = n->gpu_unmeasured && n->last_gpu_ms == 0;
-            snprintf(gpu, sizeof gpu, na ? "n/a" : "%.2f", n->last_gpu_ms);
-            snprintf(gpu_avg, sizeof gpu_avg, na ? "n/a" : "%.2f", n->avg_gpu_ms);
+        if (n->run.device == LG_DEVICE_GL || n->run.device == LG_DEVICE_CL) {
+            bool na = n->prof.gpu_unmeasured && n->viewer.last_gpu_ms == 0;
+            snprintf(gpu, sizeof gpu, na ? "n/a" : "%.2f", n->viewer.last_gpu_ms);
+            snprintf(gpu_avg, sizeof gpu_avg, na ? "n/a" : "%.2f", n->viewer.avg_gpu_ms);
         }
         lg_str_addf(s, "%-*.*s %-*.*s %-9s %9.2f %9.2f %9s %9s%s\n", wn, wn, n->pub.name, wt,
-                    wt, n->schema->name, n->per_frame ? "per-frame" : "once", n->last_cpu_ms,
-                    n->avg_cpu_ms, gpu, gpu_avg,
-                    n->ran_this_frame ? "" : (n->per_frame ? "" : "  (cached)"));
+                    wt, n->schema->name, n->run.per_frame ? "per-frame" : "once", n->viewer.last_cpu_ms,
+                    n->viewer.avg_cpu_ms, gpu, gpu_avg,
+                    n->viewer.ran_this_frame ? "" : (n->run.per_frame ? "" : "  (cached)"));
     }
     if (culled.len)
         lg_str_addf(s, "culled: %s\n", culled.s);
@@ -1414,11 +1414,11 @@ static void update_averages(viewer *v)
 {
     for (uint32_t i = 0; i < v->cur.ex->n_nodes; i++) {
         lg_pnode *n = v->cur.ex->nodes[i];
-        if (n && n->ran_this_frame) {
-            n->avg_cpu_ms = n->runs <= 1 ? n->last_cpu_ms
-                                         : 0.9 * n->avg_cpu_ms + 0.1 * n->last_cpu_ms;
-            n->avg_gpu_ms = n->runs <= 1 ? n->last_gpu_ms
-                                         : 0.9 * n->avg_gpu_ms + 0.1 * n->last_gpu_ms;
+        if (n && n->viewer.ran_this_frame) {
+            n->viewer.avg_cpu_ms = n->prof.runs <= 1 ? n->viewer.last_cpu_ms
+                                         : 0.9 * n->viewer.avg_cpu_ms + 0.1 * n->viewer.last_cpu_ms;
+            n->viewer.avg_gpu_ms = n->prof.runs <= 1 ? n->viewer.last_gpu_ms
+                                         : 0.9 * n->viewer.avg_gpu_ms + 0.1 * n->viewer.last_gpu_ms;
         }
     }
 }
@@ -1646,8 +1646,8 @@ int lg_cmd_view(int argc, char **argv)
         /* nothing to run, nothing moving: wait for an event rather than spin */
         bool busy = v->scripted || v->anim.active || v->rebuild;
         for (uint32_t i = 0; !busy && i < v->cur.ex->n_nodes; i++)
-            busy = v->cur.ex->nodes[i] && v->cur.ex->nodes[i]->per_frame &&
-                   v->cur.ex->nodes[i]->state == LG_STATE_KEPT;
+            busy = v->cur.ex->nodes[i] && v->cur.ex->nodes[i]->run.per_frame &&
+                   v->cur.ex->nodes[i]->plan.state == LG_STATE_KEPT;
         for (int k = 0; !busy && k <= GLFW_KEY_LAST; k++)
             busy = v->held[k];
         if (!busy)
