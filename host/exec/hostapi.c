@@ -901,14 +901,7 @@ int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)
         if (lg_gl_device_create(&ex->gl, backend, err, sizeof err) == 0) {
             lg_hlog(LG_HINFO, "GL device: %s (%.1f ms)", lg_gl_device_description(ex->gl),
                     (lg_now() - t0) * 1e3);
-            const GladGLContext *gl = lg_gl_device_table(ex->gl);
-            gl->GenQueries(1, &ex->gl_timer_query);
-            /* llvmpipe's first timer query in a context returns an absolute timestamp:
-             * spend it here, on nothing */
-            GLuint64 ns = 0;
-            gl->BeginQuery(GL_TIME_ELAPSED, ex->gl_timer_query);
-            gl->EndQuery(GL_TIME_ELAPSED);
-            gl->GetQueryObjectui64v(ex->gl_timer_query, GL_QUERY_RESULT, &ns);
+            ex->gl_timer_query = lg_gl_device_timer_query(ex->gl);
             return 0;
         }
         ex->gl_error = lg_xasprintf("no OpenGL 4.5 device (%s): %s", backend, err);

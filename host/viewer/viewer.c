@@ -1589,15 +1589,8 @@ int lg_cmd_view(int argc, char **argv)
         rc = 1;
         goto out;
     }
-    {
-        const GladGLContext *gl = lg_gl_device_table(v->gl);
-        gl->GenQueries(1, &v->timer_query);
-        GLuint64 ns = 0; /* llvmpipe's first timer query reads a timestamp: spend it */
-        gl->BeginQuery(GL_TIME_ELAPSED, v->timer_query);
-        gl->EndQuery(GL_TIME_ELAPSED);
-        gl->GetQueryObjectui64v(v->timer_query, GL_QUERY_RESULT, &ns);
-        lg_hlog(LG_HINFO, "GL device: %s", lg_gl_device_description(v->gl));
-    }
+    v->timer_query = lg_gl_device_timer_query(v->gl);
+    lg_hlog(LG_HINFO, "GL device: %s", lg_gl_device_description(v->gl));
     g_viewer = v;
     lg_hlog_error_hook = error_hook;
     v->vp = lg_vparams_new();
