@@ -16,14 +16,7 @@ int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)
         if (lg_gl_device_create(&ex->dev.gl, backend, err, sizeof err) == 0) {
             lg_hlog(LG_HINFO, "GL device: %s (%.1f ms)", lg_gl_device_description(ex->dev.gl),
                     (lg_now() - t0) * 1e3);
-            const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
-            gl->GenQueries(1, &ex->dev.gl_timer_query);
-            /* llvmpipe's first timer query in a context returns an absolute timestamp:
-             * spend it here, on nothing */
-            GLuint64 ns = 0;
-            gl->BeginQuery(GL_TIME_ELAPSED, ex->dev.gl_timer_query);
-            gl->EndQuery(GL_TIME_ELAPSED);
-            gl->GetQueryObjectui64v(ex->dev.gl_timer_query, GL_QUERY_RESULT, &ns);
+            ex->dev.gl_timer_query = lg_gl_device_timer_query(ex->dev.gl);
             return 0;
         }
         ex->dev.gl_error = lg_xasprintf("no OpenGL 4.5 device (%s): %s", backend, err);
