@@ -15,6 +15,18 @@
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
 
+/* Watches the current graph's files: the graph and its includes, which a load may change
+ * (reload.c watches the rest). */
+void lg_viewer_watch_graph_files(viewer *v)
+{
+    if (!v->watch)
+        return;
+    char err[1024];
+    if (lg_watch_files(v->watch, LG_WATCH_GRAPH, (const char *const *)v->cur.files,
+                       v->cur.n_files, err, sizeof err))
+        lg_hlog(LG_HWARN, "cannot watch the graph's files: %s", err);
+}
+
 /* ---- the status line --------------------------------------------------------------------- */
 
 void lg_viewer_status(viewer *v, bool error, const char *fmt, ...)

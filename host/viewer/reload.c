@@ -11,16 +11,6 @@
 #include <string.h>
 #include <unistd.h>
 
-void lg_viewer_watch_graph_files(viewer *v)
-{
-    if (!v->watch)
-        return;
-    char err[1024];
-    if (lg_watch_files(v->watch, LG_WATCH_GRAPH, (const char *const *)v->cur.files,
-                       v->cur.n_files, err, sizeof err))
-        lg_hlog(LG_HWARN, "cannot watch the graph's files: %s", err);
-}
-
 void lg_viewer_start_watching(viewer *v)
 {
     char err[1024];

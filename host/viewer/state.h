@@ -201,7 +201,8 @@ void lg_viewer_script_fail(viewer *v, const lg_sevent *e, const char *fmt, ...)
 /* Opens the watches (graph files, plugin folders, shaders of a development build); without
  * inotify the viewer runs with no hot reload (a warning). */
 void lg_viewer_start_watching(viewer *v);
-/* Watches the current graph's files (after each load: its includes may have changed). */
+/* Watches the current graph's files (load.c, after each load: its includes may have
+ * changed). */
 void lg_viewer_watch_graph_files(viewer *v);
 /* Collects the watcher's changes, follows a rebuild, and applies what is ready. */
 void lg_viewer_poll_reloads(viewer *v);
