@@ -68,7 +68,7 @@ void lg_include_file(parser *p, const tok *f)
             goto out; /* already included once: it adds nothing new */
     if (s->depth >= MAX_INCLUDE_DEPTH) {
         lg_tok_report(p, f, LG_DIAG_ERROR, "includes are nested more than %d deep",
-                   MAX_INCLUDE_DEPTH);
+                      MAX_INCLUDE_DEPTH);
         goto out;
     }
     size_t len = 0;
@@ -85,8 +85,8 @@ void lg_include_file(parser *p, const tok *f)
     if (s->n_bytes + size > MAX_FILE_BYTES) {
         close(fd);
         lg_tok_report(p, f, LG_DIAG_ERROR, "cannot include '%s' (%llu bytes): a graph file and "
-                   "its includes have at most %u MiB in all", full, (unsigned long long)size,
-                   MAX_FILE_BYTES >> 20);
+                      "its includes have at most %u MiB in all", full, (unsigned long long)size,
+                      MAX_FILE_BYTES >> 20);
         goto out;
     }
     char *text = lg_file_read_fd(fd, size, &len, why, sizeof why);
@@ -97,7 +97,7 @@ void lg_include_file(parser *p, const tok *f)
     }
     if (!looks_like_graph(text, len)) {
         lg_tok_report(p, f, LG_DIAG_ERROR, "included file '%s' is not a graph file: it does not "
-                   "start with the version line 'lightgraph 1'", full);
+                      "start with the version line 'lightgraph 1'", full);
         free(text);
         goto out;
     }

@@ -476,8 +476,8 @@ void lg_lex(parser *p, uint32_t pos, uint32_t end)
     bool pend_blank = false, saw_blank = false, line_has_content = false;
     int32_t last_on_line = -1;
     /* The lists open here: their items are counted (MAX_LIST_ITEMS); `want` is whether an
-     * item may start (after '[', ',' or a new line). Nesting beyond MAX_LIST_DEPTH counts at the last
-     * level; the parser refuses it. */
+     * item may start (after '[', ',' or a new line). Nesting beyond MAX_LIST_DEPTH counts at
+     * the last level; the parser refuses it. */
     uint32_t ldepth = 0, litems[MAX_LIST_DEPTH + 1];
     bool lwant[MAX_LIST_DEPTH + 1];
 

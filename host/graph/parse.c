@@ -456,15 +456,16 @@ static void add_node(parser *p, lg_gnode *n)
     if (prev != STRMAP_NONE) {
         const lg_gnode *f = &s->nodes[prev];
         lg_report(s, p->src, LG_DIAG_ERROR, n->loc.line, n->loc.col, n->loc.len,
-               "node '%s' is defined twice", n->name);
-        lg_report(s, lg_pool_source(s->pl, f->loc.file), LG_DIAG_NOTE, f->loc.line, f->loc.col, f->loc.len,
+                  "node '%s' is defined twice", n->name);
+        lg_report(s, lg_pool_source(s->pl, f->loc.file), LG_DIAG_NOTE, f->loc.line, f->loc.col,
+                  f->loc.len,
                "'%s' was first defined here", n->name);
         return;
     }
     if (s->n_nodes >= MAX_NODES) {
         lg_report(s, p->src, LG_DIAG_ERROR, n->loc.line, n->loc.col, n->loc.len,
-               "the graph has more than %u nodes (its includes counted); that is the limit",
-               MAX_NODES);
+                  "the graph has more than %u nodes (its includes counted); that is the limit",
+                  MAX_NODES);
         s->stop = true; /* one message, not one per node */
         return;
     }
@@ -494,7 +495,7 @@ static void parse_node(parser *p)
         lg_tok_report(p, name, LG_DIAG_ERROR, "a node name cannot contain '.'");
     else if (is_reserved(name->s))
         lg_tok_report(p, name, LG_DIAG_ERROR, "'%s' is a reserved word and cannot name a node",
-                   name->s);
+                      name->s);
     advance(p); /* name */
     advance(p); /* = */
     tok *type = peek(p);
@@ -624,10 +625,10 @@ static void parse_node(parser *p)
 
         uint32_t prev = lg_strmap_find(&keys, a.key);
         if (prev != STRMAP_NONE) {
-            lg_tok_report(p, &p->t[kidx], LG_DIAG_ERROR, "key '%s' is set twice in node '%s'", a.key,
-                       n.name);
+            lg_tok_report(p, &p->t[kidx], LG_DIAG_ERROR, "key '%s' is set twice in node '%s'",
+                          a.key, n.name);
             lg_report(p->s, p->src, LG_DIAG_NOTE, as[prev].key_loc.line, as[prev].key_loc.col,
-                   as[prev].key_loc.len, "'%s' was first set here", a.key);
+                      as[prev].key_loc.len, "'%s' was first set here", a.key);
             continue;
         }
         if (na == cap) {
@@ -692,7 +693,7 @@ static void parse_output(parser *p)
         size_t n = strlen(o.path);
         if (n < 4 || strcasecmp(o.path + n - 4, ".exr") != 0)
             lg_tok_report(p, x, LG_DIAG_ERROR, "'%s' chooses the pixel type of an .exr output; "
-                       "'%.60s' is not one", x->s, o.path);
+                          "'%.60s' is not one", x->s, o.path);
         o.exr_pixel = x->s[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
         last = p->cur;
         advance(p);
@@ -775,23 +776,23 @@ static void parse_body(parser *p)
                 return;
         } else if (v->kind == T_INT && v->i > 1) {
             lg_tok_report(p, v, LG_DIAG_ERROR, "graph format version %lld is newer than this "
-                       "lightgraph reads (version 1)", (long long)v->i);
+                          "lightgraph reads (version 1)", (long long)v->i);
             return;
         } else if (v->kind == T_INT || v->kind == T_FLOAT) {
             lg_tok_report(p, v, LG_DIAG_ERROR, "unknown graph format version '%.*s' (this "
-                       "lightgraph reads version 1)", (int)v->len, p->src->text + v->off);
+                          "lightgraph reads version 1)", (int)v->len, p->src->text + v->off);
             return;
         } else {
             if (v->kind == T_ERR)
                 advance(p);
             else
                 lg_tok_report(p, v, LG_DIAG_ERROR, "expected a version number after 'lightgraph' "
-                           "(lightgraph 1), found %s", describe(p, v, buf));
+                              "(lightgraph 1), found %s", describe(p, v, buf));
             return;
         }
     } else if (t->kind == T_EOF) {
         lg_tok_report(p, t, LG_DIAG_ERROR, "missing version line: a graph file starts with "
-                   "'lightgraph 1' (this file has no statements)");
+                      "'lightgraph 1' (this file has no statements)");
         return;
     } else {
         char buf[80];
@@ -799,7 +800,7 @@ static void parse_body(parser *p)
             advance(p);
         else
             lg_tok_report(p, t, LG_DIAG_ERROR, "missing version line: a graph file starts with "
-                       "'lightgraph 1', found %s", describe(p, t, buf));
+                          "'lightgraph 1', found %s", describe(p, t, buf));
         /* Go on as version 1 to find more problems. */
     }
     g->version = 1;
@@ -826,7 +827,8 @@ static void parse_body(parser *p)
                 continue;
             }
             if (strcmp(t->s, "lightgraph") == 0) {
-                lg_tok_report(p, t, LG_DIAG_ERROR, "the version line must come first, and only once");
+                lg_tok_report(p, t, LG_DIAG_ERROR,
+                              "the version line must come first, and only once");
                 recover_statement(p);
                 continue;
             }

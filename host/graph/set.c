@@ -48,7 +48,7 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
         int u = lg_utf8_char_len((const unsigned char *)a + i, alen - i);
         if (u == 0) {
             lg_report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, 1, "invalid UTF-8: byte 0x%02X at "
-                   "byte offset %u%s", ch, i, form);
+                      "byte offset %u%s", ch, i, form);
             return -1;
         }
         i += (uint32_t)u - 1;
@@ -61,12 +61,12 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
     uint32_t n1 = i = ident_end(a, i, alen);
     if (n1 == n0) {
         lg_report(&s, src, LG_DIAG_ERROR, ordinal, n0 + 1, (uint32_t)(alen - n0),
-               "expected a node name%s", form);
+                  "expected a node name%s", form);
         return -1;
     }
     if (i >= alen || a[i] != '.') {
         lg_report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, i < alen ? 1 : 0,
-               "expected '.' and a parameter name after '%.*s'%s", (int)(n1 - n0), a + n0, form);
+                  "expected '.' and a parameter name after '%.*s'%s", (int)(n1 - n0), a + n0, form);
         return -1;
     }
     i++;
@@ -74,14 +74,14 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
     uint32_t k1 = i = ident_end(a, i, alen);
     if (k1 == k0) {
         lg_report(&s, src, LG_DIAG_ERROR, ordinal, k0 + 1, k0 < alen ? 1 : 0,
-               "expected a parameter name after '%.*s.'%s", (int)(n1 - n0), a + n0, form);
+                  "expected a parameter name after '%.*s.'%s", (int)(n1 - n0), a + n0, form);
         return -1;
     }
     while (i < alen && is_space(a[i]))
         i++;
     if (i >= alen || a[i] != '=') {
         lg_report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, i < alen ? 1 : 0,
-               "expected '=' after '%.*s'%s", (int)(k1 - n0), a + n0, form);
+                  "expected '=' after '%.*s'%s", (int)(k1 - n0), a + n0, form);
         return -1;
     }
     i++;
@@ -100,10 +100,10 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
         const char *sug = lg_suggest(node_name, names, g->n_nodes);
         if (sug)
             lg_report(&s, src, LG_DIAG_ERROR, ordinal, n0 + 1, n1 - n0,
-                   "unknown node '%s'; did you mean '%s'?", node_name, sug);
+                      "unknown node '%s'; did you mean '%s'?", node_name, sug);
         else
             lg_report(&s, src, LG_DIAG_ERROR, ordinal, n0 + 1, n1 - n0, "unknown node '%s'",
-                   node_name);
+                      node_name);
         free(names);
         return -1;
     }
