@@ -1,5 +1,5 @@
 /*
- * host/graph_check.c: lg_graph + node type schemas -> lg_checked (docs/graph-format.md,
+ * host/graph/check.c: lg_graph + node type schemas -> lg_checked (docs/graph-format.md,
  * "Checking").
  *
  * Per node: look the type up; map every entry to a parameter or an input (renamed keys
