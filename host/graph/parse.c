@@ -17,7 +17,6 @@
 #include <strings.h>
 
 #include "base/util.h"
-#include "lightgraph/file.h"
 
 /* ---- parser helpers ---------------------------------------------------------------------- */
 
