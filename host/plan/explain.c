@@ -25,17 +25,18 @@ static const char *format_name(lg_format f)
 static void describe_resource(lg_str *s, const lg_resource *r)
 {
     char sz[32];
+    const char *kind = lg_kind_name(r->kind); /* "image", "shadowmap": the SDK's one table */
     switch (r->kind) {
     case LG_KIND_IMAGE:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
         if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
-            lg_str_addf(s, "image %ux%u depth32f (%s)", r->image.width, r->image.height, sz);
+            lg_str_addf(s, "%s %ux%u depth32f (%s)", kind, r->image.width, r->image.height, sz);
         else
         {
             char lev[32] = "";
             if (r->image.levels > 1)
                 snprintf(lev, sizeof lev, " x%u levels", r->image.levels);
-            lg_str_addf(s, "image %ux%u%s %s%s%s (%s)", r->image.width, r->image.height,
+            lg_str_addf(s, "%s %ux%u%s %s%s%s (%s)", kind, r->image.width, r->image.height,
                         (r->image.flags & LG_IMAGE_CUBE) ? " cube" : "",
                         format_name(r->image.format),
                         (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "", lev, sz);
@@ -43,20 +44,20 @@ static void describe_resource(lg_str *s, const lg_resource *r)
         break;
     case LG_KIND_VOLUME:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
-        lg_str_addf(s, "volume %ux%ux%u %s (%s)", r->volume.width, r->volume.height,
+        lg_str_addf(s, "%s %ux%ux%u %s (%s)", kind, r->volume.width, r->volume.height,
                     r->volume.depth, format_name(r->volume.format), sz);
         break;
     case LG_KIND_BUFFER:
         lg_format_bytes(sz, sizeof sz, r->buffer.size);
-        lg_str_addf(s, "buffer %s", sz);
+        lg_str_addf(s, "%s %s", kind, sz);
         break;
     case LG_KIND_SCENE:
-        lg_str_add(s, "scene");
+        lg_str_add(s, kind);
         break;
     default:
         if (lg_kind_is_composite(r->kind)) {
             const lg_kind_desc *kd = lg_kind_describe(r->kind);
-            lg_str_addf(s, "%s {", kd->name);
+            lg_str_addf(s, "%s {", kind);
             uint32_t shown = 0;
             for (uint32_t i = 0; !r->neutral && i < r->parts.n; i++) {
                 if (!r->parts.list[i])
