@@ -1,7 +1,8 @@
 /*
  * host/graph/include.c: the file an include statement names (docs/graph-format.md,
  * "Includes"): resolved against the including file's folder, read by the one bounded
- * reader within what is left of the graph's size limit, parsed into the same session (its
+ * reader within what is left of the graph's size limit, handed back to the parser (parse.c)
+ * to parse into the same session (its
  * nodes join the graph's, marked `included`), once however often it is included, and
  * refused when it closes a cycle, nests too deep or is not a graph file.
  */
@@ -43,8 +44,9 @@ static bool looks_like_graph(const char *text, size_t len)
     return !(i < len && text[i] == '=');
 }
 
-void lg_include_file(parser *p, const tok *f)
+source *lg_include_open(parser *p, const tok *f, const char **base_dir_out)
 {
+    source *opened = NULL;
     session *s = p->s;
     pool *pl = s->pl;
     /* "x.lgraph" rather than "./x.lgraph" in messages when the including file is in the
@@ -114,10 +116,11 @@ void lg_include_file(parser *p, const tok *f)
     free(dir);
     s->stack_name[s->depth] = src->name;
     s->stack_abs[s->depth] = abs_i;
-    s->depth++;
-    lg_parse_source(s, src, base_dir, true);
-    s->depth--;
+    s->depth++; /* the caller parses src, then takes it off the stack */
+    *base_dir_out = base_dir;
+    opened = src;
 out:
     free(full);
     free(abs);
+    return opened;
 }

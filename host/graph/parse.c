@@ -25,14 +25,6 @@ static tok *peek_at(parser *p, uint32_t k)
     return &p->t[p->cur + k < p->nt ? p->cur + k : p->nt - 1];
 }
 
-void lg_tok_report(parser *p, const tok *t, lg_diag_level lvl, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    lg_vreport(p->s, p->src, lvl, t->line, t->col, t->len, fmt, ap);
-    va_end(ap);
-}
-
 /* Steps over the current token; a lexical error is reported now. */
 static void advance(parser *p)
 {
@@ -740,7 +732,14 @@ static void parse_include(parser *p)
         }
         s->includes[s->n_includes++] = inc;
     }
-    lg_include_file(p, f);
+    /* include.c opens the file; it is parsed here, so that include.c needs nothing of the
+     * parser's (the recursion stays in this file) */
+    const char *base_dir = NULL;
+    source *src = lg_include_open(p, f, &base_dir);
+    if (src) {
+        lg_parse_source(p->s, src, base_dir, true);
+        p->s->depth--;
+    }
 }
 
 /* A whole file: the version line, then statements. */

@@ -270,9 +270,11 @@ void lg_tok_report(parser *p, const tok *t, lg_diag_level lvl, const char *fmt, 
 /* ---- include.c --------------------------------------------------------------------------- */
 
 /* The include statement whose file name is the string token `f` (in p's file): resolves
- * it against p->base_dir, reads it and parses it into the session, unless it is already
- * parsed; a cycle, too deep a nesting, an unreadable file, one beyond the graph's size or
- * one that is not a graph file is an error at `f`. */
-void lg_include_file(parser *p, const tok *f);
+ * it against p->base_dir and reads it. Returns the source to parse (pushed on the session's
+ * include stack, with its folder in *base_dir: the caller parses it with lg_parse_source
+ * and then pops it, s->depth--), or NULL when there is nothing to parse: already parsed
+ * once, or an error reported at `f` (a cycle, too deep a nesting, an unreadable file, one
+ * beyond the graph's size, one that is not a graph file). */
+source *lg_include_open(parser *p, const tok *f, const char **base_dir);
 
 #endif

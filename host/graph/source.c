@@ -4,6 +4,7 @@
  */
 #include "graph/parse_priv.h"
 
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -82,6 +83,15 @@ void lg_vreport(session *s, source *src, lg_diag_level lvl, uint32_t line, uint3
                      s->errors);
         s->stop = true;
     }
+}
+
+/* A message at token t of the file p is parsing. */
+void lg_tok_report(parser *p, const tok *t, lg_diag_level lvl, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    lg_vreport(p->s, p->src, lvl, t->line, t->col, t->len, fmt, ap);
+    va_end(ap);
 }
 
 void lg_report(session *s, source *src, lg_diag_level lvl, uint32_t line, uint32_t col,
