@@ -4,8 +4,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "exec/device.h"
-
 char devtest_errors[16384];
 int devtest_error_count;
 
@@ -59,6 +57,19 @@ void devtest_clear(void)
 /* ---- a fake host with GL --------------------------------------------------------------- */
 
 const lg_gl *devtest_gl;
+
+int devtest_gl_open(int argc, char **argv, lg_gl_device **dev)
+{
+    const char *backend = argc > 1 ? argv[1] : "osmesa";
+    char err[512] = "";
+    *dev = NULL;
+    if (lg_gl_device_create(dev, backend, err, sizeof err)) {
+        printf("SKIP: no GL device '%s': %s\n", backend, err);
+        return 1;
+    }
+    devtest_gl = lg_gl_device_table(*dev);
+    return 0;
+}
 
 const void *devtest_host_gl(lg_node *n)
 {

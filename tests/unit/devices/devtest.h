@@ -12,6 +12,7 @@
 #include <stdlib.h>
 
 #include "common/check.h"
+#include "exec/device.h"
 #include "lightgraph/gl.h"
 #include "lightgraph/host.h"
 
@@ -34,6 +35,11 @@ void devtest_error(lg_node *n, const char *fmt, va_list ap);
 /* The GL table the fake host hands out (lg_host_api.gl); the test sets it once it has made
  * its device (lg_gl_device_table). */
 extern const lg_gl *devtest_gl;
+
+/* Makes the GL device named by argv[1] (osmesa or egl; osmesa without one) into *dev and
+ * points devtest_gl at its table. Returns 0, or 1 after printing why there is none ("SKIP:
+ * no GL device ..."): main() then returns check_skip. */
+int devtest_gl_open(int argc, char **argv, lg_gl_device **dev);
 
 /* lg_host_api.gl: devtest_gl. */
 const void *devtest_host_gl(lg_node *n);

@@ -407,14 +407,9 @@ static void test_buffer_texture(void)
 
 int main(int argc, char **argv)
 {
-    const char *backend = argc > 1 ? argv[1] : "osmesa";
-    char err[512] = "";
-    lg_gl_device *dev = NULL;
-    if (lg_gl_device_create(&dev, backend, err, sizeof err)) {
-        printf("SKIP: no GL device '%s': %s\n", backend, err);
+    lg_gl_device *dev;
+    if (devtest_gl_open(argc, argv, &dev))
         return check_skip("gl_mem");
-    }
-    devtest_gl = lg_gl_device_table(dev);
     test_buffer();
     test_texture();
     test_buffer_texture();

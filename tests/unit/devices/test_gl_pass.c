@@ -1132,14 +1132,9 @@ static void test_uniforms(const lg_gl *gl)
 
 int main(int argc, char **argv)
 {
-    const char *backend = argc > 1 ? argv[1] : "osmesa";
-    char err[512] = "";
-    lg_gl_device *dev = NULL;
-    if (lg_gl_device_create(&dev, backend, err, sizeof err)) {
-        printf("SKIP: no GL device '%s': %s\n", backend, err);
+    lg_gl_device *dev;
+    if (devtest_gl_open(argc, argv, &dev))
         return check_skip("gl_pass");
-    }
-    devtest_gl = lg_gl_device_table(dev);
     lg_gl_state_reset(devtest_gl);
     test_raster(devtest_gl);
     test_names(devtest_gl);
