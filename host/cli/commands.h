@@ -1,5 +1,7 @@
 /* host/cli/commands.h: the commands of the lightgraph program (one file each in host/cli/)
- * and the helpers they share. */
+ * and the helpers several of them share (session.c, schema_print.c). sweep's command line
+ * (sweep_args.h) and conform's synthetic inputs (conform.h) keep private headers: each is
+ * one command's alone, and fuzz_sweep runs the first without the rest of the layer. */
 #ifndef LG_HOST_CLI_COMMANDS_H
 #define LG_HOST_CLI_COMMANDS_H
 
@@ -24,7 +26,9 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
  * (nothing runs). Diagnostics are printed. Returns 0, or 2 for a bad graph or value. */
 int lg_check_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets);
 
-/* commands (cmd_*.c); argv[0] is the command's name; return the exit status */
+/* ---- the commands (one file each: render.c, check.c, ...) -------------------------------
+ * argv[0] is the command's name; each returns the exit status: 0 success, 1 failure while
+ * running, 2 bad usage or bad graph (render and sweep: 3, LG_EXIT_CRASH, a plugin crashed). */
 int lg_cmd_render(int argc, char **argv);
 int lg_cmd_check(int argc, char **argv);
 int lg_cmd_fmt(int argc, char **argv);
@@ -33,21 +37,64 @@ int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
 int lg_cmd_sweep(int argc, char **argv);
 int lg_cmd_devices(int argc, char **argv);
+/* lightgraph diff A B [--heatmap OUT] [--heat-max X] [--json] [--max-rmse X] [--max-abs X] */
+int lg_cmd_diff(int argc, char **argv);
+/* lightgraph conform PLUGIN.so [--json] [--quick] [-v] (docs/conform.md): 0 every contract
+ * holds, 1 one is broken (the report names the node type, the check and the values), 2 bad
+ * usage. Its private header, conform.h, is its synthetic inputs' (conform_sources.c). */
+int lg_cmd_conform(int argc, char **argv);
 /* lg_cmd_view: viewer/viewer.h */
 
+/* ---- the graph commands' session (session.c) ----------------------------------------- */
 
-/* ---- JSON and text introspection (cmd_info.c) ---------------------------------------- */
+/* The command line of render, check, fmt and dot (lightgraph help):
+ * GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH] [--frames N] ... [-i] (fmt only).
+ * Strings point into argv; `sets` is owned (free it). */
+typedef struct lg_graph_args {
+    const char *cmd;
+    const char *graph;
+    const char *out;
+    const char **sets;
+    int n_sets;
+    lg_exec_opts opts;
+    bool in_place;
+} lg_graph_args;
+/* Parses argv[1 .. argc-1] into *a (zeroed first). Returns 0, or 2 after printing the
+ * reason and the usage; a->sets is to be freed either way. */
+int lg_graph_args_parse(int argc, char **argv, lg_graph_args *a);
+
+/* Parses `graph`, applies `sets`, and (with reg) checks it against the scanned plugins.
+ * Diagnostics are printed. Returns 0 or 2; *g and *c are set either way (the caller frees
+ * both; *c is NULL without reg or when the check failed). */
+int lg_load_graph(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
+                  lg_graph **g, lg_checked **c);
+
+/* What check, fmt and dot hold: their arguments, the parsed graph, the registry and the
+ * checked graph (c is NULL without need_check). */
+typedef struct lg_session {
+    lg_graph_args a;
+    lg_graph *g;
+    lg_checked *c;
+    lg_registry reg;
+} lg_session;
+/* Parses the arguments and the graph, applies overrides, and (with need_check) scans the
+ * plugins and checks the graph against them. Returns 0 or an exit status (diagnostics
+ * printed); lg_session_close() in every case. */
+int lg_session_open(lg_session *s, int argc, char **argv, bool need_check);
+/* Frees what lg_session_open made; returns rc, so that a command ends with
+ * `return lg_session_close(&s, rc);`. */
+int lg_session_close(lg_session *s, int rc);
+
+/* ---- what the plugins declare, printed (schema_print.c: plugins, inspect) ------------- */
+
+/* A node type as one JSON object (no newline), with its plugin's name when p is given. */
 void lg_print_type_json(lg_str *out, const lg_node_type *t, const lg_plugin *p);
+/* A node type as the indented text of `plugins` and `inspect`. */
+void lg_print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p);
+/* A parameter value as written in a graph file. */
 void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type);
-
-
-/* lightgraph diff A B [--heatmap OUT] [--heat-max X] [--json] [--max-rmse X] [--max-abs X]
- * argv[0] is "diff". Returns the exit status. */
-int lg_cmd_diff(int argc, char **argv);
-
-/* lightgraph conform PLUGIN.so [--json] [--quick] [-v] (cmd_conform.c, docs/conform.md);
- * argv[0] is "conform". Returns the exit status: 0 every contract holds, 1 one is broken
- * (the report names the node type, the check and the values), 2 bad usage. */
-int lg_cmd_conform(int argc, char **argv);
+/* The command line `[--json]` (plugins) or `NAME [--json]` (inspect, want_name): sets *json
+ * and *name; returns 0, or -1 after printing what is wrong (the command exits 2). */
+int lg_json_args(int argc, char **argv, bool *json, const char **name, bool want_name);
 
 #endif

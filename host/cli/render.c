@@ -1,203 +1,13 @@
-/* lightgraph render | check | fmt | dot. Exit status: 0 success, 1 failure while running,
- * 2 bad usage or bad graph, 3 (LG_EXIT_CRASH) a plugin crashed in a callback. */
+/* lightgraph render GRAPH [-o OUT] ...: runs a graph and writes its outputs, all or nothing;
+ * lg_render_file is also sweep's. Exit status: 0 success, 1 failure while running, 2 bad
+ * usage or bad graph, 3 (LG_EXIT_CRASH) a plugin crashed in a callback. */
 #include "cli/commands.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "lightgraph/image.h"
 #include "exec/outputs.h"
-
-typedef struct args {
-    const char *cmd;
-    const char *graph;
-    const char *out;
-    const char **sets;
-    int n_sets;
-    lg_exec_opts opts;
-    bool in_place;
-} args;
-
-
-static int usage(const char *cmd, const char *fmt, const char *what)
-{
-    if (fmt)
-        fprintf(stderr, fmt, what);
-    fprintf(stderr,
-            "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
-            "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
-            "                 [--exr half|float]\n"
-            "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
-            "(see lightgraph help)\n",
-            cmd);
-    return 2;
-}
-
-static int parse_args(int argc, char **argv, args *a)
-{
-    memset(a, 0, sizeof *a);
-    a->cmd = argv[0];
-    a->opts.width = 640;
-    a->opts.height = 360;
-    a->opts.frames = 1;
-    a->opts.dt = 1.0 / 60.0;
-    a->opts.gl_backend = "osmesa";
-    a->sets = lg_xcalloc((size_t)argc + 1, sizeof *a->sets);
-    for (int i = 1; i < argc; i++) {
-        const char *s = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEEDV()                                                                            \
-    do {                                                                                   \
-        if (!v)                                                                            \
-            return usage(a->cmd, "lightgraph: %s needs a value\n", s);                     \
-        i++;                                                                               \
-    } while (0)
-        if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
-            NEEDV();
-            a->out = v;
-        } else if (strcmp(s, "--set") == 0) {
-            NEEDV();
-            a->sets[a->n_sets++] = v;
-        } else if (strncmp(s, "--set=", 6) == 0) {
-            a->sets[a->n_sets++] = s + 6;
-        } else if (strcmp(s, "--size") == 0) {
-            NEEDV();
-            if (!lg_parse_size(v, &a->opts.width, &a->opts.height))
-                return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n",
-                             v);
-            if (lg_size_over_limit(a->cmd, a->opts.width, a->opts.height))
-                return 2;
-        } else if (strcmp(s, "--frames") == 0) {
-            NEEDV();
-            if (!lg_parse_uint(v, &a->opts.frames, 1000000))
-                return usage(a->cmd, "lightgraph: --frames wants 1..1000000 (got '%s')\n", v);
-        } else if (strcmp(s, "--dt") == 0) {
-            NEEDV();
-            char *end;
-            double d = strtod(v, &end);
-            /* a fraction such as 1/60 is the natural way to write a frame time */
-            if (*end == '/') {
-                char *end2;
-                double den = strtod(end + 1, &end2);
-                d = (*end2 == 0 && den > 0) ? d / den : -1;
-                end = end2;
-            }
-            if (*end || !(d > 0 && d <= 3600))
-                return usage(a->cmd, "lightgraph: --dt wants seconds in (0, 3600] (got '%s')\n",
-                             v);
-            a->opts.dt = d;
-        } else if (strcmp(s, "--gl") == 0) {
-            NEEDV();
-            if (strcmp(v, "osmesa") && strcmp(v, "egl"))
-                return usage(a->cmd, "lightgraph: --gl wants osmesa or egl (got '%s')\n", v);
-            a->opts.gl_backend = v;
-        } else if (strcmp(s, "--exr") == 0) {
-            NEEDV();
-            if (strcmp(v, "half") && strcmp(v, "float"))
-                return usage(a->cmd, "lightgraph: --exr wants half or float (got '%s')\n", v);
-            a->opts.exr_pixel = v[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
-        } else if (strcmp(s, "--explain") == 0) {
-            a->opts.explain = true;
-        } else if (strcmp(s, "--every-frame") == 0) {
-            a->opts.every_frame = true;
-        } else if (strncmp(s, "--every-frame=", 14) == 0 && s[14]) {
-            a->opts.every_frame = true;
-            a->opts.every_frame_nodes = s + 14;
-        } else if (strcmp(s, "--profile") == 0) {
-            a->opts.profile = true;
-        } else if (strcmp(s, "--profile-json") == 0) {
-            NEEDV();
-            a->opts.profile_json = v;
-        } else if (strcmp(s, "-v") == 0) {
-            lg_verbosity++;
-        } else if (strcmp(s, "-q") == 0) {
-            lg_verbosity = -1;
-        } else if (strcmp(s, "-i") == 0 && strcmp(a->cmd, "fmt") == 0) {
-            a->in_place = true;
-        } else if (s[0] == '-' && s[1]) {
-            return usage(a->cmd, "lightgraph: unknown option '%s'\n", s);
-        } else if (!a->graph) {
-            a->graph = s;
-        } else {
-            return usage(a->cmd, "lightgraph: unexpected argument '%s'\n", s);
-        }
-#undef NEEDV
-    }
-    if (!a->graph)
-        return usage(a->cmd, "lightgraph %s: no graph file given\n", a->cmd);
-    a->opts.graph_path = a->graph;
-    return 0;
-}
-
-/* What every graph command holds: its arguments, the parsed graph, the registry and the
- * checked graph. */
-typedef struct session {
-    args a;
-    lg_graph *g;
-    lg_checked *c;
-    lg_registry reg;
-} session;
-
-/* Parses the arguments and the graph, applies overrides, and (with need_check) scans the
- * plugins and checks the graph against them. Returns 0 or an exit status (diagnostics
- * printed); close_session() in every case. */
-/* Parses `graph`, applies `sets`, and (with reg) checks it against the scanned plugins.
- * Diagnostics are printed. Returns 0 or 2; *g and *c are set either way (free both). */
-static int load_graph(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
-                      lg_graph **g, lg_checked **c)
-{
-    lg_diags d = {0};
-    *c = NULL;
-    *g = lg_graph_parse_file(graph, &d);
-    for (int i = 0; *g && i < n_sets; i++)
-        lg_graph_set(*g, sets[i], &d);
-    if (*g && !d.errors && reg) {
-        lg_schema schema;
-        lg_registry_schema(reg, &schema);
-        schema.max_pixels = lg_image_max_pixels();
-        *c = lg_graph_check(*g, &schema, &d);
-        if (!*c)
-            for (uint32_t i = 0; i < reg->n_refused; i++)
-                fprintf(stderr, "note: plugin %s was refused: %s\n", reg->refused[i].path,
-                        reg->refused[i].reason);
-    }
-    lg_diags_print(&d, stderr);
-    int rc = (!*g || d.errors || (reg && !*c)) ? 2 : 0;
-    lg_diags_free(&d);
-    return rc;
-}
-
-int lg_check_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets)
-{
-    lg_graph *g;
-    lg_checked *c;
-    int rc = load_graph(reg, graph, sets, n_sets, &g, &c);
-    lg_checked_free(c);
-    lg_graph_free(g);
-    return rc;
-}
-
-static int open_session(session *s, int argc, char **argv, bool need_check)
-{
-    memset(s, 0, sizeof *s);
-    int rc = parse_args(argc, argv, &s->a);
-    if (rc)
-        return rc;
-    if (need_check)
-        lg_registry_scan(&s->reg);
-    return load_graph(need_check ? &s->reg : NULL, s->a.graph, s->a.sets, s->a.n_sets, &s->g,
-                      &s->c);
-}
-
-static int close_session(session *s, int rc)
-{
-    lg_checked_free(s->c);
-    lg_graph_free(s->g);
-    lg_registry_free(&s->reg);
-    free(s->a.sets);
-    return rc;
-}
 
 /* Adds every file this run writes (the outputs, or -o; --profile-json) to `out`, each
  * checked before any work. Returns 0, or 1 (printed): a destination that cannot be written
@@ -268,7 +78,7 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
     memset(res, 0, sizeof *res);
     lg_graph *g;
     lg_checked *c;
-    int rc = load_graph(reg, graph, sets, n_sets, &g, &c);
+    int rc = lg_load_graph(reg, graph, sets, n_sets, &g, &c);
     if (rc == 0 && opts->output_override) {
         if (c->n_outputs != 1) {
             fprintf(stderr,
@@ -378,8 +188,8 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
 
 int lg_cmd_render(int argc, char **argv)
 {
-    args a;
-    int rc = parse_args(argc, argv, &a);
+    lg_graph_args a;
+    int rc = lg_graph_args_parse(argc, argv, &a);
     if (rc == 0) {
         lg_registry reg = {0};
         lg_registry_scan(&reg);
@@ -390,42 +200,4 @@ int lg_cmd_render(int argc, char **argv)
     }
     free(a.sets);
     return rc;
-}
-
-int lg_cmd_check(int argc, char **argv)
-{
-    session s;
-    int rc = open_session(&s, argc, argv, true);
-    if (rc == 0)
-        printf("%s: ok (%u nodes, %u outputs)\n", s.a.graph, s.c->n_nodes, s.c->n_outputs);
-    return close_session(&s, rc);
-}
-
-int lg_cmd_fmt(int argc, char **argv)
-{
-    session s;
-    int rc = open_session(&s, argc, argv, false);
-    if (rc == 0) {
-        char *text = lg_graph_format(s.g);
-        if (!s.a.in_place) {
-            fputs(text, stdout);
-        } else if (lg_write_file_atomic(s.a.graph, text, strlen(text)) != 0) {
-            fprintf(stderr, "lightgraph fmt: cannot write %s: %s\n", s.a.graph, strerror(errno));
-            rc = 1;
-        }
-        free(text);
-    }
-    return close_session(&s, rc);
-}
-
-int lg_cmd_dot(int argc, char **argv)
-{
-    session s;
-    int rc = open_session(&s, argc, argv, true);
-    if (rc == 0) {
-        char *text = lg_graph_dot(s.g, s.c);
-        fputs(text, stdout);
-        free(text);
-    }
-    return close_session(&s, rc);
 }

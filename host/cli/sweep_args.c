@@ -1,4 +1,4 @@
-/* The command line of `lightgraph sweep` (sweep_args.h). Apart from cmd_sweep.c, which runs
+/* The command line of `lightgraph sweep` (sweep_args.h). Apart from sweep.c, which runs
  * the sweep, so that the fuzz target (tests/fuzz/fuzz_sweep.c) links only this and util.c. */
 #include "cli/sweep_args.h"
 
