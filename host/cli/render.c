@@ -72,6 +72,116 @@ static void warn_long_run(const lg_exec *ex)
     lg_str_free(&top);
 }
 
+/* -o names the file of the graph's one output: refused (2, printed) unless the graph has
+ * exactly one output and the name's extension fits what that output gives (SH
+ * coefficients as .txt, anything else an image format). */
+static int check_output_override(const lg_checked *c, const char *graph, const char *path)
+{
+    if (c->n_outputs != 1) {
+        fprintf(stderr,
+                "lightgraph: -o replaces the graph's output file, but %s has %u output "
+                "statements; -o needs exactly one\n",
+                graph, c->n_outputs);
+        return 2;
+    }
+    /* what the graph's one output gives decides the format: SH coefficients .txt,
+     * anything else an image format */
+    const lg_coutput *o = &c->outputs[0];
+    const lg_node_type *ty = o->node >= 0 ? c->nodes[o->node].type : NULL;
+    lg_resource_kind kind = ty && o->part == 0 && o->port < ty->n_outputs
+                            ? ty->outputs[o->port].kind : LG_KIND_ANY;
+    bool txt = lg_path_has_ext(path, ".txt");
+    if (kind == LG_KIND_SH && !txt) {
+        fprintf(stderr, "lightgraph: -o %s: the graph's output '%s' gives SH "
+                "coefficients, which are written as text: name the file .txt\n",
+                path, o->g ? o->g->ref.text : "?");
+        return 2;
+    }
+    if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY) {
+        fprintf(stderr, "lightgraph: -o %s: only SH coefficients are written as .txt, "
+                "and the graph's output '%s' is not (use .png, .exr or .hdr)\n",
+                path, o->g ? o->g->ref.text : "?");
+        return 2;
+    }
+    if (!txt && lg_image_format_from_path(path) == LG_FILE_UNKNOWN) {
+        fprintf(stderr, "lightgraph: -o %s: unknown image format (use .png, .exr or "
+                ".hdr; .txt for SH coefficients)\n", path);
+        return 2;
+    }
+    return 0;
+}
+
+/* The kept nodes' total CPU wall time and `time_node`'s into *res. */
+static void collect_times(const lg_exec *ex, const char *time_node, lg_run_result *res)
+{
+    for (uint32_t i = 0; i < ex->n_nodes; i++) {
+        const lg_pnode *n = ex->nodes[i];
+        if (n->state != LG_STATE_KEPT)
+            continue;
+        res->total_ms += n->cpu_ms;
+        if (time_node && strcmp(time_node, n->pub.name) == 0) {
+            /* per frame in steady state when it ran on several frames (sweep) */
+            res->node_ms = n->runs > 1 ? (n->cpu_ms - n->first_cpu_ms) / (double)(n->runs - 1)
+                                       : n->cpu_ms;
+            res->node_found = true;
+        }
+    }
+}
+
+/* Plans and runs the checked graph, its files going into `out`, and prints --explain and
+ * --profile. Returns 0, or 1 (printed) when the plan, a frame or the profile's file failed. */
+static int run_graph(lg_registry *reg, const char *graph, lg_graph *g, lg_checked *c,
+                     const lg_exec_opts *opts, lg_outputs *out, const char *time_node,
+                     lg_run_result *res)
+{
+    lg_exec ex;
+    memset(&ex, 0, sizeof ex);
+    ex.opts = *opts;
+    ex.opts.graph_path = graph;
+    ex.opts.outputs = out;
+    ex.reg = reg;
+    ex.graph = g;
+    ex.checked = c;
+    /* a plugin that crashes in a callback ends the run with its node named, its
+     * temporaries removed and LG_EXIT_CRASH (sweep shares this path) */
+    ex.guard = LG_GUARD_EXIT;
+    int rc = lg_plan(&ex) ? 1 : 0;
+    if (opts->explain && ex.nodes) {
+        lg_explain_print(&ex, stdout);
+        fflush(stdout); /* shown before a long run starts, also through a pipe */
+    }
+    if (rc == 0)
+        warn_long_run(&ex);
+    if (rc == 0)
+        rc = lg_execute(&ex) ? 1 : 0;
+    if (rc == 0 && ex.failed)
+        rc = 1;
+    if (rc == 0) {
+        if (opts->profile)
+            lg_profile_print(&ex, stdout);
+        if (opts->profile_json && lg_profile_write_json(&ex, opts->profile_json))
+            rc = 1;
+        collect_times(&ex, time_node, res);
+    }
+    fflush(stdout);
+    lg_exec_free(&ex);
+    return rc;
+}
+
+/* Renames a render's own files into place, all of them or none. Returns 0, or 1 (printed). */
+static int commit_outputs(lg_outputs *own, const lg_checked *c, const lg_exec_opts *opts)
+{
+    char err[1024];
+    if (lg_outputs_commit(own, err, sizeof err)) {
+        fprintf(stderr, "lightgraph: %s\n", err);
+        return 1;
+    }
+    for (uint32_t i = 0; i < c->n_outputs; i++)
+        lg_hlog(LG_HINFO, "wrote %s",
+                opts->output_override ? opts->output_override : c->outputs[i].path);
+    return 0;
+}
+
 int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
                    const lg_exec_opts *opts, const char *time_node, lg_run_result *res)
 {
@@ -79,39 +189,8 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
     lg_graph *g;
     lg_checked *c;
     int rc = lg_load_graph(reg, graph, sets, n_sets, &g, &c);
-    if (rc == 0 && opts->output_override) {
-        if (c->n_outputs != 1) {
-            fprintf(stderr,
-                    "lightgraph: -o replaces the graph's output file, but %s has %u output "
-                    "statements; -o needs exactly one\n",
-                    graph, c->n_outputs);
-            rc = 2;
-        } else {
-            /* what the graph's one output gives decides the format: SH coefficients .txt,
-             * anything else an image format */
-            const lg_coutput *o = &c->outputs[0];
-            const lg_node_type *ty = o->node >= 0 ? c->nodes[o->node].type : NULL;
-            lg_resource_kind kind = ty && o->part == 0 && o->port < ty->n_outputs
-                                    ? ty->outputs[o->port].kind : LG_KIND_ANY;
-            bool txt = lg_path_has_ext(opts->output_override, ".txt");
-            if (kind == LG_KIND_SH && !txt) {
-                fprintf(stderr, "lightgraph: -o %s: the graph's output '%s' gives SH "
-                        "coefficients, which are written as text: name the file .txt\n",
-                        opts->output_override, o->g ? o->g->ref.text : "?");
-                rc = 2;
-            } else if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY) {
-                fprintf(stderr, "lightgraph: -o %s: only SH coefficients are written as .txt, "
-                        "and the graph's output '%s' is not (use .png, .exr or .hdr)\n",
-                        opts->output_override, o->g ? o->g->ref.text : "?");
-                rc = 2;
-            } else if (!txt &&
-                       lg_image_format_from_path(opts->output_override) == LG_FILE_UNKNOWN) {
-                fprintf(stderr, "lightgraph: -o %s: unknown image format (use .png, .exr or "
-                        ".hdr; .txt for SH coefficients)\n", opts->output_override);
-                rc = 2;
-            }
-        }
-    }
+    if (rc == 0 && opts->output_override)
+        rc = check_output_override(c, graph, opts->output_override);
     if (rc == 0 && c->n_outputs == 0) {
         fprintf(stderr, "lightgraph: %s has no output statement, so nothing would run\n", graph);
         rc = 2;
@@ -125,61 +204,10 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
         out = own = lg_outputs_new();
     if (rc == 0)
         rc = add_outputs(out, c, opts);
-    if (rc == 0) {
-        lg_exec ex;
-        memset(&ex, 0, sizeof ex);
-        ex.opts = *opts;
-        ex.opts.graph_path = graph;
-        ex.opts.outputs = out;
-        ex.reg = reg;
-        ex.graph = g;
-        ex.checked = c;
-        /* a plugin that crashes in a callback ends the run with its node named, its
-         * temporaries removed and LG_EXIT_CRASH (sweep shares this path) */
-        ex.guard = LG_GUARD_EXIT;
-        rc = lg_plan(&ex) ? 1 : 0;
-        if (opts->explain && ex.nodes) {
-            lg_explain_print(&ex, stdout);
-            fflush(stdout); /* shown before a long run starts, also through a pipe */
-        }
-        if (rc == 0)
-            warn_long_run(&ex);
-        if (rc == 0)
-            rc = lg_execute(&ex) ? 1 : 0;
-        if (rc == 0 && ex.failed)
-            rc = 1;
-        if (rc == 0) {
-            if (opts->profile)
-                lg_profile_print(&ex, stdout);
-            if (opts->profile_json && lg_profile_write_json(&ex, opts->profile_json))
-                rc = 1;
-            for (uint32_t i = 0; i < ex.n_nodes; i++) {
-                const lg_pnode *n = ex.nodes[i];
-                if (n->state != LG_STATE_KEPT)
-                    continue;
-                res->total_ms += n->cpu_ms;
-                if (time_node && strcmp(time_node, n->pub.name) == 0) {
-                    /* per frame in steady state when it ran on several frames (sweep) */
-                    res->node_ms = n->runs > 1 ? (n->cpu_ms - n->first_cpu_ms) / (double)(n->runs - 1)
-                                               : n->cpu_ms;
-                    res->node_found = true;
-                }
-            }
-        }
-        fflush(stdout);
-        lg_exec_free(&ex);
-    }
-    if (rc == 0 && own) {
-        char err[1024];
-        if (lg_outputs_commit(own, err, sizeof err)) {
-            fprintf(stderr, "lightgraph: %s\n", err);
-            rc = 1;
-        } else {
-            for (uint32_t i = 0; i < c->n_outputs; i++)
-                lg_hlog(LG_HINFO, "wrote %s",
-                        opts->output_override ? opts->output_override : c->outputs[i].path);
-        }
-    }
+    if (rc == 0)
+        rc = run_graph(reg, graph, g, c, opts, out, time_node, res);
+    if (rc == 0 && own)
+        rc = commit_outputs(own, c, opts);
     lg_outputs_free(&own);
     lg_checked_free(c);
     lg_graph_free(g);
