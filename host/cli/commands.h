@@ -45,6 +45,27 @@ int lg_cmd_diff(int argc, char **argv);
 int lg_cmd_conform(int argc, char **argv);
 /* lg_cmd_view: viewer/viewer.h */
 
+/* ---- option tables (options.c: render's, sweep's and diff's command lines) ----------- */
+
+/* One option of a command: its name, another name for it, and how it takes a value. */
+typedef struct lg_option {
+    const char *name;   /* "--size" */
+    const char *alias;  /* "--output" for "-o", or NULL */
+    unsigned flags;     /* LG_OPT_VALUE and/or LG_OPT_JOINED; 0: a switch */
+} lg_option;
+enum {
+    LG_OPT_VALUE = 1u << 0,  /* "--opt VALUE": the next argument, whatever it is */
+    LG_OPT_JOINED = 1u << 1, /* "--opt=VALUE" (alone, without LG_OPT_VALUE: an optional
+                              * value, "--opt" or "--opt=VALUE") */
+};
+enum { LG_OPT_UNKNOWN = -1, LG_OPT_NO_VALUE = -2 };
+/* Looks argv[*i] up among opts[0 .. n-1]. Returns the option's index, *val its value (the
+ * next argument, consumed by advancing *i, or the text after '='; NULL for a switch);
+ * LG_OPT_NO_VALUE when an option that takes a value is the last argument; LG_OPT_UNKNOWN
+ * when argv[*i] is none of them (an operand, or an option the caller names unknown). */
+int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i,
+                   const char **val);
+
 /* ---- the graph commands' session (session.c) ----------------------------------------- */
 
 /* The command line of render, check, fmt and dot (lightgraph help):

@@ -97,28 +97,23 @@ typedef struct diff_args {
     bool json, ignore_nonfinite;
 } diff_args;
 
-/* The options with a value, "--opt VALUE" or "--opt=VALUE"; --heatmap is the one that is
- * not a number. */
-static const char *const valued[] = {"--heatmap", "--heat-max", "--max-rmse", "--max-abs"};
-
-/* The valued option that `arg` is (its index in valued[], *val its value, taken from the
- * next argument if not after '='), or -1. */
-static int valued_option(int argc, char **argv, int *i, const char **val)
-{
-    const char *arg = argv[*i];
-    *val = NULL;
-    for (int k = 0; k < 4; k++) {
-        size_t n = strlen(valued[k]);
-        if (!strncmp(arg, valued[k], n) && (arg[n] == 0 || arg[n] == '=')) {
-            if (arg[n] == '=')
-                *val = arg + n + 1;
-            else if (*i + 1 < argc)
-                *val = argv[++*i];
-            return k;
-        }
-    }
-    return -1;
-}
+/* diff's options, in the order of diff_opt: the valued ones take "--opt VALUE" or
+ * "--opt=VALUE"; --heatmap is the one value that is not a number */
+static const lg_option diff_opts[] = {
+    {"--heatmap", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--heat-max", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--max-rmse", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--max-abs", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--json", NULL, 0},
+    {"--ignore-nonfinite", NULL, 0},
+    {"-h", "--help", 0},
+    {"--", NULL, 0},
+};
+enum diff_opt {
+    OPT_HEATMAP, OPT_HEAT_MAX, OPT_MAX_RMSE, OPT_MAX_ABS, OPT_JSON, OPT_IGNORE_NONFINITE,
+    OPT_HELP, OPT_END, N_DIFF_OPTS
+};
+_Static_assert(sizeof diff_opts / sizeof diff_opts[0] == N_DIFF_OPTS, "diff_opts");
 
 /* Parses argv[1 .. argc-1] into *o. Returns -1 to go on, else the exit status (0 after
  * --help; 2 after the message, and the usage where the mistake is the command's shape). */
@@ -126,10 +121,11 @@ static int parse_diff_args(int argc, char **argv, diff_args *o)
 {
     memset(o, 0, sizeof *o);
     o->max_rmse = o->max_abs = -1.0;
+    double *const number[] = {NULL, &o->heat_max, &o->max_rmse, &o->max_abs};
     int npaths = 0;
     bool options_done = false;
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
+        const char *a = argv[i], *val;
         if (options_done || a[0] != '-' || !a[1]) {
             if (npaths == 2) {
                 fprintf(stderr, "lightgraph diff: unexpected argument '%s' (two images only)\n", a);
@@ -137,37 +133,41 @@ static int parse_diff_args(int argc, char **argv, diff_args *o)
                 return 2;
             }
             o->paths[npaths++] = a;
-        } else if (!strcmp(a, "--")) {
+            continue;
+        }
+        int which = lg_option_find(diff_opts, N_DIFF_OPTS, argc, argv, &i, &val);
+        switch (which) {
+        case LG_OPT_UNKNOWN:
+            fprintf(stderr, "lightgraph diff: unknown option '%s'\n", a);
+            diff_usage(stderr);
+            return 2;
+        case LG_OPT_NO_VALUE:
+            fprintf(stderr, "lightgraph diff: %s needs a value\n", a);
+            return 2;
+        case OPT_END:
             options_done = true;
-        } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            break;
+        case OPT_HELP:
             diff_usage(stdout);
             return 0;
-        } else if (!strcmp(a, "--json")) {
+        case OPT_JSON:
             o->json = true;
-        } else if (!strcmp(a, "--ignore-nonfinite")) {
+            break;
+        case OPT_IGNORE_NONFINITE:
             o->ignore_nonfinite = true;
-        } else {
-            const char *val;
-            int which = valued_option(argc, argv, &i, &val);
-            double *const number[] = {NULL, &o->heat_max, &o->max_rmse, &o->max_abs};
-            if (which < 0) {
-                fprintf(stderr, "lightgraph diff: unknown option '%s'\n", a);
-                diff_usage(stderr);
-                return 2;
-            }
-            if (!val) {
-                fprintf(stderr, "lightgraph diff: %s needs a value\n", valued[which]);
-                return 2;
-            }
-            if (which == 0 && lg_image_format_from_path(val) == LG_FILE_UNKNOWN) {
+            break;
+        case OPT_HEATMAP:
+            if (lg_image_format_from_path(val) == LG_FILE_UNKNOWN) {
                 fprintf(stderr, "lightgraph diff: --heatmap '%s': use a .png, .exr or .hdr name\n",
                         val);
                 return 2;
             }
-            if (which == 0)
-                o->heatmap = val;
-            else if (diff_number(valued[which], val, number[which]))
+            o->heatmap = val;
+            break;
+        default: /* the thresholds */
+            if (diff_number(diff_opts[which].name, val, number[which]))
                 return 2;
+            break;
         }
     }
     if (npaths != 2) {

@@ -23,6 +23,116 @@ static int usage(const char *cmd, const char *fmt, const char *what)
     return 2;
 }
 
+/* render's options (check, fmt and dot take the same; -i is fmt's), in the order of
+ * graph_opt below */
+static const lg_option graph_opts[] = {
+    {"-o", "--output", LG_OPT_VALUE},
+    {"--set", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--size", NULL, LG_OPT_VALUE},
+    {"--frames", NULL, LG_OPT_VALUE},
+    {"--dt", NULL, LG_OPT_VALUE},
+    {"--gl", NULL, LG_OPT_VALUE},
+    {"--exr", NULL, LG_OPT_VALUE},
+    {"--explain", NULL, 0},
+    {"--every-frame", NULL, LG_OPT_JOINED},
+    {"--profile", NULL, 0},
+    {"--profile-json", NULL, LG_OPT_VALUE},
+    {"-v", NULL, 0},
+    {"-q", NULL, 0},
+    {"-i", NULL, 0},
+};
+enum graph_opt {
+    OPT_OUTPUT, OPT_SET, OPT_SIZE, OPT_FRAMES, OPT_DT, OPT_GL, OPT_EXR, OPT_EXPLAIN,
+    OPT_EVERY_FRAME, OPT_PROFILE, OPT_PROFILE_JSON, OPT_VERBOSE, OPT_QUIET, OPT_IN_PLACE,
+    N_GRAPH_OPTS
+};
+_Static_assert(sizeof graph_opts / sizeof graph_opts[0] == N_GRAPH_OPTS, "graph_opts");
+
+/* --dt's seconds: a number or a fraction such as 1/60, in (0, 3600]; -1 when it is not. */
+static double parse_dt(const char *v)
+{
+    char *end;
+    double d = strtod(v, &end);
+    /* a fraction such as 1/60 is the natural way to write a frame time */
+    if (*end == '/') {
+        char *end2;
+        double den = strtod(end + 1, &end2);
+        d = (*end2 == 0 && den > 0) ? d / den : -1;
+        end = end2;
+    }
+    return (*end || !(d > 0 && d <= 3600)) ? -1 : d;
+}
+
+/* Applies option `k` with value v (NULL for a switch) to *a. Returns 0, or 2 after the
+ * message and the usage. `s` is the option as written, for the messages. */
+static int graph_option(lg_graph_args *a, int k, const char *s, const char *v)
+{
+    switch ((enum graph_opt)k) {
+    case OPT_OUTPUT:
+        a->out = v;
+        break;
+    case OPT_SET:
+        a->sets[a->n_sets++] = v;
+        break;
+    case OPT_SIZE:
+        if (!lg_parse_size(v, &a->opts.width, &a->opts.height))
+            return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n", v);
+        if (lg_size_over_limit(a->cmd, a->opts.width, a->opts.height))
+            return 2;
+        break;
+    case OPT_FRAMES:
+        if (!lg_parse_uint(v, &a->opts.frames, 1000000))
+            return usage(a->cmd, "lightgraph: --frames wants 1..1000000 (got '%s')\n", v);
+        break;
+    case OPT_DT:
+        a->opts.dt = parse_dt(v);
+        if (a->opts.dt < 0)
+            return usage(a->cmd, "lightgraph: --dt wants seconds in (0, 3600] (got '%s')\n", v);
+        break;
+    case OPT_GL:
+        if (strcmp(v, "osmesa") && strcmp(v, "egl"))
+            return usage(a->cmd, "lightgraph: --gl wants osmesa or egl (got '%s')\n", v);
+        a->opts.gl_backend = v;
+        break;
+    case OPT_EXR:
+        if (strcmp(v, "half") && strcmp(v, "float"))
+            return usage(a->cmd, "lightgraph: --exr wants half or float (got '%s')\n", v);
+        a->opts.exr_pixel = v[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
+        break;
+    case OPT_EXPLAIN:
+        a->opts.explain = true;
+        break;
+    case OPT_EVERY_FRAME:
+        /* --every-frame, or --every-frame=NODE,...; "--every-frame=" names no node */
+        if (v && !v[0])
+            return usage(a->cmd, "lightgraph: unknown option '%s'\n", s);
+        a->opts.every_frame = true;
+        if (v)
+            a->opts.every_frame_nodes = v;
+        break;
+    case OPT_PROFILE:
+        a->opts.profile = true;
+        break;
+    case OPT_PROFILE_JSON:
+        a->opts.profile_json = v;
+        break;
+    case OPT_VERBOSE:
+        lg_verbosity++;
+        break;
+    case OPT_QUIET:
+        lg_verbosity = -1;
+        break;
+    case OPT_IN_PLACE:
+        if (strcmp(a->cmd, "fmt") != 0)
+            return usage(a->cmd, "lightgraph: unknown option '%s'\n", s);
+        a->in_place = true;
+        break;
+    case N_GRAPH_OPTS:
+        break;
+    }
+    return 0;
+}
+
 int lg_graph_args_parse(int argc, char **argv, lg_graph_args *a)
 {
     memset(a, 0, sizeof *a);
@@ -34,76 +144,14 @@ int lg_graph_args_parse(int argc, char **argv, lg_graph_args *a)
     a->opts.gl_backend = "osmesa";
     a->sets = lg_xcalloc((size_t)argc + 1, sizeof *a->sets);
     for (int i = 1; i < argc; i++) {
-        const char *s = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEEDV()                                                                            \
-    do {                                                                                   \
-        if (!v)                                                                            \
-            return usage(a->cmd, "lightgraph: %s needs a value\n", s);                     \
-        i++;                                                                               \
-    } while (0)
-        if (strcmp(s, "-o") == 0 || strcmp(s, "--output") == 0) {
-            NEEDV();
-            a->out = v;
-        } else if (strcmp(s, "--set") == 0) {
-            NEEDV();
-            a->sets[a->n_sets++] = v;
-        } else if (strncmp(s, "--set=", 6) == 0) {
-            a->sets[a->n_sets++] = s + 6;
-        } else if (strcmp(s, "--size") == 0) {
-            NEEDV();
-            if (!lg_parse_size(v, &a->opts.width, &a->opts.height))
-                return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n",
-                             v);
-            if (lg_size_over_limit(a->cmd, a->opts.width, a->opts.height))
-                return 2;
-        } else if (strcmp(s, "--frames") == 0) {
-            NEEDV();
-            if (!lg_parse_uint(v, &a->opts.frames, 1000000))
-                return usage(a->cmd, "lightgraph: --frames wants 1..1000000 (got '%s')\n", v);
-        } else if (strcmp(s, "--dt") == 0) {
-            NEEDV();
-            char *end;
-            double d = strtod(v, &end);
-            /* a fraction such as 1/60 is the natural way to write a frame time */
-            if (*end == '/') {
-                char *end2;
-                double den = strtod(end + 1, &end2);
-                d = (*end2 == 0 && den > 0) ? d / den : -1;
-                end = end2;
-            }
-            if (*end || !(d > 0 && d <= 3600))
-                return usage(a->cmd, "lightgraph: --dt wants seconds in (0, 3600] (got '%s')\n",
-                             v);
-            a->opts.dt = d;
-        } else if (strcmp(s, "--gl") == 0) {
-            NEEDV();
-            if (strcmp(v, "osmesa") && strcmp(v, "egl"))
-                return usage(a->cmd, "lightgraph: --gl wants osmesa or egl (got '%s')\n", v);
-            a->opts.gl_backend = v;
-        } else if (strcmp(s, "--exr") == 0) {
-            NEEDV();
-            if (strcmp(v, "half") && strcmp(v, "float"))
-                return usage(a->cmd, "lightgraph: --exr wants half or float (got '%s')\n", v);
-            a->opts.exr_pixel = v[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
-        } else if (strcmp(s, "--explain") == 0) {
-            a->opts.explain = true;
-        } else if (strcmp(s, "--every-frame") == 0) {
-            a->opts.every_frame = true;
-        } else if (strncmp(s, "--every-frame=", 14) == 0 && s[14]) {
-            a->opts.every_frame = true;
-            a->opts.every_frame_nodes = s + 14;
-        } else if (strcmp(s, "--profile") == 0) {
-            a->opts.profile = true;
-        } else if (strcmp(s, "--profile-json") == 0) {
-            NEEDV();
-            a->opts.profile_json = v;
-        } else if (strcmp(s, "-v") == 0) {
-            lg_verbosity++;
-        } else if (strcmp(s, "-q") == 0) {
-            lg_verbosity = -1;
-        } else if (strcmp(s, "-i") == 0 && strcmp(a->cmd, "fmt") == 0) {
-            a->in_place = true;
+        const char *s = argv[i], *v;
+        int k = lg_option_find(graph_opts, N_GRAPH_OPTS, argc, argv, &i, &v);
+        if (k == LG_OPT_NO_VALUE)
+            return usage(a->cmd, "lightgraph: %s needs a value\n", s);
+        if (k >= 0) {
+            int rc = graph_option(a, k, s, v);
+            if (rc)
+                return rc;
         } else if (s[0] == '-' && s[1]) {
             return usage(a->cmd, "lightgraph: unknown option '%s'\n", s);
         } else if (!a->graph) {
@@ -111,7 +159,6 @@ int lg_graph_args_parse(int argc, char **argv, lg_graph_args *a)
         } else {
             return usage(a->cmd, "lightgraph: unexpected argument '%s'\n", s);
         }
-#undef NEEDV
     }
     if (!a->graph)
         return usage(a->cmd, "lightgraph %s: no graph file given\n", a->cmd);
