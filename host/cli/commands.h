@@ -1,12 +1,15 @@
 /* host/cli/commands.h: the commands of the lightgraph program (one file each in host/cli/)
- * and the helpers several of them share (session.c, schema_print.c). sweep's command line
- * (sweep_args.h) and conform's synthetic inputs (conform.h) keep private headers: each is
- * one command's alone, and fuzz_sweep runs the first without the rest of the layer. */
+ * and the helpers several of them share (session.c, schema_print.c, options.c). sweep's
+ * command line (sweep_args.h) and conform's synthetic inputs (conform.h) keep private
+ * headers: each is one command's alone, and fuzz_sweep runs the first without the rest of
+ * the layer. */
 #ifndef LG_HOST_CLI_COMMANDS_H
 #define LG_HOST_CLI_COMMANDS_H
 
 #include "plan/plan.h"
 #include "viewer/viewer.h"
+
+/* ---- one graph, rendered or checked (render.c, session.c; render and sweep use them) --- */
 
 /* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
  * (already scanned), plan, run, write the output (opts->output_override replaces the single
