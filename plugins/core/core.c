@@ -113,7 +113,7 @@ static int image_prepare(lg_node *n)
     /* the decoded pixels, not the file's bytes: no second open of the path (the file could
      * change between the two), and the same key for the same pixels in any encoding */
     uint64_t h = lg_image_hash(&st->img, LG_IMAGE_HASH_SEED);
-    n->host->add_content_key(n, &h, sizeof h);
+    lg_add_content_key(n, &h, sizeof h);
 
     rc = core_declare_rgba32f(n, 0, st->img.width, st->img.height);
     if (rc)
@@ -224,7 +224,7 @@ static int add_prepare(lg_node *n)
      * nothing to do (the output is the input, so it must not write). */
     st->aliased = a.neutral || b.neutral;
     if (st->aliased) {
-        rc = n->host->declare_alias(n, 0, b.neutral ? 0 : 1);
+        rc = lg_declare_alias(n, 0, b.neutral ? 0 : 1);
         return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
     }
     if (a.image.width != b.image.width || a.image.height != b.image.height)

@@ -451,12 +451,12 @@ static bool ibl_chain_from_cache(lg_node *n, ibl_state *st, uint32_t size, uint3
     ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
     void *data = NULL;
     size_t bytes = 0;
-    if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
+    if (lg_cache_load(n, key, &data, &bytes) != LG_OK)
         return false;
     /* header and size here; the values in execute, against the probe (ibl_chain_bad), which
      * names the first bad one */
     const char *why = ibl_chain_read_raw(data, bytes, size, levels, samples, nf, &st->chain);
-    n->host->cache_free(data);
+    lg_cache_free(n, data);
     if (why)
         lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again", key, why);
     if (!st->chain)

@@ -92,7 +92,7 @@ static int probe_prepare(lg_node *n)
         pr_file_clear(&st->f);
         return rc;
     }
-    n->host->add_content_key(n, &key, sizeof key);
+    lg_add_content_key(n, &key, sizeof key);
 
     const lg_value *r = lg_param(n, "rotate_deg");
     lg_probe_rotation_from_euler((float)r->v[0], (float)r->v[1], (float)r->v[2], st->rotation);

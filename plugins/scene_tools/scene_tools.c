@@ -123,7 +123,7 @@ static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, con
 static int st_publish(lg_node *n, st_payload *p)
 {
     lg_scene_compute_features(&p->scene);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &p->scene.features, p, st_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &p->scene.features, p, st_free);
 }
 
 /* A vec3 or colour parameter as floats; values a float cannot hold are refused. */
@@ -254,7 +254,7 @@ static int camera_prepare(lg_node *n)
         double r = radius > 0 ? radius : 1.0;
         if (dist == 0) {
             uint32_t w = 0, h = 0;
-            n->host->render_size(n, &w, &h);
+            lg_render_size(n, &w, &h);
             double a = aspect > 0 ? aspect : (w && h ? (double)w / h : 1.0);
             double half_y = 0.5 * yfov, half_x = atan(tan(half_y) * a);
             double half = half_x < half_y ? half_x : half_y;

@@ -153,7 +153,7 @@ static int sm_camera_view_proj(lg_node *n, const sm_state *st, const lg_scene *s
     lg_m4_look_at(view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
 
     uint32_t w = 0, h = 0;
-    n->host->render_size(n, &w, &h);
+    lg_render_size(n, &w, &h);
     float aspect = st->aspect > 0.0f ? st->aspect : (w && h) ? (float)w / (float)h : 1.0f;
     float yfov = c->yfov;
     if (c->aspect > 0.0f && aspect < c->aspect)

@@ -346,7 +346,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         uint32_t y1 = y0 + per < H ? y0 + per : H;
         r.row0 = y0;
         rc = lg_parallel_for(n, y1 - y0, 1, vr_rows, &r);
-        n->host->progress(n, (double)y1 / H, "ray marching");
+        lg_progress(n, (double)y1 / H, "ray marching");
     }
     if (rc == 0)
         lg_log(n, LG_LOG_DEBUG, "%ux%u, %u lights, spp %u, steps %u: %.3g occlusion rays",

@@ -213,7 +213,8 @@ typedef struct lg_host_api {
      * identity of every input); `key` distinguishes several entries of one node. Entries
      * are checksummed; a stale or corrupt entry is reported, removed and treated as a
      * miss. cache_get returns LG_OK with a malloc'd copy the caller frees with
-     * cache_free, or LG_ERR_NOTFOUND. */
+     * cache_free, or LG_ERR_NOTFOUND. Call them through lg_cache_load, lg_cache_save (or
+     * lg_cache_store) and lg_cache_free. */
     int (*cache_get)(lg_node *node, const char *key, void **data, size_t *size);
     int (*cache_put)(lg_node *node, const char *key, const void *data, size_t size);
     void (*cache_free)(void *data);
@@ -476,6 +477,99 @@ static inline int lg_map_cl(lg_node *n, const lg_resource *r, unsigned access, v
                             void **depth)
 {
     return n->host->map_cl(n, r, access, mem, depth);
+}
+
+/* Messages and time. lg_progress: `fraction` of the work in [0, 1] (clamped), `what` the
+ * work's name ("ray marching"); shown on a terminal, nothing otherwise. lg_clock: the
+ * host's monotonic clock in seconds (the clock the profile measures with), for timing a
+ * phase of the node's own work; only differences between two readings mean anything. */
+static inline void lg_progress(lg_node *n, double fraction, const char *what)
+{
+    n->host->progress(n, fraction, what);
+}
+static inline double lg_clock(lg_node *n)
+{
+    return n->host->now();
+}
+
+/* The render size (--size WxH, default 640x360), from prepare() on. A node that makes an
+ * image from nothing at a size its parameters may give reads lg_output_size instead. */
+static inline void lg_render_size(lg_node *n, uint32_t *width, uint32_t *height)
+{
+    n->host->render_size(n, width, height);
+}
+
+/* More ways to declare an output in prepare() (besides lg_declare_image and
+ * lg_declare_composite). Each returns 0, or an LG_ERR_* after reporting (a port the type
+ * does not declare, a kind that differs from the port's, a call outside prepare()).
+ *   lg_declare_buffer, lg_declare_volume: a host-managed buffer or 3D volume.
+ *   lg_declare_alias: output `out_port` is input `in_port` itself, unchanged (no copy);
+ *   the input must be connected.
+ *   lg_declare_payload: an output of a kind whose data the plugin owns (LG_KIND_SCENE):
+ *   `features` is copied; `payload` passes to the host, which calls free_payload(payload)
+ *   when the last consumer is done, and at once when the call fails. */
+static inline int lg_declare_buffer(lg_node *n, uint32_t port, const lg_buffer_desc *d)
+{
+    return n->host->declare_buffer(n, port, d);
+}
+static inline int lg_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
+{
+    return n->host->declare_volume(n, port, d);
+}
+static inline int lg_declare_alias(lg_node *n, uint32_t out_port, uint32_t in_port)
+{
+    return n->host->declare_alias(n, out_port, in_port);
+}
+static inline int lg_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
+                                     const lg_scene_features *features, void *payload,
+                                     void (*free_payload)(void *payload))
+{
+    return n->host->declare_payload(n, port, kind, features, payload, free_payload);
+}
+
+/* Adds `size` bytes (a file's content hash, say) to what identifies this node's result in
+ * the cache and in the results of every node downstream; the bytes are copied. */
+static inline void lg_add_content_key(lg_node *n, const void *bytes, size_t size)
+{
+    n->host->add_content_key(n, bytes, size);
+}
+
+/* The on-disk cache (see cache_get above for keys and checksums).
+ *   lg_cache_load: LG_OK with *data a malloc'd copy of entry `key` (*size bytes), which
+ *   the caller frees with lg_cache_free; or LG_ERR_NOTFOUND (a miss, the cache off, or a
+ *   stale or corrupt entry, reported and removed). A node that checks the values it loaded
+ *   and finds them impossible calls lg_cache_reject.
+ *   lg_cache_save: stores `size` bytes of `data` under `key` (the host copies them);
+ *   LG_OK whether stored or the cache is off, LG_ERR_IO when the entry could not be
+ *   written. lg_cache_store (below) is the same store saying which of these happened:
+ *   prefer it.
+ *   lg_cache_free: frees what lg_cache_load gave (NULL does nothing). */
+static inline int lg_cache_load(lg_node *n, const char *key, void **data, size_t *size)
+{
+    return n->host->cache_get(n, key, data, size);
+}
+static inline int lg_cache_save(lg_node *n, const char *key, const void *data, size_t size)
+{
+    return n->host->cache_put(n, key, data, size);
+}
+static inline void lg_cache_free(lg_node *n, void *data)
+{
+    n->host->cache_free(data);
+}
+
+/* Since ABI 1.1: GPU copies of an array of a payload (see payload_gl_buffer above): a
+ * read-only GL buffer object or cl_mem holding `size` bytes of `data`, which lies in the
+ * payload of `res`, made once per (res, slot) and owned by the host. Returns 0 or an
+ * LG_ERR_* after reporting. lightgraph/scene.h's lg_scene_mesh_gl / _cl call these. */
+static inline int lg_payload_gl_buffer(lg_node *n, const lg_resource *res, uint32_t slot,
+                                       const void *data, size_t size, uint32_t *buffer)
+{
+    return n->host->payload_gl_buffer(n, res, slot, data, size, buffer);
+}
+static inline int lg_payload_cl_buffer(lg_node *n, const lg_resource *res, uint32_t slot,
+                                       const void *data, size_t size, void **mem)
+{
+    return n->host->payload_cl_buffer(n, res, slot, data, size, mem);
 }
 
 /* ---- CPU parallelism (since ABI 2.0) ------------------------------------------------

@@ -194,7 +194,7 @@ static int ti_prepare(lg_node *n)
     }
     lg_test_scene_bounds(&t->s, t->meshes);
     lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, ti_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, ti_free);
 }
 
 static int ti_execute(lg_node *n, const lg_frame *frame)

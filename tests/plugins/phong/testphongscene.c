@@ -192,7 +192,7 @@ static int tp_prepare(lg_node *n)
     }
     lg_test_scene_bounds(&t->s, t->meshes);
     lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
 }
 
 static int tp_execute(lg_node *n, const lg_frame *frame)

@@ -242,7 +242,7 @@ static int tm_scene_prepare(lg_node *n)
     tm_scene *t = tm_build(n);
     if (!t)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tm_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tm_free);
 }
 
 static int tm_nothing(lg_node *n, const lg_frame *frame)

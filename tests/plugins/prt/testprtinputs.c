@@ -185,7 +185,7 @@ static int tp_scene_prepare(lg_node *n)
         lg_m4_normal_matrix(t->instances[i].normal_matrix, t->instances[i].model);
     lg_test_scene_bounds(&t->s, t->meshes);
     lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
 }
 
 static int tp_nothing(lg_node *n, const lg_frame *frame)

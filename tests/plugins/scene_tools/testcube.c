@@ -150,7 +150,7 @@ static int cube_prepare(lg_node *n)
     c->scene.cameras = &c->camera;
     c->scene.n_cameras = lg_param_bool(n, "camera") ? 1 : 0;
     lg_scene_compute_features(&c->scene);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &c->scene.features, c, cube_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &c->scene.features, c, cube_free);
 }
 
 static int cube_execute(lg_node *n, const lg_frame *frame)

@@ -79,7 +79,7 @@ static int tv_prepare(lg_node *n)
     lg_m4_normal_matrix(t->instance.normal_matrix, t->instance.model);
     lg_test_scene_bounds(&t->s, &t->mesh);
     lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tv_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tv_free);
 }
 
 static int tv_nothing(lg_node *n, const lg_frame *frame)

@@ -89,7 +89,7 @@ static int tv_scene_prepare(lg_node *n)
     t->s.medium.g = (float)lg_param_float(n, "g");
     lg_test_scene_bounds(&t->s, NULL);
     lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tv_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tv_free);
 }
 
 static int tv_nothing(lg_node *n, const lg_frame *frame)

@@ -7,6 +7,12 @@
  *   LG_CACHE_UNKNOWN (it returns LG_OK whether or not it stored), never LG_CACHE_STORED.
  *   lg_cache_reject (ABI 2.7): a 2.7 host's cache_reject gets the key and the reason; an
  *   older host (or a NULL slot) gets one warning through log, naming both, and nothing else.
+ *
+ * The plain wrappers (lg_progress, lg_clock, lg_render_size, lg_declare_buffer /
+ * _volume / _alias / _payload, lg_add_content_key, lg_cache_load / _save / _free,
+ * lg_payload_gl_buffer / _cl_buffer): each reaches its own table entry, with every
+ * argument as given, and returns what the entry returned (a fake entry per member records
+ * its call; the others stay NULL, so a wrapper that reached the wrong one would crash).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -47,6 +53,210 @@ static void fake_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap
     (void)n;
     log_calls += level == LG_LOG_WARN;
     vsnprintf(last, sizeof last, fmt, ap);
+}
+
+
+/* ---- the plain wrappers: one fake per member, recording the call ---- */
+
+static struct {
+    const char *member; /* the entry last called */
+    lg_node *node;
+    uint32_t port, port2, slot;
+    const void *ptr, *ptr2;
+    size_t size;
+    double x;
+    const char *str;
+    lg_resource_kind kind;
+    void (*free_fn)(void *);
+} call;
+
+static void record(const char *member, lg_node *n)
+{
+    memset(&call, 0, sizeof call);
+    call.member = member;
+    call.node = n;
+}
+
+static void fake_progress(lg_node *n, double fraction, const char *what)
+{
+    record("progress", n);
+    call.x = fraction;
+    call.str = what;
+}
+static double fake_now(void)
+{
+    record("now", NULL);
+    return 1234.5;
+}
+static void fake_render_size(lg_node *n, uint32_t *w, uint32_t *h)
+{
+    record("render_size", n);
+    *w = 640;
+    *h = 360;
+}
+static int fake_declare_buffer(lg_node *n, uint32_t port, const lg_buffer_desc *d)
+{
+    record("declare_buffer", n);
+    call.port = port;
+    call.ptr = d;
+    return -101;
+}
+static int fake_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
+{
+    record("declare_volume", n);
+    call.port = port;
+    call.ptr = d;
+    return -102;
+}
+static int fake_declare_alias(lg_node *n, uint32_t out_port, uint32_t in_port)
+{
+    record("declare_alias", n);
+    call.port = out_port;
+    call.port2 = in_port;
+    return -103;
+}
+static int fake_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
+                                const lg_scene_features *f, void *payload,
+                                void (*free_payload)(void *))
+{
+    record("declare_payload", n);
+    call.port = port;
+    call.kind = kind;
+    call.ptr = f;
+    call.ptr2 = payload;
+    call.free_fn = free_payload;
+    return -104;
+}
+static void fake_add_content_key(lg_node *n, const void *bytes, size_t size)
+{
+    record("add_content_key", n);
+    call.ptr = bytes;
+    call.size = size;
+}
+static char cached_entry[] = "entry";
+static int fake_cache_get(lg_node *n, const char *key, void **data, size_t *size)
+{
+    record("cache_get", n);
+    call.str = key;
+    *data = cached_entry;
+    *size = sizeof cached_entry;
+    return -105;
+}
+static int fake_cache_put_plain(lg_node *n, const char *key, const void *data, size_t size)
+{
+    record("cache_put", n);
+    call.str = key;
+    call.ptr = data;
+    call.size = size;
+    return -106;
+}
+static void fake_cache_free(void *data)
+{
+    record("cache_free", NULL);
+    call.ptr = data;
+}
+static int fake_payload_gl(lg_node *n, const lg_resource *res, uint32_t slot, const void *data,
+                           size_t size, uint32_t *buffer)
+{
+    record("payload_gl_buffer", n);
+    call.ptr = res;
+    call.slot = slot;
+    call.ptr2 = data;
+    call.size = size;
+    *buffer = 77;
+    return -107;
+}
+static int fake_payload_cl(lg_node *n, const lg_resource *res, uint32_t slot, const void *data,
+                           size_t size, void **mem)
+{
+    record("payload_cl_buffer", n);
+    call.ptr = res;
+    call.slot = slot;
+    call.ptr2 = data;
+    call.size = size;
+    *mem = cached_entry;
+    return -108;
+}
+static void free_nothing(void *p)
+{
+    (void)p;
+}
+
+#define CALLED(name) (call.member && strcmp(call.member, name) == 0)
+
+static void check_plain_wrappers(void)
+{
+    lg_host_api api;
+    memset(&api, 0, sizeof api); /* every other entry NULL: a wrong one would crash */
+    api.struct_size = sizeof api;
+    api.progress = fake_progress;
+    api.now = fake_now;
+    api.render_size = fake_render_size;
+    api.declare_buffer = fake_declare_buffer;
+    api.declare_volume = fake_declare_volume;
+    api.declare_alias = fake_declare_alias;
+    api.declare_payload = fake_declare_payload;
+    api.add_content_key = fake_add_content_key;
+    api.cache_get = fake_cache_get;
+    api.cache_put = fake_cache_put_plain;
+    api.cache_free = fake_cache_free;
+    api.payload_gl_buffer = fake_payload_gl;
+    api.payload_cl_buffer = fake_payload_cl;
+    lg_node n;
+    memset(&n, 0, sizeof n);
+    n.host = &api;
+
+    lg_progress(&n, 0.25, "baking");
+    CHECK(CALLED("progress") && call.node == &n && call.x == 0.25 &&
+          strcmp(call.str, "baking") == 0);
+    CHECK(lg_clock(&n) == 1234.5 && CALLED("now"));
+    uint32_t w = 0, h = 0;
+    lg_render_size(&n, &w, &h);
+    CHECK(CALLED("render_size") && call.node == &n && w == 640 && h == 360);
+
+    lg_buffer_desc bd = {.size = 16};
+    CHECK(lg_declare_buffer(&n, 2, &bd) == -101 && CALLED("declare_buffer") &&
+          call.node == &n && call.port == 2 && call.ptr == &bd);
+    lg_volume_desc vd = {.width = 4};
+    CHECK(lg_declare_volume(&n, 3, &vd) == -102 && CALLED("declare_volume") &&
+          call.node == &n && call.port == 3 && call.ptr == &vd);
+    CHECK(lg_declare_alias(&n, 1, 4) == -103 && CALLED("declare_alias") && call.node == &n &&
+          call.port == 1 && call.port2 == 4);
+    lg_scene_features f;
+    memset(&f, 0, sizeof f);
+    int payload = 0;
+    CHECK(lg_declare_payload(&n, 5, LG_KIND_SCENE, &f, &payload, free_nothing) == -104 &&
+          CALLED("declare_payload") && call.node == &n && call.port == 5 &&
+          call.kind == LG_KIND_SCENE && call.ptr == &f && call.ptr2 == &payload &&
+          call.free_fn == free_nothing);
+
+    const uint64_t key = 42;
+    lg_add_content_key(&n, &key, sizeof key);
+    CHECK(CALLED("add_content_key") && call.node == &n && call.ptr == &key &&
+          call.size == sizeof key);
+
+    void *data = NULL;
+    size_t size = 0;
+    CHECK(lg_cache_load(&n, "table", &data, &size) == -105 && CALLED("cache_get") &&
+          call.node == &n && strcmp(call.str, "table") == 0 && data == cached_entry &&
+          size == sizeof cached_entry);
+    const char bytes[3] = {1, 2, 3};
+    CHECK(lg_cache_save(&n, "table", bytes, sizeof bytes) == -106 && CALLED("cache_put") &&
+          call.node == &n && strcmp(call.str, "table") == 0 && call.ptr == bytes &&
+          call.size == sizeof bytes);
+    lg_cache_free(&n, data);
+    CHECK(CALLED("cache_free") && call.ptr == cached_entry);
+
+    const lg_resource *res = (const lg_resource *)&payload; /* opaque: only passed on */
+    uint32_t buffer = 0;
+    CHECK(lg_payload_gl_buffer(&n, res, 6, bytes, sizeof bytes, &buffer) == -107 &&
+          CALLED("payload_gl_buffer") && call.node == &n && call.ptr == res &&
+          call.slot == 6 && call.ptr2 == bytes && call.size == sizeof bytes && buffer == 77);
+    void *mem = NULL;
+    CHECK(lg_payload_cl_buffer(&n, res, 7, bytes, sizeof bytes, &mem) == -108 &&
+          CALLED("payload_cl_buffer") && call.node == &n && call.ptr == res &&
+          call.slot == 7 && call.ptr2 == bytes && call.size == sizeof bytes &&
+          mem == cached_entry);
 }
 
 int main(void)
@@ -102,5 +312,7 @@ int main(void)
     lg_cache_reject(&n, "k", "why");
     CHECK(reject_calls == 1 && log_calls == 2);
     CHECK(offsetof(lg_host_api, cache_reject) < offsetof(lg_host_api, reserved));
+
+    check_plain_wrappers();
     return check_report("sdk_host_wrappers");
 }
