@@ -533,11 +533,10 @@ static int pb_read_params(lg_node *n, pb_state *st)
 
 static int pb_create(lg_node *n, bool reference)
 {
-    pb_state *st = calloc(1, sizeof *st);
+    pb_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        return LG_ERR_NOMEM;
     st->reference = reference;
-    n->user = st;
     return 0;
 }
 static int pb_create_bake(lg_node *n) { return pb_create(n, false); }
@@ -554,12 +553,8 @@ static void pb_destroy(lg_node *n)
 
 static const lg_scene *pb_scene_in(lg_node *n, const lg_resource **res)
 {
-    lg_resource_info info;
+    lg_assert_input(n, 0); /* both types' scene is required */
     const lg_resource *in = lg_input(n, 0);
-    if (!in || lg_describe(in, &info, n) != 0 || info.kind != LG_KIND_SCENE) {
-        lg_error(n, "input 'scene' is not a scene");
-        return NULL;
-    }
     if (res)
         *res = in;
     return lg_scene_get(n, in);

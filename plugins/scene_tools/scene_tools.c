@@ -65,16 +65,17 @@ static char *st_strdup(const char *s)
     return d;
 }
 
-/* The input scene (port 0), with a message that says what is wrong if it is not one. */
+/* The input scene (port 0, required: a scene), with a message that says what is wrong if
+ * it has no data. */
 static int st_input(lg_node *n, const lg_resource **res, const lg_scene **scene)
 {
+    lg_assert_input(n, 0);
     const lg_resource *r = lg_input(n, 0);
     lg_resource_info info;
-    if (!r || lg_describe(r, &info, n) != 0)
-        return lg_error(n, "input 'scene' is not connected");
+    lg_describe(r, &info, n);
     /* lg_scene_get would report a description-only scene as "another kind": say what it
      * is, since the planner's test scenes and neutral scenes look like this */
-    if (info.kind == LG_KIND_SCENE && !info.payload)
+    if (!info.payload)
         return lg_error(n, "input 'scene' has scene features but no scene data (%s): this "
                            "node needs a scene made by a scene node such as gltf",
                         info.neutral ? "the neutral result of a gated node"
@@ -435,8 +436,8 @@ static int environment_prepare(lg_node *n)
         return rc;
     const lg_resource *pr = lg_input(n, 1);
     lg_resource_info pi;
-    if (!pr || lg_describe(pr, &pi, n) != 0)
-        return lg_error(n, "input 'probe' is not connected");
+    lg_assert_input(n, 1);
+    lg_describe(pr, &pi, n);
     if (pi.kind != LG_KIND_PROBE)
         return lg_error(n, "input 'probe' is not a probe (a `probe` node makes one)");
     st_payload *p;

@@ -230,10 +230,9 @@ static void vr_rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
 
 static int vr_create(lg_node *n)
 {
-    vr_state *st = calloc(1, sizeof *st);
+    vr_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     return 0;
 }
 

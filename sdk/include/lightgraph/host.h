@@ -36,6 +36,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "lightgraph/config.h"
@@ -638,6 +639,76 @@ static inline void lg_output_size(lg_node *n, const char *width_key, const char 
     int64_t w = lg_param_int(n, width_key), h = lg_param_int(n, height_key);
     *width = w > 0 ? (uint32_t)w : rw;
     *height = h > 0 ? (uint32_t)h : rh;
+}
+
+/* ---- create() and prepare() openings ---------------------------------------------------
+ *
+ * lg_create_state(n, size): the node's instance state: `size` bytes, zeroed, stored in
+ * n->user and returned; NULL after reporting "out of memory" (create() then returns
+ * LG_ERR_NOMEM). The plugin owns it and frees it in destroy(), which the host calls after
+ * a failed create() too: create() may fail after this call without freeing anything.
+ *
+ * lg_output_size_nonempty(n, width_key, height_key, &w, &h): lg_output_size, and an error
+ * (LG_ERR_INVALID after reporting "output size WxH: width and height must be > 0") when
+ * either is 0; else 0.
+ */
+static inline void *lg_create_state(lg_node *n, size_t size)
+{
+    void *st = calloc(1, size);
+    if (!st) {
+        lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        return NULL;
+    }
+    n->user = st;
+    return st;
+}
+static inline int lg_output_size_nonempty(lg_node *n, const char *width_key,
+                                          const char *height_key, uint32_t *width,
+                                          uint32_t *height)
+{
+    lg_output_size(n, width_key, height_key, width, height);
+    if (*width == 0 || *height == 0)
+        return lg_error(n, "output size %ux%u: width and height must be > 0", *width, *height);
+    return 0;
+}
+
+/* ---- inputs the checker guarantees -----------------------------------------------------
+ *
+ * Before any node runs, the host checks the graph and refuses (exit status 2, naming the
+ * node and the input) one that leaves a required input (lg_port_desc.optional false)
+ * unconnected or connects it to an output of another kind (LG_KIND_ANY on either side
+ * matches any). From prepare() on, lg_input() on a required input therefore gives a
+ * resource of the kind the port declares: a node needs no "is not connected" or "is not
+ * a scene" check of its own there. The resource may be a gated producer's neutral result
+ * (lg_resource_info.neutral: of the kind, but a scene without data, a composite without
+ * parts). An optional input is NULL when unconnected: check that one.
+ *
+ * lg_assert_input(n, port) says where a node relies on this. In a build that defines
+ * LG_DEBUG_CHECKS (lightgraph's own, unless -Ddebug_checks=false) it checks it and, if it
+ * does not hold (a bug: the port is optional or does not exist, or the host broke its
+ * word), reports it and aborts; otherwise it is nothing.
+ */
+static inline void lg_assert_input(lg_node *n, uint32_t port)
+{
+#ifdef LG_DEBUG_CHECKS
+    const lg_node_type *t = n->type;
+    if (!t || port >= t->n_inputs || t->inputs[port].optional) {
+        lg_error(n, "lg_assert_input: input #%u of type '%s' is not a required input (a "
+                    "plugin bug)", port, t && t->name ? t->name : "?");
+        abort();
+    }
+    const lg_resource *r = n->host->input(n, port);
+    lg_resource_info info;
+    if (!r || n->host->describe(r, &info) != 0 ||
+        (t->inputs[port].kind != LG_KIND_ANY && info.kind != t->inputs[port].kind)) {
+        lg_error(n, "lg_assert_input: required input '%s' is %s, which the host's graph "
+                    "check rules out (a host bug)", t->inputs[port].name,
+                 r ? "of another kind" : "not connected");
+        abort();
+    }
+#else
+    (void)n, (void)port;
+#endif
 }
 
 /* Composite resources (since ABI 2.0). */

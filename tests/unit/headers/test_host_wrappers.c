@@ -13,11 +13,18 @@
  * lg_payload_gl_buffer / _cl_buffer): each reaches its own table entry, with every
  * argument as given, and returns what the entry returned (a fake entry per member records
  * its call; the others stay NULL, so a wrapper that reached the wrong one would crash).
+ * lg_create_state and lg_output_size_nonempty (the create/prepare openings), and
+ * lg_assert_input: silent on a required input of its kind, and in a LG_DEBUG_CHECKS
+ * build an abort (in a child process) on an optional, missing or mistyped one.
  */
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "common/check.h"
 #include "lightgraph/lightgraph.h"
@@ -259,6 +266,129 @@ static void check_plain_wrappers(void)
           mem == cached_entry);
 }
 
+/* ---- the create/prepare openings and lg_assert_input ---- */
+
+static int error_calls;
+static char error_text[256];
+
+static void fake_error(lg_node *n, const char *fmt, va_list ap)
+{
+    (void)n;
+    error_calls++;
+    vsnprintf(error_text, sizeof error_text, fmt, ap);
+}
+
+static lg_value size_params[2];
+static uint32_t render_w, render_h;
+
+static int32_t fake_param_index(lg_node *n, const char *key)
+{
+    (void)n;
+    return strcmp(key, "width") == 0 ? 0 : strcmp(key, "height") == 0 ? 1 : -1;
+}
+static const lg_value *fake_param(lg_node *n, uint32_t i)
+{
+    (void)n;
+    return i < 2 ? &size_params[i] : NULL;
+}
+static void fake_render_size_var(lg_node *n, uint32_t *w, uint32_t *h)
+{
+    (void)n;
+    *w = render_w;
+    *h = render_h;
+}
+
+/* the inputs a fake node sees: a scene on 0, nothing on 1, an image on 2 */
+static int resource_kinds[3] = {LG_KIND_SCENE, 0, LG_KIND_IMAGE};
+static const lg_resource *fake_input(lg_node *n, uint32_t port)
+{
+    (void)n;
+    return port < 3 && resource_kinds[port] ? (const lg_resource *)&resource_kinds[port] : NULL;
+}
+static int fake_describe(const lg_resource *r, lg_resource_info *info)
+{
+    memset(info, 0, sizeof *info);
+    if (!r)
+        return LG_ERR_INVALID;
+    info->kind = (lg_resource_kind) * (const int *)r;
+    return 0;
+}
+
+#ifdef LG_DEBUG_CHECKS
+/* Did lg_assert_input(n, port) abort? In a child, so that the test goes on. */
+static bool assert_aborts(lg_node *n, uint32_t port)
+{
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        lg_assert_input(n, port);
+        _exit(0);
+    }
+    int status = 0;
+    if (pid < 0 || waitpid(pid, &status, 0) != pid)
+        return false;
+    return WIFSIGNALED(status) && WTERMSIG(status) == SIGABRT;
+}
+#endif
+
+static void check_openings(void)
+{
+    lg_host_api api;
+    memset(&api, 0, sizeof api);
+    api.struct_size = sizeof api;
+    api.error = fake_error;
+    api.param_index = fake_param_index;
+    api.param = fake_param;
+    api.render_size = fake_render_size_var;
+    api.input = fake_input;
+    api.describe = fake_describe;
+    static const lg_port_desc inputs[] = {
+        {.name = "scene", .kind = LG_KIND_SCENE},
+        {.name = "shadows", .kind = LG_KIND_SHADOWMAP}, /* required, but nothing there */
+        {.name = "base", .kind = LG_KIND_SCENE},        /* an image there: the wrong kind */
+        {.name = "extra", .kind = LG_KIND_IMAGE, .optional = true},
+    };
+    static const lg_node_type type = {.struct_size = sizeof(lg_node_type), .name = "fake",
+                                      .inputs = inputs, .n_inputs = 4};
+    lg_node n;
+    memset(&n, 0, sizeof n);
+    n.host = &api;
+    n.type = &type;
+
+    /* lg_create_state: zeroed, n->user, owned by the caller */
+    unsigned char *st = lg_create_state(&n, 64);
+    CHECK(st && n.user == st && error_calls == 0);
+    bool zero = st != NULL;
+    for (int i = 0; st && i < 64; i++)
+        zero &= st[i] == 0;
+    CHECK(zero);
+    free(st);
+    n.user = NULL;
+
+    /* lg_output_size_nonempty: 0 takes the render size; an empty size is an error */
+    size_params[0] = (lg_value){.type = LG_PARAM_INT, .i = 0};
+    size_params[1] = (lg_value){.type = LG_PARAM_INT, .i = 20};
+    render_w = 320, render_h = 180;
+    uint32_t w = 0, h = 0;
+    CHECK(lg_output_size_nonempty(&n, "width", "height", &w, &h) == 0 && w == 320 &&
+          h == 20 && error_calls == 0);
+    render_w = 0;
+    CHECK(lg_output_size_nonempty(&n, "width", "height", &w, &h) == LG_ERR_INVALID &&
+          w == 0 && h == 20 && error_calls == 1 &&
+          strcmp(error_text, "output size 0x20: width and height must be > 0") == 0);
+
+    /* lg_assert_input: nothing to say about a required input of its kind */
+    lg_assert_input(&n, 0);
+    CHECK(error_calls == 1);
+#ifdef LG_DEBUG_CHECKS
+    CHECK(!assert_aborts(&n, 0));
+    CHECK(assert_aborts(&n, 1)); /* required, not connected */
+    CHECK(assert_aborts(&n, 2)); /* another kind */
+    CHECK(assert_aborts(&n, 3)); /* optional: no guarantee to assert */
+    CHECK(assert_aborts(&n, 4)); /* no such input */
+#endif
+}
+
 int main(void)
 {
     lg_host_api api;
@@ -314,5 +444,6 @@ int main(void)
     CHECK(offsetof(lg_host_api, cache_reject) < offsetof(lg_host_api, reserved));
 
     check_plain_wrappers();
+    check_openings();
     return check_report("sdk_host_wrappers");
 }
