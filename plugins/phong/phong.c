@@ -583,7 +583,7 @@ static int ph_upload(lg_node *n, lg_gl_buffer *buf, const void *data, size_t byt
 }
 
 /* The shadow atlas's GL depth texture, read by the raster passes. The one place that knows
- * how the atlas reaches phong (today: the image the shadow map's payload points to). */
+ * how the atlas reaches phong (today: the shadow map's `atlas` part, a depth-only image). */
 static int phong_shadow_atlas(lg_node *n, const lg_shadowmap *sm, GLuint *tex)
 {
     uint32_t color = 0, depth = 0;

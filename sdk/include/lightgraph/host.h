@@ -25,9 +25,9 @@
  * Mapping for writing makes that device's copy the only current one.
  *
  * GL state. A node that uses GL may change any state it needs; the host resets the state
- * listed in docs/sdk.md ("GL state contract") before each node, and in debug builds checks
- * after each node that the bindings a node must restore (framebuffer 0, program 0, no
- * bound image units) are restored.
+ * listed in docs/devices.md ("The GL state contract") before each node, and in debug
+ * builds checks after each node that the bindings a node must restore (framebuffer 0,
+ * program 0, no bound image units) are restored.
  */
 #ifndef LIGHTGRAPH_HOST_H
 #define LIGHTGRAPH_HOST_H
@@ -166,7 +166,7 @@ typedef struct lg_host_api {
     int (*declare_volume)(lg_node *node, uint32_t port, const lg_volume_desc *desc);
     /* The output is the input, unchanged (no copy). */
     int (*declare_alias)(lg_node *node, uint32_t out_port, uint32_t in_port);
-    /* Kinds whose data the plugin owns (scene, probe, ...). `payload` is freed by calling
+    /* Kinds whose data the plugin owns (scene). `payload` is freed by calling
      * free_payload(payload) when the last consumer is done; both live in the plugin.
      * `features` is copied. */
     int (*declare_payload)(lg_node *node, uint32_t port, lg_resource_kind kind,
