@@ -518,7 +518,7 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
     lg_conform_squeeze_reset();
     if (k->mode == CF_SQUEEZE && !squeeze_by_source)
         lg_image_set_max_pixels(1);
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     res->phase = run_plan(c, t, text, k->w, k->h, d, NULL, &r1, k->mode == CF_FRAMES);
     lg_image_set_max_pixels(limit);
     if (!res->phase && k->mode != CF_GATE) {
@@ -598,7 +598,7 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
         }
         run_free(&r2, d);
     }
-    res->ms = (lg_now() - t0) * 1e3;
+    res->ms = (lg_mono_now() - t0) * 1e3;
     run_free(&r1, d);
     free(text);
     if (child_errors.len)

@@ -257,7 +257,7 @@ static void drop_entry(lg_pnode *n, const char *path, const char *problem)
  * header. */
 #define CACHE_MAX_ENTRY (((size_t)1 << 34) + 4096)
 
-int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size)
+int lg_exec_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size)
 {
     *data = NULL;
     *size = 0;
@@ -315,7 +315,7 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
 
 /* The node's own check found the values of an entry it read impossible (host.h,
  * cache_reject): the same words, the same removal and the same miss as the checksum's. */
-void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
+void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
 {
     if (!key_ok(n, key))
         return;
@@ -392,7 +392,7 @@ static int put_entry(const char *path, const void *data, size_t n)
     return rc;
 }
 
-int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
                         size_t size)
 {
     if (!key_ok(n, key))
@@ -421,8 +421,8 @@ int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *d
     return rc;
 }
 
-int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+int lg_exec_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
 {
-    int rc = lg_cache_put_status(ex, n, key, data, size);
+    int rc = lg_exec_cache_put_status(ex, n, key, data, size);
     return rc < 0 ? rc : rc == LG_CACHE_NOT_STORED ? LG_ERR_IO : LG_OK;
 }

@@ -48,7 +48,7 @@ void lg_gl_device_destroy(lg_gl_device **dev);
  * time. Returns the query's name; the caller deletes it (DeleteQueries) before the device. */
 uint32_t lg_gl_device_timer_query(const lg_gl_device *dev);
 
-/* The GL state contract (docs/sdk.md): before each node the host resets the state that
+/* The GL state contract (docs/devices.md): before each node the host resets the state that
  * nodes may change (lg_gl_state_reset); in debug builds it checks after each node that
  * the node restored what it must (lg_gl_state_check): draw/read framebuffer 0, current
  * program 0, vertex array 0, no buffer bound to GL_SHADER_STORAGE_BUFFER /

@@ -205,7 +205,7 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
         lg_gl_state_reset(gl);
     if (timed_gl)
         gl->BeginQuery(GL_TIME_ELAPSED, ex->dev.gl_timer_query);
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     double gpu0 = n->prof.gpu_ms;
     exec_call call = {n, frame, 0};
     int sig = lg_node_call(ex, n, "execute", call_execute, &call);
@@ -222,7 +222,7 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
         gl->Finish();
         GLuint64 ns = 0;
         gl->GetQueryObjectui64v(ex->dev.gl_timer_query, GL_QUERY_RESULT, &ns);
-        double q = (double)ns * 1e-6, wall = (lg_now() - t0) * 1e3;
+        double q = (double)ns * 1e-6, wall = (lg_mono_now() - t0) * 1e3;
         /* llvmpipe's GL_TIME_ELAPSED counts rasteriser work only (compute dispatches read
          * 0) and may return an absolute timestamp: a value outside (0, wall] is not a
          * measurement, and the profile says n/a rather than print it */
@@ -234,7 +234,7 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     if (ex->dev.cl && n->run.device == LG_DEVICE_CL)
         clFinish((cl_command_queue)lg_cl_device_queue(ex->dev.cl));
     read_cl_events(n);
-    double ms = (lg_now() - t0) * 1e3;
+    double ms = (lg_mono_now() - t0) * 1e3;
     n->prof.cpu_ms += ms;
     n->viewer.last_cpu_ms = ms;
     n->viewer.last_gpu_ms = n->prof.gpu_ms - gpu0;
@@ -372,7 +372,7 @@ bool lg_exec_runs_every_frame(const lg_exec *ex, const lg_pnode *n)
 int lg_execute(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     uint32_t frames = ex->opts.frames ? ex->opts.frames : 1;
     for (uint32_t f = 0; f < frames; f++) {
         lg_frame frame;
@@ -393,7 +393,7 @@ int lg_execute(lg_exec *ex)
         }
     }
     int rc = write_outputs(ex);
-    ex->t_total_ms = (lg_now() - t0) * 1e3;
+    ex->t_total_ms = (lg_mono_now() - t0) * 1e3;
     return rc;
 }
 

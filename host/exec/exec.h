@@ -443,15 +443,15 @@ int lg_exec_need_cl(lg_exec *ex, lg_pnode *n);
 
 /* cache (cache.c) */
 char *lg_cache_dir(void);
-int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
-int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
+int lg_exec_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
+int lg_exec_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
 /* cache_put saying what it did: an lg_cache_store_result, or an LG_ERR_* (< 0) for a bad
- * key or NULL data (lg_host_api.cache_store). lg_cache_put maps it to LG_OK / LG_ERR_IO. */
-int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+ * key or NULL data (lg_host_api.cache_store). lg_exec_cache_put maps it to LG_OK / LG_ERR_IO. */
+int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
                         size_t size);
 /* A hit the node found bad (lg_host_api.cache_reject): warned as corrupt, removed, counted
  * as a miss instead of a hit. */
-void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why);
+void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why);
 /* One entry's bytes (cache_entry.c, which has the format). encode appends the entry for
  * `identity`, `key` and the payload to b. check reads an entry's bytes (untrusted: read back
  * from disk) as the entry for `identity` and `key`: returns NULL with *payload pointing

@@ -1,5 +1,5 @@
 /* The GL device: backend choice, entry-point loading and checks common to the backends,
- * and the GL state contract (docs/sdk.md, "Devices and the GL state contract"). */
+ * and the GL state contract (docs/devices.md, "The GL state contract"). */
 #include "exec/device.h"
 
 #include <stdarg.h>

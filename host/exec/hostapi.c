@@ -48,7 +48,7 @@ static void api_progress(lg_node *n, double fraction, const char *what)
 
 static double api_now(void)
 {
-    return lg_now();
+    return lg_mono_now();
 }
 
 static const lg_value *api_param(lg_node *n, uint32_t index)
@@ -537,17 +537,17 @@ static int api_gl_check(lg_node *n, const char *what)
 
 static int api_cache_get(lg_node *n, const char *key, void **data, size_t *size)
 {
-    return lg_cache_get(P(n)->ex, P(n), key, data, size);
+    return lg_exec_cache_get(P(n)->ex, P(n), key, data, size);
 }
 
 static int api_cache_put(lg_node *n, const char *key, const void *data, size_t size)
 {
-    return lg_cache_put(P(n)->ex, P(n), key, data, size);
+    return lg_exec_cache_put(P(n)->ex, P(n), key, data, size);
 }
 
 static int api_cache_store(lg_node *n, const char *key, const void *data, size_t size)
 {
-    return lg_cache_put_status(P(n)->ex, P(n), key, data, size);
+    return lg_exec_cache_put_status(P(n)->ex, P(n), key, data, size);
 }
 
 static void api_cache_free(void *data)
@@ -557,7 +557,7 @@ static void api_cache_free(void *data)
 
 static void api_cache_reject(lg_node *n, const char *key, const char *why)
 {
-    lg_cache_drop(P(n)->ex, P(n), key, why);
+    lg_exec_cache_drop(P(n)->ex, P(n), key, why);
 }
 
 static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)

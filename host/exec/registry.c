@@ -561,7 +561,7 @@ static int reap_scanner(pid_t pid)
 }
 
 /* Starts the scanning child on `path`, which writes its result into the pipe whose read
- * end is *rfd; *t0 is when (lg_now). Returns its pid, or -1 with *why_out (malloc'd). */
+ * end is *rfd; *t0 is when (lg_mono_now). Returns its pid, or -1 with *why_out (malloc'd). */
 static pid_t start_scanner(const char *path, int *rfd, double *t0, char **why_out)
 {
     int fds[2];
@@ -570,7 +570,7 @@ static pid_t start_scanner(const char *path, int *rfd, double *t0, char **why_ou
         return -1;
     }
     fflush(NULL);
-    *t0 = lg_now();
+    *t0 = lg_mono_now();
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
@@ -599,7 +599,7 @@ static const char *read_scan_result(int fd, double t0, double timeout, lg_str *b
 {
     char buf[8192];
     for (;;) {
-        double left = timeout - (lg_now() - t0);
+        double left = timeout - (lg_mono_now() - t0);
         if (left <= 0)
             return "time";
         struct pollfd pfd = {fd, POLLIN, 0};
@@ -692,7 +692,7 @@ static int scan_file(const char *path, lg_plugin *out, char **why_out)
         return -1;
     }
     lg_hlog(LG_HDEBUG, "scanned %s in %.1f ms (%zu bytes of descriptor)", path,
-            (lg_now() - t0) * 1e3, b.len);
+            (lg_mono_now() - t0) * 1e3, b.len);
     int rc = scan_verdict(reap_scanner(pid), &b, out, why_out);
     lg_str_free(&b);
     return rc;

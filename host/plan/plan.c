@@ -502,7 +502,7 @@ static int check_plan_memory(lg_exec *ex)
 int lg_plan(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     lg_host_api_init(&ex->api);
     ex->n_nodes = c->n_nodes;
     ex->nodes = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *ex->nodes);
@@ -570,6 +570,6 @@ int lg_plan(lg_exec *ex)
     }
     if (rc == 0 && !ex->failed)
         rc = check_plan_memory(ex);
-    ex->t_plan_ms = (lg_now() - t0) * 1e3;
+    ex->t_plan_ms = (lg_mono_now() - t0) * 1e3;
     return rc || ex->failed ? -1 : 0;
 }

@@ -288,7 +288,7 @@ bool lg_viewer_attempt(viewer *v, const char *what, bool full)
 {
     char err[8192];
     v->changes++;
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     if (lg_viewer_load(v, false, full, err, sizeof err) == 0) {
         v->last_change_ok = true;
         uint32_t kept = 0, made = 0;
@@ -298,7 +298,7 @@ bool lg_viewer_attempt(viewer *v, const char *what, bool full)
                 n->prof.runs > 1 || (n->run.ran && !n->viewer.ran_this_frame) ? kept++ : made++;
         }
         lg_viewer_status(v, false, "%s (%.0f ms: %u node%s made, %u kept)", what,
-                         (lg_now() - t0) * 1e3, made, made == 1 ? "" : "s", kept);
+                         (lg_mono_now() - t0) * 1e3, made, made == 1 ? "" : "s", kept);
         return true;
     }
     v->changes_failed++;

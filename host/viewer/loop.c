@@ -174,7 +174,7 @@ static bool idle(const viewer *v)
 
 int lg_viewer_loop(viewer *v)
 {
-    v->last_t = lg_now();
+    v->last_t = lg_mono_now();
     /* frame 0 ran in lg_viewer_load */
     for (;;) {
         glfwPollEvents();
@@ -185,7 +185,7 @@ int lg_viewer_loop(viewer *v)
         if (v->quit)
             break;
         lg_viewer_poll_reloads(v);
-        double now = lg_now();
+        double now = lg_mono_now();
         double dt = v->scripted ? 1.0 / 30.0 : now - v->last_t;
         lg_viewer_fly_step(v, dt);
         if (!v->frame_done)

@@ -107,7 +107,7 @@ static bool collect_changes(viewer *v)
 {
     lg_watch_change *ch = NULL;
     char err[1024];
-    int n = lg_watch_poll(v->watch, lg_now(), 0.15, &ch, err, sizeof err);
+    int n = lg_watch_poll(v->watch, lg_mono_now(), 0.15, &ch, err, sizeof err);
     if (n < 0) {
         lg_hlog(LG_HWARN, "watching files: %s", err);
         n = 0;

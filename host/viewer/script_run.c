@@ -49,7 +49,7 @@ static bool script_waiting(viewer *v)
     if (v->frame < v->wait_until)
         return true;
     if (v->wait_reload) {
-        if (v->changes == v->wait_reload_from && lg_now() < v->wait_deadline)
+        if (v->changes == v->wait_reload_from && lg_mono_now() < v->wait_deadline)
             return true;
         if (v->changes == v->wait_reload_from) {
             lg_viewer_script_fail(v, &v->script->ev[v->pc - 1],
@@ -132,7 +132,7 @@ static bool script_event(viewer *v, const lg_sevent *e)
     case LG_SEV_WAIT_RELOAD:
         v->wait_reload = true;
         v->wait_reload_from = v->changes;
-        v->wait_deadline = lg_now() + (e->a > 0 ? e->a : 60);
+        v->wait_deadline = lg_mono_now() + (e->a > 0 ? e->a : 60);
         return true;
     case LG_SEV_EXPECT_OK:
         if (!v->last_change_ok)

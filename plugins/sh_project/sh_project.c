@@ -112,10 +112,9 @@ static double shp_now(void)
 
 static int shp_create(lg_node *n)
 {
-    shp_state *st = calloc(1, sizeof *st);
+    shp_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->bands = (uint32_t)lg_param_int(n, "bands");
     st->sampler = lg_param_enum(n, "sampler");
     st->side = (uint32_t)lg_param_int(n, "samples");

@@ -405,7 +405,7 @@ int lg_ts_publish(lg_node *n, uint32_t port, lg_ts_builder *b)
     if (!s)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory building the test scene '%s'",
                              source);
-    return n->host->declare_payload(n, port, LG_KIND_SCENE, &s->features, s, lg_ts_free);
+    return lg_declare_payload(n, port, LG_KIND_SCENE, &s->features, s, lg_ts_free);
 }
 
 void lg_test_scene_bounds(lg_scene *s, lg_mesh *meshes)

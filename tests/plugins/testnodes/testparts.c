@@ -22,6 +22,7 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
+#include "lightgraph/cl.h"
 #include "lightgraph/gl.h"
 #include "lightgraph/lightgraph.h"
 
@@ -119,7 +120,7 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
         void *mem = NULL;
         if ((rc = lg_map_cl(n, rad, LG_WRITE, &mem, NULL)))
             return rc;
-        cl_command_queue q = n->host->cl_queue(n);
+        cl_command_queue q = lg_cl_queue(n);
         for (uint32_t l = 0; l < lg_image_levels(d); l++)
             for (uint32_t f = 0; f < 6; f++) {
                 cl_float4 c = {{pattern(l, f), 1, 2, 3}};
@@ -205,7 +206,7 @@ static int check_execute(lg_node *n, const lg_frame *frame)
     } else {
         void *mem = NULL;
         if (!(rc = lg_map_cl(n, p->radiance, LG_READ, &mem, NULL))) {
-            cl_int e = clEnqueueReadBuffer(n->host->cl_queue(n), (cl_mem)mem, CL_TRUE, 0,
+            cl_int e = clEnqueueReadBuffer(lg_cl_queue(n), (cl_mem)mem, CL_TRUE, 0,
                                            total * 16, px, 0, NULL, NULL);
             if (e != CL_SUCCESS)
                 rc = lg_error(n, "clEnqueueReadBuffer: %d", e);
