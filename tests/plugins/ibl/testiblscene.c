@@ -73,11 +73,10 @@ static bool ti_sphere(ti_scene *t, int k, lg_vec3 c, float r, uint32_t seg)
     t->idx[k] = malloc((size_t)ni * 4);
     if (!t->pos[k] || !t->nrm[k] || !t->idx[k])
         return false;
-    const double pi = 3.14159265358979323846;
     uint32_t v = 0;
     for (uint32_t j = 0; j <= rows; j++)
         for (uint32_t i = 0; i <= cols; i++, v++) {
-            double th = pi * j / rows, ph = 2 * pi * i / cols;
+            double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
             double x = sin(th) * cos(ph), y = cos(th), z = -sin(th) * sin(ph);
             t->nrm[k][3 * v] = (float)x, t->nrm[k][3 * v + 1] = (float)y,
             t->nrm[k][3 * v + 2] = (float)z;
@@ -156,7 +155,7 @@ static int ti_prepare(lg_node *n)
     ti_vec(n, "camera_position", c->position);
     ti_vec(n, "camera_target", c->target);
     ti_vec(n, "camera_up", c->up);
-    c->yfov = (float)(lg_param_float(n, "yfov_deg") * 3.14159265358979323846 / 180.0);
+    c->yfov = (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0);
     c->znear = 0.1f;
     c->zfar = 50.0f;
 

@@ -144,7 +144,7 @@ static int tp_prepare(lg_node *n)
     tp_vec(n, "camera_position", c->position);
     tp_vec(n, "camera_target", c->target);
     tp_vec(n, "camera_up", c->up);
-    c->yfov = (float)(lg_param_float(n, "yfov_deg") * 3.14159265358979323846 / 180.0);
+    c->yfov = (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0);
     c->znear = 0.1f;
     c->zfar = 50.0f;
 

@@ -146,7 +146,7 @@ static tm_scene *tm_build(lg_node *n)
         c->position[2] = 5.0f;
         c->target[2] = i == 0 ? 0.0f : 10.0f;
         c->up[1] = 1.0f;
-        c->yfov = (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0);
+        c->yfov = (float)(lg_param_float(n, "yfov") * LG_PI / 180.0);
         c->znear = (float)lg_param_float(n, "znear");
         c->zfar = (float)lg_param_float(n, "zfar");
         c->aspect = (float)lg_param_float(n, "camera_aspect");
@@ -165,7 +165,7 @@ static tm_scene *tm_build(lg_node *n)
     case TM_CUBE_STRETCHED: {
         tm_cube(t, 0);
         if (layout != TM_CUBE) {
-            float a = 3.14159265358979323846f / 4.0f;
+            float a = LG_PIF / 4.0f;
             m[0] = cosf(a), m[2] = -sinf(a); /* column 0: R_y x axis */
             m[8] = sinf(a), m[10] = cosf(a); /* column 2: R_y z axis */
         }

@@ -102,11 +102,10 @@ static bool tp_sphere(tp_scene *t, int k, float r, uint32_t seg)
     uint32_t rows = seg / 2, cols = seg;
     if (!tp_alloc(t, k, (cols + 1) * (rows + 1), cols * rows * 6))
         return false;
-    const double pi = 3.14159265358979323846;
     uint32_t v = 0;
     for (uint32_t j = 0; j <= rows; j++)
         for (uint32_t i = 0; i <= cols; i++, v++) {
-            double th = pi * j / rows, ph = 2 * pi * i / cols;
+            double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
             double x = sin(th) * cos(ph), y = cos(th), z = -sin(th) * sin(ph);
             t->nrm[k][3 * v] = (float)x, t->nrm[k][3 * v + 1] = (float)y,
             t->nrm[k][3 * v + 2] = (float)z;
@@ -147,7 +146,7 @@ static int tp_scene_prepare(lg_node *n)
     c->name = "test";
     c->position[2] = 5.0f;
     c->up[1] = 1.0f;
-    c->yfov = (float)(40.0 * 3.14159265358979323846 / 180.0);
+    c->yfov = (float)(40.0 * LG_PI / 180.0);
     c->znear = 0.1f;
     c->zfar = 50.0f;
 
@@ -264,7 +263,7 @@ static void tp_normal_transfer(const lg_scene *s, uint32_t k, uint32_t bands, fl
         for (uint32_t i = l * l; i < (l + 1) * (l + 1); i++)
             for (int c = 0; c < 3; c++)
                 out[c * bands * bands + i] =
-                    (float)(0.8 / 3.14159265358979323846 * lg_sh_clamped_cosine(l) * y[i]);
+                    (float)(0.8 / LG_PI * lg_sh_clamped_cosine(l) * y[i]);
 }
 
 static int tp_tr_prepare(lg_node *n)

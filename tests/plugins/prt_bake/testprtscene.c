@@ -123,9 +123,9 @@ static bool tp_cone(tp_scene *t, double alpha, uint32_t seg)
         return false;
     tp_set(t->pos[0], 0, 0, 0, 0);
     tp_set(t->nrm[0], 0, 0, 1, 0);
-    double r = tan(alpha), pi = 3.14159265358979323846;
+    double r = tan(alpha);
     for (uint32_t i = 0; i < seg; i++) {
-        double ph = 2 * pi * i / seg, c = cos(ph), s = sin(ph);
+        double ph = 2 * LG_PI * i / seg, c = cos(ph), s = sin(ph);
         tp_set(t->pos[0], i + 1, r * c, 1, r * s);
         /* the wall's normal, toward the axis: (-cos a c, sin a, -cos a s) */
         tp_set(t->nrm[0], i + 1, -cos(alpha) * c, sin(alpha), -cos(alpha) * s);
@@ -143,10 +143,9 @@ static bool tp_sphere(tp_scene *t, uint32_t seg)
     uint32_t rows = seg / 2 < 2 ? 2 : seg / 2, cols = seg;
     if (!tp_alloc(t, 0, (cols + 1) * (rows + 1), cols * rows * 6))
         return false;
-    const double pi = 3.14159265358979323846;
     for (uint32_t j = 0, v = 0; j <= rows; j++)
         for (uint32_t i = 0; i <= cols; i++, v++) {
-            double th = pi * j / rows, ph = 2 * pi * i / cols;
+            double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
             double x = sin(th) * cos(ph), y = cos(th), z = -sin(th) * sin(ph);
             tp_set(t->nrm[0], v, x, y, z);
             tp_set(t->pos[0], v, x, y, z);
@@ -194,7 +193,7 @@ static int tp_prepare(lg_node *n)
     bool ok = true;
     if (layout == TP_CONE) {
         t->s.n_meshes = 1;
-        ok = tp_cone(t, lg_param_float(n, "alpha_deg") * 3.14159265358979323846 / 180.0, seg);
+        ok = tp_cone(t, lg_param_float(n, "alpha_deg") * LG_PI / 180.0, seg);
     } else if (layout == TP_BOX) {
         /* o, U, V, inward normal; U x V must point inward (else flip) */
         static const double w[5][4][3] = {

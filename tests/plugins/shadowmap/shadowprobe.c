@@ -128,10 +128,9 @@ static void ss_sphere(ss_scene *t, uint32_t mi, int rings)
 {
     lg_mesh *m = &t->meshes[mi];
     int segs = 2 * rings;
-    const double pi = 3.14159265358979323846;
     for (int r = 0; r <= rings; r++)
         for (int k = 0; k <= segs; k++) {
-            double th = pi * r / rings, az = 2 * pi * k / segs;
+            double th = LG_PI * r / rings, az = 2 * LG_PI * k / segs;
             float *p = t->pos[mi] + (size_t)m->n_vertices * 3;
             float *nn = t->nrm[mi] + (size_t)m->n_vertices * 3;
             p[0] = nn[0] = (float)(sin(th) * cos(az));
@@ -239,7 +238,7 @@ static int ss_prepare(lg_node *n)
     t->camera.position[0] = cp.x, t->camera.position[1] = cp.y, t->camera.position[2] = cp.z;
     t->camera.target[0] = ct.x, t->camera.target[1] = ct.y, t->camera.target[2] = ct.z;
     t->camera.up[1] = 1.0f;
-    t->camera.yfov = (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0);
+    t->camera.yfov = (float)(lg_param_float(n, "yfov") * LG_PI / 180.0);
     t->camera.znear = 0.1f;
     t->camera.zfar = 0.0f;
 

@@ -57,7 +57,7 @@ static int tv_prepare(lg_node *n)
     c->name = "test";
     c->position[2] = 5.0f;
     c->up[1] = 1.0f;
-    c->yfov = (float)(40.0 * 3.14159265358979323846 / 180.0);
+    c->yfov = (float)(40.0 * LG_PI / 180.0);
     c->znear = 0.1f;
     c->zfar = 50.0f;
     static const float corner[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };

@@ -56,7 +56,7 @@ static int tv_scene_prepare(lg_node *n)
     c->name = "test";
     c->target[2] = -1.0f;
     c->up[1] = 1.0f;
-    c->yfov = (float)(60.0 * 3.14159265358979323846 / 180.0);
+    c->yfov = (float)(60.0 * LG_PI / 180.0);
     c->znear = 0.1f;
     c->zfar = 20.0f;
     const lg_value *dir = lg_param(n, "direction");
