@@ -4,7 +4,6 @@
 #define LG_HOST_CLI_COMMANDS_H
 
 #include "plan/plan.h"
-#include "viewer/viewer.h"
 
 /* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
  * (already scanned), plan, run, write the output (opts->output_override replaces the single
@@ -33,7 +32,7 @@ int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
 int lg_cmd_sweep(int argc, char **argv);
 int lg_cmd_devices(int argc, char **argv);
-/* lg_cmd_view: viewer/viewer.h */
+int lg_cmd_view(int argc, char **argv);
 
 
 /* ---- JSON and text introspection (cmd_info.c) ---------------------------------------- */

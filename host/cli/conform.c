@@ -337,9 +337,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
     o->kind = r->kind;
     /* an alias (declare_alias) is its input, written upstream; a neutral stand-in is the
      * host's */
-    bool own = r->producer == n || (r->parent && r->parent->producer == n);
+    bool own = r->producer == n || (r->parts.parent && r->parts.parent->producer == n);
     /* a composite is written through its parts, judged one by one below */
-    o->written = !own || r->neutral || r->cpu_valid || r->gl_valid || r->cl_valid ||
+    o->written = !own || r->neutral || r->copies.cpu_valid || r->copies.gl_valid || r->copies.cl_valid ||
                  lg_kind_is_composite(r->kind);
     char err[512];
     if (r->kind == LG_KIND_IMAGE) {
@@ -363,9 +363,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
                 o->values = true;
             }
         }
-    } else if (r->kind == LG_KIND_BUFFER && r->parent && r->part_type == LG_PART_BUFFER &&
-               (r->parent->kind == LG_KIND_SH || r->parent->kind == LG_KIND_TRANSFER ||
-                r->parent->kind == LG_KIND_PROBE)) {
+    } else if (r->kind == LG_KIND_BUFFER && r->parts.parent && r->parts.type == LG_PART_BUFFER &&
+               (r->parts.parent->kind == LG_KIND_SH || r->parts.parent->kind == LG_KIND_TRANSFER ||
+                r->parts.parent->kind == LG_KIND_PROBE)) {
         /* the float parts: SH and transfer coefficients, solid angles */
         lg_cpu_view v;
         o->w = (uint32_t)(r->buffer.size / sizeof(float)), o->h = o->d = 1;
@@ -379,13 +379,13 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
     } else if (r->kind == LG_KIND_SCENE) {
         o->written = true;
     }
-    if (r->parts) {
+    if (r->parts.list) {
         const lg_kind_desc *kd = lg_kind_describe(r->kind);
-        for (uint32_t i = 0; i < r->n_parts && kd && i < kd->n_parts; i++) {
-            if (!r->parts[i] || kd->parts[i].type == LG_PART_META)
+        for (uint32_t i = 0; i < r->parts.n && kd && i < kd->n_parts; i++) {
+            if (!r->parts.list[i] || kd->parts[i].type == LG_PART_META)
                 continue;
             char *pn = lg_xasprintf("%s.%s", name, kd->parts[i].name);
-            collect(ex, n, r->parts[i], pn, res);
+            collect(ex, n, r->parts.list[i], pn, res);
             free(pn);
         }
     }
@@ -407,10 +407,10 @@ typedef struct cf_run {
 
 static void run_free(cf_run *r, cf_devs *d)
 {
-    if (r->ex.nodes || r->ex.gl || r->ex.cl) {
-        d->gl = r->ex.gl;
-        d->cl = r->ex.cl;
-        d->timer = r->ex.gl_timer_query;
+    if (r->ex.nodes || r->ex.dev.gl || r->ex.dev.cl) {
+        d->gl = r->ex.dev.gl;
+        d->cl = r->ex.dev.cl;
+        d->timer = r->ex.dev.gl_timer_query;
         lg_exec_free(&r->ex);
     }
     lg_checked_free(r->c);
@@ -453,13 +453,13 @@ static int run_plan(cf_ctx *c, const lg_node_type *t, const char *text, uint32_t
     ex->reg = &c->reg;
     ex->graph = r->g;
     ex->checked = r->c;
-    ex->roots = r->roots;
-    ex->n_roots = t->n_outputs;
-    ex->keep_devices = true;
-    ex->gl = d->gl;
-    ex->cl = d->cl;
-    ex->gl_timer_query = d->timer;
-    ex->prev = prev;
+    ex->viewer.roots = r->roots;
+    ex->viewer.n_roots = t->n_outputs;
+    ex->dev.keep = true;
+    ex->dev.gl = d->gl;
+    ex->dev.cl = d->cl;
+    ex->dev.gl_timer_query = d->timer;
+    ex->viewer.prev = prev;
     int rc = lg_plan(ex);
     if (prev) {
         if (rc)
@@ -477,9 +477,9 @@ static int run_frame(cf_run *r, uint32_t frame)
     lg_exec *ex = &r->ex;
     if (lg_exec_frame(ex, frame) || ex->failed)
         return 3;
-    if (ex->gl) {
+    if (ex->dev.gl) {
         char err[1024];
-        const GladGLContext *gl = lg_gl_device_table(ex->gl);
+        const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
         if (lg_gl_state_check(gl, err, sizeof err)) {
             char *m = lg_xasprintf("left GL state behind (see docs/sdk.md, the GL state "
                                    "contract): %s", err);
@@ -503,7 +503,7 @@ static void collect_outputs(cf_run *r, const lg_node_type *t, cf_result *res)
     lg_pnode *n = r->node >= 0 ? r->ex.nodes[r->node] : NULL;
     if (!n)
         return;
-    res->gated = n->state == LG_STATE_GATED;
+    res->gated = n->plan.state == LG_STATE_GATED;
     for (uint32_t o = 0; o < t->n_outputs; o++)
         collect(&r->ex, n, n->outputs[o], t->outputs[o].name, res);
 }
@@ -528,12 +528,12 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
                 res->phase = run_frame(&r1, f);
                 if (f + 1 == cf_frames_from) {
                     res->rss0 = rss_bytes();
-                    res->live0 = n->bytes_plugin_live;
+                    res->live0 = n->prof.bytes_plugin_live;
                 }
             }
             res->rss1 = rss_bytes();
-            res->live1 = n->bytes_plugin_live;
-            res->peak = n->bytes_plugin_peak;
+            res->live1 = n->prof.bytes_plugin_live;
+            res->peak = n->prof.bytes_plugin_peak;
         } else {
             res->phase = run_frame(&r1, 0);
         }

@@ -12,11 +12,6 @@ static const char *type_names[] = {"?",      "bool", "int",    "float", "vec2", 
                                    "color",  "string", "path", "enum",  "int3",
                                    "path_list"};
 
-static const char *kind_name(lg_resource_kind k)
-{
-    return lg_kind_name(k);
-}
-
 static const char *part_type_name(lg_part_type t)
 {
     return t == LG_PART_IMAGE ? "image" : t == LG_PART_VOLUME ? "volume"
@@ -133,7 +128,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
         for (uint32_t i = 0; i < n; i++) {
             lg_str_add(o, i ? ", {\"name\": " : "{\"name\": ");
             lg_str_add_json(o, ports[i].name);
-            lg_str_addf(o, ", \"kind\": \"%s\"", kind_name(ports[i].kind));
+            lg_str_addf(o, ", \"kind\": \"%s\"", lg_kind_name(ports[i].kind));
             const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);
             if (kd && kd->n_parts) {
                 lg_str_add(o, ", \"parts\": [");
@@ -219,7 +214,7 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
         uint32_t n = io ? t->n_outputs : t->n_inputs;
         fprintf(f, "  %s:%s\n", io ? "outputs" : "inputs", n ? "" : " (none)");
         for (uint32_t i = 0; i < n; i++) {
-            fprintf(f, "    %-12s %-10s %-9s %s\n", ports[i].name, kind_name(ports[i].kind),
+            fprintf(f, "    %-12s %-10s %-9s %s\n", ports[i].name, lg_kind_name(ports[i].kind),
                     io ? "" : ports[i].optional ? "optional" : "required",
                     ports[i].doc ? ports[i].doc : "");
             const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);

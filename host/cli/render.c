@@ -345,13 +345,13 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
                 rc = 1;
             for (uint32_t i = 0; i < ex.n_nodes; i++) {
                 const lg_pnode *n = ex.nodes[i];
-                if (n->state != LG_STATE_KEPT)
+                if (n->plan.state != LG_STATE_KEPT)
                     continue;
-                res->total_ms += n->cpu_ms;
+                res->total_ms += n->prof.cpu_ms;
                 if (time_node && strcmp(time_node, n->pub.name) == 0) {
                     /* per frame in steady state when it ran on several frames (sweep) */
-                    res->node_ms = n->runs > 1 ? (n->cpu_ms - n->first_cpu_ms) / (double)(n->runs - 1)
-                                               : n->cpu_ms;
+                    res->node_ms = n->prof.runs > 1 ? (n->prof.cpu_ms - n->prof.first_cpu_ms) / (double)(n->prof.runs - 1)
+                                               : n->prof.cpu_ms;
                     res->node_found = true;
                 }
             }

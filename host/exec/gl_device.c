@@ -120,6 +120,19 @@ const char *lg_gl_device_description(const lg_gl_device *dev)
     return dev->description;
 }
 
+uint32_t lg_gl_device_timer_query(const lg_gl_device *dev)
+{
+    const GladGLContext *gl = &dev->gl;
+    GLuint query = 0;
+    gl->GenQueries(1, &query);
+    /* the query runs on nothing: its result is the timestamp, read and dropped here */
+    GLuint64 ns = 0;
+    gl->BeginQuery(GL_TIME_ELAPSED, query);
+    gl->EndQuery(GL_TIME_ELAPSED);
+    gl->GetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+    return query;
+}
+
 void lg_gl_device_destroy(lg_gl_device **pdev)
 {
     if (!pdev || !*pdev)

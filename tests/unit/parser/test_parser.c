@@ -23,6 +23,7 @@
 #include "fake_schema.h"
 #include "graph/graph.h"
 #include "base/util.h"
+#include "lightgraph/kinds.h"
 
 static int failures;
 static int checks;
@@ -1867,6 +1868,32 @@ static void test_keyword_colour(void)
 #undef BAKE
 }
 
+/* The checker names kinds in its messages with lg_kind_phrase (lightgraph/kinds.h), the
+ * words the SDK keeps beside its table of kinds: each kind of the table has its own, worded
+ * as the messages always were, and a value outside the enum has one too. */
+static void test_kind_phrases(void)
+{
+    static const char *const want[LG_KIND_COUNT_] = {
+        [LG_KIND_ANY] = "any resource",         [LG_KIND_IMAGE] = "an image",
+        [LG_KIND_BUFFER] = "a buffer",          [LG_KIND_VOLUME] = "a volume",
+        [LG_KIND_SCENE] = "a scene",            [LG_KIND_SHADOWMAP] = "a shadow map",
+        [LG_KIND_PROBE] = "a light probe",      [LG_KIND_SH] = "SH coefficients",
+        [LG_KIND_TRANSFER] = "transfer vectors", [LG_KIND_FROXEL] = "a froxel volume",
+    };
+    for (int k = 0; k < LG_KIND_COUNT_; k++) {
+        CHECK(lg_kind_describe((lg_resource_kind)k) != NULL);
+        CHECK(want[k] != NULL); /* a kind added to the enum gets its words here too */
+        if (want[k])
+            CHECK_STR(lg_kind_phrase((lg_resource_kind)k), want[k]);
+        for (int j = 0; j < k; j++)
+            CHECK(strcmp(lg_kind_phrase((lg_resource_kind)j),
+                         lg_kind_phrase((lg_resource_kind)k)) != 0);
+    }
+    CHECK(lg_kind_describe(LG_KIND_COUNT_) == NULL);
+    CHECK_STR(lg_kind_phrase(LG_KIND_COUNT_), "an unknown kind of resource");
+    CHECK_STR(lg_kind_phrase((lg_resource_kind)-1), "an unknown kind of resource");
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -1908,6 +1935,7 @@ int main(int argc, char **argv)
     test_include_limits();
     test_image_size();
     test_keyword_colour();
+    test_kind_phrases();
 
     free(examples);
     free(data_abs);
