@@ -157,7 +157,7 @@ static int ph_create(lg_node *n)
     st->per_frame = lg_param_bool(n, "per_frame");
     st->K = (float)lg_param_float(n, "k");
     st->ks_scale = (float)lg_param_float(n, "ks_scale");
-    st->mixed_cos = (float)cos(lg_param_float(n, "mixed_threshold_deg") * (3.14159265358979323846 / 180.0));
+    st->mixed_cos = (float)cos(lg_param_float(n, "mixed_threshold_deg") * (LG_PI / 180.0));
     st->camera = lg_param_int(n, "camera");
     const lg_value *a = lg_param(n, "ambient"), *bg = lg_param(n, "background");
     for (int i = 0; i < 3; i++) {

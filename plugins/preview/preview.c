@@ -133,7 +133,7 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
         lg_log(n, LG_LOG_INFO,
                "%u instances, %" PRIu64 " triangles, camera %u '%s', vertical fov %.4g deg, "
                "znear %.6g, zfar %.6g",
-               sgl->count, sgl->triangles, v.camera, c->name ? c->name : "", (double)v.yfov * (180.0 / 3.14159265358979323846),
+               sgl->count, sgl->triangles, v.camera, c->name ? c->name : "", (double)v.yfov * (180.0 / LG_PI),
                (double)v.znear, (double)v.zfar);
     }
     return rc;

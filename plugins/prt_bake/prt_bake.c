@@ -34,8 +34,6 @@
 #include "lightgraph/transfer.h"
 #include "lightgraph/vecmath.h"
 
-#define PB_PI 3.14159265358979323846
-
 enum { PB_UNSHADOWED = 0, PB_SHADOWED, PB_INTERREFLECTED };
 enum { PB_EMBREE = 0, PB_BRUTE };
 
@@ -1108,7 +1106,7 @@ static double pb_bound(const pb_bounds *b, uint64_t i)
     uint32_t k = (uint32_t)(r % b->n2), l = 0;
     while ((l + 1) * (l + 1) <= k)
         l++;
-    double yl = sqrt((2.0 * l + 1.0) / (4.0 * PB_PI));
+    double yl = sqrt((2.0 * l + 1.0) / (4.0 * LG_PI));
     return b->rho[3 * v + c] * yl * b->scale * PB_BOUND_SLACK;
 }
 
@@ -1552,7 +1550,7 @@ static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
                 acc[c] += cw * r->L[3 * (size_t)t + c];
         }
         for (int c = 0; c < 3; c++)
-            r->out[4 * i + c] = (float)(w->albedo[3 * i + c] / PB_PI * acc[c]);
+            r->out[4 * i + c] = (float)(w->albedo[3 * i + c] / LG_PI * acc[c]);
         r->out[4 * i + 3] = 1.0f;
     }
 }

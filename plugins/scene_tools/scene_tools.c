@@ -22,8 +22,6 @@
 
 #include "lightgraph/lightgraph.h"
 
-#define ST_PI 3.14159265358979323846
-
 /* Orbit framing: the bounding sphere's angular radius is at most the smaller half field of
  * view divided by this margin (in sine), see README.md "camera". */
 #define ST_ORBIT_MARGIN 1.1
@@ -208,7 +206,7 @@ static int camera_prepare(lg_node *n)
         return lg_error(n, "fov_deg = %g: the vertical field of view must be inside (0, 180) "
                            "degrees, both ends excluded",
                         fov_deg);
-    float yfov = (float)(fov_deg * ST_PI / 180.0);
+    float yfov = (float)(fov_deg * LG_PI / 180.0);
     double aspect = lg_param_float(n, "aspect");
 
     lg_vec3 centre = lg_v3(0, 0, 0), corners[8];
@@ -248,8 +246,8 @@ static int camera_prepare(lg_node *n)
             return lg_error(n, "mode = orbit: the scene (%s) has empty bounds (no geometry), so "
                                "there is nothing to orbit around; use mode = look_at",
                             src->source ? src->source : "unnamed");
-        double az = lg_param_float(n, "azimuth_deg") * ST_PI / 180.0;
-        double el = lg_param_float(n, "elevation_deg") * ST_PI / 180.0;
+        double az = lg_param_float(n, "azimuth_deg") * LG_PI / 180.0;
+        double el = lg_param_float(n, "elevation_deg") * LG_PI / 180.0;
         double dist = lg_param_float(n, "distance");
         /* a scene that is a single point: orbit a unit sphere around it (README.md) */
         double r = radius > 0 ? radius : 1.0;

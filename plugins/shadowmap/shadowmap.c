@@ -322,7 +322,7 @@ static float sm_best_rotation(const float *x, const float *y, uint32_t n)
             if (dx == 0.0f && dy == 0.0f)
                 continue;
             a = atan2f(dy, dx);
-            const float q = 0.78539816f; /* pi/4: rectangles repeat every quarter turn */
+            const float q = LG_PIF / 4.0f; /* pi/4: rectangles repeat every quarter turn */
             while (a > q)
                 a -= 2.0f * q;
             while (a <= -q)

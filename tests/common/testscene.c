@@ -244,11 +244,10 @@ void lg_ts_box(lg_ts_builder *b, lg_vec3 half)
 void lg_ts_uv_sphere(lg_ts_builder *b, const lg_vec3 *centre, float radius, uint32_t cols,
                      uint32_t rows)
 {
-    const double pi = 3.14159265358979323846;
     uint32_t first = 0;
     for (uint32_t j = 0; j <= rows; j++)
         for (uint32_t i = 0; i <= cols; i++) {
-            double th = pi * j / rows, ph = 2 * pi * i / cols;
+            double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
             lg_vec3 n = lg_v3((float)(sin(th) * cos(ph)), (float)cos(th),
                               (float)(-sin(th) * sin(ph)));
             lg_vec3 p = lg_v3(radius * n.x, radius * n.y, radius * n.z);

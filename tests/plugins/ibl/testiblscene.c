@@ -77,7 +77,7 @@ static int ti_prepare(lg_node *n)
     }
     lg_ts_camera(b, "test", ti_vec(n, "camera_position"), ti_vec(n, "camera_target"),
                  ti_vec(n, "camera_up"),
-                 (float)(lg_param_float(n, "yfov_deg") * 3.14159265358979323846 / 180.0), 0.1f,
+                 (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0), 0.1f,
                  50.0f);
 
     uint32_t seg = (uint32_t)lg_param_int(n, "segments");

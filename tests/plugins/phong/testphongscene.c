@@ -52,7 +52,7 @@ static int tp_prepare(lg_node *n)
 
     lg_ts_camera(b, "test", tp_vec(n, "camera_position"), tp_vec(n, "camera_target"),
                  tp_vec(n, "camera_up"),
-                 (float)(lg_param_float(n, "yfov_deg") * 3.14159265358979323846 / 180.0), 0.1f,
+                 (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0), 0.1f,
                  50.0f);
 
     float h = 0.5f * size;

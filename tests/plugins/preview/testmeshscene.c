@@ -72,7 +72,7 @@ static int tm_scene_prepare(lg_node *n)
     for (int i = 0; i < 2 && layout != TM_NO_CAMERA; i++) {
         lg_camera *c = lg_ts_camera(
             b, cam_names[i], lg_v3(0, 0, 5), lg_v3(0, 0, i == 0 ? 0.0f : 10.0f), lg_v3(0, 1, 0),
-            (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0),
+            (float)(lg_param_float(n, "yfov") * LG_PI / 180.0),
             (float)lg_param_float(n, "znear"), (float)lg_param_float(n, "zfar"));
         c->aspect = (float)lg_param_float(n, "camera_aspect");
     }
@@ -91,7 +91,7 @@ static int tm_scene_prepare(lg_node *n)
     case TM_CUBE_STRETCHED: {
         lg_ts_unit_cube(b, false);
         if (layout != TM_CUBE) {
-            float a = 3.14159265358979323846f / 4.0f;
+            float a = LG_PIF / 4.0f;
             m[0] = cosf(a), m[2] = -sinf(a); /* column 0: R_y x axis */
             m[8] = sinf(a), m[10] = cosf(a); /* column 2: R_y z axis */
         }

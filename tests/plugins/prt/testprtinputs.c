@@ -60,7 +60,7 @@ static int tp_scene_prepare(lg_node *n)
     m->od[0] = m->od[1] = m->od[2] = 0.5f;
     m->base_color[0] = m->base_color[1] = m->base_color[2] = m->base_color[3] = 1.0f;
     lg_ts_camera(b, "test", lg_v3(0, 0, 5), lg_v3(0, 0, 0), lg_v3(0, 1, 0),
-                 (float)(40.0 * 3.14159265358979323846 / 180.0), 0.1f, 50.0f);
+                 (float)(40.0 * LG_PI / 180.0), 0.1f, 50.0f);
 
     if (layout == TP_QUAD) {
         tp_grid(b, 2, 1.0, 0.0);
@@ -157,7 +157,7 @@ static void tp_normal_transfer(const lg_scene *s, uint32_t k, uint32_t bands, fl
         for (uint32_t i = l * l; i < (l + 1) * (l + 1); i++)
             for (int c = 0; c < 3; c++)
                 out[c * bands * bands + i] =
-                    (float)(0.8 / 3.14159265358979323846 * lg_sh_clamped_cosine(l) * y[i]);
+                    (float)(0.8 / LG_PI * lg_sh_clamped_cosine(l) * y[i]);
 }
 
 static int tp_tr_prepare(lg_node *n)

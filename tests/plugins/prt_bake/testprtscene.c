@@ -60,9 +60,9 @@ static void tp_cone(lg_ts_builder *b, const float model[16], double alpha, uint3
     tp_mesh(b, model);
     const double apex[3] = { 0, 0, 0 }, up[3] = { 0, 1, 0 };
     lg_ts_vertex_d(b, apex, up);
-    double r = tan(alpha), pi = 3.14159265358979323846;
+    double r = tan(alpha);
     for (uint32_t i = 0; i < seg; i++) {
-        double ph = 2 * pi * i / seg, c = cos(ph), s = sin(ph);
+        double ph = 2 * LG_PI * i / seg, c = cos(ph), s = sin(ph);
         /* the wall's normal, toward the axis: (-cos a c, sin a, -cos a s) */
         const double p[3] = { r * c, 1, r * s };
         const double nn[3] = { -cos(alpha) * c, sin(alpha), -cos(alpha) * s };
@@ -103,7 +103,7 @@ static int tp_prepare(lg_node *n)
         model[12 + k] = (float)tr->v[k];
 
     if (layout == TP_CONE) {
-        tp_cone(b, model, lg_param_float(n, "alpha_deg") * 3.14159265358979323846 / 180.0, seg);
+        tp_cone(b, model, lg_param_float(n, "alpha_deg") * LG_PI / 180.0, seg);
     } else if (layout == TP_BOX) {
         /* o, U, V, inward normal; U x V must point inward (else flip) */
         static const double w[5][4][3] = {

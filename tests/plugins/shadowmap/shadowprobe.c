@@ -85,8 +85,7 @@ static float sp_shadow(const lg_shadowmap *sm, const lg_shadow_light *l, lg_vec3
 /* Vertex (r, k) of the sphere below. */
 static lg_vec3 ss_sphere_point(int r, int k, int rings)
 {
-    const double pi = 3.14159265358979323846;
-    double th = pi * r / rings, az = 2 * pi * k / (2 * rings);
+    double th = LG_PI * r / rings, az = 2 * LG_PI * k / (2 * rings);
     return lg_v3((float)(sin(th) * cos(az)), (float)cos(th), (float)(sin(th) * sin(az)));
 }
 
@@ -177,7 +176,7 @@ static int ss_prepare(lg_node *n)
 
     lg_ts_camera(b, "test", ss_vec(n, "camera_position"), ss_vec(n, "camera_target"),
                  lg_v3(0, 1, 0),
-                 (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0), 0.1f,
+                 (float)(lg_param_float(n, "yfov") * LG_PI / 180.0), 0.1f,
                  0.0f);
 
     if (lg_param_bool(n, "bad_light")) /* direction (0, 0, 0) */

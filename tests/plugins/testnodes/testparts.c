@@ -140,7 +140,7 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
     float *w = sv.pixels;
     size_t texels = (size_t)6 * d->width * d->height;
     for (size_t i = 0; i < texels; i++)
-        w[i] = (float)(4.0 * M_PI / (double)texels);
+        w[i] = (float)(4.0 * LG_PI / (double)texels);
     lg_probe_info info = {.layout = LG_PROBE_CUBE, .scale = 1,
                           .rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1}};
     if ((rc = lg_probe_publish(n, 0, &info)))
@@ -232,7 +232,7 @@ static int check_execute(lg_node *n, const lg_frame *frame)
     double sum = 0;
     for (size_t i = 0; i < (size_t)6 * d->width * d->height; i++)
         sum += ((const float *)sv.pixels)[i];
-    if (fabs(sum - 4.0 * M_PI) > 1e-4)
+    if (fabs(sum - 4.0 * LG_PI) > 1e-4)
         return lg_error(n, "solid angles sum to %g, not 4 pi", sum);
     return write_1x1(n, 1.0f);
 }

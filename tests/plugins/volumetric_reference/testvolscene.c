@@ -29,7 +29,7 @@ static int tv_prepare(lg_node *n)
     for (int c = 0; c < 4; c++)
         m->base_color[c] = 1.0f;
     lg_ts_camera(b, "test", lg_v3(0, 0, 5), lg_v3(0, 0, 0), lg_v3(0, 1, 0),
-                 (float)(40.0 * 3.14159265358979323846 / 180.0), 0.1f, 50.0f);
+                 (float)(40.0 * LG_PI / 180.0), 0.1f, 50.0f);
     /* a zero centre, so that z is +0 */
     const lg_vec3 centre = lg_v3(0, 0, 0), normal = lg_v3(0, 0, 1);
     lg_ts_mesh(b, "test square", 0);

@@ -39,7 +39,7 @@ static int tv_scene_prepare(lg_node *n)
     if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     lg_ts_camera(b, "test", lg_v3(0, 0, 0), lg_v3(0, 0, -1), lg_v3(0, 1, 0),
-                 (float)(60.0 * 3.14159265358979323846 / 180.0), 0.1f, 20.0f);
+                 (float)(60.0 * LG_PI / 180.0), 0.1f, 20.0f);
     const lg_value *dir = lg_param(n, "direction");
     for (int64_t k = 0; k < count; k++) {
         if (only >= 0 && k != only)

@@ -142,7 +142,7 @@ static void test_solids(void)
     CHECK(vtx(sp, 0).x == 5.0f && vtx(sp, 0).y == 2.0f && sp->normals[1] == 1.0f);
     const lg_mesh *o = &s->meshes[4];
     /* vertex (i, j) = (2, 1) of the 8 x 4 sphere: th = pi/4, ph = pi/2, exactly as built */
-    double th = 3.14159265358979323846 / 4, ph = 2 * 3.14159265358979323846 * 2 / 8;
+    double th = LG_PI / 4, ph = 2 * LG_PI * 2 / 8;
     float want_z = (float)(-sin(th) * sin(ph));
     CHECK(same_bits(o->positions[3 * (9 + 2) + 2], 1.0f * want_z));
     /* instance 2: mirrored, moved up; its normal matrix flips x */
