@@ -12,7 +12,7 @@
  * into a chain of --levels levels (default 5: roughness 0, 0.25, 0.5, 0.75, 1), with 16, 32, ..., 4096 samples per texel, with and without source-lod
  * filtering (filtered importance sampling), and with the n.l Vis weighting
  * (LG_PROBE_WEIGHT_NOL_VIS, source lod), on a pool of --threads threads (the host's
- * pool, host/pool.c). For each run it measures the wall time and the error of the split
+ * pool, host/base/pool.c). For each run it measures the wall time and the error of the split
  * sum (lg_probe_ggx_split_sum, the formula `reflect` evaluates) against the Monte Carlo
  * oracle (lg_probe_ggx_reference, --oracle samples per direction, on the chain's level
  * 0) at fixed configurations: --dirs normals n (a fixed pseudo-random set), roughness

@@ -1,5 +1,5 @@
 /*
- * host/pool.h: the host's CPU thread pool, behind lg_host_api.parallel_for (see
+ * host/base/pool.h: the host's CPU thread pool, behind lg_host_api.parallel_for (see
  * sdk/include/lightgraph/host.h, "CPU parallelism", for the contract plugins see).
  *
  * A pool of `size` participants: size - 1 worker threads plus the thread that calls

@@ -1,5 +1,5 @@
 /*
- * host/util.h: small helpers shared by the host's files (private).
+ * host/base/util.h: small helpers shared by the host's files (private).
  */
 #ifndef LG_HOST_UTIL_H
 #define LG_HOST_UTIL_H

@@ -54,7 +54,7 @@ int lg_cmd_devices(int argc, char **argv)
             printf("gl: %s\n", lg_gl_device_description(gl));
             lg_gl_device_destroy(&gl);
         } else {
-            /* the wording of a render that needs GL (host/hostapi.c) */
+            /* the wording of a render that needs GL (host/exec/hostapi.c) */
             printf("gl: no OpenGL 4.5 device (%s): %s\n", backend, err);
             rc = 1;
         }

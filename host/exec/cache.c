@@ -313,7 +313,7 @@ int lg_exec_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, si
     return LG_OK;
 }
 
-/* The node's own check found the values of an entry it read impossible (host.h,
+/* The node's own check found the values of an entry it read impossible (exec.h,
  * cache_reject): the same words, the same removal and the same miss as the checksum's. */
 void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
 {

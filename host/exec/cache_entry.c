@@ -1,4 +1,4 @@
-/* The bytes of one cache entry (host.h, "cache"): written by lg_exec_cache_put, checked by
+/* The bytes of one cache entry (exec.h, "cache"): written by lg_exec_cache_put, checked by
  * lg_exec_cache_get. Apart from cache.c so that the check runs on a buffer, with nothing else of
  * the host: tests/fuzz/fuzz_cache.c feeds it arbitrary bytes.
  *

@@ -1,10 +1,10 @@
 /*
- * host/device.h: the host's devices (private to the host).
+ * host/exec/device.h: the host's devices (private to the host).
  *
  * GL: one OpenGL 4.5 core context, headless, made current on the calling thread:
- *   - "osmesa": OSMesa (llvmpipe), host/gl_osmesa.c, the default;
+ *   - "osmesa": OSMesa (llvmpipe), host/exec/gl_osmesa.c, the default;
  *   - "egl":    EGL surfaceless (EGL_MESA_platform_surfaceless) or a pbuffer on the
- *               default display, host/gl_egl.c.
+ *               default display, host/exec/gl_egl.c.
  * Both libraries are opened with dlopen and GL entry points are resolved through the
  * context's get-proc-address into a GladGLContext: nothing links GL symbols.
  *
@@ -31,7 +31,7 @@ typedef struct lg_gl_device lg_gl_device;
  * 3.1, need 4.5", ...). The context is current on return. */
 int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size_t errlen);
 /* A device on a context someone else made and made current (the viewer's GLFW window,
- * host/gl_backend.h): the same loading and checks as create. `backend->destroy` may be
+ * host/exec/gl_backend.h): the same loading and checks as create. `backend->destroy` may be
  * NULL (the caller destroys the context, after lg_gl_device_destroy). */
 struct lg_gl_backend;
 int lg_gl_device_wrap(lg_gl_device **out, const struct lg_gl_backend *backend, char *err,

@@ -278,7 +278,7 @@ static int write_outputs(lg_exec *ex)
         char err[1024];
         float *px = NULL;
         lg_image img = {0, 0, NULL};
-        /* SH coefficients: a text file, and only they (graph_check.c refuses the other
+        /* SH coefficients: a text file, and only they (graph/check.c refuses the other
          * pairings before anything runs; -o and LG_KIND_ANY outputs meet them here) */
         bool sh = r && r->kind == LG_KIND_SH;
         bool txt = lg_path_has_ext(path, ".txt");

@@ -1,5 +1,5 @@
 /*
- * host/gl_backend.h: what a GL context backend (gl_osmesa.c, gl_egl.c) gives gl_device.c
+ * host/exec/gl_backend.h: what a GL context backend (gl_osmesa.c, gl_egl.c) gives gl_device.c
  * (private to those three files).
  *
  * A backend opens its library with dlopen, creates a GL 4.5 core context and makes it

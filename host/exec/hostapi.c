@@ -111,7 +111,7 @@ static lg_resource *api_output(lg_node *n, uint32_t port)
     return p->outputs[port];
 }
 
-/* The scene on r with the viewer's camera as its active camera (ex->camera), or r's own
+/* The scene on r with the viewer's camera as its active camera (ex->viewer.camera), or r's own
  * payload. The copy is shallow (meshes, materials, lights are the producer's) but for the
  * cameras, and is made again when the camera changes. */
 static const void *scene_payload(const lg_resource *cr)

@@ -1,5 +1,5 @@
 /*
- * host/names.h: the names of plugins and node types (docs/sdk.md "Names").
+ * host/exec/names.h: the names of plugins and node types (docs/sdk.md "Names").
  *
  * Two rules, enforced in two places:
  *

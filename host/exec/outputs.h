@@ -1,5 +1,5 @@
 /*
- * host/outputs.h: all-or-nothing output files (private to the host).
+ * host/exec/outputs.h: all-or-nothing output files (private to the host).
  *
  * Every command that writes files (render and its --profile-json, sweep, diff --heatmap, and
  * the files nodes write: parameters marked LG_ROLE_OUTPUT_FILE) goes through one set of

@@ -53,7 +53,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
             snprintf(g, sizeof g, "n/a");
         else
             snprintf(g, sizeof g, "%.3f", n->prof.gpu_ms);
-        /* the on-disk cache (host.h cache_get): "hit" when the node's result came from it,
+        /* the on-disk cache (exec.h, lg_exec_cache_get): "hit" when the node's result came from it,
          * "miss" when it was computed and stored, both counts when a node did each */
         char k[64];
         if (!n->prof.cache_hits && !n->prof.cache_misses)

@@ -1,4 +1,4 @@
-/* Plugin discovery, scanning (in a child process) and loading. See host.h. */
+/* Plugin discovery, scanning (in a child process) and loading. See exec.h. */
 #include "exec/exec.h"
 
 #include <dirent.h>

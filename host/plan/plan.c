@@ -256,7 +256,7 @@ static void attach(lg_exec *ex, lg_pnode *n, uint32_t index)
     n->pub.name = n->c->g->name;
 }
 
-/* Node i of ex, about to be prepared: the node of ex->prev it can be instead, or NULL.
+/* Node i of ex, about to be prepared: the node of ex->viewer.prev it can be instead, or NULL.
  * Same identity before prepare (plugin, version, type, parameters, inputs' identities: a
  * content key is added in prepare, which an adopted node does not run again; a file the
  * node read is not read again either, see docs/viewer.md),

@@ -13,8 +13,8 @@
 /* Makes the plan: cull (kept only what an output or a side-effect node needs), then in
  * topological order: gate by scene features, load plugins, create and prepare. */
 int lg_plan(lg_exec *ex);
-/* After lg_plan with ex->prev: the adopted nodes now belong to ex (the earlier plan may
- * be freed), or go back to ex->prev as they were (ex failed: free it, keep ex->prev). */
+/* After lg_plan with ex->viewer.prev: the adopted nodes now belong to ex (the earlier plan may
+ * be freed), or go back to ex->viewer.prev as they were (ex failed: free it, keep ex->viewer.prev). */
 void lg_plan_commit(lg_exec *ex);
 void lg_plan_rollback(lg_exec *ex);
 

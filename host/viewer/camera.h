@@ -1,5 +1,5 @@
 /*
- * host/viewer_camera.h: the camera the viewer (`lightgraph view`) drives with the mouse and
+ * host/viewer/camera.h: the camera the viewer (`lightgraph view`) drives with the mouse and
  * keyboard, overriding the scene's active camera (lightgraph/scene.h lg_camera).
  *
  * An lg_vcam is a look-at camera: position, target and up in world space, with the

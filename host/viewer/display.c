@@ -1,4 +1,4 @@
-/* The viewer's display pass and text overlay (host/viewer_display.h). */
+/* The viewer's display pass and text overlay (host/viewer/display.h). */
 #include "viewer/display.h"
 
 #include <math.h>

@@ -40,7 +40,7 @@
  * GL state. Each draw sets what it needs (framebuffer, viewport, program, vertex array,
  * textures and samplers on units 0 and 1, blending, colour mask; scissor, depth and
  * stencil tests, culling, dithering and GL_FRAMEBUFFER_SRGB off) and leaves the state the
- * host's contract wants after a node (host/device.h, lg_gl_state_check): framebuffer 0,
+ * host's contract wants after a node (host/exec/device.h, lg_gl_state_check): framebuffer 0,
  * program 0, vertex array 0, no buffer on the generic binding points, texture units 0 and
  * 1 and their samplers unbound, active texture unit 0, image units untouched; blending
  * disabled with glBlendFunc(GL_ONE, GL_ZERO), dithering enabled (lg_gl_state_reset's

@@ -1,6 +1,6 @@
 /* host/viewer/load.c: a change to what the viewer shows. Every change (a parameter key, a
  * method switch, an edit of the graph, a rebuilt plugin) loads the graph again: parse,
- * --set and the overrides, check, plan with the previous plan as ex->prev (the planner
+ * --set and the overrides, check, plan with the previous plan as ex->viewer.prev (the planner
  * adopts the nodes whose identity, plugin and inputs are unchanged, with their resources,
  * caches and state), and run one frame. The new plan replaces the old only once that frame
  * ran; otherwise it is rolled back and the old one goes on showing the last good frame,

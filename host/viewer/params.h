@@ -1,5 +1,5 @@
 /*
- * host/viewer_params.h: live parameters, overrides and method switching for `lightgraph
+ * host/viewer/params.h: live parameters, overrides and method switching for `lightgraph
  * view` (private to the host; issue 12 item 3).
  *
  * Nothing here changes a graph. Every edit is produced as an assignment "NODE.KEY=VALUE"

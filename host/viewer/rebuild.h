@@ -1,5 +1,5 @@
 /*
- * host/rebuild.h: `ninja -C DIR` in the background (private), for `lightgraph view` in a
+ * host/viewer/rebuild.h: `ninja -C DIR` in the background (private), for `lightgraph view` in a
  * development build: a shader edited under shaders/ is re-embedded and the plugins that use
  * it relinked by the build tool while the viewer keeps drawing; the rebuilt .so files are
  * then seen by the plugin watch (watch.h) and reloaded.

@@ -1,5 +1,5 @@
 /*
- * host/viewer_script.h: the --script files that drive `lightgraph view` (the tests run the
+ * host/viewer/script.h: the --script files that drive `lightgraph view` (the tests run the
  * viewer under Xvfb with them; docs/viewer.md carries the grammar).
  *
  * A script is a text file of one event per line. Tokens are separated by spaces or tabs;

@@ -1,5 +1,5 @@
 /*
- * host/watch.h: files watched for changes through inotify (private), for `lightgraph view`'s
+ * host/viewer/watch.h: files watched for changes through inotify (private), for `lightgraph view`'s
  * hot reload. Linux only.
  *
  * A watcher holds registrations, each under a caller's tag: exact files (lg_watch_files)

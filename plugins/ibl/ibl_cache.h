@@ -2,7 +2,7 @@
  * plugins/ibl/ibl_cache.h: the payload of the ibl node's cache entry, its GGX chain (a
  * cube's prefiltered mip levels, README.md "Cache"), apart from the node so that
  * tests/fuzz/fuzz_cache_kinds.c reads arbitrary bytes with it (docs/fuzzing.md). The
- * host's envelope (host/cache_entry.c) holds this payload: the header below, then the
+ * host's envelope (host/exec/cache_entry.c) holds this payload: the header below, then the
  * chain's floats, in the machine's byte order.
  */
 #ifndef LG_IBL_CACHE_H

@@ -1,7 +1,7 @@
 /*
  * plugins/prt_bake/pb_cache.h: the payload of prt_bake's and prt_reference's cache entries
  * (README.md, "Cache"), apart from the bake so that tests/fuzz/fuzz_cache_kinds.c reads
- * arbitrary bytes with it (docs/fuzzing.md). The host's envelope (host/cache_entry.c) holds
+ * arbitrary bytes with it (docs/fuzzing.md). The host's envelope (host/exec/cache_entry.c) holds
  * this payload: the header below, then `floats` floats, in the machine's byte order.
  */
 #ifndef LG_PB_CACHE_H

@@ -1,7 +1,7 @@
 /*
  * tests/common/cache_forge.h: forged cache entries, header-only (#include "common/cache_forge.h").
  *
- * The host's cache checksums each entry with FNV-1a (host/cache_entry.c), which anyone who
+ * The host's cache checksums each entry with FNV-1a (host/exec/cache_entry.c), which anyone who
  * can write into the cache directory can recompute: these helpers do what such a writer
  * would, so that a test can show a reader rejects values its node cannot have made even
  * when the entry is well formed.
@@ -15,7 +15,7 @@
  *                                             message on stderr
  *   cache_forge_floats(path, skip)            the number of floats after the node's header
  *
- * The entry format (host/cache_entry.c): "LGCACHE\1" | u32 version | 16 bytes identity |
+ * The entry format (host/exec/cache_entry.c): "LGCACHE\1" | u32 version | 16 bytes identity |
  * u32 key length | key | u64 payload size | u64 checksum (FNV-1a 64, seed 0) | payload.
  */
 #ifndef LG_TEST_CACHE_FORGE_H

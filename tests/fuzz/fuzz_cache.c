@@ -1,5 +1,5 @@
 /*
- * tests/fuzz/fuzz_cache.c: the cache's entry check (host/cache_entry.c) on arbitrary bytes.
+ * tests/fuzz/fuzz_cache.c: the cache's entry check (host/exec/cache_entry.c) on arbitrary bytes.
  *
  * An entry read back from the cache directory is untrusted: anyone who can write there, a
  * crash mid-write or a full disk can leave any bytes. For every input:

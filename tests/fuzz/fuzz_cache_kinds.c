@@ -3,7 +3,7 @@
  * writes, on arbitrary bytes: prt_bake's transfer ("lgprtb1") and prt_reference's
  * per-vertex radiance ("lgprtr1"), both plugins/prt_bake/pb_cache.c (pb_cache_read), and
  * the ibl node's GGX prefilter chain ("lgibl01", plugins/ibl/ibl_cache.c:
- * ibl_chain_read). fuzz_cache covers the host's envelope around them (host/cache_entry.c);
+ * ibl_chain_read). fuzz_cache covers the host's envelope around them (host/exec/cache_entry.c);
  * a payload reaches these readers once the envelope's checksum and key agree, so it is
  * whatever a build or version of the plugin wrote, or anyone who can write the cache.
  *

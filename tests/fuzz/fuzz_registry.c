@@ -1,5 +1,5 @@
 /*
- * tests/fuzz/fuzz_registry.c: the plugin registry's scan-result decoder (host/registry.c,
+ * tests/fuzz/fuzz_registry.c: the plugin registry's scan-result decoder (host/exec/registry.c,
  * lg_registry_decode) on arbitrary bytes.
  *
  * The scan result is what the scanning child writes through the pipe after loading a

@@ -1,5 +1,5 @@
 /*
- * tests/fuzz/fuzz_script.c: the viewer's --script parser (host/viewer_script.c:
+ * tests/fuzz/fuzz_script.c: the viewer's --script parser (host/viewer/script.c:
  * lg_script_parse, what lg_script_load runs on the file's text) on arbitrary bytes.
  *
  * For every input, parsed as the script "fuzz.script" in the folder "/fuzz/dir":

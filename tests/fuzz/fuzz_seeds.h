@@ -6,7 +6,7 @@
 #ifndef LG_FUZZ_SEEDS_H
 #define LG_FUZZ_SEEDS_H
 
-/* An lg_digest (host/util.h) initialiser, and a key with the characters real keys use. */
+/* An lg_digest (host/base/util.h) initialiser, and a key with the characters real keys use. */
 #define LG_FUZZ_CACHE_IDENTITY {{0x0123456789abcdefull, 0xfedcba9876543210ull}}
 #define LG_FUZZ_CACHE_KEY "bvh/v2 leaf=4"
 

@@ -1,5 +1,5 @@
 /*
- * tests/fuzz/fuzz_sweep.c: the command line of `lightgraph sweep` (host/sweep_args.c:
+ * tests/fuzz/fuzz_sweep.c: the command line of `lightgraph sweep` (host/cli/sweep_args.c:
  * lg_sweep_parse_args) on arbitrary argument lists.
  *
  * The input is the arguments after "sweep", one per line ('\n' ends each; a last line

@@ -596,7 +596,7 @@ int lg_test_render(lg_test *t, const char *graph, const char *const *args, char 
 
 bool lg_test_output_says_no_device(const char *out)
 {
-    /* the host's wording (host/hostapi.c, lightgraph devices) */
+    /* the host's wording (host/exec/hostapi.c, lightgraph devices) */
     return out && (strstr(out, "no OpenGL 4.5 device") || strstr(out, "no OpenCL device"));
 }
 

@@ -1,6 +1,6 @@
 /* Test plugin "testcrash": a pass-through node that crashes on demand, so that the tests
  * (tests/unit/host/test_crash.py) can show how `render` and `sweep` report a plugin's crash
- * (host/exec.c, LG_GUARD_EXIT): the node, its type, its plugin and the signal named, exit
+ * (host/exec/exec.c, LG_GUARD_EXIT): the node, its type, its plugin and the signal named, exit
  * status 3, no output file and no temporary left.
  *
  *   test_crash { image = X, phase = "execute", signal = "segv", on_pool = false,

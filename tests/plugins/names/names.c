@@ -1,4 +1,4 @@
-/* Test plugins for unique names (host/names.h, tests/unit/host/test_names.py): one source,
+/* Test plugins for unique names (host/exec/names.h, tests/unit/host/test_names.py): one source,
  * built once per variant into a folder of its own, so that each test puts exactly the
  * plugins it needs on LIGHTGRAPH_PLUGIN_PATH.
  *

@@ -4,7 +4,7 @@
  * point, adaptation and the bad-pixel policy; then the plugin's fast float passes
  * (plugins/reinhard/reinhard_cpu.c) against the oracle, its logarithm against libm's, and
  * its threaded passes for bit-identical results with pools of 1, 2 and 7 threads
- * (host/pool.c, the pool behind lg_parallel_for) and for rgba16f input. test_reinhard.c
+ * (host/base/pool.c, the pool behind lg_parallel_for) and for rgba16f input. test_reinhard.c
  * then checks every backend through the host.
  */
 #include <float.h>

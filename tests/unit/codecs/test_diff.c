@@ -1,5 +1,5 @@
 /*
- * `lightgraph diff` (host/cmd_diff.c), called in-process with stdout and stderr captured:
+ * `lightgraph diff` (host/cli/diff.c), called in-process with stdout and stderr captured:
  * text and JSON output, thresholds, heat maps, and the exit statuses (0, 1, 2); pixels
  * with NaN or Inf counted per image and failing unless --ignore-nonfinite (an all-NaN B
  * once read "RMSE 0, PSNR inf (no difference)" with exit 0).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where the on-disk cache lives, and when it is refused (issue 8; host/cache.c, docs/sdk.md).
+"""Where the on-disk cache lives, and when it is refused (issue 8; host/exec/cache.c, docs/sdk.md).
 
 usage: test_cache_dir.py TEST_NAME   (meson runs each test as its own case)
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A plugin's crash during `render` and `sweep` (host/exec.c, LG_GUARD_EXIT): the message
+"""A plugin's crash during `render` and `sweep` (host/exec/exec.c, LG_GUARD_EXIT): the message
 names the node, its type, its plugin and its file, the callback and the signal; the exit
 status is 3; no output file is made, a previous one is left as it was, and no temporary is
 left (the outputs', a node's own file's, --profile-json's).

@@ -412,7 +412,7 @@ def test_exit_status():
 
 
 def test_size_option():
-    """--size is read by one parser in render, sweep and view (host/util.c lg_parse_size):
+    """--size is read by one parser in render, sweep and view (host/base/util.c lg_parse_size):
     WxH with each side 1..16384 and nothing else; anything else exits 2 naming the option
     and the value, before any work (view: before it looks for a display)."""
     g = fog_graph("1")

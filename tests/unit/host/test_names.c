@@ -1,4 +1,4 @@
-/* host/names.h and the registry's unique names, in process:
+/* host/exec/names.h and the registry's unique names, in process:
  *
  *   test_names rule                     lg_name_rule_ok, case by case (what conform calls)
  *   test_names shipped_list SRC BUILD   lg_shipped_plugins is exactly the folders of
@@ -146,7 +146,7 @@ static void test_shipped_list(const char *src, const char *build)
         const char *l = i < n_list ? lg_shipped_plugins[i] : "(none)";
         CHECKF(strcmp(f, l) == 0,
                "entry %zu: plugins/%s defines a plugin, lg_shipped_plugins has '%s' "
-               "(host/names.c: one line per folder of plugins/ that builds a plugin)", i, f,
+               "(host/exec/names.c: one line per folder of plugins/ that builds a plugin)", i, f,
                l);
     }
     /* each built plugin declares its folder's name */

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Unique names through the real program (host/names.h, docs/sdk.md "Names"): two plugins
+"""Unique names through the real program (host/exec/names.h, docs/sdk.md "Names"): two plugins
 with one name, or two node types with one name, are never both loaded; the one found later
 is refused with both paths, at the default verbosity; lightgraph's own plugins are taken
 before any other; the search goes one folder deep, no deeper; `plugins` names each file.

@@ -1,5 +1,5 @@
 /*
- * host/pool.c: the thread pool behind lg_host_api.parallel_for.
+ * host/base/pool.c: the thread pool behind lg_host_api.parallel_for.
  *
  *   chunks        every index of [0, n) visited exactly once, chunk c = [c g, min(n, (c+1) g))
  *                 for pools of 1, 2, 7 and many sizes of n and grain

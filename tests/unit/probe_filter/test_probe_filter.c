@@ -25,7 +25,7 @@
  *                n = v but for sampling) the error at 1024 is below 2% and below half the
  *                error at 16; with the default n.l weighting it converges to the
  *                weighting's bias, below 12% here (measured 1.4% and 9%)
- *   threads      a real thread pool (host/pool.c behind a node's parallel_for, 2 and 7
+ *   threads      a real thread pool (host/base/pool.c behind a node's parallel_for, 2 and 7
  *                threads) gives the same bits as no pool
  */
 #include <float.h>

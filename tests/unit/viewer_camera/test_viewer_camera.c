@@ -1,5 +1,5 @@
 /*
- * The viewer's camera controller (host/viewer_camera.c).
+ * The viewer's camera controller (host/viewer/camera.c).
  *
  *   test_viewer_camera          the laws: orbit (a full-height drag is 180 degrees about the
  *                               target, distance kept; pitch stops short of the poles after

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The viewer's camera as a graph node (host/viewer_camera.h, lg_vcam_node_text), through the
+"""The viewer's camera as a graph node (host/viewer/camera.h, lg_vcam_node_text), through the
 real program and the real scene_tools `camera` node.
 
 test_viewer_camera cases prints cameras the controller made (look_at as given, after orbit and

@@ -1,4 +1,4 @@
-/* The viewer's display (host/viewer_display.c) on an OSMesa context, drawing into an RGBA8
+/* The viewer's display (host/viewer/display.c) on an OSMesa context, drawing into an RGBA8
  * framebuffer object read back with glReadPixels. argv[1] is the case:
  *   image      float textures (below 0, in (0,1), above 1, NaN, +-Inf) at 1:1 size for two
  *              exposures, and an RGBA8 one: each pixel is png.c's encoding of

@@ -1,6 +1,6 @@
 /*
  * tests/unit/viewer_params/test_viewer_params.c: the viewer's live parameters
- * (host/viewer_params.c) against the real parser and checker: every assignment a step
+ * (host/viewer/params.c) against the real parser and checker: every assignment a step
  * produces is applied with lg_graph_set and checked with lg_graph_check, as `lightgraph
  * view` does, and the checked value is compared with the one expected.
  *

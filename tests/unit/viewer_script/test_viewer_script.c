@@ -1,5 +1,5 @@
 /*
- * The viewer's --script parser (host/viewer_script.c): every event with its fields, paths
+ * The viewer's --script parser (host/viewer/script.c): every event with its fields, paths
  * resolved against the script's folder, key names and modifiers, comments and blank lines,
  * and every error with its line: unknown event, bad number, N = 0, negative frames, unknown
  * key, modifier or button, a missing argument, trailing tokens, a wrong screenshot

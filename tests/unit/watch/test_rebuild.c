@@ -1,5 +1,5 @@
 /*
- * host/rebuild.c: the background build, run here with LIGHTGRAPH_REBUILD naming scripts in
+ * host/viewer/rebuild.c: the background build, run here with LIGHTGRAPH_REBUILD naming scripts in
  * the test's temporary directory.
  *
  *   status        a script that prints (stdout and stderr), sleeps 0.2 s and exits 3: poll

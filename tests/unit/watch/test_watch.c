@@ -1,5 +1,5 @@
 /*
- * host/watch.c: files watched through inotify, reported after a quiet period.
+ * host/viewer/watch.c: files watched through inotify, reported after a quiet period.
  *
  * Most checks drive lg_watch_poll with a made-up clock (the module only knows the `now` it
  * is given, and inotify queues an event before the system call that caused it returns), so
