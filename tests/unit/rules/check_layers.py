@@ -18,7 +18,8 @@ that finds nothing cannot pass by accident.
 import os
 import re
 import sys
-import tempfile
+
+import rulecheck
 
 LAYERS = ["base", "graph", "exec", "plan", "viewer", "cli"]
 RANK = {name: i for i, name in enumerate(LAYERS)}
@@ -94,47 +95,23 @@ def check(root):
 
 
 def self_test():
-    with tempfile.TemporaryDirectory() as tmp:
-        def put(rel, text):
-            p = os.path.join(tmp, rel)
-            os.makedirs(os.path.dirname(p), exist_ok=True)
-            with open(p, "w", encoding="utf-8") as f:
-                f.write(text)
-        for layer in LAYERS:
-            put(f"host/{layer}/{layer}.h", "\n")
-        put("host/main.c", '#include "cli/cli.h"\n')
-        put("host/stray.c", "\n")
-        put("host/graph/parse.c", '#include "graph/graph.h"\n#include "exec/exec.h"\n')
-        put("host/exec/cache.c", '#include "exec.h"\n')
-        put("tests/unit/x/meson.build", "executable('t', '../../../host/exec/cache.c')\n")
-        found = check(tmp)
-        want = ["host/stray.c", "host/graph/parse.c:2", "host/exec/cache.c:1",
-                "tests/unit/x/meson.build:1"]
-        missing = [w for w in want if not any(p.startswith(w) for p in found)]
-        if missing or len(found) != len(want):
-            print("check_layers self-test failed: expected a problem at each of", want,
-                  "got", found, file=sys.stderr)
-            return False
-    return True
-
-
-def main():
-    if len(sys.argv) != 2:
-        print("usage: check_layers.py SOURCE_ROOT", file=sys.stderr)
-        return 2
-    if not self_test():
-        return 1
-    problems = check(sys.argv[1])
-    for p in problems:
-        print(p)
-    if problems:
-        print(f"{len(problems)} layering problem(s); the layers are in docs/architecture.md",
-              file=sys.stderr)
-        return 1
-    print("host layers: base < graph < exec < plan < viewer < cli, no include upward, "
-          "no host source compiled by path outside host/")
-    return 0
+    files = {f"host/{layer}/{layer}.h": "\n" for layer in LAYERS}
+    files.update({
+        "host/main.c": '#include "cli/cli.h"\n',
+        "host/stray.c": "\n",
+        "host/graph/parse.c": '#include "graph/graph.h"\n#include "exec/exec.h"\n',
+        "host/exec/cache.c": '#include "exec.h"\n',
+        "tests/unit/x/meson.build": "executable('t', '../../../host/exec/cache.c')\n",
+    })
+    want = ["host/stray.c", "host/graph/parse.c:2", "host/exec/cache.c:1",
+            "tests/unit/x/meson.build:1"]
+    return rulecheck.expect_findings("check_layers", check, files, want,
+                                     lambda p, w: p.startswith(w))
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(rulecheck.main(
+        "check_layers", check, self_test,
+        lambda n: f"{n} layering problem(s); the layers are in docs/architecture.md",
+        "host layers: base < graph < exec < plan < viewer < cli, no include upward, "
+        "no host source compiled by path outside host/"))

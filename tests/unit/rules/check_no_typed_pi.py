@@ -19,7 +19,8 @@ finds nothing cannot pass by accident.
 import os
 import re
 import sys
-import tempfile
+
+import rulecheck
 
 FOLDERS = ["sdk", "host", "plugins", "tests", "tools"]
 EXEMPT = {os.path.join("sdk", "include", "lightgraph", "vecmath.h")}
@@ -68,47 +69,23 @@ def check(root):
 
 
 def self_test():
-    with tempfile.TemporaryDirectory() as tmp:
-        def put(rel, text):
-            p = os.path.join(tmp, rel)
-            os.makedirs(os.path.dirname(p), exist_ok=True)
-            with open(p, "w", encoding="utf-8") as f:
-                f.write(text)
-        put("sdk/include/lightgraph/vecmath.h", "#define LG_PI 3.14159265358979323846\n")
-        put("plugins/x/x.c", "/* 3.14159 */\nconst char *s = \"M_PI\";\n"
-                             "float q = 0.78539816f;\n")
-        put("tests/unit/y/y.c", "#define PI_D 3.14159265358979323846\n"
-                                "double a = 2 * M_PI;\n")
-        put("tools/z.cpp", "double t = 6.283185307179586;\n")
-        put("host/ok.c", "#define MAX_PIXELS 4096\ndouble x = 13.14159, y = LG_PI;\n")
-        put("shaders/k.cl", "#define K_PI 3.14159265f\n")
-        found = check(tmp)
-        want = ["plugins/x/x.c:3", "tests/unit/y/y.c:1", "tests/unit/y/y.c:1", "tests/unit/y/y.c:2",
-                "tools/z.cpp:1"]
-        got = sorted(p.split(": ", 1)[0] for p in found)
-        if got != sorted(want):
-            print("check_no_typed_pi self-test failed: expected findings at", want, "got", found,
-                  file=sys.stderr)
-            return False
-    return True
-
-
-def main():
-    if len(sys.argv) != 2:
-        print("usage: check_no_typed_pi.py SOURCE_ROOT", file=sys.stderr)
-        return 2
-    if not self_test():
-        return 1
-    problems = check(sys.argv[1])
-    for p in problems:
-        print(p)
-    if problems:
-        print(f"{len(problems)} pi typed out; lightgraph/vecmath.h has LG_PI, LG_TWO_PI, "
-              f"LG_HALF_PI, LG_INV_PI, LG_INV_TWO_PI, LG_INV_FOUR_PI, LG_PIF", file=sys.stderr)
-        return 1
-    print("no pi typed out in the C and C++ of sdk/, host/, plugins/, tests/, tools/")
-    return 0
+    files = {}
+    files["sdk/include/lightgraph/vecmath.h"] = ("#define LG_PI 3.14159265358979323846\n")
+    files["plugins/x/x.c"] = ("/* 3.14159 */\nconst char *s = \"M_PI\";\n"
+                         "float q = 0.78539816f;\n")
+    files["tests/unit/y/y.c"] = ("#define PI_D 3.14159265358979323846\n"
+                            "double a = 2 * M_PI;\n")
+    files["tools/z.cpp"] = ("double t = 6.283185307179586;\n")
+    files["host/ok.c"] = ("#define MAX_PIXELS 4096\ndouble x = 13.14159, y = LG_PI;\n")
+    files["shaders/k.cl"] = ("#define K_PI 3.14159265f\n")
+    want = ["plugins/x/x.c:3", "tests/unit/y/y.c:1", "tests/unit/y/y.c:1", "tests/unit/y/y.c:2",
+            "tools/z.cpp:1"]
+    return rulecheck.expect_findings("check_no_typed_pi", check, files, want,
+                                     lambda p, w: p.split(": ", 1)[0] == w)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(rulecheck.main("check_no_typed_pi", check, self_test,
+                            lambda n: f"{n} pi typed out; lightgraph/vecmath.h has LG_PI, LG_TWO_PI, "
+                            f"LG_HALF_PI, LG_INV_PI, LG_INV_TWO_PI, LG_INV_FOUR_PI, LG_PIF",
+                            "no pi typed out in the C and C++ of sdk/, host/, plugins/, tests/, tools/"))

@@ -23,7 +23,8 @@ that finds nothing cannot pass by accident.
 import os
 import re
 import sys
-import tempfile
+
+import rulecheck
 
 LAYERS = [
     ["image_alloc.c", "half.c", "rgbe.c", "formats.c", "file.c"],
@@ -114,56 +115,27 @@ def check(root):
 
 
 def self_test():
-    with tempfile.TemporaryDirectory() as tmp:
-        def put(rel, text):
-            p = os.path.join(tmp, rel)
-            os.makedirs(os.path.dirname(p), exist_ok=True)
-            with open(p, "w", encoding="utf-8") as f:
-                f.write(text)
-        for name in RANK:
-            put(f"sdk/src/{name}", "/* nothing */\n")
-        put("sdk/src/image_alloc.h", '#include "lightgraph/image.h"\n')
-        put("sdk/src/image.c",
-            "int lg_image_read(const char *p,\n                  int f)\n{\n"
-            "    return lg_hdr_read(p) + lg_image_alloc(p);\n}\n")
-        # a call upward on line 5; the name in a comment and in a string does not count
-        put("sdk/src/hdr.c",
-            '#include "image_priv.h"\n/* lg_image_read( */\nint lg_hdr_read(const char *p)\n'
-            '{ const char *s = "lg_image_read(";\n'
-            '  return lg_image_read(p, 0) + lg_image_alloc(p); }\n')
-        put("sdk/src/image_alloc.c",
-            '#include "image_priv.h"\nint lg_image_alloc(const char *p)\n{\n'
-            '    int (*f)(const char *) = lg_hdr_read;\n    return f(p);\n}\n')
-        put("sdk/src/meson.build",
-            "lg_image_sources = files(\n  'image_alloc.c',\n  'stray.c', # no layer\n)\n")
-        found = check(tmp)
-        want = ["sdk/src/hdr.c:5", "sdk/src/image_alloc.c:1", "sdk/src/image_alloc.c:4",
-                "sdk/src/meson.build:3"]
-        missing = [w for w in want if not any(p.startswith(w + ":") for p in found)]
-        if missing or len(found) != len(want):
-            print("check_sdk_image_layers self-test failed: expected a problem at each of",
-                  want, "got", found, file=sys.stderr)
-            return False
-    return True
-
-
-def main():
-    if len(sys.argv) != 2:
-        print("usage: check_sdk_image_layers.py SOURCE_ROOT", file=sys.stderr)
-        return 2
-    if not self_test():
-        return 1
-    problems = check(sys.argv[1])
-    for p in problems:
-        print(p)
-    if problems:
-        print(f"{len(problems)} layering problem(s); the layers are in sdk/src/image_alloc.h",
-              file=sys.stderr)
-        return 1
-    print("sdk image files: image.c > codecs (exr, exr_cxx, hdr, png, compare) > image_alloc.c "
-          "and the encodings; no call upward")
-    return 0
+    files = {}
+    for name in RANK:
+        files[f"sdk/src/{name}"] = ("/* nothing */\n")
+    files["sdk/src/image_alloc.h"] = ('#include "lightgraph/image.h"\n')
+    files["sdk/src/image.c"] = ("int lg_image_read(const char *p,\n                  int f)\n{\n"
+        "    return lg_hdr_read(p) + lg_image_alloc(p);\n}\n")
+    # a call upward on line 5; the name in a comment and in a string does not count
+    files["sdk/src/hdr.c"] = ('#include "image_priv.h"\n/* lg_image_read( */\nint lg_hdr_read(const char *p)\n'
+        '{ const char *s = "lg_image_read(";\n'
+        '  return lg_image_read(p, 0) + lg_image_alloc(p); }\n')
+    files["sdk/src/image_alloc.c"] = ('#include "image_priv.h"\nint lg_image_alloc(const char *p)\n{\n'
+        '    int (*f)(const char *) = lg_hdr_read;\n    return f(p);\n}\n')
+    files["sdk/src/meson.build"] = ("lg_image_sources = files(\n  'image_alloc.c',\n  'stray.c', # no layer\n)\n")
+    want = ["sdk/src/hdr.c:5", "sdk/src/image_alloc.c:1", "sdk/src/image_alloc.c:4",
+            "sdk/src/meson.build:3"]
+    return rulecheck.expect_findings("check_sdk_image_layers", check, files, want,
+                                     lambda p, w: p.startswith(w + ":"))
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(rulecheck.main("check_sdk_image_layers", check, self_test,
+                            lambda n: f"{n} layering problem(s); the layers are in sdk/src/image_alloc.h",
+                            "sdk image files: image.c > codecs (exr, exr_cxx, hdr, png, compare) > image_alloc.c "
+                            "and the encodings; no call upward"))
