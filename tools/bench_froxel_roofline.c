@@ -41,6 +41,7 @@
 #include "cli/commands.h"
 #include "base/pool.h"
 #include "base/util.h"
+#include "lightgraph/vecmath.h"
 
 #ifndef LG_FROXEL_BENCH_EXAMPLES
 #error "LG_FROXEL_BENCH_EXAMPLES (the examples folder) must be defined by the build"
@@ -69,7 +70,7 @@ static int write_graph(const char *path, const char *backend, int lights, const 
     char name[32], prevbuf[32];
     for (int l = 1; l < lights; l++) {
         /* fanned around the sun's [0.3, -0.35, 1]: all shine into the box */
-        double a = 2.0 * 3.14159265358979 * l / (lights - 1);
+        double a = 2.0 * LG_PI * l / (lights - 1);
         snprintf(name, sizeof name, "l%d", l);
         fprintf(f, "%s = light { scene = %s, direction = [%.4f, %.4f, 1], intensity = 1 }\n",
                 name, prev, 0.3 + 0.25 * cos(a), -0.35 + 0.2 * sin(a));

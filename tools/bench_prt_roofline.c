@@ -160,9 +160,9 @@ static void bench_cpu(const bench_data *d, int repeat, bench_row *row)
                         .stride = d->n, .vertices = d->vertices, .out = out };
     lg_pool_run(pool, d->texels, PRT_CPU_GRAIN, cpu_chunk, &job); /* first touch */
     for (int r = 0; r < repeat; r++) {
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         lg_pool_run(pool, d->texels, PRT_CPU_GRAIN, cpu_chunk, &job);
-        ms[r] = (lg_now() - t0) * 1e3;
+        ms[r] = (lg_mono_now() - t0) * 1e3;
     }
     row->skipped = verify(d, out);
     summarise(ms, repeat, row);
@@ -386,12 +386,12 @@ static void bench_gl_comp(const bench_data *d, int repeat, bench_row *row)
     prt_gl_groups(d->texels, &gx, &gy);
     gl->Finish();
     for (int r = -1; r < repeat; r++) {
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         gl->DispatchCompute(gx, gy, 1);
         gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         gl->Finish();
         if (r >= 0)
-            ms[r] = (lg_now() - t0) * 1e3;
+            ms[r] = (lg_mono_now() - t0) * 1e3;
     }
     gl->GetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)((size_t)d->texels * 16), out);
     GLenum err = gl->GetError();
@@ -477,11 +477,11 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
     }
     gl->Finish();
     for (int r = -1; r < repeat && !row->skipped; r++) {
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         gl->DrawArrays(GL_TRIANGLES, 0, 3);
         gl->Finish();
         if (r >= 0)
-            ms[r] = (lg_now() - t0) * 1e3;
+            ms[r] = (lg_mono_now() - t0) * 1e3;
     }
     gl->GetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)((size_t)d->texels * 16), out);
     GLenum err = gl->GetError();

@@ -122,13 +122,13 @@ static int bench_cpu(const lg_image *img, int repeat)
     lg_rh_stats s;
     lg_rh_cpu_map(&in, out, img->width, 1.0f, &params, pfor, pool); /* first touch */
     for (int r = 0; r < repeat; r++) {
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         lg_rh_cpu_reduce(&in, &params, slots, pfor, pool, &s);
-        double t1 = lg_now();
+        double t1 = lg_mono_now();
         double lavg = 1.0;
         lg_rh_log_average(&s, &lavg);
         lg_rh_cpu_map(&in, out, img->width, (float)(0.18 / lavg), &params, pfor, pool);
-        double t2 = lg_now();
+        double t2 = lg_mono_now();
         t_red[r] = (t1 - t0) * 1e3;
         t_map[r] = (t2 - t1) * 1e3;
         t_all[r] = (t2 - t0) * 1e3;
@@ -351,7 +351,7 @@ static void bench_gl(const lg_image *img, int repeat)
     uint32_t cols = rh_gl_cols(w), rows = rh_gl_rows(w, h);
     gl->Finish();
     for (int r = -1; r < repeat; r++) {
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         /* as rh_execute_gl dispatches them */
         gl->UseProgram(p1);
         gl->BindImageTexture(0, tex[0], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
@@ -372,7 +372,7 @@ static void bench_gl(const lg_image *img, int repeat)
         gl->DispatchCompute(1, 1, 1);
         gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         gl->Finish();
-        double t1 = lg_now();
+        double t1 = lg_mono_now();
         gl->UseProgram(pm);
         gl->BindImageTexture(1, tex[1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         gl->Uniform2i(0, (GLint)w, (GLint)h);
@@ -380,10 +380,10 @@ static void bench_gl(const lg_image *img, int repeat)
         gl->Uniform1i(3, 0);
         gl->Uniform3f(4, params.w[0], params.w[1], params.w[2]);
         gl->DispatchCompute((w + RH_GL_MAP_X - 1) / RH_GL_MAP_X, (h + RH_GL_MAP_Y - 1) / RH_GL_MAP_Y, 1);
-        double t_issued = lg_now();
+        double t_issued = lg_mono_now();
         gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         gl->Finish();
-        double t2 = lg_now();
+        double t2 = lg_mono_now();
         if (getenv("LG_BENCH_VERBOSE"))
             fprintf(stderr, "gl: reduce %.3f ms; map dispatch returned after %.3f ms, "
                             "finished after %.3f ms\n",

@@ -50,9 +50,9 @@ int lg_bench_triad(lg_pool *pool, size_t mib, int repeat, const char *prog, doub
     lg_pool_run(pool, n, grain, triad_run, &t);  /* warm-up */
     double best = 0;
     for (int r = 0; r < repeat; r++) {
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         lg_pool_run(pool, n, grain, triad_run, &t);
-        ms[r] = (lg_now() - t0) * 1e3;
+        ms[r] = (lg_mono_now() - t0) * 1e3;
         if (r == 0 || ms[r] < best)
             best = ms[r];
     }

@@ -36,8 +36,6 @@
 #include "ggx_prefilter.h"
 #include "base/pool.h"
 
-#define PI 3.14159265358979323846
-
 static lg_pool *g_pool;
 
 static uint32_t pool_workers(lg_node *n)
@@ -64,7 +62,7 @@ static double rnd(void)
 
 static lg_vec3 rnd_dir(void)
 {
-    double z = 2.0 * rnd() - 1.0, p = 2.0 * PI * rnd(), s = sqrt(fmax(0.0, 1.0 - z * z));
+    double z = 2.0 * rnd() - 1.0, p = 2.0 * LG_PI * rnd(), s = sqrt(fmax(0.0, 1.0 - z * z));
     return lg_v3((float)(s * cos(p)), (float)(s * sin(p)), (float)z);
 }
 
@@ -75,9 +73,9 @@ static lg_vec3 view_at(lg_vec3 n, double deg, uint32_t i)
     lg_vec3 t = lg_v3_cross(n, a);
     t = lg_v3_scale(t, 1.0f / lg_v3_length(t));
     lg_vec3 b = lg_v3_cross(n, t);
-    double ph = 2.0 * PI * (i * 0.618033988749895);
+    double ph = 2.0 * LG_PI * (i * 0.618033988749895);
     lg_vec3 tt = lg_v3_add(lg_v3_scale(t, (float)cos(ph)), lg_v3_scale(b, (float)sin(ph)));
-    double r = deg * PI / 180.0;
+    double r = deg * LG_PI / 180.0;
     return lg_v3_add(lg_v3_scale(n, (float)cos(r)), lg_v3_scale(tt, (float)sin(r)));
 }
 

@@ -400,7 +400,7 @@ void lg_hlog(int level, const char *fmt, ...)
     fputc('\n', stderr);
 }
 
-double lg_now(void)
+double lg_mono_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);

@@ -116,7 +116,7 @@ extern void (*lg_hlog_error_hook)(const char *message);
 extern int64_t lg_test_free_bytes;
 
 /* Monotonic seconds. */
-double lg_now(void);
+double lg_mono_now(void);
 
 /* 64-bit FNV-1a, and a 128-bit-ish digest for cache keys (two independent 64-bit lanes). */
 uint64_t lg_hash64(const void *data, size_t n, uint64_t seed);

@@ -337,9 +337,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
     o->kind = r->kind;
     /* an alias (declare_alias) is its input, written upstream; a neutral stand-in is the
      * host's */
-    bool own = r->producer == n || (r->parent && r->parent->producer == n);
+    bool own = r->producer == n || (r->parts.parent && r->parts.parent->producer == n);
     /* a composite is written through its parts, judged one by one below */
-    o->written = !own || r->neutral || r->cpu_valid || r->gl_valid || r->cl_valid ||
+    o->written = !own || r->neutral || r->copies.cpu_valid || r->copies.gl_valid || r->copies.cl_valid ||
                  lg_kind_is_composite(r->kind);
     char err[512];
     if (r->kind == LG_KIND_IMAGE) {
@@ -363,9 +363,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
                 o->values = true;
             }
         }
-    } else if (r->kind == LG_KIND_BUFFER && r->parent && r->part_type == LG_PART_BUFFER &&
-               (r->parent->kind == LG_KIND_SH || r->parent->kind == LG_KIND_TRANSFER ||
-                r->parent->kind == LG_KIND_PROBE)) {
+    } else if (r->kind == LG_KIND_BUFFER && r->parts.parent && r->parts.type == LG_PART_BUFFER &&
+               (r->parts.parent->kind == LG_KIND_SH || r->parts.parent->kind == LG_KIND_TRANSFER ||
+                r->parts.parent->kind == LG_KIND_PROBE)) {
         /* the float parts: SH and transfer coefficients, solid angles */
         lg_cpu_view v;
         o->w = (uint32_t)(r->buffer.size / sizeof(float)), o->h = o->d = 1;
@@ -379,13 +379,13 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
     } else if (r->kind == LG_KIND_SCENE) {
         o->written = true;
     }
-    if (r->parts) {
+    if (r->parts.list) {
         const lg_kind_desc *kd = lg_kind_describe(r->kind);
-        for (uint32_t i = 0; i < r->n_parts && kd && i < kd->n_parts; i++) {
-            if (!r->parts[i] || kd->parts[i].type == LG_PART_META)
+        for (uint32_t i = 0; i < r->parts.n && kd && i < kd->n_parts; i++) {
+            if (!r->parts.list[i] || kd->parts[i].type == LG_PART_META)
                 continue;
             char *pn = lg_xasprintf("%s.%s", name, kd->parts[i].name);
-            collect(ex, n, r->parts[i], pn, res);
+            collect(ex, n, r->parts.list[i], pn, res);
             free(pn);
         }
     }
@@ -407,10 +407,10 @@ typedef struct cf_run {
 
 static void run_free(cf_run *r, cf_devs *d)
 {
-    if (r->ex.nodes || r->ex.gl || r->ex.cl) {
-        d->gl = r->ex.gl;
-        d->cl = r->ex.cl;
-        d->timer = r->ex.gl_timer_query;
+    if (r->ex.nodes || r->ex.dev.gl || r->ex.dev.cl) {
+        d->gl = r->ex.dev.gl;
+        d->cl = r->ex.dev.cl;
+        d->timer = r->ex.dev.gl_timer_query;
         lg_exec_free(&r->ex);
     }
     lg_checked_free(r->c);
@@ -453,13 +453,13 @@ static int run_plan(cf_ctx *c, const lg_node_type *t, const char *text, uint32_t
     ex->reg = &c->reg;
     ex->graph = r->g;
     ex->checked = r->c;
-    ex->roots = r->roots;
-    ex->n_roots = t->n_outputs;
-    ex->keep_devices = true;
-    ex->gl = d->gl;
-    ex->cl = d->cl;
-    ex->gl_timer_query = d->timer;
-    ex->prev = prev;
+    ex->viewer.roots = r->roots;
+    ex->viewer.n_roots = t->n_outputs;
+    ex->dev.keep = true;
+    ex->dev.gl = d->gl;
+    ex->dev.cl = d->cl;
+    ex->dev.gl_timer_query = d->timer;
+    ex->viewer.prev = prev;
     int rc = lg_plan(ex);
     if (prev) {
         if (rc)
@@ -477,9 +477,9 @@ static int run_frame(cf_run *r, uint32_t frame)
     lg_exec *ex = &r->ex;
     if (lg_exec_frame(ex, frame) || ex->failed)
         return 3;
-    if (ex->gl) {
+    if (ex->dev.gl) {
         char err[1024];
-        const GladGLContext *gl = lg_gl_device_table(ex->gl);
+        const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
         if (lg_gl_state_check(gl, err, sizeof err)) {
             char *m = lg_xasprintf("left GL state behind (see docs/sdk.md, the GL state "
                                    "contract): %s", err);
@@ -503,7 +503,7 @@ static void collect_outputs(cf_run *r, const lg_node_type *t, cf_result *res)
     lg_pnode *n = r->node >= 0 ? r->ex.nodes[r->node] : NULL;
     if (!n)
         return;
-    res->gated = n->state == LG_STATE_GATED;
+    res->gated = n->plan.state == LG_STATE_GATED;
     for (uint32_t o = 0; o < t->n_outputs; o++)
         collect(&r->ex, n, n->outputs[o], t->outputs[o].name, res);
 }
@@ -518,7 +518,7 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
     lg_conform_squeeze_reset();
     if (k->mode == CF_SQUEEZE && !squeeze_by_source)
         lg_image_set_max_pixels(1);
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     res->phase = run_plan(c, t, text, k->w, k->h, d, NULL, &r1, k->mode == CF_FRAMES);
     lg_image_set_max_pixels(limit);
     if (!res->phase && k->mode != CF_GATE) {
@@ -528,12 +528,12 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
                 res->phase = run_frame(&r1, f);
                 if (f + 1 == cf_frames_from) {
                     res->rss0 = rss_bytes();
-                    res->live0 = n->bytes_plugin_live;
+                    res->live0 = n->prof.bytes_plugin_live;
                 }
             }
             res->rss1 = rss_bytes();
-            res->live1 = n->bytes_plugin_live;
-            res->peak = n->bytes_plugin_peak;
+            res->live1 = n->prof.bytes_plugin_live;
+            res->peak = n->prof.bytes_plugin_peak;
         } else {
             res->phase = run_frame(&r1, 0);
         }
@@ -598,7 +598,7 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
         }
         run_free(&r2, d);
     }
-    res->ms = (lg_now() - t0) * 1e3;
+    res->ms = (lg_mono_now() - t0) * 1e3;
     run_free(&r1, d);
     free(text);
     if (child_errors.len)
@@ -915,187 +915,244 @@ static double disagreement(const cf_result *a, const cf_result *b, char *where, 
 }
 
 
-static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, uint32_t n,
-                       cf_result *res)
+/* The check a case of this mode proves, named in a report when the case crashed or failed. */
+static const char *mode_check(const cf_case *k)
 {
-    cf_report *rep = &c->rep;
-    const char *name = t->name;
-    double tol = t->tolerance > 0 ? t->tolerance : 1e-3;
-    const char *fkey = NULL;
-    bool file = needs_file(t, &fkey);
-    /* per backend: did its baseline run? */
-    bool base_ok[8] = {0}, base_skip[8] = {0};
-    char own[300];
-    snprintf(own, sizeof own, "node '%s' (%s)", name, name);
-    int n_fail_before = (int)rep->counts[CF_FAIL];
-    char where[512];
-    for (uint32_t i = 0; i < n; i++) {
-        const cf_case *k = &cases[i];
-        const cf_result *r = &res[i];
-        int bi = k->backend < 0 ? 0 : k->backend;
-        char label[200];
-        case_label(label, sizeof label, t, k);
-        if (!r->done) {
-            report(rep, CF_FAIL, name, "harness", "%s: no result (the child stopped reporting)",
-                   label);
-            continue;
-        }
-        bool first_of_backend = k->baseline && k->w == 7 && k->format == 0;
-        if (r->crashed) {
-            char *ct = crash_text(r, c->timeout);
-            const char *check = k->mode == CF_RUN ? (k->baseline ? "runs" : "hostile")
-                                : k->mode == CF_TWICE ? "determinism"
-                                : k->mode == CF_RESIZE ? "resize"
-                                : k->mode == CF_SQUEEZE ? "failed_prepare"
-                                : k->mode == CF_FRAMES ? "memory" : "gating";
-            report(rep, CF_FAIL, name, check, "%s: %s", label, ct);
-            free(ct);
-            continue;
-        }
-        if (base_skip[bi])
-            continue;
-        if (r->ms > 2000)
-            report(rep, CF_NOTE, name, "time", "%s took %.1f s", label, r->ms / 1e3);
-        if (device_missing(r)) {
-            if (first_of_backend) {
-                base_skip[bi] = true;
-                report(rep, CF_SKIP, name, "runs", "%s: %s", label, r->error);
-            }
-            continue;
-        }
-        if (first_of_backend && r->phase == 0)
-            base_ok[bi] = true;
-        if (k->mode == CF_SQUEEZE) {
-            if (r->phase == 2 && r->error && strstr(r->error, own))
-                report(rep, CF_PASS, name, "failed_prepare",
-                       "%s: prepare failed (%s), destroy ran without a crash", label,
-                       r->error ? r->error : "no message");
-            else if (base_ok[bi])
-                report(rep, CF_NOTE, name, "failed_prepare",
-                       "%s: a one-pixel limit did not make its prepare fail (%s); not checked",
-                       label, r->phase == 0 ? "it declares no image larger than a pixel"
-                              : r->error ? r->error : "no message");
-            continue;
-        }
-        if (k->mode == CF_GATE) {
-            if (r->phase)
-                report(rep, CF_FAIL, name, "gating", "%s: the plan failed instead of gating "
-                       "the node (%s): %s", label, phase_text(r->phase),
-                       r->error ? r->error : "no message");
-            else if (!r->gated)
-                report(rep, CF_FAIL, name, "gating", "%s: the node declares needs 0x%x and was "
-                       "not gated on a scene that lacks them", label, t->needs);
-            else
-                report(rep, CF_PASS, name, "gating", "%s: gated (needs 0x%x)", label, t->needs);
-            continue;
-        }
-        bool hostile = k->mode == CF_RUN && !k->baseline;
-        if (r->phase) {
-            const char *check = error_check(r->error);
-            if (strcmp(check, "runs") != 0) {
-                report(rep, CF_FAIL, name, check, "%s: %s", label, r->error);
-            } else if (hostile) {
-                if (k->scene == LG_CONFORM_SCENE_UNLIT && t->needs == 0 &&
-                    has_input(t, LG_KIND_SCENE))
-                    /* geometry without lights, medium, probe or specular and reflective
-                     * terms: what the needs flags describe; a node that cannot work
-                     * without one of them says so in `needs`, and is gated (an error on
-                     * the empty scene, with no geometry at all, is a clear error) */
-                    report(rep, CF_FAIL, name, "gating",
-                           "%s: %s on a scene with geometry and no lights, medium, probe or "
-                           "specular or reflective material, and the node declares no needs "
-                           "(lg_node_type.needs) for the planner to gate it by: %s", label,
-                           phase_text(r->phase), r->error ? r->error : "no message");
-                else if (!r->error)
-                    report(rep, CF_FAIL, name, "hostile", "%s: %s without an error message",
-                           label, phase_text(r->phase));
-                else
-                    report(rep, CF_PASS, name, "hostile", "%s: refused with an error: %s",
-                           label, r->error);
-            } else if (k->mode == CF_RUN && k->format != 0 && r->phase == 2 && r->error) {
-                report(rep, CF_NOTE, name, "runs", "%s: not accepted: %s", label, r->error);
-            } else if (file && first_of_backend) {
-                base_skip[bi] = true;
-                report(rep, CF_SKIP, name, "runs", "%s: parameter '%s' names a file and has no "
-                       "default, so conform cannot run it (%s: %s)", label, fkey,
-                       phase_text(r->phase), r->error ? r->error : "no message");
-            } else if (k->mode == CF_RUN || base_ok[bi]) {
-                report(rep, CF_FAIL, name, k->mode == CF_RUN ? "runs"
-                       : k->mode == CF_TWICE ? "determinism" : k->mode == CF_RESIZE ? "resize"
-                       : "memory", "%s: %s: %s", label, phase_text(r->phase),
-                       r->error ? r->error : "no message");
-            }
-            continue;
-        }
-        /* it ran */
-        if (r->gated && k->mode != CF_GATE)
-            report(rep, CF_NOTE, name, "gating", "%s: gated by the planner (needs 0x%x), so "
-                   "not run", label, t->needs);
-        for (uint32_t o = 0; o < r->n_outs; o++)
-            if (!r->outs[o].written)
-                report(rep, CF_FAIL, name, "outputs", "%s: output '%s' was declared and never "
-                       "written on any device", label, r->outs[o].name);
-        uint64_t bad = nonfinite(r, where, sizeof where);
-        if (k->mode == CF_RUN && k->baseline) {
-            if (bad)
-                report(rep, CF_FAIL, name, "finite", "%s: %llu values not finite on finite "
-                       "input; first: %s", label, (unsigned long long)bad, where);
-        } else if (hostile) {
-            bool contained = k->pattern == LG_CONFORM_NAN || k->pattern == LG_CONFORM_INF;
-            /* one bad input pixel may stay one bad pixel per output; it must not spread */
-            uint64_t allowed = contained ? 4u * r->n_outs : 0;
-            if (bad > allowed)
-                report(rep, CF_FAIL, name, "hostile", "%s: %llu values not finite (at most %llu "
-                       "allowed: %s); first: %s", label, (unsigned long long)bad,
-                       (unsigned long long)allowed,
-                       contained ? "the one non-finite input pixel, not spread" : "finite input",
-                       where);
-            else if (bad)
-                report(rep, CF_PASS, name, "hostile", "%s: %llu non-finite values, where the "
-                       "input's bad pixel was", label, (unsigned long long)bad);
-            else
-                report(rep, CF_PASS, name, "hostile", "%s: finite output", label);
-        }
-        if (k->mode == CF_TWICE) {
-            if (r->diff_count)
-                report(rep, CF_FAIL, name, "determinism", "%s: two runs differ in %llu values, "
-                       "largest difference %.6g at %s", label,
-                       (unsigned long long)r->diff_count, r->diff_max,
-                       r->diff_where ? r->diff_where : "?");
-            else
-                report(rep, CF_PASS, name, "determinism", "%s: identical", label);
-        }
-        if (k->mode == CF_RESIZE) {
-            if (r->resize_bad)
-                report(rep, CF_FAIL, name, "resize", "%s: %s", label, r->resize_bad);
-            else
-                report(rep, CF_PASS, name, "resize", "%s: prepared again at the new size",
-                       label);
-        }
-        if (k->mode == CF_FRAMES) {
-            int64_t grow = (int64_t)r->rss1 - (int64_t)r->rss0;
-            if (r->live1 > r->live0)
-                report(rep, CF_FAIL, name, "memory", "%s: the profile's live plugin memory "
-                       "(bytes_plugin_live) grew from %llu bytes after frame %u to %llu after "
-                       "frame %u (peak %llu): lg_account_alloc without lg_account_free",
-                       label, (unsigned long long)r->live0, cf_frames_from,
-                       (unsigned long long)r->live1, cf_frames_n, (unsigned long long)r->peak);
-            else if (grow > (int64_t)cf_rss_slack)
-                report(rep, CF_FAIL, name, "memory", "%s: %s grew by %.1f MiB "
-                       "from frame %u to frame %u (%.2f MiB a frame; %u MiB allowed in all)",
-                       label, cf_mem_what, (double)grow / 1048576.0, cf_frames_from, cf_frames_n,
-                       (double)grow / 1048576.0 / (cf_frames_n - cf_frames_from),
-                       (unsigned)(cf_rss_slack >> 20));
-            else
-                report(rep, CF_PASS, name, "memory", "%s: %s %+.2f MiB, plugin live %llu "
-                       "-> %llu bytes over frames %u..%u", label, cf_mem_what,
-                       (double)grow / 1048576.0,
-                       (unsigned long long)r->live0, (unsigned long long)r->live1,
-                       cf_frames_from, cf_frames_n);
-        }
+    switch (k->mode) {
+    case CF_RUN: return k->baseline ? "runs" : "hostile";
+    case CF_TWICE: return "determinism";
+    case CF_RESIZE: return "resize";
+    case CF_SQUEEZE: return "failed_prepare";
+    case CF_FRAMES: return "memory";
+    case CF_GATE: break;
     }
-    /* backends against the reference, cpu (the first one, for a node without cpu), on the
-     * same inputs */
+    return "gating";
+}
+
+static const char *error_or_none(const cf_result *r)
+{
+    return r->error ? r->error : "no message";
+}
+
+/* The case was reported, did not crash, and every phase passed. */
+static bool ran_clean(const cf_result *r)
+{
+    return r->done && !r->crashed && !r->phase;
+}
+
+/* One node type being judged, case after case. */
+typedef struct cf_judge {
+    cf_report *rep;
+    const lg_node_type *t;
+    const char *name;
+    const char *fkey;         /* the parameter naming a file with no default (needs_file) */
+    bool file;
+    bool base_ok[8];          /* per backend: its baseline ran */
+    bool base_skip[8];        /* per backend: it cannot run here (no device, a file needed):
+                               * its other cases are not judged */
+    char own[300];            /* how a message of the node's names it: "node 'T' (T)" */
+} cf_judge;
+
+/* CF_SQUEEZE: a prepare made to fail must fail with the node named, and destroy cope. */
+static void judge_squeeze(cf_judge *j, const cf_result *r, const char *label, int bi)
+{
+    if (r->phase == 2 && r->error && strstr(r->error, j->own))
+        report(j->rep, CF_PASS, j->name, "failed_prepare",
+               "%s: prepare failed (%s), destroy ran without a crash", label, error_or_none(r));
+    else if (j->base_ok[bi])
+        report(j->rep, CF_NOTE, j->name, "failed_prepare",
+               "%s: a one-pixel limit did not make its prepare fail (%s); not checked",
+               label, r->phase == 0 ? "it declares no image larger than a pixel"
+                      : error_or_none(r));
+}
+
+/* CF_GATE: a scene lacking the declared needs must get the node gated, not failed. */
+static void judge_gate(cf_judge *j, const cf_result *r, const char *label)
+{
+    if (r->phase)
+        report(j->rep, CF_FAIL, j->name, "gating", "%s: the plan failed instead of gating "
+               "the node (%s): %s", label, phase_text(r->phase), error_or_none(r));
+    else if (!r->gated)
+        report(j->rep, CF_FAIL, j->name, "gating", "%s: the node declares needs 0x%x and was "
+               "not gated on a scene that lacks them", label, j->t->needs);
+    else
+        report(j->rep, CF_PASS, j->name, "gating", "%s: gated (needs 0x%x)", label,
+               j->t->needs);
+}
+
+/* A case whose check, plan or run failed (r->phase): a broken contract, a hostile input
+ * refused as it should be, a format not accepted, or a node conform cannot run. */
+static void judge_failed(cf_judge *j, const cf_case *k, const cf_result *r, const char *label,
+                         int bi, bool first_of_backend)
+{
+    const char *check = error_check(r->error);
+    bool hostile = k->mode == CF_RUN && !k->baseline;
+    if (strcmp(check, "runs") != 0) {
+        report(j->rep, CF_FAIL, j->name, check, "%s: %s", label, r->error);
+    } else if (hostile) {
+        if (k->scene == LG_CONFORM_SCENE_UNLIT && j->t->needs == 0 &&
+            has_input(j->t, LG_KIND_SCENE))
+            /* geometry without lights, medium, probe or specular and reflective
+             * terms: what the needs flags describe; a node that cannot work
+             * without one of them says so in `needs`, and is gated (an error on
+             * the empty scene, with no geometry at all, is a clear error) */
+            report(j->rep, CF_FAIL, j->name, "gating",
+                   "%s: %s on a scene with geometry and no lights, medium, probe or "
+                   "specular or reflective material, and the node declares no needs "
+                   "(lg_node_type.needs) for the planner to gate it by: %s", label,
+                   phase_text(r->phase), error_or_none(r));
+        else if (!r->error)
+            report(j->rep, CF_FAIL, j->name, "hostile", "%s: %s without an error message",
+                   label, phase_text(r->phase));
+        else
+            report(j->rep, CF_PASS, j->name, "hostile", "%s: refused with an error: %s",
+                   label, r->error);
+    } else if (k->mode == CF_RUN && k->format != 0 && r->phase == 2 && r->error) {
+        report(j->rep, CF_NOTE, j->name, "runs", "%s: not accepted: %s", label, r->error);
+    } else if (j->file && first_of_backend) {
+        j->base_skip[bi] = true;
+        report(j->rep, CF_SKIP, j->name, "runs", "%s: parameter '%s' names a file and has no "
+               "default, so conform cannot run it (%s: %s)", label, j->fkey,
+               phase_text(r->phase), error_or_none(r));
+    } else if (k->mode == CF_RUN || j->base_ok[bi]) {
+        report(j->rep, CF_FAIL, j->name, mode_check(k), "%s: %s: %s", label,
+               phase_text(r->phase), error_or_none(r));
+    }
+}
+
+/* The outputs of a case that ran: every one written; finite on finite input, a hostile
+ * input's bad pixel not spread. */
+static void judge_outputs(cf_judge *j, const cf_case *k, const cf_result *r, const char *label)
+{
+    char where[512];
+    for (uint32_t o = 0; o < r->n_outs; o++)
+        if (!r->outs[o].written)
+            report(j->rep, CF_FAIL, j->name, "outputs", "%s: output '%s' was declared and "
+                   "never written on any device", label, r->outs[o].name);
+    uint64_t bad = nonfinite(r, where, sizeof where);
+    if (k->mode == CF_RUN && k->baseline) {
+        if (bad)
+            report(j->rep, CF_FAIL, j->name, "finite", "%s: %llu values not finite on finite "
+                   "input; first: %s", label, (unsigned long long)bad, where);
+    } else if (k->mode == CF_RUN) {
+        bool contained = k->pattern == LG_CONFORM_NAN || k->pattern == LG_CONFORM_INF;
+        /* one bad input pixel may stay one bad pixel per output; it must not spread */
+        uint64_t allowed = contained ? 4u * r->n_outs : 0;
+        if (bad > allowed)
+            report(j->rep, CF_FAIL, j->name, "hostile", "%s: %llu values not finite (at most "
+                   "%llu allowed: %s); first: %s", label, (unsigned long long)bad,
+                   (unsigned long long)allowed,
+                   contained ? "the one non-finite input pixel, not spread" : "finite input",
+                   where);
+        else if (bad)
+            report(j->rep, CF_PASS, j->name, "hostile", "%s: %llu non-finite values, where "
+                   "the input's bad pixel was", label, (unsigned long long)bad);
+        else
+            report(j->rep, CF_PASS, j->name, "hostile", "%s: finite output", label);
+    }
+}
+
+/* CF_FRAMES: neither the plugin's live memory nor the process's may grow over the frames. */
+static void judge_memory(cf_judge *j, const cf_result *r, const char *label)
+{
+    int64_t grow = (int64_t)r->rss1 - (int64_t)r->rss0;
+    if (r->live1 > r->live0)
+        report(j->rep, CF_FAIL, j->name, "memory", "%s: the profile's live plugin memory "
+               "(bytes_plugin_live) grew from %llu bytes after frame %u to %llu after "
+               "frame %u (peak %llu): lg_account_alloc without lg_account_free",
+               label, (unsigned long long)r->live0, cf_frames_from,
+               (unsigned long long)r->live1, cf_frames_n, (unsigned long long)r->peak);
+    else if (grow > (int64_t)cf_rss_slack)
+        report(j->rep, CF_FAIL, j->name, "memory", "%s: %s grew by %.1f MiB "
+               "from frame %u to frame %u (%.2f MiB a frame; %u MiB allowed in all)",
+               label, cf_mem_what, (double)grow / 1048576.0, cf_frames_from, cf_frames_n,
+               (double)grow / 1048576.0 / (cf_frames_n - cf_frames_from),
+               (unsigned)(cf_rss_slack >> 20));
+    else
+        report(j->rep, CF_PASS, j->name, "memory", "%s: %s %+.2f MiB, plugin live %llu "
+               "-> %llu bytes over frames %u..%u", label, cf_mem_what,
+               (double)grow / 1048576.0,
+               (unsigned long long)r->live0, (unsigned long long)r->live1,
+               cf_frames_from, cf_frames_n);
+}
+
+/* A case that ran: its outputs, then what its mode checks. */
+static void judge_ran(cf_judge *j, const cf_case *k, const cf_result *r, const char *label)
+{
+    if (r->gated && k->mode != CF_GATE)
+        report(j->rep, CF_NOTE, j->name, "gating", "%s: gated by the planner (needs 0x%x), so "
+               "not run", label, j->t->needs);
+    judge_outputs(j, k, r, label);
+    if (k->mode == CF_TWICE) {
+        if (r->diff_count)
+            report(j->rep, CF_FAIL, j->name, "determinism", "%s: two runs differ in %llu "
+                   "values, largest difference %.6g at %s", label,
+                   (unsigned long long)r->diff_count, r->diff_max,
+                   r->diff_where ? r->diff_where : "?");
+        else
+            report(j->rep, CF_PASS, j->name, "determinism", "%s: identical", label);
+    }
+    if (k->mode == CF_RESIZE) {
+        if (r->resize_bad)
+            report(j->rep, CF_FAIL, j->name, "resize", "%s: %s", label, r->resize_bad);
+        else
+            report(j->rep, CF_PASS, j->name, "resize", "%s: prepared again at the new size",
+                   label);
+    }
+    if (k->mode == CF_FRAMES)
+        judge_memory(j, r, label);
+}
+
+/* One case: a crash fails the check its mode proves; a backend with no device here is
+ * skipped at its first baseline, and its other cases are not judged; then by mode. */
+static void judge_case(cf_judge *j, const cf_case *k, const cf_result *r, double timeout)
+{
+    int bi = k->backend < 0 ? 0 : k->backend;
+    char label[200];
+    case_label(label, sizeof label, j->t, k);
+    if (!r->done) {
+        report(j->rep, CF_FAIL, j->name, "harness", "%s: no result (the child stopped "
+               "reporting)", label);
+        return;
+    }
+    bool first_of_backend = k->baseline && k->w == 7 && k->format == 0;
+    if (r->crashed) {
+        char *ct = crash_text(r, timeout);
+        report(j->rep, CF_FAIL, j->name, mode_check(k), "%s: %s", label, ct);
+        free(ct);
+        return;
+    }
+    if (j->base_skip[bi])
+        return;
+    if (r->ms > 2000)
+        report(j->rep, CF_NOTE, j->name, "time", "%s took %.1f s", label, r->ms / 1e3);
+    if (device_missing(r)) {
+        if (first_of_backend) {
+            j->base_skip[bi] = true;
+            report(j->rep, CF_SKIP, j->name, "runs", "%s: %s", label, r->error);
+        }
+        return;
+    }
+    if (first_of_backend && r->phase == 0)
+        j->base_ok[bi] = true;
+    if (k->mode == CF_SQUEEZE)
+        judge_squeeze(j, r, label, bi);
+    else if (k->mode == CF_GATE)
+        judge_gate(j, r, label);
+    else if (r->phase)
+        judge_failed(j, k, r, label, bi, first_of_backend);
+    else
+        judge_ran(j, k, r, label);
+}
+
+/* Backends against the reference, cpu (the first one, for a node without cpu), on the same
+ * inputs: every baseline of another backend against the reference's of the same size and
+ * format, within the type's tolerance. */
+static void judge_backends(cf_report *rep, const lg_node_type *t, const cf_case *cases,
+                           uint32_t n, const cf_result *res)
+{
+    double tol = t->tolerance > 0 ? t->tolerance : 1e-3;
+    char where[512];
     int ref = 0;
     const char *const *bv;
     uint32_t nb = backends_of(t, &bv);
@@ -1105,34 +1162,49 @@ static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
     for (uint32_t i = 0; i < n; i++) {
         const cf_case *k = &cases[i];
         if (k->mode != CF_RUN || !k->baseline || k->backend < 0 || k->backend == ref ||
-            !res[i].done || res[i].crashed || res[i].phase)
+            !ran_clean(&res[i]))
             continue;
         for (uint32_t j = 0; j < n; j++) {
             const cf_case *q = &cases[j];
             if (q->mode != CF_RUN || !q->baseline || q->backend != ref || q->w != k->w ||
-                q->h != k->h || q->format != k->format || !res[j].done || res[j].crashed ||
-                res[j].phase)
+                q->h != k->h || q->format != k->format || !ran_clean(&res[j]))
                 continue;
             char label[200];
             case_label(label, sizeof label, t, k);
             double d = disagreement(&res[j], &res[i], where, sizeof where);
             if (d > tol)
-                report(rep, CF_FAIL, name, "backends", "%s against %s: %s = %.6g > tolerance "
-                       "%g%s", label, backend_name(t, ref), where, d, tol,
+                report(rep, CF_FAIL, t->name, "backends", "%s against %s: %s = %.6g > "
+                       "tolerance %g%s", label, backend_name(t, ref), where, d, tol,
                        t->tolerance > 0 ? "" : " (the default; lg_node_type.tolerance)");
             else
-                report(rep, CF_PASS, name, "backends", "%s against %s: %.3g <= %g", label,
+                report(rep, CF_PASS, t->name, "backends", "%s against %s: %.3g <= %g", label,
                        backend_name(t, ref), d, tol);
         }
     }
+}
+
+static void judge_type(cf_ctx *c, const lg_node_type *t, const cf_case *cases, uint32_t n,
+                       cf_result *res)
+{
+    cf_judge j;
+    memset(&j, 0, sizeof j);
+    j.rep = &c->rep;
+    j.t = t;
+    j.name = t->name;
+    j.file = needs_file(t, &j.fkey);
+    snprintf(j.own, sizeof j.own, "node '%s' (%s)", t->name, t->name);
+    int n_fail_before = (int)c->rep.counts[CF_FAIL];
+    for (uint32_t i = 0; i < n; i++)
+        judge_case(&j, &cases[i], &res[i], c->timeout);
+    judge_backends(&c->rep, t, cases, n, res);
     bool any_skip = false;
     for (int b = 0; b < 8; b++)
-        any_skip |= base_skip[b];
-    if ((int)rep->counts[CF_FAIL] == n_fail_before && !any_skip) {
+        any_skip |= j.base_skip[b];
+    if ((int)c->rep.counts[CF_FAIL] == n_fail_before && !any_skip) {
         double ms = 0;
         for (uint32_t i = 0; i < n; i++)
             ms += res[i].ms;
-        report(rep, CF_PASS, name, "runs", "%u cases, %.0f ms of runs", n, ms);
+        report(&c->rep, CF_PASS, t->name, "runs", "%u cases, %.0f ms of runs", n, ms);
     }
 }
 

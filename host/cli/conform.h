@@ -1,5 +1,5 @@
 /*
- * host/conform.h: `lightgraph conform PLUGIN.so [--json]` (cmd_conform.c) and its
+ * host/cli/conform.h: `lightgraph conform PLUGIN.so [--json]` (conform.c) and its
  * synthetic inputs (conform_sources.c). docs/conform.md says what is checked and how.
  */
 #ifndef LG_HOST_CONFORM_H

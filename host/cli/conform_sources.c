@@ -1,5 +1,5 @@
 /*
- * host/conform_sources.c: the synthetic inputs of `lightgraph conform` (conform.h).
+ * host/cli/conform_sources.c: the synthetic inputs of `lightgraph conform` (conform.h).
  *
  * A plugin that is part of the program (lg_registry_add_builtin), so that conform feeds the
  * plugin under test through the host's own machinery (graph text, checker, planner,

@@ -90,73 +90,84 @@ static void json_number(lg_str *b, const char *key, double v)
         lg_str_addf(b, ", \"%s\": null", key);
 }
 
-int lg_cmd_diff(int argc, char **argv)
-{
-    const char *paths[2] = {NULL, NULL}, *heatmap = NULL;
-    double heat_max = 0.0, max_rmse = -1.0, max_abs = -1.0;
-    int json = 0, npaths = 0, options_done = 0, ignore_nonfinite = 0;
+/* What the command line says. */
+typedef struct diff_args {
+    const char *paths[2], *heatmap;
+    double heat_max, max_rmse, max_abs; /* the thresholds: -1 when not given */
+    bool json, ignore_nonfinite;
+} diff_args;
 
+/* diff's options, in the order of diff_opt: the valued ones take "--opt VALUE" or
+ * "--opt=VALUE"; --heatmap is the one value that is not a number */
+static const lg_option diff_opts[] = {
+    {"--heatmap", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--heat-max", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--max-rmse", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--max-abs", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
+    {"--json", NULL, 0},
+    {"--ignore-nonfinite", NULL, 0},
+    {"-h", "--help", 0},
+    {"--", NULL, 0},
+};
+enum diff_opt {
+    OPT_HEATMAP, OPT_HEAT_MAX, OPT_MAX_RMSE, OPT_MAX_ABS, OPT_JSON, OPT_IGNORE_NONFINITE,
+    OPT_HELP, OPT_END, N_DIFF_OPTS
+};
+_Static_assert(sizeof diff_opts / sizeof diff_opts[0] == N_DIFF_OPTS, "diff_opts");
+
+/* Parses argv[1 .. argc-1] into *o. Returns -1 to go on, else the exit status (0 after
+ * --help; 2 after the message, and the usage where the mistake is the command's shape). */
+static int parse_diff_args(int argc, char **argv, diff_args *o)
+{
+    memset(o, 0, sizeof *o);
+    o->max_rmse = o->max_abs = -1.0;
+    double *const number[] = {NULL, &o->heat_max, &o->max_rmse, &o->max_abs};
+    int npaths = 0;
+    bool options_done = false;
     for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
+        const char *a = argv[i], *val;
         if (options_done || a[0] != '-' || !a[1]) {
             if (npaths == 2) {
                 fprintf(stderr, "lightgraph diff: unexpected argument '%s' (two images only)\n", a);
                 diff_usage(stderr);
                 return 2;
             }
-            paths[npaths++] = a;
+            o->paths[npaths++] = a;
             continue;
         }
-        if (!strcmp(a, "--")) {
-            options_done = 1;
-            continue;
-        }
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            diff_usage(stdout);
-            return 0;
-        }
-        if (!strcmp(a, "--json")) {
-            json = 1;
-            continue;
-        }
-        if (!strcmp(a, "--ignore-nonfinite")) {
-            ignore_nonfinite = 1;
-            continue;
-        }
-        /* options with a value: "--opt VALUE" or "--opt=VALUE" */
-        static const char *const valued[] = {"--heatmap", "--heat-max", "--max-rmse", "--max-abs"};
-        const char *val = NULL;
-        int which = -1;
-        for (int k = 0; k < 4; k++) {
-            size_t n = strlen(valued[k]);
-            if (!strncmp(a, valued[k], n) && (a[n] == 0 || a[n] == '=')) {
-                which = k;
-                if (a[n] == '=')
-                    val = a + n + 1;
-                else if (i + 1 < argc)
-                    val = argv[++i];
-                break;
-            }
-        }
-        if (which < 0) {
+        int which = lg_option_find(diff_opts, N_DIFF_OPTS, argc, argv, &i, &val);
+        switch (which) {
+        case LG_OPT_UNKNOWN:
             fprintf(stderr, "lightgraph diff: unknown option '%s'\n", a);
             diff_usage(stderr);
             return 2;
-        }
-        if (!val) {
-            fprintf(stderr, "lightgraph diff: %s needs a value\n", valued[which]);
+        case LG_OPT_NO_VALUE:
+            fprintf(stderr, "lightgraph diff: %s needs a value\n", a);
             return 2;
-        }
-        if (which == 0) {
+        case OPT_END:
+            options_done = true;
+            break;
+        case OPT_HELP:
+            diff_usage(stdout);
+            return 0;
+        case OPT_JSON:
+            o->json = true;
+            break;
+        case OPT_IGNORE_NONFINITE:
+            o->ignore_nonfinite = true;
+            break;
+        case OPT_HEATMAP:
             if (lg_image_format_from_path(val) == LG_FILE_UNKNOWN) {
                 fprintf(stderr, "lightgraph diff: --heatmap '%s': use a .png, .exr or .hdr name\n",
                         val);
                 return 2;
             }
-            heatmap = val;
-        } else if (diff_number(valued[which], val,
-                               which == 1 ? &heat_max : which == 2 ? &max_rmse : &max_abs)) {
-            return 2;
+            o->heatmap = val;
+            break;
+        default: /* the thresholds */
+            if (diff_number(diff_opts[which].name, val, number[which]))
+                return 2;
+            break;
         }
     }
     if (npaths != 2) {
@@ -164,149 +175,202 @@ int lg_cmd_diff(int argc, char **argv)
         diff_usage(stderr);
         return 2;
     }
+    return -1;
+}
 
-    lg_image img[2];
+/* Prints "lightgraph diff: [what: ]err" and returns 1, the status of every failure to
+ * read, compare or write. */
+static int diff_fail(const char *what, const char *err)
+{
+    fprintf(stderr, "lightgraph diff: %s%s%s\n", what ? what : "", what ? ": " : "", err);
+    return 1;
+}
+
+/* Reads both images, the same size. Returns 0, or 1 (printed). */
+static int read_pair(const diff_args *o, lg_image img[2], lg_image_read_info info[2])
+{
+    char err[1024];
+    for (int k = 0; k < 2; k++)
+        if (lg_image_read(o->paths[k], 0, &img[k], &info[k], err, sizeof err) != LG_OK)
+            return diff_fail(NULL, err);
+    if (img[0].width != img[1].width || img[0].height != img[1].height) {
+        fprintf(stderr, "lightgraph diff: images differ in size: '%s' is %ux%u, '%s' is %ux%u\n",
+                o->paths[0], img[0].width, img[0].height, o->paths[1], img[1].width,
+                img[1].height);
+        return 1;
+    }
+    return 0;
+}
+
+/* Writes the heat map (RGB) into its temporary and commits it. Returns 0, or 1 (printed). */
+static int write_heatmap(lg_outputs *outs, const char *path, const lg_image *heat)
+{
+    char err[1024];
+    lg_image_write_opts wo;
+    memset(&wo, 0, sizeof wo);
+    wo.channels = 3;
+    int rc = lg_outputs_write_image(outs, path, heat, &wo, err, sizeof err);
+    if (rc == 0)
+        rc = lg_outputs_commit(outs, err, sizeof err);
+    return rc != LG_OK ? diff_fail(NULL, err) : 0;
+}
+
+/* What was compared: the metrics, the non-finite pixels of A and B, and why it fails
+ * (empty when it passes). */
+typedef struct diff_result {
+    lg_image_metrics m;
+    uint64_t total, bad[2], compared;
+    lg_str why;
+} diff_result;
+
+/* Why the comparison fails, into r->why: non-finite pixels first (metrics over what is left
+ * of the images must not read as a clean result: all of B NaN gave "RMSE 0, PSNR inf"),
+ * then the thresholds. */
+static void judge(const diff_args *o, const lg_image img[2], diff_result *r)
+{
+    const lg_image_metrics *m = &r->m;
+    r->total = (uint64_t)img[0].width * img[0].height;
+    r->bad[0] = count_nonfinite(&img[0]);
+    r->bad[1] = count_nonfinite(&img[1]);
+    r->compared = r->total - m->nonfinite;
+    lg_str *why = &r->why;
+    if (!r->compared) /* a failure even with --ignore-nonfinite: there is no result */
+        lg_str_addf(why, "NaN or Inf in %llu of %llu pixels of A and %llu of B: no pixel is "
+                         "finite in both images, nothing was compared",
+                    (unsigned long long)r->bad[0], (unsigned long long)r->total,
+                    (unsigned long long)r->bad[1]);
+    else if (m->nonfinite && !o->ignore_nonfinite)
+        lg_str_addf(why,
+                    "NaN or Inf in %llu of %llu pixels of A and %llu of B: the metrics cover "
+                    "only the %llu pixels finite in both (--ignore-nonfinite accepts that)",
+                    (unsigned long long)r->bad[0], (unsigned long long)r->total,
+                    (unsigned long long)r->bad[1], (unsigned long long)r->compared);
+    if (o->max_rmse >= 0.0 && m->rmse > o->max_rmse)
+        lg_str_addf(why, "%sRMSE %.6g exceeds --max-rmse %.6g", why->len ? "; " : "", m->rmse,
+                    o->max_rmse);
+    if (o->max_abs >= 0.0 && m->max_abs > o->max_abs)
+        lg_str_addf(why, "%smax abs error %.6g exceeds --max-abs %.6g", why->len ? "; " : "",
+                    m->max_abs, o->max_abs);
+}
+
+static void print_json(const diff_args *o, const lg_image img[2], const diff_result *r)
+{
+    const lg_image_metrics *m = &r->m;
+    lg_str b = {0};
+    lg_str_add(&b, "{\"a\": ");
+    lg_str_add_json(&b, o->paths[0]);
+    lg_str_add(&b, ", \"b\": ");
+    lg_str_add_json(&b, o->paths[1]);
+    lg_str_addf(&b, ", \"width\": %u, \"height\": %u", img[0].width, img[0].height);
+    lg_str_addf(&b, ", \"nonfinite_a\": %llu, \"nonfinite_b\": %llu, \"nonfinite\": %llu, "
+                    "\"compared\": %llu",
+                (unsigned long long)r->bad[0], (unsigned long long)r->bad[1],
+                (unsigned long long)m->nonfinite, (unsigned long long)r->compared);
+    /* nothing compared: no metric, rather than the zeros of an empty sum */
+    double none = r->compared ? 0.0 : NAN;
+    json_number(&b, "rmse", m->rmse + none);
+    json_number(&b, "psnr", m->psnr + none);
+    json_number(&b, "mean_abs", m->mean_abs + none);
+    json_number(&b, "max_abs", m->max_abs + none);
+    json_number(&b, "rel_mse", m->rel_mse + none);
+    if (o->heatmap) {
+        lg_str_add(&b, ", \"heatmap\": ");
+        lg_str_add_json(&b, o->heatmap);
+    }
+    lg_str_addf(&b, ", \"pass\": %s", r->why.len ? "false" : "true");
+    lg_str_add(&b, "}\n");
+    fputs(b.s, stdout);
+    lg_str_free(&b);
+}
+
+static void print_text(const diff_args *o, const lg_image img[2],
+                       const lg_image_read_info info[2], const diff_result *r)
+{
+    const lg_image_metrics *m = &r->m;
+    for (int k = 0; k < 2; k++)
+        printf("%s          %s (%ux%u %s, %u channel%s, %u-bit, %s)\n", k ? "B" : "A",
+               o->paths[k], img[k].width, img[k].height, format_name(info[k].format),
+               info[k].channels, info[k].channels == 1 ? "" : "s", info[k].bits,
+               info[k].compression);
+    printf("nonfinite  A %llu, B %llu of %llu pixel%s (NaN or Inf in R, G or B)\n",
+           (unsigned long long)r->bad[0], (unsigned long long)r->bad[1],
+           (unsigned long long)r->total, r->total == 1 ? "" : "s");
+    if (m->nonfinite)
+        printf("compared   %llu of %llu pixels (finite in both images)\n",
+               (unsigned long long)r->compared, (unsigned long long)r->total);
+    if (!r->compared) {
+        printf("RMSE       n/a (no pixel is finite in both images)\n");
+    } else {
+        printf("RMSE       %.6g\n", m->rmse);
+        if (isfinite(m->psnr))
+            printf("PSNR       %.2f dB\n", m->psnr);
+        else
+            printf("PSNR       inf (no difference%s)\n",
+                   m->nonfinite ? " in the pixels compared" : "");
+        printf("mean abs   %.6g\n", m->mean_abs);
+        printf("max abs    %.6g\n", m->max_abs);
+        printf("rel MSE    %.6g\n", m->rel_mse);
+    }
+    if (o->heatmap)
+        printf("heat map   %s (white = %.6g)\n", o->heatmap,
+               o->heat_max > 0.0 ? o->heat_max : m->max_abs);
+}
+
+/* Reads, compares, writes the heat map and judges; prints the result. Returns the exit
+ * status. */
+static int run_diff(const diff_args *o, lg_outputs *outs, lg_image img[2])
+{
     lg_image_read_info info[2];
+    char err[1024];
+    if (read_pair(o, img, info))
+        return 1;
+    lg_image heat;
+    memset(&heat, 0, sizeof heat);
+    diff_result r;
+    memset(&r, 0, sizeof r);
+    if (lg_image_compare(&img[0], &img[1], &r.m, o->heatmap ? &heat : NULL, o->heat_max, err,
+                         sizeof err) != LG_OK)
+        return diff_fail(NULL, err);
+    if (o->heatmap) {
+        int rc = write_heatmap(outs, o->heatmap, &heat);
+        lg_image_free(&heat);
+        if (rc)
+            return rc;
+    }
+    judge(o, img, &r);
+    if (o->json)
+        print_json(o, img, &r);
+    else
+        print_text(o, img, info, &r);
+    fflush(stdout);
+    int status = 0;
+    if (r.why.len) {
+        diff_fail(NULL, r.why.s);
+        status = 1;
+    }
+    lg_str_free(&r.why);
+    return status;
+}
+
+int lg_cmd_diff(int argc, char **argv)
+{
+    diff_args o;
+    int status = parse_diff_args(argc, argv, &o);
+    if (status >= 0)
+        return status;
+    lg_image img[2];
     memset(img, 0, sizeof img);
     char err[1024];
-    int status = 0;
     /* the heat map's destination is checked before the images are read, by the rules of
      * every output (outputs.h) */
     lg_outputs *outs = NULL;
-    if (heatmap) {
+    if (o.heatmap) {
         outs = lg_outputs_new();
-        if (lg_outputs_add(outs, heatmap, LG_OUTPUT_IMAGE, err, sizeof err)) {
-            fprintf(stderr, "lightgraph diff: --heatmap: %s\n", err);
-            status = 1;
-            goto done;
-        }
+        if (lg_outputs_add(outs, o.heatmap, LG_OUTPUT_IMAGE, err, sizeof err))
+            status = diff_fail("--heatmap", err);
     }
-    for (int k = 0; k < 2; k++) {
-        if (lg_image_read(paths[k], 0, &img[k], &info[k], err, sizeof err) != LG_OK) {
-            fprintf(stderr, "lightgraph diff: %s\n", err);
-            status = 1;
-            goto done;
-        }
-    }
-    if (img[0].width != img[1].width || img[0].height != img[1].height) {
-        fprintf(stderr, "lightgraph diff: images differ in size: '%s' is %ux%u, '%s' is %ux%u\n",
-                paths[0], img[0].width, img[0].height, paths[1], img[1].width, img[1].height);
-        status = 1;
-        goto done;
-    }
-
-    lg_image heat;
-    memset(&heat, 0, sizeof heat);
-    lg_image_metrics m;
-    if (lg_image_compare(&img[0], &img[1], &m, heatmap ? &heat : NULL, heat_max, err,
-                         sizeof err) != LG_OK) {
-        fprintf(stderr, "lightgraph diff: %s\n", err);
-        status = 1;
-        goto done;
-    }
-    if (heatmap) {
-        lg_image_write_opts wo;
-        memset(&wo, 0, sizeof wo);
-        wo.channels = 3;
-        int rc = lg_outputs_write_image(outs, heatmap, &heat, &wo, err, sizeof err);
-        if (rc == 0)
-            rc = lg_outputs_commit(outs, err, sizeof err);
-        lg_image_free(&heat);
-        if (rc != LG_OK) {
-            fprintf(stderr, "lightgraph diff: %s\n", err);
-            status = 1;
-            goto done;
-        }
-    }
-
-    /* Non-finite pixels first: metrics over what is left of the images must not read as a
-     * clean result (all of B NaN gave "RMSE 0, PSNR inf"). */
-    uint64_t total = (uint64_t)img[0].width * img[0].height;
-    uint64_t bad[2] = {count_nonfinite(&img[0]), count_nonfinite(&img[1])};
-    uint64_t compared = total - m.nonfinite;
-    lg_str why = {0};
-    if (!compared) /* a failure even with --ignore-nonfinite: there is no result */
-        lg_str_addf(&why, "NaN or Inf in %llu of %llu pixels of A and %llu of B: no pixel is "
-                          "finite in both images, nothing was compared",
-                    (unsigned long long)bad[0], (unsigned long long)total,
-                    (unsigned long long)bad[1]);
-    else if (m.nonfinite && !ignore_nonfinite)
-        lg_str_addf(&why,
-                    "NaN or Inf in %llu of %llu pixels of A and %llu of B: the metrics cover "
-                    "only the %llu pixels finite in both (--ignore-nonfinite accepts that)",
-                    (unsigned long long)bad[0], (unsigned long long)total,
-                    (unsigned long long)bad[1], (unsigned long long)compared);
-
-    /* thresholds */
-    if (max_rmse >= 0.0 && m.rmse > max_rmse)
-        lg_str_addf(&why, "%sRMSE %.6g exceeds --max-rmse %.6g", why.len ? "; " : "", m.rmse,
-                    max_rmse);
-    if (max_abs >= 0.0 && m.max_abs > max_abs)
-        lg_str_addf(&why, "%smax abs error %.6g exceeds --max-abs %.6g", why.len ? "; " : "",
-                    m.max_abs, max_abs);
-    int failed = why.len > 0;
-
-    if (json) {
-        lg_str b = {0};
-        lg_str_add(&b, "{\"a\": ");
-        lg_str_add_json(&b, paths[0]);
-        lg_str_add(&b, ", \"b\": ");
-        lg_str_add_json(&b, paths[1]);
-        lg_str_addf(&b, ", \"width\": %u, \"height\": %u", img[0].width, img[0].height);
-        lg_str_addf(&b, ", \"nonfinite_a\": %llu, \"nonfinite_b\": %llu, \"nonfinite\": %llu, "
-                        "\"compared\": %llu",
-                    (unsigned long long)bad[0], (unsigned long long)bad[1],
-                    (unsigned long long)m.nonfinite, (unsigned long long)compared);
-        /* nothing compared: no metric, rather than the zeros of an empty sum */
-        double none = compared ? 0.0 : NAN;
-        json_number(&b, "rmse", m.rmse + none);
-        json_number(&b, "psnr", m.psnr + none);
-        json_number(&b, "mean_abs", m.mean_abs + none);
-        json_number(&b, "max_abs", m.max_abs + none);
-        json_number(&b, "rel_mse", m.rel_mse + none);
-        if (heatmap) {
-            lg_str_add(&b, ", \"heatmap\": ");
-            lg_str_add_json(&b, heatmap);
-        }
-        lg_str_addf(&b, ", \"pass\": %s", failed ? "false" : "true");
-        lg_str_add(&b, "}\n");
-        fputs(b.s, stdout);
-        lg_str_free(&b);
-    } else {
-        for (int k = 0; k < 2; k++)
-            printf("%s          %s (%ux%u %s, %u channel%s, %u-bit, %s)\n", k ? "B" : "A", paths[k],
-                   img[k].width, img[k].height, format_name(info[k].format), info[k].channels,
-                   info[k].channels == 1 ? "" : "s", info[k].bits, info[k].compression);
-        printf("nonfinite  A %llu, B %llu of %llu pixel%s (NaN or Inf in R, G or B)\n",
-               (unsigned long long)bad[0], (unsigned long long)bad[1],
-               (unsigned long long)total, total == 1 ? "" : "s");
-        if (m.nonfinite)
-            printf("compared   %llu of %llu pixels (finite in both images)\n",
-                   (unsigned long long)compared, (unsigned long long)total);
-        if (!compared) {
-            printf("RMSE       n/a (no pixel is finite in both images)\n");
-        } else {
-            printf("RMSE       %.6g\n", m.rmse);
-            if (isfinite(m.psnr))
-                printf("PSNR       %.2f dB\n", m.psnr);
-            else
-                printf("PSNR       inf (no difference%s)\n",
-                       m.nonfinite ? " in the pixels compared" : "");
-            printf("mean abs   %.6g\n", m.mean_abs);
-            printf("max abs    %.6g\n", m.max_abs);
-            printf("rel MSE    %.6g\n", m.rel_mse);
-        }
-        if (heatmap)
-            printf("heat map   %s (white = %.6g)\n", heatmap, heat_max > 0.0 ? heat_max : m.max_abs);
-    }
-    fflush(stdout);
-    if (failed) {
-        fprintf(stderr, "lightgraph diff: %s\n", why.s);
-        status = 1;
-    }
-    lg_str_free(&why);
-
-done:
+    if (status < 0)
+        status = run_diff(&o, outs, img);
     lg_outputs_free(&outs);
     lg_image_free(&img[0]);
     lg_image_free(&img[1]);

@@ -194,6 +194,294 @@ static int check_space(const char *dir, int total, int n_vary, const lg_exec_opt
     return 1;
 }
 
+/* A sweep under way: its arguments, the render options every run shares, and what it has
+ * made so far (freed by sweep_free). */
+typedef struct sweep {
+    const lg_sweep_args *a;
+    lg_exec_opts opts;
+    lg_registry reg;
+    lg_outputs *outs;
+    lg_image ref;                 /* the reference, read back from its temporary */
+    lg_str csv;
+    char **runs, **heats;         /* per run: its image and its heat map (a->total each) */
+    char *ref_out, *csv_path, *gp_path, *png_path;
+} sweep;
+
+/* The reference's overrides: the --set ones unless a reference graph is given, then the
+ * --ref-set ones; an array with room for `extra` more (free it), the count in *n. */
+static const char **reference_sets(const lg_sweep_args *a, int extra, int *n)
+{
+    const char **rs = lg_xcalloc((size_t)(a->n_sets + a->n_ref_sets + extra) + 1, sizeof *rs);
+    *n = 0;
+    if (!a->reference)
+        for (int i = 0; i < a->n_sets; i++)
+            rs[(*n)++] = a->sets[i];
+    for (int i = 0; i < a->n_ref_sets; i++)
+        rs[(*n)++] = a->ref_sets[i];
+    return rs;
+}
+
+/* "NODE.PARAM=VALUE" for the j-th value of a --vary (malloc'd). */
+static char *vary_set(const vary *v, int j)
+{
+    return lg_xasprintf("%s=%s", v->key, v->values[j]);
+}
+
+/* Checks, before anything runs, the reference graph and every --vary value against its
+ * parameter's type and range (the graph with --set and that value, checked as `check`
+ * does). Returns 0, or 2 after the checker's diagnostics and the sweep's own line. */
+static int check_values(sweep *sw)
+{
+    const lg_sweep_args *a = sw->a;
+    const char *ref_graph = a->reference ? a->reference : a->graph;
+    int nrs, rc = 0;
+    const char **rs = reference_sets(a, 1, &nrs);
+    if (lg_check_file(&sw->reg, ref_graph, rs, nrs)) {
+        fprintf(stderr, "lightgraph sweep: the reference %s is refused (above); nothing "
+                        "was run\n", ref_graph);
+        rc = 2;
+    }
+    for (int i = 0; i < a->n_vary && rc == 0; i++)
+        for (int j = 0; j < a->vary[i].n && rc == 0; j++) {
+            for (int k = 0; k < a->n_sets; k++)
+                rs[k] = a->sets[k];
+            char *kv = vary_set(&a->vary[i], j);
+            rs[a->n_sets] = kv;
+            if (lg_check_file(&sw->reg, a->graph, rs, a->n_sets + 1)) {
+                fprintf(stderr,
+                        "lightgraph sweep: --vary %s: the value '%s' is refused (above); "
+                        "nothing was run\n",
+                        a->vary[i].key, a->vary[i].values[j]);
+                rc = 2;
+            }
+            free(kv);
+        }
+    free(rs);
+    return rc;
+}
+
+/* Checks every file the sweep writes and reserves the temporaries of the reference, the
+ * CSV, the script and the plot, which also proves DIR writable; the runs' images and heat
+ * maps are checked now and get their temporaries when their run starts (a sweep that stops
+ * early has made only what it reached). Then DIR's free space. Returns 0, or 1 (printed). */
+static int reserve_outputs(sweep *sw)
+{
+    const char *dir = sw->a->dir;
+    int total = sw->a->total;
+    char err[1024];
+    sw->outs = lg_outputs_new();
+    sw->ref_out = lg_xasprintf("%s/reference.exr", dir);
+    sw->csv_path = lg_xasprintf("%s/sweep.csv", dir);
+    sw->gp_path = lg_xasprintf("%s/sweep.gp", dir);
+    sw->png_path = lg_xasprintf("%s/sweep.png", dir);
+    sw->runs = lg_xcalloc((size_t)total, sizeof *sw->runs);
+    sw->heats = lg_xcalloc((size_t)total, sizeof *sw->heats);
+    int rc = lg_outputs_add(sw->outs, sw->ref_out, LG_OUTPUT_IMAGE, err, sizeof err);
+    for (int k = 0; k < total && rc == 0; k++) {
+        sw->runs[k] = lg_xasprintf("%s/run-%03d.exr", dir, k);
+        sw->heats[k] = lg_xasprintf("%s/heat-%03d.png", dir, k);
+        rc = lg_outputs_check(sw->runs[k], LG_OUTPUT_IMAGE, err, sizeof err);
+        if (rc == 0)
+            rc = lg_outputs_check(sw->heats[k], LG_OUTPUT_IMAGE, err, sizeof err);
+    }
+    if (rc == 0)
+        rc = lg_outputs_add(sw->outs, sw->csv_path, LG_OUTPUT_FILE, err, sizeof err);
+    if (rc == 0)
+        rc = lg_outputs_add(sw->outs, sw->gp_path, LG_OUTPUT_FILE, err, sizeof err);
+    if (rc == 0)
+        rc = lg_outputs_add(sw->outs, sw->png_path, LG_OUTPUT_IMAGE, err, sizeof err);
+    if (rc) {
+        fprintf(stderr, "lightgraph sweep: %s; nothing was run\n", err);
+        return 1;
+    }
+    return check_space(dir, total, sw->a->n_vary, &sw->opts) ? 1 : 0;
+}
+
+/* Renders the reference into its output's temporary and reads it back from there. Returns
+ * the exit status. */
+static int render_reference(sweep *sw)
+{
+    const lg_sweep_args *a = sw->a;
+    const char *ref_graph = a->reference ? a->reference : a->graph;
+    int nrs;
+    const char **rsets = reference_sets(a, 0, &nrs);
+    lg_exec_opts o = sw->opts;
+    o.output_override = sw->ref_out;
+    o.outputs = sw->outs;
+    lg_run_result res;
+    fprintf(stderr, "sweep: reference (%s)\n", ref_graph);
+    int rc = lg_render_file(&sw->reg, ref_graph, rsets, nrs, &o, NULL, &res);
+    free(rsets);
+    if (rc == 0 && read_image(lg_outputs_temp(sw->outs, sw->ref_out), &sw->ref))
+        rc = 1;
+    return rc;
+}
+
+/* The CSV's header: run, the varied parameters, then the columns of add_row. */
+static void csv_header(sweep *sw)
+{
+    lg_str_add(&sw->csv, "run");
+    for (int i = 0; i < sw->a->n_vary; i++) {
+        char *f = csv_field(sw->a->vary[i].key);
+        lg_str_addf(&sw->csv, ",%s", f);
+        free(f);
+    }
+    lg_str_add(&sw->csv,
+               ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite\n");
+}
+
+/* Compares run k's image with the reference, writes its heat map and adds its CSV row
+ * and its line on stdout. `owned` are its NODE.PARAM=VALUE overrides, times its --repeat
+ * timings (sorted here). Returns 0, or 1 (printed). */
+static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned,
+                     const char *label, double *times)
+{
+    const lg_sweep_args *a = sw->a;
+    char err[1024];
+    lg_image_metrics m;
+    lg_image heat = {0};
+    int rc = 0;
+    if (lg_image_compare(img, &sw->ref, &m, &heat, 0, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: run %d against the reference: %s\n", k, err);
+        rc = 1;
+    } else if (lg_outputs_write_image(sw->outs, sw->heats[k], &heat, NULL, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: %s\n", err);
+        rc = 1;
+    } else {
+        qsort(times, a->repeat, sizeof *times, cmp_double);
+        lg_str_addf(&sw->csv, "%d", k);
+        for (int i = 0; i < a->n_vary; i++) {
+            char *f = csv_field(strchr(owned[i], '=') + 1);
+            lg_str_addf(&sw->csv, ",%s", f);
+            free(f);
+        }
+        lg_str_addf(&sw->csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu\n",
+                    times[a->repeat / 2], times[0], m.rmse, m.psnr > 1e300 ? 999.0 : m.psnr,
+                    m.mean_abs, m.max_abs, m.rel_mse, (unsigned long long)m.nonfinite);
+        printf("%-40s time %9.3f ms  rmse %.4g  max %.4g  psnr %.2f dB\n", label,
+               times[a->repeat / 2], m.rmse, m.max_abs, m.psnr);
+        fflush(stdout);
+    }
+    lg_image_free(&heat);
+    return rc;
+}
+
+/* Run k of the cartesian product of the --vary values (the last --vary varies fastest):
+ * --repeat renders with the --set overrides and its combination, timed, then judged.
+ * run_sets and times are scratch arrays of n_sets + n_vary and repeat entries. Returns the
+ * exit status. */
+static int sweep_run(sweep *sw, int k, const char **run_sets, double *times)
+{
+    const lg_sweep_args *a = sw->a;
+    int n_vary = a->n_vary, rc = 0, nr = 0;
+    char err[1024];
+    for (int i = 0; i < a->n_sets; i++)
+        run_sets[nr++] = a->sets[i];
+    char **owned = lg_xcalloc((size_t)n_vary, sizeof *owned);
+    int idx = k;
+    lg_str label = {0};
+    for (int i = n_vary - 1; i >= 0; i--) {
+        int j = idx % a->vary[i].n;
+        idx /= a->vary[i].n;
+        owned[i] = vary_set(&a->vary[i], j);
+    }
+    for (int i = 0; i < n_vary; i++) {
+        run_sets[nr++] = owned[i];
+        lg_str_addf(&label, "%s%s", i ? " " : "", owned[i]);
+    }
+    lg_exec_opts o = sw->opts;
+    o.output_override = sw->runs[k];
+    o.outputs = sw->outs;
+    fprintf(stderr, "sweep: run %d/%d: %s\n", k + 1, a->total, label.s);
+    /* this run's temporaries, now that it starts (checked before the reference) */
+    if (lg_outputs_add(sw->outs, sw->runs[k], LG_OUTPUT_IMAGE, err, sizeof err) ||
+        lg_outputs_add(sw->outs, sw->heats[k], LG_OUTPUT_IMAGE, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: run %d: %s\n", k, err);
+        rc = 1;
+    }
+    bool found = true;
+    for (uint32_t r = 0; r < a->repeat && rc == 0; r++) {
+        lg_run_result res;
+        rc = lg_render_file(&sw->reg, a->graph, run_sets, nr, &o, a->time_node, &res);
+        times[r] = a->time_node ? res.node_ms : res.total_ms;
+        found &= !a->time_node || res.node_found;
+    }
+    if (rc == 0 && !found) {
+        fprintf(stderr, "lightgraph sweep: --time %s: no kept node of that name ran\n",
+                a->time_node);
+        rc = 2;
+    }
+    lg_image img = {0};
+    if (rc == 0 && read_image(lg_outputs_temp(sw->outs, sw->runs[k]), &img))
+        rc = 1;
+    if (rc == 0)
+        rc = judge_run(sw, k, &img, owned, label.s, times);
+    lg_image_free(&img);
+    lg_str_free(&label);
+    for (int i = 0; i < n_vary; i++)
+        free(owned[i]);
+    free(owned);
+    return rc;
+}
+
+/* Every run in turn, stopping at the first that fails. Returns the exit status. */
+static int sweep_runs(sweep *sw)
+{
+    const lg_sweep_args *a = sw->a;
+    const char **run_sets = lg_xcalloc((size_t)(a->n_sets + a->n_vary) + 1, sizeof *run_sets);
+    double *times = lg_xcalloc(a->repeat, sizeof *times);
+    int rc = 0;
+    for (int k = 0; k < a->total && rc == 0; k++)
+        rc = sweep_run(sw, k, run_sets, times);
+    free(run_sets);
+    free(times);
+    return rc;
+}
+
+/* Writes the CSV and the script, plots (when gnuplot is there) and commits the sweep's
+ * files, all or nothing. Returns 0, or 1 (printed); *plotted says whether the plot was
+ * made. */
+static int sweep_finish(sweep *sw, bool *plotted)
+{
+    char err[1024];
+    *plotted = false;
+    if (lg_outputs_write_data(sw->outs, sw->csv_path, sw->csv.s, sw->csv.len, err, sizeof err) ||
+        write_gnuplot(sw->outs, sw->gp_path, sw->a->vary, sw->a->n_vary, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: %s\n", err);
+        return 1;
+    }
+    /* the plot is the one optional output: without gnuplot the rest is still written */
+    *plotted = run_gnuplot(sw->a->dir, lg_outputs_temp(sw->outs, sw->gp_path),
+                           lg_outputs_temp(sw->outs, sw->csv_path),
+                           lg_outputs_temp(sw->outs, sw->png_path)) == 0;
+    if (!*plotted)
+        lg_outputs_drop(sw->outs, sw->png_path);
+    /* all or nothing: the reference, the runs, the heat maps, the CSV and the plot */
+    if (lg_outputs_commit(sw->outs, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: %s\n", err);
+        return 1;
+    }
+    return 0;
+}
+
+static void sweep_free(sweep *sw)
+{
+    lg_outputs_free(&sw->outs);
+    for (int k = 0; sw->runs && k < sw->a->total; k++) {
+        free(sw->runs[k]);
+        free(sw->heats[k]);
+    }
+    free(sw->runs);
+    free(sw->heats);
+    free(sw->ref_out);
+    free(sw->csv_path);
+    free(sw->gp_path);
+    free(sw->png_path);
+    lg_str_free(&sw->csv);
+    lg_image_free(&sw->ref);
+    lg_registry_free(&sw->reg);
+}
+
 int lg_cmd_sweep(int argc, char **argv)
 {
     lg_sweep_args args;
@@ -210,245 +498,37 @@ int lg_cmd_sweep(int argc, char **argv)
     }
     if (args.quiet)
         lg_verbosity = -1;
-    const char *graph = args.graph, *reference = args.reference, *time_node = args.time_node;
-    const char *dir = args.dir;
-    const char **sets = args.sets, **ref_sets = args.ref_sets;
-    int n_sets = args.n_sets, n_ref_sets = args.n_ref_sets, n_vary = args.n_vary;
-    const vary *v = args.vary;
-    uint32_t repeat = args.repeat;
-    int total = args.total;
-    lg_exec_opts opts;
-    memset(&opts, 0, sizeof opts);
-    opts.width = args.width;
-    opts.height = args.height;
-    opts.frames = args.frames;
-    opts.dt = 1.0 / 60.0;
-    opts.gl_backend = args.gl_backend;
+    sweep sw;
+    memset(&sw, 0, sizeof sw);
+    sw.a = &args;
+    sw.opts.width = args.width;
+    sw.opts.height = args.height;
+    sw.opts.frames = args.frames;
+    sw.opts.dt = 1.0 / 60.0;
+    sw.opts.gl_backend = args.gl_backend;
+    lg_registry_scan(&sw.reg);
 
-    lg_registry reg = {0};
-    lg_outputs *outs = NULL;
-    lg_image ref = {0};
-    lg_str csv = {0};
-    char **runs = NULL, **heats = NULL;
-    char *ref_out = NULL, *csv_path = NULL, *gp_path = NULL, *png_path = NULL;
-    lg_registry_scan(&reg);
-
-    /* Everything is checked before the first run: every --vary value against the
-     * parameter's type and range (the graph with --set and that value, checked as `check`
-     * does), the reference graph, and every file the sweep writes. */
-    const char **rs = lg_xcalloc((size_t)(n_sets + n_ref_sets) + 2, sizeof *rs);
-    {
-        int nrs = 0;
-        if (!reference)
-            for (int i = 0; i < n_sets; i++)
-                rs[nrs++] = sets[i];
-        for (int i = 0; i < n_ref_sets; i++)
-            rs[nrs++] = ref_sets[i];
-        if (lg_check_file(&reg, reference ? reference : graph, rs, nrs)) {
-            fprintf(stderr, "lightgraph sweep: the reference %s is refused (above); nothing "
-                            "was run\n", reference ? reference : graph);
-            rc = 2;
-        }
-        for (int i = 0; i < n_vary && rc == 0; i++)
-            for (int j = 0; j < v[i].n && rc == 0; j++) {
-                for (int k = 0; k < n_sets; k++)
-                    rs[k] = sets[k];
-                char *kv = lg_xasprintf("%s=%s", v[i].key, v[i].values[j]);
-                rs[n_sets] = kv;
-                if (lg_check_file(&reg, graph, rs, n_sets + 1)) {
-                    fprintf(stderr,
-                            "lightgraph sweep: --vary %s: the value '%s' is refused (above); "
-                            "nothing was run\n",
-                            v[i].key, v[i].values[j]);
-                    rc = 2;
-                }
-                free(kv);
-            }
-        free(rs);
-        if (rc)
-            goto done;
-    }
-    outs = lg_outputs_new();
-    ref_out = lg_xasprintf("%s/reference.exr", dir);
-    csv_path = lg_xasprintf("%s/sweep.csv", dir);
-    gp_path = lg_xasprintf("%s/sweep.gp", dir);
-    png_path = lg_xasprintf("%s/sweep.png", dir);
-    runs = lg_xcalloc((size_t)total, sizeof *runs);
-    heats = lg_xcalloc((size_t)total, sizeof *heats);
-    /* the runs' images and heat maps are checked now and get their temporaries when their
-     * run starts (a sweep that stops early has made only what it reached); the reference,
-     * the CSV, the script and the plot get theirs now, which also proves DIR writable */
-    rc = lg_outputs_add(outs, ref_out, LG_OUTPUT_IMAGE, err, sizeof err);
-    for (int k = 0; k < total && rc == 0; k++) {
-        runs[k] = lg_xasprintf("%s/run-%03d.exr", dir, k);
-        heats[k] = lg_xasprintf("%s/heat-%03d.png", dir, k);
-        rc = lg_outputs_check(runs[k], LG_OUTPUT_IMAGE, err, sizeof err);
-        if (rc == 0)
-            rc = lg_outputs_check(heats[k], LG_OUTPUT_IMAGE, err, sizeof err);
-    }
+    /* Everything is checked before the first run: every --vary value, the reference graph,
+     * and every file the sweep writes; a refusal there has written nothing to say. */
+    rc = check_values(&sw);
     if (rc == 0)
-        rc = lg_outputs_add(outs, csv_path, LG_OUTPUT_FILE, err, sizeof err);
+        rc = reserve_outputs(&sw);
     if (rc == 0)
-        rc = lg_outputs_add(outs, gp_path, LG_OUTPUT_FILE, err, sizeof err);
-    if (rc == 0)
-        rc = lg_outputs_add(outs, png_path, LG_OUTPUT_IMAGE, err, sizeof err);
-    if (rc) {
-        fprintf(stderr, "lightgraph sweep: %s; nothing was run\n", err);
-        rc = 1;
-        goto done;
-    }
-    if (check_space(dir, total, n_vary, &opts)) {
-        rc = 1;
-        goto done;
-    }
-
-    /* the reference; each image goes to its output's temporary, read back from there */
-    {
-        const char **rsets = lg_xcalloc((size_t)(n_sets + n_ref_sets) + 1, sizeof *rsets);
-        int nrs = 0;
-        if (!reference) {
-            for (int i = 0; i < n_sets; i++)
-                rsets[nrs++] = sets[i];
-        }
-        for (int i = 0; i < n_ref_sets; i++)
-            rsets[nrs++] = ref_sets[i];
-        lg_exec_opts o = opts;
-        o.output_override = ref_out;
-        o.outputs = outs;
-        lg_run_result res;
-        fprintf(stderr, "sweep: reference (%s)\n", reference ? reference : graph);
-        rc = lg_render_file(&reg, reference ? reference : graph, rsets, nrs, &o, NULL, &res);
-        free(rsets);
-    }
-    if (rc == 0 && read_image(lg_outputs_temp(outs, ref_out), &ref))
-        rc = 1;
-    if (rc)
-        goto done;
-
-    lg_str_add(&csv, "run");
-    for (int i = 0; i < n_vary; i++) {
-        char *f = csv_field(v[i].key);
-        lg_str_addf(&csv, ",%s", f);
-        free(f);
-    }
-    lg_str_add(&csv, ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite\n");
-
-    const char **run_sets = lg_xcalloc((size_t)(n_sets + n_vary) + 1, sizeof *run_sets);
-    double *times = lg_xcalloc(repeat, sizeof *times);
-    for (int k = 0; k < total && rc == 0; k++) {
-        int nr = 0;
-        for (int i = 0; i < n_sets; i++)
-            run_sets[nr++] = sets[i];
-        char **owned = lg_xcalloc((size_t)n_vary, sizeof *owned);
-        int idx = k;
-        lg_str label = {0};
-        for (int i = n_vary - 1; i >= 0; i--) {
-            int j = idx % v[i].n;
-            idx /= v[i].n;
-            owned[i] = lg_xasprintf("%s=%s", v[i].key, v[i].values[j]);
-        }
-        for (int i = 0; i < n_vary; i++) {
-            run_sets[nr++] = owned[i];
-            lg_str_addf(&label, "%s%s", i ? " " : "", owned[i]);
-        }
-        lg_exec_opts o = opts;
-        o.output_override = runs[k];
-        o.outputs = outs;
-        fprintf(stderr, "sweep: run %d/%d: %s\n", k + 1, total, label.s);
-        /* this run's temporaries, now that it starts (checked before the reference) */
-        if (lg_outputs_add(outs, runs[k], LG_OUTPUT_IMAGE, err, sizeof err) ||
-            lg_outputs_add(outs, heats[k], LG_OUTPUT_IMAGE, err, sizeof err)) {
-            fprintf(stderr, "lightgraph sweep: run %d: %s\n", k, err);
-            rc = 1;
-        }
-        bool found = true;
-        for (uint32_t r = 0; r < repeat && rc == 0; r++) {
-            lg_run_result res;
-            rc = lg_render_file(&reg, graph, run_sets, nr, &o, time_node, &res);
-            times[r] = time_node ? res.node_ms : res.total_ms;
-            found &= !time_node || res.node_found;
-        }
-        if (rc == 0 && !found) {
-            fprintf(stderr, "lightgraph sweep: --time %s: no kept node of that name ran\n",
-                    time_node);
-            rc = 2;
-        }
-        lg_image img = {0};
-        if (rc == 0 && read_image(lg_outputs_temp(outs, runs[k]), &img))
-            rc = 1;
-        if (rc == 0) {
-            lg_image_metrics m;
-            lg_image heat = {0};
-            if (lg_image_compare(&img, &ref, &m, &heat, 0, err, sizeof err)) {
-                fprintf(stderr, "lightgraph sweep: run %d against the reference: %s\n", k, err);
-                rc = 1;
-            } else if (lg_outputs_write_image(outs, heats[k], &heat, NULL, err, sizeof err)) {
-                fprintf(stderr, "lightgraph sweep: %s\n", err);
-                rc = 1;
-            } else {
-                qsort(times, repeat, sizeof *times, cmp_double);
-                lg_str_addf(&csv, "%d", k);
-                for (int i = 0; i < n_vary; i++) {
-                    char *f = csv_field(strchr(owned[i], '=') + 1);
-                    lg_str_addf(&csv, ",%s", f);
-                    free(f);
-                }
-                lg_str_addf(&csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu\n",
-                            times[repeat / 2], times[0], m.rmse, m.psnr > 1e300 ? 999.0 : m.psnr,
-                            m.mean_abs, m.max_abs, m.rel_mse, (unsigned long long)m.nonfinite);
-                printf("%-40s time %9.3f ms  rmse %.4g  max %.4g  psnr %.2f dB\n", label.s,
-                       times[repeat / 2], m.rmse, m.max_abs, m.psnr);
-                fflush(stdout);
-            }
-            lg_image_free(&heat);
-        }
-        lg_image_free(&img);
-        lg_str_free(&label);
-        for (int i = 0; i < n_vary; i++)
-            free(owned[i]);
-        free(owned);
-    }
-    free(run_sets);
-    free(times);
-    bool plotted = false;
-    if (rc == 0 && (lg_outputs_write_data(outs, csv_path, csv.s, csv.len, err, sizeof err) ||
-                    write_gnuplot(outs, gp_path, v, n_vary, err, sizeof err))) {
-        fprintf(stderr, "lightgraph sweep: %s\n", err);
-        rc = 1;
-    }
+        rc = render_reference(&sw);
     if (rc == 0) {
-        /* the plot is the one optional output: without gnuplot the rest is still written */
-        plotted = run_gnuplot(dir, lg_outputs_temp(outs, gp_path), lg_outputs_temp(outs, csv_path),
-                              lg_outputs_temp(outs, png_path)) == 0;
-        if (!plotted)
-            lg_outputs_drop(outs, png_path);
+        csv_header(&sw);
+        bool plotted = false;
+        rc = sweep_runs(&sw);
+        if (rc == 0)
+            rc = sweep_finish(&sw, &plotted);
+        if (rc == 0)
+            printf("wrote %s, %s/reference.exr, %s/run-*.exr, heat maps %s/heat-*.png, %s%s\n",
+                   sw.csv_path, args.dir, args.dir, args.dir, sw.gp_path,
+                   plotted ? " and sweep.png" : " (gnuplot not run: install gnuplot-nox)");
+        else
+            fprintf(stderr, "lightgraph sweep: nothing was written to %s\n", args.dir);
     }
-    /* all or nothing: the reference, the runs, the heat maps, the CSV and the plot */
-    if (rc == 0 && lg_outputs_commit(outs, err, sizeof err)) {
-        fprintf(stderr, "lightgraph sweep: %s\n", err);
-        rc = 1;
-    }
-    if (rc == 0)
-        printf("wrote %s, %s/reference.exr, %s/run-*.exr, heat maps %s/heat-*.png, %s%s\n",
-               csv_path, dir, dir, dir, gp_path,
-               plotted ? " and sweep.png" : " (gnuplot not run: install gnuplot-nox)");
-    else
-        fprintf(stderr, "lightgraph sweep: nothing was written to %s\n", dir);
-done:
-    lg_outputs_free(&outs);
-    for (int k = 0; runs && k < total; k++) {
-        free(runs[k]);
-        free(heats[k]);
-    }
-    free(runs);
-    free(heats);
-    free(ref_out);
-    free(csv_path);
-    free(gp_path);
-    free(png_path);
-    lg_str_free(&csv);
-    lg_image_free(&ref);
-    lg_registry_free(&reg);
+    sweep_free(&sw);
     lg_sweep_args_free(&args);
     return rc;
 }

@@ -1,6 +1,7 @@
-/* The command line of `lightgraph sweep` (sweep_args.h). Apart from cmd_sweep.c, which runs
- * the sweep, so that the fuzz target (tests/fuzz/fuzz_sweep.c) links only this and util.c. */
+/* The command line of `lightgraph sweep` (sweep_args.h). Apart from sweep.c, which runs
+ * the sweep, so that the fuzz target (tests/fuzz/fuzz_sweep.c) runs it alone. */
 #include "cli/sweep_args.h"
+#include "cli/commands.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -24,6 +25,21 @@ static int bad(char *err, size_t errlen, const char *fmt, ...)
     return 2;
 }
 
+/* sweep's options, in the order of sweep_opt; every one but -q takes a value */
+static const lg_option sweep_opts[] = {
+    {"--vary", NULL, LG_OPT_VALUE},   {"--reference", NULL, LG_OPT_VALUE},
+    {"--ref-set", NULL, LG_OPT_VALUE}, {"--set", NULL, LG_OPT_VALUE},
+    {"--time", NULL, LG_OPT_VALUE},   {"--repeat", NULL, LG_OPT_VALUE},
+    {"--frames", NULL, LG_OPT_VALUE}, {"--size", NULL, LG_OPT_VALUE},
+    {"--gl", NULL, LG_OPT_VALUE},     {"-o", NULL, LG_OPT_VALUE},
+    {"-q", NULL, 0},
+};
+enum sweep_opt {
+    OPT_VARY, OPT_REFERENCE, OPT_REF_SET, OPT_SET, OPT_TIME, OPT_REPEAT, OPT_FRAMES, OPT_SIZE,
+    OPT_GL, OPT_DIR, OPT_QUIET, N_SWEEP_OPTS
+};
+_Static_assert(sizeof sweep_opts / sizeof sweep_opts[0] == N_SWEEP_OPTS, "sweep_opts");
+
 int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size_t errlen)
 {
     memset(a, 0, sizeof *a);
@@ -39,17 +55,11 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
     a->gl_backend = "osmesa";
     a->total = 1;
     for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes = strcmp(o, "--vary") == 0 || strcmp(o, "--reference") == 0 ||
-                     strcmp(o, "--ref-set") == 0 || strcmp(o, "--set") == 0 ||
-                     strcmp(o, "--time") == 0 || strcmp(o, "--repeat") == 0 ||
-                     strcmp(o, "--size") == 0 || strcmp(o, "-o") == 0 || strcmp(o, "--gl") == 0 ||
-                     strcmp(o, "--frames") == 0;
-        if (takes && !val)
+        const char *o = argv[i], *val;
+        int opt = lg_option_find(sweep_opts, N_SWEEP_OPTS, argc, argv, &i, &val);
+        if (opt == LG_OPT_NO_VALUE)
             return bad(err, errlen, "%s needs a value", o);
-        if (takes)
-            i++;
-        if (strcmp(o, "--vary") == 0) {
+        if (opt == OPT_VARY) {
             const char *eq = strchr(val, '=');
             if (!eq || eq == val || !eq[1] || a->n_vary == LG_SWEEP_MAX_VARY)
                 return bad(err, errlen, "--vary wants NODE.PARAM=v1,v2,... (at most "
@@ -79,33 +89,33 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
                     break;
                 t = comma + 1;
             }
-        } else if (strcmp(o, "--reference") == 0) {
+        } else if (opt == OPT_REFERENCE) {
             a->reference = val;
-        } else if (strcmp(o, "--ref-set") == 0) {
+        } else if (opt == OPT_REF_SET) {
             a->ref_sets[a->n_ref_sets++] = val;
-        } else if (strcmp(o, "--set") == 0) {
+        } else if (opt == OPT_SET) {
             a->sets[a->n_sets++] = val;
-        } else if (strcmp(o, "--time") == 0) {
+        } else if (opt == OPT_TIME) {
             a->time_node = val;
-        } else if (strcmp(o, "--repeat") == 0) {
+        } else if (opt == OPT_REPEAT) {
             /* lg_parse_uint, as every command reads a count: digits only (strtol took
              * ' 3' and '+3', which render's --frames refuses) */
             if (!lg_parse_uint(val, &a->repeat, 1000))
                 return bad(err, errlen, "--repeat wants 1..1000, got '%s'", val);
-        } else if (strcmp(o, "--frames") == 0) {
+        } else if (opt == OPT_FRAMES) {
             if (!lg_parse_uint(val, &a->frames, 100000))
                 return bad(err, errlen, "--frames wants 1..100000, got '%s'", val);
-        } else if (strcmp(o, "--size") == 0) {
+        } else if (opt == OPT_SIZE) {
             if (!lg_parse_size(val, &a->width, &a->height))
                 return bad(err, errlen, "--size wants WxH, 1..16384 each (got '%s')", val);
             a->size_given = true;
-        } else if (strcmp(o, "--gl") == 0) {
+        } else if (opt == OPT_GL) {
             if (strcmp(val, "osmesa") && strcmp(val, "egl"))
                 return bad(err, errlen, "--gl wants osmesa or egl, got '%s'", val);
             a->gl_backend = val;
-        } else if (strcmp(o, "-o") == 0) {
+        } else if (opt == OPT_DIR) {
             a->dir = val;
-        } else if (strcmp(o, "-q") == 0) {
+        } else if (opt == OPT_QUIET) {
             a->quiet = true;
         } else if (o[0] == '-') {
             return bad(err, errlen, "unknown option '%s'", o);

@@ -1,5 +1,5 @@
 /*
- * host/sweep_args.h: the command line of `lightgraph sweep` (cmd_sweep.c has the command and
+ * host/cli/sweep_args.h: the command line of `lightgraph sweep` (sweep.c has the command and
  * its usage), parsed apart from the command so that tests/fuzz/fuzz_sweep.c runs it on
  * arbitrary argument lists (docs/fuzzing.md).
  */

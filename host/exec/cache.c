@@ -176,10 +176,10 @@ static void remove_stale(const char *dir)
  * (warned once). */
 static const char *cache_ready(lg_exec *ex, bool create)
 {
-    if (ex->cache_off)
+    if (ex->cache.off)
         return NULL;
-    if (ex->cache_dir)
-        return ex->cache_dir;
+    if (ex->cache.dir)
+        return ex->cache.dir;
     cache_choice c = choose_dir();
     struct stat st;
     char buf[160];
@@ -209,17 +209,17 @@ static const char *cache_ready(lg_exec *ex, bool create)
                           "set LIGHTGRAPH_CACHE_DIR to a directory of your own",
                 c.dir, c.from, why);
         free(c.dir);
-        ex->cache_off = true;
+        ex->cache.off = true;
         return NULL;
     }
-    ex->cache_dir = c.dir;
-    remove_stale(ex->cache_dir);
-    return ex->cache_dir;
+    ex->cache.dir = c.dir;
+    remove_stale(ex->cache.dir);
+    return ex->cache.dir;
 }
 
 static char *entry_path(const char *dir, lg_pnode *n, const char *key)
 {
-    lg_digest d = n->identity;
+    lg_digest d = n->plan.identity;
     lg_digest_add_str(&d, key);
     char hex[33];
     lg_digest_hex(&d, hex);
@@ -250,14 +250,14 @@ static void drop_entry(lg_pnode *n, const char *path, const char *problem)
     lg_hlog(LG_HWARN, "node '%s': cache entry %s %s and cannot be removed (%s): recomputing, "
                       "and not cached in this render (remove it yourself to cache it again)",
             n->pub.name, path, problem, strerror(errno));
-    n->cache_stuck = true;
+    n->run.cache_stuck = true;
 }
 
 /* The largest entry read back: the largest buffer a resource may hold (16 GiB) plus the
  * header. */
 #define CACHE_MAX_ENTRY (((size_t)1 << 34) + 4096)
 
-int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size)
+int lg_exec_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size)
 {
     *data = NULL;
     *size = 0;
@@ -265,7 +265,7 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
         return LG_ERR_INVALID;
     const char *dir = cache_ready(ex, false);
     if (!dir) {
-        n->cache_misses++;
+        n->prof.cache_misses++;
         return LG_ERR_NOTFOUND;
     }
     char *path = entry_path(dir, n, key);
@@ -281,19 +281,19 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
             drop_entry(n, path, problem);
         }
         free(path);
-        n->cache_misses++;
+        n->prof.cache_misses++;
         return LG_ERR_NOTFOUND;
     }
     const char *payload = NULL;
     size_t psize = 0;
-    const char *why = lg_cache_entry_check(buf, len, &n->identity, key, &payload, &psize);
+    const char *why = lg_cache_entry_check(buf, len, &n->plan.identity, key, &payload, &psize);
     if (why) {
         char problem[300];
         snprintf(problem, sizeof problem, "is corrupt (%s)", why);
         drop_entry(n, path, problem);
         free(buf);
         free(path);
-        n->cache_misses++;
+        n->prof.cache_misses++;
         return LG_ERR_NOTFOUND;
     }
     void *out = malloc(psize ? psize : 1);
@@ -309,13 +309,13 @@ int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t 
     free(path);
     *data = out;
     *size = psize;
-    n->cache_hits++;
+    n->prof.cache_hits++;
     return LG_OK;
 }
 
 /* The node's own check found the values of an entry it read impossible (host.h,
  * cache_reject): the same words, the same removal and the same miss as the checksum's. */
-void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
+void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
 {
     if (!key_ok(n, key))
         return;
@@ -327,9 +327,9 @@ void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why)
     drop_entry(n, path, problem);
     free(problem);
     free(path);
-    if (n->cache_hits)
-        n->cache_hits--;
-    n->cache_misses++;
+    if (n->prof.cache_hits)
+        n->prof.cache_hits--;
+    n->prof.cache_misses++;
 }
 
 /* A test hook: LIGHTGRAPH_TEST_CACHE_WRITE_PAUSE=S pauses S seconds (at most 60) half way
@@ -392,7 +392,7 @@ static int put_entry(const char *path, const void *data, size_t n)
     return rc;
 }
 
-int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
                         size_t size)
 {
     if (!key_ok(n, key))
@@ -404,12 +404,12 @@ int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *d
         return LG_CACHE_OFF; /* said once: nothing to store, nothing failed */
     char *path = entry_path(dir, n, key);
     struct stat st;
-    if (n->cache_stuck && lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+    if (n->run.cache_stuck && lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         free(path); /* cache_get said why; a rename onto the folder would fail again */
         return LG_CACHE_NOT_STORED;
     }
     lg_str b = {0};
-    lg_cache_entry_encode(&b, &n->identity, key, data, size);
+    lg_cache_entry_encode(&b, &n->plan.identity, key, data, size);
     int rc = LG_CACHE_STORED;
     if (put_entry(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,
@@ -421,8 +421,8 @@ int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *d
     return rc;
 }
 
-int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
+int lg_exec_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size)
 {
-    int rc = lg_cache_put_status(ex, n, key, data, size);
+    int rc = lg_exec_cache_put_status(ex, n, key, data, size);
     return rc < 0 ? rc : rc == LG_CACHE_NOT_STORED ? LG_ERR_IO : LG_OK;
 }

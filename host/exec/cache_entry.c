@@ -1,5 +1,5 @@
-/* The bytes of one cache entry (host.h, "cache"): written by lg_cache_put, checked by
- * lg_cache_get. Apart from cache.c so that the check runs on a buffer, with nothing else of
+/* The bytes of one cache entry (host.h, "cache"): written by lg_exec_cache_put, checked by
+ * lg_exec_cache_get. Apart from cache.c so that the check runs on a buffer, with nothing else of
  * the host: tests/fuzz/fuzz_cache.c feeds it arbitrary bytes.
  *
  *   "LGCACHE\1" | u32 format version | 16 bytes identity | u32 key length | key

@@ -42,8 +42,13 @@ const GladGLContext *lg_gl_device_table(const lg_gl_device *dev);
 const char *lg_gl_device_description(const lg_gl_device *dev);
 /* Destroys the context; accepts NULL; clears *dev. */
 void lg_gl_device_destroy(lg_gl_device **dev);
+/* Makes the GL_TIME_ELAPSED query object that times the nodes on this device's context
+ * (lg_exec.gl_timer_query) and spends its first result: llvmpipe's first timer query in a
+ * context returns an absolute timestamp, which would otherwise be the first GL node's GPU
+ * time. Returns the query's name; the caller deletes it (DeleteQueries) before the device. */
+uint32_t lg_gl_device_timer_query(const lg_gl_device *dev);
 
-/* The GL state contract (docs/sdk.md): before each node the host resets the state that
+/* The GL state contract (docs/devices.md): before each node the host resets the state that
  * nodes may change (lg_gl_state_reset); in debug builds it checks after each node that
  * the node restored what it must (lg_gl_state_check): draw/read framebuffer 0, current
  * program 0, vertex array 0, no buffer bound to GL_SHADER_STORAGE_BUFFER /

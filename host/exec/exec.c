@@ -20,21 +20,21 @@
 
 static void read_cl_events(lg_pnode *n)
 {
-    if (!n->n_cl_events)
+    if (!n->run.n_cl_events)
         return;
-    clWaitForEvents(n->n_cl_events, (const cl_event *)n->cl_events);
-    for (uint32_t i = 0; i < n->n_cl_events; i++) {
+    clWaitForEvents(n->run.n_cl_events, (const cl_event *)n->run.cl_events);
+    for (uint32_t i = 0; i < n->run.n_cl_events; i++) {
         cl_ulong start = 0, end = 0;
-        cl_event ev = (cl_event)n->cl_events[i];
+        cl_event ev = (cl_event)n->run.cl_events[i];
         if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start, &start,
                                     NULL) == CL_SUCCESS &&
             clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof end, &end, NULL) ==
                 CL_SUCCESS &&
             end >= start)
-            n->gpu_ms += (double)(end - start) * 1e-6;
+            n->prof.gpu_ms += (double)(end - start) * 1e-6;
         clReleaseEvent(ev);
     }
-    n->n_cl_events = 0;
+    n->run.n_cl_events = 0;
 }
 
 /* ---- the crash guard (ex->guard) ------------------------------------------------------ */
@@ -177,7 +177,7 @@ int lg_node_call(lg_exec *ex, lg_pnode *n, const char *what, void (*fn)(void *ct
     }
     int sig = lg_guard_call(ex->guard, fn, ctx);
     if (sig) {
-        n->crashed = true;
+        n->run.crashed = true;
         n->plugin->poisoned = true;
         lg_node_errorf(n, "crashed in %s() (signal %d, %s); plugin %s", what, sig,
                        strsignal(sig), n->plugin->path);
@@ -199,14 +199,14 @@ static void call_execute(void *p)
 
 static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
 {
-    const GladGLContext *gl = ex->gl ? lg_gl_device_table(ex->gl) : NULL;
-    bool timed_gl = gl && n->device == LG_DEVICE_GL;
+    const GladGLContext *gl = ex->dev.gl ? lg_gl_device_table(ex->dev.gl) : NULL;
+    bool timed_gl = gl && n->run.device == LG_DEVICE_GL;
     if (gl)
         lg_gl_state_reset(gl);
     if (timed_gl)
-        gl->BeginQuery(GL_TIME_ELAPSED, ex->gl_timer_query);
-    double t0 = lg_now();
-    double gpu0 = n->gpu_ms;
+        gl->BeginQuery(GL_TIME_ELAPSED, ex->dev.gl_timer_query);
+    double t0 = lg_mono_now();
+    double gpu0 = n->prof.gpu_ms;
     exec_call call = {n, frame, 0};
     int sig = lg_node_call(ex, n, "execute", call_execute, &call);
     int rc = call.rc;
@@ -221,32 +221,32 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
          * the frame would see */
         gl->Finish();
         GLuint64 ns = 0;
-        gl->GetQueryObjectui64v(ex->gl_timer_query, GL_QUERY_RESULT, &ns);
-        double q = (double)ns * 1e-6, wall = (lg_now() - t0) * 1e3;
+        gl->GetQueryObjectui64v(ex->dev.gl_timer_query, GL_QUERY_RESULT, &ns);
+        double q = (double)ns * 1e-6, wall = (lg_mono_now() - t0) * 1e3;
         /* llvmpipe's GL_TIME_ELAPSED counts rasteriser work only (compute dispatches read
          * 0) and may return an absolute timestamp: a value outside (0, wall] is not a
          * measurement, and the profile says n/a rather than print it */
         if (q > 0 && q <= wall)
-            n->gpu_ms += q;
+            n->prof.gpu_ms += q;
         else
-            n->gpu_unmeasured = true;
+            n->prof.gpu_unmeasured = true;
     }
-    if (ex->cl && n->device == LG_DEVICE_CL)
-        clFinish((cl_command_queue)lg_cl_device_queue(ex->cl));
+    if (ex->dev.cl && n->run.device == LG_DEVICE_CL)
+        clFinish((cl_command_queue)lg_cl_device_queue(ex->dev.cl));
     read_cl_events(n);
-    double ms = (lg_now() - t0) * 1e3;
-    n->cpu_ms += ms;
-    n->last_cpu_ms = ms;
-    n->last_gpu_ms = n->gpu_ms - gpu0;
-    n->last_frame = frame->index;
-    n->ran_this_frame = true;
-    n->camera_gen = ex->camera_gen;
-    if (n->runs == 0)
-        n->first_cpu_ms = n->min_cpu_ms = ms;
-    else if (ms < n->min_cpu_ms)
-        n->min_cpu_ms = ms;
-    n->runs++;
-    n->ran = true;
+    double ms = (lg_mono_now() - t0) * 1e3;
+    n->prof.cpu_ms += ms;
+    n->viewer.last_cpu_ms = ms;
+    n->viewer.last_gpu_ms = n->prof.gpu_ms - gpu0;
+    n->viewer.last_frame = frame->index;
+    n->viewer.ran_this_frame = true;
+    n->viewer.camera_gen = ex->viewer.camera_gen;
+    if (n->prof.runs == 0)
+        n->prof.first_cpu_ms = n->prof.min_cpu_ms = ms;
+    else if (ms < n->prof.min_cpu_ms)
+        n->prof.min_cpu_ms = ms;
+    n->prof.runs++;
+    n->run.ran = true;
     if (rc == 0 && gl)
         rc = ex->api.gl_check(&n->pub, "executing");
 #ifdef LG_DEBUG_CHECKS
@@ -372,7 +372,7 @@ bool lg_exec_runs_every_frame(const lg_exec *ex, const lg_pnode *n)
 int lg_execute(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     uint32_t frames = ex->opts.frames ? ex->opts.frames : 1;
     for (uint32_t f = 0; f < frames; f++) {
         lg_frame frame;
@@ -386,14 +386,14 @@ int lg_execute(lg_exec *ex)
         ex->frame = f;
         for (uint32_t t = 0; t < c->n_nodes; t++) {
             lg_pnode *n = ex->nodes[c->topo[t]];
-            if (n->state != LG_STATE_KEPT || (n->ran && !n->per_frame && !lg_exec_runs_every_frame(ex, n)))
+            if (n->plan.state != LG_STATE_KEPT || (n->run.ran && !n->run.per_frame && !lg_exec_runs_every_frame(ex, n)))
                 continue;
             if (run_node(ex, n, &frame))
                 return -1;
         }
     }
     int rc = write_outputs(ex);
-    ex->t_total_ms = (lg_now() - t0) * 1e3;
+    ex->t_total_ms = (lg_mono_now() - t0) * 1e3;
     return rc;
 }
 
@@ -411,16 +411,16 @@ int lg_exec_frame(lg_exec *ex, uint32_t index)
     ex->frame = index;
     for (uint32_t i = 0; i < ex->n_nodes; i++)
         if (ex->nodes[i])
-            ex->nodes[i]->ran_this_frame = false;
+            ex->nodes[i]->viewer.ran_this_frame = false;
     for (uint32_t t = 0; t < c->n_nodes; t++) {
         lg_pnode *n = ex->nodes[c->topo[t]];
-        if (!n || n->state != LG_STATE_KEPT)
+        if (!n || n->plan.state != LG_STATE_KEPT)
             continue;
-        bool run = !n->ran || n->per_frame || lg_exec_runs_every_frame(ex, n) ||
-                   (n->reads_scene && n->camera_gen != ex->camera_gen);
+        bool run = !n->run.ran || n->run.per_frame || lg_exec_runs_every_frame(ex, n) ||
+                   (n->plan.reads_scene && n->viewer.camera_gen != ex->viewer.camera_gen);
         for (uint32_t k = 0; k < n->schema->n_inputs && !run; k++) {
             int32_t s = n->c->inputs[k].node;
-            run = s >= 0 && ex->nodes[s] && ex->nodes[s]->ran_this_frame;
+            run = s >= 0 && ex->nodes[s] && ex->nodes[s]->viewer.ran_this_frame;
         }
         if (run && run_node(ex, n, &frame))
             return -1;
@@ -446,15 +446,15 @@ void lg_exec_free(lg_exec *ex)
         lg_pnode *n = ex->nodes[ex->checked->topo[t]];
         if (!n)
             continue;
-        if (n->created) {
-            if (n->pub.type->destroy && !n->crashed)
+        if (n->run.created) {
+            if (n->pub.type->destroy && !n->run.crashed)
                 lg_node_call(ex, n, "destroy", call_destroy, n);
-            if (!n->crashed)
+            if (!n->run.crashed)
                 n->plugin->live_refs--;
         }
-        for (uint32_t i = 0; i < n->n_cl_events; i++)
-            clReleaseEvent((cl_event)n->cl_events[i]);
-        free(n->cl_events);
+        for (uint32_t i = 0; i < n->run.n_cl_events; i++)
+            clReleaseEvent((cl_event)n->run.cl_events[i]);
+        free(n->run.cl_events);
     }
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
         lg_pnode *n = ex->nodes[i];
@@ -463,23 +463,23 @@ void lg_exec_free(lg_exec *ex)
         for (uint32_t o = 0; o < n->schema->n_outputs; o++)
             lg_resource_unref(ex, n->outputs[o]);
         free(n->outputs);
-        free(n->reason);
-        free(n->work_what);
+        free(n->plan.reason);
+        free(n->plan.work_what);
         free(n);
     }
     free(ex->nodes);
     ex->nodes = NULL;
 devices:
-    if (!ex->keep_devices) {
-        if (ex->gl) {
-            const GladGLContext *gl = lg_gl_device_table(ex->gl);
-            if (ex->gl_timer_query)
-                gl->DeleteQueries(1, &ex->gl_timer_query);
+    if (!ex->dev.keep) {
+        if (ex->dev.gl) {
+            const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
+            if (ex->dev.gl_timer_query)
+                gl->DeleteQueries(1, &ex->dev.gl_timer_query);
         }
-        lg_gl_device_destroy(&ex->gl);
-        lg_cl_device_destroy(&ex->cl);
+        lg_gl_device_destroy(&ex->dev.gl);
+        lg_cl_device_destroy(&ex->dev.cl);
     }
-    free(ex->gl_error);
-    free(ex->cl_error);
-    free(ex->cache_dir);
+    free(ex->dev.gl_error);
+    free(ex->dev.cl_error);
+    free(ex->cache.dir);
 }

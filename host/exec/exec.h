@@ -5,6 +5,7 @@
 #ifndef LG_HOST_EXEC_EXEC_H
 #define LG_HOST_EXEC_EXEC_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -148,6 +149,43 @@ typedef struct lg_attached {
     void *cl;
 } lg_attached;
 
+/* A resource's copies on the devices, and which are current (resource.c). */
+typedef struct lg_resource_copies {
+    void *cpu;
+    float *cpu_depth;
+    bool cpu_valid;
+    uint32_t gl_name, gl_depth;
+    bool gl_valid;
+    void *cl_mem, *cl_depth;
+    bool cl_valid;
+} lg_resource_copies;
+
+/* A plugin-owned payload (a scene, SH coefficients, ...) and what the host made of it. */
+typedef struct lg_resource_payload {
+    void *data;
+    void (*free)(void *);
+    lg_plugin *plugin;          /* kept loaded while the payload lives */
+    lg_attached *attached;      /* GPU copies of payload arrays, by slot */
+    uint32_t n_attached;
+    /* a scene with the viewer's camera (ex->viewer.camera): the copy describe() hands out */
+    void *view_scene;
+    void *view_cameras;
+    uint64_t view_gen;
+} lg_resource_payload;
+
+/* Composite kinds (lightgraph/kinds.h): one part per entry of the kind's table, in its
+ * order; NULL for an optional part the producer left out. Parts are resources of kind
+ * image, volume or buffer, owned by the composite (refs 1, freed with it). A neutral
+ * composite has parts too (zero images the render size, empty buffers), which only an
+ * edge naming a part (NODE.PART) reaches; lg_part() gives NULL for it. */
+typedef struct lg_resource_parts {
+    struct lg_resource **list;  /* a composite: its parts */
+    uint32_t n;
+    struct lg_resource *parent; /* a part: its composite */
+    int32_t index;              /* a part: its index in the kind's table */
+    lg_part_type type;          /* a part: its declared type */
+} lg_resource_parts;
+
 struct lg_resource {
     lg_resource_kind kind;
     bool neutral;
@@ -156,35 +194,11 @@ struct lg_resource {
     lg_volume_desc volume;
     lg_scene_features features;
     bool has_features;
-    void *payload;
-    void (*free_payload)(void *);
-    lg_plugin *payload_plugin;  /* kept loaded while the payload lives */
     struct lg_pnode *producer;
     int refs;
-    /* copies and which are current */
-    void *cpu;
-    float *cpu_depth;
-    bool cpu_valid;
-    uint32_t gl_name, gl_depth;
-    bool gl_valid;
-    void *cl_mem, *cl_depth;
-    bool cl_valid;
-    lg_attached *attached;      /* GPU copies of payload arrays, by slot */
-    uint32_t n_attached;
-    /* composite kinds (lightgraph/kinds.h): one part per entry of the kind's table, in its
-     * order; NULL for an optional part the producer left out. Parts are resources of kind
-     * image, volume or buffer, owned by the composite (refs 1, freed with it). A neutral
-     * composite has parts too (zero images the render size, empty buffers), which only
-     * an edge naming a part (NODE.PART) reaches; lg_part() gives NULL for it. */
-    struct lg_resource **parts;
-    uint32_t n_parts;
-    struct lg_resource *parent; /* a part: its composite */
-    int32_t part_index;         /* a part: its index in the kind's table */
-    lg_part_type part_type;     /* a part: its declared type */
-    /* a scene with the viewer's camera (ex->camera): the copy describe() hands out */
-    void *view_scene;
-    void *view_cameras;
-    uint64_t view_gen;
+    lg_resource_copies copies;
+    lg_resource_payload payload;
+    lg_resource_parts parts;
 };
 
 size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth and parts included */
@@ -228,25 +242,42 @@ typedef enum lg_node_state {
     LG_STATE_GATED,
 } lg_node_state;
 
-typedef struct lg_pnode {
-    lg_node pub;                 /* what the plugin sees; must stay first */
-    struct lg_exec *ex;
-    uint32_t index;
-    const lg_cnode *c;
-    const lg_node_type *schema;  /* scanned type */
-    lg_plugin *plugin;
+/* What the planner decided about a node (plan/), and what prepare() told it. */
+typedef struct lg_pnode_plan {
     lg_node_state state;
     char *reason;                /* why culled or gated */
+    lg_digest identity;
+    lg_digest plan_identity;     /* identity before prepare() added content keys: what a
+                                  * later plan compares to adopt the node (lg_plan) */
+    bool lent;                   /* adopted by a newer plan that is not committed yet */
+    uint32_t prev_index;         /* while lent: its index in the plan it came from */
+    bool reads_scene;            /* an input delivers a scene; it makes none itself; not
+                                  * view independent */
+    bool view_independent_set, view_independent; /* lg_set_view_independent in prepare */
+    /* lg_declare_work in prepare (ABI 2.7): one run's work in the plugin's own unit and
+     * its estimated wall time; work_what is owned (freed with the node) */
+    bool work_declared;
+    double work_units, work_seconds;
+    char *work_what;
+} lg_pnode_plan;
+
+/* A node's life in the runtime (exec/). */
+typedef struct lg_pnode_run {
     bool per_frame;
     bool device_set;
     lg_device device;
     bool prepared, created;
     bool ran;                    /* executed at least once */
-    lg_resource **outputs;       /* schema->n_outputs */
-    lg_digest identity;
-    lg_digest plan_identity;     /* identity before prepare() added content keys: what a
-                                  * later plan compares to adopt the node (lg_plan) */
-    /* profile */
+    bool crashed;                /* a callback crashed under the guard: never called again */
+    void **cl_events;
+    uint32_t n_cl_events, cap_cl_events;
+    bool warned_once;
+    bool cache_stuck;            /* an entry of this node could not be removed (cache.c):
+                                  * said once by cache_get, bypassed by cache_put */
+} lg_pnode_run;
+
+/* What --profile reports about a node (exec/profile.c). */
+typedef struct lg_pnode_prof {
     double cpu_ms, gpu_ms;
     double first_cpu_ms;         /* the first run: includes one-off set-up (programs, kernels) */
     double min_cpu_ms;           /* the fastest run */
@@ -259,29 +290,30 @@ typedef struct lg_pnode {
      * the most live at once; the profile's `allocated` is bytes_alloc + the peak */
     uint64_t bytes_plugin_live, bytes_plugin_peak;
     uint64_t cache_hits, cache_misses;
-    void **cl_events;
-    uint32_t n_cl_events, cap_cl_events;
-    bool warned_once;
-    bool cache_stuck;            /* an entry of this node could not be removed (cache.c):
-                                  * said once by cache_get, bypassed by cache_put */
-    /* the viewer (lg_exec_frame, lg_plan with ex->prev) */
+} lg_pnode_prof;
+
+/* What the viewer keeps about a node between frames (lg_exec_frame). */
+typedef struct lg_pnode_viewer {
     double last_cpu_ms, last_gpu_ms; /* its last run */
     uint32_t last_frame;         /* the frame of its last run */
     bool ran_this_frame;
-    bool reads_scene;            /* an input delivers a scene; it makes none itself; not
-                                  * view independent */
-    bool view_independent_set, view_independent; /* lg_set_view_independent in prepare */
-    uint64_t camera_gen;         /* ex->camera_gen when it last ran */
-    bool lent;                   /* adopted by a newer plan that is not committed yet */
-    uint32_t prev_index;         /* while lent: its index in the plan it came from */
-    bool crashed;                /* a callback crashed under the guard: never called again */
+    uint64_t camera_gen;         /* ex->viewer.camera_gen when it last ran */
     bool output_file_noted;      /* the viewer said it does not write the node's files */
     double avg_cpu_ms, avg_gpu_ms; /* the viewer's moving averages */
-    /* lg_declare_work in prepare (ABI 2.7): one run's work in the plugin's own unit and
-     * its estimated wall time; work_what is owned (freed with the node) */
-    bool work_declared;
-    double work_units, work_seconds;
-    char *work_what;
+} lg_pnode_viewer;
+
+typedef struct lg_pnode {
+    lg_node pub;                 /* what the plugin sees; must stay first */
+    struct lg_exec *ex;
+    uint32_t index;
+    const lg_cnode *c;
+    const lg_node_type *schema;  /* scanned type */
+    lg_plugin *plugin;
+    lg_resource **outputs;       /* schema->n_outputs */
+    lg_pnode_plan plan;
+    lg_pnode_run run;
+    lg_pnode_prof prof;
+    lg_pnode_viewer viewer;
 } lg_pnode;
 
 typedef struct lg_exec_opts {
@@ -320,25 +352,24 @@ typedef enum lg_guard_mode {
     LG_GUARD_EXIT,
 } lg_guard_mode;
 
-typedef struct lg_exec {
-    lg_exec_opts opts;
-    lg_registry *reg;
-    const lg_graph *graph;
-    const lg_checked *checked;
-    lg_pnode **nodes;            /* n_nodes, each allocated on its own: a node kept across a
-                                  * reload (lg_plan_reuse) moves with its address */
-    uint32_t n_nodes;
-    lg_host_api api;
+/* The devices of a run, made on first need (exec/devices.c). */
+typedef struct lg_exec_devices {
     lg_gl_device *gl;
     lg_cl_dev *cl;
     char *gl_error, *cl_error;   /* why a device could not be made (reported once per node) */
     uint32_t gl_timer_query;
-    char *cache_dir;             /* checked on first use (cache.c); NULL until then */
-    bool cache_off;              /* the directory failed its check: no caching this run */
-    bool failed;
-    uint32_t frame;
-    double t_plan_ms, t_total_ms;
-    /* -- the viewer (host/cmd_view.c) -- */
+    bool keep;                   /* lg_exec_free leaves gl, cl and the timer query alone:
+                                  * the caller owns them (the viewer passes them on) */
+} lg_exec_devices;
+
+/* The on-disk cache of a run (exec/cache.c). */
+typedef struct lg_exec_cache {
+    char *dir;                   /* checked on first use; NULL until then */
+    bool off;                    /* the directory failed its check: no caching this run */
+} lg_exec_cache;
+
+/* What the viewer (host/viewer) asks of a plan and a run. */
+typedef struct lg_exec_viewer {
     /* lg_plan adopts the nodes of this earlier plan of the same registry whose identity,
      * plugin entry and input resources are unchanged (their instances, resources and
      * caches are kept, and they do not run again unless they run per frame); see
@@ -348,13 +379,28 @@ typedef struct lg_exec {
      * output statements (the viewer: the one image it shows). */
     const lg_edge *roots;
     uint32_t n_roots;
-    bool keep_devices;           /* lg_exec_free leaves gl, cl and the timer query alone:
-                                  * the caller owns them (the viewer passes them on) */
     /* When set, every scene an input delivers has this camera as its active camera
      * (api describe; the copy is made again when camera_gen changes), and lg_exec_frame
      * runs again the nodes that read a scene. */
     const lg_camera *camera;
     uint64_t camera_gen;
+} lg_exec_viewer;
+
+typedef struct lg_exec {
+    lg_exec_opts opts;
+    lg_registry *reg;
+    const lg_graph *graph;
+    const lg_checked *checked;
+    lg_pnode **nodes;            /* n_nodes, each allocated on its own: a node kept across a
+                                  * reload (lg_plan_reuse) moves with its address */
+    uint32_t n_nodes;
+    lg_host_api api;
+    lg_exec_devices dev;
+    lg_exec_cache cache;
+    bool failed;
+    uint32_t frame;
+    double t_plan_ms, t_total_ms; /* the profile's totals */
+    lg_exec_viewer viewer;
     /* How plugin callbacks (create, prepare, execute, destroy) of nodes made in this plan
      * meet a crash (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT): see lg_guard_mode. */
     lg_guard_mode guard;
@@ -383,23 +429,29 @@ void lg_profile_print(lg_exec *ex, FILE *f);
 bool lg_exec_runs_every_frame(const lg_exec *ex, const lg_pnode *n);
 int lg_profile_write_json(lg_exec *ex, const char *path);
 
-/* host API table and per-node helpers (hostapi.c) */
+/* The host API table plugins call (hostapi.c). */
 void lg_host_api_init(lg_host_api *api);
+/* A node's messages (node_diag.c): "node 'NAME' (TYPE): ..." at a host log level (LG_H*).
+ * errorf also marks the run failed. */
+void lg_node_vmsg(lg_pnode *n, int level, const char *fmt, va_list ap);
 void lg_node_errorf(lg_pnode *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void lg_node_warnf(lg_pnode *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The run's GL or CL device, made on first need (devices.c): 0, or LG_ERR_DEVICE after
+ * reporting why as n's error. */
 int lg_exec_need_gl(lg_exec *ex, lg_pnode *n);
 int lg_exec_need_cl(lg_exec *ex, lg_pnode *n);
 
 /* cache (cache.c) */
 char *lg_cache_dir(void);
-int lg_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
-int lg_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
+int lg_exec_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, size_t *size);
+int lg_exec_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *data, size_t size);
 /* cache_put saying what it did: an lg_cache_store_result, or an LG_ERR_* (< 0) for a bad
- * key or NULL data (lg_host_api.cache_store). lg_cache_put maps it to LG_OK / LG_ERR_IO. */
-int lg_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
+ * key or NULL data (lg_host_api.cache_store). lg_exec_cache_put maps it to LG_OK / LG_ERR_IO. */
+int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
                         size_t size);
 /* A hit the node found bad (lg_host_api.cache_reject): warned as corrupt, removed, counted
  * as a miss instead of a hit. */
-void lg_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why);
+void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why);
 /* One entry's bytes (cache_entry.c, which has the format). encode appends the entry for
  * `identity`, `key` and the payload to b. check reads an entry's bytes (untrusted: read back
  * from disk) as the entry for `identity` and `key`: returns NULL with *payload pointing

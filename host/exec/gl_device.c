@@ -1,5 +1,5 @@
 /* The GL device: backend choice, entry-point loading and checks common to the backends,
- * and the GL state contract (docs/sdk.md, "Devices and the GL state contract"). */
+ * and the GL state contract (docs/devices.md, "The GL state contract"). */
 #include "exec/device.h"
 
 #include <stdarg.h>
@@ -118,6 +118,19 @@ const GladGLContext *lg_gl_device_table(const lg_gl_device *dev)
 const char *lg_gl_device_description(const lg_gl_device *dev)
 {
     return dev->description;
+}
+
+uint32_t lg_gl_device_timer_query(const lg_gl_device *dev)
+{
+    const GladGLContext *gl = &dev->gl;
+    GLuint query = 0;
+    gl->GenQueries(1, &query);
+    /* the query runs on nothing: its result is the timestamp, read and dropped here */
+    GLuint64 ns = 0;
+    gl->BeginQuery(GL_TIME_ELAPSED, query);
+    gl->EndQuery(GL_TIME_ELAPSED);
+    gl->GetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+    return query;
 }
 
 void lg_gl_device_destroy(lg_gl_device **pdev)

@@ -21,42 +21,15 @@ static lg_pnode *P(lg_node *n)
     return (lg_pnode *)n;
 }
 
-static void vnode_msg(lg_pnode *n, int level, const char *fmt, va_list ap)
-{
-    char *msg;
-    if (vasprintf(&msg, fmt, ap) < 0)
-        return;
-    lg_hlog(level, "node '%s' (%s): %s", n->pub.name, n->schema ? n->schema->name : "?", msg);
-    free(msg);
-}
-
-void lg_node_errorf(lg_pnode *n, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vnode_msg(n, LG_HERR, fmt, ap);
-    va_end(ap);
-    n->ex->failed = true;
-}
-
-static void node_warnf(lg_pnode *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void node_warnf(lg_pnode *n, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vnode_msg(n, LG_HWARN, fmt, ap);
-    va_end(ap);
-}
-
 static void api_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
 {
     int map[] = {LG_HERR, LG_HWARN, LG_HINFO, LG_HDEBUG};
-    vnode_msg(P(n), map[level <= LG_LOG_DEBUG ? level : LG_LOG_DEBUG], fmt, ap);
+    lg_node_vmsg(P(n), map[level <= LG_LOG_DEBUG ? level : LG_LOG_DEBUG], fmt, ap);
 }
 
 static void api_error(lg_node *n, const char *fmt, va_list ap)
 {
-    vnode_msg(P(n), LG_HERR, fmt, ap);
+    lg_node_vmsg(P(n), LG_HERR, fmt, ap);
     P(n)->ex->failed = true;
 }
 
@@ -75,7 +48,7 @@ static void api_progress(lg_node *n, double fraction, const char *what)
 
 static double api_now(void)
 {
-    return lg_now();
+    return lg_mono_now();
 }
 
 static const lg_value *api_param(lg_node *n, uint32_t index)
@@ -92,11 +65,11 @@ static const lg_value *api_param(lg_node *n, uint32_t index)
     if (p->schema->params[index].role == LG_ROLE_OUTPUT_FILE && !p->ex->opts.outputs &&
         v->s && v->s[0]) {
         static const lg_value none = {.type = LG_PARAM_PATH, .s = ""};
-        if (!p->output_file_noted)
-            node_warnf(p, "%s '%s' is not written: the viewer writes no files but its "
+        if (!p->viewer.output_file_noted)
+            lg_node_warnf(p, "%s '%s' is not written: the viewer writes no files but its "
                           "screenshots (lightgraph render writes it)",
                        p->schema->params[index].key, v->s);
-        p->output_file_noted = true;
+        p->viewer.output_file_noted = true;
         return &none;
     }
     return v;
@@ -145,31 +118,31 @@ static const void *scene_payload(const lg_resource *cr)
 {
     lg_resource *r = (lg_resource *)cr; /* the copy is the host's cache on the resource */
     lg_exec *ex = r->producer ? r->producer->ex : NULL;
-    const lg_scene *s = r->payload;
-    if (!ex || !ex->camera || r->kind != LG_KIND_SCENE || !s ||
+    const lg_scene *s = r->payload.data;
+    if (!ex || !ex->viewer.camera || r->kind != LG_KIND_SCENE || !s ||
         s->struct_size < offsetof(lg_scene, reserved))
-        return r->payload;
-    if (r->view_scene && r->view_gen == ex->camera_gen)
-        return r->view_scene;
+        return r->payload.data;
+    if (r->payload.view_scene && r->payload.view_gen == ex->viewer.camera_gen)
+        return r->payload.view_scene;
     size_t size = s->struct_size > sizeof(lg_scene) ? s->struct_size : sizeof(lg_scene);
     uint32_t nc = s->n_cameras ? s->n_cameras : 1;
     uint32_t active = s->camera < s->n_cameras ? s->camera : 0;
-    free(r->view_scene);
-    free(r->view_cameras);
+    free(r->payload.view_scene);
+    free(r->payload.view_cameras);
     lg_scene *copy = lg_xcalloc(1, size);
     memcpy(copy, s, s->struct_size);
     lg_camera *cams = lg_xcalloc(nc, sizeof *cams);
     if (s->n_cameras && s->cameras)
         memcpy(cams, s->cameras, s->n_cameras * sizeof *cams);
     const char *name = s->n_cameras && s->cameras ? s->cameras[active].name : "viewer";
-    cams[active] = *ex->camera;
+    cams[active] = *ex->viewer.camera;
     cams[active].name = name;
     copy->cameras = cams;
     copy->n_cameras = nc;
     copy->camera = active;
-    r->view_scene = copy;
-    r->view_cameras = cams;
-    r->view_gen = ex->camera_gen;
+    r->payload.view_scene = copy;
+    r->payload.view_cameras = cams;
+    r->payload.view_gen = ex->viewer.camera_gen;
     return copy;
 }
 
@@ -185,12 +158,12 @@ static int api_describe(const lg_resource *r, lg_resource_info *out)
     out->volume = r->volume;
     out->scene = r->has_features ? &r->features : NULL;
     out->payload = scene_payload(r);
-    out->n_parts = r->neutral ? 0 : r->n_parts;
-    if (r->parent) {
-        const lg_kind_desc *kd = lg_kind_describe(r->parent->kind);
-        out->part_of = r->parent->kind;
-        out->part_name = kd ? kd->parts[r->part_index].name : NULL;
-        out->part_type = r->part_type;
+    out->n_parts = r->neutral ? 0 : r->parts.n;
+    if (r->parts.parent) {
+        const lg_kind_desc *kd = lg_kind_describe(r->parts.parent->kind);
+        out->part_of = r->parts.parent->kind;
+        out->part_name = kd ? kd->parts[r->parts.index].name : NULL;
+        out->part_type = r->parts.type;
     }
     return 0;
 }
@@ -198,7 +171,7 @@ static int api_describe(const lg_resource *r, lg_resource_info *out)
 /* Outputs are declared once, in prepare, with the kind the port declares. */
 static lg_resource *declare(lg_pnode *p, uint32_t port, lg_resource_kind kind, const char *what)
 {
-    if (p->prepared) {
+    if (p->run.prepared) {
         lg_node_errorf(p, "declares output #%u outside prepare()", port);
         return NULL;
     }
@@ -422,10 +395,10 @@ static int api_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
         r->features = *features;
         r->has_features = true;
     }
-    r->payload = payload;
-    r->free_payload = free_payload;
+    r->payload.data = payload;
+    r->payload.free = free_payload;
     if (payload && p->plugin) {
-        r->payload_plugin = p->plugin;
+        r->payload.plugin = p->plugin;
         p->plugin->live_refs++;
     }
     return 0;
@@ -436,8 +409,8 @@ static int api_set_device(lg_node *n, lg_device d)
     lg_pnode *p = P(n);
     if (d < LG_DEVICE_CPU || d > LG_DEVICE_CL)
         return lg_node_errorf(p, "set_device: unknown device %d", (int)d), LG_ERR_INVALID;
-    p->device = d;
-    p->device_set = true;
+    p->run.device = d;
+    p->run.device_set = true;
     /* Devices are made when a planned node asks: here, so that an unavailable device is
      * reported at planning time with the node's name, before any frame runs. */
     if (d == LG_DEVICE_GL)
@@ -450,20 +423,20 @@ static int api_set_device(lg_node *n, lg_device d)
 static void api_set_view_independent(lg_node *n, bool independent)
 {
     lg_pnode *p = P(n);
-    p->view_independent_set = true;
-    p->view_independent = independent;
+    p->plan.view_independent_set = true;
+    p->plan.view_independent = independent;
 }
 
 static void api_set_per_frame(lg_node *n, bool per_frame)
 {
     if (per_frame)
-        P(n)->per_frame = true;
+        P(n)->run.per_frame = true;
 }
 
 static void api_add_content_key(lg_node *n, const void *bytes, size_t size)
 {
     if (bytes && size)
-        lg_digest_add(&P(n)->identity, bytes, size);
+        lg_digest_add(&P(n)->plan.identity, bytes, size);
 }
 
 static int api_map_cpu(lg_node *n, const lg_resource *r, unsigned access, lg_cpu_view *v)
@@ -494,25 +467,25 @@ static const void *api_gl(lg_node *n)
     lg_pnode *p = P(n);
     if (lg_exec_need_gl(p->ex, p))
         return NULL;
-    return lg_gl_device_table(p->ex->gl);
+    return lg_gl_device_table(p->ex->dev.gl);
 }
 
 static void *api_cl_context(lg_node *n)
 {
     lg_pnode *p = P(n);
-    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_context(p->ex->cl);
+    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_context(p->ex->dev.cl);
 }
 
 static void *api_cl_queue(lg_node *n)
 {
     lg_pnode *p = P(n);
-    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_queue(p->ex->cl);
+    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_queue(p->ex->dev.cl);
 }
 
 static void *api_cl_device(lg_node *n)
 {
     lg_pnode *p = P(n);
-    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_id(p->ex->cl);
+    return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_id(p->ex->dev.cl);
 }
 
 static void *api_cl_program(lg_node *n, const char *name, const char *source,
@@ -522,7 +495,7 @@ static void *api_cl_program(lg_node *n, const char *name, const char *source,
     if (lg_exec_need_cl(p->ex, p))
         return NULL;
     char *log = NULL;
-    void *prog = lg_cl_device_program(p->ex->cl, name ? name : "kernel", source ? source : "",
+    void *prog = lg_cl_device_program(p->ex->dev.cl, name ? name : "kernel", source ? source : "",
                                       options, &log);
     if (!prog)
         lg_node_errorf(p, "%s", log ? log : "OpenCL program build failed");
@@ -535,19 +508,19 @@ static void api_cl_profile(lg_node *n, void *event)
     lg_pnode *p = P(n);
     if (!event)
         return;
-    if (p->n_cl_events == p->cap_cl_events) {
-        p->cap_cl_events = p->cap_cl_events ? p->cap_cl_events * 2 : 8;
-        p->cl_events = lg_xrealloc(p->cl_events, p->cap_cl_events * sizeof *p->cl_events);
+    if (p->run.n_cl_events == p->run.cap_cl_events) {
+        p->run.cap_cl_events = p->run.cap_cl_events ? p->run.cap_cl_events * 2 : 8;
+        p->run.cl_events = lg_xrealloc(p->run.cl_events, p->run.cap_cl_events * sizeof *p->run.cl_events);
     }
-    p->cl_events[p->n_cl_events++] = event; /* the host releases it after reading it */
+    p->run.cl_events[p->run.n_cl_events++] = event; /* the host releases it after reading it */
 }
 
 static int api_gl_check(lg_node *n, const char *what)
 {
     lg_pnode *p = P(n);
-    if (!p->ex->gl)
+    if (!p->ex->dev.gl)
         return 0;
-    const GladGLContext *gl = lg_gl_device_table(p->ex->gl);
+    const GladGLContext *gl = lg_gl_device_table(p->ex->dev.gl);
     GLenum e, first = GL_NO_ERROR;
     int count = 0;
     while ((e = gl->GetError()) != GL_NO_ERROR && count < 16) {
@@ -564,17 +537,17 @@ static int api_gl_check(lg_node *n, const char *what)
 
 static int api_cache_get(lg_node *n, const char *key, void **data, size_t *size)
 {
-    return lg_cache_get(P(n)->ex, P(n), key, data, size);
+    return lg_exec_cache_get(P(n)->ex, P(n), key, data, size);
 }
 
 static int api_cache_put(lg_node *n, const char *key, const void *data, size_t size)
 {
-    return lg_cache_put(P(n)->ex, P(n), key, data, size);
+    return lg_exec_cache_put(P(n)->ex, P(n), key, data, size);
 }
 
 static int api_cache_store(lg_node *n, const char *key, const void *data, size_t size)
 {
-    return lg_cache_put_status(P(n)->ex, P(n), key, data, size);
+    return lg_exec_cache_put_status(P(n)->ex, P(n), key, data, size);
 }
 
 static void api_cache_free(void *data)
@@ -584,7 +557,7 @@ static void api_cache_free(void *data)
 
 static void api_cache_reject(lg_node *n, const char *key, const char *why)
 {
-    lg_cache_drop(P(n)->ex, P(n), key, why);
+    lg_exec_cache_drop(P(n)->ex, P(n), key, why);
 }
 
 static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
@@ -722,9 +695,9 @@ static const lg_resource *api_part(lg_node *n, const lg_resource *r, const char 
                NULL;
     }
 #endif
-    if (r->neutral || (uint32_t)idx >= r->n_parts)
+    if (r->neutral || (uint32_t)idx >= r->parts.n)
         return NULL;
-    return r->parts[idx];
+    return r->parts.list[idx];
 }
 
 /* The pool is made on the first call of either function; a warning from making it (an
@@ -806,11 +779,11 @@ static void api_declare_work(lg_node *n, double units, double seconds, const cha
                           ">= 0 (a plugin bug)", units, seconds);
         return;
     }
-    p->work_declared = true;
-    p->work_units = units;
-    p->work_seconds = seconds;
-    free(p->work_what);
-    p->work_what = lg_xstrdup(what && what[0] ? what : "units");
+    p->plan.work_declared = true;
+    p->plan.work_units = units;
+    p->plan.work_seconds = seconds;
+    free(p->plan.work_what);
+    p->plan.work_what = lg_xstrdup(what && what[0] ? what : "units");
 }
 
 /* Plugin memory is kept apart from bytes_alloc (the host's resources for the node): the
@@ -818,9 +791,9 @@ static void api_declare_work(lg_node *n, double units, double seconds, const cha
 static void api_account_alloc(lg_node *n, uint64_t bytes)
 {
     lg_pnode *p = P(n);
-    p->bytes_plugin_live += bytes;
-    if (p->bytes_plugin_live > p->bytes_plugin_peak)
-        p->bytes_plugin_peak = p->bytes_plugin_live;
+    p->prof.bytes_plugin_live += bytes;
+    if (p->prof.bytes_plugin_live > p->prof.bytes_plugin_peak)
+        p->prof.bytes_plugin_peak = p->prof.bytes_plugin_live;
 }
 
 /* A release larger than what is live is a plugin's bookkeeping bug: said once, and the live
@@ -828,14 +801,14 @@ static void api_account_alloc(lg_node *n, uint64_t bytes)
 static void api_account_free(lg_node *n, uint64_t bytes)
 {
     lg_pnode *p = P(n);
-    if (bytes > p->bytes_plugin_live) {
+    if (bytes > p->prof.bytes_plugin_live) {
         lg_log(n, LG_LOG_WARN, "account_free: releasing %llu bytes with %llu counted as live (a "
                                "plugin bug)", (unsigned long long)bytes,
-               (unsigned long long)p->bytes_plugin_live);
-        p->bytes_plugin_live = 0;
+               (unsigned long long)p->prof.bytes_plugin_live);
+        p->prof.bytes_plugin_live = 0;
         return;
     }
-    p->bytes_plugin_live -= bytes;
+    p->prof.bytes_plugin_live -= bytes;
 }
 
 void lg_host_api_init(lg_host_api *a)
@@ -888,49 +861,4 @@ void lg_host_api_init(lg_host_api *a)
     a->cpu_workers = api_cpu_workers;
     a->parallel_for = api_parallel_for;
     a->output_file_write = api_output_file_write;
-}
-
-int lg_exec_need_gl(lg_exec *ex, lg_pnode *n)
-{
-    if (ex->gl)
-        return 0;
-    if (!ex->gl_error) {
-        char err[512] = "";
-        double t0 = lg_now();
-        const char *backend = ex->opts.gl_backend ? ex->opts.gl_backend : "osmesa";
-        if (lg_gl_device_create(&ex->gl, backend, err, sizeof err) == 0) {
-            lg_hlog(LG_HINFO, "GL device: %s (%.1f ms)", lg_gl_device_description(ex->gl),
-                    (lg_now() - t0) * 1e3);
-            const GladGLContext *gl = lg_gl_device_table(ex->gl);
-            gl->GenQueries(1, &ex->gl_timer_query);
-            /* llvmpipe's first timer query in a context returns an absolute timestamp:
-             * spend it here, on nothing */
-            GLuint64 ns = 0;
-            gl->BeginQuery(GL_TIME_ELAPSED, ex->gl_timer_query);
-            gl->EndQuery(GL_TIME_ELAPSED);
-            gl->GetQueryObjectui64v(ex->gl_timer_query, GL_QUERY_RESULT, &ns);
-            return 0;
-        }
-        ex->gl_error = lg_xasprintf("no OpenGL 4.5 device (%s): %s", backend, err);
-    }
-    lg_node_errorf(n, "%s", ex->gl_error);
-    return LG_ERR_DEVICE;
-}
-
-int lg_exec_need_cl(lg_exec *ex, lg_pnode *n)
-{
-    if (ex->cl)
-        return 0;
-    if (!ex->cl_error) {
-        char err[512] = "";
-        double t0 = lg_now();
-        if (lg_cl_device_create(&ex->cl, err, sizeof err) == 0) {
-            lg_hlog(LG_HINFO, "CL device: %s (%.1f ms)", lg_cl_device_description(ex->cl),
-                    (lg_now() - t0) * 1e3);
-            return 0;
-        }
-        ex->cl_error = lg_xasprintf("no OpenCL device: %s", err);
-    }
-    lg_node_errorf(n, "%s", ex->cl_error);
-    return LG_ERR_DEVICE;
 }

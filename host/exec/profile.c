@@ -16,12 +16,12 @@
 
 static const char *dev(const lg_pnode *n)
 {
-    return n->device == LG_DEVICE_GL ? "gl" : n->device == LG_DEVICE_CL ? "cl" : "cpu";
+    return n->run.device == LG_DEVICE_GL ? "gl" : n->run.device == LG_DEVICE_CL ? "cl" : "cpu";
 }
 
 static uint64_t allocated(const lg_pnode *n)
 {
-    return n->bytes_alloc + n->bytes_plugin_peak;
+    return n->prof.bytes_alloc + n->prof.bytes_plugin_peak;
 }
 
 void lg_profile_print(lg_exec *ex, FILE *f)
@@ -41,40 +41,40 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     uint64_t ta = 0, tp = 0, tm = 0;
     for (uint32_t t = 0; t < c->n_nodes; t++) {
         const lg_pnode *n = ex->nodes[c->topo[t]];
-        if (n->state != LG_STATE_KEPT)
+        if (n->plan.state != LG_STATE_KEPT)
             continue;
         char a[32], pl[32], m[32], g[32];
         lg_format_bytes(a, sizeof a, allocated(n));
-        lg_format_bytes(pl, sizeof pl, n->bytes_plugin_peak);
-        lg_format_bytes(m, sizeof m, n->bytes_moved);
-        if (n->device == LG_DEVICE_CPU)
+        lg_format_bytes(pl, sizeof pl, n->prof.bytes_plugin_peak);
+        lg_format_bytes(m, sizeof m, n->prof.bytes_moved);
+        if (n->run.device == LG_DEVICE_CPU)
             snprintf(g, sizeof g, "-");
-        else if (n->gpu_unmeasured)
+        else if (n->prof.gpu_unmeasured)
             snprintf(g, sizeof g, "n/a");
         else
-            snprintf(g, sizeof g, "%.3f", n->gpu_ms);
+            snprintf(g, sizeof g, "%.3f", n->prof.gpu_ms);
         /* the on-disk cache (host.h cache_get): "hit" when the node's result came from it,
          * "miss" when it was computed and stored, both counts when a node did each */
         char k[64];
-        if (!n->cache_hits && !n->cache_misses)
+        if (!n->prof.cache_hits && !n->prof.cache_misses)
             snprintf(k, sizeof k, "-");
-        else if (!n->cache_misses)
-            snprintf(k, sizeof k, n->cache_hits == 1 ? "hit" : "%llu hits",
-                     (unsigned long long)n->cache_hits);
-        else if (!n->cache_hits)
-            snprintf(k, sizeof k, n->cache_misses == 1 ? "miss" : "%llu misses",
-                     (unsigned long long)n->cache_misses);
+        else if (!n->prof.cache_misses)
+            snprintf(k, sizeof k, n->prof.cache_hits == 1 ? "hit" : "%llu hits",
+                     (unsigned long long)n->prof.cache_hits);
+        else if (!n->prof.cache_hits)
+            snprintf(k, sizeof k, n->prof.cache_misses == 1 ? "miss" : "%llu misses",
+                     (unsigned long long)n->prof.cache_misses);
         else
-            snprintf(k, sizeof k, "%llu hit, %llu miss", (unsigned long long)n->cache_hits,
-                     (unsigned long long)n->cache_misses);
+            snprintf(k, sizeof k, "%llu hit, %llu miss", (unsigned long long)n->prof.cache_hits,
+                     (unsigned long long)n->prof.cache_misses);
         fprintf(f, "  %-*s  %-*s  %-6s  %5llu  %10.3f  %10s  %11s  %11s  %11s  %s\n", wn,
-                n->pub.name, wt, n->schema->name, dev(n), (unsigned long long)n->runs,
-                n->cpu_ms, g, a, pl, m, k);
-        tc += n->cpu_ms;
-        tg += n->gpu_ms;
+                n->pub.name, wt, n->schema->name, dev(n), (unsigned long long)n->prof.runs,
+                n->prof.cpu_ms, g, a, pl, m, k);
+        tc += n->prof.cpu_ms;
+        tg += n->prof.gpu_ms;
         ta += allocated(n);
-        tp += n->bytes_plugin_peak;
-        tm += n->bytes_moved;
+        tp += n->prof.bytes_plugin_peak;
+        tm += n->prof.bytes_moved;
     }
     char a[32], pl[32], m[32];
     lg_format_bytes(a, sizeof a, ta);
@@ -83,7 +83,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s  %11s\n", wn, "total", wt,
             "", "", "", tc, tg, a, pl, m);
     for (uint32_t t = 0; t < c->n_nodes; t++)
-        if (ex->nodes[c->topo[t]]->gpu_unmeasured) {
+        if (ex->nodes[c->topo[t]]->prof.gpu_unmeasured) {
             fprintf(f, "  n/a: the GL timer query gave no usable value (llvmpipe times only "
                        "rasterisation); the node's cpu ms include its GL work (glFinish)\n");
             break;
@@ -114,25 +114,25 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
         lg_str_add(&s, ", \"type\": ");
         lg_str_add_json(&s, n->schema->name);
         lg_str_addf(&s, ", \"state\": \"%s\"",
-                    n->state == LG_STATE_KEPT ? "kept" : n->state == LG_STATE_CULLED ? "culled"
+                    n->plan.state == LG_STATE_KEPT ? "kept" : n->plan.state == LG_STATE_CULLED ? "culled"
                                                                                      : "gated");
-        if (n->state == LG_STATE_KEPT)
+        if (n->plan.state == LG_STATE_KEPT)
             lg_str_addf(&s,
                         ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
                         "%.6f, \"first_cpu_ms\": %.6f, \"min_cpu_ms\": %.6f, \"gpu_ms\": %.6f, "
                         "\"gpu_measured\": %s, \"bytes_allocated\": %llu, \"resource_bytes\": %llu, "
                         "\"plugin_bytes_live\": %llu, \"plugin_bytes_peak\": %llu, "
                         "\"bytes_moved\": %llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
-                        dev(n), n->per_frame ? "true" : "false", (unsigned long long)n->runs,
-                        n->cpu_ms, n->first_cpu_ms, n->min_cpu_ms, n->gpu_ms, n->gpu_unmeasured ? "false" : "true",
-                        (unsigned long long)allocated(n), (unsigned long long)n->bytes_alloc,
-                        (unsigned long long)n->bytes_plugin_live,
-                        (unsigned long long)n->bytes_plugin_peak,
-                        (unsigned long long)n->bytes_moved, (unsigned long long)n->cache_hits,
-                        (unsigned long long)n->cache_misses);
+                        dev(n), n->run.per_frame ? "true" : "false", (unsigned long long)n->prof.runs,
+                        n->prof.cpu_ms, n->prof.first_cpu_ms, n->prof.min_cpu_ms, n->prof.gpu_ms, n->prof.gpu_unmeasured ? "false" : "true",
+                        (unsigned long long)allocated(n), (unsigned long long)n->prof.bytes_alloc,
+                        (unsigned long long)n->prof.bytes_plugin_live,
+                        (unsigned long long)n->prof.bytes_plugin_peak,
+                        (unsigned long long)n->prof.bytes_moved, (unsigned long long)n->prof.cache_hits,
+                        (unsigned long long)n->prof.cache_misses);
         else {
             lg_str_add(&s, ", \"reason\": ");
-            lg_str_add_json(&s, n->reason);
+            lg_str_add_json(&s, n->plan.reason);
         }
         lg_str_add(&s, "}");
     }

@@ -551,29 +551,26 @@ static double scan_timeout(void)
     return t;
 }
 
-/* Scans the shared object at `path` in a child process. Returns 0 with *out filled
- * (host-owned schema; path, handle and live zero), or -1 with *why (malloc'd). */
-static int scan_file(const char *path, lg_plugin *out, char **why_out)
+/* Waits for the scanner `pid` to end; its wait status. */
+static int reap_scanner(pid_t pid)
 {
-    memset(out, 0, sizeof *out);
-    *why_out = NULL;
-    /* only a regular file is given to dlopen (a FIFO would block the scanner until its
-     * timeout); lightgraph/file.h's check, which opens without blocking */
-    char why[256];
-    int ffd = lg_file_open(path, UINT64_MAX, NULL, why, sizeof why);
-    if (ffd < 0) {
-        *why_out = lg_xasprintf("cannot be read: %s", why);
-        return -1;
-    }
-    close(ffd);
-    double timeout = scan_timeout();
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    return status;
+}
+
+/* Starts the scanning child on `path`, which writes its result into the pipe whose read
+ * end is *rfd; *t0 is when (lg_mono_now). Returns its pid, or -1 with *why_out (malloc'd). */
+static pid_t start_scanner(const char *path, int *rfd, double *t0, char **why_out)
+{
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) {
         *why_out = lg_xstrdup("cannot scan: pipe() failed");
         return -1;
     }
     fflush(NULL);
-    double t0 = lg_now();
+    *t0 = lg_mono_now();
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
@@ -591,39 +588,98 @@ static int scan_file(const char *path, lg_plugin *out, char **why_out)
         _exit(0);
     }
     close(fds[1]);
-    lg_str b = {0};
+    *rfd = fds[0];
+    return pid;
+}
+
+/* Reads the scanner's result from fd into *b until it closes the pipe, `timeout` seconds
+ * after t0 have passed, or the result outgrows LG_SCAN_MAX_BYTES. Returns NULL, or why the
+ * scanner is to be killed: "time" or "size". */
+static const char *read_scan_result(int fd, double t0, double timeout, lg_str *b)
+{
     char buf[8192];
-    const char *killed = NULL; /* why the scanner was killed */
     for (;;) {
-        double left = timeout - (lg_now() - t0);
-        if (left <= 0) {
-            killed = "time";
-            break;
-        }
-        struct pollfd pfd = {fds[0], POLLIN, 0};
+        double left = timeout - (lg_mono_now() - t0);
+        if (left <= 0)
+            return "time";
+        struct pollfd pfd = {fd, POLLIN, 0};
         int pr = poll(&pfd, 1, (int)ceil(left * 1e3));
         if (pr < 0 && errno == EINTR)
             continue;
         if (pr < 0)
-            break;
+            return NULL;
         if (pr == 0)
             continue; /* the deadline is checked at the top */
-        ssize_t n = read(fds[0], buf, sizeof buf);
+        ssize_t n = read(fd, buf, sizeof buf);
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)
-            break;
-        if ((size_t)n > LG_SCAN_MAX_BYTES - b.len) {
-            killed = "size";
-            break;
-        }
-        lg_str_addn(&b, buf, (size_t)n);
+            return NULL;
+        if ((size_t)n > LG_SCAN_MAX_BYTES - b->len)
+            return "size";
+        lg_str_addn(b, buf, (size_t)n);
     }
+}
+
+/* What the scanner's wait status and result say: 0 with *out decoded, or -1 with *why_out
+ * (malloc'd): it crashed, said nothing, or reported the plugin's refusal ('E' and the
+ * reason) or a result that does not decode. */
+static int scan_verdict(int status, const lg_str *b, lg_plugin *out, char **why_out)
+{
+    if (WIFSIGNALED(status)) {
+        *why_out = lg_xasprintf("crashed while being scanned (signal %d, %s)",
+                                WTERMSIG(status), strsignal(WTERMSIG(status)));
+        return -1;
+    }
+    if (b->len == 0 && WIFEXITED(status) && WEXITSTATUS(status) != 0) {
+        /* a sanitizer's handler turns a crash into an exit status */
+        *why_out = lg_xasprintf("crashed while being scanned (the scanner exited with "
+                                "status %d)", WEXITSTATUS(status));
+        return -1;
+    }
+    if (b->len == 0) {
+        *why_out = lg_xstrdup("the scanner produced nothing (the plugin exited while loading?)");
+        return -1;
+    }
+    if (b->s[0] == 'E') {
+        *why_out = lg_xstrdup(b->s + 1);
+        return -1;
+    }
+    char bad[600];
+    if (lg_registry_decode(b->s + 1, b->len - 1, out, bad, sizeof bad) != 0) {
+        *why_out = lg_xstrdup(bad);
+        return -1;
+    }
+    return 0;
+}
+
+/* Scans the shared object at `path` in a child process. Returns 0 with *out filled
+ * (host-owned schema; path, handle and live zero), or -1 with *why (malloc'd). */
+static int scan_file(const char *path, lg_plugin *out, char **why_out)
+{
+    memset(out, 0, sizeof *out);
+    *why_out = NULL;
+    /* only a regular file is given to dlopen (a FIFO would block the scanner until its
+     * timeout); lightgraph/file.h's check, which opens without blocking */
+    char why[256];
+    int ffd = lg_file_open(path, UINT64_MAX, NULL, why, sizeof why);
+    if (ffd < 0) {
+        *why_out = lg_xasprintf("cannot be read: %s", why);
+        return -1;
+    }
+    close(ffd);
+    double timeout = scan_timeout();
+    double t0;
+    int rfd;
+    pid_t pid = start_scanner(path, &rfd, &t0, why_out);
+    if (pid < 0)
+        return -1;
+    lg_str b = {0};
+    const char *killed = read_scan_result(rfd, t0, timeout, &b);
+    close(rfd);
     if (killed) {
-        close(fds[0]);
         kill(pid, SIGKILL);
-        while (waitpid(pid, NULL, 0) < 0 && errno == EINTR)
-            ;
+        reap_scanner(pid);
         *why_out = strcmp(killed, "time") == 0
                       ? lg_xasprintf("its scan did not finish within %g s (a constructor or "
                                      "lg_plugin_entry() that blocks?); the scanner was killed "
@@ -636,34 +692,8 @@ static int scan_file(const char *path, lg_plugin *out, char **why_out)
         return -1;
     }
     lg_hlog(LG_HDEBUG, "scanned %s in %.1f ms (%zu bytes of descriptor)", path,
-            (lg_now() - t0) * 1e3, b.len);
-    close(fds[0]);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
-        ;
-    int rc = 0;
-    if (WIFSIGNALED(status)) {
-        *why_out = lg_xasprintf("crashed while being scanned (signal %d, %s)",
-                                WTERMSIG(status), strsignal(WTERMSIG(status)));
-        rc = -1;
-    } else if (b.len == 0 && WIFEXITED(status) && WEXITSTATUS(status) != 0) {
-        /* a sanitizer's handler turns a crash into an exit status */
-        *why_out = lg_xasprintf("crashed while being scanned (the scanner exited with "
-                                "status %d)", WEXITSTATUS(status));
-        rc = -1;
-    } else if (b.len == 0) {
-        *why_out = lg_xstrdup("the scanner produced nothing (the plugin exited while loading?)");
-        rc = -1;
-    } else if (b.s[0] == 'E') {
-        *why_out = lg_xstrdup(b.s + 1);
-        rc = -1;
-    } else {
-        char bad[600];
-        if (lg_registry_decode(b.s + 1, b.len - 1, out, bad, sizeof bad) != 0) {
-            *why_out = lg_xstrdup(bad);
-            rc = -1;
-        }
-    }
+            (lg_mono_now() - t0) * 1e3, b.len);
+    int rc = scan_verdict(reap_scanner(pid), &b, out, why_out);
     lg_str_free(&b);
     return rc;
 }

@@ -58,9 +58,9 @@ static size_t depth_bytes(const lg_resource *r)
 size_t lg_resource_bytes(const lg_resource *r)
 {
     size_t b = main_bytes(r) + depth_bytes(r);
-    for (uint32_t i = 0; i < r->n_parts; i++)
-        if (r->parts[i])
-            b += lg_resource_bytes(r->parts[i]);
+    for (uint32_t i = 0; i < r->parts.n; i++)
+        if (r->parts.list[i])
+            b += lg_resource_bytes(r->parts.list[i]);
     return b;
 }
 
@@ -82,44 +82,44 @@ void lg_resource_unref(lg_exec *ex, lg_resource *r)
 {
     if (!r || --r->refs > 0)
         return;
-    for (uint32_t i = 0; i < r->n_parts; i++)
-        lg_resource_unref(ex, r->parts[i]);
-    free(r->parts);
-    free(r->cpu);
-    free(r->cpu_depth);
-    free(r->view_scene);
-    free(r->view_cameras);
-    if (ex->gl && (r->gl_name || r->gl_depth)) {
-        const GladGLContext *gl = lg_gl_device_table(ex->gl);
+    for (uint32_t i = 0; i < r->parts.n; i++)
+        lg_resource_unref(ex, r->parts.list[i]);
+    free(r->parts.list);
+    free(r->copies.cpu);
+    free(r->copies.cpu_depth);
+    free(r->payload.view_scene);
+    free(r->payload.view_cameras);
+    if (ex->dev.gl && (r->copies.gl_name || r->copies.gl_depth)) {
+        const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
         if (r->kind == LG_KIND_BUFFER) {
-            gl->DeleteBuffers(1, &r->gl_name);
+            gl->DeleteBuffers(1, &r->copies.gl_name);
         } else {
-            gl->DeleteTextures(1, &r->gl_name);
-            if (r->gl_depth)
-                gl->DeleteTextures(1, &r->gl_depth);
+            gl->DeleteTextures(1, &r->copies.gl_name);
+            if (r->copies.gl_depth)
+                gl->DeleteTextures(1, &r->copies.gl_depth);
         }
     }
-    for (uint32_t i = 0; i < r->n_attached; i++) {
-        if (r->attached[i].gl && ex->gl)
-            lg_gl_device_table(ex->gl)->DeleteBuffers(1, &r->attached[i].gl);
-        if (r->attached[i].cl)
-            clReleaseMemObject((cl_mem)r->attached[i].cl);
+    for (uint32_t i = 0; i < r->payload.n_attached; i++) {
+        if (r->payload.attached[i].gl && ex->dev.gl)
+            lg_gl_device_table(ex->dev.gl)->DeleteBuffers(1, &r->payload.attached[i].gl);
+        if (r->payload.attached[i].cl)
+            clReleaseMemObject((cl_mem)r->payload.attached[i].cl);
     }
-    free(r->attached);
-    if (r->cl_mem)
-        clReleaseMemObject((cl_mem)r->cl_mem);
-    if (r->cl_depth)
-        clReleaseMemObject((cl_mem)r->cl_depth);
-    if (r->payload && r->free_payload)
-        r->free_payload(r->payload);
-    if (r->payload_plugin)
-        r->payload_plugin->live_refs--;
+    free(r->payload.attached);
+    if (r->copies.cl_mem)
+        clReleaseMemObject((cl_mem)r->copies.cl_mem);
+    if (r->copies.cl_depth)
+        clReleaseMemObject((cl_mem)r->copies.cl_depth);
+    if (r->payload.data && r->payload.free)
+        r->payload.free(r->payload.data);
+    if (r->payload.plugin)
+        r->payload.plugin->live_refs--;
     free(r);
 }
 
 static bool same_or_part_of(const lg_resource *r, const lg_resource *of)
 {
-    return of && (r == of || r->parent == of);
+    return of && (r == of || r->parts.parent == of);
 }
 
 bool lg_resource_reachable(lg_pnode *n, const lg_resource *r)
@@ -141,16 +141,16 @@ bool lg_resource_reachable(lg_pnode *n, const lg_resource *r)
 
 static const char *resource_label(const lg_resource *r, char *buf, size_t len)
 {
-    const lg_resource *whole = r->parent ? r->parent : r;
+    const lg_resource *whole = r->parts.parent ? r->parts.parent : r;
     const lg_pnode *p = whole->producer;
     const char *port = "?";
     for (uint32_t o = 0; p && p->outputs && o < p->schema->n_outputs; o++)
         if (p->outputs[o] == whole)
             port = p->schema->outputs[o].name;
-    if (r->parent) {
+    if (r->parts.parent) {
         const lg_kind_desc *kd = lg_kind_describe(whole->kind);
         snprintf(buf, len, "'%s.%s', part '%s'", p ? p->pub.name : "?", port,
-                 kd && r->part_index >= 0 ? kd->parts[r->part_index].name : "?");
+                 kd && r->parts.index >= 0 ? kd->parts[r->parts.index].name : "?");
     } else {
         snprintf(buf, len, "'%s.%s'", p ? p->pub.name : "?", port);
     }
@@ -185,28 +185,28 @@ static int check_access(lg_pnode *n, lg_resource *r, unsigned access, const char
 
 static int ensure_cpu(lg_pnode *n, lg_resource *r)
 {
-    if (!r->cpu) {
+    if (!r->copies.cpu) {
         size_t b = main_bytes(r);
-        r->cpu = calloc(1, b ? b : 1);
-        if (!r->cpu)
+        r->copies.cpu = calloc(1, b ? b : 1);
+        if (!r->copies.cpu)
             return lg_node_errorf(n, "out of memory allocating %zu bytes", b), LG_ERR_NOMEM;
-        n->bytes_alloc += b;
+        n->prof.bytes_alloc += b;
         if (depth_bytes(r)) {
-            r->cpu_depth = calloc(1, depth_bytes(r));
-            if (!r->cpu_depth)
+            r->copies.cpu_depth = calloc(1, depth_bytes(r));
+            if (!r->copies.cpu_depth)
                 return lg_node_errorf(n, "out of memory allocating depth"), LG_ERR_NOMEM;
-            n->bytes_alloc += depth_bytes(r);
+            n->prof.bytes_alloc += depth_bytes(r);
         }
         /* a fresh resource nobody wrote anywhere is zero everywhere: the CPU copy is it */
-        if (!r->gl_valid && !r->cl_valid)
-            r->cpu_valid = true;
+        if (!r->copies.gl_valid && !r->copies.cl_valid)
+            r->copies.cpu_valid = true;
     }
     return 0;
 }
 
 static const GladGLContext *glt(lg_exec *ex)
 {
-    return ex->gl ? lg_gl_device_table(ex->gl) : NULL;
+    return ex->dev.gl ? lg_gl_device_table(ex->dev.gl) : NULL;
 }
 
 static void gl_formats(lg_format f, GLenum *internal, GLenum *format, GLenum *type)
@@ -246,45 +246,45 @@ static int gl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
     gl_pixel_store_defaults(gl);
     size_t b = main_bytes(r);
     if (r->kind == LG_KIND_BUFFER) {
-        gl->GetNamedBufferSubData(r->gl_name, 0, (GLsizeiptr)b, r->cpu);
+        gl->GetNamedBufferSubData(r->copies.gl_name, 0, (GLsizeiptr)b, r->copies.cpu);
     } else {
         GLenum internal, format, type;
         gl_formats(r->kind == LG_KIND_IMAGE ? r->image.format : r->volume.format, &internal,
                    &format, &type);
-        if (r->gl_name && r->kind == LG_KIND_IMAGE) {
+        if (r->copies.gl_name && r->kind == LG_KIND_IMAGE) {
             /* every level; a cube level comes back as its six faces in order */
             size_t px = lg_format_size(r->image.format);
             for (uint32_t l = 0; l < lg_image_levels(&r->image); l++) {
                 size_t off = lg_image_offset(&r->image, l, 0) * px;
                 size_t len = lg_image_offset(&r->image, l + 1, 0) * px - off;
-                gl->GetTextureImage(r->gl_name, (GLint)l, format, type, (GLsizei)len,
-                                    (char *)r->cpu + off);
+                gl->GetTextureImage(r->copies.gl_name, (GLint)l, format, type, (GLsizei)len,
+                                    (char *)r->copies.cpu + off);
             }
-        } else if (r->gl_name) {
-            gl->GetTextureImage(r->gl_name, 0, format, type, (GLsizei)b, r->cpu);
+        } else if (r->copies.gl_name) {
+            gl->GetTextureImage(r->copies.gl_name, 0, format, type, (GLsizei)b, r->copies.cpu);
         }
-        if (r->gl_depth && r->cpu_depth)
-            gl->GetTextureImage(r->gl_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
-                                (GLsizei)depth_bytes(r), r->cpu_depth);
+        if (r->copies.gl_depth && r->copies.cpu_depth)
+            gl->GetTextureImage(r->copies.gl_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                                (GLsizei)depth_bytes(r), r->copies.cpu_depth);
     }
-    n->bytes_moved += lg_resource_bytes(r);
+    n->prof.bytes_moved += lg_resource_bytes(r);
     return ex->api.gl_check(&n->pub, "copying a resource from GL to the CPU");
 }
 
 static int cl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
-    cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->cl);
-    cl_int e = main_bytes(r) ? clEnqueueReadBuffer(q, (cl_mem)r->cl_mem, CL_TRUE, 0, main_bytes(r),
-                                                   r->cpu, 0, NULL, NULL)
+    cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->dev.cl);
+    cl_int e = main_bytes(r) ? clEnqueueReadBuffer(q, (cl_mem)r->copies.cl_mem, CL_TRUE, 0, main_bytes(r),
+                                                   r->copies.cpu, 0, NULL, NULL)
                              : CL_SUCCESS;
-    if (e == CL_SUCCESS && r->cl_depth && r->cpu_depth)
-        e = clEnqueueReadBuffer(q, (cl_mem)r->cl_depth, CL_TRUE, 0, depth_bytes(r), r->cpu_depth,
+    if (e == CL_SUCCESS && r->copies.cl_depth && r->copies.cpu_depth)
+        e = clEnqueueReadBuffer(q, (cl_mem)r->copies.cl_depth, CL_TRUE, 0, depth_bytes(r), r->copies.cpu_depth,
                                 0, NULL, NULL);
     if (e != CL_SUCCESS)
         return lg_node_errorf(n, "copying a resource from CL to the CPU: %s (%d)",
                               lg_cl_strerror(e), e),
                LG_ERR_DEVICE;
-    n->bytes_moved += lg_resource_bytes(r);
+    n->prof.bytes_moved += lg_resource_bytes(r);
     return 0;
 }
 
@@ -292,14 +292,14 @@ static int cl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 static int sync_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
     int rc = ensure_cpu(n, r);
-    if (rc || r->cpu_valid)
+    if (rc || r->copies.cpu_valid)
         return rc;
-    if (r->gl_valid)
+    if (r->copies.gl_valid)
         rc = gl_to_cpu(ex, n, r);
-    else if (r->cl_valid)
+    else if (r->copies.cl_valid)
         rc = cl_to_cpu(ex, n, r);
     if (!rc)
-        r->cpu_valid = true;
+        r->copies.cpu_valid = true;
     return rc;
 }
 
@@ -314,11 +314,11 @@ int lg_resource_map_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned acces
     if (rc)
         return rc;
     if (access & LG_WRITE) {
-        r->cpu_valid = true;
-        r->gl_valid = r->cl_valid = false;
+        r->copies.cpu_valid = true;
+        r->copies.gl_valid = r->copies.cl_valid = false;
     }
-    view->pixels = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->cpu : NULL;
-    view->depth = r->cpu_depth;
+    view->pixels = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->copies.cpu : NULL;
+    view->depth = r->copies.cpu_depth;
     view->row_pixels = r->kind == LG_KIND_IMAGE ? r->image.width : r->volume.width;
     if (r->kind == LG_KIND_BUFFER)
         view->row_pixels = 0;
@@ -329,12 +329,12 @@ int lg_resource_map_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned acces
 
 static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
-    if (r->gl_name || r->gl_depth)
+    if (r->copies.gl_name || r->copies.gl_depth)
         return 0;
     const GladGLContext *gl = glt(ex);
     if (r->kind == LG_KIND_BUFFER) {
-        gl->CreateBuffers(1, &r->gl_name);
-        gl->NamedBufferData(r->gl_name, (GLsizeiptr)(r->buffer.size ? r->buffer.size : 4), NULL,
+        gl->CreateBuffers(1, &r->copies.gl_name);
+        gl->NamedBufferData(r->copies.gl_name, (GLsizeiptr)(r->buffer.size ? r->buffer.size : 4), NULL,
                             GL_DYNAMIC_COPY);
     } else {
         GLenum internal, format, type;
@@ -343,23 +343,23 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
             if (!(r->image.flags & LG_IMAGE_DEPTH_ONLY)) {
                 bool cube = (r->image.flags & LG_IMAGE_CUBE) != 0;
                 GLsizei levels = (GLsizei)lg_image_levels(&r->image);
-                gl->CreateTextures(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &r->gl_name);
-                gl->TextureStorage2D(r->gl_name, levels, internal, (GLsizei)r->image.width,
+                gl->CreateTextures(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &r->copies.gl_name);
+                gl->TextureStorage2D(r->copies.gl_name, levels, internal, (GLsizei)r->image.width,
                                      (GLsizei)r->image.height);
-                gl->TextureParameteri(r->gl_name, GL_TEXTURE_MAX_LEVEL, levels - 1);
+                gl->TextureParameteri(r->copies.gl_name, GL_TEXTURE_MAX_LEVEL, levels - 1);
             }
             if (r->image.flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)) {
-                gl->CreateTextures(GL_TEXTURE_2D, 1, &r->gl_depth);
-                gl->TextureStorage2D(r->gl_depth, 1, GL_DEPTH_COMPONENT32F,
+                gl->CreateTextures(GL_TEXTURE_2D, 1, &r->copies.gl_depth);
+                gl->TextureStorage2D(r->copies.gl_depth, 1, GL_DEPTH_COMPONENT32F,
                                      (GLsizei)r->image.width, (GLsizei)r->image.height);
             }
         } else {
             gl_formats(r->volume.format, &internal, &format, &type);
-            gl->CreateTextures(GL_TEXTURE_3D, 1, &r->gl_name);
-            gl->TextureStorage3D(r->gl_name, 1, internal, (GLsizei)r->volume.width,
+            gl->CreateTextures(GL_TEXTURE_3D, 1, &r->copies.gl_name);
+            gl->TextureStorage3D(r->copies.gl_name, 1, internal, (GLsizei)r->volume.width,
                                  (GLsizei)r->volume.height, (GLsizei)r->volume.depth);
         }
-        GLuint texs[2] = {r->gl_name, r->gl_depth};
+        GLuint texs[2] = {r->copies.gl_name, r->copies.gl_depth};
         for (int i = 0; i < 2; i++) {
             if (!texs[i])
                 continue;
@@ -369,7 +369,7 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
             gl->TextureParameteri(texs[i], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         }
     }
-    n->bytes_alloc += lg_resource_bytes(r);
+    n->prof.bytes_alloc += lg_resource_bytes(r);
     return ex->api.gl_check(&n->pub, "allocating a GL resource");
 }
 
@@ -378,33 +378,33 @@ static int cpu_to_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
     const GladGLContext *gl = glt(ex);
     gl_pixel_store_defaults(gl);
     if (r->kind == LG_KIND_BUFFER) {
-        gl->NamedBufferSubData(r->gl_name, 0, (GLsizeiptr)r->buffer.size, r->cpu);
+        gl->NamedBufferSubData(r->copies.gl_name, 0, (GLsizeiptr)r->buffer.size, r->copies.cpu);
     } else if (r->kind == LG_KIND_IMAGE) {
         GLenum internal, format, type;
         gl_formats(r->image.format, &internal, &format, &type);
         size_t px = lg_format_size(r->image.format);
         bool cube = (r->image.flags & LG_IMAGE_CUBE) != 0;
-        for (uint32_t l = 0; r->gl_name && l < lg_image_levels(&r->image); l++) {
-            const char *src = (const char *)r->cpu + lg_image_offset(&r->image, l, 0) * px;
+        for (uint32_t l = 0; r->copies.gl_name && l < lg_image_levels(&r->image); l++) {
+            const char *src = (const char *)r->copies.cpu + lg_image_offset(&r->image, l, 0) * px;
             GLsizei w = (GLsizei)lg_image_level_width(&r->image, l);
             GLsizei h = (GLsizei)lg_image_level_height(&r->image, l);
             if (cube) /* DSA sees a cube map as six layers */
-                gl->TextureSubImage3D(r->gl_name, (GLint)l, 0, 0, 0, w, h, 6, format, type, src);
+                gl->TextureSubImage3D(r->copies.gl_name, (GLint)l, 0, 0, 0, w, h, 6, format, type, src);
             else
-                gl->TextureSubImage2D(r->gl_name, (GLint)l, 0, 0, w, h, format, type, src);
+                gl->TextureSubImage2D(r->copies.gl_name, (GLint)l, 0, 0, w, h, format, type, src);
         }
-        if (r->gl_depth)
-            gl->TextureSubImage2D(r->gl_depth, 0, 0, 0, (GLsizei)r->image.width,
+        if (r->copies.gl_depth)
+            gl->TextureSubImage2D(r->copies.gl_depth, 0, 0, 0, (GLsizei)r->image.width,
                                   (GLsizei)r->image.height, GL_DEPTH_COMPONENT, GL_FLOAT,
-                                  r->cpu_depth);
+                                  r->copies.cpu_depth);
     } else {
         GLenum internal, format, type;
         gl_formats(r->volume.format, &internal, &format, &type);
-        gl->TextureSubImage3D(r->gl_name, 0, 0, 0, 0, (GLsizei)r->volume.width,
+        gl->TextureSubImage3D(r->copies.gl_name, 0, 0, 0, 0, (GLsizei)r->volume.width,
                               (GLsizei)r->volume.height, (GLsizei)r->volume.depth, format, type,
-                              r->cpu);
+                              r->copies.cpu);
     }
-    n->bytes_moved += lg_resource_bytes(r);
+    n->prof.bytes_moved += lg_resource_bytes(r);
     return ex->api.gl_check(&n->pub, "copying a resource from the CPU to GL");
 }
 
@@ -422,21 +422,21 @@ int lg_resource_map_gl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
         return rc;
     if ((rc = ensure_gl(ex, n, r)))
         return rc;
-    if ((access & LG_READ) && !r->gl_valid) {
+    if ((access & LG_READ) && !r->copies.gl_valid) {
         if ((rc = sync_cpu(ex, n, r)))
             return rc;
         if ((rc = cpu_to_gl(ex, n, r)))
             return rc;
-        r->gl_valid = true;
+        r->copies.gl_valid = true;
     }
     if (access & LG_WRITE) {
-        r->gl_valid = true;
-        r->cpu_valid = r->cl_valid = false;
+        r->copies.gl_valid = true;
+        r->copies.cpu_valid = r->copies.cl_valid = false;
     }
     if (name)
-        *name = r->gl_name;
+        *name = r->copies.gl_name;
     if (depth)
-        *depth = r->gl_depth;
+        *depth = r->copies.gl_depth;
     return 0;
 }
 
@@ -444,35 +444,35 @@ int lg_resource_map_gl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
 
 static int ensure_cl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
-    if (r->cl_mem)
+    if (r->copies.cl_mem)
         return 0;
-    cl_context ctx = (cl_context)lg_cl_device_context(ex->cl);
+    cl_context ctx = (cl_context)lg_cl_device_context(ex->dev.cl);
     cl_int e = CL_SUCCESS;
     size_t b = main_bytes(r);
-    r->cl_mem = clCreateBuffer(ctx, CL_MEM_READ_WRITE, b ? b : 4, NULL, &e);
+    r->copies.cl_mem = clCreateBuffer(ctx, CL_MEM_READ_WRITE, b ? b : 4, NULL, &e);
     if (e == CL_SUCCESS && depth_bytes(r))
-        r->cl_depth = clCreateBuffer(ctx, CL_MEM_READ_WRITE, depth_bytes(r), NULL, &e);
+        r->copies.cl_depth = clCreateBuffer(ctx, CL_MEM_READ_WRITE, depth_bytes(r), NULL, &e);
     if (e != CL_SUCCESS)
         return lg_node_errorf(n, "clCreateBuffer(%zu bytes): %s (%d)", b, lg_cl_strerror(e), e),
                LG_ERR_DEVICE;
-    n->bytes_alloc += lg_resource_bytes(r);
+    n->prof.bytes_alloc += lg_resource_bytes(r);
     return 0;
 }
 
 static int cpu_to_cl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
-    cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->cl);
-    cl_int e = main_bytes(r) ? clEnqueueWriteBuffer(q, (cl_mem)r->cl_mem, CL_TRUE, 0,
-                                                    main_bytes(r), r->cpu, 0, NULL, NULL)
+    cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->dev.cl);
+    cl_int e = main_bytes(r) ? clEnqueueWriteBuffer(q, (cl_mem)r->copies.cl_mem, CL_TRUE, 0,
+                                                    main_bytes(r), r->copies.cpu, 0, NULL, NULL)
                              : CL_SUCCESS;
-    if (e == CL_SUCCESS && r->cl_depth)
-        e = clEnqueueWriteBuffer(q, (cl_mem)r->cl_depth, CL_TRUE, 0, depth_bytes(r),
-                                 r->cpu_depth, 0, NULL, NULL);
+    if (e == CL_SUCCESS && r->copies.cl_depth)
+        e = clEnqueueWriteBuffer(q, (cl_mem)r->copies.cl_depth, CL_TRUE, 0, depth_bytes(r),
+                                 r->copies.cpu_depth, 0, NULL, NULL);
     if (e != CL_SUCCESS)
         return lg_node_errorf(n, "copying a resource from the CPU to CL: %s (%d)",
                               lg_cl_strerror(e), e),
                LG_ERR_DEVICE;
-    n->bytes_moved += lg_resource_bytes(r);
+    n->prof.bytes_moved += lg_resource_bytes(r);
     return 0;
 }
 
@@ -490,21 +490,21 @@ int lg_resource_map_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
         return rc;
     if ((rc = ensure_cl(ex, n, r)))
         return rc;
-    if ((access & LG_READ) && !r->cl_valid) {
+    if ((access & LG_READ) && !r->copies.cl_valid) {
         if ((rc = sync_cpu(ex, n, r)))
             return rc;
         if ((rc = cpu_to_cl(ex, n, r)))
             return rc;
-        r->cl_valid = true;
+        r->copies.cl_valid = true;
     }
     if (access & LG_WRITE) {
-        r->cl_valid = true;
-        r->cpu_valid = r->gl_valid = false;
+        r->copies.cl_valid = true;
+        r->copies.cpu_valid = r->copies.gl_valid = false;
     }
     if (mem)
-        *mem = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->cl_mem : NULL;
+        *mem = main_bytes(r) || r->kind == LG_KIND_BUFFER ? r->copies.cl_mem : NULL;
     if (depth)
-        *depth = r->cl_depth;
+        *depth = r->copies.cl_depth;
     return 0;
 }
 
@@ -513,7 +513,7 @@ int lg_resource_map_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
 static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, size_t size,
                                   const void *data)
 {
-    if (!r->payload || r->kind == LG_KIND_IMAGE || r->kind == LG_KIND_BUFFER ||
+    if (!r->payload.data || r->kind == LG_KIND_IMAGE || r->kind == LG_KIND_BUFFER ||
         r->kind == LG_KIND_VOLUME) {
         lg_node_errorf(n, "asks for a GPU copy of payload data of a resource without a payload");
         return NULL;
@@ -522,18 +522,18 @@ static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, si
         lg_node_errorf(n, "asks for a GPU copy of %zu bytes at %p (slot %u)", size, data, slot);
         return NULL;
     }
-    for (uint32_t i = 0; i < r->n_attached; i++)
-        if (r->attached[i].slot == slot) {
-            if (r->attached[i].size != size) {
+    for (uint32_t i = 0; i < r->payload.n_attached; i++)
+        if (r->payload.attached[i].slot == slot) {
+            if (r->payload.attached[i].size != size) {
                 lg_node_errorf(n, "payload slot %u was %zu bytes, now %zu: payloads are "
                                   "immutable",
-                               slot, r->attached[i].size, size);
+                               slot, r->payload.attached[i].size, size);
                 return NULL;
             }
-            return &r->attached[i];
+            return &r->payload.attached[i];
         }
-    r->attached = lg_xrealloc(r->attached, (r->n_attached + 1) * sizeof *r->attached);
-    lg_attached *a = &r->attached[r->n_attached++];
+    r->payload.attached = lg_xrealloc(r->payload.attached, (r->payload.n_attached + 1) * sizeof *r->payload.attached);
+    lg_attached *a = &r->payload.attached[r->payload.n_attached++];
     memset(a, 0, sizeof *a);
     a->slot = slot;
     a->size = size;
@@ -554,8 +554,8 @@ int lg_resource_payload_gl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t sl
         const GladGLContext *gl = glt(ex);
         gl->CreateBuffers(1, &a->gl);
         gl->NamedBufferStorage(a->gl, (GLsizeiptr)size, data, 0);
-        n->bytes_alloc += size;
-        n->bytes_moved += size;
+        n->prof.bytes_alloc += size;
+        n->prof.bytes_moved += size;
         if ((rc = ex->api.gl_check(&n->pub, "uploading payload data")))
             return rc;
     }
@@ -575,7 +575,7 @@ int lg_resource_payload_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t sl
         return LG_ERR_INVALID;
     if (!a->cl) {
         cl_int e = CL_SUCCESS;
-        a->cl = clCreateBuffer((cl_context)lg_cl_device_context(ex->cl),
+        a->cl = clCreateBuffer((cl_context)lg_cl_device_context(ex->dev.cl),
                                CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, size, (void *)data, &e);
         if (e != CL_SUCCESS) {
             a->cl = NULL;
@@ -583,8 +583,8 @@ int lg_resource_payload_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t sl
                            lg_cl_strerror(e), e);
             return LG_ERR_DEVICE;
         }
-        n->bytes_alloc += size;
-        n->bytes_moved += size;
+        n->prof.bytes_alloc += size;
+        n->prof.bytes_moved += size;
     }
     *mem = a->cl;
     return 0;
@@ -603,7 +603,7 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
         snprintf(err, errlen, "out of memory");
         return LG_ERR_NOMEM;
     }
-    if (!r->cpu && !r->gl_valid && !r->cl_valid) {
+    if (!r->copies.cpu && !r->copies.gl_valid && !r->copies.cl_valid) {
         /* never written anywhere (a neutral zero image): black */
         memset(f, 0, np * 4 * sizeof(float));
         *out = f;
@@ -619,7 +619,7 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
     if (r->image.flags & LG_IMAGE_DEPTH_ONLY) {
         /* a depth-only image is written as grey depth, alpha 1 */
         for (size_t i = 0; i < np; i++) {
-            f[4 * i] = f[4 * i + 1] = f[4 * i + 2] = r->cpu_depth[i];
+            f[4 * i] = f[4 * i + 1] = f[4 * i + 2] = r->copies.cpu_depth[i];
             f[4 * i + 3] = 1.0f;
         }
         *out = f;
@@ -627,22 +627,22 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
     }
     switch (r->image.format) {
     case LG_FORMAT_RGBA32F:
-        memcpy(f, r->cpu, np * 16);
+        memcpy(f, r->copies.cpu, np * 16);
         break;
     case LG_FORMAT_RGBA16F: {
-        const uint16_t *h = r->cpu;
+        const uint16_t *h = r->copies.cpu;
         for (size_t i = 0; i < np * 4; i++)
             f[i] = lg_float_from_half(h[i]);
         break;
     }
     case LG_FORMAT_RGBA8: {
-        const uint8_t *b = r->cpu;
+        const uint8_t *b = r->copies.cpu;
         for (size_t i = 0; i < np * 4; i++)
             f[i] = (float)b[i] / 255.0f;
         break;
     }
     case LG_FORMAT_RGBE8: {
-        const uint8_t *b = r->cpu;
+        const uint8_t *b = r->copies.cpu;
         for (size_t i = 0; i < np; i++) {
             lg_rgbe_decode(b + 4 * i, f + 4 * i);
             f[4 * i + 3] = 1.0f;
@@ -662,16 +662,16 @@ int lg_resource_probe_file(lg_exec *ex, lg_resource *r, lg_image *out, char *err
     memset(out, 0, sizeof *out);
     int32_t ri = lg_kind_part_index(LG_KIND_PROBE, "radiance");
     int32_t ii = lg_kind_part_index(LG_KIND_PROBE, "info");
-    lg_resource *rad = r->kind == LG_KIND_PROBE && ri >= 0 && (uint32_t)ri < r->n_parts
-                       ? r->parts[ri] : NULL;
-    lg_resource *meta = ii >= 0 && (uint32_t)ii < r->n_parts ? r->parts[ii] : NULL;
-    if (!rad || !meta || !meta->cpu || !meta->cpu_valid ||
+    lg_resource *rad = r->kind == LG_KIND_PROBE && ri >= 0 && (uint32_t)ri < r->parts.n
+                       ? r->parts.list[ri] : NULL;
+    lg_resource *meta = ii >= 0 && (uint32_t)ii < r->parts.n ? r->parts.list[ii] : NULL;
+    if (!rad || !meta || !meta->copies.cpu || !meta->copies.cpu_valid ||
         meta->buffer.size < sizeof(lg_probe_info)) {
         snprintf(err, errlen, "the probe was not written (no radiance or info)");
         return LG_ERR_INVALID;
     }
     lg_probe_info info;
-    memcpy(&info, meta->cpu, sizeof info);
+    memcpy(&info, meta->copies.cpu, sizeof info);
     if (info.struct_size < sizeof info) /* an older producer: the rest is zero */
         memset((char *)&info + info.struct_size, 0, sizeof info - info.struct_size);
     float *px = NULL;
@@ -694,17 +694,17 @@ int lg_resource_sh_text(lg_exec *ex, lg_resource *r, char **out, size_t *len, ch
     *len = 0;
     int32_t ci = lg_kind_part_index(LG_KIND_SH, "coeffs");
     int32_t ii = lg_kind_part_index(LG_KIND_SH, "info");
-    lg_resource *co = r->kind == LG_KIND_SH && ci >= 0 && (uint32_t)ci < r->n_parts
-                      ? r->parts[ci] : NULL;
-    lg_resource *meta = r->kind == LG_KIND_SH && ii >= 0 && (uint32_t)ii < r->n_parts
-                        ? r->parts[ii] : NULL;
-    if (!co || !meta || !meta->cpu || !meta->cpu_valid ||
+    lg_resource *co = r->kind == LG_KIND_SH && ci >= 0 && (uint32_t)ci < r->parts.n
+                      ? r->parts.list[ci] : NULL;
+    lg_resource *meta = r->kind == LG_KIND_SH && ii >= 0 && (uint32_t)ii < r->parts.n
+                        ? r->parts.list[ii] : NULL;
+    if (!co || !meta || !meta->copies.cpu || !meta->copies.cpu_valid ||
         meta->buffer.size < sizeof(lg_sh_info)) {
         snprintf(err, errlen, "the SH coefficients were not written (no coeffs or info)");
         return LG_ERR_INVALID;
     }
     lg_sh_info info;
-    memcpy(&info, meta->cpu, sizeof info);
+    memcpy(&info, meta->copies.cpu, sizeof info);
     if (info.bands < 1 || info.bands > LG_SH_MAX_BANDS ||
         co->buffer.size != (size_t)3 * info.bands * info.bands * sizeof(float)) {
         snprintf(err, errlen, "the SH coefficients are inconsistent: %u bands in %zu bytes",
@@ -717,7 +717,7 @@ int lg_resource_sh_text(lg_exec *ex, lg_resource *r, char **out, size_t *len, ch
         return rc;
     }
     uint32_t n = info.bands, nc = n * n;
-    const float *c = co->cpu;
+    const float *c = co->copies.cpu;
     lg_str b = {0};
     lg_str_addf(&b, "# lightgraph SH coefficients: %u band%s, %u per channel, basis "
                 "lightgraph/sh.h%s\n", n, n == 1 ? "" : "s", nc,
@@ -741,7 +741,7 @@ lg_resource *lg_edge_resource(lg_exec *ex, lg_edge e)
     lg_resource *r = ex->nodes[e.node]->outputs[e.port];
     if (!r || e.part == 0)
         return r;
-    return e.part <= r->n_parts ? r->parts[e.part - 1] : NULL;
+    return e.part <= r->parts.n ? r->parts.list[e.part - 1] : NULL;
 }
 
 /* A neutral part: what an edge NODE.PART reads from a gated producer. */
@@ -775,8 +775,8 @@ int lg_resource_make_parts(lg_exec *ex, lg_pnode *n, lg_resource *r, const lg_pa
     if (!kd || !kd->n_parts)
         return lg_node_errorf(n, "resources of kind %s have no parts", lg_kind_name(r->kind)),
                LG_ERR_INVALID;
-    r->parts = lg_xcalloc(kd->n_parts, sizeof *r->parts);
-    r->n_parts = kd->n_parts;
+    r->parts.list = lg_xcalloc(kd->n_parts, sizeof *r->parts.list);
+    r->parts.n = kd->n_parts;
     for (uint32_t i = 0; i < kd->n_parts; i++) {
         lg_resource *p = NULL;
         if (!specs) {
@@ -805,10 +805,10 @@ int lg_resource_make_parts(lg_exec *ex, lg_pnode *n, lg_resource *r, const lg_pa
                 break;
             }
         }
-        p->parent = r;
-        p->part_index = (int32_t)i;
-        p->part_type = kd->parts[i].type;
-        r->parts[i] = p;
+        p->parts.parent = r;
+        p->parts.index = (int32_t)i;
+        p->parts.type = kd->parts[i].type;
+        r->parts.list[i] = p;
     }
     return 0;
 }

@@ -1,5 +1,5 @@
 /*
- * host/graph_check.c: lg_graph + node type schemas -> lg_checked (docs/graph-format.md,
+ * host/graph/check.c: lg_graph + node type schemas -> lg_checked (docs/graph-format.md,
  * "Checking").
  *
  * Per node: look the type up; map every entry to a parameter or an input (renamed keys
@@ -54,23 +54,6 @@ static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, 
         lg_graph_diag(k->d, k->g, LG_DIAG_NOTE, none, "too many errors (%u); stopping here",
                       k->errors);
         k->stop = true;
-    }
-}
-
-static const char *kind_name(lg_resource_kind k)
-{
-    switch (k) {
-    case LG_KIND_ANY: return "any resource";
-    case LG_KIND_IMAGE: return "an image";
-    case LG_KIND_BUFFER: return "a buffer";
-    case LG_KIND_VOLUME: return "a volume";
-    case LG_KIND_SCENE: return "a scene";
-    case LG_KIND_SHADOWMAP: return "a shadow map";
-    case LG_KIND_PROBE: return "a light probe";
-    case LG_KIND_SH: return "SH coefficients";
-    case LG_KIND_TRANSFER: return "transfer vectors";
-    case LG_KIND_FROXEL: return "a froxel volume";
-    default: return "an unknown kind of resource";
     }
 }
 
@@ -574,7 +557,7 @@ static void connect_input(checker *k, uint32_t ni, uint32_t ii, const lg_gvalue 
     lg_resource_kind out = edge_kind(k->c->nodes[src].type, port, part);
     if (in->kind != LG_KIND_ANY && out != LG_KIND_ANY && in->kind != out)
         diag(k, LG_DIAG_ERROR, v->loc, "input '%s' of node '%s' takes %s, but '%s' gives %s",
-             in->name, n->name, kind_name(in->kind), v->text, kind_name(out));
+             in->name, n->name, lg_kind_phrase(in->kind), v->text, lg_kind_phrase(out));
 }
 
 /* Which parameter or input an entry sets: >= 0 a parameter, < 0 -(input + 1). */
@@ -972,11 +955,12 @@ static void check_outputs(checker *k)
                 else if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY)
                     diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives %s, which cannot be written "
                          "as text ('%s'): only SH coefficients are; use .png, .exr or .hdr",
-                         o->ref.text, kind_name(kind), o->path);
+                         o->ref.text, lg_kind_phrase(kind), o->path);
                 else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE &&
                          kind != LG_KIND_SH)
                     diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images, probes and SH "
-                         "coefficients can be written to files", o->ref.text, kind_name(kind));
+                         "coefficients can be written to files", o->ref.text,
+                         lg_kind_phrase(kind));
             }
         }
         const char *slash = strrchr(o->path, '/');

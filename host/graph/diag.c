@@ -1,5 +1,5 @@
 /*
- * host/diag.c: diagnostics (collect, print) and did-you-mean suggestions.
+ * host/graph/diag.c: diagnostics (collect, print) and did-you-mean suggestions.
  */
 #include "graph/graph.h"
 

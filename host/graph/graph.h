@@ -1,5 +1,6 @@
 /*
- * host/graph.h: graph files (private to the host). docs/graph-format.md is the spec.
+ * host/graph/graph.h: graph files, the graph layer's interface to the layers above (private
+ * to the host). docs/graph-format.md is the spec.
  *
  * Two stages:
  *   lg_graph_parse()    text -> lg_graph: syntax only (version line, nodes, assignments,

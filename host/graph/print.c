@@ -1,5 +1,5 @@
 /*
- * host/graph_print.c: the canonical text of a graph (lightgraph fmt) and its Graphviz
+ * host/graph/print.c: the canonical text of a graph (lightgraph fmt) and its Graphviz
  * picture (lightgraph dot).
  *
  * fmt must be a fixed point: parsing its output and formatting again gives the same

@@ -25,17 +25,18 @@ static const char *format_name(lg_format f)
 static void describe_resource(lg_str *s, const lg_resource *r)
 {
     char sz[32];
+    const char *kind = lg_kind_name(r->kind); /* "image", "shadowmap": the SDK's one table */
     switch (r->kind) {
     case LG_KIND_IMAGE:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
         if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
-            lg_str_addf(s, "image %ux%u depth32f (%s)", r->image.width, r->image.height, sz);
+            lg_str_addf(s, "%s %ux%u depth32f (%s)", kind, r->image.width, r->image.height, sz);
         else
         {
             char lev[32] = "";
             if (r->image.levels > 1)
                 snprintf(lev, sizeof lev, " x%u levels", r->image.levels);
-            lg_str_addf(s, "image %ux%u%s %s%s%s (%s)", r->image.width, r->image.height,
+            lg_str_addf(s, "%s %ux%u%s %s%s%s (%s)", kind, r->image.width, r->image.height,
                         (r->image.flags & LG_IMAGE_CUBE) ? " cube" : "",
                         format_name(r->image.format),
                         (r->image.flags & LG_IMAGE_DEPTH) ? "+depth" : "", lev, sz);
@@ -43,26 +44,26 @@ static void describe_resource(lg_str *s, const lg_resource *r)
         break;
     case LG_KIND_VOLUME:
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
-        lg_str_addf(s, "volume %ux%ux%u %s (%s)", r->volume.width, r->volume.height,
+        lg_str_addf(s, "%s %ux%ux%u %s (%s)", kind, r->volume.width, r->volume.height,
                     r->volume.depth, format_name(r->volume.format), sz);
         break;
     case LG_KIND_BUFFER:
         lg_format_bytes(sz, sizeof sz, r->buffer.size);
-        lg_str_addf(s, "buffer %s", sz);
+        lg_str_addf(s, "%s %s", kind, sz);
         break;
     case LG_KIND_SCENE:
-        lg_str_add(s, "scene");
+        lg_str_add(s, kind);
         break;
     default:
         if (lg_kind_is_composite(r->kind)) {
             const lg_kind_desc *kd = lg_kind_describe(r->kind);
-            lg_str_addf(s, "%s {", kd->name);
+            lg_str_addf(s, "%s {", kind);
             uint32_t shown = 0;
-            for (uint32_t i = 0; !r->neutral && i < r->n_parts; i++) {
-                if (!r->parts[i])
+            for (uint32_t i = 0; !r->neutral && i < r->parts.n; i++) {
+                if (!r->parts.list[i])
                     continue;
                 lg_str_addf(s, "%s%s: ", shown++ ? ", " : "", kd->parts[i].name);
-                describe_resource(s, r->parts[i]);
+                describe_resource(s, r->parts.list[i]);
             }
             lg_str_add(s, "}");
         } else {
@@ -111,7 +112,7 @@ static void print_features(FILE *f, const char *name, const lg_scene_features *s
 static uint32_t planned_runs(const lg_exec *ex, const lg_pnode *n)
 {
     uint32_t frames = ex->opts.frames ? ex->opts.frames : 1;
-    return n->per_frame || lg_exec_runs_every_frame(ex, n) ? frames : 1;
+    return n->run.per_frame || lg_exec_runs_every_frame(ex, n) ? frames : 1;
 }
 
 /* "2.7e+08 samples x 4096 coefficients, about 1.4 h" (per run; "x 10 runs" when it runs
@@ -120,8 +121,8 @@ static void describe_work(lg_str *d, const lg_exec *ex, const lg_pnode *n)
 {
     char t[64];
     uint32_t runs = planned_runs(ex, n);
-    lg_format_duration(t, sizeof t, n->work_seconds * runs);
-    lg_str_addf(d, "%.3g %s", n->work_units, n->work_what ? n->work_what : "units");
+    lg_format_duration(t, sizeof t, n->plan.work_seconds * runs);
+    lg_str_addf(d, "%.3g %s", n->plan.work_units, n->plan.work_what ? n->plan.work_what : "units");
     if (runs > 1)
         lg_str_addf(d, " x %u runs", runs);
     lg_str_addf(d, ", about %s", t);
@@ -129,8 +130,8 @@ static void describe_work(lg_str *d, const lg_exec *ex, const lg_pnode *n)
 
 static int cmp_seconds_desc(const void *a, const void *b)
 {
-    double x = (*(const lg_pnode *const *)a)->work_seconds,
-           y = (*(const lg_pnode *const *)b)->work_seconds;
+    double x = (*(const lg_pnode *const *)a)->plan.work_seconds,
+           y = (*(const lg_pnode *const *)b)->plan.work_seconds;
     return x > y ? -1 : x < y;
 }
 
@@ -142,9 +143,9 @@ double lg_plan_estimate(const lg_exec *ex, lg_str *top)
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
         const lg_pnode *n = ex->nodes[i];
         /* an adopted node (the viewer) does not run again unless it runs per frame */
-        if (!n || n->state != LG_STATE_KEPT || !n->work_declared || n->lent)
+        if (!n || n->plan.state != LG_STATE_KEPT || !n->plan.work_declared || n->plan.lent)
             continue;
-        total += n->work_seconds * planned_runs(ex, n);
+        total += n->plan.work_seconds * planned_runs(ex, n);
         list[n_list++] = n;
     }
     if (top) {
@@ -152,7 +153,7 @@ double lg_plan_estimate(const lg_exec *ex, lg_str *top)
         qsort(list, n_list, sizeof *list, cmp_seconds_desc);
         for (uint32_t k = 0; k < n_list && k < 3; k++) {
             /* only those that matter: a tenth of the total or more */
-            if (k > 0 && list[k]->work_seconds * planned_runs(ex, list[k]) < 0.1 * total)
+            if (k > 0 && list[k]->plan.work_seconds * planned_runs(ex, list[k]) < 0.1 * total)
                 break;
             lg_str_addf(top, "%s%s (%s): ", k ? "; " : "", list[k]->pub.name,
                         list[k]->schema->name);
@@ -180,7 +181,7 @@ void lg_explain_print(lg_exec *ex, FILE *f)
     for (uint32_t t = 0; t < c->n_nodes; t++) {
         lg_pnode *n = ex->nodes[c->topo[t]];
         lg_str d = {0};
-        if (n->state == LG_STATE_KEPT) {
+        if (n->plan.state == LG_STATE_KEPT) {
             describe_inputs(ex, &d, n);
             for (uint32_t o = 0; o < n->schema->n_outputs; o++) {
                 if (d.len)
@@ -190,19 +191,19 @@ void lg_explain_print(lg_exec *ex, FILE *f)
                     describe_resource(&d, n->outputs[o]);
             }
             lg_str_addf(&d, "%splugin %s", d.len ? "; " : "", n->plugin ? n->plugin->name : "?");
-            if (n->work_declared) {
+            if (n->plan.work_declared) {
                 lg_str_add(&d, "; work: ");
                 describe_work(&d, ex, n);
             }
         } else {
-            lg_str_add(&d, n->reason ? n->reason : "");
+            lg_str_add(&d, n->plan.reason ? n->plan.reason : "");
             if (n->plugin)
                 lg_str_addf(&d, "; plugin %s not needed by this node", n->plugin->name);
         }
         fprintf(f, "  %-*s  %-*s  %-6s  %-9s  %-6s  %s\n", wn, n->pub.name, wt, n->schema->name,
-                state_name(n->state),
-                n->state != LG_STATE_KEPT ? "-" : n->per_frame ? "per-frame" : "once",
-                n->state != LG_STATE_KEPT ? "-" : device_name(n->device), d.s ? d.s : "");
+                state_name(n->plan.state),
+                n->plan.state != LG_STATE_KEPT ? "-" : n->run.per_frame ? "per-frame" : "once",
+                n->plan.state != LG_STATE_KEPT ? "-" : device_name(n->run.device), d.s ? d.s : "");
         lg_str_free(&d);
     }
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
@@ -233,8 +234,8 @@ void lg_explain_print(lg_exec *ex, FILE *f)
             lg_str_addf(&notl, "%s%s", notl.len ? " " : "", ex->reg->plugins[i]->name);
     fprintf(f, "plugins not loaded: %s\n", notl.s ? notl.s : "(none)");
     lg_str_free(&notl);
-    if (ex->gl)
-        fprintf(f, "gl device: %s\n", lg_gl_device_description(ex->gl));
-    if (ex->cl)
-        fprintf(f, "cl device: %s\n", lg_cl_device_description(ex->cl));
+    if (ex->dev.gl)
+        fprintf(f, "gl device: %s\n", lg_gl_device_description(ex->dev.gl));
+    if (ex->dev.cl)
+        fprintf(f, "cl device: %s\n", lg_cl_device_description(ex->dev.cl));
 }

@@ -221,7 +221,7 @@ static int prepare_node(lg_exec *ex, lg_pnode *n)
     }
     n->pub.type = live;
     n->plugin->live_refs++;
-    n->created = true;
+    n->run.created = true;
     if (live->create && guarded(ex, n, live->create, "create") != 0) {
         if (!ex->failed)
             lg_node_errorf(n, "create() failed without saying why");
@@ -234,14 +234,14 @@ static int prepare_node(lg_exec *ex, lg_pnode *n)
     }
     if (ex->failed)
         return -1;
-    n->prepared = true;
+    n->run.prepared = true;
     for (uint32_t o = 0; o < n->schema->n_outputs; o++)
         if (!n->outputs[o]) {
             lg_node_errorf(n, "prepare() did not declare output '%s'", n->schema->outputs[o].name);
             return -1;
         }
-    if (!n->device_set)
-        n->device = LG_DEVICE_CPU;
+    if (!n->run.device_set)
+        n->run.device = LG_DEVICE_CPU;
     return 0;
 }
 
@@ -265,14 +265,14 @@ static void attach(lg_exec *ex, lg_pnode *n, uint32_t index)
  * same render size. */
 static lg_pnode *adoptable(lg_exec *ex, const lg_pnode *n)
 {
-    lg_exec *pv = ex->prev;
+    lg_exec *pv = ex->viewer.prev;
     if (!pv || pv->opts.width != ex->opts.width || pv->opts.height != ex->opts.height)
         return NULL;
     for (uint32_t j = 0; j < pv->n_nodes; j++) {
         lg_pnode *o = pv->nodes[j];
-        if (!o || o->lent || o->crashed || !o->prepared || o->state != LG_STATE_KEPT ||
+        if (!o || o->plan.lent || o->run.crashed || !o->run.prepared || o->plan.state != LG_STATE_KEPT ||
             o->plugin != n->plugin || o->schema != n->schema ||
-            memcmp(&o->plan_identity, &n->plan_identity, sizeof n->identity) != 0)
+            memcmp(&o->plan.plan_identity, &n->plan.plan_identity, sizeof n->plan.identity) != 0)
             continue;
         bool same = true;
         for (uint32_t k = 0; k < n->schema->n_inputs && same; k++) {
@@ -290,27 +290,27 @@ static lg_pnode *adoptable(lg_exec *ex, const lg_pnode *n)
 
 void lg_plan_commit(lg_exec *ex)
 {
-    for (uint32_t i = 0; ex->prev && i < ex->n_nodes; i++) {
+    for (uint32_t i = 0; ex->viewer.prev && i < ex->n_nodes; i++) {
         lg_pnode *n = ex->nodes[i];
-        if (n && n->lent) {
-            ex->prev->nodes[n->prev_index] = NULL;
-            n->lent = false;
+        if (n && n->plan.lent) {
+            ex->viewer.prev->nodes[n->plan.prev_index] = NULL;
+            n->plan.lent = false;
         }
     }
-    ex->prev = NULL;
+    ex->viewer.prev = NULL;
 }
 
 void lg_plan_rollback(lg_exec *ex)
 {
-    for (uint32_t i = 0; ex->prev && i < ex->n_nodes; i++) {
+    for (uint32_t i = 0; ex->viewer.prev && i < ex->n_nodes; i++) {
         lg_pnode *n = ex->nodes[i];
-        if (n && n->lent) {
-            attach(ex->prev, n, n->prev_index);
-            n->lent = false;
+        if (n && n->plan.lent) {
+            attach(ex->viewer.prev, n, n->plan.prev_index);
+            n->plan.lent = false;
             ex->nodes[i] = NULL;
         }
     }
-    ex->prev = NULL;
+    ex->viewer.prev = NULL;
 }
 
 /* Nodes with an output of kind scene, and every node upstream of one: prepared first. */
@@ -335,7 +335,7 @@ static void mark_scene_producers(lg_exec *ex, bool *early)
 /* Gates n (state GATED, with the reason) when the scenes upstream do not meet its needs. */
 static void decide_gate(lg_exec *ex, lg_pnode *n, bool *seen)
 {
-    if (!n->schema->needs || n->state == LG_STATE_GATED)
+    if (!n->schema->needs || n->plan.state == LG_STATE_GATED)
         return;
     lg_scene_features f;
     memset(&f, 0, sizeof f);
@@ -343,8 +343,8 @@ static void decide_gate(lg_exec *ex, lg_pnode *n, bool *seen)
     bool any = collect_features(ex, n->index, &f, seen);
     uint32_t unmet = any ? unmet_needs(n->schema->needs, &f) : n->schema->needs;
     if (unmet) {
-        n->state = LG_STATE_GATED;
-        n->reason = any ? lg_xasprintf("the scene upstream has %s", needs_text(unmet))
+        n->plan.state = LG_STATE_GATED;
+        n->plan.reason = any ? lg_xasprintf("the scene upstream has %s", needs_text(unmet))
                         : lg_xstrdup("no scene is upstream of it, so its needs "
                                      "cannot be met");
     }
@@ -359,11 +359,11 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
 {
     const lg_checked *c = ex->checked;
     bool *keep = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *keep);
-    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + ex->n_roots + 1, sizeof *stack);
+    uint32_t *stack = lg_xcalloc(c->n_nodes + c->n_outputs + ex->viewer.n_roots + 1, sizeof *stack);
     uint32_t sp = 0;
-    uint32_t n_roots = ex->roots ? ex->n_roots : c->n_outputs;
+    uint32_t n_roots = ex->viewer.roots ? ex->viewer.n_roots : c->n_outputs;
     for (uint32_t i = 0; i < n_roots; i++) {
-        int32_t r = ex->roots ? ex->roots[i].node : c->outputs[i].node;
+        int32_t r = ex->viewer.roots ? ex->viewer.roots[i].node : c->outputs[i].node;
         if (r >= 0 && !keep[r]) {
             keep[r] = true;
             stack[sp++] = (uint32_t)r;
@@ -377,7 +377,7 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
     while (sp > 0) {
         uint32_t i = stack[--sp];
         const lg_node_type *t = ex->nodes[i]->schema;
-        bool gated = ex->nodes[i]->state == LG_STATE_GATED;
+        bool gated = ex->nodes[i]->plan.state == LG_STATE_GATED;
         bool passes = t->neutral == LG_NEUTRAL_PASSTHROUGH ||
                       t->neutral == LG_NEUTRAL_PASSTHROUGH_FIRST;
         for (uint32_t k = 0; k < t->n_inputs; k++) {
@@ -391,9 +391,9 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
         }
     }
     for (uint32_t i = 0; i < c->n_nodes; i++)
-        if (!keep[i] && !(early && early[i]) && ex->nodes[i]->state == LG_STATE_KEPT) {
-            ex->nodes[i]->state = LG_STATE_CULLED;
-            ex->nodes[i]->reason = lg_xstrdup(reason);
+        if (!keep[i] && !(early && early[i]) && ex->nodes[i]->plan.state == LG_STATE_KEPT) {
+            ex->nodes[i]->plan.state = LG_STATE_CULLED;
+            ex->nodes[i]->plan.reason = lg_xstrdup(reason);
         }
     free(keep);
     free(stack);
@@ -402,32 +402,32 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
 /* One node: its identity and per-frame flag, then gated (its neutral result) or prepared. */
 static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
 {
-    lg_digest_init(&n->identity);
-    lg_digest_add_str(&n->identity, n->plugin ? n->plugin->name : "");
-    lg_digest_add_str(&n->identity, n->plugin ? n->plugin->version : "");
-    lg_digest_add_str(&n->identity, n->schema->name);
-    digest_params(&n->identity, n->c);
+    lg_digest_init(&n->plan.identity);
+    lg_digest_add_str(&n->plan.identity, n->plugin ? n->plugin->name : "");
+    lg_digest_add_str(&n->plan.identity, n->plugin ? n->plugin->version : "");
+    lg_digest_add_str(&n->plan.identity, n->schema->name);
+    digest_params(&n->plan.identity, n->c);
     for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
         lg_edge e = n->c->inputs[k];
         if (e.node < 0) {
-            lg_digest_add_str(&n->identity, NULL);
+            lg_digest_add_str(&n->plan.identity, NULL);
             continue;
         }
-        lg_digest_add(&n->identity, &ex->nodes[e.node]->identity, sizeof(lg_digest));
-        lg_digest_add(&n->identity, &e.port, sizeof e.port);
-        lg_digest_add(&n->identity, &e.part, sizeof e.part);
+        lg_digest_add(&n->plan.identity, &ex->nodes[e.node]->plan.identity, sizeof(lg_digest));
+        lg_digest_add(&n->plan.identity, &e.port, sizeof e.port);
+        lg_digest_add(&n->plan.identity, &e.part, sizeof e.part);
     }
     for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
         lg_edge e = n->c->inputs[k];
-        if (e.node >= 0 && ex->nodes[e.node]->per_frame)
-            n->per_frame = true;
+        if (e.node >= 0 && ex->nodes[e.node]->run.per_frame)
+            n->run.per_frame = true;
     }
     if (n->schema->flags & LG_NODE_PER_FRAME)
-        n->per_frame = true;
+        n->run.per_frame = true;
 
-    n->plan_identity = n->identity;
+    n->plan.plan_identity = n->plan.identity;
     decide_gate(ex, n, seen);
-    if (n->state == LG_STATE_GATED) {
+    if (n->plan.state == LG_STATE_GATED) {
         make_neutral(ex, n);
         return 0;
     }
@@ -436,12 +436,12 @@ static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
         /* the earlier plan's node, with its instance, resources and state, takes this
          * node's place; `n` (nothing made yet) is dropped */
         uint32_t i = n->index;
-        o->prev_index = o->index;
-        o->lent = true;
+        o->plan.prev_index = o->index;
+        o->plan.lent = true;
         attach(ex, o, i);
-        o->per_frame |= n->per_frame;
+        o->run.per_frame |= n->run.per_frame;
         free(n->outputs);
-        free(n->reason);
+        free(n->plan.reason);
         free(n);
         ex->nodes[i] = o;
         lg_hlog(LG_HDEBUG, "node '%s' kept from the previous plan", o->pub.name);
@@ -464,7 +464,7 @@ static int check_plan_memory(lg_exec *ex)
     const char *big_port = NULL;
     for (uint32_t i = 0; i < ex->n_nodes; i++) {
         const lg_pnode *n = ex->nodes[i];
-        if (n->state != LG_STATE_KEPT || !n->outputs)
+        if (n->plan.state != LG_STATE_KEPT || !n->outputs)
             continue;
         for (uint32_t o = 0; o < n->schema->n_outputs; o++) {
             const lg_resource *r = n->outputs[o];
@@ -502,7 +502,7 @@ static int check_plan_memory(lg_exec *ex)
 int lg_plan(lg_exec *ex)
 {
     const lg_checked *c = ex->checked;
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     lg_host_api_init(&ex->api);
     ex->n_nodes = c->n_nodes;
     ex->nodes = lg_xcalloc(c->n_nodes ? c->n_nodes : 1, sizeof *ex->nodes);
@@ -533,27 +533,27 @@ int lg_plan(lg_exec *ex)
     int rc = 0;
     for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
         uint32_t i = c->topo[t];
-        if (early[i] && ex->nodes[i]->state != LG_STATE_CULLED)
+        if (early[i] && ex->nodes[i]->plan.state != LG_STATE_CULLED)
             rc = plan_node(ex, ex->nodes[i], seen);
     }
     if (rc == 0) {
         for (uint32_t t = 0; t < c->n_nodes; t++) {
             lg_pnode *n = ex->nodes[c->topo[t]];
-            if (!early[n->index] && n->state != LG_STATE_CULLED)
+            if (!early[n->index] && n->plan.state != LG_STATE_CULLED)
                 decide_gate(ex, n, seen);
         }
         cull(ex, early, "only gated nodes read it");
     }
     for (uint32_t t = 0; t < c->n_nodes && rc == 0; t++) {
         uint32_t i = c->topo[t];
-        if (!early[i] && ex->nodes[i]->state != LG_STATE_CULLED)
+        if (!early[i] && ex->nodes[i]->plan.state != LG_STATE_CULLED)
             rc = plan_node(ex, ex->nodes[i], seen);
     }
     free(early);
     free(seen);
     for (uint32_t i = 0; i < c->n_nodes && rc == 0; i++) {
         lg_pnode *n = ex->nodes[i];
-        if (n->state != LG_STATE_KEPT)
+        if (n->plan.state != LG_STATE_KEPT)
             continue;
         bool makes = false, reads = false;
         for (uint32_t o = 0; o < n->schema->n_outputs; o++)
@@ -563,13 +563,13 @@ int lg_plan(lg_exec *ex)
                                                        : NULL;
             reads |= r && r->kind == LG_KIND_SCENE;
         }
-        bool independent = n->view_independent_set
-                               ? n->view_independent
+        bool independent = n->plan.view_independent_set
+                               ? n->plan.view_independent
                                : (n->schema->flags & LG_NODE_VIEW_INDEPENDENT) != 0;
-        n->reads_scene = reads && !makes && !independent;
+        n->plan.reads_scene = reads && !makes && !independent;
     }
     if (rc == 0 && !ex->failed)
         rc = check_plan_memory(ex);
-    ex->t_plan_ms = (lg_now() - t0) * 1e3;
+    ex->t_plan_ms = (lg_mono_now() - t0) * 1e3;
     return rc || ex->failed ? -1 : 0;
 }

@@ -8,15 +8,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lightgraph/vecmath.h"
+
 /* The math is done in double: a camera turned a thousand times must not drift off its
  * distance or lose the orthogonality of its frame, and float only holds the result. */
 typedef struct dv3 {
     double x, y, z;
 } dv3;
 
-static const double kPi = 3.14159265358979323846;
 /* How close pitch may come to the poles: 0.5 degrees. */
-static const double kPitchLimit = 0.5 * 3.14159265358979323846 - 0.5 * 3.14159265358979323846 / 180.0;
+static const double kPitchLimit = LG_HALF_PI - 0.5 * LG_PI / 180.0;
 
 static dv3 d3(double x, double y, double z)
 {
@@ -169,9 +170,9 @@ void lg_vcam_init(lg_vcam *v, const lg_camera *c, const float bmin[3], const flo
     } else {
         /* as scene_tools' camera in orbit mode with its defaults: azimuth 0, elevation 20
          * degrees, the bounding sphere fitting the vertical field of view */
-        v->yfov = (float)(45.0 * kPi / 180.0);
+        v->yfov = (float)(45.0 * LG_PI / 180.0);
         double dist = scale / sin(0.5 * v->yfov);
-        double el = 20.0 * kPi / 180.0;
+        double el = 20.0 * LG_PI / 180.0;
         d3store(v->target, centre);
         d3store(v->position, add(centre, mul(from_angles(0.0, el), dist)));
         dv3 f = forward(v, NULL);
@@ -207,11 +208,11 @@ static bool drag_angles(double dx, double dy, int h, double *ax, double *ay)
 {
     if (h <= 0 || !isfinite(dx) || !isfinite(dy))
         return false;
-    *ax = kPi * dx / (double)h;
-    *ay = kPi * dy / (double)h;
+    *ax = LG_PI * dx / (double)h;
+    *ay = LG_PI * dy / (double)h;
     /* a drag of millions of view heights is as good as its remainder: keep the angles in a
      * range where sin/cos stay exact */
-    *ax = fmod(*ax, 2.0 * kPi);
+    *ax = fmod(*ax, 2.0 * LG_PI);
     return isfinite(*ay);
 }
 
@@ -382,7 +383,7 @@ char *lg_vcam_node_text(const lg_vcam *v, const char *name, const char *scene_re
                       "    fov_deg = %.6g\n"
                       "%s"
                       "}\n";
-    double fov_deg = (double)v->yfov * 180.0 / kPi;
+    double fov_deg = (double)v->yfov * 180.0 / LG_PI;
     int n = snprintf(NULL, 0, fmt, name, scene_ref, pos, tgt, up, fov_deg, extra);
     if (n < 0)
         return NULL;

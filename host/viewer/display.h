@@ -1,9 +1,9 @@
 /*
- * host/viewer_display.h: what the viewer's window shows (private to the host): one image
+ * host/viewer/display.h: what the viewer's window shows (private to the host): one image
  * of the graph fitted into the window and encoded for display, and a text overlay.
  *
- * The caller (cmd_view.c) owns the GL context and the window; this module only draws, through
- * the same function table plugins use (lightgraph/glad/gl.h), into a framebuffer it is
+ * The caller (viewer.c, loop.c) owns the GL context and the window; this module only draws,
+ * through the same function table plugins use (lightgraph/glad/gl.h), into a framebuffer it is
  * given: 0 for the window's, or any complete framebuffer object (the tests draw into an
  * RGBA8 one on an OSMesa context). It makes no window-system call.
  *

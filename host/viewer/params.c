@@ -428,7 +428,7 @@ static char *step_input(const lg_checked *c, int32_t ni, uint32_t ii, int dir, c
     if (pick_n < 0 || (pick_n == cur.node && pick_p == cur.port && cur.part == 0)) {
         set_err(err, errlen, "%s.%s has no other source: no node outside '%s' and what it "
                 "feeds has an output of kind %s", cn->g->name, in->name, cn->g->name,
-                in->kind == LG_KIND_ANY ? "any" : lg_kind_name(in->kind));
+                lg_kind_name(in->kind));
         return NULL;
     }
     lg_str b = {0};
@@ -647,7 +647,7 @@ void lg_vparams_describe(const lg_vparams *p, const lg_checked *c, lg_str *out)
         lg_str_addf(out, "%s <- ", in->name);
         if (ed->node >= 0)
             add_ref(out, &c->nodes[ed->node], ed->port, ed->part);
-        lg_str_addf(out, "  (%s)", in->kind == LG_KIND_ANY ? "any" : lg_kind_name(in->kind));
+        lg_str_addf(out, "  (%s)", lg_kind_name(in->kind));
         return;
     }
     const lg_param_desc *pd = &cn->type->params[e.index];

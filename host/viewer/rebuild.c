@@ -228,9 +228,9 @@ void lg_rebuild_free(lg_rebuild **rp)
         return;
     if (!r->done) {
         kill(-r->pid, SIGTERM);
-        double t0 = lg_now();
+        double t0 = lg_mono_now();
         bool reaped = false;
-        while (!reaped && lg_now() - t0 < REBUILD_TERM_WAIT_S) {
+        while (!reaped && lg_mono_now() - t0 < REBUILD_TERM_WAIT_S) {
             pid_t p = waitpid(r->pid, NULL, WNOHANG);
             if (p == r->pid || (p < 0 && errno != EINTR)) {
                 reaped = true;

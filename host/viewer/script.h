@@ -38,8 +38,9 @@
  * of sleep in [0, 3600], of wait_reload in (0, 3600]; numbers finite. A PATH is one token
  * (no spaces); relative paths are taken from the script's folder.
  *
- * This module parses only; the viewer runs the events (host/cmd_view.c). It includes
- * <GLFW/glfw3.h> for the key, modifier and button constants and calls no GLFW function.
+ * This module parses only; the viewer runs the events (host/viewer/script_run.c). It
+ * includes <GLFW/glfw3.h> for the key, modifier and button constants and calls no GLFW
+ * function.
  */
 #ifndef LG_HOST_VIEWER_SCRIPT_H
 #define LG_HOST_VIEWER_SCRIPT_H

@@ -81,7 +81,7 @@ int lg_watch_tree(lg_watch *w, int tag, const char *dir, const char *const *suff
                   uint32_t n_suffixes, bool replace, char *err, size_t errlen);
 
 /* Reads the pending events (never blocks) and reports the registered files that changed
- * and have had no event for `quiet_s` seconds of `now` (monotonic seconds, lg_now(); tests
+ * and have had no event for `quiet_s` seconds of `now` (monotonic seconds, lg_mono_now(); tests
  * may pass any increasing clock). Returns the count and *out, an array sorted by path
  * without duplicates (free with lg_watch_changes_free), or 0 and *out NULL when there is
  * nothing, or -1 with err when reading the inotify descriptor fails (a queue overflow is not

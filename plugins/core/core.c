@@ -40,14 +40,13 @@ static const char *core_format_name(lg_format f)
     return lg_format_name(f);
 }
 
-/* Describes image input `port`; refuses formats the CPU nodes cannot read as linear
- * values. */
+/* Describes image input `port` (required: add's a and b, scale's image); refuses formats
+ * the CPU nodes cannot read as linear values. */
 static int core_image_input(lg_node *n, uint32_t port, const char *what,
                             lg_resource_info *info)
 {
+    lg_assert_input(n, port);
     const lg_resource *r = lg_input(n, port);
-    if (!r)
-        return lg_error(n, "input '%s' is not connected", what);
     int rc = lg_describe(r, info, n);
     if (rc)
         return lg_error_code(n, rc, "input '%s': cannot describe the resource", what);
@@ -86,10 +85,9 @@ static int image_prepare(lg_node *n)
 
     core_image_state *st = n->user;
     if (!st) {
-        st = calloc(1, sizeof *st);
+        st = lg_create_state(n, sizeof *st);
         if (!st)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-        n->user = st;
+            return LG_ERR_NOMEM;
     }
     lg_image_free(&st->img);
 
@@ -113,7 +111,7 @@ static int image_prepare(lg_node *n)
     /* the decoded pixels, not the file's bytes: no second open of the path (the file could
      * change between the two), and the same key for the same pixels in any encoding */
     uint64_t h = lg_image_hash(&st->img, LG_IMAGE_HASH_SEED);
-    n->host->add_content_key(n, &h, sizeof h);
+    lg_add_content_key(n, &h, sizeof h);
 
     rc = core_declare_rgba32f(n, 0, st->img.width, st->img.height);
     if (rc)
@@ -224,7 +222,7 @@ static int add_prepare(lg_node *n)
      * nothing to do (the output is the input, so it must not write). */
     st->aliased = a.neutral || b.neutral;
     if (st->aliased) {
-        rc = n->host->declare_alias(n, 0, b.neutral ? 0 : 1);
+        rc = lg_declare_alias(n, 0, b.neutral ? 0 : 1);
         return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
     }
     if (a.image.width != b.image.width || a.image.height != b.image.height)

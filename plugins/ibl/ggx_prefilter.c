@@ -17,7 +17,7 @@
 #include <string.h>
 #include <time.h>
 
-#define PI_D 3.14159265358979323846
+#include "lightgraph/vecmath.h"
 
 /* ---- shared maths ---------------------------------------------------------------------- */
 
@@ -43,7 +43,7 @@ static void ggx_half(double u1, double u2, double a2, double h[3])
         ct2 = 1.0;
     if (ct2 < 0.0)
         ct2 = 0.0;
-    double ct = sqrt(ct2), st = sqrt(1.0 - ct2), phi = 2.0 * PI_D * u1;
+    double ct = sqrt(ct2), st = sqrt(1.0 - ct2), phi = 2.0 * LG_PI * u1;
     h[0] = st * cos(phi);
     h[1] = st * sin(phi);
     h[2] = ct;
@@ -53,7 +53,7 @@ static void ggx_half(double u1, double u2, double a2, double h[3])
 static double ggx_d(double noh, double a2)
 {
     double t = noh * noh * (a2 - 1.0) + 1.0;
-    return a2 / (PI_D * t * t);
+    return a2 / (LG_PI * t * t);
 }
 
 /* Smith height-correlated visibility G / (4 (n.l)(n.v)) (Heitz 2014; Filament). */
@@ -567,8 +567,8 @@ int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src, lg_probe_la
     /* omega_p: the mean solid angle of a level-0 texel on the sphere */
     double texels = (double)width * height * faces;
     if (layout == LG_PROBE_ANGULAR)
-        texels *= PI_D / 4.0; /* the disc's share of the square */
-    double omega_p = 4.0 * PI_D / texels;
+        texels *= LG_PI / 4.0; /* the disc's share of the square */
+    double omega_p = 4.0 * LG_PI / texels;
 
     for (uint32_t l = 1; l < levels; l++) {
         double r = lg_probe_level_roughness(l, levels), alpha = r * r, a2 = alpha * alpha;

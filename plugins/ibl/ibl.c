@@ -98,10 +98,9 @@ typedef struct ibl_state {
 
 static int ibl_create(lg_node *n, int mode)
 {
-    ibl_state *st = calloc(1, sizeof *st);
+    ibl_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->mode = mode;
     st->backend = lg_param_backend(n);
     st->format = lg_param_enum(n, "format");
@@ -147,14 +146,11 @@ static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe);
 static int ibl_prepare(lg_node *n)
 {
     ibl_state *st = n->user;
-    lg_output_size(n, "width", "height", &st->width, &st->height);
-    if (st->width == 0 || st->height == 0)
-        return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
-                        st->height);
+    int rc = lg_output_size_nonempty(n, "width", "height", &st->width, &st->height);
+    if (rc)
+        return rc;
     lg_resource_info info;
-    const lg_resource *in = lg_input(n, IN_SCENE);
-    if (!in || lg_describe(in, &info, n) != 0 || info.kind != LG_KIND_SCENE)
-        return lg_error(n, "input 'scene' is not a scene");
+    lg_assert_input(n, IN_SCENE);
     const lg_resource *pr = lg_input(n, IN_PROBE);
     if (!pr || lg_describe(pr, &info, n) != 0 || info.kind != LG_KIND_PROBE)
         return lg_error(n, "input 'probe' is not a light probe");
@@ -179,7 +175,7 @@ static int ibl_prepare(lg_node *n)
     }
     lg_image_desc d = { .width = st->width, .height = st->height,
                         .format = ibl_formats[st->format], .flags = LG_IMAGE_DEPTH };
-    int rc = lg_declare_image(n, 0, &d);
+    rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
     if (st->mode != IBL_BACKGROUND && (rc = ibl_check_chain(n, st, pr)))
@@ -451,12 +447,12 @@ static bool ibl_chain_from_cache(lg_node *n, ibl_state *st, uint32_t size, uint3
     ibl_chain_key(key, sizeof key, size, levels, samples, st->weighting);
     void *data = NULL;
     size_t bytes = 0;
-    if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
+    if (lg_cache_get(n, key, &data, &bytes) != LG_OK)
         return false;
     /* header and size here; the values in execute, against the probe (ibl_chain_bad), which
      * names the first bad one */
     const char *why = ibl_chain_read_raw(data, bytes, size, levels, samples, nf, &st->chain);
-    n->host->cache_free(data);
+    lg_cache_free(n, data);
     if (why)
         lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): prefiltering it again", key, why);
     if (!st->chain)

@@ -142,10 +142,9 @@ typedef struct ph_state {
 
 static int ph_create(lg_node *n)
 {
-    ph_state *st = calloc(1, sizeof *st);
+    ph_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->shading = lg_param_enum(n, "shading");
     st->specular = lg_param_enum(n, "specular") == 1 ? LG_SPEC_BLINN : LG_SPEC_PHONG;
     st->blinn_x4 = lg_param_enum(n, "blinn_correction");
@@ -158,7 +157,7 @@ static int ph_create(lg_node *n)
     st->per_frame = lg_param_bool(n, "per_frame");
     st->K = (float)lg_param_float(n, "k");
     st->ks_scale = (float)lg_param_float(n, "ks_scale");
-    st->mixed_cos = (float)cos(lg_param_float(n, "mixed_threshold_deg") * (3.14159265358979323846 / 180.0));
+    st->mixed_cos = (float)cos(lg_param_float(n, "mixed_threshold_deg") * (LG_PI / 180.0));
     st->camera = lg_param_int(n, "camera");
     const lg_value *a = lg_param(n, "ambient"), *bg = lg_param(n, "background");
     for (int i = 0; i < 3; i++) {
@@ -177,24 +176,19 @@ static int ph_create(lg_node *n)
 static int ph_prepare(lg_node *n)
 {
     ph_state *st = n->user;
-    lg_output_size(n, "width", "height", &st->width, &st->height);
-    if (st->width == 0 || st->height == 0)
-        return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
-                        st->height);
+    int rc = lg_output_size_nonempty(n, "width", "height", &st->width, &st->height);
+    if (rc)
+        return rc;
 
     lg_resource_info info;
-    const lg_resource *in = lg_input(n, 0);
-    if (!in || lg_describe(in, &info, n) != 0)
-        return lg_error(n, "input 'scene' is not connected");
-    if (info.kind != LG_KIND_SCENE)
-        return lg_error(n, "input 'scene' is not a scene");
+    lg_assert_input(n, 0);
     const lg_resource *sh = lg_input(n, 1);
     if (sh && (lg_describe(sh, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP))
         return lg_error(n, "input 'shadows' is not a shadow map");
 
     lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F,
                         .flags = LG_IMAGE_DEPTH };
-    int rc = lg_declare_image(n, 0, &d);
+    rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
     if (st->per_frame)
@@ -589,7 +583,7 @@ static int ph_upload(lg_node *n, lg_gl_buffer *buf, const void *data, size_t byt
 }
 
 /* The shadow atlas's GL depth texture, read by the raster passes. The one place that knows
- * how the atlas reaches phong (today: the image the shadow map's payload points to). */
+ * how the atlas reaches phong (today: the shadow map's `atlas` part, a depth-only image). */
 static int phong_shadow_atlas(lg_node *n, const lg_shadowmap *sm, GLuint *tex)
 {
     uint32_t color = 0, depth = 0;

@@ -241,7 +241,7 @@ int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx,
     float thr;
     if (!(crease_angle > 0.0f))
         thr = 1.0f - 1e-6f;
-    else if (crease_angle >= 3.14159265f)
+    else if (crease_angle >= LG_PIF)
         thr = -2.0f; /* every pair: eq. 1-13 */
     else
         thr = cosf(crease_angle) - 1e-6f;

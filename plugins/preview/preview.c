@@ -39,10 +39,9 @@ typedef struct pv_state {
 
 static int pv_create(lg_node *n)
 {
-    pv_state *st = calloc(1, sizeof *st);
+    pv_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->mode = lg_param_enum(n, "mode");
     st->cull = lg_param_enum(n, "cull");
     st->camera = lg_param_int(n, "camera");
@@ -55,21 +54,14 @@ static int pv_create(lg_node *n)
 static int pv_prepare(lg_node *n)
 {
     pv_state *st = n->user;
-    lg_output_size(n, "width", "height", &st->width, &st->height);
-    if (st->width == 0 || st->height == 0)
-        return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
-                        st->height);
-
-    lg_resource_info info;
-    const lg_resource *in = lg_input(n, 0);
-    if (!in || lg_describe(in, &info, n) != 0)
-        return lg_error(n, "input 'scene' is not connected");
-    if (info.kind != LG_KIND_SCENE)
-        return lg_error(n, "input 'scene' is not a scene");
+    int rc = lg_output_size_nonempty(n, "width", "height", &st->width, &st->height);
+    if (rc)
+        return rc;
+    lg_assert_input(n, 0);
 
     lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F,
                         .flags = LG_IMAGE_DEPTH };
-    int rc = lg_declare_image(n, 0, &d);
+    rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
     return lg_set_device(n, LG_DEVICE_GL);
@@ -141,7 +133,7 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
         lg_log(n, LG_LOG_INFO,
                "%u instances, %" PRIu64 " triangles, camera %u '%s', vertical fov %.4g deg, "
                "znear %.6g, zfar %.6g",
-               sgl->count, sgl->triangles, v.camera, c->name ? c->name : "", (double)v.yfov * (180.0 / 3.14159265358979323846),
+               sgl->count, sgl->triangles, v.camera, c->name ? c->name : "", (double)v.yfov * (180.0 / LG_PI),
                (double)v.znear, (double)v.zfar);
     }
     return rc;

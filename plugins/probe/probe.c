@@ -78,10 +78,9 @@ static int probe_prepare(lg_node *n)
 {
     pr_state *st = n->user;
     if (!st) {
-        st = calloc(1, sizeof *st);
+        st = lg_create_state(n, sizeof *st);
         if (!st)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-        n->user = st;
+            return LG_ERR_NOMEM;
     }
     pr_file_clear(&st->f);
     uint64_t key = 0;
@@ -92,7 +91,7 @@ static int probe_prepare(lg_node *n)
         pr_file_clear(&st->f);
         return rc;
     }
-    n->host->add_content_key(n, &key, sizeof key);
+    lg_add_content_key(n, &key, sizeof key);
 
     const lg_value *r = lg_param(n, "rotate_deg");
     lg_probe_rotation_from_euler((float)r->v[0], (float)r->v[1], (float)r->v[2], st->rotation);
@@ -180,10 +179,9 @@ static int convert_prepare(lg_node *n)
 {
     pc_state *st = n->user;
     if (!st) {
-        st = calloc(1, sizeof *st);
+        st = lg_create_state(n, sizeof *st);
         if (!st)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-        n->user = st;
+            return LG_ERR_NOMEM;
     }
     const lg_resource *in = lg_input(n, 0);
     lg_resource_info ri, rad;

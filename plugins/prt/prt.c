@@ -82,10 +82,9 @@ typedef struct prt_state {
 
 static int prt_create(lg_node *n)
 {
-    prt_state *st = calloc(1, sizeof *st);
+    prt_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->backend = lg_param_backend(n);
     st->camera = lg_param_int(n, "camera");
     const lg_value *r = lg_param(n, "rotate_deg");
@@ -109,14 +108,12 @@ static int prt_create(lg_node *n)
 static int prt_prepare(lg_node *n)
 {
     prt_state *st = n->user;
-    lg_output_size(n, "width", "height", &st->width, &st->height);
-    if (st->width == 0 || st->height == 0)
-        return lg_error(n, "output size %ux%u: width and height must be > 0", st->width,
-                        st->height);
+    int rc = lg_output_size_nonempty(n, "width", "height", &st->width, &st->height);
+    if (rc)
+        return rc;
     lg_resource_info info;
+    lg_assert_input(n, IN_SCENE);
     const lg_resource *in = lg_input(n, IN_SCENE);
-    if (!in || lg_describe(in, &info, n) != 0 || info.kind != LG_KIND_SCENE)
-        return lg_error(n, "input 'scene' is not a scene");
     /* the vertex count sizes the `vertices` image; the scene's payload exists from its
      * producer's prepare on */
     const lg_scene *s = lg_scene_get(n, in);
@@ -154,7 +151,7 @@ static int prt_prepare(lg_node *n)
     }
     lg_image_desc d = { .width = st->width, .height = st->height,
                         .format = LG_FORMAT_RGBA32F, .flags = LG_IMAGE_DEPTH };
-    int rc = lg_declare_image(n, OUT_IMAGE, &d);
+    rc = lg_declare_image(n, OUT_IMAGE, &d);
     if (rc)
         return rc;
     lg_vertex_image_size(st->vertices, &st->tex_w, &st->tex_h);

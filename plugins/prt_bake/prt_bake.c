@@ -34,8 +34,6 @@
 #include "lightgraph/transfer.h"
 #include "lightgraph/vecmath.h"
 
-#define PB_PI 3.14159265358979323846
-
 enum { PB_UNSHADOWED = 0, PB_SHADOWED, PB_INTERREFLECTED };
 enum { PB_EMBREE = 0, PB_BRUTE };
 
@@ -533,11 +531,10 @@ static int pb_read_params(lg_node *n, pb_state *st)
 
 static int pb_create(lg_node *n, bool reference)
 {
-    pb_state *st = calloc(1, sizeof *st);
+    pb_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        return LG_ERR_NOMEM;
     st->reference = reference;
-    n->user = st;
     return 0;
 }
 static int pb_create_bake(lg_node *n) { return pb_create(n, false); }
@@ -554,12 +551,8 @@ static void pb_destroy(lg_node *n)
 
 static const lg_scene *pb_scene_in(lg_node *n, const lg_resource **res)
 {
-    lg_resource_info info;
+    lg_assert_input(n, 0); /* both types' scene is required */
     const lg_resource *in = lg_input(n, 0);
-    if (!in || lg_describe(in, &info, n) != 0 || info.kind != LG_KIND_SCENE) {
-        lg_error(n, "input 'scene' is not a scene");
-        return NULL;
-    }
     if (res)
         *res = in;
     return lg_scene_get(n, in);
@@ -1066,7 +1059,7 @@ static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, ui
         int rc = lg_parallel_for(n, b1 - b0, PB_GRAIN, pb_tramp_fn, &t);
         if (rc)
             return rc;
-        n->host->progress(n, f0 + (f1 - f0) * (double)b1 / nv, what);
+        lg_progress(n, f0 + (f1 - f0) * (double)b1 / nv, what);
     }
     return 0;
 }
@@ -1113,7 +1106,7 @@ static double pb_bound(const pb_bounds *b, uint64_t i)
     uint32_t k = (uint32_t)(r % b->n2), l = 0;
     while ((l + 1) * (l + 1) <= k)
         l++;
-    double yl = sqrt((2.0 * l + 1.0) / (4.0 * PB_PI));
+    double yl = sqrt((2.0 * l + 1.0) / (4.0 * LG_PI));
     return b->rho[3 * v + c] * yl * b->scale * PB_BOUND_SLACK;
 }
 
@@ -1208,7 +1201,7 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
 {
     void *data = NULL;
     size_t bytes = 0;
-    if (n->host->cache_get(n, key, &data, &bytes) != LG_OK)
+    if (lg_cache_get(n, key, &data, &bytes) != LG_OK)
         return false;
     pb_cache_header h;
     const char *why = pb_cache_header_check(data, bytes, want, &h);
@@ -1219,7 +1212,7 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
         memcpy(out, (const char *)data + sizeof h, h.floats * sizeof(float));
         *bounces = h.bounces;
     }
-    n->host->cache_free(data);
+    lg_cache_free(n, data);
     if (why)
         lg_log(n, LG_LOG_WARN, "cache entry '%s' not used (%s): computing it again", key, why);
     return !why;
@@ -1323,7 +1316,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         return lg_transfer_publish(n, 0, &info);
     }
 
-    double t0 = n->host->now();
+    double t0 = lg_now(n);
     pb_world w;
     pb_vis vis;
     memset(&vis, 0, sizeof vis);
@@ -1399,7 +1392,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         }
     }
     double share = p->mode == PB_INTERREFLECTED ? 0.8 : 1.0;
-    double tp = n->host->now();
+    double tp = lg_now(n);
     rc = pb_run(n, nv, pb_bake_vertices, &b, pb_modes[p->mode], 0.0, share);
     if (rc)
         goto done;
@@ -1420,7 +1413,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         }
         total_rays += rays[c];
     }
-    double t1 = n->host->now();
+    double t1 = lg_now(n);
     if (p->mode == PB_INTERREFLECTED) {
         uint64_t nh = 0;
         for (uint32_t i = 0; b.keep && i < nv; i++)
@@ -1472,21 +1465,21 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         info.bounces = k <= p->bounces ? k : p->bounces;
         lg_log(n, LG_LOG_INFO, "interreflections: %u bounces in %.3f s, stopped by %s "
                                "(bounce_threshold %g)",
-               info.bounces, n->host->now() - t1, why, p->threshold);
+               info.bounces, lg_now(n) - t1, why, p->threshold);
     }
-    double secs = n->host->now() - t0;
+    double secs = lg_now(n) - t0;
     if (p->bench && p->mode != PB_UNSHADOWED && p->visibility == PB_EMBREE) {
         double rate[2];
         for (int q = 0; q < 2; q++) {
             memset(rays, 0, nc * sizeof *rays);
-            double tq = n->host->now();
+            double tq = lg_now(n);
             rc = pb_run(n, nv, q ? pb_raw16 : pb_raw1, &b, "bench", 0.0, 1.0);
             if (rc)
                 goto done;
             uint64_t r = 0;
             for (size_t c = 0; c < nc; c++)
                 r += rays[c];
-            double dt = n->host->now() - tq;
+            double dt = lg_now(n) - tq;
             rate[q] = dt > 0 ? r / dt : 0.0;
         }
         double bake_rate = t1 > tp ? total_rays / (t1 - tp) : 0.0;
@@ -1557,7 +1550,7 @@ static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
                 acc[c] += cw * r->L[3 * (size_t)t + c];
         }
         for (int c = 0; c < 3; c++)
-            r->out[4 * i + c] = (float)(w->albedo[3 * i + c] / PB_PI * acc[c]);
+            r->out[4 * i + c] = (float)(w->albedo[3 * i + c] / LG_PI * acc[c]);
         r->out[4 * i + 3] = 1.0f;
     }
 }
@@ -1693,7 +1686,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
                pb_modes[p->mode]);
         return 0;
     }
-    double t0 = n->host->now();
+    double t0 = lg_now(n);
     size_t n_tex = (size_t)6 * R * R;
     float *cube = malloc(n_tex * 4 * sizeof(float));
     float *sa = malloc(n_tex * sizeof(float));
@@ -1743,7 +1736,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
     rc = pb_run(n, nv, pb_ref_vertices, &r, "reference", 0.0, 1.0);
     if (rc)
         goto done;
-    double secs_ref = n->host->now() - t0;
+    double secs_ref = lg_now(n) - t0;
     const char *stored = pb_cache_store(n, key, &want, out);
     lg_log(n, LG_LOG_INFO, "reference computed in %.3f s (%u vertices, %s, cube %u: %zu "
                            "texels); %s",

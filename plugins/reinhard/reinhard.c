@@ -75,10 +75,9 @@ typedef struct rh_state {
 
 static int rh_create(lg_node *n)
 {
-    rh_state *st = calloc(1, sizeof *st);
+    rh_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->key = lg_param_float(n, "key");
     st->p.mode = lg_param_enum(n, "mode") == 1 ? LG_RH_RGB : LG_RH_LUMINANCE;
     st->p.white = lg_param_float(n, "white");

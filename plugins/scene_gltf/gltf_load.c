@@ -27,8 +27,6 @@
 #include "lightgraph/file.h"
 #include "lightgraph/vecmath.h"
 
-#define PI_D 3.14159265358979323846
-
 /* ---- the scene we build ---------------------------------------------------------------- */
 
 /* One allocation owns the scene: lg_scene first, so that the lg_scene pointer handed to
@@ -1143,7 +1141,7 @@ static int make_lights(loader *l)
             return fail(l, LG_ERR_INVALID, "%s: intensity %g and range %g must be finite and >= 0", where,
                         gl->intensity, gl->range);
         if (o->type == LG_LIGHT_SPOT &&
-            !(gl->inner_cone >= 0 && gl->inner_cone < gl->outer_cone && gl->outer_cone <= PI_D / 2 + 1e-9))
+            !(gl->inner_cone >= 0 && gl->inner_cone < gl->outer_cone && gl->outer_cone <= LG_PI / 2 + 1e-9))
             return fail(l, LG_ERR_INVALID, "%s: spot cone angles need 0 <= inner (%g) < outer (%g) <= pi/2", where,
                         gl->inner_cone, gl->outer_cone);
         char name[64];
@@ -1250,7 +1248,7 @@ static void auto_camera(const store *st, lg_camera *c)
     const lg_scene *s = &st->scene;
     memset(c, 0, sizeof *c);
     c->name = "auto";
-    c->yfov = (float)(PI_D / 4);
+    c->yfov = (float)(LG_PI / 4);
     c->up[1] = 1;
     float ctr[3], half[3];
     for (int k = 0; k < 3; k++) {
@@ -1315,7 +1313,7 @@ static int make_cameras(loader *l)
         if (!c->name)
             return fail(l, LG_ERR_NOMEM, "out of memory");
         if (!strcmp(gc->type, "perspective")) {
-            if (!(gc->yfov > 0 && gc->yfov < PI_D) || !(gc->znear > 0) || !isfinite(gc->znear) ||
+            if (!(gc->yfov > 0 && gc->yfov < LG_PI) || !(gc->znear > 0) || !isfinite(gc->znear) ||
                 !(gc->zfar == 0 || (gc->zfar > gc->znear && isfinite(gc->zfar))))
                 return fail(l, LG_ERR_INVALID, "camera %u: yfov %g must be in (0, pi), znear %g > 0 and zfar %g "
                             "0 or > znear", pl->index, gc->yfov, gc->znear, gc->zfar);

@@ -339,7 +339,7 @@ int lg_normals_smooth(const float *pos, const float *uv, uint32_t nv, const uint
         goto done;
     memset(head, 0xff, ((size_t)nv + 1) * sizeof *head);
     b.head = head;
-    double rad = (double)crease_deg * (3.14159265358979323846 / 180.0);
+    double rad = (double)crease_deg * (LG_PI / 180.0);
     float cos_crease = (float)cos(rad), cos_half = (float)cos(rad * 0.5);
     for (uint32_t p = 0; p < np; p++) {
         const uint32_t *c = corners + start[p];

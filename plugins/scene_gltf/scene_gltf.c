@@ -58,7 +58,7 @@ static int gltf_prepare(lg_node *n)
     opt.warn = log_warning;
     opt.warn_user = n;
 
-    double t0 = n->host->now();
+    double t0 = lg_now(n);
     lg_scene *scene = NULL;
     uint64_t hash = 0;
     char err[1024];
@@ -69,11 +69,11 @@ static int gltf_prepare(lg_node *n)
            "file '%s': %u meshes, %u instances, %" PRIu64 " triangles, %u lights, %u cameras, "
            "loaded in %.1f ms",
            path, scene->n_meshes, scene->n_instances, scene->features.triangles, scene->n_lights,
-           scene->n_cameras, (n->host->now() - t0) * 1e3);
+           scene->n_cameras, (lg_now(n) - t0) * 1e3);
 
     /* the content (file and external buffers) is part of the result's identity */
-    n->host->add_content_key(n, &hash, sizeof hash);
-    rc = n->host->declare_payload(n, 0, LG_KIND_SCENE, &scene->features, scene, free_scene);
+    lg_add_content_key(n, &hash, sizeof hash);
+    rc = lg_declare_payload(n, 0, LG_KIND_SCENE, &scene->features, scene, free_scene);
     if (rc)
         return rc; /* the host has freed the scene */
     return lg_set_device(n, LG_DEVICE_CPU);

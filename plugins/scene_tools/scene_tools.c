@@ -22,8 +22,6 @@
 
 #include "lightgraph/lightgraph.h"
 
-#define ST_PI 3.14159265358979323846
-
 /* Orbit framing: the bounding sphere's angular radius is at most the smaller half field of
  * view divided by this margin (in sine), see README.md "camera". */
 #define ST_ORBIT_MARGIN 1.1
@@ -65,16 +63,17 @@ static char *st_strdup(const char *s)
     return d;
 }
 
-/* The input scene (port 0), with a message that says what is wrong if it is not one. */
+/* The input scene (port 0, required: a scene), with a message that says what is wrong if
+ * it has no data. */
 static int st_input(lg_node *n, const lg_resource **res, const lg_scene **scene)
 {
+    lg_assert_input(n, 0);
     const lg_resource *r = lg_input(n, 0);
     lg_resource_info info;
-    if (!r || lg_describe(r, &info, n) != 0)
-        return lg_error(n, "input 'scene' is not connected");
+    lg_describe(r, &info, n);
     /* lg_scene_get would report a description-only scene as "another kind": say what it
      * is, since the planner's test scenes and neutral scenes look like this */
-    if (info.kind == LG_KIND_SCENE && !info.payload)
+    if (!info.payload)
         return lg_error(n, "input 'scene' has scene features but no scene data (%s): this "
                            "node needs a scene made by a scene node such as gltf",
                         info.neutral ? "the neutral result of a gated node"
@@ -123,7 +122,7 @@ static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, con
 static int st_publish(lg_node *n, st_payload *p)
 {
     lg_scene_compute_features(&p->scene);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &p->scene.features, p, st_free);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &p->scene.features, p, st_free);
 }
 
 /* A vec3 or colour parameter as floats; values a float cannot hold are refused. */
@@ -207,7 +206,7 @@ static int camera_prepare(lg_node *n)
         return lg_error(n, "fov_deg = %g: the vertical field of view must be inside (0, 180) "
                            "degrees, both ends excluded",
                         fov_deg);
-    float yfov = (float)(fov_deg * ST_PI / 180.0);
+    float yfov = (float)(fov_deg * LG_PI / 180.0);
     double aspect = lg_param_float(n, "aspect");
 
     lg_vec3 centre = lg_v3(0, 0, 0), corners[8];
@@ -247,14 +246,14 @@ static int camera_prepare(lg_node *n)
             return lg_error(n, "mode = orbit: the scene (%s) has empty bounds (no geometry), so "
                                "there is nothing to orbit around; use mode = look_at",
                             src->source ? src->source : "unnamed");
-        double az = lg_param_float(n, "azimuth_deg") * ST_PI / 180.0;
-        double el = lg_param_float(n, "elevation_deg") * ST_PI / 180.0;
+        double az = lg_param_float(n, "azimuth_deg") * LG_PI / 180.0;
+        double el = lg_param_float(n, "elevation_deg") * LG_PI / 180.0;
         double dist = lg_param_float(n, "distance");
         /* a scene that is a single point: orbit a unit sphere around it (README.md) */
         double r = radius > 0 ? radius : 1.0;
         if (dist == 0) {
             uint32_t w = 0, h = 0;
-            n->host->render_size(n, &w, &h);
+            lg_render_size(n, &w, &h);
             double a = aspect > 0 ? aspect : (w && h ? (double)w / h : 1.0);
             double half_y = 0.5 * yfov, half_x = atan(tan(half_y) * a);
             double half = half_x < half_y ? half_x : half_y;
@@ -435,8 +434,8 @@ static int environment_prepare(lg_node *n)
         return rc;
     const lg_resource *pr = lg_input(n, 1);
     lg_resource_info pi;
-    if (!pr || lg_describe(pr, &pi, n) != 0)
-        return lg_error(n, "input 'probe' is not connected");
+    lg_assert_input(n, 1);
+    lg_describe(pr, &pi, n);
     if (pi.kind != LG_KIND_PROBE)
         return lg_error(n, "input 'probe' is not a probe (a `probe` node makes one)");
     st_payload *p;

@@ -39,8 +39,6 @@
 #include "lightgraph/sh.h"
 #include "lightgraph/shcoeffs.h"
 
-#define SHP_PI 3.14159265358979323846
-
 enum { SHP_QUADRATURE = 0, SHP_JITTERED, SHP_HAMMERSLEY, SHP_SOBOL };
 enum { SHP_WINDOW_NONE = 0, SHP_WINDOW_HANNING, SHP_WINDOW_LANCZOS, SHP_WINDOW_GAUSSIAN };
 
@@ -112,10 +110,9 @@ static double shp_now(void)
 
 static int shp_create(lg_node *n)
 {
-    shp_state *st = calloc(1, sizeof *st);
+    shp_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->bands = (uint32_t)lg_param_int(n, "bands");
     st->sampler = lg_param_enum(n, "sampler");
     st->side = (uint32_t)lg_param_int(n, "samples");
@@ -345,12 +342,12 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
         for (size_t t = 0; t < texels; t++)
             lg_sum_add(&s, (double)j.solid[t]);
         solid_sum = lg_sum_value(&s);
-        if (!(fabs(solid_sum - 4.0 * SHP_PI) <= 1e-5 * 4.0 * SHP_PI)) {
+        if (!(fabs(solid_sum - 4.0 * LG_PI) <= 1e-5 * 4.0 * LG_PI)) {
             free(own_solid);
             return lg_error(n, "input 'probe': its texels' solid angles sum to %.9g sr, not "
                                "4 pi = %.9g: the quadrature would not integrate over the "
                                "sphere",
-                            solid_sum, 4.0 * SHP_PI);
+                            solid_sum, 4.0 * LG_PI);
         }
     }
 
@@ -384,7 +381,7 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
     if (rc == 0 && !coef)
         rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     if (rc == 0) {
-        double scale = st->sampler == SHP_QUADRATURE ? 1.0 : 4.0 * SHP_PI / (double)terms;
+        double scale = st->sampler == SHP_QUADRATURE ? 1.0 : 4.0 * LG_PI / (double)terms;
         for (size_t i = 0; i < per_slot; i++) {
             lg_sum s = {0, 0};
             for (size_t c = 0; c < chunks; c++)
@@ -439,7 +436,7 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
                p->info.layout == LG_PROBE_CUBE ? "cube" : p->info.layout == LG_PROBE_ANGULAR
                                                               ? "angular" : "lat-long",
                j.img.width, j.img.height, j.faces == 6 ? " per face" : "",
-               solid_sum / (4.0 * SHP_PI) - 1.0, secs, lg_cpu_workers(n), chunks);
+               solid_sum / (4.0 * LG_PI) - 1.0, secs, lg_cpu_workers(n), chunks);
     else
         lg_log(n, LG_LOG_DEBUG, "%u bands from %llu %s samples (%u x %u, seed %llu) in %.3f s "
                                 "(%.3g samples/s) on %u threads, %zu chunks",

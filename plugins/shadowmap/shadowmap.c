@@ -53,10 +53,9 @@ typedef struct sm_state {
 
 static int sm_create(lg_node *n)
 {
-    sm_state *st = calloc(1, sizeof *st);
+    sm_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->resolution = (uint32_t)lg_param_int(n, "resolution");
     st->fit = lg_param_enum(n, "fit");
     st->cull = lg_param_enum(n, "cull");
@@ -153,7 +152,7 @@ static int sm_camera_view_proj(lg_node *n, const sm_state *st, const lg_scene *s
     lg_m4_look_at(view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
 
     uint32_t w = 0, h = 0;
-    n->host->render_size(n, &w, &h);
+    lg_render_size(n, &w, &h);
     float aspect = st->aspect > 0.0f ? st->aspect : (w && h) ? (float)w / (float)h : 1.0f;
     float yfov = c->yfov;
     if (c->aspect > 0.0f && aspect < c->aspect)
@@ -323,7 +322,7 @@ static float sm_best_rotation(const float *x, const float *y, uint32_t n)
             if (dx == 0.0f && dy == 0.0f)
                 continue;
             a = atan2f(dy, dx);
-            const float q = 0.78539816f; /* pi/4: rectangles repeat every quarter turn */
+            const float q = LG_PIF / 4.0f; /* pi/4: rectangles repeat every quarter turn */
             while (a > q)
                 a -= 2.0f * q;
             while (a <= -q)
@@ -454,12 +453,8 @@ static int sm_fit(lg_node *n, sm_state *st, const lg_scene *s, uint32_t nl)
 static int sm_prepare(lg_node *n)
 {
     sm_state *st = n->user;
-    lg_resource_info info;
+    lg_assert_input(n, 0);
     const lg_resource *in = lg_input(n, 0);
-    if (!in || lg_describe(in, &info, n) != 0)
-        return lg_error(n, "input 'scene' is not connected");
-    if (info.kind != LG_KIND_SCENE)
-        return lg_error(n, "input 'scene' is not a scene");
     const lg_scene *s = lg_scene_get(n, in);
     if (!s)
         return LG_ERR_INVALID;

@@ -187,9 +187,7 @@ uint32_t vol_scene_lights(lg_node *n)
 int vol_declare_outputs(lg_node *n, uint32_t *width, uint32_t *height)
 {
     lg_resource_info info;
-    const lg_resource *sc = lg_input(n, VOL_IN_SCENE);
-    if (!sc || lg_describe(sc, &info, n) != 0 || info.kind != LG_KIND_SCENE)
-        return lg_error(n, "input 'scene' is not a scene");
+    lg_assert_input(n, VOL_IN_SCENE); /* every volumetric method's scene is required */
     const lg_resource *base = lg_input(n, VOL_IN_BASE);
     if (!base || lg_describe(base, &info, n) != 0 || info.kind != LG_KIND_IMAGE)
         return lg_error(n, "input 'base' is not an image");

@@ -54,10 +54,9 @@ typedef struct fx_state {
 
 static int fx_create(lg_node *n)
 {
-    fx_state *st = calloc(1, sizeof *st);
+    fx_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->backend = lg_param_backend(n);
     st->slicing = lg_param_enum(n, "slicing");
     st->accum = lg_param_enum(n, "accumulation") == 0 ? FX_ACC_THESIS : FX_ACC_ENERGY;

@@ -147,10 +147,9 @@ static void poly_indices(uint32_t ws, uint32_t hs, uint32_t *out)
 
 static int poly_create(lg_node *n)
 {
-    poly_state *st = calloc(1, sizeof *st);
+    poly_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->resolution = lg_param_int(n, "resolution");
     double z = lg_param_float(n, "z_limit");
     st->per_frame = lg_param_bool(n, "per_frame");
@@ -173,10 +172,7 @@ static int poly_prepare(lg_node *n)
         return rc;
     lg_resource_info info;
     const lg_resource *sh = lg_input(n, VOL_IN_SHADOWS);
-    if (!sh)
-        return lg_error(n, "input 'shadows' is not connected: the polygonal method builds "
-                           "its light volumes from shadow maps (connect a shadowmap node of "
-                           "the same scene)");
+    lg_assert_input(n, VOL_IN_SHADOWS); /* required here, unlike in froxel */
     if (lg_describe(sh, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP)
         return lg_error(n, "input 'shadows' is not a shadow map");
     if (st->per_frame)

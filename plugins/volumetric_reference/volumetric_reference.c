@@ -230,10 +230,9 @@ static void vr_rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
 
 static int vr_create(lg_node *n)
 {
-    vr_state *st = calloc(1, sizeof *st);
+    vr_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     return 0;
 }
 
@@ -346,7 +345,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         uint32_t y1 = y0 + per < H ? y0 + per : H;
         r.row0 = y0;
         rc = lg_parallel_for(n, y1 - y0, 1, vr_rows, &r);
-        n->host->progress(n, (double)y1 / H, "ray marching");
+        lg_progress(n, (double)y1 / H, "ray marching");
     }
     if (rc == 0)
         lg_log(n, LG_LOG_DEBUG, "%ux%u, %u lights, spp %u, steps %u: %.3g occlusion rays",

@@ -105,10 +105,9 @@ LG_GL_BLOCK_OFFSET(vs_gpu_params, scale, 1684);
 
 static int vs_create(lg_node *n)
 {
-    vs_state *st = calloc(1, sizeof *st);
+    vs_state *st = lg_create_state(n, sizeof *st);
     if (!st)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    n->user = st;
+        return LG_ERR_NOMEM;
     st->backend = lg_param_backend(n);
     st->model = lg_param_enum(n, "model");
     st->normalize = lg_param_bool(n, "normalize");

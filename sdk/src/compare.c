@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "image_priv.h"
+#include "image_alloc.h"
 
 /* Heat ramp stops, in display (sRGB-encoded) values: black, blue, red, yellow, white. The
  * ramp is interpolated in display space, where it looks even, then decoded to linear so

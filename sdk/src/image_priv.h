@@ -1,42 +1,27 @@
 /*
- * sdk/src/image_priv.h: what the image files of liblightgraph share (private, not installed).
+ * sdk/src/image_priv.h: the codecs' entry points (private, not installed).
  *
- * image.c dispatches to one reader and one writer per format. Readers fill `img` (the
+ * image.c dispatches to one reader and one writer per format, declared here and defined in
+ * hdr.c, png.c, exr.c (and exr_cxx.cpp, which exr.c calls). Readers fill `img` (the
  * caller frees it on success; on failure the reader leaves it empty) and the format-specific
  * fields of `info` (channels, bits, compression); image.c counts nonfinite pixels and applies
  * LG_READ_RADIANCE afterwards. Writers receive an open, empty temporary file (`fd`, whose
  * name is `tmp_path`) and report errors against `path`, the name the user asked for;
  * image.c fsyncs, closes and renames it, or unlinks it on failure.
+ *
+ * The codecs call down into image_alloc.c only (image_alloc.h: allocation, limits, errors),
+ * never into image.c; see image_alloc.h for the layers.
  */
 #ifndef LG_IMAGE_PRIV_H
 #define LG_IMAGE_PRIV_H
 
-#include <stdarg.h>
 #include <stdio.h>
 
-#include "lightgraph/image.h"
+#include "image_alloc.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* Largest image the readers accept, in pixels (the limit lg_image_alloc enforces). */
-#define LG_IMAGE_MAX_PIXELS (1ull << 28)
-
-/* Writes a formatted message into err (when not NULL) and returns `code`. */
-int lg_image_fail(char *err, size_t errlen, int code, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
-/* The larger of LG_IMAGE_MAX_PIXELS and lg_image_max_pixels(): what lg_image_alloc accepts. */
-uint64_t lg_image_alloc_cap(void);
-
-/* The checks every reader makes once it knows the declared size, before it allocates or
- * decodes: w x h (overflow-checked) against lg_image_max_pixels(), then the memory the decode
- * needs, (16 + codec_per_pixel) bytes per pixel plus codec_fixed, against what the machine
- * can give (lightgraph/image.h). Returns LG_OK, or an error naming the file, the declared
- * size and the limit met (and how to raise the pixel limit). */
-int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec_per_pixel,
-                        uint64_t codec_fixed, char *err, size_t errlen);
 
 /* Readers read the open, regular file `fd` of `size` bytes (lg_image_read opened it and
  * closes it; a reader may read it from any offset but never closes it), named `path` in

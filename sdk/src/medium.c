@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#define LG_PI 3.14159265358979323846
+#include "lightgraph/vecmath.h"
 
 static double clampd(double x, double lo, double hi)
 {

@@ -9,8 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI_D 3.14159265358979323846
-
 /* ---- rotation -------------------------------------------------------------------------- */
 
 /* sin and cos of an angle in degrees, exact at multiples of 90 (so that 90, 180 and the
@@ -27,7 +25,7 @@ static void sincos_deg(float deg, double *s, double *c)
         *c = C[q];
         return;
     }
-    double r = a * (PI_D / 180.0);
+    double r = a * (LG_PI / 180.0);
     *s = sin(r);
     *c = cos(r);
 }
@@ -74,10 +72,10 @@ static double angular_h(double r2)
     double r = sqrt(r2);
     double q;
     if (r < 1e-5) {
-        double t = 0.5 * PI_D * r;
-        q = 0.5 * PI_D * (1.0 - t * t / 6.0);
+        double t = 0.5 * LG_PI * r;
+        q = 0.5 * LG_PI * (1.0 - t * t / 6.0);
     } else {
-        q = sin(0.5 * PI_D * r) / r;
+        q = sin(0.5 * LG_PI * r) / r;
     }
     return 2.0 * q * q;
 }
@@ -216,7 +214,7 @@ static bool valid_size(lg_probe_layout layout, uint32_t w, uint32_t h)
 static double latlong_row(uint32_t w, uint32_t h, uint32_t j)
 {
     /* cos a - cos b = 2 sin((a + b)/2) sin((b - a)/2): no cancellation near the poles */
-    return 2 * PI_D / w * 2 * sin(PI_D * (j + 0.5) / h) * sin(0.5 * PI_D / h);
+    return 2 * LG_PI / w * 2 * sin(LG_PI * (j + 0.5) / h) * sin(0.5 * LG_PI / h);
 }
 
 static double cube_texel(uint32_t n, uint32_t i, uint32_t j)

@@ -18,8 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI_D 3.14159265358979323846
-
 static double cube_area(double x, double y)
 {
     return atan2(x * y, sqrt(x * x + y * y + 1.0));
@@ -33,8 +31,8 @@ static double angular_jacobian(double a, double b)
     if (r >= 1)
         return 0;
     if (r < 1e-6)
-        return PI_D * PI_D;
-    return PI_D * sin(PI_D * r) / r;
+        return LG_PI * LG_PI;
+    return LG_PI * sin(LG_PI * r) / r;
 }
 
 /* The extents (radians) of a texel of layout l, size w x h, along its u and v axes, at
@@ -43,9 +41,9 @@ static void texel_extent(lg_probe_layout l, uint32_t w, uint32_t h, double u, do
                          double *eu, double *ev)
 {
     if (l == LG_PROBE_LATLONG) {
-        double theta = PI_D * v;
-        *eu = 2 * PI_D / w * sin(theta);
-        *ev = PI_D / h;
+        double theta = LG_PI * v;
+        *eu = 2 * LG_PI / w * sin(theta);
+        *ev = LG_PI / h;
     } else if (l == LG_PROBE_CUBE) {
         /* on the plane at distance 1, a step dx at (x, y) subtends dx sqrt(1 + y^2) /
          * (1 + x^2 + y^2) */
@@ -56,11 +54,11 @@ static void texel_extent(lg_probe_layout l, uint32_t w, uint32_t h, double u, do
         /* radially pi per unit of r, tangentially sin(pi r) / r per unit; clamp r to the
          * disc */
         double a = 2 * u - 1, b = 1 - 2 * v, r = sqrt(a * a + b * b);
-        double t = r >= 1 ? 0 : r < 1e-6 ? PI_D : sin(PI_D * r) / r;
+        double t = r >= 1 ? 0 : r < 1e-6 ? LG_PI : sin(LG_PI * r) / r;
         double cr = r > 0 ? fabs(a) / r : 1, sr = r > 0 ? fabs(b) / r : 0;
         /* a step along u (the a axis) is cr radial and sr tangential */
-        *eu = 2.0 / w * sqrt(cr * cr * PI_D * PI_D + sr * sr * t * t);
-        *ev = 2.0 / h * sqrt(sr * sr * PI_D * PI_D + cr * cr * t * t);
+        *eu = 2.0 / w * sqrt(cr * cr * LG_PI * LG_PI + sr * sr * t * t);
+        *ev = 2.0 / h * sqrt(sr * sr * LG_PI * LG_PI + cr * cr * t * t);
     }
 }
 
@@ -180,7 +178,7 @@ static double integral_error(const lg_probe_image *src, size_t n, const double *
     }
     for (int k = 0; k < 3; k++)
         worst = fmax(worst, tot[k] != 0 ? fabs(err[k] / tot[k]) : fabs(err[k]));
-    *area_error = dev / (4 * PI_D);
+    *area_error = dev / (4 * LG_PI);
     return worst;
 }
 
@@ -412,11 +410,11 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
     texel_extent(layout, width, height, uc, vc, &deu, &dev);
     if (layout == LG_PROBE_LATLONG) {
         /* the texel's widest row, not its centre's */
-        double t0 = PI_D * j / height, t1 = PI_D * (j + 1) / height;
-        double smax = (t0 <= PI_D / 2 && t1 >= PI_D / 2) ? 1 : fmax(sin(t0), sin(t1));
-        deu = 2 * PI_D / width * smax;
+        double t0 = LG_PI * j / height, t1 = LG_PI * (j + 1) / height;
+        double smax = (t0 <= LG_PI / 2 && t1 >= LG_PI / 2) ? 1 : fmax(sin(t0), sin(t1));
+        deu = 2 * LG_PI / width * smax;
     } else if (layout == LG_PROBE_ANGULAR) {
-        deu = dev = 2.0 * PI_D / (width < height ? width : height);
+        deu = dev = 2.0 * LG_PI / (width < height ? width : height);
     }
     lg_vec3 dc = lg_probe_to_world(rotation, lg_probe_coord_to_dir(layout, cc));
     dc = lg_probe_from_world(src_rot, dc);
@@ -425,9 +423,9 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
     double smin = fmin(seu, sev);
     if (src->layout == LG_PROBE_LATLONG) {
         /* near a pole the source texels narrow within the destination texel */
-        double th = PI_D * sc.v, half = 0.5 * fmax(deu, dev);
-        double s = fmin(sin(fmax(th - half, 0)), sin(fmin(th + half, PI_D)));
-        smin = fmin(smin, 2 * PI_D / src->width * fmax(s, 0));
+        double th = LG_PI * sc.v, half = 0.5 * fmax(deu, dev);
+        double s = fmin(sin(fmax(th - half, 0)), sin(fmin(th + half, LG_PI)));
+        smin = fmin(smin, 2 * LG_PI / src->width * fmax(s, 0));
     }
     double ku = smin > 0 ? ceil(q * deu / smin) : kmax;
     double kv = smin > 0 ? ceil(q * dev / smin) : kmax;
@@ -450,10 +448,10 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
         }
     } else if (layout == LG_PROBE_LATLONG) {
         for (uint32_t b = 0; b < ky; b++) {
-            double t0 = PI_D * (j + (double)b / ky) / height;
-            double t1 = PI_D * (j + (double)(b + 1) / ky) / height;
+            double t0 = LG_PI * (j + (double)b / ky) / height;
+            double t1 = LG_PI * (j + (double)(b + 1) / ky) / height;
             /* (2 pi / W kx) (cos t0 - cos t1), without cancellation */
-            wu[b] = 2 * PI_D / ((double)width * kx) * 2 * sin(0.5 * (t0 + t1)) *
+            wu[b] = 2 * LG_PI / ((double)width * kx) * 2 * sin(0.5 * (t0 + t1)) *
                     sin(0.5 * (t1 - t0));
         }
     } else {
@@ -790,7 +788,7 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
             resid = 0;
             for (size_t s = 0; s < src_n; s++)
                 resid += fabs(colsum[s] - omega[s]);
-            resid /= 4 * PI_D;
+            resid /= 4 * LG_PI;
             if (resid < tol || (iter >= 100 && resid > 0.9 * hist[iter % 100]))
                 break;
             hist[iter % 100] = resid;

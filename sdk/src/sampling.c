@@ -3,6 +3,8 @@
 
 #include <math.h>
 
+#include "lightgraph/vecmath.h"
+
 const char *lg_sampler_name(lg_sampler s)
 {
     switch (s) {
@@ -83,7 +85,7 @@ void lg_sample_sphere(const double uv[2], double dir[3])
 {
     double u = uv[0], z = 1.0 - 2.0 * u;
     double r = 2.0 * sqrt(u * (1.0 - u)); /* sin theta, exact near both poles */
-    double phi = 2.0 * M_PI * uv[1];
+    double phi = 2.0 * LG_PI * uv[1];
     dir[0] = r * cos(phi);
     dir[1] = r * sin(phi);
     dir[2] = z;

@@ -7,7 +7,7 @@
 const lg_scene *lg_scene_get(lg_node *n, const lg_resource *res)
 {
     lg_resource_info info;
-    if (!res || n->host->describe(res, &info) != 0) {
+    if (!res || lg_describe(res, &info, n) != 0) {
         lg_error(n, "no scene: the input is not connected");
         return NULL;
     }
@@ -94,13 +94,13 @@ typedef int (*upload_fn)(lg_node *n, const lg_resource *owner, uint32_t slot, co
 static int upload_gl(lg_node *n, const lg_resource *owner, uint32_t slot, const void *data,
                      size_t size, void *out)
 {
-    return n->host->payload_gl_buffer(n, owner, slot, data, size, (uint32_t *)out);
+    return lg_payload_gl_buffer(n, owner, slot, data, size, (uint32_t *)out);
 }
 
 static int upload_cl(lg_node *n, const lg_resource *owner, uint32_t slot, const void *data,
                      size_t size, void *out)
 {
-    return n->host->payload_cl_buffer(n, owner, slot, data, size, (void **)out);
+    return lg_payload_cl_buffer(n, owner, slot, data, size, (void **)out);
 }
 
 /* The mesh's arrays through `up`, into the four result slots (texcoords only if any). */

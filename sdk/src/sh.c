@@ -7,9 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "lightgraph/vecmath.h"
 
 static uint32_t clamp_bands(uint32_t n)
 {
@@ -31,7 +29,7 @@ static uint32_t clamp_bands(uint32_t n)
 #define LG_SH_EVAL_BODY(T, SQRT)                                                           \
     do {                                                                                   \
         T cm = (T)1, sm = (T)0; /* C_m, S_m */                                             \
-        T qmm = (T)(0.5 / sqrt(M_PI)); /* Q_m^m */                                        \
+        T qmm = (T)(0.5 / sqrt(LG_PI)); /* Q_m^m */                                        \
         for (int m = 0; m < (int)n; m++) {                                                 \
             if (m > 0) {                                                                   \
                 T c2 = x * cm - y * sm;                                                    \
@@ -101,14 +99,14 @@ void lg_sh_eval_f(uint32_t n, const float dir[3], float *out)
 
 double lg_sh_clamped_cosine(uint32_t l)
 {
-    if (l == 0) return M_PI;
-    if (l == 1) return 2.0 * M_PI / 3.0;
+    if (l == 0) return LG_PI;
+    if (l == 1) return 2.0 * LG_PI / 3.0;
     if (l & 1u) return 0.0;
     /* c_l = l! / (2^l ((l/2)!)^2) = C(l, l/2) / 2^l: c_0 = 1, c_{k+2} = c_k (k+1)/(k+2). */
     double c = 1.0;
     for (uint32_t k = 0; k < l; k += 2) c *= (k + 1.0) / (k + 2.0);
     double sign = ((l / 2u) & 1u) ? 1.0 : -1.0; /* (-1)^(l/2 - 1) */
-    return 2.0 * M_PI * sign / ((l + 2.0) * (l - 1.0)) * c;
+    return 2.0 * LG_PI * sign / ((l + 2.0) * (l - 1.0)) * c;
 }
 
 /* ---- rotation (Ivanic and Ruedenberg 1996, erratum 1998) ---- */
@@ -249,8 +247,8 @@ double lg_sh_window_factor(lg_sh_window_kind kind, double width, uint32_t l)
         return exp(-(double)l * (l + 1.0) / (width * (width + 1.0)));
     double t = (double)l / width;
     if (t >= 1.0) return 0.0;
-    if (kind == LG_SH_WINDOW_LANCZOS) return sin(M_PI * t) / (M_PI * t);
-    return 0.5 * (1.0 + cos(M_PI * t));
+    if (kind == LG_SH_WINDOW_LANCZOS) return sin(LG_PI * t) / (LG_PI * t);
+    return 0.5 * (1.0 + cos(LG_PI * t));
 }
 
 void lg_sh_window(uint32_t n, lg_sh_window_kind kind, double width, double *coeffs)

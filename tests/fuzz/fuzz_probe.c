@@ -34,6 +34,7 @@
 #include "fuzz_driver.h"
 #include "fuzz_image_file.h"
 #include "lightgraph/image.h"
+#include "lightgraph/vecmath.h"
 #include "probe_load.h"
 
 static unsigned long n_runs, n_ok[6];
@@ -133,7 +134,7 @@ static int load(int want, const char *path, pr_file *out)
     free(sa);
     /* float texel angles summed in double: a relative 1e-4 is some thousand float ulps of
      * the largest term, far more than rounding, far less than a missing row or face */
-    if (fabs(sum - 4.0 * M_PI) > 1e-4 * 4.0 * M_PI)
+    if (fabs(sum - 4.0 * LG_PI) > 1e-4 * 4.0 * LG_PI)
         bad(name, "solid angles that do not sum to 4 pi");
     return 0;
 }

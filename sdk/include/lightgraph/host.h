@@ -25,9 +25,9 @@
  * Mapping for writing makes that device's copy the only current one.
  *
  * GL state. A node that uses GL may change any state it needs; the host resets the state
- * listed in docs/sdk.md ("GL state contract") before each node, and in debug builds checks
- * after each node that the bindings a node must restore (framebuffer 0, program 0, no
- * bound image units) are restored.
+ * listed in docs/devices.md ("The GL state contract") before each node, and in debug
+ * builds checks after each node that the bindings a node must restore (framebuffer 0,
+ * program 0, no bound image units) are restored.
  */
 #ifndef LIGHTGRAPH_HOST_H
 #define LIGHTGRAPH_HOST_H
@@ -36,6 +36,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "lightgraph/config.h"
@@ -165,7 +166,7 @@ typedef struct lg_host_api {
     int (*declare_volume)(lg_node *node, uint32_t port, const lg_volume_desc *desc);
     /* The output is the input, unchanged (no copy). */
     int (*declare_alias)(lg_node *node, uint32_t out_port, uint32_t in_port);
-    /* Kinds whose data the plugin owns (scene, probe, ...). `payload` is freed by calling
+    /* Kinds whose data the plugin owns (scene). `payload` is freed by calling
      * free_payload(payload) when the last consumer is done; both live in the plugin.
      * `features` is copied. */
     int (*declare_payload)(lg_node *node, uint32_t port, lg_resource_kind kind,
@@ -213,7 +214,8 @@ typedef struct lg_host_api {
      * identity of every input); `key` distinguishes several entries of one node. Entries
      * are checksummed; a stale or corrupt entry is reported, removed and treated as a
      * miss. cache_get returns LG_OK with a malloc'd copy the caller frees with
-     * cache_free, or LG_ERR_NOTFOUND. */
+     * cache_free, or LG_ERR_NOTFOUND. Call them through lg_cache_get, lg_cache_put (or
+     * lg_cache_store) and lg_cache_free. */
     int (*cache_get)(lg_node *node, const char *key, void **data, size_t *size);
     int (*cache_put)(lg_node *node, const char *key, const void *data, size_t size);
     void (*cache_free)(void *data);
@@ -478,6 +480,99 @@ static inline int lg_map_cl(lg_node *n, const lg_resource *r, unsigned access, v
     return n->host->map_cl(n, r, access, mem, depth);
 }
 
+/* Messages and time. lg_progress: `fraction` of the work in [0, 1] (clamped), `what` the
+ * work's name ("ray marching"); shown on a terminal, nothing otherwise. lg_now: the
+ * host's monotonic clock in seconds (the clock the profile measures with), for timing a
+ * phase of the node's own work; only differences between two readings mean anything. */
+static inline void lg_progress(lg_node *n, double fraction, const char *what)
+{
+    n->host->progress(n, fraction, what);
+}
+static inline double lg_now(lg_node *n)
+{
+    return n->host->now();
+}
+
+/* The render size (--size WxH, default 640x360), from prepare() on. A node that makes an
+ * image from nothing at a size its parameters may give reads lg_output_size instead. */
+static inline void lg_render_size(lg_node *n, uint32_t *width, uint32_t *height)
+{
+    n->host->render_size(n, width, height);
+}
+
+/* More ways to declare an output in prepare() (besides lg_declare_image and
+ * lg_declare_composite). Each returns 0, or an LG_ERR_* after reporting (a port the type
+ * does not declare, a kind that differs from the port's, a call outside prepare()).
+ *   lg_declare_buffer, lg_declare_volume: a host-managed buffer or 3D volume.
+ *   lg_declare_alias: output `out_port` is input `in_port` itself, unchanged (no copy);
+ *   the input must be connected.
+ *   lg_declare_payload: an output of a kind whose data the plugin owns (LG_KIND_SCENE):
+ *   `features` is copied; `payload` passes to the host, which calls free_payload(payload)
+ *   when the last consumer is done, and at once when the call fails. */
+static inline int lg_declare_buffer(lg_node *n, uint32_t port, const lg_buffer_desc *d)
+{
+    return n->host->declare_buffer(n, port, d);
+}
+static inline int lg_declare_volume(lg_node *n, uint32_t port, const lg_volume_desc *d)
+{
+    return n->host->declare_volume(n, port, d);
+}
+static inline int lg_declare_alias(lg_node *n, uint32_t out_port, uint32_t in_port)
+{
+    return n->host->declare_alias(n, out_port, in_port);
+}
+static inline int lg_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
+                                     const lg_scene_features *features, void *payload,
+                                     void (*free_payload)(void *payload))
+{
+    return n->host->declare_payload(n, port, kind, features, payload, free_payload);
+}
+
+/* Adds `size` bytes (a file's content hash, say) to what identifies this node's result in
+ * the cache and in the results of every node downstream; the bytes are copied. */
+static inline void lg_add_content_key(lg_node *n, const void *bytes, size_t size)
+{
+    n->host->add_content_key(n, bytes, size);
+}
+
+/* The on-disk cache (see cache_get above for keys and checksums).
+ *   lg_cache_get: LG_OK with *data a malloc'd copy of entry `key` (*size bytes), which
+ *   the caller frees with lg_cache_free; or LG_ERR_NOTFOUND (a miss, the cache off, or a
+ *   stale or corrupt entry, reported and removed). A node that checks the values it loaded
+ *   and finds them impossible calls lg_cache_reject.
+ *   lg_cache_put: stores `size` bytes of `data` under `key` (the host copies them);
+ *   LG_OK whether stored or the cache is off, LG_ERR_IO when the entry could not be
+ *   written. lg_cache_store (below) is the same store saying which of these happened:
+ *   prefer it.
+ *   lg_cache_free: frees what lg_cache_get gave (NULL does nothing). */
+static inline int lg_cache_get(lg_node *n, const char *key, void **data, size_t *size)
+{
+    return n->host->cache_get(n, key, data, size);
+}
+static inline int lg_cache_put(lg_node *n, const char *key, const void *data, size_t size)
+{
+    return n->host->cache_put(n, key, data, size);
+}
+static inline void lg_cache_free(lg_node *n, void *data)
+{
+    n->host->cache_free(data);
+}
+
+/* Since ABI 1.1: GPU copies of an array of a payload (see payload_gl_buffer above): a
+ * read-only GL buffer object or cl_mem holding `size` bytes of `data`, which lies in the
+ * payload of `res`, made once per (res, slot) and owned by the host. Returns 0 or an
+ * LG_ERR_* after reporting. lightgraph/scene.h's lg_scene_mesh_gl / _cl call these. */
+static inline int lg_payload_gl_buffer(lg_node *n, const lg_resource *res, uint32_t slot,
+                                       const void *data, size_t size, uint32_t *buffer)
+{
+    return n->host->payload_gl_buffer(n, res, slot, data, size, buffer);
+}
+static inline int lg_payload_cl_buffer(lg_node *n, const lg_resource *res, uint32_t slot,
+                                       const void *data, size_t size, void **mem)
+{
+    return n->host->payload_cl_buffer(n, res, slot, data, size, mem);
+}
+
 /* ---- CPU parallelism (since ABI 2.0) ------------------------------------------------
  *
  * The host runs one thread pool for every node of the process: a node that parallelises
@@ -544,6 +639,76 @@ static inline void lg_output_size(lg_node *n, const char *width_key, const char 
     int64_t w = lg_param_int(n, width_key), h = lg_param_int(n, height_key);
     *width = w > 0 ? (uint32_t)w : rw;
     *height = h > 0 ? (uint32_t)h : rh;
+}
+
+/* ---- create() and prepare() openings ---------------------------------------------------
+ *
+ * lg_create_state(n, size): the node's instance state: `size` bytes, zeroed, stored in
+ * n->user and returned; NULL after reporting "out of memory" (create() then returns
+ * LG_ERR_NOMEM). The plugin owns it and frees it in destroy(), which the host calls after
+ * a failed create() too: create() may fail after this call without freeing anything.
+ *
+ * lg_output_size_nonempty(n, width_key, height_key, &w, &h): lg_output_size, and an error
+ * (LG_ERR_INVALID after reporting "output size WxH: width and height must be > 0") when
+ * either is 0; else 0.
+ */
+static inline void *lg_create_state(lg_node *n, size_t size)
+{
+    void *st = calloc(1, size);
+    if (!st) {
+        lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+        return NULL;
+    }
+    n->user = st;
+    return st;
+}
+static inline int lg_output_size_nonempty(lg_node *n, const char *width_key,
+                                          const char *height_key, uint32_t *width,
+                                          uint32_t *height)
+{
+    lg_output_size(n, width_key, height_key, width, height);
+    if (*width == 0 || *height == 0)
+        return lg_error(n, "output size %ux%u: width and height must be > 0", *width, *height);
+    return 0;
+}
+
+/* ---- inputs the checker guarantees -----------------------------------------------------
+ *
+ * Before any node runs, the host checks the graph and refuses (exit status 2, naming the
+ * node and the input) one that leaves a required input (lg_port_desc.optional false)
+ * unconnected or connects it to an output of another kind (LG_KIND_ANY on either side
+ * matches any). From prepare() on, lg_input() on a required input therefore gives a
+ * resource of the kind the port declares: a node needs no "is not connected" or "is not
+ * a scene" check of its own there. The resource may be a gated producer's neutral result
+ * (lg_resource_info.neutral: of the kind, but a scene without data, a composite without
+ * parts). An optional input is NULL when unconnected: check that one.
+ *
+ * lg_assert_input(n, port) says where a node relies on this. In a build that defines
+ * LG_DEBUG_CHECKS (lightgraph's own, unless -Ddebug_checks=false) it checks it and, if it
+ * does not hold (a bug: the port is optional or does not exist, or the host broke its
+ * word), reports it and aborts; otherwise it is nothing.
+ */
+static inline void lg_assert_input(lg_node *n, uint32_t port)
+{
+#ifdef LG_DEBUG_CHECKS
+    const lg_node_type *t = n->type;
+    if (!t || port >= t->n_inputs || t->inputs[port].optional) {
+        lg_error(n, "lg_assert_input: input #%u of type '%s' is not a required input (a "
+                    "plugin bug)", port, t && t->name ? t->name : "?");
+        abort();
+    }
+    const lg_resource *r = n->host->input(n, port);
+    lg_resource_info info;
+    if (!r || n->host->describe(r, &info) != 0 ||
+        (t->inputs[port].kind != LG_KIND_ANY && info.kind != t->inputs[port].kind)) {
+        lg_error(n, "lg_assert_input: required input '%s' is %s, which the host's graph "
+                    "check rules out (a host bug)", t->inputs[port].name,
+                 r ? "of another kind" : "not connected");
+        abort();
+    }
+#else
+    (void)n, (void)port;
+#endif
 }
 
 /* Composite resources (since ABI 2.0). */

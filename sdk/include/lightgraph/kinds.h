@@ -69,6 +69,27 @@ typedef struct lg_kind_desc {
 LG_API const lg_kind_desc *lg_kind_describe(lg_resource_kind kind);
 /* Its name ("image", "shadowmap", ...), "?" outside the enum. */
 LG_API const char *lg_kind_name(lg_resource_kind kind);
+/* How a message names the kind in a sentence, with its article: "an image", "a shadow
+ * map", "SH coefficients", "any resource" (for LG_KIND_ANY); "an unknown kind of resource"
+ * outside the enum. The graph checker's messages use it ("input 'image' of node 'tone'
+ * takes an image, but 'sc' gives a scene"). A header function, not a library symbol (it
+ * adds nothing to the ABI); the kinds are those of the table lg_kind_describe reads. */
+static inline const char *lg_kind_phrase(lg_resource_kind kind)
+{
+    switch (kind) {
+    case LG_KIND_ANY: return "any resource";
+    case LG_KIND_IMAGE: return "an image";
+    case LG_KIND_BUFFER: return "a buffer";
+    case LG_KIND_VOLUME: return "a volume";
+    case LG_KIND_SCENE: return "a scene";
+    case LG_KIND_SHADOWMAP: return "a shadow map";
+    case LG_KIND_PROBE: return "a light probe";
+    case LG_KIND_SH: return "SH coefficients";
+    case LG_KIND_TRANSFER: return "transfer vectors";
+    case LG_KIND_FROXEL: return "a froxel volume";
+    default: return "an unknown kind of resource";
+    }
+}
 /* True for kinds made of parts. */
 LG_API bool lg_kind_is_composite(lg_resource_kind kind);
 /* Index of the part called `name` in the kind's table, or -1. */

@@ -207,7 +207,8 @@ typedef struct lg_probe_coord {
 /* What a direction-less vector means (see above): -Z. */
 #define LG_PROBE_FALLBACK_DIR lg_v3(0.0f, 0.0f, -1.0f)
 
-#define LG_PROBE_PI_F 3.14159265358979323846f
+/* Pi as a float: LG_PIF (lightgraph/vecmath.h) under the name the probe functions use. */
+#define LG_PROBE_PI_F LG_PIF
 
 /* Unit vector along d; zero, denormal-only, NaN or infinite input gives -Z. */
 static inline lg_vec3 lg_probe_safe_dir(lg_vec3 d)

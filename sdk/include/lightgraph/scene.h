@@ -5,7 +5,7 @@
  * A scene is immutable CPU data made by a scene node (the `gltf` node of plugin scene_gltf,
  * or a node deriving one scene from another: camera, lights, medium) and published with
  *
- *     n->host->declare_payload(n, port, LG_KIND_SCENE, &scene->features, scene, free_fn);
+ *     lg_declare_payload(n, port, LG_KIND_SCENE, &scene->features, scene, free_fn);
  *
  * The producing plugin owns the lg_scene and everything it points to, and frees it in
  * free_fn when the host releases the resource. Consumers read it with lg_scene_get() and

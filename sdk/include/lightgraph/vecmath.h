@@ -1,5 +1,5 @@
 /*
- * lightgraph/vecmath.h: small vector and matrix helpers, header-only.
+ * lightgraph/vecmath.h: pi and its kin, small vector and matrix helpers, header-only.
  *
  * Conventions (the project's, see TECHNIQUES.md): right-handed, Y-up world as glTF;
  * angles in radians; matrices are 4x4 floats in column-major order (OpenGL's and glTF's:
@@ -14,6 +14,33 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Pi and the multiples a renderer keeps dividing by, as double constants (macros, usable
+ * in constant expressions and in C++), each written to more digits than a double holds so
+ * that it is the double nearest the exact value. Use these rather than M_PI (not in C11:
+ * <math.h> defines it only with POSIX or GNU extensions) or a value typed out by hand.
+ *
+ *   LG_PI           pi                     3.14159...   half a turn, in radians
+ *   LG_TWO_PI       2 pi                   6.28318...   a full turn
+ *   LG_HALF_PI      pi / 2                 1.57079...   a quarter turn
+ *   LG_INV_PI       1 / pi                 0.31830...   Lambert's BRDF is albedo * LG_INV_PI
+ *   LG_INV_TWO_PI   1 / (2 pi)             0.15915...   the density of a uniform angle
+ *   LG_INV_FOUR_PI  1 / (4 pi)             0.07957...   the density of a uniform direction
+ *                                                       (an isotropic phase function)
+ *
+ * LG_PI * x / 180.0 turns degrees into radians. LG_TWO_PI and LG_HALF_PI equal
+ * 2.0 * LG_PI and 0.5 * LG_PI to the bit (scaling by two is exact); the reciprocals are
+ * rounded once from the exact value, so LG_INV_PI may differ from 1.0 / LG_PI in the last
+ * bit. LG_PIF is the float nearest pi, for float code; any other float constant is the
+ * double one cast, e.g. (float)LG_TWO_PI. GLSL and OpenCL shaders cannot include this header
+ * and keep their own. */
+#define LG_PI 3.14159265358979323846264338327950288
+#define LG_TWO_PI 6.28318530717958647692528676655900577
+#define LG_HALF_PI 1.57079632679489661923132169163975144
+#define LG_INV_PI 0.318309886183790671537767526745028724
+#define LG_INV_TWO_PI 0.159154943091895335768883763372514362
+#define LG_INV_FOUR_PI 0.0795774715459476678844418816862571810
+#define LG_PIF 3.14159265358979323846f
 
 typedef struct lg_vec3 {
     float x, y, z;

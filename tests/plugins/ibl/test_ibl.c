@@ -63,8 +63,6 @@
 
 #include "common/cache_forge.h"
 
-#define PI 3.14159265358979323846
-
 static const char *const BACKENDS[] = { "cpu", "gl", "cl" };
 static const char *const FORMATS[] = { "rgba32f", "rgba16f", "rgbe8" };
 
@@ -119,7 +117,7 @@ static lg_vec3 cam_ray(const cam *c, uint32_t w, uint32_t h, double x, double y)
     lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(c->target, c->pos), lg_v3(0, 0, -1));
     lg_vec3 r = lg_v3_normalize_or(lg_v3_cross(f, c->up), lg_v3(1, 0, 0));
     lg_vec3 u = lg_v3_cross(r, f);
-    double t = tan(0.5 * c->yfov_deg * PI / 180.0), a = (double)w / h;
+    double t = tan(0.5 * c->yfov_deg * LG_PI / 180.0), a = (double)w / h;
     double sx = (2.0 * (x + 0.5) / w - 1.0) * t * a, sy = (1.0 - 2.0 * (y + 0.5) / h) * t;
     return lg_v3_normalize_or(
         lg_v3_add(f, lg_v3_add(lg_v3_scale(r, (float)sx), lg_v3_scale(u, (float)sy))), f);

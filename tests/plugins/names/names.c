@@ -22,7 +22,7 @@ static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
 
 static int prepare(lg_node *n)
 {
-    return n->host->declare_alias(n, 0, 0);
+    return lg_declare_alias(n, 0, 0);
 }
 
 static int execute(lg_node *n, const lg_frame *frame)

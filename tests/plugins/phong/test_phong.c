@@ -66,7 +66,7 @@ static bool project(const cam *c, lg_vec3 p, uint32_t w, uint32_t h, uint32_t *c
 {
     float view[16], proj[16], vp[16];
     lg_m4_look_at(view, c->pos, c->target, c->up);
-    lg_m4_perspective(proj, (float)(c->yfov_deg * 3.14159265358979323846 / 180.0),
+    lg_m4_perspective(proj, (float)(c->yfov_deg * LG_PI / 180.0),
                       (float)w / (float)h, 0.1f, 50.0f);
     lg_m4_mul(vp, proj, view);
     lg_vec3 q = lg_m4_point(vp, p);
@@ -262,7 +262,7 @@ static void case_flat_cube(lg_test *t)
 static dlight nth_light(int i)
 {
     dlight l;
-    double th = (5.0 + (i * 37) % 80) * 3.14159265358979323846 / 180.0; /* from -Y */
+    double th = (5.0 + (i * 37) % 80) * LG_PI / 180.0; /* from -Y */
     double ph = i * 0.7;
     double s = i % 5 == 4 ? 1.0 : -1.0;
     l.dir = lg_v3((float)(sin(th) * cos(ph)), (float)(s * cos(th)), (float)(sin(th) * sin(ph)));

@@ -15,10 +15,6 @@
  * One material (ka, kd, ks, shininess, od, os, double_sided from the parameters) and one
  * camera (camera_position, camera_target, camera_up, yfov_deg; znear 0.1, zfar 50).
  */
-#include <math.h>
-#include <stdlib.h>
-#include <string.h>
-
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/vecmath.h"
 #include "lightgraph/scene.h"
@@ -27,172 +23,51 @@
 
 enum { TP_CUBE = 0, TP_PLANE, TP_SHADOW };
 
-typedef struct tp_mesh_data {
-    float *pos, *nrm;
-    uint32_t *idx;
-    uint32_t nv, ni, cap_v, cap_i;
-} tp_mesh_data;
-
-/* One allocation for the structs; the vertex arrays are separate. */
-typedef struct tp_scene {
-    lg_scene s;
-    lg_mesh meshes[2];
-    tp_mesh_data data[2];
-    lg_instance instances[2];
-    lg_material material;
-    lg_camera camera;
-} tp_scene;
-
-static void tp_free(void *p)
-{
-    tp_scene *t = p;
-    if (!t)
-        return;
-    for (int i = 0; i < 2; i++) {
-        free(t->data[i].pos);
-        free(t->data[i].nrm);
-        free(t->data[i].idx);
-    }
-    free(t);
-}
-
-static bool tp_reserve(tp_mesh_data *d, uint32_t nv, uint32_t ni)
-{
-    d->pos = malloc((size_t)nv * 3 * sizeof(float));
-    d->nrm = malloc((size_t)nv * 3 * sizeof(float));
-    d->idx = malloc((size_t)ni * sizeof(uint32_t));
-    d->cap_v = nv;
-    d->cap_i = ni;
-    return d->pos && d->nrm && d->idx;
-}
-
-/* A grid of s x s quads over c +- u +- v, facing u x v (counter-clockwise front). */
-static void tp_grid(tp_mesh_data *d, lg_vec3 c, lg_vec3 u, lg_vec3 v, uint32_t s)
-{
-    lg_vec3 nrm = lg_v3_normalize_or(lg_v3_cross(u, v), lg_v3(0, 1, 0));
-    uint32_t base = d->nv;
-    for (uint32_t j = 0; j <= s; j++)
-        for (uint32_t i = 0; i <= s; i++) {
-            float a = 2.0f * (float)i / (float)s - 1.0f, b = 2.0f * (float)j / (float)s - 1.0f;
-            lg_vec3 p = lg_v3_add(c, lg_v3_add(lg_v3_scale(u, a), lg_v3_scale(v, b)));
-            float *pp = d->pos + (size_t)d->nv * 3, *nn = d->nrm + (size_t)d->nv * 3;
-            pp[0] = p.x, pp[1] = p.y, pp[2] = p.z;
-            nn[0] = nrm.x, nn[1] = nrm.y, nn[2] = nrm.z;
-            d->nv++;
-        }
-    for (uint32_t j = 0; j < s; j++)
-        for (uint32_t i = 0; i < s; i++) {
-            uint32_t a = base + j * (s + 1) + i, b = a + 1, c2 = a + s + 1, e = c2 + 1;
-            uint32_t tri[6] = { a, b, e, a, e, c2 };
-            for (int k = 0; k < 6; k++)
-                d->idx[d->ni++] = tri[k];
-        }
-}
-
-static void tp_cube(tp_mesh_data *d)
-{
-    static const float f[6][3][3] = {
-        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } },  { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
-        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } },  { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
-        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },   { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
-    };
-    for (int i = 0; i < 6; i++)
-        tp_grid(d, lg_v3_scale(lg_v3(f[i][0][0], f[i][0][1], f[i][0][2]), 0.5f),
-                lg_v3_scale(lg_v3(f[i][1][0], f[i][1][1], f[i][1][2]), 0.5f),
-                lg_v3_scale(lg_v3(f[i][2][0], f[i][2][1], f[i][2][2]), 0.5f), 1);
-}
-
-static void tp_vec(lg_node *n, const char *key, float out[3])
+static lg_vec3 tp_vec(lg_node *n, const char *key)
 {
     const lg_value *v = lg_param(n, key);
-    for (int k = 0; k < 3; k++)
-        out[k] = v ? (float)v->v[k] : 0.0f;
+    return v ? lg_v3((float)v->v[0], (float)v->v[1], (float)v->v[2]) : lg_v3(0, 0, 0);
 }
 
 static int tp_prepare(lg_node *n)
 {
-    tp_scene *t = calloc(1, sizeof *t);
-    if (!t)
+    lg_ts_builder *b = lg_ts_begin("test_phong_scene");
+    if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     int layout = lg_param_enum(n, "layout");
     float size = (float)lg_param_float(n, "size");
     uint32_t segs = (uint32_t)lg_param_int(n, "segments");
 
-    t->s.struct_size = sizeof t->s;
-    t->s.source = "test_phong_scene";
-    t->s.meshes = t->meshes;
-    t->s.instances = t->instances;
-    t->s.materials = &t->material;
-    t->s.n_materials = 1;
-    t->s.cameras = &t->camera;
-    t->s.n_cameras = 1;
-
-    lg_material *m = &t->material;
-    m->name = "test";
+    lg_material *m = lg_ts_material(b, "test");
     m->ka = (float)lg_param_float(n, "ka");
     m->kd = (float)lg_param_float(n, "kd");
     m->ks = (float)lg_param_float(n, "ks");
     m->shininess = (float)lg_param_float(n, "shininess");
-    tp_vec(n, "od", m->od);
-    tp_vec(n, "os", m->os);
-    memcpy(m->base_color, m->od, sizeof m->od);
+    lg_vec3 od = tp_vec(n, "od"), os = tp_vec(n, "os");
+    m->od[0] = m->base_color[0] = od.x, m->od[1] = m->base_color[1] = od.y;
+    m->od[2] = m->base_color[2] = od.z;
     m->base_color[3] = 1.0f;
+    m->os[0] = os.x, m->os[1] = os.y, m->os[2] = os.z;
     m->double_sided = lg_param_bool(n, "double_sided");
 
-    lg_camera *c = &t->camera;
-    c->name = "test";
-    tp_vec(n, "camera_position", c->position);
-    tp_vec(n, "camera_target", c->target);
-    tp_vec(n, "camera_up", c->up);
-    c->yfov = (float)(lg_param_float(n, "yfov_deg") * 3.14159265358979323846 / 180.0);
-    c->znear = 0.1f;
-    c->zfar = 50.0f;
+    lg_ts_camera(b, "test", tp_vec(n, "camera_position"), tp_vec(n, "camera_target"),
+                 tp_vec(n, "camera_up"),
+                 (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0), 0.1f,
+                 50.0f);
 
-    bool ok;
     float h = 0.5f * size;
-    switch (layout) {
-    case TP_CUBE:
-        t->s.n_meshes = 1;
-        ok = tp_reserve(&t->data[0], 24, 36);
-        if (ok)
-            tp_cube(&t->data[0]);
-        break;
-    case TP_PLANE:
-        t->s.n_meshes = 1;
-        ok = tp_reserve(&t->data[0], (segs + 1) * (segs + 1), 6 * segs * segs);
-        if (ok)
-            tp_grid(&t->data[0], lg_v3(0, 0, 0), lg_v3(h, 0, 0), lg_v3(0, 0, -h), segs);
-        break;
-    default:
-        t->s.n_meshes = 2;
-        ok = tp_reserve(&t->data[0], (segs + 1) * (segs + 1), 6 * segs * segs) &&
-             tp_reserve(&t->data[1], 4, 6);
-        if (ok) {
-            tp_grid(&t->data[0], lg_v3(0, 0, 0), lg_v3(h, 0, 0), lg_v3(0, 0, -h), segs);
-            tp_grid(&t->data[1], lg_v3(0, 1, 0), lg_v3(0.5f, 0, 0), lg_v3(0, 0, -0.5f), 1);
-        }
-        break;
+    lg_ts_mesh(b, "test mesh#0", 0);
+    if (layout == TP_CUBE)
+        lg_ts_unit_cube(b, true);
+    else
+        lg_ts_grid(b, lg_v3(0, 0, 0), lg_v3(h, 0, 0), lg_v3(0, 0, -h), segs);
+    lg_ts_instance(b, 0, NULL);
+    if (layout == TP_SHADOW) {
+        lg_ts_mesh(b, "occluder#0", 0);
+        lg_ts_grid(b, lg_v3(0, 1, 0), lg_v3(0.5f, 0, 0), lg_v3(0, 0, -0.5f), 1);
+        lg_ts_instance(b, 1, NULL);
     }
-    if (!ok) {
-        tp_free(t);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    }
-    static const char *const names[2] = { "test mesh#0", "occluder#0" };
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        t->meshes[i].name = names[i];
-        t->meshes[i].n_vertices = t->data[i].nv;
-        t->meshes[i].n_indices = t->data[i].ni;
-        t->meshes[i].positions = t->data[i].pos;
-        t->meshes[i].normals = t->data[i].nrm;
-        t->meshes[i].indices = t->data[i].idx;
-        lg_instance *in = &t->instances[t->s.n_instances++];
-        in->mesh = i;
-        lg_m4_identity(in->model);
-        lg_m4_normal_matrix(in->normal_matrix, in->model);
-    }
-    lg_test_scene_bounds(&t->s, t->meshes);
-    lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
+    return lg_ts_publish(n, 0, b);
 }
 
 static int tp_execute(lg_node *n, const lg_frame *frame)

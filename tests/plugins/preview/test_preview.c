@@ -52,6 +52,7 @@
 #include <string.h>
 
 #include "lightgraph/test.h"
+#include "lightgraph/vecmath.h"
 
 #ifndef PV_TEST_PLUGIN_DIR
 #define PV_TEST_PLUGIN_DIR ""
@@ -543,9 +544,9 @@ static void case_sphere(lg_test *t)
     }
     LG_TEST_CHECK(t, wrong == 0, "%zu covered pixels are not the sphere's colour", wrong);
     /* the silhouette: angular radius asin(1 / d), d = |(0, 3, 6)| */
-    double d = sqrt(45.0), t20 = tan(20.0 * 3.14159265358979323846 / 180.0);
+    double d = sqrt(45.0), t20 = tan(20.0 * LG_PI / 180.0);
     double r = tan(asin(1.0 / d)) / t20 * img.height / 2.0;
-    double area = 3.14159265358979323846 * r * r;
+    double area = LG_PI * r * r;
     fprintf(stderr, "sphere covers %.0f px, a disc of radius %.2f px is %.0f\n", covered, r, area);
     LG_TEST_CHECK(t, fabs(covered - area) < 0.02 * area, "coverage %.0f px, expected %.0f", covered,
              area);

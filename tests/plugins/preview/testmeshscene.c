@@ -10,8 +10,6 @@
  * origin with +Y up, and camera 1 at the same place looking the other way (at nothing).
  */
 #include <math.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/vecmath.h"
@@ -43,70 +41,9 @@ enum {
     TM_BACK_QUAD, TM_MIRRORED, TM_FAR, TM_EMPTY, TM_BAD_INDEX, TM_BAD_INSTANCE, TM_NO_CAMERA,
 };
 
-#define TM_MAX_MESHES 4
-#define TM_MAX_INSTANCES 4
-#define TM_MAX_VERTS 64
-#define TM_MAX_INDICES 96
-
-typedef struct tm_mesh_data {
-    float pos[TM_MAX_VERTS * 3], nrm[TM_MAX_VERTS * 3];
-    uint32_t idx[TM_MAX_INDICES];
-} tm_mesh_data;
-
-/* One allocation holds the scene and everything it points to. */
-typedef struct tm_scene {
-    lg_scene s;
-    lg_mesh meshes[TM_MAX_MESHES];
-    tm_mesh_data data[TM_MAX_MESHES];
-    lg_instance instances[TM_MAX_INSTANCES];
-    lg_material material;
-    lg_camera cameras[2];
-} tm_scene;
-
-static void tm_free(void *p)
+static void tm_quad(lg_ts_builder *b, lg_vec3 c, lg_vec3 u, lg_vec3 v)
 {
-    free(p);
-}
-
-/* Appends a quad c +- u +- v whose front (counter-clockwise) side faces u x v. */
-static void tm_quad(tm_scene *t, uint32_t mi, lg_vec3 c, lg_vec3 u, lg_vec3 v)
-{
-    lg_mesh *m = &t->meshes[mi];
-    tm_mesh_data *d = &t->data[mi];
-    lg_vec3 nrm = lg_v3_normalize_or(lg_v3_cross(u, v), lg_v3(0, 0, 1));
-    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
-    uint32_t base = m->n_vertices;
-    for (int k = 0; k < 4; k++) {
-        lg_vec3 p = lg_v3_add(c, lg_v3_add(lg_v3_scale(u, su[k]), lg_v3_scale(v, sv[k])));
-        float *pp = d->pos + (base + k) * 3, *nn = d->nrm + (base + k) * 3;
-        pp[0] = p.x, pp[1] = p.y, pp[2] = p.z;
-        nn[0] = nrm.x, nn[1] = nrm.y, nn[2] = nrm.z;
-    }
-    static const uint32_t tri[6] = { 0, 1, 2, 0, 2, 3 };
-    for (int k = 0; k < 6; k++)
-        d->idx[m->n_indices++] = base + tri[k];
-    m->n_vertices += 4;
-}
-
-static void tm_cube(tm_scene *t, uint32_t mi)
-{
-    static const float f[6][3][3] = {
-        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } },  { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
-        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } },  { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
-        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },   { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
-    };
-    for (int i = 0; i < 6; i++)
-        tm_quad(t, mi, lg_v3_scale(lg_v3(f[i][0][0], f[i][0][1], f[i][0][2]), 0.5f),
-                lg_v3_scale(lg_v3(f[i][1][0], f[i][1][1], f[i][1][2]), 0.5f),
-                lg_v3_scale(lg_v3(f[i][2][0], f[i][2][1], f[i][2][2]), 0.5f));
-}
-
-static void tm_instance(tm_scene *t, uint32_t mesh, const float model[16])
-{
-    lg_instance *in = &t->instances[t->s.n_instances++];
-    in->mesh = mesh;
-    memcpy(in->model, model, sizeof in->model);
-    lg_m4_normal_matrix(in->normal_matrix, model);
+    lg_ts_quad(b, &c, u, v, NULL);
 }
 
 static void tm_translate(float m[16], float x, float y, float z)
@@ -115,57 +52,46 @@ static void tm_translate(float m[16], float x, float y, float z)
     m[12] = x, m[13] = y, m[14] = z;
 }
 
-static tm_scene *tm_build(lg_node *n)
+static int tm_scene_prepare(lg_node *n)
 {
-    tm_scene *t = calloc(1, sizeof *t);
-    if (!t)
-        return NULL;
+    lg_ts_builder *b = lg_ts_begin("test_mesh_scene");
+    if (!b)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     int layout = lg_param_enum(n, "layout");
     const lg_value *col = lg_param(n, "color");
 
-    t->s.struct_size = sizeof t->s;
-    t->s.source = "test_mesh_scene";
-    t->s.meshes = t->meshes;
-    t->s.instances = t->instances;
-    t->s.materials = &t->material;
-    t->s.n_materials = 1;
-    t->s.cameras = t->cameras;
-    t->s.n_cameras = layout == TM_NO_CAMERA ? 0 : 2;
-    t->material.name = "test";
-    t->material.kd = 1.0f;
+    lg_material *mat = lg_ts_material(b, "test");
+    mat->kd = 1.0f;
     for (int k = 0; k < 3; k++)
-        t->material.base_color[k] = t->material.od[k] = col ? (float)col->v[k] : 0.5f;
-    t->material.base_color[3] = 1.0f;
-    t->material.roughness = 1.0f;
-    t->material.double_sided = lg_param_bool(n, "double_sided");
+        mat->base_color[k] = mat->od[k] = col ? (float)col->v[k] : 0.5f;
+    mat->base_color[3] = 1.0f;
+    mat->roughness = 1.0f;
+    mat->double_sided = lg_param_bool(n, "double_sided");
 
     static const char *const cam_names[2] = { "front", "away" };
-    for (int i = 0; i < 2; i++) {
-        lg_camera *c = &t->cameras[i];
-        c->name = cam_names[i];
-        c->position[2] = 5.0f;
-        c->target[2] = i == 0 ? 0.0f : 10.0f;
-        c->up[1] = 1.0f;
-        c->yfov = (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0);
-        c->znear = (float)lg_param_float(n, "znear");
-        c->zfar = (float)lg_param_float(n, "zfar");
+    for (int i = 0; i < 2 && layout != TM_NO_CAMERA; i++) {
+        lg_camera *c = lg_ts_camera(
+            b, cam_names[i], lg_v3(0, 0, 5), lg_v3(0, 0, i == 0 ? 0.0f : 10.0f), lg_v3(0, 1, 0),
+            (float)(lg_param_float(n, "yfov") * LG_PI / 180.0),
+            (float)lg_param_float(n, "znear"), (float)lg_param_float(n, "zfar"));
         c->aspect = (float)lg_param_float(n, "camera_aspect");
     }
 
     float m[16];
     lg_m4_identity(m);
-    t->s.n_meshes = 1;
+    if (layout != TM_EMPTY)
+        lg_ts_mesh(b, "test mesh#0", 0);
     switch (layout) {
     case TM_QUAD_FILL:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(10, 0, 0), lg_v3(0, 10, 0));
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(10, 0, 0), lg_v3(0, 10, 0));
+        lg_ts_instance(b, 0, m);
         break;
     case TM_CUBE:
     case TM_CUBE_ROT45:
     case TM_CUBE_STRETCHED: {
-        tm_cube(t, 0);
+        lg_ts_unit_cube(b, false);
         if (layout != TM_CUBE) {
-            float a = 3.14159265358979323846f / 4.0f;
+            float a = LG_PIF / 4.0f;
             m[0] = cosf(a), m[2] = -sinf(a); /* column 0: R_y x axis */
             m[8] = sinf(a), m[10] = cosf(a); /* column 2: R_y z axis */
         }
@@ -175,74 +101,55 @@ static tm_scene *tm_build(lg_node *n)
             sx[0] = 2.0f;
             lg_m4_mul(m, sx, m);
         }
-        tm_instance(t, 0, m);
+        lg_ts_instance(b, 0, m);
         break;
     }
     case TM_TWO_DEPTHS:
-        tm_quad(t, 0, lg_v3(-1.1f, 0, 0), lg_v3(0.9f, 0, 0), lg_v3(0, 1, 0));
-        tm_quad(t, 0, lg_v3(1.1f, 0, -3), lg_v3(0.9f, 0, 0), lg_v3(0, 1, 0));
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(-1.1f, 0, 0), lg_v3(0.9f, 0, 0), lg_v3(0, 1, 0));
+        tm_quad(b, lg_v3(1.1f, 0, -3), lg_v3(0.9f, 0, 0), lg_v3(0, 1, 0));
+        lg_ts_instance(b, 0, m);
         break;
     case TM_INSTANCED:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(0.5f, 0, 0), lg_v3(0, 0.5f, 0));
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(0.5f, 0, 0), lg_v3(0, 0.5f, 0));
         tm_translate(m, -1.5f, 0, 0);
-        tm_instance(t, 0, m);
+        lg_ts_instance(b, 0, m);
         tm_translate(m, 1.5f, 0.5f, 0);
-        tm_instance(t, 0, m);
+        lg_ts_instance(b, 0, m);
         break;
     case TM_UPPER_RIGHT:
-        tm_quad(t, 0, lg_v3(1, 1, 0), lg_v3(0.5f, 0, 0), lg_v3(0, 0.5f, 0));
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(1, 1, 0), lg_v3(0.5f, 0, 0), lg_v3(0, 0.5f, 0));
+        lg_ts_instance(b, 0, m);
         break;
     case TM_BACK_QUAD:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(-1, 0, 0), lg_v3(0, 1, 0));
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(-1, 0, 0), lg_v3(0, 1, 0));
+        lg_ts_instance(b, 0, m);
         break;
     case TM_MIRRORED:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
         m[0] = -1.0f;
-        tm_instance(t, 0, m);
+        lg_ts_instance(b, 0, m);
         break;
     case TM_FAR:
-        tm_quad(t, 0, lg_v3(0, 0, -45), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(0, 0, -45), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
+        lg_ts_instance(b, 0, m);
         break;
     case TM_EMPTY:
-        t->s.n_meshes = 0;
         break;
     case TM_BAD_INDEX:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
-        t->data[0].idx[4] = 9; /* the mesh has 4 vertices */
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
+        lg_ts_indices(b)[4] = 9; /* the mesh has 4 vertices */
+        lg_ts_instance(b, 0, m);
         break;
     case TM_BAD_INSTANCE:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
-        tm_instance(t, 0, m);
-        t->instances[0].mesh = 3;
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
+        lg_ts_instance(b, 3, m); /* there is one mesh */
         break;
     case TM_NO_CAMERA:
-        tm_quad(t, 0, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
-        tm_instance(t, 0, m);
+        tm_quad(b, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
+        lg_ts_instance(b, 0, m);
         break;
     }
-    static const char *const mesh_names[TM_MAX_MESHES] = { "test mesh#0", "", "", "" };
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        t->meshes[i].name = mesh_names[i];
-        t->meshes[i].positions = t->data[i].pos;
-        t->meshes[i].normals = t->data[i].nrm;
-        t->meshes[i].indices = t->data[i].idx;
-    }
-    lg_test_scene_bounds(&t->s, t->meshes);
-    lg_scene_compute_features(&t->s);
-    return t;
-}
-
-static int tm_scene_prepare(lg_node *n)
-{
-    tm_scene *t = tm_build(n);
-    if (!t)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tm_free);
+    return lg_ts_publish(n, 0, b);
 }
 
 static int tm_nothing(lg_node *n, const lg_frame *frame)

@@ -42,8 +42,6 @@
 #define PR_PLUGIN_DIR ""
 #endif
 
-#define PI 3.14159265358979323846
-
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, PR_PLUGIN_DIR);

@@ -46,8 +46,6 @@
 #define PR_TESTCUBE_DIR ""
 #endif
 
-#define FOUR_PI 12.566370614359172
-
 static void setup(lg_test *t)
 {
     static char path[8300];
@@ -120,9 +118,9 @@ static void check_info(lg_test *t, const char *probe_def, int layout, uint32_t w
     LG_TEST_CHECK(t, p[1] == (float)layout && p[2] == (float)w && p[3] == (float)h,
                   "%s: layout %g %gx%g, want %d %ux%u", what, (double)p[1], (double)p[2],
                   (double)p[3], layout, w, h);
-    LG_TEST_CHECK(t, fabs(p[0] - FOUR_PI) <= 1e-6 * FOUR_PI,
+    LG_TEST_CHECK(t, fabs(p[0] - (4.0 * LG_PI)) <= 1e-6 * (4.0 * LG_PI),
                   "%s: the solid angles sum to %.9g, want 4 pi (rel. error %.3g)", what,
-                  (double)p[0], (p[0] - FOUR_PI) / FOUR_PI);
+                  (double)p[0], (p[0] - (4.0 * LG_PI)) / (4.0 * LG_PI));
     LG_TEST_CHECK(t, p[4] == scale, "%s: info.scale %.9g, want %.9g", what, (double)p[4],
                   (double)scale);
     LG_TEST_CHECK(t, p[5] == 1 && p[6] == (layout == LG_PROBE_CUBE ? 6 : 1) && p[7] == 1,
@@ -572,7 +570,7 @@ static void case_latlong_not_2to1(lg_test *t)
                              info.pixels[3] == 3,
                       "7x3 lat-long: layout %g, %gx%g", (double)info.pixels[1],
                       (double)info.pixels[2], (double)info.pixels[3]);
-        LG_TEST_CHECK(t, fabs(info.pixels[0] - FOUR_PI) <= 1e-6 * FOUR_PI, "sum %.9g",
+        LG_TEST_CHECK(t, fabs(info.pixels[0] - (4.0 * LG_PI)) <= 1e-6 * (4.0 * LG_PI), "sum %.9g",
                       (double)info.pixels[0]);
         LG_TEST_CHECK(t, log && strstr(log, "is 7x3, not 2:1: read as a lat-long"),
                       "no note about the 7x3 lat-long:\n%s", log ? log : "");

@@ -40,7 +40,6 @@
 
 #include "prt_testdata.h"
 
-#define PI 3.14159265358979323846
 #define MIXED_VERTICES 172u
 
 static const char *const BACKENDS[] = { "cpu", "gl", "cl" };
@@ -332,7 +331,7 @@ static void case_spin(lg_test *t)
  * looking along -Z, 40 degrees vertical). */
 static void quad_point(uint32_t w, uint32_t h, uint32_t px, uint32_t py, double *x, double *y)
 {
-    double tn = tan(0.5 * 40.0 * PI / 180.0), a = (double)w / h;
+    double tn = tan(0.5 * 40.0 * LG_PI / 180.0), a = (double)w / h;
     double sx = (2.0 * (px + 0.5) / w - 1.0) * tn * a, sy = (1.0 - 2.0 * (py + 0.5) / h) * tn;
     *x = 5.0 * sx;
     *y = 5.0 * sy;
@@ -422,7 +421,7 @@ static void case_raster(lg_test *t)
 /* The pixel where world point p lands (the quad_point camera). */
 static void project(uint32_t w, uint32_t h, const double p[3], uint32_t *px, uint32_t *py)
 {
-    double tn = tan(0.5 * 40.0 * PI / 180.0), a = (double)w / h;
+    double tn = tan(0.5 * 40.0 * LG_PI / 180.0), a = (double)w / h;
     double sx = p[0] / (5.0 - p[2]), sy = p[1] / (5.0 - p[2]);
     *px = (uint32_t)lround((sx / (tn * a) + 1.0) / 2.0 * w - 0.5);
     *py = (uint32_t)lround((1.0 - sy / tn) / 2.0 * h - 0.5);
@@ -476,9 +475,9 @@ static void case_instances(lg_test *t)
             double cq = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - 0.36;
             double tq = -bq - sqrt(fmax(bq * bq - cq, 0.0));
             double ny = (o[1] + tq * d[1]) / 0.6;
-            want[k] = 0.8 / PI * (0.25 + 0.5 * ny + 5.0 / 16.0 * 0.5 * (3 * ny * ny - 1));
+            want[k] = 0.8 / LG_PI * (0.25 + 0.5 * ny + 5.0 / 16.0 * 0.5 * (3 * ny * ny - 1));
         }
-        double grid = 0.8 / PI * (0.25 - 5.0 / 32.0);
+        double grid = 0.8 / LG_PI * (0.25 - 5.0 / 32.0);
         for (int c = 0; c < 3; c++) {
             LG_TEST_CHECK(t, fabs(v[0][c] - v[1][c]) <= 0.02 * want[0],
                           "%s: the two instances differ at mirrored points (%u, %u) and (%u, "

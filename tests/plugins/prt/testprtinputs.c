@@ -40,152 +40,45 @@ enum { TP_GRID_N = 9, TP_SEG = 12 };
 /* the mixed scene's vertex count: the grid, then the sphere */
 #define TP_MIXED_VERTICES (TP_GRID_N * TP_GRID_N + (TP_SEG + 1) * (TP_SEG / 2 + 1))
 
-typedef struct tp_scene {
-    lg_scene s;
-    lg_mesh meshes[2];
-    float *pos[2], *nrm[2];
-    uint32_t *idx[2];
-    lg_instance instances[3];
-    lg_material material;
-    lg_camera camera;
-} tp_scene;
-
-static void tp_free(void *p)
+/* An n x n grid of vertices over [-h, h]^2 at z, facing +Z, as the next mesh. */
+static void tp_grid(lg_ts_builder *b, uint32_t n, double h, double z)
 {
-    tp_scene *t = p;
-    if (!t)
-        return;
-    for (int i = 0; i < 2; i++) {
-        free(t->pos[i]);
-        free(t->nrm[i]);
-        free(t->idx[i]);
-    }
-    free(t);
-}
-
-static bool tp_alloc(tp_scene *t, int k, uint32_t nv, uint32_t ni)
-{
-    t->pos[k] = malloc((size_t)nv * 12);
-    t->nrm[k] = malloc((size_t)nv * 12);
-    t->idx[k] = malloc((size_t)ni * 4);
-    t->meshes[k].n_vertices = nv;
-    t->meshes[k].n_indices = ni;
-    return t->pos[k] && t->nrm[k] && t->idx[k];
-}
-
-/* An n x n grid over [-h, h]^2 at z, facing +Z (counter-clockwise seen from +Z). */
-static bool tp_grid(tp_scene *t, int k, uint32_t n, float h, float z)
-{
-    if (!tp_alloc(t, k, n * n, (n - 1) * (n - 1) * 6))
-        return false;
-    for (uint32_t j = 0, v = 0; j < n; j++)
-        for (uint32_t i = 0; i < n; i++, v++) {
-            t->pos[k][3 * v] = -h + 2 * h * (float)i / (float)(n - 1);
-            t->pos[k][3 * v + 1] = -h + 2 * h * (float)j / (float)(n - 1);
-            t->pos[k][3 * v + 2] = z;
-            t->nrm[k][3 * v] = 0, t->nrm[k][3 * v + 1] = 0, t->nrm[k][3 * v + 2] = 1;
-        }
-    uint32_t q = 0;
-    for (uint32_t j = 0; j + 1 < n; j++)
-        for (uint32_t i = 0; i + 1 < n; i++) {
-            uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
-            uint32_t tri[6] = { a, b, d, a, d, c };
-            for (int m = 0; m < 6; m++)
-                t->idx[k][q++] = tri[m];
-        }
-    return true;
-}
-
-/* A UV sphere of radius r at the origin: (seg + 1) x (seg/2 + 1) vertices. */
-static bool tp_sphere(tp_scene *t, int k, float r, uint32_t seg)
-{
-    uint32_t rows = seg / 2, cols = seg;
-    if (!tp_alloc(t, k, (cols + 1) * (rows + 1), cols * rows * 6))
-        return false;
-    const double pi = 3.14159265358979323846;
-    uint32_t v = 0;
-    for (uint32_t j = 0; j <= rows; j++)
-        for (uint32_t i = 0; i <= cols; i++, v++) {
-            double th = pi * j / rows, ph = 2 * pi * i / cols;
-            double x = sin(th) * cos(ph), y = cos(th), z = -sin(th) * sin(ph);
-            t->nrm[k][3 * v] = (float)x, t->nrm[k][3 * v + 1] = (float)y,
-            t->nrm[k][3 * v + 2] = (float)z;
-            t->pos[k][3 * v] = r * (float)x, t->pos[k][3 * v + 1] = r * (float)y,
-            t->pos[k][3 * v + 2] = r * (float)z;
-        }
-    uint32_t q = 0;
-    for (uint32_t j = 0; j < rows; j++)
-        for (uint32_t i = 0; i < cols; i++) {
-            uint32_t a = j * (cols + 1) + i, b = a + 1, d = a + cols + 1, e = d + 1;
-            uint32_t tri[6] = { a, d, e, a, e, b };
-            for (int m = 0; m < 6; m++)
-                t->idx[k][q++] = tri[m];
-        }
-    return true;
+    const double o[3] = { -h, -h, z }, u[3] = { 2 * h, 0, 0 }, v[3] = { 0, 2 * h, 0 };
+    const double nz[3] = { 0, 0, 1 };
+    lg_ts_mesh(b, "test grid", 0);
+    lg_ts_grid_span(b, n - 1, o, u, v, nz, false);
 }
 
 static int tp_scene_prepare(lg_node *n)
 {
-    tp_scene *t = calloc(1, sizeof *t);
-    if (!t)
+    lg_ts_builder *b = lg_ts_begin("test_prt_inputs_scene");
+    if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     int layout = lg_param_enum(n, "layout");
-    t->s.struct_size = sizeof t->s;
-    t->s.source = "test_prt_inputs_scene";
-    t->s.meshes = t->meshes;
-    t->s.instances = t->instances;
-    t->s.materials = &t->material;
-    t->s.n_materials = 1;
-    t->s.cameras = &t->camera;
-    t->s.n_cameras = 1;
-    t->material.name = "test";
-    t->material.kd = 1.0f;
-    t->material.od[0] = t->material.od[1] = t->material.od[2] = 0.5f;
-    t->material.base_color[0] = t->material.base_color[1] = t->material.base_color[2] = 1.0f;
-    t->material.base_color[3] = 1.0f;
-    lg_camera *c = &t->camera;
-    c->name = "test";
-    c->position[2] = 5.0f;
-    c->up[1] = 1.0f;
-    c->yfov = (float)(40.0 * 3.14159265358979323846 / 180.0);
-    c->znear = 0.1f;
-    c->zfar = 50.0f;
+    lg_material *m = lg_ts_material(b, "test");
+    m->kd = 1.0f;
+    m->od[0] = m->od[1] = m->od[2] = 0.5f;
+    m->base_color[0] = m->base_color[1] = m->base_color[2] = m->base_color[3] = 1.0f;
+    lg_ts_camera(b, "test", lg_v3(0, 0, 5), lg_v3(0, 0, 0), lg_v3(0, 1, 0),
+                 (float)(40.0 * LG_PI / 180.0), 0.1f, 50.0f);
 
-    bool ok;
     if (layout == TP_QUAD) {
-        t->s.n_meshes = 1;
-        ok = tp_grid(t, 0, 2, 1.0f, 0.0f);
+        tp_grid(b, 2, 1.0, 0.0);
     } else {
-        t->s.n_meshes = 2;
-        ok = tp_grid(t, 0, TP_GRID_N, 2.0f, -1.0f) && tp_sphere(t, 1, 0.6f, TP_SEG);
-    }
-    if (!ok) {
-        tp_free(t);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    }
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        t->meshes[i].name = i == 0 ? "test grid" : "test sphere";
-        t->meshes[i].positions = t->pos[i];
-        t->meshes[i].normals = t->nrm[i];
-        t->meshes[i].indices = t->idx[i];
+        tp_grid(b, TP_GRID_N, 2.0, -1.0);
+        lg_ts_mesh(b, "test sphere", 0);
+        lg_ts_uv_sphere(b, NULL, 0.6f, TP_SEG, TP_SEG / 2);
     }
     /* instances: every mesh once; the mixed scene's sphere twice, at x = -1 and +1 */
-    uint32_t ni = 0;
-    lg_m4_identity(t->instances[ni].model);
-    t->instances[ni++].mesh = 0;
+    lg_ts_instance(b, 0, NULL);
     if (layout == TP_MIXED)
         for (int s = -1; s <= 1; s += 2) {
-            lg_instance *in = &t->instances[ni++];
-            in->mesh = 1;
-            lg_m4_identity(in->model);
-            in->model[12] = (float)s;
+            float model[16];
+            lg_m4_identity(model);
+            model[12] = (float)s;
+            lg_ts_instance(b, 1, model);
         }
-    t->s.n_instances = ni;
-    for (uint32_t i = 0; i < ni; i++)
-        lg_m4_normal_matrix(t->instances[i].normal_matrix, t->instances[i].model);
-    lg_test_scene_bounds(&t->s, t->meshes);
-    lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
+    return lg_ts_publish(n, 0, b);
 }
 
 static int tp_nothing(lg_node *n, const lg_frame *frame)
@@ -264,7 +157,7 @@ static void tp_normal_transfer(const lg_scene *s, uint32_t k, uint32_t bands, fl
         for (uint32_t i = l * l; i < (l + 1) * (l + 1); i++)
             for (int c = 0; c < 3; c++)
                 out[c * bands * bands + i] =
-                    (float)(0.8 / 3.14159265358979323846 * lg_sh_clamped_cosine(l) * y[i]);
+                    (float)(0.8 / LG_PI * lg_sh_clamped_cosine(l) * y[i]);
 }
 
 static int tp_tr_prepare(lg_node *n)

@@ -61,10 +61,9 @@
 #include "lightgraph/sh.h"
 #include "lightgraph/test.h"
 #include "lightgraph/transfer.h"
+#include "lightgraph/vecmath.h"
 
 #include "common/cache_forge.h"
-
-#define PI 3.14159265358979323846
 
 /* ---- helpers ------------------------------------------------------------------------------ */
 
@@ -148,7 +147,7 @@ static double radiance(const tr *x, uint32_t i, int c, const double *L)
 static void sky_const(double *L, uint32_t n2)
 {
     memset(L, 0, n2 * sizeof *L);
-    L[0] = sqrt(4 * PI);
+    L[0] = sqrt(4 * LG_PI);
 }
 
 /* The smooth environment of the tests and its irradiance (Funk-Hecke, closed form):
@@ -158,7 +157,8 @@ static void sky_const(double *L, uint32_t n2)
 static double env_L(const double d[3]) { return 1 + 0.5 * d[0] + 0.3 * d[2] * d[2]; }
 static double env_E(const double N[3])
 {
-    return PI + 0.5 * (2 * PI / 3) * N[0] + 0.3 * (PI / 3 + (PI / 4) * (N[2] * N[2] - 1.0 / 3));
+    return LG_PI + 0.5 * (2 * LG_PI / 3) * N[0] +
+           0.3 * (LG_PI / 3 + (LG_PI / 4) * (N[2] * N[2] - 1.0 / 3));
 }
 
 /* Its SH coefficients by a product rule exact for polynomials of degree <= 2 + 2 (bands
@@ -177,10 +177,10 @@ static void env_coeffs(uint32_t bands, double *L)
     memset(L, 0, n2 * sizeof *L);
     for (int a = 0; a < 8; a++)
         for (int b = 0; b < 16; b++) {
-            double ct = gx[a], st = sqrt(1 - ct * ct), ph = 2 * PI * (b + 0.5) / 16;
+            double ct = gx[a], st = sqrt(1 - ct * ct), ph = 2 * LG_PI * (b + 0.5) / 16;
             double d[3] = { st * cos(ph), ct, st * sin(ph) };
             lg_sh_eval_d(bands, d, y);
-            double w = gw[a] * (2 * PI / 16) * env_L(d);
+            double w = gw[a] * (2 * LG_PI / 16) * env_L(d);
             for (uint32_t k = 0; k < n2; k++)
                 L[k] += w * y[k];
         }
@@ -194,7 +194,7 @@ static double square_ff(double a, double h)
     double X = a / h, Y = a / h;
     double f = (X / sqrt(1 + X * X) * atan(Y / sqrt(1 + X * X)) +
                 Y / sqrt(1 + Y * Y) * atan(X / sqrt(1 + Y * Y))) /
-               (2 * PI);
+               (2 * LG_PI);
     return 4 * f;
 }
 
@@ -215,10 +215,10 @@ static void case_unshadowed(lg_test *t)
         double worst = 0;
         for (uint32_t j = 0, v = 0; j <= rows; j++)
             for (uint32_t i = 0; i <= cols && v < x.nv; i++, v++) {
-                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
                 double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
                 for (int c = 0; c < 3; c++) {
-                    double want = rho[c] / PI * env_E(N), got = radiance(&x, v, c, L);
+                    double want = rho[c] / LG_PI * env_E(N), got = radiance(&x, v, c, L);
                     worst = fmax(worst, fabs(got - want));
                 }
             }
@@ -240,9 +240,9 @@ static void case_unshadowed(lg_test *t)
         env_coeffs(3, L);
         for (uint32_t j = 0, v = 0; j <= rows; j++)
             for (uint32_t i = 0; i <= cols; i++, v++) {
-                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
                 double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
-                worst = fmax(worst, fabs(radiance(&x, v, 1, L) - env_E(N) / PI));
+                worst = fmax(worst, fabs(radiance(&x, v, 1, L) - env_E(N) / LG_PI));
             }
         fprintf(stderr, "unshadowed, %s: worst error %.2e\n", samplers[k], worst);
         LG_TEST_CHECK(t, worst < (k == 0 ? 1e-2 : 4e-3), "%s: worst error %.3g", samplers[k],
@@ -264,7 +264,7 @@ static void case_cone(lg_test *t)
         tr x;
         if (!bake(t, scene, "mode = shadowed, samples = 128", 3, &x, NULL))
             return;
-        double s = sin(alphas[a] * PI / 180), rho[3] = { 0.9, 0.6, 0.3 };
+        double s = sin(alphas[a] * LG_PI / 180), rho[3] = { 0.9, 0.6, 0.3 };
         for (int c = 0; c < 3; c++) {
             double got = radiance(&x, 0, c, L), want = rho[c] * s * s;
             if (c == 0)
@@ -823,7 +823,7 @@ static void write_probe(lg_test *t, bool smooth)
             /* lat-long convention of probe.h: phi = 2 pi (u - 1/2), theta = pi v,
              * d = (sin th sin phi, cos th, -sin th cos phi) */
             double u = (i + 0.5) / W, v = (j + 0.5) / H;
-            double ph = 2 * PI * (u - 0.5), th = PI * v;
+            double ph = 2 * LG_PI * (u - 0.5), th = LG_PI * v;
             double d[3] = { sin(th) * sin(ph), cos(th), -sin(th) * cos(ph) };
             double L = smooth ? env_L(d) : 1.0;
             float *p = img.pixels + 4 * ((size_t)j * W + i);
@@ -865,10 +865,10 @@ static void case_reference(lg_test *t)
                       img.height);
         for (uint32_t j = 0, v = 0; j <= rows; j++)
             for (uint32_t i = 0; i <= cols; i++, v++) {
-                double th = PI * j / rows, ph = 2 * PI * i / cols;
+                double th = LG_PI * j / rows, ph = 2 * LG_PI * i / cols;
                 double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
                 for (int c = 0; c < 3; c++)
-                    worst = fmax(worst, fabs(img.pixels[4 * v + c] - rho[c] / PI * env_E(N)));
+                    worst = fmax(worst, fabs(img.pixels[4 * v + c] - rho[c] / LG_PI * env_E(N)));
                 LG_TEST_CHECK(t, img.pixels[4 * v + 3] == 1.0f, "vertex %u: alpha %g", v,
                               (double)img.pixels[4 * v + 3]);
             }
@@ -1142,9 +1142,9 @@ static void case_chain(lg_test *t)
         double worst = 0;
         for (uint32_t j = 0; j <= rows; j++)
             for (uint32_t i = 0; i <= seg; i++) {
-                double th = PI * j / rows, ph = 2 * PI * i / seg;
+                double th = LG_PI * j / rows, ph = 2 * LG_PI * i / seg;
                 double N[3] = { sin(th) * cos(ph), cos(th), -sin(th) * sin(ph) };
-                double want = 0.8 / PI * env_E(N);
+                double want = 0.8 / LG_PI * env_E(N);
                 worst = fmax(worst, fabs(vertex_value(&img, j * (seg + 1) + i, 0) - want));
             }
         fprintf(stderr, "chain %s: unshadowed sphere, worst |radiance - (rho/pi) E| %.2e\n",

@@ -47,154 +47,63 @@
 #include "common/testscene.h"
 
 enum { TP_CONE = 0, TP_BOX, TP_QUAD, TP_PLANE, TP_SPHERE };
-#define TP_MAX 5
 
-typedef struct tp_scene {
-    lg_scene s;
-    lg_mesh meshes[TP_MAX];
-    float *pos[TP_MAX], *nrm[TP_MAX];
-    uint32_t *idx[TP_MAX];
-    lg_instance instances[TP_MAX];
-    lg_material material;
-    lg_camera camera;
-} tp_scene;
-
-static void tp_free(void *p)
+/* The next mesh and its one instance, placed by `model`. */
+static void tp_mesh(lg_ts_builder *b, const float model[16])
 {
-    tp_scene *t = p;
-    if (!t)
-        return;
-    for (int i = 0; i < TP_MAX; i++) {
-        free(t->pos[i]);
-        free(t->nrm[i]);
-        free(t->idx[i]);
-    }
-    free(t);
+    lg_ts_instance(b, lg_ts_mesh(b, "test mesh", 0), model);
 }
 
-static bool tp_alloc(tp_scene *t, int k, uint32_t nv, uint32_t ni)
+/* The cone of the `cone` layout, as the next mesh: apex + one ring at height 1. */
+static void tp_cone(lg_ts_builder *b, const float model[16], double alpha, uint32_t seg)
 {
-    t->pos[k] = malloc((size_t)nv * 12);
-    t->nrm[k] = malloc((size_t)nv * 12);
-    t->idx[k] = malloc((size_t)ni * 4);
-    t->meshes[k].n_vertices = nv;
-    t->meshes[k].n_indices = ni;
-    return t->pos[k] && t->nrm[k] && t->idx[k];
-}
-
-static void tp_set(float *a, size_t v, double x, double y, double z)
-{
-    a[3 * v] = (float)x, a[3 * v + 1] = (float)y, a[3 * v + 2] = (float)z;
-}
-
-/* A g x g grid in mesh slot k: point(s, t) = o + s U + t V for s, t in [0, 1], normal nn;
- * triangles counter-clockwise seen from the side U x V points to (flip: the other side). */
-static bool tp_grid(tp_scene *t, int k, uint32_t g, const double o[3], const double U[3],
-                    const double V[3], const double nn[3], bool flip)
-{
-    uint32_t nv = (g + 1) * (g + 1);
-    if (!tp_alloc(t, k, nv, g * g * 6))
-        return false;
-    for (uint32_t j = 0, v = 0; j <= g; j++)
-        for (uint32_t i = 0; i <= g; i++, v++) {
-            double s = (double)i / g, r = (double)j / g;
-            tp_set(t->pos[k], v, o[0] + s * U[0] + r * V[0], o[1] + s * U[1] + r * V[1],
-                   o[2] + s * U[2] + r * V[2]);
-            tp_set(t->nrm[k], v, nn[0], nn[1], nn[2]);
-        }
-    uint32_t q = 0;
-    for (uint32_t j = 0; j < g; j++)
-        for (uint32_t i = 0; i < g; i++) {
-            uint32_t a = j * (g + 1) + i, b = a + 1, c = a + g + 2, d = a + g + 1;
-            uint32_t tri[6] = { a, b, c, a, c, d };
-            if (flip) {
-                tri[1] = c, tri[2] = b, tri[4] = d, tri[5] = c;
-            }
-            memcpy(t->idx[k] + q, tri, sizeof tri);
-            q += 6;
-        }
-    return true;
-}
-
-static bool tp_cone(tp_scene *t, double alpha, uint32_t seg)
-{
-    /* apex + one ring at height 1 */
-    if (!tp_alloc(t, 0, seg + 1, seg * 3))
-        return false;
-    tp_set(t->pos[0], 0, 0, 0, 0);
-    tp_set(t->nrm[0], 0, 0, 1, 0);
-    double r = tan(alpha), pi = 3.14159265358979323846;
+    tp_mesh(b, model);
+    const double apex[3] = { 0, 0, 0 }, up[3] = { 0, 1, 0 };
+    lg_ts_vertex_d(b, apex, up);
+    double r = tan(alpha);
     for (uint32_t i = 0; i < seg; i++) {
-        double ph = 2 * pi * i / seg, c = cos(ph), s = sin(ph);
-        tp_set(t->pos[0], i + 1, r * c, 1, r * s);
+        double ph = 2 * LG_PI * i / seg, c = cos(ph), s = sin(ph);
         /* the wall's normal, toward the axis: (-cos a c, sin a, -cos a s) */
-        tp_set(t->nrm[0], i + 1, -cos(alpha) * c, sin(alpha), -cos(alpha) * s);
+        const double p[3] = { r * c, 1, r * s };
+        const double nn[3] = { -cos(alpha) * c, sin(alpha), -cos(alpha) * s };
+        lg_ts_vertex_d(b, p, nn);
     }
-    for (uint32_t i = 0; i < seg; i++) {
-        /* seen from the axis (inside), apex, ring i + 1, ring i is counter-clockwise */
-        uint32_t tri[3] = { 0, 1 + (i + 1) % seg, 1 + i };
-        memcpy(t->idx[0] + 3 * i, tri, sizeof tri);
-    }
-    return true;
+    /* seen from the axis (inside), apex, ring i + 1, ring i is counter-clockwise */
+    for (uint32_t i = 0; i < seg; i++)
+        lg_ts_triangle(b, 0, 1 + (i + 1) % seg, 1 + i);
 }
 
-static bool tp_sphere(tp_scene *t, uint32_t seg)
+/* A g x g grid as the next mesh (lg_ts_grid_span). */
+static void tp_grid(lg_ts_builder *b, const float model[16], uint32_t g, const double o[3],
+                    const double U[3], const double V[3], const double nn[3], bool flip)
 {
-    uint32_t rows = seg / 2 < 2 ? 2 : seg / 2, cols = seg;
-    if (!tp_alloc(t, 0, (cols + 1) * (rows + 1), cols * rows * 6))
-        return false;
-    const double pi = 3.14159265358979323846;
-    for (uint32_t j = 0, v = 0; j <= rows; j++)
-        for (uint32_t i = 0; i <= cols; i++, v++) {
-            double th = pi * j / rows, ph = 2 * pi * i / cols;
-            double x = sin(th) * cos(ph), y = cos(th), z = -sin(th) * sin(ph);
-            tp_set(t->nrm[0], v, x, y, z);
-            tp_set(t->pos[0], v, x, y, z);
-        }
-    uint32_t q = 0;
-    for (uint32_t j = 0; j < rows; j++)
-        for (uint32_t i = 0; i < cols; i++) {
-            uint32_t a = j * (cols + 1) + i, b = a + 1, d = a + cols + 1, e = d + 1;
-            uint32_t tri[6] = { a, d, e, a, e, b };
-            memcpy(t->idx[0] + q, tri, sizeof tri);
-            q += 6;
-        }
-    return true;
+    tp_mesh(b, model);
+    lg_ts_grid_span(b, g, o, U, V, nn, flip);
 }
 
 static int tp_prepare(lg_node *n)
 {
-    tp_scene *t = calloc(1, sizeof *t);
-    if (!t)
+    lg_ts_builder *b = lg_ts_begin("test_prt_scene");
+    if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     int layout = lg_param_enum(n, "layout");
     uint32_t grid = (uint32_t)lg_param_int(n, "grid"), seg = (uint32_t)lg_param_int(n, "segments");
-    t->s.struct_size = sizeof t->s;
-    t->s.source = "test_prt_scene";
-    t->s.meshes = t->meshes;
-    t->s.instances = t->instances;
-    t->s.materials = &t->material;
-    t->s.n_materials = 1;
-    t->s.cameras = &t->camera;
-    t->s.n_cameras = 1;
     const lg_value *bc = lg_param(n, "base_color");
-    t->material.name = "test";
-    t->material.kd = 1.0f;
+    lg_material *m = lg_ts_material(b, "test");
+    m->kd = 1.0f;
     for (int c = 0; c < 3; c++)
-        t->material.base_color[c] = t->material.od[c] = (float)bc->v[c];
-    t->material.base_color[3] = 1.0f;
-    lg_camera *c = &t->camera;
-    c->name = "test";
-    c->position[2] = 5;
-    c->up[1] = 1;
-    c->yfov = 0.8f;
-    c->znear = 0.1f;
-    c->zfar = 50.0f;
+        m->base_color[c] = m->od[c] = (float)bc->v[c];
+    m->base_color[3] = 1.0f;
+    lg_ts_camera(b, "test", lg_v3(0, 0, 5), lg_v3(0, 0, 0), lg_v3(0, 1, 0), 0.8f, 0.1f, 50.0f);
+    /* every mesh's one instance: a translation by `translate` */
+    const lg_value *tr = lg_param(n, "translate");
+    float model[16];
+    lg_m4_identity(model);
+    for (int k = 0; k < 3; k++)
+        model[12 + k] = (float)tr->v[k];
 
-    bool ok = true;
     if (layout == TP_CONE) {
-        t->s.n_meshes = 1;
-        ok = tp_cone(t, lg_param_float(n, "alpha_deg") * 3.14159265358979323846 / 180.0, seg);
+        tp_cone(b, model, lg_param_float(n, "alpha_deg") * LG_PI / 180.0, seg);
     } else if (layout == TP_BOX) {
         /* o, U, V, inward normal; U x V must point inward (else flip) */
         static const double w[5][4][3] = {
@@ -204,46 +113,24 @@ static int tp_prepare(lg_node *n)
             { { -1, -1, -1 }, { 2, 0, 0 }, { 0, 2, 0 }, { 0, 0, 1 } },  /* z = -1: x x y = +z */
             { { -1, -1, 1 }, { 0, 2, 0 }, { 2, 0, 0 }, { 0, 0, -1 } },  /* z = 1: y x x = -z */
         };
-        t->s.n_meshes = 5;
-        for (int k = 0; k < 5 && ok; k++)
-            ok = tp_grid(t, k, grid, w[k][0], w[k][1], w[k][2], w[k][3], false);
+        for (int k = 0; k < 5; k++)
+            tp_grid(b, model, grid, w[k][0], w[k][1], w[k][2], w[k][3], false);
     } else if (layout == TP_QUAD || layout == TP_PLANE) {
         static const double o[3] = { -2, 0, 2 }, U[3] = { 4, 0, 0 }, V[3] = { 0, 0, -4 },
                             up[3] = { 0, 1, 0 };
-        t->s.n_meshes = 1;
-        ok = tp_grid(t, 0, grid, o, U, V, up, false); /* x x -z = +y */
-        if (ok && layout == TP_QUAD) {
+        tp_grid(b, model, grid, o, U, V, up, false); /* x x -z = +y */
+        if (layout == TP_QUAD) {
             double a = lg_param_float(n, "quad_size");
             bool flip = lg_param_bool(n, "quad_flip");
             double qo[3] = { -a, 1, a }, qU[3] = { 2 * a, 0, 0 }, qV[3] = { 0, 0, -2 * a };
             double qn[3] = { 0, flip ? -1 : 1, 0 };
-            t->s.n_meshes = 2;
-            ok = tp_grid(t, 1, 1, qo, qU, qV, qn, flip);
+            tp_grid(b, model, 1, qo, qU, qV, qn, flip);
         }
     } else {
-        t->s.n_meshes = 1;
-        ok = tp_sphere(t, seg);
+        tp_mesh(b, model);
+        lg_ts_uv_sphere(b, NULL, 1.0f, seg, seg / 2 < 2 ? 2 : seg / 2);
     }
-    if (!ok) {
-        tp_free(t);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    }
-    const lg_value *tr = lg_param(n, "translate");
-    for (uint32_t i = 0; i < t->s.n_meshes; i++) {
-        t->meshes[i].name = "test mesh";
-        t->meshes[i].positions = t->pos[i];
-        t->meshes[i].normals = t->nrm[i];
-        t->meshes[i].indices = t->idx[i];
-        lg_instance *in = &t->instances[t->s.n_instances++];
-        in->mesh = i;
-        lg_m4_identity(in->model);
-        for (int k = 0; k < 3; k++)
-            in->model[12 + k] = (float)tr->v[k];
-        lg_m4_normal_matrix(in->normal_matrix, in->model);
-    }
-    lg_test_scene_bounds(&t->s, t->meshes);
-    lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tp_free);
+    return lg_ts_publish(n, 0, b);
 }
 
 static int tp_execute(lg_node *n, const lg_frame *frame)

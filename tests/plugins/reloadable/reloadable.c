@@ -37,7 +37,7 @@ static int rl_create(lg_node *n)
 static int rl_prepare(lg_node *n)
 {
     lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
-    n->host->render_size(n, &d.width, &d.height);
+    lg_render_size(n, &d.width, &d.height);
     int rc = lg_declare_image(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }

@@ -43,8 +43,6 @@
 #include "gltf_test.h"
 #include "lightgraph/vecmath.h"
 
-#define PI 3.14159265358979323846
-
 static char err[2048];
 
 static bool near(double a, double b, double tol)
@@ -234,7 +232,7 @@ static void case_assets(void)
         CHECKF(near(s->bounds_min[0], -3.3, 1e-5) && near(s->bounds_min[1], 0, 1e-5) && near(s->bounds_max[1], 2, 1e-5),
                "bounds %g %g %g .. %g %g %g", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2], s->bounds_max[0],
                s->bounds_max[1], s->bounds_max[2]);
-        CHECKF(s->n_cameras >= 1 && near(s->cameras[0].position[2], 9.5, 1e-5) && near(s->cameras[0].yfov, PI / 6, 1e-6) &&
+        CHECKF(s->n_cameras >= 1 && near(s->cameras[0].position[2], 9.5, 1e-5) && near(s->cameras[0].yfov, LG_PI / 6, 1e-6) &&
                    near(s->cameras[0].target[1] - s->cameras[0].position[1], -0.35 / 9.5 * (s->cameras[0].position[2] - s->cameras[0].target[2]), 1e-4),
                "%u cameras, position z %g, yfov %g, target %g %g %g", s->n_cameras,
                s->n_cameras ? s->cameras[0].position[2] : 0, s->n_cameras ? s->cameras[0].yfov : 0,
@@ -484,7 +482,7 @@ static void case_normals_sphere(void)
         for (int s = 0; s <= S; s++) {
             /* the seam column and the pole rows repeat their positions exactly, as
              * exporters write them (welding compares positions bit for bit) */
-            double th = PI * r / R, ph = 2 * PI * (s % S) / S;
+            double th = LG_PI * r / R, ph = 2 * LG_PI * (s % S) / S;
             double st = r == 0 || r == R ? 0 : sin(th), ct = r == R ? -1 : cos(th);
             pos[3 * nv] = (float)(st * cos(ph));
             pos[3 * nv + 1] = (float)ct;
@@ -533,7 +531,7 @@ static void case_normals_sphere(void)
         /* smooth: within 1 degree of the radius (area x angle weights give 0.64 degrees
          * at worst here, next to the pole; area weights alone would give 1.9); flat:
          * within a facet's angular size */
-        CHECKF(worst > (mode ? cos(12 * PI / 180) : cos(1 * PI / 180)), "mode %d: worst cosine %.6f", mode, worst);
+        CHECKF(worst > (mode ? cos(12 * LG_PI / 180) : cos(1 * LG_PI / 180)), "mode %d: worst cosine %.6f", mode, worst);
         /* smooth: the seam and the poles are welded for the normals but keep their
          * texture coordinates: one vertex per source vertex used */
         if (!mode)
@@ -817,8 +815,8 @@ static void case_cameras(void)
     if (s) {
         const lg_camera *c = &s->cameras[s->camera];
         CHECK(s->n_cameras == 1 && !strcmp(c->name, "auto") && c->aspect == 0);
-        double d = 1.05 * 1.0 / tan(PI / 8);
-        CHECKF(near(c->position[2], d, 1e-4) && near(c->target[2], 0, 1e-6) && near(c->yfov, PI / 4, 1e-6),
+        double d = 1.05 * 1.0 / tan(LG_PI / 8);
+        CHECKF(near(c->position[2], d, 1e-4) && near(c->target[2], 0, 1e-6) && near(c->yfov, LG_PI / 4, 1e-6),
                "auto camera at z %g", c->position[2]);
         lg_gltf_scene_free(s);
     }

@@ -45,7 +45,7 @@
 #define ST_TESTCUBE_DIR ""
 #endif
 
-#define DEG (3.14159265358979323846 / 180.0)
+#define DEG (LG_PI / 180.0)
 
 static void use_test_plugins(lg_test *t)
 {

@@ -33,124 +33,47 @@
 #include "lightgraph/cl.h"
 #include "lightgraph/lightgraph.h"
 
+#include "common/testscene.h"
+
 /* ---- test_cube -------------------------------------------------------------------------- */
-
-typedef struct cube_payload {
-    lg_scene scene;
-    lg_mesh mesh;
-    lg_material material;
-    lg_camera camera;
-    lg_instance *instances;
-    float positions[24 * 3], normals[24 * 3];
-    uint32_t indices[36];
-} cube_payload;
-
-static void cube_free(void *p)
-{
-    cube_payload *c = p;
-    if (c)
-        free(c->instances);
-    free(c);
-}
-
-/* One face per axis and sign: 4 vertices with the face's normal, 2 triangles wound
- * counter-clockwise seen from outside. */
-static void cube_geometry(cube_payload *c, lg_vec3 h)
-{
-    static const int axes[6][3] = { { 0, 1, 2 }, { 0, 1, 2 }, { 1, 2, 0 },
-                                    { 1, 2, 0 }, { 2, 0, 1 }, { 2, 0, 1 } };
-    float hv[3] = { h.x, h.y, h.z };
-    for (int f = 0; f < 6; f++) {
-        int a = axes[f][0], b = axes[f][1], cc = axes[f][2];
-        float s = f % 2 ? -1.0f : 1.0f;
-        static const float uv[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
-        for (int v = 0; v < 4; v++) {
-            float *p = &c->positions[(f * 4 + v) * 3], *nn = &c->normals[(f * 4 + v) * 3];
-            p[a] = s * hv[a];
-            /* flip one tangent on the negative face so the winding stays outward */
-            p[b] = s * uv[v][0] * hv[b];
-            p[cc] = uv[v][1] * hv[cc];
-            nn[a] = s;
-            nn[b] = nn[cc] = 0;
-        }
-        uint32_t base = (uint32_t)f * 4;
-        uint32_t *ix = &c->indices[f * 6];
-        ix[0] = base; ix[1] = base + 1; ix[2] = base + 2;
-        ix[3] = base; ix[4] = base + 2; ix[5] = base + 3;
-    }
-}
 
 static int cube_prepare(lg_node *n)
 {
     const lg_value *hv = lg_param(n, "half_size"), *cv = lg_param(n, "center");
     int64_t count = lg_param_int(n, "instances");
-    cube_payload *c = calloc(1, sizeof *c);
-    if (!c)
+    lg_ts_builder *b = lg_ts_begin("test_cube");
+    if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     lg_vec3 h = lg_v3((float)hv->v[0], (float)hv->v[1], (float)hv->v[2]);
     lg_vec3 ctr = lg_v3((float)cv->v[0], (float)cv->v[1], (float)cv->v[2]);
-    cube_geometry(c, h);
-    c->mesh.name = "cube#0";
-    c->mesh.n_vertices = 24;
-    c->mesh.n_indices = 36;
-    c->mesh.positions = c->positions;
-    c->mesh.normals = c->normals;
-    c->mesh.indices = c->indices;
-    c->mesh.bounds_min[0] = -h.x; c->mesh.bounds_min[1] = -h.y; c->mesh.bounds_min[2] = -h.z;
-    c->mesh.bounds_max[0] = h.x; c->mesh.bounds_max[1] = h.y; c->mesh.bounds_max[2] = h.z;
+    lg_ts_mesh(b, "cube#0", 0);
+    lg_ts_box(b, h);
 
-    c->material.name = "grey";
-    c->material.ka = 0.1f;
-    c->material.kd = 0.8f;
-    c->material.ks = lg_param_bool(n, "specular") ? 0.5f : 0.0f;
-    c->material.shininess = 32;
+    lg_material *m = lg_ts_material(b, "grey");
+    m->ka = 0.1f;
+    m->kd = 0.8f;
+    m->ks = lg_param_bool(n, "specular") ? 0.5f : 0.0f;
+    m->shininess = 32;
     for (int i = 0; i < 3; i++)
-        c->material.od[i] = c->material.os[i] = c->material.base_color[i] = 0.8f;
+        m->od[i] = m->os[i] = m->base_color[i] = 0.8f;
     for (int i = 0; i < 3; i++)
-        c->material.reflectivity[i] = (float)lg_param_float(n, "reflectivity");
-    c->material.base_color[3] = 1;
-    c->material.roughness = 1;
+        m->reflectivity[i] = (float)lg_param_float(n, "reflectivity");
+    m->base_color[3] = 1;
+    m->roughness = 1;
 
-    c->camera.name = "default";
-    c->camera.position[0] = ctr.x; c->camera.position[1] = ctr.y; c->camera.position[2] = ctr.z + 5;
-    c->camera.target[0] = ctr.x; c->camera.target[1] = ctr.y; c->camera.target[2] = ctr.z;
-    c->camera.up[1] = 1;
-    c->camera.yfov = 0.8f;
-    c->camera.znear = 0.1f;
+    if (lg_param_bool(n, "camera"))
+        lg_ts_camera(b, "default", lg_v3(ctr.x, ctr.y, ctr.z + 5), ctr, lg_v3(0, 1, 0), 0.8f,
+                     0.1f, 0.0f);
 
-    for (int i = 0; i < 3; i++) {
-        c->scene.bounds_min[i] = INFINITY;
-        c->scene.bounds_max[i] = -INFINITY;
-    }
-    c->instances = calloc(count ? (size_t)count : 1, sizeof *c->instances);
-    if (!c->instances) {
-        cube_free(c);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    }
     for (int64_t i = 0; i < count; i++) {
-        lg_instance *in = &c->instances[i];
-        lg_vec3 t = lg_v3(ctr.x + 3.0f * h.x * (float)i, ctr.y, ctr.z);
-        lg_m4_identity(in->model);
-        in->model[12] = t.x; in->model[13] = t.y; in->model[14] = t.z;
-        lg_m4_normal_matrix(in->normal_matrix, in->model);
-        float lo[3] = { t.x - h.x, t.y - h.y, t.z - h.z }, hi[3] = { t.x + h.x, t.y + h.y, t.z + h.z };
-        for (int k = 0; k < 3; k++) {
-            c->scene.bounds_min[k] = lo[k] < c->scene.bounds_min[k] ? lo[k] : c->scene.bounds_min[k];
-            c->scene.bounds_max[k] = hi[k] > c->scene.bounds_max[k] ? hi[k] : c->scene.bounds_max[k];
-        }
+        float model[16];
+        lg_m4_identity(model);
+        model[12] = ctr.x + 3.0f * h.x * (float)i;
+        model[13] = ctr.y;
+        model[14] = ctr.z;
+        lg_ts_instance(b, 0, model);
     }
-    c->scene.struct_size = sizeof c->scene;
-    c->scene.source = "test_cube";
-    c->scene.meshes = &c->mesh;
-    c->scene.n_meshes = 1;
-    c->scene.instances = c->instances;
-    c->scene.n_instances = (uint32_t)count;
-    c->scene.materials = &c->material;
-    c->scene.n_materials = 1;
-    c->scene.cameras = &c->camera;
-    c->scene.n_cameras = lg_param_bool(n, "camera") ? 1 : 0;
-    lg_scene_compute_features(&c->scene);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &c->scene.features, c, cube_free);
+    return lg_ts_publish(n, 0, b);
 }
 
 static int cube_execute(lg_node *n, const lg_frame *frame)

@@ -39,7 +39,6 @@
 #include "lightgraph/test.h"
 #include "lightgraph/vecmath.h"
 
-#define PI 3.14159265358979323846
 #define MAXC (3 * 64 * 64)
 
 /* ---- probes ---------------------------------------------------------------------------- */
@@ -178,11 +177,11 @@ static void case_constant(lg_test *t)
             continue;
         double worst = 0;
         for (uint32_t i = 1; i < k.nc; i++)
-            worst = fmax(worst, fabs(k.c[i]) / (2.0 * sqrt(PI) * c[0]));
+            worst = fmax(worst, fabs(k.c[i]) / (2.0 * sqrt(LG_PI) * c[0]));
         printf("%-38s %-46s c_0 %.9g, largest other / c_0 %.2e\n", runs[r].probe, runs[r].sh,
                k.c[0], worst);
         for (int ch = 0; ch < 3; ch++) {
-            double want = 2.0 * sqrt(PI) * c[ch], got = k.c[ch * k.nc];
+            double want = 2.0 * sqrt(LG_PI) * c[ch], got = k.c[ch * k.nc];
             LG_TEST_CHECK(t, fabs(got - want) <= 2e-6 * want,
                           "%s / %s: c_0 channel %d = %.9g, want %.9g", runs[r].probe,
                           runs[r].sh, ch, got, want);
@@ -218,7 +217,7 @@ static void case_sign(lg_test *t)
             continue;
         int ax = a % 4;
         /* the cap's band-1 coefficient along its axis: 0.488603 * 2 pi (1 - 0.8^2) / 2 */
-        double along = sgn[ax] * k.c[idx[ax]], want = 0.488603 * PI * (1 - 0.64);
+        double along = sgn[ax] * k.c[idx[ax]], want = 0.488603 * LG_PI * (1 - 0.64);
         LG_TEST_CHECK(t, fabs(along - want) < 0.05 * want,
                       "%s cap around axis %d: Y_1 coefficient %d = %g, want %g",
                       cube ? "cube" : "lat-long", ax, idx[ax], k.c[idx[ax]], sgn[ax] * want);
@@ -256,7 +255,7 @@ static void case_orthonormal(lg_test *t)
             continue;
         for (int ch = 0; ch < 3; ch++)
             for (int i = 0; i < 16; i++) {
-                double want = (i == 0 ? 2.0 * sqrt(PI) : 0.0) + (i == p.idx[ch] ? 1.0 : 0.0);
+                double want = (i == 0 ? 2.0 * sqrt(LG_PI) : 0.0) + (i == p.idx[ch] ? 1.0 : 0.0);
                 double e = fabs(k.c[ch * 16 + i] - want);
                 if (e > worst)
                     worst = e;
@@ -294,9 +293,9 @@ static void case_sky(lg_test *t)
             for (int m = -l; m <= l; m++)
                 e += lg_sh_clamped_cosine((uint32_t)l) * k.c[lg_sh_index(l, m)] *
                      y[lg_sh_index(l, m)];
-        double want = PI / 2 * (1 + nrm[1]);
+        double want = LG_PI / 2 * (1 + nrm[1]);
         worst = fmax(worst, fabs(e - want));
-        LG_TEST_CHECK(t, fabs(e - want) < 2e-3 * PI,
+        LG_TEST_CHECK(t, fabs(e - want) < 2e-3 * LG_PI,
                       "upper-hemisphere sky, normal (%.3f, %.3f, %.3f): E = %.6f, want %.6f",
                       nrm[0], nrm[1], nrm[2], e, want);
     }
@@ -351,7 +350,7 @@ static void case_many(lg_test *t)
     if (!project(t, "file = \"one.exr\"", "bands = 1, sampler = hammersley, samples = 10000",
                  &k))
         return;
-    double want = 2.0 * sqrt(PI) * (double)c[0];
+    double want = 2.0 * sqrt(LG_PI) * (double)c[0];
     for (int ch = 0; ch < 3; ch++)
         LG_TEST_CHECK(t, fabs(k.c[ch] - want) <= 1e-6 * want,
                       "10^8 samples: c_0 channel %d = %.9g, want %.9g (relative %.2e)", ch,

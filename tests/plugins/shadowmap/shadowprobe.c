@@ -79,81 +79,46 @@ static float sp_shadow(const lg_shadowmap *sm, const lg_shadow_light *l, lg_vec3
 
 /* ---- test_shadow_scene ------------------------------------------------------------------- */
 
-/* Room for the sphere: (rings + 1) (2 rings + 1) vertices, 12 rings^2 indices. */
+/* The most rings the sphere may have (the parameter's range). */
 #define SS_MAX_RINGS 24
-#define SS_MAX_V ((SS_MAX_RINGS + 1) * (2 * SS_MAX_RINGS + 1))
-#define SS_MAX_I (12 * SS_MAX_RINGS * SS_MAX_RINGS)
 
-typedef struct ss_scene {
-    lg_scene s;
-    lg_mesh meshes[2];
-    float pos[2][SS_MAX_V * 3], nrm[2][SS_MAX_V * 3];
-    uint32_t idx[2][SS_MAX_I];
-    lg_instance instances[2];
-    lg_material materials[2];
-    lg_camera camera;
-    lg_light light;
-} ss_scene;
-
-static void ss_free(void *p)
+/* Vertex (r, k) of the sphere below. */
+static lg_vec3 ss_sphere_point(int r, int k, int rings)
 {
-    free(p);
+    double th = LG_PI * r / rings, az = 2 * LG_PI * k / (2 * rings);
+    return lg_v3((float)(sin(th) * cos(az)), (float)cos(th), (float)(sin(th) * sin(az)));
 }
 
-/* Appends a quad c +- u +- v whose front (counter-clockwise) side faces u x v. */
-static void ss_quad(ss_scene *t, uint32_t mi, lg_vec3 c, lg_vec3 u, lg_vec3 v)
-{
-    lg_mesh *m = &t->meshes[mi];
-    lg_vec3 nrm = lg_v3_normalize_or(lg_v3_cross(u, v), lg_v3(0, 0, 1));
-    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
-    uint32_t base = m->n_vertices;
-    for (int k = 0; k < 4; k++) {
-        lg_vec3 p = lg_v3_add(c, lg_v3_add(lg_v3_scale(u, su[k]), lg_v3_scale(v, sv[k])));
-        float *pp = t->pos[mi] + (base + k) * 3, *nn = t->nrm[mi] + (base + k) * 3;
-        pp[0] = p.x, pp[1] = p.y, pp[2] = p.z;
-        nn[0] = nrm.x, nn[1] = nrm.y, nn[2] = nrm.z;
-    }
-    static const uint32_t tri[6] = { 0, 1, 2, 0, 2, 3 };
-    for (int k = 0; k < 6; k++)
-        t->idx[mi][m->n_indices++] = base + tri[k];
-    m->n_vertices += 4;
-}
-
-/* A UV sphere of radius 1 at the origin in mesh `mi`: vertex (r, s) at polar angle
+/* A UV sphere of radius 1 at the origin in the current mesh: vertex (r, s) at polar angle
  * pi r / R from +Y and azimuth 2 pi s / S (S = 2 R), position (sin t cos a, cos t,
  * sin t sin a), normal the same; quad (r, s) is split into triangles (r, s) (r+1, s)
  * (r+1, s+1) and (r, s) (r+1, s+1) (r, s+1), each wound counter-clockwise seen from
- * outside. The tests rebuild the same triangles to put points on the surface. */
-static void ss_sphere(ss_scene *t, uint32_t mi, int rings)
+ * outside. The tests rebuild the same triangles to put points on the surface. (Not
+ * lg_ts_uv_sphere: its azimuth turns the other way, and these tests' numbers are made
+ * for this one.) */
+static void ss_sphere(lg_ts_builder *b, int rings)
 {
-    lg_mesh *m = &t->meshes[mi];
     int segs = 2 * rings;
-    const double pi = 3.14159265358979323846;
     for (int r = 0; r <= rings; r++)
         for (int k = 0; k <= segs; k++) {
-            double th = pi * r / rings, az = 2 * pi * k / segs;
-            float *p = t->pos[mi] + (size_t)m->n_vertices * 3;
-            float *nn = t->nrm[mi] + (size_t)m->n_vertices * 3;
-            p[0] = nn[0] = (float)(sin(th) * cos(az));
-            p[1] = nn[1] = (float)cos(th);
-            p[2] = nn[2] = (float)(sin(th) * sin(az));
-            m->n_vertices++;
+            lg_vec3 p = ss_sphere_point(r, k, rings);
+            lg_ts_vertex(b, p, p);
         }
     for (int r = 0; r < rings; r++)
         for (int k = 0; k < segs; k++) {
-            uint32_t a = (uint32_t)(r * (segs + 1) + k), b = a + (uint32_t)(segs + 1);
-            uint32_t tri[2][3] = { { a, b, b + 1 }, { a, b + 1, a + 1 } };
+            uint32_t a = (uint32_t)(r * (segs + 1) + k), b1 = a + (uint32_t)(segs + 1);
+            uint32_t tri[2][3] = { { a, b1, b1 + 1 }, { a, b1 + 1, a + 1 } };
             for (int i = 0; i < 2; i++) {
-                const float *p0 = t->pos[mi] + tri[i][0] * 3, *p1 = t->pos[mi] + tri[i][1] * 3,
-                            *p2 = t->pos[mi] + tri[i][2] * 3;
-                lg_vec3 e1 = lg_v3(p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]);
-                lg_vec3 e2 = lg_v3(p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]);
-                lg_vec3 c = lg_v3(p0[0] + p1[0] + p2[0], p0[1] + p1[1] + p2[1],
-                                  p0[2] + p1[2] + p2[2]);
+                lg_vec3 p[3];
+                for (int v = 0; v < 3; v++)
+                    p[v] = ss_sphere_point((int)tri[i][v] / (segs + 1),
+                                           (int)tri[i][v] % (segs + 1), rings);
+                lg_vec3 e1 = lg_v3(p[1].x - p[0].x, p[1].y - p[0].y, p[1].z - p[0].z);
+                lg_vec3 e2 = lg_v3(p[2].x - p[0].x, p[2].y - p[0].y, p[2].z - p[0].z);
+                lg_vec3 c = lg_v3(p[0].x + p[1].x + p[2].x, p[0].y + p[1].y + p[2].y,
+                                  p[0].z + p[1].z + p[2].z);
                 bool flip = lg_v3_dot(lg_v3_cross(e1, e2), c) < 0.0f;
-                t->idx[mi][m->n_indices++] = tri[i][0];
-                t->idx[mi][m->n_indices++] = tri[i][flip ? 2 : 1];
-                t->idx[mi][m->n_indices++] = tri[i][flip ? 1 : 2];
+                lg_ts_triangle(b, tri[i][0], tri[i][flip ? 2 : 1], tri[i][flip ? 1 : 2]);
             }
         }
 }
@@ -166,93 +131,57 @@ static lg_vec3 ss_vec(lg_node *n, const char *key)
 
 static int ss_prepare(lg_node *n)
 {
-    ss_scene *t = calloc(1, sizeof *t);
-    if (!t)
+    lg_ts_builder *b = lg_ts_begin("test_shadow_scene");
+    if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    t->s.struct_size = sizeof t->s;
-    t->s.source = "test_shadow_scene";
-    t->s.meshes = t->meshes;
-    t->s.instances = t->instances;
-    t->s.materials = t->materials;
-    t->s.n_materials = 2;
-    t->s.cameras = &t->camera;
-    t->s.n_cameras = 1;
     static const char *const mat_names[2] = { "floor", "box" };
-    static const char *const mesh_names[2] = { "floor#0", "box#0" };
+    static const char *const ds_params[2] = { "floor_double_sided", "box_double_sided" };
     for (int i = 0; i < 2; i++) {
-        lg_material *m = &t->materials[i];
-        m->name = mat_names[i];
+        lg_material *m = lg_ts_material(b, mat_names[i]);
         m->kd = 1.0f;
         for (int k = 0; k < 3; k++)
             m->base_color[k] = m->od[k] = 0.8f;
         m->base_color[3] = 1.0f;
         m->roughness = 1.0f;
-        t->meshes[i].name = mesh_names[i];
-        t->meshes[i].material = (uint32_t)i;
-        t->meshes[i].positions = t->pos[i];
-        t->meshes[i].normals = t->nrm[i];
-        t->meshes[i].indices = t->idx[i];
+        m->double_sided = lg_param_bool(n, ds_params[i]);
     }
-    t->materials[0].double_sided = lg_param_bool(n, "floor_double_sided");
-    t->materials[1].double_sided = lg_param_bool(n, "box_double_sided");
 
     /* mesh 0: the floor, facing +Y; mesh 1: the unit cube, faces outwards */
     float half = (float)lg_param_float(n, "floor_size") * 0.5f;
-    float fy = (float)lg_param_float(n, "floor_y");
-    ss_quad(t, 0, lg_v3(0, fy, 0), lg_v3(0, 0, half), lg_v3(half, 0, 0));
+    lg_vec3 fc = lg_v3(0, (float)lg_param_float(n, "floor_y"), 0);
+    lg_ts_mesh(b, "floor#0", 0);
+    lg_ts_quad(b, &fc, lg_v3(0, 0, half), lg_v3(half, 0, 0), NULL);
     bool sphere = lg_param_enum(n, "shape") == 1;
-    static const float f[6][3][3] = {
-        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } },  { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
-        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } },  { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
-        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },   { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
-    };
+    lg_ts_mesh(b, "box#0", 1);
     if (sphere)
-        ss_sphere(t, 1, (int)lg_param_int(n, "sphere_rings"));
-    for (int i = 0; i < 6 && !sphere; i++)
-        ss_quad(t, 1, lg_v3_scale(lg_v3(f[i][0][0], f[i][0][1], f[i][0][2]), 0.5f),
-                lg_v3_scale(lg_v3(f[i][1][0], f[i][1][1], f[i][1][2]), 0.5f),
-                lg_v3_scale(lg_v3(f[i][2][0], f[i][2][1], f[i][2][2]), 0.5f));
-    t->s.n_meshes = 2;
+        ss_sphere(b, (int)lg_param_int(n, "sphere_rings"));
+    else
+        lg_ts_unit_cube(b, false);
 
-    lg_instance *in = &t->instances[t->s.n_instances++];
-    in->mesh = 0;
-    lg_m4_identity(in->model);
-    lg_m4_normal_matrix(in->normal_matrix, in->model);
+    lg_ts_instance(b, 0, NULL);
     if (lg_param_bool(n, "box")) {
         lg_vec3 c = ss_vec(n, "box_center"), sz = ss_vec(n, "box_size");
-        in = &t->instances[t->s.n_instances++];
-        in->mesh = 1;
-        lg_m4_identity(in->model);
+        float model[16];
+        lg_m4_identity(model);
         /* a mirroring instance: the cube's X flipped (its faces, seen from outside, are
          * then clockwise: a renderer must flip the front face to cull correctly); the
          * sphere (radius 1) is scaled by half the size, so it fits the same box */
         float k = sphere ? 0.5f : 1.0f;
-        in->model[0] = k * sz.x * (lg_param_bool(n, "box_mirror") ? -1.0f : 1.0f);
-        in->model[5] = k * sz.y;
-        in->model[10] = k * sz.z;
-        in->model[12] = c.x, in->model[13] = c.y, in->model[14] = c.z;
-        lg_m4_normal_matrix(in->normal_matrix, in->model);
+        model[0] = k * sz.x * (lg_param_bool(n, "box_mirror") ? -1.0f : 1.0f);
+        model[5] = k * sz.y;
+        model[10] = k * sz.z;
+        model[12] = c.x, model[13] = c.y, model[14] = c.z;
+        lg_ts_instance(b, 1, model);
     }
 
-    lg_vec3 cp = ss_vec(n, "camera_position"), ct = ss_vec(n, "camera_target");
-    t->camera.name = "test";
-    t->camera.position[0] = cp.x, t->camera.position[1] = cp.y, t->camera.position[2] = cp.z;
-    t->camera.target[0] = ct.x, t->camera.target[1] = ct.y, t->camera.target[2] = ct.z;
-    t->camera.up[1] = 1.0f;
-    t->camera.yfov = (float)(lg_param_float(n, "yfov") * 3.14159265358979323846 / 180.0);
-    t->camera.znear = 0.1f;
-    t->camera.zfar = 0.0f;
+    lg_ts_camera(b, "test", ss_vec(n, "camera_position"), ss_vec(n, "camera_target"),
+                 lg_v3(0, 1, 0),
+                 (float)(lg_param_float(n, "yfov") * LG_PI / 180.0), 0.1f,
+                 0.0f);
 
-    if (lg_param_bool(n, "bad_light")) {
-        t->light.name = "bad";
-        t->light.type = LG_LIGHT_DIRECTIONAL;
-        t->light.intensity = 1.0f;
-        t->s.lights = &t->light;
-        t->s.n_lights = 1; /* direction (0, 0, 0) */
-    }
-    lg_test_scene_bounds(&t->s, t->meshes);
-    lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, ss_free);
+    if (lg_param_bool(n, "bad_light")) /* direction (0, 0, 0) */
+        lg_ts_dir_light(b, "bad", lg_v3(0, 0, 0), lg_v3(0, 0, 0), 1.0f);
+    return lg_ts_publish(n, 0, b);
 }
 
 static int ss_execute(lg_node *n, const lg_frame *frame)

@@ -66,7 +66,7 @@
 #define SM_PROBE_DIR ""
 #endif
 
-#define DEG (3.14159265358979323846 / 180.0)
+#define DEG (LG_PI / 180.0)
 #define MAX_LIGHTS 40
 #define MAX_POINTS 1200
 
@@ -570,11 +570,10 @@ static int sphere_acne(lg_test *t, const char *scene, const char *shadow)
     for (int i = 0; i < 3; i++)
         add_light(s, dir_from(angles[i], 30.0 + 100.0 * i));
     const int R = 12, SG = 24;
-    const double pi = 3.14159265358979323846;
     lg_vec3 v[13 * 25];
     for (int r = 0; r <= R; r++)
         for (int k = 0; k <= SG; k++) {
-            double th = pi * r / R, az = 2 * pi * k / SG;
+            double th = LG_PI * r / R, az = 2 * LG_PI * k / SG;
             v[r * (SG + 1) + k] = lg_v3((float)(sin(th) * cos(az)), (float)cos(th),
                                         (float)(sin(th) * sin(az)));
         }

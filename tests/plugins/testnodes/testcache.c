@@ -30,7 +30,7 @@ static int execute(lg_node *n, const lg_frame *frame)
     double mean[4] = {0, 0, 0, 0};
     void *data = NULL;
     size_t size = 0;
-    if (n->host->cache_get(n, "mean", &data, &size) == LG_OK && size == sizeof mean) {
+    if (lg_cache_get(n, "mean", &data, &size) == LG_OK && size == sizeof mean) {
         memcpy(mean, data, sizeof mean);
         lg_log(n, LG_LOG_WARN, "testcache: reused the cached mean");
     } else {
@@ -42,10 +42,10 @@ static int execute(lg_node *n, const lg_frame *frame)
         for (size_t i = 0; i < np; i++)
             for (int c = 0; c < 4; c++)
                 mean[c] += p[4 * i + c] / (double)np;
-        n->host->cache_put(n, "mean", mean, sizeof mean);
+        lg_cache_put(n, "mean", mean, sizeof mean);
         lg_log(n, LG_LOG_WARN, "testcache: computed the mean");
     }
-    n->host->cache_free(data);
+    lg_cache_free(n, data);
     lg_cpu_view o;
     int rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &o);
     if (rc)

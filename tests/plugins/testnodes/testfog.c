@@ -30,7 +30,7 @@ static int fog_prepare(lg_node *n)
         d.width = info.image.width;
         d.height = info.image.height;
     } else {
-        n->host->render_size(n, &d.width, &d.height);
+        lg_render_size(n, &d.width, &d.height);
     }
     return lg_declare_image(n, 0, &d);
 }
@@ -60,7 +60,7 @@ static const lg_port_desc spec_in[] = {
 
 static int spec_prepare(lg_node *n)
 {
-    return n->host->declare_alias(n, 0, 1);
+    return lg_declare_alias(n, 0, 1);
 }
 
 static const lg_node_type types[] = {

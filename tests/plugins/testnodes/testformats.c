@@ -63,7 +63,7 @@ static int hdr_prepare(lg_node *n)
     d.width = (uint32_t)lg_param_int(n, "width");
     d.height = (uint32_t)lg_param_int(n, "height");
     if (!d.width || !d.height)
-        n->host->render_size(n, &d.width, &d.height);
+        lg_render_size(n, &d.width, &d.height);
     int rc = lg_declare_image(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }

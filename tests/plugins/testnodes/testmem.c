@@ -39,7 +39,7 @@ static int mem_create(lg_node *n)
 static int mem_prepare(lg_node *n)
 {
     lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
-    n->host->render_size(n, &d.width, &d.height);
+    lg_render_size(n, &d.width, &d.height);
     int rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;

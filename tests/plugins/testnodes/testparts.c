@@ -22,6 +22,7 @@
 #define CL_TARGET_OPENCL_VERSION 120
 #include <CL/cl.h>
 
+#include "lightgraph/cl.h"
 #include "lightgraph/gl.h"
 #include "lightgraph/lightgraph.h"
 
@@ -119,7 +120,7 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
         void *mem = NULL;
         if ((rc = lg_map_cl(n, rad, LG_WRITE, &mem, NULL)))
             return rc;
-        cl_command_queue q = n->host->cl_queue(n);
+        cl_command_queue q = lg_cl_queue(n);
         for (uint32_t l = 0; l < lg_image_levels(d); l++)
             for (uint32_t f = 0; f < 6; f++) {
                 cl_float4 c = {{pattern(l, f), 1, 2, 3}};
@@ -139,7 +140,7 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
     float *w = sv.pixels;
     size_t texels = (size_t)6 * d->width * d->height;
     for (size_t i = 0; i < texels; i++)
-        w[i] = (float)(4.0 * M_PI / (double)texels);
+        w[i] = (float)(4.0 * LG_PI / (double)texels);
     lg_probe_info info = {.layout = LG_PROBE_CUBE, .scale = 1,
                           .rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1}};
     if ((rc = lg_probe_publish(n, 0, &info)))
@@ -205,7 +206,7 @@ static int check_execute(lg_node *n, const lg_frame *frame)
     } else {
         void *mem = NULL;
         if (!(rc = lg_map_cl(n, p->radiance, LG_READ, &mem, NULL))) {
-            cl_int e = clEnqueueReadBuffer(n->host->cl_queue(n), (cl_mem)mem, CL_TRUE, 0,
+            cl_int e = clEnqueueReadBuffer(lg_cl_queue(n), (cl_mem)mem, CL_TRUE, 0,
                                            total * 16, px, 0, NULL, NULL);
             if (e != CL_SUCCESS)
                 rc = lg_error(n, "clEnqueueReadBuffer: %d", e);
@@ -231,7 +232,7 @@ static int check_execute(lg_node *n, const lg_frame *frame)
     double sum = 0;
     for (size_t i = 0; i < (size_t)6 * d->width * d->height; i++)
         sum += ((const float *)sv.pixels)[i];
-    if (fabs(sum - 4.0 * M_PI) > 1e-4)
+    if (fabs(sum - 4.0 * LG_PI) > 1e-4)
         return lg_error(n, "solid angles sum to %g, not 4 pi", sum);
     return write_1x1(n, 1.0f);
 }

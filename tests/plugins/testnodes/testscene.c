@@ -33,7 +33,7 @@ static int scene_prepare(lg_node *n)
     f.medium = f.medium_density > 0;
     f.probe = lg_param_bool(n, "probe");
     f.specular = lg_param_bool(n, "specular");
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &f, NULL, NULL);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &f, NULL, NULL);
 }
 
 static int scene_execute(lg_node *n, const lg_frame *frame)

@@ -25,7 +25,7 @@ static int prepare(lg_node *n)
     lg_declare_work(n, lg_param_float(n, "units"), seconds, "test units");
     if (lg_param_bool(n, "per_frame"))
         lg_set_per_frame(n, true);
-    return n->host->declare_alias(n, 0, 0);
+    return lg_declare_alias(n, 0, 0);
 }
 
 static int execute(lg_node *n, const lg_frame *frame)

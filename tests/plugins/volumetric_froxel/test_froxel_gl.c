@@ -30,6 +30,7 @@
 
 #include "lightgraph/image.h"
 #include "lightgraph/test.h"
+#include "lightgraph/vecmath.h"
 
 #define GW 32
 #define GH 18
@@ -205,7 +206,7 @@ static void lights_graph(char *g, size_t size, int n)
     for (int i = 0; i < n; i++) {
         /* directions spread over a cone around the sun's, colours varied; each light
          * node adds one to the scene of the one before */
-        double a = 6.283185307179586 * i / n, r = 0.25 + 0.02 * (i % 5);
+        double a = LG_TWO_PI * i / n, r = 0.25 + 0.02 * (i % 5);
         char prev[16];
         if (i)
             snprintf(prev, sizeof prev, "l%d", i - 1);

@@ -51,6 +51,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/medium.h"
 #include "lightgraph/test.h"
+#include "lightgraph/vecmath.h"
 
 #define W 64
 #define H 48
@@ -91,7 +92,7 @@ static void cam_init(cam *c)
 /* The unit ray through pixel (x, y) (row 0 at the top). */
 static void cam_ray(const cam *c, double x, double y, double w[3])
 {
-    double t = tan(c->fov_deg * 3.14159265358979323846 / 360.0), a = (double)W / H;
+    double t = tan(c->fov_deg * LG_PI / 360.0), a = (double)W / H;
     double nx = 2.0 * (x + 0.5) / W - 1.0, ny = 1.0 - 2.0 * (y + 0.5) / H;
     for (int i = 0; i < 3; i++)
         w[i] = c->f[i] + nx * t * a * c->r[i] + ny * t * c->u[i];
@@ -466,7 +467,7 @@ static void case_balance(lg_test *t)
     for (int li = 0; li < 2; li++)
         for (size_t s = 0; s < sizeof starts / sizeof starts[0]; s++)
             for (int r = 0; r < 300; r++) {
-                double w[3], z = 2 * rnd() - 1, ph = 2 * 3.14159265358979 * rnd();
+                double w[3], z = 2 * rnd() - 1, ph = 2 * LG_PI * rnd();
                 double sr = sqrt(1 - z * z);
                 w[0] = sr * cos(ph), w[1] = sr * sin(ph), w[2] = z;
                 int got = crossings(&one[li], starts[s].p, w);
@@ -487,7 +488,7 @@ static void case_balance(lg_test *t)
             int first = -99;
             points++;
             for (int r = 0; r < 6; r++) {
-                double w[3], z = 2 * rnd() - 1, ph = 2 * 3.14159265358979 * rnd();
+                double w[3], z = 2 * rnd() - 1, ph = 2 * LG_PI * rnd();
                 double sr = sqrt(1 - z * z);
                 w[0] = sr * cos(ph), w[1] = sr * sin(ph), w[2] = z;
                 int got = crossings(&one[li], p, w);
@@ -729,7 +730,7 @@ static void case_outside_box(lg_test *t)
 
 static light light_k(int k)
 {
-    double a = 2 * 3.14159265358979 * k / 32.0;
+    double a = 2 * LG_PI * k / 32.0;
     return mk_light(0.6 * cos(a), -1, 0.6 * sin(a), 0.2 + 0.02 * k, 0.5, 0.8 - 0.01 * k);
 }
 

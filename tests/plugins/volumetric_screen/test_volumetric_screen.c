@@ -34,8 +34,8 @@
 #include "lightgraph/image.h"
 #include "lightgraph/medium.h"
 #include "lightgraph/test.h"
+#include "lightgraph/vecmath.h"
 
-#define PI 3.14159265358979323846
 #define W 32
 #define H 24
 
@@ -238,7 +238,7 @@ static void case_behind(lg_test *t)
  * only here, so the vertical flip does not matter). */
 static void light_pixel(double dx, double dz, double *lx, double *ly)
 {
-    double f = 1.0 / tan(PI / 6.0), aspect = (double)W / H;
+    double f = 1.0 / tan(LG_PI / 6.0), aspect = (double)W / H;
     double ndc = f / aspect * dx / -dz;
     *lx = (ndc + 1.0) * 0.5 * W;
     *ly = 0.5 * H;
@@ -397,7 +397,7 @@ static void case_physical(lg_test *t)
             if (!run_vol(t, BACKENDS[b], "absorption = 0.05", "", vol, &ins, &out))
                 continue;
             double zl = limits[k] > 0 ? limits[k] : 20.0; /* the camera's zfar */
-            double f = tan(PI / 6.0), aspect = (double)W / H;
+            double f = tan(LG_PI / 6.0), aspect = (double)W / H;
             lg_image ref = { 0 }, refo = { 0 };
             lg_image_alloc(&ref, W, H);
             lg_image_alloc(&refo, W, H);

@@ -23,21 +23,11 @@
 
 #include "lightgraph/lightgraph.h"
 #include "lightgraph/scene.h"
+#include "lightgraph/vecmath.h"
 
 #include "common/testscene.h"
 
 #define VS_TEST_MAX_LIGHTS 40
-
-typedef struct tv_scene {
-    lg_scene s;
-    lg_light lights[VS_TEST_MAX_LIGHTS];
-    lg_camera camera;
-} tv_scene;
-
-static void tv_free(void *p)
-{
-    free(p);
-}
 
 static int tv_scene_prepare(lg_node *n)
 {
@@ -45,51 +35,33 @@ static int tv_scene_prepare(lg_node *n)
     if (only >= count)
         return lg_error(n, "only = %lld but there are %lld lights", (long long)only,
                         (long long)count);
-    tv_scene *t = calloc(1, sizeof *t);
-    if (!t)
+    lg_ts_builder *b = lg_ts_begin("test_vs_scene");
+    if (!b)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    t->s.struct_size = sizeof t->s;
-    t->s.source = "test_vs_scene";
-    t->s.cameras = &t->camera;
-    t->s.n_cameras = 1;
-    lg_camera *c = &t->camera;
-    c->name = "test";
-    c->target[2] = -1.0f;
-    c->up[1] = 1.0f;
-    c->yfov = (float)(60.0 * 3.14159265358979323846 / 180.0);
-    c->znear = 0.1f;
-    c->zfar = 20.0f;
+    lg_ts_camera(b, "test", lg_v3(0, 0, 0), lg_v3(0, 0, -1), lg_v3(0, 1, 0),
+                 (float)(60.0 * LG_PI / 180.0), 0.1f, 20.0f);
     const lg_value *dir = lg_param(n, "direction");
     for (int64_t k = 0; k < count; k++) {
         if (only >= 0 && k != only)
             continue;
-        lg_light *l = &t->lights[t->s.n_lights++];
-        l->name = "test";
-        l->type = LG_LIGHT_DIRECTIONAL;
         double d[3] = { dir->v[0], dir->v[1], dir->v[2] };
         if (k > 0) {
             d[0] += 0.25 * cos(2.4 * (double)k);
             d[1] += 0.25 * sin(2.4 * (double)k);
         }
         double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        float u[3];
         for (int i = 0; i < 3; i++)
-            l->direction[i] = len > 0 ? (float)(d[i] / len) : 0.0f;
-        l->color[0] = 1.0f;
-        l->color[1] = 1.0f - (float)k / 64.0f;
-        l->color[2] = 1.0f - (float)k / 128.0f;
-        l->intensity = (float)lg_param_float(n, "intensity");
+            u[i] = len > 0 ? (float)(d[i] / len) : 0.0f;
+        lg_ts_dir_light(b, "test", lg_v3(u[0], u[1], u[2]),
+                        lg_v3(1.0f, 1.0f - (float)k / 64.0f, 1.0f - (float)k / 128.0f),
+                        (float)lg_param_float(n, "intensity"));
     }
-    t->s.lights = t->lights;
-    t->s.medium.present = true;
-    t->s.medium.density = 1.0f;
-    for (int i = 0; i < 3; i++) {
-        t->s.medium.scattering[i] = (float)lg_param_float(n, "scattering");
-        t->s.medium.absorption[i] = (float)lg_param_float(n, "absorption");
-    }
-    t->s.medium.g = (float)lg_param_float(n, "g");
-    lg_test_scene_bounds(&t->s, NULL);
-    lg_scene_compute_features(&t->s);
-    return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, tv_free);
+    float sca = (float)lg_param_float(n, "scattering");
+    float ab = (float)lg_param_float(n, "absorption");
+    lg_ts_medium(b, 1.0f, lg_v3(sca, sca, sca), lg_v3(ab, ab, ab),
+                 (float)lg_param_float(n, "g"));
+    return lg_ts_publish(n, 0, b);
 }
 
 static int tv_nothing(lg_node *n, const lg_frame *frame)

@@ -171,6 +171,29 @@ static void test_timer(const lg_gl *gl)
     CHECKF(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
 }
 
+/* lg_gl_device_timer_query on a context no query ran on yet: a query object already spent
+ * once (a name from GenQueries is a query object only once begun: IsQuery says whether the
+ * warm-up ran), whose next use reads a duration no longer than the wall time around it, not
+ * the absolute timestamp llvmpipe has given a context's first timer query. */
+static void test_timer_query(lg_gl_device *dev)
+{
+    const lg_gl *gl = lg_gl_device_table(dev);
+    GLuint query = lg_gl_device_timer_query(dev);
+    CHECKF(query != 0 && gl->IsQuery(query), "lg_gl_device_timer_query gave %u, not a query",
+           query);
+    double t0 = devtest_now();
+    gl->BeginQuery(GL_TIME_ELAPSED, query);
+    gl->EndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    gl->GetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+    double wall = devtest_now() - t0;
+    CHECKF(ns * 1e-9 <= wall, "first timed use: GL_TIME_ELAPSED = %llu ns, wall %.0f ns",
+           (unsigned long long)ns, wall * 1e9);
+    gl->DeleteQueries(1, &query);
+    GLenum e = gl->GetError();
+    CHECKF(e == GL_NO_ERROR, "GL error %s", lg_gl_strerror(e));
+}
+
 static void test_program_errors(const lg_gl *gl)
 {
     lg_node *node = devtest_node();
@@ -330,6 +353,7 @@ int main(int argc, char **argv)
     printf("%s: first context created in %.1f ms\n", backend, (t1 - t0) * 1e3);
 
     const lg_gl *gl = lg_gl_device_table(dev);
+    test_timer_query(dev); /* first: no timer query has run on this context */
     test_version(gl, dev, label);
     GLuint prog = test_compute(gl);
     test_program_errors(gl);

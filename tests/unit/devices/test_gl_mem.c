@@ -4,7 +4,6 @@
  * counted (live back to zero after destroy), bad requests refused with a message naming
  * what was wrong, an earlier GL error not blamed on the allocation. Exits 77 if no context
  * can be made. */
-#include <stdarg.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -12,51 +11,9 @@
 #include "devtest.h"
 #include "lightgraph/gl.h"
 
-/* ---- a fake host: errors into a buffer, GL, the accounting ------------------------------- */
+/* ---- a fake host: devtest.h's errors and GL, the accounting ------------------------------ */
 
-static char errors[8192];
-static int error_count;
-static const lg_gl *the_gl;
 static uint64_t live, peak, n_alloc, n_free, bytes_alloc, bytes_free;
-
-static void clear_errors(void)
-{
-    errors[0] = '\0';
-    error_count = 0;
-}
-
-static void host_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
-{
-    (void)n, (void)level, (void)fmt, (void)ap;
-}
-
-static void host_error(lg_node *n, const char *fmt, va_list ap)
-{
-    size_t len = strlen(errors);
-    if (len + 2 < sizeof errors) {
-        if (len)
-            errors[len++] = '\n';
-        vsnprintf(errors + len, sizeof errors - len, fmt, ap);
-    }
-    error_count++;
-    fprintf(stderr, "[%s error] %s\n", n->name, errors + len);
-}
-
-static const void *host_gl(lg_node *n)
-{
-    (void)n;
-    return the_gl;
-}
-
-static int host_gl_check(lg_node *n, const char *what)
-{
-    GLenum e = the_gl->GetError(), first = e;
-    if (e == GL_NO_ERROR)
-        return 0;
-    while (e != GL_NO_ERROR)
-        e = the_gl->GetError();
-    return lg_error_code(n, LG_ERR_DEVICE, "GL error %s while %s", lg_gl_strerror(first), what);
-}
 
 static void host_account_alloc(lg_node *n, uint64_t bytes)
 {
@@ -78,13 +35,7 @@ static void host_account_free(lg_node *n, uint64_t bytes)
 }
 
 static const lg_host_api host = {
-    .struct_size = sizeof(lg_host_api),
-    .abi_major = LG_ABI_MAJOR,
-    .abi_minor = LG_ABI_MINOR,
-    .log = host_log,
-    .error = host_error,
-    .gl = host_gl,
-    .gl_check = host_gl_check,
+    DEVTEST_GL_HOST,
     .account_alloc = host_account_alloc,
     .account_free = host_account_free,
 };
@@ -103,7 +54,7 @@ static bool buffer_holds(GLuint name, const void *want, size_t size)
     unsigned char got[256];
     if (size > sizeof got)
         return false;
-    the_gl->GetNamedBufferSubData(name, 0, (GLsizeiptr)size, got);
+    devtest_gl->GetNamedBufferSubData(name, 0, (GLsizeiptr)size, got);
     return memcmp(got, want, size) == 0;
 }
 
@@ -111,9 +62,9 @@ static bool buffer_holds(GLuint name, const void *want, size_t size)
 
 static void test_buffer(void)
 {
-    const lg_gl *gl = the_gl;
+    const lg_gl *gl = devtest_gl;
     reset_counts();
-    clear_errors();
+    devtest_clear();
     lg_gl_buffer b = { 0 };
     float a[16], c[32];
     for (int i = 0; i < 16; i++)
@@ -122,7 +73,7 @@ static void test_buffer(void)
         c[i] = 100.0f - (float)i;
 
     /* made with its data, default flags */
-    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof a, 0, a) == 0, "make: %s", errors);
+    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof a, 0, a) == 0, "make: %s", devtest_errors);
     CHECK(b.name != 0 && b.size == sizeof a && b.flags == GL_DYNAMIC_STORAGE_BIT);
     CHECK(gl->IsBuffer(b.name));
     CHECKF(buffer_holds(b.name, a, sizeof a), "the data was not uploaded at make");
@@ -130,12 +81,12 @@ static void test_buffer(void)
     GLuint first = b.name;
 
     /* the same size again, other data: kept, uploaded */
-    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof a, 0, c) == 0, "keep: %s", errors);
+    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof a, 0, c) == 0, "keep: %s", devtest_errors);
     CHECK(b.name == first && n_alloc == 1 && n_free == 0);
     CHECKF(buffer_holds(b.name, c, sizeof a), "the data was not uploaded to a kept buffer");
 
     /* smaller: kept (the larger buffer holds it), its start uploaded, size unchanged */
-    CHECKF(lg_gl_buffer_recreate(&node, &b, 8, 0, a) == 0, "smaller: %s", errors);
+    CHECKF(lg_gl_buffer_recreate(&node, &b, 8, 0, a) == 0, "smaller: %s", devtest_errors);
     CHECK(b.name == first && b.size == sizeof a && n_alloc == 1 && live == sizeof a);
     float mix[16];
     memcpy(mix, c, sizeof mix);
@@ -147,7 +98,7 @@ static void test_buffer(void)
     CHECKF(buffer_holds(b.name, mix, sizeof mix), "a kept buffer without data keeps its data");
 
     /* larger: remade, the old one released first (peak = the larger, not the sum) */
-    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof c, 0, c) == 0, "larger: %s", errors);
+    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof c, 0, c) == 0, "larger: %s", devtest_errors);
     CHECK(b.size == sizeof c && n_alloc == 2 && n_free == 1);
     CHECKF(live == sizeof c && peak == sizeof c, "live %llu peak %llu",
            (unsigned long long)live, (unsigned long long)peak);
@@ -156,69 +107,69 @@ static void test_buffer(void)
 
     /* other flags: remade */
     GLbitfield rf = GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT;
-    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof c, rf, NULL) == 0, "flags: %s", errors);
+    CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof c, rf, NULL) == 0, "flags: %s", devtest_errors);
     CHECK(b.flags == rf && n_alloc == 3 && n_free == 2 && live == sizeof c);
 
     /* immutable (no GL_DYNAMIC_STORAGE_BIT): data for a kept one makes it anew */
     CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof a, GL_MAP_READ_BIT, a) == 0, "ro: %s",
-           errors);
+           devtest_errors);
     uint64_t allocs = n_alloc;
     CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof a, GL_MAP_READ_BIT, c) == 0, "ro again: %s",
-           errors);
+           devtest_errors);
     CHECK(n_alloc == allocs + 1 && buffer_holds(b.name, c, sizeof a));
     CHECK(lg_gl_buffer_recreate(&node, &b, sizeof a, GL_MAP_READ_BIT, NULL) == 0 &&
           n_alloc == allocs + 1); /* without data it is kept */
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_buffer_upload(&node, &b, 0, 4, a) == LG_ERR_INVALID &&
-          strstr(errors, "GL_DYNAMIC_STORAGE_BIT"));
+          strstr(devtest_errors, "GL_DYNAMIC_STORAGE_BIT"));
 
     /* uploads: at an offset, past the end, from nothing */
     CHECK(lg_gl_buffer_recreate(&node, &b, sizeof c, 0, c) == 0);
-    CHECKF(lg_gl_buffer_upload(&node, &b, 16, 8, a) == 0, "upload: %s", errors);
+    CHECKF(lg_gl_buffer_upload(&node, &b, 16, 8, a) == 0, "upload: %s", devtest_errors);
     float want[32];
     memcpy(want, c, sizeof want);
     memcpy((char *)want + 16, a, 8);
     CHECKF(buffer_holds(b.name, want, sizeof want), "upload at offset 16");
-    clear_errors();
+    devtest_clear();
     CHECKF(lg_gl_buffer_upload(&node, &b, sizeof c - 4, 8, a) == LG_ERR_INVALID &&
-               strstr(errors, "overrun the 128-byte buffer"),
-           "overrun: %s", errors);
-    clear_errors();
+               strstr(devtest_errors, "overrun the 128-byte buffer"),
+           "overrun: %s", devtest_errors);
+    devtest_clear();
     CHECK(lg_gl_buffer_upload(&node, &b, SIZE_MAX, 8, a) == LG_ERR_INVALID);
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_buffer_upload(&node, &b, 0, 8, NULL) == LG_ERR_INVALID &&
-          strstr(errors, "no data"));
+          strstr(devtest_errors, "no data"));
     CHECK(lg_gl_buffer_upload(&node, &b, 0, 0, NULL) == 0);
     lg_gl_buffer none = { 0 };
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_buffer_upload(&node, &none, 0, 4, a) == LG_ERR_INVALID &&
-          strstr(errors, "was not made"));
+          strstr(devtest_errors, "was not made"));
 
     /* a zero size: refused, the handle and the counts untouched */
-    clear_errors();
+    devtest_clear();
     uint64_t before = live;
     GLuint kept = b.name;
     CHECKF(lg_gl_buffer_recreate(&node, &b, 0, 0, NULL) == LG_ERR_INVALID &&
-               strstr(errors, "0 bytes") && error_count == 1,
-           "zero size: %s", errors);
+               strstr(devtest_errors, "0 bytes") && devtest_error_count == 1,
+           "zero size: %s", devtest_errors);
     CHECK(b.name == kept && live == before);
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_buffer_recreate(&node, NULL, 4, 0, NULL) == LG_ERR_INVALID);
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_buffer_recreate(&node, &b, (size_t)PTRDIFF_MAX + 1, 0, NULL) == LG_ERR_INVALID &&
-          strstr(errors, "beyond"));
+          strstr(devtest_errors, "beyond"));
 
     /* a GL error of the allocation itself (here flags GL does not know: GL_INVALID_VALUE;
      * no huge size, which a sanitizer build would abort on): reported with what was asked,
      * nothing counted, the handle empty */
     lg_gl_buffer bad = { 0 };
-    clear_errors();
+    devtest_clear();
     uint64_t allocs_before = n_alloc;
     int rc = lg_gl_buffer_recreate(&node, &bad, 16, 0x40000000u | GL_DYNAMIC_STORAGE_BIT, NULL);
     CHECKF(rc == LG_ERR_DEVICE &&
-               strstr(errors, "GL_INVALID_VALUE while making a GL buffer of 16 bytes (storage "
-                              "flags 0x40000100)"),
-           "bad flags: rc %d: %s", rc, errors);
+               strstr(devtest_errors, "GL_INVALID_VALUE while making a GL buffer of 16 bytes "
+                                      "(storage flags 0x40000100)"),
+           "bad flags: rc %d: %s", rc, devtest_errors);
     CHECK(bad.name == 0 && n_alloc == allocs_before && gl->GetError() == GL_NO_ERROR);
 
     /* destroy: released, zeroed; twice and NULL are fine */
@@ -238,7 +189,7 @@ static void test_buffer(void)
 static GLint level_param(GLuint tex, GLint level, GLenum what)
 {
     GLint v = -1;
-    the_gl->GetTextureLevelParameteriv(tex, level, what, &v);
+    devtest_gl->GetTextureLevelParameteriv(tex, level, what, &v);
     return v;
 }
 
@@ -246,27 +197,27 @@ static void expect_refused(const lg_gl_texture_desc *d, const char *words, const
 {
     lg_gl_texture t = { 0 };
     uint64_t allocs = n_alloc;
-    clear_errors();
+    devtest_clear();
     int rc = lg_gl_texture_recreate(&node, &t, d);
-    CHECKF(rc == LG_ERR_INVALID && strstr(errors, words) && error_count == 1,
-           "%s: rc %d, errors '%s' (want '%s')", what, rc, errors, words);
+    CHECKF(rc == LG_ERR_INVALID && strstr(devtest_errors, words) && devtest_error_count == 1,
+           "%s: rc %d, errors '%s' (want '%s')", what, rc, devtest_errors, words);
     CHECKF(t.name == 0 && n_alloc == allocs, "%s: something was made", what);
     CHECKF(lg_gl_texture_bytes(d) == 0 || strstr(what, "limit"), "%s: bytes of a bad desc",
            what);
-    CHECK(the_gl->GetError() == GL_NO_ERROR);
+    CHECK(devtest_gl->GetError() == GL_NO_ERROR);
 }
 
 static void test_texture(void)
 {
-    const lg_gl *gl = the_gl;
+    const lg_gl *gl = devtest_gl;
     reset_counts();
-    clear_errors();
+    devtest_clear();
     lg_gl_texture t = { 0 };
     lg_gl_texture_desc d = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = 5,
                              .height = 3 };
 
     /* made: 1, the size and format asked, counted, complete as made */
-    CHECKF(lg_gl_texture_recreate(&node, &t, &d) == 1, "make: %s", errors);
+    CHECKF(lg_gl_texture_recreate(&node, &t, &d) == 1, "make: %s", devtest_errors);
     CHECK(t.name && gl->IsTexture(t.name));
     CHECK(level_param(t.name, 0, GL_TEXTURE_WIDTH) == 5 &&
           level_param(t.name, 0, GL_TEXTURE_HEIGHT) == 3 &&
@@ -291,7 +242,7 @@ static void test_texture(void)
     lg_gl_texture_desc d2 = d;
     d2.width = 8;
     d2.height = 8;
-    CHECKF(lg_gl_texture_recreate(&node, &t, &d2) == 1, "resize: %s", errors);
+    CHECKF(lg_gl_texture_recreate(&node, &t, &d2) == 1, "resize: %s", devtest_errors);
     CHECK(level_param(t.name, 0, GL_TEXTURE_WIDTH) == 8);
     CHECKF(live == 8 * 8 * 16 && peak == 8 * 8 * 16 && n_free == 1,
            "after a resize: live %llu peak %llu releases %llu", (unsigned long long)live,
@@ -309,7 +260,7 @@ static void test_texture(void)
     lg_gl_texture cube = { 0 }, vol = { 0 }, arr = { 0 }, dep = { 0 };
     lg_gl_texture_desc dc = { .target = GL_TEXTURE_CUBE_MAP, .format = GL_RGBA16F, .width = 8,
                               .height = 8, .levels = 4 };
-    CHECKF(lg_gl_texture_recreate(&node, &cube, &dc) == 1, "cube: %s", errors);
+    CHECKF(lg_gl_texture_recreate(&node, &cube, &dc) == 1, "cube: %s", devtest_errors);
     CHECK(cube.bytes == 6ull * (64 + 16 + 4 + 1) * 8 && lg_gl_texture_bytes(&dc) == cube.bytes);
     GLint levels = 0;
     gl->GetTextureParameteriv(cube.name, GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
@@ -318,15 +269,15 @@ static void test_texture(void)
     CHECK(minf == GL_NEAREST_MIPMAP_NEAREST);
     lg_gl_texture_desc dv = { .target = GL_TEXTURE_3D, .format = GL_RGBA32F, .width = 4,
                               .height = 4, .depth = 2, .levels = 3 };
-    CHECKF(lg_gl_texture_recreate(&node, &vol, &dv) == 1, "3d: %s", errors);
+    CHECKF(lg_gl_texture_recreate(&node, &vol, &dv) == 1, "3d: %s", devtest_errors);
     CHECK(vol.bytes == (32ull + 4 + 1) * 16 && level_param(vol.name, 0, GL_TEXTURE_DEPTH) == 2);
     lg_gl_texture_desc da = { .target = GL_TEXTURE_2D_ARRAY, .format = GL_R8, .width = 4,
                               .height = 2, .depth = 5, .levels = 2 };
-    CHECKF(lg_gl_texture_recreate(&node, &arr, &da) == 1, "array: %s", errors);
+    CHECKF(lg_gl_texture_recreate(&node, &arr, &da) == 1, "array: %s", devtest_errors);
     CHECK(arr.bytes == (8ull + 2) * 5 && level_param(arr.name, 1, GL_TEXTURE_DEPTH) == 5);
     lg_gl_texture_desc dd = { .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F,
                               .width = 7, .height = 5 };
-    CHECKF(lg_gl_texture_recreate(&node, &dep, &dd) == 1, "depth: %s", errors);
+    CHECKF(lg_gl_texture_recreate(&node, &dep, &dd) == 1, "depth: %s", devtest_errors);
     CHECK(dep.bytes == 7 * 5 * 4);
     CHECK(live == t.bytes + cube.bytes + vol.bytes + arr.bytes + dep.bytes);
 
@@ -363,27 +314,27 @@ static void test_texture(void)
     gl->GetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max_3d);
     bad.depth = (uint32_t)max_3d + 1;
     expect_refused(&bad, "GL_MAX_3D_TEXTURE_SIZE", "3D depth limit");
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_texture_recreate(&node, &t, NULL) == LG_ERR_INVALID &&
-          strstr(errors, "descriptor"));
+          strstr(devtest_errors, "descriptor"));
 
     /* a refused desc leaves a made texture as it was */
     GLuint name = t.name;
     bad = d3;
     bad.format = GL_RGB; /* unsized */
-    clear_errors();
+    devtest_clear();
     CHECK(lg_gl_texture_recreate(&node, &t, &bad) == LG_ERR_INVALID && t.name == name &&
           gl->IsTexture(name));
 
     /* a GL error the node left pending is named as the node's, and nothing is made */
     lg_gl_texture other = { 0 };
     gl->Enable(0x7fff); /* GL_INVALID_ENUM */
-    clear_errors();
+    devtest_clear();
     uint64_t allocs = n_alloc;
     CHECKF(lg_gl_texture_recreate(&node, &other, &d) == LG_ERR_DEVICE &&
-               strstr(errors, "the node's own GL calls before lg_gl_texture_recreate") &&
-               strstr(errors, "GL_INVALID_ENUM"),
-           "pending error: %s", errors);
+               strstr(devtest_errors, "the node's own GL calls before lg_gl_texture_recreate") &&
+               strstr(devtest_errors, "GL_INVALID_ENUM"),
+           "pending error: %s", devtest_errors);
     CHECK(other.name == 0 && n_alloc == allocs);
     CHECK(lg_gl_texture_recreate(&node, &other, &d) == 1); /* the next call works */
 
@@ -406,9 +357,9 @@ static void test_texture(void)
 
 static void test_buffer_texture(void)
 {
-    const lg_gl *gl = the_gl;
+    const lg_gl *gl = devtest_gl;
     reset_counts();
-    clear_errors();
+    devtest_clear();
     float data[12] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12 };
     lg_gl_buffer b1 = { 0 }, b2 = { 0 };
     CHECK(lg_gl_buffer_recreate(&node, &b1, sizeof data, 0, data) == 0);
@@ -417,7 +368,7 @@ static void test_buffer_texture(void)
 
     lg_gl_buffer_texture v = { 0 };
     CHECKF(lg_gl_buffer_texture_recreate(&node, &v, GL_RGB32F, b1.name) == 1, "make: %s",
-           errors);
+           devtest_errors);
     CHECK(v.name && v.buffer == b1.name && v.format == GL_RGB32F);
     CHECK(level_param(v.name, 0, GL_TEXTURE_BUFFER_DATA_STORE_BINDING) == (GLint)b1.name);
     CHECK(level_param(v.name, 0, GL_TEXTURE_INTERNAL_FORMAT) == GL_RGB32F);
@@ -427,20 +378,20 @@ static void test_buffer_texture(void)
           level_param(v.name, 0, GL_TEXTURE_BUFFER_DATA_STORE_BINDING) == (GLint)b2.name);
     CHECK(lg_gl_buffer_texture_recreate(&node, &v, GL_R32F, b2.name) == 1);
 
-    clear_errors();
+    devtest_clear();
     lg_gl_buffer_texture w = { 0 };
     CHECKF(lg_gl_buffer_texture_recreate(&node, &w, GL_RGBA, b1.name) == LG_ERR_INVALID &&
-               strstr(errors, "format 0x1908 is not one a buffer texture takes"),
-           "unsized: %s", errors);
-    clear_errors();
+               strstr(devtest_errors, "format 0x1908 is not one a buffer texture takes"),
+           "unsized: %s", devtest_errors);
+    devtest_clear();
     CHECKF(lg_gl_buffer_texture_recreate(&node, &w, GL_DEPTH_COMPONENT32F, b1.name) ==
                    LG_ERR_INVALID &&
-               strstr(errors, "GL_DEPTH_COMPONENT32F is not one"),
-           "depth: %s", errors);
-    clear_errors();
+               strstr(devtest_errors, "GL_DEPTH_COMPONENT32F is not one"),
+           "depth: %s", devtest_errors);
+    devtest_clear();
     CHECKF(lg_gl_buffer_texture_recreate(&node, &w, GL_R32F, 0) == LG_ERR_INVALID &&
-               strstr(errors, "no buffer"),
-           "buffer 0: %s", errors);
+               strstr(devtest_errors, "no buffer"),
+           "buffer 0: %s", devtest_errors);
     CHECK(w.name == 0);
 
     GLuint name = v.name;
@@ -456,14 +407,9 @@ static void test_buffer_texture(void)
 
 int main(int argc, char **argv)
 {
-    const char *backend = argc > 1 ? argv[1] : "osmesa";
-    char err[512] = "";
-    lg_gl_device *dev = NULL;
-    if (lg_gl_device_create(&dev, backend, err, sizeof err)) {
-        printf("SKIP: no GL device '%s': %s\n", backend, err);
+    lg_gl_device *dev;
+    if (devtest_gl_open(argc, argv, &dev))
         return check_skip("gl_mem");
-    }
-    the_gl = lg_gl_device_table(dev);
     test_buffer();
     test_texture();
     test_buffer_texture();

@@ -7,7 +7,6 @@
  * blocks (lg_gl_pass_uniforms), each proved by pixels or values read back. Exits 77 if no
  * context can be made. */
 #include <math.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -17,50 +16,10 @@
 #include "lightgraph/gl_pass.h"
 #include "lightgraph/plugin.h"
 
-/* ---- a minimal host: errors into a buffer, GL, one output image ------------------------ */
+/* ---- a minimal host: devtest.h's errors and GL, one output image ------------------------- */
 
-static char errors[8192];
-static int error_count;
-static const lg_gl *the_gl;
 static GLuint out_color, out_depth; /* what map_gl hands out for output 0 */
 enum { W = 8, H = 8 };
-
-static void clear_errors(void)
-{
-    errors[0] = '\0';
-    error_count = 0;
-}
-
-static void host_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
-{
-    (void)n, (void)level, (void)fmt, (void)ap;
-}
-
-static void host_error(lg_node *n, const char *fmt, va_list ap)
-{
-    size_t len = strlen(errors);
-    if (len + 2 < sizeof errors) {
-        if (len)
-            errors[len++] = '\n';
-        vsnprintf(errors + len, sizeof errors - len, fmt, ap);
-    }
-    error_count++;
-    fprintf(stderr, "[%s error] %s\n", n->name, errors + len);
-}
-
-static const void *host_gl(lg_node *n)
-{
-    (void)n;
-    return the_gl;
-}
-
-static int host_gl_check(lg_node *n, const char *what)
-{
-    GLenum e = the_gl->GetError();
-    if (e == GL_NO_ERROR)
-        return 0;
-    return lg_error_code(n, LG_ERR_DEVICE, "%s: %s", what, lg_gl_strerror(e));
-}
 
 static int dummy_resource, scene_resource;
 static lg_scene the_scene;
@@ -78,8 +37,8 @@ static int host_payload_gl_buffer(lg_node *n, const lg_resource *res, uint32_t s
         return 0;
     }
     if (!slot_buf[slot]) {
-        the_gl->CreateBuffers(1, &slot_buf[slot]);
-        the_gl->NamedBufferStorage(slot_buf[slot], (GLsizeiptr)size, data, 0);
+        devtest_gl->CreateBuffers(1, &slot_buf[slot]);
+        devtest_gl->NamedBufferStorage(slot_buf[slot], (GLsizeiptr)size, data, 0);
     }
     *buffer = slot_buf[slot];
     return 0;
@@ -133,16 +92,10 @@ static void host_account_free(lg_node *n, uint64_t bytes)
 }
 
 static const lg_host_api host = {
-    .struct_size = sizeof(lg_host_api),
-    .abi_major = LG_ABI_MAJOR,
-    .abi_minor = LG_ABI_MINOR,
-    .log = host_log,
-    .error = host_error,
+    DEVTEST_GL_HOST,
     .output = host_output,
     .describe = host_describe,
     .map_gl = host_map_gl,
-    .gl = host_gl,
-    .gl_check = host_gl_check,
     .payload_gl_buffer = host_payload_gl_buffer,
     .account_alloc = host_account_alloc,
     .account_free = host_account_free,
@@ -260,7 +213,7 @@ static void check_restored(const lg_gl *gl, const char *when)
 
 static void test_raster(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     out_color = make_tex(gl, GL_RGBA32F, W, H);
     out_depth = make_tex(gl, GL_DEPTH_COMPONENT32F, W, H);
     GLuint white = make_tex(gl, GL_RGBA32F, 1, 1), black = make_tex(gl, GL_RGBA32F, 1, 1);
@@ -280,20 +233,20 @@ static void test_raster(const lg_gl *gl)
                           .depth_write = true };
     lg_gl_pass *p = NULL;
     int rc = lg_gl_pass_create(&node, &d, &p);
-    CHECKF(rc == 0 && p, "create: %s", errors);
+    CHECKF(rc == 0 && p, "create: %s", devtest_errors);
     if (!p)
         return;
     lg_gl_uniform u_z = lg_gl_pass_uniform(p, "u_z");
     lg_gl_uniform u_color = lg_gl_pass_uniform(p, "u_color");
     lg_gl_binding tex = lg_gl_pass_texture(p, "u_tex");
     lg_gl_binding scale = lg_gl_pass_storage(p, "Scale");
-    CHECKF(error_count == 0, "look-ups: %s", errors);
+    CHECKF(devtest_error_count == 0, "look-ups: %s", devtest_errors);
     CHECKF(tex.index == 2 && scale.index == 3, "bindings %d %d", tex.index, scale.index);
 
     /* two frames: the second reuses the program and framebuffer */
     for (int frame = 0; frame < 2; frame++) {
         rc = lg_gl_pass_begin(p, NULL);
-        CHECKF(rc == 0, "begin (frame %d): %s", frame, errors);
+        CHECKF(rc == 0, "begin (frame %d): %s", frame, devtest_errors);
         if (rc)
             return;
         const lg_gl_target *t = lg_gl_pass_current_target(p);
@@ -318,7 +271,7 @@ static void test_raster(const lg_gl *gl)
         if (!rc)
             rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
         rc = lg_gl_pass_end(p, rc);
-        CHECKF(rc == 0, "draw/end (frame %d): %s", frame, errors);
+        CHECKF(rc == 0, "draw/end (frame %d): %s", frame, devtest_errors);
         check_restored(gl, "after a raster pass");
     }
     float px[W * H * 4];
@@ -335,19 +288,19 @@ static void test_raster(const lg_gl *gl)
     lg_gl_pass *b = NULL;
     lg_gl_pass_desc db = { .name = "add", .stages = src, .n_stages = 2,
                            .colors = { GL_RGBA32F }, .blend = LG_GL_BLEND_ADD };
-    CHECKF(lg_gl_pass_create(&node, &db, &b) == 0, "create add: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &db, &b) == 0, "create add: %s", devtest_errors);
     if (b) {
         lg_gl_uniform bz = lg_gl_pass_uniform(b, "u_z"), bc = lg_gl_pass_uniform(b, "u_color");
         lg_gl_binding bt = lg_gl_pass_texture(b, "u_tex"), bs = lg_gl_pass_storage(b, "Scale");
         lg_gl_target tgt = { .color = { out_color }, .width = W, .height = H };
-        CHECKF(lg_gl_pass_begin(b, &tgt) == 0, "begin add: %s", errors);
+        CHECKF(lg_gl_pass_begin(b, &tgt) == 0, "begin add: %s", devtest_errors);
         lg_gl_pass_bind_buffer(b, bs, scale_buf);
         lg_gl_pass_bind_texture(b, bt, white);
         const float c[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
         lg_gl_set_float(b, bz, 0.9f);
         lg_gl_set_vec4v(b, bc, c);
         CHECKF(lg_gl_pass_end(b, lg_gl_pass_draw(b, GL_TRIANGLES, 3)) == 0, "draw add: %s",
-               errors);
+               devtest_errors);
         check_restored(gl, "after a blending pass");
         read_rgba(gl, out_color, px, W, H);
         CHECKF(in[0] == 1.25f && in[1] == 0.25f && in[2] == 0.25f && in[3] == 2.0f,
@@ -359,16 +312,16 @@ static void test_raster(const lg_gl *gl)
     /* a target of the wrong format is named */
     GLuint half = make_tex(gl, GL_RGBA16F, W, H);
     lg_gl_target wrong = { .color = { half }, .depth = out_depth, .width = W, .height = H };
-    clear_errors();
+    devtest_clear();
     CHECKF(lg_gl_pass_begin(p, &wrong) == LG_ERR_DEVICE, "a GL_RGBA16F target was accepted");
-    CHECKF(strstr(errors, "'triangle'") && strstr(errors, "GL_RGBA16F") &&
-               strstr(errors, "GL_RGBA32F"),
-           "format message: %s", errors);
+    CHECKF(strstr(devtest_errors, "'triangle'") && strstr(devtest_errors, "GL_RGBA16F") &&
+               strstr(devtest_errors, "GL_RGBA32F"),
+           "format message: %s", devtest_errors);
     /* and a missing depth texture */
-    clear_errors();
+    devtest_clear();
     lg_gl_target nodepth = { .color = { out_color }, .width = W, .height = H };
-    CHECKF(lg_gl_pass_begin(p, &nodepth) == LG_ERR_DEVICE && strstr(errors, "no depth"),
-           "missing depth: %s", errors);
+    CHECKF(lg_gl_pass_begin(p, &nodepth) == LG_ERR_DEVICE && strstr(devtest_errors, "no depth"),
+           "missing depth: %s", devtest_errors);
     check_restored(gl, "after failed begins");
 
     lg_gl_pass_destroy(&p);
@@ -379,69 +332,73 @@ static void test_raster(const lg_gl *gl)
 
 static void test_names(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "tri.vert", tri_vert },
                                       { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
     lg_gl_pass_desc d = { .name = "names", .stages = src, .n_stages = 2,
                           .colors = { GL_RGBA32F } };
     lg_gl_pass *p = NULL;
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
         return;
     lg_gl_uniform u = lg_gl_pass_uniform_optional(p, "u_exposure");
-    CHECKF(u.location == -1 && error_count == 0, "optional look-up reported: %s", errors);
+    CHECKF(u.location == -1 && devtest_error_count == 0, "optional look-up reported: %s",
+           devtest_errors);
     lg_gl_binding ob = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "Nope");
-    CHECKF(ob.index == -1 && error_count == 0, "optional binding reported: %s", errors);
+    CHECKF(ob.index == -1 && devtest_error_count == 0, "optional binding reported: %s",
+           devtest_errors);
     u = lg_gl_pass_uniform(p, "u_exposure");
     CHECKF(u.location == -1, "absent uniform has location %d", u.location);
-    CHECKF(error_count == 1 && strstr(errors, "gl pass 'names'") &&
-               strstr(errors, "'u_exposure'"),
-           "message: %s", errors);
+    CHECKF(devtest_error_count == 1 && strstr(devtest_errors, "gl pass 'names'") &&
+               strstr(devtest_errors, "'u_exposure'"),
+           "message: %s", devtest_errors);
     lg_gl_set_float(p, u, 1.0f); /* absent: nothing happens */
     CHECKF(gl->GetError() == GL_NO_ERROR, "setting an absent uniform raised a GL error");
-    clear_errors();
+    devtest_clear();
     lg_gl_binding b = lg_gl_pass_storage(p, "Lights");
-    CHECKF(b.index == -1 && strstr(errors, "storage block 'Lights'"), "message: %s", errors);
+    CHECKF(b.index == -1 && strstr(devtest_errors, "storage block 'Lights'"), "message: %s",
+           devtest_errors);
     /* the pass is failed now: begin refuses without touching GL */
-    clear_errors();
+    devtest_clear();
     GLuint color = make_tex(gl, GL_RGBA32F, W, H);
     lg_gl_target t = { .color = { color }, .width = W, .height = H };
     CHECKF(lg_gl_pass_begin(p, &t) == LG_ERR_INVALID, "a failed pass began");
-    CHECKF(strstr(errors, "'names'") != NULL, "message: %s", errors);
+    CHECKF(strstr(devtest_errors, "'names'") != NULL, "message: %s", devtest_errors);
     check_restored(gl, "after a refused begin");
     lg_gl_pass_destroy(&p);
     gl->DeleteTextures(1, &color);
 
     /* block layouts: Scale is one float; a wrong size is named */
-    clear_errors();
+    devtest_clear();
     lg_gl_pass *q = NULL;
     lg_gl_pass_desc dq = { .name = "blocks", .stages = src, .n_stages = 2,
                            .colors = { GL_RGBA32F } };
-    CHECKF(lg_gl_pass_create(&node, &dq, &q) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &dq, &q) == 0, "create: %s", devtest_errors);
     if (q) {
         CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 4) == 0, "%s",
-               errors);
+               devtest_errors);
         CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 8) == LG_ERR_INVALID &&
-                   strstr(errors, "'blocks'") && strstr(errors, "'Scale'") &&
-                   strstr(errors, "takes 4 bytes") && strstr(errors, "mirrors it 8"),
-               "message: %s", errors);
+                   strstr(devtest_errors, "'blocks'") && strstr(devtest_errors, "'Scale'") &&
+                   strstr(devtest_errors, "takes 4 bytes") &&
+                   strstr(devtest_errors, "mirrors it 8"),
+               "message: %s", devtest_errors);
         lg_gl_pass_destroy(&q);
     }
 
     /* descriptor errors */
-    clear_errors();
+    devtest_clear();
     lg_gl_pass_desc none = { .name = "empty", .stages = src, .n_stages = 2 };
     CHECKF(lg_gl_pass_create(&node, &none, &p) == LG_ERR_INVALID && !p &&
-               strstr(errors, "'empty'"),
-           "a raster pass without attachments: %s", errors);
-    clear_errors();
+               strstr(devtest_errors, "'empty'"),
+           "a raster pass without attachments: %s", devtest_errors);
+    devtest_clear();
     lg_gl_shader_src bad = { GL_FRAGMENT_SHADER, "bad.frag", "#version 450\nnot glsl;\n" };
     lg_gl_shader_src two[2] = { src[0], bad };
     lg_gl_pass_desc bd = { .name = "bad", .stages = two, .n_stages = 2,
                            .colors = { GL_RGBA32F } };
     CHECKF(lg_gl_pass_create(&node, &bd, &p) == LG_ERR_DEVICE && !p &&
-               strstr(errors, "bad.frag"),
-           "a compile error: %s", errors);
+               strstr(devtest_errors, "bad.frag"),
+           "a compile error: %s", devtest_errors);
     check_restored(gl, "after failed creates");
 }
 
@@ -455,24 +412,24 @@ static const char stride_comp[] =
 
 static void test_stride(void)
 {
-    clear_errors();
+    devtest_clear();
     const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "stride.comp", stride_comp };
     lg_gl_pass_desc d = { .name = "stride", .stages = &src, .n_stages = 1 };
     lg_gl_pass *p = NULL;
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
         return;
-    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 32) == 0, "%s", errors);
-    clear_errors();
+    CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 32) == 0, "%s", devtest_errors);
+    devtest_clear();
     CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Ls", 28) == LG_ERR_INVALID &&
-               strstr(errors, "stride 32 bytes"),
-           "message: %s", errors);
+               strstr(devtest_errors, "stride 32 bytes"),
+           "message: %s", devtest_errors);
     lg_gl_pass_destroy(&p);
 }
 
 static void test_compute(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     enum { CW = 13, CH = 7 };
     GLuint img = make_tex(gl, GL_RGBA32F, CW, CH);
     const float zero4[4] = { 0, 0, 0, 0 };
@@ -485,7 +442,7 @@ static void test_compute(const lg_gl *gl)
     const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "count.comp", count_comp };
     lg_gl_pass_desc d = { .name = "count", .stages = &src, .n_stages = 1 };
     lg_gl_pass *p = NULL;
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
         return;
     uint32_t l[3];
@@ -494,11 +451,12 @@ static void test_compute(const lg_gl *gl)
     lg_gl_uniform size = lg_gl_pass_uniform(p, "u_size");
     lg_gl_binding out = lg_gl_pass_image(p, "u_out");
     lg_gl_binding cnt = lg_gl_pass_storage(p, "Counts");
-    CHECKF(error_count == 0 && out.index == 1 && cnt.index == 2, "look-ups: %s", errors);
+    CHECKF(devtest_error_count == 0 && out.index == 1 && cnt.index == 2, "look-ups: %s",
+           devtest_errors);
     CHECKF(lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "Counts", sizeof(counts)) == 0,
-           "Counts: %s", errors);
+           "Counts: %s", devtest_errors);
 
-    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
     GLint prog = 0;
     gl->GetIntegerv(GL_CURRENT_PROGRAM, &prog);
     CHECKF((GLuint)prog == lg_gl_pass_program(p), "begin did not make the program current");
@@ -506,7 +464,7 @@ static void test_compute(const lg_gl *gl)
     lg_gl_pass_bind_buffer(p, cnt, buf);
     lg_gl_set_ivec2(p, size, CW, CH);
     int rc = lg_gl_pass_dispatch(p, CW, CH, 1);
-    CHECKF(lg_gl_pass_end(p, rc) == 0, "dispatch/end: %s", errors);
+    CHECKF(lg_gl_pass_end(p, rc) == 0, "dispatch/end: %s", devtest_errors);
     check_restored(gl, "after a compute pass");
 
     counts c;
@@ -524,9 +482,9 @@ static void test_compute(const lg_gl *gl)
     CHECKF(bad == 0, "%d pixels wrong", bad);
 
     /* a dispatch outside begin/end, and a zero group count, are errors */
-    clear_errors();
+    devtest_clear();
     CHECKF(lg_gl_pass_dispatch_groups(p, 1, 1, 1) == LG_ERR_INVALID, "dispatch outside begin");
-    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
     CHECKF(lg_gl_pass_end(p, lg_gl_pass_dispatch_groups(p, 0, 1, 1)) == LG_ERR_UNSUPPORTED,
            "0 groups accepted");
     check_restored(gl, "after a refused dispatch");
@@ -573,7 +531,7 @@ static const char slice_comp[] =
  * it bound alone (only that layer written), and a mip level above 0 of a 2D texture. */
 static void test_image_levels(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     enum { VW = 5, VH = 3, VD = 6, LAYER = 4 };
     GLuint vol;
     gl->CreateTextures(GL_TEXTURE_3D, 1, &vol);
@@ -587,7 +545,7 @@ static void test_image_levels(const lg_gl *gl)
     lg_gl_pass_desc sd = { .name = "slice", .stages = &ssrc, .n_stages = 1 };
     lg_gl_pass *pv = NULL, *ps = NULL;
     CHECKF(lg_gl_pass_create(&node, &vd, &pv) == 0 && lg_gl_pass_create(&node, &sd, &ps) == 0,
-           "create: %s", errors);
+           "create: %s", devtest_errors);
     if (!pv || !ps) {
         lg_gl_pass_destroy(&pv);
         lg_gl_pass_destroy(&ps);
@@ -599,21 +557,21 @@ static void test_image_levels(const lg_gl *gl)
     lg_gl_uniform ssize = lg_gl_pass_uniform(ps, "u_size"), stag = lg_gl_pass_uniform(ps, "u_tag");
 
     /* every layer at once */
-    CHECKF(lg_gl_pass_begin(pv, NULL) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_begin(pv, NULL) == 0, "begin: %s", devtest_errors);
     lg_gl_pass_bind_image_level(pv, vb, vol, 0, LG_GL_ALL_LAYERS, GL_WRITE_ONLY, GL_RGBA32F);
     lg_gl_set_ivec3(pv, vsize, VW, VH, VD);
     lg_gl_set_float(pv, vtag, 1.0f);
     int rc = lg_gl_pass_dispatch(pv, VW, VH, VD);
-    CHECKF(lg_gl_pass_end(pv, rc) == 0, "layered dispatch: %s", errors);
+    CHECKF(lg_gl_pass_end(pv, rc) == 0, "layered dispatch: %s", devtest_errors);
     check_restored(gl, "after a layered image pass");
 
     /* then layer LAYER alone, as a 2D image */
-    CHECKF(lg_gl_pass_begin(ps, NULL) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_begin(ps, NULL) == 0, "begin: %s", devtest_errors);
     lg_gl_pass_bind_image_level(ps, sb, vol, 0, LAYER, GL_WRITE_ONLY, GL_RGBA32F);
     lg_gl_set_ivec2(ps, ssize, VW, VH);
     lg_gl_set_float(ps, stag, 2.0f);
     rc = lg_gl_pass_dispatch(ps, VW, VH, 1);
-    CHECKF(lg_gl_pass_end(ps, rc) == 0, "layer dispatch: %s", errors);
+    CHECKF(lg_gl_pass_end(ps, rc) == 0, "layer dispatch: %s", devtest_errors);
     check_restored(gl, "after a one-layer image pass");
 
     static float vpx[VW * VH * VD * 4];
@@ -637,12 +595,12 @@ static void test_image_levels(const lg_gl *gl)
     gl->TextureStorage2D(mip, 2, GL_RGBA32F, MW, MH);
     gl->ClearTexImage(mip, 0, GL_RGBA, GL_FLOAT, zero4);
     gl->ClearTexImage(mip, 1, GL_RGBA, GL_FLOAT, zero4);
-    CHECKF(lg_gl_pass_begin(ps, NULL) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_begin(ps, NULL) == 0, "begin: %s", devtest_errors);
     lg_gl_pass_bind_image_level(ps, sb, mip, 1, 0, GL_WRITE_ONLY, GL_RGBA32F);
     lg_gl_set_ivec2(ps, ssize, MW / 2, MH / 2);
     lg_gl_set_float(ps, stag, 3.0f);
     rc = lg_gl_pass_dispatch(ps, MW / 2, MH / 2, 1);
-    CHECKF(lg_gl_pass_end(ps, rc) == 0, "level dispatch: %s", errors);
+    CHECKF(lg_gl_pass_end(ps, rc) == 0, "level dispatch: %s", devtest_errors);
     float l0[MW * MH * 4], l1[(MW / 2) * (MH / 2) * 4];
     gl->GetTextureImage(mip, 0, GL_RGBA, GL_FLOAT, (GLsizei)sizeof l0, l0);
     gl->GetTextureImage(mip, 1, GL_RGBA, GL_FLOAT, (GLsizei)sizeof l1, l1);
@@ -683,7 +641,7 @@ static const char scene_frag[] =
  * drawn again unchanged (kept: the scene's checks do not run again). */
 static void test_scene(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     static const float pos[9] = { -1, -1, 0, 1, -1, 0, -1, 1, 0 };
     static const float nrm[9] = { 0, 0, 1, 0, 0, 1, 0, 0, 1 };
     static uint32_t idx[3] = { 0, 1, 2 };
@@ -706,7 +664,7 @@ static void test_scene(const lg_gl *gl)
     lg_gl_pass_desc d = { .name = "scene", .stages = src, .n_stages = 2,
                           .colors = { GL_RGBA32F }, .scene = LG_GL_SCENE_POSITIONS };
     lg_gl_pass *p = NULL;
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
         return;
     const lg_resource *res = (const lg_resource *)&scene_resource;
@@ -717,10 +675,10 @@ static void test_scene(const lg_gl *gl)
         if (frame == 2) /* unchanged records, so the draw data is kept and not checked */
             idx[2] = 99;
         const float bg[4] = { 0, 0, 0, 0 };
-        CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", devtest_errors);
         lg_gl_pass_clear_color(p, 0, bg);
         int rc = lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, res, NULL));
-        CHECKF(rc == 0, "frame %d: %s", frame, errors);
+        CHECKF(rc == 0, "frame %d: %s", frame, devtest_errors);
         check_restored(gl, "after a scene pass");
         read_rgba(gl, color, px, W, H);
         bool at_origin = px[(1 * W + 1) * 4] == 1.0f, moved = px[(4 * W + 4) * 4] == 1.0f;
@@ -731,12 +689,12 @@ static void test_scene(const lg_gl *gl)
     }
     idx[2] = 2;
     /* a scene the checks refuse: an index out of range, in a new record */
-    clear_errors();
+    devtest_clear();
     mesh.n_vertices = 2;
-    CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", errors);
+    CHECKF(lg_gl_pass_begin(p, &t) == 0, "begin: %s", devtest_errors);
     CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, res, NULL)) == LG_ERR_INVALID &&
-               strstr(errors, "out of range"),
-           "a bad index was drawn: %s", errors);
+               strstr(devtest_errors, "out of range"),
+           "a bad index was drawn: %s", devtest_errors);
     check_restored(gl, "after a refused scene");
     lg_gl_pass_destroy(&p);
     gl->DeleteTextures(1, &color);
@@ -752,7 +710,7 @@ static void test_scene(const lg_gl *gl)
  * behind it and writes the fragment's depth. */
 static void test_depth_func(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     out_color = make_tex(gl, GL_RGBA32F, W, H);
     out_depth = make_tex(gl, GL_DEPTH_COMPONENT32F, W, H);
     GLuint black = make_tex(gl, GL_RGBA32F, 1, 1), scale_buf;
@@ -769,12 +727,12 @@ static void test_depth_func(const lg_gl *gl)
                               .depth = true, .depth_test = true, .depth_write = true,
                               .depth_func = always ? GL_ALWAYS : 0 };
         lg_gl_pass *p = NULL;
-        CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create %s: %s", d.name, errors);
+        CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create %s: %s", d.name, devtest_errors);
         if (!p)
             continue;
         lg_gl_uniform u_z = lg_gl_pass_uniform(p, "u_z"), u_c = lg_gl_pass_uniform(p, "u_color");
         lg_gl_binding t = lg_gl_pass_texture(p, "u_tex"), sc = lg_gl_pass_storage(p, "Scale");
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin %s: %s", d.name, errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin %s: %s", d.name, devtest_errors);
         GLint func = 0;
         gl->GetIntegerv(GL_DEPTH_FUNC, &func);
         CHECKF(func == (always ? GL_ALWAYS : GL_LESS), "%s: begin set glDepthFunc 0x%04x",
@@ -787,7 +745,7 @@ static void test_depth_func(const lg_gl *gl)
         lg_gl_set_float(p, u_z, 0.5f); /* window depth 0.75, behind the plane */
         lg_gl_set_vec4v(p, u_c, red);
         CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw(p, GL_TRIANGLES, 3)) == 0, "draw %s: %s",
-               d.name, errors);
+               d.name, devtest_errors);
         check_restored(gl, always ? "after a GL_ALWAYS pass" : "after a GL_LESS pass");
         read_rgba(gl, out_color, px, W, H);
         gl->GetTextureImage(out_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)sizeof dp, dp);
@@ -801,13 +759,13 @@ static void test_depth_func(const lg_gl *gl)
                    "hidden)", in[0], din);
         lg_gl_pass_destroy(&p);
     }
-    clear_errors();
+    devtest_clear();
     lg_gl_pass *bad = NULL;
     lg_gl_pass_desc bd = { .name = "badfunc", .stages = src, .n_stages = 2,
                            .colors = { GL_RGBA32F }, .depth_func = GL_RGBA32F };
     CHECKF(lg_gl_pass_create(&node, &bd, &bad) == LG_ERR_INVALID && !bad &&
-               strstr(errors, "'badfunc'") && strstr(errors, "depth_func"),
-           "a bad depth_func: %s", errors);
+               strstr(devtest_errors, "'badfunc'") && strstr(devtest_errors, "depth_func"),
+           "a bad depth_func: %s", devtest_errors);
     GLuint texs[3] = { out_color, out_depth, black };
     gl->DeleteTextures(3, texs);
     gl->DeleteBuffers(1, &scale_buf);
@@ -862,7 +820,7 @@ static int run_sample(const lg_gl *gl, lg_gl_pass *p, GLuint out, uint32_t n, fl
 
 static void test_samplers(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     GLuint out;
     gl->CreateBuffers(1, &out);
     gl->NamedBufferStorage(out, 8 * 4 * sizeof(float), NULL, GL_DYNAMIC_STORAGE_BIT);
@@ -881,12 +839,12 @@ static void test_samplers(const lg_gl *gl)
     const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "sample2d.comp", sample2d_comp };
     lg_gl_pass_desc d = { .name = "sample", .stages = &src, .n_stages = 1 };
     lg_gl_pass *p = NULL;
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
         return;
     lg_gl_binding t = lg_gl_pass_texture(p, "u_tex");
     lg_gl_uniform uu = lg_gl_pass_uniform(p, "u_u"), lod = lg_gl_pass_uniform(p, "u_lod");
-    CHECKF(error_count == 0, "look-ups: %s", errors);
+    CHECKF(devtest_error_count == 0, "look-ups: %s", devtest_errors);
 
     /* filters at u = 0.4 (between texels 1 and 2; x = 1.6 - 0.5 = 1.1 texels), level 0 */
     const float at[8] = { 0.4f, 1.4f };
@@ -898,14 +856,14 @@ static void test_samplers(const lg_gl *gl)
     };
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
         float r[1];
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
         lg_gl_pass_bind_texture_sampled(p, t, tex, f[i].s);
         if (i == 3) /* a LINEAR sampler first, then the texture's own state on the same unit */
             lg_gl_pass_bind_texture_sampled(p, t, tex, f[1].s),
                 lg_gl_pass_bind_texture_sampled(p, t, tex, NULL);
         lg_gl_set_floatv(p, uu, 2, at);
         lg_gl_set_float(p, lod, 0.0f);
-        CHECKF(run_sample(gl, p, out, 1, r) == 0, "%s: %s", f[i].what, errors);
+        CHECKF(run_sample(gl, p, out, 1, r) == 0, "%s: %s", f[i].what, devtest_errors);
         CHECKF(fabsf(r[0] - f[i].want) < 1e-3f, "%s at u 0.4: %g (want %g)", f[i].what, r[0],
                f[i].want);
         check_restored(gl, f[i].what);
@@ -915,11 +873,11 @@ static void test_samplers(const lg_gl *gl)
     for (int tri = 0; tri < 2; tri++) {
         lg_gl_sampler s = { .filter = tri ? LG_GL_FILTER_LINEAR_MIPMAP : LG_GL_FILTER_LINEAR };
         float r[1];
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
         lg_gl_pass_bind_texture_sampled(p, t, tex, &s);
         lg_gl_set_floatv(p, uu, 1, at);
         lg_gl_set_float(p, lod, 0.5f);
-        CHECKF(run_sample(gl, p, out, 1, r) == 0, "mip: %s", errors);
+        CHECKF(run_sample(gl, p, out, 1, r) == 0, "mip: %s", devtest_errors);
         float want = tri ? 0.5f * 1.1f + 0.5f * 16.0f : 1.1f;
         CHECKF(fabsf(r[0] - want) < 2e-2f, "%s at level 0.5: %g (want %g)",
                tri ? "LINEAR_MIPMAP" : "LINEAR", r[0], want);
@@ -930,44 +888,44 @@ static void test_samplers(const lg_gl *gl)
     for (int w = 0; w < 4; w++) {
         lg_gl_sampler s = { .filter = LG_GL_FILTER_NEAREST, .wrap = (lg_gl_wrap)w };
         float r[2];
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
         lg_gl_pass_bind_texture_sampled(p, t, tex, &s);
         lg_gl_set_floatv(p, uu, 2, at);
         lg_gl_set_float(p, lod, 0.0f);
-        CHECKF(run_sample(gl, p, out, 2, r) == 0, "wrap %d: %s", w, errors);
+        CHECKF(run_sample(gl, p, out, 2, r) == 0, "wrap %d: %s", w, devtest_errors);
         CHECKF(r[1] == want_wrap[w] && r[0] == 1.0f, "wrap %d at u 1.4: %g (want %g)", w, r[1],
                want_wrap[w]);
     }
     check_restored(gl, "after sampled bindings");
     /* an unknown wrap is an error at end, and nothing is bound */
-    clear_errors();
-    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+    devtest_clear();
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
     lg_gl_sampler bad = { .wrap = (lg_gl_wrap)9 };
     lg_gl_pass_bind_texture_sampled(p, t, tex, &bad);
-    CHECKF(lg_gl_pass_end(p, 0) == LG_ERR_INVALID && strstr(errors, "'sample'") &&
-               strstr(errors, "wrap 9"),
-           "a bad sampler: %s", errors);
+    CHECKF(lg_gl_pass_end(p, 0) == LG_ERR_INVALID && strstr(devtest_errors, "'sample'") &&
+               strstr(devtest_errors, "wrap 9"),
+           "a bad sampler: %s", devtest_errors);
     check_restored(gl, "after a bad sampler");
     lg_gl_pass_destroy(&p);
 
     /* depth comparison: a depth texel of 0.5 passes a reference of 0.4 and fails 0.6 */
-    clear_errors();
+    devtest_clear();
     GLuint depth = make_tex(gl, GL_DEPTH_COMPONENT32F, 1, 1);
     const float half = 0.5f;
     gl->ClearTexImage(depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, &half);
     const lg_gl_shader_src ssrc = { GL_COMPUTE_SHADER, "shadow.comp", shadow_comp };
     lg_gl_pass_desc sd = { .name = "shadow", .stages = &ssrc, .n_stages = 1 };
-    CHECKF(lg_gl_pass_create(&node, &sd, &p) == 0, "create shadow: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &sd, &p) == 0, "create shadow: %s", devtest_errors);
     if (p) {
         lg_gl_binding sb = lg_gl_pass_texture(p, "u_shadow");
         lg_gl_uniform ref = lg_gl_pass_uniform(p, "u_ref");
         const float refs[2] = { 0.4f, 0.6f };
         lg_gl_sampler s = { .filter = LG_GL_FILTER_NEAREST, .compare_less_equal = true };
         float r[2];
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
         lg_gl_pass_bind_texture_sampled(p, sb, depth, &s);
         lg_gl_set_floatv(p, ref, 2, refs);
-        CHECKF(run_sample(gl, p, out, 2, r) == 0, "shadow: %s", errors);
+        CHECKF(run_sample(gl, p, out, 2, r) == 0, "shadow: %s", devtest_errors);
         CHECKF(r[0] == 1.0f && r[1] == 0.0f, "compare: ref 0.4 -> %g, 0.6 -> %g (want 1, 0)",
                r[0], r[1]);
         check_restored(gl, "after a shadow sampler");
@@ -976,7 +934,7 @@ static void test_samplers(const lg_gl *gl)
 
     /* seamless cube maps: 2x2 faces, +X red 1, the others 0; a direction next to the edge
      * of +X and +Z: clamped to +X alone (1) or filtered across the edge (about 1/2) */
-    clear_errors();
+    devtest_clear();
     GLuint cube;
     gl->CreateTextures(GL_TEXTURE_CUBE_MAP, 1, &cube);
     gl->TextureStorage2D(cube, 1, GL_RGBA32F, 2, 2);
@@ -991,21 +949,21 @@ static void test_samplers(const lg_gl *gl)
     }
     const lg_gl_shader_src csrc = { GL_COMPUTE_SHADER, "cube.comp", samplecube_comp };
     lg_gl_pass_desc cd = { .name = "cube", .stages = &csrc, .n_stages = 1 };
-    CHECKF(lg_gl_pass_create(&node, &cd, &p) == 0, "create cube: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &cd, &p) == 0, "create cube: %s", devtest_errors);
     if (p) {
         lg_gl_binding cb = lg_gl_pass_texture(p, "u_cube");
         lg_gl_uniform dir = lg_gl_pass_uniform(p, "u_dir");
         for (int seamless = 0; seamless < 2; seamless++) {
             lg_gl_sampler s = { .seamless_cube = seamless };
             float r[1];
-            CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+            CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
             CHECKF(!gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS), "begin left seamless on");
             lg_gl_pass_bind_texture_sampled(p, cb, cube, &s);
             CHECKF(gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS) == (GLboolean)seamless,
                    "seamless %d: the switch is %d", seamless,
                    gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS));
             lg_gl_set_vec3(p, dir, 1.0f, 0.0f, 0.999f);
-            CHECKF(run_sample(gl, p, out, 1, r) == 0, "cube: %s", errors);
+            CHECKF(run_sample(gl, p, out, 1, r) == 0, "cube: %s", devtest_errors);
             if (seamless)
                 CHECKF(r[0] > 0.4f && r[0] < 0.6f, "seamless at the edge: %g (want about 0.5)",
                        r[0]);
@@ -1067,7 +1025,7 @@ LG_GL_BLOCK_OFFSET(params, weights, 96);
 
 static void test_uniforms(const lg_gl *gl)
 {
-    clear_errors();
+    devtest_clear();
     accounted = 0;
     GLuint out;
     gl->CreateBuffers(1, &out);
@@ -1075,14 +1033,15 @@ static void test_uniforms(const lg_gl *gl)
     const lg_gl_shader_src src = { GL_COMPUTE_SHADER, "uniforms.comp", uniforms_comp };
     lg_gl_pass_desc d = { .name = "uniforms", .stages = &src, .n_stages = 1 };
     lg_gl_pass *p = NULL;
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
         return;
     lg_gl_uniform um = lg_gl_pass_uniform(p, "u_m"), ui = lg_gl_pass_uniform(p, "u_i");
     lg_gl_uniform uv3 = lg_gl_pass_uniform(p, "u_v3"), uv4 = lg_gl_pass_uniform(p, "u_v4[0]");
     lg_gl_binding blk = lg_gl_pass_uniform_block(p, "Params");
     lg_gl_binding ob = lg_gl_pass_storage(p, "Out");
-    CHECKF(error_count == 0 && blk.index == 4, "look-ups (block at %d): %s", blk.index, errors);
+    CHECKF(devtest_error_count == 0 && blk.index == 4, "look-ups (block at %d): %s", blk.index,
+           devtest_errors);
 
     /* columns (1,2,3), (4,5,6), (7,8,9): m * (1, 10, 100) = (741, 852, 963) */
     const float m[9] = { 1, 2, 3, 4, 5, 6, 7, 8, 9 };
@@ -1097,18 +1056,19 @@ static void test_uniforms(const lg_gl *gl)
     for (int frame = 0; frame < 2; frame++) {
         if (frame == 1) /* a new value in the same buffer */
             u.exposure = -4.0f;
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
         lg_gl_set_mat3(p, um, m);
         lg_gl_set_intv(p, ui, 3, iv);
         lg_gl_set_vec3_array(p, uv3, 2, v3);
         lg_gl_set_vec4_array(p, uv4, 2, v4);
         int rc = lg_gl_pass_uniforms(p, blk, &u, sizeof u);
-        CHECKF(rc == 0, "uniforms: %s", errors);
+        CHECKF(rc == 0, "uniforms: %s", devtest_errors);
         GLint bound = 0;
         gl->GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, 4, &bound);
         CHECKF(bound != 0, "the block's buffer is not bound between begin and end");
         lg_gl_pass_bind_buffer(p, ob, out);
-        CHECKF(lg_gl_pass_end(p, lg_gl_pass_dispatch(p, 1, 1, 1)) == 0, "dispatch: %s", errors);
+        CHECKF(lg_gl_pass_end(p, lg_gl_pass_dispatch(p, 1, 1, 1)) == 0, "dispatch: %s",
+               devtest_errors);
         check_restored(gl, "after a uniform-block pass");
         float o[16 * 4];
         gl->GetNamedBufferSubData(out, 0, sizeof o, o);
@@ -1133,35 +1093,36 @@ static void test_uniforms(const lg_gl *gl)
            (long long)accounted, sizeof u);
 
     /* outside begin/end; a struct of the wrong size (named, and the pass fails) */
-    clear_errors();
+    devtest_clear();
     CHECKF(lg_gl_pass_uniforms(p, blk, &u, sizeof u) == LG_ERR_INVALID &&
-               strstr(errors, "outside begin/end"),
-           "outside: %s", errors);
-    clear_errors();
-    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
+               strstr(devtest_errors, "outside begin/end"),
+           "outside: %s", devtest_errors);
+    devtest_clear();
+    CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
     int rc = lg_gl_pass_uniforms(p, blk, &u, sizeof u - 16);
-    CHECKF(rc == LG_ERR_INVALID && strstr(errors, "'uniforms'") && strstr(errors, "'Params'") &&
-               strstr(errors, "mirrors it 128"),
-           "a short struct: %s", errors);
+    CHECKF(rc == LG_ERR_INVALID && strstr(devtest_errors, "'uniforms'") &&
+               strstr(devtest_errors, "'Params'") &&
+               strstr(devtest_errors, "mirrors it 128"),
+           "a short struct: %s", devtest_errors);
     lg_gl_pass_end(p, rc);
     check_restored(gl, "after a refused block");
-    clear_errors();
+    devtest_clear();
     CHECKF(lg_gl_pass_begin(p, NULL) == LG_ERR_INVALID, "the pass began after a bad block");
     lg_gl_pass_destroy(&p);
     CHECKF(accounted == 0, "%lld bytes still counted after destroy", (long long)accounted);
 
     /* an absent optional block does nothing; a storage binding is refused */
-    clear_errors();
-    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", errors);
+    devtest_clear();
+    CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (p) {
         lg_gl_binding none = lg_gl_pass_binding_optional(p, GL_UNIFORM_BLOCK, "Nope");
-        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", errors);
-        CHECKF(lg_gl_pass_uniforms(p, none, &u, sizeof u) == 0 && error_count == 0,
-               "absent block: %s", errors);
+        CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
+        CHECKF(lg_gl_pass_uniforms(p, none, &u, sizeof u) == 0 && devtest_error_count == 0,
+               "absent block: %s", devtest_errors);
         CHECKF(lg_gl_pass_uniforms(p, lg_gl_pass_storage(p, "Out"), &u, sizeof u) ==
                        LG_ERR_INVALID &&
-                   strstr(errors, "storage block"),
-               "a storage block taken for uniforms: %s", errors);
+                   strstr(devtest_errors, "storage block"),
+               "a storage block taken for uniforms: %s", devtest_errors);
         lg_gl_pass_end(p, 0);
         check_restored(gl, "after an absent block");
         lg_gl_pass_destroy(&p);
@@ -1171,24 +1132,19 @@ static void test_uniforms(const lg_gl *gl)
 
 int main(int argc, char **argv)
 {
-    const char *backend = argc > 1 ? argv[1] : "osmesa";
-    char err[512] = "";
-    lg_gl_device *dev = NULL;
-    if (lg_gl_device_create(&dev, backend, err, sizeof err)) {
-        printf("SKIP: no GL device '%s': %s\n", backend, err);
+    lg_gl_device *dev;
+    if (devtest_gl_open(argc, argv, &dev))
         return check_skip("gl_pass");
-    }
-    the_gl = lg_gl_device_table(dev);
-    lg_gl_state_reset(the_gl);
-    test_raster(the_gl);
-    test_names(the_gl);
-    test_compute(the_gl);
-    test_image_levels(the_gl);
+    lg_gl_state_reset(devtest_gl);
+    test_raster(devtest_gl);
+    test_names(devtest_gl);
+    test_compute(devtest_gl);
+    test_image_levels(devtest_gl);
     test_stride();
-    test_scene(the_gl);
-    test_depth_func(the_gl);
-    test_samplers(the_gl);
-    test_uniforms(the_gl);
+    test_scene(devtest_gl);
+    test_depth_func(devtest_gl);
+    test_samplers(devtest_gl);
+    test_uniforms(devtest_gl);
     lg_gl_device_destroy(&dev);
     return check_report("gl_pass");
 }

@@ -20,24 +20,15 @@ set or removed as the case needs, so that nothing outside the scratch folder is 
 import os
 import shutil
 import stat
-import subprocess
 import sys
-import tempfile
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check
+
 TEST_PLUGINS = os.environ["LG_TEST_PLUGINS"]
-TMP = tempfile.mkdtemp(prefix="lg-cache-dir-test-")
+TMP = lgrun.temp_dir("lg-cache-dir-test-")
 UID = os.geteuid()
 NOBODY = 65534
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
 
 
 GRAPH = os.path.join(TMP, "cache.lgraph")
@@ -59,10 +50,7 @@ def render(home=None, xdg=None, named=None, tmpdir=None):
                        ("TMPDIR", tmpdir)):
         if value is not None:
             env[key] = value
-    p = subprocess.run([EXE, "render", GRAPH, "--size", "4x4"], env=env, cwd=TMP,
-                       capture_output=True, text=True, timeout=120)
-    if p.returncode != 0:
-        raise Fail("render failed (exit %d):\n%s" % (p.returncode, p.stderr))
+    p = lgrun.run(["render", GRAPH, "--size", "4x4"], env, expect=0, cwd=TMP)
     if "testcache: computed" in p.stderr:
         return "computed", p.stderr
     if "testcache: reused" in p.stderr:
@@ -196,15 +184,7 @@ def test_named_refused():
     check(what == "reused" and not warnings(err), "a link to the user's own folder: " + err)
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

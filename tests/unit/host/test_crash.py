@@ -10,51 +10,34 @@ Environment (tests/unit/host/meson.build): LG_EXE, LG_CRASH_PLUGINS (the folder 
 tests/plugins/crash/lg_testcrash.so; core comes from the build tree).
 """
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check
+
 CRASH = os.environ["LG_CRASH_PLUGINS"]
 SO = os.path.join(CRASH, "lg_testcrash.so")
-TMP = tempfile.mkdtemp(prefix="lg-crash-test-")
+TMP = lgrun.temp_dir("lg-crash-test-")
 OLD = b"the previous file\n"
 SIGNALS = {"segv": "SIGSEGV", "bus": "SIGBUS", "fpe": "SIGFPE", "ill": "SIGILL",
            "abrt": "SIGABRT", "stack": "SIGSEGV"}
 
 
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
-
-
 def run(args, cwd, threads=None, timeout=120):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = CRASH
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    if threads:
-        env["LIGHTGRAPH_THREADS"] = str(threads)
-    return subprocess.run([EXE] + args, env=env, capture_output=True, text=True,
-                          timeout=timeout, cwd=cwd)
+    extra = {"LIGHTGRAPH_THREADS": str(threads)} if threads else None
+    return lgrun.run(args, lgrun.env(CRASH, os.path.join(TMP, "cache"), extra), timeout=timeout,
+                     cwd=cwd)
 
 
 def folder(name):
-    d = os.path.join(TMP, name)
-    os.makedirs(d)
-    return d
+    return lgrun.fresh_dir(TMP, name)
 
 
 def write_graph(d, params):
-    with open(os.path.join(d, "g.lgraph"), "w") as f:
-        f.write('lightgraph 1\nc = constant { color = [0.25, 0.5, 1] }\n'
-                'crashy = test_crash { image = c%s }\noutput crashy "out.png"\n'
-                % "".join(", %s = %s" % kv for kv in params.items()))
-    return os.path.join(d, "g.lgraph")
+    return lgrun.write(os.path.join(d, "g.lgraph"),
+                       'lightgraph 1\nc = constant { color = [0.25, 0.5, 1] }\n'
+                       'crashy = test_crash { image = c%s }\noutput crashy "out.png"\n'
+                       % "".join(", %s = %s" % kv for kv in params.items()))
 
 
 def expect_crash(p, d, phase, signal, what):
@@ -149,15 +132,7 @@ def test_sweep():
     check(os.listdir(out) == [], "files left: %s" % os.listdir(out))
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

@@ -18,55 +18,29 @@ import re
 import signal
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check, write
+
 CORE = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
 SRC = os.environ.get("LG_SOURCE_ROOT",
                      os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", "..")))
 PROBE = os.path.join(SRC, "assets", "probes", "forest_256x128_half_none.exr")
-TMP = tempfile.mkdtemp(prefix="lg-estimates-test-")
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+TMP = lgrun.temp_dir("lg-estimates-test-")
 
 
 def env_for(extra=None):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = CORE
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    env.pop("LIGHTGRAPH_TEST_FREE_BYTES", None)
-    env.update(extra or {})
-    return env
+    return lgrun.env(CORE, os.path.join(TMP, "cache"), extra, drop=["LIGHTGRAPH_TEST_FREE_BYTES"])
 
 
 def run(args, expect=None, extra_env=None, timeout=120):
-    p = subprocess.run([EXE] + args, env=env_for(extra_env), capture_output=True, text=True,
-                       timeout=timeout)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
-
-
-def write(path, text):
-    with open(path, "w") as f:
-        f.write(text)
-    return path
+    return lgrun.run(args, env_for(extra_env), expect, timeout)
 
 
 def fresh_dir(name):
-    d = os.path.join(TMP, name)
-    os.makedirs(d)
-    return d
+    return lgrun.fresh_dir(TMP, name)
 
 
 def temporaries(d):
@@ -94,7 +68,7 @@ class Running:
     for a line with a deadline and then stop the process."""
 
     def __init__(self, args, extra_env=None):
-        self.p = subprocess.Popen([EXE] + args, env=env_for(extra_env),
+        self.p = subprocess.Popen([lgrun.EXE] + args, env=env_for(extra_env),
                                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.lines = []
         self.t = threading.Thread(target=self._read, daemon=True)
@@ -323,15 +297,7 @@ def test_sweep_lazy():
     check(temporaries(out) == [], "SIGTERM left temporaries: %s" % temporaries(out))
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in TESTS:
-        print("usage: test_estimates.py {%s}" % ",".join(TESTS))
-        sys.exit(2)
-    try:
-        TESTS[sys.argv[1]]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

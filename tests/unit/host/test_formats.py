@@ -38,36 +38,21 @@ import os
 import shutil
 import subprocess
 import sys
-import tempfile
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check
+
 TEST_PLUGINS = os.environ["LG_TEST_PLUGINS"]
 BUILD = os.environ["LG_BUILD_ROOT"]
 SOURCE = os.environ["LG_SOURCE_ROOT"]
-TMP = tempfile.mkdtemp(prefix="lg-formats-test-")
+TMP = lgrun.temp_dir("lg-formats-test-")
 sys.path.insert(0, os.path.join(SOURCE, "tools"))
 import format_study  # noqa: E402  (its EXR and PNG readers, independent of lightgraph's)
 
 
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
-
-
 def run(args, expect=0):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = TEST_PLUGINS + ":" + os.path.join(BUILD, "plugins")
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=120,
-                       cwd=TMP)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    env = lgrun.env(TEST_PLUGINS + ":" + os.path.join(BUILD, "plugins"), os.path.join(TMP, "cache"))
+    return lgrun.run(args, env, expect, cwd=TMP)
 
 
 def graph(text, name="g.lgraph"):
@@ -300,13 +285,4 @@ TESTS = {"keyword_colour": t_keyword_colour, "roundtrip": t_roundtrip, "rgbe_pre
          "format_study": t_format_study}
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in TESTS:
-        sys.stderr.write("usage: test_formats.py %s\n" % "|".join(TESTS))
-        sys.exit(2)
-    try:
-        TESTS[sys.argv[1]]()
-    except Fail as e:
-        sys.stderr.write("FAIL: %s\n" % e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
+    sys.exit(lgrun.main(TESTS, TMP))

@@ -13,40 +13,23 @@ import shutil
 import struct
 import subprocess
 import sys
-import tempfile
 import zlib
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check
+
+EXE = lgrun.EXE
 TEST_PLUGINS = os.environ["LG_TEST_PLUGINS"]
 BROKEN = os.environ["LG_BROKEN_PLUGINS"]
-TMP = tempfile.mkdtemp(prefix="lg-host-test-")
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+TMP = lgrun.temp_dir("lg-host-test-")
 
 
 def run(args, plugin_path=TEST_PLUGINS, cache=None, expect=None):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = plugin_path
-    env["LIGHTGRAPH_CACHE_DIR"] = cache or os.path.join(TMP, "cache")
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=120)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    return lgrun.run(args, lgrun.env(plugin_path, cache or os.path.join(TMP, "cache")), expect)
 
 
 def graph(text, name="g.lgraph"):
-    path = os.path.join(TMP, name)
-    with open(path, "w") as f:
-        f.write(text)
-    return path
+    return lgrun.write(os.path.join(TMP, name), text)
 
 
 def read_hdr_pixels(path):
@@ -694,15 +677,7 @@ output t "%s"
             expect=2)
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

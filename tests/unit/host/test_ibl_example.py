@@ -27,17 +27,15 @@ usage: test_ibl_example.py TEST_NAME
 """
 import math
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import exr_read  # noqa: E402
+import lgrun  # noqa: E402
+from lgrun import Fail, check  # noqa: E402
 
-EXE = os.environ["LG_EXE"]
 SRC = os.environ["LG_SOURCE_ROOT"]
-TMP = tempfile.mkdtemp(prefix="lg-ibl-example-")
+TMP = lgrun.temp_dir("lg-ibl-example-")
 GRAPH = os.path.join(SRC, "examples", "ibl.lgraph")
 PROBES = os.path.join(SRC, "assets", "probes")
 W, H = 96, 54
@@ -68,24 +66,8 @@ TOL_SAME = 0.005
 TOL_RESAMPLED = 0.04
 
 
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
-
-
 def run(args, expect=None, timeout=120):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    return lgrun.run(args, lgrun.env("", os.path.join(TMP, "cache")), expect, timeout)
 
 
 # the EXR reader: exr_read.py (shared with test_prt_example.py)
@@ -244,15 +226,4 @@ def test_set_errors():
 TESTS = {"every_probe": test_every_probe, "set_errors": test_set_errors}
 
 if __name__ == "__main__":
-    name = sys.argv[1] if len(sys.argv) > 1 else ""
-    if name not in TESTS:
-        print("usage: test_ibl_example.py {%s}" % "|".join(TESTS), file=sys.stderr)
-        sys.exit(2)
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL %s: %s" % (name, e), file=sys.stderr)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok", name)
+    sys.exit(lgrun.main(TESTS, TMP))

@@ -14,37 +14,19 @@
 usage: test_images.py TEST_NAME
 """
 import os
-import shutil
 import struct
-import subprocess
 import sys
-import tempfile
 import zlib
 
-EXE = os.environ["LG_EXE"]
-TMP = tempfile.mkdtemp(prefix="lg-images-test-")
+import lgrun
+from lgrun import Fail, check
 
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+TMP = lgrun.temp_dir("lg-images-test-")
 
 
 def run(args, env_extra=None, expect=None, timeout=60):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    env.pop("LIGHTGRAPH_MAX_PIXELS", None)
-    env.update(env_extra or {})
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    env = lgrun.env("", os.path.join(TMP, "cache"), env_extra, drop=["LIGHTGRAPH_MAX_PIXELS"])
+    return lgrun.run(args, env, expect, timeout)
 
 
 def path(name):
@@ -52,9 +34,7 @@ def path(name):
 
 
 def write(name, text):
-    with open(path(name), "w") as f:
-        f.write(text)
-    return path(name)
+    return lgrun.write(path(name), text)
 
 
 def png(name, w, h):
@@ -160,15 +140,4 @@ TESTS = {"max_pixels": test_max_pixels, "exr_precision": test_exr_precision,
          "special": test_special}
 
 if __name__ == "__main__":
-    name = sys.argv[1] if len(sys.argv) > 1 else ""
-    if name not in TESTS:
-        print("usage: test_images.py {%s}" % "|".join(TESTS), file=sys.stderr)
-        sys.exit(2)
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL %s: %s" % (name, e), file=sys.stderr)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok", name)
+    sys.exit(lgrun.main(TESTS, TMP))

@@ -20,40 +20,24 @@ usage: test_memory_limits.py TEST_NAME
 """
 import os
 import resource
-import shutil
 import subprocess
 import sys
-import tempfile
 
-EXE = os.environ["LG_EXE"]
-TMP = tempfile.mkdtemp(prefix="lg-memory-limits-test-")
+import lgrun
+from lgrun import Fail, check
 
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+EXE = lgrun.EXE
+TMP = lgrun.temp_dir("lg-memory-limits-test-")
 
 
 def run(args, expect=None, address_space=None, timeout=60):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    env.pop("LIGHTGRAPH_MAX_PIXELS", None)
+    env = lgrun.env("", os.path.join(TMP, "cache"), drop=["LIGHTGRAPH_MAX_PIXELS"])
 
     def limit():
         if address_space:
             resource.setrlimit(resource.RLIMIT_AS, (address_space, address_space))
 
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout,
-                       cwd=TMP, preexec_fn=limit)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    return lgrun.run(args, env, expect, timeout, cwd=TMP, preexec_fn=limit)
 
 
 def sanitized():
@@ -67,9 +51,7 @@ def path(name):
 
 
 def write(name, text):
-    with open(path(name), "w") as f:
-        f.write(text)
-    return path(name)
+    return lgrun.write(path(name), text)
 
 
 def no_output(name):
@@ -136,15 +118,7 @@ def test_plan_memory():
     check(os.path.exists(path("o1024.exr")), "the 48 MiB plan was not written")
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

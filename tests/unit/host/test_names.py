@@ -12,13 +12,13 @@ test plugin of tests/plugins/names), LG_TEST_PLUGINS (tests/plugins/testnodes).
 import json
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check
+
 TEST_PLUGINS = os.environ["LG_TEST_PLUGINS"]
-TMP = tempfile.mkdtemp(prefix="lg-names-test-")
+TMP = lgrun.temp_dir("lg-names-test-")
 
 
 def names_dir(variant):
@@ -32,25 +32,9 @@ def names_so(variant):
     return os.path.join(d, so[0])
 
 
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
-
-
 def run(args, plugin_path, expect=None):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = plugin_path
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=120,
-                       cwd=TMP)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout[-3000:], p.stderr[-3000:]))
-    return p
+    return lgrun.run(args, lgrun.env(plugin_path, os.path.join(TMP, "cache")), expect,
+                     tail=3000, cwd=TMP)
 
 
 def plugins_json(plugin_path):
@@ -198,15 +182,7 @@ def test_same_file():
     check("refusing" not in err, "a warning:\n" + err)
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

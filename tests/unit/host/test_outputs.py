@@ -17,52 +17,29 @@ import signal
 import stat
 import subprocess
 import sys
-import tempfile
 import time
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check, write
+
+EXE = lgrun.EXE
 CORE = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
 HOSTILE = os.environ["LG_HOSTILE_PLUGINS"]
-TMP = tempfile.mkdtemp(prefix="lg-outputs-test-")
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+TMP = lgrun.temp_dir("lg-outputs-test-")
 
 
 def env_for(plugin_path=CORE, extra=None):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = plugin_path
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    env.pop("LIGHTGRAPH_SCAN_TIMEOUT", None)
-    env.update(extra or {})
-    return env
+    return lgrun.env(plugin_path, os.path.join(TMP, "cache"), extra,
+                     drop=["LIGHTGRAPH_SCAN_TIMEOUT"])
 
 
 def run(args, expect=None, plugin_path=CORE, extra_env=None, preexec=None, timeout=60):
-    p = subprocess.run([EXE] + args, env=env_for(plugin_path, extra_env), capture_output=True,
-                       text=True, timeout=timeout, preexec_fn=preexec)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
-
-
-def write(path, text, mode="w"):
-    with open(path, mode) as f:
-        f.write(text)
-    return path
+    return lgrun.run(args, env_for(plugin_path, extra_env), expect, timeout,
+                     preexec_fn=preexec)
 
 
 def fresh_dir(name):
-    d = os.path.join(TMP, name)
-    os.makedirs(d)
-    return d
+    return lgrun.fresh_dir(TMP, name)
 
 
 def temporaries(d):
@@ -556,15 +533,7 @@ def test_scan_size():
           in p.stderr, p.stderr)
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in TESTS:
-        print("usage: test_outputs.py {%s}" % ",".join(TESTS))
-        sys.exit(2)
-    try:
-        TESTS[sys.argv[1]]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

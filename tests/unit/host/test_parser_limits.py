@@ -10,37 +10,25 @@ Environment (from tests/meson.build): LG_EXE, LG_BUILD_ROOT.
 """
 import os
 import resource
-import shutil
 import subprocess
 import sys
-import tempfile
 import time
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check
+
 CORE = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
-TMP = tempfile.mkdtemp(prefix="lg-parser-limits-")
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+TMP = lgrun.temp_dir("lg-parser-limits-")
 
 
 def run(args, plugin_path=CORE, extra_env=None):
     """Runs lightgraph; returns (exit status, stdout, stderr, max RSS in MB, seconds) of
     that one child (wait4 gives its own rusage, not the sum of all children)."""
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = plugin_path
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    env.update(extra_env or {})
+    env = lgrun.env(plugin_path, os.path.join(TMP, "cache"), extra_env)
     out_path, err_path = os.path.join(TMP, "stdout"), os.path.join(TMP, "stderr")
     with open(out_path, "wb") as out, open(err_path, "wb") as err:
         t0 = time.monotonic()
-        p = subprocess.Popen([EXE] + args, env=env, stdout=out, stderr=err)
+        p = subprocess.Popen([lgrun.EXE] + args, env=env, stdout=out, stderr=err)
         _, status, ru = os.wait4(p.pid, 0)
         secs = time.monotonic() - t0
         p.returncode = os.waitstatus_to_exitcode(status)
@@ -179,15 +167,7 @@ def test_check_image_size():
     check(rc == 0, "width 0 is the render width: %s" % err.decode())
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

@@ -25,27 +25,17 @@ usage: test_prt_example.py TEST_NAME
 """
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import exr_read  # noqa: E402
+import lgrun  # noqa: E402
+from lgrun import Fail, check  # noqa: E402
 
-EXE = os.environ["LG_EXE"]
 SRC = os.environ["LG_SOURCE_ROOT"]
-TMP = tempfile.mkdtemp(prefix="lg-prt-example-")
+TMP = lgrun.temp_dir("lg-prt-example-")
 W, H = 96, 54
 FAST = ["--size", "%dx%d" % (W, H), "--set", "bake.samples=16"]
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
 
 
 def tree():
@@ -59,14 +49,7 @@ def tree():
 
 
 def run(args, cache, expect=0, timeout=300):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
-    env["LIGHTGRAPH_CACHE_DIR"] = cache
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    return lgrun.run(args, lgrun.env("", cache), expect, timeout)
 
 
 def profile_cache(text, node):
@@ -220,22 +203,8 @@ def test_gating():
     check(all(v == 0.0 for r in rows for px in r for v in px[:3]), "the gated output is not zero")
 
 
-def main():
-    tests = {"cache": test_cache, "variants": test_variants, "include": test_include,
-             "gating": test_gating}
-    name = sys.argv[1] if len(sys.argv) > 1 else ""
-    if name not in tests:
-        sys.stderr.write("usage: test_prt_example.py %s\n" % "|".join(tests))
-        return 2
-    try:
-        tests[name]()
-    except Fail as e:
-        sys.stderr.write("FAIL: %s\n(scratch kept: %s)\n" % (e, TMP))
-        return 1
-    shutil.rmtree(TMP, ignore_errors=True)
-    print("%s: ok" % name)
-    return 0
-
+TESTS = {"cache": test_cache, "variants": test_variants, "include": test_include,
+         "gating": test_gating}
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(lgrun.main(TESTS, TMP, keep_on_fail=True))

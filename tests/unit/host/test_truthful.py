@@ -16,46 +16,23 @@ usage: test_truthful.py TEST_NAME   (meson runs each test as its own case)
 Environment (tests/unit/host/meson.build): LG_EXE, LG_BUILD_ROOT, LG_TEST_PLUGINS.
 """
 import os
-import subprocess
 import sys
-import tempfile
 
-EXE = os.environ["LG_EXE"]
+import lgrun
+from lgrun import Fail, check, write
+
 CORE = os.path.join(os.environ["LG_BUILD_ROOT"], "plugins")
 TESTNODES = os.environ["LG_TEST_PLUGINS"]
-TMP = tempfile.mkdtemp(prefix="lg-truthful-test-")
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
+TMP = lgrun.temp_dir("lg-truthful-test-")
 
 
 def run(args, expect=None, plugin_path=CORE, cache=None, timeout=120):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = plugin_path
-    env["LIGHTGRAPH_CACHE_DIR"] = cache or os.path.join(TMP, "cache")
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
-
-
-def write(path, text):
-    with open(path, "w") as f:
-        f.write(text)
-    return path
+    return lgrun.run(args, lgrun.env(plugin_path, cache or os.path.join(TMP, "cache")), expect,
+                     timeout)
 
 
 def fresh_dir(name):
-    d = os.path.join(TMP, name)
-    os.makedirs(d)
-    return d
+    return lgrun.fresh_dir(TMP, name)
 
 
 def test_sweep_vary_items():
@@ -137,15 +114,7 @@ def test_cache_folder_entry():
     check("testcache: reused" in p.stderr, p.stderr)
 
 
-TESTS = {name[5:]: fn for name, fn in globals().items() if name.startswith("test_")}
+TESTS = lgrun.tests_of(globals())
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2 or sys.argv[1] not in TESTS:
-        print("usage: test_truthful.py {%s}" % ",".join(TESTS))
-        sys.exit(2)
-    try:
-        TESTS[sys.argv[1]]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

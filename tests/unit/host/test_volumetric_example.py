@@ -23,31 +23,21 @@ usage: test_volumetric_example.py TEST_NAME
 """
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import exr_read  # noqa: E402
+import lgrun  # noqa: E402
+from lgrun import Fail, check  # noqa: E402
 
-EXE = os.environ["LG_EXE"]
 SRC = os.environ["LG_SOURCE_ROOT"]
-TMP = tempfile.mkdtemp(prefix="lg-vol-example-")
+TMP = lgrun.temp_dir("lg-vol-example-")
 W, H = 96, 54
 SIZE = ["--size", "%dx%d" % (W, H)]
 METHODS = ["screen", "polygonal", "froxel", "reference"]
 FAST = {"reference": ["--set", "vol.steps=16", "--set", "vol.spp=1"],
         "froxel": ["--set", "vol.width=48", "--set", "vol.height=27", "--set", "vol.depth=32"]}
 PLUGIN = {m: "volumetric_" + m for m in METHODS}
-
-
-class Fail(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Fail(msg)
 
 
 def tree():
@@ -63,14 +53,7 @@ def tree():
 
 
 def run(args, expect=0, timeout=600):
-    env = dict(os.environ)
-    env["LIGHTGRAPH_PLUGIN_PATH"] = ""
-    env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(TMP, "cache")
-    p = subprocess.run([EXE] + args, env=env, capture_output=True, text=True, timeout=timeout)
-    if expect is not None and p.returncode != expect:
-        raise Fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" %
-                   (" ".join(args), p.returncode, expect, p.stdout, p.stderr))
-    return p
+    return lgrun.run(args, lgrun.env("", os.path.join(TMP, "cache")), expect, timeout)
 
 
 def row(text, node):
@@ -197,12 +180,4 @@ def test_all():
 TESTS = {"render": test_render, "gated": test_gated, "all": test_all}
 
 if __name__ == "__main__":
-    name = sys.argv[1]
-    try:
-        TESTS[name]()
-    except Fail as e:
-        print("FAIL:", e)
-        sys.exit(1)
-    finally:
-        shutil.rmtree(TMP, ignore_errors=True)
-    print("ok")
+    sys.exit(lgrun.main(TESTS, TMP))

@@ -28,10 +28,7 @@
 
 #include "common/check.h"
 #include "lightgraph/medium.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "lightgraph/vecmath.h"
 
 /* integral over c in [-1, 1] of 2 pi c^k p(g, c): substitution s = 1 -+ c on each half,
  * Simpson in log s from 1e-14 to 1, plus the tiny [0, 1e-14] piece as a rectangle */
@@ -42,12 +39,12 @@ static double half_integral(double g, int k, double sign)
     for (int i = 0; i <= n; i++) {
         double s = exp(a + i * h);
         double c = sign * (1.0 - s);
-        double f = 2.0 * M_PI * (k ? c : 1.0) * lg_hg_phase(g, c) * s; /* ds = s dlog s */
+        double f = 2.0 * LG_PI * (k ? c : 1.0) * lg_hg_phase(g, c) * s; /* ds = s dlog s */
         double w = (i == 0 || i == n) ? 1.0 : (i & 1) ? 4.0 : 2.0;
         sum += w * f;
     }
     double c0 = sign;
-    return sum * h / 3.0 + 1e-14 * 2.0 * M_PI * (k ? c0 : 1.0) * lg_hg_phase(g, c0);
+    return sum * h / 3.0 + 1e-14 * 2.0 * LG_PI * (k ? c0 : 1.0) * lg_hg_phase(g, c0);
 }
 
 static int cmd_phase(void)
@@ -61,16 +58,16 @@ static int cmd_phase(void)
         CHECKF(fabs(mean - g) < 1e-6, "g %g: mean cosine %.12f", g, mean);
     }
     for (double c = -1.0; c <= 1.0; c += 0.125)
-        CHECK(fabs(lg_hg_phase(0.0, c) - 1.0 / (4.0 * M_PI)) < 1e-17);
+        CHECK(fabs(lg_hg_phase(0.0, c) - 1.0 / (4.0 * LG_PI)) < 1e-17);
     for (size_t i = 0; i < sizeof gs / sizeof gs[0]; i++) {
         double g = gs[i];
-        double want = (1.0 + g) / (4.0 * M_PI * (1.0 - g) * (1.0 - g));
+        double want = (1.0 + g) / (4.0 * LG_PI * (1.0 - g) * (1.0 - g));
         CHECKF(fabs(lg_hg_phase(g, 1.0) / want - 1.0) < 1e-12, "g %g at cos 1", g);
     }
     {
         long double g = 0.9999, c = 1.0 - 1e-9; /* the doubles, exactly */
         long double den = 1.0L + g * g - 2.0L * g * c;
-        long double want = (1.0L - g * g) / (4.0L * (long double)M_PI * den * sqrtl(den));
+        long double want = (1.0L - g * g) / (4.0L * (long double)LG_PI * den * sqrtl(den));
         double got = lg_hg_phase((double)g, (double)c);
         CHECKF(fabsl((long double)got / want - 1.0L) < 1e-9L, "stable form %.17g vs %.17Lg",
                got, want);

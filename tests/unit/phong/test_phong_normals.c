@@ -18,9 +18,8 @@
 #include <string.h>
 
 #include "common/check.h"
+#include "lightgraph/vecmath.h"
 #include "phong_model.h"
-
-#define PI 3.14159265358979323846
 
 static double len3(const float *v)
 {
@@ -31,7 +30,7 @@ static double len3(const float *v)
 static double angle_deg(const float *a, const float *b)
 {
     double c = ((double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2]) / (len3(a) * len3(b));
-    return acos(fmax(-1.0, fmin(1.0, c))) * 180 / PI;
+    return acos(fmax(-1.0, fmin(1.0, c))) * 180 / LG_PI;
 }
 
 static void expect_n(const float *got, double x, double y, double z, const char *what, uint32_t v)
@@ -283,7 +282,7 @@ static int cmd_false_smoothing(void)
     /* The remedy: split normals at creases sharper than 60 degrees (the facets meet at 90). */
     uint32_t out_idx[SI], out_src[SI], out_nv = 0;
     float out_n[SI * 3];
-    int rc = lg_vertex_normals_crease(pos, SV, idx, SI, 60.0f * (float)PI / 180.0f, out_idx, out_src, out_n, &out_nv);
+    int rc = lg_vertex_normals_crease(pos, SV, idx, SI, 60.0f * (float)LG_PI / 180.0f, out_idx, out_src, out_n, &out_nv);
     CHECKF(rc == LG_OK, "rc %d", rc);
     /* columns 0 and COLS-1 keep one vertex each per row; interior ones split in two */
     CHECKF(out_nv == 2 * 2 + 2 * 2 * (COLS - 2), "%" PRIu32 " output vertices", out_nv);
@@ -316,7 +315,7 @@ static int cmd_false_smoothing(void)
     }
 
     /* A crease angle above the facets' 90 degrees does not split: false smoothing again. */
-    rc = lg_vertex_normals_crease(pos, SV, idx, SI, 100.0f * (float)PI / 180.0f, out_idx, out_src, out_n, &out_nv);
+    rc = lg_vertex_normals_crease(pos, SV, idx, SI, 100.0f * (float)LG_PI / 180.0f, out_idx, out_src, out_n, &out_nv);
     CHECK(rc == LG_OK);
     CHECKF(out_nv == SV, "crease 100 degrees: %" PRIu32 " vertices, expected %d (no split)", out_nv, SV);
     printf("  crease split at 100 degrees: %" PRIu32 " vertices (no split: the crease angle must be below the "
@@ -332,7 +331,7 @@ static int cmd_crease(void)
     uint32_t oi[36], os[36], onv;
     float on[36 * 3], eq[8 * 3];
     /* 30 degrees: a cube's faces (90 degrees apart) keep their own normals: 24 vertices */
-    CHECK(lg_vertex_normals_crease(cube_pos, 8, cube_idx, 36, 30.0f * (float)PI / 180.0f, oi, os, on, &onv) == LG_OK);
+    CHECK(lg_vertex_normals_crease(cube_pos, 8, cube_idx, 36, 30.0f * (float)LG_PI / 180.0f, oi, os, on, &onv) == LG_OK);
     CHECKF(onv == 24, "cube, 30 degrees: %" PRIu32 " vertices", onv);
     check_all_unit(on, onv, "cube, 30 degrees");
     for (uint32_t t = 0; t < 12; t++) {
@@ -357,7 +356,7 @@ static int cmd_crease(void)
     CHECKF(onv == 24, "cube, NaN degrees: %" PRIu32 " vertices", onv);
     /* pi: eq. 1-13, no split */
     CHECK(lg_vertex_normals_eq13(cube_pos, 8, cube_idx, 36, eq) == LG_OK);
-    CHECK(lg_vertex_normals_crease(cube_pos, 8, cube_idx, 36, (float)PI, oi, os, on, &onv) == LG_OK);
+    CHECK(lg_vertex_normals_crease(cube_pos, 8, cube_idx, 36, (float)LG_PI, oi, os, on, &onv) == LG_OK);
     CHECKF(onv == 8, "cube, 180 degrees: %" PRIu32 " vertices", onv);
     for (uint32_t o = 0; o < onv; o++)
         expect_n(on + 3 * o, eq[3 * os[o]], eq[3 * os[o] + 1], eq[3 * os[o] + 2], "cube, 180 degrees = eq. 1-13", o);
@@ -371,7 +370,7 @@ static int cmd_crease(void)
     cpos[0] = cpos[1] = 0;
     cpos[2] = 1;
     for (uint32_t s = 0; s < SIDES; s++) {
-        double a = 2 * PI * s / SIDES;
+        double a = 2 * LG_PI * s / SIDES;
         cpos[3 * (s + 1)] = (float)cos(a);
         cpos[3 * (s + 1) + 1] = (float)sin(a);
         cpos[3 * (s + 1) + 2] = 0;
@@ -379,7 +378,7 @@ static int cmd_crease(void)
         cidx[3 * s + 1] = s + 1;
         cidx[3 * s + 2] = (s + 1) % SIDES + 1;
     }
-    CHECK(lg_vertex_normals_crease(cpos, SIDES + 1, cidx, SIDES * 3, 30.0f * (float)PI / 180.0f, coi, cos_, con, &cnv) ==
+    CHECK(lg_vertex_normals_crease(cpos, SIDES + 1, cidx, SIDES * 3, 30.0f * (float)LG_PI / 180.0f, coi, cos_, con, &cnv) ==
           LG_OK);
     check_all_unit(con, cnv, "cone");
     uint32_t apex_copies = 0;

@@ -30,8 +30,6 @@
 #include "probe_eval.cl.h"
 #include "probe_eval.comp.h"
 
-#define PI 3.14159265358979323846
-
 /* Tolerances (values in [0, 1)): coordinates within TOL_COORD (the maps' float rounding,
  * atan2 and sin/cos differ by a few ulp between libm, llvmpipe and PoCL); bilinear values
  * within TOL_BILINEAR per texel of width (a coordinate error times the value's slope);
@@ -100,7 +98,7 @@ static uint32_t make_dirs(float *d, uint32_t cap, uint32_t n_random)
                         put(d + 4 * n++, p[0], p[1], p[2]);
                     }
     for (uint32_t k = 0; k < n_random && n < cap; k++, n++) {
-        double z = 2 * rnd() - 1, ph = 2 * PI * rnd(), s = sqrt(1 - z * z);
+        double z = 2 * rnd() - 1, ph = 2 * LG_PI * rnd(), s = sqrt(1 - z * z);
         double scale = (k % 3 == 0) ? 1 : (k % 3 == 1) ? 1e-3 : 1e3; /* non-unit */
         put(d + 4 * n, scale * s * cos(ph), scale * s * sin(ph), scale * z);
     }

@@ -26,8 +26,6 @@
 #include "common/check.h"
 #include "lightgraph/probe.h"
 
-#define PI 3.14159265358979323846
-
 static const char *layout_name(lg_probe_layout l)
 {
     return l == LG_PROBE_LATLONG ? "latlong" : l == LG_PROBE_ANGULAR ? "angular" : "cube";
@@ -51,7 +49,7 @@ static double rnd(void) /* [0, 1) */
 
 static lg_vec3 rnd_dir(void)
 {
-    double z = 2 * rnd() - 1, a = 2 * PI * rnd(), s = sqrt(1 - z * z);
+    double z = 2 * rnd() - 1, a = 2 * LG_PI * rnd(), s = sqrt(1 - z * z);
     return lg_v3((float)(s * cos(a)), (float)(s * sin(a)), (float)z);
 }
 
@@ -118,7 +116,7 @@ static double ray_part(double x0, double x1, double y0, double y1, double c, dou
     }
     if (!(tout > tin) || tin >= 1)
         return 0;
-    return cos(PI * tin) - cos(PI * fmin(tout, 1));
+    return cos(LG_PI * tin) - cos(LG_PI * fmin(tout, 1));
 }
 
 static int cmpd(const void *a, const void *b)
@@ -142,10 +140,10 @@ static double angular_oracle(uint32_t n, uint32_t i, uint32_t j)
             if (xs[a] == 0 && ys[b] == 0)
                 continue;
             double d = atan2(ys[b], xs[a]) - base;
-            while (d > PI)
-                d -= 2 * PI;
-            while (d <= -PI)
-                d += 2 * PI;
+            while (d > LG_PI)
+                d -= 2 * LG_PI;
+            while (d <= -LG_PI)
+                d += 2 * LG_PI;
             bp[nb++] = d;
         }
     /* where the unit circle crosses the edges */
@@ -156,10 +154,10 @@ static double angular_oracle(uint32_t n, uint32_t i, uint32_t j)
                 double y = sg * sqrt(1 - x * x);
                 if (y > y0 && y < y1) {
                     double d = atan2(y, x) - base;
-                    while (d > PI)
-                        d -= 2 * PI;
-                    while (d <= -PI)
-                        d += 2 * PI;
+                    while (d > LG_PI)
+                        d -= 2 * LG_PI;
+                    while (d <= -LG_PI)
+                        d += 2 * LG_PI;
                     bp[nb++] = d;
                 }
             }
@@ -169,17 +167,17 @@ static double angular_oracle(uint32_t n, uint32_t i, uint32_t j)
                 double xx = sg * sqrt(1 - y * y);
                 if (xx > x0 && xx < x1) {
                     double d = atan2(y, xx) - base;
-                    while (d > PI)
-                        d -= 2 * PI;
-                    while (d <= -PI)
-                        d += 2 * PI;
+                    while (d > LG_PI)
+                        d -= 2 * LG_PI;
+                    while (d <= -LG_PI)
+                        d += 2 * LG_PI;
                     bp[nb++] = d;
                 }
             }
     }
     if (origin_inside) {
-        bp[nb++] = -PI;
-        bp[nb++] = PI;
+        bp[nb++] = -LG_PI;
+        bp[nb++] = LG_PI;
     }
     qsort(bp, (size_t)nb, sizeof *bp, cmpd);
     static const double gx[8] = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274,
@@ -233,16 +231,16 @@ static void check_sum(lg_probe_layout l, uint32_t w, uint32_t h)
                 /* relative, except for slivers of the angular rim far below a mean texel,
                  * where 1e-9 of a mean texel is the measure (their edge integrals cancel
                  * to ~1e-17 sr whichever way round they are summed) */
-                double mean = 4 * PI / (double)n;
+                double mean = 4 * LG_PI / (double)n;
                 double e = fabs(s - tv) / fmax(s, 1e-2 * mean);
                 if (s > 0 && e > worst)
                     worst = e;
             }
-    double rel = fabs(sum - 4 * PI) / (4 * PI), reld = fabs(sumd - 4 * PI) / (4 * PI);
+    double rel = fabs(sum - 4 * LG_PI) / (4 * LG_PI), reld = fabs(sumd - 4 * LG_PI) / (4 * LG_PI);
     printf("solid angles %-7s %5ux%-5u sum(float table) - 4pi: %.2e rel, sum(double) %.2e rel, "
            "table %.1f ms\n", layout_name(l), w, h, rel, reld, (t1 - t0) * 1e3);
     CHECKF(rel <= 1e-6, "%s %ux%u: the table sums to %.12g, 4 pi = %.12g (%.3g relative)",
-           layout_name(l), w, h, sum, 4 * PI, rel);
+           layout_name(l), w, h, sum, 4 * LG_PI, rel);
     CHECKF(reld <= 1e-9, "%s %ux%u: the texels sum to %.15g in double (%.3g relative)",
            layout_name(l), w, h, sumd, reld);
     CHECKF(negative == 0, "%s %ux%u: %d negative or NaN solid angles", layout_name(l), w, h,
@@ -265,13 +263,13 @@ static int cmd_solid_angles(void)
         check_sum(LG_PROBE_ANGULAR, ang[k], ang[k]);
 
     /* lat-long rows: the closed form */
-    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_LATLONG, 2, 1, 0, 1, 0) - 2 * PI) < 1e-12);
-    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_LATLONG, 1, 1, 0, 0, 0) - 4 * PI) < 1e-12);
+    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_LATLONG, 2, 1, 0, 1, 0) - 2 * LG_PI) < 1e-12);
+    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_LATLONG, 1, 1, 0, 0, 0) - 4 * LG_PI) < 1e-12);
     /* a cube face is 4 pi / 6; a 1x1 angular map's texel is the sphere */
-    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_CUBE, 1, 1, 3, 0, 0) - 4 * PI / 6) < 1e-12);
-    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_ANGULAR, 1, 1, 0, 0, 0) - 4 * PI) < 1e-12);
+    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_CUBE, 1, 1, 3, 0, 0) - 4 * LG_PI / 6) < 1e-12);
+    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_ANGULAR, 1, 1, 0, 0, 0) - 4 * LG_PI) < 1e-12);
     /* a cube 2x2 face: each texel a quarter of the face */
-    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_CUBE, 2, 2, 0, 1, 0) - PI / 6) < 1e-12);
+    CHECK(fabs(lg_probe_texel_solid_angle(LG_PROBE_CUBE, 2, 2, 0, 1, 0) - LG_PI / 6) < 1e-12);
 
     /* the angular map against the polar oracle, every texel of small maps (rim texels are
      * partly covered; corner texels are outside: 0) */
@@ -367,8 +365,8 @@ static int cmd_conventions(void)
     lg_vec3 d = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, 32, 16);
     CHECKF(d.z < -0.99f && d.x > 0 && d.y < 0, "latlong texel (32, 16): (%g, %g, %g)", d.x, d.y, d.z);
     d = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, 0, 0);
-    CHECKF(fabs(d.y - cos(PI / 64)) < 1e-6, "latlong row 0 centre: y = %.9g, cos(pi/64) = %.9g", d.y,
-           cos(PI / 64));
+    CHECKF(fabs(d.y - cos(LG_PI / 64)) < 1e-6, "latlong row 0 centre: y = %.9g, cos(pi/64) = %.9g", d.y,
+           cos(LG_PI / 64));
     expect_coord("latlong +X", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(1, 0, 0)), 0, 0.75, 0.5, t);
     expect_coord("latlong -Z", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, 0, -1)), 0, 0.5, 0.5, t);
     expect_coord("latlong +Y", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, 1, 0)), 0, 0.5, 0, t);
@@ -725,7 +723,7 @@ static int cmd_continuity(void)
         }
         /* along each meridian through a pole: both sides converge */
         for (int k = 0; k < 16; k++) {
-            double phi = 2 * PI * k / 16 + 0.1, t = 1e-6;
+            double phi = 2 * LG_PI * k / 16 + 0.1, t = 1e-6;
             for (int pole = -1; pole <= 1; pole += 2) {
                 lookup(LG_PROBE_LATLONG, 7, 4, img, NULL,
                        nrm(sin(t) * sin(phi), pole * cos(t), -sin(t) * cos(phi)), LG_PROBE_BILINEAR, a);

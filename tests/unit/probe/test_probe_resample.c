@@ -32,8 +32,6 @@
 #include "lightgraph/image.h"
 #include "lightgraph/probe.h"
 
-#define PI 3.14159265358979323846
-
 static const char *lname(lg_probe_layout l)
 {
     return l == LG_PROBE_LATLONG ? "latlong" : l == LG_PROBE_ANGULAR ? "angular" : "cube";
@@ -329,7 +327,7 @@ static int cmd_bright(void)
             double ang = acos(fmin(1.0, (double)lg_v3_dot(got, want)));
             /* the energy spreads over the destination texels the source texel overlaps:
              * its centroid stays within a destination texel of the source texel's centre */
-            double texel = to[b].l == LG_PROBE_CUBE ? 2.0 / to[b].n : 2 * PI / to[b].n;
+            double texel = to[b].l == LG_PROBE_CUBE ? 2.0 / to[b].n : 2 * LG_PI / to[b].n;
             /* a single texel's energy is kept to the balancing's convergence (measured
              * 1.6e-4 at worst); whole images are the 1e-4 oracle (totals, forest) */
             CHECKF(rel(ed, es) <= 5e-4, "texel (%u, %u) -> %s %u: energy %.9g vs %.9g",
@@ -393,7 +391,7 @@ static int cmd_smooth(void)
             for (int half = 0; half < 2; half++) {
                 uint32_t w = shapes[b].w >> half, h = shapes[b].h >> half;
                 probe d = resample(&s, shapes[b].l, w, h, NULL, NULL);
-                double worst = 0, src_texel = s.layout == LG_PROBE_CUBE ? 2.0 / s.w : PI / s.h;
+                double worst = 0, src_texel = s.layout == LG_PROBE_CUBE ? 2.0 / s.w : LG_PI / s.h;
                 for (size_t t = 0; t < d.n; t++) {
                     if (!(d.omega[t] > 0))
                         continue;
@@ -433,7 +431,7 @@ static int cmd_rotation(void)
     CHECK(lg_probe_resample(&img, LG_PROBE_LATLONG, 64, 32, NULL, NULL, d.rgba, NULL) == 0);
     double mean = 0, worst = 0;
     for (size_t t = 0; t < s.n; t++)
-        mean += s.rgba[4 * t] * s.omega[t] / (4 * PI);
+        mean += s.rgba[4 * t] * s.omega[t] / (4 * LG_PI);
     for (uint32_t j = 0; j < 32; j++)
         for (uint32_t i = 0; i < 64; i++) {
             lg_vec3 dw = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, i, j);

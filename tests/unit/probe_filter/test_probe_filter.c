@@ -42,8 +42,6 @@
 #include "ggx_prefilter.h"
 #include "base/pool.h"
 
-#define PI 3.14159265358979323846
-
 static const char *lname(lg_probe_layout l)
 {
     return l == LG_PROBE_LATLONG ? "latlong" : l == LG_PROBE_ANGULAR ? "angular" : "cube";
@@ -67,7 +65,7 @@ static double rnd(void) /* [0, 1) */
 
 static lg_vec3 rnd_dir(void)
 {
-    double z = 2.0 * rnd() - 1.0, p = 2.0 * PI * rnd(), s = sqrt(fmax(0.0, 1.0 - z * z));
+    double z = 2.0 * rnd() - 1.0, p = 2.0 * LG_PI * rnd(), s = sqrt(fmax(0.0, 1.0 - z * z));
     return lg_v3((float)(s * cos(p)), (float)(s * sin(p)), (float)z);
 }
 
@@ -203,7 +201,7 @@ static void quadrature(const lg_probe_image *img, lg_vec3 nf, lg_vec3 vf, double
     double b[3] = { r[1] * t[2] - r[2] * t[1], r[2] * t[0] - r[0] * t[2], r[0] * t[1] - r[1] * t[0] };
     double alpha = roughness * roughness, a2 = alpha * alpha;
     double acc[3] = { 0, 0, 0 };
-    double dt = PI / nt, dp = 2 * PI / np;
+    double dt = LG_PI / nt, dp = 2 * LG_PI / np;
     for (uint32_t i = 0; i < nt; i++) {
         double th = (i + 0.5) * dt, st = sin(th), ct = cos(th);
         for (uint32_t j = 0; j < np; j++) {
@@ -223,7 +221,7 @@ static void quadrature(const lg_probe_image *img, lg_vec3 nf, lg_vec3 vf, double
             double noh = n[0] * h[0] + n[1] * h[1] + n[2] * h[2];
             double voh = v[0] * h[0] + v[1] * h[1] + v[2] * h[2];
             double dd = noh * noh * (a2 - 1) + 1;
-            double D = a2 / (PI * dd * dd);
+            double D = a2 / (LG_PI * dd * dd);
             double vis = 0.5 / (nol * sqrt(nov * nov * (1 - a2) + a2) +
                                 nov * sqrt(nol * nol * (1 - a2) + a2));
             double fc = pow(1 - voh, 5);

@@ -22,10 +22,7 @@
 
 #include "common/check.h"
 #include "lightgraph/sampling.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "lightgraph/vecmath.h"
 
 static const lg_sampler samplers[] = { LG_SAMPLER_JITTERED, LG_SAMPLER_HAMMERSLEY,
                                        LG_SAMPLER_SOBOL };
@@ -108,7 +105,7 @@ static int cmd_sphere(void)
     for (int i = 0; i <= 1000; i++) {
         double uv[2] = { i / 1000.0, (i * 7 % 1000) / 1000.0 }, d[3];
         lg_sample_sphere(uv, d);
-        double th = 2.0 * acos(sqrt(1.0 - uv[0])), ph = 2.0 * M_PI * uv[1];
+        double th = 2.0 * acos(sqrt(1.0 - uv[0])), ph = 2.0 * LG_PI * uv[1];
         double e[3] = { sin(th) * cos(ph), sin(th) * sin(ph), cos(th) };
         CHECKF(fabs(d[0] - e[0]) < 1e-7 && fabs(d[1] - e[1]) < 1e-7 && fabs(d[2] - e[2]) < 1e-12,
                "u %g: (%g %g %g) against the seed's (%g %g %g)", uv[0], d[0], d[1], d[2], e[0],
@@ -130,8 +127,8 @@ static int cmd_sphere(void)
             sum[0] += 1, sum[1] += w[2], sum[2] += w[2] * w[2], sum[3] += w[0] * w[1];
             sum[4] += w[1] * w[1];
         }
-        double scale = 4.0 * M_PI / ((double)side * side);
-        double want[5] = { 4 * M_PI, 0, 4 * M_PI / 3, 0, 4 * M_PI / 3 };
+        double scale = 4.0 * LG_PI / ((double)side * side);
+        double want[5] = { 4 * LG_PI, 0, 4 * LG_PI / 3, 0, 4 * LG_PI / 3 };
         for (int i = 0; i < 5; i++) {
             double got = sum[i] * scale;
             CHECKF(fabs(got - want[i]) < 2e-3, "%s integral %d: %.8f, want %.8f",

@@ -40,10 +40,7 @@
 
 #include "common/check.h"
 #include "lightgraph/sh.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "lightgraph/vecmath.h"
 
 #define NMAX 64
 #define NC (NMAX * NMAX)
@@ -58,7 +55,7 @@ static double rnd(void) /* [0, 1) */
 }
 static void rnd_dir(double d[3])
 {
-    double z = 2.0 * rnd() - 1.0, phi = 2.0 * M_PI * rnd(), r = sqrt(fmax(0.0, 1.0 - z * z));
+    double z = 2.0 * rnd() - 1.0, phi = 2.0 * LG_PI * rnd(), r = sqrt(fmax(0.0, 1.0 - z * z));
     d[0] = r * cos(phi), d[1] = r * sin(phi), d[2] = z;
 }
 
@@ -80,7 +77,7 @@ static void ref_eval(int n, const double d[3], long double *out)
             else if (l == m + 1) p = (2.0L * m + 1.0L) * z * pmm;
             else p = ((2.0L * l - 1.0L) * z * p1 - (l + m - 1.0L) * p2) / (long double)(l - m);
             if (l > m) p2 = p1, p1 = p;
-            long double k = sqrtl((2.0L * l + 1.0L) / (4.0L * (long double)M_PI) *
+            long double k = sqrtl((2.0L * l + 1.0L) / (4.0L * (long double)LG_PI) *
                                   expl(lgammal(l - m + 1.0L) - lgammal(l + m + 1.0L)));
             if (m == 0) {
                 out[l * (l + 1)] = k * p;
@@ -113,7 +110,7 @@ static int cmd_eval(void)
         lg_sh_eval_f(16, fs, yf);
         ref_eval(NMAX, d, yr);
         for (int l = 0; l < NMAX; l++) {
-            double scale = sqrt((2.0 * l + 1.0) / (4.0 * M_PI));
+            double scale = sqrt((2.0 * l + 1.0) / (4.0 * LG_PI));
             for (int m = -l; m <= l; m++) {
                 int i = l * (l + 1) + m;
                 double e = fabs(yd[i] - (double)yr[i]) / scale;
@@ -184,7 +181,7 @@ static int cmd_addition(void)
         lg_sh_eval_d(NMAX, d, yd);
         lg_sh_eval_f(16, f, yf);
         for (int l = 0; l < NMAX; l++) {
-            double want = (2.0 * l + 1.0) / (4.0 * M_PI), sd = 0.0, sf = 0.0;
+            double want = (2.0 * l + 1.0) / (4.0 * LG_PI), sd = 0.0, sf = 0.0;
             for (int m = -l; m <= l; m++) {
                 sd += yd[l * (l + 1) + m] * yd[l * (l + 1) + m];
                 if (l < 16) sf += (double)yf[l * (l + 1) + m] * yf[l * (l + 1) + m];
@@ -209,7 +206,7 @@ static int cmd_addition(void)
 static void gauss_legendre(int k, double *x, double *w)
 {
     for (int i = 0; i < k; i++) {
-        double z = cos(M_PI * (i + 0.75) / (k + 0.5)), pp = 0.0;
+        double z = cos(LG_PI * (i + 0.75) / (k + 0.5)), pp = 0.0;
         for (int it = 0; it < 100; it++) {
             double p1 = 1.0, p2 = 0.0;
             for (int j = 1; j <= k; j++) {
@@ -237,9 +234,9 @@ static void sphere_quad(int nz, int nphi, quad_fn f, void *ctx)
     for (int i = 0; i < nz; i++) {
         double r = sqrt(fmax(0.0, 1.0 - x[i] * x[i]));
         for (int j = 0; j < nphi; j++) {
-            double phi = 2.0 * M_PI * (j + 0.5) / nphi;
+            double phi = 2.0 * LG_PI * (j + 0.5) / nphi;
             double d[3] = {r * cos(phi), r * sin(phi), x[i]};
-            f(d, w[i] * 2.0 * M_PI / nphi, ctx);
+            f(d, w[i] * 2.0 * LG_PI / nphi, ctx);
         }
     }
     free(x);
@@ -276,7 +273,7 @@ static int cmd_band1(void)
     const double d[3] = {0.3, -0.5, 0.8124038404635961};
     lg_sh_eval_d(3, d, y);
     double x = d[0], yy = d[1], z = d[2];
-    double c1 = sqrt(3.0 / (4.0 * M_PI));
+    double c1 = sqrt(3.0 / (4.0 * LG_PI));
     CHECK(fabs(c1 - 0.488603) < 1e-6);
     CHECKF(fabs(y[1] - c1 * yy) < 1e-15, "Y_1,-1 %g", y[1]);
     CHECKF(fabs(y[2] - c1 * z) < 1e-15, "Y_1,0 %g", y[2]);
@@ -290,11 +287,11 @@ static int cmd_band1(void)
     lg_sh_eval_d(2, axes[0], t);
     CHECK(fabs(t[3] - 0.488603) < 1e-6);
     /* Band 2 closed forms (docs/sh.md table). */
-    double c2 = 0.5 * sqrt(15.0 / M_PI), c20 = 0.25 * sqrt(5.0 / M_PI);
+    double c2 = 0.5 * sqrt(15.0 / LG_PI), c20 = 0.25 * sqrt(5.0 / LG_PI);
     double want[5] = {c2 * x * yy, c2 * yy * z, c20 * (3.0 * z * z - 1.0), c2 * x * z,
                       0.5 * c2 * (x * x - yy * yy)};
     for (int m = 0; m < 5; m++) CHECKF(fabs(y[4 + m] - want[m]) < 1e-15, "Y_2,%d", m - 2);
-    double c00 = 0.5 / sqrt(M_PI);
+    double c00 = 0.5 / sqrt(LG_PI);
     CHECK(fabs(y[0] - c00) < 1e-16);
     float f[9];
     const float df[3] = {0.3f, -0.5f, 0.8124038f};
@@ -306,7 +303,7 @@ static int cmd_band1(void)
 struct zq { int l; double s; };
 static int cmd_zonal(void)
 {
-    const double want[7] = {M_PI, 2 * M_PI / 3, M_PI / 4, 0, -M_PI / 24, 0, M_PI / 64};
+    const double want[7] = {LG_PI, 2 * LG_PI / 3, LG_PI / 4, 0, -LG_PI / 24, 0, LG_PI / 64};
     for (uint32_t l = 0; l < 7; l++)
         CHECKF(fabs(lg_sh_clamped_cosine(l) - want[l]) < 1e-15, "A_%u = %.17g", l,
                lg_sh_clamped_cosine(l));
@@ -327,14 +324,14 @@ static int cmd_zonal(void)
             }
             s += 0.5 * w[i] * z * p1;
         }
-        s *= 2.0 * M_PI;
+        s *= 2.0 * LG_PI;
         worst = fmax(worst, fabs(s - lg_sh_clamped_cosine((uint32_t)l)));
     }
     printf("A_l against quadrature, l <= 40: worst %.3g\n", worst);
     CHECKF(worst < 1e-13, "%g", worst);
     for (uint32_t l = 0; l <= 100000; l += 1 + l / 10) {
         double a = lg_sh_clamped_cosine(l);
-        CHECKF(isfinite(a) && fabs(a) <= M_PI, "A_%u = %g", l, a);
+        CHECKF(isfinite(a) && fabs(a) <= LG_PI, "A_%u = %g", l, a);
     }
     printf("A_1000 = %.6g, A_100000 = %.6g\n", lg_sh_clamped_cosine(1000),
            lg_sh_clamped_cosine(100000));
@@ -390,7 +387,7 @@ static int cmd_irradiance(void)
     for (int t = 0; t < 200; t++) {
         double d[3];
         rnd_dir(d);
-        worst = fmax(worst, fabs(irradiance(8, co, d) - M_PI * c));
+        worst = fmax(worst, fabs(irradiance(8, co, d) - LG_PI * c));
     }
     printf("constant environment 2.5: worst |E - 2.5 pi| %.3g\n", worst);
     CHECKF(worst < 1e-12, "%g", worst);
@@ -407,9 +404,9 @@ static int cmd_irradiance(void)
      * A_l = 0 for odd l > 1, so no band beyond 1 contributes. Built about +z, turned to +y
      * by lg_sh_rotation_build (rotation about x by -90 degrees: +z -> +y). */
     double sky[9] = {0}, skyy[9], Rx[9], Msky[35];
-    sky[0] = sqrt(M_PI);
-    sky[2] = M_PI * sqrt(3.0 / (4.0 * M_PI));
-    axis_angle((const double[3]){1, 0, 0}, -0.5 * M_PI, Rx);
+    sky[0] = sqrt(LG_PI);
+    sky[2] = LG_PI * sqrt(3.0 / (4.0 * LG_PI));
+    axis_angle((const double[3]){1, 0, 0}, -0.5 * LG_PI, Rx);
     CHECK(fabs(Rx[5] + 1.0) < 1e-15 || fabs(Rx[5] - 1.0) < 1e-15);
     lg_sh_rotation_build(3, Rx, Msky);
     lg_sh_rotate(3, Msky, sky, skyy);
@@ -421,7 +418,7 @@ static int cmd_irradiance(void)
         double d[3];
         if (t < 6) memcpy(d, axes[t], sizeof d);
         else rnd_dir(d);
-        double want = 0.5 * M_PI * (1.0 + d[1]);
+        double want = 0.5 * LG_PI * (1.0 + d[1]);
         worst_sky = fmax(worst_sky, fabs(irradiance(3, skyy, d) - want));
         worst_q = fmax(worst_q, fabs(irradiance(3, skyq, d) - want));
     }
@@ -456,7 +453,7 @@ static void random_rotation(double *R)
 {
     double ax[3];
     rnd_dir(ax);
-    axis_angle(ax, 2.0 * M_PI * rnd(), R);
+    axis_angle(ax, 2.0 * LG_PI * rnd(), R);
 }
 
 /* f = sum of clamped-cosine lobes around fixed axes, with weights. */
@@ -521,7 +518,7 @@ static int cmd_rotation(void)
     for (int t = 0; t < 5; t++) {
         struct lobes L = {.rotated = 0};
         random_rotation(L.R);
-        if (t == 0) axis_angle((const double[3]){0, 1, 0}, 0.5 * M_PI, L.R); /* about up */
+        if (t == 0) axis_angle((const double[3]){0, 1, 0}, 0.5 * LG_PI, L.R); /* about up */
         project(8, f_lobes, &L, 12, 24, c);
         L.rotated = 1;
         project(8, f_lobes, &L, 12, 24, q);
@@ -681,20 +678,20 @@ static int cmd_window(void)
     lg_sh_eval_d(3, axes[4], c);
     double lmin = min_over_theta(reconstruct, c, &t);
     printf("delta light, 3 bands, radiance: min %.6f at cos theta %.4f (closed form %.6f at "
-           "-0.2)\n", lmin, t, -1.8 / (4.0 * M_PI));
-    CHECKF(fabs(lmin + 1.8 / (4.0 * M_PI)) < 1e-6, "%g", lmin);
+           "-0.2)\n", lmin, t, -1.8 / (4.0 * LG_PI));
+    CHECKF(fabs(lmin + 1.8 / (4.0 * LG_PI)) < 1e-6, "%g", lmin);
     memcpy(cw, c, sizeof c);
     lg_sh_window(3, LG_SH_WINDOW_HANNING, 3.0, cw);
     double wmin = min_over_theta(reconstruct, cw, &t);
     printf("  hanning width 3: radiance min %.6f at %.4f (closed form %.6f at -0.6), peak "
-           "%.6f (unwindowed %.6f)\n", wmin, t, -0.3 / (4.0 * M_PI),
+           "%.6f (unwindowed %.6f)\n", wmin, t, -0.3 / (4.0 * LG_PI),
            reconstruct(3, cw, axes[4]), reconstruct(3, c, axes[4]));
-    CHECKF(fabs(wmin + 0.3 / (4.0 * M_PI)) < 1e-6, "%g", wmin);
+    CHECKF(fabs(wmin + 0.3 / (4.0 * LG_PI)) < 1e-6, "%g", wmin);
     CHECKF(fabs(cw[2] - 0.75 * c[2]) < 1e-15 && fabs(cw[6] - 0.25 * c[6]) < 1e-15, "factors");
     memcpy(cw, c, sizeof c);
     lg_sh_window(3, LG_SH_WINDOW_GAUSSIAN, 1.0, cw);
     double gmin = min_over_theta(reconstruct, cw, &t);
-    double gclosed = (1.0 - 3.0 * exp(-1.0) + 5.0 * exp(-3.0)) / (4.0 * M_PI);
+    double gclosed = (1.0 - 3.0 * exp(-1.0) + 5.0 * exp(-3.0)) / (4.0 * LG_PI);
     double gemin = min_over_theta(irradiance, cw, &t);
     printf("  gaussian width 1: radiance min %.6f (closed form %.6f at -1), peak %.6f; "
            "irradiance min %.6f, peak %.6f\n", gmin, gclosed, reconstruct(3, cw, axes[4]),
@@ -729,7 +726,7 @@ static int cmd_window(void)
     CHECK(lg_sh_window_factor(LG_SH_WINDOW_LANCZOS, 3.0, 3) == 0.0);
     CHECK(lg_sh_window_factor(LG_SH_WINDOW_HANNING, 0.0, 5) == 1.0);
     CHECK(fabs(lg_sh_window_factor(LG_SH_WINDOW_HANNING, 4.0, 2) - 0.5) < 1e-15);
-    CHECK(fabs(lg_sh_window_factor(LG_SH_WINDOW_LANCZOS, 2.0, 1) - 2.0 / M_PI) < 1e-15);
+    CHECK(fabs(lg_sh_window_factor(LG_SH_WINDOW_LANCZOS, 2.0, 1) - 2.0 / LG_PI) < 1e-15);
     return check_report("sh_window");
 }
 

@@ -21,8 +21,6 @@
 #include "lightgraph/scene_gl.h"
 #include "viewer/camera.h"
 
-static const double kPi = 3.14159265358979323846;
-
 static double dist3(const float a[3], const float b[3])
 {
     double dx = (double)a[0] - b[0], dy = (double)a[1] - b[1], dz = (double)a[2] - b[2];
@@ -59,7 +57,7 @@ static int valid(const lg_vcam *v)
 static double eye_elevation_deg(const lg_vcam *v)
 {
     double d = dist3(v->position, v->target);
-    return asin(((double)v->position[1] - v->target[1]) / d) * 180.0 / kPi;
+    return asin(((double)v->position[1] - v->target[1]) / d) * 180.0 / LG_PI;
 }
 
 static const float kBmin[3] = {-1, 0, -1}, kBmax[3] = {1, 2, 1};
@@ -70,7 +68,7 @@ static lg_vcam make(float px, float py, float pz, float tx, float ty, float tz)
     c.position[0] = px, c.position[1] = py, c.position[2] = pz;
     c.target[0] = tx, c.target[1] = ty, c.target[2] = tz;
     c.up[1] = 1.0f;
-    c.yfov = (float)(50.0 * kPi / 180.0);
+    c.yfov = (float)(50.0 * LG_PI / 180.0);
     lg_vcam v;
     lg_vcam_init(&v, &c, kBmin, kBmax);
     return v;
@@ -84,7 +82,7 @@ static void test_init(void)
     CHECK(v.mode == LG_VCAM_ORBIT);
     CHECK(fabs(v.scale - sqrt(3.0)) < 1e-6);
     CHECK(v.position[2] == 5.0f && v.target[1] == 1.0f && v.up[1] == 1.0f);
-    CHECK(fabs(v.yfov - 50.0 * kPi / 180.0) < 1e-6);
+    CHECK(fabs(v.yfov - 50.0 * LG_PI / 180.0) < 1e-6);
     CHECK(valid(&v));
 
     /* empty, inverted or NaN bounds: scale 1 */
@@ -173,7 +171,7 @@ static void test_orbit(void)
      * from +Z) so that the scene turns with the pointer */
     v = make(0, 1, 5, 0, 1, 0);
     lg_vcam_orbit(&v, h / 4.0, 0, h);
-    CHECKF(fabs(v.position[0] + 5 * sin(kPi / 4)) < 1e-5 && fabs(v.position[2] - 5 * cos(kPi / 4)) < 1e-5,
+    CHECKF(fabs(v.position[0] + 5 * sin(LG_PI / 4)) < 1e-5 && fabs(v.position[2] - 5 * cos(LG_PI / 4)) < 1e-5,
            "eye (%g %g %g)", v.position[0], v.position[1], v.position[2]);
     /* a full-height drag down is 180 degrees of pitch, stopped short of the top pole; a
      * quarter height down raises the eye by 45 degrees */
@@ -368,13 +366,13 @@ static void test_fly(void)
     /* moving down looks down */
     lg_vcam_look(&v, 0, 40, 240);
     fwd(&v, f);
-    CHECKF(fabs(f[1] + sin(kPi / 6)) < 1e-6, "view (%g %g %g)", f[0], f[1], f[2]);
+    CHECKF(fabs(f[1] + sin(LG_PI / 6)) < 1e-6, "view (%g %g %g)", f[0], f[1], f[2]);
     /* 1000 looks up: clamped short of the pole, the distance kept */
     for (int i = 0; i < 1000; i++)
         lg_vcam_look(&v, 5, -100, 240);
     fwd(&v, f);
     CHECK(valid(&v));
-    CHECKF(f[1] < sin(89.51 * kPi / 180) && f[1] > sin(89.0 * kPi / 180), "view y %g", f[1]);
+    CHECKF(f[1] < sin(89.51 * LG_PI / 180) && f[1] > sin(89.0 * LG_PI / 180), "view y %g", f[1]);
     CHECK(fabs(dist3(v.position, v.target) - 5.0) < 1e-4);
     CHECK(memcmp(v.position, v0.position, sizeof v.position) == 0);
 }
@@ -436,7 +434,7 @@ static void print_case(const char *name, const lg_vcam *v)
     for (int k = 0; k < 3; k++)
         for (int i = 0; i < 3; i++)
             printf(" %.9g", (double)vals[k][i]);
-    printf(" %.9g %.9g %.9g %.9g\n%sEND\n", (double)v->yfov * 180.0 / kPi, (double)v->znear,
+    printf(" %.9g %.9g %.9g %.9g\n%sEND\n", (double)v->yfov * 180.0 / LG_PI, (double)v->znear,
            (double)v->zfar, (double)v->aspect, t);
     free(t);
 }

@@ -60,12 +60,12 @@ static lg_rebuild *start(const char *command)
 /* Polls every 10 ms until done or 10 s; returns poll's last result. */
 static int wait_done(lg_rebuild *r, int *status, const char **log, double *elapsed)
 {
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     int done = 0;
-    while (!(done = lg_rebuild_poll(r, status, log)) && lg_now() - t0 < 10)
+    while (!(done = lg_rebuild_poll(r, status, log)) && lg_mono_now() - t0 < 10)
         nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
     if (elapsed)
-        *elapsed = lg_now() - t0;
+        *elapsed = lg_mono_now() - t0;
     return done;
 }
 
@@ -78,17 +78,17 @@ static void test_status(void)
                                  "exit 3");
     /* split on spaces: the interpreter and the script */
     char *cmd = lg_xasprintf("/bin/sh %s", s);
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     lg_rebuild *r = start(cmd);
     if (r) {
         int status = -1;
         const char *log = NULL;
         int first = lg_rebuild_poll(r, &status, &log);
-        CHECKF(first == 0 || lg_now() - t0 >= 0.2, "poll said done at once");
+        CHECKF(first == 0 || lg_mono_now() - t0 >= 0.2, "poll said done at once");
         double elapsed;
         CHECK(wait_done(r, &status, &log, &elapsed) == 1);
-        CHECKF(lg_now() - t0 >= 0.2, "done after %.3f s, before the script's sleep",
-               lg_now() - t0);
+        CHECKF(lg_mono_now() - t0 >= 0.2, "done after %.3f s, before the script's sleep",
+               lg_mono_now() - t0);
         CHECKF(status == 3, "status %d", status);
         CHECKF(log && strstr(log, "building: step 1 of 2\n") &&
                    strstr(log, "warning: on stderr\n") &&
@@ -175,9 +175,9 @@ static void free_running(const char *name, const char *body, double max_s)
     if (!r)
         goto out;
     /* wait until the script has started its child */
-    double t0 = lg_now();
+    double t0 = lg_mono_now();
     pid_t child = 0;
-    while (!child && lg_now() - t0 < 10) {
+    while (!child && lg_mono_now() - t0 < 10) {
         FILE *f = fopen(pidfile, "r");
         long v = 0;
         if (f) {
@@ -190,9 +190,9 @@ static void free_running(const char *name, const char *body, double max_s)
     }
     CHECKF(child > 0, "%s: the script did not start its child", name);
     CHECK(lg_rebuild_poll(r, NULL, NULL) == 0);
-    double t1 = lg_now();
+    double t1 = lg_mono_now();
     lg_rebuild_free(&r);
-    double took = lg_now() - t1;
+    double took = lg_mono_now() - t1;
     CHECKF(took < max_s, "%s: lg_rebuild_free took %.2f s", name, took);
     errno = 0;
     CHECKF(waitpid(-1, NULL, WNOHANG) == -1 && errno == ECHILD,
@@ -200,8 +200,8 @@ static void free_running(const char *name, const char *body, double max_s)
     /* the grandchild got the signal too (it is reparented, not ours to reap: give init a
      * moment) */
     if (child > 0) {
-        double t2 = lg_now();
-        while (alive(child) && lg_now() - t2 < 5)
+        double t2 = lg_mono_now();
+        while (alive(child) && lg_mono_now() - t2 < 5)
             nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
         CHECKF(!alive(child), "%s: the build's child %d still runs", name, (int)child);
     }

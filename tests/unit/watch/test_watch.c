@@ -19,7 +19,7 @@
  *   missing       a missing directory is an error naming it; the old registration stays
  *   dir_back      a watched file's directory removed and made again
  *   overflow      an inotify queue overflow reports every registered file
- *   real_clock    the real thing with lg_now(): a 0.1 s quiet period, up to 10 s
+ *   real_clock    the real thing with lg_mono_now(): a 0.1 s quiet period, up to 10 s
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -546,13 +546,13 @@ static void test_real_clock(void)
     watch_files(w, LG_WATCH_GRAPH, 1, files);
     char err[512] = "";
     lg_watch_change *c = NULL;
-    CHECK(lg_watch_poll(w, lg_now(), 0.1, &c, err, sizeof err) == 0);
+    CHECK(lg_watch_poll(w, lg_mono_now(), 0.1, &c, err, sizeof err) == 0);
     write_at("real/g.lgraph.tmp", "saved");
     rename_at("real/g.lgraph.tmp", "real/g.lgraph");
-    double t0 = lg_now(), t1 = t0;
+    double t0 = lg_mono_now(), t1 = t0;
     int n = 0;
     while (n == 0 && t1 - t0 < 10) {
-        t1 = lg_now();
+        t1 = lg_mono_now();
         n = lg_watch_poll(w, t1, 0.1, &c, err, sizeof err);
         if (n == 0)
             nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);

@@ -1,5 +1,6 @@
-/* lightgraph plugins [--json] | inspect NODE [--json]: everything a user can write in a
- * graph file, from the plugins' own declarations. */
+/* What the plugins declare, printed (commands.h): a node type as text or JSON, a parameter
+ * value as written in a graph file, and the `[--json] [NAME]` command line that `plugins`
+ * and `inspect` share. */
 #include "cli/commands.h"
 
 #include "lightgraph/kinds.h"
@@ -11,11 +12,6 @@
 static const char *type_names[] = {"?",      "bool", "int",    "float", "vec2", "vec3",
                                    "color",  "string", "path", "enum",  "int3",
                                    "path_list"};
-
-static const char *kind_name(lg_resource_kind k)
-{
-    return lg_kind_name(k);
-}
 
 static const char *part_type_name(lg_part_type t)
 {
@@ -133,7 +129,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
         for (uint32_t i = 0; i < n; i++) {
             lg_str_add(o, i ? ", {\"name\": " : "{\"name\": ");
             lg_str_add_json(o, ports[i].name);
-            lg_str_addf(o, ", \"kind\": \"%s\"", kind_name(ports[i].kind));
+            lg_str_addf(o, ", \"kind\": \"%s\"", lg_kind_name(ports[i].kind));
             const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);
             if (kd && kd->n_parts) {
                 lg_str_add(o, ", \"parts\": [");
@@ -209,7 +205,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
     lg_str_add(o, "}");
 }
 
-static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
+void lg_print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
 {
     fprintf(f, "%s: %s\n", t->name, t->doc ? t->doc : "");
     if (p)
@@ -219,7 +215,7 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
         uint32_t n = io ? t->n_outputs : t->n_inputs;
         fprintf(f, "  %s:%s\n", io ? "outputs" : "inputs", n ? "" : " (none)");
         for (uint32_t i = 0; i < n; i++) {
-            fprintf(f, "    %-12s %-10s %-9s %s\n", ports[i].name, kind_name(ports[i].kind),
+            fprintf(f, "    %-12s %-10s %-9s %s\n", ports[i].name, lg_kind_name(ports[i].kind),
                     io ? "" : ports[i].optional ? "optional" : "required",
                     ports[i].doc ? ports[i].doc : "");
             const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);
@@ -287,7 +283,7 @@ static void print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
     }
 }
 
-static int usage_json(int argc, char **argv, bool *json, const char **name, bool want_name)
+int lg_json_args(int argc, char **argv, bool *json, const char **name, bool want_name)
 {
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--json") == 0)
@@ -304,103 +300,4 @@ static int usage_json(int argc, char **argv, bool *json, const char **name, bool
         return -1;
     }
     return 0;
-}
-
-int lg_cmd_plugins(int argc, char **argv)
-{
-    bool json = false;
-    const char *name = NULL;
-    if (usage_json(argc, argv, &json, &name, false))
-        return 2;
-    lg_registry reg = {0};
-    lg_registry_scan(&reg);
-    if (json) {
-        lg_str o = {0};
-        lg_str_addf(&o, "{\"abi\": {\"major\": %d, \"minor\": %d}, \"search_path\": [",
-                    LG_ABI_MAJOR, LG_ABI_MINOR);
-        for (uint32_t i = 0; i < reg.n_dirs; i++) {
-            if (i)
-                lg_str_add(&o, ", ");
-            lg_str_add_json(&o, reg.dirs[i]);
-        }
-        lg_str_add(&o, "],\n \"plugins\": [");
-        for (uint32_t i = 0; i < reg.n_plugins; i++) {
-            lg_plugin *p = reg.plugins[i];
-            lg_str_add(&o, i ? ",\n  {\"name\": " : "\n  {\"name\": ");
-            lg_str_add_json(&o, p->name);
-            lg_str_add(&o, ", \"version\": ");
-            lg_str_add_json(&o, p->version);
-            lg_str_addf(&o, ", \"abi\": {\"major\": %u, \"minor\": %u}, \"path\": ", p->abi_major,
-                        p->abi_minor);
-            lg_str_add_json(&o, p->path);
-            lg_str_add(&o, ", \"doc\": ");
-            lg_str_add_json(&o, p->doc);
-            lg_str_add(&o, ", \"node_types\": [");
-            for (uint32_t j = 0; j < p->n_types; j++) {
-                lg_str_add(&o, j ? ",\n    " : "\n    ");
-                lg_print_type_json(&o, &p->types[j], p);
-            }
-            lg_str_add(&o, "]}");
-        }
-        lg_str_add(&o, "],\n \"refused\": [");
-        for (uint32_t i = 0; i < reg.n_refused; i++) {
-            lg_str_add(&o, i ? ", {\"path\": " : "{\"path\": ");
-            lg_str_add_json(&o, reg.refused[i].path);
-            lg_str_add(&o, ", \"reason\": ");
-            lg_str_add_json(&o, reg.refused[i].reason);
-            lg_str_add(&o, "}");
-        }
-        lg_str_add(&o, "]}\n");
-        fputs(o.s, stdout);
-        lg_str_free(&o);
-    } else {
-        printf("plugin ABI %d.%d; search path:", LG_ABI_MAJOR, LG_ABI_MINOR);
-        for (uint32_t i = 0; i < reg.n_dirs; i++)
-            printf(" %s", reg.dirs[i]);
-        printf("\n");
-        for (uint32_t i = 0; i < reg.n_plugins; i++) {
-            lg_plugin *p = reg.plugins[i];
-            printf("\n%s %s (ABI %u.%u) %s\n  %s\n", p->name, p->version, p->abi_major,
-                   p->abi_minor, p->path, p->doc ? p->doc : "");
-            for (uint32_t j = 0; j < p->n_types; j++) {
-                printf("\n");
-                print_type_text(stdout, &p->types[j], NULL);
-            }
-        }
-        for (uint32_t i = 0; i < reg.n_refused; i++)
-            printf("\nrefused: %s: %s\n", reg.refused[i].path, reg.refused[i].reason);
-        if (!reg.n_plugins)
-            printf("\nno plugins found\n");
-    }
-    lg_registry_free(&reg);
-    return 0;
-}
-
-int lg_cmd_inspect(int argc, char **argv)
-{
-    bool json = false;
-    const char *name = NULL;
-    if (usage_json(argc, argv, &json, &name, true))
-        return 2;
-    lg_registry reg = {0};
-    lg_registry_scan(&reg);
-    lg_plugin *p = NULL;
-    const lg_node_type *t = lg_registry_lookup(&reg, name, &p);
-    int rc = 0;
-    if (!t) {
-        const char *s = lg_suggest(name, reg.names, reg.n_names);
-        fprintf(stderr, "lightgraph inspect: unknown node type '%s'%s%s%s\n", name,
-                s ? "; did you mean '" : "", s ? s : "", s ? "'?" : "");
-        rc = 2;
-    } else if (json) {
-        lg_str o = {0};
-        lg_print_type_json(&o, t, p);
-        lg_str_add(&o, "\n");
-        fputs(o.s, stdout);
-        lg_str_free(&o);
-    } else {
-        print_type_text(stdout, t, p);
-    }
-    lg_registry_free(&reg);
-    return rc;
 }
