@@ -3,7 +3,9 @@
 # As root: installs what is missing with apt-get. Otherwise: prints the exact apt-get line
 # and fails, so that nothing half-works.
 #
-#   sh tools/deps.sh        what building, `make demo` and `make test` need
+#   sh tools/deps.sh        what building, `make demo` and `make test` need (clang-format:
+#                           Debian 12's, version 14, for `make format` and the test
+#                           rules_format; docs/style.md)
 #   sh tools/deps.sh fuzz   that, and what `make fuzz` needs besides (docs/fuzzing.md):
 #                           Debian's clang (14 in bookworm) and its compiler-rt, which
 #                           holds libFuzzer and the sanitizers' runtimes (libclang-rt-dev,
@@ -14,7 +16,8 @@ PKGS="meson ninja-build pkg-config gcc g++ python3 python3-glad
 libosmesa6-dev libegl-dev libegl1-mesa-dev libglfw3-dev
 ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
 libopenexr-dev libpng-dev glslang-tools gnuplot-nox pfstools pfstmo
-libtinygltf-dev libdraco-dev nlohmann-json3-dev libembree-dev xvfb abigail-tools"
+libtinygltf-dev libdraco-dev nlohmann-json3-dev libembree-dev xvfb abigail-tools
+clang-format"
 FUZZ_PKGS="clang libclang-rt-dev"
 case "${1:-}" in
   "") ;;
