@@ -136,7 +136,7 @@ fi
 # or the rewrite.
 flagged=$(mktemp "${TMPDIR:-/tmp}/lg-format-flagged.XXXXXX") || exit 1
 errs=$(mktemp "${TMPDIR:-/tmp}/lg-format-err.XXXXXX") || exit 1
-trap 'rm -f "$tmp" "$list" "$flagged" "$errs"' EXIT
+trap 'rm -f "$tmp" "$tmp.cf" "$list" "$flagged" "$errs"' EXIT
 checked=$(wc -l <"$list")
 status=0
 if [ "$checked" -gt 0 ]; then
@@ -153,7 +153,10 @@ fi
 unformatted=0
 while IFS= read -r f; do
     shown=${f#"$ROOT"/}
-    if ! "$cf" --style="file:$STYLE" "$f" >"$tmp"; then
+    # then tools/comment_align.py: a trailing comment's continuation lines under its
+    # opening again (clang-format 14 moves only the opening line of such a comment)
+    if ! "$cf" --style="file:$STYLE" "$f" >"$tmp.cf" ||
+        ! python3 "$ROOT/tools/comment_align.py" <"$tmp.cf" >"$tmp"; then
         echo "format.sh: $shown: clang-format failed" >&2
         status=1
         continue
