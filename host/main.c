@@ -33,8 +33,10 @@ static int take_max_pixels(int *argc, char **argv)
         errno = 0;
         unsigned long long n = strtoull(v, &end, 10);
         if (errno || !end || *end || v[0] == '-' || v[0] == 0 || n == 0) {
-            fprintf(stderr, "lightgraph: --max-pixels '%s': expected a positive whole number of "
-                            "pixels (default %llu)\n", v, LG_IMAGE_MAX_PIXELS_DEFAULT);
+            fprintf(stderr,
+                    "lightgraph: --max-pixels '%s': expected a positive whole number of "
+                    "pixels (default %llu)\n",
+                    v, LG_IMAGE_MAX_PIXELS_DEFAULT);
             return 2;
         }
         lg_image_set_max_pixels(n);
@@ -138,8 +140,10 @@ static void take_test_free_bytes(void)
     errno = 0;
     unsigned long long n = strtoull(v, &end, 10);
     if (errno || !end || *end || v[0] < '0' || v[0] > '9' || n > INT64_MAX) {
-        fprintf(stderr, "lightgraph: warning: LIGHTGRAPH_TEST_FREE_BYTES='%s' is not a byte "
-                        "count; ignored\n", v);
+        fprintf(stderr,
+                "lightgraph: warning: LIGHTGRAPH_TEST_FREE_BYTES='%s' is not a byte "
+                "count; ignored\n",
+                v);
         return;
     }
     lg_test_free_bytes = (int64_t)n;
@@ -160,25 +164,24 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(int, char **);
     } cmds[] = {
-        {"render", lg_cmd_render}, {"check", lg_cmd_check},     {"fmt", lg_cmd_fmt},
-        {"dot", lg_cmd_dot},       {"plugins", lg_cmd_plugins}, {"inspect", lg_cmd_inspect},
-        {"diff", lg_cmd_diff},     {"sweep", lg_cmd_sweep},     {"devices", lg_cmd_devices},
-        {"view", lg_cmd_view},     {"conform", lg_cmd_conform},
+        { "render", lg_cmd_render }, { "check", lg_cmd_check },     { "fmt", lg_cmd_fmt },
+        { "dot", lg_cmd_dot },       { "plugins", lg_cmd_plugins }, { "inspect", lg_cmd_inspect },
+        { "diff", lg_cmd_diff },     { "sweep", lg_cmd_sweep },     { "devices", lg_cmd_devices },
+        { "view", lg_cmd_view },     { "conform", lg_cmd_conform },
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
             return cmds[i].fn(argc - 1, argv + 1);
     if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
-        printf("lightgraph %s (plugin ABI %d.%d)\n", LG_VERSION_STRING, LG_ABI_MAJOR,
-               LG_ABI_MINOR);
+        printf("lightgraph %s (plugin ABI %d.%d)\n", LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR);
         return 0;
     }
     if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
         help(stdout);
         return 0;
     }
-    const char *names[] = {"render", "check", "fmt",     "dot",  "plugins", "inspect",
-                           "diff",   "sweep", "devices", "view", "conform", "help"};
+    const char *names[] = { "render", "check", "fmt",     "dot",  "plugins", "inspect",
+                            "diff",   "sweep", "devices", "view", "conform", "help" };
     const char *s = lg_suggest(cmd, names, 12);
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");

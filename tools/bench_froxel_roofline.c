@@ -64,16 +64,15 @@ static int write_graph(const char *path, const char *backend, int lights, const 
         fprintf(stderr, "lg_bench_froxel_roofline: cannot write %s\n", path);
         return 1;
     }
-    fprintf(f, "lightgraph 1\ninclude \"%s/volumetric_scene.lgraph\"\n",
-            LG_FROXEL_BENCH_EXAMPLES);
+    fprintf(f, "lightgraph 1\ninclude \"%s/volumetric_scene.lgraph\"\n", LG_FROXEL_BENCH_EXAMPLES);
     const char *prev = "fog";
     char name[32], prevbuf[32];
     for (int l = 1; l < lights; l++) {
         /* fanned around the sun's [0.3, -0.35, 1]: all shine into the box */
         double a = 2.0 * LG_PI * l / (lights - 1);
         snprintf(name, sizeof name, "l%d", l);
-        fprintf(f, "%s = light { scene = %s, direction = [%.4f, %.4f, 1], intensity = 1 }\n",
-                name, prev, 0.3 + 0.25 * cos(a), -0.35 + 0.2 * sin(a));
+        fprintf(f, "%s = light { scene = %s, direction = [%.4f, %.4f, 1], intensity = 1 }\n", name,
+                prev, 0.3 + 0.25 * cos(a), -0.35 + 0.2 * sin(a));
         snprintf(prevbuf, sizeof prevbuf, "%s", name);
         prev = prevbuf;
     }
@@ -156,8 +155,9 @@ int main(int argc, char **argv)
 
     double vox = (double)grid[0] * grid[1] * grid[2];
     double pix = (double)size[0] * size[1];
-    fprintf(stderr, "triad %.2f GB/s (best of 5, %ld MiB x 3); %ux%u, grid %ux%ux%u (%.2f M "
-                    "froxels), %s, %ld frames\n",
+    fprintf(stderr,
+            "triad %.2f GB/s (best of 5, %ld MiB x 3); %ux%u, grid %ux%ux%u (%.2f M "
+            "froxels), %s, %ld frames\n",
             triad_gbs, triad_mib, size[0], size[1], grid[0], grid[1], grid[2], vox * 1e-6,
             temporal ? "temporal" : "not temporal", frames);
     fprintf(stderr, "%-8s %6s %10s %10s %8s %8s %10s\n", "backend", "lights", "ms/frame",
@@ -180,9 +180,13 @@ int main(int argc, char **argv)
                 status = 1;
                 continue;
             }
-            lg_exec_opts o = { .width = size[0], .height = size[1], .frames = (uint32_t)frames,
-                               .dt = 1.0 / 60.0, .gl_backend = "osmesa",
-                               .output_override = out, .graph_path = graph };
+            lg_exec_opts o = { .width = size[0],
+                               .height = size[1],
+                               .frames = (uint32_t)frames,
+                               .dt = 1.0 / 60.0,
+                               .gl_backend = "osmesa",
+                               .output_override = out,
+                               .graph_path = graph };
             lg_run_result res = { 0 };
             int rc = lg_render_file(&reg, graph, NULL, 0, &o, "vol", &res);
             double bytes = 2.0 * vox * 16 + pix * (20 + 36) + (temporal ? vox * 16 : 0) +
@@ -194,9 +198,8 @@ int main(int argc, char **argv)
                 continue;
             }
             double gbs = bytes / (res.node_ms * 1e-3) * 1e-9;
-            fprintf(stderr, "%-8s %6d %10.1f %10.2f %8.1f %8.2f %9.1f%%\n", b, lights,
-                    res.node_ms, res.node_ms * 1e6 / vox, bytes * 1e-6, gbs,
-                    100.0 * gbs / triad_gbs);
+            fprintf(stderr, "%-8s %6d %10.1f %10.2f %8.1f %8.2f %9.1f%%\n", b, lights, res.node_ms,
+                    res.node_ms * 1e6 / vox, bytes * 1e-6, gbs, 100.0 * gbs / triad_gbs);
             printf(", \"ms\": %.3f, \"bytes\": %.0f, \"gbs\": %.3f, \"triad_fraction\": %.4f}",
                    res.node_ms, bytes, gbs, gbs / triad_gbs);
         }

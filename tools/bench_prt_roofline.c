@@ -57,7 +57,7 @@
 static lg_pool *pool;
 
 typedef struct bench_data {
-    uint32_t vertices, n;  /* n = coefficients per channel */
+    uint32_t vertices, n; /* n = coefficients per channel */
     uint32_t texels, tex_w;
     float *transfer, *lighting;
     double bytes;
@@ -82,8 +82,7 @@ static void summarise(double *v, int n, bench_row *r)
     r->best_ms = v[0];
 }
 
-
-/* ---- the data ------------------------------------------------------------------------------ */
+/* ---- the data -------------------------------------------------------------------------------- */
 
 static float hash_value(uint64_t x)
 {
@@ -137,7 +136,7 @@ static const char *verify(const bench_data *d, const float *out)
     return NULL;
 }
 
-/* ---- cpu ------------------------------------------------------------------------------------ */
+/* ---- cpu ------------------------------------------------------------------------------------- */
 
 static void cpu_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
@@ -156,8 +155,12 @@ static void bench_cpu(const bench_data *d, int repeat, bench_row *row)
         free(ms);
         return;
     }
-    prt_cpu_job job = { .transfer = d->transfer, .lighting = d->lighting, .n = d->n,
-                        .stride = d->n, .vertices = d->vertices, .out = out };
+    prt_cpu_job job = { .transfer = d->transfer,
+                        .lighting = d->lighting,
+                        .n = d->n,
+                        .stride = d->n,
+                        .vertices = d->vertices,
+                        .out = out };
     lg_pool_run(pool, d->texels, PRT_CPU_GRAIN, cpu_chunk, &job); /* first touch */
     for (int r = 0; r < repeat; r++) {
         double t0 = lg_mono_now();
@@ -170,7 +173,7 @@ static void bench_cpu(const bench_data *d, int repeat, bench_row *row)
     free(out);
 }
 
-/* ---- cl --------------------------------------------------------------------------------------- */
+/* ---- cl -------------------------------------------------------------------------------------- */
 
 static double ev_ms(cl_event e)
 {
@@ -273,14 +276,13 @@ done:
     free(out);
 }
 
-/* ---- gl ---------------------------------------------------------------------------------------- */
+/* ---- gl -------------------------------------------------------------------------------------- */
 
 static char gl_why[2048];
 
 /* Compiles one stage with `defines` after its #version line (as lg_gl_program); 0 and
  * gl_why on failure. */
-static GLuint gl_shader(const GladGLContext *gl, GLenum stage, const char *src,
-                        const char *defines)
+static GLuint gl_shader(const GladGLContext *gl, GLenum stage, const char *src, const char *defines)
 {
     const char *nl = strchr(src, '\n');
     if (!nl) {
@@ -364,8 +366,7 @@ static void bench_gl_comp(const bench_data *d, int repeat, bench_row *row)
     gl->CreateBuffers(2, buf);
     gl->NamedBufferStorage(buf[0], (GLsizeiptr)((size_t)d->vertices * 3 * d->n * sizeof(float)),
                            d->transfer, 0);
-    gl->NamedBufferStorage(buf[1], (GLsizeiptr)(3 * (size_t)d->n * sizeof(float)), d->lighting,
-                           0);
+    gl->NamedBufferStorage(buf[1], (GLsizeiptr)(3 * (size_t)d->n * sizeof(float)), d->lighting, 0);
     /* as prt_dot_gl binds and dispatches them */
     gl->UseProgram(p);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
@@ -437,8 +438,7 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
     if (!r32f)
         fprintf(stderr, "gl: GL_MAX_TEXTURE_BUFFER_SIZE %d texels\n", max_tbo);
     if (!prt_gl_frag_fits(d->vertices, r32f ? 3 * d->n : d->n, max_tbo)) {
-        snprintf(gl_why, sizeof gl_why, "transfer past GL_MAX_TEXTURE_BUFFER_SIZE (%d)",
-                 max_tbo);
+        snprintf(gl_why, sizeof gl_why, "transfer past GL_MAX_TEXTURE_BUFFER_SIZE (%d)", max_tbo);
         row->skipped = gl_why;
         goto done;
     }
@@ -463,8 +463,7 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
     gl->UseProgram(p);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
-    gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n),
-                   d->lighting);
+    gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n), d->lighting);
     gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
     gl->TextureBuffer(tb, r32f ? GL_R32F : GL_RGB32F, buf);
     gl->BindTextureUnit(0, tb); /* the shader's layout(binding = 0) */
@@ -509,7 +508,7 @@ done:
     free(out);
 }
 
-/* ---- main ------------------------------------------------------------------------------------- */
+/* ---- main ------------------------------------------------------------------------------------ */
 
 /* Whether the comma-separated `list` names `name`. */
 static int has_backend(const char *list, const char *name)
@@ -606,8 +605,9 @@ int main(int argc, char **argv)
     if (has_backend(backends, "gl-comp"))
         bench_gl_comp(&d, (int)repeat, &rows[nr++]);
 
-    fprintf(stderr, "prt dot products: %u vertices, %u bands (%u coefficients), RGB; %.1f MB "
-                    "per pass; %u threads\n",
+    fprintf(stderr,
+            "prt dot products: %u vertices, %u bands (%u coefficients), RGB; %.1f MB "
+            "per pass; %u threads\n",
             d.vertices, (uint32_t)bands, d.n, d.bytes / 1e6, lg_pool_size(pool));
     fprintf(stderr, "triad (%ld MiB x 3): %.2f GB/s (best of %ld)\n", triad_mib, gbs, repeat);
     fprintf(stderr, "%-8s %10s %10s %10s %10s\n", "backend", "ms (med)", "ms (best)", "GB/s",

@@ -48,8 +48,10 @@ static float sample(const lg_image *in, double fx, double fy, int c)
     if (ty > 1)
         ty = 1;
     const float *p = in->pixels;
-    double a = p[((size_t)y0 * in->width + x0) * 4 + c], b = p[((size_t)y0 * in->width + x1) * 4 + c];
-    double d = p[((size_t)y1 * in->width + x0) * 4 + c], e = p[((size_t)y1 * in->width + x1) * 4 + c];
+    double a = p[((size_t)y0 * in->width + x0) * 4 + c],
+           b = p[((size_t)y0 * in->width + x1) * 4 + c];
+    double d = p[((size_t)y1 * in->width + x0) * 4 + c],
+           e = p[((size_t)y1 * in->width + x1) * 4 + c];
     return (float)((a * (1 - tx) + b * tx) * (1 - ty) + (d * (1 - tx) + e * tx) * ty);
 }
 

@@ -77,8 +77,7 @@ static double minimum(const double *v, int n)
     return m;
 }
 
-
-/* ---- output ------------------------------------------------------------------------------- */
+/* ---- output ---------------------------------------------------------------------------------- */
 
 static int rows_printed;
 
@@ -102,10 +101,11 @@ static void skipped(const char *backend, const char *why)
     printf("\"}");
 }
 
-/* ---- cpu ------------------------------------------------------------------------------------ */
+/* ---- cpu ------------------------------------------------------------------------------------- */
 
-static const lg_rh_params params = { .mode = LG_RH_LUMINANCE, .w = { 0.2126f, 0.7152f, 0.0722f },
-                                     .delta = 1e-4, .white = 0.0 };
+static const lg_rh_params params = {
+    .mode = LG_RH_LUMINANCE, .w = { 0.2126f, 0.7152f, 0.0722f }, .delta = 1e-4, .white = 0.0
+};
 
 static int bench_cpu(const lg_image *img, int repeat)
 {
@@ -117,7 +117,8 @@ static int bench_cpu(const lg_image *img, int repeat)
         return 1;
     }
     lg_rh_image in = { img->pixels, img->width, img->width, img->height, false };
-    double *t_red = calloc((size_t)repeat, sizeof(double)), *t_map = calloc((size_t)repeat, sizeof(double));
+    double *t_red = calloc((size_t)repeat, sizeof(double)),
+           *t_map = calloc((size_t)repeat, sizeof(double));
     double *t_all = calloc((size_t)repeat, sizeof(double));
     lg_rh_stats s;
     lg_rh_cpu_map(&in, out, img->width, 1.0f, &params, pfor, pool); /* first touch */
@@ -144,7 +145,7 @@ static int bench_cpu(const lg_image *img, int repeat)
     return 0;
 }
 
-/* ---- cl --------------------------------------------------------------------------------------- */
+/* ---- cl -------------------------------------------------------------------------------------- */
 
 static double ev_ms(cl_event e)
 {
@@ -156,13 +157,13 @@ static double ev_ms(cl_event e)
     return (double)(b - a) * 1e-6;
 }
 
-#define CLCHECK(call, what)                                                                   \
-    do {                                                                                      \
-        cl_int e_ = (call);                                                                   \
-        if (e_) {                                                                             \
-            snprintf(why, sizeof why, "%s failed (%d)", what, e_);                            \
-            goto fail;                                                                        \
-        }                                                                                     \
+#define CLCHECK(call, what)                                                                        \
+    do {                                                                                           \
+        cl_int e_ = (call);                                                                        \
+        if (e_) {                                                                                  \
+            snprintf(why, sizeof why, "%s failed (%d)", what, e_);                                 \
+            goto fail;                                                                             \
+        }                                                                                          \
     } while (0)
 
 static void bench_cl(const lg_image *img, int repeat)
@@ -171,7 +172,8 @@ static void bench_cl(const lg_image *img, int repeat)
     lg_cl_dev *dev = NULL;
     cl_kernel kr = NULL, kf = NULL, km = NULL;
     cl_mem min = NULL, mout = NULL, mpart = NULL, mres = NULL;
-    double *t_red = calloc((size_t)repeat, sizeof(double)), *t_map = calloc((size_t)repeat, sizeof(double));
+    double *t_red = calloc((size_t)repeat, sizeof(double)),
+           *t_map = calloc((size_t)repeat, sizeof(double));
     double *t_all = calloc((size_t)repeat, sizeof(double));
     if (lg_cl_device_create(&dev, why, sizeof why)) {
         skipped("cl", why);
@@ -182,8 +184,8 @@ static void bench_cl(const lg_image *img, int repeat)
     char opts[160], *log = NULL;
     snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u",
              RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI);
-    cl_program prog = lg_cl_device_program(dev, lg_src_reinhard_cl_file, lg_src_reinhard_cl,
-                                           opts, &log);
+    cl_program prog = lg_cl_device_program(dev, lg_src_reinhard_cl_file, lg_src_reinhard_cl, opts,
+                                           &log);
     if (!prog) {
         snprintf(why, sizeof why, "%s", log ? log : "build failed");
         free(log);
@@ -237,10 +239,13 @@ static void bench_cl(const lg_image *img, int repeat)
     CLCHECK(clSetKernelArg(km, 6, sizeof w, &w), "clSetKernelArg");
     size_t l_red = RH_GROUP, g_red = (size_t)groups * RH_GROUP, g_fin = RH_GROUP;
     size_t l_map = RH_CL_MAP_LOCAL, g_map = rh_cl_map_items(npx);
-    for (int r = -1; r < repeat; r++) { /* r = -1: warm-up (first launch compiles work-group code) */
+    for (int r = -1; r < repeat;
+         r++) { /* r = -1: warm-up (first launch compiles work-group code) */
         cl_event e[3];
-        CLCHECK(clEnqueueNDRangeKernel(q, kr, 1, NULL, &g_red, &l_red, 0, NULL, &e[0]), "rh_reduce");
-        CLCHECK(clEnqueueNDRangeKernel(q, kf, 1, NULL, &g_fin, &l_red, 0, NULL, &e[1]), "rh_reduce_final");
+        CLCHECK(clEnqueueNDRangeKernel(q, kr, 1, NULL, &g_red, &l_red, 0, NULL, &e[0]),
+                "rh_reduce");
+        CLCHECK(clEnqueueNDRangeKernel(q, kf, 1, NULL, &g_fin, &l_red, 0, NULL, &e[1]),
+                "rh_reduce_final");
         CLCHECK(clEnqueueNDRangeKernel(q, km, 1, NULL, &g_map, &l_map, 0, NULL, &e[2]), "rh_map");
         CLCHECK(clFinish(q), "clFinish");
         double a0 = ev_ms(e[0]), a1 = ev_ms(e[1]), a = a0 + a1, b = ev_ms(e[2]);
@@ -279,11 +284,11 @@ done:
     free(t_all);
 }
 
-/* ---- gl ---------------------------------------------------------------------------------------- */
+/* ---- gl -------------------------------------------------------------------------------------- */
 
 /* Compiles one compute shader with `defines` after its #version line. */
-static GLuint gl_program(const GladGLContext *gl, const char *src, const char *defines,
-                         char *why, size_t whylen)
+static GLuint gl_program(const GladGLContext *gl, const char *src, const char *defines, char *why,
+                         size_t whylen)
 {
     const char *nl = strchr(src, '\n');
     if (!nl) {
@@ -320,7 +325,8 @@ static void bench_gl(const lg_image *img, int repeat)
 {
     char why[2048] = "";
     lg_gl_device *dev = NULL;
-    double *t_red = calloc((size_t)repeat, sizeof(double)), *t_map = calloc((size_t)repeat, sizeof(double));
+    double *t_red = calloc((size_t)repeat, sizeof(double)),
+           *t_map = calloc((size_t)repeat, sizeof(double));
     double *t_all = calloc((size_t)repeat, sizeof(double));
     if (lg_gl_device_create(&dev, "osmesa", why, sizeof why)) {
         skipped("gl", why);
@@ -330,9 +336,11 @@ static void bench_gl(const lg_image *img, int repeat)
     GLuint p1 = gl_program(gl, lg_src_reinhard_reduce_comp,
                            "#define LG_STAGE 1\n#define LG_IN_FORMAT rgba32f\n", why, sizeof why);
     GLuint p2 = p1 ? gl_program(gl, lg_src_reinhard_reduce_comp, "#define LG_STAGE 2\n", why,
-                                sizeof why) : 0;
-    GLuint pm = p2 ? gl_program(gl, lg_src_reinhard_map_comp, "#define LG_IN_FORMAT rgba32f\n",
-                                why, sizeof why) : 0;
+                                sizeof why)
+                   : 0;
+    GLuint pm = p2 ? gl_program(gl, lg_src_reinhard_map_comp, "#define LG_IN_FORMAT rgba32f\n", why,
+                                sizeof why)
+                   : 0;
     if (!pm) {
         skipped("gl", why);
         goto done;
@@ -379,14 +387,16 @@ static void bench_gl(const lg_image *img, int repeat)
         gl->Uniform1f(2, 0.0f);
         gl->Uniform1i(3, 0);
         gl->Uniform3f(4, params.w[0], params.w[1], params.w[2]);
-        gl->DispatchCompute((w + RH_GL_MAP_X - 1) / RH_GL_MAP_X, (h + RH_GL_MAP_Y - 1) / RH_GL_MAP_Y, 1);
+        gl->DispatchCompute((w + RH_GL_MAP_X - 1) / RH_GL_MAP_X,
+                            (h + RH_GL_MAP_Y - 1) / RH_GL_MAP_Y, 1);
         double t_issued = lg_mono_now();
         gl->MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         gl->Finish();
         double t2 = lg_mono_now();
         if (getenv("LG_BENCH_VERBOSE"))
-            fprintf(stderr, "gl: reduce %.3f ms; map dispatch returned after %.3f ms, "
-                            "finished after %.3f ms\n",
+            fprintf(stderr,
+                    "gl: reduce %.3f ms; map dispatch returned after %.3f ms, "
+                    "finished after %.3f ms\n",
                     (t1 - t0) * 1e3, (t_issued - t1) * 1e3, (t2 - t1) * 1e3);
         if (r >= 0) {
             t_red[r] = (t1 - t0) * 1e3;

@@ -48,8 +48,9 @@ int main(int argc, char **argv)
             repeat = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--normals") && i + 1 < argc) {
             const char *v = argv[++i];
-            opt.normals = !strcmp(v, "flat") ? LG_GLTF_NORMALS_FLAT
-                          : !strcmp(v, "smooth") ? LG_GLTF_NORMALS_SMOOTH : LG_GLTF_NORMALS_AUTO;
+            opt.normals = !strcmp(v, "flat")     ? LG_GLTF_NORMALS_FLAT
+                          : !strcmp(v, "smooth") ? LG_GLTF_NORMALS_SMOOTH
+                                                 : LG_GLTF_NORMALS_AUTO;
         } else if (argv[i][0] != '-' && !file) {
             file = argv[i];
         } else {
@@ -58,7 +59,8 @@ int main(int argc, char **argv)
         }
     }
     if (!file || repeat < 1 || repeat > 1000) {
-        fprintf(stderr, "usage: lg_bench_scene_load [--repeat N] [--normals auto|smooth|flat] FILE\n");
+        fprintf(stderr,
+                "usage: lg_bench_scene_load [--repeat N] [--normals auto|smooth|flat] FILE\n");
         return 2;
     }
     double before = peak_rss_mb();
@@ -87,9 +89,9 @@ int main(int argc, char **argv)
     qsort(times, (size_t)repeat, sizeof *times, cmp_double);
     printf("file=%s triangles=%llu vertices=%llu meshes=%u instances=%u mesh_mb=%.1f best_ms=%.1f "
            "median_ms=%.1f rss_before_mb=%.1f peak_rss_mb=%.1f\n",
-           file, (unsigned long long)s->features.triangles, (unsigned long long)s->features.vertices,
-           s->n_meshes, s->n_instances, mb / 1048576.0, times[0] * 1e3, times[repeat / 2] * 1e3, before,
-           peak_rss_mb());
+           file, (unsigned long long)s->features.triangles,
+           (unsigned long long)s->features.vertices, s->n_meshes, s->n_instances, mb / 1048576.0,
+           times[0] * 1e3, times[repeat / 2] * 1e3, before, peak_rss_mb());
     lg_gltf_scene_free(s);
     free(times);
     return 0;

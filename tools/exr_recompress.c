@@ -21,19 +21,21 @@ static const struct {
     const char *name;
     lg_exr_compression c;
 } compressions[] = {
-    {"none", LG_EXR_NONE}, {"rle", LG_EXR_RLE},     {"zips", LG_EXR_ZIPS}, {"zip", LG_EXR_ZIP},
-    {"piz", LG_EXR_PIZ},   {"pxr24", LG_EXR_PXR24}, {"b44", LG_EXR_B44},   {"b44a", LG_EXR_B44A},
-    {"dwaa", LG_EXR_DWAA}, {"dwab", LG_EXR_DWAB},
+    { "none", LG_EXR_NONE }, { "rle", LG_EXR_RLE },   { "zips", LG_EXR_ZIPS },
+    { "zip", LG_EXR_ZIP },   { "piz", LG_EXR_PIZ },   { "pxr24", LG_EXR_PXR24 },
+    { "b44", LG_EXR_B44 },   { "b44a", LG_EXR_B44A }, { "dwaa", LG_EXR_DWAA },
+    { "dwab", LG_EXR_DWAB },
 };
 
 int main(int argc, char **argv)
 {
     if (argc < 5 || argc > 6) {
-        fprintf(stderr, "usage: exr_recompress IN OUT.exr none|rle|zips|zip|piz|pxr24|b44|b44a|dwaa|dwab "
-                        "half|float [FACTOR]\n");
+        fprintf(stderr,
+                "usage: exr_recompress IN OUT.exr none|rle|zips|zip|piz|pxr24|b44|b44a|dwaa|dwab "
+                "half|float [FACTOR]\n");
         return 2;
     }
-    lg_image_write_opts opts = {.channels = 3};
+    lg_image_write_opts opts = { .channels = 3 };
     size_t i = 0;
     while (i < sizeof compressions / sizeof *compressions && strcmp(argv[3], compressions[i].name))
         i++;
@@ -58,8 +60,8 @@ int main(int argc, char **argv)
         return 1;
     }
     if (factor < 1 || factor > 64 || in.width % (uint32_t)factor || in.height % (uint32_t)factor) {
-        fprintf(stderr, "exr_recompress: '%s' is %ux%u: factor %ld does not divide it (1..64)\n", argv[1],
-                in.width, in.height, factor);
+        fprintf(stderr, "exr_recompress: '%s' is %ux%u: factor %ld does not divide it (1..64)\n",
+                argv[1], in.width, in.height, factor);
         lg_image_free(&in);
         return 1;
     }

@@ -127,8 +127,8 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (!down || !face || levels < 2 || levels > LG_PROBE_FILTER_MAX_LEVELS || !threads ||
-        !ndirs || !oracle || max_samples < 16) {
+    if (!down || !face || levels < 2 || levels > LG_PROBE_FILTER_MAX_LEVELS || !threads || !ndirs ||
+        !oracle || max_samples < 16) {
         usage();
         return 2;
     }
@@ -152,7 +152,8 @@ int main(int argc, char **argv)
                 double s = 0;
                 for (uint32_t yy = 0; yy < down; yy++)
                     for (uint32_t xx = 0; xx < down; xx++)
-                        s += im.pixels[4 * ((size_t)(y * down + yy) * im.width + x * down + xx) + c];
+                        s +=
+                            im.pixels[4 * ((size_t)(y * down + yy) * im.width + x * down + xx) + c];
                 src[4 * ((size_t)y * sw + x) + c] = (float)(s / (down * down));
             }
     lg_image_free(&im);
@@ -253,8 +254,8 @@ int main(int argc, char **argv)
             o.samples = s;
             o.no_source_lod = mode == 1;
             o.weighting = mode == 2 ? LG_PROBE_WEIGHT_NOL_VIS : LG_PROBE_WEIGHT_NOL;
-            if (lg_probe_prefilter_ggx(&node, &cimg, LG_PROBE_CUBE, face, face, levels, &o,
-                                       chain, &st)) {
+            if (lg_probe_prefilter_ggx(&node, &cimg, LG_PROBE_CUBE, face, face, levels, &o, chain,
+                                       &st)) {
                 fprintf(stderr, "lg_prefilter_study: prefiltering failed\n");
                 return 1;
             }
@@ -280,9 +281,8 @@ int main(int argc, char **argv)
                     if (mode == 2 && s == max_samples)
                         bias_vis[r][v] = e;
                     if (csv)
-                        fprintf(csv, "%s,%u,%.6f,%u,%.2f,%s,%.6e,%.3e\n",
-                                mode_name[mode], s, st.seconds, st.threads,
-                                roughs[r], view_name[v], e, noise[r][v]);
+                        fprintf(csv, "%s,%u,%.6f,%u,%.2f,%s,%.6e,%.3e\n", mode_name[mode], s,
+                                st.seconds, st.threads, roughs[r], view_name[v], e, noise[r][v]);
                 }
             printf("\n");
         }

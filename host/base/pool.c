@@ -22,16 +22,16 @@ struct lg_pool {
     pthread_cond_t wake;      /* a new job, or quit */
     pthread_cond_t idle;      /* busy reached 0 */
     pthread_t *threads;
-    uint32_t n_workers;       /* threads started (size - 1) */
-    uint64_t generation;      /* incremented per job */
+    uint32_t n_workers;  /* threads started (size - 1) */
+    uint64_t generation; /* incremented per job */
     bool quit;
-    uint32_t busy;            /* workers still in the current job */
+    uint32_t busy; /* workers still in the current job */
     /* the current job */
     lg_pool_fn fn;
     void *ctx;
     size_t n, grain;
     uint32_t chunks;
-    atomic_uint next;         /* next chunk to hand out */
+    atomic_uint next; /* next chunk to hand out */
 };
 
 /* Set on pool threads, and on a caller while it runs a job: a nested lg_pool_run then
@@ -103,8 +103,9 @@ lg_pool *lg_pool_new(uint32_t size, char **warning)
     for (uint32_t i = 0; i + 1 < size; i++) {
         int e = pthread_create(&p->threads[i], NULL, worker, p);
         if (e) {
-            if (warning && asprintf(warning, "CPU thread pool: started %u of %u threads "
-                                             "(pthread_create: %s); running with %u",
+            if (warning && asprintf(warning,
+                                    "CPU thread pool: started %u of %u threads "
+                                    "(pthread_create: %s); running with %u",
                                     i, size - 1, strerror(e), i + 1) < 0)
                 *warning = NULL;
             break;
@@ -185,15 +186,16 @@ int lg_pool_run(lg_pool *p, size_t n, size_t grain, lg_pool_fn fn, void *ctx)
     return 0;
 }
 
-/* ---- the process-wide pool ------------------------------------------------------------ */
+/* ---- the process-wide pool ------------------------------------------------------------------- */
 
 uint32_t lg_pool_configured_size(char **warning)
 {
     if (warning)
         *warning = NULL;
     long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-    uint32_t def = cpus < 1 ? 1u : cpus > (long)LG_POOL_MAX_THREADS ? LG_POOL_MAX_THREADS
-                                                                    : (uint32_t)cpus;
+    uint32_t def = cpus < 1                           ? 1u
+                   : cpus > (long)LG_POOL_MAX_THREADS ? LG_POOL_MAX_THREADS
+                                                      : (uint32_t)cpus;
     const char *env = getenv("LIGHTGRAPH_THREADS");
     if (!env || !*env)
         return def;
@@ -201,8 +203,9 @@ uint32_t lg_pool_configured_size(char **warning)
     errno = 0;
     long v = strtol(env, &end, 10);
     if (errno || *end || v < 1 || v > (long)LG_POOL_MAX_THREADS) {
-        if (warning && asprintf(warning, "LIGHTGRAPH_THREADS='%s' is not an integer in 1..%u; "
-                                         "using %u (the online CPUs)",
+        if (warning && asprintf(warning,
+                                "LIGHTGRAPH_THREADS='%s' is not an integer in 1..%u; "
+                                "using %u (the online CPUs)",
                                 env, LG_POOL_MAX_THREADS, def) < 0)
             *warning = NULL;
         return def;

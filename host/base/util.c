@@ -240,7 +240,7 @@ char *lg_read_file(const char *path, size_t *len)
     FILE *f = fopen(path, "rb");
     if (!f)
         return NULL;
-    lg_str b = {0};
+    lg_str b = { 0 };
     char buf[65536];
     size_t n;
     while ((n = fread(buf, 1, sizeof buf, f)) > 0)
@@ -357,8 +357,12 @@ void lg_format_duration(char *out, size_t n, double s)
     static const struct {
         double unit;
         const char *name;
-    } units[] = {{365.25 * 86400, "years"}, {7 * 86400, "weeks"}, {86400, "days"},
-                 {3600, "h"},               {60, "min"},          {1, "s"}};
+    } units[] = { { 365.25 * 86400, "years" },
+                  { 7 * 86400, "weeks" },
+                  { 86400, "days" },
+                  { 3600, "h" },
+                  { 60, "min" },
+                  { 1, "s" } };
     if (!(s >= 0) || s > 1e300) {
         snprintf(out, n, "an unbounded time");
         return;
@@ -391,7 +395,7 @@ void lg_hlog(int level, const char *fmt, ...)
         return;
     if (level == LG_HWARN && lg_verbosity < 0)
         return;
-    static const char *names[] = {"error", "warning", "info", "debug"};
+    static const char *names[] = { "error", "warning", "info", "debug" };
     fprintf(stderr, "lightgraph: %s: ", names[level < 0 ? 0 : level > 3 ? 3 : level]);
     va_list ap;
     va_start(ap, fmt);
@@ -459,12 +463,24 @@ bool lg_path_has_ext(const char *path, const char *ext)
     return dot && strcasecmp(dot, ext) == 0;
 }
 
-/* ---- records through a pipe ----------------------------------------------------------- */
+/* ---- records through a pipe ------------------------------------------------------------------ */
 
-void lg_wire_put_raw(lg_str *b, const void *p, size_t n) { lg_str_addn(b, p, n); }
-void lg_wire_put_u32(lg_str *b, uint32_t v) { lg_wire_put_raw(b, &v, sizeof v); }
-void lg_wire_put_u64(lg_str *b, uint64_t v) { lg_wire_put_raw(b, &v, sizeof v); }
-void lg_wire_put_f64(lg_str *b, double v) { lg_wire_put_raw(b, &v, sizeof v); }
+void lg_wire_put_raw(lg_str *b, const void *p, size_t n)
+{
+    lg_str_addn(b, p, n);
+}
+void lg_wire_put_u32(lg_str *b, uint32_t v)
+{
+    lg_wire_put_raw(b, &v, sizeof v);
+}
+void lg_wire_put_u64(lg_str *b, uint64_t v)
+{
+    lg_wire_put_raw(b, &v, sizeof v);
+}
+void lg_wire_put_f64(lg_str *b, double v)
+{
+    lg_wire_put_raw(b, &v, sizeof v);
+}
 
 void lg_wire_put_text(lg_str *b, const char *s)
 {

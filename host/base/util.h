@@ -62,10 +62,10 @@ double lg_wire_get_f64(lg_wire_reader *r);
 char *lg_wire_get_text(lg_wire_reader *r);
 
 /* Paths. All return malloc'd strings. */
-char *lg_path_dirname(const char *path);             /* "." for a bare name */
+char *lg_path_dirname(const char *path);              /* "." for a bare name */
 char *lg_path_join(const char *dir, const char *rel); /* rel if absolute */
-char *lg_path_absolute(const char *path);            /* against the cwd, normalised, no
-                                                      * symlink resolution */
+char *lg_path_absolute(const char *path);             /* against the cwd, normalised, no
+                                                       * symlink resolution */
 bool lg_path_exists(const char *path);
 /* Whether the file name's last extension is `ext` (".txt"), ignoring case. */
 bool lg_path_has_ext(const char *path, const char *ext);

@@ -8,7 +8,7 @@
 
 #include "plan/plan.h"
 
-/* ---- one graph, rendered or checked (render.c, session.c; render and sweep use them) --- */
+/* ---- one graph, rendered or checked (render.c, session.c; render and sweep use them) --------- */
 
 /* Renders one graph file: parse, apply `sets` (NODE.PARAM=VALUE), check against `reg`
  * (already scanned), plan, run, write the output (opts->output_override replaces the single
@@ -28,7 +28,7 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
  * (nothing runs). Diagnostics are printed. Returns 0, or 2 for a bad graph or value. */
 int lg_check_file(lg_registry *reg, const char *graph, const char *const *sets, int n_sets);
 
-/* ---- the commands (one file each: render.c, check.c, ...) -------------------------------
+/* ---- the commands (one file each: render.c, check.c, ...) ---------------------------------------
  * argv[0] is the command's name; each returns the exit status: 0 success, 1 failure while
  * running, 2 bad usage or bad graph (render and sweep: 3, LG_EXIT_CRASH, a plugin crashed). */
 int lg_cmd_render(int argc, char **argv);
@@ -48,13 +48,13 @@ int lg_cmd_conform(int argc, char **argv);
 /* lightgraph view GRAPH [options] (view.c, docs/viewer.md) */
 int lg_cmd_view(int argc, char **argv);
 
-/* ---- option tables (options.c: render's, sweep's and diff's command lines) ----------- */
+/* ---- option tables (options.c: render's, sweep's and diff's command lines) ------------------- */
 
 /* One option of a command: its name, another name for it, and how it takes a value. */
 typedef struct lg_option {
-    const char *name;   /* "--size" */
-    const char *alias;  /* "--output" for "-o", or NULL */
-    unsigned flags;     /* LG_OPT_VALUE and/or LG_OPT_JOINED; 0: a switch */
+    const char *name;  /* "--size" */
+    const char *alias; /* "--output" for "-o", or NULL */
+    unsigned flags;    /* LG_OPT_VALUE and/or LG_OPT_JOINED; 0: a switch */
 } lg_option;
 enum {
     LG_OPT_VALUE = 1u << 0,  /* "--opt VALUE": the next argument, whatever it is */
@@ -66,10 +66,9 @@ enum { LG_OPT_UNKNOWN = -1, LG_OPT_NO_VALUE = -2 };
  * next argument, consumed by advancing *i, or the text after '='; NULL for a switch);
  * LG_OPT_NO_VALUE when an option that takes a value is the last argument; LG_OPT_UNKNOWN
  * when argv[*i] is none of them (an operand, or an option the caller names unknown). */
-int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i,
-                   const char **val);
+int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i, const char **val);
 
-/* ---- the graph commands' session (session.c) ----------------------------------------- */
+/* ---- the graph commands' session (session.c) ------------------------------------------------- */
 
 /* The command line of render, check, fmt and dot (lightgraph help):
  * GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH] [--frames N] ... [-i] (fmt only).
@@ -109,7 +108,7 @@ int lg_session_open(lg_session *s, int argc, char **argv, bool need_check);
  * `return lg_session_close(&s, rc);`. */
 int lg_session_close(lg_session *s, int rc);
 
-/* ---- what the plugins declare, printed (schema_print.c: plugins, inspect) ------------- */
+/* ---- what the plugins declare, printed (schema_print.c: plugins, inspect) -------------------- */
 
 /* A node type as one JSON object (no newline), with its plugin's name when p is given. */
 void lg_print_type_json(lg_str *out, const lg_node_type *t, const lg_plugin *p);

@@ -43,14 +43,14 @@ size_t __sanitizer_get_current_allocated_bytes(void);
 #include "lightgraph/image.h"
 #include "lightgraph/kinds.h"
 
-/* ---- the report ------------------------------------------------------------------------ */
+/* ---- the report ------------------------------------------------------------------------------ */
 
 typedef enum cf_status { CF_PASS = 0, CF_FAIL, CF_SKIP, CF_NOTE } cf_status;
-static const char *const status_names[] = {"pass", "FAIL", "skip", "note"};
+static const char *const status_names[] = { "pass", "FAIL", "skip", "note" };
 
 typedef struct cf_item {
     cf_status status;
-    char *node;   /* node type, or NULL for the plugin */
+    char *node; /* node type, or NULL for the plugin */
     char *check;
     char *message;
 } cf_item;
@@ -61,10 +61,10 @@ typedef struct cf_report {
     uint32_t counts[4];
 } cf_report;
 
-static void report(cf_report *r, cf_status st, const char *node, const char *check,
-                   const char *fmt, ...) __attribute__((format(printf, 5, 6)));
-static void report(cf_report *r, cf_status st, const char *node, const char *check,
-                   const char *fmt, ...)
+static void report(cf_report *r, cf_status st, const char *node, const char *check, const char *fmt,
+                   ...) __attribute__((format(printf, 5, 6)));
+static void report(cf_report *r, cf_status st, const char *node, const char *check, const char *fmt,
+                   ...)
 {
     if (r->n == r->cap) {
         r->cap = r->cap ? r->cap * 2 : 64;
@@ -76,8 +76,8 @@ static void report(cf_report *r, cf_status st, const char *node, const char *che
     if (vasprintf(&msg, fmt, ap) < 0)
         msg = NULL;
     va_end(ap);
-    r->items[r->n++] = (cf_item){st, node ? lg_xstrdup(node) : NULL, lg_xstrdup(check),
-                                 msg ? msg : lg_xstrdup("?")};
+    r->items[r->n++] = (cf_item){ st, node ? lg_xstrdup(node) : NULL, lg_xstrdup(check),
+                                  msg ? msg : lg_xstrdup("?") };
     r->counts[st]++;
 }
 
@@ -91,25 +91,25 @@ static void report_free(cf_report *r)
     free(r->items);
 }
 
-/* ---- cases ------------------------------------------------------------------------------ */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 typedef enum cf_mode {
-    CF_RUN = 0,   /* plan and one frame */
-    CF_TWICE,     /* two fresh plans of the same graph: identical outputs */
-    CF_RESIZE,    /* a plan, then one at another size that adopts what it can (lg_plan prev) */
-    CF_SQUEEZE,   /* the node's prepare fails (pixel limit); destroy must cope */
-    CF_FRAMES,    /* many frames, every node every frame: memory must not grow */
-    CF_GATE,      /* a scene lacking the declared needs: the planner must gate the node */
+    CF_RUN = 0, /* plan and one frame */
+    CF_TWICE,   /* two fresh plans of the same graph: identical outputs */
+    CF_RESIZE,  /* a plan, then one at another size that adopts what it can (lg_plan prev) */
+    CF_SQUEEZE, /* the node's prepare fails (pixel limit); destroy must cope */
+    CF_FRAMES,  /* many frames, every node every frame: memory must not grow */
+    CF_GATE,    /* a scene lacking the declared needs: the planner must gate the node */
 } cf_mode;
 
 typedef struct cf_case {
     cf_mode mode;
-    int backend;        /* index into the type's backend values; -1: no backend parameter */
-    uint32_t w, h;      /* image inputs and render size */
-    int format;         /* lg_conform_formats */
-    int pattern;        /* lg_conform_patterns */
-    int scene;          /* lg_conform_scenes */
-    bool baseline;      /* one of the "runs" cases (ramp, full scene) */
+    int backend;   /* index into the type's backend values; -1: no backend parameter */
+    uint32_t w, h; /* image inputs and render size */
+    int format;    /* lg_conform_formats */
+    int pattern;   /* lg_conform_patterns */
+    int scene;     /* lg_conform_scenes */
+    bool baseline; /* one of the "runs" cases (ramp, full scene) */
 } cf_case;
 
 #define CF_MAX_OUT 32
@@ -120,23 +120,23 @@ static uint32_t cf_frames_n = 20, cf_frames_from = 5;
 static uint64_t cf_rss_slack = 8u << 20;
 
 typedef struct cf_out {
-    char *name;          /* "out", "probe.radiance" */
+    char *name; /* "out", "probe.radiance" */
     lg_resource_kind kind;
     bool written;
-    bool values;         /* floats were read */
+    bool values; /* floats were read */
     uint32_t w, h, d;
     float *f;
     size_t nf;
 } cf_out;
 
 typedef struct cf_result {
-    bool done;           /* the child reported it */
-    int crashed;         /* the signal that ended the child in this case, or -1 for a
-                          * time-out */
-    int phase;           /* 0 ok, 1 the graph failed to check, 2 plan (create/prepare)
-                          * failed, 3 execute failed */
+    bool done;   /* the child reported it */
+    int crashed; /* the signal that ended the child in this case, or -1 for a
+                  * time-out */
+    int phase;   /* 0 ok, 1 the graph failed to check, 2 plan (create/prepare)
+                  * failed, 3 execute failed */
     bool gated;
-    char *error;         /* the first error message, or NULL */
+    char *error; /* the first error message, or NULL */
     cf_out outs[CF_MAX_OUT];
     uint32_t n_outs;
     /* CF_TWICE: values that differ between the runs, the largest difference */
@@ -163,14 +163,14 @@ static void result_free(cf_result *r)
     memset(r, 0, sizeof *r);
 }
 
-/* ---- the context ------------------------------------------------------------------------ */
+/* ---- the context ----------------------------------------------------------------------------- */
 
 typedef struct cf_ctx {
     const char *path;
     lg_registry reg;
     lg_plugin *plugin;
     bool json, verbose;
-    double timeout;      /* seconds a child may run without reporting */
+    double timeout; /* seconds a child may run without reporting */
     cf_report rep;
 } cf_ctx;
 
@@ -198,7 +198,8 @@ static const char *backend_name(const lg_node_type *t, int b)
 static bool has_input(const lg_node_type *t, lg_resource_kind kind)
 {
     for (uint32_t k = 0; k < t->n_inputs; k++)
-        if (t->inputs[k].kind == kind || (kind == LG_KIND_IMAGE && t->inputs[k].kind == LG_KIND_ANY))
+        if (t->inputs[k].kind == kind ||
+            (kind == LG_KIND_IMAGE && t->inputs[k].kind == LG_KIND_ANY))
             return true;
     return false;
 }
@@ -214,8 +215,8 @@ static const char *unfed_input(const lg_node_type *t)
 
 static void case_label(char *buf, size_t n, const lg_node_type *t, const cf_case *k)
 {
-    static const char *const modes[] = {"run", "twice", "resize", "failed prepare", "frames",
-                                        "gating"};
+    static const char *const modes[] = { "run",    "twice", "resize", "failed prepare",
+                                         "frames", "gating" };
     snprintf(buf, n, "%s on %s, %ux%u %s, %s, scene %s", modes[k->mode],
              backend_name(t, k->backend), k->w, k->h, lg_conform_formats[k->format],
              lg_conform_patterns[k->pattern], lg_conform_scenes[k->scene]);
@@ -227,7 +228,7 @@ static void case_label(char *buf, size_t n, const lg_node_type *t, const cf_case
 static char *case_graph(const lg_node_type *t, const cf_case *k, uint32_t w, uint32_t h,
                         bool squeeze)
 {
-    lg_str g = {0};
+    lg_str g = { 0 };
     lg_str_add(&g, "lightgraph 1\n");
     uint32_t n_images = 0;
     for (uint32_t i = 0; i < t->n_inputs; i++) {
@@ -272,7 +273,7 @@ static char *case_graph(const lg_node_type *t, const cf_case *k, uint32_t w, uin
     return lg_str_take(&g);
 }
 
-/* ---- the child: runs cases, writes records ---------------------------------------------- */
+/* ---- the child: runs cases, writes records --------------------------------------------------- */
 
 static lg_str child_errors;
 
@@ -339,8 +340,8 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
      * host's */
     bool own = r->producer == n || (r->parts.parent && r->parts.parent->producer == n);
     /* a composite is written through its parts, judged one by one below */
-    o->written = !own || r->neutral || r->copies.cpu_valid || r->copies.gl_valid || r->copies.cl_valid ||
-                 lg_kind_is_composite(r->kind);
+    o->written = !own || r->neutral || r->copies.cpu_valid || r->copies.gl_valid ||
+                 r->copies.cl_valid || lg_kind_is_composite(r->kind);
     char err[512];
     if (r->kind == LG_KIND_IMAGE) {
         o->w = r->image.width;
@@ -348,8 +349,9 @@ static void collect(lg_exec *ex, lg_pnode *n, lg_resource *r, const char *name, 
         o->d = 1;
         if (o->written && lg_resource_to_rgba32f(ex, r, &o->f, err, sizeof err) == 0) {
             o->values = true;
-            o->nf = lg_resource_bytes(r) ? (size_t)o->w * o->h * 4 *
-                        ((r->image.flags & LG_IMAGE_CUBE) ? 6 : 1) : 0;
+            o->nf = lg_resource_bytes(r)
+                        ? (size_t)o->w * o->h * 4 * ((r->image.flags & LG_IMAGE_CUBE) ? 6 : 1)
+                        : 0;
             /* mip levels: level 0 is what the checks read */
         }
     } else if (r->kind == LG_KIND_VOLUME) {
@@ -424,7 +426,7 @@ static int run_plan(cf_ctx *c, const lg_node_type *t, const char *text, uint32_t
                     cf_devs *d, lg_exec *prev, cf_run *r, bool every_frame)
 {
     memset(r, 0, sizeof *r);
-    lg_diags diags = {0};
+    lg_diags diags = { 0 };
     r->g = lg_graph_parse_string("<conform>", text, strlen(text), NULL, &diags);
     if (r->g) {
         lg_schema schema;
@@ -442,7 +444,7 @@ static int run_plan(cf_ctx *c, const lg_node_type *t, const char *text, uint32_t
     r->node = lg_graph_find_node(r->g, t->name);
     r->roots = lg_xcalloc(t->n_outputs + 1, sizeof *r->roots);
     for (uint32_t o = 0; o < t->n_outputs; o++)
-        r->roots[o] = (lg_edge){r->node, o, 0};
+        r->roots[o] = (lg_edge){ r->node, o, 0 };
     lg_exec *ex = &r->ex;
     ex->opts.width = w;
     ex->opts.height = h;
@@ -482,7 +484,8 @@ static int run_frame(cf_run *r, uint32_t frame)
         const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
         if (lg_gl_state_check(gl, err, sizeof err)) {
             char *m = lg_xasprintf("left GL state behind (see docs/sdk.md, the GL state "
-                                   "contract): %s", err);
+                                   "contract): %s",
+                                   err);
             child_error_hook(m);
             free(m);
             return 3;
@@ -559,8 +562,8 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
                     res->diff_max = dd;
                     free(res->diff_where);
                     res->diff_where = lg_xasprintf("output '%s' value %zu (pixel %zu, channel "
-                                                   "%zu): %.9g then %.9g", a->name, j, j / 4,
-                                                   j % 4, a->f[j], b->f[j]);
+                                                   "%zu): %.9g then %.9g",
+                                                   a->name, j, j / 4, j % 4, a->f[j], b->f[j]);
                 }
             }
             if (a->nf != b->nf && !res->diff_where) {
@@ -592,8 +595,9 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
                     (b->image.width != w2 || b->image.height != h2) && !res->resize_bad)
                     res->resize_bad = lg_xasprintf(
                         "output '%s' was %ux%u at %ux%u, and is %ux%u at %ux%u (not prepared "
-                        "again?)", t->outputs[o].name, a->image.width, a->image.height, k->w,
-                        k->h, b->image.width, b->image.height, w2, h2);
+                        "again?)",
+                        t->outputs[o].name, a->image.width, a->image.height, k->w, k->h,
+                        b->image.width, b->image.height, w2, h2);
             }
         }
         run_free(&r2, d);
@@ -610,10 +614,10 @@ static void child_case(cf_ctx *c, const lg_node_type *t, const cf_case *k, cf_de
 static void child_main(cf_ctx *c, const lg_node_type *t, const cf_case *cases, uint32_t from,
                        uint32_t n, int fd)
 {
-    cf_devs d = {0};
+    cf_devs d = { 0 };
     lg_hlog_error_hook = child_error_hook;
     for (uint32_t i = from; i < n; i++) {
-        lg_str b = {0};
+        lg_str b = { 0 };
         lg_str_addc(&b, 'B');
         lg_wire_put_u64(&b, i);
         write_all(fd, b.s, b.len);
@@ -658,13 +662,13 @@ static void child_main(cf_ctx *c, const lg_node_type *t, const cf_case *cases, u
     lg_cl_device_destroy(&d.cl);
 }
 
-/* ---- the parent: reads records ---------------------------------------------------------- */
+/* ---- the parent: reads records --------------------------------------------------------------- */
 
 /* Parses the records in buf: fills results, returns the index of a case begun and not
  * reported (the one a crash interrupted), or UINT32_MAX. */
 static uint32_t read_records(const char *buf, size_t len, cf_result *results, uint32_t n)
 {
-    lg_wire_reader r = {buf, buf + len, false};
+    lg_wire_reader r = { buf, buf + len, false };
     uint32_t open = UINT32_MAX;
     while (r.p < r.end && !r.bad) {
         char tag = *r.p++;
@@ -760,11 +764,11 @@ static void run_cases(cf_ctx *c, const lg_node_type *t, const cf_case *cases, ui
             exit(0);
         }
         close(fds[1]);
-        lg_str buf = {0};
+        lg_str buf = { 0 };
         char chunk[65536];
         bool timed_out = false;
         for (;;) {
-            struct pollfd pf = {fds[0], POLLIN, 0};
+            struct pollfd pf = { fds[0], POLLIN, 0 };
             int pr = poll(&pf, 1, (int)(c->timeout * 1000));
             if (pr < 0 && errno == EINTR)
                 continue;
@@ -812,25 +816,27 @@ static void run_cases(cf_ctx *c, const lg_node_type *t, const cf_case *cases, ui
     }
 }
 
-/* ---- judging -------------------------------------------------------------------------- */
+/* ---- judging --------------------------------------------------------------------------------- */
 
 static bool device_missing(const cf_result *r)
 {
-    return r->error && (strstr(r->error, "no OpenGL 4.5 device") ||
-                        strstr(r->error, "no OpenCL device"));
+    return r->error &&
+           (strstr(r->error, "no OpenGL 4.5 device") || strstr(r->error, "no OpenCL device"));
 }
 
 static const char *phase_text(int phase)
 {
-    return phase == 1 ? "the graph did not check" : phase == 2 ? "create/prepare failed"
-                                                               : "execute failed";
+    return phase == 1   ? "the graph did not check"
+           : phase == 2 ? "create/prepare failed"
+                        : "execute failed";
 }
 
 static char *crash_text(const cf_result *r, double timeout)
 {
     if (r->crashed == -1)
         return lg_xasprintf("stopped after %.0f s without finishing (a hang or far too slow "
-                            "for its defaults)", timeout);
+                            "for its defaults)",
+                            timeout);
     if (r->crashed == -2)
         return lg_xstrdup("the process ended in the middle of it");
     return lg_xasprintf("crashed (signal %d, %s)", r->crashed, strsignal(r->crashed));
@@ -845,8 +851,8 @@ static uint64_t nonfinite(const cf_result *r, char *where, size_t n)
         const cf_out *x = &r->outs[o];
         for (size_t i = 0; i < x->nf; i++)
             if (!isfinite(x->f[i]) && count++ == 0)
-                snprintf(where, n, "output '%s' value %zu (pixel %zu, channel %zu) = %g",
-                         x->name, i, i / 4, i % 4, x->f[i]);
+                snprintf(where, n, "output '%s' value %zu (pixel %zu, channel %zu) = %g", x->name,
+                         i, i / 4, i % 4, x->f[i]);
     }
     return count;
 }
@@ -889,8 +895,8 @@ static double disagreement(const cf_result *a, const cf_result *b, char *where, 
         if (!x->values || !y->values)
             continue;
         if (x->nf != y->nf) {
-            snprintf(where, n, "output '%s': %ux%ux%u against %ux%ux%u", x->name, y->w, y->h,
-                     y->d, x->w, x->h, x->d);
+            snprintf(where, n, "output '%s': %ux%ux%u against %ux%ux%u", x->name, y->w, y->h, y->d,
+                     x->w, x->h, x->d);
             return INFINITY;
         }
         double amax = 0, dmax = 0;
@@ -906,14 +912,14 @@ static double disagreement(const cf_result *a, const cf_result *b, char *where, 
         double rel = dmax / fmax(1.0, amax);
         if (rel > worst) {
             worst = rel;
-            snprintf(where, n, "output '%s': max abs diff %.6g at value %zu (pixel %zu, "
-                     "channel %zu: %.6g against %.6g) / max(1, %.6g)", x->name, dmax, at,
-                     at / 4, at % 4, y->f[at], x->f[at], amax);
+            snprintf(where, n,
+                     "output '%s': max abs diff %.6g at value %zu (pixel %zu, "
+                     "channel %zu: %.6g against %.6g) / max(1, %.6g)",
+                     x->name, dmax, at, at / 4, at % 4, y->f[at], x->f[at], amax);
         }
     }
     return worst;
 }
-
 
 /* The check a case of this mode proves, named in a report when the case crashed or failed. */
 static const char *mode_check(const cf_case *k)
@@ -945,12 +951,12 @@ typedef struct cf_judge {
     cf_report *rep;
     const lg_node_type *t;
     const char *name;
-    const char *fkey;         /* the parameter naming a file with no default (needs_file) */
+    const char *fkey; /* the parameter naming a file with no default (needs_file) */
     bool file;
-    bool base_ok[8];          /* per backend: its baseline ran */
-    bool base_skip[8];        /* per backend: it cannot run here (no device, a file needed):
-                               * its other cases are not judged */
-    char own[300];            /* how a message of the node's names it: "node 'T' (T)" */
+    bool base_ok[8];   /* per backend: its baseline ran */
+    bool base_skip[8]; /* per backend: it cannot run here (no device, a file needed):
+                        * its other cases are not judged */
+    char own[300];     /* how a message of the node's names it: "node 'T' (T)" */
 } cf_judge;
 
 /* CF_SQUEEZE: a prepare made to fail must fail with the node named, and destroy cope. */
@@ -961,23 +967,25 @@ static void judge_squeeze(cf_judge *j, const cf_result *r, const char *label, in
                "%s: prepare failed (%s), destroy ran without a crash", label, error_or_none(r));
     else if (j->base_ok[bi])
         report(j->rep, CF_NOTE, j->name, "failed_prepare",
-               "%s: a one-pixel limit did not make its prepare fail (%s); not checked",
-               label, r->phase == 0 ? "it declares no image larger than a pixel"
-                      : error_or_none(r));
+               "%s: a one-pixel limit did not make its prepare fail (%s); not checked", label,
+               r->phase == 0 ? "it declares no image larger than a pixel" : error_or_none(r));
 }
 
 /* CF_GATE: a scene lacking the declared needs must get the node gated, not failed. */
 static void judge_gate(cf_judge *j, const cf_result *r, const char *label)
 {
     if (r->phase)
-        report(j->rep, CF_FAIL, j->name, "gating", "%s: the plan failed instead of gating "
-               "the node (%s): %s", label, phase_text(r->phase), error_or_none(r));
+        report(j->rep, CF_FAIL, j->name, "gating",
+               "%s: the plan failed instead of gating "
+               "the node (%s): %s",
+               label, phase_text(r->phase), error_or_none(r));
     else if (!r->gated)
-        report(j->rep, CF_FAIL, j->name, "gating", "%s: the node declares needs 0x%x and was "
-               "not gated on a scene that lacks them", label, j->t->needs);
+        report(j->rep, CF_FAIL, j->name, "gating",
+               "%s: the node declares needs 0x%x and was "
+               "not gated on a scene that lacks them",
+               label, j->t->needs);
     else
-        report(j->rep, CF_PASS, j->name, "gating", "%s: gated (needs 0x%x)", label,
-               j->t->needs);
+        report(j->rep, CF_PASS, j->name, "gating", "%s: gated (needs 0x%x)", label, j->t->needs);
 }
 
 /* A case whose check, plan or run failed (r->phase): a broken contract, a hostile input
@@ -999,24 +1007,25 @@ static void judge_failed(cf_judge *j, const cf_case *k, const cf_result *r, cons
             report(j->rep, CF_FAIL, j->name, "gating",
                    "%s: %s on a scene with geometry and no lights, medium, probe or "
                    "specular or reflective material, and the node declares no needs "
-                   "(lg_node_type.needs) for the planner to gate it by: %s", label,
-                   phase_text(r->phase), error_or_none(r));
+                   "(lg_node_type.needs) for the planner to gate it by: %s",
+                   label, phase_text(r->phase), error_or_none(r));
         else if (!r->error)
-            report(j->rep, CF_FAIL, j->name, "hostile", "%s: %s without an error message",
-                   label, phase_text(r->phase));
+            report(j->rep, CF_FAIL, j->name, "hostile", "%s: %s without an error message", label,
+                   phase_text(r->phase));
         else
-            report(j->rep, CF_PASS, j->name, "hostile", "%s: refused with an error: %s",
-                   label, r->error);
+            report(j->rep, CF_PASS, j->name, "hostile", "%s: refused with an error: %s", label,
+                   r->error);
     } else if (k->mode == CF_RUN && k->format != 0 && r->phase == 2 && r->error) {
         report(j->rep, CF_NOTE, j->name, "runs", "%s: not accepted: %s", label, r->error);
     } else if (j->file && first_of_backend) {
         j->base_skip[bi] = true;
-        report(j->rep, CF_SKIP, j->name, "runs", "%s: parameter '%s' names a file and has no "
-               "default, so conform cannot run it (%s: %s)", label, j->fkey,
-               phase_text(r->phase), error_or_none(r));
+        report(j->rep, CF_SKIP, j->name, "runs",
+               "%s: parameter '%s' names a file and has no "
+               "default, so conform cannot run it (%s: %s)",
+               label, j->fkey, phase_text(r->phase), error_or_none(r));
     } else if (k->mode == CF_RUN || j->base_ok[bi]) {
-        report(j->rep, CF_FAIL, j->name, mode_check(k), "%s: %s: %s", label,
-               phase_text(r->phase), error_or_none(r));
+        report(j->rep, CF_FAIL, j->name, mode_check(k), "%s: %s: %s", label, phase_text(r->phase),
+               error_or_none(r));
     }
 }
 
@@ -1027,26 +1036,33 @@ static void judge_outputs(cf_judge *j, const cf_case *k, const cf_result *r, con
     char where[512];
     for (uint32_t o = 0; o < r->n_outs; o++)
         if (!r->outs[o].written)
-            report(j->rep, CF_FAIL, j->name, "outputs", "%s: output '%s' was declared and "
-                   "never written on any device", label, r->outs[o].name);
+            report(j->rep, CF_FAIL, j->name, "outputs",
+                   "%s: output '%s' was declared and "
+                   "never written on any device",
+                   label, r->outs[o].name);
     uint64_t bad = nonfinite(r, where, sizeof where);
     if (k->mode == CF_RUN && k->baseline) {
         if (bad)
-            report(j->rep, CF_FAIL, j->name, "finite", "%s: %llu values not finite on finite "
-                   "input; first: %s", label, (unsigned long long)bad, where);
+            report(j->rep, CF_FAIL, j->name, "finite",
+                   "%s: %llu values not finite on finite "
+                   "input; first: %s",
+                   label, (unsigned long long)bad, where);
     } else if (k->mode == CF_RUN) {
         bool contained = k->pattern == LG_CONFORM_NAN || k->pattern == LG_CONFORM_INF;
         /* one bad input pixel may stay one bad pixel per output; it must not spread */
         uint64_t allowed = contained ? 4u * r->n_outs : 0;
         if (bad > allowed)
-            report(j->rep, CF_FAIL, j->name, "hostile", "%s: %llu values not finite (at most "
-                   "%llu allowed: %s); first: %s", label, (unsigned long long)bad,
-                   (unsigned long long)allowed,
+            report(j->rep, CF_FAIL, j->name, "hostile",
+                   "%s: %llu values not finite (at most "
+                   "%llu allowed: %s); first: %s",
+                   label, (unsigned long long)bad, (unsigned long long)allowed,
                    contained ? "the one non-finite input pixel, not spread" : "finite input",
                    where);
         else if (bad)
-            report(j->rep, CF_PASS, j->name, "hostile", "%s: %llu non-finite values, where "
-                   "the input's bad pixel was", label, (unsigned long long)bad);
+            report(j->rep, CF_PASS, j->name, "hostile",
+                   "%s: %llu non-finite values, where "
+                   "the input's bad pixel was",
+                   label, (unsigned long long)bad);
         else
             report(j->rep, CF_PASS, j->name, "hostile", "%s: finite output", label);
     }
@@ -1057,37 +1073,42 @@ static void judge_memory(cf_judge *j, const cf_result *r, const char *label)
 {
     int64_t grow = (int64_t)r->rss1 - (int64_t)r->rss0;
     if (r->live1 > r->live0)
-        report(j->rep, CF_FAIL, j->name, "memory", "%s: the profile's live plugin memory "
+        report(j->rep, CF_FAIL, j->name, "memory",
+               "%s: the profile's live plugin memory "
                "(bytes_plugin_live) grew from %llu bytes after frame %u to %llu after "
                "frame %u (peak %llu): lg_account_alloc without lg_account_free",
-               label, (unsigned long long)r->live0, cf_frames_from,
-               (unsigned long long)r->live1, cf_frames_n, (unsigned long long)r->peak);
+               label, (unsigned long long)r->live0, cf_frames_from, (unsigned long long)r->live1,
+               cf_frames_n, (unsigned long long)r->peak);
     else if (grow > (int64_t)cf_rss_slack)
-        report(j->rep, CF_FAIL, j->name, "memory", "%s: %s grew by %.1f MiB "
+        report(j->rep, CF_FAIL, j->name, "memory",
+               "%s: %s grew by %.1f MiB "
                "from frame %u to frame %u (%.2f MiB a frame; %u MiB allowed in all)",
                label, cf_mem_what, (double)grow / 1048576.0, cf_frames_from, cf_frames_n,
                (double)grow / 1048576.0 / (cf_frames_n - cf_frames_from),
                (unsigned)(cf_rss_slack >> 20));
     else
-        report(j->rep, CF_PASS, j->name, "memory", "%s: %s %+.2f MiB, plugin live %llu "
-               "-> %llu bytes over frames %u..%u", label, cf_mem_what,
-               (double)grow / 1048576.0,
-               (unsigned long long)r->live0, (unsigned long long)r->live1,
-               cf_frames_from, cf_frames_n);
+        report(j->rep, CF_PASS, j->name, "memory",
+               "%s: %s %+.2f MiB, plugin live %llu "
+               "-> %llu bytes over frames %u..%u",
+               label, cf_mem_what, (double)grow / 1048576.0, (unsigned long long)r->live0,
+               (unsigned long long)r->live1, cf_frames_from, cf_frames_n);
 }
 
 /* A case that ran: its outputs, then what its mode checks. */
 static void judge_ran(cf_judge *j, const cf_case *k, const cf_result *r, const char *label)
 {
     if (r->gated && k->mode != CF_GATE)
-        report(j->rep, CF_NOTE, j->name, "gating", "%s: gated by the planner (needs 0x%x), so "
-               "not run", label, j->t->needs);
+        report(j->rep, CF_NOTE, j->name, "gating",
+               "%s: gated by the planner (needs 0x%x), so "
+               "not run",
+               label, j->t->needs);
     judge_outputs(j, k, r, label);
     if (k->mode == CF_TWICE) {
         if (r->diff_count)
-            report(j->rep, CF_FAIL, j->name, "determinism", "%s: two runs differ in %llu "
-                   "values, largest difference %.6g at %s", label,
-                   (unsigned long long)r->diff_count, r->diff_max,
+            report(j->rep, CF_FAIL, j->name, "determinism",
+                   "%s: two runs differ in %llu "
+                   "values, largest difference %.6g at %s",
+                   label, (unsigned long long)r->diff_count, r->diff_max,
                    r->diff_where ? r->diff_where : "?");
         else
             report(j->rep, CF_PASS, j->name, "determinism", "%s: identical", label);
@@ -1096,8 +1117,7 @@ static void judge_ran(cf_judge *j, const cf_case *k, const cf_result *r, const c
         if (r->resize_bad)
             report(j->rep, CF_FAIL, j->name, "resize", "%s: %s", label, r->resize_bad);
         else
-            report(j->rep, CF_PASS, j->name, "resize", "%s: prepared again at the new size",
-                   label);
+            report(j->rep, CF_PASS, j->name, "resize", "%s: prepared again at the new size", label);
     }
     if (k->mode == CF_FRAMES)
         judge_memory(j, r, label);
@@ -1111,8 +1131,10 @@ static void judge_case(cf_judge *j, const cf_case *k, const cf_result *r, double
     char label[200];
     case_label(label, sizeof label, j->t, k);
     if (!r->done) {
-        report(j->rep, CF_FAIL, j->name, "harness", "%s: no result (the child stopped "
-               "reporting)", label);
+        report(j->rep, CF_FAIL, j->name, "harness",
+               "%s: no result (the child stopped "
+               "reporting)",
+               label);
         return;
     }
     bool first_of_backend = k->baseline && k->w == 7 && k->format == 0;
@@ -1148,8 +1170,8 @@ static void judge_case(cf_judge *j, const cf_case *k, const cf_result *r, double
 /* Backends against the reference, cpu (the first one, for a node without cpu), on the same
  * inputs: every baseline of another backend against the reference's of the same size and
  * format, within the type's tolerance. */
-static void judge_backends(cf_report *rep, const lg_node_type *t, const cf_case *cases,
-                           uint32_t n, const cf_result *res)
+static void judge_backends(cf_report *rep, const lg_node_type *t, const cf_case *cases, uint32_t n,
+                           const cf_result *res)
 {
     double tol = t->tolerance > 0 ? t->tolerance : 1e-3;
     char where[512];
@@ -1173,8 +1195,10 @@ static void judge_backends(cf_report *rep, const lg_node_type *t, const cf_case 
             case_label(label, sizeof label, t, k);
             double d = disagreement(&res[j], &res[i], where, sizeof where);
             if (d > tol)
-                report(rep, CF_FAIL, t->name, "backends", "%s against %s: %s = %.6g > "
-                       "tolerance %g%s", label, backend_name(t, ref), where, d, tol,
+                report(rep, CF_FAIL, t->name, "backends",
+                       "%s against %s: %s = %.6g > "
+                       "tolerance %g%s",
+                       label, backend_name(t, ref), where, d, tol,
                        t->tolerance > 0 ? "" : " (the default; lg_node_type.tolerance)");
             else
                 report(rep, CF_PASS, t->name, "backends", "%s against %s: %.3g <= %g", label,
@@ -1220,11 +1244,11 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
         const char *s = lg_conform_source_for(t->inputs[k].kind);
         patterned |= s && strcmp(s, "conform_scene") != 0;
     }
-    static const uint32_t sizes[3][2] = {{7, 5}, {1, 1}, {256, 256}};
+    static const uint32_t sizes[3][2] = { { 7, 5 }, { 1, 1 }, { 256, 256 } };
     uint32_t cap = 64 * (nb ? nb : 1), n = 0;
     cf_case *c = lg_xcalloc(cap, sizeof *c);
     for (int b = nb ? 0 : -1; b < (int)(nb ? nb : 0); b++) {
-        cf_case base = {.mode = CF_RUN, .backend = b, .w = 7, .h = 5, .baseline = true};
+        cf_case base = { .mode = CF_RUN, .backend = b, .w = 7, .h = 5, .baseline = true };
         for (int s = 0; s < (quick ? 2 : 3); s++) /* --quick: no 256x256 */
             for (int f = 0; f < (img ? 4 : 1); f++) {
                 c[n] = base;
@@ -1243,7 +1267,7 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
                 c[n].baseline = false;
                 c[n++].scene = s;
             }
-        static const cf_mode life[] = {CF_TWICE, CF_RESIZE, CF_SQUEEZE, CF_FRAMES};
+        static const cf_mode life[] = { CF_TWICE, CF_RESIZE, CF_SQUEEZE, CF_FRAMES };
         for (size_t m = 0; m < sizeof life / sizeof life[0]; m++) {
             c[n] = base;
             c[n].baseline = false;
@@ -1260,16 +1284,17 @@ static uint32_t make_cases(const lg_node_type *t, cf_case **out, bool quick)
     return n;
 }
 
-/* ---- the descriptor ------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static void check_descriptor(cf_ctx *c)
 {
     cf_report *rep = &c->rep;
     const lg_plugin *p = c->plugin;
     char why[512];
-    report(rep, CF_PASS, NULL, "descriptor", "plugin '%s' %s, ABI %u.%u (host %d.%d), %u node "
-           "types", p->name, p->version, p->abi_major, p->abi_minor, LG_ABI_MAJOR, LG_ABI_MINOR,
-           p->n_types);
+    report(rep, CF_PASS, NULL, "descriptor",
+           "plugin '%s' %s, ABI %u.%u (host %d.%d), %u node "
+           "types",
+           p->name, p->version, p->abi_major, p->abi_minor, LG_ABI_MAJOR, LG_ABI_MINOR, p->n_types);
     if (!lg_name_rule_ok(p->name, NULL, why, sizeof why))
         report(rep, CF_FAIL, NULL, "naming", "%s", why);
     if (!p->doc || !p->doc[0])
@@ -1278,11 +1303,15 @@ static void check_descriptor(cf_ctx *c)
         const lg_node_type *t = &p->types[i];
         for (uint32_t j = 0; j < i; j++)
             if (strcmp(p->types[j].name, t->name) == 0)
-                report(rep, CF_FAIL, t->name, "descriptor", "node type '%s' declared twice "
-                       "(types %u and %u)", t->name, j, i);
+                report(rep, CF_FAIL, t->name, "descriptor",
+                       "node type '%s' declared twice "
+                       "(types %u and %u)",
+                       t->name, j, i);
         if (strncmp(t->name, "conform_", 8) == 0)
-            report(rep, CF_FAIL, t->name, "naming", "node type '%s' uses the prefix conform_, "
-                   "which the program's own synthetic sources hold", t->name);
+            report(rep, CF_FAIL, t->name, "naming",
+                   "node type '%s' uses the prefix conform_, "
+                   "which the program's own synthetic sources hold",
+                   t->name);
         if (!lg_name_rule_ok(p->name, t->name, why, sizeof why))
             report(rep, CF_FAIL, t->name, "naming", "%s", why);
         if (!t->doc || !t->doc[0])
@@ -1300,24 +1329,29 @@ static void check_descriptor(cf_ctx *c)
                 const char *al = q->renamed_from[a];
                 for (uint32_t m = 0; m < t->n_params; m++) {
                     if (strcmp(t->params[m].key, al) == 0)
-                        report(rep, CF_FAIL, t->name, "aliases", "parameter '%s' was renamed "
-                               "from '%s', which is the key of parameter %u", q->key, al, m);
-                    for (int b = 0; t->params[m].renamed_from && t->params[m].renamed_from[b];
-                         b++)
+                        report(rep, CF_FAIL, t->name, "aliases",
+                               "parameter '%s' was renamed "
+                               "from '%s', which is the key of parameter %u",
+                               q->key, al, m);
+                    for (int b = 0; t->params[m].renamed_from && t->params[m].renamed_from[b]; b++)
                         if ((m != k || b != a) && strcmp(t->params[m].renamed_from[b], al) == 0 &&
                             (m > k || (m == k && b > a)))
-                            report(rep, CF_FAIL, t->name, "aliases", "old key '%s' is an alias "
-                                   "of both '%s' and '%s'", al, q->key, t->params[m].key);
+                            report(rep, CF_FAIL, t->name, "aliases",
+                                   "old key '%s' is an alias "
+                                   "of both '%s' and '%s'",
+                                   al, q->key, t->params[m].key);
                 }
                 for (uint32_t m = 0; m < t->n_inputs; m++)
                     if (strcmp(t->inputs[m].name, al) == 0)
-                        report(rep, CF_FAIL, t->name, "aliases", "parameter '%s' was renamed "
-                               "from '%s', which is an input port's name", q->key, al);
+                        report(rep, CF_FAIL, t->name, "aliases",
+                               "parameter '%s' was renamed "
+                               "from '%s', which is an input port's name",
+                               q->key, al);
             }
             if (strcmp(q->key, "backend") == 0) {
                 /* the shared contract (LG_PARAM_BACKEND): an enum of cpu, gl, cl in that
                  * order */
-                static const char *const order[] = {"cpu", "gl", "cl"};
+                static const char *const order[] = { "cpu", "gl", "cl" };
                 int at = 0;
                 bool ok = q->type == LG_PARAM_ENUM && q->enum_values && q->enum_values[0];
                 for (int v = 0; ok && q->enum_values[v]; v++) {
@@ -1327,7 +1361,8 @@ static void check_descriptor(cf_ctx *c)
                     at++;
                 }
                 if (!ok)
-                    report(rep, CF_FAIL, t->name, "descriptor", "parameter 'backend' is not the "
+                    report(rep, CF_FAIL, t->name, "descriptor",
+                           "parameter 'backend' is not the "
                            "shared one (LG_PARAM_BACKEND: an enum of cpu, gl, cl in that order)");
             }
         }
@@ -1343,13 +1378,15 @@ static void check_descriptor(cf_ctx *c)
             if (k < t->n_inputs)
                 for (uint32_t m = 0; m < t->n_params; m++)
                     if (strcmp(t->params[m].key, q->name) == 0)
-                        report(rep, CF_FAIL, t->name, "descriptor", "input '%s' has the name of "
-                               "a parameter", q->name);
+                        report(rep, CF_FAIL, t->name, "descriptor",
+                               "input '%s' has the name of "
+                               "a parameter",
+                               q->name);
         }
     }
 }
 
-/* ---- the command ---------------------------------------------------------------------- */
+/* ---- the command ----------------------------------------------------------------------------- */
 
 static void print_text(const cf_ctx *c, FILE *f)
 {
@@ -1369,15 +1406,17 @@ static void print_text(const cf_ctx *c, FILE *f)
 static void print_json(const cf_ctx *c, FILE *f)
 {
     const cf_report *r = &c->rep;
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_str_add(&s, "{\"plugin\": ");
     lg_str_add_json(&s, c->path);
     lg_str_add(&s, ", \"name\": ");
     lg_str_add_json(&s, c->plugin ? c->plugin->name : "");
-    lg_str_addf(&s, ", \"conforms\": %s, \"passed\": %u, \"failed\": %u, \"skipped\": %u, "
-                "\"notes\": %u, \"results\": [", r->counts[CF_FAIL] ? "false" : "true",
-                r->counts[CF_PASS], r->counts[CF_FAIL], r->counts[CF_SKIP], r->counts[CF_NOTE]);
-    static const char *const st[] = {"pass", "fail", "skip", "note"};
+    lg_str_addf(&s,
+                ", \"conforms\": %s, \"passed\": %u, \"failed\": %u, \"skipped\": %u, "
+                "\"notes\": %u, \"results\": [",
+                r->counts[CF_FAIL] ? "false" : "true", r->counts[CF_PASS], r->counts[CF_FAIL],
+                r->counts[CF_SKIP], r->counts[CF_NOTE]);
+    static const char *const st[] = { "pass", "fail", "skip", "note" };
     for (uint32_t i = 0; i < r->n; i++) {
         const cf_item *x = &r->items[i];
         lg_str_addf(&s, "%s\n  {\"status\": \"%s\", \"node\": ", i ? "," : "", st[x->status]);
@@ -1424,8 +1463,7 @@ int lg_cmd_conform(int argc, char **argv)
         else if (!c.path)
             c.path = argv[i];
         else
-            return usage("lightgraph conform: one plugin at a time ('%s' is a second)\n",
-                         argv[i]);
+            return usage("lightgraph conform: one plugin at a time ('%s' is a second)\n", argv[i]);
     }
     if (!c.path)
         return usage("lightgraph conform: no plugin given\n", "");
@@ -1448,7 +1486,7 @@ int lg_cmd_conform(int argc, char **argv)
      * sources; nothing from LIGHTGRAPH_PLUGIN_PATH or the build tree */
     int verbosity = lg_verbosity;
     lg_verbosity = -1; /* a refusal is reported below, as a failed check */
-    char *paths[1] = {(char *)c.path};
+    char *paths[1] = { (char *)c.path };
     lg_registry_scan_files(&c.reg, paths, 1);
     lg_verbosity = verbosity;
     if (c.reg.n_plugins == 1)
@@ -1457,8 +1495,8 @@ int lg_cmd_conform(int argc, char **argv)
     if (!c.plugin) {
         report(&c.rep, CF_FAIL, NULL, "descriptor", "the host refuses the plugin: %s",
                c.reg.n_refused ? c.reg.refused[0].reason : "it was not scanned");
-    } else if (lg_registry_add_builtin(&c.reg, lg_conform_sources(), "<lightgraph conform>",
-                                       err, sizeof err)) {
+    } else if (lg_registry_add_builtin(&c.reg, lg_conform_sources(), "<lightgraph conform>", err,
+                                       sizeof err)) {
         report(&c.rep, CF_FAIL, NULL, "harness", "%s", err);
     } else {
         check_descriptor(&c);
@@ -1468,8 +1506,10 @@ int lg_cmd_conform(int argc, char **argv)
                 continue; /* a duplicate, reported above */
             const char *unfed = unfed_input(t);
             if (unfed) {
-                report(&c.rep, CF_SKIP, t->name, "runs", "input '%s' is of a kind conform "
-                       "cannot make; nothing run", unfed);
+                report(&c.rep, CF_SKIP, t->name, "runs",
+                       "input '%s' is of a kind conform "
+                       "cannot make; nothing run",
+                       unfed);
                 continue;
             }
             cf_case *cases;

@@ -17,11 +17,10 @@ const char *lg_conform_source_for(lg_resource_kind kind);
 void lg_conform_squeeze_reset(void);
 
 /* The values of the sources' enum parameters, in order (NULL-terminated). */
-extern const char *const lg_conform_formats[];   /* rgba32f rgba16f rgba8 rgbe8 */
-extern const char *const lg_conform_patterns[];  /* ramp nan inf negative huge */
-extern const char *const lg_conform_scenes[];    /* full empty unlit */
-enum { LG_CONFORM_RAMP = 0, LG_CONFORM_NAN, LG_CONFORM_INF, LG_CONFORM_NEGATIVE,
-       LG_CONFORM_HUGE };
+extern const char *const lg_conform_formats[];  /* rgba32f rgba16f rgba8 rgbe8 */
+extern const char *const lg_conform_patterns[]; /* ramp nan inf negative huge */
+extern const char *const lg_conform_scenes[];   /* full empty unlit */
+enum { LG_CONFORM_RAMP = 0, LG_CONFORM_NAN, LG_CONFORM_INF, LG_CONFORM_NEGATIVE, LG_CONFORM_HUGE };
 enum { LG_CONFORM_SCENE_FULL = 0, LG_CONFORM_SCENE_EMPTY, LG_CONFORM_SCENE_UNLIT };
 
 #endif

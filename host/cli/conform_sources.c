@@ -44,9 +44,9 @@
 #include "lightgraph/transfer.h"
 #include "lightgraph/vecmath.h"
 
-const char *const lg_conform_formats[] = {"rgba32f", "rgba16f", "rgba8", "rgbe8", NULL};
-const char *const lg_conform_patterns[] = {"ramp", "nan", "inf", "negative", "huge", NULL};
-const char *const lg_conform_scenes[] = {"full", "empty", "unlit", NULL};
+const char *const lg_conform_formats[] = { "rgba32f", "rgba16f", "rgba8", "rgbe8", NULL };
+const char *const lg_conform_patterns[] = { "ramp", "nan", "inf", "negative", "huge", NULL };
+const char *const lg_conform_scenes[] = { "full", "empty", "unlit", NULL };
 
 #define HUGE_PIXEL 65504.0f
 
@@ -57,16 +57,11 @@ static float pattern_value(int pattern, size_t i, size_t n, int c)
     float t = n > 1 ? (float)i / (float)(n - 1) : 0.5f;
     float v = c == 3 ? 1.0f : 0.05f + 0.95f * (c == 0 ? t : c == 1 ? 1.0f - t : 0.5f * t + 0.25f);
     switch (pattern) {
-    case LG_CONFORM_NAN:
-        return i == n / 2 && c < 3 ? NAN : v;
-    case LG_CONFORM_INF:
-        return i == n / 2 && c < 3 ? INFINITY : v;
-    case LG_CONFORM_NEGATIVE:
-        return c == 3 ? 1.0f : -v;
-    case LG_CONFORM_HUGE:
-        return c == 3 ? 1.0f : HUGE_PIXEL;
-    default:
-        return v;
+    case LG_CONFORM_NAN: return i == n / 2 && c < 3 ? NAN : v;
+    case LG_CONFORM_INF: return i == n / 2 && c < 3 ? INFINITY : v;
+    case LG_CONFORM_NEGATIVE: return c == 3 ? 1.0f : -v;
+    case LG_CONFORM_HUGE: return c == 3 ? 1.0f : HUGE_PIXEL;
+    default: return v;
     }
 }
 
@@ -85,7 +80,7 @@ static int nothing(lg_node *n, const lg_frame *f)
     return 0;
 }
 
-/* ---- conform_image -------------------------------------------------------------------- */
+/* ---- conform_image --------------------------------------------------------------------------- */
 
 static int64_t squeezed; /* image sources prepared with `squeeze` since the last reset */
 
@@ -95,27 +90,36 @@ void lg_conform_squeeze_reset(void)
 }
 
 static const lg_param_desc image_params[] = {
-    {.key = "width", .type = LG_PARAM_INT, .def.i = 7, .min = 1, .max = 16384, .doc = "pixels"},
-    {.key = "height", .type = LG_PARAM_INT, .def.i = 5, .min = 1, .max = 16384, .doc = "pixels"},
-    {.key = "format", .type = LG_PARAM_ENUM, .enum_values = lg_conform_formats,
-     .doc = "pixel format"},
-    {.key = "pattern", .type = LG_PARAM_ENUM, .enum_values = lg_conform_patterns,
-     .doc = "ramp, or one of the hostile patterns"},
-    {.key = "squeeze", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 64,
-     .doc = "k > 0: the k-th squeezing source to declare its image lowers the pixel limit to 1 "
-            "(the node they feed then fails its prepare)"},
+    { .key = "width", .type = LG_PARAM_INT, .def.i = 7, .min = 1, .max = 16384, .doc = "pixels" },
+    { .key = "height", .type = LG_PARAM_INT, .def.i = 5, .min = 1, .max = 16384, .doc = "pixels" },
+    { .key = "format",
+      .type = LG_PARAM_ENUM,
+      .enum_values = lg_conform_formats,
+      .doc = "pixel format" },
+    { .key = "pattern",
+      .type = LG_PARAM_ENUM,
+      .enum_values = lg_conform_patterns,
+      .doc = "ramp, or one of the hostile patterns" },
+    { .key = "squeeze",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 64,
+      .doc = "k > 0: the k-th squeezing source to declare its image lowers the pixel limit to 1 "
+             "(the node they feed then fails its prepare)" },
 };
-static const lg_port_desc image_out[] = {{.name = "out", .kind = LG_KIND_IMAGE,
-                                          .doc = "the image, with a depth plane"}};
+static const lg_port_desc image_out[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE, .doc = "the image, with a depth plane" }
+};
 
 static int image_prepare(lg_node *n)
 {
-    static const lg_format fmts[] = {LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBA8,
-                                     LG_FORMAT_RGBE8};
-    lg_image_desc d = {.width = (uint32_t)lg_param_int(n, "width"),
-                       .height = (uint32_t)lg_param_int(n, "height"),
-                       .format = fmts[lg_param_enum(n, "format")],
-                       .flags = LG_IMAGE_DEPTH};
+    static const lg_format fmts[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBA8,
+                                      LG_FORMAT_RGBE8 };
+    lg_image_desc d = { .width = (uint32_t)lg_param_int(n, "width"),
+                        .height = (uint32_t)lg_param_int(n, "height"),
+                        .format = fmts[lg_param_enum(n, "format")],
+                        .flags = LG_IMAGE_DEPTH };
     int rc = lg_declare_image(n, 0, &d);
     int64_t k = lg_param_int(n, "squeeze");
     /* every image source of the node is given the count; the last one to be prepared
@@ -149,7 +153,7 @@ static int image_execute(lg_node *n, const lg_frame *frame)
               : 0;
 }
 
-/* ---- conform_scene -------------------------------------------------------------------- */
+/* ---- conform_scene --------------------------------------------------------------------------- */
 
 #define SCENE_VERTS 28 /* the cube's 24 and the floor's 4: what conform_transfer matches */
 
@@ -174,7 +178,7 @@ static void quad(cf_scene *t, lg_mesh *m, lg_vec3 c, lg_vec3 u, lg_vec3 v, uint3
                  uint32_t *ni)
 {
     lg_vec3 nr = lg_v3_normalize_or(lg_v3_cross(u, v), lg_v3(0, 1, 0));
-    static const float su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
+    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
     uint32_t base = *nv;
     for (int k = 0; k < 4; k++) {
         lg_vec3 p = lg_v3_add(c, lg_v3_add(lg_v3_scale(u, su[k]), lg_v3_scale(v, sv[k])));
@@ -182,7 +186,7 @@ static void quad(cf_scene *t, lg_mesh *m, lg_vec3 c, lg_vec3 u, lg_vec3 v, uint3
         pp[0] = p.x, pp[1] = p.y, pp[2] = p.z;
         nn[0] = nr.x, nn[1] = nr.y, nn[2] = nr.z;
     }
-    static const uint32_t tri[6] = {0, 1, 2, 0, 2, 3};
+    static const uint32_t tri[6] = { 0, 1, 2, 0, 2, 3 };
     for (int k = 0; k < 6; k++)
         t->idx[(*ni)++] = base + tri[k];
     m->n_vertices += 4;
@@ -219,9 +223,9 @@ static cf_scene *scene_build(int variant)
     if (variant != LG_CONFORM_SCENE_EMPTY) {
         /* the unit cube (mesh 0) and a 6 x 6 floor at y = -0.5 (mesh 1) */
         static const float f[6][3][3] = {
-            {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-            {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-            {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
+            { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } }, { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
+            { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } }, { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
+            { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },  { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
         };
         uint32_t nv = 0, ni = 0;
         t->meshes[0].positions = t->pos, t->meshes[0].normals = t->nrm;
@@ -235,8 +239,7 @@ static cf_scene *scene_build(int variant)
         uint32_t nv1 = 0, ni1 = 0;
         cf_scene tmp;
         memset(&tmp, 0, sizeof tmp);
-        quad(&tmp, &t->meshes[1], lg_v3(0, -0.5f, 0), lg_v3(3, 0, 0), lg_v3(0, 0, -3), &nv1,
-             &ni1);
+        quad(&tmp, &t->meshes[1], lg_v3(0, -0.5f, 0), lg_v3(3, 0, 0), lg_v3(0, 0, -3), &nv1, &ni1);
         memcpy(t->pos + nv * 3, tmp.pos, 4 * 3 * sizeof(float));
         memcpy(t->nrm + nv * 3, tmp.nrm, 4 * 3 * sizeof(float));
         memcpy(t->idx + ni, tmp.idx, 6 * sizeof(uint32_t));
@@ -268,15 +271,22 @@ static cf_scene *scene_build(int variant)
         t->mat.ks = 0.5f;
         for (int k = 0; k < 3; k++)
             t->mat.os[k] = 1, t->mat.reflectivity[k] = 0.2f;
-        t->lights[0] = (lg_light){.name = "sun", .type = LG_LIGHT_DIRECTIONAL,
-                                  .color = {1, 1, 1}, .intensity = 3,
-                                  .direction = {-0.4f, -0.8f, -0.45f}};
-        t->lights[1] = (lg_light){.name = "bulb", .type = LG_LIGHT_POINT, .color = {1, 0.9f, 0.8f},
-                                  .intensity = 10, .position = {1.5f, 2, 1.5f}};
+        t->lights[0] = (lg_light){ .name = "sun",
+                                   .type = LG_LIGHT_DIRECTIONAL,
+                                   .color = { 1, 1, 1 },
+                                   .intensity = 3,
+                                   .direction = { -0.4f, -0.8f, -0.45f } };
+        t->lights[1] = (lg_light){ .name = "bulb",
+                                   .type = LG_LIGHT_POINT,
+                                   .color = { 1, 0.9f, 0.8f },
+                                   .intensity = 10,
+                                   .position = { 1.5f, 2, 1.5f } };
         t->s.n_lights = 2;
-        t->s.medium = (lg_medium){.present = true, .density = 0.1f,
-                                  .scattering = {0.5f, 0.5f, 0.5f},
-                                  .absorption = {0.05f, 0.05f, 0.05f}, .g = 0.3f};
+        t->s.medium = (lg_medium){ .present = true,
+                                   .density = 0.1f,
+                                   .scattering = { 0.5f, 0.5f, 0.5f },
+                                   .absorption = { 0.05f, 0.05f, 0.05f },
+                                   .g = 0.3f };
     }
     lg_scene_compute_features(&t->s);
     /* a probe lights the full scene (as scene_tools' environment records it) */
@@ -285,10 +295,14 @@ static cf_scene *scene_build(int variant)
 }
 
 static const lg_param_desc scene_params[] = {
-    {.key = "variant", .type = LG_PARAM_ENUM, .enum_values = lg_conform_scenes,
-     .doc = "full, empty or unlit (conform_sources.c)"},
+    { .key = "variant",
+      .type = LG_PARAM_ENUM,
+      .enum_values = lg_conform_scenes,
+      .doc = "full, empty or unlit (conform_sources.c)" },
 };
-static const lg_port_desc scene_out[] = {{.name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene"}};
+static const lg_port_desc scene_out[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene" }
+};
 
 static int scene_prepare(lg_node *n)
 {
@@ -298,11 +312,13 @@ static int scene_prepare(lg_node *n)
     return n->host->declare_payload(n, 0, LG_KIND_SCENE, &t->s.features, &t->s, scene_free);
 }
 
-/* ---- composites ----------------------------------------------------------------------- */
+/* ---- composites ------------------------------------------------------------------------------ */
 
 static const lg_param_desc pattern_params[] = {
-    {.key = "pattern", .type = LG_PARAM_ENUM, .enum_values = lg_conform_patterns,
-     .doc = "ramp, or one of the hostile patterns"},
+    { .key = "pattern",
+      .type = LG_PARAM_ENUM,
+      .enum_values = lg_conform_patterns,
+      .doc = "ramp, or one of the hostile patterns" },
 };
 
 static int write_part(lg_node *n, uint32_t port, const char *name, int pattern)
@@ -317,20 +333,21 @@ static int write_part(lg_node *n, uint32_t port, const char *name, int pattern)
         return rc;
     size_t floats = info.kind == LG_KIND_VOLUME
                         ? (size_t)info.volume.width * info.volume.height * info.volume.depth * 4
-                    : info.kind == LG_KIND_IMAGE
-                        ? (size_t)info.image.width * info.image.height * 4
-                        : info.buffer.size / sizeof(float);
+                    : info.kind == LG_KIND_IMAGE ? (size_t)info.image.width * info.image.height * 4
+                                                 : info.buffer.size / sizeof(float);
     fill_floats(v.pixels, floats / 4, pattern);
     for (size_t i = floats / 4 * 4; i < floats; i++)
         ((float *)v.pixels)[i] = 0.5f;
     return 0;
 }
 
-static const lg_port_desc probe_out[] = {{.name = "probe", .kind = LG_KIND_PROBE, .doc = "the probe"}};
+static const lg_port_desc probe_out[] = {
+    { .name = "probe", .kind = LG_KIND_PROBE, .doc = "the probe" }
+};
 
 static int probe_prepare(lg_node *n)
 {
-    lg_image_desc d = {.width = 16, .height = 8, .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = 16, .height = 8, .format = LG_FORMAT_RGBA32F };
     int rc = lg_probe_declare(n, 0, LG_PROBE_LATLONG, &d, false);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }
@@ -338,13 +355,15 @@ static int probe_prepare(lg_node *n)
 static int probe_execute(lg_node *n, const lg_frame *f)
 {
     (void)f;
-    lg_probe_info info = {.layout = LG_PROBE_LATLONG, .scale = 1};
+    lg_probe_info info = { .layout = LG_PROBE_LATLONG, .scale = 1 };
     info.rotation[0] = info.rotation[4] = info.rotation[8] = 1;
     int rc = write_part(n, 0, "radiance", lg_param_enum(n, "pattern"));
     return rc ? rc : lg_probe_publish(n, 0, &info);
 }
 
-static const lg_port_desc sh_out[] = {{.name = "sh", .kind = LG_KIND_SH, .doc = "the coefficients"}};
+static const lg_port_desc sh_out[] = {
+    { .name = "sh", .kind = LG_KIND_SH, .doc = "the coefficients" }
+};
 
 static int sh_prepare(lg_node *n)
 {
@@ -355,20 +374,24 @@ static int sh_prepare(lg_node *n)
 static int sh_execute(lg_node *n, const lg_frame *f)
 {
     (void)f;
-    lg_sh_info info = {.bands = 3};
+    lg_sh_info info = { .bands = 3 };
     int rc = write_part(n, 0, "coeffs", lg_param_enum(n, "pattern"));
     return rc ? rc : lg_sh_publish(n, 0, &info);
 }
 
 static const lg_param_desc transfer_params[] = {
-    {.key = "pattern", .type = LG_PARAM_ENUM, .enum_values = lg_conform_patterns,
-     .doc = "ramp, or one of the hostile patterns"},
-    {.key = "empty_scene", .type = LG_PARAM_BOOL,
-     .doc = "for the empty scene: one vertex (a transfer holds at least one)"},
+    { .key = "pattern",
+      .type = LG_PARAM_ENUM,
+      .enum_values = lg_conform_patterns,
+      .doc = "ramp, or one of the hostile patterns" },
+    { .key = "empty_scene",
+      .type = LG_PARAM_BOOL,
+      .doc = "for the empty scene: one vertex (a transfer holds at least one)" },
 };
 
-static const lg_port_desc transfer_out[] = {{.name = "transfer", .kind = LG_KIND_TRANSFER,
-                                             .doc = "the transfer vectors"}};
+static const lg_port_desc transfer_out[] = {
+    { .name = "transfer", .kind = LG_KIND_TRANSFER, .doc = "the transfer vectors" }
+};
 
 static int transfer_prepare(lg_node *n)
 {
@@ -379,14 +402,16 @@ static int transfer_prepare(lg_node *n)
 static int transfer_execute(lg_node *n, const lg_frame *f)
 {
     (void)f;
-    lg_transfer_info info = {.bands = 3,
-                             .vertices = lg_param_bool(n, "empty_scene") ? 1 : SCENE_VERTS,
-                             .mode = LG_TRANSFER_SHADOWED};
+    lg_transfer_info info = { .bands = 3,
+                              .vertices = lg_param_bool(n, "empty_scene") ? 1 : SCENE_VERTS,
+                              .mode = LG_TRANSFER_SHADOWED };
     int rc = write_part(n, 0, "transfer", lg_param_enum(n, "pattern"));
     return rc ? rc : lg_transfer_publish(n, 0, &info);
 }
 
-static const lg_port_desc froxel_out[] = {{.name = "froxel", .kind = LG_KIND_FROXEL, .doc = "the grid"}};
+static const lg_port_desc froxel_out[] = {
+    { .name = "froxel", .kind = LG_KIND_FROXEL, .doc = "the grid" }
+};
 
 static int froxel_prepare(lg_node *n)
 {
@@ -397,8 +422,13 @@ static int froxel_prepare(lg_node *n)
 static int froxel_execute(lg_node *n, const lg_frame *f)
 {
     (void)f;
-    lg_froxel_info info = {.width = 4, .height = 3, .depth = 5, .slicing = LG_FROXEL_EXPONENTIAL,
-                           .near = 0.1f, .far = 50, .near_offset = 0.5f};
+    lg_froxel_info info = { .width = 4,
+                            .height = 3,
+                            .depth = 5,
+                            .slicing = LG_FROXEL_EXPONENTIAL,
+                            .near = 0.1f,
+                            .far = 50,
+                            .near_offset = 0.5f };
     lg_m4_identity(info.view);
     lg_m4_identity(info.proj);
     int rc = write_part(n, 0, "grid", lg_param_enum(n, "pattern"));
@@ -406,14 +436,21 @@ static int froxel_execute(lg_node *n, const lg_frame *f)
 }
 
 static const lg_param_desc shadow_params[] = {
-    {.key = "pattern", .type = LG_PARAM_ENUM, .enum_values = lg_conform_patterns,
-     .doc = "ramp, or one of the hostile patterns"},
-    {.key = "lights", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = 1,
-     .doc = "maps: one for the full scene's directional light, none for the others"},
+    { .key = "pattern",
+      .type = LG_PARAM_ENUM,
+      .enum_values = lg_conform_patterns,
+      .doc = "ramp, or one of the hostile patterns" },
+    { .key = "lights",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 0,
+      .max = 1,
+      .doc = "maps: one for the full scene's directional light, none for the others" },
 };
 
-static const lg_port_desc shadow_out[] = {{.name = "shadow", .kind = LG_KIND_SHADOWMAP,
-                                           .doc = "the shadow map"}};
+static const lg_port_desc shadow_out[] = {
+    { .name = "shadow", .kind = LG_KIND_SHADOWMAP, .doc = "the shadow map" }
+};
 
 static int shadow_prepare(lg_node *n)
 {
@@ -440,17 +477,21 @@ static int shadow_execute(lg_node *n, const lg_frame *f)
     memcpy(l.view_proj, l.proj, sizeof l.proj);
     l.texel_world = 0.5f;
     l.depth_range = 8;
-    lg_shadowmap_info info = {.resolution = 16,
-                              .n_lights = (uint32_t)lg_param_int(n, "lights"), .atlas_width = 16,
-                              .atlas_height = 16, .bias_constant = 1e-3f};
+    lg_shadowmap_info info = { .resolution = 16,
+                               .n_lights = (uint32_t)lg_param_int(n, "lights"),
+                               .atlas_width = 16,
+                               .atlas_height = 16,
+                               .bias_constant = 1e-3f };
     return lg_shadowmap_publish(n, 0, &info, &l);
 }
 
-static const lg_port_desc buffer_out[] = {{.name = "buffer", .kind = LG_KIND_BUFFER, .doc = "64 floats"}};
+static const lg_port_desc buffer_out[] = {
+    { .name = "buffer", .kind = LG_KIND_BUFFER, .doc = "64 floats" }
+};
 
 static int buffer_prepare(lg_node *n)
 {
-    lg_buffer_desc d = {.size = 64 * sizeof(float)};
+    lg_buffer_desc d = { .size = 64 * sizeof(float) };
     int rc = n->host->declare_buffer(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }
@@ -463,11 +504,13 @@ static int buffer_execute(lg_node *n, const lg_frame *f)
     return rc ? rc : fill_floats(v.pixels, 16, lg_param_enum(n, "pattern"));
 }
 
-static const lg_port_desc volume_out[] = {{.name = "volume", .kind = LG_KIND_VOLUME, .doc = "4x4x4"}};
+static const lg_port_desc volume_out[] = {
+    { .name = "volume", .kind = LG_KIND_VOLUME, .doc = "4x4x4" }
+};
 
 static int volume_prepare(lg_node *n)
 {
-    lg_volume_desc d = {.width = 4, .height = 4, .depth = 4, .format = LG_FORMAT_RGBA32F};
+    lg_volume_desc d = { .width = 4, .height = 4, .depth = 4, .format = LG_FORMAT_RGBA32F };
     int rc = n->host->declare_volume(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }
@@ -480,10 +523,10 @@ static int volume_execute(lg_node *n, const lg_frame *f)
     return rc ? rc : fill_floats(v.pixels, 64, lg_param_enum(n, "pattern"));
 }
 
-#define CF_TYPE(name_, doc_, params_, outs_, prep_, exec_)                                  \
-    {                                                                                      \
-        .struct_size = sizeof(lg_node_type), .name = (name_), .doc = (doc_),               \
-        LG_PARAMS(params_), LG_OUTPUTS(outs_), .prepare = (prep_), .execute = (exec_),     \
+#define CF_TYPE(name_, doc_, params_, outs_, prep_, exec_)                                         \
+    {                                                                                              \
+        .struct_size = sizeof(lg_node_type), .name = (name_), .doc = (doc_), LG_PARAMS(params_),   \
+        LG_OUTPUTS(outs_), .prepare = (prep_), .execute = (exec_),                                 \
     }
 
 static const lg_node_type types[] = {
@@ -491,16 +534,16 @@ static const lg_node_type types[] = {
             image_execute),
     CF_TYPE("conform_scene", "a small scene built in memory", scene_params, scene_out,
             scene_prepare, nothing),
-    CF_TYPE("conform_probe", "a 16 x 8 lat-long probe", pattern_params, probe_out,
-            probe_prepare, probe_execute),
+    CF_TYPE("conform_probe", "a 16 x 8 lat-long probe", pattern_params, probe_out, probe_prepare,
+            probe_execute),
     CF_TYPE("conform_sh", "3 bands of SH coefficients", pattern_params, sh_out, sh_prepare,
             sh_execute),
     CF_TYPE("conform_transfer", "transfer vectors for the full scene", transfer_params,
             transfer_out, transfer_prepare, transfer_execute),
-    CF_TYPE("conform_froxel", "a 4 x 3 x 5 froxel grid", pattern_params, froxel_out,
-            froxel_prepare, froxel_execute),
-    CF_TYPE("conform_shadowmap", "a shadow map where nothing occludes", shadow_params,
-            shadow_out, shadow_prepare, shadow_execute),
+    CF_TYPE("conform_froxel", "a 4 x 3 x 5 froxel grid", pattern_params, froxel_out, froxel_prepare,
+            froxel_execute),
+    CF_TYPE("conform_shadowmap", "a shadow map where nothing occludes", shadow_params, shadow_out,
+            shadow_prepare, shadow_execute),
     CF_TYPE("conform_buffer", "64 floats", pattern_params, buffer_out, buffer_prepare,
             buffer_execute),
     CF_TYPE("conform_volume", "a 4 x 4 x 4 volume", pattern_params, volume_out, volume_prepare,
@@ -527,25 +570,15 @@ const char *lg_conform_source_for(lg_resource_kind kind)
 {
     switch (kind) {
     case LG_KIND_ANY:
-    case LG_KIND_IMAGE:
-        return "conform_image";
-    case LG_KIND_SCENE:
-        return "conform_scene";
-    case LG_KIND_PROBE:
-        return "conform_probe";
-    case LG_KIND_SH:
-        return "conform_sh";
-    case LG_KIND_TRANSFER:
-        return "conform_transfer";
-    case LG_KIND_FROXEL:
-        return "conform_froxel";
-    case LG_KIND_SHADOWMAP:
-        return "conform_shadowmap";
-    case LG_KIND_BUFFER:
-        return "conform_buffer";
-    case LG_KIND_VOLUME:
-        return "conform_volume";
-    default:
-        return NULL;
+    case LG_KIND_IMAGE: return "conform_image";
+    case LG_KIND_SCENE: return "conform_scene";
+    case LG_KIND_PROBE: return "conform_probe";
+    case LG_KIND_SH: return "conform_sh";
+    case LG_KIND_TRANSFER: return "conform_transfer";
+    case LG_KIND_FROXEL: return "conform_froxel";
+    case LG_KIND_SHADOWMAP: return "conform_shadowmap";
+    case LG_KIND_BUFFER: return "conform_buffer";
+    case LG_KIND_VOLUME: return "conform_volume";
+    default: return NULL;
     }
 }

@@ -100,18 +100,25 @@ typedef struct diff_args {
 /* diff's options, in the order of diff_opt: the valued ones take "--opt VALUE" or
  * "--opt=VALUE"; --heatmap is the one value that is not a number */
 static const lg_option diff_opts[] = {
-    {"--heatmap", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
-    {"--heat-max", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
-    {"--max-rmse", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
-    {"--max-abs", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
-    {"--json", NULL, 0},
-    {"--ignore-nonfinite", NULL, 0},
-    {"-h", "--help", 0},
-    {"--", NULL, 0},
+    { "--heatmap", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--heat-max", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--max-rmse", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--max-abs", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--json", NULL, 0 },
+    { "--ignore-nonfinite", NULL, 0 },
+    { "-h", "--help", 0 },
+    { "--", NULL, 0 },
 };
 enum diff_opt {
-    OPT_HEATMAP, OPT_HEAT_MAX, OPT_MAX_RMSE, OPT_MAX_ABS, OPT_JSON, OPT_IGNORE_NONFINITE,
-    OPT_HELP, OPT_END, N_DIFF_OPTS
+    OPT_HEATMAP,
+    OPT_HEAT_MAX,
+    OPT_MAX_RMSE,
+    OPT_MAX_ABS,
+    OPT_JSON,
+    OPT_IGNORE_NONFINITE,
+    OPT_HELP,
+    OPT_END,
+    N_DIFF_OPTS
 };
 _Static_assert(sizeof diff_opts / sizeof diff_opts[0] == N_DIFF_OPTS, "diff_opts");
 
@@ -121,7 +128,7 @@ static int parse_diff_args(int argc, char **argv, diff_args *o)
 {
     memset(o, 0, sizeof *o);
     o->max_rmse = o->max_abs = -1.0;
-    double *const number[] = {NULL, &o->heat_max, &o->max_rmse, &o->max_abs};
+    double *const number[] = { NULL, &o->heat_max, &o->max_rmse, &o->max_abs };
     int npaths = 0;
     bool options_done = false;
     for (int i = 1; i < argc; i++) {
@@ -141,21 +148,11 @@ static int parse_diff_args(int argc, char **argv, diff_args *o)
             fprintf(stderr, "lightgraph diff: unknown option '%s'\n", a);
             diff_usage(stderr);
             return 2;
-        case LG_OPT_NO_VALUE:
-            fprintf(stderr, "lightgraph diff: %s needs a value\n", a);
-            return 2;
-        case OPT_END:
-            options_done = true;
-            break;
-        case OPT_HELP:
-            diff_usage(stdout);
-            return 0;
-        case OPT_JSON:
-            o->json = true;
-            break;
-        case OPT_IGNORE_NONFINITE:
-            o->ignore_nonfinite = true;
-            break;
+        case LG_OPT_NO_VALUE: fprintf(stderr, "lightgraph diff: %s needs a value\n", a); return 2;
+        case OPT_END: options_done = true; break;
+        case OPT_HELP: diff_usage(stdout); return 0;
+        case OPT_JSON: o->json = true; break;
+        case OPT_IGNORE_NONFINITE: o->ignore_nonfinite = true; break;
         case OPT_HEATMAP:
             if (lg_image_format_from_path(val) == LG_FILE_UNKNOWN) {
                 fprintf(stderr, "lightgraph diff: --heatmap '%s': use a .png, .exr or .hdr name\n",
@@ -195,8 +192,7 @@ static int read_pair(const diff_args *o, lg_image img[2], lg_image_read_info inf
             return diff_fail(NULL, err);
     if (img[0].width != img[1].width || img[0].height != img[1].height) {
         fprintf(stderr, "lightgraph diff: images differ in size: '%s' is %ux%u, '%s' is %ux%u\n",
-                o->paths[0], img[0].width, img[0].height, o->paths[1], img[1].width,
-                img[1].height);
+                o->paths[0], img[0].width, img[0].height, o->paths[1], img[1].width, img[1].height);
         return 1;
     }
     return 0;
@@ -235,8 +231,9 @@ static void judge(const diff_args *o, const lg_image img[2], diff_result *r)
     r->compared = r->total - m->nonfinite;
     lg_str *why = &r->why;
     if (!r->compared) /* a failure even with --ignore-nonfinite: there is no result */
-        lg_str_addf(why, "NaN or Inf in %llu of %llu pixels of A and %llu of B: no pixel is "
-                         "finite in both images, nothing was compared",
+        lg_str_addf(why,
+                    "NaN or Inf in %llu of %llu pixels of A and %llu of B: no pixel is "
+                    "finite in both images, nothing was compared",
                     (unsigned long long)r->bad[0], (unsigned long long)r->total,
                     (unsigned long long)r->bad[1]);
     else if (m->nonfinite && !o->ignore_nonfinite)
@@ -256,14 +253,15 @@ static void judge(const diff_args *o, const lg_image img[2], diff_result *r)
 static void print_json(const diff_args *o, const lg_image img[2], const diff_result *r)
 {
     const lg_image_metrics *m = &r->m;
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, "{\"a\": ");
     lg_str_add_json(&b, o->paths[0]);
     lg_str_add(&b, ", \"b\": ");
     lg_str_add_json(&b, o->paths[1]);
     lg_str_addf(&b, ", \"width\": %u, \"height\": %u", img[0].width, img[0].height);
-    lg_str_addf(&b, ", \"nonfinite_a\": %llu, \"nonfinite_b\": %llu, \"nonfinite\": %llu, "
-                    "\"compared\": %llu",
+    lg_str_addf(&b,
+                ", \"nonfinite_a\": %llu, \"nonfinite_b\": %llu, \"nonfinite\": %llu, "
+                "\"compared\": %llu",
                 (unsigned long long)r->bad[0], (unsigned long long)r->bad[1],
                 (unsigned long long)m->nonfinite, (unsigned long long)r->compared);
     /* nothing compared: no metric, rather than the zeros of an empty sum */
@@ -283,15 +281,14 @@ static void print_json(const diff_args *o, const lg_image img[2], const diff_res
     lg_str_free(&b);
 }
 
-static void print_text(const diff_args *o, const lg_image img[2],
-                       const lg_image_read_info info[2], const diff_result *r)
+static void print_text(const diff_args *o, const lg_image img[2], const lg_image_read_info info[2],
+                       const diff_result *r)
 {
     const lg_image_metrics *m = &r->m;
     for (int k = 0; k < 2; k++)
-        printf("%s          %s (%ux%u %s, %u channel%s, %u-bit, %s)\n", k ? "B" : "A",
-               o->paths[k], img[k].width, img[k].height, format_name(info[k].format),
-               info[k].channels, info[k].channels == 1 ? "" : "s", info[k].bits,
-               info[k].compression);
+        printf("%s          %s (%ux%u %s, %u channel%s, %u-bit, %s)\n", k ? "B" : "A", o->paths[k],
+               img[k].width, img[k].height, format_name(info[k].format), info[k].channels,
+               info[k].channels == 1 ? "" : "s", info[k].bits, info[k].compression);
     printf("nonfinite  A %llu, B %llu of %llu pixel%s (NaN or Inf in R, G or B)\n",
            (unsigned long long)r->bad[0], (unsigned long long)r->bad[1],
            (unsigned long long)r->total, r->total == 1 ? "" : "s");

@@ -7,7 +7,7 @@ int lg_cmd_inspect(int argc, char **argv)
     const char *name = NULL;
     if (lg_json_args(argc, argv, &json, &name, true))
         return 2;
-    lg_registry reg = {0};
+    lg_registry reg = { 0 };
     lg_registry_scan(&reg);
     lg_plugin *p = NULL;
     const lg_node_type *t = lg_registry_lookup(&reg, name, &p);
@@ -18,7 +18,7 @@ int lg_cmd_inspect(int argc, char **argv)
                 s ? "; did you mean '" : "", s ? s : "", s ? "'?" : "");
         rc = 2;
     } else if (json) {
-        lg_str o = {0};
+        lg_str o = { 0 };
         lg_print_type_json(&o, t, p);
         lg_str_add(&o, "\n");
         fputs(o.s, stdout);

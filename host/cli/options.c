@@ -6,14 +6,13 @@
 
 #include <string.h>
 
-int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i,
-                   const char **val)
+int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i, const char **val)
 {
     const char *arg = argv[*i];
     *val = NULL;
     for (int k = 0; k < n; k++) {
         const lg_option *o = &opts[k];
-        const char *names[2] = {o->name, o->alias};
+        const char *names[2] = { o->name, o->alias };
         for (int m = 0; m < 2 && names[m]; m++) {
             size_t len = strlen(names[m]);
             if (strncmp(arg, names[m], len) != 0)

@@ -8,10 +8,10 @@ int lg_cmd_plugins(int argc, char **argv)
     const char *name = NULL;
     if (lg_json_args(argc, argv, &json, &name, false))
         return 2;
-    lg_registry reg = {0};
+    lg_registry reg = { 0 };
     lg_registry_scan(&reg);
     if (json) {
-        lg_str o = {0};
+        lg_str o = { 0 };
         lg_str_addf(&o, "{\"abi\": {\"major\": %d, \"minor\": %d}, \"search_path\": [",
                     LG_ABI_MAJOR, LG_ABI_MINOR);
         for (uint32_t i = 0; i < reg.n_dirs; i++) {

@@ -24,8 +24,8 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
             return 1;
         }
     }
-    if (opts->profile_json && lg_outputs_add(out, opts->profile_json, LG_OUTPUT_FILE, err,
-                                             sizeof err)) {
+    if (opts->profile_json &&
+        lg_outputs_add(out, opts->profile_json, LG_OUTPUT_FILE, err, sizeof err)) {
         fprintf(stderr, "lightgraph: --profile-json: %s; nothing was run\n", err);
         return 1;
     }
@@ -37,8 +37,7 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
         for (uint32_t k = 0; cn->type && k < cn->type->n_params; k++) {
             const lg_param_desc *pd = &cn->type->params[k];
             const char *path = cn->params[k].s;
-            if (pd->role != LG_ROLE_OUTPUT_FILE || pd->type != LG_PARAM_PATH || !path ||
-                !path[0])
+            if (pd->role != LG_ROLE_OUTPUT_FILE || pd->type != LG_PARAM_PATH || !path || !path[0])
                 continue;
             char *owner = lg_xasprintf("node '%s' (%s)", cn->g->name, pd->key);
             int bad = lg_outputs_add_owned(out, path, owner, err, sizeof err);
@@ -60,13 +59,14 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
 
 static void warn_long_run(const lg_exec *ex)
 {
-    lg_str top = {0};
+    lg_str top = { 0 };
     double est = lg_plan_estimate(ex, &top);
     if (est > LG_LONG_RUN_SECONDS) {
         char t[64];
         lg_format_duration(t, sizeof t, est);
-        lg_hlog(LG_HWARN, "this render will take about %s: %s; it runs anyway (the estimates "
-                          "are the nodes' own, see --explain; -q hides this)",
+        lg_hlog(LG_HWARN,
+                "this render will take about %s: %s; it runs anyway (the estimates "
+                "are the nodes' own, see --explain; -q hides this)",
                 t, top.s);
     }
     lg_str_free(&top);
@@ -89,23 +89,28 @@ static int check_output_override(const lg_checked *c, const char *graph, const c
     const lg_coutput *o = &c->outputs[0];
     const lg_node_type *ty = o->node >= 0 ? c->nodes[o->node].type : NULL;
     lg_resource_kind kind = ty && o->part == 0 && o->port < ty->n_outputs
-                            ? ty->outputs[o->port].kind : LG_KIND_ANY;
+                                ? ty->outputs[o->port].kind
+                                : LG_KIND_ANY;
     bool txt = lg_path_has_ext(path, ".txt");
     if (kind == LG_KIND_SH && !txt) {
-        fprintf(stderr, "lightgraph: -o %s: the graph's output '%s' gives SH "
+        fprintf(stderr,
+                "lightgraph: -o %s: the graph's output '%s' gives SH "
                 "coefficients, which are written as text: name the file .txt\n",
                 path, o->g ? o->g->ref.text : "?");
         return 2;
     }
     if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY) {
-        fprintf(stderr, "lightgraph: -o %s: only SH coefficients are written as .txt, "
+        fprintf(stderr,
+                "lightgraph: -o %s: only SH coefficients are written as .txt, "
                 "and the graph's output '%s' is not (use .png, .exr or .hdr)\n",
                 path, o->g ? o->g->ref.text : "?");
         return 2;
     }
     if (!txt && lg_image_format_from_path(path) == LG_FILE_UNKNOWN) {
-        fprintf(stderr, "lightgraph: -o %s: unknown image format (use .png, .exr or "
-                ".hdr; .txt for SH coefficients)\n", path);
+        fprintf(stderr,
+                "lightgraph: -o %s: unknown image format (use .png, .exr or "
+                ".hdr; .txt for SH coefficients)\n",
+                path);
         return 2;
     }
     return 0;
@@ -121,8 +126,9 @@ static void collect_times(const lg_exec *ex, const char *time_node, lg_run_resul
         res->total_ms += n->prof.cpu_ms;
         if (time_node && strcmp(time_node, n->pub.name) == 0) {
             /* per frame in steady state when it ran on several frames (sweep) */
-            res->node_ms = n->prof.runs > 1 ? (n->prof.cpu_ms - n->prof.first_cpu_ms) / (double)(n->prof.runs - 1)
-                                       : n->prof.cpu_ms;
+            res->node_ms = n->prof.runs > 1 ? (n->prof.cpu_ms - n->prof.first_cpu_ms) /
+                                                  (double)(n->prof.runs - 1)
+                                            : n->prof.cpu_ms;
             res->node_found = true;
         }
     }
@@ -219,7 +225,7 @@ int lg_cmd_render(int argc, char **argv)
     lg_graph_args a;
     int rc = lg_graph_args_parse(argc, argv, &a);
     if (rc == 0) {
-        lg_registry reg = {0};
+        lg_registry reg = { 0 };
         lg_registry_scan(&reg);
         a.opts.output_override = a.out;
         lg_run_result res;

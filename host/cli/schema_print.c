@@ -9,14 +9,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *type_names[] = {"?",      "bool", "int",    "float", "vec2", "vec3",
-                                   "color",  "string", "path", "enum",  "int3",
-                                   "path_list"};
+static const char *type_names[] = { "?",     "bool",   "int",  "float", "vec2", "vec3",
+                                    "color", "string", "path", "enum",  "int3", "path_list" };
 
 static const char *part_type_name(lg_part_type t)
 {
-    return t == LG_PART_IMAGE ? "image" : t == LG_PART_VOLUME ? "volume"
-                                        : t == LG_PART_BUFFER ? "buffer" : "meta";
+    return t == LG_PART_IMAGE    ? "image"
+           : t == LG_PART_VOLUME ? "volume"
+           : t == LG_PART_BUFFER ? "buffer"
+                                 : "meta";
 }
 
 static const char *ptype_name(lg_param_type t)
@@ -45,15 +46,9 @@ static void num(lg_str *o, double v, bool json)
 static void value(lg_str *o, const lg_value *v, lg_param_type t, bool json)
 {
     switch (t) {
-    case LG_PARAM_BOOL:
-        lg_str_add(o, v->b ? "true" : "false");
-        break;
-    case LG_PARAM_INT:
-        lg_str_addf(o, "%lld", (long long)v->i);
-        break;
-    case LG_PARAM_FLOAT:
-        num(o, v->f, json);
-        break;
+    case LG_PARAM_BOOL: lg_str_add(o, v->b ? "true" : "false"); break;
+    case LG_PARAM_INT: lg_str_addf(o, "%lld", (long long)v->i); break;
+    case LG_PARAM_FLOAT: num(o, v->f, json); break;
     case LG_PARAM_VEC2:
     case LG_PARAM_VEC3:
     case LG_PARAM_COLOR: {
@@ -73,9 +68,7 @@ static void value(lg_str *o, const lg_value *v, lg_param_type t, bool json)
         break;
     case LG_PARAM_STRING:
     case LG_PARAM_PATH:
-    case LG_PARAM_ENUM:
-        lg_str_add_json(o, v->s ? v->s : "");
-        break;
+    case LG_PARAM_ENUM: lg_str_add_json(o, v->s ? v->s : ""); break;
     case LG_PARAM_PATH_LIST: {
         lg_str_add(o, "[");
         const char *s = v->s;
@@ -109,8 +102,10 @@ void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type)
     value(out, v, type, false);
 }
 
-static const char *need_names[] = {"geometry", "light",  "directional_light", "point_light",
-                                   "medium",   "probe", "specular_material", "reflective_material"};
+static const char *need_names[] = {
+    "geometry", "light", "directional_light", "point_light",
+    "medium",   "probe", "specular_material", "reflective_material"
+};
 
 void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
 {
@@ -135,8 +130,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
                 lg_str_add(o, ", \"parts\": [");
                 for (uint32_t j = 0; j < kd->n_parts; j++)
                     lg_str_addf(o, "%s{\"name\": \"%s\", \"type\": \"%s\", \"optional\": %s}",
-                                j ? ", " : "", kd->parts[j].name,
-                                part_type_name(kd->parts[j].type),
+                                j ? ", " : "", kd->parts[j].name, part_type_name(kd->parts[j].type),
                                 kd->parts[j].optional ? "true" : "false");
                 lg_str_add(o, "]");
             }
@@ -216,19 +210,21 @@ void lg_print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
         fprintf(f, "  %s:%s\n", io ? "outputs" : "inputs", n ? "" : " (none)");
         for (uint32_t i = 0; i < n; i++) {
             fprintf(f, "    %-12s %-10s %-9s %s\n", ports[i].name, lg_kind_name(ports[i].kind),
-                    io ? "" : ports[i].optional ? "optional" : "required",
+                    io                  ? ""
+                    : ports[i].optional ? "optional"
+                                        : "required",
                     ports[i].doc ? ports[i].doc : "");
             const lg_kind_desc *kd = lg_kind_describe(ports[i].kind);
             for (uint32_t j = 0; kd && j < kd->n_parts; j++)
                 fprintf(f, "      .%-10s %-10s %-9s %s\n", kd->parts[j].name,
-                        part_type_name(kd->parts[j].type),
-                        kd->parts[j].optional ? "optional" : "", kd->parts[j].doc);
+                        part_type_name(kd->parts[j].type), kd->parts[j].optional ? "optional" : "",
+                        kd->parts[j].doc);
         }
     }
     fprintf(f, "  parameters:%s\n", t->n_params ? "" : " (none)");
     for (uint32_t i = 0; i < t->n_params; i++) {
         const lg_param_desc *q = &t->params[i];
-        lg_str d = {0}, r = {0};
+        lg_str d = { 0 }, r = { 0 };
         default_value(&d, q, false);
         if (q->type == LG_PARAM_COLOR && q->enum_values) {
             /* a colour or a keyword (ABI 2.3): "[0, 1] or {material}" */

@@ -13,37 +13,50 @@ static int usage(const char *cmd, const char *fmt, const char *what)
 {
     if (fmt)
         fprintf(stderr, fmt, what);
-    fprintf(stderr,
-            "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
-            "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
-            "                 [--exr half|float]\n"
-            "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
-            "(see lightgraph help)\n",
-            cmd);
+    fprintf(
+        stderr,
+        "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
+        "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
+        "                 [--exr half|float]\n"
+        "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
+        "(see lightgraph help)\n",
+        cmd);
     return 2;
 }
 
 /* render's options (check, fmt and dot take the same; -i is fmt's), in the order of
  * graph_opt below */
 static const lg_option graph_opts[] = {
-    {"-o", "--output", LG_OPT_VALUE},
-    {"--set", NULL, LG_OPT_VALUE | LG_OPT_JOINED},
-    {"--size", NULL, LG_OPT_VALUE},
-    {"--frames", NULL, LG_OPT_VALUE},
-    {"--dt", NULL, LG_OPT_VALUE},
-    {"--gl", NULL, LG_OPT_VALUE},
-    {"--exr", NULL, LG_OPT_VALUE},
-    {"--explain", NULL, 0},
-    {"--every-frame", NULL, LG_OPT_JOINED},
-    {"--profile", NULL, 0},
-    {"--profile-json", NULL, LG_OPT_VALUE},
-    {"-v", NULL, 0},
-    {"-q", NULL, 0},
-    {"-i", NULL, 0},
+    { "-o", "--output", LG_OPT_VALUE },
+    { "--set", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--size", NULL, LG_OPT_VALUE },
+    { "--frames", NULL, LG_OPT_VALUE },
+    { "--dt", NULL, LG_OPT_VALUE },
+    { "--gl", NULL, LG_OPT_VALUE },
+    { "--exr", NULL, LG_OPT_VALUE },
+    { "--explain", NULL, 0 },
+    { "--every-frame", NULL, LG_OPT_JOINED },
+    { "--profile", NULL, 0 },
+    { "--profile-json", NULL, LG_OPT_VALUE },
+    { "-v", NULL, 0 },
+    { "-q", NULL, 0 },
+    { "-i", NULL, 0 },
 };
 enum graph_opt {
-    OPT_OUTPUT, OPT_SET, OPT_SIZE, OPT_FRAMES, OPT_DT, OPT_GL, OPT_EXR, OPT_EXPLAIN,
-    OPT_EVERY_FRAME, OPT_PROFILE, OPT_PROFILE_JSON, OPT_VERBOSE, OPT_QUIET, OPT_IN_PLACE,
+    OPT_OUTPUT,
+    OPT_SET,
+    OPT_SIZE,
+    OPT_FRAMES,
+    OPT_DT,
+    OPT_GL,
+    OPT_EXR,
+    OPT_EXPLAIN,
+    OPT_EVERY_FRAME,
+    OPT_PROFILE,
+    OPT_PROFILE_JSON,
+    OPT_VERBOSE,
+    OPT_QUIET,
+    OPT_IN_PLACE,
     N_GRAPH_OPTS
 };
 _Static_assert(sizeof graph_opts / sizeof graph_opts[0] == N_GRAPH_OPTS, "graph_opts");
@@ -68,12 +81,8 @@ static double parse_dt(const char *v)
 static int graph_option(lg_graph_args *a, int k, const char *s, const char *v)
 {
     switch ((enum graph_opt)k) {
-    case OPT_OUTPUT:
-        a->out = v;
-        break;
-    case OPT_SET:
-        a->sets[a->n_sets++] = v;
-        break;
+    case OPT_OUTPUT: a->out = v; break;
+    case OPT_SET: a->sets[a->n_sets++] = v; break;
     case OPT_SIZE:
         if (!lg_parse_size(v, &a->opts.width, &a->opts.height))
             return usage(a->cmd, "lightgraph: --size wants WxH, 1..16384 each (got '%s')\n", v);
@@ -99,9 +108,7 @@ static int graph_option(lg_graph_args *a, int k, const char *s, const char *v)
             return usage(a->cmd, "lightgraph: --exr wants half or float (got '%s')\n", v);
         a->opts.exr_pixel = v[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
         break;
-    case OPT_EXPLAIN:
-        a->opts.explain = true;
-        break;
+    case OPT_EXPLAIN: a->opts.explain = true; break;
     case OPT_EVERY_FRAME:
         /* --every-frame, or --every-frame=NODE,...; "--every-frame=" names no node */
         if (v && !v[0])
@@ -110,25 +117,16 @@ static int graph_option(lg_graph_args *a, int k, const char *s, const char *v)
         if (v)
             a->opts.every_frame_nodes = v;
         break;
-    case OPT_PROFILE:
-        a->opts.profile = true;
-        break;
-    case OPT_PROFILE_JSON:
-        a->opts.profile_json = v;
-        break;
-    case OPT_VERBOSE:
-        lg_verbosity++;
-        break;
-    case OPT_QUIET:
-        lg_verbosity = -1;
-        break;
+    case OPT_PROFILE: a->opts.profile = true; break;
+    case OPT_PROFILE_JSON: a->opts.profile_json = v; break;
+    case OPT_VERBOSE: lg_verbosity++; break;
+    case OPT_QUIET: lg_verbosity = -1; break;
     case OPT_IN_PLACE:
         if (strcmp(a->cmd, "fmt") != 0)
             return usage(a->cmd, "lightgraph: unknown option '%s'\n", s);
         a->in_place = true;
         break;
-    case N_GRAPH_OPTS:
-        break;
+    case N_GRAPH_OPTS: break;
     }
     return 0;
 }
@@ -169,7 +167,7 @@ int lg_graph_args_parse(int argc, char **argv, lg_graph_args *a)
 int lg_load_graph(lg_registry *reg, const char *graph, const char *const *sets, int n_sets,
                   lg_graph **g, lg_checked **c)
 {
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     *c = NULL;
     *g = lg_graph_parse_file(graph, &d);
     for (int i = 0; *g && i < n_sets; i++)

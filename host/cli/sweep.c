@@ -63,7 +63,7 @@ static char *csv_field(const char *s)
 {
     if (!strpbrk(s, ",\"\n"))
         return lg_xstrdup(s);
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_addc(&b, '"');
     for (; *s; s++) {
         if (*s == '"')
@@ -90,7 +90,7 @@ static int read_image(const char *path, lg_image *img)
 static int write_gnuplot(lg_outputs *outs, const char *gp, const vary *v, int n_vary, char *err,
                          size_t errlen)
 {
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_str_add(&s, "# gnuplot script written by lightgraph sweep: error against time\n");
     lg_str_add(&s, "if (!exists('data')) data = 'sweep.csv'\n");
     lg_str_add(&s, "if (!exists('out')) out = 'sweep.png'\n");
@@ -174,8 +174,8 @@ static int check_space(const char *dir, int total, int n_vary, const lg_exec_opt
     } else {
         struct statvfs sv;
         if (statvfs(dir, &sv) != 0) {
-            lg_hlog(LG_HWARN, "sweep: cannot tell the free space in '%s' (%s); not checked",
-                    dir, strerror(errno));
+            lg_hlog(LG_HWARN, "sweep: cannot tell the free space in '%s' (%s); not checked", dir,
+                    strerror(errno));
             return 0;
         }
         have = (double)sv.f_bavail * (double)sv.f_frsize;
@@ -201,9 +201,9 @@ typedef struct sweep {
     lg_exec_opts opts;
     lg_registry reg;
     lg_outputs *outs;
-    lg_image ref;                 /* the reference, read back from its temporary */
+    lg_image ref; /* the reference, read back from its temporary */
     lg_str csv;
-    char **runs, **heats;         /* per run: its image and its heat map (a->total each) */
+    char **runs, **heats; /* per run: its image and its heat map (a->total each) */
     char *ref_out, *csv_path, *gp_path, *png_path;
 } sweep;
 
@@ -237,8 +237,10 @@ static int check_values(sweep *sw)
     int nrs, rc = 0;
     const char **rs = reference_sets(a, 1, &nrs);
     if (lg_check_file(&sw->reg, ref_graph, rs, nrs)) {
-        fprintf(stderr, "lightgraph sweep: the reference %s is refused (above); nothing "
-                        "was run\n", ref_graph);
+        fprintf(stderr,
+                "lightgraph sweep: the reference %s is refused (above); nothing "
+                "was run\n",
+                ref_graph);
         rc = 2;
     }
     for (int i = 0; i < a->n_vary && rc == 0; i++)
@@ -326,20 +328,19 @@ static void csv_header(sweep *sw)
         lg_str_addf(&sw->csv, ",%s", f);
         free(f);
     }
-    lg_str_add(&sw->csv,
-               ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite\n");
+    lg_str_add(&sw->csv, ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite\n");
 }
 
 /* Compares run k's image with the reference, writes its heat map and adds its CSV row
  * and its line on stdout. `owned` are its NODE.PARAM=VALUE overrides, times its --repeat
  * timings (sorted here). Returns 0, or 1 (printed). */
-static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned,
-                     const char *label, double *times)
+static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned, const char *label,
+                     double *times)
 {
     const lg_sweep_args *a = sw->a;
     char err[1024];
     lg_image_metrics m;
-    lg_image heat = {0};
+    lg_image heat = { 0 };
     int rc = 0;
     if (lg_image_compare(img, &sw->ref, &m, &heat, 0, err, sizeof err)) {
         fprintf(stderr, "lightgraph sweep: run %d against the reference: %s\n", k, err);
@@ -355,9 +356,9 @@ static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned,
             lg_str_addf(&sw->csv, ",%s", f);
             free(f);
         }
-        lg_str_addf(&sw->csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu\n",
-                    times[a->repeat / 2], times[0], m.rmse, m.psnr > 1e300 ? 999.0 : m.psnr,
-                    m.mean_abs, m.max_abs, m.rel_mse, (unsigned long long)m.nonfinite);
+        lg_str_addf(&sw->csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu\n", times[a->repeat / 2],
+                    times[0], m.rmse, m.psnr > 1e300 ? 999.0 : m.psnr, m.mean_abs, m.max_abs,
+                    m.rel_mse, (unsigned long long)m.nonfinite);
         printf("%-40s time %9.3f ms  rmse %.4g  max %.4g  psnr %.2f dB\n", label,
                times[a->repeat / 2], m.rmse, m.max_abs, m.psnr);
         fflush(stdout);
@@ -379,7 +380,7 @@ static int sweep_run(sweep *sw, int k, const char **run_sets, double *times)
         run_sets[nr++] = a->sets[i];
     char **owned = lg_xcalloc((size_t)n_vary, sizeof *owned);
     int idx = k;
-    lg_str label = {0};
+    lg_str label = { 0 };
     for (int i = n_vary - 1; i >= 0; i--) {
         int j = idx % a->vary[i].n;
         idx /= a->vary[i].n;
@@ -411,7 +412,7 @@ static int sweep_run(sweep *sw, int k, const char **run_sets, double *times)
                 a->time_node);
         rc = 2;
     }
-    lg_image img = {0};
+    lg_image img = { 0 };
     if (rc == 0 && read_image(lg_outputs_temp(sw->outs, sw->runs[k]), &img))
         rc = 1;
     if (rc == 0)

@@ -16,7 +16,8 @@
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 4)))
 #endif
-static int bad(char *err, size_t errlen, const char *fmt, ...)
+static int
+bad(char *err, size_t errlen, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -27,16 +28,31 @@ static int bad(char *err, size_t errlen, const char *fmt, ...)
 
 /* sweep's options, in the order of sweep_opt; every one but -q takes a value */
 static const lg_option sweep_opts[] = {
-    {"--vary", NULL, LG_OPT_VALUE},   {"--reference", NULL, LG_OPT_VALUE},
-    {"--ref-set", NULL, LG_OPT_VALUE}, {"--set", NULL, LG_OPT_VALUE},
-    {"--time", NULL, LG_OPT_VALUE},   {"--repeat", NULL, LG_OPT_VALUE},
-    {"--frames", NULL, LG_OPT_VALUE}, {"--size", NULL, LG_OPT_VALUE},
-    {"--gl", NULL, LG_OPT_VALUE},     {"-o", NULL, LG_OPT_VALUE},
-    {"-q", NULL, 0},
+    { "--vary", NULL, LG_OPT_VALUE },
+    { "--reference", NULL, LG_OPT_VALUE },
+    { "--ref-set", NULL, LG_OPT_VALUE },
+    { "--set", NULL, LG_OPT_VALUE },
+    { "--time", NULL, LG_OPT_VALUE },
+    { "--repeat", NULL, LG_OPT_VALUE },
+    { "--frames", NULL, LG_OPT_VALUE },
+    { "--size", NULL, LG_OPT_VALUE },
+    { "--gl", NULL, LG_OPT_VALUE },
+    { "-o", NULL, LG_OPT_VALUE },
+    { "-q", NULL, 0 },
 };
 enum sweep_opt {
-    OPT_VARY, OPT_REFERENCE, OPT_REF_SET, OPT_SET, OPT_TIME, OPT_REPEAT, OPT_FRAMES, OPT_SIZE,
-    OPT_GL, OPT_DIR, OPT_QUIET, N_SWEEP_OPTS
+    OPT_VARY,
+    OPT_REFERENCE,
+    OPT_REF_SET,
+    OPT_SET,
+    OPT_TIME,
+    OPT_REPEAT,
+    OPT_FRAMES,
+    OPT_SIZE,
+    OPT_GL,
+    OPT_DIR,
+    OPT_QUIET,
+    N_SWEEP_OPTS
 };
 _Static_assert(sizeof sweep_opts / sizeof sweep_opts[0] == N_SWEEP_OPTS, "sweep_opts");
 
@@ -62,8 +78,10 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
         if (opt == OPT_VARY) {
             const char *eq = strchr(val, '=');
             if (!eq || eq == val || !eq[1] || a->n_vary == LG_SWEEP_MAX_VARY)
-                return bad(err, errlen, "--vary wants NODE.PARAM=v1,v2,... (at most "
-                           LG_STR(LG_SWEEP_MAX_VARY) "), got '%s'", val);
+                return bad(err, errlen,
+                           "--vary wants NODE.PARAM=v1,v2,... (at most " LG_STR(
+                               LG_SWEEP_MAX_VARY) "), got '%s'",
+                           val);
             lg_sweep_vary *v = &a->vary[a->n_vary++];
             v->key = lg_xstrndup(val, (size_t)(eq - val));
             v->arg = val;
@@ -71,18 +89,21 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
              * silently, and the sweep ran once with the last value. */
             for (int k = 0; k < a->n_vary - 1; k++)
                 if (strcmp(a->vary[k].key, v->key) == 0)
-                    return bad(err, errlen, "--vary %s is given twice ('%s' and '%s'): give "
-                               "all its values in one --vary %s=v1,v2,...", v->key,
-                               a->vary[k].arg, val, v->key);
+                    return bad(err, errlen,
+                               "--vary %s is given twice ('%s' and '%s'): give "
+                               "all its values in one --vary %s=v1,v2,...",
+                               v->key, a->vary[k].arg, val, v->key);
             /* Every item counts, empty ones too: strtok dropped them, so "0.1,,0.2" and
              * "0.1," ran fewer values than written. */
             for (const char *t = eq + 1;;) {
                 const char *comma = strchr(t, ',');
                 size_t len = comma ? (size_t)(comma - t) : strlen(t);
                 if (strspn(t, " \t") >= len)
-                    return bad(err, errlen, "--vary %s: item %d of '%s' is empty (the values "
+                    return bad(err, errlen,
+                               "--vary %s: item %d of '%s' is empty (the values "
                                "are separated by single commas, none before the first or "
-                               "after the last)", v->key, v->n + 1, eq + 1);
+                               "after the last)",
+                               v->key, v->n + 1, eq + 1);
                 v->values = lg_xrealloc(v->values, (size_t)(v->n + 1) * sizeof(char *));
                 v->values[v->n++] = lg_xstrndup(t, len);
                 if (!comma)
@@ -133,8 +154,8 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
         if (a->vary[i].n == 0)
             return bad(err, errlen, "--vary %s has no values", a->vary[i].key);
         if (a->total > LG_SWEEP_MAX_RUNS / a->vary[i].n)
-            return bad(err, errlen, "the --vary values make more than "
-                       LG_STR(LG_SWEEP_MAX_RUNS) " runs");
+            return bad(err, errlen,
+                       "the --vary values make more than " LG_STR(LG_SWEEP_MAX_RUNS) " runs");
         a->total *= a->vary[i].n;
     }
     return 0;

@@ -28,13 +28,13 @@ typedef struct lg_sweep_args {
     int n_sets, n_ref_sets;
     lg_sweep_vary vary[LG_SWEEP_MAX_VARY];
     int n_vary;
-    int total;                     /* runs: the product of the --vary counts */
-    uint32_t repeat;               /* --repeat, 1..1000, default 3 */
-    uint32_t frames;               /* --frames, 1..100000, default 1 */
-    uint32_t width, height;        /* --size, default 640x360 */
-    bool size_given;               /* --size was given (its pixel limit is the command's) */
-    const char *gl_backend;        /* --gl: "osmesa" (default) or "egl" */
-    bool quiet;                    /* -q */
+    int total;              /* runs: the product of the --vary counts */
+    uint32_t repeat;        /* --repeat, 1..1000, default 3 */
+    uint32_t frames;        /* --frames, 1..100000, default 1 */
+    uint32_t width, height; /* --size, default 640x360 */
+    bool size_given;        /* --size was given (its pixel limit is the command's) */
+    const char *gl_backend; /* --gl: "osmesa" (default) or "egl" */
+    bool quiet;             /* -q */
 } lg_sweep_args;
 
 /* Parses argv[1 .. argc-1] (argv[0] is "sweep"). Returns 0 with *a filled, or 2 (bad usage)

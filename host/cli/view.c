@@ -14,10 +14,9 @@ static int usage(const char *fmt, const char *what)
 {
     if (fmt)
         fprintf(stderr, fmt, what);
-    fprintf(stderr,
-            "usage: lightgraph view GRAPH [--set NODE.PARAM=VALUE]... [--show NODE.PORT]\n"
-            "                 [--size WxH] [--script FILE] [--dt SECONDS] [-v|-q]\n"
-            "(keys and the script language: docs/viewer.md)\n");
+    fprintf(stderr, "usage: lightgraph view GRAPH [--set NODE.PARAM=VALUE]... [--show NODE.PORT]\n"
+                    "                 [--size WxH] [--script FILE] [--dt SECONDS] [-v|-q]\n"
+                    "(keys and the script language: docs/viewer.md)\n");
     return 2;
 }
 
@@ -59,7 +58,8 @@ static int parse_args(int argc, char **argv, lg_viewer_opts *o, const char **set
             lg_verbosity = -1;
         } else if (s[0] == '-' && s[1]) {
             rc = usage(val || strncmp(s, "--", 2) ? "lightgraph view: unknown option '%s'\n"
-                                                  : "lightgraph view: %s needs a value\n", s);
+                                                  : "lightgraph view: %s needs a value\n",
+                       s);
         } else if (!o->graph) {
             o->graph = s;
         } else {
@@ -73,11 +73,11 @@ static int parse_args(int argc, char **argv, lg_viewer_opts *o, const char **set
 
 int lg_cmd_view(int argc, char **argv)
 {
-    lg_viewer_opts o = {.width = 640, .height = 360, .dt = 1.0 / 60.0};
+    lg_viewer_opts o = { .width = 640, .height = 360, .dt = 1.0 / 60.0 };
     const char **sets = lg_xcalloc((size_t)argc + 1, sizeof *sets);
     o.sets = sets;
     const char *script_path = NULL;
-    lg_script script = {0};
+    lg_script script = { 0 };
     int rc = parse_args(argc, argv, &o, sets, &script_path);
     char err[8192];
     if (rc == 0 && script_path && lg_script_load(script_path, &script, err, sizeof err)) {

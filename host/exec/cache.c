@@ -54,7 +54,7 @@ typedef struct cache_choice {
 
 static cache_choice choose_dir(void)
 {
-    cache_choice c = {0};
+    cache_choice c = { 0 };
     const char *e = getenv("LIGHTGRAPH_CACHE_DIR");
     if (e && *e) {
         c.dir = lg_xstrdup(e);
@@ -74,7 +74,8 @@ static cache_choice choose_dir(void)
         return c;
     }
     e = getenv("TMPDIR");
-    c.dir = lg_xasprintf("%s/lightgraph-cache-%u", e && e[0] == '/' ? e : "/tmp", (unsigned)geteuid());
+    c.dir = lg_xasprintf("%s/lightgraph-cache-%u", e && e[0] == '/' ? e : "/tmp",
+                         (unsigned)geteuid());
     c.private_dir = true;
     c.from = "neither HOME nor XDG_CACHE_HOME is set";
     return c;
@@ -90,14 +91,16 @@ char *lg_cache_dir(void)
  * lstat for a directory lightgraph made or the private fallback (strict: no link, no
  * group or other write; `private_dir`: no group or other access at all) and from stat for
  * an existing directory the user named. */
-static const char *distrust(const struct stat *st, bool strict, bool private_dir, char *buf, size_t n)
+static const char *distrust(const struct stat *st, bool strict, bool private_dir, char *buf,
+                            size_t n)
 {
     if (S_ISLNK(st->st_mode))
         return "it is a symbolic link, not a directory of your own";
     if (!S_ISDIR(st->st_mode))
         return "it is not a directory";
     if (st->st_uid != geteuid()) {
-        snprintf(buf, n, "it is owned by uid %u, not by you (uid %u)", (unsigned)st->st_uid, (unsigned)geteuid());
+        snprintf(buf, n, "it is owned by uid %u, not by you (uid %u)", (unsigned)st->st_uid,
+                 (unsigned)geteuid());
         return buf;
     }
     mode_t m = st->st_mode & 07777;
@@ -205,8 +208,9 @@ static const char *cache_ready(lg_exec *ex, bool create)
         why = distrust(&st, made || c.private_dir, c.private_dir, buf, sizeof buf);
     }
     if (why) {
-        lg_hlog(LG_HWARN, "cache disabled for this run: '%s' (%s) cannot be the cache directory: %s; "
-                          "set LIGHTGRAPH_CACHE_DIR to a directory of your own",
+        lg_hlog(LG_HWARN,
+                "cache disabled for this run: '%s' (%s) cannot be the cache directory: %s; "
+                "set LIGHTGRAPH_CACHE_DIR to a directory of your own",
                 c.dir, c.from, why);
         free(c.dir);
         ex->cache.off = true;
@@ -243,12 +247,13 @@ static bool key_ok(lg_pnode *n, const char *key)
 static void drop_entry(lg_pnode *n, const char *path, const char *problem)
 {
     if (remove(path) == 0) {
-        lg_hlog(LG_HWARN, "node '%s': cache entry %s %s; removing it and recomputing",
-                n->pub.name, path, problem);
+        lg_hlog(LG_HWARN, "node '%s': cache entry %s %s; removing it and recomputing", n->pub.name,
+                path, problem);
         return;
     }
-    lg_hlog(LG_HWARN, "node '%s': cache entry %s %s and cannot be removed (%s): recomputing, "
-                      "and not cached in this render (remove it yourself to cache it again)",
+    lg_hlog(LG_HWARN,
+            "node '%s': cache entry %s %s and cannot be removed (%s): recomputing, "
+            "and not cached in this render (remove it yourself to cache it again)",
             n->pub.name, path, problem, strerror(errno));
     n->run.cache_stuck = true;
 }
@@ -323,7 +328,8 @@ void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *w
     if (!dir)
         return;
     char *path = entry_path(dir, n, key);
-    char *problem = lg_xasprintf("is corrupt (%s)", why && *why ? why : "its node rejected its values");
+    char *problem = lg_xasprintf("is corrupt (%s)",
+                                 why && *why ? why : "its node rejected its values");
     drop_entry(n, path, problem);
     free(problem);
     free(path);
@@ -341,7 +347,7 @@ static void test_pause(void)
     if (!(s > 0))
         return;
     s = s < 60 ? s : 60;
-    struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
+    struct timespec ts = { (time_t)s, (long)((s - (double)(time_t)s) * 1e9) };
     while (nanosleep(&ts, &ts) != 0 && errno == EINTR)
         ;
 }
@@ -393,7 +399,7 @@ static int put_entry(const char *path, const void *data, size_t n)
 }
 
 int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
-                        size_t size)
+                             size_t size)
 {
     if (!key_ok(n, key))
         return LG_ERR_INVALID;
@@ -408,7 +414,7 @@ int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const vo
         free(path); /* cache_get said why; a rename onto the folder would fail again */
         return LG_CACHE_NOT_STORED;
     }
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_cache_entry_encode(&b, &n->plan.identity, key, data, size);
     int rc = LG_CACHE_STORED;
     if (put_entry(path, b.s, b.len) != 0) {

@@ -15,8 +15,8 @@
 #define CACHE_MAGIC "LGCACHE\1"
 #define CACHE_VERSION 1u
 
-void lg_cache_entry_encode(lg_str *b, const lg_digest *identity, const char *key,
-                           const void *data, size_t size)
+void lg_cache_entry_encode(lg_str *b, const lg_digest *identity, const char *key, const void *data,
+                           size_t size)
 {
     uint32_t ver = CACHE_VERSION, kl = (uint32_t)strlen(key);
     uint64_t psize = size, sum = lg_hash64(data, size, 0);

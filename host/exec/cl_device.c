@@ -30,7 +30,9 @@ struct lg_cl_dev {
 
 /* Device types in order of preference within a platform. */
 static const cl_device_type preferred_types[] = {
-    CL_DEVICE_TYPE_GPU, CL_DEVICE_TYPE_ACCELERATOR, CL_DEVICE_TYPE_CPU,
+    CL_DEVICE_TYPE_GPU,
+    CL_DEVICE_TYPE_ACCELERATOR,
+    CL_DEVICE_TYPE_CPU,
     CL_DEVICE_TYPE_CUSTOM,
 };
 
@@ -99,8 +101,8 @@ static void describe(lg_cl_dev *dev)
     char *driver = device_string(dev->device, CL_DRIVER_VERSION);
     char cl[16] = "", vendor[32] = "";
     sscanf(version, "OpenCL %15s %31s", cl, vendor);
-    snprintf(dev->description, sizeof dev->description, "%s, %s, OpenCL %s%s%s %s", platform,
-             name, cl[0] ? cl : "?", vendor[0] ? " " : "", vendor, driver);
+    snprintf(dev->description, sizeof dev->description, "%s, %s, OpenCL %s%s%s %s", platform, name,
+             cl[0] ? cl : "?", vendor[0] ? " " : "", vendor, driver);
     free(platform);
     free(name);
     free(version);
@@ -108,8 +110,8 @@ static void describe(lg_cl_dev *dev)
 }
 
 /* Asynchronous errors the implementation reports for the context (may run on any thread). */
-static void CL_CALLBACK context_notify(const char *errinfo, const void *private_info,
-                                       size_t cb, void *user_data)
+static void CL_CALLBACK context_notify(const char *errinfo, const void *private_info, size_t cb,
+                                       void *user_data)
 {
     (void)private_info;
     (void)cb;
@@ -124,8 +126,7 @@ int lg_cl_device_create(lg_cl_dev **out, char *err, size_t errlen)
     cl_int e = clGetPlatformIDs(0, NULL, &nplatforms);
     if (e != CL_SUCCESS || nplatforms == 0) {
         if (e != CL_SUCCESS)
-            snprintf(err, errlen, "no OpenCL platform (clGetPlatformIDs: %s)",
-                     lg_cl_strerror(e));
+            snprintf(err, errlen, "no OpenCL platform (clGetPlatformIDs: %s)", lg_cl_strerror(e));
         else
             snprintf(err, errlen, "no OpenCL platform (clGetPlatformIDs found none)");
         return LG_ERR_DEVICE;
@@ -145,14 +146,18 @@ int lg_cl_device_create(lg_cl_dev **out, char *err, size_t errlen)
     }
     free(platforms);
     if (!dev->device) {
-        snprintf(err, errlen, "no usable OpenCL device (%u platform%s, no device both "
-                 "available and with a compiler)", nplatforms, nplatforms == 1 ? "" : "s");
+        snprintf(err, errlen,
+                 "no usable OpenCL device (%u platform%s, no device both "
+                 "available and with a compiler)",
+                 nplatforms, nplatforms == 1 ? "" : "s");
         free(dev);
         return LG_ERR_DEVICE;
     }
 
     const cl_context_properties props[] = {
-        CL_CONTEXT_PLATFORM, (cl_context_properties)dev->platform, 0,
+        CL_CONTEXT_PLATFORM,
+        (cl_context_properties)dev->platform,
+        0,
     };
     dev->context = clCreateContext(props, 1, &dev->device, context_notify, NULL, &e);
     if (!dev->context) {
@@ -237,7 +242,7 @@ void *lg_cl_device_program(lg_cl_dev *dev, const char *name, const char *source,
     char *line = NULL;
     if (!strpbrk(name, "\"\\\n"))
         line = lg_xasprintf("#line 1 \"%s\"\n", name);
-    const char *strings[2] = {line ? line : "", source};
+    const char *strings[2] = { line ? line : "", source };
     cl_int e;
     cl_program prog = clCreateProgramWithSource(dev->context, 2, strings, NULL, &e);
     free(line);
@@ -256,8 +261,8 @@ void *lg_cl_device_program(lg_cl_dev *dev, const char *name, const char *source,
             else
                 /* Bad options and the like: the log may be empty, the code says why. */
                 *log = lg_xasprintf("%s: build failed: clBuildProgram(options \"%s\"): %s "
-                                    "(%d)%s%s", name, options, lg_cl_strerror(e), e,
-                                    text[0] ? "\n" : "", text);
+                                    "(%d)%s%s",
+                                    name, options, lg_cl_strerror(e), e, text[0] ? "\n" : "", text);
         }
         free(text);
         clReleaseProgram(prog);
@@ -272,7 +277,7 @@ void *lg_cl_device_program(lg_cl_dev *dev, const char *name, const char *source,
         dev->cap = dev->cap ? dev->cap * 2 : 8;
         dev->programs = lg_xrealloc(dev->programs, dev->cap * sizeof *dev->programs);
     }
-    dev->programs[dev->nprograms++] = (cl_cached_program){key, prog};
+    dev->programs[dev->nprograms++] = (cl_cached_program){ key, prog };
     return prog;
 }
 

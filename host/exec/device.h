@@ -22,7 +22,7 @@
 
 #include "lightgraph/glad/gl.h"
 
-/* ---- GL ---------------------------------------------------------------------------- */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 typedef struct lg_gl_device lg_gl_device;
 
@@ -59,16 +59,16 @@ int lg_gl_state_check(const GladGLContext *gl, char *err, size_t errlen);
 /* "GL_INVALID_ENUM" etc. */
 const char *lg_gl_strerror(GLenum e);
 
-/* ---- CL ---------------------------------------------------------------------------- */
+/* ---- CL -------------------------------------------------------------------------------------- */
 
 typedef struct lg_cl_dev lg_cl_dev;
 
 /* On failure returns LG_ERR_DEVICE with the reason in err ("no OpenCL platform
  * (clGetPlatformIDs: CL_PLATFORM_NOT_FOUND_KHR)"). */
 int lg_cl_device_create(lg_cl_dev **out, char *err, size_t errlen);
-void *lg_cl_device_context(const lg_cl_dev *dev);  /* cl_context */
-void *lg_cl_device_queue(const lg_cl_dev *dev);    /* cl_command_queue */
-void *lg_cl_device_id(const lg_cl_dev *dev);       /* cl_device_id */
+void *lg_cl_device_context(const lg_cl_dev *dev); /* cl_context */
+void *lg_cl_device_queue(const lg_cl_dev *dev);   /* cl_command_queue */
+void *lg_cl_device_id(const lg_cl_dev *dev);      /* cl_device_id */
 /* "Portable Computing Language, pthread-skylake-avx512, OpenCL 3.0 PoCL 3.1" */
 const char *lg_cl_device_description(const lg_cl_dev *dev);
 /* Builds (or finds in the per-process cache) a program. On failure returns NULL and sets

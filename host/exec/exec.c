@@ -26,8 +26,8 @@ static void read_cl_events(lg_pnode *n)
     for (uint32_t i = 0; i < n->run.n_cl_events; i++) {
         cl_ulong start = 0, end = 0;
         cl_event ev = (cl_event)n->run.cl_events[i];
-        if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start, &start,
-                                    NULL) == CL_SUCCESS &&
+        if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start, &start, NULL) ==
+                CL_SUCCESS &&
             clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof end, &end, NULL) ==
                 CL_SUCCESS &&
             end >= start)
@@ -37,12 +37,12 @@ static void read_cl_events(lg_pnode *n)
     n->run.n_cl_events = 0;
 }
 
-/* ---- the crash guard (ex->guard) ------------------------------------------------------ */
+/* ---- the crash guard (ex->guard) ------------------------------------------------------------- */
 
 static sigjmp_buf guard_jmp;
 static volatile sig_atomic_t guard_active, guard_sig, guard_exit;
 static pthread_t guard_thread;
-static const int guard_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+static const int guard_signals[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT };
 #define N_GUARD_SIGNALS (sizeof guard_signals / sizeof guard_signals[0])
 /* LG_GUARD_EXIT: what the handler writes, prepared before the call (lg_node_call), since
  * nothing but write(2) can be trusted in the handler: the head names the node, its type,
@@ -169,8 +169,9 @@ int lg_node_call(lg_exec *ex, lg_pnode *n, const char *what, void (*fn)(void *ct
                            "signal ",
                            n->pub.name, n->schema ? n->schema->name : "?", what,
                            n->plugin ? n->plugin->name : "?", n->plugin ? n->plugin->path : "?");
-        guard_head_len = len < 0 ? 0 : (size_t)len < sizeof guard_head ? (size_t)len
-                                                                        : sizeof guard_head - 1;
+        guard_head_len = len < 0                           ? 0
+                         : (size_t)len < sizeof guard_head ? (size_t)len
+                                                           : sizeof guard_head - 1;
         /* what this process printed so far comes before the message */
         fflush(stdout);
         fflush(stderr);
@@ -179,8 +180,8 @@ int lg_node_call(lg_exec *ex, lg_pnode *n, const char *what, void (*fn)(void *ct
     if (sig) {
         n->run.crashed = true;
         n->plugin->poisoned = true;
-        lg_node_errorf(n, "crashed in %s() (signal %d, %s); plugin %s", what, sig,
-                       strsignal(sig), n->plugin->path);
+        lg_node_errorf(n, "crashed in %s() (signal %d, %s); plugin %s", what, sig, strsignal(sig),
+                       n->plugin->path);
     }
     return sig;
 }
@@ -207,7 +208,7 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
         gl->BeginQuery(GL_TIME_ELAPSED, ex->dev.gl_timer_query);
     double t0 = lg_mono_now();
     double gpu0 = n->prof.gpu_ms;
-    exec_call call = {n, frame, 0};
+    exec_call call = { n, frame, 0 };
     int sig = lg_node_call(ex, n, "execute", call_execute, &call);
     int rc = call.rc;
     if (sig) {
@@ -274,17 +275,17 @@ static int write_outputs(lg_exec *ex)
         const lg_coutput *o = &c->outputs[i];
         const char *path = ex->opts.output_override ? ex->opts.output_override : o->path;
         lg_pnode *n = ex->nodes[o->node];
-        lg_resource *r = lg_edge_resource(ex, (lg_edge){o->node, o->port, o->part});
+        lg_resource *r = lg_edge_resource(ex, (lg_edge){ o->node, o->port, o->part });
         char err[1024];
         float *px = NULL;
-        lg_image img = {0, 0, NULL};
+        lg_image img = { 0, 0, NULL };
         /* SH coefficients: a text file, and only they (graph/check.c refuses the other
          * pairings before anything runs; -o and LG_KIND_ANY outputs meet them here) */
         bool sh = r && r->kind == LG_KIND_SH;
         bool txt = lg_path_has_ext(path, ".txt");
         if (sh != txt) {
-            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s",
-                    n->schema->outputs[o->port].name, n->pub.name, path,
+            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
+                    n->pub.name, path,
                     sh ? "SH coefficients are written as text: name the file .txt"
                        : "only SH coefficients are written as .txt (images and probes: .png, "
                          ".exr or .hdr)");
@@ -300,8 +301,10 @@ static int write_outputs(lg_exec *ex)
                         n->schema->outputs[o->port].name, n->pub.name, path, err);
                 rc = -1;
             } else {
-                lg_hlog(LG_HDEBUG, "%s (SH coefficients, %zu bytes) written to its temporary "
-                        "file", path, len);
+                lg_hlog(LG_HDEBUG,
+                        "%s (SH coefficients, %zu bytes) written to its temporary "
+                        "file",
+                        path, len);
             }
             free(text);
             continue;
@@ -310,8 +313,10 @@ static int write_outputs(lg_exec *ex)
         bool probe = r && r->kind == LG_KIND_PROBE;
         if (probe && lg_image_format_from_path(path) == LG_FILE_PNG) {
             /* `render -o x.png` on a graph whose output is a probe */
-            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: a probe is HDR: write it as "
-                    ".exr or .hdr", n->schema->outputs[o->port].name, n->pub.name, path);
+            lg_hlog(LG_HERR,
+                    "output '%s' of node '%s' -> %s: a probe is HDR: write it as "
+                    ".exr or .hdr",
+                    n->schema->outputs[o->port].name, n->pub.name, path);
             rc = -1;
             continue;
         }
@@ -323,17 +328,19 @@ static int write_outputs(lg_exec *ex)
             continue;
         }
         if (!probe)
-            img = (lg_image){r->image.width, r->image.height, px};
+            img = (lg_image){ r->image.width, r->image.height, px };
         /* EXR: what `render --exr`, else the output statement, asks for; by default what
          * the resource holds: float for rgba32f, and for rgbe8 (whose range, to 1.7e38,
          * half cannot hold: a sun would become Inf), half otherwise */
         lg_image_write_opts wo;
         memset(&wo, 0, sizeof wo);
         int want = ex->opts.exr_pixel ? ex->opts.exr_pixel : o->g ? o->g->exr_pixel : 0;
-        wo.exr_pixel = want == LG_OUT_EXR_HALF ? LG_EXR_HALF : want == LG_OUT_EXR_FLOAT
-                       ? LG_EXR_FLOAT : (probe || r->image.format == LG_FORMAT_RGBA32F ||
-                                         r->image.format == LG_FORMAT_RGBE8) ? LG_EXR_FLOAT
-                       : LG_EXR_HALF;
+        wo.exr_pixel = want == LG_OUT_EXR_HALF    ? LG_EXR_HALF
+                       : want == LG_OUT_EXR_FLOAT ? LG_EXR_FLOAT
+                       : (probe || r->image.format == LG_FORMAT_RGBA32F ||
+                          r->image.format == LG_FORMAT_RGBE8)
+                           ? LG_EXR_FLOAT
+                           : LG_EXR_HALF;
         /* into the output's temporary: lg_render_file commits every output together once
          * all of them are written (outputs.h) */
         if (lg_outputs_write_image(ex->opts.outputs, path, &img, &wo, err, sizeof err)) {
@@ -386,7 +393,8 @@ int lg_execute(lg_exec *ex)
         ex->frame = f;
         for (uint32_t t = 0; t < c->n_nodes; t++) {
             lg_pnode *n = ex->nodes[c->topo[t]];
-            if (n->plan.state != LG_STATE_KEPT || (n->run.ran && !n->run.per_frame && !lg_exec_runs_every_frame(ex, n)))
+            if (n->plan.state != LG_STATE_KEPT ||
+                (n->run.ran && !n->run.per_frame && !lg_exec_runs_every_frame(ex, n)))
                 continue;
             if (run_node(ex, n, &frame))
                 return -1;

@@ -17,7 +17,7 @@
 #include "graph/graph.h"
 #include "base/util.h"
 
-/* ---- registry (registry.c) ----------------------------------------------------------
+/* ---- registry (registry.c) ----------------------------------------------------------------------
  * Plugins are scanned in a child process (fork, dlopen, read the descriptor, serialise it
  * through a pipe, exit), as GStreamer's plugin scanner does: the host learns every node
  * type's schema without loading a single plugin into its own process, a plugin that
@@ -25,23 +25,23 @@
  * needs are ever dlopen'ed by the host (lg_registry_load). */
 
 typedef struct lg_plugin {
-    char *path;              /* absolute path of the shared object */
+    char *path; /* absolute path of the shared object */
     char *name, *version, *doc;
     uint16_t abi_major, abi_minor;
-    lg_node_type *types;     /* host-owned copies of the scanned schema (no callbacks) */
+    lg_node_type *types; /* host-owned copies of the scanned schema (no callbacks) */
     uint32_t n_types;
-    void *handle;            /* dlopen handle once loaded */
+    void *handle;               /* dlopen handle once loaded */
     const lg_plugin_desc *live; /* the plugin's own descriptor once loaded */
-    int live_refs;           /* resources and instances alive that came from it */
+    int live_refs;              /* resources and instances alive that came from it */
     /* A plugin reloaded by the viewer (lg_registry_rescan): dlopen'ed from a private copy
      * of the file, since dlopen of a path already loaded returns the library loaded
      * before. NULL: loaded from `path`. */
     char *load_path;
-    bool poisoned;           /* crashed in create/prepare/execute: never dlclose'd */
-    bool builtin;            /* part of this program (lg_registry_add_builtin): `handle`
-                              * is not a dlopen handle, never dlclose'd */
-    uint64_t dev, ino;       /* the file's identity when scanned: one file reached through
-                              * two folders of the search path is scanned once */
+    bool poisoned;     /* crashed in create/prepare/execute: never dlclose'd */
+    bool builtin;      /* part of this program (lg_registry_add_builtin): `handle`
+                        * is not a dlopen handle, never dlclose'd */
+    uint64_t dev, ino; /* the file's identity when scanned: one file reached through
+                        * two folders of the search path is scanned once */
 } lg_plugin;
 
 typedef struct lg_refusal {
@@ -50,13 +50,13 @@ typedef struct lg_refusal {
 } lg_refusal;
 
 typedef struct lg_registry {
-    lg_plugin **plugins;     /* each allocated on its own: nodes point at them */
+    lg_plugin **plugins; /* each allocated on its own: nodes point at them */
     uint32_t n_plugins;
     lg_refusal *refused;
     uint32_t n_refused;
-    const char **names;      /* every node type name, for did-you-mean */
+    const char **names; /* every node type name, for did-you-mean */
     uint32_t n_names;
-    char **dirs;             /* the directories searched, in order */
+    char **dirs; /* the directories searched, in order */
     uint32_t n_dirs;
     /* the viewer's reloads: entries replaced (kept until the registry is freed, since
      * nodes, resources and checked graphs may still point at them), and the private
@@ -86,8 +86,8 @@ int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n);
  * and the entry counts as loaded from the start (never dlopen'ed, never dlclose'd). `d`
  * must outlive the registry; `path` names it in messages. Returns 0, or -1 with the
  * problem in err. */
-int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char *path,
-                            char *err, size_t errlen);
+int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char *path, char *err,
+                            size_t errlen);
 const lg_node_type *lg_registry_lookup(const lg_registry *r, const char *type, lg_plugin **plugin);
 /* dlopens the plugin in this process, checks its descriptor again and that it matches the
  * scanned one. Returns 0 or -1 with a message in err. */
@@ -135,8 +135,7 @@ int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_
 /* Frees what decode allocated in p (not path, handle or live) and zeroes it. */
 void lg_plugin_free_schema(lg_plugin *p);
 
-
-/* ---- resources (resource.c) ------------------------------------------------------------ */
+/* ---- resources (resource.c) ------------------------------------------------------------------ */
 
 struct lg_exec;
 struct lg_pnode;
@@ -164,8 +163,8 @@ typedef struct lg_resource_copies {
 typedef struct lg_resource_payload {
     void *data;
     void (*free)(void *);
-    lg_plugin *plugin;          /* kept loaded while the payload lives */
-    lg_attached *attached;      /* GPU copies of payload arrays, by slot */
+    lg_plugin *plugin;     /* kept loaded while the payload lives */
+    lg_attached *attached; /* GPU copies of payload arrays, by slot */
     uint32_t n_attached;
     /* a scene with the viewer's camera (ex->viewer.camera): the copy describe() hands out */
     void *view_scene;
@@ -179,7 +178,7 @@ typedef struct lg_resource_payload {
  * composite has parts too (zero images the render size, empty buffers), which only an
  * edge naming a part (NODE.PART) reaches; lg_part() gives NULL for it. */
 typedef struct lg_resource_parts {
-    struct lg_resource **list;  /* a composite: its parts */
+    struct lg_resource **list; /* a composite: its parts */
     uint32_t n;
     struct lg_resource *parent; /* a part: its composite */
     int32_t index;              /* a part: its index in the kind's table */
@@ -201,7 +200,7 @@ struct lg_resource {
     lg_resource_parts parts;
 };
 
-size_t lg_resource_bytes(const lg_resource *r);      /* one copy, depth and parts included */
+size_t lg_resource_bytes(const lg_resource *r); /* one copy, depth and parts included */
 /* The parts of a composite resource of `kind`, made from the producer's specs (declared
  * in prepare) or, with specs NULL, its neutral parts. Returns 0 or reports and returns
  * LG_ERR_INVALID. */
@@ -225,16 +224,17 @@ int lg_resource_payload_gl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *
 int lg_resource_payload_cl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, uint32_t slot,
                            const void *data, size_t size, void **mem);
 /* RGBA float copy of an image resource (for output files). Caller frees. */
-int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char *err, size_t errlen);
+int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char *err,
+                           size_t errlen);
 /* The image file of a probe resource (lightgraph/probe.h lg_probe_pack). Caller frees. */
 int lg_resource_probe_file(struct lg_exec *ex, lg_resource *r, lg_image *out, char *err,
                            size_t errlen);
 /* The text file of an SH coefficient resource (docs/graph-format.md "Outputs"): *out
  * (*len bytes, NUL-terminated) is the caller's to free. */
-int lg_resource_sh_text(struct lg_exec *ex, lg_resource *r, char **out, size_t *len,
-                        char *err, size_t errlen);
+int lg_resource_sh_text(struct lg_exec *ex, lg_resource *r, char **out, size_t *len, char *err,
+                        size_t errlen);
 
-/* ---- plan and execution (plan.c, exec.c) ------------------------------------------------ */
+/* ---- plan and execution (plan.c, exec.c) ----------------------------------------------------- */
 
 typedef enum lg_node_state {
     LG_STATE_KEPT = 0,
@@ -245,14 +245,14 @@ typedef enum lg_node_state {
 /* What the planner decided about a node (plan/), and what prepare() told it. */
 typedef struct lg_pnode_plan {
     lg_node_state state;
-    char *reason;                /* why culled or gated */
+    char *reason; /* why culled or gated */
     lg_digest identity;
-    lg_digest plan_identity;     /* identity before prepare() added content keys: what a
-                                  * later plan compares to adopt the node (lg_plan) */
-    bool lent;                   /* adopted by a newer plan that is not committed yet */
-    uint32_t prev_index;         /* while lent: its index in the plan it came from */
-    bool reads_scene;            /* an input delivers a scene; it makes none itself; not
-                                  * view independent */
+    lg_digest plan_identity; /* identity before prepare() added content keys: what a
+                              * later plan compares to adopt the node (lg_plan) */
+    bool lent;               /* adopted by a newer plan that is not committed yet */
+    uint32_t prev_index;     /* while lent: its index in the plan it came from */
+    bool reads_scene;        /* an input delivers a scene; it makes none itself; not
+                              * view independent */
     bool view_independent_set, view_independent; /* lg_set_view_independent in prepare */
     /* lg_declare_work in prepare (ABI 2.7): one run's work in the plugin's own unit and
      * its estimated wall time; work_what is owned (freed with the node) */
@@ -267,21 +267,21 @@ typedef struct lg_pnode_run {
     bool device_set;
     lg_device device;
     bool prepared, created;
-    bool ran;                    /* executed at least once */
-    bool crashed;                /* a callback crashed under the guard: never called again */
+    bool ran;     /* executed at least once */
+    bool crashed; /* a callback crashed under the guard: never called again */
     void **cl_events;
     uint32_t n_cl_events, cap_cl_events;
     bool warned_once;
-    bool cache_stuck;            /* an entry of this node could not be removed (cache.c):
-                                  * said once by cache_get, bypassed by cache_put */
+    bool cache_stuck; /* an entry of this node could not be removed (cache.c):
+                       * said once by cache_get, bypassed by cache_put */
 } lg_pnode_run;
 
 /* What --profile reports about a node (exec/profile.c). */
 typedef struct lg_pnode_prof {
     double cpu_ms, gpu_ms;
-    double first_cpu_ms;         /* the first run: includes one-off set-up (programs, kernels) */
-    double min_cpu_ms;           /* the fastest run */
-    bool gpu_unmeasured;         /* a GL timer query gave no plausible value */
+    double first_cpu_ms; /* the first run: includes one-off set-up (programs, kernels) */
+    double min_cpu_ms;   /* the fastest run */
+    bool gpu_unmeasured; /* a GL timer query gave no plausible value */
     uint64_t runs;
     /* bytes_alloc: the resources the host made for the node (outputs, device copies,
      * payload buffers); bytes_moved: what it copied between devices for the node */
@@ -295,21 +295,21 @@ typedef struct lg_pnode_prof {
 /* What the viewer keeps about a node between frames (lg_exec_frame). */
 typedef struct lg_pnode_viewer {
     double last_cpu_ms, last_gpu_ms; /* its last run */
-    uint32_t last_frame;         /* the frame of its last run */
+    uint32_t last_frame;             /* the frame of its last run */
     bool ran_this_frame;
-    uint64_t camera_gen;         /* ex->viewer.camera_gen when it last ran */
-    bool output_file_noted;      /* the viewer said it does not write the node's files */
+    uint64_t camera_gen;           /* ex->viewer.camera_gen when it last ran */
+    bool output_file_noted;        /* the viewer said it does not write the node's files */
     double avg_cpu_ms, avg_gpu_ms; /* the viewer's moving averages */
 } lg_pnode_viewer;
 
 typedef struct lg_pnode {
-    lg_node pub;                 /* what the plugin sees; must stay first */
+    lg_node pub; /* what the plugin sees; must stay first */
     struct lg_exec *ex;
     uint32_t index;
     const lg_cnode *c;
-    const lg_node_type *schema;  /* scanned type */
+    const lg_node_type *schema; /* scanned type */
     lg_plugin *plugin;
-    lg_resource **outputs;       /* schema->n_outputs */
+    lg_resource **outputs; /* schema->n_outputs */
     lg_pnode_plan plan;
     lg_pnode_run run;
     lg_pnode_prof prof;
@@ -317,19 +317,19 @@ typedef struct lg_pnode {
 } lg_pnode;
 
 typedef struct lg_exec_opts {
-    uint32_t width, height;      /* render size */
+    uint32_t width, height; /* render size */
     uint32_t frames;
     double dt;
     const char *gl_backend;      /* "osmesa" (default) or "egl" */
     const char *output_override; /* -o */
     int exr_pixel;               /* render --exr half|float (LG_OUT_EXR_*): every EXR output */
     bool explain, profile;
-    bool every_frame;            /* --every-frame: static nodes run every frame too ... */
+    bool every_frame;              /* --every-frame: static nodes run every frame too ... */
     const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */
     const char *profile_json;
     const char *graph_path;
-    struct lg_outputs *outputs;  /* where the output files go (outputs.h); every output
-                                  * path is added to it before the run */
+    struct lg_outputs *outputs; /* where the output files go (outputs.h); every output
+                                 * path is added to it before the run */
 } lg_exec_opts;
 
 /* The exit status of render and sweep when a plugin crashed in one of its callbacks
@@ -356,16 +356,16 @@ typedef enum lg_guard_mode {
 typedef struct lg_exec_devices {
     lg_gl_device *gl;
     lg_cl_dev *cl;
-    char *gl_error, *cl_error;   /* why a device could not be made (reported once per node) */
+    char *gl_error, *cl_error; /* why a device could not be made (reported once per node) */
     uint32_t gl_timer_query;
-    bool keep;                   /* lg_exec_free leaves gl, cl and the timer query alone:
-                                  * the caller owns them (the viewer passes them on) */
+    bool keep; /* lg_exec_free leaves gl, cl and the timer query alone:
+                * the caller owns them (the viewer passes them on) */
 } lg_exec_devices;
 
 /* The on-disk cache of a run (exec/cache.c). */
 typedef struct lg_exec_cache {
-    char *dir;                   /* checked on first use; NULL until then */
-    bool off;                    /* the directory failed its check: no caching this run */
+    char *dir; /* checked on first use; NULL until then */
+    bool off;  /* the directory failed its check: no caching this run */
 } lg_exec_cache;
 
 /* What the viewer (host/viewer) asks of a plan and a run. */
@@ -391,8 +391,8 @@ typedef struct lg_exec {
     lg_registry *reg;
     const lg_graph *graph;
     const lg_checked *checked;
-    lg_pnode **nodes;            /* n_nodes, each allocated on its own: a node kept across a
-                                  * reload (lg_plan_reuse) moves with its address */
+    lg_pnode **nodes; /* n_nodes, each allocated on its own: a node kept across a
+                       * reload (lg_plan_reuse) moves with its address */
     uint32_t n_nodes;
     lg_host_api api;
     lg_exec_devices dev;
@@ -448,7 +448,7 @@ int lg_exec_cache_put(lg_exec *ex, lg_pnode *n, const char *key, const void *dat
 /* cache_put saying what it did: an lg_cache_store_result, or an LG_ERR_* (< 0) for a bad
  * key or NULL data (lg_host_api.cache_store). lg_exec_cache_put maps it to LG_OK / LG_ERR_IO. */
 int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const void *data,
-                        size_t size);
+                             size_t size);
 /* A hit the node found bad (lg_host_api.cache_reject): warned as corrupt, removed, counted
  * as a miss instead of a hit. */
 void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *why);
@@ -458,10 +458,9 @@ void lg_exec_cache_drop(lg_exec *ex, lg_pnode *n, const char *key, const char *w
  * into buf and *payload_size set, or the reason it cannot be used ("bad header", "truncated
  * or padded", "checksum mismatch", ...). Nothing is allocated; the declared size is only
  * compared with `len`. */
-void lg_cache_entry_encode(lg_str *b, const lg_digest *identity, const char *key,
-                           const void *data, size_t size);
+void lg_cache_entry_encode(lg_str *b, const lg_digest *identity, const char *key, const void *data,
+                           size_t size);
 const char *lg_cache_entry_check(const char *buf, size_t len, const lg_digest *identity,
                                  const char *key, const char **payload, size_t *payload_size);
-
 
 #endif

@@ -55,8 +55,7 @@ int lg_gl_device_create(lg_gl_device **out, const char *backend, char *err, size
     return finish(out, dev, err, errlen);
 }
 
-int lg_gl_device_wrap(lg_gl_device **out, const lg_gl_backend *backend, char *err,
-                      size_t errlen)
+int lg_gl_device_wrap(lg_gl_device **out, const lg_gl_backend *backend, char *err, size_t errlen)
 {
     *out = NULL;
     lg_gl_device *dev = calloc(1, sizeof *dev);
@@ -74,23 +73,22 @@ static int finish(lg_gl_device **out, lg_gl_device *dev, char *err, size_t errle
     const char *label = dev->backend.label;
     int version = gladLoadGLContextUserPtr(&dev->gl, dev->backend.load, dev->backend.state);
     if (!version) {
-        snprintf(err, errlen, "%s: could not load GL entry points (glGetString missing)",
-                 label);
+        snprintf(err, errlen, "%s: could not load GL entry points (glGetString missing)", label);
         goto fail;
     }
     /* glad loads only the entry points of the versions the context reports, so a 4.5
      * check here is also a check that every function of the table is there. */
     int major = GLAD_VERSION_MAJOR(version), minor = GLAD_VERSION_MINOR(version);
     if (major < 4 || (major == 4 && minor < 5)) {
-        snprintf(err, errlen, "%s: context is GL %d.%d (%s, %s), need 4.5", label, major,
-                 minor, gl_string(&dev->gl, GL_VERSION), gl_string(&dev->gl, GL_RENDERER));
+        snprintf(err, errlen, "%s: context is GL %d.%d (%s, %s), need 4.5", label, major, minor,
+                 gl_string(&dev->gl, GL_VERSION), gl_string(&dev->gl, GL_RENDERER));
         goto fail;
     }
     GLint profile = 0;
     dev->gl.GetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
     if (!(profile & GL_CONTEXT_CORE_PROFILE_BIT)) {
-        snprintf(err, errlen, "%s: context is GL %d.%d but not a core profile (mask 0x%x)",
-                 label, major, minor, (unsigned)profile);
+        snprintf(err, errlen, "%s: context is GL %d.%d but not a core profile (mask 0x%x)", label,
+                 major, minor, (unsigned)profile);
         goto fail;
     }
     snprintf(dev->description, sizeof dev->description, "%s, %s, %s", label,
@@ -146,25 +144,40 @@ void lg_gl_device_destroy(lg_gl_device **pdev)
     *pdev = NULL;
 }
 
-/* ---- the GL state contract ----------------------------------------------------------- */
+/* ---- the GL state contract ------------------------------------------------------------------- */
 
 /* Buffer targets whose generic binding reset clears. The first five are also checked. */
 static const GLenum reset_buffer_targets[] = {
-    GL_SHADER_STORAGE_BUFFER, GL_UNIFORM_BUFFER, GL_ARRAY_BUFFER,
-    GL_PIXEL_PACK_BUFFER, GL_PIXEL_UNPACK_BUFFER,
-    GL_ATOMIC_COUNTER_BUFFER, GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER,
-    GL_DISPATCH_INDIRECT_BUFFER, GL_DRAW_INDIRECT_BUFFER, GL_QUERY_BUFFER,
-    GL_TEXTURE_BUFFER, GL_TRANSFORM_FEEDBACK_BUFFER,
+    GL_SHADER_STORAGE_BUFFER,     GL_UNIFORM_BUFFER,      GL_ARRAY_BUFFER,
+    GL_PIXEL_PACK_BUFFER,         GL_PIXEL_UNPACK_BUFFER, GL_ATOMIC_COUNTER_BUFFER,
+    GL_COPY_READ_BUFFER,          GL_COPY_WRITE_BUFFER,   GL_DISPATCH_INDIRECT_BUFFER,
+    GL_DRAW_INDIRECT_BUFFER,      GL_QUERY_BUFFER,        GL_TEXTURE_BUFFER,
+    GL_TRANSFORM_FEEDBACK_BUFFER,
 };
 
 /* Capabilities reset to their GL defaults (all off). */
 static const GLenum reset_disabled[] = {
-    GL_BLEND, GL_COLOR_LOGIC_OP, GL_CULL_FACE, GL_DEPTH_CLAMP, GL_DEPTH_TEST,
-    GL_FRAMEBUFFER_SRGB, GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,
-    GL_POLYGON_OFFSET_POINT, GL_PRIMITIVE_RESTART, GL_PRIMITIVE_RESTART_FIXED_INDEX,
-    GL_PROGRAM_POINT_SIZE, GL_RASTERIZER_DISCARD, GL_SAMPLE_ALPHA_TO_COVERAGE,
-    GL_SAMPLE_ALPHA_TO_ONE, GL_SAMPLE_COVERAGE, GL_SAMPLE_MASK, GL_SAMPLE_SHADING,
-    GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_TEXTURE_CUBE_MAP_SEAMLESS,
+    GL_BLEND,
+    GL_COLOR_LOGIC_OP,
+    GL_CULL_FACE,
+    GL_DEPTH_CLAMP,
+    GL_DEPTH_TEST,
+    GL_FRAMEBUFFER_SRGB,
+    GL_POLYGON_OFFSET_FILL,
+    GL_POLYGON_OFFSET_LINE,
+    GL_POLYGON_OFFSET_POINT,
+    GL_PRIMITIVE_RESTART,
+    GL_PRIMITIVE_RESTART_FIXED_INDEX,
+    GL_PROGRAM_POINT_SIZE,
+    GL_RASTERIZER_DISCARD,
+    GL_SAMPLE_ALPHA_TO_COVERAGE,
+    GL_SAMPLE_ALPHA_TO_ONE,
+    GL_SAMPLE_COVERAGE,
+    GL_SAMPLE_MASK,
+    GL_SAMPLE_SHADING,
+    GL_SCISSOR_TEST,
+    GL_STENCIL_TEST,
+    GL_TEXTURE_CUBE_MAP_SEAMLESS,
 };
 
 /* Pixel-store parameters and their defaults; the host's own transfers assume them. */
@@ -172,12 +185,12 @@ static const struct {
     GLenum name;
     GLint value;
 } reset_pixel_store[] = {
-    {GL_PACK_SWAP_BYTES, 0}, {GL_PACK_LSB_FIRST, 0}, {GL_PACK_ROW_LENGTH, 0},
-    {GL_PACK_IMAGE_HEIGHT, 0}, {GL_PACK_SKIP_ROWS, 0}, {GL_PACK_SKIP_PIXELS, 0},
-    {GL_PACK_SKIP_IMAGES, 0}, {GL_PACK_ALIGNMENT, 4},
-    {GL_UNPACK_SWAP_BYTES, 0}, {GL_UNPACK_LSB_FIRST, 0}, {GL_UNPACK_ROW_LENGTH, 0},
-    {GL_UNPACK_IMAGE_HEIGHT, 0}, {GL_UNPACK_SKIP_ROWS, 0}, {GL_UNPACK_SKIP_PIXELS, 0},
-    {GL_UNPACK_SKIP_IMAGES, 0}, {GL_UNPACK_ALIGNMENT, 4},
+    { GL_PACK_SWAP_BYTES, 0 },   { GL_PACK_LSB_FIRST, 0 },     { GL_PACK_ROW_LENGTH, 0 },
+    { GL_PACK_IMAGE_HEIGHT, 0 }, { GL_PACK_SKIP_ROWS, 0 },     { GL_PACK_SKIP_PIXELS, 0 },
+    { GL_PACK_SKIP_IMAGES, 0 },  { GL_PACK_ALIGNMENT, 4 },     { GL_UNPACK_SWAP_BYTES, 0 },
+    { GL_UNPACK_LSB_FIRST, 0 },  { GL_UNPACK_ROW_LENGTH, 0 },  { GL_UNPACK_IMAGE_HEIGHT, 0 },
+    { GL_UNPACK_SKIP_ROWS, 0 },  { GL_UNPACK_SKIP_PIXELS, 0 }, { GL_UNPACK_SKIP_IMAGES, 0 },
+    { GL_UNPACK_ALIGNMENT, 4 },
 };
 
 void lg_gl_state_reset(const GladGLContext *gl)
@@ -256,7 +269,7 @@ static void expect_zero(const GladGLContext *gl, state_report *r, GLenum pname, 
 int lg_gl_state_check(const GladGLContext *gl, char *err, size_t errlen)
 {
     static const char prefix[] = "GL state not restored: ";
-    state_report r = {err, 0, errlen, 0};
+    state_report r = { err, 0, errlen, 0 };
     if (err && errlen > 0) {
         snprintf(err, errlen, "%s", prefix);
         r.len = strlen(err);

@@ -91,11 +91,12 @@ static int load_library(char *err, size_t errlen)
         const char *name;
         size_t offset;
     } symbols[] = {
-#define SYM(f) {"egl" #f, offsetof(struct egl_lib, f)}
-        SYM(GetProcAddress), SYM(QueryString), SYM(GetDisplay), SYM(Initialize),
-        SYM(BindAPI), SYM(ChooseConfig), SYM(CreateContext),
-        SYM(DestroyContext), SYM(CreatePbufferSurface), SYM(DestroySurface),
-        SYM(MakeCurrent), SYM(GetError), SYM(ReleaseThread),
+#define SYM(f) { "egl" #f, offsetof(struct egl_lib, f) }
+        SYM(GetProcAddress), SYM(QueryString),    SYM(GetDisplay),
+        SYM(Initialize),     SYM(BindAPI),        SYM(ChooseConfig),
+        SYM(CreateContext),  SYM(DestroyContext), SYM(CreatePbufferSurface),
+        SYM(DestroySurface), SYM(MakeCurrent),    SYM(GetError),
+        SYM(ReleaseThread),
 #undef SYM
     };
     for (size_t i = 0; i < sizeof symbols / sizeof symbols[0]; i++) {
@@ -200,13 +201,14 @@ int lg_gl_egl_open(lg_gl_backend *out, char *err, size_t errlen)
         EGLDisplay dpy = egl.GetDisplay(EGL_DEFAULT_DISPLAY);
         EGLint major, minor;
         if (dpy == EGL_NO_DISPLAY) {
-            snprintf(err, errlen, "EGL: no display (surfaceless: %s; default display: none)",
-                     why);
+            snprintf(err, errlen, "EGL: no display (surfaceless: %s; default display: none)", why);
             goto fail;
         }
         if (!egl.Initialize(dpy, &major, &minor)) {
-            snprintf(err, errlen, "EGL: no display (surfaceless: %s; default display: "
-                     "eglInitialize: %s)", why, egl_strerror(egl.GetError()));
+            snprintf(err, errlen,
+                     "EGL: no display (surfaceless: %s; default display: "
+                     "eglInitialize: %s)",
+                     why, egl_strerror(egl.GetError()));
             goto fail;
         }
         s->dpy = dpy;
@@ -217,8 +219,10 @@ int lg_gl_egl_open(lg_gl_backend *out, char *err, size_t errlen)
     if (version)
         sscanf(version, "%d.%d", &vmaj, &vmin);
     if (vmaj * 10 + vmin < 15 && !has_extension(exts, "EGL_KHR_create_context")) {
-        snprintf(err, errlen, "EGL: version %s without EGL_KHR_create_context cannot ask "
-                 "for a 4.5 core context", version ? version : "?");
+        snprintf(err, errlen,
+                 "EGL: version %s without EGL_KHR_create_context cannot ask "
+                 "for a 4.5 core context",
+                 version ? version : "?");
         goto fail;
     }
     if (!egl.BindAPI(EGL_OPENGL_API)) {
@@ -228,9 +232,18 @@ int lg_gl_egl_open(lg_gl_backend *out, char *err, size_t errlen)
     }
 
     const EGLint config_attribs[] = {
-        EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
-        EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8,
+        EGL_RENDERABLE_TYPE,
+        EGL_OPENGL_BIT,
+        EGL_SURFACE_TYPE,
+        EGL_PBUFFER_BIT,
+        EGL_RED_SIZE,
+        8,
+        EGL_GREEN_SIZE,
+        8,
+        EGL_BLUE_SIZE,
+        8,
+        EGL_ALPHA_SIZE,
+        8,
         EGL_NONE,
     };
     EGLConfig config;
@@ -241,9 +254,12 @@ int lg_gl_egl_open(lg_gl_backend *out, char *err, size_t errlen)
         goto fail;
     }
     const EGLint context_attribs[] = {
-        EGL_CONTEXT_MAJOR_VERSION, 4,
-        EGL_CONTEXT_MINOR_VERSION, 5,
-        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+        EGL_CONTEXT_MAJOR_VERSION,
+        4,
+        EGL_CONTEXT_MINOR_VERSION,
+        5,
+        EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
         EGL_NONE,
     };
     s->ctx = egl.CreateContext(s->dpy, config, EGL_NO_CONTEXT, context_attribs);
@@ -255,7 +271,7 @@ int lg_gl_egl_open(lg_gl_backend *out, char *err, size_t errlen)
     /* On the default display (X11, Wayland, ... whatever Mesa picked) a 1x1 pbuffer is
      * the portable choice; only the surfaceless platform goes without a surface. */
     if (!surfaceless || !has_extension(exts, "EGL_KHR_surfaceless_context")) {
-        const EGLint pbuffer_attribs[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};
+        const EGLint pbuffer_attribs[] = { EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE };
         s->surface = egl.CreatePbufferSurface(s->dpy, config, pbuffer_attribs);
         if (s->surface == EGL_NO_SURFACE) {
             snprintf(err, errlen, "EGL: eglCreatePbufferSurface(1x1): %s",

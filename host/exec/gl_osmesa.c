@@ -14,8 +14,8 @@
 #include <GL/osmesa.h>
 
 typedef OSMesaContext (*create_attribs_fn)(const int *attribs, OSMesaContext share);
-typedef GLboolean (*make_current_fn)(OSMesaContext ctx, void *buffer, GLenum type,
-                                     GLsizei width, GLsizei height);
+typedef GLboolean (*make_current_fn)(OSMesaContext ctx, void *buffer, GLenum type, GLsizei width,
+                                     GLsizei height);
 typedef OSMESAproc (*get_proc_fn)(const char *name);
 typedef void (*destroy_context_fn)(OSMesaContext ctx);
 
@@ -41,7 +41,7 @@ static int load_library(char *err, size_t errlen)
 {
     if (osm.lib)
         return 0;
-    static const char *const names[] = {"libOSMesa.so.8", "libOSMesa.so"};
+    static const char *const names[] = { "libOSMesa.so.8", "libOSMesa.so" };
     char first_error[256] = "";
     void *lib = NULL;
     for (size_t i = 0; i < sizeof names / sizeof names[0] && !lib; i++) {
@@ -53,8 +53,8 @@ static int load_library(char *err, size_t errlen)
         snprintf(err, errlen, "OSMesa: libOSMesa.so.8 not found (dlopen: %s)", first_error);
         return LG_ERR_DEVICE;
     }
-    static const char *const symbols[] = {"OSMesaCreateContextAttribs", "OSMesaMakeCurrent",
-                                          "OSMesaGetProcAddress", "OSMesaDestroyContext"};
+    static const char *const symbols[] = { "OSMesaCreateContextAttribs", "OSMesaMakeCurrent",
+                                           "OSMesaGetProcAddress", "OSMesaDestroyContext" };
     void *fn[4];
     for (size_t i = 0; i < 4; i++) {
         fn[i] = dlsym(lib, symbols[i]);
@@ -110,13 +110,20 @@ int lg_gl_osmesa_open(lg_gl_backend *out, char *err, size_t errlen)
         return LG_ERR_DEVICE;
     }
     const int attribs[] = {
-        OSMESA_FORMAT, OSMESA_RGBA,
-        OSMESA_DEPTH_BITS, 0,
-        OSMESA_STENCIL_BITS, 0,
-        OSMESA_ACCUM_BITS, 0,
-        OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-        OSMESA_CONTEXT_MAJOR_VERSION, 4,
-        OSMESA_CONTEXT_MINOR_VERSION, 5,
+        OSMESA_FORMAT,
+        OSMESA_RGBA,
+        OSMESA_DEPTH_BITS,
+        0,
+        OSMESA_STENCIL_BITS,
+        0,
+        OSMESA_ACCUM_BITS,
+        0,
+        OSMESA_PROFILE,
+        OSMESA_CORE_PROFILE,
+        OSMESA_CONTEXT_MAJOR_VERSION,
+        4,
+        OSMESA_CONTEXT_MINOR_VERSION,
+        5,
         0,
     };
     s->ctx = osm.create_attribs(attribs, NULL);

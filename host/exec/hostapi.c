@@ -23,7 +23,7 @@ static lg_pnode *P(lg_node *n)
 
 static void api_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap)
 {
-    int map[] = {LG_HERR, LG_HWARN, LG_HINFO, LG_HDEBUG};
+    int map[] = { LG_HERR, LG_HWARN, LG_HINFO, LG_HDEBUG };
     lg_node_vmsg(P(n), map[level <= LG_LOG_DEBUG ? level : LG_LOG_DEBUG], fmt, ap);
 }
 
@@ -62,13 +62,14 @@ static const lg_value *api_param(lg_node *n, uint32_t index)
     const lg_value *v = &p->c->params[index];
     /* without a set of outputs (lightgraph view) no node writes a file: the node reads ""
      * and so writes nothing, rather than rewriting it on every camera move */
-    if (p->schema->params[index].role == LG_ROLE_OUTPUT_FILE && !p->ex->opts.outputs &&
-        v->s && v->s[0]) {
-        static const lg_value none = {.type = LG_PARAM_PATH, .s = ""};
+    if (p->schema->params[index].role == LG_ROLE_OUTPUT_FILE && !p->ex->opts.outputs && v->s &&
+        v->s[0]) {
+        static const lg_value none = { .type = LG_PARAM_PATH, .s = "" };
         if (!p->viewer.output_file_noted)
-            lg_node_warnf(p, "%s '%s' is not written: the viewer writes no files but its "
+            lg_node_warnf(p,
+                          "%s '%s' is not written: the viewer writes no files but its "
                           "screenshots (lightgraph render writes it)",
-                       p->schema->params[index].key, v->s);
+                          p->schema->params[index].key, v->s);
         p->viewer.output_file_noted = true;
         return &none;
     }
@@ -81,8 +82,9 @@ static int32_t api_param_index(lg_node *n, const char *key)
     for (uint32_t i = 0; i < p->schema->n_params; i++)
         if (strcmp(p->schema->params[i].key, key) == 0)
             return (int32_t)i;
-    lg_node_errorf(p, "asks for parameter '%s', which its type does not declare (a plugin "
-                      "bug: the value would have been a silent 0)",
+    lg_node_errorf(p,
+                   "asks for parameter '%s', which its type does not declare (a plugin "
+                   "bug: the value would have been a silent 0)",
                    key ? key : "");
 #ifdef LG_DEBUG_ABORT
     abort(); /* -Ddebug_abort=true: stop where the bug is, for a debugger or a core dump */
@@ -104,8 +106,7 @@ static lg_resource *api_output(lg_node *n, uint32_t port)
 {
     lg_pnode *p = P(n);
     if (port >= p->schema->n_outputs) {
-        lg_node_errorf(p, "asks for output #%u; its type declares %u", port,
-                       p->schema->n_outputs);
+        lg_node_errorf(p, "asks for output #%u; its type declares %u", port, p->schema->n_outputs);
         return NULL;
     }
     return p->outputs[port];
@@ -182,7 +183,7 @@ static lg_resource *declare(lg_pnode *p, uint32_t port, lg_resource_kind kind, c
     }
     lg_resource_kind want = p->schema->outputs[port].kind;
     if (want != LG_KIND_ANY && want != kind) {
-        lg_node_errorf(p, "declares output '%s' as %s, but its port kind differs", 
+        lg_node_errorf(p, "declares output '%s' as %s, but its port kind differs",
                        p->schema->outputs[port].name, what);
         return NULL;
     }
@@ -208,11 +209,11 @@ static int check_size_limits(lg_pnode *p, const char *what, const char *dims, ui
 {
     uint64_t limit = lg_image_max_pixels();
     if (texels > limit)
-        return lg_node_errorf(p, "declares %s of %s: %llu pixels (every face and mip level "
-                                 "counted), over the limit of %llu pixels (raise it with "
-                                 "--max-pixels N or LIGHTGRAPH_MAX_PIXELS=N)",
-                              what, dims, (unsigned long long)texels,
-                              (unsigned long long)limit),
+        return lg_node_errorf(p,
+                              "declares %s of %s: %llu pixels (every face and mip level "
+                              "counted), over the limit of %llu pixels (raise it with "
+                              "--max-pixels N or LIGHTGRAPH_MAX_PIXELS=N)",
+                              what, dims, (unsigned long long)texels, (unsigned long long)limit),
                LG_ERR_INVALID;
     const char *bound;
     uint64_t avail = lg_memory_available(&bound);
@@ -220,8 +221,9 @@ static int check_size_limits(lg_pnode *p, const char *what, const char *dims, ui
         char need[32], have[32];
         lg_bytes_text(need, sizeof need, bytes);
         lg_bytes_text(have, sizeof have, avail);
-        return lg_node_errorf(p, "declares %s of %s: it needs %s (%llu bytes), more than the "
-                                 "%s (%llu bytes) of %s",
+        return lg_node_errorf(p,
+                              "declares %s of %s: it needs %s (%llu bytes), more than the "
+                              "%s (%llu bytes) of %s",
                               what, dims, need, (unsigned long long)bytes, have,
                               (unsigned long long)avail, bound),
                LG_ERR_NOMEM;
@@ -234,8 +236,9 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
 {
     if (!d || d->width == 0 || d->height == 0 || d->width > MAX_DIM || d->height > MAX_DIM ||
         (uint64_t)d->width * d->height > (1ull << 28))
-        return lg_node_errorf(p, "declares %s of %ux%u (each side must be 1..%u, at most 2^28 "
-                                 "pixels)",
+        return lg_node_errorf(p,
+                              "declares %s of %ux%u (each side must be 1..%u, at most 2^28 "
+                              "pixels)",
                               what, d ? d->width : 0, d ? d->height : 0, MAX_DIM),
                LG_ERR_INVALID;
     bool depth_only = (d->flags & LG_IMAGE_DEPTH_ONLY) != 0;
@@ -249,8 +252,8 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
     while (m >>= 1)
         maxlev++;
     if (d->levels > maxlev)
-        return lg_node_errorf(p, "declares %s of %ux%u with %u mip levels; at most %u exist",
-                              what, d->width, d->height, d->levels, maxlev),
+        return lg_node_errorf(p, "declares %s of %ux%u with %u mip levels; at most %u exist", what,
+                              d->width, d->height, d->levels, maxlev),
                LG_ERR_INVALID;
     if ((d->flags & LG_IMAGE_CUBE) && d->width != d->height)
         return lg_node_errorf(p, "declares %s as a cube map with %ux%u faces; faces are square",
@@ -258,8 +261,9 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
                LG_ERR_INVALID;
     if ((d->flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY)) &&
         ((d->flags & LG_IMAGE_CUBE) || d->levels > 1))
-        return lg_node_errorf(p, "declares %s with a depth plane and a cube or mip levels; "
-                                 "depth planes are 2D with one level",
+        return lg_node_errorf(p,
+                              "declares %s with a depth plane and a cube or mip levels; "
+                              "depth planes are 2D with one level",
                               what),
                LG_ERR_INVALID;
     uint32_t levels = d->levels ? d->levels : 1;
@@ -270,8 +274,8 @@ static int check_image_desc(lg_pnode *p, const lg_image_desc *d, const char *wha
     if (d->flags & (LG_IMAGE_DEPTH | LG_IMAGE_DEPTH_ONLY))
         bytes += (uint64_t)d->width * d->height * sizeof(float);
     char dims[96];
-    snprintf(dims, sizeof dims, "%ux%u%s%s", d->width, d->height,
-             cube ? " (a cube: 6 faces)" : "", depth_only ? " (depth)" : "");
+    snprintf(dims, sizeof dims, "%ux%u%s%s", d->width, d->height, cube ? " (a cube: 6 faces)" : "",
+             depth_only ? " (depth)" : "");
     if (levels > 1) {
         size_t len = strlen(dims);
         snprintf(dims + len, sizeof dims - len, " with %u mip levels", levels);
@@ -329,8 +333,9 @@ static int check_volume_desc(lg_pnode *p, const lg_volume_desc *d, const char *w
     if (!d || !d->width || !d->height || !d->depth || d->width > 4096 || d->height > 4096 ||
         d->depth > 4096 || (uint64_t)d->width * d->height * d->depth > (1ull << 28) ||
         d->format < LG_FORMAT_RGBA32F || d->format > LG_FORMAT_RGBE8)
-        return lg_node_errorf(p, "declares %s of %ux%ux%u (each side 1..4096, at most 2^28 "
-                                 "cells, a known format)",
+        return lg_node_errorf(p,
+                              "declares %s of %ux%ux%u (each side 1..4096, at most 2^28 "
+                              "cells, a known format)",
                               what, d ? d->width : 0, d ? d->height : 0, d ? d->depth : 0),
                LG_ERR_INVALID;
     uint64_t cells = (uint64_t)d->width * d->height * d->depth;
@@ -380,7 +385,8 @@ static int api_declare_payload(lg_node *n, uint32_t port, lg_resource_kind kind,
         kind <= LG_KIND_ANY || kind >= LG_KIND_COUNT_ || lg_kind_is_composite(kind)) {
         lg_node_errorf(p, "declare_payload: kind %s is host-managed%s", lg_kind_name(kind),
                        lg_kind_is_composite(kind) ? " (composite since ABI 2.0: "
-                                                    "declare_composite)" : " or unknown");
+                                                    "declare_composite)"
+                                                  : " or unknown");
         if (payload && free_payload)
             free_payload(payload);
         return LG_ERR_INVALID;
@@ -454,8 +460,7 @@ static int api_map_gl(lg_node *n, const lg_resource *r, unsigned access, uint32_
     return lg_resource_map_gl(P(n)->ex, P(n), (lg_resource *)r, access, name, depth);
 }
 
-static int api_map_cl(lg_node *n, const lg_resource *r, unsigned access, void **mem,
-                      void **depth)
+static int api_map_cl(lg_node *n, const lg_resource *r, unsigned access, void **mem, void **depth)
 {
     if (!r)
         return lg_node_errorf(P(n), "map_cl: NULL resource"), LG_ERR_INVALID;
@@ -488,8 +493,7 @@ static void *api_cl_device(lg_node *n)
     return lg_exec_need_cl(p->ex, p) ? NULL : lg_cl_device_id(p->ex->dev.cl);
 }
 
-static void *api_cl_program(lg_node *n, const char *name, const char *source,
-                            const char *options)
+static void *api_cl_program(lg_node *n, const char *name, const char *source, const char *options)
 {
     lg_pnode *p = P(n);
     if (lg_exec_need_cl(p->ex, p))
@@ -510,7 +514,8 @@ static void api_cl_profile(lg_node *n, void *event)
         return;
     if (p->run.n_cl_events == p->run.cap_cl_events) {
         p->run.cap_cl_events = p->run.cap_cl_events ? p->run.cap_cl_events * 2 : 8;
-        p->run.cl_events = lg_xrealloc(p->run.cl_events, p->run.cap_cl_events * sizeof *p->run.cl_events);
+        p->run.cl_events = lg_xrealloc(p->run.cl_events,
+                                       p->run.cap_cl_events * sizeof *p->run.cl_events);
     }
     p->run.cl_events[p->run.n_cl_events++] = event; /* the host releases it after reading it */
 }
@@ -568,21 +573,19 @@ static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
         *h = P(n)->ex->opts.height;
 }
 
-static int api_payload_gl_buffer(lg_node *n, const lg_resource *r, uint32_t slot,
-                                 const void *data, size_t size, uint32_t *buffer)
+static int api_payload_gl_buffer(lg_node *n, const lg_resource *r, uint32_t slot, const void *data,
+                                 size_t size, uint32_t *buffer)
 {
     if (!r || !buffer)
-        return lg_node_errorf(P(n), "payload_gl_buffer: NULL resource or result"),
-               LG_ERR_INVALID;
+        return lg_node_errorf(P(n), "payload_gl_buffer: NULL resource or result"), LG_ERR_INVALID;
     return lg_resource_payload_gl(P(n)->ex, P(n), (lg_resource *)r, slot, data, size, buffer);
 }
 
-static int api_payload_cl_buffer(lg_node *n, const lg_resource *r, uint32_t slot,
-                                 const void *data, size_t size, void **mem)
+static int api_payload_cl_buffer(lg_node *n, const lg_resource *r, uint32_t slot, const void *data,
+                                 size_t size, void **mem)
 {
     if (!r || !mem)
-        return lg_node_errorf(P(n), "payload_cl_buffer: NULL resource or result"),
-               LG_ERR_INVALID;
+        return lg_node_errorf(P(n), "payload_cl_buffer: NULL resource or result"), LG_ERR_INVALID;
     return lg_resource_payload_cl(P(n)->ex, P(n), (lg_resource *)r, slot, data, size, mem);
 }
 
@@ -597,8 +600,9 @@ static int api_declare_composite(lg_node *n, uint32_t port, const lg_part_spec *
     lg_resource_kind kind = p->schema->outputs[port].kind;
     const lg_kind_desc *kd = lg_kind_describe(kind);
     if (!lg_kind_is_composite(kind))
-        return lg_node_errorf(p, "declare_composite: output '%s' is of kind %s, which has no "
-                                 "parts",
+        return lg_node_errorf(p,
+                              "declare_composite: output '%s' is of kind %s, which has no "
+                              "parts",
                               p->schema->outputs[port].name, lg_kind_name(kind)),
                LG_ERR_INVALID;
     if (!parts && n_parts)
@@ -608,7 +612,7 @@ static int api_declare_composite(lg_node *n, uint32_t port, const lg_part_spec *
         const lg_part_spec *sp = &parts[i];
         int32_t idx = lg_kind_part_index(kind, sp->name);
         if (idx < 0) {
-            lg_str list = {0};
+            lg_str list = { 0 };
             for (uint32_t j = 0; j < kd->n_parts; j++)
                 lg_str_addf(&list, "%s%s", j ? ", " : "", kd->parts[j].name);
             lg_node_errorf(p, "declare_composite: a %s has no part '%s' (parts: %s)", kd->name,
@@ -622,8 +626,9 @@ static int api_declare_composite(lg_node *n, uint32_t port, const lg_part_spec *
                        LG_ERR_INVALID;
         lg_part_type want = kd->parts[idx].type;
         if (sp->type != want)
-            return lg_node_errorf(p, "declare_composite: part '%s' of a %s is of type %d, "
-                                     "declared as %d",
+            return lg_node_errorf(p,
+                                  "declare_composite: part '%s' of a %s is of type %d, "
+                                  "declared as %d",
                                   sp->name, kd->name, (int)want, (int)sp->type),
                    LG_ERR_INVALID;
         char what[160];
@@ -673,12 +678,12 @@ static const lg_resource *api_part(lg_node *n, const lg_resource *r, const char 
         return lg_node_errorf(p, "part('%s'): NULL resource", name ? name : ""), NULL;
     const lg_kind_desc *kd = lg_kind_describe(r->kind);
     if (!lg_kind_is_composite(r->kind))
-        return lg_node_errorf(p, "part('%s'): a resource of kind %s has no parts",
-                              name ? name : "", kd ? kd->name : "?"),
+        return lg_node_errorf(p, "part('%s'): a resource of kind %s has no parts", name ? name : "",
+                              kd ? kd->name : "?"),
                NULL;
     int32_t idx = lg_kind_part_index(r->kind, name);
     if (idx < 0) {
-        lg_str list = {0};
+        lg_str list = { 0 };
         for (uint32_t j = 0; j < kd->n_parts; j++)
             lg_str_addf(&list, "%s%s", j ? ", " : "", kd->parts[j].name);
         lg_node_errorf(p, "part('%s'): a %s has no such part (parts: %s)", name ? name : "",
@@ -689,8 +694,9 @@ static const lg_resource *api_part(lg_node *n, const lg_resource *r, const char 
 #ifdef LG_DEBUG_CHECKS
     if (!lg_resource_reachable(p, r)) {
         const lg_pnode *src = r->producer;
-        return lg_node_errorf(p, "asks for part '%s' of a %s made by node '%s', which it did "
-                                 "not receive through an input",
+        return lg_node_errorf(p,
+                              "asks for part '%s' of a %s made by node '%s', which it did "
+                              "not receive through an input",
                               name, kd->name, src ? src->pub.name : "?"),
                NULL;
     }
@@ -728,8 +734,10 @@ static int api_parallel_for(lg_node *n, size_t count, size_t grain,
         return lg_node_errorf(p, "parallel_for: %s", !fn ? "fn is NULL" : "grain is 0"),
                LG_ERR_INVALID;
     if (count / grain >= UINT32_MAX)
-        return lg_node_errorf(p, "parallel_for: %zu indices in chunks of %zu make more than "
-                                 "2^32 - 1 chunks; use a larger grain", count, grain),
+        return lg_node_errorf(p,
+                              "parallel_for: %zu indices in chunks of %zu make more than "
+                              "2^32 - 1 chunks; use a larger grain",
+                              count, grain),
                LG_ERR_INVALID;
     if (lg_pool_run(pool_for(p), count, grain, fn, ctx))
         return lg_node_errorf(p, "parallel_for(%zu, %zu) refused by the pool", count, grain),
@@ -746,8 +754,9 @@ static int api_output_file_write(lg_node *n, const char *key, const void *data, 
         if (strcmp(p->schema->params[i].key, key) == 0)
             pd = &p->schema->params[i];
     if (!pd || pd->role != LG_ROLE_OUTPUT_FILE || pd->type != LG_PARAM_PATH)
-        return lg_node_errorf(p, "output_file_write: parameter '%s' is not a file the node "
-                                 "writes (a PATH parameter with .role = LG_ROLE_OUTPUT_FILE)",
+        return lg_node_errorf(p,
+                              "output_file_write: parameter '%s' is not a file the node "
+                              "writes (a PATH parameter with .role = LG_ROLE_OUTPUT_FILE)",
                               key ? key : "(null)"),
                LG_ERR_INVALID;
     if (!data && size)
@@ -761,8 +770,10 @@ static int api_output_file_write(lg_node *n, const char *key, const void *data, 
                LG_ERR_INVALID;
     char err[1024];
     if (!lg_outputs_temp(outs, path))
-        return lg_node_errorf(p, "%s: '%s' was not checked as an output before the run (a "
-                                 "host bug)", key, path),
+        return lg_node_errorf(p,
+                              "%s: '%s' was not checked as an output before the run (a "
+                              "host bug)",
+                              key, path),
                LG_ERR_INVALID;
     if (lg_outputs_write_data(outs, path, data, size, err, sizeof err))
         return lg_node_errorf(p, "%s: %s", key, err), LG_ERR_IO;
@@ -775,8 +786,10 @@ static void api_declare_work(lg_node *n, double units, double seconds, const cha
     /* a NaN or negative estimate is a plugin bug: shown as such rather than summed into a
      * warning that makes no sense */
     if (!(units >= 0) || !(seconds >= 0) || isinf(units) || isinf(seconds)) {
-        lg_node_errorf(p, "declare_work: units = %g, seconds = %g; both must be finite and "
-                          ">= 0 (a plugin bug)", units, seconds);
+        lg_node_errorf(p,
+                       "declare_work: units = %g, seconds = %g; both must be finite and "
+                       ">= 0 (a plugin bug)",
+                       units, seconds);
         return;
     }
     p->plan.work_declared = true;
@@ -802,9 +815,10 @@ static void api_account_free(lg_node *n, uint64_t bytes)
 {
     lg_pnode *p = P(n);
     if (bytes > p->prof.bytes_plugin_live) {
-        lg_log(n, LG_LOG_WARN, "account_free: releasing %llu bytes with %llu counted as live (a "
-                               "plugin bug)", (unsigned long long)bytes,
-               (unsigned long long)p->prof.bytes_plugin_live);
+        lg_log(n, LG_LOG_WARN,
+               "account_free: releasing %llu bytes with %llu counted as live (a "
+               "plugin bug)",
+               (unsigned long long)bytes, (unsigned long long)p->prof.bytes_plugin_live);
         p->prof.bytes_plugin_live = 0;
         return;
     }

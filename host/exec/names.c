@@ -46,8 +46,7 @@ static bool lower_or_digit(char c)
 }
 
 /* Writes the reason into why (when there is room) and returns false. */
-__attribute__((format(printf, 3, 4))) static bool refuse(char *why, size_t n, const char *fmt,
-                                                         ...)
+__attribute__((format(printf, 3, 4))) static bool refuse(char *why, size_t n, const char *fmt, ...)
 {
     if (why && n) {
         va_list ap;
@@ -87,8 +86,7 @@ bool lg_name_rule_ok(const char *plugin_name, const char *type_name, char *why, 
                           plugin_name, (int)vlen, plugin_name);
     for (const char *c = us + 1; *c; c++)
         if (!lower_or_digit(*c) && *c != '_')
-            return refuse(why, n, "plugin name '%s' is not made of [a-z0-9_] only",
-                          plugin_name);
+            return refuse(why, n, "plugin name '%s' is not made of [a-z0-9_] only", plugin_name);
     if (vlen == 2 && strncmp(plugin_name, "lg", 2) == 0)
         return refuse(why, n,
                       "plugin name '%s': the vendor prefix 'lg' is lightgraph's own; choose "

@@ -28,7 +28,7 @@ struct lg_outputs {
     size_t n;
 };
 
-/* ---- signals ----------------------------------------------------------------------------- */
+/* ---- signals --------------------------------------------------------------------------------- */
 
 /* Every temporary of every live set, for the signal handler. The main thread changes the
  * list and writes files only inside busy(): a signal that arrives then (on any thread: the
@@ -41,7 +41,7 @@ static bool g_installed;
 /* a forked child (a plugin scanner) that inherits the handler removes nothing */
 static pid_t g_pid;
 static volatile sig_atomic_t g_busy, g_pending;
-static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP};
+static const int g_sigs[] = { SIGINT, SIGTERM, SIGHUP };
 
 /* Async-signal-safe (see outputs.h). */
 void lg_temp_remove_all(void)
@@ -146,7 +146,7 @@ bool lg_temp_owner_dead(long pid)
     return pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
 }
 
-/* ---- stale temporaries ------------------------------------------------------------------- */
+/* ---- stale temporaries ----------------------------------------------------------------------- */
 
 /* Whether `s` starts with six letters or digits (what mkstemp puts for XXXXXX). */
 static bool six_alnum(const char *s)
@@ -206,7 +206,7 @@ static void remove_stale(const char *dir, const char *prefix, const char *ext)
     closedir(d);
 }
 
-/* ---- the set ----------------------------------------------------------------------------- */
+/* ---- the set --------------------------------------------------------------------------------- */
 
 static mode_t new_file_mode(void)
 {
@@ -217,9 +217,9 @@ static mode_t new_file_mode(void)
 
 static const char *file_type(mode_t m)
 {
-    return S_ISFIFO(m)  ? "a FIFO"
-           : S_ISCHR(m) ? "a character device"
-           : S_ISBLK(m) ? "a block device"
+    return S_ISFIFO(m)   ? "a FIFO"
+           : S_ISCHR(m)  ? "a character device"
+           : S_ISBLK(m)  ? "a block device"
            : S_ISSOCK(m) ? "a socket"
                          : "not a regular file";
 }
@@ -267,8 +267,8 @@ int lg_outputs_check(const char *path, lg_output_kind kind, char *err, size_t er
                      "create directories; create it first)",
                      path, dir);
         else
-            snprintf(err, errlen, "cannot write '%s': cannot use the directory '%s': %s", path,
-                     dir, strerror(errno));
+            snprintf(err, errlen, "cannot write '%s': cannot use the directory '%s': %s", path, dir,
+                     strerror(errno));
         goto out;
     }
     if (!S_ISDIR(st.st_mode)) {
@@ -295,8 +295,8 @@ out:
     return rc;
 }
 
-static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char *owner,
-               char *err, size_t errlen)
+static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char *owner, char *err,
+               size_t errlen)
 {
     if (path && path[0]) {
         const entry *have = find(o, path);
@@ -325,8 +325,8 @@ static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char 
     size_t stem = strlen(base) - strlen(ext);
     char *prefix = lg_xasprintf(".%.*s.lgtmp-", (int)(stem > 100 ? 100 : stem), base);
     remove_stale(dir, prefix, ext);
-    char *tmp = lg_xasprintf("%.*s%s%ld-XXXXXX%s", (int)(base - path), path, prefix,
-                             (long)getpid(), ext);
+    char *tmp = lg_xasprintf("%.*s%s%ld-XXXXXX%s", (int)(base - path), path, prefix, (long)getpid(),
+                             ext);
     free(prefix);
     int fd = mkostemps(tmp, (int)strlen(ext), O_CLOEXEC);
     if (fd < 0) {
@@ -352,8 +352,7 @@ out:
     return rc;
 }
 
-int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
-                   size_t errlen)
+int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err, size_t errlen)
 {
     return add(o, path, kind, NULL, err, errlen);
 }
@@ -389,8 +388,8 @@ int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
     return rc ? -1 : 0;
 }
 
-int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, size_t n,
-                          char *err, size_t errlen)
+int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, size_t n, char *err,
+                          size_t errlen)
 {
     entry *e = find(o, path);
     if (!e) {
@@ -524,8 +523,9 @@ bool lg_size_over_limit(const char *cmd, uint32_t w, uint32_t h)
     uint64_t px = (uint64_t)w * h, limit = lg_image_max_pixels();
     if (px <= limit)
         return false;
-    fprintf(stderr, "lightgraph %s: --size %ux%u is %llu pixels, over the limit of %llu pixels "
-                    "(raise it with --max-pixels N or LIGHTGRAPH_MAX_PIXELS=N); nothing was run\n",
+    fprintf(stderr,
+            "lightgraph %s: --size %ux%u is %llu pixels, over the limit of %llu pixels "
+            "(raise it with --max-pixels N or LIGHTGRAPH_MAX_PIXELS=N); nothing was run\n",
             cmd, w, h, (unsigned long long)px, (unsigned long long)limit);
     return true;
 }

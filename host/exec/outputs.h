@@ -55,8 +55,7 @@ lg_outputs *lg_outputs_new(void);
  * returns 0 and keeps the one temporary (a sweep writes a run's image once per repeat).
  * Returns 0, or -1 with the reason in err ("cannot write 'out/a.png': the directory 'out' does
  * not exist (lightgraph does not create directories)"). */
-int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err,
-                   size_t errlen);
+int lg_outputs_add(lg_outputs *o, const char *path, lg_output_kind kind, char *err, size_t errlen);
 
 /* A file a node writes (a parameter marked LG_ROLE_OUTPUT_FILE), checked and reserved like
  * an LG_OUTPUT_FILE. `owner` says whose it is ("node 'vol' (mesh_file)"; copied): a
@@ -81,8 +80,8 @@ const char *lg_outputs_temp(const lg_outputs *o, const char *path);
  * Return 0, or -1 with the reason in err. */
 int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
                            const lg_image_write_opts *wo, char *err, size_t errlen);
-int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, size_t n,
-                          char *err, size_t errlen);
+int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, size_t n, char *err,
+                          size_t errlen);
 
 /* Takes `path` out of the set and removes its temporary (an optional output that could not
  * be made, such as a plot without gnuplot). */

@@ -35,8 +35,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     }
     fprintf(f, "profile (%u frame%s):\n", ex->opts.frames, ex->opts.frames == 1 ? "" : "s");
     fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10s  %10s  %11s  %11s  %11s  %s\n", wn, "node", wt,
-            "type", "device", "runs", "cpu ms", "gpu ms", "allocated", "plugin", "moved",
-            "cache");
+            "type", "device", "runs", "cpu ms", "gpu ms", "allocated", "plugin", "moved", "cache");
     double tc = 0, tg = 0;
     uint64_t ta = 0, tp = 0, tm = 0;
     for (uint32_t t = 0; t < c->n_nodes; t++) {
@@ -80,8 +79,8 @@ void lg_profile_print(lg_exec *ex, FILE *f)
     lg_format_bytes(a, sizeof a, ta);
     lg_format_bytes(pl, sizeof pl, tp);
     lg_format_bytes(m, sizeof m, tm);
-    fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s  %11s\n", wn, "total", wt,
-            "", "", "", tc, tg, a, pl, m);
+    fprintf(f, "  %-*s  %-*s  %-6s  %5s  %10.3f  %10.3f  %11s  %11s  %11s\n", wn, "total", wt, "",
+            "", "", tc, tg, a, pl, m);
     for (uint32_t t = 0; t < c->n_nodes; t++)
         if (ex->nodes[c->topo[t]]->prof.gpu_unmeasured) {
             fprintf(f, "  n/a: the GL timer query gave no usable value (llvmpipe times only "
@@ -97,7 +96,7 @@ void lg_profile_print(lg_exec *ex, FILE *f)
 int lg_profile_write_json(lg_exec *ex, const char *path)
 {
     const lg_checked *c = ex->checked;
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_str_add(&s, "{\n  \"graph\": ");
     lg_str_add_json(&s, ex->opts.graph_path ? ex->opts.graph_path : "");
     lg_str_addf(&s, ",\n  \"frames\": %u,\n  \"width\": %u,\n  \"height\": %u,\n", ex->opts.frames,
@@ -114,22 +113,25 @@ int lg_profile_write_json(lg_exec *ex, const char *path)
         lg_str_add(&s, ", \"type\": ");
         lg_str_add_json(&s, n->schema->name);
         lg_str_addf(&s, ", \"state\": \"%s\"",
-                    n->plan.state == LG_STATE_KEPT ? "kept" : n->plan.state == LG_STATE_CULLED ? "culled"
-                                                                                     : "gated");
+                    n->plan.state == LG_STATE_KEPT     ? "kept"
+                    : n->plan.state == LG_STATE_CULLED ? "culled"
+                                                       : "gated");
         if (n->plan.state == LG_STATE_KEPT)
-            lg_str_addf(&s,
-                        ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
-                        "%.6f, \"first_cpu_ms\": %.6f, \"min_cpu_ms\": %.6f, \"gpu_ms\": %.6f, "
-                        "\"gpu_measured\": %s, \"bytes_allocated\": %llu, \"resource_bytes\": %llu, "
-                        "\"plugin_bytes_live\": %llu, \"plugin_bytes_peak\": %llu, "
-                        "\"bytes_moved\": %llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
-                        dev(n), n->run.per_frame ? "true" : "false", (unsigned long long)n->prof.runs,
-                        n->prof.cpu_ms, n->prof.first_cpu_ms, n->prof.min_cpu_ms, n->prof.gpu_ms, n->prof.gpu_unmeasured ? "false" : "true",
-                        (unsigned long long)allocated(n), (unsigned long long)n->prof.bytes_alloc,
-                        (unsigned long long)n->prof.bytes_plugin_live,
-                        (unsigned long long)n->prof.bytes_plugin_peak,
-                        (unsigned long long)n->prof.bytes_moved, (unsigned long long)n->prof.cache_hits,
-                        (unsigned long long)n->prof.cache_misses);
+            lg_str_addf(
+                &s,
+                ", \"device\": \"%s\", \"per_frame\": %s, \"runs\": %llu, \"cpu_ms\": "
+                "%.6f, \"first_cpu_ms\": %.6f, \"min_cpu_ms\": %.6f, \"gpu_ms\": %.6f, "
+                "\"gpu_measured\": %s, \"bytes_allocated\": %llu, \"resource_bytes\": %llu, "
+                "\"plugin_bytes_live\": %llu, \"plugin_bytes_peak\": %llu, "
+                "\"bytes_moved\": %llu, \"cache_hits\": %llu, \"cache_misses\": %llu",
+                dev(n), n->run.per_frame ? "true" : "false", (unsigned long long)n->prof.runs,
+                n->prof.cpu_ms, n->prof.first_cpu_ms, n->prof.min_cpu_ms, n->prof.gpu_ms,
+                n->prof.gpu_unmeasured ? "false" : "true", (unsigned long long)allocated(n),
+                (unsigned long long)n->prof.bytes_alloc,
+                (unsigned long long)n->prof.bytes_plugin_live,
+                (unsigned long long)n->prof.bytes_plugin_peak,
+                (unsigned long long)n->prof.bytes_moved, (unsigned long long)n->prof.cache_hits,
+                (unsigned long long)n->prof.cache_misses);
         else {
             lg_str_add(&s, ", \"reason\": ");
             lg_str_add_json(&s, n->plan.reason);

@@ -20,7 +20,7 @@
 #include "lightgraph/file.h"
 #include "exec/names.h"
 
-/* ---- descriptor validation ----------------------------------------------------------- */
+/* ---- descriptor validation ------------------------------------------------------------------- */
 
 static bool valid_ident(const char *s)
 {
@@ -46,10 +46,10 @@ static bool enum_has(const lg_param_desc *p, int32_t i)
     return true;
 }
 
-#define FAIL(...)                                                                          \
-    do {                                                                                   \
-        snprintf(err, errlen, __VA_ARGS__);                                                \
-        return -1;                                                                         \
+#define FAIL(...)                                                                                  \
+    do {                                                                                           \
+        snprintf(err, errlen, __VA_ARGS__);                                                        \
+        return -1;                                                                                 \
     } while (0)
 
 static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *err, size_t errlen)
@@ -65,10 +65,10 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
              p->key);
     /* an output file is written only where the graph names one: a default would write it
      * on every render without anyone asking */
-    if (p->role == LG_ROLE_OUTPUT_FILE &&
-        (p->type != LG_PARAM_PATH || (p->def.s && p->def.s[0])))
+    if (p->role == LG_ROLE_OUTPUT_FILE && (p->type != LG_PARAM_PATH || (p->def.s && p->def.s[0])))
         FAIL("node type '%s', parameter '%s': an output file (LG_ROLE_OUTPUT_FILE) is a PATH "
-             "parameter whose default is \"\"", t->name, p->key);
+             "parameter whose default is \"\"",
+             t->name, p->key);
     bool ranged = p->min < p->max;
     switch (p->type) {
     case LG_PARAM_INT:
@@ -95,8 +95,8 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
                 FAIL("node type '%s', parameter '%s': default '%s' is not one of its values",
                      t->name, p->key, p->def.s);
         } else if (p->def.e < 0 || p->def.e >= n) {
-            FAIL("node type '%s', parameter '%s': default index %d out of range", t->name,
-                 p->key, (int)p->def.e);
+            FAIL("node type '%s', parameter '%s': default index %d out of range", t->name, p->key,
+                 (int)p->def.e);
         }
         break;
     }
@@ -109,23 +109,25 @@ static int validate_param(const lg_node_type *t, const lg_param_desc *p, char *e
             n++;
         if (n == 0 || p->enum_values[n])
             FAIL("node type '%s', parameter '%s': a colour's keyword list is empty or longer "
-                 "than 256", t->name, p->key);
+                 "than 256",
+                 t->name, p->key);
         for (int i = 0; i < n; i++)
             if (!valid_ident(p->enum_values[i]))
                 FAIL("node type '%s', parameter '%s': keyword %d is not a bare word "
-                     "[a-z_][a-z0-9_]*", t->name, p->key, i);
+                     "[a-z_][a-z0-9_]*",
+                     t->name, p->key, i);
         if (p->def.e < -1 || p->def.e >= n)
             FAIL("node type '%s', parameter '%s': default keyword index %d out of range (-1 "
-                 "for the colour .def.v, 0 .. %d for a keyword)", t->name, p->key,
-                 (int)p->def.e, n - 1);
+                 "for the colour .def.v, 0 .. %d for a keyword)",
+                 t->name, p->key, (int)p->def.e, n - 1);
         for (int i = 0; p->def.e == -1 && ranged && i < 3; i++)
             if (!(p->def.v[i] >= p->min && p->def.v[i] <= p->max))
                 FAIL("node type '%s', parameter '%s': default colour component %d = %g outside "
-                     "[%g, %g]", t->name, p->key, i, p->def.v[i], p->min, p->max);
+                     "[%g, %g]",
+                     t->name, p->key, i, p->def.v[i], p->min, p->max);
         break;
     }
-    default:
-        break;
+    default: break;
     }
     return 0;
 }
@@ -177,16 +179,15 @@ static int check_desc(const lg_plugin_desc *d, bool live, char *err, size_t errl
             if (!live && p->type == LG_PARAM_ENUM &&
                 (!p->def.s || p->def.e < 0 || p->def.e >= 256 || !enum_has(p, p->def.e) ||
                  strcmp(p->enum_values[p->def.e], p->def.s) != 0))
-                FAIL("node type '%s', parameter '%s': default name and index disagree",
-                     t->name, p->key);
+                FAIL("node type '%s', parameter '%s': default name and index disagree", t->name,
+                     p->key);
             for (uint32_t j = 0; j < k; j++)
                 if (strcmp(t->params[j].key, t->params[k].key) == 0)
                     FAIL("node type '%s': parameter '%s' declared twice", t->name,
                          t->params[k].key);
         }
         for (uint32_t k = 0; k < t->n_inputs + t->n_outputs; k++) {
-            const lg_port_desc *p =
-                k < t->n_inputs ? &t->inputs[k] : &t->outputs[k - t->n_inputs];
+            const lg_port_desc *p = k < t->n_inputs ? &t->inputs[k] : &t->outputs[k - t->n_inputs];
             if (!valid_ident(p->name))
                 FAIL("node type '%s': a port has an invalid name", t->name);
             if ((int)p->kind < 0 || p->kind >= LG_KIND_COUNT_)
@@ -215,7 +216,7 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
 }
 #undef FAIL
 
-/* ---- serialisation of a descriptor (child -> parent) ------------------------------------ */
+/* ---- serialisation of a descriptor (child -> parent) ----------------------------------------- */
 
 static void put_list(lg_str *b, const char *const *l)
 {
@@ -258,13 +259,16 @@ static void put_desc(lg_str *b, const lg_plugin_desc *d)
             case LG_PARAM_BOOL: v.b = p->def.b; break;
             case LG_PARAM_INT: v.i = p->def.i; break;
             case LG_PARAM_FLOAT: v.f = p->def.f; break;
-            case LG_PARAM_VEC2: case LG_PARAM_VEC3: case LG_PARAM_COLOR:
+            case LG_PARAM_VEC2:
+            case LG_PARAM_VEC3:
+            case LG_PARAM_COLOR:
                 memcpy(v.v, p->def.v, sizeof v.v);
                 if (p->type == LG_PARAM_COLOR && p->enum_values) /* keyword index or -1 */
                     v.e = p->def.e;
                 break;
             case LG_PARAM_INT3: memcpy(v.i3, p->def.i3, sizeof v.i3); break;
-            case LG_PARAM_STRING: case LG_PARAM_PATH: sv = p->def.s; break;
+            case LG_PARAM_STRING:
+            case LG_PARAM_PATH: sv = p->def.s; break;
             case LG_PARAM_PATH_LIST: break; /* always empty (validate_param) */
             case LG_PARAM_ENUM:
                 v.e = p->def.e;
@@ -315,10 +319,10 @@ static const char *const *get_list(lg_wire_reader *r)
     return (const char *const *)l;
 }
 
-#define DFAIL(...)                                                                         \
-    do {                                                                                   \
-        snprintf(err, errlen, __VA_ARGS__);                                                \
-        return -1;                                                                         \
+#define DFAIL(...)                                                                                 \
+    do {                                                                                           \
+        snprintf(err, errlen, __VA_ARGS__);                                                        \
+        return -1;                                                                                 \
     } while (0)
 
 /* Decodes what put_desc wrote into p. Each count is set together with its array, so that
@@ -374,7 +378,9 @@ static int get_desc(lg_wire_reader *r, lg_plugin *p, char *err, size_t errlen)
             }
             case LG_PARAM_INT: def.i = raw.i; break;
             case LG_PARAM_FLOAT: def.f = raw.f; break;
-            case LG_PARAM_VEC2: case LG_PARAM_VEC3: case LG_PARAM_COLOR:
+            case LG_PARAM_VEC2:
+            case LG_PARAM_VEC3:
+            case LG_PARAM_COLOR:
                 memcpy(def.v, raw.v, sizeof def.v);
                 if (q->type == LG_PARAM_COLOR)
                     def.e = raw.e; /* the keyword index (validated with the list) */
@@ -423,7 +429,7 @@ static int get_desc(lg_wire_reader *r, lg_plugin *p, char *err, size_t errlen)
 int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
-    lg_wire_reader r = {buf, buf + n, false};
+    lg_wire_reader r = { buf, buf + n, false };
     char why[512];
     int rc = get_desc(&r, p, why, sizeof why);
     if (rc == 0 && r.bad) {
@@ -462,7 +468,7 @@ void lg_registry_encode(lg_str *b, const lg_plugin_desc *d)
     put_desc(b, d);
 }
 
-/* ---- scanning --------------------------------------------------------------------------- */
+/* ---- scanning -------------------------------------------------------------------------------- */
 
 static void refuse(lg_registry *r, const char *path, const char *reason)
 {
@@ -489,7 +495,7 @@ static void write_all(int fd, const char *p, size_t n)
 /* In the child: load, validate, serialise. Status byte 'O' + descriptor, or 'E' + reason. */
 static void scan_child(const char *path, int fd)
 {
-    lg_str b = {0};
+    lg_str b = { 0 };
     char err[512];
     void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!h) {
@@ -602,7 +608,7 @@ static const char *read_scan_result(int fd, double t0, double timeout, lg_str *b
         double left = timeout - (lg_mono_now() - t0);
         if (left <= 0)
             return "time";
-        struct pollfd pfd = {fd, POLLIN, 0};
+        struct pollfd pfd = { fd, POLLIN, 0 };
         int pr = poll(&pfd, 1, (int)ceil(left * 1e3));
         if (pr < 0 && errno == EINTR)
             continue;
@@ -627,14 +633,15 @@ static const char *read_scan_result(int fd, double t0, double timeout, lg_str *b
 static int scan_verdict(int status, const lg_str *b, lg_plugin *out, char **why_out)
 {
     if (WIFSIGNALED(status)) {
-        *why_out = lg_xasprintf("crashed while being scanned (signal %d, %s)",
-                                WTERMSIG(status), strsignal(WTERMSIG(status)));
+        *why_out = lg_xasprintf("crashed while being scanned (signal %d, %s)", WTERMSIG(status),
+                                strsignal(WTERMSIG(status)));
         return -1;
     }
     if (b->len == 0 && WIFEXITED(status) && WEXITSTATUS(status) != 0) {
         /* a sanitizer's handler turns a crash into an exit status */
         *why_out = lg_xasprintf("crashed while being scanned (the scanner exited with "
-                                "status %d)", WEXITSTATUS(status));
+                                "status %d)",
+                                WEXITSTATUS(status));
         return -1;
     }
     if (b->len == 0) {
@@ -674,20 +681,20 @@ static int scan_file(const char *path, lg_plugin *out, char **why_out)
     pid_t pid = start_scanner(path, &rfd, &t0, why_out);
     if (pid < 0)
         return -1;
-    lg_str b = {0};
+    lg_str b = { 0 };
     const char *killed = read_scan_result(rfd, t0, timeout, &b);
     close(rfd);
     if (killed) {
         kill(pid, SIGKILL);
         reap_scanner(pid);
         *why_out = strcmp(killed, "time") == 0
-                      ? lg_xasprintf("its scan did not finish within %g s (a constructor or "
-                                     "lg_plugin_entry() that blocks?); the scanner was killed "
-                                     "(LIGHTGRAPH_SCAN_TIMEOUT sets the limit, in seconds)",
-                                     timeout)
-                      : lg_xasprintf("its scan result is larger than the %u MiB limit; the "
-                                     "scanner was killed",
-                                     LG_SCAN_MAX_BYTES >> 20);
+                       ? lg_xasprintf("its scan did not finish within %g s (a constructor or "
+                                      "lg_plugin_entry() that blocks?); the scanner was killed "
+                                      "(LIGHTGRAPH_SCAN_TIMEOUT sets the limit, in seconds)",
+                                      timeout)
+                       : lg_xasprintf("its scan result is larger than the %u MiB limit; the "
+                                      "scanner was killed",
+                                      LG_SCAN_MAX_BYTES >> 20);
         lg_str_free(&b);
         return -1;
     }
@@ -698,14 +705,14 @@ static int scan_file(const char *path, lg_plugin *out, char **why_out)
     return rc;
 }
 
-/* ---- names: every plugin and node type name once (names.h) ------------------------------ */
+/* ---- names: every plugin and node type name once (names.h) ----------------------------------- */
 
 /* A plugin scanned but not yet in the registry. */
 typedef struct candidate {
-    lg_plugin *p;      /* heap entry, path set */
-    bool first;        /* a shipped plugin (names.h) in the program's own plugin directory:
-                        * admitted before any other */
-    bool admitted;     /* first: no other first one took its names (pass 1) */
+    lg_plugin *p;  /* heap entry, path set */
+    bool first;    /* a shipped plugin (names.h) in the program's own plugin directory:
+                    * admitted before any other */
+    bool admitted; /* first: no other first one took its names (pass 1) */
 } candidate;
 
 typedef struct scan_list {
@@ -715,8 +722,7 @@ typedef struct scan_list {
 
 /* Whether a and b may not both be loaded: the same plugin name, or a node type name both
  * declare. Writes why b is refused (a was there first) into why. */
-static bool names_clash(const lg_plugin *a, const lg_plugin *b, bool a_first, char *why,
-                        size_t n)
+static bool names_clash(const lg_plugin *a, const lg_plugin *b, bool a_first, char *why, size_t n)
 {
     const char *first = a_first ? ", one of lightgraph's own plugins, which are taken before "
                                   "any other"
@@ -966,7 +972,7 @@ int lg_registry_scan(lg_registry *r)
     char *own = running_from_build_tree() ? lg_path_absolute(LG_BUILD_PLUGIN_DIR)
                                           : installed_plugin_dir();
     add_dir(r, own);
-    scan_list l = {0};
+    scan_list l = { 0 };
     for (uint32_t i = 0; i < r->n_dirs; i++)
         scan_dir(r, &l, r->dirs[i], 0, strcmp(r->dirs[i], own) == 0);
     free(own);
@@ -977,7 +983,7 @@ int lg_registry_scan(lg_registry *r)
 
 int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n)
 {
-    scan_list l = {0};
+    scan_list l = { 0 };
     for (uint32_t i = 0; i < n; i++) {
         char *abs = lg_path_absolute(paths[i]);
         scan_one(r, &l, abs, false);
@@ -988,8 +994,8 @@ int lg_registry_scan_files(lg_registry *r, char **paths, uint32_t n)
     return 0;
 }
 
-int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char *path,
-                            char *err, size_t errlen)
+int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char *path, char *err,
+                            size_t errlen)
 {
     if (lg_descriptor_validate(d, path, err, errlen))
         return -1;
@@ -1005,7 +1011,7 @@ int lg_registry_add_builtin(lg_registry *r, const lg_plugin_desc *d, const char 
     }
     /* the same host-owned schema copy a scan makes, so that everything downstream (the
      * checker, the planner, lg_registry_load's comparison) treats it as any plugin */
-    lg_str b = {0};
+    lg_str b = { 0 };
     put_desc(&b, d);
     lg_plugin p;
     int rc = lg_registry_decode(b.s, b.len, &p, err, errlen);
@@ -1083,7 +1089,7 @@ int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)
     }
     /* The file may have been rebuilt since the scan: the schema the graph was checked
      * against must be the one that runs. */
-    lg_str a = {0}, b = {0};
+    lg_str a = { 0 }, b = { 0 };
     put_desc(&a, d);
     bool same = strcmp(d->name, p->name) == 0 && d->n_types == p->n_types;
     if (same) {
@@ -1100,8 +1106,7 @@ int lg_registry_load(lg_registry *r, lg_plugin *p, char *err, size_t errlen)
     lg_str_free(&a);
     lg_str_free(&b);
     if (!same) {
-        snprintf(err, errlen, "plugin %s changed between scanning and loading; run again",
-                 p->path);
+        snprintf(err, errlen, "plugin %s changed between scanning and loading; run again", p->path);
         dlclose(h);
         return -1;
     }
@@ -1143,8 +1148,8 @@ static int phdr_cb(struct dl_phdr_info *info, size_t size, void *data)
 
 char *lg_registry_loaded_list(const lg_registry *r)
 {
-    lg_str out = {0};
-    loaded_ctx c = {r, &out};
+    lg_str out = { 0 };
+    loaded_ctx c = { r, &out };
     dl_iterate_phdr(phdr_cb, &c);
     return lg_str_take(&out);
 }
@@ -1234,7 +1239,7 @@ void lg_registry_free(lg_registry *r)
     memset(r, 0, sizeof *r);
 }
 
-/* ---- the viewer's reloads ------------------------------------------------------------- */
+/* ---- the viewer's reloads -------------------------------------------------------------------- */
 
 lg_plugin *lg_registry_find_path(const lg_registry *r, const char *path)
 {
@@ -1348,8 +1353,7 @@ int lg_registry_rescan(lg_registry *r, const char *path, lg_plugin **fresh, lg_p
     p.path = lg_xstrdup(path);
     for (uint32_t i = 0; i < r->n_plugins; i++) {
         char reason[PATH_MAX * 2 + 512];
-        if (r->plugins[i] != *old &&
-            names_clash(r->plugins[i], &p, false, reason, sizeof reason)) {
+        if (r->plugins[i] != *old && names_clash(r->plugins[i], &p, false, reason, sizeof reason)) {
             snprintf(err, errlen, "plugin %s is refused: %s", path, reason);
             lg_plugin_free_schema(&p);
             free(p.path);
@@ -1384,8 +1388,7 @@ void lg_registry_replace(lg_registry *r, lg_plugin *from, lg_plugin *to)
     } else if (to) {
         r->plugins[at] = to;
     } else {
-        memmove(&r->plugins[at], &r->plugins[at + 1],
-                (r->n_plugins - at - 1) * sizeof *r->plugins);
+        memmove(&r->plugins[at], &r->plugins[at + 1], (r->n_plugins - at - 1) * sizeof *r->plugins);
         r->n_plugins--;
     }
     if (from) {

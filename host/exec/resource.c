@@ -22,12 +22,9 @@
 static size_t pixel_count(const lg_resource *r)
 {
     switch (r->kind) {
-    case LG_KIND_IMAGE:
-        return lg_image_offset(&r->image, lg_image_levels(&r->image), 0);
-    case LG_KIND_VOLUME:
-        return (size_t)r->volume.width * r->volume.height * r->volume.depth;
-    default:
-        return 0;
+    case LG_KIND_IMAGE: return lg_image_offset(&r->image, lg_image_levels(&r->image), 0);
+    case LG_KIND_VOLUME: return (size_t)r->volume.width * r->volume.height * r->volume.depth;
+    default: return 0;
     }
 }
 
@@ -38,12 +35,9 @@ static size_t main_bytes(const lg_resource *r)
         if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
             return 0;
         return pixel_count(r) * lg_format_size(r->image.format);
-    case LG_KIND_VOLUME:
-        return pixel_count(r) * lg_format_size(r->volume.format);
-    case LG_KIND_BUFFER:
-        return r->buffer.size;
-    default:
-        return 0;
+    case LG_KIND_VOLUME: return pixel_count(r) * lg_format_size(r->volume.format);
+    case LG_KIND_BUFFER: return r->buffer.size;
+    default: return 0;
     }
 }
 
@@ -162,9 +156,10 @@ static int check_access(lg_pnode *n, lg_resource *r, unsigned access, const char
 #ifdef LG_DEBUG_CHECKS
     if (!lg_resource_reachable(n, r)) {
         char buf[256];
-        return lg_node_errorf(n, "maps resource %s on %s, which it did not receive through an "
-                                 "input (a plugin reaches other nodes' resources only through "
-                                 "its inputs)",
+        return lg_node_errorf(n,
+                              "maps resource %s on %s, which it did not receive through an "
+                              "input (a plugin reaches other nodes' resources only through "
+                              "its inputs)",
                               resource_label(r, buf, sizeof buf), dev),
                LG_ERR_INVALID;
     }
@@ -181,7 +176,7 @@ static int check_access(lg_pnode *n, lg_resource *r, unsigned access, const char
     return 0;
 }
 
-/* ---- CPU ------------------------------------------------------------------------------- */
+/* ---- CPU ------------------------------------------------------------------------------------- */
 
 static int ensure_cpu(lg_pnode *n, lg_resource *r)
 {
@@ -274,12 +269,12 @@ static int gl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 static int cl_to_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
     cl_command_queue q = (cl_command_queue)lg_cl_device_queue(ex->dev.cl);
-    cl_int e = main_bytes(r) ? clEnqueueReadBuffer(q, (cl_mem)r->copies.cl_mem, CL_TRUE, 0, main_bytes(r),
-                                                   r->copies.cpu, 0, NULL, NULL)
+    cl_int e = main_bytes(r) ? clEnqueueReadBuffer(q, (cl_mem)r->copies.cl_mem, CL_TRUE, 0,
+                                                   main_bytes(r), r->copies.cpu, 0, NULL, NULL)
                              : CL_SUCCESS;
     if (e == CL_SUCCESS && r->copies.cl_depth && r->copies.cpu_depth)
-        e = clEnqueueReadBuffer(q, (cl_mem)r->copies.cl_depth, CL_TRUE, 0, depth_bytes(r), r->copies.cpu_depth,
-                                0, NULL, NULL);
+        e = clEnqueueReadBuffer(q, (cl_mem)r->copies.cl_depth, CL_TRUE, 0, depth_bytes(r),
+                                r->copies.cpu_depth, 0, NULL, NULL);
     if (e != CL_SUCCESS)
         return lg_node_errorf(n, "copying a resource from CL to the CPU: %s (%d)",
                               lg_cl_strerror(e), e),
@@ -325,7 +320,7 @@ int lg_resource_map_cpu(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned acces
     return 0;
 }
 
-/* ---- GL -------------------------------------------------------------------------------- */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
@@ -334,8 +329,8 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
     const GladGLContext *gl = glt(ex);
     if (r->kind == LG_KIND_BUFFER) {
         gl->CreateBuffers(1, &r->copies.gl_name);
-        gl->NamedBufferData(r->copies.gl_name, (GLsizeiptr)(r->buffer.size ? r->buffer.size : 4), NULL,
-                            GL_DYNAMIC_COPY);
+        gl->NamedBufferData(r->copies.gl_name, (GLsizeiptr)(r->buffer.size ? r->buffer.size : 4),
+                            NULL, GL_DYNAMIC_COPY);
     } else {
         GLenum internal, format, type;
         if (r->kind == LG_KIND_IMAGE) {
@@ -343,7 +338,8 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
             if (!(r->image.flags & LG_IMAGE_DEPTH_ONLY)) {
                 bool cube = (r->image.flags & LG_IMAGE_CUBE) != 0;
                 GLsizei levels = (GLsizei)lg_image_levels(&r->image);
-                gl->CreateTextures(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &r->copies.gl_name);
+                gl->CreateTextures(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1,
+                                   &r->copies.gl_name);
                 gl->TextureStorage2D(r->copies.gl_name, levels, internal, (GLsizei)r->image.width,
                                      (GLsizei)r->image.height);
                 gl->TextureParameteri(r->copies.gl_name, GL_TEXTURE_MAX_LEVEL, levels - 1);
@@ -359,7 +355,7 @@ static int ensure_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
             gl->TextureStorage3D(r->copies.gl_name, 1, internal, (GLsizei)r->volume.width,
                                  (GLsizei)r->volume.height, (GLsizei)r->volume.depth);
         }
-        GLuint texs[2] = {r->copies.gl_name, r->copies.gl_depth};
+        GLuint texs[2] = { r->copies.gl_name, r->copies.gl_depth };
         for (int i = 0; i < 2; i++) {
             if (!texs[i])
                 continue;
@@ -389,7 +385,8 @@ static int cpu_to_gl(lg_exec *ex, lg_pnode *n, lg_resource *r)
             GLsizei w = (GLsizei)lg_image_level_width(&r->image, l);
             GLsizei h = (GLsizei)lg_image_level_height(&r->image, l);
             if (cube) /* DSA sees a cube map as six layers */
-                gl->TextureSubImage3D(r->copies.gl_name, (GLint)l, 0, 0, 0, w, h, 6, format, type, src);
+                gl->TextureSubImage3D(r->copies.gl_name, (GLint)l, 0, 0, 0, w, h, 6, format, type,
+                                      src);
             else
                 gl->TextureSubImage2D(r->copies.gl_name, (GLint)l, 0, 0, w, h, format, type, src);
         }
@@ -440,7 +437,7 @@ int lg_resource_map_gl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
     return 0;
 }
 
-/* ---- CL -------------------------------------------------------------------------------- */
+/* ---- CL -------------------------------------------------------------------------------------- */
 
 static int ensure_cl(lg_exec *ex, lg_pnode *n, lg_resource *r)
 {
@@ -508,7 +505,7 @@ int lg_resource_map_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
     return 0;
 }
 
-/* ---- GPU copies of payload arrays -------------------------------------------------------- */
+/* ---- GPU copies of payload arrays ------------------------------------------------------------ */
 
 static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, size_t size,
                                   const void *data)
@@ -525,14 +522,16 @@ static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, si
     for (uint32_t i = 0; i < r->payload.n_attached; i++)
         if (r->payload.attached[i].slot == slot) {
             if (r->payload.attached[i].size != size) {
-                lg_node_errorf(n, "payload slot %u was %zu bytes, now %zu: payloads are "
-                                  "immutable",
+                lg_node_errorf(n,
+                               "payload slot %u was %zu bytes, now %zu: payloads are "
+                               "immutable",
                                slot, r->payload.attached[i].size, size);
                 return NULL;
             }
             return &r->payload.attached[i];
         }
-    r->payload.attached = lg_xrealloc(r->payload.attached, (r->payload.n_attached + 1) * sizeof *r->payload.attached);
+    r->payload.attached = lg_xrealloc(r->payload.attached,
+                                      (r->payload.n_attached + 1) * sizeof *r->payload.attached);
     lg_attached *a = &r->payload.attached[r->payload.n_attached++];
     memset(a, 0, sizeof *a);
     a->slot = slot;
@@ -626,9 +625,7 @@ int lg_resource_to_rgba32f(lg_exec *ex, lg_resource *r, float **out, char *err, 
         return 0;
     }
     switch (r->image.format) {
-    case LG_FORMAT_RGBA32F:
-        memcpy(f, r->copies.cpu, np * 16);
-        break;
+    case LG_FORMAT_RGBA32F: memcpy(f, r->copies.cpu, np * 16); break;
     case LG_FORMAT_RGBA16F: {
         const uint16_t *h = r->copies.cpu;
         for (size_t i = 0; i < np * 4; i++)
@@ -663,7 +660,8 @@ int lg_resource_probe_file(lg_exec *ex, lg_resource *r, lg_image *out, char *err
     int32_t ri = lg_kind_part_index(LG_KIND_PROBE, "radiance");
     int32_t ii = lg_kind_part_index(LG_KIND_PROBE, "info");
     lg_resource *rad = r->kind == LG_KIND_PROBE && ri >= 0 && (uint32_t)ri < r->parts.n
-                       ? r->parts.list[ri] : NULL;
+                           ? r->parts.list[ri]
+                           : NULL;
     lg_resource *meta = ii >= 0 && (uint32_t)ii < r->parts.n ? r->parts.list[ii] : NULL;
     if (!rad || !meta || !meta->copies.cpu || !meta->copies.cpu_valid ||
         meta->buffer.size < sizeof(lg_probe_info)) {
@@ -695,9 +693,11 @@ int lg_resource_sh_text(lg_exec *ex, lg_resource *r, char **out, size_t *len, ch
     int32_t ci = lg_kind_part_index(LG_KIND_SH, "coeffs");
     int32_t ii = lg_kind_part_index(LG_KIND_SH, "info");
     lg_resource *co = r->kind == LG_KIND_SH && ci >= 0 && (uint32_t)ci < r->parts.n
-                      ? r->parts.list[ci] : NULL;
+                          ? r->parts.list[ci]
+                          : NULL;
     lg_resource *meta = r->kind == LG_KIND_SH && ii >= 0 && (uint32_t)ii < r->parts.n
-                        ? r->parts.list[ii] : NULL;
+                            ? r->parts.list[ii]
+                            : NULL;
     if (!co || !meta || !meta->copies.cpu || !meta->copies.cpu_valid ||
         meta->buffer.size < sizeof(lg_sh_info)) {
         snprintf(err, errlen, "the SH coefficients were not written (no coeffs or info)");
@@ -718,21 +718,22 @@ int lg_resource_sh_text(lg_exec *ex, lg_resource *r, char **out, size_t *len, ch
     }
     uint32_t n = info.bands, nc = n * n;
     const float *c = co->copies.cpu;
-    lg_str b = {0};
-    lg_str_addf(&b, "# lightgraph SH coefficients: %u band%s, %u per channel, basis "
-                "lightgraph/sh.h%s\n", n, n == 1 ? "" : "s", nc,
-                (info.flags & LG_SH_WINDOWED) ? ", windowed" : "");
+    lg_str b = { 0 };
+    lg_str_addf(&b,
+                "# lightgraph SH coefficients: %u band%s, %u per channel, basis "
+                "lightgraph/sh.h%s\n",
+                n, n == 1 ? "" : "s", nc, (info.flags & LG_SH_WINDOWED) ? ", windowed" : "");
     lg_str_add(&b, "# index l m R G B\n");
     for (uint32_t l = 0, i = 0; l < n; l++)
         for (int m = -(int)l; m <= (int)l; m++, i++)
-            lg_str_addf(&b, "%u %u %d %.9g %.9g %.9g\n", i, l, m, (double)c[i],
-                        (double)c[nc + i], (double)c[2 * nc + i]);
+            lg_str_addf(&b, "%u %u %d %.9g %.9g %.9g\n", i, l, m, (double)c[i], (double)c[nc + i],
+                        (double)c[2 * nc + i]);
     *len = b.len;
     *out = lg_str_take(&b);
     return 0;
 }
 
-/* ---- composite resources -------------------------------------------------------------- */
+/* ---- composite resources --------------------------------------------------------------------- */
 
 lg_resource *lg_edge_resource(lg_exec *ex, lg_edge e)
 {
@@ -760,9 +761,7 @@ static lg_resource *neutral_part(lg_exec *ex, lg_pnode *n, lg_part_type type)
         p->volume.width = p->volume.height = p->volume.depth = 1;
         p->volume.format = LG_FORMAT_RGBA32F;
         break;
-    default:
-        p = lg_resource_new(n, LG_KIND_BUFFER);
-        break;
+    default: p = lg_resource_new(n, LG_KIND_BUFFER); break;
     }
     p->neutral = true;
     return p;

@@ -9,7 +9,7 @@
 
 #include "base/util.h"
 
-/* ---- arena ---------------------------------------------------------------------------- */
+/* ---- arena ----------------------------------------------------------------------------------- */
 
 void *lg_arena_alloc(arena *a, size_t n)
 {
@@ -66,7 +66,7 @@ void lg_arena_free(arena *a)
     a->head = NULL;
 }
 
-/* ---- a string -> index map (open addressing) ------------------------------------------ */
+/* ---- a string -> index map (open addressing) ------------------------------------------------- */
 
 uint32_t lg_strmap_find(const strmap *m, const char *key)
 {

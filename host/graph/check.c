@@ -50,7 +50,7 @@ static void diag(checker *k, lg_diag_level lvl, lg_srcloc loc, const char *fmt, 
     lg_graph_diag(k->d, k->g, lvl, loc, "%s", msg);
     free(msg);
     if (k->errors >= MAX_ERRORS) {
-        lg_srcloc none = {loc.file, 0, 0, 0};
+        lg_srcloc none = { loc.file, 0, 0, 0 };
         lg_graph_diag(k->d, k->g, LG_DIAG_NOTE, none, "too many errors (%u); stopping here",
                       k->errors);
         k->stop = true;
@@ -66,7 +66,7 @@ static void enum_list(lg_str *b, const lg_param_desc *pd)
 /* "a float", "one of cpu, gl, cl", ... */
 static char *expected_name(const lg_param_desc *pd)
 {
-    lg_str b = {0};
+    lg_str b = { 0 };
     switch (pd->type) {
     case LG_PARAM_BOOL: lg_str_add(&b, "a boolean (true or false)"); break;
     case LG_PARAM_INT: lg_str_add(&b, "an integer"); break;
@@ -113,7 +113,7 @@ static char *found_name(const lg_gvalue *v)
 
 static bool is_nonfinite_word(const char *s)
 {
-    static const char *const words[] = {"inf", "infinity", "nan"};
+    static const char *const words[] = { "inf", "infinity", "nan" };
     for (size_t i = 0; i < 3; i++)
         if (strcasecmp(s, words[i]) == 0)
             return true;
@@ -134,17 +134,18 @@ static void type_error(checker *k, const lg_gnode *n, const lg_param_desc *pd, c
         free(f);
         f = lg_xasprintf("'%s'", v->s);
         hint = "; only finite numbers are allowed";
-    } else if (v->kind == LG_GV_IDENT && (pd->type == LG_PARAM_STRING || pd->type == LG_PARAM_PATH)) {
-        snprintf(hintbuf, sizeof hintbuf, "; strings are written in quotes: \"%.60s%s%.60s\"",
-                 v->s, v->port ? "." : "", v->port ? v->port : "");
+    } else if (v->kind == LG_GV_IDENT &&
+               (pd->type == LG_PARAM_STRING || pd->type == LG_PARAM_PATH)) {
+        snprintf(hintbuf, sizeof hintbuf, "; strings are written in quotes: \"%.60s%s%.60s\"", v->s,
+                 v->port ? "." : "", v->port ? v->port : "");
         hint = hintbuf;
-    } else if (v->kind == LG_GV_FLOAT && !expect && pd->type == LG_PARAM_INT && v->f == floor(v->f) &&
-               fabs(v->f) < 9e15) {
+    } else if (v->kind == LG_GV_FLOAT && !expect && pd->type == LG_PARAM_INT &&
+               v->f == floor(v->f) && fabs(v->f) < 9e15) {
         snprintf(hintbuf, sizeof hintbuf, "; write %.0f for an integer", v->f);
         hint = hintbuf;
     }
-    diag(k, LG_DIAG_ERROR, v->loc, "expected %s, found %s (%s of node '%s')%s", e, f, what,
-         n->name, hint);
+    diag(k, LG_DIAG_ERROR, v->loc, "expected %s, found %s (%s of node '%s')%s", e, f, what, n->name,
+         hint);
     free(e);
     free(f);
 }
@@ -167,8 +168,7 @@ static bool in_range(const lg_param_desc *pd, double x)
     return pd->min == pd->max || (x >= pd->min && x <= pd->max);
 }
 
-static void range_error(checker *k, const lg_param_desc *pd, const char *name,
-                        const lg_gvalue *v)
+static void range_error(checker *k, const lg_param_desc *pd, const char *name, const lg_gvalue *v)
 {
     char lo[64], hi[64];
     lg_format_shortest(lo, pd->min, 1e15, false);
@@ -227,14 +227,15 @@ static bool convert_keyword(checker *k, const lg_gnode *n, const lg_param_desc *
             return true;
         }
     }
-    lg_str b = {0};
+    lg_str b = { 0 };
     enum_list(&b, pd);
-    const char *one_of = pd->type == LG_PARAM_COLOR ? "a colour [r, g, b] or one of: "
-                                                    : "one of ";
+    const char *one_of = pd->type == LG_PARAM_COLOR ? "a colour [r, g, b] or one of: " : "one of ";
     const char *sug = lg_suggest(v->s, (const char *const *)pd->enum_values, nv);
     if (sug)
-        diag(k, LG_DIAG_ERROR, v->loc, "'%s' is not %s%s (parameter '%s' of node '%s'); "
-             "did you mean '%s'?", v->s, one_of, b.s ? b.s : "", pd->key, n->name, sug);
+        diag(k, LG_DIAG_ERROR, v->loc,
+             "'%s' is not %s%s (parameter '%s' of node '%s'); "
+             "did you mean '%s'?",
+             v->s, one_of, b.s ? b.s : "", pd->key, n->name, sug);
     else
         diag(k, LG_DIAG_ERROR, v->loc, "'%s' is not %s%s (parameter '%s' of node '%s')", v->s,
              one_of, b.s ? b.s : "", pd->key, n->name);
@@ -344,7 +345,7 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
          * the current directory for --set) that wrote it; packed "a\0b\0" (lg_value) */
         if (v->kind != LG_GV_LIST)
             goto wrong;
-        lg_str packed = {0};
+        lg_str packed = { 0 };
         bool ok = true;
         for (uint32_t i = 0; i < v->n_items; i++) {
             lg_gitem tmpi;
@@ -357,8 +358,10 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
                 continue;
             }
             if (!it->s[0]) {
-                diag(k, LG_DIAG_ERROR, it->loc, "item %u of parameter '%s' of node '%s' is an "
-                     "empty path", i, pd->key, n->name);
+                diag(k, LG_DIAG_ERROR, it->loc,
+                     "item %u of parameter '%s' of node '%s' is an "
+                     "empty path",
+                     i, pd->key, n->name);
                 ok = false;
                 continue;
             }
@@ -381,8 +384,10 @@ static bool convert_param(checker *k, const lg_gnode *n, const lg_param_desc *pd
         return convert_keyword(k, n, pd, v, out);
     }
     default:
-        diag(k, LG_DIAG_ERROR, v->loc, "parameter '%s' of node '%s' has an unknown type (%d) in "
-             "its plugin's schema", pd->key, n->name, (int)pd->type);
+        diag(k, LG_DIAG_ERROR, v->loc,
+             "parameter '%s' of node '%s' has an unknown type (%d) in "
+             "its plugin's schema",
+             pd->key, n->name, (int)pd->type);
         return false;
     }
 wrong:
@@ -438,8 +443,9 @@ static lg_resource_kind part_kind(lg_resource_kind composite, uint32_t part)
 {
     const lg_kind_desc *kd = lg_kind_describe(composite);
     lg_part_type t = kd && part > 0 && part <= kd->n_parts ? kd->parts[part - 1].type : 0;
-    return t == LG_PART_IMAGE ? LG_KIND_IMAGE : t == LG_PART_VOLUME ? LG_KIND_VOLUME
-                                                                    : LG_KIND_BUFFER;
+    return t == LG_PART_IMAGE    ? LG_KIND_IMAGE
+           : t == LG_PART_VOLUME ? LG_KIND_VOLUME
+                                 : LG_KIND_BUFFER;
 }
 
 /* The kind an edge (node, port, part) delivers. */
@@ -493,7 +499,7 @@ static bool resolve_ref(checker *k, const lg_gvalue *v, int32_t *node, uint32_t 
     lg_srcloc loc = v->loc;
     loc.col += (uint32_t)strlen(v->s) + 1;
     loc.len = (uint32_t)strlen(v->port);
-    lg_str list = {0};
+    lg_str list = { 0 };
     uint32_t n_names = 0;
     const char **names = NULL;
     for (uint32_t i = 0; i < ty->n_outputs; i++) {
@@ -516,8 +522,10 @@ static bool resolve_ref(checker *k, const lg_gvalue *v, int32_t *node, uint32_t 
     if (ty->n_outputs == 0)
         diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no outputs", tn->name, ty->name);
     else if (sug)
-        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no %s '%s'; did you mean '%s'? "
-             "(outputs: %s)", tn->name, ty->name, what, v->port, sug, list.s);
+        diag(k, LG_DIAG_ERROR, loc,
+             "node '%s' (%s) has no %s '%s'; did you mean '%s'? "
+             "(outputs: %s)",
+             tn->name, ty->name, what, v->port, sug, list.s);
     else
         diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) has no %s '%s' (outputs: %s)", tn->name,
              ty->name, what, v->port, list.s);
@@ -539,8 +547,10 @@ static void connect_input(checker *k, uint32_t ni, uint32_t ii, const lg_gvalue 
         return;
     if (v->kind != LG_GV_IDENT) {
         char *f = found_name(v);
-        diag(k, LG_DIAG_ERROR, v->loc, "expected a reference to a node (NODE or NODE.PORT), "
-             "found %s (input '%s' of node '%s')", f, in->name, n->name);
+        diag(k, LG_DIAG_ERROR, v->loc,
+             "expected a reference to a node (NODE or NODE.PORT), "
+             "found %s (input '%s' of node '%s')",
+             f, in->name, n->name);
         free(f);
         return;
     }
@@ -563,8 +573,7 @@ static void connect_input(checker *k, uint32_t ni, uint32_t ii, const lg_gvalue 
 /* Which parameter or input an entry sets: >= 0 a parameter, < 0 -(input + 1). */
 enum { SLOT_NONE = INT32_MIN };
 
-static int32_t find_slot(checker *k, const lg_gnode *n, const lg_node_type *ty,
-                         const lg_gassign *a)
+static int32_t find_slot(checker *k, const lg_gnode *n, const lg_node_type *ty, const lg_gassign *a)
 {
     for (uint32_t i = 0; i < ty->n_params; i++)
         if (strcmp(ty->params[i].key, a->key) == 0)
@@ -589,10 +598,12 @@ static int32_t find_slot(checker *k, const lg_gnode *n, const lg_node_type *ty,
         names[ty->n_params + i] = ty->inputs[i].name;
     const char *sug = lg_suggest(a->key, names, ty->n_params + ty->n_inputs);
     if (sug) {
-        diag(k, LG_DIAG_ERROR, a->key_loc, "unknown parameter '%s' for node '%s' (type %s); did "
-             "you mean '%s'?", a->key, n->name, ty->name, sug);
+        diag(k, LG_DIAG_ERROR, a->key_loc,
+             "unknown parameter '%s' for node '%s' (type %s); did "
+             "you mean '%s'?",
+             a->key, n->name, ty->name, sug);
     } else {
-        lg_str b = {0};
+        lg_str b = { 0 };
         lg_str_add(&b, "parameters: ");
         for (uint32_t i = 0; i < ty->n_params; i++)
             lg_str_addf(&b, "%s%s", i ? ", " : "", ty->params[i].key);
@@ -660,14 +671,16 @@ static void check_image_size(checker *k, const lg_gnode *n, const lg_node_type *
         loc = n->assigns[at].value.loc;
     const char *wk = ty->params[wi].key, *hk = ty->params[hi].key;
     if (too_many)
-        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) makes a %lldx%lld image (%s x %s): "
-             "%llu pixels, over the limit of %llu (LIGHTGRAPH_MAX_PIXELS raises it)", n->name,
-             ty->name, (long long)w, (long long)h, wk, hk, overflow ? 0ull : (unsigned long long)px,
-             (unsigned long long)limit);
+        diag(k, LG_DIAG_ERROR, loc,
+             "node '%s' (%s) makes a %lldx%lld image (%s x %s): "
+             "%llu pixels, over the limit of %llu (LIGHTGRAPH_MAX_PIXELS raises it)",
+             n->name, ty->name, (long long)w, (long long)h, wk, hk,
+             overflow ? 0ull : (unsigned long long)px, (unsigned long long)limit);
     else
-        diag(k, LG_DIAG_ERROR, loc, "node '%s' (%s) makes a %lldx%lld image (%s x %s): too "
-             "large for this machine's memory", n->name, ty->name, (long long)w, (long long)h,
-             wk, hk);
+        diag(k, LG_DIAG_ERROR, loc,
+             "node '%s' (%s) makes a %lldx%lld image (%s x %s): too "
+             "large for this machine's memory",
+             n->name, ty->name, (long long)w, (long long)h, wk, hk);
 }
 
 static void check_node(checker *k, uint32_t ni)
@@ -725,7 +738,7 @@ static void check_node(checker *k, uint32_t ni)
     free(winner);
 }
 
-/* ---- cycles and order ------------------------------------------------------------------ */
+/* ---- cycles and order ------------------------------------------------------------------------ */
 
 typedef struct graph_adj {
     uint32_t *start; /* n + 1 offsets into dst */
@@ -793,7 +806,7 @@ static void report_cycle(checker *k, const graph_adj *a, const int32_t *comp, in
     /* The cycle is start, queue[len - 1], ..., queue[0], start: len + 2 names. A long one is
      * shown by its first 8 and last 7, so that the message stays short. */
     uint32_t total = len + 2, head = 8, tail = 7;
-    lg_str b = {0};
+    lg_str b = { 0 };
     for (uint32_t j = 0; j < total; j++) {
         if (total > head + tail + 1 && j == head) {
             lg_str_addf(&b, " -> ... (%u more)", total - head - tail);
@@ -919,7 +932,7 @@ static void order_nodes(checker *k)
     free(a.dst);
 }
 
-/* ---- outputs ------------------------------------------------------------------------------ */
+/* ---- outputs --------------------------------------------------------------------------------- */
 
 static void check_outputs(checker *k)
 {
@@ -946,37 +959,49 @@ static void check_outputs(checker *k)
                 bool txt = ext && strcasecmp(ext, ".txt") == 0;
                 /* a probe is written as an image file in its layout (lg_probe_pack) */
                 if (kind == LG_KIND_PROBE && ext && strcasecmp(ext, ".png") == 0)
-                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives a probe, which is HDR: "
-                         "write it as .exr or .hdr, not '%s'", o->ref.text, o->path);
+                    diag(k, LG_DIAG_ERROR, o->path_loc,
+                         "'%s' gives a probe, which is HDR: "
+                         "write it as .exr or .hdr, not '%s'",
+                         o->ref.text, o->path);
                 /* SH coefficients are written as text, and only they */
                 else if (kind == LG_KIND_SH && !txt)
-                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives SH coefficients, which are "
-                         "written as text: name the file .txt, not '%s'", o->ref.text, o->path);
+                    diag(k, LG_DIAG_ERROR, o->path_loc,
+                         "'%s' gives SH coefficients, which are "
+                         "written as text: name the file .txt, not '%s'",
+                         o->ref.text, o->path);
                 else if (txt && kind != LG_KIND_SH && kind != LG_KIND_ANY)
-                    diag(k, LG_DIAG_ERROR, o->path_loc, "'%s' gives %s, which cannot be written "
+                    diag(k, LG_DIAG_ERROR, o->path_loc,
+                         "'%s' gives %s, which cannot be written "
                          "as text ('%s'): only SH coefficients are; use .png, .exr or .hdr",
                          o->ref.text, lg_kind_phrase(kind), o->path);
                 else if (kind != LG_KIND_IMAGE && kind != LG_KIND_ANY && kind != LG_KIND_PROBE &&
                          kind != LG_KIND_SH)
-                    diag(k, LG_DIAG_ERROR, o->ref.loc, "'%s' gives %s; only images, probes and SH "
-                         "coefficients can be written to files", o->ref.text,
-                         lg_kind_phrase(kind));
+                    diag(k, LG_DIAG_ERROR, o->ref.loc,
+                         "'%s' gives %s; only images, probes and SH "
+                         "coefficients can be written to files",
+                         o->ref.text, lg_kind_phrase(kind));
             }
         }
         const char *slash = strrchr(o->path, '/');
         const char *dot = strrchr(slash ? slash + 1 : o->path, '.');
         if (!dot || dot[1] == 0) {
-            diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s' has no extension (use .png, "
-                 ".exr or .hdr)", o->path);
+            diag(k, LG_DIAG_ERROR, o->path_loc,
+                 "output file '%s' has no extension (use .png, "
+                 ".exr or .hdr)",
+                 o->path);
         } else if (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr") && strcasecmp(dot, ".hdr") &&
                    strcasecmp(dot, ".txt")) {
-            diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s' has an unsupported extension "
-                 "'%s' (use .png, .exr or .hdr; .txt for SH coefficients)", o->path, dot);
+            diag(k, LG_DIAG_ERROR, o->path_loc,
+                 "output file '%s' has an unsupported extension "
+                 "'%s' (use .png, .exr or .hdr; .txt for SH coefficients)",
+                 o->path, dot);
         }
         for (uint32_t j = 0; j < i; j++) {
             if (o->path[0] && strcmp(c->outputs[j].path, co->path) == 0) {
-                diag(k, LG_DIAG_ERROR, o->path_loc, "file '%s' is written by two output "
-                     "statements", o->path);
+                diag(k, LG_DIAG_ERROR, o->path_loc,
+                     "file '%s' is written by two output "
+                     "statements",
+                     o->path);
                 diag(k, LG_DIAG_NOTE, g->outputs[j].path_loc, "the first one is here");
                 break;
             }
@@ -984,7 +1009,7 @@ static void check_outputs(checker *k)
     }
 }
 
-/* ---- entry points ------------------------------------------------------------------------ */
+/* ---- entry points ---------------------------------------------------------------------------- */
 
 void lg_checked_free(lg_checked *c)
 {
@@ -1039,8 +1064,10 @@ lg_checked *lg_graph_check(const lg_graph *g, const lg_schema *schema, lg_diags 
                 diag(&k, LG_DIAG_ERROR, n->type_loc, "unknown node type '%s'; did you mean '%s'?",
                      n->type, sug);
             else
-                diag(&k, LG_DIAG_ERROR, n->type_loc, "unknown node type '%s' (no plugin declares "
-                     "it; 'lightgraph plugins' lists the known types)", n->type);
+                diag(&k, LG_DIAG_ERROR, n->type_loc,
+                     "unknown node type '%s' (no plugin declares "
+                     "it; 'lightgraph plugins' lists the known types)",
+                     n->type);
             continue;
         }
         cn->params = lg_xcalloc(cn->type->n_params + 1, sizeof *cn->params);

@@ -11,7 +11,6 @@
 
 #include "base/util.h"
 
-
 int lg_utf8_char_len(const unsigned char *s, size_t n)
 {
     if (n == 0)
@@ -99,7 +98,7 @@ static char *excerpt(const char *line, size_t n, uint32_t col, uint32_t len, uin
         a = char_back(s, a);
         chars++;
     }
-    lg_str out = {0};
+    lg_str out = { 0 };
     if (a > 0)
         lg_str_add(&out, "...");
     size_t cs = SIZE_MAX, ce = SIZE_MAX, end = at + (len > 0 ? len : 0);
@@ -122,8 +121,8 @@ static char *excerpt(const char *line, size_t n, uint32_t col, uint32_t len, uin
     return lg_str_take(&out);
 }
 
-static void diags_addv(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line,
-                       size_t n, const char *fmt, va_list ap)
+static void diags_addv(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line, size_t n,
+                       const char *fmt, va_list ap)
 {
     if (d->n == d->cap) {
         d->cap = d->cap ? d->cap * 2 : 16;
@@ -161,8 +160,8 @@ void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *l
     va_end(ap);
 }
 
-void lg_diags_add_line(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line,
-                       size_t n, const char *fmt, ...)
+void lg_diags_add_line(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line, size_t n,
+                       const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -232,7 +231,7 @@ void lg_diags_free(lg_diags *d)
     memset(d, 0, sizeof *d);
 }
 
-/* ---- did-you-mean -------------------------------------------------------------------- */
+/* ---- did-you-mean ---------------------------------------------------------------------------- */
 
 /* Words longer than this get no suggestion: nobody mistypes a 65-letter name by a few
  * letters, and the distance is quadratic in the length. */

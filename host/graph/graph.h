@@ -27,14 +27,14 @@
 #include "lightgraph/plugin.h"
 
 typedef struct lg_srcloc {
-    const char *file; /* owned by the graph (interned path as given / resolved) */
+    const char *file;   /* owned by the graph (interned path as given / resolved) */
     uint32_t line, col; /* 1-based; line 0 = no location (e.g. command line) */
     uint32_t len;       /* length of the offending text, for the ~~~ underline */
 } lg_srcloc;
 
 typedef enum lg_gv_kind {
     LG_GV_BOOL = 1,
-    LG_GV_INT,    /* integer literal (also acceptable where a float is expected) */
+    LG_GV_INT, /* integer literal (also acceptable where a float is expected) */
     LG_GV_FLOAT,
     LG_GV_STRING, /* "quoted" */
     LG_GV_LIST,   /* [a, b, c] */
@@ -55,7 +55,7 @@ typedef union lg_gnum {
 } lg_gnum;
 
 typedef struct lg_gnums {
-    const char *at;      /* the source text at the list's '[' (owned by the graph) */
+    const char *at; /* the source text at the list's '[' (owned by the graph) */
     uint32_t *tag;
     lg_gnum *val;
 } lg_gnums;
@@ -66,13 +66,13 @@ typedef struct lg_gvalue {
     bool b;
     int64_t i;
     double f;
-    char *s;          /* STRING: the unescaped text; IDENT: the node name */
-    char *port;       /* IDENT: after the dot, or NULL */
+    char *s;                 /* STRING: the unescaped text; IDENT: the node name */
+    char *port;              /* IDENT: after the dot, or NULL */
     struct lg_gvalue *items; /* LIST: the items (NULL when `nums` holds them); RAW: below */
     uint32_t n_items;
     const lg_gnums *nums; /* LIST of numbers only: its n_items items, compact; else NULL */
-    char *text;       /* the literal as written (for messages); NULL for a compact LIST
-                       * (`nums`), whose items have theirs (lg_glist_item) */
+    char *text;           /* the literal as written (for messages); NULL for a compact LIST
+                           * (`nums`), whose items have theirs (lg_glist_item) */
     const char *base_dir; /* directory against which a relative path resolves; NULL: the
                            * current directory */
 } lg_gvalue;
@@ -81,10 +81,10 @@ typedef struct lg_gassign {
     char *key;
     lg_srcloc key_loc;
     lg_gvalue value;
-    char **comments;     /* comment lines above the entry (and any inside its value) */
+    char **comments; /* comment lines above the entry (and any inside its value) */
     uint32_t n_comments;
-    char *eol_comment;   /* comment at the end of the entry's line, or NULL */
-    bool blank_before;   /* a blank line preceded it (fmt keeps one in a multi-line node) */
+    char *eol_comment; /* comment at the end of the entry's line, or NULL */
+    bool blank_before; /* a blank line preceded it (fmt keeps one in a multi-line node) */
 } lg_gassign;
 
 /* Comments are stored as written from their '#' on, without trailing white space. In a
@@ -92,27 +92,27 @@ typedef struct lg_gassign {
 
 typedef struct lg_gnode {
     char *name;
-    lg_srcloc loc;       /* of the name */
+    lg_srcloc loc; /* of the name */
     char *type;
     lg_srcloc type_loc;
     lg_gassign *assigns;
     uint32_t n_assigns;
-    char **comments;     /* comment lines directly above the node, kept by fmt */
+    char **comments; /* comment lines directly above the node, kept by fmt */
     uint32_t n_comments;
     char *eol_comment;   /* after the '{' or the '}' on the same line, or NULL */
     char **end_comments; /* comment lines after the last entry, before the '}' */
     uint32_t n_end_comments;
-    bool blank_before;   /* a blank line preceded it (fmt keeps one) */
-    bool included;       /* it came from an included file (fmt does not print it) */
+    bool blank_before; /* a blank line preceded it (fmt keeps one) */
+    bool included;     /* it came from an included file (fmt does not print it) */
 } lg_gnode;
 
 /* The pixel type of an EXR output: `output NODE "f.exr" half` (or float). */
 enum { LG_OUT_EXR_AUTO = 0, LG_OUT_EXR_HALF = 1, LG_OUT_EXR_FLOAT = 2 };
 
 typedef struct lg_goutput {
-    lg_gvalue ref;       /* IDENT */
-    char *path;          /* as written */
-    int exr_pixel;       /* LG_OUT_EXR_*: AUTO is float for rgba32f, half for rgba16f */
+    lg_gvalue ref; /* IDENT */
+    char *path;    /* as written */
+    int exr_pixel; /* LG_OUT_EXR_*: AUTO is float for rgba32f, half for rgba16f */
     lg_srcloc path_loc;
     const char *base_dir;
     char **comments;
@@ -123,7 +123,7 @@ typedef struct lg_goutput {
 } lg_goutput;
 
 typedef struct lg_ginclude {
-    char *path;          /* as written */
+    char *path; /* as written */
     lg_srcloc loc;
     char **comments;
     uint32_t n_comments;
@@ -134,13 +134,13 @@ typedef enum lg_diag_level { LG_DIAG_ERROR = 0, LG_DIAG_WARNING, LG_DIAG_NOTE } 
 
 typedef struct lg_diag {
     lg_diag_level level;
-    lg_srcloc loc;       /* loc.file is the diagnostic's own copy */
+    lg_srcloc loc; /* loc.file is the diagnostic's own copy */
     char *message;
-    char *line_text;     /* an excerpt of the source line (at most LG_DIAG_EXCERPT_COLS
-                          * characters around the column, "..." where cut, control bytes
-                          * and invalid UTF-8 shown as '?'), or NULL */
-    uint32_t text_col;   /* the caret's byte column (1-based) inside line_text */
-    uint32_t text_len;   /* the underline's length in bytes inside line_text */
+    char *line_text;   /* an excerpt of the source line (at most LG_DIAG_EXCERPT_COLS
+                        * characters around the column, "..." where cut, control bytes
+                        * and invalid UTF-8 shown as '?'), or NULL */
+    uint32_t text_col; /* the caret's byte column (1-based) inside line_text */
+    uint32_t text_len; /* the underline's length in bytes inside line_text */
 } lg_diag;
 
 /* How much of a source line a diagnostic shows: a line of a 10 MB graph file is not echoed
@@ -159,18 +159,18 @@ typedef struct lg_diags {
 /* A parsed graph (one file with its includes merged; nodes in file order). */
 typedef struct lg_graph {
     int version;
-    char *path;             /* the top file as given */
+    char *path; /* the top file as given */
     lg_gnode *nodes;
     uint32_t n_nodes;
     lg_goutput *outputs;
     uint32_t n_outputs;
-    lg_ginclude *includes;  /* the top file's include statements, for fmt */
+    lg_ginclude *includes; /* the top file's include statements, for fmt */
     uint32_t n_includes;
     char **header_comments; /* comment lines above the version line */
     uint32_t n_header_comments;
     char **trailing_comments;
     uint32_t n_trailing_comments;
-    void *pool;             /* private: interned strings, file texts */
+    void *pool; /* private: interned strings, file texts */
 } lg_graph;
 
 /* Item i of a LIST as an lg_gvalue: &list->items[i], or for a compact list of numbers
@@ -226,7 +226,7 @@ void lg_graph_diag(lg_diags *d, const lg_graph *g, lg_diag_level level, lg_srclo
  * column inside `assignment`. */
 int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags);
 
-/* ---- checking against the plugins' schemas -------------------------------------------- */
+/* ---- checking against the plugins' schemas --------------------------------------------------- */
 
 /* Where node types come from (the registry). */
 typedef struct lg_schema {
@@ -242,35 +242,35 @@ typedef struct lg_schema {
 } lg_schema;
 
 typedef struct lg_edge {
-    int32_t node;   /* source node index in lg_checked.nodes, -1 if unconnected */
-    uint32_t port;  /* output port index of the source */
-    uint32_t part;  /* 0: the whole output; k > 0: part k-1 of its composite kind
-                     * (a reference NODE.PART, lightgraph/kinds.h) */
+    int32_t node;  /* source node index in lg_checked.nodes, -1 if unconnected */
+    uint32_t port; /* output port index of the source */
+    uint32_t part; /* 0: the whole output; k > 0: part k-1 of its composite kind
+                    * (a reference NODE.PART, lightgraph/kinds.h) */
 } lg_edge;
 
 typedef struct lg_cnode {
-    const lg_gnode *g;          /* the parsed node */
+    const lg_gnode *g; /* the parsed node */
     const lg_node_type *type;
-    lg_value *params;           /* type->n_params values, defaults filled; PATH resolved
-                                 * to absolute paths; strings owned by lg_checked */
-    bool *param_set;            /* whether the graph (or --set) gave the value */
-    lg_edge *inputs;            /* type->n_inputs */
+    lg_value *params; /* type->n_params values, defaults filled; PATH resolved
+                       * to absolute paths; strings owned by lg_checked */
+    bool *param_set;  /* whether the graph (or --set) gave the value */
+    lg_edge *inputs;  /* type->n_inputs */
 } lg_cnode;
 
 typedef struct lg_coutput {
     const lg_goutput *g;
     int32_t node;
     uint32_t port;
-    uint32_t part;              /* as lg_edge.part */
-    char *path;                 /* resolved (absolute, or as -o gave it) */
+    uint32_t part; /* as lg_edge.part */
+    char *path;    /* resolved (absolute, or as -o gave it) */
 } lg_coutput;
 
 typedef struct lg_checked {
-    lg_cnode *nodes;            /* same order as lg_graph.nodes */
+    lg_cnode *nodes; /* same order as lg_graph.nodes */
     uint32_t n_nodes;
     lg_coutput *outputs;
     uint32_t n_outputs;
-    uint32_t *topo;             /* node indices in a topological order (inputs first) */
+    uint32_t *topo; /* node indices in a topological order (inputs first) */
     void *pool;
 } lg_checked;
 
@@ -284,7 +284,7 @@ typedef struct lg_checked {
 lg_checked *lg_graph_check(const lg_graph *g, const lg_schema *schema, lg_diags *diags);
 void lg_checked_free(lg_checked *c);
 
-/* ---- printing ------------------------------------------------------------------------ */
+/* ---- printing -------------------------------------------------------------------------------- */
 
 /* The canonical text of a parsed graph (lightgraph fmt): formatting it again changes
  * nothing. Comments are kept. Includes are printed as include statements, and the nodes
@@ -295,7 +295,7 @@ char *lg_graph_format(const lg_graph *g);
  * from the references that name a node. Returns a malloc'd string. */
 char *lg_graph_dot(const lg_graph *g, const lg_checked *c);
 
-/* ---- diagnostics ------------------------------------------------------------------------ */
+/* ---- diagnostics ----------------------------------------------------------------------------- */
 
 /* Adds a diagnostic; `line_text` (NUL-terminated, or NULL) is the whole source line: only
  * a bounded excerpt around loc.col is kept. */
@@ -307,8 +307,8 @@ void lg_diags_add(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *l
     ;
 /* The same with the line given as `n` bytes (no NUL needed, `line` may be NULL): the
  * caller need not copy a long line to report on it. */
-void lg_diags_add_line(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line,
-                       size_t n, const char *fmt, ...)
+void lg_diags_add_line(lg_diags *d, lg_diag_level level, lg_srcloc loc, const char *line, size_t n,
+                       const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 6, 7)))
 #endif

@@ -52,11 +52,11 @@ source *lg_include_open(parser *p, const tok *f, const char **base_dir_out)
     /* "x.lgraph" rather than "./x.lgraph" in messages when the including file is in the
      * current directory. */
     char *full = !p->base_dir || strcmp(p->base_dir, ".") == 0 ? lg_xstrdup(f->s)
-                                                                : lg_path_join(p->base_dir, f->s);
+                                                               : lg_path_join(p->base_dir, f->s);
     char *abs = lg_path_absolute(full);
     for (uint32_t i = 0; i < s->depth; i++) {
         if (s->stack_abs[i] && strcmp(s->stack_abs[i], abs) == 0) {
-            lg_str chain = {0};
+            lg_str chain = { 0 };
             for (uint32_t j = i; j < s->depth; j++)
                 lg_str_addf(&chain, "%s -> ", s->stack_name[j]);
             lg_str_add(&chain, s->stack_name[i]);
@@ -86,9 +86,10 @@ source *lg_include_open(parser *p, const tok *f, const char **base_dir_out)
     }
     if (s->n_bytes + size > MAX_FILE_BYTES) {
         close(fd);
-        lg_tok_report(p, f, LG_DIAG_ERROR, "cannot include '%s' (%llu bytes): a graph file and "
-                      "its includes have at most %u MiB in all", full, (unsigned long long)size,
-                      MAX_FILE_BYTES >> 20);
+        lg_tok_report(p, f, LG_DIAG_ERROR,
+                      "cannot include '%s' (%llu bytes): a graph file and "
+                      "its includes have at most %u MiB in all",
+                      full, (unsigned long long)size, MAX_FILE_BYTES >> 20);
         goto out;
     }
     char *text = lg_file_read_fd(fd, size, &len, why, sizeof why);
@@ -98,8 +99,10 @@ source *lg_include_open(parser *p, const tok *f, const char **base_dir_out)
         goto out;
     }
     if (!looks_like_graph(text, len)) {
-        lg_tok_report(p, f, LG_DIAG_ERROR, "included file '%s' is not a graph file: it does not "
-                      "start with the version line 'lightgraph 1'", full);
+        lg_tok_report(p, f, LG_DIAG_ERROR,
+                      "included file '%s' is not a graph file: it does not "
+                      "start with the version line 'lightgraph 1'",
+                      full);
         free(text);
         goto out;
     }

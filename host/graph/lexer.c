@@ -177,8 +177,7 @@ static bool clean_number(const char *s, uint32_t pos, uint32_t end, uint32_t *e_
         return false;
     bool is_float = false;
     uint32_t e = number_end(s, pos, end, &is_float);
-    if (e == pos || !number_ends_at(s, e, end) ||
-        number_value(s, pos, e, is_float, val) != NUM_OK)
+    if (e == pos || !number_ends_at(s, e, end) || number_value(s, pos, e, is_float, val) != NUM_OK)
         return false;
     *e_out = e;
     *is_float_out = is_float;
@@ -243,13 +242,15 @@ static uint32_t lex_ident(parser *p, tok *t, uint32_t pos, uint32_t end)
             }
         } else {
             e++;
-            set_err(p, t, t->col, e - pos, "expected a port name after '%.*s'",
-                    (int)(e - pos), s + pos);
+            set_err(p, t, t->col, e - pos, "expected a port name after '%.*s'", (int)(e - pos),
+                    s + pos);
         }
     }
     if (e - pos > MAX_NAME_BYTES)
-        set_err(p, t, t->col, e - pos, "this name is %u characters long; names have at "
-                "most %u", e - pos, MAX_NAME_BYTES);
+        set_err(p, t, t->col, e - pos,
+                "this name is %u characters long; names have at "
+                "most %u",
+                e - pos, MAX_NAME_BYTES);
     t->len = e - pos;
     return e;
 }
@@ -277,8 +278,8 @@ static uint32_t lex_number(parser *p, tok *t, uint32_t pos, uint32_t end, uint32
         t->f = val.f;
         if (r == NUM_RANGE)
             set_err(p, t, t->col, t->len,
-                    "number '%.*s' is too large (the largest float is about 1.8e308)",
-                    (int)t->len, s + pos);
+                    "number '%.*s' is too large (the largest float is about 1.8e308)", (int)t->len,
+                    s + pos);
     } else {
         t->kind = T_INT;
         t->i = val.i;
@@ -300,8 +301,8 @@ static uint32_t lex_number(parser *p, tok *t, uint32_t pos, uint32_t end, uint32
         bool f;
         lg_gnum v;
         if (rn == UINT32_MAX || !clean_number(s, rn, end, &ne, &f, &v) ||
-            ne - rn > LG_GNUM_MAX_TEXT || ne > TAG_OFF_MASK ||
-            ntok + 2 > MAX_TOKENS || nitems + 1 > MAX_LIST_ITEMS)
+            ne - rn > LG_GNUM_MAX_TEXT || ne > TAG_OFF_MASK || ntok + 2 > MAX_TOKENS ||
+            nitems + 1 > MAX_LIST_ITEMS)
             break;
         ntok += 2;
         nitems++;
@@ -354,9 +355,9 @@ static void str_err(strerr *e, uint32_t col, uint32_t len, const char *fmt, ...)
 static uint32_t lex_string(parser *p, tok *t, uint32_t pos, uint32_t end, uint32_t line_start)
 {
     const char *s = p->src->text;
-    lg_str b = {0};
+    lg_str b = { 0 };
     uint32_t e = pos + 1;
-    strerr err = {0};
+    strerr err = { 0 };
     bool closed = false;
     while (e < end && s[e] != '\n') {
         unsigned char ch = (unsigned char)s[e];
@@ -368,8 +369,11 @@ static uint32_t lex_string(parser *p, tok *t, uint32_t pos, uint32_t end, uint32
         }
         if (ch == '\\') {
             char esc = e + 1 < end ? s[e + 1] : '\n';
-            const char *rep = esc == '"' ? "\"" : esc == '\\' ? "\\" : esc == 'n' ? "\n"
-                            : esc == 't' ? "\t" : NULL;
+            const char *rep = esc == '"'    ? "\""
+                              : esc == '\\' ? "\\"
+                              : esc == 'n'  ? "\n"
+                              : esc == 't'  ? "\t"
+                                            : NULL;
             if (rep) {
                 lg_str_add(&b, rep);
                 e += 2;
@@ -380,8 +384,10 @@ static uint32_t lex_string(parser *p, tok *t, uint32_t pos, uint32_t end, uint32
                 continue; /* reported as an unclosed string */
             }
             if ((unsigned char)esc >= 0x20 && (unsigned char)esc < 0x7f)
-                str_err(&err, col, 2, "unknown escape '\\%c' in a string (use \\\" \\\\ "
-                        "\\n or \\t)", esc);
+                str_err(&err, col, 2,
+                        "unknown escape '\\%c' in a string (use \\\" \\\\ "
+                        "\\n or \\t)",
+                        esc);
             else
                 str_err(&err, col, 2, "unknown escape in a string (use \\\" \\\\ \\n or \\t)");
             e += 2;
@@ -402,8 +408,10 @@ static uint32_t lex_string(parser *p, tok *t, uint32_t pos, uint32_t end, uint32
         if (ch >= 0x80) {
             int u = lg_utf8_char_len((const unsigned char *)s + e, end - e);
             if (u == 0) {
-                str_err(&err, col, 1, "invalid UTF-8 in a string: byte 0x%02X at byte "
-                        "offset %u (strings are UTF-8 text)", ch, e);
+                str_err(&err, col, 1,
+                        "invalid UTF-8 in a string: byte 0x%02X at byte "
+                        "offset %u (strings are UTF-8 text)",
+                        ch, e);
                 e++;
                 continue;
             }
@@ -457,8 +465,10 @@ static uint32_t lex_other(parser *p, tok *t, uint32_t pos, uint32_t end)
             if (u > 0)
                 set_err(p, t, t->col, t->len, "unexpected character '%.*s'", u, s + pos);
             else
-                set_err(p, t, t->col, t->len, "unexpected byte 0x%02X at byte offset %u "
-                        "(not UTF-8 text)", c, pos);
+                set_err(p, t, t->col, t->len,
+                        "unexpected byte 0x%02X at byte offset %u "
+                        "(not UTF-8 text)",
+                        c, pos);
         } else if (c < 0x20 || c == 0x7f) {
             set_err(p, t, t->col, 1, "unexpected control character 0x%02X", c);
         } else {
@@ -531,7 +541,8 @@ void lg_lex(parser *p, uint32_t pos, uint32_t end)
                 if (s[bad] == 0)
                     set_err(p, t, bad - line_start + 1, 1, "unexpected NUL byte in a comment");
                 else
-                    set_err(p, t, bad - line_start + 1, 1, "invalid UTF-8 in a comment: byte "
+                    set_err(p, t, bad - line_start + 1, 1,
+                            "invalid UTF-8 in a comment: byte "
                             "0x%02X at byte offset %u (a graph file is UTF-8 text)",
                             (unsigned char)s[bad], bad);
                 last_on_line = (int32_t)k;
@@ -563,7 +574,8 @@ void lg_lex(parser *p, uint32_t pos, uint32_t end)
         if (++p->s->n_tokens > MAX_TOKENS) {
             /* One error, then the end: the rest of the file is not read. */
             t->len = 1;
-            set_err(p, t, t->col, 1, "the graph has more than %u tokens (names, numbers, "
+            set_err(p, t, t->col, 1,
+                    "the graph has more than %u tokens (names, numbers, "
                     "strings and punctuation, its includes counted); that is the limit",
                     MAX_TOKENS);
             pos = end;
@@ -579,8 +591,10 @@ void lg_lex(parser *p, uint32_t pos, uint32_t end)
                 item_ld = ld;
                 if (++litems[ld] > MAX_LIST_ITEMS) {
                     t->len = 1;
-                    set_err(p, t, t->col, 1, "this list has more than %u items; that is the "
-                            "limit", MAX_LIST_ITEMS);
+                    set_err(p, t, t->col, 1,
+                            "this list has more than %u items; that is the "
+                            "limit",
+                            MAX_LIST_ITEMS);
                     last_on_line = (int32_t)k;
                     line_has_content = true;
                     pend_n = 0;

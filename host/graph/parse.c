@@ -18,7 +18,7 @@
 
 #include "base/util.h"
 
-/* ---- parser helpers ---------------------------------------------------------------------- */
+/* ---- parser helpers -------------------------------------------------------------------------- */
 
 static tok *peek_at(parser *p, uint32_t k)
 {
@@ -70,8 +70,7 @@ static const char *describe(const parser *p, const tok *t, char buf[80])
     case T_NUMS:
         snprintf(buf, 80, "'%.*s'", (int)(t->len < 60 ? t->len : 60), p->src->text + t->off);
         return buf;
-    default:
-        return "an invalid token";
+    default: return "an invalid token";
     }
 }
 
@@ -98,8 +97,7 @@ static void recover_entry(parser *p)
         tok *t = peek(p);
         switch (t->kind) {
         case T_EOF:
-        case T_RBRACE:
-            return;
+        case T_RBRACE: return;
         case T_LBRACK: depth++; break;
         case T_RBRACK:
             if (depth > 0)
@@ -210,14 +208,14 @@ static char *eol_of(parser *p, uint32_t k)
  * above it and inside it, and the one that ends its line. */
 static char **stmt_comments(parser *p, uint32_t first, uint32_t last, uint32_t *n, char **eol)
 {
-    cvec c = {0};
+    cvec c = { 0 };
     cvec_above(p, &c, &p->t[first]);
     cvec_inner(p, &c, first, last);
     *eol = eol_of(p, last);
     return cvec_finish(p, &c, n);
 }
 
-/* ---- values ------------------------------------------------------------------------------- */
+/* ---- values ---------------------------------------------------------------------------------- */
 
 /* items[n] of a growing array of *cap values (grown as needed; malloc'd). */
 static lg_gvalue *grow_items(lg_gvalue **items, uint32_t n, uint32_t *cap)
@@ -305,8 +303,8 @@ static bool parse_list(parser *p, lg_gvalue *v)
                 }
                 for (uint32_t j = 0; j < run->n; j++) {
                     uint32_t g = nums->tag[n + j];
-                    nums->tag[n + j] = make_tag((g & TAG_OFF_MASK) - open->off,
-                                                (g >> 24) & 0x7F, (g & TAG_FLOAT) != 0);
+                    nums->tag[n + j] = make_tag((g & TAG_OFF_MASK) - open->off, (g >> 24) & 0x7F,
+                                                (g & TAG_FLOAT) != 0);
                 }
                 n += run->n;
             } else { /* T_INT or T_FLOAT */
@@ -405,18 +403,15 @@ bool lg_parse_value(parser *p, lg_gvalue *v)
             v->port = t->port;
         }
         break;
-    case T_LBRACK:
-        return parse_list(p, v);
-    default:
-        expected(p, "a value");
-        return false;
+    case T_LBRACK: return parse_list(p, v);
+    default: expected(p, "a value"); return false;
     }
     v->text = lg_arena_strndup(parena(p), p->src->text + t->off, t->len);
     advance(p);
     return true;
 }
 
-/* ---- statements --------------------------------------------------------------------------- */
+/* ---- statements ------------------------------------------------------------------------------ */
 
 static bool expect_eol(parser *p, const char *after)
 {
@@ -430,7 +425,7 @@ static bool expect_eol(parser *p, const char *after)
     return false;
 }
 
-static const char *const reserved_words[] = {"lightgraph", "include", "output", "true", "false"};
+static const char *const reserved_words[] = { "lightgraph", "include", "output", "true", "false" };
 
 static bool is_reserved(const char *s)
 {
@@ -449,8 +444,7 @@ static void add_node(parser *p, lg_gnode *n)
         lg_report(s, p->src, LG_DIAG_ERROR, n->loc.line, n->loc.col, n->loc.len,
                   "node '%s' is defined twice", n->name);
         lg_report(s, lg_pool_source(s->pl, f->loc.file), LG_DIAG_NOTE, f->loc.line, f->loc.col,
-                  f->loc.len,
-               "'%s' was first defined here", n->name);
+                  f->loc.len, "'%s' was first defined here", n->name);
         return;
     }
     if (s->n_nodes >= MAX_NODES) {
@@ -479,7 +473,7 @@ static void parse_node(parser *p)
     set_loc(p, &n.loc, name);
     n.blank_before = name->blank_before;
     n.included = p->included;
-    cvec above = {0}, end = {0};
+    cvec above = { 0 }, end = { 0 };
     cvec_above(p, &above, name);
 
     if (name->port)
@@ -521,7 +515,7 @@ static void parse_node(parser *p)
 
     lg_gassign *as = NULL;
     uint32_t na = 0, cap = 0;
-    strmap keys = {0};
+    strmap keys = { 0 };
     for (;;) {
         lg_skip_nl(p);
         tok *t = peek(p);
@@ -603,7 +597,7 @@ static void parse_node(parser *p)
             expected(p, what);
             skip_entry(p);
         }
-        cvec ac = {0};
+        cvec ac = { 0 };
         cvec_above(p, &ac, &p->t[kidx]);
         cvec_inner(p, &ac, kidx, last);
         a.eol_comment = eol_of(p, last);
@@ -666,8 +660,10 @@ static void parse_output(parser *p)
     tok *f = peek(p);
     if (f->kind != T_STRING) {
         char what[120];
-        snprintf(what, sizeof what, "the file name after 'output %.60s' (a string such as "
-                 "\"out.png\")", o.ref.text);
+        snprintf(what, sizeof what,
+                 "the file name after 'output %.60s' (a string such as "
+                 "\"out.png\")",
+                 o.ref.text);
         expected(p, what);
         recover_statement(p);
         return;
@@ -683,8 +679,10 @@ static void parse_output(parser *p)
     if (x->kind == T_IDENT && (!strcmp(x->s, "half") || !strcmp(x->s, "float"))) {
         size_t n = strlen(o.path);
         if (n < 4 || strcasecmp(o.path + n - 4, ".exr") != 0)
-            lg_tok_report(p, x, LG_DIAG_ERROR, "'%s' chooses the pixel type of an .exr output; "
-                          "'%.60s' is not one", x->s, o.path);
+            lg_tok_report(p, x, LG_DIAG_ERROR,
+                          "'%s' chooses the pixel type of an .exr output; "
+                          "'%.60s' is not one",
+                          x->s, o.path);
         o.exr_pixel = x->s[0] == 'h' ? LG_OUT_EXR_HALF : LG_OUT_EXR_FLOAT;
         last = p->cur;
         advance(p);
@@ -750,7 +748,7 @@ static void parse_body(parser *p)
     lg_skip_nl(p);
     tok *t = peek(p);
     if (!p->included) {
-        cvec hc = {0};
+        cvec hc = { 0 };
         if (t->kind != T_EOF)
             cvec_above(p, &hc, t);
         g->header_comments = cvec_finish(p, &hc, &g->n_header_comments);
@@ -773,23 +771,30 @@ static void parse_body(parser *p)
             if (!expect_eol(p, "the version line"))
                 return;
         } else if (v->kind == T_INT && v->i > 1) {
-            lg_tok_report(p, v, LG_DIAG_ERROR, "graph format version %lld is newer than this "
-                          "lightgraph reads (version 1)", (long long)v->i);
+            lg_tok_report(p, v, LG_DIAG_ERROR,
+                          "graph format version %lld is newer than this "
+                          "lightgraph reads (version 1)",
+                          (long long)v->i);
             return;
         } else if (v->kind == T_INT || v->kind == T_FLOAT) {
-            lg_tok_report(p, v, LG_DIAG_ERROR, "unknown graph format version '%.*s' (this "
-                          "lightgraph reads version 1)", (int)v->len, p->src->text + v->off);
+            lg_tok_report(p, v, LG_DIAG_ERROR,
+                          "unknown graph format version '%.*s' (this "
+                          "lightgraph reads version 1)",
+                          (int)v->len, p->src->text + v->off);
             return;
         } else {
             if (v->kind == T_ERR)
                 advance(p);
             else
-                lg_tok_report(p, v, LG_DIAG_ERROR, "expected a version number after 'lightgraph' "
-                              "(lightgraph 1), found %s", describe(p, v, buf));
+                lg_tok_report(p, v, LG_DIAG_ERROR,
+                              "expected a version number after 'lightgraph' "
+                              "(lightgraph 1), found %s",
+                              describe(p, v, buf));
             return;
         }
     } else if (t->kind == T_EOF) {
-        lg_tok_report(p, t, LG_DIAG_ERROR, "missing version line: a graph file starts with "
+        lg_tok_report(p, t, LG_DIAG_ERROR,
+                      "missing version line: a graph file starts with "
                       "'lightgraph 1' (this file has no statements)");
         return;
     } else {
@@ -797,8 +802,10 @@ static void parse_body(parser *p)
         if (t->kind == T_ERR)
             advance(p);
         else
-            lg_tok_report(p, t, LG_DIAG_ERROR, "missing version line: a graph file starts with "
-                          "'lightgraph 1', found %s", describe(p, t, buf));
+            lg_tok_report(p, t, LG_DIAG_ERROR,
+                          "missing version line: a graph file starts with "
+                          "'lightgraph 1', found %s",
+                          describe(p, t, buf));
         /* Go on as version 1 to find more problems. */
     }
     g->version = 1;
@@ -808,7 +815,7 @@ static void parse_body(parser *p)
         t = peek(p);
         if (t->kind == T_EOF) {
             if (!p->included) {
-                cvec tc = {0};
+                cvec tc = { 0 };
                 cvec_above(p, &tc, t);
                 cvec_trim(&tc);
                 g->trailing_comments = cvec_finish(p, &tc, &g->n_trailing_comments);
@@ -848,7 +855,7 @@ static void parse_body(parser *p)
     }
 }
 
-/* ---- entry points ----------------------------------------------------------------------- */
+/* ---- entry points ---------------------------------------------------------------------------- */
 
 void lg_parse_source(session *s, source *src, const char *base_dir, bool included)
 {
@@ -919,9 +926,11 @@ lg_graph *lg_graph_parse_string(const char *name, const char *text, size_t len,
     if (!name)
         name = "<string>";
     if (len > MAX_FILE_BYTES) {
-        lg_srcloc loc = {name, 0, 0, 0};
-        lg_diags_add(diags, LG_DIAG_ERROR, loc, NULL, "graph text is too large (%zu bytes; the "
-                     "limit is %u MiB)", len, MAX_FILE_BYTES >> 20);
+        lg_srcloc loc = { name, 0, 0, 0 };
+        lg_diags_add(diags, LG_DIAG_ERROR, loc, NULL,
+                     "graph text is too large (%zu bytes; the "
+                     "limit is %u MiB)",
+                     len, MAX_FILE_BYTES >> 20);
         lg_graph_free(g);
         return NULL;
     }
@@ -931,7 +940,7 @@ lg_graph *lg_graph_parse_string(const char *name, const char *text, size_t len,
 
 lg_graph *lg_graph_parse_file(const char *path, lg_diags *diags)
 {
-    lg_srcloc loc = {path, 0, 0, 0};
+    lg_srcloc loc = { path, 0, 0, 0 };
     size_t len = 0;
     char why[256];
     /* bounded: a FIFO, a device or a huge file is refused before a byte is read */

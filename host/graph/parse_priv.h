@@ -34,17 +34,18 @@
  * costs 64 bytes while it is parsed; an item of a list that holds more than numbers about
  * 250 (its token, its comma's, an lg_gvalue and its text); an item of a list of numbers 12
  * (the numbers of a line of a list are one token: numrun). */
-#define MAX_FILE_BYTES (16u << 20)  /* a file and everything it includes, in all; this
-                                     * also keeps offsets in 32 bits */
-#define MAX_TOKENS (1u << 20)       /* names, numbers, strings and punctuation, all files */
-#define MAX_LIST_ITEMS 65536        /* items of one list (no parameter takes more than 3) */
+#define MAX_FILE_BYTES                                                                             \
+    (16u << 20)               /* a file and everything it includes, in all; this
+                               * also keeps offsets in 32 bits */
+#define MAX_TOKENS (1u << 20) /* names, numbers, strings and punctuation, all files */
+#define MAX_LIST_ITEMS 65536  /* items of one list (no parameter takes more than 3) */
 #define MAX_LIST_DEPTH 32
 #define MAX_INCLUDE_DEPTH 32
 #define MAX_NODES 100000
-#define MAX_NAME_BYTES 256          /* a name, key, type or NODE.PORT reference */
+#define MAX_NAME_BYTES 256 /* a name, key, type or NODE.PORT reference */
 #define MAX_ERRORS 100
 
-/* ---- arena.c: the arena ----------------------------------------------------------------- */
+/* ---- arena.c: the arena ---------------------------------------------------------------------- */
 
 typedef struct ablock {
     struct ablock *next;
@@ -67,7 +68,7 @@ char *lg_arena_strdup(arena *a, const char *s);
 void *lg_arena_copy(arena *a, const void *p, size_t n);
 void lg_arena_free(arena *a);
 
-/* ---- arena.c: a string -> index map (open addressing) ----------------------------------- */
+/* ---- arena.c: a string -> index map (open addressing) ---------------------------------------- */
 
 /* The keys are not copied: they must outlive the map (they are the arena's, or a node's
  * entries'). A map starts zeroed ({0}); lg_strmap_free frees its tables. */
@@ -85,18 +86,18 @@ uint32_t lg_strmap_find(const strmap *m, const char *key);
 void lg_strmap_put(strmap *m, const char *key, uint32_t val);
 void lg_strmap_free(strmap *m);
 
-/* ---- source.c: sources and the pool ----------------------------------------------------- */
+/* ---- source.c: sources and the pool ---------------------------------------------------------- */
 
 /* One text the graph came from: a file, a string, or one --set assignment. */
 typedef struct source {
-    const char *name;     /* what messages call it; lg_srcloc.file points here */
-    const char *text;     /* NUL-terminated copy (may contain NULs, which are errors) */
+    const char *name; /* what messages call it; lg_srcloc.file points here */
+    const char *text; /* NUL-terminated copy (may contain NULs, which are errors) */
     uint32_t len;
-    uint32_t first_line;  /* 1 for files; n for the n-th --set */
+    uint32_t first_line; /* 1 for files; n for the n-th --set */
     /* The last line looked up (messages come mostly in file order): lines are found by
      * scanning from here, so that a file of 16 million empty lines costs no table. */
     uint32_t seen_line, seen_off;
-    char *owned;          /* the text when the source took it over (freed with the pool) */
+    char *owned; /* the text when the source took it over (freed with the pool) */
 } source;
 
 /* lg_graph.pool */
@@ -111,8 +112,8 @@ typedef struct pool {
 /* A new source in the pool. `text` is copied, or taken over when `take` (a malloc'd block
  * of len + 1 bytes ending in a NUL, as lg_read_file_limit gives; the pool frees it): a
  * file's text is not held twice. */
-source *lg_source_add(pool *pl, const char *name, const char *text, size_t len,
-                      uint32_t first_line, bool take);
+source *lg_source_add(pool *pl, const char *name, const char *text, size_t len, uint32_t first_line,
+                      bool take);
 /* Line `line` of `s` without its line break: *n bytes at the returned pointer (inside the
  * source's text, not copied); NULL if out of range. */
 const char *lg_source_line(source *s, uint32_t line, size_t *n);
@@ -120,7 +121,7 @@ const char *lg_source_line(source *s, uint32_t line, size_t *n);
  * NULL. */
 source *lg_pool_source(const pool *pl, const char *name);
 
-/* ---- parse session (one lg_graph_parse_* call, all files) ------------------------------- */
+/* ---- parse session (one lg_graph_parse_* call, all files) ------------------------------------ */
 
 typedef struct session {
     pool *pl;
@@ -141,8 +142,8 @@ typedef struct session {
     uint32_t depth;
     const char **done;
     uint32_t n_done, cap_done;
-    uint32_t n_tokens;    /* lexed so far, all files (MAX_TOKENS) */
-    uint64_t n_bytes;     /* read so far, all files (MAX_FILE_BYTES in all) */
+    uint32_t n_tokens; /* lexed so far, all files (MAX_TOKENS) */
+    uint64_t n_bytes;  /* read so far, all files (MAX_FILE_BYTES in all) */
 } session;
 
 /* A message at line:col (len bytes underlined) of `src` (NULL: no source line shown).
@@ -152,7 +153,7 @@ void lg_vreport(session *s, source *src, lg_diag_level lvl, uint32_t line, uint3
 void lg_report(session *s, source *src, lg_diag_level lvl, uint32_t line, uint32_t col,
                uint32_t len, const char *fmt, ...) __attribute__((format(printf, 7, 8)));
 
-/* ---- tokens (lexer.c makes them, parse.c reads them) ------------------------------------ */
+/* ---- tokens (lexer.c makes them, parse.c reads them) ----------------------------------------- */
 
 enum {
     T_EOF,
@@ -168,7 +169,7 @@ enum {
     T_RBRACK,
     T_COMMA,
     T_ERR,
-    T_NUMS,   /* a run of numbers in a list on one line, "1, 2.5, 3": tok.s points to a
+    T_NUMS, /* a run of numbers in a list on one line, "1, 2.5, 3": tok.s points to a
                * numrun; off, len, line and col are those of its first number */
 };
 
@@ -193,14 +194,14 @@ static inline uint32_t make_tag(uint32_t off, uint32_t len, bool is_float)
 
 typedef struct tok {
     uint8_t kind;
-    bool blank_before;        /* a blank line came before it (or before its comments) */
+    bool blank_before; /* a blank line came before it (or before its comments) */
     uint32_t off, len, line, col;
-    uint32_t c_first, c_n;    /* the comments above it, in parser.cm */
-    int32_t eol;              /* the comment that ends its line, or -1 */
+    uint32_t c_first, c_n; /* the comments above it, in parser.cm */
+    int32_t eol;           /* the comment that ends its line, or -1 */
     int64_t i;
     double f;
-    char *s;                  /* IDENT: name; STRING: the unescaped text; ERR: message */
-    char *port;               /* IDENT: after the '.', or NULL */
+    char *s;    /* IDENT: name; STRING: the unescaped text; ERR: message */
+    char *port; /* IDENT: after the '.', or NULL */
 } tok;
 
 /* One file's (or one --set value's) parse. */
@@ -242,14 +243,14 @@ static inline bool is_blank(int c)
     return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
 }
 
-/* ---- lexer.c ----------------------------------------------------------------------------- */
+/* ---- lexer.c --------------------------------------------------------------------------------- */
 
 /* Splits p->src->text[pos, end) into p->t (ending with a T_EOF) and p->cm. `pos` is 0 for
  * files; for a --set value it is the offset of the value inside the assignment, so that
  * columns point into it. */
 void lg_lex(parser *p, uint32_t pos, uint32_t end);
 
-/* ---- parse.c ----------------------------------------------------------------------------- */
+/* ---- parse.c --------------------------------------------------------------------------------- */
 
 static inline tok *peek(parser *p)
 {
@@ -267,7 +268,7 @@ bool lg_skip_nl(parser *p);
 void lg_tok_report(parser *p, const tok *t, lg_diag_level lvl, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
-/* ---- include.c --------------------------------------------------------------------------- */
+/* ---- include.c ------------------------------------------------------------------------------- */
 
 /* The include statement whose file name is the string token `f` (in p's file): resolves
  * it against p->base_dir and reads it. Returns the source to parse (pushed on the session's

@@ -117,7 +117,7 @@ static void add_node(lg_str *b, const lg_gnode *n)
     for (uint32_t i = 0; i < n->n_assigns && !multi; i++)
         multi = n->assigns[i].n_comments > 0 || n->assigns[i].eol_comment;
     if (!multi) {
-        lg_str line = {0};
+        lg_str line = { 0 };
         lg_str_addf(&line, "%s = %s {", n->name, n->type);
         for (uint32_t i = 0; i < n->n_assigns; i++) {
             lg_str_addf(&line, "%s%s = ", i ? ", " : " ", n->assigns[i].key);
@@ -149,7 +149,7 @@ static void add_node(lg_str *b, const lg_gnode *n)
 
 char *lg_graph_format(const lg_graph *g)
 {
-    lg_str b = {0};
+    lg_str b = { 0 };
     add_comments(&b, g->header_comments, g->n_header_comments, "");
     lg_str_addf(&b, "lightgraph %d\n", g->version > 0 ? g->version : 1);
     if (g->n_includes)
@@ -195,7 +195,7 @@ char *lg_graph_format(const lg_graph *g)
     return lg_str_take(&b);
 }
 
-/* ---- dot ------------------------------------------------------------------------------- */
+/* ---- dot ------------------------------------------------------------------------------------- */
 
 static void add_dot_string(lg_str *b, const char *s)
 {
@@ -214,7 +214,7 @@ static void add_dot_string(lg_str *b, const char *s)
 static void add_edge(lg_str *b, const char *from, const char *to, const char *out_port,
                      const char *in_port)
 {
-    lg_str label = {0};
+    lg_str label = { 0 };
     if (out_port && in_port)
         lg_str_addf(&label, "%s -> %s", out_port, in_port);
     else if (out_port || in_port)
@@ -249,7 +249,7 @@ static char *edge_label(const lg_node_type *t, uint32_t port, uint32_t part)
         return lg_xasprintf("%s, part of %s", kd->parts[part - 1].name, t->outputs[port].name);
     if (!lg_kind_is_composite(k))
         return port ? lg_xstrdup(t->outputs[port].name) : NULL;
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_addf(&b, "%s {", t->outputs[port].name);
     for (uint32_t i = 0; i < kd->n_parts; i++)
         lg_str_addf(&b, "%s%s", i ? ", " : "", kd->parts[i].name);
@@ -259,7 +259,7 @@ static char *edge_label(const lg_node_type *t, uint32_t port, uint32_t part)
 
 char *lg_graph_dot(const lg_graph *g, const lg_checked *c)
 {
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, "digraph lightgraph {\n  rankdir=LR;\n  node [shape=ellipse];\n");
     for (uint32_t i = 0; i < g->n_nodes; i++) {
         const lg_gnode *n = &g->nodes[i];

@@ -21,8 +21,8 @@ static bool is_space(char c)
 static uint32_t ident_end(const char *a, uint32_t i, size_t alen)
 {
     uint32_t i0 = i;
-    while (i < alen && (i == i0 ? is_ident_start((unsigned char)a[i])
-                                : is_ident_char((unsigned char)a[i])))
+    while (i < alen &&
+           (i == i0 ? is_ident_start((unsigned char)a[i]) : is_ident_char((unsigned char)a[i])))
         i++;
     return i;
 }
@@ -36,7 +36,7 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
         alen = MAX_FILE_BYTES;
     source *src = lg_source_add(pl, "<command line>", assignment, alen, ordinal, false);
     const char *a = src->text;
-    session s = {.pl = pl, .g = g, .d = diags};
+    session s = { .pl = pl, .g = g, .d = diags };
     const char *form = " (--set NODE.PARAM=VALUE)";
 
     /* The value may be taken as raw text (a path, a string, an enum), not only lexed: the
@@ -47,8 +47,10 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
             continue;
         int u = lg_utf8_char_len((const unsigned char *)a + i, alen - i);
         if (u == 0) {
-            lg_report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, 1, "invalid UTF-8: byte 0x%02X at "
-                      "byte offset %u%s", ch, i, form);
+            lg_report(&s, src, LG_DIAG_ERROR, ordinal, i + 1, 1,
+                      "invalid UTF-8: byte 0x%02X at "
+                      "byte offset %u%s",
+                      ch, i, form);
             return -1;
         }
         i += (uint32_t)u - 1;
@@ -112,12 +114,12 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
     lg_gvalue v;
     memset(&v, 0, sizeof v);
     v.kind = LG_GV_RAW;
-    v.loc = (lg_srcloc){src->name, ordinal, v0 + 1, v1 - v0};
+    v.loc = (lg_srcloc){ src->name, ordinal, v0 + 1, v1 - v0 };
     v.text = lg_arena_strndup(&pl->a, a + v0, v1 - v0);
     v.base_dir = NULL;
     {
-        lg_diags tmp = {0};
-        session vs = {.pl = pl, .g = g, .d = &tmp};
+        lg_diags tmp = { 0 };
+        session vs = { .pl = pl, .g = g, .d = &tmp };
         parser vp;
         memset(&vp, 0, sizeof vp);
         vp.s = &vs;
@@ -146,7 +148,7 @@ int lg_graph_set(lg_graph *g, const char *assignment, lg_diags *diags)
 
     lg_gnode *n = &g->nodes[ni];
     char *key = lg_arena_strndup(&pl->a, a + k0, k1 - k0);
-    lg_srcloc key_loc = {src->name, ordinal, k0 + 1, k1 - k0};
+    lg_srcloc key_loc = { src->name, ordinal, k0 + 1, k1 - k0 };
     for (uint32_t j = 0; j < n->n_assigns; j++) {
         if (strcmp(n->assigns[j].key, key) == 0) {
             n->assigns[j].value = v;

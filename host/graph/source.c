@@ -10,8 +10,8 @@
 
 #include "base/util.h"
 
-source *lg_source_add(pool *pl, const char *name, const char *text, size_t len,
-                      uint32_t first_line, bool take)
+source *lg_source_add(pool *pl, const char *name, const char *text, size_t len, uint32_t first_line,
+                      bool take)
 {
     source *s = lg_arena_zalloc(&pl->a, sizeof *s);
     s->name = lg_arena_strdup(&pl->a, name);
@@ -74,11 +74,11 @@ void lg_vreport(session *s, source *src, lg_diag_level lvl, uint32_t line, uint3
     char *msg = lg_vformat(fmt, ap);
     size_t n = 0;
     const char *text = src ? lg_source_line(src, line, &n) : NULL;
-    lg_srcloc loc = {src ? src->name : NULL, line, col, len};
+    lg_srcloc loc = { src ? src->name : NULL, line, col, len };
     lg_diags_add_line(s->d, lvl, loc, text, n, "%s", msg);
     free(msg);
     if (lvl == LG_DIAG_ERROR && ++s->errors >= MAX_ERRORS) {
-        lg_srcloc none = {src ? src->name : NULL, 0, 0, 0};
+        lg_srcloc none = { src ? src->name : NULL, 0, 0, 0 };
         lg_diags_add(s->d, LG_DIAG_NOTE, none, NULL, "too many errors (%u); stopping here",
                      s->errors);
         s->stop = true;

@@ -31,8 +31,7 @@ static void describe_resource(lg_str *s, const lg_resource *r)
         lg_format_bytes(sz, sizeof sz, lg_resource_bytes(r));
         if (r->image.flags & LG_IMAGE_DEPTH_ONLY)
             lg_str_addf(s, "%s %ux%u depth32f (%s)", kind, r->image.width, r->image.height, sz);
-        else
-        {
+        else {
             char lev[32] = "";
             if (r->image.levels > 1)
                 snprintf(lev, sizeof lev, " x%u levels", r->image.levels);
@@ -51,9 +50,7 @@ static void describe_resource(lg_str *s, const lg_resource *r)
         lg_format_bytes(sz, sizeof sz, r->buffer.size);
         lg_str_addf(s, "%s %s", kind, sz);
         break;
-    case LG_KIND_SCENE:
-        lg_str_add(s, kind);
-        break;
+    case LG_KIND_SCENE: lg_str_add(s, kind); break;
     default:
         if (lg_kind_is_composite(r->kind)) {
             const lg_kind_desc *kd = lg_kind_describe(r->kind);
@@ -84,8 +81,7 @@ static void describe_inputs(lg_exec *ex, lg_str *d, const lg_pnode *n)
             continue;
         const lg_pnode *src = ex->nodes[e.node];
         const char *port = src->schema->outputs[e.port].name;
-        lg_str_addf(d, "%s%s <- %s.", d->len ? "; " : "", n->schema->inputs[k].name,
-                    src->pub.name);
+        lg_str_addf(d, "%s%s <- %s.", d->len ? "; " : "", n->schema->inputs[k].name, src->pub.name);
         if (e.part) {
             const lg_kind_desc *kd = lg_kind_describe(src->schema->outputs[e.port].kind);
             lg_str_addf(d, "%s (part of %s.%s)", kd ? kd->parts[e.part - 1].name : "?",
@@ -180,7 +176,7 @@ void lg_explain_print(lg_exec *ex, FILE *f)
             "device", "details");
     for (uint32_t t = 0; t < c->n_nodes; t++) {
         lg_pnode *n = ex->nodes[c->topo[t]];
-        lg_str d = {0};
+        lg_str d = { 0 };
         if (n->plan.state == LG_STATE_KEPT) {
             describe_inputs(ex, &d, n);
             for (uint32_t o = 0; o < n->schema->n_outputs; o++) {
@@ -202,7 +198,9 @@ void lg_explain_print(lg_exec *ex, FILE *f)
         }
         fprintf(f, "  %-*s  %-*s  %-6s  %-9s  %-6s  %s\n", wn, n->pub.name, wt, n->schema->name,
                 state_name(n->plan.state),
-                n->plan.state != LG_STATE_KEPT ? "-" : n->run.per_frame ? "per-frame" : "once",
+                n->plan.state != LG_STATE_KEPT ? "-"
+                : n->run.per_frame             ? "per-frame"
+                                               : "once",
                 n->plan.state != LG_STATE_KEPT ? "-" : device_name(n->run.device), d.s ? d.s : "");
         lg_str_free(&d);
     }
@@ -210,12 +208,11 @@ void lg_explain_print(lg_exec *ex, FILE *f)
         lg_pnode *n = ex->nodes[i];
         for (uint32_t o = 0; n->outputs && o < n->schema->n_outputs; o++) {
             lg_resource *r = n->outputs[o];
-            if (r && r->kind == LG_KIND_SCENE && r->has_features && r->producer == n &&
-                !r->neutral)
+            if (r && r->kind == LG_KIND_SCENE && r->has_features && r->producer == n && !r->neutral)
                 print_features(f, n->pub.name, &r->features);
         }
     }
-    lg_str top = {0};
+    lg_str top = { 0 };
     double est = lg_plan_estimate(ex, &top);
     if (top.len) {
         char t[64];
@@ -228,7 +225,7 @@ void lg_explain_print(lg_exec *ex, FILE *f)
     char *loaded = lg_registry_loaded_list(ex->reg);
     fprintf(f, "plugins loaded: %s\n", loaded[0] ? loaded : "(none)");
     free(loaded);
-    lg_str notl = {0};
+    lg_str notl = { 0 };
     for (uint32_t i = 0; i < ex->reg->n_plugins; i++)
         if (!ex->reg->plugins[i]->handle)
             lg_str_addf(&notl, "%s%s", notl.len ? " " : "", ex->reg->plugins[i]->name);

@@ -31,12 +31,8 @@ static void digest_params(lg_digest *d, const lg_cnode *c)
             lg_digest_add(d, &b, 1);
             break;
         }
-        case LG_PARAM_INT:
-            lg_digest_add(d, &v->i, sizeof v->i);
-            break;
-        case LG_PARAM_FLOAT:
-            lg_digest_add(d, &v->f, sizeof v->f);
-            break;
+        case LG_PARAM_INT: lg_digest_add(d, &v->i, sizeof v->i); break;
+        case LG_PARAM_FLOAT: lg_digest_add(d, &v->f, sizeof v->f); break;
         case LG_PARAM_VEC2:
         case LG_PARAM_VEC3:
         case LG_PARAM_COLOR:
@@ -44,14 +40,10 @@ static void digest_params(lg_digest *d, const lg_cnode *c)
             if (p->type == LG_PARAM_COLOR && p->enum_values) /* keyword index, or -1 */
                 lg_digest_add(d, &v->e, sizeof v->e);
             break;
-        case LG_PARAM_INT3:
-            lg_digest_add(d, v->i3, sizeof v->i3);
-            break;
+        case LG_PARAM_INT3: lg_digest_add(d, v->i3, sizeof v->i3); break;
         case LG_PARAM_STRING:
         case LG_PARAM_PATH:
-        case LG_PARAM_ENUM:
-            lg_digest_add_str(d, v->s);
-            break;
+        case LG_PARAM_ENUM: lg_digest_add_str(d, v->s); break;
         case LG_PARAM_PATH_LIST: {
             lg_digest_add(d, &v->e, sizeof v->e);
             const char *s = v->s;
@@ -201,7 +193,7 @@ static void call_callback(void *p)
 
 static int guarded(lg_exec *ex, lg_pnode *n, int (*fn)(lg_node *), const char *what)
 {
-    callback_call call = {n, fn, 0};
+    callback_call call = { n, fn, 0 };
     if (lg_node_call(ex, n, what, call_callback, &call))
         return -1;
     return call.rc;
@@ -270,8 +262,8 @@ static lg_pnode *adoptable(lg_exec *ex, const lg_pnode *n)
         return NULL;
     for (uint32_t j = 0; j < pv->n_nodes; j++) {
         lg_pnode *o = pv->nodes[j];
-        if (!o || o->plan.lent || o->run.crashed || !o->run.prepared || o->plan.state != LG_STATE_KEPT ||
-            o->plugin != n->plugin || o->schema != n->schema ||
+        if (!o || o->plan.lent || o->run.crashed || !o->run.prepared ||
+            o->plan.state != LG_STATE_KEPT || o->plugin != n->plugin || o->schema != n->schema ||
             memcmp(&o->plan.plan_identity, &n->plan.plan_identity, sizeof n->plan.identity) != 0)
             continue;
         bool same = true;
@@ -345,8 +337,8 @@ static void decide_gate(lg_exec *ex, lg_pnode *n, bool *seen)
     if (unmet) {
         n->plan.state = LG_STATE_GATED;
         n->plan.reason = any ? lg_xasprintf("the scene upstream has %s", needs_text(unmet))
-                        : lg_xstrdup("no scene is upstream of it, so its needs "
-                                     "cannot be met");
+                             : lg_xstrdup("no scene is upstream of it, so its needs "
+                                          "cannot be met");
     }
 }
 
@@ -490,9 +482,10 @@ static int check_plan_memory(lg_exec *ex)
     lg_bytes_text(need, sizeof need, total);
     lg_bytes_text(have, sizeof have, avail);
     lg_bytes_text(most, sizeof most, largest);
-    lg_hlog(LG_HERR, "the plan's %u images, volumes and buffers need %s (%llu bytes) in all, "
-                     "more than the %s (%llu bytes) of %s; the largest is output '%s' of node "
-                     "'%s' (%s); nothing was run",
+    lg_hlog(LG_HERR,
+            "the plan's %u images, volumes and buffers need %s (%llu bytes) in all, "
+            "more than the %s (%llu bytes) of %s; the largest is output '%s' of node "
+            "'%s' (%s); nothing was run",
             count, need, (unsigned long long)total, have, (unsigned long long)avail, bound,
             big_port ? big_port : "?", big ? big->pub.name : "?", most);
     ex->failed = true;

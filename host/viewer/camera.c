@@ -21,7 +21,7 @@ static const double kPitchLimit = LG_HALF_PI - 0.5 * LG_PI / 180.0;
 
 static dv3 d3(double x, double y, double z)
 {
-    dv3 r = {x, y, z};
+    dv3 r = { x, y, z };
     return r;
 }
 static dv3 d3f(const float v[3])
@@ -67,7 +67,7 @@ static bool finite3f(const float v[3])
  * perpendicular, or the world up, or -Z when want is (nearly) parallel to f. */
 static dv3 perpendicular_up(dv3 f, dv3 want)
 {
-    const dv3 tries[3] = {want, d3(0, 1, 0), d3(0, 0, -1)};
+    const dv3 tries[3] = { want, d3(0, 1, 0), d3(0, 0, -1) };
     for (int i = 0; i < 3; i++) {
         dv3 u = sub(tries[i], mul(f, dot(tries[i], f)));
         double l = len(u), lw = len(tries[i]);
@@ -81,9 +81,9 @@ static dv3 perpendicular_up(dv3 f, dv3 want)
  * up perpendicular to the view direction, a field of view a camera can have. */
 static bool vcam_valid(const lg_vcam *v)
 {
-    if (!finite3f(v->position) || !finite3f(v->target) || !finite3f(v->up) ||
-        !isfinite(v->yfov) || !isfinite(v->znear) || !isfinite(v->zfar) ||
-        !isfinite(v->aspect) || !isfinite(v->scale) || !(v->scale > 0.0f))
+    if (!finite3f(v->position) || !finite3f(v->target) || !finite3f(v->up) || !isfinite(v->yfov) ||
+        !isfinite(v->znear) || !isfinite(v->zfar) || !isfinite(v->aspect) || !isfinite(v->scale) ||
+        !(v->scale > 0.0f))
         return false;
     if (v->position[0] == v->target[0] && v->position[1] == v->target[1] &&
         v->position[2] == v->target[2])
@@ -130,7 +130,7 @@ static double clamp_pitch(double p)
     return p > kPitchLimit ? kPitchLimit : p < -kPitchLimit ? -kPitchLimit : p;
 }
 
-/* ---- init / out ---------------------------------------------------------------------------- */
+/* ---- init / out ------------------------------------------------------------------------------ */
 
 void lg_vcam_init(lg_vcam *v, const lg_camera *c, const float bmin[3], const float bmax[3])
 {
@@ -192,7 +192,7 @@ void lg_vcam_to_camera(const lg_vcam *v, lg_camera *out)
     out->aspect = v->aspect;
 }
 
-/* ---- input ------------------------------------------------------------------------------------ */
+/* ---- input ----------------------------------------------------------------------------------- */
 
 /* Each input function works on a copy's worth of state and keeps the old camera when the
  * result would not be valid (a float overflow, a target that rounds onto the eye). */
@@ -311,7 +311,7 @@ void lg_vcam_move(lg_vcam *v, const float rul[3], double dt, double speed)
     commit_or_revert(v, &old);
 }
 
-/* ---- node text ----------------------------------------------------------------------------- */
+/* ---- node text ------------------------------------------------------------------------------- */
 
 static bool is_graph_name(const char *s)
 {

@@ -33,11 +33,11 @@
 typedef enum lg_vcam_mode { LG_VCAM_ORBIT = 0, LG_VCAM_FLY } lg_vcam_mode;
 
 typedef struct lg_vcam {
-    lg_vcam_mode mode;                     /* which input the viewer routes where; the
+    lg_vcam_mode mode;                   /* which input the viewer routes where; the
                                               functions below work in either mode */
-    float position[3], target[3], up[3];   /* world; target - position never zero */
-    float yfov, znear, zfar, aspect;       /* as lg_camera */
-    float scale;                           /* the scene's size (bounding radius), for speeds */
+    float position[3], target[3], up[3]; /* world; target - position never zero */
+    float yfov, znear, zfar, aspect;     /* as lg_camera */
+    float scale;                         /* the scene's size (bounding radius), for speeds */
 } lg_vcam;
 
 /* From the graph's camera c and the scene bounds: scale = half the bounds' diagonal (1 when

@@ -22,7 +22,7 @@ enum {
     U_FB_SIZE = 1,
     U_EXPOSURE = 2, /* display_image.frag */
     U_TAPS = 3,
-    U_ORIGIN = 2,   /* display_text.frag from here on */
+    U_ORIGIN = 2, /* display_text.frag from here on */
     U_SCALE = 3,
     U_CELL = 4,
     U_COLOR = 5,
@@ -35,14 +35,14 @@ enum {
 struct lg_vdisplay {
     const GladGLContext *gl;
     GLuint image_prog, text_prog;
-    GLuint vao;                 /* empty: the quad comes from gl_VertexID */
-    GLuint nearest, linear;     /* samplers, clamped to the edge */
-    GLuint font;                /* R8 atlas, LG_FONT_COUNT glyphs side by side */
-    GLuint text;                /* R8UI grid of characters, grown on demand */
-    int text_w, text_h;         /* its allocated size */
-    GLint max_texture;          /* GL_MAX_TEXTURE_SIZE */
-    GLint max_viewport[2];      /* GL_MAX_VIEWPORT_DIMS */
-    lg_node node;               /* for lg_gl_program's messages (see compile_error) */
+    GLuint vao;             /* empty: the quad comes from gl_VertexID */
+    GLuint nearest, linear; /* samplers, clamped to the edge */
+    GLuint font;            /* R8 atlas, LG_FONT_COUNT glyphs side by side */
+    GLuint text;            /* R8UI grid of characters, grown on demand */
+    int text_w, text_h;     /* its allocated size */
+    GLint max_texture;      /* GL_MAX_TEXTURE_SIZE */
+    GLint max_viewport[2];  /* GL_MAX_VIEWPORT_DIMS */
+    lg_node node;           /* for lg_gl_program's messages (see compile_error) */
     char err[1024];
 };
 
@@ -121,8 +121,10 @@ static int pending_error(lg_vdisplay *d, const char *what)
         return 0;
     while (d->gl->GetError() != GL_NO_ERROR) {
     }
-    set_error(d, "%s: a GL error was pending before the call (%s, raised by an earlier GL call; "
-              "cleared)", what, lg_gl_strerror(e));
+    set_error(d,
+              "%s: a GL error was pending before the call (%s, raised by an earlier GL call; "
+              "cleared)",
+              what, lg_gl_strerror(e));
     return -1;
 }
 
@@ -154,13 +156,14 @@ static int check_target(lg_vdisplay *d, const char *what, uint32_t fbo, int fb_w
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         set_error(d, "%s: framebuffer %u is not complete (status 0x%04x%s)", what, fbo,
                   (unsigned)status,
-                  status == GL_FRAMEBUFFER_UNDEFINED ? ": the context has no default framebuffer" : "");
+                  status == GL_FRAMEBUFFER_UNDEFINED ? ": the context has no default framebuffer"
+                                                     : "");
         return -1;
     }
     return 0;
 }
 
-/* ---- create / destroy ------------------------------------------------------------------ */
+/* ---- create / destroy ------------------------------------------------------------------------ */
 
 int lg_vdisplay_create(const GladGLContext *gl, lg_vdisplay **out, char *err, size_t errlen)
 {
@@ -179,19 +182,19 @@ int lg_vdisplay_create(const GladGLContext *gl, lg_vdisplay **out, char *err, si
         return -1;
     }
     d->gl = gl;
-    d->node = (lg_node){.host = &compile_host, .name = "viewer display", .user = d};
+    d->node = (lg_node){ .host = &compile_host, .name = "viewer display", .user = d };
     if (pending_error(d, "lg_vdisplay_create"))
         goto fail;
     gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &d->max_texture);
     gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, d->max_viewport);
 
     const lg_gl_shader_src image_src[] = {
-        {GL_VERTEX_SHADER, lg_src_display_vert_file, lg_src_display_vert},
-        {GL_FRAGMENT_SHADER, lg_src_display_image_frag_file, lg_src_display_image_frag},
+        { GL_VERTEX_SHADER, lg_src_display_vert_file, lg_src_display_vert },
+        { GL_FRAGMENT_SHADER, lg_src_display_image_frag_file, lg_src_display_image_frag },
     };
     const lg_gl_shader_src text_src[] = {
-        {GL_VERTEX_SHADER, lg_src_display_vert_file, lg_src_display_vert},
-        {GL_FRAGMENT_SHADER, lg_src_display_text_frag_file, lg_src_display_text_frag},
+        { GL_VERTEX_SHADER, lg_src_display_vert_file, lg_src_display_vert },
+        { GL_FRAGMENT_SHADER, lg_src_display_text_frag_file, lg_src_display_text_frag },
     };
     d->image_prog = lg_gl_program(&d->node, gl, image_src, 2, NULL);
     if (!d->image_prog)
@@ -203,7 +206,7 @@ int lg_vdisplay_create(const GladGLContext *gl, lg_vdisplay **out, char *err, si
     gl->CreateVertexArrays(1, &d->vao);
     gl->CreateSamplers(1, &d->nearest);
     gl->CreateSamplers(1, &d->linear);
-    const GLuint samplers[2] = {d->nearest, d->linear};
+    const GLuint samplers[2] = { d->nearest, d->linear };
     for (int i = 0; i < 2; i++) {
         GLint filter = i == 0 ? GL_NEAREST : GL_LINEAR;
         gl->SamplerParameteri(samplers[i], GL_TEXTURE_MIN_FILTER, filter);
@@ -278,11 +281,11 @@ void lg_vdisplay_cell(const lg_vdisplay *d, int *cw, int *ch)
         *ch = LG_FONT_CELL_H;
 }
 
-/* ---- the image ------------------------------------------------------------------------- */
+/* ---- the image ------------------------------------------------------------------------------- */
 
 lg_vdisplay_rect lg_vdisplay_fit(int fb_w, int fb_h, uint32_t w, uint32_t h)
 {
-    lg_vdisplay_rect r = {0, 0, 0, 0, 0.0};
+    lg_vdisplay_rect r = { 0, 0, 0, 0, 0.0 };
     if (fb_w <= 0 || fb_h <= 0 || w == 0 || h == 0)
         return r;
     r.scale = fmin((double)fb_w / w, (double)fb_h / h);
@@ -334,8 +337,10 @@ static int check_texture(lg_vdisplay *d, uint32_t tex, uint32_t w, uint32_t h)
         return -1;
     }
     if (!format_name(fmt)) {
-        set_error(d, "%s: texture %u has internal format 0x%04x; the display takes GL_RGBA32F, "
-                  "GL_RGBA16F or GL_RGBA8", what, tex, (unsigned)fmt);
+        set_error(d,
+                  "%s: texture %u has internal format 0x%04x; the display takes GL_RGBA32F, "
+                  "GL_RGBA16F or GL_RGBA8",
+                  what, tex, (unsigned)fmt);
         return -1;
     }
     return 0;
@@ -368,7 +373,7 @@ int lg_vdisplay_draw_image(lg_vdisplay *d, uint32_t fbo, int fb_w, int fb_h, uin
     taps = taps > LG_VDISPLAY_MAX_TAPS ? LG_VDISPLAY_MAX_TAPS : taps;
 
     begin_pass(gl, fbo, fb_w, fb_h);
-    const GLfloat clear[4] = {LG_VDISPLAY_CLEAR, LG_VDISPLAY_CLEAR, LG_VDISPLAY_CLEAR, 1.0f};
+    const GLfloat clear[4] = { LG_VDISPLAY_CLEAR, LG_VDISPLAY_CLEAR, LG_VDISPLAY_CLEAR, 1.0f };
     gl->ClearNamedFramebufferfv(fbo, GL_COLOR, 0, clear);
     gl->Disable(GL_BLEND);
     gl->UseProgram(d->image_prog);
@@ -384,7 +389,7 @@ int lg_vdisplay_draw_image(lg_vdisplay *d, uint32_t fbo, int fb_w, int fb_h, uin
     return check_error(d, what);
 }
 
-/* ---- text ------------------------------------------------------------------------------ */
+/* ---- text ------------------------------------------------------------------------------------ */
 
 /* Makes the grid texture at least cols x rows. */
 static int text_grid(lg_vdisplay *d, int cols, int rows)

@@ -12,7 +12,7 @@
 
 #include "lightgraph/kinds.h"
 
-/* ---- the camera -------------------------------------------------------------------- */
+/* ---- the camera ------------------------------------------------------------------------------ */
 
 /* The scene the renderers of the shown image read: the first kept node upstream of the
  * shown one (itself included) that reads a scene. */
@@ -91,12 +91,12 @@ static void camera_print(viewer *v)
     lg_viewer_status(v, false, "camera printed on stdout as a camera node");
 }
 
-/* ---- live parameters ----------------------------------------------------------------- */
+/* ---- live parameters ------------------------------------------------------------------------- */
 
 /* The selection on stdout too: a terminal beside the window keeps the history. */
 static void print_selection(viewer *v)
 {
-    lg_str d = {0};
+    lg_str d = { 0 };
     lg_vparams_describe(v->vp, v->cur.c, &d);
     printf("lightgraph view: select: %s\n", d.s ? d.s : "(nothing to select)");
     fflush(stdout);
@@ -129,8 +129,8 @@ static void switch_method(viewer *v, int dir)
     uint32_t n = 0;
     int32_t from = -1, to = -1, new_shown = -1;
     char err[1024];
-    if (!lg_vparams_switch_method(v->cur.g, v->cur.c, v->cur.shown.node, dir, &as, &n, &from,
-                                  &to, &new_shown, err, sizeof err)) {
+    if (!lg_vparams_switch_method(v->cur.g, v->cur.c, v->cur.shown.node, dir, &as, &n, &from, &to,
+                                  &new_shown, err, sizeof err)) {
         lg_viewer_refuse(v, err);
         return;
     }
@@ -189,8 +189,8 @@ static void screenshot_key(viewer *v)
     strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
     char err[1024];
     for (int k = 0; k < 2; k++) {
-        char *path = lg_xasprintf("%s/%s-%s-%03ld.%s", slash ? (dir[0] ? dir : "/") : ".",
-                                  stem, stamp, ts.tv_nsec / 1000000, k ? "exr" : "png");
+        char *path = lg_xasprintf("%s/%s-%s-%03ld.%s", slash ? (dir[0] ? dir : "/") : ".", stem,
+                                  stamp, ts.tv_nsec / 1000000, k ? "exr" : "png");
         if (lg_viewer_screenshot(v, path, err, sizeof err))
             lg_viewer_status(v, true, "screenshot: %s", err);
         else
@@ -201,7 +201,7 @@ static void screenshot_key(viewer *v)
     free(dir);
 }
 
-/* ---- input ---------------------------------------------------------------------------- */
+/* ---- input ----------------------------------------------------------------------------------- */
 
 void lg_viewer_key(viewer *v, int key, int mods, int action)
 {
@@ -216,9 +216,7 @@ void lg_viewer_key(viewer *v, int key, int mods, int action)
         v->held[key] = true;
     bool shift = mods & GLFW_MOD_SHIFT;
     switch (key) {
-    case GLFW_KEY_ESCAPE:
-        v->quit = true;
-        break;
+    case GLFW_KEY_ESCAPE: v->quit = true; break;
     case GLFW_KEY_TAB:
         lg_vparams_next_node(v->vp, shift ? -1 : 1);
         print_selection(v);
@@ -235,55 +233,32 @@ void lg_viewer_key(viewer *v, int key, int mods, int action)
         lg_vparams_first_entry(v->vp);
         print_selection(v);
         break;
-    case GLFW_KEY_LEFT:
-        step_selected(v, -1);
-        break;
-    case GLFW_KEY_RIGHT:
-        step_selected(v, 1);
-        break;
-    case GLFW_KEY_M:
-        switch_method(v, shift ? -1 : 1);
-        break;
-    case GLFW_KEY_O:
-        print_overrides(v);
-        break;
-    case GLFW_KEY_C:
-        camera_print(v);
-        break;
-    case GLFW_KEY_R:
-        camera_reset(v);
-        break;
+    case GLFW_KEY_LEFT: step_selected(v, -1); break;
+    case GLFW_KEY_RIGHT: step_selected(v, 1); break;
+    case GLFW_KEY_M: switch_method(v, shift ? -1 : 1); break;
+    case GLFW_KEY_O: print_overrides(v); break;
+    case GLFW_KEY_C: camera_print(v); break;
+    case GLFW_KEY_R: camera_reset(v); break;
     case GLFW_KEY_F:
         if (camera_take(v)) {
             v->vcam.mode = v->vcam.mode == LG_VCAM_FLY ? LG_VCAM_ORBIT : LG_VCAM_FLY;
-            lg_viewer_status(v, false, "camera: %s", v->vcam.mode == LG_VCAM_FLY
-                                                   ? "fly (WASD, Q/E down/up, drag to look)"
-                                                   : "orbit (drag, right-drag pans, wheel)");
+            lg_viewer_status(v, false, "camera: %s",
+                             v->vcam.mode == LG_VCAM_FLY ? "fly (WASD, Q/E down/up, drag to look)"
+                                                         : "orbit (drag, right-drag pans, wheel)");
         }
         break;
     case GLFW_KEY_H:
-    case GLFW_KEY_F1:
-        v->overlay = !v->overlay;
-        break;
-    case GLFW_KEY_LEFT_BRACKET:
-        v->ev -= shift ? 2.0f : 0.5f;
-        break;
-    case GLFW_KEY_RIGHT_BRACKET:
-        v->ev += shift ? 2.0f : 0.5f;
-        break;
-    case GLFW_KEY_BACKSLASH:
-        lg_viewer_auto_exposure(v);
-        break;
+    case GLFW_KEY_F1: v->overlay = !v->overlay; break;
+    case GLFW_KEY_LEFT_BRACKET: v->ev -= shift ? 2.0f : 0.5f; break;
+    case GLFW_KEY_RIGHT_BRACKET: v->ev += shift ? 2.0f : 0.5f; break;
+    case GLFW_KEY_BACKSLASH: lg_viewer_auto_exposure(v); break;
     case GLFW_KEY_F5:
         /* everything made again: also the files the graph's nodes read (an edited mesh) */
         lg_viewer_attempt(v, "everything reloaded (F5)", true);
         break;
     case GLFW_KEY_F12:
-    case GLFW_KEY_P:
-        screenshot_key(v);
-        break;
-    default:
-        break;
+    case GLFW_KEY_P: screenshot_key(v); break;
+    default: break;
     }
 }
 
@@ -320,7 +295,7 @@ void lg_viewer_scroll(viewer *v, double d)
     if (d == 0 || !camera_take(v))
         return;
     if (v->vcam.mode == LG_VCAM_FLY) {
-        float f[3] = {0, 0, (float)d};
+        float f[3] = { 0, 0, (float)d };
         lg_vcam_move(&v->vcam, f, 0.1, 1.0);
     } else {
         lg_vcam_zoom(&v->vcam, d);
@@ -333,9 +308,9 @@ void lg_viewer_fly_step(viewer *v, double dt)
 {
     if (!v->cam_on || v->vcam.mode != LG_VCAM_FLY)
         return;
-    float m[3] = {(float)(v->held[GLFW_KEY_D] - v->held[GLFW_KEY_A]),
-                  (float)(v->held[GLFW_KEY_E] - v->held[GLFW_KEY_Q]),
-                  (float)(v->held[GLFW_KEY_W] - v->held[GLFW_KEY_S])};
+    float m[3] = { (float)(v->held[GLFW_KEY_D] - v->held[GLFW_KEY_A]),
+                   (float)(v->held[GLFW_KEY_E] - v->held[GLFW_KEY_Q]),
+                   (float)(v->held[GLFW_KEY_W] - v->held[GLFW_KEY_S]) };
     if (m[0] == 0 && m[1] == 0 && m[2] == 0)
         return;
     bool fast = v->held[GLFW_KEY_LEFT_SHIFT] || v->held[GLFW_KEY_RIGHT_SHIFT];

@@ -22,12 +22,12 @@ void lg_viewer_watch_graph_files(viewer *v)
     if (!v->watch)
         return;
     char err[1024];
-    if (lg_watch_files(v->watch, LG_WATCH_GRAPH, (const char *const *)v->cur.files,
-                       v->cur.n_files, err, sizeof err))
+    if (lg_watch_files(v->watch, LG_WATCH_GRAPH, (const char *const *)v->cur.files, v->cur.n_files,
+                       err, sizeof err))
         lg_hlog(LG_HWARN, "cannot watch the graph's files: %s", err);
 }
 
-/* ---- the status line --------------------------------------------------------------------- */
+/* ---- the status line ------------------------------------------------------------------------- */
 
 void lg_viewer_status(viewer *v, bool error, const char *fmt, ...)
 {
@@ -45,7 +45,7 @@ void lg_viewer_status(viewer *v, bool error, const char *fmt, ...)
     fflush(stdout);
 }
 
-/* ---- loading a graph ----------------------------------------------------------------- */
+/* ---- loading a graph ------------------------------------------------------------------------- */
 
 void lg_viewer_loaded_free(loaded *l)
 {
@@ -116,14 +116,16 @@ static int resolve_shown(viewer *v, loaded *l, char *err, size_t errlen)
             snprintf(err, errlen, "--show %s: node '%s' has no output", v->show, v->show);
             return -1;
         }
-        l->shown = (lg_edge){ni, port, part};
+        l->shown = (lg_edge){ ni, port, part };
     } else {
         if (c->n_outputs == 0) {
-            snprintf(err, errlen, "%s has no output statement: name the image to show with "
-                     "--show NODE.PORT", v->graph);
+            snprintf(err, errlen,
+                     "%s has no output statement: name the image to show with "
+                     "--show NODE.PORT",
+                     v->graph);
             return -1;
         }
-        l->shown = (lg_edge){c->outputs[0].node, c->outputs[0].port, c->outputs[0].part};
+        l->shown = (lg_edge){ c->outputs[0].node, c->outputs[0].port, c->outputs[0].part };
     }
     const lg_node_type *t = c->nodes[l->shown.node].type;
     lg_resource_kind k = t->outputs[l->shown.port].kind;
@@ -136,9 +138,11 @@ static int resolve_shown(viewer *v, loaded *l, char *err, size_t errlen)
         }
     } else if (k != LG_KIND_IMAGE && k != LG_KIND_PROBE && k != LG_KIND_ANY) {
         const lg_kind_desc *kd = lg_kind_describe(k);
-        snprintf(err, errlen, "'%s.%s' gives %s: the viewer shows images and probes (name an "
-                 "image with --show NODE.PORT)", l->g->nodes[l->shown.node].name,
-                 t->outputs[l->shown.port].name, kd ? kd->name : "no image");
+        snprintf(err, errlen,
+                 "'%s.%s' gives %s: the viewer shows images and probes (name an "
+                 "image with --show NODE.PORT)",
+                 l->g->nodes[l->shown.node].name, t->outputs[l->shown.port].name,
+                 kd ? kd->name : "no image");
         return -1;
     }
     l->shown_name = lg_xasprintf("%s.%s", l->g->nodes[l->shown.node].name,
@@ -168,7 +172,7 @@ static bool upstream_display_referred(const lg_exec *ex, int32_t i, bool *seen)
  * into l (zeroed by the caller). Returns 0, or -1 with err (l then holds what was made). */
 static int parse_and_check(viewer *v, loaded *l, char *err, size_t errlen)
 {
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     l->g = lg_graph_parse_file(v->graph, &d);
     for (int i = 0; l->g && i < v->n_sets; i++)
         lg_graph_set(l->g, v->sets[i], &d);
@@ -312,11 +316,12 @@ void lg_viewer_update_averages(viewer *v)
     for (uint32_t i = 0; i < v->cur.ex->n_nodes; i++) {
         lg_pnode *n = v->cur.ex->nodes[i];
         if (n && n->viewer.ran_this_frame) {
-            n->viewer.avg_cpu_ms = n->prof.runs <= 1 ? n->viewer.last_cpu_ms
-                                         : 0.9 * n->viewer.avg_cpu_ms + 0.1 * n->viewer.last_cpu_ms;
-            n->viewer.avg_gpu_ms = n->prof.runs <= 1 ? n->viewer.last_gpu_ms
-                                         : 0.9 * n->viewer.avg_gpu_ms + 0.1 * n->viewer.last_gpu_ms;
+            n->viewer.avg_cpu_ms = n->prof.runs <= 1
+                                       ? n->viewer.last_cpu_ms
+                                       : 0.9 * n->viewer.avg_cpu_ms + 0.1 * n->viewer.last_cpu_ms;
+            n->viewer.avg_gpu_ms = n->prof.runs <= 1
+                                       ? n->viewer.last_gpu_ms
+                                       : 0.9 * n->viewer.avg_gpu_ms + 0.1 * n->viewer.last_gpu_ms;
         }
     }
 }
-

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- the overlay ----------------------------------------------------------------------- */
+/* ---- the overlay ----------------------------------------------------------------------------- */
 
 static void overlay_text(viewer *v, lg_str *s)
 {
@@ -33,9 +33,9 @@ static void overlay_text(viewer *v, lg_str *s)
         wn = 18;
     if (wt > 20)
         wt = 20;
-    lg_str_addf(s, "%-*.*s %-*.*s %-9s %9s %9s %9s %9s\n", wn, wn, "node", wt, wt, "type",
-                "runs", "last ms", "avg ms", "gpu last", "gpu avg");
-    lg_str culled = {0}, gated = {0};
+    lg_str_addf(s, "%-*.*s %-*.*s %-9s %9s %9s %9s %9s\n", wn, wn, "node", wt, wt, "type", "runs",
+                "last ms", "avg ms", "gpu last", "gpu avg");
+    lg_str culled = { 0 }, gated = { 0 };
     for (uint32_t t = 0; t < l->c->n_nodes; t++) {
         const lg_pnode *n = l->ex->nodes[l->c->topo[t]];
         if (!n)
@@ -56,8 +56,8 @@ static void overlay_text(viewer *v, lg_str *s)
             snprintf(gpu, sizeof gpu, na ? "n/a" : "%.2f", n->viewer.last_gpu_ms);
             snprintf(gpu_avg, sizeof gpu_avg, na ? "n/a" : "%.2f", n->viewer.avg_gpu_ms);
         }
-        lg_str_addf(s, "%-*.*s %-*.*s %-9s %9.2f %9.2f %9s %9s%s\n", wn, wn, n->pub.name, wt,
-                    wt, n->schema->name, n->run.per_frame ? "per-frame" : "once", n->viewer.last_cpu_ms,
+        lg_str_addf(s, "%-*.*s %-*.*s %-9s %9.2f %9.2f %9s %9s%s\n", wn, wn, n->pub.name, wt, wt,
+                    n->schema->name, n->run.per_frame ? "per-frame" : "once", n->viewer.last_cpu_ms,
                     n->viewer.avg_cpu_ms, gpu, gpu_avg,
                     n->viewer.ran_this_frame ? "" : (n->run.per_frame ? "" : "  (cached)"));
     }
@@ -67,13 +67,15 @@ static void overlay_text(viewer *v, lg_str *s)
         lg_str_addf(s, "gated: %s\n", gated.s);
     lg_str_free(&culled);
     lg_str_free(&gated);
-    lg_str d = {0};
+    lg_str d = { 0 };
     lg_vparams_describe(v->vp, l->c, &d);
     lg_str_addf(s, "select: %s   [Tab node, Up/Down entry, Left/Right value, M method]\n",
                 d.s ? d.s : "-");
     lg_str_free(&d);
     lg_str_addf(s, "camera: %s   exposure %+.1f EV%s\n",
-                !v->cam_on ? "the graph's" : v->vcam.mode == LG_VCAM_FLY ? "fly" : "orbit",
+                !v->cam_on                    ? "the graph's"
+                : v->vcam.mode == LG_VCAM_FLY ? "fly"
+                                              : "orbit",
                 (double)v->ev, l->display_referred ? " (display-referred)" : "");
 }
 
@@ -90,10 +92,10 @@ static void update_title(viewer *v)
 /* The overlay's text, then the status line below it, in red for an error. */
 static void draw_overlay(viewer *v, int fw, int fh)
 {
-    lg_str s = {0};
+    lg_str s = { 0 };
     overlay_text(v, &s);
-    static const float white[3] = {0.92f, 0.92f, 0.92f}, red[3] = {1.0f, 0.45f, 0.4f},
-                       green[3] = {0.6f, 1.0f, 0.6f};
+    static const float white[3] = { 0.92f, 0.92f, 0.92f }, red[3] = { 1.0f, 0.45f, 0.4f },
+                       green[3] = { 0.6f, 1.0f, 0.6f };
     int cw, ch;
     lg_vdisplay_cell(v->disp, &cw, &ch);
     lg_vdisplay_draw_text(v->disp, 0, fw, fh, 4, 4, s.s ? s.s : "", white, 1);
@@ -120,7 +122,7 @@ static void take_window_shot(viewer *v)
     v->window_shot = NULL;
 }
 
-/* ---- the loop ---------------------------------------------------------------------------- */
+/* ---- the loop -------------------------------------------------------------------------------- */
 
 static void present(viewer *v)
 {
@@ -153,8 +155,10 @@ static void run_frame(viewer *v)
     v->last_error = NULL;
     if (lg_exec_frame(v->cur.ex, v->frame) != 0 || v->cur.ex->failed) {
         v->frame_failed = true;
-        lg_viewer_status(v, true, "a frame failed (fix the graph or the plugin; it is reloaded "
-                         "on save):\n%s", v->last_error ? v->last_error : "?");
+        lg_viewer_status(v, true,
+                         "a frame failed (fix the graph or the plugin; it is reloaded "
+                         "on save):\n%s",
+                         v->last_error ? v->last_error : "?");
         return;
     }
     lg_viewer_update_averages(v);

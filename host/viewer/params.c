@@ -10,10 +10,10 @@
 #include "lightgraph/kinds.h"
 
 typedef struct vp_node {
-    int32_t index;          /* in g->nodes and c->nodes */
-    char *name;             /* copies: the graph may be gone by the next sync */
+    int32_t index; /* in g->nodes and c->nodes */
+    char *name;    /* copies: the graph may be gone by the next sync */
     lg_vp_entry *entries;
-    char **keys;            /* each entry's parameter or input name */
+    char **keys; /* each entry's parameter or input name */
     uint32_t n_entries;
 } vp_node;
 
@@ -68,11 +68,11 @@ static uint32_t n_components(lg_param_type t)
 
 static bool editable(lg_param_type t)
 {
-    return t == LG_PARAM_BOOL || t == LG_PARAM_INT || t == LG_PARAM_FLOAT ||
-           t == LG_PARAM_ENUM || n_components(t) > 0;
+    return t == LG_PARAM_BOOL || t == LG_PARAM_INT || t == LG_PARAM_FLOAT || t == LG_PARAM_ENUM ||
+           n_components(t) > 0;
 }
 
-/* ---- the selectable list ---------------------------------------------------------------- */
+/* ---- the selectable list --------------------------------------------------------------------- */
 
 static void free_nodes(lg_vparams *p)
 {
@@ -106,8 +106,8 @@ static void add_entry(vp_node *n, const lg_node_type *t, lg_vp_kind kind, uint32
 {
     n->entries = lg_xrealloc(n->entries, (n->n_entries + 1) * sizeof *n->entries);
     n->keys = lg_xrealloc(n->keys, (n->n_entries + 1) * sizeof *n->keys);
-    n->entries[n->n_entries] = (lg_vp_entry){.kind = kind, .index = index,
-                                             .component = component};
+    n->entries[n->n_entries] =
+        (lg_vp_entry){ .kind = kind, .index = index, .component = component };
     n->keys[n->n_entries] = lg_xstrdup(kind == LG_VP_PARAM ? t->params[index].key
                                                            : t->inputs[index].name);
     n->n_entries++;
@@ -137,7 +137,7 @@ void lg_vparams_sync(lg_vparams *p, const lg_graph *g, const lg_checked *c, cons
     (void)g; /* the check points into it: names come from c->nodes[i].g */
     /* where the selection was, to find it again */
     char *old_name = NULL, *old_key = NULL;
-    lg_vp_entry old_e = {0};
+    lg_vp_entry old_e = { 0 };
     int32_t old_index = 0;
     uint32_t old_entry = 0;
     if (p->n_nodes) {
@@ -154,7 +154,7 @@ void lg_vparams_sync(lg_vparams *p, const lg_graph *g, const lg_checked *c, cons
         const lg_cnode *cn = &c->nodes[i];
         if ((offer && !offer[i]) || !cn->type)
             continue;
-        vp_node n = {.index = (int32_t)i};
+        vp_node n = { .index = (int32_t)i };
         const lg_node_type *t = cn->type;
         for (uint32_t j = 0; j < t->n_params; j++) {
             const lg_param_desc *pd = &t->params[j];
@@ -251,7 +251,7 @@ bool lg_vparams_selected(const lg_vparams *p, int32_t *node, lg_vp_entry *entry)
     return true;
 }
 
-/* ---- stepping --------------------------------------------------------------------------- */
+/* ---- stepping -------------------------------------------------------------------------------- */
 
 /* A float as --set writes it: %.9g reads back close enough for a viewer's step, and
  * %.17g (exact) when the shorter text would fall outside the range the checker holds it
@@ -268,8 +268,7 @@ static void fmt_value(char out[64], double x, const lg_param_desc *pd)
 
 static bool wide_or_open(const lg_param_desc *pd)
 {
-    return !has_range(pd) || !isfinite(pd->min) || !isfinite(pd->max) ||
-           pd->max - pd->min >= 1e4;
+    return !has_range(pd) || !isfinite(pd->min) || !isfinite(pd->max) || pd->max - pd->min >= 1e4;
 }
 
 /* One float step of `v` (see the header); `what` names it in the reason. */
@@ -374,8 +373,7 @@ static bool *downstream(const lg_checked *c, int32_t from)
     return mark;
 }
 
-static int cmp_ref(int32_t an, uint32_t ap, uint32_t apart, int32_t bn, uint32_t bp,
-                   uint32_t bpart)
+static int cmp_ref(int32_t an, uint32_t ap, uint32_t apart, int32_t bn, uint32_t bp, uint32_t bpart)
 {
     if (an != bn)
         return an < bn ? -1 : 1;
@@ -426,12 +424,13 @@ static char *step_input(const lg_checked *c, int32_t ni, uint32_t ii, int dir, c
         pick_p = dir > 0 ? first_p : last_p;
     }
     if (pick_n < 0 || (pick_n == cur.node && pick_p == cur.port && cur.part == 0)) {
-        set_err(err, errlen, "%s.%s has no other source: no node outside '%s' and what it "
-                "feeds has an output of kind %s", cn->g->name, in->name, cn->g->name,
-                lg_kind_name(in->kind));
+        set_err(err, errlen,
+                "%s.%s has no other source: no node outside '%s' and what it "
+                "feeds has an output of kind %s",
+                cn->g->name, in->name, cn->g->name, lg_kind_name(in->kind));
         return NULL;
     }
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_addf(&b, "%s.%s=", cn->g->name, in->name);
     add_ref(&b, &c->nodes[pick_n], pick_p, 0);
     return lg_str_take(&b);
@@ -452,8 +451,10 @@ static bool selection(const lg_vparams *p, const lg_graph *g, const lg_checked *
         (g && ((uint32_t)n->index >= g->n_nodes || strcmp(g->nodes[n->index].name, n->name))) ||
         (e->kind == LG_VP_PARAM ? e->index >= c->nodes[n->index].type->n_params
                                 : e->index >= c->nodes[n->index].type->n_inputs)) {
-        set_err(err, errlen, "the graph changed since the selection was made (node '%s'): "
-                "sync first", n->name);
+        set_err(err, errlen,
+                "the graph changed since the selection was made (node '%s'): "
+                "sync first",
+                n->name);
         return false;
     }
     *cn = &c->nodes[n->index];
@@ -515,13 +516,11 @@ char *lg_vparams_step(const lg_vparams *p, const lg_graph *g, const lg_checked *
         snprintf(what, sizeof what, "%s.%s[%d]", node, pd->key, e.component);
     else
         snprintf(what, sizeof what, "%s.%s", node, pd->key);
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_addf(&b, "%s.%s=", node, pd->key);
 
     switch (pd->type) {
-    case LG_PARAM_BOOL:
-        lg_str_add(&b, v.b ? "false" : "true");
-        return lg_str_take(&b);
+    case LG_PARAM_BOOL: lg_str_add(&b, v.b ? "false" : "true"); return lg_str_take(&b);
     case LG_PARAM_INT: {
         int64_t x;
         if (step_int(pd, v.i, dir, scale, &x, what, err, errlen) != 0)
@@ -538,7 +537,8 @@ char *lg_vparams_step(const lg_vparams *p, const lg_graph *g, const lg_checked *
     case LG_PARAM_ENUM: {
         uint32_t nv = n_enum(pd);
         if (nv < 2) {
-            set_err(err, errlen, "%s has no other value than '%s'", what, nv ? pd->enum_values[0] : "");
+            set_err(err, errlen, "%s has no other value than '%s'", what,
+                    nv ? pd->enum_values[0] : "");
             goto fail;
         }
         uint32_t cur = v.e >= 0 && (uint32_t)v.e < nv ? (uint32_t)v.e : 0;
@@ -548,11 +548,8 @@ char *lg_vparams_step(const lg_vparams *p, const lg_graph *g, const lg_checked *
     case LG_PARAM_VEC2:
     case LG_PARAM_VEC3:
     case LG_PARAM_COLOR:
-    case LG_PARAM_INT3:
-        break;
-    default:
-        set_err(err, errlen, "%s is not a value the viewer steps", what);
-        goto fail;
+    case LG_PARAM_INT3: break;
+    default: set_err(err, errlen, "%s is not a value the viewer steps", what); goto fail;
     }
 
     bool keywords = pd->type == LG_PARAM_COLOR && pd->enum_values;
@@ -570,9 +567,10 @@ char *lg_vparams_step(const lg_vparams *p, const lg_graph *g, const lg_checked *
         return lg_str_take(&b);
     }
     if (keywords && v.e >= 0) {
-        set_err(err, errlen, "%s.%s is the keyword '%s', not a colour: step %s.%s itself to "
-                "turn it into one", node, pd->key, (uint32_t)v.e < nv ? pd->enum_values[v.e] : "?",
-                node, pd->key);
+        set_err(err, errlen,
+                "%s.%s is the keyword '%s', not a colour: step %s.%s itself to "
+                "turn it into one",
+                node, pd->key, (uint32_t)v.e < nv ? pd->enum_values[v.e] : "?", node, pd->key);
         goto fail;
     }
     if (e.component < 0 || (uint32_t)e.component >= n_components(pd->type)) {
@@ -580,11 +578,10 @@ char *lg_vparams_step(const lg_vparams *p, const lg_graph *g, const lg_checked *
         goto fail;
     }
     if (pd->type == LG_PARAM_INT3) {
-        if (step_int(pd, v.i3[e.component], dir, scale, &v.i3[e.component], what, err,
-                     errlen) != 0)
+        if (step_int(pd, v.i3[e.component], dir, scale, &v.i3[e.component], what, err, errlen) != 0)
             goto fail;
-    } else if (step_float(pd, v.v[e.component], dir, scale, &v.v[e.component], what, err,
-                          errlen) != 0) {
+    } else if (step_float(pd, v.v[e.component], dir, scale, &v.v[e.component], what, err, errlen) !=
+               0) {
         goto fail;
     }
     add_vector(&b, pd, &v);
@@ -594,7 +591,7 @@ fail:
     return NULL;
 }
 
-/* ---- the overlay line ------------------------------------------------------------------- */
+/* ---- the overlay line ------------------------------------------------------------------------ */
 
 static void add_range(lg_str *out, const lg_param_desc *pd)
 {
@@ -639,8 +636,7 @@ void lg_vparams_describe(const lg_vparams *p, const lg_checked *c, lg_str *out)
         return;
     }
     const vp_node *n = &p->nodes[p->sel_node];
-    lg_str_addf(out, "%s (%s) %u/%u  ", n->name, cn->type->name, p->sel_entry + 1,
-                n->n_entries);
+    lg_str_addf(out, "%s (%s) %u/%u  ", n->name, cn->type->name, p->sel_entry + 1, n->n_entries);
     if (e.kind == LG_VP_INPUT) {
         const lg_port_desc *in = &cn->type->inputs[e.index];
         const lg_edge *ed = &cn->inputs[e.index];
@@ -698,12 +694,11 @@ void lg_vparams_describe(const lg_vparams *p, const lg_checked *c, lg_str *out)
         lg_str_add(out, pd->type == LG_PARAM_COLOR ? " [r, g, b]}" : "}");
         return;
     }
-    default:
-        lg_str_add(out, "?");
+    default: lg_str_add(out, "?");
     }
 }
 
-/* ---- method switching ----------------------------------------------------------------- */
+/* ---- method switching ------------------------------------------------------------------------ */
 
 static bool same_value(const lg_param_desc *pd, const lg_value *a, const lg_value *b)
 {
@@ -828,7 +823,7 @@ static char *switched_ref(const lg_checked *c, int32_t y, uint32_t port, uint32_
             if (lg_kind_part_index(t->outputs[o].kind, pn) >= 0)
                 return NULL;
     }
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, c->nodes[y].g->name);
     if (part)
         lg_str_addf(&b, ".%s", lg_kind_describe(t->outputs[port].kind)->parts[part - 1].name);
@@ -876,9 +871,11 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     free(queue);
     const char *shown_name = c->nodes[shown].g->name;
     if (x < 0) {
-        set_err(err, errlen, "no node upstream of '%s' has an alternative: none of the %u "
+        set_err(err, errlen,
+                "no node upstream of '%s' has an alternative: none of the %u "
                 "node(s) it is made from (itself included) has another node beside it with "
-                "the same outputs reading the same sources", shown_name, walked);
+                "the same outputs reading the same sources",
+                shown_name, walked);
         return 0;
     }
 
@@ -910,10 +907,11 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
             uint32_t py = (uint32_t)output_named(ty, tx->outputs[e->port].name);
             char *ref = switched_ref(c, y, py, e->part);
             if (!ref) {
-                set_err(err, errlen, "cannot rewire %s.%s from '%s' to '%s': the part it reads "
-                        "has no reference of its own on '%s'", cn->g->name,
-                        cn->type->inputs[j].name, c->nodes[x].g->name, c->nodes[y].g->name,
-                        c->nodes[y].g->name);
+                set_err(err, errlen,
+                        "cannot rewire %s.%s from '%s' to '%s': the part it reads "
+                        "has no reference of its own on '%s'",
+                        cn->g->name, cn->type->inputs[j].name, c->nodes[x].g->name,
+                        c->nodes[y].g->name, c->nodes[y].g->name);
                 for (uint32_t q = 0; q < m; q++)
                     free(out[q]);
                 free(out);
@@ -932,7 +930,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     return 1;
 }
 
-/* ---- overrides ------------------------------------------------------------------------ */
+/* ---- overrides ------------------------------------------------------------------------------- */
 
 struct lg_override_undo {
     uint32_t index; /* the item the set added or replaced */
@@ -957,7 +955,7 @@ void lg_overrides_set(lg_overrides *o, const char *assignment)
     const char *k;
     size_t kl;
     key_span(assignment, &k, &kl);
-    struct lg_override_undo u = {.index = o->n, .prev = NULL};
+    struct lg_override_undo u = { .index = o->n, .prev = NULL };
     for (uint32_t i = 0; i < o->n; i++) {
         const char *ik;
         size_t il;
@@ -1024,7 +1022,7 @@ static bool shell_safe(const char *s)
 
 char *lg_overrides_args(const lg_overrides *o)
 {
-    lg_str b = {0};
+    lg_str b = { 0 };
     for (uint32_t i = 0; i < o->n; i++) {
         const char *s = o->items[i];
         lg_str_add(&b, i ? " --set " : "--set ");

@@ -36,7 +36,7 @@
 #include "graph/graph.h"
 #include "base/util.h"
 
-/* ---- the selection ------------------------------------------------------------------ */
+/* ---- the selection --------------------------------------------------------------------------- */
 
 /* One editable entry of a node: a parameter, one component of a vec2/vec3/color/int3
  * parameter, or an input port (its value is a reference NODE[.PORT] to a compatible
@@ -46,16 +46,16 @@
 typedef enum lg_vp_kind { LG_VP_PARAM, LG_VP_INPUT } lg_vp_kind;
 typedef struct lg_vp_entry {
     lg_vp_kind kind;
-    uint32_t index;     /* parameter or input index in the node type */
-    int component;      /* -1, or 0..2 for a vector component */
+    uint32_t index; /* parameter or input index in the node type */
+    int component;  /* -1, or 0..2 for a vector component */
 } lg_vp_entry;
 
 /* The selectable nodes and entries with the current selection. Owns copies of the names
  * it keeps, so that it outlives the graph it was synced with. */
 typedef struct lg_vparams lg_vparams;
 
-lg_vparams *lg_vparams_new(void);            /* never NULL */
-void lg_vparams_free(lg_vparams *p);         /* NULL ok */
+lg_vparams *lg_vparams_new(void);    /* never NULL */
+void lg_vparams_free(lg_vparams *p); /* NULL ok */
 
 /* Rebuilds the selectable list from a checked graph `c` of `g`: the nodes with `offer[i]`
  * true (offer has c->n_nodes items; the viewer passes the nodes the plan kept; NULL: all
@@ -118,7 +118,7 @@ char *lg_vparams_step(const lg_vparams *p, const lg_graph *g, const lg_checked *
  * "nothing to edit" when nothing is selected. */
 void lg_vparams_describe(const lg_vparams *p, const lg_checked *c, lg_str *out);
 
-/* ---- method switching ------------------------------------------------------------------ */
+/* ---- method switching ------------------------------------------------------------------------ */
 
 /* Method switching (issue 12 item 3, the volumetric thesis's menu). Two nodes are
  * alternatives when they differ in node type or in a parameter value, have output ports
@@ -139,7 +139,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
                              char ***assignments, uint32_t *n, int32_t *switched_from,
                              int32_t *switched_to, int32_t *new_shown, char *err, size_t errlen);
 
-/* ---- overrides ----------------------------------------------------------------------- */
+/* ---- overrides ------------------------------------------------------------------------------- */
 
 /* The overrides made so far, in the order first set: setting NODE.KEY again replaces it
  * in place. Zero-initialise (`lg_overrides o = {0};`); items are owned by the struct. The
@@ -147,7 +147,7 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
  * lg_overrides_remove_last can undo the last LG_OVERRIDES_UNDO sets, newest first. */
 #define LG_OVERRIDES_UNDO 256
 typedef struct lg_overrides {
-    char **items;                 /* "node.key=value", as given to lg_overrides_set */
+    char **items; /* "node.key=value", as given to lg_overrides_set */
     uint32_t n;
     uint32_t cap;
     struct lg_override_undo *undo; /* private */

@@ -26,13 +26,13 @@ lg_resource *lg_viewer_shown_resource(const loaded *l, lg_pnode **mapper)
  * cpu_copy_free), or -1 with err. */
 static int cpu_copy(viewer *v, lg_resource *r, lg_image *img, char *err, size_t errlen)
 {
-    *img = (lg_image){0, 0, NULL};
+    *img = (lg_image){ 0, 0, NULL };
     if (r->kind == LG_KIND_PROBE)
         return lg_resource_probe_file(v->cur.ex, r, img, err, errlen) ? -1 : 0;
     float *px = NULL;
     if (lg_resource_to_rgba32f(v->cur.ex, r, &px, err, errlen))
         return -1;
-    *img = (lg_image){r->image.width, r->image.height, px};
+    *img = (lg_image){ r->image.width, r->image.height, px };
     return 0;
 }
 
@@ -138,7 +138,7 @@ void lg_viewer_auto_exposure(viewer *v)
     }
 }
 
-/* ---- screenshots ------------------------------------------------------------------------ */
+/* ---- screenshots ----------------------------------------------------------------------------- */
 
 int lg_viewer_screenshot(viewer *v, const char *path, char *err, size_t errlen)
 {
@@ -177,7 +177,7 @@ int lg_viewer_window_screenshot(viewer *v, const char *path, char *err, size_t e
     gl->ReadBuffer(GL_BACK);
     gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
     gl->ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-    lg_image img = {(uint32_t)w, (uint32_t)h, lg_xmalloc((size_t)w * h * 4 * sizeof(float))};
+    lg_image img = { (uint32_t)w, (uint32_t)h, lg_xmalloc((size_t)w * h * 4 * sizeof(float)) };
     /* bottom-up to top-down; the PNG writer encodes linear values: decode what is shown */
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w * 4; x++) {
@@ -191,4 +191,3 @@ int lg_viewer_window_screenshot(viewer *v, const char *path, char *err, size_t e
     free(img.pixels);
     return rc;
 }
-

@@ -22,11 +22,11 @@
 extern char **environ;
 
 struct lg_rebuild {
-    pid_t pid;       /* also the process group's id */
-    int fd;          /* read end of the output pipe; -1 once closed */
+    pid_t pid; /* also the process group's id */
+    int fd;    /* read end of the output pipe; -1 once closed */
     bool done;
     int status;
-    char *log;       /* the output's tail, NUL-terminated */
+    char *log; /* the output's tail, NUL-terminated */
     size_t len;
 };
 
@@ -101,7 +101,8 @@ int lg_rebuild_start(lg_rebuild **out, const char *build_dir, char *err, size_t 
     if (!exe) {
         snprintf(err, errlen, "%s not found on PATH%s", argv[0],
                  getenv("LIGHTGRAPH_REBUILD") && strcmp(argv[0], "ninja") != 0
-                     ? " (from LIGHTGRAPH_REBUILD)" : "");
+                     ? " (from LIGHTGRAPH_REBUILD)"
+                     : "");
         free_argv(argv);
         return -1;
     }
@@ -236,7 +237,7 @@ void lg_rebuild_free(lg_rebuild **rp)
                 reaped = true;
                 break;
             }
-            nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
+            nanosleep(&(struct timespec){ 0, 10 * 1000 * 1000 }, NULL);
         }
         /* the leader may be gone while the group lives on (a compiler that ignores
          * SIGTERM): SIGKILL whatever is left of it, then reap the leader */

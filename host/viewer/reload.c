@@ -19,10 +19,9 @@ void lg_viewer_start_watching(viewer *v)
         return;
     }
     lg_viewer_watch_graph_files(v);
-    static const char *const so[] = {".so"};
+    static const char *const so[] = { ".so" };
     for (uint32_t i = 0; i < v->reg.n_dirs; i++)
-        if (lg_watch_tree(v->watch, LG_WATCH_PLUGIN, v->reg.dirs[i], so, 1, false, err,
-                          sizeof err))
+        if (lg_watch_tree(v->watch, LG_WATCH_PLUGIN, v->reg.dirs[i], so, 1, false, err, sizeof err))
             lg_hlog(LG_HDEBUG, "not watching plugin directory %s: %s", v->reg.dirs[i], err);
     /* shaders: the development build's source tree, or LIGHTGRAPH_SHADER_DIR (an out-of-tree
      * plugin's shaders, rebuilt by LIGHTGRAPH_REBUILD) */
@@ -35,9 +34,8 @@ void lg_viewer_start_watching(viewer *v)
     const char *cmd = getenv("LIGHTGRAPH_REBUILD");
     v->can_rebuild = v->dev_build || (cmd && *cmd);
     if (v->dev_shaders && v->can_rebuild) {
-        static const char *const sh[] = {".glsl", ".comp", ".vert", ".frag", ".geom", ".cl"};
-        if (lg_watch_tree(v->watch, LG_WATCH_SHADER, v->dev_shaders, sh, 6, true, err,
-                          sizeof err))
+        static const char *const sh[] = { ".glsl", ".comp", ".vert", ".frag", ".geom", ".cl" };
+        if (lg_watch_tree(v->watch, LG_WATCH_SHADER, v->dev_shaders, sh, 6, true, err, sizeof err))
             lg_hlog(LG_HWARN, "not watching the shaders: %s", err);
         else
             lg_hlog(LG_HINFO, "watching the shaders in %s (a change runs %s)", v->dev_shaders,
@@ -63,7 +61,7 @@ static void reload_plugins(viewer *v)
     v->n_pending_plugins = 0;
     lg_plugin **fresh = lg_xcalloc(n + 1, sizeof *fresh), **old = lg_xcalloc(n + 1, sizeof *old);
     uint32_t done = 0;
-    lg_str names = {0};
+    lg_str names = { 0 };
     char err[2048] = "";
     bool ok = true;
     for (uint32_t i = 0; i < n && ok; i++) {
@@ -90,8 +88,8 @@ static void reload_plugins(viewer *v)
     if (!ok) {
         for (uint32_t i = done; i-- > 0;)
             lg_registry_replace(&v->reg, fresh[i], old[i]);
-        lg_viewer_status(v, true,
-                         "plugin reload failed, rolled back to the previous version:\n%s", err);
+        lg_viewer_status(v, true, "plugin reload failed, rolled back to the previous version:\n%s",
+                         err);
     }
     lg_str_free(&names);
     free(fresh);
@@ -164,8 +162,10 @@ static bool rebuild_running(viewer *v)
         lg_viewer_change_failed(v);
         size_t len = log ? strlen(log) : 0;
         const char *tail = len > 2000 ? log + len - 2000 : log ? log : "";
-        lg_viewer_status(v, true, "the rebuild failed (status %d); the plugins are as they "
-                         "were:\n%s", status, tail);
+        lg_viewer_status(v, true,
+                         "the rebuild failed (status %d); the plugins are as they "
+                         "were:\n%s",
+                         status, tail);
     }
     lg_rebuild_free(&v->rebuild);
     if (v->rebuild_again) {

@@ -15,7 +15,7 @@
 
 #include "lightgraph/file.h"
 
-/* ---- key names ----------------------------------------------------------------------------- */
+/* ---- key names ------------------------------------------------------------------------------- */
 
 typedef struct key_name {
     const char *name;
@@ -24,35 +24,35 @@ typedef struct key_name {
 
 /* The named keys besides A-Z, 0-9 and F1-F12 (which are computed). */
 static const key_name kNamedKeys[] = {
-    {"TAB", GLFW_KEY_TAB},
-    {"ENTER", GLFW_KEY_ENTER},
-    {"ESCAPE", GLFW_KEY_ESCAPE},
-    {"SPACE", GLFW_KEY_SPACE},
-    {"BACKSPACE", GLFW_KEY_BACKSPACE},
-    {"LEFT", GLFW_KEY_LEFT},
-    {"RIGHT", GLFW_KEY_RIGHT},
-    {"UP", GLFW_KEY_UP},
-    {"DOWN", GLFW_KEY_DOWN},
-    {"PAGE_UP", GLFW_KEY_PAGE_UP},
-    {"PAGE_DOWN", GLFW_KEY_PAGE_DOWN},
-    {"HOME", GLFW_KEY_HOME},
-    {"END", GLFW_KEY_END},
-    {"LEFT_BRACKET", GLFW_KEY_LEFT_BRACKET},
-    {"RIGHT_BRACKET", GLFW_KEY_RIGHT_BRACKET},
-    {"MINUS", GLFW_KEY_MINUS},
-    {"EQUAL", GLFW_KEY_EQUAL},
-    {"COMMA", GLFW_KEY_COMMA},
-    {"PERIOD", GLFW_KEY_PERIOD},
-    {"SLASH", GLFW_KEY_SLASH},
-    {"BACKSLASH", GLFW_KEY_BACKSLASH},
-    {"SEMICOLON", GLFW_KEY_SEMICOLON},
-    {"APOSTROPHE", GLFW_KEY_APOSTROPHE},
-    {"GRAVE_ACCENT", GLFW_KEY_GRAVE_ACCENT},
+    { "TAB", GLFW_KEY_TAB },
+    { "ENTER", GLFW_KEY_ENTER },
+    { "ESCAPE", GLFW_KEY_ESCAPE },
+    { "SPACE", GLFW_KEY_SPACE },
+    { "BACKSPACE", GLFW_KEY_BACKSPACE },
+    { "LEFT", GLFW_KEY_LEFT },
+    { "RIGHT", GLFW_KEY_RIGHT },
+    { "UP", GLFW_KEY_UP },
+    { "DOWN", GLFW_KEY_DOWN },
+    { "PAGE_UP", GLFW_KEY_PAGE_UP },
+    { "PAGE_DOWN", GLFW_KEY_PAGE_DOWN },
+    { "HOME", GLFW_KEY_HOME },
+    { "END", GLFW_KEY_END },
+    { "LEFT_BRACKET", GLFW_KEY_LEFT_BRACKET },
+    { "RIGHT_BRACKET", GLFW_KEY_RIGHT_BRACKET },
+    { "MINUS", GLFW_KEY_MINUS },
+    { "EQUAL", GLFW_KEY_EQUAL },
+    { "COMMA", GLFW_KEY_COMMA },
+    { "PERIOD", GLFW_KEY_PERIOD },
+    { "SLASH", GLFW_KEY_SLASH },
+    { "BACKSLASH", GLFW_KEY_BACKSLASH },
+    { "SEMICOLON", GLFW_KEY_SEMICOLON },
+    { "APOSTROPHE", GLFW_KEY_APOSTROPHE },
+    { "GRAVE_ACCENT", GLFW_KEY_GRAVE_ACCENT },
 };
 
-#define KEY_LIST                                                                             \
-    "A-Z, 0-9, F1-F12, TAB, ENTER, ESCAPE, SPACE, BACKSPACE, LEFT, RIGHT, UP, DOWN, PAGE_UP, " \
-    "PAGE_DOWN, HOME, END, LEFT_BRACKET, RIGHT_BRACKET, MINUS, EQUAL, COMMA, PERIOD, SLASH, "  \
+#define KEY_LIST                                                                                   \
+    "A-Z, 0-9, F1-F12, TAB, ENTER, ESCAPE, SPACE, BACKSPACE, LEFT, RIGHT, UP, DOWN, PAGE_UP, "     \
+    "PAGE_DOWN, HOME, END, LEFT_BRACKET, RIGHT_BRACKET, MINUS, EQUAL, COMMA, PERIOD, SLASH, "      \
     "BACKSLASH, SEMICOLON, APOSTROPHE, GRAVE_ACCENT"
 
 int lg_script_key(const char *name)
@@ -87,12 +87,12 @@ const char *lg_script_key_name(int key)
 {
     /* static names for the computed ranges: one string per key, so that the pointer stays
      * valid and no buffer is shared between threads */
-    static const char *const letters[26] = {"A", "B", "C", "D", "E", "F", "G", "H", "I",
-                                            "J", "K", "L", "M", "N", "O", "P", "Q", "R",
-                                            "S", "T", "U", "V", "W", "X", "Y", "Z"};
-    static const char *const digits[10] = {"0", "1", "2", "3", "4", "5", "6", "7", "8", "9"};
-    static const char *const fkeys[12] = {"F1", "F2", "F3", "F4",  "F5",  "F6",
-                                          "F7", "F8", "F9", "F10", "F11", "F12"};
+    static const char *const letters[26] = { "A", "B", "C", "D", "E", "F", "G", "H", "I",
+                                             "J", "K", "L", "M", "N", "O", "P", "Q", "R",
+                                             "S", "T", "U", "V", "W", "X", "Y", "Z" };
+    static const char *const digits[10] = { "0", "1", "2", "3", "4", "5", "6", "7", "8", "9" };
+    static const char *const fkeys[12] = { "F1", "F2", "F3", "F4",  "F5",  "F6",
+                                           "F7", "F8", "F9", "F10", "F11", "F12" };
     if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z)
         return letters[key - GLFW_KEY_A];
     if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9)
@@ -105,7 +105,7 @@ const char *lg_script_key_name(int key)
     return NULL;
 }
 
-/* ---- parsing ------------------------------------------------------------------------------- */
+/* ---- parsing --------------------------------------------------------------------------------- */
 
 /* Limits of the numbers (viewer_script.h). */
 #define MAX_FRAMES 1000000.0
@@ -124,7 +124,8 @@ typedef struct parser {
 #if defined(__GNUC__)
 __attribute__((format(printf, 2, 3)))
 #endif
-static int fail(parser *p, const char *fmt, ...)
+static int
+fail(parser *p, const char *fmt, ...)
 {
     int k = snprintf(p->err, p->errlen, "%s:%u: ", p->path, p->line);
     if (k >= 0 && (size_t)k < p->errlen) {
@@ -189,8 +190,7 @@ static int number(parser *p, const char *event, const char *tok, const char *wha
 {
     char b[48];
     if (!tok)
-        return fail(p, "%s: expected %s after '%s', found the end of the line", event, what,
-                    event);
+        return fail(p, "%s: expected %s after '%s', found the end of the line", event, what, event);
     char *end;
     errno = 0;
     double v = strtod(tok, &end);
@@ -206,8 +206,8 @@ static int number(parser *p, const char *event, const char *tok, const char *wha
         if (whole)
             return fail(p, "%s: expected %s, a whole number from %.0f to %.0f, found '%s'", event,
                         what, lo, hi, shown(tok, b));
-        return fail(p, "%s: expected %s, a number from %g to %g, found '%s'", event, what, lo,
-                    hi, shown(tok, b));
+        return fail(p, "%s: expected %s, a number from %g to %g, found '%s'", event, what, lo, hi,
+                    shown(tok, b));
     }
     *out = v;
     return 0;
@@ -218,8 +218,9 @@ static int key_with_mods(parser *p, const char *event, char *tok, int *key, int 
 {
     char b[48];
     if (!tok)
-        return fail(p, "%s: expected a key name (" KEY_LIST ", with shift+, ctrl+, alt+ or "
-                       "super+ before it) after '%s', found the end of the line",
+        return fail(p,
+                    "%s: expected a key name (" KEY_LIST ", with shift+, ctrl+, alt+ or "
+                    "super+ before it) after '%s', found the end of the line",
                     event, event);
     *mods = 0;
     char *part = tok;
@@ -234,8 +235,9 @@ static int key_with_mods(parser *p, const char *event, char *tok, int *key, int 
         else if (strcasecmp(part, "super") == 0)
             *mods |= GLFW_MOD_SUPER;
         else
-            return fail(p, "%s: unknown modifier '%s' (shift, ctrl, alt or super, joined to the "
-                           "key by '+': ctrl+shift+RIGHT)",
+            return fail(p,
+                        "%s: unknown modifier '%s' (shift, ctrl, alt or super, joined to the "
+                        "key by '+': ctrl+shift+RIGHT)",
                         event, shown(part, b));
     }
     if (!*part)
@@ -324,8 +326,9 @@ static int assignment(parser *p, char *rest, lg_sevent *ev)
         size_t k = key_len < 40 ? key_len : 40;
         memcpy(keybuf, rest, k);
         keybuf[k] = '\0';
-        return fail(p, "set: expected NODE.PARAM before '=' (names of letters, digits and '_'), "
-                       "found '%s'",
+        return fail(p,
+                    "set: expected NODE.PARAM before '=' (names of letters, digits and '_'), "
+                    "found '%s'",
                     keybuf);
     }
     const char *value = eq + 1;
@@ -399,12 +402,14 @@ static int parse_event(parser *p, char *s, lg_sevent *ev)
                 ev->button = GLFW_MOUSE_BUTTON_MIDDLE;
                 has_button = true;
             } else if (!has_button && !ev->has_from) {
-                return fail(p, "drag: unknown button '%s' (left, right or middle), or expected "
-                               "'from X Y' or the end of the line",
+                return fail(p,
+                            "drag: unknown button '%s' (left, right or middle), or expected "
+                            "'from X Y' or the end of the line",
                             shown(tok, b));
             } else {
                 return fail(p, "drag: expected %s, found '%s'",
-                            ev->has_from ? "the end of the line" : "'from X Y' or the end of the line",
+                            ev->has_from ? "the end of the line"
+                                         : "'from X Y' or the end of the line",
                             shown(tok, b));
             }
         }
@@ -466,9 +471,10 @@ static int parse_event(parser *p, char *s, lg_sevent *ev)
         ev->a = v;
         return no_more(p, name, &s);
     }
-    return fail(p, "unknown event '%s' (expected wait_frames, key, hold, drag, scroll, "
-                   "screenshot, screenshot_window, set, wait_reload, expect_ok, expect_error, "
-                   "shell, sleep or quit)",
+    return fail(p,
+                "unknown event '%s' (expected wait_frames, key, hold, drag, scroll, "
+                "screenshot, screenshot_window, set, wait_reload, expect_ok, expect_error, "
+                "shell, sleep or quit)",
                 shown(name, b));
 }
 
@@ -561,7 +567,7 @@ int lg_script_parse(const char *path, const char *dir, char *text, size_t len, l
     memset(out, 0, sizeof *out);
     if (errlen)
         err[0] = '\0';
-    lg_script s = {0};
+    lg_script s = { 0 };
     s.path = dup_text(path);
     s.dir = dup_text(dir);
     if (!s.path || !s.dir) {
@@ -569,7 +575,7 @@ int lg_script_parse(const char *path, const char *dir, char *text, size_t len, l
         lg_script_free(&s);
         return -1;
     }
-    parser p = {.path = path, .dir = s.dir, .line = 0, .err = err, .errlen = errlen};
+    parser p = { .path = path, .dir = s.dir, .line = 0, .err = err, .errlen = errlen };
     uint32_t cap = 0;
     int rc = 0;
     for (size_t at = 0; at < len && rc == 0;) {

@@ -54,29 +54,40 @@
 #define LG_SCRIPT_MAX_EVENTS 100000u
 
 typedef enum lg_sev_kind {
-    LG_SEV_WAIT_FRAMES = 1, LG_SEV_KEY, LG_SEV_HOLD, LG_SEV_DRAG, LG_SEV_SCROLL,
-    LG_SEV_SCREENSHOT, LG_SEV_SCREENSHOT_WINDOW, LG_SEV_SET, LG_SEV_WAIT_RELOAD,
-    LG_SEV_EXPECT_OK, LG_SEV_EXPECT_ERROR, LG_SEV_SHELL, LG_SEV_SLEEP, LG_SEV_QUIT
+    LG_SEV_WAIT_FRAMES = 1,
+    LG_SEV_KEY,
+    LG_SEV_HOLD,
+    LG_SEV_DRAG,
+    LG_SEV_SCROLL,
+    LG_SEV_SCREENSHOT,
+    LG_SEV_SCREENSHOT_WINDOW,
+    LG_SEV_SET,
+    LG_SEV_WAIT_RELOAD,
+    LG_SEV_EXPECT_OK,
+    LG_SEV_EXPECT_ERROR,
+    LG_SEV_SHELL,
+    LG_SEV_SLEEP,
+    LG_SEV_QUIT
 } lg_sev_kind;
 
 typedef struct lg_sevent {
     lg_sev_kind kind;
-    uint32_t line;         /* 1-based line in the script */
-    int key, mods;         /* key, hold: GLFW_KEY_*, GLFW_MOD_* (a mask); else 0 */
-    int button;            /* drag: GLFW_MOUSE_BUTTON_*; else 0 */
-    double a, b;           /* wait_frames: a = N; hold: a = FRAMES; drag: a = DX, b = DY;
+    uint32_t line; /* 1-based line in the script */
+    int key, mods; /* key, hold: GLFW_KEY_*, GLFW_MOD_* (a mask); else 0 */
+    int button;    /* drag: GLFW_MOUSE_BUTTON_*; else 0 */
+    double a, b;   /* wait_frames: a = N; hold: a = FRAMES; drag: a = DX, b = DY;
                               scroll: a = D; wait_reload, sleep: a = SECONDS */
-    bool has_from;         /* drag: `from X Y` given */
+    bool has_from; /* drag: `from X Y` given */
     double from_x, from_y;
-    char *text;            /* screenshot(_window): the path resolved against the script's
+    char *text; /* screenshot(_window): the path resolved against the script's
                               folder; set: "NODE.PARAM=VALUE"; expect_error: TEXT or NULL;
                               shell: COMMAND; else NULL. Owned by the script. */
 } lg_sevent;
 
 typedef struct lg_script {
-    char *path;            /* as given to lg_script_load */
-    char *dir;             /* the script's folder, absolute (symbolic links resolved) */
-    lg_sevent *ev;         /* n events in file order */
+    char *path;    /* as given to lg_script_load */
+    char *dir;     /* the script's folder, absolute (symbolic links resolved) */
+    lg_sevent *ev; /* n events in file order */
     uint32_t n;
 } lg_script;
 

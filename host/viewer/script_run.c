@@ -96,9 +96,7 @@ static bool script_event(viewer *v, const lg_sevent *e)
     char err[2048];
     const char *status = v->status ? v->status : "?";
     switch (e->kind) {
-    case LG_SEV_WAIT_FRAMES:
-        v->wait_until = v->frame + (uint32_t)e->a;
-        return true;
+    case LG_SEV_WAIT_FRAMES: v->wait_until = v->frame + (uint32_t)e->a; return true;
     case LG_SEV_KEY:
         lg_viewer_key(v, e->key, e->mods, GLFW_PRESS);
         lg_viewer_key(v, e->key, e->mods, GLFW_RELEASE);
@@ -108,12 +106,8 @@ static bool script_event(viewer *v, const lg_sevent *e)
         v->hold_key = e->key;
         v->hold_until = v->frame + (uint32_t)e->b;
         return true;
-    case LG_SEV_DRAG:
-        drag_start(v, e);
-        return true;
-    case LG_SEV_SCROLL:
-        lg_viewer_scroll(v, e->a);
-        return next_frame(v);
+    case LG_SEV_DRAG: drag_start(v, e); return true;
+    case LG_SEV_SCROLL: lg_viewer_scroll(v, e->a); return next_frame(v);
     case LG_SEV_SCREENSHOT:
         if (lg_viewer_screenshot(v, e->text, err, sizeof err))
             lg_viewer_script_fail(v, e, "screenshot %s: %s", e->text, err);
@@ -126,9 +120,7 @@ static bool script_event(viewer *v, const lg_sevent *e)
         v->window_shot = lg_xstrdup(e->text);
         v->window_shot_ev = e;
         return next_frame(v);
-    case LG_SEV_SET:
-        lg_viewer_apply_assignment(v, e->text);
-        return next_frame(v);
+    case LG_SEV_SET: lg_viewer_apply_assignment(v, e->text); return next_frame(v);
     case LG_SEV_WAIT_RELOAD:
         v->wait_reload = true;
         v->wait_reload_from = v->changes;
@@ -158,12 +150,8 @@ static bool script_event(viewer *v, const lg_sevent *e)
         }
         return false;
     }
-    case LG_SEV_SLEEP:
-        usleep((useconds_t)(e->a * 1e6));
-        return false;
-    case LG_SEV_QUIT:
-        v->quit = true;
-        return true;
+    case LG_SEV_SLEEP: usleep((useconds_t)(e->a * 1e6)); return false;
+    case LG_SEV_QUIT: v->quit = true; return true;
     }
     return false;
 }

@@ -40,14 +40,14 @@ typedef struct loaded {
     lg_graph *g;
     lg_checked *c;
     lg_exec *ex;
-    lg_edge shown;              /* the image shown (node, port, part) */
-    char *shown_name;           /* "tone.out" */
-    bool display_referred;      /* a tone mapper is at or upstream of the shown image */
-    char **files;               /* the graph file and its includes, absolute */
+    lg_edge shown;         /* the image shown (node, port, part) */
+    char *shown_name;      /* "tone.out" */
+    bool display_referred; /* a tone mapper is at or upstream of the shown image */
+    char **files;          /* the graph file and its includes, absolute */
     uint32_t n_files;
 } loaded;
 
-typedef struct pointer_anim {  /* a scripted drag, one step a frame */
+typedef struct pointer_anim { /* a scripted drag, one step a frame */
     bool active;
     int button, mods;
     double x0, y0, dx, dy;
@@ -59,7 +59,7 @@ typedef struct viewer {
     const char *graph;
     const char *const *sets;
     int n_sets;
-    char *show;                 /* --show NODE[.PORT], or a method switch's choice */
+    char *show; /* --show NODE[.PORT], or a method switch's choice */
     lg_exec_opts opts;
 
     lg_registry reg;
@@ -68,13 +68,13 @@ typedef struct viewer {
     lg_cl_dev *cl;
     uint32_t timer_query;
     lg_vdisplay *disp;
-    uint32_t cpu_tex;           /* the shown image when it is not a GL texture already */
+    uint32_t cpu_tex; /* the shown image when it is not a GL texture already */
     uint32_t cpu_tex_w, cpu_tex_h;
 
-    loaded cur;                 /* the last good graph */
+    loaded cur; /* the last good graph */
     uint32_t frame;
-    bool frame_failed;          /* the current plan failed a frame: shown as it was */
-    bool frame_done;            /* a (re)load ran this frame already */
+    bool frame_failed; /* the current plan failed a frame: shown as it was */
+    bool frame_done;   /* a (re)load ran this frame already */
 
     /* live changes */
     lg_overrides ov;
@@ -82,15 +82,15 @@ typedef struct viewer {
 
     /* camera */
     lg_vcam vcam;
-    bool cam_on;                /* the viewer's camera overrides the graph's */
+    bool cam_on; /* the viewer's camera overrides the graph's */
     lg_camera cam_out;
     uint64_t cam_gen;
-    char *cam_scene_ref;        /* the node whose scene the camera node would read */
+    char *cam_scene_ref;            /* the node whose scene the camera node would read */
     float cam_bmin[3], cam_bmax[3]; /* that scene's bounds: the moved camera's clip planes */
     bool fly_speed_fast;
 
     /* display */
-    float ev;                   /* exposure, stops */
+    float ev; /* exposure, stops */
     bool ev_auto_pending;
     bool overlay;
     double fps, last_t;
@@ -100,7 +100,7 @@ typedef struct viewer {
     bool status_error;
     uint64_t changes, changes_failed; /* counts of attempts (wait_reload, expect_*) */
     bool last_change_ok;
-    char *last_error;           /* errors lg_hlog printed during the attempt */
+    char *last_error; /* errors lg_hlog printed during the attempt */
 
     /* reloads */
     lg_watch *watch;
@@ -120,23 +120,23 @@ typedef struct viewer {
     pointer_anim anim;
 
     /* script */
-    const lg_script *script;    /* the caller's (lg_viewer_opts); NULL: interactive */
+    const lg_script *script; /* the caller's (lg_viewer_opts); NULL: interactive */
     bool scripted;
     uint32_t pc;
-    uint32_t wait_until;        /* frame number */
+    uint32_t wait_until; /* frame number */
     bool wait_reload;
     uint64_t wait_reload_from;
     double wait_deadline;
     int hold_key;
     uint32_t hold_until;
-    char *window_shot;          /* screenshot_window pending */
+    char *window_shot;               /* screenshot_window pending */
     const lg_sevent *window_shot_ev; /* its script event (for the failure's line) */
     bool expect_failed;
     bool quit;
     int exit_status;
 } viewer;
 
-/* ---- load.c: changes and the status line ---------------------------------------------- */
+/* ---- load.c: changes and the status line ----------------------------------------------------- */
 
 /* The status line (window title, overlay) and stdout or stderr: "lightgraph view: ...". */
 void lg_viewer_status(viewer *v, bool error, const char *fmt, ...)
@@ -159,7 +159,7 @@ void lg_viewer_refuse(viewer *v, const char *why);
 /* The moving averages of the nodes that ran in this frame. */
 void lg_viewer_update_averages(viewer *v);
 
-/* ---- picture.c: the shown image --------------------------------------------------------- */
+/* ---- picture.c: the shown image -------------------------------------------------------------- */
 
 /* The resource shown, and the node that may map it (its producer); mapper may be NULL. */
 lg_resource *lg_viewer_shown_resource(const loaded *l, lg_pnode **mapper);
@@ -174,7 +174,7 @@ int lg_viewer_screenshot(viewer *v, const char *path, char *err, size_t errlen);
 /* Writes the window's pixels as shown; call after drawing, before the swap. */
 int lg_viewer_window_screenshot(viewer *v, const char *path, char *err, size_t errlen);
 
-/* ---- input.c: events and what they do ------------------------------------------------- */
+/* ---- input.c: events and what they do -------------------------------------------------------- */
 
 /* The handlers of GLFW's events, which the script calls too (GLFW_PRESS, ...). */
 void lg_viewer_key(viewer *v, int key, int mods, int action);
@@ -188,7 +188,7 @@ void lg_viewer_apply_assignment(viewer *v, const char *a);
 /* Installs the window's callbacks (the window's user pointer is v). */
 void lg_viewer_input_attach(viewer *v);
 
-/* ---- script_run.c: the --script --------------------------------------------------------- */
+/* ---- script_run.c: the --script -------------------------------------------------------------- */
 
 /* Runs script events until one has to wait for frames; called once per frame. */
 void lg_viewer_script_step(viewer *v);
@@ -196,7 +196,7 @@ void lg_viewer_script_step(viewer *v);
 void lg_viewer_script_fail(viewer *v, const lg_sevent *e, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
-/* ---- reload.c: hot reload ------------------------------------------------------------------ */
+/* ---- reload.c: hot reload -------------------------------------------------------------------- */
 
 /* Opens the watches (graph files, plugin folders, shaders of a development build); without
  * inotify the viewer runs with no hot reload (a warning). */
@@ -207,7 +207,7 @@ void lg_viewer_watch_graph_files(viewer *v);
 /* Collects the watcher's changes, follows a rebuild, and applies what is ready. */
 void lg_viewer_poll_reloads(viewer *v);
 
-/* ---- loop.c: the frame loop ------------------------------------------------------------ */
+/* ---- loop.c: the frame loop ------------------------------------------------------------------ */
 
 /* Runs frames until the window closes or the viewer quits; returns the exit status. */
 int lg_viewer_loop(viewer *v);

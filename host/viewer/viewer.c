@@ -90,9 +90,11 @@ static int open_window(viewer *v)
     char buf[512];
     if (!glfwInit()) {
         const char *d = getenv("DISPLAY");
-        fprintf(stderr, "lightgraph view: no display (%s%s): %s; run it on a desktop or "
-                "under xvfb-run\n", d && *d ? "DISPLAY=" : "DISPLAY is not set",
-                d && *d ? d : "", glfw_error(buf, sizeof buf, "glfwInit failed"));
+        fprintf(stderr,
+                "lightgraph view: no display (%s%s): %s; run it on a desktop or "
+                "under xvfb-run\n",
+                d && *d ? "DISPLAY=" : "DISPLAY is not set", d && *d ? d : "",
+                glfw_error(buf, sizeof buf, "glfwInit failed"));
         return 1;
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
@@ -112,7 +114,9 @@ static int open_window(viewer *v)
     glfwSwapInterval(v->scripted ? 0 : 1);
     dl_iterate_phdr(pin_object, NULL);
     char err[8192];
-    lg_gl_backend be = {.label = "GLFW window", .load = glfw_load, .destroy = NULL, .state = NULL};
+    lg_gl_backend be = {
+        .label = "GLFW window", .load = glfw_load, .destroy = NULL, .state = NULL
+    };
     int rc = lg_gl_device_wrap(&v->gl, &be, err, sizeof err);
     if (rc == 0 && lg_vdisplay_create(lg_gl_device_table(v->gl), &v->disp, err, sizeof err))
         rc = LG_ERR_DEVICE;

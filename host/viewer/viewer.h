@@ -15,13 +15,13 @@
 /* What `lightgraph view` parsed. Every pointer stays the caller's and must outlive
  * lg_viewer_run; the viewer copies what it changes (the shown output). */
 typedef struct lg_viewer_opts {
-    const char *graph;             /* the graph file (required) */
-    const char *const *sets;       /* --set NODE.PARAM=VALUE, n_sets of them, in order */
+    const char *graph;       /* the graph file (required) */
+    const char *const *sets; /* --set NODE.PARAM=VALUE, n_sets of them, in order */
     int n_sets;
-    const char *show;              /* --show NODE[.PORT], or NULL: the first output */
-    uint32_t width, height;        /* --size: the window's and the graph's, already checked */
-    double dt;                     /* --dt: seconds per frame of the graph's time */
-    const lg_script *script;       /* --script, loaded and checked; NULL: interactive */
+    const char *show;        /* --show NODE[.PORT], or NULL: the first output */
+    uint32_t width, height;  /* --size: the window's and the graph's, already checked */
+    double dt;               /* --dt: seconds per frame of the graph's time */
+    const lg_script *script; /* --script, loaded and checked; NULL: interactive */
 } lg_viewer_opts;
 
 /* Opens the window, loads the graph and runs the frame loop until the window closes, Esc,

@@ -19,8 +19,8 @@
 /* IN_MODIFY besides the events watch.h promises: a file written over a long time without
  * closing (a linker, a slow copy) keeps postponing its report instead of being reported
  * half-written when its writer pauses longer than the quiet period between open and close. */
-#define WATCH_MASK                                                                         \
-    (IN_CLOSE_WRITE | IN_MODIFY | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |     \
+#define WATCH_MASK                                                                                 \
+    (IN_CLOSE_WRITE | IN_MODIFY | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE |            \
      IN_ATTRIB | IN_ONLYDIR | IN_EXCL_UNLINK)
 
 /* A file still open for writing is reported once it has been quiet for this many quiet
@@ -36,31 +36,31 @@
 
 typedef struct wfile {
     int tag;
-    char *path;       /* absolute, normalised */
-    char *dir;        /* its directory */
+    char *path; /* absolute, normalised */
+    char *dir;  /* its directory */
 } wfile;
 
 typedef struct wtree {
     int tag;
-    char *root;       /* absolute, normalised, no trailing slash */
+    char *root; /* absolute, normalised, no trailing slash */
     char **suffixes;
     uint32_t n_suffixes;
 } wtree;
 
 typedef struct wdir {
     char *path;
-    int wd;           /* -1: vanished, looked for again at retry_at */
-    bool required;    /* a registered file's directory or a tree's root: kept while it is
-                       * missing; other (tree) directories are forgotten when they go */
+    int wd;        /* -1: vanished, looked for again at retry_at */
+    bool required; /* a registered file's directory or a tree's root: kept while it is
+                    * missing; other (tree) directories are forgotten when they go */
     double retry_at;
 } wdir;
 
 typedef struct wpending {
     char *path;
     int tags;
-    double last;      /* the now of the poll that read its last event */
-    bool writing;     /* its last event says a writer has it open (created as a regular
-                       * file, or modified) and no close has been seen since */
+    double last;  /* the now of the poll that read its last event */
+    bool writing; /* its last event says a writer has it open (created as a regular
+                   * file, or modified) and no close has been seen since */
 } wpending;
 
 struct lg_watch {
@@ -75,15 +75,15 @@ struct lg_watch {
     uint32_t n_pending, cap_pending;
 };
 
-#define GROW(arr, n, cap)                                                                  \
-    do {                                                                                   \
-        if ((n) == (cap)) {                                                                \
-            (cap) = (cap) ? 2 * (cap) : 8;                                                 \
-            (arr) = lg_xrealloc((arr), (size_t)(cap) * sizeof *(arr));                     \
-        }                                                                                  \
+#define GROW(arr, n, cap)                                                                          \
+    do {                                                                                           \
+        if ((n) == (cap)) {                                                                        \
+            (cap) = (cap) ? 2 * (cap) : 8;                                                         \
+            (arr) = lg_xrealloc((arr), (size_t)(cap) * sizeof *(arr));                             \
+        }                                                                                          \
     } while (0)
 
-/* ---- paths and matching ------------------------------------------------------------- */
+/* ---- paths and matching ---------------------------------------------------------------------- */
 
 /* Whether `path` is `dir` or lies below it. */
 static bool path_within(const char *path, const char *dir)
@@ -172,11 +172,11 @@ static void mark(lg_watch *w, const char *path, int tags, uint32_t mask, double 
             return;
         }
     GROW(w->pending, w->n_pending, w->cap_pending);
-    w->pending[w->n_pending++] =
-        (wpending){lg_xstrdup(path), tags, now, still_writing(path, mask, false)};
+    w->pending[w->n_pending++] = (wpending){ lg_xstrdup(path), tags, now,
+                                             still_writing(path, mask, false) };
 }
 
-/* ---- directory watches --------------------------------------------------------------- */
+/* ---- directory watches ----------------------------------------------------------------------- */
 
 static int dir_find(const lg_watch *w, const char *path)
 {
@@ -209,7 +209,8 @@ static void watch_error(char *err, size_t errlen, const char *dir, int e)
     if (e == ENOSPC)
         snprintf(err, errlen,
                  "cannot watch %s: the per-user limit of inotify watches is reached "
-                 "(raise /proc/sys/fs/inotify/max_user_watches)", dir);
+                 "(raise /proc/sys/fs/inotify/max_user_watches)",
+                 dir);
     else if (e == ENOENT)
         snprintf(err, errlen, "cannot watch %s: no such directory", dir);
     else if (e == ENOTDIR)
@@ -230,7 +231,7 @@ static int dir_add(lg_watch *w, const char *path, bool required)
     if (wd < 0)
         return -1;
     GROW(w->dirs, w->n_dirs, w->cap_dirs);
-    w->dirs[w->n_dirs] = (wdir){lg_xstrdup(path), wd, required, 0};
+    w->dirs[w->n_dirs] = (wdir){ lg_xstrdup(path), wd, required, 0 };
     return (int)w->n_dirs++;
 }
 
@@ -326,7 +327,7 @@ static int sync_dirs(lg_watch *w, bool report, double now, char *err, size_t err
     return 0;
 }
 
-/* ---- registrations ------------------------------------------------------------------- */
+/* ---- registrations --------------------------------------------------------------------------- */
 
 static void free_files(wfile *f, uint32_t n)
 {
@@ -351,8 +352,9 @@ static int check_dir(const char *dir, const char *file, char *err, size_t errlen
     int e = stat(dir, &st) != 0 ? errno : S_ISDIR(st.st_mode) ? 0 : ENOTDIR;
     if (!e)
         return 0;
-    const char *why = e == ENOENT ? "no such directory" : e == ENOTDIR ? "not a directory"
-                                                                        : strerror(e);
+    const char *why = e == ENOENT    ? "no such directory"
+                      : e == ENOTDIR ? "not a directory"
+                                     : strerror(e);
     if (file)
         snprintf(err, errlen, "cannot watch %s: its directory %s: %s", file, dir, why);
     else
@@ -366,7 +368,8 @@ int lg_watch_open(lg_watch **out, char *err, size_t errlen)
     int fd = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
     if (fd < 0) {
         if (errno == EMFILE)
-            snprintf(err, errlen, "inotify: the per-user limit of instances is reached "
+            snprintf(err, errlen,
+                     "inotify: the per-user limit of instances is reached "
                      "(/proc/sys/fs/inotify/max_user_instances) or too many open files");
         else
             snprintf(err, errlen, "inotify: %s", strerror(errno));
@@ -451,7 +454,7 @@ int lg_watch_tree(lg_watch *w, int tag, const char *dir, const char *const *suff
         free(root);
         return -1;
     }
-    wtree t = {tag, root, lg_xcalloc(n_suffixes ? n_suffixes : 1, sizeof(char *)), n_suffixes};
+    wtree t = { tag, root, lg_xcalloc(n_suffixes ? n_suffixes : 1, sizeof(char *)), n_suffixes };
     for (uint32_t i = 0; i < n_suffixes; i++)
         t.suffixes[i] = lg_xstrdup(suffixes[i]);
 
@@ -486,7 +489,7 @@ int lg_watch_fd(const lg_watch *w)
     return w->fd;
 }
 
-/* ---- events -------------------------------------------------------------------------- */
+/* ---- events ---------------------------------------------------------------------------------- */
 
 /* A directory inside a tree went away or was moved out: forget its watches (the required
  * ones among them are looked for again). */
@@ -640,7 +643,7 @@ int lg_watch_poll(lg_watch *w, double now, double quiet_s, lg_watch_change **out
         /* registrations may have changed since the event: report what is still watched */
         int tags = p->tags & tags_for(w, p->path, false);
         if (tags)
-            c[m++] = (lg_watch_change){tags, p->path};
+            c[m++] = (lg_watch_change){ tags, p->path };
         else
             free(p->path);
         *p = w->pending[--w->n_pending];

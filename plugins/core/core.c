@@ -17,7 +17,7 @@
 
 #include "lightgraph/lightgraph.h"
 
-/* ---- shared helpers ------------------------------------------------------------------ */
+/* ---- shared helpers -------------------------------------------------------------------------- */
 
 /* Reads one row of an image mapped on the CPU as rgba32f floats, whatever its declared
  * linear format (rgba32f, rgba16f, rgbe8 decoded with alpha 1: lg_pixels_to_rgba32f).
@@ -42,8 +42,7 @@ static const char *core_format_name(lg_format f)
 
 /* Describes image input `port` (required: add's a and b, scale's image); refuses formats
  * the CPU nodes cannot read as linear values. */
-static int core_image_input(lg_node *n, uint32_t port, const char *what,
-                            lg_resource_info *info)
+static int core_image_input(lg_node *n, uint32_t port, const char *what, lg_resource_info *info)
 {
     lg_assert_input(n, port);
     const lg_resource *r = lg_input(n, port);
@@ -67,7 +66,7 @@ static int core_declare_rgba32f(lg_node *n, uint32_t port, uint32_t w, uint32_t 
     return lg_declare_image(n, port, &d);
 }
 
-/* ---- image ----------------------------------------------------------------------------- */
+/* ---- image ----------------------------------------------------------------------------------- */
 
 typedef struct core_image_state {
     lg_image img;
@@ -94,8 +93,7 @@ static int image_prepare(lg_node *n)
     char err[512];
     lg_image_read_info info;
     memset(&info, 0, sizeof info);
-    int rc = lg_image_read(path, radiance ? LG_READ_RADIANCE : 0, &st->img, &info, err,
-                           sizeof err);
+    int rc = lg_image_read(path, radiance ? LG_READ_RADIANCE : 0, &st->img, &info, err, sizeof err);
     if (rc)
         /* the SDK's message names the file and the reason */
         return lg_error_code(n, rc, "%s", err);
@@ -143,15 +141,17 @@ static void image_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- constant --------------------------------------------------------------------------- */
+/* ---- constant -------------------------------------------------------------------------------- */
 
 static int constant_prepare(lg_node *n)
 {
     uint32_t w, h;
     lg_output_size(n, "width", "height", &w, &h);
     if (w == 0 || h == 0)
-        return lg_error(n, "size %ux%u is empty (width and height 0 take the render size, "
-                        "--size)", w, h);
+        return lg_error(n,
+                        "size %ux%u is empty (width and height 0 take the render size, "
+                        "--size)",
+                        w, h);
     int rc = core_declare_rgba32f(n, 0, w, h);
     if (rc)
         return rc;
@@ -180,7 +180,7 @@ static int constant_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- add ------------------------------------------------------------------------------------ */
+/* ---- add ------------------------------------------------------------------------------------- */
 
 /* node->user of add and scale: whether the output aliases an input (add with a gated
  * input), and which inputs' NaN/Inf pixels were reported (lg_check_input_finite: once per
@@ -323,12 +323,17 @@ static int scale_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- descriptors ------------------------------------------------------------------------------ */
+/* ---- descriptors ----------------------------------------------------------------------------- */
 
 static const lg_param_desc image_params[] = {
-    { .key = "file", .type = LG_PARAM_PATH, .def.s = "",
-      .doc = "image file: .exr (any compression), .hdr/.pic (RGBE) or .png (sRGB, decoded to linear)" },
-    { .key = "radiance", .type = LG_PARAM_BOOL, .def.b = true,
+    { .key = "file",
+      .type = LG_PARAM_PATH,
+      .def.s = "",
+      .doc =
+          "image file: .exr (any compression), .hdr/.pic (RGBE) or .png (sRGB, decoded to linear)" },
+    { .key = "radiance",
+      .type = LG_PARAM_BOOL,
+      .def.b = true,
       .doc = "the file holds radiance: negative values (from lossy compression) are clamped to 0" },
 };
 static const lg_port_desc image_outputs[] = {
@@ -336,13 +341,23 @@ static const lg_port_desc image_outputs[] = {
 };
 
 static const lg_param_desc constant_params[] = {
-    { .key = "color", .type = LG_PARAM_COLOR, .def.v = { 0.18, 0.18, 0.18 },
+    { .key = "color",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0.18, 0.18, 0.18 },
       .doc = "linear RGB of every pixel" },
     { .key = "alpha", .type = LG_PARAM_FLOAT, .def.f = 1.0, .doc = "alpha of every pixel" },
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 65536,
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 65536,
       .doc = "pixels; 0 = the render width (--size)",
       .role = LG_ROLE_IMAGE_WIDTH },
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 65536,
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 65536,
       .doc = "pixels; 0 = the render height (--size)",
       .role = LG_ROLE_IMAGE_HEIGHT },
 };
@@ -355,21 +370,30 @@ static const lg_port_desc add_inputs[] = {
     { .name = "b", .kind = LG_KIND_IMAGE, .doc = "linear image of the same size" },
 };
 static const lg_port_desc add_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f: RGB a + b, alpha min(1, a + b); the other input itself if one is gated" },
 };
 
 static const lg_param_desc scale_params[] = {
-    { .key = "factor", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e9,
+    { .key = "factor",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1.0,
+      .min = 0,
+      .max = 1e9,
       .doc = "multiplier of every colour channel (exposure, linear)" },
-    { .key = "tint", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 },
+    { .key = "tint",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 1, 1, 1 },
       .doc = "per-channel multiplier, linear RGB" },
 };
 static const lg_port_desc scale_inputs[] = {
     { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear image (rgba32f, rgba16f or rgbe8)" },
 };
 static const lg_port_desc scale_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f: RGB * factor * tint, alpha unchanged" },
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f: RGB * factor * tint, alpha unchanged" },
 };
 
 static const lg_node_type core_types[] = {
@@ -377,29 +401,41 @@ static const lg_node_type core_types[] = {
         .struct_size = sizeof(lg_node_type),
         .name = "image",
         .doc = "reads an image file (EXR, HDR, PNG) as linear rgba32f",
-        LG_PARAMS(image_params), LG_OUTPUTS(image_outputs),
-        .prepare = image_prepare, .execute = image_execute, .destroy = image_destroy,
+        LG_PARAMS(image_params),
+        LG_OUTPUTS(image_outputs),
+        .prepare = image_prepare,
+        .execute = image_execute,
+        .destroy = image_destroy,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "constant",
         .doc = "an image of one colour",
-        LG_PARAMS(constant_params), LG_OUTPUTS(constant_outputs),
-        .prepare = constant_prepare, .execute = constant_execute,
+        LG_PARAMS(constant_params),
+        LG_OUTPUTS(constant_outputs),
+        .prepare = constant_prepare,
+        .execute = constant_execute,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "add",
         .doc = "sum of two images of the same size",
-        LG_INPUTS(add_inputs), LG_OUTPUTS(add_outputs),
-        .prepare = add_prepare, .execute = add_execute, .destroy = core_pass_destroy,
+        LG_INPUTS(add_inputs),
+        LG_OUTPUTS(add_outputs),
+        .prepare = add_prepare,
+        .execute = add_execute,
+        .destroy = core_pass_destroy,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "scale",
         .doc = "image times a factor and a tint",
-        LG_PARAMS(scale_params), LG_INPUTS(scale_inputs), LG_OUTPUTS(scale_outputs),
-        .prepare = scale_prepare, .execute = scale_execute, .destroy = core_pass_destroy,
+        LG_PARAMS(scale_params),
+        LG_INPUTS(scale_inputs),
+        LG_OUTPUTS(scale_outputs),
+        .prepare = scale_prepare,
+        .execute = scale_execute,
+        .destroy = core_pass_destroy,
     },
 };
 

@@ -58,20 +58,21 @@ int lg_embree_make(lg_node *n, const lg_scene *s, lg_embree *e)
                                                3 * sizeof(unsigned), nt);
         if (!vb || !ib) {
             rtcReleaseGeometry(g);
-            return lg_error_code(n, LG_ERR_NOMEM, "Embree: out of memory for instance %u (%s)",
-                                 i, e->error[0] ? e->error : "no buffer");
+            return lg_error_code(n, LG_ERR_NOMEM, "Embree: out of memory for instance %u (%s)", i,
+                                 e->error[0] ? e->error : "no buffer");
         }
         /* the model matrix in double, rounded once to float (as the raster's vertices) */
         const float *m = in->model;
         for (uint32_t v = 0; v < me->n_vertices; v++) {
             const float *p = me->positions + 3 * (size_t)v;
             for (int r = 0; r < 3; r++) {
-                double w = (double)m[r] * p[0] + (double)m[4 + r] * p[1] +
-                           (double)m[8 + r] * p[2] + (double)m[12 + r];
+                double w = (double)m[r] * p[0] + (double)m[4 + r] * p[1] + (double)m[8 + r] * p[2] +
+                           (double)m[12 + r];
                 if (!isfinite(w)) {
                     rtcReleaseGeometry(g);
-                    return lg_error(n, "mesh %u '%s' vertex %u (instance %u): its world "
-                                       "position is not finite",
+                    return lg_error(n,
+                                    "mesh %u '%s' vertex %u (instance %u): its world "
+                                    "position is not finite",
                                     in->mesh, name, v, i);
                 }
                 vb[3 * (size_t)v + r] = (float)w;
@@ -82,8 +83,9 @@ int lg_embree_make(lg_node *n, const lg_scene *s, lg_embree *e)
         for (uint32_t t = 0; t < nt * 3; t++) {
             if (me->indices[t] >= me->n_vertices) {
                 rtcReleaseGeometry(g);
-                return lg_error(n, "mesh %u '%s': index %u (triangle %u) is %u, past its %u "
-                                   "vertices",
+                return lg_error(n,
+                                "mesh %u '%s': index %u (triangle %u) is %u, past its %u "
+                                "vertices",
                                 in->mesh, name, t, t / 3, me->indices[t], me->n_vertices);
             }
             ib[t] = me->indices[t];

@@ -22,12 +22,12 @@
 
 typedef struct lg_embree {
     RTCDevice dev;
-    RTCScene scene;          /* committed: trace it from any thread */
-    double extent;           /* the largest side of the world bounds of every vertex (0 when
-                              * there is none) */
-    size_t bytes;            /* the geometry buffers Embree holds (the BVH comes on top:
-                              * about 1.5x for a high-quality build, not reported) */
-    char error[256];         /* the first error Embree reported (its callback) */
+    RTCScene scene;  /* committed: trace it from any thread */
+    double extent;   /* the largest side of the world bounds of every vertex (0 when
+                      * there is none) */
+    size_t bytes;    /* the geometry buffers Embree holds (the BVH comes on top:
+                      * about 1.5x for a high-quality build, not reported) */
+    char error[256]; /* the first error Embree reported (its callback) */
 } lg_embree;
 
 /* Builds *e from scene s; the device runs lg_cpu_workers(node) threads. Errors (reported

@@ -19,7 +19,7 @@
 
 #include "lightgraph/vecmath.h"
 
-/* ---- shared maths ---------------------------------------------------------------------- */
+/* ---- shared maths ---------------------------------------------------------------------------- */
 
 /* Van der Corput radical inverse in base 2 of a 64-bit index, in [0, 1). */
 static double radical_inverse(uint64_t k)
@@ -94,7 +94,7 @@ static double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* ---- the rough lookup ------------------------------------------------------------------- */
+/* ---- the rough lookup ------------------------------------------------------------------------ */
 
 void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_levels, lg_vec3 dir,
                            float roughness, float out[4])
@@ -118,11 +118,10 @@ void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_levels, lg_v
         out[c] = out[c] + (b[c] - out[c]) * f;
 }
 
-/* ---- the DFG table ---------------------------------------------------------------------- */
+/* ---- the DFG table --------------------------------------------------------------------------- */
 
 /* A and B at (n.v, perceptual roughness) from `samples` Hammersley GGX samples. */
-static void dfg_entry(double nov, double roughness, uint32_t samples, double *a_out,
-                      double *b_out)
+static void dfg_entry(double nov, double roughness, uint32_t samples, double *a_out, double *b_out)
 {
     double alpha = roughness * roughness, a2 = alpha * alpha;
     if (a2 == 0.0) {
@@ -223,7 +222,7 @@ void lg_ggx_dfg(float n_dot_v, float roughness, float out[2])
     }
 }
 
-/* ---- the oracle and the split sum ------------------------------------------------------- */
+/* ---- the oracle and the split sum ------------------------------------------------------------ */
 
 /* PCG32 (O'Neill 2014), for the Cranley-Patterson shift of the oracle's point set. */
 static uint32_t pcg32(uint64_t *state)
@@ -240,9 +239,8 @@ static double schlick(double f0, double voh)
     return f0 + (1.0 - f0) * pow(1.0 - voh, 5.0);
 }
 
-int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n_in, lg_vec3 v_in,
-                           float roughness, const float f0[3], uint64_t samples, uint32_t seed,
-                           double out[3])
+int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n_in, lg_vec3 v_in, float roughness,
+                           const float f0[3], uint64_t samples, uint32_t seed, double out[3])
 {
     if (!out)
         return LG_ERR_INVALID;
@@ -296,8 +294,7 @@ int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n_in, lg_vec3 v_in
             continue;
         double g = smith_vis(nov, nol, a2) * 4.0 * voh * nol / noh;
         float c[4];
-        lg_probe_lookup(src, lg_v3((float)l[0], (float)l[1], (float)l[2]), LG_PROBE_BILINEAR,
-                        c);
+        lg_probe_lookup(src, lg_v3((float)l[0], (float)l[1], (float)l[2]), LG_PROBE_BILINEAR, c);
         for (int ch = 0; ch < 3; ch++)
             acc[ch] += (f0 ? schlick(f0[ch], voh) : 1.0) * g * c[ch];
     }
@@ -306,8 +303,8 @@ int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n_in, lg_vec3 v_in
     return 0;
 }
 
-void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels, lg_vec3 n,
-                            lg_vec3 v, float roughness, const float f0[3], float out[3])
+void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels, lg_vec3 n, lg_vec3 v,
+                            float roughness, const float f0[3], float out[3])
 {
     n = lg_probe_safe_dir(n);
     v = lg_probe_safe_dir(v);
@@ -321,12 +318,12 @@ void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels, lg_
         out[ch] = c[ch] * ((f0 ? f0[ch] : 1.0f) * ab[0] + ab[1]);
 }
 
-/* ---- prefiltering ----------------------------------------------------------------------- */
+/* ---- prefiltering ---------------------------------------------------------------------------- */
 
 /* One level's sample set in the tangent frame: directions l (z = n.l > 0), weights n.l,
  * and the source lod each reads. */
 typedef struct level_set {
-    float *l;      /* 3 per sample */
+    float *l; /* 3 per sample */
     float *w;
     float *lod;
     uint32_t count;
@@ -339,9 +336,9 @@ typedef struct mip {
 typedef struct filter_job {
     lg_probe_layout layout;
     uint32_t width, height, faces, levels;
-    lg_image_desc desc;       /* the chain's packing */
+    lg_image_desc desc; /* the chain's packing */
     float *out;
-    const mip *mips;          /* the source chain (mips[0] = level 0 of out) */
+    const mip *mips; /* the source chain (mips[0] = level 0 of out) */
     uint32_t n_mips;
     level_set sets[LG_PROBE_FILTER_MAX_LEVELS];
     size_t row_start[LG_PROBE_FILTER_MAX_LEVELS + 1]; /* first row index of each level */

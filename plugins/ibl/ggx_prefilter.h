@@ -92,14 +92,14 @@ static inline float lg_probe_roughness_lod(float roughness, uint32_t levels)
 
 /* How lg_probe_prefilter_ggx weights its samples (lg_probe_prefilter_opts.weighting). */
 typedef enum lg_probe_prefilter_weighting {
-    LG_PROBE_WEIGHT_NOL = 0,  /* n.l: Karis 2013 and Filament's cmgen (the default). Better
-                               * for views away from the normal, but biased even at
-                               * n = v, where the true lobe also carries Vis(l, v): about
-                               * 10% relative RMS on the sunlit forest probe at roughness
-                               * 0.5 .. 1 (docs/probes.md "Glossy prefiltering") */
-    LG_PROBE_WEIGHT_NOL_VIS,  /* n.l Vis(n.l, n.v = 1): the integrand's own lobe for
-                               * n = v, so that the split sum converges to the oracle
-                               * there; worse than n.l at 45 degrees and beyond */
+    LG_PROBE_WEIGHT_NOL = 0, /* n.l: Karis 2013 and Filament's cmgen (the default). Better
+                              * for views away from the normal, but biased even at
+                              * n = v, where the true lobe also carries Vis(l, v): about
+                              * 10% relative RMS on the sunlit forest probe at roughness
+                              * 0.5 .. 1 (docs/probes.md "Glossy prefiltering") */
+    LG_PROBE_WEIGHT_NOL_VIS, /* n.l Vis(n.l, n.v = 1): the integrand's own lobe for
+                              * n = v, so that the split sum converges to the oracle
+                              * there; worse than n.l at 45 degrees and beyond */
 } lg_probe_prefilter_weighting;
 
 /* How lg_probe_prefilter_ggx samples. Zeroed (or a NULL pointer) means the defaults. */
@@ -121,10 +121,10 @@ typedef struct lg_probe_prefilter_opts {
 
 /* What a prefiltering measured. */
 typedef struct lg_probe_prefilter_stats {
-    double seconds;    /* wall time of the whole call (level 0 and the mips included) */
-    uint64_t samples;  /* GGX samples taken (texels of levels >= 1 times samples; those
-                        * below the horizon count too) */
-    uint32_t threads;  /* participants of the pool used (1 without one) */
+    double seconds;   /* wall time of the whole call (level 0 and the mips included) */
+    uint64_t samples; /* GGX samples taken (texels of levels >= 1 times samples; those
+                       * below the horizon count too) */
+    uint32_t threads; /* participants of the pool used (1 without one) */
     uint32_t reserved_u[3];
     double reserved[4];
 } lg_probe_prefilter_stats;
@@ -165,10 +165,10 @@ typedef struct lg_probe_prefilter_stats {
  * above 65536, a cube that is not square, levels outside 1..16, out NULL, an unknown
  * weighting) or LG_ERR_NOMEM. Nothing is reported through the host (the caller does, with its
  * context). */
-int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src,
-                                  lg_probe_layout layout, uint32_t width, uint32_t height,
-                                  uint32_t levels, const lg_probe_prefilter_opts *opts,
-                                  float *out, lg_probe_prefilter_stats *stats);
+int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src, lg_probe_layout layout,
+                           uint32_t width, uint32_t height, uint32_t levels,
+                           const lg_probe_prefilter_opts *opts, float *out,
+                           lg_probe_prefilter_stats *stats);
 
 /* Rough lookup into a chain: levels[0 .. n_levels - 1], each an lg_probe_image of the same
  * layout and rotation, level l of size >> l (lg_probe_image_at makes them from a mapped
@@ -178,8 +178,8 @@ int lg_probe_prefilter_ggx(lg_node *pool, const lg_probe_image *src,
  * GL_LINEAR_MIPMAP_LINEAR and textureLod(dir, lod) does, and what the GLSL and CL code of
  * the ibl plugin reproduce. Roughness 0 is lg_probe_lookup of level 0 exactly. n_levels 0
  * or levels NULL gives 0. Writes RGBA to out. */
-void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_levels,
-                                  lg_vec3 dir, float roughness, float out[4]);
+void lg_probe_lookup_rough(const lg_probe_image *levels, uint32_t n_levels, lg_vec3 dir,
+                           float roughness, float out[4]);
 
 /* The split-sum DFG table (Karis 2013; Filament's DFG LUT): for n.v and perceptual
  * roughness, the scale A and bias B with
@@ -231,17 +231,15 @@ static inline void lg_ggx_dfg_uv(float n_dot_v, float roughness, float uv[2])
  * to [0, 1] (NaN: 0); roughness 0 gives F(n.v) L(reflect(-v, n)) exactly (one lookup).
  * A viewer behind the surface (n.v <= 0) gives 0. Writes RGB to out[0..2].
  * Returns 0, or LG_ERR_INVALID (src, its texels or out NULL, or a zero size). */
-int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n, lg_vec3 v,
-                                  float roughness, const float f0[3], uint64_t samples,
-                                  uint32_t seed, double out[3]);
+int lg_probe_ggx_reference(const lg_probe_image *src, lg_vec3 n, lg_vec3 v, float roughness,
+                           const float f0[3], uint64_t samples, uint32_t seed, double out[3]);
 
 /* The split-sum estimate of the same integral from a chain:
  *     lg_probe_lookup_rough(levels, n_levels, reflect(-v, n), roughness) * (f0 A + B)
  * (f0 NULL: A + B), (A, B) = lg_ggx_dfg(n.v, roughness), n and v normalised first, n.v
  * clamped to [0, 1]: the formula `reflect` uses on every backend. Writes RGB to out. */
-void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels,
-                                   lg_vec3 n, lg_vec3 v, float roughness,
-                                   const float f0[3], float out[3]);
+void lg_probe_ggx_split_sum(const lg_probe_image *levels, uint32_t n_levels, lg_vec3 n, lg_vec3 v,
+                            float roughness, const float f0[3], float out[3]);
 
 #ifdef __cplusplus
 }

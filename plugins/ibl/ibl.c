@@ -70,9 +70,9 @@ typedef struct ibl_state {
     float *chain;
     uint32_t chain_size, chain_levels;
     bool chain_tried;
-    bool cache_probed;        /* prepare() looked the chain up in the cache (and missed) */
-    bool chain_unchecked;     /* st->chain came from the cache: its values not yet held to
-                               * the probe's range (ibl_chain_bad, in execute) */
+    bool cache_probed;    /* prepare() looked the chain up in the cache (and missed) */
+    bool chain_unchecked; /* st->chain came from the cache: its values not yet held to
+                           * the probe's range (ibl_chain_bad, in execute) */
     lg_gl_texture chain_tex;
     lg_gl_buffer dfg_buf;
     lg_cl_buffer cl_chain, cl_dfg;
@@ -81,8 +81,8 @@ typedef struct ibl_state {
     lg_gl_pass *gpass, *spass;
     lg_gl_uniform g_view_proj, g_material;
     lg_gl_binding s_params;
-    lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
-        s_clamped, s_chain, s_dfg;
+    lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats, s_clamped,
+        s_chain, s_dfg;
     lg_gl_texture gbuf_tex, gdepth_tex;
     lg_gl_buffer mats_buf, clamp_buf;
 
@@ -94,7 +94,7 @@ typedef struct ibl_state {
     float *gbuf, *gdepth;
 } ibl_state;
 
-/* ---- create / prepare ---------------------------------------------------------------- */
+/* ---- create / prepare ------------------------------------------------------------------------ */
 
 static int ibl_create(lg_node *n, int mode)
 {
@@ -126,17 +126,27 @@ static int ibl_create(lg_node *n, int mode)
             st->reflectivity[i] = (float)v;
         }
         if (any_neg && !all_neg)
-            return lg_error(n, "reflectivity = [%g, %g, %g]: give three values >= 0, or "
-                               "[-1, -1, -1] for the materials' own",
+            return lg_error(n,
+                            "reflectivity = [%g, %g, %g]: give three values >= 0, or "
+                            "[-1, -1, -1] for the materials' own",
                             (double)st->reflectivity[0], (double)st->reflectivity[1],
                             (double)st->reflectivity[2]);
     }
     return 0;
 }
 
-static int ibl_create_reflect(lg_node *n) { return ibl_create(n, IBL_REFLECT); }
-static int ibl_create_envmap(lg_node *n) { return ibl_create(n, IBL_ENVMAP); }
-static int ibl_create_background(lg_node *n) { return ibl_create(n, IBL_BACKGROUND); }
+static int ibl_create_reflect(lg_node *n)
+{
+    return ibl_create(n, IBL_REFLECT);
+}
+static int ibl_create_envmap(lg_node *n)
+{
+    return ibl_create(n, IBL_ENVMAP);
+}
+static int ibl_create_background(lg_node *n)
+{
+    return ibl_create(n, IBL_BACKGROUND);
+}
 
 static const lg_format ibl_formats[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8 };
 static const char *const ibl_format_names[] = { "rgba32f", "rgba16f", "rgbe8", NULL };
@@ -160,21 +170,24 @@ static int ibl_prepare(lg_node *n)
             return lg_error(n, "input 'base' is not an image");
         if (!info.neutral && (info.image.format != LG_FORMAT_RGBA32F ||
                               (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
-            return lg_error(n, "input 'base' must be a 2D rgba32f image (it is %s%s); convert "
-                               "it first",
-                            info.image.format == LG_FORMAT_RGBA16F  ? "rgba16f"
+            return lg_error(n,
+                            "input 'base' must be a 2D rgba32f image (it is %s%s); convert "
+                            "it first",
+                            info.image.format == LG_FORMAT_RGBA16F ? "rgba16f"
                             : info.image.format == LG_FORMAT_RGBE8 ? "rgbe8"
                             : info.image.format == LG_FORMAT_RGBA8 ? "rgba8"
                                                                    : "rgba32f",
                             info.image.flags & LG_IMAGE_CUBE ? ", a cube" : "");
-        if (!info.neutral &&
-            (info.image.width != st->width || info.image.height != st->height))
-            return lg_error(n, "input 'base' is %ux%u but the output is %ux%u: give the node "
-                               "width and height of the base image (or leave both at 0)",
+        if (!info.neutral && (info.image.width != st->width || info.image.height != st->height))
+            return lg_error(n,
+                            "input 'base' is %ux%u but the output is %ux%u: give the node "
+                            "width and height of the base image (or leave both at 0)",
                             info.image.width, info.image.height, st->width, st->height);
     }
-    lg_image_desc d = { .width = st->width, .height = st->height,
-                        .format = ibl_formats[st->format], .flags = LG_IMAGE_DEPTH };
+    lg_image_desc d = { .width = st->width,
+                        .height = st->height,
+                        .format = ibl_formats[st->format],
+                        .flags = LG_IMAGE_DEPTH };
     rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
@@ -183,7 +196,7 @@ static int ibl_prepare(lg_node *n)
     return lg_set_device(n, st->backend);
 }
 
-/* ---- the frame's inputs ----------------------------------------------------------------- */
+/* ---- the frame's inputs ---------------------------------------------------------------------- */
 
 typedef struct ibl_frame {
     const lg_scene *s;
@@ -192,11 +205,11 @@ typedef struct ibl_frame {
     float inv_vp[16];
     lg_probe probe_view;
     const lg_probe *probe;
-    const lg_resource *base;  /* NULL, or a non-neutral base image */
-    bool geometry;            /* the scene has triangles: the G-buffer pass runs */
-    float *mats;              /* 8 floats per material: F0 rgb, roughness; double-sided */
+    const lg_resource *base; /* NULL, or a non-neutral base image */
+    bool geometry;           /* the scene has triangles: the G-buffer pass runs */
+    float *mats;             /* 8 floats per material: F0 rgb, roughness; double-sided */
     uint32_t n_mats;
-    uint32_t rough;           /* reflective materials with roughness > 0 (glossy = auto) */
+    uint32_t rough; /* reflective materials with roughness > 0 (glossy = auto) */
 } ibl_frame;
 
 /* The material table every backend reads: F0 (the material's reflectivity or the node's),
@@ -217,8 +230,8 @@ static int ibl_materials(lg_node *n, ibl_state *st, ibl_frame *f)
             o[c] = isfinite(r) && r > 0 ? r : 0.0f;
         }
         o[3] = 0.0f;
-        if (st->mode != IBL_BACKGROUND && st->glossy == IBL_GLOSSY_AUTO &&
-            m->roughness > 0 && (o[0] > 0 || o[1] > 0 || o[2] > 0)) {
+        if (st->mode != IBL_BACKGROUND && st->glossy == IBL_GLOSSY_AUTO && m->roughness > 0 &&
+            (o[0] > 0 || o[1] > 0 || o[2] > 0)) {
             /* NaN fails the test above; glTF's range is [0, 1] */
             o[3] = m->roughness < 1.0f ? m->roughness : 1.0f;
             f->rough++;
@@ -266,13 +279,11 @@ static int ibl_frame_in(lg_node *n, ibl_state *st, ibl_frame *f)
     return ibl_materials(n, st, f);
 }
 
-
-/* ---- the GGX chain (glossy reflection) ------------------------------------------------- */
+/* ---- the GGX chain (glossy reflection) ------------------------------------------------------- */
 
 static size_t ibl_chain_floats(uint32_t size, uint32_t levels)
 {
-    lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE,
-                        .levels = levels };
+    lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE, .levels = levels };
     return 4 * lg_image_offset(&d, levels, 0);
 }
 
@@ -280,8 +291,10 @@ static size_t ibl_chain_floats(uint32_t size, uint32_t levels)
  * frame). */
 static lg_probe_image ibl_chain_level(const ibl_state *st, const float *rotation, uint32_t l)
 {
-    lg_image_desc d = { .width = st->chain_size, .height = st->chain_size,
-                        .format = LG_FORMAT_RGBA32F, .flags = LG_IMAGE_CUBE,
+    lg_image_desc d = { .width = st->chain_size,
+                        .height = st->chain_size,
+                        .format = LG_FORMAT_RGBA32F,
+                        .flags = LG_IMAGE_CUBE,
                         .levels = st->chain_levels };
     return lg_probe_image_at(LG_PROBE_CUBE, &d, st->chain, l, rotation);
 }
@@ -328,8 +341,9 @@ static bool ibl_chain_bad(lg_node *n, const ibl_frame *f, const float *chain, si
             l++;
         uint32_t w = lg_image_level_width(&cd, l);
         size_t r = t - lg_image_offset(&cd, l, 0);
-        snprintf(why, wn, "float %zu (level %u, face %zu, texel %zu, %zu, channel %c) = %g, "
-                          "outside the probe's range [%g, %g] that a prefiltered chain keeps",
+        snprintf(why, wn,
+                 "float %zu (level %u, face %zu, texel %zu, %zu, channel %c) = %g, "
+                 "outside the probe's range [%g, %g] that a prefiltered chain keeps",
                  i, l, r / ((size_t)w * w), r % w, (r / w) % w, "RGBA"[c], v, lo[c], hi[c]);
         return true;
     }
@@ -359,11 +373,12 @@ static int ibl_chain_shape(lg_node *n, const ibl_state *st, const lg_image_desc 
         while (fill < src && fill < 4096)
             fill *= 2;
         if (size > fill) {
-            snprintf(note, note_len, "prefilter_size = %u is finer than the %ux%u%s probe can "
-                                     "fill: the chain is made at %u per face (set "
-                                     "prefilter_size to %u or less, or 0, to silence this)",
-                     size, rd->width, rd->height, (rd->flags & LG_IMAGE_CUBE) ? " cube" : "",
-                     fill, fill);
+            snprintf(note, note_len,
+                     "prefilter_size = %u is finer than the %ux%u%s probe can "
+                     "fill: the chain is made at %u per face (set "
+                     "prefilter_size to %u or less, or 0, to silence this)",
+                     size, rd->width, rd->height, (rd->flags & LG_IMAGE_CUBE) ? " cube" : "", fill,
+                     fill);
             size = fill;
         }
     }
@@ -374,15 +389,17 @@ static int ibl_chain_shape(lg_node *n, const ibl_state *st, const lg_image_desc 
     if (levels > max_levels) {
         if (st->levels_param) {
             size_t len = strlen(note);
-            snprintf(note + len, note_len - len, "%slevels = %u: a chain of face %u has %u "
-                                                 "levels, so it has %u",
+            snprintf(note + len, note_len - len,
+                     "%slevels = %u: a chain of face %u has %u "
+                     "levels, so it has %u",
                      len ? "; " : "", levels, size, max_levels, max_levels);
         }
         levels = max_levels;
     }
     if (levels < 2)
-        return lg_error(n, "levels = %u: a GGX chain needs at least 2 levels (roughness 0 and 1); "
-                           "prefilter_size %u allows %u",
+        return lg_error(n,
+                        "levels = %u: a GGX chain needs at least 2 levels (roughness 0 and 1); "
+                        "prefilter_size %u allows %u",
                         levels, size, max_levels);
     *size_out = size;
     *levels_out = levels;
@@ -428,8 +445,8 @@ static bool ibl_scene_rough(const ibl_state *st, const lg_scene *s)
 /* In prepare: the chain this node will make, clamped with a note (a warning, shown at the
  * default verbosity) when its parameters ask for more than the probe can fill, and its
  * memory against what the machine can give, before anything runs. */
-static void ibl_chain_key(char *key, size_t len, uint32_t size, uint32_t levels,
-                          uint32_t samples, uint32_t weighting)
+static void ibl_chain_key(char *key, size_t len, uint32_t size, uint32_t levels, uint32_t samples,
+                          uint32_t weighting)
 {
     /* the weighting is in the node's identity already (a parameter); naming it in the key
      * too keeps entries of the two apart should its default change */
@@ -528,8 +545,7 @@ static int ibl_check_chain(lg_node *n, ibl_state *st, const lg_resource *probe)
                          "prefilter_size, or glossy = off",
                          st->size_param, size, levels, samples, ri.image.width, ri.image.height,
                          (ri.image.flags & LG_IMAGE_CUBE) ? " cube" : "", need_s,
-                         (unsigned long long)need, rs_s, have_s, (unsigned long long)avail,
-                         bound);
+                         (unsigned long long)need, rs_s, have_s, (unsigned long long)avail, bound);
 }
 
 /* Makes the chain once: from the host's cache, else lg_probe_prefilter_ggx (then cached).
@@ -590,12 +606,14 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
             char a[32], b[32];
             lg_bytes_text(a, sizeof a, need);
             lg_bytes_text(b, sizeof b, resample);
-            snprintf(why, sizeof why, ": out of memory (it needs about %s, %s of it to "
-                                      "resample the %ux%u probe into the chain's first level)",
+            snprintf(why, sizeof why,
+                     ": out of memory (it needs about %s, %s of it to "
+                     "resample the %ux%u probe into the chain's first level)",
                      a, b, rd->width, rd->height);
         }
-        return lg_error_code(n, rc, "prefiltering the probe (cube %u, %u levels, %u samples) "
-                                    "failed%s",
+        return lg_error_code(n, rc,
+                             "prefiltering the probe (cube %u, %u levels, %u samples) "
+                             "failed%s",
                              size, levels, samples, why);
     }
     st->chain_size = size;
@@ -608,9 +626,9 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     if (blob) {
         int r = lg_cache_store(n, key, blob, total);
         free(blob);
-        stored = r == LG_CACHE_STORED ? "cached"
-                 : r == LG_CACHE_OFF ? "not cached: the cache is disabled for this render "
-                                       "(the warning above says why)"
+        stored = r == LG_CACHE_STORED    ? "cached"
+                 : r == LG_CACHE_OFF     ? "not cached: the cache is disabled for this render "
+                                           "(the warning above says why)"
                  : r == LG_CACHE_UNKNOWN ? "handed to the cache (this host does not say whether "
                                            "it stored it)"
                                          : "not cached: the host could not store it (its "
@@ -623,7 +641,7 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
     return 0;
 }
 
-/* ---- GL: the G-buffer ------------------------------------------------------------------- */
+/* ---- GL: the G-buffer ------------------------------------------------------------------------ */
 
 typedef struct ibl_draw_ctx {
     ibl_state *st;
@@ -635,8 +653,7 @@ static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
     (void)n;
     (void)normals;
     const ibl_draw_ctx *c = user;
-    lg_gl_set_float(c->st->gpass, c->st->g_material,
-                    (float)c->s->meshes[mi].material + 1.0f);
+    lg_gl_set_float(c->st->gpass, c->st->g_material, (float)c->s->meshes[mi].material + 1.0f);
     return 0;
 }
 
@@ -644,10 +661,13 @@ static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
  * as lg_gl_texture makes them). */
 static int ibl_gbuffer_images(lg_node *n, ibl_state *st)
 {
-    const lg_gl_texture_desc c = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F,
-                                   .width = st->width, .height = st->height };
-    const lg_gl_texture_desc d = { .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F,
-                                   .width = st->width, .height = st->height };
+    const lg_gl_texture_desc c = {
+        .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = st->width, .height = st->height
+    };
+    const lg_gl_texture_desc d = { .target = GL_TEXTURE_2D,
+                                   .format = GL_DEPTH_COMPONENT32F,
+                                   .width = st->width,
+                                   .height = st->height };
     int rc;
     if ((rc = lg_gl_texture_recreate(n, &st->gbuf_tex, &c)) < 0 ||
         (rc = lg_gl_texture_recreate(n, &st->gdepth_tex, &d)) < 0)
@@ -664,9 +684,14 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
             { GL_VERTEX_SHADER, lg_src_ibl_gbuffer_vert_file, lg_src_ibl_gbuffer_vert },
             { GL_FRAGMENT_SHADER, lg_src_ibl_gbuffer_frag_file, lg_src_ibl_gbuffer_frag },
         };
-        lg_gl_pass_desc d = { .name = "ibl (G-buffer)", .stages = src, .n_stages = 2,
-                              .colors = { GL_RGBA32F }, .depth = true, .depth_test = true,
-                              .depth_write = true, .cull = LG_GL_CULL_BACK,
+        lg_gl_pass_desc d = { .name = "ibl (G-buffer)",
+                              .stages = src,
+                              .n_stages = 2,
+                              .colors = { GL_RGBA32F },
+                              .depth = true,
+                              .depth_test = true,
+                              .depth_write = true,
+                              .cull = LG_GL_CULL_BACK,
                               .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
         if ((rc = lg_gl_pass_create(n, &d, &st->gpass)))
             return rc;
@@ -675,8 +700,10 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
     }
     if ((rc = ibl_gbuffer_images(n, st)))
         return rc;
-    lg_gl_target t = { .color = { st->gbuf_tex.name }, .depth = st->gdepth_tex.name,
-                       .width = st->width, .height = st->height };
+    lg_gl_target t = { .color = { st->gbuf_tex.name },
+                       .depth = st->gdepth_tex.name,
+                       .width = st->width,
+                       .height = st->height };
     if ((rc = lg_gl_pass_begin(st->gpass, &t)))
         return rc;
     static const float zero[4] = { 0, 0, 0, 0 };
@@ -708,14 +735,13 @@ static int ibl_gbuffer_cpu(lg_node *n, ibl_state *st, const ibl_frame *f)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (G-buffer %ux%u)", st->width,
                                  st->height);
     }
-    gl->GetTextureImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16),
-                        st->gbuf);
+    gl->GetTextureImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16), st->gbuf);
     gl->GetTextureImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(np * 4),
                         st->gdepth);
     return lg_gl_check(n, "ibl: reading the G-buffer back");
 }
 
-/* ---- GL shading ----------------------------------------------------------------------- */
+/* ---- GL shading ------------------------------------------------------------------------------ */
 
 /* The shading pass's uniform block IblShade (std140, shaders/ibl/ibl_shade.frag), uploaded
  * with one lg_gl_pass_uniforms per frame. */
@@ -745,9 +771,15 @@ static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
     };
     static const GLenum internal[3] = { GL_RGBA32F, GL_RGBA16F, GL_RGBA8 };
     /* every pixel is written, depth included: no test against the cleared plane */
-    lg_gl_pass_desc d = { .name = "ibl (shading)", .stages = src, .n_stages = 2,
-                          .output = "out", .colors = { internal[st->format] }, .depth = true,
-                          .depth_test = true, .depth_write = true, .depth_func = GL_ALWAYS };
+    lg_gl_pass_desc d = { .name = "ibl (shading)",
+                          .stages = src,
+                          .n_stages = 2,
+                          .output = "out",
+                          .colors = { internal[st->format] },
+                          .depth = true,
+                          .depth_test = true,
+                          .depth_write = true,
+                          .depth_func = GL_ALWAYS };
     int rc = lg_gl_pass_create(n, &d, &st->spass);
     if (rc)
         return rc;
@@ -803,18 +835,22 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
                                     lg_ggx_dfg_shared())))
         return rc;
     /* the chain as a cube texture with one mip level per roughness level, filled when made */
-    const lg_gl_texture_desc chain_desc = { .target = GL_TEXTURE_CUBE_MAP, .format = GL_RGBA32F,
-                                            .width = st->chain_size, .height = st->chain_size,
+    const lg_gl_texture_desc chain_desc = { .target = GL_TEXTURE_CUBE_MAP,
+                                            .format = GL_RGBA32F,
+                                            .width = st->chain_size,
+                                            .height = st->chain_size,
                                             .levels = st->chain_levels };
     if (st->chain && (rc = lg_gl_texture_recreate(n, &st->chain_tex, &chain_desc)) < 0)
         return rc;
     if (st->chain && rc == 1) {
-        lg_image_desc cd = { .width = st->chain_size, .height = st->chain_size,
-                             .flags = LG_IMAGE_CUBE, .levels = st->chain_levels };
+        lg_image_desc cd = { .width = st->chain_size,
+                             .height = st->chain_size,
+                             .flags = LG_IMAGE_CUBE,
+                             .levels = st->chain_levels };
         for (uint32_t l = 0; l < st->chain_levels; l++) {
             GLsizei w = (GLsizei)lg_image_level_width(&cd, l);
-            gl->TextureSubImage3D(st->chain_tex.name, (GLint)l, 0, 0, 0, w, w, 6, GL_RGBA,
-                                  GL_FLOAT, st->chain + 4 * lg_image_offset(&cd, l, 0));
+            gl->TextureSubImage3D(st->chain_tex.name, (GLint)l, 0, 0, 0, w, w, 6, GL_RGBA, GL_FLOAT,
+                                  st->chain + 4 * lg_image_offset(&cd, l, 0));
         }
     }
 
@@ -846,11 +882,10 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
      * trilinear, seamless too */
     bool cube = pr->info.layout == LG_PROBE_CUBE;
     const lg_gl_sampler probe_s = { .filter = st->sampling == IBL_BILINEAR ? LG_GL_FILTER_LINEAR
-                                                                          : LG_GL_FILTER_NEAREST,
+                                                                           : LG_GL_FILTER_NEAREST,
                                     .seamless_cube = cube };
     const lg_gl_sampler chain_s = { .filter = LG_GL_FILTER_LINEAR_MIPMAP, .seamless_cube = true };
-    lg_gl_pass_bind_texture_sampled(p, cube ? st->s_probecube : st->s_probe2d, probe_tex,
-                                    &probe_s);
+    lg_gl_pass_bind_texture_sampled(p, cube ? st->s_probecube : st->s_probe2d, probe_tex, &probe_s);
     lg_gl_pass_bind_buffer(p, st->s_mats, st->mats_buf.name);
     lg_gl_pass_bind_buffer(p, st->s_clamped, st->clamp_buf.name);
     lg_gl_pass_bind_buffer(p, st->s_dfg, st->dfg_buf.name);
@@ -868,14 +903,14 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     return lg_gl_check(n, "ibl: shading");
 }
 
-/* ---- CPU shading (the C twin of ibl_shade.frag and ibl.cl) ------------------------------ */
+/* ---- CPU shading (the C twin of ibl_shade.frag and ibl.cl) ----------------------------------- */
 
 typedef struct ibl_cpu_job {
     const ibl_state *st;
     const ibl_frame *f;
     lg_probe_image img;
     lg_probe_image chain[LG_PROBE_FILTER_MAX_LEVELS];
-    uint32_t chain_levels;    /* 0: no chain */
+    uint32_t chain_levels; /* 0: no chain */
     const float *gbuf, *gdepth, *base, *base_depth;
     void *out;
     float *out_depth;
@@ -923,8 +958,7 @@ static float ibl_clean(float x)
  * probe blended with level 1, so that roughness 0+ continues roughness 0. */
 static void ibl_radiance(const ibl_cpu_job *j, lg_vec3 dir, float rough, float out[4])
 {
-    lg_probe_sampling smp =
-        j->st->sampling == IBL_BILINEAR ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST;
+    lg_probe_sampling smp = j->st->sampling == IBL_BILINEAR ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST;
     if (!(rough > 0.0f) || j->chain_levels < 2) {
         lg_probe_lookup(&j->img, dir, smp, out);
         return;
@@ -942,8 +976,7 @@ static void ibl_radiance(const ibl_cpu_job *j, lg_vec3 dir, float rough, float o
 }
 
 /* One pixel: colour (RGBA, NaN-free, before the format's encoding) and depth. */
-static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float c[4],
-                            float *depth)
+static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float c[4], float *depth)
 {
     const ibl_state *st = j->st;
     const ibl_frame *f = j->f;
@@ -1043,9 +1076,14 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
         return rc;
     if (!ov.depth)
         return lg_error(n, "output 'out' has no depth plane");
-    ibl_cpu_job j = { .st = st, .f = f, .gbuf = f->geometry ? st->gbuf : NULL,
-                      .gdepth = f->geometry ? st->gdepth : NULL, .base = bv.pixels,
-                      .base_depth = bv.depth, .out = ov.pixels, .out_depth = ov.depth };
+    ibl_cpu_job j = { .st = st,
+                      .f = f,
+                      .gbuf = f->geometry ? st->gbuf : NULL,
+                      .gdepth = f->geometry ? st->gdepth : NULL,
+                      .base = bv.pixels,
+                      .base_depth = bv.depth,
+                      .out = ov.pixels,
+                      .out_depth = ov.depth };
     j.img = lg_probe_image_at(f->probe->info.layout, &f->probe->radiance_desc, pv.pixels, 0,
                               f->probe->info.rotation);
     if (st->chain) {
@@ -1065,7 +1103,7 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
     return rc;
 }
 
-/* ---- CL shading ----------------------------------------------------------------------- */
+/* ---- CL shading ------------------------------------------------------------------------------ */
 
 /* A read-only table of the kernel's, kept while large enough and rewritten. */
 static int ibl_cl_upload(lg_node *n, lg_cl_buffer *b, size_t bytes, const void *data)
@@ -1083,8 +1121,11 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         static const char *const src[] = { lg_src_probe_cl, lg_src_rgbe_cl, lg_src_ibl_cl };
         static const char *const names[] = { lg_src_probe_cl_file, lg_src_rgbe_cl_file,
                                              lg_src_ibl_cl_file };
-        lg_cl_pass_desc d = { .name = "ibl shade", .sources = src, .source_names = names,
-                              .n_sources = 3, .options = "-cl-std=CL1.2",
+        lg_cl_pass_desc d = { .name = "ibl shade",
+                              .sources = src,
+                              .source_names = names,
+                              .n_sources = 3,
+                              .options = "-cl-std=CL1.2",
                               .kernel = "ibl_shade" };
         if ((rc = lg_cl_pass_create(n, &d, &st->kernel)))
             return rc;
@@ -1099,9 +1140,8 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
                             st->chain)))
         return rc;
     size_t np = (size_t)st->width * st->height;
-    if (f->geometry &&
-        ((rc = ibl_cl_upload(n, &st->cl_gbuf, np * 16, st->gbuf)) ||
-         (rc = ibl_cl_upload(n, &st->cl_gdepth, np * 4, st->gdepth))))
+    if (f->geometry && ((rc = ibl_cl_upload(n, &st->cl_gbuf, np * 16, st->gbuf)) ||
+                        (rc = ibl_cl_upload(n, &st->cl_gdepth, np * 4, st->gdepth))))
         return rc;
     if ((rc = ibl_cl_upload(n, &st->cl_mats, (size_t)f->n_mats * 32, f->mats)))
         return rc;
@@ -1164,7 +1204,7 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     return 0;
 }
 
-/* ---- execute / destroy --------------------------------------------------------------- */
+/* ---- execute / destroy ----------------------------------------------------------------------- */
 
 static int ibl_execute(lg_node *n, const lg_frame *frame)
 {
@@ -1175,8 +1215,8 @@ static int ibl_execute(lg_node *n, const lg_frame *frame)
     /* base passes into the output (added to, or drawn over): its NaN and Inf are said once,
      * as `image` says a file's; step 7 of the README writes NaN as 0 */
     if (!rc && f.base)
-        rc = lg_check_input_finite(n, frame, IN_BASE, "base",
-                                   "NaN written as 0, Inf passed on", &st->reported_nonfinite);
+        rc = lg_check_input_finite(n, frame, IN_BASE, "base", "NaN written as 0, Inf passed on",
+                                   &st->reported_nonfinite);
     if (!rc && f.rough)
         rc = ibl_chain(n, st, &f);
     if (!rc) {
@@ -1222,8 +1262,8 @@ static void ibl_destroy(lg_node *n)
     lg_gl_texture_destroy(n, &st->chain_tex);
     lg_gl_buffer_destroy(n, &st->dfg_buf);
     lg_cl_pass_destroy(&st->kernel);
-    lg_cl_buffer *m[6] = { &st->cl_gbuf, &st->cl_gdepth, &st->cl_mats, &st->cl_clamped,
-                           &st->cl_chain, &st->cl_dfg };
+    lg_cl_buffer *m[6] = { &st->cl_gbuf,    &st->cl_gdepth, &st->cl_mats,
+                           &st->cl_clamped, &st->cl_chain,  &st->cl_dfg };
     for (int i = 0; i < 6; i++)
         lg_cl_buffer_destroy(n, m[i]);
     free(st->gbuf);
@@ -1233,7 +1273,7 @@ static void ibl_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptors -------------------------------------------------------------------- */
+/* ---- the descriptors ------------------------------------------------------------------------- */
 
 /* in lg_probe_prefilter_weighting order */
 static const char *const ibl_weightings[] = { "nol", "nol_vis", NULL };
@@ -1241,53 +1281,90 @@ static const char *const ibl_samplings[] = { "bilinear", "nearest", NULL };
 static const char *const ibl_fresnels[] = { "none", "schlick", NULL };
 static const char *const ibl_glossies[] = { "auto", "off", NULL };
 
-#define IBL_COMMON_PARAMS                                                                      \
-    /* where the shading runs; the G-buffer is rasterised on GL in every case */            \
-    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),           \
-    { .key = "format", .type = LG_PARAM_ENUM, .def.e = IBL_RGBA32F,                            \
-      .enum_values = ibl_format_names,                                                         \
-      .doc = "output format: rgba32f; rgba16f (values above 65504 clamped to 65504, reported " \
-             "once with a count); rgbe8 (Ward's shared exponent on an RGBA8 image)" },         \
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,                \
-      .doc = "output width in pixels; 0 = the render size (--size)",                           \
-      .role = LG_ROLE_IMAGE_WIDTH },                                                           \
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,               \
-      .doc = "output height in pixels; 0 = the render size (--size)",                          \
-      .role = LG_ROLE_IMAGE_HEIGHT },                                                          \
-    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,               \
-      .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },  \
-    { .key = "sampling", .type = LG_PARAM_ENUM, .def.e = IBL_BILINEAR,                         \
-      .enum_values = ibl_samplings,                                                            \
-      .doc = "probe lookup: bilinear (seamless across cube edges and the lat-long seam) or "   \
-             "nearest (lightgraph/probe.h)" }
+#define IBL_COMMON_PARAMS                                                                          \
+    /* where the shading runs; the G-buffer is rasterised on GL in every case */                   \
+    LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),               \
+        { .key = "format",                                                                         \
+          .type = LG_PARAM_ENUM,                                                                   \
+          .def.e = IBL_RGBA32F,                                                                    \
+          .enum_values = ibl_format_names,                                                         \
+          .doc = "output format: rgba32f; rgba16f (values above 65504 clamped to 65504, reported " \
+                 "once with a count); rgbe8 (Ward's shared exponent on an RGBA8 image)" },         \
+        { .key = "width",                                                                          \
+          .type = LG_PARAM_INT,                                                                    \
+          .def.i = 0,                                                                              \
+          .min = 0,                                                                                \
+          .max = 16384,                                                                            \
+          .doc = "output width in pixels; 0 = the render size (--size)",                           \
+          .role = LG_ROLE_IMAGE_WIDTH },                                                           \
+        { .key = "height",                                                                         \
+          .type = LG_PARAM_INT,                                                                    \
+          .def.i = 0,                                                                              \
+          .min = 0,                                                                                \
+          .max = 16384,                                                                            \
+          .doc = "output height in pixels; 0 = the render size (--size)",                          \
+          .role = LG_ROLE_IMAGE_HEIGHT },                                                          \
+        { .key = "camera",                                                                         \
+          .type = LG_PARAM_INT,                                                                    \
+          .def.i = -1,                                                                             \
+          .min = -1,                                                                               \
+          .max = 1e9,                                                                              \
+          .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },  \
+    {                                                                                              \
+        .key = "sampling", .type = LG_PARAM_ENUM, .def.e = IBL_BILINEAR,                           \
+        .enum_values = ibl_samplings,                                                              \
+        .doc = "probe lookup: bilinear (seamless across cube edges and the lat-long seam) or "     \
+               "nearest (lightgraph/probe.h)"                                                      \
+    }
 
 static const lg_param_desc ibl_mirror_params[] = {
     IBL_COMMON_PARAMS,
-    { .key = "fresnel", .type = LG_PARAM_ENUM, .def.e = IBL_FRESNEL_NONE,
+    { .key = "fresnel",
+      .type = LG_PARAM_ENUM,
+      .def.e = IBL_FRESNEL_NONE,
       .enum_values = ibl_fresnels,
       .doc = "none: the reflectivity as it is; schlick: F0 + (1 - F0)(1 - cos)^5 with F0 = "
              "the reflectivity and cos = N.V of the pixel" },
-    { .key = "reflectivity", .type = LG_PARAM_COLOR, .def.v = { -1, -1, -1 }, .min = -1,
+    { .key = "reflectivity",
+      .type = LG_PARAM_COLOR,
+      .def.v = { -1, -1, -1 },
+      .min = -1,
       .max = 1e6,
       .doc = "[-1, -1, -1]: each material's reflectivity (glTF metals, "
              "KHR_materials_specular, extras.reflectivity); else this linear RGB for every "
              "material" },
-    { .key = "glossy", .type = LG_PARAM_ENUM, .def.e = IBL_GLOSSY_AUTO,
+    { .key = "glossy",
+      .type = LG_PARAM_ENUM,
+      .def.e = IBL_GLOSSY_AUTO,
       .enum_values = ibl_glossies,
       .doc = "auto: a material with roughness > 0 reads the GGX-prefiltered chain at its "
              "roughness (split sum); off: every material is a mirror" },
-    { .key = "levels", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16,
+    { .key = "levels",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16,
       .doc = "levels of the GGX chain (level l of L: roughness l/(L-1)); 0 = 6 (fewer when "
              "the face is too small)" },
-    { .key = "prefilter_size", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 4096,
+    { .key = "prefilter_size",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 4096,
       .doc = "face size of the GGX chain (a cube); 0 = 128, halved while larger than the "
              "probe (a cube's face, a 2D probe's width / 4), at least 8; a size finer than "
              "the probe can fill (that face rounded up to a power of two, at least 8) is "
              "clamped to it, with a warning" },
-    { .key = "prefilter_samples", .type = LG_PARAM_INT, .def.i = 256, .min = 1,
-      .max = 1048576, .doc = "GGX samples per texel of the chain (filtered importance "
-                             "sampling)" },
-    { .key = "prefilter_weighting", .type = LG_PARAM_ENUM, .def.e = LG_PROBE_WEIGHT_NOL,
+    { .key = "prefilter_samples",
+      .type = LG_PARAM_INT,
+      .def.i = 256,
+      .min = 1,
+      .max = 1048576,
+      .doc = "GGX samples per texel of the chain (filtered importance "
+             "sampling)" },
+    { .key = "prefilter_weighting",
+      .type = LG_PARAM_ENUM,
+      .def.e = LG_PROBE_WEIGHT_NOL,
       .enum_values = ibl_weightings,
       .doc = "nol: Karis's n.l weights (better for views away from the normal); nol_vis: "
              "n.l Vis, whose split sum converges to the BRDF integral where n = v "
@@ -1296,16 +1373,20 @@ static const lg_param_desc ibl_mirror_params[] = {
 static const lg_param_desc ibl_bg_params[] = { IBL_COMMON_PARAMS };
 
 static const lg_port_desc ibl_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the scene (its camera; its geometry and materials)" },
     { .name = "probe", .kind = LG_KIND_PROBE, .doc = "the light probe (any layout)" },
-    { .name = "base", .kind = LG_KIND_IMAGE, .optional = true,
+    { .name = "base",
+      .kind = LG_KIND_IMAGE,
+      .optional = true,
       .doc = "rgba32f image of the output's size (phong's output, say): the result is added "
              "to it (reflect, envmap) or drawn under it (background); its depth plane, if "
              "any, passes where no geometry is" },
 };
 static const lg_port_desc ibl_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "linear HDR radiance (format), alpha 1 (or base's), with a depth plane: GL "
              "window depth in [0, 1] (1 = nothing)" },
 };

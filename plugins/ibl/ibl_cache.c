@@ -12,7 +12,8 @@ const char *ibl_chain_read_raw(const void *data, size_t bytes, uint32_t size, ui
 {
     *chain = NULL;
     ibl_chain_header h;
-    if (floats > (SIZE_MAX - sizeof h) / sizeof(float) || bytes != sizeof h + floats * sizeof(float))
+    if (floats > (SIZE_MAX - sizeof h) / sizeof(float) ||
+        bytes != sizeof h + floats * sizeof(float))
         return "its size does not add up";
     memcpy(&h, data, sizeof h);
     if (memcmp(h.magic, "lgibl01", 8) != 0 || h.size != size || h.levels != levels ||
@@ -53,8 +54,11 @@ char *ibl_chain_encode(uint32_t size, uint32_t levels, uint32_t samples, size_t 
     char *blob = malloc(total);
     if (!blob)
         return NULL;
-    ibl_chain_header h = { .magic = "lgibl01", .size = size, .levels = levels,
-                           .samples = samples, .floats = (uint32_t)floats };
+    ibl_chain_header h = { .magic = "lgibl01",
+                           .size = size,
+                           .levels = levels,
+                           .samples = samples,
+                           .floats = (uint32_t)floats };
     memcpy(blob, &h, sizeof h);
     if (floats)
         memcpy(blob + sizeof h, chain, floats * sizeof(float));

@@ -12,7 +12,7 @@
 #include <stdint.h>
 
 typedef struct ibl_chain_header {
-    char magic[8];            /* "lgibl01" */
+    char magic[8]; /* "lgibl01" */
     uint32_t size, levels, samples, floats;
 } ibl_chain_header;
 

@@ -117,8 +117,8 @@ typedef struct ph_state {
     int64_t camera;
     uint32_t width, height;
 
-    lg_gl_pass *pass;     /* the raster pass, for program_sv shadowed varyings (phong_half:
-                           * per-pixel Phong, drawn into the two quarter images) */
+    lg_gl_pass *pass; /* the raster pass, for program_sv shadowed varyings (phong_half:
+                       * per-pixel Phong, drawn into the two quarter images) */
     int program_sv;
     ph_uniforms u;
     /* phong_half: the full-size pass that writes surface ids and depth, the full-screen
@@ -127,18 +127,18 @@ typedef struct ph_state {
     ph_uniforms id_u;
     lg_gl_uniform h_size, h_near_far, h_depth_tol, h_background;
     lg_gl_binding h_depth, h_even, h_odd, h_id;
-    lg_gl_texture id_tex;        /* r32ui, full size */
-    lg_gl_texture quarter[2];    /* rgba32f, ceil(w/2) x ceil(h/2): the pixels with x, y
-                                  * even; odd */
-    lg_gl_texture quarter_depth; /* depth32f of the quarter passes */
+    lg_gl_texture id_tex;                 /* r32ui, full size */
+    lg_gl_texture quarter[2];             /* rgba32f, ceil(w/2) x ceil(h/2): the pixels with x, y
+                                           * even; odd */
+    lg_gl_texture quarter_depth;          /* depth32f of the quarter passes */
     lg_gl_buffer lights_buf, shadows_buf; /* LgLights, LgShadows: filled again every execute */
-    lg_gl_buffer *eq13;          /* vertex_normals = eq13: one buffer per mesh (name 0 = not
-                                  * made) */
+    lg_gl_buffer *eq13; /* vertex_normals = eq13: one buffer per mesh (name 0 = not
+                         * made) */
     uint32_t n_eq13;
     bool warned_shadow;
 } ph_state;
 
-/* ---- create / prepare ---------------------------------------------------------------- */
+/* ---- create / prepare ------------------------------------------------------------------------ */
 
 static int ph_create(lg_node *n)
 {
@@ -186,7 +186,9 @@ static int ph_prepare(lg_node *n)
     if (sh && (lg_describe(sh, &info, n) != 0 || info.kind != LG_KIND_SHADOWMAP))
         return lg_error(n, "input 'shadows' is not a shadow map");
 
-    lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F,
+    lg_image_desc d = { .width = st->width,
+                        .height = st->height,
+                        .format = LG_FORMAT_RGBA32F,
                         .flags = LG_IMAGE_DEPTH };
     rc = lg_declare_image(n, 0, &d);
     if (rc)
@@ -196,7 +198,7 @@ static int ph_prepare(lg_node *n)
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
-/* ---- camera (as plugins/preview) ----------------------------------------------------- */
+/* ---- camera (as plugins/preview) ------------------------------------------------------------- */
 
 static bool ph_finite3(const float v[3])
 {
@@ -206,8 +208,7 @@ static bool ph_finite3(const float v[3])
 static bool ph_bounds_ok(const lg_scene *s)
 {
     const float *lo = s->bounds_min, *hi = s->bounds_max;
-    return ph_finite3(lo) && ph_finite3(hi) && lo[0] <= hi[0] && lo[1] <= hi[1] &&
-           lo[2] <= hi[2];
+    return ph_finite3(lo) && ph_finite3(hi) && lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2];
 }
 
 static const char *ph_mesh_name(const lg_mesh *m)
@@ -215,7 +216,7 @@ static const char *ph_mesh_name(const lg_mesh *m)
     return m->name ? m->name : "";
 }
 
-/* ---- lights -------------------------------------------------------------------------------- */
+/* ---- lights ---------------------------------------------------------------------------------- */
 
 static const char *ph_light_name(const lg_light *l)
 {
@@ -251,8 +252,9 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
         for (int c = 0; c < 3; c++) {
             g->radiance[c] = l->color[c] * l->intensity;
             if (!isfinite(g->radiance[c]) || g->radiance[c] < 0.0f)
-                rc = lg_error(n, "light %u '%s': colour * intensity = %g (channel %d) is not a "
-                                 "finite value >= 0",
+                rc = lg_error(n,
+                              "light %u '%s': colour * intensity = %g (channel %d) is not a "
+                              "finite value >= 0",
                               i, ph_light_name(l), (double)g->radiance[c], c);
         }
         if (rc)
@@ -261,8 +263,9 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
             lg_vec3 d = lg_v3(l->direction[0], l->direction[1], l->direction[2]);
             lg_vec3 L = lg_v3_normalize_or(lg_v3_scale(d, -1.0f), lg_v3(0, 0, 0));
             if (lg_v3_dot(L, L) == 0.0f) {
-                rc = lg_error(n, "directional light %u '%s': direction [%g, %g, %g] has no "
-                                 "direction",
+                rc = lg_error(n,
+                              "directional light %u '%s': direction [%g, %g, %g] has no "
+                              "direction",
                               i, ph_light_name(l), (double)d.x, (double)d.y, (double)d.z);
                 break;
             }
@@ -275,20 +278,22 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
             break;
         }
         if (!ph_finite3(l->position) || !isfinite(l->range) || l->range < 0.0f) {
-            rc = lg_error(n, "light %u '%s': its position or range is not finite (or the "
-                             "range is negative)",
+            rc = lg_error(n,
+                          "light %u '%s': its position or range is not finite (or the "
+                          "range is negative)",
                           i, ph_light_name(l));
             break;
         }
         float cone_x = -2.0f, cone_y = 1.0f; /* a point light: cos > -2 always */
         lg_vec3 spot_dir = lg_v3(0, -1, 0);
         if (l->type == LG_LIGHT_SPOT) {
-            spot_dir = lg_v3_normalize_or(
-                lg_v3(l->direction[0], l->direction[1], l->direction[2]), lg_v3(0, 0, 0));
+            spot_dir = lg_v3_normalize_or(lg_v3(l->direction[0], l->direction[1], l->direction[2]),
+                                          lg_v3(0, 0, 0));
             if (lg_v3_dot(spot_dir, spot_dir) == 0.0f || !isfinite(l->inner_cone) ||
                 !isfinite(l->outer_cone)) {
-                rc = lg_error(n, "spot light %u '%s': its direction or cone angles are not "
-                                 "usable",
+                rc = lg_error(n,
+                              "spot light %u '%s': its direction or cone angles are not "
+                              "usable",
                               i, ph_light_name(l));
                 break;
             }
@@ -332,8 +337,9 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
     for (uint32_t k = 0; sm && k < sm->n_lights && !rc; k++) {
         const lg_shadow_light *sl = &sm->lights[k];
         if (sl->light >= nl) {
-            rc = lg_error(n, "input 'shadows': shadow map %u is for light %u, but the scene has "
-                             "%u light%s (are the phong and shadow nodes given the same scene?)",
+            rc = lg_error(n,
+                          "input 'shadows': shadow map %u is for light %u, but the scene has "
+                          "%u light%s (are the phong and shadow nodes given the same scene?)",
                           k, sl->light, nl, nl == 1 ? "" : "s");
             break;
         }
@@ -368,7 +374,7 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
     return 0;
 }
 
-/* ---- vertex normals by eq. 1-13 ------------------------------------------------------------ */
+/* ---- vertex normals by eq. 1-13 -------------------------------------------------------------- */
 
 typedef struct ph_weld {
     uint32_t key[3];
@@ -397,8 +403,9 @@ static int ph_eq13_normals(lg_node *n, const lg_mesh *m, float *out)
     float *unrm = malloc((size_t)nv * 3 * sizeof *unrm);
     int rc = 0;
     if (!w || !canon || !idx || !upos || !unrm) {
-        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (eq. 1-13 normals of mesh '%s', "
-                                            "%u vertices)",
+        rc = lg_error_code(n, LG_ERR_NOMEM,
+                           "out of memory (eq. 1-13 normals of mesh '%s', "
+                           "%u vertices)",
                            ph_mesh_name(m), nv);
         goto done;
     }
@@ -439,8 +446,7 @@ done:
 }
 
 /* The GL buffer of mesh mi's eq. 1-13 normals, made on first use and kept. */
-static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_scene *s, uint32_t mi,
-                          GLuint *buf)
+static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_scene *s, uint32_t mi, GLuint *buf)
 {
     if (!st->eq13) {
         st->eq13 = calloc(s->n_meshes ? s->n_meshes : 1, sizeof *st->eq13);
@@ -457,8 +463,8 @@ static int ph_eq13_buffer(lg_node *n, ph_state *st, const lg_scene *s, uint32_t 
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
         int rc = ph_eq13_normals(n, m, nrm);
         if (!rc)
-            rc = lg_gl_buffer_recreate(n, &st->eq13[mi],
-                                       (size_t)m->n_vertices * 3 * sizeof(float), 0, nrm);
+            rc = lg_gl_buffer_recreate(n, &st->eq13[mi], (size_t)m->n_vertices * 3 * sizeof(float),
+                                       0, nrm);
         free(nrm);
         if (rc)
             return rc;
@@ -522,11 +528,14 @@ static int ph_raster_pass(lg_node *n, const ph_state *st, int shading, int sv, b
         { GL_GEOMETRY_SHADER, lg_src_phong_geom_file, lg_src_phong_geom },
     };
     lg_gl_pass_desc d = { .name = shading == PH_HALF ? "phong (surface ids)" : "phong",
-                          .stages = src, .n_stages = geom ? 3 : 2, .defines = defines,
-                          .colors = { color }, .depth = true, .depth_test = true,
+                          .stages = src,
+                          .n_stages = geom ? 3 : 2,
+                          .defines = defines,
+                          .colors = { color },
+                          .depth = true,
+                          .depth_test = true,
                           .depth_write = true,
-                          .cull = st->cull == PH_CULL_MATERIAL ? LG_GL_CULL_BACK
-                                                               : LG_GL_CULL_NONE,
+                          .cull = st->cull == PH_CULL_MATERIAL ? LG_GL_CULL_BACK : LG_GL_CULL_NONE,
                           .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
     return lg_gl_pass_create(n, &d, out);
 }
@@ -555,8 +564,10 @@ static int ph_passes(lg_node *n, ph_state *st, int sv)
             { GL_VERTEX_SHADER, lg_src_phong_fullscreen_vert_file, lg_src_phong_fullscreen_vert },
             { GL_FRAGMENT_SHADER, lg_src_phong_half_frag_file, lg_src_phong_half_frag },
         };
-        lg_gl_pass_desc d = { .name = "phong (phong_half assembly)", .stages = c,
-                              .n_stages = 2, .colors = { GL_RGBA32F } };
+        lg_gl_pass_desc d = { .name = "phong (phong_half assembly)",
+                              .stages = c,
+                              .n_stages = 2,
+                              .colors = { GL_RGBA32F } };
         if ((rc = lg_gl_pass_create(n, &d, &st->half_pass)))
             return rc;
         lg_gl_pass *h = st->half_pass;
@@ -572,7 +583,7 @@ static int ph_passes(lg_node *n, ph_state *st, int sv)
     return 0;
 }
 
-/* ---- execute ---------------------------------------------------------------------------------- */
+/* ---- execute --------------------------------------------------------------------------------- */
 
 /* Fills *buf (kept while it is large enough) with `bytes` of `data`: at least 16 bytes, so
  * that an empty array still binds. */
@@ -591,8 +602,9 @@ static int phong_shadow_atlas(lg_node *n, const lg_shadowmap *sm, GLuint *tex)
     if (rc)
         return rc;
     if (!depth)
-        return lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
-                                               "texture");
+        return lg_error_code(n, LG_ERR_DEVICE,
+                             "input 'shadows': the atlas has no GL depth "
+                             "texture");
     *tex = depth;
     return 0;
 }
@@ -601,14 +613,14 @@ typedef struct ph_frame_in {
     const lg_scene *s;
     const lg_resource *scene_res;
     const lg_shadowmap *sm;
-    lg_shadowmap sm_view;    /* what sm points to */
+    lg_shadowmap sm_view; /* what sm points to */
     GLuint atlas;
     const lg_scene_view *v;
     uint32_t n_lights;
 } ph_frame_in;
 
-static int ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
-                          const ph_frame_in *f, const float view_proj[16])
+static int ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u, const ph_frame_in *f,
+                          const float view_proj[16])
 {
     const lg_scene_view *v = f->v;
     const lg_shadowmap *sm = f->sm;
@@ -632,8 +644,7 @@ static int ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
     return lg_gl_pass_uniforms(p, u->frame, &g, sizeof g);
 }
 
-static void ph_set_material(ph_state *st, lg_gl_pass *p, const ph_uniforms *u,
-                            const lg_material *m)
+static void ph_set_material(ph_state *st, lg_gl_pass *p, const ph_uniforms *u, const lg_material *m)
 {
     lg_gl_set_float(p, u->ka, m->ka);
     lg_gl_set_float(p, u->kd, m->kd);
@@ -657,8 +668,7 @@ static int ph_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
 {
     const ph_draw_ctx *c = user;
     int rc;
-    if (c->st->normals == PH_NORMALS_EQ13 &&
-        (rc = ph_eq13_buffer(n, c->st, c->s, mi, normals)))
+    if (c->st->normals == PH_NORMALS_EQ13 && (rc = ph_eq13_buffer(n, c->st, c->s, mi, normals)))
         return rc;
     /* with culling off, a single-sided surface seen from behind is lit as it is (its normal
      * facing away: ambient only), as the seed's model would */
@@ -675,9 +685,9 @@ static void ph_on_batch(void *user, uint32_t first)
 
 /* One raster pass: every instance through `p` with `view_proj` into `target`, cleared first
  * (colour to `clear`, depth to 1). */
-static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f,
-                   lg_gl_pass *p, const ph_uniforms *u, const lg_gl_target *target,
-                   const float clear[4], const float view_proj[16])
+static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in *f, lg_gl_pass *p,
+                   const ph_uniforms *u, const lg_gl_target *target, const float clear[4],
+                   const float view_proj[16])
 {
     int rc = lg_gl_pass_begin(p, target);
     if (rc)
@@ -699,12 +709,15 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
 static int ph_half_images(lg_node *n, ph_state *st)
 {
     uint32_t qw = (st->width + 1) / 2, qh = (st->height + 1) / 2;
-    const lg_gl_texture_desc id = { .target = GL_TEXTURE_2D, .format = GL_R32UI,
-                                    .width = st->width, .height = st->height };
-    const lg_gl_texture_desc q = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = qw,
-                                   .height = qh };
-    const lg_gl_texture_desc qd = { .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F,
-                                    .width = qw, .height = qh };
+    const lg_gl_texture_desc id = {
+        .target = GL_TEXTURE_2D, .format = GL_R32UI, .width = st->width, .height = st->height
+    };
+    const lg_gl_texture_desc q = {
+        .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = qw, .height = qh
+    };
+    const lg_gl_texture_desc qd = {
+        .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F, .width = qw, .height = qh
+    };
     int rc;
     if ((rc = lg_gl_texture_recreate(n, &st->id_tex, &id)) < 0 ||
         (rc = lg_gl_texture_recreate(n, &st->quarter[0], &q)) < 0 ||
@@ -717,8 +730,7 @@ static int ph_half_images(lg_node *n, ph_state *st)
 /* The view_proj that draws the pixels (2 x + p, 2 y + p) of the w x h output, p = 0 or 1,
  * into a ceil(w/2) x ceil(h/2) image: window x maps to (x - p + 1/2) / 2, so pixel centres
  * land on pixel centres. Applied in clip space: x' = a x + b w. */
-static void ph_quarter_view_proj(float out[16], const float vp[16], uint32_t w, uint32_t h,
-                                 int p)
+static void ph_quarter_view_proj(float out[16], const float vp[16], uint32_t w, uint32_t h, int p)
 {
     float qw = (float)((w + 1) / 2), qh = (float)((h + 1) / 2);
     float ax = (float)w / (2.0f * qw), bx = (0.5f * (float)w - (float)p + 0.5f) / qw - 1.0f;
@@ -745,8 +757,9 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     const float zero[4] = { 0, 0, 0, 0 };
 
     /* ids and the output's depth */
-    lg_gl_target ids = { .color = { st->id_tex.name }, .depth = out->depth, .width = st->width,
-                         .height = st->height };
+    lg_gl_target ids = {
+        .color = { st->id_tex.name }, .depth = out->depth, .width = st->width, .height = st->height
+    };
     if ((rc = ph_pass(n, st, gl, f, st->id_pass, &st->id_u, &ids, zero, f->v->view_proj)))
         return rc;
 
@@ -755,16 +768,17 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     for (int p = 0; p < 2; p++) {
         float vp[16];
         ph_quarter_view_proj(vp, f->v->view_proj, st->width, st->height, p);
-        lg_gl_target q = { .color = { st->quarter[p].name }, .depth = st->quarter_depth.name,
-                           .width = qw, .height = qh };
+        lg_gl_target q = { .color = { st->quarter[p].name },
+                           .depth = st->quarter_depth.name,
+                           .width = qw,
+                           .height = qh };
         if ((rc = ph_pass(n, st, gl, f, st->pass, &st->u, &q, bg, vp)))
             return rc;
     }
 
     /* assembly: every output pixel, reading the ids, the depth and the quarter images */
     lg_gl_pass *h = st->half_pass;
-    lg_gl_target color = { .color = { out->color[0] }, .width = st->width,
-                           .height = st->height };
+    lg_gl_target color = { .color = { out->color[0] }, .width = st->width, .height = st->height };
     if ((rc = lg_gl_pass_begin(h, &color)))
         return rc;
     lg_gl_pass_bind_texture(h, st->h_depth, out->depth);
@@ -843,8 +857,8 @@ out:
                "%u instances, %" PRIu64 " triangles, %u light%s (%u with shadow maps%s), "
                "camera %u '%s' at (%.4g, %.4g, %.4g) looking along (%.3f, %.3f, %.3f)",
                sgl->count, sgl->triangles, f.n_lights, f.n_lights == 1 ? "" : "s", n_shadow, split,
-               v.camera, c->name ? c->name : "", (double)v.eye.x, (double)v.eye.y,
-               (double)v.eye.z, (double)v.forward.x, (double)v.forward.y, (double)v.forward.z);
+               v.camera, c->name ? c->name : "", (double)v.eye.x, (double)v.eye.y, (double)v.eye.z,
+               (double)v.forward.x, (double)v.forward.y, (double)v.forward.z);
     }
     free(lights);
     free(shadows);
@@ -872,10 +886,11 @@ static void ph_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor ------------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
-static const char *const ph_shadings[] = { "flat", "gouraud", "phong", "mixed", "phong_half",
-                                           NULL };
+static const char *const ph_shadings[] = {
+    "flat", "gouraud", "phong", "mixed", "phong_half", NULL
+};
 static const char *const ph_speculars[] = { "phong", "blinn", NULL };
 static const char *const ph_corrections[] = { "none", "x4", NULL };
 static const char *const ph_at[] = { "infinite", "local", NULL };
@@ -884,67 +899,128 @@ static const char *const ph_falloffs[] = { "none", "inverse_square", NULL };
 static const char *const ph_culls[] = { "none", "material", NULL };
 
 static const lg_param_desc ph_params[] = {
-    { .key = "shading", .type = LG_PARAM_ENUM, .def.e = PH_PHONG, .enum_values = ph_shadings,
+    { .key = "shading",
+      .type = LG_PARAM_ENUM,
+      .def.e = PH_PHONG,
+      .enum_values = ph_shadings,
       .doc = "flat: per facet; gouraud: per vertex, colours interpolated; phong: per pixel, "
              "normals interpolated; mixed: phong on highlight facets, gouraud elsewhere; "
              "phong_half: per pixel on half the pixels (a checkerboard), the others the mean "
              "of their neighbours" },
-    { .key = "specular", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ph_speculars,
+    { .key = "specular",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = ph_speculars,
       .doc = "phong: (R.V)^n; blinn: (N.H)^n' with H = (L+V)/|L+V|" },
-    { .key = "blinn_correction", .type = LG_PARAM_ENUM, .def.e = 1,
+    { .key = "blinn_correction",
+      .type = LG_PARAM_ENUM,
+      .def.e = 1,
       .enum_values = ph_corrections,
       .doc = "blinn's exponent: none: n' = n (a larger highlight); x4: n' = 4n (matches phong)" },
-    { .key = "depth_cue", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "depth_cue",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "divide the light terms (not the ambient) by (r + K), r the distance to the "
              "camera (eq. 1-12; factor capped at 1)" },
-    { .key = "k", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e30,
+    { .key = "k",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1.0,
+      .min = 0,
+      .max = 1e30,
       .doc = "K of eq. 1-12 (depth cueing), metres: the light terms are divided by r + K" },
-    { .key = "viewer", .type = LG_PARAM_ENUM, .def.e = PH_VIEWER_LOCAL, .enum_values = ph_at,
+    { .key = "viewer",
+      .type = LG_PARAM_ENUM,
+      .def.e = PH_VIEWER_LOCAL,
+      .enum_values = ph_at,
       .doc = "infinite: one V for the whole image (towards the camera along its axis; seed 1 "
              "1.2.6); local: V from each point to the camera" },
-    { .key = "lights_at", .type = LG_PARAM_ENUM, .def.e = PH_VIEWER_LOCAL, .enum_values = ph_at,
+    { .key = "lights_at",
+      .type = LG_PARAM_ENUM,
+      .def.e = PH_VIEWER_LOCAL,
+      .enum_values = ph_at,
       .doc = "infinite: point and spot lights act as directional lights from where they lie "
              "seen from the scene's centre (seed 1 1.2.6); local: L from each point" },
-    { .key = "ambient", .type = LG_PARAM_COLOR, .def.v = { 0.1, 0.1, 0.1 }, .min = 0, .max = 1e6,
+    { .key = "ambient",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0.1, 0.1, 0.1 },
+      .min = 0,
+      .max = 1e6,
       .doc = "Ia, the ambient light (linear RGB, the lights' units)" },
-    { .key = "ks_scale", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
+    { .key = "ks_scale",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1.0,
+      .min = 0,
+      .max = 1e6,
       .doc = "multiplies every material's ks (1 = as the scene says; > 1 exaggerates the "
              "highlights of materials that have a specular term; 0 = matte)" },
-    { .key = "mixed_threshold_deg", .type = LG_PARAM_FLOAT, .def.f = 30.0, .min = 0, .max = 180,
+    { .key = "mixed_threshold_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 30.0,
+      .min = 0,
+      .max = 180,
       .doc = "mixed: a facet whose angle between V and R is below this (degrees) for some "
              "light, at a vertex, an edge midpoint or its centroid, is a highlight facet "
              "(phong-shaded); the others are gouraud-shaded" },
-    { .key = "vertex_normals", .type = LG_PARAM_ENUM, .def.e = PH_NORMALS_SCENE,
+    { .key = "vertex_normals",
+      .type = LG_PARAM_ENUM,
+      .def.e = PH_NORMALS_SCENE,
       .enum_values = ph_normal_srcs,
       .doc = "scene: the mesh's normals; eq13: normalised sum of the normals of the facets "
              "meeting at each vertex position (seed 1 eq. 1-13)" },
-    { .key = "falloff", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ph_falloffs,
+    { .key = "falloff",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = ph_falloffs,
       .doc = "point and spot lights: none (the seed's model: Ii at any distance) or "
              "inverse_square (Ii / d^2, glTF's candela)" },
-    { .key = "cull", .type = LG_PARAM_ENUM, .def.e = PH_CULL_MATERIAL, .enum_values = ph_culls,
+    { .key = "cull",
+      .type = LG_PARAM_ENUM,
+      .def.e = PH_CULL_MATERIAL,
+      .enum_values = ph_culls,
       .doc = "none: draw both sides of every triangle; material: cull back faces unless the "
              "material is double-sided (glTF)" },
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "output width in pixels; 0 = the render size (--size)",
       .role = LG_ROLE_IMAGE_WIDTH },
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "output height in pixels; 0 = the render size (--size)",
       .role = LG_ROLE_IMAGE_HEIGHT },
-    { .key = "background", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
+    { .key = "background",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0, 0, 0 },
+      .min = 0,
+      .max = 1e6,
       .doc = "radiance where no surface is, linear RGB (alpha is 1 everywhere)" },
-    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+    { .key = "camera",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
       .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },
-    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "per_frame",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "render again on every frame (--frames), for timing; the result is the same" },
 };
 static const lg_port_desc ph_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to light and draw" },
-    { .name = "shadows", .kind = LG_KIND_SHADOWMAP, .optional = true,
+    { .name = "shadows",
+      .kind = LG_KIND_SHADOWMAP,
+      .optional = true,
       .doc = "shadow maps of the scene's directional lights (a shadowmap node); unconnected "
              "or gated: no shadows" },
 };
 static const lg_port_desc ph_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f HDR linear radiance, alpha 1, upright, with a depth plane: GL window "
              "depth in [0, 1] (1 = nothing)" },
 };

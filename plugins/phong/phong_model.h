@@ -117,9 +117,9 @@ static inline lg_vec3 lg_safe_normalize(lg_vec3 v, lg_vec3 fallback)
     float m = fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z)));
     if (!(m >= FLT_MIN))
         return fallback;
-    if (m > 1.152921504606846976e18f)       /* 2^60 */
+    if (m > 1.152921504606846976e18f)                /* 2^60 */
         v = lg_v3_scale(v, 7.8886090522101181e-31f); /* 2^-100 */
-    else if (m < 8.6736173798840355e-19f)   /* 2^-60 */
+    else if (m < 8.6736173798840355e-19f)            /* 2^-60 */
         v = lg_v3_scale(v, 1.2676506002282294e30f);  /* 2^100 */
     return lg_v3_scale(v, 1.0f / sqrtf(lg_v3_dot(v, v)));
 }
@@ -197,7 +197,8 @@ static inline lg_vec3 lg_phong_direct(lg_vec3 N, lg_vec3 V, lg_vec3 L, lg_vec3 I
     if (spec_model == LG_SPEC_BLINN) {
         lg_vec3 h = lg_v3_add(L, V);
         float h2 = lg_v3_dot(h, h);
-        cosine = h2 >= LG_BLINN_MIN_HALFWAY2 ? lg_v3_dot(N, lg_v3_scale(h, 1.0f / sqrtf(h2))) : 0.0f;
+        cosine = h2 >= LG_BLINN_MIN_HALFWAY2 ? lg_v3_dot(N, lg_v3_scale(h, 1.0f / sqrtf(h2)))
+                                             : 0.0f;
     } else {
         lg_vec3 r = lg_v3_sub(lg_v3_scale(N, 2.0f * ndl), L);
         cosine = lg_v3_dot(r, V);
@@ -254,7 +255,7 @@ static inline float lg_depth_cue(float r, float K)
  * a flat plane. lg_vertex_normals_crease() is the remedy.
  */
 int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
-                                  float *out_normals);
+                           float *out_normals);
 
 /*
  * Vertex normals with creases: eq. 1-13 restricted, per triangle corner, to the facets
@@ -286,7 +287,7 @@ int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, u
  * of 3 or a NULL pointer; LG_ERR_NOMEM when temporary memory cannot be allocated.
  */
 int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
-                                    float crease_angle, uint32_t *out_idx, uint32_t *out_src,
-                                    float *out_normals, uint32_t *out_nv);
+                             float crease_angle, uint32_t *out_idx, uint32_t *out_src,
+                             float *out_normals, uint32_t *out_nv);
 
 #endif

@@ -39,8 +39,8 @@ static bool facet_normal(const float *pos, uint32_t a, uint32_t b, uint32_t c, f
         e2[i] = p2[i] - p0[i];
         e3[i] = p2[i] - p1[i];
     }
-    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0]};
+    double cr[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                     e1[0] * e2[1] - e1[1] * e2[0] };
     double len = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
     double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
     double l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
@@ -66,7 +66,7 @@ static bool unit_sum(const double s[3], float out[3])
 }
 
 int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
-                                  float *out_normals)
+                           float *out_normals)
 {
     if ((nv && (!pos || !out_normals)) || (ni && !idx))
         return LG_ERR_INVALID;
@@ -115,8 +115,8 @@ int lg_vertex_normals_eq13(const float *pos, uint32_t nv, const uint32_t *idx, u
         const uint32_t *tri = idx + 3 * (size_t)t;
         if (tri[0] >= nv || tri[1] >= nv || tri[2] >= nv)
             continue;
-        float *o[3] = {out_normals + 3 * (size_t)tri[0], out_normals + 3 * (size_t)tri[1],
-                       out_normals + 3 * (size_t)tri[2]};
+        float *o[3] = { out_normals + 3 * (size_t)tri[0], out_normals + 3 * (size_t)tri[1],
+                        out_normals + 3 * (size_t)tri[2] };
         bool want = false;
         for (int k = 0; k < 3; k++)
             want = want || (o[k][0] == 0.0f && o[k][1] == 0.0f && o[k][2] == 0.0f);
@@ -151,7 +151,7 @@ static void corner_pairwise(const uint32_t *corners, uint32_t k, uint32_t self, 
                             const bool *usable, float thr, float out[3])
 {
     const float *own = fn + 3 * (size_t)(corners[self] / 3);
-    double s[3] = {0, 0, 0};
+    double s[3] = { 0, 0, 0 };
     const float *first = NULL;
     for (uint32_t j = 0; j < k; j++) {
         uint32_t t = corners[j] / 3;
@@ -169,8 +169,8 @@ static void corner_pairwise(const uint32_t *corners, uint32_t k, uint32_t self, 
 /* High valence: corners join the first group whose seed (first facet) is within the
  * crease, a new group while there is room, or else the group with the closest seed; each
  * takes its group's normalised sum (the seed when it cancels). */
-static void corners_grouped(const uint32_t *corners, uint32_t k, const float *fn, const bool *usable,
-                            float thr, float *cn)
+static void corners_grouped(const uint32_t *corners, uint32_t k, const float *fn,
+                            const bool *usable, float thr, float *cn)
 {
     const float *seed[LG_CREASE_MAX_GROUPS];
     double sum[LG_CREASE_MAX_GROUPS][3];
@@ -222,8 +222,8 @@ static void corners_grouped(const uint32_t *corners, uint32_t k, const float *fn
 }
 
 int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx, uint32_t ni,
-                                    float crease_angle, uint32_t *out_idx, uint32_t *out_src,
-                                    float *out_normals, uint32_t *out_nv)
+                             float crease_angle, uint32_t *out_idx, uint32_t *out_src,
+                             float *out_normals, uint32_t *out_nv)
 {
     if (!out_nv)
         return LG_ERR_INVALID;
@@ -259,7 +259,8 @@ int lg_vertex_normals_crease(const float *pos, uint32_t nv, const uint32_t *idx,
         goto done;
 
     for (uint32_t t = 0; t < nt; t++)
-        usable[t] = facet_normal(pos, idx[3 * t], idx[3 * t + 1], idx[3 * t + 2], fn + 3 * (size_t)t);
+        usable[t] = facet_normal(pos, idx[3 * t], idx[3 * t + 1], idx[3 * t + 2],
+                                 fn + 3 * (size_t)t);
     lg_vertex_normals_eq13(pos, nv, idx, ni, smooth); /* input validated: LG_OK */
 
     /* corners around each vertex, in corner order (counting sort) */

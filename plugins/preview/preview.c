@@ -35,7 +35,7 @@ typedef struct pv_state {
     lg_gl_uniform u_view_proj, u_view, u_mode, u_base_color, u_near_far;
 } pv_state;
 
-/* ---- create / prepare ------------------------------------------------------------------ */
+/* ---- create / prepare ------------------------------------------------------------------------ */
 
 static int pv_create(lg_node *n)
 {
@@ -59,7 +59,9 @@ static int pv_prepare(lg_node *n)
         return rc;
     lg_assert_input(n, 0);
 
-    lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F,
+    lg_image_desc d = { .width = st->width,
+                        .height = st->height,
+                        .format = LG_FORMAT_RGBA32F,
                         .flags = LG_IMAGE_DEPTH };
     rc = lg_declare_image(n, 0, &d);
     if (rc)
@@ -85,11 +87,15 @@ static int pv_make_pass(lg_node *n, pv_state *st)
         { GL_VERTEX_SHADER, lg_src_preview_vert_file, lg_src_preview_vert },
         { GL_FRAGMENT_SHADER, lg_src_preview_frag_file, lg_src_preview_frag },
     };
-    lg_gl_pass_desc d = { .name = "preview", .stages = src, .n_stages = 2,
-                          .output = "out", .colors = { GL_RGBA32F }, .depth = true,
-                          .depth_test = true, .depth_write = true,
-                          .cull = st->cull == PV_CULL_MATERIAL ? LG_GL_CULL_BACK
-                                                               : LG_GL_CULL_NONE,
+    lg_gl_pass_desc d = { .name = "preview",
+                          .stages = src,
+                          .n_stages = 2,
+                          .output = "out",
+                          .colors = { GL_RGBA32F },
+                          .depth = true,
+                          .depth_test = true,
+                          .depth_write = true,
+                          .cull = st->cull == PV_CULL_MATERIAL ? LG_GL_CULL_BACK : LG_GL_CULL_NONE,
                           .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
     int rc = lg_gl_pass_create(n, &d, &st->pass);
     if (rc)
@@ -133,8 +139,8 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
         lg_log(n, LG_LOG_INFO,
                "%u instances, %" PRIu64 " triangles, camera %u '%s', vertical fov %.4g deg, "
                "znear %.6g, zfar %.6g",
-               sgl->count, sgl->triangles, v.camera, c->name ? c->name : "", (double)v.yfov * (180.0 / LG_PI),
-               (double)v.znear, (double)v.zfar);
+               sgl->count, sgl->triangles, v.camera, c->name ? c->name : "",
+               (double)v.yfov * (180.0 / LG_PI), (double)v.znear, (double)v.zfar);
     }
     return rc;
 }
@@ -149,26 +155,48 @@ static void pv_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor ----------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const char *const pv_modes[] = { "base_color", "normals", "depth", NULL };
 static const char *const pv_culls[] = { "none", "material", NULL };
 
 static const lg_param_desc pv_params[] = {
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = pv_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = pv_modes,
       .doc = "base_color: the material's base colour, unlit; normals: world normal * 0.5 + "
              "0.5; depth: linear depth from znear (black) to zfar (white)" },
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "output width in pixels; 0 = the render size (--size)",
       .role = LG_ROLE_IMAGE_WIDTH },
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "output height in pixels; 0 = the render size (--size)",
       .role = LG_ROLE_IMAGE_HEIGHT },
-    { .key = "background", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
+    { .key = "background",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0, 0, 0 },
+      .min = 0,
+      .max = 1e6,
       .doc = "colour where no surface is, linear RGB (alpha is 1 everywhere)" },
-    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+    { .key = "camera",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
       .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },
-    { .key = "cull", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = pv_culls,
+    { .key = "cull",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = pv_culls,
       .doc = "none: draw both sides of every triangle; material: cull back faces unless the "
              "material is double-sided (glTF)" },
 };
@@ -176,7 +204,8 @@ static const lg_port_desc pv_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to draw" },
 };
 static const lg_port_desc pv_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f, upright, with a depth plane: GL window depth in [0, 1] (1 = nothing)" },
 };
 

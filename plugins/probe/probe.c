@@ -25,7 +25,7 @@
 #include "probe_load.h"
 
 typedef struct pr_state {
-    pr_file f;  /* the texels as read (probe_load.h) */
+    pr_file f; /* the texels as read (probe_load.h) */
     float rotation[9];
     float scale;
 } pr_state;
@@ -37,8 +37,8 @@ static int pr_load(lg_node *n, pr_state *st, uint64_t *key)
     uint32_t n_faces = lg_param_list_count(n, "faces");
     for (uint32_t f = 0; f < 6 && f < n_faces; f++)
         faces[f] = lg_param_list_item(n, "faces", f);
-    return pr_load_file(n, lg_param_enum(n, "layout"), lg_param_string(n, "file"), faces,
-                        n_faces, &st->f, key);
+    return pr_load_file(n, lg_param_enum(n, "layout"), lg_param_string(n, "file"), faces, n_faces,
+                        &st->f, key);
 }
 
 /* exposure and scale: one factor on every colour channel. A product beyond the float
@@ -48,14 +48,14 @@ static int pr_apply_scale(lg_node *n, pr_state *st)
     double exposure = lg_param_float(n, "exposure"), scale = lg_param_float(n, "scale");
     double f = exp2(exposure) * scale;
     if (!isfinite(f) || f < 0 || f > FLT_MAX)
-        return lg_error(n, "exposure = %g and scale = %g give a factor %g that a float cannot "
-                           "hold",
+        return lg_error(n,
+                        "exposure = %g and scale = %g give a factor %g that a float cannot "
+                        "hold",
                         exposure, scale, f);
     st->scale = (float)f;
     if (f == 1.0)
         return 0;
-    size_t texels = (size_t)st->f.width * st->f.height *
-                    (st->f.layout == LG_PROBE_CUBE ? 6 : 1);
+    size_t texels = (size_t)st->f.width * st->f.height * (st->f.layout == LG_PROBE_CUBE ? 6 : 1);
     uint64_t over = 0;
     for (size_t i = 0; i < texels; i++)
         for (int c = 0; c < 3; c++) {
@@ -68,8 +68,9 @@ static int pr_apply_scale(lg_node *n, pr_state *st)
             *p = (float)v;
         }
     if (over)
-        lg_log(n, LG_LOG_WARN, "exposure = %g, scale = %g: %" PRIu64 " channel value%s beyond "
-                               "the float range clamped to %g",
+        lg_log(n, LG_LOG_WARN,
+               "exposure = %g, scale = %g: %" PRIu64 " channel value%s beyond "
+               "the float range clamped to %g",
                exposure, scale, over, over == 1 ? "" : "s", (double)FLT_MAX);
     return 0;
 }
@@ -96,7 +97,8 @@ static int probe_prepare(lg_node *n)
     const lg_value *r = lg_param(n, "rotate_deg");
     lg_probe_rotation_from_euler((float)r->v[0], (float)r->v[1], (float)r->v[2], st->rotation);
 
-    lg_image_desc d = { .width = st->f.width, .height = st->f.height,
+    lg_image_desc d = { .width = st->f.width,
+                        .height = st->f.height,
                         .format = LG_FORMAT_RGBA32F,
                         .flags = st->f.layout == LG_PROBE_CUBE ? LG_IMAGE_CUBE : 0u };
     if ((rc = lg_probe_declare(n, 0, st->f.layout, &d, true)))
@@ -122,8 +124,8 @@ static int probe_execute(lg_node *n, const lg_frame *frame)
     for (uint32_t f = 0; f < faces; f++)
         for (uint32_t y = 0; y < st->f.height; y++) {
             size_t row = (size_t)f * st->f.height + y;
-            memcpy((float *)v.pixels + row * v.row_pixels * 4,
-                   st->f.texels + row * st->f.width * 4, (size_t)st->f.width * 16);
+            memcpy((float *)v.pixels + row * v.row_pixels * 4, st->f.texels + row * st->f.width * 4,
+                   (size_t)st->f.width * 16);
         }
     if ((rc = lg_probe_solid_angles(st->f.layout, st->f.width, st->f.height, sv.pixels)))
         return lg_error_code(n, rc, "solid angles of a %ux%u probe", st->f.width, st->f.height);
@@ -148,7 +150,7 @@ static void probe_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- probe_convert ------------------------------------------------------------------------ */
+/* ---- probe_convert --------------------------------------------------------------------------- */
 
 /* The `layout` parameter of probe_convert, in the enum's order. */
 enum { PC_LATLONG = 0, PC_ANGULAR, PC_CROSS, PC_VCROSS, PC_STRIP, PC_VSTRIP };
@@ -168,8 +170,9 @@ typedef struct pc_state {
 
 static void pc_auto_size(double texels, lg_probe_layout l, uint32_t *w, uint32_t *h)
 {
-    double s = l == LG_PROBE_LATLONG ? sqrt(texels / 2) : l == LG_PROBE_CUBE
-             ? sqrt(texels / 6) : sqrt(texels * 4 / LG_PROBE_PI_F);
+    double s = l == LG_PROBE_LATLONG ? sqrt(texels / 2)
+               : l == LG_PROBE_CUBE  ? sqrt(texels / 6)
+                                     : sqrt(texels * 4 / LG_PROBE_PI_F);
     uint32_t n = s < 1 ? 1 : s > 8192 ? 8192 : (uint32_t)lround(s);
     *h = n;
     *w = l == LG_PROBE_LATLONG ? 2 * n : n;
@@ -192,10 +195,10 @@ static int convert_prepare(lg_node *n)
         return lg_error(n, "input 'probe' has no radiance (is its producer gated?)");
     int layout = lg_param_enum(n, "layout");
     static const lg_probe_layout layouts[] = { LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE,
-                                               LG_PROBE_CUBE, LG_PROBE_CUBE, LG_PROBE_CUBE };
-    static const lg_probe_file_layout files[] = {
-        LG_PROBE_FILE_DEFAULT, LG_PROBE_FILE_DEFAULT, LG_PROBE_FILE_CROSS,
-        LG_PROBE_FILE_VCROSS, LG_PROBE_FILE_STRIP, LG_PROBE_FILE_VSTRIP };
+                                               LG_PROBE_CUBE,    LG_PROBE_CUBE,    LG_PROBE_CUBE };
+    static const lg_probe_file_layout files[] = { LG_PROBE_FILE_DEFAULT, LG_PROBE_FILE_DEFAULT,
+                                                  LG_PROBE_FILE_CROSS,   LG_PROBE_FILE_VCROSS,
+                                                  LG_PROBE_FILE_STRIP,   LG_PROBE_FILE_VSTRIP };
     if (layout < 0 || layout > PC_VSTRIP)
         return lg_error(n, "unknown layout %d", layout);
     st->layout = layouts[layout];
@@ -211,9 +214,12 @@ static int convert_prepare(lg_node *n)
     }
     lg_log(n, LG_LOG_DEBUG, "%ux%u%s -> %s %ux%u", rad.image.width, rad.image.height,
            (rad.image.flags & LG_IMAGE_CUBE) ? " cube" : "",
-           st->layout == LG_PROBE_LATLONG ? "lat-long" : st->layout == LG_PROBE_ANGULAR
-           ? "angular map" : "cube", st->width, st->height);
-    lg_image_desc d = { .width = st->width, .height = st->height,
+           st->layout == LG_PROBE_LATLONG   ? "lat-long"
+           : st->layout == LG_PROBE_ANGULAR ? "angular map"
+                                            : "cube",
+           st->width, st->height);
+    lg_image_desc d = { .width = st->width,
+                        .height = st->height,
                         .format = LG_FORMAT_RGBA32F,
                         .flags = st->layout == LG_PROBE_CUBE ? LG_IMAGE_CUBE : 0u };
     int rc = lg_probe_declare(n, 0, st->layout, &d, true);
@@ -249,7 +255,7 @@ static int convert_prepare(lg_node *n)
      * crosses of 64, 128 and 256 in 17.6, 19.6 and 35 s, 3.2e-5 to 3.8e-5 s per texel;
      * part of it runs on the host's threads */
     double texels = (double)rad.image.width * rad.image.height *
-                    ((rad.image.flags & LG_IMAGE_CUBE) ? 6 : 1) +
+                        ((rad.image.flags & LG_IMAGE_CUBE) ? 6 : 1) +
                     (double)st->width * st->height * (st->layout == LG_PROBE_CUBE ? 6 : 1);
     lg_declare_work(n, texels, texels * PC_SECONDS_PER_TEXEL / lg_cpu_workers(n),
                     "texels resampled (source and result)");
@@ -298,20 +304,22 @@ static int convert_execute(lg_node *n, const lg_frame *frame)
     }
     if (rc) {
         char a[32] = "";
-        lg_bytes_text(a, sizeof a, lg_probe_resample_bytes(
-                                       (uint64_t)img.width * img.height *
-                                           (img.layout == LG_PROBE_CUBE ? 6 : 1),
-                                       (uint64_t)texels));
-        return lg_error_code(n, rc, "resampling the %ux%u probe into %ux%u failed%s%s%s",
-                             img.width, img.height, st->width, st->height,
+        lg_bytes_text(a, sizeof a,
+                      lg_probe_resample_bytes((uint64_t)img.width * img.height *
+                                                  (img.layout == LG_PROBE_CUBE ? 6 : 1),
+                                              (uint64_t)texels));
+        return lg_error_code(n, rc, "resampling the %ux%u probe into %ux%u failed%s%s%s", img.width,
+                             img.height, st->width, st->height,
                              rc == LG_ERR_NOMEM ? ": out of memory (its working memory, at "
-                                                  "least " : "",
+                                                  "least "
+                                                : "",
                              rc == LG_ERR_NOMEM ? a : "", rc == LG_ERR_NOMEM ? ")" : "");
     }
-    lg_log(n, LG_LOG_DEBUG, "%llu sub-rectangles, %llu texel pairs, %u balancing rounds; "
+    lg_log(n, LG_LOG_DEBUG,
+           "%llu sub-rectangles, %llu texel pairs, %u balancing rounds; "
            "integral error %.2e before balancing, %.2e after",
-           (unsigned long long)stats.samples, (unsigned long long)stats.entries,
-           stats.iterations, stats.raw_total_error, stats.total_error);
+           (unsigned long long)stats.samples, (unsigned long long)stats.entries, stats.iterations,
+           stats.raw_total_error, stats.total_error);
     if ((rc = lg_probe_solid_angles(st->layout, st->width, st->height, sv.pixels)))
         return lg_error_code(n, rc, "solid angles of a %ux%u probe", st->width, st->height);
     lg_probe_info info;
@@ -331,36 +339,62 @@ static void convert_destroy(lg_node *n)
     n->user = NULL;
 }
 
-static const char *const pr_layouts[] = { "auto", "latlong", "angular", "cross", "strip",
-                                          "faces", NULL };
+static const char *const pr_layouts[] = { "auto",  "latlong", "angular", "cross",
+                                          "strip", "faces",   NULL };
 static const lg_param_desc probe_params[] = {
-    { .key = "file", .type = LG_PARAM_PATH, .def.s = "",
+    { .key = "file",
+      .type = LG_PARAM_PATH,
+      .def.s = "",
       .doc = "probe image: .exr (any compression), .hdr, or .png (sRGB decoded to linear, "
              "at most 1: low dynamic range); empty with layout = faces" },
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PR_LAYOUT_AUTO, .enum_values = pr_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = PR_LAYOUT_AUTO,
+      .enum_values = pr_layouts,
       .doc = "auto (from the size: 2:1 latlong, 1:1 angular, 4:3 / 3:4 cross, 6:1 / 1:6 "
              "strip), or say which; faces reads the list `faces`" },
-    { .key = "faces", .type = LG_PARAM_PATH_LIST,
+    { .key = "faces",
+      .type = LG_PARAM_PATH_LIST,
       .doc = "layout = faces: six files, [+X, -X, +Y, -Y, +Z, -Z], square, one size" },
-    { .key = "rotate_deg", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -1e6, .max = 1e6,
+    { .key = "rotate_deg",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .min = -1e6,
+      .max = 1e6,
       .doc = "[yaw, pitch, roll], degrees: probe -> world, R = Ry(yaw) Rx(pitch) Rz(roll)" },
-    { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -64, .max = 64,
+    { .key = "exposure",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -64,
+      .max = 64,
       .doc = "stops: the texels are multiplied by 2^exposure" },
-    { .key = "scale", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e9,
+    { .key = "scale",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e9,
       .doc = "linear multiplier of the texels (with 2^exposure: info.scale)" },
 };
 static const lg_port_desc probe_outputs[] = {
-    { .name = "probe", .kind = LG_KIND_PROBE,
+    { .name = "probe",
+      .kind = LG_KIND_PROBE,
       .doc = "radiance (rgba32f; 2D or GL cube), solid_angle, info; on the CPU" },
 };
 
-static const char *const pc_layouts[] = { "latlong", "angular", "cross", "vcross", "strip",
-                                          "vstrip", NULL };
+static const char *const pc_layouts[] = { "latlong", "angular", "cross", "vcross",
+                                          "strip",   "vstrip",  NULL };
 static const lg_param_desc convert_params[] = {
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = PC_LATLONG, .enum_values = pc_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = PC_LATLONG,
+      .enum_values = pc_layouts,
       .doc = "latlong, angular, or a cube written (by an output) as a horizontal cross, a "
              "vertical cross, a 6x1 strip or a 1x6 strip" },
-    { .key = "size", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 8192,
+    { .key = "size",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 8192,
       .doc = "cube face size, lat-long height (width 2x), angular side; 0 = as many texels "
              "on the sphere as the source image has" },
 };
@@ -368,7 +402,8 @@ static const lg_port_desc convert_inputs[] = {
     { .name = "probe", .kind = LG_KIND_PROBE, .doc = "the probe to convert (any layout)" },
 };
 static const lg_port_desc convert_outputs[] = {
-    { .name = "probe", .kind = LG_KIND_PROBE,
+    { .name = "probe",
+      .kind = LG_KIND_PROBE,
       .doc = "the probe area-resampled into `layout`, its rotation baked in; on the CPU" },
 };
 
@@ -377,16 +412,23 @@ static const lg_node_type probe_types[] = {
         .struct_size = sizeof(lg_node_type),
         .name = "probe",
         .doc = "reads a light probe: lat-long, angular map, cross, strip or six faces",
-        LG_PARAMS(probe_params), LG_OUTPUTS(probe_outputs),
-        .prepare = probe_prepare, .execute = probe_execute, .destroy = probe_destroy,
+        LG_PARAMS(probe_params),
+        LG_OUTPUTS(probe_outputs),
+        .prepare = probe_prepare,
+        .execute = probe_execute,
+        .destroy = probe_destroy,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "probe_convert",
         .doc = "area-weighted resampling of a probe into another layout and size (its "
                "integral over any region kept); an output writes it as EXR or HDR",
-        LG_PARAMS(convert_params), LG_INPUTS(convert_inputs), LG_OUTPUTS(convert_outputs),
-        .prepare = convert_prepare, .execute = convert_execute, .destroy = convert_destroy,
+        LG_PARAMS(convert_params),
+        LG_INPUTS(convert_inputs),
+        LG_OUTPUTS(convert_outputs),
+        .prepare = convert_prepare,
+        .execute = convert_execute,
+        .destroy = convert_destroy,
     },
 };
 

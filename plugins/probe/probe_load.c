@@ -25,8 +25,8 @@ typedef enum pr_source {
 } pr_source;
 
 static const char *const pr_source_names[] = {
-    "none", "lat-long", "angular map", "horizontal cross", "vertical cross",
-    "6x1 strip", "1x6 strip", "six face files",
+    "none",           "lat-long",  "angular map", "horizontal cross",
+    "vertical cross", "6x1 strip", "1x6 strip",   "six face files",
 };
 
 static const char *const pr_face_names[6] = { "+X", "-X", "+Y", "-Y", "+Z", "-Z" };
@@ -38,9 +38,11 @@ static const char *const pr_face_names[6] = { "+X", "-X", "+Y", "-Y", "+Z", "-Z"
  * docs/probes.md draws both. */
 static lg_probe_file_layout pr_file_layout(pr_source src)
 {
-    return src == PR_CROSS_H ? LG_PROBE_FILE_CROSS : src == PR_CROSS_V ? LG_PROBE_FILE_VCROSS
-         : src == PR_STRIP_H ? LG_PROBE_FILE_STRIP : src == PR_STRIP_V ? LG_PROBE_FILE_VSTRIP
-         : LG_PROBE_FILE_DEFAULT;
+    return src == PR_CROSS_H   ? LG_PROBE_FILE_CROSS
+           : src == PR_CROSS_V ? LG_PROBE_FILE_VCROSS
+           : src == PR_STRIP_H ? LG_PROBE_FILE_STRIP
+           : src == PR_STRIP_V ? LG_PROBE_FILE_VSTRIP
+                               : LG_PROBE_FILE_DEFAULT;
 }
 
 /* Reads one file as stored (no clamping: pr_sanitize counts and zeroes what a probe
@@ -90,8 +92,8 @@ static void pr_sanitize(lg_node *n, const char *path, lg_image *img)
                "file '%s' (%ux%u): set to 0 the colour channels of %" PRIu64 " pixel%s "
                "that a probe cannot hold: %" PRIu64 " negative, %" PRIu64 " NaN, %" PRIu64
                " infinite",
-               path, img->width, img->height, neg + nan + inf, neg + nan + inf == 1 ? "" : "s",
-               neg, nan, inf);
+               path, img->width, img->height, neg + nan + inf, neg + nan + inf == 1 ? "" : "s", neg,
+               nan, inf);
 }
 
 /* w/h within 1% of num/den. */
@@ -120,16 +122,16 @@ static pr_source pr_detect(lg_node *n, const char *path, uint32_t w, uint32_t h,
     case PR_LAYOUT_ANGULAR:
         if (ang)
             return PR_ANGULAR;
-        lg_error(n, "file '%s' is %ux%u: an angular map (layout = angular) is square", path,
-                 w, h);
+        lg_error(n, "file '%s' is %ux%u: an angular map (layout = angular) is square", path, w, h);
         return PR_NONE;
     case PR_LAYOUT_CROSS:
         if (ch)
             return PR_CROSS_H;
         if (cv)
             return PR_CROSS_V;
-        lg_error(n, "file '%s' is %ux%u: a cross (layout = cross) is 4N x 3N (horizontal) or "
-                    "3N x 4N (vertical) with N the face size",
+        lg_error(n,
+                 "file '%s' is %ux%u: a cross (layout = cross) is 4N x 3N (horizontal) or "
+                 "3N x 4N (vertical) with N the face size",
                  path, w, h);
         return PR_NONE;
     case PR_LAYOUT_STRIP:
@@ -137,12 +139,12 @@ static pr_source pr_detect(lg_node *n, const char *path, uint32_t w, uint32_t h,
             return PR_STRIP_H;
         if (sv)
             return PR_STRIP_V;
-        lg_error(n, "file '%s' is %ux%u: a strip (layout = strip) is 6N x N or N x 6N with N "
-                    "the face size",
+        lg_error(n,
+                 "file '%s' is %ux%u: a strip (layout = strip) is 6N x N or N x 6N with N "
+                 "the face size",
                  path, w, h);
         return PR_NONE;
-    default:
-        break;
+    default: break;
     }
     /* auto: exactly one exact match (the ratios 2:1, 1:1, 4:3, 3:4, 6:1 and 1:6 exclude
      * each other, so an exact size is never ambiguous) */
@@ -160,7 +162,10 @@ static pr_source pr_detect(lg_node *n, const char *path, uint32_t w, uint32_t h,
         return PR_STRIP_V;
     /* not exact: name the layouts whose ratio it nearly has */
     char near[256] = "";
-    static const struct { uint32_t num, den; const char *name; } ratios[] = {
+    static const struct {
+        uint32_t num, den;
+        const char *name;
+    } ratios[] = {
         { 2, 1, "lat-long (2:1; layout = latlong reads any size)" },
         { 1, 1, "angular map (1:1)" },
         { 4, 3, "horizontal cross (4N x 3N)" },
@@ -174,13 +179,15 @@ static pr_source pr_detect(lg_node *n, const char *path, uint32_t w, uint32_t h,
             snprintf(near + len, sizeof near - len, "%s%s", len ? ", " : "", ratios[i].name);
         }
     if (*near)
-        lg_error(n, "file '%s' is %ux%u: ambiguous; its shape is near %s but not exactly: "
-                    "set `layout` to say which",
+        lg_error(n,
+                 "file '%s' is %ux%u: ambiguous; its shape is near %s but not exactly: "
+                 "set `layout` to say which",
                  path, w, h, near);
     else
-        lg_error(n, "file '%s' is %ux%u: no probe layout has this shape (auto recognises "
-                    "2:1 lat-long, 1:1 angular, 4:3 and 3:4 crosses, 6:1 and 1:6 strips); "
-                    "set `layout` (latlong reads any size)",
+        lg_error(n,
+                 "file '%s' is %ux%u: no probe layout has this shape (auto recognises "
+                 "2:1 lat-long, 1:1 angular, 4:3 and 3:4 crosses, 6:1 and 1:6 strips); "
+                 "set `layout` (latlong reads any size)",
                  path, w, h);
     return PR_NONE;
 }
@@ -192,9 +199,8 @@ static void pr_copy_face(float *dst, const lg_image *src, uint32_t N, int cx, in
     for (uint32_t y = 0; y < N; y++)
         for (uint32_t x = 0; x < N; x++) {
             uint32_t sx = turn ? N - 1 - x : x, sy = turn ? N - 1 - y : y;
-            const float *s = src->pixels +
-                             4 * ((size_t)((uint32_t)cy * N + sy) * src->width +
-                                  (uint32_t)cx * N + sx);
+            const float *s = src->pixels + 4 * ((size_t)((uint32_t)cy * N + sy) * src->width +
+                                                (uint32_t)cx * N + sx);
             memcpy(dst + 4 * ((size_t)y * N + x), s, 16);
         }
 }
@@ -221,12 +227,14 @@ int pr_load_file(lg_node *n, int want, const char *file, const char *const *face
 
     if (want == PR_LAYOUT_FACES) {
         if (have_file)
-            return lg_error(n, "layout = faces reads the six files of 'faces'; 'file' ('%s') "
-                               "is set too: leave it empty",
+            return lg_error(n,
+                            "layout = faces reads the six files of 'faces'; 'file' ('%s') "
+                            "is set too: leave it empty",
                             file);
         if (have_faces != 6)
-            return lg_error(n, "layout = faces needs six files in 'faces' (+X, -X, +Y, -Y, +Z, "
-                               "-Z), found %u",
+            return lg_error(n,
+                            "layout = faces needs six files in 'faces' (+X, -X, +Y, -Y, +Z, "
+                            "-Z), found %u",
                             have_faces);
         lg_image img[6];
         memset(img, 0, sizeof img);
@@ -240,12 +248,14 @@ int pr_load_file(lg_node *n, int want, const char *file, const char *const *face
             if ((rc = pr_read(n, p, what, &img[f])))
                 break;
             if (img[f].width != img[f].height)
-                rc = lg_error(n, "face file '%s' (faces[%u], the %s face) is %ux%u: faces are "
-                                 "square",
+                rc = lg_error(n,
+                              "face file '%s' (faces[%u], the %s face) is %ux%u: faces are "
+                              "square",
                               p, f, pr_face_names[f], img[f].width, img[f].height);
             else if (f > 0 && img[f].width != N)
-                rc = lg_error(n, "face file '%s' (faces[%u], the %s face) is %ux%u but '%s' "
-                                 "(faces[0]) is %ux%u: the six faces have one size",
+                rc = lg_error(n,
+                              "face file '%s' (faces[%u], the %s face) is %ux%u but '%s' "
+                              "(faces[0]) is %ux%u: the six faces have one size",
                               p, f, pr_face_names[f], img[f].width, img[f].height, first, N, N);
             N = img[f].width;
         }
@@ -271,8 +281,9 @@ int pr_load_file(lg_node *n, int want, const char *file, const char *const *face
     }
 
     if (have_faces)
-        return lg_error(n, "'faces' is for layout = faces; this probe reads 'file' (layout = %s): "
-                           "leave 'faces' empty",
+        return lg_error(n,
+                        "'faces' is for layout = faces; this probe reads 'file' (layout = %s): "
+                        "leave 'faces' empty",
                         want == PR_LAYOUT_AUTO ? "auto" : "a single-file layout");
     lg_image img;
     memset(&img, 0, sizeof img);
@@ -299,8 +310,10 @@ int pr_load_file(lg_node *n, int want, const char *file, const char *const *face
         st->texels = img.pixels;
         return 0;
     }
-    uint32_t N = src == PR_CROSS_H ? img.width / 4 : src == PR_CROSS_V ? img.width / 3
-               : src == PR_STRIP_H ? img.height : img.width;
+    uint32_t N = src == PR_CROSS_H   ? img.width / 4
+                 : src == PR_CROSS_V ? img.width / 3
+                 : src == PR_STRIP_H ? img.height
+                                     : img.width;
     st->texels = malloc((size_t)6 * N * N * 16);
     if (!st->texels) {
         lg_image_free(&img);
@@ -318,4 +331,3 @@ int pr_load_file(lg_node *n, int want, const char *file, const char *const *face
     st->width = st->height = N;
     return 0;
 }
-

@@ -13,17 +13,23 @@
 #include "lightgraph/probe.h"
 
 /* The `layout` parameter's values, in the enum's order. */
-enum { PR_LAYOUT_AUTO = 0, PR_LAYOUT_LATLONG, PR_LAYOUT_ANGULAR, PR_LAYOUT_CROSS,
-       PR_LAYOUT_STRIP, PR_LAYOUT_FACES };
+enum {
+    PR_LAYOUT_AUTO = 0,
+    PR_LAYOUT_LATLONG,
+    PR_LAYOUT_ANGULAR,
+    PR_LAYOUT_CROSS,
+    PR_LAYOUT_STRIP,
+    PR_LAYOUT_FACES
+};
 
 /* A probe as read from its files, level 0 only. */
 typedef struct pr_file {
     lg_probe_layout layout;
-    uint32_t width, height; /* the radiance image's size (a cube's face size) */
-    float *texels;          /* level 0, RGBA, packed as the CPU copy (faces, rows); every
-                             * colour channel finite and >= 0, alpha 1 */
-    lg_image decoded;       /* 2D layouts: the decoded file, whose pixels are `texels`
-                             * (freed by the SDK that allocated them) */
+    uint32_t width, height;           /* the radiance image's size (a cube's face size) */
+    float *texels;                    /* level 0, RGBA, packed as the CPU copy (faces, rows); every
+                                       * colour channel finite and >= 0, alpha 1 */
+    lg_image decoded;                 /* 2D layouts: the decoded file, whose pixels are `texels`
+                                       * (freed by the SDK that allocated them) */
     lg_probe_file_layout file_layout; /* how the cube was stored: an output writes it so */
 } pr_file;
 
@@ -34,8 +40,8 @@ typedef struct pr_file {
  * content key of the pixels and the layout, or an LG_ERR_* after lg_error on `n` naming
  * the file, its size and why, with *out empty. Logs on `n`: a warning per file whose
  * values a probe cannot hold (zeroed), debug and info lines. */
-int pr_load_file(lg_node *n, int want, const char *file, const char *const *faces,
-                 uint32_t n_faces, pr_file *out, uint64_t *key);
+int pr_load_file(lg_node *n, int want, const char *file, const char *const *faces, uint32_t n_faces,
+                 pr_file *out, uint64_t *key);
 
 /* Frees what pr_load_file made and empties *f (which may be empty already). */
 void pr_file_clear(pr_file *f);

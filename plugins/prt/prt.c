@@ -63,8 +63,8 @@ typedef struct prt_state {
 
     /* GL */
     lg_gl_pass *dot, *raster, *refl;
-    uint32_t g_n, g_stride; /* the dot pass's build (prt_gl_frag_defines, prt_gl_defines) */
-    int g_frag;             /* 1: prt_dot.frag, 0: prt_dot.comp over a storage buffer */
+    uint32_t g_n, g_stride;   /* the dot pass's build (prt_gl_frag_defines, prt_gl_defines) */
+    int g_frag;               /* 1: prt_dot.frag, 0: prt_dot.comp over a storage buffer */
     lg_gl_buffer_texture tbo; /* the RGB32F buffer texture over the transfer's GL buffer */
     lg_gl_uniform d_vertices, d_width, d_texels, d_light;
     lg_gl_binding d_transfer, d_lighting, d_out;
@@ -78,7 +78,7 @@ typedef struct prt_state {
     lg_cl_buffer cl_light, cl_record;
 } prt_state;
 
-/* ---- create / prepare ---------------------------------------------------------------- */
+/* ---- create / prepare ------------------------------------------------------------------------ */
 
 static int prt_create(lg_node *n)
 {
@@ -92,15 +92,17 @@ static int prt_create(lg_node *n)
     for (int i = 0; i < 3; i++) {
         double v = r ? r->v[i] : 0.0;
         if (!isfinite(v) || fabs(v) > PRT_MAX_DEG)
-            return lg_error(n, "rotate_deg[%d] (%s) = %g: give a finite angle within +-%g "
-                               "degrees",
+            return lg_error(n,
+                            "rotate_deg[%d] (%s) = %g: give a finite angle within +-%g "
+                            "degrees",
                             i, names[i], v, PRT_MAX_DEG);
         st->rotate[i] = v;
     }
     st->spin = lg_param_float(n, "spin_deg_per_s");
     if (!isfinite(st->spin) || fabs(st->spin) > PRT_MAX_DEG)
-        return lg_error(n, "spin_deg_per_s = %g: give a finite rate within +-%g degrees per "
-                           "second",
+        return lg_error(n,
+                        "spin_deg_per_s = %g: give a finite rate within +-%g degrees per "
+                        "second",
                         st->spin, PRT_MAX_DEG);
     return 0;
 }
@@ -123,8 +125,9 @@ static int prt_prepare(lg_node *n)
     for (uint32_t m = 0; m < s->n_meshes; m++)
         total += s->meshes[m].n_vertices;
     if (total > UINT32_MAX / 2)
-        return lg_error(n, "input 'scene' has %llu vertices: more than the per-vertex image "
-                           "can number",
+        return lg_error(n,
+                        "input 'scene' has %llu vertices: more than the per-vertex image "
+                        "can number",
                         (unsigned long long)total);
     st->vertices = (uint32_t)total;
     const lg_resource *sh = lg_input(n, IN_LIGHTING);
@@ -142,21 +145,22 @@ static int prt_prepare(lg_node *n)
         if (!info.neutral && (info.image.format != LG_FORMAT_RGBA32F ||
                               (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
             return lg_error(n, "input 'reflect' must be a 2D rgba32f image; convert it first");
-        if (!info.neutral &&
-            (info.image.width != st->width || info.image.height != st->height))
-            return lg_error(n, "input 'reflect' is %ux%u but the output is %ux%u: give the "
-                               "node width and height of the reflect image (or render both "
-                               "at the same size)",
+        if (!info.neutral && (info.image.width != st->width || info.image.height != st->height))
+            return lg_error(n,
+                            "input 'reflect' is %ux%u but the output is %ux%u: give the "
+                            "node width and height of the reflect image (or render both "
+                            "at the same size)",
                             info.image.width, info.image.height, st->width, st->height);
     }
-    lg_image_desc d = { .width = st->width, .height = st->height,
-                        .format = LG_FORMAT_RGBA32F, .flags = LG_IMAGE_DEPTH };
+    lg_image_desc d = { .width = st->width,
+                        .height = st->height,
+                        .format = LG_FORMAT_RGBA32F,
+                        .flags = LG_IMAGE_DEPTH };
     rc = lg_declare_image(n, OUT_IMAGE, &d);
     if (rc)
         return rc;
     lg_vertex_image_size(st->vertices, &st->tex_w, &st->tex_h);
-    lg_image_desc vd = { .width = st->tex_w, .height = st->tex_h,
-                         .format = LG_FORMAT_RGBA32F };
+    lg_image_desc vd = { .width = st->tex_w, .height = st->tex_h, .format = LG_FORMAT_RGBA32F };
     if ((rc = lg_declare_image(n, OUT_VERTICES, &vd)))
         return rc;
     if (st->spin != 0.0)
@@ -164,7 +168,7 @@ static int prt_prepare(lg_node *n)
     return lg_set_device(n, st->backend);
 }
 
-/* ---- the frame's inputs ----------------------------------------------------------------- */
+/* ---- the frame's inputs ---------------------------------------------------------------------- */
 
 typedef struct prt_frame {
     const lg_scene *s;
@@ -173,9 +177,9 @@ typedef struct prt_frame {
     lg_transfer tr_view;
     const lg_sh *sh;
     const lg_transfer *tr;
-    uint32_t bands;    /* the common prefix */
-    uint32_t nc;       /* bands^2 */
-    float *lighting;   /* float[3][nc], rotated; malloc'd, freed by prt_execute */
+    uint32_t bands;             /* the common prefix */
+    uint32_t nc;                /* bands^2 */
+    float *lighting;            /* float[3][nc], rotated; malloc'd, freed by prt_execute */
     const lg_resource *reflect; /* NULL, or a non-neutral image */
 } prt_frame;
 
@@ -220,8 +224,9 @@ static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_fr
         total += s->meshes[m].n_vertices;
     }
     if (total != st->vertices)
-        return lg_error(n, "input 'scene' has %llu vertices now but %u when the node was "
-                           "prepared",
+        return lg_error(n,
+                        "input 'scene' has %llu vertices now but %u when the node was "
+                        "prepared",
                         (unsigned long long)total, st->vertices);
 
     lg_resource_info info;
@@ -239,8 +244,9 @@ static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_fr
         return LG_ERR_INVALID;
     }
     if (f->tr->info.vertices != st->vertices)
-        return lg_error(n, "input 'transfer' has %u vertices but the scene has %u (%u meshes): "
-                           "the transfer was baked for another scene",
+        return lg_error(n,
+                        "input 'transfer' has %u vertices but the scene has %u (%u meshes): "
+                        "the transfer was baked for another scene",
                         f->tr->info.vertices, st->vertices, s->n_meshes);
     uint32_t lb = f->sh->info.bands, tb = f->tr->info.bands;
     f->bands = lb < tb ? lb : tb;
@@ -274,8 +280,9 @@ static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_fr
                                  f->bands);
         if (lg_sh_rotation_build(f->bands, R, mats) != 0) {
             free(mats);
-            return lg_error(n, "the rotation of rotate_deg = [%g, %g, %g] (spin %g deg/s) is "
-                               "not finite",
+            return lg_error(n,
+                            "the rotation of rotate_deg = [%g, %g, %g] (spin %g deg/s) is "
+                            "not finite",
                             st->rotate[0], st->rotate[1], st->rotate[2], st->spin);
         }
         lg_sh_rotate_planes_f(f->bands, mats, 3, f->lighting, f->lighting);
@@ -283,8 +290,9 @@ static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_fr
     }
     for (size_t i = 0; i < (size_t)3 * f->nc; i++)
         if (!isfinite(f->lighting[i]))
-            return lg_error(n, "input 'lighting': coefficient %zu of channel %zu is %g (not "
-                               "finite)",
+            return lg_error(n,
+                            "input 'lighting': coefficient %zu of channel %zu is %g (not "
+                            "finite)",
                             i % f->nc, i / f->nc, (double)f->lighting[i]);
     const lg_resource *b = lg_input(n, IN_REFLECT);
     if (b && lg_describe(b, &info, n) == 0 && !info.neutral)
@@ -292,7 +300,7 @@ static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_fr
     return 0;
 }
 
-/* ---- the dot products ------------------------------------------------------------------ */
+/* ---- the dot products ------------------------------------------------------------------------ */
 
 typedef struct prt_pool_ctx {
     prt_cpu_job job;
@@ -313,8 +321,11 @@ static int prt_dot_cpu(lg_node *n, prt_state *st, const prt_frame *f)
         rc = lg_map_cpu(n, lg_output(n, OUT_VERTICES), LG_WRITE, &ov);
     if (rc)
         return rc;
-    prt_pool_ctx c = { .job = { .transfer = tv.pixels, .lighting = f->lighting, .n = f->nc,
-                                .stride = f->tr->n_coeffs, .vertices = st->vertices,
+    prt_pool_ctx c = { .job = { .transfer = tv.pixels,
+                                .lighting = f->lighting,
+                                .n = f->nc,
+                                .stride = f->tr->n_coeffs,
+                                .vertices = st->vertices,
                                 .out = ov.pixels } };
     return lg_parallel_for(n, (size_t)st->tex_w * st->tex_h, PRT_CPU_GRAIN, prt_cpu_chunk, &c);
 }
@@ -337,8 +348,12 @@ static int prt_dot_cl(lg_node *n, prt_state *st, const prt_frame *f)
         prt_cl_options(opts, sizeof opts, f->nc, stride);
         static const char *const src[] = { lg_src_prt_cl };
         static const char *const names[] = { lg_src_prt_cl_file };
-        lg_cl_pass_desc d = { .name = "prt dot", .sources = src, .source_names = names,
-                              .n_sources = 1, .options = opts, .kernel = "prt_dot" };
+        lg_cl_pass_desc d = { .name = "prt dot",
+                              .sources = src,
+                              .source_names = names,
+                              .n_sources = 1,
+                              .options = opts,
+                              .kernel = "prt_dot" };
         lg_cl_pass_destroy(&st->kernel);
         if ((rc = lg_cl_pass_create(n, &d, &st->kernel)))
             return rc;
@@ -397,8 +412,10 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
             prt_gl_frag_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 0);
         else
             prt_gl_defines(defines, sizeof defines, f->nc, f->tr->n_coeffs, 0);
-        lg_gl_pass_desc d = { .name = "prt (dot products)", .stages = frag ? frag_src : comp_src,
-                              .n_stages = frag ? 2 : 1, .defines = defines,
+        lg_gl_pass_desc d = { .name = "prt (dot products)",
+                              .stages = frag ? frag_src : comp_src,
+                              .n_stages = frag ? 2 : 1,
+                              .defines = defines,
                               .colors = { frag ? GL_RGBA32F : 0 } };
         if ((rc = lg_gl_pass_create(n, &d, &st->dot)))
             return rc;
@@ -454,7 +471,7 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
     return lg_gl_pass_end(st->dot, lg_gl_pass_dispatch_groups(st->dot, gx, gy, 1));
 }
 
-/* ---- the raster pass ------------------------------------------------------------------- */
+/* ---- the raster pass ------------------------------------------------------------------------- */
 
 typedef struct prt_draw_ctx {
     prt_state *st;
@@ -480,9 +497,14 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
             { GL_VERTEX_SHADER, lg_src_prt_vert_file, lg_src_prt_vert },
             { GL_FRAGMENT_SHADER, lg_src_prt_frag_file, lg_src_prt_frag },
         };
-        lg_gl_pass_desc d = { .name = "prt (raster)", .stages = src, .n_stages = 2,
-                              .colors = { GL_RGBA32F }, .depth = true, .depth_test = true,
-                              .depth_write = true, .cull = LG_GL_CULL_BACK,
+        lg_gl_pass_desc d = { .name = "prt (raster)",
+                              .stages = src,
+                              .n_stages = 2,
+                              .colors = { GL_RGBA32F },
+                              .depth = true,
+                              .depth_test = true,
+                              .depth_write = true,
+                              .cull = LG_GL_CULL_BACK,
                               .scene = LG_GL_SCENE_POSITIONS };
         if ((rc = lg_gl_pass_create(n, &d, &st->raster)))
             return rc;
@@ -523,8 +545,11 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
             { GL_VERTEX_SHADER, lg_src_prt_reflect_vert_file, lg_src_prt_reflect_vert },
             { GL_FRAGMENT_SHADER, lg_src_prt_reflect_frag_file, lg_src_prt_reflect_frag },
         };
-        lg_gl_pass_desc d = { .name = "prt (reflect)", .stages = src, .n_stages = 2,
-                              .colors = { GL_RGBA32F }, .depth = true,
+        lg_gl_pass_desc d = { .name = "prt (reflect)",
+                              .stages = src,
+                              .n_stages = 2,
+                              .colors = { GL_RGBA32F },
+                              .depth = true,
                               .blend = LG_GL_BLEND_ADD };
         if ((rc = lg_gl_pass_create(n, &d, &st->refl)))
             return rc;
@@ -539,7 +564,7 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
     return lg_gl_pass_end(st->refl, lg_gl_pass_draw(st->refl, GL_TRIANGLES, 3));
 }
 
-/* ---- execute / destroy --------------------------------------------------------------- */
+/* ---- execute / destroy ----------------------------------------------------------------------- */
 
 static int prt_execute(lg_node *n, const lg_frame *frame)
 {
@@ -559,7 +584,9 @@ static int prt_execute(lg_node *n, const lg_frame *frame)
     if (!rc)
         lg_log(n, LG_LOG_INFO, "%u vertices, %u bands (lighting %u, transfer %u), %s%s",
                st->vertices, f.bands, f.sh->info.bands, f.tr->info.bands,
-               st->backend == LG_DEVICE_GL ? "gl" : st->backend == LG_DEVICE_CL ? "cl" : "cpu",
+               st->backend == LG_DEVICE_GL   ? "gl"
+               : st->backend == LG_DEVICE_CL ? "cl"
+                                             : "cpu",
                f.reflect ? ", reflect added" : "");
     free(f.lighting);
     return rc;
@@ -583,45 +610,69 @@ static void prt_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor -------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const lg_param_desc prt_params[] = {
     /* where the dot products run; the scene is rasterised on GL in every case */
     LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),
-    { .key = "rotate_deg", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -PRT_MAX_DEG,
+    { .key = "rotate_deg",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .min = -PRT_MAX_DEG,
       .max = PRT_MAX_DEG,
       .doc = "[yaw, pitch, roll], degrees: the lighting turned by R = Ry(yaw) Rx(pitch) "
              "Rz(roll), the probe node's rotate_deg convention (a light at v moves to R v)" },
-    { .key = "spin_deg_per_s", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -PRT_MAX_DEG,
+    { .key = "spin_deg_per_s",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -PRT_MAX_DEG,
       .max = PRT_MAX_DEG,
       .doc = "degrees of yaw per second added to rotate_deg's yaw (frame time x rate); "
              "non-zero makes the node run every frame" },
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "output width in pixels; 0 = the render size (--size)",
       .role = LG_ROLE_IMAGE_WIDTH },
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "output height in pixels; 0 = the render size (--size)",
       .role = LG_ROLE_IMAGE_HEIGHT },
-    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+    { .key = "camera",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
       .doc = "index of the scene's camera to look through; -1 = the scene's active camera" },
 };
 
 static const lg_port_desc prt_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the scene the transfer was baked for (its camera and geometry)" },
     { .name = "lighting", .kind = LG_KIND_SH, .doc = "SH lighting (sh_project)" },
-    { .name = "transfer", .kind = LG_KIND_TRANSFER,
+    { .name = "transfer",
+      .kind = LG_KIND_TRANSFER,
       .doc = "per-vertex transfer vectors of the scene (prt_bake)" },
-    { .name = "reflect", .kind = LG_KIND_IMAGE, .optional = true,
+    { .name = "reflect",
+      .kind = LG_KIND_IMAGE,
+      .optional = true,
       .doc = "rgba32f image of the output's size (reflect's output, say): its RGB is added "
              "(the specular part, seed 0 §5.7)" },
 };
 static const lg_port_desc prt_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "linear HDR radiance, rgba32f, alpha 1 where geometry covers the pixel and 0 "
              "elsewhere (RGB 0 there, plus reflect), with a depth plane (GL window depth, 1 "
              "= nothing)" },
-    { .name = "vertices", .kind = LG_KIND_IMAGE,
+    { .name = "vertices",
+      .kind = LG_KIND_IMAGE,
       .doc = "the per-vertex radiance, rgba32f, LG_VERTEX_IMAGE_WIDTH wide: vertex i at (i "
              "mod W, i / W), alpha 1, padding 0 (lightgraph/transfer.h)" },
 };

@@ -27,9 +27,8 @@
 #define PRT_RECORD_MAX 256u
 
 /* sum_{i < n} l[i] t[i] in PRT_W partial sums (the generic path) */
-static inline __attribute__((always_inline)) float prt_dot1(const float *restrict l,
-                                                            const float *restrict t,
-                                                            const uint32_t n)
+static inline __attribute__((always_inline)) float
+prt_dot1(const float *restrict l, const float *restrict t, const uint32_t n)
 {
     float acc[PRT_W] = { 0 };
     uint32_t i = 0;
@@ -51,9 +50,10 @@ static inline __attribute__((always_inline)) void prt_prefetch(const float *t, u
 /* Vertices [v, last) by the record path: `lr` is the lighting laid out like a record,
  * one padded row per channel. Reads up to PRT_W - 1 floats past a record: never call it
  * for the buffer's last vertex. */
-static inline __attribute__((always_inline)) void
-prt_records(const float *restrict transfer, const float *restrict lr, const uint32_t stride,
-            size_t v, size_t last, float *restrict out)
+static inline __attribute__((always_inline)) void prt_records(const float *restrict transfer,
+                                                              const float *restrict lr,
+                                                              const uint32_t stride, size_t v,
+                                                              size_t last, float *restrict out)
 {
     const uint32_t pad = PRT_RECORD_PAD(stride);
     for (; v < last; v++) {
@@ -99,15 +99,17 @@ void lg_prt_cpu_range(const prt_cpu_job *job, size_t begin, size_t end)
         float lr[3 * PRT_RECORD_PAD(PRT_RECORD_MAX)];
         prt_record_lighting(job->lighting, n, stride, lr);
         switch (stride) {
-#define PRT_CASE(s)                                                                          \
-    case s:                                                                                  \
-        prt_records(job->transfer, lr, s, v, rec_end, job->out);                             \
-        break;
-            PRT_CASE(4) PRT_CASE(9) PRT_CASE(16) PRT_CASE(25) PRT_CASE(36) PRT_CASE(49)
+#define PRT_CASE(s)                                                                                \
+    case s: prt_records(job->transfer, lr, s, v, rec_end, job->out); break;
+            PRT_CASE(4)
+            PRT_CASE(9)
+            PRT_CASE(16)
+            PRT_CASE(25)
+            PRT_CASE(36)
+            PRT_CASE(49)
             PRT_CASE(64)
 #undef PRT_CASE
-        default:
-            prt_records(job->transfer, lr, stride, v, rec_end, job->out);
+        default: prt_records(job->transfer, lr, stride, v, rec_end, job->out);
         }
         v = rec_end;
     }

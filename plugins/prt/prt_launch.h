@@ -62,8 +62,7 @@ static inline size_t prt_cl_global(size_t texels)
 /* GL: the defines of shaders/prt/prt_dot.comp for n coefficients of a transfer of
  * `stride`; tbo: read the transfer through an R32F buffer texture (when its float count
  * fits GL_MAX_TEXTURE_BUFFER_SIZE), else as a storage buffer. */
-static inline void prt_gl_defines(char *buf, size_t size, uint32_t n, uint32_t stride,
-                                  int tbo)
+static inline void prt_gl_defines(char *buf, size_t size, uint32_t n, uint32_t stride, int tbo)
 {
     snprintf(buf, size, "#define LG_N %uu\n#define LG_STRIDE %uu\n%s", n, stride,
              tbo ? "#define LG_TBO 1\n" : "");

@@ -30,8 +30,8 @@ const char *pb_cache_header_check(const void *data, size_t bytes, const pb_cache
     return NULL;
 }
 
-const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header *want,
-                          float *out, uint32_t *bounces)
+const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header *want, float *out,
+                          uint32_t *bounces)
 {
     pb_cache_header h;
     const char *why = pb_cache_header_check(data, bytes, want, &h);

@@ -17,14 +17,14 @@
 /* The most bounces an interreflected bake computes (its parameter's bound). */
 #define PB_CACHE_MAX_BOUNCES 64u
 typedef struct pb_cache_header {
-    char magic[8];        /* "lgprtb1" (bake) or "lgprtr1" (reference) */
-    uint32_t version;     /* PB_CACHE_VERSION */
+    char magic[8];    /* "lgprtb1" (bake) or "lgprtr1" (reference) */
+    uint32_t version; /* PB_CACHE_VERSION */
     uint32_t bands;
     uint32_t vertices;
     uint32_t mode;
-    uint32_t bounces;     /* bounces computed (interreflected) */
-    uint32_t samples;     /* directions per axis (bake) or cube face size (reference) */
-    uint64_t floats;      /* floats after the header */
+    uint32_t bounces; /* bounces computed (interreflected) */
+    uint32_t samples; /* directions per axis (bake) or cube face size (reference) */
+    uint64_t floats;  /* floats after the header */
 } pb_cache_header;
 
 /* The header part of pb_cache_read: NULL with *h filled (the payload's floats follow it,
@@ -36,8 +36,8 @@ const char *pb_cache_header_check(const void *data, size_t bytes, const pb_cache
  * but bounces). Returns NULL with `want->floats` floats copied to `out` and the entry's
  * bounce count in *bounces, or why the entry is not used ("bad magic", ...) with `out` and
  * *bounces untouched. Nothing is allocated. */
-const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header *want,
-                          float *out, uint32_t *bounces);
+const char *pb_cache_read(const void *data, size_t bytes, const pb_cache_header *want, float *out,
+                          uint32_t *bounces);
 
 /* The payload of header `h` and its h->floats floats `f`: malloc'd (the caller frees it),
  * *bytes long; NULL when out of memory. */

@@ -40,26 +40,26 @@ enum { PB_EMBREE = 0, PB_BRUTE };
 /* Above this many ray-triangle tests the brute-force option warns (about a minute here). */
 #define PB_BRUTE_WARN 2e10
 
-/* ---- the scene in world space ------------------------------------------------------------ */
+/* ---- the scene in world space ---------------------------------------------------------------- */
 
 /* Every instance's triangles in world space (float, as Embree takes them), every vertex's
  * world position and normal (the frame of its mesh's first instance), and the albedo of
  * each vertex. Owned by the node state; freed by pb_world_free. */
 typedef struct pb_world {
-    uint32_t n_vertices;           /* sum of the meshes' vertex counts */
-    uint32_t *mesh_offset;         /* n_meshes + 1: mesh m's first vertex */
-    double *pos, *nrm;             /* 3 per vertex: world position and unit normal */
-    double *in;                    /* 3 per vertex: unit tangent toward its own mesh's
-                                    * triangles at a boundary, else 0 (pb_offset) */
-    float *albedo;                 /* 3 per vertex */
+    uint32_t n_vertices;   /* sum of the meshes' vertex counts */
+    uint32_t *mesh_offset; /* n_meshes + 1: mesh m's first vertex */
+    double *pos, *nrm;     /* 3 per vertex: world position and unit normal */
+    double *in;            /* 3 per vertex: unit tangent toward its own mesh's
+                            * triangles at a boundary, else 0 (pb_offset) */
+    float *albedo;         /* 3 per vertex */
     /* per instance (Embree geometry id = instance index) */
     uint32_t n_inst;
-    const uint32_t *inst_mesh;     /* scene->instances[i].mesh, copied */
+    const uint32_t *inst_mesh; /* scene->instances[i].mesh, copied */
     uint32_t *inst_mesh_store;
-    float **inst_pos;              /* world positions of instance i's mesh */
-    float **inst_nrm;              /* world normals of instance i's mesh (unit) */
-    uint64_t n_triangles;          /* over every instance */
-    double extent, max_abs;        /* world bounds' largest side; largest |coordinate| */
+    float **inst_pos;       /* world positions of instance i's mesh */
+    float **inst_nrm;       /* world normals of instance i's mesh (unit) */
+    uint64_t n_triangles;   /* over every instance */
+    double extent, max_abs; /* world bounds' largest side; largest |coordinate| */
     const lg_scene *s;
 } pb_world;
 
@@ -120,8 +120,10 @@ static void pb_world_inward(pb_world *w)
                 continue; /* reported when the Embree scene is built */
             double c[3];
             for (int k = 0; k < 3; k++)
-                c[k] = (w->pos[3 * (size_t)(off + ix[0]) + k] + w->pos[3 * (size_t)(off + ix[1]) + k] +
-                        w->pos[3 * (size_t)(off + ix[2]) + k]) / 3.0;
+                c[k] = (w->pos[3 * (size_t)(off + ix[0]) + k] +
+                        w->pos[3 * (size_t)(off + ix[1]) + k] +
+                        w->pos[3 * (size_t)(off + ix[2]) + k]) /
+                       3.0;
             for (int q = 0; q < 3; q++) {
                 size_t v = off + ix[q];
                 double d[3], l = 0;
@@ -160,14 +162,16 @@ static int pb_mesh_albedo(lg_node *n, const lg_scene *s, uint32_t m, const doubl
         double a = albedo_param ? albedo_param[c] : mat ? mat->base_color[c] : 1.0;
         if (!(a >= 0.0 && a <= 1.0)) {
             if (albedo_param)
-                return lg_error(n, "albedo [%g, %g, %g]: every channel must be in [0, 1] "
-                                   "(an albedo above 1 makes energy)",
+                return lg_error(n,
+                                "albedo [%g, %g, %g]: every channel must be in [0, 1] "
+                                "(an albedo above 1 makes energy)",
                                 albedo_param[0], albedo_param[1], albedo_param[2]);
-            return lg_error(n, "mesh %u '%s': material %u '%s' has base colour [%g, %g, "
-                               "%g], outside [0, 1]; give the node an albedo = [r, g, b]",
-                            m, me->name ? me->name : "", me->material,
-                            mat->name ? mat->name : "", (double)mat->base_color[0],
-                            (double)mat->base_color[1], (double)mat->base_color[2]);
+            return lg_error(n,
+                            "mesh %u '%s': material %u '%s' has base colour [%g, %g, "
+                            "%g], outside [0, 1]; give the node an albedo = [r, g, b]",
+                            m, me->name ? me->name : "", me->material, mat->name ? mat->name : "",
+                            (double)mat->base_color[0], (double)mat->base_color[1],
+                            (double)mat->base_color[2]);
         }
         rho[c] = (float)a;
     }
@@ -176,8 +180,7 @@ static int pb_mesh_albedo(lg_node *n, const lg_scene *s, uint32_t m, const doubl
 
 /* albedo_param: [r, g, b] or NULL for the materials' base colours. Reports bad input
  * (non-finite positions or normals, an albedo outside [0, 1]) naming mesh and vertex. */
-static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_param,
-                         pb_world *w)
+static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_param, pb_world *w)
 {
     memset(w, 0, sizeof *w);
     w->s = s;
@@ -212,11 +215,13 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
             return lg_error(n, "instance %u names mesh %u of %u", i, in->mesh, s->n_meshes);
         const lg_mesh *me = &s->meshes[in->mesh];
         if (!me->positions || !me->normals || (!me->indices && me->n_indices))
-            return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions, normals "
-                               "and indices",
-                            in->mesh, me->name ? me->name : "", !me->positions ? "positions"
-                                                                : !me->normals ? "normals"
-                                                                               : "indices");
+            return lg_error(n,
+                            "mesh %u '%s' has no %s: the bake needs positions, normals "
+                            "and indices",
+                            in->mesh, me->name ? me->name : "",
+                            !me->positions ? "positions"
+                            : !me->normals ? "normals"
+                                           : "indices");
         w->inst_mesh_store[i] = in->mesh;
         w->inst_pos[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
         w->inst_nrm[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
@@ -228,8 +233,9 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
             pb_xform_normal(in->normal_matrix, me->normals + 3 * (size_t)v, q);
             for (int c = 0; c < 3; c++) {
                 if (!isfinite(p[c]) || !isfinite(q[c]))
-                    return lg_error(n, "mesh %u '%s' vertex %u (instance %u): its %s is not "
-                                       "finite",
+                    return lg_error(n,
+                                    "mesh %u '%s' vertex %u (instance %u): its %s is not "
+                                    "finite",
                                     in->mesh, me->name ? me->name : "", v, i,
                                     isfinite(p[c]) ? "normal" : "position");
                 w->inst_pos[i][3 * (size_t)v + c] = (float)p[c];
@@ -258,8 +264,8 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
         float id[16], idn[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
         lg_m4_identity(id);
         if (me->n_vertices && (!me->positions || !me->normals))
-            return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions and normals",
-                            m, me->name ? me->name : "", !me->positions ? "positions" : "normals");
+            return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions and normals", m,
+                            me->name ? me->name : "", !me->positions ? "positions" : "normals");
         float rho[3];
         int arc = pb_mesh_albedo(n, s, m, albedo_param, rho);
         if (arc)
@@ -270,9 +276,11 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
             pb_xform_normal(first ? first->normal_matrix : idn, me->normals + 3 * (size_t)v,
                             w->nrm + 3 * (size_t)off);
             for (int c = 0; c < 3; c++) {
-                if (!isfinite(w->pos[3 * (size_t)off + c]) || !isfinite(w->nrm[3 * (size_t)off + c]))
-                    return lg_error(n, "mesh %u '%s' vertex %u: its position or normal is not "
-                                       "finite",
+                if (!isfinite(w->pos[3 * (size_t)off + c]) ||
+                    !isfinite(w->nrm[3 * (size_t)off + c]))
+                    return lg_error(n,
+                                    "mesh %u '%s' vertex %u: its position or normal is not "
+                                    "finite",
                                     m, me->name ? me->name : "", v);
                 w->albedo[3 * (size_t)off + c] = rho[c];
             }
@@ -312,18 +320,18 @@ static double pb_offset(const pb_world *w, const double *p)
     return ldexp(w->extent, -16) + PB_ULPS * m * (double)FLT_EPSILON;
 }
 
-/* ---- visibility ---------------------------------------------------------------------------- */
+/* ---- visibility ------------------------------------------------------------------------------ */
 
 typedef struct pb_hit {
     uint32_t inst, prim;
-    float u, v;  /* Embree's barycentrics: p = (1-u-v) v0 + u v1 + v v2 */
-    float cosw;  /* max(N.w, 0) of the ray from the vertex */
+    float u, v; /* Embree's barycentrics: p = (1-u-v) v0 + u v1 + v v2 */
+    float cosw; /* max(N.w, 0) of the ray from the vertex */
 } pb_hit;
 
 typedef struct pb_vis {
-    int kind;               /* PB_EMBREE or PB_BRUTE */
-    RTCScene scene;         /* embree: e.scene */
-    lg_embree e;            /* the Embree scene (plugins/embree_common) */
+    int kind;       /* PB_EMBREE or PB_BRUTE */
+    RTCScene scene; /* embree: e.scene */
+    lg_embree e;    /* the Embree scene (plugins/embree_common) */
     const pb_world *w;
 } pb_vis;
 
@@ -347,8 +355,9 @@ static int pb_vis_make(lg_node *n, const pb_world *w, int kind, pb_vis *v)
     if (rc)
         return rc;
     v->scene = v->e.scene;
-    lg_log(n, LG_LOG_DEBUG, "Embree scene: %u instances, %llu triangles, about %.1f MiB of "
-                            "geometry buffers plus its BVH",
+    lg_log(n, LG_LOG_DEBUG,
+           "Embree scene: %u instances, %llu triangles, about %.1f MiB of "
+           "geometry buffers plus its BVH",
            w->n_inst, (unsigned long long)w->n_triangles, (double)v->e.bytes / 1048576.0);
     return 0;
 }
@@ -388,16 +397,21 @@ static double pb_mt(const double o[3], const double d[3], const float *a, const 
 
 /* The first hit along the ray (o, d), or false. With any_hit, stops at the first blocker
  * found (occlusion only; *h untouched). */
-static bool pb_trace(const pb_vis *v, const double o[3], const double d[3], bool any_hit,
-                     pb_hit *h)
+static bool pb_trace(const pb_vis *v, const double o[3], const double d[3], bool any_hit, pb_hit *h)
 {
     if (v->kind == PB_EMBREE) {
         struct RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         if (any_hit) {
-            struct RTCRay r = { .org_x = (float)o[0], .org_y = (float)o[1], .org_z = (float)o[2],
-                                .tnear = 0.0f, .dir_x = (float)d[0], .dir_y = (float)d[1],
-                                .dir_z = (float)d[2], .tfar = INFINITY, .mask = ~0u };
+            struct RTCRay r = { .org_x = (float)o[0],
+                                .org_y = (float)o[1],
+                                .org_z = (float)o[2],
+                                .tnear = 0.0f,
+                                .dir_x = (float)d[0],
+                                .dir_y = (float)d[1],
+                                .dir_z = (float)d[2],
+                                .tfar = INFINITY,
+                                .mask = ~0u };
             rtcOccluded1(v->scene, &ctx, &r);
             return r.tfar < 0.0f; /* -inf when occluded */
         }
@@ -427,7 +441,8 @@ static bool pb_trace(const pb_vis *v, const double o[3], const double d[3], bool
         const float *P = w->inst_pos[i];
         for (uint32_t t = 0; t + 2 < me->n_indices; t += 3) {
             double bu, bv;
-            double d_ = pb_mt(o, d, P + 3 * (size_t)me->indices[t], P + 3 * (size_t)me->indices[t + 1],
+            double d_ = pb_mt(o, d, P + 3 * (size_t)me->indices[t],
+                              P + 3 * (size_t)me->indices[t + 1],
                               P + 3 * (size_t)me->indices[t + 2], &bu, &bv);
             if (d_ > 0 && d_ < best) {
                 if (any_hit)
@@ -456,7 +471,7 @@ static void pb_hit_normal(const pb_world *w, const pb_hit *h, double out[3])
                  b[2] * N[3 * (size_t)ix[2] + c];
 }
 
-/* ---- node state ----------------------------------------------------------------------------- */
+/* ---- node state ------------------------------------------------------------------------------ */
 
 typedef struct pb_params {
     int mode, sampler, visibility;
@@ -471,8 +486,8 @@ typedef struct pb_params {
 
 typedef struct pb_state {
     pb_params p;
-    bool reference;     /* prt_reference */
-    uint32_t vertices;  /* declared in prepare */
+    bool reference;    /* prt_reference */
+    uint32_t vertices; /* declared in prepare */
     /* prepare() looks the result up in the cache, so that the work it declares is 0 for a
      * hit: the entry's floats (freed once copied out, or in destroy) and bounces */
     bool cache_probed;
@@ -496,8 +511,9 @@ static int pb_read_params(lg_node *n, pb_state *st)
         for (int c = 0; c < 3; c++) {
             p->albedo[c] = a->v[c];
             if (!(a->v[c] >= 0.0 && a->v[c] <= 1.0))
-                return lg_error(n, "albedo = [%g, %g, %g]: every channel must be in [0, 1] "
-                                   "(above 1 a surface makes energy)",
+                return lg_error(n,
+                                "albedo = [%g, %g, %g]: every channel must be in [0, 1] "
+                                "(above 1 a surface makes energy)",
                                 a->v[0], a->v[1], a->v[2]);
         }
     if (st->reference) {
@@ -523,8 +539,9 @@ static int pb_read_params(lg_node *n, pb_state *st)
     /* the direction table: T n^2 floats */
     double table = (double)p->samples * p->samples * p->bands * p->bands * sizeof(float);
     if (table > 4.0 * 1073741824.0)
-        return lg_error(n, "samples = %u with bands = %u: the table of SH values at the %u^2 "
-                           "directions would take %.1f GiB; lower one of them",
+        return lg_error(n,
+                        "samples = %u with bands = %u: the table of SH values at the %u^2 "
+                        "directions would take %.1f GiB; lower one of them",
                         p->samples, p->bands, p->samples, table / 1073741824.0);
     return 0;
 }
@@ -537,8 +554,14 @@ static int pb_create(lg_node *n, bool reference)
     st->reference = reference;
     return 0;
 }
-static int pb_create_bake(lg_node *n) { return pb_create(n, false); }
-static int pb_create_ref(lg_node *n) { return pb_create(n, true); }
+static int pb_create_bake(lg_node *n)
+{
+    return pb_create(n, false);
+}
+static int pb_create_ref(lg_node *n)
+{
+    return pb_create(n, true);
+}
 
 static void pb_destroy(lg_node *n)
 {
@@ -590,9 +613,8 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
                              "and the bake then needs %s (%.0f bytes), more than the %s "
                              "(%llu bytes) of %s; lower hit_memory_mib below %.0f, or to 0 "
                              "(every bounce casts its rays again: the same result, slower)",
-                             p->hit_mib, hits_s, nv, floor(T / 2) + 1, sizeof(pb_hit), need_s,
-                             need, have_s, (unsigned long long)avail, bound,
-                             hits / 1048576.0);
+                             p->hit_mib, hits_s, nv, floor(T / 2) + 1, sizeof(pb_hit), need_s, need,
+                             have_s, (unsigned long long)avail, bound, hits / 1048576.0);
     return lg_error_code(n, LG_ERR_NOMEM,
                          "samples = %u with bands = %u: the bake needs %s (%.0f bytes: the "
                          "table of %.0f directions, %u vertices%s), more than the %s (%llu "
@@ -683,17 +705,16 @@ static void pb_declare_estimate(lg_node *n, pb_state *st, const lg_scene *s)
 
 typedef struct pb_bounds pb_bounds;
 typedef double (*pb_scale_fn)(const void *ctx, uint32_t bounces);
-static bool pb_cache_values_ok(lg_node *n, const char *key, pb_bounds *bounds,
-                               pb_scale_fn scale, const void *scale_ctx, const float *f,
-                               uint64_t floats, uint32_t bounces);
+static bool pb_cache_values_ok(lg_node *n, const char *key, pb_bounds *bounds, pb_scale_fn scale,
+                               const void *scale_ctx, const float *f, uint64_t floats,
+                               uint32_t bounces);
 
 /* The cache entry prepare() found, copied into `out` (then freed), or a lookup now when
  * prepare did not look; then every value held to `bounds` (pb_cache_values_ok): an entry
  * that fails is rejected (lg_cache_reject) and this returns false. */
-static bool pb_cache_take(lg_node *n, pb_state *st, const char *key,
-                          const pb_cache_header *want, uint32_t max_bounces, pb_bounds *bounds,
-                          pb_scale_fn scale, const void *scale_ctx, float *out,
-                          uint32_t *bounces)
+static bool pb_cache_take(lg_node *n, pb_state *st, const char *key, const pb_cache_header *want,
+                          uint32_t max_bounces, pb_bounds *bounds, pb_scale_fn scale,
+                          const void *scale_ctx, float *out, uint32_t *bounces)
 {
     bool hit = false;
     if (st->cached) {
@@ -705,8 +726,7 @@ static bool pb_cache_take(lg_node *n, pb_state *st, const char *key,
     } else if (!st->cache_probed) {
         hit = pb_cache_load(n, key, want, max_bounces, out, bounces);
     }
-    return hit && pb_cache_values_ok(n, key, bounds, scale, scale_ctx, out, want->floats,
-                                     *bounces);
+    return hit && pb_cache_values_ok(n, key, bounds, scale, scale_ctx, out, want->floats, *bounces);
 }
 
 static int pb_prepare(lg_node *n)
@@ -725,8 +745,7 @@ static int pb_prepare(lg_node *n)
         return lg_error(n, "input 'scene' (%s) has no vertices: nothing to bake",
                         s->source ? s->source : "?");
     if (nv > UINT32_MAX / 2)
-        return lg_error(n, "input 'scene' has %llu vertices: too many",
-                        (unsigned long long)nv);
+        return lg_error(n, "input 'scene' has %llu vertices: too many", (unsigned long long)nv);
     st->vertices = (uint32_t)nv;
     if (!st->reference && (rc = pb_check_memory(n, &st->p, st->vertices)))
         return rc;
@@ -747,24 +766,24 @@ static int pb_prepare(lg_node *n)
     return lg_set_device(n, LG_DEVICE_CPU);
 }
 
-/* ---- the bake --------------------------------------------------------------------------------- */
+/* ---- the bake -------------------------------------------------------------------------------- */
 
 typedef struct pb_bake {
     const pb_params *p;
     const pb_world *w;
     const pb_vis *vis;
     uint32_t n2, T;
-    const double *dirs;   /* 3 per direction */
-    const float *Y;       /* n2 per direction */
-    float *out;           /* [vertex][3][n2] */
+    const double *dirs; /* 3 per direction */
+    const float *Y;     /* n2 per direction */
+    float *out;         /* [vertex][3][n2] */
     /* interreflection */
-    bool keep;            /* interreflected: hits kept (else every bounce casts again) */
-    pb_hit **hits;        /* per vertex: its front-face hits (malloc'd), or NULL */
+    bool keep;     /* interreflected: hits kept (else every bounce casts again) */
+    pb_hit **hits; /* per vertex: its front-face hits (malloc'd), or NULL */
     uint32_t *n_hits;
-    const float *prev;    /* the previous bounce's increment */
-    float *next;          /* this bounce's increment */
-    int *failed;          /* per chunk: 1 = out of memory */
-    uint64_t *rays;       /* per chunk: rays cast */
+    const float *prev; /* the previous bounce's increment */
+    float *next;       /* this bounce's increment */
+    int *failed;       /* per chunk: 1 = out of memory */
+    uint64_t *rays;    /* per chunk: rays cast */
 } pb_bake;
 
 /* Shadowed with Embree: the vertex's rays (N.w > 0) in packets of 16 through
@@ -968,8 +987,7 @@ static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chu
 /* bench = true: the bake's rays again, with nothing but the occlusion query (b->p->mode
  * decides nothing here). rays[chunk] counts the rays, failed[chunk] the blocked ones (kept
  * so that the loop is not optimised away). packet: 16 rays per rtcOccluded16 call. */
-static void pb_raw_vertices_impl(pb_bake *b, size_t begin, size_t end, uint32_t chunk,
-                                 bool packet)
+static void pb_raw_vertices_impl(pb_bake *b, size_t begin, size_t end, uint32_t chunk, bool packet)
 {
     const pb_world *w = b->w;
     struct RTCIntersectContext ctx;
@@ -990,10 +1008,15 @@ static void pb_raw_vertices_impl(pb_bake *b, size_t begin, size_t end, uint32_t 
                 continue;
             rays++;
             if (!packet) {
-                struct RTCRay r = { .org_x = (float)o[0], .org_y = (float)o[1],
-                                    .org_z = (float)o[2], .tnear = 0.0f, .dir_x = (float)d[0],
-                                    .dir_y = (float)d[1], .dir_z = (float)d[2],
-                                    .tfar = INFINITY, .mask = ~0u };
+                struct RTCRay r = { .org_x = (float)o[0],
+                                    .org_y = (float)o[1],
+                                    .org_z = (float)o[2],
+                                    .tnear = 0.0f,
+                                    .dir_x = (float)d[0],
+                                    .dir_y = (float)d[1],
+                                    .dir_z = (float)d[2],
+                                    .tfar = INFINITY,
+                                    .mask = ~0u };
                 rtcOccluded1(b->vis->scene, &ctx, &r);
                 blocked += r.tfar < 0.0f;
                 continue;
@@ -1034,7 +1057,10 @@ static void pb_raw16(void *ctx, size_t begin, size_t end, uint32_t chunk)
  * pool's chunks must not call the host). Chunk c of the whole range is [c PB_GRAIN,
  * (c + 1) PB_GRAIN): the slot arrays (failed, rays) have pb_chunks(nv) entries. */
 #define PB_GRAIN 16u
-static size_t pb_chunks(uint32_t nv) { return lg_parallel_chunks(nv, PB_GRAIN); }
+static size_t pb_chunks(uint32_t nv)
+{
+    return lg_parallel_chunks(nv, PB_GRAIN);
+}
 
 typedef struct pb_tramp {
     void (*fn)(void *, size_t, size_t, uint32_t);
@@ -1048,8 +1074,8 @@ static void pb_tramp_fn(void *ctx, size_t begin, size_t end, uint32_t chunk)
     t->fn(t->ctx, t->base + begin, t->base + end, (uint32_t)(t->base / PB_GRAIN) + chunk);
 }
 
-static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, uint32_t),
-                  void *ctx, const char *what, double f0, double f1)
+static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, uint32_t), void *ctx,
+                  const char *what, double f0, double f1)
 {
     size_t per = ((size_t)nv + 31) / 32;
     per = (per + PB_GRAIN - 1) / PB_GRAIN * PB_GRAIN;
@@ -1086,11 +1112,11 @@ static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, ui
  * texels). Both get a relative slack of 1e-3 for float rounding. */
 #define PB_BOUND_SLACK 1.001
 typedef struct pb_bounds {
-    bool reference;      /* prt_reference's rgba per vertex, else the bake's [v][3][n2] */
-    uint32_t n2;         /* bake: coefficients per channel */
-    const float *rho;    /* 3 per vertex: the albedo */
-    double scale;        /* bake: W sum (rho_max W)^i; reference: 2 / sqrt(3) */
-    double lmax[3];      /* reference: the probe's largest texel per channel */
+    bool reference;   /* prt_reference's rgba per vertex, else the bake's [v][3][n2] */
+    uint32_t n2;      /* bake: coefficients per channel */
+    const float *rho; /* 3 per vertex: the albedo */
+    double scale;     /* bake: W sum (rho_max W)^i; reference: 2 / sqrt(3) */
+    double lmax[3];   /* reference: the probe's largest texel per channel */
 } pb_bounds;
 
 /* The largest |value| float i can hold (bake: symmetric; reference: [0, hi], alpha 1). */
@@ -1157,7 +1183,8 @@ static double pb_bake_scale(const pb_params *p, const float *rho, uint32_t nv, u
     double lam = 0;
     for (int r = 0; r < 3; r++)
         lam = fmax(lam, fabs(A[r][0]) + fabs(A[r][1]) + fabs(A[r][2]));
-    double W = 2.0 / T * (sqrt(T * lam) + sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]));
+    double W = 2.0 / T *
+               (sqrt(T * lam) + sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]));
     double rmax = 0;
     for (size_t i = 0; i < 3 * (size_t)nv; i++)
         rmax = fmax(rmax, rho[i]);
@@ -1222,9 +1249,9 @@ static bool pb_cache_load(lg_node *n, const char *key, const pb_cache_header *wa
  * node can have made (`bounds`, its scale from scale(scale_ctx, bounces) when given). The
  * first that is not is handed back with lg_cache_reject (one warning naming it, the file
  * removed, as the host does for a corrupt entry): false. */
-static bool pb_cache_values_ok(lg_node *n, const char *key, pb_bounds *bounds,
-                               pb_scale_fn scale, const void *scale_ctx, const float *f,
-                               uint64_t floats, uint32_t bounces)
+static bool pb_cache_values_ok(lg_node *n, const char *key, pb_bounds *bounds, pb_scale_fn scale,
+                               const void *scale_ctx, const float *f, uint64_t floats,
+                               uint32_t bounces)
 {
     if (scale)
         bounds->scale = scale(scale_ctx, bounces);
@@ -1262,16 +1289,14 @@ static const char *pb_cache_store(lg_node *n, const char *key, const pb_cache_he
     int r = lg_cache_store(n, key, blob, total);
     free(blob);
     switch (r) {
-    case LG_CACHE_STORED:
-        return "cached";
+    case LG_CACHE_STORED: return "cached";
     case LG_CACHE_OFF:
         return "not cached: the cache is disabled for this render (the warning above says why)";
     case LG_CACHE_NOT_STORED:
         return "not cached: the host could not store it (its warning above says why)";
     case LG_CACHE_UNKNOWN:
         return "handed to the cache (this host does not say whether it stored it)";
-    default:
-        return "not cached: the host refused the entry (its error above says why)";
+    default: return "not cached: the host refused the entry (its error above says why)";
     }
 }
 
@@ -1293,12 +1318,18 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     float *out = view.pixels;
     size_t floats = (size_t)nv * 3 * n2;
 
-    pb_cache_header want = { .magic = "lgprtb1", .version = PB_CACHE_VERSION,
-                             .bands = p->bands, .vertices = nv, .mode = (uint32_t)p->mode + 1,
-                             .samples = p->samples, .floats = floats };
+    pb_cache_header want = { .magic = "lgprtb1",
+                             .version = PB_CACHE_VERSION,
+                             .bands = p->bands,
+                             .vertices = nv,
+                             .mode = (uint32_t)p->mode + 1,
+                             .samples = p->samples,
+                             .floats = floats };
     char key[96];
     snprintf(key, sizeof key, "transfer-m%d-b%u-s%u-v%u", p->mode, p->bands, p->samples, nv);
-    lg_transfer_info info = { .struct_size = sizeof info, .bands = p->bands, .vertices = nv,
+    lg_transfer_info info = { .struct_size = sizeof info,
+                              .bands = p->bands,
+                              .vertices = nv,
                               .mode = (lg_transfer_mode)(p->mode + 1) };
     uint32_t bounces = 0;
     float *rho = pb_vertex_albedo(n, s, p, nv);
@@ -1311,8 +1342,8 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     free(rho);
     if (hit) {
         info.bounces = bounces;
-        lg_log(n, LG_LOG_INFO, "transfer loaded from the cache (%u vertices, %u bands, %s)",
-               nv, p->bands, pb_modes[p->mode]);
+        lg_log(n, LG_LOG_INFO, "transfer loaded from the cache (%u vertices, %u bands, %s)", nv,
+               p->bands, pb_modes[p->mode]);
         return lg_transfer_publish(n, 0, &info);
     }
 
@@ -1335,9 +1366,10 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
             goto done;
         double tests = (double)w.n_triangles * nv * T * 0.5;
         if (p->visibility == PB_BRUTE && tests > PB_BRUTE_WARN)
-            lg_log(n, LG_LOG_WARN, "visibility = brute: about %.2g ray-triangle tests (%u "
-                                   "vertices, %llu triangles, %u directions); it is there for "
-                                   "comparison only, use visibility = embree",
+            lg_log(n, LG_LOG_WARN,
+                   "visibility = brute: about %.2g ray-triangle tests (%u "
+                   "vertices, %llu triangles, %u directions); it is there for "
+                   "comparison only, use visibility = embree",
                    tests, nv, (unsigned long long)w.n_triangles, T);
     }
     /* one global set of directions and their SH values, tabulated once (seed 0 §5.6) */
@@ -1347,8 +1379,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     failed = calloc(nc, sizeof *failed);
     rays = calloc(nc, sizeof *rays);
     if (!dirs || !Y || !failed || !rays) {
-        rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (the direction table: %u directions x "
-                                            "%u coefficients, %.1f MiB)",
+        rc = lg_error_code(n, LG_ERR_NOMEM,
+                           "out of memory (the direction table: %u directions x "
+                           "%u coefficients, %.1f MiB)",
                            T, n2, (double)T * (n2 * 4 + 24) / 1048576.0);
         goto done;
     }
@@ -1370,23 +1403,33 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     }
     lg_log(n, LG_LOG_DEBUG, "direction table: %.1f MiB; transfer %.1f MiB",
            (double)T * (n2 * 4 + 24) / 1048576.0, (double)floats * 4 / 1048576.0);
-    b = (pb_bake){ .p = p, .w = &w, .vis = &vis, .n2 = n2, .T = T, .dirs = dirs, .Y = Y,
-                   .out = out, .failed = failed, .rays = rays };
+    b = (pb_bake){ .p = p,
+                   .w = &w,
+                   .vis = &vis,
+                   .n2 = n2,
+                   .T = T,
+                   .dirs = dirs,
+                   .Y = Y,
+                   .out = out,
+                   .failed = failed,
+                   .rays = rays };
     /* interreflected: keep the shadowed pass's hits when their bound (every ray a hit, 20
      * bytes each) fits hit_memory_mib; else every bounce casts its rays again */
     double hit_bound = (double)nv * (T / 2 + 1) * sizeof(pb_hit);
     b.keep = p->mode == PB_INTERREFLECTED && hit_bound <= (double)p->hit_mib * 1048576.0;
     if (p->mode == PB_INTERREFLECTED)
-        lg_log(n, LG_LOG_DEBUG, "interreflections: hits %s (at most %.1f MiB; hit_memory_mib "
-                                "= %u)",
-               b.keep ? "kept for the bounces" : "cast again every bounce",
-               hit_bound / 1048576.0, p->hit_mib);
+        lg_log(n, LG_LOG_DEBUG,
+               "interreflections: hits %s (at most %.1f MiB; hit_memory_mib "
+               "= %u)",
+               b.keep ? "kept for the bounces" : "cast again every bounce", hit_bound / 1048576.0,
+               p->hit_mib);
     if (b.keep) {
         b.hits = calloc(nv, sizeof *b.hits);
         b.n_hits = calloc(nv, sizeof *b.n_hits);
         if (!b.hits || !b.n_hits) {
-            rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (hit lists of %u vertices, %.1f "
-                                                "MiB)",
+            rc = lg_error_code(n, LG_ERR_NOMEM,
+                               "out of memory (hit lists of %u vertices, %.1f "
+                               "MiB)",
                                nv, (double)nv * (sizeof *b.hits + sizeof *b.n_hits) / 1048576.0);
             goto done;
         }
@@ -1400,13 +1443,15 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     for (size_t c = 0; c < nc; c++) {
         if (failed[c]) {
             if (b.keep)
-                rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory while baking (vertices "
+                rc = lg_error_code(n, LG_ERR_NOMEM,
+                                   "out of memory while baking (vertices "
                                    "%zu..): keeping their ray hits, up to %.1f MiB per vertex "
                                    "(hit_memory_mib = %u; 0 keeps none)",
                                    c * PB_GRAIN, (double)(T / 2 + 1) * sizeof(pb_hit) / 1048576.0,
                                    p->hit_mib);
             else
-                rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory while baking (vertices "
+                rc = lg_error_code(n, LG_ERR_NOMEM,
+                                   "out of memory while baking (vertices "
                                    "%zu..: %u coefficients of accumulator per vertex)",
                                    c * PB_GRAIN, n2);
             goto done;
@@ -1463,8 +1508,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
             }
         }
         info.bounces = k <= p->bounces ? k : p->bounces;
-        lg_log(n, LG_LOG_INFO, "interreflections: %u bounces in %.3f s, stopped by %s "
-                               "(bounce_threshold %g)",
+        lg_log(n, LG_LOG_INFO,
+               "interreflections: %u bounces in %.3f s, stopped by %s "
+               "(bounce_threshold %g)",
                info.bounces, lg_now(n) - t1, why, p->threshold);
     }
     double secs = lg_now(n) - t0;
@@ -1483,17 +1529,19 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
             rate[q] = dt > 0 ? r / dt : 0.0;
         }
         double bake_rate = t1 > tp ? total_rays / (t1 - tp) : 0.0;
-        lg_log(n, LG_LOG_INFO, "bench: bake (rtcOccluded16) %.4g rays/s, bare rtcOccluded1 %.4g rays/s, "
-                               "rtcOccluded16 %.4g rays/s (same %llu rays, %u threads): the "
-                               "bake at %.0f%% of rtcOccluded1",
+        lg_log(n, LG_LOG_INFO,
+               "bench: bake (rtcOccluded16) %.4g rays/s, bare rtcOccluded1 %.4g rays/s, "
+               "rtcOccluded16 %.4g rays/s (same %llu rays, %u threads): the "
+               "bake at %.0f%% of rtcOccluded1",
                bake_rate, rate[0], rate[1], (unsigned long long)total_rays, lg_cpu_workers(n),
                rate[0] > 0 ? 100.0 * bake_rate / rate[0] : 0.0);
     }
     want.bounces = info.bounces;
     const char *stored = pb_cache_store(n, key, &want, out);
-    lg_log(n, LG_LOG_INFO, "transfer baked in %.3f s (%u vertices, %u bands, %s, %u directions, "
-                           "%s visibility, %llu rays, %.3g rays/s in the visibility pass of %.3f s, "
-                           "%u threads); %s",
+    lg_log(n, LG_LOG_INFO,
+           "transfer baked in %.3f s (%u vertices, %u bands, %s, %u directions, "
+           "%s visibility, %llu rays, %.3g rays/s in the visibility pass of %.3f s, "
+           "%u threads); %s",
            secs, nv, p->bands, pb_modes[p->mode], T, pb_visibilities[p->visibility],
            (unsigned long long)total_rays, t1 > tp ? total_rays / (t1 - tp) : 0.0, t1 - tp,
            lg_cpu_workers(n), stored);
@@ -1515,16 +1563,16 @@ done:
     return rc;
 }
 
-/* ---- the reference ----------------------------------------------------------------------------- */
+/* ---- the reference --------------------------------------------------------------------------- */
 
 typedef struct pb_ref {
     const pb_params *p;
     const pb_world *w;
     const pb_vis *vis;
-    uint32_t n_tex;        /* 6 R^2 */
-    const float *dirs;     /* 3 per texel (world) */
-    const float *L;        /* 3 per texel: radiance x solid angle */
-    float *out;            /* rgba per vertex */
+    uint32_t n_tex;    /* 6 R^2 */
+    const float *dirs; /* 3 per texel (world) */
+    const float *L;    /* 3 per texel: radiance x solid angle */
+    float *out;        /* rgba per vertex */
 } pb_ref;
 
 static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
@@ -1592,8 +1640,8 @@ static float *pb_ref_clean(const float *px, size_t texels, uint64_t *bad, size_t
 
 /* Says the probe's non-finite texels once per node (the words of lg_warn_nonfinite, as
  * `image`, ibl and the volumetric nodes say theirs), with where the first one is. */
-static void pb_ref_say_nonfinite(lg_node *n, pb_state *st, const lg_probe *probe,
-                                 uint64_t bad, size_t first)
+static void pb_ref_say_nonfinite(lg_node *n, pb_state *st, const lg_probe *probe, uint64_t bad,
+                                 size_t first)
 {
     if (!bad || st->reported_nonfinite)
         return;
@@ -1642,8 +1690,12 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
     float *out = ov.pixels;
     memset(out, 0, (size_t)W * H * 4 * sizeof(float));
 
-    pb_cache_header want = { .magic = "lgprtr1", .version = PB_CACHE_VERSION, .bands = 0,
-                             .vertices = nv, .mode = (uint32_t)p->mode + 1, .samples = R,
+    pb_cache_header want = { .magic = "lgprtr1",
+                             .version = PB_CACHE_VERSION,
+                             .bands = 0,
+                             .vertices = nv,
+                             .mode = (uint32_t)p->mode + 1,
+                             .samples = R,
                              .floats = (uint64_t)nv * 4 };
     char key[96];
     snprintf(key, sizeof key, "reference-m%d-r%u-v%u", p->mode, R, nv);
@@ -1669,7 +1721,8 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
         free(rho);
         return lg_error_code(n, LG_ERR_NOMEM,
                              "out of memory (a copy of the probe's %zu texels without its NaN "
-                             "and Inf)", texels);
+                             "and Inf)",
+                             texels);
     }
     pb_ref_say_nonfinite(n, st, probe, bad, first);
     const float *px = clean ? clean : prv.pixels;
@@ -1701,8 +1754,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
         goto done;
     }
     /* resampled with the probe's rotation baked in: texel directions are world directions */
-    lg_probe_image src = lg_probe_image_at(probe->info.layout, rd, px, 0,
-                                           probe->info.rotation);
+    lg_probe_image src = lg_probe_image_at(probe->info.layout, rd, px, 0, probe->info.rotation);
     rc = lg_probe_resample_pool(n, &src, LG_PROBE_CUBE, R, R, NULL, NULL, cube, NULL);
     if (rc) {
         rc = lg_error_code(n, rc, "resampling the probe to a cube of face %u failed", R);
@@ -1731,15 +1783,17 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
         if (rc)
             goto done;
     }
-    pb_ref r = { .p = p, .w = &w, .vis = &vis, .n_tex = (uint32_t)n_tex, .dirs = dirs, .L = L,
-                 .out = out };
+    pb_ref r = {
+        .p = p, .w = &w, .vis = &vis, .n_tex = (uint32_t)n_tex, .dirs = dirs, .L = L, .out = out
+    };
     rc = pb_run(n, nv, pb_ref_vertices, &r, "reference", 0.0, 1.0);
     if (rc)
         goto done;
     double secs_ref = lg_now(n) - t0;
     const char *stored = pb_cache_store(n, key, &want, out);
-    lg_log(n, LG_LOG_INFO, "reference computed in %.3f s (%u vertices, %s, cube %u: %zu "
-                           "texels); %s",
+    lg_log(n, LG_LOG_INFO,
+           "reference computed in %.3f s (%u vertices, %s, cube %u: %zu "
+           "texels); %s",
            secs_ref, nv, pb_modes[p->mode], R, n_tex, stored);
 done:
     free(clean);
@@ -1761,43 +1815,79 @@ static int pb_execute(lg_node *n, const lg_frame *frame)
     return st->reference ? pb_ref_execute(n, st) : pb_bake_execute(n, st);
 }
 
-/* ---- the node types -------------------------------------------------------------------------------- */
+/* ---- the node types -------------------------------------------------------------------------- */
 
-#define PB_ALBEDO_PARAM                                                                       \
-    { .key = "albedo", .type = LG_PARAM_COLOR, .def.e = 0, .min = 0, .max = 1,                 \
-      .enum_values = pb_albedo_words,                                                         \
-      .doc = "material (the glTF base colour's RGB of each mesh's material) or [r, g, b] "    \
-             "in [0, 1] for every surface: folded into the result" }
+#define PB_ALBEDO_PARAM                                                                            \
+    {                                                                                              \
+        .key = "albedo", .type = LG_PARAM_COLOR, .def.e = 0, .min = 0, .max = 1,                   \
+        .enum_values = pb_albedo_words,                                                            \
+        .doc = "material (the glTF base colour's RGB of each mesh's material) or [r, g, b] "       \
+               "in [0, 1] for every surface: folded into the result"                               \
+    }
 
 static const lg_param_desc pb_bake_params[] = {
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = PB_SHADOWED, .enum_values = pb_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = PB_SHADOWED,
+      .enum_values = pb_modes,
       .doc = "unshadowed (cosine only), shadowed (visibility by rays), interreflected "
              "(shadowed plus bounces)" },
-    { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = LG_SH_MAX_BANDS,
+    { .key = "bands",
+      .type = LG_PARAM_INT,
+      .def.i = 3,
+      .min = 1,
+      .max = LG_SH_MAX_BANDS,
       .doc = "SH bands n (n^2 coefficients per channel); the bake's cost is rays + "
              "T n^2 multiply-adds per vertex, its memory 12 n^2 bytes per vertex" },
-    { .key = "sampler", .type = LG_PARAM_ENUM, .def.e = LG_SAMPLER_SOBOL,
-      .enum_values = pb_samplers, .doc = "how the directions are drawn (lightgraph/sampling.h)" },
-    { .key = "samples", .type = LG_PARAM_INT, .def.i = 32, .min = 1, .max = 2048,
+    { .key = "sampler",
+      .type = LG_PARAM_ENUM,
+      .def.e = LG_SAMPLER_SOBOL,
+      .enum_values = pb_samplers,
+      .doc = "how the directions are drawn (lightgraph/sampling.h)" },
+    { .key = "samples",
+      .type = LG_PARAM_INT,
+      .def.i = 32,
+      .min = 1,
+      .max = 2048,
       .doc = "N: N^2 directions over the sphere (about half of them cast rays)" },
-    { .key = "seed", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 0x7fffffff,
+    { .key = "seed",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 0x7fffffff,
       .doc = "the point set's seed (jittered: the jitter; hammersley, sobol: a digital shift)" },
     PB_ALBEDO_PARAM,
-    { .key = "visibility", .type = LG_PARAM_ENUM, .def.e = PB_EMBREE,
+    { .key = "visibility",
+      .type = LG_PARAM_ENUM,
+      .def.e = PB_EMBREE,
       .enum_values = pb_visibilities,
       .doc = "embree (BVH occlusion rays) or brute (the seed's test of every triangle for "
              "every ray: for comparison only, it warns above about 2e10 tests)" },
-    { .key = "bounces", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64,
+    { .key = "bounces",
+      .type = LG_PARAM_INT,
+      .def.i = 3,
+      .min = 1,
+      .max = 64,
       .doc = "interreflected: at most this many bounces" },
-    { .key = "hit_memory_mib", .type = LG_PARAM_INT, .def.i = 2048, .min = 0, .max = 1 << 20,
+    { .key = "hit_memory_mib",
+      .type = LG_PARAM_INT,
+      .def.i = 2048,
+      .min = 0,
+      .max = 1 << 20,
       .doc = "interreflected: the shadowed pass's ray hits (20 bytes each) are kept for the "
              "bounces when at most this many MiB could be needed (vertices x directions / 2); "
              "else, or with 0, every bounce casts its rays again (same result, slower)" },
-    { .key = "bench", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "bench",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "after the bake, time bare Embree occlusion queries on the same rays "
              "(rtcOccluded1, and rtcOccluded16 packets) and log rays/s; for "
              "tools/bench_prt_bake.py" },
-    { .key = "bounce_threshold", .type = LG_PARAM_FLOAT, .def.f = 1e-3, .min = 0, .max = 1,
+    { .key = "bounce_threshold",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1e-3,
+      .min = 0,
+      .max = 1,
       .doc = "interreflected: stop once a bounce adds less than this fraction of the direct "
              "transfer's energy (sum over vertices and channels of |t_0|)" },
 };
@@ -1805,9 +1895,16 @@ static const lg_param_desc pb_bake_params[] = {
 static const char *const pb_ref_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
 
 static const lg_param_desc pb_ref_params[] = {
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = PB_SHADOWED, .enum_values = pb_ref_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = PB_SHADOWED,
+      .enum_values = pb_ref_modes,
       .doc = "unshadowed or shadowed (interreflected is refused)" },
-    { .key = "resolution", .type = LG_PARAM_INT, .def.i = 64, .min = 4, .max = 512,
+    { .key = "resolution",
+      .type = LG_PARAM_INT,
+      .def.i = 64,
+      .min = 4,
+      .max = 512,
       .doc = "face size of the cube the probe is resampled to (integral-preserving): "
              "6 R^2 directions per vertex" },
     PB_ALBEDO_PARAM,
@@ -1817,7 +1914,8 @@ static const lg_port_desc pb_bake_in[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene (every instance occludes)" },
 };
 static const lg_port_desc pb_bake_out[] = {
-    { .name = "out", .kind = LG_KIND_TRANSFER,
+    { .name = "out",
+      .kind = LG_KIND_TRANSFER,
       .doc = "per-vertex transfer (lightgraph/transfer.h), the albedo folded in" },
 };
 static const lg_port_desc pb_ref_in[] = {
@@ -1825,7 +1923,8 @@ static const lg_port_desc pb_ref_in[] = {
     { .name = "probe", .kind = LG_KIND_PROBE, .doc = "the lighting (any layout)" },
 };
 static const lg_port_desc pb_ref_out[] = {
-    { .name = "vertices", .kind = LG_KIND_IMAGE,
+    { .name = "vertices",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f per-vertex image (transfer.h): each vertex's exit radiance, alpha 1" },
 };
 

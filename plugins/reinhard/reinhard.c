@@ -30,7 +30,6 @@
 #include "reinhard_map.comp.h"
 #include "reinhard_reduce.comp.h"
 
-
 /* The mirrors of the shaders' std430 blocks (reinhard_launch.h), checked at compile time
  * against their GLSL layout (and at run time against the compiled program). */
 LG_GL_BLOCK_SIZE(rh_partial, 16);
@@ -82,8 +81,7 @@ static int rh_create(lg_node *n)
     st->p.mode = lg_param_enum(n, "mode") == 1 ? LG_RH_RGB : LG_RH_LUMINANCE;
     st->p.white = lg_param_float(n, "white");
     st->p.delta = lg_param_float(n, "delta");
-    lg_luma_coeffs(lg_param_enum(n, "luminance") == 1 ? LG_LUMA_SEED0 : LG_LUMA_REC709,
-                   st->p.w);
+    lg_luma_coeffs(lg_param_enum(n, "luminance") == 1 ? LG_LUMA_SEED0 : LG_LUMA_REC709, st->p.w);
     st->adapt = lg_param_bool(n, "adapt");
     st->rate = lg_param_float(n, "adapt_rate");
     st->adapt_from = lg_param_float(n, "adapt_from");
@@ -125,7 +123,7 @@ static int rh_prepare(lg_node *n)
     return 0;
 }
 
-/* ---- the scale: Lavg, adaptation, reporting --------------------------------------------------- */
+/* ---- the scale: Lavg, adaptation, reporting -------------------------------------------------- */
 
 /* The warnings every backend gives, once each: pixels left out, no valid pixel. */
 static void rh_warn(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_frame *frame)
@@ -164,20 +162,21 @@ static double rh_scale(lg_node *n, rh_state *st, const lg_rh_stats *s, const lg_
         }
         l = st->la;
     }
-    lg_log(n, LG_LOG_DEBUG, "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
+    lg_log(n, LG_LOG_DEBUG,
+           "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
            frame->index, ok ? lavg : NAN, s->valid, l, st->key / l);
     return st->key / l;
 }
 
-/* ---- gl and cl: the scale is computed on the device ---------------------------------------------- */
+/* ---- gl and cl: the scale is computed on the device ------------------------------------------ */
 
 /* What stage 2 needs to compute the scale on the device (reinhard_launch.h). */
 typedef struct rh_adapt_args {
     float key;
     int32_t adapt;
-    float k;      /* 1 - rate^(60 dt), in double here */
-    float from;   /* adapt_from */
-    int32_t reset;/* first frame since prepare: forget the adapted luminance */
+    float k;       /* 1 - rate^(60 dt), in double here */
+    float from;    /* adapt_from */
+    int32_t reset; /* first frame since prepare: forget the adapted luminance */
 } rh_adapt_args;
 
 static rh_adapt_args rh_adapt_args_for(const rh_state *st, const lg_frame *frame)
@@ -197,16 +196,18 @@ static rh_adapt_args rh_adapt_args_for(const rh_state *st, const lg_frame *frame
  * the same messages as the cpu backend's rh_scale. */
 static void rh_report(lg_node *n, rh_state *st, const rh_result *r, const lg_frame *frame)
 {
-    lg_rh_stats s = { .log_sum = r->sum, .valid = r->valid, .nonfinite = r->nonfinite,
-                      .negative = r->negative };
+    lg_rh_stats s = {
+        .log_sum = r->sum, .valid = r->valid, .nonfinite = r->nonfinite, .negative = r->negative
+    };
     rh_warn(n, st, &s, frame);
     if (st->adapt)
         st->have_la = true;
-    lg_log(n, LG_LOG_DEBUG, "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
+    lg_log(n, LG_LOG_DEBUG,
+           "frame %u: Lavg %.9g (%" PRIu64 " pixels), luminance used %.9g, scale %.9g",
            frame->index, s.valid ? r->lavg : NAN, s.valid, st->key / r->scale, r->scale);
 }
 
-/* ---- cpu ------------------------------------------------------------------------------------------ */
+/* ---- cpu ------------------------------------------------------------------------------------- */
 
 static int rh_pfor(void *node, size_t count, size_t grain,
                    void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk), void *ctx)
@@ -221,8 +222,11 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
     if ((rc = lg_map_cpu(n, lg_input(n, 0), LG_READ, &vi)) ||
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &vo)))
         return rc;
-    lg_rh_image in = { .pixels = vi.pixels, .row_pixels = vi.row_pixels, .width = st->width,
-                       .height = st->height, .half = st->in_format == LG_FORMAT_RGBA16F,
+    lg_rh_image in = { .pixels = vi.pixels,
+                       .row_pixels = vi.row_pixels,
+                       .width = st->width,
+                       .height = st->height,
+                       .half = st->in_format == LG_FORMAT_RGBA16F,
                        .rgbe = st->in_format == LG_FORMAT_RGBE8 };
     size_t chunks = lg_rh_cpu_chunks(st->width, st->height);
     if (chunks > st->n_slots) {
@@ -240,14 +244,14 @@ static int rh_execute_cpu(lg_node *n, rh_state *st, const lg_frame *frame)
     return lg_rh_cpu_map(&in, vo.pixels, vo.row_pixels, scale, &st->p, rh_pfor, n);
 }
 
-/* ---- gl --------------------------------------------------------------------------------------------- */
+/* ---- gl -------------------------------------------------------------------------------------- */
 
 static int rh_gl_init(lg_node *n, rh_state *st)
 {
     /* rgbe8: the bytes of an RGBA8 image, decoded after imageLoad (LG_IN_RGBE) */
     const char *fmt = st->in_format == LG_FORMAT_RGBA16F ? "rgba16f"
                       : st->in_format == LG_FORMAT_RGBE8 ? "rgba8\n#define LG_IN_RGBE 1"
-                      : "rgba32f";
+                                                         : "rgba32f";
     char defs[160];
     static const lg_gl_shader_src reduce = { GL_COMPUTE_SHADER, lg_src_reinhard_reduce_comp_file,
                                              lg_src_reinhard_reduce_comp };
@@ -258,8 +262,9 @@ static int rh_gl_init(lg_node *n, rh_state *st)
     lg_gl_pass_destroy(&st->gl_reduce);
     lg_gl_pass_destroy(&st->gl_final);
     snprintf(defs, sizeof defs, "#define LG_STAGE 1\n#define LG_IN_FORMAT %s\n", fmt);
-    lg_gl_pass_desc d = { .name = "reinhard reduce", .stages = &reduce, .n_stages = 1,
-                          .defines = defs };
+    lg_gl_pass_desc d = {
+        .name = "reinhard reduce", .stages = &reduce, .n_stages = 1, .defines = defs
+    };
     if ((rc = lg_gl_pass_create(n, &d, &st->gl_reduce)))
         return rc;
     d.name = "reinhard reduce (stage 2)";
@@ -320,7 +325,8 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
         (rc = lg_map_gl(n, lg_output(n, 0), LG_WRITE, &tout, &dummy)))
         return rc;
     GLenum in_fmt = st->in_format == LG_FORMAT_RGBA16F ? GL_RGBA16F
-                    : st->in_format == LG_FORMAT_RGBE8 ? GL_RGBA8 : GL_RGBA32F;
+                    : st->in_format == LG_FORMAT_RGBE8 ? GL_RGBA8
+                                                       : GL_RGBA32F;
     uint32_t cols = rh_gl_cols(st->width), rows = rh_gl_rows(st->width, st->height);
     rh_adapt_args ad = rh_adapt_args_for(st, frame);
 
@@ -377,7 +383,7 @@ static int rh_execute_gl(lg_node *n, rh_state *st, const lg_frame *frame)
     return 0;
 }
 
-/* ---- cl --------------------------------------------------------------------------------------------- */
+/* ---- cl -------------------------------------------------------------------------------------- */
 
 static int rh_cl_init(lg_node *n, rh_state *st)
 {
@@ -385,13 +391,13 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     snprintf(opts, sizeof opts, "-cl-std=CL1.2 -DLG_LOCAL=%u -DLG_MAP_LOCAL=%u -DLG_PPI=%u%s",
              RH_GROUP, RH_CL_MAP_LOCAL, RH_CL_PPI,
              st->in_format == LG_FORMAT_RGBA16F ? " -DLG_IN_HALF=1"
-             : st->in_format == LG_FORMAT_RGBE8 ? " -DLG_IN_RGBE=1" : "");
+             : st->in_format == LG_FORMAT_RGBE8 ? " -DLG_IN_RGBE=1"
+                                                : "");
     /* shaders/common/rgbe.cl, then the kernels (which use its decoder for rgbe8 input); one
      * program for the three passes (same texts and options) */
     static const char *const src[] = { lg_src_rgbe_cl, lg_src_reinhard_cl };
     static const char *const names[] = { lg_src_rgbe_cl_file, lg_src_reinhard_cl_file };
-    lg_cl_pass_desc d = { .sources = src, .source_names = names, .n_sources = 2,
-                          .options = opts };
+    lg_cl_pass_desc d = { .sources = src, .source_names = names, .n_sources = 2, .options = opts };
     int rc;
     d.name = "reinhard reduce", d.kernel = "rh_reduce";
     if ((rc = lg_cl_pass_create(n, &d, &st->cl_reduce)))
@@ -410,8 +416,8 @@ static int rh_cl_init(lg_node *n, rh_state *st)
     if (wg < RH_GROUP || wg < RH_CL_MAP_LOCAL)
         return lg_error_code(n, LG_ERR_DEVICE,
                              "backend 'cl': the device runs at most %zu work-items per group "
-                             "for rh_reduce, the kernels need %u", wg,
-                             RH_GROUP > RH_CL_MAP_LOCAL ? RH_GROUP : RH_CL_MAP_LOCAL);
+                             "for rh_reduce, the kernels need %u",
+                             wg, RH_GROUP > RH_CL_MAP_LOCAL ? RH_GROUP : RH_CL_MAP_LOCAL);
     /* the result block starts zeroed: no adapted luminance yet */
     rh_result zero;
     memset(&zero, 0, sizeof zero);
@@ -430,8 +436,7 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
     uint32_t npx = (uint32_t)((size_t)st->width * st->height);
     uint32_t groups = rh_cl_groups(npx), partials = rh_cl_partials(npx);
     /* one partial per stage-1 work-item: sized by the image, which prepare may change */
-    if ((rc = lg_cl_buffer_recreate(n, &st->cl_partials, (size_t)partials * sizeof(rh_partial),
-                                    0)))
+    if ((rc = lg_cl_buffer_recreate(n, &st->cl_partials, (size_t)partials * sizeof(rh_partial), 0)))
         return rc;
     const float w[4] = { st->p.w[0], st->p.w[1], st->p.w[2], 0.0f };
     rh_adapt_args ad = rh_adapt_args_for(st, frame);
@@ -467,8 +472,8 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
     lg_cl_pass_arg_resource(k, 1, out, LG_WRITE);
     lg_cl_pass_arg_uint(k, 2, npx);
     lg_cl_pass_arg_mem(k, 3, st->cl_result.mem);
-    lg_cl_pass_arg_float(k, 4, st->p.white > 0.0 ? (float)(1.0 / (st->p.white * st->p.white))
-                                                 : 0.0f);
+    lg_cl_pass_arg_float(k, 4,
+                         st->p.white > 0.0 ? (float)(1.0 / (st->p.white * st->p.white)) : 0.0f);
     lg_cl_pass_arg_int(k, 5, st->p.mode == LG_RH_RGB ? 1 : 0);
     lg_cl_pass_arg_float4(k, 6, w);
     local = RH_CL_MAP_LOCAL;
@@ -484,7 +489,7 @@ static int rh_execute_cl(lg_node *n, rh_state *st, const lg_frame *frame)
     return 0;
 }
 
-/* ---- execute / destroy ------------------------------------------------------------------------------ */
+/* ---- execute / destroy ----------------------------------------------------------------------- */
 
 static int rh_execute(lg_node *n, const lg_frame *frame)
 {
@@ -516,38 +521,76 @@ static void rh_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- descriptor ------------------------------------------------------------------------------------ */
+/* ---- descriptor ------------------------------------------------------------------------------ */
 
 static const char *const rh_modes[] = { "luminance", "rgb", NULL };
 static const char *const rh_lumas[] = { "rec709", "seed", NULL };
 
 static const lg_param_desc rh_params[] = {
-    { .key = "key", .type = LG_PARAM_FLOAT, .def.f = 0.18, .min = 1e-4, .max = 10,
+    { .key = "key",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.18,
+      .min = 1e-4,
+      .max = 10,
       .doc = "key a: the scene's log-average maps to a (0.18 middle grey; seed code: 0.72)" },
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_modes,
-      .doc = "luminance: map L and scale colour by Ld/L (Reinhard 2002); rgb: curve per channel (seed 0)" },
-    { .key = "white", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
-      .doc = "Lwhite, the smallest scaled luminance that maps to 1 (Reinhard 2002 eq. 4); 0 = off" },
-    { .key = "delta", .type = LG_PARAM_FLOAT, .def.f = 1e-4, .min = 1e-12, .max = 1,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = rh_modes,
+      .doc =
+          "luminance: map L and scale colour by Ld/L (Reinhard 2002); rgb: curve per channel (seed 0)" },
+    { .key = "white",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
+      .doc =
+          "Lwhite, the smallest scaled luminance that maps to 1 (Reinhard 2002 eq. 4); 0 = off" },
+    { .key = "delta",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1e-4,
+      .min = 1e-12,
+      .max = 1,
       .doc = "offset in log(delta + L), so that black pixels count (seed: 0.0001)" },
-    { .key = "luminance", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = rh_lumas,
-      .doc = "luminance weights: rec709 (0.2126, 0.7152, 0.0722) or seed (0.2125, 0.7154, 0.0721)" },
-    { .key = "adapt", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "luminance",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = rh_lumas,
+      .doc =
+          "luminance weights: rec709 (0.2126, 0.7152, 0.0722) or seed (0.2125, 0.7154, 0.0721)" },
+    { .key = "adapt",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "adapt gradually to the frame's Lavg (seed 0, 5.2); the node then runs every frame" },
-    { .key = "adapt_rate", .type = LG_PARAM_FLOAT, .def.f = 0.98, .min = 0, .max = 1,
+    { .key = "adapt_rate",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.98,
+      .min = 0,
+      .max = 1,
       .doc = "La += (Lavg - La) (1 - rate^(60 dt)): the fraction kept per 1/60 s (seed: 0.98)" },
-    { .key = "adapt_from", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "adapt_from",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "adapted luminance before the first frame; 0 = the first frame's Lavg" },
-    { .key = "dt", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 3600,
+    { .key = "dt",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 3600,
       .doc = "seconds per frame for adaptation; 0 = the render's frame time (--dt)" },
     /* cpu (float, vectorised, on the host's thread pool), gl (compute shaders), cl */
     LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_CPU),
 };
 static const lg_port_desc rh_inputs[] = {
-    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "linear HDR image, rgba32f, rgba16f or rgbe8 (decoded as read)" },
+    { .name = "image",
+      .kind = LG_KIND_IMAGE,
+      .doc = "linear HDR image, rgba32f, rgba16f or rgbe8 (decoded as read)" },
 };
 static const lg_port_desc rh_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f, display-referred linear: Ld in [0,1], saturated channels may exceed 1 "
              "in luminance mode; a PNG output applies sRGB and clips" },
 };
@@ -556,9 +599,14 @@ static const lg_node_type rh_types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "reinhard",
     .doc = "Reinhard global tone mapping: log-average luminance, key, optional white point",
-    LG_PARAMS(rh_params), LG_INPUTS(rh_inputs), LG_OUTPUTS(rh_outputs),
+    LG_PARAMS(rh_params),
+    LG_INPUTS(rh_inputs),
+    LG_OUTPUTS(rh_outputs),
     .flags = LG_NODE_DISPLAY_REFERRED,
-    .create = rh_create, .prepare = rh_prepare, .execute = rh_execute, .destroy = rh_destroy,
+    .create = rh_create,
+    .prepare = rh_prepare,
+    .execute = rh_execute,
+    .destroy = rh_destroy,
 } };
 
 LG_PLUGIN_DEFINE("reinhard", "1.0.0", "Reinhard 2002 tone mapping (seed 0, 3.5 and 5.2)", rh_types)

@@ -48,9 +48,9 @@ static inline int rh_finite(float v)
 __attribute__((always_inline)) static inline float rh_logf(float x)
 {
     uint32_t b = rh_bits(x);
-    int32_t e = (int32_t)((b >> 23) & 0xffu) - 126;   /* x = m 2^e, m in [0.5, 1) */
+    int32_t e = (int32_t)((b >> 23) & 0xffu) - 126; /* x = m 2^e, m in [0.5, 1) */
     float m = rh_float((b & 0x007fffffu) | 0x3f000000u);
-    int small = m < 0.70710678118654752f;              /* then use 2m in [sqrt(1/2), 1) */
+    int small = m < 0.70710678118654752f; /* then use 2m in [sqrt(1/2), 1) */
     e -= small;
     m = small ? m + m : m;
     float f = m - 1.0f;
@@ -77,9 +77,9 @@ float lg_rh_logf(float x)
 }
 
 /* One block: the logs of the valid pixels (0 for the others) and the counts. */
-__attribute__((always_inline)) static inline void rh_reduce_block(const float *px, size_t n, float w0, float w1, float w2,
-                                   float delta, float *logs, uint32_t *valid,
-                                   uint32_t *nonfinite, uint32_t *negative)
+__attribute__((always_inline)) static inline void
+rh_reduce_block(const float *px, size_t n, float w0, float w1, float w2, float delta, float *logs,
+                uint32_t *valid, uint32_t *nonfinite, uint32_t *negative)
 {
     uint32_t v = 0, nf = 0, ng = 0;
     for (size_t j = 0; j < n; j++) {
@@ -124,8 +124,7 @@ void lg_rh_reduce(const float *rgba, size_t n, const lg_rh_params *p, lg_rh_stat
     }
     if (i < n) {
         size_t rest = n - i;
-        rh_reduce_block(rgba + 4 * i, rest, w0, w1, w2, delta, logs, &valid, &nonfinite,
-                        &negative);
+        rh_reduce_block(rgba + 4 * i, rest, w0, w1, w2, delta, logs, &valid, &nonfinite, &negative);
         for (size_t j = 0; j < rest; j++)
             acc[j % 8] += logs[j];
     }
@@ -181,8 +180,10 @@ static inline int rh_pinf(float v)
 }
 
 /* always_inline: compiled into each target clone of lg_rh_map */
-__attribute__((always_inline)) static inline void rh_map_luminance(const float *restrict in, float *restrict out, size_t n, float scale, float inv_w2,
-                             float w0, float w1, float w2)
+__attribute__((always_inline)) static inline void rh_map_luminance(const float *restrict in,
+                                                                   float *restrict out, size_t n,
+                                                                   float scale, float inv_w2,
+                                                                   float w0, float w1, float w2)
 {
     for (size_t j = 0; j < n; j++) {
         const float *s = in + 4 * j;
@@ -212,7 +213,8 @@ __attribute__((always_inline)) static inline void rh_map_luminance(const float *
     }
 }
 
-__attribute__((always_inline)) static inline void rh_map_rgb(const float *restrict in, float *restrict out, size_t n, float scale, float inv_w2)
+__attribute__((always_inline)) static inline void
+rh_map_rgb(const float *restrict in, float *restrict out, size_t n, float scale, float inv_w2)
 {
     for (size_t j = 0; j < n; j++) {
         const float *s = in + 4 * j;
@@ -225,7 +227,8 @@ __attribute__((always_inline)) static inline void rh_map_rgb(const float *restri
 }
 
 RH_CLONES
-void lg_rh_map(const float *restrict in, float *restrict out, size_t n, float scale, const lg_rh_params *p)
+void lg_rh_map(const float *restrict in, float *restrict out, size_t n, float scale,
+               const lg_rh_params *p)
 {
     float inv_w2 = p->white > 0.0 ? (float)(1.0 / (p->white * p->white)) : 0.0f;
     size_t i = 0;
@@ -236,14 +239,13 @@ void lg_rh_map(const float *restrict in, float *restrict out, size_t n, float sc
         rh_map_rgb(in + 4 * i, out + 4 * i, n - i, scale, inv_w2);
     } else {
         for (; i + LG_RH_BLOCK <= n; i += LG_RH_BLOCK)
-            rh_map_luminance(in + 4 * i, out + 4 * i, LG_RH_BLOCK, scale, inv_w2, p->w[0],
-                             p->w[1], p->w[2]);
-        rh_map_luminance(in + 4 * i, out + 4 * i, n - i, scale, inv_w2, p->w[0], p->w[1],
-                         p->w[2]);
+            rh_map_luminance(in + 4 * i, out + 4 * i, LG_RH_BLOCK, scale, inv_w2, p->w[0], p->w[1],
+                             p->w[2]);
+        rh_map_luminance(in + 4 * i, out + 4 * i, n - i, scale, inv_w2, p->w[0], p->w[1], p->w[2]);
     }
 }
 
-/* ---- the passes over a whole image -------------------------------------------------------- */
+/* ---- the passes over a whole image ----------------------------------------------------------- */
 
 /* rgba16f input is widened this many pixels at a time into a stack buffer. */
 #define RH_HALF_BLOCK 256u
@@ -272,8 +274,8 @@ size_t lg_rh_cpu_chunks(uint32_t width, uint32_t height)
 /* Calls fn on runs of rgba32f pixels of row y: the row itself, or blocks of it widened
  * from half or decoded from RGBE (lg_pixels_to_rgba32f). */
 static void rh_row_runs(const rh_job *j, size_t y,
-                        void (*fn)(const rh_job *j, const float *px, size_t x, size_t n,
-                                   size_t y, void *arg),
+                        void (*fn)(const rh_job *j, const float *px, size_t x, size_t n, size_t y,
+                                   void *arg),
                         void *arg)
 {
     const lg_rh_image *in = j->in;
@@ -292,8 +294,7 @@ static void rh_row_runs(const rh_job *j, size_t y,
     }
 }
 
-static void rh_reduce_run(const rh_job *j, const float *px, size_t x, size_t n, size_t y,
-                          void *arg)
+static void rh_reduce_run(const rh_job *j, const float *px, size_t x, size_t n, size_t y, void *arg)
 {
     lg_rh_reduce(px, n, j->p, arg);
 }
@@ -310,8 +311,9 @@ static void rh_reduce_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
 int lg_rh_cpu_reduce(const lg_rh_image *in, const lg_rh_params *p, lg_rh_stats *slots,
                      lg_rh_pfor pfor, void *pctx, lg_rh_stats *total)
 {
-    rh_job j = { .in = in, .p = p, .rows_per_chunk = lg_rh_cpu_rows_per_chunk(in->width),
-                 .slots = slots };
+    rh_job j = {
+        .in = in, .p = p, .rows_per_chunk = lg_rh_cpu_rows_per_chunk(in->width), .slots = slots
+    };
     memset(total, 0, sizeof *total);
     int rc = pfor(pctx, in->height, j.rows_per_chunk, rh_reduce_chunk, &j);
     if (rc)
@@ -322,8 +324,7 @@ int lg_rh_cpu_reduce(const lg_rh_image *in, const lg_rh_params *p, lg_rh_stats *
     return 0;
 }
 
-static void rh_map_run(const rh_job *j, const float *px, size_t x, size_t n, size_t y,
-                       void *arg)
+static void rh_map_run(const rh_job *j, const float *px, size_t x, size_t n, size_t y, void *arg)
 {
     lg_rh_map(px, j->out + (y * j->out_row_pixels + x) * 4, n, j->scale, j->p);
 }
@@ -338,7 +339,11 @@ static void rh_map_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
 int lg_rh_cpu_map(const lg_rh_image *in, float *out, size_t out_row_pixels, float scale,
                   const lg_rh_params *p, lg_rh_pfor pfor, void *pctx)
 {
-    rh_job j = { .in = in, .p = p, .rows_per_chunk = lg_rh_cpu_rows_per_chunk(in->width),
-                 .out = out, .out_row_pixels = out_row_pixels, .scale = scale };
+    rh_job j = { .in = in,
+                 .p = p,
+                 .rows_per_chunk = lg_rh_cpu_rows_per_chunk(in->width),
+                 .out = out,
+                 .out_row_pixels = out_row_pixels,
+                 .scale = scale };
     return pfor(pctx, in->height, j.rows_per_chunk, rh_map_chunk, &j);
 }

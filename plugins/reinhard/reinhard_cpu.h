@@ -36,17 +36,17 @@ typedef enum lg_rh_mode { LG_RH_LUMINANCE = 0, LG_RH_RGB = 1 } lg_rh_mode;
 
 typedef struct lg_rh_params {
     lg_rh_mode mode;
-    float w[3];     /* luminance weights */
-    double delta;   /* log offset */
-    double white;   /* Lwhite in the scaled domain; 0 = off */
+    float w[3];   /* luminance weights */
+    double delta; /* log offset */
+    double white; /* Lwhite in the scaled domain; 0 = off */
 } lg_rh_params;
 
 /* What the reduction finds. */
 typedef struct lg_rh_stats {
-    double log_sum;      /* sum of log(delta + L) over the valid pixels */
-    uint64_t valid;      /* pixels in the average */
-    uint64_t nonfinite;  /* left out: an R, G or B channel NaN or Inf, or L not finite */
-    uint64_t negative;   /* left out: finite, L < 0 */
+    double log_sum;     /* sum of log(delta + L) over the valid pixels */
+    uint64_t valid;     /* pixels in the average */
+    uint64_t nonfinite; /* left out: an R, G or B channel NaN or Inf, or L not finite */
+    uint64_t negative;  /* left out: finite, L < 0 */
 } lg_rh_stats;
 
 /* Pixels per block of the vectorised loops (a multiple of 8). */
@@ -80,7 +80,7 @@ void lg_rh_map(const float *restrict in, float *restrict out, size_t n, float sc
  * vectoriser accepts. Exposed for its test. */
 float lg_rh_logf(float x);
 
-/* ---- the passes over a whole image, threaded ---------------------------------------- */
+/* ---- the passes over a whole image, threaded ------------------------------------------------- */
 
 /* A parallel-for with lg_parallel_for's contract (lightgraph/host.h): the plugin passes
  * the host's; the tests and the benchmark pass pools of their own sizes. */

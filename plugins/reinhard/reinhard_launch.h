@@ -59,12 +59,12 @@ typedef struct rh_partial {
 /* What stage 2 leaves on the device (std430 / OpenCL layout, 32 bytes). `la` and
  * `have_la` persist from frame to frame (the adaptation state); the rest is rewritten. */
 typedef struct rh_result {
-    float sum;            /* sum of log(delta + L) over the valid pixels */
+    float sum; /* sum of log(delta + L) over the valid pixels */
     uint32_t valid, nonfinite, negative;
-    float lavg;           /* exp(sum / valid), or 1 when no pixel is valid */
-    float la;             /* the adapted luminance */
-    float scale;          /* a / Lavg, or a / La with adaptation: what the map uses */
-    uint32_t have_la;     /* la holds a value */
+    float lavg;       /* exp(sum / valid), or 1 when no pixel is valid */
+    float la;         /* the adapted luminance */
+    float scale;      /* a / Lavg, or a / La with adaptation: what the map uses */
+    uint32_t have_la; /* la holds a value */
 } rh_result;
 
 _Static_assert(sizeof(rh_partial) == 16, "rh_partial mirrors a std430 / OpenCL struct");

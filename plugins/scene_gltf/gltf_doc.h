@@ -59,10 +59,10 @@ typedef struct lg_gltf_view {
 
 typedef struct lg_gltf_accessor {
     const char *name;
-    int32_t view;              /* -1: all zeros (then sparse, if any) */
+    int32_t view; /* -1: all zeros (then sparse, if any) */
     uint64_t offset;
-    int32_t component_type;    /* 5120 byte .. 5126 float (GL enums) */
-    uint32_t components;       /* 1 SCALAR, 2, 3, 4 VEC, 4 MAT2, 9 MAT3, 16 MAT4; 0 unknown */
+    int32_t component_type; /* 5120 byte .. 5126 float (GL enums) */
+    uint32_t components;    /* 1 SCALAR, 2, 3, 4 VEC, 4 MAT2, 9 MAT3, 16 MAT4; 0 unknown */
     bool normalized;
     uint64_t count;
     bool sparse;
@@ -72,11 +72,11 @@ typedef struct lg_gltf_accessor {
 } lg_gltf_accessor;
 
 typedef struct lg_gltf_primitive {
-    int32_t mode;              /* 0 POINTS .. 6 TRIANGLE_FAN (tinygltf's default 4) */
-    int32_t indices, material; /* accessor, material; -1 absent */
+    int32_t mode;                       /* 0 POINTS .. 6 TRIANGLE_FAN (tinygltf's default 4) */
+    int32_t indices, material;          /* accessor, material; -1 absent */
     int32_t position, normal, texcoord; /* accessors of POSITION, NORMAL, TEXCOORD_0 */
-    uint32_t n_targets;        /* morph targets (not supported: base shape is used) */
-    const lg_json *extensions; /* object or NULL */
+    uint32_t n_targets;                 /* morph targets (not supported: base shape is used) */
+    const lg_json *extensions;          /* object or NULL */
 } lg_gltf_primitive;
 
 typedef struct lg_gltf_mesh {
@@ -105,7 +105,7 @@ typedef struct lg_gltf_scene {
 
 typedef struct lg_gltf_camera {
     const char *name;
-    const char *type; /* "perspective" or "orthographic" (or what the file says) */
+    const char *type;                 /* "perspective" or "orthographic" (or what the file says) */
     double yfov, aspect, znear, zfar; /* perspective */
     double xmag, ymag, ortho_znear, ortho_zfar;
 } lg_gltf_camera;
@@ -137,14 +137,14 @@ typedef struct lg_gltf {
     const lg_gltf_camera *cameras;
     const lg_gltf_material *materials;
     const lg_gltf_light *lights; /* KHR_lights_punctual */
-    uint32_t n_buffers, n_views, n_accessors, n_meshes, n_nodes, n_scenes, n_cameras,
-        n_materials, n_lights;
-    int32_t default_scene;        /* "scene", or -1 */
+    uint32_t n_buffers, n_views, n_accessors, n_meshes, n_nodes, n_scenes, n_cameras, n_materials,
+        n_lights;
+    int32_t default_scene; /* "scene", or -1 */
     const char *const *extensions_required;
     uint32_t n_extensions_required;
-    const lg_json *extras;        /* the root object's */
+    const lg_json *extras; /* the root object's */
     const lg_json *asset_extras;
-    const char *warnings;         /* tinygltf's warnings, "" if none */
+    const char *warnings; /* tinygltf's warnings, "" if none */
 } lg_gltf;
 
 typedef struct lg_gltf_doc lg_gltf_doc; /* owns everything the lg_gltf points to */

@@ -27,7 +27,7 @@
 #include "lightgraph/file.h"
 #include "lightgraph/vecmath.h"
 
-/* ---- the scene we build ---------------------------------------------------------------- */
+/* ---- the scene we build ---------------------------------------------------------------------- */
 
 /* One allocation owns the scene: lg_scene first, so that the lg_scene pointer handed to
  * the host is the store's. */
@@ -83,7 +83,7 @@ static bool grow(void **arr, uint32_t *cap, uint32_t n, size_t size)
     return true;
 }
 
-/* ---- the loader's state and its messages ------------------------------------------------ */
+/* ---- the loader's state and its messages ----------------------------------------------------- */
 
 typedef struct loader {
     const char *file;
@@ -92,11 +92,14 @@ typedef struct loader {
     char *err;
     size_t err_size;
     store *st;
-    int64_t **prim_mesh;      /* per glTF mesh, per primitive: lg_mesh index, -1 not made yet */
+    int64_t **prim_mesh; /* per glTF mesh, per primitive: lg_mesh index, -1 not made yet */
     bool *material_used_default;
     bool warned_targets, warned_skin, warned_ortho;
     /* cameras and lights met while walking the tree, with their node's world matrix */
-    struct placed { uint32_t node, index; double world[16]; } *cams, *lits;
+    struct placed {
+        uint32_t node, index;
+        double world[16];
+    } * cams, *lits;
     uint32_t n_cams, cap_cams, n_lits, cap_lits;
 } loader;
 
@@ -152,16 +155,19 @@ static const char *mesh_label(loader *l, uint32_t mi, uint32_t pi, char *buf, si
     return buf;
 }
 
-/* ---- accessors ----------------------------------------------------------------------- */
+/* ---- accessors ------------------------------------------------------------------------------- */
 
 enum { CT_BYTE = 5120, CT_UBYTE, CT_SHORT, CT_USHORT, CT_INT, CT_UINT, CT_FLOAT };
 
 static uint32_t component_size(int32_t t)
 {
     switch (t) {
-    case CT_BYTE: case CT_UBYTE: return 1;
-    case CT_SHORT: case CT_USHORT: return 2;
-    case CT_UINT: case CT_FLOAT: return 4;
+    case CT_BYTE:
+    case CT_UBYTE: return 1;
+    case CT_SHORT:
+    case CT_USHORT: return 2;
+    case CT_UINT:
+    case CT_FLOAT: return 4;
     default: return 0;
     }
 }
@@ -190,8 +196,7 @@ static double component(const uint8_t *p, int32_t t, bool normalized)
         memcpy(&v, p, 1);
         return normalized ? fmax(v / 127.0, -1.0) : v;
     }
-    case CT_UBYTE:
-        return normalized ? p[0] / 255.0 : p[0];
+    case CT_UBYTE: return normalized ? p[0] / 255.0 : p[0];
     case CT_SHORT: {
         int16_t v;
         memcpy(&v, p, 2);
@@ -221,17 +226,18 @@ static int view_bytes(loader *l, int32_t vi, const char *what, const uint8_t **d
 {
     const lg_gltf *g = l->g;
     if (vi < 0 || (uint32_t)vi >= g->n_views)
-        return fail(l, LG_ERR_INVALID, "%s: bufferView %d does not exist (the file has %u)", what, vi,
-                    g->n_views);
+        return fail(l, LG_ERR_INVALID, "%s: bufferView %d does not exist (the file has %u)", what,
+                    vi, g->n_views);
     const lg_gltf_view *v = &g->views[vi];
     if (v->buffer < 0 || (uint32_t)v->buffer >= g->n_buffers)
-        return fail(l, LG_ERR_INVALID, "bufferView %d: buffer %d does not exist (the file has %u)", vi,
-                    v->buffer, g->n_buffers);
+        return fail(l, LG_ERR_INVALID, "bufferView %d: buffer %d does not exist (the file has %u)",
+                    vi, v->buffer, g->n_buffers);
     const lg_gltf_buffer *b = &g->buffers[v->buffer];
     if (v->offset > b->size || v->length > b->size - v->offset)
         return fail(l, LG_ERR_INVALID,
-                    "bufferView %d: bytes %" PRIu64 "..%" PRIu64 " lie outside buffer %d (%zu bytes)", vi,
-                    v->offset, v->offset + v->length, v->buffer, b->size);
+                    "bufferView %d: bytes %" PRIu64 "..%" PRIu64
+                    " lie outside buffer %d (%zu bytes)",
+                    vi, v->offset, v->offset + v->length, v->buffer, b->size);
     *data = b->data + v->offset;
     *len = v->length;
     if (stride)
@@ -254,20 +260,23 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
                     g->n_accessors);
     const lg_gltf_accessor *a = &g->accessors[ai];
     if (a->components != comps)
-        return fail(l, LG_ERR_INVALID, "accessor %d (%s): %u components per element, want %u", ai, what,
-                    a->components, comps);
+        return fail(l, LG_ERR_INVALID, "accessor %d (%s): %u components per element, want %u", ai,
+                    what, a->components, comps);
     uint32_t cs = component_size(a->component_type);
     if (!cs || a->component_type < CT_BYTE || !(types & (1u << (a->component_type - CT_BYTE))))
-        return fail(l, LG_ERR_UNSUPPORTED, "accessor %d (%s): componentType %d (%s) is not supported here",
-                    ai, what, a->component_type, component_name(a->component_type));
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "accessor %d (%s): componentType %d (%s) is not supported here", ai, what,
+                    a->component_type, component_name(a->component_type));
     if (a->count > LG_GLTF_MAX_COUNT)
-        return fail(l, LG_ERR_INVALID, "accessor %d (%s): count %" PRIu64 " is more than the %u accepted",
-                    ai, what, a->count, LG_GLTF_MAX_COUNT);
+        return fail(l, LG_ERR_INVALID,
+                    "accessor %d (%s): count %" PRIu64 " is more than the %u accepted", ai, what,
+                    a->count, LG_GLTF_MAX_COUNT);
     size_t n = (size_t)a->count, esize = (size_t)cs * comps;
     size_t osize = kind == OUT_FLOAT ? sizeof(float) : sizeof(uint32_t);
     void *buf = calloc(n * comps + 1, osize);
     if (!buf)
-        return fail(l, LG_ERR_NOMEM, "accessor %d (%s): out of memory for %zu elements", ai, what, n);
+        return fail(l, LG_ERR_NOMEM, "accessor %d (%s): out of memory for %zu elements", ai, what,
+                    n);
 
     if (a->view >= 0) {
         const uint8_t *data;
@@ -281,14 +290,17 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
             stride = esize;
         if (stride < esize) {
             free(buf);
-            return fail(l, LG_ERR_INVALID, "accessor %d (%s): bufferView %d's byteStride %" PRIu64
-                        " is smaller than an element (%zu bytes)", ai, what, a->view, stride, esize);
+            return fail(l, LG_ERR_INVALID,
+                        "accessor %d (%s): bufferView %d's byteStride %" PRIu64
+                        " is smaller than an element (%zu bytes)",
+                        ai, what, a->view, stride, esize);
         }
         if (n && (a->offset > len || (n - 1) * stride + esize > len - a->offset)) {
             free(buf);
             return fail(l, LG_ERR_INVALID,
-                        "accessor %d (%s): %zu elements of %zu bytes, %" PRIu64 " apart from byte %" PRIu64
-                        ", run past the end of bufferView %d (%" PRIu64 " bytes)",
+                        "accessor %d (%s): %zu elements of %zu bytes, %" PRIu64
+                        " apart from byte %" PRIu64 ", run past the end of bufferView %d (%" PRIu64
+                        " bytes)",
                         ai, what, n, esize, stride, a->offset, a->view, len);
         }
         const uint8_t *p = data + a->offset;
@@ -309,12 +321,13 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
         int64_t sn = a->sparse_count;
         int rc = 0;
         if (sn < 1 || (uint64_t)sn > n)
-            rc = fail(l, LG_ERR_INVALID, "accessor %d (%s): sparse count %" PRId64 " is not in 1..%zu", ai,
-                      what, sn, n);
+            rc = fail(l, LG_ERR_INVALID,
+                      "accessor %d (%s): sparse count %" PRId64 " is not in 1..%zu", ai, what, sn,
+                      n);
         else if (!ics || a->sparse_index_type == CT_BYTE || a->sparse_index_type == CT_SHORT ||
                  a->sparse_index_type == CT_FLOAT)
-            rc = fail(l, LG_ERR_INVALID, "accessor %d (%s): sparse indices of componentType %d", ai, what,
-                      a->sparse_index_type);
+            rc = fail(l, LG_ERR_INVALID, "accessor %d (%s): sparse indices of componentType %d", ai,
+                      what, a->sparse_index_type);
         if (!rc)
             rc = view_bytes(l, a->sparse_index_view, what, &idx, &ilen, NULL);
         if (!rc)
@@ -323,15 +336,20 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
                     (uint64_t)sn * ics > ilen - (uint64_t)a->sparse_index_offset ||
                     a->sparse_value_offset < 0 || (uint64_t)a->sparse_value_offset > vlen ||
                     (uint64_t)sn * esize > vlen - (uint64_t)a->sparse_value_offset))
-            rc = fail(l, LG_ERR_INVALID, "accessor %d (%s): sparse indices or values run past their bufferViews",
-                      ai, what);
+            rc = fail(l, LG_ERR_INVALID,
+                      "accessor %d (%s): sparse indices or values run past their bufferViews", ai,
+                      what);
         for (int64_t s = 0; !rc && s < sn; s++) {
-            uint64_t at = (uint64_t)component(idx + a->sparse_index_offset + s * ics, a->sparse_index_type, false);
+            uint64_t at = (uint64_t)component(idx + a->sparse_index_offset + s * ics,
+                                              a->sparse_index_type, false);
             uint64_t prev = s ? (uint64_t)component(idx + a->sparse_index_offset + (s - 1) * ics,
-                                                    a->sparse_index_type, false) : 0;
+                                                    a->sparse_index_type, false)
+                              : 0;
             if (at >= n || (s && at <= prev)) {
-                rc = fail(l, LG_ERR_INVALID, "accessor %d (%s): sparse index %" PRIu64 " (entry %" PRId64
-                          ") is out of range or not increasing", ai, what, at, s);
+                rc = fail(l, LG_ERR_INVALID,
+                          "accessor %d (%s): sparse index %" PRIu64 " (entry %" PRId64
+                          ") is out of range or not increasing",
+                          ai, what, at, s);
                 break;
             }
             const uint8_t *p = val + a->sparse_value_offset + (size_t)s * esize;
@@ -354,8 +372,8 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
             if (!isfinite(f[i])) {
                 const char *kind_of = isnan(f[i]) ? "NaN" : "infinite";
                 free(buf);
-                return fail(l, LG_ERR_INVALID, "accessor %d (%s): element %zu component %zu is %s", ai, what,
-                            i / comps, i % comps, kind_of);
+                return fail(l, LG_ERR_INVALID, "accessor %d (%s): element %zu component %zu is %s",
+                            ai, what, i / comps, i % comps, kind_of);
             }
     }
     *out = buf;
@@ -363,7 +381,7 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
     return 0;
 }
 
-/* ---- primitives to lg_mesh ------------------------------------------------------------ */
+/* ---- primitives to lg_mesh ------------------------------------------------------------------- */
 
 /* Vertex data of one primitive before normals. */
 typedef struct prim_data {
@@ -381,8 +399,9 @@ static void prim_free(prim_data *p)
     memset(p, 0, sizeof *p);
 }
 
-#define MASK(t) (1u << ((t) - CT_BYTE))
-#define ATTR_TYPES (MASK(CT_FLOAT) | MASK(CT_BYTE) | MASK(CT_UBYTE) | MASK(CT_SHORT) | MASK(CT_USHORT))
+#define MASK(t) (1u << ((t)-CT_BYTE))
+#define ATTR_TYPES                                                                                 \
+    (MASK(CT_FLOAT) | MASK(CT_BYTE) | MASK(CT_UBYTE) | MASK(CT_SHORT) | MASK(CT_USHORT))
 #define INDEX_TYPES (MASK(CT_UBYTE) | MASK(CT_USHORT) | MASK(CT_UINT))
 
 /* Reads the KHR_draco_mesh_compression primitive's data. */
@@ -392,30 +411,37 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
     const lg_json *bv = lg_json_get(ext, "bufferView"), *attrs = lg_json_get(ext, "attributes");
     if (!bv || bv->type != LG_JSON_NUMBER || bv->number < 0 || bv->number != floor(bv->number) ||
         bv->number > INT32_MAX || !attrs || attrs->type != LG_JSON_OBJECT)
-        return fail(l, LG_ERR_INVALID, "%s: KHR_draco_mesh_compression needs an integer 'bufferView' and an "
-                    "'attributes' object", label);
+        return fail(l, LG_ERR_INVALID,
+                    "%s: KHR_draco_mesh_compression needs an integer 'bufferView' and an "
+                    "'attributes' object",
+                    label);
     if (p->mode != 4)
-        return fail(l, LG_ERR_UNSUPPORTED, "%s: a Draco primitive with mode %d (only TRIANGLES, 4, is supported)",
-                    label, p->mode);
-    int64_t ids[3] = {-1, -1, -1};
-    static const char *const names[3] = {"POSITION", "NORMAL", "TEXCOORD_0"};
-    const int32_t accs[3] = {p->position, p->normal, p->texcoord};
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: a Draco primitive with mode %d (only TRIANGLES, 4, is supported)", label,
+                    p->mode);
+    int64_t ids[3] = { -1, -1, -1 };
+    static const char *const names[3] = { "POSITION", "NORMAL", "TEXCOORD_0" };
+    const int32_t accs[3] = { p->position, p->normal, p->texcoord };
     for (int k = 0; k < 3; k++) {
         const lg_json *id = lg_json_get(attrs, names[k]);
         if (!id)
             continue;
         if (id->type != LG_JSON_NUMBER || id->number < 0 || id->number != floor(id->number) ||
             id->number > UINT32_MAX)
-            return fail(l, LG_ERR_INVALID, "%s: KHR_draco_mesh_compression attribute %s is not a valid id",
-                        label, names[k]);
+            return fail(l, LG_ERR_INVALID,
+                        "%s: KHR_draco_mesh_compression attribute %s is not a valid id", label,
+                        names[k]);
         if (accs[k] < 0)
-            return fail(l, LG_ERR_INVALID, "%s: Draco attribute %s is not among the primitive's attributes",
-                        label, names[k]);
+            return fail(l, LG_ERR_INVALID,
+                        "%s: Draco attribute %s is not among the primitive's attributes", label,
+                        names[k]);
         ids[k] = (int64_t)id->number;
     }
     if (ids[0] < 0)
-        return fail(l, LG_ERR_UNSUPPORTED, "%s: the Draco data has no POSITION (uncompressed positions next to "
-                    "Draco data are not supported)", label);
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: the Draco data has no POSITION (uncompressed positions next to "
+                    "Draco data are not supported)",
+                    label);
     for (int k = 1; k < 3; k++)
         if (ids[k] < 0 && accs[k] >= 0)
             warn(l, "%s: %s is not in the Draco data; ignored", label, names[k]);
@@ -428,20 +454,22 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
         return rc;
     lg_draco_mesh dm;
     char derr[512];
-    if (lg_draco_decode(data, (size_t)len, ids[0], want_normals ? ids[1] : -1, ids[2], LG_GLTF_MAX_COUNT,
-                        LG_GLTF_MAX_COUNT / 3, &dm, derr, sizeof derr))
+    if (lg_draco_decode(data, (size_t)len, ids[0], want_normals ? ids[1] : -1, ids[2],
+                        LG_GLTF_MAX_COUNT, LG_GLTF_MAX_COUNT / 3, &dm, derr, sizeof derr))
         return fail(l, LG_ERR_INVALID, "%s (bufferView %d): %s", label, (int)bv->number, derr);
     for (size_t i = 0; i < (size_t)dm.n_points * 3; i++)
         if (!isfinite(dm.positions[i]) || (dm.normals && !isfinite(dm.normals[i]))) {
             lg_draco_mesh_free(&dm);
-            return fail(l, LG_ERR_INVALID, "%s: Draco point %zu has a NaN or infinite position or normal", label,
+            return fail(l, LG_ERR_INVALID,
+                        "%s: Draco point %zu has a NaN or infinite position or normal", label,
                         i / 3);
         }
     for (size_t i = 0; dm.texcoords && i < (size_t)dm.n_points * 2; i++)
         if (!isfinite(dm.texcoords[i])) {
             lg_draco_mesh_free(&dm);
-            return fail(l, LG_ERR_INVALID, "%s: Draco point %zu has a NaN or infinite texture coordinate",
-                        label, i / 2);
+            return fail(l, LG_ERR_INVALID,
+                        "%s: Draco point %zu has a NaN or infinite texture coordinate", label,
+                        i / 2);
         }
     d->nv = dm.n_points;
     d->ni = dm.n_faces * 3;
@@ -461,7 +489,8 @@ static int triangulate(loader *l, int32_t mode, const uint32_t *src, uint32_t n,
     if (!t)
         return fail(l, LG_ERR_NOMEM, "%s: out of memory for %u triangles", label, nt);
     if (mode == 4 && n % 3)
-        warn(l, "%s: %u vertices/indices is not a multiple of 3; the last %u are ignored", label, n, n % 3);
+        warn(l, "%s: %u vertices/indices is not a multiple of 3; the last %u are ignored", label, n,
+             n % 3);
     uint32_t k = 0;
     for (uint32_t i = 0; i < nt; i++) {
         uint32_t a, b, c;
@@ -488,8 +517,8 @@ static int triangulate(loader *l, int32_t mode, const uint32_t *src, uint32_t n,
 
 static const char *mode_name(int32_t mode)
 {
-    static const char *const names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP", "TRIANGLES",
-                                        "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+    static const char *const names[] = { "POINTS",    "LINES",          "LINE_LOOP",   "LINE_STRIP",
+                                         "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN" };
     return mode >= 0 && mode <= 6 ? names[mode] : "unknown";
 }
 
@@ -501,8 +530,10 @@ static int read_primitive(loader *l, uint32_t mi, uint32_t pi, prim_data *d)
     mesh_label(l, mi, pi, label, sizeof label);
     memset(d, 0, sizeof *d);
     if (p->mode < 4 || p->mode > 6)
-        return fail(l, LG_ERR_UNSUPPORTED, "%s: mode %s (%d) cannot be drawn as triangles (supported: "
-                    "TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN)", label, mode_name(p->mode), p->mode);
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: mode %s (%d) cannot be drawn as triangles (supported: "
+                    "TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN)",
+                    label, mode_name(p->mode), p->mode);
     if (p->n_targets && !l->warned_targets) {
         l->warned_targets = true;
         warn(l, "%s: morph targets are not supported; the base shape is drawn", label);
@@ -517,18 +548,21 @@ static int read_primitive(loader *l, uint32_t mi, uint32_t pi, prim_data *d)
     char what[300];
     uint32_t n = 0, m = 0;
     snprintf(what, sizeof what, "POSITION of %s", label);
-    int rc = read_accessor(l, p->position, what, 3, ATTR_TYPES, OUT_FLOAT, (void **)&d->pos, &d->nv);
+    int rc = read_accessor(l, p->position, what, 3, ATTR_TYPES, OUT_FLOAT, (void **)&d->pos,
+                           &d->nv);
     if (!rc && want_normals && p->normal >= 0) {
         snprintf(what, sizeof what, "NORMAL of %s", label);
         rc = read_accessor(l, p->normal, what, 3, ATTR_TYPES, OUT_FLOAT, (void **)&d->nrm, &n);
         if (!rc && n != d->nv)
-            rc = fail(l, LG_ERR_INVALID, "%s: NORMAL has %u elements, POSITION %u", label, n, d->nv);
+            rc = fail(l, LG_ERR_INVALID, "%s: NORMAL has %u elements, POSITION %u", label, n,
+                      d->nv);
     }
     if (!rc && p->texcoord >= 0) {
         snprintf(what, sizeof what, "TEXCOORD_0 of %s", label);
         rc = read_accessor(l, p->texcoord, what, 2, ATTR_TYPES, OUT_FLOAT, (void **)&d->uv, &n);
         if (!rc && n != d->nv)
-            rc = fail(l, LG_ERR_INVALID, "%s: TEXCOORD_0 has %u elements, POSITION %u", label, n, d->nv);
+            rc = fail(l, LG_ERR_INVALID, "%s: TEXCOORD_0 has %u elements, POSITION %u", label, n,
+                      d->nv);
     }
     uint32_t *src = NULL;
     if (!rc && p->indices >= 0) {
@@ -536,8 +570,10 @@ static int read_primitive(loader *l, uint32_t mi, uint32_t pi, prim_data *d)
         rc = read_accessor(l, p->indices, what, 1, INDEX_TYPES, OUT_UINT, (void **)&src, &m);
         for (uint32_t i = 0; !rc && i < m; i++)
             if (src[i] >= d->nv)
-                rc = fail(l, LG_ERR_INVALID, "accessor %d (%s): index %u at position %u is out of range (%u "
-                          "vertices)", p->indices, what, src[i], i, d->nv);
+                rc = fail(l, LG_ERR_INVALID,
+                          "accessor %d (%s): index %u at position %u is out of range (%u "
+                          "vertices)",
+                          p->indices, what, src[i], i, d->nv);
     }
     if (!rc)
         rc = triangulate(l, p->mode, src, src ? m : d->nv, label, &d->idx, &d->ni);
@@ -566,7 +602,8 @@ static int compact(lg_nmesh *m)
             memcpy(m->positions + 3 * (size_t)n, m->positions + 3 * (size_t)v, 3 * sizeof(float));
             memcpy(m->normals + 3 * (size_t)n, m->normals + 3 * (size_t)v, 3 * sizeof(float));
             if (m->texcoords)
-                memcpy(m->texcoords + 2 * (size_t)n, m->texcoords + 2 * (size_t)v, 2 * sizeof(float));
+                memcpy(m->texcoords + 2 * (size_t)n, m->texcoords + 2 * (size_t)v,
+                       2 * sizeof(float));
         }
         n++;
     }
@@ -588,8 +625,8 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
     char label[256];
     mesh_label(l, mi, pi, label, sizeof label);
     if (p->material < -1 || (p->material >= 0 && (uint32_t)p->material >= l->g->n_materials))
-        return fail(l, LG_ERR_INVALID, "%s: material %d does not exist (the file has %u)", label, p->material,
-                    l->g->n_materials);
+        return fail(l, LG_ERR_INVALID, "%s: material %d does not exist (the file has %u)", label,
+                    p->material, l->g->n_materials);
     prim_data d;
     int rc = read_primitive(l, mi, pi, &d);
     if (rc)
@@ -603,7 +640,7 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
             n = lg_v3_normalize_or(n, lg_v3(0, 0, 1));
             d.nrm[3 * v] = n.x, d.nrm[3 * v + 1] = n.y, d.nrm[3 * v + 2] = n.z;
         }
-        nm = (lg_nmesh){d.nv, d.ni, d.pos, d.nrm, d.uv, d.idx};
+        nm = (lg_nmesh){ d.nv, d.ni, d.pos, d.nrm, d.uv, d.idx };
         memset(&d, 0, sizeof d);
         if (compact(&nm)) {
             lg_nmesh_free(&nm);
@@ -612,7 +649,8 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
     } else {
         rc = l->opt->normals == LG_GLTF_NORMALS_FLAT
                  ? lg_normals_flat(d.pos, d.uv, d.nv, d.idx, d.ni, &nm)
-                 : lg_normals_smooth(d.pos, d.uv, d.nv, d.idx, d.ni, (float)l->opt->crease_deg, &nm);
+                 : lg_normals_smooth(d.pos, d.uv, d.nv, d.idx, d.ni, (float)l->opt->crease_deg,
+                                     &nm);
         prim_free(&d);
         if (rc)
             return fail(l, LG_ERR_NOMEM, "%s: out of memory computing normals", label);
@@ -656,7 +694,7 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
     return 0;
 }
 
-/* ---- the node tree ------------------------------------------------------------------- */
+/* ---- the node tree --------------------------------------------------------------------------- */
 
 static void m4d_mul(double out[16], const double a[16], const double b[16])
 {
@@ -685,8 +723,10 @@ static int local_matrix(loader *l, uint32_t ni, double m[16])
     const lg_gltf_node *n = &l->g->nodes[ni];
     if ((n->n_matrix && n->n_matrix != 16) || (n->n_translation && n->n_translation != 3) ||
         (n->n_rotation && n->n_rotation != 4) || (n->n_scale && n->n_scale != 3))
-        return fail(l, LG_ERR_INVALID, "node %u: matrix, translation, rotation and scale need 16, 3, 4 and 3 "
-                    "numbers (got %u, %u, %u, %u)", ni, n->n_matrix, n->n_translation, n->n_rotation, n->n_scale);
+        return fail(l, LG_ERR_INVALID,
+                    "node %u: matrix, translation, rotation and scale need 16, 3, 4 and 3 "
+                    "numbers (got %u, %u, %u, %u)",
+                    ni, n->n_matrix, n->n_translation, n->n_rotation, n->n_scale);
     if (!all_finite(n->matrix, n->n_matrix) || !all_finite(n->translation, n->n_translation) ||
         !all_finite(n->rotation, n->n_rotation) || !all_finite(n->scale, n->n_scale))
         return fail(l, LG_ERR_INVALID, "node %u: its transform has a NaN or infinite number", ni);
@@ -694,7 +734,7 @@ static int local_matrix(loader *l, uint32_t ni, double m[16])
         memcpy(m, n->matrix, 16 * sizeof(double));
         return 0;
     }
-    double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
+    double t[3] = { 0, 0, 0 }, q[4] = { 0, 0, 0, 1 }, s[3] = { 1, 1, 1 };
     if (n->n_translation)
         memcpy(t, n->translation, sizeof t);
     if (n->n_rotation)
@@ -705,10 +745,11 @@ static int local_matrix(loader *l, uint32_t ni, double m[16])
     if (!(len > 1e-12))
         return fail(l, LG_ERR_INVALID, "node %u: rotation quaternion has length 0", ni);
     double x = q[0] / len, y = q[1] / len, z = q[2] / len, w = q[3] / len;
-    double r[9] = {/* column-major rotation */
-                   1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w),
-                   2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
-                   2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)};
+    double r[9] = { /* column-major rotation */
+                    1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                    2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                    2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)
+    };
     memset(m, 0, 16 * sizeof(double));
     for (int c = 0; c < 3; c++)
         for (int rr = 0; rr < 3; rr++)
@@ -730,12 +771,15 @@ static int check_tree(loader *l, int64_t *parent)
         for (uint32_t k = 0; k < n->n_children; k++) {
             int32_t c = n->children[k];
             if (c < 0 || (uint32_t)c >= nn)
-                return fail(l, LG_ERR_INVALID, "node %u: child %d does not exist (the file has %u nodes)", i, c, nn);
+                return fail(l, LG_ERR_INVALID,
+                            "node %u: child %d does not exist (the file has %u nodes)", i, c, nn);
             if ((uint32_t)c == i)
                 return fail(l, LG_ERR_INVALID, "node %u is its own child (a cycle)", i);
             if (parent[c] >= 0)
-                return fail(l, LG_ERR_INVALID, "node %d has two parents (nodes %" PRId64 " and %u); glTF nodes "
-                            "form trees", c, parent[c], i);
+                return fail(l, LG_ERR_INVALID,
+                            "node %d has two parents (nodes %" PRId64 " and %u); glTF nodes "
+                            "form trees",
+                            c, parent[c], i);
             parent[c] = i;
         }
     }
@@ -749,7 +793,8 @@ static int check_tree(loader *l, int64_t *parent)
         uint32_t np = 0, v = i, d = 0;
         for (;;) {
             if (state[v] == 1) {
-                rc = fail(l, LG_ERR_INVALID, "node %u is its own ancestor (a cycle in the node hierarchy)", v);
+                rc = fail(l, LG_ERR_INVALID,
+                          "node %u is its own ancestor (a cycle in the node hierarchy)", v);
                 break;
             }
             if (state[v] == 2) { /* path[np - 1] is a child of v */
@@ -768,8 +813,8 @@ static int check_tree(loader *l, int64_t *parent)
             depth[path[k]] = d;
             state[path[k]] = 2;
             if (d > LG_GLTF_MAX_DEPTH)
-                rc = fail(l, LG_ERR_INVALID, "node %u is nested %u levels deep (more than %d)", path[k], d,
-                          LG_GLTF_MAX_DEPTH);
+                rc = fail(l, LG_ERR_INVALID, "node %u is nested %u levels deep (more than %d)",
+                          path[k], d, LG_GLTF_MAX_DEPTH);
         }
     }
     free(state);
@@ -778,8 +823,8 @@ static int check_tree(loader *l, int64_t *parent)
     return rc;
 }
 
-static int place(loader *l, struct placed **arr, uint32_t *n, uint32_t *cap, uint32_t node, uint32_t index,
-                 const double world[16])
+static int place(loader *l, struct placed **arr, uint32_t *n, uint32_t *cap, uint32_t node,
+                 uint32_t index, const double world[16])
 {
     if (!grow((void **)arr, cap, *n, sizeof **arr))
         return fail(l, LG_ERR_NOMEM, "out of memory");
@@ -798,8 +843,8 @@ static int visit(loader *l, uint32_t ni, const double world[16])
     int rc;
     if (n->mesh >= 0) {
         if ((uint32_t)n->mesh >= g->n_meshes)
-            return fail(l, LG_ERR_INVALID, "node %u: mesh %d does not exist (the file has %u)", ni, n->mesh,
-                        g->n_meshes);
+            return fail(l, LG_ERR_INVALID, "node %u: mesh %d does not exist (the file has %u)", ni,
+                        n->mesh, g->n_meshes);
         if (n->skin >= 0 && !l->warned_skin) {
             l->warned_skin = true;
             warn(l, "node %u: skinning is not supported; the mesh is drawn in its bind pose", ni);
@@ -811,9 +856,12 @@ static int visit(loader *l, uint32_t ni, const double world[16])
             finite = finite && isfinite(mf[i]);
         }
         if (!finite)
-            return fail(l, LG_ERR_INVALID, "node %u: its world transform overflows (beyond the float range)", ni);
+            return fail(l, LG_ERR_INVALID,
+                        "node %u: its world transform overflows (beyond the float range)", ni);
         if (lg_m4_normal_matrix(nm, mf)) {
-            warn(l, "node %u: its world transform is singular (a zero scale?); its mesh is not drawn", ni);
+            warn(l,
+                 "node %u: its world transform is singular (a zero scale?); its mesh is not drawn",
+                 ni);
         } else {
             const lg_gltf_mesh *gm = &g->meshes[n->mesh];
             for (uint32_t p = 0; p < gm->n_primitives; p++) {
@@ -822,9 +870,11 @@ static int visit(loader *l, uint32_t ni, const double world[16])
                     return rc;
                 store *st = l->st;
                 if (st->n_instances >= LG_GLTF_MAX_INSTANCES)
-                    return fail(l, LG_ERR_INVALID, "more than %u mesh primitives placed in the scene",
+                    return fail(l, LG_ERR_INVALID,
+                                "more than %u mesh primitives placed in the scene",
                                 LG_GLTF_MAX_INSTANCES);
-                if (!grow((void **)&st->instances, &st->cap_instances, st->n_instances, sizeof *st->instances))
+                if (!grow((void **)&st->instances, &st->cap_instances, st->n_instances,
+                          sizeof *st->instances))
                     return fail(l, LG_ERR_NOMEM, "out of memory");
                 lg_instance *in = &st->instances[st->n_instances++];
                 memset(in, 0, sizeof *in);
@@ -836,18 +886,20 @@ static int visit(loader *l, uint32_t ni, const double world[16])
     }
     if (n->camera >= 0) {
         if ((uint32_t)n->camera >= g->n_cameras)
-            return fail(l, LG_ERR_INVALID, "node %u: camera %d does not exist (the file has %u)", ni, n->camera,
-                        g->n_cameras);
+            return fail(l, LG_ERR_INVALID, "node %u: camera %d does not exist (the file has %u)",
+                        ni, n->camera, g->n_cameras);
         if ((rc = place(l, &l->cams, &l->n_cams, &l->cap_cams, ni, (uint32_t)n->camera, world)))
             return rc;
     }
     const lg_json *lp = lg_json_get(n->extensions, "KHR_lights_punctual");
     if (lp) {
         const lg_json *li = lg_json_get(lp, "light");
-        if (!li || li->type != LG_JSON_NUMBER || li->number < 0 || li->number != floor(li->number) ||
-            li->number >= g->n_lights)
-            return fail(l, LG_ERR_INVALID, "node %u: KHR_lights_punctual.light is not one of the file's %u "
-                        "lights", ni, g->n_lights);
+        if (!li || li->type != LG_JSON_NUMBER || li->number < 0 ||
+            li->number != floor(li->number) || li->number >= g->n_lights)
+            return fail(l, LG_ERR_INVALID,
+                        "node %u: KHR_lights_punctual.light is not one of the file's %u "
+                        "lights",
+                        ni, g->n_lights);
         if ((rc = place(l, &l->lits, &l->n_lits, &l->cap_lits, ni, (uint32_t)li->number, world)))
             return rc;
     }
@@ -865,9 +917,11 @@ static int walk(loader *l, const int64_t *parent)
     int32_t *all = NULL;
     int64_t si = o->scene >= 0 ? o->scene : g->default_scene;
     if (o->scene >= 0 && (uint64_t)o->scene >= g->n_scenes)
-        return fail(l, LG_ERR_INVALID, "scene %" PRId64 " does not exist (the file has %u)", o->scene, g->n_scenes);
+        return fail(l, LG_ERR_INVALID, "scene %" PRId64 " does not exist (the file has %u)",
+                    o->scene, g->n_scenes);
     if (si >= 0 && (uint64_t)si >= g->n_scenes)
-        return fail(l, LG_ERR_INVALID, "the default scene %" PRId64 " does not exist (the file has %u)", si,
+        return fail(l, LG_ERR_INVALID,
+                    "the default scene %" PRId64 " does not exist (the file has %u)", si,
                     g->n_scenes);
     if (si < 0 && g->n_scenes)
         si = 0;
@@ -884,7 +938,10 @@ static int walk(loader *l, const int64_t *parent)
         roots = all;
     }
     /* an explicit stack: (node, world matrix) */
-    struct item { uint32_t node; double world[16]; } *stack = malloc((nn + 1) * sizeof *stack);
+    struct item {
+        uint32_t node;
+        double world[16];
+    } *stack = malloc((nn + 1) * sizeof *stack);
     bool *seen = calloc(nn + 1, 1);
     int rc = 0;
     if (!stack || !seen)
@@ -892,12 +949,15 @@ static int walk(loader *l, const int64_t *parent)
     for (uint32_t r = 0; !rc && r < n_roots; r++) {
         int32_t root = roots[r];
         if (root < 0 || (uint32_t)root >= nn) {
-            rc = fail(l, LG_ERR_INVALID, "scene %" PRId64 ": node %d does not exist (the file has %u)", si, root, nn);
+            rc = fail(l, LG_ERR_INVALID,
+                      "scene %" PRId64 ": node %d does not exist (the file has %u)", si, root, nn);
             break;
         }
         if (parent[root] >= 0) {
-            rc = fail(l, LG_ERR_INVALID, "scene %" PRId64 " lists node %d as a root, but it is a child of node %"
-                      PRId64, si, root, parent[root]);
+            rc = fail(l, LG_ERR_INVALID,
+                      "scene %" PRId64
+                      " lists node %d as a root, but it is a child of node %" PRId64,
+                      si, root, parent[root]);
             break;
         }
         uint32_t sp = 0;
@@ -908,7 +968,8 @@ static int walk(loader *l, const int64_t *parent)
         while (sp > 0 && !rc) {
             struct item it = stack[--sp];
             if (seen[it.node]) {
-                rc = fail(l, LG_ERR_INVALID, "node %u is listed twice among the scene's roots", it.node);
+                rc = fail(l, LG_ERR_INVALID, "node %u is listed twice among the scene's roots",
+                          it.node);
                 break;
             }
             seen[it.node] = true;
@@ -933,7 +994,7 @@ static int walk(loader *l, const int64_t *parent)
     return rc;
 }
 
-/* ---- materials ------------------------------------------------------------------------ */
+/* ---- materials ------------------------------------------------------------------------------- */
 
 static const lg_json *ext_get(const lg_json *extensions, const char *ext, const char *key)
 {
@@ -941,8 +1002,8 @@ static const lg_json *ext_get(const lg_json *extensions, const char *ext, const 
 }
 
 /* A number from JSON in [lo, hi]; absent leaves *v. */
-static int json_number(loader *l, const char *where, const char *key, const lg_json *j, double lo, double hi,
-                       double *v)
+static int json_number(loader *l, const char *where, const char *key, const lg_json *j, double lo,
+                       double hi, double *v)
 {
     if (!j)
         return 0;
@@ -953,8 +1014,8 @@ static int json_number(loader *l, const char *where, const char *key, const lg_j
 }
 
 /* A colour from JSON: [r, g, b] or one number for all three, each in [lo, hi]. */
-static int json_rgb(loader *l, const char *where, const char *key, const lg_json *j, double lo, double hi,
-                    double v[3])
+static int json_rgb(loader *l, const char *where, const char *key, const lg_json *j, double lo,
+                    double hi, double v[3])
 {
     if (!j)
         return 0;
@@ -965,8 +1026,8 @@ static int json_rgb(loader *l, const char *where, const char *key, const lg_json
         return rc;
     }
     if (j->type != LG_JSON_ARRAY || j->n != 3)
-        return fail(l, LG_ERR_INVALID, "%s: %s must be [r, g, b] or one number, each in [%g, %g]", where, key, lo,
-                    hi);
+        return fail(l, LG_ERR_INVALID, "%s: %s must be [r, g, b] or one number, each in [%g, %g]",
+                    where, key, lo, hi);
     for (int k = 0; k < 3; k++)
         if (json_number(l, where, key, &j->items[k], lo, hi, &v[k]))
             return LG_ERR_INVALID;
@@ -983,34 +1044,40 @@ static int map_material(loader *l, uint32_t i, lg_material *out)
     else
         snprintf(where, sizeof where, "material %u", i);
     if (gm->n_base_color != 4 || (gm->n_emissive && gm->n_emissive != 3))
-        return fail(l, LG_ERR_INVALID, "%s: baseColorFactor needs 4 numbers and emissiveFactor 3", where);
-    double base[4], emissive[3] = {0, 0, 0};
+        return fail(l, LG_ERR_INVALID, "%s: baseColorFactor needs 4 numbers and emissiveFactor 3",
+                    where);
+    double base[4], emissive[3] = { 0, 0, 0 };
     for (int k = 0; k < 4; k++) {
         base[k] = gm->base_color[k];
         if (!(base[k] >= 0 && base[k] <= 1))
-            return fail(l, LG_ERR_INVALID, "%s: baseColorFactor[%d] = %g is not in [0, 1]", where, k, base[k]);
+            return fail(l, LG_ERR_INVALID, "%s: baseColorFactor[%d] = %g is not in [0, 1]", where,
+                        k, base[k]);
     }
     for (uint32_t k = 0; k < gm->n_emissive; k++) {
         emissive[k] = gm->emissive[k];
         if (!(emissive[k] >= 0 && emissive[k] <= 1))
-            return fail(l, LG_ERR_INVALID, "%s: emissiveFactor[%u] = %g is not in [0, 1]", where, k, emissive[k]);
+            return fail(l, LG_ERR_INVALID, "%s: emissiveFactor[%u] = %g is not in [0, 1]", where, k,
+                        emissive[k]);
     }
     double metal = gm->metallic, rough = gm->roughness;
     if (!(metal >= 0 && metal <= 1) || !(rough >= 0 && rough <= 1))
-        return fail(l, LG_ERR_INVALID, "%s: metallicFactor %g and roughnessFactor %g must be in [0, 1]", where,
-                    metal, rough);
-    double strength = 1, ior = 1.5, spec = 1, spec_color[3] = {1, 1, 1};
+        return fail(l, LG_ERR_INVALID,
+                    "%s: metallicFactor %g and roughnessFactor %g must be in [0, 1]", where, metal,
+                    rough);
+    double strength = 1, ior = 1.5, spec = 1, spec_color[3] = { 1, 1, 1 };
     int rc;
     if ((rc = json_number(l, where, "KHR_materials_emissive_strength.emissiveStrength",
-                          ext_get(gm->extensions, "KHR_materials_emissive_strength", "emissiveStrength"), 0,
-                          1e30, &strength)) ||
-        (rc = json_number(l, where, "KHR_materials_ior.ior", ext_get(gm->extensions, "KHR_materials_ior", "ior"),
-                          1, 1e30, &ior)) ||
+                          ext_get(gm->extensions, "KHR_materials_emissive_strength",
+                                  "emissiveStrength"),
+                          0, 1e30, &strength)) ||
+        (rc = json_number(l, where, "KHR_materials_ior.ior",
+                          ext_get(gm->extensions, "KHR_materials_ior", "ior"), 1, 1e30, &ior)) ||
         (rc = json_number(l, where, "KHR_materials_specular.specularFactor",
-                          ext_get(gm->extensions, "KHR_materials_specular", "specularFactor"), 0, 1, &spec)) ||
+                          ext_get(gm->extensions, "KHR_materials_specular", "specularFactor"), 0, 1,
+                          &spec)) ||
         (rc = json_rgb(l, where, "KHR_materials_specular.specularColorFactor",
-                       ext_get(gm->extensions, "KHR_materials_specular", "specularColorFactor"), 0, 1e30,
-                       spec_color)))
+                       ext_get(gm->extensions, "KHR_materials_specular", "specularColorFactor"), 0,
+                       1e30, spec_color)))
         return rc;
 
     /* Fresnel reflectance at normal incidence of the dielectric part, from the index of
@@ -1038,7 +1105,7 @@ static int map_material(loader *l, uint32_t i, lg_material *out)
      * specular reflectance with KHR_materials_specular. A plain dielectric (a wall, the
      * default 0.04 of every glTF material) mirrors nothing, so that a scene of them gates
      * reflect and envmap off. */
-    double reflectivity[3] = {0, 0, 0};
+    double reflectivity[3] = { 0, 0, 0 };
     bool khr_specular = lg_json_get(gm->extensions, "KHR_materials_specular") != NULL;
     if (metal > 0 || khr_specular)
         for (int k = 0; k < 3; k++)
@@ -1051,7 +1118,8 @@ static int map_material(loader *l, uint32_t i, lg_material *out)
     if ((rc = json_number(l, where, "extras.ka", lg_json_get(x, "ka"), 0, 1e30, &ka)) ||
         (rc = json_number(l, where, "extras.kd", lg_json_get(x, "kd"), 0, 1e30, &kd)) ||
         (rc = json_number(l, where, "extras.ks", lg_json_get(x, "ks"), 0, 1e30, &ks)) ||
-        (rc = json_number(l, where, "extras.shininess", lg_json_get(x, "shininess"), 0, 1e30, &shininess)) ||
+        (rc = json_number(l, where, "extras.shininess", lg_json_get(x, "shininess"), 0, 1e30,
+                          &shininess)) ||
         (rc = json_rgb(l, where, "extras.od", lg_json_get(x, "od"), 0, 1e30, od)) ||
         (rc = json_rgb(l, where, "extras.os", lg_json_get(x, "os"), 0, 1e30, os)) ||
         (rc = json_rgb(l, where, "extras.reflectivity", lg_json_get(x, "reflectivity"), 0, 1,
@@ -1095,7 +1163,7 @@ static void default_material(lg_material *m)
     m->metallic = m->roughness = 1.0f;
 }
 
-/* ---- lights, cameras, medium ------------------------------------------------------------ */
+/* ---- lights, cameras, medium ----------------------------------------------------------------- */
 
 static lg_vec3 world_point(const double w[16])
 {
@@ -1104,7 +1172,8 @@ static lg_vec3 world_point(const double w[16])
 
 static lg_vec3 world_dir(const double w[16], double x, double y, double z, lg_vec3 fallback)
 {
-    return lg_v3_normalize_or(lg_v3((float)(w[0] * x + w[4] * y + w[8] * z), (float)(w[1] * x + w[5] * y + w[9] * z),
+    return lg_v3_normalize_or(lg_v3((float)(w[0] * x + w[4] * y + w[8] * z),
+                                    (float)(w[1] * x + w[5] * y + w[9] * z),
                                     (float)(w[2] * x + w[6] * y + w[10] * z)),
                               fallback);
 }
@@ -1134,15 +1203,19 @@ static int make_lights(loader *l)
         else if (!strcmp(gl->type, "spot"))
             o->type = LG_LIGHT_SPOT;
         else
-            return fail(l, LG_ERR_UNSUPPORTED, "%s: type '%s' (supported: directional, point, spot)", where, gl->type);
-        if (gl->n_color != 3 || !all_finite(gl->color, 3) || gl->color[0] < 0 || gl->color[1] < 0 || gl->color[2] < 0)
+            return fail(l, LG_ERR_UNSUPPORTED,
+                        "%s: type '%s' (supported: directional, point, spot)", where, gl->type);
+        if (gl->n_color != 3 || !all_finite(gl->color, 3) || gl->color[0] < 0 || gl->color[1] < 0 ||
+            gl->color[2] < 0)
             return fail(l, LG_ERR_INVALID, "%s: color must be 3 numbers >= 0", where);
-        if (!(gl->intensity >= 0) || !isfinite(gl->intensity) || !(gl->range >= 0) || !isfinite(gl->range))
-            return fail(l, LG_ERR_INVALID, "%s: intensity %g and range %g must be finite and >= 0", where,
-                        gl->intensity, gl->range);
-        if (o->type == LG_LIGHT_SPOT &&
-            !(gl->inner_cone >= 0 && gl->inner_cone < gl->outer_cone && gl->outer_cone <= LG_PI / 2 + 1e-9))
-            return fail(l, LG_ERR_INVALID, "%s: spot cone angles need 0 <= inner (%g) < outer (%g) <= pi/2", where,
+        if (!(gl->intensity >= 0) || !isfinite(gl->intensity) || !(gl->range >= 0) ||
+            !isfinite(gl->range))
+            return fail(l, LG_ERR_INVALID, "%s: intensity %g and range %g must be finite and >= 0",
+                        where, gl->intensity, gl->range);
+        if (o->type == LG_LIGHT_SPOT && !(gl->inner_cone >= 0 && gl->inner_cone < gl->outer_cone &&
+                                          gl->outer_cone <= LG_PI / 2 + 1e-9))
+            return fail(l, LG_ERR_INVALID,
+                        "%s: spot cone angles need 0 <= inner (%g) < outer (%g) <= pi/2", where,
                         gl->inner_cone, gl->outer_cone);
         char name[64];
         snprintf(name, sizeof name, "light %u", pl->index);
@@ -1157,7 +1230,8 @@ static int make_lights(loader *l)
         /* lights shine down their node's -Z (KHR_lights_punctual) */
         set3(o->direction, world_dir(pl->world, 0, 0, -1, lg_v3(0, 0, -1)));
         if (!isfinite(o->position[0] + o->position[1] + o->position[2]))
-            return fail(l, LG_ERR_INVALID, "node %u: the light's position overflows (beyond the float range)",
+            return fail(l, LG_ERR_INVALID,
+                        "node %u: the light's position overflows (beyond the float range)",
                         pl->node);
         if (o->type == LG_LIGHT_SPOT) {
             o->inner_cone = (float)gl->inner_cone;
@@ -1177,7 +1251,7 @@ static void scene_bounds(store *st)
     for (uint32_t i = 0; i < st->n_instances; i++)
         work += st->meshes[st->instances[i].mesh].n_vertices;
     bool exact = work <= 100000000u;
-    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
     bool any = false;
     for (uint32_t i = 0; i < st->n_instances; i++) {
         const lg_instance *in = &st->instances[i];
@@ -1192,7 +1266,7 @@ static void scene_bounds(store *st)
                                       v & 2 ? m->bounds_max[1] : m->bounds_min[1],
                                       v & 4 ? m->bounds_max[2] : m->bounds_min[2]);
             p = lg_m4_point(in->model, p);
-            float c[3] = {p.x, p.y, p.z};
+            float c[3] = { p.x, p.y, p.z };
             for (int k = 0; k < 3; k++) {
                 lo[k] = fminf(lo[k], c[k]);
                 hi[k] = fmaxf(hi[k], c[k]);
@@ -1211,7 +1285,8 @@ static void scene_bounds(store *st)
 static double side_cover(const store *st, float zface)
 {
     const lg_scene *s = &st->scene;
-    double w = (double)s->bounds_max[0] - s->bounds_min[0], h = (double)s->bounds_max[1] - s->bounds_min[1];
+    double w = (double)s->bounds_max[0] - s->bounds_min[0],
+           h = (double)s->bounds_max[1] - s->bounds_min[1];
     double tol = 0.01 * ((double)s->bounds_max[2] - s->bounds_min[2]);
     if (!(w > 0 && h > 0))
         return 0;
@@ -1226,7 +1301,8 @@ static double side_cover(const store *st, float zface)
             bool in_plane = true;
             for (int k = 0; k < 3; k++) {
                 uint32_t v = m->indices[t + k];
-                p[k] = lg_m4_point(in->model, lg_v3(m->positions[3 * (size_t)v], m->positions[3 * (size_t)v + 1],
+                p[k] = lg_m4_point(in->model, lg_v3(m->positions[3 * (size_t)v],
+                                                    m->positions[3 * (size_t)v + 1],
                                                     m->positions[3 * (size_t)v + 2]));
                 in_plane = in_plane && fabs((double)p[k].z - zface) <= tol;
             }
@@ -1304,8 +1380,10 @@ static int make_cameras(loader *l)
         set3(c->position, pos);
         set3(c->target, lg_v3_add(pos, lg_v3_scale(fwd, focus)));
         set3(c->up, up);
-        if (!isfinite(c->position[0] + c->position[1] + c->position[2] + c->target[0] + c->target[1] + c->target[2]))
-            return fail(l, LG_ERR_INVALID, "node %u: the camera's position overflows (beyond the float range)",
+        if (!isfinite(c->position[0] + c->position[1] + c->position[2] + c->target[0] +
+                      c->target[1] + c->target[2]))
+            return fail(l, LG_ERR_INVALID,
+                        "node %u: the camera's position overflows (beyond the float range)",
                         pl->node);
         char name[64];
         snprintf(name, sizeof name, "camera %u", pl->index);
@@ -1315,8 +1393,10 @@ static int make_cameras(loader *l)
         if (!strcmp(gc->type, "perspective")) {
             if (!(gc->yfov > 0 && gc->yfov < LG_PI) || !(gc->znear > 0) || !isfinite(gc->znear) ||
                 !(gc->zfar == 0 || (gc->zfar > gc->znear && isfinite(gc->zfar))))
-                return fail(l, LG_ERR_INVALID, "camera %u: yfov %g must be in (0, pi), znear %g > 0 and zfar %g "
-                            "0 or > znear", pl->index, gc->yfov, gc->znear, gc->zfar);
+                return fail(l, LG_ERR_INVALID,
+                            "camera %u: yfov %g must be in (0, pi), znear %g > 0 and zfar %g "
+                            "0 or > znear",
+                            pl->index, gc->yfov, gc->znear, gc->zfar);
             c->yfov = (float)gc->yfov;
             c->znear = (float)gc->znear;
             c->zfar = (float)gc->zfar;
@@ -1324,19 +1404,25 @@ static int make_cameras(loader *l)
             /* approximated by a perspective camera showing the same height at the focus */
             if (!(gc->ymag != 0 && isfinite(gc->ymag)) || !(gc->ortho_zfar > gc->ortho_znear) ||
                 !(gc->ortho_znear >= 0) || !isfinite(gc->ortho_zfar))
-                return fail(l, LG_ERR_INVALID, "camera %u: orthographic ymag %g must be non-zero and 0 <= znear "
-                            "%g < zfar %g", pl->index, gc->ymag, gc->ortho_znear, gc->ortho_zfar);
+                return fail(l, LG_ERR_INVALID,
+                            "camera %u: orthographic ymag %g must be non-zero and 0 <= znear "
+                            "%g < zfar %g",
+                            pl->index, gc->ymag, gc->ortho_znear, gc->ortho_zfar);
             if (!l->warned_ortho) {
                 l->warned_ortho = true;
-                warn(l, "camera %u is orthographic: approximated by a perspective camera that shows the same "
-                     "height (2 x ymag) at its target", pl->index);
+                warn(
+                    l,
+                    "camera %u is orthographic: approximated by a perspective camera that shows the same "
+                    "height (2 x ymag) at its target",
+                    pl->index);
             }
             c->yfov = 2.0f * atanf((float)fabs(gc->ymag) / focus);
             c->znear = gc->ortho_znear > 0 ? (float)gc->ortho_znear : 0.01f * focus;
             c->zfar = (float)gc->ortho_zfar;
         } else {
-            return fail(l, LG_ERR_UNSUPPORTED, "camera %u: type '%s' (supported: perspective, orthographic)",
-                        pl->index, gc->type);
+            return fail(l, LG_ERR_UNSUPPORTED,
+                        "camera %u: type '%s' (supported: perspective, orthographic)", pl->index,
+                        gc->type);
         }
         c->aspect = 0; /* the output's (README.md, "Cameras") */
         st->n_cameras++;
@@ -1352,7 +1438,8 @@ static int make_medium(loader *l, int64_t scene)
     const lg_json *x = NULL;
     const char *where = NULL;
     char buf[64];
-    if (scene >= 0 && (uint64_t)scene < g->n_scenes && (x = lg_json_get(g->scenes[scene].extras, "medium"))) {
+    if (scene >= 0 && (uint64_t)scene < g->n_scenes &&
+        (x = lg_json_get(g->scenes[scene].extras, "medium"))) {
         snprintf(buf, sizeof buf, "scene %" PRId64 " extras.medium", scene);
         where = buf;
     } else if ((x = lg_json_get(g->extras, "medium"))) {
@@ -1365,18 +1452,21 @@ static int make_medium(loader *l, int64_t scene)
     if (!x)
         return 0;
     if (x->type != LG_JSON_OBJECT)
-        return fail(l, LG_ERR_INVALID, "%s must be an object {density, scattering, absorption or extinction, g}",
+        return fail(l, LG_ERR_INVALID,
+                    "%s must be an object {density, scattering, absorption or extinction, g}",
                     where);
-    static const char *const known[] = {"density", "scattering", "absorption", "extinction", "g"};
+    static const char *const known[] = { "density", "scattering", "absorption", "extinction", "g" };
     for (uint32_t i = 0; i < x->n; i++) {
         bool ok = false;
         for (size_t k = 0; k < sizeof known / sizeof *known; k++)
             ok |= !strcmp(x->keys[i], known[k]);
         if (!ok)
-            warn(l, "%s: unknown key '%s' ignored (known: density, scattering, absorption, extinction, g)", where,
-                 x->keys[i]);
+            warn(
+                l,
+                "%s: unknown key '%s' ignored (known: density, scattering, absorption, extinction, g)",
+                where, x->keys[i]);
     }
-    double density = 1, g_ = 0, sc[3] = {1, 1, 1}, ab[3] = {0, 0, 0}, ex[3] = {0, 0, 0};
+    double density = 1, g_ = 0, sc[3] = { 1, 1, 1 }, ab[3] = { 0, 0, 0 }, ex[3] = { 0, 0, 0 };
     const lg_json *jab = lg_json_get(x, "absorption"), *jex = lg_json_get(x, "extinction");
     int rc;
     if (jab && jex)
@@ -1390,7 +1480,8 @@ static int make_medium(loader *l, int64_t scene)
     if (jex)
         for (int k = 0; k < 3; k++) {
             if (ex[k] < sc[k])
-                return fail(l, LG_ERR_INVALID, "%s: extinction[%d] = %g is less than scattering[%d] = %g", where, k,
+                return fail(l, LG_ERR_INVALID,
+                            "%s: extinction[%d] = %g is less than scattering[%d] = %g", where, k,
                             ex[k], k, sc[k]);
             ab[k] = ex[k] - sc[k];
         }
@@ -1404,12 +1495,12 @@ static int make_medium(loader *l, int64_t scene)
     return 0;
 }
 
-/* ---- the whole file --------------------------------------------------------------------- */
+/* ---- the whole file -------------------------------------------------------------------------- */
 
 /* Extensions the loader implements or may ignore without drawing the scene wrongly. */
 static const char *const supported_required[] = {
-    "KHR_draco_mesh_compression", "KHR_lights_punctual", "KHR_mesh_quantization",
-    "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_specular",
+    "KHR_draco_mesh_compression",      "KHR_lights_punctual", "KHR_mesh_quantization",
+    "KHR_materials_emissive_strength", "KHR_materials_ior",   "KHR_materials_specular",
     "KHR_texture_transform", /* textures are ignored anyway */
 };
 
@@ -1441,7 +1532,8 @@ static int build(loader *l)
         for (size_t k = 0; k < sizeof supported_required / sizeof *supported_required; k++)
             ok |= !strcmp(g->extensions_required[i], supported_required[k]);
         if (!ok)
-            return fail(l, LG_ERR_UNSUPPORTED, "requires extension '%s', which this loader does not support",
+            return fail(l, LG_ERR_UNSUPPORTED,
+                        "requires extension '%s', which this loader does not support",
                         g->extensions_required[i]);
     }
     int64_t *parent = malloc(((size_t)g->n_nodes + 1) * sizeof *parent);
@@ -1482,15 +1574,22 @@ static int build(loader *l)
     scene_bounds(st);
     for (int k = 0; k < 3; k++)
         if (!(fabsf(s->bounds_min[k]) <= 1e30f) || !(fabsf(s->bounds_max[k]) <= 1e30f))
-            return fail(l, LG_ERR_INVALID, "the scene's world bounds (%g .. %g on axis %d) go beyond +-1e30: "
-                        "positions or node transforms out of any sensible range", s->bounds_min[k], s->bounds_max[k], k);
-    int64_t si = l->opt->scene >= 0 ? l->opt->scene : g->default_scene >= 0 ? g->default_scene : g->n_scenes ? 0 : -1;
+            return fail(l, LG_ERR_INVALID,
+                        "the scene's world bounds (%g .. %g on axis %d) go beyond +-1e30: "
+                        "positions or node transforms out of any sensible range",
+                        s->bounds_min[k], s->bounds_max[k], k);
+    int64_t si = l->opt->scene >= 0      ? l->opt->scene
+                 : g->default_scene >= 0 ? g->default_scene
+                 : g->n_scenes           ? 0
+                                         : -1;
     if ((rc = make_lights(l)) || (rc = make_cameras(l)) || (rc = make_medium(l, si)))
         return rc;
     int64_t cam = l->opt->camera < 0 ? 0 : l->opt->camera;
     if ((uint64_t)cam >= st->n_cameras)
-        return fail(l, LG_ERR_INVALID, "camera %" PRId64 " does not exist: the scene has %u (%u from the file, then "
-                    "the automatic one)", cam, st->n_cameras, st->n_cameras - 1);
+        return fail(l, LG_ERR_INVALID,
+                    "camera %" PRId64 " does not exist: the scene has %u (%u from the file, then "
+                    "the automatic one)",
+                    cam, st->n_cameras, st->n_cameras - 1);
 
     s->struct_size = sizeof(lg_scene);
     s->meshes = st->meshes;
@@ -1510,8 +1609,8 @@ static int build(loader *l)
 }
 
 int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, const char *base_dir,
-                        const lg_gltf_options *opt, lg_scene **out, uint64_t *content_hash, char *err,
-                        size_t err_size)
+                        const lg_gltf_options *opt, lg_scene **out, uint64_t *content_hash,
+                        char *err, size_t err_size)
 {
     *out = NULL;
     lg_gltf_options defaults = lg_gltf_default_options();
@@ -1524,11 +1623,14 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     if (err && err_size)
         err[0] = 0;
     if (!(l.opt->crease_deg >= 0 && l.opt->crease_deg <= 180))
-        return fail(&l, LG_ERR_INVALID, "crease angle %g is not in [0, 180] degrees", l.opt->crease_deg);
+        return fail(&l, LG_ERR_INVALID, "crease angle %g is not in [0, 180] degrees",
+                    l.opt->crease_deg);
 
     /* what the bytes are: GLB by its magic, else JSON text */
-    size_t at = size >= 3 && !memcmp(bytes, "\xEF\xBB\xBF", 3) ? 3 : 0; /* a UTF-8 byte order mark */
-    while (at < size && (bytes[at] == ' ' || bytes[at] == '\t' || bytes[at] == '\r' || bytes[at] == '\n'))
+    size_t at = size >= 3 && !memcmp(bytes, "\xEF\xBB\xBF", 3) ? 3
+                                                               : 0; /* a UTF-8 byte order mark */
+    while (at < size &&
+           (bytes[at] == ' ' || bytes[at] == '\t' || bytes[at] == '\r' || bytes[at] == '\n'))
         at++;
     bool glb = size >= 4 && !memcmp(bytes, "glTF", 4);
     size_t nlen = strlen(name);
@@ -1537,7 +1639,8 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
         return fail(&l, LG_ERR_INVALID, "not a GLB file: it starts with %s, not the magic 'glTF'",
                     size >= 4 ? "other bytes" : "fewer than 4 bytes");
     if (!glb && !(at < size && bytes[at] == '{'))
-        return fail(&l, LG_ERR_INVALID, "neither a GLB file (magic 'glTF') nor glTF JSON (a '{' first)");
+        return fail(&l, LG_ERR_INVALID,
+                    "neither a GLB file (magic 'glTF') nor glTF JSON (a '{' first)");
 
     char perr[1536];
     const lg_gltf *g = NULL;
@@ -1581,8 +1684,8 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     return 0;
 }
 
-int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out, uint64_t *content_hash,
-                 char *err, size_t err_size)
+int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out,
+                 uint64_t *content_hash, char *err, size_t err_size)
 {
     *out = NULL;
     /* bounded: a FIFO, a device or a file over the limit is refused before a byte is read */
@@ -1592,7 +1695,10 @@ int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out, u
     if (!bytes) {
         int e = errno;
         snprintf(err, err_size, "file '%s': cannot read it: %s", path, why);
-        return e == ENOENT ? LG_ERR_NOTFOUND : e == EFBIG ? LG_ERR_INVALID : e == ENOMEM ? LG_ERR_NOMEM : LG_ERR_IO;
+        return e == ENOENT   ? LG_ERR_NOTFOUND
+               : e == EFBIG  ? LG_ERR_INVALID
+               : e == ENOMEM ? LG_ERR_NOMEM
+                             : LG_ERR_IO;
     }
     /* External buffers and images resolve against, and must stay inside, the folder of the
      * path as given (a link to the file does not move its folder), links resolved. */
@@ -1608,7 +1714,8 @@ int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out, u
     int rc;
     if (!base) {
         int e = errno;
-        snprintf(err, err_size, "file '%s': its folder cannot be resolved: %s", path, dir ? strerror(e) : "out of memory");
+        snprintf(err, err_size, "file '%s': its folder cannot be resolved: %s", path,
+                 dir ? strerror(e) : "out of memory");
         rc = LG_ERR_IO;
     } else {
         rc = lg_gltf_load_memory(bytes, size, path, base, opt, out, content_hash, err, err_size);

@@ -23,11 +23,11 @@ typedef enum lg_gltf_normals {
 
 typedef struct lg_gltf_options {
     lg_gltf_normals normals;
-    double crease_deg;   /* smooth normals: facets further apart than this get a crease */
-    int64_t scene;       /* the glTF scene; -1: the file's default, else scene 0, else
-                          * every root node */
-    int64_t camera;      /* index into lg_scene.cameras; -1: the first (the file's first
-                          * camera, else the automatic one) */
+    double crease_deg; /* smooth normals: facets further apart than this get a crease */
+    int64_t scene;     /* the glTF scene; -1: the file's default, else scene 0, else
+                        * every root node */
+    int64_t camera;    /* index into lg_scene.cameras; -1: the first (the file's first
+                        * camera, else the automatic one) */
     /* Receives each warning (one line, naming the file); may be NULL. */
     void (*warn)(void *user, const char *message);
     void *warn_user;
@@ -49,17 +49,17 @@ int lg_gltf_load(const char *path, const lg_gltf_options *opt, lg_scene **out,
 /* The same from bytes in memory: `name` is the file name used in messages; external
  * buffers are read from, and confined to, base_dir (NULL: none can be loaded, and image
  * uris must still not leave the folder lexically). */
-int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name,
-                        const char *base_dir, const lg_gltf_options *opt, lg_scene **out,
-                        uint64_t *content_hash, char *err, size_t err_size);
+int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, const char *base_dir,
+                        const lg_gltf_options *opt, lg_scene **out, uint64_t *content_hash,
+                        char *err, size_t err_size);
 
 /* Frees a scene made by the loader (NULL is fine). Matches declare_payload's free_fn. */
 void lg_gltf_scene_free(lg_scene *scene);
 
 /* Limits (README.md, "Limits"). */
-#define LG_GLTF_MAX_COUNT (1u << 28)      /* elements of one accessor, points of a Draco mesh */
-#define LG_GLTF_MAX_DEPTH 256             /* node nesting */
-#define LG_GLTF_MAX_INSTANCES (1u << 24)  /* mesh primitives placed in the scene */
+#define LG_GLTF_MAX_COUNT (1u << 28)     /* elements of one accessor, points of a Draco mesh */
+#define LG_GLTF_MAX_DEPTH 256            /* node nesting */
+#define LG_GLTF_MAX_INSTANCES (1u << 24) /* mesh primitives placed in the scene */
 /* The .gltf or .glb file itself, each external buffer (its byteLength), and all external
  * buffers of one model together. 2 GiB: tinygltf 2.7.0 takes a file's size as an unsigned
  * int and GLB lengths are 32-bit; 2^31 keeps the Draco rewrite's copy below both. */

@@ -54,7 +54,8 @@ static lg_vec3 facet(const lg_vec3 p[3], float *twice_area)
 static void facets(const float *pos, const uint32_t *idx, uint32_t n_tris, float *fn, float *cw)
 {
     for (uint32_t t = 0; t < n_tris; t++) {
-        lg_vec3 p[3] = {vget(pos, idx[3 * t]), vget(pos, idx[3 * t + 1]), vget(pos, idx[3 * t + 2])};
+        lg_vec3 p[3] = { vget(pos, idx[3 * t]), vget(pos, idx[3 * t + 1]),
+                         vget(pos, idx[3 * t + 2]) };
         float twice_area;
         lg_vec3 n = facet(p, &twice_area);
         bool ok = twice_area > 0;
@@ -68,7 +69,7 @@ static void facets(const float *pos, const uint32_t *idx, uint32_t n_tris, float
     }
 }
 
-/* ---- welding: one id per distinct position ---------------------------------------- */
+/* ---- welding: one id per distinct position --------------------------------------------------- */
 
 static uint32_t float_key(float f)
 {
@@ -101,7 +102,8 @@ static uint32_t weld_positions(const float *pos, uint32_t nv, uint32_t *weld)
     for (uint32_t v = 0; v < nv; v++) {
         uint32_t k[3];
         position_key(pos, v, k);
-        uint64_t h = (k[0] * 0x9e3779b97f4a7c15ull) ^ (k[1] * 0xc2b2ae3d27d4eb4full) ^ (k[2] * 0x165667b19e3779f9ull);
+        uint64_t h = (k[0] * 0x9e3779b97f4a7c15ull) ^ (k[1] * 0xc2b2ae3d27d4eb4full) ^
+                     (k[2] * 0x165667b19e3779f9ull);
         size_t at = (size_t)(h ^ (h >> 29)) & (cap - 1);
         for (;; at = (at + 1) & (cap - 1)) {
             uint32_t o = table[at];
@@ -122,7 +124,7 @@ static uint32_t weld_positions(const float *pos, uint32_t nv, uint32_t *weld)
     return ids;
 }
 
-/* ---- output vertices: one per (source vertex, normal) ------------------------------ */
+/* ---- output vertices: one per (source vertex, normal) ---------------------------------------- */
 
 typedef struct builder {
     const float *pos, *uv;
@@ -215,7 +217,7 @@ static float dot3(const float *a, const float *b)
 static int point_normals(const uint32_t *c, uint32_t d, const float *fn, const float *cw,
                          float cos_crease, float cos_half, float *cn)
 {
-    double all[3] = {0, 0, 0};
+    double all[3] = { 0, 0, 0 };
     for (uint32_t i = 0; i < d; i++) {
         const float *n = fn + 3 * (size_t)(c[i] / 3);
         for (int k = 0; k < 3; k++)
@@ -240,7 +242,7 @@ static int point_normals(const uint32_t *c, uint32_t d, const float *fn, const f
         for (uint32_t i = 0; i < d; i++) {
             const float *nf = fn + 3 * (size_t)(c[i] / 3);
             bool degenerate = nf[0] == 0 && nf[1] == 0 && nf[2] == 0;
-            double s[3] = {0, 0, 0};
+            double s[3] = { 0, 0, 0 };
             if (degenerate) {
                 memcpy(s, all, sizeof s);
             } else {
@@ -303,7 +305,7 @@ int lg_normals_smooth(const float *pos, const float *uv, uint32_t nv, const uint
     uint32_t *start = NULL, *corners = NULL, *head = NULL;
     float *cn = NULL;
     /* about as many output vertices as source vertices: the arrays start there and grow */
-    builder b = {pos, uv, out, 0, nv + nv / 8 + 64, NULL, NULL};
+    builder b = { pos, uv, out, 0, nv + nv / 8 + 64, NULL, NULL };
     int rc = LG_ERR_NOMEM;
     if (!fn || !cw || !weld)
         goto done;
@@ -383,10 +385,10 @@ int lg_normals_flat(const float *pos, const float *uv, uint32_t nv, const uint32
         return LG_ERR_NOMEM;
     for (uint32_t t = 0; t < nt; t++) {
         const uint32_t *tri = idx + 3 * (size_t)t;
-        lg_vec3 p[3] = {vget(pos, tri[0]), vget(pos, tri[1]), vget(pos, tri[2])};
+        lg_vec3 p[3] = { vget(pos, tri[0]), vget(pos, tri[1]), vget(pos, tri[2]) };
         float twice_area;
         lg_vec3 n = facet(p, &twice_area);
-        float fn[3] = {n.x, n.y, twice_area > 0 ? n.z : 1}; /* degenerate: (0, 0, 1) */
+        float fn[3] = { n.x, n.y, twice_area > 0 ? n.z : 1 }; /* degenerate: (0, 0, 1) */
         for (int k = 0; k < 3; k++) {
             size_t o = 3 * (size_t)t + k, v = idx[o];
             memcpy(out->positions + 3 * o, pos + 3 * v, 3 * sizeof(float));

@@ -50,7 +50,8 @@ extern "C" {
 }
 #include "lightgraph/file.h"
 
-namespace {
+namespace
+{
 
 // Deepest JSON nesting accepted (glTF itself needs 6; extras get the rest).
 constexpr int kMaxJsonDepth = 64;
@@ -98,21 +99,22 @@ uint32_t rd32(const uint8_t *p)
 std::string check_glb(const uint8_t *b, size_t size, const uint8_t **json, size_t *json_size)
 {
     if (size < 20)
-        return "truncated GLB: " + std::to_string(size) + " bytes, the header and first chunk header need 20";
+        return "truncated GLB: " + std::to_string(size) +
+               " bytes, the header and first chunk header need 20";
     uint32_t version = rd32(b + 4), length = rd32(b + 8);
     if (version != 2)
         return "GLB version " + std::to_string(version) + " (only 2 is glTF 2.0)";
     if (length > size)
-        return "truncated GLB: the header says " + std::to_string(length) + " bytes, the file has " +
-               std::to_string(size);
+        return "truncated GLB: the header says " + std::to_string(length) +
+               " bytes, the file has " + std::to_string(size);
     if (length < size)
         size = length; // trailing bytes after the declared length are ignored, as the spec says
     uint64_t json_len = rd32(b + 12);
     if (rd32(b + 16) != 0x4E4F534Au)
         return "the first GLB chunk is not JSON";
     if (json_len == 0 || 20 + json_len > size)
-        return "the GLB JSON chunk (" + std::to_string(json_len) + " bytes) runs past the end of the file (" +
-               std::to_string(size) + " bytes)";
+        return "the GLB JSON chunk (" + std::to_string(json_len) +
+               " bytes) runs past the end of the file (" + std::to_string(size) + " bytes)";
     uint64_t at = 20 + json_len;
     if (at < size) {
         if (at + 8 > size)
@@ -121,8 +123,9 @@ std::string check_glb(const uint8_t *b, size_t size, const uint8_t **json, size_
         if (rd32(b + at + 4) != 0x004E4942u)
             return "the second GLB chunk is not BIN";
         if (at + 8 + bin_len > size)
-            return "the GLB BIN chunk (" + std::to_string(bin_len) + " bytes at byte " + std::to_string(at + 8) +
-                   ") runs past the end of the file (" + std::to_string(size) + " bytes)";
+            return "the GLB BIN chunk (" + std::to_string(bin_len) + " bytes at byte " +
+                   std::to_string(at + 8) + ") runs past the end of the file (" +
+                   std::to_string(size) + " bytes)";
     }
     *json = b + 20;
     *json_size = size_t(json_len);
@@ -181,7 +184,8 @@ std::string without_draco_indices(const uint8_t *json, size_t size)
 }
 
 // A GLB with its JSON chunk replaced (padded with spaces to 4 bytes, as the spec says).
-std::vector<uint8_t> replace_glb_json(const uint8_t *glb, size_t size, size_t old_json, const std::string &json)
+std::vector<uint8_t> replace_glb_json(const uint8_t *glb, size_t size, size_t old_json,
+                                      const std::string &json)
 {
     std::string j = json;
     while (j.size() % 4)
@@ -201,7 +205,7 @@ std::vector<uint8_t> replace_glb_json(const uint8_t *glb, size_t size, size_t ol
     return out;
 }
 
-// ---- external files: what the model may read, and from where --------------------------
+// ---- external files: what the model may read, and from where ------------------------------------
 //
 // tinygltf never touches the filesystem by itself: its callbacks below answer only for the
 // external buffers that scan_refs found and checked, and read them through lightgraph/file.h
@@ -221,18 +225,18 @@ constexpr uint64_t kMaxExternalTotal = LG_GLTF_MAX_EXTERNAL;
 
 // One external (non-data:) buffer, in file order: tinygltf loads them in that order.
 struct ext_buffer {
-    size_t index;         // in "buffers"
-    std::string uri;      // as the file writes it
-    std::string path;     // percent-decoded (RFC 3986), relative to the model's folder
-    std::string asked;    // the path tinygltf asks for: base + "/" + its own decoding
+    size_t index;      // in "buffers"
+    std::string uri;   // as the file writes it
+    std::string path;  // percent-decoded (RFC 3986), relative to the model's folder
+    std::string asked; // the path tinygltf asks for: base + "/" + its own decoding
     uint64_t byte_length;
 };
 
 struct fs_context {
-    std::string base;     // the model's folder (absolute, links resolved), "" when none
+    std::string base; // the model's folder (absolute, links resolved), "" when none
     std::vector<ext_buffer> buffers;
-    size_t next = 0;      // the buffer tinygltf reads next
-    std::string error;    // the first refusal, reported instead of tinygltf's message
+    size_t next = 0;   // the buffer tinygltf reads next
+    std::string error; // the first refusal, reported instead of tinygltf's message
 };
 
 // s for a one-line message: control characters as \xNN, at most 200 bytes.
@@ -256,12 +260,16 @@ std::string printable(const std::string &s)
 // "'a%20b.bin' ('a b.bin')", or "'x.bin'" when decoding changes nothing.
 std::string quoted_uri(const std::string &uri, const std::string &path)
 {
-    return uri == path ? "'" + printable(uri) + "'" : "'" + printable(uri) + "' ('" + printable(path) + "')";
+    return uri == path ? "'" + printable(uri) + "'"
+                       : "'" + printable(uri) + "' ('" + printable(path) + "')";
 }
 
 int hex_digit(char c)
 {
-    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+    return c >= '0' && c <= '9'   ? c - '0'
+           : c >= 'a' && c <= 'f' ? c - 'a' + 10
+           : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                  : -1;
 }
 
 // Percent-decodes a URI reference (RFC 3986 2.1; glTF 2.0 URIs are RFC 3986 references).
@@ -351,8 +359,8 @@ std::string file_reason(const char *why, const std::string &path)
 
 // Checks a referenced uri: relative, well encoded, inside the folder (lexically; then, when
 // the file exists, with its links resolved). Returns "" or the refusal, naming the uri.
-std::string check_uri(const fs_context &ctx, const std::string &what, const std::string &uri, std::string *path,
-                      bool must_exist)
+std::string check_uri(const fs_context &ctx, const std::string &what, const std::string &uri,
+                      std::string *path, bool must_exist)
 {
     std::string why = percent_decode(uri, path);
     if (!why.empty())
@@ -367,15 +375,18 @@ std::string check_uri(const fs_context &ctx, const std::string &what, const std:
         // no folder: the uri must not climb out of one, wherever the model would be
         bool escapes = false;
         lexical_join("/m", *path, &escapes);
-        return escapes ? what + ": cannot read " + quoted_uri(uri, *path) + ": it leaves the model's folder" : "";
+        return escapes ? what + ": cannot read " + quoted_uri(uri, *path) +
+                             ": it leaves the model's folder"
+                       : "";
     }
     bool escapes = false;
     std::string lexical = lexical_join(ctx.base, *path, &escapes);
     if (escapes)
-        return what + ": cannot read " + quoted_uri(uri, *path) + ": it leads to '" + printable(lexical) +
-               "', outside '" + ctx.base + "'";
+        return what + ": cannot read " + quoted_uri(uri, *path) + ": it leads to '" +
+               printable(lexical) + "', outside '" + ctx.base + "'";
     char err[PATH_MAX + 512];
-    if (lg_path_within(ctx.base.c_str(), path->c_str(), err, sizeof err) != 0 && (must_exist || errno == EACCES))
+    if (lg_path_within(ctx.base.c_str(), path->c_str(), err, sizeof err) != 0 &&
+        (must_exist || errno == EACCES))
         return what + ": cannot read " + quoted_uri(uri, *path) + ": " + file_reason(err, *path);
     return "";
 }
@@ -386,8 +397,10 @@ int open_buffer(const fs_context &ctx, const ext_buffer &b, std::string *why)
 {
     char err[PATH_MAX + 512];
     uint64_t size = 0;
-    int fd = lg_file_open_within(ctx.base.c_str(), b.path.c_str(), UINT64_MAX, &size, err, sizeof err);
-    std::string what = "buffer " + std::to_string(b.index) + ": cannot read " + quoted_uri(b.uri, b.path) + ": ";
+    int fd = lg_file_open_within(ctx.base.c_str(), b.path.c_str(), UINT64_MAX, &size, err,
+                                 sizeof err);
+    std::string what = "buffer " + std::to_string(b.index) + ": cannot read " +
+                       quoted_uri(b.uri, b.path) + ": ";
     if (fd < 0) {
         *why = what + file_reason(err, b.path);
         return -1;
@@ -426,7 +439,8 @@ std::string scan_refs(const uint8_t *json_text, size_t size, fs_context *ctx)
         for (size_t i = 0; i < buffers->size(); i++) {
             const json &b = (*buffers)[i];
             auto uri = b.is_object() ? b.find("uri") : b.end();
-            if (!b.is_object() || uri == b.end() || !uri->is_string() || uri->get_ref<const std::string &>().empty())
+            if (!b.is_object() || uri == b.end() || !uri->is_string() ||
+                uri->get_ref<const std::string &>().empty())
                 continue; // a GLB's BIN chunk, or an error tinygltf reports
             const std::string &u = uri->get_ref<const std::string &>();
             if (tinygltf::IsDataURI(u))
@@ -442,12 +456,13 @@ std::string scan_refs(const uint8_t *json_text, size_t size, fs_context *ctx)
             if ((total += len) > kMaxExternalTotal)
                 return what + ": the external buffers' byteLengths add up to more than the " +
                        std::to_string(kMaxExternalTotal >> 30) + " GiB a model may read";
-            ext_buffer e{i, u, "", "", len};
+            ext_buffer e{ i, u, "", "", len };
             std::string why = check_uri(*ctx, what, u, &e.path, true);
             if (!why.empty())
                 return why;
             // what tinygltf's JoinPath makes of the folder and its own decoding of the uri
-            e.asked = ctx->base + (ctx->base.back() == '/' ? "" : "/") + tinygltf::dlib::urldecode(u);
+            e.asked = ctx->base + (ctx->base.back() == '/' ? "" : "/") +
+                      tinygltf::dlib::urldecode(u);
             int fd = open_buffer(*ctx, e, &why);
             if (fd < 0)
                 return why;
@@ -481,7 +496,10 @@ bool fs_exists(const std::string &path, void *user)
     return false;
 }
 
-std::string fs_expand(const std::string &path, void *) { return path; }
+std::string fs_expand(const std::string &path, void *)
+{
+    return path;
+}
 
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
 {
@@ -509,7 +527,8 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
         if (r < 0 && errno == EINTR)
             continue;
         if (r <= 0) {
-            ctx->error = "buffer " + std::to_string(b.index) + ": cannot read " + quoted_uri(b.uri, b.path) + ": " +
+            ctx->error = "buffer " + std::to_string(b.index) + ": cannot read " +
+                         quoted_uri(b.uri, b.path) + ": " +
                          (r < 0 ? std::strerror(errno) : "it shrank while being read");
             break;
         }
@@ -525,7 +544,8 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
     return true;
 }
 
-bool fs_write(std::string *err, const std::string &path, const std::vector<unsigned char> &, void *user)
+bool fs_write(std::string *err, const std::string &path, const std::vector<unsigned char> &,
+              void *user)
 {
     fs_context *ctx = static_cast<fs_context *>(user);
     ctx->error = "tinygltf tried to write '" + path + "'; the loader never writes";
@@ -617,8 +637,7 @@ void lg_gltf_doc::convert(const tinygltf::Value &v, lg_json *out)
         out->keys = keys.data();
         break;
     }
-    default:
-        break;
+    default: break;
     }
 }
 
@@ -670,9 +689,9 @@ void lg_gltf_doc::fill()
 {
     const tinygltf::Model &m = model;
     for (const auto &b : m.buffers)
-        buffers.push_back({b.data.data(), b.data.size()});
+        buffers.push_back({ b.data.data(), b.data.size() });
     for (const auto &v : m.bufferViews)
-        views.push_back({v.buffer, v.byteOffset, v.byteLength, v.byteStride});
+        views.push_back({ v.buffer, v.byteOffset, v.byteLength, v.byteStride });
     for (const auto &a : m.accessors) {
         lg_gltf_accessor c{};
         c.name = a.name.c_str();
@@ -706,7 +725,7 @@ void lg_gltf_doc::fill()
             c.extensions = extensions(p.extensions);
             ps.push_back(c);
         }
-        meshes.push_back({mesh.name.c_str(), ps.data(), uint32_t(ps.size())});
+        meshes.push_back({ mesh.name.c_str(), ps.data(), uint32_t(ps.size()) });
     }
     for (const auto &n : m.nodes) {
         lg_gltf_node c{};
@@ -724,7 +743,8 @@ void lg_gltf_doc::fill()
         nodes.push_back(c);
     }
     for (const auto &s : m.scenes)
-        scenes.push_back({s.name.c_str(), s.nodes.data(), uint32_t(s.nodes.size()), value(s.extras)});
+        scenes.push_back(
+            { s.name.c_str(), s.nodes.data(), uint32_t(s.nodes.size()), value(s.extras) });
     for (const auto &c : m.cameras) {
         lg_gltf_camera o{};
         o.name = c.name.c_str();
@@ -834,7 +854,8 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
         if (base_dir && *base_dir) {
             char real[PATH_MAX];
             if (!realpath(base_dir, real)) {
-                set_err(err, err_size, "the model's folder '%s' cannot be resolved: %s", base_dir, std::strerror(errno));
+                set_err(err, err_size, "the model's folder '%s' cannot be resolved: %s", base_dir,
+                        std::strerror(errno));
                 return nullptr;
             }
             fs.base = real;
@@ -848,8 +869,8 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
         std::vector<uint8_t> glb_copy;
         if (!rewritten.empty()) {
             if (glb) {
-                glb_copy = replace_glb_json(bytes, size < rd32(bytes + 8) ? size : rd32(bytes + 8), json_size,
-                                            rewritten);
+                glb_copy = replace_glb_json(bytes, size < rd32(bytes + 8) ? size : rd32(bytes + 8),
+                                            json_size, rewritten);
                 bytes = glb_copy.data();
                 size = glb_copy.size();
             } else {
@@ -864,19 +885,21 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
         std::unique_ptr<lg_gltf_doc> doc(new lg_gltf_doc);
         tinygltf::TinyGLTF loader;
         loader.SetImageLoader(skip_image, nullptr);
-        loader.SetFsCallbacks({fs_exists, fs_expand, fs_read, fs_write, &fs});
+        loader.SetFsCallbacks({ fs_exists, fs_expand, fs_read, fs_write, &fs });
         std::string terr, twarn;
         // without a folder, tinygltf gets one that cannot hold a file (and asks fs_exists,
         // which knows no file then)
         const std::string tbase = fs.base.empty() ? std::string("/nonexistent") : fs.base;
-        bool ok = glb ? loader.LoadBinaryFromMemory(&doc->model, &terr, &twarn, bytes, unsigned(size),
-                                                    tbase, tinygltf::REQUIRE_VERSION)
-                      : loader.LoadASCIIFromString(&doc->model, &terr, &twarn,
-                                                   reinterpret_cast<const char *>(bytes), unsigned(size),
-                                                   tbase, tinygltf::REQUIRE_VERSION);
+        bool ok =
+            glb ? loader.LoadBinaryFromMemory(&doc->model, &terr, &twarn, bytes, unsigned(size),
+                                              tbase, tinygltf::REQUIRE_VERSION)
+                : loader.LoadASCIIFromString(&doc->model, &terr, &twarn,
+                                             reinterpret_cast<const char *>(bytes), unsigned(size),
+                                             tbase, tinygltf::REQUIRE_VERSION);
         if (!ok) {
             std::string why = fs.error.empty() ? one_line(terr) : fs.error;
-            set_err(err, err_size, "%s", why.empty() ? "tinygltf failed without a message" : why.c_str());
+            set_err(err, err_size, "%s",
+                    why.empty() ? "tinygltf failed without a message" : why.c_str());
             return nullptr;
         }
         doc->warnings = one_line(twarn);
@@ -898,9 +921,10 @@ extern "C" void lg_gltf_doc_free(lg_gltf_doc *doc)
     delete doc;
 }
 
-// ---- Draco ----------------------------------------------------------------------------
+// ---- Draco --------------------------------------------------------------------------------------
 
-namespace {
+namespace
+{
 
 // Copies a Draco attribute into `dim` floats per point; checks the point-to-value mapping
 // (a corrupt stream must not index past the attribute's values).
@@ -910,7 +934,8 @@ std::string extract(const draco::Mesh &mesh, int64_t id, int dim, const char *wh
         return std::string(what) + ": Draco attribute id " + std::to_string(id) + " is not valid";
     const draco::PointAttribute *a = mesh.GetAttributeByUniqueId(uint32_t(id));
     if (!a)
-        return std::string(what) + ": the Draco stream has no attribute with id " + std::to_string(id);
+        return std::string(what) + ": the Draco stream has no attribute with id " +
+               std::to_string(id);
     if (a->num_components() < 1)
         return std::string(what) + ": the Draco attribute has no components";
     if (!a->is_mapping_identity() && a->indices_map_size() < mesh.num_points())
@@ -923,7 +948,8 @@ std::string extract(const draco::Mesh &mesh, int64_t id, int dim, const char *wh
                    " maps past the attribute's values";
         int n = a->num_components() < 16 ? a->num_components() : 16;
         if (!a->ConvertValue<float>(v, int8_t(n), tmp))
-            return std::string(what) + ": cannot convert point " + std::to_string(i.value()) + " to float";
+            return std::string(what) + ": cannot convert point " + std::to_string(i.value()) +
+                   " to float";
         for (int k = 0; k < dim; k++)
             out[size_t(i.value()) * dim + k] = k < n ? tmp[k] : 0.0f;
     }
@@ -943,9 +969,9 @@ extern "C" void lg_draco_mesh_free(lg_draco_mesh *m)
     *m = lg_draco_mesh{};
 }
 
-extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t position_id, int64_t normal_id,
-                               int64_t texcoord_id, uint64_t max_points, uint64_t max_faces,
-                               lg_draco_mesh *out, char *err, size_t err_size)
+extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t position_id,
+                               int64_t normal_id, int64_t texcoord_id, uint64_t max_points,
+                               uint64_t max_faces, lg_draco_mesh *out, char *err, size_t err_size)
 {
     *out = lg_draco_mesh{};
     try {
@@ -969,7 +995,8 @@ extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t positi
         const draco::Mesh &mesh = *res.value();
         uint64_t np = mesh.num_points(), nf = mesh.num_faces();
         if (np > max_points || nf > max_faces) {
-            set_err(err, err_size, "Draco: %llu points and %llu triangles, more than the %llu and %llu accepted",
+            set_err(err, err_size,
+                    "Draco: %llu points and %llu triangles, more than the %llu and %llu accepted",
                     (unsigned long long)np, (unsigned long long)nf, (unsigned long long)max_points,
                     (unsigned long long)max_faces);
             return -1;
@@ -998,8 +1025,8 @@ extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t positi
             for (int k = 0; k < 3; k++) {
                 uint32_t v = face[k].value();
                 if (v >= np) {
-                    why = "triangle " + std::to_string(f.value()) + " uses point " + std::to_string(v) + " of " +
-                          std::to_string(np);
+                    why = "triangle " + std::to_string(f.value()) + " uses point " +
+                          std::to_string(v) + " of " + std::to_string(np);
                     break;
                 }
                 out->indices[size_t(f.value()) * 3 + k] = v;

@@ -13,26 +13,44 @@
 #include "gltf_load.h"
 #include "lightgraph/lightgraph.h"
 
-static const char *const normals_values[] = {"auto", "smooth", "flat", NULL};
+static const char *const normals_values[] = { "auto", "smooth", "flat", NULL };
 
 static const lg_param_desc params[] = {
-    {.key = "file", .type = LG_PARAM_PATH, .def.s = "",
-     .doc = "the .gltf or .glb file (Draco-compressed meshes included)"},
-    {.key = "scene", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
-     .doc = "the glTF scene to load; -1: the file's default, else scene 0, else every root node"},
-    {.key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
-     .doc = "the active camera: the file's cameras in node order, then the automatic one; "
-            "-1: the first"},
-    {.key = "normals", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = normals_values,
-     .doc = "auto: the file's normals, else smooth; smooth: computed, split at crease_deg; "
-            "flat: one per facet"},
-    {.key = "crease_deg", .type = LG_PARAM_FLOAT, .def.f = 60, .min = 0, .max = 180,
-     .doc = "smooth normals: facets meeting at more than this angle (degrees) keep a crease"},
+    { .key = "file",
+      .type = LG_PARAM_PATH,
+      .def.s = "",
+      .doc = "the .gltf or .glb file (Draco-compressed meshes included)" },
+    { .key = "scene",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
+      .doc = "the glTF scene to load; -1: the file's default, else scene 0, else every root node" },
+    { .key = "camera",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
+      .doc = "the active camera: the file's cameras in node order, then the automatic one; "
+             "-1: the first" },
+    { .key = "normals",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = normals_values,
+      .doc = "auto: the file's normals, else smooth; smooth: computed, split at crease_deg; "
+             "flat: one per facet" },
+    { .key = "crease_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 60,
+      .min = 0,
+      .max = 180,
+      .doc = "smooth normals: facets meeting at more than this angle (degrees) keep a crease" },
 };
 
 static const lg_port_desc outputs[] = {
-    {.name = "scene", .kind = LG_KIND_SCENE,
-     .doc = "meshes, instances, materials, lights, cameras and medium of the file"},
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
+      .doc = "meshes, instances, materials, lights, cameras and medium of the file" },
 };
 
 static void free_scene(void *payload)
@@ -86,7 +104,7 @@ static int gltf_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "gltf",
     .doc = "A glTF 2.0 scene (.gltf, .glb, Draco): meshes, instances, materials, lights, "
@@ -95,6 +113,6 @@ static const lg_node_type types[] = {{
     LG_OUTPUTS(outputs),
     .prepare = gltf_prepare,
     .execute = gltf_execute,
-}};
+} };
 
 LG_PLUGIN_DEFINE("scene_gltf", "1.0.0", "glTF 2.0 scenes (tinygltf, Draco)", types)

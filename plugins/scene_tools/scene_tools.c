@@ -26,7 +26,7 @@
  * view divided by this margin (in sine), see README.md "camera". */
 #define ST_ORBIT_MARGIN 1.1
 
-/* ---- derived scenes ------------------------------------------------------------------ */
+/* ---- derived scenes -------------------------------------------------------------------------- */
 
 /* The payload: the derived lg_scene first (the host hands consumers a pointer to it) and
  * the arrays this node owns. Everything else the scene points to (meshes, instances,
@@ -37,7 +37,7 @@ typedef struct st_payload {
     lg_light *lights;   /* NULL when the source's array is used */
     lg_camera *cameras; /* NULL when the source's array is used */
     char *source;
-    char *name;         /* the node's name: names of the lights and cameras made here */
+    char *name; /* the node's name: names of the lights and cameras made here */
 } st_payload;
 
 /* The free function given to the host. Touches only this payload's own allocations, never
@@ -74,8 +74,9 @@ static int st_input(lg_node *n, const lg_resource **res, const lg_scene **scene)
     /* lg_scene_get would report a description-only scene as "another kind": say what it
      * is, since the planner's test scenes and neutral scenes look like this */
     if (!info.payload)
-        return lg_error(n, "input 'scene' has scene features but no scene data (%s): this "
-                           "node needs a scene made by a scene node such as gltf",
+        return lg_error(n,
+                        "input 'scene' has scene features but no scene data (%s): this "
+                        "node needs a scene made by a scene node such as gltf",
                         info.neutral ? "the neutral result of a gated node"
                                      : "its node declared no lg_scene payload");
     const lg_scene *s = lg_scene_get(n, r);
@@ -133,8 +134,9 @@ static int st_vec3(lg_node *n, const char *key, lg_vec3 *out)
         return lg_error(n, "parameter '%s' is not declared by this node type", key);
     for (int i = 0; i < 3; i++)
         if (!isfinite(v->v[i]) || fabs(v->v[i]) > FLT_MAX)
-            return lg_error(n, "%s = [%g, %g, %g]: component %d is not a finite "
-                               "single-precision number",
+            return lg_error(n,
+                            "%s = [%g, %g, %g]: component %d is not a finite "
+                            "single-precision number",
                             key, v->v[0], v->v[1], v->v[2], i);
     *out = lg_v3((float)v->v[0], (float)v->v[1], (float)v->v[2]);
     return 0;
@@ -157,15 +159,15 @@ static bool st_bounds(const lg_scene *s, lg_vec3 *centre, float *radius, lg_vec3
     return isfinite(*radius);
 }
 
-/* ---- camera ------------------------------------------------------------------------- */
+/* ---- camera ---------------------------------------------------------------------------------- */
 
 enum { CAM_LOOK_AT = 0, CAM_ORBIT };
 
 /* Near and far planes that hold the scene's bounds as seen from `eye` along the unit view
  * direction `f` (README.md "camera": clipping planes). */
 static void camera_auto_clip(bool have_bounds, const lg_vec3 corners[8], lg_vec3 centre,
-                             float radius, lg_vec3 eye, lg_vec3 target, lg_vec3 f,
-                             float *znear, float *zfar)
+                             float radius, lg_vec3 eye, lg_vec3 target, lg_vec3 f, float *znear,
+                             float *zfar)
 {
     if (!have_bounds) {
         float d = lg_v3_length(lg_v3_sub(target, eye));
@@ -203,8 +205,9 @@ static int camera_prepare(lg_node *n)
     int mode = lg_param_enum(n, "mode");
     double fov_deg = lg_param_float(n, "fov_deg");
     if (!(fov_deg > 0 && fov_deg < 180))
-        return lg_error(n, "fov_deg = %g: the vertical field of view must be inside (0, 180) "
-                           "degrees, both ends excluded",
+        return lg_error(n,
+                        "fov_deg = %g: the vertical field of view must be inside (0, 180) "
+                        "degrees, both ends excluded",
                         fov_deg);
     float yfov = (float)(fov_deg * LG_PI / 180.0);
     double aspect = lg_param_float(n, "aspect");
@@ -222,29 +225,33 @@ static int camera_prepare(lg_node *n)
             return rc;
         f = lg_v3_normalize_or(lg_v3_sub(target, eye), zero);
         if (lg_v3_length(f) == 0)
-            return lg_error(n, "target [%g, %g, %g] is the camera's position: there is no "
-                               "view direction; move position or target",
+            return lg_error(n,
+                            "target [%g, %g, %g] is the camera's position: there is no "
+                            "view direction; move position or target",
                             (double)target.x, (double)target.y, (double)target.z);
         lg_vec3 u = lg_v3_normalize_or(up_in, zero);
         if (lg_v3_length(u) == 0)
-            return lg_error(n, "up = [%g, %g, %g] is the zero vector: give the direction that "
-                               "is up in the image, e.g. [0, 1, 0]",
+            return lg_error(n,
+                            "up = [%g, %g, %g] is the zero vector: give the direction that "
+                            "is up in the image, e.g. [0, 1, 0]",
                             (double)up_in.x, (double)up_in.y, (double)up_in.z);
         lg_vec3 s = lg_v3_cross(f, u);
         /* sin of the angle between up and the view direction: below 1e-4 (0.006 degrees)
          * the roll of the image is not defined by anything a user meant */
         if (lg_v3_length(s) < 1e-4f)
-            return lg_error(n, "up = [%g, %g, %g] is parallel to the view direction [%g, %g, "
-                               "%g] (from position to target): the image's roll is undefined; "
-                               "choose an up that is not along the line of sight",
+            return lg_error(n,
+                            "up = [%g, %g, %g] is parallel to the view direction [%g, %g, "
+                            "%g] (from position to target): the image's roll is undefined; "
+                            "choose an up that is not along the line of sight",
                             (double)up_in.x, (double)up_in.y, (double)up_in.z, (double)f.x,
                             (double)f.y, (double)f.z);
         s = lg_v3_normalize_or(s, lg_v3(1, 0, 0));
         up = lg_v3_cross(s, f);
     } else {
         if (!have_bounds)
-            return lg_error(n, "mode = orbit: the scene (%s) has empty bounds (no geometry), so "
-                               "there is nothing to orbit around; use mode = look_at",
+            return lg_error(n,
+                            "mode = orbit: the scene (%s) has empty bounds (no geometry), so "
+                            "there is nothing to orbit around; use mode = look_at",
                             src->source ? src->source : "unnamed");
         double az = lg_param_float(n, "azimuth_deg") * LG_PI / 180.0;
         double el = lg_param_float(n, "elevation_deg") * LG_PI / 180.0;
@@ -265,8 +272,7 @@ static int camera_prepare(lg_node *n)
                             dist, r);
         /* the direction from the centre to the camera; azimuth 0, elevation 0 looks down -Z
          * like glTF's default camera */
-        lg_vec3 out = lg_v3((float)(cos(el) * sin(az)), (float)sin(el),
-                            (float)(cos(el) * cos(az)));
+        lg_vec3 out = lg_v3((float)(cos(el) * sin(az)), (float)sin(el), (float)(cos(el) * cos(az)));
         target = centre;
         eye = lg_v3_add(centre, lg_v3_scale(out, (float)d));
         f = lg_v3_scale(out, -1.0f);
@@ -283,8 +289,9 @@ static int camera_prepare(lg_node *n)
     float znear = zn > 0 ? (float)zn : auto_near;
     float zfar = zf > 0 ? (float)zf : auto_far;
     if (zn > 0 && zf == 0 && zfar <= znear)
-        return lg_error(n, "znear = %g is beyond the scene's far side (%g from the camera): "
-                           "set zfar as well",
+        return lg_error(n,
+                        "znear = %g is beyond the scene's far side (%g from the camera): "
+                        "set zfar as well",
                         zn, (double)auto_far);
     if (zf > 0 && zn == 0 && znear >= zfar)
         znear = zfar * 1e-3f;
@@ -319,7 +326,7 @@ static int camera_prepare(lg_node *n)
     return st_publish(n, p);
 }
 
-/* ---- light ---------------------------------------------------------------------------- */
+/* ---- light ----------------------------------------------------------------------------------- */
 
 enum { LIGHT_ADD = 0, LIGHT_REPLACE };
 enum { LIGHT_DIRECTIONAL = 0, LIGHT_POINT };
@@ -344,9 +351,10 @@ static int light_prepare(lg_node *n)
             return rc;
         dir = lg_v3_normalize_or(d_in, lg_v3(0, 0, 0));
         if (lg_v3_length(dir) == 0)
-            return lg_error(n, "direction = [%g, %g, %g] is the zero vector: a directional "
-                               "light needs the direction its light travels (e.g. [0, -1, 0] "
-                               "for light falling straight down)",
+            return lg_error(n,
+                            "direction = [%g, %g, %g] is the zero vector: a directional "
+                            "light needs the direction its light travels (e.g. [0, -1, 0] "
+                            "for light falling straight down)",
                             (double)d_in.x, (double)d_in.y, (double)d_in.z);
     } else {
         l.type = LG_LIGHT_POINT;
@@ -380,7 +388,7 @@ static int light_prepare(lg_node *n)
     return st_publish(n, p);
 }
 
-/* ---- medium ---------------------------------------------------------------------------- */
+/* ---- medium ---------------------------------------------------------------------------------- */
 
 static int medium_prepare(lg_node *n)
 {
@@ -407,9 +415,10 @@ static int medium_prepare(lg_node *n)
     memcpy(m.absorption, &ab, sizeof m.absorption);
     m.g = (float)g;
     if (m.present && lg_v3_length(sc) == 0 && lg_v3_length(ab) == 0)
-        lg_log(n, LG_LOG_WARN, "density = %g but scattering and absorption are both 0: the "
-                               "medium has no effect, yet media nodes will run (density = 0 "
-                               "removes it)",
+        lg_log(n, LG_LOG_WARN,
+               "density = %g but scattering and absorption are both 0: the "
+               "medium has no effect, yet media nodes will run (density = 0 "
+               "removes it)",
                density);
     st_payload *p;
     if ((rc = st_derive(n, in, src, m.present ? "medium" : "medium (none)", &p)))
@@ -418,7 +427,7 @@ static int medium_prepare(lg_node *n)
     return st_publish(n, p);
 }
 
-/* ---- environment ------------------------------------------------------------------------ */
+/* ---- environment ----------------------------------------------------------------------------- */
 
 /* The derived scene records only that a probe lights it (features.probe): the probe's data
  * reaches the nodes that use it through their own `probe` input, an edge the planner sees,
@@ -453,7 +462,7 @@ static int st_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- descriptors ------------------------------------------------------------------------ */
+/* ---- descriptors ----------------------------------------------------------------------------- */
 
 static const lg_port_desc st_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to derive from (unchanged)" },
@@ -461,81 +470,161 @@ static const lg_port_desc st_inputs[] = {
 
 static const lg_port_desc environment_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to derive from (unchanged)" },
-    { .name = "probe", .kind = LG_KIND_PROBE,
+    { .name = "probe",
+      .kind = LG_KIND_PROBE,
       .doc = "the light probe around the scene (a `probe` node)" },
 };
 
 static const char *const camera_modes[] = { "look_at", "orbit", NULL };
 static const lg_param_desc camera_params[] = {
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = CAM_ORBIT, .enum_values = camera_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = CAM_ORBIT,
+      .enum_values = camera_modes,
       .doc = "look_at: position, target, up; orbit: around the bounds' centre" },
-    { .key = "position", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 5 },
+    { .key = "position",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 5 },
       .doc = "look_at: the eye, world metres" },
-    { .key = "target", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 },
+    { .key = "target",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
       .doc = "look_at: the point looked at, world metres" },
-    { .key = "up", .type = LG_PARAM_VEC3, .def.v = { 0, 1, 0 },
+    { .key = "up",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 1, 0 },
       .doc = "look_at: up in the image; not parallel to target - position" },
-    { .key = "fov_deg", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 0, .max = 180,
+    { .key = "fov_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 45,
+      .min = 0,
+      .max = 180,
       .doc = "vertical field of view, degrees, inside (0, 180)" },
-    { .key = "azimuth_deg", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -360, .max = 360,
+    { .key = "azimuth_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -360,
+      .max = 360,
       .doc = "orbit: degrees about +Y from +Z (0: camera on +Z looking down -Z)" },
-    { .key = "elevation_deg", .type = LG_PARAM_FLOAT, .def.f = 20, .min = -90, .max = 90,
+    { .key = "elevation_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 20,
+      .min = -90,
+      .max = 90,
       .doc = "orbit: degrees above the horizontal plane through the centre" },
-    { .key = "distance", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e6,
+    { .key = "distance",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e6,
       .doc = "orbit: eye to centre in bounding-sphere radii; 0 = fit the scene (README)" },
-    { .key = "znear", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "znear",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "near plane, metres; 0 = from the bounds" },
-    { .key = "zfar", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "zfar",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "far plane, metres; 0 = from the bounds" },
-    { .key = "aspect", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1000,
+    { .key = "aspect",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1000,
       .doc = "width / height; 0 = the output image's (orbit fits to the render size)" },
 };
 
 static const char *const light_modes[] = { "add", "replace", NULL };
 static const char *const light_types[] = { "directional", "point", NULL };
 static const lg_param_desc light_params[] = {
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = LIGHT_ADD, .enum_values = light_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = LIGHT_ADD,
+      .enum_values = light_modes,
       .doc = "add: keep the scene's lights; replace: this light is the only one" },
-    { .key = "type", .type = LG_PARAM_ENUM, .def.e = LIGHT_DIRECTIONAL,
-      .enum_values = light_types, .doc = "directional (direction) or point (position)" },
-    { .key = "direction", .type = LG_PARAM_VEC3, .def.v = { 0, -1, 0 },
+    { .key = "type",
+      .type = LG_PARAM_ENUM,
+      .def.e = LIGHT_DIRECTIONAL,
+      .enum_values = light_types,
+      .doc = "directional (direction) or point (position)" },
+    { .key = "direction",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, -1, 0 },
       .doc = "directional: the direction the light travels, world; normalised, not zero" },
-    { .key = "position", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 },
+    { .key = "position",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
       .doc = "point: world metres" },
-    { .key = "color", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 1e6,
+    { .key = "color",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 1, 1, 1 },
+      .min = 0,
+      .max = 1e6,
       .doc = "linear RGB" },
-    { .key = "intensity", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6,
+    { .key = "intensity",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e6,
       .doc = "glTF units: lux (directional), candela (point)" },
-    { .key = "range", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "range",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "point: metres beyond which the light has no effect; 0 = infinite" },
 };
 
 static const lg_param_desc medium_params[] = {
-    { .key = "density", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6,
+    { .key = "density",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e6,
       .doc = "scales the coefficients; 0 = no medium (media nodes are gated)" },
-    { .key = "scattering", .type = LG_PARAM_COLOR, .def.v = { 0.1, 0.1, 0.1 }, .min = 0,
-      .max = 1e6, .doc = "scattering coefficient per unit density, 1/m, linear RGB" },
-    { .key = "absorption", .type = LG_PARAM_COLOR, .def.v = { 0, 0, 0 }, .min = 0, .max = 1e6,
+    { .key = "scattering",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0.1, 0.1, 0.1 },
+      .min = 0,
+      .max = 1e6,
+      .doc = "scattering coefficient per unit density, 1/m, linear RGB" },
+    { .key = "absorption",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0, 0, 0 },
+      .min = 0,
+      .max = 1e6,
       .doc = "absorption coefficient per unit density, 1/m, linear RGB" },
-    { .key = "g", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -0.99, .max = 0.99,
+    { .key = "g",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -0.99,
+      .max = 0.99,
       .doc = "Henyey-Greenstein anisotropy (> 0: forward scattering)" },
 };
 
 static const lg_port_desc camera_outputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the input scene with this camera as the active one (geometry shared)" },
 };
 static const lg_port_desc light_outputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the input scene with this light added, or as its only light (geometry shared)" },
 };
 static const lg_port_desc medium_outputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the input scene with this medium (geometry shared)" },
 };
 
 static const lg_port_desc environment_outputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the input scene with feature `probe` set (geometry shared; the probe's data "
              "goes to its consumers through their own `probe` input)" },
 };
@@ -545,32 +634,42 @@ static const lg_node_type st_types[] = {
         .struct_size = sizeof(lg_node_type),
         .name = "camera",
         .doc = "sets the scene's active camera: look_at, or orbit around its bounds",
-        LG_PARAMS(camera_params), LG_INPUTS(st_inputs), LG_OUTPUTS(camera_outputs),
-        .prepare = camera_prepare, .execute = st_execute,
+        LG_PARAMS(camera_params),
+        LG_INPUTS(st_inputs),
+        LG_OUTPUTS(camera_outputs),
+        .prepare = camera_prepare,
+        .execute = st_execute,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "light",
         .doc = "adds a directional or point light to the scene, or replaces its lights",
-        LG_PARAMS(light_params), LG_INPUTS(st_inputs), LG_OUTPUTS(light_outputs),
-        .prepare = light_prepare, .execute = st_execute,
+        LG_PARAMS(light_params),
+        LG_INPUTS(st_inputs),
+        LG_OUTPUTS(light_outputs),
+        .prepare = light_prepare,
+        .execute = st_execute,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "medium",
         .doc = "sets the scene's participating medium (density 0: none)",
-        LG_PARAMS(medium_params), LG_INPUTS(st_inputs), LG_OUTPUTS(medium_outputs),
-        .prepare = medium_prepare, .execute = st_execute,
+        LG_PARAMS(medium_params),
+        LG_INPUTS(st_inputs),
+        LG_OUTPUTS(medium_outputs),
+        .prepare = medium_prepare,
+        .execute = st_execute,
     },
     {
         .struct_size = sizeof(lg_node_type),
         .name = "environment",
         .doc = "attaches a light probe to the scene (scene feature `probe`)",
-        LG_INPUTS(environment_inputs), LG_OUTPUTS(environment_outputs),
-        .prepare = environment_prepare, .execute = st_execute,
+        LG_INPUTS(environment_inputs),
+        LG_OUTPUTS(environment_outputs),
+        .prepare = environment_prepare,
+        .execute = st_execute,
     },
 };
 
 LG_PLUGIN_DEFINE("scene_tools", "1.0.0",
-                 "Camera, lights, medium and environment probe set from the graph",
-                 st_types)
+                 "Camera, lights, medium and environment probe set from the graph", st_types)

@@ -68,37 +68,58 @@ typedef struct shp_job {
     unsigned char *failed; /* [chunks]: out of memory in the chunk */
 } shp_job;
 
-static const char *const shp_samplers[] = {"quadrature", "jittered", "hammersley", "sobol",
-                                           NULL};
-static const char *const shp_windows[] = {"none", "hanning", "lanczos", "gaussian", NULL};
+static const char *const shp_samplers[] = { "quadrature", "jittered", "hammersley", "sobol", NULL };
+static const char *const shp_windows[] = { "none", "hanning", "lanczos", "gaussian", NULL };
 
 static const lg_param_desc shp_params[] = {
-    {.key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = LG_SH_MAX_BANDS,
-     .doc = "SH bands n (n^2 coefficients per channel)"},
-    {.key = "sampler", .type = LG_PARAM_ENUM, .def.e = SHP_QUADRATURE,
-     .enum_values = shp_samplers,
-     .doc = "quadrature (every texel, its exact solid angle) or N x N points: jittered, "
-            "hammersley, sobol"},
-    {.key = "samples", .type = LG_PARAM_INT, .def.i = 256, .min = 1, .max = 16384,
-     .doc = "N: N x N sample directions (jittered, hammersley, sobol; ignored by "
-            "quadrature)"},
-    {.key = "seed", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 4294967295.0,
-     .doc = "jitter / digital shift of the samplers (0: Hammersley and Sobol unshifted)"},
-    {.key = "window", .type = LG_PARAM_ENUM, .def.e = SHP_WINDOW_NONE,
-     .enum_values = shp_windows,
-     .doc = "ringing window on the result (lg_sh_window, Sloan 2008): none, hanning, "
-            "lanczos, gaussian"},
-    {.key = "window_width", .type = LG_PARAM_FLOAT, .def.f = 3.0, .min = 1e-3, .max = 1e3,
-     .doc = "the window's width in bands (ignored with window = none)"},
+    { .key = "bands",
+      .type = LG_PARAM_INT,
+      .def.i = 3,
+      .min = 1,
+      .max = LG_SH_MAX_BANDS,
+      .doc = "SH bands n (n^2 coefficients per channel)" },
+    { .key = "sampler",
+      .type = LG_PARAM_ENUM,
+      .def.e = SHP_QUADRATURE,
+      .enum_values = shp_samplers,
+      .doc = "quadrature (every texel, its exact solid angle) or N x N points: jittered, "
+             "hammersley, sobol" },
+    { .key = "samples",
+      .type = LG_PARAM_INT,
+      .def.i = 256,
+      .min = 1,
+      .max = 16384,
+      .doc = "N: N x N sample directions (jittered, hammersley, sobol; ignored by "
+             "quadrature)" },
+    { .key = "seed",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 4294967295.0,
+      .doc = "jitter / digital shift of the samplers (0: Hammersley and Sobol unshifted)" },
+    { .key = "window",
+      .type = LG_PARAM_ENUM,
+      .def.e = SHP_WINDOW_NONE,
+      .enum_values = shp_windows,
+      .doc = "ringing window on the result (lg_sh_window, Sloan 2008): none, hanning, "
+             "lanczos, gaussian" },
+    { .key = "window_width",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 3.0,
+      .min = 1e-3,
+      .max = 1e3,
+      .doc = "the window's width in bands (ignored with window = none)" },
 };
 static const lg_port_desc shp_inputs[] = {
-    {.name = "probe", .kind = LG_KIND_PROBE,
-     .doc = "the light probe (any layout; its rotation is applied)"},
+    { .name = "probe",
+      .kind = LG_KIND_PROBE,
+      .doc = "the light probe (any layout; its rotation is applied)" },
 };
 static const lg_port_desc shp_outputs[] = {
-    {.name = "out", .kind = LG_KIND_SH,
-     .doc = "n^2 x RGB coefficients of the radiance in world directions (lightgraph/sh.h); "
-            "`output NODE \"x.txt\"` writes them as text"},
+    { .name = "out",
+      .kind = LG_KIND_SH,
+      .doc = "n^2 x RGB coefficients of the radiance in world directions (lightgraph/sh.h); "
+             "`output NODE \"x.txt\"` writes them as text" },
 };
 
 static double shp_now(void)
@@ -120,10 +141,10 @@ static int shp_create(lg_node *n)
     st->window = lg_param_enum(n, "window");
     st->window_width = lg_param_float(n, "window_width");
     /* the ranges are the host's to enforce; a descriptor that drifts from them is a bug */
-    if (st->bands < 1 || st->bands > LG_SH_MAX_BANDS || st->side < 1 ||
-        !(st->window_width > 0) || !isfinite(st->window_width))
-        return lg_error(n, "bands = %u, samples = %u, window_width = %g: out of range",
-                        st->bands, st->side, st->window_width);
+    if (st->bands < 1 || st->bands > LG_SH_MAX_BANDS || st->side < 1 || !(st->window_width > 0) ||
+        !isfinite(st->window_width))
+        return lg_error(n, "bands = %u, samples = %u, window_width = %g: out of range", st->bands,
+                        st->side, st->window_width);
     return 0;
 }
 
@@ -225,16 +246,15 @@ static void shp_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
             uint32_t face = (uint32_t)(k / ((size_t)w * h));
             size_t r = k % ((size_t)w * h);
             uint32_t row = (uint32_t)(r / w), col = (uint32_t)(r % w);
-            lg_vec3 d = lg_probe_to_world(j->img.rotation, shp_texel_dir(&j->img, face, col,
-                                                                         row));
+            lg_vec3 d = lg_probe_to_world(j->img.rotation, shp_texel_dir(&j->img, face, col, row));
             const float *t = j->img.rgba + 4 * k;
             dir[0] = d.x, dir[1] = d.y, dir[2] = d.z;
             for (int ch = 0; ch < 3; ch++)
                 l[ch] = (double)t[ch] * sa;
         } else {
             double uv[2];
-            static const lg_sampler map[] = {LG_SAMPLER_JITTERED, LG_SAMPLER_JITTERED,
-                                             LG_SAMPLER_HAMMERSLEY, LG_SAMPLER_SOBOL};
+            static const lg_sampler map[] = { LG_SAMPLER_JITTERED, LG_SAMPLER_JITTERED,
+                                              LG_SAMPLER_HAMMERSLEY, LG_SAMPLER_SOBOL };
             lg_sample_square(map[j->sampler], j->side, j->seed, k, uv);
             lg_sample_sphere(uv, dir);
             lg_probe_lookup(&j->img, lg_v3((float)dir[0], (float)dir[1], (float)dir[2]),
@@ -320,8 +340,9 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
             if ((rc = lg_describe(p->solid_angle, &si, n)))
                 return rc;
             if (si.buffer.size != texels * sizeof(float))
-                return lg_error(n, "input 'probe': its solid-angle table has %zu bytes, not "
-                                   "%zu (one float per texel of level 0)",
+                return lg_error(n,
+                                "input 'probe': its solid-angle table has %zu bytes, not "
+                                "%zu (one float per texel of level 0)",
                                 si.buffer.size, texels * sizeof(float));
             if ((rc = lg_map_cpu(n, p->solid_angle, LG_READ, &sv)))
                 return rc;
@@ -329,8 +350,7 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
         } else {
             own_solid = malloc(texels * sizeof(float));
             if (!own_solid)
-                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu solid angles)",
-                                     texels);
+                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu solid angles)", texels);
             if (lg_probe_solid_angles(p->info.layout, j.img.width, j.img.height, own_solid)) {
                 free(own_solid);
                 return lg_error(n, "input 'probe': no solid angles for its %ux%u image",
@@ -338,15 +358,16 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
             }
             j.solid = own_solid;
         }
-        lg_sum s = {0, 0};
+        lg_sum s = { 0, 0 };
         for (size_t t = 0; t < texels; t++)
             lg_sum_add(&s, (double)j.solid[t]);
         solid_sum = lg_sum_value(&s);
         if (!(fabs(solid_sum - 4.0 * LG_PI) <= 1e-5 * 4.0 * LG_PI)) {
             free(own_solid);
-            return lg_error(n, "input 'probe': its texels' solid angles sum to %.9g sr, not "
-                               "4 pi = %.9g: the quadrature would not integrate over the "
-                               "sphere",
+            return lg_error(n,
+                            "input 'probe': its texels' solid angles sum to %.9g sr, not "
+                            "4 pi = %.9g: the quadrature would not integrate over the "
+                            "sphere",
                             solid_sum, 4.0 * LG_PI);
         }
     }
@@ -368,8 +389,10 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
         free(j.slots);
         free(j.failed);
         free(own_solid);
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu chunk sums of %u "
-                                              "coefficients)", chunks, j.nc);
+        return lg_error_code(n, LG_ERR_NOMEM,
+                             "out of memory (%zu chunk sums of %u "
+                             "coefficients)",
+                             chunks, j.nc);
     }
     rc = lg_parallel_for(n, (size_t)terms, (size_t)grain, shp_chunk, &j);
     for (size_t c = 0; rc == 0 && c < chunks; c++)
@@ -383,14 +406,14 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
     if (rc == 0) {
         double scale = st->sampler == SHP_QUADRATURE ? 1.0 : 4.0 * LG_PI / (double)terms;
         for (size_t i = 0; i < per_slot; i++) {
-            lg_sum s = {0, 0};
+            lg_sum s = { 0, 0 };
             for (size_t c = 0; c < chunks; c++)
                 lg_sum_merge(&s, &j.slots[c * per_slot + i]);
             coef[i] = lg_sum_value(&s) * scale;
         }
         if (st->window != SHP_WINDOW_NONE) {
-            static const lg_sh_window_kind wk[] = {LG_SH_WINDOW_HANNING, LG_SH_WINDOW_HANNING,
-                                                  LG_SH_WINDOW_LANCZOS, LG_SH_WINDOW_GAUSSIAN};
+            static const lg_sh_window_kind wk[] = { LG_SH_WINDOW_HANNING, LG_SH_WINDOW_HANNING,
+                                                    LG_SH_WINDOW_LANCZOS, LG_SH_WINDOW_GAUSSIAN };
             for (int ch = 0; ch < 3; ch++)
                 lg_sh_window(j.bands, wk[st->window], st->window_width, coef + ch * j.nc);
         }
@@ -402,8 +425,9 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
     if (rc == 0) {
         for (size_t i = 0; i < per_slot; i++)
             if (!isfinite(coef[i]) || fabs(coef[i]) > 3.4e38) {
-                rc = lg_error(n, "coefficient %zu of channel %c is %g: the probe holds values a "
-                                 "float cannot carry (NaN, infinite or beyond 3.4e38)",
+                rc = lg_error(n,
+                              "coefficient %zu of channel %c is %g: the probe holds values a "
+                              "float cannot carry (NaN, infinite or beyond 3.4e38)",
                               i % j.nc, "RGB"[i / j.nc], coef[i]);
                 break;
             }
@@ -429,20 +453,23 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
 
     double secs = shp_now() - t0;
     if (st->sampler == SHP_QUADRATURE)
-        lg_log(n, LG_LOG_DEBUG, "%u bands by quadrature over %zu texels (%s %ux%u%s; solid "
-                                "angles sum to 4 pi %+.2e relative) in %.3f s on %u threads, "
-                                "%zu chunks",
+        lg_log(n, LG_LOG_DEBUG,
+               "%u bands by quadrature over %zu texels (%s %ux%u%s; solid "
+               "angles sum to 4 pi %+.2e relative) in %.3f s on %u threads, "
+               "%zu chunks",
                j.bands, texels,
-               p->info.layout == LG_PROBE_CUBE ? "cube" : p->info.layout == LG_PROBE_ANGULAR
-                                                              ? "angular" : "lat-long",
+               p->info.layout == LG_PROBE_CUBE      ? "cube"
+               : p->info.layout == LG_PROBE_ANGULAR ? "angular"
+                                                    : "lat-long",
                j.img.width, j.img.height, j.faces == 6 ? " per face" : "",
                solid_sum / (4.0 * LG_PI) - 1.0, secs, lg_cpu_workers(n), chunks);
     else
-        lg_log(n, LG_LOG_DEBUG, "%u bands from %llu %s samples (%u x %u, seed %llu) in %.3f s "
-                                "(%.3g samples/s) on %u threads, %zu chunks",
-               j.bands, (unsigned long long)terms, shp_samplers[st->sampler], st->side,
-               st->side, (unsigned long long)st->seed, secs,
-               secs > 0 ? (double)terms / secs : 0.0, lg_cpu_workers(n), chunks);
+        lg_log(n, LG_LOG_DEBUG,
+               "%u bands from %llu %s samples (%u x %u, seed %llu) in %.3f s "
+               "(%.3g samples/s) on %u threads, %zu chunks",
+               j.bands, (unsigned long long)terms, shp_samplers[st->sampler], st->side, st->side,
+               (unsigned long long)st->seed, secs, secs > 0 ? (double)terms / secs : 0.0,
+               lg_cpu_workers(n), chunks);
     return 0;
 }
 

@@ -38,8 +38,8 @@ enum { SM_CULL_FRONT = 0, SM_CULL_BACK, SM_CULL_NONE };
 typedef struct sm_state {
     uint32_t resolution;
     int fit, cull;
-    int64_t camera;          /* fit = frustum: the scene's camera, -1 = the active one */
-    float aspect;            /* fit = frustum: width / height, 0 = the render size's */
+    int64_t camera; /* fit = frustum: the scene's camera, -1 = the active one */
+    float aspect;   /* fit = frustum: width / height, 0 = the render size's */
     float bias_constant, bias_slope, normal_offset;
     uint32_t cols, rows;     /* the atlas's grid of tiles */
     lg_shadowmap view;       /* what prepare() computed, as consumers will see it */
@@ -49,7 +49,7 @@ typedef struct sm_state {
     lg_gl_uniform u_view_proj;
 } sm_state;
 
-/* ---- create -------------------------------------------------------------------------- */
+/* ---- create ---------------------------------------------------------------------------------- */
 
 static int sm_create(lg_node *n)
 {
@@ -67,7 +67,7 @@ static int sm_create(lg_node *n)
     return 0;
 }
 
-/* ---- geometry helpers ------------------------------------------------------------------ */
+/* ---- geometry helpers ------------------------------------------------------------------------ */
 
 static bool sm_finite3(const float v[3])
 {
@@ -103,28 +103,29 @@ static int sm_bounds(lg_node *n, const lg_scene *s, float lo[3], float hi[3])
     return 0;
 }
 
-/* ---- the camera frustum clipped by the bounds (fit = frustum) -------------------------- */
+/* ---- the camera frustum clipped by the bounds (fit = frustum) -------------------------------- */
 
 /* The view_proj of the camera a consumer looks through (`camera`, -1 = the active one) at
  * aspect `aspect` (0 = the render size's), after the preview's rules (plugins/preview/
  * README.md, "Camera"), without the Y flip (it does not change the frustum). */
-static int sm_camera_view_proj(lg_node *n, const sm_state *st, const lg_scene *s,
-                               const float lo[3], const float hi[3], float vp[16])
+static int sm_camera_view_proj(lg_node *n, const sm_state *st, const lg_scene *s, const float lo[3],
+                               const float hi[3], float vp[16])
 {
     if (s->n_cameras == 0 || !s->cameras)
         return lg_error(n, "fit = frustum: the scene has no camera");
     uint32_t ci;
     if (st->camera < 0) {
         if (s->camera >= s->n_cameras)
-            return lg_error(n, "fit = frustum: the scene's active camera %u does not exist (it "
-                               "has %u)",
+            return lg_error(n,
+                            "fit = frustum: the scene's active camera %u does not exist (it "
+                            "has %u)",
                             s->camera, s->n_cameras);
         ci = s->camera;
     } else if ((uint64_t)st->camera >= s->n_cameras) {
-        return lg_error(n, "fit = frustum: camera %" PRId64 " does not exist: the scene has %u "
-                           "camera%s (0..%u; -1 = the active one)",
-                        st->camera, s->n_cameras, s->n_cameras == 1 ? "" : "s",
-                        s->n_cameras - 1);
+        return lg_error(n,
+                        "fit = frustum: camera %" PRId64 " does not exist: the scene has %u "
+                        "camera%s (0..%u; -1 = the active one)",
+                        st->camera, s->n_cameras, s->n_cameras == 1 ? "" : "s", s->n_cameras - 1);
     } else {
         ci = (uint32_t)st->camera;
     }
@@ -135,18 +136,21 @@ static int sm_camera_view_proj(lg_node *n, const sm_state *st, const lg_scene *s
         return lg_error(n, "fit = frustum: camera %u '%s' has a value that is not finite", ci,
                         cname);
     if (!(c->yfov > 0.0f && c->yfov < 3.1f))
-        return lg_error(n, "fit = frustum: camera %u '%s': vertical field of view %g rad is "
-                           "outside (0, 3.1)",
+        return lg_error(n,
+                        "fit = frustum: camera %u '%s': vertical field of view %g rad is "
+                        "outside (0, 3.1)",
                         ci, cname, (double)c->yfov);
     if (c->znear < 0.0f || c->zfar < 0.0f || (c->zfar > 0.0f && c->zfar <= c->znear))
-        return lg_error(n, "fit = frustum: camera %u '%s': znear %g and zfar %g do not make a "
-                           "depth range",
+        return lg_error(n,
+                        "fit = frustum: camera %u '%s': znear %g and zfar %g do not make a "
+                        "depth range",
                         ci, cname, (double)c->znear, (double)c->zfar);
     lg_vec3 eye = lg_v3(c->position[0], c->position[1], c->position[2]);
     lg_vec3 target = lg_v3(c->target[0], c->target[1], c->target[2]);
     if (lg_v3_length(lg_v3_sub(target, eye)) < 1e-12f)
-        return lg_error(n, "fit = frustum: camera %u '%s': position and target are the same "
-                           "point",
+        return lg_error(n,
+                        "fit = frustum: camera %u '%s': position and target are the same "
+                        "point",
                         ci, cname);
     float view[16], proj[16];
     lg_m4_look_at(view, eye, target, lg_v3(c->up[0], c->up[1], c->up[2]));
@@ -198,8 +202,8 @@ static sm_plane sm_plane_norm(float a, float b, float c, float d)
 }
 
 typedef struct sm_convex {
-    lg_vec3 v[8];     /* corners, index bits: x, y, z */
-    sm_plane p[6];    /* faces, inside >= 0 */
+    lg_vec3 v[8];  /* corners, index bits: x, y, z */
+    sm_plane p[6]; /* faces, inside >= 0 */
 } sm_convex;
 
 static bool sm_inside(const sm_convex *c, lg_vec3 v, float tol)
@@ -279,7 +283,7 @@ static uint32_t sm_frustum_points(const float cam_vp[16], const float lo[3], con
     return k;
 }
 
-/* ---- each light's matrices ----------------------------------------------------------------- */
+/* ---- each light's matrices ------------------------------------------------------------------- */
 
 static float sm_cross2(const float *x, const float *y, int o, int a, int b)
 {
@@ -407,7 +411,7 @@ static void sm_fit_light(const sm_state *st, lg_vec3 dir, const float lo[3], con
     l->depth_range = zfar - znear;
 }
 
-/* ---- prepare ----------------------------------------------------------------------------- */
+/* ---- prepare --------------------------------------------------------------------------------- */
 
 /* Fits every directional light's map (st->lights, nl of them, allocated) to the scene: its
  * bounds, or what the camera sees of them (fit = frustum); assigns the atlas tiles. */
@@ -425,8 +429,9 @@ static int sm_fit(lg_node *n, sm_state *st, const lg_scene *s, uint32_t nl)
             return rc;
         n_pts = sm_frustum_points(cam_vp, lo, hi, pts);
         if (n_pts == 0)
-            lg_log(n, LG_LOG_INFO, "fit = frustum: the camera sees none of the scene's bounds; "
-                                   "fitting to the bounds");
+            lg_log(n, LG_LOG_INFO,
+                   "fit = frustum: the camera sees none of the scene's bounds; "
+                   "fitting to the bounds");
     }
     if (n_pts == 0) {
         for (int k = 0; k < 8; k++)
@@ -468,8 +473,9 @@ static int sm_prepare(lg_node *n)
         lg_vec3 d = lg_v3(L->direction[0], L->direction[1], L->direction[2]);
         lg_vec3 u = lg_v3_normalize_or(d, lg_v3(0, 0, 0));
         if (u.x == 0.0f && u.y == 0.0f && u.z == 0.0f)
-            return lg_error(n, "light %u '%s': direction [%g, %g, %g] is not a direction (zero "
-                               "or not finite)",
+            return lg_error(n,
+                            "light %u '%s': direction [%g, %g, %g] is not a direction (zero "
+                            "or not finite)",
                             i, L->name ? L->name : "", (double)d.x, (double)d.y, (double)d.z);
         nl++;
     }
@@ -483,9 +489,10 @@ static int sm_prepare(lg_node *n)
     uint32_t rows = (tiles + cols - 1) / cols;
     uint64_t aw = (uint64_t)cols * res, ah = (uint64_t)rows * res;
     if (aw > 65536 || ah > 65536 || aw * ah > (1ull << 28))
-        return lg_error(n, "%u directional light%s at resolution %u need an atlas of %" PRIu64
-                           "x%" PRIu64 " texels (%.1f GiB of depth), more than an image may "
-                           "hold (2^28 texels); lower 'resolution'",
+        return lg_error(n,
+                        "%u directional light%s at resolution %u need an atlas of %" PRIu64
+                        "x%" PRIu64 " texels (%.1f GiB of depth), more than an image may "
+                        "hold (2^28 texels); lower 'resolution'",
                         nl, nl == 1 ? "" : "s", res, aw, ah,
                         (double)(aw * ah * 4) / (1024.0 * 1024.0 * 1024.0));
     st->cols = cols;
@@ -519,7 +526,7 @@ static int sm_prepare(lg_node *n)
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
-/* ---- execute ------------------------------------------------------------------------------ */
+/* ---- execute --------------------------------------------------------------------------------- */
 
 /* The atlas the pass draws into: output 1's depth plane (the one place that knows where the
  * atlas lives; prepare publishes it in one place too). */
@@ -548,8 +555,13 @@ static int sm_make_pass(lg_node *n, sm_state *st)
      * clipping one away. No polygon offset: the stored depth is unbiased (README.md). A
      * double-sided material's winding says nothing about which side faces out: both sides
      * cast shadows whatever `cull` says (the scene draw leaves them unculled). */
-    lg_gl_pass_desc d = { .name = "shadowmap", .stages = src, .n_stages = 2, .depth = true,
-                          .depth_test = true, .depth_write = true, .depth_clamp = true,
+    lg_gl_pass_desc d = { .name = "shadowmap",
+                          .stages = src,
+                          .n_stages = 2,
+                          .depth = true,
+                          .depth_test = true,
+                          .depth_write = true,
+                          .depth_clamp = true,
                           .cull = st->cull == SM_CULL_BACK    ? LG_GL_CULL_BACK
                                   : st->cull == SM_CULL_FRONT ? LG_GL_CULL_FRONT
                                                               : LG_GL_CULL_NONE,
@@ -624,15 +636,16 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
     lg_log(n, LG_LOG_INFO,
            "%u directional light%s, atlas %ux%u (%ux%u tiles of %u), fit %s, cull %s; "
            "%u instances, %" PRIu64 " triangles per light",
-           sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height,
-           st->cols, st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
-           st->cull == SM_CULL_FRONT ? "front" : st->cull == SM_CULL_BACK ? "back" : "none",
+           sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height, st->cols,
+           st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
+           st->cull == SM_CULL_FRONT  ? "front"
+           : st->cull == SM_CULL_BACK ? "back"
+                                      : "none",
            sgl ? sgl->count : 0, sgl ? sgl->triangles : 0);
     for (uint32_t i = 0; i < sm->n_lights; i++) {
         const lg_shadow_light *l = &sm->lights[i];
-        lg_log(n, LG_LOG_DEBUG,
-               "light %u '%s': tile at (%u, %u), texel %.6g m, depth range %.6g m", l->light,
-               s->lights[l->light].name ? s->lights[l->light].name : "", l->tile_x,
+        lg_log(n, LG_LOG_DEBUG, "light %u '%s': tile at (%u, %u), texel %.6g m, depth range %.6g m",
+               l->light, s->lights[l->light].name ? s->lights[l->light].name : "", l->tile_x,
                l->tile_y, (double)l->texel_world, (double)l->depth_range);
     }
     return 0;
@@ -649,40 +662,73 @@ static void sm_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor ------------------------------------------------------------------------ */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const char *const sm_fits[] = { "bounds", "frustum", NULL };
 static const char *const sm_culls[] = { "front", "back", "none", NULL };
 
 static const lg_param_desc sm_params[] = {
-    { .key = "resolution", .type = LG_PARAM_INT, .def.i = 1024, .min = 16, .max = 8192,
+    { .key = "resolution",
+      .type = LG_PARAM_INT,
+      .def.i = 1024,
+      .min = 16,
+      .max = 8192,
       .doc = "side of each light's square depth map, texels (the thesis: 1024)" },
-    { .key = "fit", .type = LG_PARAM_ENUM, .def.e = SM_FIT_BOUNDS, .enum_values = sm_fits,
+    { .key = "fit",
+      .type = LG_PARAM_ENUM,
+      .def.e = SM_FIT_BOUNDS,
+      .enum_values = sm_fits,
       .doc = "bounds: each map covers the scene's bounds; frustum: what the camera sees of "
              "them (the camera's frustum clipped by the bounds)" },
-    { .key = "camera", .type = LG_PARAM_INT, .def.i = -1, .min = -1, .max = 1e9,
+    { .key = "camera",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
       .doc = "fit = frustum: index of the scene's camera; -1 = the scene's active camera" },
-    { .key = "aspect", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1000,
+    { .key = "aspect",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1000,
       .doc = "fit = frustum: width / height of the consumer's image; 0 = the render size's" },
-    { .key = "cull", .type = LG_PARAM_ENUM, .def.e = SM_CULL_FRONT, .enum_values = sm_culls,
+    { .key = "cull",
+      .type = LG_PARAM_ENUM,
+      .def.e = SM_CULL_FRONT,
+      .enum_values = sm_culls,
       .doc = "faces left out of the maps: front (against acne), back or none; double-sided "
              "materials always draw both sides" },
-    { .key = "bias_constant", .type = LG_PARAM_FLOAT, .def.f = SM_DEF_BIAS_CONSTANT, .min = 0,
-      .max = 1, .doc = "depth units ([0, 1] over each light's depth range), added to the "
-                       "stored depth in the test; applied by consumers" },
-    { .key = "bias_slope", .type = LG_PARAM_FLOAT, .def.f = SM_DEF_BIAS_SLOPE, .min = 0,
-      .max = 1, .doc = "depth units per unit of tan(angle between N and L), with |N.L| "
-                       "clamped to >= 0.1 (tan <= 9.95); applied by consumers" },
-    { .key = "normal_offset", .type = LG_PARAM_FLOAT, .def.f = SM_DEF_NORMAL_OFFSET, .min = 0,
-      .max = 64, .doc = "texels: consumers move the tested point along its normal by this "
-                        "many of the light's texel_world" },
+    { .key = "bias_constant",
+      .type = LG_PARAM_FLOAT,
+      .def.f = SM_DEF_BIAS_CONSTANT,
+      .min = 0,
+      .max = 1,
+      .doc = "depth units ([0, 1] over each light's depth range), added to the "
+             "stored depth in the test; applied by consumers" },
+    { .key = "bias_slope",
+      .type = LG_PARAM_FLOAT,
+      .def.f = SM_DEF_BIAS_SLOPE,
+      .min = 0,
+      .max = 1,
+      .doc = "depth units per unit of tan(angle between N and L), with |N.L| "
+             "clamped to >= 0.1 (tan <= 9.95); applied by consumers" },
+    { .key = "normal_offset",
+      .type = LG_PARAM_FLOAT,
+      .def.f = SM_DEF_NORMAL_OFFSET,
+      .min = 0,
+      .max = 64,
+      .doc = "texels: consumers move the tested point along its normal by this "
+             "many of the light's texel_world" },
 };
 static const lg_port_desc sm_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene whose directional lights cast "
-                                                     "shadows" },
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
+      .doc = "the scene whose directional lights cast "
+             "shadows" },
 };
 static const lg_port_desc sm_outputs[] = {
-    { .name = "shadows", .kind = LG_KIND_SHADOWMAP,
+    { .name = "shadows",
+      .kind = LG_KIND_SHADOWMAP,
       .doc = "the depth atlas (part atlas: NODE.atlas is the image) and the lights' matrices, "
              "tiles and bias (lg_shadowmap_get; no parts when gated)" },
 };

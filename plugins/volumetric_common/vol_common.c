@@ -25,8 +25,8 @@ static int inv4(double out[16], const double m[16])
              m[8] * m[3] * m[13] - m[12] * m[1] * m[11] + m[12] * m[3] * m[9];
     inv[13] = m[0] * m[9] * m[14] - m[0] * m[10] * m[13] - m[8] * m[1] * m[14] +
               m[8] * m[2] * m[13] + m[12] * m[1] * m[10] - m[12] * m[2] * m[9];
-    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] +
-             m[5] * m[3] * m[14] + m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
+    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] + m[5] * m[3] * m[14] +
+             m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
     inv[6] = -m[0] * m[6] * m[15] + m[0] * m[7] * m[14] + m[4] * m[2] * m[15] -
              m[4] * m[3] * m[14] - m[12] * m[2] * m[7] + m[12] * m[3] * m[6];
     inv[10] = m[0] * m[5] * m[15] - m[0] * m[7] * m[13] - m[4] * m[1] * m[15] +
@@ -35,12 +35,12 @@ static int inv4(double out[16], const double m[16])
               m[4] * m[2] * m[13] - m[12] * m[1] * m[6] + m[12] * m[2] * m[5];
     inv[3] = -m[1] * m[6] * m[11] + m[1] * m[7] * m[10] + m[5] * m[2] * m[11] -
              m[5] * m[3] * m[10] - m[9] * m[2] * m[7] + m[9] * m[3] * m[6];
-    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] +
-             m[4] * m[3] * m[10] + m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
-    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] -
-              m[4] * m[3] * m[9] - m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
-    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] +
-              m[4] * m[2] * m[9] + m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
+    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] + m[4] * m[3] * m[10] +
+             m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
+    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] - m[4] * m[3] * m[9] -
+              m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
+    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] +
+              m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
     double det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
     if (!(fabs(det) > 0.0) || !isfinite(det))
         return -1;
@@ -49,8 +49,8 @@ static int inv4(double out[16], const double m[16])
     return 0;
 }
 
-int vol_setup_make(lg_node *n, const lg_scene *s, uint32_t width, uint32_t height,
-                   float z_limit, const lg_shadowmap *sm, vol_setup *out)
+int vol_setup_make(lg_node *n, const lg_scene *s, uint32_t width, uint32_t height, float z_limit,
+                   const lg_shadowmap *sm, vol_setup *out)
 {
     memset(out, 0, sizeof *out);
     out->width = width;
@@ -192,18 +192,23 @@ int vol_declare_outputs(lg_node *n, uint32_t *width, uint32_t *height)
     if (!base || lg_describe(base, &info, n) != 0 || info.kind != LG_KIND_IMAGE)
         return lg_error(n, "input 'base' is not an image");
     if (!(info.image.flags & LG_IMAGE_DEPTH) || (info.image.flags & LG_IMAGE_CUBE))
-        return lg_error(n, "input 'base' (%ux%u) has no depth plane: connect a lit image "
-                        "with depth (phong's out)", info.image.width, info.image.height);
+        return lg_error(n,
+                        "input 'base' (%ux%u) has no depth plane: connect a lit image "
+                        "with depth (phong's out)",
+                        info.image.width, info.image.height);
     /* the cpu and cl paths read base's pixels as floats as they are (and the NaN/Inf count
      * with them): another format would be read as garbage (found by lightgraph conform,
      * which fed an rgba16f base: 1e25 and NaN on cpu and cl, the right image on gl) */
     if (info.image.format != LG_FORMAT_RGBA32F)
-        return lg_error(n, "input 'base' must be an rgba32f image (it is %s): phong's out is; "
-                        "convert it first", lg_format_name(info.image.format));
+        return lg_error(n,
+                        "input 'base' must be an rgba32f image (it is %s): phong's out is; "
+                        "convert it first",
+                        lg_format_name(info.image.format));
     *width = info.image.width;
     *height = info.image.height;
-    lg_image_desc d = { .width = *width, .height = *height, .format = LG_FORMAT_RGBA32F,
-                        .flags = LG_IMAGE_DEPTH };
+    lg_image_desc d = {
+        .width = *width, .height = *height, .format = LG_FORMAT_RGBA32F, .flags = LG_IMAGE_DEPTH
+    };
     int rc = lg_declare_image(n, VOL_OUT_OUT, &d);
     if (rc)
         return rc;

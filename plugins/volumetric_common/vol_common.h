@@ -40,21 +40,21 @@ enum { VOL_IN_SCENE = 0, VOL_IN_BASE = 1, VOL_IN_SHADOWS = 2 };
 enum { VOL_OUT_OUT = 0, VOL_OUT_INSCATTER = 1 };
 
 typedef struct vol_light {
-    float dir[3];          /* unit: the direction the light travels */
-    float l_c[3];          /* colour x intensity */
-    uint32_t scene_index;  /* in lg_scene.lights */
-    int32_t shadow;        /* its record in the shadow map's lights, or -1 (unshadowed) */
+    float dir[3];         /* unit: the direction the light travels */
+    float l_c[3];         /* colour x intensity */
+    uint32_t scene_index; /* in lg_scene.lights */
+    int32_t shadow;       /* its record in the shadow map's lights, or -1 (unshadowed) */
 } vol_light;
 
 typedef struct vol_setup {
-    uint32_t width, height;        /* of base (and of both outputs) */
-    lg_scene_view view;            /* the camera, as phong drew base */
-    double inv_view_proj[16];      /* column-major */
+    uint32_t width, height;   /* of base (and of both outputs) */
+    lg_scene_view view;       /* the camera, as phong drew base */
+    double inv_view_proj[16]; /* column-major */
     double eye[3], forward[3];
-    float z_limit;                 /* view depth where the fog ends (> 0) */
-    float sigma_s[3], sigma_t[3];  /* 1 / scene unit */
-    float g;                       /* Henyey-Greenstein anisotropy */
-    uint32_t n_lights;             /* directional lights, 1 .. VOL_MAX_LIGHTS */
+    float z_limit;                /* view depth where the fog ends (> 0) */
+    float sigma_s[3], sigma_t[3]; /* 1 / scene unit */
+    float g;                      /* Henyey-Greenstein anisotropy */
+    uint32_t n_lights;            /* directional lights, 1 .. VOL_MAX_LIGHTS */
     vol_light lights[VOL_MAX_LIGHTS];
 } vol_setup;
 

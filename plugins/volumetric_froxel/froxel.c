@@ -36,20 +36,20 @@ enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
 typedef struct fx_state {
     int slicing;
     lg_device backend;
-    uint32_t gw, gh, gd;        /* grid */
+    uint32_t gw, gh, gd; /* grid */
     float z_near, z_limit, near_offset, history;
     bool temporal, per_frame;
     fx_accum accum;
-    uint32_t width, height;     /* image */
+    uint32_t width, height; /* image */
 
     /* temporal: the previous frame's camera and slice map */
     bool has_prev;
     vol_setup prev;
     lg_slice_map prev_map;
 
-    void *backend_state;        /* the backend's (fx_*_execute makes it) */
-    fx_slices slices;           /* this frame's slice tables (fx_slice_tables) */
-    bool reported_nonfinite;    /* base's NaN/Inf pixels said (lg_check_input_finite) */
+    void *backend_state;     /* the backend's (fx_*_execute makes it) */
+    fx_slices slices;        /* this frame's slice tables (fx_slice_tables) */
+    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } fx_state;
 
 static int fx_create(lg_node *n)
@@ -70,7 +70,11 @@ static int fx_create(lg_node *n)
     st->temporal = lg_param_bool(n, "temporal");
     st->per_frame = lg_param_bool(n, "per_frame");
 
-    const struct { const char *key; float v; float max; } f[] = {
+    const struct {
+        const char *key;
+        float v;
+        float max;
+    } f[] = {
         { "z_near", st->z_near, 1e30f },
         { "z_limit", st->z_limit, 1e30f },
         { "near_offset", st->near_offset, 1e30f },
@@ -82,13 +86,14 @@ static int fx_create(lg_node *n)
                             (double)f[i].v, (double)f[i].max);
     if (st->gw < 1 || st->gh < 1 || st->gd < 1 || st->gw > FX_MAX_W || st->gh > FX_MAX_H ||
         st->gd > FX_MAX_D)
-        return lg_error(n, "grid %ux%ux%u: width, height and depth must be in [1, %d], "
-                           "[1, %d], [1, %d]",
+        return lg_error(n,
+                        "grid %ux%ux%u: width, height and depth must be in [1, %d], "
+                        "[1, %d], [1, %d]",
                         st->gw, st->gh, st->gd, FX_MAX_W, FX_MAX_H, FX_MAX_D);
     uint64_t bytes = (uint64_t)st->gw * st->gh * st->gd * 16u;
     if (bytes > FX_MAX_BYTES)
-        return lg_error(n, "grid %ux%ux%u: %.2f GiB of rgba32f, more than the 1 GiB cap",
-                        st->gw, st->gh, st->gd, (double)bytes / (double)(1ull << 30));
+        return lg_error(n, "grid %ux%ux%u: %.2f GiB of rgba32f, more than the 1 GiB cap", st->gw,
+                        st->gh, st->gd, (double)bytes / (double)(1ull << 30));
     if (st->z_limit > 0 && st->z_near > 0 && !(st->z_near < st->z_limit))
         return lg_error(n, "z_near = %g, z_limit = %g: the grid needs z_near < z_limit",
                         (double)st->z_near, (double)st->z_limit);
@@ -145,22 +150,24 @@ static int fx_slice_map(lg_node *n, const fx_state *st, const vol_setup *v, lg_s
     double near = st->z_near > 0 ? st->z_near : v->view.znear;
     double far = v->z_limit;
     if (!(near > 0) || !(far > near))
-        return lg_error(n, "the grid spans view depths %g .. %g (z_near %g, z_limit %g, the "
-                           "camera's znear %g and zfar %g): it needs 0 < near < far",
-                        near, far, (double)st->z_near, (double)st->z_limit,
-                        (double)v->view.znear, (double)v->view.zfar);
+        return lg_error(n,
+                        "the grid spans view depths %g .. %g (z_near %g, z_limit %g, the "
+                        "camera's znear %g and zfar %g): it needs 0 < near < far",
+                        near, far, (double)st->z_near, (double)st->z_limit, (double)v->view.znear,
+                        (double)v->view.zfar);
     lg_froxel_slicing s = st->slicing == FX_SLICE_EXP ? LG_FROXEL_EXPONENTIAL
                                                       : LG_FROXEL_UNIFORM_CLIP;
     double off = st->near_offset;
     if (s == LG_FROXEL_EXPONENTIAL && off <= 0)
         off = st->gd > 1 ? near * pow(far / near, 1.0 / st->gd) : 0.5 * (near + far);
     if (s == LG_FROXEL_EXPONENTIAL && st->gd > 1 && !(off > near && off < far))
-        return lg_error(n, "near_offset = %g: exponential slicing needs it between the grid's "
-                           "near %g and far %g",
+        return lg_error(n,
+                        "near_offset = %g: exponential slicing needs it between the grid's "
+                        "near %g and far %g",
                         off, near, far);
     if (lg_slice_map_init(map, s, st->gd, near, far, off))
-        return lg_error(n, "slice map (near %g, far %g, near_offset %g, depth %u) refused",
-                        near, far, off, st->gd);
+        return lg_error(n, "slice map (near %g, far %g, near_offset %g, depth %u) refused", near,
+                        far, off, st->gd);
     return 0;
 }
 
@@ -180,8 +187,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     if (sres) {
         lg_resource_info info;
         sm = lg_shadowmap_get(n, sres, &smv);
-        if (!sm && (lg_describe(sres, &info, n) != 0 ||
-                    (info.kind != LG_KIND_SHADOWMAP && !info.neutral)))
+        if (!sm &&
+            (lg_describe(sres, &info, n) != 0 || (info.kind != LG_KIND_SHADOWMAP && !info.neutral)))
             return LG_ERR_INVALID;
         if (sm && (!sm->atlas || sm->resolution == 0 || (sm->n_lights && !sm->lights)))
             return lg_error(n, "input 'shadows': the shadow maps have no atlas, no "
@@ -226,9 +233,12 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
     }
     if (!rc) {
-        lg_froxel_info info = { .struct_size = sizeof info, .width = st->gw,
-                                .height = st->gh, .depth = st->gd,
-                                .slicing = f.map.slicing, .near = (float)f.map.near,
+        lg_froxel_info info = { .struct_size = sizeof info,
+                                .width = st->gw,
+                                .height = st->gh,
+                                .depth = st->gd,
+                                .slicing = f.map.slicing,
+                                .near = (float)f.map.near,
                                 .far = (float)f.map.far,
                                 .near_offset = (float)f.map.near_offset };
         memcpy(info.view, v->view.view, sizeof info.view);
@@ -241,9 +251,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         st->has_prev = true;
     }
     if (!rc && f.frame == 0)
-        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s",
-               st->gw, st->gh, st->gd,
-               f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip",
+        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s", st->gw, st->gh,
+               st->gd, f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip",
                f.map.near, f.map.far, v->n_lights, v->n_lights == 1 ? "" : "s",
                sm ? "shadowed" : "unshadowed",
                st->accum == FX_ACC_THESIS ? "thesis" : "energy_conserving",
@@ -275,50 +284,93 @@ static const char *const fx_accums[] = { "thesis", "energy_conserving", NULL };
 static const lg_param_desc fx_params[] = {
     /* the device of the light pass, the accumulation and the lookup */
     LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_GL),
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 190, .min = 1, .max = FX_MAX_W,
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 190,
+      .min = 1,
+      .max = FX_MAX_W,
       .doc = "grid columns across the image (the thesis: 190)" },
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 90, .min = 1, .max = FX_MAX_H,
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 90,
+      .min = 1,
+      .max = FX_MAX_H,
       .doc = "grid rows (the thesis: 90)" },
-    { .key = "depth", .type = LG_PARAM_INT, .def.i = 128, .min = 1, .max = FX_MAX_D,
+    { .key = "depth",
+      .type = LG_PARAM_INT,
+      .def.i = 128,
+      .min = 1,
+      .max = FX_MAX_D,
       .doc = "depth slices (the thesis: 128); W x H x D x 16 bytes <= 1 GiB" },
-    { .key = "slicing", .type = LG_PARAM_ENUM, .def.e = FX_SLICE_UNIFORM,
+    { .key = "slicing",
+      .type = LG_PARAM_ENUM,
+      .def.e = FX_SLICE_UNIFORM,
       .enum_values = fx_slicings,
       .doc = "uniform_clip: uniform in clip depth (the thesis, eq. 10); exponential: a "
              "linear first slice to near_offset, exponential after it (lightgraph/medium.h)" },
-    { .key = "z_near", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "z_near",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "view depth where the slice map starts; 0 = the camera's znear (the fog "
              "between the eye and z_near counts in slice 0)" },
-    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "z_limit",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "view depth where the fog (and the grid) ends; 0 = the camera's zfar" },
-    { .key = "near_offset", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "near_offset",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "exponential: view depth where slice 0 ends; 0 = near (far / near)^(1 / depth) "
              "(every slice then spans the same ratio of depths)" },
-    { .key = "accumulation", .type = LG_PARAM_ENUM, .def.e = 1, .enum_values = fx_accums,
+    { .key = "accumulation",
+      .type = LG_PARAM_ENUM,
+      .def.e = 1,
+      .enum_values = fx_accums,
       .doc = "thesis: eq. 12 as the thesis sums it (S x slice length, no extinction); "
              "energy_conserving: each slice integrated with the transmittance from the eye" },
-    { .key = "temporal", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "temporal",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "jitter the sample in each slice (frame f: frac(0.5 + 0.61803398875 f)) and "
              "blend with the previous frame's reprojected S (the node then runs every "
              "frame); off when history = 0" },
-    { .key = "history", .type = LG_PARAM_FLOAT, .def.f = 0.9, .min = 0, .max = 0.99,
+    { .key = "history",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.9,
+      .min = 0,
+      .max = 0.99,
       .doc = "temporal: weight of the reprojected history in the blend" },
-    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "per_frame",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "run every frame (timing) instead of once" },
 };
 
 static const lg_port_desc fx_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the scene: its directional lights (at most 32), its medium, its active camera" },
-    { .name = "base", .kind = LG_KIND_IMAGE,
+    { .name = "base",
+      .kind = LG_KIND_IMAGE,
       .doc = "the lit image with its depth plane (phong's out)" },
-    { .name = "shadows", .kind = LG_KIND_SHADOWMAP, .optional = true,
+    { .name = "shadows",
+      .kind = LG_KIND_SHADOWMAP,
+      .optional = true,
       .doc = "shadow maps of the directional lights; unconnected: unshadowed" },
 };
 static const lg_port_desc fx_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f + depth: base x e^(-sigma_t d) + L_v (thesis: base + L_v)" },
     { .name = "inscatter", .kind = LG_KIND_IMAGE, .doc = "rgba32f: L_v alone, alpha 1" },
-    { .name = "grid", .kind = LG_KIND_FROXEL,
+    { .name = "grid",
+      .kind = LG_KIND_FROXEL,
       .doc = "rgba32f W x H x D: in-scattered radiance from the eye to each slice's far "
              "boundary (rgb), mean transmittance (a); info: the slice map and camera" },
 };

@@ -86,25 +86,25 @@ typedef enum fx_accum { FX_ACC_THESIS = 0, FX_ACC_ENERGY = 1 } fx_accum;
  * by froxel.c (fx_slice_tables) for whichever backend runs; each copies them to its device
  * in its own layout. Entries past D are unused. */
 typedef struct fx_slices {
-    double tj[FX_MAX_D];      /* T(k + jitter), k < D: the light pass's sample depth */
-    double tk[FX_MAX_D + 1];  /* T(k), k <= D: slice k's start (the lookup) */
-    double tq[FX_MAX_D];      /* T(k + 0.5), k < D: the history's reprojected point */
-    double tlen[FX_MAX_D];    /* T(k + 1) - T(k), with slice 0 starting at the eye (T = 0):
-                               * the accumulation's step */
+    double tj[FX_MAX_D];     /* T(k + jitter), k < D: the light pass's sample depth */
+    double tk[FX_MAX_D + 1]; /* T(k), k <= D: slice k's start (the lookup) */
+    double tq[FX_MAX_D];     /* T(k + 0.5), k < D: the history's reprojected point */
+    double tlen[FX_MAX_D];   /* T(k + 1) - T(k), with slice 0 starting at the eye (T = 0):
+                              * the accumulation's step */
 } fx_slices;
 
 typedef struct fx_frame {
-    const vol_setup *v;        /* this frame's camera, lights, medium, z_limit, image size */
-    uint32_t w, h, d;          /* grid W x H x D */
-    lg_slice_map map;          /* near = z_near, far = v->z_limit */
+    const vol_setup *v; /* this frame's camera, lights, medium, z_limit, image size */
+    uint32_t w, h, d;   /* grid W x H x D */
+    lg_slice_map map;   /* near = z_near, far = v->z_limit */
     fx_accum accum;
-    float jitter;              /* sample offset in each slice, [0, 1); 0.5 without temporal */
-    float history;             /* weight of the history in the blend, [0, 1); 0 = none */
-    const vol_setup *prev;     /* the previous frame's set-up, or NULL (no history yet) */
-    lg_slice_map prev_map;     /* the previous frame's slice map (valid when prev) */
-    const lg_shadowmap *sm;    /* NULL: unshadowed */
-    uint32_t frame;            /* frame index */
-    const fx_slices *slices;   /* this frame's slice tables */
+    float jitter;            /* sample offset in each slice, [0, 1); 0.5 without temporal */
+    float history;           /* weight of the history in the blend, [0, 1); 0 = none */
+    const vol_setup *prev;   /* the previous frame's set-up, or NULL (no history yet) */
+    lg_slice_map prev_map;   /* the previous frame's slice map (valid when prev) */
+    const lg_shadowmap *sm;  /* NULL: unshadowed */
+    uint32_t frame;          /* frame index */
+    const fx_slices *slices; /* this frame's slice tables */
 } fx_frame;
 
 /* A backend's state, made on the first execute (state NULL), kept across frames; the

@@ -19,10 +19,10 @@
 typedef struct fx_cl {
     uint32_t w, h, d;
     lg_cl_pass *columns, *lookup;
-    lg_cl_buffer s, hist;          /* rgba32f W x H x D each */
-    lg_cl_buffer lights, shadows;  /* per frame */
-    lg_cl_buffer slices;           /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5), T(k) */
-    float *slices_host;            /* 4 D + 1 floats */
+    lg_cl_buffer s, hist;         /* rgba32f W x H x D each */
+    lg_cl_buffer lights, shadows; /* per frame */
+    lg_cl_buffer slices;          /* per frame: T(k + jitter), t_{k+1} - t_k, T(k + 0.5), T(k) */
+    float *slices_host;           /* 4 D + 1 floats */
     bool hist_valid;
 } fx_cl;
 
@@ -30,8 +30,12 @@ static int fx_cl_init(lg_node *n, fx_cl *c, const fx_frame *f)
 {
     static const char *const src[] = { lg_src_medium_cl, lg_src_froxel_cl };
     static const char *const names[] = { lg_src_medium_cl_file, lg_src_froxel_cl_file };
-    lg_cl_pass_desc d = { .name = "froxel columns", .sources = src, .source_names = names,
-                          .n_sources = 2, .options = "-cl-std=CL1.2", .kernel = "fx_columns" };
+    lg_cl_pass_desc d = { .name = "froxel columns",
+                          .sources = src,
+                          .source_names = names,
+                          .n_sources = 2,
+                          .options = "-cl-std=CL1.2",
+                          .kernel = "fx_columns" };
     int rc;
     if ((rc = lg_cl_pass_create(n, &d, &c->columns)))
         return rc;
@@ -136,7 +140,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
         return rc;
 
     void *base, *base_depth, *atlas = NULL, *atlas_depth = NULL, *out, *out_depth, *ins, *insd,
-                                    *grid, *gd;
+                             *grid, *gd;
     if ((rc = lg_map_cl(n, lg_input(n, VOL_IN_BASE), LG_READ, &base, &base_depth)))
         return rc;
     if (!base_depth)
@@ -145,8 +149,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
         return rc;
     if ((rc = lg_map_cl(n, lg_output(n, VOL_OUT_OUT), LG_WRITE, &out, &out_depth)) ||
         (rc = lg_map_cl(n, lg_output(n, VOL_OUT_INSCATTER), LG_WRITE, &ins, &insd)) ||
-        (rc = lg_map_cl(n, lg_part(n, lg_output(n, FX_OUT_GRID), "grid"), LG_WRITE, &grid,
-                        &gd)))
+        (rc = lg_map_cl(n, lg_part(n, lg_output(n, FX_OUT_GRID), "grid"), LG_WRITE, &grid, &gd)))
         return rc;
     /* a depth-only image's plane comes as the depth mapping */
     cl_mem m_atlas = atlas_depth ? atlas_depth : atlas ? atlas : c->shadows.mem;

@@ -18,33 +18,33 @@
 
 typedef struct fx_cpu {
     uint32_t w, h, d;
-    float *s;        /* S of this frame, rgba, [k][j][i] */
-    float *hist;     /* the previous frame's blended S (valid when hist_valid) */
+    float *s;    /* S of this frame, rgba, [k][j][i] */
+    float *hist; /* the previous frame's blended S (valid when hist_valid) */
     bool hist_valid;
-    float *tj;       /* the frame's T(k + jitter) in float (columns' inner loop) */
+    float *tj;        /* the frame's T(k + jitter) in float (columns' inner loop) */
     uint64_t counted; /* bytes counted with lg_account_alloc (S and its history) */
 } fx_cpu;
 
 typedef struct fx_cpu_ctx {
     const fx_frame *f;
     fx_cpu *c;
-    const float *atlas;        /* shadow atlas depth plane, or NULL */
-    float *grid;               /* rgba32f W x H x D */
+    const float *atlas; /* shadow atlas depth plane, or NULL */
+    float *grid;        /* rgba32f W x H x D */
     const float *base, *base_depth;
     float *out, *out_depth, *ins;
-    float prev_vp[16];         /* the previous camera's view_proj (temporal) */
+    float prev_vp[16]; /* the previous camera's view_proj (temporal) */
     bool blend;
-    bool grey;                 /* sigma_t the same in r, g, b: one exp per froxel */
-    double inv_sigma_t;        /* grey: 1 / sigma_t (0 when sigma_t = 0) */
+    bool grey;          /* sigma_t the same in r, g, b: one exp per froxel */
+    double inv_sigma_t; /* grey: 1 / sigma_t (0 when sigma_t = 0) */
     /* per frame: the slice tables (D entries each; tk D + 1) */
-    const float *tj;           /* T(k + jitter) */
-    const double *tlen;        /* t_{k+1} - t_k (t_0 = 0) */
-    const double *tq;          /* T(k + 0.5) (temporal) */
-    const double *tk;          /* T(k), k = 0 .. D (the lookup's slice start) */
+    const float *tj;    /* T(k + jitter) */
+    const double *tlen; /* t_{k+1} - t_k (t_0 = 0) */
+    const double *tq;   /* T(k + 0.5) (temporal) */
+    const double *tk;   /* T(k), k = 0 .. D (the lookup's slice start) */
     /* per light: its shadow record or -1; the shadowed lights in order: */
     int32_t rec[VOL_MAX_LIGHTS];
     uint32_t n_sh;
-    float ca[VOL_MAX_LIGHTS][4];     /* a_l = VP_l e */
+    float ca[VOL_MAX_LIGHTS][4]; /* a_l = VP_l e */
     uint32_t tile[VOL_MAX_LIGHTS][2];
 } fx_cpu_ctx;
 
@@ -63,8 +63,8 @@ static void column_ray(const fx_frame *f, uint32_t i, uint32_t j, double w[3], d
 
 /* Trilinear read of an rgba [k][j][i] volume at continuous texel coordinates (texel centres
  * at integers), clamped to the edge. */
-static void trilinear(const float *vol, uint32_t W, uint32_t H, uint32_t D, double x,
-                      double y, double z, double out[3])
+static void trilinear(const float *vol, uint32_t W, uint32_t H, uint32_t D, double x, double y,
+                      double z, double out[3])
 {
     double c[3] = { x, y, z };
     double lim[3] = { W - 1.0, H - 1.0, D - 1.0 };
@@ -155,8 +155,8 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
                 lp[s][c][ch] = (float)(v->sigma_s[ch] * L->l_c[ch] * p);
             const float *m = f->sm->lights[x->rec[l]].view_proj;
             for (int r = 0; r < 4; r++)
-                cb[s][c][r] = (float)((m[r] * wv[c][0] + m[4 + r] * wv[c][1] +
-                                       m[8 + r] * wv[c][2]) / cosv);
+                cb[s][c][r] =
+                    (float)((m[r] * wv[c][0] + m[4 + r] * wv[c][1] + m[8 + r] * wv[c][2]) / cosv);
             s++;
         }
         for (int ch = 0; ch < 3; ch++) {
@@ -308,8 +308,8 @@ static void rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
                     lv = a[ch] + tr_s * s[ch] * delta * seg;
                 } else {
                     double st = v->sigma_t[ch];
-                    lv = a[ch] + exp(-st * t_s / cosv) * s[ch] * delta *
-                                     lg_medium_segment(st * delta);
+                    lv = a[ch] +
+                         exp(-st * t_s / cosv) * s[ch] * delta * lg_medium_segment(st * delta);
                     tv = exp(-st * d);
                 }
                 in[ch] = (float)lv;
@@ -339,8 +339,9 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         }
         if (!c || !c->s || !c->hist || !c->tj) {
             fx_cpu_destroy(n, c);
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (two %ux%ux%u rgba32f "
-                                                  "volumes, S and its history)",
+            return lg_error_code(n, LG_ERR_NOMEM,
+                                 "out of memory (two %ux%ux%u rgba32f "
+                                 "volumes, S and its history)",
                                  f->w, f->h, f->d);
         }
         c->w = f->w;

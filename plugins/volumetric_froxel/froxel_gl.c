@@ -44,7 +44,7 @@ typedef struct fx_gl_light {
     int32_t shadow;      /* record index, or -1: unshadowed */
     float l_c[3];
     float pad0;
-    int32_t tile[2];     /* the record's tile origin in the atlas, texels */
+    int32_t tile[2]; /* the record's tile origin in the atlas, texels */
     int32_t pad1[2];
 } fx_gl_light;
 LG_GL_BLOCK_SIZE(fx_gl_light, 112);
@@ -81,14 +81,12 @@ typedef struct fx_gl {
     lg_gl_texture vol[2];    /* S volumes; vol[cur] is written this frame, vol[1 - cur] is
                               * history */
     int cur;
-    bool hist_valid;     /* vol[1 - cur] holds a frame's S (false after (re)making them) */
+    bool hist_valid; /* vol[1 - cur] holds a frame's S (false after (re)making them) */
 } fx_gl;
 
-static const lg_gl_shader_src fx_src_column = { GL_COMPUTE_SHADER,
-                                                lg_src_froxel_column_comp_file,
+static const lg_gl_shader_src fx_src_column = { GL_COMPUTE_SHADER, lg_src_froxel_column_comp_file,
                                                 lg_src_froxel_column_comp };
-static const lg_gl_shader_src fx_src_lookup = { GL_COMPUTE_SHADER,
-                                                lg_src_froxel_lookup_comp_file,
+static const lg_gl_shader_src fx_src_lookup = { GL_COMPUTE_SHADER, lg_src_froxel_lookup_comp_file,
                                                 lg_src_froxel_lookup_comp };
 
 static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u, bool slice_map)
@@ -108,7 +106,8 @@ static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u, bool slice_map)
 static int fx_gl_make_passes(lg_node *n, fx_gl *st)
 {
     int rc;
-    lg_gl_pass_desc d = { .name = "volumetric_froxel column", .stages = &fx_src_column,
+    lg_gl_pass_desc d = { .name = "volumetric_froxel column",
+                          .stages = &fx_src_column,
                           .n_stages = 1 };
     if ((rc = lg_gl_pass_create(n, &d, &st->column)))
         return rc;
@@ -164,8 +163,9 @@ static int fx_gl_make_passes(lg_node *n, fx_gl *st)
 /* The two S volumes at W x H x D, made (cleared to 0) when absent or of another size. */
 static int fx_gl_volumes(lg_node *n, const lg_gl *gl, fx_gl *st, const fx_frame *f)
 {
-    const lg_gl_texture_desc d = { .target = GL_TEXTURE_3D, .format = GL_RGBA32F,
-                                   .width = f->w, .height = f->h, .depth = f->d };
+    const lg_gl_texture_desc d = {
+        .target = GL_TEXTURE_3D, .format = GL_RGBA32F, .width = f->w, .height = f->h, .depth = f->d
+    };
     int made0 = lg_gl_texture_recreate(n, &st->vol[0], &d);
     int made1 = made0 < 0 ? made0 : lg_gl_texture_recreate(n, &st->vol[1], &d);
     if (made0 < 0 || made1 < 0) {
@@ -173,7 +173,8 @@ static int fx_gl_volumes(lg_node *n, const lg_gl *gl, fx_gl *st, const fx_frame 
         lg_gl_texture_destroy(n, &st->vol[1]);
         return lg_error_code(n, made0 < 0 ? made0 : made1,
                              "volumetric_froxel: two %ux%ux%u rgba32f volumes (%.1f MB) could "
-                             "not be made", f->w, f->h, f->d, 2.0 * f->w * f->h * f->d * 16 / 1e6);
+                             "not be made",
+                             f->w, f->h, f->d, 2.0 * f->w * f->h * f->d * 16 / 1e6);
     }
     if (!made0 && !made1)
         return 0;
@@ -193,8 +194,7 @@ static void fx_gl_map_vec4(const lg_slice_map *m, float out[4])
     out[3] = (float)m->depth;
 }
 
-static void fx_gl_set_view(const lg_gl *gl, lg_gl_pass *p, const fx_gl_view_u *u,
-                           const fx_frame *f)
+static void fx_gl_set_view(const lg_gl *gl, lg_gl_pass *p, const fx_gl_view_u *u, const fx_frame *f)
 {
     const vol_setup *v = f->v;
     float inv[16], map[4];
@@ -263,9 +263,10 @@ static int fx_gl_grid(lg_node *n, const fx_frame *f, GLuint *tex)
         return rc;
     if (info.kind != LG_KIND_VOLUME || info.volume.format != LG_FORMAT_RGBA32F ||
         info.volume.width != f->w || info.volume.height != f->h || info.volume.depth != f->d)
-        return lg_error(n, "volumetric_froxel (gl): the grid part is not an rgba32f volume of "
-                           "%ux%ux%u (declared %ux%ux%u, format %d)", f->w, f->h, f->d,
-                        info.volume.width, info.volume.height, info.volume.depth,
+        return lg_error(n,
+                        "volumetric_froxel (gl): the grid part is not an rgba32f volume of "
+                        "%ux%ux%u (declared %ux%ux%u, format %d)",
+                        f->w, f->h, f->d, info.volume.width, info.volume.height, info.volume.depth,
                         (int)info.volume.format);
     uint32_t dummy = 0;
     return lg_map_gl(n, grid, LG_WRITE, tex, &dummy);
@@ -296,11 +297,13 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
         }
     }
     if (v->n_lights < 1 || v->n_lights > VOL_MAX_LIGHTS)
-        return lg_error(n, "volumetric_froxel (gl): %u directional lights (1 .. %d)",
-                        v->n_lights, VOL_MAX_LIGHTS);
+        return lg_error(n, "volumetric_froxel (gl): %u directional lights (1 .. %d)", v->n_lights,
+                        VOL_MAX_LIGHTS);
     if (f->d > (FX_GL_SLICES_MAX - 1) / 3)
-        return lg_error(n, "volumetric_froxel (gl): grid depth %u, more than the slice table's "
-                           "%d", f->d, (FX_GL_SLICES_MAX - 1) / 3);
+        return lg_error(n,
+                        "volumetric_froxel (gl): grid depth %u, more than the slice table's "
+                        "%d",
+                        f->d, (FX_GL_SLICES_MAX - 1) / 3);
     if ((rc = fx_gl_volumes(n, gl, st, f)))
         return rc;
 
@@ -328,13 +331,13 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
         if ((rc = lg_map_gl(n, f->sm->atlas, LG_READ, &color, &atlas)))
             return rc;
         if (!atlas)
-            return lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
-                                                   "texture");
+            return lg_error_code(n, LG_ERR_DEVICE,
+                                 "input 'shadows': the atlas has no GL depth "
+                                 "texture");
     }
     float slices[FX_GL_SLICES_MAX];
     uint32_t n_slices = fx_gl_slices(f, slices);
-    if ((rc = lg_gl_buffer_upload(n, &st->lights_buf, 0, v->n_lights * sizeof *lights,
-                                  lights)) ||
+    if ((rc = lg_gl_buffer_upload(n, &st->lights_buf, 0, v->n_lights * sizeof *lights, lights)) ||
         (rc = lg_gl_buffer_upload(n, &st->slices_buf, 0, n_slices * sizeof(float), slices)))
         return rc;
 
@@ -396,8 +399,8 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
         return rc;
 
     /* out's depth = base's: a depth texture cannot be a compute shader's image, so copy it */
-    gl->CopyImageSubData(base_depth, GL_TEXTURE_2D, 0, 0, 0, 0, out_depth, GL_TEXTURE_2D, 0, 0,
-                         0, 0, (GLsizei)v->width, (GLsizei)v->height, 1);
+    gl->CopyImageSubData(base_depth, GL_TEXTURE_2D, 0, 0, 0, 0, out_depth, GL_TEXTURE_2D, 0, 0, 0,
+                         0, (GLsizei)v->width, (GLsizei)v->height, 1);
     if ((rc = lg_gl_check(n, "volumetric_froxel: copying base's depth to out")))
         return rc;
 

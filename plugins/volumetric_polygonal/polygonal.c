@@ -72,7 +72,7 @@ typedef struct poly_state {
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } poly_state;
 
-/* ---- the mesh's topology -------------------------------------------------------------------- */
+/* ---- the mesh's topology --------------------------------------------------------------------- */
 
 /* Vertex and triangle counts of a Ws x Hs grid's closed mesh. */
 static uint64_t poly_vertices(uint32_t ws, uint32_t hs)
@@ -143,7 +143,7 @@ static void poly_indices(uint32_t ws, uint32_t hs, uint32_t *out)
     out[k++] = nc + 0, out[k++] = nc + 3, out[k++] = nc + 2;
 }
 
-/* ---- create / prepare ----------------------------------------------------------------------- */
+/* ---- create / prepare ------------------------------------------------------------------------ */
 
 static int poly_create(lg_node *n)
 {
@@ -158,8 +158,7 @@ static int poly_create(lg_node *n)
         return lg_error(n, "resolution = 1: the mesh needs at least 2 x 2 vertices; give 0 "
                            "(one per shadow-map texel) or 2 .. 16384");
     if (!isfinite(z) || z < 0.0)
-        return lg_error(n, "z_limit = %g: give a view depth > 0, or 0 for the camera's zfar",
-                        z);
+        return lg_error(n, "z_limit = %g: give a view depth > 0, or 0 for the camera's zfar", z);
     st->z_limit = (float)z;
     return 0;
 }
@@ -180,7 +179,7 @@ static int poly_prepare(lg_node *n)
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
-/* ---- the passes ----------------------------------------------------------------------------- */
+/* ---- the passes ------------------------------------------------------------------------------ */
 
 /* The block PolyView (std140, shaders/volumetric_polygonal/poly_view.glsl) that the volume
  * pass and the composite read, uploaded with one lg_gl_pass_uniforms in each. */
@@ -213,8 +212,7 @@ static int poly_passes(lg_node *n, poly_state *st)
         static const lg_gl_shader_src src[] = {
             { GL_COMPUTE_SHADER, lg_src_poly_mesh_comp_file, lg_src_poly_mesh_comp },
         };
-        lg_gl_pass_desc d = { .name = "volumetric_polygonal mesh", .stages = src,
-                              .n_stages = 1 };
+        lg_gl_pass_desc d = { .name = "volumetric_polygonal mesh", .stages = src, .n_stages = 1 };
         if ((rc = lg_gl_pass_create(n, &d, &st->mesh)))
             return rc;
         lg_gl_pass *p = st->mesh;
@@ -235,9 +233,12 @@ static int poly_passes(lg_node *n, poly_state *st)
             { GL_FRAGMENT_SHADER, lg_src_poly_volume_frag_file, lg_src_poly_volume_frag },
         };
         /* every fragment counts: no depth test, no culling, additive blending */
-        lg_gl_pass_desc d = { .name = "volumetric_polygonal volume", .stages = src,
-                              .n_stages = 2, .output = "inscatter",
-                              .colors = { GL_RGBA32F }, .blend = LG_GL_BLEND_ADD };
+        lg_gl_pass_desc d = { .name = "volumetric_polygonal volume",
+                              .stages = src,
+                              .n_stages = 2,
+                              .output = "inscatter",
+                              .colors = { GL_RGBA32F },
+                              .blend = LG_GL_BLEND_ADD };
         if ((rc = lg_gl_pass_create(n, &d, &st->vol)))
             return rc;
         lg_gl_pass *p = st->vol;
@@ -255,9 +256,14 @@ static int poly_passes(lg_node *n, poly_state *st)
             { GL_FRAGMENT_SHADER, lg_src_poly_composite_frag_file, lg_src_poly_composite_frag },
         };
         /* every pixel is written, its depth base's: no test against the cleared plane */
-        lg_gl_pass_desc d = { .name = "volumetric_polygonal composite", .stages = src,
-                              .n_stages = 2, .output = "out", .colors = { GL_RGBA32F },
-                              .depth = true, .depth_test = true, .depth_write = true,
+        lg_gl_pass_desc d = { .name = "volumetric_polygonal composite",
+                              .stages = src,
+                              .n_stages = 2,
+                              .output = "out",
+                              .colors = { GL_RGBA32F },
+                              .depth = true,
+                              .depth_test = true,
+                              .depth_write = true,
                               .depth_func = GL_ALWAYS };
         if ((rc = lg_gl_pass_create(n, &d, &st->comp)))
             return rc;
@@ -270,7 +276,7 @@ static int poly_passes(lg_node *n, poly_state *st)
     return 0;
 }
 
-/* ---- geometry helpers ----------------------------------------------------------------------- */
+/* ---- geometry helpers ------------------------------------------------------------------------ */
 
 static void poly_mat_mul(float out[16], const float a[16], const float b[16])
 {
@@ -351,7 +357,7 @@ static void poly_fog_box(const vol_setup *v, const float light_vp[16], float lo_
     }
 }
 
-/* ---- the debug dump ------------------------------------------------------------------------- */
+/* ---- the debug dump -------------------------------------------------------------------------- */
 
 /* Writes every light's mesh (read back from GL) as one binary little-endian PLY: vertex
  * positions (float x y z, world) and triangles (uchar count, int indices) turning
@@ -425,7 +431,7 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
     return rc;
 }
 
-/* ---- execute -------------------------------------------------------------------------------- */
+/* ---- execute --------------------------------------------------------------------------------- */
 
 static int poly_execute(lg_node *n, const lg_frame *frame)
 {
@@ -465,14 +471,16 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     gl->GetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
     uint64_t max_bytes = (uint64_t)(GLuint)max_block;
     if (ntris * 12 > max_bytes || nverts * 16 > max_bytes || ntris * 3 > 0x7fffffffu)
-        return lg_error(n, "resolution %u: the mesh (%llu vertices, %llu triangles) exceeds "
-                           "the GL device's largest storage buffer (%d bytes); lower "
-                           "`resolution`",
+        return lg_error(n,
+                        "resolution %u: the mesh (%llu vertices, %llu triangles) exceeds "
+                        "the GL device's largest storage buffer (%d bytes); lower "
+                        "`resolution`",
                         ws, (unsigned long long)nverts, (unsigned long long)ntris, max_block);
     for (uint32_t l = 0; l < v.n_lights; l++)
         if (v.lights[l].shadow < 0)
-            return lg_error(n, "light %u (scene light %u) has no shadow map in input "
-                               "'shadows': connect a shadowmap node of this scene",
+            return lg_error(n,
+                            "light %u (scene light %u) has no shadow map in input "
+                            "'shadows': connect a shadowmap node of this scene",
                             l, v.lights[l].scene_index);
     if ((rc = poly_passes(n, st)))
         return rc;
@@ -500,8 +508,9 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     if ((rc = lg_map_gl(n, sm->atlas, LG_READ, &atlas_color, &atlas)))
         return rc;
     if (!atlas)
-        return lg_error_code(n, LG_ERR_DEVICE, "input 'shadows': the atlas has no GL depth "
-                                               "texture");
+        return lg_error_code(n, LG_ERR_DEVICE,
+                             "input 'shadows': the atlas has no GL depth "
+                             "texture");
     if ((rc = lg_map_gl(n, lg_input(n, VOL_IN_BASE), LG_READ, &base_tex, &base_depth)))
         return rc;
     if (!base_depth)
@@ -517,16 +526,20 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         const lg_shadow_light *L = &sm->lights[v.lights[l].shadow];
         if ((uint64_t)L->tile_x + R > sm->atlas_width ||
             (uint64_t)L->tile_y + R > sm->atlas_height) {
-            rc = lg_error(n, "input 'shadows': light %u's tile at (%u, %u) of side %u lies "
-                             "outside the %ux%u atlas", v.lights[l].scene_index, L->tile_x,
-                          L->tile_y, R, sm->atlas_width, sm->atlas_height);
+            rc = lg_error(n,
+                          "input 'shadows': light %u's tile at (%u, %u) of side %u lies "
+                          "outside the %ux%u atlas",
+                          v.lights[l].scene_index, L->tile_x, L->tile_y, R, sm->atlas_width,
+                          sm->atlas_height);
             break;
         }
         float inv[16];
         double det;
         if (poly_inv_affine(L->view_proj, inv, &det) != 0) {
-            rc = lg_error(n, "light %u: its shadow map's view_proj is singular or not "
-                             "orthographic", v.lights[l].scene_index);
+            rc = lg_error(n,
+                          "light %u: its shadow map's view_proj is singular or not "
+                          "orthographic",
+                          v.lights[l].scene_index);
             break;
         }
         /* NDC -> world turns orientation when the inverse's determinant (of det's sign) is
@@ -640,33 +653,51 @@ static void poly_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor ------------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const lg_param_desc poly_params[] = {
-    { .key = "resolution", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 16384,
+    { .key = "resolution",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 16384,
       .doc = "vertices per side of each light's mesh (Ws = Hs); 0 = one per shadow-map texel "
              "(the thesis); capped at the shadow maps' resolution" },
-    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "z_limit",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "view depth where the fog ends, scene units; 0 = the camera's zfar" },
-    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "per_frame",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "render again on every frame (--frames), for timing; the result is the same" },
-    { .key = "mesh_file", .type = LG_PARAM_PATH, .def.s = "", .role = LG_ROLE_OUTPUT_FILE,
+    { .key = "mesh_file",
+      .type = LG_PARAM_PATH,
+      .def.s = "",
+      .role = LG_ROLE_OUTPUT_FILE,
       .doc = "debug: write every light's generated mesh (read back from GL) to this binary "
              "PLY file, triangles counter-clockwise about the outward normal; \"\" = none" },
 };
 static const lg_port_desc poly_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the scene: its directional lights (1..32), its medium, its active camera" },
-    { .name = "base", .kind = LG_KIND_IMAGE,
+    { .name = "base",
+      .kind = LG_KIND_IMAGE,
       .doc = "the lit image with its depth (phong's out), of the output's size" },
-    { .name = "shadows", .kind = LG_KIND_SHADOWMAP,
+    { .name = "shadows",
+      .kind = LG_KIND_SHADOWMAP,
       .doc = "shadow maps of the same scene's directional lights: each light's volume is "
              "built from its map" },
 };
 static const lg_port_desc poly_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f + depth: base e^(-sigma_t d) + inscatter; depth = base's" },
-    { .name = "inscatter", .kind = LG_KIND_IMAGE,
+    { .name = "inscatter",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f: the in-scattered radiance L_v alone (lightgraph/medium.h units), "
              "alpha 1" },
 };

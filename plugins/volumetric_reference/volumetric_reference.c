@@ -48,14 +48,14 @@
 typedef struct vr_state {
     uint32_t steps, spp;
     uint64_t seed;
-    bool centre;          /* subpixel = centre: every ray through the pixel centre */
+    bool centre; /* subpixel = centre: every ray through the pixel centre */
     float z_limit;
     bool per_frame;
     uint32_t width, height;
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vr_state;
 
-/* ---- random numbers ------------------------------------------------------------------------ */
+/* ---- random numbers -------------------------------------------------------------------------- */
 
 /* splitmix64's finaliser: a counter-based generator (a pure function of its input). */
 static uint64_t vr_mix(uint64_t z)
@@ -67,9 +67,12 @@ static uint64_t vr_mix(uint64_t z)
 }
 
 /* A uniform double in [0, 1) from the 53 high bits. */
-static double vr_unit(uint64_t h) { return (double)(h >> 11) * 0x1.0p-53; }
+static double vr_unit(uint64_t h)
+{
+    return (double)(h >> 11) * 0x1.0p-53;
+}
 
-/* ---- the march ----------------------------------------------------------------------------- */
+/* ---- the march ------------------------------------------------------------------------------- */
 
 typedef struct vr_run {
     const vr_state *st;
@@ -79,9 +82,9 @@ typedef struct vr_run {
     size_t base_row;
     float *out, *out_depth, *insc;
     size_t out_row, depth_row, insc_row;
-    uint32_t side;             /* spp = side^2, or 0: Latin hypercube */
-    double tnear_light;        /* occlusion rays start this far from the medium point */
-    size_t row0;               /* the batch's first row */
+    uint32_t side;      /* spp = side^2, or 0: Latin hypercube */
+    double tnear_light; /* occlusion rays start this far from the medium point */
+    size_t row0;        /* the batch's first row */
 } vr_run;
 
 /* Sub-pixel position k of pixel `pix`: stratified in [0, 1)^2. `perm` (Latin hypercube
@@ -178,10 +181,15 @@ static void vr_pixel(const vr_run *r, uint32_t x, uint32_t y, double lv[3])
             double vis[3] = { 0, 0, 0 };
             for (uint32_t l = 0; l < v->n_lights; l++) {
                 const float *L = v->lights[l].dir;
-                struct RTCRay ray = { .org_x = (float)xs[0], .org_y = (float)xs[1],
-                                      .org_z = (float)xs[2], .tnear = (float)r->tnear_light,
-                                      .dir_x = -L[0], .dir_y = -L[1], .dir_z = -L[2],
-                                      .tfar = INFINITY, .mask = ~0u };
+                struct RTCRay ray = { .org_x = (float)xs[0],
+                                      .org_y = (float)xs[1],
+                                      .org_z = (float)xs[2],
+                                      .tnear = (float)r->tnear_light,
+                                      .dir_x = -L[0],
+                                      .dir_y = -L[1],
+                                      .dir_z = -L[2],
+                                      .tfar = INFINITY,
+                                      .mask = ~0u };
                 rtcOccluded1(r->e->scene, &ctx, &ray);
                 if (ray.tfar < 0.0f) /* -inf: occluded */
                     continue;
@@ -226,7 +234,7 @@ static void vr_rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
         }
 }
 
-/* ---- the node ------------------------------------------------------------------------------ */
+/* ---- the node -------------------------------------------------------------------------------- */
 
 static int vr_create(lg_node *n)
 {
@@ -269,8 +277,10 @@ static int vr_prepare(lg_node *n)
     lg_resource_info info;
     if (lg_describe(lg_input(n, VOL_IN_BASE), &info, n) == 0 &&
         info.image.format != LG_FORMAT_RGBA32F)
-        return lg_error(n, "input 'base' is not rgba32f (format %d): connect a linear lit "
-                           "image (phong's out)", (int)info.image.format);
+        return lg_error(n,
+                        "input 'base' is not rgba32f (format %d): connect a linear lit "
+                        "image (phong's out)",
+                        (int)info.image.format);
     if (st->per_frame)
         lg_set_per_frame(n, true);
     /* the estimate: one occlusion ray per pixel, sub-pixel ray, step and light */
@@ -296,16 +306,18 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
     for (int ch = 0; ch < 3; ch++)
         if (!isfinite(v.sigma_s[ch]) || !isfinite(v.sigma_t[ch]) || v.sigma_s[ch] < 0.0f ||
             v.sigma_t[ch] < v.sigma_s[ch])
-            return lg_error(n, "the scene's medium has sigma_s %g, sigma_t %g (channel %d): "
-                               "need finite 0 <= sigma_s <= sigma_t",
+            return lg_error(n,
+                            "the scene's medium has sigma_s %g, sigma_t %g (channel %d): "
+                            "need finite 0 <= sigma_s <= sigma_t",
                             (double)v.sigma_s[ch], (double)v.sigma_t[ch], ch);
     if (!isfinite(v.g))
         return lg_error(n, "the scene's medium has g = %g", (double)v.g);
     for (uint32_t l = 0; l < v.n_lights; l++)
         for (int ch = 0; ch < 3; ch++)
             if (!isfinite(v.lights[l].l_c[ch]) || v.lights[l].l_c[ch] < 0.0f)
-                return lg_error(n, "light %u: colour x intensity %g (channel %d) is not a "
-                                   "finite value >= 0",
+                return lg_error(n,
+                                "light %u: colour x intensity %g (channel %d) is not a "
+                                "finite value >= 0",
                                 v.lights[l].scene_index, (double)v.lights[l].l_c[ch], ch);
 
     lg_cpu_view bv, ov, iv;
@@ -328,10 +340,18 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
     lg_account_alloc(n, counted);
     uint32_t side = (uint32_t)lround(sqrt((double)st->spp));
     vr_run r = {
-        .st = st, .v = &v, .e = &e,
-        .base = bv.pixels, .depth = bv.depth, .base_row = bv.row_pixels,
-        .out = ov.pixels, .out_depth = ov.depth, .insc = iv.pixels,
-        .out_row = ov.row_pixels, .depth_row = ov.row_pixels, .insc_row = iv.row_pixels,
+        .st = st,
+        .v = &v,
+        .e = &e,
+        .base = bv.pixels,
+        .depth = bv.depth,
+        .base_row = bv.row_pixels,
+        .out = ov.pixels,
+        .out_depth = ov.depth,
+        .insc = iv.pixels,
+        .out_row = ov.row_pixels,
+        .depth_row = ov.row_pixels,
+        .insc_row = iv.row_pixels,
         .side = side * side == st->spp ? side : 0,
         /* occlusion rays start in the medium, not on a surface: a small fraction of the
          * scene's size clears float rounding at the origin without skipping geometry */
@@ -359,35 +379,60 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
 static const char *const vr_subpixels[] = { "jittered", "centre", NULL };
 
 static const lg_param_desc vr_params[] = {
-    { .key = "steps", .type = LG_PARAM_INT, .def.i = 256, .min = 1, .max = VR_MAX_STEPS,
+    { .key = "steps",
+      .type = LG_PARAM_INT,
+      .def.i = 256,
+      .min = 1,
+      .max = VR_MAX_STEPS,
       .doc = "segments per ray (one jittered visibility sample each; the transmittance "
              "inside a segment is integrated exactly)" },
-    { .key = "spp", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = VR_MAX_SPP,
+    { .key = "spp",
+      .type = LG_PARAM_INT,
+      .def.i = 4,
+      .min = 1,
+      .max = VR_MAX_SPP,
       .doc = "rays per pixel, stratified within the pixel (a square count: a jittered grid; "
              "any other: a jittered Latin hypercube)" },
-    { .key = "seed", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 0x7fffffff,
+    { .key = "seed",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 0x7fffffff,
       .doc = "the jitter's seed (every random number is a hash of seed, pixel, ray, step)" },
-    { .key = "subpixel", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = vr_subpixels,
+    { .key = "subpixel",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = vr_subpixels,
       .doc = "jittered (the rays cover the pixel: antialiased) or centre (every ray through "
              "the pixel centre, as the screen-space methods sample; spp then averages the "
              "visibility samples only)" },
-    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "z_limit",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "view depth (scene units) where the fog ends; 0 = the camera's zfar" },
-    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "per_frame",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "run again on every frame (--frames), for timing; the result is the same" },
 };
 
 static const lg_port_desc vr_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the scene: its directional lights, medium, active camera; every instance "
              "occludes" },
-    { .name = "base", .kind = LG_KIND_IMAGE,
+    { .name = "base",
+      .kind = LG_KIND_IMAGE,
       .doc = "the lit image with depth (phong's out), rgba32f" },
 };
 static const lg_port_desc vr_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f + depth: base e^(-sigma_t d) + inscatter, base's depth" },
-    { .name = "inscatter", .kind = LG_KIND_IMAGE,
+    { .name = "inscatter",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f: the in-scattered radiance L_v alone, alpha 1" },
 };
 

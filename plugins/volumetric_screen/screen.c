@@ -58,13 +58,13 @@ typedef struct vs_state {
 /* What one frame computes with: per light its screen position and colour, the sums. */
 typedef struct vs_frame {
     vol_setup v;
-    float pos[VOL_MAX_LIGHTS][4];  /* xy pixels, z 1 = contributes */
+    float pos[VOL_MAX_LIGHTS][4]; /* xy pixels, z 1 = contributes */
     float lc[VOL_MAX_LIGHTS][4];
-    float to[VOL_MAX_LIGHTS][4];   /* -L */
-    float k;                       /* log2 of one step's decay */
-    float wt[1025];                /* cpu: wt[i] = exp2f(i k), the shader's values */
-    float norm;                    /* 1 / N or 1 / sum of weights */
-    float scale;                   /* exposure weight (thesis) or exposure (physical) */
+    float to[VOL_MAX_LIGHTS][4]; /* -L */
+    float k;                     /* log2 of one step's decay */
+    float wt[1025];              /* cpu: wt[i] = exp2f(i k), the shader's values */
+    float norm;                  /* 1 / N or 1 / sum of weights */
+    float scale;                 /* exposure weight (thesis) or exposure (physical) */
     uint32_t active;
 } vs_frame;
 
@@ -101,7 +101,7 @@ LG_GL_BLOCK_OFFSET(vs_gpu_params, size, 1664);
 LG_GL_BLOCK_OFFSET(vs_gpu_params, physical, 1680);
 LG_GL_BLOCK_OFFSET(vs_gpu_params, scale, 1684);
 
-/* ---- create / prepare ------------------------------------------------------------------ */
+/* ---- create / prepare ------------------------------------------------------------------------ */
 
 static int vs_create(lg_node *n)
 {
@@ -125,8 +125,7 @@ static int vs_create(lg_node *n)
     if (!(weight >= 0.0 && weight <= 1e6))
         return lg_error(n, "weight = %g: give a finite value in [0, 1e6]", weight);
     if (!(z_limit >= 0.0 && z_limit <= 1e30))
-        return lg_error(n, "z_limit = %g: give a view depth >= 0 (0 = the camera's zfar)",
-                        z_limit);
+        return lg_error(n, "z_limit = %g: give a view depth >= 0 (0 = the camera's zfar)", z_limit);
     st->samples = (uint32_t)samples;
     st->exposure = (float)exposure;
     st->decay = (float)decay;
@@ -146,7 +145,7 @@ static int vs_prepare(lg_node *n)
     return lg_set_device(n, st->backend);
 }
 
-/* ---- the frame ------------------------------------------------------------------------- */
+/* ---- the frame ------------------------------------------------------------------------------- */
 
 static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
 {
@@ -194,7 +193,7 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
     return 0;
 }
 
-/* ---- GL -------------------------------------------------------------------------------- */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 static int vs_gl_pass(lg_node *n, vs_state *st)
 {
@@ -205,9 +204,13 @@ static int vs_gl_pass(lg_node *n, vs_state *st)
         { GL_FRAGMENT_SHADER, lg_src_vs_screen_frag_file, lg_src_vs_screen_frag },
     };
     /* out (colour + depth) and inscatter: the outputs themselves, no other image */
-    lg_gl_pass_desc d = { .name = "volumetric_screen", .stages = src, .n_stages = 2,
-                          .colors = { GL_RGBA32F, GL_RGBA32F }, .depth = true,
-                          .depth_test = true, .depth_write = true,
+    lg_gl_pass_desc d = { .name = "volumetric_screen",
+                          .stages = src,
+                          .n_stages = 2,
+                          .colors = { GL_RGBA32F, GL_RGBA32F },
+                          .depth = true,
+                          .depth_test = true,
+                          .depth_write = true,
                           /* every pixel is written, depth included (base's): no test
                            * against the old plane */
                           .depth_func = GL_ALWAYS };
@@ -235,8 +238,7 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     if (!base_depth)
         return lg_error(n, "input 'base' has no depth plane on GL");
     lg_gl_target t, ti;
-    if ((rc = lg_gl_target_output(n, "out", &t)) ||
-        (rc = lg_gl_target_output(n, "inscatter", &ti)))
+    if ((rc = lg_gl_target_output(n, "out", &t)) || (rc = lg_gl_target_output(n, "inscatter", &ti)))
         return rc;
     t.color[1] = ti.color[0];
     lg_gl_pass *p = st->pass;
@@ -273,7 +275,7 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     return lg_gl_check(n, "volumetric_screen: the pass");
 }
 
-/* ---- CPU (the twin of vs_screen.frag) -------------------------------------------------- */
+/* ---- CPU (the twin of vs_screen.frag) -------------------------------------------------------- */
 
 typedef struct vs_job {
     const vs_state *st;
@@ -355,12 +357,17 @@ static int vs_exec_cpu(lg_node *n, vs_state *st, const vs_frame *f)
         return rc;
     if (!ov.depth)
         return lg_error(n, "output 'out' has no depth plane");
-    vs_job j = { .st = st, .f = f, .base = bv.pixels, .depth = bv.depth, .out = ov.pixels,
-                 .out_depth = ov.depth, .inscatter = iv.pixels };
+    vs_job j = { .st = st,
+                 .f = f,
+                 .base = bv.pixels,
+                 .depth = bv.depth,
+                 .out = ov.pixels,
+                 .out_depth = ov.depth,
+                 .inscatter = iv.pixels };
     return lg_parallel_for(n, st->height, 4, vs_rows, &j);
 }
 
-/* ---- execute / destroy ----------------------------------------------------------------- */
+/* ---- execute / destroy ----------------------------------------------------------------------- */
 
 static int vs_execute(lg_node *n, const lg_frame *frame)
 {
@@ -376,8 +383,9 @@ static int vs_execute(lg_node *n, const lg_frame *frame)
     if (!rc)
         rc = st->backend == LG_DEVICE_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
     if (!rc)
-        lg_log(n, LG_LOG_DEBUG, "%u of %u directional lights on screen (the others behind the "
-                                "camera or too far off-screen: no shafts), %u samples, %s",
+        lg_log(n, LG_LOG_DEBUG,
+               "%u of %u directional lights on screen (the others behind the "
+               "camera or too far off-screen: no shafts), %u samples, %s",
                f->active, f->v.n_lights, st->samples,
                st->model == VS_PHYSICAL ? "physical" : "thesis");
     free(f);
@@ -394,45 +402,76 @@ static void vs_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor -------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const char *const vs_models[] = { "thesis", "physical", NULL };
 
 static const lg_param_desc vs_params[] = {
     /* gl (one fragment pass) or cpu (the host's thread pool); they agree */
     LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL, LG_BACKEND_GL),
-    { .key = "samples", .type = LG_PARAM_INT, .def.i = 64, .min = 1, .max = 1024,
+    { .key = "samples",
+      .type = LG_PARAM_INT,
+      .def.i = 64,
+      .min = 1,
+      .max = 1024,
       .doc = "N: samples from each pixel towards each light's screen position (eq. 7)" },
-    { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
+    { .key = "exposure",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1.0,
+      .min = 0,
+      .max = 1e6,
       .doc = "scale of L_v (eq. 6); physical: 1 = physical units" },
-    { .key = "decay", .type = LG_PARAM_FLOAT, .def.f = 0.94, .min = 0, .max = 1,
+    { .key = "decay",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.94,
+      .min = 0,
+      .max = 1,
       .doc = "in (0, 1]: weight decay per sample (eq. 6); with normalize, per 1/64 of the "
              "path from the pixel to the light" },
-    { .key = "weight", .type = LG_PARAM_FLOAT, .def.f = 0.01, .min = 0, .max = 1e6,
+    { .key = "weight",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.01,
+      .min = 0,
+      .max = 1e6,
       .doc = "thesis: the weight of a sample (eq. 6); physical: unused" },
-    { .key = "normalize", .type = LG_PARAM_BOOL, .def.b = true,
+    { .key = "normalize",
+      .type = LG_PARAM_BOOL,
+      .def.b = true,
       .doc = "brightness independent of N: decay^(64 i / N) and the sum divided by the sum "
              "of the weights (false: decay^i and / N, eq. 6 exactly)" },
-    { .key = "model", .type = LG_PARAM_ENUM, .def.e = VS_PHYSICAL, .enum_values = vs_models,
+    { .key = "model",
+      .type = LG_PARAM_ENUM,
+      .def.e = VS_PHYSICAL,
+      .enum_values = vs_models,
       .doc = "thesis: eq. 6 (Mitchell's units), out = base + L_v; physical: the unshadowed "
              "closed form L_c sigma_s p d seg(sigma_t d) times the decay-weighted fraction "
              "of visible samples, out = base e^(-sigma_t d) + L_v" },
-    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "z_limit",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "view depth where the fog ends (physical model); 0 = the camera's zfar" },
-    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "per_frame",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "run again on every frame (--frames), for timing; the result is the same" },
 };
 
 static const lg_port_desc vs_inputs[] = {
-    { .name = "scene", .kind = LG_KIND_SCENE,
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
       .doc = "the scene: its directional lights (1 .. 32), medium and active camera" },
-    { .name = "base", .kind = LG_KIND_IMAGE,
+    { .name = "base",
+      .kind = LG_KIND_IMAGE,
       .doc = "the lit image with its depth plane (phong's out): depth 1 = sky" },
 };
 static const lg_port_desc vs_outputs[] = {
-    { .name = "out", .kind = LG_KIND_IMAGE,
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f + depth: base (x e^(-sigma_t d), physical) + L_v; depth = base's" },
-    { .name = "inscatter", .kind = LG_KIND_IMAGE,
+    { .name = "inscatter",
+      .kind = LG_KIND_IMAGE,
       .doc = "rgba32f: L_v alone (physical: in lightgraph/medium.h's units), alpha 1" },
 };
 
@@ -454,5 +493,4 @@ static const lg_node_type vs_types[] = { {
 } };
 
 LG_PLUGIN_DEFINE("volumetric_screen", "1.0.0",
-                 "Screen-space volumetric light shafts (Mitchell 2007) on gl and cpu",
-                 vs_types)
+                 "Screen-space volumetric light shafts (Mitchell 2007) on gl and cpu", vs_types)

@@ -14,15 +14,15 @@
 #define UNSET_NAMED 4
 
 struct lg_cl_pass {
-    lg_node *node;      /* its errors are reported there */
-    char *name;         /* the descriptor's, copied */
+    lg_node *node; /* its errors are reported there */
+    char *name;    /* the descriptor's, copied */
     char *kernel_name;
     cl_kernel kernel;
     cl_uint n_args;
-    bool *set;          /* [n_args]: set since the pass was made (and not failed since) */
-    char **arg_name;    /* [n_args] or NULL: the runtime gave no argument info */
-    char **arg_type;    /* [n_args] or NULL */
-    int failed;         /* 0, or the LG_ERR_* of an argument failure not yet returned by run */
+    bool *set;       /* [n_args]: set since the pass was made (and not failed since) */
+    char **arg_name; /* [n_args] or NULL: the runtime gave no argument info */
+    char **arg_type; /* [n_args] or NULL */
+    int failed;      /* 0, or the LG_ERR_* of an argument failure not yet returned by run */
 };
 
 static char *dup_str(const char *s)
@@ -138,26 +138,28 @@ static int check_desc(lg_node *n, const lg_cl_pass_desc *d)
     if (!d->name || !d->name[0])
         return lg_error(n, "lg_cl_pass_create: the descriptor has no name");
     if (d->struct_size && d->struct_size != sizeof *d)
-        return lg_error(n, "cl pass '%s': descriptor struct_size %zu, this SDK has %zu",
-                        d->name, d->struct_size, sizeof *d);
+        return lg_error(n, "cl pass '%s': descriptor struct_size %zu, this SDK has %zu", d->name,
+                        d->struct_size, sizeof *d);
     for (int i = 0; i < 4; i++)
         if (d->reserved[i])
-            return lg_error(n, "cl pass '%s': reserved[%d] is not zero (a descriptor of a "
-                               "newer SDK?)", d->name, i);
+            return lg_error(n,
+                            "cl pass '%s': reserved[%d] is not zero (a descriptor of a "
+                            "newer SDK?)",
+                            d->name, i);
     if (!d->kernel || !d->kernel[0])
         return lg_error(n, "cl pass '%s': no kernel name", d->name);
     if (!d->sources || d->n_sources == 0)
         return lg_error(n, "cl pass '%s' (kernel %s): no sources", d->name, d->kernel);
     for (unsigned i = 0; i < d->n_sources; i++) {
         if (!d->sources[i])
-            return lg_error(n, "cl pass '%s' (kernel %s): sources[%u] is NULL", d->name,
-                            d->kernel, i);
-        if (d->source_names &&
-            (!d->source_names[i] || !d->source_names[i][0] ||
-             strpbrk(d->source_names[i], "\"\\\n")))
-            return lg_error(n, "cl pass '%s' (kernel %s): source_names[%u] is %s%s%s (a file "
-                               "name without '\"', '\\' or a newline)", d->name, d->kernel, i,
-                            d->source_names[i] ? "\"" : "",
+            return lg_error(n, "cl pass '%s' (kernel %s): sources[%u] is NULL", d->name, d->kernel,
+                            i);
+        if (d->source_names && (!d->source_names[i] || !d->source_names[i][0] ||
+                                strpbrk(d->source_names[i], "\"\\\n")))
+            return lg_error(n,
+                            "cl pass '%s' (kernel %s): source_names[%u] is %s%s%s (a file "
+                            "name without '\"', '\\' or a newline)",
+                            d->name, d->kernel, i, d->source_names[i] ? "\"" : "",
                             d->source_names[i] ? d->source_names[i] : "NULL",
                             d->source_names[i] ? "\"" : "");
     }
@@ -195,8 +197,10 @@ int lg_cl_pass_create(lg_node *n, const lg_cl_pass_desc *d, lg_cl_pass **out)
     p->kernel_name = dup_str(d->kernel);
     if (!prog) {
         /* the host reported the build log (or the missing device) */
-        rc = lg_error_code(n, LG_ERR_DEVICE, "cl pass '%s': kernel %s: the program (%s) did "
-                                             "not build", d->name, d->kernel, pname);
+        rc = lg_error_code(n, LG_ERR_DEVICE,
+                           "cl pass '%s': kernel %s: the program (%s) did "
+                           "not build",
+                           d->name, d->kernel, pname);
         goto fail;
     }
     if (!p->name || !p->kernel_name) {
@@ -209,17 +213,20 @@ int lg_cl_pass_create(lg_node *n, const lg_cl_pass_desc *d, lg_cl_pass **out)
         /* a misspelt name: say which kernels there are */
         char have[512];
         kernel_names(prog, have, sizeof have);
-        rc = lg_error_code(n, LG_ERR_DEVICE, "cl pass '%s': kernel %s: clCreateKernel: %s (%d)"
-                                             "%s%s%s%s", d->name, d->kernel, lg_cl_strerror(e),
-                           (int)e, have[0] ? "; the program " : "", have[0] ? pname : "",
+        rc = lg_error_code(n, LG_ERR_DEVICE,
+                           "cl pass '%s': kernel %s: clCreateKernel: %s (%d)"
+                           "%s%s%s%s",
+                           d->name, d->kernel, lg_cl_strerror(e), (int)e,
+                           have[0] ? "; the program " : "", have[0] ? pname : "",
                            have[0] ? " has: " : "", have);
         goto fail;
     }
     e = clGetKernelInfo(p->kernel, CL_KERNEL_NUM_ARGS, sizeof p->n_args, &p->n_args, NULL);
     if (e != CL_SUCCESS) {
-        rc = lg_error_code(n, LG_ERR_DEVICE, "cl pass '%s': kernel %s: clGetKernelInfo("
-                                             "CL_KERNEL_NUM_ARGS): %s (%d)", d->name, d->kernel,
-                           lg_cl_strerror(e), (int)e);
+        rc = lg_error_code(n, LG_ERR_DEVICE,
+                           "cl pass '%s': kernel %s: clGetKernelInfo("
+                           "CL_KERNEL_NUM_ARGS): %s (%d)",
+                           d->name, d->kernel, lg_cl_strerror(e), (int)e);
         goto fail;
     }
     p->set = calloc(p->n_args ? p->n_args : 1, sizeof *p->set);
@@ -243,8 +250,9 @@ int lg_cl_pass_create(lg_node *n, const lg_cl_pass_desc *d, lg_cl_pass **out)
             free(p->arg_name);
             free(p->arg_type);
             p->arg_name = p->arg_type = NULL;
-            lg_log(n, LG_LOG_DEBUG, "cl pass '%s': kernel %s: no argument info from the "
-                                    "runtime; messages give argument indices only",
+            lg_log(n, LG_LOG_DEBUG,
+                   "cl pass '%s': kernel %s: no argument info from the "
+                   "runtime; messages give argument indices only",
                    d->name, d->kernel);
         }
     }
@@ -358,8 +366,10 @@ int lg_cl_pass_arg_resource(lg_cl_pass *p, unsigned i, const lg_resource *res, u
     char label[160];
     if (access != LG_READ && access != LG_WRITE && access != LG_READ_WRITE) {
         arg_label(p, i, label, sizeof label);
-        rc = lg_error(p->node, "cl pass '%s': kernel %s, %s: access %u (LG_READ, LG_WRITE or "
-                               "LG_READ_WRITE)", p->name, p->kernel_name, label, access);
+        rc = lg_error(p->node,
+                      "cl pass '%s': kernel %s, %s: access %u (LG_READ, LG_WRITE or "
+                      "LG_READ_WRITE)",
+                      p->name, p->kernel_name, label, access);
     } else {
         void *mem = NULL, *depth = NULL;
         rc = lg_map_cl(p->node, res, access, &mem, &depth);
@@ -367,8 +377,10 @@ int lg_cl_pass_arg_resource(lg_cl_pass *p, unsigned i, const lg_resource *res, u
             return lg_cl_pass_arg_mem(p, i, (cl_mem)mem);
         /* the host said why; say where */
         arg_label(p, i, label, sizeof label);
-        lg_error_code(p->node, rc, "cl pass '%s': kernel %s, %s: the resource could not be "
-                                   "mapped on CL", p->name, p->kernel_name, label);
+        lg_error_code(p->node, rc,
+                      "cl pass '%s': kernel %s, %s: the resource could not be "
+                      "mapped on CL",
+                      p->name, p->kernel_name, label);
     }
     if (i < p->n_args)
         p->set[i] = false;
@@ -396,17 +408,20 @@ int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global, const siz
         return rc;
     }
     if (dims < 1 || dims > 3 || !global)
-        return lg_error(p->node, "cl pass '%s': kernel %s: run over %u dimensions%s (1 to 3, "
-                                 "with global sizes)", p->name, p->kernel_name, dims,
-                        global ? "" : " without global sizes");
+        return lg_error(p->node,
+                        "cl pass '%s': kernel %s: run over %u dimensions%s (1 to 3, "
+                        "with global sizes)",
+                        p->name, p->kernel_name, dims, global ? "" : " without global sizes");
     char gtext[80], ltext[80] = "the runtime's";
     sizes_text(gtext, sizeof gtext, dims, global);
     if (local)
         sizes_text(ltext, sizeof ltext, dims, local);
     for (unsigned d = 0; d < dims; d++)
         if (!global[d] || (local && !local[d]))
-            return lg_error(p->node, "cl pass '%s': kernel %s: run over global %s, local %s: a "
-                                     "size is 0", p->name, p->kernel_name, gtext, ltext);
+            return lg_error(p->node,
+                            "cl pass '%s': kernel %s: run over global %s, local %s: a "
+                            "size is 0",
+                            p->name, p->kernel_name, gtext, ltext);
     /* Arguments never set: the enqueue would say only CL_INVALID_KERNEL_ARGS. */
     unsigned unset = 0;
     char names[4 * 200] = "";
@@ -417,8 +432,8 @@ int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global, const siz
         if (unset < UNSET_NAMED && used < sizeof names) {
             char label[160];
             arg_label(p, i, label, sizeof label);
-            used += (size_t)snprintf(names + used, sizeof names - used, "%s%s",
-                                     unset ? ", " : "", label);
+            used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", unset ? ", " : "",
+                                     label);
         }
         unset++;
     }
@@ -426,9 +441,11 @@ int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global, const siz
         char more[48] = "";
         if (unset > UNSET_NAMED)
             snprintf(more, sizeof more, " and %u more", unset - UNSET_NAMED);
-        return lg_error(p->node, "cl pass '%s': kernel %s: %s%s not set before the run (of %u "
-                                 "argument%s)", p->name, p->kernel_name, names, more,
-                        (unsigned)p->n_args, p->n_args == 1 ? "" : "s");
+        return lg_error(p->node,
+                        "cl pass '%s': kernel %s: %s%s not set before the run (of %u "
+                        "argument%s)",
+                        p->name, p->kernel_name, names, more, (unsigned)p->n_args,
+                        p->n_args == 1 ? "" : "s");
     }
     cl_command_queue q = lg_cl_queue(p->node);
     if (!q)
@@ -436,15 +453,16 @@ int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global, const siz
     cl_event ev = NULL;
     cl_int e = clEnqueueNDRangeKernel(q, p->kernel, dims, NULL, global, local, 0, NULL, &ev);
     if (e != CL_SUCCESS)
-        return lg_error_code(p->node, LG_ERR_DEVICE, "cl pass '%s': kernel %s: "
-                                                     "clEnqueueNDRangeKernel over global %s, "
-                                                     "local %s: %s (%d)", p->name,
-                             p->kernel_name, gtext, ltext, lg_cl_strerror(e), (int)e);
+        return lg_error_code(p->node, LG_ERR_DEVICE,
+                             "cl pass '%s': kernel %s: "
+                             "clEnqueueNDRangeKernel over global %s, "
+                             "local %s: %s (%d)",
+                             p->name, p->kernel_name, gtext, ltext, lg_cl_strerror(e), (int)e);
     lg_cl_profile(p->node, ev); /* the host takes the event */
     return 0;
 }
 
-/* ---- scratch buffers ------------------------------------------------------------------ */
+/* ---- scratch buffers ------------------------------------------------------------------------- */
 
 static const char *flags_text(cl_mem_flags f, char *buf, size_t size)
 {
@@ -452,11 +470,15 @@ static const char *flags_text(cl_mem_flags f, char *buf, size_t size)
         cl_mem_flags bit;
         const char *name;
     } names[] = {
-        {CL_MEM_READ_WRITE, "READ_WRITE"},     {CL_MEM_WRITE_ONLY, "WRITE_ONLY"},
-        {CL_MEM_READ_ONLY, "READ_ONLY"},       {CL_MEM_USE_HOST_PTR, "USE_HOST_PTR"},
-        {CL_MEM_ALLOC_HOST_PTR, "ALLOC_HOST_PTR"}, {CL_MEM_COPY_HOST_PTR, "COPY_HOST_PTR"},
-        {CL_MEM_HOST_WRITE_ONLY, "HOST_WRITE_ONLY"}, {CL_MEM_HOST_READ_ONLY, "HOST_READ_ONLY"},
-        {CL_MEM_HOST_NO_ACCESS, "HOST_NO_ACCESS"},
+        { CL_MEM_READ_WRITE, "READ_WRITE" },
+        { CL_MEM_WRITE_ONLY, "WRITE_ONLY" },
+        { CL_MEM_READ_ONLY, "READ_ONLY" },
+        { CL_MEM_USE_HOST_PTR, "USE_HOST_PTR" },
+        { CL_MEM_ALLOC_HOST_PTR, "ALLOC_HOST_PTR" },
+        { CL_MEM_COPY_HOST_PTR, "COPY_HOST_PTR" },
+        { CL_MEM_HOST_WRITE_ONLY, "HOST_WRITE_ONLY" },
+        { CL_MEM_HOST_READ_ONLY, "HOST_READ_ONLY" },
+        { CL_MEM_HOST_NO_ACCESS, "HOST_NO_ACCESS" },
     };
     size_t used = 0;
     buf[0] = '\0';
@@ -489,15 +511,16 @@ int lg_cl_buffer_recreate(lg_node *n, lg_cl_buffer *b, size_t size, cl_mem_flags
         flags = CL_MEM_READ_WRITE;
     char ftext[160];
     if (flags & (CL_MEM_USE_HOST_PTR | CL_MEM_COPY_HOST_PTR))
-        return lg_error(n, "CL buffer of %zu bytes: flags %s: host pointers are not taken "
-                           "(upload with lg_cl_buffer_write)", size,
-                        flags_text(flags, ftext, sizeof ftext));
+        return lg_error(n,
+                        "CL buffer of %zu bytes: flags %s: host pointers are not taken "
+                        "(upload with lg_cl_buffer_write)",
+                        size, flags_text(flags, ftext, sizeof ftext));
     if (b->mem && b->size >= size && b->flags == flags && size)
         return 0;
     buffer_release(n, b);
     if (!size)
-        return lg_error(n, "CL buffer (flags %s): size 0 bytes", flags_text(flags, ftext,
-                                                                          sizeof ftext));
+        return lg_error(n, "CL buffer (flags %s): size 0 bytes",
+                        flags_text(flags, ftext, sizeof ftext));
     cl_context ctx = lg_cl_context(n);
     if (!ctx)
         return LG_ERR_DEVICE; /* the host said why */
@@ -507,9 +530,9 @@ int lg_cl_buffer_recreate(lg_node *n, lg_cl_buffer *b, size_t size, cl_mem_flags
         char btext[32];
         lg_bytes_text(btext, sizeof btext, size);
         return lg_error_code(n, e == CL_OUT_OF_HOST_MEMORY ? LG_ERR_NOMEM : LG_ERR_DEVICE,
-                             "CL buffer of %zu bytes (%s), flags %s: clCreateBuffer: %s (%d)",
-                             size, btext, flags_text(flags, ftext, sizeof ftext),
-                             lg_cl_strerror(e), (int)e);
+                             "CL buffer of %zu bytes (%s), flags %s: clCreateBuffer: %s (%d)", size,
+                             btext, flags_text(flags, ftext, sizeof ftext), lg_cl_strerror(e),
+                             (int)e);
     }
     *b = (lg_cl_buffer){ .mem = m, .size = size, .flags = flags };
     lg_account_alloc(n, size);
@@ -520,19 +543,19 @@ static int buffer_range(lg_node *n, const lg_cl_buffer *b, size_t offset, size_t
                         const void *data, const char *what)
 {
     if (!b || !b->mem)
-        return lg_error(n, "%s of %zu bytes at %zu: no buffer (make it with "
-                           "lg_cl_buffer_recreate)", what, size, offset);
+        return lg_error(n,
+                        "%s of %zu bytes at %zu: no buffer (make it with "
+                        "lg_cl_buffer_recreate)",
+                        what, size, offset);
     if (offset > b->size || size > b->size - offset)
-        return lg_error(n, "%s of %zu bytes at %zu: beyond the CL buffer's %zu bytes", what,
-                        size, offset, b->size);
+        return lg_error(n, "%s of %zu bytes at %zu: beyond the CL buffer's %zu bytes", what, size,
+                        offset, b->size);
     if (size && !data)
-        return lg_error(n, "%s of %zu bytes at %zu: no host memory (NULL)", what, size,
-                        offset);
+        return lg_error(n, "%s of %zu bytes at %zu: no host memory (NULL)", what, size, offset);
     return 0;
 }
 
-int lg_cl_buffer_write(lg_node *n, lg_cl_buffer *b, size_t offset, size_t size,
-                       const void *data)
+int lg_cl_buffer_write(lg_node *n, lg_cl_buffer *b, size_t offset, size_t size, const void *data)
 {
     int rc = buffer_range(n, b, offset, size, data, "lg_cl_buffer_write");
     if (rc || !size)
@@ -542,10 +565,11 @@ int lg_cl_buffer_write(lg_node *n, lg_cl_buffer *b, size_t offset, size_t size,
         return LG_ERR_DEVICE;
     cl_int e = clEnqueueWriteBuffer(q, b->mem, CL_TRUE, offset, size, data, 0, NULL, NULL);
     if (e != CL_SUCCESS)
-        return lg_error_code(n, LG_ERR_DEVICE, "lg_cl_buffer_write of %zu bytes at %zu into a "
-                                               "CL buffer of %zu bytes: clEnqueueWriteBuffer: "
-                                               "%s (%d)", size, offset, b->size,
-                             lg_cl_strerror(e), (int)e);
+        return lg_error_code(n, LG_ERR_DEVICE,
+                             "lg_cl_buffer_write of %zu bytes at %zu into a "
+                             "CL buffer of %zu bytes: clEnqueueWriteBuffer: "
+                             "%s (%d)",
+                             size, offset, b->size, lg_cl_strerror(e), (int)e);
     return 0;
 }
 
@@ -559,10 +583,11 @@ int lg_cl_buffer_read(lg_node *n, const lg_cl_buffer *b, size_t offset, size_t s
         return LG_ERR_DEVICE;
     cl_int e = clEnqueueReadBuffer(q, b->mem, CL_TRUE, offset, size, data, 0, NULL, NULL);
     if (e != CL_SUCCESS)
-        return lg_error_code(n, LG_ERR_DEVICE, "lg_cl_buffer_read of %zu bytes at %zu from a "
-                                               "CL buffer of %zu bytes: clEnqueueReadBuffer: "
-                                               "%s (%d)", size, offset, b->size,
-                             lg_cl_strerror(e), (int)e);
+        return lg_error_code(n, LG_ERR_DEVICE,
+                             "lg_cl_buffer_read of %zu bytes at %zu from a "
+                             "CL buffer of %zu bytes: clEnqueueReadBuffer: "
+                             "%s (%d)",
+                             size, offset, b->size, lg_cl_strerror(e), (int)e);
     return 0;
 }
 

@@ -10,7 +10,7 @@
  * ramp is interpolated in display space, where it looks even, then decoded to linear so
  * that a PNG of the heat map shows exactly these colours. */
 static const float heat_stops[5][3] = {
-    {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1},
+    { 0, 0, 0 }, { 0, 0, 1 }, { 1, 0, 0 }, { 1, 1, 0 }, { 1, 1, 1 },
 };
 
 static void heat_colour(double t, float out[3])
@@ -35,8 +35,8 @@ static int px_finite(const float *p)
     return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
 }
 
-int lg_image_compare(const lg_image *a, const lg_image *b, lg_image_metrics *out,
-                     lg_image *heatmap, double heat_max, char *err, size_t errlen)
+int lg_image_compare(const lg_image *a, const lg_image *b, lg_image_metrics *out, lg_image *heatmap,
+                     double heat_max, char *err, size_t errlen)
 {
     if (err && errlen)
         err[0] = 0;
@@ -44,9 +44,8 @@ int lg_image_compare(const lg_image *a, const lg_image *b, lg_image_metrics *out
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "lg_image_compare: missing image");
     memset(out, 0, sizeof *out);
     if (a->width != b->width || a->height != b->height)
-        return lg_image_fail(err, errlen, LG_ERR_INVALID,
-                             "images differ in size: %ux%u and %ux%u", a->width, a->height,
-                             b->width, b->height);
+        return lg_image_fail(err, errlen, LG_ERR_INVALID, "images differ in size: %ux%u and %ux%u",
+                             a->width, a->height, b->width, b->height);
     if (heatmap) {
         int rc = lg_image_alloc(heatmap, a->width, a->height);
         if (rc)

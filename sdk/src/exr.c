@@ -102,13 +102,13 @@ static const char *exr_reason(const exr_io *io, exr_result_t rv)
     return io->msg[0] ? io->msg : exr_get_default_error_message(rv);
 }
 
-/* ---- reading ------------------------------------------------------------------------- */
+/* ---- reading --------------------------------------------------------------------------------- */
 
 enum { PL_R, PL_G, PL_B, PL_A, PL_Y, PL_COUNT };
 
 static int exr_plane_of(const char *name)
 {
-    static const char *const names[PL_COUNT] = {"R", "G", "B", "A", "Y"};
+    static const char *const names[PL_COUNT] = { "R", "G", "B", "A", "Y" };
     for (int i = 0; i < PL_COUNT; i++)
         if (!strcmp(name, names[i]))
             return i;
@@ -138,8 +138,9 @@ static exr_result_t exr_decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, 
     r->io.msg[0] = 0; /* messages belong to the call that failed */
     if (x0 < 0 || y0 < 0 || ci->width <= 0 || ci->height <= 0 || x0 + ci->width > r->w ||
         y0 + ci->height > r->h) {
-        snprintf(r->io.msg, sizeof r->io.msg, "chunk %d (%dx%d at %d,%d) lies outside the data window",
-                 ci->idx, ci->width, ci->height, x0, y0);
+        snprintf(r->io.msg, sizeof r->io.msg,
+                 "chunk %d (%dx%d at %d,%d) lies outside the data window", ci->idx, ci->width,
+                 ci->height, x0, y0);
         return EXR_ERR_CORRUPT_CHUNK;
     }
     exr_result_t rv = r->dec_ready ? exr_decoding_update(r->ctx, 0, ci, &r->dec)
@@ -169,8 +170,7 @@ static exr_result_t exr_decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, 
 
 /* Writes plane values, converted to float, into channel `c` (and the `count` - 1 channels
  * after it: Y fills R, G and B) of an RGBA image. */
-static void exr_plane_to_rgba(const void *plane, int type, size_t n, float *rgba, int c,
-                              int count)
+static void exr_plane_to_rgba(const void *plane, int type, size_t n, float *rgba, int c, int count)
 {
     for (size_t i = 0; i < n; i++) {
         float v;
@@ -202,7 +202,7 @@ int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
         /* Check the magic ourselves: the library's message for a non-EXR file is vague. */
         unsigned char magic[4];
         ssize_t n = pread(r->io.fd, magic, 4, 0);
-        static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
+        static const unsigned char exr_magic[4] = { 0x76, 0x2f, 0x31, 0x01 };
         if (n == 0) {
             rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': empty file", path);
             goto done;
@@ -237,7 +237,8 @@ int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     exr_compression_t comp;
     exr_attr_box2i_t dw;
     const exr_attr_chlist_t *chl;
-    if ((rv = exr_get_storage(r->ctx, 0, &storage)) || (rv = exr_get_compression(r->ctx, 0, &comp)) ||
+    if ((rv = exr_get_storage(r->ctx, 0, &storage)) ||
+        (rv = exr_get_compression(r->ctx, 0, &comp)) ||
         (rv = exr_get_data_window(r->ctx, 0, &dw)) || (rv = exr_get_channels(r->ctx, 0, &chl))) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': %s", path,
                            exr_reason(&r->io, rv));
@@ -273,8 +274,8 @@ int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
         if ((uint64_t)nchunks * 8 > size) {
             rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
                                "cannot read '%s': file truncated: the table of its %d chunks "
-                               "cannot fit in %llu bytes", path, nchunks,
-                               (unsigned long long)size);
+                               "cannot fit in %llu bytes",
+                               path, nchunks, (unsigned long long)size);
             goto done;
         }
     }
@@ -282,7 +283,7 @@ int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     r->h = (int32_t)h64;
 
     /* Which channels, and can the C API decode them? */
-    int present[PL_COUNT] = {0}, bits = 16, chroma = 0, any_full = 0;
+    int present[PL_COUNT] = { 0 }, bits = 16, chroma = 0, any_full = 0;
     for (int i = 0; i < chl->num_channels; i++) {
         const exr_attr_chlist_entry_t *e = &chl->entries[i];
         if (e->pixel_type != EXR_PIXEL_HALF)
@@ -371,8 +372,8 @@ int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
         r->planes[pl] = calloc((size_t)r->w * (size_t)r->h,
                                r->plane_type[pl] == EXR_PIXEL_HALF ? 2 : 4);
         if (!r->planes[pl]) {
-            rc = lg_image_fail(err, errlen, LG_ERR_NOMEM, "cannot read '%s': out of memory for %dx%d",
-                               path, r->w, r->h);
+            rc = lg_image_fail(err, errlen, LG_ERR_NOMEM,
+                               "cannot read '%s': out of memory for %dx%d", path, r->w, r->h);
             goto done;
         }
     }
@@ -385,8 +386,8 @@ int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     if (unused) {
         r->discard = calloc((size_t)r->w * (size_t)r->h, sizeof(float));
         if (!r->discard) {
-            rc = lg_image_fail(err, errlen, LG_ERR_NOMEM, "cannot read '%s': out of memory for %dx%d",
-                               path, r->w, r->h);
+            rc = lg_image_fail(err, errlen, LG_ERR_NOMEM,
+                               "cannot read '%s': out of memory for %dx%d", path, r->w, r->h);
             goto done;
         }
     }
@@ -482,7 +483,7 @@ done:
     return rc;
 }
 
-/* ---- writing ------------------------------------------------------------------------- */
+/* ---- writing --------------------------------------------------------------------------------- */
 
 int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image *img,
                  const lg_image_write_opts *opts, char *err, size_t errlen)
@@ -501,10 +502,10 @@ int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image 
         return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot write '%s': too large", path);
 
     static const exr_compression_t ctypes[] = {
-        [LG_EXR_ZIP] = EXR_COMPRESSION_ZIP,     [LG_EXR_NONE] = EXR_COMPRESSION_NONE,
-        [LG_EXR_RLE] = EXR_COMPRESSION_RLE,     [LG_EXR_ZIPS] = EXR_COMPRESSION_ZIPS,
-        [LG_EXR_PIZ] = EXR_COMPRESSION_PIZ,     [LG_EXR_PXR24] = EXR_COMPRESSION_PXR24,
-        [LG_EXR_B44] = EXR_COMPRESSION_B44,     [LG_EXR_B44A] = EXR_COMPRESSION_B44A,
+        [LG_EXR_ZIP] = EXR_COMPRESSION_ZIP, [LG_EXR_NONE] = EXR_COMPRESSION_NONE,
+        [LG_EXR_RLE] = EXR_COMPRESSION_RLE, [LG_EXR_ZIPS] = EXR_COMPRESSION_ZIPS,
+        [LG_EXR_PIZ] = EXR_COMPRESSION_PIZ, [LG_EXR_PXR24] = EXR_COMPRESSION_PXR24,
+        [LG_EXR_B44] = EXR_COMPRESSION_B44, [LG_EXR_B44A] = EXR_COMPRESSION_B44A,
     };
     exr_io io;
     memset(&io, 0, sizeof io);
@@ -524,7 +525,7 @@ int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image 
         rv = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctx, part, w, h, ctypes[opts->exr_compression]);
-    static const char *const names[4] = {"R", "G", "B", "A"};
+    static const char *const names[4] = { "R", "G", "B", "A" };
     for (uint32_t c = 0; c < channels && rv == EXR_ERR_SUCCESS; c++)
         rv = exr_add_channel(ctx, part, names[c], half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT,
                              EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);

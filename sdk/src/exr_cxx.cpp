@@ -33,18 +33,20 @@
 
 #include "image_priv.h"
 
-namespace {
+namespace
+{
 
 const char *compression_name(Imf::Compression c)
 {
-    static const char *const names[] = {"none", "rle",   "zips", "zip",  "piz",
-                                        "pxr24", "b44", "b44a", "dwaa", "dwab"};
+    static const char *const names[] = { "none",  "rle", "zips", "zip",  "piz",
+                                         "pxr24", "b44", "b44a", "dwaa", "dwab" };
     int i = static_cast<int>(c);
     return i >= 0 && i < static_cast<int>(sizeof names / sizeof *names) ? names[i] : "unknown";
 }
 
 // An OStream on the file descriptor image.c opened for the atomic write.
-class FdOStream : public Imf::OStream {
+class FdOStream : public Imf::OStream
+{
   public:
     FdOStream(int fd, const char *name) : Imf::OStream(name), fd_(fd), pos_(0) {}
     void write(const char c[], int n) override
@@ -72,7 +74,8 @@ class FdOStream : public Imf::OStream {
 
 // An IStream on the descriptor lg_image_read opened and checked: the C++ library never opens
 // the path by name, and never reads past the size found at open.
-class FdIStream : public Imf::IStream {
+class FdIStream : public Imf::IStream
+{
   public:
     FdIStream(int fd, uint64_t size, const char *name)
         : Imf::IStream(name), fd_(fd), size_(size), pos_(0)
@@ -116,8 +119,8 @@ int read_rgba_file(int fd, uint64_t size, const char *path, const Imath::Box2i &
     std::vector<Imf::Rgba> px(w * h);
     // The base pointer addresses pixel (0,0) of the file's coordinate system, which may lie
     // outside the buffer: compute it as an integer to stay clear of pointer-overflow rules.
-    intptr_t off = (static_cast<intptr_t>(dw.min.x) + static_cast<intptr_t>(dw.min.y) *
-                                                          static_cast<intptr_t>(w)) *
+    intptr_t off = (static_cast<intptr_t>(dw.min.x) +
+                    static_cast<intptr_t>(dw.min.y) * static_cast<intptr_t>(w)) *
                    static_cast<intptr_t>(sizeof(Imf::Rgba));
     Imf::Rgba *base = reinterpret_cast<Imf::Rgba *>(reinterpret_cast<intptr_t>(px.data()) - off);
     file.setFrameBuffer(base, 1, w);
@@ -197,11 +200,14 @@ static long long fixed_size(const char *type)
         const char *name;
         int size;
     } known[] = {
-        { "box2i", 16 }, { "box2f", 16 }, { "chromaticities", 32 }, { "compression", 1 },
-        { "double", 8 }, { "envmap", 1 }, { "float", 4 }, { "int", 4 }, { "keycode", 28 },
-        { "lineOrder", 1 }, { "m33f", 36 }, { "m33d", 72 }, { "m44f", 64 }, { "m44d", 128 },
-        { "rational", 8 }, { "tiledesc", 9 }, { "timecode", 8 }, { "v2i", 8 }, { "v2f", 8 },
-        { "v2d", 16 }, { "v3i", 12 }, { "v3f", 12 }, { "v3d", 24 }, { "deepImageState", 1 },
+        { "box2i", 16 },      { "box2f", 16 },   { "chromaticities", 32 },
+        { "compression", 1 }, { "double", 8 },   { "envmap", 1 },
+        { "float", 4 },       { "int", 4 },      { "keycode", 28 },
+        { "lineOrder", 1 },   { "m33f", 36 },    { "m33d", 72 },
+        { "m44f", 64 },       { "m44d", 128 },   { "rational", 8 },
+        { "tiledesc", 9 },    { "timecode", 8 }, { "v2i", 8 },
+        { "v2f", 8 },         { "v2d", 16 },     { "v3i", 12 },
+        { "v3f", 12 },        { "v3d", 24 },     { "deepImageState", 1 },
     };
     for (const auto &k : known)
         if (std::strcmp(k.name, type) == 0)
@@ -211,8 +217,8 @@ static long long fixed_size(const char *type)
 
 // Checks a value of `len` bytes at the reader's position against its type's layout; the
 // reader ends after the value either way. False with the reason in why.
-static bool value_ok(HeadReader &r, const char *name, const char *type, long long len,
-                     char *why, size_t whylen)
+static bool value_ok(HeadReader &r, const char *name, const char *type, long long len, char *why,
+                     size_t whylen)
 {
     const long long end = r.at + len;
     long long want = fixed_size(type);
@@ -220,8 +226,10 @@ static bool value_ok(HeadReader &r, const char *name, const char *type, long lon
     if (want >= 0) {
         ok = len == want;
         if (!ok)
-            std::snprintf(why, whylen, "header attribute '%.120s' of type %.40s declares %lld bytes, "
-                          "not %lld", name, type, len, want);
+            std::snprintf(why, whylen,
+                          "header attribute '%.120s' of type %.40s declares %lld bytes, "
+                          "not %lld",
+                          name, type, len, want);
     } else if (std::strcmp(type, "chlist") == 0) {
         // entries: name (1..255 bytes), NUL, 16 bytes; then an empty name
         for (;;) {
@@ -244,8 +252,10 @@ static bool value_ok(HeadReader &r, const char *name, const char *type, long lon
         }
         ok = ok && r.at == end;
         if (!ok)
-            std::snprintf(why, whylen, "header attribute '%.120s' (chlist) does not fill its %lld "
-                          "declared bytes exactly", name, len);
+            std::snprintf(why, whylen,
+                          "header attribute '%.120s' (chlist) does not fill its %lld "
+                          "declared bytes exactly",
+                          name, len);
     } else if (std::strcmp(type, "preview") == 0) {
         unsigned char b[8];
         ok = len >= 8 && r.read(b, 8);
@@ -253,8 +263,10 @@ static bool value_ok(HeadReader &r, const char *name, const char *type, long lon
         long long h = ok ? static_cast<uint32_t>(le32(b + 4)) : 0;
         ok = ok && w <= 65535 && h <= 65535 && 8 + 4 * w * h == len;
         if (!ok)
-            std::snprintf(why, whylen, "header attribute '%.120s' (preview) declares %lld bytes, "
-                          "not 8 + 4 x its %lld x %lld pixels", name, len, w, h);
+            std::snprintf(why, whylen,
+                          "header attribute '%.120s' (preview) declares %lld bytes, "
+                          "not 8 + 4 x its %lld x %lld pixels",
+                          name, len, w, h);
     } else if (std::strcmp(type, "stringvector") == 0) {
         // [int length][bytes] until the declared size is used up, exactly
         while (ok && r.at < end) {
@@ -267,13 +279,17 @@ static bool value_ok(HeadReader &r, const char *name, const char *type, long lon
         }
         ok = ok && r.at == end;
         if (!ok)
-            std::snprintf(why, whylen, "header attribute '%.120s' (stringvector) holds a string "
-                          "longer than its %lld declared bytes", name, len);
+            std::snprintf(why, whylen,
+                          "header attribute '%.120s' (stringvector) holds a string "
+                          "longer than its %lld declared bytes",
+                          name, len);
     } else if (std::strcmp(type, "floatvector") == 0) {
         ok = len % 4 == 0;
         if (!ok)
-            std::snprintf(why, whylen, "header attribute '%.120s' (floatvector) declares %lld "
-                          "bytes, not a whole number of floats", name, len);
+            std::snprintf(why, whylen,
+                          "header attribute '%.120s' (floatvector) declares %lld "
+                          "bytes, not a whole number of floats",
+                          name, len);
     }
     r.at = end;
     return ok;
@@ -284,7 +300,7 @@ bool attribute_over_file(int fd, uint64_t size, char *why, size_t whylen)
     HeadReader r{ fd, static_cast<long long>(size), 0, {}, 0, 0 };
     unsigned char v[8];
     if (!r.read(v, 8))
-        return false; // short: OpenEXR says so
+        return false;                          // short: OpenEXR says so
     const bool multipart = (v[5] & 0x10) != 0; // version flag 0x1000: headers until an empty one
     const int max_name = (v[5] & 0x04) ? 255 : 31; // long names (flag 0x400)
     for (;;) {
@@ -314,8 +330,10 @@ bool attribute_over_file(int fd, uint64_t size, char *why, size_t whylen)
             n_attrs++;
             long long len = le32(b);
             if (len < 0 || len > r.size - r.at) {
-                std::snprintf(why, whylen, "header attribute '%.120s' declares %lld bytes, more "
-                              "than the %lld left in the file", name, len, r.size - r.at);
+                std::snprintf(why, whylen,
+                              "header attribute '%.120s' declares %lld bytes, more "
+                              "than the %lld left in the file",
+                              name, len, r.size - r.at);
                 return true;
             }
             if (!value_ok(r, name, type, len, why, whylen))
@@ -348,8 +366,8 @@ extern "C" int lg_exr_cxx_read(int fd, uint64_t size, const char *path, lg_image
         // The C path checked this already (it sends files here only after its own checks);
         // again, since this is the size the buffers below are made for. RgbaInputFile
         // needs 8 bytes of half RGBA per pixel besides the result.
-        int rc = lg_image_check_size(path, static_cast<uint64_t>(w), static_cast<uint64_t>(h), 8,
-                                     0, err, errlen);
+        int rc = lg_image_check_size(path, static_cast<uint64_t>(w), static_cast<uint64_t>(h), 8, 0,
+                                     err, errlen);
         if (rc != LG_OK)
             return rc;
         std::snprintf(info->compression, sizeof info->compression, "%s",
@@ -438,7 +456,7 @@ extern "C" int lg_exr_cxx_write(int fd, const char *path, const lg_image *img, i
         Imf::Header header(w, h);
         header.compression() = map[compression];
         Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
-        static const char *const names[4] = {"R", "G", "B", "A"};
+        static const char *const names[4] = { "R", "G", "B", "A" };
         for (uint32_t c = 0; c < channels; c++)
             header.channels().insert(names[c], Imf::Channel(type));
 
@@ -454,8 +472,8 @@ extern "C" int lg_exr_cxx_write(int fd, const char *path, const lg_image *img, i
                 halves[i] = lg_half_from_float(img->pixels[i]);
             const size_t xs = 4 * sizeof(uint16_t), ys = xs * img->width;
             for (uint32_t c = 0; c < channels; c++)
-                fb.insert(names[c], Imf::Slice(Imf::HALF, reinterpret_cast<char *>(&halves[c]),
-                                               xs, ys));
+                fb.insert(names[c],
+                          Imf::Slice(Imf::HALF, reinterpret_cast<char *>(&halves[c]), xs, ys));
         } else {
             const size_t xs = 4 * sizeof(float), ys = xs * img->width;
             for (uint32_t c = 0; c < channels; c++)

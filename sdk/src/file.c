@@ -11,7 +11,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static void say(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void say(char *err, size_t errlen, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 static void say(char *err, size_t errlen, const char *fmt, ...)
 {
@@ -41,8 +42,12 @@ static void bytes(char *out, size_t n, uint64_t b)
 
 static const char *kind_of(mode_t m)
 {
-    return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISCHR(m) ? "a character device"
-         : S_ISBLK(m) ? "a block device" : S_ISSOCK(m) ? "a socket" : "a special file";
+    return S_ISDIR(m)    ? "a directory"
+           : S_ISFIFO(m) ? "a FIFO"
+           : S_ISCHR(m)  ? "a character device"
+           : S_ISBLK(m)  ? "a block device"
+           : S_ISSOCK(m) ? "a socket"
+                         : "a special file";
 }
 
 /* Checks an open descriptor: regular, within the limit; then makes it blocking. */
@@ -137,8 +142,7 @@ static char *joined(const char *root, const char *path)
 
 /* The root resolved (into rroot, PATH_MAX bytes) and path joined to it (malloc'd), or NULL
  * with the reason in err. */
-static char *resolve_join(const char *root, const char *path, char *rroot, char *err,
-                          size_t errlen)
+static char *resolve_join(const char *root, const char *path, char *rroot, char *err, size_t errlen)
 {
     if (!root || !root[0] || !path || !path[0]) {
         say(err, errlen, "empty path");

@@ -26,8 +26,8 @@ const char *lg_format_name(lg_format f)
 
 int lg_format_from_name(const char *name, lg_format *out)
 {
-    static const lg_format all[] = {LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBA8,
-                                    LG_FORMAT_RGBE8};
+    static const lg_format all[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBA8,
+                                     LG_FORMAT_RGBE8 };
     for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++)
         if (strcmp(name, lg_format_name(all[i])) == 0) {
             *out = all[i];
@@ -69,9 +69,7 @@ int lg_pixels_from_rgba32f(lg_format f, const float *src, size_t n, void *dst, u
 {
     uint64_t count = 0;
     switch (f) {
-    case LG_FORMAT_RGBA32F:
-        memmove(dst, src, n * 16);
-        break;
+    case LG_FORMAT_RGBA32F: memmove(dst, src, n * 16); break;
     case LG_FORMAT_RGBA16F: {
         uint16_t *h = dst;
         for (size_t i = 0; i < 4 * n; i++)
@@ -93,8 +91,7 @@ int lg_pixels_from_rgba32f(lg_format f, const float *src, size_t n, void *dst, u
         }
         break;
     }
-    default:
-        return LG_ERR_INVALID;
+    default: return LG_ERR_INVALID;
     }
     if (clamped)
         *clamped += count;
@@ -104,9 +101,7 @@ int lg_pixels_from_rgba32f(lg_format f, const float *src, size_t n, void *dst, u
 int lg_pixels_to_rgba32f(lg_format f, const void *src, size_t n, float *dst)
 {
     switch (f) {
-    case LG_FORMAT_RGBA32F:
-        memmove(dst, src, n * 16);
-        return 0;
+    case LG_FORMAT_RGBA32F: memmove(dst, src, n * 16); return 0;
     case LG_FORMAT_RGBA16F: {
         const uint16_t *h = src;
         /* from the end: dst may be src (a 16-byte pixel grows from an 8-byte one) */
@@ -128,8 +123,9 @@ int lg_pixels_to_rgba32f(lg_format f, const void *src, size_t n, float *dst)
             uint8_t q[4];
             memcpy(q, b + 4 * i, 4);
             int k = (int)q[3] - 136;
-            uint32_t bits = q[3] == 0 ? 0u : k >= -126 ? (uint32_t)(k + 127) << 23
-                                                       : 1u << (k + 149);
+            uint32_t bits = q[3] == 0   ? 0u
+                            : k >= -126 ? (uint32_t)(k + 127) << 23
+                                        : 1u << (k + 149);
             float scale;
             memcpy(&scale, &bits, sizeof scale);
             dst[4 * i] = (float)q[0] * scale;

@@ -6,13 +6,13 @@
 #include <stdio.h>
 #include <string.h>
 
-/* ---- formats ------------------------------------------------------------------------------- */
+/* ---- formats --------------------------------------------------------------------------------- */
 
 typedef struct gl_format {
     GLenum format;
     const char *name;
-    uint32_t bytes;   /* per texel, nominal (what the profile counts) */
-    bool buffer_ok;   /* accepted by glTextureBuffer */
+    uint32_t bytes; /* per texel, nominal (what the profile counts) */
+    bool buffer_ok; /* accepted by glTextureBuffer */
 } gl_format;
 
 static const gl_format formats[] = {
@@ -77,12 +77,14 @@ static const char *target_name(GLenum t)
 static int pending_error(lg_node *n, const char *fn)
 {
     char what[128];
-    snprintf(what, sizeof what, "running the node's own GL calls before %s (not the "
-             "allocation's)", fn);
+    snprintf(what, sizeof what,
+             "running the node's own GL calls before %s (not the "
+             "allocation's)",
+             fn);
     return lg_gl_check(n, what);
 }
 
-/* ---- buffers -------------------------------------------------------------------------------- */
+/* ---- buffers --------------------------------------------------------------------------------- */
 
 void lg_gl_buffer_destroy(lg_node *n, lg_gl_buffer *b)
 {
@@ -106,8 +108,7 @@ int lg_gl_buffer_recreate(lg_node *n, lg_gl_buffer *b, size_t size, GLbitfield f
         return lg_error(n, "lg_gl_buffer_recreate: a buffer of 0 bytes (a GL buffer holds at "
                            "least one byte)");
     if (size > (size_t)PTRDIFF_MAX)
-        return lg_error(n, "lg_gl_buffer_recreate: %zu bytes is beyond what GL can address",
-                        size);
+        return lg_error(n, "lg_gl_buffer_recreate: %zu bytes is beyond what GL can address", size);
     if (!flags)
         flags = GL_DYNAMIC_STORAGE_BIT;
     bool keep = b->name && b->size >= size && b->flags == flags &&
@@ -123,8 +124,7 @@ int lg_gl_buffer_recreate(lg_node *n, lg_gl_buffer *b, size_t size, GLbitfield f
     if (keep) {
         gl->NamedBufferSubData(b->name, 0, (GLsizeiptr)size, data);
         char what[96];
-        snprintf(what, sizeof what, "uploading %zu bytes to a %zu-byte GL buffer", size,
-                 b->size);
+        snprintf(what, sizeof what, "uploading %zu bytes to a %zu-byte GL buffer", size, b->size);
         return lg_gl_check(n, what);
     }
     lg_gl_buffer_destroy(n, b);
@@ -144,8 +144,7 @@ int lg_gl_buffer_recreate(lg_node *n, lg_gl_buffer *b, size_t size, GLbitfield f
     return 0;
 }
 
-int lg_gl_buffer_upload(lg_node *n, lg_gl_buffer *b, size_t offset, size_t size,
-                        const void *data)
+int lg_gl_buffer_upload(lg_node *n, lg_gl_buffer *b, size_t offset, size_t size, const void *data)
 {
     if (!b || !b->name)
         return lg_error(n, "lg_gl_buffer_upload: the buffer was not made (call "
@@ -153,16 +152,18 @@ int lg_gl_buffer_upload(lg_node *n, lg_gl_buffer *b, size_t offset, size_t size,
     if (size == 0)
         return 0;
     if (!data)
-        return lg_error(n, "lg_gl_buffer_upload: %zu bytes at offset %zu from no data (NULL)",
-                        size, offset);
+        return lg_error(n, "lg_gl_buffer_upload: %zu bytes at offset %zu from no data (NULL)", size,
+                        offset);
     if (offset > b->size || size > b->size - offset)
-        return lg_error(n, "lg_gl_buffer_upload: %zu bytes at offset %zu overrun the %zu-byte "
-                           "buffer",
+        return lg_error(n,
+                        "lg_gl_buffer_upload: %zu bytes at offset %zu overrun the %zu-byte "
+                        "buffer",
                         size, offset, b->size);
     if (!(b->flags & GL_DYNAMIC_STORAGE_BIT))
-        return lg_error(n, "lg_gl_buffer_upload: the buffer was made without "
-                           "GL_DYNAMIC_STORAGE_BIT (flags 0x%x): it cannot be written; "
-                           "give the data to lg_gl_buffer_recreate",
+        return lg_error(n,
+                        "lg_gl_buffer_upload: the buffer was made without "
+                        "GL_DYNAMIC_STORAGE_BIT (flags 0x%x): it cannot be written; "
+                        "give the data to lg_gl_buffer_recreate",
                         (unsigned)b->flags);
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
@@ -172,18 +173,21 @@ int lg_gl_buffer_upload(lg_node *n, lg_gl_buffer *b, size_t offset, size_t size,
         return rc;
     gl->NamedBufferSubData(b->name, (GLintptr)offset, (GLsizeiptr)size, data);
     char what[96];
-    snprintf(what, sizeof what, "uploading %zu bytes at offset %zu to a %zu-byte GL buffer",
-             size, offset, b->size);
+    snprintf(what, sizeof what, "uploading %zu bytes at offset %zu to a %zu-byte GL buffer", size,
+             offset, b->size);
     return lg_gl_check(n, what);
 }
 
-/* ---- textures ------------------------------------------------------------------------------- */
+/* ---- textures -------------------------------------------------------------------------------- */
 
 /* d with its defaults filled in (depth and levels 0 -> 1, reserved cleared). */
 static lg_gl_texture_desc normalised(const lg_gl_texture_desc *d)
 {
-    lg_gl_texture_desc o = { .target = d->target, .format = d->format, .width = d->width,
-                             .height = d->height, .depth = d->depth ? d->depth : 1,
+    lg_gl_texture_desc o = { .target = d->target,
+                             .format = d->format,
+                             .width = d->width,
+                             .height = d->height,
+                             .depth = d->depth ? d->depth : 1,
                              .levels = d->levels ? d->levels : 1 };
     return o;
 }
@@ -209,7 +213,7 @@ static uint64_t desc_bytes(const lg_gl_texture_desc *d, uint32_t texel)
 {
     uint64_t sum = 0;
     for (uint32_t l = 0; l < d->levels; l++) {
-        uint64_t layers = d->target == GL_TEXTURE_3D ? level_extent(d->depth, l)
+        uint64_t layers = d->target == GL_TEXTURE_3D         ? level_extent(d->depth, l)
                           : d->target == GL_TEXTURE_CUBE_MAP ? 6
                                                              : d->depth;
         sum += (uint64_t)level_extent(d->width, l) * level_extent(d->height, l) * layers * texel;
@@ -218,19 +222,20 @@ static uint64_t desc_bytes(const lg_gl_texture_desc *d, uint32_t texel)
 }
 
 /* Why `d` (normalised) cannot be made on any device, as a message into err; 0 when it can. */
-static int check_shape(const lg_gl_texture_desc *d, const gl_format **fmt, char *err,
-                       size_t len)
+static int check_shape(const lg_gl_texture_desc *d, const gl_format **fmt, char *err, size_t len)
 {
     const char *tn = target_name(d->target);
     if (!tn)
-        return snprintf(err, len, "target 0x%04x is not one of GL_TEXTURE_2D, GL_TEXTURE_3D, "
-                                  "GL_TEXTURE_2D_ARRAY, GL_TEXTURE_CUBE_MAP",
+        return snprintf(err, len,
+                        "target 0x%04x is not one of GL_TEXTURE_2D, GL_TEXTURE_3D, "
+                        "GL_TEXTURE_2D_ARRAY, GL_TEXTURE_CUBE_MAP",
                         (unsigned)d->target),
                LG_ERR_INVALID;
     if (!(*fmt = find_format(d->format)))
-        return snprintf(err, len, "format 0x%04x is not a sized internal format this SDK "
-                                  "knows (GL_RGBA32F, GL_R32UI, GL_DEPTH_COMPONENT32F, ...; "
-                                  "an unsized GL_RGBA or a pixel type is not one)",
+        return snprintf(err, len,
+                        "format 0x%04x is not a sized internal format this SDK "
+                        "knows (GL_RGBA32F, GL_R32UI, GL_DEPTH_COMPONENT32F, ...; "
+                        "an unsized GL_RGBA or a pixel type is not one)",
                         (unsigned)d->format),
                LG_ERR_INVALID;
     if (!d->width || !d->height)
@@ -240,8 +245,7 @@ static int check_shape(const lg_gl_texture_desc *d, const gl_format **fmt, char 
     if ((d->target == GL_TEXTURE_2D || d->target == GL_TEXTURE_CUBE_MAP) && d->depth != 1)
         return snprintf(err, len, "a %s has depth 1, not %u", tn, d->depth), LG_ERR_INVALID;
     if (d->target == GL_TEXTURE_CUBE_MAP && d->width != d->height)
-        return snprintf(err, len, "a cube map's faces are square, not %ux%u", d->width,
-                        d->height),
+        return snprintf(err, len, "a cube map's faces are square, not %ux%u", d->width, d->height),
                LG_ERR_INVALID;
     if (d->levels > max_levels(d))
         return snprintf(err, len, "%u levels for %ux%ux%u (at most %u)", d->levels, d->width,
@@ -280,13 +284,11 @@ static int check_limits(const lg_gl *gl, const lg_gl_texture_desc *d, char *err,
         gl->GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_depth);
         dwhat = "GL_MAX_ARRAY_TEXTURE_LAYERS";
         break;
-    default:
-        gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-        break;
+    default: gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size); break;
     }
     if (max_size > 0 && (d->width > (uint32_t)max_size || d->height > (uint32_t)max_size))
-        return snprintf(err, len, "%ux%u is beyond the device's %s, %d", d->width, d->height,
-                        what, max_size),
+        return snprintf(err, len, "%ux%u is beyond the device's %s, %d", d->width, d->height, what,
+                        max_size),
                LG_ERR_INVALID;
     if (dwhat && max_depth > 0 && d->depth > (uint32_t)max_depth)
         return snprintf(err, len, "depth %u is beyond the device's %s, %d", d->depth, dwhat,
@@ -311,8 +313,8 @@ void lg_gl_texture_destroy(lg_node *n, lg_gl_texture *t)
 int lg_gl_texture_recreate(lg_node *n, lg_gl_texture *t, const lg_gl_texture_desc *d)
 {
     if (!t || !d)
-        return lg_error(n, "lg_gl_texture_recreate: no %s (NULL)", !t ? "texture handle"
-                                                                     : "descriptor");
+        return lg_error(n, "lg_gl_texture_recreate: no %s (NULL)",
+                        !t ? "texture handle" : "descriptor");
     lg_gl_texture_desc o = normalised(d);
     if (t->name && memcmp(&o, &t->desc, sizeof o) == 0)
         return 0;
@@ -347,8 +349,8 @@ int lg_gl_texture_recreate(lg_node *n, lg_gl_texture *t, const lg_gl_texture_des
     uint64_t bytes = desc_bytes(&o, f->bytes);
     char what[160];
     snprintf(what, sizeof what, "making a %s of %ux%ux%u, %u level%s, %s (%llu bytes)",
-             target_name(o.target), o.width, o.height, o.depth, o.levels,
-             o.levels == 1 ? "" : "s", f->name, (unsigned long long)bytes);
+             target_name(o.target), o.width, o.height, o.depth, o.levels, o.levels == 1 ? "" : "s",
+             f->name, (unsigned long long)bytes);
     if ((rc = lg_gl_check(n, what))) {
         gl->DeleteTextures(1, &t->name);
         memset(t, 0, sizeof *t);
@@ -360,7 +362,7 @@ int lg_gl_texture_recreate(lg_node *n, lg_gl_texture *t, const lg_gl_texture_des
     return 1;
 }
 
-/* ---- buffer textures ------------------------------------------------------------------------ */
+/* ---- buffer textures ------------------------------------------------------------------------- */
 
 void lg_gl_buffer_texture_destroy(lg_node *n, lg_gl_buffer_texture *t)
 {
@@ -374,8 +376,7 @@ void lg_gl_buffer_texture_destroy(lg_node *n, lg_gl_buffer_texture *t)
     memset(t, 0, sizeof *t);
 }
 
-int lg_gl_buffer_texture_recreate(lg_node *n, lg_gl_buffer_texture *t, GLenum format,
-                                  GLuint buffer)
+int lg_gl_buffer_texture_recreate(lg_node *n, lg_gl_buffer_texture *t, GLenum format, GLuint buffer)
 {
     if (!t)
         return lg_error(n, "lg_gl_buffer_texture_recreate: no handle (NULL)");
@@ -383,13 +384,13 @@ int lg_gl_buffer_texture_recreate(lg_node *n, lg_gl_buffer_texture *t, GLenum fo
         return 0;
     const gl_format *f = find_format(format);
     if (!f || !f->buffer_ok)
-        return lg_error(n, "lg_gl_buffer_texture_recreate: format 0x%04x%s%s is not one a "
-                           "buffer texture takes (GL_R32F, GL_RGB32F, GL_RGBA32F, GL_R32UI, "
-                           "...)",
+        return lg_error(n,
+                        "lg_gl_buffer_texture_recreate: format 0x%04x%s%s is not one a "
+                        "buffer texture takes (GL_R32F, GL_RGB32F, GL_RGBA32F, GL_R32UI, "
+                        "...)",
                         (unsigned)format, f ? " " : "", f ? f->name : "");
     if (!buffer)
-        return lg_error(n, "lg_gl_buffer_texture_recreate: a %s view of no buffer (0)",
-                        f->name);
+        return lg_error(n, "lg_gl_buffer_texture_recreate: a %s view of no buffer (0)", f->name);
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;

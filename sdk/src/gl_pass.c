@@ -96,7 +96,7 @@ static void key_free(pass_scene_key *k)
     memset(k, 0, sizeof *k);
 }
 
-/* ---- create / destroy --------------------------------------------------------------------- */
+/* ---- create / destroy ------------------------------------------------------------------------ */
 
 int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
 {
@@ -104,8 +104,8 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
     if (!d || !d->name || !d->name[0])
         return lg_error(n, "lg_gl_pass_create: the descriptor has no name");
     if (d->struct_size && d->struct_size != sizeof *d)
-        return lg_error(n, "gl pass '%s': descriptor struct_size %zu, this SDK has %zu",
-                        d->name, d->struct_size, sizeof *d);
+        return lg_error(n, "gl pass '%s': descriptor struct_size %zu, this SDK has %zu", d->name,
+                        d->struct_size, sizeof *d);
     if (!d->stages || d->n_stages == 0)
         return lg_error(n, "gl pass '%s': no shader stages", d->name);
     bool compute = false;
@@ -113,19 +113,20 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
         if (d->stages[i].stage == GL_COMPUTE_SHADER)
             compute = true;
     if (compute && d->n_stages != 1)
-        return lg_error(n, "gl pass '%s': a compute stage must be the pass's only stage",
-                        d->name);
+        return lg_error(n, "gl pass '%s': a compute stage must be the pass's only stage", d->name);
     unsigned n_colors = 0;
     while (n_colors < LG_GL_PASS_MAX_COLORS && d->colors[n_colors])
         n_colors++;
     for (unsigned i = n_colors; i < LG_GL_PASS_MAX_COLORS; i++)
         if (d->colors[i])
-            return lg_error(n, "gl pass '%s': colour format %u follows an empty one (colors[] "
-                               "ends at the first 0)",
+            return lg_error(n,
+                            "gl pass '%s': colour format %u follows an empty one (colors[] "
+                            "ends at the first 0)",
                             d->name, i);
     if (compute && (n_colors || d->depth || d->output || d->scene))
-        return lg_error(n, "gl pass '%s': a compute pass has no colour, depth, output or "
-                           "scene",
+        return lg_error(n,
+                        "gl pass '%s': a compute pass has no colour, depth, output or "
+                        "scene",
                         d->name);
     if (!compute && n_colors == 0 && !d->depth)
         return lg_error(n, "gl pass '%s': a raster pass needs a colour or a depth attachment",
@@ -136,11 +137,19 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
         return lg_error(n, "gl pass '%s': unknown blend %d or cull %d", d->name, (int)d->blend,
                         (int)d->cull);
     switch (d->depth_func) {
-    case 0: case GL_LESS: case GL_ALWAYS: case GL_LEQUAL: case GL_EQUAL: case GL_GREATER:
-    case GL_GEQUAL: case GL_NOTEQUAL: case GL_NEVER: break;
+    case 0:
+    case GL_LESS:
+    case GL_ALWAYS:
+    case GL_LEQUAL:
+    case GL_EQUAL:
+    case GL_GREATER:
+    case GL_GEQUAL:
+    case GL_NOTEQUAL:
+    case GL_NEVER: break;
     default:
-        return lg_error(n, "gl pass '%s': depth_func 0x%04x is not a GL comparison (GL_LESS, "
-                           "GL_ALWAYS, GL_LEQUAL, ...)",
+        return lg_error(n,
+                        "gl pass '%s': depth_func 0x%04x is not a GL comparison (GL_LESS, "
+                        "GL_ALWAYS, GL_LEQUAL, ...)",
                         d->name, (unsigned)d->depth_func);
     }
     if (compute && d->depth_func)
@@ -231,7 +240,7 @@ const char *lg_gl_pass_name(const lg_gl_pass *p)
     return p ? p->name : "";
 }
 
-/* ---- uniforms and bindings ------------------------------------------------------------------ */
+/* ---- uniforms and bindings ------------------------------------------------------------------- */
 
 static lg_gl_uniform find_uniform(lg_gl_pass *p, const char *name, bool required)
 {
@@ -243,8 +252,9 @@ static lg_gl_uniform find_uniform(lg_gl_pass *p, const char *name, bool required
     }
     u.location = p->gl->GetUniformLocation(p->program, name);
     if (u.location < 0 && required) {
-        lg_error(p->node, "gl pass '%s': the program has no uniform '%s' (misspelt, or not "
-                          "used by the shaders, which then drop it)",
+        lg_error(p->node,
+                 "gl pass '%s': the program has no uniform '%s' (misspelt, or not "
+                 "used by the shaders, which then drop it)",
                  p->name, name);
         p->failed = LG_ERR_INVALID;
     }
@@ -361,8 +371,7 @@ static const char *kind_name(GLenum kind)
     }
 }
 
-static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind,
-                                  bool required)
+static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind, bool required)
 {
     lg_gl_binding b = { -1, kind };
     const lg_gl *gl = p->gl;
@@ -381,8 +390,9 @@ static lg_gl_binding find_binding(lg_gl_pass *p, const char *name, GLenum kind,
     if (index < 0 && !required)
         return b;
     if (index < 0) {
-        lg_error(p->node, "gl pass '%s': the program has no %s '%s' (misspelt, or not used by "
-                          "the shaders, which then drop it)",
+        lg_error(p->node,
+                 "gl pass '%s': the program has no %s '%s' (misspelt, or not used by "
+                 "the shaders, which then drop it)",
                  p->name, kind_name(kind), name ? name : "(null)");
         p->failed = LG_ERR_INVALID;
         return b;
@@ -435,24 +445,41 @@ lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *p, GLenum kind, const char
 static GLint type_bytes(GLenum type, GLint matrix_stride)
 {
     switch (type) {
-    case GL_FLOAT: case GL_INT: case GL_UNSIGNED_INT: case GL_BOOL: return 4;
-    case GL_FLOAT_VEC2: case GL_INT_VEC2: case GL_UNSIGNED_INT_VEC2: case GL_BOOL_VEC2:
+    case GL_FLOAT:
+    case GL_INT:
+    case GL_UNSIGNED_INT:
+    case GL_BOOL: return 4;
+    case GL_FLOAT_VEC2:
+    case GL_INT_VEC2:
+    case GL_UNSIGNED_INT_VEC2:
+    case GL_BOOL_VEC2:
     case GL_DOUBLE: return 8;
-    case GL_FLOAT_VEC3: case GL_INT_VEC3: case GL_UNSIGNED_INT_VEC3: case GL_BOOL_VEC3: return 12;
-    case GL_FLOAT_VEC4: case GL_INT_VEC4: case GL_UNSIGNED_INT_VEC4: case GL_BOOL_VEC4:
+    case GL_FLOAT_VEC3:
+    case GL_INT_VEC3:
+    case GL_UNSIGNED_INT_VEC3:
+    case GL_BOOL_VEC3: return 12;
+    case GL_FLOAT_VEC4:
+    case GL_INT_VEC4:
+    case GL_UNSIGNED_INT_VEC4:
+    case GL_BOOL_VEC4:
     case GL_DOUBLE_VEC2: return 16;
     case GL_DOUBLE_VEC3: return 24;
     case GL_DOUBLE_VEC4: return 32;
-    case GL_FLOAT_MAT2: case GL_FLOAT_MAT2x3: case GL_FLOAT_MAT2x4: return 2 * matrix_stride;
-    case GL_FLOAT_MAT3: case GL_FLOAT_MAT3x2: case GL_FLOAT_MAT3x4: return 3 * matrix_stride;
-    case GL_FLOAT_MAT4: case GL_FLOAT_MAT4x2: case GL_FLOAT_MAT4x3: return 4 * matrix_stride;
+    case GL_FLOAT_MAT2:
+    case GL_FLOAT_MAT2x3:
+    case GL_FLOAT_MAT2x4: return 2 * matrix_stride;
+    case GL_FLOAT_MAT3:
+    case GL_FLOAT_MAT3x2:
+    case GL_FLOAT_MAT3x4: return 3 * matrix_stride;
+    case GL_FLOAT_MAT4:
+    case GL_FLOAT_MAT4x2:
+    case GL_FLOAT_MAT4x3: return 4 * matrix_stride;
     default: return 0;
     }
 }
 
 /* lg_gl_pass_check_block for the program's block resource `res` (named `block`). */
-static int check_block_res(lg_gl_pass *p, GLenum kind, GLuint res, const char *block,
-                           size_t size)
+static int check_block_res(lg_gl_pass *p, GLenum kind, GLuint res, const char *block, size_t size)
 {
     const lg_gl *gl = p->gl;
     const GLenum props[2] = { GL_BUFFER_DATA_SIZE, GL_NUM_ACTIVE_VARIABLES };
@@ -473,8 +500,8 @@ static int check_block_res(lg_gl_pass *p, GLenum kind, GLuint res, const char *b
     if (n_vars > 0)
         gl->GetProgramResourceiv(p->program, kind, res, 1, &av, n_vars, NULL, vars);
     for (GLint i = 0; i < n_vars && extent >= 0; i++) {
-        GLenum q[6] = { GL_OFFSET, GL_TYPE, GL_ARRAY_SIZE, GL_ARRAY_STRIDE, GL_MATRIX_STRIDE,
-                        GL_TOP_LEVEL_ARRAY_SIZE };
+        GLenum q[6] = { GL_OFFSET,       GL_TYPE,          GL_ARRAY_SIZE,
+                        GL_ARRAY_STRIDE, GL_MATRIX_STRIDE, GL_TOP_LEVEL_ARRAY_SIZE };
         GLint r[6] = { 0, 0, 1, 0, 0, 1 };
         gl->GetProgramResourceiv(p->program, var_kind, (GLuint)vars[i],
                                  kind == GL_SHADER_STORAGE_BLOCK ? 6 : 5, q, 6, NULL, r);
@@ -498,12 +525,14 @@ static int check_block_res(lg_gl_pass *p, GLenum kind, GLuint res, const char *b
                     : (size == (size_t)data_size || (extent > 0 && size == (size_t)extent)))
         return 0;
     if (stride >= 0)
-        lg_error(p->node, "gl pass '%s': %s '%s' ends in an array of stride %d bytes, the C "
-                          "struct that mirrors one element has %zu",
+        lg_error(p->node,
+                 "gl pass '%s': %s '%s' ends in an array of stride %d bytes, the C "
+                 "struct that mirrors one element has %zu",
                  p->name, kind_name(kind), block, stride, size);
     else
-        lg_error(p->node, "gl pass '%s': %s '%s' takes %d bytes (%d with GL's padding), the C "
-                          "struct that mirrors it %zu",
+        lg_error(p->node,
+                 "gl pass '%s': %s '%s' takes %d bytes (%d with GL's padding), the C "
+                 "struct that mirrors it %zu",
                  p->name, kind_name(kind), block, extent, data_size, size);
     return p->failed = LG_ERR_INVALID;
 }
@@ -511,13 +540,13 @@ static int check_block_res(lg_gl_pass *p, GLenum kind, GLuint res, const char *b
 int lg_gl_pass_check_block(lg_gl_pass *p, GLenum kind, const char *block, size_t size)
 {
     if (kind != GL_SHADER_STORAGE_BLOCK && kind != GL_UNIFORM_BLOCK) {
-        lg_error(p->node, "gl pass '%s': lg_gl_pass_check_block of '%s': kind 0x%x is not a "
-                          "block",
+        lg_error(p->node,
+                 "gl pass '%s': lg_gl_pass_check_block of '%s': kind 0x%x is not a "
+                 "block",
                  p->name, block ? block : "(null)", (unsigned)kind);
         return p->failed = LG_ERR_INVALID;
     }
-    GLuint res = block ? p->gl->GetProgramResourceIndex(p->program, kind, block)
-                       : GL_INVALID_INDEX;
+    GLuint res = block ? p->gl->GetProgramResourceIndex(p->program, kind, block) : GL_INVALID_INDEX;
     if (res == GL_INVALID_INDEX) {
         lg_error(p->node, "gl pass '%s': the program has no %s '%s'", p->name, kind_name(kind),
                  block ? block : "(null)");
@@ -539,8 +568,8 @@ static GLuint block_at_binding(lg_gl_pass *p, GLint index, char *name, size_t le
         gl->GetProgramResourceiv(p->program, GL_UNIFORM_BLOCK, (GLuint)i, 1, &prop, 1, NULL,
                                  &binding);
         if (binding == index) {
-            gl->GetProgramResourceName(p->program, GL_UNIFORM_BLOCK, (GLuint)i, (GLsizei)len,
-                                       NULL, name);
+            gl->GetProgramResourceName(p->program, GL_UNIFORM_BLOCK, (GLuint)i, (GLsizei)len, NULL,
+                                       name);
             return (GLuint)i;
         }
     }
@@ -553,15 +582,15 @@ int lg_gl_pass_uniforms(lg_gl_pass *p, lg_gl_binding b, const void *data, size_t
     if (b.index < 0)
         return 0;
     if (b.kind != GL_UNIFORM_BLOCK || (GLuint)b.index >= LG_PASS_MAX_BIND)
-        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms on a %s at binding %d (it "
-                                 "takes a uniform block: lg_gl_pass_uniform_block)",
+        return lg_error(p->node,
+                        "gl pass '%s': lg_gl_pass_uniforms on a %s at binding %d (it "
+                        "takes a uniform block: lg_gl_pass_uniform_block)",
                         p->name, kind_name(b.kind), b.index);
     if (!p->active)
-        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms outside begin/end",
-                        p->name);
+        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms outside begin/end", p->name);
     if (!data || size == 0)
-        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms at binding %d with %s",
-                        p->name, b.index, data ? "0 bytes" : "no data");
+        return lg_error(p->node, "gl pass '%s': lg_gl_pass_uniforms at binding %d with %s", p->name,
+                        b.index, data ? "0 bytes" : "no data");
     const lg_gl *gl = p->gl;
     pass_ubo *u = &p->ubos[b.index];
     if (u->checked != size) {
@@ -634,8 +663,9 @@ static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
                                    GL_CLAMP_TO_BORDER };
     if ((unsigned)s->filter > LG_GL_FILTER_LINEAR_MIPMAP ||
         (unsigned)s->wrap > LG_GL_WRAP_BORDER_ZERO) {
-        p->bind_failed = lg_error(p->node, "gl pass '%s': sampler with unknown filter %d or "
-                                           "wrap %d",
+        p->bind_failed = lg_error(p->node,
+                                  "gl pass '%s': sampler with unknown filter %d or "
+                                  "wrap %d",
                                   p->name, (int)s->filter, (int)s->wrap);
         return 0;
     }
@@ -661,9 +691,9 @@ static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
         gl->SamplerParameteri(name, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         gl->SamplerParameteri(name, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     }
-    p->samplers[p->n_samplers++] =
-        (pass_sampler){ .filter = s->filter, .wrap = s->wrap,
-                        .compare = s->compare_less_equal, .name = name };
+    p->samplers[p->n_samplers++] = (pass_sampler){
+        .filter = s->filter, .wrap = s->wrap, .compare = s->compare_less_equal, .name = name
+    };
     return name;
 }
 
@@ -698,20 +728,19 @@ void lg_gl_pass_bind_image_level(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLi
     if (b.index < 0)
         return;
     bool all = layer == LG_GL_ALL_LAYERS;
-    p->gl->BindImageTexture((GLuint)b.index, tex, level, all ? GL_TRUE : GL_FALSE,
-                            all ? 0 : layer, access, format);
+    p->gl->BindImageTexture((GLuint)b.index, tex, level, all ? GL_TRUE : GL_FALSE, all ? 0 : layer,
+                            access, format);
     p->bound_img |= 1u << b.index;
     if (access != GL_READ_ONLY)
         p->wrote_images = true;
 }
 
-void lg_gl_pass_bind_image(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLenum access,
-                           GLenum format)
+void lg_gl_pass_bind_image(lg_gl_pass *p, lg_gl_binding b, GLuint tex, GLenum access, GLenum format)
 {
     lg_gl_pass_bind_image_level(p, b, tex, 0, 0, access, format);
 }
 
-/* ---- targets -------------------------------------------------------------------------------- */
+/* ---- targets --------------------------------------------------------------------------------- */
 
 static int port_index(lg_node *n, const char *port, unsigned *out)
 {
@@ -779,16 +808,16 @@ static int attach(lg_gl_pass *p, const lg_gl_target *t)
 {
     const lg_gl *gl = p->gl;
     if (t->width == 0 || t->height == 0)
-        return lg_error(p->node, "gl pass '%s': the target is %ux%u", p->name, t->width,
-                        t->height);
+        return lg_error(p->node, "gl pass '%s': the target is %ux%u", p->name, t->width, t->height);
     for (unsigned i = 0; i < LG_GL_PASS_MAX_COLORS; i++) {
         if (i < p->n_colors && !t->color[i])
             return lg_error_code(p->node, LG_ERR_DEVICE,
-                                 "gl pass '%s': the target has no texture for colour %u",
-                                 p->name, i);
+                                 "gl pass '%s': the target has no texture for colour %u", p->name,
+                                 i);
         if (i >= p->n_colors && t->color[i])
-            return lg_error(p->node, "gl pass '%s': the target has a texture for colour %u, "
-                                     "the pass has %u colour attachment%s",
+            return lg_error(p->node,
+                            "gl pass '%s': the target has a texture for colour %u, "
+                            "the pass has %u colour attachment%s",
                             p->name, i, p->n_colors, p->n_colors == 1 ? "" : "s");
     }
     if (p->depth && !t->depth)
@@ -824,8 +853,7 @@ static int attach(lg_gl_pass *p, const lg_gl_target *t)
                              "gl pass '%s': the framebuffer (%u colour attachment%s%s, %ux%u) is "
                              "incomplete: status 0x%04x",
                              p->name, p->n_colors, p->n_colors == 1 ? "" : "s",
-                             p->depth ? " and depth" : "", t->width, t->height,
-                             (unsigned)status);
+                             p->depth ? " and depth" : "", t->width, t->height, (unsigned)status);
     return 0;
 }
 
@@ -858,8 +886,7 @@ static void set_raster_state(lg_gl_pass *p)
     case LG_GL_BLEND_ALPHA:
         gl->Enable(GL_BLEND);
         gl->BlendEquation(GL_FUNC_ADD);
-        gl->BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE,
-                              GL_ONE_MINUS_SRC_ALPHA);
+        gl->BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
         break;
     case LG_GL_BLEND_PREMULTIPLIED:
         gl->Enable(GL_BLEND);
@@ -885,21 +912,20 @@ int lg_gl_pass_begin(lg_gl_pass *p, const lg_gl_target *target)
 {
     if (p->failed)
         return lg_error_code(p->node, p->failed,
-                             "gl pass '%s' is not usable: a name look-up failed (above)",
-                             p->name);
+                             "gl pass '%s' is not usable: a name look-up failed (above)", p->name);
     if (p->active)
         return lg_error(p->node, "gl pass '%s': begin called twice without end", p->name);
     int rc;
     if (p->compute) {
         if (target)
-            return lg_error(p->node, "gl pass '%s' is a compute pass: it has no target",
-                            p->name);
+            return lg_error(p->node, "gl pass '%s' is a compute pass: it has no target", p->name);
     } else {
         lg_gl_target t;
         if (!target) {
             if (!p->output)
-                return lg_error(p->node, "gl pass '%s' has no output port: give begin a "
-                                         "target",
+                return lg_error(p->node,
+                                "gl pass '%s' has no output port: give begin a "
+                                "target",
                                 p->name);
             if ((rc = lg_gl_target_output(p->node, p->output, &t)))
                 return rc;
@@ -934,8 +960,15 @@ void lg_gl_pass_viewport(lg_gl_pass *p, int32_t x, int32_t y, uint32_t w, uint32
 static bool integer_format(GLenum f)
 {
     switch (f) {
-    case GL_R8UI: case GL_R16UI: case GL_R32UI: case GL_RG8UI: case GL_RG16UI:
-    case GL_RG32UI: case GL_RGBA8UI: case GL_RGBA16UI: case GL_RGBA32UI: return true;
+    case GL_R8UI:
+    case GL_R16UI:
+    case GL_R32UI:
+    case GL_RG8UI:
+    case GL_RG16UI:
+    case GL_RG32UI:
+    case GL_RGBA8UI:
+    case GL_RGBA16UI:
+    case GL_RGBA32UI: return true;
     default: return false;
     }
 }
@@ -943,8 +976,15 @@ static bool integer_format(GLenum f)
 static bool signed_format(GLenum f)
 {
     switch (f) {
-    case GL_R8I: case GL_R16I: case GL_R32I: case GL_RG8I: case GL_RG16I: case GL_RG32I:
-    case GL_RGBA8I: case GL_RGBA16I: case GL_RGBA32I: return true;
+    case GL_R8I:
+    case GL_R16I:
+    case GL_R32I:
+    case GL_RG8I:
+    case GL_RG16I:
+    case GL_RG32I:
+    case GL_RGBA8I:
+    case GL_RGBA16I:
+    case GL_RGBA32I: return true;
     default: return false;
     }
 }
@@ -952,8 +992,9 @@ static bool signed_format(GLenum f)
 void lg_gl_pass_clear_color(lg_gl_pass *p, unsigned i, const float rgba[4])
 {
     if (!p->active || p->compute || i >= p->n_colors) {
-        lg_error(p->node, "gl pass '%s': clearing colour %u, which it does not have (or "
-                          "outside begin/end)",
+        lg_error(p->node,
+                 "gl pass '%s': clearing colour %u, which it does not have (or "
+                 "outside begin/end)",
                  p->name, i);
         return;
     }
@@ -975,8 +1016,9 @@ void lg_gl_pass_clear_color(lg_gl_pass *p, unsigned i, const float rgba[4])
 void lg_gl_pass_clear_depth(lg_gl_pass *p, float depth)
 {
     if (!p->active || !p->depth) {
-        lg_error(p->node, "gl pass '%s': clearing a depth attachment it does not have (or "
-                          "outside begin/end)",
+        lg_error(p->node,
+                 "gl pass '%s': clearing a depth attachment it does not have (or "
+                 "outside begin/end)",
                  p->name);
         return;
     }
@@ -986,7 +1028,7 @@ void lg_gl_pass_clear_depth(lg_gl_pass *p, float depth)
     p->gl->DepthMask(p->depth_write ? GL_TRUE : GL_FALSE);
 }
 
-/* ---- drawing ----------------------------------------------------------------------------------- */
+/* ---- drawing --------------------------------------------------------------------------------- */
 
 static bool key_matches(const pass_scene_key *k, const lg_scene *s)
 {
@@ -1049,13 +1091,15 @@ static int scene_data(lg_gl_pass *p, const lg_resource *res)
 int lg_gl_pass_draw_scene(lg_gl_pass *p, const lg_resource *scene, const lg_gl_scene_draw *d)
 {
     if (!p->active || p->compute || !p->scene_attribs)
-        return lg_error(p->node, "gl pass '%s': lg_gl_pass_draw_scene needs a begun raster "
-                                 "pass whose descriptor names the scene's attributes",
+        return lg_error(p->node,
+                        "gl pass '%s': lg_gl_pass_draw_scene needs a begun raster "
+                        "pass whose descriptor names the scene's attributes",
                         p->name);
     int rc = scene_data(p, scene);
     if (rc)
         return rc;
-    lg_scene_gl_draw_desc sd = { .program = p->program, .first_location = p->first.location,
+    lg_scene_gl_draw_desc sd = { .program = p->program,
+                                 .first_location = p->first.location,
                                  .cull_material = p->cull != LG_GL_CULL_NONE };
     if (d) {
         sd.on_mesh = d->on_mesh;
@@ -1091,7 +1135,7 @@ int lg_gl_pass_draw(lg_gl_pass *p, GLenum mode, uint32_t vertices)
     return lg_gl_check(p->node, what);
 }
 
-/* ---- compute ------------------------------------------------------------------------------------- */
+/* ---- compute --------------------------------------------------------------------------------- */
 
 void lg_gl_pass_local_size(const lg_gl_pass *p, uint32_t size[3])
 {
@@ -1116,8 +1160,7 @@ int lg_gl_pass_dispatch_groups(lg_gl_pass *p, uint32_t gx, uint32_t gy, uint32_t
     }
     gl->DispatchCompute(gx, gy, gz);
     char what[160];
-    snprintf(what, sizeof what, "gl pass '%s': dispatching %ux%ux%u groups", p->name, gx, gy,
-             gz);
+    snprintf(what, sizeof what, "gl pass '%s': dispatching %ux%ux%u groups", p->name, gx, gy, gz);
     return lg_gl_check(p->node, what);
 }
 
@@ -1135,7 +1178,7 @@ void lg_gl_pass_barrier(lg_gl_pass *p, GLbitfield bits)
     p->gl->MemoryBarrier(bits);
 }
 
-/* ---- end ------------------------------------------------------------------------------------------- */
+/* ---- end ------------------------------------------------------------------------------------- */
 
 static void unbind_mask(const lg_gl *gl, GLenum target, uint32_t mask)
 {

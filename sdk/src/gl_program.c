@@ -79,8 +79,8 @@ static char *info_log(const lg_gl *gl, GLuint obj, bool program)
 }
 
 /* Compiles one stage; returns the shader or 0 after reporting. */
-static GLuint compile(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *src,
-                      const char *name, const char *defines)
+static GLuint compile(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *src, const char *name,
+                      const char *defines)
 {
     const char *strings[3];
     GLint lengths[3];
@@ -146,8 +146,8 @@ static GLuint compile(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *sr
     return shader;
 }
 
-GLuint lg_gl_program(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *stages,
-                     unsigned count, const char *defines)
+GLuint lg_gl_program(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *stages, unsigned count,
+                     const char *defines)
 {
     if (!node)
         return 0;

@@ -34,9 +34,10 @@ static int hdr_read_scanline(hdr_reader *r, uint32_t w, uint32_t y, unsigned cha
     if (w >= 8 && w <= 0x7fff && end - p >= 4 && p[0] == 2 && p[1] == 2 && !(p[2] & 0x80)) {
         uint32_t enc_w = (uint32_t)p[2] << 8 | p[3];
         if (enc_w != w)
-            return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                                 "cannot read '%s': scanline %u: RLE width %u differs from the image width %u",
-                                 r->path, y, enc_w, w);
+            return lg_image_fail(
+                r->err, r->errlen, LG_ERR_INVALID,
+                "cannot read '%s': scanline %u: RLE width %u differs from the image width %u",
+                r->path, y, enc_w, w);
         p += 4;
         /* New-style RLE: the four components one after the other, each as runs
          * (count > 128: count-128 copies of one byte) and literals (count bytes). */
@@ -49,9 +50,10 @@ static int hdr_read_scanline(hdr_reader *r, uint32_t w, uint32_t y, unsigned cha
                 if (code > 128) {
                     uint32_t run = code - 128;
                     if (x + run > w)
-                        return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                                             "cannot read '%s': scanline %u: a run of %u overruns the width %u (component %d, x %u)",
-                                             r->path, y, run, w, c, x);
+                        return lg_image_fail(
+                            r->err, r->errlen, LG_ERR_INVALID,
+                            "cannot read '%s': scanline %u: a run of %u overruns the width %u (component %d, x %u)",
+                            r->path, y, run, w, c, x);
                     if (p >= end)
                         goto truncated;
                     unsigned char v = *p++;
@@ -60,13 +62,15 @@ static int hdr_read_scanline(hdr_reader *r, uint32_t w, uint32_t y, unsigned cha
                     x += run;
                 } else {
                     if (code == 0)
-                        return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                                             "cannot read '%s': scanline %u: zero-length RLE literal (component %d, x %u)",
-                                             r->path, y, c, x);
+                        return lg_image_fail(
+                            r->err, r->errlen, LG_ERR_INVALID,
+                            "cannot read '%s': scanline %u: zero-length RLE literal (component %d, x %u)",
+                            r->path, y, c, x);
                     if (x + code > w)
-                        return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                                             "cannot read '%s': scanline %u: %u literal bytes overrun the width %u (component %d, x %u)",
-                                             r->path, y, code, w, c, x);
+                        return lg_image_fail(
+                            r->err, r->errlen, LG_ERR_INVALID,
+                            "cannot read '%s': scanline %u: %u literal bytes overrun the width %u (component %d, x %u)",
+                            r->path, y, code, w, c, x);
                     if ((size_t)(end - p) < code)
                         goto truncated;
                     for (uint32_t i = 0; i < code; i++)
@@ -93,14 +97,15 @@ static int hdr_read_scanline(hdr_reader *r, uint32_t w, uint32_t y, unsigned cha
                                      "cannot read '%s': scanline %u: repeat code before any pixel",
                                      r->path, y);
             if (shift > 24)
-                return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                                     "cannot read '%s': scanline %u: too many consecutive repeat codes",
-                                     r->path, y);
+                return lg_image_fail(
+                    r->err, r->errlen, LG_ERR_INVALID,
+                    "cannot read '%s': scanline %u: too many consecutive repeat codes", r->path, y);
             uint64_t count = (uint64_t)p[3] << shift;
             if (x + count > w)
-                return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                                     "cannot read '%s': scanline %u: a repeat of %llu overruns the width %u (x %u)",
-                                     r->path, y, (unsigned long long)count, w, x);
+                return lg_image_fail(
+                    r->err, r->errlen, LG_ERR_INVALID,
+                    "cannot read '%s': scanline %u: a repeat of %llu overruns the width %u (x %u)",
+                    r->path, y, (unsigned long long)count, w, x);
             for (uint64_t i = 0; i < count; i++, x++)
                 memcpy(out + x * 4, out + (x - 1) * 4, 4);
             shift += 8;
@@ -116,8 +121,8 @@ static int hdr_read_scanline(hdr_reader *r, uint32_t w, uint32_t y, unsigned cha
 
 truncated:
     return lg_image_fail(r->err, r->errlen, LG_ERR_INVALID,
-                         "cannot read '%s': file truncated in scanline %u of the pixel data", r->path,
-                         y);
+                         "cannot read '%s': file truncated in scanline %u of the pixel data",
+                         r->path, y);
 }
 
 /* Parses "-Y H +X W" and its three mirrored variants. Transposed layouts (X first) are
@@ -162,8 +167,7 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
         if (n < 0) {
             int e = errno;
             free(data);
-            return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path,
-                                 strerror(e));
+            return lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': %s", path, strerror(e));
         }
         if (n == 0)
             break;
@@ -177,7 +181,7 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
 
     const unsigned char *p = data, *end = data + len;
     unsigned char *line = NULL;
-    double exposure = 1.0, colorcorr[3] = {1.0, 1.0, 1.0};
+    double exposure = 1.0, colorcorr[3] = { 1.0, 1.0, 1.0 };
 
     if (len == 0) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': empty file", path);
@@ -195,10 +199,9 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     while (!seen_blank) {
         const unsigned char *nl = memchr(p, '\n', (size_t)(end - p));
         if (!nl || nl - data > HDR_MAX_HEADER) {
-            rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                               "cannot read '%s': %s", path,
+            rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': %s", path,
                                nl || len < size ? "header longer than 64 KiB"
-                                                 : "file ends inside the header");
+                                                : "file ends inside the header");
             goto done;
         }
         size_t n = (size_t)(nl - p);
@@ -206,17 +209,18 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
         if (n == 0 || (n == 1 && p[0] == '\r')) {
             seen_blank = 1;
         } else if (lineno > 1 && p[0] != '#') {
-            snprintf(text, sizeof text, "%.*s", (int)(n < sizeof text - 1 ? n : sizeof text - 1), p);
+            snprintf(text, sizeof text, "%.*s", (int)(n < sizeof text - 1 ? n : sizeof text - 1),
+                     p);
             /* trailing blanks and the \r of files written with CRLF */
-            for (size_t k = strlen(text); k > 0 && (text[k - 1] == ' ' || text[k - 1] == '\t' ||
-                                                   text[k - 1] == '\r');
-                 k--)
+            for (size_t k = strlen(text);
+                 k > 0 && (text[k - 1] == ' ' || text[k - 1] == '\t' || text[k - 1] == '\r'); k--)
                 text[k - 1] = 0;
             if (!strncmp(text, "FORMAT=", 7)) {
                 if (strcmp(text + 7, "32-bit_rle_rgbe") != 0) {
-                    rc = lg_image_fail(err, errlen, LG_ERR_UNSUPPORTED,
-                                       "cannot read '%s': header line %d: unsupported format '%s' (only 32-bit_rle_rgbe)",
-                                       path, lineno, text + 7);
+                    rc = lg_image_fail(
+                        err, errlen, LG_ERR_UNSUPPORTED,
+                        "cannot read '%s': header line %d: unsupported format '%s' (only 32-bit_rle_rgbe)",
+                        path, lineno, text + 7);
                     goto done;
                 }
             } else if (!strncmp(text, "EXPOSURE=", 9)) {
@@ -260,15 +264,16 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     uint32_t w = 0, h = 0;
     int pr = hdr_parse_resolution(text, &flip_y, &flip_x, &w, &h);
     if (pr == -2) {
-        rc = lg_image_fail(err, errlen, LG_ERR_UNSUPPORTED,
-                           "cannot read '%s': transposed orientation '%s' is not supported (expected '-Y H +X W')",
-                           path, text);
+        rc = lg_image_fail(
+            err, errlen, LG_ERR_UNSUPPORTED,
+            "cannot read '%s': transposed orientation '%s' is not supported (expected '-Y H +X W')",
+            path, text);
         goto done;
     }
     if (pr != 0) {
         rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                           "cannot read '%s': bad resolution line '%s' (expected '-Y H +X W')", path,
-                           text);
+                           "cannot read '%s': bad resolution line '%s' (expected '-Y H +X W')",
+                           path, text);
         goto done;
     }
     /* the declared size against the pixel limit and the memory: one scanline of RGBE
@@ -278,9 +283,10 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     /* Every scanline takes at least 4 bytes: refuse absurd sizes before allocating. */
     size_t offset = (size_t)(p - data);
     if (size - offset < (uint64_t)h * 4) {
-        rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                           "cannot read '%s': file truncated: %u scanlines cannot fit in %llu bytes",
-                           path, h, (unsigned long long)(size - offset));
+        rc =
+            lg_image_fail(err, errlen, LG_ERR_INVALID,
+                          "cannot read '%s': file truncated: %u scanlines cannot fit in %llu bytes",
+                          path, h, (unsigned long long)(size - offset));
         goto done;
     }
     /* Now the whole file (its size was checked against the image file limit at open). */
@@ -294,8 +300,10 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
             goto done;
         }
         if (len < offset) {
-            rc = lg_image_fail(err, errlen, LG_ERR_IO, "cannot read '%s': it shrank while being "
-                               "read", path);
+            rc = lg_image_fail(err, errlen, LG_ERR_IO,
+                               "cannot read '%s': it shrank while being "
+                               "read",
+                               path);
             goto done;
         }
         p = data + offset;
@@ -310,7 +318,7 @@ int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
         goto done;
     }
 
-    hdr_reader r = {path, p, end, err, errlen};
+    hdr_reader r = { path, p, end, err, errlen };
     int rle_lines = 0;
     float scale[3];
     for (int i = 0; i < 3; i++)
@@ -346,7 +354,7 @@ done:
     return rc;
 }
 
-/* ---- writing ------------------------------------------------------------------------- */
+/* ---- writing --------------------------------------------------------------------------------- */
 
 /* Appends one component (n bytes, stride 1) as new-style RLE: runs of 4 or more identical
  * bytes as (128 + count, byte), the rest as literals of up to 128 bytes. */

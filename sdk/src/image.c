@@ -35,7 +35,7 @@ lg_file_format lg_image_format_from_path(const char *path)
     return LG_FILE_UNKNOWN;
 }
 
-/* ---- reading ------------------------------------------------------------------------- */
+/* ---- reading --------------------------------------------------------------------------------- */
 
 int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read_info *info,
                   char *err, size_t errlen)
@@ -57,9 +57,9 @@ int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read
 
     info->format = lg_image_format_from_path(path);
     if (info->format == LG_FILE_UNKNOWN)
-        return lg_image_fail(err, errlen, LG_ERR_UNSUPPORTED,
-                             "cannot read '%s': unknown extension (expected .exr, .hdr, .pic or .png)",
-                             path);
+        return lg_image_fail(
+            err, errlen, LG_ERR_UNSUPPORTED,
+            "cannot read '%s': unknown extension (expected .exr, .hdr, .pic or .png)", path);
 
     /* Opened once, here: regular files only (a FIFO would block a decoder, a device such as
      * /dev/zero would feed it without end), the size checked before a byte is read. Every
@@ -75,8 +75,8 @@ int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read
             return lg_image_fail(err, errlen, LG_ERR_INVALID,
                                  "cannot read '%s': %s for images (32 bytes per pixel of the "
                                  "%llu-pixel limit; raise it with LIGHTGRAPH_MAX_PIXELS=N or "
-                                 "--max-pixels N)", path, why,
-                                 (unsigned long long)lg_image_max_pixels());
+                                 "--max-pixels N)",
+                                 path, why, (unsigned long long)lg_image_max_pixels());
         return lg_image_fail(err, errlen, e == ENOENT ? LG_ERR_NOTFOUND : LG_ERR_IO,
                              "cannot read '%s': %s", path, why);
     }
@@ -112,7 +112,7 @@ int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read
     return LG_OK;
 }
 
-/* ---- writing ------------------------------------------------------------------------- */
+/* ---- writing --------------------------------------------------------------------------------- */
 
 /* The mode a newly created file would get (0666 & ~umask). umask() itself cannot be read
  * without setting it, which races with other threads; Linux shows it in /proc. */
@@ -167,8 +167,9 @@ int lg_image_write(const char *path, const lg_image *img, const lg_image_write_o
                              "cannot write '%s': channels must be 3 or 4, not %u", path,
                              opts->channels);
     if ((unsigned)opts->exr_pixel > LG_EXR_FLOAT)
-        return lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot write '%s': bad EXR pixel type %d",
-                             path, (int)opts->exr_pixel);
+        return lg_image_fail(err, errlen, LG_ERR_INVALID,
+                             "cannot write '%s': bad EXR pixel type %d", path,
+                             (int)opts->exr_pixel);
     if ((unsigned)opts->exr_compression > LG_EXR_DWAB)
         return lg_image_fail(err, errlen, LG_ERR_INVALID,
                              "cannot write '%s': bad EXR compression %d", path,
@@ -176,9 +177,9 @@ int lg_image_write(const char *path, const lg_image *img, const lg_image_write_o
 
     lg_file_format format = lg_image_format_from_path(path);
     if (format == LG_FILE_UNKNOWN)
-        return lg_image_fail(err, errlen, LG_ERR_UNSUPPORTED,
-                             "cannot write '%s': unknown extension (expected .exr, .hdr, .pic or .png)",
-                             path);
+        return lg_image_fail(
+            err, errlen, LG_ERR_UNSUPPORTED,
+            "cannot write '%s': unknown extension (expected .exr, .hdr, .pic or .png)", path);
 
     /* The temporary file sits in the target's directory so that rename() is atomic. */
     const char *slash = strrchr(path, '/');

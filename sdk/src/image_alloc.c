@@ -35,8 +35,9 @@ uint64_t lg_image_max_pixels(void)
         if (errno == 0 && end && *end == 0 && v > 0 && e[0] != '-')
             n = v;
         else
-            fprintf(stderr, "lightgraph: warning: LIGHTGRAPH_MAX_PIXELS='%s' is not a positive "
-                            "integer; the limit stays %llu pixels\n",
+            fprintf(stderr,
+                    "lightgraph: warning: LIGHTGRAPH_MAX_PIXELS='%s' is not a positive "
+                    "integer; the limit stays %llu pixels\n",
                     e, (unsigned long long)n);
     }
     uint64_t zero = 0;
@@ -88,7 +89,7 @@ uint64_t lg_image_alloc_cap(void)
 
 void lg_bytes_text(char *out, size_t n, uint64_t b)
 {
-    static const char *const unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    static const char *const unit[] = { "bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB" };
     if (b < 1024) {
         snprintf(out, n, "%llu bytes", (unsigned long long)b);
         return;
@@ -159,8 +160,8 @@ int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec
         lg_bytes_text(b, sizeof b, (uint64_t)SIZE_MAX / 2);
         return lg_image_fail(err, errlen, LG_ERR_NOMEM,
                              "cannot read '%s': decoding its %llu x %llu pixels needs more than "
-                             "%s, more than this machine can address", path,
-                             (unsigned long long)w, (unsigned long long)h, b);
+                             "%s, more than this machine can address",
+                             path, (unsigned long long)w, (unsigned long long)h, b);
     }
     uint64_t avail = lg_memory_available(&what);
     if (need > avail) {
@@ -168,8 +169,8 @@ int lg_image_check_size(const char *path, uint64_t w, uint64_t h, uint64_t codec
         lg_bytes_text(b, sizeof b, avail);
         return lg_image_fail(err, errlen, LG_ERR_NOMEM,
                              "cannot read '%s': decoding its %llu x %llu pixels needs %s, more "
-                             "than the %s of %s", path, (unsigned long long)w,
-                             (unsigned long long)h, a, b, what);
+                             "than the %s of %s",
+                             path, (unsigned long long)w, (unsigned long long)h, a, b, what);
     }
     return LG_OK;
 }

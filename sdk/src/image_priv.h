@@ -26,17 +26,17 @@ extern "C" {
 /* Readers read the open, regular file `fd` of `size` bytes (lg_image_read opened it and
  * closes it; a reader may read it from any offset but never closes it), named `path` in
  * messages. */
-int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img,
-                lg_image_read_info *info, char *err, size_t errlen);
+int lg_hdr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image_read_info *info,
+                char *err, size_t errlen);
 int lg_hdr_write(FILE *f, const char *path, const lg_image *img, char *err, size_t errlen);
 
-int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img,
-                lg_image_read_info *info, char *err, size_t errlen);
+int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image_read_info *info,
+                char *err, size_t errlen);
 int lg_png_write(FILE *f, const char *path, const lg_image *img, uint32_t channels, char *err,
                  size_t errlen);
 
-int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img,
-                lg_image_read_info *info, char *err, size_t errlen);
+int lg_exr_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image_read_info *info,
+                char *err, size_t errlen);
 int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image *img,
                  const lg_image_write_opts *opts, char *err, size_t errlen);
 
@@ -48,8 +48,8 @@ int lg_exr_cxx_read(int fd, uint64_t size, const char *path, lg_image *img,
                     lg_image_read_info *info, char *err, size_t errlen);
 /* Writes to the open, empty file `fd` (named `path` in messages). half: 1 for half, 0 for
  * float; channels: 3 or 4; compression: an lg_exr_compression value. */
-int lg_exr_cxx_write(int fd, const char *path, const lg_image *img, int half,
-                     uint32_t channels, int compression, char *err, size_t errlen);
+int lg_exr_cxx_write(int fd, const char *path, const lg_image *img, int half, uint32_t channels,
+                     int compression, char *err, size_t errlen);
 
 #ifdef __cplusplus
 }

@@ -21,19 +21,26 @@ _Static_assert(offsetof(lg_shadow_light, view_proj) == 128, "std430 offset of vi
 _Static_assert(offsetof(lg_shadow_light, light) == 192, "std430 offset of light");
 
 static const lg_part_decl shadow_parts[] = {
-    { .name = "atlas", .type = LG_PART_IMAGE,
+    { .name = "atlas",
+      .type = LG_PART_IMAGE,
       .doc = "depth only: each light's window depth in its tile, 1 where nothing is" },
-    { .name = "lights", .type = LG_PART_BUFFER,
+    { .name = "lights",
+      .type = LG_PART_BUFFER,
       .doc = "lg_shadow_light[n_lights]: matrices and tile of each light (std430)" },
-    { .name = "info", .type = LG_PART_META,
+    { .name = "info",
+      .type = LG_PART_META,
       .doc = "lg_shadowmap_info: tile resolution, light count, atlas size, biases" },
 };
 static const lg_part_decl probe_parts[] = {
-    { .name = "radiance", .type = LG_PART_IMAGE,
+    { .name = "radiance",
+      .type = LG_PART_IMAGE,
       .doc = "2D (lat-long, angular) or cube radiance, linear, with an optional mip chain" },
-    { .name = "solid_angle", .type = LG_PART_BUFFER, .optional = true,
+    { .name = "solid_angle",
+      .type = LG_PART_BUFFER,
+      .optional = true,
       .doc = "float steradians per texel of level 0, in texel order" },
-    { .name = "info", .type = LG_PART_META,
+    { .name = "info",
+      .type = LG_PART_META,
       .doc = "lg_probe_info: layout, rotation, scale, prefiltering" },
 };
 static const lg_part_decl sh_parts[] = {
@@ -41,27 +48,31 @@ static const lg_part_decl sh_parts[] = {
     { .name = "info", .type = LG_PART_META, .doc = "lg_sh_info: bands, flags" },
 };
 static const lg_part_decl transfer_parts[] = {
-    { .name = "transfer", .type = LG_PART_BUFFER,
+    { .name = "transfer",
+      .type = LG_PART_BUFFER,
       .doc = "float[vertices][3][n^2]: per vertex, R, G, B planes" },
     { .name = "info", .type = LG_PART_META, .doc = "lg_transfer_info: bands, vertices, mode" },
 };
 static const lg_part_decl froxel_parts[] = {
-    { .name = "grid", .type = LG_PART_VOLUME,
+    { .name = "grid",
+      .type = LG_PART_VOLUME,
       .doc = "rgb in-scattered radiance, a transmittance, per froxel" },
-    { .name = "info", .type = LG_PART_META,
+    { .name = "info",
+      .type = LG_PART_META,
       .doc = "lg_froxel_info: grid size, slice map, camera matrices" },
 };
 
 #define PARTS(a) .parts = (a), .n_parts = (uint32_t)(sizeof(a) / sizeof((a)[0]))
 static const lg_kind_desc kinds[LG_KIND_COUNT_] = {
     [LG_KIND_ANY] = { LG_KIND_ANY, "any", "inputs only: accepts every kind" },
-    [LG_KIND_IMAGE] = { LG_KIND_IMAGE, "image", "2D or cube rgba image with mip levels and "
-                                                "an optional depth plane" },
+    [LG_KIND_IMAGE] = { LG_KIND_IMAGE, "image",
+                        "2D or cube rgba image with mip levels and "
+                        "an optional depth plane" },
     [LG_KIND_BUFFER] = { LG_KIND_BUFFER, "buffer", "bytes" },
     [LG_KIND_VOLUME] = { LG_KIND_VOLUME, "volume", "3D grid of rgba" },
     [LG_KIND_SCENE] = { LG_KIND_SCENE, "scene", "meshes, materials, lights, cameras, medium" },
-    [LG_KIND_SHADOWMAP] = { LG_KIND_SHADOWMAP, "shadowmap",
-                            "depth atlas and per-light matrices", PARTS(shadow_parts) },
+    [LG_KIND_SHADOWMAP] = { LG_KIND_SHADOWMAP, "shadowmap", "depth atlas and per-light matrices",
+                            PARTS(shadow_parts) },
     [LG_KIND_PROBE] = { LG_KIND_PROBE, "probe", "environment radiance with its layout",
                         PARTS(probe_parts) },
     [LG_KIND_SH] = { LG_KIND_SH, "sh", "spherical-harmonic coefficients, n bands x RGB",
@@ -97,7 +108,7 @@ int32_t lg_kind_part_index(lg_resource_kind kind, const char *name)
     return -1;
 }
 
-/* ---- metadata parts ------------------------------------------------------------------ */
+/* ---- metadata parts -------------------------------------------------------------------------- */
 
 int lg_meta_write(lg_node *n, const lg_resource *res, const char *part, const void *data,
                   size_t size)
@@ -132,16 +143,18 @@ const void *lg_meta_read(lg_node *n, const lg_resource *res, const char *part, s
     lg_describe(p, &info, n);
     lg_cpu_view v;
     if (info.buffer.size < size || lg_map_cpu(n, p, LG_READ, &v) != 0 || !v.pixels) {
-        lg_error(n, "metadata part '%s' of the input holds %zu bytes, fewer than the %zu "
-                    "this plugin reads",
+        lg_error(n,
+                 "metadata part '%s' of the input holds %zu bytes, fewer than the %zu "
+                 "this plugin reads",
                  part, info.buffer.size, size);
         return NULL;
     }
     uint32_t struct_size;
     memcpy(&struct_size, v.pixels, sizeof struct_size);
     if (struct_size < size) {
-        lg_error(n, "metadata part '%s' of the input says it is %u bytes long, fewer than "
-                    "the %zu this plugin reads (made by an older or broken producer)",
+        lg_error(n,
+                 "metadata part '%s' of the input says it is %u bytes long, fewer than "
+                 "the %zu this plugin reads (made by an older or broken producer)",
                  part, struct_size, size);
         return NULL;
     }
@@ -207,16 +220,17 @@ static const lg_resource *consume(lg_node *n, const lg_resource *res, lg_resourc
     return *info ? required_part(n, res, name, type, pinfo) : NULL;
 }
 
-/* ---- shadow maps ------------------------------------------------------------------------ */
+/* ---- shadow maps ----------------------------------------------------------------------------- */
 
 int lg_shadowmap_declare(lg_node *n, uint32_t port, uint32_t atlas_width, uint32_t atlas_height,
                          uint32_t n_lights)
 {
     lg_part_spec parts[3] = {
-        { .name = "atlas", .type = LG_PART_IMAGE,
-          .image = { .width = atlas_width, .height = atlas_height,
-                     .flags = LG_IMAGE_DEPTH_ONLY } },
-        { .name = "lights", .type = LG_PART_BUFFER,
+        { .name = "atlas",
+          .type = LG_PART_IMAGE,
+          .image = { .width = atlas_width, .height = atlas_height, .flags = LG_IMAGE_DEPTH_ONLY } },
+        { .name = "lights",
+          .type = LG_PART_BUFFER,
           .buffer.size = (size_t)(n_lights ? n_lights : 1) * sizeof(lg_shadow_light) },
         meta_spec(sizeof(lg_shadowmap_info)),
     };
@@ -251,18 +265,18 @@ const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res, lg_shad
     lg_resource_info ai, li;
     const lg_shadowmap_info *mi;
     memset(out, 0, sizeof *out);
-    const lg_resource *atlas = consume(n, res, LG_KIND_SHADOWMAP, sizeof *mi,
-                                       (const void **)&mi, "atlas", LG_PART_IMAGE, &ai);
-    const lg_resource *lights = atlas ? required_part(n, res, "lights", LG_PART_BUFFER, &li)
-                                      : NULL;
+    const lg_resource *atlas = consume(n, res, LG_KIND_SHADOWMAP, sizeof *mi, (const void **)&mi,
+                                       "atlas", LG_PART_IMAGE, &ai);
+    const lg_resource *lights = atlas ? required_part(n, res, "lights", LG_PART_BUFFER, &li) : NULL;
     if (!lights)
         return NULL;
     if (mi->atlas_width != ai.image.width || mi->atlas_height != ai.image.height ||
         mi->resolution == 0 || (size_t)mi->n_lights * sizeof(lg_shadow_light) > li.buffer.size) {
-        lg_error(n, "the shadow maps are inconsistent: info says %u lights at %u in a %ux%u "
-                    "atlas; the parts hold a %ux%u atlas and %zu bytes of lights",
-                 mi->n_lights, mi->resolution, mi->atlas_width, mi->atlas_height,
-                 ai.image.width, ai.image.height, li.buffer.size);
+        lg_error(n,
+                 "the shadow maps are inconsistent: info says %u lights at %u in a %ux%u "
+                 "atlas; the parts hold a %ux%u atlas and %zu bytes of lights",
+                 mi->n_lights, mi->resolution, mi->atlas_width, mi->atlas_height, ai.image.width,
+                 ai.image.height, li.buffer.size);
         return NULL;
     }
     lg_cpu_view lv;
@@ -281,7 +295,7 @@ const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res, lg_shad
     return out;
 }
 
-/* ---- probes ----------------------------------------------------------------------------- */
+/* ---- probes ---------------------------------------------------------------------------------- */
 
 int lg_probe_declare(lg_node *n, uint32_t port, lg_probe_layout layout,
                      const lg_image_desc *radiance, bool with_solid_angle)
@@ -291,12 +305,13 @@ int lg_probe_declare(lg_node *n, uint32_t port, lg_probe_layout layout,
     bool cube = (radiance->flags & LG_IMAGE_CUBE) != 0;
     if (cube != (layout == LG_PROBE_CUBE))
         return lg_error(n, "lg_probe_declare: a %s probe needs a %s radiance image",
-                        layout == LG_PROBE_CUBE ? "cube" : "2D", layout == LG_PROBE_CUBE ? "cube"
-                                                                                       : "2D");
+                        layout == LG_PROBE_CUBE ? "cube" : "2D",
+                        layout == LG_PROBE_CUBE ? "cube" : "2D");
     lg_part_spec parts[3] = {
         { .name = "radiance", .type = LG_PART_IMAGE, .image = *radiance },
         meta_spec(sizeof(lg_probe_info)),
-        { .name = "solid_angle", .type = LG_PART_BUFFER,
+        { .name = "solid_angle",
+          .type = LG_PART_BUFFER,
           .buffer.size = (size_t)radiance->width * radiance->height * (cube ? 6 : 1) *
                          sizeof(float) },
     };
@@ -330,14 +345,15 @@ const lg_probe *lg_probe_get(lg_node *n, const lg_resource *res, lg_probe *out)
     return out;
 }
 
-/* ---- SH coefficients ------------------------------------------------------------------- */
+/* ---- SH coefficients ------------------------------------------------------------------------- */
 
 int lg_sh_declare(lg_node *n, uint32_t port, uint32_t bands)
 {
     if (bands < 1 || bands > LG_SH_MAX_BANDS)
         return lg_error(n, "%u SH bands: 1 .. %u are possible", bands, LG_SH_MAX_BANDS);
     lg_part_spec parts[2] = {
-        { .name = "coeffs", .type = LG_PART_BUFFER,
+        { .name = "coeffs",
+          .type = LG_PART_BUFFER,
           .buffer.size = (size_t)3 * bands * bands * sizeof(float) },
         meta_spec(sizeof(lg_sh_info)),
     };
@@ -370,7 +386,7 @@ const lg_sh *lg_sh_get(lg_node *n, const lg_resource *res, lg_sh *out)
     return out;
 }
 
-/* ---- transfer ------------------------------------------------------------------------------ */
+/* ---- transfer -------------------------------------------------------------------------------- */
 
 int lg_transfer_declare(lg_node *n, uint32_t port, uint32_t bands, uint32_t vertices)
 {
@@ -403,8 +419,9 @@ const lg_transfer *lg_transfer_get(lg_node *n, const lg_resource *res, lg_transf
         return NULL;
     if (mi->bands < 1 || mi->bands > LG_SH_MAX_BANDS ||
         ti.buffer.size != (size_t)mi->vertices * 3 * mi->bands * mi->bands * sizeof(float)) {
-        lg_error(n, "the transfer vectors are inconsistent: %u vertices at %u bands in %zu "
-                    "bytes",
+        lg_error(n,
+                 "the transfer vectors are inconsistent: %u vertices at %u bands in %zu "
+                 "bytes",
                  mi->vertices, mi->bands, ti.buffer.size);
         return NULL;
     }
@@ -414,15 +431,16 @@ const lg_transfer *lg_transfer_get(lg_node *n, const lg_resource *res, lg_transf
     return out;
 }
 
-/* ---- froxels ------------------------------------------------------------------------------- */
+/* ---- froxels --------------------------------------------------------------------------------- */
 
-int lg_froxel_declare(lg_node *n, uint32_t port, uint32_t width, uint32_t height,
-                      uint32_t depth, lg_format format)
+int lg_froxel_declare(lg_node *n, uint32_t port, uint32_t width, uint32_t height, uint32_t depth,
+                      lg_format format)
 {
     if (format != LG_FORMAT_RGBA16F && format != LG_FORMAT_RGBA32F)
         return lg_error(n, "a froxel grid is rgba16f or rgba32f");
     lg_part_spec parts[2] = {
-        { .name = "grid", .type = LG_PART_VOLUME,
+        { .name = "grid",
+          .type = LG_PART_VOLUME,
           .volume = { .width = width, .height = height, .depth = depth, .format = format } },
         meta_spec(sizeof(lg_froxel_info)),
     };
@@ -445,8 +463,9 @@ const lg_froxel *lg_froxel_get(lg_node *n, const lg_resource *res, lg_froxel *ou
         return NULL;
     if (mi->width != gi.volume.width || mi->height != gi.volume.height ||
         mi->depth != gi.volume.depth) {
-        lg_error(n, "the froxel grid is inconsistent: info says %ux%ux%u, the volume is "
-                    "%ux%ux%u",
+        lg_error(n,
+                 "the froxel grid is inconsistent: info says %ux%ux%u, the volume is "
+                 "%ux%ux%u",
                  mi->width, mi->height, mi->depth, gi.volume.width, gi.volume.height,
                  gi.volume.depth);
         return NULL;

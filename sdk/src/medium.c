@@ -56,13 +56,13 @@ float lg_medium_segmentf(float tau)
     if (!(tau > 0.0f))
         return 1.0f;
     if (tau < 0.25f)
-        return 1.0f - tau * (0.5f - tau * (1.0f / 6.0f - tau * (
-               1.0f / 24.0f - tau * (1.0f / 120.0f - tau * (1.0f / 720.0f)))));
+        return 1.0f - tau * (0.5f - tau * (1.0f / 6.0f -
+                                           tau * (1.0f / 24.0f -
+                                                  tau * (1.0f / 120.0f - tau * (1.0f / 720.0f)))));
     return (1.0f - expf(-tau)) / tau;
 }
 
-double lg_medium_inscatter(double l_c, double sigma_s, double sigma_t, double phase,
-                           double length)
+double lg_medium_inscatter(double l_c, double sigma_s, double sigma_t, double phase, double length)
 {
     if (!(length > 0.0))
         return 0.0;
@@ -86,8 +86,8 @@ void lg_light_color(const lg_light *light, float l_c[3])
         l_c[c] = light ? light->color[c] * light->intensity : 0.0f;
 }
 
-int lg_slice_map_init(lg_slice_map *map, lg_froxel_slicing slicing, uint32_t depth,
-                      double near, double far, double near_offset)
+int lg_slice_map_init(lg_slice_map *map, lg_froxel_slicing slicing, uint32_t depth, double near,
+                      double far, double near_offset)
 {
     if (!map || depth < 1 || !(near > 0.0) || !(far > near) || !isfinite(far))
         return -1;

@@ -8,8 +8,7 @@
 #include "lightgraph/host.h"
 #include "lightgraph/image.h"
 
-uint64_t lg_pixels_nonfinite(const float *rgba, uint32_t width, uint32_t height,
-                             size_t row_pixels)
+uint64_t lg_pixels_nonfinite(const float *rgba, uint32_t width, uint32_t height, size_t row_pixels)
 {
     if (!rgba)
         return 0;
@@ -26,12 +25,12 @@ uint64_t lg_pixels_nonfinite(const float *rgba, uint32_t width, uint32_t height,
 void lg_warn_nonfinite(lg_node *n, const char *what, uint64_t count, const char *fate)
 {
     if (count)
-        lg_log(n, LG_LOG_WARN, "%s: %" PRIu64 " pixel%s with a NaN or Inf channel, %s", what,
-               count, count == 1 ? "" : "s", fate);
+        lg_log(n, LG_LOG_WARN, "%s: %" PRIu64 " pixel%s with a NaN or Inf channel, %s", what, count,
+               count == 1 ? "" : "s", fate);
 }
 
-int lg_check_input_finite(lg_node *n, const lg_frame *frame, uint32_t port,
-                          const char *port_name, const char *fate, bool *reported)
+int lg_check_input_finite(lg_node *n, const lg_frame *frame, uint32_t port, const char *port_name,
+                          const char *fate, bool *reported)
 {
     if (*reported)
         return 0;
@@ -49,8 +48,7 @@ int lg_check_input_finite(lg_node *n, const lg_frame *frame, uint32_t port,
                                        v.row_pixels ? v.row_pixels : info.image.width);
     if (bad) {
         char what[160], how[200];
-        snprintf(what, sizeof what, "input '%s' (frame %u)", port_name,
-                 frame ? frame->index : 0u);
+        snprintf(what, sizeof what, "input '%s' (frame %u)", port_name, frame ? frame->index : 0u);
         snprintf(how, sizeof how, "%s (reported once)", fate ? fate : "passed on as found");
         lg_warn_nonfinite(n, what, bad, how);
         *reported = true;

@@ -18,8 +18,8 @@
 
 typedef struct png_state {
     char msg[200];
-    int in_rows;       /* reading pixel rows: say which row failed */
-    png_uint_32 row;   /* rows completed so far (of the current pass) */
+    int in_rows;     /* reading pixel rows: say which row failed */
+    png_uint_32 row; /* rows completed so far (of the current pass) */
     int pass;
     FILE *file;
     png_structp png;
@@ -40,7 +40,8 @@ static void png_read_fn(png_structp png, png_bytep data, size_t length)
 {
     png_state *st = png_get_io_ptr(png);
     if (fread(data, 1, length, st->file) != length)
-        png_error(png, ferror(st->file) ? strerror(errno) : "file truncated (unexpected end of file)");
+        png_error(png,
+                  ferror(st->file) ? strerror(errno) : "file truncated (unexpected end of file)");
 }
 
 static void png_row_fn(png_structp png, png_uint_32 row, int pass)
@@ -134,9 +135,8 @@ int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     }
     if (setjmp(png_jmpbuf(st->png))) {
         if (st->in_rows)
-            rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': row %u%s: %s",
-                               path, (unsigned)st->row, st->pass > 0 ? " (interlaced)" : "",
-                               st->msg);
+            rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': row %u%s: %s", path,
+                               (unsigned)st->row, st->pass > 0 ? " (interlaced)" : "", st->msg);
         else
             rc = lg_image_fail(err, errlen, LG_ERR_INVALID, "cannot read '%s': %s", path, st->msg);
         lg_image_free(img);
@@ -164,17 +164,18 @@ int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     int depth = png_get_bit_depth(st->png, st->info);
     int type = png_get_color_type(st->png, st->info);
     int trns = png_get_valid(st->png, st->info, PNG_INFO_tRNS) != 0;
-    if ((rc = lg_image_check_size(path, w, h, depth == 16 ? 8 : 4, (uint64_t)h * 9, err,
-                                  errlen)) != LG_OK)
+    if ((rc = lg_image_check_size(path, w, h, depth == 16 ? 8 : 4, (uint64_t)h * 9, err, errlen)) !=
+        LG_OK)
         goto done;
     /* Deflate compresses at most 1032:1: a header promising far more pixel data than the
      * file could hold is damaged. Refuse it before allocating for it. */
     {
         uint64_t raw = ((uint64_t)png_get_rowbytes(st->png, st->info) + 1) * h;
         if (raw > 1100u * size + (1u << 20)) {
-            rc = lg_image_fail(err, errlen, LG_ERR_INVALID,
-                               "cannot read '%s': %ux%u needs more data than a %llu-byte file can hold",
-                               path, (unsigned)w, (unsigned)h, (unsigned long long)size);
+            rc = lg_image_fail(
+                err, errlen, LG_ERR_INVALID,
+                "cannot read '%s': %ux%u needs more data than a %llu-byte file can hold", path,
+                (unsigned)w, (unsigned)h, (unsigned long long)size);
             goto done;
         }
     }
@@ -198,9 +199,10 @@ int lg_png_read(int fd, uint64_t size, const char *path, lg_image *img, lg_image
     size_t rowbytes = png_get_rowbytes(st->png, st->info);
     if ((chans != 3 && chans != 4) || (bits != 8 && bits != 16) ||
         rowbytes < (size_t)w * (size_t)chans * (size_t)(bits / 8)) {
-        rc = lg_image_fail(err, errlen, LG_ERR_UNSUPPORTED,
-                           "cannot read '%s': unexpected layout after expansion (%d channels, %d bits)",
-                           path, chans, bits);
+        rc = lg_image_fail(
+            err, errlen, LG_ERR_UNSUPPORTED,
+            "cannot read '%s': unexpected layout after expansion (%d channels, %d bits)", path,
+            chans, bits);
         goto done;
     }
     st->buf = malloc(rowbytes * h);

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- rotation -------------------------------------------------------------------------- */
+/* ---- rotation -------------------------------------------------------------------------------- */
 
 /* sin and cos of an angle in degrees, exact at multiples of 90 (so that 90, 180 and the
  * 360 that reduces to 0 give exact matrices). */
@@ -20,7 +20,7 @@ static void sincos_deg(float deg, double *s, double *c)
         a += 360.0;
     if (a == 0 || a == 90 || a == 180 || a == 270) {
         int q = (int)(a / 90);
-        static const double S[4] = {0, 1, 0, -1}, C[4] = {1, 0, -1, 0};
+        static const double S[4] = { 0, 1, 0, -1 }, C[4] = { 1, 0, -1, 0 };
         *s = S[q];
         *c = C[q];
         return;
@@ -40,17 +40,16 @@ static void mul3(double out[9], const double a[9], const double b[9])
     memcpy(out, t, sizeof t);
 }
 
-void lg_probe_rotation_from_euler(float yaw_deg, float pitch_deg, float roll_deg,
-                                  float rotation[9])
+void lg_probe_rotation_from_euler(float yaw_deg, float pitch_deg, float roll_deg, float rotation[9])
 {
     double sy, cy, sp, cp, sr, cr;
     sincos_deg(yaw_deg, &sy, &cy);
     sincos_deg(pitch_deg, &sp, &cp);
     sincos_deg(roll_deg, &sr, &cr);
     /* column-major: element (row r, column c) at [c * 3 + r] */
-    const double ry[9] = {cy, 0, -sy, 0, 1, 0, sy, 0, cy};
-    const double rx[9] = {1, 0, 0, 0, cp, sp, 0, -sp, cp};
-    const double rz[9] = {cr, sr, 0, -sr, cr, 0, 0, 0, 1};
+    const double ry[9] = { cy, 0, -sy, 0, 1, 0, sy, 0, cy };
+    const double rx[9] = { 1, 0, 0, 0, cp, sp, 0, -sp, cp };
+    const double rz[9] = { cr, sr, 0, -sr, cr, 0, 0, 0, 1 };
     double m[9];
     mul3(m, ry, rx);
     mul3(m, m, rz);
@@ -58,7 +57,7 @@ void lg_probe_rotation_from_euler(float yaw_deg, float pitch_deg, float roll_deg
         rotation[k] = (float)m[k] + 0.0f; /* no -0 */
 }
 
-/* ---- solid angles ---------------------------------------------------------------------- */
+/* ---- solid angles ---------------------------------------------------------------------------- */
 
 /* Cube: the solid angle of [0, x] x [0, y] on the plane at distance 1, signed. */
 static double cube_area(double x, double y)
@@ -81,10 +80,10 @@ static double angular_h(double r2)
 }
 
 /* 8-point Gauss-Legendre on [-1, 1]. */
-static const double GL_X[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
-                               0.9602898564975363};
-static const double GL_W[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
-                               0.1012285362903763};
+static const double GL_X[4] = { 0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                0.9602898564975363 };
+static const double GL_W[4] = { 0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                0.1012285362903763 };
 
 /* The line integral of (1 - cos(pi min(r, 1))) dphi along the segment p0 -> p1 of the
  * angular map's plane (a right, b up). Along a line p(t) = p0 + t d, dphi =
@@ -100,7 +99,7 @@ static double angular_edge(double x0, double y0, double x1, double y1)
         return 0;
     /* |p0 + t d|^2 = 1 */
     double a = dx * dx + dy * dy, b = 2 * (x0 * dx + y0 * dy), c = x0 * x0 + y0 * y0 - 1;
-    double ts[4] = {0, 0, 0, 1};
+    double ts[4] = { 0, 0, 0, 1 };
     int n = 1;
     double disc = b * b - 4 * a * c;
     if (disc > 0) {
@@ -263,16 +262,14 @@ int lg_probe_solid_angles(lg_probe_layout layout, uint32_t width, uint32_t heigh
         for (int f = 1; f < 6; f++)
             memcpy(out + f * wh, out, wh * sizeof *out);
         break;
-    default:
-        return angular_table(width, height, out);
+    default: return angular_table(width, height, out);
     }
     return 0;
 }
 
-/* ---- lookups --------------------------------------------------------------------------- */
+/* ---- lookups --------------------------------------------------------------------------------- */
 
-static inline const float *texel(const lg_probe_image *img, uint32_t face, uint32_t i,
-                                 uint32_t j)
+static inline const float *texel(const lg_probe_image *img, uint32_t face, uint32_t i, uint32_t j)
 {
     return img->rgba + 4 * (((size_t)face * img->height + j) * img->width + i);
 }
@@ -426,18 +423,43 @@ void lg_probe_lookup(const lg_probe_image *img, lg_vec3 dir, lg_probe_sampling s
     }
 }
 
-/* ---- probes as image files ------------------------------------------------------------ */
+/* ---- probes as image files ------------------------------------------------------------------- */
 
 bool lg_probe_file_cell(lg_probe_file_layout file, uint32_t face, uint32_t *cx, uint32_t *cy,
                         bool *turn)
 {
     /* (cx, cy, turn) per face, GL order; docs/probes.md draws them */
     static const uint8_t cells[5][6][3] = {
-        {{2, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 2, 0}, {1, 1, 0}, {3, 1, 0}}, /* DEFAULT */
-        {{2, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 2, 0}, {1, 1, 0}, {3, 1, 0}}, /* CROSS */
-        {{2, 1, 0}, {0, 1, 0}, {1, 0, 0}, {1, 2, 0}, {1, 1, 0}, {1, 3, 1}}, /* VCROSS */
-        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}, {5, 0, 0}}, /* STRIP */
-        {{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}, {0, 4, 0}, {0, 5, 0}}, /* VSTRIP */
+        { { 2, 1, 0 },
+          { 0, 1, 0 },
+          { 1, 0, 0 },
+          { 1, 2, 0 },
+          { 1, 1, 0 },
+          { 3, 1, 0 } }, /* DEFAULT */
+        { { 2, 1, 0 },
+          { 0, 1, 0 },
+          { 1, 0, 0 },
+          { 1, 2, 0 },
+          { 1, 1, 0 },
+          { 3, 1, 0 } }, /* CROSS */
+        { { 2, 1, 0 },
+          { 0, 1, 0 },
+          { 1, 0, 0 },
+          { 1, 2, 0 },
+          { 1, 1, 0 },
+          { 1, 3, 1 } }, /* VCROSS */
+        { { 0, 0, 0 },
+          { 1, 0, 0 },
+          { 2, 0, 0 },
+          { 3, 0, 0 },
+          { 4, 0, 0 },
+          { 5, 0, 0 } }, /* STRIP */
+        { { 0, 0, 0 },
+          { 0, 1, 0 },
+          { 0, 2, 0 },
+          { 0, 3, 0 },
+          { 0, 4, 0 },
+          { 0, 5, 0 } }, /* VSTRIP */
     };
     if ((unsigned)file > LG_PROBE_FILE_VSTRIP || face > 5)
         return false;
@@ -465,7 +487,8 @@ int lg_probe_pack(const lg_probe_info *info, uint32_t width, uint32_t height, co
         return LG_ERR_INVALID;
     }
     if (!is_identity(info->rotation)) {
-        snprintf(err, errlen, "the probe has a rotation (rotate_deg) that an image file cannot "
+        snprintf(err, errlen,
+                 "the probe has a rotation (rotate_deg) that an image file cannot "
                  "hold: write it through probe_convert, which bakes the rotation into the "
                  "texels");
         return LG_ERR_INVALID;
@@ -484,14 +507,17 @@ int lg_probe_pack(const lg_probe_info *info, uint32_t width, uint32_t height, co
         return LG_ERR_INVALID;
     }
     uint32_t n = width;
-    uint32_t cw = file == LG_PROBE_FILE_VCROSS ? 3 : file == LG_PROBE_FILE_STRIP ? 6
-                : file == LG_PROBE_FILE_VSTRIP ? 1 : 4;
-    uint32_t ch = file == LG_PROBE_FILE_VCROSS ? 4 : file == LG_PROBE_FILE_STRIP ? 1
-                : file == LG_PROBE_FILE_VSTRIP ? 6 : 3;
+    uint32_t cw = file == LG_PROBE_FILE_VCROSS   ? 3
+                  : file == LG_PROBE_FILE_STRIP  ? 6
+                  : file == LG_PROBE_FILE_VSTRIP ? 1
+                                                 : 4;
+    uint32_t ch = file == LG_PROBE_FILE_VCROSS   ? 4
+                  : file == LG_PROBE_FILE_STRIP  ? 1
+                  : file == LG_PROBE_FILE_VSTRIP ? 6
+                                                 : 3;
     if ((uint64_t)n * cw > 65536 || (uint64_t)n * ch > 65536 ||
         lg_image_alloc(out, n * cw, n * ch)) {
-        snprintf(err, errlen, "cannot make a %ux%u image for a cube of face %u",
-                 n * cw, n * ch, n);
+        snprintf(err, errlen, "cannot make a %ux%u image for a cube of face %u", n * cw, n * ch, n);
         return LG_ERR_NOMEM;
     }
     /* lg_image_alloc zeroes: unused cells are black, alpha 0 */

@@ -37,8 +37,8 @@ static double angular_jacobian(double a, double b)
 
 /* The extents (radians) of a texel of layout l, size w x h, along its u and v axes, at
  * face coordinates (u, v): local, first order. */
-static void texel_extent(lg_probe_layout l, uint32_t w, uint32_t h, double u, double v,
-                         double *eu, double *ev)
+static void texel_extent(lg_probe_layout l, uint32_t w, uint32_t h, double u, double v, double *eu,
+                         double *ev)
 {
     if (l == LG_PROBE_LATLONG) {
         double theta = LG_PI * v;
@@ -95,9 +95,9 @@ static bool valid(lg_probe_layout l, uint32_t w, uint32_t h)
 #define LUT_SIZE (1u << LUT_BITS)
 
 typedef struct overlap {
-    size_t *row;     /* rows + 1 offsets */
-    uint32_t *src;   /* source texel per entry */
-    double *w;       /* steradians per entry (double: the balancing runs to 1e-9) */
+    size_t *row;   /* rows + 1 offsets */
+    uint32_t *src; /* source texel per entry */
+    double *w;     /* steradians per entry (double: the balancing runs to 1e-9) */
     size_t n, cap;
     /* the current row's source texels -> entries: a small open-addressing table, emptied
      * per row by a generation count (rows near a lat-long pole gather thousands of
@@ -167,7 +167,7 @@ static bool overlap_push(overlap *m, uint32_t s, double w)
 static double integral_error(const lg_probe_image *src, size_t n, const double *area,
                              const float *omega, double *area_error)
 {
-    double dev = 0, tot[3] = {0, 0, 0}, err[3] = {0, 0, 0}, worst = 0;
+    double dev = 0, tot[3] = { 0, 0, 0 }, err[3] = { 0, 0, 0 }, worst = 0;
     for (size_t s = 0; s < n; s++) {
         double e = area[s] - omega[s];
         dev += fabs(e);
@@ -194,7 +194,7 @@ static bool box_split(const lg_probe_image *src, const double *c, uint32_t strid
                       lg_probe_layout layout, lg_probe_coord centre, const float *rotation,
                       double w, overlap *m)
 {
-    const double *k4[4] = {c, c + 3, c + 3 * stride, c + 3 * stride + 3};
+    const double *k4[4] = { c, c + 3, c + 3 * stride, c + 3 * stride + 3 };
     uint32_t face = (uint32_t)k4[0][0];
     double W = src->width, H = src->height;
     double xr = k4[0][1]; /* lat-long: unwrap the corners next to the first */
@@ -255,8 +255,8 @@ static bool box_split(const lg_probe_image *src, const double *c, uint32_t strid
  * holds its centre's direction with its exact solid angle, so that its energy is kept
  * (the balancing then makes room for it). Rebuilds the matrix with those entries. */
 static bool add_unread(const lg_probe_image *src, lg_probe_layout layout, uint32_t width,
-                       uint32_t height, const float *rotation, const float *omega,
-                       double *area, const double *rows, overlap *m, size_t dst_n)
+                       uint32_t height, const float *rotation, const float *omega, double *area,
+                       const double *rows, overlap *m, size_t dst_n)
 {
     size_t src_n = (size_t)src->width * src->height * (src->layout == LG_PROBE_CUBE ? 6 : 1);
     size_t *extra = calloc(dst_n + 1, sizeof *extra);
@@ -273,9 +273,9 @@ static bool add_unread(const lg_probe_image *src, lg_probe_layout layout, uint32
             continue;
         uint32_t i = (uint32_t)(s % src->width), j = (uint32_t)(s / src->width % src->height);
         uint32_t f = (uint32_t)(s / ((size_t)src->width * src->height));
-        lg_vec3 d = lg_probe_to_world(src->rotation,
-                                      lg_probe_texel_dir(src->layout, src->width, src->height, f, i, j));
-        lg_probe_image di = {layout, width, height, NULL, NULL, {0}};
+        lg_vec3 d = lg_probe_to_world(src->rotation, lg_probe_texel_dir(src->layout, src->width,
+                                                                        src->height, f, i, j));
+        lg_probe_image di = { layout, width, height, NULL, NULL, { 0 } };
         size_t t = source_index(&di, lg_probe_from_world(rotation, d));
         if (!(rows[t] > 0))
             continue;
@@ -333,7 +333,7 @@ static bool add_unread(const lg_probe_image *src, lg_probe_layout layout, uint32
     return true;
 }
 
-/* ---- the driver ------------------------------------------------------------------------ */
+/* ---- the driver ------------------------------------------------------------------------------ */
 
 /* Runs fn over [0, n) in chunks of `grain` on the pool of node `pool`, or on this thread
  * in chunk order when pool is NULL. The chunks are the same either way, and every chunk
@@ -350,7 +350,7 @@ static int run_chunks(lg_node *pool, size_t n, size_t grain,
 
 typedef struct rs_ctx {
     const lg_probe_image *src;
-    lg_probe_image rd;        /* the source without its rotation (bilinear lookups) */
+    lg_probe_image rd; /* the source without its rotation (bilinear lookups) */
     const float *src_rot;
     lg_probe_layout layout;
     uint32_t width, height;
@@ -359,16 +359,16 @@ typedef struct rs_ctx {
     double q;
     uint32_t kmax;
     float *out;
-    double *rows;             /* destination texels' solid angles (row sums) */
-    size_t *row;              /* the matrix's row offsets (chunk-local until merged) */
-    overlap **chunk_m;        /* the matrix, per chunk of destination rows */
+    double *rows;      /* destination texels' solid angles (row sums) */
+    size_t *row;       /* the matrix's row offsets (chunk-local until merged) */
+    overlap **chunk_m; /* the matrix, per chunk of destination rows */
     uint64_t *chunk_samples;
     uint32_t *chunk_k;
     int *chunk_rc;
     /* balancing and the result */
-    overlap *m;               /* the merged matrix */
+    overlap *m; /* the merged matrix */
     const double *colsum;
-    const double *factor;     /* the column step's factor per source texel */
+    const double *factor; /* the column step's factor per source texel */
     const float *omega;
     size_t dst_n;
 } rs_ctx;
@@ -384,7 +384,7 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
     const float *rotation = x->rotation, *src_rot = x->src_rot;
     bool box = x->box;
     double q = x->q;
-    double *corner = wu + 2 * kmax; /* (kmax + 1)^2 cube corner areas */
+    double *corner = wu + 2 * kmax;                         /* (kmax + 1)^2 cube corner areas */
     double *sco = corner + (size_t)(kmax + 1) * (kmax + 1); /* their source coordinates */
     size_t t = ((size_t)f * height + j) * width + i;
     float *o = x->out + 4 * t;
@@ -395,7 +395,7 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
     }
     o[0] = o[1] = o[2] = o[3] = 0;
     double uc = (i + 0.5) / width, vc = (j + 0.5) / height;
-    lg_probe_coord cc = {f, (float)uc, (float)vc};
+    lg_probe_coord cc = { f, (float)uc, (float)vc };
     if (layout == LG_PROBE_ANGULAR) {
         /* a texel wholly outside the disc: no sphere, value 0 */
         double x0 = 2.0 * i / width - 1, x1 = 2.0 * (i + 1) / width - 1;
@@ -473,17 +473,17 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
         /* the source coordinates of the sub-rectangles' corners */
         for (uint32_t b = 0; b <= ky; b++)
             for (uint32_t a = 0; a <= kx; a++) {
-                lg_probe_coord c = {f, (float)((i + (double)a / kx) / width),
-                                    (float)((j + (double)b / ky) / height)};
+                lg_probe_coord c = { f, (float)((i + (double)a / kx) / width),
+                                     (float)((j + (double)b / ky) / height) };
                 lg_vec3 d = lg_probe_to_world(rotation, lg_probe_coord_to_dir(layout, c));
-                lg_probe_coord e =
-                    lg_probe_dir_to_coord(src->layout, lg_probe_from_world(src_rot, d));
+                lg_probe_coord e = lg_probe_dir_to_coord(src->layout,
+                                                         lg_probe_from_world(src_rot, d));
                 double *q3 = sco + 3 * ((size_t)b * (kx + 1) + a);
                 q3[0] = e.face;
                 q3[1] = (double)e.u * src->width;
                 q3[2] = (double)e.v * src->height;
             }
-    double acc[4] = {0, 0, 0, 0}, wsum = 0;
+    double acc[4] = { 0, 0, 0, 0 }, wsum = 0;
     for (uint32_t b = 0; b < ky; b++)
         for (uint32_t a = 0; a < kx; a++) {
             double w;
@@ -506,7 +506,7 @@ static bool build_texel(rs_ctx *x, overlap *m, double *wu, uint32_t f, uint32_t 
             }
             if (!(w > 0))
                 continue;
-            lg_probe_coord c = {f, (float)u, (float)v};
+            lg_probe_coord c = { f, (float)u, (float)v };
             (*samples)++;
             if (box) {
                 x->rows[t] += w;
@@ -606,7 +606,7 @@ static void write_rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
     overlap *m = x->m;
     const float *rgba = x->src->rgba;
     for (size_t t = begin; t < end; t++) {
-        double acc[4] = {0, 0, 0, 0}, r = 0;
+        double acc[4] = { 0, 0, 0, 0 }, r = 0;
         for (size_t e = m->row[t]; e < m->row[t + 1]; e++) {
             const float *v = rgba + 4 * (size_t)m->src[e];
             for (int k = 0; k < 4; k++)
@@ -737,8 +737,8 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
             overlap *cm = x.chunk_m[c];
             memcpy(m->src + base, cm->src, cm->n * sizeof *m->src);
             memcpy(m->w + base, cm->w, cm->n * sizeof *m->w);
-            size_t t0 = c * grain * width, t1 = (c * grain + grain < nrows ? c * grain + grain
-                                                                           : nrows) * width;
+            size_t t0 = c * grain * width,
+                   t1 = (c * grain + grain < nrows ? c * grain + grain : nrows) * width;
             for (size_t t = t0; t < t1; t++)
                 m->row[t] += base;
             base += cm->n;
@@ -752,8 +752,8 @@ int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_la
         column_sums(m, area, src_n);
         for (size_t s = 0; s < src_n; s++)
             unread += omega[s] > 0 && area[s] == 0;
-        if (unread && !add_unread(src, layout, width, height, rotation, omega, area, x.rows, m,
-                                  dst_n))
+        if (unread &&
+            !add_unread(src, layout, width, height, rotation, omega, area, x.rows, m, dst_n))
             goto done;
         raw_total = integral_error(src, src_n, area, omega, &raw_area);
         /* Balancing (Sinkhorn): the sub-rectangles resolve the source texels' boundaries

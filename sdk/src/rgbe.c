@@ -23,7 +23,7 @@ static double rgbe_sanitize(float c)
 
 void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4])
 {
-    double c[3] = {rgbe_sanitize(rgb[0]), rgbe_sanitize(rgb[1]), rgbe_sanitize(rgb[2])};
+    double c[3] = { rgbe_sanitize(rgb[0]), rgbe_sanitize(rgb[1]), rgbe_sanitize(rgb[2]) };
     double max = c[0] > c[1] ? c[0] : c[1];
     if (c[2] > max)
         max = c[2];
@@ -41,8 +41,8 @@ void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4])
     if (!saturate) {
         double mant = frexp(max, &e); /* max = mant * 2^e, mant in [0.5, 1) */
         if (floor(mant * 256.0 + 0.5) >= 256.0)
-            e++; /* rounds up to the next power of two: mantissa 128 there */
-        saturate = e > 127;           /* exponent byte e + 128 must fit in 255 */
+            e++;            /* rounds up to the next power of two: mantissa 128 there */
+        saturate = e > 127; /* exponent byte e + 128 must fit in 255 */
     }
     if (saturate) {
         /* The largest value RGBE holds is 255 * 2^(255-136), about 1.7e38: the largest

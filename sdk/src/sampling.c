@@ -25,10 +25,16 @@ static uint64_t mix64(uint64_t z)
 }
 
 /* 53 random bits as a double in [0, 1). */
-static double unit53(uint64_t bits) { return (double)(bits >> 11) * 0x1p-53; }
+static double unit53(uint64_t bits)
+{
+    return (double)(bits >> 11) * 0x1p-53;
+}
 
 /* 32 bits as a double in [0, 1) (exact). */
-static double unit32(uint32_t bits) { return (double)bits * 0x1p-32; }
+static double unit32(uint32_t bits)
+{
+    return (double)bits * 0x1p-32;
+}
 
 static uint32_t reverse32(uint32_t v)
 {
@@ -74,8 +80,10 @@ void lg_sample_square(lg_sampler s, uint32_t side, uint64_t seed, uint64_t k, do
         uv[0] = ((double)(k % side) + unit53(a)) / side;
         uv[1] = ((double)(k / side) + unit53(b)) / side;
         /* (i + xi) / side can round to 1 for xi just below 1 */
-        if (uv[0] >= 1.0) uv[0] = nextafter(1.0, 0.0);
-        if (uv[1] >= 1.0) uv[1] = nextafter(1.0, 0.0);
+        if (uv[0] >= 1.0)
+            uv[0] = nextafter(1.0, 0.0);
+        if (uv[1] >= 1.0)
+            uv[1] = nextafter(1.0, 0.0);
         return;
     }
     }
@@ -103,4 +111,7 @@ static double sum_rec(const float *x, size_t n)
     return sum_rec(x, h) + sum_rec(x + h, n - h);
 }
 
-double lg_sum_f(const float *x, size_t n) { return x && n ? sum_rec(x, n) : 0.0; }
+double lg_sum_f(const float *x, size_t n)
+{
+    return x && n ? sum_rec(x, n) : 0.0;
+}

@@ -23,8 +23,9 @@ const lg_scene *lg_scene_get(lg_node *n, const lg_resource *res)
     }
     const lg_scene *s = info.payload;
     if (s->struct_size < offsetof(lg_scene, reserved)) {
-        lg_error(n, "the scene was made by a plugin built for an incompatible SDK "
-                    "(struct_size %zu)",
+        lg_error(n,
+                 "the scene was made by a plugin built for an incompatible SDK "
+                 "(struct_size %zu)",
                  s->struct_size);
         return NULL;
     }
@@ -104,8 +105,8 @@ static int upload_cl(lg_node *n, const lg_resource *owner, uint32_t slot, const 
 }
 
 /* The mesh's arrays through `up`, into the four result slots (texcoords only if any). */
-static int upload_mesh(lg_node *n, const lg_resource *res, uint32_t mesh, upload_fn up,
-                       void *pos, void *nrm, void *uv, void *idx)
+static int upload_mesh(lg_node *n, const lg_resource *res, uint32_t mesh, upload_fn up, void *pos,
+                       void *nrm, void *uv, void *idx)
 {
     const lg_scene *s;
     const lg_resource *owner = NULL;
@@ -137,4 +138,3 @@ int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_
     return upload_mesh(n, res, mesh, upload_cl, &out->positions, &out->normals, &out->texcoords,
                        &out->indices);
 }
-

@@ -9,7 +9,7 @@
 
 #include "lightgraph/plugin.h"
 
-/* ---- camera ------------------------------------------------------------------------------ */
+/* ---- camera ---------------------------------------------------------------------------------- */
 
 static bool finite3(const float v[3])
 {
@@ -43,12 +43,13 @@ int lg_scene_view_make(lg_node *n, const lg_scene *s, int64_t camera, uint32_t w
     uint32_t ci;
     if (camera < 0) {
         if (s->camera >= s->n_cameras)
-            return lg_error(n, "the scene's active camera %u does not exist (it has %u)",
-                            s->camera, s->n_cameras);
+            return lg_error(n, "the scene's active camera %u does not exist (it has %u)", s->camera,
+                            s->n_cameras);
         ci = s->camera;
     } else if ((uint64_t)camera >= s->n_cameras) {
-        return lg_error(n, "camera %" PRId64 " does not exist: the scene has %u camera%s "
-                           "(0..%u; -1 = the active one)",
+        return lg_error(n,
+                        "camera %" PRId64 " does not exist: the scene has %u camera%s "
+                        "(0..%u; -1 = the active one)",
                         camera, s->n_cameras, s->n_cameras == 1 ? "" : "s", s->n_cameras - 1);
     } else {
         ci = (uint32_t)camera;
@@ -59,11 +60,12 @@ int lg_scene_view_make(lg_node *n, const lg_scene *s, int64_t camera, uint32_t w
         !isfinite(c->znear) || !isfinite(c->zfar) || !isfinite(c->aspect))
         return lg_error(n, "camera %u '%s' has a value that is not finite", ci, cname);
     if (!(c->yfov > 0.0f && c->yfov < 3.1f))
-        return lg_error(n, "camera %u '%s': vertical field of view %g rad is outside (0, 3.1)",
-                        ci, cname, (double)c->yfov);
+        return lg_error(n, "camera %u '%s': vertical field of view %g rad is outside (0, 3.1)", ci,
+                        cname, (double)c->yfov);
     if (c->znear < 0.0f || c->zfar < 0.0f || (c->zfar > 0.0f && c->zfar <= c->znear))
-        return lg_error(n, "camera %u '%s': znear %g and zfar %g do not make a depth range "
-                           "(0 <= znear < zfar, or zfar 0 for 'from the bounds')",
+        return lg_error(n,
+                        "camera %u '%s': znear %g and zfar %g do not make a depth range "
+                        "(0 <= znear < zfar, or zfar 0 for 'from the bounds')",
                         ci, cname, (double)c->znear, (double)c->zfar);
     lg_vec3 eye = lg_v3(c->position[0], c->position[1], c->position[2]);
     lg_vec3 target = lg_v3(c->target[0], c->target[1], c->target[2]);
@@ -109,7 +111,7 @@ int lg_scene_view_make(lg_node *n, const lg_scene *s, int64_t camera, uint32_t w
     return 0;
 }
 
-/* ---- instances ---------------------------------------------------------------------------- */
+/* ---- instances ------------------------------------------------------------------------------- */
 
 static const char *mesh_name(const lg_mesh *m)
 {
@@ -124,7 +126,9 @@ static int check_mesh(lg_node *n, const lg_scene *s, uint32_t mi, bool normals)
     const lg_mesh *m = &s->meshes[mi];
     if (!m->positions || !m->indices || (normals && !m->normals))
         return lg_error(n, "mesh %u '%s' lacks its %s array", mi, mesh_name(m),
-                        !m->positions ? "positions" : !m->indices ? "indices" : "normals");
+                        !m->positions ? "positions"
+                        : !m->indices ? "indices"
+                                      : "normals");
     if (m->n_indices % 3 != 0)
         return lg_error(n, "mesh %u '%s': %u indices is not a whole number of triangles", mi,
                         mesh_name(m), m->n_indices);
@@ -133,12 +137,13 @@ static int check_mesh(lg_node *n, const lg_scene *s, uint32_t mi, bool normals)
                              "mesh %u '%s': %u indices is more than one GL draw takes", mi,
                              mesh_name(m), m->n_indices);
     if (m->material >= s->n_materials)
-        return lg_error(n, "mesh %u '%s' uses material %u, the scene has %u", mi,
-                        mesh_name(m), m->material, s->n_materials);
+        return lg_error(n, "mesh %u '%s' uses material %u, the scene has %u", mi, mesh_name(m),
+                        m->material, s->n_materials);
     for (uint32_t i = 0; i < m->n_indices; i++)
         if (m->indices[i] >= m->n_vertices)
-            return lg_error(n, "mesh %u '%s': index %u (entry %u) is out of range: the mesh "
-                               "has %u vertices",
+            return lg_error(n,
+                            "mesh %u '%s': index %u (entry %u) is out of range: the mesh "
+                            "has %u vertices",
                             mi, mesh_name(m), m->indices[i], i, m->n_vertices);
     return 0;
 }
@@ -215,8 +220,7 @@ static int collect(lg_node *n, lg_scene_gl *sgl)
     return 0;
 }
 
-int lg_scene_gl_create(lg_node *n, const lg_resource *scene_res, unsigned flags,
-                       lg_scene_gl **out)
+int lg_scene_gl_create(lg_node *n, const lg_resource *scene_res, unsigned flags, lg_scene_gl **out)
 {
     *out = NULL;
     if (flags & ~(unsigned)LG_SCENE_GL_NORMALS)
@@ -240,7 +244,7 @@ int lg_scene_gl_create(lg_node *n, const lg_resource *scene_res, unsigned flags,
     return 0;
 }
 
-/* ---- GL ------------------------------------------------------------------------------------- */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 int lg_scene_gl_upload(lg_node *n, const lg_gl *gl, lg_scene_gl *sgl)
 {
@@ -252,8 +256,7 @@ int lg_scene_gl_upload(lg_node *n, const lg_gl *gl, lg_scene_gl *sgl)
         size_t bytes = (size_t)sgl->count * sgl->record_size;
         float *recs = calloc(sgl->count, sgl->record_size);
         if (!recs)
-            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)",
-                                 bytes);
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)", bytes);
         for (uint32_t i = 0; i < sgl->count; i++) {
             const lg_instance *in = &sgl->scene->instances[sgl->items[i].instance];
             float *r = recs + (size_t)i * rec;
@@ -344,8 +347,8 @@ int lg_scene_gl_draw(lg_node *n, const lg_gl *gl, const lg_scene_gl *sgl,
                                  (GLint)(((size_t)i * isz - off) / isz));
             if (d->on_batch)
                 d->on_batch(d->user, i);
-            gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)m->n_indices, GL_UNSIGNED_INT,
-                                      NULL, (GLsizei)(e - i));
+            gl->DrawElementsInstanced(GL_TRIANGLES, (GLsizei)m->n_indices, GL_UNSIGNED_INT, NULL,
+                                      (GLsizei)(e - i));
             i = e;
         }
         a = b;

@@ -11,7 +11,8 @@
 
 static uint32_t clamp_bands(uint32_t n)
 {
-    if (n < 1u) return 1u;
+    if (n < 1u)
+        return 1u;
     return n > LG_SH_MAX_BANDS ? LG_SH_MAX_BANDS : n;
 }
 
@@ -26,43 +27,43 @@ static uint32_t clamp_bands(uint32_t n)
  *   C_m = x C_{m-1} - y S_{m-1},  S_m = x S_{m-1} + y C_{m-1}.
  * The ratio factors are computed in double in both versions (they are constants; the
  * float version rounds them once). */
-#define LG_SH_EVAL_BODY(T, SQRT)                                                           \
-    do {                                                                                   \
-        T cm = (T)1, sm = (T)0; /* C_m, S_m */                                             \
-        T qmm = (T)(0.5 / sqrt(LG_PI)); /* Q_m^m */                                        \
-        for (int m = 0; m < (int)n; m++) {                                                 \
-            if (m > 0) {                                                                   \
-                T c2 = x * cm - y * sm;                                                    \
-                sm = x * sm + y * cm;                                                      \
-                cm = c2;                                                                   \
-                qmm *= (T)sqrt((2.0 * m + 1.0) / (2.0 * m));                               \
-            }                                                                              \
-            T s2 = m > 0 ? (T)SQRT((T)2) : (T)1;                                          \
-            T q2 = 0, q1 = qmm; /* Q_{l-2}^m, Q_{l-1}^m */                                 \
-            for (int l = m; l < (int)n; l++) {                                             \
-                T q;                                                                       \
-                if (l == m) {                                                              \
-                    q = qmm;                                                               \
-                } else if (l == m + 1) {                                                   \
-                    q = (T)sqrt(2.0 * m + 3.0) * z * qmm;                                  \
-                } else {                                                                   \
-                    double ll = l, mm = m, l1 = l - 1;                                     \
-                    T a = (T)sqrt((4.0 * ll * ll - 1.0) / (ll * ll - mm * mm));            \
-                    T b = (T)sqrt((l1 * l1 - mm * mm) / (4.0 * l1 * l1 - 1.0));            \
-                    q = a * (z * q1 - b * q2);                                             \
-                }                                                                          \
-                if (l > m) {                                                               \
-                    q2 = q1;                                                               \
-                    q1 = q;                                                                \
-                }                                                                          \
-                if (m == 0) {                                                              \
-                    out[l * (l + 1)] = q;                                                  \
-                } else {                                                                   \
-                    out[l * (l + 1) + m] = s2 * q * cm;                                    \
-                    out[l * (l + 1) - m] = s2 * q * sm;                                    \
-                }                                                                          \
-            }                                                                              \
-        }                                                                                  \
+#define LG_SH_EVAL_BODY(T, SQRT)                                                                   \
+    do {                                                                                           \
+        T cm = (T)1, sm = (T)0;         /* C_m, S_m */                                             \
+        T qmm = (T)(0.5 / sqrt(LG_PI)); /* Q_m^m */                                                \
+        for (int m = 0; m < (int)n; m++) {                                                         \
+            if (m > 0) {                                                                           \
+                T c2 = x * cm - y * sm;                                                            \
+                sm = x * sm + y * cm;                                                              \
+                cm = c2;                                                                           \
+                qmm *= (T)sqrt((2.0 * m + 1.0) / (2.0 * m));                                       \
+            }                                                                                      \
+            T s2 = m > 0 ? (T)SQRT((T)2) : (T)1;                                                   \
+            T q2 = 0, q1 = qmm; /* Q_{l-2}^m, Q_{l-1}^m */                                         \
+            for (int l = m; l < (int)n; l++) {                                                     \
+                T q;                                                                               \
+                if (l == m) {                                                                      \
+                    q = qmm;                                                                       \
+                } else if (l == m + 1) {                                                           \
+                    q = (T)sqrt(2.0 * m + 3.0) * z * qmm;                                          \
+                } else {                                                                           \
+                    double ll = l, mm = m, l1 = l - 1;                                             \
+                    T a = (T)sqrt((4.0 * ll * ll - 1.0) / (ll * ll - mm * mm));                    \
+                    T b = (T)sqrt((l1 * l1 - mm * mm) / (4.0 * l1 * l1 - 1.0));                    \
+                    q = a * (z * q1 - b * q2);                                                     \
+                }                                                                                  \
+                if (l > m) {                                                                       \
+                    q2 = q1;                                                                       \
+                    q1 = q;                                                                        \
+                }                                                                                  \
+                if (m == 0) {                                                                      \
+                    out[l * (l + 1)] = q;                                                          \
+                } else {                                                                           \
+                    out[l * (l + 1) + m] = s2 * q * cm;                                            \
+                    out[l * (l + 1) - m] = s2 * q * sm;                                            \
+                }                                                                                  \
+            }                                                                                      \
+        }                                                                                          \
     } while (0)
 
 void lg_sh_eval_d(uint32_t n, const double dir[3], double *out)
@@ -99,20 +100,27 @@ void lg_sh_eval_f(uint32_t n, const float dir[3], float *out)
 
 double lg_sh_clamped_cosine(uint32_t l)
 {
-    if (l == 0) return LG_PI;
-    if (l == 1) return 2.0 * LG_PI / 3.0;
-    if (l & 1u) return 0.0;
+    if (l == 0)
+        return LG_PI;
+    if (l == 1)
+        return 2.0 * LG_PI / 3.0;
+    if (l & 1u)
+        return 0.0;
     /* c_l = l! / (2^l ((l/2)!)^2) = C(l, l/2) / 2^l: c_0 = 1, c_{k+2} = c_k (k+1)/(k+2). */
     double c = 1.0;
-    for (uint32_t k = 0; k < l; k += 2) c *= (k + 1.0) / (k + 2.0);
+    for (uint32_t k = 0; k < l; k += 2)
+        c *= (k + 1.0) / (k + 2.0);
     double sign = ((l / 2u) & 1u) ? 1.0 : -1.0; /* (-1)^(l/2 - 1) */
     return 2.0 * LG_PI * sign / ((l + 2.0) * (l - 1.0)) * c;
 }
 
-/* ---- rotation (Ivanic and Ruedenberg 1996, erratum 1998) ---- */
+/* ---- rotation (Ivanic and Ruedenberg 1996, erratum 1998) ------------------------------------- */
 
 /* Offset of band l's block in the packed matrices: sum_{k<l} (2k+1)^2. */
-static size_t block_offset(int l) { return lg_sh_rotation_size((uint32_t)l); }
+static size_t block_offset(int l)
+{
+    return lg_sh_rotation_size((uint32_t)l);
+}
 
 /* Element (m, n) of band l's block, m and n in [-l, l]. */
 #define BLK(base, l, m, n) ((base)[((m) + (l)) * (2 * (l) + 1) + ((n) + (l))])
@@ -132,15 +140,18 @@ int lg_sh_rotation_build(uint32_t n, const double R[9], double *matrices)
 {
     n = clamp_bands(n);
     for (int k = 0; k < 9; k++)
-        if (!isfinite(R[k])) return -1;
+        if (!isfinite(R[k]))
+            return -1;
     matrices[0] = 1.0;
-    if (n < 2) return 0;
+    if (n < 2)
+        return 0;
     /* Band 1: the basis is (y, z, x) up to one common factor, and (as coordinates of
      * g(w) = f(R^T w)) a linear function's coefficients transform by R. */
     double *r1 = matrices + block_offset(1);
-    static const int perm[3] = {1, 2, 0}; /* m = -1, 0, 1 -> y, z, x */
+    static const int perm[3] = { 1, 2, 0 }; /* m = -1, 0, 1 -> y, z, x */
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) r1[i * 3 + j] = R[perm[i] * 3 + perm[j]];
+        for (int j = 0; j < 3; j++)
+            r1[i * 3 + j] = R[perm[i] * 3 + perm[j]];
     for (int l = 2; l < (int)n; l++) {
         const double *prev = matrices + block_offset(l - 1);
         double *cur = matrices + block_offset(l);
@@ -155,7 +166,8 @@ int lg_sh_rotation_build(uint32_t n, const double R[9], double *matrices)
                            (1.0 - 2.0 * d0);
                 double w = -0.5 * sqrt((l - am - 1.0) * (l - am) / denom) * (1.0 - d0);
                 double val = 0.0;
-                if (u != 0.0) val += u * ir_p(r1, prev, 0, l, m, k);
+                if (u != 0.0)
+                    val += u * ir_p(r1, prev, 0, l, m, k);
                 if (v != 0.0) {
                     double V;
                     if (m == 0) {
@@ -195,15 +207,16 @@ void lg_sh_rotate(uint32_t n, const double *matrices, const double *in, double *
         int w = 2 * l + 1, base = l * l;
         for (int i = 0; i < w; i++) {
             double s = 0.0;
-            for (int j = 0; j < w; j++) s += blk[i * w + j] * in[base + j];
+            for (int j = 0; j < w; j++)
+                s += blk[i * w + j] * in[base + j];
             tmp[i] = s;
         }
         memcpy(out + base, tmp, (size_t)w * sizeof tmp[0]);
     }
 }
 
-void lg_sh_rotate_planes_f(uint32_t n, const double *matrices, uint32_t planes,
-                           const float *in, float *out)
+void lg_sh_rotate_planes_f(uint32_t n, const double *matrices, uint32_t planes, const float *in,
+                           float *out)
 {
     n = clamp_bands(n);
     size_t nc = (size_t)n * n;
@@ -216,10 +229,12 @@ void lg_sh_rotate_planes_f(uint32_t n, const double *matrices, uint32_t planes,
             int w = 2 * l + 1, base = l * l;
             for (int i = 0; i < w; i++) {
                 double s = 0.0;
-                for (int j = 0; j < w; j++) s += blk[i * w + j] * (double)src[base + j];
+                for (int j = 0; j < w; j++)
+                    s += blk[i * w + j] * (double)src[base + j];
                 tmp[i] = s;
             }
-            for (int i = 0; i < w; i++) dst[base + i] = (float)tmp[i];
+            for (int i = 0; i < w; i++)
+                dst[base + i] = (float)tmp[i];
         }
     }
 }
@@ -228,26 +243,32 @@ void lg_sh_orthonormalize(double R[9])
 {
     double *a = R, *b = R + 3, *c = R + 6;
     double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    for (int k = 0; k < 3; k++) a[k] /= la;
+    for (int k = 0; k < 3; k++)
+        a[k] /= la;
     double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    for (int k = 0; k < 3; k++) b[k] -= d * a[k];
+    for (int k = 0; k < 3; k++)
+        b[k] -= d * a[k];
     double lb = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-    for (int k = 0; k < 3; k++) b[k] /= lb;
+    for (int k = 0; k < 3; k++)
+        b[k] /= lb;
     c[0] = a[1] * b[2] - a[2] * b[1];
     c[1] = a[2] * b[0] - a[0] * b[2];
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* ---- windowing (Sloan 2008) ---- */
+/* ---- windowing (Sloan 2008) ------------------------------------------------------------------ */
 
 double lg_sh_window_factor(lg_sh_window_kind kind, double width, uint32_t l)
 {
-    if (!(width > 0.0) || !isfinite(width) || l == 0) return 1.0;
+    if (!(width > 0.0) || !isfinite(width) || l == 0)
+        return 1.0;
     if (kind == LG_SH_WINDOW_GAUSSIAN)
         return exp(-(double)l * (l + 1.0) / (width * (width + 1.0)));
     double t = (double)l / width;
-    if (t >= 1.0) return 0.0;
-    if (kind == LG_SH_WINDOW_LANCZOS) return sin(LG_PI * t) / (LG_PI * t);
+    if (t >= 1.0)
+        return 0.0;
+    if (kind == LG_SH_WINDOW_LANCZOS)
+        return sin(LG_PI * t) / (LG_PI * t);
     return 0.5 * (1.0 + cos(LG_PI * t));
 }
 
@@ -256,6 +277,7 @@ void lg_sh_window(uint32_t n, lg_sh_window_kind kind, double width, double *coef
     n = clamp_bands(n);
     for (uint32_t l = 0; l < n; l++) {
         double f = lg_sh_window_factor(kind, width, l);
-        for (uint32_t i = l * l; i < (l + 1) * (l + 1); i++) coeffs[i] *= f;
+        for (uint32_t i = l * l; i < (l + 1) * (l + 1); i++)
+            coeffs[i] *= f;
     }
 }

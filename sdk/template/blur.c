@@ -18,19 +18,27 @@
 #include "blur.h"
 
 static const lg_param_desc params[] = {
-    {.key = "sigma", .type = LG_PARAM_FLOAT, .def.f = 2.0, .min = 0, .max = 64,
-     .doc = "standard deviation of the Gaussian, pixels; 0 copies the image"},
-    {.key = "radius", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = ACME_BLUR_MAX_RADIUS,
-     .doc = "taps on each side of a pixel; 0 = ceil(3 sigma)"},
+    { .key = "sigma",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 2.0,
+      .min = 0,
+      .max = 64,
+      .doc = "standard deviation of the Gaussian, pixels; 0 copies the image" },
+    { .key = "radius",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = ACME_BLUR_MAX_RADIUS,
+      .doc = "taps on each side of a pixel; 0 = ceil(3 sigma)" },
     /* The one backend parameter (lightgraph/plugin.h): the backends this node has, in the
      * order cpu, gl, cl, and its default. */
     LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL | LG_BACKEND_CL, LG_BACKEND_CPU),
 };
 static const lg_port_desc inputs[] = {
-    {.name = "image", .kind = LG_KIND_IMAGE, .doc = "the image to blur, rgba32f"},
+    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "the image to blur, rgba32f" },
 };
 static const lg_port_desc outputs[] = {
-    {.name = "out", .kind = LG_KIND_IMAGE, .doc = "the blurred image, rgba32f, same size"},
+    { .name = "out", .kind = LG_KIND_IMAGE, .doc = "the blurred image, rgba32f, same size" },
 };
 
 static int blur_create(lg_node *n)
@@ -78,7 +86,7 @@ static int blur_prepare(lg_node *n)
                         (info.image.flags & LG_IMAGE_CUBE) ? "cube map" : "depth-only image");
     st->width = info.image.width;
     st->height = info.image.height;
-    lg_image_desc d = {.width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = st->width, .height = st->height, .format = LG_FORMAT_RGBA32F };
     if ((rc = lg_declare_image(n, 0, &d)))
         return rc;
     /* the host moves the input to this device when it is elsewhere (counted as moved) */
@@ -91,18 +99,14 @@ static int blur_execute(lg_node *n, const lg_frame *frame)
     /* The policy for NaN and Inf (README "Bad pixels"), said once per render on every
      * backend. The count reads the input on the CPU: free when the input's CPU copy is
      * current (an image read from a file), a move when it was made on a GPU. */
-    int rc = lg_check_input_finite(n, frame, 0, "image",
-                                   "read as 0 (NaN) and +-3.4e38 (+-Inf)",
+    int rc = lg_check_input_finite(n, frame, 0, "image", "read as 0 (NaN) and +-3.4e38 (+-Inf)",
                                    &st->reported_nonfinite);
     if (rc)
         return rc;
     switch (st->device) {
-    case LG_DEVICE_GL:
-        return acme_blur_gl(n, st);
-    case LG_DEVICE_CL:
-        return acme_blur_cl(n, st);
-    default:
-        return acme_blur_cpu(n, st);
+    case LG_DEVICE_GL: return acme_blur_gl(n, st);
+    case LG_DEVICE_CL: return acme_blur_cl(n, st);
+    default: return acme_blur_cpu(n, st);
     }
 }
 
@@ -119,7 +123,7 @@ static void blur_destroy(lg_node *n)
     n->user = NULL;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "acme_blur",
     .doc = "separable Gaussian blur, clamp-to-edge (the SDK's template)",
@@ -133,7 +137,7 @@ static const lg_node_type types[] = {{
     /* how far cpu, gl and cl may differ (lightgraph conform): float sums of up to 2r + 1
      * taps in two passes, measured below 1e-6 relative (README "Accuracy") */
     .tolerance = 1e-5,
-}};
+} };
 
 /* The naming rule for third-party plugins: plugin VENDOR_NAME, node types VENDOR_...
  * (VENDOR: 2 to 16 of [a-z0-9], not "lg"). The version is part of every cache key. */

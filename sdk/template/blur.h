@@ -18,10 +18,10 @@
  * exist only then), kept across frames, remade only when the image size changes, and
  * freed by destroy. */
 typedef struct acme_blur {
-    lg_device device;   /* the `backend` parameter (lg_param_backend) */
-    int radius;         /* taps on each side: ceil(3 sigma), or the `radius` parameter */
-    float *weights;     /* radius + 1 normalised weights, [0] the centre (owned) */
-    uint32_t width, height; /* the input's size, from prepare */
+    lg_device device;        /* the `backend` parameter (lg_param_backend) */
+    int radius;              /* taps on each side: ceil(3 sigma), or the `radius` parameter */
+    float *weights;          /* radius + 1 normalised weights, [0] the centre (owned) */
+    uint32_t width, height;  /* the input's size, from prepare */
     bool reported_nonfinite; /* lg_check_input_finite has warned (once per render) */
     struct acme_blur_cpu *cpu;
     struct acme_blur_gl *gl;

@@ -20,11 +20,15 @@ struct acme_blur_cl {
 static int cl_init(lg_node *n, struct acme_blur_cl *c)
 {
     /* OpenCL C has no #include of embedded text: the shared text first, then the kernel */
-    static const char *const sources[] = {lg_src_acme_blur_cl, lg_src_blur_cl};
-    static const char *const names[] = {lg_src_acme_blur_cl_file, lg_src_blur_cl_file};
-    lg_cl_pass_desc d = {.struct_size = sizeof d, .name = "acme_blur", .sources = sources,
-                         .source_names = names, .n_sources = 2, .options = "-cl-std=CL1.2",
-                         .kernel = "acme_blur_1d"};
+    static const char *const sources[] = { lg_src_acme_blur_cl, lg_src_blur_cl };
+    static const char *const names[] = { lg_src_acme_blur_cl_file, lg_src_blur_cl_file };
+    lg_cl_pass_desc d = { .struct_size = sizeof d,
+                          .name = "acme_blur",
+                          .sources = sources,
+                          .source_names = names,
+                          .n_sources = 2,
+                          .options = "-cl-std=CL1.2",
+                          .kernel = "acme_blur_1d" };
     return lg_cl_pass_create(n, &d, &c->pass);
 }
 
@@ -35,12 +39,11 @@ static int cl_run(struct acme_blur_cl *c, const acme_blur *st, int dx, int dy)
     int rc;
     if ((rc = lg_cl_pass_arg_int(c->pass, 2, (int32_t)st->width)) ||
         (rc = lg_cl_pass_arg_int(c->pass, 3, (int32_t)st->height)) ||
-        (rc = lg_cl_pass_arg_int(c->pass, 4, dx)) ||
-        (rc = lg_cl_pass_arg_int(c->pass, 5, dy)) ||
+        (rc = lg_cl_pass_arg_int(c->pass, 4, dx)) || (rc = lg_cl_pass_arg_int(c->pass, 5, dy)) ||
         (rc = lg_cl_pass_arg_mem(c->pass, 6, c->weights.mem)) ||
         (rc = lg_cl_pass_arg_int(c->pass, 7, st->radius)))
         return rc;
-    const size_t global[2] = {st->width, st->height};
+    const size_t global[2] = { st->width, st->height };
     return lg_cl_pass_run(c->pass, 2, global, NULL); /* records the event for the profile */
 }
 

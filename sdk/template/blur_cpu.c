@@ -25,11 +25,11 @@ static inline float acme_sanitize(float v)
 }
 
 typedef struct blur_job {
-    const float *src; /* the pass's input, rgba32f */
-    float *dst;       /* its output */
+    const float *src;        /* the pass's input, rgba32f */
+    float *dst;              /* its output */
     size_t src_row, dst_row; /* floats from one row to the next (lg_cpu_view.row_pixels x 4) */
-    float *pad;       /* pass_h: one padded row per chunk */
-    const float *w;   /* radius + 1 weights */
+    float *pad;              /* pass_h: one padded row per chunk */
+    const float *w;          /* radius + 1 weights */
     int radius;
     uint32_t width, height;
 } blur_job;
@@ -91,7 +91,8 @@ int acme_blur_cpu(lg_node *n, acme_blur *st)
     /* chunks of about 16K pixels (whole rows): worth a hand-off, many per worker */
     size_t grain = st->width >= 16384 ? 1 : 16384 / st->width;
     size_t chunks = lg_parallel_chunks(st->height, grain);
-    size_t image = (size_t)st->width * st->height * 4, pad = 4 * ((size_t)st->width + 2 * st->radius);
+    size_t image = (size_t)st->width * st->height * 4,
+           pad = 4 * ((size_t)st->width + 2 * st->radius);
     size_t bytes = (image + chunks * pad) * sizeof(float);
     if (!st->cpu && !(st->cpu = calloc(1, sizeof *st->cpu)))
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory (cpu backend state)");
@@ -111,12 +112,12 @@ int acme_blur_cpu(lg_node *n, acme_blur *st)
         (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &out)))
         return rc;
     size_t row = 4 * (size_t)st->width;
-    blur_job h = {in.pixels, c->scratch, 4 * in.row_pixels, row, c->scratch + image,
-                  st->weights, st->radius, st->width, st->height};
+    blur_job h = { in.pixels,   c->scratch, 4 * in.row_pixels, row,       c->scratch + image,
+                   st->weights, st->radius, st->width,         st->height };
     if ((rc = lg_parallel_for(n, st->height, grain, pass_h, &h)))
         return rc;
-    blur_job v = {c->scratch, out.pixels, row, 4 * out.row_pixels, NULL, st->weights,
-                  st->radius, st->width, st->height};
+    blur_job v = { c->scratch,  out.pixels, row,       4 * out.row_pixels, NULL,
+                   st->weights, st->radius, st->width, st->height };
     return lg_parallel_for(n, st->height, grain, pass_v, &v);
 }
 

@@ -33,9 +33,9 @@ LG_GL_BLOCK_OFFSET(acme_blur_params, radius, 16);
 
 static int gl_init(lg_node *n, struct acme_blur_gl *g)
 {
-    static const lg_gl_shader_src cs = {GL_COMPUTE_SHADER, lg_src_blur_comp_file,
-                                        lg_src_blur_comp};
-    lg_gl_pass_desc d = {.name = "acme_blur", .stages = &cs, .n_stages = 1};
+    static const lg_gl_shader_src cs = { GL_COMPUTE_SHADER, lg_src_blur_comp_file,
+                                         lg_src_blur_comp };
+    lg_gl_pass_desc d = { .name = "acme_blur", .stages = &cs, .n_stages = 1 };
     int rc = lg_gl_pass_create(n, &d, &g->pass);
     if (rc)
         return rc;
@@ -48,14 +48,15 @@ static int gl_init(lg_node *n, struct acme_blur_gl *g)
 }
 
 /* One direction: src -> dst. */
-static int gl_run(struct acme_blur_gl *g, const acme_blur *st, GLuint src, GLuint dst,
-                  int dx, int dy)
+static int gl_run(struct acme_blur_gl *g, const acme_blur *st, GLuint src, GLuint dst, int dx,
+                  int dy)
 {
     int rc = lg_gl_pass_begin(g->pass, NULL);
     if (rc)
         return rc;
-    acme_blur_params p = {.size = {(int32_t)st->width, (int32_t)st->height},
-                          .dir = {dx, dy}, .radius = st->radius};
+    acme_blur_params p = { .size = { (int32_t)st->width, (int32_t)st->height },
+                           .dir = { dx, dy },
+                           .radius = st->radius };
     lg_gl_pass_bind_image(g->pass, g->src, src, GL_READ_ONLY, GL_RGBA32F);
     lg_gl_pass_bind_image(g->pass, g->dst, dst, GL_WRITE_ONLY, GL_RGBA32F);
     lg_gl_pass_bind_buffer(g->pass, g->weights, g->weights_buf.name);
@@ -77,13 +78,14 @@ int acme_blur_gl(lg_node *n, acme_blur *st)
     struct acme_blur_gl *g = st->gl;
     /* The recreate idiom: made on the first frame, kept while the size stays, remade (and
      * the old one released, both counted) when it changes. */
-    lg_gl_texture_desc td = {.target = GL_TEXTURE_2D, .format = GL_RGBA32F,
-                             .width = st->width, .height = st->height};
+    lg_gl_texture_desc td = {
+        .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = st->width, .height = st->height
+    };
     if ((rc = lg_gl_texture_recreate(n, &g->scratch, &td)) < 0)
         return rc;
     /* the weights: a few hundred bytes, uploaded every frame (cheaper than a check) */
-    if ((rc = lg_gl_buffer_recreate(n, &g->weights_buf,
-                                    ((size_t)st->radius + 1) * sizeof(float), 0, st->weights)))
+    if ((rc = lg_gl_buffer_recreate(n, &g->weights_buf, ((size_t)st->radius + 1) * sizeof(float), 0,
+                                    st->weights)))
         return rc;
     GLuint tin, tout;
     if ((rc = lg_map_gl(n, lg_input(n, 0), LG_READ, &tin, NULL)) ||

@@ -16,7 +16,7 @@
 
 #include "lightgraph/test.h"
 
-/* ---- the reference ---------------------------------------------------------------------- */
+/* ---- the reference --------------------------------------------------------------------------- */
 
 /* The node's bad-pixel policy (README "Bad pixels"): NaN reads as 0, +-Inf as +-FLT_MAX
  * (3.4028234663852886e38), and a result beyond it is that. */
@@ -83,7 +83,7 @@ static void blur_backends(lg_test *t, const lg_image *in, double sigma, int radi
              "blur = acme_blur { image = src, %s }\n",
              params);
     snprintf(size, sizeof size, "%ux%u", in->width, in->height);
-    const char *args[] = {"--size", size, NULL};
+    const char *args[] = { "--size", size, NULL };
     lg_test_backends_desc d = {
         .graph = graph,
         .node = "blur",
@@ -102,7 +102,7 @@ static void blur_backends(lg_test *t, const lg_image *in, double sigma, int radi
 
 /* Float sums of 2r + 1 taps in two passes on values up to 2: measured at most 4.8e-7 from
  * the double reference and between backends (README "Accuracy"); five times that here. */
-static const lg_test_tol tol_float = {.max_abs = 2.5e-6, .rmse = 5e-7};
+static const lg_test_tol tol_float = { .max_abs = 2.5e-6, .rmse = 5e-7 };
 
 static void case_backends(lg_test *t)
 {
@@ -120,7 +120,7 @@ static void case_backends(lg_test *t)
 /* Images smaller than the kernel (clamp to edge on every side) and thin ones. */
 static void case_sizes(lg_test *t)
 {
-    static const uint32_t sizes[][2] = {{1, 1}, {7, 5}, {3, 40}, {40, 2}};
+    static const uint32_t sizes[][2] = { { 1, 1 }, { 7, 5 }, { 3, 40 }, { 40, 2 } };
     for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
         lg_image in;
         if (lg_image_alloc(&in, sizes[k][0], sizes[k][1])) {
@@ -144,7 +144,7 @@ static void case_params(lg_test *t)
         return;
     }
     fill(&in);
-    static const lg_test_tol exact = {.max_abs = 0};
+    static const lg_test_tol exact = { .max_abs = 0 };
     blur_backends(t, &in, 0, 5, "sigma = 0, radius = 5", &exact, "sigma 0: a copy");
     blur_backends(t, &in, 4, 2, "sigma = 4, radius = 2", &tol_float, "sigma 4, radius 2");
     lg_image_free(&in);
@@ -165,7 +165,7 @@ static void case_badpixels(lg_test *t)
     in.pixels[4 * (5 * 9 + 7) + 0] = 3.4e38f; /* with its neighbours' sums: beyond FLT_MAX */
     in.pixels[4 * (5 * 9 + 8) + 0] = 3.4e38f;
     /* relative: the values near the huge pixels are ~1e37 */
-    static const lg_test_tol tol = {.max_abs = 2.5e-6, .rel = 1e-6};
+    static const lg_test_tol tol = { .max_abs = 2.5e-6, .rel = 1e-6 };
     blur_backends(t, &in, 1.5, 0, "sigma = 1.5", &tol, "NaN, Inf, 3.4e38 pixels");
 
     /* the warning, once (on the default backend) */
@@ -176,8 +176,7 @@ static void case_badpixels(lg_test *t)
     int rc = lg_test_render(t, "g.lgraph", NULL, &out);
     LG_TEST_CHECK(t, rc == 0, "exit %d, want 0", rc);
     const char *want = "input 'image' (frame 0): 2 pixels with a NaN or Inf channel, read as 0";
-    LG_TEST_CHECK(t, out && strstr(out, want), "no warning '%s...' in: %s", want,
-                  out ? out : "");
+    LG_TEST_CHECK(t, out && strstr(out, want), "no warning '%s...' in: %s", want, out ? out : "");
     free(out);
     lg_image_free(&in);
 }
@@ -189,7 +188,7 @@ static void case_range(lg_test *t)
                        "lightgraph 1\nc = constant { color = [1, 1, 1] }\n"
                        "blur = acme_blur { image = c, sigma = -1 }\noutput blur \"o.exr\"\n");
     char *out = NULL;
-    const char *args[] = {"--size", "4x4", NULL};
+    const char *args[] = { "--size", "4x4", NULL };
     int rc = lg_test_render(t, "g.lgraph", args, &out);
     LG_TEST_CHECK(t, rc == 2, "exit %d, want 2", rc);
     LG_TEST_CHECK(t, out && strstr(out, "sigma"), "the message does not name the parameter: %s",
@@ -200,9 +199,9 @@ static void case_range(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        {"backends", case_backends}, {"sizes", case_sizes},   {"params", case_params},
-        {"badpixels", case_badpixels}, {"range", case_range},
+        { "backends", case_backends },   { "sizes", case_sizes }, { "params", case_params },
+        { "badpixels", case_badpixels }, { "range", case_range },
     };
-    lg_test_main_opts o = {.prefix = "acme_blur"};
+    lg_test_main_opts o = { .prefix = "acme_blur" };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

@@ -65,7 +65,7 @@ lg_ts_builder *lg_ts_begin(const char *source)
     return b;
 }
 
-/* ---- meshes ------------------------------------------------------------------------------- */
+/* ---- meshes ---------------------------------------------------------------------------------- */
 
 /* The mesh vertex and triangle calls append to, or NULL (failed, or no lg_ts_mesh yet:
  * then the builder fails, since the call has nowhere to go). */
@@ -182,9 +182,8 @@ void lg_ts_grid(lg_ts_builder *b, lg_vec3 centre, lg_vec3 u, lg_vec3 v, uint32_t
     lg_ts_grid_triangles(b, s, s, false);
 }
 
-void lg_ts_grid_span(lg_ts_builder *b, uint32_t g, const double origin[3],
-                     const double span_u[3], const double span_v[3], const double normal[3],
-                     bool flip)
+void lg_ts_grid_span(lg_ts_builder *b, uint32_t g, const double origin[3], const double span_u[3],
+                     const double span_v[3], const double normal[3], bool flip)
 {
     for (uint32_t j = 0; j <= g; j++)
         for (uint32_t i = 0; i <= g; i++) {
@@ -200,9 +199,9 @@ void lg_ts_unit_cube(lg_ts_builder *b, bool grid_faces)
 {
     /* per face: centre direction, u, v (u x v = the outward normal), all halved */
     static const float f[6][3][3] = {
-        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } },  { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
-        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } },  { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
-        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },   { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
+        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } }, { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
+        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } }, { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
+        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },  { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
     };
     for (int i = 0; i < 6; i++) {
         lg_vec3 c = lg_v3_scale(lg_v3(f[i][0][0], f[i][0][1], f[i][0][2]), 0.5f);
@@ -265,7 +264,7 @@ void lg_ts_uv_sphere(lg_ts_builder *b, const lg_vec3 *centre, float radius, uint
         }
 }
 
-/* ---- instances, materials, lights, cameras, medium ---------------------------------------- */
+/* ---- instances, materials, lights, cameras, medium ------------------------------------------- */
 
 uint32_t lg_ts_instance(lg_ts_builder *b, uint32_t mesh, const float model[16])
 {
@@ -304,8 +303,8 @@ lg_light *lg_ts_light(lg_ts_builder *b, const char *name, lg_light_type type)
     return &b->lights[i];
 }
 
-lg_light *lg_ts_dir_light(lg_ts_builder *b, const char *name, lg_vec3 direction,
-                          lg_vec3 color, float intensity)
+lg_light *lg_ts_dir_light(lg_ts_builder *b, const char *name, lg_vec3 direction, lg_vec3 color,
+                          float intensity)
 {
     lg_light *l = lg_ts_light(b, name, LG_LIGHT_DIRECTIONAL);
     l->direction[0] = direction.x, l->direction[1] = direction.y, l->direction[2] = direction.z;
@@ -332,8 +331,7 @@ lg_camera *lg_ts_camera(lg_ts_builder *b, const char *name, lg_vec3 position, lg
     return c;
 }
 
-void lg_ts_medium(lg_ts_builder *b, float density, lg_vec3 scattering, lg_vec3 absorption,
-                  float g)
+void lg_ts_medium(lg_ts_builder *b, float density, lg_vec3 scattering, lg_vec3 absorption, float g)
 {
     lg_medium *m = &b->s.medium;
     m->present = true;
@@ -345,7 +343,7 @@ void lg_ts_medium(lg_ts_builder *b, float density, lg_vec3 scattering, lg_vec3 a
     m->g = g;
 }
 
-/* ---- the end ------------------------------------------------------------------------------ */
+/* ---- the end --------------------------------------------------------------------------------- */
 
 void lg_ts_abandon(lg_ts_builder *b)
 {
@@ -402,8 +400,7 @@ int lg_ts_publish(lg_node *n, uint32_t port, lg_ts_builder *b)
     const char *source = b ? b->s.source : "?";
     lg_scene *s = lg_ts_finish(b);
     if (!s)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory building the test scene '%s'",
-                             source);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory building the test scene '%s'", source);
     return lg_declare_payload(n, port, LG_KIND_SCENE, &s->features, s, lg_ts_free);
 }
 

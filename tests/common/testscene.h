@@ -50,7 +50,7 @@ typedef struct lg_ts_builder lg_ts_builder;
  * whose lg_scene.source is `source`. NULL when out of memory. */
 lg_ts_builder *lg_ts_begin(const char *source);
 
-/* ---- meshes ------------------------------------------------------------------------------- */
+/* ---- meshes ---------------------------------------------------------------------------------- */
 
 /* Starts mesh number lg_scene.n_meshes (returned) drawn with material `material`; the
  * vertex and triangle calls below append to it until the next lg_ts_mesh. */
@@ -93,9 +93,8 @@ void lg_ts_grid(lg_ts_builder *b, lg_vec3 centre, lg_vec3 u, lg_vec3 v, uint32_t
  * origin + (i / g) span_u + (j / g) span_v, every normal `normal`; the triangles of
  * lg_ts_grid_triangles(b, g, g, flip) (flip: counter-clockwise seen from the side
  * span_v x span_u points to, whatever `normal` says). */
-void lg_ts_grid_span(lg_ts_builder *b, uint32_t g, const double origin[3],
-                     const double span_u[3], const double span_v[3], const double normal[3],
-                     bool flip);
+void lg_ts_grid_span(lg_ts_builder *b, uint32_t g, const double origin[3], const double span_u[3],
+                     const double span_v[3], const double normal[3], bool flip);
 
 /* The unit cube (edge 1) at the origin, 24 vertices with face normals, 12 triangles
  * counter-clockwise seen from outside, faces in the order +X, -X, +Y, -Y, +Z, -Z: each
@@ -119,7 +118,7 @@ void lg_ts_box(lg_ts_builder *b, lg_vec3 half);
 void lg_ts_uv_sphere(lg_ts_builder *b, const lg_vec3 *centre, float radius, uint32_t cols,
                      uint32_t rows);
 
-/* ---- instances, materials, lights, cameras, medium ---------------------------------------- */
+/* ---- instances, materials, lights, cameras, medium ------------------------------------------- */
 
 /* An instance of mesh `mesh` (not checked) with `model` (column-major; NULL: identity) and
  * its normal matrix (lg_m4_normal_matrix). Returns its index. */
@@ -132,8 +131,8 @@ lg_material *lg_ts_material(lg_ts_builder *b, const char *name);
 lg_light *lg_ts_light(lg_ts_builder *b, const char *name, lg_light_type type);
 
 /* A directional light travelling along `direction` (taken as given, not normalised). */
-lg_light *lg_ts_dir_light(lg_ts_builder *b, const char *name, lg_vec3 direction,
-                          lg_vec3 color, float intensity);
+lg_light *lg_ts_dir_light(lg_ts_builder *b, const char *name, lg_vec3 direction, lg_vec3 color,
+                          float intensity);
 
 /* A camera at `position` looking at `target` (aspect 0: from the image); more fields can
  * be set through the pointer. */
@@ -141,10 +140,9 @@ lg_camera *lg_ts_camera(lg_ts_builder *b, const char *name, lg_vec3 position, lg
                         lg_vec3 up, float yfov, float znear, float zfar);
 
 /* The scene's medium (present = true). */
-void lg_ts_medium(lg_ts_builder *b, float density, lg_vec3 scattering, lg_vec3 absorption,
-                  float g);
+void lg_ts_medium(lg_ts_builder *b, float density, lg_vec3 scattering, lg_vec3 absorption, float g);
 
-/* ---- the end ------------------------------------------------------------------------------ */
+/* ---- the end --------------------------------------------------------------------------------- */
 
 /* Finishes the scene: its arrays, every mesh's bounds and the world bounds
  * (lg_test_scene_bounds), its features (lg_scene_compute_features). Consumes `b`; returns

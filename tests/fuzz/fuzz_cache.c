@@ -51,7 +51,7 @@ static void check(const uint8_t *data, size_t size, const char *key, const char 
         size_t head = size - psize;
         if (psize > size || payload != in + head || head != 8 + 4 + 16 + 4 + strlen(key) + 8 + 8)
             bad("the payload is not the bytes after the header", size);
-        lg_str again = {0};
+        lg_str again = { 0 };
         lg_cache_entry_encode(&again, &id, key, payload, psize);
         if (again.len != size || memcmp(again.s, in, size) != 0)
             bad("an accepted entry that its payload does not encode to", size);
@@ -59,7 +59,7 @@ static void check(const uint8_t *data, size_t size, const char *key, const char 
     }
 
     /* the input as a payload: accepted back whole, refused cut, padded or under another key */
-    lg_str e = {0};
+    lg_str e = { 0 };
     lg_cache_entry_encode(&e, &id, key, data, size);
     lg_str_addc(&e, 0); /* the padded variant's extra byte; not counted below until used */
     size_t len = e.len - 1;
@@ -86,9 +86,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* Pieces of an entry: the magic, the version, the key and its length, boundary sizes. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("LGCACHE\1"), LG_FUZZ_TOKEN("\1\0\0\0"), LG_FUZZ_TOKEN("\2\0\0\0"),
-    LG_FUZZ_TOKEN(LG_FUZZ_CACHE_KEY), LG_FUZZ_TOKEN("\0\0\0\0"),
-    LG_FUZZ_TOKEN("\0\0\0\0\0\0\0\x80"), LG_FUZZ_TOKEN("\xff\xff\xff\xff\xff\xff\xff\xff"),
+    LG_FUZZ_TOKEN("LGCACHE\1"),
+    LG_FUZZ_TOKEN("\1\0\0\0"),
+    LG_FUZZ_TOKEN("\2\0\0\0"),
+    LG_FUZZ_TOKEN(LG_FUZZ_CACHE_KEY),
+    LG_FUZZ_TOKEN("\0\0\0\0"),
+    LG_FUZZ_TOKEN("\0\0\0\0\0\0\0\x80"),
+    LG_FUZZ_TOKEN("\xff\xff\xff\xff\xff\xff\xff\xff"),
 };
 
 static void summary(FILE *out)

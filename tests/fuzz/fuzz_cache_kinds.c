@@ -35,12 +35,11 @@
 #define N_OF(a) (sizeof(a) / sizeof((a)[0]))
 
 static unsigned long n_runs, n_ok[LG_FUZZ_KINDS];
-static const char *const kind_names[LG_FUZZ_KINDS] = {"bake", "reference", "chain"};
+static const char *const kind_names[LG_FUZZ_KINDS] = { "bake", "reference", "chain" };
 
 static void bad(int kind, const char *what)
 {
-    fprintf(stderr, "fuzz_cache_kinds: %s: %s (input %lu)\n", kind_names[kind], what,
-            n_runs - 1);
+    fprintf(stderr, "fuzz_cache_kinds: %s: %s (input %lu)\n", kind_names[kind], what, n_runs - 1);
     abort();
 }
 
@@ -55,8 +54,7 @@ static bool all_finite(const float *f, size_t n)
 /* The floats of a GGX chain: a cube of face `size` with `levels` levels, RGBA (ibl.c). */
 static size_t chain_floats(unsigned size, unsigned levels)
 {
-    lg_image_desc d = {.width = size, .height = size, .flags = LG_IMAGE_CUBE,
-                       .levels = levels};
+    lg_image_desc d = { .width = size, .height = size, .flags = LG_IMAGE_CUBE, .levels = levels };
     return 4 * lg_image_offset(&d, levels, 0);
 }
 
@@ -145,8 +143,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (kind == LG_FUZZ_KIND_BAKE)
         prt(kind, &lg_fuzz_bake_configs[config % N_OF(lg_fuzz_bake_configs)], payload, n);
     else if (kind == LG_FUZZ_KIND_REFERENCE)
-        prt(kind, &lg_fuzz_reference_configs[config % N_OF(lg_fuzz_reference_configs)],
-            payload, n);
+        prt(kind, &lg_fuzz_reference_configs[config % N_OF(lg_fuzz_reference_configs)], payload, n);
     else
         chain(&lg_fuzz_chain_configs[config % N_OF(lg_fuzz_chain_configs)], payload, n);
     free(payload);
@@ -157,10 +154,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* The magics, the format version, boundary counts, float specials. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("lgprtb1\0"), LG_FUZZ_TOKEN("lgprtr1\0"), LG_FUZZ_TOKEN("lgibl01\0"),
-    LG_FUZZ_TOKEN("\1\0\0\0"), LG_FUZZ_TOKEN("\x40\0\0\0"), LG_FUZZ_TOKEN("\x41\0\0\0"),
-    LG_FUZZ_TOKEN("\0\0\xc0\x7f"), LG_FUZZ_TOKEN("\0\0\x80\x7f"), LG_FUZZ_TOKEN("\0\0\x80\xff"),
-    LG_FUZZ_TOKEN("\xff\xff\xff\xff\xff\xff\xff\xff"), LG_FUZZ_TOKEN("\0\0\0\0\0\0\0\x40"),
+    LG_FUZZ_TOKEN("lgprtb1\0"),          LG_FUZZ_TOKEN("lgprtr1\0"),
+    LG_FUZZ_TOKEN("lgibl01\0"),          LG_FUZZ_TOKEN("\1\0\0\0"),
+    LG_FUZZ_TOKEN("\x40\0\0\0"),         LG_FUZZ_TOKEN("\x41\0\0\0"),
+    LG_FUZZ_TOKEN("\0\0\xc0\x7f"),       LG_FUZZ_TOKEN("\0\0\x80\x7f"),
+    LG_FUZZ_TOKEN("\0\0\x80\xff"),       LG_FUZZ_TOKEN("\xff\xff\xff\xff\xff\xff\xff\xff"),
+    LG_FUZZ_TOKEN("\0\0\0\0\0\0\0\x40"),
 };
 
 static void summary(FILE *out)

@@ -36,8 +36,8 @@
 __attribute__((visibility("default"), used)) const char *__asan_default_options(void);
 const char *__asan_default_options(void)
 {
-    return "max_allocation_size_mb=" STR(LG_FUZZ_MAX_BLOCK_MB)
-           ":hard_rss_limit_mb=" STR(LG_FUZZ_MAX_RSS_MB) ":allocator_may_return_null=0";
+    return "max_allocation_size_mb=" STR(LG_FUZZ_MAX_BLOCK_MB) ":hard_rss_limit_mb=" STR(
+        LG_FUZZ_MAX_RSS_MB) ":allocator_may_return_null=0";
 }
 #endif
 
@@ -112,8 +112,9 @@ static uint8_t *mutate(const lg_fuzz_target *t, const input *in, const input *al
                 b[rnd_below(span)] = (uint8_t)rnd();
             break;
         case 2: { /* a boundary value over 1, 2 or 4 bytes (sizes, offsets, counts) */
-            static const uint32_t vals[] = {0, 1, 0x7f, 0x80, 0xff, 0x7fff, 0x8000, 0xffff,
-                                            0x7fffffff, 0x80000000u, 0xffffffffu, 0x10000};
+            static const uint32_t vals[] = { 0,          1,           0x7f,        0x80,
+                                             0xff,       0x7fff,      0x8000,      0xffff,
+                                             0x7fffffff, 0x80000000u, 0xffffffffu, 0x10000 };
             uint32_t v = vals[rnd_below(sizeof vals / sizeof *vals)];
             size_t w = (size_t)1 << rnd_below(3);
             if (at + w <= n)
@@ -144,9 +145,7 @@ static uint8_t *mutate(const lg_fuzz_target *t, const input *in, const input *al
             n += len;
             break;
         }
-        case 5: /* truncate */
-            n = rnd_below(n + 1);
-            break;
+        case 5: /* truncate */ n = rnd_below(n + 1); break;
         case 6: { /* splice: our head, another file's tail */
             const input *o = &all[rnd_below(n_all)];
             size_t from = rnd_below(o->size + 1), len = o->size - from;
@@ -290,7 +289,7 @@ int lg_fuzz_main(int argc, char **argv, const lg_fuzz_target *t)
 {
     bound_memory();
     long per_file = t->mutations;
-    corpus c = {0};
+    corpus c = { 0 };
     int rc = 0;
     for (int i = 1; i < argc && rc == 0; i++) {
         if (strcmp(argv[i], "-n") == 0) {

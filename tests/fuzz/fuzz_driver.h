@@ -32,7 +32,10 @@ typedef struct lg_fuzz_token {
 } lg_fuzz_token;
 
 /* An entry from a string literal, without its terminating NUL. */
-#define LG_FUZZ_TOKEN(literal) {(literal), sizeof(literal) - 1}
+#define LG_FUZZ_TOKEN(literal)                                                                     \
+    {                                                                                              \
+        (literal), sizeof(literal) - 1                                                             \
+    }
 
 /* What differs between targets. Read during the call only. */
 typedef struct lg_fuzz_target {
@@ -40,9 +43,9 @@ typedef struct lg_fuzz_target {
     long mutations;              /* mutations per corpus file unless -n says otherwise */
     const lg_fuzz_token *tokens; /* what the "insert a token" edit draws from; may be NULL */
     size_t n_tokens;
-    size_t head;                 /* if > 0, half of the edits land in the first `head`
+    size_t head;                /* if > 0, half of the edits land in the first `head`
                                     bytes (file headers, where parsers go wrong) */
-    void (*summary)(FILE *out);  /* prints the target's own counts after the driver's
+    void (*summary)(FILE *out); /* prints the target's own counts after the driver's
                                     summary line (no newline); may be NULL */
 } lg_fuzz_target;
 

@@ -36,8 +36,8 @@ static char folder[4096];
 
 static void remove_folder(void)
 {
-    static const char *const names[] = {"tri.bin", "sub/tri.bin", "sub", "inside.bin", "outside.bin", "zero.bin",
-                                        "fifo.bin"};
+    static const char *const names[] = { "tri.bin",     "sub/tri.bin", "sub",     "inside.bin",
+                                         "outside.bin", "zero.bin",    "fifo.bin" };
     char p[4200];
     for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
         snprintf(p, sizeof p, "%s/%s", folder, names[i]);
@@ -58,7 +58,7 @@ static const char *external_folder(void)
         exit(2);
     }
     atexit(remove_folder);
-    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float tri[9] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     char p[4200], q[4200];
     snprintf(p, sizeof p, "%s/sub", folder);
     int bad = mkdir(p, 0700);
@@ -67,8 +67,9 @@ static const char *external_folder(void)
         FILE *f = fopen(p, "wb");
         bad = !f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f);
     }
-    static const char *const links[][2] = {{"tri.bin", "inside.bin"}, {"/etc/passwd", "outside.bin"},
-                                           {"/dev/zero", "zero.bin"}};
+    static const char *const links[][2] = { { "tri.bin", "inside.bin" },
+                                            { "/etc/passwd", "outside.bin" },
+                                            { "/dev/zero", "zero.bin" } };
     for (size_t i = 0; i < 3 && !bad; i++) {
         snprintf(q, sizeof q, "%s/%s", folder, links[i][1]);
         bad = symlink(links[i][0], q) != 0;
@@ -99,7 +100,8 @@ static void bad(const char *what)
 
 static void check_scene(const lg_scene *s)
 {
-    if (s->struct_size != sizeof *s || !s->n_materials || !s->n_cameras || s->camera >= s->n_cameras)
+    if (s->struct_size != sizeof *s || !s->n_materials || !s->n_cameras ||
+        s->camera >= s->n_cameras)
         bad("scene without materials or cameras");
     uint64_t tris = 0;
     for (uint32_t i = 0; i < s->n_instances; i++) {
@@ -124,20 +126,21 @@ static void check_scene(const lg_scene *s)
             float l = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
             if (!isfinite(p[0] + p[1] + p[2]) || !(fabsf(l - 1) < 1e-3f))
                 bad("non-finite position or non-unit normal");
-            if (m->texcoords && !isfinite(m->texcoords[2 * (size_t)v] + m->texcoords[2 * (size_t)v + 1]))
+            if (m->texcoords &&
+                !isfinite(m->texcoords[2 * (size_t)v] + m->texcoords[2 * (size_t)v + 1]))
                 bad("non-finite texture coordinate");
         }
     }
     for (uint32_t i = 0; i < s->n_lights; i++) {
         const lg_light *l = &s->lights[i];
-        if (!isfinite(l->direction[0] + l->direction[1] + l->direction[2] + l->position[0] + l->position[1] +
-                      l->position[2] + l->intensity))
+        if (!isfinite(l->direction[0] + l->direction[1] + l->direction[2] + l->position[0] +
+                      l->position[1] + l->position[2] + l->intensity))
             bad("non-finite light");
     }
     for (uint32_t i = 0; i < s->n_cameras; i++) {
         const lg_camera *c = &s->cameras[i];
-        if (!isfinite(c->position[0] + c->position[1] + c->position[2] + c->target[0] + c->target[1] +
-                      c->target[2] + c->yfov))
+        if (!isfinite(c->position[0] + c->position[1] + c->position[2] + c->target[0] +
+                      c->target[1] + c->target[2] + c->yfov))
             bad("non-finite camera");
     }
 }
@@ -150,7 +153,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     lg_gltf_options opt = lg_gltf_default_options();
     opt.normals = (lg_gltf_normals)(run % 3);
     opt.crease_deg = run % 2 ? 60 : 120;
-    const char *name = size >= 4 && !memcmp(data, "glTF", 4) ? "in.glb" : run % 5 == 0 ? "in.glb" : "in.gltf";
+    const char *name = size >= 4 && !memcmp(data, "glTF", 4) ? "in.glb"
+                       : run % 5 == 0                        ? "in.glb"
+                                                             : "in.gltf";
     char err[1024];
     err[0] = 0;
     lg_scene *s = NULL;
@@ -174,23 +179,56 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 /* Pieces of glTF JSON and GLB for the driver's "insert a token" edit: property names the
  * loader reads, boundary numbers, chunk types. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("\"bufferView\":"), LG_FUZZ_TOKEN("\"byteOffset\":"), LG_FUZZ_TOKEN("\"byteLength\":"),
-    LG_FUZZ_TOKEN("\"byteStride\":"), LG_FUZZ_TOKEN("\"count\":"), LG_FUZZ_TOKEN("\"componentType\":"),
-    LG_FUZZ_TOKEN("\"type\":\"VEC3\""), LG_FUZZ_TOKEN("\"type\":\"SCALAR\""), LG_FUZZ_TOKEN("\"indices\":"),
-    LG_FUZZ_TOKEN("\"mode\":"), LG_FUZZ_TOKEN("\"children\":["), LG_FUZZ_TOKEN("\"mesh\":"),
-    LG_FUZZ_TOKEN("\"matrix\":["), LG_FUZZ_TOKEN("\"rotation\":["), LG_FUZZ_TOKEN("\"sparse\":{"),
-    LG_FUZZ_TOKEN("\"normalized\":true"), LG_FUZZ_TOKEN("\"KHR_draco_mesh_compression\""),
-    LG_FUZZ_TOKEN("\"KHR_lights_punctual\""), LG_FUZZ_TOKEN("\"extensionsRequired\":["),
-    LG_FUZZ_TOKEN("\"extras\":{\"medium\":{"), LG_FUZZ_TOKEN("\"camera\":"), LG_FUZZ_TOKEN("\"scene\":"),
-    LG_FUZZ_TOKEN("\"material\":"), LG_FUZZ_TOKEN("\"uri\":\"data:application/octet-stream;base64,"),
-    LG_FUZZ_TOKEN("\"uri\":\"tri.bin\""), LG_FUZZ_TOKEN("\"uri\":\"sub/tri.bin\""), LG_FUZZ_TOKEN("../"),
-    LG_FUZZ_TOKEN("%2e%2e/"), LG_FUZZ_TOKEN("%"), LG_FUZZ_TOKEN("inside.bin"), LG_FUZZ_TOKEN("outside.bin"),
-    LG_FUZZ_TOKEN("zero.bin"), LG_FUZZ_TOKEN("fifo.bin"), LG_FUZZ_TOKEN("\"images\":[{\"uri\":\""),
+    LG_FUZZ_TOKEN("\"bufferView\":"),
+    LG_FUZZ_TOKEN("\"byteOffset\":"),
+    LG_FUZZ_TOKEN("\"byteLength\":"),
+    LG_FUZZ_TOKEN("\"byteStride\":"),
+    LG_FUZZ_TOKEN("\"count\":"),
+    LG_FUZZ_TOKEN("\"componentType\":"),
+    LG_FUZZ_TOKEN("\"type\":\"VEC3\""),
+    LG_FUZZ_TOKEN("\"type\":\"SCALAR\""),
+    LG_FUZZ_TOKEN("\"indices\":"),
+    LG_FUZZ_TOKEN("\"mode\":"),
+    LG_FUZZ_TOKEN("\"children\":["),
+    LG_FUZZ_TOKEN("\"mesh\":"),
+    LG_FUZZ_TOKEN("\"matrix\":["),
+    LG_FUZZ_TOKEN("\"rotation\":["),
+    LG_FUZZ_TOKEN("\"sparse\":{"),
+    LG_FUZZ_TOKEN("\"normalized\":true"),
+    LG_FUZZ_TOKEN("\"KHR_draco_mesh_compression\""),
+    LG_FUZZ_TOKEN("\"KHR_lights_punctual\""),
+    LG_FUZZ_TOKEN("\"extensionsRequired\":["),
+    LG_FUZZ_TOKEN("\"extras\":{\"medium\":{"),
+    LG_FUZZ_TOKEN("\"camera\":"),
+    LG_FUZZ_TOKEN("\"scene\":"),
+    LG_FUZZ_TOKEN("\"material\":"),
+    LG_FUZZ_TOKEN("\"uri\":\"data:application/octet-stream;base64,"),
+    LG_FUZZ_TOKEN("\"uri\":\"tri.bin\""),
+    LG_FUZZ_TOKEN("\"uri\":\"sub/tri.bin\""),
+    LG_FUZZ_TOKEN("../"),
+    LG_FUZZ_TOKEN("%2e%2e/"),
+    LG_FUZZ_TOKEN("%"),
+    LG_FUZZ_TOKEN("inside.bin"),
+    LG_FUZZ_TOKEN("outside.bin"),
+    LG_FUZZ_TOKEN("zero.bin"),
+    LG_FUZZ_TOKEN("fifo.bin"),
+    LG_FUZZ_TOKEN("\"images\":[{\"uri\":\""),
     LG_FUZZ_TOKEN("file:///"),
-    LG_FUZZ_TOKEN("5120"), LG_FUZZ_TOKEN("5121"), LG_FUZZ_TOKEN("5123"), LG_FUZZ_TOKEN("5125"),
-    LG_FUZZ_TOKEN("5126"), LG_FUZZ_TOKEN("5127"), LG_FUZZ_TOKEN("-1"), LG_FUZZ_TOKEN("4294967295"),
-    LG_FUZZ_TOKEN("2147483647"), LG_FUZZ_TOKEN("1e308"), LG_FUZZ_TOKEN("[[[[[[[["),
-    LG_FUZZ_TOKEN("glTF\x02\0\0\0"), LG_FUZZ_TOKEN("JSON"), LG_FUZZ_TOKEN("BIN\0"), LG_FUZZ_TOKEN("DRACO"),
+    LG_FUZZ_TOKEN("5120"),
+    LG_FUZZ_TOKEN("5121"),
+    LG_FUZZ_TOKEN("5123"),
+    LG_FUZZ_TOKEN("5125"),
+    LG_FUZZ_TOKEN("5126"),
+    LG_FUZZ_TOKEN("5127"),
+    LG_FUZZ_TOKEN("-1"),
+    LG_FUZZ_TOKEN("4294967295"),
+    LG_FUZZ_TOKEN("2147483647"),
+    LG_FUZZ_TOKEN("1e308"),
+    LG_FUZZ_TOKEN("[[[[[[[["),
+    LG_FUZZ_TOKEN("glTF\x02\0\0\0"),
+    LG_FUZZ_TOKEN("JSON"),
+    LG_FUZZ_TOKEN("BIN\0"),
+    LG_FUZZ_TOKEN("DRACO"),
 };
 
 static void summary(FILE *out)

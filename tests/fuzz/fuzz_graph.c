@@ -158,7 +158,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         sink = fopen("/dev/null", "w");
     cur_data = data;
     cur_size = size;
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_string("fuzz.lgraph", (const char *)data, size, FUZZ_BASE, &d);
     if (!g && d.errors == 0)
         fail("parse failed without an error", NULL, NULL);
@@ -167,7 +167,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (g) {
         n_parsed++;
         char *f1 = lg_graph_format(g);
-        lg_diags d2 = {0};
+        lg_diags d2 = { 0 };
         lg_graph *g2 = lg_graph_parse_string("fuzz.lgraph", f1, strlen(f1), FUZZ_BASE, &d2);
         if (!g2) {
             lg_diags_print(&d2, stderr);
@@ -192,7 +192,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             const lg_gnode *m = &g->nodes[(i + 1) % g->n_nodes];
             const char *key = n->n_assigns ? n->assigns[0].key : "key";
             const lg_gvalue *mv = m->n_assigns ? &m->assigns[0].value : NULL;
-            lg_str lt = {0};
+            lg_str lt = { 0 };
             if (mv && mv->kind == LG_GV_LIST && mv->nums) { /* compact: no text of its own */
                 lg_str_addc(&lt, '[');
                 for (uint32_t k = 0; k < mv->n_items; k++) {
@@ -222,25 +222,66 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* Pieces of graph files, for the driver's "insert a token" edit. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("lightgraph 1\n"), LG_FUZZ_TOKEN("lightgraph 2"),
-    LG_FUZZ_TOKEN("include \"x.lgraph\"\n"), LG_FUZZ_TOKEN("output "), LG_FUZZ_TOKEN(" = "),
-    LG_FUZZ_TOKEN("{"), LG_FUZZ_TOKEN("}"), LG_FUZZ_TOKEN("["), LG_FUZZ_TOKEN("]"),
-    LG_FUZZ_TOKEN(","), LG_FUZZ_TOKEN("\""), LG_FUZZ_TOKEN("\\"), LG_FUZZ_TOKEN("#"),
-    LG_FUZZ_TOKEN("\n"), LG_FUZZ_TOKEN("\r\n"), LG_FUZZ_TOKEN(" "), LG_FUZZ_TOKEN("\t"),
-    LG_FUZZ_TOKEN("."), LG_FUZZ_TOKEN("-"), LG_FUZZ_TOKEN("1"), LG_FUZZ_TOKEN("0.5"),
-    LG_FUZZ_TOKEN("1e999"), LG_FUZZ_TOKEN("-0"), LG_FUZZ_TOKEN(".5e-3"),
-    LG_FUZZ_TOKEN("99999999999999999999"), LG_FUZZ_TOKEN("true"), LG_FUZZ_TOKEN("false"),
-    LG_FUZZ_TOKEN("inf"), LG_FUZZ_TOKEN("nan"), LG_FUZZ_TOKEN("src"), LG_FUZZ_TOKEN("tone"),
-    LG_FUZZ_TOKEN("image"), LG_FUZZ_TOKEN("reinhard"), LG_FUZZ_TOKEN("blur"),
-    LG_FUZZ_TOKEN("gbuffer"), LG_FUZZ_TOKEN("add"), LG_FUZZ_TOKEN("sink"),
-    LG_FUZZ_TOKEN("scene"), LG_FUZZ_TOKEN("key"), LG_FUZZ_TOKEN("kye"),
-    LG_FUZZ_TOKEN("backend"), LG_FUZZ_TOKEN("gl"), LG_FUZZ_TOKEN("image = src"),
-    LG_FUZZ_TOKEN("src.out"), LG_FUZZ_TOKEN("g.depth"), LG_FUZZ_TOKEN("\"out.png\""),
-    LG_FUZZ_TOKEN("\"a.jpg\""), LG_FUZZ_TOKEN("[1, 2, 3]"), LG_FUZZ_TOKEN("[[[["),
-    LG_FUZZ_TOKEN("]]]]"), LG_FUZZ_TOKEN("\xC3\xA9"), LG_FUZZ_TOKEN("\xFF"),
-    LG_FUZZ_TOKEN("\0"), LG_FUZZ_TOKEN("tone = reinhard { image = src }\n"),
-    LG_FUZZ_TOKEN("src = image {}\n"), LG_FUZZ_TOKEN("# comment\n"), LG_FUZZ_TOKEN(", "),
-    LG_FUZZ_TOKEN("{\n"), LG_FUZZ_TOKEN("\n}\n"), LG_FUZZ_TOKEN("\"\\n\\t\\\"\""),
+    LG_FUZZ_TOKEN("lightgraph 1\n"),
+    LG_FUZZ_TOKEN("lightgraph 2"),
+    LG_FUZZ_TOKEN("include \"x.lgraph\"\n"),
+    LG_FUZZ_TOKEN("output "),
+    LG_FUZZ_TOKEN(" = "),
+    LG_FUZZ_TOKEN("{"),
+    LG_FUZZ_TOKEN("}"),
+    LG_FUZZ_TOKEN("["),
+    LG_FUZZ_TOKEN("]"),
+    LG_FUZZ_TOKEN(","),
+    LG_FUZZ_TOKEN("\""),
+    LG_FUZZ_TOKEN("\\"),
+    LG_FUZZ_TOKEN("#"),
+    LG_FUZZ_TOKEN("\n"),
+    LG_FUZZ_TOKEN("\r\n"),
+    LG_FUZZ_TOKEN(" "),
+    LG_FUZZ_TOKEN("\t"),
+    LG_FUZZ_TOKEN("."),
+    LG_FUZZ_TOKEN("-"),
+    LG_FUZZ_TOKEN("1"),
+    LG_FUZZ_TOKEN("0.5"),
+    LG_FUZZ_TOKEN("1e999"),
+    LG_FUZZ_TOKEN("-0"),
+    LG_FUZZ_TOKEN(".5e-3"),
+    LG_FUZZ_TOKEN("99999999999999999999"),
+    LG_FUZZ_TOKEN("true"),
+    LG_FUZZ_TOKEN("false"),
+    LG_FUZZ_TOKEN("inf"),
+    LG_FUZZ_TOKEN("nan"),
+    LG_FUZZ_TOKEN("src"),
+    LG_FUZZ_TOKEN("tone"),
+    LG_FUZZ_TOKEN("image"),
+    LG_FUZZ_TOKEN("reinhard"),
+    LG_FUZZ_TOKEN("blur"),
+    LG_FUZZ_TOKEN("gbuffer"),
+    LG_FUZZ_TOKEN("add"),
+    LG_FUZZ_TOKEN("sink"),
+    LG_FUZZ_TOKEN("scene"),
+    LG_FUZZ_TOKEN("key"),
+    LG_FUZZ_TOKEN("kye"),
+    LG_FUZZ_TOKEN("backend"),
+    LG_FUZZ_TOKEN("gl"),
+    LG_FUZZ_TOKEN("image = src"),
+    LG_FUZZ_TOKEN("src.out"),
+    LG_FUZZ_TOKEN("g.depth"),
+    LG_FUZZ_TOKEN("\"out.png\""),
+    LG_FUZZ_TOKEN("\"a.jpg\""),
+    LG_FUZZ_TOKEN("[1, 2, 3]"),
+    LG_FUZZ_TOKEN("[[[["),
+    LG_FUZZ_TOKEN("]]]]"),
+    LG_FUZZ_TOKEN("\xC3\xA9"),
+    LG_FUZZ_TOKEN("\xFF"),
+    LG_FUZZ_TOKEN("\0"),
+    LG_FUZZ_TOKEN("tone = reinhard { image = src }\n"),
+    LG_FUZZ_TOKEN("src = image {}\n"),
+    LG_FUZZ_TOKEN("# comment\n"),
+    LG_FUZZ_TOKEN(", "),
+    LG_FUZZ_TOKEN("{\n"),
+    LG_FUZZ_TOKEN("\n}\n"),
+    LG_FUZZ_TOKEN("\"\\n\\t\\\"\""),
     LG_FUZZ_TOKEN("output src \"o.exr\"\n"),
 };
 

@@ -27,7 +27,6 @@
 
 static unsigned long n_runs, n_ok;
 
-
 /* The pixel limit while fuzzing: 2^22 pixels (64 MiB as RGBA floats), well under the
  * default, so that an input just over it is refused before it is decoded rather than
  * allocating gigabytes (`make fuzz` counts a block over 1 GiB as a finding), and a memory
@@ -55,7 +54,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     n_ok++;
     if (!img.pixels || !img.width || !img.height ||
-        (uint64_t)img.width * img.height > lg_image_max_pixels() || info.format == LG_FILE_UNKNOWN) {
+        (uint64_t)img.width * img.height > lg_image_max_pixels() ||
+        info.format == LG_FILE_UNKNOWN) {
         fprintf(stderr, "fuzz_image: inconsistent image %ux%u\n", img.width, img.height);
         abort();
     }
@@ -82,18 +82,32 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
  * attribute names with their types, Radiance header lines and scanline markers, PNG chunk
  * names and lengths. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("\x76\x2f\x31\x01"), LG_FUZZ_TOKEN("\x02\x00\x00\x00"),
-    LG_FUZZ_TOKEN("\x02\x02\x00\x00"), LG_FUZZ_TOKEN("channels\0chlist\0"),
-    LG_FUZZ_TOKEN("compression\0compression\0"), LG_FUZZ_TOKEN("dataWindow\0box2i\0"),
-    LG_FUZZ_TOKEN("displayWindow\0box2i\0"), LG_FUZZ_TOKEN("lineOrder\0lineOrder\0"),
-    LG_FUZZ_TOKEN("tiles\0tiledesc\0"), LG_FUZZ_TOKEN("R\0\x01\0\0\0"),
+    LG_FUZZ_TOKEN("\x76\x2f\x31\x01"),
+    LG_FUZZ_TOKEN("\x02\x00\x00\x00"),
+    LG_FUZZ_TOKEN("\x02\x02\x00\x00"),
+    LG_FUZZ_TOKEN("channels\0chlist\0"),
+    LG_FUZZ_TOKEN("compression\0compression\0"),
+    LG_FUZZ_TOKEN("dataWindow\0box2i\0"),
+    LG_FUZZ_TOKEN("displayWindow\0box2i\0"),
+    LG_FUZZ_TOKEN("lineOrder\0lineOrder\0"),
+    LG_FUZZ_TOKEN("tiles\0tiledesc\0"),
+    LG_FUZZ_TOKEN("R\0\x01\0\0\0"),
     LG_FUZZ_TOKEN("A\0\x02\0\0\0"),
-    LG_FUZZ_TOKEN("#?RADIANCE\n"), LG_FUZZ_TOKEN("#?RGBE\n"),
-    LG_FUZZ_TOKEN("FORMAT=32-bit_rle_rgbe\n"), LG_FUZZ_TOKEN("FORMAT=32-bit_rle_xyze\n"),
-    LG_FUZZ_TOKEN("EXPOSURE=0\n"), LG_FUZZ_TOKEN("\n-Y 2 +X 2\n"), LG_FUZZ_TOKEN("+Y 65535"),
-    LG_FUZZ_TOKEN("\x02\x02\x00\x08"), LG_FUZZ_TOKEN("\x01\x01\x01\xff"),
-    LG_FUZZ_TOKEN("\x89PNG\r\n\x1a\n"), LG_FUZZ_TOKEN("\0\0\0\x0dIHDR"),
-    LG_FUZZ_TOKEN("IDAT"), LG_FUZZ_TOKEN("PLTE"), LG_FUZZ_TOKEN("tRNS"), LG_FUZZ_TOKEN("gAMA"),
+    LG_FUZZ_TOKEN("#?RADIANCE\n"),
+    LG_FUZZ_TOKEN("#?RGBE\n"),
+    LG_FUZZ_TOKEN("FORMAT=32-bit_rle_rgbe\n"),
+    LG_FUZZ_TOKEN("FORMAT=32-bit_rle_xyze\n"),
+    LG_FUZZ_TOKEN("EXPOSURE=0\n"),
+    LG_FUZZ_TOKEN("\n-Y 2 +X 2\n"),
+    LG_FUZZ_TOKEN("+Y 65535"),
+    LG_FUZZ_TOKEN("\x02\x02\x00\x08"),
+    LG_FUZZ_TOKEN("\x01\x01\x01\xff"),
+    LG_FUZZ_TOKEN("\x89PNG\r\n\x1a\n"),
+    LG_FUZZ_TOKEN("\0\0\0\x0dIHDR"),
+    LG_FUZZ_TOKEN("IDAT"),
+    LG_FUZZ_TOKEN("PLTE"),
+    LG_FUZZ_TOKEN("tRNS"),
+    LG_FUZZ_TOKEN("gAMA"),
     LG_FUZZ_TOKEN("\0\0\0\0IEND\xae\x42\x60\x82"),
 };
 

@@ -21,7 +21,7 @@ static char lg_fuzz_image_dir[4096];
 
 static void lg_fuzz_image_cleanup(void)
 {
-    static const char *const names[] = {"in.exr", "in.hdr", "in.png"};
+    static const char *const names[] = { "in.exr", "in.hdr", "in.png" };
     for (int i = 0; i < 3; i++) {
         char p[4200];
         snprintf(p, sizeof p, "%s/%s", lg_fuzz_image_dir, names[i]);
@@ -51,7 +51,7 @@ static const char *lg_fuzz_image_file(const char *target, const uint8_t *data, s
     else if (size >= 8 && !memcmp(data, "\x89PNG", 4))
         ext = "png";
     else
-        ext = (const char *[]){"exr", "hdr", "png"}[size ? data[0] % 3 : 0];
+        ext = (const char *[]){ "exr", "hdr", "png" }[size ? data[0] % 3 : 0];
     static char path[4200];
     snprintf(path, sizeof path, "%s/in.%s", lg_fuzz_image_dir, ext);
     unlink(path); /* a new file each time (ext4 flushes files truncated and rewritten in place) */

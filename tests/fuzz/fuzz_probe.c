@@ -39,7 +39,7 @@
 
 static unsigned long n_runs, n_ok[6];
 
-/* ---- a host that only takes messages -------------------------------------------------- */
+/* ---- a host that only takes messages --------------------------------------------------------- */
 
 static unsigned n_errors;
 static char last_error[1024];
@@ -64,10 +64,9 @@ static lg_host_api fake_host = {
     .log = fake_log,
     .error = fake_error,
 };
-static lg_node fake_node = {.host = &fake_host, .name = "fuzz_probe"};
+static lg_node fake_node = { .host = &fake_host, .name = "fuzz_probe" };
 
-/* ---- the input as a file -------------------------------------------------------------- */
-
+/* ---- the input as a file --------------------------------------------------------------------- */
 
 static void bad(const char *layout, const char *what)
 {
@@ -80,13 +79,14 @@ static void bad(const char *layout, const char *what)
  * then a few times that at most. */
 #define FUZZ_MAX_PIXELS (1ull << 20)
 
-static const char *const layout_names[6] = {"auto", "latlong", "angular", "cross", "strip",
-                                            "faces"};
+static const char *const layout_names[6] = {
+    "auto", "latlong", "angular", "cross", "strip", "faces"
+};
 
 /* Reads `path` with `want`; checks what the node promises of any result. 0 when read. */
 static int load(int want, const char *path, pr_file *out)
 {
-    const char *faces[6] = {path, path, path, path, path, path};
+    const char *faces[6] = { path, path, path, path, path, path };
     const char *name = layout_names[want];
     n_errors = 0;
     last_error[0] = '\0';
@@ -162,7 +162,7 @@ static void check_pack(const char *name, const pr_file *cube, const pr_file *ref
         bad(name, "the cube written back has another size than its file");
     for (size_t i = 0; i < (size_t)img.width * img.height; i++) {
         const float *p = img.pixels + 4 * i, *q = ref->texels + 4 * i;
-        static const float zero[4] = {0, 0, 0, 0};
+        static const float zero[4] = { 0, 0, 0, 0 };
         if (p[3] == 1.0f ? memcmp(p, q, 16) != 0 : memcmp(p, zero, 16) != 0)
             bad(name, "the cube written back differs from its file");
     }
@@ -192,13 +192,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     pr_file got[6];
     memset(got, 0, sizeof got);
-    bool ok[6] = {false};
+    bool ok[6] = { false };
     for (int want = PR_LAYOUT_ANGULAR; want <= PR_LAYOUT_FACES; want++)
         ok[want] = load(want, path, &got[want]) == 0;
-    if (ok[PR_LAYOUT_ANGULAR] &&
-        (got[PR_LAYOUT_ANGULAR].layout != LG_PROBE_ANGULAR ||
-         got[PR_LAYOUT_ANGULAR].width != ref.width ||
-         !same_texels(got[PR_LAYOUT_ANGULAR].texels, ref.texels, px)))
+    if (ok[PR_LAYOUT_ANGULAR] && (got[PR_LAYOUT_ANGULAR].layout != LG_PROBE_ANGULAR ||
+                                  got[PR_LAYOUT_ANGULAR].width != ref.width ||
+                                  !same_texels(got[PR_LAYOUT_ANGULAR].texels, ref.texels, px)))
         bad("angular", "not the file's image");
     for (int want = PR_LAYOUT_CROSS; want <= PR_LAYOUT_STRIP; want++)
         if (ok[want]) {
@@ -217,10 +216,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* auto: what the explicit layout of that shape reads (lat-long only for 2:1) */
     pr_file a;
     if (load(PR_LAYOUT_AUTO, path, &a) == 0) {
-        int same = a.layout == LG_PROBE_ANGULAR ? PR_LAYOUT_ANGULAR
-                 : a.layout == LG_PROBE_LATLONG ? PR_LAYOUT_LATLONG
-                 : (a.file_layout == LG_PROBE_FILE_STRIP || a.file_layout == LG_PROBE_FILE_VSTRIP)
-                 ? PR_LAYOUT_STRIP : PR_LAYOUT_CROSS;
+        int same = a.layout == LG_PROBE_ANGULAR   ? PR_LAYOUT_ANGULAR
+                   : a.layout == LG_PROBE_LATLONG ? PR_LAYOUT_LATLONG
+                   : (a.file_layout == LG_PROBE_FILE_STRIP || a.file_layout == LG_PROBE_FILE_VSTRIP)
+                       ? PR_LAYOUT_STRIP
+                       : PR_LAYOUT_CROSS;
         const pr_file *e = same == PR_LAYOUT_LATLONG ? &ref : &got[same];
         if ((same == PR_LAYOUT_LATLONG ? ref.width != 2 * ref.height : !ok[same]) ||
             a.width != e->width || a.height != e->height || a.file_layout != e->file_layout ||
@@ -239,13 +239,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* The image formats' pieces (as fuzz_image.c) and the sizes of each layout. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("\x76\x2f\x31\x01"), LG_FUZZ_TOKEN("\x02\x00\x00\x00"),
-    LG_FUZZ_TOKEN("dataWindow\0box2i\0"), LG_FUZZ_TOKEN("channels\0chlist\0"),
-    LG_FUZZ_TOKEN("#?RADIANCE\n"), LG_FUZZ_TOKEN("FORMAT=32-bit_rle_rgbe\n"),
-    LG_FUZZ_TOKEN("\n-Y 4 +X 8\n"), LG_FUZZ_TOKEN("\n-Y 8 +X 8\n"), LG_FUZZ_TOKEN("\n-Y 6 +X 8\n"),
-    LG_FUZZ_TOKEN("\n-Y 8 +X 6\n"), LG_FUZZ_TOKEN("\n-Y 2 +X 12\n"), LG_FUZZ_TOKEN("\n-Y 12 +X 2\n"),
-    LG_FUZZ_TOKEN("\x02\x02\x00\x08"), LG_FUZZ_TOKEN("\x89PNG\r\n\x1a\n"),
-    LG_FUZZ_TOKEN("\0\0\0\x0dIHDR"), LG_FUZZ_TOKEN("\0\0\0\x08\0\0\0\x06"),
+    LG_FUZZ_TOKEN("\x76\x2f\x31\x01"),     LG_FUZZ_TOKEN("\x02\x00\x00\x00"),
+    LG_FUZZ_TOKEN("dataWindow\0box2i\0"),  LG_FUZZ_TOKEN("channels\0chlist\0"),
+    LG_FUZZ_TOKEN("#?RADIANCE\n"),         LG_FUZZ_TOKEN("FORMAT=32-bit_rle_rgbe\n"),
+    LG_FUZZ_TOKEN("\n-Y 4 +X 8\n"),        LG_FUZZ_TOKEN("\n-Y 8 +X 8\n"),
+    LG_FUZZ_TOKEN("\n-Y 6 +X 8\n"),        LG_FUZZ_TOKEN("\n-Y 8 +X 6\n"),
+    LG_FUZZ_TOKEN("\n-Y 2 +X 12\n"),       LG_FUZZ_TOKEN("\n-Y 12 +X 2\n"),
+    LG_FUZZ_TOKEN("\x02\x02\x00\x08"),     LG_FUZZ_TOKEN("\x89PNG\r\n\x1a\n"),
+    LG_FUZZ_TOKEN("\0\0\0\x0dIHDR"),       LG_FUZZ_TOKEN("\0\0\0\x08\0\0\0\x06"),
     LG_FUZZ_TOKEN("\0\0\0\x0c\0\0\0\x02"), LG_FUZZ_TOKEN("IDAT"),
 };
 

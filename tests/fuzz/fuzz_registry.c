@@ -79,7 +79,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 bad("an enum default that does not name its index", size);
         }
     }
-    lg_str a = {0}, b = {0};
+    lg_str a = { 0 }, b = { 0 };
     encode(&a, &p);
     lg_plugin p2;
     if (lg_registry_decode(a.s, a.len, &p2, err, sizeof err) != 0) {
@@ -102,8 +102,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* Pieces of a scan result: the magic, small and boundary counts, NULL strings. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("LGSCAN2\0"), LG_FUZZ_TOKEN("\0\0\0\0"), LG_FUZZ_TOKEN("\1\0\0\0"),
-    LG_FUZZ_TOKEN("\2\0\0\0"), LG_FUZZ_TOKEN("\x40\0\0\0"), LG_FUZZ_TOKEN("\0\1\0\0"),
+    LG_FUZZ_TOKEN("LGSCAN2\0"),        LG_FUZZ_TOKEN("\0\0\0\0"),    LG_FUZZ_TOKEN("\1\0\0\0"),
+    LG_FUZZ_TOKEN("\2\0\0\0"),         LG_FUZZ_TOKEN("\x40\0\0\0"),  LG_FUZZ_TOKEN("\0\1\0\0"),
     LG_FUZZ_TOKEN("\xff\xff\xff\xff"), LG_FUZZ_TOKEN("\x01\0\0\0x"), LG_FUZZ_TOKEN("\x03\0\0\0key"),
 };
 

@@ -69,8 +69,7 @@ static void check_event(const lg_sevent *e, uint32_t prev_line)
         bad("an unknown button, or a button on an event that is not a drag", l);
     bool text = e->kind == LG_SEV_SCREENSHOT || e->kind == LG_SEV_SCREENSHOT_WINDOW ||
                 e->kind == LG_SEV_SET || e->kind == LG_SEV_SHELL;
-    if ((text && (!e->text || !e->text[0])) ||
-        (!text && e->kind != LG_SEV_EXPECT_ERROR && e->text))
+    if ((text && (!e->text || !e->text[0])) || (!text && e->kind != LG_SEV_EXPECT_ERROR && e->text))
         bad("text missing, or where the kind has none", l);
     switch (e->kind) {
     case LG_SEV_WAIT_FRAMES:
@@ -78,8 +77,7 @@ static void check_event(const lg_sevent *e, uint32_t prev_line)
         if (!in(e->a, 1, 1000000) || !whole(e->a))
             bad("frames out of range or not whole", l);
         break;
-    case LG_SEV_KEY:
-        break;
+    case LG_SEV_KEY: break;
     case LG_SEV_DRAG:
         if (!in(e->a, -1e6, 1e6) || !in(e->b, -1e6, 1e6) ||
             (e->has_from && (!in(e->from_x, 0, 1e6) || !in(e->from_y, 0, 1e6))))
@@ -114,10 +112,8 @@ static void check_event(const lg_sevent *e, uint32_t prev_line)
     case LG_SEV_EXPECT_OK:
     case LG_SEV_EXPECT_ERROR:
     case LG_SEV_SHELL:
-    case LG_SEV_QUIT:
-        break;
-    default:
-        bad("an unknown kind", l);
+    case LG_SEV_QUIT: break;
+    default: bad("an unknown kind", l);
     }
 }
 
@@ -125,9 +121,10 @@ static void check_event(const lg_sevent *e, uint32_t prev_line)
  * parser keeps, cutting only the line's last one) reads back as it was. */
 static void write_back(lg_str *b, const lg_sevent *e)
 {
-    static const char *const names[] = {NULL, "wait_frames", "key", "hold", "drag", "scroll",
-                                        "screenshot", "screenshot_window", "set", "wait_reload",
-                                        "expect_ok", "expect_error", "shell", "sleep", "quit"};
+    static const char *const names[] = { NULL,    "wait_frames", "key",        "hold",
+                                         "drag",  "scroll",      "screenshot", "screenshot_window",
+                                         "set",   "wait_reload", "expect_ok",  "expect_error",
+                                         "shell", "sleep",       "quit" };
     lg_str_add(b, names[e->kind]);
     if (e->kind == LG_SEV_KEY || e->kind == LG_SEV_HOLD) {
         lg_str_add(b, " ");
@@ -146,9 +143,7 @@ static void write_back(lg_str *b, const lg_sevent *e)
     case LG_SEV_HOLD:
     case LG_SEV_SCROLL:
     case LG_SEV_WAIT_RELOAD:
-    case LG_SEV_SLEEP:
-        lg_str_addf(b, " %.17g", e->a);
-        break;
+    case LG_SEV_SLEEP: lg_str_addf(b, " %.17g", e->a); break;
     case LG_SEV_DRAG:
         lg_str_addf(b, " %.17g %.17g %s", e->a, e->b,
                     e->button == GLFW_MOUSE_BUTTON_RIGHT    ? "right"
@@ -166,9 +161,9 @@ static void write_back(lg_str *b, const lg_sevent *e)
 
 static bool same_event(const lg_sevent *x, const lg_sevent *y)
 {
-    return x->kind == y->kind && x->key == y->key && x->mods == y->mods &&
-           x->button == y->button && x->a == y->a && x->b == y->b && x->has_from == y->has_from &&
-           x->from_x == y->from_x && x->from_y == y->from_y && !x->text == !y->text &&
+    return x->kind == y->kind && x->key == y->key && x->mods == y->mods && x->button == y->button &&
+           x->a == y->a && x->b == y->b && x->has_from == y->has_from && x->from_x == y->from_x &&
+           x->from_y == y->from_y && !x->text == !y->text &&
            (!x->text || strcmp(x->text, y->text) == 0);
 }
 
@@ -195,7 +190,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     n_events += s.n;
     if (!s.path || strcmp(s.path, PATH) || !s.dir || strcmp(s.dir, DIR) || (s.n && !s.ev))
         bad("an accepted script without its path, folder or events", 0);
-    lg_str back = {0};
+    lg_str back = { 0 };
     for (uint32_t i = 0; i < s.n; i++) {
         check_event(&s.ev[i], i ? s.ev[i - 1].line : 0);
         write_back(&back, &s.ev[i]);
@@ -224,17 +219,39 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* The events, key names and modifiers, buttons, numbers at and past the limits. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("wait_frames "), LG_FUZZ_TOKEN("key "), LG_FUZZ_TOKEN("hold "),
-    LG_FUZZ_TOKEN("drag "), LG_FUZZ_TOKEN("scroll "), LG_FUZZ_TOKEN("screenshot "),
-    LG_FUZZ_TOKEN("screenshot_window "), LG_FUZZ_TOKEN("set "), LG_FUZZ_TOKEN("wait_reload"),
-    LG_FUZZ_TOKEN("expect_ok"), LG_FUZZ_TOKEN("expect_error "), LG_FUZZ_TOKEN("shell "),
-    LG_FUZZ_TOKEN("sleep "), LG_FUZZ_TOKEN("quit"), LG_FUZZ_TOKEN("shift+"),
-    LG_FUZZ_TOKEN("ctrl+"), LG_FUZZ_TOKEN("super+"), LG_FUZZ_TOKEN("PAGE_UP"),
-    LG_FUZZ_TOKEN("F12"), LG_FUZZ_TOKEN(" from "), LG_FUZZ_TOKEN(" middle"),
-    LG_FUZZ_TOKEN("1000000"), LG_FUZZ_TOKEN("1e6"), LG_FUZZ_TOKEN("-1000"),
-    LG_FUZZ_TOKEN("3600"), LG_FUZZ_TOKEN("0.5e-3"), LG_FUZZ_TOKEN("1e999"),
-    LG_FUZZ_TOKEN(".png"), LG_FUZZ_TOKEN(".exr"), LG_FUZZ_TOKEN(" # "), LG_FUZZ_TOKEN("\r\n"),
-    LG_FUZZ_TOKEN("a.b = "), LG_FUZZ_TOKEN("\t"),
+    LG_FUZZ_TOKEN("wait_frames "),
+    LG_FUZZ_TOKEN("key "),
+    LG_FUZZ_TOKEN("hold "),
+    LG_FUZZ_TOKEN("drag "),
+    LG_FUZZ_TOKEN("scroll "),
+    LG_FUZZ_TOKEN("screenshot "),
+    LG_FUZZ_TOKEN("screenshot_window "),
+    LG_FUZZ_TOKEN("set "),
+    LG_FUZZ_TOKEN("wait_reload"),
+    LG_FUZZ_TOKEN("expect_ok"),
+    LG_FUZZ_TOKEN("expect_error "),
+    LG_FUZZ_TOKEN("shell "),
+    LG_FUZZ_TOKEN("sleep "),
+    LG_FUZZ_TOKEN("quit"),
+    LG_FUZZ_TOKEN("shift+"),
+    LG_FUZZ_TOKEN("ctrl+"),
+    LG_FUZZ_TOKEN("super+"),
+    LG_FUZZ_TOKEN("PAGE_UP"),
+    LG_FUZZ_TOKEN("F12"),
+    LG_FUZZ_TOKEN(" from "),
+    LG_FUZZ_TOKEN(" middle"),
+    LG_FUZZ_TOKEN("1000000"),
+    LG_FUZZ_TOKEN("1e6"),
+    LG_FUZZ_TOKEN("-1000"),
+    LG_FUZZ_TOKEN("3600"),
+    LG_FUZZ_TOKEN("0.5e-3"),
+    LG_FUZZ_TOKEN("1e999"),
+    LG_FUZZ_TOKEN(".png"),
+    LG_FUZZ_TOKEN(".exr"),
+    LG_FUZZ_TOKEN(" # "),
+    LG_FUZZ_TOKEN("\r\n"),
+    LG_FUZZ_TOKEN("a.b = "),
+    LG_FUZZ_TOKEN("\t"),
 };
 
 static void summary(FILE *out)

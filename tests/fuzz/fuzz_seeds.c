@@ -58,7 +58,7 @@ static int write_seed(const char *dir, const char *name, const void *data, size_
     return rc;
 }
 
-/* ---- cache ------------------------------------------------------------------------------- */
+/* ---- cache ----------------------------------------------------------------------------------- */
 
 static int cache_seeds(const char *dir)
 {
@@ -68,7 +68,7 @@ static int cache_seeds(const char *dir)
     char payload[96];
     for (size_t i = 0; i < sizeof payload; i++)
         payload[i] = (char)(i * 37 + 11);
-    lg_str e = {0}, empty = {0};
+    lg_str e = { 0 }, empty = { 0 };
     lg_cache_entry_encode(&e, &id, key, payload, sizeof payload);
     lg_cache_entry_encode(&empty, &id, key, NULL, 0);
     int rc = write_seed(dir, "valid.lgc", e.s, e.len);
@@ -104,7 +104,7 @@ static int cache_seeds(const char *dir)
     return rc;
 }
 
-/* ---- registry ------------------------------------------------------------------------------ */
+/* ---- registry -------------------------------------------------------------------------------- */
 
 static void u32(lg_str *b, uint32_t v)
 {
@@ -123,12 +123,12 @@ static void str(lg_str *b, const char *s)
 
 /* What a variant of the small result changes. */
 typedef struct mini {
-    int32_t enum_index;     /* the enum default's index (its name is "b", index 1) */
-    bool null_in_list;      /* renamed_from ["old", NULL, "older"] */
+    int32_t enum_index; /* the enum default's index (its name is "b", index 1) */
+    bool null_in_list;  /* renamed_from ["old", NULL, "older"] */
     unsigned char bool_byte;
     uint32_t neutral;
-    uint32_t n_inputs;      /* declared; one is written */
-    uint32_t n_params;      /* declared; three are written */
+    uint32_t n_inputs; /* declared; one is written */
+    uint32_t n_params; /* declared; three are written */
 } mini;
 
 /* A plugin "mini" with one node type "t": parameters bool `on`, enum `mode` (a, b; default
@@ -218,11 +218,11 @@ static void mini_result(lg_str *b, const mini *m)
 static int registry_seeds(const char *dir, int n, char **plugins)
 {
     int rc = 0;
-    lg_str first = {0};
+    lg_str first = { 0 };
     for (int i = 0; i < n; i++) {
         void *h = dlopen(plugins[i], RTLD_NOW | RTLD_LOCAL);
-        lg_plugin_entry_fn entry =
-            h ? (lg_plugin_entry_fn)(uintptr_t)dlsym(h, LG_PLUGIN_ENTRY_NAME) : NULL;
+        lg_plugin_entry_fn entry = h ? (lg_plugin_entry_fn)(uintptr_t)dlsym(h, LG_PLUGIN_ENTRY_NAME)
+                                     : NULL;
         const lg_plugin_desc *d = entry ? entry() : NULL;
         char err[512];
         if (!d || lg_descriptor_validate(d, plugins[i], err, sizeof err) != 0) {
@@ -230,7 +230,7 @@ static int registry_seeds(const char *dir, int n, char **plugins)
             rc = -1;
             continue;
         }
-        lg_str b = {0};
+        lg_str b = { 0 };
         lg_registry_encode(&b, d);
         char *name = lg_xasprintf("%s.scan", d->name);
         rc |= write_seed(dir, name, b.s, b.len);
@@ -245,26 +245,26 @@ static int registry_seeds(const char *dir, int n, char **plugins)
         return -1;
     }
     rc |= write_seed(dir, "truncated.scan", first.s, first.len / 2);
-    lg_str t = {0};
+    lg_str t = { 0 };
     lg_str_addn(&t, first.s, first.len);
     lg_str_addn(&t, "\0\0\0\0", 4);
     rc |= write_seed(dir, "trailing.scan", t.s, t.len);
     lg_str_free(&t);
     lg_str_free(&first);
 
-    const mini ok = {.enum_index = 1, .bool_byte = 1, .neutral = 0, .n_inputs = 1, .n_params = 3};
+    const mini ok = { .enum_index = 1, .bool_byte = 1, .neutral = 0, .n_inputs = 1, .n_params = 3 };
     struct {
         const char *name;
         mini m;
     } variants[] = {
-        {"mini.scan", ok},
-        {"mini_enum_disagrees.scan", ok},
-        {"mini_enum_index_huge.scan", ok},
-        {"mini_null_in_list.scan", ok},
-        {"mini_bool_byte.scan", ok},
-        {"mini_neutral.scan", ok},
-        {"mini_inputs_declared_more.scan", ok},
-        {"mini_params_huge.scan", ok},
+        { "mini.scan", ok },
+        { "mini_enum_disagrees.scan", ok },
+        { "mini_enum_index_huge.scan", ok },
+        { "mini_null_in_list.scan", ok },
+        { "mini_bool_byte.scan", ok },
+        { "mini_neutral.scan", ok },
+        { "mini_inputs_declared_more.scan", ok },
+        { "mini_params_huge.scan", ok },
     };
     variants[1].m.enum_index = 0;
     variants[2].m.enum_index = INT32_MAX;
@@ -274,14 +274,14 @@ static int registry_seeds(const char *dir, int n, char **plugins)
     variants[6].m.n_inputs = 2;
     variants[7].m.n_params = 0x7fffffff;
     for (size_t i = 0; i < sizeof variants / sizeof *variants; i++) {
-        lg_str b = {0};
+        lg_str b = { 0 };
         mini_result(&b, &variants[i].m);
         rc |= write_seed(dir, variants[i].name, b.s, b.len);
         lg_str_free(&b);
     }
 
     /* huge counts and lengths right after the header */
-    lg_str h = {0};
+    lg_str h = { 0 };
     lg_str_addn(&h, "LGSCAN2", 8);
     u32(&h, LG_ABI_MAJOR);
     u32(&h, LG_ABI_MINOR);
@@ -302,8 +302,7 @@ static int registry_seeds(const char *dir, int n, char **plugins)
     return rc;
 }
 
-
-/* ---- probe ------------------------------------------------------------------------------- */
+/* ---- probe ----------------------------------------------------------------------------------- */
 
 /* A small probe image in every layout the probe node knows, in each format: smooth colours
  * (so that a face cut from the wrong cell shows), one texel out of range per EXR (negative,
@@ -342,13 +341,17 @@ static int probe_seed(const char *dir, const char *name, uint32_t w, uint32_t h,
 
 static int probe_seeds(const char *dir)
 {
-    static const struct { const char *name; uint32_t w, h; } shapes[] = {
-        {"latlong", 16, 8}, {"angular", 8, 8},   {"cross", 16, 12}, {"vcross", 12, 16},
-        {"strip", 24, 4},   {"vstrip", 4, 24},   {"near_latlong", 17, 8}, /* ambiguous */
-        {"odd", 10, 7},     {"one", 1, 1}, /* no layout; the smallest cube face */
+    static const struct {
+        const char *name;
+        uint32_t w, h;
+    } shapes[] = {
+        { "latlong", 16, 8 }, { "angular", 8, 8 }, { "cross", 16, 12 },       { "vcross", 12, 16 },
+        { "strip", 24, 4 },   { "vstrip", 4, 24 }, { "near_latlong", 17, 8 }, /* ambiguous */
+        { "odd", 10, 7 },     { "one", 1, 1 }, /* no layout; the smallest cube face */
     };
-    static const char *const exts[] = {"exr", "hdr", "png"};
-    lg_image_write_opts half = {0}, flt = {.exr_pixel = LG_EXR_FLOAT, .exr_compression = LG_EXR_NONE};
+    static const char *const exts[] = { "exr", "hdr", "png" };
+    lg_image_write_opts half = { 0 },
+                        flt = { .exr_pixel = LG_EXR_FLOAT, .exr_compression = LG_EXR_NONE };
     int rc = 0;
     for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
         for (int e = 0; e < 3; e++) {
@@ -365,7 +368,7 @@ static int probe_seeds(const char *dir)
     return rc;
 }
 
-/* ---- cache_kinds ------------------------------------------------------------------------- */
+/* ---- cache_kinds ----------------------------------------------------------------------------- */
 
 /* A seed: the kind and config bytes, then the payload. */
 static int kind_seed(const char *dir, const char *name, int kind, unsigned config,
@@ -461,8 +464,9 @@ static int cache_kind_seeds(const char *dir)
     unsigned nc = sizeof lg_fuzz_chain_configs / sizeof lg_fuzz_chain_configs[0];
     for (unsigned c = 0; c < nc; c++) {
         const lg_fuzz_chain_config *cc = &lg_fuzz_chain_configs[c];
-        lg_image_desc d = {.width = cc->size, .height = cc->size, .flags = LG_IMAGE_CUBE,
-                           .levels = cc->levels};
+        lg_image_desc d = {
+            .width = cc->size, .height = cc->size, .flags = LG_IMAGE_CUBE, .levels = cc->levels
+        };
         size_t nf = 4 * lg_image_offset(&d, cc->levels, 0), n = 0;
         float *f = seed_floats(nf);
         char *p = ibl_chain_encode(cc->size, cc->levels, cc->samples, nf, f, &n);

@@ -7,7 +7,12 @@
 #define LG_FUZZ_SEEDS_H
 
 /* An lg_digest (host/base/util.h) initialiser, and a key with the characters real keys use. */
-#define LG_FUZZ_CACHE_IDENTITY {{0x0123456789abcdefull, 0xfedcba9876543210ull}}
+#define LG_FUZZ_CACHE_IDENTITY                                                                     \
+    {                                                                                              \
+        {                                                                                          \
+            0x0123456789abcdefull, 0xfedcba9876543210ull                                           \
+        }                                                                                          \
+    }
 #define LG_FUZZ_CACHE_KEY "bvh/v2 leaf=4"
 
 /* fuzz_cache_kinds: an input is a kind byte, a config byte (each taken modulo its table's
@@ -18,16 +23,20 @@ typedef struct lg_fuzz_prt_config {
     unsigned bands, vertices, mode, samples; /* mode: 1 unshadowed .. 3 interreflected */
 } lg_fuzz_prt_config;
 static const lg_fuzz_prt_config lg_fuzz_bake_configs[] = {
-    {1, 1, 1, 4}, {2, 3, 3, 8}, {3, 2, 2, 16},
+    { 1, 1, 1, 4 },
+    { 2, 3, 3, 8 },
+    { 3, 2, 2, 16 },
 };
 static const lg_fuzz_prt_config lg_fuzz_reference_configs[] = {
-    {0, 1, 1, 8}, {0, 5, 3, 16},
+    { 0, 1, 1, 8 },
+    { 0, 5, 3, 16 },
 };
 typedef struct lg_fuzz_chain_config {
     unsigned size, levels, samples;
 } lg_fuzz_chain_config;
 static const lg_fuzz_chain_config lg_fuzz_chain_configs[] = {
-    {4, 3, 64}, {2, 2, 256},
+    { 4, 3, 64 },
+    { 2, 2, 256 },
 };
 
 #endif

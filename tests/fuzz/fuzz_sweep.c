@@ -39,9 +39,10 @@ static void bad(const char *what)
 /* Whether option `o` takes the next argument as its value (as sweep_args.c). */
 static bool takes_value(const char *o)
 {
-    static const char *const opts[] = {"--vary", "--reference", "--ref-set", "--set",
-                                       "--time", "--repeat", "--size", "-o", "--gl",
-                                       "--frames"};
+    static const char *const opts[] = {
+        "--vary",   "--reference", "--ref-set", "--set", "--time",
+        "--repeat", "--size",      "-o",        "--gl",  "--frames"
+    };
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
         if (strcmp(o, opts[k]) == 0)
             return true;
@@ -79,8 +80,8 @@ static void check(const lg_sweep_args *a, int argc, char **argv)
     }
     if (total != a->total)
         bad("a run count that is not the product of the --vary counts");
-    if (a->repeat < 1 || a->repeat > 1000 || a->frames < 1 || a->frames > 100000 ||
-        a->width < 1 || a->width > LG_MAX_SIZE || a->height < 1 || a->height > LG_MAX_SIZE)
+    if (a->repeat < 1 || a->repeat > 1000 || a->frames < 1 || a->frames > 100000 || a->width < 1 ||
+        a->width > LG_MAX_SIZE || a->height < 1 || a->height > LG_MAX_SIZE)
         bad("a number out of its range");
     /* numbers as every command reads them (lg_parse_uint): digits only, so that
      * `--frames ' 4'` or `+4` is refused by sweep as by render */
@@ -114,7 +115,7 @@ static int write_back(const lg_sweep_args *a, char **out, char **owned, int *n_o
     ARG("sweep");
     ARG(a->graph);
     for (int i = 0; i < a->n_vary; i++) {
-        lg_str b = {0};
+        lg_str b = { 0 };
         lg_str_addf(&b, "%s=", a->vary[i].key);
         for (int j = 0; j < a->vary[i].n; j++)
             lg_str_addf(&b, "%s%s", j ? "," : "", a->vary[i].values[j]);
@@ -165,8 +166,8 @@ static bool same(const lg_sweep_args *x, const lg_sweep_args *y)
         !same_str(x->time_node, y->time_node) || !same_str(x->dir, y->dir) ||
         x->n_sets != y->n_sets || x->n_ref_sets != y->n_ref_sets || x->n_vary != y->n_vary ||
         x->total != y->total || x->repeat != y->repeat || x->frames != y->frames ||
-        x->width != y->width || x->height != y->height ||
-        !same_str(x->gl_backend, y->gl_backend) || x->quiet != y->quiet)
+        x->width != y->width || x->height != y->height || !same_str(x->gl_backend, y->gl_backend) ||
+        x->quiet != y->quiet)
         return false;
     for (int i = 0; i < x->n_sets; i++)
         if (!same_str(x->sets[i], y->sets[i]))
@@ -248,13 +249,28 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 /* The options, values at and past their limits, the separators of --vary. */
 static const lg_fuzz_token tokens[] = {
-    LG_FUZZ_TOKEN("\n--vary\n"), LG_FUZZ_TOKEN("\n--reference\n"), LG_FUZZ_TOKEN("\n--ref-set\n"),
-    LG_FUZZ_TOKEN("\n--set\n"), LG_FUZZ_TOKEN("\n--time\n"), LG_FUZZ_TOKEN("\n--repeat\n"),
-    LG_FUZZ_TOKEN("\n--frames\n"), LG_FUZZ_TOKEN("\n--size\n"), LG_FUZZ_TOKEN("\n--gl\n"),
-    LG_FUZZ_TOKEN("\n-o\n"), LG_FUZZ_TOKEN("\n-q"), LG_FUZZ_TOKEN("a.b=1,2,3"),
-    LG_FUZZ_TOKEN(",,"), LG_FUZZ_TOKEN("="), LG_FUZZ_TOKEN("1000"), LG_FUZZ_TOKEN("100000"),
-    LG_FUZZ_TOKEN("16384x1"), LG_FUZZ_TOKEN("egl"), LG_FUZZ_TOKEN("osmesa"),
-    LG_FUZZ_TOKEN("9999999999999999999"), LG_FUZZ_TOKEN(" "), LG_FUZZ_TOKEN("-"),
+    LG_FUZZ_TOKEN("\n--vary\n"),
+    LG_FUZZ_TOKEN("\n--reference\n"),
+    LG_FUZZ_TOKEN("\n--ref-set\n"),
+    LG_FUZZ_TOKEN("\n--set\n"),
+    LG_FUZZ_TOKEN("\n--time\n"),
+    LG_FUZZ_TOKEN("\n--repeat\n"),
+    LG_FUZZ_TOKEN("\n--frames\n"),
+    LG_FUZZ_TOKEN("\n--size\n"),
+    LG_FUZZ_TOKEN("\n--gl\n"),
+    LG_FUZZ_TOKEN("\n-o\n"),
+    LG_FUZZ_TOKEN("\n-q"),
+    LG_FUZZ_TOKEN("a.b=1,2,3"),
+    LG_FUZZ_TOKEN(",,"),
+    LG_FUZZ_TOKEN("="),
+    LG_FUZZ_TOKEN("1000"),
+    LG_FUZZ_TOKEN("100000"),
+    LG_FUZZ_TOKEN("16384x1"),
+    LG_FUZZ_TOKEN("egl"),
+    LG_FUZZ_TOKEN("osmesa"),
+    LG_FUZZ_TOKEN("9999999999999999999"),
+    LG_FUZZ_TOKEN(" "),
+    LG_FUZZ_TOKEN("-"),
 };
 
 static void summary(FILE *out)

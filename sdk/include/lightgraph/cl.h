@@ -76,15 +76,15 @@ LG_API const char *lg_cl_strerror(cl_int err);
 /* Reports "what: CL_NAME (code)" for this node and returns LG_ERR_DEVICE. */
 LG_API int lg_cl_fail(lg_node *node, cl_int err, const char *what);
 
-/* ---- passes (since ABI 3.0) ----------------------------------------------------------- */
+/* ---- passes (since ABI 3.0) ------------------------------------------------------------------ */
 
 typedef struct lg_cl_pass lg_cl_pass; /* opaque */
 
 /* What a pass runs. Zero means default; the struct and every string and array it points
  * to need only live until lg_cl_pass_create returns (the pass keeps copies). */
 typedef struct lg_cl_pass_desc {
-    size_t struct_size;              /* 0 or sizeof(lg_cl_pass_desc) */
-    const char *name;                /* for messages, e.g. "reinhard map" (required) */
+    size_t struct_size; /* 0 or sizeof(lg_cl_pass_desc) */
+    const char *name;   /* for messages, e.g. "reinhard map" (required) */
     /* The program's texts, joined in this order: shared twins first (lg_src_rgbe_cl,
      * lg_src_probe_cl, lg_src_medium_cl), the kernel's own file last. OpenCL C has no
      * #include of embedded text: this is how a kernel uses shaders/common/ code. */
@@ -94,12 +94,12 @@ typedef struct lg_cl_pass_desc {
      * "rgbe.cl:12:5: error" for an error in the shared twin and "blur.cl:40:9" for one in
      * the kernel's file. A name must not hold '"', '\\' or a newline. */
     const char *const *source_names;
-    unsigned n_sources;              /* >= 1 */
+    unsigned n_sources; /* >= 1 */
     /* Build options, e.g. "-cl-std=CL1.2 -DGROUP=256"; may be NULL. The pass adds
      * -cl-kernel-arg-info so that argument errors can name the argument. */
     const char *options;
-    const char *kernel;              /* the kernel function (required) */
-    void *reserved[4];               /* zero */
+    const char *kernel; /* the kernel function (required) */
+    void *reserved[4];  /* zero */
 } lg_cl_pass_desc;
 
 /* Makes a pass: the program from the host's cache (built on first use with the sources
@@ -163,10 +163,9 @@ LG_API int lg_cl_pass_arg_resource(lg_cl_pass *p, unsigned i, const lg_resource 
  * An enqueue failure names the pass, the kernel, the sizes and the CL error. Returns 0 or
  * an LG_ERR_*. The run is queued, not finished: read results with a blocking read
  * (lg_cl_buffer_read) or let the host's next mapping wait for them. */
-LG_API int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global,
-                          const size_t *local);
+LG_API int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global, const size_t *local);
 
-/* ---- scratch buffers (since ABI 3.0) --------------------------------------------------
+/* ---- scratch buffers (since ABI 3.0) ------------------------------------------------------------
  *
  * Device memory a node keeps for itself (partial sums, uploaded tables, a history), in
  * libplacebo's recreate idiom: the struct is the handle, zero-initialised means "none
@@ -176,9 +175,9 @@ LG_API int lg_cl_pass_run(lg_cl_pass *p, unsigned dims, const size_t *global,
  * frame shows no growth. The node owns the buffer; free it in destroy. Never release
  * b->mem yourself. */
 typedef struct lg_cl_buffer {
-    cl_mem mem;            /* NULL: none */
-    size_t size;           /* bytes it holds */
-    cl_mem_flags flags;    /* what it was made with */
+    cl_mem mem;         /* NULL: none */
+    size_t size;        /* bytes it holds */
+    cl_mem_flags flags; /* what it was made with */
 } lg_cl_buffer;
 
 /* Makes the buffer when absent, smaller than `size` bytes or made with other flags

@@ -17,9 +17,13 @@ typedef enum lg_luma_weights { LG_LUMA_REC709 = 0, LG_LUMA_SEED0 = 1 } lg_luma_w
 static inline void lg_luma_coeffs(lg_luma_weights w, float out[3])
 {
     if (w == LG_LUMA_SEED0) {
-        out[0] = 0.2125f; out[1] = 0.7154f; out[2] = 0.0721f;
+        out[0] = 0.2125f;
+        out[1] = 0.7154f;
+        out[2] = 0.0721f;
     } else {
-        out[0] = 0.2126f; out[1] = 0.7152f; out[2] = 0.0722f;
+        out[0] = 0.2126f;
+        out[1] = 0.7152f;
+        out[2] = 0.0722f;
     }
 }
 

@@ -40,23 +40,21 @@ extern "C" {
 /* Opens path for reading when it is a regular file of at most limit bytes. Returns a
  * blocking, close-on-exec descriptor (the caller closes it) and stores the size in *size
  * (may be NULL), or returns -1 with the reason in err. */
-LG_API int lg_file_open(const char *path, uint64_t limit, uint64_t *size, char *err,
-                        size_t errlen);
+LG_API int lg_file_open(const char *path, uint64_t limit, uint64_t *size, char *err, size_t errlen);
 
 /* As lg_file_open, and the file must lie inside the folder root once every symbolic link is
  * resolved (root itself may be a link). A relative path is taken relative to root. */
-LG_API int lg_file_open_within(const char *root, const char *path, uint64_t limit,
-                               uint64_t *size, char *err, size_t errlen);
+LG_API int lg_file_open_within(const char *root, const char *path, uint64_t limit, uint64_t *size,
+                               char *err, size_t errlen);
 
 /* Reads a whole file of at most limit bytes. Returns a malloc'd buffer with a NUL byte after
  * the content (the caller frees it), its length in *len (may be NULL); NULL with the reason
  * in err. */
-LG_API void *lg_file_read(const char *path, uint64_t limit, size_t *len, char *err,
-                          size_t errlen);
+LG_API void *lg_file_read(const char *path, uint64_t limit, size_t *len, char *err, size_t errlen);
 
 /* lg_file_read confined to root, as lg_file_open_within. */
-LG_API void *lg_file_read_within(const char *root, const char *path, uint64_t limit,
-                                 size_t *len, char *err, size_t errlen);
+LG_API void *lg_file_read_within(const char *root, const char *path, uint64_t limit, size_t *len,
+                                 char *err, size_t errlen);
 
 /* Reads exactly size bytes (the size lg_file_open found) from fd, refusing a file that grew
  * or failed; the buffer as lg_file_read's. Does not close fd. */

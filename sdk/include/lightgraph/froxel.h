@@ -33,19 +33,19 @@ typedef enum lg_froxel_slicing {
 
 /* The `info` part. */
 typedef struct lg_froxel_info {
-    uint32_t struct_size;      /* sizeof(lg_froxel_info) */
+    uint32_t struct_size; /* sizeof(lg_froxel_info) */
     uint32_t width, height, depth;
     lg_froxel_slicing slicing;
-    float near, far;           /* view depths covered by the grid, scene units */
-    float near_offset;         /* LG_FROXEL_EXPONENTIAL: depth of the first slice's end */
-    float view[16];            /* world -> view of the camera, column-major */
-    float proj[16];            /* view -> clip */
+    float near, far;   /* view depths covered by the grid, scene units */
+    float near_offset; /* LG_FROXEL_EXPONENTIAL: depth of the first slice's end */
+    float view[16];    /* world -> view of the camera, column-major */
+    float proj[16];    /* view -> clip */
     uint32_t reserved[8];
 } lg_froxel_info;
 
 typedef struct lg_froxel {
     lg_froxel_info info;
-    const lg_resource *grid;   /* map it on the device of choice */
+    const lg_resource *grid; /* map it on the device of choice */
     void *reserved[4];
 } lg_froxel;
 

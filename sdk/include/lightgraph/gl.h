@@ -56,7 +56,7 @@ typedef struct lg_gl_shader_src {
 LG_API GLuint lg_gl_program(lg_node *node, const lg_gl *gl, const lg_gl_shader_src *stages,
                             unsigned count, const char *defines);
 
-/* ---- Scratch device memory (since ABI 3.0) ------------------------------------------------
+/* ---- Scratch device memory (since ABI 3.0) ------------------------------------------------------
  *
  * GL buffers and textures a node makes for itself (a G-buffer, a light list, a history
  * volume), in libplacebo's recreate idiom: the node keeps a zero-initialised handle in its
@@ -97,9 +97,9 @@ LG_API GLuint lg_gl_program(lg_node *node, const lg_gl *gl, const lg_gl_shader_s
 
 /* A buffer object (glNamedBufferStorage). */
 typedef struct lg_gl_buffer {
-    GLuint name;           /* 0: none */
-    size_t size;           /* bytes it holds */
-    GLbitfield flags;      /* glNamedBufferStorage flags it was made with */
+    GLuint name;      /* 0: none */
+    size_t size;      /* bytes it holds */
+    GLbitfield flags; /* glNamedBufferStorage flags it was made with */
 } lg_gl_buffer;
 
 /* Makes the buffer when absent, smaller than `size` or of other flags
@@ -123,17 +123,17 @@ LG_API void lg_gl_buffer_destroy(lg_node *n, lg_gl_buffer *b);
 
 /* What a texture is: zero means default where a default is given. */
 typedef struct lg_gl_texture_desc {
-    GLenum target;         /* GL_TEXTURE_2D, _3D, _2D_ARRAY, _CUBE_MAP */
-    GLenum format;         /* sized internal format: GL_RGBA32F, GL_R32UI, GL_DEPTH_COMPONENT32F... */
-    uint32_t width, height, depth;   /* depth: 3D depth or array layers; 0 = 1 */
-    uint32_t levels;                 /* 0 = 1 */
+    GLenum target; /* GL_TEXTURE_2D, _3D, _2D_ARRAY, _CUBE_MAP */
+    GLenum format; /* sized internal format: GL_RGBA32F, GL_R32UI, GL_DEPTH_COMPONENT32F... */
+    uint32_t width, height, depth; /* depth: 3D depth or array layers; 0 = 1 */
+    uint32_t levels;               /* 0 = 1 */
     uint32_t reserved[4];
 } lg_gl_texture_desc;
 
 typedef struct lg_gl_texture {
-    GLuint name;           /* 0: none */
-    lg_gl_texture_desc desc;  /* what it was made with, defaults filled in (depth, levels >= 1) */
-    uint64_t bytes;        /* what it counts in the profile */
+    GLuint name;             /* 0: none */
+    lg_gl_texture_desc desc; /* what it was made with, defaults filled in (depth, levels >= 1) */
+    uint64_t bytes;          /* what it counts in the profile */
 } lg_gl_texture;
 
 /* Makes the texture (glTextureStorage2D/3D) when absent or when any field of desc differs;
@@ -161,9 +161,9 @@ LG_API uint64_t lg_gl_texture_bytes(const lg_gl_texture_desc *d);
  * owns: an input's GL buffer (lg_map_gl) or the node's lg_gl_buffer. It holds no storage of
  * its own (counted 0) and is remade when the buffer or the format changes. */
 typedef struct lg_gl_buffer_texture {
-    GLuint name;           /* 0: none */
-    GLuint buffer;         /* the buffer it views */
-    GLenum format;         /* GL_R32F, GL_RGB32F, GL_RGBA32F, GL_R32UI, ... */
+    GLuint name;   /* 0: none */
+    GLuint buffer; /* the buffer it views */
+    GLenum format; /* GL_R32F, GL_RGB32F, GL_RGBA32F, GL_R32UI, ... */
 } lg_gl_buffer_texture;
 
 /* Makes the buffer texture over `buffer` (not 0) in `format` (a format glTextureBuffer

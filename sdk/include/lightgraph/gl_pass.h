@@ -97,11 +97,11 @@ extern "C" {
 #else
 #define LG_GL_STATIC_ASSERT_ _Static_assert
 #endif
-#define LG_GL_BLOCK_SIZE(type, bytes)                                                       \
-    LG_GL_STATIC_ASSERT_(sizeof(type) == (bytes),                                           \
+#define LG_GL_BLOCK_SIZE(type, bytes)                                                              \
+    LG_GL_STATIC_ASSERT_(sizeof(type) == (bytes),                                                  \
                          #type " does not have the size of its GLSL block (" #bytes " bytes)")
-#define LG_GL_BLOCK_OFFSET(type, member, bytes)                                             \
-    LG_GL_STATIC_ASSERT_(offsetof(type, member) == (bytes),                                 \
+#define LG_GL_BLOCK_OFFSET(type, member, bytes)                                                    \
+    LG_GL_STATIC_ASSERT_(offsetof(type, member) == (bytes),                                        \
                          #type "." #member " is not at its GLSL offset (" #bytes ")")
 
 /* Colour attachments a raster pass may have. */
@@ -184,7 +184,7 @@ LG_API void lg_gl_pass_destroy(lg_gl_pass **pass);
 LG_API GLuint lg_gl_pass_program(const lg_gl_pass *pass);
 LG_API const char *lg_gl_pass_name(const lg_gl_pass *pass);
 
-/* ---- uniforms and bindings, resolved by name once ------------------------------------- */
+/* ---- uniforms and bindings, resolved by name once -------------------------------------------- */
 
 /* A uniform of the pass's program. location -1: absent (setters then do nothing). */
 typedef struct lg_gl_uniform {
@@ -220,10 +220,8 @@ LG_API void lg_gl_set_mat4(lg_gl_pass *pass, lg_gl_uniform u, const float m[16])
 LG_API void lg_gl_set_mat3(lg_gl_pass *pass, lg_gl_uniform u, const float m[9]);
 LG_API void lg_gl_set_floatv(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count, const float *v);
 LG_API void lg_gl_set_intv(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count, const int32_t *v);
-LG_API void lg_gl_set_vec3_array(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count,
-                                 const float *v);
-LG_API void lg_gl_set_vec4_array(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count,
-                                 const float *v);
+LG_API void lg_gl_set_vec3_array(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count, const float *v);
+LG_API void lg_gl_set_vec4_array(lg_gl_pass *pass, lg_gl_uniform u, uint32_t count, const float *v);
 
 /* A binding point of the program, by the name of what the shader binds there:
  *   lg_gl_pass_storage        a shader storage block ("LgLights", the block's name)
@@ -245,8 +243,7 @@ LG_API lg_gl_binding lg_gl_pass_image(lg_gl_pass *pass, const char *image);
 /* Any of the four by `kind` (GL_SHADER_STORAGE_BLOCK, GL_UNIFORM_BLOCK, GL_SAMPLER,
  * GL_IMAGE_2D), for a binding that some variants of the program do not use: absent gives
  * index -1 (binding it then does nothing) and no error. */
-LG_API lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *pass, GLenum kind,
-                                                 const char *name);
+LG_API lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *pass, GLenum kind, const char *name);
 
 /* The run-time half of LG_GL_BLOCK_SIZE: checks that the program's storage or uniform block
  * `block` has the layout a C struct of `size` bytes mirrors. For a block that ends in an
@@ -254,8 +251,7 @@ LG_API lg_gl_binding lg_gl_pass_binding_optional(lg_gl_pass *pass, GLenum kind,
  * with the array's stride; otherwise with the block's size. A mismatch (or an absent block)
  * is an error naming the pass, the block and both sizes, and fails the pass. Returns 0 or
  * LG_ERR_INVALID. */
-LG_API int lg_gl_pass_check_block(lg_gl_pass *pass, GLenum kind, const char *block,
-                                  size_t size);
+LG_API int lg_gl_pass_check_block(lg_gl_pass *pass, GLenum kind, const char *block, size_t size);
 
 /* Since ABI 3.0: a whole uniform block from one C struct that mirrors it (sokol's
  * sg_apply_uniforms), in place of a setter call per uniform:
@@ -292,8 +288,8 @@ LG_API int lg_gl_pass_uniforms(lg_gl_pass *pass, lg_gl_binding block, const void
  * `access` (GL_READ_ONLY, GL_WRITE_ONLY, GL_READ_WRITE) and `format` (GL_RGBA32F...). */
 LG_API void lg_gl_pass_bind_buffer(lg_gl_pass *pass, lg_gl_binding b, GLuint buffer);
 LG_API void lg_gl_pass_bind_texture(lg_gl_pass *pass, lg_gl_binding b, GLuint tex);
-LG_API void lg_gl_pass_bind_image(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
-                                  GLenum access, GLenum format);
+LG_API void lg_gl_pass_bind_image(lg_gl_pass *pass, lg_gl_binding b, GLuint tex, GLenum access,
+                                  GLenum format);
 
 /* Since ABI 2.6: lg_gl_pass_bind_image for any image of `tex`: mip `level`, and either one
  * `layer` (a layer of a 3D, array or cube-map texture, seen by the shader as a 2D image) or,
@@ -302,23 +298,22 @@ LG_API void lg_gl_pass_bind_image(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
  * lg_gl_pass_bind_image_level(p, b, t, 0, 0, a, f): level 0, layer 0 (the whole of a 2D
  * texture). A level or layer outside the texture is GL's error, reported at end. */
 #define LG_GL_ALL_LAYERS (-1)
-LG_API void lg_gl_pass_bind_image_level(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
-                                        GLint level, GLint layer, GLenum access,
-                                        GLenum format);
+LG_API void lg_gl_pass_bind_image_level(lg_gl_pass *pass, lg_gl_binding b, GLuint tex, GLint level,
+                                        GLint layer, GLenum access, GLenum format);
 
 /* Since ABI 3.0: how a texture binding samples (zero = bilinear, clamped to the edge, not
  * seamless, no comparison). */
 typedef enum lg_gl_filter {
-    LG_GL_FILTER_LINEAR = 0,  /* bilinear, level 0's neighbours (GL_LINEAR both ways) */
-    LG_GL_FILTER_NEAREST,     /* the nearest texel (GL_NEAREST both ways) */
+    LG_GL_FILTER_LINEAR = 0,    /* bilinear, level 0's neighbours (GL_LINEAR both ways) */
+    LG_GL_FILTER_NEAREST,       /* the nearest texel (GL_NEAREST both ways) */
     LG_GL_FILTER_LINEAR_MIPMAP, /* trilinear: GL_LINEAR_MIPMAP_LINEAR, magnified GL_LINEAR */
 } lg_gl_filter;
 
 typedef enum lg_gl_wrap {
-    LG_GL_WRAP_CLAMP = 0,     /* GL_CLAMP_TO_EDGE */
-    LG_GL_WRAP_REPEAT,        /* GL_REPEAT */
-    LG_GL_WRAP_MIRROR,        /* GL_MIRRORED_REPEAT */
-    LG_GL_WRAP_BORDER_ZERO,   /* GL_CLAMP_TO_BORDER with a border of (0, 0, 0, 0) */
+    LG_GL_WRAP_CLAMP = 0,   /* GL_CLAMP_TO_EDGE */
+    LG_GL_WRAP_REPEAT,      /* GL_REPEAT */
+    LG_GL_WRAP_MIRROR,      /* GL_MIRRORED_REPEAT */
+    LG_GL_WRAP_BORDER_ZERO, /* GL_CLAMP_TO_BORDER with a border of (0, 0, 0, 0) */
 } lg_gl_wrap;
 
 typedef struct lg_gl_sampler {
@@ -340,7 +335,7 @@ typedef struct lg_gl_sampler {
 LG_API void lg_gl_pass_bind_texture_sampled(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
                                             const lg_gl_sampler *s);
 
-/* ---- a raster pass ------------------------------------------------------------------------- */
+/* ---- a raster pass --------------------------------------------------------------------------- */
 
 /* What a raster pass draws into: textures (color[i] for attachment i, depth for the depth
  * attachment; 0 where the descriptor has none) of width x height texels. */
@@ -406,8 +401,7 @@ LG_API int lg_gl_pass_draw(lg_gl_pass *pass, GLenum mode, uint32_t vertices);
 
 /* Runs the program over width x height x depth invocations: ceil(size / local size) groups
  * per axis (0 counts as 1). Checks the counts against GL_MAX_COMPUTE_WORK_GROUP_COUNT. */
-LG_API int lg_gl_pass_dispatch(lg_gl_pass *pass, uint32_t width, uint32_t height,
-                               uint32_t depth);
+LG_API int lg_gl_pass_dispatch(lg_gl_pass *pass, uint32_t width, uint32_t height, uint32_t depth);
 
 /* Runs gx x gy x gz work groups. */
 LG_API int lg_gl_pass_dispatch_groups(lg_gl_pass *pass, uint32_t gx, uint32_t gy, uint32_t gz);
@@ -420,7 +414,7 @@ LG_API void lg_gl_pass_local_size(const lg_gl_pass *pass, uint32_t size[3]);
  * reads them next (texture fetches, image loads, buffer reads, read-backs). */
 LG_API void lg_gl_pass_barrier(lg_gl_pass *pass, GLbitfield bits);
 
-/* ---- the end ---------------------------------------------------------------------------------- */
+/* ---- the end --------------------------------------------------------------------------------- */
 
 /* Ends the pass and restores the state (see "State"); then reports a pending GL error
  * naming the pass. Returns `rc` when it is non-zero (the first error wins), else 0 or

@@ -95,16 +95,16 @@ typedef struct lg_volume_desc {
 typedef struct lg_resource_info {
     lg_resource_kind kind;
     bool neutral;
-    lg_image_desc image;   /* kind == LG_KIND_IMAGE */
-    lg_buffer_desc buffer; /* kind == LG_KIND_BUFFER (and META parts) */
-    lg_volume_desc volume; /* kind == LG_KIND_VOLUME */
+    lg_image_desc image;            /* kind == LG_KIND_IMAGE */
+    lg_buffer_desc buffer;          /* kind == LG_KIND_BUFFER (and META parts) */
+    lg_volume_desc volume;          /* kind == LG_KIND_VOLUME */
     const lg_scene_features *scene; /* kind == LG_KIND_SCENE; owned by the resource */
-    const void *payload;   /* kinds whose data the producing plugin owns (scene) */
+    const void *payload;            /* kinds whose data the producing plugin owns (scene) */
     /* since ABI 2.0 */
-    uint32_t n_parts;          /* composite kinds: the parts it has (0 when neutral) */
-    lg_resource_kind part_of;  /* a part: the composite's kind; else LG_KIND_ANY */
-    const char *part_name;     /* a part: its name; else NULL */
-    lg_part_type part_type;    /* a part: its type; else 0 */
+    uint32_t n_parts;         /* composite kinds: the parts it has (0 when neutral) */
+    lg_resource_kind part_of; /* a part: the composite's kind; else LG_KIND_ANY */
+    const char *part_name;    /* a part: its name; else NULL */
+    lg_part_type part_type;   /* a part: its type; else 0 */
     uint32_t reserved[8];
 } lg_resource_info;
 
@@ -123,24 +123,24 @@ typedef struct lg_part_spec {
 
 /* A CPU mapping of an image or volume: rows of `width` pixels, `row_pixels` apart. */
 typedef struct lg_cpu_view {
-    void *pixels;          /* format as declared; NULL on failure */
-    float *depth;          /* images with LG_IMAGE_DEPTH, else NULL */
-    size_t row_pixels;     /* pixels from one row to the next (== width today) */
+    void *pixels;      /* format as declared; NULL on failure */
+    float *depth;      /* images with LG_IMAGE_DEPTH, else NULL */
+    size_t row_pixels; /* pixels from one row to the next (== width today) */
     uint32_t reserved[4];
 } lg_cpu_view;
 
 /* The frame being executed. */
 struct lg_frame {
-    uint32_t index;        /* 0 .. count-1 */
-    uint32_t count;        /* --frames */
-    double time;           /* seconds since frame 0 (index * dt) */
-    double dt;             /* seconds per frame (--dt, default 1/60) */
-    uint32_t width, height;/* render size (--size), for nodes that make images from nothing */
+    uint32_t index;         /* 0 .. count-1 */
+    uint32_t count;         /* --frames */
+    double time;            /* seconds since frame 0 (index * dt) */
+    double dt;              /* seconds per frame (--dt, default 1/60) */
+    uint32_t width, height; /* render size (--size), for nodes that make images from nothing */
     uint32_t reserved[8];
 };
 
 typedef struct lg_host_api {
-    size_t struct_size;    /* sizeof(lg_host_api) as the host was built */
+    size_t struct_size; /* sizeof(lg_host_api) as the host was built */
     uint16_t abi_major, abi_minor;
 
     /* -- messages -- */
@@ -186,8 +186,7 @@ typedef struct lg_host_api {
                   uint32_t *depth);
     /* CL buffers (cl_mem, as void *): pixels tightly packed in the declared format;
      * *depth receives a float buffer or NULL. */
-    int (*map_cl)(lg_node *node, const lg_resource *res, unsigned access, void **mem,
-                  void **depth);
+    int (*map_cl)(lg_node *node, const lg_resource *res, unsigned access, void **mem, void **depth);
 
     /* -- devices -- */
     /* The GL 4.5 core function table (a GladGLContext, see lightgraph/gl.h) of the current
@@ -200,8 +199,7 @@ typedef struct lg_host_api {
     /* Builds an OpenCL program once per process (cached by source and options) and returns
      * the cl_program, owned by the host. `name` is the file name used in messages. On a
      * build failure, reports the build log and returns NULL. */
-    void *(*cl_program)(lg_node *node, const char *name, const char *source,
-                        const char *options);
+    void *(*cl_program)(lg_node *node, const char *name, const char *source, const char *options);
     /* Counts a finished or queued cl_event's execution time as this node's GPU time. The
      * host retains the event and releases it after reading its profile. */
     void (*cl_profile)(lg_node *node, void *event);
@@ -231,18 +229,17 @@ typedef struct lg_host_api {
      * freed by the host with the resource; its bytes are counted against the node that
      * made it. The payload is immutable, so data and size must be the same on every call
      * for a slot. Returns 0 or an LG_ERR_* after reporting. */
-    int (*payload_gl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot,
-                             const void *data, size_t size, uint32_t *buffer);
-    int (*payload_cl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot,
-                             const void *data, size_t size, void **mem);
+    int (*payload_gl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot, const void *data,
+                             size_t size, uint32_t *buffer);
+    int (*payload_cl_buffer)(lg_node *node, const lg_resource *res, uint32_t slot, const void *data,
+                             size_t size, void **mem);
 
     /* -- since ABI 2.0: CPU parallelism --
      * The host's thread pool, for nodes that run on the CPU; see lg_parallel_for below for
      * the contract. */
     uint32_t (*cpu_workers)(lg_node *node); /* threads the pool runs, >= 1 */
     int (*parallel_for)(lg_node *node, size_t n, size_t grain,
-                        void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk),
-                        void *ctx);
+                        void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk), void *ctx);
 
     /* -- since ABI 2.0: composite resources (lightgraph/kinds.h) --
      * declare_composite: in prepare(), declares output `port` (of a composite kind) with
@@ -336,13 +333,13 @@ typedef struct lg_host_api {
 /* A node as the host shows it to its plugin. The host owns it. */
 struct lg_node {
     const lg_host_api *host;
-    const char *name;            /* the graph's name for this node, e.g. "tone" */
+    const char *name; /* the graph's name for this node, e.g. "tone" */
     const lg_node_type *type;
-    void *user;                  /* the plugin's instance state (create .. destroy) */
+    void *user; /* the plugin's instance state (create .. destroy) */
     void *reserved[4];
 };
 
-/* ---- convenience wrappers --------------------------------------------------------- */
+/* ---- convenience wrappers -------------------------------------------------------------------- */
 
 static inline void lg_log(lg_node *n, lg_log_level level, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -573,7 +570,7 @@ static inline int lg_payload_cl_buffer(lg_node *n, const lg_resource *res, uint3
     return n->host->payload_cl_buffer(n, res, slot, data, size, mem);
 }
 
-/* ---- CPU parallelism (since ABI 2.0) ------------------------------------------------
+/* ---- CPU parallelism (since ABI 2.0) ------------------------------------------------------------
  *
  * The host runs one thread pool for every node of the process: a node that parallelises
  * its CPU work through it shares the machine with the others instead of oversubscribing
@@ -641,7 +638,7 @@ static inline void lg_output_size(lg_node *n, const char *width_key, const char 
     *height = h > 0 ? (uint32_t)h : rh;
 }
 
-/* ---- create() and prepare() openings ---------------------------------------------------
+/* ---- create() and prepare() openings ------------------------------------------------------------
  *
  * lg_create_state(n, size): the node's instance state: `size` bytes, zeroed, stored in
  * n->user and returned; NULL after reporting "out of memory" (create() then returns
@@ -662,9 +659,8 @@ static inline void *lg_create_state(lg_node *n, size_t size)
     n->user = st;
     return st;
 }
-static inline int lg_output_size_nonempty(lg_node *n, const char *width_key,
-                                          const char *height_key, uint32_t *width,
-                                          uint32_t *height)
+static inline int lg_output_size_nonempty(lg_node *n, const char *width_key, const char *height_key,
+                                          uint32_t *width, uint32_t *height)
 {
     lg_output_size(n, width_key, height_key, width, height);
     if (*width == 0 || *height == 0)
@@ -672,7 +668,7 @@ static inline int lg_output_size_nonempty(lg_node *n, const char *width_key,
     return 0;
 }
 
-/* ---- inputs the checker guarantees -----------------------------------------------------
+/* ---- inputs the checker guarantees --------------------------------------------------------------
  *
  * Before any node runs, the host checks the graph and refuses (exit status 2, naming the
  * node and the input) one that leaves a required input (lg_port_desc.optional false)
@@ -693,17 +689,20 @@ static inline void lg_assert_input(lg_node *n, uint32_t port)
 #ifdef LG_DEBUG_CHECKS
     const lg_node_type *t = n->type;
     if (!t || port >= t->n_inputs || t->inputs[port].optional) {
-        lg_error(n, "lg_assert_input: input #%u of type '%s' is not a required input (a "
-                    "plugin bug)", port, t && t->name ? t->name : "?");
+        lg_error(n,
+                 "lg_assert_input: input #%u of type '%s' is not a required input (a "
+                 "plugin bug)",
+                 port, t && t->name ? t->name : "?");
         abort();
     }
     const lg_resource *r = n->host->input(n, port);
     lg_resource_info info;
     if (!r || n->host->describe(r, &info) != 0 ||
         (t->inputs[port].kind != LG_KIND_ANY && info.kind != t->inputs[port].kind)) {
-        lg_error(n, "lg_assert_input: required input '%s' is %s, which the host's graph "
-                    "check rules out (a host bug)", t->inputs[port].name,
-                 r ? "of another kind" : "not connected");
+        lg_error(n,
+                 "lg_assert_input: required input '%s' is %s, which the host's graph "
+                 "check rules out (a host bug)",
+                 t->inputs[port].name, r ? "of another kind" : "not connected");
         abort();
     }
 #else
@@ -762,8 +761,7 @@ static inline void lg_cache_reject(lg_node *n, const char *key, const char *why)
         n->host->cache_reject)
         n->host->cache_reject(n, key, why);
     else
-        lg_log(n, LG_LOG_WARN, "cache entry '%s' is corrupt (%s); computing it again", key,
-               why);
+        lg_log(n, LG_LOG_WARN, "cache entry '%s' is corrupt (%s); computing it again", key, why);
 }
 
 static inline void lg_set_view_independent(lg_node *n, bool independent)
@@ -777,8 +775,7 @@ static inline void lg_set_view_independent(lg_node *n, bool independent)
  * output_file_write; the only way a plugin writes a file). On an older host, which cannot
  * write it all or nothing, reports that and returns LG_ERR_UNSUPPORTED: nothing is
  * written. */
-static inline int lg_output_file_write(lg_node *n, const char *key, const void *data,
-                                       size_t size)
+static inline int lg_output_file_write(lg_node *n, const char *key, const void *data, size_t size)
 {
     if (n->host->struct_size >= offsetof(lg_host_api, output_file_write) + sizeof(void *) &&
         n->host->output_file_write)
@@ -851,8 +848,7 @@ static inline size_t lg_image_offset(const lg_image_desc *d, uint32_t level, uin
 {
     size_t off = 0;
     for (uint32_t l = 0; l < level; l++)
-        off += (size_t)lg_image_level_width(d, l) * lg_image_level_height(d, l) *
-               lg_image_faces(d);
+        off += (size_t)lg_image_level_width(d, l) * lg_image_level_height(d, l) * lg_image_faces(d);
     if (level < lg_image_levels(d))
         off += (size_t)face * lg_image_level_width(d, level) * lg_image_level_height(d, level);
     return off;
@@ -861,8 +857,10 @@ static inline size_t lg_image_offset(const lg_image_desc *d, uint32_t level, uin
 /* Bytes per pixel of a format. */
 static inline size_t lg_format_size(lg_format f)
 {
-    return f == LG_FORMAT_RGBA32F ? 16 : f == LG_FORMAT_RGBA16F ? 8 :
-           (f == LG_FORMAT_RGBA8 || f == LG_FORMAT_RGBE8) ? 4 : 0;
+    return f == LG_FORMAT_RGBA32F                           ? 16
+           : f == LG_FORMAT_RGBA16F                         ? 8
+           : (f == LG_FORMAT_RGBA8 || f == LG_FORMAT_RGBE8) ? 4
+                                                            : 0;
 }
 
 #ifdef __cplusplus

@@ -134,7 +134,7 @@ LG_API void lg_bytes_text(char *out, size_t n, uint64_t b);
 #define LG_IMAGE_HASH_SEED 0xcbf29ce484222325ull
 LG_API uint64_t lg_image_hash(const lg_image *img, uint64_t seed);
 
-/* ---- non-finite pixels: one count and one warning for every node ----
+/* ---- non-finite pixels: one count and one warning for every node --------------------------------
  *
  * A NaN or Inf pixel is reported, never silently passed on: the `image` node says how many
  * a file holds, and every node that passes an image input on into its output (background,
@@ -161,14 +161,13 @@ LG_API uint64_t lg_pixels_nonfinite(const float *rgba, uint32_t width, uint32_t 
                                     size_t row_pixels);
 LG_API void lg_warn_nonfinite(struct lg_node *node, const char *what, uint64_t count,
                               const char *fate);
-LG_API int lg_check_input_finite(struct lg_node *node, const struct lg_frame *frame,
-                                 uint32_t port, const char *port_name, const char *fate,
-                                 bool *reported);
+LG_API int lg_check_input_finite(struct lg_node *node, const struct lg_frame *frame, uint32_t port,
+                                 const char *port_name, const char *fate, bool *reported);
 
 /* Reads a file into `img` (which the call fills; free with lg_image_free). A file without
  * alpha gets alpha 1. PNG is decoded from sRGB to linear. `info` may be NULL. */
-LG_API int lg_image_read(const char *path, unsigned flags, lg_image *img,
-                         lg_image_read_info *info, char *err, size_t errlen);
+LG_API int lg_image_read(const char *path, unsigned flags, lg_image *img, lg_image_read_info *info,
+                         char *err, size_t errlen);
 
 typedef enum lg_exr_pixel { LG_EXR_HALF = 0, LG_EXR_FLOAT } lg_exr_pixel;
 typedef enum lg_exr_compression {
@@ -200,10 +199,10 @@ typedef struct lg_image_write_opts {
  * lg_rgbe_encode for the edge cases. EXR: scanline, increasing Y; half rounds to
  * nearest even, values beyond 65504 become Inf, as OpenEXR's half does. The new file
  * gets the mode any new file would (0666 less the umask). */
-LG_API int lg_image_write(const char *path, const lg_image *img,
-                          const lg_image_write_opts *opts, char *err, size_t errlen);
+LG_API int lg_image_write(const char *path, const lg_image *img, const lg_image_write_opts *opts,
+                          char *err, size_t errlen);
 
-/* ---- encodings ----------------------------------------------------------------------- */
+/* ---- encodings ------------------------------------------------------------------------------- */
 
 /* IEEE 754 binary16 <-> binary32, round to nearest even, with denormals, Inf and NaN. */
 LG_API uint16_t lg_half_from_float(float f);
@@ -227,7 +226,7 @@ LG_API float lg_float_from_half(uint16_t h);
 LG_API void lg_rgbe_encode(const float rgb[3], uint8_t rgbe[4]);
 LG_API void lg_rgbe_decode(const uint8_t rgbe[4], float rgb[3]);
 
-/* ---- pixel formats (lg_format) ------------------------------------------------------
+/* ---- pixel formats (lg_format) ------------------------------------------------------------------
  *
  * The three formats an HDR image node offers for its output (`format = rgba32f | rgba16f |
  * rgbe8`), and what each does to the values a producer computes in float:
@@ -287,15 +286,15 @@ LG_API int lg_pixels_to_rgba32f(lg_format f, const void *src, size_t n, float *d
 LG_API float lg_srgb_encode(float linear);
 LG_API float lg_srgb_decode(float encoded);
 
-/* ---- comparison -------------------------------------------------------------------- */
+/* ---- comparison ------------------------------------------------------------------------------ */
 
 typedef struct lg_image_metrics {
-    double rmse;          /* over RGB channels of all pixels */
-    double psnr;          /* dB, with peak 1.0; +Inf for identical images */
-    double mean_abs;      /* mean absolute error over RGB */
-    double max_abs;       /* maximum absolute error over RGB */
-    double rel_mse;       /* mean of (a-b)^2 / (b^2 + 1e-4) */
-    uint64_t nonfinite;   /* pixels where either image has NaN/Inf (excluded from the above) */
+    double rmse;        /* over RGB channels of all pixels */
+    double psnr;        /* dB, with peak 1.0; +Inf for identical images */
+    double mean_abs;    /* mean absolute error over RGB */
+    double max_abs;     /* maximum absolute error over RGB */
+    double rel_mse;     /* mean of (a-b)^2 / (b^2 + 1e-4) */
+    uint64_t nonfinite; /* pixels where either image has NaN/Inf (excluded from the above) */
     uint32_t reserved[8];
 } lg_image_metrics;
 

@@ -51,15 +51,15 @@ extern "C" {
 typedef struct lg_part_decl {
     const char *name;
     lg_part_type type;
-    bool optional;     /* a producer may leave it out */
-    const char *doc;   /* one line */
+    bool optional;   /* a producer may leave it out */
+    const char *doc; /* one line */
     void *reserved[2];
 } lg_part_decl;
 
 typedef struct lg_kind_desc {
     lg_resource_kind kind;
-    const char *name;  /* as graph files, messages and `lightgraph plugins` name it */
-    const char *doc;   /* one line */
+    const char *name;          /* as graph files, messages and `lightgraph plugins` name it */
+    const char *doc;           /* one line */
     const lg_part_decl *parts; /* NULL and 0 for kinds that are not composite */
     uint32_t n_parts;
     void *reserved[4];
@@ -102,8 +102,8 @@ LG_API int32_t lg_kind_part_index(lg_resource_kind kind, const char *name);
  * lg_meta_read (consumer): the part's CPU copy, host-owned and read-only, valid as long
  * as `res`; NULL after lg_error when the part is missing, smaller than `size`, or its
  * struct_size is smaller than `size` (written by an older producer). */
-LG_API int lg_meta_write(lg_node *node, const lg_resource *res, const char *part,
-                         const void *data, size_t size);
+LG_API int lg_meta_write(lg_node *node, const lg_resource *res, const char *part, const void *data,
+                         size_t size);
 LG_API const void *lg_meta_read(lg_node *node, const lg_resource *res, const char *part,
                                 size_t size);
 

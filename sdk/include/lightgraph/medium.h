@@ -92,9 +92,9 @@ LG_API void lg_light_color(const lg_light *light, float l_c[3]);
 /* A slice map. */
 typedef struct lg_slice_map {
     lg_froxel_slicing slicing;
-    uint32_t depth;            /* slices, >= 1 */
-    double near, far;          /* 0 < near < far */
-    double near_offset;        /* exponential: near < near_offset < far */
+    uint32_t depth;     /* slices, >= 1 */
+    double near, far;   /* 0 < near < far */
+    double near_offset; /* exponential: near < near_offset < far */
 } lg_slice_map;
 
 /* Fills *map; returns 0, or -1 (map untouched) when the values break the rules above.

@@ -48,20 +48,20 @@
 extern "C" {
 #endif
 
-/* ---- Parameters ------------------------------------------------------------------- */
+/* ---- Parameters ------------------------------------------------------------------------------ */
 
 typedef enum lg_param_type {
-    LG_PARAM_BOOL = 1, /* true / false                                        -> v.b    */
-    LG_PARAM_INT,      /* 64-bit integer                                      -> v.i    */
-    LG_PARAM_FLOAT,    /* double                                              -> v.f    */
-    LG_PARAM_VEC2,     /* [x, y]                                              -> v.v[0..1] */
-    LG_PARAM_VEC3,     /* [x, y, z]                                           -> v.v[0..2] */
-    LG_PARAM_COLOR,    /* [r, g, b], linear (or a keyword, see below)         -> v.v[0..2] */
-    LG_PARAM_STRING,   /* "text"                                              -> v.s    */
-    LG_PARAM_PATH,     /* "file", resolved against the graph file that set it -> v.s    */
-    LG_PARAM_ENUM,     /* one of enum_values; v.e is its index, v.s its name            */
-    LG_PARAM_INT3,     /* [i, j, k]                                           -> v.i3   */
-    LG_PARAM_PATH_LIST,/* since ABI 2.2: ["file", ...], each resolved like a PATH -> v.s, v.e */
+    LG_PARAM_BOOL = 1,  /* true / false                                        -> v.b    */
+    LG_PARAM_INT,       /* 64-bit integer                                      -> v.i    */
+    LG_PARAM_FLOAT,     /* double                                              -> v.f    */
+    LG_PARAM_VEC2,      /* [x, y]                                              -> v.v[0..1] */
+    LG_PARAM_VEC3,      /* [x, y, z]                                           -> v.v[0..2] */
+    LG_PARAM_COLOR,     /* [r, g, b], linear (or a keyword, see below)         -> v.v[0..2] */
+    LG_PARAM_STRING,    /* "text"                                              -> v.s    */
+    LG_PARAM_PATH,      /* "file", resolved against the graph file that set it -> v.s    */
+    LG_PARAM_ENUM,      /* one of enum_values; v.e is its index, v.s its name            */
+    LG_PARAM_INT3,      /* [i, j, k]                                           -> v.i3   */
+    LG_PARAM_PATH_LIST, /* since ABI 2.2: ["file", ...], each resolved like a PATH -> v.s, v.e */
 } lg_param_type;
 
 /* A parameter value. The host owns the strings; they live as long as the node.
@@ -124,14 +124,14 @@ typedef enum lg_param_role {
  * (.def.s cannot name the keyword: it shares its storage with .def.v.) Without
  * enum_values a colour is a colour and e is 0, as before ABI 2.3. */
 typedef struct lg_param_desc {
-    const char *key;                  /* snake_case name used in graph files */
+    const char *key; /* snake_case name used in graph files */
     lg_param_type type;
-    lg_value def;                     /* default; .type need not be set */
-    double min, max;                  /* inclusive range of numeric values */
-    const char *const *enum_values;   /* LG_PARAM_ENUM (and, optionally, LG_PARAM_COLOR
-                                         * keywords): a NULL-terminated list */
-    const char *doc;                  /* one line: meaning and unit */
-    const char *const *renamed_from;  /* old keys still accepted, with a warning */
+    lg_value def;                    /* default; .type need not be set */
+    double min, max;                 /* inclusive range of numeric values */
+    const char *const *enum_values;  /* LG_PARAM_ENUM (and, optionally, LG_PARAM_COLOR
+                                      * keywords): a NULL-terminated list */
+    const char *doc;                 /* one line: meaning and unit */
+    const char *const *renamed_from; /* old keys still accepted, with a warning */
     /* lg_param_role (since ABI 2.1). It takes the place of the first of four reserved
      * pointers, which ABI 2.0 plugins leave zero: the struct's size and the offsets of
      * the other fields are unchanged. */
@@ -139,44 +139,44 @@ typedef struct lg_param_desc {
     void *reserved[3];
 } lg_param_desc;
 
-/* ---- Ports -------------------------------------------------------------------------- */
+/* ---- Ports ----------------------------------------------------------------------------------- */
 
 /* One input or output. In a graph file an input is set like a parameter whose value is a
  * reference to another node (`image = src` or `image = src.out`). */
 typedef struct lg_port_desc {
     const char *name;
     lg_resource_kind kind;
-    bool optional;   /* inputs only: may be left unconnected (the host passes NULL) */
+    bool optional; /* inputs only: may be left unconnected (the host passes NULL) */
     const char *doc;
     void *reserved[2];
 } lg_port_desc;
 
-/* ---- Node types ------------------------------------------------------------------------ */
+/* ---- Node types ------------------------------------------------------------------------------ */
 
 /* Scene features a node needs to have anything to do (all of them). A kept node whose
  * needs the scene upstream of it does not meet is gated: it never runs, its plugin is
  * never loaded, and its outputs are its neutral result (see lg_neutral). */
 enum {
-    LG_NEEDS_GEOMETRY    = 1u << 0, /* at least one triangle */
-    LG_NEEDS_LIGHT       = 1u << 1, /* at least one light of any type */
-    LG_NEEDS_DIR_LIGHT   = 1u << 2, /* at least one directional light */
+    LG_NEEDS_GEOMETRY = 1u << 0,    /* at least one triangle */
+    LG_NEEDS_LIGHT = 1u << 1,       /* at least one light of any type */
+    LG_NEEDS_DIR_LIGHT = 1u << 2,   /* at least one directional light */
     LG_NEEDS_POINT_LIGHT = 1u << 3, /* at least one point light */
-    LG_NEEDS_MEDIUM      = 1u << 4, /* a participating medium with density > 0 */
-    LG_NEEDS_PROBE       = 1u << 5, /* a light probe */
-    LG_NEEDS_SPECULAR    = 1u << 6, /* a material with a non-zero specular term */
-    LG_NEEDS_REFLECTIVE  = 1u << 7, /* since ABI 2.2: a material with a non-zero
+    LG_NEEDS_MEDIUM = 1u << 4,      /* a participating medium with density > 0 */
+    LG_NEEDS_PROBE = 1u << 5,       /* a light probe */
+    LG_NEEDS_SPECULAR = 1u << 6,    /* a material with a non-zero specular term */
+    LG_NEEDS_REFLECTIVE = 1u << 7,  /* since ABI 2.2: a material with a non-zero
                                      * reflectivity (lg_material.reflectivity) */
 };
 
 /* What stands in for a gated node's outputs. */
 typedef enum lg_neutral {
-    LG_NEUTRAL_ZERO = 0,    /* images: black, at the size of the first image input, or the
-                             * render size; other kinds: an empty resource */
-    LG_NEUTRAL_PASSTHROUGH, /* every output is the input named by neutral_input */
+    LG_NEUTRAL_ZERO = 0,          /* images: black, at the size of the first image input, or the
+                                   * render size; other kinds: an empty resource */
+    LG_NEUTRAL_PASSTHROUGH,       /* every output is the input named by neutral_input */
     LG_NEUTRAL_PASSTHROUGH_FIRST, /* since ABI 2.4: output 0 is the input named by
-                             * neutral_input, the others as LG_NEUTRAL_ZERO (a filter whose
-                             * second output is an effect alone: volumetric `out` passes
-                             * the lit image through, `inscatter` is black) */
+                                   * neutral_input, the others as LG_NEUTRAL_ZERO (a filter whose
+                                   * second output is an effect alone: volumetric `out` passes
+                                   * the lit image through, `inscatter` is black) */
 } lg_neutral;
 
 /* Node type flags. */
@@ -231,10 +231,10 @@ typedef struct lg_node_type {
     uint32_t n_inputs;
     const lg_port_desc *outputs;
     uint32_t n_outputs;
-    uint32_t needs;        /* LG_NEEDS_* */
-    uint32_t flags;        /* LG_NODE_* */
-    lg_neutral neutral;    /* what a gated node yields */
-    uint32_t neutral_input;/* LG_NEUTRAL_PASSTHROUGH: index of the input passed through */
+    uint32_t needs;         /* LG_NEEDS_* */
+    uint32_t flags;         /* LG_NODE_* */
+    lg_neutral neutral;     /* what a gated node yields */
+    uint32_t neutral_input; /* LG_NEUTRAL_PASSTHROUGH: index of the input passed through */
     lg_create_fn create;
     lg_prepare_fn prepare;
     lg_execute_fn execute;
@@ -247,7 +247,7 @@ typedef struct lg_node_type {
     void *reserved[7];
 } lg_node_type;
 
-/* ---- The backend parameter (since ABI 3.0) ------------------------------------------ */
+/* ---- The backend parameter (since ABI 3.0) --------------------------------------------------- */
 
 /* A node that runs on more than one device declares the one shared parameter `backend`
  * with this macro, naming the set of backends it has and the default; the choices are
@@ -266,33 +266,35 @@ enum { LG_BACKEND_CPU = 1u << 0, LG_BACKEND_GL = 1u << 1, LG_BACKEND_CL = 1u << 
  * cl. Data of liblightgraph. */
 LG_API extern const char *const lg_backend_names[8][4];
 
-#define LG_BACKEND_INDEX_(set_, def_)                                                       \
-    ((((def_) > LG_BACKEND_CPU && ((set_) & LG_BACKEND_CPU)) ? 1 : 0) +                     \
-     (((def_) > LG_BACKEND_GL && ((set_) & LG_BACKEND_GL)) ? 1 : 0))
-#define LG_PARAM_BACKEND(set_, def_)                                                        \
-    {                                                                                       \
-        .key = "backend", .type = LG_PARAM_ENUM,                                            \
-        .def.e = LG_BACKEND_INDEX_(set_, def_)                                              \
-                 + 0 * (int)sizeof(char[(((set_) & (def_)) && ((def_) & ((def_) - 1)) == 0  \
-                                         && (set_) > 0 && (set_) < 8) ? 1 : -1]),           \
-        .enum_values = lg_backend_names[(set_)],                                            \
-        .doc = "the device the node runs on: cpu (the reference), gl (OpenGL compute or "   \
-               "raster), cl (OpenCL)",                                                      \
+#define LG_BACKEND_INDEX_(set_, def_)                                                              \
+    ((((def_) > LG_BACKEND_CPU && ((set_)&LG_BACKEND_CPU)) ? 1 : 0) +                              \
+     (((def_) > LG_BACKEND_GL && ((set_)&LG_BACKEND_GL)) ? 1 : 0))
+#define LG_PARAM_BACKEND(set_, def_)                                                               \
+    {                                                                                              \
+        .key = "backend", .type = LG_PARAM_ENUM,                                                   \
+        .def.e = LG_BACKEND_INDEX_(set_, def_) +                                                   \
+                 0 * (int)sizeof(char[(((set_) & (def_)) && ((def_) & ((def_)-1)) == 0 &&          \
+                                       (set_) > 0 && (set_) < 8)                                   \
+                                          ? 1                                                      \
+                                          : -1]),                                                  \
+        .enum_values = lg_backend_names[(set_)],                                                   \
+        .doc = "the device the node runs on: cpu (the reference), gl (OpenGL compute or "          \
+               "raster), cl (OpenCL)",                                                             \
     }
 
 #define LG_PARAMS(a) .params = (a), .n_params = (uint32_t)(sizeof(a) / sizeof((a)[0]))
 #define LG_INPUTS(a) .inputs = (a), .n_inputs = (uint32_t)(sizeof(a) / sizeof((a)[0]))
 #define LG_OUTPUTS(a) .outputs = (a), .n_outputs = (uint32_t)(sizeof(a) / sizeof((a)[0]))
 
-/* ---- The plugin descriptor --------------------------------------------------------- */
+/* ---- The plugin descriptor ------------------------------------------------------------------- */
 
 typedef struct lg_plugin_desc {
-    size_t struct_size;    /* sizeof(lg_plugin_desc) as the plugin was built */
-    uint16_t abi_major;    /* LG_ABI_MAJOR */
-    uint16_t abi_minor;    /* LG_ABI_MINOR */
-    const char *name;      /* [a-z][a-z0-9_]*, the plugin's folder name */
-    const char *version;   /* the plugin's own version; part of every cache key */
-    const char *doc;       /* one line */
+    size_t struct_size;  /* sizeof(lg_plugin_desc) as the plugin was built */
+    uint16_t abi_major;  /* LG_ABI_MAJOR */
+    uint16_t abi_minor;  /* LG_ABI_MINOR */
+    const char *name;    /* [a-z][a-z0-9_]*, the plugin's folder name */
+    const char *version; /* the plugin's own version; part of every cache key */
+    const char *doc;     /* one line */
     const lg_node_type *types;
     uint32_t n_types;
     void *reserved[8];
@@ -303,19 +305,22 @@ typedef struct lg_plugin_desc {
 typedef const lg_plugin_desc *(*lg_plugin_entry_fn)(void);
 
 /* Defines the descriptor and the entry symbol. Use once per plugin, at file scope. */
-#define LG_PLUGIN_DEFINE(name_, version_, doc_, types_)                                    \
-    static const lg_plugin_desc lg_plugin_desc_ = {                                        \
-        .struct_size = sizeof(lg_plugin_desc),                                             \
-        .abi_major = LG_ABI_MAJOR,                                                         \
-        .abi_minor = LG_ABI_MINOR,                                                         \
-        .name = (name_),                                                                   \
-        .version = (version_),                                                             \
-        .doc = (doc_),                                                                     \
-        .types = (types_),                                                                 \
-        .n_types = (uint32_t)(sizeof(types_) / sizeof((types_)[0])),                       \
-    };                                                                                     \
-    LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void);                          \
-    LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void) { return &lg_plugin_desc_; }
+#define LG_PLUGIN_DEFINE(name_, version_, doc_, types_)                                            \
+    static const lg_plugin_desc lg_plugin_desc_ = {                                                \
+        .struct_size = sizeof(lg_plugin_desc),                                                     \
+        .abi_major = LG_ABI_MAJOR,                                                                 \
+        .abi_minor = LG_ABI_MINOR,                                                                 \
+        .name = (name_),                                                                           \
+        .version = (version_),                                                                     \
+        .doc = (doc_),                                                                             \
+        .types = (types_),                                                                         \
+        .n_types = (uint32_t)(sizeof(types_) / sizeof((types_)[0])),                               \
+    };                                                                                             \
+    LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void);                                  \
+    LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void)                                   \
+    {                                                                                              \
+        return &lg_plugin_desc_;                                                                   \
+    }
 
 #ifdef __cplusplus
 }

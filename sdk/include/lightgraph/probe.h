@@ -127,11 +127,11 @@ typedef enum lg_probe_layout {
 
 /* What the levels above 0 hold. */
 typedef enum lg_probe_filter {
-    LG_PROBE_FILTER_NONE = 0,  /* a plain box-filtered mip chain (or no chain) */
-    LG_PROBE_FILTER_GGX,       /* level l of L prefiltered for GGX (alpha = roughness^2)
-                                * of perceptual roughness l / (L - 1): level 0 is the probe
-                                * itself, the last level roughness 1 (the ibl plugin makes
-                                * such chains: plugins/ibl/ggx_prefilter.h) */
+    LG_PROBE_FILTER_NONE = 0, /* a plain box-filtered mip chain (or no chain) */
+    LG_PROBE_FILTER_GGX,      /* level l of L prefiltered for GGX (alpha = roughness^2)
+                               * of perceptual roughness l / (L - 1): level 0 is the probe
+                               * itself, the last level roughness 1 (the ibl plugin makes
+                               * such chains: plugins/ibl/ggx_prefilter.h) */
 } lg_probe_filter;
 
 /* How a probe is laid out in an image file (lg_probe_info.file_layout; lg_probe_pack).
@@ -161,25 +161,25 @@ typedef enum lg_probe_file_layout {
 
 /* The `info` part. */
 typedef struct lg_probe_info {
-    uint32_t struct_size;      /* sizeof(lg_probe_info) */
+    uint32_t struct_size; /* sizeof(lg_probe_info) */
     lg_probe_layout layout;
-    float rotation[9];         /* probe -> world, column-major 3x3, orthonormal */
-    float scale;               /* radiance multiplier already applied to the texels: 1 */
+    float rotation[9]; /* probe -> world, column-major 3x3, orthonormal */
+    float scale;       /* radiance multiplier already applied to the texels: 1 */
     lg_probe_filter filter;
-    uint32_t filter_samples;   /* LG_PROBE_FILTER_GGX: samples per texel it used */
+    uint32_t filter_samples; /* LG_PROBE_FILTER_GGX: samples per texel it used */
     uint32_t filter_reserved;
-    uint32_t file_layout;      /* since ABI 2.2 (was reserved, so 0 = DEFAULT from older
-                                * producers): an lg_probe_file_layout, how a cube is
-                                * written to a file (lg_probe_pack) */
+    uint32_t file_layout; /* since ABI 2.2 (was reserved, so 0 = DEFAULT from older
+                           * producers): an lg_probe_file_layout, how a cube is
+                           * written to a file (lg_probe_pack) */
     uint32_t reserved[7];
 } lg_probe_info;
 
 /* What a consumer sees (lg_probe_get). */
 typedef struct lg_probe {
     lg_probe_info info;
-    const lg_resource *radiance;     /* map it on the device of choice */
-    const lg_resource *solid_angle;  /* NULL when the producer made none */
-    lg_image_desc radiance_desc;     /* its size, format, levels, cube flag */
+    const lg_resource *radiance;    /* map it on the device of choice */
+    const lg_resource *solid_angle; /* NULL when the producer made none */
+    lg_image_desc radiance_desc;    /* its size, format, levels, cube flag */
     void *reserved[4];
 } lg_probe;
 
@@ -195,7 +195,7 @@ LG_API int lg_probe_publish(lg_node *node, uint32_t port, const lg_probe_info *i
  * after lg_error for another kind or inconsistent parts. */
 LG_API const lg_probe *lg_probe_get(lg_node *node, const lg_resource *res, lg_probe *out);
 
-/* ---- conventions as code ----------------------------------------------------------- */
+/* ---- conventions as code --------------------------------------------------------------------- */
 
 /* Where a direction lands: face (0 for 2D layouts, 0..5 = +X, -X, +Y, -Y, +Z, -Z for the
  * cube) and continuous coordinates in [0, 1] (u right, v down), as described above. */
@@ -299,8 +299,8 @@ static inline lg_probe_coord lg_probe_dir_to_coord(lg_probe_layout layout, lg_ve
 static inline lg_vec3 lg_probe_coord_to_dir(lg_probe_layout layout, lg_probe_coord c)
 {
     if (layout == LG_PROBE_CUBE)
-        return lg_probe_safe_dir(lg_probe_cube_plane_dir(c.face, 2.0f * c.u - 1.0f,
-                                                         2.0f * c.v - 1.0f));
+        return lg_probe_safe_dir(
+            lg_probe_cube_plane_dir(c.face, 2.0f * c.u - 1.0f, 2.0f * c.v - 1.0f));
     if (layout == LG_PROBE_ANGULAR) {
         float a = 2.0f * c.u - 1.0f, b = 1.0f - 2.0f * c.v;
         float r = sqrtf(a * a + b * b);
@@ -317,9 +317,8 @@ static inline lg_vec3 lg_probe_coord_to_dir(lg_probe_layout layout, lg_probe_coo
 }
 
 /* The direction of the centre of texel (i, j) of face `face` of a W x H level. */
-static inline lg_vec3 lg_probe_texel_dir(lg_probe_layout layout, uint32_t width,
-                                         uint32_t height, uint32_t face, uint32_t i,
-                                         uint32_t j)
+static inline lg_vec3 lg_probe_texel_dir(lg_probe_layout layout, uint32_t width, uint32_t height,
+                                         uint32_t face, uint32_t i, uint32_t j)
 {
     lg_probe_coord c;
     c.face = face;
@@ -361,9 +360,8 @@ LG_API void lg_probe_rotation_from_euler(float yaw_deg, float pitch_deg, float r
 /* The solid angle (steradians) of texel (i, j) of face `face` of a W x H level 0 (for the
  * cube, W == H is the face size), computed in double as described above. 0 for a texel
  * outside the image or an invalid layout or size. */
-LG_API double lg_probe_texel_solid_angle(lg_probe_layout layout, uint32_t width,
-                                         uint32_t height, uint32_t face, uint32_t i,
-                                         uint32_t j);
+LG_API double lg_probe_texel_solid_angle(lg_probe_layout layout, uint32_t width, uint32_t height,
+                                         uint32_t face, uint32_t i, uint32_t j);
 
 /* Fills `out` with the solid angle of every texel of a W x H level 0 in the radiance
  * image's texel order (face, then row 0 first, then column): W * H floats for the 2D
@@ -375,11 +373,11 @@ LG_API int lg_probe_solid_angles(lg_probe_layout layout, uint32_t width, uint32_
 /* A level of a probe on the CPU, for lookups. The struct need only live for the call. */
 typedef struct lg_probe_image {
     lg_probe_layout layout;
-    uint32_t width, height;   /* the level's size; a cube's face size (width == height) */
-    const float *rgba;        /* RGBA float texels, W*H (2D) or 6*W*H (cube: faces in
-                               * order, each row 0 first), e.g. lg_image_offset() into a
-                               * mapped radiance image */
-    const float *rotation;    /* probe -> world (lg_probe_info.rotation), NULL = identity */
+    uint32_t width, height; /* the level's size; a cube's face size (width == height) */
+    const float *rgba;      /* RGBA float texels, W*H (2D) or 6*W*H (cube: faces in
+                             * order, each row 0 first), e.g. lg_image_offset() into a
+                             * mapped radiance image */
+    const float *rotation;  /* probe -> world (lg_probe_info.rotation), NULL = identity */
     uint32_t reserved[4];
 } lg_probe_image;
 
@@ -413,15 +411,15 @@ typedef enum lg_probe_sampling {
 LG_API void lg_probe_lookup(const lg_probe_image *img, lg_vec3 dir, lg_probe_sampling sampling,
                             float out[4]);
 
-/* ---- probes as image files ------------------------------------------------------------- */
+/* ---- probes as image files ------------------------------------------------------------------- */
 
 /* Where face `face` (0..5, the GL order) of a cube sits in a file of layout `file` (a
  * cube layout; DEFAULT is the horizontal cross): its cell (*cx, *cy) in face-size units
  * and whether it is turned by 180 degrees there (*turn), as drawn above. Returns false
  * for a face or layout outside the enums. The `probe` node reads with this table and
  * lg_probe_pack writes with it, so the two are inverses. */
-LG_API bool lg_probe_file_cell(lg_probe_file_layout file, uint32_t face, uint32_t *cx,
-                               uint32_t *cy, bool *turn);
+LG_API bool lg_probe_file_cell(lg_probe_file_layout file, uint32_t face, uint32_t *cx, uint32_t *cy,
+                               bool *turn);
 
 /* The image file of level 0 of a probe: lat-long and angular images as they are, a cube
  * assembled into info->file_layout (a cross's unused cells are black with alpha 0, which
@@ -436,7 +434,7 @@ LG_API bool lg_probe_file_cell(lg_probe_file_layout file, uint32_t face, uint32_
 LG_API int lg_probe_pack(const lg_probe_info *info, uint32_t width, uint32_t height,
                          const float *rgba, lg_image *out, char *err, size_t errlen);
 
-/* ---- resampling between layouts -------------------------------------------------------- */
+/* ---- resampling between layouts -------------------------------------------------------------- */
 
 /* How lg_probe_resample reads the source. Zeroed (or a NULL pointer) means the defaults. */
 typedef struct lg_probe_resample_opts {
@@ -455,18 +453,18 @@ typedef struct lg_probe_resample_opts {
 
 /* What a resampling measured (LG_PROBE_NEAREST; zero with bilinear). */
 typedef struct lg_probe_resample_stats {
-    uint64_t samples;         /* sub-rectangles read */
-    uint64_t entries;         /* (destination, source) texel pairs that overlap */
-    uint64_t unread;          /* source texels of nonzero solid angle no sub-rectangle
-                               * read (their energy is lost): 0 unless max_subdiv caps */
-    uint32_t max_subdiv;      /* the largest subdivision per axis used */
-    uint32_t iterations;      /* balancing rounds run */
-    double raw_area_error;    /* before balancing: sum over source texels of |solid angle
-                               * received - exact solid angle|, over 4 pi */
-    double raw_total_error;   /* before balancing: the relative error of this image's
-                               * integral (largest of R, G, B) that the received solid
-                               * angles imply */
-    double area_error;        /* the same two after balancing: the error of the result */
+    uint64_t samples;       /* sub-rectangles read */
+    uint64_t entries;       /* (destination, source) texel pairs that overlap */
+    uint64_t unread;        /* source texels of nonzero solid angle no sub-rectangle
+                             * read (their energy is lost): 0 unless max_subdiv caps */
+    uint32_t max_subdiv;    /* the largest subdivision per axis used */
+    uint32_t iterations;    /* balancing rounds run */
+    double raw_area_error;  /* before balancing: sum over source texels of |solid angle
+                             * received - exact solid angle|, over 4 pi */
+    double raw_total_error; /* before balancing: the relative error of this image's
+                             * integral (largest of R, G, B) that the received solid
+                             * angles imply */
+    double area_error;      /* the same two after balancing: the error of the result */
     double total_error;
     double reserved[4];
 } lg_probe_resample_stats;
@@ -532,10 +530,10 @@ LG_API int lg_probe_resample(const lg_probe_image *src, lg_probe_layout layout, 
  * any number of threads (tests/plugins/probe `convert_threads`). Besides LG_ERR_INVALID
  * and LG_ERR_NOMEM it returns LG_ERR_INVALID when the pool refuses the work (it has then
  * reported why through the node). */
-LG_API int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src,
-                                  lg_probe_layout layout, uint32_t width, uint32_t height,
-                                  const float *rotation, const lg_probe_resample_opts *opts,
-                                  float *out, lg_probe_resample_stats *stats);
+LG_API int lg_probe_resample_pool(lg_node *pool, const lg_probe_image *src, lg_probe_layout layout,
+                                  uint32_t width, uint32_t height, const float *rotation,
+                                  const lg_probe_resample_opts *opts, float *out,
+                                  lg_probe_resample_stats *stats);
 
 /* Since ABI 2.7. The working memory, in bytes, that lg_probe_resample (LG_PROBE_NEAREST)
  * needs to resample `src_texels` texels (every face of a cube counted) into `dst_texels`:

@@ -60,8 +60,7 @@ LG_API const char *lg_sampler_name(lg_sampler s);
 
 /* Point k (0 <= k < side^2) of the set, into uv[2], both in [0, 1). side >= 1; k and
  * side outside the range are taken modulo (never out of bounds). */
-LG_API void lg_sample_square(lg_sampler s, uint32_t side, uint64_t seed, uint64_t k,
-                             double uv[2]);
+LG_API void lg_sample_square(lg_sampler s, uint32_t side, uint64_t seed, uint64_t k, double uv[2]);
 
 /* The uniform direction of (u, v) (see "Sphere"), unit length. */
 LG_API void lg_sample_sphere(const double uv[2], double dir[3]);
@@ -90,7 +89,10 @@ static inline void lg_sum_merge(lg_sum *a, const lg_sum *b)
     a->c += b->c;
 }
 
-static inline double lg_sum_value(const lg_sum *a) { return a->s + a->c; }
+static inline double lg_sum_value(const lg_sum *a)
+{
+    return a->s + a->c;
+}
 
 /* The sum of x[0 .. n-1] in double, pairwise (blocks of 64 summed in order, then halves
  * added recursively): error O(log n) roundings of double. n = 0 gives 0. */

@@ -41,22 +41,22 @@ extern "C" {
 #endif
 
 typedef struct lg_mesh {
-    const char *name;          /* glTF "mesh name#primitive index", for messages */
+    const char *name; /* glTF "mesh name#primitive index", for messages */
     uint32_t n_vertices;
-    uint32_t n_indices;        /* 3 per triangle */
-    const float *positions;    /* 3 floats per vertex */
-    const float *normals;      /* 3 floats per vertex, unit length */
-    const float *texcoords;    /* 2 floats per vertex, or NULL */
-    const uint32_t *indices;   /* triangle list, every index < n_vertices */
-    uint32_t material;         /* index into lg_scene.materials */
+    uint32_t n_indices;                 /* 3 per triangle */
+    const float *positions;             /* 3 floats per vertex */
+    const float *normals;               /* 3 floats per vertex, unit length */
+    const float *texcoords;             /* 2 floats per vertex, or NULL */
+    const uint32_t *indices;            /* triangle list, every index < n_vertices */
+    uint32_t material;                  /* index into lg_scene.materials */
     float bounds_min[3], bounds_max[3]; /* object space */
     void *reserved[4];
 } lg_mesh;
 
 typedef struct lg_instance {
-    uint32_t mesh;             /* index into lg_scene.meshes */
-    float model[16];           /* object to world, column-major */
-    float normal_matrix[9];    /* inverse transpose of model's 3x3, column-major */
+    uint32_t mesh;          /* index into lg_scene.meshes */
+    float model[16];        /* object to world, column-major */
+    float normal_matrix[9]; /* inverse transpose of model's 3x3, column-major */
     void *reserved[2];
 } lg_instance;
 
@@ -96,11 +96,11 @@ typedef enum lg_light_type {
 typedef struct lg_light {
     const char *name;
     lg_light_type type;
-    float color[3];            /* linear RGB */
-    float intensity;           /* glTF units: lux (directional), candela (point, spot) */
-    float direction[3];        /* world, unit: the direction the light travels */
-    float position[3];         /* world (point, spot) */
-    float range;               /* 0 = infinite */
+    float color[3];               /* linear RGB */
+    float intensity;              /* glTF units: lux (directional), candela (point, spot) */
+    float direction[3];           /* world, unit: the direction the light travels */
+    float position[3];            /* world (point, spot) */
+    float range;                  /* 0 = infinite */
     float inner_cone, outer_cone; /* spot, radians */
     void *reserved[4];
 } lg_light;
@@ -108,9 +108,9 @@ typedef struct lg_light {
 typedef struct lg_camera {
     const char *name;
     float position[3], target[3], up[3]; /* world */
-    float yfov;                /* vertical field of view, radians */
-    float znear, zfar;         /* zfar 0 = infinite (consumers pick from the bounds) */
-    float aspect;              /* 0 = from the output image */
+    float yfov;                          /* vertical field of view, radians */
+    float znear, zfar;                   /* zfar 0 = infinite (consumers pick from the bounds) */
+    float aspect;                        /* 0 = from the output image */
     void *reserved[4];
 } lg_camera;
 
@@ -120,15 +120,15 @@ typedef struct lg_camera {
 typedef struct lg_medium {
     bool present;
     float density;
-    float scattering[3];       /* per unit density, 1/m */
-    float absorption[3];       /* per unit density, 1/m */
-    float g;                   /* Henyey-Greenstein anisotropy, (-1, 1) */
+    float scattering[3]; /* per unit density, 1/m */
+    float absorption[3]; /* per unit density, 1/m */
+    float g;             /* Henyey-Greenstein anisotropy, (-1, 1) */
     void *reserved[4];
 } lg_medium;
 
 typedef struct lg_scene {
-    size_t struct_size;        /* sizeof(lg_scene) */
-    const char *source;        /* the file it came from, or a description */
+    size_t struct_size; /* sizeof(lg_scene) */
+    const char *source; /* the file it came from, or a description */
     const lg_mesh *meshes;
     uint32_t n_meshes;
     const lg_instance *instances;
@@ -137,9 +137,9 @@ typedef struct lg_scene {
     uint32_t n_materials;
     const lg_light *lights;
     uint32_t n_lights;
-    const lg_camera *cameras;  /* at least one (the loader makes one from the bounds) */
+    const lg_camera *cameras; /* at least one (the loader makes one from the bounds) */
     uint32_t n_cameras;
-    uint32_t camera;           /* the active camera */
+    uint32_t camera; /* the active camera */
     lg_medium medium;
     float bounds_min[3], bounds_max[3]; /* world, all instances */
     lg_scene_features features;
@@ -160,7 +160,7 @@ LG_API void lg_scene_compute_features(lg_scene *scene);
 /* GPU copies of a mesh's arrays. Names are 0 (or NULL) for arrays the mesh lacks. */
 typedef struct lg_mesh_gl {
     uint32_t positions, normals, texcoords; /* GL buffer objects, tightly packed floats */
-    uint32_t indices;                        /* GL buffer of uint32 */
+    uint32_t indices;                       /* GL buffer of uint32 */
     uint32_t reserved[4];
 } lg_mesh_gl;
 

@@ -85,19 +85,19 @@ extern "C" {
  * Y flipped). */
 typedef struct lg_scene_view {
     float view[16], proj[16], view_proj[16];
-    float znear, zfar; /* the depth range used, after the zfar 0 / znear 0 rules */
-    float yfov;        /* the vertical field of view used, radians */
-    uint32_t camera;   /* index of the camera in the scene */
-    lg_vec3 eye;       /* the camera's position */
-    lg_vec3 forward;   /* unit vector from the position to the target */
+    float znear, zfar;    /* the depth range used, after the zfar 0 / znear 0 rules */
+    float yfov;           /* the vertical field of view used, radians */
+    uint32_t camera;      /* index of the camera in the scene */
+    lg_vec3 eye;          /* the camera's position */
+    lg_vec3 forward;      /* unit vector from the position to the target */
     uint32_t reserved[8]; /* zero (lg_scene_view_make clears them) */
 } lg_scene_view;
 
 /* The view of camera `camera` of `s` (-1: the scene's active camera) for a width x height
  * output (both > 0). Errors: no camera, an index out of range, a value not finite, a field
  * of view outside (0, 3.1), znear/zfar not a range, position = target. */
-LG_API int lg_scene_view_make(lg_node *node, const lg_scene *s, int64_t camera,
-                              uint32_t width, uint32_t height, lg_scene_view *out);
+LG_API int lg_scene_view_make(lg_node *node, const lg_scene *s, int64_t camera, uint32_t width,
+                              uint32_t height, lg_scene_view *out);
 
 /* Flags of lg_scene_gl_create. */
 enum {
@@ -119,10 +119,10 @@ typedef struct lg_scene_gl {
     unsigned flags;          /* LG_SCENE_GL_* */
     lg_scene_gl_item *items; /* count items, sorted (see above) */
     uint32_t count;
-    uint64_t triangles;      /* triangles of one draw of every item */
-    size_t record_size;      /* bytes of one storage-buffer record: 64, or 128 with normals */
-    GLuint vao, instances;   /* 0 until lg_scene_gl_upload; instances stays 0 if count = 0 */
-    void *reserved[4];       /* zero */
+    uint64_t triangles;    /* triangles of one draw of every item */
+    size_t record_size;    /* bytes of one storage-buffer record: 64, or 128 with normals */
+    GLuint vao, instances; /* 0 until lg_scene_gl_upload; instances stays 0 if count = 0 */
+    void *reserved[4];     /* zero */
 } lg_scene_gl;
 
 /* Checks and sorts the instances of the scene resource `scene_res` (see "Instances"). On
@@ -135,8 +135,8 @@ LG_API int lg_scene_gl_upload(lg_node *node, const lg_gl *gl, lg_scene_gl *sgl);
 
 /* How to draw. Only program and first_location are required. */
 typedef struct lg_scene_gl_draw_desc {
-    GLuint program;        /* the program in use: receives first_location */
-    GLint first_location;  /* its int uniform: first record of the batch, within the range */
+    GLuint program;       /* the program in use: receives first_location */
+    GLint first_location; /* its int uniform: first record of the batch, within the range */
     /* cull the back faces of single-sided materials (GL_CULL_FACE per mesh; glCullFace is
      * the caller's). Batches then also split by handedness, so that each has one winding. */
     bool cull_material;

@@ -40,7 +40,10 @@ extern "C" {
 #endif
 
 /* Index of Y_l,m: l (l + 1) + m. */
-static inline uint32_t lg_sh_index(int l, int m) { return (uint32_t)(l * (l + 1) + m); }
+static inline uint32_t lg_sh_index(int l, int m)
+{
+    return (uint32_t)(l * (l + 1) + m);
+}
 
 /*
  * Evaluates Y_0 .. Y_{n^2-1} at direction dir into out[n^2]. dir need not be unit (it is

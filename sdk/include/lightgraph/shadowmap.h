@@ -41,25 +41,25 @@ extern "C" {
 /* One light's map. Laid out as a std430 struct (matrices first, 16-byte multiple), so the
  * `lights` part can be bound as a shader storage buffer as it is. */
 typedef struct lg_shadow_light {
-    float view[16];            /* world -> light view, column-major */
-    float proj[16];            /* light view -> clip (orthographic for directional lights) */
-    float view_proj[16];       /* proj * view */
-    uint32_t light;            /* index into the scene's lights */
-    uint32_t tile_x, tile_y;   /* the tile's top-left texel in the atlas */
-    float texel_world;         /* world-space size of one texel (for normal offsets) */
-    float depth_range;         /* world-space depth covered by [0,1] */
+    float view[16];          /* world -> light view, column-major */
+    float proj[16];          /* light view -> clip (orthographic for directional lights) */
+    float view_proj[16];     /* proj * view */
+    uint32_t light;          /* index into the scene's lights */
+    uint32_t tile_x, tile_y; /* the tile's top-left texel in the atlas */
+    float texel_world;       /* world-space size of one texel (for normal offsets) */
+    float depth_range;       /* world-space depth covered by [0,1] */
     uint32_t reserved[3];
 } lg_shadow_light;
 
 /* The `info` part. */
 typedef struct lg_shadowmap_info {
-    uint32_t struct_size;      /* sizeof(lg_shadowmap_info) */
-    uint32_t resolution;       /* tile side, texels */
+    uint32_t struct_size; /* sizeof(lg_shadowmap_info) */
+    uint32_t resolution;  /* tile side, texels */
     uint32_t n_lights;
     uint32_t atlas_width, atlas_height;
-    float bias_constant;       /* depth units, added to the stored depth in the test */
-    float bias_slope;          /* multiplied by tan(angle between N and L), depth units */
-    float normal_offset;       /* texels: the lookup point moves along N by this many */
+    float bias_constant; /* depth units, added to the stored depth in the test */
+    float bias_slope;    /* multiplied by tan(angle between N and L), depth units */
+    float normal_offset; /* texels: the lookup point moves along N by this many */
     uint32_t reserved[8];
 } lg_shadowmap_info;
 
@@ -68,9 +68,9 @@ typedef struct lg_shadowmap_info {
 typedef struct lg_shadowmap {
     uint32_t resolution;
     uint32_t n_lights;
-    const lg_shadow_light *lights; /* CPU copy of the lights part (host-owned) */
-    const lg_resource *atlas;      /* the atlas part: lg_map_gl / _cl / _cpu it */
-    const lg_resource *lights_part;/* the lights part, for binding on a GPU */
+    const lg_shadow_light *lights;  /* CPU copy of the lights part (host-owned) */
+    const lg_resource *atlas;       /* the atlas part: lg_map_gl / _cl / _cpu it */
+    const lg_resource *lights_part; /* the lights part, for binding on a GPU */
     uint32_t atlas_width, atlas_height;
     float bias_constant;
     float bias_slope;

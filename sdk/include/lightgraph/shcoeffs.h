@@ -32,16 +32,16 @@ enum { LG_SH_WINDOWED = 1u << 0 }; /* lg_sh_info.flags: a ringing window was app
 
 /* The `info` part. */
 typedef struct lg_sh_info {
-    uint32_t struct_size;  /* sizeof(lg_sh_info) */
-    uint32_t bands;        /* n */
-    uint32_t flags;        /* LG_SH_* */
+    uint32_t struct_size; /* sizeof(lg_sh_info) */
+    uint32_t bands;       /* n */
+    uint32_t flags;       /* LG_SH_* */
     uint32_t reserved[9];
 } lg_sh_info;
 
 typedef struct lg_sh {
     lg_sh_info info;
-    uint32_t n_coeffs;          /* bands^2 */
-    const lg_resource *coeffs;  /* map it on the device of choice */
+    uint32_t n_coeffs;         /* bands^2 */
+    const lg_resource *coeffs; /* map it on the device of choice */
     void *reserved[4];
 } lg_sh;
 

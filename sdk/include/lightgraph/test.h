@@ -108,7 +108,7 @@ enum {
  * function only borrows it. */
 typedef struct lg_test lg_test;
 
-/* ---- checks ------------------------------------------------------------------------- */
+/* ---- checks ---------------------------------------------------------------------------------- */
 
 /* Records a failed check: prints "FILE:LINE: check failed: " and the message on stderr,
  * counts it, and the case goes on (one run shows every failing check). */
@@ -119,12 +119,12 @@ LG_TEST_API int lg_test_failures(const lg_test *t);
 
 /* LG_TEST_CHECK(t, cond, "printf format", ...): a false `cond` is a failed check, printed
  * with the condition's text and the message (the format is required). */
-#define LG_TEST_CHECK(t, cond, ...)                                                        \
-    do {                                                                                   \
-        if (!(cond)) {                                                                     \
-            lg_test_check_failed_((t), __FILE__, __LINE__, #cond);                         \
-            lg_test_note_(__VA_ARGS__);                                                    \
-        }                                                                                  \
+#define LG_TEST_CHECK(t, cond, ...)                                                                \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            lg_test_check_failed_((t), __FILE__, __LINE__, #cond);                                 \
+            lg_test_note_(__VA_ARGS__);                                                            \
+        }                                                                                          \
     } while (0)
 /* LG_TEST_FAILF(t, "printf format", ...): an unconditional failed check. */
 #define LG_TEST_FAILF(t, ...) lg_test_fail_at((t), __FILE__, __LINE__, __VA_ARGS__)
@@ -134,7 +134,7 @@ LG_TEST_API int lg_test_failures(const lg_test *t);
 LG_TEST_API void lg_test_check_failed_(lg_test *t, const char *file, int line, const char *cond);
 LG_TEST_API void lg_test_note_(const char *fmt, ...) LG_TEST_PRINTF(1, 2);
 
-/* ---- cases and main ----------------------------------------------------------------- */
+/* ---- cases and main -------------------------------------------------------------------------- */
 
 typedef struct lg_test_case {
     const char *name;
@@ -190,7 +190,7 @@ LG_TEST_API uint32_t lg_test_bench_frames(const lg_test *t);
 LG_TEST_API LG_TEST_NORETURN void lg_test_skip(lg_test *t, const char *fmt, ...)
     LG_TEST_PRINTF(2, 3);
 
-/* ---- files in the scratch folder ------------------------------------------------------ */
+/* ---- files in the scratch folder ------------------------------------------------------------- */
 
 /* The case's scratch folder (absolute; lives as long as the case). */
 LG_TEST_API const char *lg_test_dir(const lg_test *t);
@@ -205,7 +205,7 @@ LG_TEST_API void lg_test_write_exr(lg_test *t, const char *rel, const lg_image *
  * (16 for half EXR, 32 for float). */
 LG_TEST_API bool lg_test_read(lg_test *t, const char *rel, lg_image *img, unsigned *bits);
 
-/* ---- running the host ------------------------------------------------------------------ */
+/* ---- running the host ------------------------------------------------------------------------ */
 
 /* The lightgraph program the harness runs ($LG_EXE, else the installed one). */
 LG_TEST_API const char *lg_test_exe(void);
@@ -219,8 +219,7 @@ LG_TEST_API const char *lg_test_exe(void);
  * death by a signal is echoed with its number and name ("killed by signal 11 (SIGSEGV:
  * Segmentation fault)").
  * Not a check: the caller decides what a status means. */
-LG_TEST_API int lg_test_render(lg_test *t, const char *graph, const char *const *args,
-                               char **out);
+LG_TEST_API int lg_test_render(lg_test *t, const char *graph, const char *const *args, char **out);
 
 /* Exit status 1 of a render that failed only because a device it needed could not be
  * made here: true when `out` holds the host's message for that ("no OpenGL 4.5 device",
@@ -246,7 +245,7 @@ LG_TEST_API void lg_test_use_plugins(lg_test *t, const char *path);
  * call. */
 LG_TEST_API const char *lg_test_asset(const char *rel);
 
-/* ---- comparing images ------------------------------------------------------------------- */
+/* ---- comparing images ------------------------------------------------------------------------ */
 
 /* A tolerance: a comparison passes when the largest absolute difference is at most
  * max_abs + rel * |reference value| at every channel, and the RMSE over every channel
@@ -260,12 +259,12 @@ typedef struct lg_test_tol {
 
 /* What a comparison found. */
 typedef struct lg_test_diff {
-    double max_abs;        /* largest |got - want| over finite pairs */
-    double rmse;           /* over finite pairs, all four channels */
-    uint32_t x, y, c;      /* where the worst difference (in units of the tolerance) is */
-    double got, want;      /* the values there */
-    uint64_t over;         /* values beyond the tolerance (non-finite mismatches included) */
-    uint64_t nonfinite;    /* values where NaN/Inf do not match */
+    double max_abs;     /* largest |got - want| over finite pairs */
+    double rmse;        /* over finite pairs, all four channels */
+    uint32_t x, y, c;   /* where the worst difference (in units of the tolerance) is */
+    double got, want;   /* the values there */
+    uint64_t over;      /* values beyond the tolerance (non-finite mismatches included) */
+    uint64_t nonfinite; /* values where NaN/Inf do not match */
     bool size_mismatch;
     uint32_t reserved[4];
 } lg_test_diff;
@@ -285,7 +284,7 @@ LG_TEST_API bool lg_test_check_image(lg_test *t, const lg_image *got, const lg_i
  * rounding when bits == 16. */
 LG_TEST_API double lg_test_tol_of(double expected, unsigned bits, double tol);
 
-/* ---- one node on every backend ------------------------------------------------------------ */
+/* ---- one node on every backend --------------------------------------------------------------- */
 
 #define LG_TEST_MAX_BACKENDS 8
 
@@ -293,17 +292,17 @@ LG_TEST_API double lg_test_tol_of(double expected, unsigned bits, double tol);
  * the scratch folder beforehand, or nodes) and no `output` for it: the harness appends
  * `output NODE "NODE-BACKEND.exr"` and sets the backend with `--set NODE.backend=B`. */
 typedef struct lg_test_backends_desc {
-    const char *graph;            /* graph text (required) */
-    const char *node;             /* the node under test (required) */
-    const char *type;             /* its type; NULL: read from "NODE = TYPE" in the graph */
+    const char *graph; /* graph text (required) */
+    const char *node;  /* the node under test (required) */
+    const char *type;  /* its type; NULL: read from "NODE = TYPE" in the graph */
     /* backends to run; NULL-terminated; NULL: every value of the type's `backend` enum
      * (`lightgraph inspect TYPE --json`), or just the default when it has none */
     const char *const *backends;
-    const char *const *args;      /* extra render arguments (--size ...), NULL-terminated */
-    const lg_image *reference;    /* the expected output, or NULL; borrowed */
-    lg_test_tol tol_reference;    /* each backend against `reference` */
-    lg_test_tol tol_backends;     /* each backend against the first that ran */
-    const char *what;             /* label in messages (NULL: the node's name) */
+    const char *const *args;   /* extra render arguments (--size ...), NULL-terminated */
+    const lg_image *reference; /* the expected output, or NULL; borrowed */
+    lg_test_tol tol_reference; /* each backend against `reference` */
+    lg_test_tol tol_backends;  /* each backend against the first that ran */
+    const char *what;          /* label in messages (NULL: the node's name) */
     /* Bytes the node reads and writes per frame, for the bench table's GB/s (0: pixels
      * of the output x 32, an rgba32f read and write) */
     double bytes_per_frame;
@@ -316,21 +315,21 @@ typedef struct lg_test_backends_desc {
 
 typedef enum lg_test_run_status {
     LG_TEST_RUN_OK = 0,
-    LG_TEST_RUN_NO_DEVICE,        /* the device is missing here: not a failure */
-    LG_TEST_RUN_FAILED,           /* the render failed or its output could not be read */
+    LG_TEST_RUN_NO_DEVICE, /* the device is missing here: not a failure */
+    LG_TEST_RUN_FAILED,    /* the render failed or its output could not be read */
 } lg_test_run_status;
 
 /* One backend's run. */
 typedef struct lg_test_run {
     char backend[32];
     lg_test_run_status status;
-    lg_image image;               /* its output (owned: freed by lg_test_backends_free) */
+    lg_image image; /* its output (owned: freed by lg_test_backends_free) */
     unsigned bits;
-    uint64_t runs;                /* executions of the node (frames under --bench) */
-    double first_ms;              /* the first execution: includes programs, kernels */
-    double min_ms;                /* the fastest execution */
-    double mean_ms;               /* mean of the executions after the first (first when one) */
-    double gpu_ms;                /* GL timer / CL events total, when measured */
+    uint64_t runs;   /* executions of the node (frames under --bench) */
+    double first_ms; /* the first execution: includes programs, kernels */
+    double min_ms;   /* the fastest execution */
+    double mean_ms;  /* mean of the executions after the first (first when one) */
+    double gpu_ms;   /* GL timer / CL events total, when measured */
     bool gpu_measured;
     lg_test_diff vs_reference, vs_first;
     uint32_t reserved[8];
@@ -339,7 +338,7 @@ typedef struct lg_test_run {
 typedef struct lg_test_backends_result {
     lg_test_run run[LG_TEST_MAX_BACKENDS];
     size_t n;
-    size_t n_ok;                  /* runs with status LG_TEST_RUN_OK */
+    size_t n_ok; /* runs with status LG_TEST_RUN_OK */
 } lg_test_backends_result;
 
 /* Runs desc->node on each backend (in a render of its own, under --bench with N frames and

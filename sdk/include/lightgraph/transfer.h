@@ -34,11 +34,11 @@ typedef enum lg_transfer_mode {
 
 /* The `info` part. */
 typedef struct lg_transfer_info {
-    uint32_t struct_size;  /* sizeof(lg_transfer_info) */
-    uint32_t bands;        /* n */
+    uint32_t struct_size; /* sizeof(lg_transfer_info) */
+    uint32_t bands;       /* n */
     uint32_t vertices;
     lg_transfer_mode mode;
-    uint32_t bounces;      /* LG_TRANSFER_INTERREFLECTED: bounces computed */
+    uint32_t bounces; /* LG_TRANSFER_INTERREFLECTED: bounces computed */
     uint32_t reserved[11];
 } lg_transfer_info;
 
@@ -68,14 +68,12 @@ static inline void lg_vertex_image_size(uint32_t vertices, uint32_t *width, uint
 }
 
 /* Producer, prepare(): declares output `port` for `vertices` vertices of `bands` bands. */
-LG_API int lg_transfer_declare(lg_node *node, uint32_t port, uint32_t bands,
-                               uint32_t vertices);
+LG_API int lg_transfer_declare(lg_node *node, uint32_t port, uint32_t bands, uint32_t vertices);
 /* Producer, execute(): writes the info part (bands and vertices as declared). */
 LG_API int lg_transfer_publish(lg_node *node, uint32_t port, const lg_transfer_info *info);
 /* Consumer: fills *out and returns it; NULL without an error for NULL or neutral, NULL
  * after lg_error for another kind or inconsistent parts. */
-LG_API const lg_transfer *lg_transfer_get(lg_node *node, const lg_resource *res,
-                                          lg_transfer *out);
+LG_API const lg_transfer *lg_transfer_get(lg_node *node, const lg_resource *res, lg_transfer *out);
 
 #ifdef __cplusplus
 }

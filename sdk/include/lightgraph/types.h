@@ -33,16 +33,16 @@ enum {
  * metadata struct), each with its own residency on CPU, GL and CL; lightgraph/kinds.h
  * lists every kind's parts and the kind's own header documents them and its accessors. */
 typedef enum lg_resource_kind {
-    LG_KIND_ANY = 0,     /* inputs only: accepts every kind */
-    LG_KIND_IMAGE,       /* 2D or cube, rgba, mip levels, optional depth (lg_image_desc) */
-    LG_KIND_BUFFER,      /* bytes */
-    LG_KIND_VOLUME,      /* 3D grid of rgba (lg_volume_desc) */
-    LG_KIND_SCENE,       /* meshes, materials, lights, cameras, medium, with lg_scene_features */
-    LG_KIND_SHADOWMAP,   /* composite: depth atlas + per-light matrices (lightgraph/shadowmap.h) */
-    LG_KIND_PROBE,       /* composite: environment radiance with its layout (lightgraph/probe.h) */
-    LG_KIND_SH,          /* composite: SH coefficients, n bands x RGB (lightgraph/shcoeffs.h) */
-    LG_KIND_TRANSFER,    /* composite: per-vertex PRT transfer, n^2 x RGB (lightgraph/transfer.h) */
-    LG_KIND_FROXEL,      /* composite: froxel volume with its slice map (lightgraph/froxel.h) */
+    LG_KIND_ANY = 0,   /* inputs only: accepts every kind */
+    LG_KIND_IMAGE,     /* 2D or cube, rgba, mip levels, optional depth (lg_image_desc) */
+    LG_KIND_BUFFER,    /* bytes */
+    LG_KIND_VOLUME,    /* 3D grid of rgba (lg_volume_desc) */
+    LG_KIND_SCENE,     /* meshes, materials, lights, cameras, medium, with lg_scene_features */
+    LG_KIND_SHADOWMAP, /* composite: depth atlas + per-light matrices (lightgraph/shadowmap.h) */
+    LG_KIND_PROBE,     /* composite: environment radiance with its layout (lightgraph/probe.h) */
+    LG_KIND_SH,        /* composite: SH coefficients, n bands x RGB (lightgraph/shcoeffs.h) */
+    LG_KIND_TRANSFER,  /* composite: per-vertex PRT transfer, n^2 x RGB (lightgraph/transfer.h) */
+    LG_KIND_FROXEL,    /* composite: froxel volume with its slice map (lightgraph/froxel.h) */
     LG_KIND_COUNT_
 } lg_resource_kind;
 
@@ -78,21 +78,21 @@ typedef enum lg_device {
 /* Access modes for mapping a resource on a device. */
 enum {
     LG_READ = 1,
-    LG_WRITE = 2,      /* the previous content may be discarded */
+    LG_WRITE = 2, /* the previous content may be discarded */
     LG_READ_WRITE = 3,
 };
 
 /* What a scene holds that decides which effects have anything to do. Produced by scene
  * nodes, read by the planner (gating) and printed by --explain. */
 typedef struct lg_scene_features {
-    uint64_t triangles;      /* rendered, instances counted */
+    uint64_t triangles; /* rendered, instances counted */
     uint64_t vertices;
     uint32_t dir_lights;
     uint32_t point_lights;
     uint32_t other_lights;
-    bool medium;             /* a participating medium with density > 0 */
-    bool probe;              /* a light probe */
-    bool specular;           /* a material with a non-zero specular term */
+    bool medium;   /* a participating medium with density > 0 */
+    bool probe;    /* a light probe */
+    bool specular; /* a material with a non-zero specular term */
     float medium_density;
     /* since ABI 2.2: materials whose reflectivity (lg_material.reflectivity) is not zero;
      * it takes the place of the first reserved word */

@@ -48,18 +48,33 @@ typedef struct lg_vec3 {
 
 static inline lg_vec3 lg_v3(float x, float y, float z)
 {
-    lg_vec3 v = {x, y, z};
+    lg_vec3 v = { x, y, z };
     return v;
 }
-static inline lg_vec3 lg_v3_add(lg_vec3 a, lg_vec3 b) { return lg_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline lg_vec3 lg_v3_sub(lg_vec3 a, lg_vec3 b) { return lg_v3(a.x - b.x, a.y - b.y, a.z - b.z); }
-static inline lg_vec3 lg_v3_scale(lg_vec3 a, float s) { return lg_v3(a.x * s, a.y * s, a.z * s); }
-static inline float lg_v3_dot(lg_vec3 a, lg_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline lg_vec3 lg_v3_add(lg_vec3 a, lg_vec3 b)
+{
+    return lg_v3(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline lg_vec3 lg_v3_sub(lg_vec3 a, lg_vec3 b)
+{
+    return lg_v3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static inline lg_vec3 lg_v3_scale(lg_vec3 a, float s)
+{
+    return lg_v3(a.x * s, a.y * s, a.z * s);
+}
+static inline float lg_v3_dot(lg_vec3 a, lg_vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 static inline lg_vec3 lg_v3_cross(lg_vec3 a, lg_vec3 b)
 {
     return lg_v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
-static inline float lg_v3_length(lg_vec3 a) { return sqrtf(lg_v3_dot(a, a)); }
+static inline float lg_v3_length(lg_vec3 a)
+{
+    return sqrtf(lg_v3_dot(a, a));
+}
 
 /* Unit vector along `a`. Zero, denormal-only, NaN or infinite input returns `fallback`
  * (the caller says what a direction-less vector means); huge finite input is rescaled
@@ -130,9 +145,15 @@ static inline void lg_m4_look_at(float m[16], lg_vec3 eye, lg_vec3 target, lg_ve
     s = lg_v3_normalize_or(s, lg_v3(1, 0, 0));
     lg_vec3 u = lg_v3_cross(s, f);
     lg_m4_identity(m);
-    m[0] = s.x; m[4] = s.y; m[8] = s.z;
-    m[1] = u.x; m[5] = u.y; m[9] = u.z;
-    m[2] = -f.x; m[6] = -f.y; m[10] = -f.z;
+    m[0] = s.x;
+    m[4] = s.y;
+    m[8] = s.z;
+    m[1] = u.x;
+    m[5] = u.y;
+    m[9] = u.z;
+    m[2] = -f.x;
+    m[6] = -f.y;
+    m[10] = -f.z;
     m[12] = -lg_v3_dot(s, eye);
     m[13] = -lg_v3_dot(u, eye);
     m[14] = lg_v3_dot(f, eye);
@@ -185,8 +206,8 @@ static inline int lg_m4_invert(float out[16], const float m[16])
              a[8] * a[3] * a[13] - a[12] * a[1] * a[11] + a[12] * a[3] * a[9];
     inv[13] = a[0] * a[9] * a[14] - a[0] * a[10] * a[13] - a[8] * a[1] * a[14] +
               a[8] * a[2] * a[13] + a[12] * a[1] * a[10] - a[12] * a[2] * a[9];
-    inv[2] = a[1] * a[6] * a[15] - a[1] * a[7] * a[14] - a[5] * a[2] * a[15] +
-             a[5] * a[3] * a[14] + a[13] * a[2] * a[7] - a[13] * a[3] * a[6];
+    inv[2] = a[1] * a[6] * a[15] - a[1] * a[7] * a[14] - a[5] * a[2] * a[15] + a[5] * a[3] * a[14] +
+             a[13] * a[2] * a[7] - a[13] * a[3] * a[6];
     inv[6] = -a[0] * a[6] * a[15] + a[0] * a[7] * a[14] + a[4] * a[2] * a[15] -
              a[4] * a[3] * a[14] - a[12] * a[2] * a[7] + a[12] * a[3] * a[6];
     inv[10] = a[0] * a[5] * a[15] - a[0] * a[7] * a[13] - a[4] * a[1] * a[15] +
@@ -195,12 +216,12 @@ static inline int lg_m4_invert(float out[16], const float m[16])
               a[4] * a[2] * a[13] - a[12] * a[1] * a[6] + a[12] * a[2] * a[5];
     inv[3] = -a[1] * a[6] * a[11] + a[1] * a[7] * a[10] + a[5] * a[2] * a[11] -
              a[5] * a[3] * a[10] - a[9] * a[2] * a[7] + a[9] * a[3] * a[6];
-    inv[7] = a[0] * a[6] * a[11] - a[0] * a[7] * a[10] - a[4] * a[2] * a[11] +
-             a[4] * a[3] * a[10] + a[8] * a[2] * a[7] - a[8] * a[3] * a[6];
-    inv[11] = -a[0] * a[5] * a[11] + a[0] * a[7] * a[9] + a[4] * a[1] * a[11] -
-              a[4] * a[3] * a[9] - a[8] * a[1] * a[7] + a[8] * a[3] * a[5];
-    inv[15] = a[0] * a[5] * a[10] - a[0] * a[6] * a[9] - a[4] * a[1] * a[10] +
-              a[4] * a[2] * a[9] + a[8] * a[1] * a[6] - a[8] * a[2] * a[5];
+    inv[7] = a[0] * a[6] * a[11] - a[0] * a[7] * a[10] - a[4] * a[2] * a[11] + a[4] * a[3] * a[10] +
+             a[8] * a[2] * a[7] - a[8] * a[3] * a[6];
+    inv[11] = -a[0] * a[5] * a[11] + a[0] * a[7] * a[9] + a[4] * a[1] * a[11] - a[4] * a[3] * a[9] -
+              a[8] * a[1] * a[7] + a[8] * a[3] * a[5];
+    inv[15] = a[0] * a[5] * a[10] - a[0] * a[6] * a[9] - a[4] * a[1] * a[10] + a[4] * a[2] * a[9] +
+              a[8] * a[1] * a[6] - a[8] * a[2] * a[5];
     double det = a[0] * inv[0] + a[1] * inv[4] + a[2] * inv[8] + a[3] * inv[12];
     if (det == 0.0 || !isfinite(det))
         return -1;

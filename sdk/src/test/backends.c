@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- comparing images ---------------------------------------------------------------- */
+/* ---- comparing images ------------------------------------------------------------------------ */
 
 double lg_test_tol_of(double expected, unsigned bits, double tol)
 {
@@ -25,8 +25,7 @@ bool lg_test_diff_images(const lg_image *got, const lg_image *want, unsigned bit
     memset(&zero, 0, sizeof zero);
     if (!tol)
         tol = &zero;
-    if (got->width != want->width || got->height != want->height || !got->pixels ||
-        !want->pixels) {
+    if (got->width != want->width || got->height != want->height || !got->pixels || !want->pixels) {
         d.size_mismatch = true;
         if (out)
             *out = d;
@@ -53,7 +52,8 @@ bool lg_test_diff_images(const lg_image *got, const lg_image *want, unsigned bit
             if (e > d.max_abs)
                 d.max_abs = e;
             double allowed = lg_test_tol_of(w, bits, tol->max_abs + tol->rel * fabs(w));
-            ratio = e <= allowed ? (allowed > 0 ? e / allowed : 0) : (allowed > 0 ? e / allowed : INFINITY);
+            ratio = e <= allowed ? (allowed > 0 ? e / allowed : 0)
+                                 : (allowed > 0 ? e / allowed : INFINITY);
             if (e > allowed)
                 d.over++;
         }
@@ -101,16 +101,17 @@ bool lg_test_check_image(lg_test *t, const lg_image *got, const lg_image *want, 
     char text[512];
     format_diff(text, sizeof text, &d);
     if (d.size_mismatch)
-        lg_test_failf_(t, "%s: size %ux%u, want %ux%u", what, got->width, got->height,
-                       want->width, want->height);
+        lg_test_failf_(t, "%s: size %ux%u, want %ux%u", what, got->width, got->height, want->width,
+                       want->height);
     else
-        lg_test_failf_(t, "%s: %llu values beyond tolerance (max abs %.3g + rel %.3g, rmse %.3g): %s",
+        lg_test_failf_(t,
+                       "%s: %llu values beyond tolerance (max abs %.3g + rel %.3g, rmse %.3g): %s",
                        what, (unsigned long long)d.over, tol ? tol->max_abs : 0, tol ? tol->rel : 0,
                        tol ? tol->rmse : 0, text);
     return false;
 }
 
-/* ---- one node on every backend ---------------------------------------------------------- */
+/* ---- one node on every backend --------------------------------------------------------------- */
 
 /* The type of `node` from a line "node = type {" of the graph. */
 static bool type_from_graph(const char *graph, const char *node, char *type, size_t cap)
@@ -143,7 +144,7 @@ static bool type_from_graph(const char *graph, const char *node, char *type, siz
  * Returns how many (0 when the type has no backend parameter). */
 static size_t declared_backends(const char *type, char names[][32], size_t cap)
 {
-    const char *argv[] = {lg_test_exe(), "inspect", type, "--json", NULL};
+    const char *argv[] = { lg_test_exe(), "inspect", type, "--json", NULL };
     char *out = NULL;
     int rc = lg_test_spawn_(argv, NULL, &out);
     /* (exit 127, a host that cannot start, was named by lg_test_spawn_ already) */
@@ -152,8 +153,8 @@ static size_t declared_backends(const char *type, char names[][32], size_t cap)
                      "its plugin in a folder of LIGHTGRAPH_PLUGIN_PATH (lg_test_use_plugins)?",
                      argv[0], type, type, rc);
     if (rc != 0)
-        lg_test_die_("`%s inspect %s --json` failed (exit %d; its output is above)", argv[0],
-                     type, rc);
+        lg_test_die_("`%s inspect %s --json` failed (exit %d; its output is above)", argv[0], type,
+                     rc);
     size_t n = 0;
     const char *p = strstr(out, "\"key\": \"backend\"");
     const char *v = p ? strstr(p, "\"values\": [") : NULL;
@@ -284,8 +285,8 @@ static void run_backend(lg_test *t, const lg_test_backends_desc *desc, const cha
         r->status = LG_TEST_RUN_NO_DEVICE;
     } else if (rc != 0) {
         r->status = LG_TEST_RUN_FAILED;
-        lg_test_failf_(t, "%s on %s: render failed (exit %d)",
-                      desc->what ? desc->what : desc->node, backend, rc);
+        lg_test_failf_(t, "%s on %s: render failed (exit %d)", desc->what ? desc->what : desc->node,
+                       backend, rc);
     } else if (!lg_test_read(t, out_rel, &r->image, &r->bits)) {
         r->status = LG_TEST_RUN_FAILED;
     } else if (!read_profile(t, prof_rel, desc->node, r)) {
@@ -329,8 +330,8 @@ static void print_table(const lg_test *t, const lg_test_backends_desc *desc,
                      r->vs_first.y, CHANNEL[r->vs_first.c], r->vs_first.rmse);
         bool bad = r->vs_reference.over || r->vs_first.over || r->vs_reference.size_mismatch ||
                    r->vs_first.size_mismatch;
-        fprintf(stderr, "  %-8s %-8s %-36s %-36s %9.3f %9.3f %9.3f", r->backend, bad ? "OVER" : "ok",
-                a, b, r->first_ms, r->mean_ms, r->min_ms);
+        fprintf(stderr, "  %-8s %-8s %-36s %-36s %9.3f %9.3f %9.3f", r->backend,
+                bad ? "OVER" : "ok", a, b, r->first_ms, r->mean_ms, r->min_ms);
         if (t->bench_frames) {
             double px = (double)r->image.width * r->image.height;
             double bytes = desc->bytes_per_frame > 0 ? desc->bytes_per_frame : px * 32.0;
@@ -348,8 +349,7 @@ static void print_table(const lg_test *t, const lg_test_backends_desc *desc,
                 t->bench_frames);
 }
 
-size_t lg_test_backends(lg_test *t, const lg_test_backends_desc *desc,
-                        lg_test_backends_result *res)
+size_t lg_test_backends(lg_test *t, const lg_test_backends_desc *desc, lg_test_backends_result *res)
 {
     if (!desc || !desc->graph || !desc->node)
         lg_test_die_("lg_test_backends: graph and node are required");

@@ -58,7 +58,7 @@ void lg_test_die_(const char *fmt, ...)
     exit(LG_TEST_ERROR); /* meson: a hard error, not a test failure */
 }
 
-/* ---- checks ------------------------------------------------------------------------- */
+/* ---- checks ---------------------------------------------------------------------------------- */
 
 void lg_test_fail_at(lg_test *t, const char *file, int line, const char *fmt, ...)
 {
@@ -102,7 +102,7 @@ int lg_test_failures(const lg_test *t)
     return t->failures;
 }
 
-/* ---- scratch folders ------------------------------------------------------------------ */
+/* ---- scratch folders ------------------------------------------------------------------------- */
 
 static int scratch_make(const char *name, char *dir, size_t n)
 {
@@ -141,7 +141,7 @@ static void scratch_remove(const char *dir)
         fprintf(stderr, "lightgraph-test: could not remove all of %s\n", dir);
 }
 
-/* ---- cases ------------------------------------------------------------------------------ */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static lg_test *test_new(const char *name)
 {
@@ -348,7 +348,7 @@ uint32_t lg_test_bench_frames(const lg_test *t)
     return t->bench_frames;
 }
 
-/* ---- files ---------------------------------------------------------------------------------- */
+/* ---- files ----------------------------------------------------------------------------------- */
 
 const char *lg_test_dir(const lg_test *t)
 {
@@ -420,7 +420,7 @@ const char *lg_test_asset(const char *rel)
     return p;
 }
 
-/* ---- running the host ------------------------------------------------------------------- */
+/* ---- running the host ------------------------------------------------------------------------ */
 
 /* The program installed with this library: <this library's folder>/LG_TEST_EXE_FROM_LIBDIR
  * (../../bin/lightgraph from lib/x86_64-linux-gnu), when the library sits in an installed
@@ -482,10 +482,12 @@ static const char *signal_name(int sig)
         int sig;
         const char *name;
     } names[] = {
-        {SIGSEGV, "SIGSEGV"}, {SIGBUS, "SIGBUS"},   {SIGFPE, "SIGFPE"},   {SIGILL, "SIGILL"},
-        {SIGABRT, "SIGABRT"}, {SIGKILL, "SIGKILL"}, {SIGTERM, "SIGTERM"}, {SIGINT, "SIGINT"},
-        {SIGHUP, "SIGHUP"},   {SIGPIPE, "SIGPIPE"}, {SIGALRM, "SIGALRM"}, {SIGTRAP, "SIGTRAP"},
-        {SIGXCPU, "SIGXCPU"}, {SIGXFSZ, "SIGXFSZ"}, {SIGQUIT, "SIGQUIT"}, {SIGSYS, "SIGSYS"},
+        { SIGSEGV, "SIGSEGV" }, { SIGBUS, "SIGBUS" },   { SIGFPE, "SIGFPE" },
+        { SIGILL, "SIGILL" },   { SIGABRT, "SIGABRT" }, { SIGKILL, "SIGKILL" },
+        { SIGTERM, "SIGTERM" }, { SIGINT, "SIGINT" },   { SIGHUP, "SIGHUP" },
+        { SIGPIPE, "SIGPIPE" }, { SIGALRM, "SIGALRM" }, { SIGTRAP, "SIGTRAP" },
+        { SIGXCPU, "SIGXCPU" }, { SIGXFSZ, "SIGXFSZ" }, { SIGQUIT, "SIGQUIT" },
+        { SIGSYS, "SIGSYS" },
     };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (names[i].sig == sig)
@@ -606,7 +608,7 @@ void lg_test_require_backend(lg_test *t, const char *backend)
         return;
     if (strcmp(backend, "gl") && strcmp(backend, "cl"))
         lg_test_die_("lg_test_require_backend: unknown backend '%s' (cpu, gl or cl)", backend);
-    const char *argv[] = {lg_test_exe(), "devices", backend, NULL};
+    const char *argv[] = { lg_test_exe(), "devices", backend, NULL };
     char *out = NULL;
     int rc = lg_test_spawn_(argv, NULL, &out);
     if (rc == 1) {

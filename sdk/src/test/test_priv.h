@@ -10,23 +10,24 @@
 #error "LG_TEST_DEFAULT_EXE (the installed lightgraph program) must be defined by the build"
 #endif
 #ifndef LG_TEST_EXE_FROM_LIBDIR
-#error "LG_TEST_EXE_FROM_LIBDIR (the program relative to <libdir>; may be \"\") must be defined by the build"
+#error                                                                                             \
+    "LG_TEST_EXE_FROM_LIBDIR (the program relative to <libdir>; may be \"\") must be defined by the build"
 #endif
 #ifndef LG_TEST_LIBDIR
 #error "LG_TEST_LIBDIR (the libdir option, relative to the prefix) must be defined by the build"
 #endif
 
 struct lg_test {
-    char dir[4096];          /* the scratch folder */
+    char dir[4096]; /* the scratch folder */
     int failures;
-    char ring[8][4200];      /* lg_test_path's strings */
+    char ring[8][4200]; /* lg_test_path's strings */
     int next;
-    char **args;             /* the case's arguments after its name */
+    char **args; /* the case's arguments after its name */
     int n_args;
-    uint32_t bench_frames;   /* 0, or N under --bench=N */
-    bool can_jump;           /* inside run_one: lg_test_skip returns there */
+    uint32_t bench_frames; /* 0, or N under --bench=N */
+    bool can_jump;         /* inside run_one: lg_test_skip returns there */
     jmp_buf skip_jump;
-    lg_test *next_live;      /* test.c's list of cases whose folder exists */
+    lg_test *next_live; /* test.c's list of cases whose folder exists */
 };
 
 /* Prints "lightgraph-test: ..." and exits 99. */

@@ -26,31 +26,54 @@ static const lg_param_desc params[] = {
     LG_PARAM_BACKEND(LG_BACKEND_CPU | LG_BACKEND_GL, LG_BACKEND_CPU),
 #endif
 #ifdef CF_BAD_DEFAULT
-    {.key = "gain", .type = LG_PARAM_FLOAT, .def.f = 5, .min = 0, .max = 1,
-     .doc = "a default outside its range"},
+    { .key = "gain",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 5,
+      .min = 0,
+      .max = 1,
+      .doc = "a default outside its range" },
 #else
-    {.key = "gain", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1,
-     .doc = "multiplier of R, G and B"},
+    { .key = "gain",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.5,
+      .min = 0,
+      .max = 1,
+      .doc = "multiplier of R, G and B" },
 #endif
 #ifdef CF_DUP_PARAM
-    {.key = "gain", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1,
-     .doc = "declared twice"},
+    { .key = "gain",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.5,
+      .min = 0,
+      .max = 1,
+      .doc = "declared twice" },
 #endif
 #ifdef CF_NO_DOC
-    {.key = "bias", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1, .max = 1},
+    { .key = "bias", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1, .max = 1 },
 #endif
 #ifdef CF_ALIAS
-    {.key = "bias", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1, .max = 1,
-     .doc = "renamed from a key still in use", .renamed_from = (const char *const[]){"gain", NULL}},
+    { .key = "bias",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -1,
+      .max = 1,
+      .doc = "renamed from a key still in use",
+      .renamed_from = (const char *const[]){ "gain", NULL } },
 #endif
 };
 
 #ifdef CF_NOGATE
-static const lg_port_desc inputs[] = {{.name = "scene", .kind = LG_KIND_SCENE, .doc = "lit scene"}};
+static const lg_port_desc inputs[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "lit scene" }
+};
 #else
-static const lg_port_desc inputs[] = {{.name = "image", .kind = LG_KIND_IMAGE, .doc = "rgba32f"}};
+static const lg_port_desc inputs[] = {
+    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "rgba32f" }
+};
 #endif
-static const lg_port_desc outputs[] = {{.name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f"}};
+static const lg_port_desc outputs[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f" }
+};
 
 #ifdef CF_EXIT_CRASH
 /* crashes as the process that ran a node exits (a library destructor gone wrong): no case
@@ -100,7 +123,7 @@ static int prepare(lg_node *n)
         first_w = w, first_h = h;
     w = first_w, h = first_h;
 #endif
-    lg_image_desc d = {.width = w, .height = h, .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = w, .height = h, .format = LG_FORMAT_RGBA32F };
     int rc2 = lg_declare_image(n, 0, &d);
     return rc2 ? rc2 : lg_set_device(n, LG_DEVICE_CPU);
 }
@@ -208,7 +231,7 @@ static void destroy(lg_node *n)
     free(s);
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
 #ifdef CF_BAD_NAME
     .name = "halve",
@@ -223,7 +246,6 @@ static const lg_node_type types[] = {{
     .prepare = prepare,
     .execute = execute,
     .destroy = destroy,
-}};
+} };
 
-LG_PLUGIN_DEFINE(CF_PLUGIN_NAME, "0.0.1", "a plugin that breaks one contract (conform test)",
-                 types)
+LG_PLUGIN_DEFINE(CF_PLUGIN_NAME, "0.0.1", "a plugin that breaks one contract (conform test)", types)

@@ -46,15 +46,17 @@ static lg_image make_image(uint32_t w, uint32_t h, float seed)
 static void check_same(lg_test *t, const lg_image *got, const lg_image *want, unsigned bits,
                        const char *what)
 {
-    LG_TEST_CHECK(t, got->width == want->width && got->height == want->height, "%s: size %ux%u, want %ux%u",
-             what, got->width, got->height, want->width, want->height);
+    LG_TEST_CHECK(t, got->width == want->width && got->height == want->height,
+                  "%s: size %ux%u, want %ux%u", what, got->width, got->height, want->width,
+                  want->height);
     if (got->width != want->width || got->height != want->height)
         return;
     int reported = 0;
     for (size_t i = 0; i < (size_t)want->width * want->height * 4; i++) {
         double e = want->pixels[i], g = got->pixels[i];
         if (!(fabs(g - e) <= lg_test_tol_of(e, bits, 1e-7)) && reported++ < 5)
-            LG_TEST_CHECK(t, 0, "%s: pixel %zu channel %zu is %.9g, want %.9g", what, i / 4, i % 4, g, e);
+            LG_TEST_CHECK(t, 0, "%s: pixel %zu channel %zu is %.9g, want %.9g", what, i / 4, i % 4,
+                          g, e);
     }
 }
 
@@ -62,7 +64,8 @@ static void case_image_roundtrip(lg_test *t)
 {
     lg_image in = make_image(7, 5, 0.125f);
     lg_test_write_exr(t, "in.exr", &in);
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nsrc = image { file = \"in.exr\" }\noutput src \"out.exr\"\n");
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nsrc = image { file = \"in.exr\" }\noutput src \"out.exr\"\n");
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
     lg_image out;
     unsigned bits = 0;
@@ -74,7 +77,8 @@ static void case_image_roundtrip(lg_test *t)
     lg_image other = make_image(3, 2, 9.0f);
     lg_test_write_exr(t, "other.exr", &other);
     const char *args[] = { "-o", "o2.exr", "--set", "src.file=other.exr", NULL };
-    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, NULL) == 0, "render with overrides failed");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, NULL) == 0,
+                  "render with overrides failed");
     if (lg_test_read(t, "o2.exr", &out, &bits)) {
         check_same(t, &out, &other, bits, "--set src.file");
         lg_image_free(&out);
@@ -89,11 +93,13 @@ static void case_image_radiance(lg_test *t)
     in.pixels[5 * 4 + 1] = -0.5f;
     in.pixels[9 * 4 + 0] = -3.0f;
     lg_test_write_exr(t, "neg.exr", &in);
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nsrc = image { file = \"neg.exr\" }\noutput src \"out.exr\"\n");
+    lg_test_write_text(
+        t, "g.lgraph",
+        "lightgraph 1\nsrc = image { file = \"neg.exr\" }\noutput src \"out.exr\"\n");
     char *err = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &err) == 0, "render failed");
     LG_TEST_CHECK(t, err && strstr(err, "neg.exr") && strstr(err, "2 pixels"),
-             "no warning naming the file and the count 2: %s", err ? err : "");
+                  "no warning naming the file and the count 2: %s", err ? err : "");
     free(err);
     lg_image out, want = make_image(4, 4, 1.0f);
     want.pixels[5 * 4 + 1] = 0.0f;
@@ -103,8 +109,9 @@ static void case_image_radiance(lg_test *t)
         check_same(t, &out, &want, bits, "radiance = true");
         lg_image_free(&out);
     }
-    lg_test_write_text(t, "g2.lgraph",
-                  "lightgraph 1\nsrc = image { file = \"neg.exr\", radiance = false }\noutput src \"out2.exr\"\n");
+    lg_test_write_text(
+        t, "g2.lgraph",
+        "lightgraph 1\nsrc = image { file = \"neg.exr\", radiance = false }\noutput src \"out2.exr\"\n");
     err = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g2.lgraph", NULL, &err) == 0, "render failed");
     LG_TEST_CHECK(t, err && !strstr(err, "clamped"), "radiance = false warned: %s", err ? err : "");
@@ -119,19 +126,24 @@ static void case_image_radiance(lg_test *t)
 
 static void case_image_errors(lg_test *t)
 {
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nsrc = image { file = \"nope.exr\" }\noutput src \"out.exr\"\n");
+    lg_test_write_text(
+        t, "g.lgraph",
+        "lightgraph 1\nsrc = image { file = \"nope.exr\" }\noutput src \"out.exr\"\n");
     char *err = NULL;
     int rc = lg_test_render(t, "g.lgraph", NULL, &err);
     LG_TEST_CHECK(t, rc == 1, "missing file: exit %d, want 1", rc);
     LG_TEST_CHECK(t, err && strstr(err, "nope.exr") && strstr(err, "src"),
-             "message names neither the file nor the node: %s", err ? err : "");
+                  "message names neither the file nor the node: %s", err ? err : "");
     free(err);
     lg_test_write_text(t, "bad.exr", "this is not an EXR file\n");
-    lg_test_write_text(t, "g2.lgraph", "lightgraph 1\nsrc = image { file = \"bad.exr\" }\noutput src \"out.exr\"\n");
+    lg_test_write_text(
+        t, "g2.lgraph",
+        "lightgraph 1\nsrc = image { file = \"bad.exr\" }\noutput src \"out.exr\"\n");
     err = NULL;
     rc = lg_test_render(t, "g2.lgraph", NULL, &err);
     LG_TEST_CHECK(t, rc == 1, "corrupt file: exit %d, want 1", rc);
-    LG_TEST_CHECK(t, err && strstr(err, "bad.exr"), "message does not name the file: %s", err ? err : "");
+    LG_TEST_CHECK(t, err && strstr(err, "bad.exr"), "message does not name the file: %s",
+                  err ? err : "");
     free(err);
 }
 
@@ -142,27 +154,31 @@ static void case_image_content_key(lg_test *t)
     lg_test_write_exr(t, "in.exr", &a);
     struct stat st0;
     stat(lg_test_path(t, "in.exr"), &st0);
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nsrc = image { file = \"in.exr\" }\n"
-                                 "m = test_cached { image = src }\noutput m \"out.exr\"\n");
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nsrc = image { file = \"in.exr\" }\n"
+                       "m = test_cached { image = src }\noutput m \"out.exr\"\n");
     char *err = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &err) == 0, "first render failed");
-    LG_TEST_CHECK(t, err && strstr(err, "computed"), "first render did not compute: %s", err ? err : "");
+    LG_TEST_CHECK(t, err && strstr(err, "computed"), "first render did not compute: %s",
+                  err ? err : "");
     free(err);
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &err) == 0, "second render failed");
-    LG_TEST_CHECK(t, err && strstr(err, "reused"), "same file: the cache was not used: %s", err ? err : "");
+    LG_TEST_CHECK(t, err && strstr(err, "reused"), "same file: the cache was not used: %s",
+                  err ? err : "");
     free(err);
 
     /* same size (uncompressed float), same mtime, other pixels */
     lg_test_write_exr(t, "in.exr", &b);
     struct stat st1;
     stat(lg_test_path(t, "in.exr"), &st1);
-    LG_TEST_CHECK(t, st1.st_size == st0.st_size, "sizes differ (%lld, %lld): the test needs equal sizes",
-             (long long)st0.st_size, (long long)st1.st_size);
+    LG_TEST_CHECK(t, st1.st_size == st0.st_size,
+                  "sizes differ (%lld, %lld): the test needs equal sizes", (long long)st0.st_size,
+                  (long long)st1.st_size);
     struct timespec times[2] = { st0.st_atim, st0.st_mtim };
     utimensat(AT_FDCWD, lg_test_path(t, "in.exr"), times, 0);
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &err) == 0, "third render failed");
-    LG_TEST_CHECK(t, err && strstr(err, "computed"), "changed content, same size and mtime: stale cache: %s",
-             err ? err : "");
+    LG_TEST_CHECK(t, err && strstr(err, "computed"),
+                  "changed content, same size and mtime: stale cache: %s", err ? err : "");
     free(err);
     lg_image out;
     unsigned bits;
@@ -170,8 +186,8 @@ static void case_image_content_key(lg_test *t)
         double mean = 0;
         for (int i = 0; i < 64; i++)
             mean += b.pixels[i * 4 + 1] / 64.0;
-        LG_TEST_CHECK(t, fabs(out.pixels[1] - mean) <= lg_test_tol_of(mean, bits, 1e-5), "mean %.9g, want %.9g",
-                 out.pixels[1], mean);
+        LG_TEST_CHECK(t, fabs(out.pixels[1] - mean) <= lg_test_tol_of(mean, bits, 1e-5),
+                      "mean %.9g, want %.9g", out.pixels[1], mean);
         lg_image_free(&out);
     }
     lg_image_free(&a);
@@ -185,20 +201,21 @@ static void check_constant(lg_test *t, const char *file, uint32_t w, uint32_t h,
     if (!lg_test_read(t, file, &out, &bits))
         return;
     LG_TEST_CHECK(t, out.width == w && out.height == h, "%s: %ux%u, want %ux%u", file, out.width,
-             out.height, w, h);
+                  out.height, w, h);
     int bad = 0;
     for (size_t i = 0; i < (size_t)out.width * out.height * 4; i++)
         bad += !(fabs(out.pixels[i] - px[i % 4]) <= lg_test_tol_of(px[i % 4], bits, 1e-7));
     LG_TEST_CHECK(t, bad == 0, "%s: %d channel values differ from (%g %g %g %g)", file, bad, px[0],
-             px[1], px[2], px[3]);
+                  px[1], px[2], px[3]);
     lg_image_free(&out);
 }
 
 static void case_constant(lg_test *t)
 {
-    lg_test_write_text(t, "g.lgraph",
-                  "lightgraph 1\nc = constant { color = [0.5, 2, 1000], alpha = 0.25, width = 13, height = 3 }\n"
-                  "d = constant { }\noutput c \"c.exr\"\noutput d \"d.exr\"\n");
+    lg_test_write_text(
+        t, "g.lgraph",
+        "lightgraph 1\nc = constant { color = [0.5, 2, 1000], alpha = 0.25, width = 13, height = 3 }\n"
+        "d = constant { }\noutput c \"c.exr\"\noutput d \"d.exr\"\n");
     const char *args[] = { "--size", "21x9", NULL };
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, NULL) == 0, "render failed");
     check_constant(t, "c.exr", 13, 3, (const float[4]){ 0.5f, 2.0f, 1000.0f, 0.25f });
@@ -210,12 +227,14 @@ static void case_add(lg_test *t)
     lg_image a = make_image(6, 4, 1.0f), b = make_image(6, 4, 3.0f), want;
     lg_image_alloc(&want, 6, 4);
     for (size_t i = 0; i < 24 * 4; i++)
-        want.pixels[i] = i % 4 == 3 ? fminf(1.0f, a.pixels[i] + b.pixels[i]) : a.pixels[i] + b.pixels[i];
+        want.pixels[i] = i % 4 == 3 ? fminf(1.0f, a.pixels[i] + b.pixels[i])
+                                    : a.pixels[i] + b.pixels[i];
     lg_test_write_exr(t, "a.exr", &a);
     lg_test_write_exr(t, "b.exr", &b);
-    lg_test_write_text(t, "g.lgraph",
-                  "lightgraph 1\na = image { file = \"a.exr\" }\nb = image { file = \"b.exr\" }\n"
-                  "s = add { a = a, b = b }\noutput s \"out.exr\"\n");
+    lg_test_write_text(
+        t, "g.lgraph",
+        "lightgraph 1\na = image { file = \"a.exr\" }\nb = image { file = \"b.exr\" }\n"
+        "s = add { a = a, b = b }\noutput s \"out.exr\"\n");
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
     lg_image out;
     unsigned bits;
@@ -230,8 +249,8 @@ static void case_add(lg_test *t)
     char *err = NULL;
     int rc = lg_test_render(t, "g.lgraph", args, &err);
     LG_TEST_CHECK(t, rc == 1, "different sizes: exit %d, want 1", rc);
-    LG_TEST_CHECK(t, err && strstr(err, "6x4") && strstr(err, "5x4"), "message does not name both sizes: %s",
-             err ? err : "");
+    LG_TEST_CHECK(t, err && strstr(err, "6x4") && strstr(err, "5x4"),
+                  "message does not name both sizes: %s", err ? err : "");
     free(err);
     lg_image_free(&a);
     lg_image_free(&b);
@@ -247,11 +266,11 @@ static void case_add_neutral(lg_test *t)
     /* test_fog needs a medium and a light: with medium_density 0 it is gated and its
      * output is a neutral black image the size of `a` */
     lg_test_write_text(t, "g.lgraph",
-                  "lightgraph 1\nscene = test_scene { medium_density = 0 }\n"
-                  "a = image { file = \"a.exr\" }\n"
-                  "fog = test_fog { scene = scene, image = a, value = 0.5 }\n"
-                  "s = add { a = fog, b = a }\ns2 = add { a = a, b = fog }\n"
-                  "output s \"out.exr\"\noutput s2 \"out2.exr\"\n");
+                       "lightgraph 1\nscene = test_scene { medium_density = 0 }\n"
+                       "a = image { file = \"a.exr\" }\n"
+                       "fog = test_fog { scene = scene, image = a, value = 0.5 }\n"
+                       "s = add { a = fog, b = a }\ns2 = add { a = a, b = fog }\n"
+                       "output s \"out.exr\"\noutput s2 \"out2.exr\"\n");
     const char *explain[] = { "--explain", NULL };
     char *err = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", explain, &err) == 0, "render failed");
@@ -290,9 +309,10 @@ static void case_scale(lg_test *t)
     for (size_t i = 0; i < 15 * 4; i++)
         want.pixels[i] = i % 4 == 3 ? a.pixels[i] : a.pixels[i] * m[i % 4];
     lg_test_write_exr(t, "a.exr", &a);
-    lg_test_write_text(t, "g.lgraph",
-                  "lightgraph 1\na = image { file = \"a.exr\" }\n"
-                  "s = scale { image = a, factor = 2.5, tint = [1, 0.5, 0.25] }\noutput s \"out.exr\"\n");
+    lg_test_write_text(
+        t, "g.lgraph",
+        "lightgraph 1\na = image { file = \"a.exr\" }\n"
+        "s = scale { image = a, factor = 2.5, tint = [1, 0.5, 0.25] }\noutput s \"out.exr\"\n");
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, NULL) == 0, "render failed");
     lg_image out;
     unsigned bits;
@@ -301,8 +321,9 @@ static void case_scale(lg_test *t)
         lg_image_free(&out);
     }
     /* the default is the identity */
-    lg_test_write_text(t, "g2.lgraph",
-                  "lightgraph 1\na = image { file = \"a.exr\" }\ns = scale { image = a }\noutput s \"out2.exr\"\n");
+    lg_test_write_text(
+        t, "g2.lgraph",
+        "lightgraph 1\na = image { file = \"a.exr\" }\ns = scale { image = a }\noutput s \"out2.exr\"\n");
     LG_TEST_CHECK(t, lg_test_render(t, "g2.lgraph", NULL, NULL) == 0, "render failed");
     if (lg_test_read(t, "out2.exr", &out, &bits)) {
         check_same(t, &out, &a, bits, "scale default");

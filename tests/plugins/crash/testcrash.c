@@ -23,25 +23,40 @@
 
 #include "lightgraph/lightgraph.h"
 
-static const char *const phases[] = {"none", "create", "prepare", "execute", "destroy", NULL};
+static const char *const phases[] = { "none", "create", "prepare", "execute", "destroy", NULL };
 enum { PHASE_NONE, PHASE_CREATE, PHASE_PREPARE, PHASE_EXECUTE, PHASE_DESTROY };
-static const char *const signals[] = {"segv", "bus", "fpe", "ill", "abrt", "stack", NULL};
+static const char *const signals[] = { "segv", "bus", "fpe", "ill", "abrt", "stack", NULL };
 enum { SIG_SEGV_, SIG_BUS_, SIG_FPE_, SIG_ILL_, SIG_ABRT_, SIG_STACK_ };
 
 static const lg_param_desc params[] = {
-    {.key = "phase", .type = LG_PARAM_ENUM, .def.s = "none", .enum_values = phases,
-     .doc = "the callback that crashes"},
-    {.key = "signal", .type = LG_PARAM_ENUM, .def.s = "segv", .enum_values = signals,
-     .doc = "how it crashes"},
-    {.key = "on_pool", .type = LG_PARAM_BOOL, .def.b = false,
-     .doc = "execute: crash on a thread of the host's CPU pool"},
-    {.key = "file", .type = LG_PARAM_PATH, .def.s = "", .role = LG_ROLE_OUTPUT_FILE,
-     .doc = "written in execute before the crash (\"\": none)"},
-    {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1,
-     .doc = "does nothing (a parameter for sweep to vary)"},
+    { .key = "phase",
+      .type = LG_PARAM_ENUM,
+      .def.s = "none",
+      .enum_values = phases,
+      .doc = "the callback that crashes" },
+    { .key = "signal",
+      .type = LG_PARAM_ENUM,
+      .def.s = "segv",
+      .enum_values = signals,
+      .doc = "how it crashes" },
+    { .key = "on_pool",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "execute: crash on a thread of the host's CPU pool" },
+    { .key = "file",
+      .type = LG_PARAM_PATH,
+      .def.s = "",
+      .role = LG_ROLE_OUTPUT_FILE,
+      .doc = "written in execute before the crash (\"\": none)" },
+    { .key = "x",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1,
+      .doc = "does nothing (a parameter for sweep to vary)" },
 };
-static const lg_port_desc in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
-static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
+static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static volatile int sink;
 
@@ -84,15 +99,12 @@ static void crash(int how)
         __asm__ volatile("ud2");
 #endif
         break;
-    case SIG_ABRT_:
-        abort();
-    case SIG_STACK_:
-        sink = overflow(0);
-        break;
+    case SIG_ABRT_: abort();
+    case SIG_STACK_: sink = overflow(0); break;
     }
     /* a machine without that fault (an integer division by zero is 0 on some): the signal
      * itself, so that the test sees what it asked for */
-    static const int sigs[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSEGV};
+    static const int sigs[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSEGV };
     raise(sigs[how]);
 }
 
@@ -114,8 +126,9 @@ static int prepare(lg_node *n)
         crash(lg_param_enum(n, "signal"));
     lg_resource_info info;
     lg_describe(lg_input(n, 0), &info, n);
-    lg_image_desc d = {.width = info.image.width, .height = info.image.height,
-                       .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = info.image.width,
+                        .height = info.image.height,
+                        .format = LG_FORMAT_RGBA32F };
     return lg_declare_image(n, 0, &d);
 }
 
@@ -144,7 +157,7 @@ static int execute(lg_node *n, const lg_frame *frame)
         return rc;
     if (now(n, PHASE_EXECUTE)) {
         if (lg_param_bool(n, "on_pool")) {
-            pool_ctx c = {pthread_self(), lg_param_enum(n, "signal")};
+            pool_ctx c = { pthread_self(), lg_param_enum(n, "signal") };
             lg_parallel_for(n, 1000, 1, pool_chunk, &c);
             return lg_error(n, "test_crash: no pool thread ran a chunk (LIGHTGRAPH_THREADS=1?)");
         }
@@ -170,7 +183,7 @@ static void destroy(lg_node *n)
         crash(lg_param_enum(n, "signal"));
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "test_crash",
     .doc = "Passes its image through, or crashes where and how its parameters say (test)",
@@ -181,6 +194,6 @@ static const lg_node_type types[] = {{
     .prepare = prepare,
     .execute = execute,
     .destroy = destroy,
-}};
+} };
 
 LG_PLUGIN_DEFINE("testcrash", "1.0.0", "Crash attribution test node", types)

@@ -66,7 +66,7 @@
 static const char *const BACKENDS[] = { "cpu", "gl", "cl" };
 static const char *const FORMATS[] = { "rgba32f", "rgba16f", "rgbe8" };
 
-/* ---- helpers ------------------------------------------------------------------------- */
+/* ---- helpers --------------------------------------------------------------------------------- */
 
 static const float *px(const lg_image *img, uint32_t x, uint32_t y)
 {
@@ -85,11 +85,11 @@ static bool all_finite(const lg_image *img, uint32_t *bad_x, uint32_t *bad_y)
     return true;
 }
 
-#define CHECK_FINITE(t, img, what)                                                          \
-    do {                                                                                    \
-        uint32_t bx_ = 0, by_ = 0;                                                          \
-        LG_TEST_CHECK(t, all_finite(img, &bx_, &by_), "%s: a non-finite value at (%u, %u)", \
-                      what, bx_, by_);                                                      \
+#define CHECK_FINITE(t, img, what)                                                                 \
+    do {                                                                                           \
+        uint32_t bx_ = 0, by_ = 0;                                                                 \
+        LG_TEST_CHECK(t, all_finite(img, &bx_, &by_), "%s: a non-finite value at (%u, %u)", what,  \
+                      bx_, by_);                                                                   \
     } while (0)
 
 /* A constant W x H image of rgb (alpha 1). */
@@ -119,8 +119,9 @@ static lg_vec3 cam_ray(const cam *c, uint32_t w, uint32_t h, double x, double y)
     lg_vec3 u = lg_v3_cross(r, f);
     double t = tan(0.5 * c->yfov_deg * LG_PI / 180.0), a = (double)w / h;
     double sx = (2.0 * (x + 0.5) / w - 1.0) * t * a, sy = (1.0 - 2.0 * (y + 0.5) / h) * t;
-    return lg_v3_normalize_or(
-        lg_v3_add(f, lg_v3_add(lg_v3_scale(r, (float)sx), lg_v3_scale(u, (float)sy))), f);
+    return lg_v3_normalize_or(lg_v3_add(f, lg_v3_add(lg_v3_scale(r, (float)sx),
+                                                     lg_v3_scale(u, (float)sy))),
+                              f);
 }
 
 static void cam_params(char *out, size_t n, const cam *c)
@@ -128,8 +129,8 @@ static void cam_params(char *out, size_t n, const cam *c)
     snprintf(out, n,
              "camera_position = [%g, %g, %g], camera_target = [%g, %g, %g], "
              "camera_up = [%g, %g, %g], yfov_deg = %g",
-             c->pos.x, c->pos.y, c->pos.z, c->target.x, c->target.y, c->target.z, c->up.x,
-             c->up.y, c->up.z, c->yfov_deg);
+             c->pos.x, c->pos.y, c->pos.z, c->target.x, c->target.y, c->target.z, c->up.x, c->up.y,
+             c->up.z, c->yfov_deg);
 }
 
 /* Where a ray from o along unit d meets the sphere of radius r at the origin (the nearer
@@ -161,7 +162,7 @@ static int render(lg_test *t, const char *g, const char *const *args, const char
     return 0;
 }
 
-/* ---- constant probe -------------------------------------------------------------------- */
+/* ---- constant probe -------------------------------------------------------------------------- */
 
 typedef struct probe_file {
     const char *what, *layout;
@@ -198,9 +199,8 @@ static void constant_formats(lg_test *t, int f_first, int f_last)
                          "bg = background { scene = env, probe = sky, backend = %s, "
                          "format = %s }\n"
                          "output r \"r.exr\"\noutput e \"e.exr\"\noutput bg \"bg.exr\"\n",
-                         (double)refl[0], (double)refl[1], (double)refl[2], cp,
-                         probes[p].layout, BACKENDS[b], FORMATS[f], BACKENDS[b], FORMATS[f],
-                         BACKENDS[b], FORMATS[f]);
+                         (double)refl[0], (double)refl[1], (double)refl[2], cp, probes[p].layout,
+                         BACKENDS[b], FORMATS[f], BACKENDS[b], FORMATS[f], BACKENDS[b], FORMATS[f]);
                 const char *args[] = { "--size", "96x32", NULL };
                 const char *outs[] = { "r.exr", "e.exr", "bg.exr" };
                 lg_image img[3] = { { 0 } };
@@ -235,8 +235,7 @@ static void constant_formats(lg_test *t, int f_first, int f_last)
                             }
                             if (is_bg) {
                                 for (int ch = 0; ch < 3; ch++) {
-                                    double tol = f == 2 ? c[2] / 256.0
-                                                        : rel * c[ch] + 1e-7;
+                                    double tol = f == 2 ? c[2] / 256.0 : rel * c[ch] + 1e-7;
                                     if (!(fabs(bg[ch] - c[ch]) <= tol))
                                         bad_bg++;
                                 }
@@ -276,7 +275,7 @@ static void case_constant_rgbe8(lg_test *t)
     constant_formats(t, 2, 2);
 }
 
-/* ---- one bright texel on a mirror sphere ------------------------------------------------ */
+/* ---- one bright texel on a mirror sphere ----------------------------------------------------- */
 
 static void case_bright_texel(lg_test *t)
 {
@@ -292,8 +291,9 @@ static void case_bright_texel(lg_test *t)
 
     /* the prediction: analytic sphere, the same camera, the CPU's nearest lookup */
     const cam cm = { { 0, 0, 5 }, { 0, 0, 0 }, { 0, 1, 0 }, 40 };
-    lg_probe_image pi = { .layout = LG_PROBE_LATLONG, .width = PW, .height = PH,
-                          .rgba = probe.pixels };
+    lg_probe_image pi = {
+        .layout = LG_PROBE_LATLONG, .width = PW, .height = PH, .rgba = probe.pixels
+    };
     double sx = 0, sy = 0, sw = 0;
     for (uint32_t y = 0; y < H; y++)
         for (uint32_t x = 0; x < W; x++) {
@@ -356,7 +356,7 @@ static void case_bright_texel(lg_test *t)
     lg_image_free(&probe);
 }
 
-/* ---- backends agree on a real probe ------------------------------------------------------ */
+/* ---- backends agree on a real probe ---------------------------------------------------------- */
 
 /* A smooth cube strip (6N x N): radiance a function of the texel direction. */
 static void write_smooth_strip(lg_test *t, uint32_t n)
@@ -397,11 +397,11 @@ static void case_backends(lg_test *t)
     };
     const char *nodes[] = { "reflect", "envmap", "background" };
     for (size_t p = 0; p < 3; p++) {
-        const char *file = probes[p].file[0] == 's' ? probes[p].file
-                                                    : lg_test_asset(
-                                                          strcmp(probes[p].layout, "latlong")
-                                                              ? "probes/forest_angular_1024.hdr"
-                                                              : "probes/forest_1024x512.hdr");
+        const char *file = probes[p].file[0] == 's'
+                               ? probes[p].file
+                               : lg_test_asset(strcmp(probes[p].layout, "latlong")
+                                                   ? "probes/forest_angular_1024.hdr"
+                                                   : "probes/forest_1024x512.hdr");
         for (int k = 0; k < 3; k++) {
             char g[4096];
             snprintf(g, sizeof g,
@@ -410,14 +410,17 @@ static void case_backends(lg_test *t)
                      "sky = probe { file = \"%s\", layout = %s }\n"
                      "env = environment { scene = s, probe = sky }\n"
                      "n = %s { scene = env, probe = sky%s }\n",
-                     cp, file, probes[p].layout, nodes[k],
-                     k == 0 ? ", fresnel = schlick" : "");
+                     cp, file, probes[p].layout, nodes[k], k == 0 ? ", fresnel = schlick" : "");
             const char *args[] = { "--size", "64x48", NULL };
             const char *bk[] = { "cpu", "gl", "cl", NULL };
             char what[128];
             snprintf(what, sizeof what, "%s on %s", nodes[k], probes[p].layout);
-            lg_test_backends_desc d = { .graph = g, .node = "n", .backends = bk, .args = args,
-                                        .tol_backends = probes[p].tol, .what = what };
+            lg_test_backends_desc d = { .graph = g,
+                                        .node = "n",
+                                        .backends = bk,
+                                        .args = args,
+                                        .tol_backends = probes[p].tol,
+                                        .what = what };
             lg_test_backends_result res;
             lg_test_backends(t, &d, &res);
             for (size_t r = 0; r < res.n; r++)
@@ -429,7 +432,7 @@ static void case_backends(lg_test *t)
     }
 }
 
-/* ---- views along the axes ---------------------------------------------------------------- */
+/* ---- views along the axes -------------------------------------------------------------------- */
 
 static void case_axes(lg_test *t)
 {
@@ -445,8 +448,8 @@ static void case_axes(lg_test *t)
         }
     lg_test_write_exr(t, "ll.exr", &ll);
     lg_image_free(&ll);
-    static const float axes[6][3] = { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 },
-                                      { 0, -1, 0 }, { 0, 0, 1 }, { 0, 0, -1 } };
+    static const float axes[6][3] = { { 1, 0, 0 },  { -1, 0, 0 }, { 0, 1, 0 },
+                                      { 0, -1, 0 }, { 0, 0, 1 },  { 0, 0, -1 } };
     const char *files[2] = { "ll.exr", "strip.exr" }, *layouts[2] = { "latlong", "strip" };
     for (int l = 0; l < 2; l++)
         for (int a = 0; a < 6; a++) {
@@ -467,7 +470,10 @@ static void case_axes(lg_test *t)
             char what[64];
             snprintf(what, sizeof what, "%s along (%g, %g, %g)", layouts[l], (double)axes[a][0],
                      (double)axes[a][1], (double)axes[a][2]);
-            lg_test_backends_desc d = { .graph = g, .node = "n", .backends = bk, .args = args,
+            lg_test_backends_desc d = { .graph = g,
+                                        .node = "n",
+                                        .backends = bk,
+                                        .args = args,
                                         .tol_backends = { .max_abs = 1e-3, .rel = 1e-2 },
                                         .what = what };
             lg_test_backends_result res;
@@ -483,8 +489,8 @@ static void case_axes(lg_test *t)
                 for (int k = 0; k < 4; k++)
                     for (int ch = 0; ch < 3; ch++)
                         m[ch] += 0.25 * px(img, 15 + (k & 1), 15 + (k >> 1))[ch];
-                double want[3] = { 1 + axes[a][0], l ? 1 + 2 * axes[a][1] * axes[a][1]
-                                                     : 1 + axes[a][1],
+                double want[3] = { 1 + axes[a][0],
+                                   l ? 1 + 2 * axes[a][1] * axes[a][1] : 1 + axes[a][1],
                                    1 + axes[a][2] };
                 for (int ch = 0; ch < 3; ch++)
                     LG_TEST_CHECK(t, fabs(m[ch] - want[ch]) < 0.05,
@@ -519,7 +525,10 @@ static void case_rotation(lg_test *t)
                     "n = background { scene = env, probe = sky }\n";
     const char *args[] = { "--size", "32x32", NULL };
     const char *bk[] = { "cpu", "gl", "cl", NULL };
-    lg_test_backends_desc d = { .graph = g, .node = "n", .backends = bk, .args = args,
+    lg_test_backends_desc d = { .graph = g,
+                                .node = "n",
+                                .backends = bk,
+                                .args = args,
                                 .tol_backends = { .max_abs = 1e-3, .rel = 1e-2 },
                                 .what = "rotated probe" };
     lg_test_backends_result res;
@@ -534,15 +543,15 @@ static void case_rotation(lg_test *t)
                 m[ch] += 0.25 * px(img, 15 + (k & 1), 15 + (k >> 1))[ch];
         for (int ch = 0; ch < 3; ch++)
             LG_TEST_CHECK(t, fabs(m[ch] - want[ch]) < 0.05,
-                          "%s: rotated probe, centre channel %d = %g, want %g",
-                          res.run[r].backend, ch, m[ch], want[ch]);
+                          "%s: rotated probe, centre channel %d = %g, want %g", res.run[r].backend,
+                          ch, m[ch], want[ch]);
         CHECK_FINITE(t, img, res.run[r].backend);
     }
     LG_TEST_CHECK(t, res.n_ok == 3, "%zu of 3 backends ran", res.n_ok);
     lg_test_backends_free(&res);
 }
 
-/* ---- grazing views -------------------------------------------------------------------------- */
+/* ---- grazing views --------------------------------------------------------------------------- */
 
 static void case_grazing(lg_test *t)
 {
@@ -606,7 +615,7 @@ static void case_grazing(lg_test *t)
     }
 }
 
-/* ---- back-facing normals ----------------------------------------------------------------- */
+/* ---- back-facing normals --------------------------------------------------------------------- */
 
 /* A probe bright on the +Z half (10), dark on -Z (1): which side a lookup reads shows. */
 static void write_halves(lg_test *t)
@@ -630,8 +639,9 @@ static void case_backface(lg_test *t)
     write_halves(t);
     lg_image probe = { 0 };
     LG_TEST_CHECK(t, lg_test_read(t, "halves.exr", &probe, NULL), "halves.exr");
-    lg_probe_image pi = { .layout = LG_PROBE_LATLONG, .width = 64, .height = 32,
-                          .rgba = probe.pixels };
+    lg_probe_image pi = {
+        .layout = LG_PROBE_LATLONG, .width = 64, .height = 32, .rgba = probe.pixels
+    };
     /* the camera on -Z looks at a quad whose front faces +Z: its back side */
     const cam cm = { { 0, 0, -4 }, { 0, 0, 0 }, { 0, 1, 0 }, 20 };
     char cp[512];
@@ -676,8 +686,8 @@ static void case_backface(lg_test *t)
         LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d)", BACKENDS[b], rc);
         if (rc == 0) {
             LG_TEST_CHECK(t, px(&img, 16, 16)[0] == 0.0f,
-                          "%s: a single-sided quad seen from behind was drawn (%g)",
-                          BACKENDS[b], (double)px(&img, 16, 16)[0]);
+                          "%s: a single-sided quad seen from behind was drawn (%g)", BACKENDS[b],
+                          (double)px(&img, 16, 16)[0]);
             lg_image_free(&img);
         }
         /* 3. single-sided, front face toward the camera but normals facing away (tilted
@@ -720,8 +730,7 @@ static void case_backface(lg_test *t)
     lg_image_free(&probe);
 }
 
-
-/* ---- glossy reflection ------------------------------------------------------------------ */
+/* ---- glossy reflection ----------------------------------------------------------------------- */
 
 /* A smooth lat-long probe: radiance a low-order function of the direction. */
 static void smooth_latlong(lg_image *img, uint32_t w, uint32_t h)
@@ -754,15 +763,17 @@ static void case_glossy(lg_test *t)
     lg_image probe = { 0 };
     smooth_latlong(&probe, 128, 64);
     lg_test_write_exr(t, "probe.exr", &probe);
-    lg_probe_image pi = { .layout = LG_PROBE_LATLONG, .width = 128, .height = 64,
-                          .rgba = probe.pixels };
+    lg_probe_image pi = {
+        .layout = LG_PROBE_LATLONG, .width = 128, .height = 64, .rgba = probe.pixels
+    };
     const cam cm = { { 0, 0, 4 }, { 0, 0, 0 }, { 0, 1, 0 }, 35 };
     char cp[512];
     cam_params(cp, sizeof cp, &cm);
     const float f0[3] = { 0.9f, 0.9f, 0.9f };
     /* the oracle on every other pixel of the analytic sphere with n.v > 0.3 */
     double *want = calloc((size_t)W * H * 3, sizeof(double));
-    float *ss = calloc((size_t)W * H * 3, sizeof(float)), *cosv = calloc((size_t)W * H, sizeof(float));
+    float *ss = calloc((size_t)W * H * 3, sizeof(float)),
+          *cosv = calloc((size_t)W * H, sizeof(float));
     bool *use = calloc((size_t)W * H, sizeof(bool));
     /* the split sum itself from a chain made here as the node makes it (auto size: the
      * probe's width / 4 = 32 per face, 6 levels, 256 samples): the node's formula */
@@ -770,8 +781,9 @@ static void case_glossy(lg_test *t)
     lg_image_desc cd = { .width = CS, .height = CS, .flags = LG_IMAGE_CUBE, .levels = CL };
     float *chain = malloc(4 * lg_image_offset(&cd, CL, 0) * sizeof(float));
     lg_probe_image lv[6];
-    LG_TEST_CHECK(t, chain && lg_probe_prefilter_ggx(NULL, &pi, LG_PROBE_CUBE, CS, CS, CL, NULL,
-                                                     chain, NULL) == 0,
+    LG_TEST_CHECK(t,
+                  chain && lg_probe_prefilter_ggx(NULL, &pi, LG_PROBE_CUBE, CS, CS, CL, NULL, chain,
+                                                  NULL) == 0,
                   "prefiltering the test's chain failed");
     for (uint32_t l = 0; l < CL; l++)
         lv[l] = lg_probe_image_at(LG_PROBE_CUBE, &cd, chain, l, NULL);
@@ -782,8 +794,7 @@ static void case_glossy(lg_test *t)
             if (!hit_sphere(cm.pos, d, 1.0, &p) || -lg_v3_dot(d, p) < 0.3f)
                 continue;
             size_t i = (size_t)y * W + x;
-            lg_probe_ggx_reference(&pi, p, lg_v3_scale(d, -1.0f), 0.5f, f0, 4096, 7,
-                                   want + 3 * i);
+            lg_probe_ggx_reference(&pi, p, lg_v3_scale(d, -1.0f), 0.5f, f0, 4096, 7, want + 3 * i);
             if (chain)
                 lg_probe_ggx_split_sum(lv, CL, p, lg_v3_scale(d, -1.0f), 0.5f, f0, ss + 3 * i);
             cosv[i] = -lg_v3_dot(d, p);
@@ -841,8 +852,7 @@ static void case_glossy(lg_test *t)
                             "%s: roughness 0.5, %u values: vs the oracle worst %.4f (n.v > 0.7: "
                             "%.4f), rms %.4f relative; vs the split sum of lg_probe_ggx_split_sum "
                             "worst %.4f\n",
-                            BACKENDS[b], nn, worst, worst7, sqrt(sum2 / (nn ? nn : 1)),
-                            worst_ss);
+                            BACKENDS[b], nn, worst, worst7, sqrt(sum2 / (nn ? nn : 1)), worst_ss);
                 LG_TEST_CHECK(t, off == 0 && off_ss == 0,
                               "%s: %u values beyond the oracle's tolerance (6 %% where n.v > 0.7, "
                               "20 %% elsewhere; worst %g, %g) and %u beyond 2 %% of the split "
@@ -902,7 +912,10 @@ static void case_glossy_backends(lg_test *t)
              cp, lg_test_asset("probes/forest_1024x512.hdr"));
     const char *args[] = { "--size", "96x32", NULL };
     const char *bk[] = { "cpu", "gl", "cl", NULL };
-    lg_test_backends_desc d = { .graph = g, .node = "n", .backends = bk, .args = args,
+    lg_test_backends_desc d = { .graph = g,
+                                .node = "n",
+                                .backends = bk,
+                                .args = args,
                                 .tol_backends = { .max_abs = 1e-3, .rel = 1e-2, .rmse = 5e-4 },
                                 .what = "glossy spheres" };
     lg_test_backends_result res;
@@ -914,7 +927,7 @@ static void case_glossy_backends(lg_test *t)
     lg_test_backends_free(&res);
 }
 
-/* ---- rgba16f clamping ----------------------------------------------------------------- */
+/* ---- rgba16f clamping ------------------------------------------------------------------------ */
 
 static void case_half_clamp(lg_test *t)
 {
@@ -949,15 +962,15 @@ static void case_half_clamp(lg_test *t)
             const char *key = "200 pixels above 65504";
             const char *m = text ? strstr(text, key) : NULL;
             LG_TEST_CHECK(t, m && !strstr(m + strlen(key), "above 65504"),
-                          "%s: the clamp is not reported once with its count:\n%s",
-                          BACKENDS[b], text ? text : "");
+                          "%s: the clamp is not reported once with its count:\n%s", BACKENDS[b],
+                          text ? text : "");
             lg_image_free(&img);
         }
         free(text);
     }
 }
 
-/* ---- a probe at the float maximum ---------------------------------------------------------- */
+/* ---- a probe at the float maximum ------------------------------------------------------------ */
 
 /* Probes whose texels, times 2^exposure (exposure = 2), pass the float range: the probe
  * node clamps them to FLT_MAX (and says so), next to texels of 0 and of every size between
@@ -1010,8 +1023,8 @@ static void case_float_max(lg_test *t)
                         continue; /* background has no roughness */
                     char node[256], g[2048], what[512];
                     snprintf(node, sizeof node, nodes[k], BACKENDS[b]);
-                    snprintf(what, sizeof what, "%s, probe { %s }, roughness %s", node,
-                             probes[pr], rough[r]);
+                    snprintf(what, sizeof what, "%s, probe { %s }, roughness %s", node, probes[pr],
+                             rough[r]);
                     snprintf(g, sizeof g,
                              "lightgraph 1\n"
                              "s = test_ibl_scene { layout = sphere, segments = 64, "
@@ -1045,7 +1058,7 @@ static void case_float_max(lg_test *t)
                 }
 }
 
-/* ---- forged cache entries ------------------------------------------------------------------ */
+/* ---- forged cache entries -------------------------------------------------------------------- */
 
 static int occurrences(const char *text, const char *needle)
 {
@@ -1108,8 +1121,9 @@ static void case_forged_chain(lg_test *t)
             rc = render(t, g, args, outs, &img, 1, &text);
             char want[64];
             snprintf(want, sizeof want, "is corrupt (float %zu ", at[a]);
-            LG_TEST_CHECK(t, rc == 0 && occurrences(text, "is corrupt") == 1 &&
-                                 strstr(text, want) && strstr(text, "GGX chain prefiltered"),
+            LG_TEST_CHECK(t,
+                          rc == 0 && occurrences(text, "is corrupt") == 1 && strstr(text, want) &&
+                              strstr(text, "GGX chain prefiltered"),
                           "%s at float %zu: not reported once and prefiltered again (%d):\n%s",
                           forged[f].what, at[a], rc, text ? text : "");
             if (rc == 0) {
@@ -1123,8 +1137,9 @@ static void case_forged_chain(lg_test *t)
         }
     lg_image img = { 0 };
     rc = render(t, g, args, outs, &img, 1, &text);
-    LG_TEST_CHECK(t, rc == 0 && strstr(text, "GGX chain loaded from the cache") &&
-                         !strstr(text, "corrupt"),
+    LG_TEST_CHECK(t,
+                  rc == 0 && strstr(text, "GGX chain loaded from the cache") &&
+                      !strstr(text, "corrupt"),
                   "the remade chain was not loaded (%d):\n%s", rc, text ? text : "");
     if (rc == 0)
         lg_image_free(&img);
@@ -1132,7 +1147,7 @@ static void case_forged_chain(lg_test *t)
     lg_image_free(&cold);
 }
 
-/* ---- base image ---------------------------------------------------------------------------- */
+/* ---- base image ------------------------------------------------------------------------------ */
 
 static void case_base(lg_test *t)
 {
@@ -1171,8 +1186,8 @@ static void case_base(lg_test *t)
             n_base += is_base, n_geo += is_geo, other += !is_base && !is_geo;
         }
         LG_TEST_CHECK(t, other == 0 && n_geo > 50 && n_base > 50,
-                      "%s: %llu pixels base + reflection, %llu base, %llu neither",
-                      BACKENDS[b], (unsigned long long)n_geo, (unsigned long long)n_base,
+                      "%s: %llu pixels base + reflection, %llu base, %llu neither", BACKENDS[b],
+                      (unsigned long long)n_geo, (unsigned long long)n_base,
                       (unsigned long long)other);
         lg_image_free(&img);
     }
@@ -1188,13 +1203,14 @@ static void case_base(lg_test *t)
     const char *args[] = { "--size", "64x48", NULL };
     char *text = NULL;
     int rc = lg_test_render(t, "g.lgraph", args, &text);
-    LG_TEST_CHECK(t, rc != 0 && text && strstr(text, "40x30") && strstr(text, "64x48") &&
-                         strstr(text, "'base'"),
+    LG_TEST_CHECK(t,
+                  rc != 0 && text && strstr(text, "40x30") && strstr(text, "64x48") &&
+                      strstr(text, "'base'"),
                   "a base of another size: status %d:\n%s", rc, text ? text : "");
     free(text);
 }
 
-/* ---- gating ----------------------------------------------------------------------------- */
+/* ---- gating ---------------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
 {
@@ -1251,8 +1267,8 @@ static void case_gating(lg_test *t)
             const char *nl = strstr(text, "plugins not loaded:");
             const char *eol = nl ? strchr(nl, '\n') : NULL;
             const char *ibl = nl ? strstr(nl, "ibl") : NULL;
-            LG_TEST_CHECK(t, nl && ibl && (!eol || ibl < eol),
-                          "%s: the ibl plugin was loaded:\n%s", cases[k].why, text);
+            LG_TEST_CHECK(t, nl && ibl && (!eol || ibl < eol), "%s: the ibl plugin was loaded:\n%s",
+                          cases[k].why, text);
         }
         for (int i = 0; i < 2; i++)
             lg_image_free(&img[i]);
@@ -1296,8 +1312,9 @@ static void case_cache_said(lg_test *t)
         const char *line = strstr(o, "GGX chain prefiltered");
         LG_TEST_CHECK(t, line != NULL, "no chain was made:\n%s", o);
         if (line && k == 0)
-            LG_TEST_CHECK(t, strstr(line, "not cached: the cache is disabled for this render") &&
-                                 !strstr(line, "; cached"),
+            LG_TEST_CHECK(t,
+                          strstr(line, "not cached: the cache is disabled for this render") &&
+                              !strstr(line, "; cached"),
                           "the cache off:\n%s", o);
         if (line && k == 1)
             LG_TEST_CHECK(t, strstr(line, "; cached") && !strstr(line, "not cached"),
@@ -1329,10 +1346,12 @@ static void case_chain_limits(lg_test *t)
     lg_image img = { 0 };
     char *out = NULL;
     int rc = render(t, text, args, outs, &img, 1, &out);
-    LG_TEST_CHECK(t, rc == 0 && out && strstr(out, "warning: node 'r' (reflect): prefilter_size = "
-                                                   "4096 is finer than the 1x1 probe can fill: "
-                                                   "the chain is made at 8 per face") &&
-                         strstr(out, "levels = 16: a chain of face 8 has 4 levels, so it has 4"),
+    LG_TEST_CHECK(t,
+                  rc == 0 && out &&
+                      strstr(out, "warning: node 'r' (reflect): prefilter_size = "
+                                  "4096 is finer than the 1x1 probe can fill: "
+                                  "the chain is made at 8 per face") &&
+                      strstr(out, "levels = 16: a chain of face 8 has 4 levels, so it has 4"),
                   "a 4096 chain of a 1x1 probe: exit %d\n%s", rc, out ? out : "");
     free(out);
     /* every pixel: 0 where no geometry, the sphere's 0.5 c where covered (a constant chain
@@ -1366,14 +1385,16 @@ static void case_chain_limits(lg_test *t)
     LG_TEST_CHECK(t, setrlimit(RLIMIT_AS, &rl) == 0, "setrlimit(RLIMIT_AS, 100 MiB) failed");
     out = NULL;
     rc = lg_test_render(t, "g.lgraph", args, &out);
-    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "node 'r' (reflect): the GGX chain "
-                                                   "(prefilter_size = 0: cube 128, 6 levels, "
-                                                   "prefilter_samples = 256) from the 2048x1024 "
-                                                   "probe needs 94.4 MiB (98989056 bytes; "
-                                                   "resampling the probe into its first level "
-                                                   "89.5 MiB), more than the") &&
-                         strstr(out, "of address space that the process's limit (RLIMIT_AS, "
-                                     "ulimit -v) leaves"),
+    LG_TEST_CHECK(t,
+                  rc == 1 && out &&
+                      strstr(out, "node 'r' (reflect): the GGX chain "
+                                  "(prefilter_size = 0: cube 128, 6 levels, "
+                                  "prefilter_samples = 256) from the 2048x1024 "
+                                  "probe needs 94.4 MiB (98989056 bytes; "
+                                  "resampling the probe into its first level "
+                                  "89.5 MiB), more than the") &&
+                      strstr(out, "of address space that the process's limit (RLIMIT_AS, "
+                                  "ulimit -v) leaves"),
                   "a 2048x1024 probe's chain under 100 MiB: exit %d\n%s", rc, out ? out : "");
     free(out);
     struct stat sb;
@@ -1388,16 +1409,22 @@ static void setup(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "constant", case_constant }, { "constant_rgbe8", case_constant_rgbe8 },
+        { "constant", case_constant },
+        { "constant_rgbe8", case_constant_rgbe8 },
         { "bright_texel", case_bright_texel },
-        { "backends", case_backends }, { "axes", case_axes },
+        { "backends", case_backends },
+        { "axes", case_axes },
         { "rotation", case_rotation },
-        { "grazing", case_grazing },   { "backface", case_backface },
-        { "half_clamp", case_half_clamp }, { "base", case_base },
-        { "glossy", case_glossy }, { "glossy_backends", case_glossy_backends },
+        { "grazing", case_grazing },
+        { "backface", case_backface },
+        { "half_clamp", case_half_clamp },
+        { "base", case_base },
+        { "glossy", case_glossy },
+        { "glossy_backends", case_glossy_backends },
         { "cache_said", case_cache_said },
         { "gating", case_gating },
-        { "chain_limits", case_chain_limits }, { "float_max", case_float_max },
+        { "chain_limits", case_chain_limits },
+        { "float_max", case_float_max },
         { "forged_chain", case_forged_chain },
     };
     lg_test_main_opts o = { .setup = setup };

@@ -76,9 +76,8 @@ static int ti_prepare(lg_node *n)
         m->double_sided = lg_param_bool(n, "double_sided");
     }
     lg_ts_camera(b, "test", ti_vec(n, "camera_position"), ti_vec(n, "camera_target"),
-                 ti_vec(n, "camera_up"),
-                 (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0), 0.1f,
-                 50.0f);
+                 ti_vec(n, "camera_up"), (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0),
+                 0.1f, 50.0f);
 
     uint32_t seg = (uint32_t)lg_param_int(n, "segments");
     float radius = (float)lg_param_float(n, "radius");
@@ -102,11 +101,18 @@ static int ti_execute(lg_node *n, const lg_frame *frame)
 static const char *const ti_layouts[] = { "sphere", "quad", "spheres", "none", NULL };
 
 static const lg_param_desc ti_params[] = {
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ti_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = ti_layouts,
       .doc = "sphere, quad, spheres or none (testiblscene.c)" },
     { .key = "radius", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0.01, .max = 100, .doc = "" },
     { .key = "segments", .type = LG_PARAM_INT, .def.i = 96, .min = 3, .max = 2048, .doc = "" },
-    { .key = "reflectivity", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 100,
+    { .key = "reflectivity",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 1, 1, 1 },
+      .min = 0,
+      .max = 100,
       .doc = "" },
     { .key = "roughness", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1, .doc = "" },
     { .key = "double_sided", .type = LG_PARAM_BOOL, .def.b = false, .doc = "" },

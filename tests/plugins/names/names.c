@@ -14,11 +14,15 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc params[] = {
-    {.key = "gain", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 100,
-     .doc = "does nothing"},
+    { .key = "gain",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 100,
+      .doc = "does nothing" },
 };
-static const lg_port_desc in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
-static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
+static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int prepare(lg_node *n)
 {
@@ -32,11 +36,11 @@ static int execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-#define TYPE(name_)                                                                        \
-    {                                                                                      \
-        .struct_size = sizeof(lg_node_type), .name = (name_),                              \
-        .doc = "Its input, unchanged (a names test plugin)", LG_PARAMS(params),            \
-        LG_INPUTS(in), LG_OUTPUTS(out), .prepare = prepare, .execute = execute,            \
+#define TYPE(name_)                                                                                \
+    {                                                                                              \
+        .struct_size = sizeof(lg_node_type), .name = (name_),                                      \
+        .doc = "Its input, unchanged (a names test plugin)", LG_PARAMS(params), LG_INPUTS(in),     \
+        LG_OUTPUTS(out), .prepare = prepare, .execute = execute,                                   \
     }
 
 static const lg_node_type types[] = {
@@ -45,11 +49,14 @@ static const lg_node_type types[] = {
 #elif defined(NAMES_DUP_B)
     TYPE("names_dup_b"),
 #elif defined(NAMES_OTHER)
-    TYPE("names_other"), TYPE("names_dup_a"),
+    TYPE("names_other"),
+    TYPE("names_dup_a"),
 #elif defined(NAMES_SCALE)
-    TYPE("names_scale_ok"), TYPE("scale"),
+    TYPE("names_scale_ok"),
+    TYPE("scale"),
 #elif defined(NAMES_TWICE)
-    TYPE("names_twice"), TYPE("names_twice"),
+    TYPE("names_twice"),
+    TYPE("names_twice"),
 #else
 #error "a variant: -DNAMES_DUP_A, ..."
 #endif

@@ -64,9 +64,8 @@ static void check_node(lg_test *t, const char *scene_text, const char *node, con
         LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d):\n%s", node, rc, text ? text : "");
     if (rc == 0) {
         char want[160];
-        snprintf(want, sizeof want,
-                 "input '%s' (frame 0): %d pixel%s with a NaN or Inf channel", port, nan + inf,
-                 nan + inf == 1 ? "" : "s");
+        snprintf(want, sizeof want, "input '%s' (frame 0): %d pixel%s with a NaN or Inf channel",
+                 port, nan + inf, nan + inf == 1 ? "" : "s");
         int said = count_of(text, "with a NaN or Inf channel");
         if (nan + inf == 0)
             LG_TEST_CHECK(t, said == 0, "%s: a clean base was reported:\n%s", node, text);
@@ -178,8 +177,8 @@ int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
         { "background", case_background }, { "screen", case_screen },
-        { "polygonal", case_polygonal },    { "froxel", case_froxel },
-        { "reference", case_reference }, { "core", case_core },
+        { "polygonal", case_polygonal },   { "froxel", case_froxel },
+        { "reference", case_reference },   { "core", case_core },
     };
     lg_test_main_opts o = { .setup = setup, .prefix = "nonfinite" };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -61,13 +61,11 @@ typedef struct cam {
 } cam;
 
 /* The pixel (column, row; row 0 at the top) a world point lands in. */
-static bool project(const cam *c, lg_vec3 p, uint32_t w, uint32_t h, uint32_t *col,
-                    uint32_t *row)
+static bool project(const cam *c, lg_vec3 p, uint32_t w, uint32_t h, uint32_t *col, uint32_t *row)
 {
     float view[16], proj[16], vp[16];
     lg_m4_look_at(view, c->pos, c->target, c->up);
-    lg_m4_perspective(proj, (float)(c->yfov_deg * LG_PI / 180.0),
-                      (float)w / (float)h, 0.1f, 50.0f);
+    lg_m4_perspective(proj, (float)(c->yfov_deg * LG_PI / 180.0), (float)w / (float)h, 0.1f, 50.0f);
     lg_m4_mul(vp, proj, view);
     lg_vec3 q = lg_m4_point(vp, p);
     double x = (q.x * 0.5 + 0.5) * w, y = (0.5 - q.y * 0.5) * h;
@@ -96,8 +94,8 @@ static void cam_params(char *out, size_t n, const cam *c)
     snprintf(out, n,
              "camera_position = [%.9g, %.9g, %.9g], camera_target = [%.9g, %.9g, %.9g], "
              "camera_up = [%.9g, %.9g, %.9g], yfov_deg = %.9g",
-             c->pos.x, c->pos.y, c->pos.z, c->target.x, c->target.y, c->target.z, c->up.x,
-             c->up.y, c->up.z, c->yfov_deg);
+             c->pos.x, c->pos.y, c->pos.z, c->target.x, c->target.y, c->target.z, c->up.x, c->up.y,
+             c->up.z, c->yfov_deg);
 }
 
 /* Writes and renders
@@ -137,12 +135,12 @@ static int run(lg_test *t, const char *scene, const char *lights, bool shadow, c
     return 0;
 }
 
-#define RUN_OK(t, sc, li, sh, ph, size, img)                                              \
-    do {                                                                                   \
-        int rc_ = run(t, sc, li, sh, ph, size, NULL, img, NULL);                           \
-        LG_TEST_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sc, ph, rc_);             \
-        if (rc_)                                                                           \
-            return;                                                                        \
+#define RUN_OK(t, sc, li, sh, ph, size, img)                                                       \
+    do {                                                                                           \
+        int rc_ = run(t, sc, li, sh, ph, size, NULL, img, NULL);                                   \
+        LG_TEST_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sc, ph, rc_);                \
+        if (rc_)                                                                                   \
+            return;                                                                                \
     } while (0)
 
 /* A chain of directional lights from s, the last named ls. */
@@ -165,8 +163,8 @@ static char *light_chain(const dlight *l, int n)
         p += snprintf(p, cap - (size_t)(p - s),
                       "%s = light { scene = %s, direction = [%.9g, %.9g, %.9g], color = "
                       "[%.9g, %.9g, %.9g], intensity = %.9g }\n",
-                      name, from, l[i].dir.x, l[i].dir.y, l[i].dir.z, l[i].color[0],
-                      l[i].color[1], l[i].color[2], l[i].intensity);
+                      name, from, l[i].dir.x, l[i].dir.y, l[i].dir.z, l[i].color[0], l[i].color[1],
+                      l[i].color[2], l[i].intensity);
     }
     return s;
 }
@@ -187,7 +185,7 @@ static void lambert(double out[3], lg_vec3 N, const dlight *l, int n, double ka,
     }
 }
 
-/* ---- flat_cube ------------------------------------------------------------------------ */
+/* ---- flat_cube ------------------------------------------------------------------------------- */
 
 static void case_flat_cube(lg_test *t)
 {
@@ -196,9 +194,8 @@ static void case_flat_cube(lg_test *t)
     const dlight l = { { -0.3f, -1.0f, -0.55f }, { 1.0, 0.9, 0.8 }, 2.5 };
     char cp[512], scene[1024], phong[256];
     cam_params(cp, sizeof cp, &c);
-    snprintf(scene, sizeof scene,
-             "layout = cube, ka = %g, kd = %g, ks = 0, od = [%g, %g, %g], %s", ka, kd, od[0],
-             od[1], od[2], cp);
+    snprintf(scene, sizeof scene, "layout = cube, ka = %g, kd = %g, ks = 0, od = [%g, %g, %g], %s",
+             ka, kd, od[0], od[1], od[2], cp);
     char *lights = light_chain(&l, 1);
     /* the three faces seen from (+, +, +), and two points on each besides the centre */
     static const float faces[3][3][3] = {
@@ -207,8 +204,8 @@ static void case_flat_cube(lg_test *t)
         { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },
     };
     for (int mode = 0; mode < 5; mode++) {
-        snprintf(phong, sizeof phong, "shading = %s, ambient = [%g, %g, %g]", MODES[mode],
-                 ia[0], ia[1], ia[2]);
+        snprintf(phong, sizeof phong, "shading = %s, ambient = [%g, %g, %g]", MODES[mode], ia[0],
+                 ia[1], ia[2]);
         lg_image img = { 0 };
         RUN_OK(t, scene, lights, false, phong, "160x120", &img);
         for (int f = 0; f < 3; f++) {
@@ -219,9 +216,8 @@ static void case_flat_cube(lg_test *t)
             lambert(want, N, &l, 1, ka, kd, od, ia);
             static const float off[3][2] = { { 0, 0 }, { 0.3f, 0.25f }, { -0.3f, -0.3f } };
             for (int k = 0; k < 3; k++) {
-                lg_vec3 p = lg_v3_add(lg_v3_scale(N, 0.5f),
-                                      lg_v3_add(lg_v3_scale(u, off[k][0]),
-                                                lg_v3_scale(v, off[k][1])));
+                lg_vec3 p = lg_v3_add(lg_v3_scale(N, 0.5f), lg_v3_add(lg_v3_scale(u, off[k][0]),
+                                                                      lg_v3_scale(v, off[k][1])));
                 uint32_t x, y;
                 if (!project(&c, p, img.width, img.height, &x, &y)) {
                     LG_TEST_CHECK(t, false, "face %d point %d projects outside the image", f, k);
@@ -229,10 +225,10 @@ static void case_flat_cube(lg_test *t)
                 }
                 const float *q = px(&img, x, y);
                 LG_TEST_CHECK(t, near3(q, want, 1e-4) && q[3] == 1.0f,
-                         "%s: face %d point %d pixel (%u, %u) = %g %g %g %g, expected "
-                         "%g %g %g 1",
-                         MODES[mode], f, k, x, y, q[0], q[1], q[2], q[3], want[0], want[1],
-                         want[2]);
+                              "%s: face %d point %d pixel (%u, %u) = %g %g %g %g, expected "
+                              "%g %g %g 1",
+                              MODES[mode], f, k, x, y, q[0], q[1], q[2], q[3], want[0], want[1],
+                              want[2]);
             }
         }
         lg_image_free(&img);
@@ -247,15 +243,16 @@ static void case_flat_cube(lg_test *t)
     if (project(&c, lg_v3(0, 0.5f, 0), img.width, img.height, &x, &y)) {
         double want[3] = { ka * ia[0] * od[0], ka * ia[1] * od[1], ka * ia[2] * od[2] };
         const float *q = px(&img, x, y);
-        LG_TEST_CHECK(t, near3(q, want, 1e-4), "top face lit from below: %g %g %g, expected %g %g %g",
-                 q[0], q[1], q[2], want[0], want[1], want[2]);
+        LG_TEST_CHECK(t, near3(q, want, 1e-4),
+                      "top face lit from below: %g %g %g, expected %g %g %g", q[0], q[1], q[2],
+                      want[0], want[1], want[2]);
     }
     lg_image_free(&img);
     free(lb);
     free(lights);
 }
 
-/* ---- lights ------------------------------------------------------------------------------ */
+/* ---- lights ---------------------------------------------------------------------------------- */
 
 /* Light i of the lights case: directions spread over the upper hemisphere, every fifth one
  * from below (it must add nothing), colours and intensities varied. */
@@ -307,8 +304,9 @@ static void case_lights(lg_test *t)
                     mean += q[0] + q[1] + q[2];
                     if (!near3(q, want, 2e-4)) {
                         if (!bad)
-                            fprintf(stderr, "%d lights, %s: pixel (%u, %u) = %g %g %g, "
-                                            "expected %g %g %g\n",
+                            fprintf(stderr,
+                                    "%d lights, %s: pixel (%u, %u) = %g %g %g, "
+                                    "expected %g %g %g\n",
                                     n, MODES[mode], x, y, q[0], q[1], q[2], want[0], want[1],
                                     want[2]);
                         bad++;
@@ -316,10 +314,10 @@ static void case_lights(lg_test *t)
                 }
             mean /= 3.0 * img.width * img.height;
             LG_TEST_CHECK(t, bad == 0, "%d lights, %s: %u pixels differ from the sum", n,
-                     MODES[mode], bad);
+                          MODES[mode], bad);
             if (mode == 2) {
                 LG_TEST_CHECK(t, mean > prev_mean, "%d lights: mean %g is not above %g", n, mean,
-                         prev_mean);
+                              prev_mean);
                 prev_mean = mean;
             }
             lg_image_free(&img);
@@ -328,7 +326,7 @@ static void case_lights(lg_test *t)
     }
 }
 
-/* ---- shadow -------------------------------------------------------------------------------- */
+/* ---- shadow ---------------------------------------------------------------------------------- */
 
 static void case_shadow(lg_test *t)
 {
@@ -363,8 +361,8 @@ static void case_shadow(lg_test *t)
     };
     for (int mode = 0; mode < 5; mode++) {
         char phong[256];
-        snprintf(phong, sizeof phong, "shading = %s, ambient = [%g, %g, %g]", MODES[mode],
-                 ia[0], ia[1], ia[2]);
+        snprintf(phong, sizeof phong, "shading = %s, ambient = [%g, %g, %g]", MODES[mode], ia[0],
+                 ia[1], ia[2]);
         lg_image img = { 0 };
         RUN_OK(t, scene, lights, true, phong, "160x120", &img);
         for (int k = 0; k < 4; k++) {
@@ -374,17 +372,18 @@ static void case_shadow(lg_test *t)
                 continue;
             }
             const float *q = px(&img, x, y);
-            LG_TEST_CHECK(t, near3(q, pts[k].want, 1e-4),
-                     "%s: ground point %d (%s) at pixel (%u, %u) = %g %g %g, expected %g %g %g",
-                     MODES[mode], k, pts[k].what, x, y, q[0], q[1], q[2], pts[k].want[0],
-                     pts[k].want[1], pts[k].want[2]);
+            LG_TEST_CHECK(
+                t, near3(q, pts[k].want, 1e-4),
+                "%s: ground point %d (%s) at pixel (%u, %u) = %g %g %g, expected %g %g %g",
+                MODES[mode], k, pts[k].what, x, y, q[0], q[1], q[2], pts[k].want[0], pts[k].want[1],
+                pts[k].want[2]);
         }
         lg_image_free(&img);
     }
     free(lights);
 }
 
-/* ---- highlight ----------------------------------------------------------------------------- */
+/* ---- highlight ------------------------------------------------------------------------------- */
 
 /* A quad of edge 4 (two triangles), ks = 1, Os = 1, n = 40, a point light at the camera 3
  * above the centre: at the centre R = V (the highlight: ks Os Ii), at the corners
@@ -416,18 +415,19 @@ static void case_highlight(lg_test *t)
                 got[mode] = fmax(got[mode], px(&img, x, y)[0]);
         lg_image_free(&img);
     }
-    LG_TEST_CHECK(t, fabs(got[2] - peak) < 0.02 * peak, "phong: centre %g, expected the highlight %g",
-             got[2], peak);
+    LG_TEST_CHECK(t, fabs(got[2] - peak) < 0.02 * peak,
+                  "phong: centre %g, expected the highlight %g", got[2], peak);
     LG_TEST_CHECK(t, got[1] < diffuse + 0.05, "gouraud: centre %g shows a highlight (diffuse %g)",
-             got[1], diffuse);
+                  got[1], diffuse);
     LG_TEST_CHECK(t, fabs(got[3] - got[2]) < 1e-4 * peak, "mixed: centre %g, phong %g", got[3],
-             got[2]);
-    LG_TEST_CHECK(t, fabs(got[4] - peak) < 0.05 * peak, "phong_half: centre %g, expected %g", got[4],
-             peak);
-    LG_TEST_CHECK(t, got[0] < 0.5 * peak, "flat: centre %g shows the full highlight %g", got[0], peak);
+                  got[2]);
+    LG_TEST_CHECK(t, fabs(got[4] - peak) < 0.05 * peak, "phong_half: centre %g, expected %g",
+                  got[4], peak);
+    LG_TEST_CHECK(t, got[0] < 0.5 * peak, "flat: centre %g shows the full highlight %g", got[0],
+                  peak);
 }
 
-/* ---- blinn --------------------------------------------------------------------------------- */
+/* ---- blinn ----------------------------------------------------------------------------------- */
 
 static void case_blinn(lg_test *t)
 {
@@ -470,16 +470,16 @@ static void case_blinn(lg_test *t)
     fprintf(stderr, "highlight pixels above half the peak: phong %u, blinn x4 %u, blinn %u\n",
             area[0], area[1], area[2]);
     LG_TEST_CHECK(t, peak[0] > 0.95 && peak[1] > 0.95, "peaks %g (phong) %g (blinn x4) are not ~1",
-             peak[0], peak[1]);
+                  peak[0], peak[1]);
     LG_TEST_CHECK(t, abs((int)peak_x[0] - (int)peak_x[1]) <= 1, "peaks at columns %u and %u",
-             peak_x[0], peak_x[1]);
+                  peak_x[0], peak_x[1]);
     LG_TEST_CHECK(t, area[1] > 0.7 * area[0] && area[1] < 1.3 * area[0],
-             "blinn x4 covers %u pixels, phong %u", area[1], area[0]);
-    LG_TEST_CHECK(t, area[2] > 2.5 * area[0], "uncorrected blinn covers %u pixels, phong %u", area[2],
-             area[0]);
+                  "blinn x4 covers %u pixels, phong %u", area[1], area[0]);
+    LG_TEST_CHECK(t, area[2] > 2.5 * area[0], "uncorrected blinn covers %u pixels, phong %u",
+                  area[2], area[0]);
 }
 
-/* ---- depth_cue ----------------------------------------------------------------------------- */
+/* ---- depth_cue ------------------------------------------------------------------------------- */
 
 static void case_depth_cue(lg_test *t)
 {
@@ -494,8 +494,8 @@ static void case_depth_cue(lg_test *t)
     for (int mode = 0; mode < 5; mode++) {
         char phong[200];
         snprintf(phong, sizeof phong,
-                 "shading = %s, ambient = [%g, %g, %g], depth_cue = true, k = %g", MODES[mode],
-                 ia, ia, ia, K);
+                 "shading = %s, ambient = [%g, %g, %g], depth_cue = true, k = %g", MODES[mode], ia,
+                 ia, ia, K);
         lg_image img = { 0 };
         RUN_OK(t, scene, lights, false, phong, "64x64", &img);
         double r = 5.0;
@@ -510,12 +510,12 @@ static void case_depth_cue(lg_test *t)
         double w3[3] = { want, want, want };
         /* the pixel next to the centre is 5.002 away */
         LG_TEST_CHECK(t, near3(q, w3, mode == 0 ? 1e-4 : 2e-4), "%s: %g, expected %g", MODES[mode],
-                 q[0], want);
+                      q[0], want);
         lg_image_free(&img);
     }
 }
 
-/* ---- infinite ------------------------------------------------------------------------------ */
+/* ---- infinite -------------------------------------------------------------------------------- */
 
 static void case_infinite(lg_test *t)
 {
@@ -538,7 +538,7 @@ static void case_infinite(lg_test *t)
             hi = fmax(hi, px(&img, x, y)[0]);
         }
     LG_TEST_CHECK(t, fabs(lo - 1.0) < 1e-5 && fabs(hi - 1.0) < 1e-5,
-             "lights_at = infinite: values in [%g, %g], expected 1 everywhere", lo, hi);
+                  "lights_at = infinite: values in [%g, %g], expected 1 everywhere", lo, hi);
     lg_image_free(&img);
     /* local: at the plane point (1, 0, 0): N.L = 2 / sqrt(5) */
     RUN_OK(t, scene, lights, false, "shading = phong, ambient = [0, 0, 0], lights_at = local",
@@ -548,7 +548,7 @@ static void case_infinite(lg_test *t)
         double want = 2.0 / sqrt(5.0), got = px(&img, x, y)[0];
         /* the pixel's centre is within half a pixel (~0.05) of (1, 0, 0) */
         LG_TEST_CHECK(t, fabs(got - want) < 0.02, "lights_at = local: %g at (1, 0, 0), expected %g",
-                 got, want);
+                      got, want);
     }
     lg_image_free(&img);
 
@@ -577,24 +577,25 @@ static void case_infinite(lg_test *t)
         double want = pow(3.0 / sqrt(10.0), 5.0);
         if (v == 0)
             LG_TEST_CHECK(t, fabs(lo - want) < 1e-5 && fabs(hi - want) < 1e-5,
-                     "viewer = infinite: values in [%g, %g], expected %g everywhere", lo, hi,
-                     want);
+                          "viewer = infinite: values in [%g, %g], expected %g everywhere", lo, hi,
+                          want);
         else
-            LG_TEST_CHECK(t, hi - lo > 0.1, "viewer = local: values in [%g, %g] hardly vary", lo, hi);
+            LG_TEST_CHECK(t, hi - lo > 0.1, "viewer = local: values in [%g, %g] hardly vary", lo,
+                          hi);
         lg_image_free(&img);
     }
 }
 
-/* ---- eq13 ----------------------------------------------------------------------------------- */
+/* ---- eq13 ------------------------------------------------------------------------------------ */
 
 /* The cube of testphongscene (6 faces of 2 triangles, 24 vertices), welded to its 8 corners,
  * through the SDK's eq. 1-13: the normal at corner (sx, sy, sz) * 0.5. */
 static lg_vec3 cube_eq13_normal(float sx, float sy, float sz)
 {
     static const float f[6][3][3] = {
-        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } },  { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
-        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } },  { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
-        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },   { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
+        { { 1, 0, 0 }, { 0, 0, -1 }, { 0, 1, 0 } }, { { -1, 0, 0 }, { 0, 0, 1 }, { 0, 1, 0 } },
+        { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 0, -1 } }, { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } },
+        { { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 } },  { { 0, 0, -1 }, { -1, 0, 0 }, { 0, 1, 0 } },
     };
     float pos[8 * 3];
     uint32_t idx[36], ni = 0;
@@ -626,13 +627,12 @@ static void case_eq13(lg_test *t)
     const cam c = { { 2.2f, 1.7f, 2.6f }, { 0, 0, 0 }, { 0, 1, 0 }, 40 };
     char cp[512], scene[1024];
     cam_params(cp, sizeof cp, &c);
-    snprintf(scene, sizeof scene,
-             "layout = cube, ka = 0, kd = 1, ks = 0, od = [1, 1, 1], %s", cp);
+    snprintf(scene, sizeof scene, "layout = cube, ka = 0, kd = 1, ks = 0, od = [1, 1, 1], %s", cp);
     const char *lights = "ls = light { scene = s, direction = [0, 0, -1], intensity = 1 }";
     lg_image a = { 0 }, b = { 0 };
     RUN_OK(t, scene, lights, false, "shading = gouraud, ambient = [0, 0, 0]", "160x120", &a);
-    RUN_OK(t, scene, lights, false,
-           "shading = gouraud, ambient = [0, 0, 0], vertex_normals = eq13", "160x120", &b);
+    RUN_OK(t, scene, lights, false, "shading = gouraud, ambient = [0, 0, 0], vertex_normals = eq13",
+           "160x120", &b);
     /* the +Z face's centre is the midpoint of its diagonal from corner (-, -, +) to
      * (+, +, +): Gouraud gives the mean of their colours, N.L with L = +Z */
     lg_vec3 n0 = cube_eq13_normal(-1, -1, 1), n1 = cube_eq13_normal(1, 1, 1);
@@ -642,15 +642,15 @@ static void case_eq13(lg_test *t)
         double ga = px(&a, x, y)[0], gb = px(&b, x, y)[0];
         LG_TEST_CHECK(t, fabs(ga - 1.0) < 1e-4, "scene normals: +Z face centre %g, expected 1", ga);
         LG_TEST_CHECK(t, fabs(gb - want) < 0.01 && want < 0.9,
-                 "eq13 normals: +Z face centre %g, expected %g (corner normals (%g %g %g), "
-                 "(%g %g %g))",
-                 gb, want, n0.x, n0.y, n0.z, n1.x, n1.y, n1.z);
+                      "eq13 normals: +Z face centre %g, expected %g (corner normals (%g %g %g), "
+                      "(%g %g %g))",
+                      gb, want, n0.x, n0.y, n0.z, n1.x, n1.y, n1.z);
     }
     lg_image_free(&a);
     lg_image_free(&b);
 }
 
-/* ---- gating --------------------------------------------------------------------------------- */
+/* ---- gating ---------------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
 {
@@ -672,40 +672,42 @@ static void case_gating(lg_test *t)
         const char *eol = row ? strchr(row + 1, '\n') : NULL;
         const char *gated = row ? strstr(row, " gated ") : NULL;
         LG_TEST_CHECK(t, row && eol && gated && gated < eol,
-                 "the shadowmap node is not reported gated:\n%s", text ? text : "");
-        LG_TEST_CHECK(t, text && strstr(text, "plugins not loaded:") &&
-                        strstr(strstr(text, "plugins not loaded:"), "shadowmap"),
-                 "the shadowmap plugin was loaded:\n%s", text ? text : "");
+                      "the shadowmap node is not reported gated:\n%s", text ? text : "");
+        LG_TEST_CHECK(t,
+                      text && strstr(text, "plugins not loaded:") &&
+                          strstr(strstr(text, "plugins not loaded:"), "shadowmap"),
+                      "the shadowmap plugin was loaded:\n%s", text ? text : "");
         /* the centre, under the light: 2 * 1 * 0.5 * N.L = 1 */
         double got = fmax(fmax(px(&img, 31, 31)[0], px(&img, 32, 32)[0]),
                           fmax(px(&img, 31, 32)[0], px(&img, 32, 31)[0]));
-        LG_TEST_CHECK(t, fabs(got - 1.0) < 1e-3, "point light under a gated shadow node: %g, expected 1",
-                 got);
+        LG_TEST_CHECK(t, fabs(got - 1.0) < 1e-3,
+                      "point light under a gated shadow node: %g, expected 1", got);
         lg_image_free(&img);
     }
     free(text);
 }
 
-/* ---- errors --------------------------------------------------------------------------------- */
+/* ---- errors ---------------------------------------------------------------------------------- */
 
 static void case_errors(lg_test *t)
 {
-    const char *g =
-        "lightgraph 1\n"
-        "s = test_phong_scene { layout = shadow }\n"
-        "a = light { scene = s, direction = [0, -1, 0] }\n"
-        "b = light { scene = a, direction = [0.2, -1, 0] }\n"
-        "shadow = shadowmap { scene = b }\n"
-        "lit = phong { scene = a, shadows = shadow }\n"
-        "output lit \"out.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "s = test_phong_scene { layout = shadow }\n"
+                    "a = light { scene = s, direction = [0, -1, 0] }\n"
+                    "b = light { scene = a, direction = [0.2, -1, 0] }\n"
+                    "shadow = shadowmap { scene = b }\n"
+                    "lit = phong { scene = a, shadows = shadow }\n"
+                    "output lit \"out.exr\"\n";
     lg_test_write_text(t, "g.lgraph", g);
     const char *args[] = { "--size", "32x32", NULL };
     char *text = NULL;
     int rc = lg_test_render(t, "g.lgraph", args, &text);
     LG_TEST_CHECK(t, rc == 1, "shadow maps of another scene: exit status %d, expected 1", rc);
-    LG_TEST_CHECK(t, text && strstr(text, "node 'lit' (phong)") && strstr(text, "shadow map 1") &&
-                    strstr(text, "light 1"),
-             "the message does not name the node, the map and the light:\n%s", text ? text : "");
+    LG_TEST_CHECK(t,
+                  text && strstr(text, "node 'lit' (phong)") && strstr(text, "shadow map 1") &&
+                      strstr(text, "light 1"),
+                  "the message does not name the node, the map and the light:\n%s",
+                  text ? text : "");
     free(text);
 }
 
@@ -718,11 +720,10 @@ int main(int argc, char **argv)
 {
     setenv("LIGHTGRAPH_PLUGIN_PATH", PH_TEST_PLUGIN_DIR, 1);
     static const lg_test_case cases[] = {
-        { "flat_cube", case_flat_cube }, { "lights", case_lights },
-        { "shadow", case_shadow },       { "highlight", case_highlight },
-        { "blinn", case_blinn },         { "depth_cue", case_depth_cue },
-        { "infinite", case_infinite },   { "eq13", case_eq13 },
-        { "gating", case_gating },       { "errors", case_errors },
+        { "flat_cube", case_flat_cube }, { "lights", case_lights }, { "shadow", case_shadow },
+        { "highlight", case_highlight }, { "blinn", case_blinn },   { "depth_cue", case_depth_cue },
+        { "infinite", case_infinite },   { "eq13", case_eq13 },     { "gating", case_gating },
+        { "errors", case_errors },
     };
     lg_test_main_opts o = { .setup = require_gl };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -51,9 +51,8 @@ static int tp_prepare(lg_node *n)
     m->double_sided = lg_param_bool(n, "double_sided");
 
     lg_ts_camera(b, "test", tp_vec(n, "camera_position"), tp_vec(n, "camera_target"),
-                 tp_vec(n, "camera_up"),
-                 (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0), 0.1f,
-                 50.0f);
+                 tp_vec(n, "camera_up"), (float)(lg_param_float(n, "yfov_deg") * LG_PI / 180.0),
+                 0.1f, 50.0f);
 
     float h = 0.5f * size;
     lg_ts_mesh(b, "test mesh#0", 0);
@@ -80,20 +79,34 @@ static int tp_execute(lg_node *n, const lg_frame *frame)
 static const char *const tp_layouts[] = { "cube", "plane", "shadow", NULL };
 
 static const lg_param_desc tp_params[] = {
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = tp_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = tp_layouts,
       .doc = "cube, plane or shadow (testphongscene.c)" },
-    { .key = "size", .type = LG_PARAM_FLOAT, .def.f = 4, .min = 0.01, .max = 1000,
+    { .key = "size",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 4,
+      .min = 0.01,
+      .max = 1000,
       .doc = "plane edge" },
-    { .key = "segments", .type = LG_PARAM_INT, .def.i = 1, .min = 1, .max = 512,
+    { .key = "segments",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 1,
+      .max = 512,
       .doc = "plane subdivisions per side" },
     { .key = "ka", .type = LG_PARAM_FLOAT, .def.f = 0.1, .min = 0, .max = 100, .doc = "" },
     { .key = "kd", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 100, .doc = "" },
     { .key = "ks", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 100, .doc = "" },
     { .key = "shininess", .type = LG_PARAM_FLOAT, .def.f = 10, .min = 0, .max = 1e6, .doc = "" },
-    { .key = "od", .type = LG_PARAM_COLOR, .def.v = { 0.8, 0.8, 0.8 }, .min = 0, .max = 100,
+    { .key = "od",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0.8, 0.8, 0.8 },
+      .min = 0,
+      .max = 100,
       .doc = "" },
-    { .key = "os", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 100,
-      .doc = "" },
+    { .key = "os", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 100, .doc = "" },
     { .key = "double_sided", .type = LG_PARAM_BOOL, .def.b = false, .doc = "" },
     { .key = "camera_position", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 5 }, .doc = "" },
     { .key = "camera_target", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .doc = "" },

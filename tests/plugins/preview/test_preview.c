@@ -58,9 +58,9 @@
 #define PV_TEST_PLUGIN_DIR ""
 #endif
 
-static const double N = 1.0, F = 20.0;       /* znear, zfar of the test cameras */
-static const double T30 = 0.57735026918962576; /* tan(30 degrees): half of yfov 60 */
-static const float BG[3] = { 1.0f, 0.0f, 1.0f }; /* a background no test colour equals */
+static const double N = 1.0, F = 20.0;            /* znear, zfar of the test cameras */
+static const double T30 = 0.57735026918962576;    /* tan(30 degrees): half of yfov 60 */
+static const float BG[3] = { 1.0f, 0.0f, 1.0f };  /* a background no test colour equals */
 static const float COL[3] = { 0.2f, 0.5f, 0.8f }; /* testmeshscene's default colour */
 
 /* Writes g.lgraph with `scene` params and `view` params, outputs the colour image to
@@ -120,12 +120,12 @@ static double window_depth(double z)
     return F * (z - N) / (z * (F - N));
 }
 
-#define RUN_OK(t, sp, vp, depth, size, out, dp)                                            \
-    do {                                                                                   \
-        int rc_ = run(t, sp, vp, depth, size, out, dp, NULL);                              \
-        LG_TEST_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sp, vp, rc_);              \
-        if (rc_)                                                                           \
-            return;                                                                        \
+#define RUN_OK(t, sp, vp, depth, size, out, dp)                                                    \
+    do {                                                                                           \
+        int rc_ = run(t, sp, vp, depth, size, out, dp, NULL);                                      \
+        LG_TEST_CHECK(t, rc_ == 0, "render of {%s} {%s} failed (%d)", sp, vp, rc_);                \
+        if (rc_)                                                                                   \
+            return;                                                                                \
     } while (0)
 
 static void case_fill(lg_test *t)
@@ -139,8 +139,7 @@ static void case_fill(lg_test *t)
             const float *p = px(&img, x, y);
             if (!near3(p, COL, 1e-6) || p[3] != 1.0f) {
                 if (!bad)
-                    fprintf(stderr, "pixel (%u, %u) = %g %g %g %g\n", x, y, p[0], p[1], p[2],
-                            p[3]);
+                    fprintf(stderr, "pixel (%u, %u) = %g %g %g %g\n", x, y, p[0], p[1], p[2], p[3]);
                 bad++;
             }
         }
@@ -155,8 +154,9 @@ static void case_normals(lg_test *t)
     const float front[3] = { 0.5f, 0.5f, 1.0f };
     const float *c = px(&img, 32, 32);
     LG_TEST_CHECK(t, near3(c, front, 1e-5), "cube centre %g %g %g, expected 0.5 0.5 1", c[0], c[1],
-             c[2]);
-    LG_TEST_CHECK(t, is_bg(px(&img, 2, 2)) && is_bg(px(&img, 61, 61)), "corners are not background");
+                  c[2]);
+    LG_TEST_CHECK(t, is_bg(px(&img, 2, 2)) && is_bg(px(&img, 61, 61)),
+                  "corners are not background");
     lg_image_free(&img);
 
     /* rotated 45 degrees about +Y: the object's -X face now faces (-s, 0, s) and its +Z
@@ -166,10 +166,10 @@ static void case_normals(lg_test *t)
     const float left[3] = { -s * 0.5f + 0.5f, 0.5f, s * 0.5f + 0.5f };
     const float right[3] = { s * 0.5f + 0.5f, 0.5f, s * 0.5f + 0.5f };
     const float *l = px(&img, 26, 32), *r = px(&img, 38, 32);
-    LG_TEST_CHECK(t, near3(l, left, 1e-5), "left face %g %g %g, expected %g %g %g", l[0], l[1], l[2],
-             left[0], left[1], left[2]);
+    LG_TEST_CHECK(t, near3(l, left, 1e-5), "left face %g %g %g, expected %g %g %g", l[0], l[1],
+                  l[2], left[0], left[1], left[2]);
     LG_TEST_CHECK(t, near3(r, right, 1e-5), "right face %g %g %g, expected %g %g %g", r[0], r[1],
-             r[2], right[0], right[1], right[2]);
+                  r[2], right[0], right[1], right[2]);
     lg_image_free(&img);
 
     /* S R with S = (2, 1, 1): the normal matrix S^-1 R turns (-s, 0, s) into
@@ -181,9 +181,9 @@ static void case_normals(lg_test *t)
     l = px(&img, 24, 32);
     r = px(&img, 40, 32);
     LG_TEST_CHECK(t, near3(l, sl, 1e-5), "stretched left face %g %g %g, expected %g %g %g", l[0],
-             l[1], l[2], sl[0], sl[1], sl[2]);
+                  l[1], l[2], sl[0], sl[1], sl[2]);
     LG_TEST_CHECK(t, near3(r, sr, 1e-5), "stretched right face %g %g %g, expected %g %g %g", r[0],
-             r[1], r[2], sr[0], sr[1], sr[2]);
+                  r[1], r[2], sr[0], sr[1], sr[2]);
     lg_image_free(&img);
 }
 
@@ -197,11 +197,12 @@ static void case_depth(lg_test *t)
     project(1.1, 0, -3, T30, a, 64, 48, &rx, &ry);
     double dl = px(&dp, lx, ly)[0], dr = px(&dp, rx, ry)[0];
     LG_TEST_CHECK(t, fabs(dl - window_depth(5)) < 1e-5, "near quad depth %.7g, expected %.7g", dl,
-             window_depth(5));
+                  window_depth(5));
     LG_TEST_CHECK(t, fabs(dr - window_depth(8)) < 1e-5, "far quad depth %.7g, expected %.7g", dr,
-             window_depth(8));
+                  window_depth(8));
     LG_TEST_CHECK(t, dr > dl, "depth does not increase with distance (%g, %g)", dl, dr);
-    LG_TEST_CHECK(t, px(&dp, 32, 2)[0] == 1.0f, "background depth %g, expected 1", px(&dp, 32, 2)[0]);
+    LG_TEST_CHECK(t, px(&dp, 32, 2)[0] == 1.0f, "background depth %g, expected 1",
+                  px(&dp, 32, 2)[0]);
     uint32_t outside = 0;
     for (size_t i = 0; i < (size_t)dp.width * dp.height; i++)
         if (!(dp.pixels[i * 4] >= 0.0f && dp.pixels[i * 4] <= 1.0f))
@@ -213,9 +214,9 @@ static void case_depth(lg_test *t)
     RUN_OK(t, "layout = two_depths", "mode = depth", false, "64x48", &img, NULL);
     double gl = px(&img, lx, ly)[0], gr = px(&img, rx, ry)[0];
     LG_TEST_CHECK(t, fabs(gl - (5 - N) / (F - N)) < 1e-5, "near grey %.7g, expected %.7g", gl,
-             (5 - N) / (F - N));
+                  (5 - N) / (F - N));
     LG_TEST_CHECK(t, fabs(gr - (8 - N) / (F - N)) < 1e-5, "far grey %.7g, expected %.7g", gr,
-             (8 - N) / (F - N));
+                  (8 - N) / (F - N));
     LG_TEST_CHECK(t, is_bg(px(&img, 32, 2)), "depth mode: no background above the quads");
     lg_image_free(&img);
 }
@@ -232,7 +233,7 @@ static void case_instancing(lg_test *t)
     LG_TEST_CHECK(t, near3(px(&img, x0, y0), COL, 1e-6), "instance 0 missing at (%u, %u)", x0, y0);
     LG_TEST_CHECK(t, near3(px(&img, x1, y1), COL, 1e-6), "instance 1 missing at (%u, %u)", x1, y1);
     LG_TEST_CHECK(t, is_bg(px(&img, xm, ym)), "no background between the instances at (%u, %u)", xm,
-             ym);
+                  ym);
     /* instance 1 is 0.5 higher: its centre row is above instance 0's */
     LG_TEST_CHECK(t, y1 < y0, "projection: rows %u %u", y0, y1);
     LG_TEST_CHECK(t, is_bg(px(&img, x1, y0 + 4)), "instance 1 drawn at instance 0's height");
@@ -242,7 +243,7 @@ static void case_instancing(lg_test *t)
     /* each unit quad at distance 5: (1 / (2 * 5 * t30)) of the height squared, in pixels */
     double side = 48.0 / (2 * 5 * T30);
     LG_TEST_CHECK(t, fabs(covered - 2 * side * side) < 4 * side + 4,
-             "%u pixels covered, two instances make about %.0f", covered, 2 * side * side);
+                  "%u pixels covered, two instances make about %.0f", covered, 2 * side * side);
     lg_image_free(&img);
 }
 
@@ -253,8 +254,8 @@ static void case_upright(lg_test *t)
     uint32_t x, y;
     project(1, 1, 0, T30, 1.0, 64, 64, &x, &y);
     LG_TEST_CHECK(t, y < 32 && x > 32, "projection puts the quad at (%u, %u)", x, y);
-    LG_TEST_CHECK(t, near3(px(&img, x, y), COL, 1e-6), "the quad is not in the upper right (%u, %u)",
-             x, y);
+    LG_TEST_CHECK(t, near3(px(&img, x, y), COL, 1e-6),
+                  "the quad is not in the upper right (%u, %u)", x, y);
     LG_TEST_CHECK(t, is_bg(px(&img, x, 63 - y)), "something in the lower right (mirrored in Y?)");
     LG_TEST_CHECK(t, is_bg(px(&img, 63 - x, y)), "something in the upper left (mirrored in X?)");
     lg_image_free(&img);
@@ -271,7 +272,8 @@ static void case_cull(lg_test *t)
     lg_image_free(&img);
     RUN_OK(t, "layout = back_quad, double_sided = true", "cull = material", false, "32x32", &img,
            NULL);
-    LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6), "cull = material hides a double-sided face");
+    LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6),
+                  "cull = material hides a double-sided face");
     lg_image_free(&img);
     RUN_OK(t, "layout = upper_right", "cull = material", false, "64x64", &img, NULL);
     uint32_t x, y;
@@ -280,12 +282,12 @@ static void case_cull(lg_test *t)
     lg_image_free(&img);
     RUN_OK(t, "layout = mirrored", "cull = material", false, "32x32", &img, NULL);
     LG_TEST_CHECK(t, near3(px(&img, 16, 16), COL, 1e-6),
-             "cull = material hides a front face seen through a mirroring instance");
+                  "cull = material hides a front face seen through a mirroring instance");
     lg_image_free(&img);
     RUN_OK(t, "layout = mirrored", "cull = material, mode = normals", false, "32x32", &img, NULL);
     const float plus_z[3] = { 0.5f, 0.5f, 1.0f };
     LG_TEST_CHECK(t, near3(px(&img, 16, 16), plus_z, 1e-5), "mirrored quad's normal %g %g %g",
-             px(&img, 16, 16)[0], px(&img, 16, 16)[1], px(&img, 16, 16)[2]);
+                  px(&img, 16, 16)[0], px(&img, 16, 16)[1], px(&img, 16, 16)[2]);
     lg_image_free(&img);
 }
 
@@ -294,13 +296,15 @@ static void case_size(lg_test *t)
     lg_image img = { 0 };
     RUN_OK(t, "layout = quad_fill", "width = 40, height = 30", false, "64x48", &img, NULL);
     LG_TEST_CHECK(t, img.width == 40 && img.height == 30, "width/height: %ux%u", img.width,
-             img.height);
+                  img.height);
     lg_image_free(&img);
     RUN_OK(t, "layout = quad_fill", "", false, "50x20", &img, NULL);
-    LG_TEST_CHECK(t, img.width == 50 && img.height == 20, "render size: %ux%u", img.width, img.height);
+    LG_TEST_CHECK(t, img.width == 50 && img.height == 20, "render size: %ux%u", img.width,
+                  img.height);
     lg_image_free(&img);
     RUN_OK(t, "layout = quad_fill", "width = 24", false, "50x20", &img, NULL);
-    LG_TEST_CHECK(t, img.width == 24 && img.height == 20, "width only: %ux%u", img.width, img.height);
+    LG_TEST_CHECK(t, img.width == 24 && img.height == 20, "width only: %ux%u", img.width,
+                  img.height);
     lg_image_free(&img);
 }
 
@@ -328,8 +332,10 @@ static void case_aspect(lg_test *t)
     RUN_OK(t, "layout = back_quad", "", false, "160x80", &img, NULL);
     coverage_box(&img, &w, &h);
     double side = 80.0 * 2 / (2 * 5 * T30);
-    LG_TEST_CHECK(t, abs(w - h) <= 1 && fabs(h - side) <= 1.5, "aspect 0 on 2:1: %dx%d, expected %.1f "
-             "square", w, h, side);
+    LG_TEST_CHECK(t, abs(w - h) <= 1 && fabs(h - side) <= 1.5,
+                  "aspect 0 on 2:1: %dx%d, expected %.1f "
+                  "square",
+                  w, h, side);
     lg_image_free(&img);
     /* camera aspect 1 on a 1:2 output: the horizontal field is the camera's, so the quad
      * takes the fraction of the width it takes in a square image */
@@ -337,7 +343,7 @@ static void case_aspect(lg_test *t)
     coverage_box(&img, &w, &h);
     side = 80.0 * 2 / (2 * 5 * T30);
     LG_TEST_CHECK(t, abs(w - h) <= 1 && fabs(w - side) <= 1.5,
-             "camera aspect 1 on 1:2: %dx%d, expected %.1f square", w, h, side);
+                  "camera aspect 1 on 1:2: %dx%d, expected %.1f square", w, h, side);
     lg_image_free(&img);
 }
 
@@ -349,7 +355,7 @@ static void case_far(lg_test *t)
     double zfar = 50.0 * 1.01;
     LG_TEST_CHECK(t, !is_bg(p), "the quad 50 away is clipped");
     LG_TEST_CHECK(t, fabs(p[0] - (50 - N) / (zfar - N)) < 1e-3, "grey %g, expected %g", p[0],
-             (50 - N) / (zfar - N));
+                  (50 - N) / (zfar - N));
     double d = px(&dp, 16, 16)[0];
     LG_TEST_CHECK(t, d > 0.9 && d < 1.0, "window depth %g", d);
     lg_image_free(&img);
@@ -370,9 +376,10 @@ static void case_camera(lg_test *t)
     lg_image_free(&img);
     char *text = NULL;
     int rc = run(t, "layout = quad_fill", "camera = 2", false, "32x32", NULL, NULL, &text);
-    LG_TEST_CHECK(t, rc == 1 && text && strstr(text, "camera 2 does not exist") &&
-                    strstr(text, "view"),
-             "camera 2: exit %d, message: %s", rc, text ? text : "");
+    LG_TEST_CHECK(t,
+                  rc == 1 && text && strstr(text, "camera 2 does not exist") &&
+                      strstr(text, "view"),
+                  "camera 2: exit %d, message: %s", rc, text ? text : "");
     free(text);
 }
 
@@ -396,7 +403,7 @@ static void expect_error(lg_test *t, const char *layout, const char *const *need
     LG_TEST_CHECK(t, rc == 1, "%s: exit %d, expected 1", layout, rc);
     for (int i = 0; needles[i]; i++)
         LG_TEST_CHECK(t, text && strstr(text, needles[i]), "%s: message lacks '%s': %s", layout,
-                 needles[i], text ? text : "");
+                      needles[i], text ? text : "");
     free(text);
 }
 
@@ -410,13 +417,12 @@ static void case_errors(lg_test *t)
     expect_error(t, "no_camera", (const char *const[]){ "no camera", NULL });
 }
 
-/* ---- through the gltf node -------------------------------------------------------------- */
+/* ---- through the gltf node ------------------------------------------------------------------- */
 
 static const char *file_arg;
 
 /* Renders `graph_text` (written to g.lgraph) with args; reads out.exr. */
-static bool render_graph(lg_test *t, const char *graph_text, const char *const *args,
-                         lg_image *img)
+static bool render_graph(lg_test *t, const char *graph_text, const char *const *args, lg_image *img)
 {
     lg_test_write_text(t, "g.lgraph", graph_text);
     int rc = lg_test_render(t, "g.lgraph", args, NULL);
@@ -443,8 +449,9 @@ static void render_example(lg_test *t, const char *file, lg_image *img)
              root ? root : ".");
     char set_file[4200];
     snprintf(set_file, sizeof set_file, "scene.file=%s", file);
-    const char *args[] = { "-o", "out.exr", "--size", "640x360", "--set", set_file,
-                           "--set", "view.background=[1,0,1]", NULL };
+    const char *args[] = { "-o",    "out.exr", "--size", "640x360",
+                           "--set", set_file,  "--set",  "view.background=[1,0,1]",
+                           NULL };
     render_graph(t, g, args, img);
 }
 
@@ -470,27 +477,31 @@ static void case_example(lg_test *t)
                 stats_add(&bunny, x, y);
         }
     double total = (double)img.width * img.height;
-    fprintf(stderr, "red %.0f px at x %.0f, green %.0f px at x %.0f, bunny %.0f px at (%.0f, "
-                    "%.0f), background %.0f px\n",
+    fprintf(stderr,
+            "red %.0f px at x %.0f, green %.0f px at x %.0f, bunny %.0f px at (%.0f, "
+            "%.0f), background %.0f px\n",
             red.n, red.n ? red.sx / red.n : 0, green.n, green.n ? green.sx / green.n : 0, bunny.n,
             bunny.n ? bunny.sx / bunny.n : 0, bunny.n ? bunny.sy / bunny.n : 0, bg.n);
-    LG_TEST_CHECK(t, red.n > 0.02 * total && green.n > 0.02 * total, "walls: red %.0f, green %.0f px",
-             red.n, green.n);
+    LG_TEST_CHECK(t, red.n > 0.02 * total && green.n > 0.02 * total,
+                  "walls: red %.0f, green %.0f px", red.n, green.n);
     if (red.n && green.n) {
         LG_TEST_CHECK(t, red.sx / red.n < 0.35 * img.width, "the red wall is not on the left");
-        LG_TEST_CHECK(t, green.sx / green.n > 0.65 * img.width, "the green wall is not on the right");
+        LG_TEST_CHECK(t, green.sx / green.n > 0.65 * img.width,
+                      "the green wall is not on the right");
         LG_TEST_CHECK(t, fabs(red.n - green.n) < 0.15 * fmax(red.n, green.n),
-                 "the walls are not symmetric: %.0f and %.0f px", red.n, green.n);
+                      "the walls are not symmetric: %.0f and %.0f px", red.n, green.n);
     }
     LG_TEST_CHECK(t, bunny.n > 0.01 * total, "the bunny covers %.0f px", bunny.n);
     if (bunny.n) {
-        LG_TEST_CHECK(t, bunny.sy / bunny.n > 0.6 * img.height, "the bunny is not on the floor "
-                 "(centroid row %.0f of %u)", bunny.sy / bunny.n, img.height);
+        LG_TEST_CHECK(t, bunny.sy / bunny.n > 0.6 * img.height,
+                      "the bunny is not on the floor "
+                      "(centroid row %.0f of %u)",
+                      bunny.sy / bunny.n, img.height);
         LG_TEST_CHECK(t, fabs(bunny.sx / bunny.n - img.width / 2.0) < 0.1 * img.width,
-                 "the bunny is not in the middle (centroid column %.0f)", bunny.sx / bunny.n);
+                      "the bunny is not in the middle (centroid column %.0f)", bunny.sx / bunny.n);
     }
     LG_TEST_CHECK(t, bg.n > 0.2 * total && bg.n < 0.7 * total, "background %.0f of %.0f px", bg.n,
-             total);
+                  total);
     lg_image_free(&img);
 }
 
@@ -549,7 +560,7 @@ static void case_sphere(lg_test *t)
     double area = LG_PI * r * r;
     fprintf(stderr, "sphere covers %.0f px, a disc of radius %.2f px is %.0f\n", covered, r, area);
     LG_TEST_CHECK(t, fabs(covered - area) < 0.02 * area, "coverage %.0f px, expected %.0f", covered,
-             area);
+                  area);
     lg_image_free(&img);
 
     snprintf(text, sizeof text, g, "normals");
@@ -560,7 +571,7 @@ static void case_sphere(lg_test *t)
     const float want[3] = { (float)(n[0] * 0.5 + 0.5), (float)(n[1] * 0.5 + 0.5),
                             (float)(n[2] * 0.5 + 0.5) };
     LG_TEST_CHECK(t, near3(c, want, 0.01), "normal at the centre %g %g %g, expected %g %g %g", c[0],
-             c[1], c[2], want[0], want[1], want[2]);
+                  c[1], c[2], want[0], want[1], want[2]);
     lg_image_free(&img);
 }
 

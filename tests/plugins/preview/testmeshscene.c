@@ -17,28 +17,40 @@
 
 #include "common/testscene.h"
 
-/* ---- test_mesh_scene ------------------------------------------------------------------- */
+/* ---- test_mesh_scene ------------------------------------------------------------------------- */
 
 static const char *const tm_layouts[] = {
-    "quad_fill",    /* a 20 x 20 quad at z = 0 facing +Z: fills the view */
-    "cube",         /* the unit cube (edge 1) at the origin, 24 vertices with face normals */
-    "cube_rot45",   /* the same rotated 45 degrees about +Y */
+    "quad_fill",      /* a 20 x 20 quad at z = 0 facing +Z: fills the view */
+    "cube",           /* the unit cube (edge 1) at the origin, 24 vertices with face normals */
+    "cube_rot45",     /* the same rotated 45 degrees about +Y */
     "cube_stretched", /* the rotated cube then scaled (2, 1, 1): S R, normals need R S^-1 */
-    "two_depths",   /* quad x in [-2, -0.2] at z = 0, quad x in [0.2, 2] at z = -3 */
-    "instanced",    /* one unit quad mesh, instances centred at (-1.5, 0, 0), (1.5, 0.5, 0) */
-    "upper_right",  /* a quad x, y in [0.5, 1.5] at z = 0 facing +Z */
-    "back_quad",    /* a 2 x 2 quad at z = 0 facing -Z (away from camera 0) */
-    "mirrored",     /* a 2 x 2 quad facing +Z through an instance with scale (-1, 1, 1) */
-    "far",          /* a 2 x 2 quad at z = -45 (50 from the camera) */
-    "empty",        /* no instances, empty bounds */
-    "bad_index",    /* a mesh with an index past its vertices */
-    "bad_instance", /* an instance of a mesh that does not exist */
-    "no_camera",    /* no camera */
+    "two_depths",     /* quad x in [-2, -0.2] at z = 0, quad x in [0.2, 2] at z = -3 */
+    "instanced",      /* one unit quad mesh, instances centred at (-1.5, 0, 0), (1.5, 0.5, 0) */
+    "upper_right",    /* a quad x, y in [0.5, 1.5] at z = 0 facing +Z */
+    "back_quad",      /* a 2 x 2 quad at z = 0 facing -Z (away from camera 0) */
+    "mirrored",       /* a 2 x 2 quad facing +Z through an instance with scale (-1, 1, 1) */
+    "far",            /* a 2 x 2 quad at z = -45 (50 from the camera) */
+    "empty",          /* no instances, empty bounds */
+    "bad_index",      /* a mesh with an index past its vertices */
+    "bad_instance",   /* an instance of a mesh that does not exist */
+    "no_camera",      /* no camera */
     NULL,
 };
 enum {
-    TM_QUAD_FILL, TM_CUBE, TM_CUBE_ROT45, TM_CUBE_STRETCHED, TM_TWO_DEPTHS, TM_INSTANCED, TM_UPPER_RIGHT,
-    TM_BACK_QUAD, TM_MIRRORED, TM_FAR, TM_EMPTY, TM_BAD_INDEX, TM_BAD_INSTANCE, TM_NO_CAMERA,
+    TM_QUAD_FILL,
+    TM_CUBE,
+    TM_CUBE_ROT45,
+    TM_CUBE_STRETCHED,
+    TM_TWO_DEPTHS,
+    TM_INSTANCED,
+    TM_UPPER_RIGHT,
+    TM_BACK_QUAD,
+    TM_MIRRORED,
+    TM_FAR,
+    TM_EMPTY,
+    TM_BAD_INDEX,
+    TM_BAD_INSTANCE,
+    TM_NO_CAMERA,
 };
 
 static void tm_quad(lg_ts_builder *b, lg_vec3 c, lg_vec3 u, lg_vec3 v)
@@ -70,10 +82,10 @@ static int tm_scene_prepare(lg_node *n)
 
     static const char *const cam_names[2] = { "front", "away" };
     for (int i = 0; i < 2 && layout != TM_NO_CAMERA; i++) {
-        lg_camera *c = lg_ts_camera(
-            b, cam_names[i], lg_v3(0, 0, 5), lg_v3(0, 0, i == 0 ? 0.0f : 10.0f), lg_v3(0, 1, 0),
-            (float)(lg_param_float(n, "yfov") * LG_PI / 180.0),
-            (float)lg_param_float(n, "znear"), (float)lg_param_float(n, "zfar"));
+        lg_camera *c =
+            lg_ts_camera(b, cam_names[i], lg_v3(0, 0, 5), lg_v3(0, 0, i == 0 ? 0.0f : 10.0f),
+                         lg_v3(0, 1, 0), (float)(lg_param_float(n, "yfov") * LG_PI / 180.0),
+                         (float)lg_param_float(n, "znear"), (float)lg_param_float(n, "zfar"));
         c->aspect = (float)lg_param_float(n, "camera_aspect");
     }
 
@@ -133,8 +145,7 @@ static int tm_scene_prepare(lg_node *n)
         tm_quad(b, lg_v3(0, 0, -45), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
         lg_ts_instance(b, 0, m);
         break;
-    case TM_EMPTY:
-        break;
+    case TM_EMPTY: break;
     case TM_BAD_INDEX:
         tm_quad(b, lg_v3(0, 0, 0), lg_v3(1, 0, 0), lg_v3(0, 1, 0));
         lg_ts_indices(b)[4] = 9; /* the mesh has 4 vertices */
@@ -159,7 +170,7 @@ static int tm_nothing(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- test_depth_plane ------------------------------------------------------------------ */
+/* ---- test_depth_plane ------------------------------------------------------------------------ */
 
 static int dp_prepare(lg_node *n)
 {
@@ -169,7 +180,8 @@ static int dp_prepare(lg_node *n)
         return lg_error(n, "input 'image' is not an image");
     if (!(info.image.flags & LG_IMAGE_DEPTH))
         return lg_error(n, "input 'image' has no depth plane");
-    lg_image_desc d = { .width = info.image.width, .height = info.image.height,
+    lg_image_desc d = { .width = info.image.width,
+                        .height = info.image.height,
                         .format = LG_FORMAT_RGBA32F };
     int rc = lg_declare_image(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
@@ -197,22 +209,45 @@ static int dp_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- the descriptor -------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const lg_param_desc tm_params[] = {
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = tm_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = tm_layouts,
       .doc = "which scene (testmeshscene.c lists them)" },
-    { .key = "color", .type = LG_PARAM_COLOR, .def.v = { 0.2, 0.5, 0.8 },
+    { .key = "color",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0.2, 0.5, 0.8 },
       .doc = "base colour of the one material" },
-    { .key = "double_sided", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "double_sided",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "the material's double_sided flag" },
-    { .key = "yfov", .type = LG_PARAM_FLOAT, .def.f = 60, .min = 1, .max = 170,
+    { .key = "yfov",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 60,
+      .min = 1,
+      .max = 170,
       .doc = "the cameras' vertical field of view, degrees" },
-    { .key = "znear", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6,
+    { .key = "znear",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e6,
       .doc = "the cameras' znear" },
-    { .key = "zfar", .type = LG_PARAM_FLOAT, .def.f = 20, .min = 0, .max = 1e6,
+    { .key = "zfar",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 20,
+      .min = 0,
+      .max = 1e6,
       .doc = "the cameras' zfar; 0 = from the bounds" },
-    { .key = "camera_aspect", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 100,
+    { .key = "camera_aspect",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 100,
       .doc = "the cameras' aspect ratio; 0 = the output's" },
 };
 static const lg_port_desc tm_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };

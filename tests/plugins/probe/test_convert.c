@@ -172,7 +172,7 @@ static const layout_case layouts[] = {
  * lg_probe_pack of the source image as a lat-long probe. */
 static bool expected_file(const lg_image *src, const layout_case *lc, lg_image *out)
 {
-    lg_probe_image img = { LG_PROBE_LATLONG, src->width, src->height, src->pixels, NULL, {0} };
+    lg_probe_image img = { LG_PROBE_LATLONG, src->width, src->height, src->pixels, NULL, { 0 } };
     uint32_t w = lc->layout == LG_PROBE_LATLONG ? 2 * lc->size : lc->size, h = lc->size;
     size_t n = (size_t)w * h * (lc->layout == LG_PROBE_CUBE ? 6 : 1);
     float *buf = malloc(n * 16);
@@ -195,7 +195,7 @@ static bool expected_file(const lg_image *src, const layout_case *lc, lg_image *
     return rc == 0;
 }
 
-/* ---- cases ------------------------------------------------------------------------------ */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static void case_convert_layouts(lg_test *t)
 {
@@ -285,8 +285,13 @@ static void case_write_read(lg_test *t)
     /* size = 0: the texel count of the source (64 x 32 = 2048): a cube of face
      * round(sqrt(2048 / 6)) = 18, a lat-long 64x32, an angular map of side
      * round(sqrt(2048 * 4 / pi)) = 51 */
-    static const struct { const char *layout; uint32_t w, h; } autos[] = {
-        { "cross", 72, 54 }, { "latlong", 64, 32 }, { "angular", 51, 51 },
+    static const struct {
+        const char *layout;
+        uint32_t w, h;
+    } autos[] = {
+        { "cross", 72, 54 },
+        { "latlong", 64, 32 },
+        { "angular", 51, 51 },
     };
     for (size_t k = 0; k < 3; k++) {
         char g[512];
@@ -298,8 +303,8 @@ static void case_write_read(lg_test *t)
         lg_image got;
         if (run_ok(t, g) && lg_test_read(t, "auto.exr", &got, NULL)) {
             LG_TEST_CHECK(t, got.width == autos[k].w && got.height == autos[k].h,
-                          "size = 0, %s: %ux%u, want %ux%u", autos[k].layout, got.width,
-                          got.height, autos[k].w, autos[k].h);
+                          "size = 0, %s: %ux%u, want %ux%u", autos[k].layout, got.width, got.height,
+                          autos[k].w, autos[k].h);
             lg_image_free(&got);
         }
     }
@@ -362,10 +367,13 @@ static void case_forest_roundtrip(lg_test *t)
     lg_image back;
     if (lg_test_read(t, "back.exr", &back, NULL)) {
         double e = worst_integral(&back, &src, false);
-        LG_TEST_CHECK(t, e <= 1e-4, "forest -> cross 128 -> lat-long: integrals within %.3g, "
-                      "want 1e-4", e);
+        LG_TEST_CHECK(t, e <= 1e-4,
+                      "forest -> cross 128 -> lat-long: integrals within %.3g, "
+                      "want 1e-4",
+                      e);
         printf("forest 1024x512 -> cube 128 (cross file) -> latlong 1024x512: worst total/octant "
-               "%.2e\n", e);
+               "%.2e\n",
+               e);
         lg_image_free(&back);
     }
 out:
@@ -378,10 +386,11 @@ static double file_integral(const lg_image *img, int ch)
 {
     uint32_t w = img->width, h = img->height;
     lg_probe_layout l = w == 2 * h ? LG_PROBE_LATLONG : w == h ? LG_PROBE_ANGULAR : LG_PROBE_CUBE;
-    lg_probe_file_layout fl = w % 4 == 0 && w / 4 == h / 3 ? LG_PROBE_FILE_CROSS
+    lg_probe_file_layout fl = w % 4 == 0 && w / 4 == h / 3   ? LG_PROBE_FILE_CROSS
                               : w % 3 == 0 && w / 3 == h / 4 ? LG_PROBE_FILE_VCROSS
-                              : w == 6 * h ? LG_PROBE_FILE_STRIP
-                              : h == 6 * w ? LG_PROBE_FILE_VSTRIP : LG_PROBE_FILE_DEFAULT;
+                              : w == 6 * h                   ? LG_PROBE_FILE_STRIP
+                              : h == 6 * w                   ? LG_PROBE_FILE_VSTRIP
+                                                             : LG_PROBE_FILE_DEFAULT;
     if (l != LG_PROBE_CUBE) {
         double sum = 0;
         for (uint32_t j = 0; j < h; j++)
@@ -392,8 +401,10 @@ static double file_integral(const lg_image *img, int ch)
     }
     if (fl == LG_PROBE_FILE_DEFAULT)
         return 0;
-    uint32_t n = fl == LG_PROBE_FILE_CROSS ? w / 4 : fl == LG_PROBE_FILE_VCROSS ? w / 3
-               : fl == LG_PROBE_FILE_STRIP ? h : w;
+    uint32_t n = fl == LG_PROBE_FILE_CROSS    ? w / 4
+                 : fl == LG_PROBE_FILE_VCROSS ? w / 3
+                 : fl == LG_PROBE_FILE_STRIP  ? h
+                                              : w;
     double sum = 0;
     for (uint32_t f = 0; f < 6; f++) {
         uint32_t cx, cy;
@@ -453,8 +464,10 @@ static void case_assets(lg_test *t)
                 worst = fmax(worst, rel(in, ref[ch]));
         }
         if (files[k].tol >= 0) {
-            LG_TEST_CHECK(t, worst <= files[k].tol, "%s: integral %.3g from the float lat-long "
-                          "forest's, want <= %.3g", files[k].file, worst, files[k].tol);
+            LG_TEST_CHECK(t, worst <= files[k].tol,
+                          "%s: integral %.3g from the float lat-long "
+                          "forest's, want <= %.3g",
+                          files[k].file, worst, files[k].tol);
             printf("%-40s %4ux%-4u integral vs forest_1024x512_zip.exr: %.2e\n", files[k].file,
                    p.width, p.height, worst);
         }
@@ -469,13 +482,16 @@ static void case_output_errors(lg_test *t)
     lg_image_free(&src);
     char *out = NULL;
     int rc = run(t, "sky = probe { file = \"noise.exr\" }\noutput sky \"sky.png\"\n", &out);
-    LG_TEST_CHECK(t, rc == 2 && out && strstr(out, "'sky' gives a probe, which is HDR: write it "
-                                                   "as .exr or .hdr, not 'sky.png'"),
+    LG_TEST_CHECK(t,
+                  rc == 2 && out &&
+                      strstr(out, "'sky' gives a probe, which is HDR: write it "
+                                  "as .exr or .hdr, not 'sky.png'"),
                   "probe to PNG: exit %d\n%s", rc, out ? out : "");
     free(out);
     /* render -o x.png overrides the path: refused when writing */
-    lg_test_write_text(t, "p.lgraph", "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
-                                      "output sky \"sky.exr\"\n");
+    lg_test_write_text(t, "p.lgraph",
+                       "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
+                       "output sky \"sky.exr\"\n");
     const char *args[] = { "-o", "x.png", NULL };
     out = NULL;
     rc = lg_test_render(t, "p.lgraph", args, &out);
@@ -484,8 +500,10 @@ static void case_output_errors(lg_test *t)
     free(out);
     /* a rotation cannot be written as it is */
     out = NULL;
-    rc = run(t, "sky = probe { file = \"noise.exr\", rotate_deg = [90, 0, 0] }\n"
-                "output sky \"turned.exr\"\n", &out);
+    rc = run(t,
+             "sky = probe { file = \"noise.exr\", rotate_deg = [90, 0, 0] }\n"
+             "output sky \"turned.exr\"\n",
+             &out);
     LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "rotation") && strstr(out, "probe_convert"),
                   "probe with a rotation written: exit %d\n%s", rc, out ? out : "");
     free(out);
@@ -494,12 +512,13 @@ static void case_output_errors(lg_test *t)
      * resampler reproduces up to the balancing's moves (3e-3 of the mean, test_probe_resample
      * `rotation`) */
     out = NULL;
-    rc = run(t, "sky = probe { file = \"noise.exr\", rotate_deg = [90, 0, 0] }\n"
-                "conv = probe_convert { probe = sky, layout = latlong, size = 8 }\n"
-                "output conv \"turned.exr\"\n", &out);
+    rc = run(t,
+             "sky = probe { file = \"noise.exr\", rotate_deg = [90, 0, 0] }\n"
+             "conv = probe_convert { probe = sky, layout = latlong, size = 8 }\n"
+             "output conv \"turned.exr\"\n",
+             &out);
     LG_TEST_CHECK(t, rc == 0 && out && strstr(out, "conv  probe_convert  kept"),
-                  "--explain: exit %d\n%s", rc,
-                  out ? out : "");
+                  "--explain: exit %d\n%s", rc, out ? out : "");
     free(out);
     lg_image a, b;
     if (lg_test_read(t, "noise.exr", &a, NULL) && lg_test_read(t, "turned.exr", &b, NULL)) {
@@ -516,8 +535,10 @@ static void case_output_errors(lg_test *t)
                 uint32_t si = (uint32_t)floorf(c.u * 16) % 16;
                 worst = fmax(worst, fabs(b.pixels[4 * (j * 16 + i)] - a.pixels[4 * (j * 16 + si)]));
             }
-        LG_TEST_CHECK(t, worst <= 3e-3 * mean, "yaw 90 baked: %.3g from the turned source (mean "
-                      "%.3g)", worst, mean);
+        LG_TEST_CHECK(t, worst <= 3e-3 * mean,
+                      "yaw 90 baked: %.3g from the turned source (mean "
+                      "%.3g)",
+                      worst, mean);
         lg_image_free(&a);
         lg_image_free(&b);
     }
@@ -528,17 +549,20 @@ static void case_convert_limits(lg_test *t)
     lg_image src = noise_image(16, 8);
     lg_test_write_exr(t, "noise.exr", &src);
     lg_image_free(&src);
-    lg_test_write_text(t, "c.lgraph", "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
-                                      "conv = probe_convert { probe = sky, layout = cross, "
-                                      "size = 16 }\noutput conv \"cube.exr\"\n");
+    lg_test_write_text(t, "c.lgraph",
+                       "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
+                       "conv = probe_convert { probe = sky, layout = cross, "
+                       "size = 16 }\noutput conv \"cube.exr\"\n");
     const char *low[] = { "--max-pixels", "1000", NULL };
     char *out = NULL;
     int rc = lg_test_render(t, "c.lgraph", low, &out);
-    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "node 'conv' (probe_convert): declares part "
-                                                   "'radiance' of output 'probe' of 16x16 (a "
-                                                   "cube: 6 faces): 1536 pixels (every face and "
-                                                   "mip level counted), over the limit of 1000 "
-                                                   "pixels"),
+    LG_TEST_CHECK(t,
+                  rc == 1 && out &&
+                      strstr(out, "node 'conv' (probe_convert): declares part "
+                                  "'radiance' of output 'probe' of 16x16 (a "
+                                  "cube: 6 faces): 1536 pixels (every face and "
+                                  "mip level counted), over the limit of 1000 "
+                                  "pixels"),
                   "cube 16 at --max-pixels 1000: exit %d\n%s", rc, out ? out : "");
     free(out);
     struct stat sb;
@@ -549,14 +573,17 @@ static void case_convert_limits(lg_test *t)
     LG_TEST_CHECK(t, rc == 0, "cube 16 at --max-pixels 1536: exit %d\n%s", rc, out ? out : "");
     free(out);
     /* the finding: 8192 from a small probe ran past 9.6 GB; now refused in prepare */
-    lg_test_write_text(t, "big.lgraph", "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
-                                        "conv = probe_convert { probe = sky, layout = cross, "
-                                        "size = 8192 }\noutput conv \"big.exr\"\n");
+    lg_test_write_text(t, "big.lgraph",
+                       "lightgraph 1\nsky = probe { file = \"noise.exr\" }\n"
+                       "conv = probe_convert { probe = sky, layout = cross, "
+                       "size = 8192 }\noutput conv \"big.exr\"\n");
     out = NULL;
     rc = lg_test_render(t, "big.lgraph", NULL, &out);
-    LG_TEST_CHECK(t, rc == 1 && out && strstr(out, "of 8192x8192 (a cube: 6 faces): 402653184 "
-                                                   "pixels (every face and mip level counted), "
-                                                   "over the limit of 134217728 pixels"),
+    LG_TEST_CHECK(t,
+                  rc == 1 && out &&
+                      strstr(out, "of 8192x8192 (a cube: 6 faces): 402653184 "
+                                  "pixels (every face and mip level counted), "
+                                  "over the limit of 134217728 pixels"),
                   "cube 8192: exit %d\n%s", rc, out ? out : "");
     free(out);
     LG_TEST_CHECK(t, stat(lg_test_path(t, "big.exr"), &sb) != 0, "big.exr was written");
@@ -582,11 +609,12 @@ static void case_faces_list(lg_test *t)
         lg_test_write_exr(t, path, &img);
         lg_image_free(&img);
     }
-    lg_test_write_text(t, "g/faces.lgraph",
-                       "lightgraph 1\n"
-                       "sky = probe { faces = [\"../f/px.exr\", \"../f/nx.exr\", \"../f/py.exr\",\n"
-                       "                       \"../f/ny.exr\", \"../f/pz.exr\", \"../f/nz.exr\"] }\n"
-                       "output sky \"cube.exr\"\n");
+    lg_test_write_text(
+        t, "g/faces.lgraph",
+        "lightgraph 1\n"
+        "sky = probe { faces = [\"../f/px.exr\", \"../f/nx.exr\", \"../f/py.exr\",\n"
+        "                       \"../f/ny.exr\", \"../f/pz.exr\", \"../f/nz.exr\"] }\n"
+        "output sky \"cube.exr\"\n");
     char *out = NULL;
     int rc = lg_test_render(t, "g/faces.lgraph", NULL, &out);
     LG_TEST_CHECK(t, rc == 0, "faces relative to the graph: exit %d\n%s", rc, out ? out : "");
@@ -594,8 +622,8 @@ static void case_faces_list(lg_test *t)
     /* six faces are written as a horizontal cross: face f's cell holds f + 1 */
     lg_image img;
     if (rc == 0 && lg_test_read(t, "g/cube.exr", &img, NULL)) {
-        LG_TEST_CHECK(t, img.width == 32 && img.height == 24, "cross %ux%u, want 32x24",
-                      img.width, img.height);
+        LG_TEST_CHECK(t, img.width == 32 && img.height == 24, "cross %ux%u, want 32x24", img.width,
+                      img.height);
         for (uint32_t f = 0; f < 6 && img.width == 32; f++) {
             uint32_t cx, cy;
             bool turn;

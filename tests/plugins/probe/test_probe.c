@@ -88,8 +88,8 @@ static bool tap(lg_test *t, const char *probe_def, const char *mode, const lg_im
              "lightgraph 1\n%s%s"
              "tap = probe_tap { probe = sky, mode = %s%s }\n"
              "output tap \"tap.exr\"\n",
-             probe_def, dirs ? "d = image { file = \"dirs.exr\", radiance = false }\n" : "",
-             mode, dirs ? ", dirs = d" : "");
+             probe_def, dirs ? "d = image { file = \"dirs.exr\", radiance = false }\n" : "", mode,
+             dirs ? ", dirs = d" : "");
     char *out = NULL;
     int rc = render(t, g, &out);
     LG_TEST_CHECK(t, rc == 0, "render failed (exit %d):\n%s", rc, out ? out : "");
@@ -133,7 +133,7 @@ static void check_info(lg_test *t, const char *probe_def, int layout, uint32_t w
     lg_image_free(&info);
 }
 
-/* ---- synthetic cubes -------------------------------------------------------------------- */
+/* ---- synthetic cubes ------------------------------------------------------------------------- */
 
 #define CN 8u
 /* The marker: off-centre and off both diagonals, so that any flip, turn or transpose of a
@@ -199,8 +199,7 @@ static lg_image make_layout(const lg_image *faces, uint32_t cols, uint32_t rows,
 
 /* Checks a loaded cube: the GL faces equal `faces`, and the lookups of each face's centre
  * and marker direction give the face's colours. */
-static void check_cube(lg_test *t, const char *probe_def, const lg_image *faces,
-                       const char *what)
+static void check_cube(lg_test *t, const char *probe_def, const lg_image *faces, const char *what)
 {
     check_info(t, probe_def, LG_PROBE_CUBE, CN, CN, 1.0f, what);
     lg_image raw;
@@ -232,9 +231,8 @@ static void check_cube(lg_test *t, const char *probe_def, const lg_image *faces,
                           names[f], (double)gc[0], (double)gc[1], (double)gc[2], (double)wc[0],
                           (double)wc[1], (double)wc[2]);
             LG_TEST_CHECK(t, memcmp(gm, wm, 12) == 0,
-                          "%s: face %s marker reads (%g, %g, %g), want the marker (%g, ...)",
-                          what, names[f], (double)gm[0], (double)gm[1], (double)gm[2],
-                          (double)wm[0]);
+                          "%s: face %s marker reads (%g, %g, %g), want the marker (%g, ...)", what,
+                          names[f], (double)gm[0], (double)gm[1], (double)gm[2], (double)wm[0]);
         }
         lg_image_free(&got);
     }
@@ -247,8 +245,7 @@ static void case_cross_h(lg_test *t)
     lg_image img = make_layout(&faces, 4, 3, cells_h);
     lg_test_write_exr(t, "c.exr", &img);
     check_cube(t, "sky = probe { file = \"c.exr\" }\n", &faces, "horizontal cross (auto)");
-    check_cube(t, "sky = probe { file = \"c.exr\", layout = cross }\n", &faces,
-               "horizontal cross");
+    check_cube(t, "sky = probe { file = \"c.exr\", layout = cross }\n", &faces, "horizontal cross");
     lg_image_free(&img);
     lg_image_free(&faces);
 }
@@ -259,8 +256,7 @@ static void case_cross_v(lg_test *t)
     lg_image img = make_layout(&faces, 3, 4, cells_v);
     lg_test_write_exr(t, "c.exr", &img);
     check_cube(t, "sky = probe { file = \"c.exr\" }\n", &faces, "vertical cross (auto)");
-    check_cube(t, "sky = probe { file = \"c.exr\", layout = cross }\n", &faces,
-               "vertical cross");
+    check_cube(t, "sky = probe { file = \"c.exr\", layout = cross }\n", &faces, "vertical cross");
     lg_image_free(&img);
     lg_image_free(&faces);
 }
@@ -296,7 +292,7 @@ static void write_faces(lg_test *t, const lg_image *faces)
     }
 }
 
-#define FACES_PARAMS                                                                         \
+#define FACES_PARAMS                                                                               \
     "faces = [\"px.exr\", \"nx.exr\", \"py.exr\", \"ny.exr\", \"pz.exr\", \"nz.exr\"]"
 
 static void case_faces(lg_test *t)
@@ -374,7 +370,7 @@ static void case_cross_seams(lg_test *t)
     seams(t, 3, 4, "vertical cross");
 }
 
-/* ---- real assets -------------------------------------------------------------------------- */
+/* ---- real assets ----------------------------------------------------------------------------- */
 
 static void case_latlong_asset(lg_test *t)
 {
@@ -452,8 +448,10 @@ static void case_angular_asset(lg_test *t)
                     sb += y, sd += fabs(x - y);
                 }
             rel[k] = sd / sb;
-            fprintf(stderr, "angular vs lat-long forest turned by %g degrees: mean |difference| "
-                            "%.3f of the mean\n", (double)yaws[k], rel[k]);
+            fprintf(stderr,
+                    "angular vs lat-long forest turned by %g degrees: mean |difference| "
+                    "%.3f of the mean\n",
+                    (double)yaws[k], rel[k]);
             lg_image_free(&b);
         }
         LG_TEST_CHECK(t, rel[0] < 0.3, "the angular and lat-long forests disagree: %.3f", rel[0]);
@@ -465,7 +463,7 @@ static void case_angular_asset(lg_test *t)
     lg_image_free(&dirs);
 }
 
-/* ---- errors ---------------------------------------------------------------------------- */
+/* ---- errors ---------------------------------------------------------------------------------- */
 
 /* Renders `def` with a tap and expects exit `want_rc` (1: the node failed; 2: the graph
  * was refused before anything ran) with a message containing want1 (and want2). */
@@ -481,16 +479,18 @@ static void expect_exit(lg_test *t, int want_rc, const char *def, const char *wa
                         const char *want2)
 {
     char g[4096];
-    snprintf(g, sizeof g, "lightgraph 1\n%stap = probe_tap { probe = sky, mode = info }\n"
-                          "output tap \"tap.exr\"\n", def);
+    snprintf(g, sizeof g,
+             "lightgraph 1\n%stap = probe_tap { probe = sky, mode = info }\n"
+             "output tap \"tap.exr\"\n",
+             def);
     char *out = NULL;
     int rc = render(t, g, &out);
     const char *o = out ? out : "";
-    LG_TEST_CHECK(t, rc == want_rc, "%s: exit %d, want %d (a failure naming the problem):\n%s",
-                  def, rc, want_rc, o);
+    LG_TEST_CHECK(t, rc == want_rc, "%s: exit %d, want %d (a failure naming the problem):\n%s", def,
+                  rc, want_rc, o);
     LG_TEST_CHECK(t, strstr(o, want1) && (!want2 || strstr(o, want2)),
-                  "%s: the message does not say '%s'%s%s:\n%s", def, want1,
-                  want2 ? " and " : "", want2 ? want2 : "", o);
+                  "%s: the message does not say '%s'%s%s:\n%s", def, want1, want2 ? " and " : "",
+                  want2 ? want2 : "", o);
     free(out);
 }
 
@@ -505,8 +505,8 @@ static void write_sized(lg_test *t, const char *name, uint32_t w, uint32_t h)
 
 static void case_auto_errors(lg_test *t)
 {
-    write_sized(t, "wide.exr", 30, 10);   /* 3:1: nothing */
-    write_sized(t, "near2.exr", 201, 100); /* nearly 2:1 */
+    write_sized(t, "wide.exr", 30, 10);     /* 3:1: nothing */
+    write_sized(t, "near2.exr", 201, 100);  /* nearly 2:1 */
     write_sized(t, "near43.exr", 401, 300); /* nearly 4:3 */
     write_sized(t, "cross_odd.exr", 10, 10);
     write_sized(t, "sq8.exr", 8, 8);
@@ -551,12 +551,12 @@ static void case_auto_errors(lg_test *t)
     expect_error(t, def, "'file' ('", "leave it empty");
     /* the list's type, checked before anything runs */
     expect_exit(t, 2, "sky = probe { faces = [\"a.exr\", 3] }\n",
-                 "expected a file path (a string), found an integer (item 1 of parameter 'faces'",
-                 NULL);
+                "expected a file path (a string), found an integer (item 1 of parameter 'faces'",
+                NULL);
     expect_exit(t, 2, "sky = probe { faces = \"a.exr\" }\n",
-                 "expected a list of file paths (strings), found a string", NULL);
+                "expected a list of file paths (strings), found a string", NULL);
     expect_exit(t, 2, "sky = probe { faces = [\"a.exr\", \"\"] }\n",
-                 "item 1 of parameter 'faces' of node 'sky' is an empty path", NULL);
+                "item 1 of parameter 'faces' of node 'sky' is an empty path", NULL);
 }
 
 static void case_latlong_not_2to1(lg_test *t)
@@ -566,8 +566,9 @@ static void case_latlong_not_2to1(lg_test *t)
     lg_image info;
     if (tap(t, "sky = probe { file = \"l73.exr\", layout = latlong }\n", "info", NULL, &info,
             &log)) {
-        LG_TEST_CHECK(t, info.pixels[1] == LG_PROBE_LATLONG && info.pixels[2] == 7 &&
-                             info.pixels[3] == 3,
+        LG_TEST_CHECK(t,
+                      info.pixels[1] == LG_PROBE_LATLONG && info.pixels[2] == 7 &&
+                          info.pixels[3] == 3,
                       "7x3 lat-long: layout %g, %gx%g", (double)info.pixels[1],
                       (double)info.pixels[2], (double)info.pixels[3]);
         LG_TEST_CHECK(t, fabs(info.pixels[0] - (4.0 * LG_PI)) <= 1e-6 * (4.0 * LG_PI), "sum %.9g",
@@ -588,8 +589,8 @@ static void case_one_by_one(lg_test *t)
     lg_test_write_exr(t, "one.exr", &one);
     check_info(t, "sky = probe { file = \"one.exr\" }\n", LG_PROBE_ANGULAR, 1, 1, 1.0f,
                "1x1 (auto: angular)");
-    check_info(t, "sky = probe { file = \"one.exr\", layout = latlong }\n", LG_PROBE_LATLONG, 1,
-               1, 1.0f, "1x1 lat-long");
+    check_info(t, "sky = probe { file = \"one.exr\", layout = latlong }\n", LG_PROBE_LATLONG, 1, 1,
+               1.0f, "1x1 lat-long");
     lg_image dirs = alloc_image(8, 1);
     static const float d[8][3] = { { 0, 0, -1 }, { 0, 0, 1 }, { 1, 0, 0 }, { 0, 1, 0 },
                                    { 0, -1, 0 }, { 0, 0, 0 }, { 1, 1, 1 }, { -0.3f, 0.2f, 0.9f } };
@@ -615,7 +616,7 @@ static void case_one_by_one(lg_test *t)
     lg_image_free(&one);
 }
 
-/* ---- parameters -------------------------------------------------------------------------- */
+/* ---- parameters ------------------------------------------------------------------------------ */
 
 static lg_image random_dirs(uint32_t n, uint32_t seed)
 {
@@ -695,13 +696,14 @@ static void case_exposure_scale(lg_test *t)
         for (uint32_t k = 0; k < 32; k++)
             for (int c = 0; c < 4; c++) {
                 float want = c == 3 ? 1.0f : (float)((double)img.pixels[4 * k + c] * 3.0);
-                LG_TEST_CHECK(t, raw.pixels[4 * k + c] == want, "texel %u channel %d: %.9g, want %.9g",
-                              k, c, (double)raw.pixels[4 * k + c], (double)want);
+                LG_TEST_CHECK(t, raw.pixels[4 * k + c] == want,
+                              "texel %u channel %d: %.9g, want %.9g", k, c,
+                              (double)raw.pixels[4 * k + c], (double)want);
             }
         lg_image_free(&raw);
     }
-    check_info(t, "sky = probe { file = \"e.exr\", exposure = -1 }\n", LG_PROBE_LATLONG, 8, 4,
-               0.5f, "exposure -1");
+    check_info(t, "sky = probe { file = \"e.exr\", exposure = -1 }\n", LG_PROBE_LATLONG, 8, 4, 0.5f,
+               "exposure -1");
     lg_image_free(&img);
 }
 
@@ -718,9 +720,9 @@ static void case_bad_texels(lg_test *t)
     img.pixels[4 * 5 + 1] = INFINITY;
     img.pixels[4 * 6 + 2] = -INFINITY; /* infinite, not counted as negative */
     img.pixels[4 * 9 + 0] = -0.5f;
-    img.pixels[4 * 9 + 2] = -2.0f;     /* one pixel, two negative channels */
+    img.pixels[4 * 9 + 2] = -2.0f; /* one pixel, two negative channels */
     img.pixels[4 * 11 + 1] = -1e-3f;
-    img.pixels[4 * 12 + 3] = NAN;      /* alpha: ignored, set to 1 */
+    img.pixels[4 * 12 + 3] = NAN; /* alpha: ignored, set to 1 */
     lg_test_write_exr(t, "bad.exr", &img);
     char *log = NULL;
     lg_image raw;
@@ -746,7 +748,7 @@ static void case_bad_texels(lg_test *t)
     lg_image_free(&img);
 }
 
-/* ---- PNG files ------------------------------------------------------------------------------ */
+/* ---- PNG files ------------------------------------------------------------------------------- */
 
 /* An 8-bit code per channel, decoded as the SDK's PNG reader does. */
 static float code_lin(unsigned code)
@@ -839,7 +841,7 @@ static void case_png(lg_test *t)
     lg_image_free(&faces);
 }
 
-/* ---- environment -------------------------------------------------------------------------- */
+/* ---- environment ----------------------------------------------------------------------------- */
 
 static bool line_has(const char *text, const char *prefix, const char *what)
 {
@@ -859,15 +861,14 @@ static bool line_has(const char *text, const char *prefix, const char *what)
 static void case_environment(lg_test *t)
 {
     write_sized(t, "sky.exr", 16, 8);
-    const char *g =
-        "lightgraph 1\n"
-        "cube = test_cube {}\n"
-        "sky = probe { file = \"sky.exr\" }\n"
-        "env = environment { scene = cube, probe = sky }\n"
-        "a = test_needs_probe { scene = env }\n"
-        "b = test_needs_probe { scene = cube }\n"
-        "output a \"a.exr\"\n"
-        "output b \"b.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "cube = test_cube {}\n"
+                    "sky = probe { file = \"sky.exr\" }\n"
+                    "env = environment { scene = cube, probe = sky }\n"
+                    "a = test_needs_probe { scene = env }\n"
+                    "b = test_needs_probe { scene = cube }\n"
+                    "output a \"a.exr\"\n"
+                    "output b \"b.exr\"\n";
     char *out = NULL;
     int rc = render(t, g, &out);
     const char *o = out ? out : "";
@@ -888,7 +889,7 @@ static void case_environment(lg_test *t)
     }
 }
 
-/* ---- cache identity ----------------------------------------------------------------------- */
+/* ---- cache identity -------------------------------------------------------------------------- */
 
 /* Renders probe -> raw tap -> test_cached; true when the cached node computed (a miss). */
 static bool cache_computed(lg_test *t, const char *probe_def)
@@ -928,7 +929,8 @@ static void case_content_key(lg_test *t)
     LG_TEST_CHECK(t, !cache_computed(t, def), "same changed file: the cache was not used");
     LG_TEST_CHECK(t, cache_computed(t, "sky = probe { file = \"p.exr\", exposure = 1 }\n"),
                   "exposure changed: stale cache entry used");
-    LG_TEST_CHECK(t, cache_computed(t, "sky = probe { file = \"p.exr\", rotate_deg = [0, 0, 1] }\n"),
+    LG_TEST_CHECK(t,
+                  cache_computed(t, "sky = probe { file = \"p.exr\", rotate_deg = [0, 0, 1] }\n"),
                   "rotation changed: stale cache entry used");
     lg_image_free(&a);
     lg_image_free(&b);

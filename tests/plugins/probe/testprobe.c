@@ -72,8 +72,7 @@ static int tap_execute(lg_node *n, const lg_frame *frame)
         if ((rc = lg_describe(lg_input(n, 1), &di, n)) ||
             (rc = lg_map_cpu(n, lg_input(n, 1), LG_READ, &dv)))
             return rc;
-        lg_probe_image img = lg_probe_image_at(p->info.layout, d, rv.pixels, 0,
-                                               p->info.rotation);
+        lg_probe_image img = lg_probe_image_at(p->info.layout, d, rv.pixels, 0, p->info.rotation);
         const float *dp = dv.pixels;
         size_t cnt = (size_t)di.image.width * di.image.height;
         for (size_t i = 0; i < cnt; i++)
@@ -140,16 +139,24 @@ static const lg_port_desc scene_in[] = { { .name = "scene", .kind = LG_KIND_SCEN
 
 static const lg_node_type types[] = {
     {
-        .struct_size = sizeof(lg_node_type), .name = "probe_tap",
+        .struct_size = sizeof(lg_node_type),
+        .name = "probe_tap",
         .doc = "looks into a probe (lookups, raw texels, info)",
-        LG_PARAMS(tap_params), LG_INPUTS(tap_in), LG_OUTPUTS(img_out),
-        .prepare = tap_prepare, .execute = tap_execute,
+        LG_PARAMS(tap_params),
+        LG_INPUTS(tap_in),
+        LG_OUTPUTS(img_out),
+        .prepare = tap_prepare,
+        .execute = tap_execute,
     },
     {
-        .struct_size = sizeof(lg_node_type), .name = "test_needs_probe",
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_needs_probe",
         .doc = "1 when kept; needs a probe in the scene",
-        LG_INPUTS(scene_in), LG_OUTPUTS(img_out), .needs = LG_NEEDS_PROBE,
-        .prepare = needs_prepare, .execute = needs_execute,
+        LG_INPUTS(scene_in),
+        LG_OUTPUTS(img_out),
+        .needs = LG_NEEDS_PROBE,
+        .prepare = needs_prepare,
+        .execute = needs_execute,
     },
 };
 

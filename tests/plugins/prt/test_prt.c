@@ -59,8 +59,8 @@ static int render(lg_test *t, const char *g, const char *const *args, const char
 /* The C reference: radiance of vertex v, channel c with `lb` lighting bands (seed ls) and
  * `tb` transfer bands (seed ts), in double, over the common prefix. *scale gets
  * sum |l t| (the size of the rounding a float sum may make). */
-static double reference(uint32_t ls, uint32_t lb, uint32_t ts, uint32_t tb, uint32_t v,
-                        uint32_t c, double *scale)
+static double reference(uint32_t ls, uint32_t lb, uint32_t ts, uint32_t tb, uint32_t v, uint32_t c,
+                        double *scale)
 {
     uint32_t b = lb < tb ? lb : tb;
     double s = 0, a = 0;
@@ -89,8 +89,8 @@ static double check_vertices(lg_test *t, const lg_image *img, const char *what, 
         const float *p = img->pixels + 4 * (size_t)i;
         if (i >= MIXED_VERTICES) {
             if ((p[0] != 0 || p[1] != 0 || p[2] != 0 || p[3] != 0) && bad++ < 5)
-                LG_TEST_FAILF(t, "%s: padding texel %u is (%g, %g, %g, %g), not 0", what, i,
-                              p[0], p[1], p[2], p[3]);
+                LG_TEST_FAILF(t, "%s: padding texel %u is (%g, %g, %g, %g), not 0", what, i, p[0],
+                              p[1], p[2], p[3]);
             continue;
         }
         if (p[3] != 1.0f && bad++ < 5)
@@ -100,16 +100,17 @@ static double check_vertices(lg_test *t, const lg_image *img, const char *what, 
             double e = fabs(p[c] - want) / (scale > 1e-30 ? scale : 1e-30);
             worst = e > worst ? e : worst;
             if (!(e <= 1e-5) && bad++ < 5)
-                LG_TEST_FAILF(t, "%s: vertex %u channel %u is %.9g, the reference %.9g "
-                                 "(error %.3g of sum|l t| = %.3g)",
+                LG_TEST_FAILF(t,
+                              "%s: vertex %u channel %u is %.9g, the reference %.9g "
+                              "(error %.3g of sum|l t| = %.3g)",
                               what, i, c, p[c], want, e, scale);
         }
     }
     return worst;
 }
 
-static const char *graph_vertices(char *g, size_t n, const char *backend, uint32_t lb,
-                                  uint32_t tb, const char *extra)
+static const char *graph_vertices(char *g, size_t n, const char *backend, uint32_t lb, uint32_t tb,
+                                  const char *extra)
 {
     snprintf(g, n,
              "lightgraph 1\n"
@@ -122,7 +123,7 @@ static const char *graph_vertices(char *g, size_t n, const char *backend, uint32
     return g;
 }
 
-/* ---- cases -------------------------------------------------------------------------------- */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static void case_exact(lg_test *t)
 {
@@ -149,8 +150,9 @@ static void case_exact(lg_test *t)
                 double scale;
                 reference(1, 5, 2, 5, i, c, &scale);
                 double d = fabs(img[0].pixels[4 * i + c] - img[b].pixels[4 * i + c]);
-                LG_TEST_CHECK(t, d <= 2e-5 * scale, "cpu and %s differ at vertex %u channel "
-                                                    "%u: %g",
+                LG_TEST_CHECK(t, d <= 2e-5 * scale,
+                              "cpu and %s differ at vertex %u channel "
+                              "%u: %g",
                               BACKENDS[b], i, c, d);
             }
     }
@@ -171,9 +173,9 @@ static void case_bands(lg_test *t)
                      pairs[k][0], pairs[k][1]);
             lg_image img = { 0 };
             char *text = NULL;
-            int rc = render(t, graph_vertices(g, sizeof g, BACKENDS[b], pairs[k][0], pairs[k][1],
-                                              NULL),
-                            args, "v.exr", &img, &text);
+            int rc =
+                render(t, graph_vertices(g, sizeof g, BACKENDS[b], pairs[k][0], pairs[k][1], NULL),
+                       args, "v.exr", &img, &text);
             LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d)", what, rc);
             if (!rc) {
                 check_vertices(t, &img, what, pairs[k][0], pairs[k][1]);
@@ -206,8 +208,9 @@ static void case_vertex_count(lg_test *t)
         int rc = render(t, g, args, NULL, NULL, &text);
         LG_TEST_CHECK(t, rc != 0, "%s: a 100-vertex transfer on a 172-vertex scene rendered",
                       BACKENDS[b]);
-        LG_TEST_CHECK(t, text && strstr(text, "input 'transfer' has 100 vertices but the "
-                                              "scene has 172"),
+        LG_TEST_CHECK(t,
+                      text && strstr(text, "input 'transfer' has 100 vertices but the "
+                                           "scene has 172"),
                       "%s: the message does not name the counts:\n%s", BACKENDS[b],
                       text ? text : "");
         LG_TEST_CHECK(t, text && strstr(text, "p"), "%s: no node named", BACKENDS[b]);
@@ -237,8 +240,8 @@ static int delta_render(lg_test *t, const char *backend, uint32_t bands, const d
     return render(t, g, args, "v.exr", img, NULL);
 }
 
-static void compare_vertex_images(lg_test *t, const lg_image *a, const lg_image *b,
-                                   double tol, const char *what)
+static void compare_vertex_images(lg_test *t, const lg_image *a, const lg_image *b, double tol,
+                                  const char *what)
 {
     if (!a->pixels || !b->pixels || a->width != b->width || a->height != b->height) {
         LG_TEST_FAILF(t, "%s: images missing or of different sizes", what);
@@ -394,21 +397,23 @@ static void case_raster(lg_test *t)
                         double tol = mode ? 2e-3 * scale : 1e-5 * (scale + 2);
                         for (int c = 0; c < 3; c++)
                             if (!(fabs(p[c] - want[c]) <= tol) && bad++ < 5)
-                                LG_TEST_FAILF(t, "%s mode %d: pixel (%u, %u) channel %d is %.7g, "
-                                                 "expected %.7g",
+                                LG_TEST_FAILF(t,
+                                              "%s mode %d: pixel (%u, %u) channel %d is %.7g, "
+                                              "expected %.7g",
                                               BACKENDS[b], mode, px, py, c, p[c], want[c]);
                         if (p[3] != 1.0f && bad++ < 5)
-                            LG_TEST_FAILF(t, "%s: covered pixel (%u, %u) alpha %g", BACKENDS[b],
-                                          px, py, p[3]);
+                            LG_TEST_FAILF(t, "%s: covered pixel (%u, %u) alpha %g", BACKENDS[b], px,
+                                          py, p[3]);
                     } else if (outside) {
                         for (int c = 0; c < 3; c++)
                             if (p[c] != (float)want[c] && bad++ < 5)
-                                LG_TEST_FAILF(t, "%s mode %d: background (%u, %u) channel %d is "
-                                                 "%g, expected %g",
+                                LG_TEST_FAILF(t,
+                                              "%s mode %d: background (%u, %u) channel %d is "
+                                              "%g, expected %g",
                                               BACKENDS[b], mode, px, py, c, p[c], want[c]);
                         if (p[3] != 0.0f && bad++ < 5)
-                            LG_TEST_FAILF(t, "%s: background pixel (%u, %u) alpha %g",
-                                          BACKENDS[b], px, py, p[3]);
+                            LG_TEST_FAILF(t, "%s: background pixel (%u, %u) alpha %g", BACKENDS[b],
+                                          px, py, p[3]);
                     }
                 }
             LG_TEST_CHECK(t, checked > 300 && covered > 300 && covered < W * H / 2,
@@ -450,8 +455,7 @@ static void case_instances(lg_test *t)
         LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d)", BACKENDS[b], rc);
         if (rc)
             continue;
-        const double pl[3] = { -1, 0.42, 0.42 }, pr[3] = { 1, 0.42, 0.42 },
-                     pg[3] = { 0, -1.5, -1 };
+        const double pl[3] = { -1, 0.42, 0.42 }, pr[3] = { 1, 0.42, 0.42 }, pg[3] = { 0, -1.5, -1 };
         uint32_t x[3], y[3];
         project(W, H, pl, &x[0], &y[0]);
         project(W, H, pr, &x[1], &y[1]);
@@ -485,8 +489,8 @@ static void case_instances(lg_test *t)
                           BACKENDS[b], x[0], y[0], x[1], y[1], v[0][c], v[1][c]);
             for (int k = 0; k < 2; k++)
                 LG_TEST_CHECK(t, fabs(v[k][c] - want[k]) <= 0.15 * want[k],
-                              "%s: instance %d at (%u, %u) is %g, the analytic %g", BACKENDS[b],
-                              k, x[k], y[k], v[k][c], want[k]);
+                              "%s: instance %d at (%u, %u) is %g, the analytic %g", BACKENDS[b], k,
+                              x[k], y[k], v[k][c], want[k]);
             LG_TEST_CHECK(t, fabs(v[2][c] - grid) <= 1e-4,
                           "%s: the grid at (%u, %u) is %g, the analytic %g", BACKENDS[b], x[2],
                           y[2], v[2][c], grid);
@@ -541,9 +545,12 @@ static void setup(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "exact", case_exact },       { "bands", case_bands },
-        { "vertex_count", case_vertex_count }, { "rotation", case_rotation },
-        { "spin", case_spin },         { "raster", case_raster },
+        { "exact", case_exact },
+        { "bands", case_bands },
+        { "vertex_count", case_vertex_count },
+        { "rotation", case_rotation },
+        { "spin", case_spin },
+        { "raster", case_raster },
         { "instances", case_instances },
         { "bad_params", case_bad_params },
     };

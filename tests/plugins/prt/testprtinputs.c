@@ -88,7 +88,7 @@ static int tp_nothing(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- lighting ------------------------------------------------------------------------- */
+/* ---- lighting -------------------------------------------------------------------------------- */
 
 enum { TP_RANDOM = 0, TP_DELTA };
 
@@ -132,7 +132,7 @@ static int tp_sh_execute(lg_node *n, const lg_frame *frame)
     return lg_sh_publish(n, 0, &si);
 }
 
-/* ---- transfer ------------------------------------------------------------------------- */
+/* ---- transfer -------------------------------------------------------------------------------- */
 
 static uint32_t tp_vertices(lg_node *n)
 {
@@ -156,8 +156,7 @@ static void tp_normal_transfer(const lg_scene *s, uint32_t k, uint32_t bands, fl
     for (uint32_t l = 0; l < bands; l++)
         for (uint32_t i = l * l; i < (l + 1) * (l + 1); i++)
             for (int c = 0; c < 3; c++)
-                out[c * bands * bands + i] =
-                    (float)(0.8 / LG_PI * lg_sh_clamped_cosine(l) * y[i]);
+                out[c * bands * bands + i] = (float)(0.8 / LG_PI * lg_sh_clamped_cosine(l) * y[i]);
 }
 
 static int tp_tr_prepare(lg_node *n)
@@ -186,43 +185,62 @@ static int tp_tr_execute(lg_node *n, const lg_frame *frame)
         for (uint32_t c = 0; c < 3; c++)
             for (uint32_t i = 0; i < nc; i++)
                 out[((size_t)k * 3 + c) * nc + i] = prt_test_transfer(seed, constant ? 0 : k, c, i);
-    lg_transfer_info ti = { .struct_size = sizeof ti, .bands = bands, .vertices = nv,
-                            .mode = LG_TRANSFER_UNSHADOWED };
+    lg_transfer_info ti = {
+        .struct_size = sizeof ti, .bands = bands, .vertices = nv, .mode = LG_TRANSFER_UNSHADOWED
+    };
     return lg_transfer_publish(n, 0, &ti);
 }
 
-/* ---- descriptors ---------------------------------------------------------------------- */
+/* ---- descriptors ----------------------------------------------------------------------------- */
 
 static const char *const tp_layouts[] = { "mixed", "quad", NULL };
 static const char *const tp_sh_modes[] = { "random", "delta", NULL };
 static const char *const tp_tr_modes[] = { "random", "constant", "normal", NULL };
 
 static const lg_param_desc tp_scene_params[] = {
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = TP_MIXED, .enum_values = tp_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = TP_MIXED,
+      .enum_values = tp_layouts,
       .doc = "mixed or quad (testprtinputs.c)" },
 };
 static const lg_param_desc tp_sh_params[] = {
     { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "" },
     { .key = "seed", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = 65535, .doc = "" },
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = TP_RANDOM, .enum_values = tp_sh_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = TP_RANDOM,
+      .enum_values = tp_sh_modes,
       .doc = "" },
     { .key = "dir", .type = LG_PARAM_VEC3, .def.v = { 1, 0, 0 }, .doc = "" },
-    { .key = "color", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 1e6,
+    { .key = "color",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 1, 1, 1 },
+      .min = 0,
+      .max = 1e6,
       .doc = "" },
 };
 static const lg_param_desc tp_tr_params[] = {
     { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "" },
     { .key = "seed", .type = LG_PARAM_INT, .def.i = 2, .min = 0, .max = 65535, .doc = "" },
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = TP_RANDOM, .enum_values = tp_tr_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = TP_RANDOM,
+      .enum_values = tp_tr_modes,
       .doc = "" },
-    { .key = "vertices", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1000000,
+    { .key = "vertices",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 1000000,
       .doc = "0 = the mixed scene's count" },
 };
 static const lg_port_desc tp_scene_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
 static const lg_port_desc tp_sh_out[] = { { .name = "lighting", .kind = LG_KIND_SH } };
 static const lg_port_desc tp_tr_out[] = { { .name = "transfer", .kind = LG_KIND_TRANSFER } };
-static const lg_port_desc tp_tr_in[] = { { .name = "scene", .kind = LG_KIND_SCENE,
-                                           .optional = true } };
+static const lg_port_desc tp_tr_in[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .optional = true }
+};
 
 static const lg_node_type types[] = {
     {
@@ -255,5 +273,4 @@ static const lg_node_type types[] = {
     },
 };
 
-LG_PLUGIN_DEFINE("testprtinputs", "1.0.0", "Scenes, lighting and transfer for the prt tests",
-                 types)
+LG_PLUGIN_DEFINE("testprtinputs", "1.0.0", "Scenes, lighting and transfer for the prt tests", types)

@@ -107,11 +107,11 @@ static int tp_prepare(lg_node *n)
     } else if (layout == TP_BOX) {
         /* o, U, V, inward normal; U x V must point inward (else flip) */
         static const double w[5][4][3] = {
-            { { -1, -1, -1 }, { 0, 0, 2 }, { 2, 0, 0 }, { 0, 1, 0 } },  /* floor: z x x = +y */
-            { { -1, -1, -1 }, { 0, 2, 0 }, { 0, 0, 2 }, { 1, 0, 0 } },  /* x = -1: y x z = +x */
-            { { 1, -1, -1 }, { 0, 0, 2 }, { 0, 2, 0 }, { -1, 0, 0 } },  /* x = 1: z x y = -x */
-            { { -1, -1, -1 }, { 2, 0, 0 }, { 0, 2, 0 }, { 0, 0, 1 } },  /* z = -1: x x y = +z */
-            { { -1, -1, 1 }, { 0, 2, 0 }, { 2, 0, 0 }, { 0, 0, -1 } },  /* z = 1: y x x = -z */
+            { { -1, -1, -1 }, { 0, 0, 2 }, { 2, 0, 0 }, { 0, 1, 0 } }, /* floor: z x x = +y */
+            { { -1, -1, -1 }, { 0, 2, 0 }, { 0, 0, 2 }, { 1, 0, 0 } }, /* x = -1: y x z = +x */
+            { { 1, -1, -1 }, { 0, 0, 2 }, { 0, 2, 0 }, { -1, 0, 0 } }, /* x = 1: z x y = -x */
+            { { -1, -1, -1 }, { 2, 0, 0 }, { 0, 2, 0 }, { 0, 0, 1 } }, /* z = -1: x x y = +z */
+            { { -1, -1, 1 }, { 0, 2, 0 }, { 2, 0, 0 }, { 0, 0, -1 } }, /* z = 1: y x x = -z */
         };
         for (int k = 0; k < 5; k++)
             tp_grid(b, model, grid, w[k][0], w[k][1], w[k][2], w[k][3], false);
@@ -140,9 +140,12 @@ static int tp_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- test_transfer_image ------------------------------------------------------------------ */
+/* ---- test_transfer_image --------------------------------------------------------------------- */
 
-static uint32_t tp_vertices_per_row(uint32_t n2) { return n2 >= 1024 ? 1 : 1024 / n2; }
+static uint32_t tp_vertices_per_row(uint32_t n2)
+{
+    return n2 >= 1024 ? 1 : 1024 / n2;
+}
 
 static int ti_prepare(lg_node *n)
 {
@@ -157,7 +160,8 @@ static int ti_prepare(lg_node *n)
         return lg_error(n, "the transfer's %zu bytes are not a whole number of %u-band vertices",
                         info.buffer.size, bands);
     size_t nv = info.buffer.size / per, V = tp_vertices_per_row(n2);
-    lg_image_desc d = { .width = (uint32_t)(V * n2), .height = (uint32_t)((nv + V - 1) / V),
+    lg_image_desc d = { .width = (uint32_t)(V * n2),
+                        .height = (uint32_t)((nv + V - 1) / V),
                         .format = LG_FORMAT_RGBA32F };
     int rc = lg_declare_image(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
@@ -198,15 +202,20 @@ static int ti_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- test_raw_probe ------------------------------------------------------------------------ */
+/* ---- test_raw_probe -------------------------------------------------------------------------- */
 
-static bool rp_cube(lg_node *n) { return lg_param_bool(n, "cube"); }
+static bool rp_cube(lg_node *n)
+{
+    return lg_param_bool(n, "cube");
+}
 
 static int rp_prepare(lg_node *n)
 {
     uint32_t w = (uint32_t)lg_param_int(n, "width");
     bool cube = rp_cube(n);
-    lg_image_desc d = { .width = w, .height = cube ? w : w / 2, .format = LG_FORMAT_RGBA32F,
+    lg_image_desc d = { .width = w,
+                        .height = cube ? w : w / 2,
+                        .format = LG_FORMAT_RGBA32F,
                         .flags = cube ? LG_IMAGE_CUBE : 0 };
     if ((uint32_t)lg_param_int(n, "bad_x") >= d.width ||
         (uint32_t)lg_param_int(n, "bad_y") >= d.height)
@@ -245,7 +254,8 @@ static int rp_execute(lg_node *n, const lg_frame *frame)
         q[0] = q[1] = q[2] = bad_values[bad];
     }
     lg_probe_info pi = { .struct_size = sizeof pi,
-                         .layout = cube ? LG_PROBE_CUBE : LG_PROBE_LATLONG, .scale = 1 };
+                         .layout = cube ? LG_PROBE_CUBE : LG_PROBE_LATLONG,
+                         .scale = 1 };
     pi.rotation[0] = pi.rotation[4] = pi.rotation[8] = 1;
     return lg_probe_publish(n, 0, &pi);
 }
@@ -266,15 +276,21 @@ static const lg_port_desc rp_out[] = { { .name = "probe", .kind = LG_KIND_PROBE 
 static const char *const tp_layouts[] = { "cone", "box", "quad", "plane", "sphere", NULL };
 
 static const lg_param_desc tp_params[] = {
-    { .key = "layout", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = tp_layouts,
+    { .key = "layout",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = tp_layouts,
       .doc = "cone, box, quad, plane or sphere (testprtscene.c)" },
     { .key = "alpha_deg", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 1, .max = 89, .doc = "" },
     { .key = "segments", .type = LG_PARAM_INT, .def.i = 64, .min = 3, .max = 4096, .doc = "" },
     { .key = "grid", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 256, .doc = "" },
-    { .key = "quad_size", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0.01, .max = 10,
-      .doc = "" },
+    { .key = "quad_size", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0.01, .max = 10, .doc = "" },
     { .key = "quad_flip", .type = LG_PARAM_BOOL, .def.b = false, .doc = "" },
-    { .key = "base_color", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 10,
+    { .key = "base_color",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 1, 1, 1 },
+      .min = 0,
+      .max = 10,
       .doc = "" },
     { .key = "translate", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .doc = "" },
 };

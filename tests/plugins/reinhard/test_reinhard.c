@@ -64,7 +64,8 @@ static void fill(lg_image *img, const float px[4])
 static double luma(const float *c, const double w[3])
 {
     /* as the node does: float products and sums */
-    return (float)((float)((float)w[0] * c[0]) + (float)((float)w[1] * c[1])) + (float)((float)w[2] * c[2]);
+    return (float)((float)((float)w[0] * c[0]) + (float)((float)w[1] * c[1])) +
+           (float)((float)w[2] * c[2]);
 }
 
 /* Writes g.lgraph: image in.exr -> reinhard { backend, extra } -> out. The image node
@@ -97,8 +98,8 @@ static double compare_n(lg_test *t, const lg_image *got, const lg_image *want, u
                         double tol, int files, const char *what)
 {
     if (got->width != want->width || got->height != want->height) {
-        LG_TEST_CHECK(t, 0, "%s: size %ux%u, want %ux%u", what, got->width, got->height, want->width,
-                 want->height);
+        LG_TEST_CHECK(t, 0, "%s: size %ux%u, want %ux%u", what, got->width, got->height,
+                      want->width, want->height);
         return INFINITY;
     }
     double md = 0;
@@ -158,10 +159,10 @@ static bool diff_stats(lg_test *t, const char *file, double *max, double *mean)
     return true;
 }
 
-/* ---- constant -------------------------------------------------------------------------- */
+/* ---- constant -------------------------------------------------------------------------------- */
 
-static void expect_constant(lg_image *want, const float c[4], double key, double delta,
-                            bool rgb, const double w[3])
+static void expect_constant(lg_image *want, const float c[4], double key, double delta, bool rgb,
+                            const double w[3])
 {
     double l = luma(c, w);
     double s = key / (l + delta); /* Lavg of a constant image: exp(log(delta + L)) */
@@ -204,8 +205,8 @@ static void case_constant(lg_test *t)
         if (i == 0) {
             /* the textbook value, delta aside: a grey pixel of the mean maps to a/(1+a) */
             double g = out.pixels[0] * luma(c, W709) / c[0];
-            LG_TEST_CHECK(t, fabs(g - 0.18 / 1.18) < 1e-4 + lg_test_tol_of(g, bits, 0), "Ld = %.6g, a/(1+a) = %.6g",
-                     g, 0.18 / 1.18);
+            LG_TEST_CHECK(t, fabs(g - 0.18 / 1.18) < 1e-4 + lg_test_tol_of(g, bits, 0),
+                          "Ld = %.6g, a/(1+a) = %.6g", g, 0.18 / 1.18);
         }
         lg_image_free(&out);
     }
@@ -213,7 +214,7 @@ static void case_constant(lg_test *t)
     lg_image_free(&want);
 }
 
-/* ---- white ------------------------------------------------------------------------------- */
+/* ---- white ----------------------------------------------------------------------------------- */
 
 static void case_white(lg_test *t)
 {
@@ -246,8 +247,9 @@ static void case_white(lg_test *t)
         for (size_t i = 0; i < 30; i++) {
             double g = out.pixels[i * 4 + 1];
             double e = i % 3 == 0 ? e0 : 1.0;
-            LG_TEST_CHECK(t, fabs(g - e) <= lg_test_tol_of(e, bits, TOL), "%s pixel %zu (level %g): %.9g, want %.9g",
-                     rgb ? "rgb" : "luminance", i, lv[i % 3], g, e);
+            LG_TEST_CHECK(t, fabs(g - e) <= lg_test_tol_of(e, bits, TOL),
+                          "%s pixel %zu (level %g): %.9g, want %.9g", rgb ? "rgb" : "luminance", i,
+                          lv[i % 3], g, e);
         }
         lg_image_free(&out);
     }
@@ -256,14 +258,16 @@ static void case_white(lg_test *t)
     unsigned bits;
     if (render_read(t, "g.lgraph", NULL, "out.exr", &out, &bits, NULL)) {
         double m = s * ls[1];
-        LG_TEST_CHECK(t, fabs(out.pixels[1 * 4 + 1] - m / (1 + m)) <= lg_test_tol_of(m / (1 + m), bits, TOL),
-                 "no white: %.9g, want %.9g", out.pixels[5], m / (1 + m));
+        LG_TEST_CHECK(t,
+                      fabs(out.pixels[1 * 4 + 1] - m / (1 + m)) <=
+                          lg_test_tol_of(m / (1 + m), bits, TOL),
+                      "no white: %.9g, want %.9g", out.pixels[5], m / (1 + m));
         lg_image_free(&out);
     }
     lg_image_free(&in);
 }
 
-/* ---- monotone ------------------------------------------------------------------------------- */
+/* ---- monotone -------------------------------------------------------------------------------- */
 
 static void case_monotone(lg_test *t)
 {
@@ -300,14 +304,14 @@ static void case_monotone(lg_test *t)
         }
         LG_TEST_CHECK(t, bad == 0, "%s: %d violations", rgb ? "rgb" : "luminance", bad);
         LG_TEST_CHECK(t, out.pixels[1] < 0.01f && out.pixels[(w - 1) * 4 + 1] > 0.99f,
-                 "the ramp does not span the range: %g .. %g", out.pixels[1],
-                 out.pixels[(w - 1) * 4 + 1]);
+                      "the ramp does not span the range: %g .. %g", out.pixels[1],
+                      out.pixels[(w - 1) * 4 + 1]);
         lg_image_free(&out);
     }
     lg_image_free(&in);
 }
 
-/* ---- exposure ------------------------------------------------------------------------------ */
+/* ---- exposure -------------------------------------------------------------------------------- */
 
 static void case_exposure(lg_test *t)
 {
@@ -346,7 +350,7 @@ static void case_exposure(lg_test *t)
     }
 }
 
-/* ---- adapt -------------------------------------------------------------------------------- */
+/* ---- adapt ----------------------------------------------------------------------------------- */
 
 static void case_adapt(lg_test *t)
 {
@@ -362,8 +366,8 @@ static void case_adapt(lg_test *t)
     bool ok = render_read(t, "g.lgraph", sixty, "a.exr", &a, &bits, NULL);
     ok &= render_read(t, "g.lgraph", one, "b.exr", &b, NULL, NULL);
     /* the node's dt wins over --dt */
-    write_graph(t, "g2.lgraph", "in.exr",
-                "adapt = true, adapt_from = 5, dt = 0.016666666666666666", "out.exr");
+    write_graph(t, "g2.lgraph", "in.exr", "adapt = true, adapt_from = 5, dt = 0.016666666666666666",
+                "out.exr");
     const char *sixty_slow[] = { "--frames", "60", "--dt", "1", "-o", "d.exr", NULL };
     ok &= render_read(t, "g2.lgraph", sixty_slow, "d.exr", &d, NULL, NULL);
     /* adaptation off: the frame's own Lavg */
@@ -382,10 +386,10 @@ static void case_adapt(lg_test *t)
     compare(t, &d, &want, bits, TOL, "node dt 1/60, --dt 1");
     compare_n(t, &a, &b, bits, 1e-6, 2, "60 x 1/60 against 1 x 1");
     double s0 = key / lavg, o0 = s0 * l / (1 + s0 * l);
-    LG_TEST_CHECK(t, fabs(e.pixels[0] - o0) <= lg_test_tol_of(o0, bits, TOL), "adapt off: %.9g, want %.9g",
-             e.pixels[0], o0);
-    LG_TEST_CHECK(t, fabs(a.pixels[0] - e.pixels[0]) > 1e-3, "adaptation had no effect (%.9g vs %.9g)",
-             a.pixels[0], e.pixels[0]);
+    LG_TEST_CHECK(t, fabs(e.pixels[0] - o0) <= lg_test_tol_of(o0, bits, TOL),
+                  "adapt off: %.9g, want %.9g", e.pixels[0], o0);
+    LG_TEST_CHECK(t, fabs(a.pixels[0] - e.pixels[0]) > 1e-3,
+                  "adaptation had no effect (%.9g vs %.9g)", a.pixels[0], e.pixels[0]);
     lg_image_free(&a);
     lg_image_free(&b);
     lg_image_free(&d);
@@ -394,7 +398,7 @@ static void case_adapt(lg_test *t)
     lg_image_free(&want);
 }
 
-/* ---- bad pixels ------------------------------------------------------------------------------- */
+/* ---- bad pixels ------------------------------------------------------------------------------ */
 
 static void case_badpixels(lg_test *t)
 {
@@ -410,10 +414,13 @@ static void case_badpixels(lg_test *t)
     }
     /* the bad ones, spread over rows */
     const float inf = INFINITY;
-    struct { size_t at; float px[3]; } bad[] = {
-        { 3, { NAN, 1, 1 } },          { 20, { 1, NAN, NAN } },   { 37, { inf, 1, 1 } },
-        { 50, { inf, inf, inf } },     { 64, { -inf, 1, 1 } },    { 77, { 1, 1, -inf } },
-        { 90, { -10, 0.5f, 0.5f } },   { 101, { 0, 0, 0 } },      { 115, { 0, 0, 0 } },
+    struct {
+        size_t at;
+        float px[3];
+    } bad[] = {
+        { 3, { NAN, 1, 1 } },        { 20, { 1, NAN, NAN } }, { 37, { inf, 1, 1 } },
+        { 50, { inf, inf, inf } },   { 64, { -inf, 1, 1 } },  { 77, { 1, 1, -inf } },
+        { 90, { -10, 0.5f, 0.5f } }, { 101, { 0, 0, 0 } },    { 115, { 0, 0, 0 } },
         { 127, { -0.01f, 1, 1 } }, /* negative channel, positive luminance: valid */
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
@@ -440,9 +447,11 @@ static void case_badpixels(lg_test *t)
         char *err = NULL;
         if (!render_read(t, "g.lgraph", NULL, "out.exr", &out, &bits, &err))
             continue;
-        LG_TEST_CHECK(t, err && strstr(err, "7 of 128 pixels") && strstr(err, "6 with NaN or Inf") &&
-                        strstr(err, "1 with negative luminance"),
-                 "no warning with the counts (7 of 128; 6 NaN or Inf; 1 negative): %s", err ? err : "");
+        LG_TEST_CHECK(t,
+                      err && strstr(err, "7 of 128 pixels") && strstr(err, "6 with NaN or Inf") &&
+                          strstr(err, "1 with negative luminance"),
+                      "no warning with the counts (7 of 128; 6 NaN or Inf; 1 negative): %s",
+                      err ? err : "");
         free(err);
         lg_image want = alloc_image(w, h);
         for (size_t i = 0; i < (size_t)w * h; i++) {
@@ -475,7 +484,7 @@ static void case_badpixels(lg_test *t)
     lg_image_free(&in);
 }
 
-/* ---- bright -------------------------------------------------------------------------------- */
+/* ---- bright ---------------------------------------------------------------------------------- */
 
 /* Greys so bright that the scaled luminance s L is +Inf or Ld rounds to 1 (and +Inf pixels):
  * exactly 1, as the README promises (x / (1 + x) is 1 for x = +Inf), never 1 + 1 ulp, in both
@@ -511,14 +520,17 @@ static void case_bright(lg_test *t)
             const float *q = out.pixels + at[i] * 4;
             for (int k = 0; k < 3; k++) {
                 if (greys[i] >= 1e20f)
-                    LG_TEST_CHECK(t, q[k] == 1.0f, "%s: grey %g (pixel %zu) channel %d maps to "
-                                  "%.9g, not exactly 1", *extras[e] ? extras[e] : "defaults",
-                                  (double)greys[i], at[i], k, (double)q[k]);
+                    LG_TEST_CHECK(t, q[k] == 1.0f,
+                                  "%s: grey %g (pixel %zu) channel %d maps to "
+                                  "%.9g, not exactly 1",
+                                  *extras[e] ? extras[e] : "defaults", (double)greys[i], at[i], k,
+                                  (double)q[k]);
                 else
-                    LG_TEST_CHECK(t, q[k] <= 1.0f && q[k] == q[0], "%s: grey %g (pixel %zu) "
+                    LG_TEST_CHECK(t, q[k] <= 1.0f && q[k] == q[0],
+                                  "%s: grey %g (pixel %zu) "
                                   "channel %d maps to %.9g (channel 0: %.9g)",
-                                  *extras[e] ? extras[e] : "defaults", (double)greys[i], at[i],
-                                  k, (double)q[k], (double)q[0]);
+                                  *extras[e] ? extras[e] : "defaults", (double)greys[i], at[i], k,
+                                  (double)q[k], (double)q[0]);
             }
         }
         lg_image_free(&out);
@@ -551,15 +563,16 @@ static void case_sizes(lg_test *t)
     }
 }
 
-/* ---- every backend ------------------------------------------------------------------------------ */
+/* ---- every backend --------------------------------------------------------------------------- */
 
 /* The reference: the plain double-precision oracle (reinhard_oracle.c: log sum in double,
  * the curve in double, one pixel at a time) on the input as the node reads it. */
 static void reference(const lg_image *in, lg_image *out, lg_rh_mode mode, const double w[3],
                       double key, double delta, double white)
 {
-    lg_rh_params p = { .mode = mode, .w = { (float)w[0], (float)w[1], (float)w[2] },
-                       .delta = delta, .white = white };
+    lg_rh_params p = {
+        .mode = mode, .w = { (float)w[0], (float)w[1], (float)w[2] }, .delta = delta, .white = white
+    };
     size_t n = (size_t)in->width * in->height;
     lg_rh_stats st;
     memset(&st, 0, sizeof st);
@@ -610,7 +623,10 @@ static void case_backends(lg_test *t)
     bool bench = lg_test_bench_frames(t) > 0;
     char missing[32] = "";
     const char *photo = lg_test_asset("images/GoldenGate.exr"); /* fails when missing */
-    struct { const char *name, *file; lg_image img; } inputs[2];
+    struct {
+        const char *name, *file;
+        lg_image img;
+    } inputs[2];
     size_t n_inputs = 0;
     {
         inputs[n_inputs].name = "photo";
@@ -634,8 +650,8 @@ static void case_backends(lg_test *t)
     for (size_t in = 0; in < n_inputs; in++) {
         for (size_t i = 0; i < (bench ? 1 : sizeof v / sizeof v[0]); i++) {
             lg_image want;
-            reference(&inputs[in].img, &want, v[i].mode, v[i].seed ? WSEED : W709, v[i].key,
-                      1e-4, v[i].white);
+            reference(&inputs[in].img, &want, v[i].mode, v[i].seed ? WSEED : W709, v[i].key, 1e-4,
+                      v[i].white);
             char graph[8192], what[256];
             /* radiance = false: the node sees the file's values as they are */
             snprintf(graph, sizeof graph,
@@ -662,8 +678,9 @@ static void case_backends(lg_test *t)
             for (size_t k = 0; k < res.n; k++)
                 if (res.run[k].status == LG_TEST_RUN_NO_DEVICE)
                     snprintf(missing, sizeof missing, "%s", res.run[k].backend);
-            LG_TEST_CHECK(t, ran >= 1 && strcmp(res.run[0].backend, "cpu") == 0 &&
-                                 res.run[0].status == LG_TEST_RUN_OK,
+            LG_TEST_CHECK(t,
+                          ran >= 1 && strcmp(res.run[0].backend, "cpu") == 0 &&
+                              res.run[0].status == LG_TEST_RUN_OK,
                           "%s: the cpu backend did not run", what);
             lg_test_backends_free(&res);
             lg_image_free(&want);
@@ -682,7 +699,7 @@ static void setup(lg_test *t)
     lg_test_require_backend(t, backend);
 }
 
-/* ---- threads ----------------------------------------------------------------------------------- */
+/* ---- threads --------------------------------------------------------------------------------- */
 
 static void case_threads(lg_test *t)
 {
@@ -729,11 +746,11 @@ static void case_threads(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "constant", case_constant },   { "white", case_white },
-        { "monotone", case_monotone },   { "exposure", case_exposure },
-        { "adapt", case_adapt },         { "badpixels", case_badpixels },
-        { "sizes", case_sizes },         { "backends", case_backends },
-        { "threads", case_threads },     { "bright", case_bright },
+        { "constant", case_constant }, { "white", case_white },
+        { "monotone", case_monotone }, { "exposure", case_exposure },
+        { "adapt", case_adapt },       { "badpixels", case_badpixels },
+        { "sizes", case_sizes },       { "backends", case_backends },
+        { "threads", case_threads },   { "bright", case_bright },
     };
     lg_test_main_opts o = { .prefix = "reinhard", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -23,8 +23,9 @@
 
 static lg_rh_params params(lg_rh_mode mode, double white, double delta)
 {
-    lg_rh_params p = { .mode = mode, .w = { 0.2126f, 0.7152f, 0.0722f }, .delta = delta,
-                       .white = white };
+    lg_rh_params p = {
+        .mode = mode, .w = { 0.2126f, 0.7152f, 0.0722f }, .delta = delta, .white = white
+    };
     return p;
 }
 
@@ -59,8 +60,8 @@ static void test_constant(void)
         lg_rh_ref_map(px, out, 6, s, &p);
         double m = key * 2.5 / (2.5 + delta);
         for (int i = 0; i < 6; i++) {
-            CHECKF(fabs(out[i * 4] - m / (1 + m)) < 1e-6, "mode %d: %.9g vs %.9g", mode,
-                   out[i * 4], m / (1 + m));
+            CHECKF(fabs(out[i * 4] - m / (1 + m)) < 1e-6, "mode %d: %.9g vs %.9g", mode, out[i * 4],
+                   m / (1 + m));
             CHECKF(fabs(out[i * 4] - key / (1 + key)) < 2e-5, "near a/(1+a)");
             CHECKF(out[i * 4 + 3] == 0.25f, "alpha passes through");
         }
@@ -93,7 +94,8 @@ static void test_white(void)
     const double lw = 3.0;
     lg_rh_params p = params(LG_RH_LUMINANCE, lw, 1e-4);
     double inv = 1.0 / (lw * lw);
-    CHECKF(fabs(lg_rh_ref_curve(lw, inv) - 1.0) < 1e-15, "Ld(Lwhite) = %.17g", lg_rh_ref_curve(lw, inv));
+    CHECKF(fabs(lg_rh_ref_curve(lw, inv) - 1.0) < 1e-15, "Ld(Lwhite) = %.17g",
+           lg_rh_ref_curve(lw, inv));
     CHECKF(lg_rh_ref_curve(10 * lw, inv) == 1.0, "above white clamps to 1");
     CHECKF(fabs(lg_rh_ref_curve(1.0, inv) - (1.0 + 1.0 / 9.0) / 2.0) < 1e-15, "Ld(1)");
     CHECKF(lg_rh_ref_curve(1.0, 0) == 0.5, "no white: Ld(1) = 1/2");
@@ -124,8 +126,8 @@ static void test_monotone(void)
         lg_rh_ref_map(px, out, N, s, &p);
         for (int i = 0; i < N; i++) {
             for (int k = 0; k < 3; k++) {
-                CHECKF(out[i * 4 + k] >= 0 && out[i * 4 + k] < (mode ? 1.0f : 14.0f),
-                       "range at %d", i);
+                CHECKF(out[i * 4 + k] >= 0 && out[i * 4 + k] < (mode ? 1.0f : 14.0f), "range at %d",
+                       i);
                 if (i)
                     CHECKF(out[i * 4 + k] >= out[(i - 1) * 4 + k],
                            "mode %d: not monotone at %d ch %d", mode, i, k);
@@ -184,16 +186,26 @@ static void test_bad_pixels(void)
 {
     const float inf = INFINITY, qnan = NAN;
     float px[] = {
-        1, 1, 1, 1,         /* 0 good */
-        4, 2, 1, 1,         /* 1 good */
-        0, 0, 0, 1,         /* 2 zero: log(delta) */
-        qnan, 1, 1, 1,      /* 3 nan */
-        inf, 1, 1, 1,       /* 4 +inf */
-        -inf, 1, 1, 1,      /* 5 -inf */
-        -10, 1, 1, 1,       /* 6 negative luminance */
-        -0.1f, 1, 1, 0.5f,  /* 7 negative channel, positive luminance: counted as valid */
-        1e30f, 1e30f, 1e30f, 1, /* 8 huge but valid */
-        FLT_MAX, FLT_MAX, FLT_MAX, 1, /* 9 the largest float */
+        1,       1,
+        1,       1, /* 0 good */
+        4,       2,
+        1,       1, /* 1 good */
+        0,       0,
+        0,       1, /* 2 zero: log(delta) */
+        qnan,    1,
+        1,       1, /* 3 nan */
+        inf,     1,
+        1,       1, /* 4 +inf */
+        -inf,    1,
+        1,       1, /* 5 -inf */
+        -10,     1,
+        1,       1, /* 6 negative luminance */
+        -0.1f,   1,
+        1,       0.5f, /* 7 negative channel, positive luminance: counted as valid */
+        1e30f,   1e30f,
+        1e30f,   1, /* 8 huge but valid */
+        FLT_MAX, FLT_MAX,
+        FLT_MAX, 1, /* 9 the largest float */
     };
     size_t n = sizeof px / sizeof px[0] / 4;
     const double delta = 1e-4;
@@ -252,7 +264,7 @@ static void test_bad_pixels(void)
     CHECKF(!lg_rh_log_average(&st, &lavg) && lavg == 42, "no valid pixel: no average");
 }
 
-/* ---- the fast passes against the oracle ------------------------------------------------ */
+/* ---- the fast passes against the oracle ------------------------------------------------------ */
 
 /* A test image: log-uniform colours over ten decades, exact zeros, and every kind of bad
  * pixel, spread so that blocks of LG_RH_BLOCK and their tails both see some. */
@@ -271,10 +283,13 @@ static float *test_image(size_t n, uint32_t seed)
         case 17: p[1] = INFINITY; break;
         case 29: p[0] = p[1] = p[2] = INFINITY; break;
         case 41: p[2] = -INFINITY; break;
-        case 53: p[0] = -10.0f; p[1] = p[2] = 0.1f; break; /* negative luminance */
-        case 61: p[0] = -0.01f; break;                      /* negative channel, L > 0 */
+        case 53:
+            p[0] = -10.0f;
+            p[1] = p[2] = 0.1f;
+            break;                     /* negative luminance */
+        case 61: p[0] = -0.01f; break; /* negative channel, L > 0 */
         case 73: p[0] = p[1] = p[2] = 0.0f; break;
-        case 89: p[0] = p[1] = p[2] = 3e38f; break;        /* L overflows */
+        case 89: p[0] = p[1] = p[2] = 3e38f; break; /* L overflows */
         default: break;
         }
     }
@@ -343,7 +358,7 @@ static void test_logf(void)
     CHECK(lg_rh_logf(1.0f) == 0.0f);
 }
 
-/* ---- the threaded passes ------------------------------------------------------------------ */
+/* ---- the threaded passes --------------------------------------------------------------------- */
 
 static int pool_for(void *pctx, size_t count, size_t grain,
                     void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk), void *ctx)

@@ -15,12 +15,16 @@
 #endif
 
 static const lg_param_desc params[] = {
-    {.key = "gain", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 100,
-     .doc = "scales the colour"},
+    { .key = "gain",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 100,
+      .doc = "scales the colour" },
 };
 
 static const lg_port_desc outputs[] = {
-    {.name = "image", .kind = LG_KIND_IMAGE, .doc = "one colour, the render size"},
+    { .name = "image", .kind = LG_KIND_IMAGE, .doc = "one colour, the render size" },
 };
 
 static int rl_create(lg_node *n)
@@ -36,7 +40,7 @@ static int rl_create(lg_node *n)
 
 static int rl_prepare(lg_node *n)
 {
-    lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
     lg_render_size(n, &d.width, &d.height);
     int rc = lg_declare_image(n, 0, &d);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
@@ -51,8 +55,8 @@ static int rl_execute(lg_node *n, const lg_frame *frame)
     if (rc || (rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &v)))
         return rc;
     float g = (float)lg_param_float(n, "gain");
-    float c[3] = {RELOADABLE_VARIANT == 1 ? 0.5f * g : 0, RELOADABLE_VARIANT == 2 ? 0.5f * g : 0,
-                  0.1f};
+    float c[3] = { RELOADABLE_VARIANT == 1 ? 0.5f * g : 0, RELOADABLE_VARIANT == 2 ? 0.5f * g : 0,
+                   0.1f };
     for (uint32_t y = 0; y < info.image.height; y++) {
         float *row = (float *)v.pixels + (size_t)y * v.row_pixels * 4;
         for (uint32_t x = 0; x < info.image.width; x++) {
@@ -65,7 +69,7 @@ static int rl_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "reloadable",
     .doc = "An image of one colour that tells which build of the plugin made it (test)",
@@ -74,7 +78,7 @@ static const lg_node_type types[] = {{
     .create = rl_create,
     .prepare = rl_prepare,
     .execute = rl_execute,
-}};
+} };
 
 #ifdef RELOADABLE_ABI1
 #undef LG_ABI_MAJOR

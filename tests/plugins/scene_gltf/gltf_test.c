@@ -137,7 +137,8 @@ char *gt_fmt(const char *fmt, ...)
     return s;
 }
 
-lg_scene *gt_load_file(const char *path, const lg_gltf_options *opt, char *err, size_t err_size, int *rc)
+lg_scene *gt_load_file(const char *path, const lg_gltf_options *opt, char *err, size_t err_size,
+                       int *rc)
 {
     lg_gltf_options o = opt ? *opt : lg_gltf_default_options();
     lg_scene *s = NULL;

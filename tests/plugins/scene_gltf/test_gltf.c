@@ -50,7 +50,7 @@ static bool near(double a, double b, double tol)
     return fabs(a - b) <= tol;
 }
 
-/* ---- a small glTF writer: one mesh with one primitive, data-URI buffer ----------------- */
+/* ---- a small glTF writer: one mesh with one primitive, data-URI buffer ----------------------- */
 
 typedef struct prim {
     const float *pos;
@@ -64,9 +64,10 @@ typedef struct prim {
 /* The JSON of a file with that primitive (mesh 0), `nodes` (default: one node drawing mesh
  * 0), `scenes` (default: "[{nodes: [0]}]", scene 0; "": none) and `extra` appended to the
  * root object (",\"key\": ..." or NULL). */
-static char *mesh_json_scenes(const prim *p, const char *nodes, const char *scenes, const char *extra)
+static char *mesh_json_scenes(const prim *p, const char *nodes, const char *scenes,
+                              const char *extra)
 {
-    gt_blob b = {0};
+    gt_blob b = { 0 };
     size_t opos = gt_add(&b, p->pos, (size_t)p->nv * 12);
     size_t onrm = p->nrm ? gt_add(&b, p->nrm, (size_t)p->nv * 12) : 0;
     size_t ouv = p->uv ? gt_add(&b, p->uv, (size_t)p->nv * 8) : 0;
@@ -75,34 +76,39 @@ static char *mesh_json_scenes(const prim *p, const char *nodes, const char *scen
     char views[1024] = "", accs[1024] = "", attrs[256] = "", *v = views, *a = accs;
     int nviews = 0;
     v += sprintf(v, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u}", opos, p->nv * 12);
-    a += sprintf(a, "{\"bufferView\":0,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", p->nv);
+    a += sprintf(a, "{\"bufferView\":0,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}",
+                 p->nv);
     sprintf(attrs, "\"POSITION\":0");
     nviews = 1;
     if (p->nrm) {
         v += sprintf(v, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u}", onrm, p->nv * 12);
-        a += sprintf(a, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}", nviews,
-                     p->nv);
+        a += sprintf(a,
+                     ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"}",
+                     nviews, p->nv);
         sprintf(attrs + strlen(attrs), ",\"NORMAL\":%d", nviews++);
     }
     if (p->uv) {
         v += sprintf(v, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u}", ouv, p->nv * 8);
-        a += sprintf(a, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}", nviews,
-                     p->nv);
+        a += sprintf(a,
+                     ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"}",
+                     nviews, p->nv);
         sprintf(attrs + strlen(attrs), ",\"TEXCOORD_0\":%d", nviews++);
     }
     char indices[64] = "";
     if (p->idx) {
         v += sprintf(v, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u}", oidx, p->ni * 4);
-        a += sprintf(a, ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}", nviews,
-                     p->ni);
+        a += sprintf(a,
+                     ",{\"bufferView\":%d,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}",
+                     nviews, p->ni);
         sprintf(indices, ",\"indices\":%d", nviews++);
     }
-    char *json = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
-                        "\"bufferViews\":[%s],\"accessors\":[%s],"
-                        "\"meshes\":[{\"name\":\"m\",\"primitives\":[{\"attributes\":{%s}%s,\"mode\":%d}]}],"
-                        "\"nodes\":%s%s%s}",
-                        b.size, uri, views, accs, attrs, indices, p->mode, nodes ? nodes : "[{\"mesh\":0}]",
-                        !scenes ? ",\"scenes\":[{\"nodes\":[0]}],\"scene\":0" : scenes, extra ? extra : "");
+    char *json =
+        gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
+               "\"bufferViews\":[%s],\"accessors\":[%s],"
+               "\"meshes\":[{\"name\":\"m\",\"primitives\":[{\"attributes\":{%s}%s,\"mode\":%d}]}],"
+               "\"nodes\":%s%s%s}",
+               b.size, uri, views, accs, attrs, indices, p->mode, nodes ? nodes : "[{\"mesh\":0}]",
+               !scenes ? ",\"scenes\":[{\"nodes\":[0]}],\"scene\":0" : scenes, extra ? extra : "");
     free(uri);
     gt_blob_free(&b);
     return json;
@@ -123,7 +129,7 @@ static lg_scene *load_prim(const char *name, const prim *p, const char *nodes, c
     return s;
 }
 
-/* ---- assets ---------------------------------------------------------------------------- */
+/* ---- assets ---------------------------------------------------------------------------------- */
 
 static lg_scene *load_asset(const char *rel)
 {
@@ -170,31 +176,35 @@ static void case_assets(void)
         uint32_t meshes, instances;
         uint64_t tri_min, tri_max;
     } want[] = {
-        {"meshes/bunny_cornell_box.glb", 6, 6, 5009, 5009},
-        {"meshes/bunny_cornell_box_draco.glb", 6, 6, 4990, 5009}, /* Draco may drop degenerate triangles */
-        {"meshes/cornell_box.gltf", 7, 7, 34, 34},
-        {"meshes/cornell_box_draco.gltf", 7, 7, 30, 34},
-        {"meshes/draco-box/Box.glb", 1, 1, 12, 12},
-        {"meshes/draco-box/Box_Draco.glb", 1, 1, 12, 12},
-        {"meshes/draco-box/Box.gltf", 1, 1, 12, 12}, /* external Box0.bin */
-        {"meshes/dragon_vrip_draco.glb", 1, 1, 871000, 871414},
-        {"meshes/dragon_vrip_x6_instanced_draco.glb", 1, 6, 6 * 871000ull, 6 * 871414ull},
+        { "meshes/bunny_cornell_box.glb", 6, 6, 5009, 5009 },
+        { "meshes/bunny_cornell_box_draco.glb", 6, 6, 4990,
+          5009 }, /* Draco may drop degenerate triangles */
+        { "meshes/cornell_box.gltf", 7, 7, 34, 34 },
+        { "meshes/cornell_box_draco.gltf", 7, 7, 30, 34 },
+        { "meshes/draco-box/Box.glb", 1, 1, 12, 12 },
+        { "meshes/draco-box/Box_Draco.glb", 1, 1, 12, 12 },
+        { "meshes/draco-box/Box.gltf", 1, 1, 12, 12 }, /* external Box0.bin */
+        { "meshes/dragon_vrip_draco.glb", 1, 1, 871000, 871414 },
+        { "meshes/dragon_vrip_x6_instanced_draco.glb", 1, 6, 6 * 871000ull, 6 * 871414ull },
         /* 2 spheres of 96 x 48 quads less the poles' 96 degenerate triangles each, and the
          * bunny of the bunny box */
-        {"meshes/ibl_spheres.glb", 3, 3, 2 * (2 * 96 * 48 - 2 * 96) + 4999, 2 * (2 * 96 * 48 - 2 * 96) + 4999},
+        { "meshes/ibl_spheres.glb", 3, 3, 2 * (2 * 96 * 48 - 2 * 96) + 4999,
+          2 * (2 * 96 * 48 - 2 * 96) + 4999 },
     };
     for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
         lg_scene *s = load_asset(want[i].file);
         if (!s)
             continue;
         check_consistent(s, want[i].file);
-        CHECKF(s->n_meshes == want[i].meshes && s->n_instances == want[i].instances, "%s: %u meshes, %u instances",
-               want[i].file, s->n_meshes, s->n_instances);
+        CHECKF(s->n_meshes == want[i].meshes && s->n_instances == want[i].instances,
+               "%s: %u meshes, %u instances", want[i].file, s->n_meshes, s->n_instances);
         CHECKF(s->features.triangles >= want[i].tri_min && s->features.triangles <= want[i].tri_max,
                "%s: %llu triangles", want[i].file, (unsigned long long)s->features.triangles);
-        CHECK(s->features.triangles == (s->n_instances == s->n_meshes ? mesh_triangles(s)
-                                                                         : s->n_instances * mesh_triangles(s)));
-        CHECK(s->n_lights == 0 && s->features.dir_lights == 0 && !s->features.medium && !s->medium.present);
+        CHECK(s->features.triangles == (s->n_instances == s->n_meshes
+                                            ? mesh_triangles(s)
+                                            : s->n_instances * mesh_triangles(s)));
+        CHECK(s->n_lights == 0 && s->features.dir_lights == 0 && !s->features.medium &&
+              !s->medium.present);
         lg_gltf_scene_free(s);
     }
 
@@ -210,7 +220,8 @@ static void case_assets(void)
         CHECK(s->n_materials == 4 && s->features.specular);
         for (uint32_t i = 0; i < 3; i++)
             CHECKF(s->materials[i].os[0] == 0 && s->materials[i].os[1] == 0, "material %u os", i);
-        CHECK(near(s->materials[3].os[0], 0.04, 1e-6) && near(s->materials[3].shininess, (2 / pow(0.16, 2) - 2) / 4, 1e-3));
+        CHECK(near(s->materials[3].os[0], 0.04, 1e-6) &&
+              near(s->materials[3].shininess, (2 / pow(0.16, 2) - 2) / 4, 1e-3));
         lg_gltf_scene_free(s);
     }
     /* the IBL scene (tools/make_ibl_scene.py): three metals side by side on no ground, each
@@ -218,25 +229,31 @@ static void case_assets(void)
      * unit positions; the bunny 1.9 tall at x = 2.3; a camera at (0, 1.3, 9.5) */
     s = load_asset("meshes/ibl_spheres.glb");
     if (s) {
-        CHECKF(s->n_materials == 3 && s->features.reflective_materials == 3, "%u materials, %u reflective",
-               s->n_materials, s->features.reflective_materials);
-        static const char *const names[3] = {"mirror", "gold", "copper"};
-        static const double rough[3] = {0, 0.35, 0.2};
+        CHECKF(s->n_materials == 3 && s->features.reflective_materials == 3,
+               "%u materials, %u reflective", s->n_materials, s->features.reflective_materials);
+        static const char *const names[3] = { "mirror", "gold", "copper" };
+        static const double rough[3] = { 0, 0.35, 0.2 };
         for (uint32_t i = 0; i < 3 && i < s->n_materials; i++) {
             const lg_material *m = &s->materials[i];
-            CHECKF(!strcmp(m->name, names[i]) && m->metallic == 1 && near(m->roughness, rough[i], 1e-7) &&
-                       m->reflectivity[0] == m->base_color[0] && m->reflectivity[2] == m->base_color[2],
-                   "material %u: %s metallic %g roughness %g reflectivity %g", i, m->name, m->metallic, m->roughness,
-                   m->reflectivity[0]);
+            CHECKF(!strcmp(m->name, names[i]) && m->metallic == 1 &&
+                       near(m->roughness, rough[i], 1e-7) &&
+                       m->reflectivity[0] == m->base_color[0] &&
+                       m->reflectivity[2] == m->base_color[2],
+                   "material %u: %s metallic %g roughness %g reflectivity %g", i, m->name,
+                   m->metallic, m->roughness, m->reflectivity[0]);
         }
-        CHECKF(near(s->bounds_min[0], -3.3, 1e-5) && near(s->bounds_min[1], 0, 1e-5) && near(s->bounds_max[1], 2, 1e-5),
-               "bounds %g %g %g .. %g %g %g", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2], s->bounds_max[0],
-               s->bounds_max[1], s->bounds_max[2]);
-        CHECKF(s->n_cameras >= 1 && near(s->cameras[0].position[2], 9.5, 1e-5) && near(s->cameras[0].yfov, LG_PI / 6, 1e-6) &&
-                   near(s->cameras[0].target[1] - s->cameras[0].position[1], -0.35 / 9.5 * (s->cameras[0].position[2] - s->cameras[0].target[2]), 1e-4),
+        CHECKF(near(s->bounds_min[0], -3.3, 1e-5) && near(s->bounds_min[1], 0, 1e-5) &&
+                   near(s->bounds_max[1], 2, 1e-5),
+               "bounds %g %g %g .. %g %g %g", s->bounds_min[0], s->bounds_min[1], s->bounds_min[2],
+               s->bounds_max[0], s->bounds_max[1], s->bounds_max[2]);
+        CHECKF(s->n_cameras >= 1 && near(s->cameras[0].position[2], 9.5, 1e-5) &&
+                   near(s->cameras[0].yfov, LG_PI / 6, 1e-6) &&
+                   near(s->cameras[0].target[1] - s->cameras[0].position[1],
+                        -0.35 / 9.5 * (s->cameras[0].position[2] - s->cameras[0].target[2]), 1e-4),
                "%u cameras, position z %g, yfov %g, target %g %g %g", s->n_cameras,
                s->n_cameras ? s->cameras[0].position[2] : 0, s->n_cameras ? s->cameras[0].yfov : 0,
-               s->n_cameras ? s->cameras[0].target[0] : 0, s->n_cameras ? s->cameras[0].target[1] : 0,
+               s->n_cameras ? s->cameras[0].target[0] : 0,
+               s->n_cameras ? s->cameras[0].target[1] : 0,
                s->n_cameras ? s->cameras[0].target[2] : 0);
         double worst = 0;
         for (uint32_t i = 0; i < 2 && i < s->n_meshes; i++) {
@@ -244,7 +261,7 @@ static void case_assets(void)
             double cx = i == 0 ? -2.3 : 0;
             for (uint32_t v = 0; v < m->n_vertices; v++) {
                 const float *p = m->positions + 3 * v, *n = m->normals + 3 * v;
-                double d[3] = {p[0] - cx, p[1] - 1.0, p[2]};
+                double d[3] = { p[0] - cx, p[1] - 1.0, p[2] };
                 for (int k = 0; k < 3; k++)
                     worst = fmax(worst, fabs(d[k] - n[k]));
             }
@@ -255,16 +272,17 @@ static void case_assets(void)
     /* the dragon's bounds are the file's accessor min/max, within the Draco quantisation */
     s = load_asset("meshes/dragon_vrip_draco.glb");
     if (s) {
-        static const double lo[3] = {-0.10842409166523347, 0.05262940567902198, -0.050514394370998236};
-        static const double hi[3] = {0.096666293172325, 0.1972636692662704, 0.04127080958021753};
+        static const double lo[3] = { -0.10842409166523347, 0.05262940567902198,
+                                      -0.050514394370998236 };
+        static const double hi[3] = { 0.096666293172325, 0.1972636692662704, 0.04127080958021753 };
         for (int k = 0; k < 3; k++)
-            CHECKF(near(s->bounds_min[k], lo[k], 5e-4) && near(s->bounds_max[k], hi[k], 5e-4), "axis %d: %g..%g",
-                   k, s->bounds_min[k], s->bounds_max[k]);
+            CHECKF(near(s->bounds_min[k], lo[k], 5e-4) && near(s->bounds_max[k], hi[k], 5e-4),
+                   "axis %d: %g..%g", k, s->bounds_min[k], s->bounds_max[k]);
         lg_gltf_scene_free(s);
     }
 }
 
-/* ---- Draco against plain ---------------------------------------------------------------- */
+/* ---- Draco against plain --------------------------------------------------------------------- */
 
 static double world_area(const lg_scene *s, uint32_t inst)
 {
@@ -312,8 +330,8 @@ static void compare_draco(const char *plain, const char *draco)
     lg_scene *a = load_asset(plain), *b = load_asset(draco);
     if (!a || !b)
         goto done;
-    CHECKF(a->n_instances == b->n_instances, "%s: %u instances, %s: %u", plain, a->n_instances, draco,
-           b->n_instances);
+    CHECKF(a->n_instances == b->n_instances, "%s: %u instances, %s: %u", plain, a->n_instances,
+           draco, b->n_instances);
     for (uint32_t i = 0; i < a->n_instances && i < b->n_instances; i++) {
         const lg_mesh *ma = &a->meshes[a->instances[i].mesh];
         /* quantisation: at least 10 bits over the mesh's extent */
@@ -322,7 +340,8 @@ static void compare_draco(const char *plain, const char *draco)
             ext = fmax(ext, (double)ma->bounds_max[k] - ma->bounds_min[k]);
         double scale = 0;
         for (int k = 0; k < 3; k++)
-            scale = fmax(scale, fabs((double)a->instances[i].model[k]) + fabs((double)a->instances[i].model[4 + k]) +
+            scale = fmax(scale, fabs((double)a->instances[i].model[k]) +
+                                    fabs((double)a->instances[i].model[4 + k]) +
                                     fabs((double)a->instances[i].model[8 + k]));
         double tol = ext * scale / 1024;
         double d1 = vertex_distance(b, i, a, i), d2 = vertex_distance(a, i, b, i);
@@ -332,7 +351,8 @@ static void compare_draco(const char *plain, const char *draco)
     }
     for (int k = 0; k < 3; k++) {
         double ext = (double)a->bounds_max[k] - a->bounds_min[k] + 1e-9;
-        CHECKF(near(a->bounds_min[k], b->bounds_min[k], ext / 1000) && near(a->bounds_max[k], b->bounds_max[k], ext / 1000),
+        CHECKF(near(a->bounds_min[k], b->bounds_min[k], ext / 1000) &&
+                   near(a->bounds_max[k], b->bounds_max[k], ext / 1000),
                "%s vs %s: bounds axis %d", plain, draco, k);
     }
 done:
@@ -347,7 +367,7 @@ static void case_draco(void)
     compare_draco("meshes/draco-box/Box.glb", "meshes/draco-box/Box_Draco.glb");
 }
 
-/* ---- instancing -------------------------------------------------------------------------- */
+/* ---- instancing ------------------------------------------------------------------------------ */
 
 static void case_instancing(void)
 {
@@ -357,8 +377,8 @@ static void case_instancing(void)
         CHECK(s->features.triangles == 6ull * (s->meshes[0].n_indices / 3));
         CHECK(s->features.vertices == 6ull * s->meshes[0].n_vertices);
         /* the six placements of the file, one array of vertices */
-        static const float tx[6] = {0, 0.22559942f, 0.45119885f, 0, 0.22559942f, 0.45119885f};
-        static const float tz[6] = {0, 0, 0, 0.11932077f, 0.11932077f, 0.11932077f};
+        static const float tx[6] = { 0, 0.22559942f, 0.45119885f, 0, 0.22559942f, 0.45119885f };
+        static const float tz[6] = { 0, 0, 0, 0.11932077f, 0.11932077f, 0.11932077f };
         for (uint32_t i = 0; i < s->n_instances; i++)
             CHECKF(s->instances[i].mesh == 0 && near(s->instances[i].model[12], tx[i], 1e-6) &&
                        near(s->instances[i].model[14], tz[i], 1e-6),
@@ -366,21 +386,24 @@ static void case_instancing(void)
         lg_gltf_scene_free(s);
     }
     /* three nodes share one mesh of two primitives: 2 meshes, 6 instances */
-    static const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-    static const uint32_t idx[] = {0, 1, 2};
-    prim p = {pos, 3, NULL, NULL, idx, 3, 4};
-    char *json = mesh_json(&p, "[{\"mesh\":0,\"children\":[1,2]},{\"mesh\":0,\"translation\":[5,0,0]},"
-                               "{\"mesh\":0,\"scale\":[2,2,2]}]", NULL);
+    static const float pos[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
+    static const uint32_t idx[] = { 0, 1, 2 };
+    prim p = { pos, 3, NULL, NULL, idx, 3, 4 };
+    char *json = mesh_json(&p,
+                           "[{\"mesh\":0,\"children\":[1,2]},{\"mesh\":0,\"translation\":[5,0,0]},"
+                           "{\"mesh\":0,\"scale\":[2,2,2]}]",
+                           NULL);
     /* a second primitive in mesh 0, the same accessors */
     char *two = strstr(json, "\"mode\":4}]");
     CHECK(two != NULL);
     if (two) {
-        char *j2 = gt_fmt("%.*s\"mode\":4},{\"attributes\":{\"POSITION\":0},\"indices\":1}]%s", (int)(two - json),
-                          json, two + strlen("\"mode\":4}]"));
+        char *j2 = gt_fmt("%.*s\"mode\":4},{\"attributes\":{\"POSITION\":0},\"indices\":1}]%s",
+                          (int)(two - json), json, two + strlen("\"mode\":4}]"));
         lg_scene *t = gt_load_text("inst.gltf", j2, NULL, err, sizeof err, NULL);
         CHECKF(t, "%s", err);
         if (t) {
-            CHECKF(t->n_meshes == 2 && t->n_instances == 6, "%u meshes, %u instances", t->n_meshes, t->n_instances);
+            CHECKF(t->n_meshes == 2 && t->n_instances == 6, "%u meshes, %u instances", t->n_meshes,
+                   t->n_instances);
             CHECK(t->features.triangles == 6);
             for (uint32_t i = 0; i < t->n_instances; i++)
                 CHECK(t->instances[i].mesh == i % 2);
@@ -392,7 +415,7 @@ static void case_instancing(void)
     free(json);
 }
 
-/* ---- normals ------------------------------------------------------------------------------- */
+/* ---- normals --------------------------------------------------------------------------------- */
 
 /* A cube [-1, 1]^3 with outward winding: 24 vertices (4 per face) or 8 shared. */
 static void cube(bool shared, float *pos, uint32_t *nv, uint32_t *idx)
@@ -401,7 +424,7 @@ static void cube(bool shared, float *pos, uint32_t *nv, uint32_t *idx)
     for (int a = 0; a < 3; a++)
         for (int s = -1; s <= 1; s += 2) {
             float c[4][3];
-            static const float uv[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+            static const float uv[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
             for (int k = 0; k < 4; k++) {
                 int kk = s > 0 ? k : 3 - k; /* reversed winding on the negative side */
                 c[k][a] = (float)s;
@@ -419,7 +442,7 @@ static void cube(bool shared, float *pos, uint32_t *nv, uint32_t *idx)
                     memcpy(pos + 3 * n++, c[k], sizeof c[k]);
                 }
             }
-            uint32_t tri[6] = {id[0], id[1], id[2], id[0], id[2], id[3]};
+            uint32_t tri[6] = { id[0], id[1], id[2], id[0], id[2], id[3] };
             memcpy(idx + t, tri, sizeof tri);
             t += 6;
         }
@@ -432,7 +455,7 @@ static void case_normals_cube(void)
         float pos[24 * 3];
         uint32_t idx[36], nv;
         cube(shared, pos, &nv, idx);
-        prim p = {pos, nv, NULL, NULL, idx, 36, 4};
+        prim p = { pos, nv, NULL, NULL, idx, 36, 4 };
         for (int mode = 0; mode < 3; mode++) {
             lg_gltf_options o = lg_gltf_default_options();
             o.normals = mode == 0 ? LG_GLTF_NORMALS_FLAT : LG_GLTF_NORMALS_SMOOTH;
@@ -446,18 +469,20 @@ static void case_normals_cube(void)
             /* flat: 3 vertices per triangle; crease 60: 4 per face; crease 120: one per
              * source vertex */
             uint32_t want_v = mode == 0 ? 36 : mode == 1 ? 24 : nv;
-            CHECKF(m->n_vertices == want_v, "shared %d mode %d: %u vertices, want %u", shared, mode, m->n_vertices,
-                   want_v);
+            CHECKF(m->n_vertices == want_v, "shared %d mode %d: %u vertices, want %u", shared, mode,
+                   m->n_vertices, want_v);
             uint32_t bad = 0;
             for (uint32_t t = 0; t < 36; t += 3) {
                 /* the face's axis: the centroid's largest coordinate */
-                float c[3] = {0, 0, 0};
+                float c[3] = { 0, 0, 0 };
                 for (int k = 0; k < 3; k++)
                     for (int j = 0; j < 3; j++)
                         c[j] += m->positions[3 * m->indices[t + k] + j] / 3;
-                int ax = fabsf(c[0]) > fabsf(c[1]) ? (fabsf(c[0]) > fabsf(c[2]) ? 0 : 2) : (fabsf(c[1]) > fabsf(c[2]) ? 1 : 2);
+                int ax = fabsf(c[0]) > fabsf(c[1]) ? (fabsf(c[0]) > fabsf(c[2]) ? 0 : 2)
+                                                   : (fabsf(c[1]) > fabsf(c[2]) ? 1 : 2);
                 for (int k = 0; k < 3; k++) {
-                    const float *n = m->normals + 3 * m->indices[t + k], *q = m->positions + 3 * m->indices[t + k];
+                    const float *n = m->normals + 3 * m->indices[t + k],
+                                *q = m->positions + 3 * m->indices[t + k];
                     if (mode < 2) {
                         for (int j = 0; j < 3; j++)
                             bad += !near(n[j], j == ax ? (c[ax] > 0 ? 1 : -1) : 0, 1e-6);
@@ -476,7 +501,8 @@ static void case_normals_cube(void)
 static void case_normals_sphere(void)
 {
     enum { R = 16, S = 32 };
-    float *pos = malloc((R + 1) * (S + 1) * 3 * sizeof *pos), *uv = malloc((R + 1) * (S + 1) * 2 * sizeof *uv);
+    float *pos = malloc((R + 1) * (S + 1) * 3 * sizeof *pos),
+          *uv = malloc((R + 1) * (S + 1) * 2 * sizeof *uv);
     uint32_t *idx = malloc(R * S * 6 * sizeof *idx), nv = 0, ni = 0;
     for (int r = 0; r <= R; r++)
         for (int s = 0; s <= S; s++) {
@@ -494,11 +520,11 @@ static void case_normals_sphere(void)
     for (int r = 0; r < R; r++)
         for (int s = 0; s < S; s++) {
             uint32_t a = r * (S + 1) + s, b = a + S + 1, c = b + 1, d = a + 1;
-            uint32_t t[6] = {a, c, b, a, d, c}; /* outward; the pole rows are degenerate */
+            uint32_t t[6] = { a, c, b, a, d, c }; /* outward; the pole rows are degenerate */
             memcpy(idx + ni, t, sizeof t);
             ni += 6;
         }
-    prim p = {pos, nv, NULL, uv, idx, ni, 4};
+    prim p = { pos, nv, NULL, uv, idx, ni, 4 };
     for (int mode = 0; mode < 2; mode++) {
         lg_gltf_options o = lg_gltf_default_options();
         o.normals = mode ? LG_GLTF_NORMALS_FLAT : LG_GLTF_NORMALS_AUTO; /* auto: none in the file */
@@ -510,17 +536,19 @@ static void case_normals_sphere(void)
         CHECK(m->texcoords != NULL);
         double worst = 1;
         for (uint32_t t = 0; t < m->n_indices; t += 3) {
-            float c[3] = {0, 0, 0};
+            float c[3] = { 0, 0, 0 };
             for (int k = 0; k < 3; k++)
                 for (int j = 0; j < 3; j++)
                     c[j] += m->positions[3 * m->indices[t + k] + j];
-            const float *p0 = m->positions + 3 * m->indices[t], *p1 = m->positions + 3 * m->indices[t + 1],
+            const float *p0 = m->positions + 3 * m->indices[t],
+                        *p1 = m->positions + 3 * m->indices[t + 1],
                         *p2 = m->positions + 3 * m->indices[t + 2];
 #define SAME(a, b) ((a)[0] == (b)[0] && (a)[1] == (b)[1] && (a)[2] == (b)[2])
             if (SAME(p0, p1) || SAME(p1, p2) || SAME(p0, p2))
                 continue; /* the pole rows' zero-area triangles: (0, 0, 1) in flat mode */
             for (int k = 0; k < 3; k++) {
-                const float *n = m->normals + 3 * m->indices[t + k], *q = m->positions + 3 * m->indices[t + k];
+                const float *n = m->normals + 3 * m->indices[t + k],
+                            *q = m->positions + 3 * m->indices[t + k];
                 const float *ref = mode ? c : q; /* flat: the facet's centroid direction */
                 double l = sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2]);
                 double d = (n[0] * ref[0] + n[1] * ref[1] + n[2] * ref[2]) / l;
@@ -531,7 +559,8 @@ static void case_normals_sphere(void)
         /* smooth: within 1 degree of the radius (area x angle weights give 0.64 degrees
          * at worst here, next to the pole; area weights alone would give 1.9); flat:
          * within a facet's angular size */
-        CHECKF(worst > (mode ? cos(12 * LG_PI / 180) : cos(1 * LG_PI / 180)), "mode %d: worst cosine %.6f", mode, worst);
+        CHECKF(worst > (mode ? cos(12 * LG_PI / 180) : cos(1 * LG_PI / 180)),
+               "mode %d: worst cosine %.6f", mode, worst);
         /* smooth: the seam and the poles are welded for the normals but keep their
          * texture coordinates: one vertex per source vertex used */
         if (!mode)
@@ -547,9 +576,9 @@ static void case_normals_degenerate(void)
 {
     /* a good triangle, a zero-area one (two equal corners), a collinear one, and a vertex
      * (4) that only degenerate triangles use */
-    static const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 5, 5, 5, 3, 0, 0};
-    static const uint32_t idx[] = {0, 1, 2, 4, 4, 1, 0, 3, 5, 4, 0, 0};
-    prim p = {pos, 6, NULL, NULL, idx, 12, 4};
+    static const float pos[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 5, 5, 5, 3, 0, 0 };
+    static const uint32_t idx[] = { 0, 1, 2, 4, 4, 1, 0, 3, 5, 4, 0, 0 };
+    prim p = { pos, 6, NULL, NULL, idx, 12, 4 };
     for (int mode = 0; mode < 3; mode++) {
         lg_gltf_options o = lg_gltf_default_options();
         o.normals = mode == 0 ? LG_GLTF_NORMALS_FLAT : LG_GLTF_NORMALS_SMOOTH;
@@ -570,14 +599,16 @@ static void case_normals_degenerate(void)
 /* ---- primitives ------------------------------------------------------------------------------ */
 
 /* A file around one hand-written primitive: `views` and `accessors` JSON over the blob. */
-static lg_scene *load_custom(const char *name, const gt_blob *b, const char *views, const char *accessors,
-                             const char *primitive, const lg_gltf_options *opt, int *rc)
+static lg_scene *load_custom(const char *name, const gt_blob *b, const char *views,
+                             const char *accessors, const char *primitive,
+                             const lg_gltf_options *opt, int *rc)
 {
     char *uri = gt_data_uri(b->data, b->size);
-    char *json = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
-                        "\"bufferViews\":[%s],\"accessors\":[%s],\"meshes\":[{\"primitives\":[%s]}],"
-                        "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}",
-                        b->size, uri, views, accessors, primitive);
+    char *json =
+        gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
+               "\"bufferViews\":[%s],\"accessors\":[%s],\"meshes\":[{\"primitives\":[%s]}],"
+               "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}",
+               b->size, uri, views, accessors, primitive);
     lg_scene *s = gt_load_text(name, json, opt, err, sizeof err, rc);
     free(uri);
     free(json);
@@ -587,17 +618,19 @@ static lg_scene *load_custom(const char *name, const gt_blob *b, const char *vie
 static void case_primitives(void)
 {
     /* a strip and a fan over 5 points in the z = 0 plane, counter-clockwise from +Z */
-    static const float pts[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0};
-    gt_blob b = {0};
+    static const float pts[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0 };
+    gt_blob b = { 0 };
     size_t op = gt_add(&b, pts, sizeof pts);
-    static const uint8_t strip8[] = {0, 1, 2, 3, 4};
-    static const uint16_t fan16[] = {0, 1, 3, 2, 4};
-    static const uint32_t tri32[] = {0, 1, 2, 2, 1, 3};
+    static const uint8_t strip8[] = { 0, 1, 2, 3, 4 };
+    static const uint16_t fan16[] = { 0, 1, 3, 2, 4 };
+    static const uint32_t tri32[] = { 0, 1, 2, 2, 1, 3 };
     size_t o8 = gt_add(&b, strip8, sizeof strip8), o16 = gt_add(&b, fan16, sizeof fan16),
            o32 = gt_add(&b, tri32, sizeof tri32);
-    char *views = gt_fmt("{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":60},{\"buffer\":0,\"byteOffset\":%zu,"
-                         "\"byteLength\":5},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":10},"
-                         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":24}", op, o8, o16, o32);
+    char *views = gt_fmt(
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":60},{\"buffer\":0,\"byteOffset\":%zu,"
+        "\"byteLength\":5},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":10},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":24}",
+        op, o8, o16, o32);
     const char *accs = "{\"bufferView\":0,\"componentType\":5126,\"count\":5,\"type\":\"VEC3\"},"
                        "{\"bufferView\":1,\"componentType\":5121,\"count\":5,\"type\":\"SCALAR\"},"
                        "{\"bufferView\":2,\"componentType\":5123,\"count\":5,\"type\":\"SCALAR\"},"
@@ -606,11 +639,11 @@ static void case_primitives(void)
         const char *prim;
         uint32_t triangles;
     } cases[] = {
-        {"{\"attributes\":{\"POSITION\":0},\"indices\":1,\"mode\":5}", 3},  /* strip, ubyte */
-        {"{\"attributes\":{\"POSITION\":0},\"indices\":2,\"mode\":6}", 3},  /* fan, ushort */
-        {"{\"attributes\":{\"POSITION\":0},\"indices\":3}", 2},             /* triangles, uint */
-        {"{\"attributes\":{\"POSITION\":0},\"mode\":5}", 3},                /* non-indexed strip */
-        {"{\"attributes\":{\"POSITION\":0},\"mode\":4}", 1},                /* non-indexed, 5 % 3 left over */
+        { "{\"attributes\":{\"POSITION\":0},\"indices\":1,\"mode\":5}", 3 }, /* strip, ubyte */
+        { "{\"attributes\":{\"POSITION\":0},\"indices\":2,\"mode\":6}", 3 }, /* fan, ushort */
+        { "{\"attributes\":{\"POSITION\":0},\"indices\":3}", 2 },            /* triangles, uint */
+        { "{\"attributes\":{\"POSITION\":0},\"mode\":5}", 3 },               /* non-indexed strip */
+        { "{\"attributes\":{\"POSITION\":0},\"mode\":4}", 1 }, /* non-indexed, 5 % 3 left over */
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         lg_gltf_options o = lg_gltf_default_options();
@@ -625,15 +658,19 @@ static void case_primitives(void)
         /* strips and fans keep one winding: every facet faces +Z */
         const lg_mesh *m = &s->meshes[0];
         for (uint32_t v = 0; v < m->n_vertices; v++)
-            CHECKF(near(m->normals[3 * v + 2], 1, 1e-6), "case %zu vertex %u normal z %g", i, v, m->normals[3 * v + 2]);
+            CHECKF(near(m->normals[3 * v + 2], 1, 1e-6), "case %zu vertex %u normal z %g", i, v,
+                   m->normals[3 * v + 2]);
         lg_gltf_scene_free(s);
     }
     /* lines and points are refused by name */
     int rc = 0;
-    lg_scene *s = load_custom("lines.gltf", &b, views, accs, "{\"attributes\":{\"POSITION\":0},\"mode\":1}", NULL, &rc);
-    CHECKF(!s && rc == LG_ERR_UNSUPPORTED && strstr(err, "mesh 0 primitive 0: mode LINES (1)"), "%s", err);
+    lg_scene *s = load_custom("lines.gltf", &b, views, accs,
+                              "{\"attributes\":{\"POSITION\":0},\"mode\":1}", NULL, &rc);
+    CHECKF(!s && rc == LG_ERR_UNSUPPORTED && strstr(err, "mesh 0 primitive 0: mode LINES (1)"),
+           "%s", err);
     lg_gltf_scene_free(s);
-    s = load_custom("points.gltf", &b, views, accs, "{\"attributes\":{\"POSITION\":0},\"mode\":0}", NULL, &rc);
+    s = load_custom("points.gltf", &b, views, accs, "{\"attributes\":{\"POSITION\":0},\"mode\":0}",
+                    NULL, &rc);
     CHECKF(!s && strstr(err, "mode POINTS (0)"), "%s", err);
     lg_gltf_scene_free(s);
     free(views);
@@ -641,26 +678,30 @@ static void case_primitives(void)
 
     /* interleaved position + normalized ushort texcoord (byteStride 16), and a sparse
      * accessor moving vertex 2 */
-    gt_blob c = {0};
+    gt_blob c = { 0 };
     uint8_t inter[3 * 16];
-    static const float q[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    static const uint16_t t[3][2] = {{0, 0}, {65535, 0}, {0, 32768}};
+    static const float q[3][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 } };
+    static const uint16_t t[3][2] = { { 0, 0 }, { 65535, 0 }, { 0, 32768 } };
     for (int v = 0; v < 3; v++) {
         memcpy(inter + 16 * v, q[v], 12);
         memcpy(inter + 16 * v + 12, t[v], 4);
     }
     size_t oi = gt_add(&c, inter, sizeof inter);
-    static const uint16_t sidx[1] = {2};
-    static const float sval[3] = {0, 3, 0};
+    static const uint16_t sidx[1] = { 2 };
+    static const float sval[3] = { 0, 3, 0 };
     size_t os = gt_add(&c, sidx, sizeof sidx), ov = gt_add(&c, sval, sizeof sval);
-    char *v2 = gt_fmt("{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":48,\"byteStride\":16},"
-                      "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":2},{\"buffer\":0,\"byteOffset\":%zu,"
-                      "\"byteLength\":12}", oi, os, ov);
-    const char *a2 = "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"sparse\":{\"count\":1,"
-                     "\"indices\":{\"bufferView\":1,\"componentType\":5123},\"values\":{\"bufferView\":2}}},"
-                     "{\"bufferView\":0,\"byteOffset\":12,\"componentType\":5123,\"normalized\":true,\"count\":3,"
-                     "\"type\":\"VEC2\"}";
-    s = load_custom("interleaved.gltf", &c, v2, a2, "{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1}}", NULL, NULL);
+    char *v2 = gt_fmt(
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":48,\"byteStride\":16},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":2},{\"buffer\":0,\"byteOffset\":%zu,"
+        "\"byteLength\":12}",
+        oi, os, ov);
+    const char *a2 =
+        "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"sparse\":{\"count\":1,"
+        "\"indices\":{\"bufferView\":1,\"componentType\":5123},\"values\":{\"bufferView\":2}}},"
+        "{\"bufferView\":0,\"byteOffset\":12,\"componentType\":5123,\"normalized\":true,\"count\":3,"
+        "\"type\":\"VEC2\"}";
+    s = load_custom("interleaved.gltf", &c, v2, a2,
+                    "{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1}}", NULL, NULL);
     CHECKF(s, "%s", err);
     if (s) {
         const lg_mesh *m = &s->meshes[0];
@@ -668,7 +709,8 @@ static void case_primitives(void)
         for (uint32_t i = 0; i < 3 && m->texcoords; i++) {
             uint32_t v = m->indices[i];
             const float *p = m->positions + 3 * v, *uv = m->texcoords + 2 * v;
-            float want_y = i == 2 ? 3 : q[i][1], want_u = t[i][0] / 65535.0f, want_v = t[i][1] / 65535.0f;
+            float want_y = i == 2 ? 3 : q[i][1], want_u = t[i][0] / 65535.0f,
+                  want_v = t[i][1] / 65535.0f;
             CHECKF(near(p[0], q[i][0], 0) && near(p[1], want_y, 0) && near(uv[0], want_u, 1e-7) &&
                        near(uv[1], want_v, 1e-7),
                    "corner %u: %g %g uv %g %g", i, p[0], p[1], uv[0], uv[1]);
@@ -679,14 +721,15 @@ static void case_primitives(void)
     gt_blob_free(&c);
 
     /* an external buffer file next to the .gltf */
-    static const float tri[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float tri[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     gt_write("tri.bin", tri, sizeof tri);
-    s = gt_load_text("external.gltf",
-                     "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
-                     "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-                     "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
-                     "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]}",
-                     NULL, err, sizeof err, NULL);
+    s = gt_load_text(
+        "external.gltf",
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+        "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
+        "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]}",
+        NULL, err, sizeof err, NULL);
     CHECKF(s && s->features.triangles == 1, "%s", err);
     lg_gltf_scene_free(s);
     /* a byte order mark before the JSON is fine */
@@ -708,29 +751,32 @@ static void case_primitives(void)
     lg_gltf_scene_free(s);
     CHECK(lg_gltf_load(gt_path("external.gltf"), &o, &s, &h2, err, sizeof err) == 0);
     lg_gltf_scene_free(s);
-    static const float moved[] = {0, 0, 0, 2, 0, 0, 0, 1, 0};
+    static const float moved[] = { 0, 0, 0, 2, 0, 0, 0, 1, 0 };
     gt_write("tri.bin", moved, sizeof moved);
     CHECK(lg_gltf_load(gt_path("external.gltf"), &o, &s, &h3, err, sizeof err) == 0);
     lg_gltf_scene_free(s);
-    CHECKF(h1 == h2 && h1 != h3, "hashes %llx %llx %llx", (unsigned long long)h1, (unsigned long long)h2,
-           (unsigned long long)h3);
+    CHECKF(h1 == h2 && h1 != h3, "hashes %llx %llx %llx", (unsigned long long)h1,
+           (unsigned long long)h2, (unsigned long long)h3);
 }
 
 /* ---- hierarchy ------------------------------------------------------------------------------- */
 
 static void case_hierarchy(void)
 {
-    static const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-    static const uint32_t idx[] = {0, 1, 2};
-    prim p = {pos, 3, NULL, NULL, idx, 3, 4};
+    static const float pos[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
+    static const uint32_t idx[] = { 0, 1, 2 };
+    prim p = { pos, 3, NULL, NULL, idx, 3, 4 };
     /* node 0: translate (1, 2, 3), child 1: rotate 90 degrees about Z and scale 2,
      * child 2 of 1: matrix translating (0, 0, 10) */
-    const char *nodes = "[{\"translation\":[1,2,3],\"children\":[1]},"
-                        "{\"rotation\":[0,0,0.7071067811865476,0.7071067811865476],\"scale\":[2,2,2],"
-                        "\"mesh\":0,\"children\":[2]},"
-                        "{\"matrix\":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,10,1],\"mesh\":0},"
-                        "{\"mesh\":0,\"translation\":[100,0,0]}]";
-    char *json = mesh_json_scenes(&p, nodes, ",\"scenes\":[{\"nodes\":[0]},{\"nodes\":[3]}],\"scene\":0", NULL);
+    const char *nodes =
+        "[{\"translation\":[1,2,3],\"children\":[1]},"
+        "{\"rotation\":[0,0,0.7071067811865476,0.7071067811865476],\"scale\":[2,2,2],"
+        "\"mesh\":0,\"children\":[2]},"
+        "{\"matrix\":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,10,1],\"mesh\":0},"
+        "{\"mesh\":0,\"translation\":[100,0,0]}]";
+    char *json = mesh_json_scenes(&p, nodes,
+                                  ",\"scenes\":[{\"nodes\":[0]},{\"nodes\":[3]}],\"scene\":0",
+                                  NULL);
     lg_scene *s = gt_load_text("tree.gltf", json, NULL, err, sizeof err, NULL);
     CHECKF(s, "%s", err);
     if (s) {
@@ -738,10 +784,12 @@ static void case_hierarchy(void)
         /* vertex (1, 0, 0) of node 1: rotate -> (0, 1, 0), scale -> (0, 2, 0), + (1, 2, 3) */
         float w[3];
         gt_world(&s->instances[0], pos + 3, w);
-        CHECKF(near(w[0], 1, 1e-6) && near(w[1], 4, 1e-6) && near(w[2], 3, 1e-6), "%g %g %g", w[0], w[1], w[2]);
+        CHECKF(near(w[0], 1, 1e-6) && near(w[1], 4, 1e-6) && near(w[2], 3, 1e-6), "%g %g %g", w[0],
+               w[1], w[2]);
         /* node 2: (1, 0, 0) + (0, 0, 10) in node 1's frame -> z 3 + 20 */
         gt_world(&s->instances[1], pos + 3, w);
-        CHECKF(near(w[0], 1, 1e-5) && near(w[1], 4, 1e-5) && near(w[2], 23, 1e-5), "%g %g %g", w[0], w[1], w[2]);
+        CHECKF(near(w[0], 1, 1e-5) && near(w[1], 4, 1e-5) && near(w[2], 23, 1e-5), "%g %g %g", w[0],
+               w[1], w[2]);
         /* the normal matrix of a uniform scale 2 is the rotation / 2 */
         CHECK(near(s->instances[0].normal_matrix[3], -0.5, 1e-6));
         lg_gltf_scene_free(s);
@@ -764,38 +812,43 @@ static void case_hierarchy(void)
     free(json);
 }
 
-/* ---- cameras, lights ---------------------------------------------------------------------------- */
+/* ---- cameras, lights ------------------------------------------------------------------------- */
 
-static const float unit_tri[] = {-1, -1, 0, 1, -1, 0, 0, 1, 0};
-static const uint32_t unit_idx[] = {0, 1, 2};
+static const float unit_tri[] = { -1, -1, 0, 1, -1, 0, 0, 1, 0 };
+static const uint32_t unit_idx[] = { 0, 1, 2 };
 
 static void case_cameras(void)
 {
-    prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
+    prim p = { unit_tri, 3, NULL, NULL, unit_idx, 3, 4 };
     const char *nodes = "[{\"mesh\":0,\"children\":[1,2,3]},{\"camera\":0,\"translation\":[0,1,5]},"
                         "{\"camera\":1,\"rotation\":[0,0.7071067811865476,0,0.7071067811865476],"
                         "\"translation\":[4,0,0]},{\"camera\":2,\"translation\":[0,0,10]}]";
-    const char *cams = ",\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.8,\"znear\":0.1,"
-                       "\"zfar\":100,\"aspectRatio\":2.0}},{\"name\":\"side\",\"type\":\"perspective\","
-                       "\"perspective\":{\"yfov\":0.5,\"znear\":0.01}},{\"type\":\"orthographic\","
-                       "\"orthographic\":{\"xmag\":2,\"ymag\":1,\"znear\":0.5,\"zfar\":50}}]";
+    const char *cams =
+        ",\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.8,\"znear\":0.1,"
+        "\"zfar\":100,\"aspectRatio\":2.0}},{\"name\":\"side\",\"type\":\"perspective\","
+        "\"perspective\":{\"yfov\":0.5,\"znear\":0.01}},{\"type\":\"orthographic\","
+        "\"orthographic\":{\"xmag\":2,\"ymag\":1,\"znear\":0.5,\"zfar\":50}}]";
     lg_scene *s = load_prim("cams.gltf", &p, nodes, cams, NULL);
     if (s) {
         CHECKF(s->n_cameras == 4 && s->camera == 0, "%u cameras", s->n_cameras);
         const lg_camera *c = &s->cameras[0];
         /* position from the node, looking down -Z at the bounds' centre's depth */
-        CHECK(near(c->position[0], 0, 1e-6) && near(c->position[1], 1, 1e-6) && near(c->position[2], 5, 1e-6));
-        CHECKF(near(c->target[0], 0, 1e-6) && near(c->target[1], 1, 1e-6) && near(c->target[2], 0, 1e-6),
+        CHECK(near(c->position[0], 0, 1e-6) && near(c->position[1], 1, 1e-6) &&
+              near(c->position[2], 5, 1e-6));
+        CHECKF(near(c->target[0], 0, 1e-6) && near(c->target[1], 1, 1e-6) &&
+                   near(c->target[2], 0, 1e-6),
                "target %g %g %g", c->target[0], c->target[1], c->target[2]);
         CHECK(near(c->up[1], 1, 1e-6) && near(c->yfov, 0.8, 1e-6) && near(c->znear, 0.1, 1e-7) &&
               near(c->zfar, 100, 1e-5) && c->aspect == 0);
         c = &s->cameras[1]; /* turned 90 degrees about Y: looks down -X */
         CHECK(!strcmp(c->name, "side") && c->zfar == 0);
-        CHECKF(c->target[0] < c->position[0] && near(c->target[1], 0, 1e-6) && near(c->target[2], 0, 1e-5),
-               "%g %g %g -> %g %g %g", c->position[0], c->position[1], c->position[2], c->target[0], c->target[1],
-               c->target[2]);
+        CHECKF(c->target[0] < c->position[0] && near(c->target[1], 0, 1e-6) &&
+                   near(c->target[2], 0, 1e-5),
+               "%g %g %g -> %g %g %g", c->position[0], c->position[1], c->position[2], c->target[0],
+               c->target[1], c->target[2]);
         c = &s->cameras[2]; /* orthographic ymag 1 seen from 10: yfov 2 atan(1 / 10) */
-        CHECKF(near(c->yfov, 2 * atan(0.1), 1e-5) && near(c->znear, 0.5, 1e-6), "ortho yfov %g", c->yfov);
+        CHECKF(near(c->yfov, 2 * atan(0.1), 1e-5) && near(c->znear, 0.5, 1e-6), "ortho yfov %g",
+               c->yfov);
         CHECK(!strcmp(s->cameras[3].name, "auto"));
         lg_gltf_scene_free(s);
     }
@@ -816,7 +869,8 @@ static void case_cameras(void)
         const lg_camera *c = &s->cameras[s->camera];
         CHECK(s->n_cameras == 1 && !strcmp(c->name, "auto") && c->aspect == 0);
         double d = 1.05 * 1.0 / tan(LG_PI / 8);
-        CHECKF(near(c->position[2], d, 1e-4) && near(c->target[2], 0, 1e-6) && near(c->yfov, LG_PI / 4, 1e-6),
+        CHECKF(near(c->position[2], d, 1e-4) && near(c->target[2], 0, 1e-6) &&
+                   near(c->yfov, LG_PI / 4, 1e-6),
                "auto camera at z %g", c->position[2]);
         lg_gltf_scene_free(s);
     }
@@ -824,14 +878,15 @@ static void case_cameras(void)
     s = load_asset("meshes/bunny_cornell_box.glb");
     if (s) {
         const lg_camera *c = &s->cameras[s->camera];
-        CHECKF(c->position[2] < s->bounds_min[2] && c->target[2] > c->position[2], "camera z %g", c->position[2]);
+        CHECKF(c->position[2] < s->bounds_min[2] && c->target[2] > c->position[2], "camera z %g",
+               c->position[2]);
         lg_gltf_scene_free(s);
     }
 }
 
 static void case_lights(void)
 {
-    prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
+    prim p = { unit_tri, 3, NULL, NULL, unit_idx, 3, 4 };
     const char *nodes =
         "[{\"mesh\":0,\"children\":[1,2,3]},"
         "{\"rotation\":[-0.7071067811865476,0,0,0.7071067811865476],\"extensions\":{\"KHR_lights_punctual\":{\"light\":0}}},"
@@ -847,34 +902,40 @@ static void case_lights(void)
     if (!s)
         return;
     CHECKF(s->n_lights == 3, "%u lights", s->n_lights);
-    CHECK(s->features.dir_lights == 1 && s->features.point_lights == 1 && s->features.other_lights == 1);
+    CHECK(s->features.dir_lights == 1 && s->features.point_lights == 1 &&
+          s->features.other_lights == 1);
     if (s->n_lights == 3) {
         const lg_light *l = &s->lights[0]; /* tree order: nodes 1, 4 (under 2), 3 */
         CHECK(!strcmp(l->name, "sun") && l->type == LG_LIGHT_DIRECTIONAL && l->intensity == 3);
         CHECK(l->color[0] == 1 && l->color[1] == 0.5f && l->color[2] == 0.25f);
-        CHECKF(near(l->direction[0], 0, 1e-6) && near(l->direction[1], -1, 1e-6) && near(l->direction[2], 0, 1e-6),
+        CHECKF(near(l->direction[0], 0, 1e-6) && near(l->direction[1], -1, 1e-6) &&
+                   near(l->direction[2], 0, 1e-6),
                "sun direction %g %g %g", l->direction[0], l->direction[1], l->direction[2]);
         l = &s->lights[2];
-        CHECK(l->type == LG_LIGHT_SPOT && near(l->inner_cone, 0.2, 1e-7) && near(l->outer_cone, 0.5, 1e-7) &&
-              near(l->position[1], 3, 0) && near(l->direction[2], -1, 1e-6) && l->intensity == 1 && l->color[1] == 1);
+        CHECK(l->type == LG_LIGHT_SPOT && near(l->inner_cone, 0.2, 1e-7) &&
+              near(l->outer_cone, 0.5, 1e-7) && near(l->position[1], 3, 0) &&
+              near(l->direction[2], -1, 1e-6) && l->intensity == 1 && l->color[1] == 1);
         l = &s->lights[1];
         CHECK(l->type == LG_LIGHT_POINT && l->intensity == 10 && l->range == 5);
-        CHECKF(near(l->position[0], 11, 1e-6) && near(l->position[1], 2, 1e-6) && near(l->position[2], 3, 1e-6),
+        CHECKF(near(l->position[0], 11, 1e-6) && near(l->position[1], 2, 1e-6) &&
+                   near(l->position[2], 3, 1e-6),
                "point at %g %g %g", l->position[0], l->position[1], l->position[2]);
     }
     lg_gltf_scene_free(s);
     /* a node naming a light that does not exist */
-    char *json = mesh_json(&p, "[{\"mesh\":0,\"extensions\":{\"KHR_lights_punctual\":{\"light\":7}}}]", lights);
+    char *json = mesh_json(&p,
+                           "[{\"mesh\":0,\"extensions\":{\"KHR_lights_punctual\":{\"light\":7}}}]",
+                           lights);
     s = gt_load_text("badlight.gltf", json, NULL, err, sizeof err, NULL);
     CHECKF(!s && strstr(err, "node 0: KHR_lights_punctual.light"), "%s", err);
     free(json);
 }
 
-/* ---- materials, medium ---------------------------------------------------------------------------- */
+/* ---- materials, medium ----------------------------------------------------------------------- */
 
 static void case_materials(void)
 {
-    prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
+    prim p = { unit_tri, 3, NULL, NULL, unit_idx, 3, 4 };
     const char *mats =
         ",\"materials\":["
         "{\"name\":\"plastic\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.25,1,1],\"metallicFactor\":0,"
@@ -893,10 +954,12 @@ static void case_materials(void)
         free(json);
         return;
     }
-    char *prims = gt_fmt("%.*s\"mode\":4,\"material\":0},{\"attributes\":{\"POSITION\":0},\"material\":1},"
-                         "{\"attributes\":{\"POSITION\":0},\"material\":2},{\"attributes\":{\"POSITION\":0},"
-                         "\"material\":3},{\"attributes\":{\"POSITION\":0},\"material\":4},{\"attributes\":"
-                         "{\"POSITION\":0}}]%s", (int)(at - json), json, at + strlen("\"mode\":4}]"));
+    char *prims =
+        gt_fmt("%.*s\"mode\":4,\"material\":0},{\"attributes\":{\"POSITION\":0},\"material\":1},"
+               "{\"attributes\":{\"POSITION\":0},\"material\":2},{\"attributes\":{\"POSITION\":0},"
+               "\"material\":3},{\"attributes\":{\"POSITION\":0},\"material\":4},{\"attributes\":"
+               "{\"POSITION\":0}}]%s",
+               (int)(at - json), json, at + strlen("\"mode\":4}]"));
     lg_scene *s = gt_load_text("mats.gltf", prims, NULL, err, sizeof err, NULL);
     CHECKF(s, "%s", err);
     if (s) {
@@ -904,17 +967,23 @@ static void case_materials(void)
         const lg_material *m = &s->materials[0];
         /* od = base colour, kd = 1 - metallic, os = F0 of ior 1.5 (0.04), ka 0.1, ks 1,
          * n = (2 / alpha^2 - 2) / 4 with alpha = roughness^2 = 0.25: 7.5 */
-        CHECK(!strcmp(m->name, "plastic") && m->od[0] == 0.5f && m->od[1] == 0.25f && m->od[2] == 1.0f);
-        CHECK(near(m->kd, 1, 0) && near(m->ks, 1, 0) && near(m->ka, 0.1, 1e-7) && near(m->os[1], 0.04, 1e-7));
+        CHECK(!strcmp(m->name, "plastic") && m->od[0] == 0.5f && m->od[1] == 0.25f &&
+              m->od[2] == 1.0f);
+        CHECK(near(m->kd, 1, 0) && near(m->ks, 1, 0) && near(m->ka, 0.1, 1e-7) &&
+              near(m->os[1], 0.04, 1e-7));
         CHECKF(near(m->shininess, 7.5, 1e-5), "shininess %g", m->shininess);
         m = &s->materials[1]; /* metal, roughness 0: os = base colour, kd 0, n clamped to 10000 */
-        CHECK(near(m->os[0], 0.9, 1e-7) && near(m->os[2], 0.3, 1e-7) && m->kd == 0 && m->shininess == 10000);
+        CHECK(near(m->os[0], 0.9, 1e-7) && near(m->os[2], 0.3, 1e-7) && m->kd == 0 &&
+              m->shininess == 10000);
         m = &s->materials[2]; /* half metal, no dielectric specular: os = base / 2; n = 1 */
-        CHECK(near(m->os[0], 0.4, 1e-7) && near(m->os[1], 0.2, 1e-7) && near(m->kd, 0.5, 0) && m->shininess == 1);
+        CHECK(near(m->os[0], 0.4, 1e-7) && near(m->os[1], 0.2, 1e-7) && near(m->kd, 0.5, 0) &&
+              m->shininess == 1);
         CHECK(m->emissive[0] == 1 && m->emissive[1] == 0.5f);
         m = &s->materials[3]; /* extras override */
-        CHECK(near(m->ka, 0.3, 1e-7) && near(m->kd, 0.7, 1e-7) && near(m->ks, 0.2, 1e-7) && m->shininess == 42);
-        CHECK(near(m->od[0], 0.1, 1e-7) && near(m->od[2], 0.3, 1e-7) && m->os[0] == 0.5f && m->os[2] == 0.5f);
+        CHECK(near(m->ka, 0.3, 1e-7) && near(m->kd, 0.7, 1e-7) && near(m->ks, 0.2, 1e-7) &&
+              m->shininess == 42);
+        CHECK(near(m->od[0], 0.1, 1e-7) && near(m->od[2], 0.3, 1e-7) && m->os[0] == 0.5f &&
+              m->os[2] == 0.5f);
         m = &s->materials[4]; /* ior 1: no reflection at all */
         CHECK(m->os[0] == 0 && m->os[1] == 0 && m->os[2] == 0);
         m = &s->materials[5]; /* glTF's default material, for the primitive without one */
@@ -925,10 +994,13 @@ static void case_materials(void)
     free(prims);
     free(json);
     /* only materials without a specular term: the feature is off */
-    json = mesh_json(&p, NULL, ",\"materials\":[{\"pbrMetallicRoughness\":{\"metallicFactor\":0},"
-                               "\"extras\":{\"ks\":0}}]");
+    json = mesh_json(&p, NULL,
+                     ",\"materials\":[{\"pbrMetallicRoughness\":{\"metallicFactor\":0},"
+                     "\"extras\":{\"ks\":0}}]");
     at = strstr(json, "\"mode\":4}");
-    char *j2 = at ? gt_fmt("%.*s\"mode\":4,\"material\":0}%s", (int)(at - json), json, at + strlen("\"mode\":4}")) : NULL;
+    char *j2 = at ? gt_fmt("%.*s\"mode\":4,\"material\":0}%s", (int)(at - json), json,
+                           at + strlen("\"mode\":4}"))
+                  : NULL;
     s = j2 ? gt_load_text("nospec.gltf", j2, NULL, err, sizeof err, NULL) : NULL;
     CHECKF(s && !s->features.specular, "%s", err);
     lg_gltf_scene_free(s);
@@ -941,14 +1013,14 @@ static void case_materials(void)
     free(json);
 }
 
-/* ---- reflectivity -------------------------------------------------------------------------- */
+/* ---- reflectivity ---------------------------------------------------------------------------- */
 
 /* The unit triangle's file with `mats` (",\"materials\":[...]") and `nodes` (NULL: one node
  * drawing mesh 0), mesh 0 holding one primitive per entry of `prim_mats` (-1: no material). */
-static char *multi_prim_json(const char *mats, const char *nodes, const char *scenes, const int *prim_mats,
-                             int n)
+static char *multi_prim_json(const char *mats, const char *nodes, const char *scenes,
+                             const int *prim_mats, int n)
 {
-    prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
+    prim p = { unit_tri, 3, NULL, NULL, unit_idx, 3, 4 };
     char *json = mesh_json_scenes(&p, nodes, scenes, mats);
     char *at = strstr(json, "\"mode\":4}]");
     if (!at) {
@@ -958,10 +1030,11 @@ static char *multi_prim_json(const char *mats, const char *nodes, const char *sc
     char prims[4096] = "";
     size_t len = 0;
     for (int i = 0; i < n; i++) {
-        const char *head = i == 0 ? "\"mode\":4" : "{\"attributes\":{\"POSITION\":0},\"indices\":1,\"mode\":4";
+        const char *head = i == 0 ? "\"mode\":4"
+                                  : "{\"attributes\":{\"POSITION\":0},\"indices\":1,\"mode\":4";
         if (prim_mats[i] >= 0)
-            len += (size_t)snprintf(prims + len, sizeof prims - len, "%s%s,\"material\":%d}", i ? "," : "", head,
-                                    prim_mats[i]);
+            len += (size_t)snprintf(prims + len, sizeof prims - len, "%s%s,\"material\":%d}",
+                                    i ? "," : "", head, prim_mats[i]);
         else
             len += (size_t)snprintf(prims + len, sizeof prims - len, "%s%s}", i ? "," : "", head);
     }
@@ -996,33 +1069,37 @@ static void case_reflectivity(void)
         "{\"name\":\"half\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.8,0.4,0.2,1],\"metallicFactor\":0.5}},"
         "{\"name\":\"ior1\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extensions\":{\"KHR_materials_specular\":"
         "{},\"KHR_materials_ior\":{\"ior\":1}}}]";
-    static const int used[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, -1};
+    static const int used[] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, -1 };
     char *json = multi_prim_json(mats, NULL, NULL, used, 10);
     lg_scene *s = json ? gt_load_text("refl.gltf", json, NULL, err, sizeof err, NULL) : NULL;
     CHECKF(s, "%s", err);
     if (s) {
         CHECKF(s->n_materials == 10, "%u materials", s->n_materials);
         const lg_material *m = s->materials;
-        CHECKF(rgb_near(m[0].reflectivity, 0.95, 0.95, 0.95, 1e-7), "mirror %g", m[0].reflectivity[0]);
+        CHECKF(rgb_near(m[0].reflectivity, 0.95, 0.95, 0.95, 1e-7), "mirror %g",
+               m[0].reflectivity[0]);
         /* roughness does not change reflectivity (it selects the prefiltered level) */
         CHECKF(rgb_near(m[1].reflectivity, 1, 0.78, 0.34, 1e-7) && near(m[1].roughness, 0.9, 1e-7),
-               "rough gold %g %g %g", m[1].reflectivity[0], m[1].reflectivity[1], m[1].reflectivity[2]);
-        CHECKF(rgb_near(m[2].reflectivity, 0.02, 0.01, 0.005, 1e-8), "coated %g %g %g", m[2].reflectivity[0],
-               m[2].reflectivity[1], m[2].reflectivity[2]);
+               "rough gold %g %g %g", m[1].reflectivity[0], m[1].reflectivity[1],
+               m[1].reflectivity[2]);
+        CHECKF(rgb_near(m[2].reflectivity, 0.02, 0.01, 0.005, 1e-8), "coated %g %g %g",
+               m[2].reflectivity[0], m[2].reflectivity[1], m[2].reflectivity[2]);
         /* a plain dielectric has a specular term (os 0.04) but mirrors nothing */
-        CHECKF(rgb_near(m[3].reflectivity, 0, 0, 0, 0) && near(m[3].os[0], 0.04, 1e-7), "plastic %g, os %g",
-               m[3].reflectivity[0], m[3].os[0]);
-        CHECKF(rgb_near(m[4].reflectivity, 0.3, 0.3, 0.3, 1e-7), "extras number %g", m[4].reflectivity[0]);
+        CHECKF(rgb_near(m[3].reflectivity, 0, 0, 0, 0) && near(m[3].os[0], 0.04, 1e-7),
+               "plastic %g, os %g", m[3].reflectivity[0], m[3].os[0]);
+        CHECKF(rgb_near(m[4].reflectivity, 0.3, 0.3, 0.3, 1e-7), "extras number %g",
+               m[4].reflectivity[0]);
         CHECKF(rgb_near(m[5].reflectivity, 0.1, 0.2, 0.3, 1e-7) && near(m[5].os[0], 1, 0),
                "extras list %g %g %g (os %g unchanged)", m[5].reflectivity[0], m[5].reflectivity[1],
                m[5].reflectivity[2], m[5].os[0]);
-        CHECKF(rgb_near(m[6].reflectivity, 0, 0, 0, 0), "extras 0 on a metal %g", m[6].reflectivity[0]);
-        CHECKF(rgb_near(m[7].reflectivity, 0.42, 0.22, 0.12, 1e-7), "half metal %g %g %g", m[7].reflectivity[0],
-               m[7].reflectivity[1], m[7].reflectivity[2]);
+        CHECKF(rgb_near(m[6].reflectivity, 0, 0, 0, 0), "extras 0 on a metal %g",
+               m[6].reflectivity[0]);
+        CHECKF(rgb_near(m[7].reflectivity, 0.42, 0.22, 0.12, 1e-7), "half metal %g %g %g",
+               m[7].reflectivity[0], m[7].reflectivity[1], m[7].reflectivity[2]);
         /* KHR_materials_specular with ior 1: F0 0, so a reflectivity of 0 */
         CHECKF(rgb_near(m[8].reflectivity, 0, 0, 0, 0), "ior 1 %g", m[8].reflectivity[0]);
-        CHECKF(!strcmp(m[9].name, "default") && rgb_near(m[9].reflectivity, 1, 1, 1, 0), "default %s %g",
-               m[9].name, m[9].reflectivity[0]);
+        CHECKF(!strcmp(m[9].name, "default") && rgb_near(m[9].reflectivity, 1, 1, 1, 0),
+               "default %s %g", m[9].name, m[9].reflectivity[0]);
         /* reflective: mirror, rough gold, coated, painted, tinted, half, default */
         CHECKF(s->features.reflective_materials == 7, "reflective materials %u, want 7",
                s->features.reflective_materials);
@@ -1038,11 +1115,12 @@ static void case_reflectivity(void)
         "{\"name\":\"gold\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,0.78,0.34,1],\"metallicFactor\":1}},"
         "{\"name\":\"copper\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.95,0.64,0.54,1],\"metallicFactor\":1}},"
         "{\"name\":\"silver\",\"pbrMetallicRoughness\":{\"metallicFactor\":1}}]";
-    static const int plastic[] = {0};
-    json = multi_prim_json(mats2,
-                           "[{\"mesh\":0},{\"mesh\":0,\"translation\":[3,0,0]},{\"mesh\":0,\"translation\":[6,0,0]},"
-                           "{\"mesh\":1,\"translation\":[0,3,0]},{\"mesh\":1,\"translation\":[0,6,0]}]",
-                           ",\"scenes\":[{\"nodes\":[0,1,2,3,4]}],\"scene\":0", plastic, 1);
+    static const int plastic[] = { 0 };
+    json = multi_prim_json(
+        mats2,
+        "[{\"mesh\":0},{\"mesh\":0,\"translation\":[3,0,0]},{\"mesh\":0,\"translation\":[6,0,0]},"
+        "{\"mesh\":1,\"translation\":[0,3,0]},{\"mesh\":1,\"translation\":[0,6,0]}]",
+        ",\"scenes\":[{\"nodes\":[0,1,2,3,4]}],\"scene\":0", plastic, 1);
     /* meshes 1 and 2: copies of mesh 0 with gold and copper */
     char *at = json ? strstr(json, "\"meshes\":[") : NULL;
     const char *m0 = at ? at + strlen("\"meshes\":[") : NULL;
@@ -1066,12 +1144,13 @@ static void case_reflectivity(void)
     CHECKF(s || !j2, "%s", err);
     if (s) {
         /* the loader keeps the meshes that nodes draw (copper's is not one) and every material */
-        CHECKF(s->n_meshes == 2 && s->n_instances == 5 && s->n_materials == 4, "%u meshes, %u instances, %u materials",
-               s->n_meshes, s->n_instances, s->n_materials);
+        CHECKF(s->n_meshes == 2 && s->n_instances == 5 && s->n_materials == 4,
+               "%u meshes, %u instances, %u materials", s->n_meshes, s->n_instances,
+               s->n_materials);
         CHECK(s->n_meshes == 2 && s->meshes[0].material == 0 && s->meshes[1].material == 1);
         CHECKF(s->materials[2].reflectivity[0] > 0 && s->materials[3].reflectivity[0] > 0,
-               "copper and silver reflect (%g, %g) though nothing draws them", s->materials[2].reflectivity[0],
-               s->materials[3].reflectivity[0]);
+               "copper and silver reflect (%g, %g) though nothing draws them",
+               s->materials[2].reflectivity[0], s->materials[3].reflectivity[0]);
         CHECKF(s->features.reflective_materials == 1, "reflective materials %u, want 1 (gold)",
                s->features.reflective_materials);
         lg_gltf_scene_free(s);
@@ -1082,8 +1161,8 @@ static void case_reflectivity(void)
     /* no reflective material drawn: 0 */
     json = multi_prim_json(mats2, NULL, NULL, plastic, 1);
     s = json ? gt_load_text("plastic.gltf", json, NULL, err, sizeof err, NULL) : NULL;
-    CHECKF(s && s->features.reflective_materials == 0 && s->features.specular, "%s: reflective %u", err,
-           s ? s->features.reflective_materials : 99);
+    CHECKF(s && s->features.reflective_materials == 0 && s->features.specular, "%s: reflective %u",
+           err, s ? s->features.reflective_materials : 99);
     lg_gltf_scene_free(s);
     free(json);
 
@@ -1091,19 +1170,22 @@ static void case_reflectivity(void)
     static const struct {
         const char *value, *want;
     } bad[] = {
-        {"1.5", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
-        {"-0.1", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
-        {"[0.5,0.5]", "material 0 ('shiny'): extras.reflectivity must be [r, g, b] or one number, each in [0, 1]"},
-        {"[0.5,0.5,2]", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
-        {"\"high\"", "material 0 ('shiny'): extras.reflectivity must be [r, g, b] or one number"},
-        {"[0.1,\"x\",0.2]", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]"},
+        { "1.5", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]" },
+        { "-0.1", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]" },
+        { "[0.5,0.5]",
+          "material 0 ('shiny'): extras.reflectivity must be [r, g, b] or one number, each in [0, 1]" },
+        { "[0.5,0.5,2]", "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]" },
+        { "\"high\"", "material 0 ('shiny'): extras.reflectivity must be [r, g, b] or one number" },
+        { "[0.1,\"x\",0.2]",
+          "material 0 ('shiny'): extras.reflectivity must be a number in [0, 1]" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
-        char *m = gt_fmt(",\"materials\":[{\"name\":\"shiny\",\"extras\":{\"reflectivity\":%s}}]", bad[i].value);
+        char *m = gt_fmt(",\"materials\":[{\"name\":\"shiny\",\"extras\":{\"reflectivity\":%s}}]",
+                         bad[i].value);
         json = multi_prim_json(m, NULL, NULL, plastic, 1);
         s = json ? gt_load_text("badrefl.gltf", json, NULL, err, sizeof err, NULL) : NULL;
-        CHECKF(!s && strstr(err, bad[i].want) && strstr(err, "badrefl.gltf"), "reflectivity %s: %s", bad[i].value,
-               err);
+        CHECKF(!s && strstr(err, bad[i].want) && strstr(err, "badrefl.gltf"), "reflectivity %s: %s",
+               bad[i].value, err);
         lg_gltf_scene_free(s);
         free(json);
         free(m);
@@ -1112,19 +1194,21 @@ static void case_reflectivity(void)
 
 static void case_medium(void)
 {
-    prim p = {unit_tri, 3, NULL, NULL, unit_idx, 3, 4};
+    prim p = { unit_tri, 3, NULL, NULL, unit_idx, 3, 4 };
     /* on the scene: extinction gives absorption = extinction - scattering */
     char *json = mesh_json(&p, NULL, NULL);
     char *at = strstr(json, "\"scenes\":[{\"nodes\":[0]}]");
-    char *j2 = gt_fmt("%.*s\"scenes\":[{\"nodes\":[0],\"extras\":{\"medium\":{\"density\":0.5,\"scattering\":"
-                      "[0.1,0.2,0.3],\"extinction\":0.5,\"g\":0.4}}}]%s", (int)(at - json), json,
-                      at + strlen("\"scenes\":[{\"nodes\":[0]}]"));
+    char *j2 = gt_fmt(
+        "%.*s\"scenes\":[{\"nodes\":[0],\"extras\":{\"medium\":{\"density\":0.5,\"scattering\":"
+        "[0.1,0.2,0.3],\"extinction\":0.5,\"g\":0.4}}}]%s",
+        (int)(at - json), json, at + strlen("\"scenes\":[{\"nodes\":[0]}]"));
     lg_scene *s = gt_load_text("medium.gltf", j2, NULL, err, sizeof err, NULL);
     CHECKF(s, "%s", err);
     if (s) {
         const lg_medium *m = &s->medium;
         CHECK(m->present && m->density == 0.5f && near(m->g, 0.4, 1e-7));
-        CHECK(near(m->scattering[1], 0.2, 1e-7) && near(m->absorption[0], 0.4, 1e-7) && near(m->absorption[2], 0.2, 1e-7));
+        CHECK(near(m->scattering[1], 0.2, 1e-7) && near(m->absorption[0], 0.4, 1e-7) &&
+              near(m->absorption[2], 0.2, 1e-7));
         CHECK(s->features.medium && s->features.medium_density == 0.5f);
         lg_gltf_scene_free(s);
     }
@@ -1132,52 +1216,59 @@ static void case_medium(void)
     free(json);
     /* on the root, with defaults; density 0: present but no feature */
     s = load_prim("root.gltf", &p, NULL, ",\"extras\":{\"medium\":{\"density\":0}}", NULL);
-    CHECK(s && s->medium.present && !s->features.medium && s->medium.scattering[0] == 1 && s->medium.absorption[0] == 0);
+    CHECK(s && s->medium.present && !s->features.medium && s->medium.scattering[0] == 1 &&
+          s->medium.absorption[0] == 0);
     lg_gltf_scene_free(s);
     /* on the asset */
     json = mesh_json(&p, NULL, NULL);
     at = strstr(json, "\"asset\":{\"version\":\"2.0\"}");
-    j2 = gt_fmt("{\"asset\":{\"version\":\"2.0\",\"extras\":{\"medium\":{\"absorption\":[0.1,0,0],\"scattering\":2}}}%s",
-                at + strlen("\"asset\":{\"version\":\"2.0\"}"));
+    j2 = gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\",\"extras\":{\"medium\":{\"absorption\":[0.1,0,0],\"scattering\":2}}}%s",
+        at + strlen("\"asset\":{\"version\":\"2.0\"}"));
     s = gt_load_text("asset.gltf", j2, NULL, err, sizeof err, NULL);
-    CHECKF(s && s->features.medium && s->medium.scattering[2] == 2 && near(s->medium.absorption[0], 0.1, 1e-7), "%s", err);
+    CHECKF(s && s->features.medium && s->medium.scattering[2] == 2 &&
+               near(s->medium.absorption[0], 0.1, 1e-7),
+           "%s", err);
     lg_gltf_scene_free(s);
     free(j2);
     free(json);
     static const struct {
         const char *medium, *want;
     } bad[] = {
-        {"{\"absorption\":1,\"extinction\":2}", "absorption or extinction, not both"},
-        {"{\"scattering\":1,\"extinction\":0.5}", "extinction[0] = 0.5 is less than scattering[0] = 1"},
-        {"{\"g\":1}", "g must be a number in"},
-        {"{\"density\":-1}", "density must be a number in"},
-        {"{\"scattering\":[1,2]}", "scattering must be [r, g, b]"},
-        {"3", "extras.medium must be an object"},
+        { "{\"absorption\":1,\"extinction\":2}", "absorption or extinction, not both" },
+        { "{\"scattering\":1,\"extinction\":0.5}",
+          "extinction[0] = 0.5 is less than scattering[0] = 1" },
+        { "{\"g\":1}", "g must be a number in" },
+        { "{\"density\":-1}", "density must be a number in" },
+        { "{\"scattering\":[1,2]}", "scattering must be [r, g, b]" },
+        { "3", "extras.medium must be an object" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char *extra = gt_fmt(",\"extras\":{\"medium\":%s}", bad[i].medium);
         json = mesh_json(&p, NULL, extra);
         s = gt_load_text("badmedium.gltf", json, NULL, err, sizeof err, NULL);
-        CHECKF(!s && strstr(err, bad[i].want) && strstr(err, "badmedium.gltf"), "%s: %s", bad[i].medium, err);
+        CHECKF(!s && strstr(err, bad[i].want) && strstr(err, "badmedium.gltf"), "%s: %s",
+               bad[i].medium, err);
         lg_gltf_scene_free(s);
         free(json);
         free(extra);
     }
 }
 
-/* ---- bad input ------------------------------------------------------------------------------------ */
+/* ---- bad input ------------------------------------------------------------------------------- */
 
 static void expect_fail_file(const char *path, const char *want, const char *what)
 {
     int rc = 0;
     lg_scene *s = gt_load_file(path, NULL, err, sizeof err, &rc);
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    CHECKF(!s && rc < 0 && strstr(err, base) && strstr(err, want), "%s: rc %d, message '%s' (want '%s')", what, rc, err,
-           want);
+    CHECKF(!s && rc < 0 && strstr(err, base) && strstr(err, want),
+           "%s: rc %d, message '%s' (want '%s')", what, rc, err, want);
     lg_gltf_scene_free(s);
 }
 
-static void expect_fail_bytes(const char *name, const void *data, size_t size, const char *want, const char *what)
+static void expect_fail_bytes(const char *name, const void *data, size_t size, const char *want,
+                              const char *what)
 {
     gt_write(name, data, size);
     expect_fail_file(gt_path(name), want, what);
@@ -1224,85 +1315,111 @@ static void case_bad_input(void)
     free(glb);
 
     /* a missing external buffer */
-    expect_fail_json("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"missing.bin\"}]}",
-                     "missing.bin", "missing buffer file");
+    expect_fail_json(
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"missing.bin\"}]}",
+        "missing.bin", "missing buffer file");
     expect_fail_file(gt_path("does-not-exist.glb"), "cannot read it: No such file", "missing file");
     expect_fail_bytes("empty.gltf", "", 0, "neither a GLB", "empty file");
     expect_fail_json("garbage", "neither a GLB", "not JSON");
 
     /* geometry errors, over one 36-byte buffer of three points */
-    static const float pts[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float pts[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     char *uri = gt_data_uri(pts, sizeof pts);
-    static const float nan_pts[] = {0, 0, 0, NAN, 0, 0, 0, 1, 0};
-    static const float inf_pts[] = {0, 0, 0, 1, 0, 0, 0, INFINITY, 0};
-    static const float huge_pts[] = {0, 0, 0, 3e38f, 0, 0, 0, 1, 0};
-    char *nan_uri = gt_data_uri(nan_pts, sizeof nan_pts), *inf_uri = gt_data_uri(inf_pts, sizeof inf_pts);
+    static const float nan_pts[] = { 0, 0, 0, NAN, 0, 0, 0, 1, 0 };
+    static const float inf_pts[] = { 0, 0, 0, 1, 0, 0, 0, INFINITY, 0 };
+    static const float huge_pts[] = { 0, 0, 0, 3e38f, 0, 0, 0, 1, 0 };
+    char *nan_uri = gt_data_uri(nan_pts, sizeof nan_pts),
+         *inf_uri = gt_data_uri(inf_pts, sizeof inf_pts);
     char *huge_uri = gt_data_uri(huge_pts, sizeof huge_pts);
-    static const uint16_t bad_idx[] = {0, 1, 7, 0};
+    static const uint16_t bad_idx[] = { 0, 1, 7, 0 };
     char *idx_uri = gt_data_uri(bad_idx, sizeof bad_idx);
     static const struct {
         const char *buffers, *views, *accessors, *primitive, *extra, *want, *what;
     } cases[] = {
-        {NULL, "{\"buffer\":0,\"byteLength\":36}", "{\"bufferView\":0,\"byteOffset\":24,\"componentType\":5126,"
-         "\"count\":3,\"type\":\"VEC3\"}", NULL, "", "accessor 0 (POSITION of mesh 0 primitive 0): 3 elements of 12 "
-         "bytes", "accessor past its bufferView"},
-        {NULL, "{\"buffer\":0,\"byteOffset\":12,\"byteLength\":36}", NULL, NULL, "", "bufferView 0: bytes 12..48 lie "
-         "outside buffer 0 (36 bytes)", "bufferView past its buffer"},
-        {NULL, "{\"buffer\":3,\"byteLength\":36}", NULL, NULL, "", "buffer 3 does not exist", "buffer index"},
-        {NULL, NULL, "{\"bufferView\":5,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}", NULL, "",
-         "bufferView 5 does not exist", "bufferView index"},
-        {NULL, NULL, "{\"bufferView\":0,\"componentType\":5126,\"count\":4294967295,\"type\":\"VEC3\"}", NULL, "",
-         "count 4294967295 is more than", "absurd count"},
-        {NULL, NULL, "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}", NULL, "",
-         "2 components per element, want 3", "wrong type"},
-        {NULL, NULL, "{\"bufferView\":0,\"componentType\":5125,\"count\":3,\"type\":\"VEC3\"}", NULL, "",
-         "componentType 5125 (UNSIGNED_INT) is not supported", "wrong component type"},
-        {"nan", NULL, NULL, NULL, "", "element 1 component 0 is NaN", "NaN position"},
-        {"inf", NULL, NULL, NULL, "", "element 2 component 1 is infinite", "infinite position"},
-        {"huge", NULL, NULL, NULL, "", "world bounds (0 .. 3e+38 on axis 0) go beyond +-1e30", "huge position"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"scale\":[1e30,1e30,1e30],\"children\":[1]},"
-         "{\"mesh\":0,\"scale\":[1e30,1e30,1e30]}]", "node 1: its world transform overflows", "transform overflow"},
-        {"idx", "{\"buffer\":0,\"byteLength\":36},{\"buffer\":1,\"byteLength\":8}",
-         "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\":1,"
-         "\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"}",
-         "{\"attributes\":{\"POSITION\":0},\"indices\":1}", "", "index 7 at position 2 is out of range (3 vertices)",
-         "index out of bounds"},
-        {NULL, NULL, NULL, "{\"attributes\":{\"POSITION\":9}}", "", "accessor 9 does not exist", "accessor index"},
-        {NULL, NULL, NULL, "{\"attributes\":{\"NORMAL\":0}}", "", "mesh 0 primitive 0: no POSITION", "no positions"},
-        {NULL, NULL, NULL, "{\"attributes\":{\"POSITION\":0},\"material\":3}", "", "material 3 does not exist",
-         "material index"},
-        {NULL, NULL, NULL, NULL, ",\"extensionsRequired\":[\"EXT_meshopt_compression\"]",
-         "requires extension 'EXT_meshopt_compression'", "unsupported required extension"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[1]},{\"children\":[0]}]",
-         "its own ancestor", "cycle"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[0]}]", "its own child", "self cycle"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[2]},{\"children\":[2]},{}]",
-         "node 2 has two parents (nodes 0 and 1)", "two parents"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[5]}]", "node 0: child 5 does not exist",
-         "child index"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":4}]", "node 0: mesh 4 does not exist", "mesh index"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"rotation\":[0,0,0]}]", "need 16, 3, 4 and 3 numbers",
-         "short rotation"},
-        {NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"rotation\":[0,0,0,0]}]", "quaternion has length 0",
-         "zero quaternion"},
-        {NULL, NULL, NULL, NULL, ",\"extras\":[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[["
-         "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]", "nested more than 64", "deep JSON"},
+        { NULL, "{\"buffer\":0,\"byteLength\":36}",
+          "{\"bufferView\":0,\"byteOffset\":24,\"componentType\":5126,"
+          "\"count\":3,\"type\":\"VEC3\"}",
+          NULL, "",
+          "accessor 0 (POSITION of mesh 0 primitive 0): 3 elements of 12 "
+          "bytes",
+          "accessor past its bufferView" },
+        { NULL, "{\"buffer\":0,\"byteOffset\":12,\"byteLength\":36}", NULL, NULL, "",
+          "bufferView 0: bytes 12..48 lie "
+          "outside buffer 0 (36 bytes)",
+          "bufferView past its buffer" },
+        { NULL, "{\"buffer\":3,\"byteLength\":36}", NULL, NULL, "", "buffer 3 does not exist",
+          "buffer index" },
+        { NULL, NULL, "{\"bufferView\":5,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}",
+          NULL, "", "bufferView 5 does not exist", "bufferView index" },
+        { NULL, NULL,
+          "{\"bufferView\":0,\"componentType\":5126,\"count\":4294967295,\"type\":\"VEC3\"}", NULL,
+          "", "count 4294967295 is more than", "absurd count" },
+        { NULL, NULL, "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}",
+          NULL, "", "2 components per element, want 3", "wrong type" },
+        { NULL, NULL, "{\"bufferView\":0,\"componentType\":5125,\"count\":3,\"type\":\"VEC3\"}",
+          NULL, "", "componentType 5125 (UNSIGNED_INT) is not supported", "wrong component type" },
+        { "nan", NULL, NULL, NULL, "", "element 1 component 0 is NaN", "NaN position" },
+        { "inf", NULL, NULL, NULL, "", "element 2 component 1 is infinite", "infinite position" },
+        { "huge", NULL, NULL, NULL, "", "world bounds (0 .. 3e+38 on axis 0) go beyond +-1e30",
+          "huge position" },
+        { NULL, NULL, NULL, NULL,
+          ",\"nodes\":[{\"mesh\":0,\"scale\":[1e30,1e30,1e30],\"children\":[1]},"
+          "{\"mesh\":0,\"scale\":[1e30,1e30,1e30]}]",
+          "node 1: its world transform overflows", "transform overflow" },
+        { "idx", "{\"buffer\":0,\"byteLength\":36},{\"buffer\":1,\"byteLength\":8}",
+          "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\":1,"
+          "\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"}",
+          "{\"attributes\":{\"POSITION\":0},\"indices\":1}", "",
+          "index 7 at position 2 is out of range (3 vertices)", "index out of bounds" },
+        { NULL, NULL, NULL, "{\"attributes\":{\"POSITION\":9}}", "", "accessor 9 does not exist",
+          "accessor index" },
+        { NULL, NULL, NULL, "{\"attributes\":{\"NORMAL\":0}}", "",
+          "mesh 0 primitive 0: no POSITION", "no positions" },
+        { NULL, NULL, NULL, "{\"attributes\":{\"POSITION\":0},\"material\":3}", "",
+          "material 3 does not exist", "material index" },
+        { NULL, NULL, NULL, NULL, ",\"extensionsRequired\":[\"EXT_meshopt_compression\"]",
+          "requires extension 'EXT_meshopt_compression'", "unsupported required extension" },
+        { NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[1]},{\"children\":[0]}]",
+          "its own ancestor", "cycle" },
+        { NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[0]}]", "its own child",
+          "self cycle" },
+        { NULL, NULL, NULL, NULL,
+          ",\"nodes\":[{\"mesh\":0,\"children\":[2]},{\"children\":[2]},{}]",
+          "node 2 has two parents (nodes 0 and 1)", "two parents" },
+        { NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"children\":[5]}]",
+          "node 0: child 5 does not exist", "child index" },
+        { NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":4}]", "node 0: mesh 4 does not exist",
+          "mesh index" },
+        { NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"rotation\":[0,0,0]}]",
+          "need 16, 3, 4 and 3 numbers", "short rotation" },
+        { NULL, NULL, NULL, NULL, ",\"nodes\":[{\"mesh\":0,\"rotation\":[0,0,0,0]}]",
+          "quaternion has length 0", "zero quaternion" },
+        { NULL, NULL, NULL, NULL,
+          ",\"extras\":[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[["
+          "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
+          "nested more than 64", "deep JSON" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
-        const char *buf = !cases[i].buffers ? uri : !strcmp(cases[i].buffers, "nan") ? nan_uri
-                          : !strcmp(cases[i].buffers, "inf") ? inf_uri
-                          : !strcmp(cases[i].buffers, "huge") ? huge_uri : uri;
-        char *buffers = !cases[i].buffers || strcmp(cases[i].buffers, "idx")
-                            ? gt_fmt("{\"byteLength\":36,\"uri\":\"%s\"}", buf)
-                            : gt_fmt("{\"byteLength\":36,\"uri\":\"%s\"},{\"byteLength\":8,\"uri\":\"%s\"}", uri, idx_uri);
+        const char *buf = !cases[i].buffers                   ? uri
+                          : !strcmp(cases[i].buffers, "nan")  ? nan_uri
+                          : !strcmp(cases[i].buffers, "inf")  ? inf_uri
+                          : !strcmp(cases[i].buffers, "huge") ? huge_uri
+                                                              : uri;
+        char *buffers =
+            !cases[i].buffers || strcmp(cases[i].buffers, "idx")
+                ? gt_fmt("{\"byteLength\":36,\"uri\":\"%s\"}", buf)
+                : gt_fmt("{\"byteLength\":36,\"uri\":\"%s\"},{\"byteLength\":8,\"uri\":\"%s\"}",
+                         uri, idx_uri);
         bool own_nodes = strstr(cases[i].extra, "\"nodes\"") != NULL;
-        char *json = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[%s],\"bufferViews\":[%s],\"accessors\":[%s],"
-                            "\"meshes\":[{\"primitives\":[%s]}]%s%s}",
-                            buffers, cases[i].views ? cases[i].views : "{\"buffer\":0,\"byteLength\":36}",
-                            cases[i].accessors ? cases[i].accessors
-                                               : "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}",
-                            cases[i].primitive ? cases[i].primitive : "{\"attributes\":{\"POSITION\":0}}",
-                            own_nodes ? "" : ",\"nodes\":[{\"mesh\":0}]", cases[i].extra);
+        char *json = gt_fmt(
+            "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[%s],\"bufferViews\":[%s],\"accessors\":[%s],"
+            "\"meshes\":[{\"primitives\":[%s]}]%s%s}",
+            buffers, cases[i].views ? cases[i].views : "{\"buffer\":0,\"byteLength\":36}",
+            cases[i].accessors
+                ? cases[i].accessors
+                : "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}",
+            cases[i].primitive ? cases[i].primitive : "{\"attributes\":{\"POSITION\":0}}",
+            own_nodes ? "" : ",\"nodes\":[{\"mesh\":0}]", cases[i].extra);
         expect_fail_json(json, cases[i].want, cases[i].what);
         free(json);
         free(buffers);
@@ -1314,18 +1431,23 @@ static void case_bad_input(void)
     for (int k = 0; k < LG_GLTF_MAX_DEPTH + 5; k++)
         o += sprintf(o, "%s{\"children\":[%d]}", k ? "," : "", k + 1);
     sprintf(o, ",{\"mesh\":0}]");
-    char *json = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"%s\"}],"
-                        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-                        "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":"
-                        "[{\"attributes\":{\"POSITION\":0}}]}],\"nodes\":%s}", uri, nodes);
+    char *json = gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"%s\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+        "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":"
+        "[{\"attributes\":{\"POSITION\":0}}]}],\"nodes\":%s}",
+        uri, nodes);
     expect_fail_json(json, "levels deep (more than 256)", "deep hierarchy");
     /* a buffer claiming more bytes than its data URI holds */
-    char *claim = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":1000000,\"uri\":\"%s\"}]}", uri);
+    char *claim = gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":1000000,\"uri\":\"%s\"}]}",
+        uri);
     expect_fail_json(claim, "Failed to decode 'uri'", "buffer longer than its data");
     gt_write("short.bin", pts, 20);
-    expect_fail_json("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"short.bin\"}]}",
-                     "buffer 0: cannot read 'short.bin': it has 20 bytes, fewer than its byteLength 36",
-                     "buffer file shorter than byteLength");
+    expect_fail_json(
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"short.bin\"}]}",
+        "buffer 0: cannot read 'short.bin': it has 20 bytes, fewer than its byteLength 36",
+        "buffer file shorter than byteLength");
     free(claim);
     free(json);
     free(nodes);
@@ -1336,17 +1458,18 @@ static void case_bad_input(void)
     free(idx_uri);
 }
 
-/* ---- files the model may read (issue 8): confinement and limits ------------------------------- */
+/* ---- files the model may read (issue 8): confinement and limits ------------------------------ */
 
 /* A one-triangle file whose buffer 0 is `uri` with `byte_length`, and `images` (a JSON array
  * or NULL); malloc'd. */
 static char *tri_json(const char *uri, unsigned long long byte_length, const char *images)
 {
-    return gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"%s\"}],"
-                  "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-                  "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
-                  "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]%s%s}",
-                  byte_length, uri, images ? ",\"images\":" : "", images ? images : "");
+    return gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"%s\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+        "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
+        "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]%s%s}",
+        byte_length, uri, images ? ",\"images\":" : "", images ? images : "");
 }
 
 /* Loads `json` as NAME in the scratch folder and expects one triangle. */
@@ -1359,7 +1482,8 @@ static void expect_load(const char *name, const char *json, const char *what)
 
 /* Loads `json` as NAME and expects a failure whose message holds every string of `want`
  * (NULL-terminated) and none of `never`. */
-static void expect_refused(const char *name, const char *json, const char *const *want, const char *what)
+static void expect_refused(const char *name, const char *json, const char *const *want,
+                           const char *what)
 {
     int rc = 0;
     lg_scene *s = gt_load_text(name, json, NULL, err, sizeof err, &rc);
@@ -1367,10 +1491,13 @@ static void expect_refused(const char *name, const char *json, const char *const
     for (const char *const *w = want; ok && *w; w++)
         ok = strstr(err, *w) != NULL;
     /* what the old loader printed after reading the file it should have refused */
-    static const char *const never[] = {"bounds", "NaN", "infinite", "element", "File size mismatch", NULL};
+    static const char *const never[] = {
+        "bounds", "NaN", "infinite", "element", "File size mismatch", NULL
+    };
     for (const char *const *n = never; ok && *n; n++)
         ok = !strstr(err, *n);
-    CHECKF(ok, "%s: rc %d, message '%s' (want '%s'%s)", what, rc, err, want[0], want[1] ? " ..." : "");
+    CHECKF(ok, "%s: rc %d, message '%s' (want '%s'%s)", what, rc, err, want[0],
+           want[1] ? " ..." : "");
     lg_gltf_scene_free(s);
 }
 
@@ -1401,7 +1528,7 @@ static void case_confinement(void)
     /* a FIFO must be refused at once: if a load waits on one, fail instead of hanging */
     signal(SIGALRM, on_alarm);
     alarm(20);
-    static const float tri[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float tri[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     gt_write("tri.bin", tri, sizeof tri);
     CHECK(mkdir(gt_path("sub"), 0755) == 0);
     gt_write("sub/a b+c.bin", tri, sizeof tri);
@@ -1415,8 +1542,8 @@ static void case_confinement(void)
 
     /* allowed: links that stay inside, subfolders, percent-encoding ('+' is a plus), "."
      * and ".." that stay inside, a missing image (images are never read) */
-    static const char *const ok[] = {"inside.bin", "sub/up.bin", "sub/a%20b+c.bin", "./sub/../tri.bin",
-                                     "sub/../sub/../tri.bin"};
+    static const char *const ok[] = { "inside.bin", "sub/up.bin", "sub/a%20b+c.bin",
+                                      "./sub/../tri.bin", "sub/../sub/../tri.bin" };
     for (size_t i = 0; i < sizeof ok / sizeof *ok; i++) {
         json = tri_json(ok[i], 36, "[{\"uri\":\"textures/missing.png\"},{\"uri\":\"tri.bin\"}]");
         expect_load("ok.gltf", json, ok[i]);
@@ -1427,90 +1554,124 @@ static void case_confinement(void)
      * reported world bounds computed from its bytes (byteLength = its size, so that the old
      * loader's size check passed) */
     struct stat st;
-    unsigned long long passwd_size = stat("/etc/passwd", &st) == 0 ? (unsigned long long)st.st_size : 36;
+    unsigned long long passwd_size = stat("/etc/passwd", &st) == 0 ? (unsigned long long)st.st_size
+                                                                   : 36;
     char *up = climb("etc/passwd");
     json = tri_json(up, passwd_size, NULL);
     char *want_up = gt_fmt("buffer 0: cannot read '%s': it leads to '/etc/passwd', outside '", up);
-    expect_refused("escape.gltf", json, (const char *const[]){want_up, NULL}, "../ to /etc/passwd");
+    expect_refused("escape.gltf", json, (const char *const[]){ want_up, NULL },
+                   "../ to /etc/passwd");
     free(json);
     free(want_up);
     json = tri_json("../../../../../../etc/passwd", passwd_size, NULL);
-    expect_refused("escape6.gltf", json, (const char *const[]){"cannot read '../../../../../../etc/passwd': it leads to '/",
-                                                              "outside '", NULL}, "six ../");
+    expect_refused("escape6.gltf", json,
+                   (const char *const[]){
+                       "cannot read '../../../../../../etc/passwd': it leads to '/", "outside '",
+                       NULL },
+                   "six ../");
     free(json);
     /* the same, percent-encoded */
     char *enc = climb("etc/passwd"), *e = malloc(strlen(enc) * 3 + 1), *o = e;
     for (const char *p = enc; *p; p++)
         o += *p == '.' ? sprintf(o, "%%2e") : *p == '/' ? sprintf(o, "%%2F") : sprintf(o, "%c", *p);
     json = tri_json(e, passwd_size, NULL);
-    expect_refused("encoded.gltf", json, (const char *const[]){e, "leads to '/etc/passwd', outside", NULL},
+    expect_refused("encoded.gltf", json,
+                   (const char *const[]){ e, "leads to '/etc/passwd', outside", NULL },
                    "percent-encoded ../");
     free(json);
     free(enc);
     free(e);
     /* an absolute path, a scheme */
     json = tri_json("/etc/passwd", passwd_size, NULL);
-    expect_refused("abs.gltf", json, (const char *const[]){"cannot read '/etc/passwd': it leads to '/etc/passwd', outside", NULL},
+    expect_refused("abs.gltf", json,
+                   (const char *const[]){
+                       "cannot read '/etc/passwd': it leads to '/etc/passwd', outside", NULL },
                    "absolute path");
     free(json);
     json = tri_json("file:///etc/passwd", passwd_size, NULL);
-    expect_refused("scheme.gltf", json, (const char *const[]){"cannot read 'file:///etc/passwd': only relative paths", NULL},
+    expect_refused("scheme.gltf", json,
+                   (const char *const[]){ "cannot read 'file:///etc/passwd': only relative paths",
+                                          NULL },
                    "file: URI");
     free(json);
     /* links that leave the folder: to a file, through a linked folder, to /dev/zero */
     json = tri_json("outside.bin", passwd_size, NULL);
-    expect_refused("link.gltf", json, (const char *const[]){"buffer 0: cannot read 'outside.bin': it leads to "
-                                                           "'/etc/passwd', outside '", NULL}, "link to /etc/passwd");
+    expect_refused("link.gltf", json,
+                   (const char *const[]){ "buffer 0: cannot read 'outside.bin': it leads to "
+                                          "'/etc/passwd', outside '",
+                                          NULL },
+                   "link to /etc/passwd");
     free(json);
     json = tri_json("etc/passwd", passwd_size, NULL);
-    expect_refused("dirlink.gltf", json, (const char *const[]){"cannot read 'etc/passwd': it leads to '/etc/passwd', outside", NULL},
+    expect_refused("dirlink.gltf", json,
+                   (const char *const[]){
+                       "cannot read 'etc/passwd': it leads to '/etc/passwd', outside", NULL },
                    "linked folder");
     free(json);
     json = tri_json("zero.bin", 36, NULL);
-    expect_refused("zero.gltf", json, (const char *const[]){"cannot read 'zero.bin': it leads to '/dev/zero', outside", NULL},
+    expect_refused("zero.gltf", json,
+                   (const char *const[]){
+                       "cannot read 'zero.bin': it leads to '/dev/zero', outside", NULL },
                    "link to /dev/zero");
     free(json);
     /* not a regular file: refused at once (the alarm above fails the test if it waits) */
     json = tri_json("fifo.bin", 36, NULL);
-    expect_refused("fifo.gltf", json, (const char *const[]){"cannot read 'fifo.bin': it is a FIFO, not a regular file", NULL},
+    expect_refused("fifo.gltf", json,
+                   (const char *const[]){
+                       "cannot read 'fifo.bin': it is a FIFO, not a regular file", NULL },
                    "FIFO buffer");
     free(json);
     json = tri_json("sub", 36, NULL);
-    expect_refused("dir.gltf", json, (const char *const[]){"cannot read 'sub': it is a directory", NULL}, "folder buffer");
+    expect_refused("dir.gltf", json,
+                   (const char *const[]){ "cannot read 'sub': it is a directory", NULL },
+                   "folder buffer");
     free(json);
     /* malformed uris */
     json = tri_json("tri%2.bin", 36, NULL);
-    expect_refused("pct.gltf", json, (const char *const[]){"cannot read 'tri%2.bin': malformed percent-encoding", NULL},
+    expect_refused("pct.gltf", json,
+                   (const char *const[]){ "cannot read 'tri%2.bin': malformed percent-encoding",
+                                          NULL },
                    "bad percent-encoding");
     free(json);
     json = tri_json("tri.bin%00../x", 36, NULL);
-    expect_refused("nul.gltf", json, (const char *const[]){"NUL", NULL}, "encoded NUL");
+    expect_refused("nul.gltf", json, (const char *const[]){ "NUL", NULL }, "encoded NUL");
     free(json);
 
     /* images are never read, but are held to the folder too */
-    char *img_up = climb("etc/passwd"), *images = gt_fmt("[{\"uri\":\"tri.bin\"},{\"uri\":\"%s\"}]", img_up);
+    char *img_up = climb("etc/passwd"),
+         *images = gt_fmt("[{\"uri\":\"tri.bin\"},{\"uri\":\"%s\"}]", img_up);
     json = tri_json("tri.bin", 36, images);
-    char *want_img = gt_fmt("image 1: cannot read '%s': it leads to '/etc/passwd', outside", img_up);
-    expect_refused("image.gltf", json, (const char *const[]){want_img, NULL}, "image ../");
+    char *want_img = gt_fmt("image 1: cannot read '%s': it leads to '/etc/passwd', outside",
+                            img_up);
+    expect_refused("image.gltf", json, (const char *const[]){ want_img, NULL }, "image ../");
     free(json);
     free(images);
     free(want_img);
     free(img_up);
     json = tri_json("tri.bin", 36, "[{\"uri\":\"../missing/x.png\"}]");
-    expect_refused("image_missing.gltf", json, (const char *const[]){"image 0: cannot read '../missing/x.png': it leads to '",
-                                                                    "outside", NULL}, "missing image outside");
+    expect_refused("image_missing.gltf", json,
+                   (const char *const[]){ "image 0: cannot read '../missing/x.png': it leads to '",
+                                          "outside", NULL },
+                   "missing image outside");
     free(json);
     json = tri_json("tri.bin", 36, "[{\"uri\":\"outside.bin\"}]");
-    expect_refused("image_link.gltf", json, (const char *const[]){"image 0: cannot read 'outside.bin': it leads to '/etc/passwd'", NULL},
+    expect_refused("image_link.gltf", json,
+                   (const char *const[]){
+                       "image 0: cannot read 'outside.bin': it leads to '/etc/passwd'", NULL },
                    "image link");
     free(json);
 
     /* from memory there is no folder: external buffers cannot be read at all */
     json = tri_json("tri.bin", 36, NULL);
     lg_scene *s = NULL;
-    int rc = lg_gltf_load_memory((const uint8_t *)json, strlen(json), "mem.gltf", NULL, NULL, &s, NULL, err, sizeof err);
-    CHECKF(rc < 0 && !s && strstr(err, "file 'mem.gltf': buffer 0: cannot read 'tri.bin': the model was loaded from memory"),
-           "from memory: rc %d, '%s'", rc, err);
+    int rc = lg_gltf_load_memory((const uint8_t *)json, strlen(json), "mem.gltf", NULL, NULL, &s,
+                                 NULL, err, sizeof err);
+    CHECKF(
+        rc < 0 && !s &&
+            strstr(
+                err,
+                "file 'mem.gltf': buffer 0: cannot read 'tri.bin': the model was loaded from memory"),
+        "from memory: rc %d, '%s'", rc, err);
     lg_gltf_scene_free(s);
     free(json);
 
@@ -1518,13 +1679,14 @@ static void case_confinement(void)
     json = tri_json("outside.bin", passwd_size, NULL);
     size_t jl = (strlen(json) + 3) & ~(size_t)3, total = 20 + jl;
     uint8_t *glb = calloc(1, total);
-    uint32_t hdr[5] = {0x46546C67u, 2, (uint32_t)total, (uint32_t)jl, 0x4E4F534Au};
+    uint32_t hdr[5] = { 0x46546C67u, 2, (uint32_t)total, (uint32_t)jl, 0x4E4F534Au };
     memcpy(glb, hdr, 20);
     memset(glb + 20, ' ', jl);
     memcpy(glb + 20, json, strlen(json));
     gt_write("ext.glb", glb, total);
     s = gt_load_file(gt_path("ext.glb"), NULL, err, sizeof err, &rc);
-    CHECKF(!s && strstr(err, "cannot read 'outside.bin': it leads to '/etc/passwd'"), "GLB: %s", err);
+    CHECKF(!s && strstr(err, "cannot read 'outside.bin': it leads to '/etc/passwd'"), "GLB: %s",
+           err);
     lg_gltf_scene_free(s);
     free(glb);
     free(json);
@@ -1544,18 +1706,22 @@ static void case_limits(void)
     signal(SIGALRM, on_alarm);
     alarm(20);
     long rss0 = max_rss_kib();
-    static const float tri[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float tri[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     gt_write("tri.bin", tri, sizeof tri);
     char *json;
 
     /* a byteLength larger than its file: refused with both numbers, before anything of that
      * size is allocated or read */
     json = tri_json("tri.bin", 1000000000ull, NULL);
-    expect_refused("long.gltf", json, (const char *const[]){"buffer 0: cannot read 'tri.bin': it has 36 bytes, fewer than "
-                                                           "its byteLength 1000000000", NULL}, "byteLength > file");
+    expect_refused("long.gltf", json,
+                   (const char *const[]){
+                       "buffer 0: cannot read 'tri.bin': it has 36 bytes, fewer than "
+                       "its byteLength 1000000000",
+                       NULL },
+                   "byteLength > file");
     free(json);
     /* a file longer than its byteLength is valid glTF: only byteLength bytes are read */
-    static const float tri_and_more[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 7, 7};
+    static const float tri_and_more[] = { 0, 0, 0, 1, 0, 0, 0, 1, 0, 7, 7 };
     gt_write("longer.bin", tri_and_more, sizeof tri_and_more);
     json = tri_json("longer.bin", 36, NULL);
     expect_load("longer.gltf", json, "file longer than byteLength");
@@ -1565,28 +1731,38 @@ static void case_limits(void)
     CHECK(fd >= 0 && ftruncate(fd, (off_t)LG_GLTF_MAX_BUFFER + 4096) == 0);
     close(fd);
     json = tri_json("huge.bin", (unsigned long long)LG_GLTF_MAX_BUFFER + 1, NULL);
-    expect_refused("huge.gltf", json, (const char *const[]){"buffer 0: byteLength 2147483649 is more than the 2 GiB", NULL},
+    expect_refused("huge.gltf", json,
+                   (const char *const[]){ "buffer 0: byteLength 2147483649 is more than the 2 GiB",
+                                          NULL },
                    "byteLength over the limit");
     free(json);
     /* three 2 GiB buffers: over the 4 GiB of external buffers a model may read */
-    char *three = gt_fmt("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"huge.bin\"},"
-                         "{\"byteLength\":%llu,\"uri\":\"huge.bin\"},{\"byteLength\":%llu,\"uri\":\"huge.bin\"}]}",
-                         (unsigned long long)LG_GLTF_MAX_BUFFER, (unsigned long long)LG_GLTF_MAX_BUFFER,
-                         (unsigned long long)LG_GLTF_MAX_BUFFER);
-    expect_refused("three.gltf", three, (const char *const[]){"buffer 2: the external buffers' byteLengths add up to more "
-                                                             "than the 4 GiB", NULL}, "external total");
+    char *three = gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"huge.bin\"},"
+        "{\"byteLength\":%llu,\"uri\":\"huge.bin\"},{\"byteLength\":%llu,\"uri\":\"huge.bin\"}]}",
+        (unsigned long long)LG_GLTF_MAX_BUFFER, (unsigned long long)LG_GLTF_MAX_BUFFER,
+        (unsigned long long)LG_GLTF_MAX_BUFFER);
+    expect_refused("three.gltf", three,
+                   (const char *const[]){
+                       "buffer 2: the external buffers' byteLengths add up to more "
+                       "than the 4 GiB",
+                       NULL },
+                   "external total");
     free(three);
 
     /* the file itself over LG_GLTF_MAX_FILE (sparse), a FIFO, a device: refused unread */
     fd = open(gt_path("big.gltf"), O_CREAT | O_WRONLY | O_TRUNC, 0644);
     CHECK(fd >= 0 && ftruncate(fd, (off_t)LG_GLTF_MAX_FILE + 1) == 0);
     close(fd);
-    expect_fail_file(gt_path("big.gltf"), "cannot read it: it is 2.0 GiB, over the 2.0 GiB limit", "file over the limit");
+    expect_fail_file(gt_path("big.gltf"), "cannot read it: it is 2.0 GiB, over the 2.0 GiB limit",
+                     "file over the limit");
     CHECK(mkfifo(gt_path("fifo.glb"), 0644) == 0);
-    expect_fail_file(gt_path("fifo.glb"), "cannot read it: it is a FIFO, not a regular file", "FIFO file");
+    expect_fail_file(gt_path("fifo.glb"), "cannot read it: it is a FIFO, not a regular file",
+                     "FIFO file");
     expect_fail_file("/dev/zero", "cannot read it: it is a character device", "device");
     CHECK(symlink("/dev/zero", gt_path("zero.glb")) == 0);
-    expect_fail_file(gt_path("zero.glb"), "cannot read it: it is a character device", "link to a device");
+    expect_fail_file(gt_path("zero.glb"), "cannot read it: it is a character device",
+                     "link to a device");
 
     /* none of it was read: the process grew by far less than one such file */
     long grown = max_rss_kib() - rss0;
@@ -1600,12 +1776,22 @@ int main(int argc, char **argv)
         const char *name;
         void (*fn)(void);
     } cases[] = {
-        {"assets", case_assets}, {"draco", case_draco}, {"instancing", case_instancing},
-        {"normals_cube", case_normals_cube}, {"normals_sphere", case_normals_sphere},
-        {"normals_degenerate", case_normals_degenerate}, {"primitives", case_primitives},
-        {"hierarchy", case_hierarchy}, {"cameras", case_cameras}, {"lights", case_lights},
-        {"materials", case_materials}, {"reflectivity", case_reflectivity}, {"medium", case_medium}, {"bad_input", case_bad_input},
-        {"confinement", case_confinement}, {"limits", case_limits},
+        { "assets", case_assets },
+        { "draco", case_draco },
+        { "instancing", case_instancing },
+        { "normals_cube", case_normals_cube },
+        { "normals_sphere", case_normals_sphere },
+        { "normals_degenerate", case_normals_degenerate },
+        { "primitives", case_primitives },
+        { "hierarchy", case_hierarchy },
+        { "cameras", case_cameras },
+        { "lights", case_lights },
+        { "materials", case_materials },
+        { "reflectivity", case_reflectivity },
+        { "medium", case_medium },
+        { "bad_input", case_bad_input },
+        { "confinement", case_confinement },
+        { "limits", case_limits },
     };
     if (argc != 2) {
         fprintf(stderr, "usage: test_gltf CASE\n");

@@ -55,25 +55,34 @@ static void case_explain(lg_test *t)
 {
     lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
     char *g = NULL;
-    if (asprintf(&g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
-                     "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n",
+    if (asprintf(&g,
+                 "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                 "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n",
                  asset("meshes/bunny_cornell_box.glb")) < 0)
         exit(99);
     lg_test_write_text(t, "g.lgraph", g);
     free(g);
-    const char *args[] = {"--explain", "--size", "8x4", NULL};
+    const char *args[] = { "--explain", "--size", "8x4", NULL };
     char *out = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "render failed");
     const char *s = out ? out : "";
-    LG_TEST_CHECK(t, strstr(s, "scene features (scene): triangles 5009, vertices "), "no scene features: %s", s);
-    LG_TEST_CHECK(t, strstr(s, "lights: 0 directional, 0 point, 0 other; medium no (density 0); probe no; "
-                          "specular material yes"), "features: %s", s);
-    LG_TEST_CHECK(t, strstr(s, "gated") && strstr(s, "no participating medium"), "fog was not gated: %s", s);
+    LG_TEST_CHECK(t, strstr(s, "scene features (scene): triangles 5009, vertices "),
+                  "no scene features: %s", s);
+    LG_TEST_CHECK(
+        t,
+        strstr(s, "lights: 0 directional, 0 point, 0 other; medium no (density 0); probe no; "
+                  "specular material yes"),
+        "features: %s", s);
+    LG_TEST_CHECK(t, strstr(s, "gated") && strstr(s, "no participating medium"),
+                  "fog was not gated: %s", s);
     char loaded[512], not_loaded[512];
     line_of(s, "plugins loaded:", loaded, sizeof loaded);
     line_of(s, "plugins not loaded:", not_loaded, sizeof not_loaded);
-    LG_TEST_CHECK(t, strstr(loaded, "scene_gltf") && !strstr(loaded, "testfog") && strstr(not_loaded, "testfog"),
-             "testfog was loaded although gated, or scene_gltf was not: '%s' / '%s'", loaded, not_loaded);
+    LG_TEST_CHECK(t,
+                  strstr(loaded, "scene_gltf") && !strstr(loaded, "testfog") &&
+                      strstr(not_loaded, "testfog"),
+                  "testfog was loaded although gated, or scene_gltf was not: '%s' / '%s'", loaded,
+                  not_loaded);
     free(out);
     /* the neutral result: a black image */
     lg_image img;
@@ -82,13 +91,15 @@ static void case_explain(lg_test *t)
         lg_image_free(&img);
     }
     /* --set overrides the file: the Draco variant gives the same features */
-    const char *args2[] = {"--explain", "--size", "8x4", "--set", NULL, NULL};
+    const char *args2[] = { "--explain", "--size", "8x4", "--set", NULL, NULL };
     char *set = NULL;
     if (asprintf(&set, "scene.file=%s", asset("meshes/bunny_cornell_box_draco.glb")) < 0)
         exit(99);
     args2[4] = set;
-    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args2, &out) == 0, "render with the Draco file failed");
-    LG_TEST_CHECK(t, out && strstr(out, "scene features (scene): triangles 5009"), "%s", out ? out : "");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args2, &out) == 0,
+                  "render with the Draco file failed");
+    LG_TEST_CHECK(t, out && strstr(out, "scene features (scene): triangles 5009"), "%s",
+                  out ? out : "");
     free(out);
     free(set);
 }
@@ -106,18 +117,23 @@ static void case_medium(lg_test *t)
         "{\"density\":0.25,\"scattering\":[0.1,0.1,0.1],\"absorption\":0.01,\"g\":0.4}}}],"
         "\"extensions\":{\"KHR_lights_punctual\":{\"lights\":[{\"type\":\"directional\",\"intensity\":2}]}}}";
     lg_test_write_text(t, "fog.gltf", gltf);
-    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float tri[9] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     FILE *f = fopen(lg_test_path(t, "tri.bin"), "wb");
     if (!f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f))
         exit(99);
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { file = \"fog.gltf\" }\n"
-                                 "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n");
-    const char *args[] = {"--explain", "--size", "4x2", NULL};
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nscene = gltf { file = \"fog.gltf\" }\n"
+                       "fog = test_fog { scene = scene, value = 0.5 }\noutput fog \"out.exr\"\n");
+    const char *args[] = { "--explain", "--size", "4x2", NULL };
     char *out = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "render failed");
     const char *s = out ? out : "";
-    LG_TEST_CHECK(t, strstr(s, "scene features (scene): triangles 1, vertices 3, lights: 1 directional, 0 point, "
-                          "0 other; medium yes (density 0.25)"), "features: %s", s);
+    LG_TEST_CHECK(
+        t,
+        strstr(s,
+               "scene features (scene): triangles 1, vertices 3, lights: 1 directional, 0 point, "
+               "0 other; medium yes (density 0.25)"),
+        "features: %s", s);
     LG_TEST_CHECK(t, !strstr(s, "gated"), "fog was gated: %s", s);
     free(out);
     lg_image img;
@@ -131,16 +147,17 @@ static void case_medium(lg_test *t)
 static void write_triangle(lg_test *t, const char *name, const char *mat)
 {
     char *gltf = NULL;
-    if (asprintf(&gltf,
-                 "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
-                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-                 "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"materials\":[%s],\"meshes\":[{\"primitives\":"
-                 "[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}",
-                 mat) < 0)
+    if (asprintf(
+            &gltf,
+            "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"tri.bin\"}],"
+            "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+            "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"materials\":[%s],\"meshes\":[{\"primitives\":"
+            "[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}]}",
+            mat) < 0)
         exit(99);
     lg_test_write_text(t, name, gltf);
     free(gltf);
-    static const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const float tri[9] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
     FILE *f = fopen(lg_test_path(t, "tri.bin"), "wb");
     if (!f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f))
         exit(99);
@@ -148,19 +165,23 @@ static void write_triangle(lg_test *t, const char *name, const char *mat)
 
 /* Renders test_reflective on `file`: checks the features line says `features`, the node's
  * state (and reason when gated), testfog loaded or not, and the image it wrote. */
-static void reflective_run(lg_test *t, const char *what, const char *file, const char *features, bool kept)
+static void reflective_run(lg_test *t, const char *what, const char *file, const char *features,
+                           bool kept)
 {
     lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
     char *g = NULL;
-    if (asprintf(&g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
-                     "mirror = test_reflective { scene = scene, value = 0.75 }\noutput mirror \"out.exr\"\n",
-                 file) < 0)
+    if (asprintf(
+            &g,
+            "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+            "mirror = test_reflective { scene = scene, value = 0.75 }\noutput mirror \"out.exr\"\n",
+            file) < 0)
         exit(99);
     lg_test_write_text(t, "g.lgraph", g);
     free(g);
-    const char *args[] = {"--explain", "--size", "8x4", NULL};
+    const char *args[] = { "--explain", "--size", "8x4", NULL };
     char *out = NULL;
-    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "%s: render failed: %s", what, out ? out : "");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "%s: render failed: %s", what,
+                  out ? out : "");
     const char *s = out ? out : "";
     char line[1024];
     line_of(s, "scene features (scene):", line, sizeof line);
@@ -179,9 +200,11 @@ static void reflective_run(lg_test *t, const char *what, const char *file, const
     lg_image img;
     if (lg_test_read(t, "out.exr", &img, NULL)) {
         float want = kept ? 0.75f : 0.0f;
-        LG_TEST_CHECK(t, img.width == 8 && img.height == 4 && img.pixels[0] == want && img.pixels[4 * 31 + 1] == want,
-                      "%s: image %ux%u value %g, want %g", what, img.width, img.height, (double)img.pixels[0],
-                      (double)want);
+        LG_TEST_CHECK(t,
+                      img.width == 8 && img.height == 4 && img.pixels[0] == want &&
+                          img.pixels[4 * 31 + 1] == want,
+                      "%s: image %ux%u value %g, want %g", what, img.width, img.height,
+                      (double)img.pixels[0], (double)want);
         lg_image_free(&img);
     }
 }
@@ -191,17 +214,22 @@ static void case_reflective(lg_test *t)
     /* the bunny box: walls with KHR_materials_specular colour 0 and a plain dielectric bunny */
     reflective_run(t, "bunny box", asset("meshes/bunny_cornell_box.glb"),
                    "specular material yes; reflective materials 0", false);
-    write_triangle(t, "metal.gltf",
-                   "{\"name\":\"steel\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.6,0.6,0.6,1],"
-                   "\"metallicFactor\":1,\"roughnessFactor\":0.3}}");
+    write_triangle(
+        t, "metal.gltf",
+        "{\"name\":\"steel\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.6,0.6,0.6,1],"
+        "\"metallicFactor\":1,\"roughnessFactor\":0.3}}");
     reflective_run(t, "metal", "metal.gltf", "reflective materials 1", true);
-    write_triangle(t, "off.gltf",
-                   "{\"name\":\"steel\",\"pbrMetallicRoughness\":{\"metallicFactor\":1},\"extras\":{\"reflectivity\":0}}");
-    reflective_run(t, "metal with extras.reflectivity 0", "off.gltf", "reflective materials 0", false);
-    write_triangle(t, "painted.gltf",
-                   "{\"name\":\"paint\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extras\":{\"reflectivity\":"
-                   "[0,0,0.1]}}");
-    reflective_run(t, "dielectric with extras.reflectivity", "painted.gltf", "reflective materials 1", true);
+    write_triangle(
+        t, "off.gltf",
+        "{\"name\":\"steel\",\"pbrMetallicRoughness\":{\"metallicFactor\":1},\"extras\":{\"reflectivity\":0}}");
+    reflective_run(t, "metal with extras.reflectivity 0", "off.gltf", "reflective materials 0",
+                   false);
+    write_triangle(
+        t, "painted.gltf",
+        "{\"name\":\"paint\",\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"extras\":{\"reflectivity\":"
+        "[0,0,0.1]}}");
+    reflective_run(t, "dielectric with extras.reflectivity", "painted.gltf",
+                   "reflective materials 1", true);
 }
 
 static void case_errors(lg_test *t)
@@ -209,33 +237,40 @@ static void case_errors(lg_test *t)
     static const struct {
         const char *file, *content, *want;
     } cases[] = {
-        {"short.glb", "glTF\x02\0\0\0\xff\xff\0\0", "truncated GLB"},
-        {"bad.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsRequired\":[\"EXT_meshopt_compression\"]}",
-         "requires extension 'EXT_meshopt_compression'"},
-        {"missing.gltf", "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":4,\"uri\":\"nope.bin\"}]}",
-         "nope.bin"},
-        {"nothing.gltf", NULL, "cannot read it: No such file or directory"},
+        { "short.glb", "glTF\x02\0\0\0\xff\xff\0\0", "truncated GLB" },
+        { "bad.gltf",
+          "{\"asset\":{\"version\":\"2.0\"},\"extensionsRequired\":[\"EXT_meshopt_compression\"]}",
+          "requires extension 'EXT_meshopt_compression'" },
+        { "missing.gltf",
+          "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":4,\"uri\":\"nope.bin\"}]}",
+          "nope.bin" },
+        { "nothing.gltf", NULL, "cannot read it: No such file or directory" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         if (cases[i].content)
             lg_test_write_text(t, cases[i].file, cases[i].content);
         char g[512];
-        snprintf(g, sizeof g, "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
-                              "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n", cases[i].file);
+        snprintf(g, sizeof g,
+                 "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                 "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n",
+                 cases[i].file);
         lg_test_write_text(t, "g.lgraph", g);
         char *out = NULL;
         lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
         int rc = lg_test_render(t, "g.lgraph", NULL, &out);
         LG_TEST_CHECK(t, rc == 1, "%s: exit %d, want 1", cases[i].file, rc);
-        LG_TEST_CHECK(t, out && strstr(out, cases[i].file) && strstr(out, cases[i].want) && strstr(out, "scene"),
-                 "%s: the message names neither the node, the file nor the reason: %s", cases[i].file,
-                 out ? out : "");
+        LG_TEST_CHECK(t,
+                      out && strstr(out, cases[i].file) && strstr(out, cases[i].want) &&
+                          strstr(out, "scene"),
+                      "%s: the message names neither the node, the file nor the reason: %s",
+                      cases[i].file, out ? out : "");
         free(out);
     }
     /* a buffer uri leaving the model's folder (issue 8): refused with the uri and where it
      * leads; before, /etc/passwd was read and the error gave world bounds from its bytes */
     struct stat st;
-    unsigned long long passwd_size = stat("/etc/passwd", &st) == 0 ? (unsigned long long)st.st_size : 36;
+    unsigned long long passwd_size = stat("/etc/passwd", &st) == 0 ? (unsigned long long)st.st_size
+                                                                   : 36;
     char up[512] = "";
     int depth = 0;
     for (const char *p = lg_test_path(t, "x"); *p; p++)
@@ -244,24 +279,32 @@ static void case_errors(lg_test *t)
         strcat(up, "../");
     strcat(up, "etc/passwd");
     char gltf[1024], want[600];
-    snprintf(gltf, sizeof gltf, "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"%s\"}],"
+    snprintf(gltf, sizeof gltf,
+             "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%llu,\"uri\":\"%s\"}],"
              "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
              "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"meshes\":[{\"primitives\":[{"
-             "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]}", passwd_size, up);
+             "\"attributes\":{\"POSITION\":0}}]}],\"nodes\":[{\"mesh\":0}]}",
+             passwd_size, up);
     lg_test_write_text(t, "escape.gltf", gltf);
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { file = \"escape.gltf\" }\n"
-                                      "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n");
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nscene = gltf { file = \"escape.gltf\" }\n"
+                       "fog = test_fog { scene = scene }\noutput fog \"out.exr\"\n");
     char *esc = NULL;
     LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &esc) == 1, "escaping buffer: not exit 1");
-    snprintf(want, sizeof want, "buffer 0: cannot read '%s': it leads to '/etc/passwd', outside '", up);
-    LG_TEST_CHECK(t, esc && strstr(esc, "node 'scene' (gltf): file '") && strstr(esc, want) && !strstr(esc, "bounds"),
+    snprintf(want, sizeof want, "buffer 0: cannot read '%s': it leads to '/etc/passwd', outside '",
+             up);
+    LG_TEST_CHECK(t,
+                  esc && strstr(esc, "node 'scene' (gltf): file '") && strstr(esc, want) &&
+                      !strstr(esc, "bounds"),
                   "escaping buffer: want '%s' and no bounds: %s", want, esc ? esc : "");
     free(esc);
 
-    lg_test_write_text(t, "g.lgraph", "lightgraph 1\nscene = gltf { }\nfog = test_fog { scene = scene }\n"
-                                 "output fog \"out.exr\"\n");
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nscene = gltf { }\nfog = test_fog { scene = scene }\n"
+                       "output fog \"out.exr\"\n");
     char *out = NULL;
-    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &out) == 1, "empty file parameter accepted");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &out) == 1,
+                  "empty file parameter accepted");
     LG_TEST_CHECK(t, out && strstr(out, "parameter 'file' is empty"), "%s", out ? out : "");
     free(out);
 }
@@ -269,7 +312,9 @@ static void case_errors(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "explain", case_explain }, { "medium", case_medium }, { "reflective", case_reflective },
+        { "explain", case_explain },
+        { "medium", case_medium },
+        { "reflective", case_reflective },
         { "errors", case_errors },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);

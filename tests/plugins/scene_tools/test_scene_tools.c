@@ -157,32 +157,36 @@ static bool plugin_loaded(const char *text, const char *plugin)
     return ok;
 }
 
-/* ---- cases -------------------------------------------------------------------------------- */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static void case_features(lg_test *t)
 {
-    const char *g =
-        "lightgraph 1\n"
-        "cube = test_cube { instances = 2 }\n"
-        "sun  = light { scene = cube, direction = [1, -1, 0] }\n"
-        "lamp = light { scene = sun, type = point, position = [0, 3, 0] }\n"
-        "fog  = medium { scene = lamp, density = 0.5 }\n"
-        "off  = medium { scene = fog, density = 0 }\n"
-        "p1 = test_scene_probe { scene = fog }\n"
-        "p2 = test_scene_probe { scene = off }\n"
-        "output p1 \"p1.exr\"\n"
-        "output p2 \"p2.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "cube = test_cube { instances = 2 }\n"
+                    "sun  = light { scene = cube, direction = [1, -1, 0] }\n"
+                    "lamp = light { scene = sun, type = point, position = [0, 3, 0] }\n"
+                    "fog  = medium { scene = lamp, density = 0.5 }\n"
+                    "off  = medium { scene = fog, density = 0 }\n"
+                    "p1 = test_scene_probe { scene = fog }\n"
+                    "p2 = test_scene_probe { scene = off }\n"
+                    "output p1 \"p1.exr\"\n"
+                    "output p2 \"p2.exr\"\n";
     const char *args[] = { "--explain", NULL };
     char *out = NULL;
     int rc = render_text(t, g, args, &out);
     LG_TEST_CHECK(t, rc == 0, "render failed: %s", out ? out : "");
     const char *o = out ? out : "";
-    LG_TEST_CHECK(t, features_say(o, "cube", "triangles 24, vertices 48, lights: 0 directional, 0 point"),
-             "cube features: %s", o);
+    LG_TEST_CHECK(t,
+                  features_say(o, "cube",
+                               "triangles 24, vertices 48, lights: 0 directional, 0 point"),
+                  "cube features: %s", o);
     LG_TEST_CHECK(t, features_say(o, "cube", "medium no (density 0)"), "cube medium: %s", o);
-    LG_TEST_CHECK(t, features_say(o, "sun", "triangles 24, vertices 48, lights: 1 directional, 0 point"),
-             "sun features: %s", o);
-    LG_TEST_CHECK(t, features_say(o, "lamp", "lights: 1 directional, 1 point"), "lamp features: %s", o);
+    LG_TEST_CHECK(t,
+                  features_say(o, "sun",
+                               "triangles 24, vertices 48, lights: 1 directional, 0 point"),
+                  "sun features: %s", o);
+    LG_TEST_CHECK(t, features_say(o, "lamp", "lights: 1 directional, 1 point"), "lamp features: %s",
+                  o);
     LG_TEST_CHECK(t, features_say(o, "lamp", "medium no"), "lamp medium: %s", o);
     LG_TEST_CHECK(t, features_say(o, "fog", "lights: 1 directional, 1 point"), "fog lights: %s", o);
     LG_TEST_CHECK(t, features_say(o, "fog", "medium yes (density 0.5)"), "fog medium: %s", o);
@@ -196,17 +200,18 @@ static void case_features(lg_test *t)
     lg_image img;
     unsigned bits;
     if (lg_test_read(t, "p1.exr", &img, &bits)) {
-        LG_TEST_CHECK(t, px(&img, 5)[3] == 1 && px(&img, 6)[3] == 1 && px(&img, 7)[3] == 1 &&
-                     px(&img, 8)[3] == 24,
-                 "p1: lg_scene.features medium %g dir %g point %g triangles %g",
-                 (double)px(&img, 5)[3], (double)px(&img, 6)[3], (double)px(&img, 7)[3],
-                 (double)px(&img, 8)[3]);
+        LG_TEST_CHECK(t,
+                      px(&img, 5)[3] == 1 && px(&img, 6)[3] == 1 && px(&img, 7)[3] == 1 &&
+                          px(&img, 8)[3] == 24,
+                      "p1: lg_scene.features medium %g dir %g point %g triangles %g",
+                      (double)px(&img, 5)[3], (double)px(&img, 6)[3], (double)px(&img, 7)[3],
+                      (double)px(&img, 8)[3]);
         lg_image_free(&img);
     }
     if (lg_test_read(t, "p2.exr", &img, &bits)) {
         LG_TEST_CHECK(t, px(&img, 5)[3] == 0 && px(&img, 5)[0] == 0,
-                 "p2: medium present %g, features.medium %g", (double)px(&img, 5)[0],
-                 (double)px(&img, 5)[3]);
+                      "p2: medium present %g, features.medium %g", (double)px(&img, 5)[0],
+                      (double)px(&img, 5)[3]);
         lg_image_free(&img);
     }
 }
@@ -229,23 +234,24 @@ static void gating_case(lg_test *t, const char *what, const char *chain, const c
     LG_TEST_CHECK(t, rc == 0, "%s: render failed: %s", what, o);
     const char *st = state_of(o, "fogfx");
     LG_TEST_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0, "%s: test_fog is '%s', want %s:\n%s",
-             what, st, kept ? "kept" : "gated", o);
+                  what, st, kept ? "kept" : "gated", o);
     if (!kept) {
         char *l = line_with(o, "fogfx ");
         LG_TEST_CHECK(t, l && strstr(l, reason), "%s: the reason is not '%s': %s", what, reason,
-                 l ? l : "");
+                      l ? l : "");
         free(l);
     }
     LG_TEST_CHECK(t, plugin_loaded(o, "testfog") == kept, "%s: testfog %s:\n%s", what,
-             kept ? "not loaded though kept" : "loaded though gated", o);
+                  kept ? "not loaded though kept" : "loaded though gated", o);
     free(out);
     lg_image img;
     if (lg_test_read(t, "fog.exr", &img, NULL)) {
         float want = kept ? 0.5f : 0.0f;
-        LG_TEST_CHECK(t, img.width == 4 && img.height == 2 && img.pixels[0] == want &&
-                     img.pixels[4 * 7 + 1] == want,
-                 "%s: fog image %ux%u, value %g, want %g", what, img.width, img.height,
-                 (double)img.pixels[0], (double)want);
+        LG_TEST_CHECK(t,
+                      img.width == 4 && img.height == 2 && img.pixels[0] == want &&
+                          img.pixels[4 * 7 + 1] == want,
+                      "%s: fog image %ux%u, value %g, want %g", what, img.width, img.height,
+                      (double)img.pixels[0], (double)want);
         lg_image_free(&img);
     }
 }
@@ -268,8 +274,8 @@ static void case_gating(lg_test *t)
                 "off = medium { scene = m, density = 0 }\n",
                 "off", false, "no participating medium");
     gating_case(t, "density 0 alone",
-                "sun = light { scene = cube }\noff = medium { scene = sun, density = 0 }\n",
-                "off", false, "no participating medium");
+                "sun = light { scene = cube }\noff = medium { scene = sun, density = 0 }\n", "off",
+                false, "no participating medium");
     gating_case(t, "a camera keeps what it gets",
                 "sun = light { scene = cube }\nm = medium { scene = sun, density = 0.3 }\n"
                 "cam = camera { scene = m }\n",
@@ -300,11 +306,11 @@ static void mirror_case(lg_test *t, const char *what, const char *cube_params, c
     int rc = render_text(t, g, args, &out);
     const char *o = out ? out : "";
     LG_TEST_CHECK(t, rc == 0, "%s: render failed: %s", what, o);
-    LG_TEST_CHECK(t, features_say(o, scene, features), "%s: the features of '%s' do not say '%s':\n%s",
-                  what, scene, features, o);
+    LG_TEST_CHECK(t, features_say(o, scene, features),
+                  "%s: the features of '%s' do not say '%s':\n%s", what, scene, features, o);
     const char *st = state_of(o, "mirror");
-    LG_TEST_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0, "%s: test_mirror is '%s', want %s:\n%s",
-                  what, st, kept ? "kept" : "gated", o);
+    LG_TEST_CHECK(t, strcmp(st, kept ? "kept" : "gated") == 0,
+                  "%s: test_mirror is '%s', want %s:\n%s", what, st, kept ? "kept" : "gated", o);
     if (!kept) {
         char *l = line_with(o, "mirror ");
         LG_TEST_CHECK(t, l && strstr(l, reason), "%s: the reason is not '%s': %s", what, reason,
@@ -317,8 +323,9 @@ static void mirror_case(lg_test *t, const char *what, const char *cube_params, c
     lg_image img;
     if (lg_test_read(t, "mirror.exr", &img, NULL)) {
         float want = kept ? 0.25f : 0.0f;
-        LG_TEST_CHECK(t, img.width == 4 && img.height == 2 && img.pixels[0] == want &&
-                         img.pixels[4 * 7 + 2] == want,
+        LG_TEST_CHECK(t,
+                      img.width == 4 && img.height == 2 && img.pixels[0] == want &&
+                          img.pixels[4 * 7 + 2] == want,
                       "%s: mirror image %ux%u, value %g, want %g", what, img.width, img.height,
                       (double)img.pixels[0], (double)want);
         lg_image_free(&img);
@@ -345,11 +352,11 @@ static void case_environment(lg_test *t)
                 "triangles 0, vertices 0,", false, "no reflective material");
     /* the environment keeps through a derived scene downstream, and the camera keeps it */
     mirror_case(t, "camera after environment", "reflectivity = 1",
-                "env = environment { scene = cube, probe = sky }\ncam = camera { scene = env }\n", "cam",
-                "probe yes; specular material no; reflective materials 1", true, NULL);
+                "env = environment { scene = cube, probe = sky }\ncam = camera { scene = env }\n",
+                "cam", "probe yes; specular material no; reflective materials 1", true, NULL);
     mirror_case(t, "environment after camera", "reflectivity = 1",
-                "cam = camera { scene = cube }\nenv = environment { scene = cam, probe = sky }\n", "env",
-                "probe yes; specular material no; reflective materials 1", true, NULL);
+                "cam = camera { scene = cube }\nenv = environment { scene = cam, probe = sky }\n",
+                "env", "probe yes; specular material no; reflective materials 1", true, NULL);
 }
 
 /* Depths of the bounds' corners along the view direction lie within [znear, zfar]. */
@@ -364,7 +371,7 @@ static void check_clip(lg_test *t, const char *what, const lg_image *img)
         lg_vec3 c = lg_v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
         float d = lg_v3_dot(lg_v3_sub(c, eye), f);
         LG_TEST_CHECK(t, d >= zn && d <= zf, "%s: corner %d at depth %g outside [%g, %g]", what, k,
-                 (double)d, (double)zn, (double)zf);
+                      (double)d, (double)zn, (double)zf);
     }
 }
 
@@ -373,9 +380,9 @@ static void check_up(lg_test *t, const char *what, const lg_image *img)
     lg_vec3 eye = px3(img, 0), target = px3(img, 1), up = px3(img, 2);
     lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(target, eye), lg_v3(0, 0, 0));
     LG_TEST_CHECK(t, fabsf(lg_v3_length(up) - 1) < 1e-5f, "%s: |up| = %g", what,
-             (double)lg_v3_length(up));
+                  (double)lg_v3_length(up));
     LG_TEST_CHECK(t, fabsf(lg_v3_dot(up, f)) < 1e-5f, "%s: up . view = %g", what,
-             (double)lg_v3_dot(up, f));
+                  (double)lg_v3_dot(up, f));
 }
 
 static void case_look_at(lg_test *t)
@@ -395,29 +402,29 @@ static void case_look_at(lg_test *t)
     LG_TEST_CHECK(t, fabs(px(&img, 0)[3] - 60 * DEG) < 1e-6, "yfov %g", (double)px(&img, 0)[3]);
     LG_TEST_CHECK(t, px(&img, 3)[3] == 2, "aspect %g", (double)px(&img, 3)[3]);
     LG_TEST_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0,
-             "the active camera is replaced: %g cameras, active %g", (double)px(&img, 3)[1],
-             (double)px(&img, 3)[2]);
+                  "the active camera is replaced: %g cameras, active %g", (double)px(&img, 3)[1],
+                  (double)px(&img, 3)[2]);
     check_up(t, "look_at", &img);
     /* up stays in the plane of the view direction and world up, on world up's side */
     lg_vec3 f = lg_v3_normalize_or(lg_v3_sub(px3(&img, 1), px3(&img, 0)), lg_v3(0, 0, 0));
     lg_vec3 side = lg_v3_cross(f, lg_v3(0, 1, 0));
     LG_TEST_CHECK(t, fabsf(lg_v3_dot(px3(&img, 2), side)) < 1e-5f && px(&img, 2)[1] > 0,
-             "up leaves the plane of view and world up");
+                  "up leaves the plane of view and world up");
     check_clip(t, "look_at", &img);
     lg_image_free(&img);
 
     /* a scene without a camera gets one */
-    const char *g1 =
-        "lightgraph 1\n"
-        "cube = test_cube { camera = false }\n"
-        "cam = camera { scene = cube, mode = look_at, position = [0, 0, 7] }\n"
-        "probe = test_scene_probe { scene = cam }\n"
-        "output probe \"probe.exr\"\n";
+    const char *g1 = "lightgraph 1\n"
+                     "cube = test_cube { camera = false }\n"
+                     "cam = camera { scene = cube, mode = look_at, position = [0, 0, 7] }\n"
+                     "probe = test_scene_probe { scene = cam }\n"
+                     "output probe \"probe.exr\"\n";
     if (run_probe(t, g1, NULL, &img)) {
-        LG_TEST_CHECK(t, px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0 &&
-                     near3(px3(&img, 0), lg_v3(0, 0, 7), 0),
-                 "no camera: %g cameras, active %g", (double)px(&img, 3)[1],
-                 (double)px(&img, 3)[2]);
+        LG_TEST_CHECK(t,
+                      px(&img, 3)[1] == 1 && px(&img, 3)[2] == 0 &&
+                          near3(px3(&img, 0), lg_v3(0, 0, 7), 0),
+                      "no camera: %g cameras, active %g", (double)px(&img, 3)[1],
+                      (double)px(&img, 3)[2]);
         lg_image_free(&img);
     }
 
@@ -435,13 +442,13 @@ static void case_look_at(lg_test *t)
     if (!run_probe(t, g2, NULL, &img))
         return;
     LG_TEST_CHECK(t, px(&img, 1)[3] == 0.25f && px(&img, 2)[3] == 40, "explicit planes %g %g",
-             (double)px(&img, 1)[3], (double)px(&img, 2)[3]);
+                  (double)px(&img, 1)[3], (double)px(&img, 2)[3]);
     lg_image_free(&img);
     if (lg_test_read(t, "probe2.exr", &img, NULL)) {
         float zn = px(&img, 1)[3], zf = px(&img, 2)[3];
         /* farthest corner: 3 + 1 = 4 along -Z, plus the 1 % margin */
         LG_TEST_CHECK(t, fabsf(zf - 4.04f) < 1e-4f && zn > 0 && fabsf(zn - zf * 1e-3f) < 1e-6f,
-                 "inside the box: znear %g zfar %g", (double)zn, (double)zf);
+                      "inside the box: znear %g zfar %g", (double)zn, (double)zf);
         lg_image_free(&img);
     }
 }
@@ -465,14 +472,14 @@ static void check_framed(lg_test *t, const char *what, const lg_image *img, floa
         for (int a = 0; a < 3; a++) {
             float ndc = c[a] / c[3];
             LG_TEST_CHECK(t, ndc >= -1 && ndc <= 1, "%s: corner %d: ndc[%d] = %g outside [-1, 1]",
-                     what, k, a, (double)ndc);
+                          what, k, a, (double)ndc);
             if (a < 2 && fabsf(ndc) > maxabs)
                 maxabs = fabsf(ndc);
         }
     }
     /* the fit is not wasteful either: the scene fills a good part of the image */
     LG_TEST_CHECK(t, maxabs > 0.3f, "%s: the scene spans only %g of the half image", what,
-             (double)maxabs);
+                  (double)maxabs);
 }
 
 static void case_orbit(lg_test *t)
@@ -481,21 +488,22 @@ static void case_orbit(lg_test *t)
         double az, el, fov;
         int w, h;
     } v[] = {
-        { 0, 20, 45, 64, 32 },   { 135, -30, 45, 32, 96 }, { 45, 90, 60, 64, 64 },
+        { 0, 20, 45, 64, 32 },    { 135, -30, 45, 32, 96 }, { 45, 90, 60, 64, 64 },
         { -60, -90, 30, 50, 50 }, { 300, 5, 120, 200, 20 }, { 10, 89.99, 45, 40, 30 },
     };
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
         char g[1024], what[128], size[32];
         snprintf(what, sizeof what, "orbit az %g el %g fov %g %dx%d", v[i].az, v[i].el, v[i].fov,
                  v[i].w, v[i].h);
-        snprintf(g, sizeof g,
-                 "lightgraph 1\n"
-                 "cube = test_cube { instances = 3, half_size = [1, 2, 0.5], center = [5, -1, 2] }\n"
-                 "cam = camera { scene = cube, mode = orbit, azimuth_deg = %.17g,\n"
-                 "               elevation_deg = %.17g, fov_deg = %.17g }\n"
-                 "probe = test_scene_probe { scene = cam }\n"
-                 "output probe \"probe.exr\"\n",
-                 v[i].az, v[i].el, v[i].fov);
+        snprintf(
+            g, sizeof g,
+            "lightgraph 1\n"
+            "cube = test_cube { instances = 3, half_size = [1, 2, 0.5], center = [5, -1, 2] }\n"
+            "cam = camera { scene = cube, mode = orbit, azimuth_deg = %.17g,\n"
+            "               elevation_deg = %.17g, fov_deg = %.17g }\n"
+            "probe = test_scene_probe { scene = cam }\n"
+            "output probe \"probe.exr\"\n",
+            v[i].az, v[i].el, v[i].fov);
         snprintf(size, sizeof size, "%dx%d", v[i].w, v[i].h);
         const char *args[] = { "--size", size, NULL };
         lg_image img;
@@ -504,17 +512,19 @@ static void case_orbit(lg_test *t)
         lg_vec3 lo = px3(&img, 8), hi = px3(&img, 9);
         lg_vec3 c = lg_v3_scale(lg_v3_add(lo, hi), 0.5f);
         float r = 0.5f * lg_v3_length(lg_v3_sub(hi, lo));
-        LG_TEST_CHECK(t, near3(px3(&img, 1), c, 1e-5f), "%s: target is not the bounds' centre", what);
+        LG_TEST_CHECK(t, near3(px3(&img, 1), c, 1e-5f), "%s: target is not the bounds' centre",
+                      what);
         /* the documented distance: 1.1 r / sin(min(half fov y, half fov x)) */
         double a = (double)v[i].w / v[i].h, hy = 0.5 * v[i].fov * DEG, hx = atan(tan(hy) * a);
         double want = 1.1 * r / sin(hx < hy ? hx : hy);
         lg_vec3 off = lg_v3_sub(px3(&img, 0), c);
         double got = lg_v3_length(off);
-        LG_TEST_CHECK(t, fabs(got - want) < 1e-4 * want, "%s: distance %g, want %g", what, got, want);
+        LG_TEST_CHECK(t, fabs(got - want) < 1e-4 * want, "%s: distance %g, want %g", what, got,
+                      want);
         double az = v[i].az * DEG, el = v[i].el * DEG;
         lg_vec3 dir = lg_v3((float)(cos(el) * sin(az)), (float)sin(el), (float)(cos(el) * cos(az)));
         LG_TEST_CHECK(t, near3(lg_v3_scale(off, 1.0f / (float)got), dir, 1e-5f),
-                 "%s: the camera is not at the azimuth and elevation", what);
+                      "%s: the camera is not at the azimuth and elevation", what);
         check_up(t, what, &img);
         check_framed(t, what, &img, (float)a);
         check_clip(t, what, &img);
@@ -544,9 +554,10 @@ static void case_orbit(lg_test *t)
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         lg_vec3 e = px3(&img, 0);
-        LG_TEST_CHECK(t, near3(e, lg_v3(0, 9 * (float)sin(20 * DEG), 9 * (float)cos(20 * DEG)), 1e-5f),
-                 "distance 3 x radius 3: eye [%g, %g, %g]", (double)e.x, (double)e.y,
-                 (double)e.z);
+        LG_TEST_CHECK(t,
+                      near3(e, lg_v3(0, 9 * (float)sin(20 * DEG), 9 * (float)cos(20 * DEG)), 1e-5f),
+                      "distance 3 x radius 3: eye [%g, %g, %g]", (double)e.x, (double)e.y,
+                      (double)e.z);
         check_clip(t, "distance 3", &img);
         lg_image_free(&img);
     }
@@ -557,13 +568,13 @@ static void check_light(lg_test *t, const lg_image *img, uint32_t i, int type, l
 {
     uint32_t x = 10 + 3 * i;
     LG_TEST_CHECK(t, px(img, x)[3] == (float)type, "light %u: type %g, want %d", i,
-             (double)px(img, x)[3], type);
+                  (double)px(img, x)[3], type);
     LG_TEST_CHECK(t, near3(px3(img, x), dir, 1e-6f), "light %u: direction [%g, %g, %g]", i,
-             (double)px(img, x)[0], (double)px(img, x)[1], (double)px(img, x)[2]);
+                  (double)px(img, x)[0], (double)px(img, x)[1], (double)px(img, x)[2]);
     LG_TEST_CHECK(t, near3(px3(img, x + 1), color, 0) && px(img, x + 1)[3] == intensity,
-             "light %u: colour or intensity", i);
+                  "light %u: colour or intensity", i);
     LG_TEST_CHECK(t, near3(px3(img, x + 2), pos, 0) && px(img, x + 2)[3] == range,
-             "light %u: position or range", i);
+                  "light %u: position or range", i);
 }
 
 static void case_lights(lg_test *t)
@@ -579,9 +590,9 @@ static void case_lights(lg_test *t)
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         LG_TEST_CHECK(t, px(&img, 3)[0] == 3 && img.width == 10 + 9, "3 lights: %g",
-                 (double)px(&img, 3)[0]);
+                      (double)px(&img, 3)[0]);
         LG_TEST_CHECK(t, px(&img, 6)[3] == 2 && px(&img, 7)[3] == 1, "features: %g dir, %g point",
-                 (double)px(&img, 6)[3], (double)px(&img, 7)[3]);
+                      (double)px(&img, 6)[3], (double)px(&img, 7)[3]);
         lg_vec3 z = lg_v3(0, 0, 0), w = lg_v3(1, 1, 1);
         check_light(t, &img, 0, 0, lg_v3(0.6f, -0.8f, 0), lg_v3(1, 0.5f, 0.25f), 3, z, 0);
         check_light(t, &img, 1, 1, z, w, 50, lg_v3(0, 4, 1), 10);
@@ -598,7 +609,7 @@ static void case_lights(lg_test *t)
         "output probe \"probe.exr\"\n";
     if (run_probe(t, g2, NULL, &img)) {
         LG_TEST_CHECK(t, px(&img, 3)[0] == 1 && img.width == 13, "replace leaves %g lights",
-                 (double)px(&img, 3)[0]);
+                      (double)px(&img, 3)[0]);
         check_light(t, &img, 0, 0, lg_v3(0, 0, 1), lg_v3(2, 2, 2), 1, lg_v3(0, 0, 0), 0);
         lg_image_free(&img);
     }
@@ -606,37 +617,35 @@ static void case_lights(lg_test *t)
 
 static void case_medium(lg_test *t)
 {
-    const char *g =
-        "lightgraph 1\n"
-        "cube = test_cube {}\n"
-        "m = medium { scene = cube, density = 0.5, scattering = [0.1, 0.2, 0.3],\n"
-        "             absorption = [0.01, 0.02, 0.03], g = 0.4 }\n"
-        "probe = test_scene_probe { scene = m }\n"
-        "output probe \"probe.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "cube = test_cube {}\n"
+                    "m = medium { scene = cube, density = 0.5, scattering = [0.1, 0.2, 0.3],\n"
+                    "             absorption = [0.01, 0.02, 0.03], g = 0.4 }\n"
+                    "probe = test_scene_probe { scene = m }\n"
+                    "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         const float *m = px(&img, 5);
         LG_TEST_CHECK(t, m[0] == 1 && m[1] == 0.5f && m[2] == 0.4f && m[3] == 1,
-                 "medium present %g density %g g %g feature %g", (double)m[0], (double)m[1],
-                 (double)m[2], (double)m[3]);
+                      "medium present %g density %g g %g feature %g", (double)m[0], (double)m[1],
+                      (double)m[2], (double)m[3]);
         LG_TEST_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.2f, 0.3f), 0), "scattering");
         LG_TEST_CHECK(t, near3(px3(&img, 7), lg_v3(0.01f, 0.02f, 0.03f), 0), "absorption");
         lg_image_free(&img);
     }
     /* defaults, then replaced by a second node */
-    const char *g2 =
-        "lightgraph 1\n"
-        "cube = test_cube {}\n"
-        "m = medium { scene = cube }\n"
-        "m2 = medium { scene = m, density = 2, g = -0.5 }\n"
-        "probe = test_scene_probe { scene = m }\n"
-        "probe2 = test_scene_probe { scene = m2 }\n"
-        "output probe \"probe.exr\"\n"
-        "output probe2 \"probe2.exr\"\n";
+    const char *g2 = "lightgraph 1\n"
+                     "cube = test_cube {}\n"
+                     "m = medium { scene = cube }\n"
+                     "m2 = medium { scene = m, density = 2, g = -0.5 }\n"
+                     "probe = test_scene_probe { scene = m }\n"
+                     "probe2 = test_scene_probe { scene = m2 }\n"
+                     "output probe \"probe.exr\"\n"
+                     "output probe2 \"probe2.exr\"\n";
     if (run_probe(t, g2, NULL, &img)) {
         const float *m = px(&img, 5);
         LG_TEST_CHECK(t, m[0] == 1 && m[1] == 1 && m[2] == 0, "default medium: %g %g %g",
-                 (double)m[0], (double)m[1], (double)m[2]);
+                      (double)m[0], (double)m[1], (double)m[2]);
         LG_TEST_CHECK(t, near3(px3(&img, 6), lg_v3(0.1f, 0.1f, 0.1f), 0), "default scattering");
         lg_image_free(&img);
         if (lg_test_read(t, "probe2.exr", &img, NULL)) {
@@ -648,29 +657,29 @@ static void case_medium(lg_test *t)
 
 static void case_sharing(lg_test *t)
 {
-    const char *g =
-        "lightgraph 1\n"
-        "cube = test_cube { instances = 4 }\n"
-        "cam = camera { scene = cube }\n"
-        "sun = light { scene = cam }\n"
-        "fog = medium { scene = sun }\n"
-        "probe = test_scene_probe { scene = fog, source = cube }\n"
-        "self = test_scene_probe { scene = cube, source = cube }\n"
-        "output probe \"probe.exr\"\n"
-        "output self \"self.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "cube = test_cube { instances = 4 }\n"
+                    "cam = camera { scene = cube }\n"
+                    "sun = light { scene = cam }\n"
+                    "fog = medium { scene = sun }\n"
+                    "probe = test_scene_probe { scene = fog, source = cube }\n"
+                    "self = test_scene_probe { scene = cube, source = cube }\n"
+                    "output probe \"probe.exr\"\n"
+                    "output self \"self.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         const float *s = px(&img, 4);
-        LG_TEST_CHECK(t, s[0] == 1, "the third derived scene's geometry is not the source's resource");
+        LG_TEST_CHECK(t, s[0] == 1,
+                      "the third derived scene's geometry is not the source's resource");
         LG_TEST_CHECK(t, s[1] == 1, "meshes, instances or materials were copied");
         LG_TEST_CHECK(t, s[3] == 4 && px(&img, 8)[3] == 48 && px(&img, 9)[3] == 0,
-                 "instances %g, triangles %g, geometry NULL %g", (double)s[3],
-                 (double)px(&img, 8)[3], (double)px(&img, 9)[3]);
+                      "instances %g, triangles %g, geometry NULL %g", (double)s[3],
+                      (double)px(&img, 8)[3], (double)px(&img, 9)[3]);
         lg_image_free(&img);
     }
     if (lg_test_read(t, "self.exr", &img, NULL)) {
         LG_TEST_CHECK(t, px(&img, 4)[0] == 0 && px(&img, 9)[3] == 1,
-                 "the source owns its geometry (geometry NULL)");
+                      "the source owns its geometry (geometry NULL)");
         lg_image_free(&img);
     }
 }
@@ -678,17 +687,16 @@ static void case_sharing(lg_test *t)
 static void case_sharing_gl(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
-    const char *g =
-        "lightgraph 1\n"
-        "cube = test_cube { instances = 2 }\n"
-        "sun = light { scene = cube }\n"
-        "cam = camera { scene = sun }\n"
-        "probe = test_scene_probe { scene = cam, source = cube, gl = true }\n"
-        "output probe \"probe.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "cube = test_cube { instances = 2 }\n"
+                    "sun = light { scene = cube }\n"
+                    "cam = camera { scene = sun }\n"
+                    "probe = test_scene_probe { scene = cam, source = cube, gl = true }\n"
+                    "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         LG_TEST_CHECK(t, px(&img, 4)[2] == 1, "the GL buffers of mesh 0 differ (%g)",
-                 (double)px(&img, 4)[2]);
+                      (double)px(&img, 4)[2]);
         lg_image_free(&img);
     }
 }
@@ -696,17 +704,16 @@ static void case_sharing_gl(lg_test *t)
 static void case_sharing_cl(lg_test *t)
 {
     lg_test_require_backend(t, "cl");
-    const char *g =
-        "lightgraph 1\n"
-        "cube = test_cube { instances = 2 }\n"
-        "sun = light { scene = cube }\n"
-        "probe = test_scene_probe { scene = sun, source = cube, cl = true }\n"
-        "output probe \"probe.exr\"\n";
+    const char *g = "lightgraph 1\n"
+                    "cube = test_cube { instances = 2 }\n"
+                    "sun = light { scene = cube }\n"
+                    "probe = test_scene_probe { scene = sun, source = cube, cl = true }\n"
+                    "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
         LG_TEST_CHECK(t, px(&img, 4)[2] == 1,
-                 "the CL copies of mesh 0 are not shared or not the mesh's data (%g)",
-                 (double)px(&img, 4)[2]);
+                      "the CL copies of mesh 0 are not shared or not the mesh's data (%g)",
+                      (double)px(&img, 4)[2]);
         lg_image_free(&img);
     }
 }
@@ -731,8 +738,8 @@ static void expect_error(lg_test *t, const char *what, int code, const char *nod
     const char *o = out ? out : "";
     LG_TEST_CHECK(t, rc == code, "%s: exit %d, want %d: %s", what, rc, code, o);
     for (int i = 0; msgs[i]; i++)
-        LG_TEST_CHECK(t, strstr(o, msgs[i]) != NULL, "%s: the message lacks '%s': %s", what, msgs[i],
-                 o);
+        LG_TEST_CHECK(t, strstr(o, msgs[i]) != NULL, "%s: the message lacks '%s': %s", what,
+                      msgs[i], o);
     free(out);
 }
 
@@ -755,8 +762,7 @@ static void case_errors(lg_test *t)
                  "bad = camera { scene = cube, mode = look_at, position = [0, 5, 0],"
                  " target = [0, 0, 0] }\n",
                  (const char *const[]){ "'bad'", "parallel to the view direction", NULL });
-    expect_error(t, "up zero", 1,
-                 "bad = camera { scene = cube, mode = look_at, up = [0, 0, 0] }\n",
+    expect_error(t, "up zero", 1, "bad = camera { scene = cube, mode = look_at, up = [0, 0, 0] }\n",
                  (const char *const[]){ "up = [0, 0, 0] is the zero vector", NULL });
     expect_error(t, "orbit without geometry", 1, "bad = camera { scene = empty }\n",
                  (const char *const[]){ "'bad'", "empty bounds", "mode = look_at", NULL });
@@ -782,10 +788,15 @@ static void case_errors(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "features", case_features }, { "gating", case_gating }, { "environment", case_environment },
-        { "look_at", case_look_at },   { "orbit", case_orbit },
-        { "lights", case_lights },     { "medium", case_medium },
-        { "sharing", case_sharing },   { "sharing_gl", case_sharing_gl },
+        { "features", case_features },
+        { "gating", case_gating },
+        { "environment", case_environment },
+        { "look_at", case_look_at },
+        { "orbit", case_orbit },
+        { "lights", case_lights },
+        { "medium", case_medium },
+        { "sharing", case_sharing },
+        { "sharing_gl", case_sharing_gl },
         { "sharing_cl", case_sharing_cl },
         { "errors", case_errors },
     };

@@ -35,7 +35,7 @@
 
 #include "common/testscene.h"
 
-/* ---- test_cube -------------------------------------------------------------------------- */
+/* ---- test_cube ------------------------------------------------------------------------------- */
 
 static int cube_prepare(lg_node *n)
 {
@@ -62,8 +62,8 @@ static int cube_prepare(lg_node *n)
     m->roughness = 1;
 
     if (lg_param_bool(n, "camera"))
-        lg_ts_camera(b, "default", lg_v3(ctr.x, ctr.y, ctr.z + 5), ctr, lg_v3(0, 1, 0), 0.8f,
-                     0.1f, 0.0f);
+        lg_ts_camera(b, "default", lg_v3(ctr.x, ctr.y, ctr.z + 5), ctr, lg_v3(0, 1, 0), 0.8f, 0.1f,
+                     0.0f);
 
     for (int64_t i = 0; i < count; i++) {
         float model[16];
@@ -83,7 +83,7 @@ static int cube_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- test_scene_probe ---------------------------------------------------------------------- */
+/* ---- test_scene_probe ------------------------------------------------------------------------ */
 
 enum { PROBE_FIXED = 10, PROBE_PER_LIGHT = 3 };
 
@@ -94,7 +94,8 @@ static int probe_prepare(lg_node *n)
         return LG_ERR_INVALID;
     if (lg_input(n, 1) && !lg_scene_get(n, lg_input(n, 1)))
         return LG_ERR_INVALID;
-    lg_image_desc d = { .width = PROBE_FIXED + PROBE_PER_LIGHT * s->n_lights, .height = 1,
+    lg_image_desc d = { .width = PROBE_FIXED + PROBE_PER_LIGHT * s->n_lights,
+                        .height = 1,
                         .format = LG_FORMAT_RGBA32F };
     int rc = lg_declare_image(n, 0, &d);
     if (rc)
@@ -199,19 +200,37 @@ static int probe_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- descriptors --------------------------------------------------------------------------- */
+/* ---- descriptors ----------------------------------------------------------------------------- */
 
 static const lg_param_desc cube_params[] = {
-    { .key = "half_size", .type = LG_PARAM_VEC3, .def.v = { 1, 1, 1 }, .min = 1e-3, .max = 1e3,
+    { .key = "half_size",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 1, 1, 1 },
+      .min = 1e-3,
+      .max = 1e3,
       .doc = "half the box's extent along x, y, z" },
-    { .key = "center", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -1e3, .max = 1e3,
+    { .key = "center",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .min = -1e3,
+      .max = 1e3,
       .doc = "centre of the first instance" },
-    { .key = "instances", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = 64,
+    { .key = "instances",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 0,
+      .max = 64,
       .doc = "copies side by side along +X, 3 half sizes apart (0: an empty scene)" },
     { .key = "specular", .type = LG_PARAM_BOOL, .def.b = false, .doc = "material ks 0.5" },
-    { .key = "reflectivity", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1,
+    { .key = "reflectivity",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1,
       .doc = "the material's reflectivity (all three channels): > 0 makes it reflective" },
-    { .key = "camera", .type = LG_PARAM_BOOL, .def.b = true,
+    { .key = "camera",
+      .type = LG_PARAM_BOOL,
+      .def.b = true,
       .doc = "the scene has a camera (false: none, which scene.h forbids a loader)" },
 };
 static const lg_port_desc cube_out[] = {
@@ -219,14 +238,20 @@ static const lg_port_desc cube_out[] = {
 };
 
 static const lg_param_desc probe_params[] = {
-    { .key = "gl", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "gl",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "compare the GL copies of mesh 0 of scene and source" },
-    { .key = "cl", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "cl",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "compare the CL copies of mesh 0 of scene and source, and with the CPU data" },
 };
 static const lg_port_desc probe_in[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to report" },
-    { .name = "source", .kind = LG_KIND_SCENE, .optional = true,
+    { .name = "source",
+      .kind = LG_KIND_SCENE,
+      .optional = true,
       .doc = "the scene whose geometry `scene` should share" },
 };
 static const lg_port_desc probe_out[] = {
@@ -255,5 +280,4 @@ static const lg_node_type types[] = {
     },
 };
 
-LG_PLUGIN_DEFINE("testcube", "1.0.0", "A cube scene and a scene probe for scene_tools tests",
-                 types)
+LG_PLUGIN_DEFINE("testcube", "1.0.0", "A cube scene and a scene probe for scene_tools tests", types)

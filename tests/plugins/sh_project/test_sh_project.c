@@ -41,7 +41,7 @@
 
 #define MAXC (3 * 64 * 64)
 
-/* ---- probes ---------------------------------------------------------------------------- */
+/* ---- probes ---------------------------------------------------------------------------------- */
 
 typedef void (*paint_fn)(const void *ctx, lg_vec3 d, float rgb[3]);
 
@@ -53,7 +53,7 @@ static void write_probe(lg_test *t, const char *name, lg_probe_layout layout, ui
     uint32_t faces = layout == LG_PROBE_CUBE ? 6 : 1;
     if (layout != LG_PROBE_LATLONG)
         h = w;
-    lg_image img = {0};
+    lg_image img = { 0 };
     if (lg_image_alloc(&img, w * faces, h)) {
         LG_TEST_FAILF(t, "out of memory");
         return;
@@ -76,7 +76,7 @@ static void paint_constant(const void *ctx, lg_vec3 d, float rgb[3])
     memcpy(rgb, ctx, 3 * sizeof(float));
 }
 
-/* ---- running and reading back ----------------------------------------------------------- */
+/* ---- running and reading back ---------------------------------------------------------------- */
 
 typedef struct coeffs {
     uint32_t bands, nc;
@@ -99,8 +99,8 @@ static bool read_coeffs(lg_test *t, const char *rel, coeffs *out)
     if (!fgets(line, sizeof line, f) ||
         sscanf(line, "# lightgraph SH coefficients: %u band", &out->bands) != 1 ||
         !strstr(line, out->bands == 1 ? " band, " : " bands, ") ||
-        sscanf(strstr(line, ", ") + 2, "%u per channel", &perch) != 1 ||
-        out->bands < 1 || out->bands > 64 || perch != out->bands * out->bands) {
+        sscanf(strstr(line, ", ") + 2, "%u per channel", &perch) != 1 || out->bands < 1 ||
+        out->bands > 64 || perch != out->bands * out->bands) {
         LG_TEST_FAILF(t, "%s: bad first line: %s", rel, line);
         fclose(f);
         return false;
@@ -138,8 +138,9 @@ static bool read_coeffs(lg_test *t, const char *rel, coeffs *out)
 static bool project(lg_test *t, const char *probe_params, const char *sh_params, coeffs *out)
 {
     char g[1024];
-    snprintf(g, sizeof g, "lightgraph 1\nsky = probe { %s }\nlight = sh_project { probe = sky, "
-                          "%s }\noutput light \"light.txt\"\n",
+    snprintf(g, sizeof g,
+             "lightgraph 1\nsky = probe { %s }\nlight = sh_project { probe = sky, "
+             "%s }\noutput light \"light.txt\"\n",
              probe_params, sh_params);
     lg_test_write_text(t, "g.lgraph", g);
     char *text = NULL;
@@ -149,27 +150,29 @@ static bool project(lg_test *t, const char *probe_params, const char *sh_params,
     return rc == 0 && read_coeffs(t, "light.txt", out);
 }
 
-static const char *const SAMPLERS[] = {"jittered", "hammersley", "sobol"};
+static const char *const SAMPLERS[] = { "jittered", "hammersley", "sobol" };
 
-/* ---- cases ----------------------------------------------------------------------------- */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static void case_constant(lg_test *t)
 {
-    const float c[3] = {0.7f, 1.3f, 2.5f};
+    const float c[3] = { 0.7f, 1.3f, 2.5f };
     write_probe(t, "ll.exr", LG_PROBE_LATLONG, 32, 16, paint_constant, c);
     write_probe(t, "ang.exr", LG_PROBE_ANGULAR, 32, 32, paint_constant, c);
     write_probe(t, "cube.exr", LG_PROBE_CUBE, 8, 8, paint_constant, c);
-    struct { const char *probe, *sh; double tol_rest; } runs[] = {
+    struct {
+        const char *probe, *sh;
+        double tol_rest;
+    } runs[] = {
         /* quadrature at texel centres: the within-texel variation of Y_2,0 (lat-long rows,
          * angular rings) is the error left; the cube's symmetry cancels bands 1 to 3 */
-        {"file = \"ll.exr\"", "bands = 3", 5e-3},
-        {"file = \"ang.exr\", layout = angular", "bands = 3", 5e-3},
-        {"file = \"cube.exr\", layout = strip", "bands = 3", 1e-5},
-        {"file = \"cube.exr\", layout = strip", "bands = 6", 0.02}, /* l = 4: texel centres */
-        {"file = \"ll.exr\"", "bands = 3, sampler = jittered, samples = 64", 0.01},
-        {"file = \"ll.exr\"", "bands = 3, sampler = hammersley, samples = 64", 0.01},
-        {"file = \"cube.exr\", layout = strip", "bands = 3, sampler = sobol, samples = 64",
-         0.01},
+        { "file = \"ll.exr\"", "bands = 3", 5e-3 },
+        { "file = \"ang.exr\", layout = angular", "bands = 3", 5e-3 },
+        { "file = \"cube.exr\", layout = strip", "bands = 3", 1e-5 },
+        { "file = \"cube.exr\", layout = strip", "bands = 6", 0.02 }, /* l = 4: texel centres */
+        { "file = \"ll.exr\"", "bands = 3, sampler = jittered, samples = 64", 0.01 },
+        { "file = \"ll.exr\"", "bands = 3, sampler = hammersley, samples = 64", 0.01 },
+        { "file = \"cube.exr\", layout = strip", "bands = 3, sampler = sobol, samples = 64", 0.01 },
     };
     for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
         coeffs k;
@@ -183,12 +186,12 @@ static void case_constant(lg_test *t)
         for (int ch = 0; ch < 3; ch++) {
             double want = 2.0 * sqrt(LG_PI) * c[ch], got = k.c[ch * k.nc];
             LG_TEST_CHECK(t, fabs(got - want) <= 2e-6 * want,
-                          "%s / %s: c_0 channel %d = %.9g, want %.9g", runs[r].probe,
-                          runs[r].sh, ch, got, want);
+                          "%s / %s: c_0 channel %d = %.9g, want %.9g", runs[r].probe, runs[r].sh,
+                          ch, got, want);
             for (uint32_t i = 1; i < k.nc; i++)
                 LG_TEST_CHECK(t, fabs(k.c[ch * k.nc + i]) <= runs[r].tol_rest * want,
-                              "%s / %s: c_%u channel %d = %.3g, want ~0", runs[r].probe,
-                              runs[r].sh, i, ch, k.c[ch * k.nc + i]);
+                              "%s / %s: c_%u channel %d = %.3g, want ~0", runs[r].probe, runs[r].sh,
+                              i, ch, k.c[ch * k.nc + i]);
         }
     }
 }
@@ -203,9 +206,9 @@ static void paint_cap(const void *ctx, lg_vec3 d, float rgb[3])
 
 static void case_sign(lg_test *t)
 {
-    static const float axes[][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}};
-    static const int idx[] = {3, 1, 2, 3}; /* Y_1,1 ~ x, Y_1,-1 ~ y, Y_1,0 ~ z */
-    static const double sgn[] = {1, 1, 1, -1};
+    static const float axes[][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { -1, 0, 0 } };
+    static const int idx[] = { 3, 1, 2, 3 }; /* Y_1,1 ~ x, Y_1,-1 ~ y, Y_1,0 ~ z */
+    static const double sgn[] = { 1, 1, 1, -1 };
     for (int a = 0; a < 8; a++) {
         /* lat-long, then a cube strip (the faces' order and orientation) */
         bool cube = a >= 4;
@@ -236,7 +239,7 @@ typedef struct ylm3 {
 static void paint_ylm(const void *ctx, lg_vec3 d, float rgb[3])
 {
     const ylm3 *p = ctx;
-    double y[16], dir[3] = {d.x, d.y, d.z};
+    double y[16], dir[3] = { d.x, d.y, d.z };
     lg_sh_eval_d(4, dir, y);
     for (int ch = 0; ch < 3; ch++)
         rgb[ch] = (float)(1.0 + (p->idx[ch] >= 0 ? y[p->idx[ch]] : 0.0));
@@ -283,7 +286,7 @@ static void case_sky(lg_test *t)
     for (int s = 0; s < 26; s++) {
         /* normals: the axes, the 12 edge midpoints and 8 corners of the cube, normalised */
         int a = s < 13 ? s : s + 1; /* skip (0,0,0) of the 27 */
-        double nrm[3] = {a % 3 - 1.0, (a / 3) % 3 - 1.0, a / 9 - 1.0};
+        double nrm[3] = { a % 3 - 1.0, (a / 3) % 3 - 1.0, a / 9 - 1.0 };
         double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
         for (int i = 0; i < 3; i++)
             nrm[i] /= len;
@@ -322,15 +325,15 @@ static void case_converge(lg_test *t)
     coeffs ref, k;
     if (!project(t, probe, "bands = 3", &ref))
         return;
-    static const int sides[] = {16, 64, 256};
+    static const int sides[] = { 16, 64, 256 };
     printf("forest 256x128, 3 bands: relative RMS error against quadrature\n");
     printf("%-11s %10s %10s %10s\n", "sampler", "16^2", "64^2", "256^2");
     for (int s = 0; s < 3; s++) {
-        double err[3] = {0, 0, 0};
+        double err[3] = { 0, 0, 0 };
         for (int n = 0; n < 3; n++) {
             char sh[128];
-            snprintf(sh, sizeof sh, "bands = 3, sampler = %s, samples = %d, seed = 7",
-                     SAMPLERS[s], sides[n]);
+            snprintf(sh, sizeof sh, "bands = 3, sampler = %s, samples = %d, seed = 7", SAMPLERS[s],
+                     sides[n]);
             if (project(t, probe, sh, &k))
                 err[n] = rel_rms(&k, &ref);
         }
@@ -344,19 +347,19 @@ static void case_converge(lg_test *t)
 static void case_many(lg_test *t)
 {
     /* a 1x1 lat-long probe reads its one texel everywhere; 0.3 is not a binary fraction */
-    const float c[3] = {0.3f, 0.3f, 0.3f};
+    const float c[3] = { 0.3f, 0.3f, 0.3f };
     write_probe(t, "one.exr", LG_PROBE_LATLONG, 1, 1, paint_constant, c);
     coeffs k;
-    if (!project(t, "file = \"one.exr\"", "bands = 1, sampler = hammersley, samples = 10000",
-                 &k))
+    if (!project(t, "file = \"one.exr\"", "bands = 1, sampler = hammersley, samples = 10000", &k))
         return;
     double want = 2.0 * sqrt(LG_PI) * (double)c[0];
     for (int ch = 0; ch < 3; ch++)
         LG_TEST_CHECK(t, fabs(k.c[ch] - want) <= 1e-6 * want,
-                      "10^8 samples: c_0 channel %d = %.9g, want %.9g (relative %.2e)", ch,
-                      k.c[ch], want, (k.c[ch] - want) / want);
+                      "10^8 samples: c_0 channel %d = %.9g, want %.9g (relative %.2e)", ch, k.c[ch],
+                      want, (k.c[ch] - want) / want);
     printf("10^8 Hammersley samples of a constant 0.3: c_0 = %.9g, exact %.9g (relative "
-           "%.2e)\n", k.c[0], want, (k.c[0] - want) / want);
+           "%.2e)\n",
+           k.c[0], want, (k.c[0] - want) / want);
 }
 
 static char *slurp(lg_test *t, const char *rel)
@@ -376,9 +379,9 @@ static void case_threads(lg_test *t)
     char probe[1024];
     snprintf(probe, sizeof probe, "file = \"%s\"",
              lg_test_asset("probes/forest_256x128_half_none.exr"));
-    static const char *const sh[] = {"bands = 4", "bands = 4, sampler = sobol, samples = 300"};
+    static const char *const sh[] = { "bands = 4", "bands = 4, sampler = sobol, samples = 300" };
     for (int s = 0; s < 2; s++) {
-        char *text[3] = {NULL, NULL, NULL};
+        char *text[3] = { NULL, NULL, NULL };
         for (int th = 0; th < 3; th++) {
             char n[8];
             snprintf(n, sizeof n, "%d", th + 1);
@@ -421,8 +424,7 @@ static void case_rotation(lg_test *t)
         !project(t, "file = \"p.exr\"", "bands = 4", &c))
         return;
     double e = rel_rms(&a, &b), d = rel_rms(&c, &b);
-    printf("rotation [90, 30, 0]: against the pattern drawn rotated %.2e, unrotated %.2e\n", e,
-           d);
+    printf("rotation [90, 30, 0]: against the pattern drawn rotated %.2e, unrotated %.2e\n", e, d);
     LG_TEST_CHECK(t, e < 1e-3, "rotated probe vs the pattern drawn rotated: %.3g", e);
     LG_TEST_CHECK(t, d > 0.05, "the rotation changed nothing: %.3g", d);
 }
@@ -434,9 +436,9 @@ static void case_window(lg_test *t)
     if (!project(t, "file = \"p.exr\"", "bands = 5", &plain))
         return;
     LG_TEST_CHECK(t, !plain.windowed, "no window, yet the header says windowed");
-    static const char *const names[] = {"hanning", "lanczos", "gaussian"};
-    static const lg_sh_window_kind kinds[] = {LG_SH_WINDOW_HANNING, LG_SH_WINDOW_LANCZOS,
-                                              LG_SH_WINDOW_GAUSSIAN};
+    static const char *const names[] = { "hanning", "lanczos", "gaussian" };
+    static const lg_sh_window_kind kinds[] = { LG_SH_WINDOW_HANNING, LG_SH_WINDOW_LANCZOS,
+                                               LG_SH_WINDOW_GAUSSIAN };
     for (int w = 0; w < 3; w++) {
         char sh[128];
         snprintf(sh, sizeof sh, "bands = 5, window = %s, window_width = 3.5", names[w]);
@@ -451,8 +453,8 @@ static void case_window(lg_test *t)
                     double f = lg_sh_window_factor(kinds[w], 3.5, (uint32_t)l);
                     double want = plain.c[i] * f;
                     LG_TEST_CHECK(t, fabs(k.c[i] - want) <= 1e-6 * fabs(plain.c[i]) + 1e-30,
-                                  "%s: band %d coefficient %u = %.9g, want %.9g x %.6f",
-                                  names[w], l, i, k.c[i], plain.c[i], f);
+                                  "%s: band %d coefficient %u = %.9g, want %.9g x %.6f", names[w],
+                                  l, i, k.c[i], plain.c[i], f);
                 }
         /* the window does something: band 4 shrinks */
         LG_TEST_CHECK(t, lg_sh_window_factor(kinds[w], 3.5, 4) < 0.5,
@@ -492,10 +494,11 @@ static void case_text(lg_test *t)
     free(text);
     LG_TEST_CHECK(t, numbers == 108, "%d numbers, want 108", numbers);
     /* render -o x.txt on a graph whose one output is SH */
-    lg_test_write_text(t, "o.lgraph", "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
-                                      "light = sh_project { probe = sky, bands = 2 }\n"
-                                      "output light \"light.txt\"\n");
-    static const char *const args[] = {"-o", "other.txt", NULL};
+    lg_test_write_text(t, "o.lgraph",
+                       "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
+                       "light = sh_project { probe = sky, bands = 2 }\n"
+                       "output light \"light.txt\"\n");
+    static const char *const args[] = { "-o", "other.txt", NULL };
     int rc = lg_test_render(t, "o.lgraph", args, NULL);
     coeffs o;
     LG_TEST_CHECK(t, rc == 0 && read_coeffs(t, "other.txt", &o) && o.bands == 2,
@@ -516,40 +519,47 @@ static void refused(lg_test *t, const char *graph, const char *const *args, cons
 
 static void case_bad(lg_test *t)
 {
-    const float c[3] = {1, 1, 1};
+    const float c[3] = { 1, 1, 1 };
     write_probe(t, "p.exr", LG_PROBE_LATLONG, 8, 4, paint_constant, c);
-    static const struct { const char *set, *want; } bad[] = {
-        {"bands = 0", "bands = 0 is out of range [1, 64]"},
-        {"bands = 65", "bands = 65 is out of range [1, 64]"},
-        {"samples = 0", "samples = 0 is out of range [1, 16384]"},
-        {"samples = 100000", "samples = 100000 is out of range [1, 16384]"},
-        {"seed = -1", "seed = -1 is out of range"},
-        {"window_width = 0", "window_width = 0 is out of range"},
-        {"window_width = nan", "only finite numbers are allowed"},
-        {"sampler = montecarlo", "'montecarlo' is not one of quadrature, jittered, hammersley, "
-                                 "sobol (parameter 'sampler' of node 'light')"},
-        {"window = hannig", "did you mean 'hanning'?"},
+    static const struct {
+        const char *set, *want;
+    } bad[] = {
+        { "bands = 0", "bands = 0 is out of range [1, 64]" },
+        { "bands = 65", "bands = 65 is out of range [1, 64]" },
+        { "samples = 0", "samples = 0 is out of range [1, 16384]" },
+        { "samples = 100000", "samples = 100000 is out of range [1, 16384]" },
+        { "seed = -1", "seed = -1 is out of range" },
+        { "window_width = 0", "window_width = 0 is out of range" },
+        { "window_width = nan", "only finite numbers are allowed" },
+        { "sampler = montecarlo", "'montecarlo' is not one of quadrature, jittered, hammersley, "
+                                  "sobol (parameter 'sampler' of node 'light')" },
+        { "window = hannig", "did you mean 'hanning'?" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char g[512];
-        snprintf(g, sizeof g, "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
-                              "light = sh_project { probe = sky, %s }\n"
-                              "output light \"light.txt\"\n", bad[i].set);
+        snprintf(g, sizeof g,
+                 "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
+                 "light = sh_project { probe = sky, %s }\n"
+                 "output light \"light.txt\"\n",
+                 bad[i].set);
         refused(t, g, NULL, bad[i].want);
     }
     /* SH as an image, an image as text */
-    refused(t, "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
-               "light = sh_project { probe = sky }\noutput light \"light.exr\"\n",
-            NULL, "'light' gives SH coefficients, which are written as text: name the file "
-                  ".txt, not 'light.exr'");
+    refused(t,
+            "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
+            "light = sh_project { probe = sky }\noutput light \"light.exr\"\n",
+            NULL,
+            "'light' gives SH coefficients, which are written as text: name the file "
+            ".txt, not 'light.exr'");
     refused(t, "lightgraph 1\nsky = probe { file = \"p.exr\" }\noutput sky \"sky.txt\"\n", NULL,
             "'sky' gives a light probe, which cannot be written as text ('sky.txt'): only SH "
             "coefficients are");
-    static const char *const png[] = {"-o", "x.png", NULL};
-    refused(t, "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
-               "light = sh_project { probe = sky }\noutput light \"light.txt\"\n",
+    static const char *const png[] = { "-o", "x.png", NULL };
+    refused(t,
+            "lightgraph 1\nsky = probe { file = \"p.exr\" }\n"
+            "light = sh_project { probe = sky }\noutput light \"light.txt\"\n",
             png, "-o x.png: the graph's output 'light' gives SH coefficients");
-    static const char *const txt[] = {"-o", "x.txt", NULL};
+    static const char *const txt[] = { "-o", "x.txt", NULL };
     refused(t, "lightgraph 1\nsky = probe { file = \"p.exr\" }\noutput sky \"sky.exr\"\n", txt,
             "-o x.txt: only SH coefficients are written as .txt");
     /* nothing half-written */
@@ -562,10 +572,17 @@ static void case_bad(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        {"constant", case_constant}, {"sign", case_sign},         {"orthonormal", case_orthonormal},
-        {"sky", case_sky},           {"converge", case_converge}, {"many", case_many},
-        {"threads", case_threads},   {"rotation", case_rotation}, {"window", case_window},
-        {"text", case_text},         {"bad", case_bad},
+        { "constant", case_constant },
+        { "sign", case_sign },
+        { "orthonormal", case_orthonormal },
+        { "sky", case_sky },
+        { "converge", case_converge },
+        { "many", case_many },
+        { "threads", case_threads },
+        { "rotation", case_rotation },
+        { "window", case_window },
+        { "text", case_text },
+        { "bad", case_bad },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }

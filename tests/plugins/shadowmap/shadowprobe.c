@@ -36,7 +36,7 @@
 
 #include "common/testscene.h"
 
-/* ---- the CPU reference of the shadow test ------------------------------------------------ */
+/* ---- the CPU reference of the shadow test ---------------------------------------------------- */
 
 /* Shadow_L(p) for light `l` of `sm` (1 lit, 0 shadowed), with `depth` the atlas's CPU depth
  * plane (`row_pixels` texels per row). `nrm` is p's unit geometric normal, or NULL for a
@@ -77,7 +77,7 @@ static float sp_shadow(const lg_shadowmap *sm, const lg_shadow_light *l, lg_vec3
     return zz > dd + bias ? 0.0f : 1.0f;
 }
 
-/* ---- test_shadow_scene ------------------------------------------------------------------- */
+/* ---- test_shadow_scene ----------------------------------------------------------------------- */
 
 /* The most rings the sphere may have (the parameter's range). */
 #define SS_MAX_RINGS 24
@@ -111,8 +111,8 @@ static void ss_sphere(lg_ts_builder *b, int rings)
             for (int i = 0; i < 2; i++) {
                 lg_vec3 p[3];
                 for (int v = 0; v < 3; v++)
-                    p[v] = ss_sphere_point((int)tri[i][v] / (segs + 1),
-                                           (int)tri[i][v] % (segs + 1), rings);
+                    p[v] = ss_sphere_point((int)tri[i][v] / (segs + 1), (int)tri[i][v] % (segs + 1),
+                                           rings);
                 lg_vec3 e1 = lg_v3(p[1].x - p[0].x, p[1].y - p[0].y, p[1].z - p[0].z);
                 lg_vec3 e2 = lg_v3(p[2].x - p[0].x, p[2].y - p[0].y, p[2].z - p[0].z);
                 lg_vec3 c = lg_v3(p[0].x + p[1].x + p[2].x, p[0].y + p[1].y + p[2].y,
@@ -175,9 +175,7 @@ static int ss_prepare(lg_node *n)
     }
 
     lg_ts_camera(b, "test", ss_vec(n, "camera_position"), ss_vec(n, "camera_target"),
-                 lg_v3(0, 1, 0),
-                 (float)(lg_param_float(n, "yfov") * LG_PI / 180.0), 0.1f,
-                 0.0f);
+                 lg_v3(0, 1, 0), (float)(lg_param_float(n, "yfov") * LG_PI / 180.0), 0.1f, 0.0f);
 
     if (lg_param_bool(n, "bad_light")) /* direction (0, 0, 0) */
         lg_ts_dir_light(b, "bad", lg_v3(0, 0, 0), lg_v3(0, 0, 0), 1.0f);
@@ -191,7 +189,7 @@ static int ss_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- test_shadow_probe ------------------------------------------------------------------- */
+/* ---- test_shadow_probe ----------------------------------------------------------------------- */
 
 #define SP_MAX_POINTS 4096
 
@@ -284,7 +282,7 @@ static int sp_execute(lg_node *n, const lg_frame *frame)
     if (rc)
         return rc;
     float *o = vo.pixels;
-#define PX(x, y) (o + ((size_t)(y) * vo.row_pixels + (x)) * 4)
+#define PX(x, y) (o + ((size_t)(y)*vo.row_pixels + (x)) * 4)
     for (uint32_t l = 0; l < st->n_scene_lights; l++)
         for (uint32_t j = 0; j < st->n_pts; j++) {
             float *p = PX(j, l);
@@ -303,8 +301,8 @@ static int sp_execute(lg_node *n, const lg_frame *frame)
     bias[0] = sm->bias_constant, bias[1] = sm->bias_slope, bias[2] = sm->normal_offset;
     lg_resource_info ai;
     bias[3] = sm->atlas && lg_describe(sm->atlas, &ai, n) == 0 && ai.kind == LG_KIND_IMAGE &&
-                      (ai.image.flags & LG_IMAGE_DEPTH_ONLY) &&
-                      ai.image.width == sm->atlas_width && ai.image.height == sm->atlas_height
+                      (ai.image.flags & LG_IMAGE_DEPTH_ONLY) && ai.image.width == sm->atlas_width &&
+                      ai.image.height == sm->atlas_height
                   ? 1.0f
                   : 0.0f;
     float *chk = PX(2, st->n_scene_lights);
@@ -323,8 +321,7 @@ static int sp_execute(lg_node *n, const lg_frame *frame)
     for (uint32_t i = 0; i < sm->n_lights; i++) {
         const lg_shadow_light *l = &sm->lights[i];
         const lg_light *L = &s->lights[l->light];
-        lg_vec3 dir = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1],
-                                               L->direction[2]),
+        lg_vec3 dir = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
                                          lg_v3(0, -1, 0));
         for (uint32_t j = 0; j < st->n_pts; j++) {
             float *p = PX(j, l->light);
@@ -346,44 +343,91 @@ static void sp_destroy(lg_node *n)
     n->user = NULL;
 }
 
-/* ---- the descriptor ------------------------------------------------------------------------- */
+/* ---- the descriptor -------------------------------------------------------------------------- */
 
 static const char *const ss_shapes[] = { "cube", "sphere", NULL };
 static const lg_param_desc ss_params[] = {
-    { .key = "floor_size", .type = LG_PARAM_FLOAT, .def.f = 8, .min = 0.01, .max = 1e4,
+    { .key = "floor_size",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 8,
+      .min = 0.01,
+      .max = 1e4,
       .doc = "edge of the square floor, centred on the origin" },
-    { .key = "floor_y", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1e4, .max = 1e4,
+    { .key = "floor_y",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -1e4,
+      .max = 1e4,
       .doc = "height of the floor" },
-    { .key = "floor_double_sided", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "floor_double_sided",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "the floor material's double_sided" },
     { .key = "box", .type = LG_PARAM_BOOL, .def.b = true, .doc = "whether there is a box" },
-    { .key = "shape", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = ss_shapes,
+    { .key = "shape",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = ss_shapes,
       .doc = "the box's mesh: a cube, or a UV sphere inscribed in it" },
-    { .key = "sphere_rings", .type = LG_PARAM_INT, .def.i = 12, .min = 2, .max = SS_MAX_RINGS,
+    { .key = "sphere_rings",
+      .type = LG_PARAM_INT,
+      .def.i = 12,
+      .min = 2,
+      .max = SS_MAX_RINGS,
       .doc = "the sphere's rings (its segments are twice as many)" },
-    { .key = "box_center", .type = LG_PARAM_VEC3, .def.v = { 0, 1.5, 0 }, .min = -1e4,
-      .max = 1e4, .doc = "the box's centre" },
-    { .key = "box_size", .type = LG_PARAM_VEC3, .def.v = { 1, 1, 1 }, .min = 0.001, .max = 1e4,
+    { .key = "box_center",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 1.5, 0 },
+      .min = -1e4,
+      .max = 1e4,
+      .doc = "the box's centre" },
+    { .key = "box_size",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 1, 1, 1 },
+      .min = 0.001,
+      .max = 1e4,
       .doc = "the box's edges" },
-    { .key = "box_double_sided", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "box_double_sided",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "the box material's double_sided" },
-    { .key = "box_mirror", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "box_mirror",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "place the box through a mirroring instance (scale x by -1)" },
-    { .key = "camera_position", .type = LG_PARAM_VEC3, .def.v = { 0, 4, 8 }, .min = -1e4,
-      .max = 1e4, .doc = "the camera's position" },
-    { .key = "camera_target", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .min = -1e4,
-      .max = 1e4, .doc = "the point the camera looks at" },
-    { .key = "yfov", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 1, .max = 170,
+    { .key = "camera_position",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 4, 8 },
+      .min = -1e4,
+      .max = 1e4,
+      .doc = "the camera's position" },
+    { .key = "camera_target",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .min = -1e4,
+      .max = 1e4,
+      .doc = "the point the camera looks at" },
+    { .key = "yfov",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 45,
+      .min = 1,
+      .max = 170,
       .doc = "the camera's vertical field of view, degrees" },
-    { .key = "bad_light", .type = LG_PARAM_BOOL, .def.b = false,
+    { .key = "bad_light",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
       .doc = "give the scene one directional light with direction (0, 0, 0)" },
 };
 static const lg_port_desc ss_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
 
 static const lg_param_desc sp_params[] = {
-    { .key = "points", .type = LG_PARAM_STRING, .def.s = "",
+    { .key = "points",
+      .type = LG_PARAM_STRING,
+      .def.s = "",
       .doc = "world points \"x,y,z;x,y,z;...\"" },
-    { .key = "normals", .type = LG_PARAM_STRING, .def.s = "",
+    { .key = "normals",
+      .type = LG_PARAM_STRING,
+      .def.s = "",
       .doc = "their unit normals, same form; empty: points without a normal" },
 };
 static const lg_port_desc sp_in[] = {

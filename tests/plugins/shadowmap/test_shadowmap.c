@@ -77,7 +77,7 @@ static void setup_case(lg_test *t)
     lg_test_use_plugins(t, SM_PROBE_DIR);
 }
 
-/* ---- a graph: the scene, its lights, the shadow map and the probe ----------------------- */
+/* ---- a graph: the scene, its lights, the shadow map and the probe ---------------------------- */
 
 typedef struct light_spec {
     bool point;
@@ -85,15 +85,15 @@ typedef struct light_spec {
 } light_spec;
 
 typedef struct setup {
-    const char *scene;     /* test_shadow_scene parameters */
-    const char *shadow;    /* shadowmap parameters ("" for the defaults) */
+    const char *scene;  /* test_shadow_scene parameters */
+    const char *shadow; /* shadowmap parameters ("" for the defaults) */
     light_spec lights[MAX_LIGHTS];
     int n_lights;
     lg_vec3 pts[MAX_POINTS], nrm[MAX_POINTS]; /* normals: the floor's (0, 1, 0) unless set */
     int n_pts;
-    bool normals;          /* pass the normals to the probe */
-    bool no_shadow_input;  /* leave the probe's `shadows` unconnected */
-    const char *extra;     /* more graph lines (outputs) */
+    bool normals;         /* pass the normals to the probe */
+    bool no_shadow_input; /* leave the probe's `shadows` unconnected */
+    const char *extra;    /* more graph lines (outputs) */
 } setup;
 
 static lg_vec3 dir_from(double off_vertical_deg, double azimuth_deg)
@@ -133,9 +133,8 @@ static char *graph_text(const setup *s)
                 names[i], last, i == 0 ? "replace" : "add", (double)l->v.x, (double)l->v.y,
                 (double)l->v.z);
         else
-            ADD("%s = light { scene = %s, mode = %s, direction = [%.9g, %.9g, %.9g] }\n",
-                names[i], last, i == 0 ? "replace" : "add", (double)l->v.x, (double)l->v.y,
-                (double)l->v.z);
+            ADD("%s = light { scene = %s, mode = %s, direction = [%.9g, %.9g, %.9g] }\n", names[i],
+                last, i == 0 ? "replace" : "add", (double)l->v.x, (double)l->v.y, (double)l->v.z);
         last = names[i];
     }
     ADD("shadow = shadowmap { scene = %s%s%s }\n", last, s->shadow && *s->shadow ? ", " : "",
@@ -178,7 +177,7 @@ static bool run(lg_test *t, const setup *s, const char *const *args, lg_image *i
         return false;
     LG_TEST_CHECK(t, bits == 32, "probe.exr has %u bits per channel, want 32", bits);
     LG_TEST_CHECK(t, img->height == (uint32_t)s->n_lights + 1, "probe height %u, want %d",
-             img->height, s->n_lights + 1);
+                  img->height, s->n_lights + 1);
     return bits == 32 && img->height == (uint32_t)s->n_lights + 1;
 }
 
@@ -190,10 +189,22 @@ static const float *px(const lg_image *img, uint32_t x, uint32_t y)
 }
 
 /* Probe accessors: light l (scene index), point j. */
-static float S(const lg_image *p, int l, int j) { return px(p, (uint32_t)j, (uint32_t)l)[0]; }
-static float Z(const lg_image *p, int l, int j) { return px(p, (uint32_t)j, (uint32_t)l)[1]; }
-static float D(const lg_image *p, int l, int j) { return px(p, (uint32_t)j, (uint32_t)l)[2]; }
-static float HAS(const lg_image *p, int l, int j) { return px(p, (uint32_t)j, (uint32_t)l)[3]; }
+static float S(const lg_image *p, int l, int j)
+{
+    return px(p, (uint32_t)j, (uint32_t)l)[0];
+}
+static float Z(const lg_image *p, int l, int j)
+{
+    return px(p, (uint32_t)j, (uint32_t)l)[1];
+}
+static float D(const lg_image *p, int l, int j)
+{
+    return px(p, (uint32_t)j, (uint32_t)l)[2];
+}
+static float HAS(const lg_image *p, int l, int j)
+{
+    return px(p, (uint32_t)j, (uint32_t)l)[3];
+}
 static const float *TILE(const lg_image *p, const setup *s, int l)
 {
     return px(p, (uint32_t)s->n_pts, (uint32_t)l);
@@ -203,7 +214,7 @@ static const float *INFO(const lg_image *p, const setup *s, int col)
     return px(p, (uint32_t)col, (uint32_t)s->n_lights);
 }
 
-/* ---- the geometric reference ------------------------------------------------------------------ */
+/* ---- the geometric reference ----------------------------------------------------------------- */
 
 /* Does the ray from p along u hit the axis-aligned box c +- h (h grown by m, m may be < 0)? */
 static bool ray_hits_box(lg_vec3 p, lg_vec3 u, lg_vec3 c, lg_vec3 h, float m)
@@ -274,7 +285,7 @@ static const char *state_of(const char *text, const char *name)
     return state;
 }
 
-/* ---- cases ------------------------------------------------------------------------------------- */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static void fit_rotation(lg_test *t);
 
@@ -283,16 +294,16 @@ static void case_basic(lg_test *t)
     for (int with_normals = 0; with_normals < 2; with_normals++) {
         setup s = { .shadow = "resolution = 256", .normals = with_normals != 0 };
         add_light(&s, lg_v3(0, -1, 0));
-        add_point(&s, 0, 0, 0);         /* 0: floor under the box */
-        add_point(&s, 3, 0, 3);         /* 1: floor far from it */
-        add_point(&s, 0.35f, 0, -0.35f);/* 2: floor under the box, near its edge */
-        add_point(&s, 0.65f, 0, 0);     /* 3: floor just beside it */
-        add_point(&s, 0, 2, 0);         /* 4: the box's top */
-        add_point(&s, -0.3f, 2, 0.2f);  /* 5: the box's top */
+        add_point(&s, 0, 0, 0);          /* 0: floor under the box */
+        add_point(&s, 3, 0, 3);          /* 1: floor far from it */
+        add_point(&s, 0.35f, 0, -0.35f); /* 2: floor under the box, near its edge */
+        add_point(&s, 0.65f, 0, 0);      /* 3: floor just beside it */
+        add_point(&s, 0, 2, 0);          /* 4: the box's top */
+        add_point(&s, -0.3f, 2, 0.2f);   /* 5: the box's top */
         int n_surface = s.n_pts;
         if (!with_normals) {
-            add_point(&s, 0, 3, 0);     /* 6: in the air above the box */
-            add_point(&s, 0, 0.5f, 0);  /* 7: in the air under the box */
+            add_point(&s, 0, 3, 0);    /* 6: in the air above the box */
+            add_point(&s, 0, 0.5f, 0); /* 7: in the air under the box */
         }
         static const float want[8] = { 0, 1, 0, 1, 1, 1, 1, 0 };
         lg_image p = { 0 };
@@ -300,40 +311,43 @@ static void case_basic(lg_test *t)
             return;
         for (int j = 0; j < s.n_pts; j++) {
             LG_TEST_CHECK(t, S(&p, 0, j) == want[j],
-                     "%s normals: point %d (%g, %g, %g): Shadow %g, want %g (z %.7g, D %.7g)",
-                     with_normals ? "with" : "without", j, (double)s.pts[j].x,
-                     (double)s.pts[j].y, (double)s.pts[j].z, (double)S(&p, 0, j),
-                     (double)want[j], (double)Z(&p, 0, j), (double)D(&p, 0, j));
-            LG_TEST_CHECK(t, HAS(&p, 0, j) == 1 && Z(&p, 0, j) >= 0 && Z(&p, 0, j) <= 1 &&
-                            D(&p, 0, j) >= 0 && D(&p, 0, j) <= 1,
-                     "point %d: has %g z %g D %g", j, (double)HAS(&p, 0, j), (double)Z(&p, 0, j),
-                     (double)D(&p, 0, j));
+                          "%s normals: point %d (%g, %g, %g): Shadow %g, want %g (z %.7g, D %.7g)",
+                          with_normals ? "with" : "without", j, (double)s.pts[j].x,
+                          (double)s.pts[j].y, (double)s.pts[j].z, (double)S(&p, 0, j),
+                          (double)want[j], (double)Z(&p, 0, j), (double)D(&p, 0, j));
+            LG_TEST_CHECK(t,
+                          HAS(&p, 0, j) == 1 && Z(&p, 0, j) >= 0 && Z(&p, 0, j) <= 1 &&
+                              D(&p, 0, j) >= 0 && D(&p, 0, j) <= 1,
+                          "point %d: has %g z %g D %g", j, (double)HAS(&p, 0, j),
+                          (double)Z(&p, 0, j), (double)D(&p, 0, j));
         }
         (void)n_surface;
         /* light depth grows away from the light: the floor is deeper than the box's top */
         LG_TEST_CHECK(t, Z(&p, 0, 1) > Z(&p, 0, 4), "floor depth %g not beyond the top's %g",
-                 (double)Z(&p, 0, 1), (double)Z(&p, 0, 4));
+                      (double)Z(&p, 0, 1), (double)Z(&p, 0, 4));
         const float *i0 = INFO(&p, &s, 0), *i1 = INFO(&p, &s, 1), *i2 = INFO(&p, &s, 2);
         LG_TEST_CHECK(t, i0[0] == 1 && i0[1] == 256 && i0[2] == 256 && i0[3] == 256,
-                 "payload: %g lights, resolution %g, atlas %gx%g; want 1, 256, 256x256",
-                 (double)i0[0], (double)i0[1], (double)i0[2], (double)i0[3]);
+                      "payload: %g lights, resolution %g, atlas %gx%g; want 1, 256, 256x256",
+                      (double)i0[0], (double)i0[1], (double)i0[2], (double)i0[3]);
         LG_TEST_CHECK(t, i1[3] == 1, "the payload's atlas is not a depth-only image of its size");
         LG_TEST_CHECK(t, i2[0] == 0, "%g payload lights are not directional lights of the scene",
-                 (double)i2[0]);
-        LG_TEST_CHECK(t, fabsf(i1[0] - 0.0002f) < 1e-9f && fabsf(i1[1] - 0.0005f) < 1e-9f &&
-                        i1[2] == 1.0f,
-                 "default bias %g %g %g, want 0.0002 0.0005 1", (double)i1[0], (double)i1[1],
-                 (double)i1[2]);
+                      (double)i2[0]);
+        LG_TEST_CHECK(t,
+                      fabsf(i1[0] - 0.0002f) < 1e-9f && fabsf(i1[1] - 0.0005f) < 1e-9f &&
+                          i1[2] == 1.0f,
+                      "default bias %g %g %g, want 0.0002 0.0005 1", (double)i1[0], (double)i1[1],
+                      (double)i1[2]);
         /* light from +Y: the tile covers the floor's 8 x 8 and a margin of normal_offset
          * + 1 = 2 texels each side; the depth range is the bounds' sphere, 0.1 % wider */
         const float *tl = TILE(&p, &s, 0);
         double texel = 8.0 / 252.0;
-        LG_TEST_CHECK(t, tl[0] == 0 && tl[1] == 0, "tile at (%g, %g)", (double)tl[0], (double)tl[1]);
+        LG_TEST_CHECK(t, tl[0] == 0 && tl[1] == 0, "tile at (%g, %g)", (double)tl[0],
+                      (double)tl[1]);
         LG_TEST_CHECK(t, fabs(tl[2] - texel) < 1e-4 * texel, "texel_world %.7g, want %.7g",
-                 (double)tl[2], texel);
+                      (double)tl[2], texel);
         double r = 0.5 * sqrt(8.0 * 8.0 * 2 + 2.0 * 2.0), range = 2.002 * r;
         LG_TEST_CHECK(t, fabs(tl[3] - range) < 1e-5 * range, "depth_range %.7g, want %.7g",
-                 (double)tl[3], range);
+                      (double)tl[3], range);
         lg_image_free(&p);
     }
     fit_rotation(t);
@@ -357,8 +371,10 @@ static void fit_rotation(lg_test *t)
     LG_TEST_CHECK(t, t45 < 1.1f * t0, "texel at azimuth 45: %g, at 0: %g", (double)t45, (double)t0);
     for (int l = 0; l < 2; l++)
         for (int j = 0; j < 2; j++)
-            LG_TEST_CHECK(t, D(&p, l, j) >= 0 && S(&p, l, j) == 1, "light %d: floor corner %d outside "
-                     "the map or shadowed", l, j);
+            LG_TEST_CHECK(t, D(&p, l, j) >= 0 && S(&p, l, j) == 1,
+                          "light %d: floor corner %d outside "
+                          "the map or shadowed",
+                          l, j);
     lg_image_free(&p);
 }
 
@@ -375,15 +391,17 @@ static void cull_one(lg_test *t, const char *scene, const char *shadow, int want
     if (!run(t, &s, NULL, &p, NULL))
         return;
     float d = D(&p, 0, 0), want = want_box == 0 ? Z(&p, 0, 0) : Z(&p, 0, 1);
-    LG_TEST_CHECK(t, fabsf(d - want) < 1e-5f, "{%s} {%s}: depth under the box %.7g, want the %s's "
-             "%.7g", scene, shadow, (double)d, want_box == 0 ? "bottom" : "top", (double)want);
+    LG_TEST_CHECK(t, fabsf(d - want) < 1e-5f,
+                  "{%s} {%s}: depth under the box %.7g, want the %s's "
+                  "%.7g",
+                  scene, shadow, (double)d, want_box == 0 ? "bottom" : "top", (double)want);
     float fd = D(&p, 0, 2);
     if (floor_in)
         LG_TEST_CHECK(t, fabsf(fd - Z(&p, 0, 2)) < 1e-5f, "{%s} {%s}: floor depth %.7g, want %.7g",
-                 scene, shadow, (double)fd, (double)Z(&p, 0, 2));
+                      scene, shadow, (double)fd, (double)Z(&p, 0, 2));
     else
         LG_TEST_CHECK(t, fd == 1.0f, "{%s} {%s}: floor drawn (depth %.7g), want 1 (culled)", scene,
-                 shadow, (double)fd);
+                      shadow, (double)fd);
     lg_image_free(&p);
 }
 
@@ -395,8 +413,7 @@ static void case_cull(lg_test *t)
     cull_one(t, "", "resolution = 128, cull = back", 1, true);
     cull_one(t, "box_mirror = true", "resolution = 128, cull = back", 1, true);
     cull_one(t, "", "resolution = 128, cull = none", 1, true);
-    cull_one(t, "box_double_sided = true, floor_double_sided = true", "resolution = 128", 1,
-             true);
+    cull_one(t, "box_double_sided = true, floor_double_sided = true", "resolution = 128", 1, true);
 }
 
 /* N lights at different azimuths and elevations; see the header. */
@@ -427,17 +444,18 @@ static void lights_n(lg_test *t, int n, int res)
     int rows = (n + cols - 1) / cols;
     const float *i0 = INFO(&p, &s, 0);
     LG_TEST_CHECK(t, i0[0] == n && i0[1] == res && i0[2] == cols * res && i0[3] == rows * res,
-             "payload: %g lights at %g, atlas %gx%g; want %d at %d, %dx%d", (double)i0[0],
-             (double)i0[1], (double)i0[2], (double)i0[3], n, res, cols * res, rows * res);
+                  "payload: %g lights at %g, atlas %gx%g; want %d at %d, %dx%d", (double)i0[0],
+                  (double)i0[1], (double)i0[2], (double)i0[3], n, res, cols * res, rows * res);
     LG_TEST_CHECK(t, INFO(&p, &s, 1)[3] == 1, "the atlas is not a depth-only image of its size");
-    LG_TEST_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names lights that are not "
-             "directional");
+    LG_TEST_CHECK(t, INFO(&p, &s, 2)[0] == 0,
+                  "the lights list names lights that are not "
+                  "directional");
     int checked = 0, shadowed = 0, bad = 0;
     for (int l = 0; l < n; l++) {
         const float *tl = TILE(&p, &s, l);
         LG_TEST_CHECK(t, tl[0] == (float)((l % cols) * res) && tl[1] == (float)((l / cols) * res),
-                 "light %d: tile at (%g, %g), want (%d, %d)", l, (double)tl[0], (double)tl[1],
-                 (l % cols) * res, (l / cols) * res);
+                      "light %d: tile at (%g, %g), want (%d, %d)", l, (double)tl[0], (double)tl[1],
+                      (l % cols) * res, (l / cols) * res);
         float margin = 3.0f * tl[2];
         for (int j = 0; j < s.n_pts; j++) {
             int e = expected(s.pts[j], s.lights[l].v, margin);
@@ -449,24 +467,35 @@ static void lights_n(lg_test *t, int n, int res)
             shadowed += e == 0;
             if (S(&p, l, j) != (float)e) {
                 if (bad++ < 10)
-                    fprintf(stderr, "light %d (%.3f %.3f %.3f), point %d (%g, %g, %g): Shadow "
-                            "%g, want %d (z %.7g, D %.7g)\n", l, (double)s.lights[l].v.x,
-                            (double)s.lights[l].v.y, (double)s.lights[l].v.z, j,
-                            (double)s.pts[j].x, (double)s.pts[j].y, (double)s.pts[j].z,
-                            (double)S(&p, l, j), e, (double)Z(&p, l, j), (double)D(&p, l, j));
+                    fprintf(stderr,
+                            "light %d (%.3f %.3f %.3f), point %d (%g, %g, %g): Shadow "
+                            "%g, want %d (z %.7g, D %.7g)\n",
+                            l, (double)s.lights[l].v.x, (double)s.lights[l].v.y,
+                            (double)s.lights[l].v.z, j, (double)s.pts[j].x, (double)s.pts[j].y,
+                            (double)s.pts[j].z, (double)S(&p, l, j), e, (double)Z(&p, l, j),
+                            (double)D(&p, l, j));
             }
         }
     }
     LG_TEST_CHECK(t, bad == 0, "%d of %d light-point pairs disagree with the ray-box test", bad,
-             checked);
+                  checked);
     LG_TEST_CHECK(t, shadowed >= n && checked - shadowed >= n * 20,
-             "too few pairs tested: %d shadowed, %d lit", shadowed, checked - shadowed);
+                  "too few pairs tested: %d shadowed, %d lit", shadowed, checked - shadowed);
     lg_image_free(&p);
 }
 
-static void case_lights2(lg_test *t) { lights_n(t, 2, 512); }
-static void case_lights8(lg_test *t) { lights_n(t, 8, 512); }
-static void case_lights32(lg_test *t) { lights_n(t, 32, 256); }
+static void case_lights2(lg_test *t)
+{
+    lights_n(t, 2, 512);
+}
+static void case_lights8(lg_test *t)
+{
+    lights_n(t, 8, 512);
+}
+static void case_lights32(lg_test *t)
+{
+    lights_n(t, 32, 256);
+}
 
 static void case_layout32(lg_test *t)
 {
@@ -483,19 +512,19 @@ static void case_layout32(lg_test *t)
     lg_image p = { 0 };
     bool ok = run(t, &s, args, &p, &out);
     LG_TEST_CHECK(t, out && strstr(out, "atlas: image 6144x6144 depth32f"),
-             "--explain does not show a 6144x6144 depth atlas:\n%s", out ? out : "");
+                  "--explain does not show a 6144x6144 depth atlas:\n%s", out ? out : "");
     free(out);
     if (!ok)
         return;
     const float *i0 = INFO(&p, &s, 0);
     LG_TEST_CHECK(t, i0[0] == 32 && i0[1] == 1024 && i0[2] == 6144 && i0[3] == 6144,
-             "payload: %g lights at %g, atlas %gx%g; want 32 at 1024, 6144x6144", (double)i0[0],
-             (double)i0[1], (double)i0[2], (double)i0[3]);
+                  "payload: %g lights at %g, atlas %gx%g; want 32 at 1024, 6144x6144",
+                  (double)i0[0], (double)i0[1], (double)i0[2], (double)i0[3]);
     for (int l = 0; l < 32; l++) {
         LG_TEST_CHECK(t, S(&p, l, l) == 0, "light %d: its shadow centre is lit", l);
         const float *tl = TILE(&p, &s, l);
         LG_TEST_CHECK(t, tl[0] == (float)((l % 6) * 1024) && tl[1] == (float)((l / 6) * 1024),
-                 "light %d: tile at (%g, %g)", l, (double)tl[0], (double)tl[1]);
+                      "light %d: tile at (%g, %g)", l, (double)tl[0], (double)tl[1]);
     }
     lg_image_free(&p);
 }
@@ -520,12 +549,13 @@ static int acne(lg_test *t, const char *scene, const char *shadow)
         for (int j = 0; j < s.n_pts; j++) {
             if (HAS(&p, l, j) != 1 || D(&p, l, j) < 0)
                 LG_TEST_CHECK(t, false, "light %d point %d is outside the map (has %g, z %g, D %g)",
-                         l, j, (double)HAS(&p, l, j), (double)Z(&p, l, j), (double)D(&p, l, j));
+                              l, j, (double)HAS(&p, l, j), (double)Z(&p, l, j),
+                              (double)D(&p, l, j));
             nl += S(&p, l, j) == 0;
         }
         if (nl && getenv("LG_TEST_VERBOSE"))
-            fprintf(stderr, "{%s} {%s}: light %d (%g deg): %d of %d points self-shadowed\n",
-                    scene, shadow, l, angles[l], nl, s.n_pts);
+            fprintf(stderr, "{%s} {%s}: light %d (%g deg): %d of %d points self-shadowed\n", scene,
+                    shadow, l, angles[l], nl, s.n_pts);
         n += nl;
     }
     lg_image_free(&p);
@@ -543,13 +573,15 @@ static void case_bias(lg_test *t)
     for (size_t i = 0; i < sizeof configs / sizeof configs[0]; i++) {
         int n = acne(t, configs[i][0], configs[i][1]);
         LG_TEST_CHECK(t, n == 0, "{%s} {%s}: %d floor points self-shadowed with the default bias",
-                 configs[i][0], configs[i][1], n);
+                      configs[i][0], configs[i][1], n);
     }
     /* without any bias the slanted lights shadow the floor they light */
     int n = acne(t, "box = false, floor_double_sided = true",
                  "resolution = 256, bias_constant = 0, bias_slope = 0, normal_offset = 0");
-    LG_TEST_CHECK(t, n > 100, "without bias only %d floor points are self-shadowed; the test "
-             "cannot see acne", n);
+    LG_TEST_CHECK(t, n > 100,
+                  "without bias only %d floor points are self-shadowed; the test "
+                  "cannot see acne",
+                  n);
 }
 
 /* Points on a UV sphere of radius 1 at (0, 1.5, 0) (shadowprobe.c, ss_sphere, 12 rings):
@@ -606,8 +638,7 @@ static int sphere_acne(lg_test *t, const char *scene, const char *shadow)
             lg_vec3 to_light = lg_v3_scale(s->lights[l].v, -1.0f);
             int nl = 0;
             for (int j = 0; j < s->n_pts; j++) {
-                if (lg_v3_dot(s->nrm[j], to_light) <= 0.2f ||
-                    lg_v3_dot(facet[j], to_light) <= 0.0f)
+                if (lg_v3_dot(s->nrm[j], to_light) <= 0.2f || lg_v3_dot(facet[j], to_light) <= 0.0f)
                     continue;
                 tested++;
                 nl += S(&p, l, j) == 0;
@@ -634,13 +665,17 @@ static void case_curved(lg_test *t)
     };
     for (size_t i = 0; i < sizeof configs / sizeof configs[0]; i++) {
         int n = sphere_acne(t, configs[i][0], configs[i][1]);
-        LG_TEST_CHECK(t, n == 0, "{%s} {%s}: %d sphere points facing a light are self-shadowed "
-                 "with the default bias", configs[i][0], configs[i][1], n);
+        LG_TEST_CHECK(t, n == 0,
+                      "{%s} {%s}: %d sphere points facing a light are self-shadowed "
+                      "with the default bias",
+                      configs[i][0], configs[i][1], n);
     }
     int n = sphere_acne(t, "box_double_sided = true",
                         "resolution = 1024, bias_constant = 0, bias_slope = 0, normal_offset = 0");
-    LG_TEST_CHECK(t, n > 50, "without bias only %d sphere points are self-shadowed; the test "
-             "cannot see acne", n);
+    LG_TEST_CHECK(t, n > 50,
+                  "without bias only %d sphere points are self-shadowed; the test "
+                  "cannot see acne",
+                  n);
 }
 
 static void case_gating(lg_test *t)
@@ -661,12 +696,12 @@ static void case_gating(lg_test *t)
         bool ok = run(t, &s, args, &p, &out);
         const char *o = out ? out : "";
         LG_TEST_CHECK(t, contains_line(o, "plugins not loaded:", "shadowmap"),
-                 "%s: shadowmap is not among the plugins not loaded:\n%s",
-                 k ? "point light" : "no light", o);
+                      "%s: shadowmap is not among the plugins not loaded:\n%s",
+                      k ? "point light" : "no light", o);
         LG_TEST_CHECK(t, !contains_line(o, "plugins loaded:", "shadowmap"),
-                 "%s: shadowmap was loaded:\n%s", k ? "point light" : "no light", o);
+                      "%s: shadowmap was loaded:\n%s", k ? "point light" : "no light", o);
         LG_TEST_CHECK(t, strcmp(state_of(o, "shadow"), "gated") == 0,
-                 "the node is not shown gated:\n%s", o);
+                      "the node is not shown gated:\n%s", o);
         free(out);
         if (!ok)
             continue;
@@ -674,8 +709,8 @@ static void case_gating(lg_test *t)
         for (int l = 0; l < s.n_lights; l++)
             for (int j = 0; j < s.n_pts; j++)
                 LG_TEST_CHECK(t, S(&p, l, j) == 1 && HAS(&p, l, j) == 0,
-                         "light %d point %d: Shadow %g has %g without shadow maps", l, j,
-                         (double)S(&p, l, j), (double)HAS(&p, l, j));
+                              "light %d point %d: Shadow %g has %g without shadow maps", l, j,
+                              (double)S(&p, l, j), (double)HAS(&p, l, j));
         lg_image_free(&p);
     }
 
@@ -691,17 +726,17 @@ static void case_gating(lg_test *t)
     lg_image p = { 0 };
     bool ok = run(t, &s, args, &p, &out);
     LG_TEST_CHECK(t, contains_line(out ? out : "", "plugins loaded:", "shadowmap"),
-             "shadowmap not loaded with a directional light:\n%s", out ? out : "");
+                  "shadowmap not loaded with a directional light:\n%s", out ? out : "");
     free(out);
     if (ok) {
         LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == 1, "payload has %g lights, want 1",
-                 (double)INFO(&p, &s, 0)[0]);
+                      (double)INFO(&p, &s, 0)[0]);
         LG_TEST_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names a non-directional light");
         LG_TEST_CHECK(t, HAS(&p, 0, 0) == 0 && S(&p, 0, 0) == 1,
-                 "the point light (scene light 0) has a shadow map");
+                      "the point light (scene light 0) has a shadow map");
         LG_TEST_CHECK(t, HAS(&p, 1, 0) == 1 && S(&p, 1, 0) == 0 && S(&p, 1, 1) == 1,
-                 "scene light 1: has %g, Shadow %g %g; want 1, 0 1", (double)HAS(&p, 1, 0),
-                 (double)S(&p, 1, 0), (double)S(&p, 1, 1));
+                      "scene light 1: has %g, Shadow %g %g; want 1, 0 1", (double)HAS(&p, 1, 0),
+                      (double)S(&p, 1, 0), (double)S(&p, 1, 1));
         lg_image_free(&p);
     }
 
@@ -711,7 +746,7 @@ static void case_gating(lg_test *t)
     add_point(&u, 0, 0, 0);
     if (run(t, &u, NULL, &p, NULL)) {
         LG_TEST_CHECK(t, INFO(&p, &u, 0)[0] == -1 && S(&p, 0, 0) == 1,
-                 "an unconnected input gave shadow maps");
+                      "an unconnected input gave shadow maps");
         lg_image_free(&p);
     }
 }
@@ -724,7 +759,8 @@ static void case_frustum(lg_test *t)
     lg_vec3 dir = lg_v3_normalize_or(lg_v3(0.3f, -1, 0.2f), lg_v3(0, -1, 0));
     float texel[2] = { 0, 0 };
     for (int fit = 0; fit < 2; fit++) {
-        setup s = { .scene = scene, .normals = true,
+        setup s = { .scene = scene,
+                    .normals = true,
                     .shadow = fit ? "resolution = 512, fit = frustum" : "resolution = 512" };
         add_light(&s, dir);
         for (int a = -4; a <= 4; a++)
@@ -739,7 +775,7 @@ static void case_frustum(lg_test *t)
         for (int j = 0; j < s.n_pts - 1; j++) {
             int e = expected(s.pts[j], dir, 3.0f * texel[fit]);
             LG_TEST_CHECK(t, D(&p, 0, j) >= 0, "fit %d: point %d (%g, 0, %g) outside the map", fit,
-                     j, (double)s.pts[j].x, (double)s.pts[j].z);
+                          j, (double)s.pts[j].x, (double)s.pts[j].z);
             if (e < 0)
                 continue;
             checked++;
@@ -748,12 +784,14 @@ static void case_frustum(lg_test *t)
                         (double)s.pts[j].x, (double)s.pts[j].z, (double)S(&p, 0, j), e);
         }
         LG_TEST_CHECK(t, bad == 0 && checked > 25, "fit %d: %d of %d points disagree", fit, bad,
-                 checked);
+                      checked);
         lg_image_free(&p);
     }
     /* the camera sees about 4.4 m of floor; the bounds are 40 m wide */
-    LG_TEST_CHECK(t, texel[1] < texel[0] / 4, "fit = frustum texel %g is not much finer than the "
-             "bounds' %g", (double)texel[1], (double)texel[0]);
+    LG_TEST_CHECK(t, texel[1] < texel[0] / 4,
+                  "fit = frustum texel %g is not much finer than the "
+                  "bounds' %g",
+                  (double)texel[1], (double)texel[0]);
 
     /* a wider image sees more of the floor: a coarser map */
     setup w = { .scene = scene, .shadow = "resolution = 512, fit = frustum, aspect = 4" };
@@ -762,8 +800,10 @@ static void case_frustum(lg_test *t)
     lg_image pw = { 0 };
     if (run(t, &w, (const char *const[]){ "--size", "64x64", NULL }, &pw, NULL)) {
         float tw = TILE(&pw, &w, 0)[2];
-        LG_TEST_CHECK(t, tw > 1.5f * texel[1] && tw < texel[0], "aspect 4: texel %g, aspect 1: %g, "
-                 "bounds: %g", (double)tw, (double)texel[1], (double)texel[0]);
+        LG_TEST_CHECK(t, tw > 1.5f * texel[1] && tw < texel[0],
+                      "aspect 4: texel %g, aspect 1: %g, "
+                      "bounds: %g",
+                      (double)tw, (double)texel[1], (double)texel[0]);
         LG_TEST_CHECK(t, S(&pw, 0, 0) == 0, "aspect 4: the box's shadow is gone");
         lg_image_free(&pw);
     }
@@ -777,8 +817,8 @@ static void case_frustum(lg_test *t)
     lg_image p = { 0 };
     if (run(t, &s, NULL, &p, NULL)) {
         LG_TEST_CHECK(t, fabsf(TILE(&p, &s, 0)[2] - texel[0]) < 1e-6f * texel[0],
-                 "camera seeing nothing: texel %g, want the bounds' %g",
-                 (double)TILE(&p, &s, 0)[2], (double)texel[0]);
+                      "camera seeing nothing: texel %g, want the bounds' %g",
+                      (double)TILE(&p, &s, 0)[2], (double)texel[0]);
         LG_TEST_CHECK(t, S(&p, 0, 0) == 0, "camera seeing nothing: the box's shadow is gone");
         lg_image_free(&p);
     }
@@ -787,7 +827,8 @@ static void case_frustum(lg_test *t)
 static void case_atlas(lg_test *t)
 {
     /* light from straight above; the box towards the back (-Z) */
-    setup s = { .scene = "box_center = [0, 1.5, -2]", .shadow = "resolution = 128",
+    setup s = { .scene = "box_center = [0, 1.5, -2]",
+                .shadow = "resolution = 128",
                 .extra = "output shadow.atlas \"sm.exr\"\noutput shadow.atlas \"sm.png\"\n" };
     add_light(&s, lg_v3(0, -1, 0));
     add_point(&s, 0.1f, 1, -2.1f); /* the box's bottom: what front-face culling stores */
@@ -812,24 +853,27 @@ static void case_atlas(lg_test *t)
             }
         }
     size_t np = (size_t)a.width * a.height;
-    LG_TEST_CHECK(t, grey == np, "%zu of %zu atlas pixels are not grey with alpha 1", np - grey, np);
+    LG_TEST_CHECK(t, grey == np, "%zu of %zu atlas pixels are not grey with alpha 1", np - grey,
+                  np);
     LG_TEST_CHECK(t, range == np, "%zu atlas values outside [0, 1]", np - range);
     /* the box covers 1 x 1 of the 8 x 8 floor: 1/64 of the tile, minus the margin */
     double want = np / 64.0 * (124.0 / 128.0) * (124.0 / 128.0);
     LG_TEST_CHECK(t, fabs(drawn - want) < 0.15 * want, "%u texels drawn, want about %.0f", drawn,
-             want);
-    LG_TEST_CHECK(t, drawn > 0 && top == drawn, "%u of %u drawn texels in the top half: the tile "
-             "is not upright (-Z up under a light from above)", top, drawn);
+                  want);
+    LG_TEST_CHECK(t, drawn > 0 && top == drawn,
+                  "%u of %u drawn texels in the top half: the tile "
+                  "is not upright (-Z up under a light from above)",
+                  top, drawn);
     /* the probe's texel of the box's bottom point has the file's value */
     const float *tl = TILE(&p, &s, 0);
     double tw = tl[2];
     /* light view: x = world x, y = world -z; the tile's centre is the bounds' (0, 0) */
     uint32_t cx = (uint32_t)floor(64 + 0.1 / tw), cy = (uint32_t)floor(64 - 2.1 / tw);
     LG_TEST_CHECK(t, fabsf(px(&a, cx, cy)[0] - D(&p, 0, 0)) < 1e-6f,
-             "file depth %.7g at (%u, %u), the probe read %.7g", (double)px(&a, cx, cy)[0], cx,
-             cy, (double)D(&p, 0, 0));
-    LG_TEST_CHECK(t, fabsf(D(&p, 0, 0) - Z(&p, 0, 0)) < 1e-5f, "stored %.7g, the bottom's depth %.7g",
-             (double)D(&p, 0, 0), (double)Z(&p, 0, 0));
+                  "file depth %.7g at (%u, %u), the probe read %.7g", (double)px(&a, cx, cy)[0], cx,
+                  cy, (double)D(&p, 0, 0));
+    LG_TEST_CHECK(t, fabsf(D(&p, 0, 0) - Z(&p, 0, 0)) < 1e-5f,
+                  "stored %.7g, the bottom's depth %.7g", (double)D(&p, 0, 0), (double)Z(&p, 0, 0));
     FILE *f = fopen(lg_test_path(t, "sm.png"), "rb");
     LG_TEST_CHECK(t, f != NULL, "sm.png was not written");
     if (f)
@@ -856,8 +900,9 @@ static void case_errors(lg_test *t)
     for (int i = 0; i < 32; i++)
         add_light(&s, dir_from(35.0, 360.0 * i / 32));
     add_point(&s, 0, 0, 0);
-    expect_error(t, &s, 1, "32 directional lights at resolution 8192 need an atlas of "
-                           "49152x49152 texels");
+    expect_error(t, &s, 1,
+                 "32 directional lights at resolution 8192 need an atlas of "
+                 "49152x49152 texels");
 
     setup b = { .scene = "bad_light = true" };
     add_point(&b, 0, 0, 0);
@@ -877,13 +922,10 @@ static void case_errors(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "basic", case_basic },       { "cull", case_cull },
-        { "lights2", case_lights2 },   { "lights8", case_lights8 },
-        { "lights32", case_lights32 }, { "layout32", case_layout32 },
-        { "bias", case_bias },         { "curved", case_curved },
-        { "gating", case_gating },
-        { "frustum", case_frustum },   { "atlas", case_atlas },
-        { "errors", case_errors },
+        { "basic", case_basic },     { "cull", case_cull },         { "lights2", case_lights2 },
+        { "lights8", case_lights8 }, { "lights32", case_lights32 }, { "layout32", case_layout32 },
+        { "bias", case_bias },       { "curved", case_curved },     { "gating", case_gating },
+        { "frustum", case_frustum }, { "atlas", case_atlas },       { "errors", case_errors },
     };
     lg_test_main_opts o = { .setup = setup_case };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -7,17 +7,18 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc params[] = {
-    {.key = "salt", .type = LG_PARAM_INT, .def.i = 0, .doc = "changes the cache identity"},
+    { .key = "salt", .type = LG_PARAM_INT, .def.i = 0, .doc = "changes the cache identity" },
 };
-static const lg_port_desc in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
-static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
+static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int prepare(lg_node *n)
 {
     lg_resource_info info;
     lg_describe(lg_input(n, 0), &info, n);
-    lg_image_desc d = {.width = info.image.width, .height = info.image.height,
-                       .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = info.image.width,
+                        .height = info.image.height,
+                        .format = LG_FORMAT_RGBA32F };
     return lg_declare_image(n, 0, &d);
 }
 
@@ -27,7 +28,7 @@ static int execute(lg_node *n, const lg_frame *frame)
     lg_resource_info info;
     lg_describe(lg_input(n, 0), &info, n);
     size_t np = (size_t)info.image.width * info.image.height;
-    double mean[4] = {0, 0, 0, 0};
+    double mean[4] = { 0, 0, 0, 0 };
     void *data = NULL;
     size_t size = 0;
     if (lg_cache_get(n, "mean", &data, &size) == LG_OK && size == sizeof mean) {
@@ -57,7 +58,7 @@ static int execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "test_cached",
     .doc = "The mean of its input, through the on-disk cache (test)",
@@ -66,6 +67,6 @@ static const lg_node_type types[] = {{
     LG_OUTPUTS(out),
     .prepare = prepare,
     .execute = execute,
-}};
+} };
 
 LG_PLUGIN_DEFINE("testcache", "1.0.0", "Cache API test node", types)

@@ -14,24 +14,34 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc params[] = {
-    {.key = "file", .type = LG_PARAM_PATH, .def.s = "", .role = LG_ROLE_OUTPUT_FILE,
-     .doc = "the file written (\"\" none)"},
-    {.key = "text", .type = LG_PARAM_STRING, .def.s = "written by test_file_writer\n",
-     .doc = "its content"},
-    {.key = "fail", .type = LG_PARAM_BOOL, .def.b = false,
-     .doc = "fail in execute, after writing the file"},
-    {.key = "wrong_key", .type = LG_PARAM_BOOL, .def.b = false,
-     .doc = "write through the parameter 'text' instead (not an output file)"},
+    { .key = "file",
+      .type = LG_PARAM_PATH,
+      .def.s = "",
+      .role = LG_ROLE_OUTPUT_FILE,
+      .doc = "the file written (\"\" none)" },
+    { .key = "text",
+      .type = LG_PARAM_STRING,
+      .def.s = "written by test_file_writer\n",
+      .doc = "its content" },
+    { .key = "fail",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "fail in execute, after writing the file" },
+    { .key = "wrong_key",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "write through the parameter 'text' instead (not an output file)" },
 };
-static const lg_port_desc in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
-static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
+static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int prepare(lg_node *n)
 {
     lg_resource_info info;
     lg_describe(lg_input(n, 0), &info, n);
-    lg_image_desc d = {.width = info.image.width, .height = info.image.height,
-                       .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = info.image.width,
+                        .height = info.image.height,
+                        .format = LG_FORMAT_RGBA32F };
     return lg_declare_image(n, 0, &d);
 }
 
@@ -62,7 +72,7 @@ static int execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "test_file_writer",
     .doc = "Writes a file through the host's outputs and passes its image through (test)",
@@ -71,6 +81,6 @@ static const lg_node_type types[] = {{
     LG_OUTPUTS(out),
     .prepare = prepare,
     .execute = execute,
-}};
+} };
 
 LG_PLUGIN_DEFINE("testfile", "1.0.0", "Output-file API test node", types)

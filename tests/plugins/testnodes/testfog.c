@@ -12,18 +12,22 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc fog_params[] = {
-    {.key = "value", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1e6,
-     .doc = "the value written to every channel"},
+    { .key = "value",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.5,
+      .min = 0,
+      .max = 1e6,
+      .doc = "the value written to every channel" },
 };
 static const lg_port_desc fog_in[] = {
-    {.name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene"},
-    {.name = "image", .kind = LG_KIND_IMAGE, .optional = true, .doc = "size reference"},
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene" },
+    { .name = "image", .kind = LG_KIND_IMAGE, .optional = true, .doc = "size reference" },
 };
-static const lg_port_desc fog_out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc fog_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int fog_prepare(lg_node *n)
 {
-    lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
     const lg_resource *img = lg_input(n, 1);
     lg_resource_info info;
     if (img && lg_describe(img, &info, n) == 0) {
@@ -54,8 +58,8 @@ static int fog_execute(lg_node *n, const lg_frame *frame)
 }
 
 static const lg_port_desc spec_in[] = {
-    {.name = "scene", .kind = LG_KIND_SCENE},
-    {.name = "image", .kind = LG_KIND_IMAGE},
+    { .name = "scene", .kind = LG_KIND_SCENE },
+    { .name = "image", .kind = LG_KIND_IMAGE },
 };
 
 static int spec_prepare(lg_node *n)

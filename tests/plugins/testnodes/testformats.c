@@ -24,26 +24,43 @@
 #include "lightgraph/image.h"
 #include "lightgraph/lightgraph.h"
 
-static const char *const fmt_names[] = {"rgba32f", "rgba16f", "rgbe8", "rgba8", NULL};
-static const lg_format fmt_values[] = {LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8,
-                                       LG_FORMAT_RGBA8};
+static const char *const fmt_names[] = { "rgba32f", "rgba16f", "rgbe8", "rgba8", NULL };
+static const lg_format fmt_values[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8,
+                                        LG_FORMAT_RGBA8 };
 
 typedef struct hdr_state {
     bool warned;
 } hdr_state;
 
 static const lg_param_desc hdr_params[] = {
-    {.key = "format", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = fmt_names,
-     .doc = "the output's pixel format"},
-    {.key = "width", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 65536,
-     .doc = "pixels; 0 = the render width", .role = LG_ROLE_IMAGE_WIDTH},
-    {.key = "height", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 65536,
-     .doc = "pixels; 0 = the render height", .role = LG_ROLE_IMAGE_HEIGHT},
-    {.key = "peak", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
-     .doc = "pixel (0, 0) is (peak, peak/2, peak/4) when > 0"},
-    {.key = "nan", .type = LG_PARAM_BOOL, .def.b = false, .doc = "pixel (1, 0) gets a NaN"},
+    { .key = "format",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = fmt_names,
+      .doc = "the output's pixel format" },
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 65536,
+      .doc = "pixels; 0 = the render width",
+      .role = LG_ROLE_IMAGE_WIDTH },
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 65536,
+      .doc = "pixels; 0 = the render height",
+      .role = LG_ROLE_IMAGE_HEIGHT },
+    { .key = "peak",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
+      .doc = "pixel (0, 0) is (peak, peak/2, peak/4) when > 0" },
+    { .key = "nan", .type = LG_PARAM_BOOL, .def.b = false, .doc = "pixel (1, 0) gets a NaN" },
 };
-static const lg_port_desc hdr_out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc hdr_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int hdr_create(lg_node *n)
 {
@@ -59,7 +76,7 @@ static void hdr_destroy(lg_node *n)
 
 static int hdr_prepare(lg_node *n)
 {
-    lg_image_desc d = {.format = fmt_values[lg_param_enum(n, "format")]};
+    lg_image_desc d = { .format = fmt_values[lg_param_enum(n, "format")] };
     d.width = (uint32_t)lg_param_int(n, "width");
     d.height = (uint32_t)lg_param_int(n, "height");
     if (!d.width || !d.height)
@@ -103,7 +120,8 @@ static int hdr_execute(lg_node *n, const lg_frame *frame)
         }
         if (y == 0 && nan && w > 1)
             row[4] = NAN;
-        lg_pixels_from_rgba32f(f, row, w, (char *)v.pixels + (size_t)y * v.row_pixels * lg_format_size(f),
+        lg_pixels_from_rgba32f(f, row, w,
+                               (char *)v.pixels + (size_t)y * v.row_pixels * lg_format_size(f),
                                &clamped);
     }
     free(row);
@@ -114,17 +132,20 @@ static int hdr_execute(lg_node *n, const lg_frame *frame)
                lg_format_name(f), frame->index, (unsigned long long)clamped,
                f == LG_FORMAT_RGBA16F ? "beyond 65504 clamped to 65504, NaN set to 0"
                : f == LG_FORMAT_RGBE8 ? "NaN and negatives set to 0, 2^127 and above saturated"
-               : "NaN set to 0, clamped to [0, 1]");
+                                      : "NaN set to 0, clamped to [0, 1]");
     }
     return 0;
 }
 
-static const char *const backends[] = {"cpu", "gl", "cl", NULL};
+static const char *const backends[] = { "cpu", "gl", "cl", NULL };
 static const lg_param_desc copy_params[] = {
-    {.key = "backend", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = backends,
-     .doc = "where the copy runs"},
+    { .key = "backend",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = backends,
+      .doc = "where the copy runs" },
 };
-static const lg_port_desc copy_in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc copy_in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
 
 static int copy_prepare(lg_node *n)
 {
@@ -137,11 +158,12 @@ static int copy_prepare(lg_node *n)
         return rc;
     if (info.kind != LG_KIND_IMAGE)
         return lg_error(n, "input 'image' is not an image");
-    lg_image_desc d = {.width = info.image.width, .height = info.image.height,
-                       .format = info.image.format};
+    lg_image_desc d = { .width = info.image.width,
+                        .height = info.image.height,
+                        .format = info.image.format };
     if ((rc = lg_declare_image(n, 0, &d)))
         return rc;
-    static const lg_device devs[] = {LG_DEVICE_CPU, LG_DEVICE_GL, LG_DEVICE_CL};
+    static const lg_device devs[] = { LG_DEVICE_CPU, LG_DEVICE_GL, LG_DEVICE_CL };
     return lg_set_device(n, devs[lg_param_enum(n, "backend")]);
 }
 
@@ -190,19 +212,34 @@ static int copy_execute(lg_node *n, const lg_frame *frame)
     }
 }
 
-static const char *const fill_words[] = {"checker", NULL};
+static const char *const fill_words[] = { "checker", NULL };
 static const lg_param_desc fill_params[] = {
-    {.key = "color", .type = LG_PARAM_COLOR, .def.e = 0, .enum_values = fill_words, .min = 0,
-     .max = 100, .doc = "the fill colour, or checker"},
-    {.key = "width", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 64,
-     .doc = "pixels", .role = LG_ROLE_IMAGE_WIDTH},
-    {.key = "height", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 64,
-     .doc = "pixels", .role = LG_ROLE_IMAGE_HEIGHT},
+    { .key = "color",
+      .type = LG_PARAM_COLOR,
+      .def.e = 0,
+      .enum_values = fill_words,
+      .min = 0,
+      .max = 100,
+      .doc = "the fill colour, or checker" },
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 4,
+      .min = 1,
+      .max = 64,
+      .doc = "pixels",
+      .role = LG_ROLE_IMAGE_WIDTH },
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 4,
+      .min = 1,
+      .max = 64,
+      .doc = "pixels",
+      .role = LG_ROLE_IMAGE_HEIGHT },
 };
 
 static int fill_prepare(lg_node *n)
 {
-    lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
     d.width = (uint32_t)lg_param_int(n, "width");
     d.height = (uint32_t)lg_param_int(n, "height");
     int rc = lg_declare_image(n, 0, &d);

@@ -15,15 +15,22 @@
 #include "lightgraph/lightgraph.h"
 
 enum { MEM_KEEP, MEM_REMAKE, MEM_RESIZE };
-static const char *const modes[] = {"keep", "remake", "resize", NULL};
+static const char *const modes[] = { "keep", "remake", "resize", NULL };
 
 static const lg_param_desc params[] = {
-    {.key = "mode", .type = LG_PARAM_ENUM, .def.e = MEM_KEEP, .enum_values = modes,
-     .doc = "how the scratch memory is asked for (keep, remake, resize)"},
-    {.key = "size", .type = LG_PARAM_INT, .def.i = 16, .min = 1, .max = 4096,
-     .doc = "texels per side of the scratch memory (16 bytes a texel)"},
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = MEM_KEEP,
+      .enum_values = modes,
+      .doc = "how the scratch memory is asked for (keep, remake, resize)" },
+    { .key = "size",
+      .type = LG_PARAM_INT,
+      .def.i = 16,
+      .min = 1,
+      .max = 4096,
+      .doc = "texels per side of the scratch memory (16 bytes a texel)" },
 };
-static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 typedef struct mem_state {
     lg_gl_buffer buf;
@@ -38,7 +45,7 @@ static int mem_create(lg_node *n)
 
 static int mem_prepare(lg_node *n)
 {
-    lg_image_desc d = {.format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
     lg_render_size(n, &d.width, &d.height);
     int rc = lg_declare_image(n, 0, &d);
     if (rc)
@@ -53,8 +60,10 @@ static int mem_execute(lg_node *n, const lg_frame *frame)
     uint32_t size = (uint32_t)lg_param_int(n, "size");
     int mode = lg_param_enum(n, "mode"), rc = 0;
     if (mode == MEM_RESIZE) {
-        lg_gl_texture_desc d = {.target = GL_TEXTURE_2D, .format = GL_RGBA32F,
-                                .width = size * (1 + frame->index % 2), .height = size};
+        lg_gl_texture_desc d = { .target = GL_TEXTURE_2D,
+                                 .format = GL_RGBA32F,
+                                 .width = size * (1 + frame->index % 2),
+                                 .height = size };
         rc = lg_gl_texture_recreate(n, &st->tex, &d);
         if (rc < 0)
             return rc;
@@ -67,7 +76,7 @@ static int mem_execute(lg_node *n, const lg_frame *frame)
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;
-    static const float zero[4] = {0, 0, 0, 1};
+    static const float zero[4] = { 0, 0, 0, 1 };
     gl->ClearTexImage(color, 0, GL_RGBA, GL_FLOAT, zero);
     if (mode == MEM_REMAKE)
         lg_gl_buffer_destroy(n, &st->buf);
@@ -85,7 +94,7 @@ static void mem_destroy(lg_node *n)
     n->user = NULL;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "test_mem",
     .doc = "Holds scratch GL memory as `mode` says; outputs black (test)",
@@ -95,6 +104,6 @@ static const lg_node_type types[] = {{
     .prepare = mem_prepare,
     .execute = mem_execute,
     .destroy = mem_destroy,
-}};
+} };
 
 LG_PLUGIN_DEFINE("testmem", "1.0.0", "Plugin memory in the profile test node", types)

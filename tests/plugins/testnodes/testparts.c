@@ -29,7 +29,7 @@
 /* partsteal's loot, shared within the plugin: the last probe and its radiance part */
 static const lg_resource *g_last_probe, *g_last_radiance;
 
-static const char *const devices[] = {"cpu", "gl", "cl", NULL};
+static const char *const devices[] = { "cpu", "gl", "cl", NULL };
 
 static float pattern(uint32_t level, uint32_t face)
 {
@@ -38,7 +38,7 @@ static float pattern(uint32_t level, uint32_t face)
 
 static int out_1x1(lg_node *n)
 {
-    lg_image_desc d = {.width = 1, .height = 1, .format = LG_FORMAT_RGBA32F};
+    lg_image_desc d = { .width = 1, .height = 1, .format = LG_FORMAT_RGBA32F };
     return lg_declare_image(n, 0, &d);
 }
 
@@ -54,20 +54,23 @@ static int write_1x1(lg_node *n, float v)
     return 0;
 }
 
-/* ---- partmaker ------------------------------------------------------------------------- */
+/* ---- partmaker ------------------------------------------------------------------------------- */
 
 static const lg_param_desc maker_params[] = {
-    {.key = "device", .type = LG_PARAM_ENUM, .enum_values = devices, .doc = "where to write"},
-    {.key = "size", .type = LG_PARAM_INT, .def.i = 8, .min = 1, .max = 256, .doc = "face side"},
-    {.key = "levels", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 9, .doc = "mip levels"},
+    { .key = "device", .type = LG_PARAM_ENUM, .enum_values = devices, .doc = "where to write" },
+    { .key = "size", .type = LG_PARAM_INT, .def.i = 8, .min = 1, .max = 256, .doc = "face side" },
+    { .key = "levels", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 9, .doc = "mip levels" },
 };
-static const lg_port_desc maker_out[] = {{.name = "probe", .kind = LG_KIND_PROBE}};
+static const lg_port_desc maker_out[] = { { .name = "probe", .kind = LG_KIND_PROBE } };
 
 static int maker_prepare(lg_node *n)
 {
     uint32_t size = (uint32_t)lg_param_int(n, "size");
-    lg_image_desc d = {.width = size, .height = size, .format = LG_FORMAT_RGBA32F,
-                       .flags = LG_IMAGE_CUBE, .levels = (uint32_t)lg_param_int(n, "levels")};
+    lg_image_desc d = { .width = size,
+                        .height = size,
+                        .format = LG_FORMAT_RGBA32F,
+                        .flags = LG_IMAGE_CUBE,
+                        .levels = (uint32_t)lg_param_int(n, "levels") };
     int rc = lg_probe_declare(n, 0, LG_PROBE_CUBE, &d, true);
     if (rc)
         return rc;
@@ -109,7 +112,7 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
             return rc ? rc : LG_ERR_DEVICE;
         for (uint32_t l = 0; l < lg_image_levels(d); l++)
             for (uint32_t f = 0; f < 6; f++) {
-                float c[4] = {pattern(l, f), 1, 2, 3};
+                float c[4] = { pattern(l, f), 1, 2, 3 };
                 gl->ClearTexSubImage(tex, (GLint)l, 0, 0, (GLint)f,
                                      (GLsizei)lg_image_level_width(d, l),
                                      (GLsizei)lg_image_level_height(d, l), 1, GL_RGBA, GL_FLOAT, c);
@@ -123,7 +126,7 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
         cl_command_queue q = lg_cl_queue(n);
         for (uint32_t l = 0; l < lg_image_levels(d); l++)
             for (uint32_t f = 0; f < 6; f++) {
-                cl_float4 c = {{pattern(l, f), 1, 2, 3}};
+                cl_float4 c = { { pattern(l, f), 1, 2, 3 } };
                 size_t px = (size_t)lg_image_level_width(d, l) * lg_image_level_height(d, l);
                 cl_int e = clEnqueueFillBuffer(q, (cl_mem)mem, &c, sizeof c,
                                                lg_image_offset(d, l, f) * 16, px * 16, 0, NULL,
@@ -141,8 +144,9 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
     size_t texels = (size_t)6 * d->width * d->height;
     for (size_t i = 0; i < texels; i++)
         w[i] = (float)(4.0 * LG_PI / (double)texels);
-    lg_probe_info info = {.layout = LG_PROBE_CUBE, .scale = 1,
-                          .rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1}};
+    lg_probe_info info = { .layout = LG_PROBE_CUBE,
+                           .scale = 1,
+                           .rotation = { 1, 0, 0, 0, 1, 0, 0, 0, 1 } };
     if ((rc = lg_probe_publish(n, 0, &info)))
         return rc;
     g_last_probe = out;
@@ -150,20 +154,22 @@ static int maker_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-/* ---- partcheck -------------------------------------------------------------------------- */
+/* ---- partcheck ------------------------------------------------------------------------------- */
 
 static const lg_param_desc check_params[] = {
-    {.key = "device", .type = LG_PARAM_ENUM, .enum_values = devices, .doc = "where to read"},
+    { .key = "device", .type = LG_PARAM_ENUM, .enum_values = devices, .doc = "where to read" },
 };
-static const lg_port_desc check_in[] = {{.name = "probe", .kind = LG_KIND_PROBE}};
-static const lg_port_desc img_out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc check_in[] = { { .name = "probe", .kind = LG_KIND_PROBE } };
+static const lg_port_desc img_out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int check_prepare(lg_node *n)
 {
     int dev = lg_param_enum(n, "device");
     int rc = out_1x1(n);
-    return rc ? rc : lg_set_device(n, dev == 1 ? LG_DEVICE_GL : dev == 2 ? LG_DEVICE_CL
-                                                                         : LG_DEVICE_CPU);
+    return rc ? rc
+              : lg_set_device(n, dev == 1   ? LG_DEVICE_GL
+                                 : dev == 2 ? LG_DEVICE_CL
+                                            : LG_DEVICE_CPU);
 }
 
 static int check_execute(lg_node *n, const lg_frame *frame)
@@ -206,8 +212,8 @@ static int check_execute(lg_node *n, const lg_frame *frame)
     } else {
         void *mem = NULL;
         if (!(rc = lg_map_cl(n, p->radiance, LG_READ, &mem, NULL))) {
-            cl_int e = clEnqueueReadBuffer(lg_cl_queue(n), (cl_mem)mem, CL_TRUE, 0,
-                                           total * 16, px, 0, NULL, NULL);
+            cl_int e = clEnqueueReadBuffer(lg_cl_queue(n), (cl_mem)mem, CL_TRUE, 0, total * 16, px,
+                                           0, NULL, NULL);
             if (e != CL_SUCCESS)
                 rc = lg_error(n, "clEnqueueReadBuffer: %d", e);
         }
@@ -237,13 +243,13 @@ static int check_execute(lg_node *n, const lg_frame *frame)
     return write_1x1(n, 1.0f);
 }
 
-/* ---- partsteal, badparam ----------------------------------------------------------------- */
+/* ---- partsteal, badparam --------------------------------------------------------------------- */
 
-static const char *const steal_what[] = {"part", "texture", NULL};
+static const char *const steal_what[] = { "part", "texture", NULL };
 static const lg_param_desc steal_params[] = {
-    {.key = "what", .type = LG_PARAM_ENUM, .enum_values = steal_what, .doc = "how to steal"},
+    { .key = "what", .type = LG_PARAM_ENUM, .enum_values = steal_what, .doc = "how to steal" },
 };
-static const lg_port_desc steal_in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc steal_in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
 
 static int steal_execute(lg_node *n, const lg_frame *frame)
 {
@@ -264,16 +270,21 @@ static int bad_execute(lg_node *n, const lg_frame *frame)
     return write_1x1(n, (float)v);
 }
 
-/* ---- kindmaker, kindcheck --------------------------------------------------------------- */
+/* ---- kindmaker, kindcheck -------------------------------------------------------------------- */
 
 static const lg_param_desc kind_params[] = {
-    {.key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "SH bands"},
-    {.key = "vertices", .type = LG_PARAM_INT, .def.i = 5, .min = 1, .max = 1000, .doc = "vertices"},
+    { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "SH bands" },
+    { .key = "vertices",
+      .type = LG_PARAM_INT,
+      .def.i = 5,
+      .min = 1,
+      .max = 1000,
+      .doc = "vertices" },
 };
 static const lg_port_desc kind_ports[] = {
-    {.name = "sh", .kind = LG_KIND_SH, .optional = true},
-    {.name = "transfer", .kind = LG_KIND_TRANSFER, .optional = true},
-    {.name = "froxel", .kind = LG_KIND_FROXEL, .optional = true},
+    { .name = "sh", .kind = LG_KIND_SH, .optional = true },
+    { .name = "transfer", .kind = LG_KIND_TRANSFER, .optional = true },
+    { .name = "froxel", .kind = LG_KIND_FROXEL, .optional = true },
 };
 enum { FX_W = 4, FX_H = 3, FX_D = 5 };
 
@@ -307,11 +318,16 @@ static int kmake_execute(lg_node *n, const lg_frame *frame)
 {
     (void)frame;
     uint32_t bands = (uint32_t)lg_param_int(n, "bands");
-    lg_sh_info si = {.bands = bands, .flags = LG_SH_WINDOWED};
-    lg_transfer_info ti = {.bands = bands, .vertices = (uint32_t)lg_param_int(n, "vertices"),
-                           .mode = LG_TRANSFER_SHADOWED};
-    lg_froxel_info fi = {.width = FX_W, .height = FX_H, .depth = FX_D,
-                         .slicing = LG_FROXEL_EXPONENTIAL, .near = 0.1f, .far = 50.0f};
+    lg_sh_info si = { .bands = bands, .flags = LG_SH_WINDOWED };
+    lg_transfer_info ti = { .bands = bands,
+                            .vertices = (uint32_t)lg_param_int(n, "vertices"),
+                            .mode = LG_TRANSFER_SHADOWED };
+    lg_froxel_info fi = { .width = FX_W,
+                          .height = FX_H,
+                          .depth = FX_D,
+                          .slicing = LG_FROXEL_EXPONENTIAL,
+                          .near = 0.1f,
+                          .far = 50.0f };
     int rc = fill(n, 0, "coeffs");
     if (!rc)
         rc = fill(n, 1, "transfer");
@@ -362,24 +378,50 @@ static int kcheck_execute(lg_node *n, const lg_frame *frame)
 }
 
 static const lg_node_type types[] = {
-    {.struct_size = sizeof(lg_node_type), .name = "partmaker", .doc = "a cube probe (test)",
-     LG_PARAMS(maker_params), LG_OUTPUTS(maker_out), .prepare = maker_prepare,
-     .execute = maker_execute},
-    {.struct_size = sizeof(lg_node_type), .name = "partcheck", .doc = "checks a probe (test)",
-     LG_PARAMS(check_params), LG_INPUTS(check_in), LG_OUTPUTS(img_out),
-     .prepare = check_prepare, .execute = check_execute},
-    {.struct_size = sizeof(lg_node_type), .name = "partsteal",
-     .doc = "maps what it did not receive (test)", LG_PARAMS(steal_params),
-     LG_INPUTS(steal_in), LG_OUTPUTS(img_out), .prepare = out_1x1, .execute = steal_execute},
-    {.struct_size = sizeof(lg_node_type), .name = "badparam",
-     .doc = "reads an undeclared parameter (test)", LG_OUTPUTS(img_out), .prepare = out_1x1,
-     .execute = bad_execute},
-    {.struct_size = sizeof(lg_node_type), .name = "kindmaker",
-     .doc = "an SH, a transfer and a froxel resource (test)", LG_PARAMS(kind_params),
-     LG_OUTPUTS(kind_ports), .prepare = kmake_prepare, .execute = kmake_execute},
-    {.struct_size = sizeof(lg_node_type), .name = "kindcheck",
-     .doc = "reads them back (test)", LG_PARAMS(kind_params), LG_INPUTS(kind_ports),
-     LG_OUTPUTS(img_out), .prepare = out_1x1, .execute = kcheck_execute},
+    { .struct_size = sizeof(lg_node_type),
+      .name = "partmaker",
+      .doc = "a cube probe (test)",
+      LG_PARAMS(maker_params),
+      LG_OUTPUTS(maker_out),
+      .prepare = maker_prepare,
+      .execute = maker_execute },
+    { .struct_size = sizeof(lg_node_type),
+      .name = "partcheck",
+      .doc = "checks a probe (test)",
+      LG_PARAMS(check_params),
+      LG_INPUTS(check_in),
+      LG_OUTPUTS(img_out),
+      .prepare = check_prepare,
+      .execute = check_execute },
+    { .struct_size = sizeof(lg_node_type),
+      .name = "partsteal",
+      .doc = "maps what it did not receive (test)",
+      LG_PARAMS(steal_params),
+      LG_INPUTS(steal_in),
+      LG_OUTPUTS(img_out),
+      .prepare = out_1x1,
+      .execute = steal_execute },
+    { .struct_size = sizeof(lg_node_type),
+      .name = "badparam",
+      .doc = "reads an undeclared parameter (test)",
+      LG_OUTPUTS(img_out),
+      .prepare = out_1x1,
+      .execute = bad_execute },
+    { .struct_size = sizeof(lg_node_type),
+      .name = "kindmaker",
+      .doc = "an SH, a transfer and a froxel resource (test)",
+      LG_PARAMS(kind_params),
+      LG_OUTPUTS(kind_ports),
+      .prepare = kmake_prepare,
+      .execute = kmake_execute },
+    { .struct_size = sizeof(lg_node_type),
+      .name = "kindcheck",
+      .doc = "reads them back (test)",
+      LG_PARAMS(kind_params),
+      LG_INPUTS(kind_ports),
+      LG_OUTPUTS(img_out),
+      .prepare = out_1x1,
+      .execute = kcheck_execute },
 };
 
 LG_PLUGIN_DEFINE("testparts", "1.0.0", "Composite resources (test)", types)

@@ -6,20 +6,39 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc scene_params[] = {
-    {.key = "triangles", .type = LG_PARAM_INT, .def.i = 12, .min = 0, .max = 1e12,
-     .doc = "triangle count the scene claims"},
-    {.key = "dir_lights", .type = LG_PARAM_INT, .def.i = 1, .min = 0, .max = 1024,
-     .doc = "directional lights"},
-    {.key = "point_lights", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1024,
-     .doc = "point lights"},
-    {.key = "medium_density", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e6,
-     .doc = "participating medium density (0: no medium)"},
-    {.key = "probe", .type = LG_PARAM_BOOL, .def.b = false, .doc = "a light probe is present"},
-    {.key = "specular", .type = LG_PARAM_BOOL, .def.b = false,
-     .doc = "a material has a specular term"},
+    { .key = "triangles",
+      .type = LG_PARAM_INT,
+      .def.i = 12,
+      .min = 0,
+      .max = 1e12,
+      .doc = "triangle count the scene claims" },
+    { .key = "dir_lights",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 0,
+      .max = 1024,
+      .doc = "directional lights" },
+    { .key = "point_lights",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 1024,
+      .doc = "point lights" },
+    { .key = "medium_density",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e6,
+      .doc = "participating medium density (0: no medium)" },
+    { .key = "probe", .type = LG_PARAM_BOOL, .def.b = false, .doc = "a light probe is present" },
+    { .key = "specular",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "a material has a specular term" },
 };
-static const lg_port_desc scene_out[] = {{.name = "scene", .kind = LG_KIND_SCENE,
-                                          .doc = "the described scene"}};
+static const lg_port_desc scene_out[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the described scene" }
+};
 
 static int scene_prepare(lg_node *n)
 {
@@ -43,7 +62,7 @@ static int scene_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "test_scene",
     .doc = "A scene description for tests: its features are its parameters",
@@ -51,6 +70,6 @@ static const lg_node_type types[] = {{
     LG_OUTPUTS(scene_out),
     .prepare = scene_prepare,
     .execute = scene_execute,
-}};
+} };
 
 LG_PLUGIN_DEFINE("testscene", "1.0.0", "Scene descriptions for planner tests", types)

@@ -8,14 +8,22 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc params[] = {
-    {.key = "units", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1e300, .max = 1e300,
-     .doc = "the units of work declared"},
-    {.key = "seconds", .type = LG_PARAM_FLOAT, .def.f = 0, .min = -1e300, .max = 1e300,
-     .doc = "the seconds declared; 'nan' is given as any value below -1e299"},
-    {.key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false, .doc = "run every frame"},
+    { .key = "units",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -1e300,
+      .max = 1e300,
+      .doc = "the units of work declared" },
+    { .key = "seconds",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -1e300,
+      .max = 1e300,
+      .doc = "the seconds declared; 'nan' is given as any value below -1e299" },
+    { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false, .doc = "run every frame" },
 };
-static const lg_port_desc in[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
-static const lg_port_desc out[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
+static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 
 static int prepare(lg_node *n)
 {
@@ -35,7 +43,7 @@ static int execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "test_work",
     .doc = "Its input, unchanged, after declaring the work its parameters give (test)",
@@ -44,6 +52,6 @@ static const lg_node_type types[] = {{
     LG_OUTPUTS(out),
     .prepare = prepare,
     .execute = execute,
-}};
+} };
 
 LG_PLUGIN_DEFINE("testwork", "1.0.0", "Work estimate test node", types)

@@ -52,9 +52,9 @@ static double max_rel(const lg_image *got, const lg_image *want, double floor_, 
 
 /* One froxel node against the closed form, in a batch rendered as one graph. */
 typedef struct fx_item {
-    const char *params;  /* the froxel node's parameters (without scene, base, backend) */
-    const char *mode;    /* froxel_closed_form's mode */
-    const char *zl;      /* its z_limit (the froxel node's) */
+    const char *params; /* the froxel node's parameters (without scene, base, backend) */
+    const char *mode;   /* froxel_closed_form's mode */
+    const char *zl;     /* its z_limit (the froxel node's) */
 } fx_item;
 
 /* Renders every item of `items` (froxel nodes v<i> reading scene `scene`, each beside its
@@ -104,11 +104,13 @@ static void vs_closed_form_batch(lg_test *t, const char *backend, const char *ex
     }
 }
 
-/* ---- closed form: unshadowed, energy_conserving, both slicings, several grids ---------- */
+/* ---- closed form: unshadowed, energy_conserving, both slicings, several grids ---------------- */
 
 static void closed_form(lg_test *t, const char *backend)
 {
-    static const struct { const char *grid, *size; } grids[] = {
+    static const struct {
+        const char *grid, *size;
+    } grids[] = {
         { "width = 16, height = 8, depth = 24", "16x8" },
         { "width = 1, height = 1, depth = 1", "1x1" },
         { "width = 12, height = 6, depth = 1", "12x6" },
@@ -116,8 +118,12 @@ static void closed_form(lg_test *t, const char *backend)
     static const char *const slicings[] = { "uniform_clip", "exponential" };
     /* z_limit 0: the camera's zfar (2.64) behind every surface but the opening's sky;
      * 1.2: most walls behind it; z_near 0.9: the near walls in front of the grid */
-    static const struct { const char *zl, *extra; } ranges[] = {
-        { "0", "" }, { "1.2", "" }, { "1.2", ", z_near = 0.9" },
+    static const struct {
+        const char *zl, *extra;
+    } ranges[] = {
+        { "0", "" },
+        { "1.2", "" },
+        { "1.2", ", z_near = 0.9" },
         { "2", ", z_near = 0.5, near_offset = 0.6" },
     };
     for (size_t gi = 0; gi < sizeof grids / sizeof grids[0]; gi++) {
@@ -137,13 +143,13 @@ static void closed_form(lg_test *t, const char *backend)
         vs_closed_form_batch(t, backend, "", "fog", it, n, grids[gi].size, err);
         for (size_t i = 0; i < n; i++) {
             lg_test_note_("%s %s: max relative error %.3g", backend, p[i], err[i]);
-            LG_TEST_CHECK(t, err[i] >= 0 && err[i] < 1e-4,
-                          "%s %s: %.3g against the closed form", backend, p[i], err[i]);
+            LG_TEST_CHECK(t, err[i] >= 0 && err[i] < 1e-4, "%s %s: %.3g against the closed form",
+                          backend, p[i], err[i]);
         }
     }
 }
 
-/* ---- thesis accumulation --------------------------------------------------------------- */
+/* ---- thesis accumulation --------------------------------------------------------------------- */
 
 /* Unshadowed, the thesis's plain sum S x length gives L_c sigma_s p d at a column's centre
  * for any slicing (S is constant along the column), i.e. the closed form times
@@ -167,12 +173,14 @@ static void thesis(lg_test *t, const char *backend)
                       err[0], err[1]);
         LG_TEST_CHECK(t, err[0] >= 0 && err[0] < 1e-4, "%s %s: %.3g against the thesis sum",
                       backend, p[i], err[0]);
-        LG_TEST_CHECK(t, err[1] > 1e-2, "%s %s: the thesis sum should exceed the closed form "
-                      "(%.3g)", backend, p[i], err[1]);
+        LG_TEST_CHECK(t, err[1] > 1e-2,
+                      "%s %s: the thesis sum should exceed the closed form "
+                      "(%.3g)",
+                      backend, p[i], err[1]);
     }
 }
 
-/* ---- 32 lights, a light behind the camera ---------------------------------------------- */
+/* ---- 32 lights, a light behind the camera ---------------------------------------------------- */
 
 static void lights(lg_test *t, const char *backend)
 {
@@ -182,8 +190,9 @@ static void lights(lg_test *t, const char *backend)
         double a = 0.7 * i, y = -0.2 - 0.02 * i;
         char prev[16];
         snprintf(prev, sizeof prev, i ? "l%d" : "fog", i - 1);
-        e += sprintf(e, "l%d = light { scene = %s, direction = [%g, %g, %g], intensity = %g, "
-                        "color = [1, %g, %g] }\n",
+        e += sprintf(e,
+                     "l%d = light { scene = %s, direction = [%g, %g, %g], intensity = %g, "
+                     "color = [1, %g, %g] }\n",
                      i, prev, cos(a), y, sin(a), 0.5 + 0.1 * i, 0.3 + 0.02 * i, 1 - 0.02 * i);
     }
     const char *params = "width = 16, height = 8, depth = 24, z_limit = 2";
@@ -191,8 +200,8 @@ static void lights(lg_test *t, const char *backend)
     double err;
     vs_closed_form_batch(t, backend, extra, "l30", &it, 1, "16x8", &err);
     lg_test_note_("%s, 32 lights: max relative error %.3g", backend, err);
-    LG_TEST_CHECK(t, err >= 0 && err < 1e-4, "%s, 32 lights: %.3g against the closed form",
-                  backend, err);
+    LG_TEST_CHECK(t, err >= 0 && err < 1e-4, "%s, 32 lights: %.3g against the closed form", backend,
+                  err);
     /* 33 lights: a clear error */
     char gg[16384];
     snprintf(gg, sizeof gg,
@@ -211,15 +220,21 @@ static void lights(lg_test *t, const char *backend)
                          "behind = light { scene = fog, mode = replace, direction = "
                          "[-0.224, -0.336, -0.915], intensity = 10 }",
                          "behind", &it, 1, "16x8", &err);
-    LG_TEST_CHECK(t, err >= 0 && err < 1e-4, "%s, sun behind the camera: %.3g against the "
-                  "closed form", backend, err);    /* thin fog (tau ~ 1e-7 per slice): the segment factor's series, no cancellation; the
-     * in-scatter is L_c sigma_s p d to float precision, not zero */
+    LG_TEST_CHECK(
+        t, err >= 0 && err < 1e-4,
+        "%s, sun behind the camera: %.3g against the "
+        "closed form",
+        backend,
+        err); /* thin fog (tau ~ 1e-7 per slice): the segment factor's series, no cancellation; the
+               * in-scatter is L_c sigma_s p d to float precision, not zero */
     vs_closed_form_batch(t, backend,
                          "thin = medium { scene = fog, density = 1e-6, scattering = "
                          "[0.1, 0.1, 0.1], g = 0.4 }",
                          "thin", &it, 1, "16x8", &err);
-    LG_TEST_CHECK(t, err >= 0 && err < 1e-4, "%s, thin fog (tau -> 0): %.3g against the "
-                  "closed form", backend, err);
+    LG_TEST_CHECK(t, err >= 0 && err < 1e-4,
+                  "%s, thin fog (tau -> 0): %.3g against the "
+                  "closed form",
+                  backend, err);
     /* a coloured medium (sigma_t 0.4, 0.2, 0.15): the backends take a shortcut when sigma_t
      * is grey (one exp per froxel and per factor), this is the per-channel path; every
      * other case here is grey */
@@ -228,11 +243,13 @@ static void lights(lg_test *t, const char *backend)
                          "[0.1, 0.2, 0.05], absorption = [0.3, 0, 0.1], g = 0.4 }",
                          "tinted", &it, 1, "16x8", &err);
     lg_test_note_("%s, coloured sigma_t: max relative error %.3g", backend, err);
-    LG_TEST_CHECK(t, err >= 0 && err < 1e-4, "%s, coloured sigma_t (0.4, 0.2, 0.15): %.3g "
-                  "against the closed form", backend, err);
+    LG_TEST_CHECK(t, err >= 0 && err < 1e-4,
+                  "%s, coloured sigma_t (0.4, 0.2, 0.15): %.3g "
+                  "against the closed form",
+                  backend, err);
 }
 
-/* ---- shadows --------------------------------------------------------------------------- */
+/* ---- shadows --------------------------------------------------------------------------------- */
 
 static void shadows(lg_test *t, const char *backend)
 {
@@ -258,18 +275,19 @@ static void shadows(lg_test *t, const char *backend)
         if (a < b * 0.9)
             less++;
     }
-    lg_test_note_("%s: %zu of %zu pixels at least 10%% darker with shadows, %zu brighter",
-                  backend, less, n, more);
-    LG_TEST_CHECK(t, more == 0, "%s: %zu pixels brighter with shadows than without",
-                  backend, more);
-    LG_TEST_CHECK(t, less > n / 4, "%s: only %zu of %zu pixels darkened by the shadows "
-                  "(the bunny box's walls shadow most of the fog)", backend, less, n);
+    lg_test_note_("%s: %zu of %zu pixels at least 10%% darker with shadows, %zu brighter", backend,
+                  less, n, more);
+    LG_TEST_CHECK(t, more == 0, "%s: %zu pixels brighter with shadows than without", backend, more);
+    LG_TEST_CHECK(t, less > n / 4,
+                  "%s: only %zu of %zu pixels darkened by the shadows "
+                  "(the bunny box's walls shadow most of the fog)",
+                  backend, less, n);
 done:
     lg_image_free(&sh);
     lg_image_free(&un);
 }
 
-/* ---- backends agree ---------------------------------------------------------------------- */
+/* ---- backends agree -------------------------------------------------------------------------- */
 
 static void backends(lg_test *t)
 {
@@ -287,7 +305,7 @@ static void backends(lg_test *t)
     lg_test_backends(t, &d, NULL);
 }
 
-/* ---- temporal ------------------------------------------------------------------------------ */
+/* ---- temporal -------------------------------------------------------------------------------- */
 
 static double rmse(const lg_image *a, const lg_image *b)
 {
@@ -306,9 +324,9 @@ static double rmse(const lg_image *a, const lg_image *b)
 static void temporal(lg_test *t, const char *backend)
 {
     static const char *const names[] = { "off", "on", "h0", "hi" };
-    static const char *const params[] = {
-        "depth = 6", "depth = 6, temporal = true, history = 0.7",
-        "depth = 6, temporal = true, history = 0", "depth = 512" };
+    static const char *const params[] = { "depth = 6", "depth = 6, temporal = true, history = 0.7",
+                                          "depth = 6, temporal = true, history = 0",
+                                          "depth = 512" };
     char g[4096];
     size_t len = (size_t)snprintf(g, sizeof g, SCENE);
     for (int i = 0; i < 4; i++)
@@ -338,19 +356,22 @@ static void temporal(lg_test *t, const char *backend)
         LG_TEST_CHECK(t, off > 0 && on < 0.8 * off,
                       "%s: temporal should lower the error (%.4g -> %.4g)", backend, off, on);
         /* history 0 is temporal off, bit for bit */
-        LG_TEST_CHECK(t, !memcmp(im[0].pixels, im[2].pixels,
-                                 (size_t)im[0].width * im[0].height * 16),
+        LG_TEST_CHECK(t,
+                      !memcmp(im[0].pixels, im[2].pixels, (size_t)im[0].width * im[0].height * 16),
                       "%s: history 0 differs from temporal off", backend);
     }
     for (int i = 0; i < 4; i++)
         lg_image_free(&im[i]);
 }
 
-/* ---- errors -------------------------------------------------------------------------------- */
+/* ---- errors ---------------------------------------------------------------------------------- */
 
 static void errors(lg_test *t)
 {
-    static const struct { const char *set, *want; int status; } c[] = {
+    static const struct {
+        const char *set, *want;
+        int status;
+    } c[] = {
         { "vol.width=0", "width", 2 },
         { "vol.depth=100000", "depth", 2 },
         { "vol.history=1.5", "history", 2 },
@@ -366,16 +387,17 @@ static void errors(lg_test *t)
         const char *args[] = { "--size", "8x4", "--set", c[i].set, NULL };
         char *text = NULL;
         int rc = render(t, g, args, NULL, NULL, &text);
-        LG_TEST_CHECK(t, rc != 0 && rc != -1 && text && strstr(text, c[i].want) &&
-                             strstr(text, "vol"),
-                      "--set %s: status %d (want a clean failure naming %s and the node)",
-                      c[i].set, rc, c[i].want);
+        LG_TEST_CHECK(t,
+                      rc != 0 && rc != -1 && text && strstr(text, c[i].want) && strstr(text, "vol"),
+                      "--set %s: status %d (want a clean failure naming %s and the node)", c[i].set,
+                      rc, c[i].want);
         free(text);
     }
     /* a grid above 1 GiB */
     {
-        const char *args[] = { "--size", "8x4", "--set", "vol.width=1024", "--set",
-                               "vol.height=1024", "--set", "vol.depth=512", NULL };
+        const char *args[] = { "--size",         "8x4",           "--set",
+                               "vol.width=1024", "--set",         "vol.height=1024",
+                               "--set",          "vol.depth=512", NULL };
         char *text = NULL;
         int rc = render(t, g, args, NULL, NULL, &text);
         LG_TEST_CHECK(t, rc != 0 && rc != -1 && text && strstr(text, "GiB"),
@@ -396,10 +418,19 @@ static void errors(lg_test *t)
     }
 }
 
-#define BACKEND_CASES(fn)                                                                  \
-    static void fn##_cpu(lg_test *t) { fn(t, "cpu"); }                                     \
-    static void fn##_cl(lg_test *t) { fn(t, "cl"); }                                       \
-    static void fn##_gl(lg_test *t) { fn(t, "gl"); }
+#define BACKEND_CASES(fn)                                                                          \
+    static void fn##_cpu(lg_test *t)                                                               \
+    {                                                                                              \
+        fn(t, "cpu");                                                                              \
+    }                                                                                              \
+    static void fn##_cl(lg_test *t)                                                                \
+    {                                                                                              \
+        fn(t, "cl");                                                                               \
+    }                                                                                              \
+    static void fn##_gl(lg_test *t)                                                                \
+    {                                                                                              \
+        fn(t, "gl");                                                                               \
+    }
 BACKEND_CASES(closed_form)
 BACKEND_CASES(thesis)
 BACKEND_CASES(lights)
@@ -414,14 +445,22 @@ static void setup(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "closed_form_cpu", closed_form_cpu }, { "closed_form_cl", closed_form_cl },
-        { "closed_form_gl", closed_form_gl },   { "thesis_cpu", thesis_cpu },
-        { "thesis_cl", thesis_cl },             { "thesis_gl", thesis_gl },
-        { "lights_cpu", lights_cpu },           { "lights_cl", lights_cl },
-        { "lights_gl", lights_gl },             { "shadows_cpu", shadows_cpu },
-        { "shadows_cl", shadows_cl },           { "shadows_gl", shadows_gl },
-        { "temporal_cpu", temporal_cpu },       { "temporal_cl", temporal_cl },
-        { "temporal_gl", temporal_gl },         { "backends", backends },
+        { "closed_form_cpu", closed_form_cpu },
+        { "closed_form_cl", closed_form_cl },
+        { "closed_form_gl", closed_form_gl },
+        { "thesis_cpu", thesis_cpu },
+        { "thesis_cl", thesis_cl },
+        { "thesis_gl", thesis_gl },
+        { "lights_cpu", lights_cpu },
+        { "lights_cl", lights_cl },
+        { "lights_gl", lights_gl },
+        { "shadows_cpu", shadows_cpu },
+        { "shadows_cl", shadows_cl },
+        { "shadows_gl", shadows_gl },
+        { "temporal_cpu", temporal_cpu },
+        { "temporal_cl", temporal_cl },
+        { "temporal_gl", temporal_gl },
+        { "backends", backends },
         { "errors", errors },
     };
     lg_test_main_opts o = { .prefix = "froxel", .setup = setup };

@@ -65,9 +65,8 @@ static int render(lg_test *t, const char *g, const char *backend, const char *co
 static void agree(lg_test *t, const lg_image *got, const lg_image *want, double tol,
                   const char *what)
 {
-    LG_TEST_CHECK(t, got->width == want->width && got->height == want->height,
-                  "%s: %ux%u vs %ux%u", what, got->width, got->height, want->width,
-                  want->height);
+    LG_TEST_CHECK(t, got->width == want->width && got->height == want->height, "%s: %ux%u vs %ux%u",
+                  what, got->width, got->height, want->width, want->height);
     if (got->width != want->width || got->height != want->height)
         return;
     const float *a = got->pixels, *b = want->pixels;
@@ -97,20 +96,20 @@ static void agree(lg_test *t, const lg_image *got, const lg_image *want, double 
     double rmse = sqrt(sq / n);
     size_t px = at / 4;
     note("%s: rgb scale %.4g, max error %.3g of its channel's scale at (%zu, %zu) c%zu "
-         "(got %.6g, want %.6g), rmse %.3g, %zu of %zu beyond %g", what, scale, worst,
-                 px % got->width, px / got->width, at % 4, (double)a[at], (double)b[at], rmse,
-                 over, n, tol);
+         "(got %.6g, want %.6g), rmse %.3g, %zu of %zu beyond %g",
+         what, scale, worst, px % got->width, px / got->width, at % 4, (double)a[at], (double)b[at],
+         rmse, over, n, tol);
     LG_TEST_CHECK(t, scale > 0, "%s: the reference is black", what);
     LG_TEST_CHECK(t, bad == 0, "%s: %zu values are not finite", what, bad);
     LG_TEST_CHECK(t, over <= n / 200,
-                  "%s: %zu values (of %zu) differ by more than %g of their channel's largest",
-                  what, over, n, tol);
+                  "%s: %zu values (of %zu) differ by more than %g of their channel's largest", what,
+                  over, n, tol);
     /* 5 tol: a froxel whose sample point lies within float rounding of a stored shadow depth
      * may test lit on one device and shadowed on the other, and the accumulation carries
      * that step down its whole column (0.07 % of the grid's values on the example scene, up
      * to 0.8 % of the scale each); the count bound above is the primary check */
-    LG_TEST_CHECK(t, rmse <= 5 * tol, "%s: rmse %g of the channels' largest values > %g",
-                  what, rmse, 5 * tol);
+    LG_TEST_CHECK(t, rmse <= 5 * tol, "%s: rmse %g of the channels' largest values > %g", what,
+                  rmse, 5 * tol);
 }
 
 static bool read(lg_test *t, const char *file, lg_image *img)
@@ -175,7 +174,8 @@ static void case_example_energy(lg_test *t)
     snprintf(g2, sizeof g2,
              "%svol2 = volumetric_froxel { scene = fog, base = vol, shadows = shadow, "
              "width = %d, height = %d, depth = %d, backend = gl }\n"
-             "output vol2.inscatter \"ins2.exr\"\n", g, GW, GH, GD);
+             "output vol2.inscatter \"ins2.exr\"\n",
+             g, GW, GH, GD);
     int rc = render(t, g2, "gl", NULL, NULL);
     LG_TEST_CHECK(t, rc == 0, "the chained render failed (%d)", rc);
     lg_image a, b;
@@ -215,9 +215,8 @@ static void lights_graph(char *g, size_t size, int n)
         k += snprintf(g + k, size - (size_t)k,
                       "l%d = light { scene = %s, direction = [%.4f, %.4f, 1], "
                       "color = [%.3f, %.3f, %.3f], intensity = 0.4 }\n",
-                      i, prev, 0.3 + r * cos(a), -0.35 + r * sin(a),
-                      0.5 + 0.5 * (i % 3 == 0), 0.5 + 0.5 * (i % 3 == 1),
-                      0.5 + 0.5 * (i % 3 == 2));
+                      i, prev, 0.3 + r * cos(a), -0.35 + r * sin(a), 0.5 + 0.5 * (i % 3 == 0),
+                      0.5 + 0.5 * (i % 3 == 1), 0.5 + 0.5 * (i % 3 == 2));
     }
     snprintf(g + k, size - (size_t)k,
              "fog = medium { scene = l%d, density = 1, scattering = [0.1, 0.1, 0.1], "
@@ -292,8 +291,7 @@ static void case_frames(lg_test *t)
     unsigned long long a1 = 0, r1 = 0, a4 = 0, r4 = 0;
     bool ok = profile_of(t, "p1.json", &a1, &r1) && profile_of(t, "p4.json", &a4, &r4);
     LG_TEST_CHECK(t, ok, "no profile of node vol");
-    note("vol: 1 frame %llu runs, %llu bytes; 4 frames %llu runs, %llu bytes", r1, a1,
-                 r4, a4);
+    note("vol: 1 frame %llu runs, %llu bytes; 4 frames %llu runs, %llu bytes", r1, a1, r4, a4);
     LG_TEST_CHECK(t, r4 == 4, "vol ran %llu times over 4 frames", r4);
     /* the two S volumes (2 x 16 bytes a cell) at least */
     LG_TEST_CHECK(t, a1 >= 2ull * GW * GH * GD * 16, "vol allocated %llu bytes", a1);

@@ -73,8 +73,8 @@ static int cf_execute(lg_node *n, const lg_frame *frame)
                     double cosv = -(w[0] * L->dir[0] + w[1] * L->dir[1] + w[2] * L->dir[2]);
                     double ph = lg_hg_phase(v->g, cosv);
                     sum += thesis ? L->l_c[c] * v->sigma_s[c] * ph * d
-                                  : lg_medium_inscatter(L->l_c[c], v->sigma_s[c],
-                                                        v->sigma_t[c], ph, d);
+                                  : lg_medium_inscatter(L->l_c[c], v->sigma_s[c], v->sigma_t[c], ph,
+                                                        d);
                 }
                 o[4 * p + c] = (float)sum;
             }
@@ -92,9 +92,16 @@ static void cf_destroy(lg_node *n)
 
 static const char *const cf_modes[] = { "energy_conserving", "thesis_one_slice", NULL };
 static const lg_param_desc cf_params[] = {
-    { .key = "z_limit", .type = LG_PARAM_FLOAT, .def.f = 0, .min = 0, .max = 1e30,
+    { .key = "z_limit",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e30,
       .doc = "view depth where the fog ends; 0 = the camera's zfar" },
-    { .key = "mode", .type = LG_PARAM_ENUM, .def.e = 0, .enum_values = cf_modes,
+    { .key = "mode",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = cf_modes,
       .doc = "energy_conserving: the closed form; thesis_one_slice: without the segment "
              "factor" },
 };
@@ -119,5 +126,5 @@ static const lg_node_type cf_types[] = {
     },
 };
 
-LG_PLUGIN_DEFINE("testfroxelcheck", "1.0.0",
-                 "The closed form the froxel tests compare with", cf_types)
+LG_PLUGIN_DEFINE("testfroxelcheck", "1.0.0", "The closed form the froxel tests compare with",
+                 cf_types)

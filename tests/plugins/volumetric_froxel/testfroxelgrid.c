@@ -15,11 +15,23 @@
 #include "lightgraph/lightgraph.h"
 
 static const lg_param_desc fg_params[] = {
-    { .key = "width", .type = LG_PARAM_INT, .def.i = 1, .min = 1, .max = 4096,
+    { .key = "width",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 1,
+      .max = 4096,
       .doc = "the grid's width W" },
-    { .key = "height", .type = LG_PARAM_INT, .def.i = 1, .min = 1, .max = 4096,
+    { .key = "height",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 1,
+      .max = 4096,
       .doc = "the grid's height H" },
-    { .key = "depth", .type = LG_PARAM_INT, .def.i = 1, .min = 1, .max = 4096,
+    { .key = "depth",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 1,
+      .max = 4096,
       .doc = "the grid's depth D" },
 };
 static const lg_port_desc fg_in[] = { { .name = "froxel", .kind = LG_KIND_FROXEL } };
@@ -32,7 +44,8 @@ static int fg_prepare(lg_node *n)
     if (h * d > 65536)
         return lg_error(n, "height x depth = %llu: more rows than an image may have",
                         (unsigned long long)(h * d));
-    lg_image_desc desc = { .width = (uint32_t)w, .height = (uint32_t)(h * d),
+    lg_image_desc desc = { .width = (uint32_t)w,
+                           .height = (uint32_t)(h * d),
                            .format = LG_FORMAT_RGBA32F };
     int rc = lg_declare_image(n, 0, &desc);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
@@ -48,8 +61,8 @@ static int fg_execute(lg_node *n, const lg_frame *frame)
     uint32_t w = (uint32_t)lg_param_int(n, "width"), h = (uint32_t)lg_param_int(n, "height"),
              d = (uint32_t)lg_param_int(n, "depth");
     if (fx->info.width != w || fx->info.height != h || fx->info.depth != d)
-        return lg_error(n, "the grid is %ux%ux%u, the parameters say %ux%ux%u",
-                        fx->info.width, fx->info.height, fx->info.depth, w, h, d);
+        return lg_error(n, "the grid is %ux%ux%u, the parameters say %ux%ux%u", fx->info.width,
+                        fx->info.height, fx->info.depth, w, h, d);
     lg_resource_info info;
     int rc = lg_describe(fx->grid, &info, n);
     if (rc)
@@ -69,9 +82,14 @@ static int fg_execute(lg_node *n, const lg_frame *frame)
 }
 
 static const lg_node_type fg_types[] = {
-    { .struct_size = sizeof(lg_node_type), .name = "froxel_grid_image",
-      .doc = "a froxel grid as a W x (H D) image, slice 0 on top (test)", LG_PARAMS(fg_params),
-      LG_INPUTS(fg_in), LG_OUTPUTS(fg_out), .prepare = fg_prepare, .execute = fg_execute },
+    { .struct_size = sizeof(lg_node_type),
+      .name = "froxel_grid_image",
+      .doc = "a froxel grid as a W x (H D) image, slice 0 on top (test)",
+      LG_PARAMS(fg_params),
+      LG_INPUTS(fg_in),
+      LG_OUTPUTS(fg_out),
+      .prepare = fg_prepare,
+      .execute = fg_execute },
 };
 
 LG_PLUGIN_DEFINE("testfroxelgrid", "1.0.0", "Froxel grids as images (test)", fg_types)

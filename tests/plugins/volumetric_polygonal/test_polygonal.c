@@ -167,7 +167,7 @@ static double marched(const fog *m, const light *l, const quad *quads, int nq, c
     return sum;
 }
 
-/* ---- graphs --------------------------------------------------------------------------------- */
+/* ---- graphs ---------------------------------------------------------------------------------- */
 
 /* The scene part: s (testphongscene), the lights chained to `ls`, `fog`, `shadow`, `lit`. */
 static void graph(char *g, size_t cap, const char *layout, const cam *c, const light *lights,
@@ -190,8 +190,8 @@ static void graph(char *g, size_t cap, const char *layout, const cam *c, const l
         k += snprintf(g + k, cap - (size_t)k,
                       "l%d = light { scene = %s, direction = [%.17g, %.17g, %.17g], color = "
                       "[%.17g, %.17g, %.17g], intensity = %.17g }\n",
-                      i, prev, l->dir[0], l->dir[1], l->dir[2], l->l_c[0] / in,
-                      l->l_c[1] / in, l->l_c[2] / in, in);
+                      i, prev, l->dir[0], l->dir[1], l->dir[2], l->l_c[0] / in, l->l_c[1] / in,
+                      l->l_c[2] / in, in);
     }
     /* the scattering and absorption of density 1; the node gets density separately */
     k += snprintf(g + k, cap - (size_t)k,
@@ -205,9 +205,8 @@ static void graph(char *g, size_t cap, const char *layout, const cam *c, const l
                   "output lit \"lit.exr\"\n",
                   nl - 1, density, m->sigma_s[0], m->sigma_s[1], m->sigma_s[2],
                   m->sigma_t[0] - m->sigma_s[0], m->sigma_t[1] - m->sigma_s[1],
-                  m->sigma_t[2] - m->sigma_s[2], m->g, sm_res,
-                  shadows ? ", shadows = shadow" : "", m->z_limit, vol_params[0] ? ", " : "",
-                  vol_params);
+                  m->sigma_t[2] - m->sigma_s[2], m->g, sm_res, shadows ? ", shadows = shadow" : "",
+                  m->z_limit, vol_params[0] ? ", " : "", vol_params);
 }
 
 static int render(lg_test *t, const char *g, const char *const *extra, char **text)
@@ -221,15 +220,14 @@ static int render(lg_test *t, const char *g, const char *const *extra, char **te
     return lg_test_render(t, "g.lgraph", args, text);
 }
 
-static const fog default_fog = { .sigma_s = { 0.1, 0.2, 0.3 },
-                                 .sigma_t = { 0.15, 0.25, 0.35 },
-                                 .g = 0.4,
-                                 .z_limit = 8 };
+static const fog default_fog = {
+    .sigma_s = { 0.1, 0.2, 0.3 }, .sigma_t = { 0.15, 0.25, 0.35 }, .g = 0.4, .z_limit = 8
+};
 
 /* Renders the plane with `lights` and checks inscatter against the sum of closed forms and
  * out against base e^(-sigma_t d) + inscatter. Returns the largest relative error. */
-static double check_closed(lg_test *t, const char *what, const cam *c, const light *lights,
-                           int nl, const char *vol_params, int sm_res)
+static double check_closed(lg_test *t, const char *what, const cam *c, const light *lights, int nl,
+                           const char *vol_params, int sm_res)
 {
     const fog *m = &default_fog;
     char g[16384];
@@ -274,12 +272,12 @@ static double check_closed(lg_test *t, const char *what, const cam *c, const lig
                 worst_out = e > worst_out ? e : worst_out;
             }
         }
-    fprintf(stderr, "%s: inscatter max relative error %.3g at (%d, %d); out %.3g\n", what,
-            worst, wx, wy, worst_out);
-    LG_TEST_CHECK(t, over == 0, "%s: %llu values beyond 1e-4 relative (worst %.3g at %d, %d)",
-                  what, (unsigned long long)over, worst, wx, wy);
-    LG_TEST_CHECK(t, worst_out < 1e-3, "%s: out differs from base T + inscatter by %.3g",
-                  what, worst_out);
+    fprintf(stderr, "%s: inscatter max relative error %.3g at (%d, %d); out %.3g\n", what, worst,
+            wx, wy, worst_out);
+    LG_TEST_CHECK(t, over == 0, "%s: %llu values beyond 1e-4 relative (worst %.3g at %d, %d)", what,
+                  (unsigned long long)over, worst, wx, wy);
+    LG_TEST_CHECK(t, worst_out < 1e-3, "%s: out differs from base T + inscatter by %.3g", what,
+                  worst_out);
     lg_image_free(&ins);
     lg_image_free(&out);
     lg_image_free(&lit);
@@ -313,7 +311,7 @@ static void case_closed_form(lg_test *t)
     check_closed(t, "camera outside the light's frustum", &far, &above, 1, "", 64);
 }
 
-/* ---- balance: the PLY read back ------------------------------------------------------------- */
+/* ---- balance: the PLY read back -------------------------------------------------------------- */
 
 typedef struct mesh {
     float *v;
@@ -441,8 +439,7 @@ static void case_balance(lg_test *t)
     light l[2] = { mk_light(0.2, -1, 0.1, 5, 5, 5), mk_light(-0.5, -1, 0.3, 2, 2, 2) };
     fog m = default_fog;
     char g[16384];
-    graph(g, sizeof g, "shadow", &c, l, 2, &m, 1.0, 64, "mesh_file = \"mesh.ply\"",
-          true);
+    graph(g, sizeof g, "shadow", &c, l, 2, &m, 1.0, 64, "mesh_file = \"mesh.ply\"", true);
     int rc = render(t, g, NULL, NULL);
     LG_TEST_CHECK(t, rc == 0, "render failed (%d)", rc);
     if (rc)
@@ -457,7 +454,11 @@ static void case_balance(lg_test *t)
                   (unsigned long long)all.nv, (unsigned long long)all.nt);
     /* start points: the eye and a point in open fog (lit: 1); under the quad, in its
      * shadow for both lights (0); under the plane, in its shadow (0) */
-    struct { double p[3]; int want[2]; const char *what; } starts[] = {
+    struct {
+        double p[3];
+        int want[2];
+        const char *what;
+    } starts[] = {
         { { c.eye[0], c.eye[1], c.eye[2] }, { 1, 1 }, "the eye" },
         { { -3, 2.5, 1 }, { 1, 1 }, "open fog" },
         { { 0.05, 0.5, 0.0 }, { 0, 0 }, "under the quad" },
@@ -474,9 +475,10 @@ static void case_balance(lg_test *t)
                 rays++;
                 if (got != starts[s].want[li]) {
                     if (bad++ < 5)
-                        fprintf(stderr, "light %d, from %s, ray (%g %g %g): #back - #front = %d, "
-                                        "want %d\n", li, starts[s].what, w[0], w[1], w[2], got,
-                                starts[s].want[li]);
+                        fprintf(stderr,
+                                "light %d, from %s, ray (%g %g %g): #back - #front = %d, "
+                                "want %d\n",
+                                li, starts[s].what, w[0], w[1], w[2], got, starts[s].want[li]);
                 }
             }
     /* random points in and around the fog: every ray from one point gives the same count,
@@ -511,7 +513,7 @@ static void case_balance(lg_test *t)
     free(all.tri);
 }
 
-/* ---- the shaft ------------------------------------------------------------------------------ */
+/* ---- the shaft ------------------------------------------------------------------------------- */
 
 /* The graph of check_shaft with the camera made again by scene_tools' `camera` node
  * between the scene and its light, with explicit near and far planes (the same eye, target,
@@ -525,13 +527,14 @@ static bool with_camera_node(char *g, size_t cap, const cam *c, double znear, do
     char *rest = strdup(at + strlen("l0 = light { scene = s,"));
     if (!rest)
         return false;
-    int len = snprintf(g + head, cap - head,
-             "oc = camera { scene = s, mode = look_at, position = [%.17g, %.17g, %.17g], "
-             "target = [%.17g, %.17g, %.17g], up = [%.17g, %.17g, %.17g], fov_deg = %.17g, "
-             "znear = %.17g, zfar = %.17g }\n"
-             "l0 = light { scene = oc,%s",
-             c->eye[0], c->eye[1], c->eye[2], c->target[0], c->target[1], c->target[2],
-             c->up[0], c->up[1], c->up[2], c->fov_deg, znear, zfar, rest);
+    int len =
+        snprintf(g + head, cap - head,
+                 "oc = camera { scene = s, mode = look_at, position = [%.17g, %.17g, %.17g], "
+                 "target = [%.17g, %.17g, %.17g], up = [%.17g, %.17g, %.17g], fov_deg = %.17g, "
+                 "znear = %.17g, zfar = %.17g }\n"
+                 "l0 = light { scene = oc,%s",
+                 c->eye[0], c->eye[1], c->eye[2], c->target[0], c->target[1], c->target[2],
+                 c->up[0], c->up[1], c->up[2], c->fov_deg, znear, zfar, rest);
     free(rest);
     return len > 0 && (size_t)len < cap - head;
 }
@@ -545,8 +548,10 @@ static void check_shaft(lg_test *t, const char *what, const cam *c, const light 
     char g[16384];
     graph(g, sizeof g, "shadow", c, l, 1, &m, 1.0, 256, vol_params, true);
     if (c->znear > 0.0 && !with_camera_node(g, sizeof g, c, c->znear, 50.0)) {
-        LG_TEST_CHECK(t, false, "%s: the graph has no light line to put the camera node "
-                      "before (or it outgrew its buffer)", what);
+        LG_TEST_CHECK(t, false,
+                      "%s: the graph has no light line to put the camera node "
+                      "before (or it outgrew its buffer)",
+                      what);
         return;
     }
     int rc = render(t, g, NULL, NULL);
@@ -598,25 +603,33 @@ static void check_shaft(lg_test *t, const char *what, const cam *c, const light 
             }
         qsort(err, (size_t)k, sizeof *err, cmp_double);
         double p99 = err[(size_t)(0.99 * (k - 1))], p50 = err[k / 2];
-        fprintf(stderr, "%s: fp32 accumulation against double on the same mesh: median %.2g, "
-                        "99th percentile %.2g, max %.2g of F(d); sum of |terms| up to %.1f x "
-                        "the net\n", what, p50, p99, err[k - 1], worst_cancel);
+        fprintf(stderr,
+                "%s: fp32 accumulation against double on the same mesh: median %.2g, "
+                "99th percentile %.2g, max %.2g of F(d); sum of |terms| up to %.1f x "
+                "the net\n",
+                what, p50, p99, err[k - 1], worst_cancel);
         /* the largest errors sit where a ray grazes a mesh edge and the rasteriser and
          * the double test pick different triangles: the 99th percentile is the fp32 one */
-        LG_TEST_CHECK(t, p99 < 1e-4, "%s: fp32 accumulation differs from double by %.3g "
-                      "of F(d) at the 99th percentile", what, p99);
+        LG_TEST_CHECK(t, p99 < 1e-4,
+                      "%s: fp32 accumulation differs from double by %.3g "
+                      "of F(d) at the 99th percentile",
+                      what, p99);
         free(err);
         free(msh.v);
         free(msh.tri);
     }
-    fprintf(stderr, "%s: relative RMSE %.4f; deepest shaft: oracle %.3f of the unshadowed "
-                    "value, node %.3f\n", what, rel_rmse, best_drop, best_got);
-    LG_TEST_CHECK(t, rel_rmse < max_rel_rmse, "%s: relative RMSE %.4f against the oracle",
-                  what, rel_rmse);
+    fprintf(stderr,
+            "%s: relative RMSE %.4f; deepest shaft: oracle %.3f of the unshadowed "
+            "value, node %.3f\n",
+            what, rel_rmse, best_drop, best_got);
+    LG_TEST_CHECK(t, rel_rmse < max_rel_rmse, "%s: relative RMSE %.4f against the oracle", what,
+                  rel_rmse);
     LG_TEST_CHECK(t, best_drop < 0.9, "%s: the view misses the shaft (oracle %.3f)", what,
                   best_drop);
-    LG_TEST_CHECK(t, fabs(best_got - best_drop) < 0.05, "%s: through the shaft the node keeps "
-                  "%.3f of the unshadowed in-scatter, the oracle %.3f", what, best_got, best_drop);
+    LG_TEST_CHECK(t, fabs(best_got - best_drop) < 0.05,
+                  "%s: through the shaft the node keeps "
+                  "%.3f of the unshadowed in-scatter, the oracle %.3f",
+                  what, best_got, best_drop);
     lg_image_free(&ins);
 }
 
@@ -634,8 +647,9 @@ static void case_inside_shadow(lg_test *t)
     /* under the quad (its shadow spans y < 1 around the axis for a light straight down),
      * looking sideways and up past its edge: rays start in the shadow and the shaft's
      * walls pass through the near plane */
-    cam c = { .eye = { 0.1, 0.6, 0.05 }, .target = { 3, 1.3, -1 }, .up = { 0, 1, 0 },
-              .fov_deg = 70 };
+    cam c = {
+        .eye = { 0.1, 0.6, 0.05 }, .target = { 3, 1.3, -1 }, .up = { 0, 1, 0 }, .fov_deg = 70
+    };
     cam_init(&c);
     light l = mk_light(0.05, -1, 0.02, 5, 5, 5);
     check_shaft(t, "camera inside the shadow", &c, &l, "", NULL, 0.04);
@@ -649,8 +663,11 @@ static void case_outside(lg_test *t)
      * lit up to that wall: a crossing closer than znear must count as much as any other.
      * (A `camera` node outside a scene's bounds puts its near plane at 0.99 x the nearest
      * corner's depth: from outside the bunny box, beyond the box's own shadow's walls.) */
-    cam c = { .eye = { 2.5, 1.6, 3.5 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 },
-              .fov_deg = 50, .znear = 4.2 };
+    cam c = { .eye = { 2.5, 1.6, 3.5 },
+              .target = { 0, 0.5, 0 },
+              .up = { 0, 1, 0 },
+              .fov_deg = 50,
+              .znear = 4.2 };
     cam_init(&c);
     light l = mk_light(0.2, -1, 0.1, 5, 5, 5);
     check_shaft(t, "near plane beyond the shaft's wall", &c, &l, "", NULL, 0.04);
@@ -661,8 +678,7 @@ static void case_outside(lg_test *t)
  * the camera node's automatic planes: the node and volumetric_reference (exact visibility
  * by Embree rays, pixel centres as the node samples, 512 steps, 4 samples) on the same
  * base. Returns the relative RMSE of inscatter (green) against the reference. */
-static double box_vs_reference(lg_test *t, const char *what, const char *pos,
-                               const char *target)
+static double box_vs_reference(lg_test *t, const char *what, const char *pos, const char *target)
 {
     char g[2048];
     snprintf(g, sizeof g,
@@ -699,8 +715,10 @@ static double box_vs_reference(lg_test *t, const char *what, const char *pos,
             worst = fmax(worst, fabs(got - want) / want);
     }
     double rel = sqrt(se / sr);
-    fprintf(stderr, "%s: inscatter against the reference: relative RMSE %.4f, worst pixel "
-                    "%.3f relative\n", what, rel, worst);
+    fprintf(stderr,
+            "%s: inscatter against the reference: relative RMSE %.4f, worst pixel "
+            "%.3f relative\n",
+            what, rel, worst);
     lg_image_free(&ins);
     lg_image_free(&ref);
     return rel;
@@ -715,8 +733,7 @@ static void case_outside_box(lg_test *t)
     /* in front of the opening, the sun behind the camera, looking in: the dent's walls
      * almost edge-on (with the examples' 1024^2 map one of them covered a pixel with the
      * wrong sign before gl_FrontFacing; at 512^2 none does, so the map stays 1024^2) */
-    double front = box_vs_reference(t, "box from outside, in front", "[0.2,1.2,-4.5]",
-                                    "[0,0.9,0]");
+    double front = box_vs_reference(t, "box from outside, in front", "[0.2,1.2,-4.5]", "[0,0.9,0]");
     /* measured (64x36, llvmpipe): 2.0e-4 behind, 1.0e-4 in front, no pixel beyond 0.4 %
      * (the reference's 512 jittered visibility samples and the shadow map's texels); a
      * tenfold margin. Before the crossings closer than znear counted: 0.118 behind (the
@@ -726,7 +743,7 @@ static void case_outside_box(lg_test *t)
     LG_TEST_CHECK(t, front < 2e-3, "camera in front of the box: relative RMSE %.4f", front);
 }
 
-/* ---- 32 lights, memory ---------------------------------------------------------------------- */
+/* ---- 32 lights, memory ----------------------------------------------------------------------- */
 
 static light light_k(int k)
 {
@@ -781,7 +798,7 @@ static void case_lights32(lg_test *t)
                       counts[i] - 1, per_light);
 }
 
-/* ---- gating, errors ------------------------------------------------------------------------- */
+/* ---- gating, errors -------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
 {
@@ -794,8 +811,8 @@ static void case_gating(lg_test *t)
     char *text = NULL;
     int rc = render(t, g, extra, &text);
     LG_TEST_CHECK(t, rc == 0, "render failed (%d)", rc);
-    LG_TEST_CHECK(t, text && strstr(text, "gated"),
-                  "--explain does not say the node is gated:\n%s", text ? text : "");
+    LG_TEST_CHECK(t, text && strstr(text, "gated"), "--explain does not say the node is gated:\n%s",
+                  text ? text : "");
     free(text);
     if (rc)
         return;
@@ -857,8 +874,7 @@ static void case_errors(lg_test *t)
     snprintf(g2, sizeof g2, "%.*sbase = flat%s", (int)(at - g), g, at + strlen("base = lit"));
     at = strstr(g2, "vol = ");
     char g3[16600];
-    snprintf(g3, sizeof g3, "%.*sflat = image { file = \"flat.exr\" }\n%s", (int)(at - g2), g2,
-             at);
+    snprintf(g3, sizeof g3, "%.*sflat = image { file = \"flat.exr\" }\n%s", (int)(at - g2), g2, at);
     expect_error(t, "base without depth", g3, "no depth plane");
 
     /* 33 directional lights */
@@ -869,7 +885,7 @@ static void case_errors(lg_test *t)
     expect_error(t, "33 lights", g, "more than 32");
 }
 
-/* ---- mesh_file through the host's outputs -------------------------------------------------- */
+/* ---- mesh_file through the host's outputs ---------------------------------------------------- */
 
 /* Files in the test's folder that are temporaries: the host's (".m.lgtmp-PID-XXXXXX.ply", the
  * image writer's "..NAME.XXXXXX") or the plugin's own of old ("m.ply.tmp-XXXXXX"). */
@@ -920,25 +936,26 @@ static void case_mesh_file(lg_test *t)
         graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, p, true);
         int rc = render(t, g, NULL, &text);
         LG_TEST_CHECK(t, rc == 1, "%s: exit status %d, want 1", dests[k], rc);
-        LG_TEST_CHECK(t, text && strstr(text, "node 'vol', parameter mesh_file") &&
-                             strstr(text, "it is a FIFO") && strstr(text, "nothing was run"),
+        LG_TEST_CHECK(t,
+                      text && strstr(text, "node 'vol', parameter mesh_file") &&
+                          strstr(text, "it is a FIFO") && strstr(text, "nothing was run"),
                       "%s: the message lacks the node, the parameter and why:\n%s", dests[k],
                       text ? text : "");
         free(text);
         text = NULL;
         LG_TEST_CHECK(t, lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode), "the FIFO was replaced");
-        LG_TEST_CHECK(t, !exists(t, "out.exr") && !exists(t, "lit.exr"),
-                      "%s: an image was written", dests[k]);
+        LG_TEST_CHECK(t, !exists(t, "out.exr") && !exists(t, "lit.exr"), "%s: an image was written",
+                      dests[k]);
         LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "%s: temporaries left:%s",
                       dests[k], names);
     }
 
     /* the node writes its mesh, then a node after it fails: no mesh, no temporary */
-    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "mesh_file = \"m.ply\"",
-          true);
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "mesh_file = \"m.ply\"", true);
     size_t k = strlen(g);
-    snprintf(g + k, sizeof g - k, "late = test_file_writer { image = vol, fail = true }\n"
-                                  "output late \"late.exr\"\n");
+    snprintf(g + k, sizeof g - k,
+             "late = test_file_writer { image = vol, fail = true }\n"
+             "output late \"late.exr\"\n");
     int rc = render(t, g, NULL, &text);
     if (text && lg_test_output_says_no_device(text))
         LG_TEST_FAILF(t, "no GL device:\n%s", text);
@@ -950,16 +967,14 @@ static void case_mesh_file(lg_test *t)
     LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "temporaries left:%s", names);
 
     /* gated (density 0): the node never runs, no mesh file is made */
-    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 0.0, 64, "mesh_file = \"m.ply\"",
-          true);
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 0.0, 64, "mesh_file = \"m.ply\"", true);
     rc = render(t, g, NULL, NULL);
     LG_TEST_CHECK(t, rc == 0, "gated render: exit status %d", rc);
     LG_TEST_CHECK(t, !exists(t, "m.ply"), "a gated node made m.ply");
     LG_TEST_CHECK(t, temporaries(t, names, sizeof names) == 0, "temporaries left:%s", names);
 
     /* success: the PLY is written with the images */
-    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "mesh_file = \"m.ply\"",
-          true);
+    graph(g, sizeof g, "plane", &c, &l, 1, &default_fog, 1.0, 64, "mesh_file = \"m.ply\"", true);
     rc = render(t, g, NULL, NULL);
     LG_TEST_CHECK(t, rc == 0, "render: exit status %d", rc);
     FILE *f = fopen(lg_test_path(t, "m.ply"), "rb");
@@ -983,11 +998,16 @@ static void setup(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "closed_form", case_closed_form }, { "balance", case_balance },
-        { "shaft", case_shaft },             { "inside_shadow", case_inside_shadow },
-        { "outside", case_outside },         { "outside_box", case_outside_box },
-        { "lights32", case_lights32 },       { "gating", case_gating },
-        { "errors", case_errors },           { "mesh_file", case_mesh_file },
+        { "closed_form", case_closed_form },
+        { "balance", case_balance },
+        { "shaft", case_shaft },
+        { "inside_shadow", case_inside_shadow },
+        { "outside", case_outside },
+        { "outside_box", case_outside_box },
+        { "lights32", case_lights32 },
+        { "gating", case_gating },
+        { "errors", case_errors },
+        { "mesh_file", case_mesh_file },
     };
     lg_test_main_opts o = { .prefix = NULL, .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

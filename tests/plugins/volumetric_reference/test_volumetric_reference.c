@@ -43,8 +43,9 @@
 
 /* the medium of most cases: sigma_s = (0.1, 0.2, 0.05), sigma_t = (0.15, 0.2, 0.15) */
 static const double SIG_S[3] = { 0.1, 0.2, 0.05 }, SIG_T[3] = { 0.15, 0.2, 0.15 };
-#define MEDIUM "fog = medium { scene = %s, density = 1, scattering = [0.1, 0.2, 0.05], " \
-               "absorption = [0.05, 0, 0.1], g = %s }\n"
+#define MEDIUM                                                                                     \
+    "fog = medium { scene = %s, density = 1, scattering = [0.1, 0.2, 0.05], "                      \
+    "absorption = [0.05, 0, 0.1], g = %s }\n"
 
 /* The unit view ray through the centre of pixel (x, y) (row 0 at the top). */
 static void ray(int x, int y, double w[3])
@@ -111,8 +112,10 @@ static const char *graph(char *buf, size_t size, const char *lights, const char 
 
 static const char *one_light(char *buf, size_t size, const double L[3], double intensity)
 {
-    snprintf(buf, size, "lights = light { scene = cam, direction = [%.17g, %.17g, %.17g], "
-                        "intensity = %.17g }\n", L[0], L[1], L[2], intensity);
+    snprintf(buf, size,
+             "lights = light { scene = cam, direction = [%.17g, %.17g, %.17g], "
+             "intensity = %.17g }\n",
+             L[0], L[1], L[2], intensity);
     return buf;
 }
 
@@ -121,27 +124,30 @@ static double rel(double got, double want)
     return fabs(got - want) / fmax(fabs(want), 1e-30);
 }
 
-/* ---- cases --------------------------------------------------------------------------------- */
+/* ---- cases ----------------------------------------------------------------------------------- */
 
 static void case_closed_form(lg_test *t)
 {
     static const double L[3] = { 0, 0, -1 };
     char lights[256], g[2048];
     one_light(lights, sizeof lights, L, 10.0);
-    static const struct { const char *params; double z_limit; } runs[] = {
+    static const struct {
+        const char *params;
+        double z_limit;
+    } runs[] = {
         { ", steps = 1, spp = 1, z_limit = 20", 20.0 },
         { ", steps = 64, spp = 2, z_limit = 20", 20.0 },
-        { ", steps = 3", 50.0 },        /* z_limit 0: the camera's zfar */
+        { ", steps = 3", 50.0 },             /* z_limit 0: the camera's zfar */
         { ", steps = 8, z_limit = 4", 4.0 }, /* the fog ends before the square */
     };
     for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
         lg_image in = { 0 }, out = { 0 }, base = { 0 };
-        int rc = render(t, graph(g, sizeof g, lights, "0.4", runs[r].params), "i.exr", &in,
-                        NULL);
+        int rc = render(t, graph(g, sizeof g, lights, "0.4", runs[r].params), "i.exr", &in, NULL);
         LG_TEST_CHECK(t, rc == 0, "render %s: %d", runs[r].params, rc);
         if (rc != 0)
             continue;
-        LG_TEST_CHECK(t, lg_test_read(t, "o.exr", &out, NULL) && lg_test_read(t, "b.exr", &base, NULL),
+        LG_TEST_CHECK(t,
+                      lg_test_read(t, "o.exr", &out, NULL) && lg_test_read(t, "b.exr", &base, NULL),
                       "outputs");
         double worst = 0, worst_out = 0;
         int squares = 0, skies = 0;
@@ -162,21 +168,26 @@ static void case_closed_form(lg_test *t)
                     double e = rel(pi[c], want);
                     if (e > worst)
                         worst = e;
-                    LG_TEST_CHECK(t, e < 1e-5, "%s: pixel (%d, %d) %s channel %d: %.9g, want "
-                                  "%.9g (d %.6g)", runs[r].params, x, y, sq ? "square" : "sky",
-                                  c, (double)pi[c], want, d);
+                    LG_TEST_CHECK(t, e < 1e-5,
+                                  "%s: pixel (%d, %d) %s channel %d: %.9g, want "
+                                  "%.9g (d %.6g)",
+                                  runs[r].params, x, y, sq ? "square" : "sky", c, (double)pi[c],
+                                  want, d);
                     double wo = pb[c] * exp(-SIG_T[c] * d) + want;
                     double eo = fabs(po[c] - wo) / (fabs(wo) + 1e-6);
                     worst_out = fmax(worst_out, eo);
-                    LG_TEST_CHECK(t, eo < 1e-4, "%s: pixel (%d, %d) out channel %d: %.9g, want "
-                                  "%.9g", runs[r].params, x, y, c, (double)po[c], wo);
+                    LG_TEST_CHECK(t, eo < 1e-4,
+                                  "%s: pixel (%d, %d) out channel %d: %.9g, want "
+                                  "%.9g",
+                                  runs[r].params, x, y, c, (double)po[c], wo);
                 }
                 LG_TEST_CHECK(t, pi[3] == 1.0f && po[3] == pb[3], "alpha");
             }
         LG_TEST_CHECK(t, skies > 0 && (runs[r].z_limit < EYE_Z || squares > 0),
                       "%d square, %d sky pixels", squares, skies);
         lg_test_note_("closed_form %s: %d square and %d sky pixels, worst relative error "
-                      "%.2g (out %.2g)\n", runs[r].params, squares, skies, worst, worst_out);
+                      "%.2g (out %.2g)\n",
+                      runs[r].params, squares, skies, worst, worst_out);
         lg_image_free(&in);
         lg_image_free(&out);
         lg_image_free(&base);
@@ -233,8 +244,8 @@ static void case_occluder(lg_test *t)
     char lights[256], g[2048];
     one_light(lights, sizeof lights, L, 10.0);
     lg_image in = { 0 };
-    int rc = render(t, graph(g, sizeof g, lights, "0.4", ", steps = 256, z_limit = 20"),
-                    "i.exr", &in, NULL);
+    int rc = render(t, graph(g, sizeof g, lights, "0.4", ", steps = 256, z_limit = 20"), "i.exr",
+                    &in, NULL);
     LG_TEST_CHECK(t, rc == 0, "render: %d", rc);
     if (rc != 0)
         return;
@@ -265,17 +276,21 @@ static void case_occluder(lg_test *t)
                 double share = lit * d / steps; /* one segment, unattenuated */
                 double full = closed(10.0, SIG_S[ch], SIG_T[ch], 0.4, w, L, d);
                 worst = fmax(worst, fabs(pi[ch] - want) / share);
-                LG_TEST_CHECK(t, fabs(pi[ch] - want) <= share, "sky pixel (%d, %d) channel %d: "
-                              "%.9g, want %.9g (one segment %.3g)", x, y, ch, (double)pi[ch],
-                              want, share);
-                LG_TEST_CHECK(t, pi[ch] < full, "sky pixel (%d, %d): %.9g, not below the "
-                              "unshadowed %.9g", x, y, (double)pi[ch], full);
+                LG_TEST_CHECK(t, fabs(pi[ch] - want) <= share,
+                              "sky pixel (%d, %d) channel %d: "
+                              "%.9g, want %.9g (one segment %.3g)",
+                              x, y, ch, (double)pi[ch], want, share);
+                LG_TEST_CHECK(t, pi[ch] < full,
+                              "sky pixel (%d, %d): %.9g, not below the "
+                              "unshadowed %.9g",
+                              x, y, (double)pi[ch], full);
             }
             partial++;
         }
     LG_TEST_CHECK(t, zero > 0 && partial > 0, "%d square, %d sky pixels", zero, partial);
     lg_test_note_("occluder: %d square pixels exactly 0; %d sky pixels within %.2f of a "
-                  "segment's share of the analytic value\n", zero, partial, worst);
+                  "segment's share of the analytic value\n",
+                  zero, partial, worst);
     lg_image_free(&in);
 }
 
@@ -300,8 +315,8 @@ static void case_lights32(lg_test *t)
         snprintf(prev, sizeof prev, l == 0 ? "cam" : "l%d", l - 1);
         len += (size_t)snprintf(text + len, sizeof text - len,
                                 "%s = light { scene = %s, direction = [%.17g, %.17g, %.17g], "
-                                "intensity = %d }\n", name, prev, Ls[l][0], Ls[l][1], Ls[l][2],
-                                1 + l % 5);
+                                "intensity = %d }\n",
+                                name, prev, Ls[l][0], Ls[l][1], Ls[l][2], 1 + l % 5);
     }
     lg_image in = { 0 };
     int rc = render(t, graph(g, sizeof g, text, "0.6", ", steps = 2, z_limit = 4"), "i.exr", &in,
@@ -325,7 +340,8 @@ static void case_lights32(lg_test *t)
                 }
             }
         lg_test_note_("lights32: worst relative error %.2g against the sum of 32 closed "
-                      "forms\n", worst);
+                      "forms\n",
+                      worst);
     }
     lg_image_free(&in);
 
@@ -349,8 +365,10 @@ static void case_lights32(lg_test *t)
             if (i % 4 == 3)
                 continue;
             double want = (double)ia.pixels[i] + ib.pixels[i];
-            LG_TEST_CHECK(t, fabs(iab.pixels[i] - want) <= 1e-5 * want, "value %zu: %.9g, want "
-                          "%.9g", i, (double)iab.pixels[i], want);
+            LG_TEST_CHECK(t, fabs(iab.pixels[i] - want) <= 1e-5 * want,
+                          "value %zu: %.9g, want "
+                          "%.9g",
+                          i, (double)iab.pixels[i], want);
             shadowed += ia.pixels[i] == 0.0f;
         }
         LG_TEST_CHECK(t, shadowed > 0, "light A shadows no pixel entirely");
@@ -391,8 +409,9 @@ static void case_threads(lg_test *t)
         }
         unsetenv("LIGHTGRAPH_THREADS");
         for (int th = 1; th < 3; th++)
-            LG_TEST_CHECK(t, img[0].pixels && img[th].pixels &&
-                          memcmp(img[0].pixels, img[th].pixels, (size_t)W * H * 16) == 0,
+            LG_TEST_CHECK(t,
+                          img[0].pixels && img[th].pixels &&
+                              memcmp(img[0].pixels, img[th].pixels, (size_t)W * H * 16) == 0,
                           "%s: %d threads differ from 1", params[k], th + 1);
         double sum = 0;
         for (size_t i = 0; img[0].pixels && i < (size_t)W * H * 4; i++)
@@ -411,9 +430,12 @@ static void expect_error(lg_test *t, const char *g, const char *want)
     int rc = render(t, g, NULL, NULL, &msg);
     LG_TEST_CHECK(t, rc != 0 && rc != -1, "status %d for %s", rc, want);
     /* the node by name, or the place of its line in the graph (the parser's range errors) */
-    LG_TEST_CHECK(t, msg && (strstr(msg, "node 'vol'") || strstr(msg, "g.lgraph:6:")) &&
-                  strstr(msg, want), "the message does not "
-                  "say '%s': %s", want, msg ? msg : "");
+    LG_TEST_CHECK(t,
+                  msg && (strstr(msg, "node 'vol'") || strstr(msg, "g.lgraph:6:")) &&
+                      strstr(msg, want),
+                  "the message does not "
+                  "say '%s': %s",
+                  want, msg ? msg : "");
     FILE *f = fopen(lg_test_path(t, "i.exr"), "rb");
     LG_TEST_CHECK(t, f == NULL, "i.exr written despite the error (%s)", want);
     if (f)
@@ -426,13 +448,12 @@ static void case_bad_params(lg_test *t)
     static const double L[3] = { 0, 0, -1 };
     char lights[256], g[2048];
     one_light(lights, sizeof lights, L, 10.0);
-    static const struct { const char *p, *want; } bad[] = {
-        { ", steps = 0", "steps" },
-        { ", spp = 0", "spp" },
-        { ", spp = 5000", "spp" },
-        { ", z_limit = -1", "z_limit" },
-        { ", z_limit = nan", "z_limit" },
-        { ", z_limit = 0.01", "z_limit" },
+    static const struct {
+        const char *p, *want;
+    } bad[] = {
+        { ", steps = 0", "steps" },       { ", spp = 0", "spp" },
+        { ", spp = 5000", "spp" },        { ", z_limit = -1", "z_limit" },
+        { ", z_limit = nan", "z_limit" }, { ", z_limit = 0.01", "z_limit" },
         { ", seed = -3", "seed" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
@@ -495,9 +516,12 @@ static void setup(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "closed_form", case_closed_form }, { "tau0", case_tau0 },
-        { "occluder", case_occluder },       { "lights32", case_lights32 },
-        { "threads", case_threads },         { "bad_params", case_bad_params },
+        { "closed_form", case_closed_form },
+        { "tau0", case_tau0 },
+        { "occluder", case_occluder },
+        { "lights32", case_lights32 },
+        { "threads", case_threads },
+        { "bad_params", case_bad_params },
         { "gated", case_gated },
     };
     lg_test_main_opts o = { .prefix = "volumetric_reference", .setup = setup };

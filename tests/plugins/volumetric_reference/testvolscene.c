@@ -46,7 +46,11 @@ static int tv_nothing(lg_node *n, const lg_frame *frame)
 }
 
 static const lg_param_desc tv_params[] = {
-    { .key = "half", .type = LG_PARAM_FLOAT, .def.f = 1.0, .min = 0, .max = 1e6,
+    { .key = "half",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1.0,
+      .min = 0,
+      .max = 1e6,
       .doc = "half the square's edge" },
 };
 static const lg_port_desc tv_out[] = {

@@ -71,8 +71,8 @@ static bool run_vol(lg_test *t, const char *backend, const char *scene, const ch
     int rc = render(t, g, NULL, "ins.exr", ins, NULL);
     if (rc == 0 && out && !lg_test_read(t, "out.exr", out, NULL))
         rc = -2;
-    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d): scene {%s} base {%s} vol {%s}", backend,
-                  rc, scene, base, vol);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d): scene {%s} base {%s} vol {%s}", backend, rc,
+                  scene, base, vol);
     return rc == 0;
 }
 
@@ -90,7 +90,7 @@ static bool all_finite(const lg_image *img)
     return true;
 }
 
-/* ---- series, normalize ------------------------------------------------------------------ */
+/* ---- series, normalize ----------------------------------------------------------------------- */
 
 static void case_series(lg_test *t)
 {
@@ -150,7 +150,8 @@ static void case_normalize(lg_test *t)
                     const float *p = px(&ins, x, y);
                     for (int c = 0; c < 3; c++)
                         if (fabs(p[c] - want) > 2e-6 * want) {
-                            LG_TEST_FAILF(t, "%s N=%d: pixel (%u, %u) channel %d is %.9g, not "
+                            LG_TEST_FAILF(t,
+                                          "%s N=%d: pixel (%u, %u) channel %d is %.9g, not "
                                           "%.9g",
                                           BACKENDS[b], Ns[k], x, y, c, p[c], want);
                             x = W, y = H;
@@ -161,7 +162,7 @@ static void case_normalize(lg_test *t)
         }
 }
 
-/* ---- behind, outside, occluder ----------------------------------------------------------- */
+/* ---- behind, outside, occluder --------------------------------------------------------------- */
 
 static void case_behind(lg_test *t)
 {
@@ -209,10 +210,11 @@ static void case_behind(lg_test *t)
                         if (m == 0)
                             ok = ok && o[0] == 0.2f && o[1] == 0.3f && o[2] == 0.4f;
                         if (!ok)
-                            LG_TEST_FAILF(t, "%s %s, %s: pixel (%u, %u) inscatter (%g, %g, %g, "
+                            LG_TEST_FAILF(t,
+                                          "%s %s, %s: pixel (%u, %u) inscatter (%g, %g, %g, "
                                           "%g), out (%g, %g, %g)",
-                                          BACKENDS[b], models[m], zero[k].what, x, y, a[0],
-                                          a[1], a[2], a[3], o[0], o[1], o[2]);
+                                          BACKENDS[b], models[m], zero[k].what, x, y, a[0], a[1],
+                                          a[2], a[3], o[0], o[1], o[2]);
                     }
                 lg_image_free(&ins);
                 lg_image_free(&out);
@@ -220,8 +222,7 @@ static void case_behind(lg_test *t)
             /* w = 0.05: p_l some 400 pixels left of the image; the first samples of pixels on
              * the right stay inside, those of the left edge leave at once */
             lg_image ins = { 0 };
-            if (!run_vol(t, BACKENDS[b], "direction = [1, 0, 0.05]", "", models[m], &ins,
-                         NULL))
+            if (!run_vol(t, BACKENDS[b], "direction = [1, 0, 0.05]", "", models[m], &ins, NULL))
                 continue;
             LG_TEST_CHECK(t, all_finite(&ins), "%s %s, w = 0.05: a value is not finite",
                           BACKENDS[b], models[m]);
@@ -254,8 +255,8 @@ static void case_outside(lg_test *t)
     LG_TEST_CHECK(t, lx < -10.0, "the test light should lie left of the image (x = %g)", lx);
     for (size_t b = 0; b < 2; b++) {
         char vol[160];
-        snprintf(vol, sizeof vol,
-                 "model = thesis, normalize = false, samples = %d, decay = %g", N, decay);
+        snprintf(vol, sizeof vol, "model = thesis, normalize = false, samples = %d, decay = %g", N,
+                 decay);
         lg_image ins = { 0 };
         if (!run_vol(t, BACKENDS[b], "direction = [1.5, 0, 1]", "", vol, &ins, NULL))
             continue;
@@ -276,12 +277,15 @@ static void case_outside(lg_test *t)
                 /* one sample's weight: a sample on the image's edge may fall either way in
                  * float */
                 if (fabs(got - want) > 1e-6 + scale * decay && bad++ < 5)
-                    LG_TEST_FAILF(t, "%s: pixel (%u, %u) has %.9g, want %.9g (samples "
+                    LG_TEST_FAILF(t,
+                                  "%s: pixel (%u, %u) has %.9g, want %.9g (samples "
                                   "inside %d of %d)",
                                   BACKENDS[b], x, y, got, want, inside, N);
             }
-        LG_TEST_CHECK(t, partial > W * H / 2, "only %u pixels have samples both inside and "
-                      "outside the image: the case tests little", partial);
+        LG_TEST_CHECK(t, partial > W * H / 2,
+                      "only %u pixels have samples both inside and "
+                      "outside the image: the case tests little",
+                      partial);
         lg_image_free(&ins);
     }
 }
@@ -290,8 +294,7 @@ static void case_occluder(lg_test *t)
 {
     /* light at the centre (16, 12); the box covers x 20..25, y 8..15 */
     const char *box = "box_x0 = 20, box_x1 = 26, box_y0 = 8, box_y1 = 16";
-    static const char *const models[] = { "model = thesis, normalize = false",
-                                          "model = physical" };
+    static const char *const models[] = { "model = thesis, normalize = false", "model = physical" };
     for (size_t b = 0; b < 2; b++)
         for (size_t m = 0; m < 2; m++) {
             lg_image open = { 0 }, shut = { 0 };
@@ -304,13 +307,13 @@ static void case_occluder(lg_test *t)
             for (uint32_t x = 27; x < W; x++)
                 LG_TEST_CHECK(t, px(&shut, x, 12)[0] < 0.9f * px(&open, x, 12)[0],
                               "%s %s: pixel (%u, 12) behind the box: %g, without it %g",
-                              BACKENDS[b], models[m], x, px(&shut, x, 12)[0],
-                              px(&open, x, 12)[0]);
+                              BACKENDS[b], models[m], x, px(&shut, x, 12)[0], px(&open, x, 12)[0]);
             /* left of the light, the box is never between */
             for (uint32_t x = 0; x < 15; x++)
                 for (uint32_t y = 0; y < H; y++)
                     if (px(&shut, x, y)[0] != px(&open, x, y)[0]) {
-                        LG_TEST_FAILF(t, "%s %s: pixel (%u, %u) is %g with the box, %g "
+                        LG_TEST_FAILF(t,
+                                      "%s %s: pixel (%u, %u) is %g with the box, %g "
                                       "without: the box is not between it and the light",
                                       BACKENDS[b], models[m], x, y, px(&shut, x, y)[0],
                                       px(&open, x, y)[0]);
@@ -321,7 +324,7 @@ static void case_occluder(lg_test *t)
         }
 }
 
-/* ---- lights32 --------------------------------------------------------------------------- */
+/* ---- lights32 -------------------------------------------------------------------------------- */
 
 static void case_lights32(lg_test *t)
 {
@@ -381,7 +384,7 @@ static void case_lights32(lg_test *t)
     }
 }
 
-/* ---- physical --------------------------------------------------------------------------- */
+/* ---- physical -------------------------------------------------------------------------------- */
 
 static void case_physical(lg_test *t)
 {
@@ -391,8 +394,7 @@ static void case_physical(lg_test *t)
     for (size_t b = 0; b < 2; b++)
         for (size_t k = 0; k < 2; k++) {
             char vol[160];
-            snprintf(vol, sizeof vol, "model = physical, samples = 16, z_limit = %g",
-                     limits[k]);
+            snprintf(vol, sizeof vol, "model = physical, samples = 16, z_limit = %g", limits[k]);
             lg_image ins = { 0 }, out = { 0 };
             if (!run_vol(t, BACKENDS[b], "absorption = 0.05", "", vol, &ins, &out))
                 continue;
@@ -418,8 +420,8 @@ static void case_physical(lg_test *t)
                 }
             lg_test_tol tol = { .max_abs = 1e-7, .rel = 2e-5 };
             char what[80];
-            snprintf(what, sizeof what, "%s z_limit %g: inscatter vs the closed form",
-                     BACKENDS[b], limits[k]);
+            snprintf(what, sizeof what, "%s z_limit %g: inscatter vs the closed form", BACKENDS[b],
+                     limits[k]);
             lg_test_check_image(t, &ins, &ref, 32, &tol, what);
             snprintf(what, sizeof what, "%s z_limit %g: out", BACKENDS[b], limits[k]);
             lg_test_check_image(t, &out, &refo, 32, &tol, what);
@@ -430,7 +432,7 @@ static void case_physical(lg_test *t)
         }
 }
 
-/* ---- the example, gl against cpu -------------------------------------------------------- */
+/* ---- the example, gl against cpu ------------------------------------------------------------- */
 
 static void case_example(lg_test *t)
 {
@@ -471,7 +473,7 @@ static void case_example(lg_test *t)
     lg_image_free(&co);
 }
 
-/* ---- errors ------------------------------------------------------------------------------ */
+/* ---- errors ---------------------------------------------------------------------------------- */
 
 static void case_errors(lg_test *t)
 {
@@ -509,11 +511,11 @@ static void case_errors(lg_test *t)
                      cases[k].scene, cases[k].base, BACKENDS[b], cases[k].vol);
             char *text = NULL;
             int rc = render(t, g, NULL, NULL, NULL, &text);
-            const char *what = cases[k].vol[0] ? cases[k].vol
+            const char *what = cases[k].vol[0]    ? cases[k].vol
                                : cases[k].base[0] ? cases[k].base
                                                   : cases[k].scene;
-            LG_TEST_CHECK(t, rc == 1 || rc == 2, "%s %s: exit status %d, not 1 or 2",
-                          BACKENDS[b], what, rc);
+            LG_TEST_CHECK(t, rc == 1 || rc == 2, "%s %s: exit status %d, not 1 or 2", BACKENDS[b],
+                          what, rc);
             LG_TEST_CHECK(t, text && strstr(text, cases[k].says) && strstr(text, "vol"),
                           "%s %s: the message does not name the node and say '%s':\n%s",
                           BACKENDS[b], what, cases[k].says, text ? text : "");
@@ -525,7 +527,7 @@ static void case_errors(lg_test *t)
         }
 }
 
-/* ---- gating -------------------------------------------------------------------------------- */
+/* ---- gating ---------------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
 {
@@ -550,9 +552,9 @@ static void case_gating(lg_test *t)
         return;
     for (size_t i = 0; i < (size_t)W * H; i++) {
         const float *a = ins.pixels + 4 * i, *o = out.pixels + 4 * i;
-        if (a[0] != 0 || a[1] != 0 || a[2] != 0 || o[0] != 0.2f || o[1] != 0.3f ||
-            o[2] != 0.4f) {
-            LG_TEST_FAILF(t, "gated: pixel %zu inscatter (%g, %g, %g), out (%g, %g, %g): want "
+        if (a[0] != 0 || a[1] != 0 || a[2] != 0 || o[0] != 0.2f || o[1] != 0.3f || o[2] != 0.4f) {
+            LG_TEST_FAILF(t,
+                          "gated: pixel %zu inscatter (%g, %g, %g), out (%g, %g, %g): want "
                           "black and base",
                           i, a[0], a[1], a[2], o[0], o[1], o[2]);
             break;

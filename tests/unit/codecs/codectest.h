@@ -39,8 +39,10 @@ static inline const char *asset_path(const char *rel, char *buf, size_t n)
 {
     const char *root = getenv("LG_SOURCE_ROOT");
     if (!root || !root[0]) {
-        fprintf(stderr, "FAIL: LG_SOURCE_ROOT is not set (run through meson test): "
-                        "assets/%s cannot be found\n", rel);
+        fprintf(stderr,
+                "FAIL: LG_SOURCE_ROOT is not set (run through meson test): "
+                "assets/%s cannot be found\n",
+                rel);
         exit(1);
     }
     snprintf(buf, n, "%s/assets/%s", root, rel);

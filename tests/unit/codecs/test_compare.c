@@ -36,14 +36,16 @@ int main(void)
     CHECK(lg_image_compare(&a, &b, &m, &heat, 0.0, err, sizeof err) == LG_OK);
     CHECK(m.rmse == 0.0 && isinf(m.psnr) && m.psnr > 0 && m.max_abs == 0.0 && m.mean_abs == 0.0);
     CHECK(m.rel_mse == 0.0 && m.nonfinite == 0);
-    CHECK(heat.width == 8 && heat.pixels[0] == 0.0f && heat.pixels[1] == 0.0f && heat.pixels[3] == 1.0f);
+    CHECK(heat.width == 8 && heat.pixels[0] == 0.0f && heat.pixels[1] == 0.0f &&
+          heat.pixels[3] == 1.0f);
     lg_image_free(&heat);
 
     /* a uniform difference of 0.25 in every channel */
     fill(&a, 0.5f, 0.5f, 0.5f);
     fill(&b, 0.25f, 0.25f, 0.25f);
     CHECK(lg_image_compare(&a, &b, &m, NULL, 0.0, err, sizeof err) == LG_OK);
-    CHECK(near(m.rmse, 0.25, 1e-12) && near(m.mean_abs, 0.25, 1e-12) && near(m.max_abs, 0.25, 1e-12));
+    CHECK(near(m.rmse, 0.25, 1e-12) && near(m.mean_abs, 0.25, 1e-12) &&
+          near(m.max_abs, 0.25, 1e-12));
     CHECK(near(m.psnr, 10.0 * log10(1.0 / 0.0625), 1e-12));
     CHECK(near(m.rel_mse, 0.0625 / (0.0625 + 1e-4), 1e-12));
 
@@ -56,15 +58,16 @@ int main(void)
     CHECK(near(m.mean_abs, 2.0 / 96.0, 1e-12) && near(m.rmse, sqrt(4.0 / 96.0), 1e-12));
     CHECK(m.max_abs == 2.0 && near(m.rel_mse, 4.0 / 1.0001 / 96.0, 1e-12));
     /* heat: the largest error is white, no error black */
-    CHECK(heat.pixels[5 * 4] == 1.0f && heat.pixels[5 * 4 + 1] == 1.0f && heat.pixels[5 * 4 + 2] == 1.0f);
+    CHECK(heat.pixels[5 * 4] == 1.0f && heat.pixels[5 * 4 + 1] == 1.0f &&
+          heat.pixels[5 * 4 + 2] == 1.0f);
     CHECK(heat.pixels[0] == 0.0f && heat.pixels[6 * 4] == 0.0f);
     lg_image_free(&heat);
 
     /* the ramp with a fixed heat_max: 1/4 blue, 1/2 red, 3/4 yellow, beyond white */
     fill(&b, 0.0f, 0.0f, 0.0f);
     fill(&a, 0.0f, 0.0f, 0.0f);
-    float errs[5] = {0.25f, 0.5f, 0.75f, 1.0f, 7.0f};
-    float want[5][3] = {{0, 0, 1}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 1, 1}};
+    float errs[5] = { 0.25f, 0.5f, 0.75f, 1.0f, 7.0f };
+    float want[5][3] = { { 0, 0, 1 }, { 1, 0, 0 }, { 1, 1, 0 }, { 1, 1, 1 }, { 1, 1, 1 } };
     for (int i = 0; i < 5; i++)
         a.pixels[i * 4 + 2] = -errs[i]; /* the error is absolute */
     a.pixels[7 * 4] = 0.125f;           /* between black and blue: dark blue, in display space */

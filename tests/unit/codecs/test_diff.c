@@ -45,7 +45,8 @@ static int run(const char *first, ...)
     fflush(stdout);
     fflush(stderr);
     int so = dup(1), se = dup(2);
-    int fo = open(outp, O_WRONLY | O_CREAT | O_TRUNC, 0644), fe = open(errp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    int fo = open(outp, O_WRONLY | O_CREAT | O_TRUNC, 0644),
+        fe = open(errp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(fo, 1);
     dup2(fe, 2);
     int rc = lg_cmd_diff(argc, argv);
@@ -63,8 +64,8 @@ static int run(const char *first, ...)
 }
 
 /* w x h pixels of v (alpha 1), the first `nbump` pixels' red channel plus `bump`. */
-static void write_img_n(const char *name, uint32_t w, uint32_t h, float v, float bump,
-                        size_t nbump, char *path)
+static void write_img_n(const char *name, uint32_t w, uint32_t h, float v, float bump, size_t nbump,
+                        char *path)
 {
     lg_image img;
     char err[512];
@@ -74,7 +75,7 @@ static void write_img_n(const char *name, uint32_t w, uint32_t h, float v, float
     for (size_t i = 0; i < nbump; i++)
         img.pixels[4 * i] += bump;
     sprintf(path, "%s/%s", scratch, name);
-    lg_image_write_opts o = {.exr_pixel = LG_EXR_FLOAT};
+    lg_image_write_opts o = { .exr_pixel = LG_EXR_FLOAT };
     if (lg_image_write(path, &img, &o, err, sizeof err))
         fprintf(stderr, "setup: %s\n", err);
     lg_image_free(&img);
@@ -91,11 +92,11 @@ int main(void)
     char a[4300], b[4300], c[4300], small[4300], nan[4300], heat[4300], missing[4300], bad[4300];
     char allnan[4300], someinf[4300];
     write_img("a.exr", 16, 8, 0.5f, 0.0f, a);
-    write_img("b.exr", 16, 8, 0.5f, 0.25f, b);   /* one channel of one pixel off by 0.25 */
-    write_img("c.hdr", 16, 8, 0.5f, 0.0f, c);    /* 0.5 is exact in RGBE */
+    write_img("b.exr", 16, 8, 0.5f, 0.25f, b); /* one channel of one pixel off by 0.25 */
+    write_img("c.hdr", 16, 8, 0.5f, 0.0f, c);  /* 0.5 is exact in RGBE */
     write_img("small.exr", 4, 8, 0.5f, 0.0f, small);
     write_img("nan.exr", 16, 8, 0.5f, NAN, nan);
-    write_img_n("allnan.exr", 16, 8, 0.5f, NAN, 16 * 8, allnan);     /* every pixel NaN */
+    write_img_n("allnan.exr", 16, 8, 0.5f, NAN, 16 * 8, allnan);   /* every pixel NaN */
     write_img_n("someinf.exr", 16, 8, 0.5f, INFINITY, 3, someinf); /* 3 pixels +Inf */
     snprintf(heat, sizeof heat, "%s/heat.png", scratch);
     snprintf(missing, sizeof missing, "%s/missing.exr", scratch);
@@ -107,7 +108,8 @@ int main(void)
     /* identical, text output */
     int rc = run(a, c, NULL);
     CHECKF(rc == 0, "rc %d: %s", rc, err_buf);
-    CHECKF(strstr(out_buf, "RMSE       0\n") && strstr(out_buf, "PSNR       inf (no difference)\n") &&
+    CHECKF(strstr(out_buf, "RMSE       0\n") &&
+               strstr(out_buf, "PSNR       inf (no difference)\n") &&
                strstr(out_buf, "nonfinite  A 0, B 0 of 128 pixels") && !strstr(out_buf, "compared"),
            "%s", out_buf);
 
@@ -118,16 +120,18 @@ int main(void)
     char want[128];
     snprintf(want, sizeof want, "\"rmse\": %.9g", rmse);
     CHECKF(strstr(out_buf, want) && strstr(out_buf, "\"max_abs\": 0.25") &&
-               strstr(out_buf, "\"width\": 16, \"height\": 8") && strstr(out_buf, "\"nonfinite\": 0") &&
+               strstr(out_buf, "\"width\": 16, \"height\": 8") &&
+               strstr(out_buf, "\"nonfinite\": 0") &&
                strstr(out_buf, "\"nonfinite_a\": 0, \"nonfinite_b\": 0") &&
                strstr(out_buf, "\"compared\": 128") && out_buf[0] == '{' &&
-               strstr(out_buf, "\"pass\": true"), "%s", out_buf);
+               strstr(out_buf, "\"pass\": true"),
+           "%s", out_buf);
 
     /* thresholds */
     CHECK(run(a, b, "--max-abs", "0.3", NULL) == 0);
     CHECK(run(a, b, "--max-abs=0.2", NULL) == 1 && strstr(err_buf, "exceeds --max-abs"));
-    CHECK(run(a, b, "--max-rmse", "0.001", "--json", NULL) == 1 && strstr(out_buf, "\"pass\": false") &&
-          strstr(err_buf, "RMSE"));
+    CHECK(run(a, b, "--max-rmse", "0.001", "--json", NULL) == 1 &&
+          strstr(out_buf, "\"pass\": false") && strstr(err_buf, "RMSE"));
     CHECK(run(a, b, "--max-rmse", "0.1", "--json", NULL) == 0 && strstr(out_buf, "\"pass\": true"));
 
     /* NaN and Inf: counted per image, said before the metrics, and failing unless
@@ -136,12 +140,14 @@ int main(void)
     CHECKF(rc == 1 && strstr(out_buf, "nonfinite  A 0, B 1 of 128 pixels") &&
                strstr(out_buf, "compared   127 of 128 pixels") &&
                strstr(err_buf, "NaN or Inf in 0 of 128 pixels of A and 1 of B") &&
-               strstr(err_buf, "--ignore-nonfinite"), "%d %s %s", rc, out_buf, err_buf);
+               strstr(err_buf, "--ignore-nonfinite"),
+           "%d %s %s", rc, out_buf, err_buf);
     CHECK(run(a, nan, "--max-rmse", "1", NULL) == 1 && strstr(err_buf, "NaN or Inf"));
     rc = run(a, nan, "--ignore-nonfinite", NULL);
     CHECKF(rc == 0 && strstr(out_buf, "nonfinite  A 0, B 1 of 128 pixels") &&
                strstr(out_buf, "PSNR       inf (no difference in the pixels compared)") &&
-               !err_buf[0], "%d %s %s", rc, out_buf, err_buf);
+               !err_buf[0],
+           "%d %s %s", rc, out_buf, err_buf);
     CHECK(run(a, nan, "--ignore-nonfinite", "--max-rmse", "1", NULL) == 0);
     /* every pixel of B NaN: said first, no metric, exit 1 even when ignoring non-finite */
     rc = run(a, allnan, NULL);
@@ -156,9 +162,11 @@ int main(void)
     rc = run(allnan, a, "--ignore-nonfinite", NULL);
     CHECKF(rc == 1 && strstr(out_buf, "nonfinite  A 128, B 0 of 128 pixels") &&
                strstr(err_buf, "no pixel is finite in both images") &&
-               strstr(err_buf, "nothing was compared"), "%d %s %s", rc, out_buf, err_buf);
+               strstr(err_buf, "nothing was compared"),
+           "%d %s %s", rc, out_buf, err_buf);
     rc = run("--json", a, allnan, NULL);
-    CHECKF(rc == 1 && strstr(out_buf, "\"nonfinite_a\": 0, \"nonfinite_b\": 128, \"nonfinite\": 128") &&
+    CHECKF(rc == 1 &&
+               strstr(out_buf, "\"nonfinite_a\": 0, \"nonfinite_b\": 128, \"nonfinite\": 128") &&
                strstr(out_buf, "\"compared\": 0") && strstr(out_buf, "\"rmse\": null") &&
                strstr(out_buf, "\"psnr\": null") && strstr(out_buf, "\"pass\": false"),
            "%d %s", rc, out_buf);
@@ -184,9 +192,11 @@ int main(void)
     rc = run(a, small, NULL);
     CHECKF(rc == 1 && strstr(err_buf, "16x8") && strstr(err_buf, "4x8"), "%d %s", rc, err_buf);
     rc = run(a, missing, NULL);
-    CHECKF(rc == 1 && strstr(err_buf, "missing.exr") && strstr(err_buf, "No such file"), "%d %s", rc, err_buf);
+    CHECKF(rc == 1 && strstr(err_buf, "missing.exr") && strstr(err_buf, "No such file"), "%d %s",
+           rc, err_buf);
     rc = run(bad, a, NULL);
-    CHECKF(rc == 1 && strstr(err_buf, "bad.exr") && strstr(err_buf, "not an OpenEXR"), "%d %s", rc, err_buf);
+    CHECKF(rc == 1 && strstr(err_buf, "bad.exr") && strstr(err_buf, "not an OpenEXR"), "%d %s", rc,
+           err_buf);
 
     /* usage */
     CHECK(run(a, NULL) == 2);

@@ -31,15 +31,16 @@ static int cxx_read(const char *path, lg_image *img, lg_image_read_info *info, c
     return rc;
 }
 
-static const char *comp_names[] = {"zip", "none", "rle", "zips", "piz", "pxr24", "b44", "b44a",
-                                   "dwaa", "dwab"};
+static const char *comp_names[] = { "zip",   "none", "rle",  "zips", "piz",
+                                    "pxr24", "b44",  "b44a", "dwaa", "dwab" };
 
 static void fill_pattern(lg_image *img)
 {
     for (uint32_t y = 0; y < img->height; y++)
         for (uint32_t x = 0; x < img->width; x++) {
             float *p = img->pixels + ((size_t)y * img->width + x) * 4;
-            p[0] = 0.002f + 4.0f * (float)x / (float)img->width * (1.0f + 0.3f * sinf(0.3f * (float)y));
+            p[0] = 0.002f +
+                   4.0f * (float)x / (float)img->width * (1.0f + 0.3f * sinf(0.3f * (float)y));
             p[1] = 0.5f * (float)(y + 1) / (float)img->height;
             p[2] = 0.05f + 0.9f * fabsf(sinf(0.11f * (float)x + 0.07f * (float)y));
             p[3] = (float)((x + 2 * y) % 5) / 4.0f;
@@ -81,9 +82,9 @@ static void test_roundtrips(void)
                 char path[4200], err[512];
                 snprintf(path, sizeof path, "%s/rt_%s_%s_%u.exr", scratch, comp_names[comp],
                          pix == LG_EXR_HALF ? "half" : "float", ch);
-                lg_image_write_opts o = {.exr_pixel = (lg_exr_pixel)pix,
-                                         .exr_compression = (lg_exr_compression)comp,
-                                         .channels = ch};
+                lg_image_write_opts o = { .exr_pixel = (lg_exr_pixel)pix,
+                                          .exr_compression = (lg_exr_compression)comp,
+                                          .channels = ch };
                 int rc = lg_image_write(path, &src, &o, err, sizeof err);
                 CHECKF(rc == LG_OK, "%s: %s", path, err);
                 if (rc)
@@ -104,7 +105,8 @@ static void test_roundtrips(void)
                        ia.compression);
                 CHECKF(ia.channels == ch && ia.bits == (pix == LG_EXR_HALF ? 16u : 32u),
                        "%s: channels %u bits %u", path, ia.channels, ia.bits);
-                CHECKF(ib.channels == ch && ib.bits == ia.bits && !strcmp(ib.compression, ia.compression),
+                CHECKF(ib.channels == ch && ib.bits == ia.bits &&
+                           !strcmp(ib.compression, ia.compression),
                        "%s: C++ info differs", path);
                 CHECKF(same_pixels(&a, &b), "%s: the C and C++ readers disagree", path);
 
@@ -142,14 +144,14 @@ static void test_roundtrips(void)
     /* half: beyond 65504 becomes Inf, as OpenEXR's half does; NaN stays NaN */
     lg_image big;
     CHECK(lg_image_alloc(&big, 4, 1) == LG_OK);
-    float vals[4] = {65504.0f, 70000.0f, -1e6f, NAN};
+    float vals[4] = { 65504.0f, 70000.0f, -1e6f, NAN };
     for (int i = 0; i < 4; i++)
         big.pixels[i * 4] = big.pixels[i * 4 + 1] = big.pixels[i * 4 + 2] = vals[i];
     for (int comp = LG_EXR_ZIP; comp <= LG_EXR_DWAB; comp += (comp == LG_EXR_NONE ? 8 : 1)) {
         /* ZIP and NONE through the C API, DWAA/DWAB through C++ */
         char path[4200], err[512];
         snprintf(path, sizeof path, "%s/big_%s.exr", scratch, comp_names[comp]);
-        lg_image_write_opts o = {.exr_compression = (lg_exr_compression)comp};
+        lg_image_write_opts o = { .exr_compression = (lg_exr_compression)comp };
         CHECKF(lg_image_write(path, &big, &o, err, sizeof err) == LG_OK, "%s", err);
         lg_image r;
         lg_image_read_info info;
@@ -168,7 +170,7 @@ static void test_roundtrips(void)
     lg_image_free(&expect_half);
 }
 
-/* ---- files written here with the C API ------------------------------------------------ */
+/* ---- files written here with the C API ------------------------------------------------------- */
 
 typedef struct chan_spec {
     const char *name;
@@ -199,7 +201,8 @@ static int write_special(const char *path, exr_attr_box2i_t dw, const chan_spec 
         rv = exr_initialize_required_attr(ctx, part, &disp, &dw, 1.0f, &swc, 1.0f, order, comp);
     for (int c = 0; c < nch && !rv; c++)
         rv = exr_add_channel(ctx, part, ch[c].name, ch[c].type, EXR_PERCEPTUALLY_LOGARITHMIC,
-                             ch[c].sampling ? ch[c].sampling : 1, ch[c].sampling ? ch[c].sampling : 1);
+                             ch[c].sampling ? ch[c].sampling : 1,
+                             ch[c].sampling ? ch[c].sampling : 1);
     if (!rv && tile)
         rv = exr_set_tile_descriptor(ctx, part, (uint32_t)tile, (uint32_t)(tile / 2),
                                      mip ? EXR_TILE_MIPMAP_LEVELS : EXR_TILE_ONE_LEVEL,
@@ -271,7 +274,8 @@ static void check_special(const char *what, const char *path, const float *want,
     int rc2 = cxx_read(path, &b, &ib, err, sizeof err);
     CHECKF(rc2 == LG_OK, "%s (C++): %s", what, err);
     if (!rc) {
-        CHECKF(a.width == w && a.height == h, "%s: %ux%u, want %ux%u", what, a.width, a.height, w, h);
+        CHECKF(a.width == w && a.height == h, "%s: %ux%u, want %ux%u", what, a.width, a.height, w,
+               h);
         CHECKF(ia.channels == channels, "%s: channels %u, want %u", what, ia.channels, channels);
         if (a.width == w && a.height == h)
             CHECKF(!memcmp(a.pixels, want, (size_t)w * h * 16), "%s: pixels differ", what);
@@ -308,17 +312,19 @@ static void test_special_files(void)
     /* RGBA half, scanline, offset data window, several compressions. (Decreasing line
      * order is not written here: 3.1.5's C core writes such files in a way its C++
      * library cannot read.) */
-    chan_spec rgba[4] = {{"R", EXR_PIXEL_HALF, r}, {"G", EXR_PIXEL_HALF, g},
-                         {"B", EXR_PIXEL_HALF, b}, {"A", EXR_PIXEL_HALF, a}};
+    chan_spec rgba[4] = { { "R", EXR_PIXEL_HALF, r },
+                          { "G", EXR_PIXEL_HALF, g },
+                          { "B", EXR_PIXEL_HALF, b },
+                          { "A", EXR_PIXEL_HALF, a } };
     for (int i = 0; i < W * H; i++) {
         want[i * 4] = r[i];
         want[i * 4 + 1] = g[i];
         want[i * 4 + 2] = b[i];
         want[i * 4 + 3] = a[i];
     }
-    static const exr_compression_t comps[] = {EXR_COMPRESSION_NONE, EXR_COMPRESSION_RLE,
-                                              EXR_COMPRESSION_ZIPS, EXR_COMPRESSION_ZIP,
-                                              EXR_COMPRESSION_PIZ, EXR_COMPRESSION_PXR24};
+    static const exr_compression_t comps[] = { EXR_COMPRESSION_NONE, EXR_COMPRESSION_RLE,
+                                               EXR_COMPRESSION_ZIPS, EXR_COMPRESSION_ZIP,
+                                               EXR_COMPRESSION_PIZ,  EXR_COMPRESSION_PXR24 };
     for (size_t k = 0; k < sizeof comps / sizeof *comps; k++) {
         snprintf(path, sizeof path, "%s/dw_%d.exr", scratch, (int)comps[k]);
         int rv = write_special(path, dw, rgba, 4, comps[k], 0, 0, EXR_LINEORDER_INCREASING_Y);
@@ -327,8 +333,9 @@ static void test_special_files(void)
     }
 
     /* tiled (partial edge tiles), float RGB, one level and mipmapped */
-    chan_spec rgbf[3] = {{"R", EXR_PIXEL_FLOAT, r}, {"G", EXR_PIXEL_FLOAT, g},
-                         {"B", EXR_PIXEL_FLOAT, b}};
+    chan_spec rgbf[3] = { { "R", EXR_PIXEL_FLOAT, r },
+                          { "G", EXR_PIXEL_FLOAT, g },
+                          { "B", EXR_PIXEL_FLOAT, b } };
     for (int i = 0; i < W * H; i++)
         want[i * 4 + 3] = 1.0f;
     for (int mip = 0; mip < 2; mip++) {
@@ -340,37 +347,43 @@ static void test_special_files(void)
     }
 
     /* luminance only, then luminance and alpha: grey */
-    chan_spec ya[2] = {{"Y", EXR_PIXEL_HALF, r}, {"A", EXR_PIXEL_HALF, a}};
+    chan_spec ya[2] = { { "Y", EXR_PIXEL_HALF, r }, { "A", EXR_PIXEL_HALF, a } };
     for (int i = 0; i < W * H; i++) {
         want[i * 4] = want[i * 4 + 1] = want[i * 4 + 2] = r[i];
         want[i * 4 + 3] = 1.0f;
     }
     snprintf(path, sizeof path, "%s/y.exr", scratch);
-    CHECK(write_special(path, dw, ya, 1, EXR_COMPRESSION_PIZ, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+    CHECK(write_special(path, dw, ya, 1, EXR_COMPRESSION_PIZ, 0, 0, EXR_LINEORDER_INCREASING_Y) ==
+          0);
     check_special("Y only", path, want, W, H, 1);
     for (int i = 0; i < W * H; i++)
         want[i * 4 + 3] = a[i];
     snprintf(path, sizeof path, "%s/ya.exr", scratch);
-    CHECK(write_special(path, dw, ya, 2, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+    CHECK(write_special(path, dw, ya, 2, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) ==
+          0);
     check_special("Y and A", path, want, W, H, 2);
 
     /* uint channels become floats of the same value */
-    chan_spec ui[3] = {{"R", EXR_PIXEL_UINT, u[0]}, {"G", EXR_PIXEL_UINT, u[1]},
-                       {"B", EXR_PIXEL_UINT, u[2]}};
+    chan_spec ui[3] = { { "R", EXR_PIXEL_UINT, u[0] },
+                        { "G", EXR_PIXEL_UINT, u[1] },
+                        { "B", EXR_PIXEL_UINT, u[2] } };
     for (int i = 0; i < W * H; i++) {
         for (int c = 0; c < 3; c++)
             want[i * 4 + c] = (float)u[c][i];
         want[i * 4 + 3] = 1.0f;
     }
     snprintf(path, sizeof path, "%s/uint.exr", scratch);
-    CHECK(write_special(path, dw, ui, 3, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+    CHECK(write_special(path, dw, ui, 3, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) ==
+          0);
     check_special("uint", path, want, W, H, 3);
 
     /* channels we do not read (depth, a misspelt G): 3.1.5's C core crashed when such a
      * channel was skipped, so they are decoded into a scratch plane */
-    chan_spec rgbz[5] = {{"R", EXR_PIXEL_HALF, r}, {"G", EXR_PIXEL_HALF, g},
-                         {"B", EXR_PIXEL_HALF, b}, {"Z", EXR_PIXEL_FLOAT, a},
-                         {"A", EXR_PIXEL_HALF, a}};
+    chan_spec rgbz[5] = { { "R", EXR_PIXEL_HALF, r },
+                          { "G", EXR_PIXEL_HALF, g },
+                          { "B", EXR_PIXEL_HALF, b },
+                          { "Z", EXR_PIXEL_FLOAT, a },
+                          { "A", EXR_PIXEL_HALF, a } };
     for (int i = 0; i < W * H; i++) {
         want[i * 4] = r[i];
         want[i * 4 + 1] = g[i];
@@ -378,14 +391,16 @@ static void test_special_files(void)
         want[i * 4 + 3] = 1.0f;
     }
     snprintf(path, sizeof path, "%s/rgbz.exr", scratch);
-    CHECK(write_special(path, dw, rgbz, 4, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+    CHECK(write_special(path, dw, rgbz, 4, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) ==
+          0);
     check_special("R G B Z", path, want, W, H, 3);
     for (int i = 0; i < W * H; i++)
         want[i * 4 + 3] = a[i];
     rgbz[3].name = "H"; /* sorts between G and R */
     rgbz[3].type = EXR_PIXEL_HALF;
     snprintf(path, sizeof path, "%s/rgbha.exr", scratch);
-    CHECK(write_special(path, dw, rgbz, 5, EXR_COMPRESSION_PIZ, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+    CHECK(write_special(path, dw, rgbz, 5, EXR_COMPRESSION_PIZ, 0, 0, EXR_LINEORDER_INCREASING_Y) ==
+          0);
     check_special("A B G H R", path, want, W, H, 4);
 
     /* luminance-chroma (Y full, RY and BY every other pixel and line): the C++ shim's
@@ -403,10 +418,12 @@ static void test_special_files(void)
             ry[i] = 0.5f;
             by[i] = -0.25f;
         }
-        chan_spec yc[3] = {{"Y", EXR_PIXEL_HALF, yv, 1}, {"RY", EXR_PIXEL_HALF, ry, 2},
-                           {"BY", EXR_PIXEL_HALF, by, 2}};
+        chan_spec yc[3] = { { "Y", EXR_PIXEL_HALF, yv, 1 },
+                            { "RY", EXR_PIXEL_HALF, ry, 2 },
+                            { "BY", EXR_PIXEL_HALF, by, 2 } };
         snprintf(path, sizeof path, "%s/yc.exr", scratch);
-        CHECK(write_special(path, dw2, yc, 3, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+        CHECK(write_special(path, dw2, yc, 3, EXR_COMPRESSION_ZIP, 0, 0,
+                            EXR_LINEORDER_INCREASING_Y) == 0);
         lg_image ycimg;
         lg_image_read_info ycinfo;
         int yrc = lg_image_read(path, 0, &ycimg, &ycinfo, err, sizeof err);
@@ -416,20 +433,21 @@ static void test_special_files(void)
             for (int i = 0; i < 16 * 8; i++) {
                 double R = 1.5 * yv[i], B = 0.75 * yv[i];
                 double G = (yv[i] - 0.2126 * R - 0.0722 * B) / 0.7152;
-                double want3[3] = {R, G, B};
+                double want3[3] = { R, G, B };
                 for (int c = 0; c < 3; c++)
                     worst = fmax(worst, fabs(ycimg.pixels[i * 4 + c] - want3[c]) / want3[c]);
             }
-            CHECKF(worst < 5e-3 && ycinfo.channels == 3 && ycimg.width == 16, "YC: error %g, %u channels",
-                   worst, ycinfo.channels);
+            CHECKF(worst < 5e-3 && ycinfo.channels == 3 && ycimg.width == 16,
+                   "YC: error %g, %u channels", worst, ycinfo.channels);
         }
         lg_image_free(&ycimg);
     }
 
     /* no colour channel at all: a clear error naming the channels */
-    chan_spec z[1] = {{"Z", EXR_PIXEL_FLOAT, r}};
+    chan_spec z[1] = { { "Z", EXR_PIXEL_FLOAT, r } };
     snprintf(path, sizeof path, "%s/z.exr", scratch);
-    CHECK(write_special(path, dw, z, 1, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) == 0);
+    CHECK(write_special(path, dw, z, 1, EXR_COMPRESSION_ZIP, 0, 0, EXR_LINEORDER_INCREASING_Y) ==
+          0);
     lg_image img;
     int rc = lg_image_read(path, 0, &img, NULL, err, sizeof err);
     CHECKF(rc == LG_ERR_UNSUPPORTED && strstr(err, "channels: Z") && strstr(err, "z.exr"),
@@ -437,7 +455,7 @@ static void test_special_files(void)
     CHECK(img.pixels == NULL);
 }
 
-/* ---- real files -------------------------------------------------------------------------- */
+/* ---- real files ------------------------------------------------------------------------------ */
 
 static int read_asset(const char *rel, unsigned flags, lg_image *img, lg_image_read_info *info)
 {
@@ -455,7 +473,7 @@ static void test_real_files(void)
     lg_image_read_info ia, ib;
 
     /* the OpenEXR samples (PIZ half, RGB and RGBA): C and C++ paths agree bit for bit */
-    const char *samples[] = {"images/GoldenGate.exr", "images/StillLife.exr"};
+    const char *samples[] = { "images/GoldenGate.exr", "images/StillLife.exr" };
     for (int i = 0; i < 2; i++) {
         if (read_asset(samples[i], 0, &a, &ia))
             continue;
@@ -496,11 +514,13 @@ static void test_real_files(void)
 
     /* DWAB half with negative pixels (lossy compression): passed through as stored, or
      * clamped and counted with LG_READ_RADIANCE */
-    const char *dwab[] = {"probes/studio_512x256_half_dwab.exr", "probes/apartment_512x256_half_dwab.exr"};
+    const char *dwab[] = { "probes/studio_512x256_half_dwab.exr",
+                           "probes/apartment_512x256_half_dwab.exr" };
     for (int i = 0; i < 2; i++) {
         if (read_asset(dwab[i], 0, &a, &ia) || read_asset(dwab[i], LG_READ_RADIANCE, &b, &ib))
             continue;
-        CHECK(a.width == 512 && a.height == 256 && ia.bits == 16 && !strcmp(ia.compression, "dwab"));
+        CHECK(a.width == 512 && a.height == 256 && ia.bits == 16 &&
+              !strcmp(ia.compression, "dwab"));
         uint64_t neg = 0;
         size_t changed = 0, bad = 0;
         for (size_t p = 0; p < 512 * 256; p++) {

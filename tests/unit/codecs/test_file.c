@@ -46,7 +46,8 @@ int main(void)
     free(s);
     /* one byte over the limit: refused before reading, sizes named */
     s = lg_file_read(at("a.txt"), 4, &len, err, sizeof err);
-    CHECKF(!s && errno == EFBIG && strstr(err, "5 bytes, over the 4 bytes limit"), "limit: %s", err);
+    CHECKF(!s && errno == EFBIG && strstr(err, "5 bytes, over the 4 bytes limit"), "limit: %s",
+           err);
     /* empty */
     put("e.txt", "");
     s = lg_file_read(at("e.txt"), 0, &len, err, sizeof err);
@@ -96,8 +97,8 @@ int main(void)
                                            "../../../../../../../../etc/passwd", "/etc/passwd" };
     for (int i = 0; i < 5; i++) {
         s = lg_file_read_within(root, escapes[i], 1u << 20, &len, err, sizeof err);
-        CHECKF(!s && errno == EACCES && strstr(err, "outside") && strstr(err, escapes[i]),
-               "%s: %s", escapes[i], s ? "read" : err);
+        CHECKF(!s && errno == EACCES && strstr(err, "outside") && strstr(err, escapes[i]), "%s: %s",
+               escapes[i], s ? "read" : err);
         free(s);
         CHECKF(lg_path_within(root, escapes[i], err, sizeof err) != 0 && strstr(err, "outside"),
                "path_within %s: %s", escapes[i], err);

@@ -34,8 +34,8 @@ static uint16_t oracle_half(float f)
     if (a >= 65520.0)
         return sign | 0x7c00u;
     if (a < ldexp(1.0, -14)) {
-        double n = rint(a / ldexp(1.0, -24)); /* denormal grid, exact scaling */
-        return (uint16_t)(sign | (uint16_t)n);  /* n == 1024 is the smallest normal */
+        double n = rint(a / ldexp(1.0, -24));  /* denormal grid, exact scaling */
+        return (uint16_t)(sign | (uint16_t)n); /* n == 1024 is the smallest normal */
     }
     int e2;
     frexp(a, &e2);
@@ -93,12 +93,12 @@ int main(void)
     CHECK(lg_half_from_float(0x1p-25f) == 0x0000);                  /* tie -> even (0) */
     CHECK(lg_half_from_float(-0x1p-25f) == 0x8000);
     CHECK(lg_half_from_float(nextafterf(0x1p-25f, 1.0f)) == 0x0001);
-    CHECK(lg_half_from_float(0x1.8p-24f) == 0x0002);                /* 1.5 units: tie -> 2 */
-    CHECK(lg_half_from_float(0x1.4p-23f) == 0x0002);                /* 2.5 units: tie -> 2 */
-    CHECK(lg_half_from_float(0x1p-14f - 0x1p-25f) == 0x0400);       /* tie 0x3ff/0x400 -> even */
+    CHECK(lg_half_from_float(0x1.8p-24f) == 0x0002);          /* 1.5 units: tie -> 2 */
+    CHECK(lg_half_from_float(0x1.4p-23f) == 0x0002);          /* 2.5 units: tie -> 2 */
+    CHECK(lg_half_from_float(0x1p-14f - 0x1p-25f) == 0x0400); /* tie 0x3ff/0x400 -> even */
     CHECK(lg_half_from_float(0x1p-26f) == 0x0000);
-    CHECK(lg_half_from_float(1.0f + 0x1p-11f) == 0x3c00);           /* tie -> even */
-    CHECK(lg_half_from_float(1.0f + 0x1.8p-10f) == 0x3c02);         /* 1.5 ulp: tie -> even */
+    CHECK(lg_half_from_float(1.0f + 0x1p-11f) == 0x3c00);   /* tie -> even */
+    CHECK(lg_half_from_float(1.0f + 0x1.8p-10f) == 0x3c02); /* 1.5 ulp: tie -> even */
 
     CHECK(lg_float_from_half(0x7bff) == 65504.0f);
     CHECK(lg_float_from_half(0x0001) == 0x1p-24f);
@@ -126,7 +126,7 @@ int main(void)
         check_one(f_of_bits((uint32_t)b));
     for (uint32_t b = 0x32800000u; b <= 0x38800000u; b += 61) /* 2^-26 .. 2^-14 */
         check_one(f_of_bits(b));
-    for (uint32_t b = 0x477f0000u; b <= 0x47800000u; b++)     /* 65280 .. 65536 */
+    for (uint32_t b = 0x477f0000u; b <= 0x47800000u; b++) /* 65280 .. 65536 */
         check_one(f_of_bits(b));
     for (int i = -40; i <= 40; i++) { /* halfway points around every denormal step near 0 */
         check_one(ldexpf(1.0f, -24) * (1.0f + (float)i / 8.0f));

@@ -29,7 +29,7 @@ static void write_bytes(const char *path, const void *data, size_t n)
         fclose(f);
 }
 
-/* ---- HDR -------------------------------------------------------------------------------- */
+/* ---- HDR ------------------------------------------------------------------------------------- */
 
 static void fill_wide(lg_image *img)
 {
@@ -104,8 +104,8 @@ static void test_hdr(void)
     lg_image_read_info info;
     char err[512];
     /* 2x2 flat pixels: (128,0,0,129) = 1.0 red, (0,128,0,130) = 2.0 green, ... */
-    const uint8_t px[16] = {128, 0, 0, 129, 0, 128, 0, 130, 0, 0, 128, 131, 128, 128, 128, 128};
-    const float val[4][3] = {{1, 0, 0}, {0, 2, 0}, {0, 0, 4}, {0.5f, 0.5f, 0.5f}};
+    const uint8_t px[16] = { 128, 0, 0, 129, 0, 128, 0, 130, 0, 0, 128, 131, 128, 128, 128, 128 };
+    const float val[4][3] = { { 1, 0, 0 }, { 0, 2, 0 }, { 0, 0, 4 }, { 0.5f, 0.5f, 0.5f } };
 
     /* #?RGBE signature, EXPOSURE (values were multiplied by it: divide) and COLORCORR */
     int rc = read_made("exp.hdr",
@@ -122,14 +122,17 @@ static void test_hdr(void)
     lg_image_free(&img);
 
     /* a header written with CRLF line ends and trailing blanks */
-    rc = read_made("crlf.hdr", "#?RADIANCE\r\nFORMAT=32-bit_rle_rgbe \r\nEXPOSURE=0.5\r\n\r\n-Y 2 +X 2\r\n",
-                   px, 16, &img, NULL, err, sizeof err);
+    rc = read_made("crlf.hdr",
+                   "#?RADIANCE\r\nFORMAT=32-bit_rle_rgbe \r\nEXPOSURE=0.5\r\n\r\n-Y 2 +X 2\r\n", px,
+                   16, &img, NULL, err, sizeof err);
     CHECKF(rc == 0 && img.pixels[0] == 2.0f, "crlf: %s", err);
     lg_image_free(&img);
 
     /* orientations: +Y is bottom-up, -X right to left */
-    const char *orient[3] = {"+Y 2 +X 2\n", "-Y 2 -X 2\n", "+Y 2 -X 2\n"};
-    const int map[3][4] = {{2, 3, 0, 1}, {1, 0, 3, 2}, {3, 2, 1, 0}}; /* file pixel at each place */
+    const char *orient[3] = { "+Y 2 +X 2\n", "-Y 2 -X 2\n", "+Y 2 -X 2\n" };
+    const int map[3][4] = { { 2, 3, 0, 1 },
+                            { 1, 0, 3, 2 },
+                            { 3, 2, 1, 0 } }; /* file pixel at each place */
     for (int o = 0; o < 3; o++) {
         char hdr[128];
         snprintf(hdr, sizeof hdr, "#?RADIANCE\n\n%s", orient[o]);
@@ -145,11 +148,12 @@ static void test_hdr(void)
      * growing by 8 with each consecutive code: 1 pixel + 43 + (1 << 8) = 300 */
     {
         enum { W = 300 };
-        const uint8_t line[12] = {128, 64, 32, 129, 1, 1, 1, 43, 1, 1, 1, 1};
+        const uint8_t line[12] = { 128, 64, 32, 129, 1, 1, 1, 43, 1, 1, 1, 1 };
         uint8_t file[24];
         memcpy(file, line, 12);
         memcpy(file + 12, line, 12);
-        rc = read_made("old.hdr", "#?RADIANCE\n\n-Y 2 +X 300\n", file, 24, &img, NULL, err, sizeof err);
+        rc = read_made("old.hdr", "#?RADIANCE\n\n-Y 2 +X 300\n", file, 24, &img, NULL, err,
+                       sizeof err);
         CHECKF(rc == 0, "%s", err);
         size_t bad = 0;
         for (size_t i = 0; i < 2 * W && !rc; i++)
@@ -158,11 +162,13 @@ static void test_hdr(void)
         CHECKF(bad == 0, "old RLE: %zu wrong pixels", bad);
         lg_image_free(&img);
         /* a repeat before any pixel, and one past the width */
-        const uint8_t first[4] = {1, 1, 1, 5};
-        rc = read_made("old1.hdr", "#?RADIANCE\n\n-Y 1 +X 8\n", first, 4, &img, NULL, err, sizeof err);
+        const uint8_t first[4] = { 1, 1, 1, 5 };
+        rc = read_made("old1.hdr", "#?RADIANCE\n\n-Y 1 +X 8\n", first, 4, &img, NULL, err,
+                       sizeof err);
         CHECKF(rc == LG_ERR_INVALID && strstr(err, "before any pixel"), "%s", err);
-        const uint8_t over[8] = {128, 64, 32, 129, 1, 1, 1, 8};
-        rc = read_made("old2.hdr", "#?RADIANCE\n\n-Y 1 +X 8\n", over, 8, &img, NULL, err, sizeof err);
+        const uint8_t over[8] = { 128, 64, 32, 129, 1, 1, 1, 8 };
+        rc = read_made("old2.hdr", "#?RADIANCE\n\n-Y 1 +X 8\n", over, 8, &img, NULL, err,
+                       sizeof err);
         CHECKF(rc == LG_ERR_INVALID && strstr(err, "overruns"), "%s", err);
     }
 
@@ -174,20 +180,24 @@ static void test_hdr(void)
         const char *want;
         int code;
     } bad[] = {
-        {"empty.hdr", "", NULL, 0, "empty file", LG_ERR_INVALID},
-        {"magic.hdr", "P6\n2 2\n255\n", px, 12, "no '#?' signature", LG_ERR_INVALID},
-        {"nores.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", NULL, 0, "header", LG_ERR_INVALID},
-        {"xyze.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 2 +X 2\n", px, 16, "32-bit_rle_xyze", LG_ERR_UNSUPPORTED},
-        {"transp.hdr", "#?RADIANCE\n\n+X 2 -Y 2\n", px, 16, "transposed", LG_ERR_UNSUPPORTED},
-        {"res.hdr", "#?RADIANCE\n\n-Y two +X 2\n", px, 16, "bad resolution line", LG_ERR_INVALID},
-        {"zero.hdr", "#?RADIANCE\n\n-Y 0 +X 2\n", px, 16, "bad resolution line", LG_ERR_INVALID},
-        {"huge.hdr", "#?RADIANCE\n\n-Y 1000000 +X 1000000\n", px, 16, "over the limit of", LG_ERR_INVALID},
-        {"short.hdr", "#?RADIANCE\n\n-Y 20000 +X 20\n", px, 16, "truncated", LG_ERR_INVALID},
-        {"trunc.hdr", "#?RADIANCE\n\n-Y 2 +X 2\n", px, 13, "scanline 1", LG_ERR_INVALID},
-        {"exposure.hdr", "#?RADIANCE\nEXPOSURE=-1\n\n-Y 2 +X 2\n", px, 16, "EXPOSURE", LG_ERR_INVALID},
+        { "empty.hdr", "", NULL, 0, "empty file", LG_ERR_INVALID },
+        { "magic.hdr", "P6\n2 2\n255\n", px, 12, "no '#?' signature", LG_ERR_INVALID },
+        { "nores.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", NULL, 0, "header", LG_ERR_INVALID },
+        { "xyze.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 2 +X 2\n", px, 16,
+          "32-bit_rle_xyze", LG_ERR_UNSUPPORTED },
+        { "transp.hdr", "#?RADIANCE\n\n+X 2 -Y 2\n", px, 16, "transposed", LG_ERR_UNSUPPORTED },
+        { "res.hdr", "#?RADIANCE\n\n-Y two +X 2\n", px, 16, "bad resolution line", LG_ERR_INVALID },
+        { "zero.hdr", "#?RADIANCE\n\n-Y 0 +X 2\n", px, 16, "bad resolution line", LG_ERR_INVALID },
+        { "huge.hdr", "#?RADIANCE\n\n-Y 1000000 +X 1000000\n", px, 16, "over the limit of",
+          LG_ERR_INVALID },
+        { "short.hdr", "#?RADIANCE\n\n-Y 20000 +X 20\n", px, 16, "truncated", LG_ERR_INVALID },
+        { "trunc.hdr", "#?RADIANCE\n\n-Y 2 +X 2\n", px, 13, "scanline 1", LG_ERR_INVALID },
+        { "exposure.hdr", "#?RADIANCE\nEXPOSURE=-1\n\n-Y 2 +X 2\n", px, 16, "EXPOSURE",
+          LG_ERR_INVALID },
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
-        rc = read_made(bad[i].name, bad[i].header, bad[i].px, bad[i].n, &img, NULL, err, sizeof err);
+        rc = read_made(bad[i].name, bad[i].header, bad[i].px, bad[i].n, &img, NULL, err,
+                       sizeof err);
         CHECKF(rc == bad[i].code && strstr(err, bad[i].want) && strstr(err, bad[i].name),
                "%s: rc %d: %s", bad[i].name, rc, err);
         CHECK(img.pixels == NULL && img.width == 0);
@@ -201,11 +211,11 @@ static void test_hdr(void)
         size_t n;
         const char *want;
     } rl[] = {
-        {{2, 2, 0, 9}, 4, "RLE width 9"},
-        {{2, 2, 0, 8, 128 + 9, 5}, 6, "overruns"},
-        {{2, 2, 0, 8, 0}, 5, "zero-length"},
-        {{2, 2, 0, 8, 4, 1, 2}, 7, "scanline 0"},
-        {{2, 2, 0, 8, 128 + 8, 1, 128 + 8, 2, 128 + 8, 3, 128 + 8, 4, 2, 2}, 14, "scanline 1"},
+        { { 2, 2, 0, 9 }, 4, "RLE width 9" },
+        { { 2, 2, 0, 8, 128 + 9, 5 }, 6, "overruns" },
+        { { 2, 2, 0, 8, 0 }, 5, "zero-length" },
+        { { 2, 2, 0, 8, 4, 1, 2 }, 7, "scanline 0" },
+        { { 2, 2, 0, 8, 128 + 8, 1, 128 + 8, 2, 128 + 8, 3, 128 + 8, 4, 2, 2 }, 14, "scanline 1" },
     };
     for (size_t i = 0; i < sizeof rl / sizeof *rl; i++) {
         memcpy(rle, rl[i].bytes, rl[i].n);
@@ -226,8 +236,8 @@ static void test_hdr(void)
     rc = lg_image_read(asset_path("probes/forest_1024x512.hdr", path, sizeof path), 0, &hdr, &ih,
                        err, sizeof err);
     CHECKF(rc == 0, "%s", err);
-    int rc2 = lg_image_read(asset_path("probes/forest_1024x512_zip.exr", path, sizeof path),
-                            0, &exr, NULL, err, sizeof err);
+    int rc2 = lg_image_read(asset_path("probes/forest_1024x512_zip.exr", path, sizeof path), 0,
+                            &exr, NULL, err, sizeof err);
     CHECKF(rc2 == 0, "%s", err);
     if (!rc && !rc2) {
         CHECK(hdr.width == 1024 && hdr.height == 512 && !strcmp(ih.compression, "rle"));
@@ -292,7 +302,8 @@ static void test_pfstools(void)
     FILE *f = fopen(pfm, "rb");
     int w = 0, h = 0;
     float scale = 0;
-    if (f && fscanf(f, "PF %d %d %f", &w, &h, &scale) == 3 && fgetc(f) == '\n' && w == W && h == H) {
+    if (f && fscanf(f, "PF %d %d %f", &w, &h, &scale) == 3 && fgetc(f) == '\n' && w == W &&
+        h == H) {
         float *v = malloc(sizeof(float) * 3 * W * H);
         CHECK(fread(v, sizeof(float) * 3, W * H, f) == W * H);
         double worst = 0;
@@ -349,7 +360,7 @@ static void test_pfstools(void)
     lg_image_free(&src);
 }
 
-/* ---- PNG -------------------------------------------------------------------------------- */
+/* ---- PNG ------------------------------------------------------------------------------------- */
 
 static uint8_t code8(float v)
 {
@@ -403,7 +414,7 @@ static void test_png(void)
     src.pixels[7] = NAN; /* alpha */
     for (uint32_t ch = 3; ch <= 4; ch++) {
         snprintf(path, sizeof path, "%s/rt_%u.png", scratch, ch);
-        lg_image_write_opts o = {.channels = ch};
+        lg_image_write_opts o = { .channels = ch };
         CHECKF(lg_image_write(path, &src, &o, err, sizeof err) == 0, "%s", err);
         int rc = lg_image_read(path, 0, &got, &info, err, sizeof err);
         CHECKF(rc == 0, "%s", err);
@@ -427,8 +438,8 @@ static void test_png(void)
                 badref += ref[i * 4 + c] != want;
             }
         }
-        CHECKF(bad == 0 && badref == 0, "png %u channels: %zu values wrong, %zu bytes differ from libpng",
-               ch, bad, badref);
+        CHECKF(bad == 0 && badref == 0,
+               "png %u channels: %zu values wrong, %zu bytes differ from libpng", ch, bad, badref);
         free(ref);
         lg_image_free(&got);
     }
@@ -448,14 +459,14 @@ static void test_png(void)
         size_t bpr;
         uint32_t channels;
     } kinds[] = {
-        {"g8", 8, PNG_COLOR_TYPE_GRAY, 0, 8, 1},
-        {"g16", 16, PNG_COLOR_TYPE_GRAY, 0, 16, 1},
-        {"g1", 1, PNG_COLOR_TYPE_GRAY, 0, 1, 1},
-        {"ga8", 8, PNG_COLOR_TYPE_GRAY_ALPHA, 0, 16, 2},
-        {"rgb16", 16, PNG_COLOR_TYPE_RGB, 0, 48, 3},
-        {"rgba16", 16, PNG_COLOR_TYPE_RGB_ALPHA, 0, 64, 4},
-        {"rgb8i", 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_ADAM7, 24, 3},
-        {"pal", 8, PNG_COLOR_TYPE_PALETTE, 0, 8, 4},
+        { "g8", 8, PNG_COLOR_TYPE_GRAY, 0, 8, 1 },
+        { "g16", 16, PNG_COLOR_TYPE_GRAY, 0, 16, 1 },
+        { "g1", 1, PNG_COLOR_TYPE_GRAY, 0, 1, 1 },
+        { "ga8", 8, PNG_COLOR_TYPE_GRAY_ALPHA, 0, 16, 2 },
+        { "rgb16", 16, PNG_COLOR_TYPE_RGB, 0, 48, 3 },
+        { "rgba16", 16, PNG_COLOR_TYPE_RGB_ALPHA, 0, 64, 4 },
+        { "rgb8i", 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_ADAM7, 24, 3 },
+        { "pal", 8, PNG_COLOR_TYPE_PALETTE, 0, 8, 4 },
     };
     png_color pal[256];
     uint8_t trns[256];
@@ -480,7 +491,7 @@ static void test_png(void)
         for (uint32_t y = 0; y < 8; y++)
             for (uint32_t x = 0; x < 8; x++) {
                 const uint8_t *row = data + y * kinds[k].bpr;
-                float want[4] = {0, 0, 0, 1};
+                float want[4] = { 0, 0, 0, 1 };
                 const char *nm = kinds[k].name;
                 if (!strcmp(nm, "g8") || !strcmp(nm, "ga8")) {
                     int s = !strcmp(nm, "ga8") ? 2 : 1;
@@ -495,7 +506,8 @@ static void test_png(void)
                 } else if (!strcmp(nm, "rgb16") || !strcmp(nm, "rgba16")) {
                     int s = nm[3] == 'a' ? 4 : 3;
                     for (int c = 0; c < s; c++) {
-                        float v = (float)(row[2 * (x * s + c)] << 8 | row[2 * (x * s + c) + 1]) / 65535.0f;
+                        float v = (float)(row[2 * (x * s + c)] << 8 | row[2 * (x * s + c) + 1]) /
+                                  65535.0f;
                         want[c] = c < 3 ? lg_srgb_decode(v) : v;
                     }
                 } else if (!strcmp(nm, "rgb8i")) {

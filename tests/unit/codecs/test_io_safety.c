@@ -77,7 +77,7 @@ static void expect_fail(const char *path, const char *what)
     lg_image_free(&img);
 }
 
-/* ---- inputs -------------------------------------------------------------------------- */
+/* ---- inputs ---------------------------------------------------------------------------------- */
 
 typedef struct sample {
     const char *name;
@@ -85,18 +85,18 @@ typedef struct sample {
 } sample;
 
 static const sample samples[] = {
-    {"zip_half.exr", {.exr_compression = LG_EXR_ZIP}},
-    {"piz_rgba.exr", {.exr_compression = LG_EXR_PIZ, .channels = 4}},
-    {"rle_float.exr", {.exr_compression = LG_EXR_RLE, .exr_pixel = LG_EXR_FLOAT}},
-    {"pxr24.exr", {.exr_compression = LG_EXR_PXR24, .exr_pixel = LG_EXR_FLOAT}},
-    {"b44_half.exr", {.exr_compression = LG_EXR_B44}},
-    {"b44_float.exr", {.exr_compression = LG_EXR_B44, .exr_pixel = LG_EXR_FLOAT}}, /* C++ */
-    {"dwab.exr", {.exr_compression = LG_EXR_DWAB}},                                /* C++ */
-    {"dwaa_float.exr", {.exr_compression = LG_EXR_DWAA, .exr_pixel = LG_EXR_FLOAT}},
-    {"rle.hdr", {0}},
-    {"flat.hdr", {0}}, /* 5 pixels wide: flat */
-    {"rgb.png", {.channels = 3}},
-    {"rgba.png", {0}},
+    { "zip_half.exr", { .exr_compression = LG_EXR_ZIP } },
+    { "piz_rgba.exr", { .exr_compression = LG_EXR_PIZ, .channels = 4 } },
+    { "rle_float.exr", { .exr_compression = LG_EXR_RLE, .exr_pixel = LG_EXR_FLOAT } },
+    { "pxr24.exr", { .exr_compression = LG_EXR_PXR24, .exr_pixel = LG_EXR_FLOAT } },
+    { "b44_half.exr", { .exr_compression = LG_EXR_B44 } },
+    { "b44_float.exr", { .exr_compression = LG_EXR_B44, .exr_pixel = LG_EXR_FLOAT } }, /* C++ */
+    { "dwab.exr", { .exr_compression = LG_EXR_DWAB } },                                /* C++ */
+    { "dwaa_float.exr", { .exr_compression = LG_EXR_DWAA, .exr_pixel = LG_EXR_FLOAT } },
+    { "rle.hdr", { 0 } },
+    { "flat.hdr", { 0 } }, /* 5 pixels wide: flat */
+    { "rgb.png", { .channels = 3 } },
+    { "rgba.png", { 0 } },
 };
 
 static void test_bad_inputs(void)
@@ -107,7 +107,8 @@ static void test_bad_inputs(void)
     /* missing file, directory, unknown extension, NULL arguments */
     snprintf(path, sizeof path, "%s/nope.exr", scratch);
     int rc = lg_image_read(path, 0, &img, NULL, err, sizeof err);
-    CHECKF(rc == LG_ERR_NOTFOUND && strstr(err, "nope.exr") && strstr(err, "No such file"), "%s", err);
+    CHECKF(rc == LG_ERR_NOTFOUND && strstr(err, "nope.exr") && strstr(err, "No such file"), "%s",
+           err);
     snprintf(path, sizeof path, "%s/nope.png", scratch);
     CHECK(lg_image_read(path, 0, &img, NULL, err, sizeof err) == LG_ERR_NOTFOUND);
     snprintf(path, sizeof path, "%s/nope.hdr", scratch);
@@ -121,13 +122,14 @@ static void test_bad_inputs(void)
     snprintf(path, sizeof path, "%s/picture.jpg", scratch);
     store(path, "x", 1);
     rc = lg_image_read(path, 0, &img, NULL, err, sizeof err);
-    CHECKF(rc == LG_ERR_UNSUPPORTED && strstr(err, "picture.jpg") && strstr(err, "extension"), "%s", err);
+    CHECKF(rc == LG_ERR_UNSUPPORTED && strstr(err, "picture.jpg") && strstr(err, "extension"), "%s",
+           err);
     CHECK(lg_image_read(path, 0x100, &img, NULL, err, sizeof err) == LG_ERR_INVALID);
     CHECK(lg_image_read(NULL, 0, &img, NULL, err, sizeof err) == LG_ERR_INVALID);
     CHECK(lg_image_read(path, 0, NULL, NULL, NULL, 0) == LG_ERR_INVALID);
 
     /* empty files and wrong magic */
-    const char *empties[] = {"empty.exr", "empty.hdr", "empty.png"};
+    const char *empties[] = { "empty.exr", "empty.hdr", "empty.png" };
     for (int i = 0; i < 3; i++) {
         snprintf(path, sizeof path, "%s/%s", scratch, empties[i]);
         store(path, "", 0);
@@ -168,8 +170,9 @@ static void test_bad_inputs(void)
         const char *dot = strrchr(samples[s].name, '.');
         snprintf(bad, sizeof bad, "%s/bad_%.*s%s", scratch, (int)(dot - samples[s].name),
                  samples[s].name, dot);
-        size_t cuts[] = {1, 2, 3, 4, 7, 8, 20, 50, 100, 300, len / 4, len / 2, 3 * len / 4,
-                         len - 100, len - 10, len - 2, len - 1};
+        size_t cuts[] = { 1,           2,         3,        4,       7,       8,
+                          20,          50,        100,      300,     len / 4, len / 2,
+                          3 * len / 4, len - 100, len - 10, len - 2, len - 1 };
         for (size_t k = 0; k < sizeof cuts / sizeof *cuts; k++) {
             if (cuts[k] >= len || cuts[k] == 0)
                 continue;
@@ -195,7 +198,8 @@ static void test_bad_inputs(void)
             if (rc == 0)
                 CHECK(img.pixels && img.width > 0 && img.height > 0);
             else
-                CHECKF(err[0] && img.pixels == NULL, "%s flip %d: rc %d without message", samples[s].name, it, rc);
+                CHECKF(err[0] && img.pixels == NULL, "%s flip %d: rc %d without message",
+                       samples[s].name, it, rc);
             lg_image_free(&img);
         }
         free(copy);
@@ -209,7 +213,9 @@ static void test_bad_inputs(void)
     unsigned char *dwp = exr ? memmem(exr, len, "dataWindow\0box2i\0", 17) : NULL;
     CHECK(dwp != NULL);
     if (dwp) {
-        int32_t boxes[3][4] = {{0, 0, 2000000000, 2000000000}, {0, 0, 1 << 20, 1 << 20}, {10, 10, 5, 5}};
+        int32_t boxes[3][4] = { { 0, 0, 2000000000, 2000000000 },
+                                { 0, 0, 1 << 20, 1 << 20 },
+                                { 10, 10, 5, 5 } };
         for (int b = 0; b < 3; b++) {
             memcpy(dwp + 17 + 4, boxes[b], 16); /* little-endian, as EXR is */
             snprintf(path, sizeof path, "%s/huge_%d.exr", scratch, b);
@@ -221,7 +227,7 @@ static void test_bad_inputs(void)
     snprintf(path, sizeof path, "%s/rgb.png", scratch);
     unsigned char *png = load(path, &len);
     if (png && len > 33 && !memcmp(png + 12, "IHDR", 4)) {
-        const uint32_t dims[2][2] = {{100000, 100000}, {0x7fffffff, 1}};
+        const uint32_t dims[2][2] = { { 100000, 100000 }, { 0x7fffffff, 1 } };
         for (int b = 0; b < 2; b++) {
             for (int i = 0; i < 2; i++) {
                 png[16 + 4 * i] = (unsigned char)(dims[b][i] >> 24);
@@ -229,7 +235,8 @@ static void test_bad_inputs(void)
                 png[18 + 4 * i] = (unsigned char)(dims[b][i] >> 8);
                 png[19 + 4 * i] = (unsigned char)dims[b][i];
             }
-            uint32_t crc = (uint32_t)crc32(0, png + 12, 17); /* a valid chunk: only the size is absurd */
+            uint32_t crc = (uint32_t)crc32(0, png + 12,
+                                           17); /* a valid chunk: only the size is absurd */
             png[29] = (unsigned char)(crc >> 24);
             png[30] = (unsigned char)(crc >> 16);
             png[31] = (unsigned char)(crc >> 8);
@@ -247,20 +254,23 @@ static void test_bad_inputs(void)
     lg_image_free(&small);
 }
 
-/* ---- outputs ------------------------------------------------------------------------- */
+/* ---- outputs --------------------------------------------------------------------------------- */
 
 static void test_atomic_writes(void)
 {
     char dir[4300], path[4400], err[512];
     lg_image img, got;
     pattern(&img, 256, 256);
-    lg_image_write_opts dwab = {.exr_compression = LG_EXR_DWAB};
-    lg_image_write_opts b44f = {.exr_compression = LG_EXR_B44, .exr_pixel = LG_EXR_FLOAT};
+    lg_image_write_opts dwab = { .exr_compression = LG_EXR_DWAB };
+    lg_image_write_opts b44f = { .exr_compression = LG_EXR_B44, .exr_pixel = LG_EXR_FLOAT };
     struct {
         const char *name;
         const lg_image_write_opts *opts;
-    } outs[] = {{"out.png", NULL}, {"out.hdr", NULL}, {"out.exr", NULL}, {"dwab.exr", &dwab},
-                {"b44f.exr", &b44f}};
+    } outs[] = { { "out.png", NULL },
+                 { "out.hdr", NULL },
+                 { "out.exr", NULL },
+                 { "dwab.exr", &dwab },
+                 { "b44f.exr", &b44f } };
 
     /* into a directory that does not exist: a clean error naming the path */
     snprintf(path, sizeof path, "%s/no/such/dir/out.png", scratch);
@@ -269,13 +279,16 @@ static void test_atomic_writes(void)
 
     /* bad requests */
     snprintf(path, sizeof path, "%s/x.exr", scratch);
-    lg_image_write_opts bad1 = {.channels = 2}, bad2 = {.exr_compression = (lg_exr_compression)42};
-    CHECK(lg_image_write(path, &img, &bad1, err, sizeof err) == LG_ERR_INVALID && strstr(err, "channels"));
+    lg_image_write_opts bad1 = { .channels = 2 },
+                        bad2 = { .exr_compression = (lg_exr_compression)42 };
+    CHECK(lg_image_write(path, &img, &bad1, err, sizeof err) == LG_ERR_INVALID &&
+          strstr(err, "channels"));
     CHECK(lg_image_write(path, &img, &bad2, err, sizeof err) == LG_ERR_INVALID);
-    lg_image none = {0};
+    lg_image none = { 0 };
     CHECK(lg_image_write(path, &none, NULL, err, sizeof err) == LG_ERR_INVALID);
     snprintf(path, sizeof path, "%s/x.tiff", scratch);
-    CHECK(lg_image_write(path, &img, NULL, err, sizeof err) == LG_ERR_UNSUPPORTED && strstr(err, "x.tiff"));
+    CHECK(lg_image_write(path, &img, NULL, err, sizeof err) == LG_ERR_UNSUPPORTED &&
+          strstr(err, "x.tiff"));
     snprintf(path, sizeof path, "%s/", scratch);
     CHECK(lg_image_write(path, &img, NULL, err, sizeof err) != LG_OK);
 
@@ -318,7 +331,7 @@ static void test_atomic_writes(void)
     lim = old_lim;
     lim.rlim_cur = 2000;
     CHECK(setrlimit(RLIMIT_FSIZE, &lim) == 0);
-    int failed[8] = {0};
+    int failed[8] = { 0 };
     char errs[8][512];
     for (size_t i = 0; i < sizeof outs / sizeof *outs; i++) {
         snprintf(path, sizeof path, "%s/%s", dir, outs[i].name);
@@ -334,19 +347,22 @@ static void test_atomic_writes(void)
         CHECKF(d && n == 11 && !memcmp(d, "old content", 11), "%s was changed", outs[i].name);
         free(d);
     }
-    CHECKF(count_entries(dir) == (int)(sizeof outs / sizeof *outs), "temporary files left: %d entries",
-           count_entries(dir));
+    CHECKF(count_entries(dir) == (int)(sizeof outs / sizeof *outs),
+           "temporary files left: %d entries", count_entries(dir));
     lg_image_free(&img);
 }
 
-/* ---- threads ------------------------------------------------------------------------- */
+/* ---- threads --------------------------------------------------------------------------------- */
 
 static void *worker(void *arg)
 {
     intptr_t id = (intptr_t)arg;
-    const char *names[] = {"t.exr", "t.hdr", "t.png", "t_dwab.exr", "t_b44f.exr"};
-    lg_image_write_opts opts[] = {{0}, {0}, {0}, {.exr_compression = LG_EXR_DWAB},
-                                  {.exr_compression = LG_EXR_B44, .exr_pixel = LG_EXR_FLOAT}};
+    const char *names[] = { "t.exr", "t.hdr", "t.png", "t_dwab.exr", "t_b44f.exr" };
+    lg_image_write_opts opts[] = { { 0 },
+                                   { 0 },
+                                   { 0 },
+                                   { .exr_compression = LG_EXR_DWAB },
+                                   { .exr_compression = LG_EXR_B44, .exr_pixel = LG_EXR_FLOAT } };
     lg_image img, got;
     pattern(&img, 40 + (uint32_t)id, 30);
     intptr_t bad = 0;

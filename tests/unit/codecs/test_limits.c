@@ -43,12 +43,12 @@ static const char *at(const char *name)
     return buf[k];
 }
 
-/* ---- PNG files made by hand ------------------------------------------------------------- */
+/* ---- PNG files made by hand ------------------------------------------------------------------ */
 
 static void put32(FILE *f, uint32_t v)
 {
-    unsigned char b[4] = {(unsigned char)(v >> 24), (unsigned char)(v >> 16), (unsigned char)(v >> 8),
-                          (unsigned char)v};
+    unsigned char b[4] = { (unsigned char)(v >> 24), (unsigned char)(v >> 16),
+                           (unsigned char)(v >> 8), (unsigned char)v };
     fwrite(b, 1, 4, f);
 }
 
@@ -131,10 +131,19 @@ static long write_png(const char *path, uint32_t w, uint32_t h, uint64_t idat_ra
     if (!f)
         return -1;
     fwrite("\x89PNG\r\n\x1a\n", 1, 8, f);
-    unsigned char ihdr[13] = {(unsigned char)(w >> 24), (unsigned char)(w >> 16),
-                              (unsigned char)(w >> 8), (unsigned char)w,
-                              (unsigned char)(h >> 24), (unsigned char)(h >> 16),
-                              (unsigned char)(h >> 8), (unsigned char)h, 8, 0, 0, 0, 0};
+    unsigned char ihdr[13] = { (unsigned char)(w >> 24),
+                               (unsigned char)(w >> 16),
+                               (unsigned char)(w >> 8),
+                               (unsigned char)w,
+                               (unsigned char)(h >> 24),
+                               (unsigned char)(h >> 16),
+                               (unsigned char)(h >> 8),
+                               (unsigned char)h,
+                               8,
+                               0,
+                               0,
+                               0,
+                               0 };
     chunk(f, "IHDR", ihdr, 13);
     if (ancillary) {
         size_t zl;
@@ -156,13 +165,13 @@ static long write_png(const char *path, uint32_t w, uint32_t h, uint64_t idat_ra
     return n;
 }
 
-/* ---- a read in a child, with its address space limited ----------------------------------- */
+/* ---- a read in a child, with its address space limited --------------------------------------- */
 
 typedef struct child_result {
-    int ran;            /* the child reported */
+    int ran; /* the child reported */
     int rc;
-    double ms;          /* the read's wall time */
-    long maxrss_kb;     /* the child's peak resident set */
+    double ms;      /* the read's wall time */
+    long maxrss_kb; /* the child's peak resident set */
     char err[600];
 } child_result;
 
@@ -192,7 +201,7 @@ static child_result read_in_child(const char *path, uint64_t as_extra, uint64_t 
         close(fds[0]);
         alarm(20);
         if (as_extra) {
-            struct rlimit rl = {vm_size() + as_extra, RLIM_INFINITY};
+            struct rlimit rl = { vm_size() + as_extra, RLIM_INFINITY };
             setrlimit(RLIMIT_AS, &rl);
         }
         lg_image_set_max_pixels(max_pixels);
@@ -236,16 +245,17 @@ static void expect_refused(const char *what, const char *path, uint64_t max_pixe
     CHECKF(r.ran && r.rc < 0 && strstr(r.err, base), "%s: rc %d, '%s'", what, r.rc, r.err);
     for (int i = 0; want[i]; i++)
         CHECKF(strstr(r.err, want[i]), "%s: '%s' does not say '%s'", what, r.err, want[i]);
-    CHECKF(r.ms < 20000, "%s: %.0f ms to refuse (a hang guard; memory is the bound tested)", what, r.ms);
+    CHECKF(r.ms < 20000, "%s: %.0f ms to refuse (a hang guard; memory is the bound tested)", what,
+           r.ms);
     CHECKF(r.maxrss_kb < RSS_BOUND_KB, "%s: peak RSS %ld KiB", what, r.maxrss_kb);
     printf("%-34s refused in %6.2f ms, peak RSS %5ld KiB: %s\n", what, r.ms, r.maxrss_kb,
            r.err + strlen("cannot read '") + strlen(path) + 3);
 }
 
-/* ---- the cases -------------------------------------------------------------------------- */
+/* ---- the cases ------------------------------------------------------------------------------- */
 
-static const char *const limit_words[] = {"16384 x 16384", "over the limit of 134217728 pixels",
-                                          "LIGHTGRAPH_MAX_PIXELS", "--max-pixels", NULL};
+static const char *const limit_words[] = { "16384 x 16384", "over the limit of 134217728 pixels",
+                                           "LIGHTGRAPH_MAX_PIXELS", "--max-pixels", NULL };
 
 static void test_png_bomb(void)
 {
@@ -256,14 +266,15 @@ static void test_png_bomb(void)
 
     /* limit raised past it: the memory the decode needs (about 5 GiB) is refused, naming the
      * address-space limit of the child */
-    const char *as_words[] = {"16384 x 16384", "needs 5.0 GiB", "RLIMIT_AS", NULL};
+    const char *as_words[] = { "16384 x 16384", "needs 5.0 GiB", "RLIMIT_AS", NULL };
     expect_refused("PNG 16384x16384, limit 2^40", at("bomb16k.png"), 1ull << 40, as_words);
 
     /* 10^6 x 10^6 with the limit raised: 16 TB is more than any machine's memory */
     write_png(at("huge1m.png"), 1000000, 1000000, 100, NULL, 0);
     child_result r = read_in_child(at("huge1m.png"), 0, 1ull << 50);
     CHECKF(r.ran && r.rc == LG_ERR_NOMEM && strstr(r.err, "1000000 x 1000000") &&
-           strstr(r.err, "physical memory"), "10^6 x 10^6: rc %d: %s", r.rc, r.err);
+               strstr(r.err, "physical memory"),
+           "10^6 x 10^6: rc %d: %s", r.rc, r.err);
 
     /* ancillary and IDAT bombs: a zTXt and an iCCP inflating to 64 MiB are skipped, an IDAT
      * that inflates far past its 64 x 64 image stops at the image; bounded either way */
@@ -271,9 +282,9 @@ static void test_png_bomb(void)
         const char *name, *type;
         uint64_t idat, anc;
     } anc[] = {
-        {"ztxt_bomb.png", "zTXt", 64 * 65, 64u << 20},
-        {"iccp_bomb.png", "iCCP", 64 * 65, 64u << 20},
-        {"idat_bomb.png", NULL, 16u << 20, 0},
+        { "ztxt_bomb.png", "zTXt", 64 * 65, 64u << 20 },
+        { "iccp_bomb.png", "iCCP", 64 * 65, 64u << 20 },
+        { "idat_bomb.png", NULL, 16u << 20, 0 },
     };
     for (size_t i = 0; i < sizeof anc / sizeof *anc; i++) {
         write_png(at(anc[i].name), 64, 64, anc[i].idat, anc[i].type, anc[i].anc);
@@ -300,7 +311,7 @@ static int patch_exr_window(const char *src, const char *dst, int32_t x1, int32_
     unsigned char *dw = memmem(buf, n, "dataWindow\0box2i\0", 17);
     if (!dw)
         return -1;
-    int32_t box[4] = {0, 0, x1, y1};
+    int32_t box[4] = { 0, 0, x1, y1 };
     memcpy(dw + 17 + 4, box, 16);
     f = fopen(dst, "wb");
     fwrite(buf, 1, n, f);
@@ -319,8 +330,8 @@ static void test_exr_window(void)
     expect_refused("EXR window 16384x16384 (scanline)", at("window16k.exr"), 0, limit_words);
 
     char tiled[4300];
-    CHECK(patch_exr_window(asset_path("../tests/fuzz/corpus_image/tiled_mipmap_float.exr",
-                                      tiled, sizeof tiled),
+    CHECK(patch_exr_window(asset_path("../tests/fuzz/corpus_image/tiled_mipmap_float.exr", tiled,
+                                      sizeof tiled),
                            at("tiled16k.exr"), 16383, 16383) == 0);
     expect_refused("EXR window 16384x16384 (tiled)", at("tiled16k.exr"), 0, limit_words);
 }
@@ -342,7 +353,7 @@ static void test_raise_limit(void)
     lg_image_alloc(&img, 20, 20);
     for (size_t i = 0; i < 20 * 20 * 4; i++)
         img.pixels[i] = 0.25f;
-    const char *names[] = {"p20.png", "p20.exr", "p20.hdr"};
+    const char *names[] = { "p20.png", "p20.exr", "p20.hdr" };
     char err[512];
     for (int i = 0; i < 3; i++)
         CHECKF(lg_image_write(at(names[i]), &img, NULL, err, sizeof err) == 0, "%s", err);
@@ -352,12 +363,13 @@ static void test_raise_limit(void)
         lg_image_set_max_pixels(100);
         int rc = lg_image_read(at(names[i]), 0, &img, NULL, err, sizeof err);
         CHECKF(rc == LG_ERR_INVALID && strstr(err, names[i]) && strstr(err, "20 x 20") &&
-               strstr(err, "limit of 100 pixels"), "%s at 100: rc %d, %s", names[i], rc, err);
+                   strstr(err, "limit of 100 pixels"),
+               "%s at 100: rc %d, %s", names[i], rc, err);
         CHECK(img.pixels == NULL);
         lg_image_set_max_pixels(400);
         rc = lg_image_read(at(names[i]), 0, &img, NULL, err, sizeof err);
-        CHECKF(rc == 0 && img.width == 20 && img.height == 20, "%s at 400: rc %d, %s", names[i],
-               rc, err);
+        CHECKF(rc == 0 && img.width == 20 && img.height == 20, "%s at 400: rc %d, %s", names[i], rc,
+               err);
         lg_image_free(&img);
     }
     lg_image_set_max_pixels(0);
@@ -408,7 +420,8 @@ static void test_special_files(void)
     CHECK(lg_image_max_file_bytes() == 64u << 20);
     int rc = lg_image_read(at("sparse.exr"), 0, &img, NULL, err, sizeof err);
     CHECKF(rc < 0 && strstr(err, "sparse.exr") && strstr(err, "over the 64.0 MiB limit") &&
-           strstr(err, "--max-pixels"), "sparse: %s", err);
+               strstr(err, "--max-pixels"),
+           "sparse: %s", err);
     lg_image_set_max_pixels(0);
     CHECK(lg_image_max_file_bytes() == 32 * LG_IMAGE_MAX_PIXELS_DEFAULT);
     /* ... which the default limit (4 GiB) lets through to the decoder */

@@ -10,7 +10,7 @@
 
 static void roundtrip(float r, float g, float b, float out[3], uint8_t e[4])
 {
-    float in[3] = {r, g, b};
+    float in[3] = { r, g, b };
     lg_rgbe_encode(in, e);
     lg_rgbe_decode(e, out);
 }
@@ -41,11 +41,12 @@ int main(void)
     for (int k = -126; k <= 126; k++) {
         float v = ldexpf(1.0f, k);
         for (int c = 0; c < 3; c++) {
-            float in[3] = {0, 0, 0};
+            float in[3] = { 0, 0, 0 };
             in[c] = v;
             lg_rgbe_encode(in, e);
             lg_rgbe_decode(e, o);
-            CHECKF(o[c] == v && e[c] == 128, "2^%d in channel %d -> %a (m=%d)", k, c, (double)o[c], e[c]);
+            CHECKF(o[c] == v && e[c] == 128, "2^%d in channel %d -> %a (m=%d)", k, c, (double)o[c],
+                   e[c]);
         }
         if (k >= -119) {
             roundtrip(v, v / 2, v / 128, o, e);
@@ -73,14 +74,15 @@ int main(void)
     CHECK(e[3] == 255 && o[0] == top);
     roundtrip(0x1.8p126f, 0x1p126f, 0.0f, o, e); /* largest binade, exact */
     CHECK(e[3] == 255 && o[0] == 0x1.8p126f && o[1] == 0x1p126f);
-    uint8_t maxe[4] = {255, 255, 255, 255};
+    uint8_t maxe[4] = { 255, 255, 255, 255 };
     lg_rgbe_decode(maxe, o);
     CHECK(o[0] == top && o[1] == top && o[2] == top);
 
     /* every normalised code (max mantissa >= 128) survives decode -> encode */
     for (int ex = 1; ex <= 255; ex++) {
         for (int m = 128; m <= 255; m++) {
-            uint8_t in[4] = {(uint8_t)m, (uint8_t)(m / 3), (uint8_t)(255 - m), (uint8_t)ex}, out[4];
+            uint8_t in[4] = { (uint8_t)m, (uint8_t)(m / 3), (uint8_t)(255 - m), (uint8_t)ex },
+                    out[4];
             float f[3];
             lg_rgbe_decode(in, f);
             if (f[0] < FLT_MIN)

@@ -41,7 +41,7 @@ static const lg_host_api test_host = {
     .error = devtest_error,
 };
 
-static lg_node test_node = {.host = &test_host, .name = "test"};
+static lg_node test_node = { .host = &test_host, .name = "test" };
 
 lg_node *devtest_node(void)
 {
@@ -54,7 +54,7 @@ void devtest_clear(void)
     devtest_error_count = 0;
 }
 
-/* ---- a fake host with GL --------------------------------------------------------------- */
+/* ---- a fake host with GL --------------------------------------------------------------------- */
 
 const lg_gl *devtest_gl;
 

@@ -30,7 +30,7 @@ void devtest_clear(void);
 void devtest_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap);
 void devtest_error(lg_node *n, const char *fmt, va_list ap);
 
-/* ---- a fake host with GL --------------------------------------------------------------- */
+/* ---- a fake host with GL --------------------------------------------------------------------- */
 
 /* The GL table the fake host hands out (lg_host_api.gl); the test sets it once it has made
  * its device (lg_gl_device_table). */
@@ -50,9 +50,9 @@ int devtest_host_gl_check(lg_node *n, const char *what);
 
 /* The first members of a GL test's fake host: an lg_host_api initialiser starts
  * { DEVTEST_GL_HOST, .account_alloc = ..., ... } and adds what the test needs. */
-#define DEVTEST_GL_HOST                                                                     \
-    .struct_size = sizeof(lg_host_api), .abi_major = LG_ABI_MAJOR,                         \
-    .abi_minor = LG_ABI_MINOR, .log = devtest_log, .error = devtest_error,                 \
-    .gl = devtest_host_gl, .gl_check = devtest_host_gl_check
+#define DEVTEST_GL_HOST                                                                            \
+    .struct_size = sizeof(lg_host_api), .abi_major = LG_ABI_MAJOR, .abi_minor = LG_ABI_MINOR,      \
+    .log = devtest_log, .error = devtest_error, .gl = devtest_host_gl,                             \
+    .gl_check = devtest_host_gl_check
 
 #endif

@@ -7,18 +7,16 @@
 #include "exec/device.h"
 #include "devtest.h"
 
-static const char square_cl[] =
-    "kernel void square(global const float *a, global float *b)\n"
-    "{\n"
-    "    size_t i = get_global_id(0);\n"
-    "    b[i] = a[i] * a[i] + OFFSET;\n"
-    "}\n";
+static const char square_cl[] = "kernel void square(global const float *a, global float *b)\n"
+                                "{\n"
+                                "    size_t i = get_global_id(0);\n"
+                                "    b[i] = a[i] * a[i] + OFFSET;\n"
+                                "}\n";
 
-static const char bad_cl[] =
-    "kernel void broken(global float *a)\n"
-    "{\n"
-    "    a[0] = undeclared_thing;\n"
-    "}\n";
+static const char bad_cl[] = "kernel void broken(global float *a)\n"
+                             "{\n"
+                             "    a[0] = undeclared_thing;\n"
+                             "}\n";
 
 enum { N = 1024 };
 
@@ -60,12 +58,11 @@ static void test_run(lg_cl_dev *dev, cl_program prog)
     CHECKF(bad == 0, "%d of %d values wrong", bad, N);
     if (ev) {
         cl_ulong start = 0, end = 0;
-        cl_int e1 = clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start,
-                                            &start, NULL);
-        cl_int e2 = clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof end, &end,
+        cl_int e1 = clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof start, &start,
                                             NULL);
-        CHECKF(e1 == CL_SUCCESS && e2 == CL_SUCCESS, "profiling info: %s / %s",
-               lg_cl_strerror(e1), lg_cl_strerror(e2));
+        cl_int e2 = clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof end, &end, NULL);
+        CHECKF(e1 == CL_SUCCESS && e2 == CL_SUCCESS, "profiling info: %s / %s", lg_cl_strerror(e1),
+               lg_cl_strerror(e2));
         CHECKF(end >= start, "profiling: end %llu < start %llu", (unsigned long long)end,
                (unsigned long long)start);
         printf("kernel over %d items: %.3f ms (profiling event)\n", N, (end - start) * 1e-6);
@@ -97,8 +94,8 @@ int main(void)
            "missing handles");
 
     cl_command_queue_properties props = 0;
-    cl_int e = clGetCommandQueueInfo(lg_cl_device_queue(dev), CL_QUEUE_PROPERTIES,
-                                     sizeof props, &props, NULL);
+    cl_int e = clGetCommandQueueInfo(lg_cl_device_queue(dev), CL_QUEUE_PROPERTIES, sizeof props,
+                                     &props, NULL);
     CHECKF(e == CL_SUCCESS && (props & CL_QUEUE_PROFILING_ENABLE), "queue properties 0x%llx",
            (unsigned long long)props);
     CHECKF(!(props & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE), "queue is out of order");
@@ -119,13 +116,11 @@ int main(void)
     t0 = devtest_now();
     cl_program again = lg_cl_device_program(dev, "square.cl", square_cl, "-DOFFSET=0.5f", &log);
     t1 = devtest_now();
-    CHECKF(again == prog, "cache miss for the same source: %p vs %p", (void *)again,
-           (void *)prog);
+    CHECKF(again == prog, "cache miss for the same source: %p vs %p", (void *)again, (void *)prog);
     printf("cl: cached lookup in %.3f ms\n", (t1 - t0) * 1e3);
     /* ...other options another one. */
     cl_program other = lg_cl_device_program(dev, "square.cl", square_cl, "-DOFFSET=1.5f", &log);
-    CHECKF(other != NULL && other != prog, "other options: %p vs %p", (void *)other,
-           (void *)prog);
+    CHECKF(other != NULL && other != prog, "other options: %p vs %p", (void *)other, (void *)prog);
     free(log);
     log = NULL;
 

@@ -25,14 +25,14 @@
 #include "devtest.h"
 
 static lg_cl_dev *dev;
-static int events;                      /* cl_profile calls */
-static int64_t live;                    /* account_alloc - account_free */
+static int events;   /* cl_profile calls */
+static int64_t live; /* account_alloc - account_free */
 static int allocs, frees;
 
 /* A fake resource: what map_cl gives, and the access it was last mapped with. */
 struct lg_resource {
     cl_mem mem;
-    int fail;           /* map_cl reports and returns LG_ERR_DEVICE */
+    int fail; /* map_cl reports and returns LG_ERR_DEVICE */
     unsigned access;
 };
 
@@ -100,19 +100,22 @@ static const char kernel_cl[] =
     "        b[i] = twin_f(a[i]) * s + v.y;\n"
     "}\n";
 
-static const char broken_cl[] =
-    "kernel void broken(global float *a)\n"
-    "{\n"
-    "    a[0] = twin_f(undeclared_thing);\n"
-    "}\n";
+static const char broken_cl[] = "kernel void broken(global float *a)\n"
+                                "{\n"
+                                "    a[0] = twin_f(undeclared_thing);\n"
+                                "}\n";
 
 static const char *const srcs[] = { twin_cl, kernel_cl };
 static const char *const names[] = { "twin.cl", "scale.cl" };
 
 static lg_cl_pass_desc desc(void)
 {
-    lg_cl_pass_desc d = { .name = "test scale", .sources = srcs, .source_names = names,
-                          .n_sources = 2, .options = "-cl-std=CL1.2", .kernel = "scale_add" };
+    lg_cl_pass_desc d = { .name = "test scale",
+                          .sources = srcs,
+                          .source_names = names,
+                          .n_sources = 2,
+                          .options = "-cl-std=CL1.2",
+                          .kernel = "scale_add" };
     return d;
 }
 
@@ -168,8 +171,7 @@ static void test_run(void)
     CHECKF(rc == LG_ERR_DEVICE, "wrong size returned %d", rc);
     CHECKF(devtest_error_count == 1, "%d errors: %s", devtest_error_count, devtest_errors);
     CHECKF(has("cl pass 'test scale'") && has("kernel scale_add") && has("argument 2") &&
-               has("'n'") && has("(uint)") && has("8 bytes") &&
-               has("CL_INVALID_ARG_SIZE (-51)"),
+               has("'n'") && has("(uint)") && has("8 bytes") && has("CL_INVALID_ARG_SIZE (-51)"),
            "message: %s", devtest_errors);
     printf("wrong size: %s\n", devtest_errors);
     /* the other arguments still set: the run fails only for that one, without enqueueing
@@ -311,13 +313,13 @@ static void test_create_errors(void)
         const char *what, *expect;
         lg_cl_pass_desc d;
     } bad[] = {
-        {"no name", "has no name", desc()},
-        {"no kernel", "no kernel name", desc()},
-        {"NULL source", "sources[1] is NULL", desc()},
-        {"no sources", "no sources", desc()},
-        {"reserved", "reserved[2] is not zero", desc()},
-        {"struct_size", "struct_size 12", desc()},
-        {"quote", "source_names[0] is \"tw\"in.cl\"", desc()},
+        { "no name", "has no name", desc() },
+        { "no kernel", "no kernel name", desc() },
+        { "NULL source", "sources[1] is NULL", desc() },
+        { "no sources", "no sources", desc() },
+        { "reserved", "reserved[2] is not zero", desc() },
+        { "struct_size", "struct_size 12", desc() },
+        { "quote", "source_names[0] is \"tw\"in.cl\"", desc() },
     };
     static const char *const nullsrc[] = { twin_cl, NULL };
     static const char *const quoted[] = { "tw\"in.cl", "scale.cl" };
@@ -332,8 +334,8 @@ static void test_create_errors(void)
         devtest_clear();
         p = (lg_cl_pass *)&node;
         rc = lg_cl_pass_create(&node, &bad[i].d, &p);
-        CHECKF(rc == LG_ERR_INVALID && p == NULL && has(bad[i].expect), "%s: %d: %s",
-               bad[i].what, rc, devtest_errors);
+        CHECKF(rc == LG_ERR_INVALID && p == NULL && has(bad[i].expect), "%s: %d: %s", bad[i].what,
+               rc, devtest_errors);
     }
 }
 
@@ -367,8 +369,8 @@ static void test_buffers(void)
     /* other flags: remade */
     CHECK(lg_cl_buffer_recreate(&node, &b, 100, CL_MEM_READ_ONLY) == 0);
     CHECKF(b.size == 100 && b.flags == CL_MEM_READ_ONLY && live - live0 == 100,
-           "other flags: size %zu flags 0x%llx live %lld", b.size,
-           (unsigned long long)b.flags, (long long)(live - live0));
+           "other flags: size %zu flags 0x%llx live %lld", b.size, (unsigned long long)b.flags,
+           (long long)(live - live0));
     /* ranges */
     devtest_clear();
     CHECK(lg_cl_buffer_write(&node, &b, 60, 41, pat) == LG_ERR_INVALID);
@@ -437,8 +439,10 @@ int main(void)
     test_unset_and_resources();
     test_create_errors();
     test_buffers();
-    CHECKF(live == 0 && allocs == frees, "account after every test: live %lld, %d allocations, "
-                                         "%d frees", (long long)live, allocs, frees);
+    CHECKF(live == 0 && allocs == frees,
+           "account after every test: live %lld, %d allocations, "
+           "%d frees",
+           (long long)live, allocs, frees);
     lg_cl_device_destroy(&dev);
     return check_report("cl_pass");
 }

@@ -15,21 +15,21 @@ int main(void)
         cl_int code;
         const char *name;
     } cl[] = {
-        {CL_SUCCESS, "CL_SUCCESS"},
-        {CL_DEVICE_NOT_FOUND, "CL_DEVICE_NOT_FOUND"},
-        {CL_BUILD_PROGRAM_FAILURE, "CL_BUILD_PROGRAM_FAILURE"},
-        {CL_KERNEL_ARG_INFO_NOT_AVAILABLE, "CL_KERNEL_ARG_INFO_NOT_AVAILABLE"},
-        {CL_INVALID_VALUE, "CL_INVALID_VALUE"},
-        {CL_INVALID_BUILD_OPTIONS, "CL_INVALID_BUILD_OPTIONS"},
-        {CL_INVALID_DEVICE_PARTITION_COUNT, "CL_INVALID_DEVICE_PARTITION_COUNT"},
-        {-69, "CL_INVALID_PIPE_SIZE"},
-        {-70, "CL_INVALID_DEVICE_QUEUE"},
-        {-71, "CL_INVALID_SPEC_ID"},
-        {-72, "CL_MAX_SIZE_RESTRICTION_EXCEEDED"},
-        {-1001, "CL_PLATFORM_NOT_FOUND_KHR"},
-        {-20, "unknown"},
-        {1, "unknown"},
-        {-73, "unknown"},
+        { CL_SUCCESS, "CL_SUCCESS" },
+        { CL_DEVICE_NOT_FOUND, "CL_DEVICE_NOT_FOUND" },
+        { CL_BUILD_PROGRAM_FAILURE, "CL_BUILD_PROGRAM_FAILURE" },
+        { CL_KERNEL_ARG_INFO_NOT_AVAILABLE, "CL_KERNEL_ARG_INFO_NOT_AVAILABLE" },
+        { CL_INVALID_VALUE, "CL_INVALID_VALUE" },
+        { CL_INVALID_BUILD_OPTIONS, "CL_INVALID_BUILD_OPTIONS" },
+        { CL_INVALID_DEVICE_PARTITION_COUNT, "CL_INVALID_DEVICE_PARTITION_COUNT" },
+        { -69, "CL_INVALID_PIPE_SIZE" },
+        { -70, "CL_INVALID_DEVICE_QUEUE" },
+        { -71, "CL_INVALID_SPEC_ID" },
+        { -72, "CL_MAX_SIZE_RESTRICTION_EXCEEDED" },
+        { -1001, "CL_PLATFORM_NOT_FOUND_KHR" },
+        { -20, "unknown" },
+        { 1, "unknown" },
+        { -73, "unknown" },
     };
     for (size_t i = 0; i < sizeof cl / sizeof cl[0]; i++)
         CHECKF(strcmp(lg_cl_strerror(cl[i].code), cl[i].name) == 0, "%d: '%s', expected '%s'",
@@ -41,7 +41,8 @@ int main(void)
 
     CHECKF(strcmp(lg_gl_strerror(GL_INVALID_ENUM), "GL_INVALID_ENUM") == 0, "GL_INVALID_ENUM");
     CHECKF(strcmp(lg_gl_strerror(GL_INVALID_FRAMEBUFFER_OPERATION),
-                  "GL_INVALID_FRAMEBUFFER_OPERATION") == 0, "GL_INVALID_FRAMEBUFFER_OPERATION");
+                  "GL_INVALID_FRAMEBUFFER_OPERATION") == 0,
+           "GL_INVALID_FRAMEBUFFER_OPERATION");
     CHECKF(strcmp(lg_gl_strerror(GL_OUT_OF_MEMORY), "GL_OUT_OF_MEMORY") == 0, "OOM");
     CHECKF(strcmp(lg_gl_strerror(0x1234), "unknown GL error") == 0, "0x1234");
 
@@ -70,8 +71,8 @@ int main(void)
         lg_gl_device_destroy(&gl);
     } else {
         CHECKF(rc == LG_ERR_DEVICE && gl == NULL, "softpipe: rc %d", rc);
-        CHECKF(strstr(err, "GALLIUM_DRIVER=softpipe") || strstr(err, "not found"),
-               "message: %s", err);
+        CHECKF(strstr(err, "GALLIUM_DRIVER=softpipe") || strstr(err, "not found"), "message: %s",
+               err);
         printf("osmesa with GALLIUM_DRIVER=softpipe: %s\n", err);
     }
 

@@ -8,41 +8,37 @@
 #include "devtest.h"
 #include "lightgraph/gl.h"
 
-static const char square_comp[] =
-    "#version 450\n"
-    "layout(local_size_x = 64) in;\n"
-    "layout(std430, binding = 0) buffer Out { uint v[]; };\n"
-    "void main()\n"
-    "{\n"
-    "    uint i = gl_GlobalInvocationID.x;\n"
-    "    v[i] = i * SCALE + OFFSET;\n"
-    "}\n";
+static const char square_comp[] = "#version 450\n"
+                                  "layout(local_size_x = 64) in;\n"
+                                  "layout(std430, binding = 0) buffer Out { uint v[]; };\n"
+                                  "void main()\n"
+                                  "{\n"
+                                  "    uint i = gl_GlobalInvocationID.x;\n"
+                                  "    v[i] = i * SCALE + OFFSET;\n"
+                                  "}\n";
 
 /* The error sits on line 5 of the file; the defines must not shift it. */
-static const char bad_comp[] =
-    "#version 450\n"
-    "layout(local_size_x = 1) in;\n"
-    "void main()\n"
-    "{\n"
-    "    this is not glsl;\n"
-    "}\n";
+static const char bad_comp[] = "#version 450\n"
+                               "layout(local_size_x = 1) in;\n"
+                               "void main()\n"
+                               "{\n"
+                               "    this is not glsl;\n"
+                               "}\n";
 
 /* #version after a comment header: the error is on line 7. */
-static const char bad_late_version_comp[] =
-    "// A shader whose #version is not on line 1.\n"
-    "\n"
-    "#version 450\n"
-    "layout(local_size_x = 1) in;\n"
-    "void main()\n"
-    "{\n"
-    "    this is not glsl;\n"
-    "}\n";
+static const char bad_late_version_comp[] = "// A shader whose #version is not on line 1.\n"
+                                            "\n"
+                                            "#version 450\n"
+                                            "layout(local_size_x = 1) in;\n"
+                                            "void main()\n"
+                                            "{\n"
+                                            "    this is not glsl;\n"
+                                            "}\n";
 
 /* Compiles, but a compute program needs main(). */
-static const char nomain_comp[] =
-    "#version 450\n"
-    "layout(local_size_x = 1) in;\n"
-    "void helper() {}\n";
+static const char nomain_comp[] = "#version 450\n"
+                                  "layout(local_size_x = 1) in;\n"
+                                  "void helper() {}\n";
 
 enum { N = 256 };
 
@@ -71,7 +67,7 @@ static GLuint test_compute(const lg_gl *gl)
 {
     lg_node *node = devtest_node();
     devtest_clear();
-    lg_gl_shader_src src = {GL_COMPUTE_SHADER, "square.comp", square_comp};
+    lg_gl_shader_src src = { GL_COMPUTE_SHADER, "square.comp", square_comp };
     GLuint prog = lg_gl_program(node, gl, &src, 1, "#define SCALE 3u\n#define OFFSET 7u");
     CHECKF(prog != 0, "lg_gl_program failed: %s", devtest_errors);
     CHECKF(devtest_error_count == 0, "errors reported: %s", devtest_errors);
@@ -109,16 +105,15 @@ static const char fullscreen_vert[] =
     "    vec2 p[3] = vec2[](vec2(-1, -1), vec2(3, -1), vec2(-1, 3));\n"
     "    gl_Position = vec4(p[gl_VertexID], 0, 1);\n"
     "}\n";
-static const char busy_frag[] =
-    "#version 450\n"
-    "out vec4 color;\n"
-    "void main()\n"
-    "{\n"
-    "    vec4 a = vec4(0);\n"
-    "    for (int i = 0; i < 64; i++)\n"
-    "        a += sin(gl_FragCoord.xyxy * float(i));\n"
-    "    color = a;\n"
-    "}\n";
+static const char busy_frag[] = "#version 450\n"
+                                "out vec4 color;\n"
+                                "void main()\n"
+                                "{\n"
+                                "    vec4 a = vec4(0);\n"
+                                "    for (int i = 0; i < 64; i++)\n"
+                                "        a += sin(gl_FragCoord.xyxy * float(i));\n"
+                                "    color = a;\n"
+                                "}\n";
 
 /* GL_TIME_ELAPSED around a draw gives a duration: more than zero and no more than the
  * wall time from BeginQuery to the result. (llvmpipe times only rasterizer work: compute
@@ -127,8 +122,8 @@ static void test_timer(const lg_gl *gl)
 {
     lg_node *node = devtest_node();
     devtest_clear();
-    lg_gl_shader_src src[2] = {{GL_VERTEX_SHADER, "fullscreen.vert", fullscreen_vert},
-                               {GL_FRAGMENT_SHADER, "busy.frag", busy_frag}};
+    lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "fullscreen.vert", fullscreen_vert },
+                                { GL_FRAGMENT_SHADER, "busy.frag", busy_frag } };
     GLuint prog = lg_gl_program(node, gl, src, 2, NULL);
     CHECKF(prog != 0, "draw program: %s", devtest_errors);
     if (!prog)
@@ -200,7 +195,7 @@ static void test_program_errors(const lg_gl *gl)
 
     /* A syntax error: the message names the file, the stage, and the file's line. */
     devtest_clear();
-    lg_gl_shader_src bad = {GL_COMPUTE_SHADER, "bad.comp", bad_comp};
+    lg_gl_shader_src bad = { GL_COMPUTE_SHADER, "bad.comp", bad_comp };
     GLuint prog = lg_gl_program(node, gl, &bad, 1, "#define A 1\n#define B 2\n#define C 3\n");
     CHECKF(prog == 0, "a syntax error compiled");
     CHECKF(devtest_error_count == 1, "%d errors reported", devtest_error_count);
@@ -212,12 +207,12 @@ static void test_program_errors(const lg_gl *gl)
     /* The same without defines points at the same line. */
     devtest_clear();
     prog = lg_gl_program(node, gl, &bad, 1, NULL);
-    CHECKF(prog == 0 && strstr(devtest_errors, "0:5(") != NULL,
-           "without defines: %s", devtest_errors);
+    CHECKF(prog == 0 && strstr(devtest_errors, "0:5(") != NULL, "without defines: %s",
+           devtest_errors);
 
     /* Defines after a #version that is not on the first line. */
     devtest_clear();
-    lg_gl_shader_src late = {GL_COMPUTE_SHADER, "late.comp", bad_late_version_comp};
+    lg_gl_shader_src late = { GL_COMPUTE_SHADER, "late.comp", bad_late_version_comp };
     prog = lg_gl_program(node, gl, &late, 1, "#define A 1\n");
     CHECKF(prog == 0 && strstr(devtest_errors, "late.comp: compute shader compile failed") &&
                strstr(devtest_errors, "0:7("),
@@ -225,7 +220,7 @@ static void test_program_errors(const lg_gl *gl)
 
     /* Link failure. */
     devtest_clear();
-    lg_gl_shader_src nomain = {GL_COMPUTE_SHADER, "nomain.comp", nomain_comp};
+    lg_gl_shader_src nomain = { GL_COMPUTE_SHADER, "nomain.comp", nomain_comp };
     prog = lg_gl_program(node, gl, &nomain, 1, NULL);
     CHECKF(prog == 0, "a program without main linked");
     CHECKF(strstr(devtest_errors, "nomain.comp: link failed") != NULL, "message: %s",
@@ -233,19 +228,19 @@ static void test_program_errors(const lg_gl *gl)
 
     /* Defines without a #version line to put them after. */
     devtest_clear();
-    lg_gl_shader_src noversion = {GL_COMPUTE_SHADER, "noversion.comp", "void main() {}\n"};
+    lg_gl_shader_src noversion = { GL_COMPUTE_SHADER, "noversion.comp", "void main() {}\n" };
     prog = lg_gl_program(node, gl, &noversion, 1, "#define X 1");
     CHECKF(prog == 0 && strstr(devtest_errors, "noversion.comp: no #version line") != NULL,
            "message: %s", devtest_errors);
 
     /* Bad arguments. */
     devtest_clear();
-    lg_gl_shader_src nosrc = {GL_COMPUTE_SHADER, "nosrc.comp", NULL};
+    lg_gl_shader_src nosrc = { GL_COMPUTE_SHADER, "nosrc.comp", NULL };
     CHECKF(lg_gl_program(node, gl, &nosrc, 1, NULL) == 0 &&
                strstr(devtest_errors, "nosrc.comp: no source") != NULL,
            "message: %s", devtest_errors);
     devtest_clear();
-    lg_gl_shader_src badstage = {GL_TEXTURE_2D, "x.glsl", square_comp};
+    lg_gl_shader_src badstage = { GL_TEXTURE_2D, "x.glsl", square_comp };
     CHECKF(lg_gl_program(node, gl, &badstage, 1, NULL) == 0 &&
                strstr(devtest_errors, "unknown shader stage") != NULL,
            "message: %s", devtest_errors);
@@ -285,12 +280,11 @@ static void test_state(const lg_gl *gl, GLuint prog)
     gl->ActiveTexture(GL_TEXTURE2);
     gl->UseProgram(prog);
     CHECKF(lg_gl_state_check(gl, err, sizeof err) == -1, "deviations passed");
-    static const char *const expected[] = {"GL_CURRENT_PROGRAM", "GL_IMAGE_BINDING_NAME[3]",
-                                           "GL_DRAW_FRAMEBUFFER_BINDING", "GL_ACTIVE_TEXTURE"};
+    static const char *const expected[] = { "GL_CURRENT_PROGRAM", "GL_IMAGE_BINDING_NAME[3]",
+                                            "GL_DRAW_FRAMEBUFFER_BINDING", "GL_ACTIVE_TEXTURE" };
     for (size_t i = 0; i < sizeof expected / sizeof expected[0]; i++)
         CHECKF(strstr(err, expected[i]) != NULL, "'%s' not named in: %s", expected[i], err);
-    CHECKF(strstr(err, "GL_READ_FRAMEBUFFER_BINDING") == NULL, "read framebuffer named: %s",
-           err);
+    CHECKF(strstr(err, "GL_READ_FRAMEBUFFER_BINDING") == NULL, "read framebuffer named: %s", err);
     printf("state check message: %s\n", err);
 
     /* A short buffer is truncated, not overrun; the verdict is the same. */

@@ -11,7 +11,7 @@
 #include "devtest.h"
 #include "lightgraph/gl.h"
 
-/* ---- a fake host: devtest.h's errors and GL, the accounting ------------------------------ */
+/* ---- a fake host: devtest.h's errors and GL, the accounting ---------------------------------- */
 
 static uint64_t live, peak, n_alloc, n_free, bytes_alloc, bytes_free;
 
@@ -58,7 +58,7 @@ static bool buffer_holds(GLuint name, const void *want, size_t size)
     return memcmp(got, want, size) == 0;
 }
 
-/* ---- buffers ------------------------------------------------------------------------------- */
+/* ---- buffers --------------------------------------------------------------------------------- */
 
 static void test_buffer(void)
 {
@@ -100,8 +100,8 @@ static void test_buffer(void)
     /* larger: remade, the old one released first (peak = the larger, not the sum) */
     CHECKF(lg_gl_buffer_recreate(&node, &b, sizeof c, 0, c) == 0, "larger: %s", devtest_errors);
     CHECK(b.size == sizeof c && n_alloc == 2 && n_free == 1);
-    CHECKF(live == sizeof c && peak == sizeof c, "live %llu peak %llu",
-           (unsigned long long)live, (unsigned long long)peak);
+    CHECKF(live == sizeof c && peak == sizeof c, "live %llu peak %llu", (unsigned long long)live,
+           (unsigned long long)peak);
     CHECKF(buffer_holds(b.name, c, sizeof c), "the data of a remade buffer");
     CHECK(!gl->IsBuffer(first) || b.name == first); /* GL may hand the name out again */
 
@@ -184,7 +184,7 @@ static void test_buffer(void)
     CHECK(gl->GetError() == GL_NO_ERROR);
 }
 
-/* ---- textures ------------------------------------------------------------------------------ */
+/* ---- textures -------------------------------------------------------------------------------- */
 
 static GLint level_param(GLuint tex, GLint level, GLenum what)
 {
@@ -202,8 +202,7 @@ static void expect_refused(const lg_gl_texture_desc *d, const char *words, const
     CHECKF(rc == LG_ERR_INVALID && strstr(devtest_errors, words) && devtest_error_count == 1,
            "%s: rc %d, errors '%s' (want '%s')", what, rc, devtest_errors, words);
     CHECKF(t.name == 0 && n_alloc == allocs, "%s: something was made", what);
-    CHECKF(lg_gl_texture_bytes(d) == 0 || strstr(what, "limit"), "%s: bytes of a bad desc",
-           what);
+    CHECKF(lg_gl_texture_bytes(d) == 0 || strstr(what, "limit"), "%s: bytes of a bad desc", what);
     CHECK(devtest_gl->GetError() == GL_NO_ERROR);
 }
 
@@ -213,8 +212,9 @@ static void test_texture(void)
     reset_counts();
     devtest_clear();
     lg_gl_texture t = { 0 };
-    lg_gl_texture_desc d = { .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = 5,
-                             .height = 3 };
+    lg_gl_texture_desc d = {
+        .target = GL_TEXTURE_2D, .format = GL_RGBA32F, .width = 5, .height = 3
+    };
 
     /* made: 1, the size and format asked, counted, complete as made */
     CHECKF(lg_gl_texture_recreate(&node, &t, &d) == 1, "make: %s", devtest_errors);
@@ -227,8 +227,7 @@ static void test_texture(void)
     GLint minf = 0, wrap = 0;
     gl->GetTextureParameteriv(t.name, GL_TEXTURE_MIN_FILTER, &minf);
     gl->GetTextureParameteriv(t.name, GL_TEXTURE_WRAP_S, &wrap);
-    CHECKF(minf == GL_NEAREST && wrap == GL_CLAMP_TO_EDGE, "min filter 0x%x wrap 0x%x", minf,
-           wrap);
+    CHECKF(minf == GL_NEAREST && wrap == GL_CLAMP_TO_EDGE, "min filter 0x%x wrap 0x%x", minf, wrap);
 
     /* the same desc, and one spelling the defaults out: kept (0) */
     GLuint first = t.name;
@@ -252,14 +251,14 @@ static void test_texture(void)
     /* another format: remade */
     lg_gl_texture_desc d3 = d;
     d3.format = GL_R32UI;
-    CHECK(lg_gl_texture_recreate(&node, &t, &d3) == 1 && t.bytes == 5 * 3 * 4 &&
-          live == t.bytes);
+    CHECK(lg_gl_texture_recreate(&node, &t, &d3) == 1 && t.bytes == 5 * 3 * 4 && live == t.bytes);
     CHECK(level_param(t.name, 0, GL_TEXTURE_INTERNAL_FORMAT) == GL_R32UI);
 
     /* the other targets and their bytes: every level, face and layer */
     lg_gl_texture cube = { 0 }, vol = { 0 }, arr = { 0 }, dep = { 0 };
-    lg_gl_texture_desc dc = { .target = GL_TEXTURE_CUBE_MAP, .format = GL_RGBA16F, .width = 8,
-                              .height = 8, .levels = 4 };
+    lg_gl_texture_desc dc = {
+        .target = GL_TEXTURE_CUBE_MAP, .format = GL_RGBA16F, .width = 8, .height = 8, .levels = 4
+    };
     CHECKF(lg_gl_texture_recreate(&node, &cube, &dc) == 1, "cube: %s", devtest_errors);
     CHECK(cube.bytes == 6ull * (64 + 16 + 4 + 1) * 8 && lg_gl_texture_bytes(&dc) == cube.bytes);
     GLint levels = 0;
@@ -267,16 +266,25 @@ static void test_texture(void)
     CHECK(levels == 4);
     gl->GetTextureParameteriv(cube.name, GL_TEXTURE_MIN_FILTER, &minf);
     CHECK(minf == GL_NEAREST_MIPMAP_NEAREST);
-    lg_gl_texture_desc dv = { .target = GL_TEXTURE_3D, .format = GL_RGBA32F, .width = 4,
-                              .height = 4, .depth = 2, .levels = 3 };
+    lg_gl_texture_desc dv = { .target = GL_TEXTURE_3D,
+                              .format = GL_RGBA32F,
+                              .width = 4,
+                              .height = 4,
+                              .depth = 2,
+                              .levels = 3 };
     CHECKF(lg_gl_texture_recreate(&node, &vol, &dv) == 1, "3d: %s", devtest_errors);
     CHECK(vol.bytes == (32ull + 4 + 1) * 16 && level_param(vol.name, 0, GL_TEXTURE_DEPTH) == 2);
-    lg_gl_texture_desc da = { .target = GL_TEXTURE_2D_ARRAY, .format = GL_R8, .width = 4,
-                              .height = 2, .depth = 5, .levels = 2 };
+    lg_gl_texture_desc da = { .target = GL_TEXTURE_2D_ARRAY,
+                              .format = GL_R8,
+                              .width = 4,
+                              .height = 2,
+                              .depth = 5,
+                              .levels = 2 };
     CHECKF(lg_gl_texture_recreate(&node, &arr, &da) == 1, "array: %s", devtest_errors);
     CHECK(arr.bytes == (8ull + 2) * 5 && level_param(arr.name, 1, GL_TEXTURE_DEPTH) == 5);
-    lg_gl_texture_desc dd = { .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F,
-                              .width = 7, .height = 5 };
+    lg_gl_texture_desc dd = {
+        .target = GL_TEXTURE_2D, .format = GL_DEPTH_COMPONENT32F, .width = 7, .height = 5
+    };
     CHECKF(lg_gl_texture_recreate(&node, &dep, &dd) == 1, "depth: %s", devtest_errors);
     CHECK(dep.bytes == 7 * 5 * 4);
     CHECK(live == t.bytes + cube.bytes + vol.bytes + arr.bytes + dep.bytes);
@@ -353,7 +361,7 @@ static void test_texture(void)
     CHECK(gl->GetError() == GL_NO_ERROR);
 }
 
-/* ---- buffer textures --------------------------------------------------------------------------- */
+/* ---- buffer textures ------------------------------------------------------------------------- */
 
 static void test_buffer_texture(void)
 {

@@ -16,7 +16,7 @@
 #include "lightgraph/gl_pass.h"
 #include "lightgraph/plugin.h"
 
-/* ---- a minimal host: devtest.h's errors and GL, one output image ------------------------- */
+/* ---- a minimal host: devtest.h's errors and GL, one output image ----------------------------- */
 
 static GLuint out_color, out_depth; /* what map_gl hands out for output 0 */
 enum { W = 8, H = 8 };
@@ -102,11 +102,12 @@ static const lg_host_api host = {
 };
 
 static const lg_port_desc outputs[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
-static const lg_node_type type = { .struct_size = sizeof(lg_node_type), .name = "test",
+static const lg_node_type type = { .struct_size = sizeof(lg_node_type),
+                                   .name = "test",
                                    LG_OUTPUTS(outputs) };
 static lg_node node = { .host = &host, .name = "passnode", .type = &type };
 
-/* ---- shaders ----------------------------------------------------------------------------- */
+/* ---- shaders --------------------------------------------------------------------------------- */
 
 /* The lower-left triangle of clip space, (-1,-1) (1,-1) (-1,1), at depth u_z: window pixel
  * (x, y) with x + y < W - 1 is inside (its centre is strictly below the diagonal). */
@@ -155,7 +156,7 @@ typedef struct counts {
 LG_GL_BLOCK_SIZE(counts, 8);
 LG_GL_BLOCK_OFFSET(counts, groups, 4);
 
-/* ---- helpers ------------------------------------------------------------------------------- */
+/* ---- helpers --------------------------------------------------------------------------------- */
 
 static GLuint make_tex(const lg_gl *gl, GLenum format, int w, int h)
 {
@@ -198,8 +199,7 @@ static void check_restored(const lg_gl *gl, const char *when)
     CHECKF(!gl->IsEnabled(GL_DEPTH_TEST) && !gl->IsEnabled(GL_BLEND) &&
                !gl->IsEnabled(GL_CULL_FACE) && !gl->IsEnabled(GL_DEPTH_CLAMP),
            "%s: a capability is left enabled", when);
-    CHECKF(!gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS), "%s: seamless cube maps left on",
-           when);
+    CHECKF(!gl->IsEnabled(GL_TEXTURE_CUBE_MAP_SEAMLESS), "%s: seamless cube maps left on", when);
     GLboolean mask = GL_FALSE;
     gl->GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
     CHECKF(mask == GL_TRUE, "%s: depth mask left false", when);
@@ -228,8 +228,13 @@ static void test_raster(const lg_gl *gl)
 
     const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "tri.vert", tri_vert },
                                       { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
-    lg_gl_pass_desc d = { .name = "triangle", .stages = src, .n_stages = 2, .output = "out",
-                          .colors = { GL_RGBA32F }, .depth = true, .depth_test = true,
+    lg_gl_pass_desc d = { .name = "triangle",
+                          .stages = src,
+                          .n_stages = 2,
+                          .output = "out",
+                          .colors = { GL_RGBA32F },
+                          .depth = true,
+                          .depth_test = true,
                           .depth_write = true };
     lg_gl_pass *p = NULL;
     int rc = lg_gl_pass_create(&node, &d, &p);
@@ -254,8 +259,8 @@ static void test_raster(const lg_gl *gl)
                "current target");
         GLint vp[4];
         gl->GetIntegerv(GL_VIEWPORT, vp);
-        CHECKF(vp[0] == 0 && vp[1] == 0 && vp[2] == W && vp[3] == H, "viewport %d %d %d %d",
-               vp[0], vp[1], vp[2], vp[3]);
+        CHECKF(vp[0] == 0 && vp[1] == 0 && vp[2] == W && vp[3] == H, "viewport %d %d %d %d", vp[0],
+               vp[1], vp[2], vp[3]);
         const float bg[4] = { 0.0f, 0.0f, 1.0f, 1.0f };
         lg_gl_pass_clear_color(p, 0, bg);
         lg_gl_pass_clear_depth(p, 1.0f);
@@ -281,13 +286,15 @@ static void test_raster(const lg_gl *gl)
     CHECKF(in[0] == 1.0f && in[1] == 0.0f && in[2] == 0.0f && in[3] == 2.0f,
            "inside: %g %g %g %g (want 1 0 0 2)", in[0], in[1], in[2], in[3]);
     CHECKF(out[0] == 0.0f && out[1] == 0.0f && out[2] == 1.0f && out[3] == 1.0f,
-           "outside: %g %g %g %g (want the clear colour 0 0 1 1)", out[0], out[1], out[2],
-           out[3]);
+           "outside: %g %g %g %g (want the clear colour 0 0 1 1)", out[0], out[1], out[2], out[3]);
 
     /* blending: ADD on top of the last image, no depth test, an explicit target */
     lg_gl_pass *b = NULL;
-    lg_gl_pass_desc db = { .name = "add", .stages = src, .n_stages = 2,
-                           .colors = { GL_RGBA32F }, .blend = LG_GL_BLEND_ADD };
+    lg_gl_pass_desc db = { .name = "add",
+                           .stages = src,
+                           .n_stages = 2,
+                           .colors = { GL_RGBA32F },
+                           .blend = LG_GL_BLEND_ADD };
     CHECKF(lg_gl_pass_create(&node, &db, &b) == 0, "create add: %s", devtest_errors);
     if (b) {
         lg_gl_uniform bz = lg_gl_pass_uniform(b, "u_z"), bc = lg_gl_pass_uniform(b, "u_color");
@@ -335,8 +342,7 @@ static void test_names(const lg_gl *gl)
     devtest_clear();
     const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "tri.vert", tri_vert },
                                       { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
-    lg_gl_pass_desc d = { .name = "names", .stages = src, .n_stages = 2,
-                          .colors = { GL_RGBA32F } };
+    lg_gl_pass_desc d = { .name = "names", .stages = src, .n_stages = 2, .colors = { GL_RGBA32F } };
     lg_gl_pass *p = NULL;
     CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
@@ -371,8 +377,9 @@ static void test_names(const lg_gl *gl)
     /* block layouts: Scale is one float; a wrong size is named */
     devtest_clear();
     lg_gl_pass *q = NULL;
-    lg_gl_pass_desc dq = { .name = "blocks", .stages = src, .n_stages = 2,
-                           .colors = { GL_RGBA32F } };
+    lg_gl_pass_desc dq = {
+        .name = "blocks", .stages = src, .n_stages = 2, .colors = { GL_RGBA32F }
+    };
     CHECKF(lg_gl_pass_create(&node, &dq, &q) == 0, "create: %s", devtest_errors);
     if (q) {
         CHECKF(lg_gl_pass_check_block(q, GL_SHADER_STORAGE_BLOCK, "Scale", 4) == 0, "%s",
@@ -394,8 +401,7 @@ static void test_names(const lg_gl *gl)
     devtest_clear();
     lg_gl_shader_src bad = { GL_FRAGMENT_SHADER, "bad.frag", "#version 450\nnot glsl;\n" };
     lg_gl_shader_src two[2] = { src[0], bad };
-    lg_gl_pass_desc bd = { .name = "bad", .stages = two, .n_stages = 2,
-                           .colors = { GL_RGBA32F } };
+    lg_gl_pass_desc bd = { .name = "bad", .stages = two, .n_stages = 2, .colors = { GL_RGBA32F } };
     CHECKF(lg_gl_pass_create(&node, &bd, &p) == LG_ERR_DEVICE && !p &&
                strstr(devtest_errors, "bad.frag"),
            "a compile error: %s", devtest_errors);
@@ -403,12 +409,11 @@ static void test_names(const lg_gl *gl)
 }
 
 /* A block ending in an unsized array of a std430 struct with a vec3 (stride 32, not 28). */
-static const char stride_comp[] =
-    "#version 450\n"
-    "layout(local_size_x = 1) in;\n"
-    "struct L { vec3 a; float b; vec3 c; };\n"
-    "layout(std430, binding = 0) buffer Ls { uint n; L l[]; };\n"
-    "void main() { l[0].b = float(n); l[0].c = l[0].a; }\n";
+static const char stride_comp[] = "#version 450\n"
+                                  "layout(local_size_x = 1) in;\n"
+                                  "struct L { vec3 a; float b; vec3 c; };\n"
+                                  "layout(std430, binding = 0) buffer Ls { uint n; L l[]; };\n"
+                                  "void main() { l[0].b = float(n); l[0].c = l[0].a; }\n";
 
 static void test_stride(void)
 {
@@ -513,19 +518,18 @@ static const char volume_comp[] =
     "}\n";
 
 /* The same through a 2D image: one layer of a 3D texture, or one mip level of a 2D one. */
-static const char slice_comp[] =
-    "#version 450\n"
-    "layout(local_size_x = 4, local_size_y = 4) in;\n"
-    "layout(binding = 0, rgba32f) uniform writeonly image2D u_img;\n"
-    "uniform ivec2 u_size;\n"
-    "uniform float u_tag;\n"
-    "void main()\n"
-    "{\n"
-    "    ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
-    "    if (any(greaterThanEqual(p, u_size)))\n"
-    "        return;\n"
-    "    imageStore(u_img, p, vec4(vec2(p), -1.0, u_tag));\n"
-    "}\n";
+static const char slice_comp[] = "#version 450\n"
+                                 "layout(local_size_x = 4, local_size_y = 4) in;\n"
+                                 "layout(binding = 0, rgba32f) uniform writeonly image2D u_img;\n"
+                                 "uniform ivec2 u_size;\n"
+                                 "uniform float u_tag;\n"
+                                 "void main()\n"
+                                 "{\n"
+                                 "    ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+                                 "    if (any(greaterThanEqual(p, u_size)))\n"
+                                 "        return;\n"
+                                 "    imageStore(u_img, p, vec4(vec2(p), -1.0, u_tag));\n"
+                                 "}\n";
 
 /* lg_gl_pass_bind_image_level: a 3D volume bound layered (every layer written), one layer of
  * it bound alone (only that layer written), and a mip level above 0 of a 2D texture. */
@@ -585,8 +589,10 @@ static void test_image_levels(const lg_gl *gl)
                                      : q[0] == x && q[1] == y && q[2] == z && q[3] == 1;
                 bad += !ok;
             }
-    CHECKF(bad == 0, "%d of %d texels of the volume wrong (layered: every layer; then layer %d "
-           "alone)", bad, VW * VH * VD, LAYER);
+    CHECKF(bad == 0,
+           "%d of %d texels of the volume wrong (layered: every layer; then layer %d "
+           "alone)",
+           bad, VW * VH * VD, LAYER);
 
     /* mip level 1 of a 2D texture: level 0 untouched */
     enum { MW = 9, MH = 6 };
@@ -612,8 +618,10 @@ static void test_image_levels(const lg_gl *gl)
             const float *q = &l1[(y * (MW / 2) + x) * 4];
             bad1 += !(q[0] == x && q[1] == y && q[2] == -1 && q[3] == 3);
         }
-    CHECKF(bad0 == 0 && bad1 == 0, "mip level 1: %d values of level 0 changed, %d texels of "
-           "level 1 wrong", bad0, bad1);
+    CHECKF(bad0 == 0 && bad1 == 0,
+           "mip level 1: %d values of level 0 changed, %d texels of "
+           "level 1 wrong",
+           bad0, bad1);
 
     lg_gl_pass_destroy(&pv);
     lg_gl_pass_destroy(&ps);
@@ -632,10 +640,9 @@ static const char scene_vert[] =
     "    gl_Position = model[u_first + gl_InstanceID] * vec4(a_position, 1.0);\n"
     "}\n";
 
-static const char scene_frag[] =
-    "#version 450 core\n"
-    "layout(location = 0) out vec4 o_color;\n"
-    "void main() { o_color = vec4(1.0, 0.5, 0.25, 1.0); }\n";
+static const char scene_frag[] = "#version 450 core\n"
+                                 "layout(location = 0) out vec4 o_color;\n"
+                                 "void main() { o_color = vec4(1.0, 0.5, 0.25, 1.0); }\n";
 
 /* One triangle, drawn; moved (its instance's matrix changes: the draw data is made again);
  * drawn again unchanged (kept: the scene's checks do not run again). */
@@ -648,21 +655,32 @@ static void test_scene(const lg_gl *gl)
     static lg_mesh mesh;
     static lg_instance inst;
     static lg_material mat;
-    mesh = (lg_mesh){ .name = "tri", .n_vertices = 3, .n_indices = 3, .positions = pos,
-                      .normals = nrm, .indices = idx };
+    mesh = (lg_mesh){ .name = "tri",
+                      .n_vertices = 3,
+                      .n_indices = 3,
+                      .positions = pos,
+                      .normals = nrm,
+                      .indices = idx };
     memset(&inst, 0, sizeof inst);
     for (int i = 0; i < 4; i++)
         inst.model[i * 5] = 1.0f;
     mat.double_sided = true;
-    the_scene = (lg_scene){ .struct_size = sizeof(lg_scene), .meshes = &mesh, .n_meshes = 1,
-                            .instances = &inst, .n_instances = 1, .materials = &mat,
+    the_scene = (lg_scene){ .struct_size = sizeof(lg_scene),
+                            .meshes = &mesh,
+                            .n_meshes = 1,
+                            .instances = &inst,
+                            .n_instances = 1,
+                            .materials = &mat,
                             .n_materials = 1 };
     GLuint color = make_tex(gl, GL_RGBA32F, W, H);
     lg_gl_target t = { .color = { color }, .width = W, .height = H };
     const lg_gl_shader_src src[2] = { { GL_VERTEX_SHADER, "scene.vert", scene_vert },
                                       { GL_FRAGMENT_SHADER, "scene.frag", scene_frag } };
-    lg_gl_pass_desc d = { .name = "scene", .stages = src, .n_stages = 2,
-                          .colors = { GL_RGBA32F }, .scene = LG_GL_SCENE_POSITIONS };
+    lg_gl_pass_desc d = { .name = "scene",
+                          .stages = src,
+                          .n_stages = 2,
+                          .colors = { GL_RGBA32F },
+                          .scene = LG_GL_SCENE_POSITIONS };
     lg_gl_pass *p = NULL;
     CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create: %s", devtest_errors);
     if (!p)
@@ -703,8 +721,7 @@ static void test_scene(const lg_gl *gl)
             gl->DeleteBuffers(1, &slot_buf[i]);
 }
 
-
-/* ---- ABI 3.0: depth function, sampler state, more uniforms, uniform blocks ------------------ */
+/* ---- ABI 3.0: depth function, sampler state, more uniforms, uniform blocks ------------------- */
 
 /* depth_func: a depth plane cleared to 0 hides everything from GL_LESS; GL_ALWAYS draws
  * behind it and writes the fragment's depth. */
@@ -722,9 +739,14 @@ static void test_depth_func(const lg_gl *gl)
                                       { GL_FRAGMENT_SHADER, "tri.frag", tri_frag } };
     float px[W * H * 4], dp[W * H];
     for (int always = 0; always < 2; always++) {
-        lg_gl_pass_desc d = { .name = always ? "always" : "less", .stages = src,
-                              .n_stages = 2, .output = "out", .colors = { GL_RGBA32F },
-                              .depth = true, .depth_test = true, .depth_write = true,
+        lg_gl_pass_desc d = { .name = always ? "always" : "less",
+                              .stages = src,
+                              .n_stages = 2,
+                              .output = "out",
+                              .colors = { GL_RGBA32F },
+                              .depth = true,
+                              .depth_test = true,
+                              .depth_write = true,
                               .depth_func = always ? GL_ALWAYS : 0 };
         lg_gl_pass *p = NULL;
         CHECKF(lg_gl_pass_create(&node, &d, &p) == 0, "create %s: %s", d.name, devtest_errors);
@@ -735,8 +757,8 @@ static void test_depth_func(const lg_gl *gl)
         CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin %s: %s", d.name, devtest_errors);
         GLint func = 0;
         gl->GetIntegerv(GL_DEPTH_FUNC, &func);
-        CHECKF(func == (always ? GL_ALWAYS : GL_LESS), "%s: begin set glDepthFunc 0x%04x",
-               d.name, (unsigned)func);
+        CHECKF(func == (always ? GL_ALWAYS : GL_LESS), "%s: begin set glDepthFunc 0x%04x", d.name,
+               (unsigned)func);
         lg_gl_pass_clear_color(p, 0, zero);
         lg_gl_pass_clear_depth(p, 0.0f);
         lg_gl_pass_bind_texture(p, t, black);
@@ -744,25 +766,32 @@ static void test_depth_func(const lg_gl *gl)
         const float red[4] = { 1, 0, 0, 1 };
         lg_gl_set_float(p, u_z, 0.5f); /* window depth 0.75, behind the plane */
         lg_gl_set_vec4v(p, u_c, red);
-        CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw(p, GL_TRIANGLES, 3)) == 0, "draw %s: %s",
-               d.name, devtest_errors);
+        CHECKF(lg_gl_pass_end(p, lg_gl_pass_draw(p, GL_TRIANGLES, 3)) == 0, "draw %s: %s", d.name,
+               devtest_errors);
         check_restored(gl, always ? "after a GL_ALWAYS pass" : "after a GL_LESS pass");
         read_rgba(gl, out_color, px, W, H);
         gl->GetTextureImage(out_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)sizeof dp, dp);
         const float *in = &px[(1 * W + 1) * 4];
         float din = dp[1 * W + 1];
         if (always)
-            CHECKF(in[0] == 1.0f && din == 0.75f, "GL_ALWAYS: pixel %g, depth %g (want 1, 0.75: "
-                   "drawn behind the plane)", in[0], din);
+            CHECKF(in[0] == 1.0f && din == 0.75f,
+                   "GL_ALWAYS: pixel %g, depth %g (want 1, 0.75: "
+                   "drawn behind the plane)",
+                   in[0], din);
         else
-            CHECKF(in[0] == 0.0f && din == 0.0f, "GL_LESS: pixel %g, depth %g (want 0, 0: "
-                   "hidden)", in[0], din);
+            CHECKF(in[0] == 0.0f && din == 0.0f,
+                   "GL_LESS: pixel %g, depth %g (want 0, 0: "
+                   "hidden)",
+                   in[0], din);
         lg_gl_pass_destroy(&p);
     }
     devtest_clear();
     lg_gl_pass *bad = NULL;
-    lg_gl_pass_desc bd = { .name = "badfunc", .stages = src, .n_stages = 2,
-                           .colors = { GL_RGBA32F }, .depth_func = GL_RGBA32F };
+    lg_gl_pass_desc bd = { .name = "badfunc",
+                           .stages = src,
+                           .n_stages = 2,
+                           .colors = { GL_RGBA32F },
+                           .depth_func = GL_RGBA32F };
     CHECKF(lg_gl_pass_create(&node, &bd, &bad) == LG_ERR_INVALID && !bad &&
                strstr(devtest_errors, "'badfunc'") && strstr(devtest_errors, "depth_func"),
            "a bad depth_func: %s", devtest_errors);
@@ -848,7 +877,11 @@ static void test_samplers(const lg_gl *gl)
 
     /* filters at u = 0.4 (between texels 1 and 2; x = 1.6 - 0.5 = 1.1 texels), level 0 */
     const float at[8] = { 0.4f, 1.4f };
-    struct { const char *what; const lg_gl_sampler *s; float want; } f[] = {
+    struct {
+        const char *what;
+        const lg_gl_sampler *s;
+        float want;
+    } f[] = {
         { "texture's own (nearest)", NULL, 1.0f },
         { "LINEAR", &(lg_gl_sampler){ .filter = LG_GL_FILTER_LINEAR }, 1.1f },
         { "NEAREST", &(lg_gl_sampler){ .filter = LG_GL_FILTER_NEAREST }, 1.0f },
@@ -926,8 +959,8 @@ static void test_samplers(const lg_gl *gl)
         lg_gl_pass_bind_texture_sampled(p, sb, depth, &s);
         lg_gl_set_floatv(p, ref, 2, refs);
         CHECKF(run_sample(gl, p, out, 2, r) == 0, "shadow: %s", devtest_errors);
-        CHECKF(r[0] == 1.0f && r[1] == 0.0f, "compare: ref 0.4 -> %g, 0.6 -> %g (want 1, 0)",
-               r[0], r[1]);
+        CHECKF(r[0] == 1.0f && r[1] == 0.0f, "compare: ref 0.4 -> %g, 0.6 -> %g (want 1, 0)", r[0],
+               r[1]);
         check_restored(gl, "after a shadow sampler");
         lg_gl_pass_destroy(&p);
     }
@@ -1048,11 +1081,13 @@ static void test_uniforms(const lg_gl *gl)
     const int32_t iv[3] = { -7, 0, 2147483647 };
     const float v3[6] = { 1.5f, 2.5f, 3.5f, -1, -2, -3 };
     const float v4[8] = { 0.25f, 0.5f, 0.75f, 1, 5, 6, 7, 8 };
-    params u = { .dir = { 0.1f, 0.2f, 0.3f }, .exposure = 2.5f, .size = { 640, -360 },
+    params u = { .dir = { 0.1f, 0.2f, 0.3f },
+                 .exposure = 2.5f,
+                 .size = { 640, -360 },
                  .weights = { { 0.125f }, { 0.25f }, { 0.375f } } };
     for (int i = 0; i < 4; i++)
         u.view_proj[i * 5] = (float)(i + 2); /* diag(2, 3, 4, 5) */
-    u.view_proj[12] = 100.0f;                 /* + 100 in x */
+    u.view_proj[12] = 100.0f;                /* + 100 in x */
     for (int frame = 0; frame < 2; frame++) {
         if (frame == 1) /* a new value in the same buffer */
             u.exposure = -4.0f;
@@ -1072,10 +1107,10 @@ static void test_uniforms(const lg_gl *gl)
         check_restored(gl, "after a uniform-block pass");
         float o[16 * 4];
         gl->GetNamedBufferSubData(out, 0, sizeof o, o);
-        CHECKF(o[0] == 741 && o[1] == 852 && o[2] == 963, "mat3: %g %g %g (want 741 852 963)",
-               o[0], o[1], o[2]);
-        CHECKF(o[4] == -7 && o[5] == 0 && o[6] == 2147483647.0f, "int array: %g %g %g", o[4],
-               o[5], o[6]);
+        CHECKF(o[0] == 741 && o[1] == 852 && o[2] == 963, "mat3: %g %g %g (want 741 852 963)", o[0],
+               o[1], o[2]);
+        CHECKF(o[4] == -7 && o[5] == 0 && o[6] == 2147483647.0f, "int array: %g %g %g", o[4], o[5],
+               o[6]);
         CHECKF(o[8] == 1.5f && o[10] == 3.5f && o[12] == -1 && o[14] == -3,
                "vec3 array: %g %g / %g %g", o[8], o[10], o[12], o[14]);
         CHECKF(o[16] == 0.25f && o[19] == 1 && o[20] == 5 && o[23] == 8,
@@ -1083,11 +1118,10 @@ static void test_uniforms(const lg_gl *gl)
         CHECKF(o[24] == 102 && o[25] == 6 && o[26] == 12 && o[27] == 5,
                "block mat4: %g %g %g %g (want 102 6 12 5)", o[24], o[25], o[26], o[27]);
         CHECKF(o[28] == 0.1f && o[30] == 0.3f && o[31] == u.exposure,
-               "block vec3 + float: %g %g %g (want 0.1 0.3 %g)", o[28], o[30], o[31],
-               u.exposure);
+               "block vec3 + float: %g %g %g (want 0.1 0.3 %g)", o[28], o[30], o[31], u.exposure);
         CHECKF(o[32] == 640 && o[33] == -360, "block ivec2: %g %g", o[32], o[33]);
-        CHECKF(o[36] == 0.125f && o[37] == 0.25f && o[38] == 0.375f,
-               "block float[3]: %g %g %g", o[36], o[37], o[38]);
+        CHECKF(o[36] == 0.125f && o[37] == 0.25f && o[38] == 0.375f, "block float[3]: %g %g %g",
+               o[36], o[37], o[38]);
     }
     CHECKF(accounted == (int64_t)sizeof u, "the block's buffer counts %lld bytes (want %zu)",
            (long long)accounted, sizeof u);
@@ -1101,8 +1135,7 @@ static void test_uniforms(const lg_gl *gl)
     CHECKF(lg_gl_pass_begin(p, NULL) == 0, "begin: %s", devtest_errors);
     int rc = lg_gl_pass_uniforms(p, blk, &u, sizeof u - 16);
     CHECKF(rc == LG_ERR_INVALID && strstr(devtest_errors, "'uniforms'") &&
-               strstr(devtest_errors, "'Params'") &&
-               strstr(devtest_errors, "mirrors it 128"),
+               strstr(devtest_errors, "'Params'") && strstr(devtest_errors, "mirrors it 128"),
            "a short struct: %s", devtest_errors);
     lg_gl_pass_end(p, rc);
     check_restored(gl, "after a refused block");

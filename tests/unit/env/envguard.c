@@ -67,11 +67,11 @@ static void check(const char *call, const char *what)
     abort();
 }
 
-#define REAL(type, name) \
-    static type real_; \
-    if (!real_) { \
-        void *p_ = dlsym(RTLD_NEXT, name); \
-        memcpy(&real_, &p_, sizeof p_); \
+#define REAL(type, name)                                                                           \
+    static type real_;                                                                             \
+    if (!real_) {                                                                                  \
+        void *p_ = dlsym(RTLD_NEXT, name);                                                         \
+        memcpy(&real_, &p_, sizeof p_);                                                            \
     }
 
 EXPORT int setenv(const char *name, const char *value, int overwrite)

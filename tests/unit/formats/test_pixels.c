@@ -24,8 +24,9 @@
 
 static void names(void)
 {
-    const lg_format all[] = {LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBA8, LG_FORMAT_RGBE8};
-    const char *want[] = {"rgba32f", "rgba16f", "rgba8", "rgbe8"};
+    const lg_format all[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBA8,
+                              LG_FORMAT_RGBE8 };
+    const char *want[] = { "rgba32f", "rgba16f", "rgba8", "rgbe8" };
     for (int i = 0; i < 4; i++) {
         CHECK(strcmp(lg_format_name(all[i]), want[i]) == 0);
         lg_format f = 0;
@@ -35,7 +36,7 @@ static void names(void)
     CHECK(lg_format_from_name("rgbe", &f) == LG_ERR_NOTFOUND && f == LG_FORMAT_RGBA8);
     CHECK(lg_format_from_name(NULL, &f) == LG_ERR_NOTFOUND);
     CHECK(strcmp(lg_format_name((lg_format)99), "unknown") == 0);
-    float px[4] = {0};
+    float px[4] = { 0 };
     unsigned char out[16];
     CHECK(lg_pixels_from_rgba32f((lg_format)99, px, 1, out, NULL) == LG_ERR_INVALID);
     CHECK(lg_pixels_to_rgba32f((lg_format)0, out, 1, px) == LG_ERR_INVALID);
@@ -43,10 +44,11 @@ static void names(void)
 
 static void half_policy(void)
 {
-    const float v[] = {0.0f, -0.0f, 1.0f, 0.1f, -2.5f, 65504.0f, 65505.0f, 65519.0f, 65520.0f,
-                       1e5f, 1e9f, INFINITY, -1e6f, -INFINITY, NAN, -NAN, 6e-8f, 1e-30f, -65504.0f};
+    const float v[] = { 0.0f,     -0.0f,    1.0f,  0.1f,   -2.5f,    65504.0f, 65505.0f,
+                        65519.0f, 65520.0f, 1e5f,  1e9f,   INFINITY, -1e6f,    -INFINITY,
+                        NAN,      -NAN,     6e-8f, 1e-30f, -65504.0f };
     /* replaced (counted): everything beyond +-65504, Inf and NaN */
-    const int counted[] = {0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0};
+    const int counted[] = { 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0 };
     size_t n = sizeof v / sizeof v[0];
     size_t px = (n + 3) / 4;
     float *src = calloc(px * 4, sizeof(float));
@@ -90,18 +92,20 @@ static void half_policy(void)
     free(f);
     free(src);
     free(h);
-    printf("rgba16f: above 65504 and Inf -> 65504, NaN -> 0, counted; every finite half round trips\n");
+    printf(
+        "rgba16f: above 65504 and Inf -> 65504, NaN -> 0, counted; every finite half round trips\n");
 }
 
 static void rgba8_policy(void)
 {
-    const float v[] = {0, 1, 0.5f, 0.2f, -0.1f, 1.5f, NAN, INFINITY, 1.0f / 255, 0.5f / 255,
-                       0.999f, 254.5f / 255};
+    const float v[] = { 0,   1,        0.5f,       0.2f,       -0.1f,  1.5f,
+                        NAN, INFINITY, 1.0f / 255, 0.5f / 255, 0.999f, 254.5f / 255 };
     size_t n = sizeof v / sizeof v[0], px = n / 4;
     uint8_t b[12];
     uint64_t c = 0;
     CHECK(lg_pixels_from_rgba32f(LG_FORMAT_RGBA8, v, px, b, &c) == 0);
-    CHECKF(c == 4, "rgba8: %llu values counted, want 4 (-0.1, 1.5, NaN, Inf)", (unsigned long long)c);
+    CHECKF(c == 4, "rgba8: %llu values counted, want 4 (-0.1, 1.5, NaN, Inf)",
+           (unsigned long long)c);
     for (size_t i = 0; i < n; i++) {
         double x = v[i] != v[i] ? 0 : v[i] < 0 ? 0 : v[i] > 1 ? 1 : v[i];
         uint8_t want = (uint8_t)floor(x * 255 + 0.5);
@@ -140,9 +144,10 @@ static void rgbe_policy(void)
             src[4 * i + c] = (float)(base * exp2((rnd() - 0.5) * 12));
         src[4 * i + 3] = (float)rnd();
     }
-    const float special[][3] = {{NAN, 1, 2}, {-1, 2, 3}, {INFINITY, 0, 0}, {3e38f, 1, 1},
-                                {0x1p127f, 0, 0}, {0, 0, 0}, {-0.0f, 0, 0}};
-    const int counted[] = {1, 1, 1, 1, 1, 0, 0};
+    const float special[][3] = { { NAN, 1, 2 },   { -1, 2, 3 },       { INFINITY, 0, 0 },
+                                 { 3e38f, 1, 1 }, { 0x1p127f, 0, 0 }, { 0, 0, 0 },
+                                 { -0.0f, 0, 0 } };
+    const int counted[] = { 1, 1, 1, 1, 1, 0, 0 };
     for (int k = 0; k < 7; k++) {
         memcpy(src + 4 * k, special[k], 12);
         src[4 * k + 3] = 1;
@@ -158,7 +163,8 @@ static void rgbe_policy(void)
     for (int i = 0; i < N; i++) {
         uint8_t want[4];
         lg_rgbe_encode(src + 4 * i, want);
-        CHECKF(memcmp(want, b + 4 * i, 4) == 0, "rgbe8 pixel %d: bytes differ from lg_rgbe_encode", i);
+        CHECKF(memcmp(want, b + 4 * i, 4) == 0, "rgbe8 pixel %d: bytes differ from lg_rgbe_encode",
+               i);
         CHECK(back[4 * i + 3] == 1.0f);
         if (i < 7)
             continue;
@@ -178,7 +184,7 @@ static void rgbe_policy(void)
     int bad = 0;
     for (int e = 1; e < 256; e++)
         for (int m = 128; m < 256; m++) {
-            uint8_t q[4] = {(uint8_t)m, (uint8_t)(m / 2), (uint8_t)(m / 3), (uint8_t)e}, r[4];
+            uint8_t q[4] = { (uint8_t)m, (uint8_t)(m / 2), (uint8_t)(m / 3), (uint8_t)e }, r[4];
             float f[4];
             CHECK(lg_pixels_to_rgba32f(LG_FORMAT_RGBE8, q, 1, f) == 0);
             CHECK(lg_pixels_from_rgba32f(LG_FORMAT_RGBE8, f, 1, r, NULL) == 0);
@@ -207,8 +213,8 @@ static void rgbe_policy(void)
                 float want[3];
                 lg_rgbe_decode(q + 4 * m, want);
                 CHECKF(memcmp(want, f + 4 * m, 12) == 0 && f[4 * m + 3] == 1.0f,
-                       "decode of %d %d %d %d differs from lg_rgbe_decode", q[4 * m],
-                       q[4 * m + 1], q[4 * m + 2], e);
+                       "decode of %d %d %d %d differs from lg_rgbe_decode", q[4 * m], q[4 * m + 1],
+                       q[4 * m + 2], e);
             }
         }
     }
@@ -229,7 +235,7 @@ static void in_place(void)
         buf[i] = (float)i * 0.25f;
     float ref[64];
     memcpy(ref, buf, sizeof ref);
-    const lg_format fs[] = {LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8};
+    const lg_format fs[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8 };
     for (int k = 0; k < 3; k++) {
         float tmp[64];
         memcpy(tmp, ref, sizeof tmp);
@@ -239,8 +245,8 @@ static void in_place(void)
             float want = (fs[k] == LG_FORMAT_RGBE8 && i % 4 == 3) ? 1.0f : ref[i];
             /* 0.25 steps below 16 are exact in half and in RGBE when the pixel's largest
              * channel is below 64 (mantissa step 0.25 at exponent 6) */
-            CHECKF(tmp[i] == want, "%s in place: value %d is %g, want %g",
-                   lg_format_name(fs[k]), i, (double)tmp[i], (double)want);
+            CHECKF(tmp[i] == want, "%s in place: value %d is %g, want %g", lg_format_name(fs[k]), i,
+                   (double)tmp[i], (double)want);
         }
     }
 }
@@ -254,7 +260,8 @@ static void cost(void)
     void *dst = malloc((size_t)N * 16);
     for (size_t i = 0; i < (size_t)N * 4; i++)
         src[i] = (float)exp2((double)(i % 1000) / 50.0 - 8.0);
-    const lg_format fs[] = {LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8, LG_FORMAT_RGBA8};
+    const lg_format fs[] = { LG_FORMAT_RGBA32F, LG_FORMAT_RGBA16F, LG_FORMAT_RGBE8,
+                             LG_FORMAT_RGBA8 };
     for (int k = 0; k < 4; k++) {
         double best_from = 1e30, best_to = 1e30;
         for (int r = 0; r < 5; r++) {

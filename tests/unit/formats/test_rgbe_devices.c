@@ -79,15 +79,43 @@ static void make_inputs(uint32_t cap)
     n_in = 0;
     const float inf = INFINITY, nan = NAN;
     const float special[][3] = {
-        {0, 0, 0}, {-0.0f, 0, -0.0f}, {-1, -2, -3}, {-1, 0.5f, 2}, {nan, 1, 2}, {nan, nan, nan},
-        {inf, 0, 0}, {inf, 1, 2}, {inf, inf, inf}, {-inf, 3, 0}, {nan, inf, -inf},
-        {1e-38f, 0, 0}, {1e-38f, 1e-38f, 1e-38f}, {FLT_MIN, 0, 0}, {FLT_MIN, FLT_MIN, 1e-39f},
-        {1.1754942e-38f, 0, 0}, /* the largest denormal */
-        {0x1p127f, 0, 0}, {0x1p127f, 1, 0x1p126f}, {0x1.fep126f, 0, 0}, {0x1.ffp126f, 1, 1},
-        {3e38f, 1e38f, 0}, {FLT_MAX, FLT_MAX, FLT_MAX}, {FLT_MAX, 0, 1},
-        {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {65504, 0, 0}, {0, 0, 1e30f}, {0, 7, 0},
-        {0.5f, 0.25f, 0.125f}, {1, 1, 1}, {255.0f / 256, 0, 0}, {255.5f / 256, 0, 0},
-        {0x1.ffp-1f, 0x1.ffp-1f, 0}, {0x1.fefffep-1f, 0, 0}, {1e10f, 1e-10f, 1}, {0.1f, 0.2f, 0.3f},
+        { 0, 0, 0 },
+        { -0.0f, 0, -0.0f },
+        { -1, -2, -3 },
+        { -1, 0.5f, 2 },
+        { nan, 1, 2 },
+        { nan, nan, nan },
+        { inf, 0, 0 },
+        { inf, 1, 2 },
+        { inf, inf, inf },
+        { -inf, 3, 0 },
+        { nan, inf, -inf },
+        { 1e-38f, 0, 0 },
+        { 1e-38f, 1e-38f, 1e-38f },
+        { FLT_MIN, 0, 0 },
+        { FLT_MIN, FLT_MIN, 1e-39f },
+        { 1.1754942e-38f, 0, 0 }, /* the largest denormal */
+        { 0x1p127f, 0, 0 },
+        { 0x1p127f, 1, 0x1p126f },
+        { 0x1.fep126f, 0, 0 },
+        { 0x1.ffp126f, 1, 1 },
+        { 3e38f, 1e38f, 0 },
+        { FLT_MAX, FLT_MAX, FLT_MAX },
+        { FLT_MAX, 0, 1 },
+        { 1, 0, 0 },
+        { 0, 1, 0 },
+        { 0, 0, 1 },
+        { 65504, 0, 0 },
+        { 0, 0, 1e30f },
+        { 0, 7, 0 },
+        { 0.5f, 0.25f, 0.125f },
+        { 1, 1, 1 },
+        { 255.0f / 256, 0, 0 },
+        { 255.5f / 256, 0, 0 },
+        { 0x1.ffp-1f, 0x1.ffp-1f, 0 },
+        { 0x1.fefffep-1f, 0, 0 },
+        { 1e10f, 1e-10f, 1 },
+        { 0.1f, 0.2f, 0.3f },
     };
     for (size_t k = 0; k < sizeof special / sizeof special[0]; k++)
         add(special[k][0], special[k][1], special[k][2]);
@@ -105,8 +133,8 @@ static void make_inputs(uint32_t cap)
             float m = ldexpf((float)k + 0.5f, e - 8); /* in [2^(e-1), 2^e): exponent e */
             add(m, ldexpf((float)(k / 3) + 0.5f, e - 8), ldexpf(0.5f, e - 8));
         }
-        add(ldexpf(255.5f, e - 8), 0, 0);          /* rounds to 256: bumps the exponent */
-        add(ldexpf(255.49f, e - 8), 0, 0);         /* stays */
+        add(ldexpf(255.5f, e - 8), 0, 0);  /* rounds to 256: bumps the exponent */
+        add(ldexpf(255.49f, e - 8), 0, 0); /* stays */
         add(ldexpf(255.75f, e - 8), ldexpf(1.5f, e - 8), 0);
     }
     /* random colours: log-uniform channels over 2^-100 .. 2^100, sometimes grey-ish */
@@ -127,7 +155,7 @@ static void make_inputs(uint32_t cap)
  * ones. */
 static void make_bytes(uint8_t *b, uint32_t n)
 {
-    const uint8_t ms[] = {0, 1, 127, 128, 200, 255};
+    const uint8_t ms[] = { 0, 1, 127, 128, 200, 255 };
     for (uint32_t k = 0; k < n; k++) {
         uint8_t e = (uint8_t)(k % 256);
         uint32_t j = k / 256;
@@ -147,7 +175,7 @@ static int same_float(float a, float b)
     return memcmp(&a, &b, sizeof a) == 0 || (a == 0 && b == 0);
 }
 
-/* ---- GL ------------------------------------------------------------------------------ */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 static int run_gl(const lg_gl *gl, GLuint prog, const uint8_t *bytes, uint32_t n, result *r)
 {
@@ -202,7 +230,7 @@ static int run_gl(const lg_gl *gl, GLuint prog, const uint8_t *bytes, uint32_t n
     return e == GL_NO_ERROR ? 0 : -1;
 }
 
-/* ---- CL ------------------------------------------------------------------------------ */
+/* ---- CL -------------------------------------------------------------------------------------- */
 
 static int run_cl(lg_cl_dev *dev, cl_kernel k, const uint8_t *bytes, uint32_t n, result *r)
 {
@@ -245,7 +273,7 @@ out:
     return rc;
 }
 
-/* ---- comparing ----------------------------------------------------------------------- */
+/* ---- comparing ------------------------------------------------------------------------------- */
 
 static void compare_encode(const char *what, const uint8_t *got, uint32_t n, uint32_t *denormal)
 {
@@ -294,9 +322,9 @@ static void compare_decode(const char *what, const uint8_t *bytes, const float *
         else if (ok)
             (*flushed)++;
         else if (bad++ < 8)
-            CHECKF(0, "%s: decode %u %u %u %u = (%a, %a, %a), C (%a, %a, %a)", what,
-                   bytes[4 * k], bytes[4 * k + 1], bytes[4 * k + 2], bytes[4 * k + 3],
-                   got[4 * k], got[4 * k + 1], got[4 * k + 2], want[0], want[1], want[2]);
+            CHECKF(0, "%s: decode %u %u %u %u = (%a, %a, %a), C (%a, %a, %a)", what, bytes[4 * k],
+                   bytes[4 * k + 1], bytes[4 * k + 2], bytes[4 * k + 3], got[4 * k], got[4 * k + 1],
+                   got[4 * k + 2], want[0], want[1], want[2]);
     }
     if (bad > 8)
         CHECKF(0, "%s: %d decodes differ in all", what, bad);
@@ -326,8 +354,8 @@ static void compare_half(const char *what, const float *got, const float *dec, u
                 CHECKF(0, "%s: lg_half_range(%a) = %a, want %a", what, v, g, want);
         }
     printf("%s: lg_half_range is clamp(v, -65504, 65504) with NaN 0 on %u x 4 values, "
-           "lg_half_range_count the C count%s\n", what, n,
-           bad ? " EXCEPT the above" : "");
+           "lg_half_range_count the C count%s\n",
+           what, n, bad ? " EXCEPT the above" : "");
 }
 
 int main(int argc, char **argv)
@@ -352,7 +380,8 @@ int main(int argc, char **argv)
         }
         gl = lg_gl_device_table(gldev);
         printf("gl: %s\n", lg_gl_device_description(gldev));
-        lg_gl_shader_src src = {GL_COMPUTE_SHADER, lg_src_rgbe_eval_comp_file, lg_src_rgbe_eval_comp};
+        lg_gl_shader_src src = { GL_COMPUTE_SHADER, lg_src_rgbe_eval_comp_file,
+                                 lg_src_rgbe_eval_comp };
         devtest_clear();
         prog = lg_gl_program(devtest_node(), gl, &src, 1, NULL);
         CHECKF(prog != 0, "rgbe_eval.comp: %s", devtest_errors);

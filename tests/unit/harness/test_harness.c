@@ -43,13 +43,15 @@ static void case_diff(lg_test *t)
     lg_image a = image(5, 3, 0.5f), b = image(5, 3, 0.5f), c = image(3, 5, 0.5f);
     a.pixels[(2 * 5 + 3) * 4 + 2] = 0.75f; /* (3, 2).b */
     lg_test_diff d;
-    lg_test_tol loose = {.max_abs = 0.3}, tight = {.max_abs = 0.1}, rmse = {.max_abs = 1, .rmse = 1e-3};
+    lg_test_tol loose = { .max_abs = 0.3 }, tight = { .max_abs = 0.1 },
+                rmse = { .max_abs = 1, .rmse = 1e-3 };
     LG_TEST_CHECK(t, lg_test_diff_images(&a, &b, 32, &loose, &d), "0.25 within 0.3");
     LG_TEST_CHECK(t, d.max_abs == 0.25 && d.x == 3 && d.y == 2 && d.c == 2, "max %g at (%u, %u).%u",
                   d.max_abs, d.x, d.y, d.c);
     LG_TEST_CHECK(t, d.got == 0.75 && d.want == 0.5, "got %g want %g", d.got, d.want);
     LG_TEST_CHECK(t, fabs(d.rmse - sqrt(0.0625 / 60)) < 1e-12, "rmse %.17g", d.rmse);
-    LG_TEST_CHECK(t, !lg_test_diff_images(&a, &b, 32, &tight, &d) && d.over == 1, "0.25 beyond 0.1");
+    LG_TEST_CHECK(t, !lg_test_diff_images(&a, &b, 32, &tight, &d) && d.over == 1,
+                  "0.25 beyond 0.1");
     LG_TEST_CHECK(t, !lg_test_diff_images(&a, &b, 32, &rmse, &d), "rmse %g beyond 1e-3", d.rmse);
     LG_TEST_CHECK(t, !lg_test_diff_images(&a, &c, 32, &loose, &d) && d.size_mismatch, "5x3 vs 3x5");
 
@@ -59,8 +61,9 @@ static void case_diff(lg_test *t)
     n1.pixels[5] = n2.pixels[5] = INFINITY;
     LG_TEST_CHECK(t, lg_test_diff_images(&n1, &n2, 32, &tight, &d), "equal NaN and Inf");
     n1.pixels[9 * 4 + 1] = NAN;
-    LG_TEST_CHECK(t, !lg_test_diff_images(&n1, &n2, 32, &loose, &d) && d.nonfinite == 1 &&
-                         d.x == 1 && d.y == 2 && d.c == 1,
+    LG_TEST_CHECK(t,
+                  !lg_test_diff_images(&n1, &n2, 32, &loose, &d) && d.nonfinite == 1 && d.x == 1 &&
+                      d.y == 2 && d.c == 1,
                   "NaN vs 1: nonfinite %llu at (%u, %u).%u", (unsigned long long)d.nonfinite, d.x,
                   d.y, d.c);
     n1.pixels[9 * 4 + 1] = 1.0f;
@@ -70,12 +73,12 @@ static void case_diff(lg_test *t)
 
     /* half files round to 11 significant bits: 1000.4 vs 1000 passes at bits 16 only */
     lg_image h1 = image(1, 1, 1000.4f), h2 = image(1, 1, 1000.0f);
-    lg_test_tol zero = {0};
+    lg_test_tol zero = { 0 };
     LG_TEST_CHECK(t, lg_test_diff_images(&h1, &h2, 16, &zero, NULL), "half rounding allowed");
     LG_TEST_CHECK(t, !lg_test_diff_images(&h1, &h2, 32, &zero, NULL), "float: no rounding");
-    lg_test_tol rel = {.rel = 1e-3};
+    lg_test_tol rel = { .rel = 1e-3 };
     LG_TEST_CHECK(t, lg_test_diff_images(&h1, &h2, 32, &rel, NULL), "relative tolerance");
-    lg_image *all[] = {&a, &b, &c, &n1, &n2, &h1, &h2};
+    lg_image *all[] = { &a, &b, &c, &n1, &n2, &h1, &h2 };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         lg_image_free(all[i]);
 }
@@ -115,9 +118,9 @@ static void case_catches(lg_test *t)
     lg_test_backends_desc d = {
         .graph = graph_for(inner),
         .node = "tone",
-        .backends = (const char *const[]){"cpu", NULL},
+        .backends = (const char *const[]){ "cpu", NULL },
         .reference = &want,
-        .tol_reference = {.max_abs = 1e-5},
+        .tol_reference = { .max_abs = 1e-5 },
     };
     lg_test_backends_result res;
     size_t ran = lg_test_backends(inner, &d, &res);
@@ -125,7 +128,9 @@ static void case_catches(lg_test *t)
     LG_TEST_CHECK(t, lg_test_failures(inner) == 1, "%d failed checks, want 1",
                   lg_test_failures(inner));
     const lg_test_diff *v = &res.run[0].vs_reference;
-    LG_TEST_CHECK(t, v->over == 1 && v->x == 7 && v->y == 5 && v->c == 1 && fabs(v->max_abs - 1e-3) < 1e-6,
+    LG_TEST_CHECK(t,
+                  v->over == 1 && v->x == 7 && v->y == 5 && v->c == 1 &&
+                      fabs(v->max_abs - 1e-3) < 1e-6,
                   "over %llu, max %g at (%u, %u).%u", (unsigned long long)v->over, v->max_abs, v->x,
                   v->y, v->c);
     LG_TEST_CHECK(t, lg_test_end(&inner) == LG_TEST_FAIL && inner == NULL, "the inner case passed");
@@ -145,8 +150,8 @@ static void case_no_device(lg_test *t)
         .graph = graph_for(t),
         .node = "tone",
         .reference = &want,
-        .tol_reference = {.max_abs = 1e-6},
-        .tol_backends = {.max_abs = 1e-6},
+        .tol_reference = { .max_abs = 1e-6 },
+        .tol_backends = { .max_abs = 1e-6 },
         .allow_missing = true,
     };
     lg_test_backends_result res;
@@ -168,7 +173,7 @@ static void case_partial_inner(lg_test *t)
     setenv("GALLIUM_DRIVER", "softpipe", 1);
     setenv("OCL_ICD_VENDORS", lg_test_path(t, "no-icds"), 1);
     /* no reference image: the skip leaves this function, which could not free it */
-    lg_test_backends_desc d = {.graph = graph_for(t), .node = "tone"};
+    lg_test_backends_desc d = { .graph = graph_for(t), .node = "tone" };
     lg_test_backends(t, &d, NULL);
     LG_TEST_FAILF(t, "lg_test_backends returned although gl and cl were missing");
 }
@@ -202,7 +207,8 @@ static void case_partial(lg_test *t)
     char text[8192];
     int code = run_inner(t, "partial_inner", text, sizeof text);
     LG_TEST_CHECK(t, code == LG_TEST_SKIP, "exit %d, want 77: %s", code, text);
-    LG_TEST_CHECK(t, strstr(text, "no device here for gl, cl (the 1 other backend(s) passed)") != NULL,
+    LG_TEST_CHECK(t,
+                  strstr(text, "no device here for gl, cl (the 1 other backend(s) passed)") != NULL,
                   "the skip does not name the missing devices: %s", text);
 }
 
@@ -247,7 +253,7 @@ static void case_cannot_start_inner(lg_test *t)
         return;
     }
     setenv("LG_EXE", script, 1); /* single-threaded test process: allowed */
-    lg_test_backends_desc d = {.graph = graph_for(t), .node = "tone"};
+    lg_test_backends_desc d = { .graph = graph_for(t), .node = "tone" };
     lg_test_backends(t, &d, NULL); /* asks `inspect` first: the harness must exit there */
     LG_TEST_FAILF(t, "lg_test_backends returned although the host could not start");
 }
@@ -257,8 +263,9 @@ static void case_cannot_start(lg_test *t)
     char text[8192];
     int code = run_inner(t, "cannot_start_inner", text, sizeof text);
     LG_TEST_CHECK(t, code == LG_TEST_ERROR, "exit %d, want 99: %s", code, text);
-    LG_TEST_CHECK(t, strstr(text, "could not start (exit 127") != NULL &&
-                         strstr(text, "liblightgraph.so.3: cannot open shared object file") != NULL,
+    LG_TEST_CHECK(t,
+                  strstr(text, "could not start (exit 127") != NULL &&
+                      strstr(text, "liblightgraph.so.3: cannot open shared object file") != NULL,
                   "the loader's message is not given as the cause: %s", text);
     LG_TEST_CHECK(t, strstr(text, "LIGHTGRAPH_PLUGIN_PATH") == NULL,
                   "a host that cannot start is blamed on the plugin path: %s", text);
@@ -267,8 +274,9 @@ static void case_cannot_start(lg_test *t)
     if (kept)
         sscanf(kept + strlen("scratch folder kept: "), "%4095[^\n]", dir);
     struct stat st;
-    LG_TEST_CHECK(t, *dir && strstr(dir, "harness-cannot_start_inner-") && stat(dir, &st) == 0 &&
-                         S_ISDIR(st.st_mode),
+    LG_TEST_CHECK(t,
+                  *dir && strstr(dir, "harness-cannot_start_inner-") && stat(dir, &st) == 0 &&
+                      S_ISDIR(st.st_mode),
                   "the kept scratch folder is not named (or not there): '%s' in %s", dir, text);
     if (*dir && strstr(dir, "harness-cannot_start_inner-"))
         nftw(dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
@@ -286,8 +294,8 @@ static void case_bench(lg_test *t)
         .graph = graph_for(t),
         .node = "tone",
         .reference = &want,
-        .tol_reference = {.max_abs = 1e-5},
-        .tol_backends = {.max_abs = 1e-5},
+        .tol_reference = { .max_abs = 1e-5 },
+        .tol_backends = { .max_abs = 1e-5 },
     };
     lg_test_backends_result res;
     lg_test_backends(t, &d, &res);
@@ -297,8 +305,9 @@ static void case_bench(lg_test *t)
             continue;
         LG_TEST_CHECK(t, r->runs == frames, "%s: %llu runs, want %u", r->backend,
                       (unsigned long long)r->runs, frames);
-        LG_TEST_CHECK(t, r->first_ms > 0 && r->min_ms > 0 && r->mean_ms >= r->min_ms &&
-                             r->min_ms <= r->first_ms,
+        LG_TEST_CHECK(t,
+                      r->first_ms > 0 && r->min_ms > 0 && r->mean_ms >= r->min_ms &&
+                          r->min_ms <= r->first_ms,
                       "%s: first %g, mean %g, min %g ms", r->backend, r->first_ms, r->mean_ms,
                       r->min_ms);
     }
@@ -309,17 +318,17 @@ static void case_bench(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        {"diff", case_diff},
-        {"catches", case_catches},
-        {"no_device", case_no_device},
-        {"partial", case_partial},
-        {"partial_inner", case_partial_inner},
-        {"signal", case_signal},
-        {"signal_inner", case_signal_inner},
-        {"cannot_start", case_cannot_start},
-        {"cannot_start_inner", case_cannot_start_inner},
-        {"bench", case_bench},
+        { "diff", case_diff },
+        { "catches", case_catches },
+        { "no_device", case_no_device },
+        { "partial", case_partial },
+        { "partial_inner", case_partial_inner },
+        { "signal", case_signal },
+        { "signal_inner", case_signal_inner },
+        { "cannot_start", case_cannot_start },
+        { "cannot_start_inner", case_cannot_start_inner },
+        { "bench", case_bench },
     };
-    lg_test_main_opts o = {.prefix = "harness"};
+    lg_test_main_opts o = { .prefix = "harness" };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
 }

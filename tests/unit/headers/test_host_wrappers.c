@@ -62,8 +62,7 @@ static void fake_log(lg_node *n, lg_log_level level, const char *fmt, va_list ap
     vsnprintf(last, sizeof last, fmt, ap);
 }
 
-
-/* ---- the plain wrappers: one fake per member, recording the call ---- */
+/* ---- the plain wrappers: one fake per member, recording the call ----------------------------- */
 
 static struct {
     const char *member; /* the entry last called */
@@ -221,12 +220,12 @@ static void check_plain_wrappers(void)
     lg_render_size(&n, &w, &h);
     CHECK(CALLED("render_size") && call.node == &n && w == 640 && h == 360);
 
-    lg_buffer_desc bd = {.size = 16};
-    CHECK(lg_declare_buffer(&n, 2, &bd) == -101 && CALLED("declare_buffer") &&
-          call.node == &n && call.port == 2 && call.ptr == &bd);
-    lg_volume_desc vd = {.width = 4};
-    CHECK(lg_declare_volume(&n, 3, &vd) == -102 && CALLED("declare_volume") &&
-          call.node == &n && call.port == 3 && call.ptr == &vd);
+    lg_buffer_desc bd = { .size = 16 };
+    CHECK(lg_declare_buffer(&n, 2, &bd) == -101 && CALLED("declare_buffer") && call.node == &n &&
+          call.port == 2 && call.ptr == &bd);
+    lg_volume_desc vd = { .width = 4 };
+    CHECK(lg_declare_volume(&n, 3, &vd) == -102 && CALLED("declare_volume") && call.node == &n &&
+          call.port == 3 && call.ptr == &vd);
     CHECK(lg_declare_alias(&n, 1, 4) == -103 && CALLED("declare_alias") && call.node == &n &&
           call.port == 1 && call.port2 == 4);
     lg_scene_features f;
@@ -247,7 +246,7 @@ static void check_plain_wrappers(void)
     CHECK(lg_cache_get(&n, "table", &data, &size) == -105 && CALLED("cache_get") &&
           call.node == &n && strcmp(call.str, "table") == 0 && data == cached_entry &&
           size == sizeof cached_entry);
-    const char bytes[3] = {1, 2, 3};
+    const char bytes[3] = { 1, 2, 3 };
     CHECK(lg_cache_put(&n, "table", bytes, sizeof bytes) == -106 && CALLED("cache_put") &&
           call.node == &n && strcmp(call.str, "table") == 0 && call.ptr == bytes &&
           call.size == sizeof bytes);
@@ -257,16 +256,15 @@ static void check_plain_wrappers(void)
     const lg_resource *res = (const lg_resource *)&payload; /* opaque: only passed on */
     uint32_t buffer = 0;
     CHECK(lg_payload_gl_buffer(&n, res, 6, bytes, sizeof bytes, &buffer) == -107 &&
-          CALLED("payload_gl_buffer") && call.node == &n && call.ptr == res &&
-          call.slot == 6 && call.ptr2 == bytes && call.size == sizeof bytes && buffer == 77);
+          CALLED("payload_gl_buffer") && call.node == &n && call.ptr == res && call.slot == 6 &&
+          call.ptr2 == bytes && call.size == sizeof bytes && buffer == 77);
     void *mem = NULL;
     CHECK(lg_payload_cl_buffer(&n, res, 7, bytes, sizeof bytes, &mem) == -108 &&
-          CALLED("payload_cl_buffer") && call.node == &n && call.ptr == res &&
-          call.slot == 7 && call.ptr2 == bytes && call.size == sizeof bytes &&
-          mem == cached_entry);
+          CALLED("payload_cl_buffer") && call.node == &n && call.ptr == res && call.slot == 7 &&
+          call.ptr2 == bytes && call.size == sizeof bytes && mem == cached_entry);
 }
 
-/* ---- the create/prepare openings and lg_assert_input ---- */
+/* ---- the create/prepare openings and lg_assert_input ----------------------------------------- */
 
 static int error_calls;
 static char error_text[256];
@@ -299,7 +297,7 @@ static void fake_render_size_var(lg_node *n, uint32_t *w, uint32_t *h)
 }
 
 /* the inputs a fake node sees: a scene on 0, nothing on 1, an image on 2 */
-static int resource_kinds[3] = {LG_KIND_SCENE, 0, LG_KIND_IMAGE};
+static int resource_kinds[3] = { LG_KIND_SCENE, 0, LG_KIND_IMAGE };
 static const lg_resource *fake_input(lg_node *n, uint32_t port)
 {
     (void)n;
@@ -343,13 +341,14 @@ static void check_openings(void)
     api.input = fake_input;
     api.describe = fake_describe;
     static const lg_port_desc inputs[] = {
-        {.name = "scene", .kind = LG_KIND_SCENE},
-        {.name = "shadows", .kind = LG_KIND_SHADOWMAP}, /* required, but nothing there */
-        {.name = "base", .kind = LG_KIND_SCENE},        /* an image there: the wrong kind */
-        {.name = "extra", .kind = LG_KIND_IMAGE, .optional = true},
+        { .name = "scene", .kind = LG_KIND_SCENE },
+        { .name = "shadows", .kind = LG_KIND_SHADOWMAP }, /* required, but nothing there */
+        { .name = "base", .kind = LG_KIND_SCENE },        /* an image there: the wrong kind */
+        { .name = "extra", .kind = LG_KIND_IMAGE, .optional = true },
     };
-    static const lg_node_type type = {.struct_size = sizeof(lg_node_type), .name = "fake",
-                                      .inputs = inputs, .n_inputs = 4};
+    static const lg_node_type type = {
+        .struct_size = sizeof(lg_node_type), .name = "fake", .inputs = inputs, .n_inputs = 4
+    };
     lg_node n;
     memset(&n, 0, sizeof n);
     n.host = &api;
@@ -366,15 +365,15 @@ static void check_openings(void)
     n.user = NULL;
 
     /* lg_output_size_nonempty: 0 takes the render size; an empty size is an error */
-    size_params[0] = (lg_value){.type = LG_PARAM_INT, .i = 0};
-    size_params[1] = (lg_value){.type = LG_PARAM_INT, .i = 20};
+    size_params[0] = (lg_value){ .type = LG_PARAM_INT, .i = 0 };
+    size_params[1] = (lg_value){ .type = LG_PARAM_INT, .i = 20 };
     render_w = 320, render_h = 180;
     uint32_t w = 0, h = 0;
-    CHECK(lg_output_size_nonempty(&n, "width", "height", &w, &h) == 0 && w == 320 &&
-          h == 20 && error_calls == 0);
+    CHECK(lg_output_size_nonempty(&n, "width", "height", &w, &h) == 0 && w == 320 && h == 20 &&
+          error_calls == 0);
     render_w = 0;
-    CHECK(lg_output_size_nonempty(&n, "width", "height", &w, &h) == LG_ERR_INVALID &&
-          w == 0 && h == 20 && error_calls == 1 &&
+    CHECK(lg_output_size_nonempty(&n, "width", "height", &w, &h) == LG_ERR_INVALID && w == 0 &&
+          h == 20 && error_calls == 1 &&
           strcmp(error_text, "output size 0x20: width and height must be > 0") == 0);
 
     /* lg_assert_input: nothing to say about a required input of its kind */
@@ -398,7 +397,7 @@ int main(void)
     lg_node n;
     memset(&n, 0, sizeof n);
     n.host = &api;
-    const char data[2] = {1, 2};
+    const char data[2] = { 1, 2 };
 
     /* a 2.6 host: the struct ends where cache_store begins */
     api.struct_size = offsetof(lg_host_api, cache_store);

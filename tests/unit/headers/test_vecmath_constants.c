@@ -48,8 +48,7 @@ int main(void)
         CHECKF(nearest(LG_HALF_PI, pi / 2.0L), "LG_HALF_PI %.17g", LG_HALF_PI);
         CHECKF(nearest(LG_INV_PI, 1.0L / pi), "LG_INV_PI %.17g", LG_INV_PI);
         CHECKF(nearest(LG_INV_TWO_PI, 1.0L / (2.0L * pi)), "LG_INV_TWO_PI %.17g", LG_INV_TWO_PI);
-        CHECKF(nearest(LG_INV_FOUR_PI, 1.0L / (4.0L * pi)), "LG_INV_FOUR_PI %.17g",
-               LG_INV_FOUR_PI);
+        CHECKF(nearest(LG_INV_FOUR_PI, 1.0L / (4.0L * pi)), "LG_INV_FOUR_PI %.17g", LG_INV_FOUR_PI);
         CHECKF(fabsl((long double)LG_PIF - pi) <=
                    fabsl((long double)nextafterf(LG_PIF, 0.0f) - (long double)LG_PIF) / 2.0L,
                "LG_PIF %.9g", (double)LG_PIF);

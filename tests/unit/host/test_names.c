@@ -17,7 +17,7 @@
 #include "exec/exec.h"
 #include "exec/names.h"
 
-/* ---- rule --------------------------------------------------------------------------- */
+/* ---- rule ------------------------------------------------------------------------------------ */
 
 static void expect_rule(const char *plugin, const char *type, bool ok, const char *words)
 {
@@ -68,11 +68,11 @@ static void test_rule(void)
     expect_rule("acme_blur", "scale", false, "node type 'scale' of plugin 'acme_blur'");
     /* no room for the reason: still an answer, nothing written */
     CHECK(!lg_name_rule_ok("acme", NULL, NULL, 0));
-    char one[1] = {'x'};
+    char one[1] = { 'x' };
     CHECK(!lg_name_rule_ok("acme", NULL, one, sizeof one) && one[0] == 0);
 }
 
-/* ---- shipped_list -------------------------------------------------------------------- */
+/* ---- shipped_list ---------------------------------------------------------------------------- */
 
 static int cmp_str(const void *a, const void *b)
 {
@@ -112,8 +112,7 @@ static void test_shipped_list(const char *src, const char *build)
     CHECKF(n_list >= 16, "only %zu shipped plugins listed", n_list);
     for (size_t i = 1; i < n_list; i++)
         CHECKF(strcmp(lg_shipped_plugins[i - 1], lg_shipped_plugins[i]) < 0,
-               "the list is not in alphabetical order, or has '%s' twice",
-               lg_shipped_plugins[i]);
+               "the list is not in alphabetical order, or has '%s' twice", lg_shipped_plugins[i]);
     /* the folders of plugins/ that define their plugin, sorted */
     DIR *d = opendir(src);
     CHECKF(d != NULL, "cannot open %s", src);
@@ -139,15 +138,17 @@ static void test_shipped_list(const char *src, const char *build)
     closedir(d);
     if (n_folders > 1)
         qsort(folders, n_folders, sizeof *folders, cmp_str);
-    CHECKF(n_all > n_folders, "every folder of %s defines a plugin: the libraries "
-           "(embree_common, volumetric_common) were expected not to", src);
+    CHECKF(n_all > n_folders,
+           "every folder of %s defines a plugin: the libraries "
+           "(embree_common, volumetric_common) were expected not to",
+           src);
     for (size_t i = 0; i < n_folders || i < n_list; i++) {
         const char *f = i < n_folders ? folders[i] : "(none)";
         const char *l = i < n_list ? lg_shipped_plugins[i] : "(none)";
         CHECKF(strcmp(f, l) == 0,
                "entry %zu: plugins/%s defines a plugin, lg_shipped_plugins has '%s' "
-               "(host/exec/names.c: one line per folder of plugins/ that builds a plugin)", i, f,
-               l);
+               "(host/exec/names.c: one line per folder of plugins/ that builds a plugin)",
+               i, f, l);
     }
     /* each built plugin declares its folder's name */
     char **paths = lg_xcalloc(n_list + 1, sizeof *paths);
@@ -158,7 +159,7 @@ static void test_shipped_list(const char *src, const char *build)
         free(dir);
         free(file);
     }
-    lg_registry r = {0};
+    lg_registry r = { 0 };
     lg_registry_scan_files(&r, paths, (uint32_t)n_list);
     CHECKF(r.n_refused == 0, "%u of the built plugins refused (first: %s: %s)", r.n_refused,
            r.n_refused ? r.refused[0].path : "", r.n_refused ? r.refused[0].reason : "");
@@ -179,12 +180,12 @@ static void test_shipped_list(const char *src, const char *build)
     free(folders);
 }
 
-/* ---- rescan --------------------------------------------------------------------------- */
+/* ---- rescan ---------------------------------------------------------------------------------- */
 
 static void test_rescan(const char *a, const char *b)
 {
-    char *files[] = {(char *)a};
-    lg_registry r = {0};
+    char *files[] = { (char *)a };
+    lg_registry r = { 0 };
     lg_registry_scan_files(&r, files, 1);
     CHECKF(r.n_plugins == 1, "%s did not scan", a);
     if (r.n_plugins != 1) {

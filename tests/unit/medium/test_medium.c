@@ -69,8 +69,8 @@ static int cmd_phase(void)
         long double den = 1.0L + g * g - 2.0L * g * c;
         long double want = (1.0L - g * g) / (4.0L * (long double)LG_PI * den * sqrtl(den));
         double got = lg_hg_phase((double)g, (double)c);
-        CHECKF(fabsl((long double)got / want - 1.0L) < 1e-9L, "stable form %.17g vs %.17Lg",
-               got, want);
+        CHECKF(fabsl((long double)got / want - 1.0L) < 1e-9L, "stable form %.17g vs %.17Lg", got,
+               want);
         CHECK(lg_hg_phase(-0.9999, -1.0 + 1e-9) == lg_hg_phase(0.9999, 1.0 - 1e-9));
     }
     for (size_t i = 0; i < sizeof gs / sizeof gs[0]; i++)
@@ -85,8 +85,8 @@ static int cmd_phase(void)
         for (double c = -1.5; c <= 1.5; c += 0.25) {
             double p = lg_hg_phase(odd[i], c), q = lg_hg_phase(0.3, odd[i]);
             float pf = lg_hg_phasef((float)odd[i], (float)c);
-            CHECKF(isfinite(p) && p >= 0.0 && isfinite(q) && q >= 0.0 && isfinite(pf) &&
-                   pf >= 0.0f, "g %g cos %g", odd[i], c);
+            CHECKF(isfinite(p) && p >= 0.0 && isfinite(q) && q >= 0.0 && isfinite(pf) && pf >= 0.0f,
+                   "g %g cos %g", odd[i], c);
         }
     CHECK(lg_hg_phase(0.4, 1.0) > lg_hg_phase(0.4, -1.0));
     CHECK(lg_hg_phase(-0.4, 1.0) < lg_hg_phase(-0.4, -1.0));
@@ -137,8 +137,8 @@ static int cmd_slices(void)
                 CHECKF(t > prev, "not increasing: s %d D %u z %g", s, D, z);
                 prev = t;
                 double back = lg_depth_to_slice(&m, t);
-                CHECKF(fabs(back - z) < 1e-9 * (D > 1 ? D : 1), "round trip s %d D %u z %g: %g",
-                       s, D, z, back);
+                CHECKF(fabs(back - z) < 1e-9 * (D > 1 ? D : 1), "round trip s %d D %u z %g: %g", s,
+                       D, z, back);
             }
             if (sl[s] == LG_FROXEL_EXPONENTIAL && D > 1)
                 CHECK(fabs(lg_slice_to_depth(&m, 1.0) - 0.5) < 1e-15);
@@ -162,8 +162,13 @@ static int cmd_slices(void)
     CHECK(lg_slice_map_init(&m, LG_FROXEL_EXPONENTIAL, 4, 0.1, 10, 10) != 0);
     CHECK(lg_slice_map_init(&m, (lg_froxel_slicing)9, 4, 0.1, 10, 1) != 0);
     CHECK(lg_slice_map_init(&m, LG_FROXEL_EXPONENTIAL, 1, 0.1, 10, 0) == 0);
-    lg_froxel_info info = { .struct_size = sizeof info, .width = 4, .height = 4, .depth = 8,
-                            .slicing = LG_FROXEL_EXPONENTIAL, .near = 0.1f, .far = 20.0f,
+    lg_froxel_info info = { .struct_size = sizeof info,
+                            .width = 4,
+                            .height = 4,
+                            .depth = 8,
+                            .slicing = LG_FROXEL_EXPONENTIAL,
+                            .near = 0.1f,
+                            .far = 20.0f,
                             .near_offset = 1.0f };
     CHECK(lg_slice_map_from_info(&m, &info) == 0 && m.depth == 8);
     return check_report("medium_slices");
@@ -192,8 +197,11 @@ static int cmd_inscatter(void)
         double exact = lg_medium_inscatter(1.0, 1.0, tau, 1.0, 1.0);
         CHECKF(fabs(1.0 / exact / (tau / -expm1(-tau)) - 1.0) < 1e-12, "tau %g", tau);
     }
-    lg_medium m = { .present = true, .density = 2.0f, .scattering = { 0.1f, 0.2f, 0.3f },
-                    .absorption = { 0.05f, 0.0f, 1.0f }, .g = 0.4f };
+    lg_medium m = { .present = true,
+                    .density = 2.0f,
+                    .scattering = { 0.1f, 0.2f, 0.3f },
+                    .absorption = { 0.05f, 0.0f, 1.0f },
+                    .g = 0.4f };
     float s[3], t[3];
     lg_medium_coeffs(&m, s, t);
     CHECK(s[0] == 0.2f && s[1] == 0.4f && s[2] == 0.6f);
@@ -211,10 +219,14 @@ static int cmd_inscatter(void)
 int main(int argc, char **argv)
 {
     const char *c = argc > 1 ? argv[1] : "";
-    if (!strcmp(c, "phase")) return cmd_phase();
-    if (!strcmp(c, "segment")) return cmd_segment();
-    if (!strcmp(c, "slices")) return cmd_slices();
-    if (!strcmp(c, "inscatter")) return cmd_inscatter();
+    if (!strcmp(c, "phase"))
+        return cmd_phase();
+    if (!strcmp(c, "segment"))
+        return cmd_segment();
+    if (!strcmp(c, "slices"))
+        return cmd_slices();
+    if (!strcmp(c, "inscatter"))
+        return cmd_inscatter();
     fprintf(stderr, "usage: test_medium phase|segment|slices|inscatter\n");
     return 2;
 }

@@ -62,14 +62,14 @@ static void add(int op, int slicing, float x, float m0, float m1, float m2, floa
 
 static void make_table(void)
 {
-    static const float gs[] = { 0, 0.4f, -0.4f, 0.9f, -0.9f, 0.99f, -0.99f, 0.999f, -0.999f,
-                                0.999999f, -0.999999f, 1, -1 };
+    static const float gs[] = { 0,      0.4f,    -0.4f,     0.9f,       -0.9f, 0.99f, -0.99f,
+                                0.999f, -0.999f, 0.999999f, -0.999999f, 1,     -1 };
     static const float cs[] = { -1, -0.99f, -0.5f, 0, 0.3f, 0.9f, 0.999f, 1 - 1e-6f, 1 };
     for (size_t i = 0; i < sizeof gs / sizeof gs[0]; i++)
         for (size_t j = 0; j < sizeof cs / sizeof cs[0]; j++)
             add(OP_PHASE, 0, cs[j], gs[i], 0, 0, 0);
-    static const float taus[] = { 0, 1e-30f, 1e-8f, 1e-4f, 0.01f, 0.1f, 0.2499f, 0.25f,
-                                  0.2501f, 0.5f, 1, 2, 5, 10, 30, 80 };
+    static const float taus[] = { 0,       1e-30f, 1e-8f, 1e-4f, 0.01f, 0.1f, 0.2499f, 0.25f,
+                                  0.2501f, 0.5f,   1,     2,     5,     10,   30,      80 };
     for (size_t i = 0; i < sizeof taus / sizeof taus[0]; i++)
         add(OP_SEGMENT, 0, taus[i], 0, 0, 0, 0);
     static const int slicings[] = { LG_FROXEL_UNIFORM_CLIP, LG_FROXEL_EXPONENTIAL };
@@ -83,8 +83,8 @@ static void make_table(void)
                 float z = (float)(k * 0.25);
                 add(OP_TO_DEPTH, slicings[s], z, 0.1f, 100.0f, 1.0f, (float)D);
                 add(OP_TRIP, slicings[s], z, 0.1f, 100.0f, 1.0f, (float)D);
-                add(OP_TO_SLICE, slicings[s], (float)lg_slice_to_depth(&m, z), 0.1f, 100.0f,
-                    1.0f, (float)D);
+                add(OP_TO_SLICE, slicings[s], (float)lg_slice_to_depth(&m, z), 0.1f, 100.0f, 1.0f,
+                    (float)D);
             }
         }
 }
@@ -97,8 +97,8 @@ static double cpu_value(const rec *r)
     if (r->op == OP_SEGMENT)
         return lg_medium_segmentf(r->x);
     lg_slice_map m;
-    lg_slice_map_init(&m, (lg_froxel_slicing)r->slicing, (uint32_t)r->map[3], r->map[0],
-                      r->map[1], r->map[2]);
+    lg_slice_map_init(&m, (lg_froxel_slicing)r->slicing, (uint32_t)r->map[3], r->map[0], r->map[1],
+                      r->map[2]);
     if (r->op == OP_TO_DEPTH)
         return lg_slice_to_depth(&m, r->x);
     if (r->op == OP_TO_SLICE)
@@ -108,8 +108,8 @@ static double cpu_value(const rec *r)
 
 static const char *op_name(int op)
 {
-    static const char *const names[] = { "phase", "segment", "slice_to_depth",
-                                          "depth_to_slice", "round trip" };
+    static const char *const names[] = { "phase", "segment", "slice_to_depth", "depth_to_slice",
+                                         "round trip" };
     return names[op];
 }
 
@@ -120,8 +120,10 @@ static void compare(const char *dev, const float *res)
     for (uint32_t i = 0; i < n_rec; i++) {
         const rec *r = &table[i];
         double want = cpu_value(r), got = res[i], err;
-        double tol = r->op == OP_PHASE ? TOL_PHASE : r->op == OP_SEGMENT ? TOL_SEGMENT
-                   : r->op == OP_TRIP ? TOL_TRIP : TOL_SLICE;
+        double tol = r->op == OP_PHASE     ? TOL_PHASE
+                     : r->op == OP_SEGMENT ? TOL_SEGMENT
+                     : r->op == OP_TRIP    ? TOL_TRIP
+                                           : TOL_SLICE;
         if (r->op == OP_TRIP)
             err = fabs(got - want);
         else if (r->op == OP_TO_SLICE)
@@ -134,9 +136,11 @@ static void compare(const char *dev, const float *res)
              * about 2^-24 (1/near) absolutely, so t = 1 / that keeps 2^-24 t/near
              * relatively (far/near = 1000 here: up to 6e-5). Measured against that. */
             tol = fmax(tol, 1.0 * FLT_EPSILON * want / r->map[0]);
-        CHECKF(isfinite(got) && err <= tol, "%s %s (slicing %d, depth %g) at %.9g, g %.9g: "
-               "%.9g, C %.9g (error %.3g > %.3g)", dev, op_name(r->op), r->slicing,
-               (double)r->map[3], (double)r->x, (double)r->map[0], got, want, err, tol);
+        CHECKF(isfinite(got) && err <= tol,
+               "%s %s (slicing %d, depth %g) at %.9g, g %.9g: "
+               "%.9g, C %.9g (error %.3g > %.3g)",
+               dev, op_name(r->op), r->slicing, (double)r->map[3], (double)r->x, (double)r->map[0],
+               got, want, err, tol);
         if (err > worst[r->op])
             worst[r->op] = err;
     }
@@ -228,10 +232,10 @@ static void run_cl(void)
             memcpy(maps + 4 * i, table[i].map, 16);
         }
         cl_int e1, e2, e3;
-        cl_mem ma = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                   (size_t)n_rec * 16, args, &e1);
-        cl_mem mm = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                   (size_t)n_rec * 16, maps, &e2);
+        cl_mem ma = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)n_rec * 16,
+                                   args, &e1);
+        cl_mem mm = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, (size_t)n_rec * 16,
+                                   maps, &e2);
         cl_mem mr = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, (size_t)n_rec * 4, NULL, &e3);
         CHECKF(e1 == CL_SUCCESS && e2 == CL_SUCCESS && e3 == CL_SUCCESS, "clCreateBuffer");
         if (e1 == CL_SUCCESS && e2 == CL_SUCCESS && e3 == CL_SUCCESS) {

@@ -28,13 +28,13 @@
 static int failures;
 static int checks;
 
-#define CHECK(cond)                                                                       \
-    do {                                                                                  \
-        checks++;                                                                         \
-        if (!(cond)) {                                                                    \
-            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);      \
-            failures++;                                                                   \
-        }                                                                                 \
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        checks++;                                                                                  \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);               \
+            failures++;                                                                            \
+        }                                                                                          \
     } while (0)
 
 static void check_str(const char *file, int line, const char *got, const char *want)
@@ -51,8 +51,8 @@ static void check_str(const char *file, int line, const char *got, const char *w
 /* The first line of every diagnostic, as lg_diags_print writes it. */
 static char *headers(const lg_diags *d)
 {
-    lg_str b = {0};
-    static const char *lv[] = {"error", "warning", "note"};
+    lg_str b = { 0 };
+    static const char *lv[] = { "error", "warning", "note" };
     for (uint32_t i = 0; i < d->n; i++) {
         const lg_diag *g = &d->items[i];
         if (i)
@@ -122,10 +122,10 @@ static void expect_at(const char *file, int line, const char *text, const char *
 #define EXPECT(text, want) expect_at(__FILE__, __LINE__, (text), NULL, (want))
 #define EXPECT_SET(text, sets, want) expect_at(__FILE__, __LINE__, (text), (sets), (want))
 
-#define HDR "lightgraph 1\nsrc = image {}\n" /* the tested statement is on line 3 */
-#define TONE "tone = reinhard { image = src, "  /* the next key starts at column 32 */
+#define HDR "lightgraph 1\nsrc = image {}\n"   /* the tested statement is on line 3 */
+#define TONE "tone = reinhard { image = src, " /* the next key starts at column 32 */
 
-/* ---- syntax ------------------------------------------------------------------------- */
+/* ---- syntax ---------------------------------------------------------------------------------- */
 
 static void test_version(void)
 {
@@ -215,7 +215,7 @@ static void test_syntax_errors(void)
     EXPECT(HDR "x = image { } \xFF\n", "t.lgraph:3:15: error: unexpected byte 0xFF at byte "
                                        "offset 42 (not UTF-8 text)");
     EXPECT(HDR "tone = reinhard {\n  image = src\n", "t.lgraph:3:17: error: '{' of node 'tone' "
-                                                    "is never closed");
+                                                     "is never closed");
     EXPECT(HDR "b = blur { image = src, grid = [1, 2\n",
            "t.lgraph:3:32: error: '[' is never closed\n"
            "t.lgraph:3:10: error: '{' of node 'b' is never closed");
@@ -237,7 +237,7 @@ static void test_syntax_errors(void)
     /* a NUL byte is never text */
     {
         static const char text[] = "lightgraph 1\nsrc = image {}\0\n";
-        lg_diags d = {0};
+        lg_diags d = { 0 };
         lg_graph *g = lg_graph_parse_string("t.lgraph", text, sizeof text - 1, NULL, &d);
         CHECK(!g);
         char *h = headers(&d);
@@ -265,12 +265,13 @@ static void test_numbers(void)
            "t.lgraph:3:38: error: unexpected character '-'");
     /* the accepted forms */
     run r;
-    run_text(&r, "lightgraph 1\n"
-                 "src = image {}\n"
-                 "t = reinhard { image = src, key = .5, white = 2.5e2, exposure = -.25 }\n"
-                 "u = reinhard { image = src, key = 5., white = 7, exposure = -2E-1 }\n"
-                 "b = blur { image = src, radius = -0, grid = [512, 1, 007] }\n"
-                 "c = blur { image = src, radius = 0, offset = [-9223372036854775808, 1] }\n",
+    run_text(&r,
+             "lightgraph 1\n"
+             "src = image {}\n"
+             "t = reinhard { image = src, key = .5, white = 2.5e2, exposure = -.25 }\n"
+             "u = reinhard { image = src, key = 5., white = 7, exposure = -2E-1 }\n"
+             "b = blur { image = src, radius = -0, grid = [512, 1, 007] }\n"
+             "c = blur { image = src, radius = 0, offset = [-9223372036854775808, 1] }\n",
              NULL);
     CHECK(r.g && !r.c); /* c's offset is out of range, the rest is fine */
     CHECK(r.d.errors == 1);
@@ -299,7 +300,7 @@ static void test_numbers(void)
 static void test_nesting(void)
 {
     /* 40 levels: refused at the 33rd, and the parser goes on after the list */
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, HDR "b = blur { image = src, grid = ");
     for (int i = 0; i < 40; i++)
         lg_str_addc(&b, '[');
@@ -316,7 +317,7 @@ static void test_nesting(void)
     for (int i = 0; i < 1000000; i++)
         lg_str_addc(&b, '[');
     lg_str_add(&b, " }\n");
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     double t0 = lg_mono_now();
     lg_graph *g = lg_graph_parse_string("t.lgraph", b.s, b.len, NULL, &d);
     double t1 = lg_mono_now();
@@ -328,11 +329,11 @@ static void test_nesting(void)
 
 static void test_too_many_errors(void)
 {
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, "lightgraph 1\n");
     for (int i = 0; i < 150; i++)
         lg_str_add(&b, "x\n");
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_string("t.lgraph", b.s, b.len, NULL, &d);
     CHECK(!g);
     CHECK(d.errors == 100);
@@ -347,21 +348,22 @@ static void test_layout_freedom(void)
 {
     /* Braces over lines, newline separators, trailing commas, empty braces. */
     run r;
-    run_text(&r, "lightgraph 1\n"
-                 "src = image {\n"
-                 "}\n"
-                 "tone = reinhard\n"
-                 "{\n"
-                 "    image =\n"
-                 "        src\n"
-                 "    key = 0.5\n"
-                 "    , mode = rgb\n"
-                 "}\n"
-                 "b = blur { image = tone, grid = [\n"
-                 "    1\n"
-                 "    2,\n"
-                 "    3,\n"
-                 "], }\n",
+    run_text(&r,
+             "lightgraph 1\n"
+             "src = image {\n"
+             "}\n"
+             "tone = reinhard\n"
+             "{\n"
+             "    image =\n"
+             "        src\n"
+             "    key = 0.5\n"
+             "    , mode = rgb\n"
+             "}\n"
+             "b = blur { image = tone, grid = [\n"
+             "    1\n"
+             "    2,\n"
+             "    3,\n"
+             "], }\n",
              NULL);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -377,7 +379,7 @@ static void test_layout_freedom(void)
     run_free(&r);
 }
 
-/* ---- checking ---------------------------------------------------------------------------- */
+/* ---- checking -------------------------------------------------------------------------------- */
 
 static void test_types_and_params(void)
 {
@@ -486,9 +488,10 @@ static void test_value_types(void)
 
     /* every type, converted; defaults filled; enum by name or quoted */
     run r;
-    run_text(&r, HDR TONE "backend = \"cl\", mode = rgb, white = 3 }\n"
-                          "b = blur { image = tone, offset = [1, -2.5], tint = [0, 0.5, 1],"
-                          " grid = [2, 3, 4], enabled = false, label = \"x\\ty\", radius = 64 }\n",
+    run_text(&r,
+             HDR TONE "backend = \"cl\", mode = rgb, white = 3 }\n"
+                      "b = blur { image = tone, offset = [1, -2.5], tint = [0, 0.5, 1],"
+                      " grid = [2, 3, 4], enabled = false, label = \"x\\ty\", radius = 64 }\n",
              NULL);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -553,11 +556,12 @@ static void test_references(void)
 
     /* ports, ANY, forward references, topological order */
     run r;
-    run_text(&r, "lightgraph 1\n"
-                 "b = blur { image = g.depth, mask = sc }\n"
-                 "g = gbuffer { scene = sc }\n"
-                 "sc = scene { file = \"s.glb\" }\n"
-                 "k = sink { image = b }\n",
+    run_text(&r,
+             "lightgraph 1\n"
+             "b = blur { image = g.depth, mask = sc }\n"
+             "g = gbuffer { scene = sc }\n"
+             "sc = scene { file = \"s.glb\" }\n"
+             "k = sink { image = b }\n",
              NULL);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -626,9 +630,10 @@ static void test_outputs(void)
     EXPECT(HDR "output src \"a.png\" x\n", "t.lgraph:3:20: error: expected a new line after the "
                                            "output statement, found 'x'");
     run r;
-    run_text(&r, HDR "g = gbuffer { scene = sc }\nsc = scene {}\n"
-                     "output src \"out/a.PNG\"\noutput g.depth \"/abs/d.exr\"\n"
-                     "output g \"../up.hdr\"\n",
+    run_text(&r,
+             HDR "g = gbuffer { scene = sc }\nsc = scene {}\n"
+                 "output src \"out/a.PNG\"\noutput g.depth \"/abs/d.exr\"\n"
+                 "output g \"../up.hdr\"\n",
              NULL);
     CHECK(r.c && r.c->n_outputs == 3);
     if (r.c) {
@@ -645,11 +650,12 @@ static void test_outputs(void)
 static void test_paths(void)
 {
     run r;
-    run_text(&r, "lightgraph 1\n"
-                 "a = image { file = \"tex/a.exr\" }\n"
-                 "b = image { file = \"/abs/b.exr\" }\n"
-                 "c = image { file = \"../c.exr\" }\n"
-                 "d = image {}\n",
+    run_text(&r,
+             "lightgraph 1\n"
+             "a = image { file = \"tex/a.exr\" }\n"
+             "b = image { file = \"/abs/b.exr\" }\n"
+             "c = image { file = \"../c.exr\" }\n"
+             "d = image {}\n",
              NULL);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -662,18 +668,20 @@ static void test_paths(void)
     run_free(&r);
 }
 
-/* ---- --set ----------------------------------------------------------------------------- */
+/* ---- --set ----------------------------------------------------------------------------------- */
 
 static void test_set(void)
 {
     char cwd[PATH_MAX];
     CHECK(getcwd(cwd, sizeof cwd) != NULL);
     run r;
-    const char *sets1[] = {"src.file=x.exr", "tone.backend=cl", " tone.key = 0.5 ",
-                           "tone.image=other", "b.label=hello world", "b.offset=[1, 2]",
-                           "tone.mode=\"rgb\"", NULL};
-    run_text(&r, HDR "other = image { file = \"o.exr\" }\n" TONE "key = 0.3 }\n"
-                     "b = blur { image = src }\n",
+    const char *sets1[] = { "src.file=x.exr",      "tone.backend=cl",
+                            " tone.key = 0.5 ",    "tone.image=other",
+                            "b.label=hello world", "b.offset=[1, 2]",
+                            "tone.mode=\"rgb\"",   NULL };
+    run_text(&r,
+             HDR "other = image { file = \"o.exr\" }\n" TONE "key = 0.3 }\n"
+                 "b = blur { image = src }\n",
              sets1);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -695,67 +703,67 @@ static void test_set(void)
     }
     run_free(&r);
 
-    const char *s_unknown[] = {"tne.key=1", NULL};
+    const char *s_unknown[] = { "tne.key=1", NULL };
     EXPECT_SET(HDR TONE "}\n", s_unknown,
                "<command line>:1:1: error: unknown node 'tne'; did you mean 'tone'?");
-    const char *s_unknown2[] = {"zzz.key=1", NULL};
+    const char *s_unknown2[] = { "zzz.key=1", NULL };
     EXPECT_SET(HDR TONE "}\n", s_unknown2, "<command line>:1:1: error: unknown node 'zzz'");
-    const char *s_key[] = {"tone.key=0.5", "tone.kye=1", NULL};
+    const char *s_key[] = { "tone.key=0.5", "tone.kye=1", NULL };
     EXPECT_SET(HDR TONE "}\n", s_key,
                "<command line>:2:6: error: unknown parameter 'kye' for node 'tone' (type "
                "reinhard); did you mean 'key'?");
-    const char *s_range[] = {"tone.key=0.5", "tone.key=-3", NULL};
+    const char *s_range[] = { "tone.key=0.5", "tone.key=-3", NULL };
     EXPECT_SET(HDR TONE "}\n", s_range,
                "<command line>:2:10: error: key = -3 is out of range [0.001, 100]");
-    const char *s_word[] = {"tone.key=abc", NULL};
+    const char *s_word[] = { "tone.key=abc", NULL };
     EXPECT_SET(HDR TONE "}\n", s_word,
                "<command line>:1:10: error: expected a float, found a reference 'abc' "
                "(parameter 'key' of node 'tone')");
-    const char *s_big[] = {"tone.key=1e999", NULL};
+    const char *s_big[] = { "tone.key=1e999", NULL };
     EXPECT_SET(HDR TONE "}\n", s_big,
                "<command line>:1:10: error: expected a float, found '1e999' (parameter 'key' of "
                "node 'tone': number '1e999' is too large (the largest float is about 1.8e308))");
-    const char *s_two[] = {"tone.key=1 2", NULL};
+    const char *s_two[] = { "tone.key=1 2", NULL };
     EXPECT_SET(HDR TONE "}\n", s_two,
                "<command line>:1:10: error: expected a float, found '1 2' (parameter 'key' of "
                "node 'tone': it is more than one value)");
-    const char *s_empty[] = {"tone.key=", NULL};
+    const char *s_empty[] = { "tone.key=", NULL };
     EXPECT_SET(HDR TONE "}\n", s_empty,
                "<command line>:1:10: error: expected a float, found '' (parameter 'key' of node "
                "'tone': the value is empty)");
-    const char *s_enum[] = {"tone.backend=gll", NULL};
+    const char *s_enum[] = { "tone.backend=gll", NULL };
     EXPECT_SET(HDR TONE "}\n", s_enum,
                "<command line>:1:14: error: 'gll' is not one of cpu, gl, cl (parameter 'backend' "
                "of node 'tone'); did you mean 'gl'?");
-    const char *s_port[] = {"tone.image=src.outt", NULL};
+    const char *s_port[] = { "tone.image=src.outt", NULL };
     EXPECT_SET(HDR TONE "}\n", s_port,
                "<command line>:1:16: error: node 'src' (image) has no output 'outt'; did you mean "
                "'out'? (outputs: out)");
-    const char *s_lit[] = {"tone.image=3", NULL};
+    const char *s_lit[] = { "tone.image=3", NULL };
     EXPECT_SET(HDR TONE "}\n", s_lit,
                "<command line>:1:12: error: expected a reference to a node (NODE or NODE.PORT), "
                "found an integer (input 'image' of node 'tone')");
-    const char *s_quote[] = {"b.label=\"abc", NULL};
+    const char *s_quote[] = { "b.label=\"abc", NULL };
     EXPECT_SET(HDR "b = blur { image = src }\n", s_quote,
                "<command line>:1:9: error: expected a string, found '\"abc' (parameter 'label' of "
                "node 'b': string is not closed before the end of the line)");
-    const char *s_syntax1[] = {"tone", NULL};
+    const char *s_syntax1[] = { "tone", NULL };
     EXPECT_SET(HDR TONE "}\n", s_syntax1,
                "<command line>:1:5: error: expected '.' and a parameter name after 'tone' (--set "
                "NODE.PARAM=VALUE)");
-    const char *s_syntax2[] = {"tone.key", NULL};
+    const char *s_syntax2[] = { "tone.key", NULL };
     EXPECT_SET(HDR TONE "}\n", s_syntax2,
                "<command line>:1:9: error: expected '=' after 'tone.key' (--set "
                "NODE.PARAM=VALUE)");
-    const char *s_syntax3[] = {"=3", NULL};
+    const char *s_syntax3[] = { "=3", NULL };
     EXPECT_SET(HDR TONE "}\n", s_syntax3,
                "<command line>:1:1: error: expected a node name (--set NODE.PARAM=VALUE)");
-    const char *s_syntax4[] = {"tone.=3", NULL};
+    const char *s_syntax4[] = { "tone.=3", NULL };
     EXPECT_SET(HDR TONE "}\n", s_syntax4,
                "<command line>:1:6: error: expected a parameter name after 'tone.' (--set "
                "NODE.PARAM=VALUE)");
     /* a --set on the new name wins over the file's old name (and the old name still warns) */
-    const char *s_renamed[] = {"tone.exposure=4", NULL};
+    const char *s_renamed[] = { "tone.exposure=4", NULL };
     run_text(&r, HDR TONE "gain = 2 }\n", s_renamed);
     CHECK(r.c && r.c->nodes[1].params[4].f == 4.0);
     char *h = headers(&r.d);
@@ -774,7 +782,7 @@ static void test_set(void)
     run_free(&r);
 }
 
-/* ---- printing diagnostics ------------------------------------------------------------------ */
+/* ---- printing diagnostics -------------------------------------------------------------------- */
 
 static void test_print(void)
 {
@@ -798,10 +806,10 @@ static void test_print(void)
     free(p);
     run_free(&r);
     /* a warning and a note, and a message without a line */
-    lg_diags d = {0};
-    lg_srcloc none = {"x.lgraph", 0, 0, 0};
+    lg_diags d = { 0 };
+    lg_srcloc none = { "x.lgraph", 0, 0, 0 };
     lg_diags_add(&d, LG_DIAG_WARNING, none, NULL, "careful %d", 1);
-    lg_srcloc at = {"x.lgraph", 2, 5, 0};
+    lg_srcloc at = { "x.lgraph", 2, 5, 0 };
     lg_diags_add(&d, LG_DIAG_NOTE, at, "abc", "here");
     p = printed(&d);
     CHECK_STR(p, "x.lgraph: warning: careful 1\nx.lgraph:2:5: note: here\nabc\n   ^\n");
@@ -820,8 +828,8 @@ static void test_print(void)
 
 static void test_suggest(void)
 {
-    const char *params[] = {"key", "white", "mode", "backend", "scale", "image"};
-    const char *types[] = {"image", "reinhard", "add", "blur"};
+    const char *params[] = { "key", "white", "mode", "backend", "scale", "image" };
+    const char *types[] = { "image", "reinhard", "add", "blur" };
     CHECK_STR(lg_suggest("kye", params, 6), "key");
     CHECK_STR(lg_suggest("sclae", params, 6), "scale");
     CHECK_STR(lg_suggest("KEY", params, 6), "key");
@@ -838,7 +846,7 @@ static void test_suggest(void)
     CHECK(lg_suggest("tonemapper", types, 4) == NULL);
 }
 
-/* ---- fmt and dot ------------------------------------------------------------------------ */
+/* ---- fmt and dot ----------------------------------------------------------------------------- */
 
 static char *slurp(const char *path)
 {
@@ -851,7 +859,7 @@ static char *slurp(const char *path)
 /* fmt(x) parses, and fmt(fmt(x)) == fmt(x). Returns fmt(x) or NULL. */
 static char *fmt_twice(const char *name, const char *text, const char *base_dir)
 {
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_string(name, text, strlen(text), base_dir, &d);
     if (!g) {
         fprintf(stderr, "%s does not parse:\n", name);
@@ -871,8 +879,8 @@ static char *fmt_twice(const char *name, const char *text, const char *base_dir)
     char *f2 = g ? lg_graph_format(g) : NULL;
     checks++;
     if (!f2 || strcmp(f1, f2) != 0) {
-        fprintf(stderr, "fmt is not idempotent on %s:\n--- once:\n%s--- twice:\n%s---\n", name,
-                f1, f2 ? f2 : "(none)");
+        fprintf(stderr, "fmt is not idempotent on %s:\n--- once:\n%s--- twice:\n%s---\n", name, f1,
+                f2 ? f2 : "(none)");
         failures++;
     }
     free(f2);
@@ -900,7 +908,7 @@ static int fmt_dir(const char *dir)
             continue;
         char *path = lg_path_join(dir, e->d_name);
         char *text = slurp(path);
-        lg_diags d = {0};
+        lg_diags d = { 0 };
         lg_graph *g = lg_graph_parse_file(path, &d);
         if (g && text) {
             char *dirn = lg_path_dirname(path);
@@ -956,7 +964,7 @@ static void test_fmt(const char *examples)
     for (size_t i = 0; i < sizeof texts / sizeof *texts; i++) {
         /* these have includes that do not exist: format only what parses */
         if (strstr(texts[i], "include")) {
-            lg_diags d = {0};
+            lg_diags d = { 0 };
             lg_graph *g = lg_graph_parse_string("t.lgraph", texts[i], strlen(texts[i]), ".", &d);
             CHECK(!g && d.errors == 1);
             lg_diags_free(&d);
@@ -991,9 +999,11 @@ static void test_fmt(const char *examples)
                          "3, ddddddddddddddddddddd = 4 }\n"));
     free(f);
     /* blank lines: between comment blocks and statements, and between entries */
-    f = fmt_twice("t", "# licence\n\n\nlightgraph 1\n# file comment\n\n\n# about a\n# more\n"
-                       "a = x {}\n# about b\n\nb = x {\n  k = 1 # c\n\n\n  m = 2\n\n  # end\n\n}\n"
-                       "# trailing\n\n\n", "/base");
+    f = fmt_twice("t",
+                  "# licence\n\n\nlightgraph 1\n# file comment\n\n\n# about a\n# more\n"
+                  "a = x {}\n# about b\n\nb = x {\n  k = 1 # c\n\n\n  m = 2\n\n  # end\n\n}\n"
+                  "# trailing\n\n\n",
+                  "/base");
     CHECK_STR(f, "# licence\n\nlightgraph 1\n\n# file comment\n\n# about a\n# more\n"
                  "a = x {}\n# about b\n\nb = x {\n    k = 1  # c\n\n    m = 2\n    # end\n}\n\n"
                  "# trailing\n");
@@ -1010,7 +1020,7 @@ static void test_fmt(const char *examples)
     printf("fmt idempotent on %d data files and %d examples\n", n, ne);
 
     /* Included nodes are not printed; the include statement is. */
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_file("main.lgraph", &d);
     CHECK(g != NULL);
     if (g) {
@@ -1041,7 +1051,7 @@ static void test_fmt(const char *examples)
 
     /* A --set value prints as the literal it reads as, or as a string. */
     run r;
-    const char *sets[] = {"src.file=a b.exr", "tone.key=0.50", NULL};
+    const char *sets[] = { "src.file=a b.exr", "tone.key=0.50", NULL };
     run_text(&r, HDR TONE "}\n", sets);
     if (r.g) {
         char *m = lg_graph_format(r.g);
@@ -1055,13 +1065,14 @@ static void test_fmt(const char *examples)
 static void test_dot(void)
 {
     run r;
-    run_text(&r, "lightgraph 1\n"
-                 "sc = scene {}\n"
-                 "g = gbuffer { scene = sc }\n"
-                 "tone = reinhard { image = g.depth }\n"
-                 "both = add { a = tone, b = g }\n"
-                 "output both \"out \\\"q\\\".png\"\n"
-                 "output g.depth \"d.exr\"\n",
+    run_text(&r,
+             "lightgraph 1\n"
+             "sc = scene {}\n"
+             "g = gbuffer { scene = sc }\n"
+             "tone = reinhard { image = g.depth }\n"
+             "both = add { a = tone, b = g }\n"
+             "output both \"out \\\"q\\\".png\"\n"
+             "output g.depth \"d.exr\"\n",
              NULL);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -1086,11 +1097,11 @@ static void test_dot(void)
     run_free(&r);
 }
 
-/* ---- includes (run in the data folder) --------------------------------------------------- */
+/* ---- includes (run in the data folder) ------------------------------------------------------- */
 
 static void expect_file(const char *file, int line, const char *path, const char *want)
 {
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_file(path, &d);
     lg_graph_free(g);
     char *h = headers(&d);
@@ -1102,7 +1113,7 @@ static void expect_file(const char *file, int line, const char *path, const char
 
 static void test_includes(const char *data)
 {
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_file("main.lgraph", &d);
     CHECK(g != NULL);
     lg_checked *c = g ? lg_graph_check(g, lg_fake_schema(), &d) : NULL;
@@ -1171,7 +1182,8 @@ static void test_includes(const char *data)
             unlink(fifo);
             CHECK(mkfifo(fifo, 0600) == 0); /* no writer: a plain fopen would block */
             char *want = lg_xasprintf("%s: error: cannot read graph file: it is a FIFO, not a "
-                                      "regular file", fifo);
+                                      "regular file",
+                                      fifo);
             EXPECT_FILE(fifo, want);
             free(want);
             unlink(fifo);
@@ -1183,7 +1195,8 @@ static void test_includes(const char *data)
             CHECK(ftruncate(fd, 500000000) == 0);
             close(fd);
             char *want = lg_xasprintf("%s: error: cannot read graph file: it is 476.8 MiB, "
-                                      "over the 16.0 MiB limit", big);
+                                      "over the 16.0 MiB limit",
+                                      big);
             EXPECT_FILE(big, want);
             free(want);
             unlink(big);
@@ -1229,19 +1242,19 @@ static void test_includes(const char *data)
     lg_diags_free(&d);
 }
 
-/* ---- size --------------------------------------------------------------------------------- */
+/* ---- size ------------------------------------------------------------------------------------ */
 
 static void test_large(void)
 {
     /* A chain of 50k nodes, written last-first: parse, check, order, fmt. */
     const int n = 50000;
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, "lightgraph 1\n");
     for (int i = n - 1; i >= 1; i--)
         lg_str_addf(&b, "n%d = reinhard { image = n%d, key = 0.5 }\n", i, i - 1);
     lg_str_add(&b, "n0 = image { file = \"a.exr\" }\n");
     lg_str_addf(&b, "output n%d \"out.png\"\n", n - 1);
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     double t0 = lg_mono_now();
     lg_graph *g = lg_graph_parse_string("big.lgraph", b.s, b.len, "/base", &d);
     double t1 = lg_mono_now();
@@ -1263,8 +1276,8 @@ static void test_large(void)
         CHECK(c->topo[0] == (uint32_t)n - 1); /* n0 is last in the file */
         free(pos);
     }
-    printf("%d-node chain (%zu bytes): parse %.3f s, check %.3f s, fmt %.3f s\n", n, b.len,
-           t1 - t0, t2 - t1, t3 - t2);
+    printf("%d-node chain (%zu bytes): parse %.3f s, check %.3f s, fmt %.3f s\n", n, b.len, t1 - t0,
+           t2 - t1, t3 - t2);
     free(f);
     lg_checked_free(c);
     lg_graph_free(g);
@@ -1281,7 +1294,8 @@ static void test_large(void)
     t1 = lg_mono_now();
     CHECK(g && !c && d.errors == 1);
     if (d.n == 1) {
-        CHECK_STR(d.items[0].message, "cycle: n0 -> n49999 -> n49998 -> n49997 -> n49996 -> "
+        CHECK_STR(d.items[0].message,
+                  "cycle: n0 -> n49999 -> n49998 -> n49997 -> n49996 -> "
                   "n49995 -> n49994 -> n49993 -> ... (49986 more) -> n6 -> n5 -> n4 -> n3 -> n2 "
                   "-> n1 -> n0");
     }
@@ -1309,7 +1323,7 @@ static void test_large(void)
     lg_str_free(&b);
 }
 
-/* ---- limits (docs/graph-format.md "Limits") ------------------------------------------- */
+/* ---- limits (docs/graph-format.md "Limits") -------------------------------------------------- */
 
 /* A text of `n` copies of `unit` between `head` and `tail`. */
 static char *repeat(const char *head, const char *unit, size_t n, const char *tail, size_t *len)
@@ -1326,7 +1340,7 @@ static char *repeat(const char *head, const char *unit, size_t n, const char *ta
 
 static char *parse_headers(const char *text, size_t len, bool *ok)
 {
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g = lg_graph_parse_string("t.lgraph", text, len, "/base", &d);
     *ok = g != NULL;
     lg_graph_free(g);
@@ -1363,8 +1377,8 @@ static void test_excerpt(void)
     p = printed(&r.d);
     /* "..." and 95 x, the quote and a space: the caret in column 101 */
     size_t wl;
-    char *w1 = repeat("t.lgraph:2:323: error: unexpected character '@'\n...", "x", 95,
-                      "\" @ }\n", &wl);
+    char *w1 = repeat("t.lgraph:2:323: error: unexpected character '@'\n...", "x", 95, "\" @ }\n",
+                      &wl);
     char *w2 = repeat(w1, " ", 100, "^\n", &wl);
     CHECK_STR(p, w2);
     free(w1);
@@ -1382,11 +1396,11 @@ static void test_excerpt(void)
     free(p);
     run_free(&r);
     /* lg_diags_add with a long line from any caller keeps an excerpt, not the line */
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     char *line = lg_xmalloc(1000001);
     memset(line, 'a', 1000000);
     line[1000000] = 0;
-    lg_srcloc at = {"x.lgraph", 7, 500000, 3};
+    lg_srcloc at = { "x.lgraph", 7, 500000, 3 };
     lg_diags_add(&d, LG_DIAG_ERROR, at, line, "here");
     CHECK(d.items[0].line_text && strlen(d.items[0].line_text) <= LG_DIAG_EXCERPT_COLS + 6);
     CHECK(d.items[0].text_col == 37 && d.items[0].text_len == 3);
@@ -1402,17 +1416,26 @@ static void test_utf8(void)
         const char *bytes;
         int len;
     } cases[] = {
-        {"a", 1}, {"\xC3\xA9", 2}, {"\xE2\x82\xAC", 3}, {"\xF0\x9F\x98\x80", 4},
-        {"\xF4\x8F\xBF\xBF", 4},                     /* U+10FFFF */
-        {"\xC0\x80", 0}, {"\xC1\xBF", 0},             /* overlong 2-byte */
-        {"\xE0\x80\xAF", 0}, {"\xF0\x80\x80\xAF", 0}, /* overlong 3- and 4-byte */
-        {"\xED\xA0\x80", 0}, {"\xED\xBF\xBF", 0},     /* surrogates */
-        {"\xF4\x90\x80\x80", 0}, {"\xF5\x80\x80\x80", 0}, /* past U+10FFFF */
-        {"\x80", 0}, {"\xE2\x82", 0}, {"\xFF", 0},    /* stray, truncated, never UTF-8 */
+        { "a", 1 },
+        { "\xC3\xA9", 2 },
+        { "\xE2\x82\xAC", 3 },
+        { "\xF0\x9F\x98\x80", 4 },
+        { "\xF4\x8F\xBF\xBF", 4 }, /* U+10FFFF */
+        { "\xC0\x80", 0 },
+        { "\xC1\xBF", 0 }, /* overlong 2-byte */
+        { "\xE0\x80\xAF", 0 },
+        { "\xF0\x80\x80\xAF", 0 }, /* overlong 3- and 4-byte */
+        { "\xED\xA0\x80", 0 },
+        { "\xED\xBF\xBF", 0 }, /* surrogates */
+        { "\xF4\x90\x80\x80", 0 },
+        { "\xF5\x80\x80\x80", 0 }, /* past U+10FFFF */
+        { "\x80", 0 },
+        { "\xE2\x82", 0 },
+        { "\xFF", 0 }, /* stray, truncated, never UTF-8 */
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        CHECK(lg_utf8_char_len((const unsigned char *)cases[i].bytes,
-                               strlen(cases[i].bytes)) == cases[i].len);
+        CHECK(lg_utf8_char_len((const unsigned char *)cases[i].bytes, strlen(cases[i].bytes)) ==
+              cases[i].len);
 
     EXPECT("lightgraph 1\nx = image { file = \"caf\xC3\xA9 \xF0\x9F\x98\x80\" }\n", "");
     EXPECT("lightgraph 1\nx = image { file = \"a\xC0\x80\" }\n",
@@ -1435,16 +1458,16 @@ static void test_utf8(void)
            "t.lgraph:2:16: error: invalid UTF-8 in a comment: byte 0xED at byte offset 28 (a "
            "graph file is UTF-8 text)");
     /* --set values are graph text too */
-    static const char *const sets[] = {"x.file=\"\xC3\x28\"", NULL};
+    static const char *const sets[] = { "x.file=\"\xC3\x28\"", NULL };
     EXPECT_SET("lightgraph 1\nx = image {}\n", sets,
                "<command line>:1:9: error: invalid UTF-8: byte 0xC3 at byte offset 8 (--set "
                "NODE.PARAM=VALUE)");
     /* unquoted, where the text would be taken as it is */
-    static const char *const sets2[] = {"x.file=caf\xE9.exr", NULL};
+    static const char *const sets2[] = { "x.file=caf\xE9.exr", NULL };
     EXPECT_SET("lightgraph 1\nx = image {}\n", sets2,
                "<command line>:1:11: error: invalid UTF-8: byte 0xE9 at byte offset 10 (--set "
                "NODE.PARAM=VALUE)");
-    static const char *const sets3[] = {"x.file=caf\xC3\xA9.exr", NULL};
+    static const char *const sets3[] = { "x.file=caf\xC3\xA9.exr", NULL };
     EXPECT_SET("lightgraph 1\nx = image {}\n", sets3, "");
 }
 
@@ -1497,7 +1520,7 @@ static void test_compact_lists(void)
            "t.lgraph:3:1: error: expected a statement (NAME = TYPE { ... }, output or include), "
            "found '2'");
     /* a --set list: compact too, its items placed on the command line */
-    static const char *const sets[] = {"b.tint=[0, 0.5,\n 7]", NULL};
+    static const char *const sets[] = { "b.tint=[0, 0.5,\n 7]", NULL };
     EXPECT_SET(BLUR "radius = 1 }\n", sets,
                "<command line>:2:2: error: tint[2] = 7 is out of range [0, 1]");
 }
@@ -1527,18 +1550,18 @@ static void test_list_memory(void)
         getrusage(RUSAGE_SELF, &ru0);
         struct timespec a, b;
         clock_gettime(CLOCK_MONOTONIC, &a);
-        lg_diags d = {0};
+        lg_diags d = { 0 };
         lg_graph *g = lg_graph_parse_string("t.lgraph", t, len, "/base", &d);
         clock_gettime(CLOCK_MONOTONIC, &b);
         getrusage(RUSAGE_SELF, &ru1);
-        long r[3] = {ru1.ru_maxrss - ru0.ru_maxrss,
-                     g ? (long)g->nodes[0].assigns[0].value.n_items : -1,
-                     (long)((b.tv_sec - a.tv_sec) * 1000000 + (b.tv_nsec - a.tv_nsec) / 1000)};
+        long r[3] = { ru1.ru_maxrss - ru0.ru_maxrss,
+                      g ? (long)g->nodes[0].assigns[0].value.n_items : -1,
+                      (long)((b.tv_sec - a.tv_sec) * 1000000 + (b.tv_nsec - a.tv_nsec) / 1000) };
         ssize_t w = write(fd[1], r, sizeof r);
         _exit(w == (ssize_t)sizeof r ? 0 : 1);
     }
     close(fd[1]);
-    long r[3] = {-1, -1, -1};
+    long r[3] = { -1, -1, -1 };
     ssize_t got = pid > 0 ? read(fd[0], r, sizeof r) : -1;
     close(fd[0]);
     int status = 0;
@@ -1548,7 +1571,8 @@ static void test_list_memory(void)
     CHECK(r[1] == 65536);
     CHECK(r[0] >= 0 && r[0] < 4096);
     printf("65536-item list (%zu bytes): parsed in %.1f ms, peak RSS +%ld KiB (%.1f bytes an "
-           "item)\n", len, r[2] / 1000.0, r[0], r[0] * 1024.0 / 65536);
+           "item)\n",
+           len, r[2] / 1000.0, r[0], r[0] * 1024.0 / 65536);
     free(t);
 }
 
@@ -1592,7 +1616,7 @@ static void test_limits(void)
     free(t);
     /* tokens: 2^20 in all (here 26 a line: the 21st of line 40331 is one too many); the
      * rest of the file is not lexed */
-    lg_str b = {0};
+    lg_str b = { 0 };
     lg_str_add(&b, "lightgraph 1\n");
     for (int i = 0; i < 50000; i++)
         lg_str_addf(&b, "n%05d = blur { radius = 1, offset = [1, 2], grid = [1, 2, 3] }\n", i);
@@ -1607,7 +1631,7 @@ static void test_limits(void)
     char name[300];
     memset(name, 'k', sizeof name);
     name[256] = 0;
-    lg_str nb = {0};
+    lg_str nb = { 0 };
     lg_str_addf(&nb, "lightgraph 1\nx = image { %s = 1 }\n", name);
     h = parse_headers(nb.s, nb.len, &ok);
     CHECK(ok);
@@ -1630,7 +1654,7 @@ static void test_limits(void)
     for (int i = 0; i < 3000; i++)
         lg_str_add(&nb, "\xC3\xA9");
     lg_str_add(&nb, "\"\n");
-    lg_diags dd = {0};
+    lg_diags dd = { 0 };
     lg_graph *gg = lg_graph_parse_string("t.lgraph", nb.s, nb.len, "/nonexistent", &dd);
     CHECK(!gg && dd.n == 1);
     if (dd.n == 1) {
@@ -1673,13 +1697,15 @@ static void test_include_limits(void)
             fprintf(f, "include \"c%d.lgraph\"\n", i + 1);
         fclose(f);
     }
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     snprintf(path, sizeof path, "%s/c0.lgraph", dir);
     lg_graph *g = lg_graph_parse_file(path, &d);
     CHECK(!g && d.errors == 1);
     char want[PATH_MAX + 200];
-    snprintf(want, sizeof want, "%s/c31.lgraph:3:9: error: includes are nested more than 32 "
-             "deep", dir);
+    snprintf(want, sizeof want,
+             "%s/c31.lgraph:3:9: error: includes are nested more than 32 "
+             "deep",
+             dir);
     char *h = headers(&d);
     CHECK_STR(h, want);
     free(h);
@@ -1700,8 +1726,10 @@ static void test_include_limits(void)
     static const char top[] = "lightgraph 1\ninclude \"huge.lgraph\"\n";
     g = lg_graph_parse_string("t.lgraph", top, sizeof top - 1, dir, &d);
     CHECK(!g);
-    snprintf(want, sizeof want, "t.lgraph:2:9: error: cannot include '%s/huge.lgraph' (16777206 "
-             "bytes): a graph file and its includes have at most 16 MiB in all", dir);
+    snprintf(want, sizeof want,
+             "t.lgraph:2:9: error: cannot include '%s/huge.lgraph' (16777206 "
+             "bytes): a graph file and its includes have at most 16 MiB in all",
+             dir);
     h = headers(&d);
     CHECK_STR(h, want);
     free(h);
@@ -1731,7 +1759,8 @@ static void test_include_limits(void)
              "t.lgraph:3:9: error: included file '%s/empty.lgraph' is not a graph file: it does "
              "not start with the version line 'lightgraph 1'\n"
              "t.lgraph:4:9: error: included file '%s/named.lgraph' is not a graph file: it does "
-             "not start with the version line 'lightgraph 1'", dir, dir, dir);
+             "not start with the version line 'lightgraph 1'",
+             dir, dir, dir);
     CHECK_STR(h, want);
     free(h);
     lg_diags_free(&d);
@@ -1757,8 +1786,10 @@ static void test_include_limits(void)
     fprintf(f, "lightgraph 1\ninclude \"../c33.lgraph\"\n");
     fclose(f);
     char abs_inc[PATH_MAX + 64];
-    int n = snprintf(abs_inc, sizeof abs_inc, "lightgraph 1\ninclude \"sub/up.lgraph\"\n"
-                     "include \"%s/c32.lgraph\"\n", dir);
+    int n = snprintf(abs_inc, sizeof abs_inc,
+                     "lightgraph 1\ninclude \"sub/up.lgraph\"\n"
+                     "include \"%s/c32.lgraph\"\n",
+                     dir);
     g = lg_graph_parse_string("t.lgraph", abs_inc, (size_t)n, dir, &d);
     CHECK(g && g->n_nodes == 2 && d.n == 0);
     if (g && g->n_nodes == 2)
@@ -1790,7 +1821,7 @@ static void test_image_size(void)
     /* 0 is the render size, which check does not know */
     EXPECT("lightgraph 1\ns = solid { w = 0, h = 1048576 }\n", "");
     /* a --set value is judged as well, at its place on the command line */
-    static const char *const sets[] = {"s.w=100000", NULL};
+    static const char *const sets[] = { "s.w=100000", NULL };
     EXPECT_SET("lightgraph 1\ns = solid { w = 10, h = 100000 }\n", sets,
                "<command line>:1:5: error: node 's' (solid) makes a 100000x100000 image (w x h): "
                "10000000000 pixels, over the limit of 134217728 (LIGHTGRAPH_MAX_PIXELS raises "
@@ -1830,7 +1861,7 @@ static void test_keyword_colour(void)
     }
     run_free(&r);
     /* --set either way */
-    static const char *const s_word[] = {"k.tint=material", "k.albedo=[0.5,0.5,0.5]", NULL};
+    static const char *const s_word[] = { "k.tint=material", "k.albedo=[0.5,0.5,0.5]", NULL };
     run_text(&r, BAKE "}\n", s_word);
     CHECK(r.c != NULL);
     if (r.c) {
@@ -1853,11 +1884,11 @@ static void test_keyword_colour(void)
     EXPECT(BAKE "albedo = material.x }\n",
            "t.lgraph:2:21: error: expected a colour [r, g, b] or one of: material, vertex, "
            "found a reference 'material.x' (parameter 'albedo' of node 'k')");
-    static const char *const s_bad[] = {"k.albedo=[0.5,nan,0.5]", NULL};
+    static const char *const s_bad[] = { "k.albedo=[0.5,nan,0.5]", NULL };
     EXPECT_SET(BAKE "}\n", s_bad,
                "<command line>:1:15: error: expected a number, found 'nan' (item 1 of "
                "parameter 'albedo' of node 'k'); only finite numbers are allowed");
-    static const char *const s_miss[] = {"k.albedo=plastic", NULL};
+    static const char *const s_miss[] = { "k.albedo=plastic", NULL };
     EXPECT_SET(BAKE "}\n", s_miss,
                "<command line>:1:10: error: 'plastic' is not a colour [r, g, b] or one of: "
                "material, vertex (parameter 'albedo' of node 'k')");
@@ -1874,11 +1905,16 @@ static void test_keyword_colour(void)
 static void test_kind_phrases(void)
 {
     static const char *const want[LG_KIND_COUNT_] = {
-        [LG_KIND_ANY] = "any resource",         [LG_KIND_IMAGE] = "an image",
-        [LG_KIND_BUFFER] = "a buffer",          [LG_KIND_VOLUME] = "a volume",
-        [LG_KIND_SCENE] = "a scene",            [LG_KIND_SHADOWMAP] = "a shadow map",
-        [LG_KIND_PROBE] = "a light probe",      [LG_KIND_SH] = "SH coefficients",
-        [LG_KIND_TRANSFER] = "transfer vectors", [LG_KIND_FROXEL] = "a froxel volume",
+        [LG_KIND_ANY] = "any resource",
+        [LG_KIND_IMAGE] = "an image",
+        [LG_KIND_BUFFER] = "a buffer",
+        [LG_KIND_VOLUME] = "a volume",
+        [LG_KIND_SCENE] = "a scene",
+        [LG_KIND_SHADOWMAP] = "a shadow map",
+        [LG_KIND_PROBE] = "a light probe",
+        [LG_KIND_SH] = "SH coefficients",
+        [LG_KIND_TRANSFER] = "transfer vectors",
+        [LG_KIND_FROXEL] = "a froxel volume",
     };
     for (int k = 0; k < LG_KIND_COUNT_; k++) {
         CHECK(lg_kind_describe((lg_resource_kind)k) != NULL);

@@ -27,15 +27,20 @@ static void put3(float *o, lg_vec3 v)
 
 static lg_phong_material material(const phong_case *c)
 {
-    lg_phong_material m = {c->mat[0], c->mat[1], c->mat[2], c->mat[3],
-                           {c->od[0], c->od[1], c->od[2]}, {c->os[0], c->os[1], c->os[2]}};
+    lg_phong_material m = { c->mat[0],
+                            c->mat[1],
+                            c->mat[2],
+                            c->mat[3],
+                            { c->od[0], c->od[1], c->od[2] },
+                            { c->os[0], c->os[1], c->os[2] } };
     return m;
 }
 
 void phong_eval_c(const phong_case *c, phong_result *r)
 {
     lg_phong_material m = material(c);
-    put3(r->direct, lg_phong_direct(v3(c->N), v3(c->V), v3(c->L), v3(c->Ii), &m, c->model[0], c->nrm[3]));
+    put3(r->direct,
+         lg_phong_direct(v3(c->N), v3(c->V), v3(c->L), v3(c->Ii), &m, c->model[0], c->nrm[3]));
     put3(r->ambient, lg_phong_ambient(v3(c->Ii), &m));
     put3(r->normalized, lg_safe_normalize(v3(c->nrm), v3(c->fb)));
     r->scalars[0] = lg_depth_cue(c->s[0], c->s[1]);
@@ -68,7 +73,7 @@ phong_case phong_case_default(void)
     return c;
 }
 
-/* ---- tolerance ----------------------------------------------------------------------- */
+/* ---- tolerance ------------------------------------------------------------------------------- */
 
 #define ULP 1.1920928955078125e-07 /* 2^-23 */
 
@@ -114,7 +119,8 @@ static double rel(double g, double c)
 }
 
 /* |g - c| <= allowed, recording the ratio. */
-static int within(double g, double c, double allowed, phong_stats *st, const char *what, uint32_t case_no)
+static int within(double g, double c, double allowed, phong_stats *st, const char *what,
+                  uint32_t case_no)
 {
     double d = fabs(g - c);
     if (d == 0)
@@ -123,8 +129,9 @@ static int within(double g, double c, double allowed, phong_stats *st, const cha
     /* the worst ratio is about precision: leave out denormal flushes (both below 2 FLT_MIN) */
     if (ratio > st->worst_ratio && fmax(fabs(g), fabs(c)) >= 2 * FLT_MIN) {
         st->worst_ratio = ratio;
-        snprintf(st->worst_what, sizeof st->worst_what, "case %u %s: C %.9g GLSL %.9g allowed +-%.3g",
-                 (unsigned)case_no, what, c, g, allowed);
+        snprintf(st->worst_what, sizeof st->worst_what,
+                 "case %u %s: C %.9g GLSL %.9g allowed +-%.3g", (unsigned)case_no, what, c, g,
+                 allowed);
     }
     return d <= allowed;
 }
@@ -132,7 +139,7 @@ static int within(double g, double c, double allowed, phong_stats *st, const cha
 /* Is the case's lg_phong_direct input unit and finite (the interval check applies)? */
 static int plain_direct(const phong_case *k)
 {
-    const float *vs[] = {k->N, k->V, k->L};
+    const float *vs[] = { k->N, k->V, k->L };
     for (int i = 0; i < 3; i++) {
         double l = sqrt(dot_d(vs[i], vs[i]));
         if (!(fabs(l - 1) < 1e-5))
@@ -146,7 +153,8 @@ static int plain_direct(const phong_case *k)
             return 0;
     /* results beyond FLT_MAX are 0 by policy: compared exactly */
     for (int i = 0; i < 3; i++)
-        if (!(fabs((double)k->Ii[i]) * (fabs((double)k->mat[1] * k->od[i]) + fabs((double)k->mat[2] * k->os[i])) <
+        if (!(fabs((double)k->Ii[i]) *
+                  (fabs((double)k->mat[1] * k->od[i]) + fabs((double)k->mat[2] * k->os[i])) <
               0.5 * FLT_MAX))
             return 0;
     return isfinite(k->nrm[3]);
@@ -157,12 +165,14 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
 {
     st->cases++;
     why[0] = '\0';
-    if (!finite4(c->direct) || !finite4(c->ambient) || !finite4(c->normalized) || !finite4(c->scalars)) {
+    if (!finite4(c->direct) || !finite4(c->ambient) || !finite4(c->normalized) ||
+        !finite4(c->scalars)) {
         snprintf(why, whylen, "C result not finite");
         st->mismatches++;
         return 1;
     }
-    if (!finite4(g->direct) || !finite4(g->ambient) || !finite4(g->normalized) || !finite4(g->scalars)) {
+    if (!finite4(g->direct) || !finite4(g->ambient) || !finite4(g->normalized) ||
+        !finite4(g->scalars)) {
         snprintf(why, whylen, "GLSL result not finite");
         st->mismatches++;
         return 1;
@@ -174,7 +184,7 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
     double n_eff = k->nrm[3];
     double x = 0;
     if (k->model[0] == LG_SPEC_BLINN) {
-        float h[3] = {k->L[0] + k->V[0], k->L[1] + k->V[1], k->L[2] + k->V[2]};
+        float h[3] = { k->L[0] + k->V[0], k->L[1] + k->V[1], k->L[2] + k->V[2] };
         double h2 = dot_d(h, h);
         if (fabs(h2 - LG_BLINN_MIN_HALFWAY2) < 1e-3 * LG_BLINN_MIN_HALFWAY2)
             knife = 1;
@@ -191,7 +201,8 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
     if (plain_direct(k) && knife) {
         st->knife_edge++;
         if (getenv("LG_PHONG_VERBOSE"))
-            fprintf(stderr, "knife edge: case %u N.L %.9g cos %.9g n %g\n", (unsigned)(st->cases - 1), ndl, x, n_eff);
+            fprintf(stderr, "knife edge: case %u N.L %.9g cos %.9g n %g\n",
+                    (unsigned)(st->cases - 1), ndl, x, n_eff);
     } else if (plain_direct(k)) {
         double d = 1e-6;
         double tol = fmax(phong_spec_pow_tol(x - d, n_eff), phong_spec_pow_tol(x + d, n_eff));
@@ -215,8 +226,10 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
             within(gv, cv, allowed, st, "direct", st->cases - 1);
             if (!ok_g || !ok_c) {
                 bad = 1;
-                snprintf(why, whylen, "direct[%d]: C %.9g GLSL %.9g, allowed [%.9g, %.9g] (N.L %.9g, cos %.9g, n %g)",
-                         i, cv, gv, lo, hi, ndl, x, n_eff);
+                snprintf(
+                    why, whylen,
+                    "direct[%d]: C %.9g GLSL %.9g, allowed [%.9g, %.9g] (N.L %.9g, cos %.9g, n %g)",
+                    i, cv, gv, lo, hi, ndl, x, n_eff);
             }
             double r = rel(gv, cv);
             if (r > st->max_rel_direct)
@@ -228,14 +241,16 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
         }
         if (!(ndl > 0))
             for (int i = 0; i < 3; i++)
-                if (!within(g->direct[i], c->direct[i], FLT_MIN, st, "direct (N.L <= 0)", st->cases - 1)) {
+                if (!within(g->direct[i], c->direct[i], FLT_MIN, st, "direct (N.L <= 0)",
+                            st->cases - 1)) {
                     bad = 1;
                     snprintf(why, whylen, "direct[%d] with N.L %.9g <= 0: C %.9g GLSL %.9g", i, ndl,
                              c->direct[i], g->direct[i]);
                 }
     } else {
         for (int i = 0; i < 3; i++)
-            if (!within(g->direct[i], c->direct[i], 1e-5 * fabs(c->direct[i]) + FLT_MIN, st, "direct (exceptional)", st->cases - 1)) {
+            if (!within(g->direct[i], c->direct[i], 1e-5 * fabs(c->direct[i]) + FLT_MIN, st,
+                        "direct (exceptional)", st->cases - 1)) {
                 bad = 1;
                 snprintf(why, whylen, "direct[%d] (exceptional input): C %.9g GLSL %.9g", i,
                          c->direct[i], g->direct[i]);
@@ -246,7 +261,8 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
         double r = rel(g->ambient[i], c->ambient[i]);
         if (r > st->max_rel_ambient)
             st->max_rel_ambient = r;
-        if (!within(g->ambient[i], c->ambient[i], 1e-6 * fabs(c->ambient[i]) + FLT_MIN, st, "ambient", st->cases - 1)) {
+        if (!within(g->ambient[i], c->ambient[i], 1e-6 * fabs(c->ambient[i]) + FLT_MIN, st,
+                    "ambient", st->cases - 1)) {
             bad = 1;
             snprintf(why, whylen, "ambient[%d]: C %.9g GLSL %.9g", i, c->ambient[i], g->ambient[i]);
         }
@@ -257,17 +273,19 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
         double d = fabs((double)g->normalized[i] - c->normalized[i]);
         if (d > st->max_abs_normalize)
             st->max_abs_normalize = d;
-        if (!within(g->normalized[i], c->normalized[i], c_fb ? 0.0 : 1e-6, st, "normalize", st->cases - 1)) {
+        if (!within(g->normalized[i], c->normalized[i], c_fb ? 0.0 : 1e-6, st, "normalize",
+                    st->cases - 1)) {
             bad = 1;
-            snprintf(why, whylen, "normalize[%d] of (%.9g %.9g %.9g): C %.9g GLSL %.9g", i, k->nrm[0],
-                     k->nrm[1], k->nrm[2], c->normalized[i], g->normalized[i]);
+            snprintf(why, whylen, "normalize[%d] of (%.9g %.9g %.9g): C %.9g GLSL %.9g", i,
+                     k->nrm[0], k->nrm[1], k->nrm[2], c->normalized[i], g->normalized[i]);
         }
     }
     /* lg_depth_cue */
     double r = rel(g->scalars[0], c->scalars[0]);
     if (r > st->max_rel_depth_cue)
         st->max_rel_depth_cue = r;
-    if (!within(g->scalars[0], c->scalars[0], 1e-6 * fabs(c->scalars[0]) + FLT_MIN, st, "depth_cue", st->cases - 1)) {
+    if (!within(g->scalars[0], c->scalars[0], 1e-6 * fabs(c->scalars[0]) + FLT_MIN, st, "depth_cue",
+                st->cases - 1)) {
         bad = 1;
         snprintf(why, whylen, "depth_cue(%.9g, %.9g): C %.9g GLSL %.9g", k->s[0], k->s[1],
                  c->scalars[0], g->scalars[0]);
@@ -281,7 +299,8 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
         st->max_rel_spec_pow_n128 = r;
     char label[96];
     snprintf(label, sizeof label, "spec_pow(%.9g, %.6g)", k->s[2], k->s[3]);
-    if (!within(g->scalars[1], c->scalars[1], tol * fabs(c->scalars[1]) + FLT_MIN, st, label, st->cases - 1)) {
+    if (!within(g->scalars[1], c->scalars[1], tol * fabs(c->scalars[1]) + FLT_MIN, st, label,
+                st->cases - 1)) {
         bad = 1;
         snprintf(why, whylen, "spec_pow(%.9g, %.9g): C %.9g GLSL %.9g, tolerance %.3g relative",
                  k->s[2], k->s[3], c->scalars[1], g->scalars[1], tol);
@@ -290,7 +309,7 @@ int phong_compare(const phong_case *k, const phong_result *c, const phong_result
     return bad;
 }
 
-/* ---- GL ------------------------------------------------------------------------------ */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 struct phong_gl {
     lg_gl_device *dev;
@@ -315,7 +334,8 @@ int phong_gl_open(phong_gl **out, char *err, size_t errlen)
     }
     g->gl = lg_gl_device_table(g->dev);
     devtest_clear();
-    lg_gl_shader_src src = {GL_COMPUTE_SHADER, lg_src_phong_eval_comp_file, lg_src_phong_eval_comp};
+    lg_gl_shader_src src = { GL_COMPUTE_SHADER, lg_src_phong_eval_comp_file,
+                             lg_src_phong_eval_comp };
     g->prog = lg_gl_program(devtest_node(), g->gl, &src, 1, NULL);
     if (!g->prog) {
         snprintf(err, errlen, "phong_eval.comp: %s", devtest_errors);
@@ -332,8 +352,10 @@ int phong_gl_eval(phong_gl *g, const phong_case *cases, phong_result *results, u
     const lg_gl *gl = g->gl;
     GLuint buf[2];
     gl->CreateBuffers(2, buf);
-    gl->NamedBufferData(buf[0], (GLsizeiptr)(n ? n : 1) * (GLsizeiptr)sizeof *cases, cases, GL_STATIC_DRAW);
-    gl->NamedBufferData(buf[1], (GLsizeiptr)(n ? n : 1) * (GLsizeiptr)sizeof *results, NULL, GL_STATIC_READ);
+    gl->NamedBufferData(buf[0], (GLsizeiptr)(n ? n : 1) * (GLsizeiptr)sizeof *cases, cases,
+                        GL_STATIC_DRAW);
+    gl->NamedBufferData(buf[1], (GLsizeiptr)(n ? n : 1) * (GLsizeiptr)sizeof *results, NULL,
+                        GL_STATIC_READ);
     gl->UseProgram(g->prog);
     gl->Uniform1ui(0, n);
     gl->BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);

@@ -28,7 +28,7 @@
 static const float NaN_ = NAN;
 static const float INF_ = INFINITY;
 
-/* ---- an oracle in double: the documented formula and policy, written independently ---- */
+/* ---- an oracle in double: the documented formula and policy, written independently ----------- */
 
 static double spec_ref(double x, double n)
 {
@@ -50,7 +50,7 @@ static double direct_ref(const phong_case *c, int i)
         return 0;
     double x;
     if (c->model[0] == LG_SPEC_BLINN) {
-        double h[3] = {(double)L[0] + V[0], (double)L[1] + V[1], (double)L[2] + V[2]};
+        double h[3] = { (double)L[0] + V[0], (double)L[1] + V[1], (double)L[2] + V[2] };
         double h2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
         x = h2 >= LG_BLINN_MIN_HALFWAY2 ? (N[0] * h[0] + N[1] * h[1] + N[2] * h[2]) / sqrt(h2) : 0;
     } else {
@@ -59,10 +59,11 @@ static double direct_ref(const phong_case *c, int i)
             r[k] = 2 * ndl * N[k] - L[k];
         x = r[0] * V[0] + r[1] * V[1] + r[2] * V[2];
     }
-    return (double)c->Ii[i] * (c->mat[1] * fmin(ndl, 1) * c->od[i] + c->mat[2] * spec_ref(x, c->nrm[3]) * c->os[i]);
+    return (double)c->Ii[i] *
+           (c->mat[1] * fmin(ndl, 1) * c->od[i] + c->mat[2] * spec_ref(x, c->nrm[3]) * c->os[i]);
 }
 
-/* ---- checks shared by the cases ---------------------------------------------------- */
+/* ---- checks shared by the cases -------------------------------------------------------------- */
 
 static int all_finite(const phong_result *r)
 {
@@ -73,16 +74,18 @@ static int all_finite(const phong_result *r)
     return 1;
 }
 
-static void expect3(const char *side, const char *what, uint32_t k, const float *got, double x, double y,
-                    double z, double tol)
+static void expect3(const char *side, const char *what, uint32_t k, const float *got, double x,
+                    double y, double z, double tol)
 {
-    double want[3] = {x, y, z};
+    double want[3] = { x, y, z };
     for (int i = 0; i < 3; i++)
         CHECKF(fabs(got[i] - want[i]) <= tol * fmax(1.0, fabs(want[i])),
-               "%s case %" PRIu32 ": %s[%d] = %.9g, documented %.9g", side, k, what, i, got[i], want[i]);
+               "%s case %" PRIu32 ": %s[%d] = %.9g, documented %.9g", side, k, what, i, got[i],
+               want[i]);
 }
 
-static void expect1(const char *side, const char *what, uint32_t k, double got, double want, double tol)
+static void expect1(const char *side, const char *what, uint32_t k, double got, double want,
+                    double tol)
 {
     CHECKF(fabs(got - want) <= tol * fmax(1e-30, fabs(want)) || got == want,
            "%s case %" PRIu32 ": %s = %.9g, documented %.9g", side, k, what, got, want);
@@ -97,13 +100,13 @@ static void unit3(float *o, double x, double y, double z)
     o[3] = 0;
 }
 
-/* ---- hard cases ---------------------------------------------------------------------- */
+/* ---- hard cases ------------------------------------------------------------------------------ */
 
 /* zero vectors (+0 and -0) through lg_safe_normalize: the fallback, unchanged; a
  * non-finite fallback becomes 0 */
 static uint32_t build_normalize_zero(phong_case *c)
 {
-    float in[][3] = {{0, 0, 0}, {-0.0f, 0, -0.0f}};
+    float in[][3] = { { 0, 0, 0 }, { -0.0f, 0, -0.0f } };
     uint32_t n = 0;
     for (int i = 0; i < 2; i++) {
         c[n] = phong_case_default();
@@ -120,7 +123,8 @@ static uint32_t build_normalize_zero(phong_case *c)
     return n;
 }
 
-static void check_normalize_zero(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_normalize_zero(const phong_case *c, const phong_result *r, uint32_t n,
+                                 const char *side)
 {
     expect3(side, "normalize", 0, r[0].normalized, 0.25, -2.0, 0, 0);
     expect3(side, "normalize", 1, r[1].normalized, 0.25, -2.0, 0, 0);
@@ -130,8 +134,11 @@ static void check_normalize_zero(const phong_case *c, const phong_result *r, uin
 /* denormal-only vectors -> fallback; the smallest normal and tiny normal vectors normalise */
 static uint32_t build_normalize_denormal(phong_case *c)
 {
-    float in[][3] = {{1e-40f, -1e-41f, 0}, {FLT_MIN / 2, FLT_MIN / 2, FLT_MIN / 2},
-                     {FLT_MIN, 0, 0}, {1e-30f, 2e-30f, -2e-30f}, {-3e-20f, 4e-20f, 0}};
+    float in[][3] = { { 1e-40f, -1e-41f, 0 },
+                      { FLT_MIN / 2, FLT_MIN / 2, FLT_MIN / 2 },
+                      { FLT_MIN, 0, 0 },
+                      { 1e-30f, 2e-30f, -2e-30f },
+                      { -3e-20f, 4e-20f, 0 } };
     for (int i = 0; i < 5; i++) {
         c[i] = phong_case_default();
         memcpy(c[i].nrm, in[i], sizeof in[i]);
@@ -142,7 +149,8 @@ static uint32_t build_normalize_denormal(phong_case *c)
     return 5;
 }
 
-static void check_normalize_denormal(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_normalize_denormal(const phong_case *c, const phong_result *r, uint32_t n,
+                                     const char *side)
 {
     expect3(side, "normalize", 0, r[0].normalized, 0, 1, 0, 0);
     expect3(side, "normalize", 1, r[1].normalized, 0, 1, 0, 0);
@@ -154,8 +162,11 @@ static void check_normalize_denormal(const phong_case *c, const phong_result *r,
 /* huge finite vectors: rescaled, no overflow */
 static uint32_t build_normalize_huge(phong_case *c)
 {
-    float in[][3] = {{FLT_MAX, FLT_MAX, FLT_MAX}, {FLT_MAX, 0, 0}, {1e30f, -1e30f, 0},
-                     {3e38f, -3e38f, 1e20f}, {2e19f, 0, -2e19f}};
+    float in[][3] = { { FLT_MAX, FLT_MAX, FLT_MAX },
+                      { FLT_MAX, 0, 0 },
+                      { 1e30f, -1e30f, 0 },
+                      { 3e38f, -3e38f, 1e20f },
+                      { 2e19f, 0, -2e19f } };
     for (int i = 0; i < 5; i++) {
         c[i] = phong_case_default();
         memcpy(c[i].nrm, in[i], sizeof in[i]);
@@ -163,7 +174,8 @@ static uint32_t build_normalize_huge(phong_case *c)
     return 5;
 }
 
-static void check_normalize_huge(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_normalize_huge(const phong_case *c, const phong_result *r, uint32_t n,
+                                 const char *side)
 {
     double s = 1 / sqrt(3.0), h = 1 / sqrt(2.0);
     expect3(side, "normalize", 0, r[0].normalized, s, s, s, 1e-6);
@@ -176,7 +188,9 @@ static void check_normalize_huge(const phong_case *c, const phong_result *r, uin
 /* NaN and infinite components: the fallback */
 static uint32_t build_normalize_nonfinite(phong_case *c)
 {
-    float in[][3] = {{NaN_, 0, 0}, {NaN_, 1, 0}, {INF_, 0, 0}, {1, -INF_, 1}, {INF_, INF_, INF_}};
+    float in[][3] = {
+        { NaN_, 0, 0 }, { NaN_, 1, 0 }, { INF_, 0, 0 }, { 1, -INF_, 1 }, { INF_, INF_, INF_ }
+    };
     for (int i = 0; i < 5; i++) {
         c[i] = phong_case_default();
         memcpy(c[i].nrm, in[i], sizeof in[i]);
@@ -187,7 +201,8 @@ static uint32_t build_normalize_nonfinite(phong_case *c)
     return 5;
 }
 
-static void check_normalize_nonfinite(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_normalize_nonfinite(const phong_case *c, const phong_result *r, uint32_t n,
+                                      const char *side)
 {
     for (uint32_t k = 0; k < n; k++)
         expect3(side, "normalize", k, r[k].normalized, 0, 0, -1, 0);
@@ -198,7 +213,7 @@ static void check_normalize_nonfinite(const phong_case *c, const phong_result *r
 static uint32_t build_halfway_undefined(phong_case *c)
 {
     uint32_t n = 0;
-    double ls[][3] = {{0.3, 0.1, 1}, {1, 0, 0.2}, {0, 0, 1}};
+    double ls[][3] = { { 0.3, 0.1, 1 }, { 1, 0, 0.2 }, { 0, 0, 1 } };
     for (int i = 0; i < 3; i++)
         for (int model = 0; model < 2; model++)
             for (int zero_n = 0; zero_n < 2; zero_n++) {
@@ -215,7 +230,7 @@ static uint32_t build_halfway_undefined(phong_case *c)
     for (int model = 0; model < 2; model++) {
         c[n] = phong_case_default();
         unit3(c[n].L, 1, 0, 0.05);
-        double v[3] = {-c[n].L[0], -c[n].L[1], -c[n].L[2] + 1e-4};
+        double v[3] = { -c[n].L[0], -c[n].L[1], -c[n].L[2] + 1e-4 };
         unit3(c[n].V, v[0], v[1], v[2]);
         c[n].model[0] = model;
         c[n].nrm[3] = 1;
@@ -224,7 +239,8 @@ static uint32_t build_halfway_undefined(phong_case *c)
     return n;
 }
 
-static void check_halfway_undefined(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_halfway_undefined(const phong_case *c, const phong_result *r, uint32_t n,
+                                    const char *side)
 {
     for (uint32_t k = 0; k < n; k++) {
         double ndl = c[k].L[2]; /* N = +Z */
@@ -237,7 +253,8 @@ static void check_halfway_undefined(const phong_case *c, const phong_result *r, 
                 expect1(side, "Phong, L = -V", k, r[k].direct[i], direct_ref(&c[k], i), 1e-5);
                 if (k < 12) {
                     double rv = 1 - 2 * ndl * ndl;
-                    double want = diffuse + c[k].Ii[i] * c[k].mat[2] * c[k].os[i] * spec_ref(rv, c[k].nrm[3]);
+                    double want = diffuse +
+                                  c[k].Ii[i] * c[k].mat[2] * c[k].os[i] * spec_ref(rv, c[k].nrm[3]);
                     expect1(side, "Phong, L = -V", k, r[k].direct[i], want, 1e-5);
                 }
             }
@@ -267,7 +284,8 @@ static uint32_t build_rv_negative(phong_case *c)
     return n;
 }
 
-static void check_rv_negative(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_rv_negative(const phong_case *c, const phong_result *r, uint32_t n,
+                              const char *side)
 {
     for (uint32_t k = 0; k < n; k++)
         for (int i = 0; i < 3; i++) {
@@ -279,23 +297,15 @@ static void check_rv_negative(const phong_case *c, const phong_result *r, uint32
 /* shininess 0 and pow(0, 0): lg_spec_pow's table, and lg_phong_direct with n = 0 */
 static const float spow_in[][3] = {
     /* x, n, documented */
-    {0, 0, 0},          /* pow(0, 0) = 0 */
-    {-0.0f, 0, 0},
-    {0.5f, 0, 1},       /* n = 0: 1 for x > 0 */
-    {1, 0, 1},
-    {1e-30f, 0, 1},
-    {1e-40f, 0, 0},     /* denormal x counts as 0 */
-    {1e-40f, 0.01f, 0},
-    {-0.5f, 0, 0},
-    {0.5f, -3, 1},      /* negative n counts as 0 */
-    {0.5f, NAN, 1},     /* NaN n counts as 0 */
-    {NAN, 5, 0},        /* NaN x: no highlight */
-    {2, 5, 1},          /* x > 1 counts as 1 */
-    {INFINITY, 5, 1},
-    {0.5f, INFINITY, 0}, /* a mirror */
-    {1, INFINITY, 1},
-    {1, FLT_MAX, 1},
-    {0.5f, 2, 0.25f},
+    { 0, 0, 0 },                                                   /* pow(0, 0) = 0 */
+    { -0.0f, 0, 0 },      { 0.5f, 0, 1 },                          /* n = 0: 1 for x > 0 */
+    { 1, 0, 1 },          { 1e-30f, 0, 1 },      { 1e-40f, 0, 0 }, /* denormal x counts as 0 */
+    { 1e-40f, 0.01f, 0 }, { -0.5f, 0, 0 },       { 0.5f, -3, 1 },  /* negative n counts as 0 */
+    { 0.5f, NAN, 1 },                                              /* NaN n counts as 0 */
+    { NAN, 5, 0 },                                                 /* NaN x: no highlight */
+    { 2, 5, 1 },                                                   /* x > 1 counts as 1 */
+    { INFINITY, 5, 1 },   { 0.5f, INFINITY, 0 },                   /* a mirror */
+    { 1, INFINITY, 1 },   { 1, FLT_MAX, 1 },     { 0.5f, 2, 0.25f },
 };
 #define N_SPOW (sizeof spow_in / sizeof spow_in[0])
 
@@ -321,13 +331,15 @@ static uint32_t build_shininess_zero(phong_case *c)
     return n;
 }
 
-static void check_shininess_zero(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_shininess_zero(const phong_case *c, const phong_result *r, uint32_t n,
+                                 const char *side)
 {
     for (uint32_t k = 0; k < N_SPOW; k++)
         expect1(side, "spec_pow", k, r[k].scalars[1], spow_in[k][2], 1e-6);
     for (uint32_t k = N_SPOW; k < n; k++)
         for (int i = 0; i < 3; i++) {
-            double want = c[k].Ii[i] * (c[k].mat[1] * c[k].L[2] * c[k].od[i] + c[k].mat[2] * c[k].os[i]);
+            double want = c[k].Ii[i] *
+                          (c[k].mat[1] * c[k].L[2] * c[k].od[i] + c[k].mat[2] * c[k].os[i]);
             expect1(side, "direct, n = 0, cosine > 0", k, r[k].direct[i], want, 1e-6);
         }
 }
@@ -357,7 +369,8 @@ static uint32_t build_back_facing(phong_case *c)
     return n;
 }
 
-static void check_back_facing(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_back_facing(const phong_case *c, const phong_result *r, uint32_t n,
+                              const char *side)
 {
     for (uint32_t k = 0; k < n; k++)
         for (int i = 0; i < 3; i++) {
@@ -374,9 +387,19 @@ static void check_back_facing(const phong_case *c, const phong_result *r, uint32
 /* depth cueing: r = 0 with K = 0 and the other edges of 1 / max(r + K, 1) */
 static const float cue_in[][3] = {
     /* r, K, documented */
-    {0, 0, 1}, {0.5f, 0, 1}, {0, 1, 1}, {1, 0, 1}, {3, 1, 0.25f}, {9, 1, 0.1f},
-    {INFINITY, 0, 0}, {NAN, 1, 1}, {1, NAN, 1}, {-5, 0, 1}, {5, -2, 1.0f / 3},
-    {FLT_MAX, FLT_MAX, 0}, {-INFINITY, INFINITY, 1},
+    { 0, 0, 1 },
+    { 0.5f, 0, 1 },
+    { 0, 1, 1 },
+    { 1, 0, 1 },
+    { 3, 1, 0.25f },
+    { 9, 1, 0.1f },
+    { INFINITY, 0, 0 },
+    { NAN, 1, 1 },
+    { 1, NAN, 1 },
+    { -5, 0, 1 },
+    { 5, -2, 1.0f / 3 },
+    { FLT_MAX, FLT_MAX, 0 },
+    { -INFINITY, INFINITY, 1 },
 };
 #define N_CUE (sizeof cue_in / sizeof cue_in[0])
 
@@ -390,7 +413,8 @@ static uint32_t build_depth_cue_zero(phong_case *c)
     return N_CUE;
 }
 
-static void check_depth_cue_zero(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_depth_cue_zero(const phong_case *c, const phong_result *r, uint32_t n,
+                                 const char *side)
 {
     for (uint32_t k = 0; k < n; k++)
         expect1(side, "depth_cue", k, r[k].scalars[0], cue_in[k][2], 1e-6);
@@ -401,20 +425,43 @@ static void check_depth_cue_zero(const phong_case *c, const phong_result *r, uin
 static uint32_t build_nonfinite_inputs(phong_case *c)
 {
     uint32_t n = 0;
-    const float bad[] = {NAN, INFINITY, -INFINITY};
+    const float bad[] = { NAN, INFINITY, -INFINITY };
     for (int b = 0; b < 3; b++) {
         float v = bad[b];
-        c[n] = phong_case_default(); c[n].N[0] = v; n++;           /* 0 */
-        c[n] = phong_case_default(); c[n].V[1] = v; n++;           /* 1 */
-        c[n] = phong_case_default(); c[n].L[2] = v; n++;           /* 2 */
-        c[n] = phong_case_default(); c[n].Ii[0] = v; n++;          /* 3 */
-        c[n] = phong_case_default(); c[n].mat[1] = v; n++;         /* 4 kd */
-        c[n] = phong_case_default(); c[n].mat[2] = v; n++;         /* 5 ks */
-        c[n] = phong_case_default(); c[n].od[1] = v; n++;          /* 6 */
-        c[n] = phong_case_default(); c[n].os[2] = v; n++;          /* 7 */
-        c[n] = phong_case_default(); c[n].nrm[3] = v; n++;         /* 8 n_eff */
-        c[n] = phong_case_default(); c[n].mat[0] = v; n++;         /* 9 ka */
-        c[n] = phong_case_default(); c[n].model[0] = LG_SPEC_BLINN; c[n].V[0] = v; n++; /* 10 */
+        c[n] = phong_case_default();
+        c[n].N[0] = v;
+        n++; /* 0 */
+        c[n] = phong_case_default();
+        c[n].V[1] = v;
+        n++; /* 1 */
+        c[n] = phong_case_default();
+        c[n].L[2] = v;
+        n++; /* 2 */
+        c[n] = phong_case_default();
+        c[n].Ii[0] = v;
+        n++; /* 3 */
+        c[n] = phong_case_default();
+        c[n].mat[1] = v;
+        n++; /* 4 kd */
+        c[n] = phong_case_default();
+        c[n].mat[2] = v;
+        n++; /* 5 ks */
+        c[n] = phong_case_default();
+        c[n].od[1] = v;
+        n++; /* 6 */
+        c[n] = phong_case_default();
+        c[n].os[2] = v;
+        n++; /* 7 */
+        c[n] = phong_case_default();
+        c[n].nrm[3] = v;
+        n++; /* 8 n_eff */
+        c[n] = phong_case_default();
+        c[n].mat[0] = v;
+        n++; /* 9 ka */
+        c[n] = phong_case_default();
+        c[n].model[0] = LG_SPEC_BLINN;
+        c[n].V[0] = v;
+        n++; /* 10 */
     }
     /* overflow from finite input: Ii * kd * Od beyond FLT_MAX */
     c[n] = phong_case_default();
@@ -425,7 +472,8 @@ static uint32_t build_nonfinite_inputs(phong_case *c)
     return n;
 }
 
-static void check_nonfinite_inputs(const phong_case *c, const phong_result *r, uint32_t n, const char *side)
+static void check_nonfinite_inputs(const phong_case *c, const phong_result *r, uint32_t n,
+                                   const char *side)
 {
     for (uint32_t k = 0; k < n; k++)
         CHECKF(all_finite(&r[k]), "%s case %" PRIu32 ": a result is not finite", side, k);
@@ -452,30 +500,31 @@ typedef struct hard_case {
 } hard_case;
 
 static const hard_case hard_cases[] = {
-    {"normalize_zero", "zero vector -> the fallback, unchanged; non-finite fallback -> 0",
-     build_normalize_zero, check_normalize_zero},
-    {"normalize_denormal", "all components below FLT_MIN -> fallback; tiny normal vectors normalise",
-     build_normalize_denormal, check_normalize_denormal},
-    {"normalize_huge", "huge finite vectors rescaled by 2^-100 before squaring", build_normalize_huge,
-     check_normalize_huge},
-    {"normalize_nonfinite", "NaN or Inf component -> fallback", build_normalize_nonfinite,
-     check_normalize_nonfinite},
-    {"halfway_undefined", "L = -V: Blinn gives no highlight; Phong's R.V = 1 - 2 (N.L)^2",
-     build_halfway_undefined, check_halfway_undefined},
-    {"rv_negative", "R.V < 0 or N.H < 0: no highlight, also for n = 0", build_rv_negative,
-     check_rv_negative},
-    {"shininess_zero", "pow(0, 0) = 0; n = 0 -> 1 for x > 0; n clamped to [0, FLT_MAX]",
-     build_shininess_zero, check_shininess_zero},
-    {"back_facing", "N.V < 0 lit as given, never flipped; N.L <= 0 -> 0", build_back_facing,
-     check_back_facing},
-    {"depth_cue_zero", "1 / max(r + K, 1): r = K = 0 -> 1; +Inf -> 0; NaN -> 1",
-     build_depth_cue_zero, check_depth_cue_zero},
-    {"nonfinite_inputs", "NaN/Inf anywhere: finite results, a non-finite channel is 0",
-     build_nonfinite_inputs, check_nonfinite_inputs},
+    { "normalize_zero", "zero vector -> the fallback, unchanged; non-finite fallback -> 0",
+      build_normalize_zero, check_normalize_zero },
+    { "normalize_denormal",
+      "all components below FLT_MIN -> fallback; tiny normal vectors normalise",
+      build_normalize_denormal, check_normalize_denormal },
+    { "normalize_huge", "huge finite vectors rescaled by 2^-100 before squaring",
+      build_normalize_huge, check_normalize_huge },
+    { "normalize_nonfinite", "NaN or Inf component -> fallback", build_normalize_nonfinite,
+      check_normalize_nonfinite },
+    { "halfway_undefined", "L = -V: Blinn gives no highlight; Phong's R.V = 1 - 2 (N.L)^2",
+      build_halfway_undefined, check_halfway_undefined },
+    { "rv_negative", "R.V < 0 or N.H < 0: no highlight, also for n = 0", build_rv_negative,
+      check_rv_negative },
+    { "shininess_zero", "pow(0, 0) = 0; n = 0 -> 1 for x > 0; n clamped to [0, FLT_MAX]",
+      build_shininess_zero, check_shininess_zero },
+    { "back_facing", "N.V < 0 lit as given, never flipped; N.L <= 0 -> 0", build_back_facing,
+      check_back_facing },
+    { "depth_cue_zero", "1 / max(r + K, 1): r = K = 0 -> 1; +Inf -> 0; NaN -> 1",
+      build_depth_cue_zero, check_depth_cue_zero },
+    { "nonfinite_inputs", "NaN/Inf anywhere: finite results, a non-finite channel is 0",
+      build_nonfinite_inputs, check_nonfinite_inputs },
 };
 #define N_HARD (sizeof hard_cases / sizeof hard_cases[0])
 
-/* ---- the GL device, shared by the commands ---------------------------------------- */
+/* ---- the GL device, shared by the commands --------------------------------------------------- */
 
 static phong_gl *gl_dev;
 static int gl_state; /* 0 not tried, 1 open, -1 unavailable */
@@ -496,7 +545,8 @@ static phong_gl *gl_get(void)
 
 /* Both twins on n cases: check_fn on each, then agreement. Returns 0, or 1 without GL. */
 static int run_cases(const char *name, const phong_case *c, uint32_t n,
-                     void (*check_fn)(const phong_case *, const phong_result *, uint32_t, const char *),
+                     void (*check_fn)(const phong_case *, const phong_result *, uint32_t,
+                                      const char *),
                      phong_stats *st, int verbose)
 {
     phong_result *rc = calloc(n, sizeof *rc), *rg = calloc(n, sizeof *rg);
@@ -530,12 +580,14 @@ static int run_cases(const char *name, const phong_case *c, uint32_t n,
                 else if (bad)
                     check_failures++;
                 if (verbose)
-                    printf("%s %3" PRIu32 ": C (%.9g %.9g %.9g) GLSL (%.9g %.9g %.9g) | norm C (%.9g %.9g %.9g) GLSL (%.9g %.9g %.9g) | cue %.9g %.9g | spow %.9g %.9g\n",
-                           name, k, rc[k].direct[0], rc[k].direct[1], rc[k].direct[2], rg[k].direct[0],
-                           rg[k].direct[1], rg[k].direct[2], rc[k].normalized[0], rc[k].normalized[1],
-                           rc[k].normalized[2], rg[k].normalized[0], rg[k].normalized[1],
-                           rg[k].normalized[2], rc[k].scalars[0], rg[k].scalars[0], rc[k].scalars[1],
-                           rg[k].scalars[1]);
+                    printf(
+                        "%s %3" PRIu32
+                        ": C (%.9g %.9g %.9g) GLSL (%.9g %.9g %.9g) | norm C (%.9g %.9g %.9g) GLSL (%.9g %.9g %.9g) | cue %.9g %.9g | spow %.9g %.9g\n",
+                        name, k, rc[k].direct[0], rc[k].direct[1], rc[k].direct[2], rg[k].direct[0],
+                        rg[k].direct[1], rg[k].direct[2], rc[k].normalized[0], rc[k].normalized[1],
+                        rc[k].normalized[2], rg[k].normalized[0], rg[k].normalized[1],
+                        rg[k].normalized[2], rc[k].scalars[0], rg[k].scalars[0], rc[k].scalars[1],
+                        rg[k].scalars[1]);
             }
         }
     }
@@ -544,7 +596,7 @@ static int run_cases(const char *name, const phong_case *c, uint32_t n,
     return no_gl;
 }
 
-/* ---- random cases -------------------------------------------------------------------- */
+/* ---- random cases ---------------------------------------------------------------------------- */
 
 static uint64_t rng_state = 0x9a8b87588077b958ull; /* fixed: seed 1's id */
 
@@ -616,7 +668,8 @@ static phong_case random_case(void)
     c.mat[2] = (float)rnd();
     c.mat[3] = (float)pow(10, rnd_in(0, 3));
     c.model[0] = rnd() < 0.5 ? LG_SPEC_PHONG : LG_SPEC_BLINN;
-    c.nrm[3] = c.model[0] == LG_SPEC_BLINN && rnd() < 0.5 ? LG_BLINN_CORRECTION * c.mat[3] : c.mat[3];
+    c.nrm[3] = c.model[0] == LG_SPEC_BLINN && rnd() < 0.5 ? LG_BLINN_CORRECTION * c.mat[3]
+                                                          : c.mat[3];
     double d[3], mag = pow(10, rnd_in(-44, 38.5));
     rnd_unit(d);
     for (int i = 0; i < 3; i++)
@@ -650,16 +703,18 @@ static int cmd_agree(void)
     free(c);
     if (no_gl)
         return check_skip("phong agree");
-    printf("C vs GLSL over %" PRIu32 " cases (%d random, seed 0x9a8b87588077b958, + hard cases):\n", st.cases,
-           N_RANDOM);
-    printf("  mismatches %" PRIu32 ", knife-edge cases (finiteness only) %" PRIu32 "\n", st.mismatches,
-           st.knife_edge);
+    printf("C vs GLSL over %" PRIu32 " cases (%d random, seed 0x9a8b87588077b958, + hard cases):\n",
+           st.cases, N_RANDOM);
+    printf("  mismatches %" PRIu32 ", knife-edge cases (finiteness only) %" PRIu32 "\n",
+           st.mismatches, st.knife_edge);
     printf("  worst |GLSL - C| / tolerance   %.3g (%s)\n", st.worst_ratio, st.worst_what);
-    printf("  lg_phong_direct   max rel %.3g (diffuse only %.3g)\n", st.max_rel_direct, st.max_rel_diffuse_only);
+    printf("  lg_phong_direct   max rel %.3g (diffuse only %.3g)\n", st.max_rel_direct,
+           st.max_rel_diffuse_only);
     printf("  lg_phong_ambient  max rel %.3g\n", st.max_rel_ambient);
     printf("  lg_safe_normalize max abs %.3g\n", st.max_abs_normalize);
     printf("  lg_depth_cue      max rel %.3g\n", st.max_rel_depth_cue);
-    printf("  lg_spec_pow       max rel %.3g (n <= 128: %.3g)\n", st.max_rel_spec_pow, st.max_rel_spec_pow_n128);
+    printf("  lg_spec_pow       max rel %.3g (n <= 128: %.3g)\n", st.max_rel_spec_pow,
+           st.max_rel_spec_pow_n128);
     CHECKF(st.knife_edge < 10, "%" PRIu32 " knife-edge cases: the random set is not testing much",
            st.knife_edge);
     return check_report("phong agree");
@@ -693,7 +748,8 @@ int main(int argc, char **argv)
             if (strcmp(cmd, hard_cases[h].name) == 0)
                 rc = cmd_hard(&hard_cases[h]);
         if (rc < 0) {
-            fprintf(stderr, "test_phong: unknown command '%s' (agree, list, or a hard case)\n", cmd);
+            fprintf(stderr, "test_phong: unknown command '%s' (agree, list, or a hard case)\n",
+                    cmd);
             rc = 2;
         }
     }

@@ -23,12 +23,12 @@
 #include "common/check.h"
 #include "base/pool.h"
 
-/* ---- chunks ------------------------------------------------------------------------ */
+/* ---- chunks ---------------------------------------------------------------------------------- */
 
 typedef struct visit_ctx {
-    atomic_uint *hits;   /* per index */
+    atomic_uint *hits; /* per index */
     size_t n, grain;
-    atomic_uint bad;     /* chunks whose bounds are not the documented ones */
+    atomic_uint bad; /* chunks whose bounds are not the documented ones */
     atomic_uint calls;
 } visit_ctx;
 
@@ -71,7 +71,7 @@ static void test_chunks(lg_pool *p)
     }
 }
 
-/* ---- edges ---------------------------------------------------------------------------- */
+/* ---- edges ----------------------------------------------------------------------------------- */
 
 static void count_calls(void *arg, size_t begin, size_t end, uint32_t chunk)
 {
@@ -102,7 +102,7 @@ static void test_edges(lg_pool *p)
     CHECKF(atomic_load(&v.calls) == 0, "a refused call ran %u chunks", atomic_load(&v.calls));
 }
 
-/* ---- determinism ------------------------------------------------------------------------ */
+/* ---- determinism ----------------------------------------------------------------------------- */
 
 typedef struct sum_ctx {
     const float *x;
@@ -164,7 +164,7 @@ static void test_determinism(void)
     free(x);
 }
 
-/* ---- parallel ---------------------------------------------------------------------------- */
+/* ---- parallel -------------------------------------------------------------------------------- */
 
 typedef struct who_ctx {
     pthread_t ids[64];
@@ -234,7 +234,7 @@ static void test_nesting(void)
     lg_pool_free(p);
 }
 
-/* ---- env ------------------------------------------------------------------------------------ */
+/* ---- env ------------------------------------------------------------------------------------- */
 
 static void test_env(void)
 {

@@ -53,7 +53,7 @@ static const char *layout_name(lg_probe_layout l)
     return l == LG_PROBE_LATLONG ? "latlong" : l == LG_PROBE_ANGULAR ? "angular" : "cube";
 }
 
-/* ---- the directions ------------------------------------------------------------------ */
+/* ---- the directions -------------------------------------------------------------------------- */
 
 static void put(float *d, double x, double y, double z)
 {
@@ -69,16 +69,46 @@ static uint32_t make_dirs(float *d, uint32_t cap, uint32_t n_random)
     uint32_t n = 0;
     const float dn = 1e-40f;
     const float hard[][3] = {
-        {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-        {0, 0, 0}, {-0.0f, -0.0f, -0.0f}, {dn, dn, -dn}, {1e-31f, 0, 0},
-        {NAN, 0, 0}, {0, NAN, 1}, {INFINITY, 0, 0}, {1, -INFINITY, 1}, {NAN, NAN, NAN},
-        {3e38f, -3e38f, 3e38f}, {1e-20f, 2e-20f, -2e-20f}, {5, 0, -5}, {0, 7, 1e-3f},
-        {1e-7f, 0, 1}, {-1e-7f, 0, 1}, {1e-7f, 0.5f, 1}, {-1e-7f, -0.5f, 1}, /* seam */
-        {1e-6f, 1, 1e-6f}, {-1e-6f, 1, -1e-6f}, {1e-6f, -1, 0}, /* poles */
-        {1e-8f, -1e-8f, -1}, {1e-4f, 0, -1}, {0, 1e-4f, -1}, /* angular centre */
-        {1e-3f, 0, 1}, {0, -1e-3f, 1}, {0.01f, 0.01f, 1}, /* angular rim */
-        {1, 1, 0}, {1, -1, 0}, {-1, 0, 1}, {0, 1, -1}, {1, 1, 1}, {-1, -1, -1}, {1, -1, 1},
-        {-1, 1, 1}, /* cube edges and corners */
+        { 1, 0, 0 },
+        { -1, 0, 0 },
+        { 0, 1, 0 },
+        { 0, -1, 0 },
+        { 0, 0, 1 },
+        { 0, 0, -1 },
+        { 0, 0, 0 },
+        { -0.0f, -0.0f, -0.0f },
+        { dn, dn, -dn },
+        { 1e-31f, 0, 0 },
+        { NAN, 0, 0 },
+        { 0, NAN, 1 },
+        { INFINITY, 0, 0 },
+        { 1, -INFINITY, 1 },
+        { NAN, NAN, NAN },
+        { 3e38f, -3e38f, 3e38f },
+        { 1e-20f, 2e-20f, -2e-20f },
+        { 5, 0, -5 },
+        { 0, 7, 1e-3f },
+        { 1e-7f, 0, 1 },
+        { -1e-7f, 0, 1 },
+        { 1e-7f, 0.5f, 1 },
+        { -1e-7f, -0.5f, 1 }, /* seam */
+        { 1e-6f, 1, 1e-6f },
+        { -1e-6f, 1, -1e-6f },
+        { 1e-6f, -1, 0 }, /* poles */
+        { 1e-8f, -1e-8f, -1 },
+        { 1e-4f, 0, -1 },
+        { 0, 1e-4f, -1 }, /* angular centre */
+        { 1e-3f, 0, 1 },
+        { 0, -1e-3f, 1 },
+        { 0.01f, 0.01f, 1 }, /* angular rim */
+        { 1, 1, 0 },
+        { 1, -1, 0 },
+        { -1, 0, 1 },
+        { 0, 1, -1 },
+        { 1, 1, 1 },
+        { -1, -1, -1 },
+        { 1, -1, 1 },
+        { -1, 1, 1 }, /* cube edges and corners */
     };
     for (size_t k = 0; k < sizeof hard / sizeof hard[0] && n < cap; k++, n++) {
         memcpy(d + 4 * n, hard[k], sizeof hard[k]);
@@ -90,7 +120,7 @@ static uint32_t make_dirs(float *d, uint32_t cap, uint32_t n_random)
             for (int s = 0; s < 4; s++)
                 for (int e = 1; e <= 3; e++)
                     for (int side = 0; side < 2 && n + 1 < cap; side++) {
-                        double p[3] = {0.3, -0.2, 0.45};
+                        double p[3] = { 0.3, -0.2, 0.45 };
                         p[a] = (s & 1) ? 1 : -1;
                         p[b] = (s & 2) ? 1 : -1;
                         double eps = pow(10.0, -2.0 * e);
@@ -105,7 +135,7 @@ static uint32_t make_dirs(float *d, uint32_t cap, uint32_t n_random)
     return n;
 }
 
-/* ---- comparing ----------------------------------------------------------------------- */
+/* ---- comparing ------------------------------------------------------------------------------- */
 
 typedef struct stats {
     double coord, bilinear_ratio, bilinear_abs;
@@ -118,7 +148,7 @@ static int ambiguous(lg_probe_layout l, uint32_t w, uint32_t h, const float *rot
 {
     lg_vec3 d = lg_probe_safe_dir(lg_probe_from_world(rot, lg_v3(dir[0], dir[1], dir[2])));
     if (l == LG_PROBE_CUBE) {
-        float a[3] = {fabsf(d.x), fabsf(d.y), fabsf(d.z)};
+        float a[3] = { fabsf(d.x), fabsf(d.y), fabsf(d.z) };
         float m = fmaxf(a[0], fmaxf(a[1], a[2]));
         int close = 0;
         for (int k = 0; k < 3; k++)
@@ -148,7 +178,7 @@ static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, 
                     const float *rot, const float *dirs, uint32_t n, const float *res,
                     const float *rgba, stats *st)
 {
-    lg_probe_image img = {l, w, h, rgba, rot, {0}};
+    lg_probe_image img = { l, w, h, rgba, rot, { 0 } };
     int bad = 0;
     double tol_b = fmax(TOL_BILINEAR_PER_TEXEL * w, TOL_BILINEAR_MIN);
     for (uint32_t k = 0; k < n; k++) {
@@ -173,8 +203,10 @@ static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, 
             st->coord = fmax(st->coord, fmax(du, dv));
         int ok = face_ok && (((uint32_t)gc[2] != c.face) || (du <= TOL_COORD && dv <= TOL_COORD));
         if (!ok && bad++ < 6)
-            CHECKF(0, "%s %s %ux%u: direction (%g, %g, %g): coord face %g (%.9g, %.9g), CPU face %u (%.9g, %.9g)",
-                   dev, layout_name(l), w, h, d[0], d[1], d[2], gc[2], gc[0], gc[1], c.face, c.u, c.v);
+            CHECKF(
+                0,
+                "%s %s %ux%u: direction (%g, %g, %g): coord face %g (%.9g, %.9g), CPU face %u (%.9g, %.9g)",
+                dev, layout_name(l), w, h, d[0], d[1], d[2], gc[2], gc[0], gc[1], c.face, c.u, c.v);
         double e = 0;
         for (int q = 0; q < 4; q++)
             e = fmax(e, fabs((double)got[q] - want[q]));
@@ -184,16 +216,20 @@ static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, 
             st->bilinear_abs = fmax(st->bilinear_abs, e);
             st->bilinear_ratio = fmax(st->bilinear_ratio, e / tol_b);
             if (!(e <= tol_b) && bad++ < 6)
-                CHECKF(0, "%s %s %ux%u bilinear: direction (%g, %g, %g): (%.9g %.9g %.9g %.9g), CPU (%.9g %.9g %.9g %.9g), |diff| %.3g > %.3g",
-                       dev, layout_name(l), w, h, d[0], d[1], d[2], got[0], got[1], got[2], got[3],
-                       want[0], want[1], want[2], want[3], e, tol_b);
+                CHECKF(
+                    0,
+                    "%s %s %ux%u bilinear: direction (%g, %g, %g): (%.9g %.9g %.9g %.9g), CPU (%.9g %.9g %.9g %.9g), |diff| %.3g > %.3g",
+                    dev, layout_name(l), w, h, d[0], d[1], d[2], got[0], got[1], got[2], got[3],
+                    want[0], want[1], want[2], want[3], e, tol_b);
         } else if (amb) {
             st->nearest_skipped++;
         } else {
             st->nearest_checked++;
             if (!(e == 0) && bad++ < 6)
-                CHECKF(0, "%s %s %ux%u nearest: direction (%g, %g, %g) face %u (%.9g, %.9g): %.9g, CPU %.9g",
-                       dev, layout_name(l), w, h, d[0], d[1], d[2], c.face, c.u, c.v, got[0], want[0]);
+                CHECKF(
+                    0,
+                    "%s %s %ux%u nearest: direction (%g, %g, %g) face %u (%.9g, %.9g): %.9g, CPU %.9g",
+                    dev, layout_name(l), w, h, d[0], d[1], d[2], c.face, c.u, c.v, got[0], want[0]);
         }
         st->compared++;
     }
@@ -202,7 +238,7 @@ static void compare(const char *dev, lg_probe_layout l, uint32_t w, uint32_t h, 
                 bilinear ? "bilinear" : "nearest", bad);
 }
 
-/* ---- GL ------------------------------------------------------------------------------ */
+/* ---- GL -------------------------------------------------------------------------------------- */
 
 static int run_gl(const lg_gl *gl, GLuint prog, lg_probe_layout l, uint32_t w, uint32_t h,
                   int bilinear, const float *rot, const float *rgba, const float *dirs, uint32_t n,
@@ -256,7 +292,7 @@ static int run_gl(const lg_gl *gl, GLuint prog, lg_probe_layout l, uint32_t w, u
     return e == GL_NO_ERROR ? 0 : -1;
 }
 
-/* ---- CL ------------------------------------------------------------------------------ */
+/* ---- CL -------------------------------------------------------------------------------------- */
 
 static int run_cl(lg_cl_dev *dev, cl_kernel k, lg_probe_layout l, uint32_t w, uint32_t h,
                   int bilinear, const float *rot, const float *rgba, const float *dirs, uint32_t n,
@@ -286,7 +322,7 @@ static int run_cl(lg_cl_dev *dev, cl_kernel k, lg_probe_layout l, uint32_t w, ui
     clSetKernelArg(k, 6, sizeof mr, &mr);
     clSetKernelArg(k, 7, sizeof cn, &cn);
     for (int c = 0; c < 3; c++) {
-        cl_float4 col = {{rot[3 * c], rot[3 * c + 1], rot[3 * c + 2], 0}};
+        cl_float4 col = { { rot[3 * c], rot[3 * c + 1], rot[3 * c + 2], 0 } };
         clSetKernelArg(k, 8 + (cl_uint)c, sizeof col, &col);
     }
     size_t global = n;
@@ -307,7 +343,7 @@ out:
     return rc;
 }
 
-/* ---- main ---------------------------------------------------------------------------- */
+/* ---- main ------------------------------------------------------------------------------------ */
 
 int main(int argc, char **argv)
 {
@@ -330,8 +366,8 @@ int main(int argc, char **argv)
         }
         gl = lg_gl_device_table(gldev);
         printf("gl: %s\n", lg_gl_device_description(gldev));
-        lg_gl_shader_src src = {GL_COMPUTE_SHADER, lg_src_probe_eval_comp_file,
-                                lg_src_probe_eval_comp};
+        lg_gl_shader_src src = { GL_COMPUTE_SHADER, lg_src_probe_eval_comp_file,
+                                 lg_src_probe_eval_comp };
         devtest_clear();
         prog = lg_gl_program(devtest_node(), gl, &src, 1, NULL);
         CHECKF(prog != 0, "probe_eval.comp: %s", devtest_errors);
@@ -371,16 +407,17 @@ int main(int argc, char **argv)
         lg_probe_layout l;
         uint32_t w, h;
     } cases[] = {
-        {LG_PROBE_LATLONG, 1, 1},  {LG_PROBE_LATLONG, 2, 1},   {LG_PROBE_LATLONG, 64, 32},
-        {LG_PROBE_LATLONG, 33, 17}, {LG_PROBE_LATLONG, 512, 256},
-        {LG_PROBE_ANGULAR, 1, 1},  {LG_PROBE_ANGULAR, 3, 3},   {LG_PROBE_ANGULAR, 64, 64},
-        {LG_PROBE_ANGULAR, 513, 513},
-        {LG_PROBE_CUBE, 1, 1},     {LG_PROBE_CUBE, 2, 2},      {LG_PROBE_CUBE, 16, 16},
-        {LG_PROBE_CUBE, 128, 128},
+        { LG_PROBE_LATLONG, 1, 1 },     { LG_PROBE_LATLONG, 2, 1 },
+        { LG_PROBE_LATLONG, 64, 32 },   { LG_PROBE_LATLONG, 33, 17 },
+        { LG_PROBE_LATLONG, 512, 256 }, { LG_PROBE_ANGULAR, 1, 1 },
+        { LG_PROBE_ANGULAR, 3, 3 },     { LG_PROBE_ANGULAR, 64, 64 },
+        { LG_PROBE_ANGULAR, 513, 513 }, { LG_PROBE_CUBE, 1, 1 },
+        { LG_PROBE_CUBE, 2, 2 },        { LG_PROBE_CUBE, 16, 16 },
+        { LG_PROBE_CUBE, 128, 128 },
     };
     stats total[3][2];
     memset(total, 0, sizeof total);
-    const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const float identity[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
     float rotation[9];
     lg_probe_rotation_from_euler(30, -20, 10, rotation);
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
@@ -405,10 +442,11 @@ int main(int argc, char **argv)
                 continue;
             compare(argv[1], l, w, h, b, rot, dirs, n, res, rgba, &st);
             if (b)
-                printf("%s %-7s %4ux%-4u bilinear%s: %u directions, coordinates within %.2e, values "
-                       "within %.2e (%.2f of the tolerance), %.1f ms\n",
-                       argv[1], layout_name(l), w, h, pass == 2 ? " rotated" : "", st.compared,
-                       st.coord, st.bilinear_abs, st.bilinear_ratio, (t1 - t0) * 1e3);
+                printf(
+                    "%s %-7s %4ux%-4u bilinear%s: %u directions, coordinates within %.2e, values "
+                    "within %.2e (%.2f of the tolerance), %.1f ms\n",
+                    argv[1], layout_name(l), w, h, pass == 2 ? " rotated" : "", st.compared,
+                    st.coord, st.bilinear_abs, st.bilinear_ratio, (t1 - t0) * 1e3);
             else
                 printf("%s %-7s %4ux%-4u nearest : %u directions, coordinates within %.2e, %u "
                        "equal, %u near a texel border or face tie not compared, %.1f ms\n",
@@ -427,9 +465,11 @@ int main(int argc, char **argv)
         struct {
             lg_probe_layout l;
             uint32_t w, h;
-        } cc[] = {{LG_PROBE_LATLONG, 9, 5}, {LG_PROBE_ANGULAR, 9, 9}, {LG_PROBE_CUBE, 5, 5},
-                  {LG_PROBE_CUBE, 1, 1}};
-        const float cs[] = {0.1f, 12345.678f, 262016.0f};
+        } cc[] = { { LG_PROBE_LATLONG, 9, 5 },
+                   { LG_PROBE_ANGULAR, 9, 9 },
+                   { LG_PROBE_CUBE, 5, 5 },
+                   { LG_PROBE_CUBE, 1, 1 } };
+        const float cs[] = { 0.1f, 12345.678f, 262016.0f };
         for (size_t c = 0; c < sizeof cc / sizeof cc[0]; c++)
             for (size_t q = 0; q < sizeof cs / sizeof cs[0]; q++) {
                 size_t texels = (size_t)cc[c].w * cc[c].h * (cc[c].l == LG_PROBE_CUBE ? 6 : 1);
@@ -437,8 +477,10 @@ int main(int argc, char **argv)
                 for (size_t k = 0; k < texels * 4; k++)
                     rgba[k] = cs[q];
                 for (int b = 0; b < 2; b++) {
-                    int rc = use_gl ? run_gl(gl, prog, cc[c].l, cc[c].w, cc[c].h, b, identity, rgba, dirs, n, res)
-                                    : run_cl(cldev, kern, cc[c].l, cc[c].w, cc[c].h, b, identity, rgba, dirs, n, res);
+                    int rc = use_gl ? run_gl(gl, prog, cc[c].l, cc[c].w, cc[c].h, b, identity, rgba,
+                                             dirs, n, res)
+                                    : run_cl(cldev, kern, cc[c].l, cc[c].w, cc[c].h, b, identity,
+                                             rgba, dirs, n, res);
                     if (rc)
                         continue;
                     /* llvmpipe's seamless filter averages a cube corner's three texels
@@ -449,7 +491,8 @@ int main(int argc, char **argv)
                     for (uint32_t k = 0; k < n; k++)
                         for (int ch = 0; ch < 4; ch++)
                             if (!(fabs((double)res[8 * k + ch] - cs[q]) <= tol) && bad++ < 3)
-                                CHECKF(0, "%s %s %ux%u %s: constant %.9g reads %.9g along (%g %g %g)",
+                                CHECKF(0,
+                                       "%s %s %ux%u %s: constant %.9g reads %.9g along (%g %g %g)",
                                        argv[1], layout_name(cc[c].l), cc[c].w, cc[c].h,
                                        b ? "bilinear" : "nearest", cs[q], res[8 * k + ch],
                                        dirs[4 * k], dirs[4 * k + 1], dirs[4 * k + 2]);
@@ -462,8 +505,9 @@ int main(int argc, char **argv)
     for (int l = 0; l < 3; l++)
         printf("%s vs CPU, %s: coordinates within %.2e, bilinear values within %.2e "
                "(%.2f of the tolerance)\n",
-               argv[1], layout_name((lg_probe_layout)(l + 1)), fmax(total[l][0].coord, total[l][1].coord),
-               total[l][1].bilinear_abs, total[l][1].bilinear_ratio);
+               argv[1], layout_name((lg_probe_layout)(l + 1)),
+               fmax(total[l][0].coord, total[l][1].coord), total[l][1].bilinear_abs,
+               total[l][1].bilinear_ratio);
     free(dirs);
     free(res);
     if (use_gl) {

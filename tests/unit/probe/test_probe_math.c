@@ -68,10 +68,10 @@ static float *rnd_image(lg_probe_layout l, uint32_t w, uint32_t h)
     return p;
 }
 
-static void lookup(lg_probe_layout l, uint32_t w, uint32_t h, const float *rgba,
-                   const float *rot, lg_vec3 d, lg_probe_sampling s, float out[4])
+static void lookup(lg_probe_layout l, uint32_t w, uint32_t h, const float *rgba, const float *rot,
+                   lg_vec3 d, lg_probe_sampling s, float out[4])
 {
-    lg_probe_image img = {l, w, h, rgba, rot, {0}};
+    lg_probe_image img = { l, w, h, rgba, rot, { 0 } };
     lg_probe_lookup(&img, d, s, out);
 }
 
@@ -88,7 +88,7 @@ static int finite4(const float *a)
     return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]) && isfinite(a[3]);
 }
 
-/* ---- solid angles -------------------------------------------------------------------- */
+/* ---- solid angles ---------------------------------------------------------------------------- */
 
 /* Oracle for one angular texel, written independently of probe.c: in polar coordinates
  * about the disc's centre, sum over rays phi of the integral of pi sin(pi r) dr over the
@@ -98,7 +98,7 @@ static int finite4(const float *a)
 static double ray_part(double x0, double x1, double y0, double y1, double c, double s)
 {
     double tin = 0, tout = 1e300;
-    double lo[2] = {x0, y0}, hi[2] = {x1, y1}, dd[2] = {c, s};
+    double lo[2] = { x0, y0 }, hi[2] = { x1, y1 }, dd[2] = { c, s };
     for (int k = 0; k < 2; k++) {
         if (fabs(dd[k]) < 1e-300) {
             if (0 < lo[k] || 0 > hi[k])
@@ -134,7 +134,7 @@ static double angular_oracle(uint32_t n, uint32_t i, uint32_t j)
     int origin_inside = x0 < 0 && x1 > 0 && y0 < 0 && y1 > 0;
     double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
     double base = origin_inside ? 0 : atan2(cy, cx);
-    double xs[2] = {x0, x1}, ys[2] = {y0, y1};
+    double xs[2] = { x0, x1 }, ys[2] = { y0, y1 };
     for (int a = 0; a < 2; a++)
         for (int b = 0; b < 2; b++) {
             if (xs[a] == 0 && ys[b] == 0)
@@ -180,12 +180,12 @@ static double angular_oracle(uint32_t n, uint32_t i, uint32_t j)
         bp[nb++] = LG_PI;
     }
     qsort(bp, (size_t)nb, sizeof *bp, cmpd);
-    static const double gx[8] = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274,
-                                 0.6178762444026438, 0.7554044083550030, 0.8656312023878318,
-                                 0.9445750230732326, 0.9894009349916499};
-    static const double gw[8] = {0.1894506104550685, 0.1826034150449236, 0.1691565193950025,
-                                 0.1495959888165767, 0.1246289712555339, 0.0951585116824928,
-                                 0.0622535239386479, 0.0271524594117541};
+    static const double gx[8] = { 0.0950125098376374, 0.2816035507792589, 0.4580167776572274,
+                                  0.6178762444026438, 0.7554044083550030, 0.8656312023878318,
+                                  0.9445750230732326, 0.9894009349916499 };
+    static const double gw[8] = { 0.1894506104550685, 0.1826034150449236, 0.1691565193950025,
+                                  0.1495959888165767, 0.1246289712555339, 0.0951585116824928,
+                                  0.0622535239386479, 0.0271524594117541 };
     double sum = 0;
     for (int k = 0; k + 1 < nb; k++) {
         double a = bp[k], b = bp[k + 1];
@@ -238,7 +238,8 @@ static void check_sum(lg_probe_layout l, uint32_t w, uint32_t h)
             }
     double rel = fabs(sum - 4 * LG_PI) / (4 * LG_PI), reld = fabs(sumd - 4 * LG_PI) / (4 * LG_PI);
     printf("solid angles %-7s %5ux%-5u sum(float table) - 4pi: %.2e rel, sum(double) %.2e rel, "
-           "table %.1f ms\n", layout_name(l), w, h, rel, reld, (t1 - t0) * 1e3);
+           "table %.1f ms\n",
+           layout_name(l), w, h, rel, reld, (t1 - t0) * 1e3);
     CHECKF(rel <= 1e-6, "%s %ux%u: the table sums to %.12g, 4 pi = %.12g (%.3g relative)",
            layout_name(l), w, h, sum, 4 * LG_PI, rel);
     CHECKF(reld <= 1e-9, "%s %ux%u: the texels sum to %.15g in double (%.3g relative)",
@@ -252,13 +253,15 @@ static void check_sum(lg_probe_layout l, uint32_t w, uint32_t h)
 
 static int cmd_solid_angles(void)
 {
-    uint32_t ll[][2] = {{1, 1}, {2, 1}, {4, 2}, {64, 32}, {1000, 500}, {7, 3}, {3, 7}};
+    uint32_t ll[][2] = {
+        { 1, 1 }, { 2, 1 }, { 4, 2 }, { 64, 32 }, { 1000, 500 }, { 7, 3 }, { 3, 7 }
+    };
     for (size_t k = 0; k < sizeof ll / sizeof ll[0]; k++)
         check_sum(LG_PROBE_LATLONG, ll[k][0], ll[k][1]);
-    uint32_t cube[] = {1, 2, 3, 64, 255};
+    uint32_t cube[] = { 1, 2, 3, 64, 255 };
     for (size_t k = 0; k < sizeof cube / sizeof cube[0]; k++)
         check_sum(LG_PROBE_CUBE, cube[k], cube[k]);
-    uint32_t ang[] = {1, 2, 3, 4, 64, 513};
+    uint32_t ang[] = { 1, 2, 3, 4, 64, 513 };
     for (size_t k = 0; k < sizeof ang / sizeof ang[0]; k++)
         check_sum(LG_PROBE_ANGULAR, ang[k], ang[k]);
 
@@ -273,7 +276,7 @@ static int cmd_solid_angles(void)
 
     /* the angular map against the polar oracle, every texel of small maps (rim texels are
      * partly covered; corner texels are outside: 0) */
-    uint32_t sizes[] = {1, 2, 3, 5, 8, 33};
+    uint32_t sizes[] = { 1, 2, 3, 5, 8, 33 };
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
         uint32_t n = sizes[s];
         double worst = 0, worst_rim = 0;
@@ -284,8 +287,8 @@ static int cmd_solid_angles(void)
                 double want = angular_oracle(n, i, j);
                 double e = fabs(got - want) / fmax(want, 1e-300);
                 if (want == 0) {
-                    CHECKF(got == 0, "angular %u: texel (%u, %u) outside the disc has %.3g sr",
-                           n, i, j, got);
+                    CHECKF(got == 0, "angular %u: texel (%u, %u) outside the disc has %.3g sr", n,
+                           i, j, got);
                     zeros++;
                     continue;
                 }
@@ -298,8 +301,9 @@ static int cmd_solid_angles(void)
                     worst_rim = e;
                 if (!rim && e > worst)
                     worst = e;
-                CHECKF(e <= (rim ? 1e-8 : 1e-12), "angular %u: texel (%u, %u)%s: %.15g sr, oracle %.15g (%.3g)",
-                       n, i, j, rim ? " (on the rim)" : "", got, want, e);
+                CHECKF(e <= (rim ? 1e-8 : 1e-12),
+                       "angular %u: texel (%u, %u)%s: %.15g sr, oracle %.15g (%.3g)", n, i, j,
+                       rim ? " (on the rim)" : "", got, want, e);
             }
         printf("angular %3u vs polar oracle: interior %.2e, rim %.2e relative, %d texels outside\n",
                n, worst, worst_rim, zeros);
@@ -312,8 +316,8 @@ static int cmd_solid_angles(void)
             double c = lg_probe_texel_solid_angle(LG_PROBE_ANGULAR, 64, 64, 0, j, i);
             CHECKF(fabs(a - b) <= 1e-9 * fmax(a, 1e-30) + 1e-300 &&
                        fabs(a - c) <= 1e-9 * fmax(a, 1e-30) + 1e-300,
-                   "angular 64 texel (%u, %u): %.17g, mirrored %.17g, transposed %.17g", i, j, a,
-                   b, c);
+                   "angular 64 texel (%u, %u): %.17g, mirrored %.17g, transposed %.17g", i, j, a, b,
+                   c);
         }
     /* invalid sizes */
     float dummy[6];
@@ -324,7 +328,7 @@ static int cmd_solid_angles(void)
     return check_report("probe_solid_angles");
 }
 
-/* ---- conventions --------------------------------------------------------------------- */
+/* ---- conventions ----------------------------------------------------------------------------- */
 
 static void expect_dir(const char *what, lg_vec3 got, double x, double y, double z, double tol)
 {
@@ -342,7 +346,7 @@ static void expect_coord(const char *what, lg_probe_coord c, uint32_t face, doub
 
 static lg_probe_coord C2(uint32_t f, float u, float v)
 {
-    lg_probe_coord c = {f, u, v};
+    lg_probe_coord c = { f, u, v };
     return c;
 }
 
@@ -351,52 +355,82 @@ static int cmd_conventions(void)
     const double t = 2e-7;
     /* lat-long: the centre looks along -Z, u = 0.75 along +X, 0.25 along -X, the top +Y,
      * the seam +Z */
-    expect_dir("latlong centre", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.5f, 0.5f)), 0, 0, -1, t);
-    expect_dir("latlong u=0.75", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.75f, 0.5f)), 1, 0, 0, t);
-    expect_dir("latlong u=0.25", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.25f, 0.5f)), -1, 0, 0, t);
-    expect_dir("latlong u=0 (seam)", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.0f, 0.5f)), 0, 0, 1, t);
-    expect_dir("latlong top", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.3f, 0.0f)), 0, 1, 0, t);
-    expect_dir("latlong bottom", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.3f, 1.0f)), 0, -1, 0, t);
+    expect_dir("latlong centre", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.5f, 0.5f)), 0, 0,
+               -1, t);
+    expect_dir("latlong u=0.75", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.75f, 0.5f)), 1, 0,
+               0, t);
+    expect_dir("latlong u=0.25", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.25f, 0.5f)), -1, 0,
+               0, t);
+    expect_dir("latlong u=0 (seam)", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.0f, 0.5f)), 0,
+               0, 1, t);
+    expect_dir("latlong top", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.3f, 0.0f)), 0, 1, 0,
+               t);
+    expect_dir("latlong bottom", lg_probe_coord_to_dir(LG_PROBE_LATLONG, C2(0, 0.3f, 1.0f)), 0, -1,
+               0, t);
     /* the panorama is not mirrored seen from inside: looking at -Z with +Y up, +X is to
      * the right, and u grows to the right */
     lg_probe_coord a = lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0.1f, 0, -1));
     CHECKF(a.u > 0.5f, "a direction right of -Z has u = %g <= 0.5", a.u);
     /* texel (W/2, H/2) of 64 x 32: just right of and below the centre */
     lg_vec3 d = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, 32, 16);
-    CHECKF(d.z < -0.99f && d.x > 0 && d.y < 0, "latlong texel (32, 16): (%g, %g, %g)", d.x, d.y, d.z);
+    CHECKF(d.z < -0.99f && d.x > 0 && d.y < 0, "latlong texel (32, 16): (%g, %g, %g)", d.x, d.y,
+           d.z);
     d = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, 0, 0);
-    CHECKF(fabs(d.y - cos(LG_PI / 64)) < 1e-6, "latlong row 0 centre: y = %.9g, cos(pi/64) = %.9g", d.y,
-           cos(LG_PI / 64));
-    expect_coord("latlong +X", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(1, 0, 0)), 0, 0.75, 0.5, t);
-    expect_coord("latlong -Z", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, 0, -1)), 0, 0.5, 0.5, t);
-    expect_coord("latlong +Y", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, 1, 0)), 0, 0.5, 0, t);
-    expect_coord("latlong -Y", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, -1, 0)), 0, 0.5, 1, t);
+    CHECKF(fabs(d.y - cos(LG_PI / 64)) < 1e-6, "latlong row 0 centre: y = %.9g, cos(pi/64) = %.9g",
+           d.y, cos(LG_PI / 64));
+    expect_coord("latlong +X", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(1, 0, 0)), 0, 0.75,
+                 0.5, t);
+    expect_coord("latlong -Z", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, 0, -1)), 0, 0.5,
+                 0.5, t);
+    expect_coord("latlong +Y", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, 1, 0)), 0, 0.5, 0,
+                 t);
+    expect_coord("latlong -Y", lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_v3(0, -1, 0)), 0, 0.5, 1,
+                 t);
 
     /* angular: centre -Z, right +X, up +Y, rim +Z; r = theta / pi */
-    expect_dir("angular centre", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0.5f, 0.5f)), 0, 0, -1, t);
-    expect_dir("angular r=0.5 right", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0.75f, 0.5f)), 1, 0, 0, t);
-    expect_dir("angular r=0.5 up", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0.5f, 0.25f)), 0, 1, 0, t);
-    expect_dir("angular rim", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 1.0f, 0.5f)), 0, 0, 1, t);
-    expect_dir("angular corner (outside)", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0, 0)), 0, 0, 1, 0);
-    expect_coord("angular -Z", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(0, 0, -1)), 0, 0.5, 0.5, t);
-    expect_coord("angular +X", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(1, 0, 0)), 0, 0.75, 0.5, t);
-    expect_coord("angular -Y", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(0, -1, 0)), 0, 0.5, 0.75, t);
-    expect_coord("angular +Z", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(0, 0, 1)), 0, 0.5, 1.0, t);
+    expect_dir("angular centre", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0.5f, 0.5f)), 0, 0,
+               -1, t);
+    expect_dir("angular r=0.5 right", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0.75f, 0.5f)),
+               1, 0, 0, t);
+    expect_dir("angular r=0.5 up", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0.5f, 0.25f)), 0,
+               1, 0, t);
+    expect_dir("angular rim", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 1.0f, 0.5f)), 0, 0, 1,
+               t);
+    expect_dir("angular corner (outside)", lg_probe_coord_to_dir(LG_PROBE_ANGULAR, C2(0, 0, 0)), 0,
+               0, 1, 0);
+    expect_coord("angular -Z", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(0, 0, -1)), 0, 0.5,
+                 0.5, t);
+    expect_coord("angular +X", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(1, 0, 0)), 0, 0.75,
+                 0.5, t);
+    expect_coord("angular -Y", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(0, -1, 0)), 0, 0.5,
+                 0.75, t);
+    expect_coord("angular +Z", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(0, 0, 1)), 0, 0.5, 1.0,
+                 t);
     /* 45 degrees from -Z toward +X: r = 1/4 */
-    expect_coord("angular 45", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(1, 0, -1)), 0, 0.625, 0.5, t);
+    expect_coord("angular 45", lg_probe_dir_to_coord(LG_PROBE_ANGULAR, lg_v3(1, 0, -1)), 0, 0.625,
+                 0.5, t);
 
     /* cube: GL's table */
-    expect_coord("cube +X", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(1, 0.5f, 0.25f)), 0, 0.375, 0.25, t);
-    expect_coord("cube -X", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(-1, 0.5f, 0.25f)), 1, 0.625, 0.25, t);
-    expect_coord("cube +Y", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, 1, 0.25f)), 2, 0.75, 0.625, t);
-    expect_coord("cube -Y", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, -1, 0.25f)), 3, 0.75, 0.375, t);
-    expect_coord("cube +Z", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, 0.25f, 1)), 4, 0.75, 0.375, t);
-    expect_coord("cube -Z", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, 0.25f, -1)), 5, 0.25, 0.375, t);
-    static const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    expect_coord("cube +X", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(1, 0.5f, 0.25f)), 0, 0.375,
+                 0.25, t);
+    expect_coord("cube -X", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(-1, 0.5f, 0.25f)), 1, 0.625,
+                 0.25, t);
+    expect_coord("cube +Y", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, 1, 0.25f)), 2, 0.75,
+                 0.625, t);
+    expect_coord("cube -Y", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, -1, 0.25f)), 3, 0.75,
+                 0.375, t);
+    expect_coord("cube +Z", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, 0.25f, 1)), 4, 0.75,
+                 0.375, t);
+    expect_coord("cube -Z", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(0.5f, 0.25f, -1)), 5, 0.25,
+                 0.375, t);
+    static const float axes[6][3] = { { 1, 0, 0 },  { -1, 0, 0 }, { 0, 1, 0 },
+                                      { 0, -1, 0 }, { 0, 0, 1 },  { 0, 0, -1 } };
     for (uint32_t f = 0; f < 6; f++) {
         expect_dir("cube face centre", lg_probe_coord_to_dir(LG_PROBE_CUBE, C2(f, 0.5f, 0.5f)),
                    axes[f][0], axes[f][1], axes[f][2], 0);
-        expect_coord("cube axis", lg_probe_dir_to_coord(LG_PROBE_CUBE, lg_v3(axes[f][0], axes[f][1], axes[f][2])),
+        expect_coord("cube axis",
+                     lg_probe_dir_to_coord(LG_PROBE_CUBE,
+                                           lg_v3(axes[f][0], axes[f][1], axes[f][2])),
                      f, 0.5, 0.5, 0);
     }
     /* ties: X before Y before Z */
@@ -405,7 +439,7 @@ static int cmd_conventions(void)
     return check_report("probe_conventions");
 }
 
-/* ---- round trip ---------------------------------------------------------------------- */
+/* ---- round trip ------------------------------------------------------------------------------ */
 
 static void roundtrip(lg_probe_layout l, uint32_t w, uint32_t h)
 {
@@ -434,8 +468,10 @@ static void roundtrip(lg_probe_layout l, uint32_t w, uint32_t h)
                     worst = e;
                 if (c.face != f || e > 1e-3) {
                     if (bad++ < 5)
-                        CHECKF(0, "%s %ux%u texel (%u, %u) face %u -> (%.9g %.9g %.9g) -> face %u (%.9g, %.9g)",
-                               layout_name(l), w, h, i, j, f, d.x, d.y, d.z, c.face, c.u, c.v);
+                        CHECKF(
+                            0,
+                            "%s %ux%u texel (%u, %u) face %u -> (%.9g %.9g %.9g) -> face %u (%.9g, %.9g)",
+                            layout_name(l), w, h, i, j, f, d.x, d.y, d.z, c.face, c.u, c.v);
                 }
             }
     printf("round trip %-7s %5ux%-5u worst %.2e texel\n", layout_name(l), w, h, worst);
@@ -459,25 +495,42 @@ static int cmd_roundtrip(void)
     return check_report("probe_roundtrip");
 }
 
-/* ---- hard directions ----------------------------------------------------------------- */
+/* ---- hard directions ------------------------------------------------------------------------- */
 
 static int cmd_hard_dirs(void)
 {
-    const lg_probe_layout layouts[3] = {LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE};
-    const uint32_t sizes[3][2] = {{16, 8}, {17, 17}, {8, 8}};
+    const lg_probe_layout layouts[3] = { LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE };
+    const uint32_t sizes[3][2] = { { 16, 8 }, { 17, 17 }, { 8, 8 } };
     const float dn = 1e-40f; /* a denormal */
     const lg_vec3 fallback_like[] = {
-        lg_v3(0, 0, 0), lg_v3(-0.0f, -0.0f, -0.0f), lg_v3(dn, -dn, dn), lg_v3(1e-31f, 0, 0),
-        lg_v3(NAN, 0, 0), lg_v3(0, NAN, 1), lg_v3(INFINITY, 0, 0), lg_v3(1, -INFINITY, 1),
-        lg_v3(NAN, NAN, NAN),
+        lg_v3(0, 0, 0),        lg_v3(-0.0f, -0.0f, -0.0f), lg_v3(dn, -dn, dn),
+        lg_v3(1e-31f, 0, 0),   lg_v3(NAN, 0, 0),           lg_v3(0, NAN, 1),
+        lg_v3(INFINITY, 0, 0), lg_v3(1, -INFINITY, 1),     lg_v3(NAN, NAN, NAN),
     };
     const lg_vec3 hard[] = {
-        lg_v3(1, 0, 0), lg_v3(-1, 0, 0), lg_v3(0, 1, 0), lg_v3(0, -1, 0), lg_v3(0, 0, 1),
-        lg_v3(0, 0, -1), lg_v3(-0.0f, 1, -0.0f), lg_v3(0, -1, -0.0f),
-        lg_v3(1e-7f, 0, 1), lg_v3(-1e-7f, 0, 1), lg_v3(-0.0f, 0.3f, 1), lg_v3(0, 0.3f, 1),
-        lg_v3(1e-7f, 1e-7f, -1), lg_v3(1e-20f, 0, -1), lg_v3(1e-7f, 0, 1), lg_v3(1e-30f, 0, 1),
-        lg_v3(1, 1, 0), lg_v3(1, 1, 1), lg_v3(-1, 1, -1), lg_v3(1, -1, 1),
-        lg_v3(3e38f, 3e38f, 3e38f), lg_v3(1e-30f, 2e-30f, -2e-30f), lg_v3(dn, 0, 1),
+        lg_v3(1, 0, 0),
+        lg_v3(-1, 0, 0),
+        lg_v3(0, 1, 0),
+        lg_v3(0, -1, 0),
+        lg_v3(0, 0, 1),
+        lg_v3(0, 0, -1),
+        lg_v3(-0.0f, 1, -0.0f),
+        lg_v3(0, -1, -0.0f),
+        lg_v3(1e-7f, 0, 1),
+        lg_v3(-1e-7f, 0, 1),
+        lg_v3(-0.0f, 0.3f, 1),
+        lg_v3(0, 0.3f, 1),
+        lg_v3(1e-7f, 1e-7f, -1),
+        lg_v3(1e-20f, 0, -1),
+        lg_v3(1e-7f, 0, 1),
+        lg_v3(1e-30f, 0, 1),
+        lg_v3(1, 1, 0),
+        lg_v3(1, 1, 1),
+        lg_v3(-1, 1, -1),
+        lg_v3(1, -1, 1),
+        lg_v3(3e38f, 3e38f, 3e38f),
+        lg_v3(1e-30f, 2e-30f, -2e-30f),
+        lg_v3(dn, 0, 1),
     };
     for (int li = 0; li < 3; li++) {
         lg_probe_layout l = layouts[li];
@@ -500,10 +553,10 @@ static int cmd_hard_dirs(void)
                        "%s: (%g, %g, %g) -> face %u (%g, %g)", layout_name(l), d.x, d.y, d.z,
                        c.face, c.u, c.v);
                 lookup(l, w, h, img, NULL, d, (lg_probe_sampling)s, got);
-                CHECKF(finite4(got), "%s: (%g, %g, %g) looks up a non-finite value",
-                       layout_name(l), d.x, d.y, d.z);
+                CHECKF(finite4(got), "%s: (%g, %g, %g) looks up a non-finite value", layout_name(l),
+                       d.x, d.y, d.z);
                 /* scale invariance: non-unit directions read the same */
-                const float ks[] = {1e-20f, 1e-3f, 7.0f, 1e20f};
+                const float ks[] = { 1e-20f, 1e-3f, 7.0f, 1e20f };
                 for (int q = 0; q < 4; q++) {
                     lg_vec3 e = lg_v3_scale(d, ks[q]);
                     if (!isfinite(e.x) || !isfinite(e.y) || !isfinite(e.z))
@@ -531,7 +584,8 @@ static int cmd_hard_dirs(void)
         float got[4];
         lookup(LG_PROBE_ANGULAR, 3, 3, img, NULL, lg_v3(0, 0, -5), LG_PROBE_BILINEAR, got);
         CHECKF(got[0] == 16 && got[3] == 19, "angular 3x3 centre reads %g, not texel 4", got[0]);
-        lookup(LG_PROBE_ANGULAR, 3, 3, img, NULL, lg_v3(1e-20f, -1e-20f, -1), LG_PROBE_NEAREST, got);
+        lookup(LG_PROBE_ANGULAR, 3, 3, img, NULL, lg_v3(1e-20f, -1e-20f, -1), LG_PROBE_NEAREST,
+               got);
         CHECKF(got[0] == 16, "angular 3x3 near the centre reads %g, not texel 4", got[0]);
         /* the rim: +Z reads the bottom middle texel (the documented point of the rim) */
         lookup(LG_PROBE_ANGULAR, 3, 3, img, NULL, lg_v3(0, 0, 1), LG_PROBE_NEAREST, got);
@@ -549,7 +603,8 @@ static int cmd_hard_dirs(void)
         float a[4], b[4];
         lookup(LG_PROBE_LATLONG, 5, 3, img, NULL, lg_v3(1e-6f, 0, 1), LG_PROBE_NEAREST, a);
         lookup(LG_PROBE_LATLONG, 5, 3, img, NULL, lg_v3(-1e-6f, 0, 1), LG_PROBE_NEAREST, b);
-        CHECKF(a[0] == 4 * 9 && b[0] == 4 * 5, "5x3 seam: %g and %g, expected row 1 columns 4 and 0", a[0], b[0]);
+        CHECKF(a[0] == 4 * 9 && b[0] == 4 * 5,
+               "5x3 seam: %g and %g, expected row 1 columns 4 and 0", a[0], b[0]);
         lookup(LG_PROBE_LATLONG, 5, 3, img, NULL, lg_v3(0, 0, 1), LG_PROBE_NEAREST, a);
         lookup(LG_PROBE_LATLONG, 5, 3, img, NULL, lg_v3(-0.0f, 0, 1), LG_PROBE_NEAREST, b);
         CHECKF(a[0] == b[0], "+Z and (-0, 0, 1) read %g and %g", a[0], b[0]);
@@ -560,7 +615,8 @@ static int cmd_hard_dirs(void)
         float img[6 * 4];
         for (int k = 0; k < 24; k++)
             img[k] = (float)(k / 4 + 1);
-        static const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        static const float axes[6][3] = { { 1, 0, 0 },  { -1, 0, 0 }, { 0, 1, 0 },
+                                          { 0, -1, 0 }, { 0, 0, 1 },  { 0, 0, -1 } };
         for (int f = 0; f < 6; f++)
             for (int sm = 0; sm < 2; sm++) {
                 float got[4];
@@ -570,7 +626,8 @@ static int cmd_hard_dirs(void)
             }
         float got[4];
         lookup(LG_PROBE_CUBE, 1, 1, img, NULL, lg_v3(1, 1, 1), LG_PROBE_BILINEAR, got);
-        CHECKF(fabsf(got[0] - (1 + 3 + 5) / 3.0f) < 1e-6f, "1x1 cube: corner (+X +Y +Z) reads %g, not 3", got[0]);
+        CHECKF(fabsf(got[0] - (1 + 3 + 5) / 3.0f) < 1e-6f,
+               "1x1 cube: corner (+X +Y +Z) reads %g, not 3", got[0]);
     }
     /* lg_probe_image_at: level 1 of a 2-level cube (4 then 2 texels a side) */
     {
@@ -592,15 +649,15 @@ static int cmd_hard_dirs(void)
     }
     /* empty images */
     {
-        float got[4] = {1, 1, 1, 1};
-        lg_probe_image img = {LG_PROBE_LATLONG, 0, 0, NULL, NULL, {0}};
+        float got[4] = { 1, 1, 1, 1 };
+        lg_probe_image img = { LG_PROBE_LATLONG, 0, 0, NULL, NULL, { 0 } };
         lg_probe_lookup(&img, lg_v3(0, 1, 0), LG_PROBE_BILINEAR, got);
         CHECK(got[0] == 0 && got[3] == 0);
     }
     return check_report("probe_hard_dirs");
 }
 
-/* ---- continuity ---------------------------------------------------------------------- */
+/* ---- continuity ------------------------------------------------------------------------------ */
 
 static lg_vec3 nrm(double x, double y, double z)
 {
@@ -640,18 +697,20 @@ static int cmd_continuity(void)
                             }
                             double e = diff4(v[0], v[1]);
                             worst = fmax(worst, e);
-                            CHECKF(e < 1e-4, "cube %u: edge %c%c %c%c at %g: %g vs %g", n,
-                                   sa > 0 ? '+' : '-', "xyz"[a], sb > 0 ? '+' : '-', "xyz"[b],
-                                   p[c], v[0][0], v[1][0]);
+                            CHECKF(e<1e-4, "cube %u: edge %c%c %c%c at %g: %g vs %g", n, sa> 0
+                                       ? '+'
+                                       : '-',
+                                   "xyz"[a], sb > 0 ? '+' : '-', "xyz"[b], p[c], v[0][0], v[1][0]);
                         }
         /* corners: from each of the three faces */
         for (int corner = 0; corner < 8; corner++) {
-            double s[3] = {corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1};
+            double s[3] = { corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1 };
             float v[3][4];
             for (int f = 0; f < 3; f++) {
-                double q[3] = {s[0] * (1 - 1e-6), s[1] * (1 - 1e-6), s[2] * (1 - 1e-6)};
+                double q[3] = { s[0] * (1 - 1e-6), s[1] * (1 - 1e-6), s[2] * (1 - 1e-6) };
                 q[f] = s[f];
-                lookup(LG_PROBE_CUBE, n, n, img, NULL, nrm(q[0], q[1], q[2]), LG_PROBE_BILINEAR, v[f]);
+                lookup(LG_PROBE_CUBE, n, n, img, NULL, nrm(q[0], q[1], q[2]), LG_PROBE_BILINEAR,
+                       v[f]);
             }
             double e = fmax(diff4(v[0], v[1]), diff4(v[0], v[2]));
             worst = fmax(worst, e);
@@ -664,8 +723,8 @@ static int cmd_continuity(void)
     /* every layout: random pairs of directions 1e-5 rad apart differ by at most the
      * image's gradient times the step (values in [0, 1], a gradient of ~texels per radian),
      * seams, poles and edges included */
-    const lg_probe_layout layouts[3] = {LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE};
-    const uint32_t sizes[3][2] = {{32, 16}, {33, 33}, {12, 12}};
+    const lg_probe_layout layouts[3] = { LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE };
+    const uint32_t sizes[3][2] = { { 32, 16 }, { 33, 33 }, { 12, 12 } };
     for (int li = 0; li < 3; li++) {
         lg_probe_layout l = layouts[li];
         uint32_t w = sizes[li][0], h = sizes[li][1];
@@ -707,8 +766,8 @@ static int cmd_continuity(void)
                 CHECKF(0, "%s: a jump of %g (allowed %g) between (%g %g %g) and (%g %g %g)",
                        layout_name(l), jump, allowed, d.x, d.y, d.z, dd.x, dd.y, dd.z);
         }
-        printf("%s %ux%u: worst change over 1e-5 rad: %.2f of its bound (20000 pairs)\n", layout_name(l), w, h,
-               worst);
+        printf("%s %ux%u: worst change over 1e-5 rad: %.2f of its bound (20000 pairs)\n",
+               layout_name(l), w, h, worst);
         free(img);
     }
     /* the lat-long seam and the poles, explicitly */
@@ -726,9 +785,11 @@ static int cmd_continuity(void)
             double phi = 2 * LG_PI * k / 16 + 0.1, t = 1e-6;
             for (int pole = -1; pole <= 1; pole += 2) {
                 lookup(LG_PROBE_LATLONG, 7, 4, img, NULL,
-                       nrm(sin(t) * sin(phi), pole * cos(t), -sin(t) * cos(phi)), LG_PROBE_BILINEAR, a);
+                       nrm(sin(t) * sin(phi), pole * cos(t), -sin(t) * cos(phi)), LG_PROBE_BILINEAR,
+                       a);
                 lookup(LG_PROBE_LATLONG, 7, 4, img, NULL,
-                       nrm(-sin(t) * sin(phi), pole * cos(t), sin(t) * cos(phi)), LG_PROBE_BILINEAR, b);
+                       nrm(-sin(t) * sin(phi), pole * cos(t), sin(t) * cos(phi)), LG_PROBE_BILINEAR,
+                       b);
                 CHECKF(diff4(a, b) < 1e-4, "pole %+d meridian %g: %g vs %g", pole, phi, a[0], b[0]);
             }
         }
@@ -741,7 +802,7 @@ static int cmd_continuity(void)
         float one[6 * 4];
         for (int k = 0; k < 24; k++)
             one[k] = 0.25f + (k % 4) * 0.5f;
-        const float cs[] = {0.1f, 3.5f, 12345.678f, 1e-30f, 65504.0f * 4};
+        const float cs[] = { 0.1f, 3.5f, 12345.678f, 1e-30f, 65504.0f * 4 };
         size_t nt = texel_count(l, 9, 9) * 4;
         float *cst = malloc(nt * sizeof(float));
         double worst = 0;
@@ -762,8 +823,8 @@ static int cmd_continuity(void)
                     lookup(l, 9, 9, cst, NULL, d, (lg_probe_sampling)s2, got);
                     for (int c = 0; c < 4; c++)
                         if (got[c] != cs[q] && inexact++ < 5)
-                            CHECKF(0, "%s: constant %.9g reads %.9g along (%g %g %g)", layout_name(l),
-                                   cs[q], got[c], d.x, d.y, d.z);
+                            CHECKF(0, "%s: constant %.9g reads %.9g along (%g %g %g)",
+                                   layout_name(l), cs[q], got[c], d.x, d.y, d.z);
                 }
             }
         }
@@ -775,11 +836,11 @@ static int cmd_continuity(void)
     return check_report("probe_continuity");
 }
 
-/* ---- rotation ------------------------------------------------------------------------ */
+/* ---- rotation -------------------------------------------------------------------------------- */
 
 static int cmd_rotation(void)
 {
-    float r[9], id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    float r[9], id[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
     lg_probe_rotation_from_euler(360, -360, 720, r);
     CHECKF(memcmp(r, id, sizeof r) == 0, "360 degrees is not the identity bit for bit");
     lg_probe_rotation_from_euler(0, 0, 0, r);
@@ -809,7 +870,8 @@ static int cmd_rotation(void)
                                      (float)(360 * rnd() - 180), r);
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++) {
-                double dot = r[a * 3] * r[b * 3] + r[a * 3 + 1] * r[b * 3 + 1] + r[a * 3 + 2] * r[b * 3 + 2];
+                double dot = r[a * 3] * r[b * 3] + r[a * 3 + 1] * r[b * 3 + 1] +
+                             r[a * 3 + 2] * r[b * 3 + 2];
                 worst = fmax(worst, fabs(dot - (a == b)));
             }
         lg_vec3 d = rnd_dir(), w = lg_probe_to_world(r, d), back = lg_probe_from_world(r, w);
@@ -824,7 +886,7 @@ static int cmd_rotation(void)
     return check_report("probe_rotation");
 }
 
-/* ---- cost ---------------------------------------------------------------------------- */
+/* ---- cost ------------------------------------------------------------------------------------ */
 
 static volatile float sink;
 
@@ -843,8 +905,8 @@ static int cmd_cost(void)
     lg_vec3 *dirs = malloc(N * sizeof *dirs);
     for (int k = 0; k < N; k++)
         dirs[k] = rnd_dir();
-    const lg_probe_layout layouts[3] = {LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE};
-    const uint32_t sizes[3][2] = {{1024, 512}, {1024, 1024}, {256, 256}};
+    const lg_probe_layout layouts[3] = { LG_PROBE_LATLONG, LG_PROBE_ANGULAR, LG_PROBE_CUBE };
+    const uint32_t sizes[3][2] = { { 1024, 512 }, { 1024, 1024 }, { 256, 256 } };
     for (int li = 0; li < 3; li++) {
         lg_probe_layout l = layouts[li];
         uint32_t w = sizes[li][0], h = sizes[li][1];
@@ -880,7 +942,7 @@ static int cmd_cost(void)
         double t6 = cpu_now();
         /* what an SH projection does per texel: its direction, its radiance times its
          * solid angle (here the first moment, sum L(w) w dw) */
-        double m[3] = {0, 0, 0};
+        double m[3] = { 0, 0, 0 };
         uint32_t faces = l == LG_PROBE_CUBE ? 6 : 1;
         for (uint32_t f = 0; f < faces; f++)
             for (uint32_t j = 0; j < h; j++)
@@ -913,10 +975,13 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(void);
     } cmds[] = {
-        {"solid_angles", cmd_solid_angles}, {"conventions", cmd_conventions},
-        {"roundtrip", cmd_roundtrip},       {"hard_dirs", cmd_hard_dirs},
-        {"continuity", cmd_continuity},     {"rotation", cmd_rotation},
-        {"cost", cmd_cost},
+        { "solid_angles", cmd_solid_angles },
+        { "conventions", cmd_conventions },
+        { "roundtrip", cmd_roundtrip },
+        { "hard_dirs", cmd_hard_dirs },
+        { "continuity", cmd_continuity },
+        { "rotation", cmd_rotation },
+        { "cost", cmd_cost },
     };
     if (argc == 2)
         for (size_t k = 0; k < sizeof cmds / sizeof cmds[0]; k++)

@@ -64,7 +64,7 @@ typedef struct probe {
 
 static probe make(lg_probe_layout l, uint32_t w, uint32_t h)
 {
-    probe p = {l, w, h, (size_t)w * h * (l == LG_PROBE_CUBE ? 6 : 1), NULL, NULL};
+    probe p = { l, w, h, (size_t)w * h * (l == LG_PROBE_CUBE ? 6 : 1), NULL, NULL };
     p.rgba = calloc(p.n * 4, sizeof(float));
     p.omega = malloc(p.n * sizeof(float));
     CHECK(lg_probe_solid_angles(l, w, h, p.omega) == 0);
@@ -80,7 +80,7 @@ static void drop(probe *p)
 
 static lg_probe_image view(const probe *p)
 {
-    lg_probe_image img = {p->layout, p->w, p->h, p->rgba, NULL, {0}};
+    lg_probe_image img = { p->layout, p->w, p->h, p->rgba, NULL, { 0 } };
     return img;
 }
 
@@ -93,8 +93,8 @@ static probe resample(const probe *src, lg_probe_layout l, uint32_t w, uint32_t 
     int rc = lg_probe_resample(&img, l, w, h, NULL, NULL, d.rgba, st);
     if (secs)
         *secs = now() - t0;
-    CHECKF(rc == 0, "%s %ux%u -> %s %ux%u: %d", lname(src->layout), src->w, src->h, lname(l), w,
-           h, rc);
+    CHECKF(rc == 0, "%s %ux%u -> %s %ux%u: %d", lname(src->layout), src->w, src->h, lname(l), w, h,
+           rc);
     return d;
 }
 
@@ -126,7 +126,7 @@ static double rel(double a, double b)
     return fabs(a - b) / fmax(fabs(b), 1e-300);
 }
 
-/* ---- constant -------------------------------------------------------------------------- */
+/* ---- constant -------------------------------------------------------------------------------- */
 
 static int cmd_constant(void)
 {
@@ -134,11 +134,11 @@ static int cmd_constant(void)
         lg_probe_layout l;
         uint32_t w, h;
     } shapes[] = {
-        {LG_PROBE_LATLONG, 64, 32}, {LG_PROBE_LATLONG, 13, 9},  {LG_PROBE_LATLONG, 1, 1},
-        {LG_PROBE_CUBE, 16, 16},    {LG_PROBE_CUBE, 5, 5},      {LG_PROBE_CUBE, 1, 1},
-        {LG_PROBE_ANGULAR, 48, 48}, {LG_PROBE_ANGULAR, 7, 7},   {LG_PROBE_ANGULAR, 1, 1},
+        { LG_PROBE_LATLONG, 64, 32 }, { LG_PROBE_LATLONG, 13, 9 }, { LG_PROBE_LATLONG, 1, 1 },
+        { LG_PROBE_CUBE, 16, 16 },    { LG_PROBE_CUBE, 5, 5 },     { LG_PROBE_CUBE, 1, 1 },
+        { LG_PROBE_ANGULAR, 48, 48 }, { LG_PROBE_ANGULAR, 7, 7 },  { LG_PROBE_ANGULAR, 1, 1 },
     };
-    const float c[4] = {0.7f, 3.25f, 1e4f, 1.0f};
+    const float c[4] = { 0.7f, 3.25f, 1e4f, 1.0f };
     size_t ns = sizeof shapes / sizeof shapes[0];
     for (size_t a = 0; a < ns; a++) {
         probe s = make(shapes[a].l, shapes[a].w, shapes[a].h);
@@ -148,7 +148,9 @@ static int cmd_constant(void)
             for (int smp = 0; smp < 2; smp++) {
                 probe d = make(shapes[b].l, shapes[b].w, shapes[b].h);
                 lg_probe_image img = view(&s);
-                lg_probe_resample_opts o = {smp ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST, 0, 0, 0, {0}};
+                lg_probe_resample_opts o = {
+                    smp ? LG_PROBE_BILINEAR : LG_PROBE_NEAREST, 0, 0, 0, { 0 }
+                };
                 CHECK(lg_probe_resample(&img, d.layout, d.w, d.h, NULL, &o, d.rgba, NULL) == 0);
                 size_t bad = 0, zero_ok = 0;
                 for (size_t t = 0; t < d.n; t++) {
@@ -175,7 +177,7 @@ static int cmd_constant(void)
     return check_report("probe_resample_constant");
 }
 
-/* ---- totals and octants ------------------------------------------------------------------ */
+/* ---- totals and octants ---------------------------------------------------------------------- */
 
 static probe noise(lg_probe_layout l, uint32_t w, uint32_t h)
 {
@@ -200,8 +202,8 @@ static double compare(const char *what, const probe *a, const probe *b, bool qua
         integrals(a, ch, ia);
         integrals(b, ch, ib);
         double e = rel(ib[0], ia[0]);
-        CHECKF(e <= tol, "%s channel %d: total %.9g vs %.9g, %.3g relative", what, ch, ib[0],
-               ia[0], e);
+        CHECKF(e <= tol, "%s channel %d: total %.9g vs %.9g, %.3g relative", what, ch, ib[0], ia[0],
+               e);
         worst = fmax(worst, e);
         for (int o = 0; o < 8; o++) {
             double x = ia[1 + o], y = ib[1 + o];
@@ -212,8 +214,8 @@ static double compare(const char *what, const probe *a, const probe *b, bool qua
                 y += ib[1 + (o | 4)];
             }
             e = rel(y, x);
-            CHECKF(e <= tol, "%s channel %d: octant %d %.9g vs %.9g, %.3g relative", what, ch, o,
-                   y, x, e);
+            CHECKF(e <= tol, "%s channel %d: octant %d %.9g vs %.9g, %.3g relative", what, ch, o, y,
+                   x, e);
             worst = fmax(worst, e);
         }
     }
@@ -233,8 +235,8 @@ static int cmd_totals(void)
      * room (6e-6). */
     const double tol_cube = 1e-4, tol_angular = 4e-3;
     /* lat-long -> cube -> lat-long and lat-long -> angular -> lat-long */
-    static const uint32_t ll[][2] = {{64, 32}, {256, 128}};
-    static const uint32_t mid[] = {8, 16, 32, 128};
+    static const uint32_t ll[][2] = { { 64, 32 }, { 256, 128 } };
+    static const uint32_t mid[] = { 8, 16, 32, 128 };
     for (size_t a = 0; a < sizeof ll / sizeof ll[0]; a++) {
         probe s = noise(LG_PROBE_LATLONG, ll[a][0], ll[a][1]);
         for (size_t m = 0; m < sizeof mid / sizeof mid[0]; m++)
@@ -249,22 +251,22 @@ static int cmd_totals(void)
                 snprintf(what, sizeof what, "latlong %ux%u -> %s %u", s.w, s.h, lname(l), n);
                 double tol = via ? tol_angular : tol_cube;
                 double e1 = compare(what, &s, &c, via, tol);
-                snprintf(what, sizeof what, "latlong %ux%u -> %s %u -> latlong", s.w, s.h,
-                         lname(l), n);
+                snprintf(what, sizeof what, "latlong %ux%u -> %s %u -> latlong", s.w, s.h, lname(l),
+                         n);
                 double e2 = compare(what, &s, &back, via, tol);
                 printf("%-44s worst %.2e, back %.2e (raw %.2e %.2e, balanced %.2e %.2e in %u + "
                        "%u rounds; k %u %u; %.3f + %.3f s)\n",
                        what, e1, e2, s1.raw_total_error, s2.raw_total_error, s1.total_error,
-                       s2.total_error, s1.iterations, s2.iterations, s1.max_subdiv,
-                       s2.max_subdiv, t1, t2);
+                       s2.total_error, s1.iterations, s2.iterations, s1.max_subdiv, s2.max_subdiv,
+                       t1, t2);
                 drop(&c);
                 drop(&back);
             }
         drop(&s);
     }
     /* cube -> angular */
-    static const uint32_t cu[] = {16, 64};
-    static const uint32_t an[] = {32, 128, 256};
+    static const uint32_t cu[] = { 16, 64 };
+    static const uint32_t an[] = { 32, 128, 256 };
     for (size_t a = 0; a < 2; a++) {
         probe s = noise(LG_PROBE_CUBE, cu[a], cu[a]);
         for (size_t m = 0; m < 3; m++) {
@@ -283,13 +285,12 @@ static int cmd_totals(void)
     return check_report("probe_resample_totals");
 }
 
-
-/* ---- one bright texel -------------------------------------------------------------------- */
+/* ---- one bright texel ------------------------------------------------------------------------ */
 
 /* Energy (channel 0) and its centroid direction. */
 static double energy(const probe *p, lg_vec3 *centroid)
 {
-    double e = 0, c[3] = {0, 0, 0};
+    double e = 0, c[3] = { 0, 0, 0 };
     for (size_t t = 0; t < p->n; t++) {
         double x = (double)p->rgba[4 * t] * p->omega[t];
         lg_vec3 d = texel_dir(p, t);
@@ -307,12 +308,15 @@ static double energy(const probe *p, lg_vec3 *centroid)
 static int cmd_bright(void)
 {
     /* a bright texel on a dim background, at several places of a lat-long source */
-    static const uint32_t at[][2] = {{96, 40}, {17, 5}, {127, 63}, {40, 2}, {64, 32}};
+    static const uint32_t at[][2] = { { 96, 40 }, { 17, 5 }, { 127, 63 }, { 40, 2 }, { 64, 32 } };
     static const struct {
         lg_probe_layout l;
         uint32_t n;
-    } to[] = {{LG_PROBE_CUBE, 16}, {LG_PROBE_CUBE, 64}, {LG_PROBE_ANGULAR, 64},
-              {LG_PROBE_ANGULAR, 256}, {LG_PROBE_LATLONG, 64}};
+    } to[] = { { LG_PROBE_CUBE, 16 },
+               { LG_PROBE_CUBE, 64 },
+               { LG_PROBE_ANGULAR, 64 },
+               { LG_PROBE_ANGULAR, 256 },
+               { LG_PROBE_LATLONG, 64 } };
     for (size_t a = 0; a < sizeof at / sizeof at[0]; a++) {
         probe s = make(LG_PROBE_LATLONG, 128, 64);
         size_t t0 = (size_t)at[a][1] * s.w + at[a][0];
@@ -330,10 +334,12 @@ static int cmd_bright(void)
             double texel = to[b].l == LG_PROBE_CUBE ? 2.0 / to[b].n : 2 * LG_PI / to[b].n;
             /* a single texel's energy is kept to the balancing's convergence (measured
              * 1.6e-4 at worst); whole images are the 1e-4 oracle (totals, forest) */
-            CHECKF(rel(ed, es) <= 5e-4, "texel (%u, %u) -> %s %u: energy %.9g vs %.9g",
-                   at[a][0], at[a][1], lname(to[b].l), to[b].n, ed, es);
-            CHECKF(ang <= texel, "texel (%u, %u) -> %s %u: centroid %.4f rad from the texel "
-                   "(tolerance %.4f)", at[a][0], at[a][1], lname(to[b].l), to[b].n, ang, texel);
+            CHECKF(rel(ed, es) <= 5e-4, "texel (%u, %u) -> %s %u: energy %.9g vs %.9g", at[a][0],
+                   at[a][1], lname(to[b].l), to[b].n, ed, es);
+            CHECKF(ang <= texel,
+                   "texel (%u, %u) -> %s %u: centroid %.4f rad from the texel "
+                   "(tolerance %.4f)",
+                   at[a][0], at[a][1], lname(to[b].l), to[b].n, ang, texel);
             printf("bright (%3u,%2u) -> %-8s %3u: energy %.2e relative, centroid %.2e rad\n",
                    at[a][0], at[a][1], lname(to[b].l), to[b].n, rel(ed, es), ang);
             drop(&d);
@@ -343,7 +349,7 @@ static int cmd_bright(void)
     return check_report("probe_resample_bright");
 }
 
-/* ---- a smooth function ------------------------------------------------------------------- */
+/* ---- a smooth function ----------------------------------------------------------------------- */
 
 static double smooth_f(lg_vec3 d)
 {
@@ -360,8 +366,8 @@ static double texel_mean(const probe *p, size_t t)
     double acc = 0, ws = 0;
     for (int b = 0; b < K; b++)
         for (int a = 0; a < K; a++) {
-            lg_probe_coord c = {f, (float)((i + (a + 0.5) / K) / p->w),
-                                (float)((j + (b + 0.5) / K) / p->h)};
+            lg_probe_coord c = { f, (float)((i + (a + 0.5) / K) / p->w),
+                                 (float)((j + (b + 0.5) / K) / p->h) };
             /* the sub-texel's solid angle: a texel of the K-times finer grid */
             double w = lg_probe_texel_solid_angle(p->layout, p->w * K, p->h * K, f, i * K + a,
                                                   j * K + b);
@@ -376,7 +382,9 @@ static int cmd_smooth(void)
     static const struct {
         lg_probe_layout l;
         uint32_t w, h;
-    } shapes[] = {{LG_PROBE_LATLONG, 128, 64}, {LG_PROBE_CUBE, 32, 32}, {LG_PROBE_ANGULAR, 96, 96}};
+    } shapes[] = { { LG_PROBE_LATLONG, 128, 64 },
+                   { LG_PROBE_CUBE, 32, 32 },
+                   { LG_PROBE_ANGULAR, 96, 96 } };
     for (size_t a = 0; a < 3; a++) {
         probe s = make(shapes[a].l, shapes[a].w, shapes[a].h);
         for (size_t t = 0; t < s.n; t++) {
@@ -401,9 +409,10 @@ static int cmd_smooth(void)
                  * mean differs from the function's by at most the function's variation
                  * over a source texel (|grad f| <= 0.56 on the sphere) */
                 double tol = 0.6 * 1.5 * src_texel;
-                CHECKF(worst <= tol, "smooth %s %ux%u -> %s %ux%u: %.3g from the exact texel means "
-                       "(tolerance %.3g)", lname(s.layout), s.w, s.h, lname(d.layout), d.w, d.h,
-                       worst, tol);
+                CHECKF(worst <= tol,
+                       "smooth %s %ux%u -> %s %ux%u: %.3g from the exact texel means "
+                       "(tolerance %.3g)",
+                       lname(s.layout), s.w, s.h, lname(d.layout), d.w, d.h, worst, tol);
                 printf("smooth %-7s %3ux%-3u -> %-7s %3ux%-3u: max error %.2e (tolerance %.2e)\n",
                        lname(s.layout), s.w, s.h, lname(d.layout), d.w, d.h, worst, tol);
                 drop(&d);
@@ -414,7 +423,7 @@ static int cmd_smooth(void)
     return check_report("probe_resample_smooth");
 }
 
-/* ---- rotation ------------------------------------------------------------------------------ */
+/* ---- rotation -------------------------------------------------------------------------------- */
 
 static int cmd_rotation(void)
 {
@@ -435,7 +444,8 @@ static int cmd_rotation(void)
     for (uint32_t j = 0; j < 32; j++)
         for (uint32_t i = 0; i < 64; i++) {
             lg_vec3 dw = lg_probe_texel_dir(LG_PROBE_LATLONG, 64, 32, 0, i, j);
-            lg_probe_coord c = lg_probe_dir_to_coord(LG_PROBE_LATLONG, lg_probe_from_world(rot, dw));
+            lg_probe_coord c = lg_probe_dir_to_coord(LG_PROBE_LATLONG,
+                                                     lg_probe_from_world(rot, dw));
             uint32_t si = (uint32_t)floorf(c.u * 64) % 64;
             worst = fmax(worst, fabs(d.rgba[4 * ((size_t)j * 64 + i)] -
                                      s.rgba[4 * ((size_t)j * 64 + si)]));
@@ -452,8 +462,8 @@ static int cmd_rotation(void)
         lg_vec3 w = lg_v3(o & 1 ? -0.5f : 0.5f, o & 2 ? -0.5f : 0.5f, o & 4 ? -0.5f : 0.5f);
         lg_vec3 p = lg_probe_from_world(rot, w);
         int so = (p.x < 0) | (p.y < 0) << 1 | (p.z < 0) << 2;
-        CHECKF(rel(id[1 + o], is[1 + so]) <= 1e-4, "yaw 90: octant %d %.9g vs source octant %d %.9g",
-               o, id[1 + o], so, is[1 + so]);
+        CHECKF(rel(id[1 + o], is[1 + so]) <= 1e-4,
+               "yaw 90: octant %d %.9g vs source octant %d %.9g", o, id[1 + o], so, is[1 + so]);
     }
     /* the same rotation on both sides cancels */
     probe e2 = make(LG_PROBE_LATLONG, 64, 32);
@@ -512,12 +522,8 @@ int main(int argc, char **argv)
         const char *name;
         cmd_fn fn;
     } cmds[] = {
-        {"constant", cmd_constant},
-        {"totals", cmd_totals},
-        {"bright", cmd_bright},
-        {"smooth", cmd_smooth},
-        {"rotation", cmd_rotation},
-        {"forest", cmd_forest},
+        { "constant", cmd_constant }, { "totals", cmd_totals },     { "bright", cmd_bright },
+        { "smooth", cmd_smooth },     { "rotation", cmd_rotation }, { "forest", cmd_forest },
     };
     if (argc == 2)
         for (size_t k = 0; k < sizeof cmds / sizeof cmds[0]; k++)

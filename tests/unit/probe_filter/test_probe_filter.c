@@ -69,7 +69,7 @@ static lg_vec3 rnd_dir(void)
     return lg_v3((float)(s * cos(p)), (float)(s * sin(p)), (float)z);
 }
 
-/* ---- chains ---------------------------------------------------------------------------- */
+/* ---- chains ---------------------------------------------------------------------------------- */
 
 typedef struct chain {
     lg_image_desc desc;
@@ -171,7 +171,7 @@ static int load_forest(uint32_t f, srcimg *out)
     return 0;
 }
 
-/* ---- an independent quadrature of the glossy integral ----------------------------------- */
+/* ---- an independent quadrature of the glossy integral ---------------------------------------- */
 
 /* integral over the hemisphere of n of L(l) f_spec(l, v) (n.l) dl by the midpoint rule on
  * a (theta, phi) grid about r = reflect(-v, n) (the lobe's centre, so the peak is well
@@ -194,11 +194,13 @@ static void quadrature(const lg_probe_image *img, lg_vec3 nf, lg_vec3 vf, double
         r[c] = 2 * nov * n[c] - v[c];
     /* a basis about r */
     double a[3] = { fabs(r[0]) < 0.9 ? 1.0 : 0.0, fabs(r[0]) < 0.9 ? 0.0 : 1.0, 0.0 };
-    double t[3] = { a[1] * r[2] - a[2] * r[1], a[2] * r[0] - a[0] * r[2], a[0] * r[1] - a[1] * r[0] };
+    double t[3] = { a[1] * r[2] - a[2] * r[1], a[2] * r[0] - a[0] * r[2],
+                    a[0] * r[1] - a[1] * r[0] };
     double lt = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
     for (int c = 0; c < 3; c++)
         t[c] /= lt;
-    double b[3] = { r[1] * t[2] - r[2] * t[1], r[2] * t[0] - r[0] * t[2], r[0] * t[1] - r[1] * t[0] };
+    double b[3] = { r[1] * t[2] - r[2] * t[1], r[2] * t[0] - r[0] * t[2],
+                    r[0] * t[1] - r[1] * t[0] };
     double alpha = roughness * roughness, a2 = alpha * alpha;
     double acc[3] = { 0, 0, 0 };
     double dt = LG_PI / nt, dp = 2 * LG_PI / np;
@@ -238,7 +240,7 @@ static void quadrature(const lg_probe_image *img, lg_vec3 nf, lg_vec3 vf, double
         out[c] = acc[c];
 }
 
-/* ---- constant ------------------------------------------------------------------------------ */
+/* ---- constant -------------------------------------------------------------------------------- */
 
 static int cmd_constant(void)
 {
@@ -247,8 +249,8 @@ static int cmd_constant(void)
         lg_probe_layout from, to;
         uint32_t fw, fh, tw, th;
     } cases[] = {
-        { LG_PROBE_LATLONG, LG_PROBE_LATLONG, 64, 32, 64, 32 },   /* copied */
-        { LG_PROBE_LATLONG, LG_PROBE_LATLONG, 64, 32, 48, 30 },   /* resampled, odd mips */
+        { LG_PROBE_LATLONG, LG_PROBE_LATLONG, 64, 32, 64, 32 }, /* copied */
+        { LG_PROBE_LATLONG, LG_PROBE_LATLONG, 64, 32, 48, 30 }, /* resampled, odd mips */
         { LG_PROBE_CUBE, LG_PROBE_CUBE, 32, 32, 32, 32 },
         { LG_PROBE_LATLONG, LG_PROBE_CUBE, 64, 32, 16, 16 },
         { LG_PROBE_ANGULAR, LG_PROBE_ANGULAR, 64, 64, 64, 64 },
@@ -263,8 +265,8 @@ static int cmd_constant(void)
             int no_lod = mode & 1;
             g_weighting = mode >> 1 ? LG_PROBE_WEIGHT_NOL_VIS : LG_PROBE_WEIGHT_NOL;
             chain c;
-            int rc = prefilter(&c, &s.img, cases[k].to, cases[k].tw, cases[k].th, 5, 64,
-                               no_lod, NULL, NULL);
+            int rc = prefilter(&c, &s.img, cases[k].to, cases[k].tw, cases[k].th, 5, 64, no_lod,
+                               NULL, NULL);
             CHECKF(rc == 0, "prefilter %s -> %s: %d", lname(cases[k].from), lname(cases[k].to), rc);
             double worst = 0; /* every texel, outside the angular disc too */
             for (uint32_t l = 0; l < c.levels; l++) {
@@ -273,8 +275,8 @@ static int cmd_constant(void)
                 for (uint32_t f = 0; f < faces; f++)
                     for (uint32_t y = 0; y < im->height; y++)
                         for (uint32_t x = 0; x < im->width; x++) {
-                            const float *p = im->rgba + 4 * (((size_t)f * im->height + y) *
-                                                                 im->width + x);
+                            const float *p = im->rgba +
+                                             4 * (((size_t)f * im->height + y) * im->width + x);
                             for (int ch = 0; ch < 4; ch++) {
                                 double e = fabs(p[ch] - cval[ch]) / cval[ch];
                                 if (!(e <= worst))
@@ -283,8 +285,8 @@ static int cmd_constant(void)
                         }
             }
             printf("constant %s %ux%u -> %s %ux%u (%s, %s): worst relative error %.3g\n",
-                   lname(cases[k].from), cases[k].fw, cases[k].fh, lname(cases[k].to),
-                   cases[k].tw, cases[k].th, no_lod ? "no source lod" : "source lod",
+                   lname(cases[k].from), cases[k].fw, cases[k].fh, lname(cases[k].to), cases[k].tw,
+                   cases[k].th, no_lod ? "no source lod" : "source lod",
                    g_weighting ? "n.l Vis" : "n.l", worst);
             CHECKF(worst <= 1e-6, "constant not kept: %.3g", worst);
             free(c.rgba);
@@ -295,14 +297,15 @@ static int cmd_constant(void)
     return check_report("probe_filter_constant");
 }
 
-/* ---- level 0 and the rough lookup -------------------------------------------------------- */
+/* ---- level 0 and the rough lookup ------------------------------------------------------------ */
 
 static int cmd_level0(void)
 {
     static const struct {
         lg_probe_layout layout;
         uint32_t w, h;
-    } cases[] = { { LG_PROBE_LATLONG, 32, 16 }, { LG_PROBE_CUBE, 16, 16 },
+    } cases[] = { { LG_PROBE_LATLONG, 32, 16 },
+                  { LG_PROBE_CUBE, 16, 16 },
                   { LG_PROBE_ANGULAR, 32, 32 } };
     for (size_t k = 0; k < 3; k++) {
         srcimg s = make_src(cases[k].layout, cases[k].w, cases[k].h);
@@ -374,7 +377,7 @@ static int cmd_level0(void)
     return check_report("probe_filter_level0");
 }
 
-/* ---- energy ------------------------------------------------------------------------------ */
+/* ---- energy ---------------------------------------------------------------------------------- */
 
 static void level_integral(const lg_probe_image *im, double out[3])
 {
@@ -396,7 +399,8 @@ static int cmd_energy(void)
         return check_report("probe_filter_energy");
     static const lg_probe_layout layouts[] = { LG_PROBE_CUBE, LG_PROBE_LATLONG };
     for (int k = 0; k < 2; k++) {
-        uint32_t w = layouts[k] == LG_PROBE_CUBE ? 32 : 128, h = layouts[k] == LG_PROBE_CUBE ? 32 : 64;
+        uint32_t w = layouts[k] == LG_PROBE_CUBE ? 32 : 128,
+                 h = layouts[k] == LG_PROBE_CUBE ? 32 : 64;
         chain c;
         CHECK(prefilter(&c, &s.img, layouts[k], w, h, 6, 256, 0, NULL, NULL) == 0);
         double i0[3];
@@ -421,7 +425,7 @@ static int cmd_energy(void)
     return check_report("probe_filter_energy");
 }
 
-/* ---- DFG --------------------------------------------------------------------------------- */
+/* ---- DFG ------------------------------------------------------------------------------------- */
 
 static int cmd_dfg(void)
 {
@@ -439,8 +443,8 @@ static int cmd_dfg(void)
     /* the corner n.v = 1, roughness 1: 1 - ln 2 (the shared table has an entry there) */
     float ab11[2];
     lg_ggx_dfg(1.0f, 1.0f, ab11);
-    printf("dfg: lg_ggx_dfg(1, 1): A + B = %.5f, closed form 1 - ln 2 = %.5f\n",
-           ab11[0] + ab11[1], 1 - log(2.0));
+    printf("dfg: lg_ggx_dfg(1, 1): A + B = %.5f, closed form 1 - ln 2 = %.5f\n", ab11[0] + ab11[1],
+           1 - log(2.0));
     CHECKF(fabs(ab11[0] + ab11[1] - (1 - log(2.0))) <= 2e-3, "lg_ggx_dfg(1, 1): %.5f",
            ab11[0] + ab11[1]);
     /* n.v = 1, roughness 1: D = 1/pi, Vis = 0.5 / (n.l + 1), so A + B = 1 - ln 2: checks
@@ -448,7 +452,8 @@ static int cmd_dfg(void)
     double q11[3];
     quadrature(NULL, lg_v3(0, 0, 1), lg_v3(0, 0, 1), 1.0, NULL, 400, 400, q11);
     printf("dfg: quadrature at n.v = 1, roughness 1: A + B = %.6f, closed form 1 - ln 2 = "
-           "%.6f\n", q11[0], 1 - log(2.0));
+           "%.6f\n",
+           q11[0], 1 - log(2.0));
     CHECKF(fabs(q11[0] - (1 - log(2.0))) <= 1e-5, "1 - ln 2: %.6f", q11[0]);
     /* the table itself at exact points vs an independent quadrature: 4096 and 65536
      * samples per entry (the estimate converges to the quadrature), and lg_ggx_dfg (the
@@ -462,7 +467,7 @@ static int cmd_dfg(void)
             double nv = (i + 0.5) / 4, r = (j + 0.5) / 4;
             lg_vec3 n = lg_v3(0, 0, 1), v = lg_v3((float)sqrt(1 - nv * nv), 0, (float)nv);
             double f0z[3] = { 0, 0, 0 }, qb[3], qab[3];
-            quadrature(NULL, n, v, r, f0z, 400, 400, qb);  /* F = Fc: B */
+            quadrature(NULL, n, v, r, f0z, 400, 400, qb);   /* F = Fc: B */
             quadrature(NULL, n, v, r, NULL, 400, 400, qab); /* F = 1: A + B */
             double qa = qab[0] - qb[0];
             double a = t4[2 * (j * 4 + i)], b = t4[2 * (j * 4 + i) + 1];
@@ -470,15 +475,16 @@ static int cmd_dfg(void)
             float ab2[2];
             lg_ggx_dfg((float)nv, (float)r, ab2);
             printf("dfg n.v %.3f roughness %.3f: quadrature A %.5f B %.5f; table 4096 A %.5f "
-                   "B %.5f, 65536 A %.5f B %.5f; lg_ggx_dfg A %.5f B %.5f\n", nv, r, qa, qb[0],
-                   a, b, a64, b64, ab2[0], ab2[1]);
+                   "B %.5f, 65536 A %.5f B %.5f; lg_ggx_dfg A %.5f B %.5f\n",
+                   nv, r, qa, qb[0], a, b, a64, b64, ab2[0], ab2[1]);
             worst_q = fmax(worst_q, fmax(fabs(a - qa), fabs(b - qb[0])));
             worst_64 = fmax(worst_64, fmax(fabs(a64 - qa), fabs(b64 - qb[0])));
             worst_b = fmax(worst_b, fmax(fabs(ab2[0] - qa), fabs(ab2[1] - qb[0])));
         }
     }
     printf("dfg vs quadrature, worst absolute: table of 4096 samples %.2e, of 65536 %.2e; "
-           "lg_ggx_dfg (32x32, 1024 samples, bilinear) %.2e\n", worst_q, worst_64, worst_b);
+           "lg_ggx_dfg (32x32, 1024 samples, bilinear) %.2e\n",
+           worst_q, worst_64, worst_b);
     CHECKF(worst_q <= 5e-3, "table (4096) vs quadrature: %.3g", worst_q);
     CHECKF(worst_64 <= 1e-3, "table (65536) vs quadrature: %.3g", worst_64);
     CHECKF(worst_b <= 1e-2, "lg_ggx_dfg vs quadrature: %.3g", worst_b);
@@ -508,7 +514,8 @@ static int cmd_dfg(void)
             double s = t[2 * (j * N + i)] + t[2 * (j * N + i) + 1];
             maxsum = fmax(maxsum, s);
             /* single scattering loses more energy as roughness grows (n.v = last column) */
-            if (i == N - 1 && j > 0 && s > t[2 * ((j - 1) * N + i)] + t[2 * ((j - 1) * N + i) + 1] + 1e-5)
+            if (i == N - 1 && j > 0 &&
+                s > t[2 * ((j - 1) * N + i)] + t[2 * ((j - 1) * N + i) + 1] + 1e-5)
                 mono_r = 0;
             /* Fresnel's share B falls as the view leaves grazing */
             if (i > 0 && t[2 * (j * N + i) + 1] > t[2 * (j * N + i - 1) + 1] + 1e-5)
@@ -523,7 +530,7 @@ static int cmd_dfg(void)
     return check_report("probe_filter_dfg");
 }
 
-/* ---- the oracle -------------------------------------------------------------------------- */
+/* ---- the oracle ------------------------------------------------------------------------------ */
 
 static double rel3(const double a[3], const double b[3])
 {
@@ -565,7 +572,8 @@ static int cmd_oracle(void)
     CHECKF(worst <= 1e-6, "roughness 0: %.3g", worst);
     /* a viewer behind the surface: 0 */
     double z[3];
-    CHECK(lg_probe_ggx_reference(&s.img, lg_v3(0, 1, 0), lg_v3(0, -1, 0.1f), 0.5f, NULL, 64, 1, z) == 0);
+    CHECK(lg_probe_ggx_reference(&s.img, lg_v3(0, 1, 0), lg_v3(0, -1, 0.1f), 0.5f, NULL, 64, 1,
+                                 z) == 0);
     CHECK(z[0] == 0 && z[1] == 0 && z[2] == 0);
     CHECK(lg_probe_ggx_reference(NULL, lg_v3(0, 1, 0), lg_v3(0, 1, 0), 0.5f, NULL, 64, 1, z) ==
           LG_ERR_INVALID);
@@ -581,8 +589,9 @@ static int cmd_oracle(void)
     static const double f0d[3] = { 0.04, 0.5, 1.0 };
     float t8[2 * 64];
     lg_ggx_dfg_table(8, 65536, t8);
-    static const struct { uint32_t i, j; } pts[] = {
-        { 7, 2 }, { 5, 4 }, { 2, 4 }, { 7, 6 }, { 1, 7 }, { 0, 3 } };
+    static const struct {
+        uint32_t i, j;
+    } pts[] = { { 7, 2 }, { 5, 4 }, { 2, 4 }, { 7, 6 }, { 1, 7 }, { 0, 3 } };
     double worst_q = 0, worst_d = 0;
     for (size_t p = 0; p < sizeof pts / sizeof pts[0]; p++) {
         float nv = (pts[p].i + 0.5f) / 8, rough = (pts[p].j + 0.5f) / 8;
@@ -602,13 +611,13 @@ static int cmd_oracle(void)
             d[c] = cval[c] * (f0[c] * ab[0] + ab[1]);
         }
         printf("oracle constant n.v %.4f roughness %.4f: %.5f %.5f %.5f, quadrature %.5f %.5f "
-               "%.5f, L (f0 A + B) %.5f %.5f %.5f\n", nv, rough, o[0], o[1], o[2], q[0], q[1],
-               q[2], d[0], d[1], d[2]);
+               "%.5f, L (f0 A + B) %.5f %.5f %.5f\n",
+               nv, rough, o[0], o[1], o[2], q[0], q[1], q[2], d[0], d[1], d[2]);
         worst_q = fmax(worst_q, rel3(o, q));
         worst_d = fmax(worst_d, rel3(o, d));
     }
-    printf("oracle constant: worst relative vs quadrature %.2e, vs L (f0 A + B) %.2e\n",
-           worst_q, worst_d);
+    printf("oracle constant: worst relative vs quadrature %.2e, vs L (f0 A + B) %.2e\n", worst_q,
+           worst_d);
     CHECKF(worst_q <= 1e-3, "constant vs quadrature: %.3g", worst_q);
     CHECKF(worst_d <= 5e-3, "constant vs DFG: %.3g", worst_d);
     /* closed form: n = v, roughness 1, F = 1, L = 1: 1 - ln 2 */
@@ -636,10 +645,12 @@ static int cmd_oracle(void)
             p[3] = 1;
         }
     double worst_h = 0, spread = 0;
-    static const struct { float nx, ny, vx, vy, vz, r; } hc[] = {
+    static const struct {
+        float nx, ny, vx, vy, vz, r;
+    } hc[] = {
         { 0.5f, 0.866f, -0.3f, 0.9f, 0.2f, 0.5f },
-        { 0.0f, 1.0f, 0.8f, 0.2f, 0.0f, 0.4f },     /* grazing view on a floor */
-        { 1.0f, 0.0f, 0.7f, 0.1f, 0.7f, 0.75f },    /* a wall: half its hemisphere is sky */
+        { 0.0f, 1.0f, 0.8f, 0.2f, 0.0f, 0.4f },  /* grazing view on a floor */
+        { 1.0f, 0.0f, 0.7f, 0.1f, 0.7f, 0.75f }, /* a wall: half its hemisphere is sky */
         { 0.3f, -0.2f, 1.0f, 0.0f, 0.4f, 1.0f },
     };
     for (size_t k = 0; k < sizeof hc / sizeof hc[0]; k++) {
@@ -650,7 +661,8 @@ static int cmd_oracle(void)
         lg_vec3 nn = lg_probe_safe_dir(n), vn = lg_probe_safe_dir(v);
         quadrature(&hs.img, nn, vn, hc[k].r, f0d, 600, 600, q);
         printf("oracle half sky case %zu: %.5f %.5f %.5f (seed 12: %.5f %.5f %.5f), quadrature "
-               "%.5f %.5f %.5f\n", k, o[0], o[1], o[2], o2[0], o2[1], o2[2], q[0], q[1], q[2]);
+               "%.5f %.5f %.5f\n",
+               k, o[0], o[1], o[2], o2[0], o2[1], o2[2], q[0], q[1], q[2]);
         worst_h = fmax(worst_h, fmax(rel3(o, q), rel3(o2, q)));
         spread = fmax(spread, rel3(o, o2));
     }
@@ -662,7 +674,7 @@ static int cmd_oracle(void)
     return check_report("probe_filter_oracle");
 }
 
-/* ---- convergence --------------------------------------------------------------------------- */
+/* ---- convergence ----------------------------------------------------------------------------- */
 
 static int cmd_convergence(void)
 {
@@ -696,8 +708,7 @@ static int cmd_convergence(void)
                 double num = 0, den = 0;
                 for (int i = 0; i < NDIR; i++) {
                     float ss[3];
-                    lg_probe_ggx_split_sum(c.img, c.levels, dirs[i], dirs[i], rough[r], NULL,
-                                           ss);
+                    lg_probe_ggx_split_sum(c.img, c.levels, dirs[i], dirs[i], rough[r], NULL, ss);
                     for (int ch = 0; ch < 3; ch++) {
                         num += (ss[ch] - ref[r][i][ch]) * (ss[ch] - ref[r][i][ch]);
                         den += ref[r][i][ch] * ref[r][i][ch];
@@ -799,9 +810,9 @@ int main(int argc, char **argv)
         const char *name;
         cmd_fn fn;
     } cmds[] = {
-        {"constant", cmd_constant}, {"level0", cmd_level0},   {"energy", cmd_energy},
-        {"dfg", cmd_dfg},           {"oracle", cmd_oracle},   {"convergence", cmd_convergence},
-        {"threads", cmd_threads},
+        { "constant", cmd_constant }, { "level0", cmd_level0 }, { "energy", cmd_energy },
+        { "dfg", cmd_dfg },           { "oracle", cmd_oracle }, { "convergence", cmd_convergence },
+        { "threads", cmd_threads },
     };
     setvbuf(stdout, NULL, _IOLBF, 0);
     if (argc == 2)

@@ -48,9 +48,10 @@ static int net_ok(lg_sampler s, uint32_t side, uint64_t seed)
         for (uint32_t i = 0; i < total; i++)
             if (hit[i] != 1) {
                 ok = 0;
-                fprintf(stderr, "%s side %u seed %llu: interval shape %ux%u, cell %u has %u "
-                        "points\n", lg_sampler_name(s), side, (unsigned long long)seed, nu, nv,
-                        i, hit[i]);
+                fprintf(stderr,
+                        "%s side %u seed %llu: interval shape %ux%u, cell %u has %u "
+                        "points\n",
+                        lg_sampler_name(s), side, (unsigned long long)seed, nu, nv, i, hit[i]);
                 break;
             }
     }
@@ -185,9 +186,12 @@ static int cmd_sum(void)
 int main(int argc, char **argv)
 {
     const char *c = argc > 1 ? argv[1] : "";
-    if (!strcmp(c, "square")) return cmd_square();
-    if (!strcmp(c, "sphere")) return cmd_sphere();
-    if (!strcmp(c, "sum")) return cmd_sum();
+    if (!strcmp(c, "square"))
+        return cmd_square();
+    if (!strcmp(c, "sphere"))
+        return cmd_sphere();
+    if (!strcmp(c, "sum"))
+        return cmd_sum();
     fprintf(stderr, "usage: test_sampling square|sphere|sum\n");
     return 2;
 }

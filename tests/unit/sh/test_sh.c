@@ -69,14 +69,19 @@ static void ref_eval(int n, const double d[3], long double *out)
     for (int m = 0; m < n; m++) {
         /* P_m^m = (2m-1)!! st^m (no CS phase), then the three-term recurrence. */
         long double pmm = 1.0L;
-        for (int k = 1; k <= m; k++) pmm *= (2.0L * k - 1.0L) * st;
+        for (int k = 1; k <= m; k++)
+            pmm *= (2.0L * k - 1.0L) * st;
         long double p2 = 0, p1 = pmm;
         for (int l = m; l < n; l++) {
             long double p;
-            if (l == m) p = pmm;
-            else if (l == m + 1) p = (2.0L * m + 1.0L) * z * pmm;
-            else p = ((2.0L * l - 1.0L) * z * p1 - (l + m - 1.0L) * p2) / (long double)(l - m);
-            if (l > m) p2 = p1, p1 = p;
+            if (l == m)
+                p = pmm;
+            else if (l == m + 1)
+                p = (2.0L * m + 1.0L) * z * pmm;
+            else
+                p = ((2.0L * l - 1.0L) * z * p1 - (l + m - 1.0L) * p2) / (long double)(l - m);
+            if (l > m)
+                p2 = p1, p1 = p;
             long double k = sqrtl((2.0L * l + 1.0L) / (4.0L * (long double)LG_PI) *
                                   expl(lgammal(l - m + 1.0L) - lgammal(l + m + 1.0L)));
             if (m == 0) {
@@ -89,8 +94,8 @@ static void ref_eval(int n, const double d[3], long double *out)
     }
 }
 
-static const double axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0},
-                                  {0, 0, 1}, {0, 0, -1}};
+static const double axes[6][3] = { { 1, 0, 0 },  { -1, 0, 0 }, { 0, 1, 0 },
+                                   { 0, -1, 0 }, { 0, 0, 1 },  { 0, 0, -1 } };
 
 static int cmd_eval(void)
 {
@@ -100,12 +105,14 @@ static int cmd_eval(void)
     double worst_d = 0.0, worst_f = 0.0;
     for (int t = 0; t < 300; t++) {
         double d[3];
-        if (t < 6) memcpy(d, axes[t], sizeof d);
-        else rnd_dir(d);
+        if (t < 6)
+            memcpy(d, axes[t], sizeof d);
+        else
+            rnd_dir(d);
         /* Not unit: scaled. */
         double s = t % 3 == 0 ? 1e-20 : (t % 3 == 1 ? 7.5 : 1.0);
-        double ds[3] = {d[0] * s, d[1] * s, d[2] * s};
-        float fs[3] = {(float)d[0], (float)d[1], (float)d[2]};
+        double ds[3] = { d[0] * s, d[1] * s, d[2] * s };
+        float fs[3] = { (float)d[0], (float)d[1], (float)d[2] };
         lg_sh_eval_d(NMAX, ds, yd);
         lg_sh_eval_f(16, fs, yf);
         ref_eval(NMAX, d, yr);
@@ -114,12 +121,14 @@ static int cmd_eval(void)
             for (int m = -l; m <= l; m++) {
                 int i = l * (l + 1) + m;
                 double e = fabs(yd[i] - (double)yr[i]) / scale;
-                if (e > worst_d) worst_d = e;
+                if (e > worst_d)
+                    worst_d = e;
                 if (l < 16) {
                     /* The float version at float's own input direction, against the
                      * reference at the double one: input rounding is part of the error. */
                     double ef = fabs((double)yf[i] - (double)yr[i]) / scale;
-                    if (ef > worst_f) worst_f = ef;
+                    if (ef > worst_f)
+                        worst_f = ef;
                 }
             }
         }
@@ -131,38 +140,43 @@ static int cmd_eval(void)
 
     /* Degenerate directions: -Z, finite. */
     double ref[NC];
-    const double mz[3] = {0, 0, -1};
+    const double mz[3] = { 0, 0, -1 };
     lg_sh_eval_d(NMAX, mz, ref);
-    const double bad[5][3] = {{0, 0, 0}, {1e-31, -1e-31, 0}, {NAN, 0, 1}, {INFINITY, 0, 0},
-                              {0, -INFINITY, NAN}};
+    const double bad[5][3] = {
+        { 0, 0, 0 }, { 1e-31, -1e-31, 0 }, { NAN, 0, 1 }, { INFINITY, 0, 0 }, { 0, -INFINITY, NAN }
+    };
     for (int b = 0; b < 5; b++) {
         lg_sh_eval_d(NMAX, bad[b], yd);
         int same = 1;
-        for (int i = 0; i < NC; i++) same &= isfinite(yd[i]) && yd[i] == ref[i];
+        for (int i = 0; i < NC; i++)
+            same &= isfinite(yd[i]) && yd[i] == ref[i];
         CHECKF(same, "degenerate direction %d is not -Z", b);
-        float fb[3] = {(float)bad[b][0], (float)bad[b][1], (float)bad[b][2]};
+        float fb[3] = { (float)bad[b][0], (float)bad[b][1], (float)bad[b][2] };
         lg_sh_eval_f(NMAX, fb, yf);
         int ok = 1;
-        for (int i = 0; i < NC; i++) ok &= isfinite(yf[i]) && fabs(yf[i] - ref[i]) < 1e-3;
+        for (int i = 0; i < NC; i++)
+            ok &= isfinite(yf[i]) && fabs(yf[i] - ref[i]) < 1e-3;
         CHECKF(ok, "float degenerate direction %d is not -Z", b);
     }
     /* Huge components: no overflow. */
-    const double huge[3] = {1e300, 1e300, -1e300};
-    const double unit[3] = {1, 1, -1};
+    const double huge[3] = { 1e300, 1e300, -1e300 };
+    const double unit[3] = { 1, 1, -1 };
     double yu[NC];
     lg_sh_eval_d(NMAX, huge, yd);
     lg_sh_eval_d(NMAX, unit, yu);
     double e = 0;
-    for (int i = 0; i < NC; i++) e = fmax(e, fabs(yd[i] - yu[i]));
+    for (int i = 0; i < NC; i++)
+        e = fmax(e, fabs(yd[i] - yu[i]));
     CHECKF(e < 1e-14, "huge direction: %g", e);
     /* float at band 64 stays finite everywhere. */
     for (int t = 0; t < 200; t++) {
         double d[3];
         rnd_dir(d);
-        float f[3] = {(float)d[0], (float)d[1], (float)d[2]};
+        float f[3] = { (float)d[0], (float)d[1], (float)d[2] };
         lg_sh_eval_f(NMAX, f, yf);
         int ok = 1;
-        for (int i = 0; i < NC; i++) ok &= isfinite(yf[i]) && fabsf(yf[i]) < 10.0f;
+        for (int i = 0; i < NC; i++)
+            ok &= isfinite(yf[i]) && fabsf(yf[i]) < 10.0f;
         CHECK(ok);
     }
     return check_report("sh_eval");
@@ -175,19 +189,23 @@ static int cmd_addition(void)
     double worst_d = 0.0, worst_f = 0.0;
     for (int t = 0; t < 2006; t++) {
         double d[3];
-        if (t < 6) memcpy(d, axes[t], sizeof d);
-        else rnd_dir(d);
-        float f[3] = {(float)d[0], (float)d[1], (float)d[2]};
+        if (t < 6)
+            memcpy(d, axes[t], sizeof d);
+        else
+            rnd_dir(d);
+        float f[3] = { (float)d[0], (float)d[1], (float)d[2] };
         lg_sh_eval_d(NMAX, d, yd);
         lg_sh_eval_f(16, f, yf);
         for (int l = 0; l < NMAX; l++) {
             double want = (2.0 * l + 1.0) / (4.0 * LG_PI), sd = 0.0, sf = 0.0;
             for (int m = -l; m <= l; m++) {
                 sd += yd[l * (l + 1) + m] * yd[l * (l + 1) + m];
-                if (l < 16) sf += (double)yf[l * (l + 1) + m] * yf[l * (l + 1) + m];
+                if (l < 16)
+                    sf += (double)yf[l * (l + 1) + m] * yf[l * (l + 1) + m];
             }
             worst_d = fmax(worst_d, fabs(sd / want - 1.0));
-            if (l < 16) worst_f = fmax(worst_f, fabs(sf / want - 1.0));
+            if (l < 16)
+                worst_f = fmax(worst_f, fabs(sf / want - 1.0));
         }
         if (t == 5) {
             printf("addition at +-x, +-y, +-z: worst relative error double %.3g, float %.3g\n",
@@ -196,7 +214,8 @@ static int cmd_addition(void)
         }
     }
     printf("addition, 2000 random directions as well: double (band 64) %.3g, float (band "
-           "16) %.3g\n", worst_d, worst_f);
+           "16) %.3g\n",
+           worst_d, worst_f);
     CHECKF(worst_d < 1e-10, "%g", worst_d);
     CHECKF(worst_f < 1e-4, "%g", worst_f);
     return check_report("sh_addition");
@@ -217,7 +236,8 @@ static void gauss_legendre(int k, double *x, double *w)
             pp = k * (z * p1 - p2) / (z * z - 1.0);
             double dz = p1 / pp;
             z -= dz;
-            if (fabs(dz) < 1e-16) break;
+            if (fabs(dz) < 1e-16)
+                break;
         }
         x[i] = z;
         w[i] = 2.0 / ((1.0 - z * z) * pp * pp);
@@ -235,7 +255,7 @@ static void sphere_quad(int nz, int nphi, quad_fn f, void *ctx)
         double r = sqrt(fmax(0.0, 1.0 - x[i] * x[i]));
         for (int j = 0; j < nphi; j++) {
             double phi = 2.0 * LG_PI * (j + 0.5) / nphi;
-            double d[3] = {r * cos(phi), r * sin(phi), x[i]};
+            double d[3] = { r * cos(phi), r * sin(phi), x[i] };
             f(d, w[i] * 2.0 * LG_PI / nphi, ctx);
         }
     }
@@ -243,7 +263,10 @@ static void sphere_quad(int nz, int nphi, quad_fn f, void *ctx)
     free(w);
 }
 
-struct gram { int n; double g[64 * 64]; };
+struct gram {
+    int n;
+    double g[64 * 64];
+};
 static void gram_acc(const double d[3], double w, void *ctx)
 {
     struct gram *g = ctx;
@@ -251,7 +274,8 @@ static void gram_acc(const double d[3], double w, void *ctx)
     int nc = g->n * g->n;
     lg_sh_eval_d((uint32_t)g->n, d, y);
     for (int i = 0; i < nc; i++)
-        for (int j = 0; j < nc; j++) g->g[i * nc + j] += w * y[i] * y[j];
+        for (int j = 0; j < nc; j++)
+            g->g[i * nc + j] += w * y[i] * y[j];
 }
 
 static int cmd_orthonormal(void)
@@ -261,7 +285,8 @@ static int cmd_orthonormal(void)
     sphere_quad(10, 20, gram_acc, &g);
     double worst = 0.0;
     for (int i = 0; i < 64; i++)
-        for (int j = 0; j < 64; j++) worst = fmax(worst, fabs(g.g[i * 64 + j] - (i == j)));
+        for (int j = 0; j < 64; j++)
+            worst = fmax(worst, fabs(g.g[i * 64 + j] - (i == j)));
     printf("orthonormality, band 8, Gauss-Legendre 10 x 20: worst |G - I| %.3g\n", worst);
     CHECKF(worst < 1e-12, "%g", worst);
     return check_report("sh_orthonormal");
@@ -270,7 +295,7 @@ static int cmd_orthonormal(void)
 static int cmd_band1(void)
 {
     double y[9];
-    const double d[3] = {0.3, -0.5, 0.8124038404635961};
+    const double d[3] = { 0.3, -0.5, 0.8124038404635961 };
     lg_sh_eval_d(3, d, y);
     double x = d[0], yy = d[1], z = d[2];
     double c1 = sqrt(3.0 / (4.0 * LG_PI));
@@ -288,22 +313,27 @@ static int cmd_band1(void)
     CHECK(fabs(t[3] - 0.488603) < 1e-6);
     /* Band 2 closed forms (docs/sh.md table). */
     double c2 = 0.5 * sqrt(15.0 / LG_PI), c20 = 0.25 * sqrt(5.0 / LG_PI);
-    double want[5] = {c2 * x * yy, c2 * yy * z, c20 * (3.0 * z * z - 1.0), c2 * x * z,
-                      0.5 * c2 * (x * x - yy * yy)};
-    for (int m = 0; m < 5; m++) CHECKF(fabs(y[4 + m] - want[m]) < 1e-15, "Y_2,%d", m - 2);
+    double want[5] = { c2 * x * yy, c2 * yy * z, c20 * (3.0 * z * z - 1.0), c2 * x * z,
+                       0.5 * c2 * (x * x - yy * yy) };
+    for (int m = 0; m < 5; m++)
+        CHECKF(fabs(y[4 + m] - want[m]) < 1e-15, "Y_2,%d", m - 2);
     double c00 = 0.5 / sqrt(LG_PI);
     CHECK(fabs(y[0] - c00) < 1e-16);
     float f[9];
-    const float df[3] = {0.3f, -0.5f, 0.8124038f};
+    const float df[3] = { 0.3f, -0.5f, 0.8124038f };
     lg_sh_eval_f(3, df, f);
-    for (int i = 0; i < 9; i++) CHECKF(fabs(f[i] - y[i]) < 1e-6, "float %d", i);
+    for (int i = 0; i < 9; i++)
+        CHECKF(fabs(f[i] - y[i]) < 1e-6, "float %d", i);
     return check_report("sh_band1");
 }
 
-struct zq { int l; double s; };
+struct zq {
+    int l;
+    double s;
+};
 static int cmd_zonal(void)
 {
-    const double want[7] = {LG_PI, 2 * LG_PI / 3, LG_PI / 4, 0, -LG_PI / 24, 0, LG_PI / 64};
+    const double want[7] = { LG_PI, 2 * LG_PI / 3, LG_PI / 4, 0, -LG_PI / 24, 0, LG_PI / 64 };
     for (uint32_t l = 0; l < 7; l++)
         CHECKF(fabs(lg_sh_clamped_cosine(l) - want[l]) < 1e-15, "A_%u = %.17g", l,
                lg_sh_clamped_cosine(l));
@@ -340,14 +370,20 @@ static int cmd_zonal(void)
 
 /* Projection by quadrature of f given as a callback. */
 typedef double (*sph_fn)(const double d[3], const void *ctx);
-struct proj { int n; sph_fn f; const void *fctx; double c[NC]; };
+struct proj {
+    int n;
+    sph_fn f;
+    const void *fctx;
+    double c[NC];
+};
 static void proj_acc(const double d[3], double w, void *ctx)
 {
     struct proj *p = ctx;
     static double y[NC];
     lg_sh_eval_d((uint32_t)p->n, d, y);
     double v = p->f(d, p->fctx) * w;
-    for (int i = 0; i < p->n * p->n; i++) p->c[i] += v * y[i];
+    for (int i = 0; i < p->n * p->n; i++)
+        p->c[i] += v * y[i];
 }
 static void project(int n, sph_fn f, const void *fctx, int nz, int nphi, double *out)
 {
@@ -368,7 +404,8 @@ static double irradiance(int n, const double *c, const double nrm[3])
     double y[NC], e = 0.0;
     lg_sh_eval_d((uint32_t)n, nrm, y);
     for (int l = 0; l < n; l++)
-        for (int m = -l; m <= l; m++) e += lg_sh_clamped_cosine((uint32_t)l) * c[l * (l + 1) + m] * y[l * (l + 1) + m];
+        for (int m = -l; m <= l; m++)
+            e += lg_sh_clamped_cosine((uint32_t)l) * c[l * (l + 1) + m] * y[l * (l + 1) + m];
     return e;
 }
 
@@ -403,10 +440,10 @@ static int cmd_irradiance(void)
      * L_00 = sqrt(pi), L_10 = pi sqrt(3 / (4 pi)), L_20 = 0 (2 pi K_l int_0^1 P_l), and
      * A_l = 0 for odd l > 1, so no band beyond 1 contributes. Built about +z, turned to +y
      * by lg_sh_rotation_build (rotation about x by -90 degrees: +z -> +y). */
-    double sky[9] = {0}, skyy[9], Rx[9], Msky[35];
+    double sky[9] = { 0 }, skyy[9], Rx[9], Msky[35];
     sky[0] = sqrt(LG_PI);
     sky[2] = LG_PI * sqrt(3.0 / (4.0 * LG_PI));
-    axis_angle((const double[3]){1, 0, 0}, -0.5 * LG_PI, Rx);
+    axis_angle((const double[3]){ 1, 0, 0 }, -0.5 * LG_PI, Rx);
     CHECK(fabs(Rx[5] + 1.0) < 1e-15 || fabs(Rx[5] - 1.0) < 1e-15);
     lg_sh_rotation_build(3, Rx, Msky);
     lg_sh_rotate(3, Msky, sky, skyy);
@@ -416,8 +453,10 @@ static int cmd_irradiance(void)
     double worst_sky = 0.0, worst_q = 0.0;
     for (int t = 0; t < 200; t++) {
         double d[3];
-        if (t < 6) memcpy(d, axes[t], sizeof d);
-        else rnd_dir(d);
+        if (t < 6)
+            memcpy(d, axes[t], sizeof d);
+        else
+            rnd_dir(d);
         double want = 0.5 * LG_PI * (1.0 + d[1]);
         worst_sky = fmax(worst_sky, fabs(irradiance(3, skyy, d) - want));
         worst_q = fmax(worst_q, fabs(irradiance(3, skyq, d) - want));
@@ -444,9 +483,9 @@ static void axis_angle(const double ax[3], double ang, double *R)
     double c = cos(ang), s = sin(ang), t = 1.0 - c, x = ax[0], y = ax[1], z = ax[2];
     double l = sqrt(x * x + y * y + z * z);
     x /= l, y /= l, z /= l;
-    double m[9] = {t * x * x + c,     t * x * y - s * z, t * x * z + s * y,
-                   t * x * y + s * z, t * y * y + c,     t * y * z - s * x,
-                   t * x * z - s * y, t * y * z + s * x, t * z * z + c};
+    double m[9] = { t * x * x + c,     t * x * y - s * z, t * x * z + s * y,
+                    t * x * y + s * z, t * y * y + c,     t * y * z - s * x,
+                    t * x * z - s * y, t * y * z + s * x, t * z * z + c };
     memcpy(R, m, sizeof m);
 }
 static void random_rotation(double *R)
@@ -457,11 +496,14 @@ static void random_rotation(double *R)
 }
 
 /* f = sum of clamped-cosine lobes around fixed axes, with weights. */
-struct lobes { double R[9]; int rotated; };
+struct lobes {
+    double R[9];
+    int rotated;
+};
 static double f_lobes(const double d[3], const void *ctx)
 {
     const struct lobes *L = ctx;
-    double q[3] = {d[0], d[1], d[2]};
+    double q[3] = { d[0], d[1], d[2] };
     if (L->rotated) { /* f(R^T d) */
         const double *R = L->R;
         q[0] = R[0] * d[0] + R[3] * d[1] + R[6] * d[2];
@@ -477,7 +519,8 @@ static double f_lobes(const double d[3], const void *ctx)
 static double max_diff(const double *a, const double *b, int n)
 {
     double e = 0.0;
-    for (int i = 0; i < n; i++) e = fmax(e, fabs(a[i] - b[i]));
+    for (int i = 0; i < n; i++)
+        e = fmax(e, fabs(a[i] - b[i]));
     return e;
 }
 
@@ -485,7 +528,7 @@ static int cmd_rotation(void)
 {
     static double M[349504], M2[349504], M12[349504];
     static double c[NC], r[NC], r2[NC], q[NC];
-    const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const double I[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
     /* Identity. */
     CHECK(lg_sh_rotation_build(20, I, M) == 0);
     for (int l = 0; l < 20; l++) {
@@ -493,7 +536,8 @@ static int cmd_rotation(void)
         const double *b = M + lg_sh_rotation_size((uint32_t)l);
         double e = 0.0;
         for (int i = 0; i < w; i++)
-            for (int j = 0; j < w; j++) e = fmax(e, fabs(b[i * w + j] - (i == j)));
+            for (int j = 0; j < w; j++)
+                e = fmax(e, fabs(b[i * w + j] - (i == j)));
         CHECKF(e < 1e-14, "identity band %d: %g", l, e);
     }
     CHECK(lg_sh_rotation_size(64) == 349504);
@@ -503,11 +547,13 @@ static int cmd_rotation(void)
         double R[9];
         random_rotation(R);
         lg_sh_rotation_build(20, R, M);
-        for (int i = 0; i < 400; i++) c[i] = 2.0 * rnd() - 1.0;
+        for (int i = 0; i < 400; i++)
+            c[i] = 2.0 * rnd() - 1.0;
         lg_sh_rotate(20, M, c, r);
         for (int l = 0; l < 20; l++) {
             double e0 = 0, e1 = 0;
-            for (int i = l * l; i < (l + 1) * (l + 1); i++) e0 += c[i] * c[i], e1 += r[i] * r[i];
+            for (int i = l * l; i < (l + 1) * (l + 1); i++)
+                e0 += c[i] * c[i], e1 += r[i] * r[i];
             worst_e = fmax(worst_e, fabs(e1 / e0 - 1.0));
         }
     }
@@ -516,9 +562,10 @@ static int cmd_rotation(void)
     /* Against re-projection: band 8 holds the degree-4 test function exactly. */
     double worst_p = 0.0;
     for (int t = 0; t < 5; t++) {
-        struct lobes L = {.rotated = 0};
+        struct lobes L = { .rotated = 0 };
         random_rotation(L.R);
-        if (t == 0) axis_angle((const double[3]){0, 1, 0}, 0.5 * LG_PI, L.R); /* about up */
+        if (t == 0)
+            axis_angle((const double[3]){ 0, 1, 0 }, 0.5 * LG_PI, L.R); /* about up */
         project(8, f_lobes, &L, 12, 24, c);
         L.rotated = 1;
         project(8, f_lobes, &L, 12, 24, q);
@@ -539,15 +586,18 @@ static int cmd_rotation(void)
         double R[9], y0[NC], y1[NC], d[3], rd[3];
         random_rotation(R);
         lg_sh_rotation_build(NMAX, R, M);
-        for (int i = 0; i < NC; i++) c[i] = (2.0 * rnd() - 1.0) / (1.0 + i / 64.0);
+        for (int i = 0; i < NC; i++)
+            c[i] = (2.0 * rnd() - 1.0) / (1.0 + i / 64.0);
         lg_sh_rotate(NMAX, M, c, r);
         for (int t = 0; t < 20; t++) {
             rnd_dir(d);
-            for (int k = 0; k < 3; k++) rd[k] = R[k * 3] * d[0] + R[k * 3 + 1] * d[1] + R[k * 3 + 2] * d[2];
+            for (int k = 0; k < 3; k++)
+                rd[k] = R[k * 3] * d[0] + R[k * 3 + 1] * d[1] + R[k * 3 + 2] * d[2];
             lg_sh_eval_d(NMAX, d, y0);
             lg_sh_eval_d(NMAX, rd, y1);
             double f0 = 0, f1 = 0;
-            for (int i = 0; i < NC; i++) f0 += c[i] * y0[i], f1 += r[i] * y1[i];
+            for (int i = 0; i < NC; i++)
+                f0 += c[i] * y0[i], f1 += r[i] * y1[i];
             worst_h = fmax(worst_h, fabs(f1 - f0));
         }
     }
@@ -562,7 +612,8 @@ static int cmd_rotation(void)
         lg_sh_rotation_build(16, R1, M);
         lg_sh_rotation_build(16, R2, M2);
         lg_sh_rotation_build(16, R12, M12);
-        for (int i = 0; i < 256; i++) c[i] = 2.0 * rnd() - 1.0;
+        for (int i = 0; i < 256; i++)
+            c[i] = 2.0 * rnd() - 1.0;
         lg_sh_rotate(16, M2, c, r);
         lg_sh_rotate(16, M, r, r);
         lg_sh_rotate(16, M12, c, r2);
@@ -572,14 +623,16 @@ static int cmd_rotation(void)
         /* Float planes (RGB) against double. */
         static float fin[3 * 256], fout[3 * 256];
         for (int p = 0; p < 3; p++)
-            for (int i = 0; i < 256; i++) fin[p * 256 + i] = (float)c[i] * (float)(p + 1);
+            for (int i = 0; i < 256; i++)
+                fin[p * 256 + i] = (float)c[i] * (float)(p + 1);
         lg_sh_rotate_planes_f(16, M12, 3, fin, fout);
         double ef = 0.0;
         for (int p = 0; p < 3; p++)
-            for (int i = 0; i < 256; i++) ef = fmax(ef, fabs(fout[p * 256 + i] - r2[i] * (p + 1)));
+            for (int i = 0; i < 256; i++)
+                ef = fmax(ef, fabs(fout[p * 256 + i] - r2[i] * (p + 1)));
         CHECKF(ef < 1e-5, "float planes %g", ef);
     }
-    double nanR[9] = {NAN, 0, 0, 0, 1, 0, 0, 0, 1};
+    double nanR[9] = { NAN, 0, 0, 0, 1, 0, 0, 0, 1 };
     CHECK(lg_sh_rotation_build(4, nanR, M) == -1);
     return check_report("sh_rotation");
 }
@@ -594,7 +647,8 @@ static double orth_error(int n, const double *M)
         for (int i = 0; i < w; i++)
             for (int j = 0; j < w; j++) {
                 double s = 0.0;
-                for (int k = 0; k < w; k++) s += b[i * w + k] * b[j * w + k];
+                for (int k = 0; k < w; k++)
+                    s += b[i * w + k] * b[j * w + k];
                 e = fmax(e, fabs(s - (i == j)));
             }
     }
@@ -605,8 +659,8 @@ static int cmd_drift(void)
 {
     enum { N = 8, STEPS = 10000 };
     static double step_m[1000], acc_m[1000], tmp[1000], abs_m[1000];
-    double Rs[9], Racc[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    axis_angle((const double[3]){0.3, 1.0, -0.2}, 0.0123, Rs);
+    double Rs[9], Racc[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+    axis_angle((const double[3]){ 0.3, 1.0, -0.2 }, 0.0123, Rs);
     lg_sh_rotation_build(N, Rs, step_m);
     lg_sh_rotation_build(N, Racc, acc_m);
     double worst_abs = 0.0;
@@ -618,7 +672,8 @@ static int cmd_drift(void)
             for (int i = 0; i < w; i++)
                 for (int j = 0; j < w; j++) {
                     double v = 0.0;
-                    for (int k = 0; k < w; k++) v += step_m[o + i * w + k] * acc_m[o + k * w + j];
+                    for (int k = 0; k < w; k++)
+                        v += step_m[o + i * w + k] * acc_m[o + k * w + j];
                     tmp[o + i * w + j] = v;
                 }
         }
@@ -632,13 +687,13 @@ static int cmd_drift(void)
         }
     }
     double drift = orth_error(N, acc_m);
-    printf("drift after %d steps: SH matrices multiplied %.3g, rebuilt from the 3x3 %.3g\n",
-           STEPS, drift, worst_abs);
+    printf("drift after %d steps: SH matrices multiplied %.3g, rebuilt from the 3x3 %.3g\n", STEPS,
+           drift, worst_abs);
     CHECKF(worst_abs < 1e-12, "%g", worst_abs);
     /* The rebuilt orientation is still the true one: 10^4 steps of angle a about a fixed
      * axis is one rotation of 10^4 a. */
     double Rtrue[9];
-    axis_angle((const double[3]){0.3, 1.0, -0.2}, 0.0123 * STEPS, Rtrue);
+    axis_angle((const double[3]){ 0.3, 1.0, -0.2 }, 0.0123 * STEPS, Rtrue);
     CHECKF(max_diff(Racc, Rtrue, 9) < 1e-9, "%g", max_diff(Racc, Rtrue, 9));
     return check_report("sh_drift");
 }
@@ -648,19 +703,21 @@ static double reconstruct(int n, const double *c, const double d[3])
 {
     double y[NC], v = 0.0;
     lg_sh_eval_d((uint32_t)n, d, y);
-    for (int i = 0; i < n * n; i++) v += c[i] * y[i];
+    for (int i = 0; i < n * n; i++)
+        v += c[i] * y[i];
     return v;
 }
 /* Minimum over theta in [0, pi] (azimuth 0) of f(c, dir(theta)), light at +z. */
-static double min_over_theta(double (*f)(int, const double *, const double *),
-                             const double *c, double *t_at)
+static double min_over_theta(double (*f)(int, const double *, const double *), const double *c,
+                             double *t_at)
 {
     double mn = 1e9;
     for (int k = 0; k <= 4000; k++) {
         double t = -1.0 + k / 2000.0, s = sqrt(fmax(0.0, 1.0 - t * t));
-        double d[3] = {s, 0.0, t};
+        double d[3] = { s, 0.0, t };
         double v = f(3, c, d);
-        if (v < mn) mn = v, *t_at = t;
+        if (v < mn)
+            mn = v, *t_at = t;
     }
     return mn;
 }
@@ -678,14 +735,15 @@ static int cmd_window(void)
     lg_sh_eval_d(3, axes[4], c);
     double lmin = min_over_theta(reconstruct, c, &t);
     printf("delta light, 3 bands, radiance: min %.6f at cos theta %.4f (closed form %.6f at "
-           "-0.2)\n", lmin, t, -1.8 / (4.0 * LG_PI));
+           "-0.2)\n",
+           lmin, t, -1.8 / (4.0 * LG_PI));
     CHECKF(fabs(lmin + 1.8 / (4.0 * LG_PI)) < 1e-6, "%g", lmin);
     memcpy(cw, c, sizeof c);
     lg_sh_window(3, LG_SH_WINDOW_HANNING, 3.0, cw);
     double wmin = min_over_theta(reconstruct, cw, &t);
     printf("  hanning width 3: radiance min %.6f at %.4f (closed form %.6f at -0.6), peak "
-           "%.6f (unwindowed %.6f)\n", wmin, t, -0.3 / (4.0 * LG_PI),
-           reconstruct(3, cw, axes[4]), reconstruct(3, c, axes[4]));
+           "%.6f (unwindowed %.6f)\n",
+           wmin, t, -0.3 / (4.0 * LG_PI), reconstruct(3, cw, axes[4]), reconstruct(3, c, axes[4]));
     CHECKF(fabs(wmin + 0.3 / (4.0 * LG_PI)) < 1e-6, "%g", wmin);
     CHECKF(fabs(cw[2] - 0.75 * c[2]) < 1e-15 && fabs(cw[6] - 0.25 * c[6]) < 1e-15, "factors");
     memcpy(cw, c, sizeof c);
@@ -694,8 +752,8 @@ static int cmd_window(void)
     double gclosed = (1.0 - 3.0 * exp(-1.0) + 5.0 * exp(-3.0)) / (4.0 * LG_PI);
     double gemin = min_over_theta(irradiance, cw, &t);
     printf("  gaussian width 1: radiance min %.6f (closed form %.6f at -1), peak %.6f; "
-           "irradiance min %.6f, peak %.6f\n", gmin, gclosed, reconstruct(3, cw, axes[4]),
-           gemin, irradiance(3, cw, axes[4]));
+           "irradiance min %.6f, peak %.6f\n",
+           gmin, gclosed, reconstruct(3, cw, axes[4]), gemin, irradiance(3, cw, axes[4]));
     CHECKF(gmin > 0.0 && fabs(gmin - gclosed) < 1e-12, "%g", gmin);
     CHECKF(gemin > 0.0, "%g", gemin);
 
@@ -707,19 +765,21 @@ static int cmd_window(void)
     double Emin_closed = 0.25 + 0.5 * tmin + (5.0 / 16.0) * 0.5 * (3.0 * tmin * tmin - 1.0);
     double emin = min_over_theta(irradiance, c, &t);
     printf("delta light, 3 bands, irradiance: min %.6f at cos theta %.4f (closed form %.6f "
-           "at %.4f), peak %.6f (exact 1)\n", emin, t, Emin_closed, tmin,
-           irradiance(3, c, axes[4]));
+           "at %.4f), peak %.6f (exact 1)\n",
+           emin, t, Emin_closed, tmin, irradiance(3, c, axes[4]));
     CHECKF(fabs(emin - Emin_closed) < 1e-6, "%g", emin);
     CHECKF(fabs(irradiance(3, c, axes[5]) - 1.0 / 16.0) < 1e-14, "antipode");
-    const double widths[2] = {3.0, 4.0};
+    const double widths[2] = { 3.0, 4.0 };
     for (int wk = 0; wk < 2; wk++)
         for (int kind = 0; kind < 3; kind++) {
             memcpy(cw, c, sizeof c);
             lg_sh_window(3, (lg_sh_window_kind)kind, widths[wk], cw);
             printf("  %s width %.0f: radiance min %.6f; irradiance min %.6f, peak %.6f\n",
-                   kind == 2 ? "gaussian" : kind ? "lanczos" : "hanning", widths[wk],
-                   min_over_theta(reconstruct, cw, &t), min_over_theta(irradiance, cw, &t),
-                   irradiance(3, cw, axes[4]));
+                   kind == 2 ? "gaussian"
+                   : kind    ? "lanczos"
+                             : "hanning",
+                   widths[wk], min_over_theta(reconstruct, cw, &t),
+                   min_over_theta(irradiance, cw, &t), irradiance(3, cw, axes[4]));
         }
     /* Band 0 untouched, nothing at and beyond width, no-op for width <= 0. */
     CHECK(lg_sh_window_factor(LG_SH_WINDOW_HANNING, 3.0, 0) == 1.0);
@@ -741,13 +801,14 @@ static int cmd_cost(void)
 {
     static double yd[NC];
     static float yf[NC];
-    const uint32_t ns[4] = {3, 5, 8, 16};
+    const uint32_t ns[4] = { 3, 5, 8, 16 };
     enum { K = 256 };
     static double dirs[K][3];
     static float fdirs[K][3];
     for (int i = 0; i < K; i++) {
         rnd_dir(dirs[i]);
-        for (int k = 0; k < 3; k++) fdirs[i][k] = (float)dirs[i][k];
+        for (int k = 0; k < 3; k++)
+            fdirs[i][k] = (float)dirs[i][k];
     }
     volatile double sink = 0.0;
     for (int b = 0; b < 4; b++) {
@@ -764,8 +825,8 @@ static int cmd_cost(void)
             sink += yd[n * n - 1];
         }
         double t2 = now_s();
-        printf("cost n = %2u (%3u values): float %.1f ns, double %.1f ns per evaluation\n",
-               n, n * n, (t1 - t0) / reps * 1e9, (t2 - t1) / reps * 1e9);
+        printf("cost n = %2u (%3u values): float %.1f ns, double %.1f ns per evaluation\n", n,
+               n * n, (t1 - t0) / reps * 1e9, (t2 - t1) / reps * 1e9);
     }
     (void)sink;
     return check_report("sh_cost");
@@ -774,16 +835,26 @@ static int cmd_cost(void)
 int main(int argc, char **argv)
 {
     const char *c = argc > 1 ? argv[1] : "";
-    if (!strcmp(c, "eval")) return cmd_eval();
-    if (!strcmp(c, "addition")) return cmd_addition();
-    if (!strcmp(c, "orthonormal")) return cmd_orthonormal();
-    if (!strcmp(c, "band1")) return cmd_band1();
-    if (!strcmp(c, "zonal")) return cmd_zonal();
-    if (!strcmp(c, "irradiance")) return cmd_irradiance();
-    if (!strcmp(c, "rotation")) return cmd_rotation();
-    if (!strcmp(c, "drift")) return cmd_drift();
-    if (!strcmp(c, "window")) return cmd_window();
-    if (!strcmp(c, "cost")) return cmd_cost();
+    if (!strcmp(c, "eval"))
+        return cmd_eval();
+    if (!strcmp(c, "addition"))
+        return cmd_addition();
+    if (!strcmp(c, "orthonormal"))
+        return cmd_orthonormal();
+    if (!strcmp(c, "band1"))
+        return cmd_band1();
+    if (!strcmp(c, "zonal"))
+        return cmd_zonal();
+    if (!strcmp(c, "irradiance"))
+        return cmd_irradiance();
+    if (!strcmp(c, "rotation"))
+        return cmd_rotation();
+    if (!strcmp(c, "drift"))
+        return cmd_drift();
+    if (!strcmp(c, "window"))
+        return cmd_window();
+    if (!strcmp(c, "cost"))
+        return cmd_cost();
     fprintf(stderr, "usage: test_sh eval|addition|orthonormal|band1|zonal|irradiance|"
                     "rotation|drift|window|cost\n");
     return 2;

@@ -58,8 +58,7 @@ static void test_quad_and_grid(void)
     lg_ts_mesh(b, "g", 0);
     lg_ts_grid(b, lg_v3(0, 1, 0), lg_v3(2, 0, 0), lg_v3(0, 0, -2), 3);
     lg_ts_mesh(b, "flip", 0);
-    const double o[3] = { 0, 0, 0 }, su[3] = { 1, 0, 0 }, sv[3] = { 0, 1, 0 },
-                 up[3] = { 0, 0, 1 };
+    const double o[3] = { 0, 0, 0 }, su[3] = { 1, 0, 0 }, sv[3] = { 0, 1, 0 }, up[3] = { 0, 0, 1 };
     lg_ts_grid_span(b, 1, o, su, sv, up, false);
     lg_ts_grid_span(b, 1, o, su, sv, up, true);
     lg_ts_instance(b, 0, NULL);
@@ -161,8 +160,8 @@ static void test_growth(void)
         lg_material *m = lg_ts_material(b, "m");
         m->ks = (float)i;
         lg_ts_dir_light(b, "l", lg_v3(0, -1, 0), lg_v3(1, 1, 1), (float)i);
-        lg_camera *c = lg_ts_camera(b, "c", lg_v3(0, 0, (float)i), lg_v3(0, 0, 0),
-                                    lg_v3(0, 1, 0), 1.0f, 0.1f, 0.0f);
+        lg_camera *c = lg_ts_camera(b, "c", lg_v3(0, 0, (float)i), lg_v3(0, 0, 0), lg_v3(0, 1, 0),
+                                    1.0f, 0.1f, 0.0f);
         c->aspect = 2.0f;
     }
     for (uint32_t k = 0; k < 7; k++) {
@@ -221,7 +220,7 @@ static void test_failure(void)
     CHECK(lg_ts_finish(NULL) == NULL);
 }
 
-/* ---- lg_ts_publish through a fake host ------------------------------------------------- */
+/* ---- lg_ts_publish through a fake host ------------------------------------------------------- */
 
 static char last_error[512];
 static void *declared;
@@ -270,8 +269,7 @@ static void test_publish(void)
     lg_ts_triangle(b, 0, 1, 2); /* no mesh */
     declared = NULL;
     CHECK(lg_ts_publish(&node, 0, b) == LG_ERR_NOMEM && declared == NULL);
-    CHECKF(strstr(last_error, "out of memory") && strstr(last_error, "'broken'"), "%s",
-           last_error);
+    CHECKF(strstr(last_error, "out of memory") && strstr(last_error, "'broken'"), "%s", last_error);
     CHECK(lg_ts_publish(&node, 0, NULL) == LG_ERR_NOMEM);
 }
 

@@ -48,7 +48,7 @@ static int valid(const lg_vcam *v)
             return 0;
     if (!(dist3(v->position, v->target) > 0.0))
         return 0;
-    double f[3], u[3] = {v->up[0], v->up[1], v->up[2]};
+    double f[3], u[3] = { v->up[0], v->up[1], v->up[2] };
     fwd(v, f);
     return fabs(sqrt(dot3(u, u)) - 1.0) < 1e-5 && fabs(dot3(u, f)) < 1e-5;
 }
@@ -60,11 +60,11 @@ static double eye_elevation_deg(const lg_vcam *v)
     return asin(((double)v->position[1] - v->target[1]) / d) * 180.0 / LG_PI;
 }
 
-static const float kBmin[3] = {-1, 0, -1}, kBmax[3] = {1, 2, 1};
+static const float kBmin[3] = { -1, 0, -1 }, kBmax[3] = { 1, 2, 1 };
 
 static lg_vcam make(float px, float py, float pz, float tx, float ty, float tz)
 {
-    lg_camera c = {0};
+    lg_camera c = { 0 };
     c.position[0] = px, c.position[1] = py, c.position[2] = pz;
     c.target[0] = tx, c.target[1] = ty, c.target[2] = tz;
     c.up[1] = 1.0f;
@@ -74,7 +74,7 @@ static lg_vcam make(float px, float py, float pz, float tx, float ty, float tz)
     return v;
 }
 
-/* ---- init / to_camera ------------------------------------------------------------------- */
+/* ---- init / to_camera ------------------------------------------------------------------------ */
 
 static void test_init(void)
 {
@@ -86,9 +86,9 @@ static void test_init(void)
     CHECK(valid(&v));
 
     /* empty, inverted or NaN bounds: scale 1 */
-    lg_camera c = {0};
+    lg_camera c = { 0 };
     c.position[2] = 3, c.up[1] = 1, c.yfov = 1;
-    float inv_lo[3] = {1, 1, 1}, inv_hi[3] = {-1, -1, -1}, nan3[3] = {NAN, 0, 0};
+    float inv_lo[3] = { 1, 1, 1 }, inv_hi[3] = { -1, -1, -1 }, nan3[3] = { NAN, 0, 0 };
     lg_vcam_init(&v, &c, inv_lo, inv_hi);
     CHECK(v.scale == 1.0f);
     lg_vcam_init(&v, &c, nan3, kBmax);
@@ -103,7 +103,7 @@ static void test_init(void)
     lg_vcam_init(&v, &c, kBmin, kBmax);
     CHECKF(valid(&v), "up (%g %g %g)", v.up[0], v.up[1], v.up[2]);
     /* a tilted up: kept in the view's plane */
-    lg_camera t = {0};
+    lg_camera t = { 0 };
     t.position[2] = 5, t.up[0] = 1, t.up[1] = 1, t.up[2] = 3, t.yfov = 1;
     lg_vcam_init(&v, &t, kBmin, kBmax);
     CHECK(valid(&v) && fabs(v.up[0] - (float)sqrt(0.5)) < 1e-6 && v.up[2] == 0.0f);
@@ -144,7 +144,7 @@ static void test_init(void)
     CHECK(out.yfov == v.yfov && out.znear == v.znear && out.zfar == v.zfar);
 }
 
-/* ---- orbit ---------------------------------------------------------------------------------- */
+/* ---- orbit ----------------------------------------------------------------------------------- */
 
 static void test_orbit(void)
 {
@@ -159,8 +159,8 @@ static void test_orbit(void)
     CHECK(memcmp(v.target, v0.target, sizeof v.target) == 0);
     CHECKF(fabs(dist3(v.position, v.target) - d0) < 1e-5 * d0, "distance %g, was %g",
            dist3(v.position, v.target), d0);
-    float want[3] = {2 * v0.target[0] - v0.position[0], v0.position[1],
-                     2 * v0.target[2] - v0.position[2]};
+    float want[3] = { 2 * v0.target[0] - v0.position[0], v0.position[1],
+                      2 * v0.target[2] - v0.position[2] };
     CHECKF(dist3(v.position, want) < 1e-5 * d0, "eye (%g %g %g), expected (%g %g %g)",
            v.position[0], v.position[1], v.position[2], want[0], want[1], want[2]);
     /* and back by the opposite drag */
@@ -171,7 +171,8 @@ static void test_orbit(void)
      * from +Z) so that the scene turns with the pointer */
     v = make(0, 1, 5, 0, 1, 0);
     lg_vcam_orbit(&v, h / 4.0, 0, h);
-    CHECKF(fabs(v.position[0] + 5 * sin(LG_PI / 4)) < 1e-5 && fabs(v.position[2] - 5 * cos(LG_PI / 4)) < 1e-5,
+    CHECKF(fabs(v.position[0] + 5 * sin(LG_PI / 4)) < 1e-5 &&
+               fabs(v.position[2] - 5 * cos(LG_PI / 4)) < 1e-5,
            "eye (%g %g %g)", v.position[0], v.position[1], v.position[2]);
     /* a full-height drag down is 180 degrees of pitch, stopped short of the top pole; a
      * quarter height down raises the eye by 45 degrees */
@@ -201,7 +202,7 @@ static void test_orbit(void)
 
     /* starting exactly at a pole (looking straight down, the image's up -Z): the first turn
      * keeps the side the camera faced */
-    lg_camera top = {0};
+    lg_camera top = { 0 };
     top.position[1] = 5, top.up[2] = -1, top.yfov = 1;
     lg_vcam_init(&v, &top, kBmin, kBmax);
     lg_vcam_orbit(&v, 0, -1, h);
@@ -250,7 +251,7 @@ static int project(const lg_vcam *v, const float p[3], uint32_t w, uint32_t h, d
 static void test_pan(void)
 {
     const uint32_t w = 320, h = 240;
-    lg_vcam cams[2] = {make(0, 1, 5, 0, 1, 0), make(3, 4, -2, 0.5f, 0.5f, 0.2f)};
+    lg_vcam cams[2] = { make(0, 1, 5, 0, 1, 0), make(3, 4, -2, 0.5f, 0.5f, 0.2f) };
     lg_vcam_orbit(&cams[1], 40, -25, (int)h); /* tilted: pan must use the camera's own axes */
     for (int k = 0; k < 2; k++) {
         lg_vcam v = cams[k];
@@ -280,7 +281,7 @@ static void test_pan(void)
     CHECK(memcmp(&v, &v0, sizeof v) == 0);
 }
 
-/* ---- zoom -------------------------------------------------------------------------------------- */
+/* ---- zoom ------------------------------------------------------------------------------------ */
 
 static void test_zoom(void)
 {
@@ -312,7 +313,7 @@ static void test_zoom(void)
     CHECK(memcmp(&v, &v0, sizeof v) == 0);
 }
 
-/* ---- fly --------------------------------------------------------------------------------------- */
+/* ---- fly ------------------------------------------------------------------------------------- */
 
 static void test_fly(void)
 {
@@ -320,7 +321,7 @@ static void test_fly(void)
     v.mode = LG_VCAM_FLY;
     double f[3];
     fwd(&v, f);
-    const float forward_only[3] = {0, 0, 1};
+    const float forward_only[3] = { 0, 0, 1 };
     lg_vcam_move(&v, forward_only, 0.5, 2.0); /* 1 scale */
     double moved[3];
     for (int i = 0; i < 3; i++)
@@ -334,17 +335,17 @@ static void test_fly(void)
 
     /* right and up along the camera's axes; a diagonal is no faster than one axis */
     v = v0;
-    const float right_up[3] = {1, 1, 0};
+    const float right_up[3] = { 1, 1, 0 };
     lg_vcam_move(&v, right_up, 1.0, 1.0);
     for (int i = 0; i < 3; i++)
         moved[i] = (double)v.position[i] - v0.position[i];
     CHECK(fabs(sqrt(dot3(moved, moved)) - v.scale) < 1e-5);
     CHECK(fabs(dot3(moved, f)) < 1e-5);
-    double up[3] = {v0.up[0], v0.up[1], v0.up[2]};
+    double up[3] = { v0.up[0], v0.up[1], v0.up[2] };
     CHECK(fabs(dot3(moved, up) - v.scale * sqrt(0.5)) < 1e-5);
     /* out of range, NaN, dt <= 0: clamped or nothing */
     v = v0;
-    const float big[3] = {0, 0, 50}, nan3[3] = {NAN, 0, 0};
+    const float big[3] = { 0, 0, 50 }, nan3[3] = { NAN, 0, 0 };
     lg_vcam_move(&v, big, 1.0, 1.0);
     CHECK(fabs(dist3(v.position, v0.position) - v.scale) < 1e-5);
     v = v0;
@@ -377,7 +378,7 @@ static void test_fly(void)
     CHECK(memcmp(v.position, v0.position, sizeof v.position) == 0);
 }
 
-/* ---- node text ---------------------------------------------------------------------------------- */
+/* ---- node text ------------------------------------------------------------------------------- */
 
 static void test_node_text(void)
 {
@@ -410,12 +411,12 @@ static void test_node_text(void)
     /* an eye a millimetre from a far target: six digits would print one point twice */
     lg_vcam far = make(1000.301f, 1, 2000.7f, 1000.3f, 1, 2000.7f);
     t = lg_vcam_node_text(&far, "cam", "scene");
-    CHECKF(t && strstr(t, "position = [1000.30103") && strstr(t, "target = [1000.29999"),
-           "got\n%s", t ? t : "(null)");
+    CHECKF(t && strstr(t, "position = [1000.30103") && strstr(t, "target = [1000.29999"), "got\n%s",
+           t ? t : "(null)");
     free(t);
 }
 
-/* ---- cases for test_viewer_camera.py ----------------------------------------------------------- */
+/* ---- cases for test_viewer_camera.py --------------------------------------------------------- */
 
 /* Each case: "CASE name", "REF px py pz tx ty tz ux uy uz fov_deg znear zfar aspect" (the
  * camera's floats exactly, %.9g), the node text of a camera called c_NAME on node `scene`,
@@ -430,7 +431,7 @@ static void print_case(const char *name, const lg_vcam *v)
         exit(1);
     }
     printf("CASE %s\nREF", name);
-    const float *vals[3] = {v->position, v->target, v->up};
+    const float *vals[3] = { v->position, v->target, v->up };
     for (int k = 0; k < 3; k++)
         for (int i = 0; i < 3; i++)
             printf(" %.9g", (double)vals[k][i]);
@@ -441,8 +442,8 @@ static void print_case(const char *name, const lg_vcam *v)
 
 static int print_cases(void)
 {
-    const float lo[3] = {-1, 0, -1}, hi[3] = {1, 2, 1};
-    lg_camera c = {0};
+    const float lo[3] = { -1, 0, -1 }, hi[3] = { 1, 2, 1 };
+    lg_camera c = { 0 };
     c.position[0] = 0.3f, c.position[1] = 1.1f, c.position[2] = 3.7f;
     c.target[0] = 0.05f, c.target[1] = 0.9f, c.target[2] = 0.0f;
     c.up[1] = 1.0f;
@@ -468,7 +469,7 @@ static int print_cases(void)
     lg_vcam fly = v;
     fly.znear = 0.05f, fly.zfar = 30.0f, fly.aspect = 1.5f;
     lg_vcam_look(&fly, 20, -12, 240);
-    const float rul[3] = {0.3f, -0.2f, 0.8f};
+    const float rul[3] = { 0.3f, -0.2f, 0.8f };
     lg_vcam_move(&fly, rul, 0.25, 1.0);
     print_case("fly", &fly);
 
@@ -483,7 +484,7 @@ static int print_cases(void)
 /* The clip planes follow a moved camera: they hold the box from where it stands. */
 static void test_fit_clip(void)
 {
-    const float lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    const float lo[3] = { -1, -1, -1 }, hi[3] = { 1, 1, 1 };
     lg_vcam v;
     memset(&v, 0, sizeof v);
     v.yfov = 1.0f;

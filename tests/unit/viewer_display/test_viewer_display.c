@@ -37,7 +37,7 @@ static void check_state(const char *after)
     CHECKF(e == GL_NO_ERROR, "after %s: %s pending", after, lg_gl_strerror(e));
 }
 
-/* ---- an RGBA8 target and what it holds ------------------------------------------------- */
+/* ---- an RGBA8 target and what it holds ------------------------------------------------------- */
 
 typedef struct target {
     GLuint fbo, tex;
@@ -47,7 +47,7 @@ typedef struct target {
 
 static target make_target(int w, int h)
 {
-    target t = {.w = w, .h = h};
+    target t = { .w = w, .h = h };
     gl->CreateTextures(GL_TEXTURE_2D, 1, &t.tex);
     gl->TextureStorage2D(t.tex, 1, GL_RGBA8, w, h);
     gl->CreateFramebuffers(1, &t.fbo);
@@ -84,7 +84,7 @@ static const unsigned char *at(const target *t, int x, int ytop)
 
 static void fill_target(target *t, float v)
 {
-    const GLfloat c[4] = {v, v, v, 1.0f};
+    const GLfloat c[4] = { v, v, v, 1.0f };
     gl->ClearNamedFramebufferfv(t->fbo, GL_COLOR, 0, c);
 }
 
@@ -117,14 +117,14 @@ static GLuint make_texture(GLenum fmt, int w, int h, const float *rgba)
 
 #define CLOSE(got, want) (abs((int)(got) - (int)(want)) <= 1)
 
-/* ---- image --------------------------------------------------------------------------- */
+/* ---- image ----------------------------------------------------------------------------------- */
 
 static void test_image(void)
 {
     enum { W = 8, H = 4 };
-    const float values[] = {-1.0f, 0.0f, 0.001f, 0.0031308f, 0.02f, 0.18f, 0.5f, 0.73f,
-                            0.999f, 1.0f, 1.7f, 40.0f, 1e30f, NAN, INFINITY, -INFINITY,
-                            0.3f, 0.06f, 2.5e-4f};
+    const float values[] = { -1.0f,    0.0f,      0.001f, 0.0031308f, 0.02f,  0.18f, 0.5f,
+                             0.73f,    0.999f,    1.0f,   1.7f,       40.0f,  1e30f, NAN,
+                             INFINITY, -INFINITY, 0.3f,   0.06f,      2.5e-4f };
     const int nv = (int)(sizeof values / sizeof values[0]);
     float *img = malloc(sizeof(float) * W * H * 4);
     /* each row and channel a different mix: a flipped or mirrored picture cannot pass */
@@ -134,7 +134,7 @@ static void test_image(void)
                 img[((size_t)y * W + x) * 4 + c] = values[(y * W + x + c * 7 + y * 3) % nv];
     GLuint tex = make_texture(GL_RGBA32F, W, H, img);
     target t = make_target(W, H);
-    const float exposures[] = {1.0f, 0.37f};
+    const float exposures[] = { 1.0f, 0.37f };
     for (int e = 0; e < 2; e++) {
         int rc = lg_vdisplay_draw_image(disp, t.fbo, W, H, tex, W, H, exposures[e]);
         CHECKF(rc == 0, "%s", lg_vdisplay_error(disp));
@@ -176,7 +176,7 @@ static void test_image(void)
     free(img);
 }
 
-/* ---- letterbox ----------------------------------------------------------------------- */
+/* ---- letterbox ------------------------------------------------------------------------------- */
 
 static void test_letterbox(void)
 {
@@ -199,12 +199,14 @@ static void test_letterbox(void)
             for (int c = 0; c < 3; c++) {
                 int got = at(&t, x, y)[c];
                 if (y < 2 || y >= 6) {
-                    CHECKF(CLOSE(got, grey), "(%d, %d) channel %d outside the band: %d, want %d",
-                           x, y, c, got, grey);
+                    CHECKF(CLOSE(got, grey), "(%d, %d) channel %d outside the band: %d, want %d", x,
+                           y, c, got, grey);
                 } else {
                     int want = png_code(img[((y - 2) / 2 * W + x / 2) * 4 + c]);
-                    CHECKF(CLOSE(got, want), "(%d, %d) channel %d in the band: %d, want texel "
-                           "(%d, %d) = %d", x, y, c, got, x / 2, (y - 2) / 2, want);
+                    CHECKF(CLOSE(got, want),
+                           "(%d, %d) channel %d in the band: %d, want texel "
+                           "(%d, %d) = %d",
+                           x, y, c, got, x / 2, (y - 2) / 2, want);
                 }
             }
     gl->DeleteTextures(1, &tex);
@@ -234,20 +236,21 @@ static void test_letterbox(void)
     for (int y = 0; y < BH; y++)
         for (int x = 0; x < BW; x++)
             for (int c = 0; c < 4; c++)
-                stripes[(y * BW + x) * 4 + c] = (x % 4 == 0 ? 1.0f : 0.0f) + (y % 4 == 1 ? 2.0f : 0.0f);
+                stripes[(y * BW + x) * 4 + c] = (x % 4 == 0 ? 1.0f : 0.0f) +
+                                                (y % 4 == 1 ? 2.0f : 0.0f);
     tex = make_texture(GL_RGBA32F, BW, BH, stripes);
     free(stripes);
     lg_vdisplay_rect r = lg_vdisplay_fit(F, F, BW, BH);
-    CHECKF(r.x == 0 && r.y == 2 && r.w == 8 && r.h == 4 && r.scale == 0.25,
-           "fit %d %d %d %d %g", r.x, r.y, r.w, r.h, r.scale);
+    CHECKF(r.x == 0 && r.y == 2 && r.w == 8 && r.h == 4 && r.scale == 0.25, "fit %d %d %d %d %g",
+           r.x, r.y, r.w, r.h, r.scale);
     CHECKF(lg_vdisplay_draw_image(disp, t.fbo, F, F, tex, BW, BH, 1.0f) == 0, "%s",
            lg_vdisplay_error(disp));
     check_state("draw_image shrunk by 4");
     read_target(&t);
     for (int y = 2; y < 6; y++)
         for (int x = 0; x < F; x++)
-            CHECKF(CLOSE(at(&t, x, y)[0], png_code(0.75f)), "shrunk by 4 (%d, %d): %d, want %d",
-                   x, y, at(&t, x, y)[0], png_code(0.75f));
+            CHECKF(CLOSE(at(&t, x, y)[0], png_code(0.75f)), "shrunk by 4 (%d, %d): %d, want %d", x,
+                   y, at(&t, x, y)[0], png_code(0.75f));
     gl->DeleteTextures(1, &tex);
 
     /* the fitted rectangle: centred, rounded; nothing for an empty size */
@@ -261,7 +264,7 @@ static void test_letterbox(void)
     free_target(&t);
 }
 
-/* ---- text ---------------------------------------------------------------------------- */
+/* ---- text ------------------------------------------------------------------------------------ */
 
 /* The font file itself, read here apart from the build's table: 95 glyphs, 16 rows. */
 static int read_hex_font(unsigned char glyphs[LG_FONT_COUNT][16])
@@ -284,7 +287,7 @@ static int read_hex_font(unsigned char glyphs[LG_FONT_COUNT][16])
             break;
         }
         for (int r = 0; r < 16; r++) {
-            char byte[3] = {bits[2 * r], bits[2 * r + 1], 0};
+            char byte[3] = { bits[2 * r], bits[2 * r + 1], 0 };
             glyphs[n][r] = (unsigned char)strtoul(byte, NULL, 16);
         }
         n++;
@@ -313,14 +316,18 @@ static int check_line(const target *t, unsigned char glyphs[LG_FONT_COUNT][16], 
                 continue;
             const unsigned char *p = at(t, x, y);
             int inside = x >= x0 && y >= y0 && x < x0 + n * cw && y < y0 + ch;
-            int on = inside && glyph_lit(glyphs, s[(x - x0) / cw], (x - x0) % cw / scale,
-                                         (y - y0) / scale);
+            int on = inside &&
+                     glyph_lit(glyphs, s[(x - x0) / cw], (x - x0) % cw / scale, (y - y0) / scale);
             for (int c = 0; c < 3; c++) {
                 int want = on ? want_rgb[c] : inside ? box : grey;
                 if (!CLOSE(p[c], want) && bad++ < 6)
-                    CHECKF(0, "'%s' at (%d, %d) scale %d: pixel (%d, %d) channel %d = %d, want %d "
-                           "(%s)", s, x0, y0, scale, x, y, c, p[c], want,
-                           on ? "glyph" : inside ? "box" : "outside");
+                    CHECKF(0,
+                           "'%s' at (%d, %d) scale %d: pixel (%d, %d) channel %d = %d, want %d "
+                           "(%s)",
+                           s, x0, y0, scale, x, y, c, p[c], want,
+                           on       ? "glyph"
+                           : inside ? "box"
+                                    : "outside");
             }
             lit += on;
         }
@@ -344,8 +351,8 @@ static void test_text(void)
     const int grey = unorm8(LG_VDISPLAY_CLEAR);
     const int box = unorm8(LG_VDISPLAY_CLEAR * (1.0f - LG_VDISPLAY_BOX_ALPHA));
     CHECK(box < grey);
-    const float rgb[3] = {1.0f, 0.5f, 0.0f};
-    const int want_rgb[3] = {255, 128, 0};
+    const float rgb[3] = { 1.0f, 0.5f, 0.0f };
+    const int want_rgb[3] = { 255, 128, 0 };
 
     fill_target(&t, LG_VDISPLAY_CLEAR);
     CHECKF(lg_vdisplay_draw_text(disp, t.fbo, FW, FH, 5, 7, "A|", rgb, 1) == 0, "%s",
@@ -403,7 +410,7 @@ static void test_text(void)
     free_target(&t);
 }
 
-/* ---- errors -------------------------------------------------------------------------- */
+/* ---- errors ---------------------------------------------------------------------------------- */
 
 static void expect_error(int rc, const char *what, const char *needle, target *t)
 {
@@ -419,14 +426,14 @@ static void expect_error(int rc, const char *what, const char *needle, target *t
 static void test_errors(void)
 {
     enum { W = 4, H = 4 };
-    float img[W * H * 4] = {0};
+    float img[W * H * 4] = { 0 };
     GLuint tex = make_texture(GL_RGBA32F, W, H, img);
     GLuint r32 = make_texture(GL_R32F, W, H, img);
     GLuint empty_fbo;
     gl->CreateFramebuffers(1, &empty_fbo);
     target t = make_target(W, H);
     fill_target(&t, 1.0f);
-    const float rgb[3] = {1, 1, 1}, bad_rgb[3] = {1, NAN, 1};
+    const float rgb[3] = { 1, 1, 1 }, bad_rgb[3] = { 1, NAN, 1 };
 
     expect_error(lg_vdisplay_draw_image(disp, t.fbo, W, H, tex, W, H, NAN), "exposure NaN",
                  "exposure nan", &t);

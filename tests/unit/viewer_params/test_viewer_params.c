@@ -29,80 +29,84 @@
 #include "base/util.h"
 #include "viewer/params.h"
 
-/* ---- the schema ------------------------------------------------------------------------ */
+/* ---- the schema ------------------------------------------------------------------------------ */
 
-static const lg_port_desc out_image[] = {{.name = "out", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc out_image[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
 static const lg_param_desc src_params[] = {
-    {.key = "seed", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 100},
+    { .key = "seed", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 100 },
 };
 
-static const lg_port_desc out_scene[] = {{.name = "scene", .kind = LG_KIND_SCENE}};
-static const lg_port_desc in_scene[] = {{.name = "scene", .kind = LG_KIND_SCENE}};
+static const lg_port_desc out_scene[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
+static const lg_port_desc in_scene[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
 static const lg_port_desc gbuf_outputs[] = {
-    {.name = "color", .kind = LG_KIND_IMAGE},
-    {.name = "depth", .kind = LG_KIND_IMAGE},
+    { .name = "color", .kind = LG_KIND_IMAGE },
+    { .name = "depth", .kind = LG_KIND_IMAGE },
 };
 
-static const char *const shading_values[] = {"flat", "gouraud", "phong", "mixed",
-                                             "phong_half", NULL};
-static const char *const albedo_words[] = {"material", "vertex", NULL};
+static const char *const shading_values[] = { "flat",  "gouraud",    "phong",
+                                              "mixed", "phong_half", NULL };
+static const char *const albedo_words[] = { "material", "vertex", NULL };
 static const lg_param_desc lit_params[] = {
-    {.key = "ks_scale", .type = LG_PARAM_INT, .def.i = 1, .min = 1, .max = 1000},
-    {.key = "ambient", .type = LG_PARAM_VEC3, .def.v = {0.3, 0.3, 0.3}, .min = 0, .max = 1e6},
-    {.key = "shading", .type = LG_PARAM_ENUM, .def.s = "phong", .enum_values = shading_values},
-    {.key = "shininess", .type = LG_PARAM_FLOAT, .def.f = 32, .min = 1, .max = 129},
-    {.key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 0},
-    {.key = "white", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6},
-    {.key = "enabled", .type = LG_PARAM_BOOL, .def.b = true},
-    {.key = "tint", .type = LG_PARAM_COLOR, .def.v = {1, 1, 1}, .min = 0, .max = 1},
-    {.key = "albedo", .type = LG_PARAM_COLOR, .def.e = 0, .enum_values = albedo_words,
-     .min = 0, .max = 1},
-    {.key = "label", .type = LG_PARAM_STRING, .def.s = "lit"},
-    {.key = "file", .type = LG_PARAM_PATH, .def.s = ""},
-    {.key = "grid", .type = LG_PARAM_INT3, .def.i3 = {8, 8, 8}, .min = 1, .max = 512},
-    {.key = "offset", .type = LG_PARAM_VEC2, .min = -10, .max = 10},
+    { .key = "ks_scale", .type = LG_PARAM_INT, .def.i = 1, .min = 1, .max = 1000 },
+    { .key = "ambient", .type = LG_PARAM_VEC3, .def.v = { 0.3, 0.3, 0.3 }, .min = 0, .max = 1e6 },
+    { .key = "shading", .type = LG_PARAM_ENUM, .def.s = "phong", .enum_values = shading_values },
+    { .key = "shininess", .type = LG_PARAM_FLOAT, .def.f = 32, .min = 1, .max = 129 },
+    { .key = "exposure", .type = LG_PARAM_FLOAT, .def.f = 0 },
+    { .key = "white", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1e6 },
+    { .key = "enabled", .type = LG_PARAM_BOOL, .def.b = true },
+    { .key = "tint", .type = LG_PARAM_COLOR, .def.v = { 1, 1, 1 }, .min = 0, .max = 1 },
+    { .key = "albedo",
+      .type = LG_PARAM_COLOR,
+      .def.e = 0,
+      .enum_values = albedo_words,
+      .min = 0,
+      .max = 1 },
+    { .key = "label", .type = LG_PARAM_STRING, .def.s = "lit" },
+    { .key = "file", .type = LG_PARAM_PATH, .def.s = "" },
+    { .key = "grid", .type = LG_PARAM_INT3, .def.i3 = { 8, 8, 8 }, .min = 1, .max = 512 },
+    { .key = "offset", .type = LG_PARAM_VEC2, .min = -10, .max = 10 },
 };
 static const lg_port_desc lit_inputs[] = {
-    {.name = "image", .kind = LG_KIND_IMAGE},
-    {.name = "scene", .kind = LG_KIND_SCENE, .optional = true},
-    {.name = "mask", .kind = LG_KIND_ANY, .optional = true},
+    { .name = "image", .kind = LG_KIND_IMAGE },
+    { .name = "scene", .kind = LG_KIND_SCENE, .optional = true },
+    { .name = "mask", .kind = LG_KIND_ANY, .optional = true },
 };
 
 static const lg_param_desc tone_params[] = {
-    {.key = "key", .type = LG_PARAM_FLOAT, .def.f = 0.18, .min = 0.001, .max = 100},
+    { .key = "key", .type = LG_PARAM_FLOAT, .def.f = 0.18, .min = 0.001, .max = 100 },
 };
-static const lg_port_desc in_image[] = {{.name = "image", .kind = LG_KIND_IMAGE}};
+static const lg_port_desc in_image[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
 
 static const lg_param_desc froxel_params[] = {
-    {.key = "slices", .type = LG_PARAM_INT, .def.i = 64, .min = 8, .max = 256},
+    { .key = "slices", .type = LG_PARAM_INT, .def.i = 64, .min = 8, .max = 256 },
 };
 static const lg_param_desc screen_params[] = {
-    {.key = "samples", .type = LG_PARAM_INT, .def.i = 8, .min = 1, .max = 64},
+    { .key = "samples", .type = LG_PARAM_INT, .def.i = 8, .min = 1, .max = 64 },
 };
 static const lg_port_desc vol_inputs[] = {
-    {.name = "image", .kind = LG_KIND_IMAGE},
-    {.name = "scene", .kind = LG_KIND_SCENE},
+    { .name = "image", .kind = LG_KIND_IMAGE },
+    { .name = "scene", .kind = LG_KIND_SCENE },
 };
 static const lg_port_desc vol_outputs[] = {
-    {.name = "out", .kind = LG_KIND_IMAGE},
-    {.name = "inscatter", .kind = LG_KIND_IMAGE},
+    { .name = "out", .kind = LG_KIND_IMAGE },
+    { .name = "inscatter", .kind = LG_KIND_IMAGE },
 };
 
 #define TYPE(n) .struct_size = sizeof(lg_node_type), .name = (n)
 static const lg_node_type types[] = {
-    {TYPE("src"), LG_PARAMS(src_params), LG_OUTPUTS(out_image)},
-    {TYPE("scene"), LG_OUTPUTS(out_scene)},
-    {TYPE("gbuf"), LG_INPUTS(in_scene), LG_OUTPUTS(gbuf_outputs)},
-    {TYPE("lit"), LG_PARAMS(lit_params), LG_INPUTS(lit_inputs), LG_OUTPUTS(out_image)},
-    {TYPE("tone"), LG_PARAMS(tone_params), LG_INPUTS(in_image), LG_OUTPUTS(out_image)},
-    {TYPE("vol_froxel"), LG_PARAMS(froxel_params), LG_INPUTS(vol_inputs),
-     LG_OUTPUTS(vol_outputs)},
-    {TYPE("vol_screen"), LG_PARAMS(screen_params), LG_INPUTS(vol_inputs),
-     LG_OUTPUTS(vol_outputs)},
+    { TYPE("src"), LG_PARAMS(src_params), LG_OUTPUTS(out_image) },
+    { TYPE("scene"), LG_OUTPUTS(out_scene) },
+    { TYPE("gbuf"), LG_INPUTS(in_scene), LG_OUTPUTS(gbuf_outputs) },
+    { TYPE("lit"), LG_PARAMS(lit_params), LG_INPUTS(lit_inputs), LG_OUTPUTS(out_image) },
+    { TYPE("tone"), LG_PARAMS(tone_params), LG_INPUTS(in_image), LG_OUTPUTS(out_image) },
+    { TYPE("vol_froxel"), LG_PARAMS(froxel_params), LG_INPUTS(vol_inputs),
+      LG_OUTPUTS(vol_outputs) },
+    { TYPE("vol_screen"), LG_PARAMS(screen_params), LG_INPUTS(vol_inputs),
+      LG_OUTPUTS(vol_outputs) },
 };
 #define N_TYPES (sizeof types / sizeof types[0])
-static const char *const type_names[N_TYPES] = {"src", "scene", "gbuf", "lit", "tone",
-                                                "vol_froxel", "vol_screen"};
+static const char *const type_names[N_TYPES] = { "src",  "scene",      "gbuf",      "lit",
+                                                 "tone", "vol_froxel", "vol_screen" };
 
 static const lg_node_type *lookup(void *ctx, const char *name)
 {
@@ -113,9 +117,9 @@ static const lg_node_type *lookup(void *ctx, const char *name)
     return NULL;
 }
 
-static const lg_schema schema = {.lookup = lookup, .n_names = N_TYPES, .names = type_names};
+static const lg_schema schema = { .lookup = lookup, .n_names = N_TYPES, .names = type_names };
 
-/* ---- a viewer session without a window ------------------------------------------------ */
+/* ---- a viewer session without a window ------------------------------------------------------- */
 
 /* The graph text, the overrides made so far, and the graph as the viewer has it now. */
 typedef struct world {
@@ -140,7 +144,7 @@ static void drop(world *w)
 static bool rebuild(world *w)
 {
     drop(w);
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     w->g = lg_graph_parse_string("test.lgraph", w->text, strlen(w->text), NULL, &d);
     for (uint32_t i = 0; w->g && i < w->ov.n; i++)
         lg_graph_set(w->g, w->ov.items[i], &d);
@@ -270,8 +274,7 @@ static void step_expect(const char *file, int line, world *w, int dir, double sc
         return;
     }
     selected_name(w, after, sizeof after);
-    CHECKF(strcmp(before, after) == 0, "%s:%d: selection %s became %s", file, line, before,
-           after);
+    CHECKF(strcmp(before, after) == 0, "%s:%d: selection %s became %s", file, line, before, after);
 }
 #define STEP(w, dir, scale, want) step_expect(__FILE__, __LINE__, w, dir, scale, want, NULL)
 #define REFUSE(w, dir, scale, why) step_expect(__FILE__, __LINE__, w, dir, scale, NULL, why)
@@ -281,7 +284,7 @@ static bool near(double a, double b)
     return fabs(a - b) <= 1e-9 * (1 + fabs(b));
 }
 
-/* ---- stepping ------------------------------------------------------------------------- */
+/* ---- stepping -------------------------------------------------------------------------------- */
 
 static const char *const lit_graph =
     "lightgraph 1\n"
@@ -363,7 +366,7 @@ static void test_enum_bool(void)
     STEP(&w, -1, 10, "l.shading=mixed"); /* one value at a time whatever the scale */
     CHECK(param(&w, "l", "shading")->e == 3);
     CHECK(strcmp(param(&w, "l", "shading")->s, "mixed") == 0);
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_vparams_describe(w.vp, w.c, &s);
     CHECKF(strcmp(s.s, "l (lit) 5/22  shading = mixed  {flat gouraud phong mixed phong_half}") == 0,
            "%s", s.s);
@@ -382,10 +385,11 @@ static void test_vectors(void)
     world w;
     CHECK(open_world(&w, lit_graph));
     CHECK(select_entry(&w, "l.ambient[1]"));
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_vparams_describe(w.vp, w.c, &s);
     CHECKF(strcmp(s.s, "l (lit) 3/22  ambient[1] = 0.3 of [0.3, 0.3, 0.3] (default)  "
-                       "[0, 1e6]") == 0, "%s", s.s);
+                       "[0, 1e6]") == 0,
+           "%s", s.s);
     lg_str_free(&s);
     STEP(&w, +1, 1, "l.ambient=[0.3, 0.33, 0.3]");
     const lg_value *v = param(&w, "l", "ambient");
@@ -420,7 +424,7 @@ static void test_vectors(void)
     close_world(&w);
 }
 
-/* ---- inputs --------------------------------------------------------------------------- */
+/* ---- inputs ---------------------------------------------------------------------------------- */
 
 static void test_inputs(void)
 {
@@ -459,14 +463,14 @@ static void test_inputs(void)
     /* u reads t which reads l: for t.image everything but t and u */
     CHECK(select_entry(&w, "t.image"));
     STEP(&w, -1, 1, "t.image=g.depth");
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_vparams_describe(w.vp, w.c, &s);
     CHECKF(strcmp(s.s, "t (tone) 2/2  image <- g.depth  (image)") == 0, "%s", s.s);
     lg_str_free(&s);
     close_world(&w);
 }
 
-/* ---- method switching ------------------------------------------------------------------ */
+/* ---- method switching ------------------------------------------------------------------------ */
 
 static const char *const methods_graph =
     "lightgraph 1\n"
@@ -476,7 +480,7 @@ static const char *const methods_graph =
     "vol_froxel = vol_froxel { image = lit, scene = sc }\n"
     "vol_screen = vol_screen { image = lit, scene = sc }\n"
     "vol_fine = vol_froxel { image = lit, scene = sc, slices = 128 }\n"
-    "vol_other = vol_screen { image = a, scene = sc }\n"  /* other sources */
+    "vol_other = vol_screen { image = a, scene = sc }\n" /* other sources */
     "tone = tone { image = vol_froxel }\n"
     "bloom = tone { image = vol_froxel.inscatter }\n";
 
@@ -493,8 +497,8 @@ static int32_t switch_apply(world *w, const char *shown, int dir, const char *wa
     CHECKF(r == 1, "%s", err);
     if (r != 1)
         return -2;
-    CHECKF(n == 2 && strcmp(as[0], want0) == 0 && strcmp(as[1], want1) == 0, "got %u: %s, %s",
-           n, n > 0 ? as[0] : "", n > 1 ? as[1] : "");
+    CHECKF(n == 2 && strcmp(as[0], want0) == 0 && strcmp(as[1], want1) == 0, "got %u: %s, %s", n,
+           n > 0 ? as[0] : "", n > 1 ? as[1] : "");
     CHECK(new_shown == -1);
     for (uint32_t i = 0; i < n; i++) {
         lg_overrides_set(&w->ov, as[i]);
@@ -516,11 +520,9 @@ static void test_switch(void)
     CHECK(switch_apply(&w, "tone", +1, "tone.image=vol_screen.out",
                        "bloom.image=vol_screen.inscatter") == froxel);
     switch_apply(&w, "tone", +1, "tone.image=vol_fine.out", "bloom.image=vol_fine.inscatter");
-    switch_apply(&w, "tone", +1, "tone.image=vol_froxel.out",
-                 "bloom.image=vol_froxel.inscatter");
+    switch_apply(&w, "tone", +1, "tone.image=vol_froxel.out", "bloom.image=vol_froxel.inscatter");
     switch_apply(&w, "tone", -1, "tone.image=vol_fine.out", "bloom.image=vol_fine.inscatter");
-    switch_apply(&w, "tone", -1, "tone.image=vol_screen.out",
-                 "bloom.image=vol_screen.inscatter");
+    switch_apply(&w, "tone", -1, "tone.image=vol_screen.out", "bloom.image=vol_screen.inscatter");
     CHECK(w.ov.n == 2); /* replaced in place */
 
     /* the shown node itself switching: no consumer, the viewer shows the other */
@@ -560,14 +562,14 @@ static void test_switch(void)
     close_world(&w);
 }
 
-/* ---- overrides ------------------------------------------------------------------------ */
+/* ---- overrides ------------------------------------------------------------------------------- */
 
 static char *shell_echo(const char *args)
 {
     char *cmd = lg_xasprintf("printf '%%s\\n' %s", args);
     /* sh -c CMD: the shell parses the arguments exactly as a user's would */
     char *full = NULL;
-    lg_str q = {0};
+    lg_str q = { 0 };
     lg_str_add(&q, "sh -c '");
     for (const char *p = cmd; *p; p++) {
         if (*p == '\'')
@@ -580,7 +582,7 @@ static char *shell_echo(const char *args)
     free(cmd);
     FILE *f = popen(full, "r");
     free(full);
-    lg_str out = {0};
+    lg_str out = { 0 };
     char buf[256];
     size_t k;
     while (f && (k = fread(buf, 1, sizeof buf, f)) > 0)
@@ -591,7 +593,7 @@ static char *shell_echo(const char *args)
 
 static void test_overrides(void)
 {
-    lg_overrides o = {0};
+    lg_overrides o = { 0 };
     char *s = lg_overrides_args(&o);
     CHECK(strcmp(s, "") == 0);
     free(s);
@@ -603,10 +605,12 @@ static void test_overrides(void)
     CHECK(strcmp(o.items[0], " lit.shading = phong") == 0);
     s = lg_overrides_args(&o);
     CHECKF(strcmp(s, "--set ' lit.shading = phong' --set 'sun.direction=[0.4, -0.25, 1]' "
-                     "--set 'lit.label=it'\\''s'") == 0, "%s", s);
+                     "--set 'lit.label=it'\\''s'") == 0,
+           "%s", s);
     char *echo = shell_echo(s);
     CHECKF(strcmp(echo, "--set\n lit.shading = phong\n--set\nsun.direction=[0.4, -0.25, 1]\n"
-                        "--set\nlit.label=it's\n") == 0, "%s", echo);
+                        "--set\nlit.label=it's\n") == 0,
+           "%s", echo);
     free(echo);
     free(s);
 
@@ -618,7 +622,8 @@ static void test_overrides(void)
     lg_overrides_set(&o, "lit.shading=mixed");
     s = lg_overrides_args(&o);
     CHECKF(strcmp(s, "--set lit.shading=mixed --set 'sun.direction=[0.4, -0.25, 1]' "
-                     "--set a.b=1") == 0, "%s", s);
+                     "--set a.b=1") == 0,
+           "%s", s);
     free(s);
     for (int i = 0; i < 10; i++)
         lg_overrides_remove_last(&o); /* more than there is: stops at none */
@@ -636,7 +641,7 @@ static void test_overrides(void)
     CHECK(o.n == 0 && o.items == NULL);
 }
 
-/* ---- sync across edits ---------------------------------------------------------------- */
+/* ---- sync across edits ----------------------------------------------------------------------- */
 
 static void test_sync(void)
 {
@@ -668,7 +673,7 @@ static void test_sync(void)
     CHECKF(lg_vparams_node(w.vp) && strcmp(lg_vparams_node(w.vp), "t") == 0, "%s",
            lg_vparams_node(w.vp));
     /* only offered nodes are listed; the node moves keep the entry's key */
-    bool offer[3] = {true, false, true};
+    bool offer[3] = { true, false, true };
     lg_vparams_sync(w.vp, w.g, w.c, offer);
     CHECK(strcmp(lg_vparams_node(w.vp), "t") == 0);
     lg_vparams_next_node(w.vp, +1);
@@ -685,7 +690,7 @@ static void test_sync(void)
     lg_checked *old = w.c;
     w.c = NULL;
     w.text = "lightgraph 1\nz = tone { image = y }\ny = src {}\n";
-    lg_diags d = {0};
+    lg_diags d = { 0 };
     lg_graph *g2 = lg_graph_parse_string("x.lgraph", w.text, strlen(w.text), NULL, &d);
     lg_checked *c2 = lg_graph_check(g2, &schema, &d);
     CHECK(c2 && d.errors == 0);
@@ -701,7 +706,7 @@ static void test_sync(void)
     CHECK(lg_vparams_node(empty) == NULL);
     CHECK(!lg_vparams_step(empty, w.g, w.c, +1, 1, err, sizeof err));
     CHECK(strstr(err, "nothing selected"));
-    lg_str s = {0};
+    lg_str s = { 0 };
     lg_vparams_describe(empty, w.c, &s);
     CHECK(strcmp(s.s, "nothing to edit") == 0);
     lg_str_free(&s);

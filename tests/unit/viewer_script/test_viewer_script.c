@@ -46,8 +46,8 @@ static void expect_error_at(int at, const char *text, size_t n, unsigned line, c
     int rc = lg_script_load(path, &s, err, sizeof err);
     snprintf(prefix, sizeof prefix, "%s:%u: ", path, line);
     if (rc != -1 || strncmp(err, prefix, strlen(prefix)) != 0 || !strstr(err, want)) {
-        fprintf(stderr, "test line %d: expected '%s...%s', got rc %d: %s\n", at, prefix, want,
-                rc, rc ? err : "(loaded)");
+        fprintf(stderr, "test line %d: expected '%s...%s', got rc %d: %s\n", at, prefix, want, rc,
+                rc ? err : "(loaded)");
         check_failures++;
     }
     CHECK(s.ev == NULL && s.n == 0 && s.path == NULL); /* zeroed on failure */
@@ -66,32 +66,31 @@ static int load(const char *text, lg_script *s)
 
 static void test_events(void)
 {
-    const char *text =
-        "# a comment line, then a blank one\n"
-        "\n"
-        "wait_frames 3\n"
-        "key A   # a trailing comment\n"
-        "\tkey ctrl+shift+RIGHT\n"
-        "key f5\n"
-        "hold w 30\n"
-        "drag 120 -40\n"
-        "drag -5.5 2 right from 10 20\n"
-        "drag 1 1 middle\n"
-        "drag 1 1 from 0 0\n"
-        "scroll -1.5\n"
-        "screenshot shots/a.png\n"
-        "screenshot /abs/b.EXR\n"
-        "screenshot_window win.png\n"
-        "set lit.shading = gouraud\n"
-        "set sun.direction=[0.6, -0.5, 1]\n"
-        "wait_reload\n"
-        "wait_reload 2.5\n"
-        "expect_ok\n"
-        "expect_error\n"
-        "expect_error  cannot open 'x.glb'  \n"
-        "shell touch a.txt && echo \"a#b\" > b.txt   # cut here\n"
-        "sleep 0.25\n"
-        "quit\r\n";
+    const char *text = "# a comment line, then a blank one\n"
+                       "\n"
+                       "wait_frames 3\n"
+                       "key A   # a trailing comment\n"
+                       "\tkey ctrl+shift+RIGHT\n"
+                       "key f5\n"
+                       "hold w 30\n"
+                       "drag 120 -40\n"
+                       "drag -5.5 2 right from 10 20\n"
+                       "drag 1 1 middle\n"
+                       "drag 1 1 from 0 0\n"
+                       "scroll -1.5\n"
+                       "screenshot shots/a.png\n"
+                       "screenshot /abs/b.EXR\n"
+                       "screenshot_window win.png\n"
+                       "set lit.shading = gouraud\n"
+                       "set sun.direction=[0.6, -0.5, 1]\n"
+                       "wait_reload\n"
+                       "wait_reload 2.5\n"
+                       "expect_ok\n"
+                       "expect_error\n"
+                       "expect_error  cannot open 'x.glb'  \n"
+                       "shell touch a.txt && echo \"a#b\" > b.txt   # cut here\n"
+                       "sleep 0.25\n"
+                       "quit\r\n";
     lg_script s;
     if (load(text, &s) != 0) {
         check_failures++;
@@ -160,11 +159,12 @@ static void test_keys(void)
     CHECK(lg_script_key("") == -1 && lg_script_key(NULL) == -1 && lg_script_key("!") == -1);
     CHECK(lg_script_key("KP_0") == -1 && lg_script_key("SHIFT") == -1);
     /* every listed name round-trips through its code */
-    const char *names[] = {"TAB", "ENTER", "ESCAPE", "SPACE", "BACKSPACE", "LEFT", "RIGHT", "UP",
-                           "DOWN", "PAGE_UP", "PAGE_DOWN", "HOME", "END", "LEFT_BRACKET",
-                           "RIGHT_BRACKET", "MINUS", "EQUAL", "COMMA", "PERIOD", "SLASH",
-                           "BACKSLASH", "SEMICOLON", "APOSTROPHE", "GRAVE_ACCENT", "Q", "7",
-                           "F9", "F10"};
+    const char *names[] = { "TAB",       "ENTER",     "ESCAPE",     "SPACE",        "BACKSPACE",
+                            "LEFT",      "RIGHT",     "UP",         "DOWN",         "PAGE_UP",
+                            "PAGE_DOWN", "HOME",      "END",        "LEFT_BRACKET", "RIGHT_BRACKET",
+                            "MINUS",     "EQUAL",     "COMMA",      "PERIOD",       "SLASH",
+                            "BACKSLASH", "SEMICOLON", "APOSTROPHE", "GRAVE_ACCENT", "Q",
+                            "7",         "F9",        "F10" };
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         int k = lg_script_key(names[i]);
         const char *back = lg_script_key_name(k);
@@ -190,15 +190,18 @@ static void test_keys(void)
 static void test_errors(void)
 {
     EXPECT_ERROR("wait_frames 1\nzoom 3\n", 2, "unknown event 'zoom' (expected wait_frames");
-    EXPECT_ERROR("wait_frames x\n", 1, "wait_frames: expected N (frames), a whole number from 1 "
-                                       "to 1000000, found 'x'");
+    EXPECT_ERROR("wait_frames x\n", 1,
+                 "wait_frames: expected N (frames), a whole number from 1 "
+                 "to 1000000, found 'x'");
     EXPECT_ERROR("\n\nwait_frames 0\n", 3, "found '0'");
     EXPECT_ERROR("wait_frames 2.5\n", 1, "a whole number");
     EXPECT_ERROR("wait_frames 1e9\n", 1, "found '1e9'");
-    EXPECT_ERROR("wait_frames\n", 1, "wait_frames: expected N (frames) after 'wait_frames', found "
-                                     "the end of the line");
-    EXPECT_ERROR("hold W -3\n", 1, "hold: expected FRAMES, a whole number from 1 to 1000000, "
-                                   "found '-3'");
+    EXPECT_ERROR("wait_frames\n", 1,
+                 "wait_frames: expected N (frames) after 'wait_frames', found "
+                 "the end of the line");
+    EXPECT_ERROR("hold W -3\n", 1,
+                 "hold: expected FRAMES, a whole number from 1 to 1000000, "
+                 "found '-3'");
     EXPECT_ERROR("hold W\n", 1, "hold: expected FRAMES after 'hold'");
     EXPECT_ERROR("key\n", 1, "key: expected a key name");
     EXPECT_ERROR("key A\nkey PAGEUP\n", 2, "key: unknown key 'PAGEUP' (A-Z, 0-9, F1-F12, TAB");
@@ -206,27 +209,31 @@ static void test_errors(void)
     EXPECT_ERROR("key ctrl+\n", 1, "key: expected a key name after the last '+'");
     EXPECT_ERROR("key A B\n", 1, "key: expected the end of the line, found 'B'");
     EXPECT_ERROR("drag 1\n", 1, "drag: expected DY (pixels) after 'drag'");
-    EXPECT_ERROR("drag 1 nan\n", 1, "drag: expected DY (pixels), a number from -1e+06 to 1e+06, "
-                                    "found 'nan'");
+    EXPECT_ERROR("drag 1 nan\n", 1,
+                 "drag: expected DY (pixels), a number from -1e+06 to 1e+06, "
+                 "found 'nan'");
     EXPECT_ERROR("drag 1 inf\n", 1, "found 'inf'");
     EXPECT_ERROR("drag 0x10 1\n", 1, "found '0x10'");
     EXPECT_ERROR("drag 1 2 up\n", 1, "drag: unknown button 'up' (left, right or middle)");
-    EXPECT_ERROR("drag 1 2 left right\n", 1, "drag: expected 'from X Y' or the end of the line, "
-                                             "found 'right'");
+    EXPECT_ERROR("drag 1 2 left right\n", 1,
+                 "drag: expected 'from X Y' or the end of the line, "
+                 "found 'right'");
     EXPECT_ERROR("drag 1 2 from 3\n", 1, "drag ... from: expected Y (window pixels)");
     EXPECT_ERROR("drag 1 2 from -3 4\n", 1, "found '-3'");
     EXPECT_ERROR("drag 1 2 from 3 4 left\n", 1, "drag: expected the end of the line, found 'left'");
     EXPECT_ERROR("scroll\n", 1, "scroll: expected D (wheel clicks)");
     EXPECT_ERROR("scroll 1e5\n", 1, "a number from -1000 to 1000, found '1e5'");
     EXPECT_ERROR("scroll 1 2\n", 1, "scroll: expected the end of the line, found '2'");
-    EXPECT_ERROR("screenshot\n", 1, "screenshot: expected a path ending in .png (display) or "
-                                    ".exr (linear), found the end of the line");
+    EXPECT_ERROR("screenshot\n", 1,
+                 "screenshot: expected a path ending in .png (display) or "
+                 ".exr (linear), found the end of the line");
     EXPECT_ERROR("screenshot a.jpg\n", 1, "found 'a.jpg'");
     EXPECT_ERROR("screenshot .png\n", 1, "found '.png'");
     EXPECT_ERROR("screenshot dir/.exr\n", 1, "found 'dir/.exr'");
     EXPECT_ERROR("screenshot a.png b.png\n", 1, "expected the end of the line, found 'b.png'");
-    EXPECT_ERROR("screenshot_window a.exr\n", 1, "screenshot_window: expected a path ending in "
-                                                 ".png, found 'a.exr'");
+    EXPECT_ERROR("screenshot_window a.exr\n", 1,
+                 "screenshot_window: expected a path ending in "
+                 ".png, found 'a.exr'");
     EXPECT_ERROR("set\n", 1, "set: expected NODE.PARAM=VALUE");
     EXPECT_ERROR("set lit.shading\n", 1, "(no '=')");
     EXPECT_ERROR("set lit=3\n", 1, "set: expected NODE.PARAM before '='");

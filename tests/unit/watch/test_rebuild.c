@@ -63,7 +63,7 @@ static int wait_done(lg_rebuild *r, int *status, const char **log, double *elaps
     double t0 = lg_mono_now();
     int done = 0;
     while (!(done = lg_rebuild_poll(r, status, log)) && lg_mono_now() - t0 < 10)
-        nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
+        nanosleep(&(struct timespec){ 0, 10 * 1000 * 1000 }, NULL);
     if (elapsed)
         *elapsed = lg_mono_now() - t0;
     return done;
@@ -131,8 +131,9 @@ static void test_signal(void)
 static void test_tail(void)
 {
     /* 10000 lines of 11 bytes (110000), then the last line */
-    char *s = script("loud.sh", "i=0\nwhile [ $i -lt 10000 ]; do echo 0123456789; i=$((i+1)); done\n"
-                                "echo 'the last line'");
+    char *s = script("loud.sh",
+                     "i=0\nwhile [ $i -lt 10000 ]; do echo 0123456789; i=$((i+1)); done\n"
+                     "echo 'the last line'");
     lg_rebuild *r = start(s);
     int status = -1;
     const char *log = NULL;
@@ -186,7 +187,7 @@ static void free_running(const char *name, const char *body, double max_s)
             fclose(f);
         }
         if (!child)
-            nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
+            nanosleep(&(struct timespec){ 0, 10 * 1000 * 1000 }, NULL);
     }
     CHECKF(child > 0, "%s: the script did not start its child", name);
     CHECK(lg_rebuild_poll(r, NULL, NULL) == 0);
@@ -202,7 +203,7 @@ static void free_running(const char *name, const char *body, double max_s)
     if (child > 0) {
         double t2 = lg_mono_now();
         while (alive(child) && lg_mono_now() - t2 < 5)
-            nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
+            nanosleep(&(struct timespec){ 0, 10 * 1000 * 1000 }, NULL);
         CHECKF(!alive(child), "%s: the build's child %d still runs", name, (int)child);
     }
 out:
@@ -251,8 +252,7 @@ static void test_dev_dirs(void)
     char *dir = lg_rebuild_dev_build_dir();
     char *shaders = lg_rebuild_dev_shader_dir();
     if (build && realpath(build, want))
-        CHECKF(dir && strcmp(dir, want) == 0, "build dir %s, want %s", dir ? dir : "(null)",
-               want);
+        CHECKF(dir && strcmp(dir, want) == 0, "build dir %s, want %s", dir ? dir : "(null)", want);
     else
         CHECKF(build, "LG_BUILD_ROOT is not set (run through meson test)");
     if (source && realpath(source, src)) {

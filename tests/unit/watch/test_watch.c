@@ -101,16 +101,16 @@ static int poll_at(lg_watch *w, double dt, lg_watch_change **c)
 }
 
 /* Polls at T + dt and expects exactly the files `rels` (sorted) with tags `tags`. */
-static void expect_at(lg_watch *w, double dt, const char *what, int n_want,
-                      const char *const *rels, const int *tags)
+static void expect_at(lg_watch *w, double dt, const char *what, int n_want, const char *const *rels,
+                      const int *tags)
 {
     lg_watch_change *c;
     int n = poll_at(w, dt, &c);
     CHECKF(n == n_want, "%s at +%.2f s: %d changes, want %d", what, dt, n, n_want);
     for (int i = 0; i < n && i < n_want; i++) {
         char *want = at(rels[i]);
-        CHECKF(strcmp(c[i].path, want) == 0, "%s: change %d is %s, want %s", what, i,
-               c[i].path, want);
+        CHECKF(strcmp(c[i].path, want) == 0, "%s: change %d is %s, want %s", what, i, c[i].path,
+               want);
         CHECKF(c[i].tag == tags[i], "%s: %s has tag %d, want %d", what, c[i].path, c[i].tag,
                tags[i]);
         free(want);
@@ -148,7 +148,7 @@ static lg_watch *open_watch(void)
 
 static void watch_files(lg_watch *w, int tag, uint32_t n, const char *const *rels)
 {
-    char *abs[8] = {0};
+    char *abs[8] = { 0 };
     for (uint32_t i = 0; i < n; i++)
         abs[i] = at(rels[i]);
     char err[512] = "";
@@ -158,7 +158,7 @@ static void watch_files(lg_watch *w, int tag, uint32_t n, const char *const *rel
         free(abs[i]);
 }
 
-/* ---- single files ------------------------------------------------------------------ */
+/* ---- single files ---------------------------------------------------------------------------- */
 
 static void test_single_files(void)
 {
@@ -167,7 +167,7 @@ static void test_single_files(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *files[] = {"single/a.lgraph", "single/later.lgraph"};
+    const char *files[] = { "single/a.lgraph", "single/later.lgraph" };
     watch_files(w, LG_WATCH_GRAPH, 2, files);
     expect_none(w, 0, "nothing written yet");
 
@@ -249,7 +249,7 @@ static void test_single_files(void)
     /* a symbolic link appearing is complete at once (no close follows) */
     T += 10;
     char *target = at("single/a.lgraph"), *link = at("single/link.lgraph");
-    const char *with_link[] = {"single/link.lgraph"};
+    const char *with_link[] = { "single/link.lgraph" };
     watch_files(w, LG_WATCH_PLUGIN, 1, with_link);
     CHECK(symlink(target, link) == 0);
     seen(w);
@@ -262,7 +262,7 @@ static void test_single_files(void)
     lg_watch_close(&w); /* NULL is fine */
 }
 
-/* ---- which files ------------------------------------------------------------------- */
+/* ---- which files ----------------------------------------------------------------------------- */
 
 static void test_only_listed(void)
 {
@@ -270,7 +270,7 @@ static void test_only_listed(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *one[] = {"two/a.txt"};
+    const char *one[] = { "two/a.txt" };
     watch_files(w, LG_WATCH_GRAPH, 1, one);
     T += 10;
     write_at("two/a.txt", "a");
@@ -279,7 +279,7 @@ static void test_only_listed(void)
     expect_one(w, 0.25, "only_listed", "two/a.txt", LG_WATCH_GRAPH);
 
     /* several files, written in reverse order, many events each: sorted, once each */
-    const char *three[] = {"two/c.txt", "two/a.txt", "two/b.txt"};
+    const char *three[] = { "two/c.txt", "two/a.txt", "two/b.txt" };
     watch_files(w, LG_WATCH_GRAPH, 3, three);
     T += 10;
     for (int k = 0; k < 3; k++) {
@@ -288,8 +288,8 @@ static void test_only_listed(void)
         write_at("two/b.txt", "b");
         write_at("two/a.txt", "a");
     }
-    const char *want[] = {"two/a.txt", "two/b.txt", "two/c.txt"};
-    const int tags[] = {LG_WATCH_GRAPH, LG_WATCH_GRAPH, LG_WATCH_GRAPH};
+    const char *want[] = { "two/a.txt", "two/b.txt", "two/c.txt" };
+    const int tags[] = { LG_WATCH_GRAPH, LG_WATCH_GRAPH, LG_WATCH_GRAPH };
     seen(w);
     expect_at(w, 0.25, "sorted", 3, want, tags);
     expect_none(w, 1.0, "sorted: once");
@@ -303,7 +303,7 @@ static void test_tree(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *suffixes[] = {".glsl", ".cl"};
+    const char *suffixes[] = { ".glsl", ".cl" };
     char *root = at("tree");
     char err[512] = "";
     CHECKF(lg_watch_tree(w, LG_WATCH_SHADER, root, suffixes, 2, true, err, sizeof err) == 0,
@@ -315,8 +315,8 @@ static void test_tree(void)
     write_at("tree/x.txt", "not a shader");
     write_at("tree/x.glsl.swp", "an editor's swap file");
     write_at("tree/old/k.cl", "k");
-    const char *want1[] = {"tree/old/k.cl", "tree/x.glsl"};
-    const int tags1[] = {LG_WATCH_SHADER, LG_WATCH_SHADER};
+    const char *want1[] = { "tree/old/k.cl", "tree/x.glsl" };
+    const int tags1[] = { LG_WATCH_SHADER, LG_WATCH_SHADER };
     seen(w);
     expect_at(w, 0.25, "tree: suffixes", 2, want1, tags1);
 
@@ -326,8 +326,7 @@ static void test_tree(void)
     expect_none(w, 0, "tree: the new directory itself");
     write_at("tree/sub/y.glsl", "y");
     seen(w);
-    expect_one(w, 0.25, "tree: a file in a new subdirectory", "tree/sub/y.glsl",
-               LG_WATCH_SHADER);
+    expect_one(w, 0.25, "tree: a file in a new subdirectory", "tree/sub/y.glsl", LG_WATCH_SHADER);
     /* ... and one made with its files before anybody polled: found when it is watched */
     T += 10;
     mkdir_at("tree/fast");
@@ -342,7 +341,7 @@ static void test_tree(void)
                LG_WATCH_SHADER);
 
     /* a file both listed and in the tree: one change, the tags OR'ed */
-    const char *listed[] = {"tree/x.glsl"};
+    const char *listed[] = { "tree/x.glsl" };
     watch_files(w, LG_WATCH_GRAPH, 1, listed);
     T += 10;
     write_at("tree/x.glsl", "x again");
@@ -357,8 +356,8 @@ static void test_tree(void)
     T += 10;
     write_at("plugins/libfoo.so", "ELF");
     write_at("tree/sub/y.glsl", "y again");
-    const char *want2[] = {"plugins/libfoo.so", "tree/sub/y.glsl"};
-    const int tags2[] = {LG_WATCH_PLUGIN, LG_WATCH_SHADER};
+    const char *want2[] = { "plugins/libfoo.so", "tree/sub/y.glsl" };
+    const int tags2[] = { LG_WATCH_PLUGIN, LG_WATCH_SHADER };
     seen(w);
     expect_at(w, 0.25, "tree: two trees", 2, want2, tags2);
     free(plugins);
@@ -376,19 +375,19 @@ static void test_replace(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *first[] = {"rep/d1/a", "rep/d1/b"};
+    const char *first[] = { "rep/d1/a", "rep/d1/b" };
     watch_files(w, LG_WATCH_GRAPH, 2, first);
-    const char *other[] = {"rep/d2/p.so"};
+    const char *other[] = { "rep/d2/p.so" };
     watch_files(w, LG_WATCH_PLUGIN, 1, other);
-    const char *second[] = {"rep/d2/c"};
+    const char *second[] = { "rep/d2/c" };
     watch_files(w, LG_WATCH_GRAPH, 1, second); /* replaces a and b, keeps the plugin file */
     T += 10;
     write_at("rep/d1/a", "a");
     write_at("rep/d1/b", "b");
     write_at("rep/d2/c", "c");
     write_at("rep/d2/p.so", "p");
-    const char *want[] = {"rep/d2/c", "rep/d2/p.so"};
-    const int tags[] = {LG_WATCH_GRAPH, LG_WATCH_PLUGIN};
+    const char *want[] = { "rep/d2/c", "rep/d2/p.so" };
+    const int tags[] = { LG_WATCH_GRAPH, LG_WATCH_PLUGIN };
     seen(w);
     expect_at(w, 0.25, "replace: files", 2, want, tags);
 
@@ -413,7 +412,7 @@ static void test_replace(void)
     lg_watch_close(&w);
 }
 
-/* ---- errors and hard cases ---------------------------------------------------------- */
+/* ---- errors and hard cases ------------------------------------------------------------------- */
 
 static void test_missing(void)
 {
@@ -421,12 +420,12 @@ static void test_missing(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *good[] = {"miss/f"};
+    const char *good[] = { "miss/f" };
     watch_files(w, LG_WATCH_GRAPH, 1, good);
 
     char *bad = at("miss/nodir/f.lgraph");
     char *bad_dir = at("miss/nodir");
-    const char *paths[] = {bad};
+    const char *paths[] = { bad };
     char err[512] = "";
     CHECK(lg_watch_files(w, LG_WATCH_GRAPH, paths, 1, err, sizeof err) == -1);
     CHECKF(strstr(err, bad_dir) && strstr(err, "no such directory"), "err: %s", err);
@@ -458,7 +457,7 @@ static void test_dir_back(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *files[] = {"gone/d/f"};
+    const char *files[] = { "gone/d/f" };
     watch_files(w, LG_WATCH_GRAPH, 1, files);
     T += 10;
     unlink_at("gone/d/f");
@@ -501,10 +500,10 @@ static void test_overflow(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *files[] = {"flood/keep.txt"};
+    const char *files[] = { "flood/keep.txt" };
     watch_files(w, LG_WATCH_GRAPH, 1, files);
     char *flood = at("flood");
-    const char *suffixes[] = {".glsl"};
+    const char *suffixes[] = { ".glsl" };
     char err[512] = "";
     CHECK(lg_watch_tree(w, LG_WATCH_SHADER, flood, suffixes, 1, true, err, sizeof err) == 0);
     write_at("flood/s.glsl", "s");
@@ -523,8 +522,8 @@ static void test_overflow(void)
     free(pa);
     free(pb);
     T += 10;
-    const char *want[] = {"flood/keep.txt", "flood/s.glsl"};
-    const int tags[] = {LG_WATCH_GRAPH, LG_WATCH_SHADER};
+    const char *want[] = { "flood/keep.txt", "flood/s.glsl" };
+    const int tags[] = { LG_WATCH_GRAPH, LG_WATCH_SHADER };
     seen(w);
     expect_at(w, 0.25, "overflow: every registered file", 2, want, tags);
     expect_none(w, 1.0, "overflow: once");
@@ -542,7 +541,7 @@ static void test_real_clock(void)
     lg_watch *w = open_watch();
     if (!w)
         return;
-    const char *files[] = {"real/g.lgraph"};
+    const char *files[] = { "real/g.lgraph" };
     watch_files(w, LG_WATCH_GRAPH, 1, files);
     char err[512] = "";
     lg_watch_change *c = NULL;
@@ -555,11 +554,10 @@ static void test_real_clock(void)
         t1 = lg_mono_now();
         n = lg_watch_poll(w, t1, 0.1, &c, err, sizeof err);
         if (n == 0)
-            nanosleep(&(struct timespec){0, 10 * 1000 * 1000}, NULL);
+            nanosleep(&(struct timespec){ 0, 10 * 1000 * 1000 }, NULL);
     }
     CHECKF(n == 1, "real_clock: %d changes after %.2f s (%s)", n, t1 - t0, err);
-    CHECKF(t1 - t0 >= 0.1, "real_clock: reported after %.3f s, before the quiet period",
-           t1 - t0);
+    CHECKF(t1 - t0 >= 0.1, "real_clock: reported after %.3f s, before the quiet period", t1 - t0);
     char *want = at("real/g.lgraph");
     CHECK(n < 1 || strcmp(c[0].path, want) == 0);
     free(want);

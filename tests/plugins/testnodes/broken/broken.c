@@ -12,32 +12,40 @@ static int execute(lg_node *n, const lg_frame *f)
 }
 
 #ifdef BROKEN_BAD_KEYWORD
-static const char *const keywords[] = {"material", NULL};
+static const char *const keywords[] = { "material", NULL };
 #endif
 
 static const lg_param_desc params[] = {
 #ifdef BROKEN_BAD_DEFAULT
-    {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 5, .min = 0, .max = 1, .doc = "out of range"},
+    { .key = "x", .type = LG_PARAM_FLOAT, .def.f = 5, .min = 0, .max = 1, .doc = "out of range" },
 #elif defined(BROKEN_BAD_KEYWORD)
     /* a colour with keywords (ABI 2.3) whose default index names no keyword */
-    {.key = "x", .type = LG_PARAM_COLOR, .def.e = 2, .enum_values = keywords, .min = 0,
-     .max = 1, .doc = "default keyword 2 of 1"},
+    { .key = "x",
+      .type = LG_PARAM_COLOR,
+      .def.e = 2,
+      .enum_values = keywords,
+      .min = 0,
+      .max = 1,
+      .doc = "default keyword 2 of 1" },
 #elif defined(BROKEN_OUTPUT_DEFAULT)
     /* an output file (ABI 2.7) with a default: it would be written on every render */
-    {.key = "x", .type = LG_PARAM_PATH, .def.s = "dump.ply", .role = LG_ROLE_OUTPUT_FILE,
-     .doc = "an output file that is not \"\" by default"},
+    { .key = "x",
+      .type = LG_PARAM_PATH,
+      .def.s = "dump.ply",
+      .role = LG_ROLE_OUTPUT_FILE,
+      .doc = "an output file that is not \"\" by default" },
 #else
-    {.key = "x", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1, .doc = "fine"},
+    { .key = "x", .type = LG_PARAM_FLOAT, .def.f = 0.5, .min = 0, .max = 1, .doc = "fine" },
 #endif
 };
 
-static const lg_node_type types[] = {{
+static const lg_node_type types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = BROKEN_TYPE_NAME,
     .doc = "a node in a broken plugin",
     LG_PARAMS(params),
     .execute = execute,
-}};
+} };
 
 #ifndef BROKEN_NO_ENTRY
 static const lg_plugin_desc desc = {
@@ -83,5 +91,8 @@ LG_PLUGIN_EXPORT const lg_plugin_desc *lg_plugin_entry(void)
 #else
 /* exports something, but not the entry symbol */
 LG_PLUGIN_EXPORT const lg_node_type *not_a_plugin(void);
-LG_PLUGIN_EXPORT const lg_node_type *not_a_plugin(void) { return types; }
+LG_PLUGIN_EXPORT const lg_node_type *not_a_plugin(void)
+{
+    return types;
+}
 #endif
