@@ -16,6 +16,7 @@ call each other, compiled with the C compiler in $CC or cc), so it cannot pass b
 """
 import collections
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -109,10 +110,11 @@ def check(nm, libs):
 
 
 def self_test(nm):
-    cc = os.environ.get("CC", "cc").split()[0]
+    # $CC may be a command with words of its own ("ccache gcc")
+    cc = shlex.split(os.environ.get("CC", "cc")) or ["cc"]
     ar = shutil.which("ar")
-    if not shutil.which(cc) or not ar:
-        print(f"check_cycles self-test: no C compiler ({cc}) or ar", file=sys.stderr)
+    if not shutil.which(cc[0]) or not ar:
+        print(f"check_cycles self-test: no C compiler ({cc[0]}) or ar", file=sys.stderr)
         return False
     with tempfile.TemporaryDirectory() as tmp:
         srcs = {"a.c": "int b(int);\nint a(int x) { return x ? b(x - 1) : 0; }\n",
@@ -121,7 +123,7 @@ def self_test(nm):
         for n, text in srcs.items():
             with open(os.path.join(tmp, n), "w") as f:
                 f.write(text)
-            subprocess.run([cc, "-c", n, "-o", n[0] + ".o"], cwd=tmp, check=True)
+            subprocess.run(cc + ["-c", n, "-o", n[0] + ".o"], cwd=tmp, check=True)
         subprocess.run([ar, "rc", "cyc.a", "a.o", "b.o"], cwd=tmp, check=True)
         subprocess.run([ar, "rc", "ok.a", "a.o", "c.o"], cwd=tmp, check=True)
         bad = check(nm, [os.path.join(tmp, "cyc.a")])
