@@ -132,6 +132,9 @@ int lg_descriptor_validate(const lg_plugin_desc *d, const char *path, char *err,
  * result: WHY" in err and nothing left allocated. */
 void lg_registry_encode(lg_str *b, const lg_plugin_desc *d);
 int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_t errlen);
+/* The descriptor a scanned entry describes (its schema, no callbacks): what decode checks
+ * again and what encode writes for it. Points into p; nothing is allocated. */
+lg_plugin_desc lg_plugin_scanned_desc(const lg_plugin *p);
 /* Frees what decode allocated in p (not path, handle or live) and zeroes it. */
 void lg_plugin_free_schema(lg_plugin *p);
 

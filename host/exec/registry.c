@@ -426,6 +426,20 @@ static int get_desc(lg_wire_reader *r, lg_plugin *p, char *err, size_t errlen)
 }
 #undef DFAIL
 
+lg_plugin_desc lg_plugin_scanned_desc(const lg_plugin *p)
+{
+    return (lg_plugin_desc){
+        .struct_size = sizeof(lg_plugin_desc),
+        .abi_major = p->abi_major,
+        .abi_minor = p->abi_minor,
+        .name = p->name,
+        .version = p->version,
+        .doc = p->doc,
+        .types = p->types,
+        .n_types = p->n_types,
+    };
+}
+
 int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
@@ -443,16 +457,7 @@ int lg_registry_decode(const char *buf, size_t n, lg_plugin *p, char *err, size_
     if (rc == 0) {
         /* what the child validated, checked again: the bytes came from a process that ran
          * the plugin's code, which could have written anything to the pipe */
-        lg_plugin_desc d = {
-            .struct_size = sizeof d,
-            .abi_major = p->abi_major,
-            .abi_minor = p->abi_minor,
-            .name = p->name,
-            .version = p->version,
-            .doc = p->doc,
-            .types = p->types,
-            .n_types = p->n_types,
-        };
+        lg_plugin_desc d = lg_plugin_scanned_desc(p);
         rc = check_desc(&d, false, why, sizeof why);
     }
     if (rc != 0) {

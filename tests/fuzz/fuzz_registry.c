@@ -34,16 +34,7 @@ static void bad(const char *what, size_t size)
 
 static void encode(lg_str *b, const lg_plugin *p)
 {
-    lg_plugin_desc d = {
-        .struct_size = sizeof d,
-        .abi_major = p->abi_major,
-        .abi_minor = p->abi_minor,
-        .name = p->name,
-        .version = p->version,
-        .doc = p->doc,
-        .types = p->types,
-        .n_types = p->n_types,
-    };
+    lg_plugin_desc d = lg_plugin_scanned_desc(p);
     lg_registry_encode(b, &d);
 }
 
