@@ -218,41 +218,78 @@ def write_csv(path, study, rows):
                         for c in ROW_COLUMNS] + [1 if r.front else 0])
 
 
+COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b",
+           "#e377c2", "#7f7f7f", "#bcbd22"]
+
+
+def gp_string(text):
+    """A gnuplot double-quoted string (escapes interpreted: \\n is a new line)."""
+    return '"%s"' % text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+
+
+def wrap(text, width):
+    lines, cur = [], ""
+    for part in text.split("; "):
+        if cur and len(cur) + 2 + len(part) > width:
+            lines.append(cur + ";")
+            cur = part
+        else:
+            cur = cur + "; " + part if cur else part
+    return lines + [cur]
+
+
 def plot(section, studies, rows, front, target, caption, stage):
-    """The section's gnuplot script (data/NAME.gp, self-contained) and plot (NAME.png)."""
+    """The section's gnuplot script (data/NAME.gp, self-contained) and plot (NAME.png).
+    Errors of 0 (a row identical to its reference) cannot sit on a log axis: they are drawn
+    on the bottom edge, which the caption says."""
     gp = os.path.join(stage, DATA, section.name + ".gp")
     png = section.name + ".png"
     metrics = sorted({s.metric for s in studies})
     ylabel = " / ".join(METRICS[m] for m in metrics) + " against the reference"
+    pts = [r for r in rows if usable(r)]
+    pos = [r.error() for r in pts if 0 < r.error() < math.inf] + [target]
+    times = [r.time() for r in pts if r.time() > 0] or [1.0]
+    ylo, yhi = min(pos) / 2, max(pos) * 2
+    xlo, xhi = min(times) / 1.5, max(times) * 1.5
+    zero = any(r.error() <= 0 for r in pts)
+
+    def y(r):
+        return min(max(r.error(), ylo), yhi)
     lines = ["# written by tools/accuracy/accuracy.py: %s, error against time" % section.title]
     blocks = []
     for i, s in enumerate(studies):
-        pts = [r for r in rows if r.study is s and usable(r) and r.error() > 0]
-        if not pts:
+        sp = [r for r in pts if r.study is s and r.time() > 0]
+        if not sp:
             continue
         lines.append("$s%d << EOD" % i)
-        lines += ["%.6g %.6g" % (r.time(), r.error()) for r in pts]
+        lines += ["%.6g %.6g" % (r.time(), y(r)) for r in sp]
         lines.append("EOD")
-        blocks.append("$s%d using 1:2 with points pt %d ps 1.4 lc %d title '%s'"
-                      % (i, 4 + i % 10, 1 + i % 8, s.id))
-    fpts = [r for r in front if r.error() > 0]
-    if fpts:
+        blocks.append("$s%d using 1:2 with points pt %d ps 1.6 lw 1.5 lc rgb '%s' title '%s'"
+                      % (i, [5, 7, 9, 11, 13, 4, 6, 8, 10, 12][i % 10],
+                         COLOURS[i % len(COLOURS)], s.id))
+    fp = [r for r in front if r.time() > 0]
+    if fp:
         lines.append("$front << EOD")
-        lines += ["%.6g %.6g" % (r.time(), r.error()) for r in fpts]
+        lines += ["%.6g %.6g" % (r.time(), y(r)) for r in fp]
+        lines.append("%.6g %.6g" % (xhi, y(fp[-1])))
         lines.append("EOD")
-        blocks.append("$front using 1:2 with steps lw 2 lc rgb '#404040' title 'Pareto front'")
+        blocks.insert(0, "$front using 1:2 with steps lw 2 lc rgb '#404040' "
+                      "title 'Pareto front'")
     blocks.append("%.6g with lines dt 2 lw 2 lc rgb '#c00000' title 'target %s'"
                   % (target, fmt_target(metrics[0], target)))
+    title = "\n".join([section.title] + wrap(caption + ("; error 0 drawn on the bottom edge"
+                                                        if zero else ""), 110))
     lines += [
-        "set terminal pngcairo size 960,600 noenhanced font ',10'",
+        "set terminal pngcairo size 1000,640 noenhanced font ',10'",
         "set output '%s'" % png,
         "set logscale xy",
         "set grid",
         "set key outside right top",
+        "set xrange [%.6g:%.6g]" % (xlo, xhi),
+        "set yrange [%.6g:%.6g]" % (ylo, yhi),
         "set xlabel 'time per frame of the timed node (ms, median)'",
         "set ylabel '%s'" % ylabel,
-        "set title '%s\\n%s'" % (section.title.replace("'", "''"),
-                                 caption.replace("'", "''")),
+        "set title %s" % gp_string(title),
         "plot " + ", \\\n     ".join(blocks),
     ]
     with open(gp, "w") as f:
