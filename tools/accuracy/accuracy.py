@@ -331,7 +331,7 @@ def run_section(section, args, stage, machine):
     for s in studies:
         write_csv(os.path.join(stage, DATA, "%s-%s.csv" % (section.name, s.id)), s,
                   [r for r in rows if r.study is s])
-    backends = ", ".join(sorted({s.backend for s in studies}))
+    backends = ", ".join(sorted({r.backend() for r in rows}))
     caption = ("%s, %d cores; backend %s; load average %s at the start, %s at the end; %s%s"
                % (machine, os.cpu_count() or 0, backends, load0, load1, date,
                   "; --quick" if args.quick else ""))
@@ -346,12 +346,12 @@ def run_section(section, args, stage, machine):
     if best:
         ans = "for %s: %s %s, %s on %s" % (fmt_target(best.study.metric, target),
                                            best.study.technique, best.label(),
-                                           fmt_time(best.time()), best.study.backend)
+                                           fmt_time(best.time()), best.backend())
     elif shown:
         ans = ("no setting swept reaches %s: best %s %s (%s %s) at %s on %s"
                % (fmt_target(metric, target), shown.study.technique, shown.label(),
                   METRICS[shown.study.metric], fmt_err(shown.error()), fmt_time(shown.time()),
-                  shown.study.backend))
+                  shown.backend()))
     else:
         ans = "no row has both a time and an error"
     if shown:
@@ -385,7 +385,7 @@ def run_section(section, args, stage, machine):
                       None)
         md += ["### %s" % s.title, "",
                "`%s`: %s on %s, against %s%s; error: %s. Data: [%s-%s.csv](%s/%s-%s.csv)." % (
-                   s.id, s.technique, s.backend, s.reference_label or "its reference",
+                   s.id, s.technique, " / ".join(sorted({r.backend() for r in srows})), s.reference_label or "its reference",
                    " (%s)" % fmt_time(ref_ms) if ref_ms is not None else "",
                    METRICS[s.metric], section.name, s.id, DATA, section.name, s.id), "",
                "| " + " | ".join("`%s`" % k for k in knobs) +

@@ -179,6 +179,14 @@ class Row:
     def time(self):
         return self.values.get("time_ms")
 
+    def backend(self):
+        """What this row ran on: the value of a varied NODE.backend knob (the SDK's shared
+        parameter), else its study's backend."""
+        for k, v in self.knobs:
+            if k.endswith(".backend") and v in BACKENDS:
+                return v
+        return self.study.backend
+
     def shown(self, knob, value):
         """How the page names a knob's value (Study.value_labels, else the value)."""
         return self.study.value_labels.get(knob, {}).get(value, value)
