@@ -163,8 +163,10 @@ def pareto(rows):
 
 
 def answer_row(rows, target):
-    """The cheapest row within the target, or None."""
-    ok = [r for r in rows if usable(r) and r.error() <= target]
+    """The cheapest row within the target, or None. A row of error exactly 0 is the
+    reference's own setting run again (per-pixel Phong against per-pixel Phong): it stays in
+    the table and the front but is not an answer, whose line gives the reference's time."""
+    ok = [r for r in rows if usable(r) and 0 < r.error() <= target]
     return min(ok, key=lambda r: (r.time(), r.error())) if ok else None
 
 
@@ -341,8 +343,8 @@ def run_section(section, args, stage, machine):
     metrics = {s.metric for s in studies}
     metric = sorted(metrics)[0]
     best = answer_row(rows, target)
-    shown = best or min((r for r in rows if usable(r)), key=lambda r: (r.error(), r.time()),
-                        default=None)
+    shown = best or min((r for r in rows if usable(r) and r.error() > 0),
+                        key=lambda r: (r.error(), r.time()), default=None)
     if best:
         ans = "for %s: %s %s, %s on %s" % (fmt_target(best.study.metric, target),
                                            best.study.technique, best.label(),
@@ -385,7 +387,8 @@ def run_section(section, args, stage, machine):
                       None)
         md += ["### %s" % s.title, "",
                "`%s`: %s on %s, against %s%s; error: %s. Data: [%s-%s.csv](%s/%s-%s.csv)." % (
-                   s.id, s.technique, " / ".join(sorted({r.backend() for r in srows})), s.reference_label or "its reference",
+                   s.id, s.technique, " / ".join(sorted({r.backend() for r in srows})),
+                   s.reference_label or "its reference",
                    " (%s)" % fmt_time(ref_ms) if ref_ms is not None else "",
                    METRICS[s.metric], section.name, s.id, DATA, section.name, s.id), "",
                "| " + " | ".join("`%s`" % k for k in knobs) +
@@ -397,10 +400,11 @@ def run_section(section, args, stage, machine):
             if v["time_min_ms"] is not None or v["time_max_ms"] is not None:
                 spread = " [%s-%s]" % (fmt_err(v["time_min_ms"]) or "?",
                                        fmt_err(v["time_max_ms"]) or "?")
-            md.append("| " + " | ".join(r.shown(k, x) for k, x in r.knobs) + " | %s%s | %s | %s | %s | %s |"
-                      % (fmt_err(v["time_ms"]), spread, fmt_err(v["rmse"]),
-                         fmt_err(v["rel_rmse"]), fmt_err(v["dssim"]),
-                         "**\u25cf**" if r.front else ""))
+            md.append("| " + " | ".join(r.shown(k, x) for k, x in r.knobs) +
+                      " | %s%s | %s | %s | %s | %s |" % (
+                          fmt_err(v["time_ms"]), spread, fmt_err(v["rmse"]),
+                          fmt_err(v["rel_rmse"]), fmt_err(v["dssim"]),
+                          "**\u25cf**" if r.front else ""))
         md.append("")
     text = "\n".join(md)
     with open(os.path.join(stage, DATA, section.name + ".md"), "w") as f:
@@ -429,7 +433,8 @@ and largest in brackets; a GL node renders several frames so that its time is th
 one, not its shader compilation. A row is on the **Pareto front** (marked \u25cf, the line in
 the plot) when no other row of its section is both as fast and as accurate and better in
 one of the two: the settings worth choosing. The **answer** is the cheapest row within the
-target error; the reference's own time is given beside it. Each figure names the machine,
+target error (a row of error 0, the reference's own setting run again, is not one); the
+reference's own time is given beside it. Each figure names the machine,
 the backend, the load average at its section's start and end, and the date, since times on a
 shared machine move with its load.
 """

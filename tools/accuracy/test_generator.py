@@ -58,6 +58,8 @@ def unit():
     check([r.time() for r in front] == [1, 2, 2, 8], "pareto: the front sorted by time")
     check(answer_row(rows, 0.01).time() == 8, "answer: the cheapest row within the target")
     check(answer_row(rows, 0.001) is None, "answer: none within a target nobody reaches")
+    rows.append(row(0.5, 0.0))
+    check(answer_row(rows, 0.01).time() == 8, "answer: a row of error 0 (the reference) is not")
 
 
 def main():
