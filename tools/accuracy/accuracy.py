@@ -397,9 +397,10 @@ def run_section(section, args, stage, machine):
         for r in srows:
             v = r.values
             spread = ""
-            if v["time_min_ms"] is not None or v["time_max_ms"] is not None:
-                spread = " [%s-%s]" % (fmt_err(v["time_min_ms"]) or "?",
-                                       fmt_err(v["time_max_ms"]) or "?")
+            if v["time_min_ms"] is not None and v["time_max_ms"] is not None:
+                spread = " [%s-%s]" % (fmt_err(v["time_min_ms"]), fmt_err(v["time_max_ms"]))
+            elif v["time_min_ms"] is not None:  # a sweep before time_max_ms (branch metric)
+                spread = " [min %s]" % fmt_err(v["time_min_ms"])
             md.append("| " + " | ".join(r.shown(k, x) for k, x in r.knobs) +
                       " | %s%s | %s | %s | %s | %s |" % (
                           fmt_err(v["time_ms"]), spread, fmt_err(v["rmse"]),
