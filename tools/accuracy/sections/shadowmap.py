@@ -37,8 +37,8 @@ def studies(ctx):
                          os.path.join(ctx.tmp, "lit.exr")))
     ref_res = "2048" if ctx.quick else "8192"
     ref = ["shadow.resolution=%s" % ref_res, "shadow.fit=frustum"]
-    label = ("shadowmap %s x %s, fit = frustum, the default biases (no ray-traced reference "
-             "exists in the plugins)" % (ref_res, ref_res))
+    label = ("shadowmap %s x %s, fit = frustum, the default biases: no plugin ray-traces "
+             "surface shadows" % (ref_res, ref_res))
     common = dict(technique="shadowmap", backend="gl", graph=graph, time_node="shadow",
                   size="320x180", quick_size="96x54", frames=1, repeat=3, ref_sets=ref,
                   reference_label=label, metric="rel_rmse")
