@@ -2,7 +2,7 @@
 """docs/stability.md from the test suite: every hard case, its policy, the backends it is
 tested on and its status in the last run.
 
-usage: stability.py --build BUILD [--registry FILE] [--out FILE] [--check]
+usage: stability.py --build BUILD [--registry FILE] [--out FILE] [--check] [--no-status]
 
 Reads the registry (default tests/stability.toml: one [[case]] per hard case, see its head),
 the tests meson defined (`meson introspect BUILD --tests`: names, suites, arguments) and,
@@ -18,7 +18,8 @@ date). Fails (exit 1, each problem on its own line) on:
     gl), else the registry's [[in_process]] table (a test that opens several devices in one
     process, with where that is stated), else cpu (host C code).
 
-Without --check it writes the page (--out, default docs/stability.md). With --check it
+Without --check it writes the page (--out, default docs/stability.md; --no-status leaves
+the last run out). With --check it
 writes nothing and compares the committed page with the one it would write, status
 columns and the run's date left out, so the page cannot drift from the registry and the
 suite (meson test `stability_page`). Exit status: 0 good, 1 a problem found, 2 bad usage.
@@ -212,10 +213,12 @@ def render(registry, resolved, status, when, registry_rel):
     out.append("Policies: **clamp** (brought into range, the run goes on), **fallback** (a "
                "defined substitute for what cannot be computed), **refuse** (a clear error or "
                "warning naming where and why), **exact** (no special path needed: the true "
-               "value or its limit, to a stated tolerance). Backends are derived from the "
-               "tests (a test per backend, its arguments, or a test that runs several in one "
-               "process, as the registry's `[[in_process]]` says), never claimed. Status is "
-               "each case's tests in the last `meson test` run of the build directory.")
+               "value or its limit, to a stated tolerance). Backends are those the tests run, "
+               "derived from each test (a word cpu, gl or cl in its name or arguments; for a "
+               "test that opens several devices itself, the registry's `[[in_process]]` table, "
+               "which says where that is stated; otherwise cpu, the host's own C code), and an "
+               "entry listing any other fails the generator. Status is each case's tests in "
+               "the last `meson test` run of the build directory.")
     out.append("")
     out.append("**Adding a hard case** (later techniques add theirs the same way): write a "
                "small test, give its `test()` call the suite `'stability'` beside its own, add "
@@ -294,6 +297,8 @@ def main(argv):
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "stability.md"))
     ap.add_argument("--check", action="store_true",
                     help="write nothing; fail if --out differs from the page generated")
+    ap.add_argument("--no-status", action="store_true",
+                    help="leave the last run out (every status 'not run')")
     try:
         args = ap.parse_args(argv)
     except SystemExit as e:
@@ -319,7 +324,7 @@ def main(argv):
         print(f"stability.py: {len(problems)} problem(s); the page was not written",
               file=sys.stderr)
         return 1
-    status, when = ({}, None) if args.check else load_status(args.build)
+    status, when = ({}, None) if args.check or args.no_status else load_status(args.build)
     # The page names the registry by its place in the tree, whichever file was read.
     page = render(registry, resolved, status, when, "tests/stability.toml") + "\n"
     n_tests = len({n for c in resolved for n in c["names"]})
