@@ -3,6 +3,7 @@
 tested on and its status in the last run.
 
 usage: stability.py --build BUILD [--registry FILE] [--out FILE] [--check] [--no-status]
+                    [--testlog FILE]
 
 Reads the registry (default tests/stability.toml: one [[case]] per hard case, see its head),
 the tests meson defined (`meson introspect BUILD --tests`: names, suites, arguments) and,
@@ -65,10 +66,9 @@ def load_tests(build):
     return tests
 
 
-def load_status(build):
-    """({test name: ok | fail | skip}, date of the run) from BUILD/meson-logs/testlog.json, or
-    ({}, None) when there was no run."""
-    path = os.path.join(build, "meson-logs", "testlog.json")
+def load_status(path):
+    """({test name: ok | fail | skip}, date of the run) from a meson testlog.json, or ({}, None)
+    when there was no run."""
     if not os.path.exists(path):
         return {}, None
     status = {}
@@ -81,13 +81,15 @@ def load_status(build):
                 rec = json.loads(line)
             except json.JSONDecodeError:
                 continue  # a run cut short leaves a partial last line
+            # meson writes "project:suite+suite / name"; the registry uses the name.
+            name = str(rec.get("name", "")).split(" / ", 1)[-1]
             result = str(rec.get("result", "")).upper()
             if result in ("OK", "EXPECTEDFAIL"):
-                status[rec["name"]] = "ok"
+                status[name] = "ok"
             elif result == "SKIP":
-                status[rec["name"]] = "skip"
+                status[name] = "skip"
             else:
-                status[rec["name"]] = "fail"
+                status[name] = "fail"
     when = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
     return status, when.strftime("%Y-%m-%d %H:%M UTC")
 
@@ -238,7 +240,8 @@ def render(registry, resolved, status, when, registry_rel):
     for key in techniques:
         if key not in counts:
             continue
-        names = [n for c in resolved if c["technique"] == key for n in c["names"]]
+        names = list(dict.fromkeys(n for c in resolved if c["technique"] == key
+                                   for n in c["names"]))
         out.append(f"| [{key}](#{key}) | {counts[key]} | {status_summary(names, status)} |")
     out.append("")
     for key, tech in techniques.items():
@@ -299,6 +302,7 @@ def main(argv):
                     help="write nothing; fail if --out differs from the page generated")
     ap.add_argument("--no-status", action="store_true",
                     help="leave the last run out (every status 'not run')")
+    ap.add_argument("--testlog", help="the run's log (default BUILD/meson-logs/testlog.json)")
     try:
         args = ap.parse_args(argv)
     except SystemExit as e:
@@ -324,7 +328,8 @@ def main(argv):
         print(f"stability.py: {len(problems)} problem(s); the page was not written",
               file=sys.stderr)
         return 1
-    status, when = ({}, None) if args.check or args.no_status else load_status(args.build)
+    testlog = args.testlog or os.path.join(args.build, "meson-logs", "testlog.json")
+    status, when = ({}, None) if args.check or args.no_status else load_status(testlog)
     # The page names the registry by its place in the tree, whichever file was read.
     page = render(registry, resolved, status, when, "tests/stability.toml") + "\n"
     n_tests = len({n for c in resolved for n in c["names"]})

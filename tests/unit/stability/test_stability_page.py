@@ -62,7 +62,8 @@ expect("an entry's test outside suite stability", GOOD + CASE.format(test="probe
        "test 'probe_cost' is not in suite 'stability'")
 # An entry missing its policy, and one missing its backends.
 expect("an entry without policy",
-       GOOD.replace('policy = "clamp"\nwhat = "the cosine clamps at 0', 'what = "the cosine clamps at 0', 1),
+       GOOD.replace('policy = "clamp"\nwhat = "the cosine clamps at 0',
+                    'what = "the cosine clamps at 0', 1),
        1, "no 'policy'")
 expect("an entry without backends",
        GOOD.replace('backends = ["cpu", "gl", "cl"]\ntests = ["reinhard badpixels *"]',
@@ -111,6 +112,31 @@ for what, edit, code in [
     if not ok:
         failures.append(what)
         print(chk.stdout + chk.stderr)
+
+# The status columns come from the run's log: a failed, a skipped and an unrun test show.
+with tempfile.TemporaryDirectory() as d:
+    log = os.path.join(d, "testlog.json")
+    with open(log, "w", encoding="utf-8") as f:
+        for name, result in [("phong_hard_rv_negative", "OK"), ("reinhard sizes cpu", "OK"),
+                             ("reinhard sizes gl", "FAIL"), ("reinhard sizes cl", "SKIP"),
+                             ("reinhard threads cpu", "TIMEOUT")]:
+            f.write('{"name": "lightgraph:plugins+stability / %s", "result": "%s"}\n'
+                    % (name, result))
+    page = os.path.join(d, "stability.md")
+    subprocess.run([sys.executable, tool, "--build", build, "--registry", registry, "--out",
+                    page, "--testlog", log], check=True, capture_output=True)
+    with open(page, encoding="utf-8") as f:
+        rows = f.read().split("\n")
+    want = [("`phong_hard_rv_negative` | ok |", "an ok test"),
+            ("| skip: `reinhard sizes cl`, fail: `reinhard sizes gl` |",
+             "a failed and a skipped test"),
+            ("`reinhard threads cpu` | fail |", "a timeout as a failure"),
+            ("`phong_hard_back_facing` | not run |", "a test not in the log")]
+    for needle, what in want:
+        ok = any(needle in r for r in rows)
+        print(f"{'ok  ' if ok else 'FAIL'} status: {what}")
+        if not ok:
+            failures.append("status: " + what)
 
 if failures:
     print(f"{len(failures)} check(s) failed: " + ", ".join(failures))
