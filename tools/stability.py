@@ -252,8 +252,8 @@ def render(registry, resolved, status, when, registry_rel):
         out.append("")
         out.append(f"## {key}")
         out.append("")
-        out.append(f"{tech.get('title', key)}. The maths and the measured accuracy: "
-                   f"[{tech['doc']}]({os.path.relpath(tech['doc'], 'docs')}).")
+        out.append(f"{tech.get('title', key)}; explained, with what it computes and how "
+                   f"well: [{tech['doc']}]({os.path.relpath(tech['doc'], 'docs')}).")
         out.append("")
         out.append("| case | policy | what | backends | tests | status |")
         out.append("|---|---|---|---|---|---|")
