@@ -494,7 +494,9 @@ static int eval(tune *t, const int *idx, int *out)
 /* ---- the search ----------------------------------------------------------------------------- */
 
 /* Whether the points evaluated on knob k's line through idx (every other knob as in idx)
- * err less at a smaller value than at a larger one: the knob is not monotone here. */
+ * err less at a smaller value than at a larger one that misses E: the knob is not monotone
+ * where it matters, and the bisection may have stopped above a value that meets E. (Wiggles
+ * among values that all meet E, a noisy reference's, cannot move the answer: not counted.) */
 static bool violates(const tune *t, const int *idx, int k, char *msg, size_t msglen)
 {
     for (int p = 0; p < t->n_pts; p++)
@@ -507,7 +509,7 @@ static bool violates(const tune *t, const int *idx, int k, char *msg, size_t msg
                 line = i == k || (a->idx[i] == idx[i] && b->idx[i] == idx[i]);
             /* errors of one render setting are deterministic for most nodes; the margin
              * keeps a float's last bits from counting */
-            if (line && a->err < b->err * (1 - 1e-6)) {
+            if (line && b->err > t->a->target && a->err < b->err * (1 - 1e-6)) {
                 snprintf(msg, msglen, "%s=%s errs %.4g, less than %s=%s's %.4g", t->k[k].pd->key,
                          t->k[k].values[a->idx[k]], a->err, t->k[k].pd->key,
                          t->k[k].values[b->idx[k]], b->err);
