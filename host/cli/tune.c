@@ -55,7 +55,7 @@ static int usage(const char *msg)
     return 2;
 }
 
-/* ---- knobs ---------------------------------------------------------------------------------- */
+/* ---- knobs ----------------------------------------------------------------------------------- */
 
 /* One knob: a parameter of node N and the values the search may give it. A numeric knob's
  * values ascend (index order is the assumed order of accuracy and cost); an enum's or bool's
@@ -310,7 +310,7 @@ static int knob_from_range(knob *k, const lg_param_desc *pd, const lg_tune_vary 
     return 0;
 }
 
-/* ---- the tune under way --------------------------------------------------------------------- */
+/* ---- the tune under way ---------------------------------------------------------------------- */
 
 /* One evaluated setting: its grid index per knob, its timings, its error. */
 typedef struct point {
@@ -491,7 +491,7 @@ static int eval(tune *t, const int *idx, int *out)
     return 0;
 }
 
-/* ---- the search ----------------------------------------------------------------------------- */
+/* ---- the search ------------------------------------------------------------------------------ */
 
 /* Whether the points evaluated on knob k's line through idx (every other knob as in idx)
  * err less at a smaller value than at a larger one that misses E: the knob is not monotone
@@ -698,7 +698,7 @@ static void mark_front(tune *t)
     }
 }
 
-/* ---- outputs -------------------------------------------------------------------------------- */
+/* ---- outputs --------------------------------------------------------------------------------- */
 
 static void csv_write(tune *t, lg_str *s)
 {
@@ -838,7 +838,7 @@ static int write_outputs(tune *t, bool *plotted)
     return 0;
 }
 
-/* ---- set-up --------------------------------------------------------------------------------- */
+/* ---- set-up ---------------------------------------------------------------------------------- */
 
 /* Whether --set fixes N.P (then it is not a knob unless --vary names it). */
 static bool set_fixes(const lg_tune_args *a, const char *key)
@@ -1013,7 +1013,7 @@ static void tune_free(tune *t)
     lg_registry_free(&t->reg);
 }
 
-/* ---- the report ----------------------------------------------------------------------------- */
+/* ---- the report ------------------------------------------------------------------------------ */
 
 static void print_knobs(const tune *t)
 {
