@@ -337,7 +337,6 @@ typedef struct tune {
     int renders, repeats;
     double grid_size;
     bool budget_hit;
-    double best_time; /* the cheapest feasible point's time so far (+Inf: none) */
     lg_outputs *outs;
     char *render_out, *csv_path, *gp_path, *png_path;
 } tune;
@@ -486,8 +485,6 @@ static int eval(tune *t, const int *idx, int *out)
             : feasible(t, &p) ? " (within E)"
                               : "");
     free(line);
-    if (feasible(t, &p) && ms < t->best_time)
-        t->best_time = ms;
     return 0;
 }
 
@@ -559,6 +556,111 @@ static int bisect(tune *t, int *x, int k, bool *scanned)
     return rc;
 }
 
+/* Whether another point of q's combination of the categorical knobs meets E with no
+ * numeric knob higher: by the monotonicity assumed, it costs no more, so q is no candidate
+ * (timing noise between a setting and a strictly cheaper one is not left to decide). */
+static bool dominated_in_combo(const tune *t, const point *q)
+{
+    for (int p = 0; p < t->n_pts; p++) {
+        const point *r = &t->pts[p];
+        if (r == q || !feasible(t, r))
+            continue;
+        bool below = true, same = true;
+        for (int i = 0; i < t->n_knobs && below; i++) {
+            if (t->k[i].numeric)
+                below = r->idx[i] <= q->idx[i];
+            else
+                below = r->idx[i] == q->idx[i];
+            same &= r->idx[i] == q->idx[i];
+        }
+        if (below && !same)
+            return true;
+    }
+    return false;
+}
+
+/* The candidate (feasible, not dominated in its combination) of least median time, or -1. */
+static int cheapest(tune *t)
+{
+    int best = -1;
+    double bt = INFINITY;
+    for (int p = 0; p < t->n_pts; p++)
+        if (feasible(t, &t->pts[p]) && !dominated_in_combo(t, &t->pts[p])) {
+            double ms = median_ms(&t->pts[p]);
+            if (best < 0 || ms < bt) {
+                best = p;
+                bt = ms;
+            }
+        }
+    return best;
+}
+
+/* Renders point p again until it has --repeat timings. Returns 0 or an exit status. */
+static int time_fully(tune *t, int p)
+{
+    int rc = 0;
+    while (t->pts[p].n_times < (int)t->a->repeat && rc == 0) {
+        double ms;
+        lg_metric_set m;
+        bool failed;
+        t->repeats++;
+        rc = render_point(t, t->pts[p].idx, &ms, &m, &failed);
+        if (rc == 0 && failed)
+            rc = 1; /* it rendered before: a failure now is the machine's */
+        if (rc == 0)
+            t->pts[p].times[t->pts[p].n_times++] = ms;
+    }
+    return rc;
+}
+
+/* The candidates within TUNE_NEAR_FRONT of the cheapest get --repeat timings, until the set
+ * of them no longer changes (a repeat may move the cheapest). */
+static int repeat_near_front(tune *t)
+{
+    int rc = 0;
+    for (bool more = true; more && rc == 0;) {
+        more = false;
+        int c = cheapest(t);
+        if (c < 0)
+            break;
+        double limit = median_ms(&t->pts[c]) * (1 + TUNE_NEAR_FRONT);
+        for (int p = 0; p < t->n_pts && rc == 0; p++) {
+            point *q = &t->pts[p];
+            if (!feasible(t, q) || dominated_in_combo(t, q) || median_ms(q) > limit ||
+                q->n_times >= (int)t->a->repeat)
+                continue;
+            rc = time_fully(t, p);
+            more = true;
+        }
+    }
+    return rc;
+}
+
+/* Whether the combination whose cheapest setting is point p (which misses E) is dominated:
+ * that setting is already slower than the best candidate so far, by more than
+ * TUNE_NEAR_FRONT on the median of --repeat timings of both (one sample on a loaded machine
+ * can be off by a factor of three). */
+static int dominated_combo(tune *t, int p, bool *pruned)
+{
+    *pruned = false;
+    int b = cheapest(t), rc = 0;
+    if (b < 0 || t->pts[p].failed || t->pts[p].times[0] <= median_ms(&t->pts[b]))
+        return 0;
+    if ((rc = time_fully(t, p)) || (rc = time_fully(t, b)))
+        return rc;
+    double tp = median_ms(&t->pts[p]), tb = median_ms(&t->pts[b]);
+    if (tp > tb * (1 + TUNE_NEAR_FRONT)) {
+        char *line = set_line(t, t->pts[p].idx);
+        fprintf(stderr,
+                "tune: pruned: %s already takes %.3f ms (median), more than the best answer "
+                "so far (%.3f ms)\n",
+                line, tp, tb);
+        free(line);
+        *pruned = true;
+    }
+    return 0;
+}
+
 /* The search within one combination of the categorical knobs (x holds them; the numeric
  * ones are set here). Returns 0 or an exit status. */
 static int search_combo(tune *t, int *x)
@@ -571,19 +673,12 @@ static int search_combo(tune *t, int *x)
             any_numeric = true;
         }
     /* the cheapest setting first: within E there, nothing in this combination is cheaper */
-    double best_before = t->best_time;
     if ((rc = eval(t, x, &p)) || p < 0 || feasible(t, &t->pts[p]) || !any_numeric)
         return rc;
-    char *line = set_line(t, x);
-    if (t->pts[p].n_times && t->pts[p].times[0] > best_before * (1 + TUNE_NEAR_FRONT)) {
-        fprintf(stderr,
-                "tune: pruned: %s already takes %.3f ms, more than the best answer so far "
-                "(%.3f ms)\n",
-                line, t->pts[p].times[0], best_before);
-        free(line);
-        return 0;
-    }
-    free(line);
+    bool pruned;
+    if ((rc = dominated_combo(t, p, &pruned)) || pruned)
+        return rc;
+    char *line;
     /* the most accurate setting: a combination that misses E there cannot meet it */
     for (int i = 0; i < t->n_knobs; i++)
         if (t->k[i].numeric)
@@ -630,54 +725,6 @@ static int search(tune *t)
         }
     }
     free(x);
-    return rc;
-}
-
-/* The cheapest feasible point by median time, or -1. */
-static int cheapest(tune *t)
-{
-    int best = -1;
-    double bt = INFINITY;
-    for (int p = 0; p < t->n_pts; p++)
-        if (feasible(t, &t->pts[p])) {
-            double ms = median_ms(&t->pts[p]);
-            if (best < 0 || ms < bt) {
-                best = p;
-                bt = ms;
-            }
-        }
-    return best;
-}
-
-/* The feasible points within TUNE_NEAR_FRONT of the cheapest get --repeat timings, until
- * the set of them no longer changes (a repeat may move the cheapest). */
-static int repeat_near_front(tune *t)
-{
-    int rc = 0;
-    for (bool more = true; more && rc == 0;) {
-        more = false;
-        int c = cheapest(t);
-        if (c < 0)
-            break;
-        double limit = median_ms(&t->pts[c]) * (1 + TUNE_NEAR_FRONT);
-        for (int p = 0; p < t->n_pts && rc == 0; p++) {
-            point *q = &t->pts[p];
-            if (!feasible(t, q) || median_ms(q) > limit || q->n_times >= (int)t->a->repeat)
-                continue;
-            while (q->n_times < (int)t->a->repeat && rc == 0) {
-                double ms;
-                lg_metric_set m;
-                bool failed;
-                t->repeats++;
-                rc = render_point(t, q->idx, &ms, &m, &failed);
-                if (rc == 0 && failed)
-                    rc = 1; /* it rendered before: a failure now is the machine's */
-                if (rc == 0)
-                    q->times[q->n_times++] = ms;
-            }
-            more = true;
-        }
-    }
     return rc;
 }
 
@@ -1098,7 +1145,6 @@ int lg_cmd_tune(int argc, char **argv)
     tune t;
     memset(&t, 0, sizeof t);
     t.a = &args;
-    t.best_time = INFINITY;
     t.opts.width = args.width;
     t.opts.height = args.height;
     t.opts.frames = args.frames;
