@@ -820,17 +820,21 @@ static void gp_write(tune *t, lg_str *s)
     lg_str_add(s, "set grid\nset logscale xy\nset key top right\n");
     lg_str_addf(s, "set xlabel 'time of node %s (ms, median; log scale)'\n", a->node);
     lg_str_addf(s, "set ylabel '%s against the reference'\n", lg_metric_name(a->metric));
-    lg_str_addf(s, "set title 'lightgraph tune: %s at %s <= %g'\n", a->node,
-                lg_metric_name(a->metric), a->target);
+    lg_str_addf(s, "set title 'lightgraph tune: %s at %s <= %g (the reference: %.4g ms)'\n",
+                a->node, lg_metric_name(a->metric), a->target, t->ref_ms);
+    /* the target across the whole plot (a function is drawn only where it is sampled) */
+    lg_str_addf(s,
+                "set arrow from graph 0, first %g to graph 1, first %g nohead dt 2 lc rgb 'red'\n",
+                a->target, a->target);
     lg_str_addf(s,
                 "plot data every ::1 using %d:($%d > 0 ? $%d : 1e-12) with points pt 7 ps 1 "
                 "lc rgb 'gray50' title 'explored', \\\n"
                 "     $front using 1:2 with linespoints pt 7 ps 1.3 lc rgb 'blue' "
                 "title 'Pareto front', \\\n"
-                "     %g with lines dt 2 lc rgb 'red' title 'target %g', \\\n"
+                "     NaN with lines dt 2 lc rgb 'red' title 'target %g', \\\n"
                 "     $chosen using 1:2 with points pt 6 ps 3 lw 2 lc rgb 'dark-green' "
                 "title 'chosen'\n",
-                tcol, ecol, ecol, a->target, a->target);
+                tcol, ecol, ecol, a->target);
 }
 
 /* Reserves tune.csv, tune.gp, tune.png in DIR (proving it writable) and names the render
