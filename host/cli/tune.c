@@ -470,7 +470,7 @@ static int eval(tune *t, const int *idx, int *out)
     memcpy(p.idx, idx, (size_t)t->n_knobs * sizeof *idx);
     p.err = p.failed ? INFINITY : lg_metric_value(&p.m, t->a->metric);
     if (isnan(p.err))
-        p.err = INFINITY; /* a metric that cannot say (dssim before metric.c has SSIM) */
+        p.err = INFINITY; /* cannot say (render_reference refuses a metric that never can) */
     if (!p.failed) {
         p.times = lg_xmalloc(t->a->repeat * sizeof *p.times);
         p.times[p.n_times++] = ms;
@@ -1038,6 +1038,18 @@ static int render_reference(tune *t)
     t->ref_node_found = res.node_found;
     t->ref_ms = res.node_found ? res.node_ms : res.total_ms;
     free(rs);
+    /* a metric that cannot be computed on these images (dssim below 11 x 11 pixels: no SSIM
+     * window) would make every point miss E; said now, as bad usage */
+    lg_metric_set m;
+    char err[512];
+    if (rc == 0 && (lg_metrics_compute(&t->ref, &t->ref, &m, NULL, 0, err, sizeof err) ||
+                    isnan(lg_metric_value(&m, a->metric)))) {
+        fprintf(stderr,
+                "lightgraph tune: --metric %s cannot be computed on %ux%u images (docs/"
+                "metrics.md)\n",
+                lg_metric_name(a->metric), t->ref.width, t->ref.height);
+        rc = 2;
+    }
     return rc;
 }
 

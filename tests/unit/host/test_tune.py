@@ -13,7 +13,8 @@
                84 again
   unreachable  mode flat only: exit 1, "E is out of reach on this scene: best rel_rmse 1"
   errors       unknown node, a --vary parameter the node lacks, a range outside its schema,
-               an enum value it lacks, E <= 0 or NaN, an unknown metric, a missing option:
+               an enum value it lacks, E <= 0 or NaN, an unknown metric, dssim on images
+               too small for its window, a missing option:
                exit 2 with the reason; a missing -o DIR: exit 1; nothing written in any case
   froxel_5     examples/volumetric_froxel.lgraph at 96x54 (a 48x27 grid), depth 2..128 and
   froxel_2     the two slicings, against examples/volumetric_reference.lgraph (64 steps, 4
@@ -165,6 +166,9 @@ def test_errors():
         (["--target-error", "0.01", "--metric", "psnr"], "unknown metric 'psnr' \\(known: rmse, "
          "rel_rmse"),
         ([], "no target given"),
+        # SSIM has no 11 x 11 window in an 8 x 8 image: refused, not "out of reach"
+        (["--target-error", "0.01", "--metric", "dssim"], "--metric dssim cannot be computed "
+         "on 8x8 images"),
     ]
     for extra, want in cases:
         args = base + extra
