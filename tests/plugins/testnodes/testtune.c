@@ -8,20 +8,22 @@
  *               coarse  1   1   1     1 / n                        n units
  *               fine    1   2   4     1 / n^2                      4 n units
  *               flat    1   0   1     1 (never below)              n units
+ *               slow    1   2   256   1 / n^2                      256 n units
  *
  *             exact = true writes 1 without work: the reference (--ref-set law.exact=true).
  *             bump = B > 0 breaks the monotonicity on purpose: for B <= n < B + 4 the error
  *             is 100 times the law's (a knob whose error is not non-increasing in n).
  *
  * The cost ratios are large enough (fine reaches 1% at n = 10, 40 units; coarse at n = 100,
- * 100 units) that timing noise cannot flip the optimum. */
+ * 100 units; slow costs 256 units at n = 1 already, a combination to prune) that timing
+ * noise cannot flip the optimum. */
 #include <math.h>
 #include <string.h>
 
 #include "lightgraph/lightgraph.h"
 
-static const char *const modes[] = { "coarse", "fine", "flat", NULL };
-static const double law_a[] = { 1, 1, 1 }, law_p[] = { 1, 2, 0 }, law_c[] = { 1, 4, 1 };
+static const char *const modes[] = { "coarse", "fine", "flat", "slow", NULL };
+static const double law_a[] = { 1, 1, 1, 1 }, law_p[] = { 1, 2, 0, 2 }, law_c[] = { 1, 4, 1, 256 };
 
 /* iterations of one unit of work: about 10 to 20 microseconds */
 #define TUNE_UNIT 10000
@@ -37,7 +39,7 @@ static const lg_param_desc params[] = {
       .type = LG_PARAM_ENUM,
       .def.s = "coarse",
       .enum_values = modes,
-      .doc = "the law: coarse (1/n, n), fine (1/n^2, 4n), flat (1, n)" },
+      .doc = "the law: coarse (1/n, n), fine (1/n^2, 4n), flat (1, n), slow (1/n^2, 256n)" },
     { .key = "exact", .type = LG_PARAM_BOOL, .def.b = false, .doc = "write 1, no work" },
     { .key = "bump",
       .type = LG_PARAM_INT,

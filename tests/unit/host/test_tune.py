@@ -11,6 +11,9 @@
   nonmonotone  bump = 96 makes n = 96..99 err 100 times more: the bisection alone stops at
                100; the violation is seen and said, the grid below is scanned, the answer is
                84 again
+  prune        modes fine and slow (n = 1..64): slow's cheapest setting already costs 256
+               units, more than fine's answer (40): pruned after its first render, its most
+               accurate setting never rendered; --max-renders 5 stops the search and says so
   unreachable  mode flat only: exit 1, "E is out of reach on this scene: best rel_rmse 1"
   errors       unknown node, a --vary parameter the node lacks, a range outside its schema,
                an enum value it lacks, E <= 0 or NaN, an unknown metric, dssim on images
@@ -118,10 +121,10 @@ def test_law():
     p = run([g] + LAW + ["--target-error", "0.012", "--set", "law.exact=false",
                          "--set", "law.bump=0", "-o", d2])
     check("knob: law.n: 1..4096, powers of two (13 values)" in p.stdout, p.stdout)
-    check("knob: law.mode: coarse,fine,flat (3 values)" in p.stdout, p.stdout)
+    check("knob: law.mode: coarse,fine,flat,slow (4 values)" in p.stdout, p.stdout)
     check("law.exact" not in p.stdout.split("answer:")[0], "--set law.exact still varied")
     check(answer(p) == {"n": "16", "mode": "fine"}, "default grid's optimum:\n" + p.stdout)
-    check(counts(p)[1] == 39, "full grid of the default knobs")
+    check(counts(p)[1] == 13 * 4, "full grid of the default knobs")
 
 
 def test_nonmonotone():
@@ -135,6 +138,26 @@ def test_nonmonotone():
     check_line(p, 0.012)
     total, grid = counts(p)
     check(total < grid, "%d renders, grid %d" % (total, grid))
+
+
+def test_prune():
+    g = law_graph()
+    d = out_dir("prune")
+    p = run([g] + LAW + ["--target-error", "0.012", "--vary", "n=1..64",
+                         "--vary", "mode=fine,slow", "-o", d])
+    check(answer(p) == {"n": "10", "mode": "fine"}, p.stdout)
+    check(re.search(r"pruned: --set law.n=1 --set law.mode=slow already takes [0-9.]+ ms "
+                    r"\(median\), more than the best answer so far", p.stderr),
+          "slow not pruned:\n" + p.stderr[-3000:])
+    slow = [x for x in rows(d) if x["law.mode"] == "slow"]
+    check([x["law.n"] for x in slow] == ["1"], "slow rendered at %s" % [x["law.n"] for x in slow])
+    check(int(slow[0]["timings"]) == 3, "the pruning did not rest on --repeat timings")
+    d2 = out_dir("budget")
+    p = run([g] + LAW + ["--target-error", "0.012", "--vary", "n=1..4096", "--max-renders", "5",
+                         "-o", d2])
+    check("note: the search stopped at --max-renders 5" in p.stdout, p.stdout)
+    check(answer(p) == {"n": "512"}, "the best of 1, 4096, 2048, 1024, 512:\n" + p.stdout)
+    check(len(rows(d2)) == 5, "%d points for a budget of 5" % len(rows(d2)))
 
 
 def test_unreachable():
