@@ -479,11 +479,12 @@ static int eval(tune *t, const int *idx, int *out)
     t->pts[t->n_pts] = p;
     *out = t->n_pts++;
     char *line = set_line(t, idx);
-    fprintf(stderr, "tune: render %d: %s: %s %.4g, %.3f ms%s\n", t->renders, line,
-            lg_metric_name(t->a->metric), p.err, ms,
-            p.failed          ? " (failed)"
-            : feasible(t, &p) ? " (within E)"
-                              : "");
+    if (lg_verbosity >= 0) /* -q: the answer only */
+        fprintf(stderr, "tune: render %d: %s: %s %.4g, %.3f ms%s\n", t->renders, line,
+                lg_metric_name(t->a->metric), p.err, ms,
+                p.failed          ? " (failed)"
+                : feasible(t, &p) ? " (within E)"
+                                  : "");
     free(line);
     return 0;
 }
@@ -496,6 +497,7 @@ static int eval(tune *t, const int *idx, int *out)
  * among values that all meet E, a noisy reference's, cannot move the answer: not counted.) */
 static bool violates(const tune *t, const int *idx, int k, char *msg, size_t msglen)
 {
+    const point *va = NULL, *vb = NULL;
     for (int p = 0; p < t->n_pts; p++)
         for (int q = 0; q < t->n_pts; q++) {
             const point *a = &t->pts[p], *b = &t->pts[q];
@@ -505,15 +507,20 @@ static bool violates(const tune *t, const int *idx, int k, char *msg, size_t msg
             for (int i = 0; i < t->n_knobs && line; i++)
                 line = i == k || (a->idx[i] == idx[i] && b->idx[i] == idx[i]);
             /* errors of one render setting are deterministic for most nodes; the margin
-             * keeps a float's last bits from counting */
-            if (line && b->err > t->a->target && a->err < b->err * (1 - 1e-6)) {
-                snprintf(msg, msglen, "%s=%s errs %.4g, less than %s=%s's %.4g", t->k[k].pd->key,
-                         t->k[k].values[a->idx[k]], a->err, t->k[k].pd->key,
-                         t->k[k].values[b->idx[k]], b->err);
-                return true;
+             * keeps a float's last bits from counting. The pair named is the closest one
+             * (the largest smaller value, then the smallest larger one): the telling one. */
+            if (line && b->err > t->a->target && a->err < b->err * (1 - 1e-6) &&
+                (!va || a->idx[k] > va->idx[k] ||
+                 (a->idx[k] == va->idx[k] && b->idx[k] < vb->idx[k]))) {
+                va = a;
+                vb = b;
             }
         }
-    return false;
+    if (va)
+        snprintf(msg, msglen, "%s=%s errs %.4g, less than %s=%s's %.4g", t->k[k].pd->key,
+                 t->k[k].values[va->idx[k]], va->err, t->k[k].pd->key, t->k[k].values[vb->idx[k]],
+                 vb->err);
+    return va != NULL;
 }
 
 /* Bisects knob k of x (feasible) down to the smallest grid index that still meets E,
@@ -538,10 +545,11 @@ static int bisect(tune *t, int *x, int k, bool *scanned)
     if (rc == 0 && !*scanned && violates(t, x, k, msg, sizeof msg)) {
         *scanned = true;
         int from = hi - TUNE_SCAN_WINDOW > 0 ? hi - TUNE_SCAN_WINDOW : 0;
-        fprintf(stderr,
-                "tune: %s is not monotone here (%s): scanning its grid from %s to %s "
-                "instead of trusting the bisection\n",
-                t->k[k].pd->key, msg, t->k[k].values[from], t->k[k].values[hi]);
+        if (lg_verbosity >= 0) /* the progress' words; stdout's note says it anyway */
+            fprintf(stderr,
+                    "tune: %s is not monotone here (%s): scanning its grid from %s to %s "
+                    "instead of trusting the bisection\n",
+                    t->k[k].pd->key, msg, t->k[k].values[from], t->k[k].values[hi]);
         printf("note: %s is not monotone (%s); its grid was scanned from %s to %s\n",
                t->k[k].pd->key, msg, t->k[k].values[from], t->k[k].values[hi]);
         for (int j = hi - 1; j >= from && rc == 0; j--) {
@@ -1033,7 +1041,8 @@ static int render_reference(tune *t)
     for (int i = 0; i < a->n_ref_sets; i++)
         rs[nrs++] = a->ref_sets[i];
     lg_run_result res;
-    fprintf(stderr, "tune: reference (%s)\n", ref_graph);
+    if (lg_verbosity >= 0)
+        fprintf(stderr, "tune: reference (%s)\n", ref_graph);
     int rc = render_once(t, ref_graph, rs, nrs, &t->ref, &res);
     t->ref_node_found = res.node_found;
     t->ref_ms = res.node_found ? res.node_ms : res.total_ms;

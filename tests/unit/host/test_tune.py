@@ -181,7 +181,7 @@ def test_errors():
         (["--target-error", "0.01", "--vary", "n=0..5000"], "outside law.n's range \\[1, 4096\\]"),
         (["--target-error", "0.01", "--vary", "n=1,2,9999"], "'9999' is not a value of law.n"),
         (["--target-error", "0.01", "--vary", "mode=coarse,exact"], "'exact' is not a value of "
-         "law.mode \\(coarse, fine, flat\\)"),
+         "law.mode \\(coarse, fine, flat, slow\\)"),
         (["--target-error", "0.01", "--vary", "mode=a..b"], "lo..hi is for numbers"),
         (["--target-error", "0"], "--target-error wants a finite number above 0"),
         (["--target-error", "-0.1"], "--target-error wants a finite number above 0"),
