@@ -1,8 +1,8 @@
 /* host/cli/commands.h: the commands of the lightgraph program (one file each in host/cli/)
- * and the helpers several of them share (session.c, schema_print.c, options.c). sweep's
- * command line (sweep_args.h) and conform's synthetic inputs (conform.h) keep private
- * headers: each is one command's alone, and fuzz_sweep runs the first without the rest of
- * the layer; so does tune's (tune_args.h). */
+ * and the helpers several of them share (session.c, schema_print.c, options.c, gnuplot.c).
+ * sweep's and tune's command lines (sweep_args.h, tune_args.h) and conform's synthetic
+ * inputs (conform.h) keep private headers: each is one command's alone, and fuzz_sweep runs
+ * sweep's without the rest of the layer. */
 #ifndef LG_HOST_CLI_COMMANDS_H
 #define LG_HOST_CLI_COMMANDS_H
 
