@@ -465,13 +465,14 @@ HOW_TO_READ = """\
 **How to read it.** Every technique is compared with its *reference*: an image made by a
 method that is exact for the scene (or converged far beyond the settings swept), named in
 each study. The errors are over R, G and B of the linear images, on the pixels finite in both
-(`host/cli/metric.h`, the definitions `lightgraph diff`, `sweep` and `tune` share):
+([docs/metrics.md](metrics.md): the definitions `lightgraph diff`, `sweep` and `tune` share):
 
 - **RMSE**: sqrt(mean (a - b)^2), in the image's units (linear radiance);
 - **relative RMSE**: RMSE / sqrt(mean b^2), the error as a fraction of the reference's RMS
   (0.01 = 1%): numerically off;
-- **SSIM / DSSIM**: the structural similarity of the luminance (Wang et al. 2004) and
-  DSSIM = 1 - SSIM: visibly wrong (structure, edges, banding) rather than slightly off.
+- **SSIM / DSSIM**: the structural similarity of the luminance (Wang et al. 2004, 11x11
+  Gaussian windows, the range L from the reference) and DSSIM = 1 - SSIM: visibly wrong
+  (structure, edges, banding) rather than slightly off; empty where an image has no window.
 
 **Time** is the time per frame of the node the technique runs in (its CPU wall time, which
 includes its GL work, docs/devices.md), the **median of N repeated runs** with the smallest
@@ -482,7 +483,8 @@ one of the two: the settings worth choosing. The **answer** is the cheapest row 
 target error (a row of error 0, the reference's own setting run again, is not one); the
 reference's own time is given beside it. Each figure names the machine,
 the backend, the load average at its section's start and end, and the date, since times on a
-shared machine move with its load.
+shared machine move with its load. For a scene of your own, `lightgraph tune` searches a
+node's knobs for the cheapest setting within an error ([docs/tune.md](tune.md)).
 """
 
 
