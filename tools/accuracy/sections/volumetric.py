@@ -72,17 +72,21 @@ SCENE = "volumetric_scene.lgraph"
 
 
 class Case:
-    """A light type or a medium kind: `node` is the graph text that takes the place of the
-    example scene's node `name` (`sun` for a light, `fog` for a medium; it must keep that
-    name and chain as the scene does: `sun` from `cam`, `fog` from `sun`), None for the
-    example's own; `methods` the methods that support it (None: all)."""
+    """A light type or a medium kind: `tag` names it in the study ids; `need` is the scene
+    feature the volumetric nodes declare for it (`lightgraph inspect --json`, "needs"; the
+    test accuracy_volumetric checks that every one they declare has its entry here); `node`
+    is the graph text that takes the place of the example scene's node of that role (`sun`
+    for a light, `fog` for a medium; it keeps that name and chains as the scene does: `sun`
+    from `cam`, `fog` from `sun`), None for the example's own; `methods` the methods that
+    support it (None: all)."""
 
-    def __init__(self, tag, label, node=None, methods=None):
-        self.tag, self.label, self.node, self.methods = tag, label, node, methods
+    def __init__(self, tag, label, need, node=None, methods=None):
+        self.tag, self.label, self.need = tag, label, need
+        self.node, self.methods = node, methods
 
 
-LIGHTS = [Case("dir", "directional light")]
-MEDIA = [Case("hom", "homogeneous medium")]
+LIGHTS = [Case("dir", "directional light", "directional_light")]
+MEDIA = [Case("hom", "homogeneous medium", "medium")]
 
 
 class Plan:
