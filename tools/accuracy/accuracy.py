@@ -163,8 +163,10 @@ def pareto(rows):
 
 
 def answer_row(rows, target):
-    """The cheapest row within the target, or None."""
-    ok = [r for r in rows if usable(r) and r.error() <= target]
+    """The cheapest row within the target, or None. A row of error exactly 0 is the
+    reference's own setting run again (per-pixel Phong against per-pixel Phong): it stays in
+    the table and the front but is not an answer, whose line gives the reference's time."""
+    ok = [r for r in rows if usable(r) and 0 < r.error() <= target]
     return min(ok, key=lambda r: (r.time(), r.error())) if ok else None
 
 
@@ -174,6 +176,20 @@ def fmt_time(ms):
     if ms >= 1000:
         return "%.3g s" % (ms / 1000)
     return "%.3g ms" % ms
+
+
+def reference_time(rows, study):
+    """The reference's time as the answer states it: the node's time of a row of the study
+    with error 0 (the reference's own setting, timed like the others), else the sweep's
+    ref_ms (the reference's whole render, once: planning and compilation included)."""
+    zero = [r.time() for r in rows if r.study is study and usable(r) and r.error() == 0]
+    if zero:
+        return "%s per frame of the node" % fmt_time(min(zero))
+    ref = next((r.values["ref_ms"] for r in rows if r.study is study and
+                r.values["ref_ms"] is not None), None)
+    if ref is not None:
+        return "%s for its whole render, once" % fmt_time(ref)
+    return "its time not measured"
 
 
 def fmt_err(v):
@@ -341,8 +357,8 @@ def run_section(section, args, stage, machine):
     metrics = {s.metric for s in studies}
     metric = sorted(metrics)[0]
     best = answer_row(rows, target)
-    shown = best or min((r for r in rows if usable(r)), key=lambda r: (r.error(), r.time()),
-                        default=None)
+    shown = best or min((r for r in rows if usable(r) and r.error() > 0),
+                        key=lambda r: (r.error(), r.time()), default=None)
     if best:
         ans = "for %s: %s %s, %s on %s" % (fmt_target(best.study.metric, target),
                                            best.study.technique, best.label(),
@@ -355,10 +371,8 @@ def run_section(section, args, stage, machine):
     else:
         ans = "no row has both a time and an error"
     if shown:
-        rt = shown.values.get("ref_ms")
         ans += "; the reference (%s): %s" % (shown.study.reference_label or "see below",
-                                             fmt_time(rt) if rt is not None else
-                                             "its time not measured")
+                                             reference_time(rows, shown.study))
     imgs = []
     if shown:
         for kind, src in (("answer", shown.image), ("heat", shown.heat),
@@ -385,8 +399,9 @@ def run_section(section, args, stage, machine):
                       None)
         md += ["### %s" % s.title, "",
                "`%s`: %s on %s, against %s%s; error: %s. Data: [%s-%s.csv](%s/%s-%s.csv)." % (
-                   s.id, s.technique, " / ".join(sorted({r.backend() for r in srows})), s.reference_label or "its reference",
-                   " (%s)" % fmt_time(ref_ms) if ref_ms is not None else "",
+                   s.id, s.technique, " / ".join(sorted({r.backend() for r in srows})),
+                   s.reference_label or "its reference",
+                   " (its whole render: %s)" % fmt_time(ref_ms) if ref_ms is not None else "",
                    METRICS[s.metric], section.name, s.id, DATA, section.name, s.id), "",
                "| " + " | ".join("`%s`" % k for k in knobs) +
                " | time ms, median [min-max] | RMSE | rel. RMSE | DSSIM | front |",
@@ -394,13 +409,15 @@ def run_section(section, args, stage, machine):
         for r in srows:
             v = r.values
             spread = ""
-            if v["time_min_ms"] is not None or v["time_max_ms"] is not None:
-                spread = " [%s-%s]" % (fmt_err(v["time_min_ms"]) or "?",
-                                       fmt_err(v["time_max_ms"]) or "?")
-            md.append("| " + " | ".join(r.shown(k, x) for k, x in r.knobs) + " | %s%s | %s | %s | %s | %s |"
-                      % (fmt_err(v["time_ms"]), spread, fmt_err(v["rmse"]),
-                         fmt_err(v["rel_rmse"]), fmt_err(v["dssim"]),
-                         "**\u25cf**" if r.front else ""))
+            if v["time_min_ms"] is not None and v["time_max_ms"] is not None:
+                spread = " [%s-%s]" % (fmt_err(v["time_min_ms"]), fmt_err(v["time_max_ms"]))
+            elif v["time_min_ms"] is not None:  # a sweep before time_max_ms (branch metric)
+                spread = " [min %s]" % fmt_err(v["time_min_ms"])
+            md.append("| " + " | ".join(r.shown(k, x) for k, x in r.knobs) +
+                      " | %s%s | %s | %s | %s | %s |" % (
+                          fmt_err(v["time_ms"]), spread, fmt_err(v["rmse"]),
+                          fmt_err(v["rel_rmse"]), fmt_err(v["dssim"]),
+                          "**\u25cf**" if r.front else ""))
         md.append("")
     text = "\n".join(md)
     with open(os.path.join(stage, DATA, section.name + ".md"), "w") as f:
@@ -429,7 +446,8 @@ and largest in brackets; a GL node renders several frames so that its time is th
 one, not its shader compilation. A row is on the **Pareto front** (marked \u25cf, the line in
 the plot) when no other row of its section is both as fast and as accurate and better in
 one of the two: the settings worth choosing. The **answer** is the cheapest row within the
-target error; the reference's own time is given beside it. Each figure names the machine,
+target error (a row of error 0, the reference's own setting run again, is not one); the
+reference's own time is given beside it. Each figure names the machine,
 the backend, the load average at its section's start and end, and the date, since times on a
 shared machine move with its load.
 """

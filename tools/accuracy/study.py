@@ -104,7 +104,7 @@ class Study:
         rep = 1 if quick else (repeat or self.repeat)
         cmd = [ctx.lightgraph, "sweep", graph, "--time", self.time_node, "--repeat", str(rep),
                "--frames", str(self.frames), "--size", self.quick_size if quick else self.size,
-               "-o", outdir]
+               "-o", outdir, "--metric", self.metric]
         for k, vs in (self.quick_vary if quick else self.vary):
             cmd += ["--vary", "%s=%s" % (k, ",".join(vs))]
         for s in self.sets:

@@ -14,7 +14,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
-from accuracy.accuracy import answer_row, pareto  # noqa: E402
+from accuracy.accuracy import answer_row, pareto, reference_time  # noqa: E402
 from accuracy.check_page import check_page  # noqa: E402
 from accuracy.study import Custom, Row  # noqa: E402
 
@@ -58,6 +58,10 @@ def unit():
     check([r.time() for r in front] == [1, 2, 2, 8], "pareto: the front sorted by time")
     check(answer_row(rows, 0.01).time() == 8, "answer: the cheapest row within the target")
     check(answer_row(rows, 0.001) is None, "answer: none within a target nobody reaches")
+    rows.append(row(0.5, 0.0))
+    check(answer_row(rows, 0.01).time() == 8, "answer: a row of error 0 (the reference) is not")
+    check(reference_time(rows, s) == "0.5 ms per frame of the node",
+          "the reference's time: its own setting's row, timed like the others")
 
 
 def main():
@@ -85,7 +89,7 @@ def main():
         check(fronts(out, "sec_b-fake_b") == [1, 1], "each section its own front")
         ans = answer(out, "sec_a")
         check("for 1% relative RMSE: fakea knob=4, 8 ms on cpu; the reference (the oracle): "
-              "4.2 s" in ans, "the answer of sec_a: %s" % ans)
+              "4.2 s for its whole render, once" in ans, "the answer of sec_a: %s" % ans)
         for f in ("sec_a-answer.png", "sec_a-heat.png", "sec_a-reference.png"):
             check(os.path.exists(os.path.join(out, "images/accuracy", f)), "image " + f)
 
