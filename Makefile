@@ -129,7 +129,7 @@ bench-volumetric: build
 	  out/bench_volumetric/lights_memory.png docs/images/volumetric/
 
 # What volumetric accuracy costs: the accuracy atlas's volumetric section alone
-# (tools/accuracy/sections/volumetric.py; docs/accuracy.md#volumetric), about 6 minutes.
+# (tools/accuracy/sections/volumetric.py; docs/accuracy.md#volumetric), 3 to 6 minutes.
 study-volumetric:
 	$(MAKE) accuracy ONLY=volumetric
 
