@@ -6,9 +6,9 @@ Two things here are not one plain `lightgraph sweep`, so every study is a Custom
 this file itself (`python3 tools/accuracy/sections/volumetric.py run SPEC OUT`):
 
 - the reference (about 40 s at 320 x 180 on this machine) is rendered once per light and
-  medium case, timed (its `vol` node, from --profile-json) and shared by every study of the
-  case through a graph of one `image` node; a sweep per study would render it again each
-  time (minutes);
+  medium case, timed (its whole render, from --profile-json, as sweep's ref_ms) and shared
+  by every study of the case through a graph of one `image` node; a sweep per study would
+  render it again each time (minutes);
 - the froxel grid is one knob, `vol.grid` = "WxHxD" (width, height and depth set together):
   sweep's --vary is a cartesian product of independent knobs, and the answer must name a
   grid ("froxel 95x45x64 exponential"), not a depth at a fixed width and height. A linked
@@ -32,7 +32,7 @@ if __name__ == "__main__":  # run as a program: the accuracy package is tools/ac
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(
         os.path.abspath(__file__)))))
 
-from accuracy.study import ROW_COLUMNS, Custom  # noqa: E402
+from accuracy.study import ROW_COLUMNS, Custom, StudyError  # noqa: E402
 
 TITLE = "Volumetric lighting"
 ORDER = 60
@@ -185,7 +185,7 @@ def example_node(root, example, name):
     m = re.search(r"^%s = [a-z_]+ \{[^\n]*\}$|^%s = [a-z_]+ \{\n.*?^\}" % (name, name), text,
                   re.S | re.M)
     if not m:
-        raise ValueError("examples/%s: no `%s = ... { ... }` node" % (example, name))
+        raise StudyError("examples/%s: no `%s = ... { ... }` node" % (example, name))
     return m.group(0)
 
 
