@@ -136,14 +136,10 @@ bench-volumetric: build
 	  out/bench_volumetric/lights.csv out/bench_volumetric/lights_time.png \
 	  out/bench_volumetric/lights_memory.png docs/images/volumetric/
 
-# What volumetric accuracy costs: every method's knobs swept with `lightgraph sweep` against
-# volumetric_reference; CSV, table and plot into docs/images/volumetric/ (docs/volumetric.md).
-study-volumetric: build
-	mkdir -p out docs/images/volumetric
-	python3 tools/volumetric_study.py --build $(BUILD) --out out/volumetric_study \
-	  $(if $(QUICK),--quick,)
-	cp out/volumetric_study/volumetric_study.csv out/volumetric_study/volumetric_study.md \
-	  out/volumetric_study/volumetric_study.png docs/images/volumetric/
+# What volumetric accuracy costs: the accuracy atlas's volumetric section alone
+# (tools/accuracy/sections/volumetric.py; docs/accuracy.md#volumetric), 3 to 6 minutes.
+study-volumetric:
+	$(MAKE) accuracy ONLY=volumetric
 
 # The pictures of docs/volumetric.md: the four examples side by side, in-scatter and error.
 pictures-volumetric: build

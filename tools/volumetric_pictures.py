@@ -25,8 +25,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from format_study import read_exr  # noqa: E402  (width, height, {channel: values})
-from volumetric_study import vol_block  # noqa: E402  (the example's own `vol` node)
+from accuracy.exr import read_exr  # noqa: E402  (width, height, {channel: values})
 
 METHODS = ["screen", "polygonal", "froxel", "reference"]
 
@@ -34,6 +33,16 @@ METHODS = ["screen", "polygonal", "froxel", "reference"]
 def die(msg):
     sys.stderr.write("volumetric_pictures: %s\n" % msg)
     sys.exit(1)
+
+
+def vol_block(example):
+    """The `vol = ... { ... }` node of an example, as its file writes it (so that the pictures
+    show the example's own settings; its `tone` and output are written here)."""
+    text = open(os.path.join(ROOT, "examples", example)).read()
+    m = re.search(r"^vol = [a-z_]+ \{.*?^\}", text, re.S | re.M)
+    if not m:
+        die("examples/%s: no `vol = ... { ... }` node" % example)
+    return m.group(0)
 
 
 def main():

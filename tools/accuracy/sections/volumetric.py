@@ -1,0 +1,377 @@
+"""Volumetric lighting: every volumetric method's knobs (volumetric_screen, volumetric_polygonal,
+volumetric_froxel on each of its backends) per light type and medium kind the plugins
+support, against volumetric_reference. Folds in and retires tools/volumetric_study.py.
+
+Two things here are not one plain `lightgraph sweep`, so every study is a Custom one run by
+this file itself (`python3 tools/accuracy/sections/volumetric.py run SPEC OUT`):
+
+- the reference (about 40 s at 320 x 180 on this machine) is rendered once per light and
+  medium case, timed (its whole render, from --profile-json, as sweep's ref_ms) and shared
+  by every study of the case through a graph of one `image` node; a sweep per study would
+  render it again each time (minutes);
+- the froxel grid is one knob, `vol.grid` = "WxHxD" (width, height and depth set together):
+  sweep's --vary is a cartesian product of independent knobs, and the answer must name a
+  grid ("froxel 95x45x64 exponential"), not a depth at a fixed width and height. A linked
+  knob runs one sweep per value, the other knobs varied within it, and the rows are merged.
+
+Adding a light type or a medium kind is one more entry in LIGHTS or MEDIA (the node it puts
+in place of the example scene's `sun` or `fog`, and the methods that support it); adding a
+knob to a method is one more entry in PLANS. Plain Python 3.11 standard library.
+"""
+import csv
+import fcntl
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+if __name__ == "__main__":  # run as a program: the accuracy package is tools/accuracy
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(
+        os.path.abspath(__file__)))))
+
+from accuracy.study import ROW_COLUMNS, Custom, StudyError  # noqa: E402
+
+TITLE = "Volumetric lighting"
+ORDER = 60
+INTRO = """\
+Single scattering in a participating medium, by the three real-time methods of
+[docs/volumetric.md](volumetric.md): screen-space light shafts (`volumetric_screen`, Mitchell
+2007; gl and cpu), polygonal light volumes (`volumetric_polygonal`, Billeter et al. 2010; gl)
+and froxel grids (`volumetric_froxel`, Wronski 2014; gl, cl and cpu). Scene: the examples'
+bunny box filled with fog (`examples/volumetric_scene.lgraph`: density 1, sigma_s 0.1,
+g 0.4) and a low sun shining in through its open side (L_c = 10), each method with its
+example's settings (`examples/volumetric_<method>.lgraph`) but the knobs swept.
+**Light types and media:** the volumetric nodes support today **directional lights**
+(1 .. 32) in a **homogeneous medium** only (they need `directional_light` and `medium`, skip
+point and spot lights, and `lightgraph/scene.h` has no heterogeneous medium), so every study
+is of that one case; a later light type or medium is one more entry in the section's lists.
+**Reference:** `volumetric_reference`, the same integral ray-marched per pixel with exact
+visibility (Embree rays towards the sun, not shadow maps) and the transmittance integrated
+analytically over each step; 1024 steps and 4 rays per pixel, every ray through the pixel
+centre (as the methods sample: their error holds no antialiasing term). Its own error at 256
+steps is 0.13 % and falls as 1/steps
+([plugins/volumetric_reference/README.md](../plugins/volumetric_reference/README.md)), so
+below 0.05 % here. It is rendered once per case and shared by the studies; its time is its
+whole render's, on cpu.
+**Knobs swept:** screen: `samples` on gl and cpu, `decay` x `normalize` at 16 samples
+(`model = thesis` is left out: its L_v has no units, it is not comparable with a physical
+reference); polygonal: the shadow map's `resolution` (one mesh vertex per texel), the mesh's
+`resolution` on a 1024^2 map; froxel: the grid W x H x D (one knob, `grid`) x `slicing` on each
+backend, `accumulation` (the thesis's sum against the energy-conserving integration),
+`z_near`, the shadow map's `resolution`, and temporal reprojection's `history` (0 = off)
+after 16 frames. **Time:** the `vol` node's per frame in steady state (3 frames, the first,
+with its shader compilation, left out; `per_frame = true`). **Metric:** relative RMSE of the
+linear in-scatter `inscatter` (L_v alone) over the image and R, G, B."""
+TARGET = None
+
+# ---- what is swept ---------------------------------------------------------------------------
+
+EXAMPLES = "examples"
+SCENE = "volumetric_scene.lgraph"
+
+
+class Case:
+    """A light type or a medium kind: `tag` names it in the study ids; `need` is the scene
+    feature the volumetric nodes declare for it (`lightgraph inspect --json`, "needs"; the
+    test accuracy_volumetric checks that every one they declare has its entry here); `node`
+    is the graph text that takes the place of the example scene's node of that role (`sun`
+    for a light, `fog` for a medium; it keeps that name and chains as the scene does: `sun`
+    from `cam`, `fog` from `sun`), None for the example's own; `methods` the methods that
+    support it (None: all)."""
+
+    def __init__(self, tag, label, need, node=None, methods=None):
+        self.tag, self.label, self.need = tag, label, need
+        self.node, self.methods = node, methods
+
+
+LIGHTS = [Case("dir", "directional light", "directional_light")]
+MEDIA = [Case("hom", "homogeneous medium", "medium")]
+
+
+class Plan:
+    """One study of a method on a backend: `vary` [(NODE.PARAM, [values])] as sweep takes it,
+    except a key of LINKED (one sweep per value); `quick_vary` the same at --quick; `quick`:
+    whether --quick runs it (a quick run keeps one or two studies per method, since the page's
+    quick test must stay under its budget)."""
+
+    def __init__(self, id, method, backend, title, vary, quick_vary, sets=(), frames=3,
+                 quick=False):
+        self.id, self.method, self.backend, self.title = id, method, backend, title
+        self.vary, self.quick_vary, self.sets = vary, quick_vary, list(sets)
+        self.frames, self.quick = frames, quick
+
+
+def grids(sizes, depths):
+    return ["%sx%d" % (s, d) for s in sizes for d in depths]
+
+
+# The knobs that are several parameters set together: the value -> its --set list.
+LINKED = {
+    "vol.grid": lambda v: ["vol.width=%s" % v.split("x")[0], "vol.height=%s" % v.split("x")[1],
+                           "vol.depth=%s" % v.split("x")[2]],
+}
+
+SLICING = ("vol.slicing", ["uniform_clip", "exponential"])
+QUICK_GRIDS = ["24x12x8", "48x22x16"]  # quick: small grids, or a quick run takes seconds
+
+PLANS = [
+    Plan("screen_samples", "screen", "gl", "samples",
+         [("vol.samples", ["4", "16", "64", "256"])],
+         [("vol.samples", ["8", "64"])], quick=True),
+    Plan("screen_samples", "screen", "cpu", "samples",
+         [("vol.samples", ["4", "16", "64", "256"])],
+         [("vol.samples", ["8", "64"])], quick=True),
+    # at 64 samples normalize changes nothing (its decay is per 1/64 of the path): 16 here
+    Plan("screen_decay", "screen", "gl", "decay x normalize (16 samples)",
+         [("vol.decay", ["0.9", "0.94", "1"]), ("vol.normalize", ["true", "false"])],
+         [("vol.decay", ["0.9", "1"])], sets=["vol.samples=16"]),
+    Plan("polygonal_shadow", "polygonal", "gl",
+         "shadow map resolution (mesh: one vertex per texel)",
+         [("shadow.resolution", ["128", "256", "512", "1024"])],
+         [("shadow.resolution", ["64", "128"])], quick=True),
+    Plan("polygonal_mesh", "polygonal", "gl", "mesh resolution on a 1024^2 shadow map",
+         [("vol.resolution", ["32", "64", "128", "256", "512"])],
+         [("vol.resolution", ["32", "64"])], sets=["shadow.resolution=1024"]),
+    Plan("froxel_grid", "froxel", "gl", "grid W x H x D x slicing",
+         [("vol.grid", grids(["48x22", "95x45"], [16, 32, 64, 128]) +
+           grids(["190x90"], [64, 128])), SLICING],
+         [("vol.grid", QUICK_GRIDS)], quick=True),
+    Plan("froxel_grid", "froxel", "cl", "grid W x H x D x slicing",
+         [("vol.grid", grids(["95x45"], [32, 64, 128])), SLICING],
+         [("vol.grid", QUICK_GRIDS)], quick=True),
+    Plan("froxel_grid", "froxel", "cpu", "grid W x H x D x slicing",
+         [("vol.grid", grids(["95x45"], [32, 64, 128])), SLICING],
+         [("vol.grid", QUICK_GRIDS)], quick=True),
+    Plan("froxel_accumulation", "froxel", "gl", "accumulation x depth (190 x 90, uniform_clip)",
+         [("vol.accumulation", ["thesis", "energy_conserving"]), ("vol.depth", ["16", "64"])],
+         [("vol.accumulation", ["thesis", "energy_conserving"]), ("vol.depth", ["16"])]),
+    Plan("froxel_znear", "froxel", "gl", "z_near x slicing (95 x 45 x 32)",
+         [("vol.z_near", ["0.05", "0.2", "0.5"]), SLICING],
+         [("vol.z_near", ["0.05", "0.5"])],
+         sets=["vol.width=95", "vol.height=45", "vol.depth=32"]),
+    Plan("froxel_shadow", "froxel", "gl", "shadow map resolution (95 x 45 x 64)",
+         [("shadow.resolution", ["256", "512", "1024", "2048"])],
+         [("shadow.resolution", ["64", "128"])],
+         sets=["vol.width=95", "vol.height=45", "vol.depth=64"]),
+    Plan("froxel_temporal", "froxel", "gl",
+         "temporal reprojection: history (0 = off) x depth (95 x 45), after 16 frames",
+         [("vol.history", ["0", "0.9"]), ("vol.depth", ["32", "64"])],
+         [("vol.history", ["0", "0.9"])],
+         sets=["vol.temporal=true", "vol.width=95", "vol.height=45"], frames=16),
+]
+
+# How the page names a value: "resolution=1024" alone would not say which resolution.
+VALUE_LABELS = {
+    "shadow.resolution": {str(2 ** k): "%d^2 shadow map" % 2 ** k for k in range(4, 14)},
+}
+
+# The reference: steps, rays per pixel, at the full and the quick size.
+REF = {"full": (1024, 4, "320x180"), "quick": (128, 1, "64x36")}
+REPEAT = 3  # timed runs per point at full size (median and spread); 1 at --quick
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def example_node(root, example, name):
+    """The `NAME = type { ... }` node of an example, as its file writes it (on one line or a
+    braced block), so that the studies measure the example's own settings."""
+    text = read(os.path.join(root, EXAMPLES, example))
+    m = re.search(r"^%s = [a-z_]+ \{[^\n]*\}$|^%s = [a-z_]+ \{\n.*?^\}" % (name, name), text,
+                  re.S | re.M)
+    if not m:
+        raise StudyError("examples/%s: no `%s = ... { ... }` node" % (example, name))
+    return m.group(0)
+
+
+def scene_text(root, light, medium):
+    """The example scene with the case's light and medium in place of its `sun` and `fog`,
+    its relative file paths made absolute (the text is written elsewhere)."""
+    text = read(os.path.join(root, EXAMPLES, SCENE))
+    for name, case in (("sun", light), ("fog", medium)):
+        if case.node is not None:
+            text = text.replace(example_node(root, SCENE, name), case.node)
+    base = os.path.join(root, EXAMPLES)
+    return re.sub(r'file = "([^"/][^"]*)"',
+                  lambda m: 'file = "%s"' % os.path.normpath(os.path.join(base, m.group(1))),
+                  text)
+
+
+def method_graph(ctx, scene_path, method, out):
+    return ('lightgraph 1\ninclude "%s"\n%s\noutput vol.inscatter "%s"\n'
+            % (scene_path, example_node(ctx.root, "volumetric_%s.lgraph" % method, "vol"), out))
+
+
+def studies(ctx):
+    mode = "quick" if ctx.quick else "full"
+    steps, spp, size = REF[mode]
+    label = ("volumetric_reference, %d steps, %d spp through pixel centres, on cpu"
+             % (steps, spp))
+    out = []
+    for light in LIGHTS:
+        for medium in MEDIA:
+            case = "%s_%s" % (light.tag, medium.tag)
+            scene = ctx.write("%s/scene.lgraph" % case, scene_text(ctx.root, light, medium))
+            ref_dir = os.path.join(ctx.tmp, case, "reference")
+            ref_graph = ctx.write("%s/reference.lgraph" % case, method_graph(
+                ctx, scene, "reference", os.path.join(ref_dir, "reference.exr")))
+            reference = {"dir": ref_dir, "graph": ref_graph, "size": size,
+                         "sets": ["vol.steps=%d" % steps, "vol.spp=%d" % spp,
+                                  "vol.subpixel=centre"]}
+            for p in PLANS:
+                if ctx.quick and not p.quick:
+                    continue
+                if any(c.methods is not None and p.method not in c.methods
+                       for c in (light, medium)):
+                    continue
+                sid = "%s_%s_%s" % (p.id, p.backend, case)
+                graph = ctx.write("%s/%s.lgraph" % (case, sid), method_graph(
+                    ctx, scene, p.method, os.path.join(ctx.tmp, case, sid + ".exr")))
+                sets = ["vol.per_frame=true"] + p.sets
+                if p.method != "polygonal":  # polygonal has one backend and no parameter
+                    sets.append("vol.backend=%s" % p.backend)
+                spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph,
+                        "time_node": "vol", "size": size, "sets": sets,
+                        "vary": p.quick_vary if ctx.quick else p.vary,
+                        "frames": 2 if ctx.quick else p.frames,
+                        "repeat": 1 if ctx.quick else REPEAT, "reference": reference}
+                path = ctx.write("%s/%s.json" % (case, sid), json.dumps(spec, indent=1))
+                out.append(Custom(
+                    id=sid, title="%s %s: %s (%s, %s)" % (p.method, p.backend, p.title,
+                                                         light.label, medium.label),
+                    technique="volumetric_%s" % p.method, backend=p.backend,
+                    command=[sys.executable, os.path.abspath(__file__), "run", path, "{out}"],
+                    csv="rows.csv", reference_label=label, metric="rel_rmse",
+                    reference_image="reference.exr"))
+                out[-1].value_labels = {k: VALUE_LABELS[k] for k, _ in spec["vary"]
+                                        if k in VALUE_LABELS}
+    return out
+
+
+# ---- the runner (one study) ------------------------------------------------------------------
+
+def die(msg):
+    sys.stderr.write("volumetric: %s\n" % msg)
+    sys.exit(1)
+
+
+def run(cmd, what):
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        die("%s: `%s` failed (exit %d):\n%s" % (what, " ".join(cmd), r.returncode,
+                                               (r.stderr or r.stdout).strip()))
+    return r
+
+
+def reference(spec):
+    """The case's reference, rendered by the first study that needs it (under a lock, should
+    studies ever run at once) and timed: returns (its image, the image graph the sweeps
+    read it through, the time of its whole render in ms)."""
+    ref = spec["reference"]
+    d = ref["dir"]
+    os.makedirs(d, exist_ok=True)
+    exr, meta = os.path.join(d, "reference.exr"), os.path.join(d, "reference.json")
+    img_graph = os.path.join(d, "image.lgraph")
+    with open(os.path.join(d, "lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not os.path.exists(meta):
+            prof = os.path.join(d, "profile.json")
+            cmd = [spec["lightgraph"], "render", ref["graph"], "--size", ref["size"],
+                   "--profile-json", prof]
+            for s in ref["sets"]:
+                cmd += ["--set", s]
+            sys.stderr.write("volumetric: the reference: %s\n" % " ".join(cmd))
+            run(cmd, "the reference of %s" % spec["id"])
+            pj = json.loads(read(prof))
+            if not any(n["name"] == "vol" for n in pj["nodes"]):
+                die("the reference's profile %s has no node `vol`" % prof)
+            with open(img_graph, "w") as f:
+                # the sweep writes the reference it reads into its own folder; this output
+                # names where a plain render of the graph would
+                f.write('lightgraph 1\nref = image { file = "%s" }\noutput ref "%s"\n'
+                        % (exr, os.path.join(d, "copy.exr")))
+            with open(meta + ".tmp", "w") as f:
+                # its whole render, as sweep's ref_ms is (the page says so): the vol node
+                # is nearly all of it
+                json.dump({"ref_ms": pj["planning_ms"] + pj["execution_ms"]}, f)
+            os.replace(meta + ".tmp", meta)  # written last: its presence means all is there
+        ref_ms = json.loads(read(meta))["ref_ms"]
+    return exr, img_graph, ref_ms
+
+
+def ref_rms(path):
+    """sqrt(mean b^2) over R, G, B of the reference, for sweeps that write no rel_rmse."""
+    from accuracy.exr import read_exr
+    _, _, ch = read_exr(path)
+    vals = [v for c in ("R", "G", "B") for v in ch[c] if math.isfinite(v)]
+    return math.sqrt(sum(v * v for v in vals) / len(vals)) if vals else 0.0
+
+
+def run_study(spec_path, out):
+    spec = json.loads(read(spec_path))
+    exr, img_graph, ref_ms = reference(spec)
+    os.makedirs(out, exist_ok=True)
+    shutil.copyfile(exr, os.path.join(out, "reference.exr"))
+    keys = [k for k, _ in spec["vary"]]
+    linked = [k for k in keys if k in LINKED]
+    if len(linked) > 1:
+        die("study %s: more than one linked knob (%s)" % (spec["id"], ", ".join(linked)))
+    swept = [(k, vs) for k, vs in spec["vary"] if k not in LINKED]
+    parts = ([(v, LINKED[linked[0]](v)) for v in dict(spec["vary"])[linked[0]]] if linked
+             else [(None, [])])
+    rows, rms = [], None
+    for i, (value, link_sets) in enumerate(parts):
+        d = os.path.join(out, "part%d" % i)
+        os.makedirs(d, exist_ok=True)
+        cmd = [spec["lightgraph"], "sweep", spec["graph"], "--reference", img_graph,
+               "--time", spec["time_node"], "--repeat", str(spec["repeat"]), "--frames",
+               str(spec["frames"]), "--size", spec["size"], "-o", d]
+        for s in spec["sets"] + link_sets:
+            cmd += ["--set", s]
+        if not swept:  # sweep wants a --vary: the linked knob's first parameter, as set
+            k, v = link_sets[0].split("=", 1)
+            swept_now = [(k, [v])]
+        else:
+            swept_now = swept
+        for k, vs in swept_now:
+            cmd += ["--vary", "%s=%s" % (k, ",".join(vs))]
+        sys.stderr.write("volumetric: %s\n" % " ".join(cmd))
+        run(cmd, "study %s" % spec["id"])
+        with open(os.path.join(d, "sweep.csv"), newline="") as f:
+            for rec in csv.DictReader(f):
+                row = {k: (value if k in LINKED else rec[k]) for k in keys}
+                for c in ROW_COLUMNS:
+                    row[c] = rec.get(c, "")
+                if not row["rel_rmse"] and row["rmse"]:  # a sweep before branch metric
+                    if rms is None:
+                        rms = ref_rms(exr)
+                    e = float(row["rmse"])
+                    row["rel_rmse"] = repr(e / rms if rms > 0 else (0.0 if e == 0 else math.inf))
+                row["ref_ms"] = "%.3f" % ref_ms
+                run_no = int(rec["run"])
+                row["image"] = "part%d/run-%03d.exr" % (i, run_no)
+                row["heat"] = "part%d/heat-%03d.png" % (i, run_no)
+                rows.append(row)
+    with open(os.path.join(out, "rows.csv.tmp"), "w", newline="") as f:
+        w = csv.DictWriter(f, keys + ROW_COLUMNS + ["image", "heat"])
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(os.path.join(out, "rows.csv.tmp"), os.path.join(out, "rows.csv"))
+
+
+def main(argv):
+    if len(argv) != 3 or argv[0] != "run":
+        sys.stderr.write("usage: volumetric.py run SPEC.json OUT_DIR (the accuracy generator "
+                         "runs it; tools/accuracy/accuracy.py --only volumetric)\n")
+        return 2
+    run_study(argv[1], argv[2])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
