@@ -10,7 +10,8 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_BUILD ?= build-fuzz
 SECONDS    ?= 60
 
-.PHONY: all deps build demo test test-sanitize fuzz bench study-prefilter study-format study-prt \
+.PHONY: all deps build demo test test-sanitize fuzz bench accuracy accuracy-quick \
+	study-prefilter study-format study-prt \
 	pictures-prt bench-volumetric study-volumetric pictures-volumetric format format-check clean
 
 all: build
@@ -66,6 +67,20 @@ bench: build
 	ninja -C $(BUILD) bench-prt
 	ninja -C $(BUILD) bench-prt-bake
 	ninja -C $(BUILD) bench-froxel
+
+# What accuracy costs, for every technique: docs/accuracy.md, its plots and images in
+# docs/images/accuracy/ (tools/accuracy/accuracy.py; how a technique adds its section:
+# tools/accuracy/README.md). All or nothing; under 20 minutes on 2 cores. ONLY=phong,reinhard
+# remakes those sections and keeps the others; TARGET=0.05 answers for 5% instead of 1%.
+# accuracy-quick: tiny sizes, two points per knob, into out/accuracy (what the test runs).
+accuracy: build
+	python3 tools/accuracy/accuracy.py --build $(BUILD) --out docs $(if $(ONLY),--only $(ONLY),) \
+	  $(if $(TARGET),--target $(TARGET),)
+
+accuracy-quick: build
+	mkdir -p out
+	python3 tools/accuracy/accuracy.py --build $(BUILD) --out out/accuracy --quick \
+	  $(if $(ONLY),--only $(ONLY),)
 
 # GGX prefiltering: error vs time for 16 .. 4096 samples per texel, into docs/images/
 # (prefilter_study.csv and .png; docs/probes.md "Glossy prefiltering").

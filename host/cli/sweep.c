@@ -3,12 +3,14 @@
  * and a gnuplot plot of error against time.
  *
  *   lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]
- *                    [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...
+ *                    [--reference REF_GRAPH|REF_IMAGE] [--ref-set NODE.PARAM=V]...
  *                    [--set NODE.PARAM=V]... [--time NODE] [--repeat N] [--frames N]
- *                    [--size WxH] [--gl osmesa|egl] [-o DIR]
+ *                    [--size WxH] [--gl osmesa|egl] [--metric M] [-o DIR]
  *
  * The reference is REF_GRAPH if given, else GRAPH itself with the --set and --ref-set
- * overrides (e.g. the finest tessellation and per-pixel shading). Every run gets the --set
+ * overrides (e.g. the finest tessellation and per-pixel shading), or REF_IMAGE, an image
+ * rendered before (a name ending in .exr, .hdr, .pic or .png; its size is the runs' unless
+ * --size says otherwise, and must then match). Every run gets the --set
  * overrides, then one combination of the --vary values (their cartesian product). Times
  * are the median over --repeat runs of the --time node's CPU wall time (which includes its
  * GL work, see docs/devices.md), or of all kept nodes when --time is not given. With
@@ -16,6 +18,11 @@
  * that state carried across frames, a temporal filter's, shows in the error) and a node that
  * ran on several frames is timed per frame in steady state: the mean of its runs after the
  * first (which pays for shader compilation and first uploads).
+ *
+ * Every run is judged by lg_metrics_compute (metric.h), the metrics diff and tune report:
+ * the CSV has today's columns first (readers that index them keep working), then rel_rmse,
+ * ssim, dssim, time_max_ms (the slowest of --repeat) and ref_ms (the reference render's own
+ * total time, once, or empty for a REF_IMAGE); --metric chooses the error the plot shows.
  *
  * All or nothing (outputs.h): every --vary value is checked against its parameter's type and
  * range, the reference graph is checked, and every file the sweep writes (reference, runs,
@@ -27,6 +34,7 @@
 #include "cli/commands.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -36,6 +44,7 @@
 
 #include "lightgraph/image.h"
 #include "exec/outputs.h"
+#include "cli/metric.h"
 #include "cli/sweep_args.h"
 
 typedef lg_sweep_vary vary;
@@ -44,12 +53,17 @@ typedef lg_sweep_vary vary;
 static int usage(const char *msg)
 {
     fprintf(stderr, "lightgraph sweep: %s\n", msg);
-    fprintf(stderr,
-            "usage: lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]\n"
-            "                        [--reference REF_GRAPH] [--ref-set NODE.PARAM=V]...\n"
-            "                        [--set NODE.PARAM=V]... [--time NODE] [--repeat N]\n"
-            "                        [--frames N] [--size WxH] [--gl osmesa|egl] [-o DIR]\n"
-            "DIR (default out/sweep) must exist; nothing is written unless every run succeeds\n");
+    fprintf(
+        stderr,
+        "usage: lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--vary ...]\n"
+        "                        [--reference REF_GRAPH|REF_IMAGE] [--ref-set NODE.PARAM=V]...\n"
+        "                        [--set NODE.PARAM=V]... [--time NODE] [--repeat N]\n"
+        "                        [--frames N] [--size WxH] [--gl osmesa|egl] [--metric M]\n"
+        "                        [-o DIR]\n"
+        "DIR (default out/sweep) must exist; nothing is written unless every run succeeds\n"
+        "M, the error the plot shows (default rmse; the CSV has every one):\n"
+        "  %s\n",
+        lg_metric_names());
     return 2;
 }
 
@@ -87,8 +101,38 @@ static int read_image(const char *path, lg_image *img)
 /* The gnuplot script. It names its data and image through the variables `data` and `out`,
  * which default to sweep.csv and sweep.png in its directory: the sweep runs it on the
  * temporaries before they are committed, a user reruns it as it is. */
-static int write_gnuplot(lg_outputs *outs, const char *gp, const vary *v, int n_vary, char *err,
-                         size_t errlen)
+/* The CSV's columns after the varied parameters (csv_header), and the one of each metric. */
+enum {
+    COL_TIME,
+    COL_TIME_MIN,
+    COL_RMSE,
+    COL_PSNR,
+    COL_MEAN_ABS,
+    COL_MAX_ABS,
+    COL_REL_MSE,
+    COL_NONFINITE,
+    COL_REL_RMSE,
+    COL_SSIM,
+    COL_DSSIM,
+    COL_TIME_MAX,
+    COL_REF_MS
+};
+static const int metric_column[LG_METRIC_COUNT] = {
+    [LG_METRIC_RMSE] = COL_RMSE,         [LG_METRIC_REL_RMSE] = COL_REL_RMSE,
+    [LG_METRIC_MEAN_ABS] = COL_MEAN_ABS, [LG_METRIC_MAX_ABS] = COL_MAX_ABS,
+    [LG_METRIC_REL_MSE] = COL_REL_MSE,   [LG_METRIC_DSSIM] = COL_DSSIM,
+};
+static const char *const metric_label[LG_METRIC_COUNT] = {
+    [LG_METRIC_RMSE] = "RMSE",
+    [LG_METRIC_REL_RMSE] = "relative RMSE",
+    [LG_METRIC_MEAN_ABS] = "mean absolute error",
+    [LG_METRIC_MAX_ABS] = "max absolute error",
+    [LG_METRIC_REL_MSE] = "relative MSE",
+    [LG_METRIC_DSSIM] = "DSSIM (1 - SSIM)",
+};
+
+static int write_gnuplot(lg_outputs *outs, const char *gp, const vary *v, int n_vary,
+                         lg_metric_id metric, char *err, size_t errlen)
 {
     lg_str s = { 0 };
     lg_str_add(&s, "# gnuplot script written by lightgraph sweep: error against time\n");
@@ -97,17 +141,20 @@ static int write_gnuplot(lg_outputs *outs, const char *gp, const vary *v, int n_
     lg_str_add(&s, "set terminal pngcairo size 900,600 noenhanced\n");
     lg_str_add(&s, "set output out\nset datafile separator ','\n");
     lg_str_add(&s, "set key off\nset grid\nset logscale y\n");
-    lg_str_add(&s, "set xlabel 'time (ms, median)'\nset ylabel 'RMSE against the reference'\n");
+    lg_str_add(&s, "set xlabel 'time (ms, median; bars: fastest to slowest of --repeat)'\n");
+    lg_str_addf(&s, "set ylabel '%s against the reference'\n", metric_label[metric]);
     lg_str_add(&s, "set title 'what accuracy costs: ");
     for (int i = 0; i < n_vary; i++)
         lg_str_addf(&s, "%s%s", i ? ", " : "", v[i].key);
     lg_str_add(&s, "'\n");
-    /* columns: run, varied params..., time_ms, time_min_ms, rmse, ... */
-    int tcol = 2 + n_vary, ecol = tcol + 2;
+    /* columns: run, varied params..., then COL_TIME ... (gnuplot counts from 1); an error
+     * of 0 (the reference's own settings) is drawn at 1e-12 on the log scale */
+    int tcol = 2 + n_vary, ecol = tcol + metric_column[metric];
+    int tmin = tcol + COL_TIME_MIN, tmax = tcol + COL_TIME_MAX;
     lg_str_addf(&s,
-                "plot data every ::1 using %d:($%d > 0 ? $%d : 1e-12) with points pt 7 "
-                "ps 1.5, \\\n     '' every ::1 using %d:($%d > 0 ? $%d : 1e-12):(",
-                tcol, ecol, ecol, tcol, ecol, ecol);
+                "plot data every ::1 using %d:($%d > 0 ? $%d : 1e-12):%d:%d with xerrorbars "
+                "pt 7 ps 1.5, \\\n     '' every ::1 using %d:($%d > 0 ? $%d : 1e-12):(",
+                tcol, ecol, ecol, tmin, tmax, tcol, ecol, ecol);
     for (int i = 0; i < n_vary; i++)
         lg_str_addf(&s, "%sstrcol(%d)", i ? ".' '." : "", 2 + i);
     lg_str_add(&s, ") with labels offset 1,1 left\n");
@@ -158,7 +205,7 @@ static double sweep_bytes(int total, int n_vary, const lg_exec_opts *opts)
 {
     double px = (double)opts->width * opts->height;
     double exr = px * 16 + 4096, heat = px * 4 + 4096;
-    double csv = 256.0 + (double)total * (96.0 + 32.0 * n_vary);
+    double csv = 256.0 + (double)total * (160.0 + 32.0 * n_vary);
     return (total + 1.0) * exr + total * heat + csv + 4096 + 256.0 * 1024;
 }
 
@@ -201,7 +248,9 @@ typedef struct sweep {
     lg_exec_opts opts;
     lg_registry reg;
     lg_outputs *outs;
-    lg_image ref; /* the reference, read back from its temporary */
+    lg_image ref;   /* the reference, read back from its temporary, or REF_IMAGE */
+    bool ref_image; /* --reference names an image, not a graph */
+    double ref_ms;  /* the reference render's total time; NaN for REF_IMAGE */
     lg_str csv;
     char **runs, **heats; /* per run: its image and its heat map (a->total each) */
     char *ref_out, *csv_path, *gp_path, *png_path;
@@ -227,16 +276,43 @@ static char *vary_set(const vary *v, int j)
     return lg_xasprintf("%s=%s", v->key, v->values[j]);
 }
 
-/* Checks, before anything runs, the reference graph and every --vary value against its
- * parameter's type and range (the graph with --set and that value, checked as `check`
- * does). Returns 0, or 2 after the checker's diagnostics and the sweep's own line. */
+/* REF_IMAGE, read before anything runs (an image has no parameters: --ref-set is refused).
+ * Without --size the runs render at its size. Returns 0, or 2 after a message. */
+static int read_reference_image(sweep *sw)
+{
+    const lg_sweep_args *a = sw->a;
+    char err[1024];
+    if (a->n_ref_sets) {
+        fprintf(stderr,
+                "lightgraph sweep: --ref-set %s: the reference '%s' is an image, which has no "
+                "parameters to set; nothing was run\n",
+                a->ref_sets[0], a->reference);
+        return 2;
+    }
+    if (lg_image_read(a->reference, 0, &sw->ref, NULL, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: --reference: %s; nothing was run\n", err);
+        return 2;
+    }
+    if (!a->size_given) {
+        sw->opts.width = sw->ref.width;
+        sw->opts.height = sw->ref.height;
+    }
+    return 0;
+}
+
+/* Checks, before anything runs, the reference (a graph, or REF_IMAGE read) and every --vary
+ * value against its parameter's type and range (the graph with --set and that value,
+ * checked as `check` does). Returns 0, or 2 after the checker's diagnostics and the sweep's
+ * own line. */
 static int check_values(sweep *sw)
 {
     const lg_sweep_args *a = sw->a;
     const char *ref_graph = a->reference ? a->reference : a->graph;
     int nrs, rc = 0;
     const char **rs = reference_sets(a, 1, &nrs);
-    if (lg_check_file(&sw->reg, ref_graph, rs, nrs)) {
+    if (sw->ref_image) {
+        rc = read_reference_image(sw);
+    } else if (lg_check_file(&sw->reg, ref_graph, rs, nrs)) {
         fprintf(stderr,
                 "lightgraph sweep: the reference %s is refused (above); nothing "
                 "was run\n",
@@ -299,12 +375,23 @@ static int reserve_outputs(sweep *sw)
     return check_space(dir, total, sw->a->n_vary, &sw->opts) ? 1 : 0;
 }
 
-/* Renders the reference into its output's temporary and reads it back from there. Returns
- * the exit status. */
+/* Renders the reference into its output's temporary and reads it back from there, timing
+ * it (ref_ms); REF_IMAGE, read already, is written there as it is. Returns the exit status. */
 static int render_reference(sweep *sw)
 {
     const lg_sweep_args *a = sw->a;
     const char *ref_graph = a->reference ? a->reference : a->graph;
+    sw->ref_ms = NAN;
+    if (sw->ref_image) {
+        char err[1024];
+        fprintf(stderr, "sweep: reference (image %s, %ux%u)\n", a->reference, sw->ref.width,
+                sw->ref.height);
+        if (lg_outputs_write_image(sw->outs, sw->ref_out, &sw->ref, NULL, err, sizeof err)) {
+            fprintf(stderr, "lightgraph sweep: %s\n", err);
+            return 1;
+        }
+        return 0;
+    }
     int nrs;
     const char **rsets = reference_sets(a, 0, &nrs);
     lg_exec_opts o = sw->opts;
@@ -314,6 +401,8 @@ static int render_reference(sweep *sw)
     fprintf(stderr, "sweep: reference (%s)\n", ref_graph);
     int rc = lg_render_file(&sw->reg, ref_graph, rsets, nrs, &o, NULL, &res);
     free(rsets);
+    if (rc == 0)
+        sw->ref_ms = res.total_ms;
     if (rc == 0 && read_image(lg_outputs_temp(sw->outs, sw->ref_out), &sw->ref))
         rc = 1;
     return rc;
@@ -328,7 +417,31 @@ static void csv_header(sweep *sw)
         lg_str_addf(&sw->csv, ",%s", f);
         free(f);
     }
-    lg_str_add(&sw->csv, ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite\n");
+    lg_str_add(&sw->csv, ",time_ms,time_min_ms,rmse,psnr_db,mean_abs,max_abs,rel_mse,nonfinite");
+    lg_str_add(&sw->csv, ",rel_rmse,ssim,dssim,time_max_ms,ref_ms\n");
+}
+
+/* A CSV number, empty when it is not one (ssim without a window, ref_ms of REF_IMAGE). */
+static void csv_number(lg_str *csv, const char *fmt, double v)
+{
+    lg_str_addc(csv, ',');
+    if (!isnan(v))
+        lg_str_addf(csv, fmt, v);
+}
+
+/* Why run k has no SSIM (its ssim is NaN), for the error of --metric dssim. */
+static void no_ssim(int k, const lg_image *img, const lg_metric_set *ms)
+{
+    if (img->width < LG_SSIM_WINDOW || img->height < LG_SSIM_WINDOW)
+        fprintf(stderr,
+                "lightgraph sweep: run %d: --metric dssim: the image is %ux%u, smaller than "
+                "SSIM's %dx%d window, so it has no SSIM (choose another --metric)\n",
+                k, img->width, img->height, LG_SSIM_WINDOW, LG_SSIM_WINDOW);
+    else
+        fprintf(stderr,
+                "lightgraph sweep: run %d: --metric dssim: every one of its %llu SSIM windows "
+                "holds a pixel with NaN or Inf, so it has no SSIM\n",
+                k, (unsigned long long)ms->ssim_skipped);
 }
 
 /* Compares run k's image with the reference, writes its heat map and adds its CSV row
@@ -339,11 +452,15 @@ static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned, 
 {
     const lg_sweep_args *a = sw->a;
     char err[1024];
-    lg_image_metrics m;
+    lg_metric_set ms;
+    const lg_image_metrics *m = &ms.base;
     lg_image heat = { 0 };
     int rc = 0;
-    if (lg_image_compare(img, &sw->ref, &m, &heat, 0, err, sizeof err)) {
+    if (lg_metrics_compute(img, &sw->ref, &ms, &heat, 0, err, sizeof err)) {
         fprintf(stderr, "lightgraph sweep: run %d against the reference: %s\n", k, err);
+        rc = 1;
+    } else if (isnan(lg_metric_value(&ms, a->metric))) {
+        no_ssim(k, img, &ms); /* dssim is the one metric that can be NaN */
         rc = 1;
     } else if (lg_outputs_write_image(sw->outs, sw->heats[k], &heat, NULL, err, sizeof err)) {
         fprintf(stderr, "lightgraph sweep: %s\n", err);
@@ -356,11 +473,20 @@ static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned, 
             lg_str_addf(&sw->csv, ",%s", f);
             free(f);
         }
-        lg_str_addf(&sw->csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu\n", times[a->repeat / 2],
-                    times[0], m.rmse, m.psnr > 1e300 ? 999.0 : m.psnr, m.mean_abs, m.max_abs,
-                    m.rel_mse, (unsigned long long)m.nonfinite);
-        printf("%-40s time %9.3f ms  rmse %.4g  max %.4g  psnr %.2f dB\n", label,
-               times[a->repeat / 2], m.rmse, m.max_abs, m.psnr);
+        lg_str_addf(&sw->csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu", times[a->repeat / 2],
+                    times[0], m->rmse, m->psnr > 1e300 ? 999.0 : m->psnr, m->mean_abs, m->max_abs,
+                    m->rel_mse, (unsigned long long)m->nonfinite);
+        lg_str_addf(&sw->csv, ",%.9g", ms.rel_rmse);
+        csv_number(&sw->csv, "%.9g", ms.ssim);
+        csv_number(&sw->csv, "%.9g", 1.0 - ms.ssim);
+        lg_str_addf(&sw->csv, ",%.4f", times[a->repeat - 1]);
+        csv_number(&sw->csv, "%.4f", sw->ref_ms);
+        lg_str_addc(&sw->csv, '\n');
+        char ssim[32] = "n/a";
+        if (!isnan(ms.ssim))
+            snprintf(ssim, sizeof ssim, "%.4f", ms.ssim);
+        printf("%-40s time %9.3f ms  rmse %.4g  rel_rmse %.4g  ssim %s  max %.4g  psnr %.2f dB\n",
+               label, times[a->repeat / 2], m->rmse, ms.rel_rmse, ssim, m->max_abs, m->psnr);
         fflush(stdout);
     }
     lg_image_free(&heat);
@@ -447,7 +573,8 @@ static int sweep_finish(sweep *sw, bool *plotted)
     char err[1024];
     *plotted = false;
     if (lg_outputs_write_data(sw->outs, sw->csv_path, sw->csv.s, sw->csv.len, err, sizeof err) ||
-        write_gnuplot(sw->outs, sw->gp_path, sw->a->vary, sw->a->n_vary, err, sizeof err)) {
+        write_gnuplot(sw->outs, sw->gp_path, sw->a->vary, sw->a->n_vary, sw->a->metric, err,
+                      sizeof err)) {
         fprintf(stderr, "lightgraph sweep: %s\n", err);
         return 1;
     }
@@ -507,6 +634,7 @@ int lg_cmd_sweep(int argc, char **argv)
     sw.opts.frames = args.frames;
     sw.opts.dt = 1.0 / 60.0;
     sw.opts.gl_backend = args.gl_backend;
+    sw.ref_image = args.reference && lg_image_format_from_path(args.reference) != LG_FILE_UNKNOWN;
     lg_registry_scan(&sw.reg);
 
     /* Everything is checked before the first run: every --vary value, the reference graph,

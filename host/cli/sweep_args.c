@@ -39,6 +39,7 @@ static const lg_option sweep_opts[] = {
     { "--gl", NULL, LG_OPT_VALUE },
     { "-o", NULL, LG_OPT_VALUE },
     { "-q", NULL, 0 },
+    { "--metric", NULL, LG_OPT_VALUE },
 };
 enum sweep_opt {
     OPT_VARY,
@@ -52,6 +53,7 @@ enum sweep_opt {
     OPT_GL,
     OPT_DIR,
     OPT_QUIET,
+    OPT_METRIC,
     N_SWEEP_OPTS
 };
 _Static_assert(sizeof sweep_opts / sizeof sweep_opts[0] == N_SWEEP_OPTS, "sweep_opts");
@@ -69,6 +71,7 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
     a->width = 640;
     a->height = 360;
     a->gl_backend = "osmesa";
+    a->metric = LG_METRIC_RMSE;
     a->total = 1;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i], *val;
@@ -138,6 +141,10 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
             a->dir = val;
         } else if (opt == OPT_QUIET) {
             a->quiet = true;
+        } else if (opt == OPT_METRIC) {
+            if (lg_metric_parse(val, &a->metric))
+                return bad(err, errlen, "--metric wants one of %s, got '%s'", lg_metric_names(),
+                           val);
         } else if (o[0] == '-') {
             return bad(err, errlen, "unknown option '%s'", o);
         } else if (!a->graph) {

@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "cli/metric.h"
+
 #define LG_SWEEP_MAX_VARY 8
 /* at most this many combinations: each writes two files, reserved when its run starts */
 #define LG_SWEEP_MAX_RUNS 10000
@@ -23,7 +25,9 @@ typedef struct lg_sweep_vary {
 
 /* What the arguments say. Strings other than the --vary ones point into argv. */
 typedef struct lg_sweep_args {
-    const char *graph, *reference, *time_node, *dir; /* dir: -o, default "out/sweep" */
+    /* reference: --reference, a graph, or an image when its name ends as one does (.exr,
+     * .hdr, .pic, .png: lg_image_format_from_path); dir: -o, default "out/sweep" */
+    const char *graph, *reference, *time_node, *dir;
     const char **sets, **ref_sets; /* --set, --ref-set values in order (arrays owned) */
     int n_sets, n_ref_sets;
     lg_sweep_vary vary[LG_SWEEP_MAX_VARY];
@@ -35,6 +39,7 @@ typedef struct lg_sweep_args {
     bool size_given;        /* --size was given (its pixel limit is the command's) */
     const char *gl_backend; /* --gl: "osmesa" (default) or "egl" */
     bool quiet;             /* -q */
+    lg_metric_id metric;    /* --metric, the error the plot shows: default LG_METRIC_RMSE */
 } lg_sweep_args;
 
 /* Parses argv[1 .. argc-1] (argv[0] is "sweep"). Returns 0 with *a filled, or 2 (bad usage)

@@ -9,7 +9,7 @@
  *     a key and values that are non-empty and hold no ',', the run count their product and
  *     at most 10000, every number within its range and written in digits only (as
  *     lg_parse_uint reads the numbers of every command: no blank, no sign), --gl osmesa or
- *     egl, one --set and --ref-set entry per option given;
+ *     egl, --metric one of metric.h's, one --set and --ref-set entry per option given;
  *   - the result written back as a canonical argument list (every option once, in a fixed
  *     order) parses to the same result.
  * lg_sweep_args_free runs on both, so that a leak shows under ASan.
@@ -39,10 +39,9 @@ static void bad(const char *what)
 /* Whether option `o` takes the next argument as its value (as sweep_args.c). */
 static bool takes_value(const char *o)
 {
-    static const char *const opts[] = {
-        "--vary",   "--reference", "--ref-set", "--set", "--time",
-        "--repeat", "--size",      "-o",        "--gl",  "--frames"
-    };
+    static const char *const opts[] = { "--vary", "--reference", "--ref-set", "--set",
+                                        "--time", "--repeat",    "--size",    "-o",
+                                        "--gl",   "--frames",    "--metric" };
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
         if (strcmp(o, opts[k]) == 0)
             return true;
@@ -96,6 +95,8 @@ static void check(const lg_sweep_args *a, int argc, char **argv)
     }
     if (!a->gl_backend || (strcmp(a->gl_backend, "osmesa") && strcmp(a->gl_backend, "egl")))
         bad("an unknown --gl");
+    if ((unsigned)a->metric >= LG_METRIC_COUNT)
+        bad("an unknown --metric");
     if (a->n_sets != count(argc, argv, "--set") || a->n_ref_sets != count(argc, argv, "--ref-set"))
         bad("--set or --ref-set entries lost or made up");
     for (int i = 0; i < a->n_sets; i++)
@@ -148,6 +149,8 @@ static int write_back(const lg_sweep_args *a, char **out, char **owned, int *n_o
     ARG(a->gl_backend);
     ARG("-o");
     ARG(a->dir);
+    ARG("--metric");
+    ARG(lg_metric_name(a->metric));
     if (a->quiet)
         ARG("-q");
 #undef ARG
@@ -167,7 +170,7 @@ static bool same(const lg_sweep_args *x, const lg_sweep_args *y)
         x->n_sets != y->n_sets || x->n_ref_sets != y->n_ref_sets || x->n_vary != y->n_vary ||
         x->total != y->total || x->repeat != y->repeat || x->frames != y->frames ||
         x->width != y->width || x->height != y->height || !same_str(x->gl_backend, y->gl_backend) ||
-        x->quiet != y->quiet)
+        x->quiet != y->quiet || x->metric != y->metric)
         return false;
     for (int i = 0; i < x->n_sets; i++)
         if (!same_str(x->sets[i], y->sets[i]))

@@ -214,9 +214,12 @@ def transcript(group, skip_crashes):
                 for d in ("sw", "sw2"):
                     csv = os.path.join(tmp, d, "sweep.csv")
                     if os.path.exists(csv) and "-o" in args and args[args.index("-o") + 1] == d:
-                        # the timings columns vary; the rest is the sweep's result
-                        rows = [re.sub(r"^([^,]*(?:,[^,]*){%d}),[0-9.]+,[0-9.]+," % (
-                            args.count("--vary")), r"\1,T,T,", r)
+                        # the timings columns vary (time_ms and time_min_ms after the
+                        # varied parameters, time_max_ms and ref_ms last, issue 23); the
+                        # rest is the sweep's result
+                        rows = [re.sub(r",[0-9.]+,([0-9.]+)?$", ",T,T", re.sub(
+                            r"^([^,]*(?:,[^,]*){%d}),[0-9.]+,[0-9.]+," % (
+                                args.count("--vary")), r"\1,T,T,", r))
                             for r in open(csv).read().splitlines()]
                         out.append("--- %s/sweep.csv\n%s\n" % (d, "\n".join(rows)))
         text = "".join(out)
