@@ -25,7 +25,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from format_study import read_exr  # noqa: E402  (width, height, {channel: values})
+from accuracy.exr import read_exr  # noqa: E402  (width, height, {channel: values})
 from volumetric_study import vol_block  # noqa: E402  (the example's own `vol` node)
 
 METHODS = ["screen", "polygonal", "froxel", "reference"]

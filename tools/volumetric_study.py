@@ -27,7 +27,7 @@ Error: relative RMSE of `inscatter` over the image and RGB, sqrt(sum (x - ref)^2
 Writes DIR (default out/volumetric_study): each sweep's directory (CSV, heat maps, gnuplot
 plot), volumetric_study.csv (all runs, one table), volumetric_study.md, and
 volumetric_study.png (relative RMSE against time, every method). Plain python and gnuplot;
-EXR read by tools/format_study.py's reader.
+EXR read by tools/accuracy/exr.py's reader.
 """
 import argparse
 import csv
@@ -40,7 +40,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
-from format_study import read_exr  # noqa: E402  (width, height, {channel: values})
+from accuracy.exr import read_exr  # noqa: E402  (width, height, {channel: values})
 
 
 def die(msg):
