@@ -92,7 +92,7 @@ def studies(ctx):
                             ("conv.size", ["0", "64"])],
                       quick_vary=[("conv.layout", ["angular", "cross"]),
                                   ("conv.size", ["0"])],
-                      reference_label="the 1024x512 lat-long probe as loaded (no conversion)",
+                      reference_label="the 256x128 lat-long probe as loaded (no conversion)",
                       **common),
     ]
     for w in ("nol", "nol_vis"):
