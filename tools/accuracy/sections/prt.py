@@ -41,10 +41,11 @@ cache load. 1% is below the SH truncation floor here (8 bands leave 6.6%), so th
 target is 10%: the answer is then a run-time cost (`prt` with a bake made once), the bake's
 time is in its studies' rows.
 
-**Interreflection** has no exact reference in the plugins (`prt_reference` refuses
-`interreflected`: that oracle would be a path tracer): its study compares 1 .. 8 bounces with
-the same bake converged (32 bounces, `bounce_threshold = 0`), i.e. the error of stopping
-early, not the distance to the truth."""
+**Interreflection** has no exact reference in the plugins (`prt_reference` refuses the mode
+`interreflected`, as that oracle would be a path tracer): its study compares 1 .. 8 bounces
+with the same bake converged (32 bounces, `bounce_threshold = 0`), i.e. the error of
+stopping early, not the distance to the truth; it is the one study of the section whose
+front points are not measured against `prt_reference`."""
 
 # the forest at 256x128 (box-reduced from the 1024x512 one): sh_project's quadrature over
 # 1024x512 texels on 8 bands takes 0.8 s a render, here 50 ms, and both sides of every
