@@ -12,7 +12,8 @@ SECONDS    ?= 60
 
 .PHONY: all deps build demo test test-sanitize fuzz bench accuracy accuracy-quick \
 	study-prefilter study-format study-prt \
-	pictures-prt bench-volumetric study-volumetric pictures-volumetric format format-check clean
+	pictures-prt bench-volumetric study-volumetric pictures-volumetric format format-check stability \
+	clean
 
 all: build
 
@@ -36,6 +37,13 @@ demo: build
 test: build
 	-meson test -C $(BUILD) --num-processes $(JOBS) --print-errorlogs
 	@python3 tools/test_summary.py $(BUILD)
+
+# docs/stability.md: every hard case with its policy, backends and status in the last run
+# (tools/stability.py reads tests/stability.toml, meson's tests and BUILD's testlog.json).
+# Run it after `make test`; it fails, naming each, on a hard case without its test or a
+# test of suite 'stability' without its entry. Adding a hard case: docs/stability.md's head.
+stability:
+	python3 tools/stability.py --build $(BUILD) --out docs/stability.md
 
 # The same suite in an ASan+UBSan build.
 $(ASAN_BUILD)/build.ninja:

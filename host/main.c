@@ -72,6 +72,10 @@ static void help(FILE *f)
             "  lightgraph sweep GRAPH --vary NODE.PARAM=v1,v2,... [--reference REF_GRAPH]\n"
             "                   [--ref-set N.P=V]... [--set N.P=V]... [--time NODE]\n"
             "                   [--repeat N] [--size WxH] [-o DIR]   error against time\n"
+            "  lightgraph tune GRAPH --node N --target-error E [--metric M] [--vary P=RANGE]...\n"
+            "                  [--reference REF | --ref-set N.P=V ...] [--set N.P=V]...\n"
+            "                  [--size WxH] [--frames N] [--repeat N] [--max-renders N] [-o DIR]\n"
+            "                  the cheapest settings of node N within error E (docs/tune.md)\n"
             "  lightgraph devices [gl] [cl] [--gl osmesa|egl]  can the devices be made here?\n"
             "                   (exit 0: all named ones (default: both) can; 1: one cannot)\n"
             "  lightgraph conform PLUGIN.so [--json] [--quick] [-v]  check one plugin's\n"
@@ -167,7 +171,7 @@ int main(int argc, char **argv)
         { "render", lg_cmd_render }, { "check", lg_cmd_check },     { "fmt", lg_cmd_fmt },
         { "dot", lg_cmd_dot },       { "plugins", lg_cmd_plugins }, { "inspect", lg_cmd_inspect },
         { "diff", lg_cmd_diff },     { "sweep", lg_cmd_sweep },     { "devices", lg_cmd_devices },
-        { "view", lg_cmd_view },     { "conform", lg_cmd_conform },
+        { "tune", lg_cmd_tune },     { "view", lg_cmd_view },       { "conform", lg_cmd_conform },
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (strcmp(cmd, cmds[i].name) == 0)
@@ -180,9 +184,9 @@ int main(int argc, char **argv)
         help(stdout);
         return 0;
     }
-    const char *names[] = { "render", "check", "fmt",     "dot",  "plugins", "inspect",
-                            "diff",   "sweep", "devices", "view", "conform", "help" };
-    const char *s = lg_suggest(cmd, names, 12);
+    const char *names[] = { "render", "check",   "fmt",  "dot",     "plugins", "inspect", "diff",
+                            "sweep",  "devices", "view", "conform", "help",    "tune" };
+    const char *s = lg_suggest(cmd, names, 13);
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;

@@ -1,8 +1,8 @@
 /* host/cli/commands.h: the commands of the lightgraph program (one file each in host/cli/)
- * and the helpers several of them share (session.c, schema_print.c, options.c). sweep's
- * command line (sweep_args.h) and conform's synthetic inputs (conform.h) keep private
- * headers: each is one command's alone, and fuzz_sweep runs the first without the rest of
- * the layer. */
+ * and the helpers several of them share (session.c, schema_print.c, options.c, gnuplot.c).
+ * sweep's and tune's command lines (sweep_args.h, tune_args.h) and conform's synthetic
+ * inputs (conform.h) keep private headers: each is one command's alone, and fuzz_sweep runs
+ * sweep's without the rest of the layer. */
 #ifndef LG_HOST_CLI_COMMANDS_H
 #define LG_HOST_CLI_COMMANDS_H
 
@@ -38,6 +38,10 @@ int lg_cmd_dot(int argc, char **argv);
 int lg_cmd_plugins(int argc, char **argv);
 int lg_cmd_inspect(int argc, char **argv);
 int lg_cmd_sweep(int argc, char **argv);
+/* lightgraph tune GRAPH --node N --target-error E [...] (tune.c, docs/tune.md): 0 the answer's
+ * check render meets E, 1 E is out of reach (the best found is printed) or the check misses
+ * it, 2 bad usage, an unknown node, parameter, range or metric (nothing written). */
+int lg_cmd_tune(int argc, char **argv);
 int lg_cmd_devices(int argc, char **argv);
 /* lightgraph diff A B [--heatmap OUT] [--heat-max X] [--json] [--max-rmse X] [--max-abs X] */
 int lg_cmd_diff(int argc, char **argv);
@@ -47,6 +51,11 @@ int lg_cmd_diff(int argc, char **argv);
 int lg_cmd_conform(int argc, char **argv);
 /* lightgraph view GRAPH [options] (view.c, docs/viewer.md) */
 int lg_cmd_view(int argc, char **argv);
+
+/* Runs gnuplot inside `dir` on the script `gp` with the variables data (the CSV `csv`) and out
+ * (the plot `png`), all three in `dir` and named without quotes or slashes (gnuplot.c: sweep's
+ * and tune's plots, made on their outputs' temporaries). Returns 0 when the plot was made. */
+int lg_run_gnuplot(const char *dir, const char *gp, const char *csv, const char *png);
 
 /* ---- option tables (options.c: render's, sweep's and diff's command lines) ------------------- */
 

@@ -1,6 +1,7 @@
 /*
  * lightgraph diff A B: compares two images (any format lg_image_read knows) with the
- * metrics of lg_image_compare, optionally writing a heat map and checking thresholds.
+ * metrics sweep and tune share (cli/metric.h: lg_image_compare's, relative RMSE and SSIM),
+ * optionally writing a heat map and checking thresholds.
  */
 #include <errno.h>
 #include <math.h>
@@ -9,6 +10,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "cli/metric.h"
 #include "lightgraph/image.h"
 #include "exec/outputs.h"
 #include "base/util.h"
@@ -17,11 +19,15 @@ static void diff_usage(FILE *f)
 {
     fprintf(f,
             "usage: lightgraph diff A B [--heatmap OUT.png|OUT.exr] [--heat-max X] [--json]\n"
-            "                         [--max-rmse X] [--max-abs X] [--ignore-nonfinite]\n"
+            "                         [--max-rmse X] [--max-abs X] [--max-error X [--metric M]]\n"
+            "                         [--ignore-nonfinite]\n"
             "\n"
             "Compares two images of the same size (.exr, .hdr, .pic, .png; PNG is decoded to\n"
             "linear) over their RGB channels: RMSE, PSNR (peak 1.0), mean and max absolute\n"
-            "error, relative MSE (mean of (a-b)^2 / (b^2 + 1e-4), B being the reference).\n"
+            "error, relative MSE (mean of (a-b)^2 / (b^2 + 1e-4), B being the reference),\n"
+            "relative RMSE (RMSE / the RMS of B) and SSIM (Wang et al. 2004, on the luminance,\n"
+            "11x11 Gaussian windows, dynamic range B's brightest pixel; n/a for images under\n"
+            "11x11) with DSSIM = 1 - SSIM: the metrics sweep and tune report.\n"
             "\n"
             "Pixels with NaN or Inf in R, G or B are counted first, in A and in B, and left out\n"
             "of the metrics: any such pixel fails the comparison (exit 1) unless\n"
@@ -35,13 +41,17 @@ static void diff_usage(FILE *f)
             "  --json          print one JSON object instead of text (PSNR null if infinite)\n"
             "  --max-rmse X    fail (exit 1) if RMSE > X\n"
             "  --max-abs X     fail (exit 1) if max abs error > X\n"
+            "  --max-error X   fail (exit 1) if the error --metric names is > X (or is n/a)\n"
+            "  --metric M      the error --max-error checks (default rmse): one of\n"
+            "                  %s\n"
             "  --ignore-nonfinite\n"
             "                  pixels with NaN or Inf do not fail the comparison: the\n"
             "                  metrics are over the pixels finite in both images\n"
             "\n"
             "exit status: 0 ok, 1 a threshold exceeded, a pixel with NaN or Inf (without\n"
             "--ignore-nonfinite), no pixel finite in both, an image that cannot be read or\n"
-            "sizes that differ, 2 bad usage\n");
+            "sizes that differ, 2 bad usage\n",
+            lg_metric_names());
 }
 
 /* A non-negative finite number, or -1 with a message. */
@@ -93,17 +103,21 @@ static void json_number(lg_str *b, const char *key, double v)
 /* What the command line says. */
 typedef struct diff_args {
     const char *paths[2], *heatmap;
-    double heat_max, max_rmse, max_abs; /* the thresholds: -1 when not given */
+    double heat_max, max_rmse, max_abs, max_error; /* the thresholds: -1 when not given */
+    lg_metric_id metric;                           /* what --max-error checks */
+    const char *metric_arg;                        /* --metric as given, NULL if not */
     bool json, ignore_nonfinite;
 } diff_args;
 
 /* diff's options, in the order of diff_opt: the valued ones take "--opt VALUE" or
- * "--opt=VALUE"; --heatmap is the one value that is not a number */
+ * "--opt=VALUE"; --heatmap and --metric are the values that are not numbers */
 static const lg_option diff_opts[] = {
     { "--heatmap", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
     { "--heat-max", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
     { "--max-rmse", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
     { "--max-abs", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--max-error", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
+    { "--metric", NULL, LG_OPT_VALUE | LG_OPT_JOINED },
     { "--json", NULL, 0 },
     { "--ignore-nonfinite", NULL, 0 },
     { "-h", "--help", 0 },
@@ -114,6 +128,8 @@ enum diff_opt {
     OPT_HEAT_MAX,
     OPT_MAX_RMSE,
     OPT_MAX_ABS,
+    OPT_MAX_ERROR,
+    OPT_METRIC,
     OPT_JSON,
     OPT_IGNORE_NONFINITE,
     OPT_HELP,
@@ -127,8 +143,9 @@ _Static_assert(sizeof diff_opts / sizeof diff_opts[0] == N_DIFF_OPTS, "diff_opts
 static int parse_diff_args(int argc, char **argv, diff_args *o)
 {
     memset(o, 0, sizeof *o);
-    o->max_rmse = o->max_abs = -1.0;
-    double *const number[] = { NULL, &o->heat_max, &o->max_rmse, &o->max_abs };
+    o->max_rmse = o->max_abs = o->max_error = -1.0;
+    o->metric = LG_METRIC_RMSE;
+    double *const number[] = { NULL, &o->heat_max, &o->max_rmse, &o->max_abs, &o->max_error };
     int npaths = 0;
     bool options_done = false;
     for (int i = 1; i < argc; i++) {
@@ -161,6 +178,14 @@ static int parse_diff_args(int argc, char **argv, diff_args *o)
             }
             o->heatmap = val;
             break;
+        case OPT_METRIC:
+            if (lg_metric_parse(val, &o->metric)) {
+                fprintf(stderr, "lightgraph diff: --metric wants one of %s, got '%s'\n",
+                        lg_metric_names(), val);
+                return 2;
+            }
+            o->metric_arg = val;
+            break;
         default: /* the thresholds */
             if (diff_number(diff_opts[which].name, val, number[which]))
                 return 2;
@@ -170,6 +195,14 @@ static int parse_diff_args(int argc, char **argv, diff_args *o)
     if (npaths != 2) {
         fprintf(stderr, "lightgraph diff: two images are needed\n");
         diff_usage(stderr);
+        return 2;
+    }
+    /* every metric is printed anyway: a --metric alone would check nothing, silently */
+    if (o->metric_arg && o->max_error < 0.0) {
+        fprintf(stderr,
+                "lightgraph diff: --metric %s names the error --max-error checks, and no "
+                "--max-error is given\n",
+                o->metric_arg);
         return 2;
     }
     return -1;
@@ -214,10 +247,20 @@ static int write_heatmap(lg_outputs *outs, const char *path, const lg_image *hea
 /* What was compared: the metrics, the non-finite pixels of A and B, and why it fails
  * (empty when it passes). */
 typedef struct diff_result {
-    lg_image_metrics m;
+    lg_image_metrics m; /* ms.base */
+    lg_metric_set ms;
     uint64_t total, bad[2], compared;
     lg_str why;
 } diff_result;
+
+/* Why an SSIM is n/a (NaN): the images are under the window, or every window holds a pixel
+ * that is not finite in both. */
+static const char *ssim_why_not(const lg_image img[2])
+{
+    if (img[0].width < LG_SSIM_WINDOW || img[0].height < LG_SSIM_WINDOW)
+        return "the images are smaller than SSIM's 11x11 window";
+    return "every 11x11 window holds a pixel with NaN or Inf";
+}
 
 /* Why the comparison fails, into r->why: non-finite pixels first (metrics over what is left
  * of the images must not read as a clean result: all of B NaN gave "RMSE 0, PSNR inf"),
@@ -248,6 +291,14 @@ static void judge(const diff_args *o, const lg_image img[2], diff_result *r)
     if (o->max_abs >= 0.0 && m->max_abs > o->max_abs)
         lg_str_addf(why, "%smax abs error %.6g exceeds --max-abs %.6g", why->len ? "; " : "",
                     m->max_abs, o->max_abs);
+    double e = lg_metric_value(&r->ms, o->metric);
+    if (o->max_error >= 0.0 && r->compared && isnan(e)) /* dssim without a window */
+        lg_str_addf(why, "%s%s is n/a (%s), so --max-error %.6g cannot be checked",
+                    why->len ? "; " : "", lg_metric_name(o->metric), ssim_why_not(img),
+                    o->max_error);
+    else if (o->max_error >= 0.0 && r->compared && e > o->max_error)
+        lg_str_addf(why, "%s%s %.6g exceeds --max-error %.6g", why->len ? "; " : "",
+                    lg_metric_name(o->metric), e, o->max_error);
 }
 
 static void print_json(const diff_args *o, const lg_image img[2], const diff_result *r)
@@ -271,6 +322,9 @@ static void print_json(const diff_args *o, const lg_image img[2], const diff_res
     json_number(&b, "mean_abs", m->mean_abs + none);
     json_number(&b, "max_abs", m->max_abs + none);
     json_number(&b, "rel_mse", m->rel_mse + none);
+    json_number(&b, "rel_rmse", r->ms.rel_rmse + none);
+    json_number(&b, "ssim", r->ms.ssim + none);
+    json_number(&b, "dssim", 1.0 - r->ms.ssim + none);
     if (o->heatmap) {
         lg_str_add(&b, ", \"heatmap\": ");
         lg_str_add_json(&b, o->heatmap);
@@ -307,6 +361,15 @@ static void print_text(const diff_args *o, const lg_image img[2], const lg_image
         printf("mean abs   %.6g\n", m->mean_abs);
         printf("max abs    %.6g\n", m->max_abs);
         printf("rel MSE    %.6g\n", m->rel_mse);
+        printf("rel RMSE   %.6g\n", r->ms.rel_rmse);
+        if (isnan(r->ms.ssim))
+            printf("SSIM       n/a (%s)\n", ssim_why_not(img));
+        else if (r->ms.ssim_skipped)
+            printf("SSIM       %.6f (DSSIM %.6g; %llu of %llu windows left out for NaN or Inf)\n",
+                   r->ms.ssim, 1.0 - r->ms.ssim, (unsigned long long)r->ms.ssim_skipped,
+                   (unsigned long long)(r->ms.ssim_skipped + r->ms.ssim_windows));
+        else
+            printf("SSIM       %.6f (DSSIM %.6g)\n", r->ms.ssim, 1.0 - r->ms.ssim);
     }
     if (o->heatmap)
         printf("heat map   %s (white = %.6g)\n", o->heatmap,
@@ -325,9 +388,10 @@ static int run_diff(const diff_args *o, lg_outputs *outs, lg_image img[2])
     memset(&heat, 0, sizeof heat);
     diff_result r;
     memset(&r, 0, sizeof r);
-    if (lg_image_compare(&img[0], &img[1], &r.m, o->heatmap ? &heat : NULL, o->heat_max, err,
-                         sizeof err) != LG_OK)
+    if (lg_metrics_compute(&img[0], &img[1], &r.ms, o->heatmap ? &heat : NULL, o->heat_max, err,
+                           sizeof err) != 0)
         return diff_fail(NULL, err);
+    r.m = r.ms.base;
     if (o->heatmap) {
         int rc = write_heatmap(outs, o->heatmap, &heat);
         lg_image_free(&heat);

@@ -39,8 +39,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "lightgraph/image.h"
 #include "exec/outputs.h"
@@ -161,37 +159,6 @@ static int write_gnuplot(lg_outputs *outs, const char *gp, const vary *v, int n_
     int rc = lg_outputs_write_data(outs, gp, s.s, s.len, err, errlen);
     lg_str_free(&s);
     return rc;
-}
-
-static const char *base_name(const char *p)
-{
-    const char *slash = strrchr(p, '/');
-    return slash ? slash + 1 : p;
-}
-
-/* Runs gnuplot inside `dir` on the script's temporary, reading the CSV's and writing the
- * plot's (all three sit in `dir`, named without quotes or slashes); 0 when the plot was
- * made. */
-static int run_gnuplot(const char *dir, const char *gp, const char *csv, const char *png)
-{
-    char *vars = lg_xasprintf("data='%s'; out='%s'", base_name(csv), base_name(png));
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        free(vars);
-        return -1;
-    }
-    if (pid == 0) {
-        if (chdir(dir) != 0)
-            _exit(127);
-        execlp("gnuplot", "gnuplot", "-e", vars, base_name(gp), (char *)NULL);
-        _exit(127);
-    }
-    free(vars);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
-        ;
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
 }
 
 /* Bytes a sweep writes into DIR, at most: the reference and every run as an EXR of the
@@ -579,9 +546,9 @@ static int sweep_finish(sweep *sw, bool *plotted)
         return 1;
     }
     /* the plot is the one optional output: without gnuplot the rest is still written */
-    *plotted = run_gnuplot(sw->a->dir, lg_outputs_temp(sw->outs, sw->gp_path),
-                           lg_outputs_temp(sw->outs, sw->csv_path),
-                           lg_outputs_temp(sw->outs, sw->png_path)) == 0;
+    *plotted = lg_run_gnuplot(sw->a->dir, lg_outputs_temp(sw->outs, sw->gp_path),
+                              lg_outputs_temp(sw->outs, sw->csv_path),
+                              lg_outputs_temp(sw->outs, sw->png_path)) == 0;
     if (!*plotted)
         lg_outputs_drop(sw->outs, sw->png_path);
     /* all or nothing: the reference, the runs, the heat maps, the CSV and the plot */

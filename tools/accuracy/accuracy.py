@@ -208,14 +208,20 @@ def fmt_target(metric, target):
 
 # ---- images ----------------------------------------------------------------------------------
 
-def displayable(ctx, src, dst):
+def displayable(ctx, src, dst, display):
     """dst (PNG) from src: a PNG is copied; an EXR is rendered by a tiny graph that loads it
-    (the PNG writer clips linear values to [0, 1])."""
+    and, with display "reinhard", tone-maps it (Reinhard's operator, key 0.18, on the cpu
+    backend); with "clip" its linear values go to the PNG writer as they are (clipped to
+    [0, 1]: for images in display range already, a tone mapper's output)."""
     if src.endswith(".png"):
         shutil.copyfile(src, dst)
         return
-    g = ctx.write("topng_%s.lgraph" % os.path.basename(dst)[:-4],
-                  'lightgraph 1\nsrc = image { file = "%s" }\noutput src "%s"\n' % (src, dst))
+    if display == "reinhard":
+        body = ('src = image { file = "%s" }\ntone = reinhard { image = src, key = 0.18 }\n'
+                'output tone "%s"\n' % (src, dst))
+    else:
+        body = 'src = image { file = "%s" }\noutput src "%s"\n' % (src, dst)
+    g = ctx.write("topng_%s.lgraph" % os.path.basename(dst)[:-4], "lightgraph 1\n" + body)
     r = subprocess.run([ctx.lightgraph, "render", g], capture_output=True, text=True)
     if r.returncode != 0:
         raise StudyError("the image %s could not be made displayable:\n%s" % (src, r.stderr))
@@ -241,6 +247,16 @@ COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8
 def gp_string(text):
     """A gnuplot double-quoted string (escapes interpreted: \\n is a new line)."""
     return '"%s"' % text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+
+
+def log_tics(lo, hi):
+    """gnuplot tics at 1, 2, 5 x 10^k between lo and hi: a log axis spanning less than two
+    decades otherwise has one label or none."""
+    out = []
+    mant = (1, 2, 5) if hi / lo < 1000 else (1,)  # past three decades, the decades suffice
+    for k in range(int(math.floor(math.log10(lo))), int(math.ceil(math.log10(hi))) + 1):
+        out += [m * 10.0 ** k for m in mant if lo <= m * 10.0 ** k <= hi]
+    return "(%s)" % ", ".join("'%g' %.6g" % (v, v) for v in out)
 
 
 def wrap(text, width):
@@ -303,6 +319,8 @@ def plot(section, studies, rows, front, target, caption, stage):
         "set key outside right top",
         "set xrange [%.6g:%.6g]" % (xlo, xhi),
         "set yrange [%.6g:%.6g]" % (ylo, yhi),
+        "set xtics %s" % log_tics(xlo, xhi),
+        "set ytics %s" % log_tics(ylo, yhi),
         "set xlabel 'time per frame of the timed node (ms, median)'",
         "set ylabel '%s'" % ylabel,
         "set title %s" % gp_string(title),
@@ -373,22 +391,37 @@ def run_section(section, args, stage, machine):
     if shown:
         ans += "; the reference (%s): %s" % (shown.study.reference_label or "see below",
                                              reference_time(rows, shown.study))
-    imgs = []
+    imgs, heat_note = [], ""
     if shown:
-        for kind, src in (("answer", shown.image), ("heat", shown.heat),
-                          ("reference", refs.get(shown.study.id))):
+        ref = refs.get(shown.study.id)
+        heat = shown.heat
+        rmse = shown.values.get("rmse")
+        if (shown.image and ref and shown.image.endswith(".exr") and rmse and rmse > 0 and
+                os.path.exists(shown.image) and os.path.exists(ref)):
+            # the sweep's heat map puts white at the largest error, often one pixel, and the
+            # rest is black; this one saturates at 4 x the RMSE, so the error's layout shows
+            heat = os.path.join(ctx.tmp, "heat_answer.png")
+            cmd = [ctx.lightgraph, "diff", shown.image, ref, "--heatmap", heat, "--heat-max",
+                   "%.6g" % (4 * rmse)]
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            if r.returncode != 0 or not os.path.exists(heat):
+                raise StudyError("section %s: `%s` failed:\n%s" % (section.name, " ".join(cmd),
+                                                                    r.stderr))
+            heat_note = ", white at 4 x its RMSE (%.3g)" % (4 * rmse)
+        for kind, src in (("answer", shown.image), ("heat", heat), ("reference", ref)):
             if src and os.path.exists(src):
                 dst = "%s-%s.png" % (section.name, kind)
-                displayable(ctx, src, os.path.join(stage, IMAGES, dst))
+                displayable(ctx, src, os.path.join(stage, IMAGES, dst),
+                            "clip" if kind == "heat" else shown.study.display)
                 imgs.append((kind, dst))
 
     md = ['<a id="%s"></a>' % section.name, "", "## %s" % section.title, "",
           section.intro.strip(), "", "**Answer:** %s." % ans, "",
           "![%s: error against time](%s/%s)" % (section.title, IMAGES, png), "",
-          "*%s. Made in %.0f s.*" % (caption, secs), ""]
+          "*%s. Made in %.0f s at commit `%s`.*" % (caption, secs, git_commit()), ""]
     if imgs:
         names = {"answer": "%s (%s)" % (shown.label() or shown.study.id, shown.study.id),
-                 "heat": "its error heat map", "reference": "the reference"}
+                 "heat": "its error heat map" + heat_note, "reference": "the reference"}
         md += ["| " + " | ".join(names[k] for k, _ in imgs) + " |",
                "|" + "---|" * len(imgs),
                "| " + " | ".join("![%s](%s/%s)" % (k, IMAGES, f) for k, f in imgs) + " |", ""]
@@ -432,13 +465,14 @@ HOW_TO_READ = """\
 **How to read it.** Every technique is compared with its *reference*: an image made by a
 method that is exact for the scene (or converged far beyond the settings swept), named in
 each study. The errors are over R, G and B of the linear images, on the pixels finite in both
-(`host/cli/metric.h`, the definitions `lightgraph diff`, `sweep` and `tune` share):
+([docs/metrics.md](metrics.md): the definitions `lightgraph diff`, `sweep` and `tune` share):
 
 - **RMSE**: sqrt(mean (a - b)^2), in the image's units (linear radiance);
 - **relative RMSE**: RMSE / sqrt(mean b^2), the error as a fraction of the reference's RMS
   (0.01 = 1%): numerically off;
-- **SSIM / DSSIM**: the structural similarity of the luminance (Wang et al. 2004) and
-  DSSIM = 1 - SSIM: visibly wrong (structure, edges, banding) rather than slightly off.
+- **SSIM / DSSIM**: the structural similarity of the luminance (Wang et al. 2004, 11x11
+  Gaussian windows, the range L from the reference) and DSSIM = 1 - SSIM: visibly wrong
+  (structure, edges, banding) rather than slightly off; empty where an image has no window.
 
 **Time** is the time per frame of the node the technique runs in (its CPU wall time, which
 includes its GL work, docs/devices.md), the **median of N repeated runs** with the smallest
@@ -449,7 +483,8 @@ one of the two: the settings worth choosing. The **answer** is the cheapest row 
 target error (a row of error 0, the reference's own setting run again, is not one); the
 reference's own time is given beside it. Each figure names the machine,
 the backend, the load average at its section's start and end, and the date, since times on a
-shared machine move with its load.
+shared machine move with its load. For a scene of your own, `lightgraph tune` searches a
+node's knobs for the cheapest setting within an error ([docs/tune.md](tune.md)).
 """
 
 
@@ -551,8 +586,12 @@ def main(argv=None):
     stage = tempfile.mkdtemp(prefix=".accuracy-", dir=parent)
     os.makedirs(os.path.join(stage, DATA))
     machine = cpu_model()
+    def rel(path):
+        r = os.path.relpath(path, ROOT)
+        return path if r.startswith("..") else r
     cmdline = "tools/accuracy/accuracy.py " + " ".join(
-        a for a in (["--quick"] if args.quick else []) +
+        a for a in ["--build", rel(args.build), "--out", rel(out)] +
+        (["--quick"] if args.quick else []) +
         (["--only", args.only] if args.only else []) +
         (["--target", "%g" % args.target] if args.target != 0.01 else []) +
         (["--repeat", str(args.repeat)] if args.repeat else []))
@@ -581,6 +620,10 @@ def main(argv=None):
         sys.stderr.write("accuracy: %s\naccuracy: nothing was written to %s\n" % (e, out))
         shutil.rmtree(stage, ignore_errors=True)
         return 1
+    except KeyboardInterrupt:
+        sys.stderr.write("accuracy: interrupted; nothing was written to %s\n" % out)
+        shutil.rmtree(stage, ignore_errors=True)
+        return 130
     shutil.rmtree(stage, ignore_errors=True)
     print("wrote %s and %s" % (os.path.join(out, "accuracy.md"), os.path.join(out, IMAGES)))
     return 0

@@ -46,7 +46,8 @@ def check_page(out, sections):
                            r"reaches .+ at .+)", answers[0]):
             bad.append("section %s: answer line malformed: %s" % (name, answers[0]))
         if ids is None:
-            ids = re.findall(r"^`([a-z0-9_]+)`: ", body, re.M)
+            # the line under each study's heading: "`id`: technique on backend, against ..."
+            ids = re.findall(r"^`([a-z0-9_]+)`: \S+ on [a-z /]+, against ", body, re.M)
             if not ids:
                 bad.append("section %s: no study table" % name)
         for sid in ids:

@@ -54,6 +54,11 @@ def _check_common(kind, id, title, technique, backend, metric):
                                                                 ", ".join(METRICS)))
 
 
+def _check_display(id, display):
+    if display not in ("reinhard", "clip"):
+        raise StudyError("study %s: display %r is not reinhard or clip" % (id, display))
+
+
 class Study:
     """One `lightgraph sweep` of `graph`: every combination of the `vary` values (the
     cartesian product, as sweep runs them), each compared with the reference (the graph
@@ -69,13 +74,16 @@ class Study:
                 overrides it for every study
     value_labels  {NODE.PARAM: {value: label}}: how the page names a value (e.g. a generated
                 mesh's path as "L8 (224 tris)"); the CSV keeps the value
+    display     how the page shows an EXR image: "reinhard" (tone-mapped, key 0.18) or
+                "clip" (linear values clipped to [0, 1]: an image in display range already)
     """
 
     def __init__(self, id, title, technique, backend, graph, time_node, vary, quick_vary=None,
                  sets=(), reference=None, ref_sets=(), reference_label="", size="320x180",
                  quick_size="64x36", frames=1, repeat=5, metric="rel_rmse",
-                 value_labels=None):
+                 value_labels=None, display="reinhard"):
         _check_common("Study", id, title, technique, backend, metric)
+        _check_display(id, display)
         if not vary:
             raise StudyError("Study %s: vary is empty" % id)
         for key, values in list(vary) + list(quick_vary or []):
@@ -93,6 +101,7 @@ class Study:
         self.size, self.quick_size = size, quick_size
         self.frames, self.repeat, self.metric = frames, repeat, metric
         self.value_labels = dict(value_labels or {})
+        self.display = display
 
     def knobs(self, quick):
         return [k for k, _ in (self.quick_vary if quick else self.vary)]
@@ -126,11 +135,13 @@ class Custom:
     the knob columns and ROW_COLUMNS (any order; an empty field for a value it has not,
     e.g. ssim for an error that is not an image's). Two optional columns name files
     relative to {out}: `image` (the run's image, PNG or EXR) and `heat` (its heat map, PNG);
-    `reference_image` (an attribute) names the reference's image the same way."""
+    `reference_image` (an attribute) names the reference's image the same way; `display`
+    as Study's."""
 
     def __init__(self, id, title, technique, backend, command, csv, reference_label="",
-                 metric="rel_rmse", reference_image=None):
+                 metric="rel_rmse", reference_image=None, display="reinhard"):
         _check_common("Custom", id, title, technique, backend, metric)
+        _check_display(id, display)
         if not command or not csv:
             raise StudyError("Custom %s: command and csv are required" % id)
         self.id, self.title, self.technique, self.backend = id, title, technique, backend
@@ -138,6 +149,7 @@ class Custom:
         self.reference_label, self.metric = reference_label, metric
         self.reference_image = reference_image
         self.value_labels = {}
+        self.display = display
 
     def command(self, ctx, outdir):
         out = []

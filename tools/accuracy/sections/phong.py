@@ -91,7 +91,7 @@ def studies(ctx):
               vary=[("lit.shading", MODES), tess],
               quick_vary=[("lit.shading", ["gouraud", "phong"]), tess],
               reference=ref, ref_sets=["lit.shading=phong"],
-              reference_label="per-pixel Phong on the level-%d sphere (%d triangles)"
+              reference_label="per-pixel Phong on the level-%d sphere, %d triangles"
               % (ref_level, 4 * ref_level * (ref_level - 1)),
               value_labels={"scene.file": {f: "L%d (%d tris)" % (lv, 4 * lv * (lv - 1))
                                            for f, lv in zip(files, levels)}},

@@ -65,7 +65,8 @@ def studies(ctx):
     # reference; each study's --set of the mode applies to the reference as well
     common = dict(technique="reinhard", backend="cpu", graph=graph, time_node="tone",
                   size="631x430", quick_size="631x430", frames=4, repeat=3,
-                  ref_sets=["tone.backend=cpu", "tone.luminance=rec709"], metric="rel_rmse")
+                  ref_sets=["tone.backend=cpu", "tone.luminance=rec709"], metric="rel_rmse",
+                  display="clip")  # the output is in display range already
     labels = {"src.file": {files["float"]: "float EXR", files["half"]: "half EXR",
                            files["rgbe"]: "RGBE .hdr"}}
     out = []

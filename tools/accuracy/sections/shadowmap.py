@@ -17,7 +17,8 @@ the node's largest useful map, 8192 x 8192 texels (a texel of about 0.4 mm acros
 2-metre box, against the 320 x 180 render's pixel of about 1 cm), `fit = frustum`, the
 default biases: converged in resolution, so what remains is the bias's own offset, which every
 row shares. Knobs swept: `resolution` (128 .. 4096) x `fit` (`bounds`: the whole scene;
-`frustum`: the part the camera sees); the normal offset (texels of the light's
+`frustum`: the part the camera sees, which here is the whole open box, so the two fits make
+the same maps: a larger scene would separate them); the normal offset (texels of the light's
 `texel_world`) and the constant depth bias at 1024 (`cull` is not swept: the bunny box's
 materials are double-sided, so no face is culled). Time: the `shadowmap` node's (its one
 run: it renders on the first frame only, so its time includes llvmpipe's compilation of its
@@ -36,8 +37,8 @@ def studies(ctx):
                          os.path.join(ctx.tmp, "lit.exr")))
     ref_res = "2048" if ctx.quick else "8192"
     ref = ["shadow.resolution=%s" % ref_res, "shadow.fit=frustum"]
-    label = ("shadowmap %s x %s, fit = frustum, the default biases (no ray-traced reference "
-             "exists in the plugins)" % (ref_res, ref_res))
+    label = ("shadowmap %s x %s, fit = frustum, the default biases: no plugin ray-traces "
+             "surface shadows" % (ref_res, ref_res))
     common = dict(technique="shadowmap", backend="gl", graph=graph, time_node="shadow",
                   size="320x180", quick_size="96x54", frames=1, repeat=3, ref_sets=ref,
                   reference_label=label, metric="rel_rmse")
