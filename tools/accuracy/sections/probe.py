@@ -28,13 +28,14 @@ n = v over five roughnesses and 32 normals.
 
 **Knobs**: `reflect.format` (rgba32f, rgba16f, rgbe8; once as the probe is and once 2^12
 brighter, a sun in physical units beyond half's 65504), the probe's layout (`probe_convert`:
-lat-long, angular, cube, at the source's texel count and at size 64; every cube file layout,
-cross, strip and their vertical forms, is the same cube resource), and the glossy
-prefilter's samples per texel (`prefilter_samples`, both weightings, 64^2 faces). The format
-and layout studies render every material as a mirror (`glossy = off`: the lookups alone,
-no GGX chain); the prefilter studies build the chain in every run (the sweeps run with the
-on-disk cache off). Time: the `refl` node (`reflect`). Error: relative RMSE over the image
-and RGB (DSSIM beside it)."""
+angular and cube at the source's texel count and at size 64, lat-long at heights 32 and 64;
+every cube file layout, cross, strip and their vertical forms, is the same cube resource),
+and the glossy prefilter's samples per texel (`prefilter_samples`, both weightings, 64^2
+faces). The format and layout studies render every material as a mirror (`glossy = off`:
+the lookups alone, no GGX chain); the prefilter studies build the chain in every run (the
+sweeps run with the on-disk cache off). Time: the `refl` node (`reflect`). Error: relative
+RMSE over the image and RGB (DSSIM beside it). The front mixes these references: each row
+is as exact as its own study's reference says."""
 
 
 # the forest at 256x128 (box-reduced from the 1024x512 one): the GGX chain of 64^2 faces is
@@ -88,10 +89,18 @@ def studies(ctx):
                       title="probe_convert: layout x size (0: the source's texel count)",
                       graph=conv, reference=graph, sets=["refl.glossy=off"],
                       ref_sets=["refl.glossy=off"],
-                      vary=[("conv.layout", ["latlong", "angular", "cross"]),
-                            ("conv.size", ["0", "64"])],
+                      vary=[("conv.layout", ["angular", "cross"]), ("conv.size", ["0", "64"])],
                       quick_vary=[("conv.layout", ["angular", "cross"]),
                                   ("conv.size", ["0"])],
+                      reference_label="the 256x128 lat-long probe as loaded (no conversion)",
+                      **common),
+        # lat-long to lat-long at size 0 is the reference itself (its texels copied): only
+        # the smaller sizes
+        UncachedStudy(id="probe_layout_latlong",
+                      title="probe_convert: lat-long resampled smaller (size = its height)",
+                      graph=conv, reference=graph, sets=["refl.glossy=off"],
+                      ref_sets=["refl.glossy=off"],
+                      vary=[("conv.size", ["32", "64"])], quick_vary=[("conv.size", ["32"])],
                       reference_label="the 256x128 lat-long probe as loaded (no conversion)",
                       **common),
     ]
