@@ -90,33 +90,15 @@ accuracy-quick: build
 	python3 tools/accuracy/accuracy.py --build $(BUILD) --out out/accuracy --quick \
 	  $(if $(ONLY),--only $(ONLY),)
 
-# GGX prefiltering: error vs time for 16 .. 4096 samples per texel, into docs/images/
-# (prefilter_study.csv and .png; docs/probes.md "Glossy prefiltering").
-study-prefilter: build
-	ninja -C $(BUILD) study-prefilter
+# The old studies, now sections of docs/accuracy.md (tools/accuracy/sections/): the probe
+# formats, layouts and the glossy prefilter (tools/format_study.py, prefilter_study.py
+# retired; tools/prefilter_study.c is the section's oracle study) and PRT's bands, samplers,
+# samples, visibility, bounces and backends (tools/prt_study.py, sh_project_study.py retired).
+study-prefilter study-format: build
+	$(MAKE) accuracy ONLY=probe
 
-# What HDR precision costs (issue 9 item 3): examples/ibl.lgraph with refl.format =
-# rgba32f, rgba16f, rgbe8, time and error against rgba32f, for the forest probe as it is
-# and 2^12 brighter (a sun in physical units, beyond half's 65504); tables and plots into
-# plugins/ibl/images/ (plugins/ibl/README.md "Precision").
-study-format: build
-	python3 tools/format_study.py examples/ibl.lgraph refl --build $(BUILD) --size 640x360 \
-	  --repeat 3 --out out/format_study
-	python3 tools/format_study.py examples/ibl.lgraph refl --build $(BUILD) --size 640x360 \
-	  --repeat 3 --set sky.exposure=12 --out out/format_study_sun
-	for d in format_study format_study_sun; do \
-	  cp out/$$d/format_study.png plugins/ibl/images/$$d.png; \
-	  cp out/$$d/format_study.md plugins/ibl/images/$$d.md; \
-	  cp out/$$d/format_study.csv plugins/ibl/images/$$d.csv; done
-
-# PRT: bands 1..8 x 16^2..512^2 directions x the three samplers, error against the project's
-# reference (prt_reference) and bake time; CSV, table and plots into docs/images/
-# (docs/prt.md "What accuracy costs"). About 10 minutes on 2 cores.
 study-prt: build
-	mkdir -p out
-	python3 tools/prt_study.py --build $(BUILD) --out out/prt_study
-	cp out/prt_study/prt_study.csv out/prt_study/prt_study.md out/prt_study/prt_study_time.png \
-	  out/prt_study/prt_study_bands.png out/prt_study/prt_study_samples.png docs/images/
+	$(MAKE) accuracy ONLY=prt
 
 # The pictures of docs/prt.md: examples/prt.lgraph with each transfer mode.
 pictures-prt: build

@@ -2,9 +2,9 @@
  * tools/prefilter_study.c: what GGX prefiltering costs and how accurate it is (issue 9:
  * "error and prefilter time for 16 .. 4096 samples per texel"). A benchmark, not a test:
  *
- *     make study-prefilter          (or: ninja -C build study-prefilter)
+ *     make accuracy ONLY=probe      (tools/accuracy/sections/_prefilter.py runs it)
  *     build/tools/lg_prefilter_study --probe assets/probes/forest_1024x512.hdr \
- *         --face 128 --levels 5 --threads 2 --csv docs/images/prefilter_study.csv
+ *         --face 128 --levels 5 --threads 2 --csv out/prefilter_study.csv
  *
  * The probe (lat-long) is box-downsampled by --down (default 4: 256 x 128), resampled
  * once into a cube of face --face (lg_probe_resample) and prefiltered from that cube
@@ -22,8 +22,9 @@
  * The oracle's own noise (two seeds) is printed, so the floor is known.
  *
  * Output: one CSV row per (mode, samples, roughness, view) and a summary on stdout.
- * tools/prefilter_study.py runs this and gnuplot (tools/prefilter_study.gp) to draw
- * docs/images/prefilter_study.png.
+ * The accuracy atlas's probe section runs this as its Custom study
+ * (tools/accuracy/sections/_prefilter.py: one row per mode and sample count, the error at
+ * n = v over the roughnesses) into docs/accuracy.md#probe.
  */
 #include <math.h>
 #include <stdint.h>

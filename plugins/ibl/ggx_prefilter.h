@@ -18,7 +18,7 @@
  *       Fresnel factored out (lg_ggx_dfg_table / lg_ggx_dfg),
  * so that the reflected radiance is  prefiltered(r, roughness) * (F0 A + B).
  * docs/probes.md "Glossy prefiltering" has the maths, the measured error against the
- * oracle below and the cost (the prefilter study, `make study-prefilter`).
+ * oracle below and the cost (the prefilter study, docs/accuracy.md#probe).
  *
  * Conventions (the only ones in lightgraph; the ibl plugin's GLSL and CL follow them):
  *   - Microfacet distribution: GGX / Trowbridge-Reitz,
