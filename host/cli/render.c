@@ -145,6 +145,7 @@ static int run_graph(lg_registry *reg, const char *graph, lg_graph *g, lg_checke
     ex.opts = *opts;
     ex.opts.graph_path = graph;
     ex.opts.outputs = out;
+    ex.cache.off = opts->no_cache;
     ex.reg = reg;
     ex.graph = g;
     ex.checked = c;

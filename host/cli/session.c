@@ -17,7 +17,7 @@ static int usage(const char *cmd, const char *fmt, const char *what)
         stderr,
         "usage: lightgraph %s GRAPH [-o OUT] [--set NODE.PARAM=VALUE]... [--size WxH]\n"
         "                 [--frames N] [--every-frame[=NODE,...]] [--dt SECONDS] [--gl osmesa|egl]\n"
-        "                 [--exr half|float]\n"
+        "                 [--exr half|float] [--no-cache]\n"
         "                 [--explain] [--profile] [--profile-json FILE] [-v|-q]\n"
         "(see lightgraph help)\n",
         cmd);
@@ -38,6 +38,7 @@ static const lg_option graph_opts[] = {
     { "--every-frame", NULL, LG_OPT_JOINED },
     { "--profile", NULL, 0 },
     { "--profile-json", NULL, LG_OPT_VALUE },
+    { "--no-cache", NULL, 0 },
     { "-v", NULL, 0 },
     { "-q", NULL, 0 },
     { "-i", NULL, 0 },
@@ -54,6 +55,7 @@ enum graph_opt {
     OPT_EVERY_FRAME,
     OPT_PROFILE,
     OPT_PROFILE_JSON,
+    OPT_NO_CACHE,
     OPT_VERBOSE,
     OPT_QUIET,
     OPT_IN_PLACE,
@@ -119,6 +121,7 @@ static int graph_option(lg_graph_args *a, int k, const char *s, const char *v)
         break;
     case OPT_PROFILE: a->opts.profile = true; break;
     case OPT_PROFILE_JSON: a->opts.profile_json = v; break;
+    case OPT_NO_CACHE: a->opts.no_cache = true; break;
     case OPT_VERBOSE: lg_verbosity++; break;
     case OPT_QUIET: lg_verbosity = -1; break;
     case OPT_IN_PLACE:

@@ -601,6 +601,7 @@ int lg_cmd_sweep(int argc, char **argv)
     sw.opts.frames = args.frames;
     sw.opts.dt = 1.0 / 60.0;
     sw.opts.gl_backend = args.gl_backend;
+    sw.opts.no_cache = true; /* a repeat must time the work, not a cache load */
     sw.ref_image = args.reference && lg_image_format_from_path(args.reference) != LG_FILE_UNKNOWN;
     lg_registry_scan(&sw.reg);
 

@@ -1175,6 +1175,7 @@ int lg_cmd_tune(int argc, char **argv)
     t.opts.frames = args.frames;
     t.opts.dt = 1.0 / 60.0;
     t.opts.gl_backend = args.gl_backend;
+    t.opts.no_cache = true; /* a repeat must time the work, not a cache load */
     lg_registry_scan(&t.reg);
 
     /* everything is checked before the first render: the node, its knobs, the values, the

@@ -327,6 +327,9 @@ typedef struct lg_exec_opts {
     const char *output_override; /* -o */
     int exr_pixel;               /* render --exr half|float (LG_OUT_EXR_*): every EXR output */
     bool explain, profile;
+    /* the on-disk cache neither read nor written (render --no-cache; sweep and tune always:
+     * what they time is computed, not loaded) */
+    bool no_cache;
     bool every_frame;              /* --every-frame: static nodes run every frame too ... */
     const char *every_frame_nodes; /* ... only these (comma-separated names); NULL: all */
     const char *profile_json;

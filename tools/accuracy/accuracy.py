@@ -49,6 +49,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.dirname(HERE))
 from accuracy.study import (Custom, METRICS, ROW_COLUMNS, Study, StudyError,  # noqa: E402
                             run_study)
+from accuracy.png import stretch_thin  # noqa: E402
 
 IMAGES = os.path.join("images", "accuracy")
 DATA = os.path.join(IMAGES, "data")
@@ -125,8 +126,10 @@ def discover(sections_dir):
 class Context:
     """What a section's studies(ctx) sees (tools/accuracy/README.md)."""
 
-    def __init__(self, quick, build, tmp):
+    def __init__(self, quick, build, tmp, repeat=None):
         self.quick, self.build, self.root, self.tmp = quick, build, ROOT, tmp
+        # the generator's --repeat (None: each study's own), for Custom studies' commands
+        self.repeat = repeat
         self.lightgraph = os.path.join(build, "lightgraph")
         os.makedirs(tmp, exist_ok=True)
 
@@ -215,6 +218,7 @@ def displayable(ctx, src, dst, display):
     [0, 1]: for images in display range already, a tone mapper's output)."""
     if src.endswith(".png"):
         shutil.copyfile(src, dst)
+        stretch_thin(dst)
         return
     if display == "reinhard":
         body = ('src = image { file = "%s" }\ntone = reinhard { image = src, key = 0.18 }\n'
@@ -225,6 +229,8 @@ def displayable(ctx, src, dst, display):
     r = subprocess.run([ctx.lightgraph, "render", g], capture_output=True, text=True)
     if r.returncode != 0:
         raise StudyError("the image %s could not be made displayable:\n%s" % (src, r.stderr))
+    # a strip a few pixels tall (prt's per-vertex images) is stretched to be seen
+    stretch_thin(dst)
 
 
 # ---- one section -----------------------------------------------------------------------------
@@ -242,6 +248,13 @@ def write_csv(path, study, rows):
 
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b",
            "#e377c2", "#7f7f7f", "#bcbd22"]
+POINTS = [5, 7, 9, 11, 13, 4, 6, 8, 10, 12]
+
+
+def study_colour(i):
+    """Study i's colour: with POINTS cycling every 10 studies, the colour shifts by one more
+    each cycle, so no two of the first 100 studies share both point type and colour."""
+    return COLOURS[(i + i // len(POINTS)) % len(COLOURS)]
 
 
 def gp_string(text):
@@ -297,8 +310,7 @@ def plot(section, studies, rows, front, target, caption, stage):
         lines += ["%.6g %.6g" % (r.time(), y(r)) for r in sp]
         lines.append("EOD")
         blocks.append("$s%d using 1:2 with points pt %d ps 1.6 lw 1.5 lc rgb '%s' title '%s'"
-                      % (i, [5, 7, 9, 11, 13, 4, 6, 8, 10, 12][i % 10],
-                         COLOURS[i % len(COLOURS)], s.id))
+                      % (i, POINTS[i % len(POINTS)], study_colour(i), s.id))
     fp = [r for r in front if r.time() > 0]
     if fp:
         lines.append("$front << EOD")
@@ -337,7 +349,7 @@ def plot(section, studies, rows, front, target, caption, stage):
 
 def run_section(section, args, stage, machine):
     target = section.target if section.target is not None else args.target
-    ctx = Context(args.quick, args.build, os.path.join(stage, "work", section.name))
+    ctx = Context(args.quick, args.build, os.path.join(stage, "work", section.name), args.repeat)
     try:
         studies = section.module.studies(ctx)
     except StudyError as e:

@@ -269,6 +269,33 @@ def test_cache():
               [(e, os.path.islink(e), os.path.isfile(e)) for e in entries])
 
 
+def test_no_cache():
+    """render --no-cache, sweep and tune neither read nor write the on-disk cache: what they
+    time is the work (a repeat timed as a cache load would make the atlas and tune lie)."""
+    cache = os.path.join(TMP, "no-cache-test")
+    g = cache_graph(7, 0.5)
+
+    def entries():
+        return sorted(f for f in os.listdir(cache) if f.endswith(".lgc")) \
+            if os.path.isdir(cache) else []
+    for _ in range(2):
+        p = run(["render", g, "--size", "4x4", "--no-cache"], cache=cache, expect=0)
+        check("testcache: computed" in p.stderr, "--no-cache computes: " + p.stderr)
+    check(entries() == [], "--no-cache wrote an entry: %s" % entries())
+    p = run(["render", g, "--size", "4x4"], cache=cache, expect=0)
+    check("testcache: computed" in p.stderr and len(entries()) == 1,
+          "without it the entry is written: %s" % entries())
+    p = run(["render", g, "--size", "4x4", "--no-cache"], cache=cache, expect=0)
+    check("testcache: computed" in p.stderr, "--no-cache does not read the entry: " + p.stderr)
+    out = os.path.join(TMP, "sweep-no-cache")
+    os.makedirs(out, exist_ok=True)
+    p = run(["sweep", g, "--vary", "fog.value=0.25,0.5", "--repeat", "2", "--size", "4x4",
+             "-o", out], cache=cache, expect=0)
+    check(p.stderr.count("testcache: computed") == 5 and "reused" not in p.stderr,
+          "sweep: the reference and 2 x 2 runs all compute: " + p.stderr)
+    check(len(entries()) == 1, "sweep wrote an entry: %s" % entries())
+
+
 def test_frames_and_profile():
     g = fog_graph("1")
     pj = os.path.join(TMP, "profile.json")

@@ -7,8 +7,7 @@ Custom study against the Monte Carlo oracle: _prefilter.py runs it).
 import os
 import sys
 
-from accuracy.sections._uncached import UncachedStudy
-from accuracy.study import Custom
+from accuracy.study import Custom, Study
 
 TITLE = "Light probes: formats, layouts, glossy prefiltering"
 ORDER = 45
@@ -72,20 +71,20 @@ def studies(ctx):
     common = dict(technique="reflect", backend="cpu", time_node="refl", size=size,
                   quick_size=quick_size, repeat=3, metric="rel_rmse")
     out = [
-        UncachedStudy(id="probe_format", title="reflect: output format (the forest probe)",
+        Study(id="probe_format", title="reflect: output format (the forest probe)",
                       graph=graph, sets=["refl.glossy=off"],
                       vary=[("refl.format", ["rgba32f", "rgba16f", "rgbe8"])],
                       quick_vary=[("refl.format", ["rgba32f", "rgba16f", "rgbe8"])],
                       ref_sets=["refl.format=rgba32f"],
                       reference_label="reflect in rgba32f", **common),
-        UncachedStudy(id="probe_format_sun",
+        Study(id="probe_format_sun",
                       title="reflect: output format (the forest probe 2^12 brighter)",
                       graph=graph, sets=["sky.exposure=12", "refl.glossy=off"],
                       vary=[("refl.format", ["rgba32f", "rgba16f", "rgbe8"])],
                       quick_vary=[("refl.format", ["rgba32f", "rgba16f", "rgbe8"])],
                       ref_sets=["refl.format=rgba32f"],
                       reference_label="reflect in rgba32f, sky.exposure = 12", **common),
-        UncachedStudy(id="probe_layout",
+        Study(id="probe_layout",
                       title="probe_convert: layout x size (0: the source's texel count)",
                       graph=conv, reference=graph, sets=["refl.glossy=off"],
                       ref_sets=["refl.glossy=off"],
@@ -96,7 +95,7 @@ def studies(ctx):
                       **common),
         # lat-long to lat-long at size 0 is the reference itself (its texels copied): only
         # the smaller sizes
-        UncachedStudy(id="probe_layout_latlong",
+        Study(id="probe_layout_latlong",
                       title="probe_convert: lat-long resampled smaller (size = its height)",
                       graph=conv, reference=graph, sets=["refl.glossy=off"],
                       ref_sets=["refl.glossy=off"],
@@ -105,7 +104,7 @@ def studies(ctx):
                       **common),
     ]
     for w in ("nol", "nol_vis"):
-        out.append(UncachedStudy(
+        out.append(Study(
             id="probe_prefilter_%s" % w,
             title="reflect: prefilter samples per texel (%s weighting, 64^2 faces)" % w,
             graph=graph, sets=["refl.prefilter_weighting=%s" % w],

@@ -12,7 +12,8 @@ import os
 import subprocess
 import sys
 
-from accuracy.sections._uncached import UncachedStudy, backend_available
+from accuracy.study import Study
+
 
 TITLE = "Precomputed radiance transfer (SH)"
 ORDER = 40
@@ -88,20 +89,20 @@ def studies(ctx):
     common = dict(technique="prt", graph=graph, reference=ref, reference_label=label,
                   repeat=3, metric="rel_rmse")
     out = [
-        UncachedStudy(id="prt_bands", title="prt_bake: bands x samples (Sobol, shadowed)",
+        Study(id="prt_bands", title="prt_bake: bands x samples (Sobol, shadowed)",
                       backend="cpu", time_node="bake",
                       vary=[("bake.bands", ["1", "2", "3", "4", "6", "8"]),
                             ("bake.samples", ["16", "32", "64"])],
                       quick_vary=[("bake.bands", ["2", "6"]), ("bake.samples", ["8", "16"])],
                       **common),
-        UncachedStudy(id="prt_samplers", title="prt_bake: sampler x samples (6 bands)",
+        Study(id="prt_samplers", title="prt_bake: sampler x samples (6 bands)",
                       backend="cpu", time_node="bake",
                       vary=[("bake.sampler", ["jittered", "hammersley", "sobol"]),
                             ("bake.samples", ["8", "16", "32"])],
                       quick_vary=[("bake.sampler", ["jittered", "sobol"]),
                                   ("bake.samples", ["8"])],
                       **common),
-        UncachedStudy(id="prt_visibility",
+        Study(id="prt_visibility",
                       title="prt_bake: visibility mode (6 bands, Sobol) against the shadowed "
                             "reference",
                       backend="cpu", time_node="bake",
@@ -110,7 +111,7 @@ def studies(ctx):
                       quick_vary=[("bake.mode", ["unshadowed", "shadowed"]),
                                   ("bake.samples", ["8"])],
                       **common),
-        UncachedStudy(id="prt_lighting",
+        Study(id="prt_lighting",
                       title="sh_project: the lighting's sampler x samples (6-band bake, 32^2)",
                       backend="cpu", time_node="light",
                       sets=["bake.samples=%d" % (8 if q else 32)],
@@ -121,7 +122,7 @@ def studies(ctx):
                       **common),
     ]
     # interreflection against the same bake converged (no oracle exists: module doc)
-    out.append(UncachedStudy(
+    out.append(Study(
         id="prt_bounces", title="prt_bake: interreflected bounces (6 bands, 32^2 Sobol)",
         technique="prt", backend="cpu", graph=graph, time_node="bake",
         sets=["bake.mode=interreflected", "bake.bounce_threshold=0",
@@ -135,8 +136,10 @@ def studies(ctx):
     # dt = 1/60) makes `prt` run every frame, so its per-frame time is the steady one
     # (shader compilation and uploads on frame 1 left out), and frame k's lighting is turned
     # by 360 k degrees: the unturned one to float rounding, as the reference is
-    backends = [b for b in ("cpu", "gl", "cl") if b == "cpu" or backend_available(ctx, b)]
-    out.append(UncachedStudy(
+    # every backend, always: a device missing here fails the study (and the suite's quick
+    # run), it is never left off the page
+    backends = ["cpu", "gl", "cl"]
+    out.append(Study(
         id="prt_dot", title="prt: the dot product per backend (bake 32^2 Sobol)",
         backend="cpu", time_node="lit", frames=2 if q else 6,
         sets=["bake.samples=%d" % (8 if q else 32), "lit.spin_deg_per_s=21600"],

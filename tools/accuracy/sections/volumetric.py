@@ -239,7 +239,7 @@ def studies(ctx):
                         "time_node": "vol", "size": size, "sets": sets,
                         "vary": p.quick_vary if ctx.quick else p.vary,
                         "frames": 2 if ctx.quick else p.frames,
-                        "repeat": 1 if ctx.quick else REPEAT, "reference": reference}
+                        "repeat": 1 if ctx.quick else (ctx.repeat or REPEAT), "reference": reference}
                 path = ctx.write("%s/%s.json" % (case, sid), json.dumps(spec, indent=1))
                 out.append(Custom(
                     id=sid, title="%s %s: %s (%s, %s)" % (p.method, p.backend, p.title,
