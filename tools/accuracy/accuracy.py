@@ -408,7 +408,7 @@ def run_section(section, args, stage, machine):
         ref = refs.get(shown.study.id)
         heat = shown.heat
         rmse = shown.values.get("rmse")
-        if (shown.image and ref and shown.image.endswith(".exr") and rmse and rmse > 0 and
+        if (shown.image and ref and shown.image.endswith((".exr", ".png")) and rmse and rmse > 0 and
                 os.path.exists(shown.image) and os.path.exists(ref)):
             # the sweep's heat map puts white at the largest error, often one pixel, and the
             # rest is black; this one saturates at 4 x the RMSE, so the error's layout shows
