@@ -235,7 +235,7 @@ def render(registry, resolved, status, when, registry_rel):
     counts = {}
     for c in resolved:
         counts[c["technique"]] = counts.get(c["technique"], 0) + 1
-    out.append("| technique | cases | status |")
+    out.append("| technique | cases | its tests in the last run |")
     out.append("|---|---|---|")
     for key in techniques:
         if key not in counts:
