@@ -77,6 +77,23 @@ enum { LG_OPT_UNKNOWN = -1, LG_OPT_NO_VALUE = -2 };
  * when argv[*i] is none of them (an operand, or an option the caller names unknown). */
 int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i, const char **val);
 
+/* An argument parser's refusal: the message printf'd into err (errlen bytes). Returns 2, the
+ * exit status of bad usage, so that a parser says `return lg_arg_refuse(err, n, ...)`. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+int lg_arg_refuse(char *err, size_t errlen, const char *fmt, ...);
+
+/* The run options of the measuring commands, sweep and tune: the size, the frames at dt =
+ * 1/60, the GL backend, and the on-disk cache off (a repeat must time the work, never a
+ * cache load). */
+lg_exec_opts lg_measure_opts(uint32_t width, uint32_t height, uint32_t frames,
+                             const char *gl_backend);
+
+/* A macro's value as a string literal ("at most " LG_STR(LG_SWEEP_MAX_VARY)). */
+#define LG_STR_(x) #x
+#define LG_STR(x) LG_STR_(x)
+
 /* ---- the graph commands' session (session.c) ------------------------------------------------- */
 
 /* The command line of render, check, fmt and dot (lightgraph help):

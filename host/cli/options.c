@@ -4,7 +4,32 @@
  * message, stays the command's. */
 #include "cli/commands.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <string.h>
+
+int lg_arg_refuse(char *err, size_t errlen, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+    return 2;
+}
+
+lg_exec_opts lg_measure_opts(uint32_t width, uint32_t height, uint32_t frames,
+                             const char *gl_backend)
+{
+    lg_exec_opts o;
+    memset(&o, 0, sizeof o);
+    o.width = width;
+    o.height = height;
+    o.frames = frames;
+    o.dt = 1.0 / 60.0;
+    o.gl_backend = gl_backend;
+    o.no_cache = true;
+    return o;
+}
 
 int lg_option_find(const lg_option *opts, int n, int argc, char **argv, int *i, const char **val)
 {

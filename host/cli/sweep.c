@@ -596,12 +596,7 @@ int lg_cmd_sweep(int argc, char **argv)
     sweep sw;
     memset(&sw, 0, sizeof sw);
     sw.a = &args;
-    sw.opts.width = args.width;
-    sw.opts.height = args.height;
-    sw.opts.frames = args.frames;
-    sw.opts.dt = 1.0 / 60.0;
-    sw.opts.gl_backend = args.gl_backend;
-    sw.opts.no_cache = true; /* a repeat must time the work, not a cache load */
+    sw.opts = lg_measure_opts(args.width, args.height, args.frames, args.gl_backend);
     sw.ref_image = args.reference && lg_image_format_from_path(args.reference) != LG_FILE_UNKNOWN;
     lg_registry_scan(&sw.reg);
 

@@ -3,28 +3,11 @@
 #include "cli/sweep_args.h"
 #include "cli/commands.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/util.h"
-
-#define LG_STR_(x) #x
-#define LG_STR(x) LG_STR_(x)
-
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-static int
-bad(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return 2;
-}
 
 /* sweep's options, in the order of sweep_opt; every one but -q takes a value */
 static const lg_option sweep_opts[] = {
@@ -77,14 +60,14 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
         const char *o = argv[i], *val;
         int opt = lg_option_find(sweep_opts, N_SWEEP_OPTS, argc, argv, &i, &val);
         if (opt == LG_OPT_NO_VALUE)
-            return bad(err, errlen, "%s needs a value", o);
+            return lg_arg_refuse(err, errlen, "%s needs a value", o);
         if (opt == OPT_VARY) {
             const char *eq = strchr(val, '=');
             if (!eq || eq == val || !eq[1] || a->n_vary == LG_SWEEP_MAX_VARY)
-                return bad(err, errlen,
-                           "--vary wants NODE.PARAM=v1,v2,... (at most " LG_STR(
-                               LG_SWEEP_MAX_VARY) "), got '%s'",
-                           val);
+                return lg_arg_refuse(err, errlen,
+                                     "--vary wants NODE.PARAM=v1,v2,... (at most " LG_STR(
+                                         LG_SWEEP_MAX_VARY) "), got '%s'",
+                                     val);
             lg_sweep_vary *v = &a->vary[a->n_vary++];
             v->key = lg_xstrndup(val, (size_t)(eq - val));
             v->arg = val;
@@ -92,21 +75,21 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
              * silently, and the sweep ran once with the last value. */
             for (int k = 0; k < a->n_vary - 1; k++)
                 if (strcmp(a->vary[k].key, v->key) == 0)
-                    return bad(err, errlen,
-                               "--vary %s is given twice ('%s' and '%s'): give "
-                               "all its values in one --vary %s=v1,v2,...",
-                               v->key, a->vary[k].arg, val, v->key);
+                    return lg_arg_refuse(err, errlen,
+                                         "--vary %s is given twice ('%s' and '%s'): give "
+                                         "all its values in one --vary %s=v1,v2,...",
+                                         v->key, a->vary[k].arg, val, v->key);
             /* Every item counts, empty ones too: strtok dropped them, so "0.1,,0.2" and
              * "0.1," ran fewer values than written. */
             for (const char *t = eq + 1;;) {
                 const char *comma = strchr(t, ',');
                 size_t len = comma ? (size_t)(comma - t) : strlen(t);
                 if (strspn(t, " \t") >= len)
-                    return bad(err, errlen,
-                               "--vary %s: item %d of '%s' is empty (the values "
-                               "are separated by single commas, none before the first or "
-                               "after the last)",
-                               v->key, v->n + 1, eq + 1);
+                    return lg_arg_refuse(err, errlen,
+                                         "--vary %s: item %d of '%s' is empty (the values "
+                                         "are separated by single commas, none before the first or "
+                                         "after the last)",
+                                         v->key, v->n + 1, eq + 1);
                 v->values = lg_xrealloc(v->values, (size_t)(v->n + 1) * sizeof(char *));
                 v->values[v->n++] = lg_xstrndup(t, len);
                 if (!comma)
@@ -125,17 +108,18 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
             /* lg_parse_uint, as every command reads a count: digits only (strtol took
              * ' 3' and '+3', which render's --frames refuses) */
             if (!lg_parse_uint(val, &a->repeat, 1000))
-                return bad(err, errlen, "--repeat wants 1..1000, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--repeat wants 1..1000, got '%s'", val);
         } else if (opt == OPT_FRAMES) {
             if (!lg_parse_uint(val, &a->frames, 100000))
-                return bad(err, errlen, "--frames wants 1..100000, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--frames wants 1..100000, got '%s'", val);
         } else if (opt == OPT_SIZE) {
             if (!lg_parse_size(val, &a->width, &a->height))
-                return bad(err, errlen, "--size wants WxH, 1..16384 each (got '%s')", val);
+                return lg_arg_refuse(err, errlen, "--size wants WxH, 1..16384 each (got '%s')",
+                                     val);
             a->size_given = true;
         } else if (opt == OPT_GL) {
             if (strcmp(val, "osmesa") && strcmp(val, "egl"))
-                return bad(err, errlen, "--gl wants osmesa or egl, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--gl wants osmesa or egl, got '%s'", val);
             a->gl_backend = val;
         } else if (opt == OPT_DIR) {
             a->dir = val;
@@ -143,26 +127,27 @@ int lg_sweep_parse_args(int argc, char **argv, lg_sweep_args *a, char *err, size
             a->quiet = true;
         } else if (opt == OPT_METRIC) {
             if (lg_metric_parse(val, &a->metric))
-                return bad(err, errlen, "--metric wants one of %s, got '%s'", lg_metric_names(),
-                           val);
+                return lg_arg_refuse(err, errlen, "--metric wants one of %s, got '%s'",
+                                     lg_metric_names(), val);
         } else if (o[0] == '-') {
-            return bad(err, errlen, "unknown option '%s'", o);
+            return lg_arg_refuse(err, errlen, "unknown option '%s'", o);
         } else if (!a->graph) {
             a->graph = o;
         } else {
-            return bad(err, errlen, "unexpected argument '%s'", o);
+            return lg_arg_refuse(err, errlen, "unexpected argument '%s'", o);
         }
     }
     if (!a->graph)
-        return bad(err, errlen, "no graph given");
+        return lg_arg_refuse(err, errlen, "no graph given");
     if (a->n_vary == 0)
-        return bad(err, errlen, "nothing to vary (give --vary NODE.PARAM=v1,v2,...)");
+        return lg_arg_refuse(err, errlen, "nothing to vary (give --vary NODE.PARAM=v1,v2,...)");
     for (int i = 0; i < a->n_vary; i++) {
         if (a->vary[i].n == 0)
-            return bad(err, errlen, "--vary %s has no values", a->vary[i].key);
+            return lg_arg_refuse(err, errlen, "--vary %s has no values", a->vary[i].key);
         if (a->total > LG_SWEEP_MAX_RUNS / a->vary[i].n)
-            return bad(err, errlen,
-                       "the --vary values make more than " LG_STR(LG_SWEEP_MAX_RUNS) " runs");
+            return lg_arg_refuse(err, errlen,
+                                 "the --vary values make more than " LG_STR(
+                                     LG_SWEEP_MAX_RUNS) " runs");
         a->total *= a->vary[i].n;
     }
     return 0;

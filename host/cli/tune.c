@@ -1170,12 +1170,7 @@ int lg_cmd_tune(int argc, char **argv)
     tune t;
     memset(&t, 0, sizeof t);
     t.a = &args;
-    t.opts.width = args.width;
-    t.opts.height = args.height;
-    t.opts.frames = args.frames;
-    t.opts.dt = 1.0 / 60.0;
-    t.opts.gl_backend = args.gl_backend;
-    t.opts.no_cache = true; /* a repeat must time the work, not a cache load */
+    t.opts = lg_measure_opts(args.width, args.height, args.frames, args.gl_backend);
     lg_registry_scan(&t.reg);
 
     /* everything is checked before the first render: the node, its knobs, the values, the

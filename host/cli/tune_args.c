@@ -3,28 +3,11 @@
 #include "cli/commands.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/util.h"
-
-#define LG_STR_(x) #x
-#define LG_STR(x) LG_STR_(x)
-
-#if defined(__GNUC__)
-__attribute__((format(printf, 3, 4)))
-#endif
-static int
-bad(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return 2;
-}
 
 /* tune's options, in the order of tune_opt; every one but -q takes a value */
 static const lg_option tune_opts[] = {
@@ -79,10 +62,10 @@ static int add_vary(lg_tune_args *a, const char *val, char *err, size_t errlen)
 {
     const char *eq = strchr(val, '=');
     if (!eq || eq == val || !eq[1] || a->n_vary == LG_TUNE_MAX_VARY)
-        return bad(err, errlen,
-                   "--vary wants PARAM=lo..hi, PARAM=lo..hi:pow2, PARAM=lo..hi:N or "
-                   "PARAM=a,b,c (at most " LG_STR(LG_TUNE_MAX_VARY) "), got '%s'",
-                   val);
+        return lg_arg_refuse(err, errlen,
+                             "--vary wants PARAM=lo..hi, PARAM=lo..hi:pow2, PARAM=lo..hi:N or "
+                             "PARAM=a,b,c (at most " LG_STR(LG_TUNE_MAX_VARY) "), got '%s'",
+                             val);
     lg_tune_vary *v = &a->vary[a->n_vary++];
     v->arg = val;
     v->param = lg_xstrndup(val, (size_t)(eq - val));
@@ -110,20 +93,20 @@ int lg_tune_parse_args(int argc, char **argv, lg_tune_args *a, char *err, size_t
         const char *o = argv[i], *val;
         int opt = lg_option_find(tune_opts, N_TUNE_OPTS, argc, argv, &i, &val);
         if (opt == LG_OPT_NO_VALUE)
-            return bad(err, errlen, "%s needs a value", o);
+            return lg_arg_refuse(err, errlen, "%s needs a value", o);
         switch (opt) {
         case OPT_NODE: a->node = val; break;
         case OPT_TARGET:
             if (!parse_target(val, &a->target))
-                return bad(err, errlen,
-                           "--target-error wants a finite number above 0 (the largest "
-                           "error accepted, in the metric's unit), got '%s'",
-                           val);
+                return lg_arg_refuse(err, errlen,
+                                     "--target-error wants a finite number above 0 (the largest "
+                                     "error accepted, in the metric's unit), got '%s'",
+                                     val);
             break;
         case OPT_METRIC:
             if (lg_metric_parse(val, &a->metric))
-                return bad(err, errlen, "--metric: unknown metric '%s' (known: %s)", val,
-                           lg_metric_names());
+                return lg_arg_refuse(err, errlen, "--metric: unknown metric '%s' (known: %s)", val,
+                                     lg_metric_names());
             break;
         case OPT_VARY:
             if (add_vary(a, val, err, errlen))
@@ -134,47 +117,49 @@ int lg_tune_parse_args(int argc, char **argv, lg_tune_args *a, char *err, size_t
         case OPT_SET: a->sets[a->n_sets++] = val; break;
         case OPT_SIZE:
             if (!lg_parse_size(val, &a->width, &a->height))
-                return bad(err, errlen, "--size wants WxH, 1..16384 each (got '%s')", val);
+                return lg_arg_refuse(err, errlen, "--size wants WxH, 1..16384 each (got '%s')",
+                                     val);
             a->size_given = true;
             break;
         case OPT_FRAMES:
             if (!lg_parse_uint(val, &a->frames, 100000))
-                return bad(err, errlen, "--frames wants 1..100000, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--frames wants 1..100000, got '%s'", val);
             break;
         case OPT_REPEAT:
             if (!lg_parse_uint(val, &a->repeat, 1000))
-                return bad(err, errlen, "--repeat wants 1..1000, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--repeat wants 1..1000, got '%s'", val);
             break;
         case OPT_MAX_RENDERS:
             if (!lg_parse_uint(val, &a->max_renders, 100000))
-                return bad(err, errlen, "--max-renders wants 1..100000, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--max-renders wants 1..100000, got '%s'", val);
             break;
         case OPT_GL:
             if (strcmp(val, "osmesa") && strcmp(val, "egl"))
-                return bad(err, errlen, "--gl wants osmesa or egl, got '%s'", val);
+                return lg_arg_refuse(err, errlen, "--gl wants osmesa or egl, got '%s'", val);
             a->gl_backend = val;
             break;
         case OPT_DIR: a->dir = val; break;
         case OPT_QUIET: a->quiet = true; break;
         default:
             if (o[0] == '-')
-                return bad(err, errlen, "unknown option '%s'", o);
+                return lg_arg_refuse(err, errlen, "unknown option '%s'", o);
             if (a->graph)
-                return bad(err, errlen, "unexpected argument '%s'", o);
+                return lg_arg_refuse(err, errlen, "unexpected argument '%s'", o);
             a->graph = o;
         }
     }
     if (!a->graph)
-        return bad(err, errlen, "no graph given");
+        return lg_arg_refuse(err, errlen, "no graph given");
     if (!a->node)
-        return bad(err, errlen, "no node given (--node NAME: the node whose knobs are tuned)");
+        return lg_arg_refuse(err, errlen,
+                             "no node given (--node NAME: the node whose knobs are tuned)");
     if (isnan(a->target))
-        return bad(err, errlen, "no target given (--target-error E, e.g. 0.05)");
+        return lg_arg_refuse(err, errlen, "no target given (--target-error E, e.g. 0.05)");
     for (int i = 0; i < a->n_vary; i++)
         for (int k = 0; k < i; k++)
             if (strcmp(a->vary[k].param, a->vary[i].param) == 0)
-                return bad(err, errlen, "--vary %s is given twice ('%s' and '%s')",
-                           a->vary[i].param, a->vary[k].arg, a->vary[i].arg);
+                return lg_arg_refuse(err, errlen, "--vary %s is given twice ('%s' and '%s')",
+                                     a->vary[i].param, a->vary[k].arg, a->vary[i].arg);
     return 0;
 }
 
