@@ -187,7 +187,7 @@ static bool same(const lg_tune_args *x, const lg_tune_args *y)
     return true;
 }
 
-/* ---- the ranges against schemas ----------------------------------------------------------- */
+/* ---- the ranges against schemas -------------------------------------------------------------- */
 
 static const char *const modes[] = { "coarse", "fine", "flat", NULL };
 static const lg_param_desc schemas[] = {
