@@ -77,6 +77,12 @@ typedef struct tune {
     bool budget_hit;
     lg_outputs *outs;
     char *render_out, *csv_path, *gp_path, *png_path;
+    /* the check render of the chosen point (check_render): run when checked, its status
+     * (render_point's), time, metrics and whether the render failed */
+    bool checked, check_failed;
+    int check_rc;
+    double check_ms;
+    lg_metric_set check_m;
 } tune;
 
 static bool feasible(const tune *t, const point *p)
@@ -499,6 +505,31 @@ static void mark_front(tune *t)
 
 /* ---- outputs --------------------------------------------------------------------------------- */
 
+/* One row of tune.csv: point `num`, q's knobs, time, metrics and flags. */
+static void csv_row(tune *t, lg_str *s, int num, point *q, bool check)
+{
+    lg_str_addf(s, "%d", num);
+    for (int i = 0; i < t->n_knobs; i++)
+        lg_str_addf(s, ",%s", t->k[i].values[q->idx[i]]);
+    double med = median_ms(q);
+    if (q->failed)
+        lg_str_add(s, ",,,,0");
+    else
+        lg_str_addf(s, ",%.6g,%.6g,%.6g,%d", med, q->times[0], q->times[q->n_times - 1],
+                    q->n_times);
+    for (int m = 0; m < LG_METRIC_COUNT; m++) {
+        double v = q->failed ? NAN : lg_metric_value(&q->m, (lg_metric_id)m);
+        if (isfinite(v))
+            lg_str_addf(s, ",%.6g", v);
+        else
+            lg_str_add(s, ",");
+    }
+    lg_str_addf(s, ",%d,%d,%d,%d\n", feasible(t, q), q->on_front, q->chosen, check);
+}
+
+/* The explored points, then the check render (check = 1: the chosen point's setting
+ * rendered once more; not on the front nor chosen itself, so that a reader of the points
+ * still finds one chosen row). The columns before `check` keep their order. */
 static void csv_write(tune *t, lg_str *s)
 {
     lg_str_add(s, "point");
@@ -507,26 +538,21 @@ static void csv_write(tune *t, lg_str *s)
     lg_str_add(s, ",time_ms,time_min_ms,time_max_ms,timings");
     for (int m = 0; m < LG_METRIC_COUNT; m++)
         lg_str_addf(s, ",%s", lg_metric_name((lg_metric_id)m));
-    lg_str_add(s, ",within_target,on_front,chosen\n");
+    lg_str_add(s, ",within_target,on_front,chosen,check\n");
+    int chosen = -1;
     for (int p = 0; p < t->n_pts; p++) {
-        point *q = &t->pts[p];
-        lg_str_addf(s, "%d", p + 1);
-        for (int i = 0; i < t->n_knobs; i++)
-            lg_str_addf(s, ",%s", t->k[i].values[q->idx[i]]);
-        double med = median_ms(q);
-        if (q->failed)
-            lg_str_add(s, ",,,,0");
-        else
-            lg_str_addf(s, ",%.6g,%.6g,%.6g,%d", med, q->times[0], q->times[q->n_times - 1],
-                        q->n_times);
-        for (int m = 0; m < LG_METRIC_COUNT; m++) {
-            double v = q->failed ? NAN : lg_metric_value(&q->m, (lg_metric_id)m);
-            if (isfinite(v))
-                lg_str_addf(s, ",%.6g", v);
-            else
-                lg_str_add(s, ",");
-        }
-        lg_str_addf(s, ",%d,%d,%d\n", feasible(t, q), q->on_front, q->chosen);
+        csv_row(t, s, p + 1, &t->pts[p], false);
+        if (t->pts[p].chosen)
+            chosen = p;
+    }
+    if (t->checked && t->check_rc == 0 && chosen >= 0) {
+        point c = { .idx = t->pts[chosen].idx,
+                    .times = &t->check_ms,
+                    .n_times = 1,
+                    .m = t->check_m,
+                    .failed = t->check_failed };
+        c.err = c.failed ? INFINITY : lg_metric_value(&c.m, t->a->metric);
+        csv_row(t, s, t->n_pts + 1, &c, true);
     }
 }
 
@@ -537,6 +563,7 @@ static void gp_write(tune *t, lg_str *s)
 {
     const lg_tune_args *a = t->a;
     int tcol = 2 + t->n_knobs, ecol = tcol + 4 + (int)a->metric;
+    int ccol = tcol + 4 + LG_METRIC_COUNT + 3; /* check: that row is no explored point */
     lg_str_add(s, "# gnuplot script written by lightgraph tune: error against time\n");
     lg_str_add(s, "if (!exists('data')) data = 'tune.csv'\n");
     lg_str_add(s, "if (!exists('out')) out = 'tune.png'\n");
@@ -579,14 +606,15 @@ static void gp_write(tune *t, lg_str *s)
                 "set arrow from graph 0, first %g to graph 1, first %g nohead dt 2 lc rgb 'red'\n",
                 a->target, a->target);
     lg_str_addf(s,
-                "plot data every ::1 using %d:($%d > 0 ? $%d : 1e-12) with points pt 7 ps 1 "
+                "plot data every ::1 using %d:($%d == 1 ? NaN : $%d > 0 ? $%d : 1e-12) "
+                "with points pt 7 ps 1 "
                 "lc rgb 'gray50' title 'explored', \\\n"
                 "     $front using 1:2 with linespoints pt 7 ps 1.3 lc rgb 'blue' "
                 "title 'Pareto front', \\\n"
                 "     NaN with lines dt 2 lc rgb 'red' title 'target %g', \\\n"
                 "     $chosen using 1:2 with points pt 6 ps 3 lw 2 lc rgb 'dark-green' "
                 "title 'chosen'\n",
-                tcol, ecol, ecol, a->target);
+                tcol, ccol, ecol, ecol, a->target);
 }
 
 /* Reserves tune.csv, tune.gp, tune.png in DIR (proving it writable) and names the render
@@ -836,6 +864,17 @@ static void print_knobs(const tune *t)
                t->k[i].n == 1 ? "" : "s");
 }
 
+/* The check render: the chosen setting once more, judged again (before the outputs are
+ * written, so that tune.csv holds it; report prints it). */
+static void check_render(tune *t, int chosen)
+{
+    if (chosen < 0)
+        return;
+    t->check_rc = render_point(t, t->pts[chosen].idx, &t->check_ms, &t->check_m,
+                               &t->check_failed);
+    t->checked = true;
+}
+
 /* The answer, its check render and the counts. Returns the exit status. */
 static int report(tune *t, int chosen)
 {
@@ -862,13 +901,9 @@ static int report(tune *t, int chosen)
         rc = 1;
     } else {
         point *c = &t->pts[chosen];
-        /* the check render: the chosen setting once more, judged again */
-        double ms;
-        lg_metric_set m;
-        bool failed;
-        rc = render_point(t, c->idx, &ms, &m, &failed);
-        double check = failed ? INFINITY : lg_metric_value(&m, a->metric);
-        bool meets = rc == 0 && !failed && check <= a->target;
+        rc = t->check_rc;
+        double check = t->check_failed ? INFINITY : lg_metric_value(&t->check_m, a->metric);
+        bool meets = rc == 0 && !t->check_failed && check <= a->target;
         char *line = set_line(t, c->idx);
         double med = median_ms(c);
         printf("answer: %s\n", line);
@@ -935,6 +970,7 @@ int lg_cmd_tune(int argc, char **argv)
         if (chosen >= 0)
             t.pts[chosen].chosen = true;
         mark_front(&t);
+        check_render(&t, chosen);
         bool plotted = false;
         int out_rc = write_outputs(&t, &plotted);
         rc = report(&t, chosen);
