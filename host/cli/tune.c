@@ -6,8 +6,8 @@
  *                   [--frames N] [--repeat N] [--max-renders N] [--gl osmesa|egl] [-o DIR]
  *
  * The knobs are node N's numeric (int, float), enum and bool parameters (or the --vary ones),
- * each with a grid of values (tune_knob.c). Numeric knobs are assumed
- * monotone: a larger value costs no less and errs no more (sizes, sample counts). The
+ * each with a grid of values (tune_knob.c). Numeric knobs are assumed monotone: a larger
+ * value costs no less and errs no more (sizes, sample counts). The
  * search (search_combo): every combination of the enum and bool knobs; in each, the
  * cheapest setting first (it may already meet E), a combination whose cheapest setting is
  * slower than the best answer so far is pruned, then the most accurate setting (a
@@ -870,8 +870,7 @@ static void check_render(tune *t, int chosen)
 {
     if (chosen < 0)
         return;
-    t->check_rc = render_point(t, t->pts[chosen].idx, &t->check_ms, &t->check_m,
-                               &t->check_failed);
+    t->check_rc = render_point(t, t->pts[chosen].idx, &t->check_ms, &t->check_m, &t->check_failed);
     t->checked = true;
 }
 
