@@ -238,10 +238,14 @@ int lg_tune_knob_from_range(lg_tune_knob *k, const lg_param_desc *pd, const lg_t
         }
         if (!ok) {
             lg_str allowed = { 0 };
-            if (numeric)
-                lg_str_addf(&allowed, "%s in [%g, %g]",
-                            pd->type == LG_PARAM_INT ? "integers" : "numbers", pd->min, pd->max);
-            else if (pd->type == LG_PARAM_BOOL)
+            if (numeric) {
+                lg_str_add(&allowed, pd->type == LG_PARAM_INT ? "integers" : "numbers");
+                /* a schema without a range (min == max) bounds nothing: no "in [0, 0]" */
+                if (pd->max > pd->min)
+                    lg_str_addf(&allowed, " in [%g, %g]", pd->min, pd->max);
+                else if (pd->type == LG_PARAM_INT)
+                    lg_str_add(&allowed, " within +-2^53");
+            } else if (pd->type == LG_PARAM_BOOL)
                 lg_str_add(&allowed, "true, false");
             else
                 for (int i = 0; pd->enum_values && pd->enum_values[i]; i++)
