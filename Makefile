@@ -59,7 +59,7 @@ test-sanitize: $(ASAN_BUILD)/build.ninja
 # Every libFuzzer target (tests/fuzz) for SECONDS seconds each, in its own build with
 # Debian's clang, ASan and UBSan, memory bounded; a finding is copied into the target's
 # seed corpus (tests/fuzz/corpus_NAME/finding-SHA1) and fails the command. docs/fuzzing.md.
-FUZZ_TARGETS = graph image gltf cache registry probe cache_kinds script sweep
+FUZZ_TARGETS = graph image gltf cache registry probe cache_kinds script sweep tune
 
 $(FUZZ_BUILD)/build.ninja:
 	@sh tools/deps.sh fuzz

@@ -4,7 +4,7 @@
     python3 tools/fuzz.py --build build-fuzz --seconds 60 [TARGET...]
 
 Each target (tests/fuzz/meson.build: graph, image, gltf, cache, registry, probe,
-cache_kinds, script, sweep) runs for the given
+cache_kinds, script, sweep, tune) runs for the given
 seconds with its seed corpus tests/fuzz/corpus_NAME read-only and a work corpus in the
 build tree (BUILD/tests/fuzz/corpus_NAME_work) that receives the new inputs, with memory
 bounded: an input that makes the process's RSS pass RSS_LIMIT_MB, or asks for one block
@@ -22,14 +22,15 @@ import subprocess
 import sys
 
 TARGETS = ["graph", "image", "gltf", "cache", "registry", "probe", "cache_kinds", "script",
-           "sweep"]
+           "sweep", "tune"]
 
 # Largest input per target: the graph parser's files are text, and 4 KiB reaches every
 # construct (so do a script and a sweep command line in 8 and 4 KiB); the binary formats
 # need room for headers plus some data (a probe is an image; the largest cache payload
 # seed, a GGX chain, is 2 KiB).
 MAX_LEN = {"graph": 4096, "image": 65536, "gltf": 65536, "cache": 4096, "registry": 65536,
-           "probe": 65536, "cache_kinds": 8192, "script": 8192, "sweep": 4096}
+           "probe": 65536, "cache_kinds": 8192, "script": 8192, "sweep": 4096,
+           "tune": 4096}
 
 # 2048 MiB: libFuzzer's own default, and more than any input of at most 64 KiB should need
 # (the largest legitimate case, an image at the fuzz targets' pixel limit of 2^22 pixels,

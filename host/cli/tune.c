@@ -6,8 +6,8 @@
  *                   [--frames N] [--repeat N] [--max-renders N] [--gl osmesa|egl] [-o DIR]
  *
  * The knobs are node N's numeric (int, float), enum and bool parameters (or the --vary ones),
- * each with a grid of values (knob_default, knob_from_range). Numeric knobs are assumed
- * monotone: a larger value costs no less and errs no more (sizes, sample counts). The
+ * each with a grid of values (tune_knob.c). Numeric knobs are assumed monotone: a larger
+ * value costs no less and errs no more (sizes, sample counts). The
  * search (search_combo): every combination of the enum and bool knobs; in each, the
  * cheapest setting first (it may already meet E), a combination whose cheapest setting is
  * slower than the best answer so far is pruned, then the most accurate setting (a
@@ -27,15 +27,8 @@
 #include "exec/outputs.h"
 #include "cli/metric.h"
 #include "cli/tune_args.h"
+#include "cli/tune_knob.h"
 
-/* A numeric knob's default grid: every integer up to this many values, else powers of two
- * (with both ends); a float's: this many points. */
-#define TUNE_INT_STEP_MAX 64
-#define TUNE_FLOAT_POINTS 9
-/* A float range wider than this (0..1e30: "unbounded") is not varied unless --vary names it. */
-#define TUNE_FLOAT_SPAN_MAX 1e6
-/* lo..hi on an int knob: at most this many values (else :pow2 or :N) */
-#define TUNE_MAX_VALUES 65536
 /* Points within this fraction of the cheapest feasible time get --repeat timings. */
 #define TUNE_NEAR_FRONT 0.2
 /* A monotonicity violation: this many grid values below the answer are scanned. */
@@ -55,261 +48,6 @@ static int usage(const char *msg)
     return 2;
 }
 
-/* ---- knobs ----------------------------------------------------------------------------------- */
-
-/* One knob: a parameter of node N and the values the search may give it. A numeric knob's
- * values ascend (index order is the assumed order of accuracy and cost); an enum's or bool's
- * are categories. */
-typedef struct knob {
-    const lg_param_desc *pd;
-    bool numeric;
-    int n;
-    char **values; /* n, as written after NODE.PARAM= (owned) */
-    char *grid;    /* the grid in words, for the report (owned) */
-} knob;
-
-static void knob_add_value(knob *k, char *v)
-{
-    k->values = lg_xrealloc(k->values, (size_t)(k->n + 1) * sizeof *k->values);
-    k->values[k->n++] = v;
-}
-
-static void knob_add_number(knob *k, double v)
-{
-    if (k->pd->type == LG_PARAM_INT)
-        knob_add_value(k, lg_xasprintf("%lld", (long long)llround(v)));
-    else
-        knob_add_value(k, lg_xasprintf("%.6g", v));
-}
-
-/* Integers lo..hi: every one, or (pow2) lo, the powers of two between, hi. */
-static void grid_int(knob *k, long long lo, long long hi, bool pow2)
-{
-    knob_add_number(k, (double)lo);
-    if (!pow2) {
-        for (long long v = lo + 1; v <= hi; v++)
-            knob_add_number(k, (double)v);
-        return;
-    }
-    for (long long p = 1; p < hi && p > 0; p *= 2)
-        if (p > lo)
-            knob_add_number(k, (double)p);
-    if (hi > lo)
-        knob_add_number(k, (double)hi);
-}
-
-/* Floats lo..hi in n points: geometric when lo > 0 (ratios are what sizes and steps scale
- * by), linear otherwise. */
-static void grid_float(knob *k, double lo, double hi, int n)
-{
-    for (int i = 0; i < n; i++) {
-        double t = n > 1 ? (double)i / (n - 1) : 1.0;
-        knob_add_number(k, lo > 0 ? lo * pow(hi / lo, t) : lo + (hi - lo) * t);
-    }
-}
-
-/* The default grid of a parameter, or false (with *why) when it is not varied by default. */
-static bool knob_default(knob *k, const lg_param_desc *pd, const char **why)
-{
-    k->pd = pd;
-    switch (pd->type) {
-    case LG_PARAM_BOOL:
-        knob_add_value(k, lg_xstrdup("false"));
-        knob_add_value(k, lg_xstrdup("true"));
-        k->grid = lg_xstrdup("false,true");
-        return true;
-    case LG_PARAM_ENUM: {
-        lg_str s = { 0 };
-        for (int i = 0; pd->enum_values && pd->enum_values[i]; i++) {
-            knob_add_value(k, lg_xstrdup(pd->enum_values[i]));
-            lg_str_addf(&s, "%s%s", i ? "," : "", pd->enum_values[i]);
-        }
-        k->grid = lg_str_take(&s);
-        return k->n > 0;
-    }
-    case LG_PARAM_INT: {
-        if (!(pd->max > pd->min)) {
-            *why = "no range in its schema";
-            return false;
-        }
-        long long lo = (long long)ceil(pd->min), hi = (long long)floor(pd->max);
-        bool pow2 = hi - lo + 1 > TUNE_INT_STEP_MAX;
-        k->numeric = true;
-        grid_int(k, lo, hi, pow2);
-        k->grid = lg_xasprintf("%lld..%lld, %s", lo, hi, pow2 ? "powers of two" : "every integer");
-        return true;
-    }
-    case LG_PARAM_FLOAT: {
-        if (!(pd->max > pd->min) || pd->max - pd->min > TUNE_FLOAT_SPAN_MAX) {
-            *why = "its schema range is unbounded or too wide to grid (name it with --vary)";
-            return false;
-        }
-        k->numeric = true;
-        grid_float(k, pd->min, pd->max, TUNE_FLOAT_POINTS);
-        k->grid = lg_xasprintf("%g..%g, %d %s points", pd->min, pd->max, TUNE_FLOAT_POINTS,
-                               pd->min > 0 ? "geometric" : "linear");
-        return true;
-    }
-    default: *why = "not a number, an enum or a bool"; return false;
-    }
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* A number of a --vary range: strtod's whole text; an int knob's must be whole. */
-static bool range_number(const knob *k, const char *s, size_t len, double *out)
-{
-    char buf[64];
-    if (len == 0 || len >= sizeof buf)
-        return false;
-    memcpy(buf, s, len);
-    buf[len] = '\0';
-    char *end = NULL;
-    *out = strtod(buf, &end);
-    if (*end || !isfinite(*out))
-        return false;
-    return k->pd->type != LG_PARAM_INT || *out == floor(*out);
-}
-
-static bool in_schema(const lg_param_desc *pd, double v)
-{
-    return !(pd->max > pd->min) || (v >= pd->min && v <= pd->max);
-}
-
-/* The grid --vary P=RANGE gives (docs/tune.md "Ranges"). Returns 0, or 2 with err. */
-static int knob_from_range(knob *k, const lg_param_desc *pd, const lg_tune_vary *v,
-                           const char *node, char *err, size_t errlen)
-{
-    k->pd = pd;
-    const char *r = v->range, *dots = strstr(r, "..");
-    bool numeric = pd->type == LG_PARAM_INT || pd->type == LG_PARAM_FLOAT;
-    if (!numeric && pd->type != LG_PARAM_ENUM && pd->type != LG_PARAM_BOOL) {
-        snprintf(err, errlen,
-                 "--vary %s: %s.%s is not a number, an enum or a bool, so not a knob tune "
-                 "can vary",
-                 v->arg, node, pd->key);
-        return 2;
-    }
-    k->numeric = numeric;
-    k->grid = lg_xstrdup(r);
-    if (dots) {
-        if (!numeric) {
-            snprintf(err, errlen, "--vary %s: lo..hi is for numbers; list the values of %s.%s",
-                     v->arg, node, pd->key);
-            return 2;
-        }
-        const char *colon = strchr(dots + 2, ':');
-        double lo, hi;
-        size_t hl = colon ? (size_t)(colon - dots - 2) : strlen(dots + 2);
-        if (!range_number(k, r, (size_t)(dots - r), &lo) || !range_number(k, dots + 2, hl, &hi) ||
-            !(hi > lo)) {
-            snprintf(err, errlen, "--vary %s: expected lo..hi with lo < hi (%s for %s.%s)", v->arg,
-                     pd->type == LG_PARAM_INT ? "integers" : "numbers", node, pd->key);
-            return 2;
-        }
-        if (!in_schema(pd, lo) || !in_schema(pd, hi)) {
-            snprintf(err, errlen, "--vary %s: %g..%g is outside %s.%s's range [%g, %g]", v->arg, lo,
-                     hi, node, pd->key, pd->min, pd->max);
-            return 2;
-        }
-        uint32_t steps = 0;
-        bool pow2 = colon && strcmp(colon + 1, "pow2") == 0;
-        if (colon && !pow2 && !lg_parse_uint(colon + 1, &steps, 1000)) {
-            snprintf(err, errlen, "--vary %s: after lo..hi: ':pow2' or ':N' (2..1000 steps)",
-                     v->arg);
-            return 2;
-        }
-        if (steps == 1) {
-            snprintf(err, errlen, "--vary %s: ':N' wants 2 or more steps", v->arg);
-            return 2;
-        }
-        if (pd->type == LG_PARAM_INT && !steps) {
-            if (!pow2 && hi - lo + 1 > TUNE_MAX_VALUES) {
-                snprintf(err, errlen,
-                         "--vary %s: %.0f values; give :pow2 or :N steps (at most %d "
-                         "integers)",
-                         v->arg, hi - lo + 1, TUNE_MAX_VALUES);
-                return 2;
-            }
-            grid_int(k, (long long)lo, (long long)hi, pow2);
-        } else if (pow2) {
-            knob_add_number(k, lo);
-            for (double p = exp2(ceil(log2(fmax(lo, 1e-300)))); p < hi; p *= 2)
-                if (p > lo)
-                    knob_add_number(k, p);
-            knob_add_number(k, hi);
-        } else {
-            grid_float(k, lo, hi, steps ? (int)steps : TUNE_FLOAT_POINTS);
-            /* an int's geometric steps may round to the same integer */
-            for (int i = k->n - 1; i > 0; i--)
-                if (strcmp(k->values[i], k->values[i - 1]) == 0) {
-                    free(k->values[i]);
-                    memmove(k->values + i, k->values + i + 1,
-                            (size_t)(k->n - i - 1) * sizeof *k->values);
-                    k->n--;
-                }
-        }
-        return 0;
-    }
-    /* a,b,c: numbers ascending, or the enum's words / true, false as given */
-    double *nums = NULL;
-    int nn = 0;
-    for (const char *t = r;;) {
-        const char *comma = strchr(t, ',');
-        size_t len = comma ? (size_t)(comma - t) : strlen(t);
-        char *item = lg_xstrndup(t, len);
-        bool ok = len > 0;
-        if (ok && numeric) {
-            double x;
-            ok = range_number(k, t, len, &x) && in_schema(pd, x);
-            nums = lg_xrealloc(nums, (size_t)(nn + 1) * sizeof *nums);
-            nums[nn++] = x;
-        } else if (ok && pd->type == LG_PARAM_BOOL) {
-            ok = strcmp(item, "true") == 0 || strcmp(item, "false") == 0;
-        } else if (ok) {
-            ok = false;
-            for (int i = 0; pd->enum_values && pd->enum_values[i]; i++)
-                ok |= strcmp(item, pd->enum_values[i]) == 0;
-        }
-        if (!ok) {
-            lg_str allowed = { 0 };
-            if (numeric)
-                lg_str_addf(&allowed, "%s in [%g, %g]",
-                            pd->type == LG_PARAM_INT ? "integers" : "numbers", pd->min, pd->max);
-            else if (pd->type == LG_PARAM_BOOL)
-                lg_str_add(&allowed, "true, false");
-            else
-                for (int i = 0; pd->enum_values && pd->enum_values[i]; i++)
-                    lg_str_addf(&allowed, "%s%s", i ? ", " : "", pd->enum_values[i]);
-            snprintf(err, errlen, "--vary %s: '%s' is not a value of %s.%s (%s)", v->arg, item,
-                     node, pd->key, allowed.s ? allowed.s : "none");
-            lg_str_free(&allowed);
-            free(item);
-            free(nums);
-            return 2;
-        }
-        if (!numeric)
-            knob_add_value(k, item);
-        else
-            free(item);
-        if (!comma)
-            break;
-        t = comma + 1;
-    }
-    if (numeric) {
-        qsort(nums, (size_t)nn, sizeof *nums, cmp_double);
-        for (int i = 0; i < nn; i++)
-            if (i == 0 || nums[i] != nums[i - 1])
-                knob_add_number(k, nums[i]);
-    }
-    free(nums);
-    return 0;
-}
-
 /* ---- the tune under way ---------------------------------------------------------------------- */
 
 /* One evaluated setting: its grid index per knob, its timings, its error. */
@@ -327,7 +65,7 @@ typedef struct tune {
     lg_exec_opts opts;
     lg_registry reg;
     const lg_node_type *type;
-    knob *k;
+    lg_tune_knob *k;
     int n_knobs;
     point *pts;
     int n_pts;
@@ -339,11 +77,23 @@ typedef struct tune {
     bool budget_hit;
     lg_outputs *outs;
     char *render_out, *csv_path, *gp_path, *png_path;
+    /* the check render of the chosen point (check_render): run when checked, its status
+     * (render_point's), time, metrics and whether the render failed */
+    bool checked, check_failed;
+    int check_rc;
+    double check_ms;
+    lg_metric_set check_m;
 } tune;
 
 static bool feasible(const tune *t, const point *p)
 {
     return !p->failed && p->err <= t->a->target;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
 }
 
 /* median of a point's timings (sorted in place) */
@@ -755,6 +505,31 @@ static void mark_front(tune *t)
 
 /* ---- outputs --------------------------------------------------------------------------------- */
 
+/* One row of tune.csv: point `num`, q's knobs, time, metrics and flags. */
+static void csv_row(tune *t, lg_str *s, int num, point *q, bool check)
+{
+    lg_str_addf(s, "%d", num);
+    for (int i = 0; i < t->n_knobs; i++)
+        lg_str_addf(s, ",%s", t->k[i].values[q->idx[i]]);
+    double med = median_ms(q);
+    if (q->failed)
+        lg_str_add(s, ",,,,0");
+    else
+        lg_str_addf(s, ",%.6g,%.6g,%.6g,%d", med, q->times[0], q->times[q->n_times - 1],
+                    q->n_times);
+    for (int m = 0; m < LG_METRIC_COUNT; m++) {
+        double v = q->failed ? NAN : lg_metric_value(&q->m, (lg_metric_id)m);
+        if (isfinite(v))
+            lg_str_addf(s, ",%.6g", v);
+        else
+            lg_str_add(s, ",");
+    }
+    lg_str_addf(s, ",%d,%d,%d,%d\n", feasible(t, q), q->on_front, q->chosen, check);
+}
+
+/* The explored points, then the check render (check = 1: the chosen point's setting
+ * rendered once more; not on the front nor chosen itself, so that a reader of the points
+ * still finds one chosen row). The columns before `check` keep their order. */
 static void csv_write(tune *t, lg_str *s)
 {
     lg_str_add(s, "point");
@@ -763,26 +538,21 @@ static void csv_write(tune *t, lg_str *s)
     lg_str_add(s, ",time_ms,time_min_ms,time_max_ms,timings");
     for (int m = 0; m < LG_METRIC_COUNT; m++)
         lg_str_addf(s, ",%s", lg_metric_name((lg_metric_id)m));
-    lg_str_add(s, ",within_target,on_front,chosen\n");
+    lg_str_add(s, ",within_target,on_front,chosen,check\n");
+    int chosen = -1;
     for (int p = 0; p < t->n_pts; p++) {
-        point *q = &t->pts[p];
-        lg_str_addf(s, "%d", p + 1);
-        for (int i = 0; i < t->n_knobs; i++)
-            lg_str_addf(s, ",%s", t->k[i].values[q->idx[i]]);
-        double med = median_ms(q);
-        if (q->failed)
-            lg_str_add(s, ",,,,0");
-        else
-            lg_str_addf(s, ",%.6g,%.6g,%.6g,%d", med, q->times[0], q->times[q->n_times - 1],
-                        q->n_times);
-        for (int m = 0; m < LG_METRIC_COUNT; m++) {
-            double v = q->failed ? NAN : lg_metric_value(&q->m, (lg_metric_id)m);
-            if (isfinite(v))
-                lg_str_addf(s, ",%.6g", v);
-            else
-                lg_str_add(s, ",");
-        }
-        lg_str_addf(s, ",%d,%d,%d\n", feasible(t, q), q->on_front, q->chosen);
+        csv_row(t, s, p + 1, &t->pts[p], false);
+        if (t->pts[p].chosen)
+            chosen = p;
+    }
+    if (t->checked && t->check_rc == 0 && chosen >= 0) {
+        point c = { .idx = t->pts[chosen].idx,
+                    .times = &t->check_ms,
+                    .n_times = 1,
+                    .m = t->check_m,
+                    .failed = t->check_failed };
+        c.err = c.failed ? INFINITY : lg_metric_value(&c.m, t->a->metric);
+        csv_row(t, s, t->n_pts + 1, &c, true);
     }
 }
 
@@ -793,6 +563,7 @@ static void gp_write(tune *t, lg_str *s)
 {
     const lg_tune_args *a = t->a;
     int tcol = 2 + t->n_knobs, ecol = tcol + 4 + (int)a->metric;
+    int ccol = tcol + 4 + LG_METRIC_COUNT + 3; /* check: that row is no explored point */
     lg_str_add(s, "# gnuplot script written by lightgraph tune: error against time\n");
     lg_str_add(s, "if (!exists('data')) data = 'tune.csv'\n");
     lg_str_add(s, "if (!exists('out')) out = 'tune.png'\n");
@@ -835,14 +606,15 @@ static void gp_write(tune *t, lg_str *s)
                 "set arrow from graph 0, first %g to graph 1, first %g nohead dt 2 lc rgb 'red'\n",
                 a->target, a->target);
     lg_str_addf(s,
-                "plot data every ::1 using %d:($%d > 0 ? $%d : 1e-12) with points pt 7 ps 1 "
+                "plot data every ::1 using %d:($%d == 1 ? NaN : $%d > 0 ? $%d : 1e-12) "
+                "with points pt 7 ps 1 "
                 "lc rgb 'gray50' title 'explored', \\\n"
                 "     $front using 1:2 with linespoints pt 7 ps 1.3 lc rgb 'blue' "
                 "title 'Pareto front', \\\n"
                 "     NaN with lines dt 2 lc rgb 'red' title 'target %g', \\\n"
                 "     $chosen using 1:2 with points pt 6 ps 3 lw 2 lc rgb 'dark-green' "
                 "title 'chosen'\n",
-                tcol, ecol, ecol, a->target);
+                tcol, ccol, ecol, ecol, a->target);
 }
 
 /* Reserves tune.csv, tune.gp, tune.png in DIR (proving it writable) and names the render
@@ -960,8 +732,8 @@ static int make_knobs(tune *t)
                         s ? "; did you mean '" : "", s ? s : "", s ? "'?" : "");
                 free(keys);
                 rc = 2;
-            } else if (knob_from_range(&t->k[t->n_knobs++], pd, &a->vary[v], a->node, err,
-                                       sizeof err)) {
+            } else if (lg_tune_knob_from_range(&t->k[t->n_knobs++], pd, &a->vary[v], a->node, err,
+                                               sizeof err)) {
                 fprintf(stderr, "lightgraph tune: %s\n", err);
                 rc = 2;
             }
@@ -971,14 +743,12 @@ static int make_knobs(tune *t)
             const char *why = NULL;
             if (pd->role == LG_ROLE_OUTPUT_FILE || set_fixes(a, pd->key))
                 continue;
-            if (knob_default(&t->k[t->n_knobs], pd, &why))
+            if (lg_tune_knob_default(&t->k[t->n_knobs], pd, &why))
                 t->n_knobs++;
             else if (why && (pd->type == LG_PARAM_INT || pd->type == LG_PARAM_FLOAT))
                 fprintf(stderr, "tune: %s.%s is not varied: %s\n", a->node, pd->key, why);
-            else {
-                free(t->k[t->n_knobs].values); /* a knob_default that gave up */
-                memset(&t->k[t->n_knobs], 0, sizeof *t->k);
-            }
+            else
+                lg_tune_knob_free(&t->k[t->n_knobs]); /* a default that gave up */
         }
         if (rc == 0 && t->n_knobs == 0) {
             fprintf(stderr, "lightgraph tune: node '%s' (%s) has no knob to vary\n", a->node,
@@ -1065,12 +835,8 @@ static int render_reference(tune *t)
 static void tune_free(tune *t)
 {
     lg_outputs_free(&t->outs);
-    for (int i = 0; i < t->n_knobs; i++) {
-        for (int j = 0; j < t->k[i].n; j++)
-            free(t->k[i].values[j]);
-        free(t->k[i].values);
-        free(t->k[i].grid);
-    }
+    for (int i = 0; i < t->n_knobs; i++)
+        lg_tune_knob_free(&t->k[i]);
     free(t->k);
     for (int p = 0; p < t->n_pts; p++) {
         free(t->pts[p].idx);
@@ -1096,6 +862,16 @@ static void print_knobs(const tune *t)
     for (int i = 0; i < t->n_knobs; i++)
         printf("knob: %s.%s: %s (%d value%s)\n", a->node, t->k[i].pd->key, t->k[i].grid, t->k[i].n,
                t->k[i].n == 1 ? "" : "s");
+}
+
+/* The check render: the chosen setting once more, judged again (before the outputs are
+ * written, so that tune.csv holds it; report prints it). */
+static void check_render(tune *t, int chosen)
+{
+    if (chosen < 0)
+        return;
+    t->check_rc = render_point(t, t->pts[chosen].idx, &t->check_ms, &t->check_m, &t->check_failed);
+    t->checked = true;
 }
 
 /* The answer, its check render and the counts. Returns the exit status. */
@@ -1124,13 +900,9 @@ static int report(tune *t, int chosen)
         rc = 1;
     } else {
         point *c = &t->pts[chosen];
-        /* the check render: the chosen setting once more, judged again */
-        double ms;
-        lg_metric_set m;
-        bool failed;
-        rc = render_point(t, c->idx, &ms, &m, &failed);
-        double check = failed ? INFINITY : lg_metric_value(&m, a->metric);
-        bool meets = rc == 0 && !failed && check <= a->target;
+        rc = t->check_rc;
+        double check = t->check_failed ? INFINITY : lg_metric_value(&t->check_m, a->metric);
+        bool meets = rc == 0 && !t->check_failed && check <= a->target;
         char *line = set_line(t, c->idx);
         double med = median_ms(c);
         printf("answer: %s\n", line);
@@ -1197,6 +969,7 @@ int lg_cmd_tune(int argc, char **argv)
         if (chosen >= 0)
             t.pts[chosen].chosen = true;
         mark_front(&t);
+        check_render(&t, chosen);
         bool plotted = false;
         int out_rc = write_outputs(&t, &plotted);
         rc = report(&t, chosen);

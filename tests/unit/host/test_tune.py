@@ -6,8 +6,9 @@
                answer is the known optimum, fine at n = 10 (coarse needs 84 and costs twice
                as much; flat never gets there and is pruned at its most accurate setting);
                the coarse combination was bisected to exactly 84; fewer renders than the
-               grid's 12288; the CSV has one chosen row, the front and every metric. With the
-               default knobs (n on its power-of-two grid, the modes): fine at n = 16
+               grid's 12288; the CSV has one chosen row, the front, every metric and, last,
+               the check render's row (check = 1: the chosen setting, the check: line's
+               error). With the default knobs (n on its power-of-two grid, the modes): fine at n = 16
   nonmonotone  bump = 96 makes n = 96..99 err 100 times more: the bisection alone stops at
                100; the violation is seen and said, the grid below is scanned, the answer is
                84 again
@@ -80,11 +81,42 @@ def check_line(p, target):
     check(m, "no check line:\n" + p.stdout)
     check(m.group(2) == "meets the target" and float(m.group(1)) <= target,
           "the check render misses %g: %s" % (target, m.group(0)))
+    return float(m.group(1))
+
+
+def all_rows(d):
+    with open(os.path.join(d, "tune.csv")) as f:
+        return list(csv.DictReader(f))
 
 
 def rows(d):
-    with open(os.path.join(d, "tune.csv")) as f:
-        return list(csv.DictReader(f))
+    """The explored points of tune.csv (not the check render's row)."""
+    r = all_rows(d)
+    check(all(x["check"] in ("0", "1") for x in r), "a check column that is not 0 or 1")
+    return [x for x in r if x["check"] == "0"]
+
+
+def check_row(p, d, node, metric, target):
+    """tune.csv's last row is the check render: the chosen point's setting, neither chosen nor
+    on the front, its error the one of the check: line (%.4g there, %.6g in the CSV)."""
+    printed = check_line(p, target)
+    r = all_rows(d)
+    checks = [x for x in r if x["check"] == "1"]
+    check(len(checks) == 1 and r[-1] is checks[0], "not one check row, last: %s" % checks)
+    c = checks[0]
+    chosen = [x for x in r if x["chosen"] == "1"]
+    check(len(chosen) == 1, "chosen rows: %s" % chosen)
+    knobs = [k for k in c if k.startswith(node + ".")]
+    check(knobs and all(c[k] == chosen[0][k] for k in knobs),
+          "the check row's setting %s is not the chosen %s"
+          % ({k: c[k] for k in knobs}, {k: chosen[0][k] for k in knobs}))
+    check(int(c["point"]) == len(r) and c["chosen"] == "0" and c["on_front"] == "0"
+          and c["timings"] == "1" and float(c["time_ms"]) > 0,
+          "the check row's point, flags or timing: %s" % c)
+    err = float(c[metric])
+    check(abs(err - printed) <= 5e-4 * max(abs(printed), 1e-12),
+          "the check row's %s %g is not the check line's %g" % (metric, err, printed))
+    check(c["within_target"] == ("1" if err <= target else "0"), "within_target of the check row")
 
 
 def test_law():
@@ -98,7 +130,7 @@ def test_law():
     check(total < 100, "%d renders for a bisection over 4096 values in 3 modes" % total)
     check("pruned: even --set law.n=4096 --set law.mode=flat misses E" in p.stderr,
           "flat not pruned at its most accurate setting:\n" + p.stderr[-2000:])
-    check_line(p, 0.012)
+    check_row(p, d, "law", "rel_rmse", 0.012)
     r = rows(d)
     within = lambda mode, n: [x["within_target"] for x in r
                               if x["law.mode"] == mode and x["law.n"] == str(n)]
@@ -135,7 +167,7 @@ def test_nonmonotone():
     check(re.search(r"^note: n is not monotone .*scanned from 84 to 100$", p.stdout, re.M),
           "the violation is not reported:\n" + p.stdout)
     check(answer(p) == {"n": "84"}, "not the optimum below the bump:\n" + p.stdout)
-    check_line(p, 0.012)
+    check_row(p, d, "law", "rel_rmse", 0.012)
     total, grid = counts(p)
     check(total < grid, "%d renders, grid %d" % (total, grid))
 
@@ -158,6 +190,7 @@ def test_prune():
     check("note: the search stopped at --max-renders 5" in p.stdout, p.stdout)
     check(answer(p) == {"n": "512"}, "the best of 1, 4096, 2048, 1024, 512:\n" + p.stdout)
     check(len(rows(d2)) == 5, "%d points for a budget of 5" % len(rows(d2)))
+    check(len(all_rows(d2)) == 6, "the budget's check render not in tune.csv")
 
 
 def test_unreachable():
@@ -167,6 +200,8 @@ def test_unreachable():
     check(re.search(r"^E is out of reach on this scene: best rel_rmse 1 at --set law.n=\d+$",
                     p.stdout, re.M), p.stdout)
     check("answer:" not in p.stdout, "an answer for an unreachable target")
+    check(all_rows(d) and all(x["check"] == "0" for x in all_rows(d)),
+          "a check row without an answer")
 
 
 def test_errors():
@@ -218,7 +253,7 @@ def froxel(target):
              "--set", "vol.width=48", "--set", "vol.height=27",
              "--vary", "depth=2..128", "--vary", "slicing=uniform_clip,exponential",
              "--size", "96x54", "-o", d], plugin_path="")
-    check_line(p, target)
+    check_row(p, d, "vol", "rel_rmse", target)
     total, grid = counts(p)
     check(grid == 127 * 2, "full grid %d" % grid)
     check(total < grid, "%d renders, not fewer than the grid's %d" % (total, grid))
