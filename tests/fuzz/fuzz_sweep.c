@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fuzz_argv.h"
 #include "fuzz_driver.h"
 #include "cli/sweep_args.h"
 #include "base/util.h"
@@ -191,28 +192,11 @@ static bool same(const lg_sweep_args *x, const lg_sweep_args *y)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     n_runs++;
-    if (memchr(data, '\0', size))
+    char *text;
+    int argc;
+    char **argv = lg_fuzz_argv(data, size, "sweep", &text, &argc);
+    if (!argv)
         return 0; /* an argument never holds a NUL */
-    char *text = malloc(size + 1);
-    char **argv = malloc((size + 2) * sizeof *argv);
-    if (!text || !argv)
-        abort();
-    memcpy(text, data, size);
-    text[size] = '\0';
-    int argc = 0;
-    argv[argc++] = "sweep";
-    /* "a\nb" and "a\nb\n" are both the arguments a and b; "" is none */
-    for (char *p = text; size > 0;) {
-        char *nl = strchr(p, '\n');
-        argv[argc++] = p;
-        if (!nl)
-            break;
-        *nl = '\0';
-        p = nl + 1;
-        if (p == text + size)
-            break;
-    }
-    argv[argc] = NULL;
 
     lg_sweep_args a;
     char err[512];

@@ -32,6 +32,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fuzz_argv.h"
 #include "fuzz_driver.h"
 #include "cli/tune_args.h"
 #include "cli/tune_knob.h"
@@ -288,28 +289,11 @@ static void check_range(const lg_tune_vary *v, const lg_param_desc *pd)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     n_runs++;
-    if (memchr(data, '\0', size))
+    char *text;
+    int argc;
+    char **argv = lg_fuzz_argv(data, size, "tune", &text, &argc);
+    if (!argv)
         return 0; /* an argument never holds a NUL */
-    char *text = malloc(size + 1);
-    char **argv = malloc((size + 2) * sizeof *argv);
-    if (!text || !argv)
-        abort();
-    memcpy(text, data, size);
-    text[size] = '\0';
-    int argc = 0;
-    argv[argc++] = "tune";
-    /* "a\nb" and "a\nb\n" are both the arguments a and b; "" is none */
-    for (char *p = text; size > 0;) {
-        char *nl = strchr(p, '\n');
-        argv[argc++] = p;
-        if (!nl)
-            break;
-        *nl = '\0';
-        p = nl + 1;
-        if (p == text + size)
-            break;
-    }
-    argv[argc] = NULL;
 
     lg_tune_args a;
     char err[512];
