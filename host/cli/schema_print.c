@@ -102,10 +102,9 @@ void lg_print_value(lg_str *out, const lg_value *v, lg_param_type type)
     value(out, v, type, false);
 }
 
-static const char *need_names[] = {
-    "geometry", "light", "directional_light", "point_light",
-    "medium",   "probe", "specular_material", "reflective_material"
-};
+static const char *need_names[] = { "geometry", "light", "directional_light", "point_light",
+                                    "medium",   "probe", "specular_material", "reflective_material",
+                                    "textures" };
 
 void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
 {
@@ -179,7 +178,7 @@ void lg_print_type_json(lg_str *o, const lg_node_type *t, const lg_plugin *p)
     }
     lg_str_add(o, "], \"needs\": [");
     bool first = true;
-    for (int b = 0; b < 8; b++)
+    for (int b = 0; b < (int)(sizeof need_names / sizeof *need_names); b++)
         if (t->needs & (1u << b)) {
             lg_str_addf(o, "%s\"%s\"", first ? "" : ", ", need_names[b]);
             first = false;
@@ -268,7 +267,7 @@ void lg_print_type_text(FILE *f, const lg_node_type *t, const lg_plugin *p)
     }
     if (t->needs) {
         fprintf(f, "  needs from the scene:");
-        for (int b = 0; b < 8; b++)
+        for (int b = 0; b < (int)(sizeof need_names / sizeof *need_names); b++)
             if (t->needs & (1u << b))
                 fprintf(f, " %s", need_names[b]);
         fprintf(f, " (otherwise gated: %s)\n",

@@ -97,11 +97,11 @@ static void print_features(FILE *f, const char *name, const lg_scene_features *s
     fprintf(f,
             "scene features (%s): triangles %llu, vertices %llu, lights: %u directional, %u "
             "point, %u other; medium %s (density %g); probe %s; specular material %s; "
-            "reflective materials %u\n",
+            "reflective materials %u; textures %u; masked materials %u; animated instances %u\n",
             name, (unsigned long long)sf->triangles, (unsigned long long)sf->vertices,
             sf->dir_lights, sf->point_lights, sf->other_lights, sf->medium ? "yes" : "no",
             (double)sf->medium_density, sf->probe ? "yes" : "no", sf->specular ? "yes" : "no",
-            sf->reflective_materials);
+            sf->reflective_materials, sf->textures, sf->masked_materials, sf->animated);
 }
 
 /* How many times lg_execute will run a kept node: once, or on every frame. */

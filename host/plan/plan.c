@@ -71,6 +71,8 @@ static const char *needs_text(uint32_t unmet)
         return "no material with a specular term";
     if (unmet & LG_NEEDS_REFLECTIVE)
         return "no reflective material";
+    if (unmet & LG_NEEDS_TEXTURES)
+        return "no textured material";
     if (unmet & LG_NEEDS_GEOMETRY)
         return "no geometry";
     return "unmet needs";
@@ -103,6 +105,9 @@ static bool collect_features(lg_exec *ex, uint32_t i, lg_scene_features *f, bool
             f->probe |= r->features.probe;
             f->specular |= r->features.specular;
             f->reflective_materials += r->features.reflective_materials;
+            f->textures += r->features.textures;
+            f->masked_materials += r->features.masked_materials;
+            f->animated += r->features.animated;
             if (r->features.medium_density > f->medium_density)
                 f->medium_density = r->features.medium_density;
             any = true;
@@ -132,6 +137,8 @@ static uint32_t unmet_needs(uint32_t needs, const lg_scene_features *f)
         unmet |= LG_NEEDS_SPECULAR;
     if ((needs & LG_NEEDS_REFLECTIVE) && f->reflective_materials == 0)
         unmet |= LG_NEEDS_REFLECTIVE;
+    if ((needs & LG_NEEDS_TEXTURES) && f->textures == 0)
+        unmet |= LG_NEEDS_TEXTURES;
     return unmet;
 }
 

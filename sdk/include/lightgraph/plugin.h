@@ -166,6 +166,8 @@ enum {
     LG_NEEDS_SPECULAR = 1u << 6,    /* a material with a non-zero specular term */
     LG_NEEDS_REFLECTIVE = 1u << 7,  /* since ABI 2.2: a material with a non-zero
                                      * reflectivity (lg_material.reflectivity) */
+    LG_NEEDS_TEXTURES = 1u << 8,    /* since ABI 3.1: a drawn material samples a texture
+                                     * (lg_scene_features.textures) */
 };
 
 /* What stands in for a gated node's outputs. */
@@ -197,6 +199,11 @@ enum {
      * tone mapper): the viewer shows an image at or downstream of such a node as it is,
      * and any other image with an exposure it chooses (lightgraph view). */
     LG_NODE_DISPLAY_REFERRED = 1u << 3,
+    /* since ABI 3.1: the node's results do not depend on where the scene's animation puts
+     * its instances (a PRT transfer bake, made in each mesh's own frame): when the scene is
+     * animated it still runs once. Without the flag, a node that reads an animated scene
+     * runs every frame (lg_scene_pose at lg_frame.time gives the instances' matrices). */
+    LG_NODE_POSE_INDEPENDENT = 1u << 4,
 };
 
 typedef struct lg_node lg_node; /* a node instance, as the host shows it (lightgraph/host.h) */

@@ -50,7 +50,21 @@ typedef struct lg_mesh {
     const uint32_t *indices;            /* triangle list, every index < n_vertices */
     uint32_t material;                  /* index into lg_scene.materials */
     float bounds_min[3], bounds_max[3]; /* object space */
-    void *reserved[4];
+    /* Since ABI 3.1, in the place of two of four reserved pointers (an anonymous union, so
+     * that the struct's size and layout stay those of 3.0; producers built against 3.0 leave
+     * them NULL): */
+    union {
+        void *reserved[4];
+        struct {
+            /* 4 floats per vertex, or NULL: the tangent (xyz, unit, orthogonal to the
+             * normal) and w = +1 or -1, the bitangent's sign: B = w (N x T) (glTF
+             * TANGENT). The loader fills it for every mesh whose material has a normal
+             * texture: the file's tangents, else MikkTSpace's (plugins/scene_gltf). */
+            const float *tangents;
+            const float *texcoords1; /* 2 floats per vertex (glTF TEXCOORD_1), or NULL */
+            void *reserved_3_1[2];
+        };
+    };
 } lg_mesh;
 
 typedef struct lg_instance {
@@ -59,6 +73,124 @@ typedef struct lg_instance {
     float normal_matrix[9]; /* inverse transpose of model's 3x3, column-major */
     void *reserved[2];
 } lg_instance;
+
+struct lg_scene;
+
+/* ---- Textures (since ABI 3.1) ---------------------------------------------------------------- */
+/*
+ * A scene's textures are glTF's three levels: images (decoded pixels), textures (an image
+ * and how to sample it) and texture references in materials (a texture, a texture
+ * coordinate set and KHR_texture_transform). Images are decoded by the scene node to RGBA8
+ * as the file stores them: a colour texture (base colour, emissive) holds sRGB-encoded
+ * values that the sampler decodes, a data texture (normal, occlusion, metallic-roughness)
+ * linear values. glTF's texture coordinate (0, 0) is the image's top-left corner: row 0 of
+ * `rgba8` is the image's top row and v grows downwards (the same as lightgraph's images).
+ */
+typedef struct lg_scene_image {
+    const char *name; /* the image's uri or name, for messages */
+    uint32_t width, height;
+    const uint8_t *rgba8; /* width * height * 4 bytes, rows top to bottom */
+    void *reserved[4];
+} lg_scene_image;
+
+/* A glTF sampler's values, as the GL enums glTF uses. 0 means "not given": magnification
+ * and minification then default to linear and trilinear (linear-mipmap-linear), wrapping to
+ * repeat. */
+enum {
+    LG_TEX_NEAREST = 9728,
+    LG_TEX_LINEAR = 9729,
+    LG_TEX_NEAREST_MIPMAP_NEAREST = 9984,
+    LG_TEX_LINEAR_MIPMAP_NEAREST = 9985,
+    LG_TEX_NEAREST_MIPMAP_LINEAR = 9986,
+    LG_TEX_LINEAR_MIPMAP_LINEAR = 9987,
+    LG_TEX_CLAMP_TO_EDGE = 33071,
+    LG_TEX_MIRRORED_REPEAT = 33648,
+    LG_TEX_REPEAT = 10497,
+};
+
+typedef struct lg_scene_texture {
+    uint32_t image;                  /* index into lg_scene_textures.images */
+    uint32_t mag_filter, min_filter; /* LG_TEX_* filter values, 0 = default */
+    uint32_t wrap_s, wrap_t;         /* LG_TEX_* wrap values, 0 = repeat */
+    uint32_t reserved_u32[3];
+    void *reserved[2];
+} lg_scene_texture;
+
+/* A material's use of a texture. */
+typedef struct lg_texture_ref {
+    int32_t texture;   /* index into lg_scene_textures.textures; -1 = none */
+    uint32_t texcoord; /* the texture coordinate set: 0 (TEXCOORD_0) or 1 (TEXCOORD_1) */
+    /* normalTexture.scale (the X and Y of the tangent-space normal are multiplied by it),
+     * occlusionTexture.strength (occlusion = 1 + strength (texel - 1)); 1 for the others */
+    float scale;
+    /* KHR_texture_transform as a 2x3 matrix, column-major: uv' = (t[0] u + t[2] v + t[4],
+     * t[1] u + t[3] v + t[5]), i.e. T * R * S of the extension's offset, rotation and scale.
+     * Identity {1, 0, 0, 1, 0, 0} when the reference has no transform. */
+    float transform[6];
+    uint32_t reserved[2];
+} lg_texture_ref;
+
+typedef enum lg_alpha_mode {
+    LG_ALPHA_OPAQUE = 0, /* alpha ignored */
+    LG_ALPHA_MASK,       /* alpha >= alpha_cutoff: opaque, else no surface at all */
+    LG_ALPHA_BLEND,      /* blended over what lies behind (see the node's README) */
+} lg_alpha_mode;
+
+/* A material's textures (glTF 2.0 core materials). The surface's alpha is
+ * base_color[3] times the base colour texture's alpha. */
+typedef struct lg_material_maps {
+    lg_texture_ref base_color;         /* sRGB RGB times lg_material.base_color; alpha */
+    lg_texture_ref metallic_roughness; /* linear: B metallic, G roughness (times the factors) */
+    lg_texture_ref normal;             /* linear tangent-space normal, 2 x texel - 1 */
+    lg_texture_ref occlusion;          /* linear R: ambient occlusion */
+    lg_texture_ref emissive;           /* sRGB RGB times lg_material.emissive */
+    lg_alpha_mode alpha_mode;
+    float alpha_cutoff; /* LG_ALPHA_MASK: 0.5 unless the file says */
+    uint32_t reserved_u32[2];
+    void *reserved[4];
+} lg_material_maps;
+
+/* The defaults: no texture (every ref's texture -1, scale 1, identity transform), opaque,
+ * cutoff 0.5. Static data. */
+LG_API const lg_material_maps *lg_material_maps_default(void);
+
+/* The texture coordinates a reference reads, with its transform applied: uv0 and uv1 are
+ * the vertex's (or fragment's) TEXCOORD_0 and TEXCOORD_1 (uv1 may be NULL when the mesh has
+ * none: then set 1 reads set 0). */
+static inline void lg_texture_ref_uv(const lg_texture_ref *r, const float *uv0, const float *uv1,
+                                     float out[2])
+{
+    const float *uv = (r->texcoord == 1 && uv1) ? uv1 : uv0;
+    const float *t = r->transform;
+    float u = uv[0], v = uv[1];
+    out[0] = t[0] * u + t[2] * v + t[4];
+    out[1] = t[1] * u + t[3] * v + t[5];
+}
+
+/* The scene's textures (lg_scene.textures). */
+typedef struct lg_scene_textures {
+    const lg_scene_image *images;
+    uint32_t n_images;
+    const lg_scene_texture *textures;
+    uint32_t n_textures;
+    uint64_t bytes; /* decoded image bytes (counted against the scene node in the profile) */
+    void *reserved[4];
+} lg_scene_textures;
+
+/* Samples texture reference `r` of scene `s` on the CPU at texture coordinates `uv` (the
+ * transformed coordinates of lg_texture_ref_uv): bilinear on level 0 with the texture's
+ * wrap modes (nearest when its mag_filter is LG_TEX_NEAREST), colour textures (`srgb`)
+ * decoded from sRGB to linear before filtering. out = RGBA in [0, 1]; (1, 1, 1, 1) when the
+ * reference has no texture or its index is out of range. Pure function of its inputs
+ * (Embree filter functions, cpu backends and tests use it). */
+LG_API void lg_scene_texture_sample(const struct lg_scene *s, const lg_texture_ref *r,
+                                    const float uv[2], bool srgb, float out[4]);
+
+/* The surface's alpha on material `m` at vertex coordinates uv0 / uv1 (base_color[3] times
+ * the base colour texture's alpha), and whether an LG_ALPHA_MASK material has a surface
+ * there (alpha >= cutoff). Materials not MASK always have one. */
+LG_API bool lg_material_covers(const struct lg_scene *s, uint32_t material, const float *uv0,
+                               const float *uv1);
 
 /* The Phong parameters of TECHNIQUES.md §1 (seed 1 eq. 1-4, 1-8):
  *   I = Ia ka Od + Ii [kd Od (N.L) + ks Os (R.V)^n]
@@ -84,8 +216,23 @@ typedef struct lg_material {
      * README.md, "Materials"). roughness above is glTF's perceptual roughness. */
     float reflectivity[3];
     uint32_t reserved_u32;
-    void *reserved[2];
+    /* Since ABI 3.1, in the place of the first reserved pointer: the material's textures
+     * and alpha mode, or NULL (no texture, opaque: what a 3.0 producer gives). Read it
+     * through lg_material_maps_of(), which returns the defaults for NULL. */
+    union {
+        void *reserved[2];
+        struct {
+            const struct lg_material_maps *maps;
+            void *reserved_3_1;
+        };
+    };
 } lg_material;
+
+/* The maps of material `m`: m->maps, or the defaults when the producer gave none. */
+static inline const lg_material_maps *lg_material_maps_of(const lg_material *m)
+{
+    return m->maps ? m->maps : lg_material_maps_default();
+}
 
 typedef enum lg_light_type {
     LG_LIGHT_DIRECTIONAL = 0,
@@ -126,6 +273,71 @@ typedef struct lg_medium {
     void *reserved[4];
 } lg_medium;
 
+/* ---- Rigid animation (since ABI 3.1) --------------------------------------------------------- */
+/*
+ * glTF node animations: channels that key a node's translation, rotation or scale. The
+ * scene keeps the node tree so that a pose can be evaluated at any time; lg_scene_pose
+ * turns it into instance matrices. lg_scene.instances holds the rest pose (the nodes'
+ * own TRS), so a consumer that ignores animation draws the rest pose, as before.
+ */
+typedef enum lg_anim_path {
+    LG_ANIM_TRANSLATION = 0, /* 3 floats per key */
+    LG_ANIM_ROTATION,        /* 4 floats per key, a unit quaternion x, y, z, w */
+    LG_ANIM_SCALE,           /* 3 floats per key */
+} lg_anim_path;
+
+typedef enum lg_anim_interp {
+    LG_ANIM_LINEAR = 0, /* rotation: spherical linear (slerp, shortest path) */
+    LG_ANIM_STEP,
+    LG_ANIM_CUBICSPLINE, /* Hermite with the file's tangents (glTF 2.0 Appendix C) */
+} lg_anim_interp;
+
+typedef struct lg_anim_channel {
+    uint32_t node; /* index into lg_scene_animation.nodes */
+    lg_anim_path path;
+    lg_anim_interp interpolation;
+    uint32_t n_keys;    /* at least 1 */
+    const float *times; /* n_keys seconds, strictly increasing, finite, >= 0 */
+    /* n_keys values of the path's size; CUBICSPLINE: n_keys triples (in-tangent, value,
+     * out-tangent), as glTF stores them */
+    const float *values;
+    void *reserved[2];
+} lg_anim_channel;
+
+typedef struct lg_anim_node {
+    int32_t parent;       /* index into lg_scene_animation.nodes, -1 for a root */
+    float translation[3]; /* the rest pose's TRS (a node given by a matrix has it */
+    float rotation[4];    /* decomposed; glTF forbids animating such a node) */
+    float scale[3];
+    uint32_t animated; /* 1 when a channel targets this node or one of its ancestors */
+    void *reserved[2];
+} lg_anim_node;
+
+typedef struct lg_scene_animation {
+    const char *name; /* the glTF animation played, for messages */
+    double duration;  /* the largest key time of its channels, seconds */
+    const lg_anim_node *nodes;
+    uint32_t n_nodes;
+    const lg_anim_channel *channels;
+    uint32_t n_channels;
+    /* per instance (lg_scene.n_instances): the node whose world matrix places it */
+    const uint32_t *instance_node;
+    /* per light and per camera: the node that carries it, or -1 (not animated) */
+    const int32_t *light_node, *camera_node;
+    void *reserved[4];
+} lg_scene_animation;
+
+/* The scene's instances at `time` seconds: out[i] (n_instances of them) is instance i
+ * with its model and normal matrices at that time. Times beyond the animation's duration
+ * hold its last pose, times before 0 its first (no looping: the graph's frame time is the
+ * animation's). A scene without animation gives its instances as they are. Returns 0, or
+ * LG_ERR_INVALID (reported on `node`, which may be NULL) for a non-finite time. */
+LG_API int lg_scene_pose(lg_node *node, const struct lg_scene *s, double time, lg_instance *out);
+
+/* True when the scene has an animation whose channels move something (duration may be 0:
+ * a single key still poses the scene). */
+LG_API bool lg_scene_is_animated(const struct lg_scene *s);
+
 typedef struct lg_scene {
     size_t struct_size; /* sizeof(lg_scene) */
     const char *source; /* the file it came from, or a description */
@@ -146,7 +358,16 @@ typedef struct lg_scene {
     /* The resource whose GPU copies hold this scene's geometry: the scene's own resource
      * (NULL) or, for a derived scene, its source's. */
     const lg_resource *geometry;
-    void *reserved[8];
+    /* Since ABI 3.1, in the place of two of eight reserved pointers (NULL from a 3.0
+     * producer, and for a scene without textures or animation): */
+    union {
+        void *reserved[8];
+        struct {
+            const lg_scene_textures *textures;
+            const lg_scene_animation *animation;
+            void *reserved_3_1[6];
+        };
+    };
 } lg_scene;
 
 /* The scene on a resource, or NULL (after lg_error) if the resource is not a scene. */

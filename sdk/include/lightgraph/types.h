@@ -97,7 +97,17 @@ typedef struct lg_scene_features {
     /* since ABI 2.2: materials whose reflectivity (lg_material.reflectivity) is not zero;
      * it takes the place of the first reserved word */
     uint32_t reflective_materials;
-    uint32_t reserved[7];
+    /* since ABI 3.1, in the place of three reserved words (an anonymous union keeps the
+     * layout): */
+    union {
+        uint32_t reserved[7];
+        struct {
+            uint32_t textures;         /* textures that the drawn materials sample */
+            uint32_t masked_materials; /* drawn materials with alpha mode MASK or BLEND */
+            uint32_t animated;         /* instances an animation moves */
+            uint32_t reserved_3_1[4];
+        };
+    };
 } lg_scene_features;
 
 #ifdef __cplusplus
