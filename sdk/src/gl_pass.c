@@ -797,6 +797,10 @@ lg_gl_sampler lg_gl_sampler_scene(const lg_scene *s, int32_t texture, float max_
      * minification: the file asked for level 0 only) */
     if (r.min_filter == GL_NEAREST || r.min_filter == GL_LINEAR)
         r.max_anisotropy = 0.0f;
+    /* nor one magnified NEAREST: Mesa's llvmpipe filters magnified texels linearly when
+     * anisotropy is on, blurring the texels the file asked to keep sharp */
+    if (r.mag_filter == GL_NEAREST)
+        r.max_anisotropy = 0.0f;
     return r;
 }
 

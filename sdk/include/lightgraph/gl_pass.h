@@ -348,7 +348,9 @@ typedef struct lg_gl_sampler {
 /* Since ABI 3.1: the sampler of scene texture `texture` of `s` (lg_scene.textures): its
  * glTF filters and wraps, glTF's defaults where the file gives none (magnified linear,
  * minified trilinear, repeat), with `max_anisotropy` (16 is the usual choice: the device's
- * maximum when lower). A texture index out of range gives those defaults. */
+ * maximum when lower). A texture index out of range gives those defaults. Anisotropy is
+ * left off for a texture minified without mipmaps (NEAREST or LINEAR) or magnified NEAREST
+ * (llvmpipe's anisotropic path would filter its magnified texels linearly). */
 LG_API lg_gl_sampler lg_gl_sampler_scene(const lg_scene *s, int32_t texture, float max_anisotropy);
 
 /* Binds `tex` to the unit of sampler `b` with the sampler state `s` (NULL: the texture's
