@@ -2,10 +2,11 @@
 """The preview node's shaders compiled offline, after tools/embed.py has resolved their
 #include lines (preview.frag includes shaders/common/material.glsl).
 
-usage: test_preview_glsl.py EMBED_PY GLSLANG SHADER_DIR SHADERS_COMMON_DIR
+usage: test_preview_glsl.py EMBED_PY GLSLANG SHADER_DIR SHADERS_COMMON_DIR [FILE...]
 
 Stages: preview.vert, preview.frag with and without LG_WIREFRAME (the define the plugin
-passes when `wireframe` > 0), preview_wire.geom.
+passes when `wireframe` > 0), preview_wire.geom; or, with FILEs, those of SHADER_DIR
+(without defines: tests/plugins/texgl checks shadowmap's stages so).
 """
 import os
 import re
@@ -27,6 +28,8 @@ def main():
     embed_py, glslang, sdir, common = sys.argv[1:5]
     jobs = [("preview.vert", []), ("preview.frag", []), ("preview.frag", ["-DLG_WIREFRAME=1"]),
             ("preview_wire.geom", [])]
+    if len(sys.argv) > 5:
+        jobs = [(f, []) for f in sys.argv[5:]]
     failures = 0
     with tempfile.TemporaryDirectory() as tmp:
         for name, defs in jobs:

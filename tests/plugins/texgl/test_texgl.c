@@ -22,6 +22,9 @@
  *   mask       alpha MASK 0.5 on a checker whose odd texels have alpha 0: those pixels
  *              show the background, the others their texel, in base_color and normals
  *              modes alike
+ *   shadow     shadowmap's atlas under a light along -Z: the opaque checker quad casts a
+ *              full square; its masked twin casts half of it, on one parity of the 8 x 8
+ *              cells only (the shadow has holes where the texels are transparent)
  *   wireframe  wireframe = 3 in green: pixels on the quad's diagonal turn green, pixels
  *              8 or more pixels from every edge keep their texel exactly
  */
@@ -249,6 +252,68 @@ static void case_wireframe(lg_test *t)
     lg_image_free(&wire);
 }
 
+/* The shadow map's atlas of the checker quad (mask: odd texels transparent) under a light
+ * travelling along -Z, 128 x 128. */
+static bool shadow_atlas(lg_test *t, const char *layout, lg_image *a)
+{
+    char g[1024];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_tex_scene { layout = %s }\n"
+             "l = light { scene = s, direction = [0, 0, -1] }\n"
+             "sh = shadowmap { scene = l, resolution = 128, cull = none }\n"
+             "output sh.atlas \"sm.exr\"\n",
+             layout);
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "--size", "16x16", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0, "shadow map render of %s failed (%d)", layout, rc);
+    bool ok = !rc && lg_test_read(t, "sm.exr", a, NULL);
+    LG_TEST_CHECK(t, ok || rc, "sm.exr unreadable");
+    return ok && a->width == 128 && a->height == 128;
+}
+
+static void case_shadow(lg_test *t)
+{
+    lg_image full = { 0 }, masked = { 0 };
+    if (!shadow_atlas(t, "checker", &full) || !shadow_atlas(t, "mask", &masked))
+        return;
+    /* the opaque quad's extent in the tile */
+    uint32_t x0 = 128, y0 = 128, x1 = 0, y1 = 0, nfull = 0, nmask = 0;
+    for (uint32_t y = 0; y < 128; y++)
+        for (uint32_t x = 0; x < 128; x++) {
+            nmask += px(&masked, x, y)[0] < 1.0f;
+            if (px(&full, x, y)[0] < 1.0f) {
+                nfull++;
+                x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+                y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+            }
+        }
+    LG_TEST_CHECK(t, nfull > 0 && x1 > x0 + 16 && y1 > y0 + 16, "the opaque quad casts %u texels",
+                  nfull);
+    if (!(x1 > x0 + 16 && y1 > y0 + 16))
+        return;
+    /* cell centres of the 8 x 8 texels: drawn on one parity of (i + j) only (which one
+     * depends on how the light's view is turned; the checker is the same either way up) */
+    int parity[2] = { 0, 0 };
+    for (int j = 0; j < 8; j++)
+        for (int i = 0; i < 8; i++) {
+            uint32_t x = x0 + (uint32_t)((i + 0.5) / 8 * (x1 + 1 - x0));
+            uint32_t y = y0 + (uint32_t)((j + 0.5) / 8 * (y1 + 1 - y0));
+            if (px(&masked, x, y)[0] < 1.0f)
+                parity[(i + j) % 2]++;
+        }
+    fprintf(stderr,
+            "shadow: opaque quad %u texels, masked %u (%.3f); cells drawn by parity %d / %d\n",
+            nfull, nmask, (double)nmask / nfull, parity[0], parity[1]);
+    LG_TEST_CHECK(t, (parity[0] == 32 && parity[1] == 0) || (parity[0] == 0 && parity[1] == 32),
+                  "the masked quad's shadow is not a checker: cells %d / %d", parity[0], parity[1]);
+    LG_TEST_CHECK(t, fabs((double)nmask / nfull - 0.5) < 0.05,
+                  "the masked quad casts %u of %u texels, not half", nmask, nfull);
+    lg_image_free(&full);
+    lg_image_free(&masked);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
@@ -258,8 +323,9 @@ int main(int argc, char **argv)
 {
     setenv("LIGHTGRAPH_PLUGIN_PATH", TX_TEST_PLUGIN_DIR, 1);
     static const lg_test_case cases[] = {
-        { "texel", case_texel }, { "bilinear", case_bilinear }, { "wrap", case_wrap },
-        { "mip", case_mip },     { "mask", case_mask },         { "wireframe", case_wireframe },
+        { "texel", case_texel },   { "bilinear", case_bilinear }, { "wrap", case_wrap },
+        { "mip", case_mip },       { "mask", case_mask },         { "wireframe", case_wireframe },
+        { "shadow", case_shadow },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
