@@ -25,6 +25,12 @@
  *   shadow     shadowmap's atlas under a light along -Z: the opaque checker quad casts a
  *              full square; its masked twin casts half of it, on one parity of the 8 x 8
  *              cells only (the shadow has holes where the texels are transparent)
+ *   phong_texel  the checker through phong (kd 1, Od 1, ks 0, a light along -Z): every
+ *              pixel is its texel's sRGB bytes in all five shading modes; the masked
+ *              checker has its holes
+ *   phong_normal a constant tilted normal texel shades as the tilted normal (phong), lit
+ *              from straight ahead and from 45 degrees (the tilt's sign); gouraud lights
+ *              the vertex normals (no normal map)
  *   wireframe  wireframe = 3 in green: pixels on the quad's diagonal turn green, pixels
  *              8 or more pixels from every edge keep their texel exactly
  */
@@ -314,6 +320,106 @@ static void case_shadow(lg_test *t)
     lg_image_free(&masked);
 }
 
+/* phong { scene = light { test_tex_scene { layout } along `dir` }, ambient 0 } at 64x64. */
+static bool render_phong(lg_test *t, const char *layout, const char *dir, const char *opts,
+                         lg_image *img)
+{
+    char g[1024];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_tex_scene { layout = %s }\n"
+             "l = light { scene = s, direction = %s }\n"
+             "lit = phong { scene = l, ambient = [0, 0, 0], background = [1, 0, 1]%s%s }\n"
+             "output lit \"out.exr\"\n",
+             layout, dir, *opts ? ", " : "", opts);
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "--size", "64x64", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0, "phong render of %s (%s) failed (%d)", layout, opts, rc);
+    bool ok = !rc && lg_test_read(t, "out.exr", img, NULL);
+    return ok && img->width == 64 && img->height == 64;
+}
+
+/* Through phong (kd 1, Od 1, ks 0, light along -Z: I = Od * texture * N.L with N.L = 1):
+ * every pixel is its texel, in every shading mode (flat and Gouraud modulate their held
+ * colour by the texture); the masked checker has its holes. */
+static void case_phong_texel(lg_test *t)
+{
+    static const char *const modes[] = { "shading = phong", "shading = gouraud", "shading = flat",
+                                         "shading = mixed", "shading = phong_half" };
+    tx_scene *s = tx_make(TX_CHECKER, 0);
+    for (int k = 0; k < 5; k++) {
+        lg_image img = { 0 };
+        if (!render_phong(t, "checker", "[0, 0, -1]", modes[k], &img))
+            break;
+        int wrong = 0;
+        /* phong_half shades quarter images: texel centres there, every pixel elsewhere */
+        for (uint32_t y = 0; y < 64; y++)
+            for (uint32_t x = 0; x < 64; x++) {
+                if (k == 4 && (x % 8 < 2 || x % 8 > 5 || y % 8 < 2 || y % 8 > 5))
+                    continue;
+                const uint8_t *p = s->pixels + ((y / 8) * 8 + x / 8) * 4;
+                for (int c = 0; c < 3; c++)
+                    wrong += srgb_byte(px(&img, x, y)[c]) != p[c];
+            }
+        fprintf(stderr, "phong {%s}: %d channels not their texel's bytes\n", modes[k], wrong);
+        LG_TEST_CHECK(t, wrong == 0, "{%s}: %d channels differ from the texels", modes[k], wrong);
+        lg_image_free(&img);
+    }
+    tx_free(s);
+    lg_image img = { 0 };
+    if (!render_phong(t, "mask", "[0, 0, -1]", "", &img))
+        return;
+    int holes = 0, solid = 0;
+    for (int j = 0; j < 8; j++)
+        for (int i = 0; i < 8; i++) {
+            const float *p = px(&img, 8 * i + 4, 8 * j + 4);
+            bool bg = p[0] == BG[0] && p[1] == BG[1] && p[2] == BG[2];
+            if ((i + j) % 2)
+                holes += bg;
+            else
+                solid += !bg;
+        }
+    fprintf(stderr, "phong mask: %d of 32 holes, %d of 32 solid\n", holes, solid);
+    LG_TEST_CHECK(t, holes == 32 && solid == 32, "phong mask: %d holes, %d solid", holes, solid);
+    lg_image_free(&img);
+}
+
+/* A flat quad whose normal texture holds one tilted texel shades as the tilted normal:
+ * N' = normalize(T x + B y + N z) with T = +X, B = +Y, N = +Z; lit along -Z the pixel is
+ * N'.z, lit along (-1, 0, -1) / sqrt 2 it is (N'.x + N'.z) / sqrt 2 (a tilt the wrong way
+ * round would give (N'.z - N'.x) / sqrt 2). Gouraud lights the vertex normals: flat. */
+static void case_phong_normal(lg_test *t)
+{
+    double n[3], l = 0;
+    for (int k = 0; k < 3; k++)
+        n[k] = 2.0 * TX_NORMAL_TEXEL[k] / 255.0 - 1.0, l += n[k] * n[k];
+    for (int k = 0; k < 3; k++)
+        n[k] /= sqrt(l);
+    struct {
+        const char *dir, *opts;
+        double want;
+    } runs[] = {
+        { "[0, 0, -1]", "shading = phong", n[2] },
+        { "[-1, 0, -1]", "shading = phong", (n[0] + n[2]) / sqrt(2.0) },
+        { "[-1, 0, -1]", "shading = gouraud", 1.0 / sqrt(2.0) },
+    };
+    for (int r = 0; r < 3; r++) {
+        lg_image img = { 0 };
+        if (!render_phong(t, "normal", runs[r].dir, runs[r].opts, &img))
+            return;
+        double worst = 0;
+        for (uint32_t y = 0; y < 64; y++)
+            for (uint32_t x = 0; x < 64; x++)
+                worst = fmax(worst, fabs(px(&img, x, y)[0] - runs[r].want));
+        fprintf(stderr, "normal map, light %s {%s}: want %.5f, largest difference %.3g\n",
+                runs[r].dir, runs[r].opts, runs[r].want, worst);
+        LG_TEST_CHECK(t, worst <= 2e-3, "light %s {%s}: pixels off %.5f by up to %g", runs[r].dir,
+                      runs[r].opts, runs[r].want, worst);
+        lg_image_free(&img);
+    }
+}
+
 static void setup(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
@@ -323,9 +429,15 @@ int main(int argc, char **argv)
 {
     setenv("LIGHTGRAPH_PLUGIN_PATH", TX_TEST_PLUGIN_DIR, 1);
     static const lg_test_case cases[] = {
-        { "texel", case_texel },   { "bilinear", case_bilinear }, { "wrap", case_wrap },
-        { "mip", case_mip },       { "mask", case_mask },         { "wireframe", case_wireframe },
+        { "texel", case_texel },
+        { "bilinear", case_bilinear },
+        { "wrap", case_wrap },
+        { "mip", case_mip },
+        { "mask", case_mask },
+        { "wireframe", case_wireframe },
         { "shadow", case_shadow },
+        { "phong_texel", case_phong_texel },
+        { "phong_normal", case_phong_normal },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

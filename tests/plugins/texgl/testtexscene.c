@@ -8,7 +8,9 @@
 
 #include "texscene.h"
 
-static const char *const tx_layouts[] = { "checker", "random", "wrap", "mip", "mask", NULL };
+static const char *const tx_layouts[] = {
+    "checker", "random", "wrap", "mip", "mask", "normal", NULL
+};
 
 static int tx_prepare(lg_node *n)
 {

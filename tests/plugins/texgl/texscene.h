@@ -19,6 +19,8 @@
  *            4x on a 16 x 16 output), default filters
  *   mask     the checker's colours with alpha 0 on texels where (i + j) is odd, material
  *            alpha MASK cutoff 0.5, NEAREST filters
+ *   normal   no base colour texture; a normal texture of one constant texel TX_NORMAL_TEXEL
+ *            (tilted towards +X), scale 1, every vertex's tangent (1, 0, 0, 1)
  */
 #ifndef LG_TEST_TEXSCENE_H
 #define LG_TEST_TEXSCENE_H
@@ -31,7 +33,11 @@
 #include "lightgraph/scene.h"
 #include "lightgraph/vecmath.h"
 
-enum { TX_CHECKER = 0, TX_RANDOM, TX_WRAP, TX_MIP, TX_MASK };
+enum { TX_CHECKER = 0, TX_RANDOM, TX_WRAP, TX_MIP, TX_MASK, TX_NORMAL };
+
+/* The normal texture's texel (RGB bytes): x = 2 * 200 / 255 - 1, y = 2 * 128 / 255 - 1,
+ * z = 2 * 220 / 255 - 1 in tangent space. */
+static const uint8_t TX_NORMAL_TEXEL[3] = { 200, 128, 220 };
 
 typedef struct tx_scene {
     lg_scene s;
@@ -43,7 +49,7 @@ typedef struct tx_scene {
     lg_scene_textures textures;
     lg_scene_image image;
     lg_scene_texture tex[3];
-    float pos[12], nrm[12], uv[8];
+    float pos[12], nrm[12], uv[8], tan[16];
     uint32_t idx[6];
     uint8_t *pixels;
 } tx_scene;
@@ -78,6 +84,9 @@ static inline tx_scene *tx_make(int layout, int wrap)
                     p[c] = (uint8_t)(state >> 24);
                 }
                 p[3] = 255;
+            } else if (layout == TX_NORMAL) {
+                memcpy(p, TX_NORMAL_TEXEL, 3);
+                p[3] = 255;
             } else if (layout == TX_MIP) {
                 uint8_t v = (i + j) % 2 ? 255 : 0;
                 p[0] = p[1] = p[2] = v;
@@ -97,6 +106,8 @@ static inline tx_scene *tx_make(int layout, int wrap)
         t->pos[3 * k] = c[k][0], t->pos[3 * k + 1] = c[k][1], t->pos[3 * k + 2] = 0.0f;
         t->nrm[3 * k] = 0.0f, t->nrm[3 * k + 1] = 0.0f, t->nrm[3 * k + 2] = 1.0f;
         t->uv[2 * k] = uv[k][0], t->uv[2 * k + 1] = uv[k][1];
+        t->tan[4 * k] = 1.0f, t->tan[4 * k + 1] = 0.0f, t->tan[4 * k + 2] = 0.0f;
+        t->tan[4 * k + 3] = 1.0f;
     }
     /* counter-clockwise seen from +Z: TL, BL, BR and TL, BR, TR */
     const uint32_t idx[6] = { 0, 3, 2, 0, 2, 1 };
@@ -119,7 +130,9 @@ static inline tx_scene *tx_make(int layout, int wrap)
                                        .n_textures = 3,
                                        .bytes = (uint64_t)w * w * 4 };
     t->maps = *lg_material_maps_default();
-    t->maps.base_color.texture = layout == TX_WRAP ? wrap : 0;
+    t->maps.base_color.texture = layout == TX_WRAP ? wrap : layout == TX_NORMAL ? -1 : 0;
+    if (layout == TX_NORMAL)
+        t->maps.normal.texture = 0;
     if (layout == TX_MASK) {
         t->maps.alpha_mode = LG_ALPHA_MASK;
         t->maps.alpha_cutoff = 0.5f;
@@ -138,6 +151,7 @@ static inline tx_scene *tx_make(int layout, int wrap)
                          .n_indices = 6,
                          .indices = t->idx,
                          .material = 0,
+                         .tangents = layout == TX_NORMAL ? t->tan : NULL,
                          .bounds_min = { -H, -H, 0 },
                          .bounds_max = { H, H, 0 } };
     lg_m4_identity(t->inst.model);
