@@ -37,6 +37,7 @@ typedef struct pv_state {
     float background[3];
     float anisotropy;
     float wire_width, wire_color[3];
+    bool per_frame;
     uint32_t width, height;
     lg_gl_pass *pass; /* made on the first execute */
     lg_gl_uniform u_view_proj, u_view, u_mode, u_near_far, u_viewport, u_wire_width, u_wire_color;
@@ -60,6 +61,7 @@ static int pv_create(lg_node *n)
     st->filter = lg_param_enum(n, "filter");
     st->anisotropy = (float)lg_param_float(n, "anisotropy");
     st->wire_width = (float)lg_param_float(n, "wireframe");
+    st->per_frame = lg_param_bool(n, "per_frame");
     const lg_value *wc = lg_param(n, "wire_color");
     for (int i = 0; i < 3; i++)
         st->wire_color[i] = wc ? (float)wc->v[i] : 0.0f;
@@ -81,6 +83,8 @@ static int pv_prepare(lg_node *n)
     rc = lg_declare_image(n, 0, &d);
     if (rc)
         return rc;
+    if (st->per_frame)
+        lg_set_per_frame(n, true);
     return lg_set_device(n, LG_DEVICE_GL);
 }
 
@@ -263,6 +267,10 @@ static const lg_param_desc pv_params[] = {
       .min = 0,
       .max = 1e6,
       .doc = "colour of the wireframe's lines, linear RGB" },
+    { .key = "per_frame",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "render again on every frame (--frames), for timing; the result is the same" },
 };
 static const lg_port_desc pv_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to draw" },

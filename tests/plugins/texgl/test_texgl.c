@@ -31,6 +31,8 @@
  *   phong_normal a constant tilted normal texel shades as the tilted normal (phong), lit
  *              from straight ahead and from 45 degrees (the tilt's sign); gouraud lights
  *              the vertex normals (no normal map)
+ *   degenerate a texture index past the scene's reads as no texture; a normal texture over
+ *              tangents without a direction leaves the interpolated normal (stability)
  *   wireframe  wireframe = 3 in green: pixels on the quad's diagonal turn green, pixels
  *              8 or more pixels from every edge keep their texel exactly
  */
@@ -420,6 +422,32 @@ static void case_phong_normal(lg_test *t)
     }
 }
 
+/* Hard references: a base colour texture index past the scene's textures reads as no
+ * texture (white: the factor alone), and a normal texture over tangents without a
+ * direction falls back to the interpolated normal (lit along -Z: exactly 1), in preview
+ * and phong, without an error. */
+static void case_degenerate(lg_test *t)
+{
+    lg_image img = { 0 };
+    if (!render(t, "layout = degenerate", "", 32, &img))
+        return;
+    int white = 0;
+    for (size_t i = 0; i < (size_t)32 * 32; i++)
+        white += img.pixels[4 * i] == 1.0f && img.pixels[4 * i + 1] == 1.0f &&
+                 img.pixels[4 * i + 2] == 1.0f;
+    lg_image_free(&img);
+    if (!render_phong(t, "degenerate", "[0, 0, -1]", "shading = phong", &img))
+        return;
+    double worst = 0;
+    for (size_t i = 0; i < (size_t)64 * 64; i++)
+        worst = fmax(worst, fabs(img.pixels[4 * i] - 1.0));
+    fprintf(stderr, "degenerate: %d of 1024 preview pixels white; phong off 1 by %.3g\n", white,
+            worst);
+    LG_TEST_CHECK(t, white == 1024, "%d of 1024 pixels are the factor's white", white);
+    LG_TEST_CHECK(t, worst <= 1e-6, "without a tangent direction N is not the normal (%g)", worst);
+    lg_image_free(&img);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
@@ -438,6 +466,7 @@ int main(int argc, char **argv)
         { "shadow", case_shadow },
         { "phong_texel", case_phong_texel },
         { "phong_normal", case_phong_normal },
+        { "degenerate", case_degenerate },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -21,6 +21,8 @@
  *            alpha MASK cutoff 0.5, NEAREST filters
  *   normal   no base colour texture; a normal texture of one constant texel TX_NORMAL_TEXEL
  *            (tilted towards +X), scale 1, every vertex's tangent (1, 0, 0, 1)
+ *   degenerate  hard references: the base colour texture index 7 (the scene has 3), the
+ *            normal texture of `normal` with every tangent (0, 0, 0, 1) (no direction)
  */
 #ifndef LG_TEST_TEXSCENE_H
 #define LG_TEST_TEXSCENE_H
@@ -33,7 +35,7 @@
 #include "lightgraph/scene.h"
 #include "lightgraph/vecmath.h"
 
-enum { TX_CHECKER = 0, TX_RANDOM, TX_WRAP, TX_MIP, TX_MASK, TX_NORMAL };
+enum { TX_CHECKER = 0, TX_RANDOM, TX_WRAP, TX_MIP, TX_MASK, TX_NORMAL, TX_DEGENERATE };
 
 /* The normal texture's texel (RGB bytes): x = 2 * 200 / 255 - 1, y = 2 * 128 / 255 - 1,
  * z = 2 * 220 / 255 - 1 in tangent space. */
@@ -84,7 +86,7 @@ static inline tx_scene *tx_make(int layout, int wrap)
                     p[c] = (uint8_t)(state >> 24);
                 }
                 p[3] = 255;
-            } else if (layout == TX_NORMAL) {
+            } else if (layout == TX_NORMAL || layout == TX_DEGENERATE) {
                 memcpy(p, TX_NORMAL_TEXEL, 3);
                 p[3] = 255;
             } else if (layout == TX_MIP) {
@@ -106,7 +108,8 @@ static inline tx_scene *tx_make(int layout, int wrap)
         t->pos[3 * k] = c[k][0], t->pos[3 * k + 1] = c[k][1], t->pos[3 * k + 2] = 0.0f;
         t->nrm[3 * k] = 0.0f, t->nrm[3 * k + 1] = 0.0f, t->nrm[3 * k + 2] = 1.0f;
         t->uv[2 * k] = uv[k][0], t->uv[2 * k + 1] = uv[k][1];
-        t->tan[4 * k] = 1.0f, t->tan[4 * k + 1] = 0.0f, t->tan[4 * k + 2] = 0.0f;
+        t->tan[4 * k] = layout == TX_DEGENERATE ? 0.0f : 1.0f;
+        t->tan[4 * k + 1] = 0.0f, t->tan[4 * k + 2] = 0.0f;
         t->tan[4 * k + 3] = 1.0f;
     }
     /* counter-clockwise seen from +Z: TL, BL, BR and TL, BR, TR */
@@ -130,8 +133,11 @@ static inline tx_scene *tx_make(int layout, int wrap)
                                        .n_textures = 3,
                                        .bytes = (uint64_t)w * w * 4 };
     t->maps = *lg_material_maps_default();
-    t->maps.base_color.texture = layout == TX_WRAP ? wrap : layout == TX_NORMAL ? -1 : 0;
-    if (layout == TX_NORMAL)
+    t->maps.base_color.texture = layout == TX_WRAP         ? wrap
+                                 : layout == TX_NORMAL     ? -1
+                                 : layout == TX_DEGENERATE ? 7
+                                                           : 0;
+    if (layout == TX_NORMAL || layout == TX_DEGENERATE)
         t->maps.normal.texture = 0;
     if (layout == TX_MASK) {
         t->maps.alpha_mode = LG_ALPHA_MASK;
@@ -151,7 +157,7 @@ static inline tx_scene *tx_make(int layout, int wrap)
                          .n_indices = 6,
                          .indices = t->idx,
                          .material = 0,
-                         .tangents = layout == TX_NORMAL ? t->tan : NULL,
+                         .tangents = layout == TX_NORMAL || layout == TX_DEGENERATE ? t->tan : NULL,
                          .bounds_min = { -H, -H, 0 },
                          .bounds_max = { H, H, 0 } };
     lg_m4_identity(t->inst.model);
