@@ -33,6 +33,9 @@
  *              the vertex normals (no normal map)
  *   degenerate a texture index past the scene's reads as no texture; a normal texture over
  *              tangents without a direction leaves the interpolated normal (stability)
+ *   froxel     a masked quad's shadow reaches volumetric_froxel through the shadow map:
+ *              fog lit from behind the quad shows shafts through its transparent texels
+ *              (and none behind the opaque quad)
  *   wireframe  wireframe = 3 in green: pixels on the quad's diagonal turn green, pixels
  *              8 or more pixels from every edge keep their texel exactly
  */
@@ -448,6 +451,71 @@ static void case_degenerate(lg_test *t)
     lg_image_free(&img);
 }
 
+/* The in-scattered light of volumetric_froxel in fog in front of the quad, lit from behind
+ * it (a light travelling +Z, towards the camera), through the shadow map: its `inscatter`
+ * image at 64x64 (grid 64 x 64 x 32). */
+static bool froxel_inscatter(lg_test *t, const char *layout, lg_image *img)
+{
+    char g[2048];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_tex_scene { layout = %s }\n"
+             "sun = light { scene = s, direction = [0, 0, 1], intensity = 10 }\n"
+             "fog = medium { scene = sun, density = 1, scattering = [0.2, 0.2, 0.2], "
+             "absorption = [0, 0, 0], g = 0 }\n"
+             "shadow = shadowmap { scene = fog, resolution = 256, cull = none }\n"
+             "lit = phong { scene = fog, shadows = shadow, ambient = [0, 0, 0] }\n"
+             "vol = volumetric_froxel { scene = fog, base = lit, shadows = shadow, width = 64, "
+             "height = 64, depth = 32, z_near = 0.5, z_limit = 6 }\n"
+             "output vol.inscatter \"ins.exr\"\n",
+             layout);
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "--size", "64x64", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0, "froxel render of %s failed (%d)", layout, rc);
+    bool ok = !rc && lg_test_read(t, "ins.exr", img, NULL);
+    return ok && img->width == 64 && img->height == 64;
+}
+
+/* A masked blind's shadow reaches the froxel node through the shadow map: behind the
+ * opaque quad the fog in front of it is in shadow everywhere (one uniform value: the fog
+ * before the grid's first slice, which the node counts unshadowed); through the masked
+ * quad, light shafts pass its transparent texels: at the four central texels (whose rays
+ * run nearly along the shafts) the holes' fog is lit and the solid texels' is as dark as
+ * behind the opaque quad. */
+static void case_froxel(lg_test *t)
+{
+    lg_image op = { 0 }, mk = { 0 };
+    if (!froxel_inscatter(t, "checker", &op) || !froxel_inscatter(t, "mask", &mk))
+        return;
+    double lo = 1e30, hi = -1e30, sum_op = 0, sum_mk = 0;
+    for (size_t i = 0; i < (size_t)64 * 64; i++) {
+        lo = fmin(lo, op.pixels[4 * i]), hi = fmax(hi, op.pixels[4 * i]);
+        sum_op += op.pixels[4 * i], sum_mk += mk.pixels[4 * i];
+    }
+    double m0 = sum_op / 4096;
+    float c[4];
+    for (int k = 0; k < 4; k++)
+        c[k] = px(&mk, 8 * (3 + k % 2) + 4, 8 * (3 + k / 2) + 4)[0];
+    /* texels (3, 3) and (4, 4) are solid, (4, 3) and (3, 4) holes */
+    fprintf(stderr,
+            "froxel: opaque quad's in-scattering in [%.4f, %.4f]; masked quad's mean %.4f "
+            "(opaque %.4f); central solid texels %.4f %.4f, holes %.4f %.4f\n",
+            lo, hi, sum_mk / 4096, m0, c[0], c[3], c[1], c[2]);
+    LG_TEST_CHECK(t, hi - lo <= 0.05 * hi + 1e-6,
+                  "behind the opaque quad the fog is not in shadow "
+                  "alike ([%g, %g])",
+                  lo, hi);
+    LG_TEST_CHECK(t, sum_mk > 3 * sum_op, "the masked quad lets no light through (%g vs %g)",
+                  sum_mk / 4096, m0);
+    LG_TEST_CHECK(t, fabs(c[0] - m0) <= 0.1 * m0 && fabs(c[3] - m0) <= 0.1 * m0,
+                  "solid texels' fog %g %g, not the opaque quad's %g", c[0], c[3], m0);
+    LG_TEST_CHECK(t, c[1] > 5 * m0 && c[2] > 5 * m0, "holes' fog %g %g is not lit (opaque %g)",
+                  c[1], c[2], m0);
+    lg_image_free(&op);
+    lg_image_free(&mk);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
@@ -467,6 +535,7 @@ int main(int argc, char **argv)
         { "phong_texel", case_phong_texel },
         { "phong_normal", case_phong_normal },
         { "degenerate", case_degenerate },
+        { "froxel", case_froxel },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
