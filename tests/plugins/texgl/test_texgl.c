@@ -36,6 +36,7 @@
  *   froxel     a masked quad's shadow reaches volumetric_froxel through the shadow map:
  *              fog lit from behind the quad shows shafts through its transparent texels
  *              (and none behind the opaque quad)
+ *   profile    texture memory counts in --profile against the node: every mip level's bytes
  *   wireframe  wireframe = 3 in green: pixels on the quad's diagonal turn green, pixels
  *              8 or more pixels from every edge keep their texel exactly
  */
@@ -516,6 +517,43 @@ static void case_froxel(lg_test *t)
     lg_image_free(&mk);
 }
 
+/* The preview node's bytes_allocated in --profile-json for test_tex_scene { layout }. */
+static long long view_bytes(lg_test *t, const char *layout)
+{
+    char g[512];
+    snprintf(g, sizeof g,
+             "lightgraph 1\ns = test_tex_scene { layout = %s }\n"
+             "view = preview { scene = s }\noutput view \"out.exr\"\n",
+             layout);
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "--size", "16x16", "--profile-json", "prof.json", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render of %s failed (%d)", layout, rc);
+    FILE *f = rc ? NULL : fopen(lg_test_path(t, "prof.json"), "rb");
+    if (!f)
+        return -1;
+    static char buf[1 << 16];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    const char *v = strstr(buf, "\"name\": \"view\"");
+    const char *b = v ? strstr(v, "\"bytes_allocated\": ") : NULL;
+    return b ? atoll(b + strlen("\"bytes_allocated\": ")) : -1;
+}
+
+/* Texture memory is counted against the node that asked: the 64 x 64 texture's mip chain
+ * (21844 bytes) against the 8 x 8 one's (340), all else equal. */
+static void case_profile(lg_test *t)
+{
+    long long a = view_bytes(t, "checker"), b = view_bytes(t, "mip");
+    fprintf(stderr,
+            "profile: preview allocates %lld bytes with the 8x8 texture, %lld with the "
+            "64x64 one\n",
+            a, b);
+    LG_TEST_CHECK(t, a > 0 && b - a == 21844 - 340,
+                  "the textures' difference is %lld bytes, not their mip chains' 21504", b - a);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
@@ -536,6 +574,7 @@ int main(int argc, char **argv)
         { "phong_normal", case_phong_normal },
         { "degenerate", case_degenerate },
         { "froxel", case_froxel },
+        { "profile", case_profile },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
