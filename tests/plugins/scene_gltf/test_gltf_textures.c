@@ -39,6 +39,10 @@
 
 static char err[2048];
 
+/* The generated tangents' largest angle to the sphere file's own (measured: README.md,
+ * "Tangents") */
+#define TANGENT_MAX_DEG 1.0
+
 /* ---- a PNG writer of the test's own (no libpng): stored deflate blocks ----------------------- */
 
 static uint32_t crc32_of(const uint8_t *p, size_t n, uint32_t crc)
@@ -499,6 +503,225 @@ static void case_checker(void)
     free(png);
 }
 
+/* A mesh from arrays (data URI buffer): nv positions, normals (may be NULL), texcoords (may
+ * be NULL), tangents (may be NULL), ni indices; material 0 has the given JSON; texture 0 is
+ * checker.png (which the caller wrote). */
+static char *mesh_scene(uint32_t nv, const float *pos, const float *nrm, const float *uv,
+                        const float *tan, uint32_t ni, const uint32_t *idx, const char *material)
+{
+    gt_blob b = { 0 };
+    size_t o_pos = gt_add(&b, pos, nv * 12), o_nrm = nrm ? gt_add(&b, nrm, nv * 12) : 0;
+    size_t o_uv = uv ? gt_add(&b, uv, nv * 8) : 0, o_tan = tan ? gt_add(&b, tan, nv * 16) : 0;
+    size_t o_idx = gt_add(&b, idx, ni * 4);
+    char *uri = gt_data_uri(b.data, b.size);
+    char attrs[200] = "\"POSITION\":0";
+    if (nrm)
+        strcat(attrs, ",\"NORMAL\":1");
+    if (uv)
+        strcat(attrs, ",\"TEXCOORD_0\":2");
+    if (tan)
+        strcat(attrs, ",\"TANGENT\":3");
+    char *json = gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{%s},\"indices\":4,\"material\":0}]}],"
+        "\"materials\":[%s],\"textures\":[{\"source\":0}],\"images\":[{\"uri\":"
+        "\"checker.png\"}],\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%u}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%u,\"type\":"
+        "\"VEC3\"},{\"bufferView\":1,\"componentType\":5126,\"count\":%u,\"type\":\"VEC3\"},"
+        "{\"bufferView\":2,\"componentType\":5126,\"count\":%u,\"type\":\"VEC2\"},"
+        "{\"bufferView\":3,\"componentType\":5126,\"count\":%u,\"type\":\"VEC4\"},"
+        "{\"bufferView\":4,\"componentType\":5125,\"count\":%u,\"type\":\"SCALAR\"}]}",
+        attrs, material, uri, b.size, o_pos, nv * 12, o_nrm, nv * 12, o_uv, nv * 8, o_tan, nv * 16,
+        o_idx, ni * 4, nv, nv, nv, nv, ni);
+    free(uri);
+    gt_blob_free(&b);
+    return json;
+}
+
+static int n_warnings;
+static char last_warning[1024];
+
+static void on_warning(void *user, const char *message)
+{
+    (void)user;
+    n_warnings++;
+    snprintf(last_warning, sizeof last_warning, "%s", message);
+}
+
+/* ---- tangents -------------------------------------------------------------------------------- */
+
+/* The angle (degrees) between two tangents' xyz, and whether their w agree. */
+static double tangent_angle(const float *a, const float *b)
+{
+    double d = (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+    return acos(d > 1 ? 1 : d < -1 ? -1 : d) * (180.0 / LG_PI);
+}
+
+static bool unit_orthogonal(const lg_mesh *m, uint32_t v, double tol)
+{
+    const float *t = m->tangents + 4 * (size_t)v, *n = m->normals + 3 * (size_t)v;
+    double len = sqrt((double)t[0] * t[0] + (double)t[1] * t[1] + (double)t[2] * t[2]);
+    double dot = (double)t[0] * n[0] + (double)t[1] * n[1] + (double)t[2] * n[2];
+    return fabs(len - 1) < tol && fabs(dot) < tol && (t[3] == 1.0f || t[3] == -1.0f);
+}
+
+/* The vertex of mesh m nearest (position and texture coordinates) to vertex v of mesh r. */
+static uint32_t match_vertex(const lg_mesh *m, const lg_mesh *r, uint32_t v)
+{
+    uint32_t best = 0;
+    double bd = INFINITY;
+    for (uint32_t i = 0; i < m->n_vertices; i++) {
+        double d = 0;
+        for (int k = 0; k < 3; k++)
+            d += pow(m->positions[3 * i + k] - r->positions[3 * v + k], 2);
+        for (int k = 0; k < 2; k++)
+            d += pow(m->texcoords[2 * i + k] - r->texcoords[2 * v + k], 2);
+        if (d < bd)
+            bd = d, best = i;
+    }
+    return best;
+}
+
+static void case_tangents(void)
+{
+    /* the sphere as shipped (its exporter's MikkTSpace tangents) and without TANGENT */
+    int rc = 0;
+    lg_scene *ref = NULL, *gen = NULL;
+    rc = lg_gltf_load(gt_asset("meshes/sphere/sphere.gltf"), NULL, &ref, NULL, err, sizeof err);
+    CHECKF(rc == 0, "sphere: %s", err);
+    size_t n;
+    char *json = (char *)gt_read(gt_asset("meshes/sphere/sphere.gltf"), &n);
+    char *tan = strstr(json, "\"TANGENT\": 4");
+    CHECK(tan != NULL);
+    if (tan)
+        memcpy(tan, "\"TANGENX\"", 9); /* an attribute the loader does not read */
+    gt_write("sphere.gltf", json, n);
+    free(json);
+    uint8_t *b = gt_read(gt_asset("meshes/sphere/sphere_buffer0.bin"), &n);
+    gt_write("sphere_buffer0.bin", b, n);
+    free(b);
+    b = gt_read(gt_asset("meshes/sphere/sphere_Texture0_Normal.png"), &n);
+    gt_write("sphere_Texture0_Normal.png", b, n);
+    free(b);
+    b = gt_read(gt_asset("meshes/sphere/sphere_Texture1_BaseColor.png"), &n);
+    gt_write("sphere_Texture1_BaseColor.png", b, n);
+    free(b);
+    rc = lg_gltf_load(gt_path("sphere.gltf"), NULL, &gen, NULL, err, sizeof err);
+    CHECKF(rc == 0, "stripped sphere: %s", err);
+    if (ref && gen) {
+        const lg_mesh *r = &ref->meshes[0], *g = &gen->meshes[0];
+        CHECKF(r->tangents && g->tangents, "tangents: file %p, generated %p", (void *)r->tangents,
+               (void *)g->tangents);
+        if (r->tangents && g->tangents) {
+            double worst = 0, sum = 0;
+            uint32_t w_differ = 0, bad = 0;
+            for (uint32_t v = 0; v < r->n_vertices; v++) {
+                uint32_t i = match_vertex(g, r, v);
+                double a = tangent_angle(r->tangents + 4 * v, g->tangents + 4 * i);
+                worst = fmax(worst, a);
+                sum += a;
+                w_differ += r->tangents[4 * v + 3] != g->tangents[4 * i + 3];
+                bad += !unit_orthogonal(r, v, 1e-5) || !unit_orthogonal(g, i, 1e-5);
+            }
+            printf("sphere: %u vertices (file), %u (generated); tangent angle to the file's: "
+                   "max %.3f deg, mean %.3f deg; w differs at %u\n",
+                   r->n_vertices, g->n_vertices, worst, sum / r->n_vertices, w_differ);
+            CHECKF(bad == 0, "%u tangents not unit, orthogonal, w = +-1", bad);
+            CHECKF(w_differ == 0, "handedness differs from the file's at %u vertices", w_differ);
+            CHECKF(worst < TANGENT_MAX_DEG, "max angle %.3f deg (bound %g, measured)", worst,
+                   TANGENT_MAX_DEG);
+        }
+    }
+    lg_gltf_scene_free(ref);
+    lg_gltf_scene_free(gen);
+
+    /* a mirrored UV seam: u = |x| on a 2 x 1 strip, so the left half's tangent is -x and
+     * the right half's +x with opposite handedness; the middle column's two vertices are
+     * shared by both halves and must be split (6 vertices become 8) */
+    size_t pn;
+    uint8_t *png = checker_png(4, 4, &pn);
+    gt_write("checker.png", png, pn);
+    free(png);
+    static const float pos[18] = { -1, 0, 0, 0, 0, 0, 1, 0, 0, -1, 1, 0, 0, 1, 0, 1, 1, 0 };
+    static const float nrm[18] = { 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1 };
+    static const float uv[12] = { 1, 1, 0, 1, 1, 1, 1, 0, 0, 0, 1, 0 };
+    static const uint32_t idx[12] = { 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4 };
+    static const char *const nmat = "{\"normalTexture\":{\"index\":0,\"scale\":0.5}}";
+    json = mesh_scene(6, pos, nrm, uv, NULL, 12, idx, nmat);
+    lg_scene *s = NULL;
+    s = gt_load_text("mirror.gltf", json, NULL, err, sizeof err, &rc);
+    free(json);
+    CHECKF(s, "mirror: %s", err);
+    if (s) {
+        const lg_mesh *m = &s->meshes[0];
+        CHECKF(m->n_vertices == 8 && m->tangents, "mirror: %u vertices (want 8: 2 split)",
+               m->n_vertices);
+        CHECKF(lg_material_maps_of(&s->materials[0])->normal.scale == 0.5f, "normal scale");
+        for (uint32_t c = 0; m->tangents && c < m->n_indices; c++) {
+            uint32_t v = m->indices[c];
+            const float *t = m->tangents + 4 * (size_t)v;
+            bool left = c < 6; /* triangles 0 and 1 lie at x <= 0 */
+            CHECKF(fabsf(t[0] - (left ? -1.0f : 1.0f)) < 1e-6f && fabsf(t[1]) < 1e-6f &&
+                       fabsf(t[2]) < 1e-6f,
+                   "mirror corner %u (vertex %u): tangent %g %g %g", c, v, t[0], t[1], t[2]);
+            /* B = w (N x T) must point up the image (decreasing v: +y here) */
+            lg_vec3 bt = lg_v3_scale(lg_v3_cross(lg_v3(0, 0, 1), lg_v3(t[0], t[1], t[2])), t[3]);
+            CHECKF(bt.y > 0.99f, "mirror corner %u: bitangent %g %g %g", c, bt.x, bt.y, bt.z);
+            CHECKF(m->positions[3 * v] == pos[3 * idx[c]] &&
+                       m->positions[3 * v + 1] == pos[3 * idx[c] + 1],
+                   "mirror corner %u keeps its position", c);
+        }
+        lg_gltf_scene_free(s);
+    }
+
+    /* a file's tangent that is neither unit nor orthogonal, with w -0.3: made (1, 0, 0, -1) */
+    static const float ftan[12] = { 2, 0, 0.5f, -0.3f, 2, 0, 0.5f, -0.3f, 2, 0, 0.5f, -0.3f };
+    static const float tpos[9] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 }, tuv[6] = { 0, 1, 1, 1, 0, 0 };
+    static const uint32_t tidx[3] = { 0, 1, 2 };
+    json = mesh_scene(3, tpos, nrm, tuv, ftan, 3, tidx, nmat);
+    s = gt_load_text("filetan.gltf", json, NULL, err, sizeof err, &rc);
+    free(json);
+    CHECKF(s, "file tangents: %s", err);
+    if (s) {
+        const float *t = s->meshes[0].tangents;
+        CHECKF(t && fabsf(t[0] - 1) < 1e-6f && fabsf(t[2]) < 1e-6f && t[3] == -1.0f,
+               "file tangent made %g %g %g %g", t ? t[0] : 0, t ? t[1] : 0, t ? t[2] : 0,
+               t ? t[3] : 0);
+        lg_gltf_scene_free(s);
+    }
+
+    /* a normal texture on a mesh without TEXCOORD_0: a warning, and the mesh draws a copy
+     * of its material without the normal map (the base colour map stays) */
+    lg_gltf_options opt = lg_gltf_default_options();
+    opt.warn = on_warning;
+    n_warnings = 0;
+    json = mesh_scene(3, tpos, nrm, NULL, NULL, 3, tidx,
+                      "{\"name\":\"bumpy\",\"normalTexture\":{\"index\":0},"
+                      "\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}");
+    s = gt_load_text("nouv.gltf", json, &opt, err, sizeof err, &rc);
+    free(json);
+    CHECKF(s, "no TEXCOORD_0: %s", err);
+    if (s) {
+        const lg_mesh *m = &s->meshes[0];
+        const lg_material_maps *mp = lg_material_maps_of(&s->materials[m->material]);
+        CHECKF(!m->tangents && m->material == 1 && s->n_materials == 2 &&
+                   mp->normal.texture == -1 && mp->base_color.texture == 0 &&
+                   lg_material_maps_of(&s->materials[0])->normal.texture == 0 &&
+                   !strcmp(s->materials[1].name, "bumpy"),
+               "no TEXCOORD_0: material %u of %u, normal %d, base %d", m->material, s->n_materials,
+               mp->normal.texture, mp->base_color.texture);
+        CHECKF(n_warnings == 1 && strstr(last_warning, "TEXCOORD_0") &&
+                   strstr(last_warning, "normal map is ignored"),
+               "no TEXCOORD_0: %d warnings, '%s'", n_warnings, last_warning);
+        lg_gltf_scene_free(s);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const struct {
@@ -507,6 +730,7 @@ int main(int argc, char **argv)
     } cases[] = {
         { "assets", case_assets },
         { "checker", case_checker },
+        { "tangents", case_tangents },
     };
     if (argc != 2) {
         fprintf(stderr, "usage: test_gltf_textures CASE\n");
