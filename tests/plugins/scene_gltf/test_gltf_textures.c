@@ -11,7 +11,8 @@
  *              as a file, a data: URI and a GLB bufferView; grey, grey+alpha, palette,
  *              16-bit and interlaced PNGs and a JPEG; nearest sampling through
  *              lg_scene_texture_sample; KHR_texture_transform landing on a known texel;
- *              the wrap modes; TEXCOORD_1; alpha modes; unused images not read
+ *              the wrap modes; TEXCOORD_1; alpha modes; unused images not read; a
+ *              percent-encoded uri in a subfolder
  *   bad        hard cases (suite stability): a corrupt PNG, a truncated JPEG, an image uri
  *              leaving the folder, a FIFO image, a huge claimed size, texCoord 2, texture,
  *              image and sampler indices out of range, a non-finite texture transform, a
@@ -636,6 +637,20 @@ static void write_png(const char *rel, uint32_t w, uint32_t h, int ctype, int de
 
 static void image_kinds(void)
 {
+    /* a percent-encoded uri in a subfolder: "sub dir/a b.png" */
+    {
+        size_t n;
+        uint8_t *png = checker_png(3, 2, &n);
+        mkdir(gt_path("sub dir"), 0700);
+        gt_write("sub dir/a b.png", png, n);
+        free(png);
+        int rc = 0;
+        lg_scene *s = load_image_scene("encoded.gltf", "sub%20dir/a%20b.png", &rc);
+        CHECKF(s && s->textures && s->textures->images[0].width == 3 &&
+                   !strcmp(s->textures->images[0].name, "sub%20dir/a%20b.png"),
+               "percent-encoded image uri: %s", s ? "wrong image" : err);
+        lg_gltf_scene_free(s);
+    }
     /* grey 8-bit 2 x 1: RGB = grey, alpha 255 */
     write_png("grey.png", 2, 1, 0, 8, 0, (const uint8_t[]){ 0, 7, 250 }, 3, NULL, 0, NULL, 0);
     expect_image("grey", "grey.png", 2, 1, (const uint8_t[]){ 7, 7, 7, 255, 250, 250, 250, 255 },
