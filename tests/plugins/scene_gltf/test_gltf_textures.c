@@ -18,7 +18,8 @@
  *              image and sampler indices out of range, a non-finite texture transform, a
  *              bad alphaMode, a missing image file: each refused with a message naming the
  *              file, the image or material and why
- *   tangents   the sphere's own TANGENTs against MikkTSpace-style tangents regenerated
+ *   tangents   TEXCOORD_1 and TANGENT from a Draco stream (libdraco's encoder,
+ *              draco_encode.cpp); the sphere's own TANGENTs against MikkTSpace-style tangents regenerated
  *              with them stripped (angle bound measured), handedness splits on a mirrored
  *              UV seam, file tangents orthonormalised, a normal map without TEXCOORD_0
  */
@@ -35,6 +36,7 @@
 #include <jpeglib.h>
 
 #include "common/check.h"
+#include "draco_encode.h"
 #include "gltf_test.h"
 #include "lightgraph/vecmath.h"
 
@@ -911,8 +913,62 @@ static uint32_t match_vertex(const lg_mesh *m, const lg_mesh *r, uint32_t v)
     return best;
 }
 
+/* A Draco primitive whose extension lists TEXCOORD_1 and TANGENT: both decoded (exactly:
+ * no quantisation), the tangents made unit with w = -1 from the file's (3, 0, 0, -2). */
+static void draco_attributes(void)
+{
+    static const float pos[18] = { 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0 };
+    float nrm[18], uv0[12], uv1[12], tan[24];
+    for (int c = 0; c < 6; c++) {
+        memcpy(nrm + 3 * c, (const float[3]){ 0, 0, 1 }, sizeof(float[3]));
+        uv0[2 * c] = pos[3 * c], uv0[2 * c + 1] = 1 - pos[3 * c + 1];
+        uv1[2 * c] = 0.25f + 0.5f * pos[3 * c], uv1[2 * c + 1] = 0.75f * pos[3 * c + 1];
+        memcpy(tan + 4 * c, (const float[4]){ 3, 0, 0, -2 }, sizeof(float[4]));
+    }
+    uint8_t *drc = NULL;
+    size_t n = 0;
+    int ids[5];
+    CHECK(gt_draco_encode(2, pos, nrm, uv0, uv1, tan, &drc, &n, ids) == 0);
+    if (!drc)
+        return;
+    char *uri = gt_data_uri(drc, n);
+    char *json = gt_fmt(
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_draco_mesh_compression\"],"
+        "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{"
+        "\"attributes\":{\"POSITION\":0,\"NORMAL\":1,\"TEXCOORD_0\":2,\"TEXCOORD_1\":3,"
+        "\"TANGENT\":4},\"extensions\":{\"KHR_draco_mesh_compression\":{\"bufferView\":0,"
+        "\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d,\"TEXCOORD_0\":%d,\"TEXCOORD_1\":%d,"
+        "\"TANGENT\":%d}}}}]}],\"buffers\":[{\"uri\":\"%s\",\"byteLength\":%zu}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":%zu}],\"accessors\":["
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC4\"}]}",
+        ids[0], ids[1], ids[2], ids[3], ids[4], uri, n, n);
+    free(uri);
+    free(drc);
+    lg_scene *s = load_json("draco_attrs.gltf", json);
+    free(json);
+    if (!s)
+        return;
+    const lg_mesh *m = &s->meshes[0];
+    CHECKF(m->texcoords1 && m->tangents && m->n_indices == 6, "Draco: texcoords1 %p tangents %p",
+           (const void *)m->texcoords1, (const void *)m->tangents);
+    for (uint32_t v = 0; m->texcoords1 && m->tangents && v < m->n_vertices; v++) {
+        const float *p = m->positions + 3 * v, *u1 = m->texcoords1 + 2 * v;
+        const float *t = m->tangents + 4 * v;
+        CHECKF(u1[0] == 0.25f + 0.5f * p[0] && u1[1] == 0.75f * p[1],
+               "Draco vertex %u (%g, %g): TEXCOORD_1 %g %g", v, p[0], p[1], u1[0], u1[1]);
+        CHECKF(t[0] == 1 && t[1] == 0 && t[2] == 0 && t[3] == -1,
+               "Draco vertex %u: tangent %g %g %g %g", v, t[0], t[1], t[2], t[3]);
+    }
+    lg_gltf_scene_free(s);
+}
+
 static void case_tangents(void)
 {
+    draco_attributes();
     /* the sphere as shipped (its exporter's MikkTSpace tangents) and without TANGENT */
     int rc = 0;
     lg_scene *ref = NULL, *gen = NULL;
