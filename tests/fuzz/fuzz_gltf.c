@@ -4,12 +4,14 @@
  *
  * Each input is loaded from memory with lg_gltf_load_memory, named .glb or .gltf and with
  * normals auto, smooth or flat by turns. Every fourth input is given a folder for external
- * files (a scratch folder made once: tri.bin, sub/tri.bin, a link to tri.bin, a link to
- * /etc/passwd, a link to /dev/zero and a FIFO), so that the uri checks and the confined,
- * bounded reads are fuzzed too; the others have none. A load must either fail with a
- * message naming the file, or return a scene whose every index is in range and whose every
- * position and normal is finite (normals unit length); anything else aborts, and the
- * sanitizers catch the rest. A load that waits on the FIFO hangs the run (a finding).
+ * files (a scratch folder made once: tri.bin, sub/tri.bin, tex.png and sub/tex.png (a 4 x 4
+ * RGBA PNG), a link to tri.bin, a link to /etc/passwd, a link to /dev/zero and a FIFO), so
+ * that the uri checks and the confined, bounded reads are fuzzed too; the others have none.
+ * A load must either fail with a message naming the file, or return a scene whose every
+ * index is in range (textures, images and material maps included) and whose every position
+ * and normal is finite (normals unit length, tangents unit with w = +-1, decoded images with
+ * their pixels); anything else aborts, and the sanitizers catch the rest (libpng and
+ * libjpeg on mutated images too). A load that waits on the FIFO hangs the run (a finding).
  *
  * A failed check prints what failed and aborts; LG_FUZZ_DUMP=FILE also writes the input to
  * FILE, to replay it with `fuzz_gltf FILE`.
@@ -36,7 +38,8 @@ static char folder[4096];
 
 static void remove_folder(void)
 {
-    static const char *const names[] = { "tri.bin",     "sub/tri.bin", "sub",     "inside.bin",
+    static const char *const names[] = { "tri.bin",     "sub/tri.bin", "tex.png",
+                                         "sub/tex.png", "sub",         "inside.bin",
                                          "outside.bin", "zero.bin",    "fifo.bin" };
     char p[4200];
     for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
@@ -67,6 +70,22 @@ static const char *external_folder(void)
         FILE *f = fopen(p, "wb");
         bad = !f || fwrite(tri, 1, sizeof tri, f) != sizeof tri || fclose(f);
     }
+    /* a 4 x 4 RGBA PNG for the image uris (corpus_gltf/textured_external.gltf) */
+    static const uint8_t tex[] = {
+        0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44,
+        0x52, 0x00, 0x00, 0x00, 0x04, 0x00, 0x00, 0x00, 0x04, 0x08, 0x06, 0x00, 0x00, 0x00, 0xa9,
+        0xf1, 0x9e, 0x7e, 0x00, 0x00, 0x00, 0x3a, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x15, 0xca,
+        0xb1, 0x11, 0x00, 0x20, 0x08, 0x04, 0xb0, 0x87, 0x16, 0x5a, 0x68, 0x65, 0xff, 0x49, 0x54,
+        0x86, 0xc2, 0xb7, 0xcd, 0x05, 0xa2, 0xd8, 0xa6, 0x73, 0x42, 0x71, 0x97, 0x4e, 0x43, 0x7c,
+        0xb6, 0x39, 0x4e, 0xf8, 0xdc, 0xe5, 0x20, 0x24, 0x47, 0x72, 0x24, 0x47, 0xfe, 0x51, 0x1c,
+        0xc5, 0x51, 0x1c, 0x85, 0x7e, 0xdc, 0x12, 0x16, 0xa1, 0x96, 0x93, 0x57, 0x2e, 0x00, 0x00,
+        0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82
+    };
+    for (int k = 0; k < 2 && !bad; k++) {
+        snprintf(p, sizeof p, k ? "%s/sub/tex.png" : "%s/tex.png", folder);
+        FILE *f = fopen(p, "wb");
+        bad = !f || fwrite(tex, 1, sizeof tex, f) != sizeof tex || fclose(f);
+    }
     static const char *const links[][2] = { { "tri.bin", "inside.bin" },
                                             { "/etc/passwd", "outside.bin" },
                                             { "/dev/zero", "zero.bin" } };
@@ -96,6 +115,45 @@ static void bad(const char *what)
         fprintf(stderr, "fuzz_gltf: input written to %s\n", dump);
     }
     abort();
+}
+
+/* Every texture reference, texture and image in range; every image has its pixels. */
+static void check_textures(const lg_scene *s)
+{
+    const lg_scene_textures *t = s->textures;
+    uint32_t n_tex = t ? t->n_textures : 0;
+    for (uint32_t i = 0; i < s->n_materials; i++) {
+        const lg_material_maps *mp = lg_material_maps_of(&s->materials[i]);
+        const lg_texture_ref *refs[5] = { &mp->base_color, &mp->metallic_roughness, &mp->normal,
+                                          &mp->occlusion, &mp->emissive };
+        for (int k = 0; k < 5; k++) {
+            if (refs[k]->texture >= (int32_t)n_tex || refs[k]->texture < -1 ||
+                refs[k]->texcoord > 1)
+                bad("texture reference out of range");
+            for (int j = 0; j < 6; j++)
+                if (!isfinite(refs[k]->transform[j]))
+                    bad("non-finite texture transform");
+        }
+        if (mp->alpha_mode > LG_ALPHA_BLEND || !isfinite(mp->alpha_cutoff))
+            bad("alpha mode or cutoff");
+    }
+    if (!t)
+        return;
+    uint64_t bytes = 0;
+    for (uint32_t i = 0; i < t->n_textures; i++)
+        if (t->textures[i].image >= t->n_images)
+            bad("texture of an image that does not exist");
+    for (uint32_t i = 0; i < t->n_images; i++) {
+        const lg_scene_image *im = &t->images[i];
+        if (!im->rgba8 || !im->width || !im->height || !im->name)
+            bad("image without pixels or name");
+        bytes += (uint64_t)im->width * im->height * 4;
+        /* touch the first and last texel: the sanitizers see a short buffer */
+        volatile uint8_t x = im->rgba8[0] ^ im->rgba8[(size_t)im->width * im->height * 4 - 1];
+        (void)x;
+    }
+    if (bytes != t->bytes)
+        bad("lg_scene_textures.bytes disagrees with the images");
 }
 
 static void check_scene(const lg_scene *s)
@@ -129,8 +187,18 @@ static void check_scene(const lg_scene *s)
             if (m->texcoords &&
                 !isfinite(m->texcoords[2 * (size_t)v] + m->texcoords[2 * (size_t)v + 1]))
                 bad("non-finite texture coordinate");
+            if (m->texcoords1 &&
+                !isfinite(m->texcoords1[2 * (size_t)v] + m->texcoords1[2 * (size_t)v + 1]))
+                bad("non-finite TEXCOORD_1");
+            if (m->tangents) {
+                const float *t = m->tangents + 4 * (size_t)v;
+                float tl = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
+                if (!(fabsf(tl - 1) < 1e-3f) || (t[3] != 1.0f && t[3] != -1.0f))
+                    bad("tangent not unit or w not +-1");
+            }
         }
     }
+    check_textures(s);
     for (uint32_t i = 0; i < s->n_lights; i++) {
         const lg_light *l = &s->lights[i];
         if (!isfinite(l->direction[0] + l->direction[1] + l->direction[2] + l->position[0] +
@@ -213,6 +281,19 @@ static const lg_fuzz_token tokens[] = {
     LG_FUZZ_TOKEN("zero.bin"),
     LG_FUZZ_TOKEN("fifo.bin"),
     LG_FUZZ_TOKEN("\"images\":[{\"uri\":\""),
+    LG_FUZZ_TOKEN("tex.png"),
+    LG_FUZZ_TOKEN("\"textures\":[{\"source\":"),
+    LG_FUZZ_TOKEN("\"sampler\":"),
+    LG_FUZZ_TOKEN("\"baseColorTexture\":{\"index\":"),
+    LG_FUZZ_TOKEN("\"normalTexture\":{\"index\":0}"),
+    LG_FUZZ_TOKEN("\"texCoord\":"),
+    LG_FUZZ_TOKEN("\"KHR_texture_transform\":{\"rotation\":"),
+    LG_FUZZ_TOKEN("\"alphaMode\":\"MASK\""),
+    LG_FUZZ_TOKEN("\"TANGENT\":"),
+    LG_FUZZ_TOKEN("\"TEXCOORD_1\":"),
+    LG_FUZZ_TOKEN("IHDR"),
+    LG_FUZZ_TOKEN("IDAT"),
+    LG_FUZZ_TOKEN("\xff\xd8\xff"),
     LG_FUZZ_TOKEN("file:///"),
     LG_FUZZ_TOKEN("5120"),
     LG_FUZZ_TOKEN("5121"),

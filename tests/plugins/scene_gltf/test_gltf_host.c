@@ -14,6 +14,9 @@
  *                  "reflective materials 1"; with extras.reflectivity 0 on the metal: gated
  *   errors         bad files and parameters: exit status 1, the node and the file named;
  *                  a buffer uri leading to /etc/passwd refused (no bounds from its bytes)
+ *   textures       the Duck: --explain prints "textures 1", --profile counts its decoded
+ *                  512 x 512 image (1.0 MiB) against the gltf node; the Duck with a corrupt
+ *                  DuckCM.png: exit status 1 naming the node, the file and the image
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -309,13 +312,72 @@ static void case_errors(lg_test *t)
     free(out);
 }
 
+static void case_textures(lg_test *t)
+{
+    lg_test_use_plugins(NULL, PT_TESTNODES_DIR);
+    char *g = NULL;
+    if (asprintf(&g,
+                 "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                 "view = preview { scene = scene }\noutput view \"out.png\"\n",
+                 asset("meshes/duck/Duck.gltf")) < 0)
+        exit(99);
+    lg_test_write_text(t, "g.lgraph", g);
+    free(g);
+    const char *args[] = { "--explain", "--profile", "--size", "8x4", NULL };
+    char *out = NULL;
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, &out) == 0, "Duck render failed: %s",
+                  out ? out : "");
+    const char *s = out ? out : "";
+    LG_TEST_CHECK(t,
+                  strstr(s, "scene features (scene): triangles 4212") &&
+                      strstr(s, "textures 1; masked materials 0"),
+                  "Duck features: %s", s);
+    /* the profile's row of the gltf node: its plugin memory is the decoded image */
+    char row[512] = "", *p = strstr(s, "profile (");
+    line_of(p ? p : "", "scene ", row, sizeof row);
+    LG_TEST_CHECK(t, strstr(row, "gltf") && strstr(row, "1.0 MiB"),
+                  "profile row of the gltf node: '%s'", row);
+    free(out);
+
+    /* the same Duck with a corrupt texture: exit status 1, node, file and image named */
+    size_t n = 0;
+    static const char *const parts[] = { "Duck.gltf", "Duck0.bin", "DuckCM.png" };
+    for (int i = 0; i < 3; i++) {
+        char rel[64];
+        snprintf(rel, sizeof rel, "meshes/duck/%s", parts[i]);
+        FILE *f = fopen(asset(rel), "rb");
+        char *buf = malloc(1 << 20);
+        n = f && buf ? fread(buf, 1, 1 << 20, f) : 0;
+        if (f)
+            fclose(f);
+        if (i == 2 && n > 100)
+            memset(buf + n / 2, 0x5a, 32); /* inside the compressed pixels */
+        char *dst = NULL;
+        if (asprintf(&dst, "%s", lg_test_path(t, parts[i])) < 0)
+            exit(99);
+        FILE *o = fopen(dst, "wb");
+        if (!o || fwrite(buf, 1, n, o) != n || fclose(o))
+            exit(99);
+        free(dst);
+        free(buf);
+    }
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nscene = gltf { file = \"Duck.gltf\" }\n"
+                       "view = preview { scene = scene }\noutput view \"out.png\"\n");
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", NULL, &out) == 1, "corrupt texture: not exit 1");
+    LG_TEST_CHECK(t,
+                  out && strstr(out, "node 'scene' (gltf): file '") && strstr(out, "Duck.gltf") &&
+                      strstr(out, "image 0 ('DuckCM.png'): cannot decode it: PNG"),
+                  "corrupt texture: %s", out ? out : "");
+    free(out);
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "explain", case_explain },
-        { "medium", case_medium },
-        { "reflective", case_reflective },
-        { "errors", case_errors },
+        { "explain", case_explain },       { "medium", case_medium },
+        { "reflective", case_reflective }, { "errors", case_errors },
+        { "textures", case_textures },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }
