@@ -37,6 +37,8 @@
  *              fog lit from behind the quad shows shafts through its transparent texels
  *              (and none behind the opaque quad)
  *   profile    texture memory counts in --profile against the node: every mip level's bytes
+ *   assets DIR the Duck and the milk truck (DIR: assets/meshes) through preview and phong:
+ *              the Duck's pixels are its texture's yellow, the truck shows its logo
  *   wireframe  wireframe = 3 in green: pixels on the quad's diagonal turn green, pixels
  *              8 or more pixels from every edge keep their texel exactly
  */
@@ -554,6 +556,59 @@ static void case_profile(lg_test *t)
                   "the textures' difference is %lld bytes, not their mip chains' 21504", b - a);
 }
 
+/* The glTF assets (the second argument: the assets/meshes folder) through preview and phong:
+ * the Duck's covered pixels are its texture's yellow (an untextured Duck would be its factor's
+ * white: none yellow): 99% through preview, 66% through phong (shaded sides too dark, white
+ * highlights); the milk truck shows its logo's blue and green beside its white body. */
+static void case_assets(lg_test *t)
+{
+    const char *dir = lg_test_arg(t, 0);
+    if (!dir || !*dir) {
+        LG_TEST_CHECK(t, false, "no assets folder given");
+        return;
+    }
+    static const char *const nodes[] = { "preview { scene = scene }",
+                                         "phong { scene = l, ambient = [0.4, 0.4, 0.4] }" };
+    for (int k = 0; k < 2; k++) {
+        for (int a = 0; a < 2; a++) {
+            char g[1024];
+            snprintf(g, sizeof g,
+                     "lightgraph 1\nscene = gltf { file = \"%s/%s\" }\n"
+                     "l = light { scene = scene, direction = [-0.5, -1, -0.6] }\n"
+                     "view = %s\noutput view \"out.exr\"\n",
+                     dir, a ? "milk_truck/CesiumMilkTruck.gltf" : "duck/Duck.gltf", nodes[k]);
+            lg_test_write_text(t, "g.lgraph", g);
+            const char *args[] = { "--size", "160x120", NULL };
+            int rc = lg_test_render(t, "g.lgraph", args, NULL);
+            LG_TEST_CHECK(t, rc == 0, "render of %s failed (%d)", g, rc);
+            lg_image img = { 0 };
+            if (rc || !lg_test_read(t, "out.exr", &img, NULL))
+                return;
+            int yellow = 0, covered = 0, blue = 0, green = 0;
+            for (size_t i = 0; i < (size_t)img.width * img.height; i++) {
+                const float *p = img.pixels + 4 * i;
+                if (p[0] + p[1] + p[2] <= 0.0f)
+                    continue; /* the background */
+                covered++;
+                yellow += p[0] > 2 * p[2] && p[1] > 2 * p[2] && p[0] > 0.1f;
+                blue += p[2] > 1.5f * p[0] && p[2] > p[1] && p[2] > 0.05f;
+                green += p[1] > 1.5f * p[0] && p[1] > 1.5f * p[2] && p[1] > 0.02f;
+            }
+            fprintf(stderr, "%s through %.7s: %d covered, %d yellow, %d blue, %d green\n",
+                    a ? "milk truck" : "Duck", nodes[k], covered, yellow, blue, green);
+            if (a == 0)
+                /* phong: shadowed sides and white highlights are not yellow (66% measured) */
+                LG_TEST_CHECK(t, covered > 500 && yellow > (k ? 0.5 : 0.9) * covered,
+                              "the Duck: %d of %d covered pixels yellow", yellow, covered);
+            else
+                LG_TEST_CHECK(t, covered > 2000 && blue > 50 && green > 50,
+                              "the milk truck: %d blue and %d green of %d (its logo)", blue, green,
+                              covered);
+            lg_image_free(&img);
+        }
+    }
+}
+
 static void setup(lg_test *t)
 {
     lg_test_require_backend(t, "gl");
@@ -575,6 +630,7 @@ int main(int argc, char **argv)
         { "degenerate", case_degenerate },
         { "froxel", case_froxel },
         { "profile", case_profile },
+        { "assets", case_assets },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
