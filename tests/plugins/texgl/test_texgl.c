@@ -21,7 +21,7 @@
  *              the mean 0.5 within 0.05 everywhere; nearest gives 0 or 1 in every pixel
  *   mask       alpha MASK 0.5 on a checker whose odd texels have alpha 0: those pixels
  *              show the background, the others their texel, in base_color and normals
- *              modes alike
+ *              modes alike; BLEND with alpha 0.3 / 0.7 is drawn as a mask at 0.5
  *   shadow     shadowmap's atlas under a light along -Z: the opaque checker quad casts a
  *              full square; its masked twin casts half of it, on one parity of the 8 x 8
  *              cells only (the shadow has holes where the texels are transparent)
@@ -213,10 +213,14 @@ static void case_mip(lg_test *t)
 
 static void case_mask(lg_test *t)
 {
-    tx_scene *s = tx_make(TX_MASK, 0);
-    for (int mode = 0; mode < 2; mode++) {
+    /* MASK (cutoff 0.5, alpha 0 / 1) in both modes; BLEND (alpha 0.3 / 0.7) drawn as a
+     * mask at one half */
+    static const char *const runs[3][2] = { { "layout = mask", "" },
+                                            { "layout = mask", "mode = normals" },
+                                            { "layout = blend", "" } };
+    for (int r = 0; r < 3; r++) {
         lg_image img = { 0 };
-        if (!render(t, "layout = mask", mode ? "mode = normals" : "", 64, &img))
+        if (!render(t, runs[r][0], runs[r][1], 64, &img))
             break;
         int holes = 0, solid = 0;
         for (int j = 0; j < 8; j++)
@@ -228,13 +232,12 @@ static void case_mask(lg_test *t)
                 else
                     solid += !bg;
             }
-        fprintf(stderr, "mask, mode %d: %d of 32 holes, %d of 32 solid texels\n", mode, holes,
-                solid);
-        LG_TEST_CHECK(t, holes == 32 && solid == 32, "mode %d: %d holes, %d solid (32 each)", mode,
-                      holes, solid);
+        fprintf(stderr, "{%s} {%s}: %d of 32 holes, %d of 32 solid texels\n", runs[r][0],
+                runs[r][1], holes, solid);
+        LG_TEST_CHECK(t, holes == 32 && solid == 32, "{%s} {%s}: %d holes, %d solid (32 each)",
+                      runs[r][0], runs[r][1], holes, solid);
         lg_image_free(&img);
     }
-    tx_free(s);
 }
 
 static void case_wireframe(lg_test *t)

@@ -8,8 +8,8 @@
 
 #include "texscene.h"
 
-static const char *const tx_layouts[] = { "checker", "random", "wrap",       "mip",
-                                          "mask",    "normal", "degenerate", NULL };
+static const char *const tx_layouts[] = { "checker", "random",     "wrap",  "mip", "mask",
+                                          "normal",  "degenerate", "blend", NULL };
 
 static int tx_prepare(lg_node *n)
 {

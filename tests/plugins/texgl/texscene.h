@@ -21,6 +21,8 @@
  *            alpha MASK cutoff 0.5, NEAREST filters
  *   normal   no base colour texture; a normal texture of one constant texel TX_NORMAL_TEXEL
  *            (tilted towards +X), scale 1, every vertex's tangent (1, 0, 0, 1)
+ *   blend    the checker's colours with alpha 77 (0.30) on odd texels and 178 (0.70) on
+ *            even ones, material alpha BLEND (drawn as a mask at 0.5), NEAREST filters
  *   degenerate  hard references: the base colour texture index 7 (the scene has 3), the
  *            normal texture of `normal` with every tangent (0, 0, 0, 1) (no direction)
  */
@@ -35,7 +37,7 @@
 #include "lightgraph/scene.h"
 #include "lightgraph/vecmath.h"
 
-enum { TX_CHECKER = 0, TX_RANDOM, TX_WRAP, TX_MIP, TX_MASK, TX_NORMAL, TX_DEGENERATE };
+enum { TX_CHECKER = 0, TX_RANDOM, TX_WRAP, TX_MIP, TX_MASK, TX_NORMAL, TX_DEGENERATE, TX_BLEND };
 
 /* The normal texture's texel (RGB bytes): x = 2 * 200 / 255 - 1, y = 2 * 128 / 255 - 1,
  * z = 2 * 220 / 255 - 1 in tangent space. */
@@ -97,7 +99,9 @@ static inline tx_scene *tx_make(int layout, int wrap)
                 p[0] = (uint8_t)(16 + 29 * i);
                 p[1] = (uint8_t)(16 + 29 * j);
                 p[2] = (uint8_t)(200 - 20 * ((i + j) % 9));
-                p[3] = layout == TX_MASK && (i + j) % 2 ? 0 : 255;
+                p[3] = layout == TX_MASK    ? ((i + j) % 2 ? 0 : 255)
+                       : layout == TX_BLEND ? ((i + j) % 2 ? 77 : 178)
+                                            : 255;
             }
         }
     const float H = 5.0f * tanf((float)(LG_PI / 6.0));
@@ -118,7 +122,8 @@ static inline tx_scene *tx_make(int layout, int wrap)
 
     t->image =
         (lg_scene_image){ .name = "test texture", .width = w, .height = w, .rgba8 = t->pixels };
-    uint32_t near = layout == TX_CHECKER || layout == TX_MASK ? LG_TEX_NEAREST : 0;
+    uint32_t near = layout == TX_CHECKER || layout == TX_MASK || layout == TX_BLEND ? LG_TEX_NEAREST
+                                                                                    : 0;
     static const uint32_t wraps[3] = { LG_TEX_REPEAT, LG_TEX_CLAMP_TO_EDGE,
                                        LG_TEX_MIRRORED_REPEAT };
     for (int k = 0; k < 3; k++)
@@ -139,6 +144,8 @@ static inline tx_scene *tx_make(int layout, int wrap)
                                                            : 0;
     if (layout == TX_NORMAL || layout == TX_DEGENERATE)
         t->maps.normal.texture = 0;
+    if (layout == TX_BLEND)
+        t->maps.alpha_mode = LG_ALPHA_BLEND;
     if (layout == TX_MASK) {
         t->maps.alpha_mode = LG_ALPHA_MASK;
         t->maps.alpha_cutoff = 0.5f;
