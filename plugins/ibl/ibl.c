@@ -168,15 +168,15 @@ static int ibl_prepare(lg_node *n)
     if (base) {
         if (lg_describe(base, &info, n) != 0 || info.kind != LG_KIND_IMAGE)
             return lg_error(n, "input 'base' is not an image");
-        if (!info.neutral && (info.image.format != LG_FORMAT_RGBA32F ||
-                              (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
+        /* rgbe8 is decoded per pixel on every backend (alpha 1), so that a chain of ibl
+         * nodes can stay in RGBE8 as seed 0's buffers do */
+        if (!info.neutral &&
+            ((info.image.format != LG_FORMAT_RGBA32F && info.image.format != LG_FORMAT_RGBE8) ||
+             (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
             return lg_error(n,
-                            "input 'base' must be a 2D rgba32f image (it is %s%s); convert "
-                            "it first",
-                            info.image.format == LG_FORMAT_RGBA16F ? "rgba16f"
-                            : info.image.format == LG_FORMAT_RGBE8 ? "rgbe8"
-                            : info.image.format == LG_FORMAT_RGBA8 ? "rgba8"
-                                                                   : "rgba32f",
+                            "input 'base' must be a 2D rgba32f or rgbe8 image (it is %s%s); "
+                            "convert it first",
+                            lg_format_name(info.image.format),
                             info.image.flags & LG_IMAGE_CUBE ? ", a cube" : "");
         if (!info.neutral && (info.image.width != st->width || info.image.height != st->height))
             return lg_error(n,
@@ -206,6 +206,7 @@ typedef struct ibl_frame {
     lg_probe probe_view;
     const lg_probe *probe;
     const lg_resource *base; /* NULL, or a non-neutral base image */
+    bool base_rgbe;          /* base is rgbe8 (decoded per pixel, alpha 1), else rgba32f */
     bool geometry;           /* the scene has triangles: the G-buffer pass runs */
     float *mats;             /* 8 floats per material: F0 rgb, roughness; double-sided */
     uint32_t n_mats;
@@ -273,8 +274,10 @@ static int ibl_frame_in(lg_node *n, ibl_state *st, ibl_frame *f)
                            "layout without a cube image, or the reverse)");
     const lg_resource *b = lg_input(n, IN_BASE);
     lg_resource_info bi;
-    if (b && lg_describe(b, &bi, n) == 0 && !bi.neutral)
+    if (b && lg_describe(b, &bi, n) == 0 && !bi.neutral) {
         f->base = b;
+        f->base_rgbe = bi.image.format == LG_FORMAT_RGBE8;
+    }
     f->geometry = f->s->features.triangles > 0;
     return ibl_materials(n, st, f);
 }
@@ -863,7 +866,9 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         .layout = (int32_t)pr->info.layout,
         .bilinear = st->sampling == IBL_BILINEAR,
         .fresnel = st->fresnel == IBL_FRESNEL_SCHLICK,
-        .has_base = base_tex != 0,
+        .has_base = base_tex == 0  ? 0
+                    : f->base_rgbe ? 2
+                                   : 1,
         .has_base_depth = base_depth != 0,
         .format = st->format,
         .chain_levels = st->chain_tex.name ? (int32_t)st->chain_levels : 0,
@@ -912,6 +917,7 @@ typedef struct ibl_cpu_job {
     lg_probe_image chain[LG_PROBE_FILTER_MAX_LEVELS];
     uint32_t chain_levels; /* 0: no chain */
     const float *gbuf, *gdepth, *base, *base_depth;
+    const uint8_t *base8; /* an rgbe8 base (then base is NULL) */
     void *out;
     float *out_depth;
     uint64_t *clamped; /* per chunk */
@@ -989,6 +995,11 @@ static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float 
     const float *g = j->gbuf ? j->gbuf + 4 * i : zero4;
     float gd = j->gdepth ? j->gdepth[i] : 1.0f;
     const float *bc = j->base ? j->base + 4 * i : base0;
+    float b8[4] = { 0, 0, 0, 1 };
+    if (j->base8) {
+        lg_rgbe_decode(j->base8 + 4 * i, b8);
+        bc = b8;
+    }
     float bd = j->base_depth ? j->base_depth[i] : 1.0f;
     int mat = (int)(g[3] + 0.5f) - 1;
     float look[4];
@@ -1080,7 +1091,8 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
                       .f = f,
                       .gbuf = f->geometry ? st->gbuf : NULL,
                       .gdepth = f->geometry ? st->gdepth : NULL,
-                      .base = bv.pixels,
+                      .base = f->base_rgbe ? NULL : bv.pixels,
+                      .base8 = f->base_rgbe ? bv.pixels : NULL,
                       .base_depth = bv.depth,
                       .out = ov.pixels,
                       .out_depth = ov.depth };
@@ -1171,7 +1183,7 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     lg_cl_pass_arg(k, a++, sizeof ivp, &ivp);
     lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gbuf.mem : NULL);
     lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gdepth.mem : NULL);
-    lg_cl_pass_arg_int(k, a++, base != NULL);
+    lg_cl_pass_arg_int(k, a++, base == NULL ? 0 : f->base_rgbe ? 2 : 1);
     lg_cl_pass_arg_mem(k, a++, base);
     lg_cl_pass_arg_int(k, a++, base_depth != NULL);
     lg_cl_pass_arg_mem(k, a++, base_depth);

@@ -116,7 +116,10 @@ kernel void ibl_shade(int mode, int width, int height, float16 inv_view_proj,
 
     float4 g = gbuf ? gbuf[i] : (float4)(0.0f);
     float gd = gdepth ? gdepth[i] : 1.0f;
-    float4 bc = has_base ? base[i] : (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+    // has_base 2: an rgbe8 base, four bytes a pixel (decoded, alpha 1)
+    float4 bc = has_base == 1   ? base[i]
+                : has_base == 2 ? (float4)(lg_rgbe_decode(((global const uchar4 *)base)[i]), 1.0f)
+                                : (float4)(0.0f, 0.0f, 0.0f, 1.0f);
     float bd = has_base_depth ? base_depth[i] : 1.0f;
     int mat = (int)(g.w + 0.5f) - 1;
 

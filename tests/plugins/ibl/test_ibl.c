@@ -29,6 +29,10 @@
  *                background's value)
  *   half_clamp   a probe of 1e5 into rgba16f: every pixel 65504, one warning with the count
  *   base         the reflection added to a base image; where no geometry, base passes
+ *   base_rgbe8   an rgbe8 base (background in rgbe8) gives the rgba32f base's reflection:
+ *                bit for bit where RGBE holds the values, within its step otherwise
+ *   base_rgbe8_extremes  an rgbe8 base saturated at RGBE's largest value (from FLT_MAX) and
+ *                0: every output value finite
  *   gating       no reflective material, and no probe: reflect and envmap gated, the ibl
  *                plugin not loaded, --explain says why
  *   chain_limits a 1x1 probe with prefilter_size = 4096, levels = 16 (4.4 GiB and 78 s
@@ -1210,6 +1214,131 @@ static void case_base(lg_test *t)
     free(text);
 }
 
+/* An rgbe8 base (seed 0 keeps its buffers in RGBE8 through the chain): background in rgbe8
+ * and in rgba32f under the same reflect, on every backend. (a) A constant probe of powers of
+ * two, which RGBE holds exactly: the two reflections are equal bit for bit (a decode that
+ * misreads the bytes, or not at all, changes every pixel). (b) The smooth probe, not exact in
+ * RGBE: the rgbe8-based reflection is within half a step of the base's shared exponent of
+ * the rgba32f-based one (2^-8 of the pixel's largest channel), and where no geometry is it is
+ * the decoded base itself; reflect's own output in rgbe8 too (the chain stays RGBE8). */
+static void case_base_rgbe8(lg_test *t)
+{
+    const float c[3] = { 0.5f, 1.0f, 2.0f };
+    lg_image pimg = constant_image(16, 8, c);
+    lg_test_write_exr(t, "exact.exr", &pimg);
+    lg_image_free(&pimg);
+    smooth_latlong(&pimg, 64, 32);
+    lg_test_write_exr(t, "smooth.exr", &pimg);
+    lg_image_free(&pimg);
+    static const char *const probes[] = { "exact.exr", "smooth.exr" };
+    for (int p = 0; p < 2; p++)
+        for (int b = 0; b < 3; b++) {
+            char g[2048];
+            snprintf(g, sizeof g,
+                     "lightgraph 1\n"
+                     "s = test_ibl_scene { layout = sphere, segments = 32, "
+                     "reflectivity = [0.5, 0.25, 0.5] }\n"
+                     "sky = probe { file = \"%s\", layout = latlong }\n"
+                     "env = environment { scene = s, probe = sky }\n"
+                     "b32 = background { scene = env, probe = sky, backend = %s }\n"
+                     "b8 = background { scene = env, probe = sky, backend = %s, format = rgbe8 }\n"
+                     "r32 = reflect { scene = env, probe = sky, base = b32, backend = %s, "
+                     "fresnel = schlick }\n"
+                     "r8 = reflect { scene = env, probe = sky, base = b8, backend = %s, "
+                     "fresnel = schlick }\n"
+                     "r88 = reflect { scene = env, probe = sky, base = b8, backend = %s, "
+                     "fresnel = schlick, format = rgbe8 }\n"
+                     "output r32 \"r32.exr\"\noutput r8 \"r8.exr\"\noutput r88 \"r88.exr\"\n"
+                     "output b8 \"b8.exr\"\n",
+                     probes[p], BACKENDS[b], BACKENDS[b], BACKENDS[b], BACKENDS[b], BACKENDS[b]);
+            const char *args[] = { "--size", "40x30", NULL };
+            const char *outs[] = { "r32.exr", "r8.exr", "r88.exr", "b8.exr" };
+            lg_image img[4] = { { 0 } };
+            int rc = render(t, g, args, outs, img, 4, NULL);
+            LG_TEST_CHECK(t, rc == 0, "%s %s: render failed (%d)", probes[p], BACKENDS[b], rc);
+            if (rc == 0) {
+                uint64_t off = 0, off88 = 0, off_bg = 0, covered = 0;
+                double worst = 0;
+                for (uint32_t y = 0; y < 30; y++)
+                    for (uint32_t x = 0; x < 40; x++) {
+                        const float *a = px(&img[0], x, y), *v = px(&img[1], x, y);
+                        const float *v88 = px(&img[2], x, y), *bg = px(&img[3], x, y);
+                        bool geo = bg[0] == 0.0f && bg[1] == 0.0f && bg[2] == 0.0f;
+                        covered += geo;
+                        double mx = fmax(a[0], fmax(a[1], a[2]));
+                        for (int ch = 0; ch < 4; ch++) {
+                            double d = fabs((double)v[ch] - a[ch]);
+                            worst = fmax(worst, d);
+                            /* (a): exact; (b): the base's step, 2^-8 of its largest channel
+                             * (at most the sum's) */
+                            off += p == 0 ? v[ch] != a[ch] : !(d <= mx / 256.0 + 1e-7);
+                            /* the rgbe8 output: one more step of its own */
+                            off88 += ch < 3 && !(fabs((double)v88[ch] - v[ch]) <= mx / 128.0);
+                            /* no geometry: the decoded base passes as it is */
+                            off_bg += !geo && v[ch] != bg[ch];
+                        }
+                    }
+                LG_TEST_CHECK(t, off == 0 && off88 == 0 && off_bg == 0,
+                              "%s %s: %llu values of the rgbe8-based reflection off the "
+                              "rgba32f-based one (worst %g), %llu of its rgbe8 output, %llu "
+                              "background values not the decoded base",
+                              probes[p], BACKENDS[b], (unsigned long long)off, worst,
+                              (unsigned long long)off88, (unsigned long long)off_bg);
+                LG_TEST_CHECK(t, covered > 100 && covered < 1100, "%s %s: %llu pixels covered",
+                              probes[p], BACKENDS[b], (unsigned long long)covered);
+                for (int k = 0; k < 4; k++)
+                    CHECK_FINITE(t, &img[k], probes[p]);
+            }
+            for (int k = 0; k < 4; k++)
+                lg_image_free(&img[k]);
+        }
+}
+
+/* An rgbe8 base at the ends of RGBE's range: background in rgbe8 of the float_max probe, whose
+ * FLT_MAX texels saturate to RGBE's largest value (about 1.7e38) and whose 0 texels encode
+ * as exponent 0, under reflect (mirror, and rough) on every backend: no value non-finite,
+ * and the saturated base decoded as it is where no geometry covers the pixel. */
+static void case_base_rgbe8_extremes(lg_test *t)
+{
+    write_float_max_probes(t);
+    for (int b = 0; b < 3; b++)
+        for (int r = 0; r < 2; r++) {
+            char g[2048];
+            snprintf(g, sizeof g,
+                     "lightgraph 1\n"
+                     "s = test_ibl_scene { layout = sphere, segments = 32, "
+                     "reflectivity = [1, 0.5, 0.04], roughness = %s }\n"
+                     "sky = probe { file = \"probe_latlong.exr\", layout = latlong, "
+                     "exposure = 2 }\n"
+                     "env = environment { scene = s, probe = sky }\n"
+                     "b8 = background { scene = env, probe = sky, backend = %s, format = rgbe8 }\n"
+                     "r = reflect { scene = env, probe = sky, base = b8, backend = %s, "
+                     "fresnel = schlick }\n"
+                     "output r \"r.exr\"\n",
+                     r ? "0.5" : "0", BACKENDS[b], BACKENDS[b]);
+            const char *args[] = { "--size", "32x32", NULL };
+            const char *outs[] = { "r.exr" };
+            lg_image img = { 0 };
+            char *text = NULL;
+            int rc = render(t, g, args, outs, &img, 1, &text);
+            LG_TEST_CHECK(t, rc == 0, "%s roughness %d: render failed (%d):\n%s", BACKENDS[b], r,
+                          rc, text ? text : "");
+            free(text);
+            if (rc)
+                continue;
+            uint64_t bad = 0, saturated = 0;
+            for (size_t i = 0; i < (size_t)img.width * img.height; i++)
+                for (int c = 0; c < 4; c++) {
+                    bad += !isfinite(img.pixels[4 * i + c]);
+                    saturated += img.pixels[4 * i + c] >= 1.6e38f;
+                }
+            LG_TEST_CHECK(t, bad == 0 && saturated > 0,
+                          "%s roughness %d: %llu non-finite values, %llu at RGBE's largest",
+                          BACKENDS[b], r, (unsigned long long)bad, (unsigned long long)saturated);
+            lg_image_free(&img);
+        }
+}
+
 /* ---- gating ---------------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
@@ -1419,6 +1548,8 @@ int main(int argc, char **argv)
         { "backface", case_backface },
         { "half_clamp", case_half_clamp },
         { "base", case_base },
+        { "base_rgbe8", case_base_rgbe8 },
+        { "base_rgbe8_extremes", case_base_rgbe8_extremes },
         { "glossy", case_glossy },
         { "glossy_backends", case_glossy_backends },
         { "cache_said", case_cache_said },
