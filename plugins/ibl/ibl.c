@@ -79,19 +79,19 @@ typedef struct ibl_state {
 
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
-    lg_gl_uniform g_view_proj, g_material;
+    lg_gl_uniform g_view_proj, g_material, g_f0_rough;
     lg_gl_binding s_params;
-    lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats, s_clamped,
-        s_chain, s_dfg;
-    lg_gl_texture gbuf_tex, gdepth_tex;
+    lg_gl_binding s_gbuf, s_gbuf2, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
+        s_clamped, s_chain, s_dfg;
+    lg_gl_texture gbuf_tex, gbuf2_tex, gdepth_tex;
     lg_gl_buffer mats_buf, clamp_buf;
 
     /* CL */
     lg_cl_pass *kernel;
-    lg_cl_buffer cl_gbuf, cl_gdepth, cl_mats, cl_clamped;
+    lg_cl_buffer cl_gbuf, cl_gbuf2, cl_gdepth, cl_mats, cl_clamped;
 
     /* CPU copies of the G-buffer (cpu and cl backends) */
-    float *gbuf, *gdepth;
+    float *gbuf, *gbuf2, *gdepth;
 } ibl_state;
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
@@ -649,6 +649,7 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
 typedef struct ibl_draw_ctx {
     ibl_state *st;
     const lg_scene *s;
+    const ibl_frame *f;
 } ibl_draw_ctx;
 
 static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
@@ -656,12 +657,20 @@ static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
     (void)n;
     (void)normals;
     const ibl_draw_ctx *c = user;
-    lg_gl_set_float(c->st->gpass, c->st->g_material, (float)c->s->meshes[mi].material + 1.0f);
+    uint32_t m = c->s->meshes[mi].material;
+    lg_gl_set_float(c->st->gpass, c->st->g_material, (float)m + 1.0f);
+    /* the material's F0 and roughness (the table every backend reads), which the G-buffer
+     * carries per pixel; a material index out of range draws as nothing reflective */
+    static const float none[4] = { 0, 0, 0, 0 };
+    lg_gl_set_vec4v(c->st->gpass, c->st->g_f0_rough,
+                    m < c->f->n_mats ? c->f->mats + 8 * (size_t)m : none);
     return 0;
 }
 
 /* The G-buffer at the output's size: made on the first frame, then kept (sampled nearest,
- * as lg_gl_texture makes them). */
+ * as lg_gl_texture makes them). Attachment 0: the world normal and the material index + 1;
+ * attachment 1: the pixel's F0 (rgb) and perceptual roughness, the material's factors
+ * times its textures where it has them, so that every backend reads per-pixel values. */
 static int ibl_gbuffer_images(lg_node *n, ibl_state *st)
 {
     const lg_gl_texture_desc c = {
@@ -673,6 +682,7 @@ static int ibl_gbuffer_images(lg_node *n, ibl_state *st)
                                    .height = st->height };
     int rc;
     if ((rc = lg_gl_texture_recreate(n, &st->gbuf_tex, &c)) < 0 ||
+        (rc = lg_gl_texture_recreate(n, &st->gbuf2_tex, &c)) < 0 ||
         (rc = lg_gl_texture_recreate(n, &st->gdepth_tex, &d)) < 0)
         return rc;
     return 0;
@@ -690,7 +700,7 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
         lg_gl_pass_desc d = { .name = "ibl (G-buffer)",
                               .stages = src,
                               .n_stages = 2,
-                              .colors = { GL_RGBA32F },
+                              .colors = { GL_RGBA32F, GL_RGBA32F },
                               .depth = true,
                               .depth_test = true,
                               .depth_write = true,
@@ -700,10 +710,11 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
             return rc;
         st->g_view_proj = lg_gl_pass_uniform(st->gpass, "u_view_proj");
         st->g_material = lg_gl_pass_uniform(st->gpass, "u_material");
+        st->g_f0_rough = lg_gl_pass_uniform(st->gpass, "u_f0_rough");
     }
     if ((rc = ibl_gbuffer_images(n, st)))
         return rc;
-    lg_gl_target t = { .color = { st->gbuf_tex.name },
+    lg_gl_target t = { .color = { st->gbuf_tex.name, st->gbuf2_tex.name },
                        .depth = st->gdepth_tex.name,
                        .width = st->width,
                        .height = st->height };
@@ -711,9 +722,10 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
         return rc;
     static const float zero[4] = { 0, 0, 0, 0 };
     lg_gl_pass_clear_color(st->gpass, 0, zero);
+    lg_gl_pass_clear_color(st->gpass, 1, zero);
     lg_gl_pass_clear_depth(st->gpass, 1.0f);
     lg_gl_set_mat4(st->gpass, st->g_view_proj, f->v.view_proj);
-    ibl_draw_ctx ctx = { st, f->s };
+    ibl_draw_ctx ctx = { st, f->s, f };
     lg_gl_scene_draw d = { .on_mesh = ibl_on_mesh, .user = &ctx };
     return lg_gl_pass_end(st->gpass, lg_gl_pass_draw_scene(st->gpass, f->scene_res, &d));
 }
@@ -733,12 +745,14 @@ static int ibl_gbuffer_cpu(lg_node *n, ibl_state *st, const ibl_frame *f)
     size_t np = (size_t)st->width * st->height;
     if (!st->gbuf) {
         st->gbuf = malloc(np * 4 * sizeof(float));
+        st->gbuf2 = malloc(np * 4 * sizeof(float));
         st->gdepth = malloc(np * sizeof(float));
-        if (!st->gbuf || !st->gdepth)
+        if (!st->gbuf || !st->gbuf2 || !st->gdepth)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (G-buffer %ux%u)", st->width,
                                  st->height);
     }
     gl->GetTextureImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16), st->gbuf);
+    gl->GetTextureImage(st->gbuf2_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16), st->gbuf2);
     gl->GetTextureImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(np * 4),
                         st->gdepth);
     return lg_gl_check(n, "ibl: reading the G-buffer back");
@@ -789,6 +803,7 @@ static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
     lg_gl_pass *p = st->spass;
     st->s_params = lg_gl_pass_uniform_block(p, "IblShade");
     st->s_gbuf = lg_gl_pass_texture(p, "u_gbuf");
+    st->s_gbuf2 = lg_gl_pass_texture(p, "u_gbuf2");
     st->s_gdepth = lg_gl_pass_texture(p, "u_gdepth");
     st->s_base = lg_gl_pass_texture(p, "u_base");
     st->s_base_depth = lg_gl_pass_texture(p, "u_base_depth");
@@ -817,6 +832,7 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         static const float zero[4] = { 0, 0, 0, 0 };
         const float one = 1.0f;
         gl->ClearTexImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, zero);
+        gl->ClearTexImage(st->gbuf2_tex.name, 0, GL_RGBA, GL_FLOAT, zero);
         gl->ClearTexImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
     }
     if ((rc = ibl_gl_shade_pass(n, st, gl)))
@@ -880,6 +896,7 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     if ((rc = lg_gl_pass_uniforms(p, st->s_params, &u, sizeof u)))
         return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->s_gbuf, st->gbuf_tex.name);
+    lg_gl_pass_bind_texture(p, st->s_gbuf2, st->gbuf2_tex.name);
     lg_gl_pass_bind_texture(p, st->s_gdepth, st->gdepth_tex.name);
     lg_gl_pass_bind_texture(p, st->s_base, base_tex);
     lg_gl_pass_bind_texture(p, st->s_base_depth, base_depth);
@@ -916,7 +933,7 @@ typedef struct ibl_cpu_job {
     lg_probe_image img;
     lg_probe_image chain[LG_PROBE_FILTER_MAX_LEVELS];
     uint32_t chain_levels; /* 0: no chain */
-    const float *gbuf, *gdepth, *base, *base_depth;
+    const float *gbuf, *gbuf2, *gdepth, *base, *base_depth;
     const uint8_t *base8; /* an rgbe8 base (then base is NULL) */
     void *out;
     float *out_depth;
@@ -993,6 +1010,7 @@ static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float 
     lg_vec3 V = lg_probe_safe_dir(lg_v3_sub(b, a));
     const float zero4[4] = { 0, 0, 0, 0 }, base0[4] = { 0, 0, 0, 1 };
     const float *g = j->gbuf ? j->gbuf + 4 * i : zero4;
+    const float *g2 = j->gbuf2 ? j->gbuf2 + 4 * i : zero4; /* F0, roughness */
     float gd = j->gdepth ? j->gdepth[i] : 1.0f;
     const float *bc = j->base ? j->base + 4 * i : base0;
     float b8[4] = { 0, 0, 0, 1 };
@@ -1023,8 +1041,8 @@ static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float 
         float ndv = lg_v3_dot(N, V);
         float cosv = fminf(fmaxf(-ndv, 0.0f), 1.0f);
         lg_vec3 L = st->mode == IBL_REFLECT ? lg_v3_sub(V, lg_v3_scale(N, 2.0f * ndv)) : N;
-        float rough = j->chain_levels >= 2 ? m[3] : 0.0f;
-        float F[3] = { m[0], m[1], m[2] };
+        float rough = j->chain_levels >= 2 ? g2[3] : 0.0f;
+        float F[3] = { g2[0], g2[1], g2[2] };
         if (st->fresnel == IBL_FRESNEL_SCHLICK) {
             if (rough > 0.0f) {
                 float ab[2];
@@ -1090,6 +1108,7 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
     ibl_cpu_job j = { .st = st,
                       .f = f,
                       .gbuf = f->geometry ? st->gbuf : NULL,
+                      .gbuf2 = f->geometry ? st->gbuf2 : NULL,
                       .gdepth = f->geometry ? st->gdepth : NULL,
                       .base = f->base_rgbe ? NULL : bv.pixels,
                       .base8 = f->base_rgbe ? bv.pixels : NULL,
@@ -1153,6 +1172,7 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         return rc;
     size_t np = (size_t)st->width * st->height;
     if (f->geometry && ((rc = ibl_cl_upload(n, &st->cl_gbuf, np * 16, st->gbuf)) ||
+                        (rc = ibl_cl_upload(n, &st->cl_gbuf2, np * 16, st->gbuf2)) ||
                         (rc = ibl_cl_upload(n, &st->cl_gdepth, np * 4, st->gdepth))))
         return rc;
     if ((rc = ibl_cl_upload(n, &st->cl_mats, (size_t)f->n_mats * 32, f->mats)))
@@ -1182,6 +1202,7 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     lg_cl_pass_arg_int(k, a++, (int32_t)st->height);
     lg_cl_pass_arg(k, a++, sizeof ivp, &ivp);
     lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gbuf.mem : NULL);
+    lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gbuf2.mem : NULL);
     lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gdepth.mem : NULL);
     lg_cl_pass_arg_int(k, a++, base == NULL ? 0 : f->base_rgbe ? 2 : 1);
     lg_cl_pass_arg_mem(k, a++, base);
@@ -1268,17 +1289,19 @@ static void ibl_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->gpass);
     lg_gl_pass_destroy(&st->spass);
     lg_gl_texture_destroy(n, &st->gbuf_tex);
+    lg_gl_texture_destroy(n, &st->gbuf2_tex);
     lg_gl_texture_destroy(n, &st->gdepth_tex);
     lg_gl_buffer_destroy(n, &st->mats_buf);
     lg_gl_buffer_destroy(n, &st->clamp_buf);
     lg_gl_texture_destroy(n, &st->chain_tex);
     lg_gl_buffer_destroy(n, &st->dfg_buf);
     lg_cl_pass_destroy(&st->kernel);
-    lg_cl_buffer *m[6] = { &st->cl_gbuf,    &st->cl_gdepth, &st->cl_mats,
-                           &st->cl_clamped, &st->cl_chain,  &st->cl_dfg };
-    for (int i = 0; i < 6; i++)
+    lg_cl_buffer *m[7] = { &st->cl_gbuf,    &st->cl_gbuf2, &st->cl_gdepth, &st->cl_mats,
+                           &st->cl_clamped, &st->cl_chain, &st->cl_dfg };
+    for (int i = 0; i < 7; i++)
         lg_cl_buffer_destroy(n, m[i]);
     free(st->gbuf);
+    free(st->gbuf2);
     free(st->gdepth);
     free(st->chain);
     free(st);

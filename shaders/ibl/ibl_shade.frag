@@ -14,6 +14,7 @@
 #define IBL_RGBE8 2
 
 layout(binding = 0) uniform sampler2D u_gbuf;       // world normal, material + 1
+layout(binding = 7) uniform sampler2D u_gbuf2;      // the pixel's F0 (rgb), roughness
 layout(binding = 1) uniform sampler2D u_gdepth;     // window depth, 1 = nothing
 layout(binding = 2) uniform sampler2D u_base;       // the base image (rgba32f, or rgbe8)
 layout(binding = 3) uniform sampler2D u_base_depth; // its depth plane
@@ -21,7 +22,8 @@ layout(binding = 4) uniform sampler2D u_probe2d;    // lat-long or angular radia
 layout(binding = 5) uniform samplerCube u_probecube;
 layout(binding = 6) uniform samplerCube u_chain;    // the GGX chain (GL_LINEAR_MIPMAP_LINEAR)
 
-// two vec4 per material: (F0 rgb, roughness), (double-sided, 0, 0, 0)
+// two vec4 per material: (F0 rgb, roughness), (double-sided, 0, 0, 0); the pixel's own F0
+// and roughness (the factors times the material's textures) come from u_gbuf2
 layout(std430, binding = 1) readonly buffer Materials { vec4 mats[]; };
 // pixels whose colour an rgba16f store clamped
 layout(std430, binding = 2) buffer Clamped { uint clamped; };
@@ -141,7 +143,7 @@ void main()
         c = base;
         depth = bd;
     } else {
-        vec4 m0 = mats[2 * mat], m1 = mats[2 * mat + 1];
+        vec4 m1 = mats[2 * mat + 1], m0 = texelFetch(u_gbuf2, p, 0);
         vec3 N = ibl_normal(g.xyz, V, m1.x != 0.0);
         float ndv = dot(N, V);
         float cosv = clamp(-ndv, 0.0, 1.0);
