@@ -79,7 +79,8 @@ typedef struct ibl_state {
 
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
-    lg_gl_uniform g_view_proj, g_material, g_f0_rough;
+    lg_gl_uniform g_view_proj, g_material, g_f0_rough, g_f0_dielectric, g_f0_metal;
+    lg_gl_material_binds g_mat; /* the material's textures (shaders/common/material.glsl) */
     lg_gl_binding s_params;
     lg_gl_binding s_gbuf, s_gbuf2, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
         s_clamped, s_chain, s_dfg;
@@ -646,6 +647,34 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
 
 /* ---- GL: the G-buffer ------------------------------------------------------------------------ */
 
+/* Whether material `m`'s F0 follows its textures, and the two F0s it mixes per pixel: d[3]
+ * = 1 when the node reads the material's own reflectivity R (not the parameter's), the
+ * material reflects, and it has a base colour or metallic-roughness texture. The loader's
+ * R is mix(F0 dielectric, base colour, metallic) (glTF 2.0 Appendix B; plugins/scene_gltf/
+ * README.md, "Materials"), so per pixel F0 = mix(d, metal x t_rgb, metallic x t_B) with
+ * metal = the base colour factor and d = (R - b m) / (1 - m) (clamped to [0, 1]) for
+ * metallic m < 1; a pure metal (m = 1) mixes R itself, d = glTF's 0.04. Where the texels
+ * are 1 this is R again, bit for bit for a pure metal. */
+static void ibl_f0_mix(const ibl_state *st, const lg_material *m, float d[4], float metal_f0[3])
+{
+    const lg_material_maps *mm = lg_material_maps_of(m);
+    bool reflects = false;
+    for (int c = 0; c < 3; c++)
+        reflects |= isfinite(m->reflectivity[c]) && m->reflectivity[c] > 0;
+    if (st->reflectivity[0] >= 0 || !reflects ||
+        (mm->base_color.texture < 0 && mm->metallic_roughness.texture < 0))
+        return;
+    float metal = isfinite(m->metallic) ? fminf(fmaxf(m->metallic, 0.0f), 1.0f) : 0.0f;
+    for (int c = 0; c < 3; c++) {
+        float r = isfinite(m->reflectivity[c]) && m->reflectivity[c] > 0 ? m->reflectivity[c] : 0;
+        float b = isfinite(m->base_color[c]) ? fmaxf(m->base_color[c], 0.0f) : 0.0f;
+        float v = metal < 1.0f ? (r - b * metal) / (1.0f - metal) : 0.04f;
+        d[c] = isfinite(v) ? fminf(fmaxf(v, 0.0f), 1.0f) : 0.04f;
+        metal_f0[c] = metal < 1.0f ? b : r;
+    }
+    d[3] = 1.0f;
+}
+
 typedef struct ibl_draw_ctx {
     ibl_state *st;
     const lg_scene *s;
@@ -654,17 +683,23 @@ typedef struct ibl_draw_ctx {
 
 static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
 {
-    (void)n;
     (void)normals;
     const ibl_draw_ctx *c = user;
+    ibl_state *st = c->st;
     uint32_t m = c->s->meshes[mi].material;
-    lg_gl_set_float(c->st->gpass, c->st->g_material, (float)m + 1.0f);
+    lg_gl_set_float(st->gpass, st->g_material, (float)m + 1.0f);
     /* the material's F0 and roughness (the table every backend reads), which the G-buffer
      * carries per pixel; a material index out of range draws as nothing reflective */
     static const float none[4] = { 0, 0, 0, 0 };
-    lg_gl_set_vec4v(c->st->gpass, c->st->g_f0_rough,
-                    m < c->f->n_mats ? c->f->mats + 8 * (size_t)m : none);
-    return 0;
+    bool known = m < c->s->n_materials;
+    lg_gl_set_vec4v(st->gpass, st->g_f0_rough, known ? c->f->mats + 8 * (size_t)m : none);
+    float d[4] = { 0, 0, 0, 0 }, metal_f0[3] = { 0, 0, 0 };
+    if (known)
+        ibl_f0_mix(st, &c->s->materials[m], d, metal_f0);
+    lg_gl_set_vec4v(st->gpass, st->g_f0_dielectric, d);
+    lg_gl_set_vec3v(st->gpass, st->g_f0_metal, metal_f0);
+    /* its textures and alpha mode (none: the factors alone, the results of before) */
+    return lg_gl_pass_bind_material(st->gpass, &st->g_mat, c->f->scene_res, m, NULL);
 }
 
 /* The G-buffer at the output's size: made on the first frame, then kept (sampled nearest,
@@ -705,12 +740,16 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
                               .depth_test = true,
                               .depth_write = true,
                               .cull = LG_GL_CULL_BACK,
-                              .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
+                              .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS |
+                                       LG_GL_SCENE_TEXCOORDS };
         if ((rc = lg_gl_pass_create(n, &d, &st->gpass)))
             return rc;
         st->g_view_proj = lg_gl_pass_uniform(st->gpass, "u_view_proj");
         st->g_material = lg_gl_pass_uniform(st->gpass, "u_material");
         st->g_f0_rough = lg_gl_pass_uniform(st->gpass, "u_f0_rough");
+        st->g_f0_dielectric = lg_gl_pass_uniform(st->gpass, "u_f0_dielectric");
+        st->g_f0_metal = lg_gl_pass_uniform(st->gpass, "u_f0_metal");
+        lg_gl_pass_material_binds(st->gpass, &st->g_mat);
     }
     if ((rc = ibl_gbuffer_images(n, st)))
         return rc;

@@ -33,6 +33,12 @@
  *                bit for bit where RGBE holds the values, within its step otherwise
  *   base_rgbe8_extremes  an rgbe8 base saturated at RGBE's largest value (from FLT_MAX) and
  *                0: every output value finite
+ *   tex_roughness  a metallic-roughness texture of two halves: each half the GGX level of
+ *                its roughness (the untextured quads' pixels)
+ *   tex_metal    a metal's base colour texture: c x the decoded texel per half
+ *   tex_mask     an alpha mask's hole shows the probe (background and reflect over it)
+ *   tex_normal   a normal texture: envmap along the mapped normal (a tilted quad's value)
+ *   tex_bad_index  a texture index out of range: read as no texture, bit for bit
  *   gating       no reflective material, and no probe: reflect and envmap gated, the ibl
  *                plugin not loaded, --explain says why
  *   chain_limits a 1x1 probe with prefilter_size = 4096, levels = 16 (4.4 GiB and 78 s
@@ -1339,6 +1345,314 @@ static void case_base_rgbe8_extremes(lg_test *t)
         }
 }
 
+/* ---- textured materials ---------------------------------------------------------------------- */
+
+/* Renders graph g at 48x36 and reads the outputs named in outs; false (after a failed check)
+ * when the render fails. */
+static bool render_tex(lg_test *t, const char *what, const char *g, const char *const *outs,
+                       lg_image *imgs, int n)
+{
+    const char *args[] = { "--size", "48x36", NULL };
+    char *text = NULL;
+    int rc = render(t, g, args, outs, imgs, n, &text);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d):\n%s", what, rc, text ? text : "");
+    free(text);
+    return rc == 0;
+}
+
+/* The quad's texture coordinates at pixel (x, y) of a 48x36 image seen by test_ibl_scene's
+ * default camera (0, 0, 5) -> origin, 40 degrees: false where the ray misses the quad. */
+static bool quad_uv(uint32_t x, uint32_t y, double *u, double *v)
+{
+    const cam c = { { 0, 0, 5 }, { 0, 0, 0 }, { 0, 1, 0 }, 40 };
+    lg_vec3 d = cam_ray(&c, 48, 36, x, y);
+    if (!(d.z < 0))
+        return false;
+    double s = -5.0 / d.z, px = s * d.x, py = s * d.y;
+    *u = (px + 1) / 2;
+    *v = (1 - py) / 2;
+    return *u >= 0 && *u <= 1 && *v >= 0 && *v <= 1;
+}
+
+/* A metallic-roughness texture of two halves (G 255 and 64, roughness factor 1): the left
+ * half's pixels are those of the quad at roughness 1, the right half's those at roughness
+ * 64/255, on every backend (the G-buffer's roughness picks the GGX level per pixel); the
+ * two levels differ, so a texture ignored fails. */
+static void case_tex_roughness(lg_test *t)
+{
+    lg_image pimg;
+    smooth_latlong(&pimg, 64, 32);
+    lg_test_write_exr(t, "smooth.exr", &pimg);
+    lg_image_free(&pimg);
+    for (int b = 0; b < 3; b++) {
+        char g[4096];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\n"
+                 "sky = probe { file = \"smooth.exr\", layout = latlong }\n"
+                 "tq = test_ibl_scene { layout = quad, texture = roughness_halves, roughness = 1, "
+                 "reflectivity = [0.9, 0.9, 0.9] }\n"
+                 "q1 = test_ibl_scene { layout = quad, roughness = 1, "
+                 "reflectivity = [0.9, 0.9, 0.9] }\n"
+                 "q2 = test_ibl_scene { layout = quad, roughness = %.9g, "
+                 "reflectivity = [0.9, 0.9, 0.9] }\n"
+                 "e0 = environment { scene = tq, probe = sky }\n"
+                 "e1 = environment { scene = q1, probe = sky }\n"
+                 "e2 = environment { scene = q2, probe = sky }\n"
+                 "r0 = reflect { scene = e0, probe = sky, backend = %s, fresnel = schlick }\n"
+                 "r1 = reflect { scene = e1, probe = sky, backend = %s, fresnel = schlick }\n"
+                 "r2 = reflect { scene = e2, probe = sky, backend = %s, fresnel = schlick }\n"
+                 "output r0 \"r0.exr\"\noutput r1 \"r1.exr\"\noutput r2 \"r2.exr\"\n",
+                 64.0 / 255.0, BACKENDS[b], BACKENDS[b], BACKENDS[b]);
+        const char *outs[] = { "r0.exr", "r1.exr", "r2.exr" };
+        lg_image img[3] = { { 0 } };
+        if (render_tex(t, BACKENDS[b], g, outs, img, 3)) {
+            uint64_t left = 0, right = 0, off = 0;
+            double differ = 0, worst = 0;
+            for (uint32_t y = 0; y < 36; y++)
+                for (uint32_t x = 0; x < 48; x++) {
+                    double u, v;
+                    if (!quad_uv(x, y, &u, &v) || u < 0.03 || u > 0.97 || v < 0.03 || v > 0.97 ||
+                        fabs(u - 0.5) < 0.03)
+                        continue;
+                    const float *p = px(&img[0], x, y);
+                    const float *w = px(&img[u < 0.5 ? 1 : 2], x, y);
+                    left += u < 0.5, right += u >= 0.5;
+                    for (int c = 0; c < 3; c++) {
+                        double d = fabs((double)p[c] - w[c]);
+                        worst = fmax(worst, d / (fabs(w[c]) + 1e-6));
+                        off += !(d <= 1e-5 * fabs(w[c]) + 1e-6);
+                        differ = fmax(differ,
+                                      fabs((double)px(&img[1], x, y)[c] - px(&img[2], x, y)[c]));
+                    }
+                }
+            LG_TEST_CHECK(t, off == 0 && left > 100 && right > 100,
+                          "%s: %llu values off the untextured roughness's (worst %.3g relative); "
+                          "%llu left, %llu right pixels",
+                          BACKENDS[b], (unsigned long long)off, worst, (unsigned long long)left,
+                          (unsigned long long)right);
+            LG_TEST_CHECK(t, differ > 0.01, "%s: roughness 1 and 0.25 give the same image (%g)",
+                          BACKENDS[b], differ);
+            for (int k = 0; k < 3; k++)
+                CHECK_FINITE(t, &img[k], BACKENDS[b]);
+        }
+        for (int k = 0; k < 3; k++)
+            lg_image_free(&img[k]);
+    }
+}
+
+/* A metal (metallic 1, base colour factor 1, reflectivity 1) with a base colour texture of
+ * two halves, sRGB (255, 0, 0) and (0, 188, 255): under a constant probe c with fresnel none
+ * each half reflects c x the decoded texel (F0 = mix(F0 dielectric, base colour, metallic)
+ * per pixel), on every backend. */
+static void case_tex_metal(lg_test *t)
+{
+    const float c[3] = { 1, 2, 4 };
+    lg_image pimg = constant_image(16, 8, c);
+    lg_test_write_exr(t, "probe.exr", &pimg);
+    lg_image_free(&pimg);
+    const double right[3] = { 0, lg_srgb_decode(188.0f / 255.0f), 1 };
+    for (int b = 0; b < 3; b++) {
+        char g[2048];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\n"
+                 "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                 "s = test_ibl_scene { layout = quad, texture = metal_halves, metallic = 1, "
+                 "reflectivity = [1, 1, 1] }\n"
+                 "e = environment { scene = s, probe = sky }\n"
+                 "r = reflect { scene = e, probe = sky, backend = %s }\n"
+                 "output r \"r.exr\"\n",
+                 BACKENDS[b]);
+        const char *outs[] = { "r.exr" };
+        lg_image img = { 0 };
+        if (render_tex(t, BACKENDS[b], g, outs, &img, 1)) {
+            uint64_t n = 0, off = 0;
+            for (uint32_t y = 0; y < 36; y++)
+                for (uint32_t x = 0; x < 48; x++) {
+                    double u, v;
+                    if (!quad_uv(x, y, &u, &v) || u < 0.03 || u > 0.97 || v < 0.03 || v > 0.97 ||
+                        fabs(u - 0.5) < 0.03)
+                        continue;
+                    n++;
+                    for (int ch = 0; ch < 3; ch++) {
+                        double want = c[ch] * (u < 0.5 ? (ch == 0 ? 1.0 : 0.0) : right[ch]);
+                        /* llvmpipe's sRGB decode: within 2e-3 of the texel */
+                        off += !(fabs(px(&img, x, y)[ch] - want) <= 2e-3 * c[ch] + 1e-6);
+                    }
+                }
+            LG_TEST_CHECK(t, off == 0 && n > 200, "%s: %llu of %llu pixels' values not c x texel",
+                          BACKENDS[b], (unsigned long long)off, (unsigned long long)n);
+        }
+        lg_image_free(&img);
+    }
+}
+
+/* An alpha-masked quad (MASK at 0.5, the top-left texel alpha 0) of reflectivity 0.5 under
+ * a constant probe c: reflect over background shows c (the probe) through the hole and
+ * 0.5 c on the quad; background alone shows c through the hole and 0 (its base) on the
+ * quad, on every backend. */
+static void case_tex_mask(lg_test *t)
+{
+    const float c[3] = { 1, 2, 4 };
+    lg_image pimg = constant_image(16, 8, c);
+    lg_test_write_exr(t, "probe.exr", &pimg);
+    lg_image_free(&pimg);
+    for (int b = 0; b < 3; b++) {
+        char g[2048];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\n"
+                 "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                 "s = test_ibl_scene { layout = quad, texture = mask_hole, "
+                 "reflectivity = [0.5, 0.5, 0.5] }\n"
+                 "e = environment { scene = s, probe = sky }\n"
+                 "bg = background { scene = e, probe = sky, backend = %s }\n"
+                 "r = reflect { scene = e, probe = sky, base = bg, backend = %s }\n"
+                 "output r \"r.exr\"\noutput bg \"bg.exr\"\n",
+                 BACKENDS[b], BACKENDS[b]);
+        const char *outs[] = { "r.exr", "bg.exr" };
+        lg_image img[2] = { { 0 } };
+        if (render_tex(t, BACKENDS[b], g, outs, img, 2)) {
+            uint64_t hole = 0, quad = 0, off = 0;
+            for (uint32_t y = 0; y < 36; y++)
+                for (uint32_t x = 0; x < 48; x++) {
+                    double u, v;
+                    if (!quad_uv(x, y, &u, &v) || u < 0.03 || u > 0.97 || v < 0.03 || v > 0.97 ||
+                        fabs(u - 0.5) < 0.03 || fabs(v - 0.5) < 0.03)
+                        continue;
+                    bool in_hole = u < 0.5 && v < 0.5;
+                    hole += in_hole, quad += !in_hole;
+                    for (int ch = 0; ch < 3; ch++) {
+                        double want_r = in_hole ? c[ch] : 0.5 * c[ch];
+                        double want_bg = in_hole ? c[ch] : 0.0;
+                        off += !(fabs(px(&img[0], x, y)[ch] - want_r) <= 1e-5 * c[ch]);
+                        off += !(fabs(px(&img[1], x, y)[ch] - want_bg) <= 1e-5 * c[ch]);
+                    }
+                }
+            LG_TEST_CHECK(t, off == 0 && hole > 50 && quad > 150,
+                          "%s: %llu values off (%llu pixels in the hole, %llu on the quad)",
+                          BACKENDS[b], (unsigned long long)off, (unsigned long long)hole,
+                          (unsigned long long)quad);
+        }
+        for (int k = 0; k < 2; k++)
+            lg_image_free(&img[k]);
+    }
+}
+
+/* A normal texture on the flat quad facing +Z (tangent +X): envmap (the probe along N) of
+ * every covered pixel equals that of an untextured quad whose normal is the texel's decoded
+ * normal, normalize(2 texel / 255 - 1), and differs from the flat quad's, on every backend. */
+static void case_tex_normal(lg_test *t)
+{
+    lg_image pimg;
+    smooth_latlong(&pimg, 64, 32);
+    lg_test_write_exr(t, "smooth.exr", &pimg);
+    lg_image_free(&pimg);
+    const int texel[3] = { 200, 100, 220 };
+    double nrm[3], len = 0;
+    for (int k = 0; k < 3; k++) {
+        nrm[k] = 2.0 * texel[k] / 255.0 - 1.0;
+        len += nrm[k] * nrm[k];
+    }
+    for (int k = 0; k < 3; k++)
+        nrm[k] /= sqrt(len);
+    for (int b = 0; b < 3; b++) {
+        char g[4096];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\n"
+                 "sky = probe { file = \"smooth.exr\", layout = latlong }\n"
+                 "tq = test_ibl_scene { layout = quad, texture = normal_tilt, "
+                 "normal_texel = [%d, %d, %d] }\n"
+                 "tilt = test_ibl_scene { layout = quad, quad_normal = [%.9g, %.9g, %.9g] }\n"
+                 "flat = test_ibl_scene { layout = quad }\n"
+                 "e0 = environment { scene = tq, probe = sky }\n"
+                 "e1 = environment { scene = tilt, probe = sky }\n"
+                 "e2 = environment { scene = flat, probe = sky }\n"
+                 "m0 = envmap { scene = e0, probe = sky, backend = %s }\n"
+                 "m1 = envmap { scene = e1, probe = sky, backend = %s }\n"
+                 "m2 = envmap { scene = e2, probe = sky, backend = %s }\n"
+                 "output m0 \"m0.exr\"\noutput m1 \"m1.exr\"\noutput m2 \"m2.exr\"\n",
+                 texel[0], texel[1], texel[2], nrm[0], nrm[1], nrm[2], BACKENDS[b], BACKENDS[b],
+                 BACKENDS[b]);
+        const char *outs[] = { "m0.exr", "m1.exr", "m2.exr" };
+        lg_image img[3] = { { 0 } };
+        if (render_tex(t, BACKENDS[b], g, outs, img, 3)) {
+            /* the tilted quad covers other pixels: compare the values, each quad's mean over
+             * its covered pixels (constant: one normal) */
+            double mean[3][3] = { { 0 } }, dev = 0;
+            uint64_t n[3] = { 0 };
+            for (int k = 0; k < 3; k++)
+                for (size_t i = 0; i < 48 * 36; i++) {
+                    const float *p = img[k].pixels + 4 * i;
+                    if (p[0] == 0 && p[1] == 0 && p[2] == 0)
+                        continue;
+                    n[k]++;
+                    for (int ch = 0; ch < 3; ch++)
+                        mean[k][ch] += p[ch];
+                }
+            for (int k = 0; k < 3; k++)
+                for (int ch = 0; ch < 3; ch++)
+                    mean[k][ch] /= n[k] ? (double)n[k] : 1.0;
+            for (size_t i = 0; i < 48 * 36; i++) {
+                const float *p = img[0].pixels + 4 * i;
+                if (p[0] != 0 || p[1] != 0 || p[2] != 0)
+                    for (int ch = 0; ch < 3; ch++)
+                        dev = fmax(dev, fabs(p[ch] - mean[1][ch]) / mean[1][ch]);
+            }
+            double flat = 0;
+            for (int ch = 0; ch < 3; ch++)
+                flat = fmax(flat, fabs(mean[2][ch] - mean[1][ch]) / mean[1][ch]);
+            LG_TEST_CHECK(t, n[0] > 200 && n[1] > 100 && dev < 2e-3,
+                          "%s: the normal-mapped quad's envmap departs from the tilted quad's by "
+                          "%.3g (relative; %llu and %llu pixels)",
+                          BACKENDS[b], dev, (unsigned long long)n[0], (unsigned long long)n[1]);
+            LG_TEST_CHECK(t, flat > 0.02, "%s: the tilt changes the envmap by only %.3g",
+                          BACKENDS[b], flat);
+        }
+        for (int k = 0; k < 3; k++)
+            lg_image_free(&img[k]);
+    }
+}
+
+/* A base colour texture index out of range (7 of one texture) on a metal: read as no
+ * texture, the image equal bit for bit to the untextured metal's, every backend. */
+static void case_tex_bad_index(lg_test *t)
+{
+    const float c[3] = { 1, 2, 4 };
+    lg_image pimg = constant_image(16, 8, c);
+    lg_test_write_exr(t, "probe.exr", &pimg);
+    lg_image_free(&pimg);
+    for (int b = 0; b < 3; b++) {
+        char g[2048];
+        snprintf(g, sizeof g,
+                 "lightgraph 1\n"
+                 "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                 "s0 = test_ibl_scene { layout = quad, texture = bad_index, metallic = 1, "
+                 "reflectivity = [1, 0.5, 0.25] }\n"
+                 "s1 = test_ibl_scene { layout = quad, metallic = 1, "
+                 "reflectivity = [1, 0.5, 0.25] }\n"
+                 "e0 = environment { scene = s0, probe = sky }\n"
+                 "e1 = environment { scene = s1, probe = sky }\n"
+                 "r0 = reflect { scene = e0, probe = sky, backend = %s }\n"
+                 "r1 = reflect { scene = e1, probe = sky, backend = %s }\n"
+                 "output r0 \"r0.exr\"\noutput r1 \"r1.exr\"\n",
+                 BACKENDS[b], BACKENDS[b]);
+        const char *outs[] = { "r0.exr", "r1.exr" };
+        lg_image img[2] = { { 0 } };
+        if (render_tex(t, BACKENDS[b], g, outs, img, 2)) {
+            uint64_t off = 0, covered = 0;
+            for (size_t i = 0; i < 48 * 36 * 4; i++)
+                off += img[0].pixels[i] != img[1].pixels[i];
+            for (size_t i = 0; i < 48 * 36; i++)
+                covered += img[1].pixels[4 * i] != 0;
+            LG_TEST_CHECK(t, off == 0 && covered > 200,
+                          "%s: %llu values differ from the untextured metal's (%llu covered)",
+                          BACKENDS[b], (unsigned long long)off, (unsigned long long)covered);
+            CHECK_FINITE(t, &img[0], BACKENDS[b]);
+        }
+        for (int k = 0; k < 2; k++)
+            lg_image_free(&img[k]);
+    }
+}
+
 /* ---- gating ---------------------------------------------------------------------------------- */
 
 static void case_gating(lg_test *t)
@@ -1550,6 +1864,11 @@ int main(int argc, char **argv)
         { "base", case_base },
         { "base_rgbe8", case_base_rgbe8 },
         { "base_rgbe8_extremes", case_base_rgbe8_extremes },
+        { "tex_roughness", case_tex_roughness },
+        { "tex_metal", case_tex_metal },
+        { "tex_mask", case_tex_mask },
+        { "tex_normal", case_tex_normal },
+        { "tex_bad_index", case_tex_bad_index },
         { "glossy", case_glossy },
         { "glossy_backends", case_glossy_backends },
         { "cache_said", case_cache_said },
