@@ -79,19 +79,20 @@ typedef struct ibl_state {
 
     /* GL: the G-buffer pass and its images, the shading pass */
     lg_gl_pass *gpass, *spass;
-    lg_gl_uniform g_view_proj, g_material;
+    lg_gl_uniform g_view_proj, g_material, g_f0_rough, g_f0_dielectric, g_f0_metal;
+    lg_gl_material_binds g_mat; /* the material's textures (shaders/common/material.glsl) */
     lg_gl_binding s_params;
-    lg_gl_binding s_gbuf, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats, s_clamped,
-        s_chain, s_dfg;
-    lg_gl_texture gbuf_tex, gdepth_tex;
+    lg_gl_binding s_gbuf, s_gbuf2, s_gdepth, s_base, s_base_depth, s_probe2d, s_probecube, s_mats,
+        s_clamped, s_chain, s_dfg;
+    lg_gl_texture gbuf_tex, gbuf2_tex, gdepth_tex;
     lg_gl_buffer mats_buf, clamp_buf;
 
     /* CL */
     lg_cl_pass *kernel;
-    lg_cl_buffer cl_gbuf, cl_gdepth, cl_mats, cl_clamped;
+    lg_cl_buffer cl_gbuf, cl_gbuf2, cl_gdepth, cl_mats, cl_clamped;
 
     /* CPU copies of the G-buffer (cpu and cl backends) */
-    float *gbuf, *gdepth;
+    float *gbuf, *gbuf2, *gdepth;
 } ibl_state;
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
@@ -168,15 +169,15 @@ static int ibl_prepare(lg_node *n)
     if (base) {
         if (lg_describe(base, &info, n) != 0 || info.kind != LG_KIND_IMAGE)
             return lg_error(n, "input 'base' is not an image");
-        if (!info.neutral && (info.image.format != LG_FORMAT_RGBA32F ||
-                              (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
+        /* rgbe8 is decoded per pixel on every backend (alpha 1), so that a chain of ibl
+         * nodes can stay in RGBE8 as seed 0's buffers do */
+        if (!info.neutral &&
+            ((info.image.format != LG_FORMAT_RGBA32F && info.image.format != LG_FORMAT_RGBE8) ||
+             (info.image.flags & (LG_IMAGE_CUBE | LG_IMAGE_DEPTH_ONLY))))
             return lg_error(n,
-                            "input 'base' must be a 2D rgba32f image (it is %s%s); convert "
-                            "it first",
-                            info.image.format == LG_FORMAT_RGBA16F ? "rgba16f"
-                            : info.image.format == LG_FORMAT_RGBE8 ? "rgbe8"
-                            : info.image.format == LG_FORMAT_RGBA8 ? "rgba8"
-                                                                   : "rgba32f",
+                            "input 'base' must be a 2D rgba32f or rgbe8 image (it is %s%s); "
+                            "convert it first",
+                            lg_format_name(info.image.format),
                             info.image.flags & LG_IMAGE_CUBE ? ", a cube" : "");
         if (!info.neutral && (info.image.width != st->width || info.image.height != st->height))
             return lg_error(n,
@@ -206,6 +207,7 @@ typedef struct ibl_frame {
     lg_probe probe_view;
     const lg_probe *probe;
     const lg_resource *base; /* NULL, or a non-neutral base image */
+    bool base_rgbe;          /* base is rgbe8 (decoded per pixel, alpha 1), else rgba32f */
     bool geometry;           /* the scene has triangles: the G-buffer pass runs */
     float *mats;             /* 8 floats per material: F0 rgb, roughness; double-sided */
     uint32_t n_mats;
@@ -273,8 +275,10 @@ static int ibl_frame_in(lg_node *n, ibl_state *st, ibl_frame *f)
                            "layout without a cube image, or the reverse)");
     const lg_resource *b = lg_input(n, IN_BASE);
     lg_resource_info bi;
-    if (b && lg_describe(b, &bi, n) == 0 && !bi.neutral)
+    if (b && lg_describe(b, &bi, n) == 0 && !bi.neutral) {
         f->base = b;
+        f->base_rgbe = bi.image.format == LG_FORMAT_RGBE8;
+    }
     f->geometry = f->s->features.triangles > 0;
     return ibl_materials(n, st, f);
 }
@@ -643,22 +647,65 @@ static int ibl_chain(lg_node *n, ibl_state *st, const ibl_frame *f)
 
 /* ---- GL: the G-buffer ------------------------------------------------------------------------ */
 
+/* Whether material `m`'s F0 follows its textures, and the two F0s it mixes per pixel: d[3]
+ * = 1 when the node reads the material's own reflectivity R (not the parameter's), the
+ * material reflects, and it has a base colour or metallic-roughness texture. The loader's
+ * R is mix(F0 dielectric, base colour, metallic) (glTF 2.0 Appendix B; plugins/scene_gltf/
+ * README.md, "Materials"), so per pixel F0 = mix(d, metal x t_rgb, metallic x t_B) with
+ * metal = the base colour factor and d = (R - b m) / (1 - m) (clamped to [0, 1]) for
+ * metallic m < 1; a pure metal (m = 1) mixes R itself, d = glTF's 0.04. Where the texels
+ * are 1 this is R again, bit for bit for a pure metal. */
+static void ibl_f0_mix(const ibl_state *st, const lg_material *m, float d[4], float metal_f0[3])
+{
+    const lg_material_maps *mm = lg_material_maps_of(m);
+    bool reflects = false;
+    for (int c = 0; c < 3; c++)
+        reflects |= isfinite(m->reflectivity[c]) && m->reflectivity[c] > 0;
+    if (st->reflectivity[0] >= 0 || !reflects ||
+        (mm->base_color.texture < 0 && mm->metallic_roughness.texture < 0))
+        return;
+    float metal = isfinite(m->metallic) ? fminf(fmaxf(m->metallic, 0.0f), 1.0f) : 0.0f;
+    for (int c = 0; c < 3; c++) {
+        float r = isfinite(m->reflectivity[c]) && m->reflectivity[c] > 0 ? m->reflectivity[c] : 0;
+        float b = isfinite(m->base_color[c]) ? fmaxf(m->base_color[c], 0.0f) : 0.0f;
+        float v = metal < 1.0f ? (r - b * metal) / (1.0f - metal) : 0.04f;
+        d[c] = isfinite(v) ? fminf(fmaxf(v, 0.0f), 1.0f) : 0.04f;
+        metal_f0[c] = metal < 1.0f ? b : r;
+    }
+    d[3] = 1.0f;
+}
+
 typedef struct ibl_draw_ctx {
     ibl_state *st;
     const lg_scene *s;
+    const ibl_frame *f;
 } ibl_draw_ctx;
 
 static int ibl_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
 {
-    (void)n;
     (void)normals;
     const ibl_draw_ctx *c = user;
-    lg_gl_set_float(c->st->gpass, c->st->g_material, (float)c->s->meshes[mi].material + 1.0f);
-    return 0;
+    ibl_state *st = c->st;
+    uint32_t m = c->s->meshes[mi].material;
+    lg_gl_set_float(st->gpass, st->g_material, (float)m + 1.0f);
+    /* the material's F0 and roughness (the table every backend reads), which the G-buffer
+     * carries per pixel; a material index out of range draws as nothing reflective */
+    static const float none[4] = { 0, 0, 0, 0 };
+    bool known = m < c->s->n_materials;
+    lg_gl_set_vec4v(st->gpass, st->g_f0_rough, known ? c->f->mats + 8 * (size_t)m : none);
+    float d[4] = { 0, 0, 0, 0 }, metal_f0[3] = { 0, 0, 0 };
+    if (known)
+        ibl_f0_mix(st, &c->s->materials[m], d, metal_f0);
+    lg_gl_set_vec4v(st->gpass, st->g_f0_dielectric, d);
+    lg_gl_set_vec3v(st->gpass, st->g_f0_metal, metal_f0);
+    /* its textures and alpha mode (none: the factors alone, the results of before) */
+    return lg_gl_pass_bind_material(st->gpass, &st->g_mat, c->f->scene_res, m, NULL);
 }
 
 /* The G-buffer at the output's size: made on the first frame, then kept (sampled nearest,
- * as lg_gl_texture makes them). */
+ * as lg_gl_texture makes them). Attachment 0: the world normal and the material index + 1;
+ * attachment 1: the pixel's F0 (rgb) and perceptual roughness, the material's factors
+ * times its textures where it has them, so that every backend reads per-pixel values. */
 static int ibl_gbuffer_images(lg_node *n, ibl_state *st)
 {
     const lg_gl_texture_desc c = {
@@ -670,6 +717,7 @@ static int ibl_gbuffer_images(lg_node *n, ibl_state *st)
                                    .height = st->height };
     int rc;
     if ((rc = lg_gl_texture_recreate(n, &st->gbuf_tex, &c)) < 0 ||
+        (rc = lg_gl_texture_recreate(n, &st->gbuf2_tex, &c)) < 0 ||
         (rc = lg_gl_texture_recreate(n, &st->gdepth_tex, &d)) < 0)
         return rc;
     return 0;
@@ -687,20 +735,25 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
         lg_gl_pass_desc d = { .name = "ibl (G-buffer)",
                               .stages = src,
                               .n_stages = 2,
-                              .colors = { GL_RGBA32F },
+                              .colors = { GL_RGBA32F, GL_RGBA32F },
                               .depth = true,
                               .depth_test = true,
                               .depth_write = true,
                               .cull = LG_GL_CULL_BACK,
-                              .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
+                              .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS |
+                                       LG_GL_SCENE_TEXCOORDS };
         if ((rc = lg_gl_pass_create(n, &d, &st->gpass)))
             return rc;
         st->g_view_proj = lg_gl_pass_uniform(st->gpass, "u_view_proj");
         st->g_material = lg_gl_pass_uniform(st->gpass, "u_material");
+        st->g_f0_rough = lg_gl_pass_uniform(st->gpass, "u_f0_rough");
+        st->g_f0_dielectric = lg_gl_pass_uniform(st->gpass, "u_f0_dielectric");
+        st->g_f0_metal = lg_gl_pass_uniform(st->gpass, "u_f0_metal");
+        lg_gl_pass_material_binds(st->gpass, &st->g_mat);
     }
     if ((rc = ibl_gbuffer_images(n, st)))
         return rc;
-    lg_gl_target t = { .color = { st->gbuf_tex.name },
+    lg_gl_target t = { .color = { st->gbuf_tex.name, st->gbuf2_tex.name },
                        .depth = st->gdepth_tex.name,
                        .width = st->width,
                        .height = st->height };
@@ -708,9 +761,10 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
         return rc;
     static const float zero[4] = { 0, 0, 0, 0 };
     lg_gl_pass_clear_color(st->gpass, 0, zero);
+    lg_gl_pass_clear_color(st->gpass, 1, zero);
     lg_gl_pass_clear_depth(st->gpass, 1.0f);
     lg_gl_set_mat4(st->gpass, st->g_view_proj, f->v.view_proj);
-    ibl_draw_ctx ctx = { st, f->s };
+    ibl_draw_ctx ctx = { st, f->s, f };
     lg_gl_scene_draw d = { .on_mesh = ibl_on_mesh, .user = &ctx };
     return lg_gl_pass_end(st->gpass, lg_gl_pass_draw_scene(st->gpass, f->scene_res, &d));
 }
@@ -730,12 +784,14 @@ static int ibl_gbuffer_cpu(lg_node *n, ibl_state *st, const ibl_frame *f)
     size_t np = (size_t)st->width * st->height;
     if (!st->gbuf) {
         st->gbuf = malloc(np * 4 * sizeof(float));
+        st->gbuf2 = malloc(np * 4 * sizeof(float));
         st->gdepth = malloc(np * sizeof(float));
-        if (!st->gbuf || !st->gdepth)
+        if (!st->gbuf || !st->gbuf2 || !st->gdepth)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (G-buffer %ux%u)", st->width,
                                  st->height);
     }
     gl->GetTextureImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16), st->gbuf);
+    gl->GetTextureImage(st->gbuf2_tex.name, 0, GL_RGBA, GL_FLOAT, (GLsizei)(np * 16), st->gbuf2);
     gl->GetTextureImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(np * 4),
                         st->gdepth);
     return lg_gl_check(n, "ibl: reading the G-buffer back");
@@ -786,6 +842,7 @@ static int ibl_gl_shade_pass(lg_node *n, ibl_state *st, const lg_gl *gl)
     lg_gl_pass *p = st->spass;
     st->s_params = lg_gl_pass_uniform_block(p, "IblShade");
     st->s_gbuf = lg_gl_pass_texture(p, "u_gbuf");
+    st->s_gbuf2 = lg_gl_pass_texture(p, "u_gbuf2");
     st->s_gdepth = lg_gl_pass_texture(p, "u_gdepth");
     st->s_base = lg_gl_pass_texture(p, "u_base");
     st->s_base_depth = lg_gl_pass_texture(p, "u_base_depth");
@@ -814,6 +871,7 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         static const float zero[4] = { 0, 0, 0, 0 };
         const float one = 1.0f;
         gl->ClearTexImage(st->gbuf_tex.name, 0, GL_RGBA, GL_FLOAT, zero);
+        gl->ClearTexImage(st->gbuf2_tex.name, 0, GL_RGBA, GL_FLOAT, zero);
         gl->ClearTexImage(st->gdepth_tex.name, 0, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
     }
     if ((rc = ibl_gl_shade_pass(n, st, gl)))
@@ -863,7 +921,9 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         .layout = (int32_t)pr->info.layout,
         .bilinear = st->sampling == IBL_BILINEAR,
         .fresnel = st->fresnel == IBL_FRESNEL_SCHLICK,
-        .has_base = base_tex != 0,
+        .has_base = base_tex == 0  ? 0
+                    : f->base_rgbe ? 2
+                                   : 1,
         .has_base_depth = base_depth != 0,
         .format = st->format,
         .chain_levels = st->chain_tex.name ? (int32_t)st->chain_levels : 0,
@@ -875,6 +935,7 @@ static int ibl_exec_gl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     if ((rc = lg_gl_pass_uniforms(p, st->s_params, &u, sizeof u)))
         return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->s_gbuf, st->gbuf_tex.name);
+    lg_gl_pass_bind_texture(p, st->s_gbuf2, st->gbuf2_tex.name);
     lg_gl_pass_bind_texture(p, st->s_gdepth, st->gdepth_tex.name);
     lg_gl_pass_bind_texture(p, st->s_base, base_tex);
     lg_gl_pass_bind_texture(p, st->s_base_depth, base_depth);
@@ -911,7 +972,8 @@ typedef struct ibl_cpu_job {
     lg_probe_image img;
     lg_probe_image chain[LG_PROBE_FILTER_MAX_LEVELS];
     uint32_t chain_levels; /* 0: no chain */
-    const float *gbuf, *gdepth, *base, *base_depth;
+    const float *gbuf, *gbuf2, *gdepth, *base, *base_depth;
+    const uint8_t *base8; /* an rgbe8 base (then base is NULL) */
     void *out;
     float *out_depth;
     uint64_t *clamped; /* per chunk */
@@ -987,8 +1049,14 @@ static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float 
     lg_vec3 V = lg_probe_safe_dir(lg_v3_sub(b, a));
     const float zero4[4] = { 0, 0, 0, 0 }, base0[4] = { 0, 0, 0, 1 };
     const float *g = j->gbuf ? j->gbuf + 4 * i : zero4;
+    const float *g2 = j->gbuf2 ? j->gbuf2 + 4 * i : zero4; /* F0, roughness */
     float gd = j->gdepth ? j->gdepth[i] : 1.0f;
     const float *bc = j->base ? j->base + 4 * i : base0;
+    float b8[4] = { 0, 0, 0, 1 };
+    if (j->base8) {
+        lg_rgbe_decode(j->base8 + 4 * i, b8);
+        bc = b8;
+    }
     float bd = j->base_depth ? j->base_depth[i] : 1.0f;
     int mat = (int)(g[3] + 0.5f) - 1;
     float look[4];
@@ -1012,8 +1080,8 @@ static void ibl_shade_pixel(const ibl_cpu_job *j, uint32_t x, uint32_t y, float 
         float ndv = lg_v3_dot(N, V);
         float cosv = fminf(fmaxf(-ndv, 0.0f), 1.0f);
         lg_vec3 L = st->mode == IBL_REFLECT ? lg_v3_sub(V, lg_v3_scale(N, 2.0f * ndv)) : N;
-        float rough = j->chain_levels >= 2 ? m[3] : 0.0f;
-        float F[3] = { m[0], m[1], m[2] };
+        float rough = j->chain_levels >= 2 ? g2[3] : 0.0f;
+        float F[3] = { g2[0], g2[1], g2[2] };
         if (st->fresnel == IBL_FRESNEL_SCHLICK) {
             if (rough > 0.0f) {
                 float ab[2];
@@ -1079,8 +1147,10 @@ static int ibl_exec_cpu(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t 
     ibl_cpu_job j = { .st = st,
                       .f = f,
                       .gbuf = f->geometry ? st->gbuf : NULL,
+                      .gbuf2 = f->geometry ? st->gbuf2 : NULL,
                       .gdepth = f->geometry ? st->gdepth : NULL,
-                      .base = bv.pixels,
+                      .base = f->base_rgbe ? NULL : bv.pixels,
+                      .base8 = f->base_rgbe ? bv.pixels : NULL,
                       .base_depth = bv.depth,
                       .out = ov.pixels,
                       .out_depth = ov.depth };
@@ -1141,6 +1211,7 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
         return rc;
     size_t np = (size_t)st->width * st->height;
     if (f->geometry && ((rc = ibl_cl_upload(n, &st->cl_gbuf, np * 16, st->gbuf)) ||
+                        (rc = ibl_cl_upload(n, &st->cl_gbuf2, np * 16, st->gbuf2)) ||
                         (rc = ibl_cl_upload(n, &st->cl_gdepth, np * 4, st->gdepth))))
         return rc;
     if ((rc = ibl_cl_upload(n, &st->cl_mats, (size_t)f->n_mats * 32, f->mats)))
@@ -1170,8 +1241,9 @@ static int ibl_exec_cl(lg_node *n, ibl_state *st, const ibl_frame *f, uint64_t *
     lg_cl_pass_arg_int(k, a++, (int32_t)st->height);
     lg_cl_pass_arg(k, a++, sizeof ivp, &ivp);
     lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gbuf.mem : NULL);
+    lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gbuf2.mem : NULL);
     lg_cl_pass_arg_mem(k, a++, f->geometry ? st->cl_gdepth.mem : NULL);
-    lg_cl_pass_arg_int(k, a++, base != NULL);
+    lg_cl_pass_arg_int(k, a++, base == NULL ? 0 : f->base_rgbe ? 2 : 1);
     lg_cl_pass_arg_mem(k, a++, base);
     lg_cl_pass_arg_int(k, a++, base_depth != NULL);
     lg_cl_pass_arg_mem(k, a++, base_depth);
@@ -1256,17 +1328,19 @@ static void ibl_destroy(lg_node *n)
     lg_gl_pass_destroy(&st->gpass);
     lg_gl_pass_destroy(&st->spass);
     lg_gl_texture_destroy(n, &st->gbuf_tex);
+    lg_gl_texture_destroy(n, &st->gbuf2_tex);
     lg_gl_texture_destroy(n, &st->gdepth_tex);
     lg_gl_buffer_destroy(n, &st->mats_buf);
     lg_gl_buffer_destroy(n, &st->clamp_buf);
     lg_gl_texture_destroy(n, &st->chain_tex);
     lg_gl_buffer_destroy(n, &st->dfg_buf);
     lg_cl_pass_destroy(&st->kernel);
-    lg_cl_buffer *m[6] = { &st->cl_gbuf,    &st->cl_gdepth, &st->cl_mats,
-                           &st->cl_clamped, &st->cl_chain,  &st->cl_dfg };
-    for (int i = 0; i < 6; i++)
+    lg_cl_buffer *m[7] = { &st->cl_gbuf,    &st->cl_gbuf2, &st->cl_gdepth, &st->cl_mats,
+                           &st->cl_clamped, &st->cl_chain, &st->cl_dfg };
+    for (int i = 0; i < 7; i++)
         lg_cl_buffer_destroy(n, m[i]);
     free(st->gbuf);
+    free(st->gbuf2);
     free(st->gdepth);
     free(st->chain);
     free(st);

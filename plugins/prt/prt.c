@@ -70,6 +70,7 @@ typedef struct prt_state {
     lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
     lg_gl_binding r_vertices, f_reflect;
+    lg_gl_material_binds r_mat; /* the base colour texture (shaders/common/material.glsl) */
     lg_gl_buffer light_buf;
 
     /* CL */
@@ -475,15 +476,19 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
 
 typedef struct prt_draw_ctx {
     prt_state *st;
+    const prt_frame *f;
 } prt_draw_ctx;
 
 static int prt_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
 {
     (void)n;
     (void)normals;
-    prt_state *st = ((prt_draw_ctx *)user)->st;
+    const prt_draw_ctx *c = user;
+    prt_state *st = c->st;
     lg_gl_set_int(st->raster, st->r_offset, (int32_t)st->offsets[mi]);
-    return 0;
+    /* the base colour texture and alpha mode: the per-pixel multiply (README, "Textures") */
+    return lg_gl_pass_bind_material(st->raster, &st->r_mat, c->f->scene_res,
+                                    c->f->s->meshes[mi].material, NULL);
 }
 
 static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
@@ -505,12 +510,13 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
                               .depth_test = true,
                               .depth_write = true,
                               .cull = LG_GL_CULL_BACK,
-                              .scene = LG_GL_SCENE_POSITIONS };
+                              .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_TEXCOORDS };
         if ((rc = lg_gl_pass_create(n, &d, &st->raster)))
             return rc;
         st->r_view_proj = lg_gl_pass_uniform(st->raster, "u_view_proj");
         st->r_offset = lg_gl_pass_uniform(st->raster, "u_offset");
         st->r_vertices = lg_gl_pass_texture(st->raster, "u_vertices");
+        lg_gl_pass_material_binds(st->raster, &st->r_mat);
     }
     lg_scene_view v;
     if ((rc = lg_scene_view_make(n, f->s, st->camera, st->width, st->height, &v)))
@@ -530,7 +536,7 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
     if (f->s->features.triangles > 0) {
         lg_gl_set_mat4(st->raster, st->r_view_proj, v.view_proj);
         lg_gl_pass_bind_texture(st->raster, st->r_vertices, vtex);
-        prt_draw_ctx ctx = { st };
+        prt_draw_ctx ctx = { st, f };
         lg_gl_scene_draw d = { .on_mesh = prt_on_mesh, .user = &ctx };
         rc = lg_gl_pass_draw_scene(st->raster, f->scene_res, &d);
     }

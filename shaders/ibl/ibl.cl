@@ -95,7 +95,8 @@ inline float4 ibl_mul(const float16 m, float4 v)
 }
 
 kernel void ibl_shade(int mode, int width, int height, float16 inv_view_proj,
-                      global const float4 *gbuf, global const float *gdepth,
+                      global const float4 *gbuf, global const float4 *gbuf2,
+                      global const float *gdepth,
                       int has_base, global const float4 *base, int has_base_depth,
                       global const float *base_depth, global const float4 *mats,
                       global const float4 *probe, int layout, int pw, int ph, int bilinear,
@@ -115,8 +116,12 @@ kernel void ibl_shade(int mode, int width, int height, float16 inv_view_proj,
     float3 V = lg_probe_safe_dir(b.xyz / b.w - a.xyz / a.w);
 
     float4 g = gbuf ? gbuf[i] : (float4)(0.0f);
+    float4 g2 = gbuf2 ? gbuf2[i] : (float4)(0.0f); // the pixel's F0 and roughness
     float gd = gdepth ? gdepth[i] : 1.0f;
-    float4 bc = has_base ? base[i] : (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+    // has_base 2: an rgbe8 base, four bytes a pixel (decoded, alpha 1)
+    float4 bc = has_base == 1   ? base[i]
+                : has_base == 2 ? (float4)(lg_rgbe_decode(((global const uchar4 *)base)[i]), 1.0f)
+                                : (float4)(0.0f, 0.0f, 0.0f, 1.0f);
     float bd = has_base_depth ? base_depth[i] : 1.0f;
     int mat = (int)(g.w + 0.5f) - 1;
 
@@ -131,13 +136,13 @@ kernel void ibl_shade(int mode, int width, int height, float16 inv_view_proj,
         c = bc;
         depth = bd;
     } else {
-        float4 m0 = mats[2 * mat], m1 = mats[2 * mat + 1];
+        float4 m1 = mats[2 * mat + 1];
         float3 N = ibl_normal(g.xyz, V, m1.x != 0.0f);
         float ndv = dot(N, V);
         float cosv = clamp(-ndv, 0.0f, 1.0f);
         float3 L = mode == IBL_REFLECT ? V - 2.0f * ndv * N : N;
-        float rough = chain_levels >= 2 ? m0.w : 0.0f;
-        float3 F = m0.xyz;
+        float rough = chain_levels >= 2 ? g2.w : 0.0f;
+        float3 F = g2.xyz;
         if (fresnel) {
             if (rough > 0.0f) {
                 float2 ab = ibl_dfg(dfg, dfg_size, cosv, rough);

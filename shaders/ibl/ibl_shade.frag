@@ -14,14 +14,16 @@
 #define IBL_RGBE8 2
 
 layout(binding = 0) uniform sampler2D u_gbuf;       // world normal, material + 1
+layout(binding = 7) uniform sampler2D u_gbuf2;      // the pixel's F0 (rgb), roughness
 layout(binding = 1) uniform sampler2D u_gdepth;     // window depth, 1 = nothing
-layout(binding = 2) uniform sampler2D u_base;       // the base image (rgba32f)
+layout(binding = 2) uniform sampler2D u_base;       // the base image (rgba32f, or rgbe8)
 layout(binding = 3) uniform sampler2D u_base_depth; // its depth plane
 layout(binding = 4) uniform sampler2D u_probe2d;    // lat-long or angular radiance
 layout(binding = 5) uniform samplerCube u_probecube;
 layout(binding = 6) uniform samplerCube u_chain;    // the GGX chain (GL_LINEAR_MIPMAP_LINEAR)
 
-// two vec4 per material: (F0 rgb, roughness), (double-sided, 0, 0, 0)
+// two vec4 per material: (F0 rgb, roughness), (double-sided, 0, 0, 0); the pixel's own F0
+// and roughness (the factors times the material's textures) come from u_gbuf2
 layout(std430, binding = 1) readonly buffer Materials { vec4 mats[]; };
 // pixels whose colour an rgba16f store clamped
 layout(std430, binding = 2) buffer Clamped { uint clamped; };
@@ -40,7 +42,7 @@ layout(std140, binding = 0) uniform IblShade {
     int u_layout;
     int u_bilinear;
     int u_fresnel;
-    int u_has_base;
+    int u_has_base;         // 0: none; 1: rgba32f; 2: rgbe8 (RGBA8 bytes, decoded, alpha 1)
     int u_has_base_depth;
     int u_format;
     int u_chain_levels;     // 0: no chain (every material a mirror)
@@ -123,7 +125,11 @@ void main()
 
     vec4 g = texelFetch(u_gbuf, p, 0);
     float gd = texelFetch(u_gdepth, p, 0).r;
-    vec4 base = u_has_base != 0 ? texelFetch(u_base, p, 0) : vec4(0.0, 0.0, 0.0, 1.0);
+    vec4 base = vec4(0.0, 0.0, 0.0, 1.0);
+    if (u_has_base == 1)
+        base = texelFetch(u_base, p, 0);
+    else if (u_has_base == 2)
+        base = vec4(lg_rgbe_decode_unorm(texelFetch(u_base, p, 0)), 1.0);
     float bd = u_has_base_depth != 0 ? texelFetch(u_base_depth, p, 0).r : 1.0;
     int mat = int(g.a + 0.5) - 1;
 
@@ -137,7 +143,7 @@ void main()
         c = base;
         depth = bd;
     } else {
-        vec4 m0 = mats[2 * mat], m1 = mats[2 * mat + 1];
+        vec4 m1 = mats[2 * mat + 1], m0 = texelFetch(u_gbuf2, p, 0);
         vec3 N = ibl_normal(g.xyz, V, m1.x != 0.0);
         float ndv = dot(N, V);
         float cosv = clamp(-ndv, 0.0, 1.0);

@@ -12,6 +12,10 @@
  *          (instances at x = -1 and x = +1): 81 + 91 = 172 vertices, three instances
  *   quad   one square of edge 2 (4 vertices) in z = 0 facing +Z
  * One camera at (0, 0, 5) looking at the origin, 40 degrees vertical field of view.
+ * Textures (`texture`, quad only; TEXCOORD_0 (u, v) over [0, 1]^2 from the top-left corner
+ * as the camera sees it, nearest, clamped; testtextures.h): halves, a 2x1 base colour
+ * texture (255, 255, 255) left and (255, 128, 32) right; mask, 2x2 white with alpha 0 in
+ * the top-left texel, alpha MASK at 0.5.
  *
  * Lighting (mode): random (prt_testdata.h, `seed`), or delta: a unit delta light along
  * `dir` of colour `color`, coefficient i = color_c Y_i(dir) (lightgraph/sh.h).
@@ -33,9 +37,11 @@
 #include "lightgraph/vecmath.h"
 
 #include "common/testscene.h"
+#include "common/testtextures.h"
 #include "prt_testdata.h"
 
 enum { TP_MIXED = 0, TP_QUAD };
+enum { TP_TEX_NONE = 0, TP_TEX_HALVES, TP_TEX_MASK };
 enum { TP_GRID_N = 9, TP_SEG = 12 };
 /* the mixed scene's vertex count: the grid, then the sphere */
 #define TP_MIXED_VERTICES (TP_GRID_N * TP_GRID_N + (TP_SEG + 1) * (TP_SEG / 2 + 1))
@@ -78,7 +84,31 @@ static int tp_scene_prepare(lg_node *n)
             model[12] = (float)s;
             lg_ts_instance(b, 1, model);
         }
-    return lg_ts_publish(n, 0, b);
+    int texture = lg_param_enum(n, "texture");
+    if (texture == TP_TEX_NONE)
+        return lg_ts_publish(n, 0, b);
+    if (layout != TP_QUAD) {
+        lg_ts_abandon(b);
+        return lg_error(n, "texture: only the quad layout has textures");
+    }
+    lg_tt_scene *t = lg_tt_wrap(lg_ts_finish(b));
+    if (!t)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    const float origin[3] = { -1, 1, 0 }, du[3] = { 0.5f, 0, 0 }, dv[3] = { 0, -0.5f, 0 };
+    static const uint8_t halves[8] = { 255, 255, 255, 255, 255, 128, 32, 255 };
+    static const uint8_t mask[16] = { 255, 255, 255, 0,   255, 255, 255, 255,
+                                      255, 255, 255, 255, 255, 255, 255, 255 };
+    uint32_t img = texture == TP_TEX_HALVES ? lg_tt_image(t, "halves", 2, 1, halves)
+                                            : lg_tt_image(t, "mask", 2, 2, mask);
+    lg_material_maps *mm = lg_tt_maps(t, 0);
+    mm->base_color.texture = lg_tt_texture(t, img, LG_TEX_NEAREST, LG_TEX_CLAMP_TO_EDGE);
+    if (texture == TP_TEX_MASK)
+        mm->alpha_mode = LG_ALPHA_MASK;
+    if (img == UINT32_MAX || !lg_tt_planar_uv(t, 0, origin, du, dv)) {
+        lg_tt_free(t);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
+    }
+    return lg_tt_publish(n, 0, t);
 }
 
 static int tp_nothing(lg_node *n, const lg_frame *frame)
@@ -194,6 +224,7 @@ static int tp_tr_execute(lg_node *n, const lg_frame *frame)
 /* ---- descriptors ----------------------------------------------------------------------------- */
 
 static const char *const tp_layouts[] = { "mixed", "quad", NULL };
+static const char *const tp_textures[] = { "none", "halves", "mask", NULL };
 static const char *const tp_sh_modes[] = { "random", "delta", NULL };
 static const char *const tp_tr_modes[] = { "random", "constant", "normal", NULL };
 
@@ -203,6 +234,11 @@ static const lg_param_desc tp_scene_params[] = {
       .def.e = TP_MIXED,
       .enum_values = tp_layouts,
       .doc = "mixed or quad (testprtinputs.c)" },
+    { .key = "texture",
+      .type = LG_PARAM_ENUM,
+      .def.e = TP_TEX_NONE,
+      .enum_values = tp_textures,
+      .doc = "none, halves or mask: the quad's base colour texture (testprtinputs.c)" },
 };
 static const lg_param_desc tp_sh_params[] = {
     { .key = "bands", .type = LG_PARAM_INT, .def.i = 3, .min = 1, .max = 64, .doc = "" },
