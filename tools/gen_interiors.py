@@ -290,6 +290,22 @@ def classroom(d, o, g):
                                             m_board)], o)
     d.node({"name": "blackboard", "mesh": board})
 
+    # the shell's thickness: slabs of 0.25 m behind the walls and above the ceiling (1 mm
+    # outside the visible surfaces), so that the sun reaches the room only through the
+    # windows; zero-thickness walls would let a shadow map's bias leak light along them
+    t, e = 0.25, 0.001
+    cube_wall = d.mesh("wall_box", [make_cube(m_wall)], o)
+    shell = [((-t, -e, -t), (W + t, H + e + t, -e)),            # front
+             ((-t, -e, D + e), (W + t, H + e + t, D + t)),      # back
+             ((W + e, -e, -t), (W + t, H + e + t, D + t)),      # right
+             ((-t, H + e, -t), (W + t, H + t, D + t)),          # ceiling
+             ((-t, -e, -t), (-e, SILL, D + t)),                 # window wall, below the sills
+             ((-t, LINTEL, -t), (-e, H + e + t, D + t))]        # and above the lintels
+    for k in range(0, len(edges), 2):
+        shell.append(((-t, SILL, edges[k]), (-e, LINTEL, edges[k + 1])))
+    for k, (lo, hi) in enumerate(shell):
+        box_node(d, "shell_%d" % k, cube_wall, lo, hi)
+
     cube_wood = d.mesh("wood_box", [make_cube(m_wood)], o)
     cube_metal = d.mesh("metal_box", [make_cube(m_metal)], o)
     cube_chair = d.mesh("chair_box", [make_cube(m_chair)], o)

@@ -54,7 +54,7 @@ Geometry options
 
 Interiors
   --slats N              classroom: slats per window (default 24, 1 .. 400)
-  --slat-tilt DEG        classroom: the slats' tilt about their long axis (default 30, in
+  --slat-tilt DEG        classroom: the slats' tilt about their long axis (default -20, in
                          [-90, 90]; 0 = horizontal, open)
   --slat-thickness M     classroom: slat thickness in metres (default 0.003, in (0, 0.05])
   --detail D             courtyard: scales the triangle count (default 1, in (0, 4])
@@ -565,7 +565,7 @@ def parse_args(argv):
     o.size = 2.0 if o.size is None else o.size
     o.triangles = 600000 if o.triangles is None else o.triangles
     o.slats = 24 if o.slats is None else o.slats
-    o.slat_tilt = 30.0 if o.slat_tilt is None else o.slat_tilt
+    o.slat_tilt = -20.0 if o.slat_tilt is None else o.slat_tilt
     o.slat_thickness = 0.003 if o.slat_thickness is None else o.slat_thickness
     o.detail = 1.0 if o.detail is None else o.detail
 
