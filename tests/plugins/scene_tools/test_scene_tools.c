@@ -650,6 +650,26 @@ static void case_spot(lg_test *t)
     LG_TEST_CHECK(t, features_say(o, "s2", "lights: 0 directional, 0 point, 2 other"),
                   "s2 features: %s", o);
     free(out);
+
+    /* the volumetric nodes read directional lights only (issue 25 brings spot lights to
+     * them): a scene whose only light is a spot gates them */
+    const char *gv = "lightgraph 1\n"
+                     "cube = test_cube {}\n"
+                     "sp = light { scene = cube, type = spot, position = [0, 3, 0] }\n"
+                     "fog = medium { scene = sp, density = 0.5 }\n"
+                     "lit = phong { scene = fog }\n"
+                     "vol = volumetric_froxel { scene = fog, base = lit, width = 8, height = 8, "
+                     "depth = 4 }\n"
+                     "output vol \"vol.exr\"\n";
+    out = NULL;
+    int rc = render_text(t, gv, explain, &out);
+    o = out ? out : "";
+    LG_TEST_CHECK(t,
+                  rc == 0 && !strcmp(state_of(o, "vol"), "gated") &&
+                      strstr(o, "no directional light"),
+                  "volumetric_froxel on a spot-lit scene: exit %d, state '%s': %s", rc,
+                  state_of(o, "vol"), o);
+    free(out);
 }
 
 static void case_medium(lg_test *t)
