@@ -312,17 +312,23 @@ def classroom(d, o, g):
     cube_slat = d.mesh("slat", [make_cube(m_slat)], o)
 
     def desk(name, x, z, w=1.2, dz=0.6):
-        box_node(d, name + "_top", cube_wood, (x - w / 2, 0.72, z - dz / 2), (x + w / 2, 0.75, z + dz / 2))
+        box_node(d, name + "_top", cube_wood, (x - w / 2, 0.72, z - dz / 2),
+                 (x + w / 2, 0.75, z + dz / 2))
         for k, (sx, sz) in enumerate(((-1, -1), (1, -1), (1, 1), (-1, 1))):
             lx, lz = x + sx * (w / 2 - 0.05), z + sz * (dz / 2 - 0.05)
-            box_node(d, "%s_leg%d" % (name, k), cube_metal, (lx - 0.02, 0, lz - 0.02), (lx + 0.02, 0.72, lz + 0.02))
+            box_node(d, "%s_leg%d" % (name, k), cube_metal, (lx - 0.02, 0, lz - 0.02),
+                     (lx + 0.02, 0.72, lz + 0.02))
 
     def chair(name, x, z):
-        box_node(d, name + "_seat", cube_wood, (x - 0.21, 0.43, z - 0.21), (x + 0.21, 0.46, z + 0.21))
-        box_node(d, name + "_back", cube_chair, (x - 0.21, 0.6, z + 0.19), (x + 0.21, 0.9, z + 0.22))
+        box_node(d, name + "_seat", cube_wood, (x - 0.21, 0.43, z - 0.21),
+                 (x + 0.21, 0.46, z + 0.21))
+        box_node(d, name + "_back", cube_chair, (x - 0.21, 0.6, z + 0.19),
+                 (x + 0.21, 0.9, z + 0.22))
         for k, (sx, sz) in enumerate(((-1, -1), (1, -1), (1, 1), (-1, 1))):
             lx, lz = x + sx * 0.18, z + sz * 0.18
-            box_node(d, "%s_leg%d" % (name, k), cube_metal, (lx - 0.015, 0, lz - 0.015), (lx + 0.015, 0.43 if sz < 0 else 0.9, lz + 0.015))
+            # the back legs carry the backrest
+            box_node(d, "%s_leg%d" % (name, k), cube_metal, (lx - 0.015, 0, lz - 0.015),
+                     (lx + 0.015, 0.43 if sz < 0 else 0.9, lz + 0.015))
 
     n_desks = 0
     for r, z in enumerate((3.0, 4.6, 6.2, 7.8)):
@@ -415,11 +421,13 @@ def courtyard(d, o, g):
         for side in range(4):
             for i in range(n_cols):
                 t = -HALF + i * BAY  # each side owns its first corner
-                # side 0: z = -HALF, x = t; 1: x = HALF, z = t; 2: z = HALF, x = -t; 3: x = -HALF, z = -t
+                # side 0: z = -HALF, x = t; 1: x = HALF, z = t; 2: z = HALF, x = -t;
+                # 3: x = -HALF, z = -t
                 x, z = ((t, -HALF), (HALF, t), (-t, HALF), (-HALF, -t))[side]
                 name = "col_%d_%d_%d" % (s, side, i)
                 d.node({"name": name, "mesh": column, "translation": [x, y0, z]})
-                box_node(d, name + "_base", capital, (x - 0.3, y0, z - 0.3), (x + 0.3, y0 + 0.15, z + 0.3))
+                box_node(d, name + "_base", capital, (x - 0.3, y0, z - 0.3),
+                         (x + 0.3, y0 + 0.15, z + 0.3))
                 box_node(d, name + "_cap", capital, (x - 0.3, y0 + COL_H - 0.15, z - 0.3),
                          (x + 0.3, y0 + COL_H, z + 0.3))
                 n_columns += 1

@@ -39,8 +39,9 @@ KIND
              rounded. The real count is printed.
 
 Options that shape one kind (--rings, --segments, --level, --tube, --size, --triangles,
---instances, --slats, --slat-tilt, --slat-thickness, --detail) are an error for the others. One mesh holds at most 1,048,576 vertices
-(pure Python): larger counts come from `grid`, which instances one mesh.
+--instances, --slats, --slat-tilt, --slat-thickness, --detail) are an error for the others.
+One mesh holds at most 1,048,576 vertices (pure Python): larger counts come from `grid`,
+which instances one mesh.
 
 Geometry options
   --no-normals           omit NORMAL (the loader computes them)

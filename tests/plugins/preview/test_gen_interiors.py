@@ -141,7 +141,8 @@ def main():
               "spot 1 defaults %s" % s1)
         n, d = spot_node_dir(g, 0)
         check(n is not None and n["translation"] == [1, 2, 3], "spot 0 position")
-        check(d is not None and T.dot(d, T.unit((0, -2, 1))) > 1 - 1e-9, "spot 0 direction %s" % (d,))
+        check(d is not None and T.dot(d, T.unit((0, -2, 1))) > 1 - 1e-9,
+              "spot 0 direction %s" % (d,))
 
         # ---- classroom
         p, out = T.gen(tmp, "classroom.glb", "classroom", "--slats", "10", "--slat-tilt", "45",

@@ -297,7 +297,8 @@ def classroom_study(ctx):
         % (scene_path, z_limit.group(1), os.path.join(ref_dir, "reference.exr"))))
     sid = "classroom_blinds_gl"
     graph = ctx.write("classroom/%s.lgraph" % sid, 'lightgraph 1\ninclude "%s"\n%s\n'
-                      'output vol.inscatter "%s"\n' % (scene_path, vol, os.path.join(d, sid + ".exr")))
+                      'output vol.inscatter "%s"\n'
+                      % (scene_path, vol, os.path.join(d, sid + ".exr")))
     spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph, "time_node": "vol",
             "size": size, "sets": ["vol.per_frame=true", "vol.backend=gl"],
             "vary": [("vol.grid", QUICK_GRIDS if ctx.quick else CLASSROOM_GRIDS)],
