@@ -16,7 +16,7 @@ PKGS="meson ninja-build pkg-config gcc g++ python3 python3-glad
 libosmesa6-dev libegl-dev libegl1-mesa-dev libglfw3-dev
 ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
 libopenexr-dev libpng-dev glslang-tools gnuplot-nox pfstools pfstmo
-libtinygltf-dev libdraco-dev nlohmann-json3-dev libembree-dev xvfb abigail-tools
+libtinygltf-dev libdraco-dev nlohmann-json3-dev libjpeg62-turbo-dev libembree-dev xvfb abigail-tools
 clang-format"
 FUZZ_PKGS="clang libclang-rt-dev"
 case "${1:-}" in

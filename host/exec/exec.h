@@ -149,6 +149,7 @@ typedef struct lg_attached {
     size_t size;
     uint32_t gl;
     void *cl;
+    bool texture; /* gl is a texture (payload_gl_texture), slots apart from the buffers' */
 } lg_attached;
 
 /* A resource's copies on the devices, and which are current (resource.c). */
@@ -226,6 +227,10 @@ int lg_resource_payload_gl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *
                            const void *data, size_t size, uint32_t *name);
 int lg_resource_payload_cl(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r, uint32_t slot,
                            const void *data, size_t size, void **mem);
+/* A GL texture (full mip chain) of an RGBA8 image of a payload (payload_gl_texture). */
+int lg_resource_payload_gl_texture(struct lg_exec *ex, struct lg_pnode *n, lg_resource *r,
+                                   uint32_t slot, const void *rgba8, uint32_t width,
+                                   uint32_t height, uint32_t internal_format, uint32_t *name);
 /* RGBA float copy of an image resource (for output files). Caller frees. */
 int lg_resource_to_rgba32f(struct lg_exec *ex, lg_resource *r, float **out, char *err,
                            size_t errlen);

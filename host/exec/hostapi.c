@@ -581,6 +581,17 @@ static int api_payload_gl_buffer(lg_node *n, const lg_resource *r, uint32_t slot
     return lg_resource_payload_gl(P(n)->ex, P(n), (lg_resource *)r, slot, data, size, buffer);
 }
 
+static int api_payload_gl_texture(lg_node *n, const lg_resource *r, uint32_t slot,
+                                  const void *rgba8, uint32_t width, uint32_t height,
+                                  uint32_t internal_format, uint32_t *texture)
+{
+    if (!r || !texture || !rgba8)
+        return lg_node_errorf(P(n), "payload_gl_texture: NULL resource, pixels or result"),
+               LG_ERR_INVALID;
+    return lg_resource_payload_gl_texture(P(n)->ex, P(n), (lg_resource *)r, slot, rgba8, width,
+                                          height, internal_format, texture);
+}
+
 static int api_payload_cl_buffer(lg_node *n, const lg_resource *r, uint32_t slot, const void *data,
                                  size_t size, void **mem)
 {
@@ -870,6 +881,7 @@ void lg_host_api_init(lg_host_api *a)
     a->render_size = api_render_size;
     a->payload_gl_buffer = api_payload_gl_buffer;
     a->payload_cl_buffer = api_payload_cl_buffer;
+    a->payload_gl_texture = api_payload_gl_texture;
     a->declare_composite = api_declare_composite;
     a->part = api_part;
     a->cpu_workers = api_cpu_workers;

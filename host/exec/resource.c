@@ -94,8 +94,13 @@ void lg_resource_unref(lg_exec *ex, lg_resource *r)
         }
     }
     for (uint32_t i = 0; i < r->payload.n_attached; i++) {
-        if (r->payload.attached[i].gl && ex->dev.gl)
-            lg_gl_device_table(ex->dev.gl)->DeleteBuffers(1, &r->payload.attached[i].gl);
+        if (r->payload.attached[i].gl && ex->dev.gl) {
+            const GladGLContext *gl = lg_gl_device_table(ex->dev.gl);
+            if (r->payload.attached[i].texture)
+                gl->DeleteTextures(1, &r->payload.attached[i].gl);
+            else
+                gl->DeleteBuffers(1, &r->payload.attached[i].gl);
+        }
         if (r->payload.attached[i].cl)
             clReleaseMemObject((cl_mem)r->payload.attached[i].cl);
     }
@@ -508,7 +513,7 @@ int lg_resource_map_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, unsigned access
 /* ---- GPU copies of payload arrays ------------------------------------------------------------ */
 
 static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, size_t size,
-                                  const void *data)
+                                  const void *data, bool texture)
 {
     if (!r->payload.data || r->kind == LG_KIND_IMAGE || r->kind == LG_KIND_BUFFER ||
         r->kind == LG_KIND_VOLUME) {
@@ -520,7 +525,7 @@ static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, si
         return NULL;
     }
     for (uint32_t i = 0; i < r->payload.n_attached; i++)
-        if (r->payload.attached[i].slot == slot) {
+        if (r->payload.attached[i].slot == slot && r->payload.attached[i].texture == texture) {
             if (r->payload.attached[i].size != size) {
                 lg_node_errorf(n,
                                "payload slot %u was %zu bytes, now %zu: payloads are "
@@ -536,6 +541,7 @@ static lg_attached *attached_slot(lg_pnode *n, lg_resource *r, uint32_t slot, si
     memset(a, 0, sizeof *a);
     a->slot = slot;
     a->size = size;
+    a->texture = texture;
     return a;
 }
 
@@ -546,7 +552,7 @@ int lg_resource_payload_gl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t sl
     int rc = lg_exec_need_gl(ex, n);
     if (rc)
         return rc;
-    lg_attached *a = attached_slot(n, r, slot, size, data);
+    lg_attached *a = attached_slot(n, r, slot, size, data, false);
     if (!a)
         return LG_ERR_INVALID;
     if (!a->gl) {
@@ -569,7 +575,7 @@ int lg_resource_payload_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t sl
     int rc = lg_exec_need_cl(ex, n);
     if (rc)
         return rc;
-    lg_attached *a = attached_slot(n, r, slot, size, data);
+    lg_attached *a = attached_slot(n, r, slot, size, data, false);
     if (!a)
         return LG_ERR_INVALID;
     if (!a->cl) {
@@ -586,6 +592,71 @@ int lg_resource_payload_cl(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t sl
         n->prof.bytes_moved += size;
     }
     *mem = a->cl;
+    return 0;
+}
+
+/* A scene image as a GL texture: immutable storage with the full mip chain (levels down to
+ * 1x1), level 0 from `rgba8` (rows top to bottom: row 0 at t = 0, so glTF's (u, v) are the
+ * texture's (s, t) as they are), the others made by glGenerateTextureMipmap (the driver's
+ * filter: on Mesa a 2x2 box, sRGB texels decoded before averaging). The texture's own
+ * parameters are glTF's defaults (trilinear, repeat); nodes sample it through sampler
+ * objects (lg_gl_pass_bind_texture_sampled). Every level's bytes count against the node. */
+int lg_resource_payload_gl_texture(lg_exec *ex, lg_pnode *n, lg_resource *r, uint32_t slot,
+                                   const void *rgba8, uint32_t width, uint32_t height,
+                                   uint32_t internal_format, uint32_t *name)
+{
+    *name = 0;
+    int rc = lg_exec_need_gl(ex, n);
+    if (rc)
+        return rc;
+    if (internal_format != GL_SRGB8_ALPHA8 && internal_format != GL_RGBA8) {
+        lg_node_errorf(n,
+                       "asks for a payload texture of internal format 0x%x (slot %u): "
+                       "GL_SRGB8_ALPHA8 or GL_RGBA8 only",
+                       internal_format, slot);
+        return LG_ERR_INVALID;
+    }
+    const GladGLContext *gl = glt(ex);
+    GLint max_size = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (width == 0 || height == 0 ||
+        (max_size > 0 && (width > (uint32_t)max_size || height > (uint32_t)max_size))) {
+        lg_node_errorf(n,
+                       "asks for a payload texture of %ux%u texels (slot %u): this GL device "
+                       "takes 1..%d per side",
+                       width, height, slot, max_size);
+        return LG_ERR_UNSUPPORTED;
+    }
+    size_t size = (size_t)width * height * 4;
+    lg_attached *a = attached_slot(n, r, slot, size, rgba8, true);
+    if (!a)
+        return LG_ERR_INVALID;
+    if (!a->gl) {
+        GLsizei levels = 1;
+        uint64_t bytes = 0;
+        for (uint32_t w = width, h = height;; levels++) {
+            bytes += (uint64_t)w * h * 4;
+            if (w == 1 && h == 1)
+                break;
+            w = w > 1 ? w / 2 : 1;
+            h = h > 1 ? h / 2 : 1;
+        }
+        gl->CreateTextures(GL_TEXTURE_2D, 1, &a->gl);
+        gl->TextureStorage2D(a->gl, levels, internal_format, (GLsizei)width, (GLsizei)height);
+        /* rows of RGBA8 are whole multiples of 4 bytes: the default unpack alignment fits */
+        gl->TextureSubImage2D(a->gl, 0, 0, 0, (GLsizei)width, (GLsizei)height, GL_RGBA,
+                              GL_UNSIGNED_BYTE, rgba8);
+        gl->GenerateTextureMipmap(a->gl);
+        gl->TextureParameteri(a->gl, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        gl->TextureParameteri(a->gl, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        gl->TextureParameteri(a->gl, GL_TEXTURE_WRAP_S, GL_REPEAT);
+        gl->TextureParameteri(a->gl, GL_TEXTURE_WRAP_T, GL_REPEAT);
+        n->prof.bytes_alloc += bytes;
+        n->prof.bytes_moved += size;
+        if ((rc = ex->api.gl_check(&n->pub, "uploading a payload texture")))
+            return rc;
+    }
+    *name = a->gl;
     return 0;
 }
 

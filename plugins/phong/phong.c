@@ -108,6 +108,7 @@ LG_GL_BLOCK_OFFSET(ph_gpu_frame, normal_offset, 140);
 typedef struct ph_uniforms {
     lg_gl_uniform id_base, ka, kd, ks, shininess, od, os, double_sided;
     lg_gl_binding frame, lights, shadows, atlas;
+    lg_gl_material_binds mat; /* the material's textures (shaders/common/material.glsl) */
 } ph_uniforms;
 
 typedef struct ph_state {
@@ -496,10 +497,12 @@ static void ph_locate(lg_gl_pass *p, ph_uniforms *u)
         lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgLights", sizeof(ph_gpu_light));
     if (u->shadows.index >= 0)
         lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgShadows", sizeof(ph_gpu_shadow));
+    lg_gl_pass_material_binds(p, &u->mat);
 }
 
 /* How many shadowed lights the per-vertex modes can carry as separate varyings here: each
- * takes two locations (front and back colour), on top of six. */
+ * takes two locations (front and back colour), on top of six and the two of the texture
+ * coordinates and tangent (ABI 3.1). */
 static int ph_sv_limit(const lg_gl *gl)
 {
     GLint a = 0, b = 0, c = 0;
@@ -509,7 +512,7 @@ static int ph_sv_limit(const lg_gl *gl)
     GLint m = a < b ? a : b;
     m = m < c ? m : c;
     int locs = m / 4 - 8; /* with a margin for built-ins */
-    int sv = locs > 6 ? (locs - 6) / 2 : 0;
+    int sv = locs > 8 ? (locs - 8) / 2 : 0;
     return sv < PH_MAX_SV ? sv : PH_MAX_SV;
 }
 
@@ -536,7 +539,8 @@ static int ph_raster_pass(lg_node *n, const ph_state *st, int shading, int sv, b
                           .depth_test = true,
                           .depth_write = true,
                           .cull = st->cull == PH_CULL_MATERIAL ? LG_GL_CULL_BACK : LG_GL_CULL_NONE,
-                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
+                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS |
+                                   LG_GL_SCENE_TEXCOORDS };
     return lg_gl_pass_create(n, &d, out);
 }
 
@@ -661,6 +665,7 @@ typedef struct ph_draw_ctx {
     const lg_scene *s;
     lg_gl_pass *pass;
     const ph_uniforms *u;
+    const lg_resource *scene_res;
 } ph_draw_ctx;
 
 /* Before a mesh's first draw: its normals (vertex_normals = eq13) and material. */
@@ -672,8 +677,10 @@ static int ph_on_mesh(lg_node *n, void *user, uint32_t mi, GLuint *normals)
         return rc;
     /* with culling off, a single-sided surface seen from behind is lit as it is (its normal
      * facing away: ambient only), as the seed's model would */
-    ph_set_material(c->st, c->pass, c->u, &c->s->materials[c->s->meshes[mi].material]);
-    return 0;
+    uint32_t mat = c->s->meshes[mi].material;
+    ph_set_material(c->st, c->pass, c->u, &c->s->materials[mat]);
+    /* its textures and alpha mode: the file's samplers, anisotropy 16 (at most the device's) */
+    return lg_gl_pass_bind_material(c->pass, &c->u->mat, c->scene_res, mat, NULL);
 }
 
 /* The surface ids of phong_half: instance (first + 1) onwards. */
@@ -699,7 +706,7 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     lg_gl_pass_bind_buffer(p, u->lights, st->lights_buf.name);
     lg_gl_pass_bind_buffer(p, u->shadows, st->shadows_buf.name);
     lg_gl_pass_bind_texture(p, u->atlas, f->atlas);
-    ph_draw_ctx ctx = { st, gl, f->s, p, u };
+    ph_draw_ctx ctx = { st, gl, f->s, p, u, f->scene_res };
     lg_gl_scene_draw d = { .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };
     return lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, f->scene_res, &d));
 }

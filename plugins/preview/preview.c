@@ -4,6 +4,10 @@
  *
  *   preview   scene -> image (rgba32f + depth): base colour, world normals or linear depth
  *
+ * Since ABI 3.1 the base colour is the material's factor times its base colour texture
+ * (shaders/common/material.glsl), alpha-masked texels are no surface, and `wireframe`
+ * draws the triangles' edges over the shaded surface (a geometry stage).
+ *
  * One pass: every instance of every mesh, one instanced draw per mesh (per mesh and
  * handedness when culling), the instances' matrices in a storage buffer. README.md gives
  * the ports, the parameters and the conventions (depth, culling, aspect ratio).
@@ -22,17 +26,22 @@
 
 #include "preview.frag.h"
 #include "preview.vert.h"
+#include "preview_wire.geom.h"
 
 enum { PV_BASE_COLOR = 0, PV_NORMALS, PV_DEPTH };
 enum { PV_CULL_NONE = 0, PV_CULL_MATERIAL };
 
 typedef struct pv_state {
-    int mode, cull;
+    int mode, cull, filter;
     int64_t camera;
     float background[3];
+    float anisotropy;
+    float wire_width, wire_color[3];
     uint32_t width, height;
     lg_gl_pass *pass; /* made on the first execute */
-    lg_gl_uniform u_view_proj, u_view, u_mode, u_base_color, u_near_far;
+    lg_gl_uniform u_view_proj, u_view, u_mode, u_near_far, u_viewport, u_wire_width, u_wire_color;
+    lg_gl_material_binds mat;
+    const lg_resource *scene_res; /* during a draw, for on_mesh */
 } pv_state;
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
@@ -48,6 +57,12 @@ static int pv_create(lg_node *n)
     const lg_value *bg = lg_param(n, "background");
     for (int i = 0; i < 3; i++)
         st->background[i] = bg ? (float)bg->v[i] : 0.0f;
+    st->filter = lg_param_enum(n, "filter");
+    st->anisotropy = (float)lg_param_float(n, "anisotropy");
+    st->wire_width = (float)lg_param_float(n, "wireframe");
+    const lg_value *wc = lg_param(n, "wire_color");
+    for (int i = 0; i < 3; i++)
+        st->wire_color[i] = wc ? (float)wc->v[i] : 0.0f;
     return 0;
 }
 
@@ -71,14 +86,16 @@ static int pv_prepare(lg_node *n)
 
 /* ---- execute --------------------------------------------------------------------------------- */
 
-/* The material's base colour, before the mesh's first draw. */
+/* The material (its factors, textures and alpha mode), before the mesh's first draw. */
 static int pv_on_mesh(lg_node *n, void *user, uint32_t mesh, GLuint *normals)
 {
     (void)n, (void)normals;
     pv_state *st = user;
     const lg_scene *s = lg_gl_pass_scene(st->pass)->scene;
-    lg_gl_set_vec3v(st->pass, st->u_base_color, s->materials[s->meshes[mesh].material].base_color);
-    return 0;
+    lg_gl_material_opts o = { .filter = (lg_gl_material_filter)st->filter,
+                              .max_anisotropy = st->anisotropy };
+    return lg_gl_pass_bind_material(st->pass, &st->mat, st->scene_res, s->meshes[mesh].material,
+                                    &o);
 }
 
 static int pv_make_pass(lg_node *n, pv_state *st)
@@ -87,24 +104,37 @@ static int pv_make_pass(lg_node *n, pv_state *st)
         { GL_VERTEX_SHADER, lg_src_preview_vert_file, lg_src_preview_vert },
         { GL_FRAGMENT_SHADER, lg_src_preview_frag_file, lg_src_preview_frag },
     };
+    static const lg_gl_shader_src wire_src[3] = {
+        { GL_VERTEX_SHADER, lg_src_preview_vert_file, lg_src_preview_vert },
+        { GL_GEOMETRY_SHADER, lg_src_preview_wire_geom_file, lg_src_preview_wire_geom },
+        { GL_FRAGMENT_SHADER, lg_src_preview_frag_file, lg_src_preview_frag },
+    };
+    bool wire = st->wire_width > 0.0f;
     lg_gl_pass_desc d = { .name = "preview",
-                          .stages = src,
-                          .n_stages = 2,
+                          .stages = wire ? wire_src : src,
+                          .n_stages = wire ? 3 : 2,
+                          .defines = wire ? "#define LG_WIREFRAME 1\n" : NULL,
                           .output = "out",
                           .colors = { GL_RGBA32F },
                           .depth = true,
                           .depth_test = true,
                           .depth_write = true,
                           .cull = st->cull == PV_CULL_MATERIAL ? LG_GL_CULL_BACK : LG_GL_CULL_NONE,
-                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS };
+                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS |
+                                   LG_GL_SCENE_TEXCOORDS };
     int rc = lg_gl_pass_create(n, &d, &st->pass);
     if (rc)
         return rc;
     st->u_view_proj = lg_gl_pass_uniform(st->pass, "u_view_proj");
     st->u_view = lg_gl_pass_uniform(st->pass, "u_view");
     st->u_mode = lg_gl_pass_uniform(st->pass, "u_mode");
-    st->u_base_color = lg_gl_pass_uniform(st->pass, "u_base_color");
     st->u_near_far = lg_gl_pass_uniform(st->pass, "u_near_far");
+    if (wire) {
+        st->u_viewport = lg_gl_pass_uniform(st->pass, "u_viewport");
+        st->u_wire_width = lg_gl_pass_uniform(st->pass, "u_wire_width");
+        st->u_wire_color = lg_gl_pass_uniform(st->pass, "u_wire_color");
+    }
+    lg_gl_pass_material_binds(st->pass, &st->mat);
     return 0;
 }
 
@@ -131,6 +161,12 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
     lg_gl_set_mat4(st->pass, st->u_view, v.view);
     lg_gl_set_int(st->pass, st->u_mode, st->mode);
     lg_gl_set_vec2(st->pass, st->u_near_far, v.znear, v.zfar);
+    if (st->wire_width > 0.0f) {
+        lg_gl_set_vec2(st->pass, st->u_viewport, (float)st->width, (float)st->height);
+        lg_gl_set_float(st->pass, st->u_wire_width, st->wire_width);
+        lg_gl_set_vec3v(st->pass, st->u_wire_color, st->wire_color);
+    }
+    st->scene_res = scene_res;
     lg_gl_scene_draw d = { .on_mesh = pv_on_mesh, .user = st };
     rc = lg_gl_pass_end(st->pass, lg_gl_pass_draw_scene(st->pass, scene_res, &d));
     if (!rc) {
@@ -159,6 +195,7 @@ static void pv_destroy(lg_node *n)
 
 static const char *const pv_modes[] = { "base_color", "normals", "depth", NULL };
 static const char *const pv_culls[] = { "none", "material", NULL };
+static const char *const pv_filters[] = { "file", "nearest", "bilinear", "trilinear", NULL };
 
 static const lg_param_desc pv_params[] = {
     { .key = "mode",
@@ -199,6 +236,33 @@ static const lg_param_desc pv_params[] = {
       .enum_values = pv_culls,
       .doc = "none: draw both sides of every triangle; material: cull back faces unless the "
              "material is double-sided (glTF)" },
+    { .key = "filter",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = pv_filters,
+      .doc = "how textures are sampled: file: each texture's glTF sampler (default linear / "
+             "trilinear); nearest or bilinear: level 0 only; trilinear: the mip chain. The "
+             "file's wrap modes are kept" },
+    { .key = "anisotropy",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 16,
+      .min = 1,
+      .max = 16,
+      .doc = "most anisotropic samples for mip-mapped textures (1 = off), at most the "
+             "device's maximum (GL_MAX_TEXTURE_MAX_ANISOTROPY)" },
+    { .key = "wireframe",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 64,
+      .doc = "0: off; else the triangles' edges drawn over the surface, this many pixels "
+             "wide (antialiased over one pixel)" },
+    { .key = "wire_color",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 0, 0, 0 },
+      .min = 0,
+      .max = 1e6,
+      .doc = "colour of the wireframe's lines, linear RGB" },
 };
 static const lg_port_desc pv_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to draw" },

@@ -75,6 +75,7 @@ typedef struct lg_gltf_primitive {
     int32_t mode;                       /* 0 POINTS .. 6 TRIANGLE_FAN (tinygltf's default 4) */
     int32_t indices, material;          /* accessor, material; -1 absent */
     int32_t position, normal, texcoord; /* accessors of POSITION, NORMAL, TEXCOORD_0 */
+    int32_t texcoord1, tangent;         /* accessors of TEXCOORD_1, TANGENT; -1 absent */
     uint32_t n_targets;                 /* morph targets (not supported: base shape is used) */
     const lg_json *extensions;          /* object or NULL */
 } lg_gltf_primitive;
@@ -110,6 +111,14 @@ typedef struct lg_gltf_camera {
     double xmag, ymag, ortho_znear, ortho_zfar;
 } lg_gltf_camera;
 
+/* A material's textureInfo (normalTextureInfo, occlusionTextureInfo). */
+typedef struct lg_gltf_texture_info {
+    int32_t index;             /* texture; -1 absent */
+    int32_t texcoord;          /* texCoord as the file says (0 when absent) */
+    double scale;              /* normalTexture.scale, occlusionTexture.strength; else 1 */
+    const lg_json *extensions; /* object or NULL (KHR_texture_transform) */
+} lg_gltf_texture_info;
+
 typedef struct lg_gltf_material {
     const char *name;
     uint32_t n_base_color, n_emissive;
@@ -117,7 +126,34 @@ typedef struct lg_gltf_material {
     double metallic, roughness;
     bool double_sided;
     const lg_json *extensions, *extras;
+    /* textures: base colour, metallic-roughness, normal, occlusion, emissive */
+    lg_gltf_texture_info base_color_tex, metallic_roughness_tex, normal_tex, occlusion_tex,
+        emissive_tex;
+    const char *alpha_mode; /* as the file says ("OPAQUE" when absent) */
+    double alpha_cutoff;    /* 0.5 when absent */
 } lg_gltf_material;
+
+/* An image as the file refers to it; nothing is read or decoded by the parser except a
+ * data: URI, which tinygltf decodes from base64 (its bytes are then `data`, `size`). */
+typedef struct lg_gltf_image {
+    const char *name;      /* the file's name, "" when none */
+    const char *uri;       /* as written; "" for a bufferView or data: image */
+    const char *path;      /* uri percent-decoded (checked: inside the model's folder) */
+    const char *mime_type; /* as written, "" when absent */
+    int32_t view;          /* the bufferView holding the image, or -1 */
+    bool data_uri;         /* a data: URI: the encoded bytes are data / size */
+    const uint8_t *data;
+    size_t size;
+} lg_gltf_image;
+
+typedef struct lg_gltf_sampler {
+    int32_t mag_filter, min_filter; /* GL enums as written; -1 absent */
+    int32_t wrap_s, wrap_t;         /* GL enums as written (10497 REPEAT when absent) */
+} lg_gltf_sampler;
+
+typedef struct lg_gltf_texture {
+    int32_t sampler, source; /* -1 absent */
+} lg_gltf_texture;
 
 typedef struct lg_gltf_light {
     const char *name;
@@ -137,6 +173,11 @@ typedef struct lg_gltf {
     const lg_gltf_camera *cameras;
     const lg_gltf_material *materials;
     const lg_gltf_light *lights; /* KHR_lights_punctual */
+    const lg_gltf_image *images;
+    const lg_gltf_sampler *samplers;
+    const lg_gltf_texture *textures;
+    uint32_t n_images, n_samplers, n_textures;
+    const char *base_dir; /* the model's folder, absolute with links resolved; "" for none */
     uint32_t n_buffers, n_views, n_accessors, n_meshes, n_nodes, n_scenes, n_cameras, n_materials,
         n_lights;
     int32_t default_scene; /* "scene", or -1 */
@@ -150,7 +191,8 @@ typedef struct lg_gltf {
 typedef struct lg_gltf_doc lg_gltf_doc; /* owns everything the lg_gltf points to */
 
 /* Parses a glTF (JSON) or GLB file held in `bytes` (the GLB magic decides). External
- * buffers are read from `base_dir` (absolute) only; images are not read or decoded.
+ * buffers are read from `base_dir` (absolute) only; image uris are checked (inside the
+ * folder) but images are not read or decoded (the loader does: gltf_image.h).
  * Returns the document, or NULL with a message in err (without the file name: the
  * caller adds it). */
 lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const char *base_dir,
@@ -166,15 +208,18 @@ typedef struct lg_draco_mesh {
     float *normals;    /* 3 per point, or NULL when not asked for */
     float *texcoords;  /* 2 per point, or NULL when not asked for */
     uint32_t *indices; /* 3 per face, each < n_points */
+    float *texcoords1; /* 2 per point (TEXCOORD_1), or NULL when not asked for */
+    float *tangents;   /* 4 per point (TANGENT), or NULL when not asked for */
 } lg_draco_mesh;
 
 /* Decodes a Draco mesh from `size` bytes. The ids are Draco attribute unique ids from the
- * extension's "attributes" (position required; normal and texcoord -1 when absent).
- * `max_points` and `max_faces` bound what the stream may claim. Returns 0, or -1 with a
- * message in err (and *out zeroed). */
+ * extension's "attributes" (position required; normal, texcoord, texcoord1 and tangent -1
+ * when absent). `max_points` and `max_faces` bound what the stream may claim. Returns 0, or
+ * -1 with a message in err (and *out zeroed). */
 int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t position_id, int64_t normal_id,
-                    int64_t texcoord_id, uint64_t max_points, uint64_t max_faces,
-                    lg_draco_mesh *out, char *err, size_t err_size);
+                    int64_t texcoord_id, int64_t texcoord1_id, int64_t tangent_id,
+                    uint64_t max_points, uint64_t max_faces, lg_draco_mesh *out, char *err,
+                    size_t err_size);
 void lg_draco_mesh_free(lg_draco_mesh *m);
 
 #ifdef __cplusplus

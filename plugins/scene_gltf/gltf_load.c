@@ -23,7 +23,9 @@
 #include <sys/stat.h>
 
 #include "gltf_doc.h"
+#include "gltf_image.h"
 #include "gltf_normals.h"
+#include "gltf_tangents.h"
 #include "lightgraph/file.h"
 #include "lightgraph/vecmath.h"
 
@@ -44,6 +46,13 @@ typedef struct store {
     uint32_t n_cameras, cap_cameras;
     char **strings; /* every name and the source, freed with the scene */
     uint32_t n_strings, cap_strings;
+    /* textures (make_textures): the images a material uses, decoded, and the textures;
+     * scene.textures points at tex when there is any */
+    lg_scene_textures tex;
+    lg_scene_image *images;
+    lg_scene_texture *textures;
+    uint32_t n_image_slots; /* images[] entries (rgba8 freed over all of them) */
+    lg_material_maps *maps; /* per material slot, NULL before make_textures */
 } store;
 
 void lg_gltf_scene_free(lg_scene *scene)
@@ -56,7 +65,14 @@ void lg_gltf_scene_free(lg_scene *scene)
         free((void *)st->meshes[i].normals);
         free((void *)st->meshes[i].texcoords);
         free((void *)st->meshes[i].indices);
+        free((void *)st->meshes[i].tangents);
+        free((void *)st->meshes[i].texcoords1);
     }
+    for (uint32_t i = 0; st->images && i < st->n_image_slots; i++)
+        free((void *)st->images[i].rgba8);
+    free(st->images);
+    free(st->textures);
+    free(st->maps);
     free(st->meshes);
     free(st->instances);
     free(st->materials);
@@ -95,6 +111,10 @@ typedef struct loader {
     int64_t **prim_mesh; /* per glTF mesh, per primitive: lg_mesh index, -1 not made yet */
     bool *material_used_default;
     bool warned_targets, warned_skin, warned_ortho;
+    uint64_t hash;            /* the content hash so far (file, buffers, then image files) */
+    bool *mesh_no_normal_map; /* per lg_mesh (grown with them): its material's normal
+                               * texture reads a texture coordinate set it lacks */
+    uint32_t cap_no_normal_map;
     /* cameras and lights met while walking the tree, with their node's world matrix */
     struct placed {
         uint32_t node, index;
@@ -383,11 +403,14 @@ static int read_accessor(loader *l, int32_t ai, const char *what, uint32_t comps
 
 /* ---- primitives to lg_mesh ------------------------------------------------------------------- */
 
+static int32_t ref_texcoord(const lg_gltf_texture_info *ti);
+
 /* Vertex data of one primitive before normals. */
 typedef struct prim_data {
     uint32_t nv, ni;
     float *pos, *nrm, *uv;
     uint32_t *idx;
+    float *uv1, *tan; /* TEXCOORD_1 (2 per vertex), TANGENT (4 per vertex), or NULL */
 } prim_data;
 
 static void prim_free(prim_data *p)
@@ -396,6 +419,8 @@ static void prim_free(prim_data *p)
     free(p->nrm);
     free(p->uv);
     free(p->idx);
+    free(p->uv1);
+    free(p->tan);
     memset(p, 0, sizeof *p);
 }
 
@@ -419,10 +444,11 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
         return fail(l, LG_ERR_UNSUPPORTED,
                     "%s: a Draco primitive with mode %d (only TRIANGLES, 4, is supported)", label,
                     p->mode);
-    int64_t ids[3] = { -1, -1, -1 };
-    static const char *const names[3] = { "POSITION", "NORMAL", "TEXCOORD_0" };
-    const int32_t accs[3] = { p->position, p->normal, p->texcoord };
-    for (int k = 0; k < 3; k++) {
+    int64_t ids[5] = { -1, -1, -1, -1, -1 };
+    static const char *const names[5] = { "POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1",
+                                          "TANGENT" };
+    const int32_t accs[5] = { p->position, p->normal, p->texcoord, p->texcoord1, p->tangent };
+    for (int k = 0; k < 5; k++) {
         const lg_json *id = lg_json_get(attrs, names[k]);
         if (!id)
             continue;
@@ -442,7 +468,7 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
                     "%s: the Draco data has no POSITION (uncompressed positions next to "
                     "Draco data are not supported)",
                     label);
-    for (int k = 1; k < 3; k++)
+    for (int k = 1; k < 5; k++)
         if (ids[k] < 0 && accs[k] >= 0)
             warn(l, "%s: %s is not in the Draco data; ignored", label, names[k]);
     const uint8_t *data;
@@ -454,8 +480,8 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
         return rc;
     lg_draco_mesh dm;
     char derr[512];
-    if (lg_draco_decode(data, (size_t)len, ids[0], want_normals ? ids[1] : -1, ids[2],
-                        LG_GLTF_MAX_COUNT, LG_GLTF_MAX_COUNT / 3, &dm, derr, sizeof derr))
+    if (lg_draco_decode(data, (size_t)len, ids[0], want_normals ? ids[1] : -1, ids[2], ids[3],
+                        ids[4], LG_GLTF_MAX_COUNT, LG_GLTF_MAX_COUNT / 3, &dm, derr, sizeof derr))
         return fail(l, LG_ERR_INVALID, "%s (bufferView %d): %s", label, (int)bv->number, derr);
     for (size_t i = 0; i < (size_t)dm.n_points * 3; i++)
         if (!isfinite(dm.positions[i]) || (dm.normals && !isfinite(dm.normals[i]))) {
@@ -464,12 +490,15 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
                         "%s: Draco point %zu has a NaN or infinite position or normal", label,
                         i / 3);
         }
-    for (size_t i = 0; dm.texcoords && i < (size_t)dm.n_points * 2; i++)
-        if (!isfinite(dm.texcoords[i])) {
+    for (size_t i = 0; i < (size_t)dm.n_points * 4; i++)
+        if ((dm.texcoords && i < (size_t)dm.n_points * 2 && !isfinite(dm.texcoords[i])) ||
+            (dm.texcoords1 && i < (size_t)dm.n_points * 2 && !isfinite(dm.texcoords1[i])) ||
+            (dm.tangents && !isfinite(dm.tangents[i]))) {
             lg_draco_mesh_free(&dm);
             return fail(l, LG_ERR_INVALID,
-                        "%s: Draco point %zu has a NaN or infinite texture coordinate", label,
-                        i / 2);
+                        "%s: Draco point %zu has a NaN or infinite texture coordinate or "
+                        "tangent",
+                        label, i / 4);
         }
     d->nv = dm.n_points;
     d->ni = dm.n_faces * 3;
@@ -477,6 +506,8 @@ static int read_draco(loader *l, const lg_gltf_primitive *p, const lg_json *ext,
     d->nrm = dm.normals;
     d->uv = dm.texcoords;
     d->idx = dm.indices;
+    d->uv1 = dm.texcoords1;
+    d->tan = dm.tangents;
     return 0;
 }
 
@@ -564,6 +595,20 @@ static int read_primitive(loader *l, uint32_t mi, uint32_t pi, prim_data *d)
             rc = fail(l, LG_ERR_INVALID, "%s: TEXCOORD_0 has %u elements, POSITION %u", label, n,
                       d->nv);
     }
+    if (!rc && p->texcoord1 >= 0) {
+        snprintf(what, sizeof what, "TEXCOORD_1 of %s", label);
+        rc = read_accessor(l, p->texcoord1, what, 2, ATTR_TYPES, OUT_FLOAT, (void **)&d->uv1, &n);
+        if (!rc && n != d->nv)
+            rc = fail(l, LG_ERR_INVALID, "%s: TEXCOORD_1 has %u elements, POSITION %u", label, n,
+                      d->nv);
+    }
+    if (!rc && p->tangent >= 0) {
+        snprintf(what, sizeof what, "TANGENT of %s", label);
+        rc = read_accessor(l, p->tangent, what, 4, ATTR_TYPES, OUT_FLOAT, (void **)&d->tan, &n);
+        if (!rc && n != d->nv)
+            rc = fail(l, LG_ERR_INVALID, "%s: TANGENT has %u elements, POSITION %u", label, n,
+                      d->nv);
+    }
     uint32_t *src = NULL;
     if (!rc && p->indices >= 0) {
         snprintf(what, sizeof what, "indices of %s", label);
@@ -614,6 +659,53 @@ static int compact(lg_nmesh *m)
     return 0;
 }
 
+/* A per-vertex array of the source primitive carried to the mesh's vertices: corner c of
+ * the source index list `src_idx` became vertex out_idx[c] (the normal computation and
+ * compact keep the corners in order), so that vertex takes source vertex src_idx[c]'s
+ * values. NULL when out of memory. */
+static float *follow_corners(const float *src, uint32_t comps, const uint32_t *src_idx,
+                             const uint32_t *out_idx, uint32_t ni, uint32_t nv)
+{
+    float *out = calloc((size_t)nv * comps + 1, sizeof *out);
+    if (!out)
+        return NULL;
+    for (uint32_t c = 0; c < ni; c++)
+        memcpy(out + (size_t)out_idx[c] * comps, src + (size_t)src_idx[c] * comps,
+               comps * sizeof *out);
+    return out;
+}
+
+/* The mesh's tangents and TEXCOORD_1 (README.md, "Tangents"): the file's tangents made
+ * orthonormal, else, when its material has a normal texture, MikkTSpace's; a mesh without
+ * the texture coordinates that normal texture reads is flagged (its material loses the
+ * normal map for it: split_materials). */
+static int mesh_tangents(loader *l, const lg_gltf_primitive *p, const char *label, lg_nmesh *nm,
+                         float **uv1, float **tan, bool *no_normal_map)
+{
+    *no_normal_map = false;
+    if (*tan) {
+        lg_tangents_orthonormalize(*tan, nm->normals, nm->n_vertices);
+        return 0;
+    }
+    const lg_gltf_material *gm = p->material >= 0 ? &l->g->materials[p->material] : NULL;
+    if (!gm || gm->normal_tex.index < 0)
+        return 0;
+    int32_t set = ref_texcoord(&gm->normal_tex);
+    if (set != 0 && set != 1)
+        return 0; /* refused with the material (texture_ref) */
+    if (!(set == 0 ? nm->texcoords : *uv1)) {
+        warn(l,
+             "%s: its material %d has a normal texture that reads TEXCOORD_%d, which the "
+             "primitive lacks: the normal map is ignored for it",
+             label, p->material, set);
+        *no_normal_map = true;
+        return 0;
+    }
+    if (lg_tangents_generate(nm, uv1, set, tan, NULL))
+        return fail(l, LG_ERR_NOMEM, "%s: out of memory computing tangents", label);
+    return 0;
+}
+
 /* Makes lg_mesh number (mi, pi) if it is not made yet; *id receives its index. */
 static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
 {
@@ -631,6 +723,20 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
     int rc = read_primitive(l, mi, pi, &d);
     if (rc)
         return rc;
+    /* TEXCOORD_1 and TANGENT follow the vertices through the normals (follow_corners) */
+    float *uv1 = d.uv1, *tan = d.tan;
+    uint32_t *corner_src = NULL;
+    d.uv1 = d.tan = NULL;
+    if (uv1 || tan) {
+        corner_src = malloc(((size_t)d.ni + 1) * sizeof *corner_src);
+        if (!corner_src) {
+            free(uv1);
+            free(tan);
+            prim_free(&d);
+            return fail(l, LG_ERR_NOMEM, "%s: out of memory", label);
+        }
+        memcpy(corner_src, d.idx, (size_t)d.ni * sizeof *corner_src);
+    }
 
     lg_nmesh nm;
     memset(&nm, 0, sizeof nm);
@@ -644,6 +750,9 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
         memset(&d, 0, sizeof d);
         if (compact(&nm)) {
             lg_nmesh_free(&nm);
+            free(uv1);
+            free(tan);
+            free(corner_src);
             return fail(l, LG_ERR_NOMEM, "%s: out of memory", label);
         }
     } else {
@@ -652,13 +761,40 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
                  : lg_normals_smooth(d.pos, d.uv, d.nv, d.idx, d.ni, (float)l->opt->crease_deg,
                                      &nm);
         prim_free(&d);
-        if (rc)
+        if (rc) {
+            free(uv1);
+            free(tan);
+            free(corner_src);
             return fail(l, LG_ERR_NOMEM, "%s: out of memory computing normals", label);
+        }
     }
+    bool no_normal_map = false;
+    float *uv1_out =
+        uv1 ? follow_corners(uv1, 2, corner_src, nm.indices, nm.n_indices, nm.n_vertices) : NULL;
+    float *tan_out =
+        tan ? follow_corners(tan, 4, corner_src, nm.indices, nm.n_indices, nm.n_vertices) : NULL;
+    bool lost = (uv1 && !uv1_out) || (tan && !tan_out);
+    free(uv1);
+    free(tan);
+    free(corner_src);
+    rc = lost ? fail(l, LG_ERR_NOMEM, "%s: out of memory", label)
+              : mesh_tangents(l, p, label, &nm, &uv1_out, &tan_out, &no_normal_map);
+    if (!rc && !grow((void **)&l->mesh_no_normal_map, &l->cap_no_normal_map, l->st->n_meshes,
+                     sizeof *l->mesh_no_normal_map))
+        rc = fail(l, LG_ERR_NOMEM, "out of memory");
+    if (rc) {
+        lg_nmesh_free(&nm);
+        free(uv1_out);
+        free(tan_out);
+        return rc;
+    }
+    l->mesh_no_normal_map[l->st->n_meshes] = no_normal_map;
 
     store *st = l->st;
     if (!grow((void **)&st->meshes, &st->cap_meshes, st->n_meshes, sizeof *st->meshes)) {
         lg_nmesh_free(&nm);
+        free(uv1_out);
+        free(tan_out);
         return fail(l, LG_ERR_NOMEM, "out of memory");
     }
     lg_mesh *m = &st->meshes[st->n_meshes++];
@@ -669,6 +805,8 @@ static int make_mesh(loader *l, uint32_t mi, uint32_t pi, uint32_t *id)
     m->normals = nm.normals;
     m->texcoords = nm.texcoords;
     m->indices = nm.indices;
+    m->texcoords1 = uv1_out;
+    m->tangents = tan_out;
     m->material = p->material >= 0 ? (uint32_t)p->material : l->g->n_materials; /* default: last */
     if (p->material < 0)
         *l->material_used_default = true;
@@ -996,6 +1134,8 @@ static int walk(loader *l, const int64_t *parent)
 
 /* ---- materials ------------------------------------------------------------------------------- */
 
+static uint64_t fnv1a(uint64_t h, const uint8_t *p, size_t n);
+
 static const lg_json *ext_get(const lg_json *extensions, const char *ext, const char *key)
 {
     return lg_json_get(lg_json_get(extensions, ext), key);
@@ -1161,6 +1301,329 @@ static void default_material(lg_material *m)
     for (int k = 0; k < 4; k++)
         m->base_color[k] = 1.0f;
     m->metallic = m->roughness = 1.0f;
+}
+
+/* ---- textures -------------------------------------------------------------------------------- */
+
+static const char *const ref_names[5] = { "baseColorTexture", "metallicRoughnessTexture",
+                                          "normalTexture", "occlusionTexture", "emissiveTexture" };
+
+/* The textureInfos of material gm, in the order of ref_names (and of lg_material_maps). */
+static const lg_gltf_texture_info *material_ref(const lg_gltf_material *gm, int k)
+{
+    const lg_gltf_texture_info *refs[5] = { &gm->base_color_tex, &gm->metallic_roughness_tex,
+                                            &gm->normal_tex, &gm->occlusion_tex,
+                                            &gm->emissive_tex };
+    return refs[k];
+}
+
+/* The texture coordinate set a textureInfo reads: KHR_texture_transform's texCoord when it
+ * gives one, else the textureInfo's (checked by texture_ref). */
+static int32_t ref_texcoord(const lg_gltf_texture_info *ti)
+{
+    const lg_json *tc = ext_get(ti->extensions, "KHR_texture_transform", "texCoord");
+    if (tc && tc->type == LG_JSON_NUMBER && tc->number >= 0 && tc->number <= 1 &&
+        tc->number == floor(tc->number))
+        return (int32_t)tc->number;
+    return ti->texcoord;
+}
+
+/* A JSON array of n finite numbers into v (absent leaves v). */
+static int json_numbers(loader *l, const char *where, const char *key, const lg_json *j, uint32_t n,
+                        double *v)
+{
+    if (!j)
+        return 0;
+    if (j->type != LG_JSON_ARRAY || j->n != n)
+        return fail(l, LG_ERR_INVALID, "%s: %s must be an array of %u numbers", where, key, n);
+    for (uint32_t k = 0; k < n; k++) {
+        if (j->items[k].type != LG_JSON_NUMBER || !isfinite(j->items[k].number) ||
+            fabs(j->items[k].number) > 1e30)
+            return fail(l, LG_ERR_INVALID, "%s: %s[%u] is not a finite number (within +-1e30)",
+                        where, key, k);
+        v[k] = j->items[k].number;
+    }
+    return 0;
+}
+
+/* One textureInfo of a material to an lg_texture_ref (README.md, "Textures"). The file's
+ * texture index is kept in out->texture; make_textures renumbers it. */
+static int texture_ref(loader *l, const char *material, int k, const lg_gltf_texture_info *ti,
+                       lg_texture_ref *out)
+{
+    *out = lg_material_maps_default()->base_color;
+    if (ti->index == -1)
+        return 0;
+    char where[400];
+    snprintf(where, sizeof where, "%s: %s", material, ref_names[k]);
+    const lg_gltf *g = l->g;
+    if (ti->index < 0 || (uint32_t)ti->index >= g->n_textures)
+        return fail(l, LG_ERR_INVALID, "%s: texture %d does not exist (the file has %u)", where,
+                    ti->index, g->n_textures);
+    if (ti->texcoord != 0 && ti->texcoord != 1)
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: texCoord %d is not supported (only 0 and 1: TEXCOORD_0, TEXCOORD_1)",
+                    where, ti->texcoord);
+    double scale = ti->scale;
+    if (k == 2 && !(isfinite(scale) && fabs(scale) <= 1e30))
+        return fail(l, LG_ERR_INVALID, "%s: scale %g is not a finite number", where, scale);
+    if (k == 3 && !(scale >= 0 && scale <= 1))
+        return fail(l, LG_ERR_INVALID, "%s: strength %g is not in [0, 1]", where, scale);
+    out->texture = ti->index;
+    out->texcoord = (uint32_t)ti->texcoord;
+    out->scale = (k == 2 || k == 3) ? (float)scale : 1.0f;
+    const lg_json *tt = lg_json_get(ti->extensions, "KHR_texture_transform");
+    if (!tt)
+        return 0;
+    char twhere[440];
+    snprintf(twhere, sizeof twhere, "%s: KHR_texture_transform", where);
+    if (tt->type != LG_JSON_OBJECT)
+        return fail(l, LG_ERR_INVALID, "%s is not an object", twhere);
+    double offset[2] = { 0, 0 }, sc[2] = { 1, 1 }, rot = 0, tc = ti->texcoord;
+    int rc = json_numbers(l, twhere, "offset", lg_json_get(tt, "offset"), 2, offset);
+    if (!rc)
+        rc = json_numbers(l, twhere, "scale", lg_json_get(tt, "scale"), 2, sc);
+    if (!rc)
+        rc = json_number(l, twhere, "rotation", lg_json_get(tt, "rotation"), -1e30, 1e30, &rot);
+    if (!rc)
+        rc = json_number(l, twhere, "texCoord", lg_json_get(tt, "texCoord"), -1e30, 1e30, &tc);
+    if (rc)
+        return rc;
+    if (tc != 0 && tc != 1)
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: texCoord %g is not supported (only 0 and 1: TEXCOORD_0, TEXCOORD_1)",
+                    twhere, tc);
+    out->texcoord = (uint32_t)tc;
+    /* T * R * S of the extension's GLSL (column-major): uv' = offset + R(rotation) (scale uv)
+     * with R = [cos -sin; sin cos] */
+    double c = cos(rot), s = sin(rot);
+    double t[6] = { c * sc[0], s * sc[0], -s * sc[1], c * sc[1], offset[0], offset[1] };
+    for (int i = 0; i < 6; i++) {
+        out->transform[i] = (float)t[i];
+        if (!isfinite(out->transform[i]))
+            return fail(l, LG_ERR_INVALID, "%s: the transform overflows (element %d is %g)", twhere,
+                        i, t[i]);
+    }
+    return 0;
+}
+
+/* Material i's textures and alpha mode into *maps; *any when it differs from the defaults. */
+static int material_maps(loader *l, uint32_t i, lg_material_maps *maps, bool *any)
+{
+    const lg_gltf_material *gm = &l->g->materials[i];
+    char where[300];
+    if (gm->name && *gm->name)
+        snprintf(where, sizeof where, "material %u ('%s')", i, gm->name);
+    else
+        snprintf(where, sizeof where, "material %u", i);
+    *maps = *lg_material_maps_default();
+    lg_texture_ref *refs[5] = { &maps->base_color, &maps->metallic_roughness, &maps->normal,
+                                &maps->occlusion, &maps->emissive };
+    *any = false;
+    for (int k = 0; k < 5; k++) {
+        int rc = texture_ref(l, where, k, material_ref(gm, k), refs[k]);
+        if (rc)
+            return rc;
+        *any |= refs[k]->texture >= 0;
+    }
+    const char *mode = gm->alpha_mode ? gm->alpha_mode : "OPAQUE";
+    if (!strcmp(mode, "OPAQUE"))
+        maps->alpha_mode = LG_ALPHA_OPAQUE;
+    else if (!strcmp(mode, "MASK"))
+        maps->alpha_mode = LG_ALPHA_MASK;
+    else if (!strcmp(mode, "BLEND"))
+        maps->alpha_mode = LG_ALPHA_BLEND;
+    else
+        return fail(l, LG_ERR_INVALID, "%s: alphaMode '%s' is not OPAQUE, MASK or BLEND", where,
+                    mode);
+    if (!(gm->alpha_cutoff >= 0 && gm->alpha_cutoff <= 1e30))
+        return fail(l, LG_ERR_INVALID, "%s: alphaCutoff %g is not a finite number >= 0", where,
+                    gm->alpha_cutoff);
+    maps->alpha_cutoff = (float)gm->alpha_cutoff;
+    *any |= maps->alpha_mode != LG_ALPHA_OPAQUE;
+    return 0;
+}
+
+static const char *image_label(loader *l, uint32_t i, char *buf, size_t size)
+{
+    const lg_gltf_image *im = &l->g->images[i];
+    if (im->view >= 0)
+        snprintf(buf, size, "image %u (bufferView %d)", i, im->view);
+    else if (im->data_uri)
+        snprintf(buf, size, "image %u (a data: URI)", i);
+    else
+        snprintf(buf, size, "image %u ('%s')", i, im->uri);
+    return buf;
+}
+
+static bool valid_filter(int32_t f, bool min)
+{
+    return f == -1 || f == LG_TEX_NEAREST || f == LG_TEX_LINEAR ||
+           (min && f >= LG_TEX_NEAREST_MIPMAP_NEAREST && f <= LG_TEX_LINEAR_MIPMAP_LINEAR);
+}
+
+static bool valid_wrap(int32_t w)
+{
+    return w == LG_TEX_CLAMP_TO_EDGE || w == LG_TEX_MIRRORED_REPEAT || w == LG_TEX_REPEAT;
+}
+
+/* Reads (when it is a file) and decodes image i into *out. */
+static int decode_image(loader *l, uint32_t i, lg_scene_image *out)
+{
+    const lg_gltf_image *im = &l->g->images[i];
+    char label[600], why[512];
+    image_label(l, i, label, sizeof label);
+    const uint8_t *bytes = NULL;
+    uint8_t *file = NULL;
+    size_t size = 0;
+    if (im->view >= 0) {
+        uint64_t len;
+        int rc = view_bytes(l, im->view, label, &bytes, &len, NULL);
+        if (rc)
+            return rc;
+        size = (size_t)len;
+    } else if (im->data_uri) {
+        bytes = im->data;
+        size = im->size;
+    } else if (!im->uri[0]) {
+        return fail(l, LG_ERR_INVALID, "%s: neither a uri nor a bufferView", label);
+    } else if (!l->g->base_dir[0]) {
+        return fail(l, LG_ERR_INVALID,
+                    "%s: cannot read it: the model was loaded from memory, without a folder for "
+                    "external files",
+                    label);
+    } else {
+        /* the same rules as buffers: regular, bounded, confined with links resolved on the
+         * file opened (lightgraph/file.h); the uri was checked lexically by the parser */
+        file = lg_file_read_within(l->g->base_dir, im->path, LG_GLTF_MAX_IMAGE_FILE, &size, why,
+                                   sizeof why);
+        if (!file)
+            return fail(l, errno == ENOMEM ? LG_ERR_NOMEM : LG_ERR_INVALID,
+                        "%s: cannot read it: %s", label, why);
+        l->hash = fnv1a(l->hash, file, size);
+        bytes = file;
+    }
+    uint32_t w = 0, h = 0;
+    uint8_t *rgba = NULL;
+    int rc = lg_gltf_image_decode(bytes, size, LG_GLTF_MAX_IMAGE_PIXELS, &w, &h, &rgba, why,
+                                  sizeof why);
+    free(file);
+    if (rc)
+        return fail(l, LG_ERR_INVALID, "%s: cannot decode it: %s", label, why);
+    memset(out, 0, sizeof *out);
+    out->width = w;
+    out->height = h;
+    out->rgba8 = rgba;
+    const char *name = im->uri[0] ? im->uri : im->name[0] ? im->name : NULL;
+    char fallback[64];
+    snprintf(fallback, sizeof fallback, "image %u", i);
+    out->name = keep(l, name ? name : fallback);
+    return out->name ? 0 : fail(l, LG_ERR_NOMEM, "out of memory");
+}
+
+/* The scene's textures: every texture a material of the file references, renumbered in
+ * the order of first use, and their images, decoded. Images and textures no material uses
+ * are not read. Runs after the materials' maps are made (material_maps). */
+static int make_textures(loader *l, uint32_t n_maps)
+{
+    const lg_gltf *g = l->g;
+    store *st = l->st;
+    int32_t *tex_map = malloc(((size_t)g->n_textures + 1) * sizeof *tex_map);
+    int32_t *img_map = malloc(((size_t)g->n_images + 1) * sizeof *img_map);
+    st->textures = calloc((size_t)g->n_textures + 1, sizeof *st->textures);
+    st->images = calloc((size_t)g->n_images + 1, sizeof *st->images);
+    st->n_image_slots = st->images ? g->n_images : 0;
+    int rc = 0;
+    if (!tex_map || !img_map || !st->textures || !st->images) {
+        rc = fail(l, LG_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    memset(tex_map, 0xff, ((size_t)g->n_textures + 1) * sizeof *tex_map);
+    memset(img_map, 0xff, ((size_t)g->n_images + 1) * sizeof *img_map);
+    uint32_t n_tex = 0, n_img = 0;
+    for (uint32_t m = 0; m < n_maps && !rc; m++) {
+        lg_texture_ref *refs[5] = { &st->maps[m].base_color, &st->maps[m].metallic_roughness,
+                                    &st->maps[m].normal, &st->maps[m].occlusion,
+                                    &st->maps[m].emissive };
+        for (int k = 0; k < 5 && !rc; k++) {
+            int32_t t = refs[k]->texture;
+            if (t < 0)
+                continue;
+            if (tex_map[t] < 0) {
+                const lg_gltf_texture *gt = &g->textures[t];
+                if (gt->source == -1)
+                    rc = fail(l, LG_ERR_UNSUPPORTED,
+                              "texture %d has no source image (image extensions such as "
+                              "KHR_texture_basisu are not supported)",
+                              t);
+                else if (gt->source < 0 || (uint32_t)gt->source >= g->n_images)
+                    rc = fail(l, LG_ERR_INVALID,
+                              "texture %d: image %d does not exist (the file has %u)", t,
+                              gt->source, g->n_images);
+                else if (gt->sampler < -1 ||
+                         (gt->sampler >= 0 && (uint32_t)gt->sampler >= g->n_samplers))
+                    rc = fail(l, LG_ERR_INVALID,
+                              "texture %d: sampler %d does not exist (the file has %u)", t,
+                              gt->sampler, g->n_samplers);
+                if (rc)
+                    break;
+                lg_scene_texture *out = &st->textures[n_tex];
+                if (gt->sampler >= 0) {
+                    const lg_gltf_sampler *sm = &g->samplers[gt->sampler];
+                    if (!valid_filter(sm->mag_filter, false) ||
+                        !valid_filter(sm->min_filter, true) || !valid_wrap(sm->wrap_s) ||
+                        !valid_wrap(sm->wrap_t)) {
+                        rc = fail(l, LG_ERR_INVALID,
+                                  "sampler %d: magFilter %d, minFilter %d, wrapS %d, wrapT %d: "
+                                  "not all are glTF's values (9728, 9729, 9984..9987; 33071, "
+                                  "33648, 10497)",
+                                  gt->sampler, sm->mag_filter, sm->min_filter, sm->wrap_s,
+                                  sm->wrap_t);
+                        break;
+                    }
+                    out->mag_filter = sm->mag_filter < 0 ? 0 : (uint32_t)sm->mag_filter;
+                    out->min_filter = sm->min_filter < 0 ? 0 : (uint32_t)sm->min_filter;
+                    out->wrap_s = (uint32_t)sm->wrap_s;
+                    out->wrap_t = (uint32_t)sm->wrap_t;
+                }
+                if (img_map[gt->source] < 0)
+                    img_map[gt->source] = (int32_t)n_img++;
+                out->image = (uint32_t)img_map[gt->source];
+                tex_map[t] = (int32_t)n_tex++;
+            }
+            refs[k]->texture = tex_map[t];
+        }
+    }
+    /* decode in the order of first use: image i of the file is scene image img_map[i] */
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < g->n_images && !rc; i++) {
+        if (img_map[i] < 0)
+            continue;
+        lg_scene_image *im = &st->images[img_map[i]];
+        if ((rc = decode_image(l, i, im)))
+            break;
+        total += (uint64_t)im->width * im->height * 4;
+        if (total > LG_GLTF_MAX_TEXTURE_BYTES) {
+            char label[600];
+            rc = fail(l, LG_ERR_INVALID,
+                      "%s: the decoded images come to %" PRIu64 " MiB, more than the %" PRIu64
+                      " MiB a model may hold",
+                      image_label(l, i, label, sizeof label), total >> 20,
+                      (uint64_t)LG_GLTF_MAX_TEXTURE_BYTES >> 20);
+        }
+    }
+    if (!rc && n_tex) {
+        st->tex.images = st->images;
+        st->tex.n_images = n_img;
+        st->tex.textures = st->textures;
+        st->tex.n_textures = n_tex;
+        st->tex.bytes = total;
+        st->scene.textures = &st->tex;
+    }
+done:
+    free(tex_map);
+    free(img_map);
+    return rc;
 }
 
 /* ---- lights, cameras, medium ----------------------------------------------------------------- */
@@ -1501,7 +1964,7 @@ static int make_medium(loader *l, int64_t scene)
 static const char *const supported_required[] = {
     "KHR_draco_mesh_compression",      "KHR_lights_punctual", "KHR_mesh_quantization",
     "KHR_materials_emissive_strength", "KHR_materials_ior",   "KHR_materials_specular",
-    "KHR_texture_transform", /* textures are ignored anyway */
+    "KHR_texture_transform",
 };
 
 static uint64_t fnv1a(uint64_t h, const uint8_t *p, size_t n)
@@ -1522,6 +1985,34 @@ lg_gltf_options lg_gltf_default_options(void)
     o.scene = -1;
     o.camera = -1;
     return o;
+}
+
+/* Meshes flagged by mesh_tangents (a normal texture reading texture coordinates they lack)
+ * get a copy of their material without the normal map, appended after the others (one
+ * copy per material; build made the slots); the other meshes keep the original. */
+static int split_materials(loader *l, uint32_t *n_materials)
+{
+    store *st = l->st;
+    const uint32_t n_file = l->g->n_materials;
+    uint32_t *copy_of = calloc((size_t)n_file + 1, sizeof *copy_of); /* copy + 1, 0 = none */
+    if (!copy_of)
+        return fail(l, LG_ERR_NOMEM, "out of memory");
+    for (uint32_t i = 0; i < st->n_meshes; i++) {
+        uint32_t orig = st->meshes[i].material;
+        if (!l->mesh_no_normal_map[i] || orig >= n_file)
+            continue;
+        if (!copy_of[orig]) {
+            uint32_t c = (*n_materials)++;
+            st->materials[c] = st->materials[orig];
+            st->maps[c] = st->maps[orig];
+            st->maps[c].normal = lg_material_maps_default()->normal;
+            st->materials[c].maps = &st->maps[c];
+            copy_of[orig] = c + 1;
+        }
+        st->meshes[i].material = copy_of[orig] - 1;
+    }
+    free(copy_of);
+    return 0;
 }
 
 static int build(loader *l)
@@ -1560,16 +2051,32 @@ static int build(loader *l)
 
     store *st = l->st;
     lg_scene *s = &st->scene;
-    /* materials: the file's, then the default one where a primitive names none */
+    /* materials: the file's, then the default one where a primitive names none, then
+     * copies without their normal map for meshes that cannot use it (split_materials) */
     bool need_default = *l->material_used_default || g->n_materials == 0;
-    st->materials = calloc((size_t)g->n_materials + 1, sizeof *st->materials);
-    if (!st->materials)
+    uint32_t n_flagged = 0;
+    for (uint32_t i = 0; i < st->n_meshes; i++)
+        n_flagged += l->mesh_no_normal_map[i];
+    size_t slots = (size_t)g->n_materials + 1 + n_flagged;
+    st->materials = calloc(slots, sizeof *st->materials);
+    st->maps = calloc(slots, sizeof *st->maps);
+    if (!st->materials || !st->maps)
         return fail(l, LG_ERR_NOMEM, "out of memory");
-    for (uint32_t i = 0; i < g->n_materials; i++)
-        if ((rc = map_material(l, i, &st->materials[i])))
+    for (uint32_t i = 0; i < g->n_materials; i++) {
+        bool any = false;
+        if ((rc = map_material(l, i, &st->materials[i])) ||
+            (rc = material_maps(l, i, &st->maps[i], &any)))
             return rc;
+        if (any)
+            st->materials[i].maps = &st->maps[i];
+    }
     if (need_default)
         default_material(&st->materials[g->n_materials]);
+    if ((rc = make_textures(l, g->n_materials)))
+        return rc;
+    uint32_t n_materials = g->n_materials + (need_default ? 1 : 0);
+    if ((rc = split_materials(l, &n_materials)))
+        return rc;
 
     scene_bounds(st);
     for (int k = 0; k < 3; k++)
@@ -1597,7 +2104,7 @@ static int build(loader *l)
     s->instances = st->instances;
     s->n_instances = st->n_instances;
     s->materials = st->materials;
-    s->n_materials = g->n_materials + (need_default ? 1 : 0);
+    s->n_materials = n_materials;
     s->lights = st->lights;
     s->n_lights = st->n_lights;
     s->cameras = st->cameras;
@@ -1651,12 +2158,10 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     if (g->warnings && *g->warnings)
         warn(&l, "tinygltf: %s", g->warnings);
 
-    if (content_hash) {
-        uint64_t h = fnv1a(0xcbf29ce484222325ull, bytes, size);
-        for (uint32_t i = 0; i < g->n_buffers; i++)
-            h = fnv1a(h, g->buffers[i].data, g->buffers[i].size);
-        *content_hash = h;
-    }
+    /* the content hash: the file, its buffers, then (make_textures) every image file read */
+    l.hash = fnv1a(0xcbf29ce484222325ull, bytes, size);
+    for (uint32_t i = 0; i < g->n_buffers; i++)
+        l.hash = fnv1a(l.hash, g->buffers[i].data, g->buffers[i].size);
 
     bool used_default = false;
     l.material_used_default = &used_default;
@@ -1675,12 +2180,15 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     free(l.prim_mesh);
     free(l.cams);
     free(l.lits);
+    free(l.mesh_no_normal_map);
     lg_gltf_doc_free(doc);
     if (rc) {
         lg_gltf_scene_free(l.st ? &l.st->scene : NULL);
         return rc;
     }
     *out = &l.st->scene;
+    if (content_hash)
+        *content_hash = l.hash;
     return 0;
 }
 

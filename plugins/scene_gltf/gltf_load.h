@@ -66,5 +66,11 @@ void lg_gltf_scene_free(lg_scene *scene);
 #define LG_GLTF_MAX_FILE ((uint64_t)1 << 31)
 #define LG_GLTF_MAX_BUFFER ((uint64_t)1 << 31)
 #define LG_GLTF_MAX_EXTERNAL ((uint64_t)1 << 32)
+/* Textures (README.md, "Textures"): an image file at most 256 MiB; an image at most 2^26
+ * pixels (8192 x 8192, 256 MiB as RGBA8), refused from its header before any pixel memory
+ * is allocated; the decoded images of one model at most 2 GiB together. */
+#define LG_GLTF_MAX_IMAGE_FILE ((uint64_t)1 << 28)
+#define LG_GLTF_MAX_IMAGE_PIXELS ((uint64_t)1 << 26)
+#define LG_GLTF_MAX_TEXTURE_BYTES ((uint64_t)1 << 31)
 
 #endif

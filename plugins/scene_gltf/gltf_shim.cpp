@@ -216,8 +216,9 @@ std::vector<uint8_t> replace_glb_json(const uint8_t *glb, size_t size, size_t ol
 // path that leaves the model's folder (lexically, or once its links are resolved), a buffer
 // file that is not a regular file (a FIFO, /dev/zero), a byteLength over kMaxBufferSize or
 // external buffers over kMaxExternalTotal in all, and a file shorter than its byteLength.
-// None of that reads a byte of the file. Images are never read (the loader ignores
-// textures), but are held to the same folder.
+// None of that reads a byte of the file. Image files are not read here either: they are
+// held to the same folder, and the loader reads the ones its materials use
+// (lg_file_read_within, gltf_load.c).
 
 // Largest external buffer (a byteLength), and all external buffers of a file together.
 constexpr uint64_t kMaxBufferSize = LG_GLTF_MAX_BUFFER;
@@ -554,10 +555,18 @@ bool fs_write(std::string *err, const std::string &path, const std::vector<unsig
     return false;
 }
 
-// Images are neither decoded nor kept: the loader ignores textures.
-bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int, int,
-                const unsigned char *, int, void *)
+// Images are not decoded here (gltf_image.c does, for the images a material uses). A data:
+// URI's bytes, which tinygltf has just decoded from base64, are kept as they are; a
+// bufferView image's bytes are not touched: tinygltf 2.7.0 passes them without checking
+// the bufferView against its buffer, and the loader reads them through its checked
+// view_bytes instead.
+bool keep_image(tinygltf::Image *image, const int, std::string *, std::string *, int, int,
+                const unsigned char *bytes, int size, void *)
 {
+    if (image->bufferView < 0 && bytes && size > 0) {
+        image->image.assign(bytes, bytes + size);
+        image->as_is = true; // marks "the bytes of a data: URI" for fill()
+    }
     return true;
 }
 
@@ -584,6 +593,16 @@ struct lg_gltf_doc {
     std::vector<const char *> required;
     std::deque<tinygltf::Value> owned_values; // extension maps wrapped as objects
     std::string warnings;
+    std::string base_dir;
+    // textures (fill_textures)
+    std::vector<lg_gltf_image> images;
+    std::deque<std::string> image_paths;
+    std::vector<lg_gltf_sampler> samplers;
+    std::vector<lg_gltf_texture> textures;
+
+    lg_gltf_texture_info texture_info(int index, int texcoord, double scale,
+                                      const tinygltf::ExtensionMap &ext);
+    void fill_textures();
 
     void convert(const tinygltf::Value &v, lg_json *out);
     const lg_json *value(const tinygltf::Value &v);
@@ -721,6 +740,8 @@ void lg_gltf_doc::fill()
             c.position = attribute(p, "POSITION");
             c.normal = attribute(p, "NORMAL");
             c.texcoord = attribute(p, "TEXCOORD_0");
+            c.texcoord1 = attribute(p, "TEXCOORD_1");
+            c.tangent = attribute(p, "TANGENT");
             c.n_targets = uint32_t(p.targets.size());
             c.extensions = extensions(p.extensions);
             ps.push_back(c);
@@ -769,6 +790,21 @@ void lg_gltf_doc::fill()
         o.double_sided = mt.doubleSided;
         o.extensions = extensions(mt.extensions);
         o.extras = value(mt.extras);
+        const tinygltf::PbrMetallicRoughness &pbr = mt.pbrMetallicRoughness;
+        o.base_color_tex = texture_info(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                        1.0, pbr.baseColorTexture.extensions);
+        o.metallic_roughness_tex = texture_info(pbr.metallicRoughnessTexture.index,
+                                                pbr.metallicRoughnessTexture.texCoord, 1.0,
+                                                pbr.metallicRoughnessTexture.extensions);
+        o.normal_tex = texture_info(mt.normalTexture.index, mt.normalTexture.texCoord,
+                                    mt.normalTexture.scale, mt.normalTexture.extensions);
+        o.occlusion_tex = texture_info(mt.occlusionTexture.index, mt.occlusionTexture.texCoord,
+                                       mt.occlusionTexture.strength,
+                                       mt.occlusionTexture.extensions);
+        o.emissive_tex = texture_info(mt.emissiveTexture.index, mt.emissiveTexture.texCoord, 1.0,
+                                      mt.emissiveTexture.extensions);
+        o.alpha_mode = mt.alphaMode.c_str();
+        o.alpha_cutoff = mt.alphaCutoff;
         materials.push_back(o);
     }
     for (const auto &l : m.lights) {
@@ -815,6 +851,53 @@ void lg_gltf_doc::fill()
     v.extras = value(m.extras);
     v.asset_extras = value(m.asset.extras);
     v.warnings = warnings.c_str();
+    fill_textures();
+}
+
+lg_gltf_texture_info lg_gltf_doc::texture_info(int index, int texcoord, double scale,
+                                               const tinygltf::ExtensionMap &ext)
+{
+    lg_gltf_texture_info t{};
+    t.index = index;
+    t.texcoord = texcoord;
+    t.scale = scale;
+    t.extensions = extensions(ext);
+    return t;
+}
+
+// Images, samplers and textures (the materials' references are filled with the materials).
+void lg_gltf_doc::fill_textures()
+{
+    const tinygltf::Model &m = model;
+    for (const auto &im : m.images) {
+        lg_gltf_image o{};
+        o.name = im.name.c_str();
+        o.mime_type = im.mimeType.c_str();
+        o.view = im.bufferView;
+        o.data_uri = im.as_is; // keep_image's mark
+        o.uri = o.data_uri ? "" : im.uri.c_str();
+        image_paths.emplace_back();
+        if (!o.data_uri && !im.uri.empty() && !percent_decode(im.uri, &image_paths.back()).empty())
+            image_paths.back().clear(); // never: scan_refs refused such a uri
+        o.path = image_paths.back().c_str();
+        if (o.data_uri) {
+            o.data = im.image.data();
+            o.size = im.image.size();
+        }
+        images.push_back(o);
+    }
+    for (const auto &s : m.samplers)
+        samplers.push_back({ s.magFilter, s.minFilter, s.wrapS, s.wrapT });
+    for (const auto &t : m.textures)
+        textures.push_back({ t.sampler, t.source });
+    lg_gltf &v = view;
+    v.images = images.data();
+    v.n_images = uint32_t(images.size());
+    v.samplers = samplers.data();
+    v.n_samplers = uint32_t(samplers.size());
+    v.textures = textures.data();
+    v.n_textures = uint32_t(textures.size());
+    v.base_dir = base_dir.c_str();
 }
 
 extern "C" const lg_json *lg_json_get(const lg_json *obj, const char *key)
@@ -884,7 +967,7 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
         }
         std::unique_ptr<lg_gltf_doc> doc(new lg_gltf_doc);
         tinygltf::TinyGLTF loader;
-        loader.SetImageLoader(skip_image, nullptr);
+        loader.SetImageLoader(keep_image, nullptr);
         loader.SetFsCallbacks({ fs_exists, fs_expand, fs_read, fs_write, &fs });
         std::string terr, twarn;
         // without a folder, tinygltf gets one that cannot hold a file (and asks fs_exists,
@@ -903,6 +986,7 @@ extern "C" lg_gltf_doc *lg_gltf_parse(const uint8_t *bytes, size_t size, const c
             return nullptr;
         }
         doc->warnings = one_line(twarn);
+        doc->base_dir = fs.base;
         doc->fill();
         *out = &doc->view;
         return doc.release();
@@ -966,12 +1050,15 @@ extern "C" void lg_draco_mesh_free(lg_draco_mesh *m)
     free(m->normals);
     free(m->texcoords);
     free(m->indices);
+    free(m->texcoords1);
+    free(m->tangents);
     *m = lg_draco_mesh{};
 }
 
 extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t position_id,
-                               int64_t normal_id, int64_t texcoord_id, uint64_t max_points,
-                               uint64_t max_faces, lg_draco_mesh *out, char *err, size_t err_size)
+                               int64_t normal_id, int64_t texcoord_id, int64_t texcoord1_id,
+                               int64_t tangent_id, uint64_t max_points, uint64_t max_faces,
+                               lg_draco_mesh *out, char *err, size_t err_size)
 {
     *out = lg_draco_mesh{};
     try {
@@ -1009,8 +1096,13 @@ extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t positi
             out->normals = static_cast<float *>(malloc((np ? np : 1) * 3 * sizeof(float)));
         if (texcoord_id >= 0)
             out->texcoords = static_cast<float *>(malloc((np ? np : 1) * 2 * sizeof(float)));
+        if (texcoord1_id >= 0)
+            out->texcoords1 = static_cast<float *>(malloc((np ? np : 1) * 2 * sizeof(float)));
+        if (tangent_id >= 0)
+            out->tangents = static_cast<float *>(malloc((np ? np : 1) * 4 * sizeof(float)));
         if (!out->positions || !out->indices || (normal_id >= 0 && !out->normals) ||
-            (texcoord_id >= 0 && !out->texcoords)) {
+            (texcoord_id >= 0 && !out->texcoords) || (texcoord1_id >= 0 && !out->texcoords1) ||
+            (tangent_id >= 0 && !out->tangents)) {
             lg_draco_mesh_free(out);
             set_err(err, err_size, "out of memory for %llu Draco points", (unsigned long long)np);
             return -1;
@@ -1020,6 +1112,10 @@ extern "C" int lg_draco_decode(const uint8_t *bytes, size_t size, int64_t positi
             why = extract(mesh, normal_id, 3, "NORMAL", out->normals);
         if (why.empty() && texcoord_id >= 0)
             why = extract(mesh, texcoord_id, 2, "TEXCOORD_0", out->texcoords);
+        if (why.empty() && texcoord1_id >= 0)
+            why = extract(mesh, texcoord1_id, 2, "TEXCOORD_1", out->texcoords1);
+        if (why.empty() && tangent_id >= 0)
+            why = extract(mesh, tangent_id, 4, "TANGENT", out->tangents);
         for (draco::FaceIndex f(0); why.empty() && f < mesh.num_faces(); ++f) {
             const draco::Mesh::Face &face = mesh.face(f);
             for (int k = 0; k < 3; k++) {

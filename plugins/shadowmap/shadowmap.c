@@ -47,6 +47,8 @@ typedef struct sm_state {
     const lg_shadowmap *sm;  /* &view once prepared */
     lg_gl_pass *pass;        /* made on the first execute */
     lg_gl_uniform u_view_proj;
+    lg_gl_material_binds mat;     /* alpha masks (material.glsl) */
+    const lg_resource *scene_res; /* during a draw, for sm_on_mesh */
 } sm_state;
 
 /* ---- create ---------------------------------------------------------------------------------- */
@@ -565,12 +567,25 @@ static int sm_make_pass(lg_node *n, sm_state *st)
                           .cull = st->cull == SM_CULL_BACK    ? LG_GL_CULL_BACK
                                   : st->cull == SM_CULL_FRONT ? LG_GL_CULL_FRONT
                                                               : LG_GL_CULL_NONE,
-                          .scene = LG_GL_SCENE_POSITIONS };
+                          .scene = LG_GL_SCENE_POSITIONS | LG_GL_SCENE_TEXCOORDS };
     int rc = lg_gl_pass_create(n, &d, &st->pass);
     if (rc)
         return rc;
     st->u_view_proj = lg_gl_pass_uniform(st->pass, "u_view_proj");
+    lg_gl_pass_material_binds(st->pass, &st->mat);
     return 0;
+}
+
+/* The mesh's material, for its alpha mask: the depth pass discards where alpha is below
+ * the cutoff. The file's filters without anisotropy (a threshold needs no sharper texels). */
+static int sm_on_mesh(lg_node *n, void *user, uint32_t mesh, GLuint *normals)
+{
+    (void)n, (void)normals;
+    sm_state *st = user;
+    const lg_scene *s = lg_gl_pass_scene(st->pass)->scene;
+    lg_gl_material_opts o = { .filter = LG_GL_MATERIAL_FILTER_FILE, .max_anisotropy = 1.0f };
+    return lg_gl_pass_bind_material(st->pass, &st->mat, st->scene_res, s->meshes[mesh].material,
+                                    &o);
 }
 
 static int sm_execute(lg_node *n, const lg_frame *frame)
@@ -623,12 +638,14 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
         (rc = lg_gl_pass_begin(st->pass, &atlas)))
         return rc;
     lg_gl_pass_clear_depth(st->pass, 1.0f);
+    st->scene_res = scene_res;
+    lg_gl_scene_draw draw = { .on_mesh = sm_on_mesh, .user = st };
     for (uint32_t li = 0; li < sm->n_lights && !rc; li++) {
         const lg_shadow_light *l = &sm->lights[li];
         lg_gl_pass_viewport(st->pass, (int32_t)l->tile_x, (int32_t)l->tile_y, sm->resolution,
                             sm->resolution);
         lg_gl_set_mat4(st->pass, st->u_view_proj, l->view_proj);
-        rc = lg_gl_pass_draw_scene(st->pass, scene_res, NULL);
+        rc = lg_gl_pass_draw_scene(st->pass, scene_res, &draw);
     }
     if ((rc = lg_gl_pass_end(st->pass, rc)))
         return rc;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_pass_priv.h"
 #include "lightgraph/plugin.h"
 
 /* Bindings tracked so that end can unbind exactly what the pass bound. GL guarantees at
@@ -12,14 +13,21 @@
  * the pass handles the first 32 of each (an index beyond is an error at look-up). */
 #define LG_PASS_MAX_BIND 32u
 
-/* Distinct sampler states a pass keeps objects for (ibl needs three). */
-#define LG_PASS_MAX_SAMPLERS 8u
+/* Distinct sampler states a pass keeps objects for (ibl needs three; a textured scene one
+ * per glTF sampler and encoding it uses). */
+#define LG_PASS_MAX_SAMPLERS 32u
+
+/* GL_ARB_texture_filter_anisotropic (core in 4.6; the loader is 4.5 without extensions) */
+#define LG_GL_TEXTURE_MAX_ANISOTROPY 0x84FE
+#define LG_GL_MAX_TEXTURE_MAX_ANISOTROPY 0x84FF
 
 /* One GL sampler object per distinct lg_gl_sampler state (the reserved fields excluded). */
 typedef struct pass_sampler {
     lg_gl_filter filter;
     lg_gl_wrap wrap;
     bool compare;
+    uint16_t min_filter, mag_filter, wrap_s, wrap_t;
+    float max_anisotropy;
     GLuint name;
 } pass_sampler;
 
@@ -75,6 +83,7 @@ struct lg_gl_pass {
 
     pass_sampler samplers[LG_PASS_MAX_SAMPLERS];
     unsigned n_samplers;
+    float device_anisotropy; /* the device's maximum, 1 without the extension; 0: not asked */
     pass_ubo ubos[LG_PASS_MAX_BIND];
 };
 
@@ -131,7 +140,7 @@ int lg_gl_pass_create(lg_node *n, const lg_gl_pass_desc *d, lg_gl_pass **out)
     if (!compute && n_colors == 0 && !d->depth)
         return lg_error(n, "gl pass '%s': a raster pass needs a colour or a depth attachment",
                         d->name);
-    if (d->scene & ~(unsigned)(LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS))
+    if (d->scene & ~(unsigned)(LG_GL_SCENE_POSITIONS | LG_GL_SCENE_NORMALS | LG_GL_SCENE_TEXCOORDS))
         return lg_error(n, "gl pass '%s': unknown scene attributes 0x%x", d->name, d->scene);
     if ((unsigned)d->blend > LG_GL_BLEND_ADD || (unsigned)d->cull > LG_GL_CULL_FRONT)
         return lg_error(n, "gl pass '%s': unknown blend %d or cull %d", d->name, (int)d->blend,
@@ -651,12 +660,58 @@ void lg_gl_pass_bind_texture(lg_gl_pass *p, lg_gl_binding b, GLuint tex)
     lg_gl_pass_bind_texture_sampled(p, b, tex, NULL);
 }
 
+static bool gl_filter_ok(uint16_t f, bool min)
+{
+    switch (f) {
+    case 0:
+    case GL_NEAREST:
+    case GL_LINEAR: return true;
+    case GL_NEAREST_MIPMAP_NEAREST:
+    case GL_LINEAR_MIPMAP_NEAREST:
+    case GL_NEAREST_MIPMAP_LINEAR:
+    case GL_LINEAR_MIPMAP_LINEAR: return min;
+    default: return false;
+    }
+}
+
+static bool gl_wrap_ok(uint16_t w)
+{
+    return w == 0 || w == GL_REPEAT || w == GL_CLAMP_TO_EDGE || w == GL_MIRRORED_REPEAT;
+}
+
+/* The device's anisotropy limit: asked once per pass (the extension string, then
+ * GL_MAX_TEXTURE_MAX_ANISOTROPY); 1 when the device does not have the extension. */
+static float device_anisotropy(lg_gl_pass *p)
+{
+    if (p->device_anisotropy > 0.0f)
+        return p->device_anisotropy;
+    const lg_gl *gl = p->gl;
+    float max = 1.0f;
+    GLint n = 0;
+    gl->GetIntegerv(GL_NUM_EXTENSIONS, &n);
+    for (GLint i = 0; i < n; i++) {
+        const char *e = (const char *)gl->GetStringi(GL_EXTENSIONS, (GLuint)i);
+        if (e && (!strcmp(e, "GL_ARB_texture_filter_anisotropic") ||
+                  !strcmp(e, "GL_EXT_texture_filter_anisotropic"))) {
+            GLfloat v = 1.0f;
+            gl->GetFloatv(LG_GL_MAX_TEXTURE_MAX_ANISOTROPY, &v);
+            max = v > 1.0f ? v : 1.0f;
+            break;
+        }
+    }
+    p->device_anisotropy = max;
+    return max;
+}
+
 /* The pass's sampler object for state `s`, made at its first use; 0 after an error. */
 static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
 {
+    float aniso = s->max_anisotropy > 1.0f ? s->max_anisotropy : 1.0f;
     for (unsigned i = 0; i < p->n_samplers; i++) {
         const pass_sampler *k = &p->samplers[i];
-        if (k->filter == s->filter && k->wrap == s->wrap && k->compare == s->compare_less_equal)
+        if (k->filter == s->filter && k->wrap == s->wrap && k->compare == s->compare_less_equal &&
+            k->min_filter == s->min_filter && k->mag_filter == s->mag_filter &&
+            k->wrap_s == s->wrap_s && k->wrap_t == s->wrap_t && k->max_anisotropy == aniso)
             return k->name;
     }
     static const GLint wraps[] = { GL_CLAMP_TO_EDGE, GL_REPEAT, GL_MIRRORED_REPEAT,
@@ -667,6 +722,15 @@ static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
                                   "gl pass '%s': sampler with unknown filter %d or "
                                   "wrap %d",
                                   p->name, (int)s->filter, (int)s->wrap);
+        return 0;
+    }
+    if (!gl_filter_ok(s->min_filter, true) || !gl_filter_ok(s->mag_filter, false) ||
+        !gl_wrap_ok(s->wrap_s) || !gl_wrap_ok(s->wrap_t) || !(aniso <= 1e6f)) {
+        p->bind_failed = lg_error(p->node,
+                                  "gl pass '%s': sampler with min filter %u, mag filter %u, "
+                                  "wrap %u x %u or anisotropy %g that GL does not have",
+                                  p->name, s->min_filter, s->mag_filter, s->wrap_s, s->wrap_t,
+                                  (double)s->max_anisotropy);
         return 0;
     }
     if (p->n_samplers == LG_PASS_MAX_SAMPLERS) {
@@ -680,10 +744,14 @@ static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
     gl->CreateSamplers(1, &name);
     GLint mag = s->filter == LG_GL_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR;
     GLint min = s->filter == LG_GL_FILTER_LINEAR_MIPMAP ? GL_LINEAR_MIPMAP_LINEAR : mag;
+    if (s->mag_filter)
+        mag = s->mag_filter;
+    if (s->min_filter)
+        min = s->min_filter;
     gl->SamplerParameteri(name, GL_TEXTURE_MIN_FILTER, min);
     gl->SamplerParameteri(name, GL_TEXTURE_MAG_FILTER, mag);
-    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_S, wraps[s->wrap]);
-    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_T, wraps[s->wrap]);
+    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_S, s->wrap_s ? s->wrap_s : wraps[s->wrap]);
+    gl->SamplerParameteri(name, GL_TEXTURE_WRAP_T, s->wrap_t ? s->wrap_t : wraps[s->wrap]);
     gl->SamplerParameteri(name, GL_TEXTURE_WRAP_R, wraps[s->wrap]);
     const float border[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
     gl->SamplerParameterfv(name, GL_TEXTURE_BORDER_COLOR, border);
@@ -691,10 +759,49 @@ static GLuint sampler_for(lg_gl_pass *p, const lg_gl_sampler *s)
         gl->SamplerParameteri(name, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         gl->SamplerParameteri(name, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
     }
-    p->samplers[p->n_samplers++] = (pass_sampler){
-        .filter = s->filter, .wrap = s->wrap, .compare = s->compare_less_equal, .name = name
-    };
+    if (aniso > 1.0f) {
+        float dev = device_anisotropy(p);
+        if (dev > 1.0f)
+            gl->SamplerParameterf(name, LG_GL_TEXTURE_MAX_ANISOTROPY, aniso < dev ? aniso : dev);
+    }
+    p->samplers[p->n_samplers++] = (pass_sampler){ .filter = s->filter,
+                                                   .wrap = s->wrap,
+                                                   .compare = s->compare_less_equal,
+                                                   .min_filter = s->min_filter,
+                                                   .mag_filter = s->mag_filter,
+                                                   .wrap_s = s->wrap_s,
+                                                   .wrap_t = s->wrap_t,
+                                                   .max_anisotropy = aniso,
+                                                   .name = name };
     return name;
+}
+
+lg_gl_sampler lg_gl_sampler_scene(const lg_scene *s, int32_t texture, float max_anisotropy)
+{
+    lg_gl_sampler r = { .filter = LG_GL_FILTER_LINEAR_MIPMAP, .wrap = LG_GL_WRAP_REPEAT };
+    r.max_anisotropy = max_anisotropy > 1.0f ? max_anisotropy : 0.0f;
+    const lg_scene_textures *t = s ? s->textures : NULL;
+    if (!t || texture < 0 || (uint32_t)texture >= t->n_textures)
+        return r;
+    const lg_scene_texture *x = &t->textures[texture];
+    /* values GL does not have fall back to glTF's defaults (a loader has refused them) */
+    r.mag_filter = gl_filter_ok((uint16_t)x->mag_filter, false) && x->mag_filter <= 0xffff
+                       ? (uint16_t)x->mag_filter
+                       : 0;
+    r.min_filter = gl_filter_ok((uint16_t)x->min_filter, true) && x->min_filter <= 0xffff
+                       ? (uint16_t)x->min_filter
+                       : 0;
+    r.wrap_s = gl_wrap_ok((uint16_t)x->wrap_s) && x->wrap_s <= 0xffff ? (uint16_t)x->wrap_s : 0;
+    r.wrap_t = gl_wrap_ok((uint16_t)x->wrap_t) && x->wrap_t <= 0xffff ? (uint16_t)x->wrap_t : 0;
+    /* a texture sampled without mipmaps takes no anisotropy either (glTF's NEAREST / LINEAR
+     * minification: the file asked for level 0 only) */
+    if (r.min_filter == GL_NEAREST || r.min_filter == GL_LINEAR)
+        r.max_anisotropy = 0.0f;
+    /* nor one magnified NEAREST: Mesa's llvmpipe filters magnified texels linearly when
+     * anisotropy is on, blurring the texels the file asked to keep sharp */
+    if (r.mag_filter == GL_NEAREST)
+        r.max_anisotropy = 0.0f;
+    return r;
 }
 
 void lg_gl_pass_bind_texture_sampled(lg_gl_pass *p, lg_gl_binding b, GLuint tex,
@@ -1075,7 +1182,8 @@ static int scene_data(lg_gl_pass *p, const lg_resource *res)
     lg_scene_gl_destroy(p->gl, p->sgl);
     p->sgl = NULL;
     key_free(&p->key);
-    unsigned flags = p->scene_attribs & LG_GL_SCENE_NORMALS ? LG_SCENE_GL_NORMALS : 0;
+    unsigned flags = (p->scene_attribs & LG_GL_SCENE_NORMALS ? LG_SCENE_GL_NORMALS : 0) |
+                     (p->scene_attribs & LG_GL_SCENE_TEXCOORDS ? LG_SCENE_GL_TEXCOORDS : 0);
     int rc = lg_scene_gl_create(n, res, flags, &p->sgl);
     if (!rc)
         rc = lg_scene_gl_upload(n, p->gl, p->sgl);
@@ -1112,6 +1220,11 @@ int lg_gl_pass_draw_scene(lg_gl_pass *p, const lg_resource *scene, const lg_gl_s
     char what[160];
     snprintf(what, sizeof what, "gl pass '%s': drawing the scene", p->name);
     return lg_gl_check(p->node, what);
+}
+
+lg_node *lg_gl_pass_node_(const lg_gl_pass *p)
+{
+    return p->node;
 }
 
 const lg_scene_gl *lg_gl_pass_scene(const lg_gl_pass *p)

@@ -151,11 +151,36 @@ static int upload_mesh(lg_node *n, const lg_resource *res, uint32_t mesh, upload
     return rc;
 }
 
+/* Since ABI 3.1: tangents and the second texture coordinates, in slots past the four per
+ * mesh of the 3.0 arrays (so that a 3.0 plugin's slots keep their meaning). */
+#define SLOT_3_1_BASE 0x80000000u
+enum { SLOT_TAN = 0, SLOT_UV1, SLOTS_3_1_PER_MESH };
+
 int lg_scene_mesh_gl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_gl *out)
 {
     memset(out, 0, sizeof *out);
-    return upload_mesh(n, res, mesh, upload_gl, &out->positions, &out->normals, &out->texcoords,
-                       &out->indices);
+    int rc = upload_mesh(n, res, mesh, upload_gl, &out->positions, &out->normals, &out->texcoords,
+                         &out->indices);
+    if (rc)
+        return rc;
+    const lg_scene *s;
+    const lg_resource *owner = NULL;
+    if ((rc = mesh_of(n, res, mesh, &s, &owner)))
+        return rc;
+    const lg_mesh *m = &s->meshes[mesh];
+    if (!m->tangents && !m->texcoords1)
+        return 0;
+    if (mesh >= (UINT32_MAX - SLOT_3_1_BASE) / SLOTS_3_1_PER_MESH)
+        return lg_error(n, "mesh %u: too many meshes for the GL copies of tangents", mesh);
+    uint32_t base = SLOT_3_1_BASE + mesh * SLOTS_3_1_PER_MESH;
+    size_t nv = m->n_vertices;
+    if (m->tangents && (rc = upload_gl(n, owner, base + SLOT_TAN, m->tangents,
+                                       nv * 4 * sizeof(float), &out->tangents)))
+        return rc;
+    if (m->texcoords1)
+        rc = upload_gl(n, owner, base + SLOT_UV1, m->texcoords1, nv * 2 * sizeof(float),
+                       &out->texcoords1);
+    return rc;
 }
 
 int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_cl *out)
@@ -166,6 +191,37 @@ int lg_scene_mesh_cl(lg_node *n, const lg_resource *res, uint32_t mesh, lg_mesh_
 }
 
 /* ---- Textures (ABI 3.1) ---------------------------------------------------------------------- */
+
+int lg_scene_texture_gl(lg_node *n, const lg_resource *res, int32_t texture, bool srgb,
+                        uint32_t *out)
+{
+    *out = 0;
+    const lg_scene *s = lg_scene_get(n, res);
+    if (!s)
+        return LG_ERR_INVALID;
+    const lg_scene_textures *t = s->textures;
+    uint32_t nt = t ? t->n_textures : 0;
+    if (texture < 0 || (uint32_t)texture >= nt)
+        return lg_error(n, "texture %d does not exist: the scene has %u texture%s", (int)texture,
+                        nt, nt == 1 ? "" : "s");
+    const lg_scene_texture *tex = &t->textures[texture];
+    if (tex->image >= t->n_images)
+        return lg_error(n, "texture %d uses image %u, the scene has %u", (int)texture, tex->image,
+                        t->n_images);
+    const lg_scene_image *img = &t->images[tex->image];
+    if (!img->rgba8 || img->width == 0 || img->height == 0)
+        return lg_error(n, "texture %d: image %u '%s' has no pixels (%ux%u)", (int)texture,
+                        tex->image, img->name ? img->name : "", img->width, img->height);
+    /* one GL texture per image and encoding: textures that differ only in their sampler
+     * share it (the sampler is the pass's sampler object) */
+    if (tex->image > (UINT32_MAX >> 1))
+        return lg_error(n, "texture %d: image index %u too large", (int)texture, tex->image);
+    const lg_resource *owner = s->geometry ? s->geometry : res;
+    return lg_payload_gl_texture(n, owner, tex->image * 2u + (srgb ? 1u : 0u), img->rgba8,
+                                 img->width, img->height,
+                                 srgb ? 0x8C43u /* GL_SRGB8_ALPHA8 */ : 0x8058u /* GL_RGBA8 */,
+                                 out);
+}
 
 static const lg_material_maps default_maps = {
     .base_color = { -1, 0, 1.0f, { 1, 0, 0, 1, 0, 0 }, { 0, 0 } },

@@ -223,7 +223,7 @@ static int collect(lg_node *n, lg_scene_gl *sgl)
 int lg_scene_gl_create(lg_node *n, const lg_resource *scene_res, unsigned flags, lg_scene_gl **out)
 {
     *out = NULL;
-    if (flags & ~(unsigned)LG_SCENE_GL_NORMALS)
+    if (flags & ~(unsigned)(LG_SCENE_GL_NORMALS | LG_SCENE_GL_TEXCOORDS))
         return lg_error(n, "lg_scene_gl_create: unknown flags 0x%x", flags);
     const lg_scene *s = lg_scene_get(n, scene_res);
     if (!s)
@@ -284,7 +284,32 @@ int lg_scene_gl_upload(lg_node *n, const lg_gl *gl, lg_scene_gl *sgl)
         gl->VertexArrayAttribFormat(sgl->vao, 1, 3, GL_FLOAT, GL_FALSE, 0);
         gl->VertexArrayAttribBinding(sgl->vao, 1, 1);
     }
+    if (sgl->flags & LG_SCENE_GL_TEXCOORDS) {
+        /* enabled per mesh by the draw, where the mesh has the array */
+        static const GLint size[3] = { 2, 2, 4 };
+        for (GLuint a = 2; a <= 4; a++) {
+            gl->VertexArrayAttribFormat(sgl->vao, a, size[a - 2], GL_FLOAT, GL_FALSE, 0);
+            gl->VertexArrayAttribBinding(sgl->vao, a, a);
+        }
+    }
     return 0;
+}
+
+/* Attributes 2-4 for mesh `m`: its arrays where it has them, else the constants of
+ * LG_SCENE_GL_TEXCOORDS (GL's current attribute values, read when the array is disabled). */
+static void bind_texcoords(const lg_gl *gl, GLuint vao, const lg_mesh_gl *mg)
+{
+    const GLuint bufs[3] = { mg->texcoords, mg->texcoords1, mg->tangents };
+    const GLsizei stride[3] = { 2 * sizeof(float), 2 * sizeof(float), 4 * sizeof(float) };
+    for (GLuint a = 2; a <= 4; a++) {
+        if (bufs[a - 2]) {
+            gl->VertexArrayVertexBuffer(vao, a, bufs[a - 2], 0, stride[a - 2]);
+            gl->EnableVertexArrayAttrib(vao, a);
+        } else {
+            gl->DisableVertexArrayAttrib(vao, a);
+            gl->VertexAttrib4f(a, a == 4 ? 1.0f : 0.0f, 0.0f, 0.0f, 1.0f);
+        }
+    }
 }
 
 int lg_scene_gl_draw(lg_node *n, const lg_gl *gl, const lg_scene_gl *sgl,
@@ -327,6 +352,8 @@ int lg_scene_gl_draw(lg_node *n, const lg_gl *gl, const lg_scene_gl *sgl,
             gl->VertexArrayVertexBuffer(sgl->vao, 0, mg.positions, 0, 3 * sizeof(float));
             if (sgl->flags & LG_SCENE_GL_NORMALS)
                 gl->VertexArrayVertexBuffer(sgl->vao, 1, nrm, 0, 3 * sizeof(float));
+            if (sgl->flags & LG_SCENE_GL_TEXCOORDS)
+                bind_texcoords(gl, sgl->vao, &mg);
             gl->VertexArrayElementBuffer(sgl->vao, mg.indices);
             /* a double-sided material's winding says nothing about which side faces out */
             if (d->cull_material && !s->materials[m->material].double_sided)

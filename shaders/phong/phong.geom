@@ -34,6 +34,13 @@ layout(location = 2) flat in uint g_id[];
 layout(location = 0) out vec3 o_pos;
 layout(location = 2) flat out uint o_id;
 
+// texture coordinates and tangent, interpolated in every mode (ABI 3.1)
+#define LG_UV_LOC (6 + 2 * LG_SV_ARR)
+layout(location = LG_UV_LOC) in vec4 g_uv[];
+layout(location = LG_UV_LOC + 1) in vec4 g_tan[];
+layout(location = LG_UV_LOC) out vec4 o_uv;
+layout(location = LG_UV_LOC + 1) out vec4 o_tan;
+
 #if LG_SHADING == 0
 layout(location = 1) flat out vec3 o_nrm;  // the front side's (the vertex normals' side)
 layout(location = 4) flat out vec3 o_c0;   // front colour, then the back side's
@@ -102,6 +109,8 @@ void main()
         o_pos = g_pos[i];
         o_id = g_id[i];
         o_nrm = Nf;
+        o_uv = g_uv[i];
+        o_tan = g_tan[i];
         o_c0 = c0;
         o_c0b = c0b;
         o_cs = cs;
@@ -124,6 +133,8 @@ void main()
         gl_Position = gl_in[i].gl_Position;
         o_pos = g_pos[i];
         o_nrm = g_nrm[i];
+        o_uv = g_uv[i];
+        o_tan = g_tan[i];
         o_id = g_id[i];
         o_highlight = highlight;
         o_c0 = g_c0[i];

@@ -8,13 +8,19 @@
 // both sides, the fragment stage picks by gl_FrontFacing (two-sided lighting).
 // Varyings are matched by location: 0 position, 1 normal, 2 surface id, 3 mixed: the vertex's
 // largest cos(V, R) (to the geometry stage) and the highlight flag (to the fragment stage),
-// 4 front colour, 5 back colour, 6.. front shadowed colours, then back ones.
+// 4 front colour, 5 back colour, 6.. front shadowed colours, then back ones; then (ABI 3.1)
+// LG_UV_LOC: TEXCOORD_0 and TEXCOORD_1 in one vec4, LG_UV_LOC + 1: the world tangent.
 
 #include "phong.glsl"
 #include "phong_scene.glsl"
 
+#define LG_UV_LOC (6 + 2 * LG_SV_ARR)
+
 layout(location = 0) in vec3 a_position; // object space
 layout(location = 1) in vec3 a_normal;   // object space (the scene's, or eq. 1-13's)
+layout(location = 2) in vec2 a_uv0;      // TEXCOORD_0 ((0, 0) for a mesh without)
+layout(location = 3) in vec2 a_uv1;      // TEXCOORD_1
+layout(location = 4) in vec4 a_tangent;  // object space, w the bitangent's sign
 
 struct LgInstance {
     mat4 model;  // object to world
@@ -30,6 +36,8 @@ uniform int u_id_base;    // surface id of the draw's first instance (ids start 
 layout(location = 0) out vec3 v_pos; // world
 layout(location = 1) out vec3 v_nrm; // world, not normalised
 layout(location = 2) flat out uint v_id;
+layout(location = LG_UV_LOC) out vec4 v_uv;      // TEXCOORD_0, TEXCOORD_1
+layout(location = LG_UV_LOC + 1) out vec4 v_tan; // world tangent, w its sign
 #if LG_SHADING == 3
 // mixed: the largest cos(angle(V, R)) over the lights here, for the normal and its reverse
 layout(location = 3) out vec2 v_max_cos;
@@ -48,6 +56,8 @@ void main()
     v_pos = world.xyz;
     v_nrm = mat3(I.normal) * a_normal;
     v_id = uint(u_id_base + gl_InstanceID);
+    v_uv = vec4(a_uv0, a_uv1);
+    v_tan = lg_mat_world_tangent(I.model, a_tangent);
     gl_Position = u_view_proj * world;
 #if LG_SHADING == 1 || LG_SHADING == 3
     LgPhongMaterial m = lg_material();

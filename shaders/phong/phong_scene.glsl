@@ -6,6 +6,10 @@
 // Units: a light's Ii = colour * intensity (scene.h), used as the model's incident intensity;
 // the result is the model's reflected intensity in the same units (HDR, linear).
 
+// The material's textures and alpha mode (ABI 3.1): shaders/common/material.glsl (block
+// binding 6, units 8..12, apart from this node's own bindings).
+#include "material.glsl"
+
 // One light as the node uploads it (std430, 64 bytes).
 //   pos.xyz  position (point, spot), world
 //   pos.w    type: 0 = at infinity (directional lights, and point/spot lights with

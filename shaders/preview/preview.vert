@@ -5,6 +5,8 @@
 
 layout(location = 0) in vec3 a_position; // object space
 layout(location = 1) in vec3 a_normal;   // object space
+layout(location = 2) in vec2 a_uv0;      // TEXCOORD_0 ((0, 0) for a mesh without)
+layout(location = 3) in vec2 a_uv1;      // TEXCOORD_1 ((0, 0) for a mesh without)
 
 struct lg_preview_instance {
     mat4 model;  // object to world
@@ -20,6 +22,7 @@ layout(location = 2) uniform int u_first;
 
 out vec3 v_normal;      // world space, not normalised
 out float v_view_depth; // distance along the view axis, > 0 in front of the camera
+out vec2 v_uv0, v_uv1;
 
 void main()
 {
@@ -27,5 +30,7 @@ void main()
     vec4 world = I.model * vec4(a_position, 1.0);
     v_normal = mat3(I.normal) * a_normal;
     v_view_depth = -(u_view * world).z;
+    v_uv0 = a_uv0;
+    v_uv1 = a_uv1;
     gl_Position = u_view_proj * world;
 }

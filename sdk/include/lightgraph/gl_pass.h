@@ -126,6 +126,9 @@ typedef enum lg_gl_cull {
 enum {
     LG_GL_SCENE_POSITIONS = 1u << 0,
     LG_GL_SCENE_NORMALS = 1u << 1,
+    /* since ABI 3.1: attributes 2 (TEXCOORD_0), 3 (TEXCOORD_1) and 4 (tangent), as
+     * lightgraph/scene_gl.h's LG_SCENE_GL_TEXCOORDS */
+    LG_GL_SCENE_TEXCOORDS = 1u << 2,
 };
 
 typedef struct lg_gl_pass_desc {
@@ -321,8 +324,34 @@ typedef struct lg_gl_sampler {
     lg_gl_wrap wrap;         /* all axes (S, T, R) */
     bool seamless_cube;      /* cube-map fetches filter across faces (see below) */
     bool compare_less_equal; /* depth comparison for a sampler2DShadow: GL_LEQUAL */
-    uint32_t reserved[4];
+    /* Since ABI 3.1, in the place of the reserved words (anonymous union, same layout; zero
+     * keeps the 3.0 meaning): a glTF sampler (lg_gl_sampler_scene fills them).
+     *   min_filter, mag_filter: GL's (= glTF's, the LG_TEX_* of lightgraph/scene.h)
+     *     filter enums; non-zero replaces what `filter` says for that direction.
+     *   wrap_s, wrap_t: GL_REPEAT, GL_CLAMP_TO_EDGE or GL_MIRRORED_REPEAT; non-zero
+     *     replaces `wrap` on that axis.
+     *   max_anisotropy: above 1, anisotropic filtering up to min(max_anisotropy, the
+     *     device's GL_MAX_TEXTURE_MAX_ANISOTROPY) where the device has it
+     *     (GL_ARB_texture_filter_anisotropic or GL_EXT_texture_filter_anisotropic; Mesa's
+     *     llvmpipe reports 16); 0 or 1: off; ignored on a device without it. */
+    union {
+        uint32_t reserved[4];
+        struct {
+            uint16_t min_filter, mag_filter;
+            uint16_t wrap_s, wrap_t;
+            float max_anisotropy;
+            uint32_t reserved_3_1;
+        };
+    };
 } lg_gl_sampler;
+
+/* Since ABI 3.1: the sampler of scene texture `texture` of `s` (lg_scene.textures): its
+ * glTF filters and wraps, glTF's defaults where the file gives none (magnified linear,
+ * minified trilinear, repeat), with `max_anisotropy` (16 is the usual choice: the device's
+ * maximum when lower). A texture index out of range gives those defaults. Anisotropy is
+ * left off for a texture minified without mipmaps (NEAREST or LINEAR) or magnified NEAREST
+ * (llvmpipe's anisotropic path would filter its magnified texels linearly). */
+LG_API lg_gl_sampler lg_gl_sampler_scene(const lg_scene *s, int32_t texture, float max_anisotropy);
 
 /* Binds `tex` to the unit of sampler `b` with the sampler state `s` (NULL: the texture's
  * own parameters, as lg_gl_pass_bind_texture), between begin and end. The pass owns the
@@ -334,6 +363,76 @@ typedef struct lg_gl_sampler {
  * the binding is left unmade. */
 LG_API void lg_gl_pass_bind_texture_sampled(lg_gl_pass *pass, lg_gl_binding b, GLuint tex,
                                             const lg_gl_sampler *s);
+
+/* ---- a scene material's textures (since ABI 3.1) --------------------------------------------- */
+/*
+ * shaders/common/material.glsl is the GLSL side (its header comment gives the block, the
+ * units and the functions): a node #includes it, looks up its bindings once with
+ * lg_gl_pass_material_binds, and in its on_mesh callback binds the mesh's material with
+ * lg_gl_pass_bind_material (the block's values and the material's textures, each with its
+ * glTF sampler, through the pass: no raw GL state). Nodes that draw untextured scenes
+ * give the same pixels as before: without textures every map reads its factor.
+ */
+
+/* The uniform block LgMaterial, std140, as material.glsl declares it. */
+typedef struct lg_gl_material {
+    float base_color[4];       /* baseColorFactor (lg_material.base_color) */
+    float emissive[3];         /* emissiveFactor */
+    float alpha_cutoff;        /* MASK: maps->alpha_cutoff; BLEND: 0.5; OPAQUE: 0 */
+    float metallic, roughness; /* factors */
+    float normal_scale;        /* maps->normal.scale */
+    float occlusion_strength;  /* maps->occlusion.scale */
+    int32_t has[4];            /* base colour, metallic-roughness, normal, occlusion */
+    int32_t has_emissive;      /* emissive texture */
+    int32_t alpha_mode;        /* lg_alpha_mode */
+    int32_t double_sided;
+    int32_t zero;
+    float transform[10][4]; /* per map: t[0..3]; t[4], t[5], texcoord set, 0 */
+} lg_gl_material;
+LG_GL_BLOCK_SIZE(lg_gl_material, 240);
+LG_GL_BLOCK_OFFSET(lg_gl_material, has, 48);
+LG_GL_BLOCK_OFFSET(lg_gl_material, transform, 80);
+
+/* The block's values for material `material` of `s` (a texture index out of range reads as
+ * no texture). Returns false when the material does not exist (out is then the defaults:
+ * white, opaque, no texture). */
+LG_API bool lg_gl_material_make(const lg_scene *s, uint32_t material, lg_gl_material *out);
+
+/* The program's material bindings, looked up optionally (a program that reads only the
+ * base colour has the block and one sampler; the others are -1). */
+typedef struct lg_gl_material_binds {
+    lg_gl_binding block;   /* LgMaterial */
+    lg_gl_binding maps[5]; /* lg_mat_base_tex, lg_mat_mr_tex, lg_mat_normal_tex,
+                            * lg_mat_occlusion_tex, lg_mat_emissive_tex */
+    void *reserved[2];
+} lg_gl_material_binds;
+
+LG_API void lg_gl_pass_material_binds(lg_gl_pass *pass, lg_gl_material_binds *out);
+
+/* How the material's textures are sampled. */
+typedef enum lg_gl_material_filter {
+    LG_GL_MATERIAL_FILTER_FILE = 0,  /* the file's sampler (lg_gl_sampler_scene) */
+    LG_GL_MATERIAL_FILTER_NEAREST,   /* GL_NEAREST both ways, level 0 */
+    LG_GL_MATERIAL_FILTER_BILINEAR,  /* GL_LINEAR both ways, level 0 */
+    LG_GL_MATERIAL_FILTER_TRILINEAR, /* GL_LINEAR_MIPMAP_LINEAR minified, GL_LINEAR magnified */
+} lg_gl_material_filter;
+
+typedef struct lg_gl_material_opts {
+    lg_gl_material_filter filter; /* the file's wraps are kept whatever the filter */
+    /* above 1: anisotropic filtering up to min(this, the device's maximum) for the
+     * mip-mapped filters; 16 is a node's usual default; 0 or 1: off */
+    float max_anisotropy;
+    uint32_t reserved[4];
+} lg_gl_material_opts;
+
+/* Between begin and end: uploads material `material` of the scene resource `scene`
+ * (lg_gl_pass_uniforms on b->block) and binds each texture it has to its unit, colour
+ * maps as GL_SRGB8_ALPHA8 and data maps as GL_RGBA8 (lg_scene_texture_gl), with its
+ * sampler (opts NULL: the file's, anisotropy 16). A map whose binding the program lacks is
+ * not bound. Returns 0 or an LG_ERR_* after reporting (a texture that cannot be made). */
+LG_API int lg_gl_pass_bind_material(lg_gl_pass *pass, const lg_gl_material_binds *b,
+                                    const lg_resource *scene, uint32_t material,
+                                    const lg_gl_material_opts *opts);
 
 /* ---- a raster pass --------------------------------------------------------------------------- */
 

@@ -327,7 +327,30 @@ typedef struct lg_host_api {
      * frees. */
     void (*account_free)(lg_node *node, uint64_t bytes);
 
-    void *reserved[19];
+    /* Since ABI 3.1, in the place of the first reserved pointer (an anonymous union: the
+     * struct keeps its 3.0 size and layout; a 3.0 host leaves it NULL): */
+    union {
+        void *reserved[19];
+        struct {
+            /* -- since ABI 3.1: GPU textures of plugin-owned payload images --
+             * A GL 2D texture of `width` x `height` RGBA8 texels (`rgba8`, rows top to
+             * bottom: row 0 at t = 0), an image of the payload of `res` (a scene's
+             * texture) identified by `slot` (slots apart from payload_gl_buffer's), in
+             * `internal_format` GL_SRGB8_ALPHA8 (colour: the sampler decodes sRGB) or
+             * GL_RGBA8 (data), with its full mip chain (glGenerateTextureMipmap: the
+             * driver's filter, a 2x2 box on Mesa). Made on the first request, then
+             * returned to every node that asks; owned and freed by the host with the
+             * resource; all its levels' bytes are counted against the node that made it.
+             * Its own parameters are glTF's defaults (trilinear, repeat): sample it
+             * through a sampler object. Returns 0 or an LG_ERR_* after reporting (a size
+             * beyond GL_MAX_TEXTURE_SIZE: LG_ERR_UNSUPPORTED). Call it through
+             * lg_scene_texture_gl (lightgraph/scene.h). */
+            int (*payload_gl_texture)(lg_node *node, const lg_resource *res, uint32_t slot,
+                                      const void *rgba8, uint32_t width, uint32_t height,
+                                      uint32_t internal_format, uint32_t *texture);
+            void *reserved_3_1[18];
+        };
+    };
 } lg_host_api;
 
 /* A node as the host shows it to its plugin. The host owns it. */
@@ -568,6 +591,21 @@ static inline int lg_payload_cl_buffer(lg_node *n, const lg_resource *res, uint3
                                        const void *data, size_t size, void **mem)
 {
     return n->host->payload_cl_buffer(n, res, slot, data, size, mem);
+}
+/* Since ABI 3.1: a GL texture of an RGBA8 image of a payload (payload_gl_texture above);
+ * on an older host (no such entry) LG_ERR_UNSUPPORTED after reporting. */
+static inline int lg_payload_gl_texture(lg_node *n, const lg_resource *res, uint32_t slot,
+                                        const void *rgba8, uint32_t width, uint32_t height,
+                                        uint32_t internal_format, uint32_t *texture)
+{
+    if (!n->host->payload_gl_texture) {
+        *texture = 0;
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "this host (ABI 3.0) cannot make GL textures of a payload's "
+                             "images: a 3.1 host is needed for textured scenes");
+    }
+    return n->host->payload_gl_texture(n, res, slot, rgba8, width, height, internal_format,
+                                       texture);
 }
 
 /* ---- CPU parallelism (since ABI 2.0) ------------------------------------------------------------

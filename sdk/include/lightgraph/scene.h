@@ -382,7 +382,17 @@ LG_API void lg_scene_compute_features(lg_scene *scene);
 typedef struct lg_mesh_gl {
     uint32_t positions, normals, texcoords; /* GL buffer objects, tightly packed floats */
     uint32_t indices;                       /* GL buffer of uint32 */
-    uint32_t reserved[4];
+    /* Since ABI 3.1, in the place of two reserved words (anonymous union, same layout):
+     * lg_mesh.tangents (4 floats a vertex) and lg_mesh.texcoords1 (2), 0 when the mesh
+     * has none. lg_scene_mesh_gl uploads them with the other arrays (the CL copies do not
+     * have them). */
+    union {
+        uint32_t reserved[4];
+        struct {
+            uint32_t tangents, texcoords1;
+            uint32_t reserved_3_1[2];
+        };
+    };
 } lg_mesh_gl;
 
 typedef struct lg_mesh_cl {
@@ -393,6 +403,20 @@ typedef struct lg_mesh_cl {
 /* `res` is the scene resource the node received (lg_input). Returns 0 or an LG_ERR_*. */
 LG_API int lg_scene_mesh_gl(lg_node *node, const lg_resource *res, uint32_t mesh, lg_mesh_gl *out);
 LG_API int lg_scene_mesh_cl(lg_node *node, const lg_resource *res, uint32_t mesh, lg_mesh_cl *out);
+
+/* Since ABI 3.1: the GL texture of scene texture `texture` (an index into
+ * lg_scene.textures->textures) of the scene resource `res`: its image uploaded once per
+ * scene by the host (like the meshes' arrays; a derived scene shares its source's copy),
+ * owned by the host and freed with the scene, its bytes (every mip level) counted against
+ * the node that asked first. `srgb` true: internal format GL_SRGB8_ALPHA8, for colour
+ * textures (base colour, emissive: the sampler decodes sRGB to linear before filtering);
+ * false: GL_RGBA8, for data (normal, occlusion, metallic-roughness). An image used both
+ * ways gets one texture of each. The full mip chain is made by glGenerateTextureMipmap
+ * (the driver's filter: a 2x2 box on Mesa, in linear space for sRGB). Sample it with the
+ * texture's glTF sampler: lg_gl_sampler_scene (lightgraph/gl_pass.h). Errors: no textures,
+ * an index out of range, an image without pixels, a size the device does not take. */
+LG_API int lg_scene_texture_gl(lg_node *node, const lg_resource *res, int32_t texture, bool srgb,
+                               uint32_t *out);
 
 #ifdef __cplusplus
 }

@@ -42,7 +42,8 @@
  * first instance: the vertex shader reads record (first + gl_InstanceID).
  *
  * Vertex array. Attribute 0 = positions (vec3, buffer binding 0); with LG_SCENE_GL_NORMALS,
- * attribute 1 = normals (vec3, buffer binding 1). The buffers are the scene's GPU copies
+ * attribute 1 = normals (vec3, buffer binding 1); with LG_SCENE_GL_TEXCOORDS (ABI 3.1),
+ * attributes 2, 3, 4 = TEXCOORD_0, TEXCOORD_1, tangent (see the flag). The buffers are the scene's GPU copies
  * (lg_scene_mesh_gl), bound per mesh by the draw; the element buffer is the mesh's indices.
  *
  * Ownership. The lg_scene_gl owns its vertex array and storage buffer (made by
@@ -103,6 +104,15 @@ LG_API int lg_scene_view_make(lg_node *node, const lg_scene *s, int64_t camera, 
 enum {
     /* meshes must have normals; records carry the normal matrix; vertex attribute 1 */
     LG_SCENE_GL_NORMALS = 1u << 0,
+    /* Since ABI 3.1: the texture-space attributes, for textured materials:
+     *   attribute 2 = TEXCOORD_0 (vec2, buffer binding 2; lg_mesh.texcoords)
+     *   attribute 3 = TEXCOORD_1 (vec2, buffer binding 3; lg_mesh.texcoords1)
+     *   attribute 4 = tangent    (vec4, buffer binding 4; lg_mesh.tangents: xyz, w = sign)
+     * A mesh without one of these arrays draws with that attribute's array disabled and
+     * GL's current value set (glVertexAttrib4f) to a constant: (0, 0, 0, 1) for the
+     * texture coordinates, (1, 0, 0, 1) for the tangent. The material a mesh is drawn with
+     * is s->meshes[mesh].material (on_mesh receives the mesh). */
+    LG_SCENE_GL_TEXCOORDS = 1u << 1,
 };
 
 /* One drawn instance. */
