@@ -255,8 +255,8 @@ int lg_gltf_image_decode(const uint8_t *bytes, size_t size, uint64_t max_pixels,
         return -1;
     }
     char head[3 * 8 + 1] = "";
-    for (size_t i = 0; i < size && i < 8; i++)
-        snprintf(head + 3 * i, sizeof head - 3 * i, "%s%02x", i ? " " : "", bytes[i]);
+    for (size_t i = 0, at = 0; i < size && i < 8; i++)
+        at += (size_t)snprintf(head + at, sizeof head - at, "%s%02x", i ? " " : "", bytes[i]);
     set_err(err, err_size, "not a PNG or JPEG image (it starts with %s)", head);
     return -1;
 }

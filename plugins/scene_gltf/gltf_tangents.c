@@ -155,10 +155,12 @@ int lg_tangents_generate(lg_nmesh *m, float **texcoords1, int uv_set, float **ta
         float *f = frame + 6 * (size_t)t;
         f[0] = T.x, f[1] = T.y, f[2] = T.z, f[3] = B.x, f[4] = B.y, f[5] = B.z;
         /* each corner's handedness: which side of N x T the bitangent lies on, with the
-         * corner's own normal (robust to windings that disagree with the normals) */
+         * corner's own normal (robust to windings that disagree with the normals). glTF's
+         * bitangent points up in the image, +Y of its normal textures: along decreasing v
+         * (v grows downwards), so against B = dp/dv */
         for (int k = 0; k < 3; k++) {
             lg_vec3 n = get3(nrm, c[k]);
-            float d = lg_v3_dot(lg_v3_cross(n, T), B);
+            float d = -lg_v3_dot(lg_v3_cross(n, T), B);
             side[3 * (size_t)t + k] = !ok || d == 0 ? 0 : d > 0 ? 1 : -1;
             if (side[3 * (size_t)t + k])
                 sides[weld[c[k]]] |= side[3 * (size_t)t + k] > 0 ? 1 : 2;

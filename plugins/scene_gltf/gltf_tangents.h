@@ -3,9 +3,9 @@
  *
  * A tangent is 4 floats: xyz a unit vector orthogonal to the vertex normal, pointing along
  * increasing u of the texture coordinates, and w = +1 or -1, the side of the bitangent:
- * B = w (N x T) points along increasing v (glTF 2.0 §3.7.2.1; the v of glTF's texture
- * coordinates grows downwards in the image, README.md "Tangents" says how that was
- * checked against a file's own tangents).
+ * B = w (N x T) points up in the image, along *decreasing* v (glTF's v grows downwards and
+ * its normal textures have +Y up; glTF 2.0 §3.7.2.1 and §3.9.3). README.md, "Tangents",
+ * says how that was checked against a file's own tangents.
  */
 #ifndef LG_GLTF_TANGENTS_H
 #define LG_GLTF_TANGENTS_H

@@ -63,6 +63,34 @@ static void log_warning(void *user, const char *message)
     lg_log(user, LG_LOG_WARN, "%s", message);
 }
 
+/* The decoded texture bytes counted against the node (lg_account_alloc): they live in the
+ * scene payload, made by each prepare; the count is released at the next prepare and in
+ * destroy. n->user holds the count (a malloc'd uint64_t, made on first use). */
+static void count_textures(lg_node *n, uint64_t bytes)
+{
+    uint64_t *counted = n->user;
+    if (!counted && bytes) {
+        counted = calloc(1, sizeof *counted);
+        if (!counted)
+            return; /* the profile then misses the bytes; the load itself went well */
+        n->user = counted;
+    }
+    if (!counted)
+        return;
+    if (*counted)
+        lg_account_free(n, *counted);
+    *counted = bytes;
+    if (bytes)
+        lg_account_alloc(n, bytes);
+}
+
+static void gltf_destroy(lg_node *n)
+{
+    count_textures(n, 0);
+    free(n->user);
+    n->user = NULL;
+}
+
 static int gltf_prepare(lg_node *n)
 {
     const char *path = lg_param_string(n, "file");
@@ -81,19 +109,26 @@ static int gltf_prepare(lg_node *n)
     uint64_t hash = 0;
     char err[1024];
     int rc = lg_gltf_load(path, &opt, &scene, &hash, err, sizeof err);
+    count_textures(n, 0);
     if (rc)
         return lg_error_code(n, rc, "%s", err);
+    uint64_t tex_bytes = scene->textures ? scene->textures->bytes : 0;
     lg_log(n, LG_LOG_INFO,
            "file '%s': %u meshes, %u instances, %" PRIu64 " triangles, %u lights, %u cameras, "
            "loaded in %.1f ms",
            path, scene->n_meshes, scene->n_instances, scene->features.triangles, scene->n_lights,
            scene->n_cameras, (lg_now(n) - t0) * 1e3);
+    if (scene->textures)
+        lg_log(n, LG_LOG_INFO, "file '%s': %u textures, %u images decoded (%.1f MiB)", path,
+               scene->textures->n_textures, scene->textures->n_images,
+               (double)tex_bytes / (1 << 20));
 
-    /* the content (file and external buffers) is part of the result's identity */
+    /* the content (file, external buffers, image files) is part of the result's identity */
     lg_add_content_key(n, &hash, sizeof hash);
     rc = lg_declare_payload(n, 0, LG_KIND_SCENE, &scene->features, scene, free_scene);
     if (rc)
         return rc; /* the host has freed the scene */
+    count_textures(n, tex_bytes);
     return lg_set_device(n, LG_DEVICE_CPU);
 }
 
@@ -113,6 +148,7 @@ static const lg_node_type types[] = { {
     LG_OUTPUTS(outputs),
     .prepare = gltf_prepare,
     .execute = gltf_execute,
+    .destroy = gltf_destroy,
 } };
 
 LG_PLUGIN_DEFINE("scene_gltf", "1.0.0", "glTF 2.0 scenes (tinygltf, Draco)", types)
