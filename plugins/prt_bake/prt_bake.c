@@ -58,6 +58,10 @@ typedef struct pb_world {
     uint32_t *inst_mesh_store;
     float **inst_pos;       /* world positions of instance i's mesh */
     float **inst_nrm;       /* world normals of instance i's mesh (unit) */
+    uint8_t *inst_masked;   /* per instance: its material has an alpha mask
+                             * (lg_embree_mesh_masked): brute force asks the mask */
+    uint8_t *mesh_textured; /* per mesh: its material has a base colour texture and the
+                             * mesh the coordinates it reads (pb_hit_colour) */
     uint64_t n_triangles;   /* over every instance */
     double extent, max_abs; /* world bounds' largest side; largest |coordinate| */
     const lg_scene *s;
@@ -74,6 +78,8 @@ static void pb_world_free(pb_world *w)
     free(w->inst_pos);
     free(w->inst_nrm);
     free(w->inst_mesh_store);
+    free(w->inst_masked);
+    free(w->mesh_textured);
     free(w->mesh_offset);
     free(w->pos);
     free(w->nrm);
@@ -203,8 +209,10 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
     w->inst_mesh_store = calloc(w->n_inst ? w->n_inst : 1, sizeof(uint32_t));
     w->inst_pos = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
     w->inst_nrm = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
+    w->inst_masked = calloc(w->n_inst ? w->n_inst : 1, 1);
+    w->mesh_textured = calloc(s->n_meshes ? s->n_meshes : 1, 1);
     if (!w->mesh_offset || !w->pos || !w->nrm || !w->albedo || !w->in || !w->inst_mesh_store ||
-        !w->inst_pos || !w->inst_nrm)
+        !w->inst_pos || !w->inst_nrm || !w->inst_masked || !w->mesh_textured)
         goto nomem;
     w->inst_mesh = w->inst_mesh_store;
 
@@ -223,6 +231,7 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
                             : !me->normals ? "normals"
                                            : "indices");
         w->inst_mesh_store[i] = in->mesh;
+        w->inst_masked[i] = lg_embree_mesh_masked(s, me);
         w->inst_pos[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
         w->inst_nrm[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
         if (!w->inst_pos[i] || !w->inst_nrm[i])
@@ -266,6 +275,11 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
         if (me->n_vertices && (!me->positions || !me->normals))
             return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions and normals", m,
                             me->name ? me->name : "", !me->positions ? "positions" : "normals");
+        if (!albedo_param && me->material < s->n_materials) {
+            const lg_texture_ref *r = &lg_material_maps_of(&s->materials[me->material])->base_color;
+            w->mesh_textured[m] = r->texture >= 0 &&
+                                  ((r->texcoord == 1 && me->texcoords1) || me->texcoords);
+        }
         float rho[3];
         int arc = pb_mesh_albedo(n, s, m, albedo_param, rho);
         if (arc)
@@ -444,7 +458,10 @@ static bool pb_trace(const pb_vis *v, const double o[3], const double d[3], bool
             double d_ = pb_mt(o, d, P + 3 * (size_t)me->indices[t],
                               P + 3 * (size_t)me->indices[t + 1],
                               P + 3 * (size_t)me->indices[t + 2], &bu, &bv);
-            if (d_ > 0 && d_ < best) {
+            /* an alpha mask's transparent texels let the ray through, as Embree's filter
+             * does (lg_embree_covers) */
+            if (d_ > 0 && d_ < best &&
+                (!w->inst_masked[i] || lg_embree_covers(w->s, me, t / 3, (float)bu, (float)bv))) {
                 if (any_hit)
                     return true;
                 best = d_;
@@ -469,6 +486,28 @@ static void pb_hit_normal(const pb_world *w, const pb_hit *h, double out[3])
     for (int c = 0; c < 3; c++)
         out[c] = b[0] * N[3 * (size_t)ix[0] + c] + b[1] * N[3 * (size_t)ix[1] + c] +
                  b[2] * N[3 * (size_t)ix[2] + c];
+}
+
+/* The base colour texture's linear RGB at a hit (lg_scene_texture_sample at the texture
+ * coordinates interpolated from the hit triangle's vertices): what a bounce off a textured
+ * surface is multiplied by, the factor being in the hit vertices' transfer already. Only
+ * for meshes with w->mesh_textured (the caller checks): the others multiply by nothing, so
+ * an untextured scene's bounces are the bits they were. */
+static void pb_hit_colour(const pb_world *w, const pb_hit *h, double out[3])
+{
+    const lg_mesh *me = &w->s->meshes[w->inst_mesh[h->inst]];
+    const lg_material_maps *mp = lg_material_maps_of(&w->s->materials[me->material]);
+    const lg_texture_ref *r = &mp->base_color;
+    const float *tc = r->texcoord == 1 && me->texcoords1 ? me->texcoords1 : me->texcoords;
+    const uint32_t *ix = me->indices + 3 * (size_t)h->prim;
+    float b[3] = { 1.0f - h->u - h->v, h->u, h->v }, uv[2], st[2], c[4];
+    for (int k = 0; k < 2; k++)
+        uv[k] = b[0] * tc[2 * (size_t)ix[0] + k] + b[1] * tc[2 * (size_t)ix[1] + k] +
+                b[2] * tc[2 * (size_t)ix[2] + k];
+    lg_texture_ref_uv(r, uv, uv, st);
+    lg_scene_texture_sample(w->s, r, st, true, c);
+    for (int k = 0; k < 3; k++)
+        out[k] = c[k];
 }
 
 /* ---- node state ------------------------------------------------------------------------------ */
@@ -968,6 +1007,21 @@ static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chu
             const uint32_t *ix = w->s->meshes[m].indices + 3 * (size_t)hh->prim;
             uint32_t off = w->mesh_offset[m];
             double bw[3] = { 1.0 - hh->u - hh->v, hh->u, hh->v };
+            if (w->mesh_textured[m]) {
+                /* the light leaving a textured hit: its vertices' transfer (the factor
+                 * folded in) times the texture's colour at the hit, channel by channel */
+                double tex[3];
+                pb_hit_colour(w, hh, tex);
+                for (int q = 0; q < 3; q++) {
+                    const float *pv = b->prev + (size_t)(off + ix[q]) * stride;
+                    for (int c = 0; c < 3; c++) {
+                        double f = bw[q] * hh->cosw * tex[c];
+                        for (uint32_t k = 0; k < n2; k++)
+                            a[c * n2 + k] += f * pv[c * n2 + k];
+                    }
+                }
+                continue;
+            }
             for (int q = 0; q < 3; q++) {
                 const float *pv = b->prev + (size_t)(off + ix[q]) * stride;
                 double f = bw[q] * hh->cosw;
