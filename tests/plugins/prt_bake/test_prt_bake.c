@@ -351,6 +351,36 @@ static void case_furnace(lg_test *t)
                 LG_TEST_CHECK(t, worst < 1e-5, "hits kept or cast again differ by %.3g", worst);
                 tr_free(&y);
             }
+            /* a budget the hits pass (1 MiB; about 2 MiB of hits here): the ones kept are
+             * dropped and the bounces cast again, the same result, and the log says so */
+            char *txt = NULL;
+            snprintf(q, sizeof q, "%s, hit_memory_mib = 1", p);
+            if (bake(t, "layout = box, grid = 6", q, 3, &y, &txt)) {
+                double worst = 0;
+                for (size_t k = 0; k < (size_t)x.nv * 3 * x.n2; k++)
+                    worst = fmax(worst, fabs(x.t[k] - y.t[k]));
+                fprintf(stderr, "furnace, 4 bounces, hits over a 1 MiB budget: worst %.2e\n",
+                        worst);
+                LG_TEST_CHECK(t, worst < 1e-5, "hits over the budget: differ by %.3g", worst);
+                LG_TEST_CHECK(t, txt && strstr(txt, "passed their budget of 1.0 MiB"),
+                              "hit_memory_mib = 1: no word of the budget passed:\n%s",
+                              txt ? txt : "");
+                tr_free(&y);
+            }
+            free(txt);
+        }
+        if (bounces[b] == 1) {
+            /* the default (auto) keeps this box's hits, and says how many and why */
+            char *txt = NULL;
+            tr y;
+            if (bake(t, "layout = box, grid = 6", "mode = interreflected, samples = 16", 3, &y,
+                     &txt)) {
+                LG_TEST_CHECK(t, txt && strstr(txt, "kept ") && strstr(txt, "(auto)"),
+                              "the default hit_memory_mib: hits not kept, or not said:\n%s",
+                              txt ? txt : "");
+                tr_free(&y);
+            }
+            free(txt);
         }
         tr_free(&x);
     }
