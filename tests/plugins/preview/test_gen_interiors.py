@@ -15,7 +15,8 @@ checks what the interiors promise:
     MASK with alphaCutoff 0.5, double-sided, its RGBA texture's alpha only 0 or 255 with
     both present; the triangle count (over instances) grows with --detail;
   - both loaded by the program: the gltf node's --explain counts the triangles this file
-    counts, and the classroom's lights (a directional and a spot: "1 other");
+    counts, the classroom's lights (a directional and a spot: "1 other"), both scenes' two
+    textures and the courtyard's one masked material;
   - determinism (same bytes twice) and bad arguments (exit 2 naming the option).
 Exit 0 when every check passes, 1 otherwise.
 """
@@ -204,6 +205,8 @@ def main():
             check(("triangles %d," % n_cls) in f, "classroom: the program counts %s, the file %d"
                   % (f, n_cls))
             check("1 directional, 0 point, 1 other" in f, "classroom lights: %s" % f)
+            check("textures 2;" in f and "masked materials 0;" in f,
+                  "classroom: the program reads %s" % f)
         a = open(p, "rb").read()
         check(a == open(T.gen(tmp, "classroom2.glb", "classroom", "--slats", "10", "--slat-tilt",
                               "45", "--slat-thickness", "0.01")[0], "rb").read(),
@@ -233,6 +236,8 @@ def main():
         if f is not None:
             check(("triangles %d," % counts[1]) in f, "courtyard: the program counts %s, the file "
                   "%d" % (f, counts[1]))
+            check("textures 2;" in f and "masked materials 1;" in f,
+                  "courtyard: the program reads %s" % f)
         a = open(p, "rb").read()
         check(a == open(T.gen(tmp, "court_again.glb", "courtyard", "--detail", "0.02")[0],
                         "rb").read(), "courtyard: two runs differ")
