@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void lg_embree_on_error(void *user, enum RTCError code, const char *str)
@@ -18,7 +19,90 @@ void lg_embree_free(lg_embree *e)
         rtcReleaseScene(e->scene);
     if (e->dev)
         rtcReleaseDevice(e->dev);
+    free(e->masks);
     memset(e, 0, sizeof *e);
+}
+
+/* ---- alpha masks ----------------------------------------------------------------------------- */
+
+/* What one masked instance's filter reads (its geometry's user pointer). */
+typedef struct lg_embree_mask {
+    const lg_scene *s;
+    const lg_mesh *mesh;
+} lg_embree_mask;
+
+/* The texture coordinates the mask of `mp` reads on mesh `me`: set 1 when the reference
+ * names it and the mesh has it, else set 0 (the SDK's rule, lg_texture_ref_uv); NULL when
+ * the mesh has neither. */
+static const float *mask_texcoords(const lg_mesh *me, const lg_material_maps *mp)
+{
+    if (mp->base_color.texcoord == 1 && me->texcoords1)
+        return me->texcoords1;
+    return me->texcoords;
+}
+
+bool lg_embree_mesh_masked(const lg_scene *s, const lg_mesh *me)
+{
+    if (!s || !me || me->material >= s->n_materials)
+        return false;
+    const lg_material *m = &s->materials[me->material];
+    const lg_material_maps *mp = lg_material_maps_of(m);
+    if (mp->alpha_mode != LG_ALPHA_MASK && mp->alpha_mode != LG_ALPHA_BLEND)
+        return false;
+    /* a factor below the cutoff removes the whole surface; a texture can remove parts of
+     * it where the mesh has the coordinates it reads (without them: opaque) */
+    if (!(m->base_color[3] >= mp->alpha_cutoff))
+        return true;
+    return mp->base_color.texture >= 0 && mask_texcoords(me, mp) != NULL;
+}
+
+bool lg_embree_covers(const lg_scene *s, const lg_mesh *me, uint32_t prim, float u, float v)
+{
+    if (!s || !me || me->material >= s->n_materials)
+        return true;
+    const lg_material *m = &s->materials[me->material];
+    const lg_material_maps *mp = lg_material_maps_of(m);
+    if (mp->alpha_mode != LG_ALPHA_MASK && mp->alpha_mode != LG_ALPHA_BLEND)
+        return true;
+    float alpha = m->base_color[3];
+    const float *tc = mask_texcoords(me, mp);
+    if (mp->base_color.texture >= 0) {
+        if (!tc)
+            return true; /* no coordinates to read the mask with: opaque (the loader warns) */
+        if (!me->indices || prim >= me->n_indices / 3)
+            return true;
+        const uint32_t *ix = me->indices + 3 * (size_t)prim;
+        if (ix[0] >= me->n_vertices || ix[1] >= me->n_vertices || ix[2] >= me->n_vertices)
+            return true;
+        float w0 = 1.0f - u - v, uv[2], st[2], c[4];
+        for (int k = 0; k < 2; k++)
+            uv[k] = w0 * tc[2 * (size_t)ix[0] + k] + u * tc[2 * (size_t)ix[1] + k] +
+                    v * tc[2 * (size_t)ix[2] + k];
+        /* uv is already the set the reference reads: pass it as both sets */
+        lg_texture_ref_uv(&mp->base_color, uv, uv, st);
+        lg_scene_texture_sample(s, &mp->base_color, st, true, c);
+        alpha *= c[3];
+    }
+    return alpha >= mp->alpha_cutoff;
+}
+
+/* The intersection and occlusion filter of a masked instance: a hit where the surface has
+ * no coverage is rejected (valid = 0), and Embree goes on to the next one along the ray. The
+ * ray's tfar is left alone (a rejected hit must not shorten it). */
+static void lg_embree_mask_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const lg_embree_mask *mk = args->geometryUserPtr;
+    unsigned N = args->N;
+    /* RTCHitN is N-wide structure of arrays: Ng xyz, u, v, primID, geomID, instID
+     * (rtcore_ray.h's RTCHitN_* accessors, which are C++ only) */
+    const float *hf = (const float *)args->hit;
+    const unsigned *hu = (const unsigned *)args->hit;
+    for (unsigned i = 0; i < N; i++) {
+        if (args->valid[i] == 0)
+            continue;
+        if (!lg_embree_covers(mk->s, mk->mesh, hu[5 * N + i], hf[3 * N + i], hf[4 * N + i]))
+            args->valid[i] = 0;
+    }
 }
 
 int lg_embree_make(lg_node *n, const lg_scene *s, lg_embree *e)
@@ -38,6 +122,11 @@ int lg_embree_make(lg_node *n, const lg_scene *s, lg_embree *e)
     e->scene = rtcNewScene(e->dev);
     rtcSetSceneBuildQuality(e->scene, RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
+    e->masks = calloc(s->n_instances ? s->n_instances : 1, sizeof(lg_embree_mask));
+    if (!e->masks)
+        return lg_error_code(n, LG_ERR_NOMEM, "Embree: out of memory for %u instances",
+                             s->n_instances);
+    bool filters = rtcGetDeviceProperty(e->dev, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED);
     double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
     for (uint32_t i = 0; i < s->n_instances; i++) {
         const lg_instance *in = &s->instances[i];
@@ -91,6 +180,23 @@ int lg_embree_make(lg_node *n, const lg_scene *s, lg_embree *e)
             ib[t] = me->indices[t];
         }
         e->bytes += (size_t)me->n_vertices * 12 + (size_t)nt * 12;
+        if (lg_embree_mesh_masked(s, me)) {
+            if (!filters) {
+                rtcReleaseGeometry(g);
+                return lg_error(n,
+                                "mesh %u '%s' (instance %u) is alpha-masked, and this Embree "
+                                "library was built without filter functions "
+                                "(EMBREE_FILTER_FUNCTION): its gaps cannot let rays through",
+                                in->mesh, name, i);
+            }
+            lg_embree_mask *mk = (lg_embree_mask *)e->masks + i;
+            mk->s = s;
+            mk->mesh = me;
+            rtcSetGeometryUserData(g, mk);
+            rtcSetGeometryIntersectFilterFunction(g, lg_embree_mask_filter);
+            rtcSetGeometryOccludedFilterFunction(g, lg_embree_mask_filter);
+            e->n_masked++;
+        }
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(e->scene, g, i);
         rtcReleaseGeometry(g);

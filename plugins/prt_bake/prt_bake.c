@@ -14,10 +14,12 @@
  */
 #include <float.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <embree3/rtcore.h>
 
@@ -58,6 +60,10 @@ typedef struct pb_world {
     uint32_t *inst_mesh_store;
     float **inst_pos;       /* world positions of instance i's mesh */
     float **inst_nrm;       /* world normals of instance i's mesh (unit) */
+    uint8_t *inst_masked;   /* per instance: its material has an alpha mask
+                             * (lg_embree_mesh_masked): brute force asks the mask */
+    uint8_t *mesh_textured; /* per mesh: its material has a base colour texture and the
+                             * mesh the coordinates it reads (pb_hit_colour) */
     uint64_t n_triangles;   /* over every instance */
     double extent, max_abs; /* world bounds' largest side; largest |coordinate| */
     const lg_scene *s;
@@ -74,6 +80,8 @@ static void pb_world_free(pb_world *w)
     free(w->inst_pos);
     free(w->inst_nrm);
     free(w->inst_mesh_store);
+    free(w->inst_masked);
+    free(w->mesh_textured);
     free(w->mesh_offset);
     free(w->pos);
     free(w->nrm);
@@ -203,8 +211,10 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
     w->inst_mesh_store = calloc(w->n_inst ? w->n_inst : 1, sizeof(uint32_t));
     w->inst_pos = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
     w->inst_nrm = calloc(w->n_inst ? w->n_inst : 1, sizeof(float *));
+    w->inst_masked = calloc(w->n_inst ? w->n_inst : 1, 1);
+    w->mesh_textured = calloc(s->n_meshes ? s->n_meshes : 1, 1);
     if (!w->mesh_offset || !w->pos || !w->nrm || !w->albedo || !w->in || !w->inst_mesh_store ||
-        !w->inst_pos || !w->inst_nrm)
+        !w->inst_pos || !w->inst_nrm || !w->inst_masked || !w->mesh_textured)
         goto nomem;
     w->inst_mesh = w->inst_mesh_store;
 
@@ -223,6 +233,7 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
                             : !me->normals ? "normals"
                                            : "indices");
         w->inst_mesh_store[i] = in->mesh;
+        w->inst_masked[i] = lg_embree_mesh_masked(s, me);
         w->inst_pos[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
         w->inst_nrm[i] = malloc((size_t)me->n_vertices * 3 * sizeof(float) + 16);
         if (!w->inst_pos[i] || !w->inst_nrm[i])
@@ -266,6 +277,11 @@ static int pb_world_make(lg_node *n, const lg_scene *s, const double *albedo_par
         if (me->n_vertices && (!me->positions || !me->normals))
             return lg_error(n, "mesh %u '%s' has no %s: the bake needs positions and normals", m,
                             me->name ? me->name : "", !me->positions ? "positions" : "normals");
+        if (!albedo_param && me->material < s->n_materials) {
+            const lg_texture_ref *r = &lg_material_maps_of(&s->materials[me->material])->base_color;
+            w->mesh_textured[m] = r->texture >= 0 &&
+                                  ((r->texcoord == 1 && me->texcoords1) || me->texcoords);
+        }
         float rho[3];
         int arc = pb_mesh_albedo(n, s, m, albedo_param, rho);
         if (arc)
@@ -444,7 +460,10 @@ static bool pb_trace(const pb_vis *v, const double o[3], const double d[3], bool
             double d_ = pb_mt(o, d, P + 3 * (size_t)me->indices[t],
                               P + 3 * (size_t)me->indices[t + 1],
                               P + 3 * (size_t)me->indices[t + 2], &bu, &bv);
-            if (d_ > 0 && d_ < best) {
+            /* an alpha mask's transparent texels let the ray through, as Embree's filter
+             * does (lg_embree_covers) */
+            if (d_ > 0 && d_ < best &&
+                (!w->inst_masked[i] || lg_embree_covers(w->s, me, t / 3, (float)bu, (float)bv))) {
                 if (any_hit)
                     return true;
                 best = d_;
@@ -471,6 +490,28 @@ static void pb_hit_normal(const pb_world *w, const pb_hit *h, double out[3])
                  b[2] * N[3 * (size_t)ix[2] + c];
 }
 
+/* The base colour texture's linear RGB at a hit (lg_scene_texture_sample at the texture
+ * coordinates interpolated from the hit triangle's vertices): what a bounce off a textured
+ * surface is multiplied by, the factor being in the hit vertices' transfer already. Only
+ * for meshes with w->mesh_textured (the caller checks): the others multiply by nothing, so
+ * an untextured scene's bounces are the bits they were. */
+static void pb_hit_colour(const pb_world *w, const pb_hit *h, double out[3])
+{
+    const lg_mesh *me = &w->s->meshes[w->inst_mesh[h->inst]];
+    const lg_material_maps *mp = lg_material_maps_of(&w->s->materials[me->material]);
+    const lg_texture_ref *r = &mp->base_color;
+    const float *tc = r->texcoord == 1 && me->texcoords1 ? me->texcoords1 : me->texcoords;
+    const uint32_t *ix = me->indices + 3 * (size_t)h->prim;
+    float b[3] = { 1.0f - h->u - h->v, h->u, h->v }, uv[2], st[2], c[4];
+    for (int k = 0; k < 2; k++)
+        uv[k] = b[0] * tc[2 * (size_t)ix[0] + k] + b[1] * tc[2 * (size_t)ix[1] + k] +
+                b[2] * tc[2 * (size_t)ix[2] + k];
+    lg_texture_ref_uv(r, uv, uv, st);
+    lg_scene_texture_sample(w->s, r, st, true, c);
+    for (int k = 0; k < 3; k++)
+        out[k] = c[k];
+}
+
 /* ---- node state ------------------------------------------------------------------------------ */
 
 typedef struct pb_params {
@@ -479,7 +520,9 @@ typedef struct pb_params {
     uint64_t seed;
     double threshold;
     bool bench;
-    uint32_t hit_mib;
+    int64_t hit_mib;     /* the parameter: -1 = auto, else MiB */
+    double hit_budget;   /* bytes of hits the bake may keep (pb_hit_budget) */
+    const char *hit_why; /* how hit_budget was chosen, for the log */
     bool albedo_material;
     double albedo[3];
 } pb_params;
@@ -500,6 +543,52 @@ static const char *const pb_modes[] = { "unshadowed", "shadowed", "interreflecte
 static const char *const pb_samplers[] = { "jittered", "hammersley", "sobol", NULL };
 static const char *const pb_visibilities[] = { "embree", "brute", NULL };
 static const char *const pb_albedo_words[] = { "material", NULL };
+
+/* The memory the system can still give without swapping: /proc/meminfo's MemAvailable
+ * (Linux), else sysconf's available pages; 0 when neither says. */
+static double pb_mem_available(void)
+{
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (f) {
+        char line[256];
+        unsigned long long kib = 0;
+        bool found = false;
+        while (!found && fgets(line, sizeof line, f))
+            found = sscanf(line, "MemAvailable: %llu kB", &kib) == 1;
+        fclose(f);
+        if (found)
+            return (double)kib * 1024.0;
+    }
+#ifdef _SC_AVPHYS_PAGES
+    long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && size > 0)
+        return (double)pages * (double)size;
+#endif
+    return 0.0;
+}
+
+/* hit_memory_mib = -1 (auto, the default): the interreflected bake keeps the shadowed
+ * pass's hits within a quarter of the memory available when it starts (MemAvailable, or
+ * what an address-space limit leaves if that is less: lg_memory_available), at least 64
+ * MiB. A quarter, because the rest of the bake (two transfers, the direction table, the
+ * BVH) and whatever else runs must fit beside it; the hits are a speed-up, never a need
+ * (over the budget the bounces cast their rays again, same bits). examples/prt.lgraph
+ * interreflected keeps about 1.9 GiB of hits (README "Cost"): with auto, a machine with 8
+ * GiB free keeps them; the old fixed default, 2048 MiB against a worst-case bound of 3.6
+ * GiB, cast every bounce's 1.9e8 rays again. 0 keeps none; N keeps at most N MiB. */
+static void pb_hit_budget(pb_params *p)
+{
+    if (p->hit_mib >= 0) {
+        p->hit_budget = (double)p->hit_mib * 1048576.0;
+        p->hit_why = "hit_memory_mib";
+        return;
+    }
+    double avail = pb_mem_available(), limit = (double)lg_memory_available(NULL);
+    if (!(avail > 0) || avail > limit)
+        avail = limit;
+    p->hit_budget = fmax(avail / 4.0, 64.0 * 1048576.0);
+    p->hit_why = "hit_memory_mib = -1 (auto): a quarter of the memory available";
+}
 
 static int pb_read_params(lg_node *n, pb_state *st)
 {
@@ -531,7 +620,8 @@ static int pb_read_params(lg_node *n, pb_state *st)
     p->seed = (uint64_t)lg_param_int(n, "seed");
     p->bounces = (uint32_t)lg_param_int(n, "bounces");
     p->bench = lg_param_bool(n, "bench");
-    p->hit_mib = (uint32_t)lg_param_int(n, "hit_memory_mib");
+    p->hit_mib = lg_param_int(n, "hit_memory_mib");
+    pb_hit_budget(p);
     p->threshold = lg_param_float(n, "bounce_threshold");
     if (!isfinite(p->threshold) || p->threshold < 0)
         return lg_error(n, "bounce_threshold = %g: must be a finite energy ratio >= 0",
@@ -595,8 +685,9 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
     double table = T * (3 * sizeof(double) + n2 * sizeof(float));
     double world = (double)nv * (3 * 3 * sizeof(double) + 3 * sizeof(float));
     double incr = p->mode == PB_INTERREFLECTED ? 2.0 * nv * 3 * n2 * sizeof(float) : 0.0;
-    double hits = (double)nv * (floor(T / 2) + 1) * sizeof(pb_hit);
-    bool keep = p->mode == PB_INTERREFLECTED && hits <= (double)p->hit_mib * 1048576.0;
+    /* the hits kept: at most the budget (the bake stops keeping them beyond it) */
+    double hits = fmin((double)nv * (floor(T / 2) + 1) * sizeof(pb_hit), p->hit_budget);
+    bool keep = p->mode == PB_INTERREFLECTED && hits > 0;
     double need = table + world + incr + (keep ? hits : 0.0);
     const char *bound;
     uint64_t avail = lg_memory_available(&bound);
@@ -606,15 +697,16 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
     lg_bytes_text(need_s, sizeof need_s, (uint64_t)need);
     lg_bytes_text(have_s, sizeof have_s, avail);
     lg_bytes_text(hits_s, sizeof hits_s, (uint64_t)hits);
-    if (keep)
+    if (keep && p->hit_mib >= 0)
         return lg_error_code(n, LG_ERR_NOMEM,
-                             "hit_memory_mib = %u keeps the shadowed pass's ray hits for the "
+                             "hit_memory_mib = %lld keeps the shadowed pass's ray hits for the "
                              "bounces, up to %s (%u vertices x %.0f directions x %zu bytes), "
                              "and the bake then needs %s (%.0f bytes), more than the %s "
                              "(%llu bytes) of %s; lower hit_memory_mib below %.0f, or to 0 "
                              "(every bounce casts its rays again: the same result, slower)",
-                             p->hit_mib, hits_s, nv, floor(T / 2) + 1, sizeof(pb_hit), need_s, need,
-                             have_s, (unsigned long long)avail, bound, hits / 1048576.0);
+                             (long long)p->hit_mib, hits_s, nv, floor(T / 2) + 1, sizeof(pb_hit),
+                             need_s, need, have_s, (unsigned long long)avail, bound,
+                             hits / 1048576.0);
     return lg_error_code(n, LG_ERR_NOMEM,
                          "samples = %u with bands = %u: the bake needs %s (%.0f bytes: the "
                          "table of %.0f directions, %u vertices%s), more than the %s (%llu "
@@ -777,7 +869,11 @@ typedef struct pb_bake {
     const float *Y;     /* n2 per direction */
     float *out;         /* [vertex][3][n2] */
     /* interreflection */
-    bool keep;     /* interreflected: hits kept (else every bounce casts again) */
+    bool keep; /* interreflected: hits kept (else every bounce casts again) */
+    /* the hits' bytes so far, against p->hit_budget: the first vertex whose hits would
+     * pass it sets `over`, and the hits are dropped after the pass (pb_bake_execute) */
+    _Atomic uint64_t hit_bytes;
+    atomic_bool over;
     pb_hit **hits; /* per vertex: its front-face hits (malloc'd), or NULL */
     uint32_t *n_hits;
     const float *prev; /* the previous bounce's increment */
@@ -850,9 +946,10 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
         b->failed[chunk] = 1;
         return;
     }
-    bool keep_hits = b->keep;
     uint64_t rays = 0;
     for (size_t i = begin; i < end; i++) {
+        /* past the budget the hits are dropped anyway: the packets are faster */
+        bool keep_hits = b->keep && !atomic_load_explicit(&b->over, memory_order_relaxed);
         const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
         double eps = pb_offset(w, x), o[3];
         for (int c = 0; c < 3; c++)
@@ -907,7 +1004,13 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
             for (uint32_t k = 0; k < n2; k++)
                 t[c * n2 + k] = (float)(f * acc[k]);
         }
-        if (keep_hits) {
+        if (keep_hits && nh && !atomic_load_explicit(&b->over, memory_order_relaxed)) {
+            uint64_t add = (uint64_t)nh * sizeof(pb_hit);
+            uint64_t was = atomic_fetch_add_explicit(&b->hit_bytes, add, memory_order_relaxed);
+            if ((double)(was + add) > b->p->hit_budget)
+                atomic_store_explicit(&b->over, true, memory_order_relaxed);
+        }
+        if (keep_hits && !atomic_load_explicit(&b->over, memory_order_relaxed)) {
             b->n_hits[i] = nh;
             if (nh) {
                 b->hits[i] = malloc(nh * sizeof(pb_hit));
@@ -968,6 +1071,21 @@ static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chu
             const uint32_t *ix = w->s->meshes[m].indices + 3 * (size_t)hh->prim;
             uint32_t off = w->mesh_offset[m];
             double bw[3] = { 1.0 - hh->u - hh->v, hh->u, hh->v };
+            if (w->mesh_textured[m]) {
+                /* the light leaving a textured hit: its vertices' transfer (the factor
+                 * folded in) times the texture's colour at the hit, channel by channel */
+                double tex[3];
+                pb_hit_colour(w, hh, tex);
+                for (int q = 0; q < 3; q++) {
+                    const float *pv = b->prev + (size_t)(off + ix[q]) * stride;
+                    for (int c = 0; c < 3; c++) {
+                        double f = bw[q] * hh->cosw * tex[c];
+                        for (uint32_t k = 0; k < n2; k++)
+                            a[c * n2 + k] += f * pv[c * n2 + k];
+                    }
+                }
+                continue;
+            }
             for (int q = 0; q < 3; q++) {
                 const float *pv = b->prev + (size_t)(off + ix[q]) * stride;
                 double f = bw[q] * hh->cosw;
@@ -1413,16 +1531,19 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                    .out = out,
                    .failed = failed,
                    .rays = rays };
-    /* interreflected: keep the shadowed pass's hits when their bound (every ray a hit, 20
-     * bytes each) fits hit_memory_mib; else every bounce casts its rays again */
+    /* interreflected: keep the shadowed pass's hits (20 bytes each) while they fit the
+     * budget (pb_hit_budget); past it they are dropped after the pass and every bounce
+     * casts its rays again (the same bits) */
     double hit_bound = (double)nv * (T / 2 + 1) * sizeof(pb_hit);
-    b.keep = p->mode == PB_INTERREFLECTED && hit_bound <= (double)p->hit_mib * 1048576.0;
+    b.keep = p->mode == PB_INTERREFLECTED && p->hit_budget > 0;
+    atomic_init(&b.hit_bytes, 0);
+    atomic_init(&b.over, false);
     if (p->mode == PB_INTERREFLECTED)
         lg_log(n, LG_LOG_DEBUG,
-               "interreflections: hits %s (at most %.1f MiB; hit_memory_mib "
-               "= %u)",
-               b.keep ? "kept for the bounces" : "cast again every bounce", hit_bound / 1048576.0,
-               p->hit_mib);
+               "interreflections: hits %s (at most %.1f MiB if every ray hit; budget %.1f "
+               "MiB from %s)",
+               b.keep ? "kept for the bounces within the budget" : "cast again every bounce",
+               hit_bound / 1048576.0, p->hit_budget / 1048576.0, p->hit_why);
     if (b.keep) {
         b.hits = calloc(nv, sizeof *b.hits);
         b.n_hits = calloc(nv, sizeof *b.n_hits);
@@ -1446,9 +1567,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                 rc = lg_error_code(n, LG_ERR_NOMEM,
                                    "out of memory while baking (vertices "
                                    "%zu..): keeping their ray hits, up to %.1f MiB per vertex "
-                                   "(hit_memory_mib = %u; 0 keeps none)",
+                                   "(hit_memory_mib = %lld; 0 keeps none)",
                                    c * PB_GRAIN, (double)(T / 2 + 1) * sizeof(pb_hit) / 1048576.0,
-                                   p->hit_mib);
+                                   (long long)p->hit_mib);
             else
                 rc = lg_error_code(n, LG_ERR_NOMEM,
                                    "out of memory while baking (vertices "
@@ -1459,13 +1580,31 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         total_rays += rays[c];
     }
     double t1 = lg_now(n);
+    if (b.keep && atomic_load(&b.over)) {
+        /* over the budget: the hits kept so far go, every bounce casts again */
+        lg_log(n, LG_LOG_INFO,
+               "interreflections: the hits passed their budget of %.1f MiB (%s) after %.1f "
+               "MiB: every bounce casts its rays again (the same result, slower)",
+               p->hit_budget / 1048576.0, p->hit_why,
+               (double)atomic_load(&b.hit_bytes) / 1048576.0);
+        for (uint32_t i = 0; i < nv; i++)
+            free(b.hits[i]);
+        free(b.hits);
+        free(b.n_hits);
+        b.hits = NULL;
+        b.n_hits = NULL;
+        b.keep = false;
+    }
     if (p->mode == PB_INTERREFLECTED) {
         uint64_t nh = 0;
         for (uint32_t i = 0; b.keep && i < nv; i++)
             nh += b.n_hits[i];
         if (b.keep)
-            lg_log(n, LG_LOG_DEBUG, "kept %llu front-face hits for the bounces: %.1f MiB",
-                   (unsigned long long)nh, (double)nh * sizeof(pb_hit) / 1048576.0);
+            lg_log(n, LG_LOG_INFO,
+                   "interreflections: kept %llu front-face hits for the bounces: %.1f MiB "
+                   "(budget %.1f MiB from %s)",
+                   (unsigned long long)nh, (double)nh * sizeof(pb_hit) / 1048576.0,
+                   p->hit_budget / 1048576.0, p->hit_why);
         incr[0] = malloc(floats * sizeof(float));
         incr[1] = malloc(floats * sizeof(float));
         if (!incr[0] || !incr[1]) {
@@ -1871,12 +2010,13 @@ static const lg_param_desc pb_bake_params[] = {
       .doc = "interreflected: at most this many bounces" },
     { .key = "hit_memory_mib",
       .type = LG_PARAM_INT,
-      .def.i = 2048,
-      .min = 0,
+      .def.i = -1,
+      .min = -1,
       .max = 1 << 20,
-      .doc = "interreflected: the shadowed pass's ray hits (20 bytes each) are kept for the "
-             "bounces when at most this many MiB could be needed (vertices x directions / 2); "
-             "else, or with 0, every bounce casts its rays again (same result, slower)" },
+      .doc = "interreflected: the shadowed pass's front-face ray hits (20 bytes each) are "
+             "kept for the bounces while they take at most this many MiB; -1 (auto): a "
+             "quarter of the memory available (MemAvailable), at least 64 MiB; over it, or "
+             "with 0, every bounce casts its rays again (same result, slower)" },
     { .key = "bench",
       .type = LG_PARAM_BOOL,
       .def.b = false,

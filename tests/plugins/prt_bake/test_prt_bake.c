@@ -41,6 +41,16 @@
  *                 and from the cache; one warning naming the count and the texel
  *   reference     prt_reference: unshadowed = (rho / pi) E of a smooth probe; the cone's
  *                 shadowed value rho sin^2(alpha); the bake approaches it as samples grow
+ *   masked        alpha masks (plugins/embree_common's filter): a square at y = 1 over the
+ *                 floor with a checker alpha texture (test_prt_scene layout = masked); each
+ *                 floor vertex's shadowed t_0 lies between the bounds an analytic trace of
+ *                 the same directions gives (the ray's crossing of y = 1 in an opaque cell
+ *                 blocks, in a transparent one passes; crossings within 1e-4 of a cell edge
+ *                 may go either way), for Embree and brute-force visibility, both checker
+ *                 phases, and BLEND (treated as a mask at its cutoff); the two phases add up
+ *                 to the plane plus the opaque square; a square without texture coordinates
+ *                 is opaque (bit for bit the unmasked square's bake); a factor alpha below
+ *                 the cutoff removes the square (bit for bit the plane's bake)
  *   chain         the oracles through the whole chain users run, on every backend of the
  *                 `prt` node (cpu, gl, cl): a probe written here -> sh_project (quadrature)
  *                 -> prt_bake -> prt, its `vertices` output read back: the cone's apex
@@ -58,6 +68,7 @@
 #include <sys/stat.h>
 
 #include "lightgraph/image.h"
+#include "lightgraph/sampling.h"
 #include "lightgraph/sh.h"
 #include "lightgraph/test.h"
 #include "lightgraph/transfer.h"
@@ -340,6 +351,36 @@ static void case_furnace(lg_test *t)
                 LG_TEST_CHECK(t, worst < 1e-5, "hits kept or cast again differ by %.3g", worst);
                 tr_free(&y);
             }
+            /* a budget the hits pass (1 MiB; about 2 MiB of hits here): the ones kept are
+             * dropped and the bounces cast again, the same result, and the log says so */
+            char *txt = NULL;
+            snprintf(q, sizeof q, "%s, hit_memory_mib = 1", p);
+            if (bake(t, "layout = box, grid = 6", q, 3, &y, &txt)) {
+                double worst = 0;
+                for (size_t k = 0; k < (size_t)x.nv * 3 * x.n2; k++)
+                    worst = fmax(worst, fabs(x.t[k] - y.t[k]));
+                fprintf(stderr, "furnace, 4 bounces, hits over a 1 MiB budget: worst %.2e\n",
+                        worst);
+                LG_TEST_CHECK(t, worst < 1e-5, "hits over the budget: differ by %.3g", worst);
+                LG_TEST_CHECK(t, txt && strstr(txt, "passed their budget of 1.0 MiB"),
+                              "hit_memory_mib = 1: no word of the budget passed:\n%s",
+                              txt ? txt : "");
+                tr_free(&y);
+            }
+            free(txt);
+        }
+        if (bounces[b] == 1) {
+            /* the default (auto) keeps this box's hits, and says how many and why */
+            char *txt = NULL;
+            tr y;
+            if (bake(t, "layout = box, grid = 6", "mode = interreflected, samples = 16", 3, &y,
+                     &txt)) {
+                LG_TEST_CHECK(t, txt && strstr(txt, "kept ") && strstr(txt, "(auto)"),
+                              "the default hit_memory_mib: hits not kept, or not said:\n%s",
+                              txt ? txt : "");
+                tr_free(&y);
+            }
+            free(txt);
         }
         tr_free(&x);
     }
@@ -1195,6 +1236,151 @@ static void case_chain(lg_test *t)
     lg_image_free(&ref);
 }
 
+/* ---- alpha masks ----------------------------------------------------------------------------- */
+
+/* The analytic visibility of the masked layout (testprtscene.c) from floor vertex p along
+ * d (d[1] > 0): 1 clear, 0 blocked, -1 within `margin` of a cell edge or the square's edge
+ * (either answer is right for a float ray). `phase` < 0: an opaque square; `cells` 0: no
+ * square. */
+static int masked_vis(const double p[3], const double d[3], double a, uint32_t cells, int phase)
+{
+    const double margin = 1e-4;
+    double t = (1.0 - p[1]) / d[1], x = p[0] + t * d[0], z = p[2] + t * d[2];
+    if (cells == 0)
+        return 1;
+    double ex = a - fabs(x), ez = a - fabs(z);
+    if (fabs(ex) < margin || fabs(ez) < margin)
+        return -1;
+    if (ex < 0 || ez < 0)
+        return 1;
+    if (phase < 0)
+        return 0;
+    double u = (x + a) / (2 * a) * cells, v = (a - z) / (2 * a) * cells;
+    double fu = u - floor(u), fv = v - floor(v), m = margin * cells / (2 * a);
+    if (fu < m || fu > 1 - m || fv < m || fv > 1 - m)
+        return -1;
+    long cell = (long)floor(u) + (long)floor(v) + phase;
+    return cell % 2 == 0 ? 0 : 1;
+}
+
+/* Every floor vertex's t_0 (channel R) of `x` held to the analytic bounds of masked_vis
+ * over the bake's directions (sobol, `samples`, seed 0) on a g x g floor; returns how many
+ * vertices lie under the square and saw both clear and blocked directions (the test's
+ * teeth: the pattern is really probed). */
+static uint32_t masked_check(lg_test *t, const tr *x, uint32_t g, uint32_t samples, double a,
+                             uint32_t cells, int phase, const char *what)
+{
+    uint32_t T = samples * samples, mixed = 0;
+    double y00 = 0.5 / sqrt(LG_PI);
+    for (uint32_t j = 0; j <= g; j++)
+        for (uint32_t i = 0; i <= g; i++) {
+            uint32_t vi = j * (g + 1) + i;
+            double p[3] = { -2 + 4.0 * i / g, 0, 2 - 4.0 * j / g }, lo = 0, amb = 0;
+            uint32_t clear = 0, blocked = 0;
+            for (uint32_t k = 0; k < T; k++) {
+                double uv[2], d[3];
+                lg_sample_square(LG_SAMPLER_SOBOL, samples, 0, k, uv);
+                lg_sample_sphere(uv, d);
+                if (!(d[1] > 0))
+                    continue;
+                int v = masked_vis(p, d, a, cells, phase);
+                if (v == 1)
+                    lo += d[1], clear++;
+                else if (v < 0)
+                    amb += d[1];
+                else
+                    blocked++;
+            }
+            double f = 4.0 / T * y00, got = x->t[(size_t)vi * 3 * x->n2];
+            double lo_t = f * lo, hi_t = f * (lo + amb), tol = 1e-5 * f * T;
+            LG_TEST_CHECK(t, got >= lo_t - tol && got <= hi_t + tol,
+                          "%s: floor vertex %u (%g, 0, %g): t_0 = %.7g, the analytic mask gives "
+                          "[%.7g, %.7g]",
+                          what, vi, p[0], p[2], got, lo_t, hi_t);
+            mixed += clear > 0 && blocked > 0 && fabs(p[0]) < a && fabs(p[2]) < a;
+        }
+    return mixed;
+}
+
+static void case_masked(lg_test *t)
+{
+    const uint32_t g = 8, samples = 32, bands = 2, cells = 4;
+    const double a = 1.0;
+    char sc[256];
+    tr m[2], bl, br, op, pl, nt, gone;
+    for (int ph = 0; ph < 2; ph++) {
+        snprintf(sc, sizeof sc,
+                 "layout = masked, grid = %u, quad_size = %g, mask = checker, mask_cells = %u, "
+                 "mask_phase = %d",
+                 g, a, cells, ph);
+        if (!bake(t, sc, "mode = shadowed, samples = 32", bands, &m[ph], NULL))
+            return;
+        uint32_t mixed = masked_check(t, &m[ph], g, samples, a, cells, ph, "checker (embree)");
+        LG_TEST_CHECK(t, mixed >= 9,
+                      "phase %d: only %u vertices under the square saw both "
+                      "opaque and clear directions",
+                      ph, mixed);
+    }
+    snprintf(sc, sizeof sc,
+             "layout = masked, grid = %u, quad_size = %g, mask = checker, mask_cells = %u", g, a,
+             cells);
+    if (bake(t, sc, "mode = shadowed, samples = 32, visibility = brute", bands, &br, NULL)) {
+        masked_check(t, &br, g, samples, a, cells, 0, "checker (brute)");
+        tr_free(&br);
+    }
+    snprintf(sc, sizeof sc,
+             "layout = masked, grid = %u, quad_size = %g, mask = blend, mask_cells = %u", g, a,
+             cells);
+    if (bake(t, sc, "mode = shadowed, samples = 32", bands, &bl, NULL)) {
+        masked_check(t, &bl, g, samples, a, cells, 0, "blend (a mask at its cutoff)");
+        tr_free(&bl);
+    }
+    snprintf(sc, sizeof sc, "layout = masked, grid = %u, quad_size = %g, mask = none", g, a);
+    bool ok = bake(t, sc, "mode = shadowed, samples = 32", bands, &op, NULL);
+    if (ok)
+        masked_check(t, &op, g, samples, a, cells, -1, "opaque square");
+    snprintf(sc, sizeof sc, "layout = masked, grid = %u, quad_size = %g, mask = no_texcoords", g,
+             a);
+    if (ok && bake(t, sc, "mode = shadowed, samples = 32", bands, &nt, NULL)) {
+        /* the mask cannot be read: opaque, the unmasked square's bits */
+        LG_TEST_CHECK(t, nt.nv == op.nv && memcmp(nt.t, op.t, (size_t)op.nv * 3 * op.n2 * 4) == 0,
+                      "a mask without texture coordinates: not the opaque square's bake");
+        tr_free(&nt);
+    }
+    snprintf(sc, sizeof sc,
+             "layout = masked, grid = %u, quad_size = %g, mask = checker, quad_alpha = 0.4", g, a);
+    bool ok2 = bake(t, sc, "mode = shadowed, samples = 32", bands, &gone, NULL);
+    snprintf(sc, sizeof sc, "layout = plane, grid = %u", g);
+    if (ok2 && bake(t, sc, "mode = shadowed, samples = 32", bands, &pl, NULL)) {
+        /* alpha 0.4 x texel alpha <= 0.4 < 0.5 everywhere: no square at all; the floor's
+         * vertices come first in both scenes */
+        uint32_t nf = (g + 1) * (g + 1);
+        LG_TEST_CHECK(t, memcmp(gone.t, pl.t, (size_t)nf * 3 * pl.n2 * 4) == 0,
+                      "a square whose factor alpha is below the cutoff still shadows the floor");
+        masked_check(t, &pl, g, samples, a, 0, 0, "plane");
+        /* complementary checkers: clear(0) + clear(1) = clear(plane) + clear(opaque) */
+        double worst = 0;
+        for (uint32_t v = 0; ok && v < nf; v++) {
+            size_t q = (size_t)v * 3 * pl.n2;
+            double d = (double)m[0].t[q] + m[1].t[q] - pl.t[q] - op.t[q];
+            worst = fmax(worst, fabs(d));
+        }
+        fprintf(stderr, "masked: |t0(phase 0) + t0(phase 1) - t0(plane) - t0(opaque)| <= %.3g\n",
+                worst);
+        LG_TEST_CHECK(t, worst < 0.02 * pl.t[0],
+                      "the two checker phases do not add up to the plane and the opaque "
+                      "square (%.3g)",
+                      worst);
+        tr_free(&pl);
+    }
+    if (ok2)
+        tr_free(&gone);
+    if (ok)
+        tr_free(&op);
+    tr_free(&m[0]);
+    tr_free(&m[1]);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, PRT_TEST_PLUGIN_DIR);
@@ -1218,6 +1404,7 @@ int main(int argc, char **argv)
         { "chain", case_chain },
         { "forged", case_forged },
         { "nonfinite", case_nonfinite },
+        { "masked", case_masked },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -29,6 +29,21 @@
  *           square [-quad_size, quad_size]^2 at y = 1, front face and normals +Y (the floor
  *           sees its back) or, with quad_flip, -Y (its front).
  *   plane   mesh 0 alone: the floor of `quad` (nothing occludes it).
+ *   masked  the `quad` layout (floor mesh 0, material 0; the square mesh 1 at y = 1 facing +Y)
+ *           with the square on material 1, whose alpha comes from `mask`:
+ *             none          opaque, no texture (the `quad` layout's occluder)
+ *             checker       LG_ALPHA_MASK, cutoff 0.5, a base colour texture of
+ *                           mask_cells x mask_cells texels (nearest, clamp to edge): texel
+ *                           (tx, ty) has alpha 1 where (tx + ty + mask_phase) is even, else 0,
+ *                           RGB texture_rgb (sRGB bytes); the square's texture coordinates
+ *                           (u, v) = ((x + a) / 2a, (a - z) / 2a) (a = quad_size), so the
+ *                           opaque cells are those with floor(u cells) + floor(v cells) +
+ *                           mask_phase even
+ *             blend         the same texture under LG_ALPHA_BLEND
+ *             no_texcoords  the checker's material on a square without texture coordinates
+ *                           (the filter must treat it as opaque)
+ *           quad_alpha is material 1's base_color[3] (the factor the texture's alpha
+ *           multiplies).
  *   sphere  a UV sphere of radius 1: (segments + 1) x (segments / 2 + 1) vertices,
  *           vertex (i, j) (column i, row j, j = 0 at +Y) at index j (segments + 1) + i with
  *           normal (sin th cos ph, cos th, -sin th sin ph), th = pi j / rows, ph = 2 pi i /
@@ -46,7 +61,8 @@
 
 #include "common/testscene.h"
 
-enum { TP_CONE = 0, TP_BOX, TP_QUAD, TP_PLANE, TP_SPHERE };
+enum { TP_CONE = 0, TP_BOX, TP_QUAD, TP_PLANE, TP_SPHERE, TP_MASKED };
+enum { TP_MASK_NONE = 0, TP_MASK_CHECKER, TP_MASK_BLEND, TP_MASK_NO_TEXCOORDS };
 
 /* The next mesh and its one instance, placed by `model`. */
 static void tp_mesh(lg_ts_builder *b, const float model[16])
@@ -79,6 +95,96 @@ static void tp_grid(lg_ts_builder *b, const float model[16], uint32_t g, const d
 {
     tp_mesh(b, model);
     lg_ts_grid_span(b, g, o, U, V, nn, flip);
+}
+
+/* The masked layout's texture and texture coordinates, owned by the scene: its `textures`
+ * points at `t`, the first member, so tp_masked_free finds the block from the scene. */
+typedef struct tp_masked {
+    lg_scene_textures t;
+    lg_scene_texture tex;
+    lg_scene_image img;
+    lg_material_maps maps;
+    uint8_t *rgba8;
+    float *uv;
+} tp_masked;
+
+static void tp_masked_free(void *scene)
+{
+    lg_scene *s = scene;
+    tp_masked *mk = (tp_masked *)s->textures;
+    if (mk) {
+        free(mk->rgba8);
+        free(mk->uv);
+        free(mk);
+    }
+    lg_ts_free(scene);
+}
+
+/* Publishes the masked layout: the builder's scene with material 1's maps, the checker
+ * texture and mesh 1's texture coordinates attached (testprtscene.c's header). */
+static int tp_masked_publish(lg_node *n, lg_ts_builder *b)
+{
+    int mask = lg_param_enum(n, "mask");
+    uint32_t cells = (uint32_t)lg_param_int(n, "mask_cells");
+    uint32_t phase = (uint32_t)lg_param_int(n, "mask_phase");
+    const lg_value *rgb = lg_param(n, "texture_rgb");
+    lg_scene *s = lg_ts_finish(b);
+    tp_masked *mk = calloc(1, sizeof *mk);
+    if (!s || !mk) {
+        free(mk);
+        if (s)
+            lg_ts_free(s);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory building the masked scene");
+    }
+    lg_mesh *quad = (lg_mesh *)&s->meshes[1];
+    lg_material *m1 = (lg_material *)&s->materials[1];
+    mk->rgba8 = malloc((size_t)cells * cells * 4);
+    mk->uv = malloc((size_t)quad->n_vertices * 2 * sizeof(float));
+    if (!mk->rgba8 || !mk->uv) {
+        free(mk->rgba8);
+        free(mk->uv);
+        free(mk);
+        lg_ts_free(s);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory building the masked scene");
+    }
+    for (uint32_t ty = 0; ty < cells; ty++)
+        for (uint32_t tx = 0; tx < cells; tx++) {
+            uint8_t *p = mk->rgba8 + 4 * ((size_t)ty * cells + tx);
+            for (int c = 0; c < 3; c++)
+                p[c] = (uint8_t)lround(255.0 * rgb->v[c]);
+            p[3] = (tx + ty + phase) % 2 == 0 ? 255 : 0;
+        }
+    /* the square's vertices are lg_ts_grid_span's (i, j) = (column, row) of a 1 x 1 grid */
+    for (uint32_t v = 0; v < quad->n_vertices; v++) {
+        mk->uv[2 * v] = (float)(v % 2);
+        mk->uv[2 * v + 1] = (float)(v / 2);
+    }
+    mk->img = (lg_scene_image){
+        .name = "test checker", .width = cells, .height = cells, .rgba8 = mk->rgba8
+    };
+    mk->tex = (lg_scene_texture){ .image = 0,
+                                  .mag_filter = LG_TEX_NEAREST,
+                                  .min_filter = LG_TEX_NEAREST,
+                                  .wrap_s = LG_TEX_CLAMP_TO_EDGE,
+                                  .wrap_t = LG_TEX_CLAMP_TO_EDGE };
+    mk->t = (lg_scene_textures){ .images = &mk->img,
+                                 .n_images = 1,
+                                 .textures = &mk->tex,
+                                 .n_textures = 1,
+                                 .bytes = (uint64_t)cells * cells * 4 };
+    mk->maps = *lg_material_maps_default();
+    if (mask != TP_MASK_NONE) {
+        mk->maps.base_color.texture = 0;
+        mk->maps.alpha_mode = mask == TP_MASK_BLEND ? LG_ALPHA_BLEND : LG_ALPHA_MASK;
+        mk->maps.alpha_cutoff = 0.5f;
+        m1->maps = &mk->maps;
+    }
+    m1->base_color[3] = (float)lg_param_float(n, "quad_alpha");
+    if (mask != TP_MASK_NO_TEXCOORDS)
+        quad->texcoords = mk->uv;
+    s->textures = &mk->t;
+    lg_scene_compute_features(s);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &s->features, s, tp_masked_free);
 }
 
 static int tp_prepare(lg_node *n)
@@ -115,6 +221,19 @@ static int tp_prepare(lg_node *n)
         };
         for (int k = 0; k < 5; k++)
             tp_grid(b, model, grid, w[k][0], w[k][1], w[k][2], w[k][3], false);
+    } else if (layout == TP_MASKED) {
+        lg_material *m1 = lg_ts_material(b, "test masked");
+        m1->kd = 1.0f;
+        for (int c = 0; c < 3; c++)
+            m1->base_color[c] = m1->od[c] = (float)bc->v[c];
+        static const double o[3] = { -2, 0, 2 }, U[3] = { 4, 0, 0 }, V[3] = { 0, 0, -4 },
+                            up[3] = { 0, 1, 0 };
+        tp_grid(b, model, grid, o, U, V, up, false);
+        double a = lg_param_float(n, "quad_size");
+        double qo[3] = { -a, 1, a }, qU[3] = { 2 * a, 0, 0 }, qV[3] = { 0, 0, -2 * a };
+        lg_ts_instance(b, lg_ts_mesh(b, "test masked square", 1), model);
+        lg_ts_grid_span(b, 1, qo, qU, qV, up, false);
+        return tp_masked_publish(n, b);
     } else if (layout == TP_QUAD || layout == TP_PLANE) {
         static const double o[3] = { -2, 0, 2 }, U[3] = { 4, 0, 0 }, V[3] = { 0, 0, -4 },
                             up[3] = { 0, 1, 0 };
@@ -273,14 +392,17 @@ static const lg_param_desc rp_params[] = {
 };
 static const lg_port_desc rp_out[] = { { .name = "probe", .kind = LG_KIND_PROBE } };
 
-static const char *const tp_layouts[] = { "cone", "box", "quad", "plane", "sphere", NULL };
+static const char *const tp_layouts[] = {
+    "cone", "box", "quad", "plane", "sphere", "masked", NULL
+};
+static const char *const tp_masks[] = { "none", "checker", "blend", "no_texcoords", NULL };
 
 static const lg_param_desc tp_params[] = {
     { .key = "layout",
       .type = LG_PARAM_ENUM,
       .def.e = 0,
       .enum_values = tp_layouts,
-      .doc = "cone, box, quad, plane or sphere (testprtscene.c)" },
+      .doc = "cone, box, quad, plane, sphere or masked (testprtscene.c)" },
     { .key = "alpha_deg", .type = LG_PARAM_FLOAT, .def.f = 45, .min = 1, .max = 89, .doc = "" },
     { .key = "segments", .type = LG_PARAM_INT, .def.i = 64, .min = 3, .max = 4096, .doc = "" },
     { .key = "grid", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 256, .doc = "" },
@@ -293,6 +415,16 @@ static const lg_param_desc tp_params[] = {
       .max = 10,
       .doc = "" },
     { .key = "translate", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .doc = "" },
+    { .key = "mask", .type = LG_PARAM_ENUM, .def.e = 1, .enum_values = tp_masks, .doc = "" },
+    { .key = "mask_cells", .type = LG_PARAM_INT, .def.i = 4, .min = 1, .max = 256, .doc = "" },
+    { .key = "mask_phase", .type = LG_PARAM_INT, .def.i = 0, .min = 0, .max = 1, .doc = "" },
+    { .key = "texture_rgb",
+      .type = LG_PARAM_COLOR,
+      .def.v = { 1, 1, 1 },
+      .min = 0,
+      .max = 1,
+      .doc = "" },
+    { .key = "quad_alpha", .type = LG_PARAM_FLOAT, .def.f = 1, .min = 0, .max = 1, .doc = "" },
 };
 static const lg_port_desc tp_out[] = { { .name = "scene", .kind = LG_KIND_SCENE } };
 
