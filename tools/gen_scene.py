@@ -22,6 +22,15 @@ KIND
              wall (white), left wall (red), right wall (green), an emissive panel under the
              ceiling, and a short and a tall box (one box mesh instanced twice). The room
              spans x, z in [-1, 1], y in [0, 2]; the open side faces +Z.
+  classroom  the thesis's Classroom, procedurally: a room with rows of desks and chairs,
+             three windows along one wall with venetian blinds of thin slats (--slats,
+             --slat-tilt, --slat-thickness), the sun through them, a spot light over the
+             blackboard, a medium, PNG textures (wood, floor tiles) and TEXCOORD_0 on every
+             mesh (tools/gen_interiors.py).
+  courtyard  a large courtyard-like interior (after San Miguel): two storeys of arcades
+             (columns, round arches), planters and a tree of alpha-masked foliage cards
+             (alphaMode MASK), stone-textured ground, the sun and a medium; --detail D
+             scales it (about 3.6 million triangles at 1, the default).
   grid       instanced spheres (one mesh, many nodes) on a square grid in the XZ plane,
              reaching about --triangles T (default 600000): the instance count is
              --instances N, else ceil(T / 5000), and the sphere's tessellation is chosen so
@@ -30,7 +39,7 @@ KIND
              rounded. The real count is printed.
 
 Options that shape one kind (--rings, --segments, --level, --tube, --size, --triangles,
---instances) are an error for the others. One mesh holds at most 1,048,576 vertices
+--instances, --slats, --slat-tilt, --slat-thickness, --detail) are an error for the others. One mesh holds at most 1,048,576 vertices
 (pure Python): larger counts come from `grid`, which instances one mesh.
 
 Geometry options
@@ -43,7 +52,14 @@ Geometry options
   --tube F               torus tube radius (0 < F < 1)
   --size F               plane edge length
 
-Material (every KIND but box_room, whose colours are the Cornell box's)
+Interiors
+  --slats N              classroom: slats per window (default 24, 1 .. 400)
+  --slat-tilt DEG        classroom: the slats' tilt about their long axis (default -20, in
+                         [-90, 90]; 0 = horizontal, open)
+  --slat-thickness M     classroom: slat thickness in metres (default 0.003, in (0, 0.05])
+  --detail D             courtyard: scales the triangle count (default 1, in (0, 4])
+
+Material (every KIND but box_room, classroom and courtyard, which have their own)
   --color R,G,B[,A]      baseColorFactor, linear (default 0.8,0.8,0.8,1)
   --roughness F          roughnessFactor (default 0.5)
   --metallic F           metallicFactor (default 0)
@@ -62,15 +78,21 @@ Camera and lights
                          (intensity in lux, default 3); repeatable
   --point-light X,Y,Z[,INTENSITY[,R,G,B]]
                          a point light (intensity in candela, default 10); repeatable
+  --spot-light X,Y,Z,DX,DY,DZ[,INTENSITY[,INNER,OUTER[,R,G,B]]]
+                         a spot light at X,Y,Z shining along DX,DY,DZ (intensity in candela,
+                         default 10; cone angles in degrees, default 0 and 45, glTF's
+                         0 <= INNER < OUTER <= 90); repeatable
   --no-lights            no light at all. Without any light option a scene gets one
-                         directional light (box_room: one point light under the panel)
+                         directional light (box_room: one point light under the panel;
+                         classroom: the sun and a spot light; courtyard: the sun)
 
 Medium (scene extras)
   --medium DENSITY[,SCATTERING[,ABSORPTION[,G]]]
                          writes scenes[0].extras.medium = {"density": D,
                          "scattering": [s, s, s], "absorption": [a, a, a], "g": g}
                          (defaults: scattering 0.5, absorption 0.05, g 0; units 1/m per
-                         unit density, g in (-1, 1))
+                         unit density, g in (-1, 1)). classroom and courtyard have a medium
+                         without it (1,0.08,0.01,0.5 and 1,0.04,0.004,0.5)
 
 Output
   -o, --output PATH      the file to write (.glb or .gltf)
@@ -86,6 +108,9 @@ Examples (the thesis's scaling experiment, about 5k, 600k and 5M triangles):
   tools/gen_scene.py grid --triangles 5000000 -o out/grid_5m.glb
   tools/gen_scene.py sphere --level 16 --no-normals --index-type u32 -o sphere.gltf
   tools/gen_scene.py box_room --medium 0.1,0.5,0.05,0.4 -o room.glb
+  tools/gen_scene.py classroom --slats 30 --slat-tilt 45 -o out/scenes/classroom.glb
+  tools/gen_scene.py courtyard --detail 0.01 -o courtyard_small.glb
+  (make scenes writes the examples' classroom and courtyard under out/scenes/)
 
 Exit status: 0, or 2 with a message on stderr for bad arguments (a u16 index type for a
 mesh with too many vertices, a non-finite number, an unknown kind, ...).
@@ -94,8 +119,12 @@ import argparse
 import base64
 import json
 import math
+import os
 import struct
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gen_interiors  # noqa: E402  (the classroom and the courtyard)
 
 GLB_MAGIC = 0x46546C67  # "glTF"
 CHUNK_JSON = 0x4E4F534A  # "JSON"
@@ -372,12 +401,40 @@ class Doc:
         self.g["accessors"].append(acc)
         return len(self.g["accessors"]) - 1
 
+    def image(self, png, name):
+        """A PNG image stored in the buffer (a bufferView without target)."""
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        off = len(self.bin)
+        self.bin += png
+        self.g["bufferViews"].append({"buffer": 0, "byteOffset": off, "byteLength": len(png)})
+        self.g.setdefault("images", []).append({"name": name, "mimeType": "image/png",
+                                                "bufferView": len(self.g["bufferViews"]) - 1})
+        return len(self.g["images"]) - 1
+
+    def sampler(self):
+        """Trilinear, repeating (one sampler shared by every texture)."""
+        if not self.g.get("samplers"):
+            self.g["samplers"] = [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497,
+                                   "wrapT": 10497}]
+        return 0
+
+    def texture(self, image, sampler):
+        self.g.setdefault("textures", []).append({"source": image, "sampler": sampler})
+        return len(self.g["textures"]) - 1
+
     def material(self, name, color, roughness, metallic, double_sided=False, emissive=None,
-                 extras=None):
+                 extras=None, base_color_texture=None, alpha_mode=None, alpha_cutoff=None):
         m = {"name": name,
              "pbrMetallicRoughness": {"baseColorFactor": list(color),
                                       "metallicFactor": metallic,
                                       "roughnessFactor": roughness}}
+        if base_color_texture is not None:
+            m["pbrMetallicRoughness"]["baseColorTexture"] = {"index": base_color_texture}
+        if alpha_mode:
+            m["alphaMode"] = alpha_mode
+            if alpha_cutoff is not None:
+                m["alphaCutoff"] = alpha_cutoff
         if emissive:
             m["emissiveFactor"] = list(emissive)
         if double_sided:
@@ -458,7 +515,8 @@ def parse_args(argv):
     ap = argparse.ArgumentParser(
         prog="gen_scene.py", usage="gen_scene.py KIND [options] -o OUT",
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("kind", choices=["sphere", "torus", "cube", "plane", "box_room", "grid"])
+    ap.add_argument("kind", choices=["sphere", "torus", "cube", "plane", "box_room", "grid",
+                                     "classroom", "courtyard"])
     ap.add_argument("-o", "--output", required=True)
     ap.add_argument("--format", choices=["glb", "gltf"])
     ap.add_argument("-q", "--quiet", action="store_true")
@@ -469,6 +527,10 @@ def parse_args(argv):
     ap.add_argument("--size", type=float)
     ap.add_argument("--triangles", type=int)
     ap.add_argument("--instances", type=int)
+    ap.add_argument("--slats", type=int)
+    ap.add_argument("--slat-tilt", type=float)
+    ap.add_argument("--slat-thickness", type=float)
+    ap.add_argument("--detail", type=float)
     ap.add_argument("--no-normals", action="store_true")
     ap.add_argument("--no-texcoords", action="store_true")
     ap.add_argument("--index-type", choices=["auto", "u16", "u32"], default="auto")
@@ -484,6 +546,7 @@ def parse_args(argv):
     ap.add_argument("--yfov", type=float, default=40.0)
     ap.add_argument("--dir-light", action="append", default=[])
     ap.add_argument("--point-light", action="append", default=[])
+    ap.add_argument("--spot-light", action="append", default=[])
     ap.add_argument("--no-lights", action="store_true")
     ap.add_argument("--medium")
     o = ap.parse_args(argv)
@@ -491,18 +554,34 @@ def parse_args(argv):
     # options that shape one kind only are refused elsewhere, not silently ignored
     applies = {"rings": ("sphere", "torus", "grid"), "segments": ("sphere", "torus", "plane", "grid"),
                "level": ("sphere", "torus", "grid"), "tube": ("torus",), "size": ("plane",),
-               "triangles": ("grid",), "instances": ("grid",)}
+               "triangles": ("grid",), "instances": ("grid",), "slats": ("classroom",),
+               "slat_tilt": ("classroom",), "slat_thickness": ("classroom",),
+               "detail": ("courtyard",)}
     for name, kinds in applies.items():
         if getattr(o, name) is not None and o.kind not in kinds:
             raise UsageError("--%s does not apply to %s (only to %s)"
-                             % (name, o.kind, ", ".join(kinds)))
+                             % (name.replace("_", "-"), o.kind, ", ".join(kinds)))
     o.tube = 0.35 if o.tube is None else o.tube
     o.size = 2.0 if o.size is None else o.size
     o.triangles = 600000 if o.triangles is None else o.triangles
+    o.slats = 24 if o.slats is None else o.slats
+    o.slat_tilt = -20.0 if o.slat_tilt is None else o.slat_tilt
+    o.slat_thickness = 0.003 if o.slat_thickness is None else o.slat_thickness
+    o.detail = 1.0 if o.detail is None else o.detail
 
-    for name in ("tube", "size", "roughness", "metallic", "yfov"):
+    for name in ("tube", "size", "roughness", "metallic", "yfov", "slat_tilt", "slat_thickness",
+                 "detail"):
         if not math.isfinite(getattr(o, name)):
-            raise UsageError("--%s: not a finite number" % name)
+            raise UsageError("--%s: not a finite number" % name.replace("_", "-"))
+    if not 1 <= o.slats <= 400:
+        raise UsageError("--slats %d: must be in [1, 400] per window" % o.slats)
+    if not -90 <= o.slat_tilt <= 90:
+        raise UsageError("--slat-tilt %g: must be in [-90, 90] degrees" % o.slat_tilt)
+    if not 0 < o.slat_thickness <= 0.05:
+        raise UsageError("--slat-thickness %g: must be in (0, 0.05] metres" % o.slat_thickness)
+    if not 0 < o.detail <= 4:
+        raise UsageError("--detail %g: must be in (0, 4] (1 = about 3.6 million triangles)"
+                         % o.detail)
     if not 0 < o.tube < 1:
         raise UsageError("--tube %g: the tube radius must be in (0, 1)" % o.tube)
     if not o.size > 0:
@@ -543,8 +622,16 @@ def parse_args(argv):
     o.camera_target = floats(o.camera_target, "--camera-target", (3,)) if o.camera_target else None
     o.dir_lights = [floats(t, "--dir-light", (3, 4, 7)) for t in o.dir_light]
     o.point_lights = [floats(t, "--point-light", (3, 4, 7)) for t in o.point_light]
-    if o.no_lights and (o.dir_lights or o.point_lights):
-        raise UsageError("--no-lights contradicts --dir-light/--point-light")
+    o.spot_lights = [floats(t, "--spot-light", (6, 7, 9, 12)) for t in o.spot_light]
+    for l in o.spot_lights:
+        if l[3:6] == [0.0, 0.0, 0.0]:
+            raise UsageError("--spot-light: the direction %g,%g,%g is the zero vector"
+                             % tuple(l[3:6]))
+        if len(l) >= 9 and not 0 <= l[7] < l[8] <= 90:
+            raise UsageError("--spot-light: cone angles inner %g, outer %g: need 0 <= inner < "
+                             "outer <= 90 degrees (glTF KHR_lights_punctual)" % (l[7], l[8]))
+    if o.no_lights and (o.dir_lights or o.point_lights or o.spot_lights):
+        raise UsageError("--no-lights contradicts --dir-light/--point-light/--spot-light")
     if o.medium is not None:
         m = floats(o.medium, "--medium", (1, 2, 3, 4))
         m += [0.5, 0.05, 0.0][len(m) - 1:]
@@ -586,6 +673,7 @@ def build(o):
     bmin, bmax = [-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]
     summary = ""
     view_dir = (0.45, 0.4, 1.0)
+    interior = None
     if o.kind in ("sphere", "torus", "cube", "plane"):
         mat = d.material(o.kind, o.color, o.roughness, o.metallic, o.double_sided, None, extras)
         if o.kind == "sphere":
@@ -632,6 +720,11 @@ def build(o):
         bmin, bmax = [-1.0, 0.0, -1.0], [1.0, 2.0, 1.0]
         view_dir = (0.0, 0.0, 1.0)
         summary = "36 triangles in 3 meshes (the box mesh twice)"
+    elif o.kind in ("classroom", "courtyard"):
+        fn = gen_interiors.classroom if o.kind == "classroom" else gen_interiors.courtyard
+        bmin, bmax, summary, cam_eye_target, lights_def, medium_def = fn(
+            d, o, (Prim, make_quad, make_cube, quat_axis_angle))
+        interior = (cam_eye_target, lights_def, medium_def)
     else:  # grid
         if o.rings is not None or o.segments is not None or o.level is not None:
             r, s = tessellation(o, "sphere")
@@ -662,8 +755,12 @@ def build(o):
     if not o.no_camera:
         yfov = math.radians(o.yfov)
         target = o.camera_target or center
+        if interior and not o.camera_target:
+            target = list(interior[0][1])
         if o.camera_pos:
             eye = o.camera_pos
+        elif interior:
+            eye = list(interior[0][0])
         elif o.kind == "box_room":
             # straight into the open side, the opening just filling the view
             eye = [0.0, 1.0, 1.0 + 1.05 / math.tan(yfov / 2)]
@@ -683,9 +780,11 @@ def build(o):
                 "rotation": quat_looking_along(fwd)})
 
     lights = []
-    dirs, points = list(o.dir_lights), list(o.point_lights)
-    if not o.no_lights and not dirs and not points:
-        if o.kind == "box_room":
+    dirs, points, spots = list(o.dir_lights), list(o.point_lights), list(o.spot_lights)
+    if not o.no_lights and not dirs and not points and not spots:
+        if interior:
+            dirs, spots = list(interior[1]["dir"]), list(interior[1]["spot"])
+        elif o.kind == "box_room":
             points = [[0.0, 1.8, 0.0, 10.0]]
         else:
             dirs = [[-0.4, -1.0, -0.6, 3.0]]
@@ -701,12 +800,24 @@ def build(o):
                        "intensity": l[3] if len(l) > 3 else 10.0})
         d.node({"name": "lamp_%d" % k, "translation": l[0:3],
                 "extensions": {"KHR_lights_punctual": {"light": len(lights) - 1}}})
+    for k, l in enumerate(spots):
+        # node rotation: its -Z along the direction (KHR_lights_punctual), cones in radians
+        color = l[9:12] if len(l) == 12 else [1.0, 1.0, 1.0]
+        inner, outer = (l[7], l[8]) if len(l) >= 9 else (0.0, 45.0)
+        lights.append({"name": "spot_%d" % k, "type": "spot", "color": color,
+                       "intensity": l[6] if len(l) > 6 else 10.0,
+                       "spot": {"innerConeAngle": math.radians(inner),
+                                "outerConeAngle": math.radians(outer)}})
+        d.node({"name": "spot_%d" % k, "translation": l[0:3],
+                "rotation": quat_looking_along(l[3:6]),
+                "extensions": {"KHR_lights_punctual": {"light": len(lights) - 1}}})
     if lights:
         d.use_extension("KHR_lights_punctual")
         d.g["extensions"] = {"KHR_lights_punctual": {"lights": lights}}
 
-    if o.medium is not None:
-        dens, sc, ab, g = o.medium
+    medium = o.medium if o.medium is not None else interior[2] if interior else None
+    if medium is not None:
+        dens, sc, ab, g = medium
         d.g["scenes"][0]["extras"] = {"medium": {"density": dens, "scattering": [sc] * 3,
                                                  "absorption": [ab] * 3, "g": g}}
     return d, summary

@@ -3,7 +3,7 @@
  * frame, light and fill with fog any scene without editing its file.
  *
  *   camera   sets the active camera (look_at, or orbit around the scene's bounds)
- *   light    adds a directional or point light, or replaces all lights with one
+ *   light    adds a directional, point or spot light, or replaces all lights with one
  *   medium   sets (replaces) the participating medium
  *   environment  attaches a light probe: the scene feature `probe` becomes true, so nodes
  *            that need a probe (reflection, background, PRT) are planned, not gated
@@ -100,7 +100,9 @@ static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, con
     size_t have = src->struct_size < sizeof p->scene ? src->struct_size : sizeof p->scene;
     memcpy(&p->scene, src, have);
     p->scene.struct_size = sizeof p->scene;
-    memset(p->scene.reserved, 0, sizeof p->scene.reserved);
+    /* the 3.1 textures and animation are the source's, like its meshes (a 3.0 producer
+     * leaves them NULL); only the words still reserved are cleared */
+    memset(p->scene.reserved_3_1, 0, sizeof p->scene.reserved_3_1);
     /* a chain of derived scenes points straight at the owner of the geometry */
     p->scene.geometry = src->geometry ? src->geometry : in;
 
@@ -329,7 +331,43 @@ static int camera_prepare(lg_node *n)
 /* ---- light ----------------------------------------------------------------------------------- */
 
 enum { LIGHT_ADD = 0, LIGHT_REPLACE };
-enum { LIGHT_DIRECTIONAL = 0, LIGHT_POINT };
+enum { LIGHT_DIRECTIONAL = 0, LIGHT_POINT, LIGHT_SPOT };
+enum { AIM_DIRECTION = 0, AIM_TARGET };
+
+/* A light's direction from `direction`, or for a spot light aimed at `target`, from its
+ * position to the target; a zero result is an error naming what made it. */
+static int light_direction(lg_node *n, int type, lg_vec3 pos, lg_vec3 *out)
+{
+    int rc;
+    lg_vec3 d_in;
+    bool aim_target = type == LIGHT_SPOT && lg_param_enum(n, "aim") == AIM_TARGET;
+    if (aim_target) {
+        lg_vec3 target;
+        if ((rc = st_vec3(n, "target", &target)))
+            return rc;
+        d_in = lg_v3_sub(target, pos);
+    } else if ((rc = st_vec3(n, "direction", &d_in))) {
+        return rc;
+    }
+    /* normalised in double: a float difference of two large positions may overflow */
+    double len = sqrt((double)d_in.x * d_in.x + (double)d_in.y * d_in.y + (double)d_in.z * d_in.z);
+    if (aim_target && !(len > 0.0)) {
+        const lg_value *t = lg_param(n, "target");
+        return lg_error(n,
+                        "aim = target: target = [%g, %g, %g] is the light's own position: "
+                        "a spot light needs a point to shine at other than where it stands",
+                        t->v[0], t->v[1], t->v[2]);
+    }
+    if (!(len > 0.0) || !isfinite(len))
+        return lg_error(n,
+                        "direction = [%g, %g, %g] is the zero vector: a %s light needs the "
+                        "direction its light travels (e.g. [0, -1, 0] for light falling "
+                        "straight down)",
+                        (double)d_in.x, (double)d_in.y, (double)d_in.z,
+                        type == LIGHT_SPOT ? "spot" : "directional");
+    *out = lg_v3((float)(d_in.x / len), (float)(d_in.y / len), (float)(d_in.z / len));
+    return 0;
+}
 
 static int light_prepare(lg_node *n)
 {
@@ -344,23 +382,33 @@ static int light_prepare(lg_node *n)
     lg_vec3 color, dir = lg_v3(0, 0, 0), pos = lg_v3(0, 0, 0);
     if ((rc = st_vec3(n, "color", &color)))
         return rc;
-    if (lg_param_enum(n, "type") == LIGHT_DIRECTIONAL) {
+    int type = lg_param_enum(n, "type");
+    if (type == LIGHT_DIRECTIONAL) {
         l.type = LG_LIGHT_DIRECTIONAL;
-        lg_vec3 d_in;
-        if ((rc = st_vec3(n, "direction", &d_in)))
+        if ((rc = light_direction(n, type, pos, &dir)))
             return rc;
-        dir = lg_v3_normalize_or(d_in, lg_v3(0, 0, 0));
-        if (lg_v3_length(dir) == 0)
-            return lg_error(n,
-                            "direction = [%g, %g, %g] is the zero vector: a directional "
-                            "light needs the direction its light travels (e.g. [0, -1, 0] "
-                            "for light falling straight down)",
-                            (double)d_in.x, (double)d_in.y, (double)d_in.z);
     } else {
-        l.type = LG_LIGHT_POINT;
+        l.type = type == LIGHT_SPOT ? LG_LIGHT_SPOT : LG_LIGHT_POINT;
         if ((rc = st_vec3(n, "position", &pos)))
             return rc;
         l.range = (float)lg_param_float(n, "range");
+    }
+    if (type == LIGHT_SPOT) {
+        if ((rc = light_direction(n, type, pos, &dir)))
+            return rc;
+        /* KHR_lights_punctual: 0 <= inner < outer <= pi/2 (the schema bounds both to
+         * [0, 90]); equal angles would make the smooth falloff a division by zero */
+        double inner = lg_param_float(n, "inner_cone_deg");
+        double outer = lg_param_float(n, "outer_cone_deg");
+        if (!(inner < outer))
+            return lg_error(n,
+                            "inner_cone_deg = %g, outer_cone_deg = %g: a spot light needs "
+                            "inner < outer (glTF KHR_lights_punctual: 0 <= inner < outer <= "
+                            "90 degrees; the intensity falls smoothly from full at the inner "
+                            "cone to zero at the outer)",
+                            inner, outer);
+        l.inner_cone = (float)(inner * LG_PI / 180.0);
+        l.outer_cone = (float)(outer * LG_PI / 180.0);
     }
     memcpy(l.color, &color, sizeof l.color);
     l.intensity = (float)lg_param_float(n, "intensity");
@@ -539,7 +587,8 @@ static const lg_param_desc camera_params[] = {
 };
 
 static const char *const light_modes[] = { "add", "replace", NULL };
-static const char *const light_types[] = { "directional", "point", NULL };
+static const char *const light_types[] = { "directional", "point", "spot", NULL };
+static const char *const light_aims[] = { "direction", "target", NULL };
 static const lg_param_desc light_params[] = {
     { .key = "mode",
       .type = LG_PARAM_ENUM,
@@ -550,15 +599,38 @@ static const lg_param_desc light_params[] = {
       .type = LG_PARAM_ENUM,
       .def.e = LIGHT_DIRECTIONAL,
       .enum_values = light_types,
-      .doc = "directional (direction) or point (position)" },
+      .doc = "directional (direction), point (position) or spot (position, direction or "
+             "target, cones)" },
     { .key = "direction",
       .type = LG_PARAM_VEC3,
       .def.v = { 0, -1, 0 },
-      .doc = "directional: the direction the light travels, world; normalised, not zero" },
+      .doc = "directional, spot: the direction the light travels, world; normalised, not zero" },
     { .key = "position",
       .type = LG_PARAM_VEC3,
       .def.v = { 0, 0, 0 },
-      .doc = "point: world metres" },
+      .doc = "point, spot: world metres" },
+    { .key = "aim",
+      .type = LG_PARAM_ENUM,
+      .def.e = AIM_DIRECTION,
+      .enum_values = light_aims,
+      .doc = "spot: aimed along `direction`, or from `position` at `target`" },
+    { .key = "target",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .doc = "spot with aim = target: the point the cone's axis passes through, world" },
+    { .key = "inner_cone_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 90,
+      .doc = "spot: full intensity inside this angle from the axis, degrees (< outer)" },
+    { .key = "outer_cone_deg",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 45,
+      .min = 0,
+      .max = 90,
+      .doc = "spot: no light beyond this angle from the axis, degrees; glTF's smooth "
+             "falloff between" },
     { .key = "color",
       .type = LG_PARAM_COLOR,
       .def.v = { 1, 1, 1 },
@@ -570,13 +642,13 @@ static const lg_param_desc light_params[] = {
       .def.f = 1,
       .min = 0,
       .max = 1e6,
-      .doc = "glTF units: lux (directional), candela (point)" },
+      .doc = "glTF units: lux (directional), candela (point, spot)" },
     { .key = "range",
       .type = LG_PARAM_FLOAT,
       .def.f = 0,
       .min = 0,
       .max = 1e30,
-      .doc = "point: metres beyond which the light has no effect; 0 = infinite" },
+      .doc = "point, spot: metres beyond which the light has no effect; 0 = infinite" },
 };
 
 static const lg_param_desc medium_params[] = {
@@ -643,7 +715,7 @@ static const lg_node_type st_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
         .name = "light",
-        .doc = "adds a directional or point light to the scene, or replaces its lights",
+        .doc = "adds a directional, point or spot light to the scene, or replaces its lights",
         LG_PARAMS(light_params),
         LG_INPUTS(st_inputs),
         LG_OUTPUTS(light_outputs),

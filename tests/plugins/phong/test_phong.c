@@ -32,6 +32,11 @@
  *               lit fully; with vertex_normals = eq13 (the 24 vertices welded to 8 corners,
  *               each the normalised sum of its triangles' normals, computed here through
  *               the SDK) it is the mean of its diagonal's corner colours
+ *   spot        a spot light aimed at a target over a plane (phong shading, falloff none
+ *               and inverse_square): every pixel equals kd Ii (N.L) times glTF's smooth cone
+ *               factor clamp((cos a - cos outer) / (cos inner - cos outer), 0, 1)^2, a the
+ *               angle from the spot's axis, at the world point under the pixel's centre;
+ *               the image holds full, partial and zero cone factors
  *   gating      a scene with a point light only: the shadowmap node is gated and not
  *               loaded (--explain), phong renders the point light's value
  *   errors      shadow maps of another scene (a light index beyond this scene's lights):
@@ -586,6 +591,64 @@ static void case_infinite(lg_test *t)
     }
 }
 
+/* ---- spot ------------------------------------------------------------------------------------ */
+
+static void case_spot(lg_test *t)
+{
+    /* straight down at the plane y = 0; image right is +X, image up is -Z */
+    const cam c = { { 0, 3, 0 }, { 0, 0, 0 }, { 0, 0, -1 }, 60 };
+    char cp[512], scene[1024];
+    cam_params(cp, sizeof cp, &c);
+    snprintf(scene, sizeof scene,
+             "layout = plane, size = 4, segments = 4, ka = 0, kd = 1, ks = 0, od = [1, 1, 1], %s",
+             cp);
+    const lg_vec3 sp = lg_v3(0.3f, 2, -0.2f), tg = lg_v3(-0.4f, 0, 0.1f);
+    const double inner = 15, outer = 35, ii = 2;
+    char lights[512];
+    snprintf(lights, sizeof lights,
+             "ls = light { scene = s, type = spot, position = [%.9g, %.9g, %.9g], aim = target, "
+             "target = [%.9g, %.9g, %.9g], inner_cone_deg = %g, outer_cone_deg = %g, "
+             "intensity = %g }",
+             sp.x, sp.y, sp.z, tg.x, tg.y, tg.z, inner, outer, ii);
+    lg_vec3 axis = lg_v3_normalize_or(lg_v3_sub(tg, sp), lg_v3(0, 0, 0));
+    double ci = cos(inner * LG_PI / 180.0), co = cos(outer * LG_PI / 180.0);
+    for (int fo = 0; fo < 2; fo++) {
+        char phong[128];
+        snprintf(phong, sizeof phong, "shading = phong, ambient = [0, 0, 0], falloff = %s",
+                 fo ? "inverse_square" : "none");
+        lg_image img = { 0 };
+        RUN_OK(t, scene, lights, false, phong, "64x64", &img);
+        const double half = 3.0 * tan(30.0 * LG_PI / 180.0);
+        double worst = 0;
+        int full = 0, part = 0, dark = 0;
+        for (uint32_t y = 0; y < 64; y++)
+            for (uint32_t x = 0; x < 64; x++) {
+                /* the world point under the pixel's centre */
+                double wx = ((x + 0.5) / 32.0 - 1.0) * half, wz = ((y + 0.5) / 32.0 - 1.0) * half;
+                double lx = sp.x - wx, ly = sp.y, lz = sp.z - wz;
+                double d = sqrt(lx * lx + ly * ly + lz * lz);
+                double cosa = -(lx * axis.x + ly * axis.y + lz * axis.z) / d;
+                double k = (cosa - co) / (ci - co);
+                k = k < 0 ? 0 : k > 1 ? 1 : k;
+                double want = ii * (ly / d) * k * k / (fo ? d * d : 1.0);
+                double got = px(&img, x, y)[0];
+                worst = fmax(worst, fabs(got - want));
+                full += k == 1;
+                part += k > 0 && k < 1;
+                dark += k == 0;
+            }
+        LG_TEST_CHECK(t, worst < 2e-3,
+                      "spot (falloff %s): largest difference from the closed "
+                      "form %g",
+                      fo ? "inverse_square" : "none", worst);
+        LG_TEST_CHECK(t, full > 50 && part > 200 && dark > 200,
+                      "spot: the image should hold full (%d), partial (%d) and zero (%d) cone "
+                      "factors",
+                      full, part, dark);
+        lg_image_free(&img);
+    }
+}
+
 /* ---- eq13 ------------------------------------------------------------------------------------ */
 
 /* The cube of testphongscene (6 faces of 2 triangles, 24 vertices), welded to its 8 corners,
@@ -723,7 +786,7 @@ int main(int argc, char **argv)
         { "flat_cube", case_flat_cube }, { "lights", case_lights }, { "shadow", case_shadow },
         { "highlight", case_highlight }, { "blinn", case_blinn },   { "depth_cue", case_depth_cue },
         { "infinite", case_infinite },   { "eq13", case_eq13 },     { "gating", case_gating },
-        { "errors", case_errors },
+        { "spot", case_spot },           { "errors", case_errors },
     };
     lg_test_main_opts o = { .setup = require_gl };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

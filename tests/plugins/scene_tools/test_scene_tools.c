@@ -566,7 +566,7 @@ static void case_orbit(lg_test *t)
 static void check_light(lg_test *t, const lg_image *img, uint32_t i, int type, lg_vec3 dir,
                         lg_vec3 color, float intensity, lg_vec3 pos, float range)
 {
-    uint32_t x = 10 + 3 * i;
+    uint32_t x = 10 + 4 * i;
     LG_TEST_CHECK(t, px(img, x)[3] == (float)type, "light %u: type %g, want %d", i,
                   (double)px(img, x)[3], type);
     LG_TEST_CHECK(t, near3(px3(img, x), dir, 1e-6f), "light %u: direction [%g, %g, %g]", i,
@@ -589,7 +589,7 @@ static void case_lights(lg_test *t)
         "output probe \"probe.exr\"\n";
     lg_image img;
     if (run_probe(t, g, NULL, &img)) {
-        LG_TEST_CHECK(t, px(&img, 3)[0] == 3 && img.width == 10 + 9, "3 lights: %g",
+        LG_TEST_CHECK(t, px(&img, 3)[0] == 3 && img.width == 10 + 12, "3 lights: %g",
                       (double)px(&img, 3)[0]);
         LG_TEST_CHECK(t, px(&img, 6)[3] == 2 && px(&img, 7)[3] == 1, "features: %g dir, %g point",
                       (double)px(&img, 6)[3], (double)px(&img, 7)[3]);
@@ -608,11 +608,48 @@ static void case_lights(lg_test *t)
         "probe = test_scene_probe { scene = l3 }\n"
         "output probe \"probe.exr\"\n";
     if (run_probe(t, g2, NULL, &img)) {
-        LG_TEST_CHECK(t, px(&img, 3)[0] == 1 && img.width == 13, "replace leaves %g lights",
+        LG_TEST_CHECK(t, px(&img, 3)[0] == 1 && img.width == 14, "replace leaves %g lights",
                       (double)px(&img, 3)[0]);
         check_light(t, &img, 0, 0, lg_v3(0, 0, 1), lg_v3(2, 2, 2), 1, lg_v3(0, 0, 0), 0);
         lg_image_free(&img);
     }
+}
+
+/* Spot lights: type 2, position, range, the direction given or aimed at a target
+ * (normalised), cones turned into radians; --explain counts them among "other" lights. */
+static void case_spot(lg_test *t)
+{
+    const char *g =
+        "lightgraph 1\n"
+        "cube = test_cube {}\n"
+        "s1 = light { scene = cube, type = spot, position = [1, 4, 2], direction = [0, -3, 4],\n"
+        "             inner_cone_deg = 10, outer_cone_deg = 30, intensity = 200, range = 12 }\n"
+        "s2 = light { scene = s1, type = spot, position = [0, 2, 0], aim = target,\n"
+        "             target = [2, 2, 0], color = [0.5, 1, 1] }\n"
+        "probe = test_scene_probe { scene = s2 }\n"
+        "output probe \"probe.exr\"\n";
+    lg_image img;
+    if (run_probe(t, g, NULL, &img)) {
+        LG_TEST_CHECK(t, px(&img, 3)[0] == 2 && img.width == 10 + 8, "2 lights: %g",
+                      (double)px(&img, 3)[0]);
+        /* glTF's default cones (0, 45 degrees) for s2 */
+        const float deg = (float)(LG_PI / 180.0);
+        check_light(t, &img, 0, 2, lg_v3(0, -0.6f, 0.8f), lg_v3(1, 1, 1), 200, lg_v3(1, 4, 2), 12);
+        check_light(t, &img, 1, 2, lg_v3(1, 0, 0), lg_v3(0.5f, 1, 1), 1, lg_v3(0, 2, 0), 0);
+        const float *c0 = px(&img, 10 + 3), *c1 = px(&img, 10 + 4 + 3);
+        LG_TEST_CHECK(t, fabsf(c0[0] - 10 * deg) < 1e-6f && fabsf(c0[1] - 30 * deg) < 1e-6f,
+                      "s1 cones %g, %g rad", (double)c0[0], (double)c0[1]);
+        LG_TEST_CHECK(t, c1[0] == 0 && fabsf(c1[1] - 45 * deg) < 1e-6f, "s2 cones %g, %g rad",
+                      (double)c1[0], (double)c1[1]);
+        lg_image_free(&img);
+    }
+    char *out = NULL;
+    static const char *const explain[] = { "--explain", NULL };
+    render_text(t, g, explain, &out);
+    const char *o = out ? out : "";
+    LG_TEST_CHECK(t, features_say(o, "s2", "lights: 0 directional, 0 point, 2 other"),
+                  "s2 features: %s", o);
+    free(out);
 }
 
 static void case_medium(lg_test *t)
@@ -776,8 +813,34 @@ static void case_errors(lg_test *t)
                  (const char *const[]){ "density", "out of range", NULL });
     expect_error(t, "negative intensity", 2, "bad = light { scene = cube, intensity = -1 }\n",
                  (const char *const[]){ "intensity", "out of range", NULL });
-    expect_error(t, "unknown light type", 2, "bad = light { scene = cube, type = spot }\n",
-                 (const char *const[]){ "spot", "directional, point", NULL });
+    expect_error(t, "unknown light type", 2, "bad = light { scene = cube, type = area }\n",
+                 (const char *const[]){ "area", "directional, point, spot", NULL });
+    expect_error(t, "spot inner = outer", 1,
+                 "bad = light { scene = cube, type = spot, inner_cone_deg = 30,"
+                 " outer_cone_deg = 30 }\n",
+                 (const char *const[]){ "'bad'", "inner_cone_deg = 30, outer_cone_deg = 30",
+                                        "inner < outer", NULL });
+    expect_error(t, "spot inner > outer", 1,
+                 "bad = light { scene = cube, type = spot, inner_cone_deg = 50 }\n",
+                 (const char *const[]){ "inner_cone_deg = 50, outer_cone_deg = 45", NULL });
+    expect_error(t, "spot outer 0", 1,
+                 "bad = light { scene = cube, type = spot, outer_cone_deg = 0 }\n",
+                 (const char *const[]){ "outer_cone_deg = 0", "inner < outer", NULL });
+    expect_error(t, "spot cone past 90", 2,
+                 "bad = light { scene = cube, type = spot, outer_cone_deg = 120 }\n",
+                 (const char *const[]){ "outer_cone_deg", "120", "out of range", NULL });
+    expect_error(t, "spot negative cone", 2,
+                 "bad = light { scene = cube, type = spot, inner_cone_deg = -5 }\n",
+                 (const char *const[]){ "inner_cone_deg", "out of range", NULL });
+    expect_error(t, "spot zero direction", 1,
+                 "bad = light { scene = cube, type = spot, direction = [0, 0, 0] }\n",
+                 (const char *const[]){ "'bad'", "direction = [0, 0, 0] is the zero vector",
+                                        "spot light", NULL });
+    expect_error(t, "spot target at its position", 1,
+                 "bad = light { scene = cube, type = spot, position = [1, 2, 3], aim = target,"
+                 " target = [1, 2, 3] }\n",
+                 (const char *const[]){ "'bad'", "target = [1, 2, 3] is the light's own position",
+                                        NULL });
     expect_error(t, "a scene without data", 1, "bad = light { scene = desc }\n",
                  (const char *const[]){ "'bad'", "no scene data", NULL });
     expect_error(t, "huge position", 1,
@@ -794,6 +857,7 @@ int main(int argc, char **argv)
         { "look_at", case_look_at },
         { "orbit", case_orbit },
         { "lights", case_lights },
+        { "spot", case_spot },
         { "medium", case_medium },
         { "sharing", case_sharing },
         { "sharing_gl", case_sharing_gl },

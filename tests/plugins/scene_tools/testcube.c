@@ -24,8 +24,8 @@
  *   7  medium absorption, features.point_lights
  *   8  bounds_min, features.triangles
  *   9  bounds_max, geometry pointer is NULL (1/0)
- *   10 + 3i, 11 + 3i, 12 + 3i  light i: (direction, type), (color, intensity),
- *                              (position, range)
+ *   10 + 4i .. 13 + 4i  light i: (direction, type), (color, intensity), (position, range),
+ *                       (inner_cone, outer_cone, 0, 0)
  */
 #include <stdlib.h>
 #include <string.h>
@@ -85,7 +85,7 @@ static int cube_execute(lg_node *n, const lg_frame *frame)
 
 /* ---- test_scene_probe ------------------------------------------------------------------------ */
 
-enum { PROBE_FIXED = 10, PROBE_PER_LIGHT = 3 };
+enum { PROBE_FIXED = 10, PROBE_PER_LIGHT = 4 };
 
 static int probe_prepare(lg_node *n)
 {
@@ -196,6 +196,7 @@ static int probe_execute(lg_node *n, const lg_frame *frame)
         put(px, x, l->direction[0], l->direction[1], l->direction[2], (float)l->type);
         put(px, x + 1, l->color[0], l->color[1], l->color[2], l->intensity);
         put(px, x + 2, l->position[0], l->position[1], l->position[2], l->range);
+        put(px, x + 3, l->inner_cone, l->outer_cone, 0, 0);
     }
     return 0;
 }

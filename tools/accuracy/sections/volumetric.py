@@ -64,7 +64,13 @@ backend, `accumulation` (the thesis's sum against the energy-conserving integrat
 `z_near`, the shadow map's `resolution`, and temporal reprojection's `history` (0 = off)
 after 16 frames. **Time:** the `vol` node's per frame in steady state (3 frames, the first,
 with its shader compilation, left out; `per_frame = true`). **Metric:** relative RMSE of the
-linear in-scatter `inscatter` (L_v alone) over the image and R, G, B."""
+linear in-scatter `inscatter` (L_v alone) over the image and R, G, B.
+**The classroom's blinds** (issue 24; docs/volumetric.md, "The thesis's interiors"): the
+generated classroom (`tools/gen_scene.py classroom`: 24 slats of 3 mm per window, the sun
+through them) with `examples/classroom.lgraph`'s settings, froxel on gl, the grid W x H x D
+swept: the slats' striped shafts are finer than a coarse grid's froxels. Its reference is
+`volumetric_reference` at 256 steps and 2 rays per pixel through pixel centres (the
+slats' stripes are what is measured; 1024 x 4 would cost minutes here)."""
 TARGET = None
 
 # ---- what is swept ---------------------------------------------------------------------------
@@ -250,7 +256,64 @@ def studies(ctx):
                     reference_image="reference.exr"))
                 out[-1].value_labels = {k: VALUE_LABELS[k] for k, _ in spec["vary"]
                                         if k in VALUE_LABELS}
+    out.append(classroom_study(ctx))
     return out
+
+
+# ---- the classroom's blinds (issue 24) -----------------------------------------------------------
+
+CLASSROOM = "classroom.lgraph"
+CLASSROOM_GRIDS = ["40x23x32", "80x45x64", "160x90x64", "160x90x128"]
+CLASSROOM_REF = {"full": (256, 2, "320x180"), "quick": (64, 1, "64x36")}
+
+
+def classroom_study(ctx):
+    """froxel's grid against the reference on the generated classroom: the scene is written
+    into ctx.tmp by tools/gen_scene.py (65 KB, a second) and examples/classroom.lgraph's
+    nodes are used, its file path pointed there."""
+    mode = "quick" if ctx.quick else "full"
+    steps, spp, size = CLASSROOM_REF[mode]
+    d = os.path.join(ctx.tmp, "classroom")
+    os.makedirs(d, exist_ok=True)
+    glb = os.path.join(d, "classroom.glb")
+    r = subprocess.run([sys.executable, os.path.join(ctx.root, "tools", "gen_scene.py"),
+                        "classroom", "-q", "-o", glb], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise StudyError("tools/gen_scene.py classroom failed: %s" % r.stderr.strip())
+    text = read(os.path.join(ctx.root, EXAMPLES, CLASSROOM))
+    vol = example_node(ctx.root, CLASSROOM, "vol")
+    scene = text[:text.index(vol)]
+    scene, n = re.subn(r'file = "[^"]*"', 'file = "%s"' % glb, scene)
+    if n != 1:
+        raise StudyError("examples/%s: not one `file = ...` in its scene" % CLASSROOM)
+    scene_path = ctx.write("classroom/scene.lgraph", scene)
+    z_limit = re.search(r"z_limit = ([0-9.]+)", vol)
+    if not z_limit:
+        raise StudyError("examples/%s: its vol node has no z_limit" % CLASSROOM)
+    ref_dir = os.path.join(d, "reference")
+    ref_graph = ctx.write("classroom/reference.lgraph", (
+        'lightgraph 1\ninclude "%s"\nvol = volumetric_reference { scene = fog, base = lit, '
+        'z_limit = %s }\noutput vol.inscatter "%s"\n'
+        % (scene_path, z_limit.group(1), os.path.join(ref_dir, "reference.exr"))))
+    sid = "classroom_blinds_gl"
+    graph = ctx.write("classroom/%s.lgraph" % sid, 'lightgraph 1\ninclude "%s"\n%s\n'
+                      'output vol.inscatter "%s"\n' % (scene_path, vol, os.path.join(d, sid + ".exr")))
+    spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph, "time_node": "vol",
+            "size": size, "sets": ["vol.per_frame=true", "vol.backend=gl"],
+            "vary": [("vol.grid", QUICK_GRIDS if ctx.quick else CLASSROOM_GRIDS)],
+            "frames": 2 if ctx.quick else 3,
+            "repeat": 1 if ctx.quick else (ctx.repeat or REPEAT),
+            "reference": {"dir": ref_dir, "graph": ref_graph, "size": size,
+                          "sets": ["vol.steps=%d" % steps, "vol.spp=%d" % spp,
+                                   "vol.subpixel=centre"]}}
+    path = ctx.write("classroom/%s.json" % sid, json.dumps(spec, indent=1))
+    return Custom(id=sid, title="froxel gl: grid W x H x D on the classroom's blinds (24 slats "
+                  "of 3 mm per window, directional sun, homogeneous medium)",
+                  technique="volumetric_froxel", backend="gl",
+                  command=[sys.executable, os.path.abspath(__file__), "run", path, "{out}"],
+                  csv="rows.csv", reference_label="volumetric_reference, %d steps, %d spp "
+                  "through pixel centres, on cpu" % (steps, spp), metric="rel_rmse",
+                  reference_image="reference.exr")
 
 
 # ---- the runner (one study) ------------------------------------------------------------------
