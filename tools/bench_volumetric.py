@@ -45,8 +45,9 @@ Experiments:
   gating     a frame of the bunny box without fog, by a graph holding all four methods and
              by the same graph without them (planning and frame time, plugins loaded)
 
-Scenes classroom and courtyard are tools/gen_scene.py's interiors (branch `scenes`), made
-into --out on first use when gen_scene.py knows them; else they are refused by name.
+Scenes classroom and courtyard are tools/gen_scene.py's interiors (`make scenes` writes them
+to out/scenes/; made there on first use), with their own camera and sun and the fog of their
+examples (examples/classroom.lgraph, courtyard.lgraph).
 
 --quick: 256x175 and 534x365 crossover, --size 534x365, 2 frames, 1 repeat, lights 1 and 4:
 a smoke run. Writes --out (default out/bench_volumetric): bench_volumetric.md (the tables,
@@ -67,7 +68,9 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-# name: (file relative to ROOT or to --out for generated ones, camera line, z_limit or None)
+# name: (file relative to ROOT, or gen:KIND for tools/gen_scene.py's interiors; the camera
+# line, None for the file's own; z_limit or None; for the interiors the fog of their example,
+# examples/classroom.lgraph and courtyard.lgraph, and the file's own sun)
 SCENES = {
     "bunny": ("assets/meshes/bunny_cornell_box.glb",
               "cam = camera { scene = scene, mode = look_at, position = [0.55, 1.45, 0.95], "
@@ -78,9 +81,14 @@ SCENES = {
     "dragons": ("assets/meshes/dragon_vrip_x6_instanced_draco.glb",
                 "cam = camera { scene = scene, mode = orbit, azimuth_deg = 30, "
                 "elevation_deg = 25 }", None),
-    # generated (tools/gen_scene.py KIND -o out/...): their own cameras
-    "classroom": ("gen:classroom", "cam = camera { scene = scene }", None),
-    "courtyard": ("gen:courtyard", "cam = camera { scene = scene }", None),
+    "classroom": ("gen:classroom", None, 12),
+    "courtyard": ("gen:courtyard", None, 40),
+}
+INTERIOR_FOG = {
+    "classroom": "density = 1, scattering = [0.08, 0.08, 0.08], absorption = [0.01, 0.01, "
+                 "0.01], g = 0.5",
+    "courtyard": "density = 1, scattering = [0.04, 0.04, 0.04], absorption = [0.004, 0.004, "
+                 "0.004], g = 0.5",
 }
 
 METHODS = {
@@ -329,15 +337,22 @@ def light_dirs(n):
 
 def graph(scene_file, scene, method, n_lights, shadow_res):
     _, cam, z_limit = SCENES[scene]
-    g = ["lightgraph 1", 'scene = gltf { file = "%s" }' % scene_file, cam]
-    prev = "cam"
-    for k, d in enumerate(light_dirs(n_lights)):
-        mode = ", mode = replace" if k == 0 else ""
-        g.append("l%d = light { scene = %s%s, direction = [%.6f, %.6f, %.6f], intensity = %g }"
-                 % (k, prev, mode, d[0], d[1], d[2], 10.0 / n_lights))
-        prev = "l%d" % k
-    g.append("fog = medium { scene = %s, density = 1, scattering = [0.1, 0.1, 0.1], g = 0.4 }"
-             % prev)
+    g = ["lightgraph 1", 'scene = gltf { file = "%s" }' % scene_file]
+    if cam is None:
+        # an interior: its own camera and sun, its example's fog
+        if n_lights != 1:
+            raise BenchError("scene %s: its own sun only (1 light)" % scene)
+        g.append("fog = medium { scene = scene, %s }" % INTERIOR_FOG[scene])
+    else:
+        g.append(cam)
+        prev = "cam"
+        for k, d in enumerate(light_dirs(n_lights)):
+            mode = ", mode = replace" if k == 0 else ""
+            g.append("l%d = light { scene = %s%s, direction = [%.6f, %.6f, %.6f], intensity = %g }"
+                     % (k, prev, mode, d[0], d[1], d[2], 10.0 / n_lights))
+            prev = "l%d" % k
+        g.append("fog = medium { scene = %s, density = 1, scattering = [0.1, 0.1, 0.1], "
+                 "g = 0.4 }" % prev)
     g.append("shadow = shadowmap { scene = fog, resolution = %d }" % shadow_res)
     g.append("lit = phong { scene = fog, shadows = shadow, background = [0.6, 0.7, 0.9] }")
     if method == DISABLED:
@@ -369,7 +384,8 @@ class Runner:
             if kind not in r.stdout:
                 raise BenchError("scene %s: tools/gen_scene.py has no kind '%s' here (it comes "
                                  "with branch `scenes`)" % (scene, kind))
-            path = os.path.join(self.out, "%s.glb" % kind)
+            path = os.path.join(ROOT, "out", "scenes", "%s.glb" % kind)  # as `make scenes`
+            os.makedirs(os.path.dirname(path), exist_ok=True)
             if not os.path.exists(path):
                 r = subprocess.run([sys.executable, gen, kind, "-q", "-o", path],
                                    capture_output=True, text=True)
@@ -429,7 +445,12 @@ def exp_crossover(runner, a, methods, md):
         raise BenchError("--sizes: give them in increasing order")
     all_m = methods + [DISABLED]
     configs = [(s, m, 1, z) for s in a.crossover_scenes.split(",") for z in names for m in all_m]
-    res = repeated(runner, configs, a.repeat, "crossover")
+    if a.crossover_csv:
+        res = load_crossover(a.crossover_csv, configs)
+        for s in a.crossover_scenes.split(","):
+            runner.run(s, DISABLED, 1, names[0])  # the triangle count, measured
+    else:
+        res = repeated(runner, configs, a.repeat, "crossover")
     rows = []
     md += ["## Crossover: time against output size (one light)", "",
            "The method's node per frame, median of %d runs (min-max); a frame (shadow maps + "
@@ -470,6 +491,25 @@ def exp_crossover(runner, a, methods, md):
             f.write("%s,%s,%s,%d,%d,%.4f,%.4f,%d\n" % r)
 
 
+def load_crossover(path, configs):
+    """The results of an earlier run's crossover.csv (--crossover-csv: tables and plots made
+    again without measuring), as config -> results with ms and frame_ms."""
+    res = {c: [] for c in configs}
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        for line in f:
+            r = dict(zip(head, line.strip().split(",")))
+            c = (r["scene"], r["method"], 1, r["size"])
+            if c in res:
+                res[c].append({"ms": float(r["node_ms"]), "frame_ms": float(r["frame_ms"]),
+                               "bytes": int(r["bytes"])})
+    missing = [c for c, v in res.items() if not v]
+    if missing:
+        raise BenchError("%s has no rows for %s" % (path, ", ".join("%s %s %s" % (c[0], c[1], c[3])
+                                                                   for c in missing[:4])))
+    return res
+
+
 def plot_crossover(out, scene, names, pixels, methods, res):
     if not shutil.which("gnuplot"):
         sys.stderr.write("bench_volumetric: gnuplot not found: no plots\n")
@@ -490,8 +530,8 @@ def plot_crossover(out, scene, names, pixels, methods, res):
         f.write("set output '%s'\n" % os.path.join(out, "crossover_%s.png" % scene))
         f.write("set grid\nset key left top\nset logscale xy\n")
         f.write("set xlabel 'output pixels'\nset ylabel 'time per frame (ms): median, min-max'\n")
-        f.write("set title '%s: each method's node against output size; disabled = the frame "
-                "without one (shadow maps + Phong)'\n" % scene)
+        f.write("set title '%s: node time per frame against output size; disabled: the whole "
+                "frame without one'\n" % scene)
         f.write("plot " + ", \\\n     ".join(
             "'%s' using 1:2:3:4 with yerrorlines title '%s'" % (p, m) for m, p in dat) + "\n")
     subprocess.run(["gnuplot", gp], check=False)
@@ -756,6 +796,14 @@ def self_test():
     g = graph("/x.glb", "bunny", "polygonal", 1, 64)
     check("volumetric_polygonal" in g and "z_limit = 17.6" in g and "shadows = shadow" in g,
           "polygonal graph")
+    g = graph("/c.glb", "classroom", "froxel_cl", 1, 64)
+    check("camera" not in g and "light {" not in g and "z_limit = 12" in g and
+          "scene = scene, density = 1" in g, "interior graph: %s" % g)
+    try:
+        graph("/c.glb", "classroom", "screen", 2, 64)
+        check(False, "an interior with 2 lights was accepted")
+    except BenchError:
+        pass
     if fails:
         for x in fails:
             sys.stderr.write("bench_volumetric self-test: FAILED %s\n" % x)
@@ -781,6 +829,8 @@ def main():
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--shadow-resolution", type=int, default=1024)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--crossover-csv", help="make the crossover's tables and plots from this "
+                    "crossover.csv of an earlier run instead of measuring")
     ap.add_argument("--self-test", action="store_true")
     a = ap.parse_args()
     if a.self_test:
