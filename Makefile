@@ -111,7 +111,7 @@ pictures-prt: build
 # per scene with measured triangle counts and the polygonal node's fragment counters, time and
 # peak memory against 1..8 lights, the cost of gated nodes; each configuration 3 times
 # (medians, min-max). Over an hour on the shared 2 cores (QUICK=1: a few-minute smoke run;
-# BENCH_ARGS for more, e.g. --scenes bunny,dragon,dragons,classroom). Tables and plots into
+# BENCH_ARGS for more or less, e.g. --scenes bunny,dragon). Tables and plots into
 # docs/images/volumetric/ (docs/volumetric.md, "The thesis's experiments").
 bench-volumetric: build
 	mkdir -p out docs/images/volumetric

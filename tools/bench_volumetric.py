@@ -5,7 +5,7 @@ has the figures.
 
 usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frames N]
                                  [--repeat R] [--experiments crossover,table6,lights,gating]
-                                 [--scenes bunny,dragon,dragons[,classroom,courtyard]]
+                                 [--scenes bunny,dragon,dragons,classroom,courtyard]
                                  [--crossover-scenes bunny,dragon] [--sizes W1xH1,...]
                                  [--lights 1,2,4,8] [--methods screen,polygonal,...]
                                  [--shadow-resolution R] [--quick]
@@ -823,7 +823,7 @@ def main():
     ap.add_argument("--frames", type=int, default=2)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--experiments", default="crossover,table6,lights,gating")
-    ap.add_argument("--scenes", default="bunny,dragon,dragons")
+    ap.add_argument("--scenes", default="bunny,dragon,dragons,classroom,courtyard")
     ap.add_argument("--crossover-scenes", default="bunny,dragon")
     ap.add_argument("--lights", default="1,2,4,8")
     ap.add_argument("--methods", default=",".join(METHODS))
