@@ -106,17 +106,20 @@ pictures-prt: build
 	  $(BUILD)/lightgraph render examples/prt.lgraph --size 480x270 --set bake.mode=$$m \
 	    -o docs/images/prt_$$m.png || exit 1; done
 
-# The volumetric thesis's experiments (seed 2, chapter 4): the three methods on the bunny
-# box, the dragon and six instanced dragons, and 1..32 lights, at the thesis's settings
-# (2134 x 1459; QUICK=1 for a smoke run); tables and plots into docs/images/volumetric/
-# (docs/volumetric.md, "The thesis's experiments").
+# The volumetric thesis's experiments (seed 2, chapter 4), as they came out: time against
+# output size for every method and "disabled" (where the ranking flips), the thesis's Table 6
+# per scene with measured triangle counts and the polygonal node's fragment counters, time and
+# peak memory against 1..8 lights, the cost of gated nodes; each configuration 3 times
+# (medians, min-max). Over an hour on the shared 2 cores (QUICK=1: a few-minute smoke run;
+# BENCH_ARGS for more or less, e.g. --scenes bunny,dragon). Tables and plots into
+# docs/images/volumetric/ (docs/volumetric.md, "The thesis's experiments").
 bench-volumetric: build
 	mkdir -p out docs/images/volumetric
+	rm -f out/bench_volumetric/*.png
 	python3 tools/bench_volumetric.py --build $(BUILD) --out out/bench_volumetric \
-	  $(if $(QUICK),--quick,)
-	cp out/bench_volumetric/bench_volumetric.md out/bench_volumetric/scenes.csv \
-	  out/bench_volumetric/lights.csv out/bench_volumetric/lights_time.png \
-	  out/bench_volumetric/lights_memory.png docs/images/volumetric/
+	  --frames 2 --repeat 3 $(if $(QUICK),--quick,) $(BENCH_ARGS)
+	cp out/bench_volumetric/bench_volumetric.md out/bench_volumetric/*.csv \
+	  out/bench_volumetric/*.png docs/images/volumetric/
 
 # The thesis's interiors (tools/gen_scene.py classroom and courtyard; docs/volumetric.md, "The
 # thesis's interiors"): generated, never committed; examples/classroom.lgraph and

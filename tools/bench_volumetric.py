@@ -1,42 +1,66 @@
 #!/usr/bin/env python3
-"""bench_volumetric.py: the volumetric thesis's experiments reproduced (issue 11, item 3; seed 2,
-chapter 4). docs/volumetric.md ("The thesis's experiments") has the figures.
+"""bench_volumetric.py: the volumetric thesis's experiments, reported as they came out (issue 11,
+item 3; issue 24, item 5; seed 2, chapter 4). docs/volumetric.md ("The thesis's experiments")
+has the figures.
 
 usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frames N]
-                                 [--scenes bunny,dragon,dragons] [--lights 1,2,4,...]
-                                 [--methods screen,polygonal,froxel_gl,froxel_cl,froxel_cpu]
+                                 [--repeat R] [--experiments crossover,table6,lights,gating]
+                                 [--scenes bunny,dragon,dragons,classroom,courtyard]
+                                 [--crossover-scenes bunny,dragon] [--sizes W1xH1,...]
+                                 [--lights 1,2,4,8] [--methods screen,polygonal,...]
                                  [--shadow-resolution R] [--quick]
+       tools/bench_volumetric.py --self-test
 
-Every run is `lightgraph render` of a generated graph: a scene, a camera, N directional
+Every run is `lightgraph render -v` of a generated graph: a scene, a camera, N directional
 lights (`light` nodes), the thesis's fog (density 1, C_s = 0.1, g = 0.4), shadow maps
-(1024^2 per light), Phong, and one volumetric node with `per_frame = true`, over --frames
-frames (default 8). The node's time per frame is its steady-state CPU wall time (GL work
-included: the GL nodes finish their work inside execute) from --profile-json: the mean over
-frames 2..N, and the minimum. Memory: the node's bytes allocated (its outputs, and what it
-allocates itself through lg_account_alloc: polygonal's per-light meshes, the froxel
-scattering volume and its history), and the shadow node's (its atlas grows with the lights).
+(1024^2 per light), Phong, and one volumetric node with `per_frame = true` over --frames
+frames (default 2: the steady time is the second frame's); method "disabled" is the same
+graph without the volumetric node. From --profile-json: the node's steady time per frame
+(CPU wall time, GL work included: the GL nodes finish their work inside execute), the mean
+over frames 2..N; the shadow maps' and
+Phong's time (they run once: the scene is static); every node's peak memory
+(`bytes_allocated`: its outputs plus the most its plugin held at once, split into
+`resource_bytes` and `plugin_bytes_peak`). From --explain: the scene's triangle count as
+the loader built it (`scene features`), never typed in. From the polygonal node's log line
+(`volume pass: ...`, GL query objects around its light-volume draws): the triangles it draws,
+the fragments they make, per pixel.
 
-Experiment 1 (thesis tables 6-8): one light, the three methods (froxel on gl, cl and cpu) on
-the bunny box (assets/meshes/bunny_cornell_box.glb, 4,968 triangles with its walls), the
-Stanford dragon (assets/meshes/dragon_vrip_draco.glb, 871k triangles) and six instanced
-dragons (assets/meshes/dragon_vrip_x6_instanced_draco.glb, 5.2M triangles drawn).
+Each configuration runs --repeat times (default 3), the configurations of one repeat in
+turn (so that a slow spell of this shared machine hits every method alike); a table cell is
+the median with the min-max in brackets. The frame time is shadow maps + Phong + the
+method's node, as the thesis's Table 6 counts it (a "disabled" frame: shadow maps + Phong).
 
-Experiment 2 (thesis figures 4.x): the bunny box with 1, 2, 4, 8, 16 and 32 lights, every
-method and froxel backend: time and memory.
+Experiments:
+  crossover  time against output size (--sizes, default 6 from 256x175 to 1920x1313) for
+             every method and "disabled" on --crossover-scenes; where the ranking flips
+             (log-log interpolation between the sizes that bracket a change of sign);
+             crossover_<scene>.png (gnuplot, log-log), crossover.csv
+  table6     the thesis's Table 6 per scene at --size: triangles (measured), frame time per
+             method and "disabled"; the polygonal node's counters per scene (triangles drawn,
+             fragments per pixel) beside the scene's triangles and the shadow maps' time;
+             table6.csv, polygonal.csv
+  lights     the bunny box with --lights lights (default 1, 2, 4, 8): time and peak memory
+             per method, with the split of memory into outputs and own allocations;
+             lights.csv, lights_time.png, lights_memory.png
+  gating     a frame of the bunny box without fog, by a graph holding all four methods and
+             by the same graph without them (planning and frame time, plugins loaded)
 
-The thesis's parameters are the defaults (TECHNIQUES.md §6): output 2134 x 1459, shadow maps
-1024^2, froxel grid 190 x 90 x 128, 64 screen-space samples with exposure 1, decay 0.94 and
-weight 0.01, polygonal one mesh vertex per shadow-map texel, z_limit 17.6 on the bunny box.
---quick: 534 x 365, 4 frames, lights 1, 4, 16 (a smoke run).
+Scenes classroom and courtyard are tools/gen_scene.py's interiors (`make scenes` writes them
+to out/scenes/; made there on first use), with their own camera and sun and the fog of their
+examples (examples/classroom.lgraph, courtyard.lgraph).
 
-Ratios are what to read (these machines are shared and noisy): every number of a table
-comes from the same run. Writes DIR (default out/bench_volumetric): bench_volumetric.md
-(the tables), scenes.csv, lights.csv, lights_time.png and lights_memory.png (gnuplot).
+--quick: 256x175 and 534x365 crossover, --size 534x365, 2 frames, 1 repeat, lights 1 and 4:
+a smoke run. Writes --out (default out/bench_volumetric): bench_volumetric.md (the tables,
+with the machine, its load before and after, the date and the commit), the CSVs and PNGs.
+--self-test checks the parsers, the statistics, the crossover search and the table writer
+on canned inputs (meson test `bench_volumetric_selftest`, suite tools).
 """
 import argparse
+import datetime
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -44,17 +68,27 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
+# name: (file relative to ROOT, or gen:KIND for tools/gen_scene.py's interiors; the camera
+# line, None for the file's own; z_limit or None; for the interiors the fog of their example,
+# examples/classroom.lgraph and courtyard.lgraph, and the file's own sun)
 SCENES = {
-    # name: (file, camera lines, triangles as the thesis counts them)
     "bunny": ("assets/meshes/bunny_cornell_box.glb",
               "cam = camera { scene = scene, mode = look_at, position = [0.55, 1.45, 0.95], "
-              "target = [-0.05, 0.55, -1.5], fov_deg = 70 }\n", "4,968"),
+              "target = [-0.05, 0.55, -1.5], fov_deg = 70 }", 17.6),
     "dragon": ("assets/meshes/dragon_vrip_draco.glb",
                "cam = camera { scene = scene, mode = orbit, azimuth_deg = 30, "
-               "elevation_deg = 20 }\n", "871,306"),
+               "elevation_deg = 20 }", None),
     "dragons": ("assets/meshes/dragon_vrip_x6_instanced_draco.glb",
                 "cam = camera { scene = scene, mode = orbit, azimuth_deg = 30, "
-                "elevation_deg = 25 }\n", "5,227,836"),
+                "elevation_deg = 25 }", None),
+    "classroom": ("gen:classroom", None, 12),
+    "courtyard": ("gen:courtyard", None, 40),
+}
+INTERIOR_FOG = {
+    "classroom": "density = 1, scattering = [0.08, 0.08, 0.08], absorption = [0.01, 0.01, "
+                 "0.01], g = 0.5",
+    "courtyard": "density = 1, scattering = [0.04, 0.04, 0.04], absorption = [0.004, 0.004, "
+                 "0.004], g = 0.5",
 }
 
 METHODS = {
@@ -66,6 +100,14 @@ METHODS = {
     "froxel_cpu": ("volumetric_froxel", "backend = cpu, width = 190, height = 90, depth = 128",
                    True),
 }
+DISABLED = "disabled"
+
+# the thesis's aspect (2134 x 1459), from a quarter of its width to nearly its full width
+DEFAULT_SIZES = "256x175,384x262,534x365,800x547,1067x730,1920x1313"
+
+
+class BenchError(Exception):
+    pass
 
 
 def die(msg):
@@ -73,13 +115,208 @@ def die(msg):
     sys.exit(1)
 
 
+# ---- parsing ---------------------------------------------------------------------------------
+
+POLY_RE = re.compile(r"volume pass: (\d+) lights?, (\d+) triangles drawn, (\d+) primitives "
+                     r"generated, (\d+) fragments, ([0-9.]+) per pixel \((\d+)x(\d+)\)")
+FEATURES_RE = re.compile(r"scene features \(([^)]*)\): triangles (\d+), vertices (\d+)")
+SIZE_RE = re.compile(r"^([1-9][0-9]*)x([1-9][0-9]*)$")
+
+
+def parse_size(s):
+    m = SIZE_RE.match(s)
+    if not m:
+        raise BenchError("size '%s': give WxH, e.g. 1067x730" % s)
+    return int(m.group(1)), int(m.group(2))
+
+
+def parse_poly_line(text):
+    """The polygonal node's first `volume pass:` line in a render's output, as a dict, or
+    None when there is none. A line that starts so but does not parse is an error (the node
+    and this parser disagree)."""
+    for line in text.splitlines():
+        if "volume pass:" not in line:
+            continue
+        m = POLY_RE.search(line)
+        if not m:
+            raise BenchError("cannot read the polygonal node's counters from: %s" % line)
+        lights, drawn, prims, frags = (int(m.group(i)) for i in range(1, 5))
+        w, h = int(m.group(6)), int(m.group(7))
+        return {"lights": lights, "triangles_drawn": drawn, "primitives": prims,
+                "fragments": frags, "per_pixel": frags / float(w * h), "width": w, "height": h}
+    return None
+
+
+def parse_features(text, node="scene"):
+    """Triangles and vertices of `node`'s scene from --explain's `scene features (...)`
+    line (the first naming `node`, else the first of all)."""
+    first = None
+    for line in text.splitlines():
+        m = FEATURES_RE.search(line)
+        if not m:
+            continue
+        r = {"node": m.group(1), "triangles": int(m.group(2)), "vertices": int(m.group(3))}
+        if r["node"] == node:
+            return r
+        first = first or r
+    if first is None:
+        raise BenchError("no 'scene features' line in --explain's output")
+    return first
+
+
+def parse_profile(p, node="vol"):
+    """What a run measured, from --profile-json's parsed object: the node's steady time per
+    frame (mean over frames 2..N; the only run when it ran once) and its minimum, the shadow
+    maps' and Phong's time (once), every node's peak memory."""
+    nodes = {n["name"]: n for n in p["nodes"]}
+    out = {"nodes": {}}
+    for name, n in nodes.items():
+        out["nodes"][name] = {"bytes": n.get("bytes_allocated", 0),
+                              "resource_bytes": n.get("resource_bytes", 0),
+                              "plugin_peak": n.get("plugin_bytes_peak", 0)}
+    if node is not None:
+        v = nodes.get(node)
+        if v is None:
+            raise BenchError("the profile has no node '%s'" % node)
+        if v.get("state") != "kept":
+            raise BenchError("node '%s' was not run (%s)" % (node, v.get("reason")))
+        runs = v["runs"]
+        out["ms"] = (v["cpu_ms"] - v["first_cpu_ms"]) / (runs - 1) if runs > 1 else v["cpu_ms"]
+        out["min_ms"] = v["min_cpu_ms"]
+        out["bytes"] = v.get("bytes_allocated", 0)
+        out["resource_bytes"] = v.get("resource_bytes", 0)
+        out["plugin_peak"] = v.get("plugin_bytes_peak", 0)
+    else:
+        out.update(ms=0.0, min_ms=0.0, bytes=0, resource_bytes=0, plugin_peak=0)
+    for k in ("shadow", "lit"):
+        n = nodes.get(k)
+        out[k + "_ms"] = n["cpu_ms"] / max(1, n["runs"]) if n else 0.0
+    out["frame_ms"] = out["shadow_ms"] + out["lit_ms"] + out["ms"]
+    return out
+
+
+# ---- statistics and tables -------------------------------------------------------------------
+
+def median(xs):
+    s = sorted(xs)
+    if not s:
+        raise BenchError("median of nothing")
+    k = len(s) // 2
+    return s[k] if len(s) % 2 else 0.5 * (s[k - 1] + s[k])
+
+
+def summary(xs):
+    """(median, min, max)."""
+    return (median(xs), min(xs), max(xs))
+
+
+def cell(st, digits=1):
+    """A table cell: the median, the min-max in brackets when there is a spread."""
+    med, lo, hi = st
+    f = "%%.%df" % digits
+    if lo == hi:
+        return f % med
+    return (f + " (" + f + "-" + f + ")") % (med, lo, hi)
+
+
+def md_table(header, rows, align=None):
+    """A markdown table; align: a string of 'l'/'r' per column (default: first l, others r)."""
+    if align is None:
+        align = "l" + "r" * (len(header) - 1)
+    if len(align) != len(header) or any(len(r) != len(header) for r in rows):
+        raise BenchError("table: %d columns in the header, rows of %s" %
+                         (len(header), sorted(set(len(r) for r in rows))))
+    out = ["| " + " | ".join(header) + " |",
+           "|" + "|".join("---:" if a == "r" else "---" for a in align) + "|"]
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return out
+
+
+def crossovers(pixels, series):
+    """Where the ranking of two methods flips as the output grows. pixels: increasing pixel
+    counts; series: method -> times at those sizes (None where not measured). For every pair
+    whose difference changes sign between two neighbouring sizes, the crossing pixel count
+    interpolated linearly in log(pixels) against log(ta / tb). Returns (a, b, pixels, faster
+    above) tuples, sorted by pixels."""
+    out = []
+    names = list(series)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            for k in range(len(pixels) - 1):
+                ta0, ta1 = series[a][k], series[a][k + 1]
+                tb0, tb1 = series[b][k], series[b][k + 1]
+                if None in (ta0, ta1, tb0, tb1) or min(ta0, ta1, tb0, tb1) <= 0:
+                    continue
+                d0, d1 = math.log(ta0 / tb0), math.log(ta1 / tb1)
+                if d0 == 0 or d0 * d1 >= 0:
+                    continue
+                l0, l1 = math.log(pixels[k]), math.log(pixels[k + 1])
+                lx = l0 + (l1 - l0) * d0 / (d0 - d1)
+                out.append((a, b, math.exp(lx), a if d1 < 0 else b))
+    out.sort(key=lambda x: x[2])
+    return out
+
+
+def fastest(series, k, among=None):
+    names = [m for m in series if (among is None or m in among) and series[m][k] is not None]
+    return min(names, key=lambda m: series[m][k]) if names else None
+
+
+def fit(pts):
+    """Least squares time = a + b x: (a, b, R^2)."""
+    n = len(pts)
+    if n < 2:
+        return (pts[0][1] if pts else 0.0, 0.0, 1.0)
+    mx = sum(x for x, _ in pts) / n
+    my = sum(y for _, y in pts) / n
+    sxx = sum((x - mx) ** 2 for x, _ in pts)
+    sxy = sum((x - mx) * (y - my) for x, y in pts)
+    b = sxy / sxx if sxx > 0 else 0.0
+    a0 = my - b * mx
+    ss_tot = sum((y - my) ** 2 for _, y in pts)
+    ss_res = sum((y - a0 - b * x) ** 2 for x, y in pts)
+    return (a0, b, 1.0 - ss_res / ss_tot if ss_tot > 0 else 1.0)
+
+
+def mib(b):
+    return b / (1024.0 * 1024.0)
+
+
+# ---- the machine and the moment (as tools/accuracy/accuracy.py) -----------------------------
+
+def cpu_model():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return "unknown CPU"
+
+
+def loadavg():
+    try:
+        with open("/proc/loadavg") as f:
+            return " ".join(f.read().split()[:3])
+    except OSError:
+        return "?"
+
+
+def git_commit():
+    r = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"],
+                       capture_output=True, text=True)
+    return r.stdout.strip() or "unknown"
+
+
+# ---- graphs and runs -------------------------------------------------------------------------
+
 def light_dirs(n):
     """n sun directions (the direction the light travels) on a cone of 30 degrees around the
     bunny box's sun, spread in azimuth: every light shines in through the open side."""
     base = (0.3, -0.35, 1.0)
     bl = math.sqrt(sum(c * c for c in base))
     b = [c / bl for c in base]
-    # an orthonormal frame around b
     up = (0.0, 1.0, 0.0)
     t = [b[1] * up[2] - b[2] * up[1], b[2] * up[0] - b[0] * up[2], b[0] * up[1] - b[1] * up[0]]
     tl = math.sqrt(sum(c * c for c in t))
@@ -98,166 +335,343 @@ def light_dirs(n):
     return out
 
 
-def graph(scene, method, n_lights, shadow_res):
-    path, cam, _ = SCENES[scene]
-    node, params, uses_shadows = METHODS[method]
-    g = ["lightgraph 1", 'scene = gltf { file = "%s" }' % os.path.join(ROOT, path), cam.strip()]
-    prev = "cam"
-    for k, d in enumerate(light_dirs(n_lights)):
-        mode = ", mode = replace" if k == 0 else ""
-        g.append("l%d = light { scene = %s%s, direction = [%.6f, %.6f, %.6f], intensity = %g }"
-                 % (k, prev, mode, d[0], d[1], d[2], 10.0 / n_lights))
-        prev = "l%d" % k
-    g.append("fog = medium { scene = %s, density = 1, scattering = [0.1, 0.1, 0.1], g = 0.4 }"
-             % prev)
+def graph(scene_file, scene, method, n_lights, shadow_res):
+    _, cam, z_limit = SCENES[scene]
+    g = ["lightgraph 1", 'scene = gltf { file = "%s" }' % scene_file]
+    if cam is None:
+        # an interior: its own camera and sun, its example's fog
+        if n_lights != 1:
+            raise BenchError("scene %s: its own sun only (1 light)" % scene)
+        g.append("fog = medium { scene = scene, %s }" % INTERIOR_FOG[scene])
+    else:
+        g.append(cam)
+        prev = "cam"
+        for k, d in enumerate(light_dirs(n_lights)):
+            mode = ", mode = replace" if k == 0 else ""
+            g.append("l%d = light { scene = %s%s, direction = [%.6f, %.6f, %.6f], intensity = %g }"
+                     % (k, prev, mode, d[0], d[1], d[2], 10.0 / n_lights))
+            prev = "l%d" % k
+        g.append("fog = medium { scene = %s, density = 1, scattering = [0.1, 0.1, 0.1], "
+                 "g = 0.4 }" % prev)
     g.append("shadow = shadowmap { scene = fog, resolution = %d }" % shadow_res)
     g.append("lit = phong { scene = fog, shadows = shadow, background = [0.6, 0.7, 0.9] }")
-    zl = ", z_limit = 17.6" if scene == "bunny" else ""
+    if method == DISABLED:
+        return "\n".join(g) + '\noutput lit "vol.exr"\n'
+    node, params, uses_shadows = METHODS[method]
+    zl = ", z_limit = %g" % z_limit if z_limit else ""
     sh = ", shadows = shadow" if uses_shadows else ""
     g.append("vol = %s { scene = fog, base = lit%s, %s%s, per_frame = true }"
              % (node, sh, params, zl))
-    return "\n".join(g) + "\n"
+    return "\n".join(g) + '\noutput vol "vol.exr"\n'
 
 
-def run(exe, text, size, frames, tmp):
-    gpath = os.path.join(tmp, "g.lgraph")
-    with open(gpath, "w") as f:
-        f.write(text + 'output vol "vol.exr"\n')
-    prof = os.path.join(tmp, "p.json")
-    cmd = [exe, "render", gpath, "--size", size, "--frames", str(frames),
-           "--profile-json", prof]
-    env = dict(os.environ, LIGHTGRAPH_CACHE_DIR=os.path.join(tmp, "cache"))
-    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if r.returncode != 0:
-        die("%s failed (exit %d):\n%s\n%s%s" % (" ".join(cmd), r.returncode, text, r.stdout,
-                                                r.stderr))
-    with open(prof) as f:
-        p = json.load(f)
-    nodes = {n["name"]: n for n in p["nodes"]}
-    v = nodes["vol"]
-    if v.get("state") != "kept":
-        die("vol was not run (%s):\n%s" % (v.get("reason"), text))
-    runs = v["runs"]
-    steady = (v["cpu_ms"] - v["first_cpu_ms"]) / (runs - 1) if runs > 1 else v["cpu_ms"]
-    return {"ms": steady, "min_ms": v["min_cpu_ms"], "first_ms": v["first_cpu_ms"],
-            "bytes": v["bytes_allocated"], "shadow_bytes": nodes["shadow"]["bytes_allocated"],
-            "lit_ms": nodes["lit"]["cpu_ms"] / max(1, nodes["lit"]["runs"]),
-            "shadow_ms": nodes["shadow"]["cpu_ms"] / max(1, nodes["shadow"]["runs"])}
+class Runner:
+    def __init__(self, exe, frames, shadow_res, out, tmp):
+        self.exe, self.frames, self.shadow_res, self.out, self.tmp = (exe, frames, shadow_res,
+                                                                      out, tmp)
+        self.files = {}
+        self.triangles = {}
+        self.done = {}  # config -> results already measured (an experiment reuses another's)
+
+    def scene_file(self, scene):
+        if scene in self.files:
+            return self.files[scene]
+        path = SCENES[scene][0]
+        if path.startswith("gen:"):
+            kind = path[4:]
+            gen = os.path.join(ROOT, "tools", "gen_scene.py")
+            r = subprocess.run([sys.executable, gen, "--help"], capture_output=True, text=True)
+            if kind not in r.stdout:
+                raise BenchError("scene %s: tools/gen_scene.py has no kind '%s' here (it comes "
+                                 "with branch `scenes`)" % (scene, kind))
+            path = os.path.join(ROOT, "out", "scenes", "%s.glb" % kind)  # as `make scenes`
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            if not os.path.exists(path):
+                r = subprocess.run([sys.executable, gen, kind, "-q", "-o", path],
+                                   capture_output=True, text=True)
+                if r.returncode != 0:
+                    raise BenchError("gen_scene.py %s failed:\n%s" % (kind, r.stderr))
+        else:
+            path = os.path.join(ROOT, path)
+        self.files[scene] = path
+        return path
+
+    def run(self, scene, method, n_lights, size):
+        text = graph(self.scene_file(scene), scene, method, n_lights, self.shadow_res)
+        gpath = os.path.join(self.tmp, "g.lgraph")
+        with open(gpath, "w") as f:
+            f.write(text)
+        prof = os.path.join(self.tmp, "p.json")
+        cmd = [self.exe, "render", gpath, "--size", size, "--frames", str(self.frames),
+               "--profile-json", prof, "--explain", "--no-cache", "-v"]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            raise BenchError("%s failed (exit %d):\n%s\n%s%s" % (
+                " ".join(cmd), r.returncode, text, r.stdout[-4000:], r.stderr[-4000:]))
+        with open(prof) as f:
+            res = parse_profile(json.load(f), None if method == DISABLED else "vol")
+        res["poly"] = parse_poly_line(r.stdout + r.stderr) if method == "polygonal" else None
+        if method == "polygonal" and res["poly"] is None:
+            raise BenchError("the polygonal node said no 'volume pass:' line (-v):\n%s" %
+                             r.stderr[-2000:])
+        feats = parse_features(r.stdout + r.stderr)
+        self.triangles[scene] = feats["triangles"]
+        return res
 
 
-def mib(b):
-    return b / (1024.0 * 1024.0)
+def repeated(runner, configs, repeat, label):
+    """Runs every (scene, method, lights, size) of configs `repeat` times, the configs of one
+    repeat in turn; returns config -> list of results."""
+    res = {c: list(runner.done.get(c, []))[:repeat] for c in configs}
+    for k in range(repeat):
+        for c in configs:
+            if len(res[c]) > k:
+                continue
+            r = runner.run(*c)
+            res[c].append(r)
+            runner.done[c] = res[c]
+            sys.stderr.write("%s %d/%d %s %s %dL %s: %.1f ms (frame %.1f)\n" %
+                             (label, k + 1, repeat, c[0], c[1], c[2], c[3], r["ms"], r["frame_ms"]))
+    return res
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench_volumetric"))
-    ap.add_argument("--size", default="2134x1459")
-    ap.add_argument("--frames", type=int, default=8)
-    ap.add_argument("--scenes", default="bunny,dragon,dragons")
-    ap.add_argument("--lights", default="1,2,4,8,16,32")
-    ap.add_argument("--methods", default=",".join(METHODS))
-    ap.add_argument("--shadow-resolution", type=int, default=1024)
-    ap.add_argument("--quick", action="store_true")
-    a = ap.parse_args()
-    if a.quick:
-        a.size, a.frames, a.lights = "534x365", 4, "1,4,16"
-    exe = os.path.join(a.build, "lightgraph")
-    if not os.path.exists(exe):
-        die("%s does not exist: build first (meson setup build && ninja -C build)" % exe)
-    methods = a.methods.split(",")
+# ---- experiments -----------------------------------------------------------------------------
+
+def exp_crossover(runner, a, methods, md):
+    sizes = [parse_size(s) for s in a.sizes.split(",")]
+    names = [s for s in a.sizes.split(",")]
+    pixels = [w * h for w, h in sizes]
+    if pixels != sorted(pixels):
+        raise BenchError("--sizes: give them in increasing order")
+    all_m = methods + [DISABLED]
+    configs = [(s, m, 1, z) for s in a.crossover_scenes.split(",") for z in names for m in all_m]
+    if a.crossover_csv:
+        res = load_crossover(a.crossover_csv, configs)
+        for s in a.crossover_scenes.split(","):
+            runner.run(s, DISABLED, 1, names[0])  # the triangle count, measured
+    else:
+        res = repeated(runner, configs, a.repeat, "crossover")
+    rows = []
+    md += ["## Crossover: time against output size (one light)", "",
+           "The method's node per frame, median of %d runs (min-max); a frame (shadow maps + "
+           "Phong + the node) in the second table. Log-log plots: crossover_<scene>.png."
+           % a.repeat, ""]
+    for s in a.crossover_scenes.split(","):
+        node = {m: [median([r["ms"] for r in res[(s, m, 1, z)]]) for z in names] for m in methods}
+        table = []
+        for k, z in enumerate(names):
+            table.append([z, "%d" % pixels[k]] +
+                         [cell(summary([r["ms"] for r in res[(s, m, 1, z)]])) for m in methods] +
+                         [cell(summary([r["frame_ms"] for r in res[(s, DISABLED, 1, z)]]))] +
+                         [fastest(node, k)])
+        md += ["### %s (%s triangles): node ms" % (s, "{:,}".format(runner.triangles[s])), ""]
+        md += md_table(["size", "pixels"] + methods + ["disabled frame", "fastest"], table,
+                       "ll" + "r" * (len(methods) + 1) + "l")
+        frames = [[z] + [cell(summary([r["frame_ms"] for r in res[(s, m, 1, z)]]))
+                         for m in all_m] for z in names]
+        md += ["", "%s: frame ms (shadow maps + Phong + node)" % s, ""]
+        md += md_table(["size"] + all_m, frames)
+        flips = crossovers(pixels, node)
+        md += [""]
+        if flips:
+            md += ["Ranking flips (%s, node time): " % s + "; ".join(
+                "%s and %s cross at %.0f pixels (~%dx%d), %s faster above" %
+                (x, y, px, round(math.sqrt(px * 2134 / 1459)), round(math.sqrt(px * 1459 / 2134)),
+                 f) for x, y, px, f in flips) + ".", ""]
+        else:
+            md += ["Ranking flips (%s): none between %s and %s." % (s, names[0], names[-1]), ""]
+        for k, z in enumerate(names):
+            for m in all_m:
+                for i, r in enumerate(res[(s, m, 1, z)]):
+                    rows.append((s, m, z, pixels[k], i, r["ms"], r["frame_ms"], r["bytes"]))
+        plot_crossover(a.out, s, names, pixels, all_m, res)
+    with open(os.path.join(a.out, "crossover.csv"), "w") as f:
+        f.write("scene,method,size,pixels,repeat,node_ms,frame_ms,bytes\n")
+        for r in rows:
+            f.write("%s,%s,%s,%d,%d,%.4f,%.4f,%d\n" % r)
+
+
+def load_crossover(path, configs):
+    """The results of an earlier run's crossover.csv (--crossover-csv: tables and plots made
+    again without measuring), as config -> results with ms and frame_ms."""
+    res = {c: [] for c in configs}
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        for line in f:
+            r = dict(zip(head, line.strip().split(",")))
+            c = (r["scene"], r["method"], 1, r["size"])
+            if c in res:
+                res[c].append({"ms": float(r["node_ms"]), "frame_ms": float(r["frame_ms"]),
+                               "bytes": int(r["bytes"])})
+    missing = [c for c, v in res.items() if not v]
+    if missing:
+        raise BenchError("%s has no rows for %s" % (path, ", ".join("%s %s %s" % (c[0], c[1], c[3])
+                                                                   for c in missing[:4])))
+    return res
+
+
+def plot_crossover(out, scene, names, pixels, methods, res):
+    if not shutil.which("gnuplot"):
+        sys.stderr.write("bench_volumetric: gnuplot not found: no plots\n")
+        return
+    dat = []
     for m in methods:
-        if m not in METHODS:
-            die("unknown method %s (known: %s)" % (m, ", ".join(METHODS)))
+        p = os.path.join(out, "crossover_%s_%s.dat" % (scene, m))
+        dat.append((m, p))
+        with open(p, "w") as f:
+            for k, z in enumerate(names):
+                rs = res[(scene, m, 1, z)]
+                key = "frame_ms" if m == DISABLED else "ms"
+                med, lo, hi = summary([r[key] for r in rs])
+                f.write("%d %.4f %.4f %.4f\n" % (pixels[k], med, lo, hi))
+    gp = os.path.join(out, "crossover_%s.gp" % scene)
+    with open(gp, "w") as f:
+        f.write("set terminal pngcairo size 900,600 noenhanced\n")
+        f.write("set output '%s'\n" % os.path.join(out, "crossover_%s.png" % scene))
+        f.write("set grid\nset key left top\nset logscale xy\n")
+        f.write("set xlabel 'output pixels'\nset ylabel 'time per frame (ms): median, min-max'\n")
+        f.write("set title '%s: node time per frame against output size; disabled: the whole "
+                "frame without one'\n" % scene)
+        f.write("plot " + ", \\\n     ".join(
+            "'%s' using 1:2:3:4 with yerrorlines title '%s'" % (p, m) for m, p in dat) + "\n")
+    subprocess.run(["gnuplot", gp], check=False)
+
+
+def exp_table6(runner, a, methods, md):
     scenes = a.scenes.split(",")
+    all_m = methods + [DISABLED]
+    configs = [(s, m, 1, a.size) for s in scenes for m in all_m]
+    res = repeated(runner, configs, a.repeat, "table6")
+    rows, poly_rows = [], []
+    md += ["## The thesis's Table 6: frame time per scene (one light, %s)" % a.size, "",
+           "Frame ms = shadow maps + Phong + the method's node (the thesis counts the whole "
+           "frame), median of %d runs (min-max); triangles as the loader built the scene "
+           "(--explain's scene features)." % a.repeat, ""]
+    table = []
     for s in scenes:
-        if s not in SCENES:
-            die("unknown scene %s (known: %s)" % (s, ", ".join(SCENES)))
+        table.append([s, "{:,}".format(runner.triangles[s])] +
+                     [cell(summary([r["frame_ms"] for r in res[(s, m, 1, a.size)]]))
+                      for m in all_m] +
+                     [cell(summary([r["shadow_ms"] for m in all_m
+                                    for r in res[(s, m, 1, a.size)]]))])
+    md += md_table(["scene", "triangles"] + all_m + ["of which shadow maps"], table)
+    # the thesis's Table 6 is frames per second; its overheads (1000/fps - 1000/fps
+    # disabled) are what "grows with scene complexity" refers to
+    md += ["", "As the thesis's Table 6 has it: frames per second (1000 / median frame ms) and "
+           "each method's overhead over \"disabled\" (difference of the medians, ms):", ""]
+    ft = []
+    for s in scenes:
+        dis = median([r["frame_ms"] for r in res[(s, DISABLED, 1, a.size)]])
+        row = [s, "%.2f" % (1000.0 / dis)]
+        for m in methods:
+            fm = median([r["frame_ms"] for r in res[(s, m, 1, a.size)]])
+            row.append("%.2f fps, +%.1f ms" % (1000.0 / fm, fm - dis))
+        ft.append(row)
+    md += md_table(["scene", "disabled fps"] + methods, ft)
+    md += ["", "The methods' nodes alone (ms per frame):", ""]
+    md += md_table(["scene"] + methods,
+                   [[s] + [cell(summary([r["ms"] for r in res[(s, m, 1, a.size)]]))
+                           for m in methods] for s in scenes])
+    if "polygonal" in methods:
+        md += ["", "### Polygonal: what the light volumes cost (GL query objects in its "
+               "volume pass)", ""]
+        pt = []
+        for s in scenes:
+            p = res[(s, "polygonal", 1, a.size)][0]["poly"]
+            pt.append([s, "{:,}".format(runner.triangles[s]), "{:,}".format(p["triangles_drawn"]),
+                       "{:,}".format(p["fragments"]), "%.3f" % p["per_pixel"],
+                       cell(summary([r["ms"] for r in res[(s, "polygonal", 1, a.size)]])),
+                       cell(summary([r["shadow_ms"] for r in res[(s, "polygonal", 1, a.size)]]))])
+            poly_rows.append((s, runner.triangles[s], p["triangles_drawn"], p["primitives"],
+                              p["fragments"], p["per_pixel"]))
+        md += md_table(["scene", "scene triangles", "volume triangles drawn", "fragments",
+                        "fragments per pixel", "polygonal ms", "shadow maps ms"], pt)
+        with open(os.path.join(a.out, "polygonal.csv"), "w") as f:
+            f.write("scene,scene_triangles,volume_triangles,primitives,fragments,per_pixel\n")
+            for r in poly_rows:
+                f.write("%s,%d,%d,%d,%d,%.6f\n" % r)
+    md += [""]
+    with open(os.path.join(a.out, "table6.csv"), "w") as f:
+        f.write("scene,triangles,method,repeat,node_ms,frame_ms,shadow_ms,lit_ms\n")
+        for s in scenes:
+            for m in all_m:
+                for i, r in enumerate(res[(s, m, 1, a.size)]):
+                    f.write("%s,%d,%s,%d,%.4f,%.4f,%.4f,%.4f\n" % (
+                        s, runner.triangles[s], m, i, r["ms"], r["frame_ms"], r["shadow_ms"],
+                        r["lit_ms"]))
+
+
+def exp_lights(runner, a, methods, md):
     lights = [int(x) for x in a.lights.split(",")]
     if any(n < 1 or n > 32 for n in lights):
-        die("--lights: 1 .. 32 each")
-    os.makedirs(a.out, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix="bench-vol-")
-    md = ["# Volumetric lighting: the thesis's experiments (tools/bench_volumetric.py)", "",
-          "Output %s, %d frames per run, shadow maps %d^2, froxel grid 190 x 90 x 128, "
-          "screen-space 64 samples. Times: the `vol` node's CPU wall time per frame (GL work "
-          "included), mean of frames 2..%d (min in brackets). Shadow maps and Phong run once per "
-          "run (the scene is static): their time, the triangle count's share, is a column of "
-          "its own; polygonal and froxel need the shadow maps, screen-space does not."
-          % (a.size, a.frames, a.shadow_resolution, a.frames), ""]
-    try:
-        # experiment 1
-        rows = []
-        md += ["## Time per method and scene, one light", "",
-               "| scene | triangles | " + " | ".join(methods) +
-               " | shadow maps (once) | phong (once) |",
-               "|---|---:|" + "---:|" * (len(methods) + 2)]
-        for s in scenes:
-            cells, lit, shadow_ms = [], None, None
-            for m in methods:
-                r = run(exe, graph(s, m, 1, a.shadow_resolution), a.size, a.frames, tmp)
-                rows.append((s, m, r))
-                cells.append("%.1f (%.1f)" % (r["ms"], r["min_ms"]))
-                lit, shadow_ms = r["lit_ms"], r["shadow_ms"]
-                sys.stderr.write("scene %s %s: %.2f ms\n" % (s, m, r["ms"]))
-            md.append("| %s | %s | %s | %.1f | %.1f |" % (s, SCENES[s][2], " | ".join(cells),
-                                                          shadow_ms, lit))
-        with open(os.path.join(a.out, "scenes.csv"), "w") as f:
-            f.write("scene,method,ms,min_ms,first_ms,bytes\n")
-            for s, m, r in rows:
-                f.write("%s,%s,%.4f,%.4f,%.4f,%d\n" % (s, m, r["ms"], r["min_ms"], r["first_ms"],
-                                                      r["bytes"]))
-        # ratios within the run
-        md += ["", "Ratios (same run): " + "; ".join(
-            "%s: %s" % (s, ", ".join("%s %.2fx" % (m, r["ms"] / min(rr["ms"] for ss, mm, rr in rows
-                                                                    if ss == s))
-                                     for ss, m, r in rows if ss == s)) for s in scenes) +
-            " (1.00x = the fastest method on that scene).", ""]
-        # experiment 2
-        rows2 = []
-        md += ["## Time and memory against the number of lights (bunny box)", "",
-               "| lights | " + " | ".join("%s ms" % m for m in methods) + " | " +
-               " | ".join("%s MiB" % m for m in methods) + " | shadow maps MiB |",
-               "|---:|" + "---:|" * (2 * len(methods) + 1)]
+        raise BenchError("--lights: 1 .. 32 each")
+    configs = [("bunny", m, n, a.size) for n in lights for m in methods]
+    res = repeated(runner, configs, a.repeat, "lights")
+    md += ["## Time and peak memory against the number of lights (bunny box, %s)" % a.size, "",
+           "Time: the node per frame, median of %d runs (min-max). Memory: the node's peak "
+           "(`bytes_allocated`: its outputs plus the most its plugin held at once), the same "
+           "in every run; then split into outputs (`resource_bytes`) and own allocations "
+           "(`plugin_bytes_peak`)." % a.repeat, ""]
+    t = []
+    for n in lights:
+        rs = {m: res[("bunny", m, n, a.size)] for m in methods}
+        t.append(["%d" % n] + [cell(summary([r["ms"] for r in rs[m]])) for m in methods] +
+                 ["%.1f" % mib(rs[m][0]["bytes"]) for m in methods] +
+                 ["%.1f" % mib(rs[methods[0]][0]["nodes"]["shadow"]["bytes"])])
+    md += md_table(["lights"] + ["%s ms" % m for m in methods] + ["%s MiB" % m for m in methods] +
+                   ["shadow maps MiB"], t)
+    md += ["", "Peak memory split, MiB (outputs + own allocations):", ""]
+    md += md_table(["lights"] + methods, [
+        ["%d" % n] + ["%.1f + %.1f" % (mib(res[("bunny", m, n, a.size)][0]["resource_bytes"]),
+                                       mib(res[("bunny", m, n, a.size)][0]["plugin_peak"]))
+                      for m in methods] for n in lights])
+    md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(
+        "%s a %.1f b %.2f R^2 %.3f" % ((m,) + fit(
+            [(n, median([r["ms"] for r in res[("bunny", m, n, a.size)]])) for n in lights]))
+        for m in methods) + ".", ""]
+    with open(os.path.join(a.out, "lights.csv"), "w") as f:
+        f.write("lights,method,repeat,ms,min_ms,bytes,resource_bytes,plugin_peak,shadow_bytes\n")
         for n in lights:
-            res = []
             for m in methods:
-                r = run(exe, graph("bunny", m, n, a.shadow_resolution), a.size, a.frames, tmp)
-                res.append(r)
-                rows2.append((n, m, r))
-                sys.stderr.write("lights %d %s: %.2f ms, %.1f MiB\n" % (n, m, r["ms"],
-                                                                       mib(r["bytes"])))
-            md.append("| %d | %s | %s | %.1f |" % (
-                n, " | ".join("%.1f" % r["ms"] for r in res),
-                " | ".join("%.1f" % mib(r["bytes"]) for r in res), mib(res[0]["shadow_bytes"])))
-        with open(os.path.join(a.out, "lights.csv"), "w") as f:
-            f.write("lights,method,ms,min_ms,bytes,shadow_bytes\n")
-            for n, m, r in rows2:
-                f.write("%d,%s,%.4f,%.4f,%d,%d\n" % (n, m, r["ms"], r["min_ms"], r["bytes"],
-                                                    r["shadow_bytes"]))
-        # linearity: least-squares slope and intercept per method, and R^2
-        md += ["", "Linear fits, time = a + b x lights (ms): " + "; ".join(
-            "%s a %.1f b %.2f R^2 %.3f" % ((m,) + fit([(n, r["ms"]) for n, mm, r in rows2
-                                                       if mm == m]))
-            for m in methods) + ".", ""]
-        # experiment 3: the promise "simulate only what the scene calls for"
-        md += gating_cost(exe, a, tmp)
-        with open(os.path.join(a.out, "bench_volumetric.md"), "w") as f:
-            f.write("\n".join(md) + "\n")
-        plot(a.out, methods)
-        print("\n".join(md))
-        print("written: %s" % a.out)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+                for i, r in enumerate(res[("bunny", m, n, a.size)]):
+                    f.write("%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d\n" % (
+                        n, m, i, r["ms"], r["min_ms"], r["bytes"], r["resource_bytes"],
+                        r["plugin_peak"], r["nodes"]["shadow"]["bytes"]))
+    plot_lights(a.out, methods, lights, res, a.size)
 
 
-def gating_cost(exe, a, tmp):
+def plot_lights(out, methods, lights, res, size):
+    if not shutil.which("gnuplot"):
+        return
+    for m in methods:
+        with open(os.path.join(out, "lights_%s.dat" % m), "w") as f:
+            for n in lights:
+                rs = res[("bunny", m, n, size)]
+                med, lo, hi = summary([r["ms"] for r in rs])
+                f.write("%d %.4f %.4f %.4f %.4f\n" % (n, med, lo, hi, mib(rs[0]["bytes"])))
+    for what, using, label in (("time", "1:2:3:4 with yerrorlines", "time per frame (ms)"),
+                               ("memory", "1:5 with linespoints", "node peak memory (MiB)")):
+        gp = os.path.join(out, "lights_%s.gp" % what)
+        with open(gp, "w") as f:
+            f.write("set terminal pngcairo size 900,600 noenhanced\n")
+            f.write("set output '%s'\n" % os.path.join(out, "lights_%s.png" % what))
+            f.write("set grid\nset key left top\nset logscale xy\n")
+            f.write("set xtics (%s)\n" % ", ".join(str(n) for n in lights))
+            f.write("set xlabel 'directional lights'\nset ylabel '%s'\n" % label)
+            f.write("set title 'volumetric methods against the number of lights (bunny box)'\n")
+            f.write("plot " + ", \\\n     ".join(
+                "'%s' using %s title '%s'" % (os.path.join(out, "lights_%s.dat" % m), using, m)
+                for m in methods) + "\n")
+        subprocess.run(["gnuplot", gp], check=False)
+
+
+def exp_gating(runner, a, md):
     """A frame of the bunny box without fog, by a graph that holds all three methods (and
-    the reference) and by the same graph without them: planning and execution time (means of
-    5 runs each, alternated), plugins loaded."""
-    base = graph("bunny", "froxel_cpu", 1, a.shadow_resolution).split("\n")
-    base = [l for l in base if l and not l.startswith("vol =")]
+    the reference) and by the same graph without them: planning and execution time (medians
+    of --repeat x 2 runs each, alternated), plugins loaded."""
+    exe, tmp = runner.exe, runner.tmp
+    base = graph(runner.scene_file("bunny"), "bunny", DISABLED, 1, a.shadow_resolution)
+    base = [l for l in base.split("\n") if l and not l.startswith("output")]
     base = [l.replace("density = 1,", "density = 0,") for l in base]
     base = [l.replace("phong { ", "phong { per_frame = true, ") for l in base]
     without = "\n".join(base) + "\noutput lit \"vol.exr\"\n"
@@ -268,76 +682,213 @@ def gating_cost(exe, a, tmp):
         "r = volumetric_reference { scene = fog, base = f }"]) + "\noutput r \"vol.exr\"\n"
     res = {"with": [], "without": []}
     loaded = {}
-    for k in range(5):
+    for k in range(2 * a.repeat):
         for name, text in (("without", without), ("with", with_)):
             gpath = os.path.join(tmp, "gate_%s.lgraph" % name)
             with open(gpath, "w") as f:
                 f.write(text)
             prof = os.path.join(tmp, "gate.json")
             r = subprocess.run([exe, "render", gpath, "--size", a.size, "--frames", str(a.frames),
-                                "--profile-json", prof, "--explain"], capture_output=True,
-                               text=True, env=dict(os.environ,
-                                                   LIGHTGRAPH_CACHE_DIR=os.path.join(tmp, "c")))
+                                "--profile-json", prof, "--explain", "--no-cache"],
+                               capture_output=True, text=True)
             if r.returncode != 0:
-                die("gating run failed:\n%s\n%s%s" % (text, r.stdout, r.stderr))
+                raise BenchError("gating run failed:\n%s\n%s%s" % (text, r.stdout, r.stderr))
             with open(prof) as f:
                 p = json.load(f)
             res[name].append((p["planning_ms"], p["execution_ms"]))
             loaded[name] = next((l for l in r.stdout.splitlines()
                                  if l.startswith("plugins loaded:")), "")
-    mean = {n: (sum(x for x, _ in v) / len(v), sum(y for _, y in v) / len(v))
-            for n, v in res.items()}
-    return ["## No fog: the graph with every method costs what the graph without them costs", "",
-            "| graph | planning ms | frames ms (%d frames) | %s |" % (a.frames, "plugins loaded"),
-            "|---|---:|---:|---|",
-            "| without the volumetric nodes | %.1f | %.1f | %s |" % (
-                mean["without"] + (loaded["without"].split(":", 1)[-1].strip(),)),
-            "| with screen, polygonal, froxel and reference, fog density 0 | %.1f | %.1f | %s |"
-            % (mean["with"] + (loaded["with"].split(":", 1)[-1].strip(),)),
-            "", "Ratio with / without: planning %.3f, frames %.3f (means of 5 alternated runs)."
-            % (mean["with"][0] / mean["without"][0], mean["with"][1] / mean["without"][1]), ""]
+    st = {n: (summary([x for x, _ in v]), summary([y for _, y in v])) for n, v in res.items()}
+    md += ["## No fog: the graph with every method costs what the graph without them costs", ""]
+    md += md_table(["graph", "planning ms", "frames ms (%d frames)" % a.frames, "plugins loaded"], [
+        ["without the volumetric nodes", cell(st["without"][0]), cell(st["without"][1]),
+         loaded["without"].split(":", 1)[-1].strip()],
+        ["with screen, polygonal, froxel and reference, fog density 0", cell(st["with"][0]),
+         cell(st["with"][1]), loaded["with"].split(":", 1)[-1].strip()]], "lrrl")
+    md += ["", "Ratio of medians with / without: planning %.3f, frames %.3f (%d alternated runs "
+           "each)." % (st["with"][0][0] / st["without"][0][0],
+                       st["with"][1][0] / st["without"][1][0], 2 * a.repeat), ""]
 
 
-def fit(pts):
-    n = len(pts)
-    if n < 2:
-        return (pts[0][1] if pts else 0.0, 0.0, 1.0)
-    mx = sum(x for x, _ in pts) / n
-    my = sum(y for _, y in pts) / n
-    sxx = sum((x - mx) ** 2 for x, _ in pts)
-    sxy = sum((x - mx) * (y - my) for x, y in pts)
-    b = sxy / sxx if sxx > 0 else 0.0
-    a0 = my - b * mx
-    ss_tot = sum((y - my) ** 2 for _, y in pts)
-    ss_res = sum((y - a0 - b * x) ** 2 for x, y in pts)
-    return (a0, b, 1.0 - ss_res / ss_tot if ss_tot > 0 else 1.0)
+# ---- self-test -------------------------------------------------------------------------------
+
+def self_test():
+    """The parsers, the statistics, the crossover search and the table writer on canned
+    inputs; each check also feeds what must be refused."""
+    fails = []
+
+    def check(cond, what):
+        if not cond:
+            fails.append(what)
+
+    out = ("node 'vol': grid ...\nnode 'vol': volume pass: 2 lights, 4208140 triangles drawn, "
+           "4208140 primitives generated, 3345 fragments, 1.0889 per pixel (64x48)\n")
+    p = parse_poly_line(out)
+    check(p and p["lights"] == 2 and p["triangles_drawn"] == 4208140 and p["fragments"] == 3345
+          and abs(p["per_pixel"] - 3345 / 3072.0) < 1e-12 and p["width"] == 64,
+          "poly line: %r" % (p,))
+    check(parse_poly_line("node 'vol': grid 1x1x1\n") is None, "poly line where there is none")
+    one = parse_poly_line("volume pass: 1 light, 12 triangles drawn, 12 primitives generated, "
+                          "7 fragments, 7.0000 per pixel (1x1)")
+    check(one and one["lights"] == 1 and one["fragments"] == 7, "poly line, one light")
+    try:
+        parse_poly_line("volume pass: lots of triangles")
+        check(False, "a malformed volume-pass line was accepted")
+    except BenchError:
+        pass
+    ex = ("plan:\n  scene features (other): triangles 12, vertices 8, lights: ...\n"
+          "  scene features (scene): triangles 5009, vertices 2600, lights: 1 directional\n")
+    f = parse_features(ex)
+    check(f["triangles"] == 5009 and f["vertices"] == 2600, "features: %r" % (f,))
+    check(parse_features(ex, "none")["triangles"] == 12, "features: first line as fallback")
+    try:
+        parse_features("no plan here")
+        check(False, "features without a line were accepted")
+    except BenchError:
+        pass
+    prof = {"nodes": [
+        {"name": "vol", "state": "kept", "runs": 3, "cpu_ms": 30.0, "first_cpu_ms": 10.0,
+         "min_cpu_ms": 9.0, "bytes_allocated": 300, "resource_bytes": 100,
+         "plugin_bytes_peak": 200},
+        {"name": "shadow", "runs": 1, "cpu_ms": 5.0, "bytes_allocated": 7},
+        {"name": "lit", "runs": 1, "cpu_ms": 4.0, "bytes_allocated": 1}]}
+    r = parse_profile(prof)
+    check(r["ms"] == 10.0 and r["min_ms"] == 9.0 and r["frame_ms"] == 19.0 and
+          r["plugin_peak"] == 200 and r["nodes"]["shadow"]["bytes"] == 7, "profile: %r" % (r,))
+    d = parse_profile(prof, None)
+    check(d["ms"] == 0.0 and d["frame_ms"] == 9.0, "profile, disabled: %r" % (d,))
+    prof["nodes"][0]["state"] = "gated"
+    try:
+        parse_profile(prof)
+        check(False, "a gated node's profile was accepted")
+    except BenchError:
+        pass
+    check(median([3, 1, 2]) == 2 and median([4, 1, 3, 2]) == 2.5, "median")
+    check(summary([5, 1, 9]) == (5, 1, 9), "summary")
+    check(cell((5.0, 1.0, 9.0)) == "5.0 (1.0-9.0)" and cell((2.0, 2.0, 2.0)) == "2.0", "cell")
+    t = md_table(["a", "b"], [["x", 1]])
+    check(t == ["| a | b |", "|---|---:|", "| x | 1 |"], "table: %r" % (t,))
+    try:
+        md_table(["a", "b"], [["x"]])
+        check(False, "a short row was accepted")
+    except BenchError:
+        pass
+    # a fixed cost (100) against one growing with pixels (t = px / 1000): they cross at
+    # exactly 100,000 pixels, the growing one faster below
+    px = [10000, 40000, 160000, 640000]
+    series = {"froxel": [100.0] * 4, "screen": [x / 1000.0 for x in px], "none": [None] * 4}
+    c = crossovers(px, series)
+    check(len(c) == 1 and c[0][0] == "froxel" and c[0][1] == "screen" and
+          abs(c[0][2] - 100000.0) < 1e-6 and c[0][3] == "froxel", "crossover: %r" % (c,))
+    check(fastest(series, 0) == "screen" and fastest(series, 3) == "froxel", "fastest")
+    check(crossovers(px, {"a": [1, 2, 3, 4], "b": [2, 3, 4, 5]}) == [], "no crossing")
+    a0, b, r2 = fit([(1, 3.0), (2, 5.0), (4, 9.0)])
+    check(abs(a0 - 1) < 1e-12 and abs(b - 2) < 1e-12 and abs(r2 - 1) < 1e-12, "fit")
+    check(parse_size("256x175") == (256, 175), "size")
+    for bad in ("256", "0x5", "x5", "12x-3"):
+        try:
+            parse_size(bad)
+            check(False, "size '%s' accepted" % bad)
+        except BenchError:
+            pass
+    g = graph("/x.glb", "bunny", DISABLED, 2, 64)
+    check("vol =" not in g and 'output lit' in g and g.count("= light {") == 2, "disabled graph")
+    g = graph("/x.glb", "bunny", "polygonal", 1, 64)
+    check("volumetric_polygonal" in g and "z_limit = 17.6" in g and "shadows = shadow" in g,
+          "polygonal graph")
+    g = graph("/c.glb", "classroom", "froxel_cl", 1, 64)
+    check("camera" not in g and "light {" not in g and "z_limit = 12" in g and
+          "scene = scene, density = 1" in g, "interior graph: %s" % g)
+    try:
+        graph("/c.glb", "classroom", "screen", 2, 64)
+        check(False, "an interior with 2 lights was accepted")
+    except BenchError:
+        pass
+    if fails:
+        for x in fails:
+            sys.stderr.write("bench_volumetric self-test: FAILED %s\n" % x)
+        return 1
+    print("bench_volumetric self-test: all checks passed")
+    return 0
 
 
-def plot(out, methods):
-    """lights_time.png and lights_memory.png from lights.csv: one line per method (a data file
-    each, since gnuplot breaks a line at every filtered-out row), log scale in y."""
-    if not shutil.which("gnuplot"):
-        sys.stderr.write("bench_volumetric: gnuplot not found: no plots\n")
-        return
-    rows = [l.strip().split(",") for l in open(os.path.join(out, "lights.csv"))][1:]
+# ---- main ------------------------------------------------------------------------------------
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench_volumetric"))
+    ap.add_argument("--size", default="1067x730")
+    ap.add_argument("--sizes", default=DEFAULT_SIZES)
+    ap.add_argument("--frames", type=int, default=2)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--experiments", default="crossover,table6,lights,gating")
+    ap.add_argument("--scenes", default="bunny,dragon,dragons,classroom,courtyard")
+    ap.add_argument("--crossover-scenes", default="bunny,dragon")
+    ap.add_argument("--lights", default="1,2,4,8")
+    ap.add_argument("--methods", default=",".join(METHODS))
+    ap.add_argument("--shadow-resolution", type=int, default=1024)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--crossover-csv", help="make the crossover's tables and plots from this "
+                    "crossover.csv of an earlier run instead of measuring")
+    ap.add_argument("--self-test", action="store_true")
+    a = ap.parse_args()
+    if a.self_test:
+        sys.exit(self_test())
+    if a.quick:
+        a.size, a.sizes, a.frames, a.repeat, a.lights = "534x365", "256x175,534x365", 2, 1, "1,4"
+    if a.frames < 1 or a.repeat < 1:
+        die("--frames and --repeat: 1 or more")
+    exe = os.path.join(a.build, "lightgraph")
+    if not os.path.exists(exe):
+        die("%s does not exist: build first (meson setup build && ninja -C build)" % exe)
+    methods = a.methods.split(",")
     for m in methods:
-        with open(os.path.join(out, "lights_%s.dat" % m), "w") as f:
-            for r in rows:
-                if r[1] == m:
-                    f.write("%s %s %s\n" % (r[0], r[2], int(r[4]) / 1048576.0))
-    for what, col, label in (("time", 2, "time per frame (ms)"),
-                             ("memory", 3, "node memory (MiB)")):
-        gp = os.path.join(out, "lights_%s.gp" % what)
-        with open(gp, "w") as f:
-            f.write("set terminal pngcairo size 900,600 noenhanced\n")
-            f.write("set output '%s'\n" % os.path.join(out, "lights_%s.png" % what))
-            f.write("set grid\nset key left top\nset logscale xy\nset xtics (1, 2, 4, 8, 16, 32)\n")
-            f.write("set xlabel 'directional lights'\nset ylabel '%s'\n" % label)
-            f.write("set title 'volumetric methods against the number of lights (bunny box)'\n")
-            f.write("plot " + ", \\\n     ".join(
-                "'%s' using 1:%d with linespoints title '%s'"
-                % (os.path.join(out, "lights_%s.dat" % m), col, m) for m in methods) + "\n")
-        subprocess.run(["gnuplot", gp], check=False)
+        if m not in METHODS:
+            die("unknown method %s (known: %s)" % (m, ", ".join(METHODS)))
+    for s in a.scenes.split(",") + a.crossover_scenes.split(","):
+        if s not in SCENES:
+            die("unknown scene %s (known: %s)" % (s, ", ".join(SCENES)))
+    exps = a.experiments.split(",")
+    for e in exps:
+        if e not in ("crossover", "table6", "lights", "gating"):
+            die("unknown experiment %s" % e)
+    try:
+        parse_size(a.size)
+    except BenchError as e:
+        die(str(e))
+    os.makedirs(a.out, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix="bench-vol-")
+    load0, t0 = loadavg(), datetime.datetime.now(datetime.timezone.utc)
+    md = []
+    try:
+        runner = Runner(exe, a.frames, a.shadow_resolution, a.out, tmp)
+        if "crossover" in exps:
+            exp_crossover(runner, a, methods, md)
+        if "table6" in exps:
+            exp_table6(runner, a, methods, md)
+        if "lights" in exps:
+            exp_lights(runner, a, methods, md)
+        if "gating" in exps:
+            exp_gating(runner, a, md)
+    except BenchError as e:
+        die(str(e))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    t1 = datetime.datetime.now(datetime.timezone.utc)
+    head = ["# Volumetric lighting: the thesis's experiments (tools/bench_volumetric.py)", "",
+            "Run %s to %s on %s (%d cores, shared), load average %s before and %s after, "
+            "commit %s. %d frames per run, %d runs per configuration (medians, min-max in "
+            "brackets), shadow maps %d^2, froxel grid 190 x 90 x 128, screen-space 64 samples, "
+            "polygonal one vertex per shadow-map texel."
+            % (t0.strftime("%Y-%m-%d %H:%M"), t1.strftime("%H:%M UTC"), cpu_model(),
+               os.cpu_count() or 0, load0, loadavg(), git_commit(), a.frames, a.repeat,
+               a.shadow_resolution), ""]
+    md = head + md
+    with open(os.path.join(a.out, "bench_volumetric.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+    print("written: %s" % a.out)
 
 
 if __name__ == "__main__":

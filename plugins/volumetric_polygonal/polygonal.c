@@ -70,6 +70,10 @@ typedef struct poly_state {
     uint32_t ibuf_grid[2]; /* the grid whose indices ibuf holds */
     uint64_t n_indices;
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
+    /* GL_SAMPLES_PASSED and GL_PRIMITIVES_GENERATED around the volume pass's draws: the
+     * fragments the light volumes cost (their overdraw) and the triangles they send, said
+     * in the node's log line (poly_report) */
+    GLuint queries[2];
 } poly_state;
 
 /* ---- the mesh's topology --------------------------------------------------------------------- */
@@ -431,6 +435,30 @@ static int poly_write_ply(lg_node *n, poly_state *st, const lg_gl *gl, uint32_t 
     return rc;
 }
 
+/* ---- the volume pass's counters -------------------------------------------------------------- */
+
+/* The volume pass rasterises every crossing of every pixel's ray with every light's mesh
+ * (no depth test, no culling), so its fragment count is the method's real per-pixel work:
+ * fragments / pixels is the mean number of volume faces a view ray crosses, whatever the
+ * scene's triangle count. Said on the first frame at info level (`-v`), later frames at
+ * debug level (an animated scene's counts change), as one line a script can read:
+ *   "volume pass: L lights, T triangles drawn, P primitives generated, F fragments,
+ *    X per pixel (WxH)". */
+static void poly_report(lg_node *n, const lg_gl *gl, const poly_state *st, const lg_frame *frame,
+                        uint32_t n_lights, uint64_t ntris)
+{
+    GLuint64 fragments = 0, primitives = 0;
+    gl->GetQueryObjectui64v(st->queries[0], GL_QUERY_RESULT, &fragments);
+    gl->GetQueryObjectui64v(st->queries[1], GL_QUERY_RESULT, &primitives);
+    double pixels = (double)st->width * st->height;
+    lg_log(n, frame && frame->index > 0 ? LG_LOG_DEBUG : LG_LOG_INFO,
+           "volume pass: %u light%s, %llu triangles drawn, %llu primitives generated, %llu "
+           "fragments, %.4f per pixel (%ux%u)",
+           n_lights, n_lights == 1 ? "" : "s", (unsigned long long)(ntris * n_lights),
+           (unsigned long long)primitives, (unsigned long long)fragments,
+           pixels > 0 ? (double)fragments / pixels : 0.0, st->width, st->height);
+}
+
 /* ---- execute --------------------------------------------------------------------------------- */
 
 static int poly_execute(lg_node *n, const lg_frame *frame)
@@ -607,6 +635,11 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         return lg_gl_pass_end(p, rc);
     lg_gl_pass_bind_texture(p, st->v_depth, base_depth);
     lg_gl_pass_bind_buffer(p, st->v_idx, st->ibuf.name);
+    /* the counters span exactly the draws, and end before the pass restores the state */
+    if (!st->queries[0])
+        gl->GenQueries(2, st->queries);
+    gl->BeginQuery(GL_SAMPLES_PASSED, st->queries[0]);
+    gl->BeginQuery(GL_PRIMITIVES_GENERATED, st->queries[1]);
     for (uint32_t l = 0; l < v.n_lights && !rc; l++) {
         lg_gl_set_float(p, st->v_flip, (float)flip[l]);
         lg_gl_set_vec3v(p, st->v_lc, v.lights[l].l_c);
@@ -614,8 +647,11 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         lg_gl_pass_bind_buffer(p, st->v_verts, st->vbuf[l].name);
         rc = lg_gl_pass_draw(p, GL_TRIANGLES, (uint32_t)(ntris * 3));
     }
+    gl->EndQuery(GL_PRIMITIVES_GENERATED);
+    gl->EndQuery(GL_SAMPLES_PASSED);
     if ((rc = lg_gl_pass_end(p, rc)))
         return rc;
+    poly_report(n, gl, st, frame, v.n_lights, ntris);
 
     /* step 3: the composite */
     lg_gl_target ins;
@@ -646,6 +682,11 @@ static void poly_destroy(lg_node *n)
     for (int l = 0; l < VOL_MAX_LIGHTS; l++)
         lg_gl_buffer_destroy(n, &st->vbuf[l]);
     lg_gl_buffer_destroy(n, &st->ibuf);
+    if (st->queries[0]) {
+        const lg_gl *gl = lg_gl_get(n);
+        if (gl)
+            gl->DeleteQueries(2, st->queries);
+    }
     lg_gl_pass_destroy(&st->mesh);
     lg_gl_pass_destroy(&st->vol);
     lg_gl_pass_destroy(&st->comp);
