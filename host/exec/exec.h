@@ -255,8 +255,6 @@ typedef struct lg_pnode_plan {
     lg_node_state state;
     char *reason; /* why culled or gated */
     lg_digest identity;
-    lg_digest shape;         /* identity without appearance keys (lg_add_appearance_key), upstream
-                              * and own: what an LG_NODE_APPEARANCE_INDEPENDENT consumer digests */
     lg_digest plan_identity; /* identity before prepare() added content keys: what a
                               * later plan compares to adopt the node (lg_plan) */
     bool lent;               /* adopted by a newer plan that is not committed yet */

@@ -441,14 +441,6 @@ static void api_set_per_frame(lg_node *n, bool per_frame)
 
 static void api_add_content_key(lg_node *n, const void *bytes, size_t size)
 {
-    if (bytes && size) {
-        lg_digest_add(&P(n)->plan.identity, bytes, size);
-        lg_digest_add(&P(n)->plan.shape, bytes, size);
-    }
-}
-
-static void api_add_appearance_key(lg_node *n, const void *bytes, size_t size)
-{
     if (bytes && size)
         lg_digest_add(&P(n)->plan.identity, bytes, size);
 }
@@ -890,7 +882,6 @@ void lg_host_api_init(lg_host_api *a)
     a->payload_gl_buffer = api_payload_gl_buffer;
     a->payload_cl_buffer = api_payload_cl_buffer;
     a->payload_gl_texture = api_payload_gl_texture;
-    a->add_appearance_key = api_add_appearance_key;
     a->declare_composite = api_declare_composite;
     a->part = api_part;
     a->cpu_workers = api_cpu_workers;

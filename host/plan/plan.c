@@ -401,30 +401,20 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
 /* One node: its identity and per-frame flag, then gated (its neutral result) or prepared. */
 static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
 {
-    /* Two digests: `identity` (everything) and `shape` (without appearance keys, see
-     * lg_add_appearance_key). A node whose type is LG_NODE_APPEARANCE_INDEPENDENT digests its
-     * inputs' shapes in both, so a texture change leaves its identity (and cache) alone. */
-    bool appearance_independent = (n->schema->flags & LG_NODE_APPEARANCE_INDEPENDENT) != 0;
-    lg_digest *ds[2] = { &n->plan.identity, &n->plan.shape };
-    for (int d = 0; d < 2; d++) {
-        lg_digest_init(ds[d]);
-        lg_digest_add_str(ds[d], n->plugin ? n->plugin->name : "");
-        lg_digest_add_str(ds[d], n->plugin ? n->plugin->version : "");
-        lg_digest_add_str(ds[d], n->schema->name);
-        digest_params(ds[d], n->c);
-        for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
-            lg_edge e = n->c->inputs[k];
-            if (e.node < 0) {
-                lg_digest_add_str(ds[d], NULL);
-                continue;
-            }
-            const lg_pnode *up = ex->nodes[e.node];
-            const lg_digest *in = (d == 1 || appearance_independent) ? &up->plan.shape
-                                                                     : &up->plan.identity;
-            lg_digest_add(ds[d], in, sizeof(lg_digest));
-            lg_digest_add(ds[d], &e.port, sizeof e.port);
-            lg_digest_add(ds[d], &e.part, sizeof e.part);
+    lg_digest_init(&n->plan.identity);
+    lg_digest_add_str(&n->plan.identity, n->plugin ? n->plugin->name : "");
+    lg_digest_add_str(&n->plan.identity, n->plugin ? n->plugin->version : "");
+    lg_digest_add_str(&n->plan.identity, n->schema->name);
+    digest_params(&n->plan.identity, n->c);
+    for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node < 0) {
+            lg_digest_add_str(&n->plan.identity, NULL);
+            continue;
         }
+        lg_digest_add(&n->plan.identity, &ex->nodes[e.node]->plan.identity, sizeof(lg_digest));
+        lg_digest_add(&n->plan.identity, &e.port, sizeof e.port);
+        lg_digest_add(&n->plan.identity, &e.part, sizeof e.part);
     }
     for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
         lg_edge e = n->c->inputs[k];

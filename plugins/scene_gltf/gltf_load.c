@@ -111,8 +111,7 @@ typedef struct loader {
     int64_t **prim_mesh; /* per glTF mesh, per primitive: lg_mesh index, -1 not made yet */
     bool *material_used_default;
     bool warned_targets, warned_skin, warned_ortho;
-    uint64_t hash;            /* the content hash so far (file, buffers) */
-    uint64_t image_hash;      /* the image files read (lg_gltf_options.image_hash) */
+    uint64_t hash;            /* the content hash so far (file, buffers, then image files) */
     bool *mesh_no_normal_map; /* per lg_mesh (grown with them): its material's normal
                                * texture reads a texture coordinate set it lacks */
     uint32_t cap_no_normal_map;
@@ -1501,7 +1500,7 @@ static int decode_image(loader *l, uint32_t i, lg_scene_image *out)
         if (!file)
             return fail(l, errno == ENOMEM ? LG_ERR_NOMEM : LG_ERR_INVALID,
                         "%s: cannot read it: %s", label, why);
-        l->image_hash = fnv1a(l->image_hash, file, size);
+        l->hash = fnv1a(l->hash, file, size);
         bytes = file;
     }
     uint32_t w = 0, h = 0;
@@ -2159,10 +2158,8 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     if (g->warnings && *g->warnings)
         warn(&l, "tinygltf: %s", g->warnings);
 
-    /* the content hash: the file and its buffers; the image files read (make_textures) go
-     * into image_hash */
+    /* the content hash: the file, its buffers, then (make_textures) every image file read */
     l.hash = fnv1a(0xcbf29ce484222325ull, bytes, size);
-    l.image_hash = 0xcbf29ce484222325ull;
     for (uint32_t i = 0; i < g->n_buffers; i++)
         l.hash = fnv1a(l.hash, g->buffers[i].data, g->buffers[i].size);
 
@@ -2192,8 +2189,6 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     *out = &l.st->scene;
     if (content_hash)
         *content_hash = l.hash;
-    if (opt && opt->image_hash)
-        *opt->image_hash = l.image_hash;
     return 0;
 }
 

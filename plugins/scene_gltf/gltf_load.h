@@ -31,11 +31,6 @@ typedef struct lg_gltf_options {
     /* Receives each warning (one line, naming the file); may be NULL. */
     void (*warn)(void *user, const char *message);
     void *warn_user;
-    /* Receives (if not NULL) a 64-bit FNV-1a hash of the image files read (external
-     * images; data: URIs and bufferView images are part of the file or its buffers, so of
-     * content_hash). Apart from content_hash because a texture is appearance, not shape:
-     * the node adds it with lg_add_appearance_key, so a PRT bake survives a texture edit. */
-    uint64_t *image_hash;
 } lg_gltf_options;
 
 /* The defaults of the node's parameters. */

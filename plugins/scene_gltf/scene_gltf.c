@@ -103,8 +103,6 @@ static int gltf_prepare(lg_node *n)
     opt.camera = lg_param_int(n, "camera");
     opt.warn = log_warning;
     opt.warn_user = n;
-    uint64_t image_hash = 0;
-    opt.image_hash = &image_hash;
 
     double t0 = lg_now(n);
     lg_scene *scene = NULL;
@@ -125,11 +123,8 @@ static int gltf_prepare(lg_node *n)
                scene->textures->n_textures, scene->textures->n_images,
                (double)tex_bytes / (1 << 20));
 
-    /* the content (file, external buffers) is part of the result's identity; the image
-     * files are its appearance (nodes that bake shape, as prt_bake, ignore them unless they
-     * read them: lg_add_appearance_key) */
+    /* the content (file, external buffers, image files) is part of the result's identity */
     lg_add_content_key(n, &hash, sizeof hash);
-    lg_add_appearance_key(n, &image_hash, sizeof image_hash);
     rc = lg_declare_payload(n, 0, LG_KIND_SCENE, &scene->features, scene, free_scene);
     if (rc)
         return rc; /* the host has freed the scene */

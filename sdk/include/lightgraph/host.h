@@ -348,13 +348,7 @@ typedef struct lg_host_api {
             int (*payload_gl_texture)(lg_node *node, const lg_resource *res, uint32_t slot,
                                       const void *rgba8, uint32_t width, uint32_t height,
                                       uint32_t internal_format, uint32_t *texture);
-            /* -- since ABI 3.1: what identifies a result's appearance only --
-             * Like add_content_key, but consumers whose type has
-             * LG_NODE_APPEARANCE_INDEPENDENT do not see these bytes in their identity
-             * (the gltf node adds its colour textures' files here, so a texture change
-             * does not invalidate a PRT bake). Call it through lg_add_appearance_key. */
-            void (*add_appearance_key)(lg_node *node, const void *bytes, size_t size);
-            void *reserved_3_1[17];
+            void *reserved_3_1[18];
         };
     };
 } lg_host_api;
@@ -559,19 +553,6 @@ static inline int lg_declare_payload(lg_node *n, uint32_t port, lg_resource_kind
 static inline void lg_add_content_key(lg_node *n, const void *bytes, size_t size)
 {
     n->host->add_content_key(n, bytes, size);
-}
-
-/* Since ABI 3.1: adds `size` bytes to this node's identity as lg_add_content_key does, for
- * every consumer except those whose type has LG_NODE_APPEARANCE_INDEPENDENT (and what is
- * downstream of them only through them): bytes that change how the result looks but not its
- * shape (a texture's pixels). Such a consumer that does read some of it (a PRT bake reading
- * the alpha masks) adds a key of what it reads itself. On a 3.0 host: a content key. */
-static inline void lg_add_appearance_key(lg_node *n, const void *bytes, size_t size)
-{
-    if (n->host->add_appearance_key)
-        n->host->add_appearance_key(n, bytes, size);
-    else
-        n->host->add_content_key(n, bytes, size);
 }
 
 /* The on-disk cache (see cache_get above for keys and checksums).

@@ -204,11 +204,6 @@ enum {
      * animated it still runs once. Without the flag, a node that reads an animated scene
      * runs every frame (lg_scene_pose at lg_frame.time gives the instances' matrices). */
     LG_NODE_POSE_INDEPENDENT = 1u << 4,
-    /* since ABI 3.1: the node's results do not depend on its inputs' appearance keys
-     * (lg_add_appearance_key: a scene's colour textures), only on their content keys, so
-     * changing a texture does not invalidate its cached result. A node that reads some of
-     * that appearance adds a content key of what it reads. */
-    LG_NODE_APPEARANCE_INDEPENDENT = 1u << 5,
 };
 
 typedef struct lg_node lg_node; /* a node instance, as the host shows it (lightgraph/host.h) */
