@@ -100,7 +100,9 @@ static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, con
     size_t have = src->struct_size < sizeof p->scene ? src->struct_size : sizeof p->scene;
     memcpy(&p->scene, src, have);
     p->scene.struct_size = sizeof p->scene;
-    memset(p->scene.reserved, 0, sizeof p->scene.reserved);
+    /* the fields still reserved; since ABI 3.1 the textures and the animation are shared
+     * with the source like its meshes and materials (clearing the whole union lost them) */
+    memset(p->scene.reserved_3_1, 0, sizeof p->scene.reserved_3_1);
     /* a chain of derived scenes points straight at the owner of the geometry */
     p->scene.geometry = src->geometry ? src->geometry : in;
 
