@@ -687,9 +687,11 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
     double table = T * (3 * sizeof(double) + n2 * sizeof(float));
     double world = (double)nv * (3 * 3 * sizeof(double) + 3 * sizeof(float));
     double incr = p->mode == PB_INTERREFLECTED ? 2.0 * nv * 3 * n2 * sizeof(float) : 0.0;
-    /* the hits kept: at most the budget (the bake stops keeping them beyond it) */
+    /* the hits kept: at most the budget (the bake stops keeping them beyond it); an
+     * explicit hit_memory_mib is the user's to answer for, auto's quarter of what is
+     * available is not counted (it never asks for more than the machine has free) */
     double hits = fmin((double)nv * (floor(T / 2) + 1) * sizeof(pb_hit), p->hit_budget);
-    bool keep = p->mode == PB_INTERREFLECTED && hits > 0;
+    bool keep = p->mode == PB_INTERREFLECTED && hits > 0 && p->hit_mib >= 0;
     double need = table + world + incr + (keep ? hits : 0.0);
     const char *bound;
     uint64_t avail = lg_memory_available(&bound);
