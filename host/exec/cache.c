@@ -221,9 +221,17 @@ static const char *cache_ready(lg_exec *ex, bool create)
     return ex->cache.dir;
 }
 
+/* What names the node's entries: its identity, or for a LG_NODE_CACHE_BY_CONTENT node the
+ * identity without its inputs' (the node's keys carry what it reads of them). */
+static const lg_digest *cache_identity(const lg_pnode *n)
+{
+    return (n->schema->flags & LG_NODE_CACHE_BY_CONTENT) ? &n->plan.cache_identity
+                                                         : &n->plan.identity;
+}
+
 static char *entry_path(const char *dir, lg_pnode *n, const char *key)
 {
-    lg_digest d = n->plan.identity;
+    lg_digest d = *cache_identity(n);
     lg_digest_add_str(&d, key);
     char hex[33];
     lg_digest_hex(&d, hex);
@@ -291,7 +299,7 @@ int lg_exec_cache_get(lg_exec *ex, lg_pnode *n, const char *key, void **data, si
     }
     const char *payload = NULL;
     size_t psize = 0;
-    const char *why = lg_cache_entry_check(buf, len, &n->plan.identity, key, &payload, &psize);
+    const char *why = lg_cache_entry_check(buf, len, cache_identity(n), key, &payload, &psize);
     if (why) {
         char problem[300];
         snprintf(problem, sizeof problem, "is corrupt (%s)", why);
@@ -415,7 +423,7 @@ int lg_exec_cache_put_status(lg_exec *ex, lg_pnode *n, const char *key, const vo
         return LG_CACHE_NOT_STORED;
     }
     lg_str b = { 0 };
-    lg_cache_entry_encode(&b, &n->plan.identity, key, data, size);
+    lg_cache_entry_encode(&b, cache_identity(n), key, data, size);
     int rc = LG_CACHE_STORED;
     if (put_entry(path, b.s, b.len) != 0) {
         lg_hlog(LG_HWARN, "node '%s': cannot write cache entry %s: %s", n->pub.name, path,

@@ -267,6 +267,9 @@ typedef struct lg_pnode_plan {
     bool work_declared;
     double work_units, work_seconds;
     char *work_what;
+    /* the identity without the inputs' (plugin, version, type, parameters, content keys):
+     * what names the cache entries of a LG_NODE_CACHE_BY_CONTENT node (cache.c) */
+    lg_digest cache_identity;
 } lg_pnode_plan;
 
 /* A node's life in the runtime (exec/). */

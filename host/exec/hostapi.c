@@ -441,8 +441,10 @@ static void api_set_per_frame(lg_node *n, bool per_frame)
 
 static void api_add_content_key(lg_node *n, const void *bytes, size_t size)
 {
-    if (bytes && size)
+    if (bytes && size) {
         lg_digest_add(&P(n)->plan.identity, bytes, size);
+        lg_digest_add(&P(n)->plan.cache_identity, bytes, size);
+    }
 }
 
 static int api_map_cpu(lg_node *n, const lg_resource *r, unsigned access, lg_cpu_view *v)

@@ -406,6 +406,7 @@ static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
     lg_digest_add_str(&n->plan.identity, n->plugin ? n->plugin->version : "");
     lg_digest_add_str(&n->plan.identity, n->schema->name);
     digest_params(&n->plan.identity, n->c);
+    n->plan.cache_identity = n->plan.identity;
     for (uint32_t k = 0; k < n->schema->n_inputs; k++) {
         lg_edge e = n->c->inputs[k];
         if (e.node < 0) {

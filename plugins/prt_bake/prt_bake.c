@@ -537,6 +537,7 @@ typedef struct pb_state {
     float *cached;
     uint32_t cached_bounces;
     bool reported_nonfinite; /* reference: the probe's NaN/Inf texels said (pb_ref_clean) */
+    uint64_t content;        /* bake: the digest of what it reads of the scene (pb_content) */
 } pb_state;
 
 static const char *const pb_modes[] = { "unshadowed", "shadowed", "interreflected", NULL };
@@ -573,9 +574,10 @@ static double pb_mem_available(void)
  * MiB. A quarter, because the rest of the bake (two transfers, the direction table, the
  * BVH) and whatever else runs must fit beside it; the hits are a speed-up, never a need
  * (over the budget the bounces cast their rays again, same bits). examples/prt.lgraph
- * interreflected keeps about 1.9 GiB of hits (README "Cost"): with auto, a machine with 8
- * GiB free keeps them; the old fixed default, 2048 MiB against a worst-case bound of 3.6
- * GiB, cast every bounce's 1.9e8 rays again. 0 keeps none; N keeps at most N MiB. */
+ * interreflected keeps 158 M front-face hits, 3.0 GiB (README "Cost"): auto keeps them
+ * where 12 GiB or more are available (this machine: 22 GiB, a budget of 5.6 GiB); the old
+ * fixed default, 2048 MiB against a worst-case bound of 3.6 GiB, cast every bounce's 1.9e8
+ * rays again. 0 keeps none; N keeps at most N MiB. */
 static void pb_hit_budget(pb_params *p)
 {
     if (p->hit_mib >= 0) {
@@ -685,9 +687,11 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
     double table = T * (3 * sizeof(double) + n2 * sizeof(float));
     double world = (double)nv * (3 * 3 * sizeof(double) + 3 * sizeof(float));
     double incr = p->mode == PB_INTERREFLECTED ? 2.0 * nv * 3 * n2 * sizeof(float) : 0.0;
-    /* the hits kept: at most the budget (the bake stops keeping them beyond it) */
+    /* the hits kept: at most the budget (the bake stops keeping them beyond it); an
+     * explicit hit_memory_mib is the user's to answer for, auto's quarter of what is
+     * available is not counted (it never asks for more than the machine has free) */
     double hits = fmin((double)nv * (floor(T / 2) + 1) * sizeof(pb_hit), p->hit_budget);
-    bool keep = p->mode == PB_INTERREFLECTED && hits > 0;
+    bool keep = p->mode == PB_INTERREFLECTED && hits > 0 && p->hit_mib >= 0;
     double need = table + world + incr + (keep ? hits : 0.0);
     const char *bound;
     uint64_t avail = lg_memory_available(&bound);
@@ -716,6 +720,105 @@ static int pb_check_memory(lg_node *n, const pb_params *p, uint32_t nv)
                          (unsigned long long)avail, bound);
 }
 
+/* ---- what the bake reads of the scene (its cache key) ---------------------------------------- */
+
+/* FNV-1a, 64 bits, over `n` bytes (NULL: a marker, so that "absent" differs from "empty"). */
+static uint64_t pb_fnv(uint64_t h, const void *data, size_t n)
+{
+    if (!data) {
+        static const char absent[] = "(absent)";
+        data = absent;
+        n = sizeof absent;
+    }
+    const unsigned char *b = data;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 0x100000001b3ull;
+    return h;
+}
+#define PB_FNV(h, x) pb_fnv((h), &(x), sizeof(x))
+
+/*
+ * The digest of everything the bake reads of its scene, for its cache key: prt_bake is a
+ * LG_NODE_CACHE_BY_CONTENT node, so its entries are named by its parameters and this key,
+ * not by the scene node's identity (which holds every file the scene came from, its
+ * images too). In it: every instance (mesh, model and normal matrices), every mesh
+ * (positions, normals, indices, material), every material's base colour factor (the albedo
+ * with albedo = material; its alpha, the mask's factor), alpha mode and cutoff and base
+ * colour texture reference, and the pixels and sampler of that texture where the bake
+ * reads them: for a masked (or blended) material, whose alpha decides what occludes, the
+ * alpha channel, with the meshes' texture coordinates; and, for mode = interreflected with
+ * albedo = material, every textured material's whole image (a bounce's light is multiplied
+ * by the texture at its hit).
+ * Not in it: a base colour image of an unmasked material in an unshadowed or shadowed
+ * bake (the `prt` node multiplies it per pixel: a texture change needs no re-bake), normal,
+ * emissive and other maps, lights, cameras, names.
+ */
+static uint64_t pb_content(const pb_params *p, const lg_scene *s)
+{
+    uint64_t h = 0xcbf29ce484222325ull;
+    bool bounce_tex = p->mode == PB_INTERREFLECTED && p->albedo_material;
+    h = PB_FNV(h, s->n_instances);
+    for (uint32_t i = 0; i < s->n_instances; i++) {
+        const lg_instance *in = &s->instances[i];
+        h = PB_FNV(h, in->mesh);
+        h = pb_fnv(h, in->model, sizeof in->model);
+        h = pb_fnv(h, in->normal_matrix, sizeof in->normal_matrix);
+    }
+    const lg_scene_textures *tx = s->textures;
+    h = PB_FNV(h, s->n_materials);
+    for (uint32_t m = 0; m < s->n_materials; m++) {
+        const lg_material *mat = &s->materials[m];
+        const lg_material_maps *mp = lg_material_maps_of(mat);
+        const lg_texture_ref *r = &mp->base_color;
+        h = pb_fnv(h, mat->base_color, sizeof mat->base_color);
+        h = PB_FNV(h, mp->alpha_mode);
+        h = PB_FNV(h, mp->alpha_cutoff);
+        h = PB_FNV(h, r->texture);
+        h = PB_FNV(h, r->texcoord);
+        h = pb_fnv(h, r->transform, sizeof r->transform);
+        bool masked = mp->alpha_mode == LG_ALPHA_MASK || mp->alpha_mode == LG_ALPHA_BLEND;
+        if (!(masked || bounce_tex) || r->texture < 0 || !tx ||
+            (uint32_t)r->texture >= tx->n_textures)
+            continue;
+        const lg_scene_texture *t = &tx->textures[r->texture];
+        h = PB_FNV(h, t->mag_filter);
+        h = PB_FNV(h, t->wrap_s);
+        h = PB_FNV(h, t->wrap_t);
+        if (t->image >= tx->n_images)
+            continue;
+        const lg_scene_image *img = &tx->images[t->image];
+        h = PB_FNV(h, img->width);
+        h = PB_FNV(h, img->height);
+        size_t texels = img->rgba8 ? (size_t)img->width * img->height : 0;
+        if (bounce_tex) {
+            h = pb_fnv(h, img->rgba8, texels * 4);
+        } else {
+            /* a mask reads the alpha alone: a new colour with the same alpha finds the bake */
+            for (size_t k = 0; k < texels; k++)
+                h = (h ^ img->rgba8[4 * k + 3]) * 0x100000001b3ull;
+        }
+    }
+    h = PB_FNV(h, s->n_meshes);
+    for (uint32_t m = 0; m < s->n_meshes; m++) {
+        const lg_mesh *me = &s->meshes[m];
+        h = PB_FNV(h, me->n_vertices);
+        h = PB_FNV(h, me->n_indices);
+        h = PB_FNV(h, me->material);
+        h = pb_fnv(h, me->positions, me->positions ? (size_t)me->n_vertices * 12 : 0);
+        h = pb_fnv(h, me->normals, me->normals ? (size_t)me->n_vertices * 12 : 0);
+        h = pb_fnv(h, me->indices, me->indices ? (size_t)me->n_indices * 4 : 0);
+        if (me->material >= s->n_materials)
+            continue;
+        const lg_material_maps *mp = lg_material_maps_of(&s->materials[me->material]);
+        bool masked = mp->alpha_mode == LG_ALPHA_MASK || mp->alpha_mode == LG_ALPHA_BLEND;
+        if ((masked || bounce_tex) && mp->base_color.texture >= 0) {
+            h = pb_fnv(h, me->texcoords, me->texcoords ? (size_t)me->n_vertices * 8 : 0);
+            h = pb_fnv(h, me->texcoords1, me->texcoords1 ? (size_t)me->n_vertices * 8 : 0);
+        }
+    }
+    return h;
+}
+
 /* The cache entry of this node: its key and the header it must have. */
 static void pb_cache_id(const pb_state *st, pb_cache_header *want, char *key, size_t keylen)
 {
@@ -735,7 +838,8 @@ static void pb_cache_id(const pb_state *st, pb_cache_header *want, char *key, si
         want->bands = p->bands;
         want->samples = p->samples;
         want->floats = (uint64_t)nv * 3 * p->bands * p->bands;
-        snprintf(key, keylen, "transfer-m%d-b%u-s%u-v%u", p->mode, p->bands, p->samples, nv);
+        snprintf(key, keylen, "transfer-m%d-b%u-s%u-v%u-c%016llx", p->mode, p->bands, p->samples,
+                 nv, (unsigned long long)st->content);
     }
 }
 
@@ -841,6 +945,8 @@ static int pb_prepare(lg_node *n)
     st->vertices = (uint32_t)nv;
     if (!st->reference && (rc = pb_check_memory(n, &st->p, st->vertices)))
         return rc;
+    if (!st->reference)
+        st->content = pb_content(&st->p, s);
     if (st->reference) {
         lg_resource_info info;
         const lg_resource *pr = lg_input(n, 1);
@@ -1444,7 +1550,8 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                              .samples = p->samples,
                              .floats = floats };
     char key[96];
-    snprintf(key, sizeof key, "transfer-m%d-b%u-s%u-v%u", p->mode, p->bands, p->samples, nv);
+    snprintf(key, sizeof key, "transfer-m%d-b%u-s%u-v%u-c%016llx", p->mode, p->bands, p->samples,
+             nv, (unsigned long long)st->content);
     lg_transfer_info info = { .struct_size = sizeof info,
                               .bands = p->bands,
                               .vertices = nv,
@@ -2078,7 +2185,9 @@ static const lg_node_type pb_types[] = {
         LG_INPUTS(pb_bake_in),
         LG_OUTPUTS(pb_bake_out),
         .needs = LG_NEEDS_GEOMETRY,
-        .flags = LG_NODE_VIEW_INDEPENDENT, /* per vertex: the camera plays no part */
+        /* per vertex: the camera plays no part; cached by what it reads of the scene
+         * (pb_content), not by the scene's identity */
+        .flags = LG_NODE_VIEW_INDEPENDENT | LG_NODE_CACHE_BY_CONTENT,
         .create = pb_create_bake,
         .prepare = pb_prepare,
         .execute = pb_execute,

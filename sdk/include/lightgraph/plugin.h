@@ -204,6 +204,14 @@ enum {
      * animated it still runs once. Without the flag, a node that reads an animated scene
      * runs every frame (lg_scene_pose at lg_frame.time gives the instances' matrices). */
     LG_NODE_POSE_INDEPENDENT = 1u << 4,
+    /* since ABI 3.1: the node's cache entries (lg_cache_get, lg_cache_store) are named by
+     * its plugin, version, type, parameters, its own content keys and the entry's key, but
+     * NOT by its inputs' identities. The node then puts into each key (as a digest) all of
+     * its inputs that its result depends on: what it leaves out may change without the
+     * entry changing. For a result that depends on a part of an input only (prt_bake's
+     * transfer: a scene's geometry, factors and alpha masks, not its base colour images),
+     * so that a change to the rest finds the entry instead of computing it again. */
+    LG_NODE_CACHE_BY_CONTENT = 1u << 5,
 };
 
 typedef struct lg_node lg_node; /* a node instance, as the host shows it (lightgraph/host.h) */

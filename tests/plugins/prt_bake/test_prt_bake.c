@@ -50,7 +50,12 @@
  *                 phases, and BLEND (treated as a mask at its cutoff); the two phases add up
  *                 to the plane plus the opaque square; a square without texture coordinates
  *                 is opaque (bit for bit the unmasked square's bake); a factor alpha below
- *                 the cutoff removes the square (bit for bit the plane's bake)
+ *                 the cutoff removes the square (bit for bit the plane's bake);
+ *                 prt_reference's shadow rays against the same analytic bounds; a white and
+ *                 black checker texture on the square turned to the floor bounces about half
+ *                 of the white square's light onto it, no vertex more; the cache
+ *                 key: the texture's RGB changed loads the shadowed bake, the mask changed
+ *                 bakes again, interreflected bakes again on either
  *   chain         the oracles through the whole chain users run, on every backend of the
  *                 `prt` node (cpu, gl, cl): a probe written here -> sh_project (quadrature)
  *                 -> prt_bake -> prt, its `vertices` output read back: the cone's apex
@@ -68,6 +73,7 @@
 #include <sys/stat.h>
 
 #include "lightgraph/image.h"
+#include "lightgraph/probe.h"
 #include "lightgraph/sampling.h"
 #include "lightgraph/sh.h"
 #include "lightgraph/test.h"
@@ -1302,6 +1308,67 @@ static uint32_t masked_check(lg_test *t, const tr *x, uint32_t g, uint32_t sampl
     return mixed;
 }
 
+/* prt_reference shadowed on the masked layout under a constant cube probe (radiance 1):
+ * each floor vertex's exit radiance within the analytic quadrature's bounds over the same
+ * cube texels (lg_probe_texel_dir, lg_probe_solid_angles): r = (1 / pi) sum_t V sa_t
+ * max(N.w_t, 0), white albedo. */
+static void masked_reference(lg_test *t, uint32_t g, double a, uint32_t cells, int phase,
+                             const char *scene)
+{
+    const uint32_t R = 16;
+    lg_image img;
+    char *txt = NULL, params[64];
+    snprintf(params, sizeof params, "mode = shadowed, resolution = %u", R);
+    int rc = raw_reference(t, scene, "width = 16, cube = true, value = 1", params, "r.exr", &img,
+                           &txt);
+    free(txt);
+    if (rc != 0)
+        return;
+    float *sa = malloc((size_t)6 * R * R * sizeof(float));
+    if (!sa || lg_probe_solid_angles(LG_PROBE_CUBE, R, R, sa) != 0) {
+        LG_TEST_CHECK(t, false, "solid angles of a cube of face %u", R);
+        free(sa);
+        lg_image_free(&img);
+        return;
+    }
+    uint32_t mixed = 0;
+    for (uint32_t j = 0; j <= g; j++)
+        for (uint32_t i = 0; i <= g; i++) {
+            uint32_t vi = j * (g + 1) + i, clear = 0, blocked = 0;
+            double p[3] = { -2 + 4.0 * i / g, 0, 2 - 4.0 * j / g }, lo = 0, amb = 0;
+            for (uint32_t f = 0, k = 0; f < 6; f++)
+                for (uint32_t y = 0; y < R; y++)
+                    for (uint32_t x = 0; x < R; x++, k++) {
+                        lg_vec3 dv = lg_probe_texel_dir(LG_PROBE_CUBE, R, R, f, x, y);
+                        double l =
+                            sqrt((double)dv.x * dv.x + (double)dv.y * dv.y + (double)dv.z * dv.z);
+                        double d[3] = { dv.x / l, dv.y / l, dv.z / l };
+                        if (!(d[1] > 0))
+                            continue;
+                        int v = masked_vis(p, d, a, cells, phase);
+                        double wgt = d[1] * sa[k] / LG_PI;
+                        if (v == 1)
+                            lo += wgt, clear++;
+                        else if (v < 0)
+                            amb += wgt;
+                        else
+                            blocked++;
+                    }
+            double got = img.pixels[4 * (size_t)vi], tol = 1e-4;
+            LG_TEST_CHECK(t, got >= lo - tol && got <= lo + amb + tol,
+                          "prt_reference, %s: floor vertex %u (%g, 0, %g): %.6g, the analytic "
+                          "mask gives [%.6g, %.6g]",
+                          scene, vi, p[0], p[2], got, lo, lo + amb);
+            mixed += clear > 0 && blocked > 0 && fabs(p[0]) < a && fabs(p[2]) < a;
+        }
+    LG_TEST_CHECK(t, cells == 0 || mixed >= 9,
+                  "prt_reference, %s: only %u vertices under the square saw both opaque and "
+                  "clear texels",
+                  scene, mixed);
+    free(sa);
+    lg_image_free(&img);
+}
+
 static void case_masked(lg_test *t)
 {
     const uint32_t g = 8, samples = 32, bands = 2, cells = 4;
@@ -1379,6 +1446,95 @@ static void case_masked(lg_test *t)
         tr_free(&op);
     tr_free(&m[0]);
     tr_free(&m[1]);
+
+    /* bounces off a textured surface: the square turned to face the floor, opaque, a
+     * checker of white and black texels; the light it bounces onto the floor is the white
+     * square's on the white cells only: about half, never more (the texture sampled at each
+     * hit; a bake that ignored the texture would bounce all of it) */
+    {
+        tr sh, wh, ck;
+        const char *bp = "mode = interreflected, samples = 32, bounces = 1";
+        snprintf(sc, sizeof sc, "layout = masked, grid = %u, quad_flip = true, mask = none", g);
+        bool ok3 = bake(t, sc, "mode = shadowed, samples = 32", bands, &sh, NULL);
+        bool ok4 = ok3 && bake(t, sc, bp, bands, &wh, NULL);
+        snprintf(sc, sizeof sc,
+                 "layout = masked, grid = %u, quad_flip = true, mask = colour, mask_cells = %u", g,
+                 cells);
+        bool ok5 = ok4 && bake(t, sc, bp, bands, &ck, NULL);
+        if (ok5) {
+            double sw = 0, sk = 0;
+            uint32_t nf = (g + 1) * (g + 1);
+            for (uint32_t v = 0; v < nf; v++) {
+                size_t q = (size_t)v * 3 * sh.n2;
+                double iw = (double)wh.t[q] - sh.t[q], ik = (double)ck.t[q] - sh.t[q];
+                LG_TEST_CHECK(t, ik <= iw + 1e-6 && ik >= -1e-6,
+                              "floor vertex %u: the checker square bounces %.6g, the white one "
+                              "%.6g",
+                              v, ik, iw);
+                sw += iw, sk += ik;
+            }
+            fprintf(stderr,
+                    "masked: a white/black checker bounces %.4f of the white square's "
+                    "light onto the floor\n",
+                    sk / sw);
+            LG_TEST_CHECK(
+                t,
+                sw > 0 && sk / sw > 0.35 &&
+                        sk /
+                            sw<0.65,
+                               "the checker bounces %.4f of the white square's light, want about 0.5",
+                               sw> 0
+                    ? sk / sw
+                    : -1.0);
+        }
+        if (ok5)
+            tr_free(&ck);
+        if (ok4)
+            tr_free(&wh);
+        if (ok3)
+            tr_free(&sh);
+    }
+
+    /* prt_reference: the same mask through its shadow rays (both phases, the blinds-like
+     * 8-cell checker) */
+    for (int ph = 0; ph < 2; ph++) {
+        snprintf(sc, sizeof sc,
+                 "layout = masked, grid = %u, quad_size = %g, mask = checker, mask_cells = 8, "
+                 "mask_phase = %d",
+                 g, a, ph);
+        masked_reference(t, g, a, 8, ph, sc);
+    }
+
+    /* the cache key (prt_bake is LG_NODE_CACHE_BY_CONTENT): the checker's RGB changed (the
+     * scene node's identity changes with its parameters) loads the shadowed bake; the mask
+     * changed (its phase) bakes again; interreflected reads the texture at its bounces, so
+     * an RGB change bakes it again */
+    static const struct {
+        const char *scene, *bake, *want;
+    } steps[] = {
+        { "mask_phase = 0, texture_rgb = [1, 1, 1]", "mode = shadowed", "transfer baked" },
+        { "mask_phase = 0, texture_rgb = [0.2, 0.5, 0.9]", "mode = shadowed",
+          "transfer loaded from the cache" },
+        { "mask_phase = 1, texture_rgb = [0.2, 0.5, 0.9]", "mode = shadowed", "transfer baked" },
+        { "mask_phase = 0, texture_rgb = [1, 1, 1]", "mode = interreflected", "transfer baked" },
+        { "mask_phase = 0, texture_rgb = [0.2, 0.5, 0.9]", "mode = interreflected",
+          "transfer baked" },
+        { "mask_phase = 0, texture_rgb = [0.2, 0.5, 0.9]", "mode = interreflected",
+          "transfer loaded from the cache" },
+    };
+    for (size_t k = 0; k < sizeof steps / sizeof steps[0]; k++) {
+        char bp[128], *txt = NULL;
+        tr y;
+        snprintf(sc, sizeof sc, "layout = masked, grid = 4, mask = checker, %s", steps[k].scene);
+        snprintf(bp, sizeof bp, "%s, samples = 8", steps[k].bake);
+        if (bake(t, sc, bp, bands, &y, &txt)) {
+            LG_TEST_CHECK(t, txt && strstr(txt, steps[k].want),
+                          "step %zu: { %s } with { %s }: want '%s' in:\n%s", k, sc, bp,
+                          steps[k].want, txt ? txt : "");
+            tr_free(&y);
+        }
+        free(txt);
+    }
 }
 
 static void setup(lg_test *t)

@@ -42,6 +42,10 @@
  *             blend         the same texture under LG_ALPHA_BLEND
  *             no_texcoords  the checker's material on a square without texture coordinates
  *                           (the filter must treat it as opaque)
+ *             colour        opaque, the same texture with alpha 1 everywhere and RGB
+ *                           texture_rgb on the cells `checker` makes opaque, 0 on the others
+ *                           (for the bounces off a textured surface)
+ *           quad_flip turns the square to face -Y (the floor then sees its front).
  *           quad_alpha is material 1's base_color[3] (the factor the texture's alpha
  *           multiplies).
  *   sphere  a UV sphere of radius 1: (segments + 1) x (segments / 2 + 1) vertices,
@@ -62,7 +66,7 @@
 #include "common/testscene.h"
 
 enum { TP_CONE = 0, TP_BOX, TP_QUAD, TP_PLANE, TP_SPHERE, TP_MASKED };
-enum { TP_MASK_NONE = 0, TP_MASK_CHECKER, TP_MASK_BLEND, TP_MASK_NO_TEXCOORDS };
+enum { TP_MASK_NONE = 0, TP_MASK_CHECKER, TP_MASK_BLEND, TP_MASK_NO_TEXCOORDS, TP_MASK_COLOUR };
 
 /* The next mesh and its one instance, placed by `model`. */
 static void tp_mesh(lg_ts_builder *b, const float model[16])
@@ -150,9 +154,10 @@ static int tp_masked_publish(lg_node *n, lg_ts_builder *b)
     for (uint32_t ty = 0; ty < cells; ty++)
         for (uint32_t tx = 0; tx < cells; tx++) {
             uint8_t *p = mk->rgba8 + 4 * ((size_t)ty * cells + tx);
+            bool on = (tx + ty + phase) % 2 == 0;
             for (int c = 0; c < 3; c++)
-                p[c] = (uint8_t)lround(255.0 * rgb->v[c]);
-            p[3] = (tx + ty + phase) % 2 == 0 ? 255 : 0;
+                p[c] = mask == TP_MASK_COLOUR && !on ? 0 : (uint8_t)lround(255.0 * rgb->v[c]);
+            p[3] = on || mask == TP_MASK_COLOUR ? 255 : 0;
         }
     /* the square's vertices are lg_ts_grid_span's (i, j) = (column, row) of a 1 x 1 grid */
     for (uint32_t v = 0; v < quad->n_vertices; v++) {
@@ -175,7 +180,9 @@ static int tp_masked_publish(lg_node *n, lg_ts_builder *b)
     mk->maps = *lg_material_maps_default();
     if (mask != TP_MASK_NONE) {
         mk->maps.base_color.texture = 0;
-        mk->maps.alpha_mode = mask == TP_MASK_BLEND ? LG_ALPHA_BLEND : LG_ALPHA_MASK;
+        mk->maps.alpha_mode = mask == TP_MASK_BLEND    ? LG_ALPHA_BLEND
+                              : mask == TP_MASK_COLOUR ? LG_ALPHA_OPAQUE
+                                                       : LG_ALPHA_MASK;
         mk->maps.alpha_cutoff = 0.5f;
         m1->maps = &mk->maps;
     }
@@ -231,8 +238,10 @@ static int tp_prepare(lg_node *n)
         tp_grid(b, model, grid, o, U, V, up, false);
         double a = lg_param_float(n, "quad_size");
         double qo[3] = { -a, 1, a }, qU[3] = { 2 * a, 0, 0 }, qV[3] = { 0, 0, -2 * a };
+        bool flip = lg_param_bool(n, "quad_flip");
+        double qn[3] = { 0, flip ? -1 : 1, 0 };
         lg_ts_instance(b, lg_ts_mesh(b, "test masked square", 1), model);
-        lg_ts_grid_span(b, 1, qo, qU, qV, up, false);
+        lg_ts_grid_span(b, 1, qo, qU, qV, qn, flip);
         return tp_masked_publish(n, b);
     } else if (layout == TP_QUAD || layout == TP_PLANE) {
         static const double o[3] = { -2, 0, 2 }, U[3] = { 4, 0, 0 }, V[3] = { 0, 0, -4 },
@@ -395,7 +404,9 @@ static const lg_port_desc rp_out[] = { { .name = "probe", .kind = LG_KIND_PROBE 
 static const char *const tp_layouts[] = {
     "cone", "box", "quad", "plane", "sphere", "masked", NULL
 };
-static const char *const tp_masks[] = { "none", "checker", "blend", "no_texcoords", NULL };
+static const char *const tp_masks[] = {
+    "none", "checker", "blend", "no_texcoords", "colour", NULL
+};
 
 static const lg_param_desc tp_params[] = {
     { .key = "layout",

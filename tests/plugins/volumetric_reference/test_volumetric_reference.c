@@ -22,6 +22,14 @@
  *                the sum of the two single renders within 1e-5; 33 lights: a clear error
  *   threads      LIGHTGRAPH_THREADS 1, 2 and 3 give the same bits (jittered, spp 3: the
  *                Latin hypercube; and spp 4: the square grid)
+ *   masked       the square as a venetian blind (testvolscene slats = 4: alpha-masked
+ *                horizontal bands, plugins/embree_common's filter): a view ray through a
+ *                clear band passes the blind and its fog runs to z_limit, through an opaque
+ *                band it stops; the fog on the far side of the blind from the light (in
+ *                front of it for a light behind, behind it for a light in front) is lit
+ *                through the clear bands only. Against a fine midpoint sum of the analytic
+ *                visibility, within one segment's share per change of visibility; rays
+ *                without a change: the closed form within 1e-5
  *   gated        fog density 0: out is base bit for bit, inscatter black (the planner
  *                gates the node; its plugin is not loaded)
  *   bad_params   steps 0, spp 0 and 5000, z_limit -1, NaN and inside the near plane, a
@@ -294,6 +302,103 @@ static void case_occluder(lg_test *t)
     lg_image_free(&in);
 }
 
+/* The blind (slats bands, half-edge 1): whether (x, y) in z = 0 is on an opaque band: 1,
+ * clear or outside: 0, within 1e-3 of an edge: -1. */
+static int blind_at(double x, double y, int slats)
+{
+    if (fabs(fabs(x) - 1.0) < 1e-3 || fabs(fabs(y) - 1.0) < 1e-3)
+        return -1;
+    if (fabs(x) > 1.0 || fabs(y) > 1.0)
+        return 0;
+    double v = (1.0 - y) / 2.0 * slats, f = v - floor(v);
+    if (f < 1e-3 * slats || f > 1.0 - 1e-3 * slats)
+        return -1;
+    return ((long)floor(v)) % 2 == 0 ? 1 : 0;
+}
+
+static void case_masked(lg_test *t)
+{
+    const int slats = 4, steps = 64;
+    char lights[256], g[2048], g2[2100];
+    for (int back = 0; back < 2; back++) {
+        const double L[3] = { 0, 0, back ? 1.0 : -1.0 };
+        one_light(lights, sizeof lights, L, 10.0);
+        graph(g, sizeof g, lights, "0.4", ", steps = 64, z_limit = 20");
+        /* the same graph on the blind */
+        const char *at = strstr(g, "test_vol_scene { }");
+        LG_TEST_CHECK(t, at != NULL, "graph text");
+        if (!at)
+            return;
+        snprintf(g2, sizeof g2, "%.*stest_vol_scene { slats = %d }%s", (int)(at - g), g, slats,
+                 at + strlen("test_vol_scene { }"));
+        lg_image in = { 0 };
+        int rc = render(t, g2, "i.exr", &in, NULL);
+        LG_TEST_CHECK(t, rc == 0, "render (light from the %s): %d", back ? "back" : "front", rc);
+        if (rc != 0)
+            return;
+        int through = 0, stopped = 0, mixed = 0;
+        double worst = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                double w[3];
+                ray(x, y, w);
+                double cf = -w[2], ts = EYE_Z / cf;
+                int hit = blind_at(ts * w[0], ts * w[1], slats);
+                if (hit < 0)
+                    continue;
+                double d = hit ? ts : 20.0 / cf;
+                through += !hit && fabs(ts * w[0]) < 1 && fabs(ts * w[1]) < 1;
+                stopped += hit;
+                const float *pi = in.pixels + ((size_t)y * W + x) * 4;
+                /* the point at t is shadowed when its shadow ray (along -L) crosses the
+                 * blind's plane on an opaque band: in front of the blind (z > 0) for the
+                 * light behind, behind it (z < 0) for the light in front */
+                const int fine = 20000;
+                double c = -(w[0] * L[0] + w[1] * L[1] + w[2] * L[2]), p = lg_hg_phase(0.4, c);
+                double sum[3] = { 0, 0, 0 }, hf = d / fine;
+                int changes = 0, prev = -2, amb = 0;
+                for (int k = 0; k < fine; k++) {
+                    double tt = (k + 0.5) * hf, z = EYE_Z + tt * w[2];
+                    bool crosses = back ? z > 0 : z < 0;
+                    int b = crosses ? blind_at(tt * w[0], tt * w[1], slats) : 0;
+                    if (b < 0) {
+                        amb++;
+                        continue;
+                    }
+                    changes += prev >= 0 && b != prev;
+                    prev = b;
+                    for (int ch = 0; ch < 3; ch++)
+                        sum[ch] += b ? 0.0 : exp(-SIG_T[ch] * tt) * hf;
+                }
+                mixed += changes > 0;
+                for (int ch = 0; ch < 3; ch++) {
+                    double lit = 10.0 * SIG_S[ch] * p, want = lit * sum[ch];
+                    /* without a change of visibility the estimator is exact (the segment
+                     * integral): the closed form; else one segment's share per change */
+                    if (changes == 0 && amb == 0)
+                        want = hit ? closed(10.0, SIG_S[ch], SIG_T[ch], 0.4, w, L, d) : want;
+                    double share = changes == 0 && amb == 0
+                                       ? 1e-5 * fabs(want) + (hit ? 0.0 : lit * hf)
+                                       : lit * d / steps * (changes + 1) + lit * hf * (amb + 2);
+                    worst = fmax(worst, fabs(pi[ch] - want) / share);
+                    LG_TEST_CHECK(t, fabs(pi[ch] - want) <= share,
+                                  "light from the %s, pixel (%d, %d) (%s) channel %d: %.9g, "
+                                  "want %.9g (%d changes of visibility, tolerance %.3g)",
+                                  back ? "back" : "front", x, y, hit ? "opaque band" : "clear", ch,
+                                  (double)pi[ch], want, changes, share);
+                }
+            }
+        LG_TEST_CHECK(t, through >= 4 && stopped >= 4 && (!back || mixed >= 4),
+                      "light from the %s: %d pixels through clear bands, %d on opaque ones, %d "
+                      "with light and shadow along the ray",
+                      back ? "back" : "front", through, stopped, mixed);
+        lg_test_note_("masked, light from the %s: %d pixels see through the blind, %d stop on "
+                      "it, %d cross light and shadow; worst %.3g of the tolerance\n",
+                      back ? "back" : "front", through, stopped, mixed, worst);
+        lg_image_free(&in);
+    }
+}
+
 static void case_lights32(lg_test *t)
 {
     /* 32 directions travelling away from +Z's fog side: (-L).z > 0, so the rays towards
@@ -523,6 +628,7 @@ int main(int argc, char **argv)
         { "threads", case_threads },
         { "bad_params", case_bad_params },
         { "gated", case_gated },
+        { "masked", case_masked },
     };
     lg_test_main_opts o = { .prefix = "volumetric_reference", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
