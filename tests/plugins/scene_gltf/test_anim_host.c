@@ -19,6 +19,11 @@
  *   pattern     frame patterns refused at check time with the position: %s, two
  *               conversions, %n, "%5d" (exit 2, nothing written); a failure at frame 2
  *               (test_work fail_frame) leaves no frame file, not even frames 0 and 1
+ *   truck       CesiumMilkTruck (assets/meshes/CesiumMilkTruck) plays with --frames 3 --dt
+ *               0.4: its animation turns the two wheel nodes ("animated instances, lights
+ *               and cameras 2"), preview runs per frame, and between frame 0 and frame 2
+ *               the normals change inside the wheels only (every changed pixel lies in the
+ *               bottom half of the picture, where the wheels are; the body is still)
  *   refused     hard cases (stability): key times not increasing, a NaN key value, a
  *               channel to a node that does not exist, an animated matrix node, a skinned
  *               animation (a joint of a skin), a morph-weight animation, an unknown
@@ -319,6 +324,56 @@ static void case_pattern(lg_test *t)
     free(cmd);
 }
 
+static void case_truck(lg_test *t)
+{
+    const char *truck = lg_test_asset("meshes/CesiumMilkTruck/CesiumMilkTruck.gltf");
+    if (!truck) {
+        LG_TEST_CHECK(t, false, "asset meshes/CesiumMilkTruck/CesiumMilkTruck.gltf is missing");
+        return;
+    }
+    char *g = NULL;
+    if (asprintf(&g,
+                 "lightgraph 1\nscene = gltf { file = \"%s\" }\n"
+                 "v = preview { scene = scene, mode = \"normals\" }\noutput v \"t_%%d.exr\"\n",
+                 truck) < 0)
+        exit(99);
+    lg_test_write_text(t, "g.lgraph", g);
+    free(g);
+    const char *args[] = { "--frames", "3", "--dt", "0.4", "--size", "96x64", "--explain", NULL };
+    char *out = NULL;
+    int rc = lg_test_render(t, "g.lgraph", args, &out);
+    if (lg_test_output_says_no_device(out))
+        lg_test_skip(t, "no GL device");
+    LG_TEST_CHECK(t,
+                  rc == 0 && out && strstr(out, "animated instances, lights and cameras 2") &&
+                      strstr(out, "per frame: reads an animated scene"),
+                  "exit %d: %s", rc, out ? out : "");
+    free(out);
+    const char *rargs[] = { "--frames", "3", "--dt", "0.4", "--size", "96x64", NULL };
+    LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", rargs, NULL) == 0, "render failed");
+    lg_image a, b;
+    if (!lg_test_read(t, "t_0.exr", &a, NULL) || !lg_test_read(t, "t_2.exr", &b, NULL)) {
+        LG_TEST_CHECK(t, false, "frame files missing");
+        return;
+    }
+    uint32_t changed = 0, above = 0;
+    for (uint32_t y = 0; y < a.height; y++)
+        for (uint32_t x = 0; x < a.width; x++) {
+            size_t i = 4 * ((size_t)y * a.width + x);
+            bool d = false;
+            for (int c = 0; c < 3; c++)
+                d |= fabsf(a.pixels[i + c] - b.pixels[i + c]) > 1e-3f;
+            changed += d;
+            above += d && y < a.height / 2;
+        }
+    printf("truck: %u pixels changed between frames 0 and 2, %u above the wheels\n", changed,
+           above);
+    LG_TEST_CHECK(t, changed >= 10, "the wheels did not turn: %u pixels changed", changed);
+    LG_TEST_CHECK(t, above == 0, "%u changed pixels above the wheels: the body moved", above);
+    lg_image_free(&a);
+    lg_image_free(&b);
+}
+
 static void refused(lg_test *t, const char *what, const char *node0, const char *extra,
                     const char *anim, const char *skins, const char *says)
 {
@@ -377,10 +432,8 @@ static void case_refused(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "frames", case_frames },
-        { "runs", case_runs },
-        { "pattern", case_pattern },
-        { "refused", case_refused },
+        { "frames", case_frames },   { "runs", case_runs },   { "pattern", case_pattern },
+        { "refused", case_refused }, { "truck", case_truck },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }
