@@ -811,15 +811,27 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
                                "resolution or no light list");
     }
     lg_scene_view v;
-    int rc = lg_scene_view_make(n, f.s, st->camera, st->width, st->height, &v);
+    /* animated lights and cameras at this frame's time (ABI 3.1): the lights and the view
+     * read the posed copy, materials and meshes are the scene's own */
+    lg_scene at;
+    int rc = lg_scene_at(n, f.s, frame->time, &at);
     if (rc)
         return rc;
+    const lg_scene *scene = f.s;
+    f.s = &at;
+    rc = lg_scene_view_make(n, f.s, st->camera, st->width, st->height, &v);
+    if (rc) {
+        lg_scene_at_free(scene, &at);
+        return rc;
+    }
     f.v = &v;
     ph_gpu_light *lights = NULL;
     ph_gpu_shadow *shadows = NULL;
     uint32_t n_shadow = 0;
-    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow)))
+    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow))) {
+        lg_scene_at_free(scene, &at);
         return rc;
+    }
     f.n_lights = f.s->n_lights;
 
     const lg_gl *gl = lg_gl_get(n);
@@ -865,6 +877,7 @@ out:
     }
     free(lights);
     free(shadows);
+    lg_scene_at_free(scene, &at);
     return rc ? rc : (gl ? lg_gl_check(n, "phong: uploading the lights") : rc);
 }
 

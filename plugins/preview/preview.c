@@ -116,7 +116,13 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
     if (!s)
         return LG_ERR_INVALID;
     lg_scene_view v;
-    int rc = lg_scene_view_make(n, s, st->camera, st->width, st->height, &v);
+    /* an animated camera at this frame's time (ABI 3.1; the instances: set_time below) */
+    lg_scene at;
+    int rc = lg_scene_at(n, s, frame->time, &at);
+    if (rc)
+        return rc;
+    rc = lg_scene_view_make(n, &at, st->camera, st->width, st->height, &v);
+    lg_scene_at_free(s, &at);
     if (rc)
         return rc;
     if (!st->pass && (rc = pv_make_pass(n, st)))

@@ -624,3 +624,41 @@ int lg_scene_pose_cameras(lg_node *node, const lg_scene *s, double time, lg_came
 {
     return pose_carried(node, s, time, false, out);
 }
+
+int lg_scene_at(lg_node *node, const lg_scene *s, double time, lg_scene *out)
+{
+    *out = *s;
+    const lg_scene_animation *a = lg_scene_is_animated(s) ? s->animation : NULL;
+    bool lights = false, cams = false;
+    for (uint32_t i = 0; a && a->light_node && i < s->n_lights; i++)
+        lights |= a->light_node[i] >= 0;
+    for (uint32_t i = 0; a && a->camera_node && i < s->n_cameras; i++)
+        cams |= a->camera_node[i] >= 0;
+    lg_light *l = lights ? malloc(s->n_lights * sizeof *l) : NULL;
+    lg_camera *c = cams ? malloc(s->n_cameras * sizeof *c) : NULL;
+    if ((lights && !l) || (cams && !c)) {
+        free(l), free(c);
+        if (node)
+            lg_error(node, "cannot pose the scene's lights and cameras: out of memory");
+        return LG_ERR_NOMEM;
+    }
+    int rc = 0;
+    if (l && !(rc = lg_scene_pose_lights(node, s, time, l)))
+        out->lights = l;
+    if (!rc && c && !(rc = lg_scene_pose_cameras(node, s, time, c)))
+        out->cameras = c;
+    if (rc) {
+        free(l), free(c);
+        *out = *s;
+    }
+    return rc;
+}
+
+void lg_scene_at_free(const lg_scene *s, lg_scene *out)
+{
+    if (out->lights != s->lights)
+        free((void *)out->lights);
+    if (out->cameras != s->cameras)
+        free((void *)out->cameras);
+    *out = *s;
+}

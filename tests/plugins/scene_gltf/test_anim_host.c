@@ -12,6 +12,9 @@
  *               (within 0.6 px); frame 1 matches a static file with the quad at x = 0
  *               (centroid within 0.01 px); without a pattern only the last frame is written
  *               (its centroid at 47.14); STEP holds x = -1 until the last key
+ *   camera      the quad still, the camera carried by an animated parent node that moves
+ *               from x = -1 to x = +1: the quad's centroid moves the other way (47.14, 32,
+ *               16.86 at t = 0, 0.5, 1 s), through lg_scene_at in preview
  *   runs        --profile-json: with the animated file and --frames 4, gltf runs once and
  *               preview 4 times; with `animation = -1` (and with a static file) every node
  *               runs once; --explain says preview runs per frame because it "reads an
@@ -210,6 +213,52 @@ static void case_frames(lg_test *t)
     cl = centroid(t, "last.exr");
     LG_TEST_CHECK(t, fabs(cl - want[0]) < 0.6, "STEP at 0.49 s: centroid %.3f, want %.3f", cl,
                   want[0]);
+}
+
+static void case_camera(lg_test *t)
+{
+    write_bin(t);
+    /* node 2 (animated) carries the camera, node 1 */
+    static const char CAM[] = "[{\"name\":\"dolly\",\"channels\":[{\"sampler\":0,\"target\":"
+                              "{\"node\":2,\"path\":\"translation\"}}],\"samplers\":[{"
+                              "\"input\":2,\"output\":3}]}]";
+    write_gltf(t, "anim.gltf", "", ",{\"name\":\"rig\",\"children\":[1]}", CAM, "");
+    /* the camera is now node 2's child: the scene lists the quad and the rig */
+    char *text = NULL;
+    FILE *f = fopen(lg_test_path(t, "anim.gltf"), "rb");
+    if (!f)
+        exit(99);
+    static char buf[8192];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    char *roots = strstr(buf, "\"nodes\":[0,1]");
+    if (!roots)
+        exit(99);
+    memcpy(roots, "\"nodes\":[0,2]", 13);
+    lg_test_write_text(t, "anim.gltf", buf);
+    if (mkdir(lg_test_path(t, "frames"), 0777))
+        exit(99);
+    char *g = NULL;
+    if (asprintf(&g, "%soutput v \"frames/c_%%d.exr\"\n", GRAPH) < 0)
+        exit(99);
+    lg_test_write_text(t, "g.lgraph", g);
+    free(g);
+    const char *args[] = { "--frames", "3", "--dt", "0.5", "--size", "64x64", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, &text);
+    if (lg_test_output_says_no_device(text))
+        lg_test_skip(t, "no GL device");
+    LG_TEST_CHECK(t, rc == 0, "render failed: %s", text ? text : "");
+    free(text);
+    const double k = 32.0 / (5.0 * tan(0.4));
+    const double want[3] = { 32 + k, 32, 32 - k };
+    for (int i = 0; i < 3; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "frames/c_%d.exr", i);
+        double c = centroid(t, name);
+        LG_TEST_CHECK(t, fabs(c - want[i]) < 0.6, "frame %d: centroid %.3f, want %.3f", i, c,
+                      want[i]);
+    }
 }
 
 /* "runs" of node `name` in a --profile-json file, or -1. */
@@ -544,6 +593,7 @@ int main(int argc, char **argv)
     static const lg_test_case cases[] = {
         { "frames", case_frames },   { "runs", case_runs },   { "pattern", case_pattern },
         { "refused", case_refused }, { "truck", case_truck }, { "prt_motion", case_prt_motion },
+        { "camera", case_camera },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }
