@@ -350,8 +350,7 @@ LG_API int lg_scene_pose_cameras(lg_node *node, const struct lg_scene *s, double
  * made here when the animation moves one of them; every other pointer is s's (instances
  * stay the rest pose: lg_scene_pose, lg_gl_pass_set_time). Free with lg_scene_at_free(s,
  * out), which frees only what this call made. Returns 0 or an LG_ERR_* (reported). */
-LG_API int lg_scene_at(lg_node *node, const struct lg_scene *s, double time,
-                       struct lg_scene *out);
+LG_API int lg_scene_at(lg_node *node, const struct lg_scene *s, double time, struct lg_scene *out);
 LG_API void lg_scene_at_free(const struct lg_scene *s, struct lg_scene *out);
 
 /* True when the scene has an animation whose channels move something (duration may be 0:
