@@ -67,4 +67,8 @@ bool lg_embree_covers(const lg_scene *s, const lg_mesh *me, uint32_t prim, float
  * filter. */
 bool lg_embree_mesh_masked(const lg_scene *s, const lg_mesh *me);
 
+/* lg_embree_make with the instances of an animated scene posed at `time` seconds
+ * (lg_scene_pose; a static scene is built as it is). Rebuilt per frame by the caller. */
+int lg_embree_make_at(lg_node *node, const lg_scene *s, double time, lg_embree *e);
+
 #endif

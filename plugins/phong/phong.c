@@ -801,7 +801,6 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
 
 static int ph_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     ph_state *st = n->user;
     ph_frame_in f = { 0 };
     f.scene_res = lg_input(n, 0);
@@ -819,15 +818,27 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
                                "resolution or no light list");
     }
     lg_scene_view v;
-    int rc = lg_scene_view_make(n, f.s, st->camera, st->width, st->height, &v);
+    /* animated lights and cameras at this frame's time (ABI 3.1): the lights and the view
+     * read the posed copy, materials and meshes are the scene's own */
+    lg_scene at;
+    int rc = lg_scene_at(n, f.s, frame->time, &at);
     if (rc)
         return rc;
+    const lg_scene *scene = f.s;
+    f.s = &at;
+    rc = lg_scene_view_make(n, f.s, st->camera, st->width, st->height, &v);
+    if (rc) {
+        lg_scene_at_free(scene, &at);
+        return rc;
+    }
     f.v = &v;
     ph_gpu_light *lights = NULL;
     ph_gpu_shadow *shadows = NULL;
     uint32_t n_shadow = 0;
-    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow)))
+    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow))) {
+        lg_scene_at_free(scene, &at);
         return rc;
+    }
     f.n_lights = f.s->n_lights;
 
     const lg_gl *gl = lg_gl_get(n);
@@ -843,6 +854,10 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     if ((rc = ph_upload(n, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights)) ||
         (rc = ph_upload(n, &st->shadows_buf, shadows, (size_t)n_shadow * sizeof *shadows)))
         goto out;
+    /* an animated scene: its instances at this frame's time (ABI 3.1) */
+    lg_gl_pass_set_time(st->pass, frame->time);
+    lg_gl_pass_set_time(st->id_pass, frame->time);
+    lg_gl_pass_set_time(st->half_pass, frame->time);
     if (st->shading == PH_HALF) {
         rc = ph_half(n, st, gl, &f, &out);
     } else {
@@ -869,6 +884,7 @@ out:
     }
     free(lights);
     free(shadows);
+    lg_scene_at_free(scene, &at);
     return rc ? rc : (gl ? lg_gl_check(n, "phong: uploading the lights") : rc);
 }
 

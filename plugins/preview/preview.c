@@ -144,18 +144,24 @@ static int pv_make_pass(lg_node *n, pv_state *st)
 
 static int pv_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     pv_state *st = n->user;
     const lg_resource *scene_res = lg_input(n, 0);
     const lg_scene *s = lg_scene_get(n, scene_res);
     if (!s)
         return LG_ERR_INVALID;
     lg_scene_view v;
-    int rc = lg_scene_view_make(n, s, st->camera, st->width, st->height, &v);
+    /* an animated camera at this frame's time (ABI 3.1; the instances: set_time below) */
+    lg_scene at;
+    int rc = lg_scene_at(n, s, frame->time, &at);
+    if (rc)
+        return rc;
+    rc = lg_scene_view_make(n, &at, st->camera, st->width, st->height, &v);
+    lg_scene_at_free(s, &at);
     if (rc)
         return rc;
     if (!st->pass && (rc = pv_make_pass(n, st)))
         return rc;
+    lg_gl_pass_set_time(st->pass, frame->time); /* an animated scene's pose (ABI 3.1) */
     if ((rc = lg_gl_pass_begin(st->pass, NULL)))
         return rc;
     const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };

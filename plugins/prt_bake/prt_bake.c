@@ -2186,8 +2186,10 @@ static const lg_node_type pb_types[] = {
         LG_OUTPUTS(pb_bake_out),
         .needs = LG_NEEDS_GEOMETRY,
         /* per vertex: the camera plays no part; cached by what it reads of the scene
-         * (pb_content), not by the scene's identity */
-        .flags = LG_NODE_VIEW_INDEPENDENT | LG_NODE_CACHE_BY_CONTENT,
+         * (pb_content), not by the scene's identity; in each mesh's frame of its first
+         * instance at rest: an animation that moves it does not re-bake (prt turns the
+         * lighting instead, plugins/prt/README.md "Rigid motion") */
+        .flags = LG_NODE_VIEW_INDEPENDENT | LG_NODE_CACHE_BY_CONTENT | LG_NODE_POSE_INDEPENDENT,
         .create = pb_create_bake,
         .prepare = pb_prepare,
         .execute = pb_execute,

@@ -590,6 +590,10 @@ struct lg_gltf_doc {
     std::vector<lg_gltf_camera> cameras;
     std::vector<lg_gltf_material> materials;
     std::vector<lg_gltf_light> lights;
+    std::vector<lg_gltf_animation> animations;
+    std::deque<std::vector<lg_gltf_anim_channel>> anim_channels;
+    std::deque<std::vector<lg_gltf_anim_sampler>> anim_samplers;
+    std::vector<lg_gltf_skin> skins;
     std::vector<const char *> required;
     std::deque<tinygltf::Value> owned_values; // extension maps wrapped as objects
     std::string warnings;
@@ -608,6 +612,7 @@ struct lg_gltf_doc {
     const lg_json *value(const tinygltf::Value &v);
     const lg_json *extensions(const tinygltf::ExtensionMap &m);
     void fill();
+    void fill_animations();
 };
 
 void lg_gltf_doc::convert(const tinygltf::Value &v, lg_json *out)
@@ -852,6 +857,7 @@ void lg_gltf_doc::fill()
     v.asset_extras = value(m.asset.extras);
     v.warnings = warnings.c_str();
     fill_textures();
+    fill_animations();
 }
 
 lg_gltf_texture_info lg_gltf_doc::texture_info(int index, int texcoord, double scale,
@@ -898,6 +904,28 @@ void lg_gltf_doc::fill_textures()
     v.textures = textures.data();
     v.n_textures = uint32_t(textures.size());
     v.base_dir = base_dir.c_str();
+}
+
+void lg_gltf_doc::fill_animations()
+{
+    for (const auto &a : model.animations) {
+        anim_channels.emplace_back();
+        std::vector<lg_gltf_anim_channel> &cs = anim_channels.back();
+        for (const auto &c : a.channels)
+            cs.push_back({ c.sampler, c.target_node, c.target_path.c_str() });
+        anim_samplers.emplace_back();
+        std::vector<lg_gltf_anim_sampler> &ss = anim_samplers.back();
+        for (const auto &sm : a.samplers)
+            ss.push_back({ sm.input, sm.output, sm.interpolation.c_str() });
+        animations.push_back(
+            { a.name.c_str(), cs.data(), uint32_t(cs.size()), ss.data(), uint32_t(ss.size()) });
+    }
+    view.animations = animations.data();
+    view.n_animations = uint32_t(animations.size());
+    for (const auto &sk : model.skins)
+        skins.push_back({ sk.joints.data(), uint32_t(sk.joints.size()) });
+    view.skins = skins.data();
+    view.n_skins = uint32_t(skins.size());
 }
 
 extern "C" const lg_json *lg_json_get(const lg_json *obj, const char *key)

@@ -590,7 +590,6 @@ static int sm_on_mesh(lg_node *n, void *user, uint32_t mesh, GLuint *normals)
 
 static int sm_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     sm_state *st = n->user;
     const lg_shadowmap *sm = st->sm;
     const lg_resource *scene_res = lg_input(n, 0);
@@ -640,6 +639,7 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
     lg_gl_pass_clear_depth(st->pass, 1.0f);
     st->scene_res = scene_res;
     lg_gl_scene_draw draw = { .on_mesh = sm_on_mesh, .user = st };
+    lg_gl_pass_set_time(st->pass, frame->time); /* an animated scene's pose (ABI 3.1) */
     for (uint32_t li = 0; li < sm->n_lights && !rc; li++) {
         const lg_shadow_light *l = &sm->lights[li];
         lg_gl_pass_viewport(st->pass, (int32_t)l->tile_x, (int32_t)l->tile_y, sm->resolution,
