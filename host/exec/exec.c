@@ -413,7 +413,7 @@ int lg_exec_frame(lg_exec *ex, uint32_t index)
     frame.index = index;
     frame.count = UINT32_MAX; /* open-ended: the viewer runs until it is closed */
     frame.dt = ex->opts.dt;
-    frame.time = index * ex->opts.dt;
+    frame.time = ex->viewer.has_time ? ex->viewer.time : index * ex->opts.dt;
     frame.width = ex->opts.width;
     frame.height = ex->opts.height;
     ex->frame = index;

@@ -277,6 +277,9 @@ typedef struct lg_pnode_run {
     bool warned_once;
     bool cache_stuck; /* an entry of this node could not be removed (cache.c):
                        * said once by cache_get, bypassed by cache_put */
+    /* the node asked for the render size (lg_render_size): the viewer's plan at another
+     * size makes it again (plan.c, adoptable) */
+    bool read_render_size;
 } lg_pnode_run;
 
 /* What --profile reports about a node (exec/profile.c). */
@@ -390,6 +393,10 @@ typedef struct lg_exec_viewer {
      * runs again the nodes that read a scene. */
     const lg_camera *camera;
     uint64_t camera_gen;
+    /* When set, lg_exec_frame passes `time` as lg_frame.time instead of index * dt: the
+     * viewer's animation clock (play, pause, scrub; docs/viewer.md "Animation"). */
+    bool has_time;
+    double time;
 } lg_exec_viewer;
 
 typedef struct lg_exec {

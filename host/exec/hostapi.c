@@ -567,6 +567,7 @@ static void api_cache_reject(lg_node *n, const char *key, const char *why)
 
 static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
 {
+    P(n)->run.read_render_size = true;
     if (w)
         *w = P(n)->ex->opts.width;
     if (h)
