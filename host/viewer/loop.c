@@ -21,8 +21,15 @@
 static void overlay_text(viewer *v, lg_str *s)
 {
     const loaded *l = &v->cur;
+    float sx = 1, sy = 1;
+    glfwGetWindowContentScale(v->win, &sx, &sy);
     lg_str_addf(s, "%s  %ux%u  shown: %s  %.1f fps  frame %u\n", v->graph, v->opts.width,
                 v->opts.height, l->shown_name ? l->shown_name : "-", v->fps, v->frame);
+    lg_str_addf(s, "window: framebuffer %dx%d pixels, content scale %.2gx%.2g%s\n", v->fb_w,
+                v->fb_h, (double)sx, (double)sy,
+                v->minimised        ? " (minimised: nothing rendered)"
+                : v->resize_pending ? " (resizing)"
+                                    : "");
     int wn = 4, wt = 4;
     for (uint32_t i = 0; i < l->c->n_nodes; i++) {
         int a = (int)strlen(l->g->nodes[i].name), b = (int)strlen(l->c->nodes[i].type->name);
@@ -72,6 +79,8 @@ static void overlay_text(viewer *v, lg_str *s)
     lg_str_addf(s, "select: %s   [Tab node, Up/Down entry, Left/Right value, M method]\n",
                 d.s ? d.s : "-");
     lg_str_free(&d);
+    lg_str_addf(s, "time: %.3f s %s (dt %g s)   [Space play/pause, , . step, shift x10]\n", v->time,
+                v->paused ? "paused" : "playing", v->opts.dt);
     lg_str_addf(s, "camera: %s   exposure %+.1f EV%s\n",
                 !v->cam_on                    ? "the graph's"
                 : v->vcam.mode == LG_VCAM_FLY ? "fly"
@@ -122,6 +131,104 @@ static void take_window_shot(viewer *v)
     v->window_shot = NULL;
 }
 
+/* ---- the animation clock --------------------------------------------------------------------- */
+
+/* The time is the viewer's, not the frame index's: a paused or scrubbed graph gets the
+ * time it shows, and the nodes that depend on it (per frame, as the planner says) see it as
+ * lg_frame.time. A time outside [0, LG_VIEWER_MAX_TIME] is clamped: before 0 the graph's
+ * time does not exist, and beyond 10^6 s a step of dt would no longer show in a float. */
+static double clamp_time(double t)
+{
+    return t < 0 ? 0 : t > LG_VIEWER_MAX_TIME ? LG_VIEWER_MAX_TIME : t;
+}
+
+void lg_viewer_play(viewer *v, bool play)
+{
+    v->paused = !play;
+    lg_viewer_status(v, false, "%s at %.3f s", play ? "playing" : "paused", v->time);
+}
+
+void lg_viewer_set_time(viewer *v, double t)
+{
+    if (!isfinite(t)) {
+        lg_viewer_status(v, true, "time %g refused: not a finite number of seconds", t);
+        return;
+    }
+    v->time = clamp_time(t);
+    if (v->time != t)
+        lg_viewer_status(v, false, "time %.3f s (%g clamped to [0, %g])", v->time, t,
+                         LG_VIEWER_MAX_TIME);
+    else
+        lg_viewer_status(v, false, "time %.3f s", v->time);
+}
+
+void lg_viewer_step_time(viewer *v, int frames)
+{
+    v->paused = true;
+    v->time = clamp_time(v->time + frames * v->opts.dt);
+    lg_viewer_status(v, false, "paused at %.3f s (stepped %+d frame%s)", v->time, frames,
+                     frames == 1 || frames == -1 ? "" : "s");
+}
+
+/* ---- the window's size ----------------------------------------------------------------------- */
+
+void lg_viewer_framebuffer_resized(viewer *v, int w, int h)
+{
+    v->fb_w = w;
+    v->fb_h = h;
+    /* minimised (X and Windows report 0 x 0): keep the render, draw nothing */
+    v->minimised = w <= 0 || h <= 0;
+    v->resize_pending = !v->minimised &&
+                        ((uint32_t)w != v->opts.width || (uint32_t)h != v->opts.height);
+    v->resize_at = lg_mono_now();
+    v->resize_frame = v->frame;
+}
+
+/* The render size the framebuffer asks for: its pixels (on a HiDPI screen the framebuffer
+ * is larger than the window's coordinates, and the render matches the pixels), at least
+ * LG_VIEWER_MIN_SIZE a side, scaled down (keeping the aspect) to the pixel limit. */
+static void render_size_for(int fw, int fh, uint32_t *w, uint32_t *h)
+{
+    double x = fw < LG_VIEWER_MIN_SIZE ? LG_VIEWER_MIN_SIZE : fw;
+    double y = fh < LG_VIEWER_MIN_SIZE ? LG_VIEWER_MIN_SIZE : fh;
+    double limit = (double)lg_image_max_pixels();
+    if (x * y > limit) {
+        double f = sqrt(limit / (x * y));
+        x = floor(x * f);
+        y = floor(y * f);
+    }
+    *w = (uint32_t)x;
+    *h = (uint32_t)y;
+}
+
+/* A framebuffer size that has held long enough (a window's edge being dragged sends one
+ * every few milliseconds, and a plan at each would stall the drag): the graph is planned
+ * again at that size, adopting what does not depend on it (plan.c, adoptable). A failure
+ * keeps the old size and its picture, scaled to the window. */
+static void apply_resize(viewer *v)
+{
+    if (!v->resize_pending || v->minimised)
+        return;
+    bool settled = v->scripted ? v->frame >= v->resize_frame + LG_VIEWER_RESIZE_DEBOUNCE_FRAMES
+                               : lg_mono_now() - v->resize_at >= LG_VIEWER_RESIZE_DEBOUNCE;
+    if (!settled)
+        return;
+    v->resize_pending = false;
+    uint32_t w, h, ow = v->opts.width, oh = v->opts.height;
+    render_size_for(v->fb_w, v->fb_h, &w, &h);
+    if (w == ow && h == oh)
+        return;
+    v->opts.width = w;
+    v->opts.height = h;
+    char *what = lg_xasprintf("render size %ux%u (the window's framebuffer is %dx%d)", w, h,
+                              v->fb_w, v->fb_h);
+    if (!lg_viewer_attempt(v, what, false)) {
+        v->opts.width = ow;
+        v->opts.height = oh;
+    }
+    free(what);
+}
+
 /* ---- the loop -------------------------------------------------------------------------------- */
 
 static void present(viewer *v)
@@ -153,6 +260,8 @@ static void run_frame(viewer *v)
         return;
     free(v->last_error);
     v->last_error = NULL;
+    v->cur.ex->viewer.has_time = true;
+    v->cur.ex->viewer.time = v->time;
     if (lg_exec_frame(v->cur.ex, v->frame) != 0 || v->cur.ex->failed) {
         v->frame_failed = true;
         lg_viewer_status(v, true,
@@ -167,7 +276,7 @@ static void run_frame(viewer *v)
 /* Nothing to run, nothing moving: the loop may wait for an event rather than spin. */
 static bool idle(const viewer *v)
 {
-    bool busy = v->scripted || v->anim.active || v->rebuild;
+    bool busy = v->scripted || v->anim.active || v->rebuild || v->resize_pending;
     for (uint32_t i = 0; !busy && i < v->cur.ex->n_nodes; i++)
         busy = v->cur.ex->nodes[i] && v->cur.ex->nodes[i]->run.per_frame &&
                v->cur.ex->nodes[i]->plan.state == LG_STATE_KEPT;
@@ -192,12 +301,14 @@ int lg_viewer_loop(viewer *v)
         double now = lg_mono_now();
         double dt = v->scripted ? 1.0 / 30.0 : now - v->last_t;
         lg_viewer_fly_step(v, dt);
-        if (!v->frame_done)
+        apply_resize(v);
+        if (!v->frame_done && !v->minimised)
             run_frame(v);
         v->frame_done = false;
         if (v->ev_auto_pending)
             lg_viewer_auto_exposure(v);
-        present(v);
+        if (!v->minimised)
+            present(v);
         double ft = now - v->last_t;
         v->last_t = now;
         if (ft > 0)
@@ -205,6 +316,8 @@ int lg_viewer_loop(viewer *v)
         if (v->frame % 15 == 0)
             update_title(v);
         v->frame++;
+        if (!v->paused)
+            v->time = clamp_time(v->time + v->opts.dt);
         if (idle(v))
             glfwWaitEventsTimeout(0.1);
     }
