@@ -106,6 +106,15 @@ pictures-prt: build
 	  $(BUILD)/lightgraph render examples/prt.lgraph --size 480x270 --set bake.mode=$$m \
 	    -o docs/images/prt_$$m.png || exit 1; done
 
+# Seed 0's figure of the lighting reconstructed with 1, 3, 5 and 7 bands (docs/sh.md, "Seeing
+# the reconstruction"): examples/sh_background.lgraph at each band count, and the probe.
+pictures-sh: build
+	for b in 1 3 5 7; do \
+	  $(BUILD)/lightgraph render examples/sh_background.lgraph --size 512x256 \
+	    --set seen.bands=$$b -o docs/images/sh_bands_$$b.png || exit 1; done
+	$(BUILD)/lightgraph render examples/sh_background.lgraph --size 512x256 \
+	  --set exposure.image=panorama -o docs/images/sh_bands_probe.png
+
 # The volumetric thesis's experiments (seed 2, chapter 4): the three methods on the bunny
 # box, the dragon and six instanced dragons, and 1..32 lights, at the thesis's settings
 # (2134 x 1459; QUICK=1 for a smoke run); tables and plots into docs/images/volumetric/
