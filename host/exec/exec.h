@@ -421,7 +421,8 @@ typedef struct lg_exec {
 
 /* Runs one frame for the viewer: a kept node runs when it has not run yet, runs per
  * frame, reads a scene whose camera changed since it last ran (but for nodes that make
- * scenes and LG_NODE_VIEW_INDEPENDENT ones), or reads a node that ran in this frame.
+ * scenes and LG_NODE_VIEW_INDEPENDENT ones), or reads a node that ran in this frame. The
+ * frame's time is ex->viewer.time when has_time is set, else index * dt.
  * Returns 0, or -1 after reporting. */
 int lg_exec_frame(lg_exec *ex, uint32_t index);
 /* fn(ctx) under the guard `mode` asks for: 0, or (LG_GUARD_RECOVER) the signal that
