@@ -27,6 +27,7 @@
  * The node runs once (static) on the CPU, over the host's thread pool. README.md has the
  * ports, parameters, the text format of its output and the measured accuracy and cost.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -594,7 +595,20 @@ static int shb_execute(lg_node *n, const lg_frame *frame)
     int rc = lg_map_cpu(n, sh->coeffs, LG_READ, &cv);
     if (rc)
         return rc;
-    const float *coef = cv.pixels; /* [3][have^2] */
+    /* the coefficients used, [3][nb^2], in double: a NaN or infinite one (a broken
+     * producer) would spread to every pixel, so it counts as 0, with one warning */
+    uint32_t nc = nb * nb, stride = have * have;
+    double coef[3 * LG_SH_MAX_BANDS * LG_SH_MAX_BANDS];
+    uint64_t bad = 0;
+    for (int ch = 0; ch < 3; ch++)
+        for (uint32_t k = 0; k < nc; k++) {
+            float c = ((const float *)cv.pixels)[ch * stride + k];
+            bad += !isfinite(c);
+            coef[ch * nc + k] = isfinite(c) ? (double)c : 0.0;
+        }
+    if (bad)
+        lg_log(n, LG_LOG_WARN, "input 'sh': %llu of %u coefficients NaN or infinite, taken as 0",
+               (unsigned long long)bad, 3 * nc);
     lg_resource_info info;
     if ((rc = lg_describe(lg_output(n, 0), &info, n)))
         return rc;
@@ -612,7 +626,6 @@ static int shb_execute(lg_node *n, const lg_frame *frame)
     }
     if ((rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &ov)))
         return rc;
-    uint32_t nc = nb * nb, stride = have * have;
     double y[LG_SH_MAX_BANDS * LG_SH_MAX_BANDS];
     for (uint32_t j = 0; j < h; j++) {
         float *row = (float *)ov.pixels + (size_t)j * ov.row_pixels * 4;
@@ -633,8 +646,9 @@ static int shb_execute(lg_node *n, const lg_frame *frame)
             for (int ch = 0; ch < 3; ch++) {
                 double sum = 0;
                 for (uint32_t k = 0; k < nc; k++)
-                    sum += (double)coef[ch * stride + k] * y[k];
-                row[4 * i + ch] = (float)sum;
+                    sum += coef[ch * nc + k] * y[k];
+                /* float coefficients near FLT_MAX can sum beyond a float: the largest one */
+                row[4 * i + ch] = sum > FLT_MAX ? FLT_MAX : sum < -FLT_MAX ? -FLT_MAX : (float)sum;
             }
             row[4 * i + 3] = 1.0f;
         }
