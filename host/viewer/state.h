@@ -14,6 +14,7 @@
  *   reload.c      hot reload: watched graph files, plugin .so files, shaders and the
  *                 rebuild they start
  *   loop.c        the frame loop: events, reloads, the frame, the picture, the overlay
+ *   clock.c       the animation clock (lg_frame.time) and the framebuffer's size
  * and, below them: camera.c, display.c, params.c, script.c, watch.c, rebuild.c.
  *
  * GLFW callbacks reach the viewer through glfwGetWindowUserPointer; the viewer sets no
@@ -235,6 +236,8 @@ void lg_viewer_poll_reloads(viewer *v);
 
 /* Runs frames until the window closes or the viewer quits; returns the exit status. */
 int lg_viewer_loop(viewer *v);
+/* ---- clock.c: the animation clock and the framebuffer's size --------------------------------- */
+
 /* The animation clock: play (true) or pause; a time to show (clamped to [0,
  * LG_VIEWER_MAX_TIME], a non-finite one refused); a step of `frames` frames of opts.dt,
  * which pauses. Each says what it did on the status line. */
@@ -242,6 +245,8 @@ int lg_viewer_loop(viewer *v);
 void lg_viewer_play(viewer *v, bool play);
 void lg_viewer_set_time(viewer *v, double t);
 void lg_viewer_step_time(viewer *v, int frames);
+/* After a drawn frame: the clock advances by opts.dt unless paused (clamped). */
+void lg_viewer_advance_time(viewer *v);
 /* The framebuffer is now w x h pixels (GLFW's callback, or a script's resize): the render
  * follows once the size has held for LG_VIEWER_RESIZE_DEBOUNCE seconds (a script: frames). */
 #define LG_VIEWER_RESIZE_DEBOUNCE 0.25
