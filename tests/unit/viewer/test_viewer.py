@@ -616,6 +616,8 @@ def t_play():
     check("clamped to [0, 1e+06]" in out, "the clamp was not reported:\n" + out[-2000:])
     runs = err.count("node 'lit' (phong): ")
     check(runs == 1, "phong (static, upstream of the clock) ran %d times, not once" % runs)
+    runs = err.count("node 'shadow' (shadowmap): 1 directional light")
+    check(runs == 1, "the shadow maps (static) rendered %d times, not once" % runs)
 
 
 def t_resize():
