@@ -12,7 +12,7 @@ SECONDS    ?= 60
 
 .PHONY: all deps build demo test test-sanitize fuzz bench accuracy accuracy-quick \
 	study-prefilter study-format study-prt \
-	pictures-prt bench-volumetric study-volumetric pictures-volumetric format format-check stability \
+	pictures-prt pictures-sh bench-volumetric study-volumetric pictures-volumetric format format-check stability \
 	clean
 
 all: build
