@@ -225,6 +225,9 @@ static void run_frame(viewer *v)
 /* Nothing to run, nothing moving: the loop may wait for an event rather than spin. */
 static bool idle(const viewer *v)
 {
+    /* minimised, nothing is drawn: wait for the window to come back, not spin */
+    if (v->minimised && !v->scripted && !v->rebuild)
+        return true;
     bool busy = v->scripted || v->anim.active || v->rebuild || v->resize_pending;
     for (uint32_t i = 0; !busy && i < v->cur.ex->n_nodes; i++)
         busy = v->cur.ex->nodes[i] && v->cur.ex->nodes[i]->run.per_frame &&
