@@ -72,6 +72,15 @@ Medium (scene extras)
                          (defaults: scattering 0.5, absorption 0.05, g 0; units 1/m per
                          unit density, g in (-1, 1))
 
+Animation (sphere, torus, cube, plane: one animation "move" keying the object's node)
+  --anim-translation T:X,Y,Z[;T:X,Y,Z...]
+                         translation keys: time T (seconds) and position
+  --anim-rotation T:AX,AY,AZ,DEG[;...]
+                         rotation keys: time and an axis-angle (degrees), as quaternions
+  --anim-interp linear|step|cubicspline
+                         the samplers' interpolation (default linear); cubicspline writes
+                         zero in- and out-tangents
+
 Output
   -o, --output PATH      the file to write (.glb or .gltf)
   --format glb|gltf      override the format the extension implies
@@ -354,12 +363,14 @@ class Doc:
             self.bin.append(0)
         off = len(self.bin)
         self.bin += data
-        self.g["bufferViews"].append({"buffer": 0, "byteOffset": off, "byteLength": len(data),
-                                      "target": target})
+        bv = {"buffer": 0, "byteOffset": off, "byteLength": len(data), "target": target}
+        if target is None:  # animation data: no target (glTF leaves it out)
+            del bv["target"]
+        self.g["bufferViews"].append(bv)
         return len(self.g["bufferViews"]) - 1
 
     def accessor(self, values, comp, typ, target, minmax=False):
-        ncomp = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[typ]
+        ncomp = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}[typ]
         fmt = {FLOAT: "f", U16: "H", U32: "I"}[comp]
         data = struct.pack("<%d%s" % (len(values), fmt), *values)
         acc = {"bufferView": self.view(data, target), "componentType": comp,
@@ -486,6 +497,10 @@ def parse_args(argv):
     ap.add_argument("--point-light", action="append", default=[])
     ap.add_argument("--no-lights", action="store_true")
     ap.add_argument("--medium")
+    ap.add_argument("--anim-translation")
+    ap.add_argument("--anim-rotation")
+    ap.add_argument("--anim-interp", choices=["linear", "step", "cubicspline"],
+                    default="linear")
     o = ap.parse_args(argv)
 
     # options that shape one kind only are refused elsewhere, not silently ignored
@@ -586,6 +601,9 @@ def build(o):
     bmin, bmax = [-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]
     summary = ""
     view_dir = (0.45, 0.4, 1.0)
+    if (o.anim_translation or o.anim_rotation) and o.kind in ("box_room", "grid"):
+        raise UsageError("--anim-translation and --anim-rotation animate the object of "
+                         "sphere, torus, cube or plane, not %s" % o.kind)
     if o.kind in ("sphere", "torus", "cube", "plane"):
         mat = d.material(o.kind, o.color, o.roughness, o.metallic, o.double_sided, None, extras)
         if o.kind == "sphere":
@@ -606,7 +624,8 @@ def build(o):
             bmin, bmax = [-o.size / 2, 0.0, -o.size / 2], [o.size / 2, 0.0, o.size / 2]
             view_dir = (0.3, 1.0, 0.8)
         m = d.mesh(o.kind, [prim], o)
-        d.node({"name": o.kind, "mesh": m})
+        obj = d.node({"name": o.kind, "mesh": m})
+        add_animation(d, o, obj)
         summary = "%s triangles, %s vertices" % (fmt(len(prim.indices) // 3), fmt(prim.n_vertices))
     elif o.kind == "box_room":
         white = d.material("white", (0.73, 0.73, 0.73, 1), 0.9, 0.0, True)
@@ -710,6 +729,53 @@ def build(o):
         d.g["scenes"][0]["extras"] = {"medium": {"density": dens, "scattering": [sc] * 3,
                                                  "absorption": [ab] * 3, "g": g}}
     return d, summary
+
+
+def anim_keys(text, what, width):
+    """'T:v,v,v;T:v,v,v' -> [(t, [v...])], times strictly increasing."""
+    keys = []
+    for part in text.split(";"):
+        if ":" not in part:
+            raise UsageError("%s: '%s' is not T:VALUES" % (what, part))
+        t, vals = part.split(":", 1)
+        tv = floats(t, what + " time", (1,))[0]
+        keys.append((tv, floats(vals, what + " value", (width,))))
+    for a, b in zip(keys, keys[1:]):
+        if not b[0] > a[0]:
+            raise UsageError("%s: times must strictly increase (%g then %g)" % (what, a[0], b[0]))
+    return keys
+
+
+def add_animation(d, o, node):
+    """The animation of --anim-translation / --anim-rotation on `node`."""
+    chans = []
+    if o.anim_translation:
+        keys = anim_keys(o.anim_translation, "--anim-translation", 3)
+        chans.append(("translation", [k[0] for k in keys], [k[1] for k in keys]))
+    if o.anim_rotation:
+        keys = anim_keys(o.anim_rotation, "--anim-rotation", 4)
+        chans.append(("rotation", [k[0] for k in keys],
+                      [list(quat_axis_angle(normalize(k[1][0:3]), math.radians(k[1][3])))
+                       for k in keys]))
+    if not chans:
+        return
+    interp = o.anim_interp.upper()
+    samplers, channels = [], []
+    for path, times, vals in chans:
+        width = len(vals[0])
+        out = []
+        for v in vals:
+            if interp == "CUBICSPLINE":
+                out += [0.0] * width + list(v) + [0.0] * width
+            else:
+                out += list(v)
+        inp = d.accessor(times, FLOAT, "SCALAR", None)
+        d.g["accessors"][inp]["min"] = [min(times)]
+        d.g["accessors"][inp]["max"] = [max(times)]
+        outp = d.accessor(out, FLOAT, "VEC3" if width == 3 else "VEC4", None)
+        samplers.append({"input": inp, "output": outp, "interpolation": interp})
+        channels.append({"sampler": len(samplers) - 1, "target": {"node": node, "path": path}})
+    d.g["animations"] = [{"name": "move", "channels": channels, "samplers": samplers}]
 
 
 def fmt(n):

@@ -8,6 +8,7 @@
 
 #include "lightgraph/image.h"
 #include "exec/outputs.h"
+#include "base/pattern.h"
 
 /* Adds every file this run writes (the outputs, or -o; --profile-json) to `out`, each
  * checked before any work. Returns 0, or 1 (printed): a destination that cannot be written
@@ -19,9 +20,24 @@ static int add_outputs(lg_outputs *out, const lg_checked *c, const lg_exec_opts 
         const char *path = opts->output_override ? opts->output_override : c->outputs[i].path;
         /* .txt: SH coefficients as text (checked against the output's kind before) */
         lg_output_kind kind = lg_path_has_ext(path, ".txt") ? LG_OUTPUT_FILE : LG_OUTPUT_IMAGE;
-        if (lg_outputs_add(out, path, kind, err, sizeof err)) {
-            fprintf(stderr, "lightgraph: %s; nothing was run\n", err);
+        /* a frame pattern (base/pattern.h): one file per frame, each reserved here */
+        size_t at;
+        char why[160];
+        int pattern = lg_frame_pattern_scan(path, &at, why, sizeof why);
+        if (pattern < 0) { /* -o (a graph's outputs were checked with the graph) */
+            fprintf(stderr, "lightgraph: output file '%s', character %zu: %s; nothing was run\n",
+                    path, at + 1, why);
             return 1;
+        }
+        uint32_t files = pattern ? (opts->frames ? opts->frames : 1) : 1;
+        for (uint32_t f = 0; f < files; f++) {
+            char *name = lg_frame_pattern_name(path, f);
+            int bad = lg_outputs_add(out, name, kind, err, sizeof err);
+            free(name);
+            if (bad) {
+                fprintf(stderr, "lightgraph: %s; nothing was run\n", err);
+                return 1;
+            }
         }
     }
     if (opts->profile_json &&

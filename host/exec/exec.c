@@ -17,6 +17,7 @@
 
 #include "lightgraph/image.h"
 #include "exec/outputs.h"
+#include "base/pattern.h"
 
 static void read_cl_events(lg_pnode *n)
 {
@@ -267,92 +268,106 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     return rc;
 }
 
-static int write_outputs(lg_exec *ex)
+/* One output into the temporary of `path`. */
+static int write_output(lg_exec *ex, const lg_coutput *o, const char *path)
+{
+    int rc = 0;
+    lg_pnode *n = ex->nodes[o->node];
+    lg_resource *r = lg_edge_resource(ex, (lg_edge){ o->node, o->port, o->part });
+    char err[1024];
+    float *px = NULL;
+    lg_image img = { 0, 0, NULL };
+    /* SH coefficients: a text file, and only they (graph/check.c refuses the other
+     * pairings before anything runs; -o and LG_KIND_ANY outputs meet them here) */
+    bool sh = r && r->kind == LG_KIND_SH;
+    bool txt = lg_path_has_ext(path, ".txt");
+    if (sh != txt) {
+        lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
+                n->pub.name, path,
+                sh ? "SH coefficients are written as text: name the file .txt"
+                   : "only SH coefficients are written as .txt (images and probes: .png, "
+                     ".exr or .hdr)");
+        return -1;
+    }
+    if (sh) {
+        char *text = NULL;
+        size_t len = 0;
+        if (lg_resource_sh_text(ex, r, &text, &len, err, sizeof err) ||
+            lg_outputs_write_data(ex->opts.outputs, path, text, len, err, sizeof err)) {
+            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
+                    n->pub.name, path, err);
+            rc = -1;
+        } else {
+            lg_hlog(LG_HDEBUG,
+                    "%s (SH coefficients, %zu bytes) written to its temporary "
+                    "file",
+                    path, len);
+        }
+        free(text);
+        return rc;
+    }
+    /* a probe: its radiance laid out as a file (lat-long, angular, cross or strip) */
+    bool probe = r && r->kind == LG_KIND_PROBE;
+    if (probe && lg_image_format_from_path(path) == LG_FILE_PNG) {
+        /* `render -o x.png` on a graph whose output is a probe */
+        lg_hlog(LG_HERR,
+                "output '%s' of node '%s' -> %s: a probe is HDR: write it as "
+                ".exr or .hdr",
+                n->schema->outputs[o->port].name, n->pub.name, path);
+        return -1;
+    }
+    if (probe ? lg_resource_probe_file(ex, r, &img, err, sizeof err)
+              : lg_resource_to_rgba32f(ex, r, &px, err, sizeof err)) {
+        lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
+                n->pub.name, path, err);
+        return -1;
+    }
+    if (!probe)
+        img = (lg_image){ r->image.width, r->image.height, px };
+    /* EXR: what `render --exr`, else the output statement, asks for; by default what
+     * the resource holds: float for rgba32f, and for rgbe8 (whose range, to 1.7e38,
+     * half cannot hold: a sun would become Inf), half otherwise */
+    lg_image_write_opts wo;
+    memset(&wo, 0, sizeof wo);
+    int want = ex->opts.exr_pixel ? ex->opts.exr_pixel : o->g ? o->g->exr_pixel : 0;
+    wo.exr_pixel = want == LG_OUT_EXR_HALF    ? LG_EXR_HALF
+                   : want == LG_OUT_EXR_FLOAT ? LG_EXR_FLOAT
+                   : (probe || r->image.format == LG_FORMAT_RGBA32F ||
+                      r->image.format == LG_FORMAT_RGBE8)
+                       ? LG_EXR_FLOAT
+                       : LG_EXR_HALF;
+    /* into the output's temporary: lg_render_file commits every output together once
+     * all of them are written (outputs.h) */
+    if (lg_outputs_write_image(ex->opts.outputs, path, &img, &wo, err, sizeof err)) {
+        lg_hlog(LG_HERR, "%s", err);
+        rc = -1;
+    } else {
+        lg_hlog(LG_HDEBUG, "%s (%ux%u) written to its temporary file", path, img.width, img.height);
+    }
+    if (probe)
+        lg_image_free(&img);
+    free(px);
+    return rc;
+}
+
+/* Writes the outputs into their temporaries: after frame `frame` (>= 0) those whose file
+ * name is a frame pattern (base/pattern.h), under that frame's name; with frame -1, after
+ * the last frame, the others. */
+static int write_outputs(lg_exec *ex, int64_t frame)
 {
     const lg_checked *c = ex->checked;
     int rc = 0;
     for (uint32_t i = 0; i < c->n_outputs; i++) {
         const lg_coutput *o = &c->outputs[i];
-        const char *path = ex->opts.output_override ? ex->opts.output_override : o->path;
-        lg_pnode *n = ex->nodes[o->node];
-        lg_resource *r = lg_edge_resource(ex, (lg_edge){ o->node, o->port, o->part });
-        char err[1024];
-        float *px = NULL;
-        lg_image img = { 0, 0, NULL };
-        /* SH coefficients: a text file, and only they (graph/check.c refuses the other
-         * pairings before anything runs; -o and LG_KIND_ANY outputs meet them here) */
-        bool sh = r && r->kind == LG_KIND_SH;
-        bool txt = lg_path_has_ext(path, ".txt");
-        if (sh != txt) {
-            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
-                    n->pub.name, path,
-                    sh ? "SH coefficients are written as text: name the file .txt"
-                       : "only SH coefficients are written as .txt (images and probes: .png, "
-                         ".exr or .hdr)");
-            rc = -1;
+        const char *given = ex->opts.output_override ? ex->opts.output_override : o->path;
+        size_t at;
+        bool pattern = lg_frame_pattern_scan(given, &at, NULL, 0) == 1;
+        if (pattern != (frame >= 0))
             continue;
-        }
-        if (sh) {
-            char *text = NULL;
-            size_t len = 0;
-            if (lg_resource_sh_text(ex, r, &text, &len, err, sizeof err) ||
-                lg_outputs_write_data(ex->opts.outputs, path, text, len, err, sizeof err)) {
-                lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s",
-                        n->schema->outputs[o->port].name, n->pub.name, path, err);
-                rc = -1;
-            } else {
-                lg_hlog(LG_HDEBUG,
-                        "%s (SH coefficients, %zu bytes) written to its temporary "
-                        "file",
-                        path, len);
-            }
-            free(text);
-            continue;
-        }
-        /* a probe: its radiance laid out as a file (lat-long, angular, cross or strip) */
-        bool probe = r && r->kind == LG_KIND_PROBE;
-        if (probe && lg_image_format_from_path(path) == LG_FILE_PNG) {
-            /* `render -o x.png` on a graph whose output is a probe */
-            lg_hlog(LG_HERR,
-                    "output '%s' of node '%s' -> %s: a probe is HDR: write it as "
-                    ".exr or .hdr",
-                    n->schema->outputs[o->port].name, n->pub.name, path);
-            rc = -1;
-            continue;
-        }
-        if (probe ? lg_resource_probe_file(ex, r, &img, err, sizeof err)
-                  : lg_resource_to_rgba32f(ex, r, &px, err, sizeof err)) {
-            lg_hlog(LG_HERR, "output '%s' of node '%s' -> %s: %s", n->schema->outputs[o->port].name,
-                    n->pub.name, path, err);
-            rc = -1;
-            continue;
-        }
-        if (!probe)
-            img = (lg_image){ r->image.width, r->image.height, px };
-        /* EXR: what `render --exr`, else the output statement, asks for; by default what
-         * the resource holds: float for rgba32f, and for rgbe8 (whose range, to 1.7e38,
-         * half cannot hold: a sun would become Inf), half otherwise */
-        lg_image_write_opts wo;
-        memset(&wo, 0, sizeof wo);
-        int want = ex->opts.exr_pixel ? ex->opts.exr_pixel : o->g ? o->g->exr_pixel : 0;
-        wo.exr_pixel = want == LG_OUT_EXR_HALF    ? LG_EXR_HALF
-                       : want == LG_OUT_EXR_FLOAT ? LG_EXR_FLOAT
-                       : (probe || r->image.format == LG_FORMAT_RGBA32F ||
-                          r->image.format == LG_FORMAT_RGBE8)
-                           ? LG_EXR_FLOAT
-                           : LG_EXR_HALF;
-        /* into the output's temporary: lg_render_file commits every output together once
-         * all of them are written (outputs.h) */
-        if (lg_outputs_write_image(ex->opts.outputs, path, &img, &wo, err, sizeof err)) {
-            lg_hlog(LG_HERR, "%s", err);
-            rc = -1;
-        } else {
-            lg_hlog(LG_HDEBUG, "%s (%ux%u) written to its temporary file", path, img.width,
-                    img.height);
-        }
-        if (probe)
-            lg_image_free(&img);
-        free(px);
+        char *frame_path = pattern ? lg_frame_pattern_name(given, (uint32_t)frame) : NULL;
+        const char *path = pattern ? frame_path : given;
+        rc |= write_output(ex, o, path);
+        free(frame_path);
     }
     return rc;
 }
@@ -399,8 +414,12 @@ int lg_execute(lg_exec *ex)
             if (run_node(ex, n, &frame))
                 return -1;
         }
+        /* frame-pattern outputs: this frame's file, into its temporary (committed with
+         * the others, all or nothing, by lg_render_file) */
+        if (write_outputs(ex, f))
+            return -1;
     }
-    int rc = write_outputs(ex);
+    int rc = write_outputs(ex, -1);
     ex->t_total_ms = (lg_mono_now() - t0) * 1e3;
     return rc;
 }

@@ -267,6 +267,9 @@ typedef struct lg_pnode_plan {
 /* A node's life in the runtime (exec/). */
 typedef struct lg_pnode_run {
     bool per_frame;
+    /* why it runs per frame when the plan decided it (static text, or NULL): "reads an
+     * animated scene" (--explain) */
+    const char *per_frame_why;
     bool device_set;
     lg_device device;
     bool prepared, created;

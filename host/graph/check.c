@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "base/util.h"
+#include "base/pattern.h"
 #include "lightgraph/kinds.h"
 
 /* After this many errors the checker goes on (to fail) but reports nothing more and stops
@@ -996,6 +997,12 @@ static void check_outputs(checker *k)
                  "'%s' (use .png, .exr or .hdr; .txt for SH coefficients)",
                  o->path, dot);
         }
+        /* a frame pattern (base/pattern.h): one %d or %0Nd, else no '%' at all */
+        size_t at = 0;
+        char why[160];
+        if (lg_frame_pattern_scan(o->path, &at, why, sizeof why) < 0)
+            diag(k, LG_DIAG_ERROR, o->path_loc, "output file '%s', character %zu: %s", o->path,
+                 at + 1, why);
         for (uint32_t j = 0; j < i; j++) {
             if (o->path[0] && strcmp(c->outputs[j].path, co->path) == 0) {
                 diag(k, LG_DIAG_ERROR, o->path_loc,

@@ -97,7 +97,8 @@ static void print_features(FILE *f, const char *name, const lg_scene_features *s
     fprintf(f,
             "scene features (%s): triangles %llu, vertices %llu, lights: %u directional, %u "
             "point, %u other; medium %s (density %g); probe %s; specular material %s; "
-            "reflective materials %u; textures %u; masked materials %u; animated instances %u\n",
+            "reflective materials %u; textures %u; masked materials %u; animated instances, "
+            "lights and cameras %u\n",
             name, (unsigned long long)sf->triangles, (unsigned long long)sf->vertices,
             sf->dir_lights, sf->point_lights, sf->other_lights, sf->medium ? "yes" : "no",
             (double)sf->medium_density, sf->probe ? "yes" : "no", sf->specular ? "yes" : "no",
@@ -191,6 +192,8 @@ void lg_explain_print(lg_exec *ex, FILE *f)
                 lg_str_add(&d, "; work: ");
                 describe_work(&d, ex, n);
             }
+            if (n->run.per_frame_why)
+                lg_str_addf(&d, "; per frame: %s", n->run.per_frame_why);
         } else {
             lg_str_add(&d, n->plan.reason ? n->plan.reason : "");
             if (n->plugin)

@@ -412,6 +412,31 @@ static void cull(lg_exec *ex, const bool *early, const char *reason)
     free(stack);
 }
 
+/* Rigid animation (ABI 3.1): a node that reads an animated scene (an input delivers a
+ * scene with features.animated > 0; a derived scene carries its source's animation) runs
+ * on every frame, at lg_frame.time's pose, unless its type says the pose does not matter
+ * to it (LG_NODE_POSE_INDEPENDENT: a transfer bake, a node that derives a scene and
+ * carries the animation on). What lies downstream of such a node re-runs with it (the
+ * per-frame flag of its inputs, above); a static scene's nodes still run once. */
+static void animated_per_frame(lg_exec *ex, lg_pnode *n)
+{
+    if (n->schema->flags & LG_NODE_POSE_INDEPENDENT)
+        return;
+    bool animated = false;
+    for (uint32_t k = 0; k < n->schema->n_inputs && !animated; k++) {
+        lg_edge e = n->c->inputs[k];
+        if (e.node < 0)
+            continue;
+        lg_resource *r = lg_edge_resource(ex, e);
+        animated = r && r->kind == LG_KIND_SCENE && r->has_features && r->features.animated > 0;
+    }
+    if (!animated)
+        return;
+    if (!n->run.per_frame)
+        n->run.per_frame_why = "reads an animated scene";
+    n->run.per_frame = true;
+}
+
 /* One node: its identity and per-frame flag, then gated (its neutral result) or prepared. */
 static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
 {
@@ -437,6 +462,7 @@ static int plan_node(lg_exec *ex, lg_pnode *n, bool *seen)
     }
     if (n->schema->flags & LG_NODE_PER_FRAME)
         n->run.per_frame = true;
+    animated_per_frame(ex, n);
 
     n->plan.plan_identity = n->plan.identity;
     decide_gate(ex, n, seen);

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void lg_embree_on_error(void *user, enum RTCError code, const char *str)
@@ -102,4 +103,22 @@ int lg_embree_make(lg_node *n, const lg_scene *s, lg_embree *e)
         if (hi[c] >= lo[c])
             e->extent = fmax(e->extent, hi[c] - lo[c]);
     return 0;
+}
+
+int lg_embree_make_at(lg_node *n, const lg_scene *s, double time, lg_embree *e)
+{
+    if (!lg_scene_is_animated(s))
+        return lg_embree_make(n, s, e);
+    memset(e, 0, sizeof *e);
+    lg_instance *posed = malloc(((size_t)s->n_instances + 1) * sizeof *posed);
+    if (!posed)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
+    int rc = lg_scene_pose(n, s, time, posed);
+    if (!rc) {
+        lg_scene at = *s; /* a shallow copy: only the instances differ */
+        at.instances = posed;
+        rc = lg_embree_make(n, &at, e);
+    }
+    free(posed);
+    return rc;
 }

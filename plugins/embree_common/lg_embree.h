@@ -40,4 +40,8 @@ int lg_embree_make(lg_node *node, const lg_scene *s, lg_embree *e);
 /* Releases the scene and the device; zeroes *e (a zeroed *e is fine). */
 void lg_embree_free(lg_embree *e);
 
+/* lg_embree_make with the instances of an animated scene posed at `time` seconds
+ * (lg_scene_pose; a static scene is built as it is). Rebuilt per frame by the caller. */
+int lg_embree_make_at(lg_node *node, const lg_scene *s, double time, lg_embree *e);
+
 #endif

@@ -210,6 +210,7 @@ typedef struct ibl_frame {
     float *mats;             /* 8 floats per material: F0 rgb, roughness; double-sided */
     uint32_t n_mats;
     uint32_t rough; /* reflective materials with roughness > 0 (glossy = auto) */
+    double time;    /* lg_frame.time: the pose the geometry pass draws (ABI 3.1) */
 } ibl_frame;
 
 /* The material table every backend reads: F0 (the material's reflectivity or the node's),
@@ -704,6 +705,7 @@ static int ibl_gbuffer(lg_node *n, ibl_state *st, const lg_gl *gl, const ibl_fra
                        .depth = st->gdepth_tex.name,
                        .width = st->width,
                        .height = st->height };
+    lg_gl_pass_set_time(st->gpass, f->time); /* an animated scene's pose */
     if ((rc = lg_gl_pass_begin(st->gpass, &t)))
         return rc;
     static const float zero[4] = { 0, 0, 0, 0 };
@@ -1211,6 +1213,7 @@ static int ibl_execute(lg_node *n, const lg_frame *frame)
     ibl_state *st = n->user;
     ibl_frame f;
     int rc = ibl_frame_in(n, st, &f);
+    f.time = frame->time;
     uint64_t clamped = 0;
     /* base passes into the output (added to, or drawn over): its NaN and Inf are said once,
      * as `image` says a file's; step 7 of the README writes NaN as 0 */

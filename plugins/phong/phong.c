@@ -794,7 +794,6 @@ static int ph_half(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
 
 static int ph_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     ph_state *st = n->user;
     ph_frame_in f = { 0 };
     f.scene_res = lg_input(n, 0);
@@ -836,6 +835,10 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     if ((rc = ph_upload(n, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights)) ||
         (rc = ph_upload(n, &st->shadows_buf, shadows, (size_t)n_shadow * sizeof *shadows)))
         goto out;
+    /* an animated scene: its instances at this frame's time (ABI 3.1) */
+    lg_gl_pass_set_time(st->pass, frame->time);
+    lg_gl_pass_set_time(st->id_pass, frame->time);
+    lg_gl_pass_set_time(st->half_pass, frame->time);
     if (st->shading == PH_HALF) {
         rc = ph_half(n, st, gl, &f, &out);
     } else {

@@ -110,7 +110,6 @@ static int pv_make_pass(lg_node *n, pv_state *st)
 
 static int pv_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     pv_state *st = n->user;
     const lg_resource *scene_res = lg_input(n, 0);
     const lg_scene *s = lg_scene_get(n, scene_res);
@@ -122,6 +121,7 @@ static int pv_execute(lg_node *n, const lg_frame *frame)
         return rc;
     if (!st->pass && (rc = pv_make_pass(n, st)))
         return rc;
+    lg_gl_pass_set_time(st->pass, frame->time); /* an animated scene's pose (ABI 3.1) */
     if ((rc = lg_gl_pass_begin(st->pass, NULL)))
         return rc;
     const float bg[4] = { st->background[0], st->background[1], st->background[2], 1.0f };

@@ -66,7 +66,7 @@ typedef struct prt_state {
     uint32_t g_n, g_stride;   /* the dot pass's build (prt_gl_frag_defines, prt_gl_defines) */
     int g_frag;               /* 1: prt_dot.frag, 0: prt_dot.comp over a storage buffer */
     lg_gl_buffer_texture tbo; /* the RGB32F buffer texture over the transfer's GL buffer */
-    lg_gl_uniform d_vertices, d_width, d_texels, d_light;
+    lg_gl_uniform d_vertices, d_width, d_texels, d_light, d_first, d_end;
     lg_gl_binding d_transfer, d_lighting, d_out;
     lg_gl_uniform r_view_proj, r_offset;
     lg_gl_binding r_vertices, f_reflect;
@@ -181,7 +181,17 @@ typedef struct prt_frame {
     uint32_t nc;                /* bands^2 */
     float *lighting;            /* float[3][nc], rotated; malloc'd, freed by prt_execute */
     const lg_resource *reflect; /* NULL, or a non-neutral image */
+    /* rigid motion (ABI 3.1): the vertices [first, end) the dot products write with
+     * `lighting`; 0 and st->vertices unless prt_motion_runs splits them */
+    uint32_t first, end;
+    double time; /* lg_frame.time: the pose the raster pass draws */
 } prt_frame;
+
+/* A run of consecutive meshes whose lighting is turned alike (prt_motion_runs). */
+typedef struct prt_run {
+    uint32_t first, end; /* vertices */
+    double Q[9];         /* the SH rotation, row-major: R_m^T (the node's rotation) */
+} prt_run;
 
 /* The rotation of frame `frame`: R = Ry(yaw + spin t) Rx(pitch) Rz(roll) (probe.h's
  * convention), row-major double for lightgraph/sh.h. Rebuilt from the absolute angle
@@ -206,6 +216,8 @@ static bool prt_rotation(const prt_state *st, const lg_frame *frame, double R[9]
 static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_frame *f)
 {
     memset(f, 0, sizeof *f);
+    f->end = st->vertices;
+    f->time = frame ? frame->time : 0.0;
     f->scene_res = lg_input(n, IN_SCENE);
     f->s = lg_scene_get(n, f->scene_res);
     if (!f->s)
@@ -304,13 +316,14 @@ static int prt_frame_in(lg_node *n, prt_state *st, const lg_frame *frame, prt_fr
 
 typedef struct prt_pool_ctx {
     prt_cpu_job job;
+    size_t offset; /* the first texel of the range (rigid motion: one mesh run) */
 } prt_pool_ctx;
 
 static void prt_cpu_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
     (void)chunk;
     const prt_pool_ctx *c = ctx;
-    lg_prt_cpu_range(&c->job, begin, end);
+    lg_prt_cpu_range(&c->job, c->offset + begin, c->offset + end);
 }
 
 static int prt_dot_cpu(lg_node *n, prt_state *st, const prt_frame *f)
@@ -327,6 +340,10 @@ static int prt_dot_cpu(lg_node *n, prt_state *st, const prt_frame *f)
                                 .stride = f->tr->n_coeffs,
                                 .vertices = st->vertices,
                                 .out = ov.pixels } };
+    if (f->first > 0 || f->end < st->vertices) { /* one run of a moving scene */
+        c.offset = f->first;
+        return lg_parallel_for(n, f->end - f->first, PRT_CPU_GRAIN, prt_cpu_chunk, &c);
+    }
     return lg_parallel_for(n, (size_t)st->tex_w * st->tex_h, PRT_CPU_GRAIN, prt_cpu_chunk, &c);
 }
 
@@ -426,6 +443,8 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
         st->d_width = lg_gl_pass_uniform(st->dot, "u_width");
         if (frag) {
             st->d_light = lg_gl_pass_uniform(st->dot, "u_lighting[0]");
+            st->d_first = lg_gl_pass_uniform(st->dot, "u_first");
+            st->d_end = lg_gl_pass_uniform(st->dot, "u_end");
             st->d_transfer = lg_gl_pass_texture(st->dot, "u_transfer");
         } else {
             st->d_texels = lg_gl_pass_uniform(st->dot, "u_texels");
@@ -448,6 +467,8 @@ static int prt_dot_gl(lg_node *n, prt_state *st, const prt_frame *f)
             return rc;
         lg_gl_set_uint(st->dot, st->d_vertices, st->vertices);
         lg_gl_set_uint(st->dot, st->d_width, st->tex_w);
+        lg_gl_set_uint(st->dot, st->d_first, f->first);
+        lg_gl_set_uint(st->dot, st->d_end, f->end);
         lg_gl_set_floatv(st->dot, st->d_light, 3 * f->nc, f->lighting);
         lg_gl_pass_bind_texture(st->dot, st->d_transfer, st->tbo.name);
         return lg_gl_pass_end(st->dot, lg_gl_pass_draw(st->dot, GL_TRIANGLES, 3));
@@ -522,6 +543,7 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
     lg_gl_target t;
     if ((rc = lg_gl_target_output(n, "out", &t)))
         return rc;
+    lg_gl_pass_set_time(st->raster, f->time); /* an animated scene's pose (ABI 3.1) */
     if ((rc = lg_gl_pass_begin(st->raster, &t)))
         return rc;
     static const float zero[4] = { 0, 0, 0, 0 };
@@ -566,19 +588,172 @@ static int prt_raster(lg_node *n, prt_state *st, const prt_frame *f)
 
 /* ---- execute / destroy ----------------------------------------------------------------------- */
 
+/* ---- rigid motion (ABI 3.1) ------------------------------------------------------------------ */
+
+/* The rotation part of a 3x3 (column-major float, as lg_instance.model's upper left):
+ * row-major double, its rows made orthonormal (a uniform scale divides out; a non-uniform
+ * one leaves the nearest rotation Gram-Schmidt finds). */
+static void prt_rotation_of(const double m[9], double R[9])
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            R[3 * r + c] = m[3 * c + r];
+    lg_sh_orthonormalize(R);
+}
+
+/* Transfer is baked in each mesh's frame of its first instance at rest (lightgraph/
+ * transfer.h): when an animation turns that instance by R_m = rot(model(t) model(rest)^-1),
+ * the lighting the mesh sees, in the frame its transfer was baked in, is the world lighting
+ * turned by R_m^T: g(w) = f(R_m w). Composed with the node's own rotation Rn (the lighting
+ * moved to Rn v), one SH rotation Q = R_m^T Rn per mesh. Consecutive meshes with the same
+ * Q form a run: the dot products run once per run. *runs is NULL (and *n_runs 0) when no
+ * mesh turns: one pass over every vertex, as without animation. Translation does not
+ * change distant lighting; scale is not a rotation (README.md, "Rigid motion"). */
+static int prt_motion_runs(lg_node *n, const prt_state *st, const lg_scene *s, double time,
+                           const double Rn[9], prt_run **runs, uint32_t *n_runs)
+{
+    *runs = NULL;
+    *n_runs = 0;
+    if (!lg_scene_is_animated(s) || s->n_meshes == 0)
+        return 0;
+    lg_instance *posed = malloc(((size_t)s->n_instances + 1) * sizeof *posed);
+    prt_run *r = calloc(s->n_meshes, sizeof *r);
+    int32_t *first_inst = malloc(s->n_meshes * sizeof *first_inst);
+    if (!posed || !r || !first_inst) {
+        free(posed), free(r), free(first_inst);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
+    }
+    int rc = lg_scene_pose(n, s, time, posed);
+    for (uint32_t m = 0; m < s->n_meshes; m++)
+        first_inst[m] = -1;
+    for (uint32_t i = 0; !rc && i < s->n_instances; i++)
+        if (s->instances[i].mesh < s->n_meshes && first_inst[s->instances[i].mesh] < 0)
+            first_inst[s->instances[i].mesh] = (int32_t)i;
+    uint32_t k = 0;
+    bool turned = false;
+    for (uint32_t m = 0; !rc && m < s->n_meshes; m++) {
+        double Q[9];
+        memcpy(Q, Rn, sizeof Q);
+        int32_t i = first_inst[m];
+        if (i >= 0) {
+            double a[9], b[9], Ra[9], Rb[9], Rm[9];
+            for (int c = 0; c < 3; c++)
+                for (int e = 0; e < 3; e++) {
+                    a[3 * c + e] = posed[i].model[4 * c + e];
+                    b[3 * c + e] = s->instances[i].model[4 * c + e];
+                }
+            prt_rotation_of(a, Ra);
+            prt_rotation_of(b, Rb);
+            /* R_m = Ra Rb^T; Q = R_m^T Rn = Rb Ra^T Rn */
+            for (int x = 0; x < 3; x++)
+                for (int y = 0; y < 3; y++) {
+                    double v = 0;
+                    for (int z = 0; z < 3; z++)
+                        v += Ra[3 * x + z] * Rb[3 * y + z];
+                    Rm[3 * x + y] = v;
+                }
+            for (int x = 0; x < 3; x++)
+                for (int y = 0; y < 3; y++) {
+                    double v = 0;
+                    for (int z = 0; z < 3; z++)
+                        v += Rm[3 * z + x] * Rn[3 * z + y];
+                    Q[3 * x + y] = v;
+                }
+            for (int e = 0; e < 9 && !turned; e++)
+                turned = fabs(Q[e] - Rn[e]) > 1e-12;
+        }
+        uint32_t first = st->offsets[m], end = first + s->meshes[m].n_vertices;
+        if (k > 0 && !memcmp(r[k - 1].Q, Q, sizeof Q) && r[k - 1].end == first) {
+            r[k - 1].end = end;
+            continue;
+        }
+        r[k].first = first;
+        r[k].end = end;
+        memcpy(r[k].Q, Q, sizeof Q);
+        k++;
+    }
+    free(posed), free(first_inst);
+    if (rc || !turned) {
+        free(r);
+        return rc;
+    }
+    *runs = r;
+    *n_runs = k;
+    return 0;
+}
+
+static int prt_dot(lg_node *n, prt_state *st, const prt_frame *f)
+{
+    if (st->backend == LG_DEVICE_GL)
+        return prt_dot_gl(n, st, f);
+    if (st->backend == LG_DEVICE_CL)
+        return prt_dot_cl(n, st, f);
+    return prt_dot_cpu(n, st, f);
+}
+
+/* The dot products of a moving scene: per run, the input lighting (before the node's
+ * rotation) turned by the run's Q, over the run's vertices. */
+static int prt_dot_runs(lg_node *n, prt_state *st, prt_frame *f, const float *unrotated,
+                        const prt_run *runs, uint32_t n_runs)
+{
+    if (st->backend == LG_DEVICE_CL || (st->backend == LG_DEVICE_GL && st->dot && !st->g_frag))
+        return lg_error_code(n, LG_ERR_UNSUPPORTED,
+                             "the scene's animation turns meshes: the %s dot products cannot "
+                             "turn the lighting per mesh yet; use backend gl or cpu",
+                             st->backend == LG_DEVICE_CL ? "cl" : "gl compute (large transfer)");
+    double *mats = malloc(lg_sh_rotation_size(f->bands) * sizeof(double));
+    float *keep = f->lighting;
+    if (!mats)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (SH rotation, %u bands)", f->bands);
+    int rc = 0;
+    for (uint32_t k = 0; k < n_runs && !rc; k++) {
+        if (lg_sh_rotation_build(f->bands, runs[k].Q, mats) != 0) {
+            rc = lg_error(n, "the animation's rotation of vertices %u..%u is not finite",
+                          runs[k].first, runs[k].end);
+            break;
+        }
+        lg_sh_rotate_planes_f(f->bands, mats, 3, unrotated, keep);
+        f->first = runs[k].first;
+        f->end = runs[k].end;
+        rc = prt_dot(n, st, f);
+    }
+    free(mats);
+    f->first = 0;
+    f->end = st->vertices;
+    return rc;
+}
+
 static int prt_execute(lg_node *n, const lg_frame *frame)
 {
     prt_state *st = n->user;
     prt_frame f;
     int rc = prt_frame_in(n, st, frame, &f);
-    if (!rc) {
-        if (st->backend == LG_DEVICE_GL)
-            rc = prt_dot_gl(n, st, &f);
-        else if (st->backend == LG_DEVICE_CL)
-            rc = prt_dot_cl(n, st, &f);
-        else
-            rc = prt_dot_cpu(n, st, &f);
+    prt_run *runs = NULL;
+    uint32_t n_runs = 0;
+    float *unrotated = NULL;
+    if (!rc && lg_scene_is_animated(f.s)) {
+        double Rn[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+        prt_rotation(st, frame, Rn);
+        rc = prt_motion_runs(n, st, f.s, frame->time, Rn, &runs, &n_runs);
+        if (!rc && n_runs) {
+            /* the input lighting again, before the node's rotation (Q includes it) */
+            lg_cpu_view cv;
+            unrotated = malloc((size_t)3 * f.nc * sizeof(float));
+            if (!unrotated)
+                rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u coefficients)", f.nc);
+            if (!rc && !(rc = lg_map_cpu(n, f.sh->coeffs, LG_READ, &cv)))
+                for (int c = 0; c < 3; c++)
+                    memcpy(unrotated + (size_t)c * f.nc,
+                           (const float *)cv.pixels + (size_t)c * f.sh->n_coeffs,
+                           f.nc * sizeof(float));
+        }
     }
+    if (!rc && n_runs)
+        rc = prt_dot_runs(n, st, &f, unrotated, runs, n_runs);
+    else if (!rc)
+        rc = prt_dot(n, st, &f);
+    free(runs);
+    free(unrotated);
     if (!rc)
         rc = prt_raster(n, st, &f);
     if (!rc)

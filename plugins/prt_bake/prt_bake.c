@@ -1938,7 +1938,10 @@ static const lg_node_type pb_types[] = {
         LG_INPUTS(pb_bake_in),
         LG_OUTPUTS(pb_bake_out),
         .needs = LG_NEEDS_GEOMETRY,
-        .flags = LG_NODE_VIEW_INDEPENDENT, /* per vertex: the camera plays no part */
+        /* per vertex: the camera plays no part; in each mesh's frame of its first
+         * instance at rest: an animation that moves it does not re-bake (prt turns the
+         * lighting instead, plugins/prt/README.md "Rigid motion") */
+        .flags = LG_NODE_VIEW_INDEPENDENT | LG_NODE_POSE_INDEPENDENT,
         .create = pb_create_bake,
         .prepare = pb_prepare,
         .execute = pb_execute,

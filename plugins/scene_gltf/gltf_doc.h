@@ -127,6 +127,32 @@ typedef struct lg_gltf_light {
     double intensity, range, inner_cone, outer_cone;
 } lg_gltf_light;
 
+/* Animations (glTF 2.0, 3.11): samplers read key times (input) and values (output)
+ * accessors; a channel points a sampler at a node's path. */
+typedef struct lg_gltf_anim_sampler {
+    int32_t input, output;     /* accessors; -1 absent */
+    const char *interpolation; /* "LINEAR" (the default, also when absent), "STEP", ... */
+} lg_gltf_anim_sampler;
+
+typedef struct lg_gltf_anim_channel {
+    int32_t sampler, node; /* node -1: no target node */
+    const char *path;      /* "translation", "rotation", "scale", "weights" or the file's */
+} lg_gltf_anim_channel;
+
+typedef struct lg_gltf_animation {
+    const char *name;
+    const lg_gltf_anim_channel *channels;
+    uint32_t n_channels;
+    const lg_gltf_anim_sampler *samplers;
+    uint32_t n_samplers;
+} lg_gltf_animation;
+
+/* A skin: only its joints (nodes) are read, so that an animation of them is refused. */
+typedef struct lg_gltf_skin {
+    const int32_t *joints;
+    uint32_t n_joints;
+} lg_gltf_skin;
+
 typedef struct lg_gltf {
     const lg_gltf_buffer *buffers;
     const lg_gltf_view *views;
@@ -145,6 +171,10 @@ typedef struct lg_gltf {
     const lg_json *extras; /* the root object's */
     const lg_json *asset_extras;
     const char *warnings; /* tinygltf's warnings, "" if none */
+    const lg_gltf_animation *animations;
+    uint32_t n_animations;
+    const lg_gltf_skin *skins;
+    uint32_t n_skins;
 } lg_gltf;
 
 typedef struct lg_gltf_doc lg_gltf_doc; /* owns everything the lg_gltf points to */

@@ -44,6 +44,15 @@ typedef struct store {
     uint32_t n_cameras, cap_cameras;
     char **strings; /* every name and the source, freed with the scene */
     uint32_t n_strings, cap_strings;
+    /* the animation played (lg_scene.animation), NULL-free when the file has none */
+    uint32_t *inst_node; /* per instance: the glTF node that places it */
+    uint32_t cap_inst_node;
+    lg_scene_animation anim;
+    lg_anim_node *anim_nodes;
+    lg_anim_channel *anim_channels;
+    float **anim_arrays; /* every channel's times and values */
+    uint32_t n_anim_arrays;
+    int32_t *light_node, *camera_node;
 } store;
 
 void lg_gltf_scene_free(lg_scene *scene)
@@ -65,6 +74,14 @@ void lg_gltf_scene_free(lg_scene *scene)
     for (uint32_t i = 0; i < st->n_strings; i++)
         free(st->strings[i]);
     free(st->strings);
+    free(st->inst_node);
+    free(st->anim_nodes);
+    free(st->anim_channels);
+    for (uint32_t i = 0; i < st->n_anim_arrays; i++)
+        free(st->anim_arrays[i]);
+    free(st->anim_arrays);
+    free(st->light_node);
+    free(st->camera_node);
     free(st);
 }
 
@@ -95,6 +112,7 @@ typedef struct loader {
     int64_t **prim_mesh; /* per glTF mesh, per primitive: lg_mesh index, -1 not made yet */
     bool *material_used_default;
     bool warned_targets, warned_skin, warned_ortho;
+    int64_t *parent; /* per glTF node, -1 for a root (check_tree) */
     /* cameras and lights met while walking the tree, with their node's world matrix */
     struct placed {
         uint32_t node, index;
@@ -876,6 +894,13 @@ static int visit(loader *l, uint32_t ni, const double world[16])
                 if (!grow((void **)&st->instances, &st->cap_instances, st->n_instances,
                           sizeof *st->instances))
                     return fail(l, LG_ERR_NOMEM, "out of memory");
+                uint32_t cap_before = st->cap_inst_node;
+                if (!grow((void **)&st->inst_node, &st->cap_inst_node, st->n_instances,
+                          sizeof *st->inst_node)) {
+                    st->cap_inst_node = cap_before;
+                    return fail(l, LG_ERR_NOMEM, "out of memory");
+                }
+                st->inst_node[st->n_instances] = ni;
                 lg_instance *in = &st->instances[st->n_instances++];
                 memset(in, 0, sizeof *in);
                 in->mesh = id;
@@ -1497,6 +1522,326 @@ static int make_medium(loader *l, int64_t scene)
 
 /* ---- the whole file -------------------------------------------------------------------------- */
 
+/* ---- animations ------------------------------------------------------------------------------ */
+
+/* The rest pose of node ni as TRS. A node given by a matrix is decomposed (glTF forbids
+ * animating it, but it may be the parent of an animated node); a matrix that TRS cannot
+ * hold (shear, a projection) is refused only when that node is an ancestor of an animated
+ * one (*exact false). */
+static void rest_trs(const lg_gltf_node *n, lg_anim_node *o, bool *exact)
+{
+    *exact = true;
+    if (!n->n_matrix) {
+        for (int k = 0; k < 3; k++) {
+            o->translation[k] = n->n_translation ? (float)n->translation[k] : 0.0f;
+            o->scale[k] = n->n_scale ? (float)n->scale[k] : 1.0f;
+        }
+        double q[4] = { 0, 0, 0, 1 }, len = 0;
+        if (n->n_rotation)
+            memcpy(q, n->rotation, sizeof q);
+        for (int k = 0; k < 4; k++)
+            len += q[k] * q[k];
+        len = len > 0 ? sqrt(len) : 1;
+        for (int k = 0; k < 4; k++)
+            o->rotation[k] = (float)(q[k] / len);
+        return;
+    }
+    const double *m = n->matrix;
+    double c[3][3], s[3];
+    for (int j = 0; j < 3; j++) {
+        s[j] =
+            sqrt(m[j * 4] * m[j * 4] + m[j * 4 + 1] * m[j * 4 + 1] + m[j * 4 + 2] * m[j * 4 + 2]);
+        for (int r = 0; r < 3; r++)
+            c[j][r] = s[j] > 0 ? m[j * 4 + r] / s[j] : (r == j);
+    }
+    /* a mirror: the sign goes into the x scale */
+    double det = c[0][0] * (c[1][1] * c[2][2] - c[2][1] * c[1][2]) -
+                 c[1][0] * (c[0][1] * c[2][2] - c[2][1] * c[0][2]) +
+                 c[2][0] * (c[0][1] * c[1][2] - c[1][1] * c[0][2]);
+    if (det < 0) {
+        s[0] = -s[0];
+        for (int r = 0; r < 3; r++)
+            c[0][r] = -c[0][r];
+    }
+    /* rotation matrix (columns c[j]) to a quaternion (Shepperd's method) */
+    double r00 = c[0][0], r11 = c[1][1], r22 = c[2][2], q[4];
+    double tr = r00 + r11 + r22;
+    if (tr > 0) {
+        double k = 2 * sqrt(tr + 1);
+        q[3] = 0.25 * k, q[0] = (c[1][2] - c[2][1]) / k, q[1] = (c[2][0] - c[0][2]) / k,
+        q[2] = (c[0][1] - c[1][0]) / k;
+    } else if (r00 > r11 && r00 > r22) {
+        double k = 2 * sqrt(1 + r00 - r11 - r22);
+        q[3] = (c[1][2] - c[2][1]) / k, q[0] = 0.25 * k, q[1] = (c[1][0] + c[0][1]) / k,
+        q[2] = (c[2][0] + c[0][2]) / k;
+    } else if (r11 > r22) {
+        double k = 2 * sqrt(1 + r11 - r00 - r22);
+        q[3] = (c[2][0] - c[0][2]) / k, q[0] = (c[1][0] + c[0][1]) / k, q[1] = 0.25 * k,
+        q[2] = (c[2][1] + c[1][2]) / k;
+    } else {
+        double k = 2 * sqrt(1 + r22 - r00 - r11);
+        q[3] = (c[0][1] - c[1][0]) / k, q[0] = (c[2][0] + c[0][2]) / k,
+        q[1] = (c[2][1] + c[1][2]) / k, q[2] = 0.25 * k;
+    }
+    for (int k = 0; k < 3; k++) {
+        o->translation[k] = (float)m[12 + k];
+        o->scale[k] = (float)s[k];
+    }
+    for (int k = 0; k < 4; k++)
+        o->rotation[k] = (float)q[k];
+    /* does T R S give the matrix back? (shear and projections do not survive) */
+    double scale = 1e-30;
+    for (int k = 0; k < 16; k++)
+        scale = fmax(scale, fabs(m[k]));
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    double rm[9] = { 1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                     2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                     2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y) };
+    for (int j = 0; j < 3; j++)
+        for (int r = 0; r < 3; r++)
+            if (fabs(rm[j * 3 + r] * s[j] - m[j * 4 + r]) > 1e-5 * scale)
+                *exact = false;
+    if (m[3] != 0 || m[7] != 0 || m[11] != 0 || m[15] != 1)
+        *exact = false;
+}
+
+static const char *interp_name(lg_anim_interp i)
+{
+    return i == LG_ANIM_STEP ? "STEP" : i == LG_ANIM_CUBICSPLINE ? "CUBICSPLINE" : "LINEAR";
+}
+
+/* Keeps a channel's array (times or values) with the scene. */
+static int keep_array(loader *l, float *a)
+{
+    store *st = l->st;
+    float **p = realloc(st->anim_arrays, (st->n_anim_arrays + 1) * sizeof *p);
+    if (!p) {
+        free(a);
+        return fail(l, LG_ERR_NOMEM, "out of memory");
+    }
+    st->anim_arrays = p;
+    p[st->n_anim_arrays++] = a;
+    return 0;
+}
+
+/* Channel c of animation ai: checked (target, path, interpolation, accessor types and
+ * counts, key times strictly increasing, finite and >= 0, finite values) and copied into
+ * *o. `where` names the animation and the channel. Returns 0, 1 for a channel to skip (no
+ * target node: glTF leaves it to an extension), or an error. */
+static int read_channel(loader *l, const lg_gltf_animation *ga, uint32_t c, const char *where,
+                        lg_anim_channel *o)
+{
+    const lg_gltf *g = l->g;
+    const lg_gltf_anim_channel *ch = &ga->channels[c];
+    if (ch->node < 0) {
+        warn(l, "%s: no target node; the channel is ignored", where);
+        return 1;
+    }
+    if ((uint32_t)ch->node >= g->n_nodes)
+        return fail(l, LG_ERR_INVALID, "%s: target node %d does not exist (the file has %u)", where,
+                    ch->node, g->n_nodes);
+    const char *path = ch->path ? ch->path : "";
+    if (!strcmp(path, "weights"))
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: animates the morph-target weights of node %d; morph targets are not "
+                    "supported (only rigid node animation: translation, rotation, scale)",
+                    where, ch->node);
+    if (!strcmp(path, "translation"))
+        o->path = LG_ANIM_TRANSLATION;
+    else if (!strcmp(path, "rotation"))
+        o->path = LG_ANIM_ROTATION;
+    else if (!strcmp(path, "scale"))
+        o->path = LG_ANIM_SCALE;
+    else
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: target path '%s' (supported: translation, rotation, scale)", where, path);
+    for (uint32_t s = 0; s < g->n_skins; s++)
+        for (uint32_t j = 0; j < g->skins[s].n_joints; j++)
+            if (g->skins[s].joints[j] == ch->node)
+                return fail(l, LG_ERR_UNSUPPORTED,
+                            "%s: animates node %d, a joint of skin %u: skinned animation is "
+                            "not supported (only rigid node animation)",
+                            where, ch->node, s);
+    if (g->nodes[ch->node].n_matrix)
+        return fail(l, LG_ERR_INVALID,
+                    "%s: animates node %d, which is given by a matrix (glTF 2.0 forbids "
+                    "animating such a node: give it translation, rotation and scale)",
+                    where, ch->node);
+    if (ch->sampler < 0 || (uint32_t)ch->sampler >= ga->n_samplers)
+        return fail(l, LG_ERR_INVALID, "%s: sampler %d does not exist (the animation has %u)",
+                    where, ch->sampler, ga->n_samplers);
+    const lg_gltf_anim_sampler *sm = &ga->samplers[ch->sampler];
+    const char *ip = sm->interpolation ? sm->interpolation : "LINEAR";
+    if (!strcmp(ip, "LINEAR") || !*ip)
+        o->interpolation = LG_ANIM_LINEAR;
+    else if (!strcmp(ip, "STEP"))
+        o->interpolation = LG_ANIM_STEP;
+    else if (!strcmp(ip, "CUBICSPLINE"))
+        o->interpolation = LG_ANIM_CUBICSPLINE;
+    else
+        return fail(l, LG_ERR_UNSUPPORTED,
+                    "%s: interpolation '%s' (supported: LINEAR, STEP, CUBICSPLINE)", where, ip);
+    o->node = (uint32_t)ch->node;
+    char what[256];
+    snprintf(what, sizeof what, "%s, input (key times)", where);
+    float *times = NULL, *values = NULL;
+    uint32_t n = 0, nv = 0;
+    int rc = read_accessor(l, sm->input, what, 1, 1u << (CT_FLOAT - CT_BYTE), OUT_FLOAT,
+                           (void **)&times, &n);
+    if (rc)
+        return rc;
+    if ((rc = keep_array(l, times)))
+        return rc;
+    if (n == 0)
+        return fail(l, LG_ERR_INVALID, "%s: the sampler has no keys (input accessor %d)", where,
+                    sm->input);
+    for (uint32_t k = 0; k < n; k++) {
+        if (!isfinite(times[k]) || times[k] < 0)
+            return fail(l, LG_ERR_INVALID,
+                        "%s: key time %u is %g: key times must be finite and >= 0 seconds", where,
+                        k, times[k]);
+        if (k > 0 && !(times[k] > times[k - 1]))
+            return fail(l, LG_ERR_INVALID,
+                        "%s: key times must strictly increase, but key %u (%g s) does not "
+                        "follow key %u (%g s)",
+                        where, k, times[k], k - 1, times[k - 1]);
+    }
+    uint32_t comps = o->path == LG_ANIM_ROTATION ? 4 : 3;
+    /* rotations may be normalized integers (glTF 2.0, 3.11), the others only floats */
+    unsigned types = 1u << (CT_FLOAT - CT_BYTE);
+    if (o->path == LG_ANIM_ROTATION) {
+        int32_t oa = sm->output;
+        bool intnorm = oa >= 0 && (uint32_t)oa < g->n_accessors &&
+                       g->accessors[oa].component_type != CT_FLOAT;
+        if (intnorm && !g->accessors[oa].normalized)
+            return fail(l, LG_ERR_INVALID,
+                        "%s: output accessor %d holds rotations as integers that are not "
+                        "normalized (glTF 2.0 allows floats or normalized integers)",
+                        where, oa);
+        types |= 1u << (CT_BYTE - CT_BYTE) | 1u << (CT_UBYTE - CT_BYTE) |
+                 1u << (CT_SHORT - CT_BYTE) | 1u << (CT_USHORT - CT_BYTE);
+    }
+    snprintf(what, sizeof what, "%s, output (%s values)", where, path);
+    if ((rc = read_accessor(l, sm->output, what, comps, types, OUT_FLOAT, (void **)&values, &nv)))
+        return rc;
+    if ((rc = keep_array(l, values)))
+        return rc;
+    uint32_t per = o->interpolation == LG_ANIM_CUBICSPLINE ? 3 : 1;
+    if ((uint64_t)nv != (uint64_t)n * per)
+        return fail(l, LG_ERR_INVALID,
+                    "%s: %u key times need %" PRIu64 " output values with %s interpolation, "
+                    "the output accessor %d has %u",
+                    where, n, (uint64_t)n * per, interp_name(o->interpolation), sm->output, nv);
+    for (uint64_t k = 0; k < (uint64_t)nv * comps; k++)
+        if (!isfinite(values[k]))
+            return fail(l, LG_ERR_INVALID,
+                        "%s: output value %" PRIu64 " (component %" PRIu64
+                        ") is not a finite number",
+                        where, k / comps, k % comps);
+    o->n_keys = n;
+    o->times = times;
+    o->values = values;
+    return 0;
+}
+
+/* lg_scene.animation from the animation the options choose: the node tree (every glTF node,
+ * its parent and rest TRS), the channels, and the nodes that place each instance, light
+ * and camera. Skins and morph targets are refused when the animation moves them; a file
+ * without animations (or animation -1) gives a scene without one. */
+static int make_animation(loader *l)
+{
+    const lg_gltf *g = l->g;
+    store *st = l->st;
+    int64_t ai = l->opt->animation;
+    if (ai < 0 || (ai == 0 && g->n_animations == 0))
+        return 0;
+    if ((uint64_t)ai >= g->n_animations)
+        return fail(l, LG_ERR_INVALID, "animation %" PRId64 " does not exist (the file has %u)", ai,
+                    g->n_animations);
+    const lg_gltf_animation *ga = &g->animations[ai];
+    char label[96];
+    snprintf(label, sizeof label, "animation %" PRId64, ai);
+    st->anim.name = keep(l, ga->name && *ga->name ? ga->name : label);
+    uint32_t nn = g->n_nodes;
+    st->anim_nodes = calloc((size_t)nn + 1, sizeof *st->anim_nodes);
+    st->anim_channels = calloc((size_t)ga->n_channels + 1, sizeof *st->anim_channels);
+    st->light_node = calloc((size_t)st->n_lights + 1, sizeof *st->light_node);
+    st->camera_node = calloc((size_t)st->n_cameras + 1, sizeof *st->camera_node);
+    if (!st->anim.name || !st->anim_nodes || !st->anim_channels || !st->light_node ||
+        !st->camera_node)
+        return fail(l, LG_ERR_NOMEM, "out of memory");
+    uint32_t nc = 0;
+    double duration = 0;
+    for (uint32_t c = 0; c < ga->n_channels; c++) {
+        char where[160];
+        snprintf(where, sizeof where, "animation %" PRId64 " ('%s'), channel %u", ai, st->anim.name,
+                 c);
+        int rc = read_channel(l, ga, c, where, &st->anim_channels[nc]);
+        if (rc < 0 || rc > 1)
+            return rc;
+        if (rc == 0) {
+            const lg_anim_channel *ch = &st->anim_channels[nc++];
+            duration = fmax(duration, ch->times[ch->n_keys - 1]);
+            st->anim_nodes[ch->node].animated = 1;
+        }
+    }
+    /* rest TRS, and `animated` carried down to descendants (an ancestor's flag) */
+    for (uint32_t i = 0; i < nn; i++) {
+        lg_anim_node *o = &st->anim_nodes[i];
+        o->parent = (int32_t)l->parent[i];
+        bool exact;
+        rest_trs(&g->nodes[i], o, &exact);
+        (void)exact;
+    }
+    for (uint32_t i = 0; i < nn; i++) {
+        if (st->anim_nodes[i].animated != 1)
+            continue;
+        for (int64_t p = l->parent[i]; p >= 0; p = l->parent[p]) {
+            bool exact;
+            lg_anim_node tmp;
+            rest_trs(&g->nodes[p], &tmp, &exact);
+            if (!exact)
+                return fail(l, LG_ERR_UNSUPPORTED,
+                            "animation %" PRId64 " ('%s') moves node %u, whose ancestor node "
+                            "%" PRId64 " has a matrix that translation, rotation and scale "
+                            "cannot express (shear or projection)",
+                            ai, st->anim.name, i, p);
+        }
+    }
+    for (uint32_t i = 0; i < nn; i++) {
+        if (st->anim_nodes[i].animated)
+            continue;
+        for (int64_t p = l->parent[i]; p >= 0; p = l->parent[p])
+            if (st->anim_nodes[p].animated == 1) {
+                st->anim_nodes[i].animated = 2;
+                break;
+            }
+    }
+    for (uint32_t i = 0; i < nn; i++)
+        st->anim_nodes[i].animated = st->anim_nodes[i].animated != 0;
+    for (uint32_t i = 0; i < st->n_lights && i < l->n_lits; i++)
+        st->light_node[i] = st->anim_nodes[l->lits[i].node].animated ? (int32_t)l->lits[i].node
+                                                                     : -1;
+    for (uint32_t i = 0; i < st->n_cameras; i++)
+        st->camera_node[i] = i < l->n_cams && st->anim_nodes[l->cams[i].node].animated
+                                 ? (int32_t)l->cams[i].node
+                                 : -1;
+    if (nc == 0) { /* every channel skipped: nothing moves */
+        free(st->anim_channels);
+        st->anim_channels = NULL;
+        return 0;
+    }
+    st->anim.duration = duration;
+    st->anim.nodes = st->anim_nodes;
+    st->anim.n_nodes = nn;
+    st->anim.channels = st->anim_channels;
+    st->anim.n_channels = nc;
+    st->anim.instance_node = st->inst_node;
+    st->anim.light_node = st->light_node;
+    st->anim.camera_node = st->camera_node;
+    return 0;
+}
+
 /* Extensions the loader implements or may ignore without drawing the scene wrongly. */
 static const char *const supported_required[] = {
     "KHR_draco_mesh_compression",      "KHR_lights_punctual", "KHR_mesh_quantization",
@@ -1521,6 +1866,7 @@ lg_gltf_options lg_gltf_default_options(void)
     o.crease_deg = 60;
     o.scene = -1;
     o.camera = -1;
+    o.animation = 0;
     return o;
 }
 
@@ -1551,10 +1897,10 @@ static int build(loader *l)
         for (uint32_t p = 0; p < g->meshes[i].n_primitives; p++)
             l->prim_mesh[i][p] = -1;
     }
+    l->parent = parent; /* freed by lg_gltf_load_memory */
     int rc = check_tree(l, parent);
     if (!rc)
         rc = walk(l, parent);
-    free(parent);
     if (rc)
         return rc;
 
@@ -1582,7 +1928,8 @@ static int build(loader *l)
                  : g->default_scene >= 0 ? g->default_scene
                  : g->n_scenes           ? 0
                                          : -1;
-    if ((rc = make_lights(l)) || (rc = make_cameras(l)) || (rc = make_medium(l, si)))
+    if ((rc = make_lights(l)) || (rc = make_cameras(l)) || (rc = make_medium(l, si)) ||
+        (rc = make_animation(l)))
         return rc;
     int64_t cam = l->opt->camera < 0 ? 0 : l->opt->camera;
     if ((uint64_t)cam >= st->n_cameras)
@@ -1604,6 +1951,7 @@ static int build(loader *l)
     s->n_cameras = st->n_cameras;
     s->camera = (uint32_t)cam;
     s->geometry = NULL;
+    s->animation = st->anim_channels ? &st->anim : NULL;
     lg_scene_compute_features(s);
     return 0;
 }
@@ -1675,6 +2023,7 @@ int lg_gltf_load_memory(const uint8_t *bytes, size_t size, const char *name, con
     free(l.prim_mesh);
     free(l.cams);
     free(l.lits);
+    free(l.parent);
     lg_gltf_doc_free(doc);
     if (rc) {
         lg_gltf_scene_free(l.st ? &l.st->scene : NULL);

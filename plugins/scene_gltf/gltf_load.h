@@ -28,6 +28,9 @@ typedef struct lg_gltf_options {
                         * every root node */
     int64_t camera;    /* index into lg_scene.cameras; -1: the first (the file's first
                         * camera, else the automatic one) */
+    int64_t animation; /* the glTF animation played (lg_scene.animation): an index into the
+                        * file's animations, 0 by default (none when the file has none);
+                        * -1: none (the rest pose) */
     /* Receives each warning (one line, naming the file); may be NULL. */
     void (*warn)(void *user, const char *message);
     void *warn_user;

@@ -581,6 +581,10 @@ struct lg_gltf_doc {
     std::vector<lg_gltf_camera> cameras;
     std::vector<lg_gltf_material> materials;
     std::vector<lg_gltf_light> lights;
+    std::vector<lg_gltf_animation> animations;
+    std::deque<std::vector<lg_gltf_anim_channel>> anim_channels;
+    std::deque<std::vector<lg_gltf_anim_sampler>> anim_samplers;
+    std::vector<lg_gltf_skin> skins;
     std::vector<const char *> required;
     std::deque<tinygltf::Value> owned_values; // extension maps wrapped as objects
     std::string warnings;
@@ -589,6 +593,7 @@ struct lg_gltf_doc {
     const lg_json *value(const tinygltf::Value &v);
     const lg_json *extensions(const tinygltf::ExtensionMap &m);
     void fill();
+    void fill_animations();
 };
 
 void lg_gltf_doc::convert(const tinygltf::Value &v, lg_json *out)
@@ -815,6 +820,29 @@ void lg_gltf_doc::fill()
     v.extras = value(m.extras);
     v.asset_extras = value(m.asset.extras);
     v.warnings = warnings.c_str();
+    fill_animations();
+}
+
+void lg_gltf_doc::fill_animations()
+{
+    for (const auto &a : model.animations) {
+        anim_channels.emplace_back();
+        std::vector<lg_gltf_anim_channel> &cs = anim_channels.back();
+        for (const auto &c : a.channels)
+            cs.push_back({ c.sampler, c.target_node, c.target_path.c_str() });
+        anim_samplers.emplace_back();
+        std::vector<lg_gltf_anim_sampler> &ss = anim_samplers.back();
+        for (const auto &sm : a.samplers)
+            ss.push_back({ sm.input, sm.output, sm.interpolation.c_str() });
+        animations.push_back(
+            { a.name.c_str(), cs.data(), uint32_t(cs.size()), ss.data(), uint32_t(ss.size()) });
+    }
+    view.animations = animations.data();
+    view.n_animations = uint32_t(animations.size());
+    for (const auto &sk : model.skins)
+        skins.push_back({ sk.joints.data(), uint32_t(sk.joints.size()) });
+    view.skins = skins.data();
+    view.n_skins = uint32_t(skins.size());
 }
 
 extern "C" const lg_json *lg_json_get(const lg_json *obj, const char *key)

@@ -45,6 +45,14 @@ static const lg_param_desc params[] = {
       .min = 0,
       .max = 180,
       .doc = "smooth normals: facets meeting at more than this angle (degrees) keep a crease" },
+    { .key = "animation",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = -1,
+      .max = 1e9,
+      .doc = "the glTF animation played by --frames/--dt (lg_scene.animation): its index among "
+             "the file's animations (0, the first, is ignored in a file without any); -1: none, "
+             "the rest pose" },
 };
 
 static const lg_port_desc outputs[] = {
@@ -73,6 +81,7 @@ static int gltf_prepare(lg_node *n)
     opt.crease_deg = lg_param_float(n, "crease_deg");
     opt.scene = lg_param_int(n, "scene");
     opt.camera = lg_param_int(n, "camera");
+    opt.animation = lg_param_int(n, "animation");
     opt.warn = log_warning;
     opt.warn_user = n;
 

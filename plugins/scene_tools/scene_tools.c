@@ -38,6 +38,11 @@ typedef struct st_payload {
     lg_camera *cameras; /* NULL when the source's array is used */
     char *source;
     char *name; /* the node's name: names of the lights and cameras made here */
+    /* the source's animation carried through (ABI 3.1): its nodes and channels are the
+     * source's, the lights' and cameras' carrier nodes this node's own (a light or camera
+     * made here stands still: -1) */
+    lg_scene_animation anim;
+    int32_t *light_node, *camera_node;
 } st_payload;
 
 /* The free function given to the host. Touches only this payload's own allocations, never
@@ -51,6 +56,8 @@ static void st_free(void *ptr)
     free(p->cameras);
     free(p->source);
     free(p->name);
+    free(p->light_node);
+    free(p->camera_node);
     free(p);
 }
 
@@ -101,6 +108,10 @@ static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, con
     memcpy(&p->scene, src, have);
     p->scene.struct_size = sizeof p->scene;
     memset(p->scene.reserved, 0, sizeof p->scene.reserved);
+    if (have == sizeof p->scene && src->animation) {
+        p->anim = *src->animation;
+        p->scene.animation = &p->anim; /* carriers: st_carriers, by the node that derives */
+    }
     /* a chain of derived scenes points straight at the owner of the geometry */
     p->scene.geometry = src->geometry ? src->geometry : in;
 
@@ -115,6 +126,31 @@ static int st_derive(lg_node *n, const lg_resource *in, const lg_scene *src, con
     snprintf(p->source, len, "%s + %s '%s'", from, what, n->name);
     p->scene.source = p->source;
     *out = p;
+    return 0;
+}
+
+/* The derived scene's light and camera carriers (ABI 3.1 animation): light i of the new
+ * scene is the source's light i for i < kept_lights, else made here; the camera in slot
+ * `new_camera` (UINT32_MAX: none) is made here, the others are the source's. */
+static int st_carriers(lg_node *n, st_payload *p, const lg_scene *src, uint32_t kept_lights,
+                       uint32_t new_camera)
+{
+    if (!p->scene.animation)
+        return 0;
+    const lg_scene_animation *a = src->animation;
+    p->light_node = malloc(((size_t)p->scene.n_lights + 1) * sizeof *p->light_node);
+    p->camera_node = malloc(((size_t)p->scene.n_cameras + 1) * sizeof *p->camera_node);
+    if (!p->light_node || !p->camera_node)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (animation carriers)");
+    for (uint32_t i = 0; i < p->scene.n_lights; i++)
+        p->light_node[i] = i < kept_lights && i < src->n_lights && a->light_node ? a->light_node[i]
+                                                                                 : -1;
+    for (uint32_t i = 0; i < p->scene.n_cameras; i++)
+        p->camera_node[i] = i != new_camera && i < src->n_cameras && a->camera_node
+                                ? a->camera_node[i]
+                                : -1;
+    p->anim.light_node = p->light_node;
+    p->anim.camera_node = p->camera_node;
     return 0;
 }
 
@@ -323,6 +359,10 @@ static int camera_prepare(lg_node *n)
     p->scene.cameras = p->cameras;
     p->scene.n_cameras = nc;
     p->scene.camera = slot;
+    if ((rc = st_carriers(n, p, src, UINT32_MAX, slot))) {
+        st_free(p);
+        return rc;
+    }
     return st_publish(n, p);
 }
 
@@ -385,6 +425,10 @@ static int light_prepare(lg_node *n)
     p->lights[keep] = l;
     p->scene.lights = p->lights;
     p->scene.n_lights = keep + 1;
+    if ((rc = st_carriers(n, p, src, keep, UINT32_MAX))) {
+        st_free(p);
+        return rc;
+    }
     return st_publish(n, p);
 }
 
@@ -639,6 +683,7 @@ static const lg_node_type st_types[] = {
         LG_OUTPUTS(camera_outputs),
         .prepare = camera_prepare,
         .execute = st_execute,
+        .flags = LG_NODE_POSE_INDEPENDENT, /* the animation is carried, not applied */
     },
     {
         .struct_size = sizeof(lg_node_type),
@@ -649,6 +694,7 @@ static const lg_node_type st_types[] = {
         LG_OUTPUTS(light_outputs),
         .prepare = light_prepare,
         .execute = st_execute,
+        .flags = LG_NODE_POSE_INDEPENDENT, /* the animation is carried, not applied */
     },
     {
         .struct_size = sizeof(lg_node_type),
@@ -659,6 +705,7 @@ static const lg_node_type st_types[] = {
         LG_OUTPUTS(medium_outputs),
         .prepare = medium_prepare,
         .execute = st_execute,
+        .flags = LG_NODE_POSE_INDEPENDENT, /* the animation is carried, not applied */
     },
     {
         .struct_size = sizeof(lg_node_type),
@@ -668,6 +715,7 @@ static const lg_node_type st_types[] = {
         LG_OUTPUTS(environment_outputs),
         .prepare = environment_prepare,
         .execute = st_execute,
+        .flags = LG_NODE_POSE_INDEPENDENT, /* the animation is carried, not applied */
     },
 };
 

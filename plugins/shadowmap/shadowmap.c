@@ -575,7 +575,6 @@ static int sm_make_pass(lg_node *n, sm_state *st)
 
 static int sm_execute(lg_node *n, const lg_frame *frame)
 {
-    (void)frame;
     sm_state *st = n->user;
     const lg_shadowmap *sm = st->sm;
     const lg_resource *scene_res = lg_input(n, 0);
@@ -623,6 +622,7 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
         (rc = lg_gl_pass_begin(st->pass, &atlas)))
         return rc;
     lg_gl_pass_clear_depth(st->pass, 1.0f);
+    lg_gl_pass_set_time(st->pass, frame->time); /* an animated scene's pose (ABI 3.1) */
     for (uint32_t li = 0; li < sm->n_lights && !rc; li++) {
         const lg_shadow_light *l = &sm->lights[li];
         lg_gl_pass_viewport(st->pass, (int32_t)l->tile_x, (int32_t)l->tile_y, sm->resolution,

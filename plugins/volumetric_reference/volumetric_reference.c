@@ -328,9 +328,10 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
     if (lg_map_cpu(n, lg_output(n, VOL_OUT_INSCATTER), LG_WRITE, &iv) || !iv.pixels)
         return lg_error(n, "output 'inscatter' cannot be written");
 
-    /* every instance in world space, as prt_bake builds it (plugins/embree_common) */
+    /* every instance in world space, as prt_bake builds it (plugins/embree_common), at
+     * this frame's pose when the scene is animated (ABI 3.1) */
     lg_embree e;
-    rc = lg_embree_make(n, s, &e);
+    rc = lg_embree_make_at(n, s, frame->time, &e);
     if (rc) {
         lg_embree_free(&e);
         return rc;

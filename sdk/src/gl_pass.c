@@ -66,6 +66,10 @@ struct lg_gl_pass {
     bool active;
 
     lg_scene_gl *sgl;
+    /* rigid animation (ABI 3.1): the time lg_gl_pass_set_time gave, and the draw data and
+     * time whose pose the instance buffer holds */
+    double pose_time, posed_time;
+    const lg_scene_gl *posed_sgl;
     pass_scene_key key;
 
     /* bound between begin and end: bit i = binding i */
@@ -1074,6 +1078,7 @@ static int scene_data(lg_gl_pass *p, const lg_resource *res)
     }
     lg_scene_gl_destroy(p->gl, p->sgl);
     p->sgl = NULL;
+    p->posed_sgl = NULL; /* the new draw data holds the rest pose */
     key_free(&p->key);
     unsigned flags = p->scene_attribs & LG_GL_SCENE_NORMALS ? LG_SCENE_GL_NORMALS : 0;
     int rc = lg_scene_gl_create(n, res, flags, &p->sgl);
@@ -1098,6 +1103,15 @@ int lg_gl_pass_draw_scene(lg_gl_pass *p, const lg_resource *scene, const lg_gl_s
     int rc = scene_data(p, scene);
     if (rc)
         return rc;
+    /* an animated scene: the matrices at the pass's time, filled again when it changed
+     * (or the draw data was made again) */
+    if (lg_scene_is_animated(p->sgl->scene) &&
+        (p->sgl != p->posed_sgl || p->posed_time != p->pose_time)) {
+        if ((rc = lg_scene_gl_pose(p->node, p->gl, p->sgl, p->pose_time)))
+            return rc;
+        p->posed_sgl = p->sgl;
+        p->posed_time = p->pose_time;
+    }
     lg_scene_gl_draw_desc sd = { .program = p->program,
                                  .first_location = p->first.location,
                                  .cull_material = p->cull != LG_GL_CULL_NONE };
@@ -1112,6 +1126,12 @@ int lg_gl_pass_draw_scene(lg_gl_pass *p, const lg_resource *scene, const lg_gl_s
     char what[160];
     snprintf(what, sizeof what, "gl pass '%s': drawing the scene", p->name);
     return lg_gl_check(p->node, what);
+}
+
+void lg_gl_pass_set_time(lg_gl_pass *p, double time)
+{
+    if (p)
+        p->pose_time = time;
 }
 
 const lg_scene_gl *lg_gl_pass_scene(const lg_gl_pass *p)

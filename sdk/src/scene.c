@@ -94,6 +94,11 @@ void lg_scene_compute_features(lg_scene *s)
             uint32_t k = a->instance_node[i];
             f.animated += k < a->n_nodes && a->nodes[k].animated;
         }
+        /* a moving light or camera changes the picture as a moving instance does */
+        for (uint32_t i = 0; a->light_node && i < s->n_lights; i++)
+            f.animated += a->light_node[i] >= 0;
+        for (uint32_t i = 0; a->camera_node && i < s->n_cameras; i++)
+            f.animated += a->camera_node[i] >= 0;
     }
     f.probe = s->features.probe;
     s->features = f;
@@ -420,36 +425,25 @@ static void normal_matrix(const double m[16], float out[9])
             out[c2 * 3 + r] = (float)(cof[r * 3 + c2] * inv);
 }
 
-int lg_scene_pose(lg_node *node, const lg_scene *s, double time, lg_instance *out)
+/* World matrices of every node of `a` at `time` (rest: the rest pose, channels ignored).
+ * Returns the malloc'd array (n_nodes of them), or NULL when out of memory. */
+static double (*node_worlds(const lg_scene_animation *a, double time, bool rest))[16]
 {
-    if (!isfinite(time)) {
-        if (node)
-            lg_error(node, "cannot pose the scene at time %g: not a finite number", time);
-        return LG_ERR_INVALID;
-    }
-    if (!lg_scene_is_animated(s)) {
-        if (s->n_instances)
-            memcpy(out, s->instances, s->n_instances * sizeof *out);
-        return 0;
-    }
-    const lg_scene_animation *a = s->animation;
     uint32_t nn = a->n_nodes;
     /* local TRS per node: the rest pose, then the channels */
-    float(*trs)[10] = malloc((size_t)nn * sizeof *trs);
-    double(*world)[16] = malloc((size_t)nn * sizeof *world);
+    float(*trs)[10] = malloc((size_t)(nn ? nn : 1) * sizeof *trs);
+    double(*world)[16] = malloc((size_t)(nn ? nn : 1) * sizeof *world);
     uint8_t *done = calloc(nn ? nn : 1, 1);
     if (!trs || !world || !done) {
         free(trs), free(world), free(done);
-        if (node)
-            lg_error(node, "cannot pose the scene: out of memory for %u nodes", nn);
-        return LG_ERR_NOMEM;
+        return NULL;
     }
     for (uint32_t k = 0; k < nn; k++) {
         memcpy(trs[k], a->nodes[k].translation, 3 * sizeof(float));
         memcpy(trs[k] + 3, a->nodes[k].rotation, 4 * sizeof(float));
         memcpy(trs[k] + 7, a->nodes[k].scale, 3 * sizeof(float));
     }
-    for (uint32_t c = 0; c < a->n_channels; c++) {
+    for (uint32_t c = 0; !rest && c < a->n_channels; c++) {
         const lg_anim_channel *ch = &a->channels[c];
         if (ch->node >= nn || ch->n_keys == 0)
             continue;
@@ -481,6 +475,30 @@ int lg_scene_pose(lg_node *node, const lg_scene *s, double time, lg_instance *ou
             done[j] = 1;
         }
     }
+    free(trs), free(done);
+    return world;
+}
+
+int lg_scene_pose(lg_node *node, const lg_scene *s, double time, lg_instance *out)
+{
+    if (!isfinite(time)) {
+        if (node)
+            lg_error(node, "cannot pose the scene at time %g: not a finite number", time);
+        return LG_ERR_INVALID;
+    }
+    if (!lg_scene_is_animated(s)) {
+        if (s && s->n_instances)
+            memcpy(out, s->instances, s->n_instances * sizeof *out);
+        return 0;
+    }
+    const lg_scene_animation *a = s->animation;
+    uint32_t nn = a->n_nodes;
+    double(*world)[16] = node_worlds(a, time, false);
+    if (!world) {
+        if (node)
+            lg_error(node, "cannot pose the scene: out of memory for %u nodes", nn);
+        return LG_ERR_NOMEM;
+    }
     for (uint32_t i = 0; i < s->n_instances; i++) {
         out[i] = s->instances[i];
         uint32_t k = a->instance_node[i];
@@ -490,6 +508,119 @@ int lg_scene_pose(lg_node *node, const lg_scene *s, double time, lg_instance *ou
             out[i].model[e] = (float)world[k][e];
         normal_matrix(world[k], out[i].normal_matrix);
     }
-    free(trs), free(world), free(done);
+    free(world);
     return 0;
+}
+
+/* The inverse of an affine column-major 4x4 (false when its 3x3 is singular). */
+static bool affine_inverse(const double m[16], double out[16])
+{
+    double a = m[0], b = m[4], c = m[8], d = m[1], e = m[5], f = m[9], g = m[2], h = m[6],
+           i = m[10];
+    double A = e * i - f * h, B = -(d * i - f * g), C = d * h - e * g;
+    double det = a * A + b * B + c * C;
+    if (det == 0 || !isfinite(det))
+        return false;
+    double inv = 1.0 / det;
+    /* inverse(r, c) = cofactor(c, r) / det */
+    double r[9] = { A * inv, -(b * i - c * h) * inv, (b * f - c * e) * inv,
+                    B * inv, (a * i - c * g) * inv,  -(a * f - c * d) * inv,
+                    C * inv, -(a * h - b * g) * inv, (a * e - b * d) * inv }; /* row-major */
+    memset(out, 0, 16 * sizeof(double));
+    for (int row = 0; row < 3; row++) {
+        for (int col = 0; col < 3; col++)
+            out[col * 4 + row] = r[row * 3 + col];
+        out[12 + row] = -(r[row * 3] * m[12] + r[row * 3 + 1] * m[13] + r[row * 3 + 2] * m[14]);
+    }
+    out[15] = 1;
+    return true;
+}
+
+/* How node k moved from its rest pose to `time`: D = world(t) * world(rest)^-1, so that a
+ * point placed at rest (a light's position, a camera's target) maps to D p. */
+static bool node_motion(double (*world)[16], double (*rest)[16], uint32_t k, double d[16])
+{
+    double inv[16];
+    if (!affine_inverse(rest[k], inv))
+        return false;
+    mul4(world[k], inv, d);
+    return true;
+}
+
+static void move_point(const double d[16], float p[3])
+{
+    double x = p[0], y = p[1], z = p[2];
+    for (int r = 0; r < 3; r++)
+        p[r] = (float)(d[r] * x + d[4 + r] * y + d[8 + r] * z + d[12 + r]);
+}
+
+static void move_dir(const double d[16], float v[3])
+{
+    double x = v[0], y = v[1], z = v[2], o[3], l = 0;
+    for (int r = 0; r < 3; r++) {
+        o[r] = d[r] * x + d[4 + r] * y + d[8 + r] * z;
+        l += o[r] * o[r];
+    }
+    if (!(l > 0))
+        return;
+    l = 1.0 / sqrt(l);
+    for (int r = 0; r < 3; r++)
+        v[r] = (float)(o[r] * l);
+}
+
+/* The lights or cameras (`lights` picks which) of `s` at `time`, into out. */
+static int pose_carried(lg_node *node, const lg_scene *s, double time, bool lights, void *out)
+{
+    uint32_t n = lights ? s->n_lights : s->n_cameras;
+    if (n)
+        memcpy(out, lights ? (const void *)s->lights : (const void *)s->cameras,
+               n * (lights ? sizeof(lg_light) : sizeof(lg_camera)));
+    if (!isfinite(time)) {
+        if (node)
+            lg_error(node, "cannot pose the scene at time %g: not a finite number", time);
+        return LG_ERR_INVALID;
+    }
+    const lg_scene_animation *a = lg_scene_is_animated(s) ? s->animation : NULL;
+    const int32_t *carrier = !a ? NULL : lights ? a->light_node : a->camera_node;
+    bool any = false;
+    for (uint32_t i = 0; carrier && i < n; i++)
+        any |= carrier[i] >= 0 && (uint32_t)carrier[i] < a->n_nodes;
+    if (!any)
+        return 0;
+    double(*world)[16] = node_worlds(a, time, false);
+    double(*rest)[16] = node_worlds(a, 0, true);
+    if (!world || !rest) {
+        free(world), free(rest);
+        if (node)
+            lg_error(node, "cannot pose the scene: out of memory for %u nodes", a->n_nodes);
+        return LG_ERR_NOMEM;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        double d[16];
+        if (carrier[i] < 0 || (uint32_t)carrier[i] >= a->n_nodes ||
+            !node_motion(world, rest, (uint32_t)carrier[i], d))
+            continue;
+        if (lights) {
+            lg_light *l = &((lg_light *)out)[i];
+            move_point(d, l->position);
+            move_dir(d, l->direction);
+        } else {
+            lg_camera *c = &((lg_camera *)out)[i];
+            move_point(d, c->position);
+            move_point(d, c->target);
+            move_dir(d, c->up);
+        }
+    }
+    free(world), free(rest);
+    return 0;
+}
+
+int lg_scene_pose_lights(lg_node *node, const lg_scene *s, double time, lg_light *out)
+{
+    return pose_carried(node, s, time, true, out);
+}
+
+int lg_scene_pose_cameras(lg_node *node, const lg_scene *s, double time, lg_camera *out)
+{
+    return pose_carried(node, s, time, false, out);
 }

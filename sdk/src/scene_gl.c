@@ -246,30 +246,43 @@ int lg_scene_gl_create(lg_node *n, const lg_resource *scene_res, unsigned flags,
 
 /* ---- GL -------------------------------------------------------------------------------------- */
 
+/* The storage-buffer records of the drawn items from `insts` (the scene's instances, or
+ * their pose at some time); malloc'd, NULL when out of memory. */
+static float *make_records(const lg_scene_gl *sgl, const lg_instance *insts)
+{
+    bool normals = sgl->flags & LG_SCENE_GL_NORMALS;
+    const size_t rec = sgl->record_size / sizeof(float);
+    float *recs = calloc(sgl->count, sgl->record_size);
+    if (!recs)
+        return NULL;
+    for (uint32_t i = 0; i < sgl->count; i++) {
+        const lg_instance *in = &insts[sgl->items[i].instance];
+        float *r = recs + (size_t)i * rec;
+        memcpy(r, in->model, 16 * sizeof(float));
+        if (normals) {
+            for (int c = 0; c < 3; c++)
+                for (int k = 0; k < 3; k++)
+                    r[16 + c * 4 + k] = in->normal_matrix[c * 3 + k];
+            r[16 + 15] = 1.0f;
+        }
+    }
+    return recs;
+}
+
 int lg_scene_gl_upload(lg_node *n, const lg_gl *gl, lg_scene_gl *sgl)
 {
     if (sgl->vao)
         return lg_error(n, "lg_scene_gl_upload: called twice");
     bool normals = sgl->flags & LG_SCENE_GL_NORMALS;
     if (sgl->count) {
-        const size_t rec = sgl->record_size / sizeof(float);
         size_t bytes = (size_t)sgl->count * sgl->record_size;
-        float *recs = calloc(sgl->count, sgl->record_size);
+        float *recs = make_records(sgl, sgl->scene->instances);
         if (!recs)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu bytes of instances)", bytes);
-        for (uint32_t i = 0; i < sgl->count; i++) {
-            const lg_instance *in = &sgl->scene->instances[sgl->items[i].instance];
-            float *r = recs + (size_t)i * rec;
-            memcpy(r, in->model, 16 * sizeof(float));
-            if (normals) {
-                for (int c = 0; c < 3; c++)
-                    for (int k = 0; k < 3; k++)
-                        r[16 + c * 4 + k] = in->normal_matrix[c * 3 + k];
-                r[16 + 15] = 1.0f;
-            }
-        }
         gl->CreateBuffers(1, &sgl->instances);
-        gl->NamedBufferStorage(sgl->instances, (GLsizeiptr)bytes, recs, 0);
+        /* an animated scene's records are filled again at each pose (lg_scene_gl_pose) */
+        gl->NamedBufferStorage(sgl->instances, (GLsizeiptr)bytes, recs,
+                               lg_scene_is_animated(sgl->scene) ? GL_DYNAMIC_STORAGE_BIT : 0);
         free(recs);
         int rc = lg_gl_check(n, "uploading the instance matrices");
         if (rc)
@@ -285,6 +298,34 @@ int lg_scene_gl_upload(lg_node *n, const lg_gl *gl, lg_scene_gl *sgl)
         gl->VertexArrayAttribBinding(sgl->vao, 1, 1);
     }
     return 0;
+}
+
+int lg_scene_gl_pose(lg_node *n, const lg_gl *gl, lg_scene_gl *sgl, double time)
+{
+    const lg_scene *s = sgl->scene;
+    if (!lg_scene_is_animated(s) || !sgl->count)
+        return 0;
+    if (!sgl->instances)
+        return lg_error(n, "lg_scene_gl_pose: lg_scene_gl_upload was not called");
+    lg_instance *posed = malloc((size_t)s->n_instances * sizeof *posed);
+    if (!posed)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u instances)", s->n_instances);
+    int rc = lg_scene_pose(n, s, time, posed);
+    for (uint32_t i = 0; !rc && i < sgl->count; i++)
+        for (int j = 0; j < 16 && !rc; j++)
+            if (!isfinite(posed[sgl->items[i].instance].model[j]))
+                rc = lg_error(n, "instance %u at time %g s: its matrix is not finite",
+                              sgl->items[i].instance, time);
+    float *recs = rc ? NULL : make_records(sgl, posed);
+    free(posed);
+    if (rc)
+        return rc;
+    if (!recs)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (instance records)");
+    gl->NamedBufferSubData(sgl->instances, 0, (GLsizeiptr)((size_t)sgl->count * sgl->record_size),
+                           recs);
+    free(recs);
+    return lg_gl_check(n, "posing the instance matrices");
 }
 
 int lg_scene_gl_draw(lg_node *n, const lg_gl *gl, const lg_scene_gl *sgl,

@@ -26,6 +26,10 @@ layout(binding = 0) uniform samplerBuffer u_transfer; // RGB32F (LG_R32F: R32F)
 uniform float u_lighting[3 * LG_N];
 uniform uint u_vertices; // vertices in the transfer
 uniform uint u_width;    // the image's width (LG_VERTEX_IMAGE_WIDTH)
+// rigid motion (ABI 3.1): only vertices [u_first, u_end) are written by this draw (one run
+// of meshes whose lighting is turned alike); 0 and u_vertices for a static scene
+uniform uint u_first;
+uniform uint u_end;
 
 layout(location = 0) out vec4 o_radiance;
 
@@ -42,6 +46,8 @@ void main()
         o_radiance = vec4(0.0);
         return;
     }
+    if (v < u_first || v >= u_end)
+        discard;
     vec3 acc = vec3(0.0);
 #ifdef LG_R32F
     // channel by channel: a loop of 3 LG_STRIDE iterations would pass the compiler's

@@ -389,6 +389,11 @@ typedef struct lg_gl_scene_draw {
 LG_API int lg_gl_pass_draw_scene(lg_gl_pass *pass, const lg_resource *scene,
                                  const lg_gl_scene_draw *draw);
 
+/* Since ABI 3.1: the time (seconds, lg_frame.time) at which lg_gl_pass_draw_scene poses an
+ * animated scene's instances (lg_scene_pose; 0 until set). A node that draws a scene calls
+ * it in execute with frame->time; a static scene ignores it. */
+LG_API void lg_gl_pass_set_time(lg_gl_pass *pass, double time);
+
 /* The draw data of the last lg_gl_pass_draw_scene (its instance count and triangles, for
  * logs), or NULL before the first. Owned by the pass. */
 LG_API const lg_scene_gl *lg_gl_pass_scene(const lg_gl_pass *pass);

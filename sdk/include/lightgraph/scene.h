@@ -334,6 +334,17 @@ typedef struct lg_scene_animation {
  * LG_ERR_INVALID (reported on `node`, which may be NULL) for a non-finite time. */
 LG_API int lg_scene_pose(lg_node *node, const struct lg_scene *s, double time, lg_instance *out);
 
+/* The scene's lights (n_lights of them into out) and cameras (n_cameras) at `time`, as
+ * lg_scene_pose gives its instances: one carried by an animated node (light_node,
+ * camera_node >= 0) moves with it, by D = world(time) * world(rest)^-1 of that node
+ * (positions and a camera's target as points, directions and up as unit vectors); the
+ * others are copied as they are. Returns 0, or LG_ERR_INVALID (reported on `node`, which
+ * may be NULL) for a non-finite time, LG_ERR_NOMEM. Since ABI 3.1. */
+LG_API int lg_scene_pose_lights(lg_node *node, const struct lg_scene *s, double time,
+                                lg_light *out);
+LG_API int lg_scene_pose_cameras(lg_node *node, const struct lg_scene *s, double time,
+                                 lg_camera *out);
+
 /* True when the scene has an animation whose channels move something (duration may be 0:
  * a single key still poses the scene). */
 LG_API bool lg_scene_is_animated(const struct lg_scene *s);

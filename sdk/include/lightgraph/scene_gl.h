@@ -133,6 +133,13 @@ LG_API int lg_scene_gl_create(lg_node *node, const lg_resource *scene_res, unsig
 /* Makes the storage buffer (when there are instances) and the vertex array. Once. */
 LG_API int lg_scene_gl_upload(lg_node *node, const lg_gl *gl, lg_scene_gl *sgl);
 
+/* Since ABI 3.1: refills the storage buffer with the instances' matrices at `time` seconds
+ * (lg_scene_pose) when the scene is animated; does nothing for a static one. The sorting
+ * (mesh, handedness) stays that of the rest pose: an animation that mirrors an instance
+ * (a negative scale key) draws it with the rest pose's winding. Returns 0 or an LG_ERR_*
+ * (a non-finite time or a posed matrix that is not finite). */
+LG_API int lg_scene_gl_pose(lg_node *node, const lg_gl *gl, lg_scene_gl *sgl, double time);
+
 /* How to draw. Only program and first_location are required. */
 typedef struct lg_scene_gl_draw_desc {
     GLuint program;       /* the program in use: receives first_location */

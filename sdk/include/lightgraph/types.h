@@ -104,7 +104,7 @@ typedef struct lg_scene_features {
         struct {
             uint32_t textures;         /* textures that the drawn materials sample */
             uint32_t masked_materials; /* drawn materials with alpha mode MASK or BLEND */
-            uint32_t animated;         /* instances an animation moves */
+            uint32_t animated;         /* instances, lights and cameras an animation moves */
             uint32_t reserved_3_1[4];
         };
     };

@@ -21,6 +21,13 @@ static const lg_param_desc params[] = {
       .max = 1e300,
       .doc = "the seconds declared; 'nan' is given as any value below -1e299" },
     { .key = "per_frame", .type = LG_PARAM_BOOL, .def.b = false, .doc = "run every frame" },
+    { .key = "fail_frame",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e9,
+      .doc = "fail in execute at this frame index (-1: never): a failure after earlier frames "
+             "wrote their frame-pattern files" },
 };
 static const lg_port_desc in[] = { { .name = "image", .kind = LG_KIND_IMAGE } };
 static const lg_port_desc out[] = { { .name = "out", .kind = LG_KIND_IMAGE } };
@@ -38,8 +45,8 @@ static int prepare(lg_node *n)
 
 static int execute(lg_node *n, const lg_frame *frame)
 {
-    (void)n;
-    (void)frame;
+    if ((int64_t)frame->index == lg_param_int(n, "fail_frame"))
+        return lg_error(n, "test_work: failing at frame %u as asked (fail_frame)", frame->index);
     return 0;
 }
 
