@@ -436,7 +436,7 @@ static void api_set_view_independent(lg_node *n, bool independent)
 static void api_set_per_frame(lg_node *n, bool per_frame)
 {
     if (per_frame)
-        P(n)->run.per_frame = true;
+        P(n)->run.per_frame = P(n)->run.per_frame_own = true;
 }
 
 static void api_add_content_key(lg_node *n, const void *bytes, size_t size)

@@ -37,6 +37,8 @@ what it wrote and said:
                  render with the tone mapper reading it; M again switches the first on
   play           play, pause, time T, `.` and `,` drive lg_frame.time (test_clock); a
                  negative or huge time is clamped; static nodes upstream run once
+  anim           an animated glTF through preview: `time T` shows render's pose at T;
+                 paused, preview does not run again; playing, it runs every frame
   resize         a scripted window resize re-renders at the new size, equal to render at
                  that size; a 0x0 (minimised) framebuffer renders nothing, no crash
 
@@ -618,6 +620,48 @@ def t_play():
     check(runs == 1, "phong (static, upstream of the clock) ran %d times, not once" % runs)
     runs = err.count("node 'shadow' (shadowmap): 1 directional light")
     check(runs == 1, "the shadow maps (static) rendered %d times, not once" % runs)
+
+
+def t_anim():
+    """An animated glTF (a cube keyed from x = -1 at 0 s to x = +1 at 1 s, tools/gen_scene.py)
+    through preview, which the planner runs per frame: the viewer's `time T` shows the pose
+    `render --frames N --dt 0.25` draws at that time; paused, the pose holds and preview does
+    not run again (the nodes per frame only for the animation wait for the time to move);
+    playing, it runs every frame."""
+    glb = os.path.join(TMP, "moving.glb")
+    p = subprocess.run([sys.executable, os.path.join(SRC, "tools", "gen_scene.py"), "cube",
+                        "--anim-translation", "0:-1,0,0;1:1,0,0", "-q", "-o", glb],
+                       capture_output=True, text=True, timeout=60)
+    check(p.returncode == 0, "gen_scene.py failed: " + p.stderr)
+    g = os.path.join(TMP, "anim.lgraph")
+    with open(g, "w") as f:
+        f.write('lightgraph 1\nscene = gltf { file = "%s" }\nv = preview { scene = scene }\n'
+                'output v "anim.exr"\n' % glb)
+    script = ["wait_frames 2", "pause", "time 0.25", "wait_frames 1", "screenshot a1.exr",
+              "shell echo PAUSED >&2", "wait_frames 5", "shell echo MOVED >&2",
+              "screenshot a2.exr", "time 0.75", "wait_frames 1", "screenshot a3.exr",
+              "shell echo PLAYING >&2", "play", "wait_frames 4", "shell echo END >&2", "quit"]
+    rc, out, err = view(g, script, args=["--dt", "0.25", "-v"])
+    for frames, name in ((2, "r1.exr"), (4, "r3.exr")):
+        render(g, os.path.join(TMP, name), ["--frames", str(frames), "--dt", "0.25"])
+    a = [os.path.join(TMP, "a%d.exr" % i) for i in (1, 2, 3)]
+    d = max_exr_diff(a[0], os.path.join(TMP, "r1.exr"))
+    check(d < 1e-3, "time 0.25 differs from render's frame at 0.25 s by %g" % d)
+    d = max_exr_diff(a[2], os.path.join(TMP, "r3.exr"))
+    check(d < 1e-3, "time 0.75 differs from render's frame at 0.75 s by %g" % d)
+    check(max_exr_diff(a[1], a[0]) == 0, "paused, the picture changed")
+    check(max_exr_diff(a[2], a[0]) > 0.1, "the cube did not move from 0.25 to 0.75 s")
+    run = "node 'v' (preview): "
+
+    def runs_between(m0, m1):
+        i, j = err.find(m0), err.find(m1)
+        check(0 <= i < j, "markers %s, %s missing:\n%s" % (m0, m1, err[-3000:]))
+        return err[i:j].count(run)
+
+    check(runs_between("PAUSED", "MOVED") == 0,
+          "preview ran %d times while paused" % runs_between("PAUSED", "MOVED"))
+    check(runs_between("MOVED", "PLAYING") == 1, "time 0.75 did not run preview once")
+    check(runs_between("PLAYING", "END") >= 3, "playing, preview did not run every frame")
 
 
 def t_resize():
