@@ -77,6 +77,7 @@ Animation (sphere, torus, cube, plane: one animation "move" keying the object's 
                          translation keys: time T (seconds) and position
   --anim-rotation T:AX,AY,AZ,DEG[;...]
                          rotation keys: time and an axis-angle (degrees), as quaternions
+  --rotate AX,AY,AZ,DEG  the object node's own (rest) rotation, an axis-angle in degrees
   --anim-interp linear|step|cubicspline
                          the samplers' interpolation (default linear); cubicspline writes
                          zero in- and out-tangents
@@ -499,6 +500,7 @@ def parse_args(argv):
     ap.add_argument("--medium")
     ap.add_argument("--anim-translation")
     ap.add_argument("--anim-rotation")
+    ap.add_argument("--rotate")
     ap.add_argument("--anim-interp", choices=["linear", "step", "cubicspline"],
                     default="linear")
     o = ap.parse_args(argv)
@@ -624,7 +626,11 @@ def build(o):
             bmin, bmax = [-o.size / 2, 0.0, -o.size / 2], [o.size / 2, 0.0, o.size / 2]
             view_dir = (0.3, 1.0, 0.8)
         m = d.mesh(o.kind, [prim], o)
-        obj = d.node({"name": o.kind, "mesh": m})
+        node = {"name": o.kind, "mesh": m}
+        if o.rotate:
+            r = floats(o.rotate, "--rotate", (4,))
+            node["rotation"] = list(quat_axis_angle(normalize(r[0:3]), math.radians(r[3])))
+        obj = d.node(node)
         add_animation(d, o, obj)
         summary = "%s triangles, %s vertices" % (fmt(len(prim.indices) // 3), fmt(prim.n_vertices))
     elif o.kind == "box_room":
