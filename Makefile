@@ -12,7 +12,7 @@ SECONDS    ?= 60
 
 .PHONY: all deps build demo test test-sanitize fuzz bench accuracy accuracy-quick \
 	study-prefilter study-format study-prt \
-	pictures-prt bench-volumetric study-volumetric pictures-volumetric format format-check stability \
+	pictures-prt pictures-sh bench-volumetric study-volumetric pictures-volumetric format format-check stability \
 	clean
 
 all: build
@@ -105,6 +105,15 @@ pictures-prt: build
 	for m in unshadowed shadowed interreflected; do \
 	  $(BUILD)/lightgraph render examples/prt.lgraph --size 480x270 --set bake.mode=$$m \
 	    -o docs/images/prt_$$m.png || exit 1; done
+
+# Seed 0's figure of the lighting reconstructed with 1, 3, 5 and 7 bands (docs/sh.md, "Seeing
+# the reconstruction"): examples/sh_background.lgraph at each band count, and the probe.
+pictures-sh: build
+	for b in 1 3 5 7; do \
+	  $(BUILD)/lightgraph render examples/sh_background.lgraph --size 512x256 \
+	    --set seen.bands=$$b -o docs/images/sh_bands_$$b.png || exit 1; done
+	$(BUILD)/lightgraph render examples/sh_background.lgraph --size 512x256 \
+	  --set exposure.image=panorama -o docs/images/sh_bands_probe.png
 
 # The volumetric thesis's experiments (seed 2, chapter 4), as they came out: time against
 # output size for every method and "disabled" (where the ranking flips), the thesis's Table 6

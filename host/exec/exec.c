@@ -243,6 +243,7 @@ static int run_node(lg_exec *ex, lg_pnode *n, const lg_frame *frame)
     n->viewer.last_frame = frame->index;
     n->viewer.ran_this_frame = true;
     n->viewer.camera_gen = ex->viewer.camera_gen;
+    n->viewer.time = frame->time;
     if (n->prof.runs == 0)
         n->prof.first_cpu_ms = n->prof.min_cpu_ms = ms;
     else if (ms < n->prof.min_cpu_ms)
@@ -432,7 +433,7 @@ int lg_exec_frame(lg_exec *ex, uint32_t index)
     frame.index = index;
     frame.count = UINT32_MAX; /* open-ended: the viewer runs until it is closed */
     frame.dt = ex->opts.dt;
-    frame.time = index * ex->opts.dt;
+    frame.time = ex->viewer.has_time ? ex->viewer.time : index * ex->opts.dt;
     frame.width = ex->opts.width;
     frame.height = ex->opts.height;
     ex->frame = index;
@@ -443,7 +444,12 @@ int lg_exec_frame(lg_exec *ex, uint32_t index)
         lg_pnode *n = ex->nodes[c->topo[t]];
         if (!n || n->plan.state != LG_STATE_KEPT)
             continue;
-        bool run = !n->run.ran || n->run.per_frame || lg_exec_runs_every_frame(ex, n) ||
+        /* per frame for itself, or for an animation whose time moved; a node per frame
+         * only through a per-frame input runs when that input ran (below) */
+        bool own = n->run.per_frame_own || (n->schema->flags & LG_NODE_PER_FRAME);
+        bool per_frame = n->run.per_frame &&
+                         (own || (n->run.per_frame_why && n->viewer.time != frame.time));
+        bool run = !n->run.ran || per_frame || lg_exec_runs_every_frame(ex, n) ||
                    (n->plan.reads_scene && n->viewer.camera_gen != ex->viewer.camera_gen);
         for (uint32_t k = 0; k < n->schema->n_inputs && !run; k++) {
             int32_t s = n->c->inputs[k].node;

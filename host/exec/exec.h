@@ -288,6 +288,12 @@ typedef struct lg_pnode_run {
     bool warned_once;
     bool cache_stuck; /* an entry of this node could not be removed (cache.c):
                        * said once by cache_get, bypassed by cache_put */
+    /* the node asked for the render size (lg_render_size): the viewer's plan at another
+     * size makes it again (plan.c, adoptable) */
+    bool read_render_size;
+    /* per frame for itself (lg_set_per_frame(true) in prepare), not only for an animation
+     * or an input: the viewer runs it in every frame, also when its clock is paused */
+    bool per_frame_own;
 } lg_pnode_run;
 
 /* What --profile reports about a node (exec/profile.c). */
@@ -312,6 +318,7 @@ typedef struct lg_pnode_viewer {
     uint32_t last_frame;             /* the frame of its last run */
     bool ran_this_frame;
     uint64_t camera_gen;           /* ex->viewer.camera_gen when it last ran */
+    double time;                   /* lg_frame.time of its last run */
     bool output_file_noted;        /* the viewer said it does not write the node's files */
     double avg_cpu_ms, avg_gpu_ms; /* the viewer's moving averages */
 } lg_pnode_viewer;
@@ -401,6 +408,10 @@ typedef struct lg_exec_viewer {
      * runs again the nodes that read a scene. */
     const lg_camera *camera;
     uint64_t camera_gen;
+    /* When set, lg_exec_frame passes `time` as lg_frame.time instead of index * dt: the
+     * viewer's animation clock (play, pause, scrub; docs/viewer.md "Animation"). */
+    bool has_time;
+    double time;
 } lg_exec_viewer;
 
 typedef struct lg_exec {
@@ -425,7 +436,10 @@ typedef struct lg_exec {
 
 /* Runs one frame for the viewer: a kept node runs when it has not run yet, runs per
  * frame, reads a scene whose camera changed since it last ran (but for nodes that make
- * scenes and LG_NODE_VIEW_INDEPENDENT ones), or reads a node that ran in this frame.
+ * scenes and LG_NODE_VIEW_INDEPENDENT ones), or reads a node that ran in this frame. The
+ * frame's time is ex->viewer.time when has_time is set, else index * dt. A node per frame
+ * only because it reads an animated scene (run.per_frame_why) runs when the time moved
+ * since its last run: the viewer's paused clock holds the pose without re-rendering it.
  * Returns 0, or -1 after reporting. */
 int lg_exec_frame(lg_exec *ex, uint32_t index);
 /* fn(ctx) under the guard `mode` asks for: 0, or (LG_GUARD_RECOVER) the signal that

@@ -436,7 +436,7 @@ static void api_set_view_independent(lg_node *n, bool independent)
 static void api_set_per_frame(lg_node *n, bool per_frame)
 {
     if (per_frame)
-        P(n)->run.per_frame = true;
+        P(n)->run.per_frame = P(n)->run.per_frame_own = true;
 }
 
 static void api_add_content_key(lg_node *n, const void *bytes, size_t size)
@@ -569,6 +569,7 @@ static void api_cache_reject(lg_node *n, const char *key, const char *why)
 
 static void api_render_size(lg_node *n, uint32_t *w, uint32_t *h)
 {
+    P(n)->run.read_render_size = true;
     if (w)
         *w = P(n)->ex->opts.width;
     if (h)

@@ -261,16 +261,30 @@ static void attach(lg_exec *ex, lg_pnode *n, uint32_t index)
  * node read is not read again either, see docs/viewer.md),
  * same plugin entry (a reloaded plugin makes its nodes again), the same resources on
  * every input (an input made again means this node's preparation may not hold), and the
- * same render size. */
+ * same render size, unless the node has no image output and never asked for the render
+ * size (a loaded scene, a bake, shadow maps fitted to the bounds: the viewer's window
+ * resize keeps them; docs/viewer.md "Window size"). */
+static bool depends_on_size(const lg_pnode *o)
+{
+    if (o->run.read_render_size)
+        return true;
+    for (uint32_t k = 0; k < o->schema->n_outputs; k++)
+        if (o->outputs && o->outputs[k] && o->outputs[k]->kind == LG_KIND_IMAGE)
+            return true;
+    return false;
+}
+
 static lg_pnode *adoptable(lg_exec *ex, const lg_pnode *n)
 {
     lg_exec *pv = ex->viewer.prev;
-    if (!pv || pv->opts.width != ex->opts.width || pv->opts.height != ex->opts.height)
+    if (!pv)
         return NULL;
+    bool resized = pv->opts.width != ex->opts.width || pv->opts.height != ex->opts.height;
     for (uint32_t j = 0; j < pv->n_nodes; j++) {
         lg_pnode *o = pv->nodes[j];
         if (!o || o->plan.lent || o->run.crashed || !o->run.prepared ||
-            o->plan.state != LG_STATE_KEPT || o->plugin != n->plugin || o->schema != n->schema ||
+            (resized && depends_on_size(o)) || o->plan.state != LG_STATE_KEPT ||
+            o->plugin != n->plugin || o->schema != n->schema ||
             memcmp(&o->plan.plan_identity, &n->plan.plan_identity, sizeof n->plan.identity) != 0)
             continue;
         bool same = true;

@@ -123,8 +123,139 @@ static void step_selected(viewer *v, int dir)
     free(a);
 }
 
+static void free_strings(char **a, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++)
+        free(a[i]);
+    free(a);
+}
+
+static void off_clear(viewer *v)
+{
+    free(v->off.node);
+    free(v->off.port);
+    free_strings(v->off.inputs, v->off.n_inputs);
+    memset(&v->off, 0, sizeof v->off);
+}
+
+/* Sets each "consumer.input" of keys to ref, and the shown image to show (unless NULL), as
+ * one change `what`; undone when it fails. Returns whether it took. */
+static bool rewire(viewer *v, char **keys, uint32_t n, const char *ref, const char *show,
+                   const char *what)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        char *a = lg_xasprintf("%s=%s", keys[i], ref);
+        lg_overrides_set(&v->ov, a);
+        free(a);
+    }
+    char *old_show = v->show ? lg_xstrdup(v->show) : NULL;
+    if (show) {
+        free(v->show);
+        v->show = lg_xstrdup(show);
+    }
+    bool ok = lg_viewer_attempt(v, what, false);
+    if (!ok) {
+        for (uint32_t i = 0; i < n && v->ov.n > 0; i++)
+            lg_overrides_remove_last(&v->ov);
+        free(v->show);
+        v->show = old_show;
+        old_show = NULL;
+    }
+    free(old_show);
+    return ok;
+}
+
+/* M past the last alternative (shift+M before the first): the method is switched off, its
+ * consumers read the input it draws over (lg_vparams_passthrough). Returns false, changing
+ * nothing, when node x has no such input (two phong variants: they cycle as before). */
+static bool method_off(viewer *v, int32_t x, char **as, uint32_t n, bool shown)
+{
+    const lg_checked *c = v->cur.c;
+    int32_t port = shown ? (int32_t)v->cur.shown.port : -1;
+    for (uint32_t k = 0; k < c->n_nodes; k++)
+        for (uint32_t j = 0; c->nodes[k].type && j < c->nodes[k].type->n_inputs; j++) {
+            lg_edge e = c->nodes[k].inputs[j];
+            if (e.node != x)
+                continue;
+            if (e.part || (port >= 0 && (uint32_t)port != e.port))
+                return false; /* consumers of several ports or parts: no single stand-in */
+            port = (int32_t)e.port;
+        }
+    lg_edge src;
+    if (port < 0 || !lg_vparams_passthrough(c, x, (uint32_t)port, &src))
+        return false;
+    char *ref = lg_vparams_edge_ref(c, src);
+    if (!ref)
+        return false;
+    char **keys = lg_xcalloc(n + 1, sizeof *keys);
+    for (uint32_t i = 0; i < n; i++)
+        keys[i] = lg_xstrndup(as[i], strcspn(as[i], "="));
+    char *what = lg_xasprintf("method: %s -> off (%s passed through)", c->nodes[x].g->name, ref);
+    char *xname = lg_xstrdup(c->nodes[x].g->name);
+    char *pname = lg_xstrdup(c->nodes[x].type->outputs[port].name);
+    if (rewire(v, keys, n, ref, shown ? ref : NULL, what)) {
+        off_clear(v);
+        v->off = (struct method_off){ .on = true,
+                                      .node = xname,
+                                      .port = pname,
+                                      .inputs = keys,
+                                      .n_inputs = n,
+                                      .was_shown = shown };
+    } else {
+        free(xname);
+        free(pname);
+        free_strings(keys, n);
+    }
+    free(what);
+    free(ref);
+    return true;
+}
+
+/* M after "off": the first alternative in file order (shift+M: the last) is switched on. */
+static void method_on(viewer *v, int dir)
+{
+    const lg_checked *c = v->cur.c;
+    int32_t x = -1;
+    for (uint32_t k = 0; k < c->n_nodes && x < 0; k++)
+        if (strcmp(c->nodes[k].g->name, v->off.node) == 0)
+            x = (int32_t)k;
+    if (x < 0) {
+        char *why = lg_xasprintf("the method switched off, '%s', is no longer in the graph",
+                                 v->off.node);
+        off_clear(v);
+        lg_viewer_refuse(v, why);
+        free(why);
+        return;
+    }
+    int32_t y = lg_vparams_alternative_end(c, x, dir);
+    const lg_node_type *ty = c->nodes[y].type;
+    uint32_t py = 0;
+    while (py < ty->n_outputs && strcmp(ty->outputs[py].name, v->off.port) != 0)
+        py++;
+    char *ref = py < ty->n_outputs ? lg_vparams_edge_ref(c, (lg_edge){ .node = y, .port = py })
+                                   : NULL;
+    if (!ref) {
+        char *why = lg_xasprintf("'%s' has no output '%s' to switch on", c->nodes[y].g->name,
+                                 v->off.port);
+        lg_viewer_refuse(v, why);
+        free(why);
+        return;
+    }
+    char *show = lg_xasprintf("%s.%s", c->nodes[y].g->name, v->off.port);
+    char *what = lg_xasprintf("method: off -> %s (%s)", c->nodes[y].g->name, ty->name);
+    if (rewire(v, v->off.inputs, v->off.n_inputs, ref, v->off.was_shown ? show : NULL, what))
+        off_clear(v);
+    free(what);
+    free(show);
+    free(ref);
+}
+
 static void switch_method(viewer *v, int dir)
 {
+    if (v->off.on) {
+        method_on(v, dir);
+        return;
+    }
     char **as = NULL;
     uint32_t n = 0;
     int32_t from = -1, to = -1, new_shown = -1;
@@ -132,6 +263,13 @@ static void switch_method(viewer *v, int dir)
     if (!lg_vparams_switch_method(v->cur.g, v->cur.c, v->cur.shown.node, dir, &as, &n, &from, &to,
                                   &new_shown, err, sizeof err)) {
         lg_viewer_refuse(v, err);
+        return;
+    }
+    /* past the end of the alternatives in file order: "off", where the method has an input
+     * to pass through (else the cycle goes round, as before issue 24) */
+    bool wraps = dir >= 0 ? to < from : to > from;
+    if (wraps && method_off(v, from, as, n, new_shown >= 0)) {
+        free_strings(as, n);
         return;
     }
     for (uint32_t i = 0; i < n; i++)
@@ -236,6 +374,9 @@ void lg_viewer_key(viewer *v, int key, int mods, int action)
     case GLFW_KEY_LEFT: step_selected(v, -1); break;
     case GLFW_KEY_RIGHT: step_selected(v, 1); break;
     case GLFW_KEY_M: switch_method(v, shift ? -1 : 1); break;
+    case GLFW_KEY_SPACE: lg_viewer_play(v, v->paused); break;
+    case GLFW_KEY_COMMA: lg_viewer_step_time(v, shift ? -10 : -1); break;
+    case GLFW_KEY_PERIOD: lg_viewer_step_time(v, shift ? 10 : 1); break;
     case GLFW_KEY_O: print_overrides(v); break;
     case GLFW_KEY_C: camera_print(v); break;
     case GLFW_KEY_R: camera_reset(v); break;
@@ -355,8 +496,17 @@ static void cb_scroll(GLFWwindow *w, double dx, double dy)
         lg_viewer_scroll(v, dy);
 }
 
+/* Not a user's input: the window's size, also when a script resized it (script_run.c). */
+static void cb_framebuffer(GLFWwindow *w, int width, int height)
+{
+    viewer *v = glfwGetWindowUserPointer(w);
+    if (v)
+        lg_viewer_framebuffer_resized(v, width, height);
+}
+
 void lg_viewer_input_attach(viewer *v)
 {
+    glfwSetFramebufferSizeCallback(v->win, cb_framebuffer);
     glfwSetKeyCallback(v->win, cb_key);
     glfwSetMouseButtonCallback(v->win, cb_button);
     glfwSetCursorPosCallback(v->win, cb_cursor);

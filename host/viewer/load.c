@@ -220,6 +220,8 @@ static lg_exec *new_exec(viewer *v, loaded *l, bool full)
     ex->dev.cl = v->cl;
     ex->viewer.camera = v->cam_on ? &v->cam_out : NULL;
     ex->viewer.camera_gen = v->cam_gen;
+    ex->viewer.has_time = true;
+    ex->viewer.time = v->time;
     ex->guard = LG_GUARD_RECOVER;
     return ex;
 }

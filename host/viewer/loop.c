@@ -21,8 +21,15 @@
 static void overlay_text(viewer *v, lg_str *s)
 {
     const loaded *l = &v->cur;
+    float sx = 1, sy = 1;
+    glfwGetWindowContentScale(v->win, &sx, &sy);
     lg_str_addf(s, "%s  %ux%u  shown: %s  %.1f fps  frame %u\n", v->graph, v->opts.width,
                 v->opts.height, l->shown_name ? l->shown_name : "-", v->fps, v->frame);
+    lg_str_addf(s, "window: framebuffer %dx%d pixels, content scale %.2gx%.2g%s\n", v->fb_w,
+                v->fb_h, (double)sx, (double)sy,
+                v->minimised        ? " (minimised: nothing rendered)"
+                : v->resize_pending ? " (resizing)"
+                                    : "");
     int wn = 4, wt = 4;
     for (uint32_t i = 0; i < l->c->n_nodes; i++) {
         int a = (int)strlen(l->g->nodes[i].name), b = (int)strlen(l->c->nodes[i].type->name);
@@ -72,6 +79,8 @@ static void overlay_text(viewer *v, lg_str *s)
     lg_str_addf(s, "select: %s   [Tab node, Up/Down entry, Left/Right value, M method]\n",
                 d.s ? d.s : "-");
     lg_str_free(&d);
+    lg_str_addf(s, "time: %.3f s %s (dt %g s)   [Space play/pause, , . step, shift x10]\n", v->time,
+                v->paused ? "paused" : "playing", v->opts.dt);
     lg_str_addf(s, "camera: %s   exposure %+.1f EV%s\n",
                 !v->cam_on                    ? "the graph's"
                 : v->vcam.mode == LG_VCAM_FLY ? "fly"
@@ -122,6 +131,53 @@ static void take_window_shot(viewer *v)
     v->window_shot = NULL;
 }
 
+/* ---- the window's size ----------------------------------------------------------------------- */
+
+/* The render size the framebuffer asks for: its pixels (on a HiDPI screen the framebuffer
+ * is larger than the window's coordinates, and the render matches the pixels), at least
+ * LG_VIEWER_MIN_SIZE a side, scaled down (keeping the aspect) to the pixel limit. */
+static void render_size_for(int fw, int fh, uint32_t *w, uint32_t *h)
+{
+    double x = fw < LG_VIEWER_MIN_SIZE ? LG_VIEWER_MIN_SIZE : fw;
+    double y = fh < LG_VIEWER_MIN_SIZE ? LG_VIEWER_MIN_SIZE : fh;
+    double limit = (double)lg_image_max_pixels();
+    if (x * y > limit) {
+        double f = sqrt(limit / (x * y));
+        x = floor(x * f);
+        y = floor(y * f);
+    }
+    *w = (uint32_t)x;
+    *h = (uint32_t)y;
+}
+
+/* A framebuffer size that has held long enough (a window's edge being dragged sends one
+ * every few milliseconds, and a plan at each would stall the drag): the graph is planned
+ * again at that size, adopting what does not depend on it (plan.c, adoptable). A failure
+ * keeps the old size and its picture, scaled to the window. */
+static void apply_resize(viewer *v)
+{
+    if (!v->resize_pending || v->minimised)
+        return;
+    bool settled = v->scripted ? v->frame >= v->resize_frame + LG_VIEWER_RESIZE_DEBOUNCE_FRAMES
+                               : lg_mono_now() - v->resize_at >= LG_VIEWER_RESIZE_DEBOUNCE;
+    if (!settled)
+        return;
+    v->resize_pending = false;
+    uint32_t w, h, ow = v->opts.width, oh = v->opts.height;
+    render_size_for(v->fb_w, v->fb_h, &w, &h);
+    if (w == ow && h == oh)
+        return;
+    v->opts.width = w;
+    v->opts.height = h;
+    char *what = lg_xasprintf("render size %ux%u (the window's framebuffer is %dx%d)", w, h,
+                              v->fb_w, v->fb_h);
+    if (!lg_viewer_attempt(v, what, false)) {
+        v->opts.width = ow;
+        v->opts.height = oh;
+    }
+    free(what);
+}
+
 /* ---- the loop -------------------------------------------------------------------------------- */
 
 static void present(viewer *v)
@@ -153,6 +209,8 @@ static void run_frame(viewer *v)
         return;
     free(v->last_error);
     v->last_error = NULL;
+    v->cur.ex->viewer.has_time = true;
+    v->cur.ex->viewer.time = v->time;
     if (lg_exec_frame(v->cur.ex, v->frame) != 0 || v->cur.ex->failed) {
         v->frame_failed = true;
         lg_viewer_status(v, true,
@@ -167,7 +225,10 @@ static void run_frame(viewer *v)
 /* Nothing to run, nothing moving: the loop may wait for an event rather than spin. */
 static bool idle(const viewer *v)
 {
-    bool busy = v->scripted || v->anim.active || v->rebuild;
+    /* minimised, nothing is drawn: wait for the window to come back, not spin */
+    if (v->minimised && !v->scripted && !v->rebuild)
+        return true;
+    bool busy = v->scripted || v->anim.active || v->rebuild || v->resize_pending;
     for (uint32_t i = 0; !busy && i < v->cur.ex->n_nodes; i++)
         busy = v->cur.ex->nodes[i] && v->cur.ex->nodes[i]->run.per_frame &&
                v->cur.ex->nodes[i]->plan.state == LG_STATE_KEPT;
@@ -192,12 +253,14 @@ int lg_viewer_loop(viewer *v)
         double now = lg_mono_now();
         double dt = v->scripted ? 1.0 / 30.0 : now - v->last_t;
         lg_viewer_fly_step(v, dt);
-        if (!v->frame_done)
+        apply_resize(v);
+        if (!v->frame_done && !v->minimised)
             run_frame(v);
         v->frame_done = false;
         if (v->ev_auto_pending)
             lg_viewer_auto_exposure(v);
-        present(v);
+        if (!v->minimised)
+            present(v);
         double ft = now - v->last_t;
         v->last_t = now;
         if (ft > 0)
@@ -205,6 +268,7 @@ int lg_viewer_loop(viewer *v)
         if (v->frame % 15 == 0)
             update_title(v);
         v->frame++;
+        lg_viewer_advance_time(v);
         if (idle(v))
             glfwWaitEventsTimeout(0.1);
     }

@@ -930,6 +930,46 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
     return 1;
 }
 
+int lg_vparams_passthrough(const lg_checked *c, int32_t x, uint32_t port, lg_edge *src)
+{
+    if (!c || x < 0 || (uint32_t)x >= c->n_nodes || !c->nodes[x].type ||
+        port >= c->nodes[x].type->n_outputs)
+        return 0;
+    const lg_cnode *cx = &c->nodes[x];
+    lg_resource_kind kind = cx->type->outputs[port].kind;
+    for (uint32_t j = 0; j < cx->type->n_inputs; j++) {
+        lg_edge e = cx->inputs[j];
+        if (e.node < 0 || e.part || !c->nodes[e.node].type)
+            continue;
+        if (c->nodes[e.node].type->outputs[e.port].kind == kind) {
+            *src = e;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+char *lg_vparams_edge_ref(const lg_checked *c, lg_edge e)
+{
+    if (!c || e.node < 0 || (uint32_t)e.node >= c->n_nodes)
+        return NULL;
+    return switched_ref(c, e.node, e.port, e.part);
+}
+
+int32_t lg_vparams_alternative_end(const lg_checked *c, int32_t x, int dir)
+{
+    int32_t end = x;
+    for (uint32_t k = 0; c && x >= 0 && k < c->n_nodes; k++) {
+        if ((int32_t)k != x && !alternatives(c, (uint32_t)x, k))
+            continue;
+        if (dir >= 0 && (int32_t)k < end)
+            end = (int32_t)k;
+        if (dir < 0 && (int32_t)k > end)
+            end = (int32_t)k;
+    }
+    return end;
+}
+
 /* ---- overrides ------------------------------------------------------------------------------- */
 
 struct lg_override_undo {

@@ -139,6 +139,19 @@ int lg_vparams_switch_method(const lg_graph *g, const lg_checked *c, int32_t sho
                              char ***assignments, uint32_t *n, int32_t *switched_from,
                              int32_t *switched_to, int32_t *new_shown, char *err, size_t errlen);
 
+/* Method "off" (issue 24; the thesis's menu has it): the image without a method, the
+ * method's own input passed through. Node x's stand-in for its output `port` is the first
+ * connected input of x whose source output has that output's kind (the volumetric methods'
+ * `base`, the lit image they draw over), read as a whole (not a part). Returns 1 with the
+ * source in *src, else 0 (x has no such input: its method cannot be switched off). */
+int lg_vparams_passthrough(const lg_checked *c, int32_t x, uint32_t port, lg_edge *src);
+/* The reference "NODE" or "NODE.PORT" (a part: "NODE.PART") that names edge e in a --set,
+ * malloc'd; NULL when a part has no name of its own on its node. */
+char *lg_vparams_edge_ref(const lg_checked *c, lg_edge e);
+/* Among x and its alternatives, in file order: the first (dir >= 0) or the last (dir < 0).
+ * M after "off" switches that one on. x itself when it has none. */
+int32_t lg_vparams_alternative_end(const lg_checked *c, int32_t x, int dir);
+
 /* ---- overrides ------------------------------------------------------------------------------- */
 
 /* The overrides made so far, in the order first set: setting NODE.KEY again replaces it

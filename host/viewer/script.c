@@ -4,6 +4,7 @@
 
 #include <GLFW/glfw3.h>
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -112,6 +113,7 @@ const char *lg_script_key_name(int key)
 #define MAX_PIXELS_MOVED 1000000.0
 #define MAX_CLICKS 1000.0
 #define MAX_SECONDS 3600.0
+#define MAX_WINDOW 16384.0
 
 typedef struct parser {
     const char *path; /* for messages */
@@ -471,10 +473,27 @@ static int parse_event(parser *p, char *s, lg_sevent *ev)
         ev->a = v;
         return no_more(p, name, &s);
     }
+    if (strcmp(name, "play") == 0 || strcmp(name, "pause") == 0) {
+        ev->kind = strcmp(name, "play") == 0 ? LG_SEV_PLAY : LG_SEV_PAUSE;
+        return no_more(p, name, &s);
+    }
+    if (strcmp(name, "time") == 0) {
+        ev->kind = LG_SEV_TIME;
+        if (number(p, name, next_token(&s), "T (seconds)", -DBL_MAX, DBL_MAX, false, &ev->a))
+            return -1;
+        return no_more(p, name, &s);
+    }
+    if (strcmp(name, "resize") == 0) {
+        ev->kind = LG_SEV_RESIZE;
+        if (number(p, name, next_token(&s), "W (window width)", 0, MAX_WINDOW, true, &ev->a) ||
+            number(p, name, next_token(&s), "H (window height)", 0, MAX_WINDOW, true, &ev->b))
+            return -1;
+        return no_more(p, name, &s);
+    }
     return fail(p,
                 "unknown event '%s' (expected wait_frames, key, hold, drag, scroll, "
                 "screenshot, screenshot_window, set, wait_reload, expect_ok, expect_error, "
-                "shell, sleep or quit)",
+                "shell, sleep, quit, play, pause, time or resize)",
                 shown(name, b));
 }
 

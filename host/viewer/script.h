@@ -32,6 +32,12 @@
  *   shell COMMAND...         the rest of the line, run by /bin/sh -c in the script's folder
  *   sleep SECONDS            wall time
  *   quit                     ends the viewer
+ *   play, pause              the animation clock runs (by --dt a frame) or stops
+ *   time T                   the clock shows T seconds (the viewer clamps it to [0, 10^6];
+ *                            any finite number parses: a scrub to -5 or 1e300 is a test)
+ *   resize W H               the window's size (0 <= W, H <= 16384): glfwSetWindowSize, or
+ *                            with a 0 a minimised window's framebuffer of 0 x 0 (an X
+ *                            server without a window manager cannot minimise)
  *
  * Limits, so that an absurd script fails at load and not an hour into a run: N and FRAMES
  * at most 1000000; |DX|, |DY|, X, Y at most 1000000 (X, Y >= 0); |D| at most 1000; SECONDS
@@ -67,7 +73,11 @@ typedef enum lg_sev_kind {
     LG_SEV_EXPECT_ERROR,
     LG_SEV_SHELL,
     LG_SEV_SLEEP,
-    LG_SEV_QUIT
+    LG_SEV_QUIT,
+    LG_SEV_PLAY, /* since issue 24: the animation clock */
+    LG_SEV_PAUSE,
+    LG_SEV_TIME,
+    LG_SEV_RESIZE /* the window's size */
 } lg_sev_kind;
 
 typedef struct lg_sevent {
@@ -76,7 +86,8 @@ typedef struct lg_sevent {
     int key, mods; /* key, hold: GLFW_KEY_*, GLFW_MOD_* (a mask); else 0 */
     int button;    /* drag: GLFW_MOUSE_BUTTON_*; else 0 */
     double a, b;   /* wait_frames: a = N; hold: a = FRAMES; drag: a = DX, b = DY;
-                              scroll: a = D; wait_reload, sleep: a = SECONDS */
+                              scroll: a = D; wait_reload, sleep: a = SECONDS;
+                              time: a = T; resize: a = W, b = H */
     bool has_from; /* drag: `from X Y` given */
     double from_x, from_y;
     char *text; /* screenshot(_window): the path resolved against the script's

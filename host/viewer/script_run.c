@@ -152,6 +152,21 @@ static bool script_event(viewer *v, const lg_sevent *e)
     }
     case LG_SEV_SLEEP: usleep((useconds_t)(e->a * 1e6)); return false;
     case LG_SEV_QUIT: v->quit = true; return true;
+    case LG_SEV_PLAY:
+    case LG_SEV_PAUSE: lg_viewer_play(v, e->kind == LG_SEV_PLAY); return false;
+    case LG_SEV_TIME: lg_viewer_set_time(v, e->a); return false;
+    case LG_SEV_RESIZE:
+        if (e->a == 0 || e->b == 0) {
+            lg_viewer_framebuffer_resized(v, 0, 0);
+        } else {
+            glfwSetWindowSize(v->win, (int)e->a, (int)e->b);
+            if (v->minimised) { /* back from a 0 x 0: the callback says the new size */
+                int fw, fh;
+                glfwGetFramebufferSize(v->win, &fw, &fh);
+                lg_viewer_framebuffer_resized(v, fw, fh);
+            }
+        }
+        return next_frame(v);
     }
     return false;
 }

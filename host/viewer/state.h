@@ -14,6 +14,7 @@
  *   reload.c      hot reload: watched graph files, plugin .so files, shaders and the
  *                 rebuild they start
  *   loop.c        the frame loop: events, reloads, the frame, the picture, the overlay
+ *   clock.c       the animation clock (lg_frame.time) and the framebuffer's size
  * and, below them: camera.c, display.c, params.c, script.c, watch.c, rebuild.c.
  *
  * GLFW callbacks reach the viewer through glfwGetWindowUserPointer; the viewer sets no
@@ -119,6 +120,30 @@ typedef struct viewer {
     int mods;
     pointer_anim anim;
 
+    /* animation (docs/viewer.md "Animation"): the time every frame passes to the nodes as
+     * lg_frame.time; while playing it advances by opts.dt per drawn frame */
+    double time;
+    bool paused;
+
+    /* the window's size (docs/viewer.md "Window size"): the render follows the framebuffer,
+     * once it has kept one size for a moment (a drag of the window's edge) */
+    int fb_w, fb_h;        /* the framebuffer's pixels, as GLFW last said */
+    bool resize_pending;   /* fb_w x fb_h differs from the render size */
+    double resize_at;      /* when it last changed (lg_mono_now) */
+    uint32_t resize_frame; /* ... and in which frame (a script counts frames) */
+    bool minimised;        /* a 0 x 0 framebuffer: nothing is drawn or rendered */
+
+    /* the method switched off (M past the last alternative): the consumers' inputs that
+     * read the pass-through source instead, to be rewired when M switches a method on */
+    struct method_off {
+        bool on;
+        char *node;    /* the alternative switched from (its name) */
+        char *port;    /* the output its consumers read */
+        char **inputs; /* "consumer.input", n_inputs of them */
+        uint32_t n_inputs;
+        bool was_shown; /* the node was the shown image: show its alternative again */
+    } off;
+
     /* script */
     const lg_script *script; /* the caller's (lg_viewer_opts); NULL: interactive */
     bool scripted;
@@ -211,5 +236,22 @@ void lg_viewer_poll_reloads(viewer *v);
 
 /* Runs frames until the window closes or the viewer quits; returns the exit status. */
 int lg_viewer_loop(viewer *v);
+/* ---- clock.c: the animation clock and the framebuffer's size --------------------------------- */
+
+/* The animation clock: play (true) or pause; a time to show (clamped to [0,
+ * LG_VIEWER_MAX_TIME], a non-finite one refused); a step of `frames` frames of opts.dt,
+ * which pauses. Each says what it did on the status line. */
+#define LG_VIEWER_MAX_TIME 1e6
+void lg_viewer_play(viewer *v, bool play);
+void lg_viewer_set_time(viewer *v, double t);
+void lg_viewer_step_time(viewer *v, int frames);
+/* After a drawn frame: the clock advances by opts.dt unless paused (clamped). */
+void lg_viewer_advance_time(viewer *v);
+/* The framebuffer is now w x h pixels (GLFW's callback, or a script's resize): the render
+ * follows once the size has held for LG_VIEWER_RESIZE_DEBOUNCE seconds (a script: frames). */
+#define LG_VIEWER_RESIZE_DEBOUNCE 0.25
+#define LG_VIEWER_RESIZE_DEBOUNCE_FRAMES 3
+#define LG_VIEWER_MIN_SIZE 16
+void lg_viewer_framebuffer_resized(viewer *v, int w, int h);
 
 #endif

@@ -146,6 +146,7 @@ static int open_graph(viewer *v)
     v->ev_auto_pending = true;
     lg_viewer_start_watching(v);
     lg_viewer_input_attach(v);
+    glfwGetFramebufferSize(v->win, &v->fb_w, &v->fb_h);
     lg_viewer_status(v, false, "showing %s (%s)", v->cur.shown_name, v->graph);
     v->last_change_ok = true;
     return 0;
@@ -178,6 +179,11 @@ static void viewer_free(viewer *v)
         free(v->pending_plugins[i]);
     free(v->pending_plugins);
     free(v->show);
+    free(v->off.node);
+    free(v->off.port);
+    for (uint32_t i = 0; i < v->off.n_inputs; i++)
+        free(v->off.inputs[i]);
+    free(v->off.inputs);
     free(v->status);
     free(v->last_error);
     free(v->cam_scene_ref);

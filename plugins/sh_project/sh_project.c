@@ -27,6 +27,7 @@
  * The node runs once (static) on the CPU, over the host's thread pool. README.md has the
  * ports, parameters, the text format of its output and the measured accuracy and cost.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -473,6 +474,190 @@ static int shp_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
+/* ---- sh_background: the lighting the coefficients reconstruct, seen -------------------------- */
+/*
+ * The seed's figure of the lighting reconstructed with 1, 3, 5 and 7 bands: the radiance
+ * L_n(w) = sum over the first n bands of c_i Y_i(w) (the truncated SH series, no window
+ * beyond what the input carries), per pixel of a render-size image, at the pixel centre's
+ * direction. `view`:
+ *   latlong  the whole sphere in the probe layout's lat-long convention
+ *            (lightgraph/probe.h: u = 0.5 looks along -Z, the top row is +Y), so the
+ *            picture lies beside the probe's own panorama;
+ *   camera   through the active camera of the `scene` input (a pinhole: position,
+ *            target, up, yfov, aspect or the image's), the background a renderer would
+ *            draw from the coefficients.
+ * Y is evaluated in double (lg_sh_eval_d) and summed in double; the pixels are floats. The
+ * node runs once on the CPU (its result depends on no time and no camera but the scene's).
+ */
+enum { SHB_LATLONG = 0, SHB_CAMERA };
+static const char *const shb_views[] = { "latlong", "camera", NULL };
+
+static const lg_param_desc shb_params[] = {
+    { .key = "bands",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = LG_SH_MAX_BANDS,
+      .doc = "the first n bands of the input reconstructed; 0: all it has" },
+    { .key = "view",
+      .type = LG_PARAM_ENUM,
+      .def.e = SHB_LATLONG,
+      .enum_values = shb_views,
+      .doc = "latlong: the whole sphere (the probes' lat-long layout); camera: through the "
+             "scene's active camera" },
+};
+static const lg_port_desc shb_inputs[] = {
+    { .name = "sh", .kind = LG_KIND_SH, .doc = "the coefficients (sh_project's out)" },
+    { .name = "scene",
+      .kind = LG_KIND_SCENE,
+      .optional = true,
+      .doc = "view = camera: the scene whose active camera looks" },
+};
+static const lg_port_desc shb_outputs[] = {
+    { .name = "out",
+      .kind = LG_KIND_IMAGE,
+      .doc = "rgba32f at the render size: the reconstructed radiance (linear; the ringing of "
+             "a truncated series may be negative), alpha 1" },
+};
+
+static int shb_prepare(lg_node *n)
+{
+    if (lg_param_enum(n, "view") == SHB_CAMERA && !lg_input(n, 1))
+        return lg_error(n, "view = camera needs the input 'scene' (its active camera looks); "
+                           "connect one or use view = latlong");
+    lg_image_desc d = { .format = LG_FORMAT_RGBA32F };
+    lg_render_size(n, &d.width, &d.height);
+    int rc = lg_declare_image(n, 0, &d);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+/* The pinhole of camera c for a w x h image: the world direction through pixel (x, y). */
+typedef struct shb_pinhole {
+    double eye_fwd[3], right[3], up[3]; /* right and up scaled by the half extents */
+} shb_pinhole;
+
+static void shb_norm(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0)
+        for (int k = 0; k < 3; k++)
+            v[k] /= l;
+}
+
+static void shb_cross(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static int shb_pinhole_make(lg_node *n, const lg_camera *c, uint32_t w, uint32_t h, shb_pinhole *p)
+{
+    double f[3], up[3] = { c->up[0], c->up[1], c->up[2] }, r[3], u[3];
+    for (int k = 0; k < 3; k++)
+        f[k] = (double)c->target[k] - (double)c->position[k];
+    shb_norm(f);
+    shb_norm(up);
+    shb_cross(f, up, r);
+    double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    if (!(rl > 1e-9) || !(c->yfov > 0) || !((double)c->yfov < LG_PI))
+        return lg_error(n, "the active camera '%s' cannot look: %s", c->name ? c->name : "?",
+                        !(rl > 1e-9) ? "its target is at its position or along its up vector"
+                                     : "its vertical field of view is not in (0, 180) degrees");
+    shb_norm(r);
+    shb_cross(r, f, u);
+    double ty = tan(0.5 * (double)c->yfov);
+    double aspect = c->aspect > 0 ? (double)c->aspect : (double)w / (double)h;
+    for (int k = 0; k < 3; k++) {
+        p->eye_fwd[k] = f[k];
+        p->right[k] = r[k] * ty * aspect;
+        p->up[k] = u[k] * ty;
+    }
+    return 0;
+}
+
+static int shb_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    lg_sh shv;
+    const lg_sh *sh = lg_sh_get(n, lg_input(n, 0), &shv);
+    if (!sh)
+        return lg_error(n, "input 'sh' holds no coefficients");
+    uint32_t have = sh->info.bands, want = (uint32_t)lg_param_int(n, "bands");
+    uint32_t nb = want ? want : have;
+    if (nb > have)
+        return lg_error(n,
+                        "bands = %u, but the input 'sh' holds %u band%s: reconstruct at most "
+                        "%u (or 0 for all)",
+                        want, have, have == 1 ? "" : "s", have);
+    int view = lg_param_enum(n, "view");
+    lg_cpu_view cv, ov;
+    int rc = lg_map_cpu(n, sh->coeffs, LG_READ, &cv);
+    if (rc)
+        return rc;
+    /* the coefficients used, [3][nb^2], in double: a NaN or infinite one (a broken
+     * producer) would spread to every pixel, so it counts as 0, with one warning */
+    uint32_t nc = nb * nb, stride = have * have;
+    double coef[3 * LG_SH_MAX_BANDS * LG_SH_MAX_BANDS];
+    uint64_t bad = 0;
+    for (int ch = 0; ch < 3; ch++)
+        for (uint32_t k = 0; k < nc; k++) {
+            float c = ((const float *)cv.pixels)[ch * stride + k];
+            bad += !isfinite(c);
+            coef[ch * nc + k] = isfinite(c) ? (double)c : 0.0;
+        }
+    if (bad)
+        lg_log(n, LG_LOG_WARN, "input 'sh': %llu of %u coefficients NaN or infinite, taken as 0",
+               (unsigned long long)bad, 3 * nc);
+    lg_resource_info info;
+    if ((rc = lg_describe(lg_output(n, 0), &info, n)))
+        return rc;
+    uint32_t w = info.image.width, h = info.image.height;
+    shb_pinhole ph;
+    if (view == SHB_CAMERA) {
+        const lg_scene *s = lg_scene_get(n, lg_input(n, 1));
+        if (!s)
+            return LG_ERR_INVALID;
+        if (s->camera >= s->n_cameras)
+            return lg_error(n, "the scene's active camera %u is not one of its %u", s->camera,
+                            s->n_cameras);
+        if ((rc = shb_pinhole_make(n, &s->cameras[s->camera], w, h, &ph)))
+            return rc;
+    }
+    if ((rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &ov)))
+        return rc;
+    double y[LG_SH_MAX_BANDS * LG_SH_MAX_BANDS];
+    for (uint32_t j = 0; j < h; j++) {
+        float *row = (float *)ov.pixels + (size_t)j * ov.row_pixels * 4;
+        for (uint32_t i = 0; i < w; i++) {
+            double u = (i + 0.5) / w, v = (j + 0.5) / h, d[3];
+            if (view == SHB_LATLONG) {
+                double phi = 2.0 * LG_PI * (u - 0.5), theta = LG_PI * v;
+                d[0] = sin(theta) * sin(phi);
+                d[1] = cos(theta);
+                d[2] = -sin(theta) * cos(phi);
+            } else {
+                double a = 2.0 * u - 1.0, b = 1.0 - 2.0 * v;
+                for (int k = 0; k < 3; k++)
+                    d[k] = ph.eye_fwd[k] + a * ph.right[k] + b * ph.up[k];
+                shb_norm(d);
+            }
+            lg_sh_eval_d(nb, d, y);
+            for (int ch = 0; ch < 3; ch++) {
+                double sum = 0;
+                for (uint32_t k = 0; k < nc; k++)
+                    sum += coef[ch * nc + k] * y[k];
+                /* float coefficients near FLT_MAX can sum beyond a float: the largest one */
+                row[4 * i + ch] = sum > FLT_MAX ? FLT_MAX : sum < -FLT_MAX ? -FLT_MAX : (float)sum;
+            }
+            row[4 * i + 3] = 1.0f;
+        }
+    }
+    lg_log(n, LG_LOG_DEBUG, "%u of %u bands reconstructed at %ux%u (%s)", nb, have, w, h,
+           shb_views[view]);
+    return 0;
+}
+
 static const lg_node_type shp_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
@@ -487,9 +672,21 @@ static const lg_node_type shp_types[] = {
         .execute = shp_execute,
         .destroy = shp_destroy,
     },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "sh_background",
+        .doc = "The lighting the SH coefficients reconstruct from their first n bands, as a "
+               "lat-long panorama or through the scene's camera (the seed's 1/3/5/7-band "
+               "figure)",
+        LG_PARAMS(shb_params),
+        LG_INPUTS(shb_inputs),
+        LG_OUTPUTS(shb_outputs),
+        .prepare = shb_prepare,
+        .execute = shb_execute,
+    },
 };
 
-LG_PLUGIN_DEFINE("sh_project", "1.0.0",
+LG_PLUGIN_DEFINE("sh_project", "1.1.0",
                  "Spherical-harmonic projection of a light probe (quadrature, jittered, "
                  "Hammersley, Sobol)",
                  shp_types)

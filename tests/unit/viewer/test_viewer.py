@@ -31,8 +31,16 @@ what it wrote and said:
                  the camera's frustum; phong on every move
   method         M switches between alternative nodes feeding the shown image, and back
   methods_example  examples/volumetric_methods.lgraph: M cycles the three volumetric methods
-                 (different inputs and outputs, still alternatives), plugins loaded only
-                 when switched to; the camera moves the froxel view
+                 (different inputs and outputs, still alternatives) and "off", plugins
+                 loaded only when switched to; the camera moves the froxel view
+  method_off     "off" in the method cycle shows the methods' input (the lit image), as
+                 render with the tone mapper reading it; M again switches the first on
+  play           play, pause, time T, `.` and `,` drive lg_frame.time (test_clock); a
+                 negative or huge time is clamped; static nodes upstream run once
+  anim           an animated glTF through preview: `time T` shows render's pose at T;
+                 paused, preview does not run again; playing, it runs every frame
+  resize         a scripted window resize re-renders at the new size, equal to render at
+                 that size; a 0x0 (minimised) framebuffer renders nothing, no crash
 
 usage: test_viewer.py TEST_NAME
 """
@@ -500,22 +508,24 @@ def t_methods_example():
     g = os.path.join(SRC, "examples", "volumetric_methods.lgraph")
     shots = []
     script = ["wait_frames 2", "screenshot x0.exr", "shell echo SWITCHING >&2"]
-    for i in range(1, 4):
+    for i in range(1, 5):
         script += ["key M", "expect_ok", "wait_frames 1", "screenshot x%d.exr" % i]
-    script += ["drag 8 0", "wait_frames 3", "screenshot x4.exr", "quit"]
+    script += ["drag 8 0", "wait_frames 3", "screenshot x5.exr", "quit"]
     fast = ["--set", "vol_froxel.width=48", "--set", "vol_froxel.height=27",
             "--set", "vol_froxel.depth=32", "--set", "vol_froxel.temporal=true",
             "--set", "shadow.resolution=256", "--size", "96x54", "-v", "-v"]
     rc, out, err = view(g, script, args=fast)
-    order = ["vol_froxel -> vol_screen", "vol_screen -> vol_polygonal",
+    # since issue 24 the cycle passes "off" (the lit image) after the last method
+    # (froxel is the last in file order: off comes first)
+    order = ["vol_froxel -> off", "off -> vol_screen", "vol_screen -> vol_polygonal",
              "vol_polygonal -> vol_froxel"]
     for o in order:
         check(("method: %s" % o) in out, "no switch %s:\n%s" % (o, out[-3000:]))
-    x = [os.path.join(TMP, "x%d.exr" % i) for i in range(5)]
-    for i in (1, 2):
+    x = [os.path.join(TMP, "x%d.exr" % i) for i in range(6)]
+    for i in (1, 2, 3):
         check(max_exr_diff(x[i], x[0]) > 1e-3, "method %d looks like froxel" % i)
-    check(max_exr_diff(x[1], x[2]) > 1e-3, "screen and polygonal look the same")
-    check(max_exr_diff(x[4], x[3]) > 1e-3, "the drag did not move the froxel view")
+    check(max_exr_diff(x[2], x[3]) > 1e-3, "screen and polygonal look the same")
+    check(max_exr_diff(x[5], x[4]) > 1e-3, "the drag did not move the froxel view")
     # the marker goes to the viewer's stderr (the script's shell inherits it), in order
     mark = err.find("SWITCHING")
     check(mark > 0, "the marker is missing from stderr")
@@ -525,6 +535,163 @@ def t_methods_example():
               (p, "never when" if at < 0 else "before"))
     check(0 <= err.find("loaded plugin volumetric_froxel ") < mark,
           "volumetric_froxel was not loaded for the first frame")
+
+
+def t_method_off():
+    """M past the last method shows the image without one: "off" passes the methods' `base`
+    (the lit image) through, as the thesis's menu has it; M again switches the first method
+    on, shift+M from it goes to "off" too. The off picture equals `render` with the tone
+    mapper reading `lit` directly."""
+    g = os.path.join(SRC, "examples", "volumetric_methods.lgraph")
+    fast = ["--set", "vol_froxel.width=48", "--set", "vol_froxel.height=27",
+            "--set", "vol_froxel.depth=32", "--set", "shadow.resolution=256"]
+    # file order: screen, polygonal, froxel (shown first), then off
+    script = ["wait_frames 2", "screenshot o0.exr", "key M", "expect_ok", "key O",
+              "wait_frames 1", "screenshot o1.exr", "key M", "expect_ok", "wait_frames 1",
+              "screenshot o2.exr", "key shift+M", "expect_ok", "wait_frames 1",
+              "screenshot o3.exr", "key shift+M", "expect_ok", "wait_frames 1",
+              "screenshot o4.exr", "quit"]
+    rc, out, err = view(g, script, args=fast)
+    for o in ("vol_froxel -> off (lit passed through)", "off -> vol_screen",
+              "vol_screen -> off", "off -> vol_froxel"):
+        check(("method: %s" % o) in out, "no switch %s:\n%s" % (o, out[-3000:]))
+    check("--set tone.image=lit" in out, "O does not print the off switch:\n%s" % out[-2000:])
+    render(g, os.path.join(TMP, "off.exr"), fast + ["--set", "tone.image=lit"])
+    o = [os.path.join(TMP, "o%d.exr" % i) for i in range(5)]
+    off = os.path.join(TMP, "off.exr")
+    check(max_exr_diff(o[1], off) < 1e-3, "off does not show the lit image (max %g)"
+          % max_exr_diff(o[1], off))
+    check(max_exr_diff(o[3], off) < 1e-3, "shift+M from the first method is not off")
+    check(max_exr_diff(o[0], off) > 1e-2, "the froxel method looks like off")
+    check(max_exr_diff(o[2], off) > 1e-2, "the screen-space method looks like off")
+    check(max_exr_diff(o[4], o[0]) < 1e-3, "shift+M after off is not the froxel method again")
+
+
+def clock_graph():
+    """phong_graph with test_clock (tests/plugins/testnodes/testclock.c) after `lit`: the
+    shown image is lit + (time, frame index, 0) per pixel; scene, shadows and lit stay
+    static."""
+    return phong_graph("clock.lgraph", extra="clk = test_clock { image = lit }")
+
+
+def red_offsets(a, b):
+    """min and max over the pixels of red(a) - red(b)."""
+    ra, rb = exr_rows(a), exr_rows(b)
+    d = [p[0] - q[0] for r, t in zip(ra, rb) for p, q in zip(r, t)]
+    return min(d), max(d)
+
+
+def t_play():
+    """play, pause and time drive lg_frame.time (docs/viewer.md "Animation"): a paused
+    clock shows one time, a scrub shows the time asked for (a negative one clamped to 0, a
+    huge one to 10^6 s), play advances by --dt a frame, `.` steps one frame and pauses; the
+    static nodes upstream (scene, shadow maps, phong) run once through all of it."""
+    g = clock_graph()
+    plugins = os.environ["LG_TEST_PLUGINS"] + ":" + os.path.join(os.environ["LG_BUILD_ROOT"],
+                                                                 "plugins")
+    script = ["wait_frames 2", "pause", "time -5", "wait_frames 1", "screenshot t0.exr",
+              "time 1.25", "wait_frames 1", "screenshot t1.exr", "wait_frames 3",
+              "screenshot t2.exr", "play", "wait_frames 4", "pause", "wait_frames 1",
+              "screenshot t3.exr", "time 2", "key PERIOD", "wait_frames 2", "screenshot t4.exr",
+              "key shift+COMMA", "wait_frames 1", "screenshot t5.exr",
+              "time 1e300", "wait_frames 1", "screenshot t6.exr", "quit"]
+    rc, out, err = view(g, script, args=["--show", "clk", "--dt", "0.25", "-v"],
+                        env=env_with_display({"LIGHTGRAPH_PLUGIN_PATH": plugins}))
+    t = [os.path.join(TMP, "t%d.exr" % i) for i in range(7)]
+
+    def offset(i, want, tol=1e-4):
+        lo, hi = red_offsets(t[i], t[0])
+        check(abs(lo - want) <= tol and abs(hi - want) <= tol,
+              "t%d: red - red(time 0) is %g .. %g, expected %g" % (i, lo, hi, want))
+        return lo
+
+    offset(1, 1.25)
+    offset(2, 1.25)  # paused: the same time three frames later
+    lo, _ = red_offsets(t[3], t[0])
+    steps = (lo - 1.25) / 0.25
+    check(steps >= 3 and abs(steps - round(steps)) < 1e-3,
+          "playing did not advance by --dt a frame: %g s after 1.25" % lo)
+    offset(3, lo)
+    offset(4, 2.25)  # `.`: one frame of 0.25 s, paused
+    offset(5, 0.0)   # shift+,: ten frames back from 2.25, clamped at 0
+    offset(6, 1e6, tol=0.2)
+    check("clamped to [0, 1e+06]" in out, "the clamp was not reported:\n" + out[-2000:])
+    runs = err.count("node 'lit' (phong): ")
+    check(runs == 1, "phong (static, upstream of the clock) ran %d times, not once" % runs)
+    runs = err.count("node 'shadow' (shadowmap): 1 directional light")
+    check(runs == 1, "the shadow maps (static) rendered %d times, not once" % runs)
+
+
+def t_anim():
+    """An animated glTF (a cube keyed from x = -1 at 0 s to x = +1 at 1 s, tools/gen_scene.py)
+    through preview, which the planner runs per frame: the viewer's `time T` shows the pose
+    `render --frames N --dt 0.25` draws at that time; paused, the pose holds and preview does
+    not run again (the nodes per frame only for the animation wait for the time to move);
+    playing, it runs every frame."""
+    glb = os.path.join(TMP, "moving.glb")
+    p = subprocess.run([sys.executable, os.path.join(SRC, "tools", "gen_scene.py"), "cube",
+                        "--anim-translation", "0:-1,0,0;1:1,0,0", "-q", "-o", glb],
+                       capture_output=True, text=True, timeout=60)
+    check(p.returncode == 0, "gen_scene.py failed: " + p.stderr)
+    g = os.path.join(TMP, "anim.lgraph")
+    with open(g, "w") as f:
+        f.write('lightgraph 1\nscene = gltf { file = "%s" }\nv = preview { scene = scene }\n'
+                'output v "anim.exr"\n' % glb)
+    script = ["wait_frames 2", "pause", "time 0.25", "wait_frames 1", "screenshot a1.exr",
+              "shell echo PAUSED >&2", "wait_frames 5", "shell echo MOVED >&2",
+              "screenshot a2.exr", "time 0.75", "wait_frames 1", "screenshot a3.exr",
+              "shell echo PLAYING >&2", "play", "wait_frames 4", "shell echo END >&2", "quit"]
+    rc, out, err = view(g, script, args=["--dt", "0.25", "-v"])
+    for frames, name in ((2, "r1.exr"), (4, "r3.exr")):
+        render(g, os.path.join(TMP, name), ["--frames", str(frames), "--dt", "0.25"])
+    a = [os.path.join(TMP, "a%d.exr" % i) for i in (1, 2, 3)]
+    d = max_exr_diff(a[0], os.path.join(TMP, "r1.exr"))
+    check(d < 1e-3, "time 0.25 differs from render's frame at 0.25 s by %g" % d)
+    d = max_exr_diff(a[2], os.path.join(TMP, "r3.exr"))
+    check(d < 1e-3, "time 0.75 differs from render's frame at 0.75 s by %g" % d)
+    check(max_exr_diff(a[1], a[0]) == 0, "paused, the picture changed")
+    check(max_exr_diff(a[2], a[0]) > 0.1, "the cube did not move from 0.25 to 0.75 s")
+    run = "node 'v' (preview): "
+
+    def runs_between(m0, m1):
+        i, j = err.find(m0), err.find(m1)
+        check(0 <= i < j, "markers %s, %s missing:\n%s" % (m0, m1, err[-3000:]))
+        return err[i:j].count(run)
+
+    check(runs_between("PAUSED", "MOVED") == 0,
+          "preview ran %d times while paused" % runs_between("PAUSED", "MOVED"))
+    check(runs_between("MOVED", "PLAYING") == 1, "time 0.75 did not run preview once")
+    check(runs_between("PLAYING", "END") >= 3, "playing, preview did not run every frame")
+
+
+def t_resize():
+    """The render follows the window's framebuffer (docs/viewer.md "Window size"): after a
+    scripted resize to 200x120 the shown image is 200x120 and equals `render --size
+    200x120`; the window's pixels are that size too; the loaded scene is adopted, not loaded
+    again. A 0x0 framebuffer (minimised) renders nothing and does not crash; the window
+    back at 120x200 renders at 120x200."""
+    g = phong_graph()
+    script = ["key H", "wait_frames 2", "resize 200 120", "wait_reload 60", "expect_ok",
+              "wait_frames 2", "screenshot r1.exr", "screenshot_window w1.png",
+              "resize 0 0", "wait_frames 10", "resize 120 200", "wait_reload 60", "expect_ok",
+              "wait_frames 2", "screenshot r2.exr", "quit"]
+    rc, out, err = view(g, script, args=["-v", "-v"])
+    render(g, os.path.join(TMP, "h1.exr"), ["--size", "200x120"])
+    render(g, os.path.join(TMP, "h2.exr"), ["--size", "120x200"])
+    for shot, ref, w, h in (("r1.exr", "h1.exr", 200, 120), ("r2.exr", "h2.exr", 120, 200)):
+        rows = exr_rows(os.path.join(TMP, shot))
+        check(len(rows) == h and len(rows[0]) == w,
+              "%s is %dx%d, not %dx%d" % (shot, len(rows[0]), len(rows), w, h))
+        d = max_exr_diff(os.path.join(TMP, shot), os.path.join(TMP, ref))
+        check(d < 1e-3, "%s differs from render at %dx%d by %g" % (shot, w, h, d))
+    render(g, os.path.join(TMP, "h1.png"), ["--size", "200x120"])
+    d = max_png_diff(os.path.join(TMP, "w1.png"), os.path.join(TMP, "h1.png"))
+    check(d <= 0.019, "the window's pixels are not the 200x120 render (%g)" % d)
+    check("render size 200x120" in out and "render size 120x200" in out,
+          "the resizes were not reported:\n" + out[-2000:])
+    # the mesh loader (no image output, never asks the render size) is kept across sizes
+    check("node 'scene' kept from the previous plan" in err,
+          "the scene was loaded again at the new size:\n" + err[-3000:])
 
 
 def main():

@@ -302,6 +302,41 @@ static void test_errors(void)
     CHECKF(strstr(err, "cannot read the script") != NULL, "%s", err);
 }
 
+/* Issue 24's events: the animation clock and the window's size. */
+static void test_clock_and_size(void)
+{
+    lg_script s;
+    if (load("play\npause\ntime 1.25\ntime -5\ntime 1e300\nresize 200 120\nresize 0 0\n", &s) !=
+        0) {
+        check_failures++;
+        return;
+    }
+    CHECKF(s.n == 7, "%u events", s.n);
+    if (s.n == 7) {
+        const lg_sevent *e = s.ev;
+        CHECK(e[0].kind == LG_SEV_PLAY && e[1].kind == LG_SEV_PAUSE);
+        CHECK(e[2].kind == LG_SEV_TIME && e[2].a == 1.25);
+        /* any finite time parses: the viewer clamps it (a stability case) */
+        CHECK(e[3].kind == LG_SEV_TIME && e[3].a == -5);
+        CHECK(e[4].kind == LG_SEV_TIME && e[4].a == 1e300);
+        CHECK(e[5].kind == LG_SEV_RESIZE && e[5].a == 200 && e[5].b == 120 && e[5].line == 6);
+        CHECK(e[6].kind == LG_SEV_RESIZE && e[6].a == 0 && e[6].b == 0);
+    }
+    lg_script_free(&s);
+    EXPECT_ERROR("time\n", 1, "time: expected T (seconds) after 'time'");
+    EXPECT_ERROR("time nan\n", 1, "found 'nan'");
+    EXPECT_ERROR("time inf\n", 1, "found 'inf'");
+    EXPECT_ERROR("time 1e400\n", 1, "found '1e400'");
+    EXPECT_ERROR("time 1 2\n", 1, "time: expected the end of the line, found '2'");
+    EXPECT_ERROR("play now\n", 1, "play: expected the end of the line, found 'now'");
+    EXPECT_ERROR("pause 1\n", 1, "pause: expected the end of the line, found '1'");
+    EXPECT_ERROR("resize 200\n", 1, "resize: expected H (window height) after 'resize'");
+    EXPECT_ERROR("resize -1 10\n", 1, "a whole number from 0 to 16384, found '-1'");
+    EXPECT_ERROR("resize 10 20000\n", 1, "a whole number from 0 to 16384, found '20000'");
+    EXPECT_ERROR("resize 10.5 20\n", 1, "found '10.5'");
+    EXPECT_ERROR("resize 10 20 30\n", 1, "resize: expected the end of the line, found '30'");
+}
+
 int main(void)
 {
     char tmpl[] = "/tmp/lg-script-test-XXXXXX";
@@ -312,6 +347,7 @@ int main(void)
     test_events();
     test_keys();
     test_errors();
+    test_clock_and_size();
     unlink(g_path);
     rmdir(g_dir);
     return check_report("viewer_script");
