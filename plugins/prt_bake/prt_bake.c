@@ -947,6 +947,13 @@ static int pb_prepare(lg_node *n)
         return rc;
     if (!st->reference)
         st->content = pb_content(&st->p, s);
+    if (st->reference && lg_scene_is_animated(s))
+        lg_log(n, LG_LOG_WARN,
+               "the scene is animated (%u instances move): the reference is computed for its "
+               "rest pose, once (each mesh in the frame of its first instance at rest, as the "
+               "bake's transfer); compare a posed frame with a scene placed statically at that "
+               "pose",
+               s->features.animated);
     if (st->reference) {
         lg_resource_info info;
         const lg_resource *pr = lg_input(n, 1);
@@ -2204,7 +2211,9 @@ static const lg_node_type pb_types[] = {
         LG_INPUTS(pb_ref_in),
         LG_OUTPUTS(pb_ref_out),
         .needs = LG_NEEDS_GEOMETRY,
-        .flags = LG_NODE_VIEW_INDEPENDENT,
+        /* the rest pose, like the bake it checks: an animation does not re-run it (it says
+         * so when the scene is animated) */
+        .flags = LG_NODE_VIEW_INDEPENDENT | LG_NODE_POSE_INDEPENDENT,
         .create = pb_create_ref,
         .prepare = pb_prepare,
         .execute = pb_execute,

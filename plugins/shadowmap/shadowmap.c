@@ -588,6 +588,42 @@ static int sm_on_mesh(lg_node *n, void *user, uint32_t mesh, GLuint *normals)
                                     &o);
 }
 
+/* The world bounds of the scene's instances posed at `time` (lg_scene_pose): the corners of
+ * each drawn mesh's object-space bounds through its posed model matrix. An animation moves
+ * the casters, and the fit must still hold every one of them. */
+static int sm_posed_bounds(lg_node *n, const lg_scene *s, double time, float lo[3], float hi[3])
+{
+    lg_instance *posed = malloc((s->n_instances ? s->n_instances : 1) * sizeof *posed);
+    if (!posed)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u posed instances)", s->n_instances);
+    int rc = lg_scene_pose(n, s, time, posed);
+    bool any = false;
+    for (uint32_t i = 0; !rc && i < s->n_instances; i++) {
+        if (posed[i].mesh >= s->n_meshes || s->meshes[posed[i].mesh].n_indices == 0)
+            continue;
+        const lg_mesh *me = &s->meshes[posed[i].mesh];
+        const float *m = posed[i].model;
+        for (int c = 0; c < 8; c++) {
+            float p[3] = { (c & 1) ? me->bounds_max[0] : me->bounds_min[0],
+                           (c & 2) ? me->bounds_max[1] : me->bounds_min[1],
+                           (c & 4) ? me->bounds_max[2] : me->bounds_min[2] };
+            for (int k = 0; k < 3; k++) {
+                float w = m[k] * p[0] + m[4 + k] * p[1] + m[8 + k] * p[2] + m[12 + k];
+                if (!any || w < lo[k])
+                    lo[k] = w;
+                if (!any || w > hi[k])
+                    hi[k] = w;
+            }
+            any = true;
+        }
+    }
+    free(posed);
+    if (!rc && !any)
+        for (int k = 0; k < 3; k++)
+            lo[k] = s->bounds_min[k], hi[k] = s->bounds_max[k];
+    return rc;
+}
+
 static int sm_execute(lg_node *n, const lg_frame *frame)
 {
     sm_state *st = n->user;
@@ -599,8 +635,20 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;
-    /* the camera may have moved since prepare (lightgraph view) */
-    int rc0 = st->fit == SM_FIT_FRUSTUM ? sm_fit(n, st, s, sm->n_lights) : 0;
+    /* the camera may have moved since prepare (lightgraph view); an animated scene's
+     * lights, camera and instances move with the frame's time: fit to the posed scene */
+    int rc0 = 0;
+    if (lg_scene_is_animated(s)) {
+        lg_scene at;
+        if ((rc0 = lg_scene_at(n, s, frame->time, &at)))
+            return rc0;
+        rc0 = sm_posed_bounds(n, s, frame->time, at.bounds_min, at.bounds_max);
+        if (!rc0)
+            rc0 = sm_fit(n, st, &at, sm->n_lights);
+        lg_scene_at_free(s, &at);
+    } else if (st->fit == SM_FIT_FRUSTUM) {
+        rc0 = sm_fit(n, st, s, sm->n_lights);
+    }
     if (rc0)
         return rc0;
 

@@ -12,6 +12,10 @@
  *               (within 0.6 px); frame 1 matches a static file with the quad at x = 0
  *               (centroid within 0.01 px); without a pattern only the last frame is written
  *               (its centroid at 47.14); STEP holds x = -1 until the last key
+ *   shadow      the sliding quad of `frames` under a sun travelling -z: the shadow map's atlas
+ *               (fit = bounds) holds the quad at every frame (more than a quarter of the
+ *               tile covered at t = 0, 0.5, 1 s): the fit follows the posed instances, not
+ *               the rest pose's bounds (where the quad at x = -1 or +1 lies outside the map)
  *   camera      the quad still, the camera carried by an animated parent node that moves
  *               from x = -1 to x = +1: the quad's centroid moves the other way (47.14, 32,
  *               16.86 at t = 0, 0.5, 1 s), through lg_scene_at in preview
@@ -213,6 +217,49 @@ static void case_frames(lg_test *t)
     cl = centroid(t, "last.exr");
     LG_TEST_CHECK(t, fabs(cl - want[0]) < 0.6, "STEP at 0.49 s: centroid %.3f, want %.3f", cl,
                   want[0]);
+}
+
+/* The atlas texels nearer than the far plane (R < 0.999) in an EXR, as a fraction. */
+static double covered(lg_test *t, const char *rel)
+{
+    lg_image img;
+    if (!lg_test_read(t, rel, &img, NULL)) {
+        LG_TEST_CHECK(t, false, "cannot read %s", rel);
+        return -1;
+    }
+    double n = 0;
+    for (size_t i = 0; i < (size_t)img.width * img.height; i++)
+        n += img.pixels[4 * i] < 0.999f;
+    double f = n / ((double)img.width * img.height);
+    lg_image_free(&img);
+    return f;
+}
+
+static void case_shadow(lg_test *t)
+{
+    write_bin(t);
+    write_gltf(t, "anim.gltf", "", "", MOVE, "");
+    if (mkdir(lg_test_path(t, "frames"), 0777))
+        exit(99);
+    lg_test_write_text(t, "g.lgraph",
+                       "lightgraph 1\nscene = gltf { file = \"anim.gltf\" }\n"
+                       "sun = light { scene = scene, direction = [0, 0, -1], intensity = 1 }\n"
+                       "sm = shadowmap { scene = sun, resolution = 64, fit = bounds, cull = none }\n"
+                       "output sm.atlas \"frames/a_%02d.exr\"\n");
+    const char *args[] = { "--frames", "3", "--dt", "0.5", "--size", "64x64", NULL };
+    char *out = NULL;
+    int rc = lg_test_render(t, "g.lgraph", args, &out);
+    if (lg_test_output_says_no_device(out))
+        lg_test_skip(t, "no GL device");
+    LG_TEST_CHECK(t, rc == 0, "render failed: %s", out ? out : "");
+    free(out);
+    for (int f = 0; f < 3; f++) {
+        char name[32];
+        snprintf(name, sizeof name, "frames/a_%02d.exr", f);
+        double c = covered(t, name);
+        printf("frame %d: %.3f of the shadow map covered by the quad\n", f, c);
+        LG_TEST_CHECK(t, c > 0.25, "frame %d: the quad covers %.3f of its shadow map", f, c);
+    }
 }
 
 static void case_camera(lg_test *t)
@@ -591,9 +638,9 @@ static void case_refused(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "frames", case_frames },   { "runs", case_runs },   { "pattern", case_pattern },
-        { "refused", case_refused }, { "truck", case_truck }, { "prt_motion", case_prt_motion },
-        { "camera", case_camera },
+        { "frames", case_frames },   { "runs", case_runs },     { "pattern", case_pattern },
+        { "refused", case_refused }, { "truck", case_truck },   { "prt_motion", case_prt_motion },
+        { "camera", case_camera },   { "shadow", case_shadow },
     };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], NULL);
 }

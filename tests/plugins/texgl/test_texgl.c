@@ -33,6 +33,8 @@
  *              the vertex normals (no normal map)
  *   degenerate a texture index past the scene's reads as no texture; a normal texture over
  *              tangents without a direction leaves the interpolated normal (stability)
+ *   blinds_agree  the masked quad's shafts: volumetric_froxel (shadow map) and
+ *              volumetric_reference (Embree's mask filter) agree; the opaque quad does not
  *   froxel     a masked quad's shadow reaches volumetric_froxel through the shadow map:
  *              fog lit from behind the quad shows shafts through its transparent texels
  *              (and none behind the opaque quad)
@@ -522,6 +524,77 @@ static void case_froxel(lg_test *t)
     lg_image_free(&mk);
 }
 
+/* Blinds agree: the masked quad's shafts through volumetric_froxel (its shadow map) and
+ * through volumetric_reference (Embree's mask filter, exact visibility) on one graph, in
+ * fog in front of the quad lit from behind it. Measured: relative RMSE 0.300 (grid 64 x 64 x
+ * 32, shadow map 512), and 0.316 at 128 x 128 x 128 or with a 2048 map: not the grid's
+ * sampling. Per 8 x 8 block the two agree within a few per cent in two quadrants of the
+ * picture and the froxel is up to 50 % low in the other two; the fog the grid starts after
+ * (z_near) counts unshadowed (0.033 where the reference has 0). The cause of the quadrant
+ * difference is open (docs/volumetric.md, "The thesis's interiors"); the bound holds the
+ * measured agreement, and the opaque quad (much further from the masked reference) shows
+ * the masks reach both nodes. */
+#define FX_REF_RMSE 0.35
+static bool blind_pair(lg_test *t, const char *layout, lg_image *fx, lg_image *ref)
+{
+    char g[2400];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_tex_scene { layout = %s }\n"
+             "sun = light { scene = s, direction = [0, 0, 1], intensity = 10 }\n"
+             "fog = medium { scene = sun, density = 1, scattering = [0.2, 0.2, 0.2], "
+             "absorption = [0, 0, 0], g = 0 }\n"
+             "shadow = shadowmap { scene = fog, resolution = 512, cull = none }\n"
+             "lit = phong { scene = fog, shadows = shadow, ambient = [0, 0, 0] }\n"
+             "vol = volumetric_froxel { scene = fog, base = lit, shadows = shadow, width = 64, "
+             "height = 64, depth = 32, z_near = 0.5, z_limit = 6 }\n"
+             "ref = volumetric_reference { scene = fog, base = lit, steps = 128, "
+             "subpixel = centre, z_limit = 6 }\n"
+             "output vol.inscatter \"fx.exr\"\n"
+             "output ref.inscatter \"ref.exr\"\n",
+             layout);
+    lg_test_write_text(t, "g.lgraph", g);
+    const char *args[] = { "--size", "64x64", NULL };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0, "froxel + reference render of %s failed (%d)", layout, rc);
+    bool ok = !rc && lg_test_read(t, "fx.exr", fx, NULL) && lg_test_read(t, "ref.exr", ref, NULL);
+    return ok && fx->width == 64 && ref->width == 64 && fx->height == 64 && ref->height == 64;
+}
+
+static double rel_rmse_rgb(const lg_image *a, const lg_image *ref)
+{
+    double se = 0, sr = 0;
+    for (size_t i = 0; i < (size_t)64 * 64; i++)
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[4 * i + c] - ref->pixels[4 * i + c];
+            se += d * d;
+            sr += (double)ref->pixels[4 * i + c] * ref->pixels[4 * i + c];
+        }
+    return sr > 0 ? sqrt(se / sr) : INFINITY;
+}
+
+static void case_blinds_agree(lg_test *t)
+{
+    lg_image fx = { 0 }, ref = { 0 }, fx_op = { 0 }, ref_op = { 0 };
+    if (blind_pair(t, "mask", &fx, &ref) && blind_pair(t, "checker", &fx_op, &ref_op)) {
+        double e = rel_rmse_rgb(&fx, &ref), e_op = rel_rmse_rgb(&fx_op, &ref);
+        double e_ref = rel_rmse_rgb(&ref_op, &ref);
+        fprintf(stderr,
+                "blinds: froxel vs reference on the masked quad: relative RMSE %.4f; the opaque "
+                "quad's froxel vs the masked reference %.4f, its reference %.4f\n",
+                e, e_op, e_ref);
+        LG_TEST_CHECK(t, e <= FX_REF_RMSE, "froxel and reference disagree on the blind: %g > %g", e,
+                      FX_REF_RMSE);
+        LG_TEST_CHECK(t, e_op > 3 * e && e_ref > 3 * e,
+                      "the opaque quad is not told apart from the blind (%g, %g vs %g)", e_op,
+                      e_ref, e);
+    }
+    lg_image_free(&fx);
+    lg_image_free(&ref);
+    lg_image_free(&fx_op);
+    lg_image_free(&ref_op);
+}
+
 /* The preview node's bytes_allocated in --profile-json for test_tex_scene { layout }. */
 static long long view_bytes(lg_test *t, const char *layout)
 {
@@ -632,6 +705,7 @@ int main(int argc, char **argv)
         { "phong_normal", case_phong_normal },
         { "degenerate", case_degenerate },
         { "froxel", case_froxel },
+        { "blinds_agree", case_blinds_agree },
         { "profile", case_profile },
         { "assets", case_assets },
     };
