@@ -284,23 +284,9 @@ def mib(b):
 
 # ---- the machine and the moment (as tools/accuracy/accuracy.py) -----------------------------
 
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
-
-
-def loadavg():
-    try:
-        with open("/proc/loadavg") as f:
-            return " ".join(f.read().split()[:3])
-    except OSError:
-        return "?"
+# cpu_model() and loadavg(): the accuracy atlas's own, so both pages say the machine alike
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from accuracy.accuracy import cpu_model, loadavg  # noqa: E402
 
 
 def git_commit():

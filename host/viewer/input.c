@@ -138,6 +138,17 @@ static void off_clear(viewer *v)
     memset(&v->off, 0, sizeof v->off);
 }
 
+/* Undoes the last n overrides and gives the shown image back its earlier value (*old_show,
+ * which passes to the viewer: *old_show becomes NULL). */
+static void undo_sets(viewer *v, uint32_t n, char **old_show)
+{
+    for (uint32_t i = 0; i < n && v->ov.n > 0; i++)
+        lg_overrides_remove_last(&v->ov);
+    free(v->show);
+    v->show = *old_show;
+    *old_show = NULL;
+}
+
 /* Sets each "consumer.input" of keys to ref, and the shown image to show (unless NULL), as
  * one change `what`; undone when it fails. Returns whether it took. */
 static bool rewire(viewer *v, char **keys, uint32_t n, const char *ref, const char *show,
@@ -154,13 +165,8 @@ static bool rewire(viewer *v, char **keys, uint32_t n, const char *ref, const ch
         v->show = lg_xstrdup(show);
     }
     bool ok = lg_viewer_attempt(v, what, false);
-    if (!ok) {
-        for (uint32_t i = 0; i < n && v->ov.n > 0; i++)
-            lg_overrides_remove_last(&v->ov);
-        free(v->show);
-        v->show = old_show;
-        old_show = NULL;
-    }
+    if (!ok)
+        undo_sets(v, n, &old_show);
     free(old_show);
     return ok;
 }
@@ -284,14 +290,8 @@ static void switch_method(viewer *v, int dir)
     }
     char *what = lg_xasprintf("method: %s -> %s (%s)", v->cur.g->nodes[from].name,
                               v->cur.g->nodes[to].name, v->cur.c->nodes[to].type->name);
-    if (!lg_viewer_attempt(v, what, false)) {
-        /* undo exactly the sets made here */
-        for (uint32_t i = 0; i < n && v->ov.n > 0; i++)
-            lg_overrides_remove_last(&v->ov);
-        free(v->show);
-        v->show = old_show;
-        old_show = NULL;
-    }
+    if (!lg_viewer_attempt(v, what, false))
+        undo_sets(v, n, &old_show); /* exactly the sets made here */
     free(old_show);
     free(what);
     for (uint32_t i = 0; i < n; i++)

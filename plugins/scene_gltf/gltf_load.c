@@ -572,6 +572,20 @@ static const char *mode_name(int32_t mode)
 }
 
 /* Reads one primitive's arrays (plain or Draco) as a triangle list. */
+/* A vertex attribute besides POSITION (accessor `acc`, `comps` floats per vertex) into *out;
+ * it must have as many elements as POSITION (`nv`). */
+static int read_attribute(loader *l, int32_t acc, const char *name, uint32_t comps,
+                          const char *label, uint32_t nv, void **out)
+{
+    char what[300];
+    uint32_t n = 0;
+    snprintf(what, sizeof what, "%s of %s", name, label);
+    int rc = read_accessor(l, acc, what, comps, ATTR_TYPES, OUT_FLOAT, out, &n);
+    if (!rc && n != nv)
+        rc = fail(l, LG_ERR_INVALID, "%s: %s has %u elements, POSITION %u", label, name, n, nv);
+    return rc;
+}
+
 static int read_primitive(loader *l, uint32_t mi, uint32_t pi, prim_data *d)
 {
     const lg_gltf_primitive *p = &l->g->meshes[mi].primitives[pi];
@@ -595,38 +609,18 @@ static int read_primitive(loader *l, uint32_t mi, uint32_t pi, prim_data *d)
     if (p->position < 0)
         return fail(l, LG_ERR_INVALID, "%s: no POSITION attribute", label);
     char what[300];
-    uint32_t n = 0, m = 0;
+    uint32_t m = 0;
     snprintf(what, sizeof what, "POSITION of %s", label);
     int rc = read_accessor(l, p->position, what, 3, ATTR_TYPES, OUT_FLOAT, (void **)&d->pos,
                            &d->nv);
-    if (!rc && want_normals && p->normal >= 0) {
-        snprintf(what, sizeof what, "NORMAL of %s", label);
-        rc = read_accessor(l, p->normal, what, 3, ATTR_TYPES, OUT_FLOAT, (void **)&d->nrm, &n);
-        if (!rc && n != d->nv)
-            rc = fail(l, LG_ERR_INVALID, "%s: NORMAL has %u elements, POSITION %u", label, n,
-                      d->nv);
-    }
-    if (!rc && p->texcoord >= 0) {
-        snprintf(what, sizeof what, "TEXCOORD_0 of %s", label);
-        rc = read_accessor(l, p->texcoord, what, 2, ATTR_TYPES, OUT_FLOAT, (void **)&d->uv, &n);
-        if (!rc && n != d->nv)
-            rc = fail(l, LG_ERR_INVALID, "%s: TEXCOORD_0 has %u elements, POSITION %u", label, n,
-                      d->nv);
-    }
-    if (!rc && p->texcoord1 >= 0) {
-        snprintf(what, sizeof what, "TEXCOORD_1 of %s", label);
-        rc = read_accessor(l, p->texcoord1, what, 2, ATTR_TYPES, OUT_FLOAT, (void **)&d->uv1, &n);
-        if (!rc && n != d->nv)
-            rc = fail(l, LG_ERR_INVALID, "%s: TEXCOORD_1 has %u elements, POSITION %u", label, n,
-                      d->nv);
-    }
-    if (!rc && p->tangent >= 0) {
-        snprintf(what, sizeof what, "TANGENT of %s", label);
-        rc = read_accessor(l, p->tangent, what, 4, ATTR_TYPES, OUT_FLOAT, (void **)&d->tan, &n);
-        if (!rc && n != d->nv)
-            rc = fail(l, LG_ERR_INVALID, "%s: TANGENT has %u elements, POSITION %u", label, n,
-                      d->nv);
-    }
+    if (!rc && want_normals && p->normal >= 0)
+        rc = read_attribute(l, p->normal, "NORMAL", 3, label, d->nv, (void **)&d->nrm);
+    if (!rc && p->texcoord >= 0)
+        rc = read_attribute(l, p->texcoord, "TEXCOORD_0", 2, label, d->nv, (void **)&d->uv);
+    if (!rc && p->texcoord1 >= 0)
+        rc = read_attribute(l, p->texcoord1, "TEXCOORD_1", 2, label, d->nv, (void **)&d->uv1);
+    if (!rc && p->tangent >= 0)
+        rc = read_attribute(l, p->tangent, "TANGENT", 4, label, d->nv, (void **)&d->tan);
     uint32_t *src = NULL;
     if (!rc && p->indices >= 0) {
         snprintf(what, sizeof what, "indices of %s", label);
