@@ -241,11 +241,12 @@ static void case_shadow(lg_test *t)
     write_gltf(t, "anim.gltf", "", "", MOVE, "");
     if (mkdir(lg_test_path(t, "frames"), 0777))
         exit(99);
-    lg_test_write_text(t, "g.lgraph",
-                       "lightgraph 1\nscene = gltf { file = \"anim.gltf\" }\n"
-                       "sun = light { scene = scene, direction = [0, 0, -1], intensity = 1 }\n"
-                       "sm = shadowmap { scene = sun, resolution = 64, fit = bounds, cull = none }\n"
-                       "output sm.atlas \"frames/a_%02d.exr\"\n");
+    lg_test_write_text(
+        t, "g.lgraph",
+        "lightgraph 1\nscene = gltf { file = \"anim.gltf\" }\n"
+        "sun = light { scene = scene, direction = [0, 0, -1], intensity = 1 }\n"
+        "sm = shadowmap { scene = sun, resolution = 64, fit = bounds, cull = none }\n"
+        "output sm.atlas \"frames/a_%02d.exr\"\n");
     const char *args[] = { "--frames", "3", "--dt", "0.5", "--size", "64x64", NULL };
     char *out = NULL;
     int rc = lg_test_render(t, "g.lgraph", args, &out);
