@@ -463,6 +463,9 @@ static void bench_gl(const bench_data *d, int repeat, bench_row *row, int r32f)
     gl->UseProgram(p);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_vertices"), d->vertices);
     gl->Uniform1ui(gl->GetUniformLocation(p, "u_width"), d->tex_w);
+    /* the whole range, as the node draws a static scene (its vertex range since ABI 3.1) */
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_first"), 0);
+    gl->Uniform1ui(gl->GetUniformLocation(p, "u_end"), d->vertices);
     gl->Uniform1fv(gl->GetUniformLocation(p, "u_lighting[0]"), (GLsizei)(3 * d->n), d->lighting);
     gl->CreateTextures(GL_TEXTURE_BUFFER, 1, &tb);
     gl->TextureBuffer(tb, r32f ? GL_R32F : GL_RGB32F, buf);
