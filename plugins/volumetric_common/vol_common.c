@@ -3,6 +3,7 @@
 #include "vol_common.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* 4x4 inverse in double (cofactors), column-major; 0 or -1 when singular. */
@@ -49,8 +50,34 @@ static int inv4(double out[16], const double m[16])
     return 0;
 }
 
+static const char *lname(const lg_light *l)
+{
+    return l->name ? l->name : "";
+}
+
+static bool finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+static unsigned accept_bit(lg_light_type t)
+{
+    return t == LG_LIGHT_DIRECTIONAL ? VOL_ACCEPT_DIRECTIONAL
+           : t == LG_LIGHT_POINT     ? VOL_ACCEPT_POINT
+           : t == LG_LIGHT_SPOT      ? VOL_ACCEPT_SPOT
+                                     : 0u;
+}
+
+static const char *type_name(lg_light_type t)
+{
+    return t == LG_LIGHT_DIRECTIONAL ? "directional"
+           : t == LG_LIGHT_POINT     ? "point"
+           : t == LG_LIGHT_SPOT      ? "spot"
+                                     : "unknown";
+}
+
 int vol_setup_make(lg_node *n, const lg_scene *s, uint32_t width, uint32_t height, float z_limit,
-                   const lg_shadowmap *sm, vol_setup *out)
+                   const lg_shadowmap *sm, unsigned accept, vol_setup *out)
 {
     memset(out, 0, sizeof *out);
     out->width = width;
@@ -75,36 +102,233 @@ int vol_setup_make(lg_node *n, const lg_scene *s, uint32_t width, uint32_t heigh
                         (double)out->z_limit, (double)out->view.znear);
     lg_medium_coeffs(&s->medium, out->sigma_s, out->sigma_t);
     out->g = s->medium.g;
+    out->medium = s->medium;
+    out->heterogeneous = lg_medium_is_heterogeneous(&s->medium);
+    if (out->heterogeneous && !(accept & VOL_ACCEPT_FIELD))
+        return lg_error(n,
+                        "the scene's medium has a density field (%s), which this method does "
+                        "not model: use volumetric_froxel or volumetric_reference, or a "
+                        "homogeneous medium",
+                        s->medium.field->kind == LG_FIELD_GRID  ? "a voxel grid"
+                        : s->medium.field->kind == LG_FIELD_FBM ? "fBm noise"
+                                                                : "height fog or a fog box");
+    for (int c = 0; c < 3; c++) {
+        out->scene_min[c] = s->bounds_min[c];
+        out->scene_max[c] = s->bounds_max[c];
+    }
+    uint32_t skipped = 0;
     for (uint32_t i = 0; i < s->n_lights; i++) {
         const lg_light *l = &s->lights[i];
-        if (l->type != LG_LIGHT_DIRECTIONAL)
+        if (!(accept & accept_bit(l->type))) {
+            lg_log(n, LG_LOG_WARN, "light %u '%s': this method does not model %s lights: left out",
+                   i, lname(l), type_name(l->type));
+            skipped++;
             continue;
+        }
         if (out->n_lights == VOL_MAX_LIGHTS)
-            return lg_error(n, "the scene has more than %d directional lights (light %u '%s')",
-                            VOL_MAX_LIGHTS, i, l->name ? l->name : "");
+            return lg_error(n,
+                            "the scene has more than %d lights this method models (light %u '%s')",
+                            VOL_MAX_LIGHTS, i, lname(l));
         vol_light *v = &out->lights[out->n_lights++];
+        v->type = l->type;
         double d[3] = { l->direction[0], l->direction[1], l->direction[2] };
         double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (!(len > 0.0) || !isfinite(len))
-            return lg_error(n, "light %u '%s': direction is zero or not finite", i,
-                            l->name ? l->name : "");
+        if (l->type != LG_LIGHT_POINT && (!(len > 0.0) || !isfinite(len)))
+            return lg_error(n, "light %u '%s': direction is zero or not finite", i, lname(l));
         for (int c = 0; c < 3; c++)
-            v->dir[c] = (float)(d[c] / len);
+            v->dir[c] = len > 0.0 && isfinite(len) ? (float)(d[c] / len) : (c == 1 ? -1.0f : 0.0f);
+        if (l->type != LG_LIGHT_DIRECTIONAL) {
+            if (!finite3(l->position) || !isfinite(l->range) || l->range < 0.0f)
+                return lg_error(n,
+                                "%s light %u '%s': its position or range is not finite (or the "
+                                "range is negative)",
+                                type_name(l->type), i, lname(l));
+            for (int c = 0; c < 3; c++)
+                v->pos[c] = l->position[c];
+            v->range = l->range;
+        }
+        if (l->type == LG_LIGHT_SPOT) {
+            if (!isfinite(l->inner_cone) || !isfinite(l->outer_cone) || l->outer_cone < 0.0f)
+                return lg_error(n, "spot light %u '%s': its cone angles are not finite", i,
+                                lname(l));
+            v->cos_inner = (float)cos((double)l->inner_cone);
+            v->cos_outer = (float)cos((double)l->outer_cone);
+        }
         lg_light_color(l, v->l_c);
         v->scene_index = i;
         v->shadow = -1;
         if (sm) {
-            for (uint32_t k = 0; k < sm->n_lights; k++)
-                if (sm->lights[k].light == i)
-                    v->shadow = (int32_t)k;
+            v->shadow = lg_shadowmap_find(sm, i);
             if (v->shadow < 0)
-                lg_log(n, LG_LOG_WARN, "light %u '%s' has no shadow map: unshadowed", i,
-                       l->name ? l->name : "");
+                lg_log(n, LG_LOG_WARN, "light %u '%s' has no shadow map: unshadowed", i, lname(l));
         }
     }
     if (out->n_lights == 0)
-        return lg_error(n, "the scene has no directional light");
+        return lg_error(n, skipped ? "the scene has no light of a type this method models"
+                                   : "the scene has no light");
     return 0;
+}
+
+double vol_light_falloff(const vol_light *l, const double p[3], double to_light[3], double *dist)
+{
+    lg_light L = { .type = l->type };
+    for (int c = 0; c < 3; c++) {
+        L.direction[c] = l->dir[c];
+        L.position[c] = l->pos[c];
+    }
+    L.range = l->range;
+    double f = lg_light_falloff(&L, p, to_light, dist);
+    if (l->type == LG_LIGHT_SPOT) {
+        /* the cone from the stored cosines (lg_light_falloff would take the angles) */
+        double tl[3], d;
+        L.type = LG_LIGHT_POINT;
+        f = lg_light_falloff(&L, p, tl, &d);
+        double ca = -(tl[0] * l->dir[0] + tl[1] * l->dir[1] + tl[2] * l->dir[2]);
+        f *= lg_spot_cone(ca, l->cos_inner, l->cos_outer);
+        if (to_light)
+            for (int c = 0; c < 3; c++)
+                to_light[c] = tl[c];
+        if (dist)
+            *dist = d;
+    }
+    return f;
+}
+
+double vol_light_transmittance(const vol_setup *v, const vol_light *l, double dist, int c)
+{
+    if (l->type == LG_LIGHT_DIRECTIONAL || !isfinite(dist))
+        return 1.0;
+    return exp(-(double)v->sigma_t[c] * dist);
+}
+
+double vol_density(const vol_setup *v, const double p[3])
+{
+    return v->heterogeneous ? lg_medium_field_at(&v->medium, p) : 1.0;
+}
+
+/* The box a light's optical-depth volume covers: the field's bounds clipped to the scene's
+ * (grown by 1% so that surfaces lie inside). */
+static void tau_box(const vol_setup *v, double lo[3], double hi[3])
+{
+    const lg_density_field *f = v->medium.field;
+    for (int c = 0; c < 3; c++) {
+        double slo = v->scene_min[c], shi = v->scene_max[c];
+        double pad = 0.01 * (shi - slo) + 1e-6;
+        slo -= pad;
+        shi += pad;
+        lo[c] = f ? fmax(slo, (double)f->bounds_min[c]) : slo;
+        hi[c] = f ? fmin(shi, (double)f->bounds_max[c]) : shi;
+        if (!(hi[c] > lo[c]))
+            hi[c] = lo[c] + 1e-6;
+    }
+}
+
+/* Distance along unit d from p to the exit of box [lo, hi] (p inside), or 0. */
+static double box_exit(const double p[3], const double d[3], const double lo[3], const double hi[3])
+{
+    double t = INFINITY;
+    for (int c = 0; c < 3; c++) {
+        if (d[c] > 0.0)
+            t = fmin(t, (hi[c] - p[c]) / d[c]);
+        else if (d[c] < 0.0)
+            t = fmin(t, (lo[c] - p[c]) / d[c]);
+    }
+    return isfinite(t) && t > 0.0 ? t : 0.0;
+}
+
+int vol_tau_build(lg_node *n, const vol_setup *v, uint32_t k, uint32_t res, vol_tau_volume *out)
+{
+    memset(out, 0, sizeof *out);
+    if (k >= v->n_lights)
+        return lg_error(n, "vol_tau_build: light %u of %u", k, v->n_lights);
+    if (res < 2)
+        res = 2;
+    tau_box(v, out->lo, out->hi);
+    double ext[3], longest = 0.0;
+    for (int c = 0; c < 3; c++) {
+        ext[c] = out->hi[c] - out->lo[c];
+        longest = fmax(longest, ext[c]);
+    }
+    for (int c = 0; c < 3; c++) {
+        double m = ceil((double)res * ext[c] / longest);
+        out->n[c] = m < 2.0 ? 2u : (uint32_t)m;
+    }
+    size_t cells = (size_t)out->n[0] * out->n[1] * out->n[2];
+    out->tau = malloc(cells * sizeof(float));
+    if (!out->tau)
+        return lg_error(n, "out of memory for a %ux%ux%u optical-depth volume", out->n[0],
+                        out->n[1], out->n[2]);
+    lg_account_alloc(n, cells * sizeof(float));
+    const vol_light *l = &v->lights[k];
+    double step = 0.5 * longest / (double)res;
+    for (uint32_t z = 0; z < out->n[2]; z++)
+        for (uint32_t y = 0; y < out->n[1]; y++)
+            for (uint32_t x = 0; x < out->n[0]; x++) {
+                uint32_t idx[3] = { x, y, z };
+                double p[3], d[3], len;
+                for (int c = 0; c < 3; c++)
+                    p[c] = out->lo[c] + ext[c] * (double)idx[c] / (double)(out->n[c] - 1);
+                if (l->type == LG_LIGHT_DIRECTIONAL) {
+                    for (int c = 0; c < 3; c++)
+                        d[c] = -(double)l->dir[c];
+                    len = box_exit(p, d, out->lo, out->hi);
+                } else {
+                    double dd = 0.0;
+                    for (int c = 0; c < 3; c++) {
+                        d[c] = (double)l->pos[c] - p[c];
+                        dd += d[c] * d[c];
+                    }
+                    dd = sqrt(dd);
+                    for (int c = 0; c < 3; c++)
+                        d[c] = dd > 0.0 ? d[c] / dd : 0.0;
+                    len = fmin(dd, box_exit(p, d, out->lo, out->hi));
+                }
+                uint32_t steps = (uint32_t)ceil(len / step);
+                double h = steps ? len / steps : 0.0, tau = 0.0;
+                for (uint32_t i = 0; i < steps; i++) {
+                    double q[3];
+                    for (int c = 0; c < 3; c++)
+                        q[c] = p[c] + d[c] * h * ((double)i + 0.5);
+                    tau += lg_medium_field_at(&v->medium, q) * h;
+                }
+                out->tau[(size_t)x + (size_t)out->n[0] * ((size_t)y + (size_t)out->n[1] * z)] =
+                    (float)tau;
+            }
+    return 0;
+}
+
+void vol_tau_free(lg_node *n, vol_tau_volume *t)
+{
+    if (t->tau) {
+        lg_account_free(n, (size_t)t->n[0] * t->n[1] * t->n[2] * sizeof(float));
+        free(t->tau);
+    }
+    memset(t, 0, sizeof *t);
+}
+
+double vol_tau_sample(const vol_tau_volume *t, const double p[3])
+{
+    if (!t->tau)
+        return 0.0;
+    double f[3];
+    uint32_t i0[3];
+    for (int c = 0; c < 3; c++) {
+        double u = (p[c] - t->lo[c]) / (t->hi[c] - t->lo[c]) * (double)(t->n[c] - 1);
+        u = u < 0.0 ? 0.0 : u > (double)(t->n[c] - 1) ? (double)(t->n[c] - 1) : u;
+        double fl = floor(u);
+        i0[c] = (uint32_t)fl;
+        if (i0[c] >= t->n[c] - 1)
+            i0[c] = t->n[c] - 2;
+        f[c] = u - (double)i0[c];
+    }
+    double sum = 0.0;
+    for (int c = 0; c < 8; c++) {
+        uint32_t x = i0[0] + (c & 1), y = i0[1] + ((c >> 1) & 1), z = i0[2] + ((c >> 2) & 1);
+        double w = ((c & 1) ? f[0] : 1.0 - f[0]) * (((c >> 1) & 1) ? f[1] : 1.0 - f[1]) *
+                   (((c >> 2) & 1) ? f[2] : 1.0 - f[2]);
+        sum += w * t->tau[(size_t)x + (size_t)t->n[0] * ((size_t)y + (size_t)t->n[1] * z)];
+    }
+    return sum;
 }
 
 static void unproject(const vol_setup *v, double x, double y, double z, double p[3])
@@ -157,30 +381,20 @@ float vol_shadow_cpu(const lg_shadowmap *sm, const float *atlas, int32_t rec, co
 {
     if (!sm || !atlas || rec < 0 || (uint32_t)rec >= sm->n_lights)
         return 1.0f;
-    const lg_shadow_light *L = &sm->lights[rec];
-    const float *m = L->view_proj;
-    double c[4];
-    for (int row = 0; row < 4; row++)
-        c[row] = m[row] * p[0] + m[4 + row] * p[1] + m[8 + row] * p[2] + m[12 + row];
-    double u = c[0] / c[3] * 0.5 + 0.5, vv = c[1] / c[3] * 0.5 + 0.5;
-    double z = c[2] / c[3] * 0.5 + 0.5;
-    if (!(u >= 0.0 && u < 1.0 && vv >= 0.0 && vv < 1.0) || !(z >= 0.0))
-        return 1.0f;
-    uint32_t res = sm->resolution;
-    uint32_t tx = L->tile_x + (uint32_t)(u * res), ty = L->tile_y + (uint32_t)(vv * res);
-    if (tx >= sm->atlas_width || ty >= sm->atlas_height)
-        return 1.0f;
-    float stored = atlas[(size_t)ty * sm->atlas_width + tx];
-    return (float)z > stored + sm->bias_constant ? 0.0f : 1.0f;
+    return lg_shadowmap_visibility(sm, atlas, sm->lights[rec].light, p, 0.0);
 }
 
-uint32_t vol_scene_lights(lg_node *n)
+uint32_t vol_scene_lights(lg_node *n, unsigned accept)
 {
     lg_resource_info info;
     const lg_resource *sc = lg_input(n, VOL_IN_SCENE);
     uint32_t l = 1;
-    if (sc && lg_describe(sc, &info, n) == 0 && info.kind == LG_KIND_SCENE && info.scene)
-        l = info.scene->dir_lights;
+    if (sc && lg_describe(sc, &info, n) == 0 && info.kind == LG_KIND_SCENE && info.scene) {
+        const lg_scene_features *f = info.scene;
+        l = ((accept & VOL_ACCEPT_DIRECTIONAL) ? f->dir_lights : 0) +
+            ((accept & VOL_ACCEPT_POINT) ? f->point_lights : 0) +
+            ((accept & VOL_ACCEPT_SPOT) ? f->other_lights : 0);
+    }
     return l < 1 ? 1 : l > VOL_MAX_LIGHTS ? VOL_MAX_LIGHTS : l;
 }
 

@@ -47,7 +47,15 @@ typedef struct fx_state {
     vol_setup prev;
     lg_slice_map prev_map;
 
-    void *backend_state;     /* the backend's (fx_*_execute makes it) */
+    void *backend_state; /* the backend's (fx_*_execute makes it) */
+    int point_nodes;     /* froxel.h 4.: 0 sample, 1 .. 8 analytic */
+    /* heterogeneous media: the frame's density multipliers (W x H x D) and each light's
+     * optical-depth volume, kept while the scene (by address), its lights and tau_res stay */
+    float *density;
+    vol_tau_volume tau[VOL_MAX_LIGHTS];
+    uint32_t n_tau, tau_res;
+    const lg_scene *tau_scene;
+    vol_light tau_lights[VOL_MAX_LIGHTS];
     fx_slices slices;        /* this frame's slice tables (fx_slice_tables) */
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } fx_state;
@@ -69,6 +77,7 @@ static int fx_create(lg_node *n)
     st->history = (float)lg_param_float(n, "history");
     st->temporal = lg_param_bool(n, "temporal");
     st->per_frame = lg_param_bool(n, "per_frame");
+    st->tau_res = 64; /* the optical-depth volumes' longest side (a parameter: issue 25) */
 
     const struct {
         const char *key;
@@ -120,13 +129,67 @@ static int fx_prepare(lg_node *n)
      * examples/volumetric_froxel.lgraph with a 380x180x512 grid, one light): 3.5e7
      * froxels in 6.3 s, 1.8e-7 s each; llvmpipe and PoCL run the gl and cl backends on the
      * same cores, taken as the same cost. */
-    double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n);
+    double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n, VOL_ACCEPT_DIRECTIONAL);
     lg_declare_work(n, froxels, froxels * FX_SECONDS_PER_FROXEL / lg_cpu_workers(n),
                     "froxel x light visits");
     return lg_set_device(n, st->backend);
 }
 
 /* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
+/* froxel.h 4.: the density multiplier at each light-pass sample point of the frame. */
+static int fx_density(lg_node *n, fx_state *st, const fx_frame *f)
+{
+    size_t cells = (size_t)f->w * f->h * f->d;
+    if (!st->density) {
+        st->density = malloc(cells * sizeof(float));
+        if (!st->density)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory for %zu froxel densities", cells);
+        lg_account_alloc(n, cells * sizeof(float));
+    }
+    const vol_setup *v = f->v;
+    for (uint32_t j = 0; j < f->h; j++)
+        for (uint32_t i = 0; i < f->w; i++) {
+            double w[3];
+            vol_ray(v, (i + 0.5) * (double)v->width / f->w, (j + 0.5) * (double)v->height / f->h,
+                    w);
+            double c = w[0] * v->forward[0] + w[1] * v->forward[1] + w[2] * v->forward[2];
+            for (uint32_t k = 0; k < f->d; k++) {
+                double t = f->slices->tj[k] / c, p[3];
+                for (int a = 0; a < 3; a++)
+                    p[a] = v->eye[a] + w[a] * t;
+                st->density[i + (size_t)f->w * (j + (size_t)f->h * k)] =
+                    (float)lg_medium_field_at(&v->medium, p);
+            }
+        }
+    return 0;
+}
+
+static void fx_tau_free(lg_node *n, fx_state *st)
+{
+    for (uint32_t l = 0; l < st->n_tau; l++)
+        vol_tau_free(n, &st->tau[l]);
+    st->n_tau = 0;
+    st->tau_scene = NULL;
+}
+
+/* froxel.h 4.: each light's optical-depth volume, remade when the scene or a light moves. */
+static int fx_tau(lg_node *n, fx_state *st, const lg_scene *s, const vol_setup *v)
+{
+    if (st->tau_scene == s && st->n_tau == v->n_lights &&
+        memcmp(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light)) == 0)
+        return 0;
+    fx_tau_free(n, st);
+    for (uint32_t l = 0; l < v->n_lights; l++) {
+        int rc = vol_tau_build(n, v, l, st->tau_res, &st->tau[l]);
+        if (rc)
+            return rc;
+        st->n_tau = l + 1;
+    }
+    memcpy(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light));
+    st->tau_scene = s;
+    return 0;
+}
+
 static void fx_slice_tables(const fx_frame *f, fx_slices *t)
 {
     double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
@@ -198,7 +261,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     vol_setup *v = malloc(sizeof *v);
     if (!v)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, v);
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, VOL_ACCEPT_DIRECTIONAL,
+                            v);
     fx_frame f = { 0 };
     if (!rc)
         rc = fx_slice_map(n, st, v, &f.map);
@@ -227,6 +291,18 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     f.sm = sm;
     fx_slice_tables(&f, &st->slices);
     f.slices = &st->slices;
+    f.point_nodes = st->point_nodes;
+    if (v->heterogeneous) {
+        rc = fx_density(n, st, &f);
+        if (!rc)
+            rc = fx_tau(n, st, s, v);
+        if (rc) {
+            free(v);
+            return rc;
+        }
+        f.density = st->density;
+        f.tau = st->tau;
+    }
     switch (st->backend) {
     case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
     case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
@@ -266,6 +342,11 @@ static void fx_destroy(lg_node *n)
     fx_state *st = n->user;
     if (!st)
         return;
+    fx_tau_free(n, st);
+    if (st->density) {
+        lg_account_free(n, (size_t)st->gw * st->gh * st->gd * sizeof(float));
+        free(st->density);
+    }
     if (st->backend_state) {
         if (st->backend == LG_DEVICE_GL)
             fx_gl_destroy(n, st->backend_state);

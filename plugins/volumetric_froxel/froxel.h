@@ -59,6 +59,44 @@
  *    1 / cos belong to the columns, not the pixel) is an interpolation error of the
  *    method, not of a backend; tests compare at column centres.)
  *
+ * 4. Point and spot lights, heterogeneous media (issue 25; homogeneous media with only
+ *    directional lights compute exactly 1-3 above, at the same cost: the added terms are
+ *    behind per-frame flags, not per-froxel branches on data).
+ *    Light l of type point or spot at q_l contributes to S_ijk (per unit length, rgb):
+ *        C_l Shadow_l(p) F_l(p) X_l(p) p_HG(g, dot(w_ij, l_l(p)))
+ *    F_l = vol_light_falloff (lightgraph/medium.h: window W(d) and cone C over d^2 + eps^2),
+ *    l_l = unit vector p -> q_l, d = |q_l - p|; Shadow_l: the map's record that holds p
+ *    (lg_shadowmap_record_at: a point light's cube face) with lg_shadowmap_visibility's
+ *    rule and PCF; X_l = e^(-sigma_t d) per channel (homogeneous) or the light's optical-
+ *    depth volume (below). Directional lights keep their term of 1 (X = 1 homogeneous).
+ *    Analytic point and spot lights (f->point_nodes = n in 1 .. 8): the sample at p is
+ *    replaced by the slice's segment average along the column's ray,
+ *        (1 / Delta_ijk) lg_point_inscatter(e, w_ij, t_k / cos_ij, t_{k+1} / cos_ij, q_l,
+ *                                           range, spot, g, 0, n)
+ *    (sigma_t = 0: the accumulation applies the extinction along the ray), times C_l,
+ *    Shadow_l(p) and X_l(p) at the sample point p as above (t_0 = 0: slice 0 from the eye).
+ *    This is what makes a coarse grid right near a light: the integral of 1 / d^2 over the
+ *    slice, not its value at one point. n = 0: the point sample.
+ *
+ *    Heterogeneous medium (f->density != NULL): rho_ijk = f->density[i + W (j + H k)], the
+ *    density multiplier m (lg_medium_field_at) at the light pass's sample point p, made on
+ *    the CPU by froxel.c for the frame (the field itself never reaches a device: the
+ *    light pass's cost does not depend on the field). Then
+ *        S_ijk = rho_ijk sigma_s sum_l C_l Shadow_l F_l X_l p_HG        (rho multiplies S)
+ *        X_l(p) = e^(-sigma_t tau_l(p)),  tau_l = f->tau[l] sampled trilinearly at p
+ *    for every light type (the medium's shadow on itself; vol_tau_volume: cell centre
+ *    (a, b, c) at lo + (hi - lo) (a, b, c) / (n - 1), clamped to the box; as a GL texture
+ *    with linear filtering, u = ((p - lo) / (hi - lo) (n - 1) + 0.5) / n). The
+ *    accumulation takes each slice's own extinction, sigma_t rho_k:
+ *        A_k = A_{k-1} + Tr_{k-1} S_k Delta_k seg(sigma_t rho_k Delta_k)
+ *        Tr_k = Tr_{k-1} exp(-sigma_t rho_k Delta_k)
+ *    (thesis accumulation: unchanged, Tr = 1) and keeps the optical path P_k = sum_{m <= k}
+ *    rho_m Delta_m per column (P_{-1} = 0) in memory of the backend's choice. The lookup
+ *    reads P at k - 1 and rho at k bilinearly like A and S:
+ *        L_v = A + exp(-sigma_t P_{k-1}) S delta seg(sigma_t rho_k delta)
+ *        out = base.rgb exp(-sigma_t (P_{k-1} + rho_k delta)) + L_v
+ *    The grid's alpha stays the mean of Tr_k's channels.
+ *
  * Every backend maps its inputs and outputs itself on its device (lg_map_cpu / _gl / _cl):
  * base = lg_input(VOL_IN_BASE) (colour + depth), the shadow atlas = f->sm->atlas, outputs
  * VOL_OUT_OUT, VOL_OUT_INSCATTER, and FX_OUT_GRID's part "grid" (rgba32f volume W x H x D).
@@ -105,6 +143,13 @@ typedef struct fx_frame {
     const lg_shadowmap *sm;  /* NULL: unshadowed */
     uint32_t frame;          /* frame index */
     const fx_slices *slices; /* this frame's slice tables */
+    /* issue 25 (4. above) */
+    int point_nodes; /* point and spot lights: 0 = sample at p; 1 .. 8 = analytic */
+    /* heterogeneous medium: W x H x D multipliers at the light pass's sample points (x
+     * fastest), and v->n_lights optical-depth volumes in light order; both NULL for a
+     * homogeneous medium. Owned by froxel.c (valid during the execute). */
+    const float *density;
+    const vol_tau_volume *tau;
 } fx_frame;
 
 /* A backend's state, made on the first execute (state NULL), kept across frames; the

@@ -480,7 +480,8 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         return lg_error(n, "input 'shadows': the shadow maps have no atlas, a resolution "
                            "below 2 or no light list");
     vol_setup v;
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, &v);
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, VOL_ACCEPT_DIRECTIONAL,
+                            &v);
     if (rc)
         return rc;
     uint32_t R = sm->resolution;

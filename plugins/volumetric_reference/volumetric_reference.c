@@ -284,7 +284,8 @@ static int vr_prepare(lg_node *n)
     if (st->per_frame)
         lg_set_per_frame(n, true);
     /* the estimate: one occlusion ray per pixel, sub-pixel ray, step and light */
-    double rays = (double)st->width * st->height * st->spp * st->steps * vol_scene_lights(n);
+    double rays = (double)st->width * st->height * st->spp * st->steps *
+                  vol_scene_lights(n, VOL_ACCEPT_DIRECTIONAL);
     lg_declare_work(n, rays, rays * VR_SECONDS_PER_RAY / lg_cpu_workers(n), "occlusion rays");
     return lg_set_device(n, LG_DEVICE_CPU);
 }
@@ -300,7 +301,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
     if (rc)
         return rc;
     vol_setup v;
-    rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, &v);
+    rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, VOL_ACCEPT_DIRECTIONAL, &v);
     if (rc)
         return rc;
     for (int ch = 0; ch < 3; ch++)

@@ -153,7 +153,8 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
     const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
     if (!s)
         return LG_ERR_INVALID;
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, &f->v);
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, VOL_ACCEPT_DIRECTIONAL,
+                            &f->v);
     if (rc)
         return rc;
     const vol_setup *v = &f->v;

@@ -5,6 +5,7 @@
 #include "lightgraph/kinds.h"
 
 #include <stddef.h>
+#include <math.h>
 #include <string.h>
 
 #include "lightgraph/froxel.h"
@@ -292,7 +293,119 @@ const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res, lg_shad
     out->bias_constant = mi->bias_constant;
     out->bias_slope = mi->bias_slope;
     out->normal_offset = mi->normal_offset;
+    out->pcf_radius = mi->pcf_radius;
+    out->pcss_light_size = mi->pcss_light_size;
+    out->point_mode = mi->point_mode;
     return out;
+}
+
+int32_t lg_shadowmap_find(const lg_shadowmap *sm, uint32_t light)
+{
+    if (!sm || !sm->lights)
+        return -1;
+    for (uint32_t k = 0; k < sm->n_lights; k++)
+        if (sm->lights[k].light == light)
+            return (int32_t)k;
+    return -1;
+}
+
+/* world -> view space of record r (column-major view). */
+static void sm_view_point(const lg_shadow_light *r, const double p[3], double v[3])
+{
+    const float *m = r->view;
+    for (int row = 0; row < 3; row++)
+        v[row] = m[row] * p[0] + m[4 + row] * p[1] + m[8 + row] * p[2] + m[12 + row];
+}
+
+int32_t lg_shadowmap_record_at(const lg_shadowmap *sm, int32_t first, const double p[3])
+{
+    if (!sm || first < 0 || (uint32_t)first >= sm->n_lights)
+        return -1;
+    const lg_shadow_light *r = &sm->lights[first];
+    if (r->projection != LG_SHADOW_PERSPECTIVE)
+        return first;
+    if (r->face == LG_SHADOW_FACE_PARABOLOID_FRONT) {
+        double v[3];
+        sm_view_point(r, p, v);
+        /* view space looks down -z: the front map holds -z (in front of the light) */
+        bool back = v[2] > 0.0 && (uint32_t)first + 1 < sm->n_lights &&
+                    sm->lights[first + 1].light == r->light;
+        return back ? first + 1 : first;
+    }
+    bool cube = (uint32_t)first + 5 < sm->n_lights && sm->lights[first + 5].light == r->light &&
+                sm->lights[first + 5].face == LG_SHADOW_FACE_NEG_Z;
+    if (!cube)
+        return first;
+    /* the light's position: the view matrix is [R | -R q], so q = -R^T t */
+    const float *m = r->view;
+    double q[3];
+    for (int c = 0; c < 3; c++)
+        q[c] = -(m[c * 4 + 0] * m[12] + m[c * 4 + 1] * m[13] + m[c * 4 + 2] * m[14]);
+    double d[3] = { p[0] - q[0], p[1] - q[1], p[2] - q[2] };
+    int axis = 0;
+    for (int c = 1; c < 3; c++)
+        if (fabs(d[c]) > fabs(d[axis]))
+            axis = c;
+    return first + 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+}
+
+float lg_shadowmap_visibility(const lg_shadowmap *sm, const float *atlas, uint32_t light,
+                              const double p[3], double bias_extra)
+{
+    int32_t rec = lg_shadowmap_record_at(sm, lg_shadowmap_find(sm, light), p);
+    if (rec < 0 || !atlas)
+        return 1.0f;
+    const lg_shadow_light *L = &sm->lights[rec];
+    double ndc[3];
+    if (L->face >= LG_SHADOW_FACE_PARABOLOID_FRONT) {
+        /* dual paraboloid: the view-space direction d (unit) maps to d.xy / (1 + d.z'),
+         * z' = -d.z for the front map (it looks down -z), +d.z for the back; depth is the
+         * distance over depth_range past znear */
+        double v[3];
+        sm_view_point(L, p, v);
+        double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (!(len > 0.0))
+            return 1.0f;
+        double zf = L->face == LG_SHADOW_FACE_PARABOLOID_FRONT ? -v[2] / len : v[2] / len;
+        ndc[0] = v[0] / len / (1.0 + zf);
+        ndc[1] = v[1] / len / (1.0 + zf);
+        ndc[2] = 2.0 * (len - L->znear) / L->depth_range - 1.0;
+        if (L->face == LG_SHADOW_FACE_PARABOLOID_BACK)
+            ndc[0] = -ndc[0];
+    } else {
+        const float *m = L->view_proj;
+        double c[4];
+        for (int row = 0; row < 4; row++)
+            c[row] = m[row] * p[0] + m[4 + row] * p[1] + m[8 + row] * p[2] + m[12 + row];
+        if (!(c[3] > 0.0))
+            return 1.0f;
+        for (int k = 0; k < 3; k++)
+            ndc[k] = c[k] / c[3];
+    }
+    double u = ndc[0] * 0.5 + 0.5, vv = ndc[1] * 0.5 + 0.5, z = ndc[2] * 0.5 + 0.5;
+    if (!(u >= 0.0 && u < 1.0 && vv >= 0.0 && vv < 1.0) || !(z >= 0.0))
+        return 1.0f;
+    if (z > 1.0)
+        z = 1.0;
+    int64_t res = sm->resolution, r = sm->pcf_radius;
+    int64_t cx = (int64_t)(u * res), cy = (int64_t)(vv * res);
+    uint32_t lit = 0, taps = 0;
+    for (int64_t dy = -r; dy <= r; dy++)
+        for (int64_t dx = -r; dx <= r; dx++) {
+            int64_t x = cx + dx, y = cy + dy;
+            x = x < 0 ? 0 : x >= res ? res - 1 : x;
+            y = y < 0 ? 0 : y >= res ? res - 1 : y;
+            uint64_t tx = L->tile_x + (uint64_t)x, ty = L->tile_y + (uint64_t)y;
+            taps++;
+            if (tx >= sm->atlas_width || ty >= sm->atlas_height) {
+                lit++;
+                continue;
+            }
+            float stored = atlas[(size_t)ty * sm->atlas_width + tx];
+            if (!((float)z > stored + sm->bias_constant + (float)bias_extra))
+                lit++;
+        }
+    return (float)lit / (float)taps;
 }
 
 /* ---- probes ---------------------------------------------------------------------------------- */

@@ -55,6 +55,7 @@ void lg_scene_compute_features(lg_scene *s)
     }
     f.medium = s->medium.present && s->medium.density > 0;
     f.medium_density = s->medium.present ? s->medium.density : 0.0f;
+    f.medium_field = f.medium && s->medium.field != NULL; /* since ABI 3.2 */
     for (uint32_t i = 0; i < s->n_materials; i++)
         if (s->materials[i].ks > 0 &&
             (s->materials[i].os[0] > 0 || s->materials[i].os[1] > 0 || s->materials[i].os[2] > 0))

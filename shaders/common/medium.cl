@@ -58,4 +58,102 @@ float lg_depth_to_slice(int slicing, float4 map, float t)
     return D * (1.0f / t - 1.0f / near) / (1.0f / far - 1.0f / near);
 }
 
+// ---- Point and spot lights (since ABI 3.2f; lightgraph/medium.h) -----------------------------
+#define LG_LIGHT_EPSILON 1e-3f
+
+// (the OpenCL twin of medium.glsl's; is_spot an int) KHR_lights_punctual's range window; 1 for range <= 0 (infinite).
+float lg_light_window(float d, float range)
+{
+    if (!(range > 0.0f))
+        return 1.0f;
+    float r = d / range;
+    float r2 = r * r;
+    return clamp(1.0f - r2 * r2, 0.0f, 1.0f);
+}
+
+// The spot's smooth cone falloff t^2.f
+float lg_spot_cone(float cos_angle, float cos_inner, float cos_outer)
+{
+    float t = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-4f), 0.0f, 1.0f);
+    return t * t;
+}
+
+// F(p) of a local light at q: W C / (d^2 + eps^2); spot = (axis, unused), cone = (cos_inner,
+// cos_outer); is_spot false: a point light. to_light: unit p -> q (the axis reversed at q).
+float lg_local_falloff(float3 q, float range, int is_spot, float3 axis, float2 cone, float3 p,
+                       float3 *to_light, float *dist)
+{
+    float3 v = q - p;
+    float d2 = dot(v, v);
+    float dd = sqrt(d2);
+    float3 tl = dd > 0.0f ? v / dd : -axis;
+    *dist = dd;
+    *to_light = tl;
+    float f = lg_light_window(dd, range) / (d2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
+    if (is_spot)
+        f *= lg_spot_cone(dot(-tl, axis), cone.x, cone.y);
+    return f;
+}
+
+// The airlight integral of lg_point_inscatter (per unit L_c and sigma_s), one Gauss-Legendre
+// panel of n = 1 .. 8 nodes in xi. The same nodes as the C function's single panel.
+__constant float LG_GL8_X[20] = {
+    0.0f,
+    0.5773502691896257645f,
+    0.0f, 0.7745966692414833770f,
+    0.3399810435848562648f, 0.8611363115940525752f,
+    0.0f, 0.5384693101056830910f, 0.9061798459386639928f,
+    0.2386191860831969086f, 0.6612093864662645137f, 0.9324695142031520279f,
+    0.0f, 0.4058451513773971669f, 0.7415311855993944399f, 0.9491079123427585245f,
+    0.1834346424956498049f, 0.5255324099163289858f, 0.7966664774136267396f, 0.9602898564975362317f };
+__constant float LG_GL8_W[20] = {
+    2.0f,
+    1.0f,
+    0.8888888888888888889f, 0.5555555555555555556f,
+    0.6521451548625461427f, 0.3478548451374538574f,
+    0.5688888888888888889f, 0.4786286704993664680f, 0.2369268850561890875f,
+    0.4679139345726910473f, 0.3607615730481386076f, 0.1713244923791703450f,
+    0.4179591836734693878f, 0.3818300505051189449f, 0.2797053914892766679f, 0.1294849661688696933f,
+    0.3626837833783619830f, 0.3137066959682209323f, 0.2223810344533744706f, 0.1012285362903762592f };
+__constant int LG_GL8_OFF[8] = { 0, 1, 2, 4, 6, 9, 12, 16 };
+
+float lg_point_inscatter(float3 o, float3 w, float t0, float t1, float3 q, float range, int is_spot,
+                         float3 axis, float2 cone, float g, float sigma_t, int n)
+{
+    if (!(t1 > t0))
+        return 0.0f;
+    n = clamp(n, 1, 8);
+    float3 qo = q - o;
+    float tc = dot(qo, w);
+    float h2 = max(dot(qo, qo) - tc * tc, 0.0f);
+    float H = sqrt(h2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
+    float xi0 = atan((t0 - tc) / H), xi1 = atan((t1 - tc) / H);
+    float half_w = 0.5f * (xi1 - xi0), mid = 0.5f * (xi1 + xi0);
+    int half_n = n / 2, off = LG_GL8_OFF[n - 1];
+    float sum = 0.0f;
+    for (int i = 0; i < n; i++) {
+        int k;
+        float x;
+        if ((n & 1) == 1) {
+            k = abs(i - half_n);
+            x = i < half_n ? -LG_GL8_X[off + k] : LG_GL8_X[off + k];
+        } else {
+            k = i < half_n ? half_n - 1 - i : i - half_n;
+            x = i < half_n ? -LG_GL8_X[off + k] : LG_GL8_X[off + k];
+        }
+        float xi = mid + half_w * x;
+        float t = tc + H * tan(xi);
+        float3 l = qo - t * w;
+        float d = length(l);
+        float cw = d > 0.0f ? dot(l, w) / d : 0.0f;
+        float f = lg_hg_phase(g, cw) * lg_light_window(d, range);
+        if (is_spot)
+            f *= lg_spot_cone(d > 0.0f ? -dot(l, axis) / d : 1.0f, cone.x, cone.y);
+        if (sigma_t > 0.0f)
+            f *= exp(-sigma_t * ((t - t0) + d));
+        sum += half_w * LG_GL8_W[off + k] * f;
+    }
+    return sum / H;
+}
+
 #endif

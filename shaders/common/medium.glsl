@@ -65,4 +65,100 @@ float lg_depth_to_slice(int slicing, vec4 map, float t)
     return D * (1.0 / t - 1.0 / near) / (1.0 / far - 1.0 / near);
 }
 
+// ---- Point and spot lights (since ABI 3.2; lightgraph/medium.h) -----------------------------
+const float LG_LIGHT_EPSILON = 1e-3;
+
+// KHR_lights_punctual's range window; 1 for range <= 0 (infinite).
+float lg_light_window(float d, float range)
+{
+    if (!(range > 0.0))
+        return 1.0;
+    float r = d / range;
+    float r2 = r * r;
+    return clamp(1.0 - r2 * r2, 0.0, 1.0);
+}
+
+// The spot's smooth cone falloff t^2.
+float lg_spot_cone(float cos_angle, float cos_inner, float cos_outer)
+{
+    float t = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
+    return t * t;
+}
+
+// F(p) of a local light at q: W C / (d^2 + eps^2); spot = (axis, unused), cone = (cos_inner,
+// cos_outer); is_spot false: a point light. to_light: unit p -> q (the axis reversed at q).
+float lg_local_falloff(vec3 q, float range, bool is_spot, vec3 axis, vec2 cone, vec3 p,
+                       out vec3 to_light, out float dist)
+{
+    vec3 v = q - p;
+    float d2 = dot(v, v);
+    dist = sqrt(d2);
+    to_light = dist > 0.0 ? v / dist : -axis;
+    float f = lg_light_window(dist, range) / (d2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
+    if (is_spot)
+        f *= lg_spot_cone(dot(-to_light, axis), cone.x, cone.y);
+    return f;
+}
+
+// The airlight integral of lg_point_inscatter (per unit L_c and sigma_s), one Gauss-Legendre
+// panel of n = 1 .. 8 nodes in xi. The same nodes as the C function's single panel.
+const float LG_GL8_X[20] = float[20](
+    0.0,
+    0.5773502691896257645,
+    0.0, 0.7745966692414833770,
+    0.3399810435848562648, 0.8611363115940525752,
+    0.0, 0.5384693101056830910, 0.9061798459386639928,
+    0.2386191860831969086, 0.6612093864662645137, 0.9324695142031520279,
+    0.0, 0.4058451513773971669, 0.7415311855993944399, 0.9491079123427585245,
+    0.1834346424956498049, 0.5255324099163289858, 0.7966664774136267396, 0.9602898564975362317);
+const float LG_GL8_W[20] = float[20](
+    2.0,
+    1.0,
+    0.8888888888888888889, 0.5555555555555555556,
+    0.6521451548625461427, 0.3478548451374538574,
+    0.5688888888888888889, 0.4786286704993664680, 0.2369268850561890875,
+    0.4679139345726910473, 0.3607615730481386076, 0.1713244923791703450,
+    0.4179591836734693878, 0.3818300505051189449, 0.2797053914892766679, 0.1294849661688696933,
+    0.3626837833783619830, 0.3137066959682209323, 0.2223810344533744706, 0.1012285362903762592);
+const int LG_GL8_OFF[8] = int[8](0, 1, 2, 4, 6, 9, 12, 16);
+
+float lg_point_inscatter(vec3 o, vec3 w, float t0, float t1, vec3 q, float range, bool is_spot,
+                         vec3 axis, vec2 cone, float g, float sigma_t, int n)
+{
+    if (!(t1 > t0))
+        return 0.0;
+    n = clamp(n, 1, 8);
+    vec3 qo = q - o;
+    float tc = dot(qo, w);
+    float h2 = max(dot(qo, qo) - tc * tc, 0.0);
+    float H = sqrt(h2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
+    float xi0 = atan((t0 - tc) / H), xi1 = atan((t1 - tc) / H);
+    float half_w = 0.5 * (xi1 - xi0), mid = 0.5 * (xi1 + xi0);
+    int half_n = n / 2, off = LG_GL8_OFF[n - 1];
+    float sum = 0.0;
+    for (int i = 0; i < n; i++) {
+        int k;
+        float x;
+        if ((n & 1) == 1) {
+            k = abs(i - half_n);
+            x = i < half_n ? -LG_GL8_X[off + k] : LG_GL8_X[off + k];
+        } else {
+            k = i < half_n ? half_n - 1 - i : i - half_n;
+            x = i < half_n ? -LG_GL8_X[off + k] : LG_GL8_X[off + k];
+        }
+        float xi = mid + half_w * x;
+        float t = tc + H * tan(xi);
+        vec3 l = qo - t * w;
+        float d = length(l);
+        float cw = d > 0.0 ? dot(l, w) / d : 0.0;
+        float f = lg_hg_phase(g, cw) * lg_light_window(d, range);
+        if (is_spot)
+            f *= lg_spot_cone(d > 0.0 ? -dot(l, axis) / d : 1.0, cone.x, cone.y);
+        if (sigma_t > 0.0)
+            f *= exp(-sigma_t * ((t - t0) + d));
+        sum += half_w * LG_GL8_W[off + k] * f;
+    }
+    return sum / H;
+}
+
 #endif

@@ -1,5 +1,6 @@
 /*
- * lightgraph/medium.h: the maths of a homogeneous participating medium, since ABI 2.4
+ * lightgraph/medium.h: the maths of a participating medium, since ABI 2.4 (density fields,
+ * point and spot lights since 3.2)
  * (TECHNIQUES.md §6; seed 2, chapter 3). Every volumetric plugin and its GPU kernels use
  * these definitions; shaders/common/medium.glsl and shaders/common/medium.cl are their
  * line-by-line twins, and tests/unit/medium checks all three against each other.
@@ -88,6 +89,80 @@ LG_API void lg_medium_coeffs(const lg_medium *m, float sigma_s[3], float sigma_t
 
 /* L_c of a light: colour x intensity. */
 LG_API void lg_light_color(const lg_light *light, float l_c[3]);
+
+/* ---- Density fields (since ABI 3.2; lightgraph/scene.h, "Density fields") -------------------- */
+
+/* Improved Perlin gradient noise (Perlin 2002: quintic fade, the 12 edge-midpoint
+ * gradients), each lattice point's gradient picked by an integer hash of (i, j, k, seed)
+ * instead of a permutation table (no table to keep; any seed). In [-1, 1] (the largest
+ * magnitude of this gradient set is below 1), 0 at integer points. */
+LG_API double lg_noise3(double x, double y, double z, uint32_t seed);
+/* sum_{o < octaves} gain^o lg_noise3(frequency lacunarity^o p, seed + o) (the fBm sum of
+ * lightgraph/scene.h before offset and scale). */
+LG_API double lg_fbm3(const lg_density_fbm *f, const double p[3]);
+
+/* The density multiplier m(p) of the medium at world point p: 1 for a homogeneous medium
+ * (field NULL), else inside(p) f(p) h(p). Never negative; 0 for a point that is not
+ * finite. */
+LG_API double lg_medium_field_at(const lg_medium *m, const double p[3]);
+/* An upper bound of m over the box [lo, hi] (a majorant for delta tracking): 1 without a
+ * field; the grid's max_value or the fBm's scale (sum gain^o - offset) times h's largest
+ * value over the box (at its lowest y), 0 when the box misses bounds. */
+LG_API double lg_medium_field_max(const lg_medium *m, const double lo[3], const double hi[3]);
+/* True when the medium has a density field (m is not 1 everywhere). */
+LG_API bool lg_medium_is_heterogeneous(const lg_medium *m);
+
+/* ---- Point and spot lights in a medium (since ABI 3.2) --------------------------------------- */
+/*
+ * A point or spot light of intensity I (candela, glTF) at position q lights a point p at
+ * distance d = |q - p| with irradiance-like factor
+ *
+ *     E(p) = L_c F(p),   F(p) = W(d) C(p) / (d^2 + LG_LIGHT_EPSILON^2)
+ *
+ *   W(d) = clamp(1 - (d / range)^4, 0, 1)   the range window KHR_lights_punctual
+ *                                            recommends; 1 for range 0 (infinite)
+ *   C(p) = 1 (point); for a spot travelling along s with cone angles inner <= outer,
+ *          t = clamp((dot(-l, s) - cos(outer)) / max(cos(inner) - cos(outer), 1e-4), 0, 1),
+ *          C = t^2 (KHR_lights_punctual's smooth falloff), l the unit vector from p to q.
+ *
+ * LG_LIGHT_EPSILON (1 mm in metre scenes) keeps F finite at the light itself (a point light
+ * is a bulb of that size as seen from the medium; 1e-6 relative change at 1 m): the camera
+ * at the light, or a ray through it, gives large finite values, never inf or NaN. In a
+ * medium, the light reaching p is further attenuated by e^(-sigma_t d) (homogeneous) or
+ * e^(-integral sigma_t) along p -> q (heterogeneous); a directional light is not (the
+ * medium's boundary towards an infinitely distant light is not modelled).
+ */
+#define LG_LIGHT_EPSILON 1e-3
+
+/* W(d) above. */
+LG_API double lg_light_window(double d, double range);
+/* C above from cos_angle = dot(-l, s) (the angle between the spot's axis and the direction
+ * from the light to p) and the cone's cosines. cos_inner < cos_outer is treated as equal
+ * (a hard edge). */
+LG_API double lg_spot_cone(double cos_angle, double cos_inner, double cos_outer);
+/* F(p) of light `l` (any type): directional 1 with to_light = -direction, *dist = INFINITY;
+ * point and spot: W C / (d^2 + eps^2), to_light = unit vector p -> q (the spot's axis
+ * reversed when p = q), *dist = d. to_light and dist may be NULL. */
+LG_API double lg_light_falloff(const lg_light *l, const double p[3], double to_light[3],
+                               double *dist);
+
+/* The in-scattering of one point or spot light along a view-ray segment, per unit L_c and
+ * unit sigma_s, unshadowed, in a homogeneous medium (the airlight integral, Sun et al.
+ * 2005):
+ *
+ *     A = integral_{t0}^{t1} p_HG(g, dot(w, l(t))) F(x(t)) e^(-sigma_t (t - t0)) e^(-sigma_t d(t)) dt
+ *
+ * x(t) = o + t w (w unit), d(t) = |q - x(t)|. With t = t_c + H tan(xi) (t_c = dot(q - o, w),
+ * h the distance from q to the ray's line, H = sqrt(h^2 + eps^2)), dt / (d^2 + eps^2) =
+ * dxi / H and the integrand in xi is smooth and bounded: A is evaluated by Gauss-Legendre
+ * quadrature with `nodes` points (1 .. 64, in panels of at most 8) over [xi(t0), xi(t1)].
+ * For an isotropic phase (g = 0), sigma_t = 0, a point light and an infinite range the
+ * integrand is constant and A = (xi1 - xi0) / (4 pi H) exactly at any node count: Sun et
+ * al.'s closed form without extinction. t1 <= t0 gives 0. `spot` NULL for a point light,
+ * else {axis x, y, z, cos_inner, cos_outer} (the axis unit, the direction light travels). */
+LG_API double lg_point_inscatter(const double o[3], const double w[3], double t0, double t1,
+                                 const double q[3], double range, const double *spot, double g,
+                                 double sigma_t, int nodes);
 
 /* A slice map. */
 typedef struct lg_slice_map {

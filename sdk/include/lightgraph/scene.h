@@ -261,16 +261,90 @@ typedef struct lg_camera {
     void *reserved[4];
 } lg_camera;
 
-/* A homogeneous participating medium (TECHNIQUES.md §6). density scales the coefficients:
- * sigma_s = density * scattering, sigma_a = density * absorption, sigma_t = sigma_s +
- * sigma_a. present is true when the scene declares one (density may still be 0). */
+/* ---- Density fields (since ABI 3.2) ---------------------------------------------------------- */
+/*
+ * A heterogeneous medium scales its coefficients by a density multiplier m(p) >= 0 at world
+ * point p (lightgraph/medium.h: lg_medium_field_at evaluates it, lg_medium_field_max bounds
+ * it over a box):
+ *
+ *     sigma_s(p) = density m(p) scattering,   sigma_t(p) = density m(p) (scattering + absorption)
+ *     m(p) = inside(p) f(p) h(p)
+ *
+ *   f(p)      the field's kind: 1 (uniform), a voxel grid read trilinearly, or fBm noise;
+ *   h(p)      height fog, exp(-height_falloff (p.y - height_base)) (y up, as glTF), 1 for
+ *             height_falloff = 0; above height_base it thins out, below it thickens;
+ *   inside(p) 1 inside [bounds_min, bounds_max] (closed), 0 outside.
+ *
+ * A scene whose medium has no field (lg_medium.field NULL, every 3.0 and 3.1 producer) is
+ * homogeneous: m = 1 everywhere, exactly as before.
+ */
+typedef enum lg_field_kind {
+    LG_FIELD_UNIFORM = 0, /* f = 1 (height fog alone, or a box of fog) */
+    LG_FIELD_GRID,        /* f = the grid, trilinear between voxel centres */
+    LG_FIELD_FBM,         /* f = fBm of gradient noise (lg_fbm3) */
+} lg_field_kind;
+
+/* A dense voxel grid (an OpenVDB float grid made dense over its active bounding box). */
+typedef struct lg_density_grid {
+    uint32_t nx, ny, nz; /* voxels, each >= 1 */
+    const float *values; /* nx ny nz values, x fastest: values[i + nx (j + ny k)]; finite, >= 0 */
+    float max_value;     /* the largest value */
+    /* world -> index space, column-major affine: voxel (i, j, k)'s centre is at index point
+     * (i, j, k). f(p) is the trilinear blend of the eight voxels around index point q =
+     * world_to_index p, a voxel outside the grid counting 0 (the VDB background), so f
+     * falls to 0 over the half voxel beyond the outer centres. */
+    double world_to_index[16];
+    double index_to_world[16]; /* its inverse */
+    const char *source;        /* "FILE:GRID", for messages */
+    void *reserved[4];
+} lg_density_grid;
+
+/* fBm noise: f(p) = scale max(0, sum_{o < octaves} gain^o noise(frequency lacunarity^o p
+ * + seed offset) - offset), noise = lg_noise3 (improved Perlin gradient noise, in about
+ * [-1, 1]). lg_fbm3 evaluates the sum. */
+typedef struct lg_density_fbm {
+    uint32_t octaves; /* 1 .. 16 */
+    uint32_t seed;    /* shifts the lattice: different clouds for different seeds */
+    float frequency;  /* of the first octave, 1 / scene unit, > 0 */
+    float lacunarity; /* frequency ratio between octaves, >= 1 (2 usual) */
+    float gain;       /* amplitude ratio, (0, 1) (0.5 usual) */
+    float offset;     /* subtracted from the sum: > 0 leaves holes (clouds) */
+    float scale;      /* multiplies what is left, >= 0 */
+    uint32_t reserved[5];
+} lg_density_fbm;
+
+typedef struct lg_density_field {
+    lg_field_kind kind;
+    const lg_density_grid *grid; /* LG_FIELD_GRID */
+    lg_density_fbm fbm;          /* LG_FIELD_FBM */
+    float height_falloff;        /* >= 0, 1 / scene unit; 0 = no height fog */
+    float height_base;           /* world y where h = 1 */
+    /* the box outside which m = 0 (a grid: its voxels' box, half a voxel beyond the outer
+     * centres; uniform and fBm: a box given to the medium, or -/+FLT_MAX for everywhere) */
+    float bounds_min[3], bounds_max[3];
+    void *reserved[4];
+} lg_density_field;
+
+/* A participating medium (TECHNIQUES.md §6). density scales the coefficients: sigma_s =
+ * density * scattering, sigma_a = density * absorption, sigma_t = sigma_s + sigma_a, times
+ * the field's multiplier where there is a field (above). present is true when the scene
+ * declares one (density may still be 0). */
 typedef struct lg_medium {
     bool present;
     float density;
     float scattering[3]; /* per unit density, 1/m */
     float absorption[3]; /* per unit density, 1/m */
     float g;             /* Henyey-Greenstein anisotropy, (-1, 1) */
-    void *reserved[4];
+    /* Since ABI 3.2, in the place of the first reserved pointer: the density field, NULL
+     * for a homogeneous medium. Owned by the scene's producer (lives as long as the
+     * scene). */
+    union {
+        void *reserved[4];
+        struct {
+            const lg_density_field *field;
+            void *reserved_3_2[3];
+        };
+    };
 } lg_medium;
 
 /* ---- Rigid animation (since ABI 3.1) --------------------------------------------------------- */

@@ -105,7 +105,12 @@ typedef struct lg_scene_features {
             uint32_t textures;         /* textures that the drawn materials sample */
             uint32_t masked_materials; /* drawn materials with alpha mode MASK or BLEND */
             uint32_t animated;         /* instances, lights and cameras an animation moves */
-            uint32_t reserved_3_1[4];
+            /* since ABI 3.2, in the place of the next reserved word: 1 when the medium
+             * (density > 0) has a density field (lg_medium.field: a grid, noise or height
+             * fog), 0 for a homogeneous one. point_lights and other_lights (the spot
+             * lights: the only other type) count the local lights. */
+            uint32_t medium_field;
+            uint32_t reserved_3_2[3];
         };
     };
 } lg_scene_features;

@@ -48,7 +48,8 @@ static int cf_execute(lg_node *n, const lg_frame *frame)
     vol_setup *v = malloc(sizeof *v);
     if (!v)
         return LG_ERR_NOMEM;
-    int rc = vol_setup_make(n, s, st->w, st->h, (float)lg_param_float(n, "z_limit"), NULL, v);
+    int rc = vol_setup_make(n, s, st->w, st->h, (float)lg_param_float(n, "z_limit"), NULL,
+                            VOL_ACCEPT_DIRECTIONAL, v);
     lg_cpu_view bv, ov;
     if (!rc)
         rc = lg_map_cpu(n, lg_input(n, 1), LG_READ, &bv);
