@@ -417,6 +417,20 @@ static void gl_node(int n, int i, double *x, double *w)
  * through the apex has a double root there) and the ends split the segment; the pieces
  * whose middle is inside (y.a >= cos_outer |y|) are kept, one interval since the cone is
  * convex. False when nothing is left. */
+/* light_clip's test of the piece [p0, p1]: inside the cone at its middle widens [lo, hi]. */
+static void clip_piece(const double y0[3], const double w[3], const double *spot, double p0,
+                       double p1, double *lo, double *hi)
+{
+    double m = 0.5 * (p0 + p1), y[3];
+    for (int c = 0; c < 3; c++)
+        y[c] = y0[c] + m * w[c];
+    double yax = y[0] * spot[0] + y[1] * spot[1] + y[2] * spot[2];
+    if (yax >= spot[4] * sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])) {
+        *lo = fmin(*lo, p0);
+        *hi = fmax(*hi, p1);
+    }
+}
+
 static bool light_clip(const double y0[3], const double w[3], double tc, double h2, double range,
                        const double *spot, double *a, double *b)
 {
@@ -434,42 +448,34 @@ static bool light_clip(const double y0[3], const double w[3], double tc, double 
         double ya = y0[0] * spot[0] + y0[1] * spot[1] + y0[2] * spot[2];
         double wa = w[0] * spot[0] + w[1] * spot[1] + w[2] * spot[2];
         double A = wa * wa - co2, B = 2.0 * ya * wa, C = ya * ya - co2 * h2;
-        /* a negative discriminant from rounding at a tangent line is taken as 0: a spare
-         * breakpoint costs nothing */
-        double br[5] = { sa, sb, sb, sb, sb };
-        int nb = 1;
-        if (0.0 > sa && 0.0 < sb)
-            br[nb++] = 0.0;
+        /* the breakpoints: the ends, the roots (a negative discriminant from rounding at a
+         * tangent line taken as 0: a spare breakpoint costs nothing) and s = 0 (a line
+         * through the apex has a double root there, which rounding may lose), each set to
+         * sb when outside (sa, sb); sorted by a fixed network (no indexed array: the
+         * shaders' twins stay plain) */
+        double b1 = 0.0 > sa && 0.0 < sb ? 0.0 : sb, b2 = sb, b3 = sb;
         double disc = fmax(B * B - 4.0 * A * C, 0.0);
         if (A != 0.0) {
             double qq = -0.5 * (B + (B >= 0.0 ? sqrt(disc) : -sqrt(disc)));
-            double r[2] = { qq / A, qq != 0.0 ? C / qq : qq / A };
-            for (int k = 0; k < 2; k++)
-                if (r[k] > sa && r[k] < sb)
-                    br[nb++] = r[k];
+            double r0 = qq / A, r1 = qq != 0.0 ? C / qq : r0;
+            b2 = r0 > sa && r0 < sb ? r0 : sb;
+            b3 = r1 > sa && r1 < sb ? r1 : sb;
         } else if (B != 0.0) {
             double r = -C / B;
-            if (r > sa && r < sb)
-                br[nb++] = r;
+            b2 = r > sa && r < sb ? r : sb;
         }
-        br[nb++] = sb;
-        for (int i = 1; i < nb; i++) /* insertion sort of at most 5 */
-            for (int j = i; j > 0 && br[j] < br[j - 1]; j--) {
-                double tmp = br[j];
-                br[j] = br[j - 1];
-                br[j - 1] = tmp;
-            }
+        double tmp;
+        if (b2 < b1)
+            tmp = b1, b1 = b2, b2 = tmp;
+        if (b3 < b2)
+            tmp = b2, b2 = b3, b3 = tmp;
+        if (b2 < b1)
+            tmp = b1, b1 = b2, b2 = tmp;
         double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i + 1 < nb; i++) {
-            double m = 0.5 * (br[i] + br[i + 1]), y[3];
-            for (int c = 0; c < 3; c++)
-                y[c] = y0[c] + m * w[c];
-            double yax = y[0] * spot[0] + y[1] * spot[1] + y[2] * spot[2];
-            if (yax >= spot[4] * sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])) {
-                lo = fmin(lo, br[i]);
-                hi = fmax(hi, br[i + 1]);
-            }
-        }
+        clip_piece(y0, w, spot, sa, b1, &lo, &hi);
+        clip_piece(y0, w, spot, b1, b2, &lo, &hi);
+        clip_piece(y0, w, spot, b2, b3, &lo, &hi);
+        clip_piece(y0, w, spot, b3, sb, &lo, &hi);
         sa = lo;
         sb = hi;
     }

@@ -122,6 +122,17 @@ const float LG_GL8_W[20] = float[20](
     0.3626837833783619830, 0.3137066458778872873, 0.2223810344533744706, 0.1012285362903762592);
 const int LG_GL8_OFF[8] = int[8](0, 1, 2, 4, 6, 9, 12, 16);
 
+// lg_light_clip's test of the piece [p0, p1]: inside the cone at its middle widens [lo, hi].
+void lg_clip_piece(vec3 y0, vec3 w, vec3 axis, float cos_outer, float p0, float p1, inout float lo,
+                   inout float hi)
+{
+    vec3 y = y0 + (0.5 * (p0 + p1)) * w;
+    if (dot(y, axis) >= cos_outer * length(y)) {
+        lo = min(lo, p0);
+        hi = max(hi, p1);
+    }
+}
+
 // The part [a, b] of the segment where the light reaches (sdk/src/medium.c's light_clip,
 // line by line): within range of the light, inside a spot's outer cone (cos_outer >= 0:
 // convex, one interval), worked in s = t - tc from the ray's closest point y0 (relative to
@@ -142,43 +153,39 @@ bool lg_light_clip(vec3 y0, vec3 w, float tc, float h2, float range, bool is_spo
         float co2 = cos_outer * cos_outer;
         float ya = dot(y0, axis), wa = dot(w, axis);
         float A = wa * wa - co2, B = 2.0 * ya * wa, C = ya * ya - co2 * h2;
-        float br[5];
-        br[0] = sa;
-        br[1] = sb;
-        br[2] = sb;
-        br[3] = sb;
-        br[4] = sb;
-        int nb = 1;
-        if (0.0 > sa && 0.0 < sb)
-            br[nb++] = 0.0;
+        // breakpoints: the ends, the roots, s = 0, sorted by a fixed network (medium.c)
+        float b1 = 0.0 > sa && 0.0 < sb ? 0.0 : sb, b2 = sb, b3 = sb;
         float disc = max(B * B - 4.0 * A * C, 0.0);
         if (A != 0.0) {
             float qq = -0.5 * (B + (B >= 0.0 ? sqrt(disc) : -sqrt(disc)));
-            float r0 = qq / A, r1 = qq != 0.0 ? C / qq : qq / A;
-            if (r0 > sa && r0 < sb)
-                br[nb++] = r0;
-            if (r1 > sa && r1 < sb)
-                br[nb++] = r1;
+            float r0 = qq / A, r1 = qq != 0.0 ? C / qq : r0;
+            b2 = r0 > sa && r0 < sb ? r0 : sb;
+            b3 = r1 > sa && r1 < sb ? r1 : sb;
         } else if (B != 0.0) {
             float r = -C / B;
-            if (r > sa && r < sb)
-                br[nb++] = r;
+            b2 = r > sa && r < sb ? r : sb;
         }
-        br[nb++] = sb;
-        for (int i = 1; i < nb; i++)
-            for (int j = i; j > 0 && br[j] < br[j - 1]; j--) {
-                float tmp = br[j];
-                br[j] = br[j - 1];
-                br[j - 1] = tmp;
-            }
+        float tmp;
+        if (b2 < b1) {
+            tmp = b1;
+            b1 = b2;
+            b2 = tmp;
+        }
+        if (b3 < b2) {
+            tmp = b2;
+            b2 = b3;
+            b3 = tmp;
+        }
+        if (b2 < b1) {
+            tmp = b1;
+            b1 = b2;
+            b2 = tmp;
+        }
         float lo = 3.0e38, hi = -3.0e38;
-        for (int i = 0; i + 1 < nb; i++) {
-            vec3 y = y0 + (0.5 * (br[i] + br[i + 1])) * w;
-            if (dot(y, axis) >= cos_outer * length(y)) {
-                lo = min(lo, br[i]);
-                hi = max(hi, br[i + 1]);
-            }
-        }
+        lg_clip_piece(y0, w, axis, cos_outer, sa, b1, lo, hi);
+        lg_clip_piece(y0, w, axis, cos_outer, b1, b2, lo, hi);
+        lg_clip_piece(y0, w, axis, cos_outer, b2, b3, lo, hi);
+        lg_clip_piece(y0, w, axis, cos_outer, b3, sb, lo, hi);
         sa = lo;
         sb = hi;
     }

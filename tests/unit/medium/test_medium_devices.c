@@ -50,6 +50,7 @@
 #include "lightgraph/cl.h"
 #include "lightgraph/gl.h"
 #include "lightgraph/medium.h"
+#include "lightgraph/vecmath.h"
 #include "medium.cl.h"
 #include "medium_eval.cl.h"
 #include "medium_eval.comp.h"
@@ -146,6 +147,37 @@ static void make_light_table(void)
                         const float map[4] = { 0.95f, 0.8f, gs[ig], sts[it] };
                         add_ext(OP_AIRLIGHT, (float)nodes[k % 4], map, ext);
                     }
+    /* a spot seen from outside its cone (volumetric_polygonal's spot_cone scene): rays from
+     * (3, 2.5, 5) towards points around the cone, the spot at (-0.5, 3, 0.2) along
+     * (0.3, -1, -0.1), cones 15 and 30 degrees */
+    static const float aims[][3] = { { 0, 0.8f, 0 },        { 0.5f, 1.5f, 0 }, { -0.3f, 2, 0.2f },
+                                     { 0.2f, 0.5f, -0.5f }, { -1, 0, 0 },      { 1, 1, 1 } };
+    for (size_t i = 0; i < sizeof aims / sizeof aims[0]; i++)
+        for (int n = 0; n < 2; n++) {
+            double w[3] = { aims[i][0] - 3.0, aims[i][1] - 2.5, aims[i][2] - 5.0 };
+            double a[3] = { 0.3, -1.0, -0.1 };
+            double lw = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+            const float ext[16] = { 3,
+                                    2.5f,
+                                    5,
+                                    0,
+                                    (float)(w[0] / lw),
+                                    (float)(w[1] / lw),
+                                    (float)(w[2] / lw),
+                                    9.0f,
+                                    -0.5f,
+                                    3,
+                                    0.2f,
+                                    0,
+                                    (float)(a[0] / la),
+                                    (float)(a[1] / la),
+                                    (float)(a[2] / la),
+                                    1 };
+            const float map[4] = { (float)cos(15.0 * LG_PI / 180.0),
+                                   (float)cos(30.0 * LG_PI / 180.0), 0.4f, 0.15f };
+            add_ext(OP_AIRLIGHT, n ? 8.0f : 4.0f, map, ext);
+        }
 }
 
 static void make_table(void)
