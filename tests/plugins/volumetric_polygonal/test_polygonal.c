@@ -1335,7 +1335,9 @@ static void case_point_occluder(lg_test *t)
     double rmse = check_point(t, "point light above the quad", g, &c, &pl, &point_fog, false, &occ,
                               1, 200, &worst, &unsh);
     fprintf(stderr, "  (the unshadowed closed form's RMSE against the oracle: %.3g)\n", unsh);
-    LG_TEST_CHECK(t, rmse < 0.02, "point light above the quad: relative RMSE %.3g", rmse);
+    /* measured 2.7e-4 (the map's 128 texels a face at the shadow's edges); the quad's
+     * shadow is 8e-3 of the image's RMSE (unsh): both bounds catch a map read mirrored */
+    LG_TEST_CHECK(t, rmse < 1.5e-3, "point light above the quad: relative RMSE %.3g", rmse);
     LG_TEST_CHECK(t, unsh > 10 * rmse,
                   "the quad's shadow hardly matters (unshadowed %.3g, node %.3g): no test", unsh,
                   rmse);
@@ -1519,9 +1521,10 @@ static void case_point_reference(lg_test *t)
         lg_test_skip(t, "volumetric_reference leaves point lights out (black inscatter)");
     double rmse = sqrt(se / ss);
     fprintf(stderr, "point light against volumetric_reference: relative RMSE %.3g\n", rmse);
-    /* the map's texels (128 per face) against exact visibility, as the oracle of
-     * point_occluder (2 %), and the reference's 512 steps */
-    LG_TEST_CHECK(t, rmse < 0.03, "relative RMSE %.3g against volumetric_reference", rmse);
+    /* point_occluder's map error (2.7e-4 against exact visibility), the 8-node rule's
+     * (RMSE64 4e-4 unshadowed) and the reference's 512 steps and 4 samples: 1 % until the
+     * reference's own error is measured on point lights (after the merge) */
+    LG_TEST_CHECK(t, rmse < 0.01, "relative RMSE %.3g against volumetric_reference", rmse);
     lg_image_free(&ins);
     lg_image_free(&ref);
 }
