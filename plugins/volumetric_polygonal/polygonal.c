@@ -399,7 +399,7 @@ static void poly_fog_box(const vol_setup *v, const float light_vp[16], float lo_
     }
 }
 
-/* ---- perspective maps (point and spot lights) ------------------------------------------------- */
+/* ---- perspective maps (point and spot lights) ------------------------------------------------ */
 
 /* The determinant of a column-major 4x4, in double (Laplace along the 2x2 minors). */
 static double poly_det4(const float f[16])
