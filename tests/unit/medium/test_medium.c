@@ -243,7 +243,7 @@ static double airlight_brute(const double o[3], const double w[3], double t0, do
     }
     double s = sqrt(fmax(qq - tc * tc, 0.0)) + 1e-3;
     double u0 = asinh((t0 - tc) / s), u1 = asinh((t1 - tc) / s);
-    const int n = 200000; /* even */
+    const int n = 40000; /* even */
     double h = (u1 - u0) / n, sum = 0.0;
     for (int k = 0; k <= n; k++) {
         double u = u0 + k * h, t = tc + s * sinh(u), dt = s * cosh(u);
