@@ -27,7 +27,9 @@
  * from one face's frustum into the next leaves one and enters the other at the same s,
  * and the two terms cancel. A point or spot light without a map (the shadow map lacks it,
  * or the shadowmap node was gated) is unshadowed: one triangle over the viewport adds
- * A(0, d) at every pixel. A dual-paraboloid map is refused (its depth surface is not a
+ * A(0, d) at every pixel. With the eye at a point or spot light (within LG_LIGHT_EPSILON)
+ * the faces through the light are edge-on from it and the volume pass drops them
+ * (poly_volume.frag, radial_face). A dual-paraboloid map is refused (its depth surface is not a
  * perspective unprojection), and so is a heterogeneous medium (vol_setup_make without
  * VOL_ACCEPT_FIELD: the closed forms need a homogeneous one).
  *
@@ -82,7 +84,7 @@ typedef struct poly_state {
     lg_gl_uniform m_persp, m_light, m_far_scale;
     lg_gl_binding m_atlas, m_verts;
     lg_gl_uniform v_flip, v_lc, v_dir;
-    lg_gl_uniform v_type, v_pos, v_range, v_cone, v_nodes, v_full;
+    lg_gl_uniform v_type, v_pos, v_range, v_cone, v_nodes, v_full, v_apex_eye, v_grid;
     lg_gl_binding v_view;
     lg_gl_binding v_verts, v_idx, v_depth;
     lg_gl_binding c_view;
@@ -282,6 +284,8 @@ static int poly_passes(lg_node *n, poly_state *st)
         st->v_cone = lg_gl_pass_uniform(p, "u_cone");
         st->v_nodes = lg_gl_pass_uniform(p, "u_nodes");
         st->v_full = lg_gl_pass_uniform(p, "u_full");
+        st->v_apex_eye = lg_gl_pass_uniform(p, "u_apex_eye");
+        st->v_grid = lg_gl_pass_uniform(p, "u_grid");
         st->v_verts = lg_gl_pass_storage(p, "Vertices");
         st->v_idx = lg_gl_pass_storage(p, "Indices");
         st->v_depth = lg_gl_pass_texture(p, "u_base_depth");
@@ -872,6 +876,7 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     gl->BeginQuery(GL_PRIMITIVES_GENERATED, st->queries[1]);
     /* the meshes in order, then the unshadowed point and spot lights' viewport triangles */
     lg_gl_set_int(p, st->v_nodes, st->point_nodes);
+    lg_gl_set_ivec2(p, st->v_grid, (int32_t)ws, (int32_t)hs);
     for (uint32_t k = 0; k < n_meshes + v.n_lights && !rc; k++) {
         bool full = k >= n_meshes;
         uint32_t l = full ? k - n_meshes : meshes[k].light;
@@ -887,6 +892,14 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         const float cone[2] = { vl->cos_inner, vl->cos_outer };
         lg_gl_set_vec2(p, st->v_cone, cone[0], cone[1]);
         lg_gl_set_int(p, st->v_full, full ? 1 : 0);
+        /* the eye at a point or spot light (within its bulb, LG_LIGHT_EPSILON): the faces
+         * through the light are edge-on from the eye; the shader drops them */
+        double de = 0.0;
+        for (int c = 0; c < 3; c++)
+            de += (v.eye[c] - vl->pos[c]) * (v.eye[c] - vl->pos[c]);
+        bool apex = !full && vl->type != LG_LIGHT_DIRECTIONAL &&
+                    de < LG_LIGHT_EPSILON * LG_LIGHT_EPSILON;
+        lg_gl_set_int(p, st->v_apex_eye, apex ? 1 : 0);
         /* the viewport triangle reads no vertex: any buffer keeps the binding valid */
         lg_gl_pass_bind_buffer(p, st->v_verts, full ? st->ibuf.name : st->vbuf[k].name);
         rc = lg_gl_pass_draw(p, GL_TRIANGLES, full ? 3u : (uint32_t)(ntris * 3));

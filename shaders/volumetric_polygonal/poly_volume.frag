@@ -30,6 +30,8 @@
 // lightgraph/medium.h). A starts at the eye, so the signed sum of A(0, s) over the crossings
 // is the integral over the lit intervals, as with the directional F; a ray starting inside
 // the volume (the camera in the cone) needs no entry term, since A(0, 0) = 0.
+// With the eye at the light (within LG_LIGHT_EPSILON, u_apex_eye) the faces through the
+// light are edge-on and dropped (radial_face): no ray from the light crosses them.
 #include "medium.glsl"
 
 in vec3 v_world;
@@ -47,6 +49,8 @@ uniform float u_range;         // point, spot: 0 = infinite
 uniform vec2 u_cone;           // spot: cos_inner, cos_outer
 uniform int u_nodes;           // point, spot: the quadrature's nodes (1 .. 8)
 uniform int u_full;            // 1: the whole segment [0, d], sign +
+uniform int u_apex_eye;        // 1: the eye is at the light (within LG_LIGHT_EPSILON)
+uniform ivec2 u_grid;          // the mesh's Ws, Hs (poly_indices' triangle order)
 
 layout(location = 0) out vec4 o_color;
 
@@ -56,8 +60,32 @@ vec3 unproject(vec2 xy, float z)
     return p.xyz / p.w;
 }
 
+// Whether triangle p (gl_PrimitiveID, the draw's p-th triangle in poly_indices' order) lies
+// in a plane through the light: the dent's walls and the frustum's sides (along rays from
+// the light) and the collapsed cap. Seen from the light itself they are edge-on: no ray
+// from it crosses them, yet the rasteriser may give a sliver of one a pixel on its line.
+bool radial_face(int p)
+{
+    int W = u_grid.x - 1, H = u_grid.y - 1;
+    int q = p - 2 * W * H; // the grid's triangles first
+    if (q < 0)
+        return false;
+    for (int side = 0; side < 4; side++) {
+        int n = (side % 2 == 0) ? W : H;
+        if (q < 3 * n)
+            return q % 3 != 2; // per border edge: two dent walls, one far-frame triangle
+        q -= 3 * n;
+        if (q < 3)
+            return q != 0; // the frame's trapezoid, then the side's two triangles
+        q -= 3;
+    }
+    return true; // the cap at the light
+}
+
 void main()
 {
+    if (u_apex_eye != 0 && radial_face(gl_PrimitiveID))
+        discard;
     vec2 xy = gl_FragCoord.xy; // the pixel's centre
     vec3 w = normalize(unproject(xy, 0.0) - u_eye);
     float depth = texelFetch(u_base_depth, ivec2(xy), 0).r;
