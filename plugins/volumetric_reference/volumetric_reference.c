@@ -75,8 +75,8 @@ typedef struct vr_run {
     size_t row0;        /* the batch's first row */
     vr_medium md;
     /* a heterogeneous medium's box for the rays that leave the view (secondary rays,
-     * towards a directional light): the field's bounds clipped to the scene's, grown by 1%
-     * (vol_tau_build's box: the froxel node's extinction volumes see the same medium) */
+     * towards a directional light): the field's bounds, the scene's (with the eye) on the
+     * axes where the field has none */
     double box_lo[3], box_hi[3];
     bool any_local, any_dir; /* point or spot lights; directional lights */
 } vr_run;
@@ -636,14 +636,18 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         r.any_local |= v.lights[l].type != LG_LIGHT_DIRECTIONAL;
         r.any_dir |= v.lights[l].type == LG_LIGHT_DIRECTIONAL;
     }
+    /* per axis, the field's bound where it has one; where it is unbounded (-/+FLT_MAX) the
+     * scene's bounds with the eye, grown by 1% (a directional light's and a secondary
+     * ray's way out of an unbounded fog must end somewhere) */
     for (int c = 0; c < 3; c++) {
-        double lo = v.scene_min[c], hi = v.scene_max[c], pad = 0.01 * (hi - lo) + 1e-6;
+        double lo = fmin(v.scene_min[c], v.eye[c]), hi = fmax(v.scene_max[c], v.eye[c]);
+        double pad = 0.01 * (hi - lo) + 1e-6;
         r.box_lo[c] = lo - pad;
         r.box_hi[c] = hi + pad;
-        if (r.md.hetero) {
-            r.box_lo[c] = fmax(r.box_lo[c], (double)v.medium.field->bounds_min[c]);
-            r.box_hi[c] = fmin(r.box_hi[c], (double)v.medium.field->bounds_max[c]);
-        }
+        if (r.md.hetero && v.medium.field->bounds_min[c] > -FLT_MAX)
+            r.box_lo[c] = v.medium.field->bounds_min[c];
+        if (r.md.hetero && v.medium.field->bounds_max[c] < FLT_MAX)
+            r.box_hi[c] = v.medium.field->bounds_max[c];
     }
     /* the rows in about 32 batches, so that the progress bar moves between them (the
      * pool's chunks must not call the host); each row is one chunk: the work of a row is
