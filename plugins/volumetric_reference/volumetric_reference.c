@@ -18,6 +18,14 @@
  * only the visibility V_l is sampled). The pixel's L_v is the mean over its rays. Every
  * random number is a hash of (seed, pixel, ray, segment): the same bits for any thread
  * count and any order.
+ *
+ * Since issue 25 (README.md, "Point and spot lights", "Heterogeneous media", "Multiple
+ * scattering"; the estimators in vr_estimators.h): point and spot lights by equiangular
+ * sampling along the ray with Embree visibility of the finite segment to the light; a
+ * density field by ratio or delta tracking of every transmittance (view ray and towards
+ * each light: the medium shadows itself); orders 2 .. `order` by path tracing with
+ * next-event estimation. Directional lights in a homogeneous medium at order 1 keep the
+ * estimator above, bit for bit.
  */
 #include <float.h>
 #include <math.h>

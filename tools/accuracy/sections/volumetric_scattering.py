@@ -8,7 +8,8 @@ ORDER = 61
 INTRO = """\
 `volumetric_reference` with `order` > 1 adds scattering orders 2 .. n by path tracing
 (phase-function sampling, free flight, next-event estimation to every light; surfaces
-absorb), `paths` paths per ray ([plugins/volumetric_reference/README.md](../plugins/volumetric_reference/README.md),
+absorb), `paths` paths per ray
+([plugins/volumetric_reference/README.md](../plugins/volumetric_reference/README.md),
 "Multiple scattering"). The scene: the bunny box (`examples/volumetric_scene.lgraph`) with
 its sun replaced by a point light of 10 cd at [0, 1.2, -0.6], the fog made denser (density 3,
 sigma_t 0.3, albedo 0.9, g 0.4), where orders 2+ add about 15 % of the in-scattered light.
