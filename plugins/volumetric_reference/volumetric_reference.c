@@ -172,15 +172,19 @@ static void vr_light_T(const vr_run *r, const vol_light *l, const double x[3],
     vr_transmittance(&r->md, x, to_light, len, r->st->ratio, rng, T, NULL);
 }
 
-/* Next-event estimation at a scattering point x reached travelling along unit din:
- * acc += sum over lights of L_c F(x) V(x) T(x) p_HG(g, dot(l, din)) (sigma_s is the
- * caller's). */
+/* Next-event estimation to the directional lights at a scattering point x reached
+ * travelling along unit din: acc += sum over them of L_c V(x) T(x) p_HG(g, dot(l, din))
+ * (sigma_s is the caller's). Point and spot lights are sampled along the path's segments
+ * instead (vr_local_segment): at a point reached by free flight their 1 / d^2 would make
+ * the estimate's variance unbounded near the light. */
 static void vr_nee(const vr_run *r, struct RTCIntersectContext *ctx, const double x[3],
                    const double din[3], vr_rng *rng, double acc[3])
 {
     const vol_setup *v = r->v;
     for (uint32_t li = 0; li < v->n_lights; li++) {
         const vol_light *l = &v->lights[li];
+        if (l->type != LG_LIGHT_DIRECTIONAL)
+            continue;
         double tl[3], dist;
         double f = vol_light_falloff(l, x, tl, &dist);
         if (!(f > 0.0) || !vr_visible(r, ctx, x, tl, dist))
@@ -199,14 +203,16 @@ static void vr_view_T(const vr_run *r, const double w[3], double t, vr_rng *rng,
     vr_transmittance(&r->md, r->v->eye, w, t, r->st->ratio, rng, T, NULL);
 }
 
-/* Single scattering of point or spot light l along the view ray [0, d] by equiangular
- * sampling: `steps` stratified samples of xi (README.md, "Point and spot lights"). The
- * interval is first cut to the range's sphere (W = 0 beyond) and to the field's box. */
-static void vr_local_single(const vr_run *r, struct RTCIntersectContext *ctx, const vol_light *l,
-                            const double w[3], double d, uint64_t key, double lv[3])
+/* The in-scattering of point or spot light l along the ray o + t w, t in [0, d] (d may be
+ * INFINITY in a homogeneous medium: xi1 = pi/2), by equiangular sampling: n stratified
+ * samples of xi, the mean added to lv (README.md, "Point and spot lights"). The interval is
+ * first cut to the range's sphere (W = 0 beyond) and to the field's box. Used for the view
+ * ray (order 1) and for every segment of a path (orders >= 2, n = 1). */
+static void vr_local_segment(const vr_run *r, struct RTCIntersectContext *ctx, const vol_light *l,
+                             const double o[3], const double w[3], double d, uint32_t n,
+                             vr_rng *rng, double lv[3])
 {
     const vol_setup *v = r->v;
-    const double *o = v->eye;
     double q[3] = { l->pos[0], l->pos[1], l->pos[2] };
     double ta = 0.0, tb = d;
     if (r->md.hetero) {
@@ -227,31 +233,37 @@ static void vr_local_single(const vr_run *r, struct RTCIntersectContext *ctx, co
         double half = sqrt(R * R - (h2 > 0.0 ? h2 : 0.0));
         ta = fmax(ta, tc - half);
         tb = fmin(tb, tc + half);
-        if (!(tb > ta))
-            return;
     }
+    if (!(tb > ta))
+        return;
     vr_equi e;
     vr_equi_init(&e, o, w, q, ta, tb);
-    vr_rng rng = vr_rng_make(key);
-    uint32_t steps = r->st->steps;
     double acc[3] = { 0, 0, 0 };
-    for (uint32_t i = 0; i < steps; i++) {
+    for (uint32_t i = 0; i < n; i++) {
         double ip, tl[3], dist;
-        double t = vr_equi_sample(&e, ((double)i + vr_next(&rng)) / steps, &ip);
+        double t = vr_equi_sample(&e, ((double)i + vr_next(rng)) / n, &ip);
         double x[3] = { o[0] + t * w[0], o[1] + t * w[1], o[2] + t * w[2] };
         double f = vol_light_falloff(l, x, tl, &dist);
         double m = vr_density(&r->md, x);
-        if (!(f > 0.0) || !(m > 0.0) || !vr_visible(r, ctx, x, tl, dist))
+        if (!(f > 0.0) || !(m > 0.0) || !isfinite(ip) || !vr_visible(r, ctx, x, tl, dist))
             continue;
         double Tl[3], Tv[3];
-        vr_light_T(r, l, x, tl, dist, &rng, Tl);
-        vr_view_T(r, w, t, &rng, Tv);
+        vr_light_T(r, l, x, tl, dist, rng, Tl);
+        vr_transmittance(&r->md, o, w, t, r->st->ratio, rng, Tv, NULL);
         double p = lg_hg_phase(v->g, tl[0] * w[0] + tl[1] * w[1] + tl[2] * w[2]);
         for (int c = 0; c < 3; c++)
             acc[c] += (double)l->l_c[c] * v->sigma_s[c] * m * f * ip * p * Tl[c] * Tv[c];
     }
     for (int c = 0; c < 3; c++)
-        lv[c] += acc[c] / steps;
+        lv[c] += acc[c] / n;
+}
+
+/* Single scattering of point or spot light l along the view ray [0, d]: `steps` samples. */
+static void vr_local_single(const vr_run *r, struct RTCIntersectContext *ctx, const vol_light *l,
+                            const double w[3], double d, uint64_t key, double lv[3])
+{
+    vr_rng rng = vr_rng_make(key);
+    vr_local_segment(r, ctx, l, r->v->eye, w, d, r->st->steps, &rng, lv);
 }
 
 /* Single scattering of the directional lights in a heterogeneous medium: `steps` jittered
@@ -299,10 +311,12 @@ static void vr_dir_field_single(const vr_run *r, struct RTCIntersectContext *ctx
 
 /* Orders 2 .. order by path tracing (README.md, "Multiple scattering"): `paths` paths per
  * view ray, each: the first scattering point x1 on [0, d] by free flight (delta tracking),
- * then per order k a direction from the phase function (its inverse CDF), the next point by
- * free flight up to the first surface (which absorbs: the path ends there, as it does when
- * it leaves the medium), and next-event estimation to every light at it. Order 1 (NEE at
- * x1) is the single-scattering estimate and is not added again. */
+ * then per order k a direction from the phase function (its inverse CDF) and the segment
+ * along it up to the first surface (which absorbs: the path ends there, as it does when it
+ * leaves the medium); order k's light is the point and spot lights' in-scattering along
+ * that segment (equiangular) and, at the next point drawn by free flight on it,
+ * next-event estimation to the directional lights. Order 1 is the single-scattering
+ * estimate and is not added again. */
 static void vr_paths(const vr_run *r, struct RTCIntersectContext *ctx, const double w[3], double d,
                      uint64_t key, double lv[3])
 {
@@ -332,6 +346,15 @@ static void vr_paths(const vr_run *r, struct RTCIntersectContext *ctx, const dou
             double s = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? (double)rh.ray.tfar : INFINITY;
             if (r->md.hetero)
                 s = fmin(s, vr_box_exit(r, x, nd));
+            /* order k from point and spot lights: their in-scattering along this segment
+             * (one equiangular sample each), seen from x */
+            double acc[3] = { 0, 0, 0 };
+            if (r->any_local)
+                for (uint32_t li = 0; li < v->n_lights; li++)
+                    if (v->lights[li].type != LG_LIGHT_DIRECTIONAL)
+                        vr_local_segment(r, ctx, &v->lights[li], x, nd, s, 1, &rng, acc);
+            for (int c2 = 0; c2 < 3; c2++)
+                sum[c2] += beta[c2] * acc[c2];
             double tt = vr_free_flight(&r->md, x, nd, 0.0, s, &rng, beta, NULL);
             if (!isfinite(tt))
                 break;
@@ -339,7 +362,10 @@ static void vr_paths(const vr_run *r, struct RTCIntersectContext *ctx, const dou
                 x[c2] += tt * nd[c2];
                 dir[c2] = nd[c2];
             }
-            double acc[3] = { 0, 0, 0 };
+            /* order k from directional lights: next-event estimation at the new point */
+            if (!r->any_dir)
+                continue;
+            acc[0] = acc[1] = acc[2] = 0.0;
             vr_nee(r, ctx, x, dir, &rng, acc);
             for (int c2 = 0; c2 < 3; c2++)
                 sum[c2] += beta[c2] * acc[c2];
