@@ -253,7 +253,8 @@ static inline void vr_transmittance(const vr_medium *md, const double o[3], cons
     double piece = (b - a) / VR_MAJORANT_PIECES;
     uint32_t n = 0;
     for (int pc = 0; pc < VR_MAJORANT_PIECES; pc++) {
-        double p0 = a + piece * pc, p1 = pc + 1 == VR_MAJORANT_PIECES ? b : p0 + piece;
+        double p0 = pc == 0 ? a : a + piece * pc,
+               p1 = pc + 1 == VR_MAJORANT_PIECES ? b : p0 + piece;
         double mu = vr_piece_majorant(md, o, w, p0, p1);
         if (!(mu > 0.0))
             continue;
@@ -309,7 +310,8 @@ static inline double vr_free_flight(const vr_medium *md, const double o[3], cons
     double piece = (b - a) / pieces;
     uint32_t n = 0;
     for (int pc = 0; pc < pieces; pc++) {
-        double p0 = a + piece * pc, p1 = pc + 1 == pieces ? b : p0 + piece;
+        /* (one piece: [a, b] as it is; a + INFINITY x 0 would be NaN) */
+        double p0 = pc == 0 ? a : a + piece * pc, p1 = pc + 1 == pieces ? b : p0 + piece;
         double mu = vr_piece_majorant(md, o, w, p0, p1);
         if (!(mu > 0.0) || !isfinite(mu))
             continue;

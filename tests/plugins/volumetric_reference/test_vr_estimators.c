@@ -32,6 +32,8 @@
  *   free_flight    E[beta_c 1(a scattering event before L)] = albedo_c (1 - T_c(L)) for a
  *                  constant albedo, per channel, homogeneous grey, chromatic, and in the
  *                  height fog (the weights of spectral tracking), within 5 standard errors
+ *   free_flight_unbounded  an infinite homogeneous segment: every path scatters,
+ *                  E[beta; event] = the albedo (within 5 standard errors)
  */
 #include <float.h>
 #include <math.h>
@@ -359,13 +361,45 @@ static void case_free_flight(lg_test *t)
     }
 }
 
+/* An unbounded homogeneous segment (a path leaving through an opening: no surface ahead):
+ * every path scatters somewhere, E[beta; event] = the albedo. Caught a NaN: a + INFINITY x 0
+ * as the first piece's start made every such free flight escape. */
+static void case_free_flight_unbounded(lg_test *t)
+{
+    lg_medium hm = { 0 };
+    vr_medium md;
+    static const float grey[3] = { 0.9f, 0.9f, 0.9f };
+    const float ss[3] = { 0.8f * grey[0], 0.8f * grey[1], 0.8f * grey[2] };
+    hm.present = true;
+    vr_medium_make(&md, &hm, ss, grey);
+    const double o[3] = { 0, 0, 0 }, w[3] = { 0, 0, 1 };
+    double s1 = 0, s2 = 0;
+    vr_rng r = vr_rng_make(77);
+    enum { N = 20000 };
+    for (int i = 0; i < N; i++) {
+        double beta[3] = { 1, 1, 1 };
+        double tt = vr_free_flight(&md, o, w, 0.0, INFINITY, &r, beta, NULL);
+        double v = isfinite(tt) ? beta[1] : 0.0;
+        s1 += v;
+        s2 += v * v;
+    }
+    double mean = s1 / N, se = std_err(s1, s2, N);
+    LG_TEST_CHECK(t, fabs(mean - 0.8) < 5 * se + 1e-6, "unbounded: E[beta; event] %.5f, want 0.8",
+                  mean);
+    lg_test_note_("free_flight unbounded: %.5f, want 0.8\n", mean);
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "hg_sample", case_hg_sample },     { "equiangular", case_equiangular },
-        { "uniform", case_uniform },         { "box", case_box },
-        { "height", case_height },           { "sqrt_n", case_sqrt_n },
+        { "hg_sample", case_hg_sample },
+        { "equiangular", case_equiangular },
+        { "uniform", case_uniform },
+        { "box", case_box },
+        { "height", case_height },
+        { "sqrt_n", case_sqrt_n },
         { "free_flight", case_free_flight },
+        { "free_flight_unbounded", case_free_flight_unbounded },
     };
     lg_test_main_opts o = { .prefix = "vr_estimators" };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
