@@ -82,9 +82,9 @@ typedef struct vr_run {
     double tnear_light; /* occlusion rays start this far from the medium point */
     size_t row0;        /* the batch's first row */
     vr_medium md;
-    /* a heterogeneous medium's box for the rays that leave the view (secondary rays,
-     * towards a directional light): the field's bounds, the scene's (with the eye) on the
-     * axes where the field has none */
+    /* the medium's box for the rays that leave the view: secondary rays (any medium) and,
+     * in a field, rays towards a directional light: the field's bounds, the scene's (with
+     * the eye) on the axes where the field has none or the medium is homogeneous */
     double box_lo[3], box_hi[3];
     bool any_local, any_dir; /* point or spot lights; directional lights */
 } vr_run;
@@ -344,8 +344,10 @@ static void vr_paths(const vr_run *r, struct RTCIntersectContext *ctx, const dou
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(r->e->scene, ctx, &rh);
             double s = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? (double)rh.ray.tfar : INFINITY;
-            if (r->md.hetero)
-                s = fmin(s, vr_box_exit(r, x, nd));
+            /* the medium's box ends every secondary ray, homogeneous too: an unbounded fog
+             * lit by a directional light it does not attenuate would send each order back
+             * with about the albedo's share, the series growing towards 1 / (1 - a) */
+            s = fmin(s, vr_box_exit(r, x, nd));
             /* order k from point and spot lights: their in-scattering along this segment
              * (one equiangular sample each), seen from x */
             double acc[3] = { 0, 0, 0 };
