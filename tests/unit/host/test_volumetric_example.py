@@ -109,7 +109,7 @@ def test_render():
 
 # the methods that model point and spot lights (issue 25): a scene whose only light is a
 # point light runs them
-LOCAL_LIGHTS = ("reference",)
+LOCAL_LIGHTS = ("reference", "polygonal")
 
 
 def test_gated():
