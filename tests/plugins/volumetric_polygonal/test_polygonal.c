@@ -61,8 +61,8 @@
  *   point_range       range 0 (infinite), 2.5 (cuts the glow), 0.02 (black), a spot's 2.8
  *   point_errors      dual-paraboloid, off-centre and one-record maps, point_nodes 9, a
  *                     heterogeneous medium (test_poly_field_scene): refused, naming the node
- *   point_reference   against volumetric_reference on a point light over the quad (1 %);
- *                     skipped while the reference refuses or leaves out point lights
+ *   point_reference   against volumetric_reference (subpixel = centre) on a point light
+ *                     over the quad (1e-3); skipped while the reference refuses point lights
  */
 #include <math.h>
 #include <stdint.h>
@@ -1518,7 +1518,12 @@ static void case_point_errors(lg_test *t)
 
 /* Agreement with volumetric_reference on a point light above the quad (Embree visibility
  * there, the hand-made maps here). The reference gains point lights in parallel (issue 25):
- * until then it refuses them and this case is skipped. */
+ * until then it refuses them and this case is skipped. The reference's rays go through
+ * the pixel centres (subpixel = centre), as this node's do: its default jittered rays
+ * average the pixel's footprint, and the glow's peak pixel (36, 2), whose centre ray passes
+ * h = 0.03 from the light, is near-singular there (footprint mean 3.75 in red, centre
+ * 3.23; jittered spp 4 gave 5.07, 2.68, 5.09 with seeds 0, 1, 2): relative RMSE 0.10 to
+ * 0.27 from that one pixel (94 % of the squared error). */
 static void case_point_reference(lg_test *t)
 {
     cam c = { .eye = { 2.5, 1.6, 3.5 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
@@ -1530,7 +1535,7 @@ static void case_point_reference(lg_test *t)
     size_t len = strlen(g);
     snprintf(g + len, sizeof g - len,
              "ref = volumetric_reference { scene = fog, base = lit, steps = 512, spp = 4, "
-             "z_limit = %.17g }\n"
+             "subpixel = centre, z_limit = %.17g }\n"
              "output ref.inscatter \"ref.exr\"\n",
              point_fog.z_limit);
     char *text = NULL;
@@ -1558,10 +1563,13 @@ static void case_point_reference(lg_test *t)
         lg_test_skip(t, "volumetric_reference leaves point lights out (black inscatter)");
     double rmse = sqrt(se / ss);
     fprintf(stderr, "point light against volumetric_reference: relative RMSE %.3g\n", rmse);
-    /* point_occluder's map error (2.7e-4 against exact visibility), the 8-node rule's
-     * (RMSE64 4e-4 unshadowed) and the reference's 512 steps and 4 samples: 1 % until the
-     * reference's own error is measured on point lights (after the merge) */
-    LG_TEST_CHECK(t, rmse < 0.01, "relative RMSE %.3g against volumetric_reference", rmse);
+    /* measured 4.8e-4 .. 5.4e-4 (seeds 0 .. 4), 5.1e-4 against the reference at 4096 steps
+     * and 16 rays: this node's own error (point_occluder's map, 2.7e-4 against exact
+     * visibility, and the 8-node rule's, RMSE64 4e-4 unshadowed; the peak pixel (36, 2) is
+     * 59 % of it, 6.5e-4 off there). The reference's noise at 512 steps and 4 rays is
+     * 5e-5 .. 7e-5 against 4096 x 16. 1e-3 keeps twice the margin and still catches the
+     * quad's shadow left out (8e-3 of the image, point_occluder) */
+    LG_TEST_CHECK(t, rmse < 1e-3, "relative RMSE %.3g against volumetric_reference", rmse);
     lg_image_free(&ins);
     lg_image_free(&ref);
 }
