@@ -1,6 +1,7 @@
 /*
- * The volumetric_froxel plugin: single scattering in a homogeneous medium through a froxel
- * grid (TECHNIQUES.md §6; seed 2, chapter 3, eqs. 10-12), on gl, cl and cpu.
+ * The volumetric_froxel plugin: single scattering in a participating medium through a froxel
+ * grid (TECHNIQUES.md §6; seed 2, chapter 3, eqs. 10-12), on gl, cl and cpu; directional,
+ * point and spot lights, homogeneous or heterogeneous media (issue 25, froxel.h 4.).
  *
  *   volumetric_froxel   scene + base [+ shadows] -> out, inscatter, grid
  *
@@ -22,6 +23,25 @@
 #include "froxel.h"
 
 enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
+enum { FX_POINT_SAMPLE = 0, FX_POINT_ANALYTIC };
+
+/* What each backend models of froxel.h 4. (vol_setup_make's accept): a light of another
+ * type is left out with a warning, a density field is refused with a message naming the
+ * backend. The gl and cl backends gain point and spot lights and fields on their own
+ * branches (issue 25: fxgl, fxcl), each then widening its entry here. */
+static unsigned fx_backend_accepts(lg_device backend)
+{
+    switch (backend) {
+    case LG_DEVICE_GL: return VOL_ACCEPT_DIRECTIONAL;
+    case LG_DEVICE_CL: return VOL_ACCEPT_DIRECTIONAL;
+    default: return VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD;
+    }
+}
+
+static const char *fx_backend_name(lg_device backend)
+{
+    return backend == LG_DEVICE_GL ? "gl" : backend == LG_DEVICE_CL ? "cl" : "cpu";
+}
 
 /* Caps: each side, and the grid's bytes (rgba32f, W x H x D x 16 <= 1 GiB; the backends
  * hold two more volumes of the same size, S and its history). */
@@ -77,7 +97,17 @@ static int fx_create(lg_node *n)
     st->history = (float)lg_param_float(n, "history");
     st->temporal = lg_param_bool(n, "temporal");
     st->per_frame = lg_param_bool(n, "per_frame");
-    st->tau_res = 64; /* the optical-depth volumes' longest side (a parameter: issue 25) */
+    st->tau_res = (uint32_t)lg_param_int(n, "tau_res");
+    int nodes = (int)lg_param_int(n, "point_nodes");
+    if (nodes < 1 || nodes > 8)
+        return lg_error(n,
+                        "point_nodes = %d: the analytic point and spot lights take 1 .. 8 "
+                        "Gauss-Legendre nodes per slice",
+                        nodes);
+    if (st->tau_res < 2 || st->tau_res > 512)
+        return lg_error(n, "tau_res = %u: the optical-depth volumes' side must be in [2, 512]",
+                        st->tau_res);
+    st->point_nodes = lg_param_enum(n, "point_integration") == FX_POINT_ANALYTIC ? nodes : 0;
 
     const struct {
         const char *key;
@@ -129,14 +159,42 @@ static int fx_prepare(lg_node *n)
      * examples/volumetric_froxel.lgraph with a 380x180x512 grid, one light): 3.5e7
      * froxels in 6.3 s, 1.8e-7 s each; llvmpipe and PoCL run the gl and cl backends on the
      * same cores, taken as the same cost. */
-    double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n, VOL_ACCEPT_DIRECTIONAL);
+    double froxels = (double)st->gw * st->gh * st->gd *
+                     vol_scene_lights(n, fx_backend_accepts(st->backend));
     lg_declare_work(n, froxels, froxels * FX_SECONDS_PER_FROXEL / lg_cpu_workers(n),
                     "froxel x light visits");
     return lg_set_device(n, st->backend);
 }
 
-/* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
-/* froxel.h 4.: the density multiplier at each light-pass sample point of the frame. */
+typedef struct fx_density_ctx {
+    const fx_frame *f;
+    float *density;
+} fx_density_ctx;
+
+/* Columns [begin, end) of fx_density: each index writes only its own column. */
+static void fx_density_columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    const fx_density_ctx *x = ctx;
+    const fx_frame *f = x->f;
+    const vol_setup *v = f->v;
+    for (size_t col = begin; col < end; col++) {
+        uint32_t i = (uint32_t)(col % f->w), j = (uint32_t)(col / f->w);
+        double w[3];
+        /* the column's ray as every backend makes it (froxel.h: NDC of the column centre) */
+        vol_ray(v, (i + 0.5) * (double)v->width / f->w, (j + 0.5) * (double)v->height / f->h, w);
+        double c = w[0] * v->forward[0] + w[1] * v->forward[1] + w[2] * v->forward[2];
+        for (uint32_t k = 0; k < f->d; k++) {
+            double t = f->slices->tj[k] / c, p[3];
+            for (int a = 0; a < 3; a++)
+                p[a] = v->eye[a] + w[a] * t;
+            x->density[col + (size_t)f->w * f->h * k] = (float)lg_medium_field_at(&v->medium, p);
+        }
+    }
+}
+
+/* froxel.h 4.: the density multiplier at each light-pass sample point of the frame, on the
+ * host's pool (a grid or fBm field costs about as much per froxel as the light pass). */
 static int fx_density(lg_node *n, fx_state *st, const fx_frame *f)
 {
     size_t cells = (size_t)f->w * f->h * f->d;
@@ -146,22 +204,8 @@ static int fx_density(lg_node *n, fx_state *st, const fx_frame *f)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory for %zu froxel densities", cells);
         lg_account_alloc(n, cells * sizeof(float));
     }
-    const vol_setup *v = f->v;
-    for (uint32_t j = 0; j < f->h; j++)
-        for (uint32_t i = 0; i < f->w; i++) {
-            double w[3];
-            vol_ray(v, (i + 0.5) * (double)v->width / f->w, (j + 0.5) * (double)v->height / f->h,
-                    w);
-            double c = w[0] * v->forward[0] + w[1] * v->forward[1] + w[2] * v->forward[2];
-            for (uint32_t k = 0; k < f->d; k++) {
-                double t = f->slices->tj[k] / c, p[3];
-                for (int a = 0; a < 3; a++)
-                    p[a] = v->eye[a] + w[a] * t;
-                st->density[i + (size_t)f->w * (j + (size_t)f->h * k)] =
-                    (float)lg_medium_field_at(&v->medium, p);
-            }
-        }
-    return 0;
+    fx_density_ctx x = { f, st->density };
+    return lg_parallel_for(n, (size_t)f->w * f->h, 16, fx_density_columns, &x);
 }
 
 static void fx_tau_free(lg_node *n, fx_state *st)
@@ -190,6 +234,7 @@ static int fx_tau(lg_node *n, fx_state *st, const lg_scene *s, const vol_setup *
     return 0;
 }
 
+/* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
 static void fx_slice_tables(const fx_frame *f, fx_slices *t)
 {
     double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
@@ -261,8 +306,15 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     vol_setup *v = malloc(sizeof *v);
     if (!v)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, VOL_ACCEPT_DIRECTIONAL,
-                            v);
+    unsigned accept = fx_backend_accepts(st->backend);
+    int rc = 0;
+    if (lg_medium_is_heterogeneous(&s->medium) && !(accept & VOL_ACCEPT_FIELD))
+        rc = lg_error(n,
+                      "the scene's medium has a density field, which the %s backend does not "
+                      "model yet: use backend = cpu, or a homogeneous medium",
+                      fx_backend_name(st->backend));
+    if (!rc)
+        rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, accept, v);
     fx_frame f = { 0 };
     if (!rc)
         rc = fx_slice_map(n, st, v, &f.map);
@@ -361,6 +413,7 @@ static void fx_destroy(lg_node *n)
 
 static const char *const fx_slicings[] = { "uniform_clip", "exponential", NULL };
 static const char *const fx_accums[] = { "thesis", "energy_conserving", NULL };
+static const char *const fx_point_modes[] = { "sample", "analytic", NULL };
 
 static const lg_param_desc fx_params[] = {
     /* the device of the light pass, the accumulation and the lookup */
@@ -431,19 +484,43 @@ static const lg_param_desc fx_params[] = {
       .type = LG_PARAM_BOOL,
       .def.b = false,
       .doc = "run every frame (timing) instead of once" },
+    { .key = "point_integration",
+      .type = LG_PARAM_ENUM,
+      .def.e = FX_POINT_ANALYTIC,
+      .enum_values = fx_point_modes,
+      .doc = "point and spot lights: sample = F and the phase at the froxel's sample point; "
+             "analytic = their integral over the slice's segment of the column's ray "
+             "(point_nodes Gauss-Legendre nodes in the airlight angle; right next to a light "
+             "on a coarse grid)" },
+    { .key = "point_nodes",
+      .type = LG_PARAM_INT,
+      .def.i = 2,
+      .min = 1,
+      .max = 8,
+      .doc = "analytic: Gauss-Legendre nodes per slice and light (exact for an isotropic "
+             "point light at any count)" },
+    { .key = "tau_res",
+      .type = LG_PARAM_INT,
+      .def.i = 64,
+      .min = 2,
+      .max = 512,
+      .doc = "heterogeneous medium: cells along the longest side of each light's "
+             "optical-depth volume (the medium's shadow on itself)" },
 };
 
 static const lg_port_desc fx_inputs[] = {
     { .name = "scene",
       .kind = LG_KIND_SCENE,
-      .doc = "the scene: its directional lights (at most 32), its medium, its active camera" },
+      .doc = "the scene: its directional, point and spot lights (at most 32), its medium "
+             "(homogeneous or with a density field), its active camera" },
     { .name = "base",
       .kind = LG_KIND_IMAGE,
       .doc = "the lit image with its depth plane (phong's out)" },
     { .name = "shadows",
       .kind = LG_KIND_SHADOWMAP,
       .optional = true,
-      .doc = "shadow maps of the directional lights; unconnected: unshadowed" },
+      .doc = "shadow maps of the lights (a point light's cube or paraboloids); "
+             "unconnected: unshadowed" },
 };
 static const lg_port_desc fx_outputs[] = {
     { .name = "out",
@@ -460,12 +537,13 @@ static const lg_node_type fx_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
         .name = "volumetric_froxel",
-        .doc = "Single scattering in a homogeneous medium through a froxel grid (light pass, "
-               "front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on cpu, gl, cl",
+        .doc = "Single scattering in a participating medium through a froxel grid (light "
+               "pass, front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on cpu, gl, "
+               "cl; point and spot lights and density fields on cpu",
         LG_PARAMS(fx_params),
         LG_INPUTS(fx_inputs),
         LG_OUTPUTS(fx_outputs),
-        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
+        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_LIGHT,
         .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
         .neutral_input = VOL_IN_BASE,
         .create = fx_create,
@@ -476,6 +554,6 @@ static const lg_node_type fx_types[] = {
 };
 
 LG_PLUGIN_DEFINE("volumetric_froxel", "1.0.0",
-                 "Froxel-grid volumetric lighting (single scattering, homogeneous medium) "
-                 "on gl, cl and cpu",
+                 "Froxel-grid volumetric lighting (single scattering; directional, point and "
+                 "spot lights; homogeneous or heterogeneous media) on gl, cl and cpu",
                  fx_types)
