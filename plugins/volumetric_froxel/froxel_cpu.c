@@ -33,7 +33,15 @@ typedef struct fx_cpu {
     /* heterogeneous medium: each column's optical path P_k (froxel.h 4.), [k][j][i]; made
      * on the first such frame */
     float *path;
+    /* the orthographic records' depth bounds per FX_MM_BLOCK^2 texels (fx_minmax), made
+     * each frame: mm_cap floats */
+    float *mm;
+    size_t mm_cap;
 } fx_cpu;
+
+/* Texels per side of a block of the depth bounds: a 256^2 tile's bounds take 8 KiB and
+ * stay in the L1 cache while its 256 KiB of depths do not. */
+#define FX_MM_BLOCK 8
 
 /* A light of the froxel.h 4. path, with what the frame knows of it. */
 typedef struct fx_cpu_light {
@@ -74,6 +82,8 @@ typedef struct fx_cpu_ctx {
      * b_l (0.5 res, 0.5 res, 0.5) */
     bool ortho[VOL_MAX_LIGHTS];
     uint32_t n_ortho;
+    const float *mm[VOL_MAX_LIGHTS]; /* ortho: (min, max) per block, mm_n blocks a row */
+    uint32_t mm_n;
     float ta[VOL_MAX_LIGHTS][3];
     float tscale[3];
     /* froxel.h 4.: the lights of the second path (n_gen 0: it does not run) */
@@ -418,15 +428,28 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             const float au = x->ta[l][0], av = x->ta[l][1], az = x->ta[l][2];
             const float *bu = tb[l][0], *bv = tb[l][1], *bz = tb[l][2];
             const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
-            const float *lpl = lp[l][0];
+            const float *lpl = lp[l][0], *mml = x->mm[l];
+            const uint32_t mn = x->mm_n;
             for (uint32_t k = 0; k < f->d; k++) {
                 const float t = x->tj[k];
                 float *sk = x->c->s + 4 * (k * plane + begin);
                 for (uint32_t c = 0; c < nc; c++) {
                     float u = au + bu[c] * t, vv = av + bv[c] * t, z = az + bz[c] * t;
                     float m = 1.0f;
-                    if (u >= 0.0f && u < res && vv >= 0.0f && vv < res && z >= 0.0f)
-                        m = z > atl[(size_t)(uint32_t)vv * aw + (uint32_t)u] + bias ? 0.0f : 1.0f;
+                    if (u >= 0.0f && u < res && vv >= 0.0f && vv < res && z >= 0.0f) {
+                        /* the block's bounds decide most texels without reading them: the
+                         * depth test is monotonic in the stored depth (same bits as the
+                         * texel's own test) */
+                        uint32_t iu = (uint32_t)u, iv = (uint32_t)vv;
+                        const float *b = mml +
+                                         2 * ((size_t)(iv / FX_MM_BLOCK) * mn + iu / FX_MM_BLOCK);
+                        if (!(z > b[0] + bias))
+                            m = 1.0f;
+                        else if (z > b[1] + bias)
+                            m = 0.0f;
+                        else
+                            m = z > atl[(size_t)iv * aw + iu] + bias ? 0.0f : 1.0f;
+                    }
                     sk[4 * c] += m * lpl[3 * c];
                     sk[4 * c + 1] += m * lpl[3 * c + 1];
                     sk[4 * c + 2] += m * lpl[3 * c + 2];
@@ -527,6 +550,38 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             float *g = gk + 4 * c;
             g[0] = (float)ac[0], g[1] = (float)ac[1], g[2] = (float)ac[2];
             g[3] = (float)((trc[0] + trc[1] + trc[2]) / 3.0);
+        }
+    }
+}
+
+/* The depth bounds of block rows [begin, end) (index = light x block rows + row) of the
+ * orthographic records' tiles: min and max of the stored depths per FX_MM_BLOCK^2 texels. */
+static void fx_minmax(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    const fx_cpu_ctx *x = ctx;
+    const lg_shadowmap *sm = x->f->sm;
+    const uint32_t res = sm->resolution, nb = x->mm_n, aw = sm->atlas_width;
+    for (size_t idx = begin; idx < end; idx++) {
+        uint32_t l = (uint32_t)(idx / nb), by = (uint32_t)(idx % nb);
+        if (!x->ortho[l])
+            continue;
+        float *out = (float *)x->mm[l] + 2 * (size_t)by * nb;
+        const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
+        for (uint32_t bx = 0; bx < nb; bx++)
+            out[2 * bx] = INFINITY, out[2 * bx + 1] = -INFINITY;
+        uint32_t y1 = (by + 1) * FX_MM_BLOCK < res ? (by + 1) * FX_MM_BLOCK : res;
+        for (uint32_t y = by * FX_MM_BLOCK; y < y1; y++) {
+            const float *row = atl + (size_t)y * aw;
+            for (uint32_t tx = 0; tx < res; tx++) {
+                float d = row[tx];
+                float *o = out + 2 * (tx / FX_MM_BLOCK);
+                /* NaN depths: neither bound decides, the texel's own test does */
+                if (!(d >= o[0]))
+                    o[0] = d != d ? -INFINITY : d;
+                if (!(d <= o[1]))
+                    o[1] = d != d ? INFINITY : d;
+            }
         }
     }
 }
@@ -751,7 +806,9 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         const vol_light *L = &v->lights[l];
         int32_t r = L->shadow;
         bool sh = x.atlas && f->sm && r >= 0 && (uint32_t)r < f->sm->n_lights;
-        if (x.het || L->type != LG_LIGHT_DIRECTIONAL) {
+        /* the second path also takes a shadowed directional light when the map filters
+         * (pcf_radius > 0: vol_shadow_cpu's taps; the fast path reads one texel) */
+        if (x.het || L->type != LG_LIGHT_DIRECTIONAL || (sh && f->sm->pcf_radius > 0)) {
             fx_cpu_light *g = &x.gen[x.n_gen++];
             g->L = L;
             g->dir = L->type == LG_LIGHT_DIRECTIONAL;
@@ -791,6 +848,27 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         }
         x.n_sh++;
     }
+    if (x.n_ortho) {
+        /* each orthographic record's depth bounds per block (fx_minmax) */
+        uint32_t res = f->sm->resolution, nb = (res + FX_MM_BLOCK - 1) / FX_MM_BLOCK;
+        size_t need = (size_t)x.n_sh * nb * nb * 2;
+        if (need > c->mm_cap) {
+            float *mm = realloc(c->mm, need * sizeof(float));
+            if (!mm)
+                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu shadow depth bounds)",
+                                     need);
+            lg_account_alloc(n, (need - c->mm_cap) * sizeof(float));
+            c->counted += (need - c->mm_cap) * sizeof(float);
+            c->mm = mm;
+            c->mm_cap = need;
+        }
+        x.mm_n = nb;
+        for (uint32_t l = 0; l < x.n_sh; l++)
+            x.mm[l] = c->mm + (size_t)l * nb * nb * 2;
+        rc = lg_parallel_for(n, (size_t)x.n_sh * nb, 1, fx_minmax, &x);
+        if (rc)
+            return rc;
+    }
     rc = lg_parallel_for(n, (size_t)f->w * f->h, FX_CPU_GRAIN, columns, &x);
     if (!rc)
         rc = lg_parallel_for(n, f->v->height, 4, rows, &x);
@@ -815,5 +893,6 @@ void fx_cpu_destroy(lg_node *n, void *state)
     free(c->hist);
     free(c->tj);
     free(c->path);
+    free(c->mm);
     free(c);
 }
