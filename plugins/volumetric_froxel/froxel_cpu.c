@@ -549,7 +549,9 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             }
             float *g = gk + 4 * c;
             g[0] = (float)ac[0], g[1] = (float)ac[1], g[2] = (float)ac[2];
-            g[3] = (float)((trc[0] + trc[1] + trc[2]) / 3.0);
+            /* the mean of Tr's channels: Tr itself when sigma_t is grey (the division by 3
+             * was a fifth of the pass's time at one light: its latency is on every froxel) */
+            g[3] = x->grey ? (float)trc[0] : (float)((trc[0] + trc[1] + trc[2]) * (1.0 / 3.0));
         }
     }
 }
