@@ -9,7 +9,7 @@
   gated      `--set fog.density=0` on every example: `vol` is gated ("no medium") and its
              plugin not loaded; `out` is `lit` unchanged (the same pixels) and `inscatter`
              black; the same with a scene whose only light is a point light ("no
-             directional light")
+             directional light"), except froxel, which takes it (issue 25) and glows
   all        one graph holding all four methods (each reading the previous one's `out` as its
              base) with fog: all four run; with `fog.density = 0`: all four gated, none of
              their plugins loaded, and the shadow map still runs for Phong; and a graph where
@@ -121,6 +121,18 @@ def test_gated():
               "%s: gated in-scatter is not black" % m)
         check(out == lit, "%s: gated out is not lit unchanged" % m)
         # the only light a point light: no directional light
+        if m == "froxel":
+            # issue 25: froxel takes point lights (on cpu; gl and cl on their branches): kept,
+            # and the bulb glows
+            p = run(["render", g, "--explain", "--set", "sun.type=point",
+                     "--set", "sun.position=[0,1.5,0]", "--set", "vol.backend=cpu"]
+                    + SIZE + FAST[m])
+            text = p.stdout + p.stderr
+            check("gated" not in row(text, "vol"), "froxel: a point light gated vol:\n%s" % text)
+            ins, _, _ = images(m, "nofog")
+            check(max(c for r_ in ins for px in r_ for c in px[:3]) > 1e-3,
+                  "froxel: no in-scatter from the point light")
+            continue
         p = run(["render", g, "--explain", "--set", "sun.type=point",
                  "--set", "sun.position=[0,1.5,0]"] + SIZE + FAST.get(m, []))
         text = p.stdout + p.stderr
