@@ -25,10 +25,11 @@
 enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
 enum { FX_POINT_SAMPLE = 0, FX_POINT_ANALYTIC };
 
-/* What each backend models of froxel.h 4. (vol_setup_make's accept): a light of another
- * type is left out with a warning, a density field is refused with a message naming the
- * backend. The gl and cl backends gain point and spot lights and fields on their own
- * branches (issue 25: fxgl, fxcl), each then widening its entry here. */
+/* What each backend models of froxel.h 4.: a frame whose scene has a light of another type
+ * or a density field the node's backend does not model runs the cpu backend instead (with
+ * a warning, once), so that every backend gives the same picture. The gl and cl backends
+ * gain point and spot lights and fields on their own branches (issue 25: fxgl, fxcl), each
+ * then widening its entry here. */
 static unsigned fx_backend_accepts(lg_device backend)
 {
     switch (backend) {
@@ -68,6 +69,8 @@ typedef struct fx_state {
     lg_slice_map prev_map;
 
     void *backend_state; /* the backend's (fx_*_execute makes it) */
+    void *cpu_state;     /* gl or cl: the cpu backend's, for frames it runs instead */
+    bool said_cpu;       /* that warning given */
     int point_nodes;     /* froxel.h 4.: 0 sample, 1 .. 8 analytic */
     /* heterogeneous media: the frame's density multipliers (W x H x D) and each light's
      * optical-depth volume, kept while the scene (by address), its lights and tau_res stay */
@@ -161,10 +164,10 @@ static int fx_prepare(lg_node *n)
      * examples/volumetric_froxel.lgraph with a 380x180x512 grid, one light): 3.5e7
      * froxels in 6.3 s, 1.8e-7 s each; llvmpipe and PoCL run the gl and cl backends on the
      * same cores, taken as the same cost. */
-    unsigned accept = fx_backend_accepts(st->backend);
+    unsigned accept = VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD; /* a backend or the cpu's */
     double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n, accept);
     /* a point or spot light's froxel costs more than a directional one's (README.md, "The
-     * light pass's floor": about 3x sampled, 8x analytic with 2 nodes, measured on cpu) */
+     * light pass's floor": about 3x sampled, 11x analytic with 2 nodes, measured on cpu) */
     double local = 0;
     if (accept & (VOL_ACCEPT_POINT | VOL_ACCEPT_SPOT)) {
         uint32_t all = vol_scene_lights(n, accept),
@@ -175,7 +178,7 @@ static int fx_prepare(lg_node *n)
             dir = 0; /* vol_scene_lights counts at least one */
         local = all > dir ? all - dir : 0;
     }
-    double factor = st->point_nodes ? 2.0 + 3.0 * st->point_nodes : 3.0;
+    double factor = st->point_nodes ? 3.0 + 4.0 * st->point_nodes : 3.0;
     double cost = froxels + (double)st->gw * st->gh * st->gd * local * (factor - 1.0);
     lg_declare_work(n, froxels, cost * FX_SECONDS_PER_FROXEL / lg_cpu_workers(n),
                     "froxel x light visits");
@@ -295,6 +298,14 @@ static int fx_slice_map(lg_node *n, const fx_state *st, const vol_setup *v, lg_s
     return 0;
 }
 
+static bool fx_has_local(const vol_setup *v)
+{
+    for (uint32_t l = 0; l < v->n_lights; l++)
+        if (v->lights[l].type != LG_LIGHT_DIRECTIONAL)
+            return true;
+    return false;
+}
+
 static int fx_execute(lg_node *n, const lg_frame *frame)
 {
     fx_state *st = n->user;
@@ -322,15 +333,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     vol_setup *v = malloc(sizeof *v);
     if (!v)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    unsigned accept = fx_backend_accepts(st->backend);
-    int rc = 0;
-    if (lg_medium_is_heterogeneous(&s->medium) && !(accept & VOL_ACCEPT_FIELD))
-        rc = lg_error(n,
-                      "the scene's medium has a density field, which the %s backend does not "
-                      "model yet: use backend = cpu, or a homogeneous medium",
-                      fx_backend_name(st->backend));
-    if (!rc)
-        rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, accept, v);
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm,
+                            VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD, v);
     fx_frame f = { 0 };
     if (!rc)
         rc = fx_slice_map(n, st, v, &f.map);
@@ -371,11 +375,32 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         f.density = st->density;
         f.tau = st->tau;
     }
-    switch (st->backend) {
-    case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
-    case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
-    default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
+    /* what the node's backend does not model runs on the cpu backend (fx_backend_accepts) */
+    unsigned accept = fx_backend_accepts(st->backend);
+    bool on_cpu = st->backend != LG_DEVICE_CPU &&
+                  (v->heterogeneous && !(accept & VOL_ACCEPT_FIELD));
+    for (uint32_t l = 0; l < v->n_lights; l++)
+        if (v->lights[l].type == LG_LIGHT_POINT  ? !(accept & VOL_ACCEPT_POINT)
+            : v->lights[l].type == LG_LIGHT_SPOT ? !(accept & VOL_ACCEPT_SPOT)
+                                                 : false)
+            on_cpu = st->backend != LG_DEVICE_CPU;
+    if (on_cpu && !st->said_cpu) {
+        lg_log(n, LG_LOG_WARN,
+               "the %s backend does not model %s yet (issue 25): this node's passes run on "
+               "the cpu backend",
+               fx_backend_name(st->backend),
+               v->heterogeneous ? "density fields or point and spot lights"
+                                : "point and spot lights");
+        st->said_cpu = true;
     }
+    if (on_cpu)
+        rc = fx_cpu_execute(n, &st->cpu_state, &f);
+    else
+        switch (st->backend) {
+        case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
+        case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
+        default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
+        }
     if (!rc) {
         lg_froxel_info info = { .struct_size = sizeof info,
                                 .width = st->gw,
@@ -395,12 +420,16 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         st->has_prev = true;
     }
     if (!rc && f.frame == 0)
-        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s", st->gw, st->gh,
-               st->gd, f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip",
-               f.map.near, f.map.far, v->n_lights, v->n_lights == 1 ? "" : "s",
-               sm ? "shadowed" : "unshadowed",
+        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s%s%s", st->gw,
+               st->gh, st->gd,
+               f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip", f.map.near,
+               f.map.far, v->n_lights, v->n_lights == 1 ? "" : "s", sm ? "shadowed" : "unshadowed",
                st->accum == FX_ACC_THESIS ? "thesis" : "energy_conserving",
-               temporal ? ", temporal" : "");
+               temporal ? ", temporal" : "",
+               !fx_has_local(v)  ? ""
+               : st->point_nodes ? ", point and spot lights analytic"
+                                 : ", point and spot lights sampled",
+               v->heterogeneous ? ", density field" : "");
     free(v);
     return rc;
 }
@@ -415,6 +444,8 @@ static void fx_destroy(lg_node *n)
         lg_account_free(n, (size_t)st->gw * st->gh * st->gd * sizeof(float));
         free(st->density);
     }
+    if (st->cpu_state)
+        fx_cpu_destroy(n, st->cpu_state);
     if (st->backend_state) {
         if (st->backend == LG_DEVICE_GL)
             fx_gl_destroy(n, st->backend_state);
