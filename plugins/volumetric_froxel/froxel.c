@@ -79,8 +79,10 @@ typedef struct fx_state {
     uint32_t n_tau, tau_res;
     const lg_scene *tau_scene;
     vol_light tau_lights[VOL_MAX_LIGHTS];
-    fx_slices slices;        /* this frame's slice tables (fx_slice_tables) */
-    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
+    lg_density_field tau_field; /* the field they were built for (a scene at the same
+                                 * address may carry another one: a viewer's edit) */
+    fx_slices slices;           /* this frame's slice tables (fx_slice_tables) */
+    bool reported_nonfinite;    /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } fx_state;
 
 static int fx_create(lg_node *n)
@@ -239,7 +241,8 @@ static void fx_tau_free(lg_node *n, fx_state *st)
 static int fx_tau(lg_node *n, fx_state *st, const lg_scene *s, const vol_setup *v)
 {
     if (st->tau_scene == s && st->n_tau == v->n_lights &&
-        memcmp(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light)) == 0)
+        memcmp(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light)) == 0 &&
+        v->medium.field && memcmp(&st->tau_field, v->medium.field, sizeof st->tau_field) == 0)
         return 0;
     fx_tau_free(n, st);
     for (uint32_t l = 0; l < v->n_lights; l++) {
@@ -249,6 +252,8 @@ static int fx_tau(lg_node *n, fx_state *st, const lg_scene *s, const vol_setup *
         st->n_tau = l + 1;
     }
     memcpy(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light));
+    if (v->medium.field)
+        st->tau_field = *v->medium.field;
     st->tau_scene = s;
     return 0;
 }
