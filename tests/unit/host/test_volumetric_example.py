@@ -10,7 +10,7 @@
              plugin not loaded; `out` is `lit` unchanged (the same pixels) and `inscatter`
              black; the same with a scene whose only light is a point light ("no
              directional light"), but for the methods that model point lights (issue 25:
-             the reference), which are kept
+             the reference, polygonal and froxel), which are kept
   all        one graph holding all four methods (each reading the previous one's `out` as its
              base) with fog: all four run; with `fog.density = 0`: all four gated, none of
              their plugins loaded, and the shadow map still runs for Phong; and a graph where
@@ -109,7 +109,7 @@ def test_render():
 
 # the methods that model point and spot lights (issue 25): a scene whose only light is a
 # point light runs them
-LOCAL_LIGHTS = ("reference", "polygonal")
+LOCAL_LIGHTS = ("reference", "polygonal", "froxel")
 
 
 def test_gated():
