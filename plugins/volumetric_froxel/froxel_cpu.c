@@ -130,8 +130,8 @@ static const double fx_gl_w[8][8] = {
       0.3607615730481386076, 0.1713244923791703450 },
     { 0.1294849661688696933, 0.2797053914892766679, 0.3818300505051189449, 0.4179591836734693878,
       0.3818300505051189449, 0.2797053914892766679, 0.1294849661688696933 },
-    { 0.1012285362903762592, 0.2223810344533744706, 0.3137066959682209323, 0.3626837833783619830,
-      0.3626837833783619830, 0.3137066959682209323, 0.2223810344533744706, 0.1012285362903762592 },
+    { 0.1012285362903762592, 0.2223810344533744706, 0.3137066458778872873, 0.3626837833783619830,
+      0.3626837833783619830, 0.3137066458778872873, 0.2223810344533744706, 0.1012285362903762592 },
 };
 
 /* lg_hg_phase(g, c) with the frame's constants: (1 - g^2) / (4 pi den^1.5), den in the
@@ -217,7 +217,17 @@ static void gen_terms(const fx_cpu_ctx *x, const double w[3], double inv_cos, ui
             double vq[3] = { g->q[0] - p[0], g->q[1] - p[1], g->q[2] - p[2] };
             double d2 = dot3(vq, vq), d = sqrt(d2);
             dist = d;
-            if (x->nodes) {
+            if (x->nodes && (g->spot || g->range > 0.0)) {
+                /* a cone or a range: lg_point_inscatter itself, whose nodes cover only the
+                 * part of the slice the light reaches (the column's xi carried as below) */
+                double b0 = k == 0 ? 0.0 : f->slices->tk[k] * inv_cos;
+                double b1 = f->slices->tk[k + 1] * inv_cos;
+                c->xi = atan((b1 - c->tc) / c->H);
+                double sp[5] = { g->axis[0], g->axis[1], g->axis[2], g->cos_in, g->cos_out };
+                a = lg_point_inscatter(v->eye, w, b0, b1, g->q, g->range, g->spot ? sp : NULL, v->g,
+                                       0.0, x->nodes) /
+                    (f->slices->tlen[k] * inv_cos);
+            } else if (x->nodes) {
                 /* the slice [b_k, b_{k+1}] along the ray, t = tc + H tan(xi) */
                 double b1 = f->slices->tk[k + 1] * inv_cos;
                 double xi1 = atan((b1 - c->tc) / c->H), xi0 = c->xi;
