@@ -205,6 +205,10 @@ float lg_shadow(int s, vec3 P, vec3 Ng, vec3 L)
     float cl = clamp(abs(dot(Ng, L)), 0.1, 1.0);
     float tn = sqrt(1.0 - cl * cl) / cl;
     float bias = u_bias_const + u_bias_slope * tn;
+    // A tap k texels beside the lookup's reads a planar receiver's own depth k texels away,
+    // k texel tan(angle(N, L)) nearer the light (world units): each tap adds that to the bias
+    // (in depth units), or PCF would shade slanted surfaces with stripes of acne
+    float tap_slope = sh.texel_world * (persp ? d : 1.0) * tn / sh.depth_range;
     int r = u_pcf_radius;
     if (u_pcss_light_size > 0.0) {
         // PCSS (Fernando 2005): the blockers' mean distance db over the light's footprint,
@@ -220,7 +224,7 @@ float lg_shadow(int s, vec3 P, vec3 Ng, vec3 L)
         for (int y = -rs; y <= rs; y += step)
             for (int x = -rs; x <= rs; x += step) {
                 ivec2 k = clamp(ct + ivec2(x, y), ivec2(0), ivec2(u_shadow_res - 1));
-                if (lg_shadow_tap(sh, tile + k, d, bias) < 0.5) {
+                if (lg_shadow_tap(sh, tile + k, d, bias + tap_slope * length(vec2(x, y))) < 0.5) {
                     sum += lg_shadow_depth_world(sh, tile + k);
                     cnt += 1.0;
                 }
@@ -238,7 +242,8 @@ float lg_shadow(int s, vec3 P, vec3 Ng, vec3 L)
     for (int y = -r; y <= r; y++)
         for (int x = -r; x <= r; x++)
             lit += lg_shadow_tap(sh, tile + clamp(ct + ivec2(x, y), ivec2(0),
-                                                  ivec2(u_shadow_res - 1)), d, bias);
+                                                  ivec2(u_shadow_res - 1)),
+                                 d, bias + tap_slope * length(vec2(x, y)));
     float taps = float(2 * r + 1);
     return lit / (taps * taps);
 }
