@@ -46,7 +46,9 @@
  *               mode, lit ones ambient + kd Od Ii (N.L) in phong and phong_half, seen from
  *               a camera outside and one inside the spot's cone; with pcf_radius 2 the
  *               shadow's edge becomes a ramp (points between 5 % and 95 % of their lit
- *               value), with 0 it has none
+ *               value), with 0 it has none; PCSS with a light of 0.5 m draws a penumbra at
+ *               least half again as wide as with 0.25 m; PCF at radius 2 under a slanted
+ *               spot leaves lit ground whole (no acne: each tap's own bias)
  *   errors      shadow maps of another scene (a light index beyond this scene's lights):
  *               exit status 1 naming the input
  *
@@ -846,7 +848,13 @@ static void case_shadow_local(lg_test *t)
 
     /* PCF: ground points across the point light's shadow edge at x = 0.75 (z = 0.2), seen
      * from camera 0; their share of the lit value */
-    for (int r = 0; r <= 2; r += 2) {
+    /* runs: pcf 0, pcf 2, then PCSS with a light of 0.25 and 0.5 m (a 256 map): the
+     * penumbra widens with the light's size */
+    static const int pcf_r[4] = { 0, 2, 0, 0 }, res[4] = { 128, 128, 256, 256 };
+    static const double pcss[4] = { 0, 0, 0.25, 0.5 };
+    int ramps[4] = { 0 };
+    for (int run_i = 0; run_i < 4; run_i++) {
+        int r = pcf_r[run_i];
         const cam *c = &cams[0];
         char cp[512], g[2048];
         cam_params(cp, sizeof cp, c);
@@ -855,11 +863,12 @@ static void case_shadow_local(lg_test *t)
                  "s = test_phong_scene { layout = shadow, size = 5, segments = 1, ka = %g, "
                  "kd = %g, ks = 0, od = [%g, %g, %g], double_sided = true, %s }\n"
                  "ls = light { scene = s, type = point, position = [0, 3, 0], intensity = %g }\n"
-                 "shadow = shadowmap { scene = ls, resolution = 128, pcf_radius = %d }\n"
+                 "shadow = shadowmap { scene = ls, resolution = %d, pcf_radius = %d, "
+                 "pcss_light_size = %g }\n"
                  "lit = phong { scene = ls, shadows = shadow, shading = phong, falloff = none, "
                  "ambient = [%g, %g, %g] }\n"
                  "output lit \"out.exr\"\n",
-                 ka, kd, od[0], od[1], od[2], cp, ii, r, ia, ia, ia);
+                 ka, kd, od[0], od[1], od[2], cp, ii, res[run_i], r, pcss[run_i], ia, ia, ia);
         lg_test_write_text(t, "g.lgraph", g);
         const char *args[] = { "--size", "320x240", NULL };
         LG_TEST_CHECK(t, lg_test_render(t, "g.lgraph", args, NULL) == 0, "pcf %d: render failed",
@@ -880,12 +889,20 @@ static void case_shadow_local(lg_test *t)
             dark += share <= 0.05;
             lit += share >= 0.95;
         }
-        printf("pcf %d: %d points dark, %d on the ramp, %d lit\n", r, dark, ramp, lit);
-        LG_TEST_CHECK(t, dark > 5 && lit > 5, "pcf %d: %d dark, %d lit", r, dark, lit);
-        LG_TEST_CHECK(t, r ? ramp >= 3 : ramp <= 1,
-                      "pcf %d: %d points part-shadowed across the edge", r, ramp);
+        printf("pcf %d pcss %g: %d points dark, %d on the ramp, %d lit\n", r, pcss[run_i], dark,
+               ramp, lit);
+        ramps[run_i] = ramp;
+        LG_TEST_CHECK(t, dark > 5 && lit > 5, "pcf %d pcss %g: %d dark, %d lit", r, pcss[run_i],
+                      dark, lit);
+        LG_TEST_CHECK(t, r || pcss[run_i] > 0 ? ramp >= 3 : ramp <= 1,
+                      "pcf %d pcss %g: %d points part-shadowed across the edge", r, pcss[run_i],
+                      ramp);
         lg_image_free(&img);
     }
+    LG_TEST_CHECK(t, ramps[3] >= ramps[2] * 3 / 2,
+                  "PCSS: the penumbra of a 0.5 m light (%d points) is not wider than a 0.25 m "
+                  "light's (%d) by half again",
+                  ramps[3], ramps[2]);
 
     /* no acne from the filter: a spot aimed slantwise at the ground (its depth changes
      * across the map's texels), pcf_radius 2 on a coarse map: the lit ground around the

@@ -35,10 +35,10 @@
  *              interpolated normals, lit from 0, 45 and 70 degrees: none that faces a
  *              light (N.L > 0.2) is shadowed with the default bias; all biases 0 shadow
  *              many
- *   gating     without a directional light (none, or only a point light) the node is
- *              gated and its plugin not loaded, and the probe gets NULL from
- *              lg_shadowmap_get; a point light before a directional one is skipped: the
- *              payload's one tile maps to scene light 1
+ *   gating     without a light the node is gated and its plugin not loaded, and the probe
+ *              gets NULL from lg_shadowmap_get; a point light before a directional one gets
+ *              its cube first (six records, then the directional light's; before ABI 3.2
+ *              it was skipped)
  *   frustum    fit = frustum with a camera looking down at the box on a 40 x 40 floor: a
  *              finer texel than fit = bounds, and the same shadows where the camera looks;
  *              a wider aspect gives a coarser map; a camera that sees none of the scene
@@ -50,6 +50,16 @@
  *   errors     an atlas past 2^28 texels, a light without a direction, a camera that does
  *              not exist (fit = frustum) and a resolution out of range stop the render
  *              with a message naming the cause
+ *   spot       (ABI 3.2) a spot light's one perspective map: 625 floor points against the
+ *              ray test toward its position (2 texels of margin), the shadow's edge within
+ *              a texel of x = 1 (the box's top seen from the light)
+ *   point      a point light's cube: a box 1 from the light along each face's axis in turn,
+ *              600 points around the light against the segment test; the light inside the
+ *              box shadows every point around; range 0 fits the far plane to the scene,
+ *              range 1.5 to the range
+ *   pcf        pcf_radius 0, 1, 2 through the SDK's lookup (the probe's sdk = true): the
+ *              visibility across the box's edge is a monotone ramp of 2 r texels in steps
+ *              of 1 / (2 r + 1)
  *
  * Every render also passes the host's GL state check (debug builds check after each node
  * that the bindings were restored; a violation fails the render).
