@@ -37,9 +37,10 @@
  * row; p_tex.y = 0 is the tile's top row. Depth is window depth in [0,1] as GL writes it
  * (glClipControl default, glDepthRange 0..1), 1 where nothing was drawn.
  *
- * A gated shadow-map node (the scene has no directional light) yields a neutral resource
- * without parts: lg_shadowmap_get() returns NULL for it, and consumers light without
- * shadows. A graph reads the atlas alone as `NODE.atlas` (an image).
+ * A gated shadow-map node (the scene has no light; before ABI 3.2: no directional light)
+ * yields a neutral resource without parts: lg_shadowmap_get() returns NULL for it, and
+ * consumers light without shadows. A graph reads the atlas alone as `NODE.atlas` (an
+ * image).
  */
 #ifndef LIGHTGRAPH_SHADOWMAP_H
 #define LIGHTGRAPH_SHADOWMAP_H
