@@ -1310,10 +1310,15 @@ static void case_point_closed(lg_test *t)
                 &worst, NULL);
     LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "floor in the maps: %.3g beyond %.3g", worst,
                   POINT_CLOSED_TOL);
-    /* no map (the shadowmap node makes none for a point light: gated): the viewport */
+    /* the shadowmap node's own cube (since issue 25 it maps point lights, so the "no map"
+     * case this test had, a gated shadow map, no longer exists): the floor's dent from
+     * 1024^2 faces instead of exact hand-made ones. Measured: relative RMSE 4.4e-3, the
+     * worst pixel 0.09 relative at a value 2 % of the peak (a ray grazing the floor, where
+     * a texel decides); bounded by RMSE, the map's discretisation */
     pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "node", "", "");
-    check_point(t, "point light, no map", g, &c, &pl, &point_fog, false, NULL, 0, 0, &worst, NULL);
-    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "no map: %.3g beyond %.3g", worst, POINT_CLOSED_TOL);
+    double rmse = check_point(t, "point light, the shadowmap node's cube", g, &c, &pl, &point_fog,
+                              true, NULL, 0, 0, &worst, NULL);
+    LG_TEST_CHECK(t, rmse < 0.01, "the node's cube: relative RMSE %.3g beyond 0.01", rmse);
 }
 
 static void case_spot_cone(lg_test *t)
