@@ -39,9 +39,10 @@
  *   point_offscreen the light left of the image, thesis model: exposure weight L_c F_e
  *              times the series over the samples inside the image (F_e the falloff at the
  *              camera); physical: finite and below the unshadowed airlight
- *   spot       a spot crossing the view: inscatter = the airlight with the cone (64 nodes),
- *              rows whose rays miss the cone exactly 0; thesis: the camera outside the
- *              cone gives 0
+ *   spot       a spot crossing the view: inscatter = the airlight with the cone (a brute-
+ *              force sum), rows whose rays miss the cone exactly 0; thesis: the camera
+ *              outside the cone gives 0; the camera inside a cone: the same oracle, and
+ *              the thesis model's falloff at the camera
  *   range0     range 0 (infinite) = range 1e6; a range shorter than every ray's distance to
  *              the light: exactly 0 everywhere; finite always
  *   (lights32 also sums 32 point lights.)
@@ -807,6 +808,59 @@ static void case_point_offscreen(lg_test *t)
     }
 }
 
+/* The camera inside the cone: a spot 5 m ahead shining back at it (cones 20 and 30
+ * degrees; the image's corners lie outside the cone, its centre inside): physical against
+ * brute force as in `spot`; thesis: the falloff at the camera, C = 1 there, gives
+ * exposure weight L_c / 25 on the pixels whose samples all see the sky. */
+static void spot_inside(lg_test *t)
+{
+    const double q[3] = { 0.0, 0.0, -5.0 }, Lc = 10.0;
+    const double spot[5] = { 0, 0, 1, cos(20.0 * LG_PI / 180.0), cos(30.0 * LG_PI / 180.0) };
+    const char *scene = "type = spot, position = [0, 0, -5], direction = [0, 0, 1], "
+                        "inner_cone = 20, outer_cone = 30, intensity = 10";
+    lg_image ref = { 0 };
+    lg_image_alloc(&ref, W, H);
+    double peak = 0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            double w[3];
+            test_ray(x, y, w);
+            float *p = ref.pixels + 4 * ((size_t)y * W + x);
+            p[0] = p[1] = p[2] =
+                (float)(Lc * 0.1 * airlight_brute(w, 20.0 / -w[2], q, 0.0, spot, 0.4, 0.1, 20000));
+            p[3] = 1.0f;
+            peak = fmax(peak, p[0]);
+        }
+    for (size_t b = 0; b < 2; b++) {
+        lg_image ins = { 0 }, th = { 0 };
+        if (!run_vol(t, BACKENDS[b], scene, "", "model = physical", &ins, NULL) ||
+            !run_vol(t, BACKENDS[b], scene, "", "model = thesis, normalize = false", &th, NULL)) {
+            lg_image_free(&ins);
+            continue;
+        }
+        lg_test_diff dd;
+        lg_test_tol tol = { .max_abs = 0.02 * peak, .rmse = 0.002 * peak };
+        lg_test_diff_images(&ins, &ref, 32, &tol, &dd);
+        lg_test_note_("%s: camera inside the spot's cone, vs brute force: max %.3g %% of the "
+                      "peak, rmse %.3g %%",
+                      BACKENDS[b], 100.0 * dd.max_abs / peak, 100.0 * dd.rmse / peak);
+        char what[64];
+        snprintf(what, sizeof what, "%s: camera inside the cone", BACKENDS[b]);
+        lg_test_check_image(t, &ins, &ref, 32, &tol, what);
+        /* thesis, sky everywhere: exposure 1 x weight 0.01 x L_c x F_e x the series */
+        double fe = 1.0 / (25.0 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON), series = 0.0;
+        for (int i = 1; i <= 64; i++)
+            series += pow(0.94, i);
+        double want = 0.01 * Lc * fe * series / 64.0, got = px(&th, 16, 12)[0];
+        LG_TEST_CHECK(t, fabs(got - want) <= 1e-5 * want,
+                      "%s thesis: the centre has %.9g, want %.9g (L_c F_e at the camera)",
+                      BACKENDS[b], got, want);
+        lg_image_free(&ins);
+        lg_image_free(&th);
+    }
+    lg_image_free(&ref);
+}
+
 static void case_spot(lg_test *t)
 {
     /* at (-3, 0, -6) along +x, cones 5 and 10 degrees: the beam crosses the view */
@@ -869,6 +923,7 @@ static void case_spot(lg_test *t)
         lg_image_free(&th);
     }
     lg_image_free(&ref);
+    spot_inside(t);
 }
 
 static void case_range0(lg_test *t)
