@@ -64,8 +64,10 @@ typedef struct vs_state {
     float exposure, decay, weight, z_limit;
     uint32_t width, height;
 
-    lg_gl_pass *pass;
-    lg_gl_binding b_params, b_base, b_depth;
+    /* [0]: directional lights only (the pass as before issue 25), [1]: with point and spot
+     * lights (VS_LOCAL_LIGHTS); each made on first use */
+    lg_gl_pass *pass[2];
+    lg_gl_binding b_params[2], b_base[2], b_depth[2];
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vs_state;
 
@@ -238,18 +240,21 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
 
 /* ---- GL -------------------------------------------------------------------------------------- */
 
-static int vs_gl_pass(lg_node *n, vs_state *st)
+static int vs_gl_pass(lg_node *n, vs_state *st, int local)
 {
-    if (st->pass)
+    if (st->pass[local])
         return 0;
     static const lg_gl_shader_src src[2] = {
         { GL_VERTEX_SHADER, lg_src_vs_fullscreen_vert_file, lg_src_vs_fullscreen_vert },
         { GL_FRAGMENT_SHADER, lg_src_vs_screen_frag_file, lg_src_vs_screen_frag },
     };
-    /* out (colour + depth) and inscatter: the outputs themselves, no other image */
+    /* out (colour + depth) and inscatter: the outputs themselves, no other image. A scene
+     * of directional lights compiles without the point and spot code: llvmpipe runs the
+     * shader with it (not taken) at half the speed (README.md, "Cost") */
     lg_gl_pass_desc d = { .name = "volumetric_screen",
                           .stages = src,
                           .n_stages = 2,
+                          .defines = local ? "#define VS_LOCAL_LIGHTS 1\n" : NULL,
                           .colors = { GL_RGBA32F, GL_RGBA32F },
                           .depth = true,
                           .depth_test = true,
@@ -257,13 +262,13 @@ static int vs_gl_pass(lg_node *n, vs_state *st)
                           /* every pixel is written, depth included (base's): no test
                            * against the old plane */
                           .depth_func = GL_ALWAYS };
-    int rc = lg_gl_pass_create(n, &d, &st->pass);
+    int rc = lg_gl_pass_create(n, &d, &st->pass[local]);
     if (rc)
         return rc;
-    lg_gl_pass *p = st->pass;
-    st->b_params = lg_gl_pass_uniform_block(p, "VsParams");
-    st->b_base = lg_gl_pass_texture(p, "u_base");
-    st->b_depth = lg_gl_pass_texture(p, "u_base_depth");
+    lg_gl_pass *p = st->pass[local];
+    st->b_params[local] = lg_gl_pass_uniform_block(p, "VsParams");
+    st->b_base[local] = lg_gl_pass_texture(p, "u_base");
+    st->b_depth[local] = lg_gl_pass_texture(p, "u_base_depth");
     return 0;
 }
 
@@ -272,7 +277,10 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;
-    int rc = vs_gl_pass(n, st);
+    int local = 0;
+    for (uint32_t l = 0; l < f->v.n_lights; l++)
+        local |= f->v.lights[l].type != LG_LIGHT_DIRECTIONAL;
+    int rc = vs_gl_pass(n, st, local);
     if (rc)
         return rc;
     GLuint base = 0, base_depth = 0;
@@ -284,7 +292,7 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     if ((rc = lg_gl_target_output(n, "out", &t)) || (rc = lg_gl_target_output(n, "inscatter", &ti)))
         return rc;
     t.color[1] = ti.color[0];
-    lg_gl_pass *p = st->pass;
+    lg_gl_pass *p = st->pass[local];
     if ((rc = lg_gl_pass_begin(p, &t)))
         return rc;
     const vol_setup *v = &f->v;
@@ -310,10 +318,10 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     memcpy(u.light_cone, f->cone, sizeof u.light_cone);
     memcpy(u.sigma_s, v->sigma_s, sizeof u.sigma_s);
     memcpy(u.sigma_t, v->sigma_t, sizeof u.sigma_t);
-    if ((rc = lg_gl_pass_uniforms(p, st->b_params, &u, sizeof u)))
+    if ((rc = lg_gl_pass_uniforms(p, st->b_params[local], &u, sizeof u)))
         return lg_gl_pass_end(p, rc);
-    lg_gl_pass_bind_texture(p, st->b_base, base);
-    lg_gl_pass_bind_texture(p, st->b_depth, base_depth);
+    lg_gl_pass_bind_texture(p, st->b_base[local], base);
+    lg_gl_pass_bind_texture(p, st->b_depth[local], base_depth);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
     if ((rc = lg_gl_pass_end(p, rc)))
         return rc;
@@ -522,7 +530,8 @@ static void vs_destroy(lg_node *n)
     vs_state *st = n->user;
     if (!st)
         return;
-    lg_gl_pass_destroy(&st->pass);
+    lg_gl_pass_destroy(&st->pass[0]);
+    lg_gl_pass_destroy(&st->pass[1]);
     free(st);
     n->user = NULL;
 }

@@ -51,6 +51,7 @@ layout(std140, binding = 0) uniform VsParams {
 // screen.c's VS_AIRLIGHT_NODES
 const int VS_AIRLIGHT_NODES = 8;
 
+#ifdef VS_LOCAL_LIGHTS
 // A point or spot light's airlight over [0, d] (screen.c's vs_airlight, in float): a spot's
 // ray cut where it crosses the outer cone, only the pieces inside the forward cone
 // integrated, each with the transmittance from the eye to its start.
@@ -103,6 +104,7 @@ float vs_airlight(vec3 o, vec3 w, float d, vec3 q, float range, bool spot, vec3 
     }
     return sum;
 }
+#endif
 
 vec3 unproject(vec2 ndc, float z)
 {
@@ -132,7 +134,11 @@ void main()
         if (u_light_pos[l].z == 0.0)
             continue;
         vec2 dp = (u_light_pos[l].xy - p) / nf;
+#ifdef VS_LOCAL_LIGHTS
         float zl = u_light_pos[l].w;
+#else
+        const float zl = 1.0; // directional lights only: the sky
+#endif
         float s = 0.0;
         for (int i = 1; i <= u_samples; i++) {
             vec2 q = p + float(i) * dp;
@@ -141,6 +147,7 @@ void main()
                 s += exp2(float(i) * u_k);
         }
         vec3 c = u_light_c[l].rgb * (u_scale * u_norm * s);
+#ifdef VS_LOCAL_LIGHTS
         float type = u_light_to[l].w;
         if (u_physical != 0 && type != 0.0) {
             // point, spot: the airlight along the ray to d, per distinct sigma_t
@@ -157,7 +164,9 @@ void main()
                       ? a.g
                       : vs_airlight(u_eye, w, d, q, range, spot, axis, cone, u_sigma_t.b);
             c *= u_sigma_s * a;
-        } else if (u_physical != 0) {
+        } else
+#endif
+        if (u_physical != 0) {
             c *= u_sigma_s * lg_hg_phase(u_g, dot(w, u_light_to[l].xyz)) * d *
                  lg_medium_segment3(u_sigma_t * d);
         }
