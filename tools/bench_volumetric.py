@@ -198,8 +198,9 @@ def parse_profile(p, node="vol"):
     else:
         out.update(ms=0.0, min_ms=0.0, bytes=0, resource_bytes=0, plugin_peak=0)
     for k in ("shadow", "lit"):
+        # a gated node has no time (the shadow map of a scene without a light it models)
         n = nodes.get(k)
-        out[k + "_ms"] = n["cpu_ms"] / max(1, n["runs"]) if n else 0.0
+        out[k + "_ms"] = n["cpu_ms"] / max(1, n["runs"]) if n and "cpu_ms" in n else 0.0
     out["frame_ms"] = out["shadow_ms"] + out["lit_ms"] + out["ms"]
     return out
 
@@ -917,6 +918,11 @@ def self_test():
           r["plugin_peak"] == 200 and r["nodes"]["shadow"]["bytes"] == 7, "profile: %r" % (r,))
     d = parse_profile(prof, None)
     check(d["ms"] == 0.0 and d["frame_ms"] == 9.0, "profile, disabled: %r" % (d,))
+    gated_shadow = {"nodes": [dict(prof["nodes"][0]), {"name": "shadow", "state": "gated"},
+                              prof["nodes"][2]]}
+    g = parse_profile(gated_shadow)
+    check(g["shadow_ms"] == 0.0 and g["frame_ms"] == 14.0 and g["nodes"]["shadow"]["bytes"] == 0,
+          "profile, a gated shadow map: %r" % (g,))
     prof["nodes"][0]["state"] = "gated"
     try:
         parse_profile(prof)
