@@ -7,7 +7,8 @@ usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frame
                                  [--repeat R] [--experiments crossover,table6,lights,gating]
                                  [--scenes bunny,dragon,dragons,classroom,courtyard]
                                  [--crossover-scenes bunny,dragon] [--sizes W1xH1,...]
-                                 [--lights 1,2,4,8] [--light-types directional,point,spot]
+                                 [--lights 1,2,4,8,16,32]
+                                 [--light-types directional,point,spot]
                                  [--methods screen,polygonal,...]
                                  [--shadow-resolution R] [--quick]
        tools/bench_volumetric.py --self-test
@@ -40,7 +41,7 @@ Experiments:
              method and "disabled"; the polygonal node's counters per scene (triangles drawn,
              fragments per pixel) beside the scene's triangles and the shadow maps' time;
              table6.csv, polygonal.csv
-  lights     the bunny box with --lights lights (default 1, 2, 4, 8) of each of
+  lights     the bunny box with --lights lights (default 1, 2, 4, 8, 16, 32) of each of
              --light-types (default directional, point, spot; issue 25): time and peak
              memory per method, with the split of memory into outputs and own allocations;
              point lights on a ring in the box around the bunny, spots on a ring under the
@@ -1025,7 +1026,7 @@ def main():
     ap.add_argument("--experiments", default="crossover,table6,lights,gating")
     ap.add_argument("--scenes", default="bunny,dragon,dragons,classroom,courtyard")
     ap.add_argument("--crossover-scenes", default="bunny,dragon")
-    ap.add_argument("--lights", default="1,2,4,8")
+    ap.add_argument("--lights", default="1,2,4,8,16,32")
     ap.add_argument("--light-types", default=",".join(LIGHT_TYPES))
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--shadow-resolution", type=int, default=1024)
