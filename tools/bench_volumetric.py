@@ -7,7 +7,9 @@ usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frame
                                  [--repeat R] [--experiments crossover,table6,lights,gating]
                                  [--scenes bunny,dragon,dragons,classroom,courtyard]
                                  [--crossover-scenes bunny,dragon] [--sizes W1xH1,...]
-                                 [--lights 1,2,4,8] [--methods screen,polygonal,...]
+                                 [--lights 1,2,4,8,16,32]
+                                 [--light-types directional,point,spot]
+                                 [--methods screen,polygonal,...]
                                  [--shadow-resolution R] [--quick]
        tools/bench_volumetric.py --self-test
 
@@ -39,9 +41,17 @@ Experiments:
              method and "disabled"; the polygonal node's counters per scene (triangles drawn,
              fragments per pixel) beside the scene's triangles and the shadow maps' time;
              table6.csv, polygonal.csv
-  lights     the bunny box with --lights lights (default 1, 2, 4, 8): time and peak memory
-             per method, with the split of memory into outputs and own allocations;
-             lights.csv, lights_time.png, lights_memory.png
+  lights     the bunny box with --lights lights (default 1, 2, 4, 8, 16, 32) of each of
+             --light-types (default directional, point, spot; issue 25): time and peak
+             memory per method, with the split of memory into outputs and own allocations;
+             point lights on a ring in the box around the bunny, spots on a ring under the
+             ceiling shining down (light_places); a method whose `needs` (lightgraph inspect)
+             do not cover a light type is "n/a" there (it would be gated, not timed). The
+             directional rows are printed beside docs/volumetric.md's table of the same
+             experiment ("Memory against the number of lights"): a homogeneous-fog
+             directional scene must cost what it cost before issue 25 (same size and load
+             assumed: the page's run says its own); lights.csv, lights_time.png,
+             lights_memory.png
   gating     a frame of the bunny box without fog, by a graph holding all four methods and
              by the same graph without them (planning and frame time, plugins loaded)
 
@@ -49,8 +59,8 @@ Scenes classroom and courtyard are tools/gen_scene.py's interiors (`make scenes`
 to out/scenes/; made there on first use), with their own camera and sun and the fog of their
 examples (examples/classroom.lgraph, courtyard.lgraph).
 
---quick: 256x175 and 534x365 crossover, --size 534x365, 2 frames, 1 repeat, lights 1 and 4:
-a smoke run. Writes --out (default out/bench_volumetric): bench_volumetric.md (the tables,
+--quick: 256x175 and 534x365 crossover, --size 534x365, 2 frames, 1 repeat, lights 1, 4
+and 32: a smoke run. Writes --out (default out/bench_volumetric): bench_volumetric.md (the tables,
 with the machine, its load before and after, the date and the commit), the CSVs and PNGs.
 --self-test checks the parsers, the statistics, the crossover search and the table writer
 on canned inputs (meson test `bench_volumetric_selftest`, suite tools).
@@ -189,8 +199,9 @@ def parse_profile(p, node="vol"):
     else:
         out.update(ms=0.0, min_ms=0.0, bytes=0, resource_bytes=0, plugin_peak=0)
     for k in ("shadow", "lit"):
+        # a gated node has no time (the shadow map of a scene without a light it models)
         n = nodes.get(k)
-        out[k + "_ms"] = n["cpu_ms"] / max(1, n["runs"]) if n else 0.0
+        out[k + "_ms"] = n["cpu_ms"] / max(1, n["runs"]) if n and "cpu_ms" in n else 0.0
     out["frame_ms"] = out["shadow_ms"] + out["lit_ms"] + out["ms"]
     return out
 
@@ -321,7 +332,55 @@ def light_dirs(n):
     return out
 
 
-def graph(scene_file, scene, method, n_lights, shadow_res):
+LIGHT_TYPES = ("directional", "point", "spot")
+# the need (lightgraph inspect --json) that covers each type besides `light` (any type)
+TYPE_NEEDS = {"directional": "directional_light", "point": "point_light", "spot": None}
+
+
+def light_places(n, ltype):
+    """n point or spot lights in the bunny box (x -1 .. 1, y 0 .. 2, z -3 .. -1): positions
+    on a ring of radius 0.5 around (0, y, -1.6) spread in azimuth, points at heights 1.0 ..
+    1.4 (around the bunny's ears), spots at 1.8 under the ceiling shining down, tilted 15
+    degrees towards the ring's axis. Returns [(position, direction)]."""
+    out = []
+    for k in range(n):
+        a = 2 * math.pi * k / n
+        x, z = 0.5 * math.cos(a), -1.6 + 0.5 * math.sin(a)
+        if ltype == "point":
+            out.append(([x, 1.0 + 0.4 * (k % 3) / 2.0, z], [0.0, -1.0, 0.0]))
+        else:
+            t = math.tan(math.radians(15))
+            d = [-math.cos(a) * t, -1.0, -math.sin(a) * t]
+            dl = math.sqrt(sum(c * c for c in d))
+            out.append(([x, 1.8, z], [c / dl for c in d]))
+    return out
+
+
+def light_nodes(n_lights, ltype):
+    """The `light` nodes l0 .. l(n-1), chained from `cam` (the first replaces the scene's
+    lights): the suns of light_dirs (10 lux in all), or light_places's points (20 cd in all)
+    or spots (60 cd in all, cones 20 and 35 degrees)."""
+    g, prev = [], "cam"
+    for k in range(n_lights):
+        mode = ", mode = replace" if k == 0 else ""
+        if ltype == "directional":
+            d = light_dirs(n_lights)[k]
+            g.append("l%d = light { scene = %s%s, direction = [%.6f, %.6f, %.6f], intensity = %g }"
+                     % (k, prev, mode, d[0], d[1], d[2], 10.0 / n_lights))
+        elif ltype in ("point", "spot"):
+            p, d = light_places(n_lights, ltype)[k]
+            extra = (", direction = [%.6f, %.6f, %.6f], inner_cone_deg = 20, outer_cone_deg = 35"
+                     % tuple(d) if ltype == "spot" else "")
+            g.append("l%d = light { scene = %s%s, type = %s, position = [%.6f, %.6f, %.6f]%s, "
+                     "intensity = %g }" % (k, prev, mode, ltype, p[0], p[1], p[2], extra,
+                                           (20.0 if ltype == "point" else 60.0) / n_lights))
+        else:
+            raise BenchError("unknown light type %s (known: %s)" % (ltype, ", ".join(LIGHT_TYPES)))
+        prev = "l%d" % k
+    return g, prev
+
+
+def graph(scene_file, scene, method, n_lights, shadow_res, ltype="directional"):
     _, cam, z_limit = SCENES[scene]
     g = ["lightgraph 1", 'scene = gltf { file = "%s" }' % scene_file]
     if cam is None:
@@ -331,12 +390,8 @@ def graph(scene_file, scene, method, n_lights, shadow_res):
         g.append("fog = medium { scene = scene, %s }" % INTERIOR_FOG[scene])
     else:
         g.append(cam)
-        prev = "cam"
-        for k, d in enumerate(light_dirs(n_lights)):
-            mode = ", mode = replace" if k == 0 else ""
-            g.append("l%d = light { scene = %s%s, direction = [%.6f, %.6f, %.6f], intensity = %g }"
-                     % (k, prev, mode, d[0], d[1], d[2], 10.0 / n_lights))
-            prev = "l%d" % k
+        lights, prev = light_nodes(n_lights, ltype)
+        g += lights
         g.append("fog = medium { scene = %s, density = 1, scattering = [0.1, 0.1, 0.1], "
                  "g = 0.4 }" % prev)
     g.append("shadow = shadowmap { scene = fog, resolution = %d }" % shadow_res)
@@ -382,8 +437,8 @@ class Runner:
         self.files[scene] = path
         return path
 
-    def run(self, scene, method, n_lights, size):
-        text = graph(self.scene_file(scene), scene, method, n_lights, self.shadow_res)
+    def run(self, scene, method, n_lights, size, ltype="directional"):
+        text = graph(self.scene_file(scene), scene, method, n_lights, self.shadow_res, ltype)
         gpath = os.path.join(self.tmp, "g.lgraph")
         with open(gpath, "w") as f:
             f.write(text)
@@ -416,8 +471,9 @@ def repeated(runner, configs, repeat, label):
             r = runner.run(*c)
             res[c].append(r)
             runner.done[c] = res[c]
-            sys.stderr.write("%s %d/%d %s %s %dL %s: %.1f ms (frame %.1f)\n" %
-                             (label, k + 1, repeat, c[0], c[1], c[2], c[3], r["ms"], r["frame_ms"]))
+            sys.stderr.write("%s %d/%d %s %s %dL%s %s: %.1f ms (frame %.1f)\n" %
+                             (label, k + 1, repeat, c[0], c[1], c[2],
+                              " " + c[4] if len(c) > 4 else "", c[3], r["ms"], r["frame_ms"]))
     return res
 
 
@@ -587,54 +643,172 @@ def exp_table6(runner, a, methods, md):
                         r["lit_ms"]))
 
 
+def covers(needs, ltype):
+    """Whether a node with these needs runs on a scene whose lights are all of type ltype."""
+    return "light" in needs or (TYPE_NEEDS[ltype] is not None and TYPE_NEEDS[ltype] in needs)
+
+
+def node_needs(exe, node):
+    r = subprocess.run([exe, "inspect", node, "--json"], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise BenchError("lightgraph inspect %s failed: %s" % (node, r.stderr.strip()))
+    return json.loads(r.stdout)["needs"]
+
+
+def lights_config(m, n, size, ltype):
+    """The config of the lights experiment: the directional one is table6's and crossover's
+    (a 4-tuple, so that their runs are reused)."""
+    return ("bunny", m, n, size) if ltype == "directional" else ("bunny", m, n, size, ltype)
+
+
+LIGHTS_DOC_HEADING = "### Memory against the number of lights"
+
+
+def parse_doc_lights(text):
+    """docs/volumetric.md's table of the lights experiment (the first table after
+    LIGHTS_DOC_HEADING): {lights: {column: value}} with the `... ms` and `... MiB` columns
+    as floats (thousands separators and bold marks removed), or {} when there is none."""
+    i = text.find(LIGHTS_DOC_HEADING)
+    if i < 0:
+        return {}
+    rows, head = {}, None
+    for line in text[i:].split("\n")[1:]:
+        if line.startswith("#"):
+            break
+        if not line.startswith("|"):
+            if head is not None and rows:
+                break
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if head is None:
+            head = cells
+            continue
+        if set(cells[0]) <= set("-:"):
+            continue
+        try:
+            n = int(cells[0])
+            vals = {h: float(c.replace(",", "").replace("*", "")) for h, c in
+                    zip(head[1:], cells[1:])}
+        except ValueError:
+            raise BenchError("docs/volumetric.md: the lights table's row %r does not parse"
+                             % line)
+        rows[n] = vals
+    return rows
+
+
 def exp_lights(runner, a, methods, md):
     lights = [int(x) for x in a.lights.split(",")]
     if any(n < 1 or n > 32 for n in lights):
         raise BenchError("--lights: 1 .. 32 each")
-    configs = [("bunny", m, n, a.size) for n in lights for m in methods]
+    types = a.light_types.split(",")
+    for t in types:
+        if t not in LIGHT_TYPES:
+            raise BenchError("--light-types: unknown %s (known: %s)" % (t, ", ".join(LIGHT_TYPES)))
+    needs = {m: node_needs(runner.exe, METHODS[m][0]) for m in methods}
+    ok = {(m, t): covers(needs[m], t) for m in methods for t in types}
+    configs = [lights_config(m, n, a.size, t) for t in types for n in lights for m in methods
+               if ok[(m, t)]]
     res = repeated(runner, configs, a.repeat, "lights")
+
+    def rs(m, n, t):
+        return res[lights_config(m, n, a.size, t)]
+
     md += ["## Time and peak memory against the number of lights (bunny box, %s)" % a.size, "",
            "Time: the node per frame, median of %d runs (min-max). Memory: the node's peak "
            "(`bytes_allocated`: its outputs plus the most its plugin held at once), the same "
            "in every run; then split into outputs (`resource_bytes`) and own allocations "
-           "(`plugin_bytes_peak`)." % a.repeat, ""]
-    t = []
-    for n in lights:
-        rs = {m: res[("bunny", m, n, a.size)] for m in methods}
-        t.append(["%d" % n] + [cell(summary([r["ms"] for r in rs[m]])) for m in methods] +
-                 ["%.1f" % mib(rs[m][0]["bytes"]) for m in methods] +
-                 ["%.1f" % mib(rs[methods[0]][0]["nodes"]["shadow"]["bytes"])])
-    md += md_table(["lights"] + ["%s ms" % m for m in methods] + ["%s MiB" % m for m in methods] +
-                   ["shadow maps MiB"], t)
-    md += ["", "Peak memory split, MiB (outputs + own allocations):", ""]
-    md += md_table(["lights"] + methods, [
-        ["%d" % n] + ["%.1f + %.1f" % (mib(res[("bunny", m, n, a.size)][0]["resource_bytes"]),
-                                       mib(res[("bunny", m, n, a.size)][0]["plugin_peak"]))
-                      for m in methods] for n in lights])
-    md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(
-        "%s a %.1f b %.2f R^2 %.3f" % ((m,) + fit(
-            [(n, median([r["ms"] for r in res[("bunny", m, n, a.size)]])) for n in lights]))
-        for m in methods) + ".", ""]
-    with open(os.path.join(a.out, "lights.csv"), "w") as f:
-        f.write("lights,method,repeat,ms,min_ms,bytes,resource_bytes,plugin_peak,shadow_bytes\n")
+           "(`plugin_bytes_peak`). Light types (issue 25): directional (suns on a cone around "
+           "the box's sun, 10 lux in all), point (a ring around the bunny, 20 cd in all), "
+           "spot (a ring under the ceiling shining down, 60 cd in all, cones 20 and 35 "
+           "degrees); n/a: the method does not model the type (its needs: the node would be "
+           "gated)." % a.repeat, ""]
+    for t in types:
+        ms = [m for m in methods if ok[(m, t)]]
+        na = [m for m in methods if not ok[(m, t)]]
+        md += ["### %s lights" % t, ""]
+        if na:
+            md += ["n/a: %s (needs %s)." % (", ".join(na), "; ".join(
+                "%s: %s" % (m, ", ".join(needs[m])) for m in na)), ""]
+        if not ms:
+            continue
+        tab = []
         for n in lights:
-            for m in methods:
-                for i, r in enumerate(res[("bunny", m, n, a.size)]):
-                    f.write("%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d\n" % (
-                        n, m, i, r["ms"], r["min_ms"], r["bytes"], r["resource_bytes"],
-                        r["plugin_peak"], r["nodes"]["shadow"]["bytes"]))
-    plot_lights(a.out, methods, lights, res, a.size)
+            tab.append(["%d" % n] + [cell(summary([r["ms"] for r in rs(m, n, t)])) for m in ms] +
+                       ["%.1f" % mib(rs(m, n, t)[0]["bytes"]) for m in ms] +
+                       ["%.1f" % mib(rs(ms[0], n, t)[0]["nodes"]["shadow"]["bytes"])])
+        md += md_table(["lights"] + ["%s ms" % m for m in ms] + ["%s MiB" % m for m in ms] +
+                       ["shadow maps MiB"], tab)
+        md += ["", "Peak memory split, MiB (outputs + own allocations):", ""]
+        md += md_table(["lights"] + ms, [
+            ["%d" % n] + ["%.1f + %.1f" % (mib(rs(m, n, t)[0]["resource_bytes"]),
+                                           mib(rs(m, n, t)[0]["plugin_peak"])) for m in ms]
+            for n in lights])
+        if len(lights) > 1:
+            md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(
+                "%s a %.1f b %.2f R^2 %.3f" % ((m,) + fit(
+                    [(n, median([r["ms"] for r in rs(m, n, t)])) for n in lights]))
+                for m in ms) + "."]
+        md += [""]
+    if "directional" in types:
+        lights_against_doc(a, methods, lights, ok, rs, md)
+    with open(os.path.join(a.out, "lights.csv"), "w") as f:
+        f.write("light_type,lights,method,repeat,ms,min_ms,bytes,resource_bytes,plugin_peak,"
+                "shadow_bytes\n")
+        for t in types:
+            for n in lights:
+                for m in methods:
+                    if not ok[(m, t)]:
+                        continue
+                    for i, r in enumerate(rs(m, n, t)):
+                        f.write("%s,%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d\n" % (
+                            t, n, m, i, r["ms"], r["min_ms"], r["bytes"], r["resource_bytes"],
+                            r["plugin_peak"], r["nodes"]["shadow"]["bytes"]))
+    plot_lights(a.out, [(m, t) for t in types for m in methods if ok[(m, t)]], lights, rs)
 
 
-def plot_lights(out, methods, lights, res, size):
+def lights_against_doc(a, methods, lights, ok, rs, md):
+    """The directional rows of this run beside docs/volumetric.md's (issue 25: a
+    homogeneous-fog directional scene costs what it cost before)."""
+    path = os.path.join(ROOT, "docs", "volumetric.md")
+    doc = parse_doc_lights(open(path).read()) if os.path.exists(path) else {}
+    md += ["### Directional lights against docs/volumetric.md", ""]
+    if not doc:
+        md += ["docs/volumetric.md has no table under \"%s\": nothing to compare."
+               % LIGHTS_DOC_HEADING[4:], ""]
+        return
+    md += ["This run's directional rows beside the page's table (its own run, size and load: "
+           "the page says them; the page's is at 1067x730%s). Time ms this run / the page's "
+           "(ratio); memory MiB this run / the page's." %
+           ("" if a.size == "1067x730" else ", this run at %s: the times are not comparable, "
+            "the memory of the outputs scales with the pixels" % a.size), ""]
+    rows = []
+    for n in lights:
+        if n not in doc:
+            continue
+        for m in methods:
+            if not ok[(m, "directional")]:
+                continue
+            t = median([r["ms"] for r in rs(m, n, "directional")])
+            b = mib(rs(m, n, "directional")[0]["bytes"])
+            dt, db = doc[n].get("%s ms" % m), doc[n].get("%s MiB" % m)
+            rows.append(["%d" % n, m,
+                         "%.1f / %s" % (t, "%.0f (%.2f)" % (dt, t / dt) if dt else "-"),
+                         "%.1f / %s" % (b, "%.1f" % db if db is not None else "-")])
+    md += md_table(["lights", "method", "time ms (ratio)", "memory MiB"], rows) if rows else \
+        ["No light count of this run is in the page's table (%s)." %
+         ", ".join(str(n) for n in sorted(doc))]
+    md += [""]
+
+
+def plot_lights(out, series, lights, rs):
     if not shutil.which("gnuplot"):
         return
-    for m in methods:
-        with open(os.path.join(out, "lights_%s.dat" % m), "w") as f:
+    for m, t in series:
+        with open(os.path.join(out, "lights_%s_%s.dat" % (m, t)), "w") as f:
             for n in lights:
-                rs = res[("bunny", m, n, size)]
-                med, lo, hi = summary([r["ms"] for r in rs])
-                f.write("%d %.4f %.4f %.4f %.4f\n" % (n, med, lo, hi, mib(rs[0]["bytes"])))
+                r = rs(m, n, t)
+                med, lo, hi = summary([x["ms"] for x in r])
+                f.write("%d %.4f %.4f %.4f %.4f\n" % (n, med, lo, hi, mib(r[0]["bytes"])))
     for what, using, label in (("time", "1:2:3:4 with yerrorlines", "time per frame (ms)"),
                                ("memory", "1:5 with linespoints", "node peak memory (MiB)")):
         gp = os.path.join(out, "lights_%s.gp" % what)
@@ -643,11 +817,13 @@ def plot_lights(out, methods, lights, res, size):
             f.write("set output '%s'\n" % os.path.join(out, "lights_%s.png" % what))
             f.write("set grid\nset key left top\nset logscale xy\n")
             f.write("set xtics (%s)\n" % ", ".join(str(n) for n in lights))
-            f.write("set xlabel 'directional lights'\nset ylabel '%s'\n" % label)
-            f.write("set title 'volumetric methods against the number of lights (bunny box)'\n")
+            f.write("set xlabel 'lights'\nset ylabel '%s'\n" % label)
+            f.write("set title 'volumetric methods against the number and type of lights "
+                    "(bunny box)'\n")
             f.write("plot " + ", \\\n     ".join(
-                "'%s' using %s title '%s'" % (os.path.join(out, "lights_%s.dat" % m), using, m)
-                for m in methods) + "\n")
+                "'%s' using %s title '%s %s'" % (os.path.join(out, "lights_%s_%s.dat" % (m, t)),
+                                                 using, m, t)
+                for m, t in series) + "\n")
         subprocess.run(["gnuplot", gp], check=False)
 
 
@@ -743,6 +919,11 @@ def self_test():
           r["plugin_peak"] == 200 and r["nodes"]["shadow"]["bytes"] == 7, "profile: %r" % (r,))
     d = parse_profile(prof, None)
     check(d["ms"] == 0.0 and d["frame_ms"] == 9.0, "profile, disabled: %r" % (d,))
+    gated_shadow = {"nodes": [dict(prof["nodes"][0]), {"name": "shadow", "state": "gated"},
+                              prof["nodes"][2]]}
+    g = parse_profile(gated_shadow)
+    check(g["shadow_ms"] == 0.0 and g["frame_ms"] == 14.0 and g["nodes"]["shadow"]["bytes"] == 0,
+          "profile, a gated shadow map: %r" % (g,))
     prof["nodes"][0]["state"] = "gated"
     try:
         parse_profile(prof)
@@ -790,6 +971,40 @@ def self_test():
         check(False, "an interior with 2 lights was accepted")
     except BenchError:
         pass
+    # issue 25: light types
+    g = graph("/x.glb", "bunny", "screen", 3, 64, "point")
+    check(g.count("type = point") == 3 and "mode = replace" in g and "scene = l2" in g,
+          "point graph: %s" % g)
+    g = graph("/x.glb", "bunny", "screen", 2, 64, "spot")
+    check(g.count("type = spot") == 2 and g.count("outer_cone_deg = 35") == 2, "spot graph")
+    for pos, d in light_places(32, "point") + light_places(32, "spot"):
+        check(-1 < pos[0] < 1 and 0 < pos[1] < 2 and -3 < pos[2] < -1 and
+              abs(sum(c * c for c in d) - 1) < 1e-9, "a light outside the box: %r" % (pos,))
+    try:
+        graph("/x.glb", "bunny", "screen", 1, 64, "area")
+        check(False, "an unknown light type was accepted")
+    except BenchError:
+        pass
+    check(covers(["light", "medium"], "spot") and covers(["point_light"], "point") and
+          not covers(["directional_light", "medium"], "point") and
+          not covers(["directional_light"], "spot"), "covers")
+    doc = parse_doc_lights("# x\n%s\n\ntext\n\n| lights | screen ms | screen MiB |\n"
+                           "|---:|---:|---:|\n| 1 | 2,352 | **96.6** |\n| 4 | 6,082 | 56.5 |\n"
+                           "\n| lights | screen |\n|---:|---:|\n| 1 | 56.5 + 0 |\n"
+                           % LIGHTS_DOC_HEADING)
+    check(doc == {1: {"screen ms": 2352.0, "screen MiB": 96.6},
+                  4: {"screen ms": 6082.0, "screen MiB": 56.5}}, "doc lights table: %r" % doc)
+    check(parse_doc_lights("no such table") == {}, "doc without the table")
+    try:
+        parse_doc_lights("%s\n| lights | a ms |\n|---|---|\n| 1 | fast |\n" % LIGHTS_DOC_HEADING)
+        check(False, "a doc table with words accepted")
+    except BenchError:
+        pass
+    real = os.path.join(ROOT, "docs", "volumetric.md")
+    if os.path.exists(real):
+        rows = parse_doc_lights(open(real).read())
+        check(rows and all("screen ms" in r for r in rows.values()),
+              "docs/volumetric.md's lights table: %r" % rows)
     if fails:
         for x in fails:
             sys.stderr.write("bench_volumetric self-test: FAILED %s\n" % x)
@@ -811,7 +1026,8 @@ def main():
     ap.add_argument("--experiments", default="crossover,table6,lights,gating")
     ap.add_argument("--scenes", default="bunny,dragon,dragons,classroom,courtyard")
     ap.add_argument("--crossover-scenes", default="bunny,dragon")
-    ap.add_argument("--lights", default="1,2,4,8")
+    ap.add_argument("--lights", default="1,2,4,8,16,32")
+    ap.add_argument("--light-types", default=",".join(LIGHT_TYPES))
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--shadow-resolution", type=int, default=1024)
     ap.add_argument("--quick", action="store_true")
@@ -822,7 +1038,8 @@ def main():
     if a.self_test:
         sys.exit(self_test())
     if a.quick:
-        a.size, a.sizes, a.frames, a.repeat, a.lights = "534x365", "256x175,534x365", 2, 1, "1,4"
+        a.size, a.sizes, a.frames, a.repeat, a.lights = ("534x365", "256x175,534x365", 2, 1,
+                                                         "1,4,32")
     if a.frames < 1 or a.repeat < 1:
         die("--frames and --repeat: 1 or more")
     exe = os.path.join(a.build, "lightgraph")

@@ -1,26 +1,35 @@
 /*
  * The volumetric_screen plugin: screen-space light shafts after Mitchell 2007 (seed 2
- * 3.2.1, eq. 6-8; TECHNIQUES.md §6), one pass over the pixels on GL (a fragment pass,
- * shaders/volumetric_screen/vs_screen.frag) or on the CPU (the host's thread pool,
- * vs_pixel below, the same float arithmetic).
+ * 3.2.1, eq. 6-8; TECHNIQUES.md §6; GPU Gems 3 ch. 13), one pass over the pixels on GL (a
+ * fragment pass, shaders/volumetric_screen/vs_screen.frag) or on the CPU (the host's thread
+ * pool, vs_pixel below, the same float arithmetic).
  *
- * For every pixel p and directional light l whose screen position p_l is known, N samples
+ * For every pixel p and light l whose screen position p_l is known, N samples
  * p_i = p + i (p_l - p) / N (i = 1..N) read the depth of `base`; a sample is visible
- * (V_i = 1) when it lies inside the image and sees the sky (depth 1). With the weights
- * w_i = decay^i (or decay^(64 i / N) with normalize = true):
+ * (V_i = 1) when it lies inside the image and its depth is at or beyond the light's: the
+ * sky (depth 1) for a directional light, the light's own window depth z_l for a point or
+ * spot light (a surface in front of the light occludes it, one behind it does not). With
+ * the weights w_i = decay^i (or decay^(64 i / N) with normalize = true):
  *
- *   model = thesis     L_v = exposure weight L_c sum_i w_i V_i / N        (eq. 6; / sum_i w_i
- *                      with normalize = true)
- *   model = physical   L_v = exposure L_c sigma_s p_HG(g, w.(-L)) d seg(sigma_t d) F,
- *                      F = sum_i w_i V_i / sum_i w_i (Mitchell's occlusion estimate),
- *                      d = the fog's length along the view ray (vol_fog_length)
+ *   model = thesis     L_v = exposure weight L_c F_e sum_i w_i V_i / N     (eq. 6; / sum_i w_i
+ *                      with normalize = true); F_e = 1 for a directional light, the light's
+ *                      falloff at the camera (lg_light_falloff at the eye: W C / (d^2 + eps^2))
+ *                      for a point or spot light
+ *   model = physical   L_v = exposure L_c sigma_s A M,  M = sum_i w_i V_i / sum_i w_i
+ *                      (Mitchell's occlusion estimate), A the unshadowed in-scattering along
+ *                      the view ray up to d (vol_fog_length): p_HG(g, w.(-L)) d seg(sigma_t d)
+ *                      for a directional light, the airlight integral lg_point_inscatter
+ *                      (VS_AIRLIGHT_NODES Gauss-Legendre nodes, its window, cone and
+ *                      extinction) for a point or spot light: the glow centred on the light
  *
  * summed over the lights. out = base + L_v (thesis: no extinction), base e^(-sigma_t d) +
  * L_v (physical). No memory beyond the two outputs.
  *
- * Lights without a screen position: clip = view_proj (-L, 0); w = clip.w <= 0 (behind the
- * camera, or in the image plane) contributes nothing, as the method has no samples to take
- * (its shafts point away from the viewer); a light whose p_l is further than
+ * Lights without a screen position: clip = view_proj (-L, 0) (directional) or
+ * view_proj (q, 1) (point, spot); w = clip.w <= 0 (behind the camera, or in its plane: a
+ * point light at the camera) contributes nothing, as the method has no samples to take:
+ * the effect fades out as the light leaves the view (README.md, "A light behind the
+ * camera", says why this and not the negative blur). A light whose p_l is further than
  * 2 (N + 1)(W + H) pixels from the image contributes nothing either, which is exact (every
  * p_i then lies outside the image) and keeps inf out of the arithmetic as w -> 0+.
  * README.md gives the ports, parameters, equations and measurements.
@@ -42,6 +51,11 @@
 
 enum { VS_THESIS = 0, VS_PHYSICAL };
 
+/* Gauss-Legendre nodes of a point or spot light's airlight integral per pixel (one panel,
+ * the GLSL twin's maximum; vs_screen.frag's VS_AIRLIGHT_NODES). Its error against 64 nodes
+ * is in README.md ("What is computed"). */
+#define VS_AIRLIGHT_NODES 8
+
 typedef struct vs_state {
     int model;
     lg_device backend;
@@ -50,21 +64,27 @@ typedef struct vs_state {
     float exposure, decay, weight, z_limit;
     uint32_t width, height;
 
-    lg_gl_pass *pass;
-    lg_gl_binding b_params, b_base, b_depth;
+    /* [0]: directional lights only (the pass as before issue 25), [1]: with point and spot
+     * lights (VS_LOCAL_LIGHTS); each made on first use */
+    lg_gl_pass *pass[2];
+    lg_gl_binding b_params[2], b_base[2], b_depth[2];
     bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } vs_state;
 
 /* What one frame computes with: per light its screen position and colour, the sums. */
 typedef struct vs_frame {
     vol_setup v;
-    float pos[VOL_MAX_LIGHTS][4]; /* xy pixels, z 1 = contributes */
-    float lc[VOL_MAX_LIGHTS][4];
-    float to[VOL_MAX_LIGHTS][4]; /* -L */
-    float k;                     /* log2 of one step's decay */
-    float wt[1025];              /* cpu: wt[i] = exp2f(i k), the shader's values */
-    float norm;                  /* 1 / N or 1 / sum of weights */
-    float scale;                 /* exposure weight (thesis) or exposure (physical) */
+    float pos[VOL_MAX_LIGHTS][4];  /* xy pixels, z 1 = contributes, w the visible depth
+                                    * (1 = sky: directional; z_l: point, spot) */
+    float lc[VOL_MAX_LIGHTS][4];   /* L_c (x F_e, thesis, point and spot) */
+    float to[VOL_MAX_LIGHTS][4];   /* xyz: -L (directional) or the spot's axis; w: the type
+                                    * (0 directional, 1 point, 2 spot) */
+    float q[VOL_MAX_LIGHTS][4];    /* point, spot: xyz the position, w the range */
+    float cone[VOL_MAX_LIGHTS][4]; /* spot: x cos_inner, y cos_outer */
+    float k;                       /* log2 of one step's decay */
+    float wt[1025];                /* cpu: wt[i] = exp2f(i k), the shader's values */
+    float norm;                    /* 1 / N or 1 / sum of weights */
+    float scale;                   /* exposure weight (thesis) or exposure (physical) */
     uint32_t active;
 } vs_frame;
 
@@ -75,6 +95,8 @@ typedef struct vs_gpu_params {
     float light_pos[VOL_MAX_LIGHTS][4];
     float light_c[VOL_MAX_LIGHTS][4];
     float light_to[VOL_MAX_LIGHTS][4];
+    float light_q[VOL_MAX_LIGHTS][4];
+    float light_cone[VOL_MAX_LIGHTS][4];
     float eye[3];
     float z_limit;
     float forward[3];
@@ -91,15 +113,17 @@ typedef struct vs_gpu_params {
     float pad_[2];
 } vs_gpu_params;
 
-LG_GL_BLOCK_SIZE(vs_gpu_params, 1696);
+LG_GL_BLOCK_SIZE(vs_gpu_params, 2720);
 LG_GL_BLOCK_OFFSET(vs_gpu_params, light_pos, 64);
 LG_GL_BLOCK_OFFSET(vs_gpu_params, light_to, 1088);
-LG_GL_BLOCK_OFFSET(vs_gpu_params, eye, 1600);
-LG_GL_BLOCK_OFFSET(vs_gpu_params, g, 1628);
-LG_GL_BLOCK_OFFSET(vs_gpu_params, norm, 1660);
-LG_GL_BLOCK_OFFSET(vs_gpu_params, size, 1664);
-LG_GL_BLOCK_OFFSET(vs_gpu_params, physical, 1680);
-LG_GL_BLOCK_OFFSET(vs_gpu_params, scale, 1684);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, light_q, 1600);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, light_cone, 2112);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, eye, 2624);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, g, 2652);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, norm, 2684);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, size, 2688);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, physical, 2704);
+LG_GL_BLOCK_OFFSET(vs_gpu_params, scale, 2708);
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
 
@@ -153,7 +177,7 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
     const lg_scene *s = lg_scene_get(n, lg_input(n, VOL_IN_SCENE));
     if (!s)
         return LG_ERR_INVALID;
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, VOL_ACCEPT_DIRECTIONAL,
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, NULL, VOL_ACCEPT_LIGHTS,
                             &f->v);
     if (rc)
         return rc;
@@ -163,10 +187,15 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
     double hw = 0.5 * st->width, hh = 0.5 * st->height;
     for (uint32_t l = 0; l < v->n_lights; l++) {
         const vol_light *L = &v->lights[l];
+        bool local = L->type != LG_LIGHT_DIRECTIONAL;
+        /* the point at infinity towards a directional light, the light itself otherwise */
+        double h[4] = { -(double)L->dir[0], -(double)L->dir[1], -(double)L->dir[2], 0.0 };
+        if (local)
+            h[0] = L->pos[0], h[1] = L->pos[1], h[2] = L->pos[2], h[3] = 1.0;
         double c[4] = { 0, 0, 0, 0 };
         for (int row = 0; row < 4; row++)
-            for (int col = 0; col < 3; col++)
-                c[row] += (double)v->view.view_proj[col * 4 + row] * -(double)L->dir[col];
+            for (int col = 0; col < 4; col++)
+                c[row] += (double)v->view.view_proj[col * 4 + row] * h[col];
         /* homogeneous form of |x_pixels - centre| <= far_px: no division until it holds */
         bool on = c[3] > 0.0 && fabs(c[0]) * hw <= far_px * c[3] &&
                   fabs(c[1]) * hh <= far_px * c[3];
@@ -176,10 +205,25 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
             f->pos[l][2] = 1.0f;
             f->active++;
         }
-        for (int ch = 0; ch < 3; ch++) {
-            f->lc[l][ch] = L->l_c[ch];
-            f->to[l][ch] = -L->dir[ch];
+        /* the depth a sample must reach to see the light: the sky, or the light's window
+         * depth (in front of the near plane: 0, nothing occludes; beyond zfar: the sky) */
+        double zl = on && local ? 0.5 * c[2] / c[3] + 0.5 : 1.0;
+        f->pos[l][3] = (float)(zl < 0.0 ? 0.0 : zl > 1.0 ? 1.0 : zl);
+        double fe = 1.0;
+        if (local && st->model == VS_THESIS) {
+            /* the thesis's L_c is the light as the camera sees it: its falloff at the eye */
+            lg_light sl = s->lights[L->scene_index];
+            fe = lg_light_falloff(&sl, v->eye, NULL, NULL);
         }
+        for (int ch = 0; ch < 3; ch++) {
+            f->lc[l][ch] = (float)(L->l_c[ch] * fe);
+            f->to[l][ch] = local ? L->dir[ch] : -L->dir[ch];
+            f->q[l][ch] = L->pos[ch];
+        }
+        f->to[l][3] = L->type == LG_LIGHT_POINT ? 1.0f : L->type == LG_LIGHT_SPOT ? 2.0f : 0.0f;
+        f->q[l][3] = L->range;
+        f->cone[l][0] = L->cos_inner;
+        f->cone[l][1] = L->cos_outer;
     }
     double N = st->samples;
     double step = st->normalize ? 64.0 / N : 1.0; /* decay's exponent per sample */
@@ -196,18 +240,21 @@ static int vs_frame_make(lg_node *n, const vs_state *st, vs_frame *f)
 
 /* ---- GL -------------------------------------------------------------------------------------- */
 
-static int vs_gl_pass(lg_node *n, vs_state *st)
+static int vs_gl_pass(lg_node *n, vs_state *st, int local)
 {
-    if (st->pass)
+    if (st->pass[local])
         return 0;
     static const lg_gl_shader_src src[2] = {
         { GL_VERTEX_SHADER, lg_src_vs_fullscreen_vert_file, lg_src_vs_fullscreen_vert },
         { GL_FRAGMENT_SHADER, lg_src_vs_screen_frag_file, lg_src_vs_screen_frag },
     };
-    /* out (colour + depth) and inscatter: the outputs themselves, no other image */
+    /* out (colour + depth) and inscatter: the outputs themselves, no other image. A scene
+     * of directional lights compiles without the point and spot code: llvmpipe runs the
+     * shader with it (not taken) at half the speed (README.md, "Cost") */
     lg_gl_pass_desc d = { .name = "volumetric_screen",
                           .stages = src,
                           .n_stages = 2,
+                          .defines = local ? "#define VS_LOCAL_LIGHTS 1\n" : NULL,
                           .colors = { GL_RGBA32F, GL_RGBA32F },
                           .depth = true,
                           .depth_test = true,
@@ -215,13 +262,13 @@ static int vs_gl_pass(lg_node *n, vs_state *st)
                           /* every pixel is written, depth included (base's): no test
                            * against the old plane */
                           .depth_func = GL_ALWAYS };
-    int rc = lg_gl_pass_create(n, &d, &st->pass);
+    int rc = lg_gl_pass_create(n, &d, &st->pass[local]);
     if (rc)
         return rc;
-    lg_gl_pass *p = st->pass;
-    st->b_params = lg_gl_pass_uniform_block(p, "VsParams");
-    st->b_base = lg_gl_pass_texture(p, "u_base");
-    st->b_depth = lg_gl_pass_texture(p, "u_base_depth");
+    lg_gl_pass *p = st->pass[local];
+    st->b_params[local] = lg_gl_pass_uniform_block(p, "VsParams");
+    st->b_base[local] = lg_gl_pass_texture(p, "u_base");
+    st->b_depth[local] = lg_gl_pass_texture(p, "u_base_depth");
     return 0;
 }
 
@@ -230,7 +277,10 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     const lg_gl *gl = lg_gl_get(n);
     if (!gl)
         return LG_ERR_DEVICE;
-    int rc = vs_gl_pass(n, st);
+    int local = 0;
+    for (uint32_t l = 0; l < f->v.n_lights; l++)
+        local |= f->v.lights[l].type != LG_LIGHT_DIRECTIONAL;
+    int rc = vs_gl_pass(n, st, local);
     if (rc)
         return rc;
     GLuint base = 0, base_depth = 0;
@@ -242,7 +292,7 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     if ((rc = lg_gl_target_output(n, "out", &t)) || (rc = lg_gl_target_output(n, "inscatter", &ti)))
         return rc;
     t.color[1] = ti.color[0];
-    lg_gl_pass *p = st->pass;
+    lg_gl_pass *p = st->pass[local];
     if ((rc = lg_gl_pass_begin(p, &t)))
         return rc;
     const vol_setup *v = &f->v;
@@ -264,12 +314,14 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
     memcpy(u.light_pos, f->pos, sizeof u.light_pos);
     memcpy(u.light_c, f->lc, sizeof u.light_c);
     memcpy(u.light_to, f->to, sizeof u.light_to);
+    memcpy(u.light_q, f->q, sizeof u.light_q);
+    memcpy(u.light_cone, f->cone, sizeof u.light_cone);
     memcpy(u.sigma_s, v->sigma_s, sizeof u.sigma_s);
     memcpy(u.sigma_t, v->sigma_t, sizeof u.sigma_t);
-    if ((rc = lg_gl_pass_uniforms(p, st->b_params, &u, sizeof u)))
+    if ((rc = lg_gl_pass_uniforms(p, st->b_params[local], &u, sizeof u)))
         return lg_gl_pass_end(p, rc);
-    lg_gl_pass_bind_texture(p, st->b_base, base);
-    lg_gl_pass_bind_texture(p, st->b_depth, base_depth);
+    lg_gl_pass_bind_texture(p, st->b_base[local], base);
+    lg_gl_pass_bind_texture(p, st->b_depth[local], base_depth);
     rc = lg_gl_pass_draw(p, GL_TRIANGLES, 3);
     if ((rc = lg_gl_pass_end(p, rc)))
         return rc;
@@ -277,6 +329,71 @@ static int vs_exec_gl(lg_node *n, vs_state *st, const vs_frame *f)
 }
 
 /* ---- CPU (the twin of vs_screen.frag) -------------------------------------------------------- */
+
+/* A point or spot light's airlight along the view ray over [0, d] (lg_point_inscatter,
+ * per unit L_c and sigma_s). A spot's ray is first cut where it crosses the outer cone
+ * (the double cone (dot(x - q, s))^2 = cos^2 |x - q|^2, a quadratic in t) and only the
+ * pieces inside the forward cone are integrated, each with the transmittance from the eye
+ * to its start: a quadrature over the whole ray would straddle the cone's edges (kinks)
+ * and a narrow beam could fall between its nodes. vs_screen.frag's vs_airlight is the
+ * float twin. */
+static double vs_airlight(const double o[3], const double w[3], double d, const double q[3],
+                          double range, const double *spot, double g, double sigma_t)
+{
+    if (!spot)
+        return lg_point_inscatter(o, w, 0.0, d, q, range, NULL, g, sigma_t, VS_AIRLIGHT_NODES);
+    double ma = 0.0, wa = 0.0, mw = 0.0, mm = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double m = o[c] - q[c];
+        ma += m * spot[c];
+        wa += w[c] * spot[c];
+        mw += m * w[c];
+        mm += m * m;
+    }
+    double c2 = spot[4] > 0.0 ? spot[4] * spot[4] : 0.0;
+    double A = wa * wa - c2, B = 2.0 * (ma * wa - c2 * mw), C = ma * ma - c2 * mm;
+    double t[4] = { 0.0, d, d, d };
+    int n = 1;
+    double r[2];
+    int nr = 0;
+    if (fabs(A) > 1e-12) {
+        double disc = B * B - 4.0 * A * C;
+        if (disc >= 0.0) {
+            double sq = sqrt(disc);
+            r[nr++] = (-B - sq) / (2.0 * A);
+            r[nr++] = (-B + sq) / (2.0 * A);
+        }
+    } else if (fabs(B) > 0.0) {
+        r[nr++] = -C / B;
+    }
+    if (nr == 2 && r[0] > r[1]) {
+        double x = r[0];
+        r[0] = r[1];
+        r[1] = x;
+    }
+    for (int k = 0; k < nr; k++)
+        if (r[k] > t[n - 1] && r[k] < d)
+            t[n++] = r[k];
+    t[n++] = d;
+    double sum = 0.0;
+    for (int k = 0; k + 1 < n; k++) {
+        if (!(t[k + 1] > t[k]))
+            continue;
+        /* inside the forward cone at the piece's middle (the cone's test of lg_spot_cone) */
+        double mid = 0.5 * (t[k] + t[k + 1]), v[3], len = 0.0, ca = 0.0;
+        for (int c = 0; c < 3; c++) {
+            v[c] = o[c] + mid * w[c] - q[c];
+            len += v[c] * v[c];
+            ca += v[c] * spot[c];
+        }
+        len = sqrt(len);
+        if (!(len > 0.0) || !(ca > spot[4] * len))
+            continue;
+        sum += exp(-sigma_t * t[k]) * lg_point_inscatter(o, w, t[k], t[k + 1], q, range, spot, g,
+                                                         sigma_t, VS_AIRLIGHT_NODES);
+    }
+    return sum;
+}
 
 typedef struct vs_job {
     const vs_state *st;
@@ -306,15 +423,30 @@ static void vs_pixel(const vs_job *j, uint32_t x, uint32_t y)
         if (f->pos[l][2] == 0.0f)
             continue;
         float dx = (f->pos[l][0] - px) / nf, dy = (f->pos[l][1] - py) / nf;
+        float zl = f->pos[l][3];
         float s = 0.0f;
         for (uint32_t i = 1; i <= st->samples; i++) {
             float qx = px + (float)i * dx, qy = py + (float)i * dy;
             if (qx >= 0.0f && qy >= 0.0f && qx < W && qy < H &&
-                j->depth[(size_t)(uint32_t)qy * st->width + (uint32_t)qx] >= 1.0f)
+                j->depth[(size_t)(uint32_t)qy * st->width + (uint32_t)qx] >= zl)
                 s += f->wt[i];
         }
         float a = f->scale * f->norm * s;
-        if (st->model == VS_PHYSICAL) {
+        if (st->model == VS_PHYSICAL && f->to[l][3] != 0.0f) {
+            /* point, spot: the airlight along the ray to d (the shader's float twin) */
+            double q[3] = { f->q[l][0], f->q[l][1], f->q[l][2] };
+            double spot[5] = { f->to[l][0], f->to[l][1], f->to[l][2], f->cone[l][0],
+                               f->cone[l][1] };
+            const double *sp = f->to[l][3] == 2.0f ? spot : NULL;
+            float air[3];
+            for (int ch = 0; ch < 3; ch++)
+                air[ch] = ch > 0 && v->sigma_t[ch] == v->sigma_t[ch - 1]
+                              ? air[ch - 1]
+                              : (float)vs_airlight(v->eye, w, d, q, f->q[l][3], sp, v->g,
+                                                   v->sigma_t[ch]);
+            for (int ch = 0; ch < 3; ch++)
+                lv[ch] += f->lc[l][ch] * a * v->sigma_s[ch] * air[ch];
+        } else if (st->model == VS_PHYSICAL) {
             float c = (float)(w[0] * f->to[l][0] + w[1] * f->to[l][1] + w[2] * f->to[l][2]);
             float ph = lg_hg_phasef(v->g, c);
             for (int ch = 0; ch < 3; ch++)
@@ -385,8 +517,8 @@ static int vs_execute(lg_node *n, const lg_frame *frame)
         rc = st->backend == LG_DEVICE_GL ? vs_exec_gl(n, st, f) : vs_exec_cpu(n, st, f);
     if (!rc)
         lg_log(n, LG_LOG_DEBUG,
-               "%u of %u directional lights on screen (the others behind the "
-               "camera or too far off-screen: no shafts), %u samples, %s",
+               "%u of %u lights on screen (the others behind the camera or too far "
+               "off-screen: no shafts), %u samples, %s",
                f->active, f->v.n_lights, st->samples,
                st->model == VS_PHYSICAL ? "physical" : "thesis");
     free(f);
@@ -398,7 +530,8 @@ static void vs_destroy(lg_node *n)
     vs_state *st = n->user;
     if (!st)
         return;
-    lg_gl_pass_destroy(&st->pass);
+    lg_gl_pass_destroy(&st->pass[0]);
+    lg_gl_pass_destroy(&st->pass[1]);
     free(st);
     n->user = NULL;
 }
@@ -444,9 +577,11 @@ static const lg_param_desc vs_params[] = {
       .type = LG_PARAM_ENUM,
       .def.e = VS_PHYSICAL,
       .enum_values = vs_models,
-      .doc = "thesis: eq. 6 (Mitchell's units), out = base + L_v; physical: the unshadowed "
-             "closed form L_c sigma_s p d seg(sigma_t d) times the decay-weighted fraction "
-             "of visible samples, out = base e^(-sigma_t d) + L_v" },
+      .doc = "thesis: eq. 6 (Mitchell's units; a point or spot light's L_c times its falloff "
+             "at the camera), out = base + L_v; physical: the unshadowed in-scattering along "
+             "the view ray (directional: L_c sigma_s p d seg(sigma_t d); point, spot: the "
+             "airlight integral) times the decay-weighted fraction of visible samples, out = "
+             "base e^(-sigma_t d) + L_v" },
     { .key = "z_limit",
       .type = LG_PARAM_FLOAT,
       .def.f = 0,
@@ -462,7 +597,8 @@ static const lg_param_desc vs_params[] = {
 static const lg_port_desc vs_inputs[] = {
     { .name = "scene",
       .kind = LG_KIND_SCENE,
-      .doc = "the scene: its directional lights (1 .. 32), medium and active camera" },
+      .doc = "the scene: its lights (1 .. 32: directional, point, spot), its homogeneous "
+             "medium and active camera" },
     { .name = "base",
       .kind = LG_KIND_IMAGE,
       .doc = "the lit image with its depth plane (phong's out): depth 1 = sky" },
@@ -479,12 +615,12 @@ static const lg_port_desc vs_outputs[] = {
 static const lg_node_type vs_types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "volumetric_screen",
-    .doc = "Screen-space light shafts (Mitchell 2007): samples towards each directional "
-           "light's screen position, sky visibility from depth (cpu, gl)",
+    .doc = "Screen-space light shafts (Mitchell 2007): samples towards each light's screen "
+           "position (directional, point, spot), visibility from depth (cpu, gl)",
     LG_PARAMS(vs_params),
     LG_INPUTS(vs_inputs),
     LG_OUTPUTS(vs_outputs),
-    .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
+    .needs = LG_NEEDS_MEDIUM | LG_NEEDS_LIGHT,
     .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
     .neutral_input = VOL_IN_BASE,
     .create = vs_create,

@@ -7,7 +7,8 @@ page's volumetric section (sections/volumetric.py) claims beyond "the page was m
    backend of every volumetric method has a study, at full size and at --quick; every knob
    a study varies or sets is a parameter of its node (or the linked grid), with values in
    its enum's choices; every light or medium feature the volumetric nodes need has its
-   entry in LIGHTS or MEDIA;
+   entry in LIGHTS or MEDIA (a node that needs `light`, any type, is covered when LIGHTS
+   has every light type);
 2. the runner, at quick size: two froxel studies of one case share one reference (rendered
    once, by the first); the linked knob `vol.grid` is applied (its rows differ, the finer
    grid errs less); every row has a finite relative RMSE, the reference's time and its
@@ -86,10 +87,19 @@ def coverage(sec, build, out):
                     check(v in par["values"], "%s: %s=%s is not one of %s"
                           % (s.id, k, v, par["values"]))
     needs = {n for m in METHODS for n in nodes[m]["needs"]}
-    light_needs = {n for n in needs if n.endswith("_light")}
-    check(light_needs == {c.need for c in sec.LIGHTS},
-          "the volumetric nodes need %s; LIGHTS covers %s" % (sorted(light_needs),
-                                                            [c.need for c in sec.LIGHTS]))
+    # a light need is one type's (`directional_light`, `point_light`) or `light`, any type:
+    # the latter is covered by LIGHTS holding every type a node that needs it models
+    light_needs = {n for n in needs if n.endswith("_light") or n == "light"}
+    have = {c.need for c in sec.LIGHTS}
+    types = {c.light_type for c in sec.LIGHTS}
+    for n in sorted(light_needs - {"light"}):
+        check(n in have, "the volumetric nodes need %s; LIGHTS covers %s" % (n, sorted(have)))
+    if "light" in light_needs:
+        check(types >= sec.LIGHT_TYPES, "a volumetric node needs `light` (any type); LIGHTS has "
+              "the types %s, not every one of %s" % (sorted(types), sorted(sec.LIGHT_TYPES)))
+    for c in sec.LIGHTS:
+        check(c.need in light_needs or ("light" in light_needs and c.light_type in types),
+              "LIGHTS entry %s: need %s is no volumetric node's" % (c.tag, c.need))
     check({c.need for c in sec.MEDIA} <= needs, "MEDIA names a need no volumetric node has")
 
 

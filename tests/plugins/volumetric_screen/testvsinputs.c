@@ -9,7 +9,12 @@
  *                            travels along `direction`, light k > 0 along direction +
  *                            0.25 (cos 2.4k, sin 2.4k, 0) (normalised); colour of light k
  *                            (1, 1 - k/64, 1 - k/128), intensity `intensity`. only = k
- *                            keeps light k alone (-1: all).
+ *                            keeps light k alone (-1: all). type = point or spot: light
+ *                            k at `position` + 0.25 (cos 2.4k, sin 2.4k, 0) instead, with
+ *                            `range`, a spot's axis `direction` (light k's, as above) and
+ *                            cone angles `inner_cone`, `outer_cone` (degrees). field =
+ *                            true: the medium gets a density field (height fog over the
+ *                            whole space: heterogeneous).
  *   test_vs_base  -> image   rgba32f `color`, alpha 1, with a depth plane: `depth`
  *                            everywhere except the box [box_x0, box_x1) x [box_y0, box_y1)
  *                            (pixels) at `box_depth`; depth_plane = false: no depth plane.
@@ -17,6 +22,7 @@
  *                            inf_pixels = M: the next M get +Inf green and -Inf blue (two
  *                            channels, one pixel): N + M non-finite pixels in all.
  */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,7 +46,8 @@ static int tv_scene_prepare(lg_node *n)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
     lg_ts_camera(b, "test", lg_v3(0, 0, 0), lg_v3(0, 0, -1), lg_v3(0, 1, 0),
                  (float)(60.0 * LG_PI / 180.0), 0.1f, 20.0f);
-    const lg_value *dir = lg_param(n, "direction");
+    const lg_value *dir = lg_param(n, "direction"), *pos = lg_param(n, "position");
+    int type = lg_param_enum(n, "type");
     for (int64_t k = 0; k < count; k++) {
         if (only >= 0 && k != only)
             continue;
@@ -53,14 +60,43 @@ static int tv_scene_prepare(lg_node *n)
         float u[3];
         for (int i = 0; i < 3; i++)
             u[i] = len > 0 ? (float)(d[i] / len) : 0.0f;
-        lg_ts_dir_light(b, "test", lg_v3(u[0], u[1], u[2]),
-                        lg_v3(1.0f, 1.0f - (float)k / 64.0f, 1.0f - (float)k / 128.0f),
-                        (float)lg_param_float(n, "intensity"));
+        lg_light *l =
+            lg_ts_dir_light(b, "test", lg_v3(u[0], u[1], u[2]),
+                            lg_v3(1.0f, 1.0f - (float)k / 64.0f, 1.0f - (float)k / 128.0f),
+                            (float)lg_param_float(n, "intensity"));
+        if (type != 0) {
+            l->type = type == 1 ? LG_LIGHT_POINT : LG_LIGHT_SPOT;
+            double o[3] = { 0, 0, 0 };
+            if (k > 0) {
+                o[0] = 0.25 * cos(2.4 * (double)k);
+                o[1] = 0.25 * sin(2.4 * (double)k);
+            }
+            for (int i = 0; i < 3; i++)
+                l->position[i] = (float)(pos->v[i] + o[i]);
+            l->range = (float)lg_param_float(n, "range");
+            l->inner_cone = (float)(lg_param_float(n, "inner_cone") * LG_PI / 180.0);
+            l->outer_cone = (float)(lg_param_float(n, "outer_cone") * LG_PI / 180.0);
+        }
     }
     float sca = (float)lg_param_float(n, "scattering");
     float ab = (float)lg_param_float(n, "absorption");
     lg_ts_medium(b, 1.0f, lg_v3(sca, sca, sca), lg_v3(ab, ab, ab), (float)lg_param_float(n, "g"));
-    return lg_ts_publish(n, 0, b);
+    if (!lg_param_bool(n, "field"))
+        return lg_ts_publish(n, 0, b);
+    /* height fog everywhere: the scene's medium made heterogeneous (the field is static,
+     * it outlives every scene) */
+    static const lg_density_field fog = {
+        .kind = LG_FIELD_UNIFORM,
+        .height_falloff = 0.5f,
+        .bounds_min = { -FLT_MAX, -FLT_MAX, -FLT_MAX },
+        .bounds_max = { FLT_MAX, FLT_MAX, FLT_MAX },
+    };
+    lg_scene *s = lg_ts_finish(b);
+    if (!s)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory building the test scene");
+    s->medium.field = &fog;
+    lg_scene_compute_features(s);
+    return lg_declare_payload(n, 0, LG_KIND_SCENE, &s->features, s, lg_ts_free);
 }
 
 static int tv_nothing(lg_node *n, const lg_frame *frame)
@@ -110,13 +146,15 @@ static int tv_base_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
+static const char *const tv_light_types[] = { "directional", "point", "spot", NULL };
+
 static const lg_param_desc tv_scene_params[] = {
     { .key = "lights",
       .type = LG_PARAM_INT,
       .def.i = 1,
       .min = 0,
       .max = VS_TEST_MAX_LIGHTS,
-      .doc = "directional lights" },
+      .doc = "lights" },
     { .key = "only",
       .type = LG_PARAM_INT,
       .def.i = -1,
@@ -129,6 +167,39 @@ static const lg_param_desc tv_scene_params[] = {
       .min = -1e3,
       .max = 1e3,
       .doc = "the direction light 0 travels" },
+    { .key = "type",
+      .type = LG_PARAM_ENUM,
+      .def.e = 0,
+      .enum_values = tv_light_types,
+      .doc = "every light's type" },
+    { .key = "position",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, -5 },
+      .min = -1e3,
+      .max = 1e3,
+      .doc = "point, spot: light 0's position" },
+    { .key = "range",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e6,
+      .doc = "point, spot: the range (0 infinite)" },
+    { .key = "inner_cone",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 10,
+      .min = 0,
+      .max = 90,
+      .doc = "spot: degrees" },
+    { .key = "outer_cone",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 20,
+      .min = 0,
+      .max = 90,
+      .doc = "spot: degrees" },
+    { .key = "field",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "a heterogeneous medium (height fog)" },
     { .key = "intensity",
       .type = LG_PARAM_FLOAT,
       .def.f = 10,
@@ -214,7 +285,7 @@ static const lg_port_desc tv_image_out[] = { { .name = "out", .kind = LG_KIND_IM
 static const lg_node_type tv_types[] = {
     { .struct_size = sizeof(lg_node_type),
       .name = "test_vs_scene",
-      .doc = "a camera, directional lights and a medium (test)",
+      .doc = "a camera, lights and a medium (test)",
       LG_PARAMS(tv_scene_params),
       LG_OUTPUTS(tv_scene_out),
       .prepare = tv_scene_prepare,

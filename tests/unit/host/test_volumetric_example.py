@@ -9,8 +9,8 @@
   gated      `--set fog.density=0` on every example: `vol` is gated ("no medium") and its
              plugin not loaded; `out` is `lit` unchanged (the same pixels) and `inscatter`
              black; the same with a scene whose only light is a point light ("no
-             directional light"), but for the methods that model point lights (issue 25:
-             the reference, polygonal and froxel), which are kept
+             directional light") for a method that needs one; a method that needs any
+             light (`light`, issue 25) runs there
   all        one graph holding all four methods (each reading the previous one's `out` as its
              base) with fog: all four run; with `fog.density = 0`: all four gated, none of
              their plugins loaded, and the shadow map still runs for Phong; and a graph where
@@ -22,6 +22,7 @@ so that their `output tone "../out/..."` lands there, never in the source tree.
 
 usage: test_volumetric_example.py TEST_NAME
 """
+import json
 import os
 import shutil
 import sys
@@ -107,10 +108,6 @@ def test_render():
             + SIZE + FAST["froxel"])
 
 
-# the methods that model point and spot lights (issue 25): a scene whose only light is a
-# point light runs them
-LOCAL_LIGHTS = ("reference", "polygonal", "froxel")
-
 
 def test_gated():
     ex = tree()
@@ -126,14 +123,17 @@ def test_gated():
         check(all(v == 0.0 for r_ in ins for px in r_ for v in px[:3]),
               "%s: gated in-scatter is not black" % m)
         check(out == lit, "%s: gated out is not lit unchanged" % m)
-        # the only light a point light: no directional light
+        # the only light a point light: a method that needs a directional light is gated;
+        # one that needs any light (issue 25: `lightgraph inspect` says `light`) runs
         p = run(["render", g, "--explain", "--set", "sun.type=point",
                  "--set", "sun.position=[0,1.5,0]"] + SIZE + FAST.get(m, []))
         text = p.stdout + p.stderr
         r = row(text, "vol")
-        if m in LOCAL_LIGHTS:
-            # since issue 25 this method models point lights: kept, and it runs
-            check("kept" in r, "%s: vol not kept with a point light:\n%s" % (m, text))
+        needs = json.loads(run(["inspect", PLUGIN[m], "--json"]).stdout)["needs"]
+        if "light" in needs:
+            check("kept" in r, "%s: needs any light, yet vol is not kept with a point light:\n%s"
+                  % (m, text))
+            check(PLUGIN[m] in loaded(text), "%s: plugin not loaded:\n%s" % (m, text))
             continue
         check("gated" in r and "directional" in r,
               "%s: vol not gated for want of a directional light:\n%s" % (m, text))
