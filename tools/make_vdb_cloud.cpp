@@ -27,6 +27,7 @@
 #include <openvdb/tools/Interpolation.h>
 
 #include "lightgraph/medium.h"
+#include "lightgraph/vecmath.h"
 
 using openvdb::Coord;
 using openvdb::FloatGrid;
@@ -177,7 +178,7 @@ int fixtures(const std::string &dir)
         FloatGrid::Ptr d = float_grid("density", 1.0);
         openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(1.0);
         xf->preScale(openvdb::Vec3d(0.5, 1.0, 2.0));
-        xf->postRotate(0.5 * M_PI, openvdb::math::Y_AXIS);
+        xf->postRotate(LG_HALF_PI, openvdb::math::Y_AXIS);
         xf->postTranslate(openvdb::Vec3d(10, 0, 0));
         d->setTransform(xf);
         d->getAccessor().setValue(Coord(0, 0, 0), 1.0f);
