@@ -73,6 +73,10 @@ int read_grid(const void *bytes, size_t len, const char *want, uint64_t max_voxe
     openvdb::initialize(); // registers the grid types; idempotent
     MemBuf buf(static_cast<const char *>(bytes), len);
     std::istream is(&buf);
+    // OpenVDB does not check its reads: past the end of a truncated file it would go on
+    // with sizes it never read (uninitialised: a huge allocation one run, garbage the next).
+    // A short read throws instead, and becomes "not a readable VDB file".
+    is.exceptions(std::ios_base::failbit | std::ios_base::badbit);
     openvdb::io::Stream stream(is, false); // reads the header and every grid now
     openvdb::GridPtrVecPtr grids = stream.getGrids();
     if (!grids || grids->empty()) {

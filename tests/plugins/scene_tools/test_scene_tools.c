@@ -38,7 +38,8 @@
  *   field_errors each refusal of the medium node exits 1 (2 for a declared range) and
  *                 names the parameter, the file, the grid or the voxel: a flat or inside-out
  *                 box, frequency 0, gain 1, a height fog that overflows the scene, an empty
- *                 vdb path, a missing file, a folder; with OpenVDB also vdb_scale 0, a text
+ *                 vdb path, a missing file, a folder, a (sparse) file over the 1 GiB cap;
+ *                 with OpenVDB also vdb_scale 0, a text
  *                 file, a truncated file, a file without a float grid, an unknown grid name
  *                 (the file's grids listed), a level set, an empty grid, 2^30 voxels made
  *                 dense, a frustum transform, a negative or NaN voxel; without OpenVDB,
@@ -55,6 +56,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "lightgraph/medium.h"
 #include "lightgraph/vecmath.h"
@@ -1084,6 +1086,13 @@ static void case_field_errors(lg_test *t)
                  (const char *const[]){ "'bad'", "no_such.vdb", "cannot read it", NULL });
     expect_error(t, "a folder", 1, "bad = medium { scene = cube, field = vdb, vdb = \".\" }\n",
                  (const char *const[]){ "'bad'", "cannot read it", "directory", NULL });
+    /* a sparse file one byte over the 1 GiB cap: refused by its size, before a byte is read */
+    lg_test_write_text(t, "big.vdb", "");
+    int trc = truncate(lg_test_path(t, "big.vdb"), ((off_t)1 << 30) + 1);
+    LG_TEST_CHECK(t, trc == 0, "cannot make the sparse file");
+    expect_error(t, "over the size cap", 1,
+                 "bad = medium { scene = cube, field = vdb, vdb = \"big.vdb\" }\n",
+                 (const char *const[]){ "'bad'", "big.vdb", "cannot read it", "limit", NULL });
     static const struct {
         const char *what, *file, *extra, *msg1, *msg2;
     } bad[] = {
