@@ -222,6 +222,8 @@ extern "C" int st_vdb_read(const void *bytes, size_t len, const char *grid, uint
         err[0] = 0;
     try {
         return read_grid(bytes, len, grid, max_voxels, out, err, errlen);
+    } catch (const std::ios_base::failure &) {
+        say(err, errlen, "not a readable VDB file: it ends before its grids do (truncated?)");
     } catch (const std::bad_alloc &) {
         say(err, errlen, "out of memory while reading it (a corrupt size field?)");
     } catch (const std::exception &e) {

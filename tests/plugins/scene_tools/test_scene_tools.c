@@ -1098,7 +1098,7 @@ static void case_field_errors(lg_test *t)
     } bad[] = {
         { "vdb_scale 0", "one_voxel.vdb", "vdb_scale = 0", "vdb_scale = 0", "> 0" },
         { "text", "garbage.vdb", "", "garbage.vdb", "not a readable VDB file" },
-        { "truncated", "truncated.vdb", "", "truncated.vdb", "not a readable VDB file" },
+        { "truncated", "truncated.vdb", "", "not a readable VDB file", "ends before its grids do" },
         { "no float grid", "vec3.vdb", "", "no float grid", "'velocity' (vec3s)" },
         { "unknown grid", "one_voxel.vdb", "grid = \"smoke\"", "no grid named 'smoke'",
           "'density' (float), 'other' (float)" },
