@@ -2,10 +2,13 @@
  * scene features, declared work) and the estimate of a run's wall time. */
 #include "plan/plan.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "lightgraph/kinds.h"
+#include "lightgraph/medium.h"
+#include "lightgraph/scene.h"
 
 static const char *state_name(lg_node_state s)
 {
@@ -98,11 +101,58 @@ static void print_features(FILE *f, const char *name, const lg_scene_features *s
             "scene features (%s): triangles %llu, vertices %llu, lights: %u directional, %u "
             "point, %u other; medium %s (density %g); probe %s; specular material %s; "
             "reflective materials %u; textures %u; masked materials %u; animated instances, "
-            "lights and cameras %u\n",
+            "lights and cameras %u; medium field %s\n",
             name, (unsigned long long)sf->triangles, (unsigned long long)sf->vertices,
             sf->dir_lights, sf->point_lights, sf->other_lights, sf->medium ? "yes" : "no",
             (double)sf->medium_density, sf->probe ? "yes" : "no", sf->specular ? "yes" : "no",
-            sf->reflective_materials, sf->textures, sf->masked_materials, sf->animated);
+            sf->reflective_materials, sf->textures, sf->masked_materials, sf->animated,
+            sf->medium_field ? "yes" : "no");
+}
+
+/* "medium field (fog): fbm 5 octaves, frequency 1, ...; majorant 1.94 over the scene": the
+ * density field of a scene that has one (ABI 3.2), read from the producer's lg_scene. */
+static void print_field(FILE *f, const char *name, const lg_scene *s)
+{
+    const lg_density_field *fd = s->medium.field;
+    if (!fd)
+        return;
+    fprintf(f, "medium field (%s): ", name);
+    if (fd->kind == LG_FIELD_GRID && fd->grid) {
+        const lg_density_grid *g = fd->grid;
+        double mib = (double)g->nx * g->ny * g->nz * sizeof(float) / (1 << 20);
+        fprintf(f, "grid %ux%ux%u (%.1f MiB) from %s, values up to %g", g->nx, g->ny, g->nz, mib,
+                g->source ? g->source : "?", (double)g->max_value);
+    } else if (fd->kind == LG_FIELD_FBM) {
+        const lg_density_fbm *b = &fd->fbm;
+        fprintf(f,
+                "fbm %u octaves, seed %u, frequency %g, lacunarity %g, gain %g, offset %g, "
+                "scale %g",
+                b->octaves, b->seed, (double)b->frequency, (double)b->lacunarity, (double)b->gain,
+                (double)b->offset, (double)b->scale);
+    } else {
+        fprintf(f, "uniform");
+    }
+    if (fd->height_falloff > 0)
+        fprintf(f, "; height fog falloff %g from y = %g", (double)fd->height_falloff,
+                (double)fd->height_base);
+    if (fd->bounds_min[0] > -FLT_MAX || fd->bounds_max[0] < FLT_MAX)
+        fprintf(f, "; box [%g, %g, %g] .. [%g, %g, %g]", (double)fd->bounds_min[0],
+                (double)fd->bounds_min[1], (double)fd->bounds_min[2], (double)fd->bounds_max[0],
+                (double)fd->bounds_max[1], (double)fd->bounds_max[2]);
+    double lo[3], hi[3];
+    bool bounded = true;
+    for (int c = 0; c < 3; c++) {
+        lo[c] = s->bounds_min[c];
+        hi[c] = s->bounds_max[c];
+        bounded = bounded && lo[c] <= hi[c];
+    }
+    if (bounded)
+        fprintf(f, "; majorant %.4g over the scene's bounds\n",
+                lg_medium_field_max(&s->medium, lo, hi));
+    else
+        fprintf(f, "; majorant %.4g\n",
+                lg_medium_field_max(&s->medium, (const double[3]){ -DBL_MAX, -DBL_MAX, -DBL_MAX },
+                                    (const double[3]){ DBL_MAX, DBL_MAX, DBL_MAX }));
 }
 
 /* How many times lg_execute will run a kept node: once, or on every frame. */
@@ -211,8 +261,12 @@ void lg_explain_print(lg_exec *ex, FILE *f)
         lg_pnode *n = ex->nodes[i];
         for (uint32_t o = 0; n->outputs && o < n->schema->n_outputs; o++) {
             lg_resource *r = n->outputs[o];
-            if (r && r->kind == LG_KIND_SCENE && r->has_features && r->producer == n && !r->neutral)
+            if (r && r->kind == LG_KIND_SCENE && r->has_features && r->producer == n &&
+                !r->neutral) {
                 print_features(f, n->pub.name, &r->features);
+                if (r->features.medium_field && r->payload.data)
+                    print_field(f, n->pub.name, r->payload.data);
+            }
         }
     }
     lg_str top = { 0 };

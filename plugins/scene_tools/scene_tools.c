@@ -20,7 +20,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lightgraph/file.h"
 #include "lightgraph/lightgraph.h"
+#include "lightgraph/medium.h"
+#include "vdb_read.h"
 
 /* Orbit framing: the bounding sphere's angular radius is at most the smaller half field of
  * view divided by this margin (in sine), see README.md "camera". */
@@ -43,6 +46,12 @@ typedef struct st_payload {
      * made here stands still: -1) */
     lg_scene_animation anim;
     int32_t *light_node, *camera_node;
+    /* the medium node's density field (ABI 3.2), which scene.medium.field points at: the
+     * field, its grid and the grid's values (NULL without a grid) and "FILE:GRID" */
+    lg_density_field field;
+    lg_density_grid grid;
+    float *grid_values;
+    char *grid_source;
 } st_payload;
 
 /* The free function given to the host. Touches only this payload's own allocations, never
@@ -58,6 +67,8 @@ static void st_free(void *ptr)
     free(p->name);
     free(p->light_node);
     free(p->camera_node);
+    free(p->grid_values);
+    free(p->grid_source);
     free(p);
 }
 
@@ -482,6 +493,247 @@ static int light_prepare(lg_node *n)
 
 /* ---- medium ---------------------------------------------------------------------------------- */
 
+enum { FIELD_NONE = 0, FIELD_UNIFORM, FIELD_FBM, FIELD_VDB };
+
+/* Inputs are bounded (README.md "medium"): a .vdb file of at most ST_VDB_MAX_FILE bytes,
+ * whose grid made dense holds at most ST_VDB_MAX_VOXELS voxels (2^27: 512 MiB of floats);
+ * a height fog whose multiplier over the scene stays within ST_MAX_MULTIPLIER (beyond it
+ * the fog is a wall: a sign of a wrong height_base or falloff, and of float overflow). */
+#define ST_VDB_MAX_FILE ((uint64_t)1 << 30)
+#define ST_VDB_MAX_VOXELS ((uint64_t)1 << 27)
+#define ST_MAX_MULTIPLIER 1e6
+
+/* The grid's host memory counted against the node (lg_account_alloc): it lives in the
+ * scene payload, made by each prepare; the count is released at the next prepare and in
+ * destroy. n->user holds the count (a malloc'd uint64_t, made on first use), as the gltf
+ * node does for its textures. */
+static void medium_count(lg_node *n, uint64_t bytes)
+{
+    uint64_t *counted = n->user;
+    if (!counted && bytes) {
+        counted = calloc(1, sizeof *counted);
+        if (!counted)
+            return; /* the profile then misses the bytes; the field itself is fine */
+        n->user = counted;
+    }
+    if (!counted)
+        return;
+    if (*counted)
+        lg_account_free(n, *counted);
+    *counted = bytes;
+    if (bytes)
+        lg_account_alloc(n, bytes);
+}
+
+static void medium_destroy(lg_node *n)
+{
+    medium_count(n, 0);
+    free(n->user);
+    n->user = NULL;
+}
+
+/* Column-major affine inverse (the 3x3 part by cofactors, then the translation); false
+ * when singular or not finite. */
+static bool affine_inverse(const double m[16], double out[16])
+{
+    double a = m[0], b = m[4], c = m[8], d = m[1], e = m[5], f = m[9], g = m[2], h = m[6],
+           i = m[10];
+    double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    if (!(fabs(det) > 1e-300) || !isfinite(det))
+        return false;
+    double r[9] = { (e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
+                    (f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det,
+                    (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det };
+    memset(out, 0, 16 * sizeof *out);
+    for (int row = 0; row < 3; row++) {
+        for (int col = 0; col < 3; col++)
+            out[col * 4 + row] = r[row * 3 + col];
+        out[12 + row] = -(r[row * 3] * m[12] + r[row * 3 + 1] * m[13] + r[row * 3 + 2] * m[14]);
+    }
+    out[15] = 1.0;
+    for (int k = 0; k < 16; k++)
+        if (!isfinite(out[k]))
+            return false;
+    return true;
+}
+
+/* The world box of the grid's support: index box [-1, n] (the trilinear blend reaches a
+ * voxel beyond the outer centres, where it falls to 0, as OpenVDB's BoxSampler does with a
+ * background of 0) through index_to_world, the axis-aligned box of its eight corners. */
+static void grid_world_box(const lg_density_grid *g, float lo[3], float hi[3])
+{
+    double n[3] = { g->nx, g->ny, g->nz };
+    for (int c = 0; c < 3; c++) {
+        lo[c] = FLT_MAX;
+        hi[c] = -FLT_MAX;
+    }
+    const double *m = g->index_to_world;
+    for (int k = 0; k < 8; k++) {
+        double q[3] = { (k & 1) ? n[0] : -1.0, (k & 2) ? n[1] : -1.0, (k & 4) ? n[2] : -1.0 };
+        for (int r = 0; r < 3; r++) {
+            double w = m[r] * q[0] + m[4 + r] * q[1] + m[8 + r] * q[2] + m[12 + r];
+            lo[r] = fminf(lo[r], (float)w);
+            hi[r] = fmaxf(hi[r], (float)w);
+        }
+    }
+}
+
+/* 64-bit FNV-1a of the file's bytes: the grid's content in the result's identity. */
+static uint64_t fnv1a(const void *bytes, size_t len)
+{
+    const unsigned char *b = bytes;
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < len; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+/* field = vdb: reads the file, makes its grid dense into p (grid, values, source) and
+ * sets the field's kind, grid and bounds. */
+static int medium_vdb(lg_node *n, st_payload *p, uint64_t *bytes)
+{
+    const char *path = lg_param_string(n, "vdb");
+    const char *want = lg_param_string(n, "grid");
+    if (!path || !*path)
+        return lg_error(n, "field = vdb but parameter 'vdb' is empty: name a .vdb file "
+                           "(tools/make_vdb_cloud.cpp writes one)");
+#ifndef ST_HAVE_OPENVDB
+    (void)p;
+    (void)bytes;
+    (void)want;
+    return lg_error(n,
+                    "field = vdb, vdb = '%s': this build of lightgraph has no OpenVDB "
+                    "(libopenvdb-dev and libboost-dev were not found when it was configured; "
+                    "install them with tools/deps.sh and reconfigure), so it cannot read VDB "
+                    "grids: use field = fbm or uniform",
+                    path);
+#else
+    double scale = lg_param_float(n, "vdb_scale");
+    lg_vec3 tr;
+    int rc = st_vec3(n, "vdb_translate", &tr);
+    if (rc)
+        return rc;
+    if (!(scale > 0))
+        return lg_error(n, "vdb_scale = %g: the grid's scale must be > 0", scale);
+    char why[512];
+    size_t len = 0;
+    double t0 = lg_now(n);
+    void *data = lg_file_read(path, ST_VDB_MAX_FILE, &len, why, sizeof why);
+    if (!data)
+        return lg_error(n, "vdb = '%s': cannot read it: %s", path, why);
+    uint64_t hash = fnv1a(data, len);
+    st_vdb_grid g;
+    rc = st_vdb_read(data, len, want, ST_VDB_MAX_VOXELS, &g, why, sizeof why);
+    free(data);
+    if (rc)
+        return lg_error(n, "vdb = '%s': %s", path, why);
+    lg_add_content_key(n, &hash, sizeof hash);
+    p->grid_values = g.values;
+    size_t srclen = strlen(path) + strlen(g.name) + 2;
+    p->grid_source = malloc(srclen);
+    if (!p->grid_source)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (grid name)");
+    snprintf(p->grid_source, srclen, "%s:%s", path, g.name);
+    lg_density_grid *d = &p->grid;
+    d->nx = g.nx;
+    d->ny = g.ny;
+    d->nz = g.nz;
+    d->values = g.values;
+    d->max_value = g.max_value;
+    d->source = p->grid_source;
+    /* the node's own placement after the file's: world = scale x file world + translate */
+    memcpy(d->index_to_world, g.index_to_world, sizeof d->index_to_world);
+    for (int k = 0; k < 16; k++)
+        if (k % 4 != 3)
+            d->index_to_world[k] *= scale;
+    d->index_to_world[12] += tr.x;
+    d->index_to_world[13] += tr.y;
+    d->index_to_world[14] += tr.z;
+    if (!affine_inverse(d->index_to_world, d->world_to_index))
+        return lg_error(n, "vdb = '%s', grid '%s': its transform times vdb_scale = %g is singular",
+                        path, g.name, scale);
+    p->field.kind = LG_FIELD_GRID;
+    p->field.grid = d;
+    grid_world_box(d, p->field.bounds_min, p->field.bounds_max);
+    *bytes = (uint64_t)g.nx * g.ny * g.nz * sizeof(float);
+    double vs[3];
+    for (int c = 0; c < 3; c++)
+        vs[c] = sqrt(d->index_to_world[4 * c] * d->index_to_world[4 * c] +
+                     d->index_to_world[4 * c + 1] * d->index_to_world[4 * c + 1] +
+                     d->index_to_world[4 * c + 2] * d->index_to_world[4 * c + 2]);
+    lg_log(n, LG_LOG_INFO,
+           "vdb '%s', grid '%s': %ux%ux%u voxels from VDB index [%d, %d, %d] (%.1f MiB), voxel "
+           "%g x %g x %g, values up to %g, read in %.1f ms",
+           path, g.name, g.nx, g.ny, g.nz, g.bbox_min[0], g.bbox_min[1], g.bbox_min[2],
+           (double)*bytes / (1 << 20), vs[0], vs[1], vs[2], (double)g.max_value,
+           (lg_now(n) - t0) * 1e3);
+    if (g.background > 0.0f)
+        lg_log(n, LG_LOG_WARN,
+               "vdb '%s', grid '%s': its background is %g, but outside the active voxels' box "
+               "the density is 0 here (a constant fog everywhere is density with field = "
+               "none)",
+               path, g.name, (double)g.background);
+    if (!(g.max_value > 0.0f))
+        lg_log(n, LG_LOG_WARN, "vdb '%s', grid '%s': every value is 0: the medium is empty", path,
+               g.name);
+    return 0;
+#endif
+}
+
+/* field = fbm: the noise's parameters, checked. */
+static int medium_fbm(lg_node *n, lg_density_field *f)
+{
+    double freq = lg_param_float(n, "frequency"), lac = lg_param_float(n, "lacunarity");
+    double gain = lg_param_float(n, "gain"), off = lg_param_float(n, "offset");
+    double scale = lg_param_float(n, "scale");
+    if (!(freq > 0))
+        return lg_error(n,
+                        "frequency = %g: the first octave's frequency must be > 0 (1 / scene "
+                        "unit)",
+                        freq);
+    if (!(gain > 0 && gain < 1))
+        return lg_error(n, "gain = %g: the amplitude ratio between octaves must be inside (0, 1)",
+                        gain);
+    f->kind = LG_FIELD_FBM;
+    f->fbm.octaves = (uint32_t)lg_param_int(n, "octaves");
+    f->fbm.seed = (uint32_t)lg_param_int(n, "seed");
+    f->fbm.frequency = (float)freq;
+    f->fbm.lacunarity = (float)lac;
+    f->fbm.gain = (float)gain;
+    f->fbm.offset = (float)off;
+    f->fbm.scale = (float)scale;
+    return 0;
+}
+
+/* A box from box_min, box_max: none (everywhere) when both are equal (the defaults). */
+static int medium_box(lg_node *n, lg_density_field *f, bool *have)
+{
+    lg_vec3 lo, hi;
+    int rc;
+    if ((rc = st_vec3(n, "box_min", &lo)) || (rc = st_vec3(n, "box_max", &hi)))
+        return rc;
+    *have = !(lo.x == hi.x && lo.y == hi.y && lo.z == hi.z);
+    if (!*have)
+        return 0;
+    float l[3] = { lo.x, lo.y, lo.z }, h[3] = { hi.x, hi.y, hi.z };
+    static const char axis[3] = { 'x', 'y', 'z' };
+    for (int c = 0; c < 3; c++) {
+        if (!(l[c] < h[c]))
+            return lg_error(n,
+                            "box_min = [%g, %g, %g], box_max = [%g, %g, %g]: along %c the box "
+                            "is %s; give box_min < box_max on every axis (or equal vectors for "
+                            "no box)",
+                            (double)l[0], (double)l[1], (double)l[2], (double)h[0], (double)h[1],
+                            (double)h[2], axis[c],
+                            l[c] == h[c] ? "flat (no volume)" : "inside out");
+        f->bounds_min[c] = fmaxf(f->bounds_min[c], l[c]);
+        f->bounds_max[c] = fminf(f->bounds_max[c], h[c]);
+    }
+    return 0;
+}
+
+static const char *const field_names[] = { "none", "uniform", "fbm", "vdb", NULL };
+
 static int medium_prepare(lg_node *n)
 {
     const lg_resource *in;
@@ -489,6 +741,7 @@ static int medium_prepare(lg_node *n)
     int rc = st_input(n, &in, &src);
     if (rc)
         return rc;
+    medium_count(n, 0);
     lg_medium m;
     memset(&m, 0, sizeof m);
     lg_vec3 sc, ab;
@@ -512,11 +765,98 @@ static int medium_prepare(lg_node *n)
                "medium has no effect, yet media nodes will run (density = 0 "
                "removes it)",
                density);
+    int kind = lg_param_enum(n, "field");
+    double falloff = lg_param_float(n, "height_falloff"), base = lg_param_float(n, "height_base");
+    const char *vdb = lg_param_string(n, "vdb");
+    if (kind != FIELD_VDB && vdb && *vdb)
+        lg_log(n, LG_LOG_WARN, "vdb = '%s' is ignored: field = %s (field = vdb reads it)", vdb,
+               field_names[kind]);
     st_payload *p;
     if ((rc = st_derive(n, in, src, m.present ? "medium" : "medium (none)", &p)))
         return rc;
+    uint64_t bytes = 0;
+    if (kind != FIELD_NONE) {
+        lg_density_field *f = &p->field;
+        for (int c = 0; c < 3; c++) {
+            f->bounds_min[c] = -FLT_MAX;
+            f->bounds_max[c] = FLT_MAX;
+        }
+        f->kind = LG_FIELD_UNIFORM;
+        f->height_falloff = (float)falloff;
+        f->height_base = (float)base;
+        bool have_box = false;
+        if (kind == FIELD_VDB)
+            rc = medium_vdb(n, p, &bytes);
+        else if (kind == FIELD_FBM)
+            rc = medium_fbm(n, f);
+        if (!rc)
+            rc = medium_box(n, f, &have_box);
+        if (rc) {
+            st_free(p);
+            return rc;
+        }
+        m.field = f;
+        if (kind == FIELD_UNIFORM && !have_box && falloff == 0)
+            lg_log(n, LG_LOG_INFO,
+                   "field = uniform without height fog or box is the homogeneous medium, run "
+                   "through the heterogeneous code (field = none is the same fog, cheaper)");
+        double mmax = 1.0;
+        if (kind == FIELD_FBM) {
+            double blo[3], bhi[3];
+            for (int c = 0; c < 3; c++) {
+                blo[c] = f->bounds_min[c];
+                bhi[c] = f->bounds_max[c];
+            }
+            mmax = lg_medium_field_max(&m, blo, bhi);
+            if (!(mmax > 0))
+                lg_log(n, LG_LOG_WARN,
+                       "offset = %g is at least the fBm's largest sum (%g for %u octaves of "
+                       "gain %g): the field is 0 everywhere, the medium empty",
+                       (double)f->fbm.offset,
+                       (double)f->fbm.offset + mmax / fmax((double)f->fbm.scale, 1e-30),
+                       f->fbm.octaves, (double)f->fbm.gain);
+        }
+        bool empty = false;
+        for (int c = 0; c < 3; c++)
+            empty = empty || !(f->bounds_min[c] <= f->bounds_max[c]);
+        if (empty)
+            lg_log(n, LG_LOG_WARN,
+                   "the box (box_min, box_max) misses the grid: the medium is "
+                   "empty");
+        /* height fog: its multiplier over the part of the scene the field covers */
+        lg_vec3 centre, corners[8];
+        float radius;
+        if (falloff > 0 && st_bounds(src, &centre, &radius, corners)) {
+            double ylo = fmax((double)src->bounds_min[1], (double)f->bounds_min[1]);
+            double hmax = exp(-falloff * (ylo - base));
+            if (!(hmax <= ST_MAX_MULTIPLIER)) {
+                st_free(p);
+                return lg_error(n,
+                                "height_falloff = %g, height_base = %g: at the lowest point of "
+                                "the scene the fog covers (y = %g) the height fog multiplies "
+                                "the density by e^(%g (%g - %g)) = %.3g, over %g: raise "
+                                "height_base towards the floor or lower height_falloff",
+                                falloff, base, ylo, falloff, base, ylo, hmax, ST_MAX_MULTIPLIER);
+            }
+        }
+    } else {
+        const lg_value *lo = lg_param(n, "box_min"), *hi = lg_param(n, "box_max");
+        bool box = lo && hi &&
+                   (lo->v[0] != hi->v[0] || lo->v[1] != hi->v[1] || lo->v[2] != hi->v[2]);
+        if (falloff != 0 || box)
+            lg_log(n, LG_LOG_WARN,
+                   "%s ignored with field = none (the homogeneous medium): set field = uniform "
+                   "for height fog or a box of fog",
+                   falloff != 0 && box ? "height_falloff, box_min and box_max are"
+                   : box               ? "box_min and box_max are"
+                                       : "height_falloff is");
+    }
     p->scene.medium = m;
-    return st_publish(n, p);
+    rc = st_publish(n, p);
+    if (rc)
+        return rc; /* the host has freed the payload */
+    medium_count(n, bytes);
+    return 0;
 }
 
 /* ---- environment ----------------------------------------------------------------------------- */
@@ -720,6 +1060,90 @@ static const lg_param_desc medium_params[] = {
       .min = -0.99,
       .max = 0.99,
       .doc = "Henyey-Greenstein anisotropy (> 0: forward scattering)" },
+    /* the density field (ABI 3.2; README.md "medium"): m(p) = inside(p) f(p) h(p) */
+    { .key = "field",
+      .type = LG_PARAM_ENUM,
+      .def.e = FIELD_NONE,
+      .enum_values = field_names,
+      .doc = "none: homogeneous; uniform: f = 1 (height fog, box); fbm: noise; vdb: a VDB "
+             "float grid" },
+    { .key = "vdb", .type = LG_PARAM_PATH, .def.s = "", .doc = "field = vdb: the .vdb file" },
+    { .key = "grid",
+      .type = LG_PARAM_STRING,
+      .def.s = "",
+      .doc = "field = vdb: the float grid's name; empty = the file's first float grid" },
+    { .key = "vdb_scale",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e6,
+      .doc = "field = vdb: world = vdb_scale x (the grid's own world) + vdb_translate; > 0" },
+    { .key = "vdb_translate",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .doc = "field = vdb: added after vdb_scale, world units" },
+    { .key = "octaves",
+      .type = LG_PARAM_INT,
+      .def.i = 5,
+      .min = 1,
+      .max = 16,
+      .doc = "field = fbm: noise octaves summed" },
+    { .key = "seed",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 4294967295.0,
+      .doc = "field = fbm: the noise's seed (another seed, another cloud)" },
+    { .key = "frequency",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e6,
+      .doc = "field = fbm: the first octave's frequency, 1 / scene unit, > 0" },
+    { .key = "lacunarity",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 2,
+      .min = 1,
+      .max = 16,
+      .doc = "field = fbm: frequency ratio between octaves" },
+    { .key = "gain",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0.5,
+      .min = 0,
+      .max = 1,
+      .doc = "field = fbm: amplitude ratio between octaves, inside (0, 1)" },
+    { .key = "offset",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -16,
+      .max = 16,
+      .doc = "field = fbm: subtracted from the sum (> 0 leaves clear holes)" },
+    { .key = "scale",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 1,
+      .min = 0,
+      .max = 1e6,
+      .doc = "field = fbm: multiplies max(0, sum - offset)" },
+    { .key = "height_falloff",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 1e3,
+      .doc = "any field: height fog exp(-falloff (y - height_base)), 1 / scene unit; 0 = none" },
+    { .key = "height_base",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = -1e30,
+      .max = 1e30,
+      .doc = "any field: world y where the height fog's multiplier is 1" },
+    { .key = "box_min",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .doc = "any field: the fog's box (world); equal to box_max (the default) = no box" },
+    { .key = "box_max",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .doc = "any field: the box's other corner; the density is 0 outside the box" },
 };
 
 static const lg_port_desc camera_outputs[] = {
@@ -771,12 +1195,14 @@ static const lg_node_type st_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
         .name = "medium",
-        .doc = "sets the scene's participating medium (density 0: none)",
+        .doc = "sets the scene's participating medium (density 0: none), homogeneous or with "
+               "a density field (noise, height fog, box, a VDB grid)",
         LG_PARAMS(medium_params),
         LG_INPUTS(st_inputs),
         LG_OUTPUTS(medium_outputs),
         .prepare = medium_prepare,
         .execute = st_execute,
+        .destroy = medium_destroy,
         .flags = LG_NODE_POSE_INDEPENDENT, /* the animation is carried, not applied */
     },
     {

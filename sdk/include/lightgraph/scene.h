@@ -290,9 +290,10 @@ typedef struct lg_density_grid {
     const float *values; /* nx ny nz values, x fastest: values[i + nx (j + ny k)]; finite, >= 0 */
     float max_value;     /* the largest value */
     /* world -> index space, column-major affine: voxel (i, j, k)'s centre is at index point
-     * (i, j, k). f(p) is the trilinear blend of the eight voxels around index point q =
-     * world_to_index p, a voxel outside the grid counting 0 (the VDB background), so f
-     * falls to 0 over the half voxel beyond the outer centres. */
+     * (i, j, k) (OpenVDB's convention). f(p) is the trilinear blend of the eight voxels
+     * around index point q = world_to_index p, a voxel outside the grid counting 0 (the VDB
+     * background), so f falls to 0 over the voxel beyond the outer centres: OpenVDB's
+     * tools::BoxSampler with a background of 0. */
     double world_to_index[16];
     double index_to_world[16]; /* its inverse */
     const char *source;        /* "FILE:GRID", for messages */
@@ -319,8 +320,9 @@ typedef struct lg_density_field {
     lg_density_fbm fbm;          /* LG_FIELD_FBM */
     float height_falloff;        /* >= 0, 1 / scene unit; 0 = no height fog */
     float height_base;           /* world y where h = 1 */
-    /* the box outside which m = 0 (a grid: its voxels' box, half a voxel beyond the outer
-     * centres; uniform and fBm: a box given to the medium, or -/+FLT_MAX for everywhere) */
+    /* the box outside which m = 0 (a grid: the support of f, the world box of index box
+     * [-1, n] (one voxel beyond the outer centres), possibly clipped by a box given to the
+     * medium; uniform and fBm: a box given to the medium, or -/+FLT_MAX for everywhere) */
     float bounds_min[3], bounds_max[3];
     void *reserved[4];
 } lg_density_field;

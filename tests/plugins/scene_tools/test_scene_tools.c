@@ -29,12 +29,36 @@
  *   sharing_gl    the GL buffers of a derived scene's mesh are the source's (skips without GL)
  *   sharing_cl    the same for CL buffers, which hold the mesh's own data (skips without CL)
  *   errors        bad parameters and inputs exit 1 with a message naming the node and why
+ *   field         the medium's density field (ABI 3.2) through test_field_probe: field =
+ *                 none keeps the homogeneous medium (no field, m = 1, features.medium_field
+ *                 0) and warns about height fog or a box it ignores; uniform with height fog
+ *                 and a box is e^(-k (y - base)) inside the closed box and 0 outside; fbm
+ *                 carries every parameter and equals scale max(0, lg_fbm3 - offset); another
+ *                 seed gives another field; density 0 leaves no medium, so no field feature
+ *   field_errors each refusal of the medium node exits 1 (2 for a declared range) and
+ *                 names the parameter, the file, the grid or the voxel: a flat or inside-out
+ *                 box, frequency 0, gain 1, a height fog that overflows the scene, an empty
+ *                 vdb path, a missing file, a folder, a (sparse) file over the 1 GiB cap;
+ *                 with OpenVDB also vdb_scale 0, a text
+ *                 file, a truncated file, a file without a float grid, an unknown grid name
+ *                 (the file's grids listed), a level set, an empty grid, 2^30 voxels made
+ *                 dense, a frustum transform, a negative or NaN voxel; without OpenVDB,
+ *                 field = vdb itself, with a message saying what to install
+ *   vdb           (with OpenVDB) the files make_vdb_cloud writes at build time read back:
+ *                 one_voxel.vdb's first float grid (a vec3 grid before it is skipped), its
+ *                 size, value and transform, and the field at world points equal to
+ *                 OpenVDB's own trilinear sample there (tools::BoxSampler, written by the
+ *                 tool); grid = other picks the other grid; vdb_scale and vdb_translate move
+ *                 it; rotated.vdb (scaled, rotated, moved) and a 16^3 cloud agree with
+ *                 OpenVDB's samples within 1e-5
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "lightgraph/medium.h"
 #include "lightgraph/vecmath.h"
 #include "lightgraph/test.h"
 
@@ -43,6 +67,10 @@
 #endif
 #ifndef ST_TESTCUBE_DIR
 #define ST_TESTCUBE_DIR ""
+#endif
+/* the build folder holding make_vdb_cloud's fixtures ("" without OpenVDB) */
+#ifndef ST_VDB_DIR
+#define ST_VDB_DIR ""
 #endif
 
 #define DEG (LG_PI / 180.0)
@@ -868,6 +896,349 @@ static void case_errors(lg_test *t)
                  (const char *const[]){ "'bad'", "not a finite single-precision number", NULL });
 }
 
+/* ---- density fields -------------------------------------------------------------------------- */
+
+/* Pixel (x, y) of an rgba32f image. */
+static const float *pxy(const lg_image *img, uint32_t x, uint32_t y)
+{
+    static const float none[4] = { NAN, NAN, NAN, NAN };
+    return x < img->width && y < img->height ? img->pixels + ((size_t)y * img->width + x) * 4
+                                             : none;
+}
+
+/* Renders `graph` (its probes write the files named in it) and reads `file`. */
+static bool run_field(lg_test *t, const char *graph, const char *file, lg_image *img, char **out)
+{
+    int rc = render_text(t, graph, NULL, out);
+    LG_TEST_CHECK(t, rc == 0, "render failed (exit %d): %s", rc, *out ? *out : "");
+    return rc == 0 && lg_test_read(t, file, img, NULL);
+}
+
+static void case_field(lg_test *t)
+{
+    /* none: the homogeneous medium, as before; ignored field parameters are warned about */
+    const char *g0 = "lightgraph 1\n"
+                     "cube = test_cube {}\n"
+                     "m = medium { scene = cube, density = 0.5, height_falloff = 1 }\n"
+                     "p = test_field_probe { scene = m, lo = [-1, -1, -1], hi = [1, 1, 1],"
+                     " n = [3, 3, 3] }\n"
+                     "output p \"none.exr\"\n";
+    lg_image img;
+    char *out = NULL;
+    if (run_field(t, g0, "none.exr", &img, &out)) {
+        LG_TEST_CHECK(t, pxy(&img, 0, 0)[0] == 0 && pxy(&img, 0, 0)[2] == 0,
+                      "field = none: field %g, features.medium_field %g",
+                      (double)pxy(&img, 0, 0)[0], (double)pxy(&img, 0, 0)[2]);
+        for (uint32_t y = 1; y < img.height; y++)
+            for (uint32_t x = 0; x < 3; x++)
+                LG_TEST_CHECK(t, pxy(&img, x, y)[0] == 1, "none: m = %g at row %u",
+                              (double)pxy(&img, x, y)[0], y);
+        lg_image_free(&img);
+    }
+    LG_TEST_CHECK(t, out && strstr(out, "height_falloff is ignored with field = none"),
+                  "no warning about the ignored height fog: %s", out ? out : "");
+    free(out);
+    out = NULL;
+
+    /* uniform + height fog + box */
+    const char *g1 = "lightgraph 1\n"
+                     "cube = test_cube {}\n"
+                     "m = medium { scene = cube, field = uniform, height_falloff = 0.5,"
+                     " height_base = 1, box_min = [-1, -1, -1], box_max = [1, 2, 1] }\n"
+                     "p = test_field_probe { scene = m, lo = [-2, -2, 0], hi = [2, 3, 0],"
+                     " n = [9, 11, 1] }\n"
+                     "output p \"uniform.exr\"\n";
+    if (run_field(t, g1, "uniform.exr", &img, &out)) {
+        const float *h0 = pxy(&img, 0, 0), *h2 = pxy(&img, 2, 0), *h3 = pxy(&img, 3, 0);
+        LG_TEST_CHECK(t, h0[0] == 1 && h0[1] == LG_FIELD_UNIFORM && h0[2] == 1 && h0[3] == 0.5f,
+                      "uniform: present %g kind %g feature %g falloff %g", (double)h0[0],
+                      (double)h0[1], (double)h0[2], (double)h0[3]);
+        LG_TEST_CHECK(t, pxy(&img, 1, 0)[0] == 1, "height_base %g", (double)pxy(&img, 1, 0)[0]);
+        LG_TEST_CHECK(t,
+                      near3(lg_v3(h2[0], h2[1], h2[2]), lg_v3(-1, -1, -1), 0) &&
+                          near3(lg_v3(h3[0], h3[1], h3[2]), lg_v3(1, 2, 1), 0),
+                      "bounds [%g %g %g] [%g %g %g]", (double)h2[0], (double)h2[1], (double)h2[2],
+                      (double)h3[0], (double)h3[1], (double)h3[2]);
+        int inside = 0;
+        for (uint32_t x = 0; x < 9; x++)
+            for (uint32_t y = 0; y < 11; y++) {
+                const float *s = pxy(&img, x, 1 + y);
+                bool in = s[1] >= -1 && s[1] <= 1 && s[2] >= -1 && s[2] <= 2;
+                double want = in ? exp(-0.5 * ((double)s[2] - 1.0)) : 0.0;
+                inside += in;
+                LG_TEST_CHECK(t, fabs((double)s[0] - want) <= 1e-6 * want,
+                              "uniform at (%g, %g, %g): %g, want %g", (double)s[1], (double)s[2],
+                              (double)s[3], (double)s[0], want);
+            }
+        LG_TEST_CHECK(t, inside > 10 && inside < 99, "%d of 99 samples inside the box", inside);
+        lg_image_free(&img);
+    }
+    free(out);
+    out = NULL;
+
+    /* fbm: every parameter reaches the field; another seed, another field */
+    const char *g2 = "lightgraph 1\n"
+                     "cube = test_cube {}\n"
+                     "a = medium { scene = cube, field = fbm, octaves = 3, seed = 7,"
+                     " frequency = 2, lacunarity = 2.5, gain = 0.4, offset = 0.1, scale = 2 }\n"
+                     "b = medium { scene = a, field = fbm, octaves = 3, seed = 8,"
+                     " frequency = 2, lacunarity = 2.5, gain = 0.4, offset = 0.1, scale = 2 }\n"
+                     "pa = test_field_probe { scene = a, lo = [-1, -1, -1], hi = [1, 1, 1],"
+                     " n = [8, 8, 8] }\n"
+                     "pb = test_field_probe { scene = b, lo = [-1, -1, -1], hi = [1, 1, 1],"
+                     " n = [8, 8, 8] }\n"
+                     "off = medium { scene = a, density = 0, field = fbm }\n"
+                     "po = test_field_probe { scene = off }\n"
+                     "output pa \"a.exr\"\n"
+                     "output pb \"b.exr\"\n"
+                     "output po \"off.exr\"\n";
+    lg_image b;
+    if (run_field(t, g2, "a.exr", &img, &out)) {
+        const float *f4 = pxy(&img, 4, 0), *f5 = pxy(&img, 5, 0);
+        LG_TEST_CHECK(t, pxy(&img, 0, 0)[1] == LG_FIELD_FBM && pxy(&img, 0, 0)[2] == 1,
+                      "fbm kind %g feature %g", (double)pxy(&img, 0, 0)[1],
+                      (double)pxy(&img, 0, 0)[2]);
+        LG_TEST_CHECK(t, f4[0] == 3 && f4[1] == 7 && f4[2] == 2 && f4[3] == 2.5f,
+                      "octaves %g seed %g frequency %g lacunarity %g", (double)f4[0], (double)f4[1],
+                      (double)f4[2], (double)f4[3]);
+        LG_TEST_CHECK(t, f5[0] == 0.4f && f5[1] == 0.1f && f5[2] == 2 && f5[3] == 1,
+                      "gain %g offset %g scale %g heterogeneous %g", (double)f5[0], (double)f5[1],
+                      (double)f5[2], (double)f5[3]);
+        lg_density_fbm f = { .octaves = 3,
+                             .seed = 7,
+                             .frequency = 2,
+                             .lacunarity = 2.5f,
+                             .gain = 0.4f,
+                             .offset = 0.1f,
+                             .scale = 2 };
+        double diff = 0;
+        bool read_b = lg_test_read(t, "b.exr", &b, NULL);
+        int zeros = 0;
+        for (uint32_t y = 1; y < img.height; y++)
+            for (uint32_t x = 0; x < 8; x++) {
+                const float *s = pxy(&img, x, y);
+                double p[3] = { s[1], s[2], s[3] };
+                double want = 2.0 * fmax(0.0, lg_fbm3(&f, p) - (double)0.1f);
+                zeros += s[0] == 0;
+                LG_TEST_CHECK(t, fabs((double)s[0] - want) <= 1e-6,
+                              "fbm at (%g, %g, %g): %g, want %g", p[0], p[1], p[2], (double)s[0],
+                              want);
+                if (read_b)
+                    diff += fabs((double)s[0] - (double)pxy(&b, x, y)[0]);
+            }
+        LG_TEST_CHECK(t, zeros > 0 && zeros < 512, "%d of 512 fBm samples are 0", zeros);
+        LG_TEST_CHECK(t, diff / 512 > 0.05, "seeds 7 and 8 differ by %g on average", diff / 512);
+        if (read_b)
+            lg_image_free(&b);
+        lg_image_free(&img);
+        if (lg_test_read(t, "off.exr", &img, NULL)) {
+            LG_TEST_CHECK(t, pxy(&img, 0, 0)[2] == 0 && pxy(&img, 7, 0)[3] == 0,
+                          "density 0: features.medium_field %g, density %g",
+                          (double)pxy(&img, 0, 0)[2], (double)pxy(&img, 7, 0)[3]);
+            lg_image_free(&img);
+        }
+    }
+    free(out);
+}
+
+/* `file` in the fixtures' folder, or NULL without OpenVDB. */
+static const char *vdb_fixture(const char *file)
+{
+    static char path[1024];
+    if (!*ST_VDB_DIR)
+        return NULL;
+    snprintf(path, sizeof path, "%s/%s", ST_VDB_DIR, file);
+    return path;
+}
+
+static void case_field_errors(lg_test *t)
+{
+    char node[1536];
+    expect_error(t, "flat box", 1,
+                 "bad = medium { scene = cube, field = uniform, box_min = [0, 0, 0],"
+                 " box_max = [1, 0, 1] }\n",
+                 (const char *const[]){ "'bad'", "along y the box is flat", NULL });
+    expect_error(t, "inside-out box", 1,
+                 "bad = medium { scene = cube, field = fbm, box_min = [2, 0, 0],"
+                 " box_max = [1, 1, 1] }\n",
+                 (const char *const[]){ "'bad'", "along x the box is inside out", NULL });
+    expect_error(t, "frequency 0", 1, "bad = medium { scene = cube, field = fbm, frequency = 0 }\n",
+                 (const char *const[]){ "'bad'", "frequency = 0", "> 0", NULL });
+    expect_error(t, "gain 1", 1, "bad = medium { scene = cube, field = fbm, gain = 1 }\n",
+                 (const char *const[]){ "'bad'", "gain = 1", "inside (0, 1)", NULL });
+    expect_error(t, "octaves 17", 2, "bad = medium { scene = cube, field = fbm, octaves = 17 }\n",
+                 (const char *const[]){ "octaves", "out of range", NULL });
+    expect_error(t, "height fog overflow", 1,
+                 "bad = medium { scene = cube, field = uniform, height_falloff = 1000,"
+                 " height_base = 10 }\n",
+                 (const char *const[]){ "'bad'", "height_falloff = 1000", "y = -1", "over 1e+06",
+                                        NULL });
+    expect_error(t, "empty vdb path", 1, "bad = medium { scene = cube, field = vdb }\n",
+                 (const char *const[]){ "'bad'", "parameter 'vdb' is empty", NULL });
+    if (!vdb_fixture("x")) {
+        expect_error(t, "no OpenVDB", 1,
+                     "bad = medium { scene = cube, field = vdb, vdb = \"cloud.vdb\" }\n",
+                     (const char *const[]){ "'bad'", "has no OpenVDB", "libopenvdb-dev", NULL });
+        return;
+    }
+    expect_error(t, "missing file", 1,
+                 "bad = medium { scene = cube, field = vdb, vdb = \"no_such.vdb\" }\n",
+                 (const char *const[]){ "'bad'", "no_such.vdb", "cannot read it", NULL });
+    expect_error(t, "a folder", 1, "bad = medium { scene = cube, field = vdb, vdb = \".\" }\n",
+                 (const char *const[]){ "'bad'", "cannot read it", "directory", NULL });
+    /* a sparse file one byte over the 1 GiB cap: refused by its size, before a byte is read */
+    lg_test_write_text(t, "big.vdb", "");
+    int trc = truncate(lg_test_path(t, "big.vdb"), ((off_t)1 << 30) + 1);
+    LG_TEST_CHECK(t, trc == 0, "cannot make the sparse file");
+    expect_error(t, "over the size cap", 1,
+                 "bad = medium { scene = cube, field = vdb, vdb = \"big.vdb\" }\n",
+                 (const char *const[]){ "'bad'", "big.vdb", "cannot read it", "limit", NULL });
+    static const struct {
+        const char *what, *file, *extra, *msg1, *msg2;
+    } bad[] = {
+        { "vdb_scale 0", "one_voxel.vdb", "vdb_scale = 0", "vdb_scale = 0", "> 0" },
+        { "text", "garbage.vdb", "", "garbage.vdb", "not a readable VDB file" },
+        { "truncated", "truncated.vdb", "", "not a readable VDB file", "ends before its grids do" },
+        { "no float grid", "vec3.vdb", "", "no float grid", "'velocity' (vec3s)" },
+        { "unknown grid", "one_voxel.vdb", "grid = \"smoke\"", "no grid named 'smoke'",
+          "'density' (float), 'other' (float)" },
+        { "not float", "one_voxel.vdb", "grid = \"velocity\"", "grid 'velocity' holds vec3s",
+          "not float" },
+        { "level set", "levelset.vdb", "", "grid 'surface' is a level set", "fog volume" },
+        { "empty grid", "empty.vdb", "", "grid 'density' has no active voxel", "" },
+        { "too many voxels", "huge.vdb", "", "1024 x 1024 x 1024", "over the limit of 134217728" },
+        { "frustum", "frustum.vdb", "", "not affine", "" },
+        { "negative voxel", "negative.vdb", "", "voxel [1, 0, 1]", "holds -1" },
+        { "NaN voxel", "nan.vdb", "", "voxel [0, 1, 0]", "holds nan" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(node, sizeof node,
+                 "bad = medium { scene = cube, field = vdb, vdb = \"%s\"%s%s }\n",
+                 vdb_fixture(bad[i].file), *bad[i].extra ? ", " : "", bad[i].extra);
+        expect_error(t, bad[i].what, 1, node,
+                     (const char *const[]){ "'bad'", bad[i].msg1, bad[i].msg2, NULL });
+    }
+}
+
+/* The field at each "x y z value" line of `samples` (make_vdb_cloud's OpenVDB samples)
+ * through one probe per point of `medium` (a node line naming its node `m`), within `tol`
+ * (relative to max(1, value)). Returns the number of points checked. */
+static int check_samples(lg_test *t, const char *medium, const char *samples, double tol)
+{
+    FILE *f = fopen(vdb_fixture(samples), "r");
+    LG_TEST_CHECK(t, f != NULL, "cannot open %s", vdb_fixture(samples));
+    if (!f)
+        return 0;
+    double pts[64][4];
+    int n = 0;
+    while (n < 64 &&
+           fscanf(f, "%lf %lf %lf %lf", &pts[n][0], &pts[n][1], &pts[n][2], &pts[n][3]) == 4)
+        n++;
+    fclose(f);
+    size_t cap = 1 << 16, len = 0;
+    char *g = malloc(cap);
+    len += (size_t)snprintf(g + len, cap - len, "lightgraph 1\ncube = test_cube {}\n%s", medium);
+    for (int i = 0; i < n; i++)
+        len += (size_t)snprintf(g + len, cap - len,
+                                "p%d = test_field_probe { scene = m, lo = [%.9g, %.9g, %.9g] }\n"
+                                "output p%d \"p%d.exr\"\n",
+                                i, pts[i][0], pts[i][1], pts[i][2], i, i);
+    char *out = NULL;
+    int rc = render_text(t, g, NULL, &out);
+    LG_TEST_CHECK(t, rc == 0, "%s: exit %d: %s", samples, rc, out ? out : "");
+    free(out);
+    free(g);
+    int nonzero = 0;
+    for (int i = 0; i < n && rc == 0; i++) {
+        char file[32];
+        snprintf(file, sizeof file, "p%d.exr", i);
+        lg_image img;
+        if (!lg_test_read(t, file, &img, NULL))
+            continue;
+        double got = pxy(&img, 0, 1)[0], want = pts[i][3];
+        nonzero += want > 0;
+        LG_TEST_CHECK(t, fabs(got - want) <= tol * fmax(1.0, fabs(want)),
+                      "%s: world (%g, %g, %g): field %.7g, OpenVDB's sample %.7g", samples,
+                      pts[i][0], pts[i][1], pts[i][2], got, want);
+        lg_image_free(&img);
+    }
+    LG_TEST_CHECK(t, n >= 6 && nonzero >= 3, "%s: %d samples, %d of them > 0", samples, n, nonzero);
+    return n;
+}
+
+static void case_vdb(lg_test *t)
+{
+    if (!vdb_fixture("x"))
+        lg_test_skip(t, "this build has no OpenVDB (field_errors checks the message)");
+    char g[8192];
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "cube = test_cube {}\n"
+             "m = medium { scene = cube, field = vdb, vdb = \"%s\" }\n"
+             "o = medium { scene = cube, field = vdb, vdb = \"%s\", grid = \"other\" }\n"
+             "s = medium { scene = cube, field = vdb, vdb = \"%s\", vdb_scale = 2,"
+             " vdb_translate = [1, 0, 0] }\n"
+             "pm = test_field_probe { scene = m, lo = [2.5, 1, 5.5] }\n"
+             "po = test_field_probe { scene = o }\n"
+             "ps = test_field_probe { scene = s, lo = [6, 2, 11] }\n"
+             "output pm \"m.exr\"\noutput po \"o.exr\"\noutput ps \"s.exr\"\n",
+             vdb_fixture("one_voxel.vdb"), vdb_fixture("one_voxel.vdb"),
+             vdb_fixture("one_voxel.vdb"));
+    lg_image img;
+    char *out = NULL;
+    if (run_field(t, g, "m.exr", &img, &out)) {
+        const float *h0 = pxy(&img, 0, 0), *h1 = pxy(&img, 1, 0), *h2 = pxy(&img, 2, 0),
+                    *h3 = pxy(&img, 3, 0), *h6 = pxy(&img, 6, 0), *h7 = pxy(&img, 7, 0);
+        LG_TEST_CHECK(t, h0[1] == LG_FIELD_GRID && h0[2] == 1, "kind %g feature %g", (double)h0[1],
+                      (double)h0[2]);
+        LG_TEST_CHECK(t, h1[1] == 1 && h1[2] == 1 && h1[3] == 1 && h2[3] == 2,
+                      "grid %gx%gx%g max %g", (double)h1[1], (double)h1[2], (double)h1[3],
+                      (double)h2[3]);
+        /* dense voxel 0 is VDB voxel [3, -2, 5]: world 0.5 [3, -2, 5] + [1, 2, 3] */
+        LG_TEST_CHECK(t,
+                      near3(lg_v3(h6[0], h6[1], h6[2]), lg_v3(2.5f, 1, 5.5f), 1e-6f) &&
+                          near3(lg_v3(h7[0], h7[1], h7[2]), lg_v3(0.5f, 0.5f, 0.5f), 1e-6f),
+                      "translation [%g %g %g], voxel [%g %g %g]", (double)h6[0], (double)h6[1],
+                      (double)h6[2], (double)h7[0], (double)h7[1], (double)h7[2]);
+        /* the support: a voxel beyond the centre each way */
+        LG_TEST_CHECK(t,
+                      near3(lg_v3(h2[0], h2[1], h2[2]), lg_v3(2, 0.5f, 5), 1e-6f) &&
+                          near3(lg_v3(h3[0], h3[1], h3[2]), lg_v3(3, 1.5f, 6), 1e-6f),
+                      "bounds [%g %g %g] [%g %g %g]", (double)h2[0], (double)h2[1], (double)h2[2],
+                      (double)h3[0], (double)h3[1], (double)h3[2]);
+        LG_TEST_CHECK(t, fabs(pxy(&img, 0, 1)[0] - 2.0f) < 1e-6f, "value at the centre %g",
+                      (double)pxy(&img, 0, 1)[0]);
+        LG_TEST_CHECK(t, h6[3] == (float)strlen(vdb_fixture("one_voxel.vdb")) + 8,
+                      "source 'FILE:density' has length %g", (double)h6[3]);
+        lg_image_free(&img);
+        if (lg_test_read(t, "o.exr", &img, NULL)) {
+            LG_TEST_CHECK(t, pxy(&img, 2, 0)[3] == 7 && pxy(&img, 0, 1)[0] == 7,
+                          "grid = other: max %g, value at the origin %g",
+                          (double)pxy(&img, 2, 0)[3], (double)pxy(&img, 0, 1)[0]);
+            lg_image_free(&img);
+        }
+        if (lg_test_read(t, "s.exr", &img, NULL)) {
+            LG_TEST_CHECK(t,
+                          fabs(pxy(&img, 0, 1)[0] - 2.0f) < 1e-6f &&
+                              fabs(pxy(&img, 7, 0)[0] - 1.0f) < 1e-6f,
+                          "scaled and moved: value %g at (6, 2, 11), voxel %g",
+                          (double)pxy(&img, 0, 1)[0], (double)pxy(&img, 7, 0)[0]);
+            lg_image_free(&img);
+        }
+    }
+    free(out);
+    char m[1536];
+    snprintf(m, sizeof m, "m = medium { scene = cube, field = vdb, vdb = \"%s\" }\n",
+             vdb_fixture("one_voxel.vdb"));
+    check_samples(t, m, "one_voxel.txt", 1e-5);
+    snprintf(m, sizeof m, "m = medium { scene = cube, field = vdb, vdb = \"%s\" }\n",
+             vdb_fixture("rotated.vdb"));
+    check_samples(t, m, "rotated.txt", 1e-5);
+    snprintf(m, sizeof m, "m = medium { scene = cube, field = vdb, vdb = \"%s\" }\n",
+             vdb_fixture("cloud16.vdb"));
+    check_samples(t, m, "cloud16.txt", 1e-5);
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
@@ -883,6 +1254,9 @@ int main(int argc, char **argv)
         { "sharing_gl", case_sharing_gl },
         { "sharing_cl", case_sharing_cl },
         { "errors", case_errors },
+        { "field", case_field },
+        { "field_errors", case_field_errors },
+        { "vdb", case_vdb },
     };
     lg_test_main_opts o = { .setup = use_test_plugins };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

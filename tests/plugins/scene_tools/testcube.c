@@ -26,12 +26,28 @@
  *   9  bounds_max, geometry pointer is NULL (1/0)
  *   10 + 4i .. 13 + 4i  light i: (direction, type), (color, intensity), (position, range),
  *                       (inner_cone, outer_cone, 0, 0)
+ *
+ *   test_field_probe  samples the scene's density field (ABI 3.2) with the SDK's
+ *                     lg_medium_field_at on an n.x x n.y x n.z lattice of points over
+ *                     [lo, hi] (point (i, j, k) = lo + (hi - lo) (i, j, k) / (n - 1); n = 1
+ *                     gives lo), into an rgba32f image max(n.x, 8) wide, 1 + n.y n.z high:
+ *   row 0: 0  field present (1/0), kind, features.medium_field, height_falloff
+ *          1  height_base, grid nx, ny, nz (0 without a grid)
+ *          2  bounds_min, grid max_value
+ *          3  bounds_max, lg_medium_field_max over [lo, hi]
+ *          4  fbm octaves, seed, frequency, lacunarity
+ *          5  fbm gain, offset, scale, lg_medium_is_heterogeneous
+ *          6  grid index_to_world's translation, grid source's length
+ *          7  grid voxel size (index_to_world's column lengths), medium density
+ *   row 1 + j + n.y k, pixel i: m(p), p.x, p.y, p.z
  */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "lightgraph/cl.h"
 #include "lightgraph/lightgraph.h"
+#include "lightgraph/medium.h"
 
 #include "common/testscene.h"
 
@@ -201,6 +217,81 @@ static int probe_execute(lg_node *n, const lg_frame *frame)
     return 0;
 }
 
+/* ---- test_field_probe ------------------------------------------------------------------------ */
+
+static void field_size(lg_node *n, uint32_t *w, uint32_t *h)
+{
+    const lg_value *nv = lg_param(n, "n");
+    *w = nv->i3[0] > 8 ? (uint32_t)nv->i3[0] : 8u;
+    *h = 1u + (uint32_t)(nv->i3[1] * nv->i3[2]);
+}
+
+static int field_prepare(lg_node *n)
+{
+    if (!lg_scene_get(n, lg_input(n, 0)))
+        return LG_ERR_INVALID;
+    uint32_t w, h;
+    field_size(n, &w, &h);
+    lg_image_desc d = { .width = w, .height = h, .format = LG_FORMAT_RGBA32F };
+    int rc = lg_declare_image(n, 0, &d);
+    return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
+}
+
+static int field_execute(lg_node *n, const lg_frame *frame)
+{
+    (void)frame;
+    const lg_scene *s = lg_scene_get(n, lg_input(n, 0));
+    if (!s)
+        return LG_ERR_INVALID;
+    lg_cpu_view v;
+    int rc = lg_map_cpu(n, lg_output(n, 0), LG_WRITE, &v);
+    if (rc)
+        return rc;
+    uint32_t w, h;
+    field_size(n, &w, &h);
+    float *px = v.pixels;
+    memset(px, 0, (size_t)w * h * 4 * sizeof(float));
+    const lg_value *lo = lg_param(n, "lo"), *hi = lg_param(n, "hi"), *nv = lg_param(n, "n");
+    const lg_density_field *f = s->medium.field;
+    const lg_density_grid *g = f && f->kind == LG_FIELD_GRID ? f->grid : NULL;
+    put(px, 0, f != NULL, f ? (float)f->kind : -1, (float)s->features.medium_field,
+        f ? f->height_falloff : 0);
+    put(px, 1, f ? f->height_base : 0, g ? (float)g->nx : 0, g ? (float)g->ny : 0,
+        g ? (float)g->nz : 0);
+    put(px, 2, f ? f->bounds_min[0] : 0, f ? f->bounds_min[1] : 0, f ? f->bounds_min[2] : 0,
+        g ? g->max_value : 0);
+    double blo[3] = { lo->v[0], lo->v[1], lo->v[2] }, bhi[3] = { hi->v[0], hi->v[1], hi->v[2] };
+    put(px, 3, f ? f->bounds_max[0] : 0, f ? f->bounds_max[1] : 0, f ? f->bounds_max[2] : 0,
+        (float)lg_medium_field_max(&s->medium, blo, bhi));
+    put(px, 4, f ? (float)f->fbm.octaves : 0, f ? (float)f->fbm.seed : 0, f ? f->fbm.frequency : 0,
+        f ? f->fbm.lacunarity : 0);
+    put(px, 5, f ? f->fbm.gain : 0, f ? f->fbm.offset : 0, f ? f->fbm.scale : 0,
+        (float)lg_medium_is_heterogeneous(&s->medium));
+    float vs[3] = { 0, 0, 0 };
+    for (int c = 0; c < 3 && g; c++)
+        vs[c] = (float)sqrt(g->index_to_world[4 * c] * g->index_to_world[4 * c] +
+                            g->index_to_world[4 * c + 1] * g->index_to_world[4 * c + 1] +
+                            g->index_to_world[4 * c + 2] * g->index_to_world[4 * c + 2]);
+    put(px, 6, g ? (float)g->index_to_world[12] : 0, g ? (float)g->index_to_world[13] : 0,
+        g ? (float)g->index_to_world[14] : 0, g && g->source ? (float)strlen(g->source) : 0);
+    put(px, 7, vs[0], vs[1], vs[2], s->medium.density);
+    int64_t nn[3] = { nv->i3[0], nv->i3[1], nv->i3[2] };
+    for (int64_t k = 0; k < nn[2]; k++)
+        for (int64_t j = 0; j < nn[1]; j++)
+            for (int64_t i = 0; i < nn[0]; i++) {
+                int64_t ijk[3] = { i, j, k };
+                double p[3];
+                for (int c = 0; c < 3; c++)
+                    p[c] = lo->v[c] +
+                           (nn[c] > 1 ? (hi->v[c] - lo->v[c]) * (double)ijk[c] / (double)(nn[c] - 1)
+                                      : 0.0);
+                size_t row = 1 + (size_t)(j + nn[1] * k);
+                put(px + row * w * 4, (int)i, (float)lg_medium_field_at(&s->medium, p), (float)p[0],
+                    (float)p[1], (float)p[2]);
+            }
+    return 0;
+}
+
 /* ---- descriptors ----------------------------------------------------------------------------- */
 
 static const lg_param_desc cube_params[] = {
@@ -259,6 +350,26 @@ static const lg_port_desc probe_out[] = {
     { .name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f, 1 row, layout in testcube.c" },
 };
 
+static const lg_param_desc field_params[] = {
+    { .key = "lo",
+      .type = LG_PARAM_VEC3,
+      .def.v = { 0, 0, 0 },
+      .doc = "the lattice's first point" },
+    { .key = "hi", .type = LG_PARAM_VEC3, .def.v = { 0, 0, 0 }, .doc = "its last point" },
+    { .key = "n",
+      .type = LG_PARAM_INT3,
+      .def.i3 = { 1, 1, 1 },
+      .min = 1,
+      .max = 256,
+      .doc = "points along x, y, z" },
+};
+static const lg_port_desc field_in[] = {
+    { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene whose medium to sample" },
+};
+static const lg_port_desc field_out[] = {
+    { .name = "out", .kind = LG_KIND_IMAGE, .doc = "rgba32f, layout in testcube.c" },
+};
+
 static const lg_node_type types[] = {
     {
         .struct_size = sizeof(lg_node_type),
@@ -278,6 +389,16 @@ static const lg_node_type types[] = {
         LG_OUTPUTS(probe_out),
         .prepare = probe_prepare,
         .execute = probe_execute,
+    },
+    {
+        .struct_size = sizeof(lg_node_type),
+        .name = "test_field_probe",
+        .doc = "Samples a scene's density field on a lattice of points (test)",
+        LG_PARAMS(field_params),
+        LG_INPUTS(field_in),
+        LG_OUTPUTS(field_out),
+        .prepare = field_prepare,
+        .execute = field_execute,
     },
 };
 
