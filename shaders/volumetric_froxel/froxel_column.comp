@@ -138,63 +138,61 @@ vec3 fx_history(vec3 x)
 // which p is lit. 1 outside the tile, behind the near plane or without a record.
 float fx_visibility(int l, vec3 p, ivec2 atlas_size, int res)
 {
+    // one exit (structured control flow for llvmpipe's SIMD lanes)
     int r = fx_lights[l].rec;
-    if (r < 0)
-        return 1.0;
     int nr = fx_lights[l].n_rec;
     if (nr == 6) {
         vec3 d = p - fx_lights[l].sq;
         vec3 a = abs(d);
+        // the major axis, ties to the lower one, without indexing d by a variable
         int axis = 0;
-        float m = a.x;
+        float m = a.x, da = d.x;
         if (a.y > m) {
             axis = 1;
             m = a.y;
+            da = d.y;
         }
-        if (a.z > m)
+        if (a.z > m) {
             axis = 2;
-        r += 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+            da = d.z;
+        }
+        r += 2 * axis + (da < 0.0 ? 1 : 0);
     } else if (nr == 2) {
         vec4 v = fx_recs[r].m * vec4(p, 1.0);
         r += v.z > 0.0 ? 1 : 0;
     }
-    vec3 ndc;
     int face = fx_recs[r].face;
+    vec4 q = fx_recs[r].m * vec4(p, 1.0);
+    bool front = q.w > 0.0;
+    vec3 ndc = q.xyz / q.w;
     if (face >= 16) {
         // dual paraboloid: the view-space direction maps to d.xy / (1 + z'), depth is the
         // distance past znear over depth_range (lg_shadowmap_visibility)
-        vec3 v = (fx_recs[r].m * vec4(p, 1.0)).xyz;
-        float len = length(v);
-        if (!(len > 0.0))
-            return 1.0;
-        float zf = face == 16 ? -v.z / len : v.z / len;
-        ndc = vec3(v.xy / len / (1.0 + zf),
+        float len = length(q.xyz);
+        front = len > 0.0;
+        float zf = (face == 16 ? -q.z : q.z) / len;
+        ndc = vec3(q.xy / len / (1.0 + zf),
                    2.0 * (len - fx_recs[r].znear) / fx_recs[r].depth_range - 1.0);
-        if (face == 17)
-            ndc.x = -ndc.x;
-    } else {
-        vec4 q = fx_recs[r].m * vec4(p, 1.0);
-        if (!(q.w > 0.0))
-            return 1.0;
-        ndc = q.xyz / q.w;
+        ndc.x = face == 17 ? -ndc.x : ndc.x;
     }
     vec2 uv = ndc.xy * 0.5 + 0.5;
-    float z = ndc.z * 0.5 + 0.5;
-    if (!(uv.x >= 0.0 && uv.x < 1.0 && uv.y >= 0.0 && uv.y < 1.0) || !(z >= 0.0))
-        return 1.0;
-    z = min(z, 1.0);
-    ivec2 cxy = min(ivec2(uv * float(res)), ivec2(res - 1));
-    ivec2 tile = fx_recs[r].tile;
-    int lit = 0, taps = 0;
-    for (int dy = -u_pcf; dy <= u_pcf; dy++)
-        for (int dx = -u_pcf; dx <= u_pcf; dx++) {
-            ivec2 texel = tile + clamp(cxy + ivec2(dx, dy), ivec2(0), ivec2(res - 1));
-            taps++;
-            if (any(greaterThanEqual(texel, atlas_size)) ||
-                !(z > texelFetch(u_atlas, texel, 0).r + u_bias))
-                lit++;
+    float z = min(ndc.z * 0.5 + 0.5, 1.0);
+    bool inside = front && uv.x >= 0.0 && uv.x < 1.0 && uv.y >= 0.0 && uv.y < 1.0 && z >= 0.0;
+    float vis = 1.0;
+    if (inside) {
+        ivec2 cxy = min(ivec2(uv * float(res)), ivec2(res - 1));
+        ivec2 tile = fx_recs[r].tile;
+        int side = 2 * u_pcf + 1, taps = side * side, lit = 0;
+        for (int i = 0; i < taps; i++) {
+            ivec2 o = ivec2(i % side, i / side) - u_pcf;
+            ivec2 texel = tile + clamp(cxy + o, ivec2(0), ivec2(res - 1));
+            bool beyond = any(greaterThanEqual(texel, atlas_size));
+            float stored = texelFetch(u_atlas, min(texel, atlas_size - 1), 0).r;
+            lit += beyond || !(z > stored + u_bias) ? 1 : 0;
         }
-    return float(lit) / float(taps);
+        vis = float(lit) / float(taps);
+    }
+    return vis;
 }
 #endif
 
@@ -217,12 +215,6 @@ float fx_tau(int l, vec3 p)
 // that holds p, the transmittance towards the light; rho multiplies S and the extinction.
 void fx_column_general(ivec2 c, vec3 w, float ic)
 {
-    // the column's constants: sigma_s C_l p_HG for directional lights
-    vec3 lc[FX_MAX_LIGHTS];
-    for (int l = 0; l < u_n_lights; l++)
-        lc[l] = fx_lights[l].type == 0
-                    ? u_sigma_s * fx_lights[l].l_c * lg_hg_phase(u_g, dot(w, -fx_lights[l].dir))
-                    : u_sigma_s * fx_lights[l].l_c;
     ivec2 atlas_size = textureSize(u_atlas, 0);
     int res = u_shadow_res;
     vec3 A = vec3(0.0), Tr = vec3(1.0);
@@ -237,9 +229,13 @@ void fx_column_general(ivec2 c, vec3 w, float ic)
         vec3 S = vec3(0.0);
         for (int l = 0; l < u_n_lights; l++) {
             int type = fx_lights[l].type;
-            vec3 term = lc[l];
+            // (per froxel, not a per-column array: a local array is stack memory on
+            // llvmpipe)
+            vec3 term = u_sigma_s * fx_lights[l].l_c;
             float dist = 0.0;
-            if (type != 0) {
+            if (type == 0) {
+                term *= lg_hg_phase(u_g, dot(w, -fx_lights[l].dir));
+            } else {
                 bool spot = type == 2;
                 vec3 q = fx_lights[l].pos, ax = fx_lights[l].dir;
                 vec2 cone = vec2(fx_lights[l].cos_inner, fx_lights[l].cos_outer);
