@@ -16,7 +16,7 @@
  *                        analytic sphere (centre, radius) seen from the light: texel (x, y)
  *                        of a tile holds the window depth of the sphere along the ray through
  *                        its centre, 1 where the ray misses. pcf = the PCF radius. Directional
- *                        lights get no record (unshadowed).
+ *                        lights get no record (unshadowed). Tiles 16 a row.
  *   froxel_spec          scene + base (+ shadows) -> grid (W x (H D), froxel_grid_image's
  *                        layout), inscatter and out (W x H: base must be W x H, so that
  *                        each pixel's centre is a column's): froxel.h 1, 2 (energy_conserving)
@@ -93,6 +93,8 @@ static int nothing(lg_node *n, const lg_frame *frame)
 
 /* ---- froxel_hand_shadows --------------------------------------------------------------------- */
 
+#define HS_ROW 16
+
 typedef struct hs_state {
     uint32_t n_rec, res;
     lg_shadow_light rec[6 * VOL_MAX_LIGHTS];
@@ -101,20 +103,28 @@ typedef struct hs_state {
 
 /* Record r looking from q along `dir` with `up`, a square frustum of yfov. */
 static void hs_record(lg_shadow_light *r, uint32_t light, uint32_t face, lg_vec3 q, lg_vec3 dir,
-                      lg_vec3 up, float yfov, uint32_t tile_x, uint32_t res)
+                      lg_vec3 up, float yfov, uint32_t index, uint32_t res)
 {
     memset(r, 0, sizeof *r);
     lg_m4_look_at(r->view, q, lg_v3_add(q, dir), up);
     lg_m4_perspective(r->proj, yfov, 1.0f, 0.05f, 20.0f);
     lg_m4_mul(r->view_proj, r->proj, r->view);
     r->light = light;
-    r->tile_x = tile_x;
-    r->tile_y = 0;
+    r->tile_x = index % HS_ROW * res; /* HS_ROW tiles a row (GL's size limits) */
+    r->tile_y = index / HS_ROW * res;
     r->texel_world = 2.0f * tanf(0.5f * yfov) / (float)res;
     r->depth_range = 20.0f - 0.05f;
     r->projection = LG_SHADOW_PERSPECTIVE;
     r->face = face;
     r->znear = 0.05f;
+}
+
+/* The atlas: HS_ROW tiles a row, as many rows as needed (at least one tile). */
+static void hs_atlas_size(const hs_state *st, uint32_t *w, uint32_t *h)
+{
+    uint32_t n = st->n_rec ? st->n_rec : 1;
+    *w = (n < HS_ROW ? n : HS_ROW) * st->res;
+    *h = (n + HS_ROW - 1) / HS_ROW * st->res;
 }
 
 static int hs_prepare(lg_node *n)
@@ -141,18 +151,19 @@ static int hs_prepare(lg_node *n)
         if (L->type == LG_LIGHT_POINT && st->n_rec + 6 <= 6 * VOL_MAX_LIGHTS)
             for (uint32_t f = 0; f < 6; f++, st->n_rec++)
                 hs_record(&st->rec[st->n_rec], l, f, q, lg_v3(dirs[f][0], dirs[f][1], dirs[f][2]),
-                          lg_v3(ups[f][0], ups[f][1], ups[f][2]), 0.5f * (float)LG_PI,
-                          st->n_rec * st->res, st->res);
+                          lg_v3(ups[f][0], ups[f][1], ups[f][2]), 0.5f * (float)LG_PI, st->n_rec,
+                          st->res);
         else if (L->type == LG_LIGHT_SPOT && st->n_rec < 6 * VOL_MAX_LIGHTS) {
             lg_vec3 d = lg_v3(L->direction[0], L->direction[1], L->direction[2]);
             lg_vec3 up = fabsf(d.y) < 0.9f ? lg_v3(0, 1, 0) : lg_v3(1, 0, 0);
-            hs_record(&st->rec[st->n_rec], l, 0, q, d, up, 2.0f * L->outer_cone + 0.05f,
-                      st->n_rec * st->res, st->res);
+            hs_record(&st->rec[st->n_rec], l, 0, q, d, up, 2.0f * L->outer_cone + 0.05f, st->n_rec,
+                      st->res);
             st->n_rec++;
         }
     }
-    uint32_t w = (st->n_rec ? st->n_rec : 1) * st->res;
-    int rc = lg_shadowmap_declare(n, 0, w, st->res, st->n_rec);
+    uint32_t w, h;
+    hs_atlas_size(st, &w, &h);
+    int rc = lg_shadowmap_declare(n, 0, w, h, st->n_rec);
     return rc ? rc : lg_set_device(n, LG_DEVICE_CPU);
 }
 
@@ -160,7 +171,8 @@ static int hs_execute(lg_node *n, const lg_frame *frame)
 {
     (void)frame;
     hs_state *st = n->user;
-    uint32_t aw = (st->n_rec ? st->n_rec : 1) * st->res, res = st->res;
+    uint32_t aw, ah, res = st->res;
+    hs_atlas_size(st, &aw, &ah);
     lg_cpu_view av;
     int rc = lg_map_cpu(n, lg_part(n, lg_output(n, 0), "atlas"), LG_WRITE, &av);
     if (rc)
@@ -168,7 +180,7 @@ static int hs_execute(lg_node *n, const lg_frame *frame)
     float *atlas = av.depth ? av.depth : av.pixels;
     if (!atlas)
         return lg_error(n, "the atlas has no CPU plane");
-    for (size_t i = 0; i < (size_t)aw * res; i++)
+    for (size_t i = 0; i < (size_t)aw * ah; i++)
         atlas[i] = 1.0f;
     for (uint32_t r = 0; r < st->n_rec; r++) {
         const lg_shadow_light *L = &st->rec[r];
@@ -211,14 +223,15 @@ static int hs_execute(lg_node *n, const lg_frame *frame)
                 const float *m = L->view_proj;
                 for (int row = 0; row < 4; row++)
                     cl[row] = m[row] * p[0] + m[4 + row] * p[1] + m[8 + row] * p[2] + m[12 + row];
-                atlas[(size_t)y * aw + L->tile_x + x] = (float)(cl[2] / cl[3] * 0.5 + 0.5);
+                atlas[(size_t)(L->tile_y + y) * aw + L->tile_x + x] =
+                    (float)(cl[2] / cl[3] * 0.5 + 0.5);
             }
     }
     lg_shadowmap_info info = { .struct_size = sizeof info,
                                .resolution = res,
                                .n_lights = st->n_rec,
                                .atlas_width = aw,
-                               .atlas_height = res,
+                               .atlas_height = ah,
                                .bias_constant = (float)lg_param_float(n, "bias") };
     info.pcf_radius = (uint32_t)lg_param_int(n, "pcf");
     return lg_shadowmap_publish(n, 0, &info, st->rec);
