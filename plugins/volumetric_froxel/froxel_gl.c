@@ -89,8 +89,9 @@ static const char *const fx_gl_defines[FX_GL_VARIANTS] = {
 };
 
 /* The slice table FxSlices (froxel_column.comp): T(k + jitter) for k < D, T(k) for k <= D,
- * T(k + 0.5) for k < D; sized for the largest grid depth. */
-#define FX_GL_SLICES_MAX (3 * FX_MAX_D + 1)
+ * T(k + 0.5) for k < D, and the slice lengths tlen (t_{k+1} - t_k, t_0 = 0, made in double
+ * by froxel.c as cpu takes them) for k < D; sized for the largest grid depth. */
+#define FX_GL_SLICES_MAX (4 * FX_MAX_D + 1)
 
 /* The uniforms of both passes: the grid, this frame's camera, and the slice map (the lookup
  * only: the column pass reads the slice table). */
@@ -420,10 +421,11 @@ static uint32_t fx_gl_slices(const fx_frame *f, float *out)
     for (uint32_t k = 0; k < D; k++) {
         out[k] = (float)t->tj[k];
         out[2 * D + 1 + k] = (float)t->tq[k];
+        out[3 * D + 1 + k] = (float)t->tlen[k];
     }
     for (uint32_t k = 0; k <= D; k++)
         out[D + k] = (float)t->tk[k];
-    return 3 * D + 1;
+    return 4 * D + 1;
 }
 
 /* Maps the grid part for writing, after checking it is the rgba32f volume froxel.h wants. */
@@ -470,11 +472,11 @@ int fx_gl_execute(lg_node *n, void **state, const fx_frame *f)
     if (v->n_lights < 1 || v->n_lights > VOL_MAX_LIGHTS)
         return lg_error(n, "volumetric_froxel (gl): %u lights (1 .. %d)", v->n_lights,
                         VOL_MAX_LIGHTS);
-    if (f->d > (FX_GL_SLICES_MAX - 1) / 3)
+    if (f->d > (FX_GL_SLICES_MAX - 1) / 4)
         return lg_error(n,
                         "volumetric_froxel (gl): grid depth %u, more than the slice table's "
                         "%d",
-                        f->d, (FX_GL_SLICES_MAX - 1) / 3);
+                        f->d, (FX_GL_SLICES_MAX - 1) / 4);
 
     fx_gl_light lights[VOL_MAX_LIGHTS];
     fx_gl_lights(f, lights);

@@ -54,7 +54,8 @@ layout(std430, binding = 0) readonly buffer FxLights {
     FxLight fx_lights[];
 };
 // The frame's slice table (froxel_gl.c, fx_gl_slices): D floats T(k + jitter), D + 1
-// floats T(k) (k = 0 .. D), D floats T(k + 0.5). Before it, each froxel evaluated the slice
+// floats T(k) (k = 0 .. D), D floats T(k + 0.5), D floats tlen_k = t_{k+1} - t_k (t_0 = 0,
+// in double on the CPU, as the cpu backend's step). Before it, each froxel evaluated the slice
 // map two or three times (a pow each, exponential slicing).
 layout(std430, binding = 1) readonly buffer FxSlices {
     float fx_slices[];
@@ -224,7 +225,7 @@ void fx_column_general(ivec2 c, vec3 w, float ic)
     for (int k = 0; k < D; k++) {
         float t = fx_slices[k];
         float t1 = fx_slices[D + k + 1];
-        float delta = (t1 - t0) * ic;
+        float delta = fx_slices[3 * D + 1 + k] * ic;
         vec3 p = u_eye + w * (t * ic);
         vec3 S = vec3(0.0);
         for (int l = 0; l < u_n_lights; l++) {
@@ -368,7 +369,7 @@ void main()
         imageStore(u_s, ivec3(c, k), vec4(S, 1.0));
 
         float t1 = fx_slices[D + k + 1];
-        float delta = (t1 - t0) * ic;
+        float delta = fx_slices[3 * D + 1 + k] * ic;
         if (u_energy != 0 && grey) {
             float tau = u_sigma_t.x * delta;
             A += Tr * S * (delta * lg_medium_segment(tau));
