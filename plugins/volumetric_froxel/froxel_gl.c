@@ -9,6 +9,15 @@
  *           with the column's constants (phase, light-clip line) computed once
  *   lookup  one invocation per pixel: `inscatter` and `out`; out's depth = base's (copied)
  *
+ * Point and spot lights, a PCF radius above 0 and a density field (froxel.h 4.) run
+ * variants of the two passes compiled from the same sources with #define FX_GENERAL (and
+ * FX_HETERO): every light per froxel with its falloff, the map record that holds the
+ * sample (cube face, perspective divide, PCF; FxRecords holds the map's records), the
+ * transmittance towards the light; with a field, rho (a 3D texture uploaded per frame), the
+ * lights' optical-depth volumes stacked along z in one 3D texture read with linear
+ * filtering, and the optical path P (r32f volume) for the lookup. The variant is chosen per
+ * frame, so a homogeneous medium lit by directional lights runs the plain pass as before.
+ *
  * (Before, the light pass ran one invocation per froxel, each doing the phase and the full
  * shadow projection, and a second pass accumulated: 305 / 902 / 2588 ms at the thesis grid
  * with 1 / 8 / 32 lights against 219 / 371 / 1003 ms fused; README.)
