@@ -465,7 +465,7 @@ static const lg_node_type fx_types[] = {
         LG_PARAMS(fx_params),
         LG_INPUTS(fx_inputs),
         LG_OUTPUTS(fx_outputs),
-        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_LIGHT,
+        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
         .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
         .neutral_input = VOL_IN_BASE,
         .create = fx_create,

@@ -82,6 +82,17 @@ static bool read(lg_test *t, const char *file, lg_image *img)
 static void run(lg_test *t, const char *lights, const char *field, const char *shadows,
                 const char *what)
 {
+    /* the lights chain from d0, a directional light of intensity 0: volumetric_froxel is
+     * planned for scenes with a directional light until froxel.c's `needs` takes any light
+     * (fxcpu's branch); it adds nothing (no shadow record, L_c = 0) */
+    char chain[1024];
+    const char *at = strstr(lights, "scene = cam");
+    LG_TEST_CHECK(t, at && strlen(lights) + 8 < sizeof chain, "%s: lights without 'scene = cam'",
+                  what);
+    if (!at || strlen(lights) + 8 >= sizeof chain)
+        return;
+    snprintf(chain, sizeof chain, "%.*sscene = d0%s", (int)(at - lights), lights, at + 11);
+    lights = chain;
     char g[4096];
     char sh[512] = "", shin[32] = "", fieldnode[256] = "";
     if (field)
@@ -98,6 +109,7 @@ static void run(lg_test *t, const char *lights, const char *field, const char *s
              "scene = gltf { file = \"%s/assets/meshes/bunny_cornell_box.glb\" }\n"
              "cam = camera { scene = scene, mode = look_at, position = [0.7, 0.6, 0.9], "
              "target = [-0.5, 0.7, -1.5], fov_deg = 70 }\n"
+             "d0 = light { scene = cam, direction = [0, -1, 0], intensity = 0 }\n"
              "%s"
              "fog = medium { scene = L, density = 1, scattering = [0.3, 0.25, 0.2], "
              "absorption = [0.05, 0.1, 0.2], g = 0.4 }\n"
