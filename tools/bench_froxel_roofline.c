@@ -5,7 +5,8 @@
  *
  *   lg_bench_froxel_roofline [--size WxH] [--grid WxHxD] [--frames N]
  *                            [--backends cpu,cl,gl] [--lights 1,8,32] [--temporal]
- *                            [--triad-mib M]
+ *                            [--triad-mib M] [--type directional|point|spot]
+ *                            [--integration sample|analytic] [--unshadowed]
  *
  * Defaults: 640x360, the thesis grid 190x90x128, 6 frames, cpu,cl,gl, 1, 8 and 32 lights,
  * no temporal, a 256 MiB triad.
@@ -13,7 +14,12 @@
  * The node runs through the host (lg_render_file, in this process) on the bunny box of
  * examples/volumetric_scene.lgraph with `per_frame = true`: with n lights, the sun and n - 1
  * more directional lights (light nodes, fanned around the sun's direction), all shadowed
- * by one shadowmap node (256 x 256 per light). The time is the node's wall time per frame
+ * by one shadowmap node (256 x 256 per light). --type point or spot (issue 25: the light
+ * pass's floor, plugins/volumetric_froxel/README.md "The light pass's floor"): n point or
+ * spot lights instead, spread inside the box (the spots aimed at the bunny), with the
+ * node's point_integration (--integration), unshadowed; --unshadowed: no shadow maps for
+ * directional lights either. The ns per froxel-light column is ms / (W H D lights). The
+ * time is the node's wall time per frame
  * in steady state (the mean of frames 2 .. N, as `lightgraph sweep --time` reports; the
  * host waits for the node's GL or CL work before stopping the clock).
  *
@@ -51,13 +57,41 @@ static int usage(void)
 {
     fprintf(stderr, "usage: lg_bench_froxel_roofline [--size WxH] [--grid WxHxD] [--frames N]\n"
                     "         [--backends cpu,cl,gl] [--lights 1,8,32] [--temporal]\n"
-                    "         [--triad-mib M]\n");
+                    "         [--triad-mib M] [--type directional|point|spot]\n"
+                    "         [--integration sample|analytic] [--unshadowed]\n");
     return 2;
+}
+
+/* The light set of --type point or spot: `lights` lights on a ring inside the box. */
+static void write_local_lights(FILE *f, const char *type, int lights, const char *integration,
+                               const char *backend, const uint32_t grid[3], bool temporal)
+{
+    const char *prev = "fog";
+    char name[32], prevbuf[32];
+    for (int l = 0; l < lights; l++) {
+        double a = 2.0 * LG_PI * l / lights;
+        snprintf(name, sizeof name, "p%d", l);
+        fprintf(f,
+                "%s = light { scene = %s, mode = %s, type = %s, position = [%.4f, 0.9, %.4f], "
+                "intensity = 1%s }\n",
+                name, prev, l ? "add" : "replace", type, -0.2 + 0.5 * cos(a), -0.6 + 0.5 * sin(a),
+                strcmp(type, "spot") == 0
+                    ? ", aim = target, target = [-0.2, 0.3, -0.8], outer_cone_deg = 40"
+                    : "");
+        snprintf(prevbuf, sizeof prevbuf, "%s", name);
+        prev = prevbuf;
+    }
+    fprintf(f,
+            "vol = volumetric_froxel { scene = %s, base = lit, backend = %s,\n"
+            "    width = %u, height = %u, depth = %u, slicing = exponential, per_frame = true,\n"
+            "    temporal = %s, point_integration = %s }\n"
+            "output vol \"out.exr\"\n",
+            prev, backend, grid[0], grid[1], grid[2], temporal ? "true" : "false", integration);
 }
 
 /* Writes the graph for `lights` lights and `backend` into path; 0 or 1. */
 static int write_graph(const char *path, const char *backend, int lights, const uint32_t grid[3],
-                       bool temporal)
+                       bool temporal, const char *type, const char *integration, bool unshadowed)
 {
     FILE *f = fopen(path, "w");
     if (!f) {
@@ -65,6 +99,11 @@ static int write_graph(const char *path, const char *backend, int lights, const 
         return 1;
     }
     fprintf(f, "lightgraph 1\ninclude \"%s/volumetric_scene.lgraph\"\n", LG_FROXEL_BENCH_EXAMPLES);
+    if (strcmp(type, "directional") != 0) {
+        write_local_lights(f, type, lights, integration, backend, grid, temporal);
+        fclose(f);
+        return 0;
+    }
     const char *prev = "fog";
     char name[32], prevbuf[32];
     for (int l = 1; l < lights; l++) {
@@ -78,18 +117,21 @@ static int write_graph(const char *path, const char *backend, int lights, const 
     }
     fprintf(f, "shadows = shadowmap { scene = %s, resolution = 256 }\n", prev);
     fprintf(f,
-            "vol = volumetric_froxel { scene = %s, base = lit, shadows = shadows, backend = %s,\n"
+            "vol = volumetric_froxel { scene = %s, base = lit, %s backend = %s,\n"
             "    width = %u, height = %u, depth = %u, slicing = exponential, per_frame = true,\n"
             "    temporal = %s }\n"
             "output vol \"out.exr\"\n",
-            prev, backend, grid[0], grid[1], grid[2], temporal ? "true" : "false");
+            prev, unshadowed ? "" : "shadows = shadows,", backend, grid[0], grid[1], grid[2],
+            temporal ? "true" : "false");
     fclose(f);
     return 0;
 }
 
 int main(int argc, char **argv)
 {
-    const char *backends = "cpu,cl,gl", *lights_s = "1,8,32";
+    const char *backends = "cpu,cl,gl", *lights_s = "1,8,32", *type = "directional",
+               *integration = "analytic";
+    bool unshadowed = false;
     uint32_t size[2] = { 640, 360 }, grid[3] = { 190, 90, 128 };
     long frames = 6, triad_mib = 256;
     bool temporal = false;
@@ -99,13 +141,25 @@ int main(int argc, char **argv)
             temporal = true;
             continue;
         }
+        if (strcmp(a, "--unshadowed") == 0) {
+            unshadowed = true;
+            continue;
+        }
         if (!val)
             return usage();
         i++;
         char *end;
         if (strcmp(a, "--backends") == 0)
             backends = val;
-        else if (strcmp(a, "--lights") == 0)
+        else if (strcmp(a, "--type") == 0) {
+            type = val;
+            if (strcmp(type, "directional") && strcmp(type, "point") && strcmp(type, "spot"))
+                return usage();
+        } else if (strcmp(a, "--integration") == 0) {
+            integration = val;
+            if (strcmp(integration, "sample") && strcmp(integration, "analytic"))
+                return usage();
+        } else if (strcmp(a, "--lights") == 0)
             lights_s = val;
         else if (strcmp(a, "--size") == 0) {
             if (sscanf(val, "%ux%u", &size[0], &size[1]) != 2 || !size[0] || !size[1] ||
@@ -160,11 +214,18 @@ int main(int argc, char **argv)
             "froxels), %s, %ld frames\n",
             triad_gbs, triad_mib, size[0], size[1], grid[0], grid[1], grid[2], vox * 1e-6,
             temporal ? "temporal" : "not temporal", frames);
-    fprintf(stderr, "%-8s %6s %10s %10s %8s %8s %10s\n", "backend", "lights", "ms/frame",
-            "ns/froxel", "MB", "GB/s", "% triad");
+    bool local = strcmp(type, "directional") != 0;
+    fprintf(stderr, "lights: %s%s%s\n", type,
+            local        ? (strcmp(integration, "analytic") ? " (sample)" : " (analytic)")
+            : unshadowed ? ", unshadowed"
+                         : ", shadowed",
+            local ? ", unshadowed" : "");
+    fprintf(stderr, "%-8s %6s %10s %10s %10s %8s %8s %10s\n", "backend", "lights", "ms/frame",
+            "ns/froxel", "ns/fx-lt", "MB", "GB/s", "% triad");
     printf("{\"triad_gbs\": %.3f, \"size\": [%u, %u], \"grid\": [%u, %u, %u], \"temporal\": %s, "
-           "\"rows\": [",
-           triad_gbs, size[0], size[1], grid[0], grid[1], grid[2], temporal ? "true" : "false");
+           "\"type\": \"%s\", \"integration\": \"%s\", \"shadowed\": %s, \"rows\": [",
+           triad_gbs, size[0], size[1], grid[0], grid[1], grid[2], temporal ? "true" : "false",
+           type, integration, local || unshadowed ? "false" : "true");
     int rows = 0, status = 0;
     char *bl = lg_xstrdup(backends);
     for (char *s1 = NULL, *b = strtok_r(bl, ",", &s1); b; b = strtok_r(NULL, ",", &s1)) {
@@ -176,7 +237,7 @@ int main(int argc, char **argv)
                 status = 2;
                 continue;
             }
-            if (write_graph(graph, b, lights, grid, temporal)) {
+            if (write_graph(graph, b, lights, grid, temporal, type, integration, unshadowed)) {
                 status = 1;
                 continue;
             }
@@ -190,7 +251,7 @@ int main(int argc, char **argv)
             lg_run_result res = { 0 };
             int rc = lg_render_file(&reg, graph, NULL, 0, &o, "vol", &res);
             double bytes = 2.0 * vox * 16 + pix * (20 + 36) + (temporal ? vox * 16 : 0) +
-                           lights * fmin(256.0 * 256.0, vox) * 4;
+                           (local || unshadowed ? 0 : lights * fmin(256.0 * 256.0, vox) * 4);
             printf("%s{\"backend\": \"%s\", \"lights\": %d", rows++ ? ", " : "", b, lights);
             if (rc || !res.node_found) {
                 fprintf(stderr, "%-8s %6d skipped (the render failed, above)\n", b, lights);
@@ -198,8 +259,9 @@ int main(int argc, char **argv)
                 continue;
             }
             double gbs = bytes / (res.node_ms * 1e-3) * 1e-9;
-            fprintf(stderr, "%-8s %6d %10.1f %10.2f %8.1f %8.2f %9.1f%%\n", b, lights, res.node_ms,
-                    res.node_ms * 1e6 / vox, bytes * 1e-6, gbs, 100.0 * gbs / triad_gbs);
+            fprintf(stderr, "%-8s %6d %10.1f %10.2f %10.2f %8.1f %8.2f %9.1f%%\n", b, lights,
+                    res.node_ms, res.node_ms * 1e6 / vox, res.node_ms * 1e6 / (vox * lights),
+                    bytes * 1e-6, gbs, 100.0 * gbs / triad_gbs);
             printf(", \"ms\": %.3f, \"bytes\": %.0f, \"gbs\": %.3f, \"triad_fraction\": %.4f}",
                    res.node_ms, bytes, gbs, gbs / triad_gbs);
         }

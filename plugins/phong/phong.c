@@ -59,6 +59,12 @@ typedef struct ph_gpu_shadow {
     float tile[2];
     float texel_world;
     int32_t light;
+    float light_pos[3];
+    int32_t projection;
+    float znear;
+    float depth_range;
+    int32_t n_faces;
+    int32_t pad;
 } ph_gpu_shadow;
 
 LG_GL_BLOCK_SIZE(ph_gpu_light, 64);
@@ -66,10 +72,13 @@ LG_GL_BLOCK_OFFSET(ph_gpu_light, dir, 16);
 LG_GL_BLOCK_OFFSET(ph_gpu_light, radiance, 32);
 LG_GL_BLOCK_OFFSET(ph_gpu_light, shadow, 44);
 LG_GL_BLOCK_OFFSET(ph_gpu_light, cone, 48);
-LG_GL_BLOCK_SIZE(ph_gpu_shadow, 80);
+LG_GL_BLOCK_SIZE(ph_gpu_shadow, 112);
 LG_GL_BLOCK_OFFSET(ph_gpu_shadow, tile, 64);
 LG_GL_BLOCK_OFFSET(ph_gpu_shadow, texel_world, 72);
 LG_GL_BLOCK_OFFSET(ph_gpu_shadow, light, 76);
+LG_GL_BLOCK_OFFSET(ph_gpu_shadow, light_pos, 80);
+LG_GL_BLOCK_OFFSET(ph_gpu_shadow, projection, 92);
+LG_GL_BLOCK_OFFSET(ph_gpu_shadow, n_faces, 104);
 
 /* The pass's uniform block PhFrame (std140, shaders/phong/phong_scene.glsl): one upload per
  * pass with lg_gl_pass_uniforms. */
@@ -89,9 +98,12 @@ typedef struct ph_gpu_frame {
     float bias_const;
     float bias_slope;
     float normal_offset;
+    int32_t pcf_radius;
+    float pcss_light_size;
+    float pad[2];
 } ph_gpu_frame;
 
-LG_GL_BLOCK_SIZE(ph_gpu_frame, 144);
+LG_GL_BLOCK_SIZE(ph_gpu_frame, 160);
 LG_GL_BLOCK_OFFSET(ph_gpu_frame, eye, 64);
 LG_GL_BLOCK_OFFSET(ph_gpu_frame, n_lights, 76);
 LG_GL_BLOCK_OFFSET(ph_gpu_frame, view_dir_inf, 80);
@@ -102,6 +114,8 @@ LG_GL_BLOCK_OFFSET(ph_gpu_frame, K, 112);
 LG_GL_BLOCK_OFFSET(ph_gpu_frame, mixed_cos, 124);
 LG_GL_BLOCK_OFFSET(ph_gpu_frame, shadow_res, 128);
 LG_GL_BLOCK_OFFSET(ph_gpu_frame, normal_offset, 140);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, pcf_radius, 144);
+LG_GL_BLOCK_OFFSET(ph_gpu_frame, pcss_light_size, 148);
 
 /* The uniforms and bindings of a raster pass. Each shading mode compiles its own variant and
  * drops what it does not use, so all but the PhFrame block are optional. */
@@ -225,13 +239,16 @@ static const char *ph_light_name(const lg_light *l)
 }
 
 /* The scene's lights as the shaders read them (phong_scene.glsl, LgLight), and the shadow
- * maps of its directional lights (LgShadow). */
+ * maps of every light type (LgShadow: one per map, a point light's six cube faces
+ * consecutive); *n_shadow counts the shadowed lights, *n_maps the maps. */
 static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg_shadowmap *sm,
-                           ph_gpu_light **out_l, ph_gpu_shadow **out_s, uint32_t *n_shadow)
+                           ph_gpu_light **out_l, ph_gpu_shadow **out_s, uint32_t *n_shadow,
+                           uint32_t *n_maps)
 {
     *out_l = NULL;
     *out_s = NULL;
     *n_shadow = 0;
+    *n_maps = 0;
     uint32_t nl = s->n_lights;
     ph_gpu_light *gl = calloc(nl ? nl : 1, sizeof *gl);
     ph_gpu_shadow *gs = calloc(sm && sm->n_lights ? sm->n_lights : 1, sizeof *gs);
@@ -334,7 +351,7 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
         g->cone[2] = st->falloff ? 1.0f : 0.0f;
     }
 
-    uint32_t ns = 0;
+    uint32_t ns = 0, nmaps = 0;
     for (uint32_t k = 0; sm && k < sm->n_lights && !rc; k++) {
         const lg_shadow_light *sl = &sm->lights[k];
         if (sl->light >= nl) {
@@ -344,24 +361,40 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
                           k, sl->light, nl, nl == 1 ? "" : "s");
             break;
         }
-        if (s->lights[sl->light].type != LG_LIGHT_DIRECTIONAL) {
+        if (gl[sl->light].shadow >= 0)
+            continue; /* a later map of a light already taken (its cube's faces are) */
+        /* the light's maps: one, or a cube's six consecutive faces */
+        uint32_t nf = 1;
+        if (sl->projection == LG_SHADOW_PERSPECTIVE && k + 5 < sm->n_lights &&
+            sm->lights[k + 5].light == sl->light && sm->lights[k + 5].face == LG_SHADOW_FACE_NEG_Z)
+            nf = 6;
+        bool ok = sl->projection == LG_SHADOW_ORTHOGRAPHIC ||
+                  (sl->projection == LG_SHADOW_PERSPECTIVE &&
+                   sl->face < LG_SHADOW_FACE_PARABOLOID_FRONT);
+        if (!ok) {
             if (!st->warned_shadow)
                 lg_log(n, LG_LOG_WARN,
-                       "input 'shadows': shadow map %u is for light %u '%s', which is not "
-                       "directional; phong applies shadow maps of directional lights only",
-                       k, sl->light, ph_light_name(&s->lights[sl->light]));
+                       "input 'shadows': shadow map %u of light %u '%s' is a dual-paraboloid "
+                       "map (face %u), which phong does not read: the light is unshadowed",
+                       k, sl->light, ph_light_name(&s->lights[sl->light]), sl->face);
             st->warned_shadow = true;
             continue;
         }
-        if (gl[sl->light].shadow >= 0)
-            continue; /* a second map for the same light: the first one counts */
-        ph_gpu_shadow *g = &gs[ns];
-        memcpy(g->view_proj, sl->view_proj, sizeof g->view_proj);
-        g->tile[0] = (float)sl->tile_x;
-        g->tile[1] = (float)sl->tile_y;
-        g->texel_world = sl->texel_world;
-        g->light = (int32_t)sl->light;
-        gl[sl->light].shadow = (int32_t)ns;
+        gl[sl->light].shadow = (int32_t)nmaps;
+        for (uint32_t f = 0; f < nf; f++) {
+            const lg_shadow_light *r = &sm->lights[k + f];
+            ph_gpu_shadow *g = &gs[nmaps++];
+            memcpy(g->view_proj, r->view_proj, sizeof g->view_proj);
+            g->tile[0] = (float)r->tile_x;
+            g->tile[1] = (float)r->tile_y;
+            g->texel_world = r->texel_world;
+            g->light = (int32_t)r->light;
+            memcpy(g->light_pos, s->lights[r->light].position, sizeof g->light_pos);
+            g->projection = (int32_t)r->projection;
+            g->znear = r->znear;
+            g->depth_range = r->depth_range;
+            g->n_faces = f == 0 ? (int32_t)nf : 1;
+        }
         ns++;
     }
     if (rc) {
@@ -372,6 +405,7 @@ static int ph_build_lights(lg_node *n, ph_state *st, const lg_scene *s, const lg
     *out_l = gl;
     *out_s = gs;
     *n_shadow = ns;
+    *n_maps = nmaps;
     return 0;
 }
 
@@ -643,6 +677,8 @@ static int ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u, con
         .bias_const = sm ? sm->bias_constant : 0.0f,
         .bias_slope = sm ? sm->bias_slope : 0.0f,
         .normal_offset = sm ? sm->normal_offset : 0.0f,
+        .pcf_radius = sm ? (int32_t)sm->pcf_radius : 0,
+        .pcss_light_size = sm ? sm->pcss_light_size : 0.0f,
     };
     memcpy(g.view_proj, view_proj, sizeof g.view_proj);
     return lg_gl_pass_uniforms(p, u->frame, &g, sizeof g);
@@ -834,8 +870,8 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
     f.v = &v;
     ph_gpu_light *lights = NULL;
     ph_gpu_shadow *shadows = NULL;
-    uint32_t n_shadow = 0;
-    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow))) {
+    uint32_t n_shadow = 0, n_maps = 0;
+    if ((rc = ph_build_lights(n, st, f.s, f.sm, &lights, &shadows, &n_shadow, &n_maps))) {
         lg_scene_at_free(scene, &at);
         return rc;
     }
@@ -852,7 +888,7 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
         (rc = lg_gl_target_output(n, "out", &out)))
         goto out;
     if ((rc = ph_upload(n, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights)) ||
-        (rc = ph_upload(n, &st->shadows_buf, shadows, (size_t)n_shadow * sizeof *shadows)))
+        (rc = ph_upload(n, &st->shadows_buf, shadows, (size_t)n_maps * sizeof *shadows)))
         goto out;
     /* an animated scene: its instances at this frame's time (ABI 3.1) */
     lg_gl_pass_set_time(st->pass, frame->time);
@@ -1038,7 +1074,7 @@ static const lg_port_desc ph_inputs[] = {
     { .name = "shadows",
       .kind = LG_KIND_SHADOWMAP,
       .optional = true,
-      .doc = "shadow maps of the scene's directional lights (a shadowmap node); unconnected "
+      .doc = "shadow maps of the scene's lights, every type (a shadowmap node); unconnected "
              "or gated: no shadows" },
 };
 static const lg_port_desc ph_outputs[] = {

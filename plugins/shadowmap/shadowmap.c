@@ -1,6 +1,8 @@
 /*
- * The shadowmap plugin: one orthographic depth map per directional light of a scene, each
- * in its own tile of one depth-only atlas image (TECHNIQUES.md §2; lightgraph/shadowmap.h).
+ * The shadowmap plugin: depth maps of a scene's lights, each in its own tile of one depth-only
+ * atlas image (TECHNIQUES.md §2; lightgraph/shadowmap.h): one orthographic map per
+ * directional light, one perspective map per spot light (a cube of six when its cone is too
+ * wide for one), a cube of six perspective maps per point light.
  *
  *   shadowmap   scene -> shadows (a composite shadow map: parts atlas, lights, info)
  *
@@ -41,11 +43,15 @@ typedef struct sm_state {
     int64_t camera; /* fit = frustum: the scene's camera, -1 = the active one */
     float aspect;   /* fit = frustum: width / height, 0 = the render size's */
     float bias_constant, bias_slope, normal_offset;
-    uint32_t cols, rows;     /* the atlas's grid of tiles */
-    lg_shadowmap view;       /* what prepare() computed, as consumers will see it */
-    lg_shadow_light *lights; /* view.lights, owned here */
-    const lg_shadowmap *sm;  /* &view once prepared */
-    lg_gl_pass *pass;        /* made on the first execute */
+    uint32_t pcf_radius;   /* percentage-closer filtering: (2 r + 1)^2 taps, applied by consumers */
+    float pcss_light_size; /* > 0: PCSS, the light's size (README.md, "Filtering") */
+    uint32_t cols, rows;   /* the atlas's grid of tiles */
+    uint32_t n_dir, n_spot, n_cube; /* lights with an orthographic map, one perspective map, a
+                                     * cube */
+    lg_shadowmap view;              /* what prepare() computed, as consumers will see it */
+    lg_shadow_light *lights;        /* view.lights, owned here */
+    const lg_shadowmap *sm;         /* &view once prepared */
+    lg_gl_pass *pass;               /* made on the first execute */
     lg_gl_uniform u_view_proj;
     lg_gl_material_binds mat;     /* alpha masks (material.glsl) */
     const lg_resource *scene_res; /* during a draw, for sm_on_mesh */
@@ -66,6 +72,8 @@ static int sm_create(lg_node *n)
     st->bias_constant = (float)lg_param_float(n, "bias_constant");
     st->bias_slope = (float)lg_param_float(n, "bias_slope");
     st->normal_offset = (float)lg_param_float(n, "normal_offset");
+    st->pcf_radius = (uint32_t)lg_param_int(n, "pcf_radius");
+    st->pcss_light_size = (float)lg_param_float(n, "pcss_light_size");
     return 0;
 }
 
@@ -397,7 +405,7 @@ static void sm_fit_light(const sm_state *st, lg_vec3 dir, const float lo[3], con
      * is the larger side's, and grows with the margin: with W the larger half-extent,
      * texel = 2 (W + m texel) / res, so texel = 2 W / (res - 2 m). */
     float res = (float)st->resolution;
-    float m = fminf(st->normal_offset + 1.0f, 0.25f * res);
+    float m = fminf(st->normal_offset + 1.0f + (float)st->pcf_radius, 0.25f * res);
     float texel = 2.0f * fmaxf(hw, hh) / (res - 2.0f * m);
     hw += m * texel, hh += m * texel;
     /* depth: the bounds' sphere, 0.1 % wider; every caster lies inside it */
@@ -413,10 +421,65 @@ static void sm_fit_light(const sm_state *st, lg_vec3 dir, const float lo[3], con
     l->depth_range = zfar - znear;
 }
 
+/* Spot lights whose outer cone is wider than this get a cube, as point lights do: one
+ * perspective map of 2 x 60 degrees already spends a quarter of its texels' area on the
+ * edge (1 / cos^2 = 4), and 2 x 90 degrees cannot be one map at all. */
+#define SM_SPOT_MAX_CONE (LG_PIF / 3.0f)
+
+/* How many maps (records) light L gets: 1 (directional, spot) or 6 (point, wide spot). */
+static uint32_t sm_records_of(const lg_light *L)
+{
+    if (L->type == LG_LIGHT_DIRECTIONAL)
+        return 1;
+    if (L->type == LG_LIGHT_SPOT && L->outer_cone <= SM_SPOT_MAX_CONE)
+        return 1;
+    return 6;
+}
+
+/* Fits one perspective record (README.md, "Spot and point lights"): from the light's
+ * position q along `axis` with `up`, a square frustum of half-angle atan(tan_half) widened
+ * by a margin of normal_offset + 1 + pcf_radius texels (so that a cube face's taps past its
+ * 90 degrees still read real depth), near and far fitted to the bounds (and the range). */
+static void sm_fit_perspective(const sm_state *st, lg_vec3 q, lg_vec3 axis, lg_vec3 up,
+                               float tan_half, float range, const float lo[3], const float hi[3],
+                               lg_shadow_light *l)
+{
+    lg_m4_look_at(l->view, q, lg_v3_add(q, axis), up);
+    /* far: the farthest corner of the bounds (a radial distance bounds the view depth);
+     * near: the distance from q to the box (nothing is nearer), at least far / 1000 so
+     * that float depth keeps its precision (a light inside the bounds) */
+    float far = 0.0f, dbox2 = 0.0f;
+    for (int k = 0; k < 8; k++)
+        far = fmaxf(far, lg_v3_length(lg_v3_sub(sm_corner(lo, hi, k), q)));
+    const float qv[3] = { q.x, q.y, q.z };
+    for (int k = 0; k < 3; k++) {
+        float d = fmaxf(fmaxf(lo[k] - qv[k], qv[k] - hi[k]), 0.0f);
+        dbox2 += d * d;
+    }
+    if (range > 0.0f && range < far)
+        far = range; /* no light beyond the range: nothing there needs a shadow */
+    far = far * 1.01f + 1e-6f;
+    float znear = fmaxf(0.99f * sqrtf(dbox2), 1e-3f * far);
+    if (!(znear < far))
+        far = 2.0f * znear; /* the bounds lie beyond the range: an empty map */
+    float res = (float)st->resolution;
+    float m = fminf(st->normal_offset + 1.0f + (float)st->pcf_radius, 0.25f * res);
+    float t = tan_half * res / (res - 2.0f * m);
+    lg_m4_perspective(l->proj, 2.0f * atanf(t), 1.0f, znear, far);
+    for (int col = 0; col < 4; col++) /* the image row rule, as for directional maps */
+        l->proj[col * 4 + 1] = -l->proj[col * 4 + 1];
+    lg_m4_mul(l->view_proj, l->proj, l->view);
+    l->texel_world = 2.0f * t / res; /* at unit view depth */
+    l->depth_range = far - znear;
+    l->znear = znear;
+    l->projection = LG_SHADOW_PERSPECTIVE;
+}
+
 /* ---- prepare --------------------------------------------------------------------------------- */
 
-/* Fits every directional light's map (st->lights, nl of them, allocated) to the scene: its
- * bounds, or what the camera sees of them (fit = frustum); assigns the atlas tiles. */
+/* Fits every light's maps (st->lights, nl records, allocated) to the scene: a directional
+ * light's to its bounds, or what the camera sees of them (fit = frustum), a spot or point
+ * light's to the bounds from its position; assigns the atlas tiles, one per record. */
 static int sm_fit(lg_node *n, sm_state *st, const lg_scene *s, uint32_t nl)
 {
     float lo[3], hi[3];
@@ -425,7 +488,7 @@ static int sm_fit(lg_node *n, sm_state *st, const lg_scene *s, uint32_t nl)
         return rc;
     lg_vec3 pts[SM_MAX_CUT_POINTS];
     uint32_t n_pts = 0;
-    if (st->fit == SM_FIT_FRUSTUM && nl) {
+    if (st->fit == SM_FIT_FRUSTUM && st->n_dir) {
         float cam_vp[16];
         if ((rc = sm_camera_view_proj(n, st, s, lo, hi, cam_vp)))
             return rc;
@@ -440,19 +503,40 @@ static int sm_fit(lg_node *n, sm_state *st, const lg_scene *s, uint32_t nl)
             pts[k] = sm_corner(lo, hi, k);
         n_pts = 8;
     }
+    /* a cube's faces +x, -x, +y, -y, +z, -z (lightgraph/shadowmap.h), with a cube map's
+     * up vectors */
+    static const float cube_axis[6][3] = { { 1, 0, 0 },  { -1, 0, 0 }, { 0, 1, 0 },
+                                           { 0, -1, 0 }, { 0, 0, 1 },  { 0, 0, -1 } };
+    static const float cube_up[6][3] = { { 0, -1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
+                                         { 0, 0, -1 }, { 0, -1, 0 }, { 0, -1, 0 } };
     uint32_t k = 0;
-    for (uint32_t i = 0; i < s->n_lights; i++) {
+    for (uint32_t i = 0; i < s->n_lights && k < nl; i++) {
         const lg_light *L = &s->lights[i];
-        if (L->type != LG_LIGHT_DIRECTIONAL)
-            continue;
-        lg_shadow_light *l = &st->lights[k];
         lg_vec3 d = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
                                        lg_v3(0, -1, 0));
-        l->light = i;
-        sm_fit_light(st, d, lo, hi, pts, n_pts, l);
-        l->tile_x = (k % st->cols) * st->resolution;
-        l->tile_y = (k / st->cols) * st->resolution;
-        k++;
+        uint32_t nr = sm_records_of(L);
+        for (uint32_t f = 0; f < nr && k < nl; f++, k++) {
+            lg_shadow_light *l = &st->lights[k];
+            memset(l, 0, sizeof *l);
+            l->light = i;
+            l->face = f;
+            if (L->type == LG_LIGHT_DIRECTIONAL) {
+                sm_fit_light(st, d, lo, hi, pts, n_pts, l);
+            } else {
+                lg_vec3 q = lg_v3(L->position[0], L->position[1], L->position[2]);
+                if (nr == 1) /* a spot light's one map along its axis */
+                    sm_fit_perspective(st, q, d,
+                                       fabsf(d.y) < 0.99f ? lg_v3(0, 1, 0) : lg_v3(0, 0, -1),
+                                       tanf(fmaxf(L->outer_cone, 1e-3f)), L->range, lo, hi, l);
+                else
+                    sm_fit_perspective(st, q,
+                                       lg_v3(cube_axis[f][0], cube_axis[f][1], cube_axis[f][2]),
+                                       lg_v3(cube_up[f][0], cube_up[f][1], cube_up[f][2]), 1.0f,
+                                       L->range, lo, hi, l);
+            }
+            l->tile_x = (k % st->cols) * st->resolution;
+            l->tile_y = (k / st->cols) * st->resolution;
+        }
     }
     return 0;
 }
@@ -466,21 +550,47 @@ static int sm_prepare(lg_node *n)
     if (!s)
         return LG_ERR_INVALID;
 
-    /* the directional lights, in the scene's order; other types have no shadow map */
-    uint32_t nl = 0;
+    /* every light, in the scene's order: one record per directional or spot light, six per
+     * point light (and per spot light wider than SM_SPOT_MAX_CONE); a light of another type
+     * stops the render rather than going unshadowed */
+    uint32_t nl = 0, n_dir = 0, n_spot = 0, n_cube = 0;
     for (uint32_t i = 0; i < s->n_lights; i++) {
         const lg_light *L = &s->lights[i];
-        if (L->type != LG_LIGHT_DIRECTIONAL)
-            continue;
-        lg_vec3 d = lg_v3(L->direction[0], L->direction[1], L->direction[2]);
-        lg_vec3 u = lg_v3_normalize_or(d, lg_v3(0, 0, 0));
-        if (u.x == 0.0f && u.y == 0.0f && u.z == 0.0f)
-            return lg_error(n,
-                            "light %u '%s': direction [%g, %g, %g] is not a direction (zero "
-                            "or not finite)",
-                            i, L->name ? L->name : "", (double)d.x, (double)d.y, (double)d.z);
-        nl++;
+        const char *name = L->name ? L->name : "";
+        if (L->type != LG_LIGHT_DIRECTIONAL && L->type != LG_LIGHT_POINT &&
+            L->type != LG_LIGHT_SPOT)
+            return lg_error(n, "light %u '%s' has type %d, which has no shadow map", i, name,
+                            (int)L->type);
+        if (L->type != LG_LIGHT_POINT) {
+            lg_vec3 d = lg_v3(L->direction[0], L->direction[1], L->direction[2]);
+            lg_vec3 u = lg_v3_normalize_or(d, lg_v3(0, 0, 0));
+            if (u.x == 0.0f && u.y == 0.0f && u.z == 0.0f)
+                return lg_error(n,
+                                "light %u '%s': direction [%g, %g, %g] is not a direction (zero "
+                                "or not finite)",
+                                i, name, (double)d.x, (double)d.y, (double)d.z);
+        }
+        if (L->type != LG_LIGHT_DIRECTIONAL) {
+            if (!sm_finite3(L->position) || !isfinite(L->range) || L->range < 0.0f)
+                return lg_error(n,
+                                "light %u '%s': position [%g, %g, %g] or range %g is not "
+                                "finite (or the range is negative)",
+                                i, name, (double)L->position[0], (double)L->position[1],
+                                (double)L->position[2], (double)L->range);
+            if (L->type == LG_LIGHT_SPOT && !(L->outer_cone >= 0.0f && L->outer_cone <= LG_PIF))
+                return lg_error(n, "spot light %u '%s': outer cone %g rad is outside [0, pi]", i,
+                                name, (double)L->outer_cone);
+        }
+        uint32_t nr = sm_records_of(L);
+        nl += nr;
+        if (L->type == LG_LIGHT_DIRECTIONAL)
+            n_dir++;
+        else if (nr == 1)
+            n_spot++;
+        else
+            n_cube++;
     }
+    st->n_dir = n_dir, st->n_spot = n_spot, st->n_cube = n_cube;
 
     /* the atlas: ceil(sqrt(L)) columns, as many rows as needed */
     uint32_t res = st->resolution;
@@ -492,11 +602,11 @@ static int sm_prepare(lg_node *n)
     uint64_t aw = (uint64_t)cols * res, ah = (uint64_t)rows * res;
     if (aw > 65536 || ah > 65536 || aw * ah > (1ull << 28))
         return lg_error(n,
-                        "%u directional light%s at resolution %u need an atlas of %" PRIu64
-                        "x%" PRIu64 " texels (%.1f GiB of depth), more than an image may "
-                        "hold (2^28 texels); lower 'resolution'",
-                        nl, nl == 1 ? "" : "s", res, aw, ah,
-                        (double)(aw * ah * 4) / (1024.0 * 1024.0 * 1024.0));
+                        "%u map%s (%u directional, %u spot, %u cube%s of 6) at resolution %u "
+                        "need an atlas of %" PRIu64 "x%" PRIu64 " texels (%.1f GiB of depth), "
+                        "more than an image may hold (2^28 texels); lower 'resolution'",
+                        nl, nl == 1 ? "" : "s", n_dir, n_spot, n_cube, n_cube == 1 ? "" : "s", res,
+                        aw, ah, (double)(aw * ah * 4) / (1024.0 * 1024.0 * 1024.0));
     st->cols = cols;
     st->rows = rows;
 
@@ -504,7 +614,7 @@ static int sm_prepare(lg_node *n)
     st->sm = NULL;
     st->lights = calloc(tiles, sizeof(lg_shadow_light));
     if (!st->lights)
-        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u shadow lights)", nl);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u shadow maps)", nl);
     int rc = sm_fit(n, st, s, nl);
     if (rc)
         return rc;
@@ -523,6 +633,9 @@ static int sm_prepare(lg_node *n)
         .bias_constant = st->bias_constant,
         .bias_slope = st->bias_slope,
         .normal_offset = st->normal_offset,
+        .pcf_radius = st->pcf_radius,
+        .pcss_light_size = st->pcss_light_size,
+        .point_mode = LG_SHADOW_POINT_CUBE,
     };
     st->sm = &st->view;
     return lg_set_device(n, LG_DEVICE_GL);
@@ -657,7 +770,7 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
     gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, max_vp);
     if ((GLint)sm->atlas_width > max_tex || (GLint)sm->atlas_height > max_tex)
         return lg_error_code(n, LG_ERR_UNSUPPORTED,
-                             "the atlas (%ux%u: %u directional lights at resolution %u) is "
+                             "the atlas (%ux%u: %u maps at resolution %u) is "
                              "larger than this GL device's textures (GL_MAX_TEXTURE_SIZE %d); "
                              "lower 'resolution'",
                              sm->atlas_width, sm->atlas_height, sm->n_lights, sm->resolution,
@@ -677,6 +790,9 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
         .bias_constant = sm->bias_constant,
         .bias_slope = sm->bias_slope,
         .normal_offset = sm->normal_offset,
+        .pcf_radius = sm->pcf_radius,
+        .pcss_light_size = sm->pcss_light_size,
+        .point_mode = sm->point_mode,
     };
     int rc;
     lg_gl_target atlas;
@@ -698,20 +814,27 @@ static int sm_execute(lg_node *n, const lg_frame *frame)
     if ((rc = lg_gl_pass_end(st->pass, rc)))
         return rc;
     const lg_scene_gl *sgl = lg_gl_pass_scene(st->pass);
+    /* the line starts as it did before ABI 3.2 ("1 directional light, ..."): tools count it */
     lg_log(n, LG_LOG_INFO,
-           "%u directional light%s, atlas %ux%u (%ux%u tiles of %u), fit %s, cull %s; "
-           "%u instances, %" PRIu64 " triangles per light",
-           sm->n_lights, sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height, st->cols,
-           st->rows, sm->resolution, st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
+           "%u directional light%s, %u spot, %u point (%u map%s), atlas %ux%u (%ux%u tiles of "
+           "%u), pcf radius %u, pcss %g, fit %s, cull %s; %u instances, %" PRIu64
+           " triangles per map",
+           st->n_dir, st->n_dir == 1 ? "" : "s", st->n_spot, st->n_cube, sm->n_lights,
+           sm->n_lights == 1 ? "" : "s", sm->atlas_width, sm->atlas_height, st->cols, st->rows,
+           sm->resolution, sm->pcf_radius, (double)sm->pcss_light_size,
+           st->fit == SM_FIT_FRUSTUM ? "frustum" : "bounds",
            st->cull == SM_CULL_FRONT  ? "front"
            : st->cull == SM_CULL_BACK ? "back"
                                       : "none",
            sgl ? sgl->count : 0, sgl ? sgl->triangles : 0);
     for (uint32_t i = 0; i < sm->n_lights; i++) {
         const lg_shadow_light *l = &sm->lights[i];
-        lg_log(n, LG_LOG_DEBUG, "light %u '%s': tile at (%u, %u), texel %.6g m, depth range %.6g m",
-               l->light, s->lights[l->light].name ? s->lights[l->light].name : "", l->tile_x,
-               l->tile_y, (double)l->texel_world, (double)l->depth_range);
+        lg_log(n, LG_LOG_DEBUG,
+               "light %u '%s' %s %u: tile at (%u, %u), texel %.6g m%s, depth range %.6g m",
+               l->light, s->lights[l->light].name ? s->lights[l->light].name : "",
+               l->projection == LG_SHADOW_PERSPECTIVE ? "perspective face" : "orthographic face",
+               l->face, l->tile_x, l->tile_y, (double)l->texel_world,
+               l->projection == LG_SHADOW_PERSPECTIVE ? " at 1 m" : "", (double)l->depth_range);
     }
     return 0;
 }
@@ -783,13 +906,27 @@ static const lg_param_desc sm_params[] = {
       .min = 0,
       .max = 64,
       .doc = "texels: consumers move the tested point along its normal by this "
-             "many of the light's texel_world" },
+             "many of the light's texel_world (perspective maps: times the point's distance "
+             "from the light)" },
+    { .key = "pcf_radius",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 8,
+      .doc = "percentage-closer filtering: consumers average the depth test over (2 r + 1)^2 "
+             "texels; 0 = one texel (hard edges)" },
+    { .key = "pcss_light_size",
+      .type = LG_PARAM_FLOAT,
+      .def.f = 0,
+      .min = 0,
+      .max = 100,
+      .doc = "> 0: percentage-closer soft shadows, the light's diameter (metres; directional: "
+             "radians); the PCF radius then follows the blocker search; 0 = off" },
 };
 static const lg_port_desc sm_inputs[] = {
     { .name = "scene",
       .kind = LG_KIND_SCENE,
-      .doc = "the scene whose directional lights cast "
-             "shadows" },
+      .doc = "the scene whose lights (directional, spot, point) cast shadows" },
 };
 static const lg_port_desc sm_outputs[] = {
     { .name = "shadows",
@@ -801,11 +938,12 @@ static const lg_port_desc sm_outputs[] = {
 static const lg_node_type sm_types[] = { {
     .struct_size = sizeof(lg_node_type),
     .name = "shadowmap",
-    .doc = "One orthographic depth map per directional light, in tiles of a depth atlas (GL)",
+    .doc = "Depth maps of every light (orthographic, spot perspective, point cube), in tiles of "
+           "a depth atlas (GL)",
     LG_PARAMS(sm_params),
     LG_INPUTS(sm_inputs),
     LG_OUTPUTS(sm_outputs),
-    .needs = LG_NEEDS_DIR_LIGHT,
+    .needs = LG_NEEDS_LIGHT,
     /* the light matrices are fitted in prepare(); execute() renders them whatever the
      * camera (fit = frustum follows the camera of the plan, not the viewer's moves) */
     .flags = LG_NODE_VIEW_INDEPENDENT,
@@ -816,6 +954,7 @@ static const lg_node_type sm_types[] = { {
     .destroy = sm_destroy,
 } };
 
-LG_PLUGIN_DEFINE("shadowmap", "2.0.0",
-                 "Shadow maps of directional lights (orthographic, tiled depth atlas) on GL",
+LG_PLUGIN_DEFINE("shadowmap", "2.1.0",
+                 "Shadow maps of every light (orthographic, perspective, cube; tiled depth atlas) "
+                 "on GL",
                  sm_types)

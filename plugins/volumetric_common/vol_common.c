@@ -126,9 +126,11 @@ int vol_setup_make(lg_node *n, const lg_scene *s, uint32_t width, uint32_t heigh
             continue;
         }
         if (out->n_lights == VOL_MAX_LIGHTS)
-            return lg_error(n,
-                            "the scene has more than %d lights this method models (light %u '%s')",
-                            VOL_MAX_LIGHTS, i, lname(l));
+            return lg_error(n, "the scene has more than %d %s (light %u '%s')", VOL_MAX_LIGHTS,
+                            (accept & VOL_ACCEPT_LIGHTS) == VOL_ACCEPT_DIRECTIONAL
+                                ? "directional lights"
+                                : "lights of the types this method models",
+                            i, lname(l));
         vol_light *v = &out->lights[out->n_lights++];
         v->type = l->type;
         double d[3] = { l->direction[0], l->direction[1], l->direction[2] };

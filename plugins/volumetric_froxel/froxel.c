@@ -1,6 +1,7 @@
 /*
- * The volumetric_froxel plugin: single scattering in a homogeneous medium through a froxel
- * grid (TECHNIQUES.md §6; seed 2, chapter 3, eqs. 10-12), on gl, cl and cpu.
+ * The volumetric_froxel plugin: single scattering in a participating medium through a froxel
+ * grid (TECHNIQUES.md §6; seed 2, chapter 3, eqs. 10-12), on gl, cl and cpu; directional,
+ * point and spot lights, homogeneous or heterogeneous media (issue 25, froxel.h 4.).
  *
  *   volumetric_froxel   scene + base [+ shadows] -> out, inscatter, grid
  *
@@ -22,6 +23,26 @@
 #include "froxel.h"
 
 enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
+enum { FX_POINT_SAMPLE = 0, FX_POINT_ANALYTIC };
+
+/* What each backend models of froxel.h 4.: a frame whose scene has a light of another type
+ * or a density field the node's backend does not model runs the cpu backend instead (with
+ * a warning, once), so that every backend gives the same picture. The gl and cl backends
+ * gain point and spot lights and fields on their own branches (issue 25: fxgl, fxcl), each
+ * then widening its entry here. */
+static unsigned fx_backend_accepts(lg_device backend)
+{
+    switch (backend) {
+    case LG_DEVICE_GL: return VOL_ACCEPT_DIRECTIONAL;
+    case LG_DEVICE_CL: return VOL_ACCEPT_DIRECTIONAL;
+    default: return VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD;
+    }
+}
+
+static const char *fx_backend_name(lg_device backend)
+{
+    return backend == LG_DEVICE_GL ? "gl" : backend == LG_DEVICE_CL ? "cl" : "cpu";
+}
 
 /* Caps: each side, and the grid's bytes (rgba32f, W x H x D x 16 <= 1 GiB; the backends
  * hold two more volumes of the same size, S and its history). */
@@ -48,6 +69,8 @@ typedef struct fx_state {
     lg_slice_map prev_map;
 
     void *backend_state; /* the backend's (fx_*_execute makes it) */
+    void *cpu_state;     /* gl or cl: the cpu backend's, for frames it runs instead */
+    bool said_cpu;       /* that warning given */
     int point_nodes;     /* froxel.h 4.: 0 sample, 1 .. 8 analytic */
     /* heterogeneous media: the frame's density multipliers (W x H x D) and each light's
      * optical-depth volume, kept while the scene (by address), its lights and tau_res stay */
@@ -56,8 +79,10 @@ typedef struct fx_state {
     uint32_t n_tau, tau_res;
     const lg_scene *tau_scene;
     vol_light tau_lights[VOL_MAX_LIGHTS];
-    fx_slices slices;        /* this frame's slice tables (fx_slice_tables) */
-    bool reported_nonfinite; /* base's NaN/Inf pixels said (lg_check_input_finite) */
+    lg_density_field tau_field; /* the field they were built for (a scene at the same
+                                 * address may carry another one: a viewer's edit) */
+    fx_slices slices;           /* this frame's slice tables (fx_slice_tables) */
+    bool reported_nonfinite;    /* base's NaN/Inf pixels said (lg_check_input_finite) */
 } fx_state;
 
 static int fx_create(lg_node *n)
@@ -77,7 +102,19 @@ static int fx_create(lg_node *n)
     st->history = (float)lg_param_float(n, "history");
     st->temporal = lg_param_bool(n, "temporal");
     st->per_frame = lg_param_bool(n, "per_frame");
-    st->tau_res = 64; /* the optical-depth volumes' longest side (a parameter: issue 25) */
+    st->tau_res = (uint32_t)lg_param_int(n, "tau_res");
+    int nodes = (int)lg_param_int(n, "point_nodes");
+    if (nodes < 1 || nodes > 8)
+        return lg_error(n,
+                        "point_nodes = %d: the analytic point and spot lights take 1 .. 8 "
+                        "Gauss-Legendre nodes per slice",
+                        nodes);
+    /* vol_tau_build marches each cell to the light: res^4 field reads per light (64: 3e7,
+     * about 0.3 s; 128: 3e8), hence the cap */
+    if (st->tau_res < 2 || st->tau_res > 128)
+        return lg_error(n, "tau_res = %u: the optical-depth volumes' side must be in [2, 128]",
+                        st->tau_res);
+    st->point_nodes = lg_param_enum(n, "point_integration") == FX_POINT_ANALYTIC ? nodes : 0;
 
     const struct {
         const char *key;
@@ -129,14 +166,56 @@ static int fx_prepare(lg_node *n)
      * examples/volumetric_froxel.lgraph with a 380x180x512 grid, one light): 3.5e7
      * froxels in 6.3 s, 1.8e-7 s each; llvmpipe and PoCL run the gl and cl backends on the
      * same cores, taken as the same cost. */
-    double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n, VOL_ACCEPT_DIRECTIONAL);
-    lg_declare_work(n, froxels, froxels * FX_SECONDS_PER_FROXEL / lg_cpu_workers(n),
+    unsigned accept = VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD; /* a backend or the cpu's */
+    double froxels = (double)st->gw * st->gh * st->gd * vol_scene_lights(n, accept);
+    /* a point or spot light's froxel costs more than a directional one's (README.md, "The
+     * light pass's floor": about 3x sampled, 11x analytic with 2 nodes, measured on cpu) */
+    double local = 0;
+    if (accept & (VOL_ACCEPT_POINT | VOL_ACCEPT_SPOT)) {
+        uint32_t all = vol_scene_lights(n, accept),
+                 dir = vol_scene_lights(n, VOL_ACCEPT_DIRECTIONAL);
+        lg_resource_info info;
+        const lg_resource *sc = lg_input(n, VOL_IN_SCENE);
+        if (sc && lg_describe(sc, &info, n) == 0 && info.scene && info.scene->dir_lights == 0)
+            dir = 0; /* vol_scene_lights counts at least one */
+        local = all > dir ? all - dir : 0;
+    }
+    double factor = st->point_nodes ? 3.0 + 4.0 * st->point_nodes : 3.0;
+    double cost = froxels + (double)st->gw * st->gh * st->gd * local * (factor - 1.0);
+    lg_declare_work(n, froxels, cost * FX_SECONDS_PER_FROXEL / lg_cpu_workers(n),
                     "froxel x light visits");
     return lg_set_device(n, st->backend);
 }
 
-/* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
-/* froxel.h 4.: the density multiplier at each light-pass sample point of the frame. */
+typedef struct fx_density_ctx {
+    const fx_frame *f;
+    float *density;
+} fx_density_ctx;
+
+/* Columns [begin, end) of fx_density: each index writes only its own column. */
+static void fx_density_columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    const fx_density_ctx *x = ctx;
+    const fx_frame *f = x->f;
+    const vol_setup *v = f->v;
+    for (size_t col = begin; col < end; col++) {
+        uint32_t i = (uint32_t)(col % f->w), j = (uint32_t)(col / f->w);
+        double w[3];
+        /* the column's ray as every backend makes it (froxel.h: NDC of the column centre) */
+        vol_ray(v, (i + 0.5) * (double)v->width / f->w, (j + 0.5) * (double)v->height / f->h, w);
+        double c = w[0] * v->forward[0] + w[1] * v->forward[1] + w[2] * v->forward[2];
+        for (uint32_t k = 0; k < f->d; k++) {
+            double t = f->slices->tj[k] / c, p[3];
+            for (int a = 0; a < 3; a++)
+                p[a] = v->eye[a] + w[a] * t;
+            x->density[col + (size_t)f->w * f->h * k] = (float)lg_medium_field_at(&v->medium, p);
+        }
+    }
+}
+
+/* froxel.h 4.: the density multiplier at each light-pass sample point of the frame, on the
+ * host's pool (a grid or fBm field costs about as much per froxel as the light pass). */
 static int fx_density(lg_node *n, fx_state *st, const fx_frame *f)
 {
     size_t cells = (size_t)f->w * f->h * f->d;
@@ -146,22 +225,8 @@ static int fx_density(lg_node *n, fx_state *st, const fx_frame *f)
             return lg_error_code(n, LG_ERR_NOMEM, "out of memory for %zu froxel densities", cells);
         lg_account_alloc(n, cells * sizeof(float));
     }
-    const vol_setup *v = f->v;
-    for (uint32_t j = 0; j < f->h; j++)
-        for (uint32_t i = 0; i < f->w; i++) {
-            double w[3];
-            vol_ray(v, (i + 0.5) * (double)v->width / f->w, (j + 0.5) * (double)v->height / f->h,
-                    w);
-            double c = w[0] * v->forward[0] + w[1] * v->forward[1] + w[2] * v->forward[2];
-            for (uint32_t k = 0; k < f->d; k++) {
-                double t = f->slices->tj[k] / c, p[3];
-                for (int a = 0; a < 3; a++)
-                    p[a] = v->eye[a] + w[a] * t;
-                st->density[i + (size_t)f->w * (j + (size_t)f->h * k)] =
-                    (float)lg_medium_field_at(&v->medium, p);
-            }
-        }
-    return 0;
+    fx_density_ctx x = { f, st->density };
+    return lg_parallel_for(n, (size_t)f->w * f->h, 16, fx_density_columns, &x);
 }
 
 static void fx_tau_free(lg_node *n, fx_state *st)
@@ -176,7 +241,8 @@ static void fx_tau_free(lg_node *n, fx_state *st)
 static int fx_tau(lg_node *n, fx_state *st, const lg_scene *s, const vol_setup *v)
 {
     if (st->tau_scene == s && st->n_tau == v->n_lights &&
-        memcmp(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light)) == 0)
+        memcmp(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light)) == 0 &&
+        v->medium.field && memcmp(&st->tau_field, v->medium.field, sizeof st->tau_field) == 0)
         return 0;
     fx_tau_free(n, st);
     for (uint32_t l = 0; l < v->n_lights; l++) {
@@ -186,10 +252,13 @@ static int fx_tau(lg_node *n, fx_state *st, const lg_scene *s, const vol_setup *
         st->n_tau = l + 1;
     }
     memcpy(st->tau_lights, v->lights, v->n_lights * sizeof(vol_light));
+    if (v->medium.field)
+        st->tau_field = *v->medium.field;
     st->tau_scene = s;
     return 0;
 }
 
+/* The frame's slice tables from its slice map and jitter (froxel.h, fx_slices). */
 static void fx_slice_tables(const fx_frame *f, fx_slices *t)
 {
     double t_prev = 0; /* t_0 = 0: slice 0 starts at the eye */
@@ -232,6 +301,14 @@ static int fx_slice_map(lg_node *n, const fx_state *st, const vol_setup *v, lg_s
         return lg_error(n, "slice map (near %g, far %g, near_offset %g, depth %u) refused", near,
                         far, off, st->gd);
     return 0;
+}
+
+static bool fx_has_local(const vol_setup *v)
+{
+    for (uint32_t l = 0; l < v->n_lights; l++)
+        if (v->lights[l].type != LG_LIGHT_DIRECTIONAL)
+            return true;
+    return false;
 }
 
 static int fx_execute(lg_node *n, const lg_frame *frame)
@@ -303,11 +380,32 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         f.density = st->density;
         f.tau = st->tau;
     }
-    switch (st->backend) {
-    case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
-    case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
-    default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
+    /* what the node's backend does not model runs on the cpu backend (fx_backend_accepts) */
+    unsigned accept = fx_backend_accepts(st->backend);
+    bool on_cpu = st->backend != LG_DEVICE_CPU &&
+                  (v->heterogeneous && !(accept & VOL_ACCEPT_FIELD));
+    for (uint32_t l = 0; l < v->n_lights; l++)
+        if (v->lights[l].type == LG_LIGHT_POINT  ? !(accept & VOL_ACCEPT_POINT)
+            : v->lights[l].type == LG_LIGHT_SPOT ? !(accept & VOL_ACCEPT_SPOT)
+                                                 : false)
+            on_cpu = st->backend != LG_DEVICE_CPU;
+    if (on_cpu && !st->said_cpu) {
+        lg_log(n, LG_LOG_WARN,
+               "the %s backend does not model %s yet (issue 25): this node's passes run on "
+               "the cpu backend",
+               fx_backend_name(st->backend),
+               v->heterogeneous ? "density fields or point and spot lights"
+                                : "point and spot lights");
+        st->said_cpu = true;
     }
+    if (on_cpu)
+        rc = fx_cpu_execute(n, &st->cpu_state, &f);
+    else
+        switch (st->backend) {
+        case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
+        case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
+        default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
+        }
     if (!rc) {
         lg_froxel_info info = { .struct_size = sizeof info,
                                 .width = st->gw,
@@ -327,12 +425,16 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         st->has_prev = true;
     }
     if (!rc && f.frame == 0)
-        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s", st->gw, st->gh,
-               st->gd, f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip",
-               f.map.near, f.map.far, v->n_lights, v->n_lights == 1 ? "" : "s",
-               sm ? "shadowed" : "unshadowed",
+        lg_log(n, LG_LOG_INFO, "grid %ux%ux%u (%s, %g .. %g), %u light%s, %s, %s%s%s%s", st->gw,
+               st->gh, st->gd,
+               f.map.slicing == LG_FROXEL_EXPONENTIAL ? "exponential" : "uniform_clip", f.map.near,
+               f.map.far, v->n_lights, v->n_lights == 1 ? "" : "s", sm ? "shadowed" : "unshadowed",
                st->accum == FX_ACC_THESIS ? "thesis" : "energy_conserving",
-               temporal ? ", temporal" : "");
+               temporal ? ", temporal" : "",
+               !fx_has_local(v)  ? ""
+               : st->point_nodes ? ", point and spot lights analytic"
+                                 : ", point and spot lights sampled",
+               v->heterogeneous ? ", density field" : "");
     free(v);
     return rc;
 }
@@ -347,6 +449,8 @@ static void fx_destroy(lg_node *n)
         lg_account_free(n, (size_t)st->gw * st->gh * st->gd * sizeof(float));
         free(st->density);
     }
+    if (st->cpu_state)
+        fx_cpu_destroy(n, st->cpu_state);
     if (st->backend_state) {
         if (st->backend == LG_DEVICE_GL)
             fx_gl_destroy(n, st->backend_state);
@@ -361,6 +465,7 @@ static void fx_destroy(lg_node *n)
 
 static const char *const fx_slicings[] = { "uniform_clip", "exponential", NULL };
 static const char *const fx_accums[] = { "thesis", "energy_conserving", NULL };
+static const char *const fx_point_modes[] = { "sample", "analytic", NULL };
 
 static const lg_param_desc fx_params[] = {
     /* the device of the light pass, the accumulation and the lookup */
@@ -431,19 +536,43 @@ static const lg_param_desc fx_params[] = {
       .type = LG_PARAM_BOOL,
       .def.b = false,
       .doc = "run every frame (timing) instead of once" },
+    { .key = "point_integration",
+      .type = LG_PARAM_ENUM,
+      .def.e = FX_POINT_ANALYTIC,
+      .enum_values = fx_point_modes,
+      .doc = "point and spot lights: sample = F and the phase at the froxel's sample point; "
+             "analytic = their integral over the slice's segment of the column's ray "
+             "(point_nodes Gauss-Legendre nodes in the airlight angle; right next to a light "
+             "on a coarse grid)" },
+    { .key = "point_nodes",
+      .type = LG_PARAM_INT,
+      .def.i = 2,
+      .min = 1,
+      .max = 8,
+      .doc = "analytic: Gauss-Legendre nodes per slice and light (exact for an isotropic "
+             "point light at any count)" },
+    { .key = "tau_res",
+      .type = LG_PARAM_INT,
+      .def.i = 64,
+      .min = 2,
+      .max = 128,
+      .doc = "heterogeneous medium: cells along the longest side of each light's "
+             "optical-depth volume (the medium's shadow on itself)" },
 };
 
 static const lg_port_desc fx_inputs[] = {
     { .name = "scene",
       .kind = LG_KIND_SCENE,
-      .doc = "the scene: its directional lights (at most 32), its medium, its active camera" },
+      .doc = "the scene: its directional, point and spot lights (at most 32), its medium "
+             "(homogeneous or with a density field), its active camera" },
     { .name = "base",
       .kind = LG_KIND_IMAGE,
       .doc = "the lit image with its depth plane (phong's out)" },
     { .name = "shadows",
       .kind = LG_KIND_SHADOWMAP,
       .optional = true,
-      .doc = "shadow maps of the directional lights; unconnected: unshadowed" },
+      .doc = "shadow maps of the lights (a point light's cube or paraboloids); "
+             "unconnected: unshadowed" },
 };
 static const lg_port_desc fx_outputs[] = {
     { .name = "out",
@@ -460,12 +589,13 @@ static const lg_node_type fx_types[] = {
     {
         .struct_size = sizeof(lg_node_type),
         .name = "volumetric_froxel",
-        .doc = "Single scattering in a homogeneous medium through a froxel grid (light pass, "
-               "front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on cpu, gl, cl",
+        .doc = "Single scattering in a participating medium through a froxel grid (light "
+               "pass, front-to-back accumulation, per-pixel lookup; seed 2 ch. 3), on cpu, gl, "
+               "cl; point and spot lights and density fields on cpu",
         LG_PARAMS(fx_params),
         LG_INPUTS(fx_inputs),
         LG_OUTPUTS(fx_outputs),
-        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
+        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_LIGHT,
         .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
         .neutral_input = VOL_IN_BASE,
         .create = fx_create,
@@ -476,6 +606,6 @@ static const lg_node_type fx_types[] = {
 };
 
 LG_PLUGIN_DEFINE("volumetric_froxel", "1.0.0",
-                 "Froxel-grid volumetric lighting (single scattering, homogeneous medium) "
-                 "on gl, cl and cpu",
+                 "Froxel-grid volumetric lighting (single scattering; directional, point and "
+                 "spot lights; homogeneous or heterogeneous media) on gl, cl and cpu",
                  fx_types)

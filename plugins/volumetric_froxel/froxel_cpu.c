@@ -7,12 +7,19 @@
  *
  * Arithmetic in double where it costs nothing (rays, depths, the per-light sum); stored
  * values are float, as the GPU backends store them.
+ *
+ * froxel.h 4. (point and spot lights, density fields) is a second path behind per-frame
+ * flags: the lights it takes (every point and spot light; with a density field every light,
+ * since each then has its own transmittance X_l) leave the directional fast path, and a
+ * frame with only directional lights in a homogeneous medium runs the loop of 1-3 alone.
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "lightgraph/lightgraph.h"
+#include "lightgraph/medium.h"
+#include "lightgraph/vecmath.h"
 
 #include "froxel.h"
 
@@ -23,7 +30,31 @@ typedef struct fx_cpu {
     bool hist_valid;
     float *tj;        /* the frame's T(k + jitter) in float (columns' inner loop) */
     uint64_t counted; /* bytes counted with lg_account_alloc (S and its history) */
+    /* heterogeneous medium: each column's optical path P_k (froxel.h 4.), [k][j][i]; made
+     * on the first such frame */
+    float *path;
+    /* the orthographic records' depth bounds per FX_MM_BLOCK^2 texels (fx_minmax), made
+     * each frame: mm_cap floats */
+    float *mm;
+    size_t mm_cap;
 } fx_cpu;
+
+/* Texels per side of a block of the depth bounds: a 256^2 tile's bounds take 8 KiB and
+ * stay in the L1 cache while its 256 KiB of depths do not. */
+#define FX_MM_BLOCK 8
+
+/* A light of the froxel.h 4. path, with what the frame knows of it. */
+typedef struct fx_cpu_light {
+    const vol_light *L;
+    double q[3];    /* point, spot: position */
+    double axis[3]; /* spot: the axis (direction light travels) */
+    double cos_in, cos_out;
+    double range; /* 0: infinite */
+    double lc[3]; /* sigma_s C_l */
+    bool dir, spot;
+    int32_t rec;               /* its first shadow record, or -1 */
+    const vol_tau_volume *tau; /* heterogeneous: its optical-depth volume */
+} fx_cpu_light;
 
 typedef struct fx_cpu_ctx {
     const fx_frame *f;
@@ -46,11 +77,210 @@ typedef struct fx_cpu_ctx {
     uint32_t n_sh;
     float ca[VOL_MAX_LIGHTS][4]; /* a_l = VP_l e */
     uint32_t tile[VOL_MAX_LIGHTS][2];
+    /* an orthographic record (w = 1) whose tile lies inside the atlas: the fast form, with
+     * a_l in texel units (u, v: (a 0.5 + 0.5) res; z: a 0.5 + 0.5) and tscale the factor of
+     * b_l (0.5 res, 0.5 res, 0.5) */
+    bool ortho[VOL_MAX_LIGHTS];
+    uint32_t n_ortho;
+    const float *mm[VOL_MAX_LIGHTS]; /* ortho: (min, max) per block, mm_n blocks a row */
+    uint32_t mm_n;
+    float ta[VOL_MAX_LIGHTS][3];
+    float tscale[3];
+    /* froxel.h 4.: the lights of the second path (n_gen 0: it does not run) */
+    fx_cpu_light gen[VOL_MAX_LIGHTS];
+    uint32_t n_gen;
+    bool het;             /* f->density: rho multiplies S, per-slice extinction */
+    int nodes;            /* analytic point and spot lights: Gauss-Legendre nodes, 0 = sample */
+    double gx[8], gw[8];  /* the rule's nodes on [-1, 1] and weights */
+    double hg_a, hg_k;    /* Henyey-Greenstein: see hg() */
+    const float *density; /* f->density */
 } fx_cpu_ctx;
 
 static double dot3(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Gauss-Legendre nodes and weights on [-1, 1], 1 .. 8 points, in increasing order (the
+ * rule lg_point_inscatter uses, lightgraph/medium.h). */
+static const double fx_gl_x[8][8] = {
+    { 0.0 },
+    { -0.5773502691896257645, 0.5773502691896257645 },
+    { -0.7745966692414833770, 0.0, 0.7745966692414833770 },
+    { -0.8611363115940525752, -0.3399810435848562648, 0.3399810435848562648,
+      0.8611363115940525752 },
+    { -0.9061798459386639928, -0.5384693101056830910, 0.0, 0.5384693101056830910,
+      0.9061798459386639928 },
+    { -0.9324695142031520279, -0.6612093864662645137, -0.2386191860831969086, 0.2386191860831969086,
+      0.6612093864662645137, 0.9324695142031520279 },
+    { -0.9491079123427585245, -0.7415311855993944399, -0.4058451513773971669, 0.0,
+      0.4058451513773971669, 0.7415311855993944399, 0.9491079123427585245 },
+    { -0.9602898564975362317, -0.7966664774136267396, -0.5255324099163289858,
+      -0.1834346424956498049, 0.1834346424956498049, 0.5255324099163289858, 0.7966664774136267396,
+      0.9602898564975362317 },
+};
+static const double fx_gl_w[8][8] = {
+    { 2.0 },
+    { 1.0, 1.0 },
+    { 0.5555555555555555556, 0.8888888888888888889, 0.5555555555555555556 },
+    { 0.3478548451374538574, 0.6521451548625461427, 0.6521451548625461427, 0.3478548451374538574 },
+    { 0.2369268850561890875, 0.4786286704993664680, 0.5688888888888888889, 0.4786286704993664680,
+      0.2369268850561890875 },
+    { 0.1713244923791703450, 0.3607615730481386076, 0.4679139345726910473, 0.4679139345726910473,
+      0.3607615730481386076, 0.1713244923791703450 },
+    { 0.1294849661688696933, 0.2797053914892766679, 0.3818300505051189449, 0.4179591836734693878,
+      0.3818300505051189449, 0.2797053914892766679, 0.1294849661688696933 },
+    { 0.1012285362903762592, 0.2223810344533744706, 0.3137066458778872873, 0.3626837833783619830,
+      0.3626837833783619830, 0.3137066458778872873, 0.2223810344533744706, 0.1012285362903762592 },
+};
+
+/* lg_hg_phase(g, c) with the frame's constants: (1 - g^2) / (4 pi den^1.5), den in the
+ * form without cancellation near the forward (g >= 0) or backward (g < 0) peak. */
+static double hg(const fx_cpu_ctx *x, double g, double c)
+{
+    c = c < -1.0 ? -1.0 : c > 1.0 ? 1.0 : c;
+    double den = g >= 0.0 ? x->hg_a + 2.0 * g * (1.0 - c) : x->hg_a - 2.0 * g * (1.0 + c);
+    return x->hg_k / (den * sqrt(den));
+}
+
+/* The range window W(d) (lg_light_window). */
+static double window(double d, double range)
+{
+    if (!(range > 0.0))
+        return 1.0;
+    double r = d / range, r2 = r * r, w = 1.0 - r2 * r2;
+    return w < 0.0 ? 0.0 : w > 1.0 ? 1.0 : w;
+}
+
+/* The spot's smooth cone C (lg_spot_cone). */
+static double cone(const fx_cpu_light *g, double ca)
+{
+    double span = g->cos_in - g->cos_out;
+    if (span < 1e-4)
+        span = 1e-4;
+    double t = (ca - g->cos_out) / span;
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return t * t;
+}
+
+/* A column's constants of the froxel.h 4. path for one local light (analytic mode): the
+ * airlight substitution t = tc + H tan(xi) along the column's ray, and xi at the start of
+ * the next slice (the end of one slice is the start of the next: one atan per slice). */
+typedef struct fx_col_light {
+    double tc, h2, H; /* dot(q - e, w), squared distance of q to the ray's line, sqrt(h2 + eps^2) */
+    double qa, wa;    /* spot: dot(q - e, axis), dot(w, axis) */
+    double xi;        /* xi at the current slice's start */
+    double dp;        /* directional (heterogeneous medium): p_HG(g, dot(w, -L)) */
+} fx_col_light;
+
+/* The column constants of fx_col_light for every light of the second path. */
+static void gen_column(const fx_cpu_ctx *x, const double w[3], fx_col_light *cl)
+{
+    const vol_setup *v = x->f->v;
+    for (uint32_t l = 0; l < x->n_gen; l++) {
+        const fx_cpu_light *g = &x->gen[l];
+        fx_col_light *c = &cl[l];
+        if (g->dir) {
+            c->dp = hg(x, v->g, -dot3(w, g->axis));
+            continue;
+        }
+        double qo[3] = { g->q[0] - v->eye[0], g->q[1] - v->eye[1], g->q[2] - v->eye[2] };
+        c->tc = dot3(qo, w);
+        c->h2 = dot3(qo, qo) - c->tc * c->tc;
+        if (c->h2 < 0.0)
+            c->h2 = 0.0;
+        c->H = sqrt(c->h2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
+        c->qa = dot3(qo, g->axis);
+        c->wa = dot3(w, g->axis);
+        c->xi = atan((0.0 - c->tc) / c->H); /* slice 0 starts at the eye */
+    }
+}
+
+/* froxel.h 4.: the in-scattering of the second path's lights at froxel (column ray w, slice
+ * k) per unit length, before rho, added to s. Sample: F and the phase at the sample point
+ * p; analytic: the slice's airlight integral over its length (lg_point_inscatter with
+ * sigma_t = 0, evaluated with the column's constants); both times the shadow and X_l at p. */
+static void gen_terms(const fx_cpu_ctx *x, const double w[3], double inv_cos, uint32_t k,
+                      fx_col_light *cl, double s[3])
+{
+    const fx_frame *f = x->f;
+    const vol_setup *v = f->v;
+    const double ts = f->slices->tj[k] * inv_cos;
+    const double p[3] = { v->eye[0] + w[0] * ts, v->eye[1] + w[1] * ts, v->eye[2] + w[2] * ts };
+    for (uint32_t l = 0; l < x->n_gen; l++) {
+        const fx_cpu_light *g = &x->gen[l];
+        fx_col_light *c = &cl[l];
+        double a, dist = 0.0;
+        if (g->dir) {
+            a = c->dp;
+        } else {
+            double vq[3] = { g->q[0] - p[0], g->q[1] - p[1], g->q[2] - p[2] };
+            double d2 = dot3(vq, vq), d = sqrt(d2);
+            dist = d;
+            if (x->nodes && (g->spot || g->range > 0.0)) {
+                /* a cone or a range: lg_point_inscatter itself, whose nodes cover only the
+                 * part of the slice the light reaches (the column's xi carried as below) */
+                double b0 = k == 0 ? 0.0 : f->slices->tk[k] * inv_cos;
+                double b1 = f->slices->tk[k + 1] * inv_cos;
+                c->xi = atan((b1 - c->tc) / c->H);
+                double sp[5] = { g->axis[0], g->axis[1], g->axis[2], g->cos_in, g->cos_out };
+                a = lg_point_inscatter(v->eye, w, b0, b1, g->q, g->range, g->spot ? sp : NULL, v->g,
+                                       0.0, x->nodes) /
+                    (f->slices->tlen[k] * inv_cos);
+            } else if (x->nodes) {
+                /* the slice [b_k, b_{k+1}] along the ray, t = tc + H tan(xi) */
+                double b1 = f->slices->tk[k + 1] * inv_cos;
+                double xi1 = atan((b1 - c->tc) / c->H), xi0 = c->xi;
+                c->xi = xi1;
+                double half = 0.5 * (xi1 - xi0), mid = 0.5 * (xi1 + xi0), sum = 0.0;
+                for (int i = 0; i < x->nodes; i++) {
+                    double tt = c->H * tan(mid + half * x->gx[i]); /* t - tc */
+                    double dd = sqrt(c->h2 + tt * tt);
+                    double fv = hg(x, v->g, dd > 0.0 ? -tt / dd : 0.0) * window(dd, g->range);
+                    if (g->spot)
+                        fv *= cone(g, dd > 0.0 ? -(c->qa - (c->tc + tt) * c->wa) / dd : 1.0);
+                    sum += x->gw[i] * fv;
+                }
+                a = half * sum / c->H / (f->slices->tlen[k] * inv_cos);
+            } else {
+                double lu[3];
+                for (int ch = 0; ch < 3; ch++)
+                    lu[ch] = d > 0.0 ? vq[ch] / d : -g->axis[ch];
+                a = window(d, g->range) / (d2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
+                if (g->spot)
+                    a *= cone(g, -dot3(lu, g->axis));
+                a *= hg(x, v->g, dot3(w, lu));
+            }
+        }
+        if (a == 0.0)
+            continue; /* outside the cone or the range: no shadow lookup */
+        if (g->rec >= 0) {
+            a *= vol_shadow_cpu(f->sm, x->atlas, g->rec, p);
+            if (a == 0.0)
+                continue;
+        }
+        if (x->het) {
+            double tau = vol_tau_sample(g->tau, p);
+            if (x->grey) {
+                double e = a * exp(-v->sigma_t[0] * tau);
+                for (int ch = 0; ch < 3; ch++)
+                    s[ch] += e * g->lc[ch];
+            } else {
+                for (int ch = 0; ch < 3; ch++)
+                    s[ch] += a * exp(-v->sigma_t[ch] * tau) * g->lc[ch];
+            }
+        } else if (g->dir) {
+            for (int ch = 0; ch < 3; ch++)
+                s[ch] += a * g->lc[ch];
+        } else if (x->grey) {
+            double e = a * exp(-v->sigma_t[0] * dist);
+            for (int ch = 0; ch < 3; ch++)
+                s[ch] += e * g->lc[ch];
+        } else {
+            for (int ch = 0; ch < 3; ch++)
+                s[ch] += a * exp(-v->sigma_t[ch] * dist) * g->lc[ch];
+        }
+    }
 }
 
 /* Column (i, j)'s ray and its cos to the forward axis (froxel.h). */
@@ -110,6 +340,9 @@ static bool history_at(const fx_cpu_ctx *x, const double q[3], double out[3])
     return true;
 }
 
+/* rec[] of a light that takes froxel.h 4.'s path (not the directional fast path) */
+#define FX_REC_GEN (-2)
+
 /* Columns per chunk of the fused pass: the per-column constants of a chunk live on the
  * stack (FX_CPU_GRAIN x 32 lights x 7 floats = 28 KiB at most). */
 #define FX_CPU_GRAIN 32
@@ -133,7 +366,14 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
     float inv_cos[FX_CPU_GRAIN], unsh[FX_CPU_GRAIN][3];
     float lp[VOL_MAX_LIGHTS][FX_CPU_GRAIN][3];
     float cb[VOL_MAX_LIGHTS][FX_CPU_GRAIN][4];
+    /* orthographic records (every directional light's): the texel coordinates and the window
+     * depth as affine functions of view depth, u = ta_l + tb_l t (x->ta: the light's part,
+     * tb: the column's), [light][u, v, z][column] so that the loop over columns is a run */
+    float tb[VOL_MAX_LIGHTS][3][FX_CPU_GRAIN];
     double wv[FX_CPU_GRAIN][3], acc[FX_CPU_GRAIN][3], tr[FX_CPU_GRAIN][3];
+    /* froxel.h 4. (only touched when the frame has lights of the second path or a field) */
+    fx_col_light cl[FX_CPU_GRAIN][VOL_MAX_LIGHTS];
+    double icd[FX_CPU_GRAIN], path[FX_CPU_GRAIN];
     for (uint32_t c = 0; c < nc; c++) {
         size_t col = begin + c;
         uint32_t i = (uint32_t)(col % f->w), j = (uint32_t)(col / f->w);
@@ -144,6 +384,8 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
         uint32_t s = 0;
         for (uint32_t l = 0; l < v->n_lights; l++) {
             const vol_light *L = &v->lights[l];
+            if (x->rec[l] == FX_REC_GEN)
+                continue; /* froxel.h 4.'s path */
             double cth = -(wv[c][0] * L->dir[0] + wv[c][1] * L->dir[1] + wv[c][2] * L->dir[2]);
             double p = lg_hg_phasef(v->g, (float)cth);
             if (x->rec[l] < 0) {
@@ -157,6 +399,10 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             for (int r = 0; r < 4; r++)
                 cb[s][c][r] =
                     (float)((m[r] * wv[c][0] + m[4 + r] * wv[c][1] + m[8 + r] * wv[c][2]) / cosv);
+            for (int r = 0; r < 3; r++)
+                tb[s][r][c] =
+                    (float)((m[r] * wv[c][0] + m[4 + r] * wv[c][1] + m[8 + r] * wv[c][2]) / cosv *
+                            x->tscale[r]);
             s++;
         }
         for (int ch = 0; ch < 3; ch++) {
@@ -164,20 +410,79 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             acc[c][ch] = 0;
             tr[c][ch] = 1;
         }
+        if (x->n_gen || x->het) {
+            icd[c] = 1.0 / cosv;
+            path[c] = 0.0;
+            gen_column(x, wv[c], cl[c]);
+        }
     }
     const float res = f->sm ? (float)f->sm->resolution : 0;
     const float bias = f->sm ? f->sm->bias_constant : 0;
     const uint32_t aw = f->sm ? f->sm->atlas_width : 0, ah = f->sm ? f->sm->atlas_height : 0;
     const bool thesis = f->accum == FX_ACC_THESIS;
+    /* 1a. The shadowed lights of orthographic records (every directional light's), one
+     * light at a time over the whole chunk (all slices): one light's tile in the cache at a
+     * time instead of all of them for every froxel (with 32 lights the atlas lookups were
+     * the hot spot: README.md, "The light pass's floor"). Their sum goes into S, which the
+     * loop below reads; each froxel still adds the lights in light order. The texel and the
+     * depth are three multiply-adds (no division, no scaling). */
+    if (x->n_ortho) {
+        for (uint32_t k = 0; k < f->d; k++) {
+            float *sk = x->c->s + 4 * (k * plane + begin);
+            for (uint32_t c = 0; c < nc; c++)
+                sk[4 * c] = unsh[c][0], sk[4 * c + 1] = unsh[c][1], sk[4 * c + 2] = unsh[c][2];
+        }
+        for (uint32_t l = 0; l < nsh; l++) {
+            if (!x->ortho[l])
+                continue;
+            const float au = x->ta[l][0], av = x->ta[l][1], az = x->ta[l][2];
+            const float *bu = tb[l][0], *bv = tb[l][1], *bz = tb[l][2];
+            const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
+            const float *lpl = lp[l][0], *mml = x->mm[l];
+            const uint32_t mn = x->mm_n;
+            for (uint32_t k = 0; k < f->d; k++) {
+                const float t = x->tj[k];
+                float *sk = x->c->s + 4 * (k * plane + begin);
+                for (uint32_t c = 0; c < nc; c++) {
+                    float u = au + bu[c] * t, vv = av + bv[c] * t, z = az + bz[c] * t;
+                    float m = 1.0f;
+                    if (u >= 0.0f && u < res && vv >= 0.0f && vv < res && z >= 0.0f) {
+                        /* the block's bounds decide most texels without reading them: the
+                         * depth test is monotonic in the stored depth (same bits as the
+                         * texel's own test) */
+                        uint32_t iu = (uint32_t)u, iv = (uint32_t)vv;
+                        const float *b = mml +
+                                         2 * ((size_t)(iv / FX_MM_BLOCK) * mn + iu / FX_MM_BLOCK);
+                        if (!(z > b[0] + bias))
+                            m = 1.0f;
+                        else if (z > b[1] + bias)
+                            m = 0.0f;
+                        else
+                            m = z > atl[(size_t)iv * aw + iu] + bias ? 0.0f : 1.0f;
+                    }
+                    sk[4 * c] += m * lpl[3 * c];
+                    sk[4 * c + 1] += m * lpl[3 * c + 1];
+                    sk[4 * c + 2] += m * lpl[3 * c + 2];
+                }
+            }
+        }
+    }
     for (uint32_t k = 0; k < f->d; k++) {
         const float t = x->tj[k];
         const double len = x->tlen[k];
         float *sk = x->c->s + 4 * (k * plane + begin);
         float *gk = x->grid + 4 * (k * plane + begin);
         for (uint32_t c = 0; c < nc; c++) {
-            /* 1. light pass */
+            /* 1. light pass (the orthographic records' sum is in S already) */
+            const float *so = sk + 4 * c;
             float s[3] = { unsh[c][0], unsh[c][1], unsh[c][2] };
+            if (x->n_ortho)
+                s[0] = so[0], s[1] = so[1], s[2] = so[2];
+            /* perspective records (none from today's shadowmap for a directional light): the
+             * divided form, in light order after the orthographic ones */
             for (uint32_t l = 0; l < nsh; l++) {
+                if (x->ortho[l])
+                    continue;
                 const float *a = x->ca[l], *b = cb[l][c];
                 float cx = a[0] + b[0] * t, cy = a[1] + b[1] * t, cz = a[2] + b[2] * t;
                 float iw = 1.0f / (a[3] + b[3] * t);
@@ -195,6 +500,15 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
                 s[1] += m * lp[l][c][1];
                 s[2] += m * lp[l][c][2];
             }
+            double rho = 1.0;
+            if (x->n_gen || x->het) {
+                double sg[3] = { s[0], s[1], s[2] };
+                gen_terms(x, wv[c], icd[c], k, cl[c], sg);
+                if (x->het)
+                    rho = x->density[k * plane + begin + c];
+                for (int ch = 0; ch < 3; ch++)
+                    s[ch] = (float)(sg[ch] * rho);
+            }
             if (x->blend) {
                 double tq = x->tq[k], q[3], hv[3];
                 for (int a = 0; a < 3; a++)
@@ -209,7 +523,21 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             /* 2. accumulation */
             double delta = len * inv_cos[c];
             double *ac = acc[c], *trc = tr[c];
-            if (thesis) {
+            if (x->het) {
+                /* each slice's own extinction sigma_t rho_k, the optical path P_k */
+                path[c] += rho * delta;
+                x->c->path[k * plane + begin + c] = (float)path[c];
+                if (thesis) {
+                    for (int ch = 0; ch < 3; ch++)
+                        ac[ch] += s[ch] * delta;
+                } else {
+                    for (int ch = 0; ch < 3; ch++) {
+                        double tau = v->sigma_t[ch] * rho * delta;
+                        ac[ch] += trc[ch] * s[ch] * delta * lg_medium_segment(tau);
+                        trc[ch] *= exp(-tau);
+                    }
+                }
+            } else if (thesis) {
                 for (int ch = 0; ch < 3; ch++)
                     ac[ch] += s[ch] * delta;
             } else if (x->grey) {
@@ -231,7 +559,41 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
             }
             float *g = gk + 4 * c;
             g[0] = (float)ac[0], g[1] = (float)ac[1], g[2] = (float)ac[2];
-            g[3] = (float)((trc[0] + trc[1] + trc[2]) / 3.0);
+            /* the mean of Tr's channels: Tr itself when sigma_t is grey (the division by 3
+             * was a fifth of the pass's time at one light: its latency is on every froxel) */
+            g[3] = x->grey ? (float)trc[0] : (float)((trc[0] + trc[1] + trc[2]) * (1.0 / 3.0));
+        }
+    }
+}
+
+/* The depth bounds of block rows [begin, end) (index = light x block rows + row) of the
+ * orthographic records' tiles: min and max of the stored depths per FX_MM_BLOCK^2 texels. */
+static void fx_minmax(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    const fx_cpu_ctx *x = ctx;
+    const lg_shadowmap *sm = x->f->sm;
+    const uint32_t res = sm->resolution, nb = x->mm_n, aw = sm->atlas_width;
+    for (size_t idx = begin; idx < end; idx++) {
+        uint32_t l = (uint32_t)(idx / nb), by = (uint32_t)(idx % nb);
+        if (!x->ortho[l])
+            continue;
+        float *out = (float *)x->mm[l] + 2 * (size_t)by * nb;
+        const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
+        for (uint32_t bx = 0; bx < nb; bx++)
+            out[2 * bx] = INFINITY, out[2 * bx + 1] = -INFINITY;
+        uint32_t y1 = (by + 1) * FX_MM_BLOCK < res ? (by + 1) * FX_MM_BLOCK : res;
+        for (uint32_t y = by * FX_MM_BLOCK; y < y1; y++) {
+            const float *row = atl + (size_t)y * aw;
+            for (uint32_t tx = 0; tx < res; tx++) {
+                float d = row[tx];
+                float *o = out + 2 * (tx / FX_MM_BLOCK);
+                /* NaN depths: neither bound decides, the texel's own test does */
+                if (!(d >= o[0]))
+                    o[0] = d != d ? -INFINITY : d;
+                if (!(d <= o[1]))
+                    o[1] = d != d ? INFINITY : d;
+            }
         }
     }
 }
@@ -253,6 +615,20 @@ static void bilinear(const float *vol, uint32_t W, uint32_t H, uint32_t k, doubl
                    s[4 * ((size_t)j1 * W + i1) + ch] * fu;
         out[ch] = a * (1 - fv) + b * fv;
     }
+}
+
+/* Bilinear read of slice k of a one-channel [k][j][i] volume at (u, v) (clamped). */
+static double bilinear1(const float *vol, uint32_t W, uint32_t H, uint32_t k, double u, double v)
+{
+    u = u < 0 ? 0 : u > W - 1.0 ? W - 1.0 : u;
+    v = v < 0 ? 0 : v > H - 1.0 ? H - 1.0 : v;
+    uint32_t i0 = (uint32_t)u, j0 = (uint32_t)v;
+    uint32_t i1 = i0 + 1 < W ? i0 + 1 : i0, j1 = j0 + 1 < H ? j0 + 1 : j0;
+    double fu = u - i0, fv = v - j0;
+    const float *s = vol + (size_t)k * W * H;
+    double a = s[(size_t)j0 * W + i0] * (1 - fu) + s[(size_t)j0 * W + i1] * fu;
+    double b = s[(size_t)j1 * W + i0] * (1 - fu) + s[(size_t)j1 * W + i1] * fu;
+    return a * (1 - fv) + b * fv;
 }
 
 /* 3. Lookup of image rows [begin, end). vol_fog_length's rule with the pixel's ray computed
@@ -294,6 +670,24 @@ static void rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
             const float *b = x->base + 4 * p;
             float *o = x->out + 4 * p, *in = x->ins + 4 * p;
             double tr_s = 1.0, seg = 1.0, tv = 1.0;
+            if (x->het) {
+                /* froxel.h 4.: the optical path to slice k's start and slice k's density */
+                double pk = k > 0 ? bilinear1(x->c->path, f->w, f->h, k - 1, u, vv) : 0.0;
+                double rho = bilinear1(x->density, f->w, f->h, k, u, vv);
+                for (int ch = 0; ch < 3; ch++) {
+                    double st = v->sigma_t[ch];
+                    double lv = thesis ? a[ch] + s[ch] * delta
+                                       : a[ch] + exp(-st * pk) * s[ch] * delta *
+                                                     lg_medium_segment(st * rho * delta);
+                    tv = thesis ? 1.0 : exp(-st * (pk + rho * delta));
+                    in[ch] = (float)lv;
+                    o[ch] = (float)(b[ch] * tv + lv);
+                }
+                in[3] = 1.0f;
+                o[3] = b[3];
+                x->out_depth[p] = depth;
+                continue;
+            }
             if (!thesis && x->grey) {
                 double st = v->sigma_t[0];
                 tr_s = exp(-st * t_s / cosv);
@@ -394,20 +788,98 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
     const vol_setup *v = f->v;
     x.grey = v->sigma_t[0] == v->sigma_t[1] && v->sigma_t[1] == v->sigma_t[2];
     x.inv_sigma_t = x.grey && v->sigma_t[0] > 0 ? 1.0 / v->sigma_t[0] : 0.0;
+    if (f->sm) {
+        x.tscale[0] = x.tscale[1] = 0.5f * (float)f->sm->resolution;
+        x.tscale[2] = 0.5f;
+    }
+    /* froxel.h 4.: a density field or a point or spot light turns on the second path */
+    x.het = f->density != NULL;
+    x.density = f->density;
+    if (x.het && !c->path) {
+        c->path = malloc(vox * sizeof(float));
+        if (!c->path)
+            return lg_error_code(n, LG_ERR_NOMEM, "out of memory (a %ux%ux%u optical-path volume)",
+                                 f->w, f->h, f->d);
+        c->counted += (uint64_t)vox * sizeof(float);
+        lg_account_alloc(n, (uint64_t)vox * sizeof(float));
+    }
+    x.nodes = f->point_nodes < 0 ? 0 : f->point_nodes > 8 ? 8 : f->point_nodes;
+    for (int i = 0; i < x.nodes; i++) {
+        x.gx[i] = fx_gl_x[x.nodes - 1][i];
+        x.gw[i] = fx_gl_w[x.nodes - 1][i];
+    }
+    {
+        double g = v->g;
+        g = !(g == g) ? 0.0 : g < -LG_HG_G_MAX ? -LG_HG_G_MAX : g > LG_HG_G_MAX ? LG_HG_G_MAX : g;
+        x.hg_a = g >= 0.0 ? (1.0 - g) * (1.0 - g) : (1.0 + g) * (1.0 + g);
+        x.hg_k = (1.0 - g) * (1.0 + g) / (4.0 * LG_PI);
+    }
     for (uint32_t l = 0; l < v->n_lights; l++) {
-        int32_t r = v->lights[l].shadow;
+        const vol_light *L = &v->lights[l];
+        int32_t r = L->shadow;
         bool sh = x.atlas && f->sm && r >= 0 && (uint32_t)r < f->sm->n_lights;
+        /* the second path also takes a shadowed directional light when the map filters
+         * (pcf_radius > 0: vol_shadow_cpu's taps; the fast path reads one texel) */
+        if (x.het || L->type != LG_LIGHT_DIRECTIONAL || (sh && f->sm->pcf_radius > 0)) {
+            fx_cpu_light *g = &x.gen[x.n_gen++];
+            g->L = L;
+            g->dir = L->type == LG_LIGHT_DIRECTIONAL;
+            g->spot = L->type == LG_LIGHT_SPOT;
+            for (int a = 0; a < 3; a++) {
+                g->q[a] = L->pos[a];
+                g->axis[a] = L->dir[a];
+                g->lc[a] = (double)v->sigma_s[a] * L->l_c[a];
+            }
+            g->cos_in = L->cos_inner;
+            g->cos_out = L->cos_outer;
+            g->range = L->range;
+            g->rec = sh ? r : -1;
+            g->tau = x.het && f->tau ? &f->tau[l] : NULL;
+            x.rec[l] = FX_REC_GEN;
+            continue;
+        }
         x.rec[l] = sh ? r : -1;
         if (!sh)
             continue;
-        const lg_shadow_light *L = &f->sm->lights[r];
-        const float *m = L->view_proj;
+        const lg_shadow_light *R = &f->sm->lights[r];
+        const float *m = R->view_proj;
         for (int row = 0; row < 4; row++)
             x.ca[x.n_sh][row] = (float)(m[row] * v->eye[0] + m[4 + row] * v->eye[1] +
                                         m[8 + row] * v->eye[2] + m[12 + row]);
-        x.tile[x.n_sh][0] = L->tile_x;
-        x.tile[x.n_sh][1] = L->tile_y;
+        x.tile[x.n_sh][0] = R->tile_x;
+        x.tile[x.n_sh][1] = R->tile_y;
+        uint32_t res = f->sm->resolution;
+        x.ortho[x.n_sh] = m[3] == 0.0f && m[7] == 0.0f && m[11] == 0.0f && m[15] == 1.0f &&
+                          (uint64_t)R->tile_x + res <= f->sm->atlas_width &&
+                          (uint64_t)R->tile_y + res <= f->sm->atlas_height;
+        x.n_ortho += x.ortho[x.n_sh];
+        for (int row = 0; row < 3; row++) {
+            double a = (double)m[row] * v->eye[0] + (double)m[4 + row] * v->eye[1] +
+                       (double)m[8 + row] * v->eye[2] + m[12 + row];
+            x.ta[x.n_sh][row] = (float)(row < 2 ? (a * 0.5 + 0.5) * res : a * 0.5 + 0.5);
+        }
         x.n_sh++;
+    }
+    if (x.n_ortho) {
+        /* each orthographic record's depth bounds per block (fx_minmax) */
+        uint32_t res = f->sm->resolution, nb = (res + FX_MM_BLOCK - 1) / FX_MM_BLOCK;
+        size_t need = (size_t)x.n_sh * nb * nb * 2;
+        if (need > c->mm_cap) {
+            float *mm = realloc(c->mm, need * sizeof(float));
+            if (!mm)
+                return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%zu shadow depth bounds)",
+                                     need);
+            lg_account_alloc(n, (need - c->mm_cap) * sizeof(float));
+            c->counted += (need - c->mm_cap) * sizeof(float);
+            c->mm = mm;
+            c->mm_cap = need;
+        }
+        x.mm_n = nb;
+        for (uint32_t l = 0; l < x.n_sh; l++)
+            x.mm[l] = c->mm + (size_t)l * nb * nb * 2;
+        rc = lg_parallel_for(n, (size_t)x.n_sh * nb, 1, fx_minmax, &x);
+        if (rc)
+            return rc;
     }
     rc = lg_parallel_for(n, (size_t)f->w * f->h, FX_CPU_GRAIN, columns, &x);
     if (!rc)
@@ -432,5 +904,7 @@ void fx_cpu_destroy(lg_node *n, void *state)
     free(c->s);
     free(c->hist);
     free(c->tj);
+    free(c->path);
+    free(c->mm);
     free(c);
 }

@@ -356,7 +356,7 @@ float lg_shadowmap_visibility(const lg_shadowmap *sm, const float *atlas, uint32
     if (rec < 0 || !atlas)
         return 1.0f;
     const lg_shadow_light *L = &sm->lights[rec];
-    double ndc[3];
+    double ndc[3], wdepth = 0.0; /* wdepth: a perspective record's view depth of p */
     if (L->face >= LG_SHADOW_FACE_PARABOLOID_FRONT) {
         /* dual paraboloid: the view-space direction d (unit) maps to d.xy / (1 + d.z'),
          * z' = -d.z for the front map (it looks down -z), +d.z for the back; depth is the
@@ -381,12 +381,24 @@ float lg_shadowmap_visibility(const lg_shadowmap *sm, const float *atlas, uint32
             return 1.0f;
         for (int k = 0; k < 3; k++)
             ndc[k] = c[k] / c[3];
+        wdepth = c[3];
     }
     double u = ndc[0] * 0.5 + 0.5, vv = ndc[1] * 0.5 + 0.5, z = ndc[2] * 0.5 + 0.5;
     if (!(u >= 0.0 && u < 1.0 && vv >= 0.0 && vv < 1.0) || !(z >= 0.0))
         return 1.0f;
     if (z > 1.0)
         z = 1.0;
+    /* A perspective map's window depth is not linear in distance: a bias of b depth units
+     * there would be b d^2 (f - n) / (f n) metres at view depth d (a fifth of the range at
+     * the far plane for n = f / 1000), so the test is made on view depth instead, with the
+     * bias in the same world units as an orthographic map's: (bias) x depth_range. The
+     * stored depth D is linearised as n f / (f - D (f - n)). */
+    bool persp = L->projection == LG_SHADOW_PERSPECTIVE &&
+                 L->face < LG_SHADOW_FACE_PARABOLOID_FRONT;
+    double zn = L->znear, zf = (double)L->znear + (double)L->depth_range;
+    double bias_world = ((double)sm->bias_constant + bias_extra) * (double)L->depth_range;
+    if (persp && wdepth > zf)
+        wdepth = zf;
     int64_t res = sm->resolution, r = sm->pcf_radius;
     int64_t cx = (int64_t)(u * res), cy = (int64_t)(vv * res);
     uint32_t lit = 0, taps = 0;
@@ -402,8 +414,13 @@ float lg_shadowmap_visibility(const lg_shadowmap *sm, const float *atlas, uint32
                 continue;
             }
             float stored = atlas[(size_t)ty * sm->atlas_width + tx];
-            if (!((float)z > stored + sm->bias_constant + (float)bias_extra))
+            if (persp) {
+                double lin = zn * zf / (zf - (double)stored * (zf - zn));
+                if (!(wdepth > lin + bias_world))
+                    lit++;
+            } else if (!((float)z > stored + sm->bias_constant + (float)bias_extra)) {
                 lit++;
+            }
         }
     return (float)lit / (float)taps;
 }

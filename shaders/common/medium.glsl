@@ -119,8 +119,80 @@ const float LG_GL8_W[20] = float[20](
     0.5688888888888888889, 0.4786286704993664680, 0.2369268850561890875,
     0.4679139345726910473, 0.3607615730481386076, 0.1713244923791703450,
     0.4179591836734693878, 0.3818300505051189449, 0.2797053914892766679, 0.1294849661688696933,
-    0.3626837833783619830, 0.3137066959682209323, 0.2223810344533744706, 0.1012285362903762592);
+    0.3626837833783619830, 0.3137066458778872873, 0.2223810344533744706, 0.1012285362903762592);
 const int LG_GL8_OFF[8] = int[8](0, 1, 2, 4, 6, 9, 12, 16);
+
+// lg_light_clip's test of the piece [p0, p1]: inside the cone at its middle widens [lo, hi].
+void lg_clip_piece(vec3 y0, vec3 w, vec3 axis, float cos_outer, float p0, float p1, inout float lo,
+                   inout float hi)
+{
+    vec3 y = y0 + (0.5 * (p0 + p1)) * w;
+    if (dot(y, axis) >= cos_outer * length(y)) {
+        lo = min(lo, p0);
+        hi = max(hi, p1);
+    }
+}
+
+// The part [a, b] of the segment where the light reaches (sdk/src/medium.c's light_clip,
+// line by line): within range of the light, inside a spot's outer cone (cos_outer >= 0:
+// convex, one interval), worked in s = t - tc from the ray's closest point y0 (relative to
+// the light, |y0|^2 = h2). False when nothing is left.
+bool lg_light_clip(vec3 y0, vec3 w, float tc, float h2, float range, bool is_spot, vec3 axis,
+                   float cos_outer, inout float a, inout float b)
+{
+    float sa = a - tc, sb = b - tc;
+    if (range > 0.0) {
+        float r2 = range * range - h2;
+        if (!(r2 > 0.0))
+            return false;
+        float r = sqrt(r2);
+        sa = max(sa, -r);
+        sb = min(sb, r);
+    }
+    if (is_spot && cos_outer >= 0.0 && sb > sa) {
+        float co2 = cos_outer * cos_outer;
+        float ya = dot(y0, axis), wa = dot(w, axis);
+        float A = wa * wa - co2, B = 2.0 * ya * wa, C = ya * ya - co2 * h2;
+        // breakpoints: the ends, the roots, s = 0, sorted by a fixed network (medium.c)
+        float b1 = 0.0 > sa && 0.0 < sb ? 0.0 : sb, b2 = sb, b3 = sb;
+        float disc = max(B * B - 4.0 * A * C, 0.0);
+        if (A != 0.0) {
+            float qq = -0.5 * (B + (B >= 0.0 ? sqrt(disc) : -sqrt(disc)));
+            float r0 = qq / A, r1 = qq != 0.0 ? C / qq : r0;
+            b2 = r0 > sa && r0 < sb ? r0 : sb;
+            b3 = r1 > sa && r1 < sb ? r1 : sb;
+        } else if (B != 0.0) {
+            float r = -C / B;
+            b2 = r > sa && r < sb ? r : sb;
+        }
+        float tmp;
+        if (b2 < b1) {
+            tmp = b1;
+            b1 = b2;
+            b2 = tmp;
+        }
+        if (b3 < b2) {
+            tmp = b2;
+            b2 = b3;
+            b3 = tmp;
+        }
+        if (b2 < b1) {
+            tmp = b1;
+            b1 = b2;
+            b2 = tmp;
+        }
+        float lo = 3.0e38, hi = -3.0e38;
+        lg_clip_piece(y0, w, axis, cos_outer, sa, b1, lo, hi);
+        lg_clip_piece(y0, w, axis, cos_outer, b1, b2, lo, hi);
+        lg_clip_piece(y0, w, axis, cos_outer, b2, b3, lo, hi);
+        lg_clip_piece(y0, w, axis, cos_outer, b3, sb, lo, hi);
+        sa = lo;
+        sb = hi;
+    }
+    a = tc + sa;
+    b = tc + sb;
+    return sb > sa;
+}
 
 float lg_point_inscatter(vec3 o, vec3 w, float t0, float t1, vec3 q, float range, bool is_spot,
                          vec3 axis, vec2 cone, float g, float sigma_t, int n)
@@ -130,9 +202,15 @@ float lg_point_inscatter(vec3 o, vec3 w, float t0, float t1, vec3 q, float range
     n = clamp(n, 1, 8);
     vec3 qo = q - o;
     float tc = dot(qo, w);
-    float h2 = max(dot(qo, qo) - tc * tc, 0.0);
+    // h from the perpendicular offset, not |qo|^2 - tc^2 (cancels near the light; medium.c)
+    vec3 perp = qo - tc * w;
+    float h2 = dot(perp, perp);
     float H = sqrt(h2 + LG_LIGHT_EPSILON * LG_LIGHT_EPSILON);
-    float xi0 = atan((t0 - tc) / H), xi1 = atan((t1 - tc) / H);
+    // the nodes go where the light reaches; the extinction still counts from t0
+    float ta = t0, tb = t1;
+    if (!lg_light_clip(-perp, w, tc, h2, range, is_spot, axis, cone.y, ta, tb))
+        return 0.0;
+    float xi0 = atan((ta - tc) / H), xi1 = atan((tb - tc) / H);
     float half_w = 0.5 * (xi1 - xi0), mid = 0.5 * (xi1 + xi0);
     int half_n = n / 2, off = LG_GL8_OFF[n - 1];
     float sum = 0.0;
@@ -147,8 +225,8 @@ float lg_point_inscatter(vec3 o, vec3 w, float t0, float t1, vec3 q, float range
             x = i < half_n ? -LG_GL8_X[off + k] : LG_GL8_X[off + k];
         }
         float xi = mid + half_w * x;
-        float t = tc + H * tan(xi);
-        vec3 l = qo - t * w;
+        float sx = H * tan(xi), t = tc + sx;
+        vec3 l = perp - sx * w;
         float d = length(l);
         float cw = d > 0.0 ? dot(l, w) / d : 0.0;
         float f = lg_hg_phase(g, cw) * lg_light_window(d, range);

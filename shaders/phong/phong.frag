@@ -80,10 +80,15 @@ vec3 held_colour(vec3 Ng)
 {
     bool back = back_side();
     vec3 c = back ? f_c0b : f_c0;
-    for (int k = 0; k < LG_SV; k++) {
+    // the k-th shadowed light in the lights' order (lg_shade_split's numbering)
+    for (int i = 0, k = 0; i < u_n_lights && k < LG_SV; i++) {
+        int s = lg_lights[i].shadow;
+        if (s < 0)
+            continue;
         vec3 ck = back ? f_csb[k] : f_cs[k];
         if (any(greaterThan(ck, vec3(0.0))))
-            c += ck * lg_shadow(k, f_pos, Ng, lg_lights[lg_shadows[k].light].dir.xyz);
+            c += ck * lg_shadow(s, f_pos, Ng, lg_light_dir(i, f_pos));
+        k++;
     }
     return c;
 }

@@ -19,7 +19,7 @@
 //            type 2: the unit direction the spot light travels
 //   dir.w    range (local lights): no light beyond it; 0 = unlimited
 //   radiance Ii = colour * intensity (times the cone and falloff already, for type 0)
-//   shadow   index into Shadows, or -1: no shadow map for this light
+//   shadow   index into LgShadows of the light's first map, or -1: no shadow map
 //   cone     x: cos(outer cone), y: 1 / (cos(inner) - cos(outer)) (spot); z: 1 = inverse-
 //            square falloff with distance (local lights), 0 = none
 struct LgLight {
@@ -33,17 +33,27 @@ layout(std430, binding = 1) readonly buffer LgLights {
     LgLight lg_lights[];
 };
 
-// One shadow-mapped light (lightgraph/shadowmap.h), std430, 80 bytes.
+// One map of a shadow-mapped light (a record of lightgraph/shadowmap.h), std430, 112 bytes.
+// A point light's six cube faces are consecutive, +x, -x, +y, -y, +z, -z.
 struct LgShadow {
-    mat4 view_proj;    // world -> the light's clip space (orthographic, Y flipped)
+    mat4 view_proj;    // world -> the map's clip space (Y flipped)
     vec2 tile;         // the tile's top-left texel in the atlas
-    float texel_world; // world size of one texel (normal offset unit)
+    float texel_world; // world size of one texel (normal offset unit; perspective: at 1 m)
     int light;         // index into LgLights
+    vec3 light_pos;    // perspective: the light's position, world
+    int projection;    // 0 orthographic, 1 perspective
+    float znear;       // perspective: the near plane's distance
+    float depth_range; // world depth covered by [0, 1] (perspective: far - near)
+    int n_faces;       // maps of this light from this one on: 6 for a cube's first face, else 1
+    int pad;
 };
 layout(std430, binding = 2) readonly buffer LgShadows {
     LgShadow lg_shadows[];
 };
 layout(binding = 0) uniform sampler2D u_atlas; // the depth-only atlas (read with texelFetch)
+
+// PCSS's largest search and filter radius, texels (its searches take at most 7 x 7 taps)
+#define LG_PCSS_MAX_RADIUS 16
 
 // What is the same for the whole pass, uploaded in one call from the C struct that mirrors
 // it (ph_gpu_frame in plugins/phong/phong.c, std140, 144 bytes). No instance name: the
@@ -64,6 +74,8 @@ layout(std140, binding = 1) uniform PhFrame {
     float u_bias_const;       // depth units
     float u_bias_slope;       // depth units per unit of tan(angle(N, L))
     float u_normal_offset;    // texels
+    int u_pcf_radius;         // percentage-closer filtering: (2 r + 1)^2 taps
+    float u_pcss_light_size;  // > 0: PCSS, the light's diameter (m; directional: rad)
 };
 
 // The mesh's material: set per mesh between the draws of one pass (uniforms, not a block:
@@ -122,29 +134,125 @@ bool lg_light_at(int i, vec3 P, vec3 N, out vec3 L, out vec3 Ii)
     return true;
 }
 
-// Shadow_L(P) of shadow-mapped light s (eq. 4 with the bias rules of lightgraph/shadowmap.h
-// and plugins/shadowmap/README.md, "Bias"): 1 lit, 0 in shadow. Ng is the unit geometric
-// normal (the facet's) on the viewer's side. Points outside the light's map are lit; the
-// depth is clamped to [0, 1].
+// The depth test of one texel (eq. 4): 1 lit, 0 in shadow. An orthographic map compares
+// window depths (d and the stored one) with the bias in depth units; a perspective map view
+// depths, the stored window depth linearised, the bias times depth_range (world units: the
+// rule of lightgraph/shadowmap.h and lg_shadowmap_visibility).
+float lg_shadow_tap(LgShadow sh, ivec2 texel, float d, float bias)
+{
+    float stored = texelFetch(u_atlas, texel, 0).r;
+    if (sh.projection == 0)
+        return d > stored + bias ? 0.0 : 1.0;
+    float zf = sh.znear + sh.depth_range;
+    float lin = sh.znear * zf / (zf - stored * sh.depth_range);
+    return d > lin + bias * sh.depth_range ? 0.0 : 1.0;
+}
+
+// The stored depth of one texel as a distance from the light along the map's axis (world;
+// orthographic: from the map's near plane), for PCSS's blocker search.
+float lg_shadow_depth_world(LgShadow sh, ivec2 texel)
+{
+    float stored = texelFetch(u_atlas, texel, 0).r;
+    if (sh.projection == 0)
+        return stored * sh.depth_range;
+    float zf = sh.znear + sh.depth_range;
+    return sh.znear * zf / (zf - stored * sh.depth_range);
+}
+
+// Shadow_L(P) of the light whose first map is s (eq. 4 with the bias rules of
+// lightgraph/shadowmap.h and plugins/shadowmap/README.md, "Bias"): 1 lit, 0 in shadow, the
+// fraction of lit taps with PCF. Ng is the unit geometric normal (the facet's) on the
+// viewer's side. A point light's face is the one of the largest component of p - light
+// (ties to the lower face: lg_shadowmap_record_at's rule). Points outside the map, or
+// behind a perspective map's near plane, are lit; an orthographic depth is clamped to
+// [0, 1], a perspective one to the far plane. Taps are clamped to the map's tile.
 float lg_shadow(int s, vec3 P, vec3 Ng, vec3 L)
 {
     if (s < 0)
         return 1.0;
     LgShadow sh = lg_shadows[s];
-    vec3 p = P + Ng * (u_normal_offset * sh.texel_world);
+    bool persp = sh.projection != 0;
+    float scale = persp ? distance(P, sh.light_pos) : 1.0;
+    vec3 p = P + Ng * (u_normal_offset * sh.texel_world * scale);
+    if (sh.n_faces == 6) {
+        vec3 d = p - sh.light_pos, a = abs(d);
+        int axis = 0;
+        if (a.y > a.x)
+            axis = 1;
+        if (a.z > a[axis])
+            axis = 2;
+        sh = lg_shadows[s + 2 * axis + (d[axis] < 0.0 ? 1 : 0)];
+    }
     vec4 c = sh.view_proj * vec4(p, 1.0);
+    if (persp && !(c.w > 0.0))
+        return 1.0;
     vec3 q = c.xyz / c.w;
     vec2 t = q.xy * 0.5 + 0.5;
-    float d = clamp(q.z * 0.5 + 0.5, 0.0, 1.0);
     if (!(t.x >= 0.0 && t.x < 1.0 && t.y >= 0.0 && t.y < 1.0))
         return 1.0;
-    ivec2 texel = ivec2(sh.tile) + min(ivec2(t * float(u_shadow_res)), ivec2(u_shadow_res - 1));
-    float stored = texelFetch(u_atlas, texel, 0).r;
+    float d;
+    if (persp) {
+        if (q.z < -1.0)
+            return 1.0; // nearer to the light than its near plane
+        d = min(c.w, sh.znear + sh.depth_range);
+    } else {
+        d = clamp(q.z * 0.5 + 0.5, 0.0, 1.0);
+    }
+    ivec2 tile = ivec2(sh.tile);
+    ivec2 ct = min(ivec2(t * float(u_shadow_res)), ivec2(u_shadow_res - 1));
     // tan(angle(N, L)) with cos clamped to >= 0.1 (tan <= 9.95), as the shadowmap node
     // documents, so that grazing light keeps a finite bias
     float cl = clamp(abs(dot(Ng, L)), 0.1, 1.0);
     float tn = sqrt(1.0 - cl * cl) / cl;
-    return d > stored + u_bias_const + u_bias_slope * tn ? 0.0 : 1.0;
+    float bias = u_bias_const + u_bias_slope * tn;
+    // A tap k texels beside the lookup's reads a planar receiver's own depth k texels away,
+    // k texel tan(angle(N, L)) nearer the light (world units): each tap adds that to the bias
+    // (in depth units), or PCF would shade slanted surfaces with stripes of acne
+    float tap_slope = sh.texel_world * (persp ? d : 1.0) * tn / sh.depth_range;
+    int r = u_pcf_radius;
+    if (u_pcss_light_size > 0.0) {
+        // PCSS (Fernando 2005): the blockers' mean distance db over the light's footprint,
+        // then a penumbra of w = size (dr - db) / db (perspective; directional: the angle
+        // times dr - db) at the receiver, as a PCF radius in texels (README.md)
+        float dr = persp ? d : d * sh.depth_range;
+        float texel = sh.texel_world * (persp ? d : 1.0);
+        float reach = persp ? u_pcss_light_size * (dr - sh.znear) / dr * (d / sh.znear)
+                            : u_pcss_light_size * dr;
+        int rs = clamp(int(ceil(0.5 * reach / texel)), 1, LG_PCSS_MAX_RADIUS);
+        int step = max(1, rs / 3);
+        float sum = 0.0, cnt = 0.0;
+        for (int y = -rs; y <= rs; y += step)
+            for (int x = -rs; x <= rs; x += step) {
+                ivec2 k = clamp(ct + ivec2(x, y), ivec2(0), ivec2(u_shadow_res - 1));
+                if (lg_shadow_tap(sh, tile + k, d, bias + tap_slope * length(vec2(x, y))) < 0.5) {
+                    sum += lg_shadow_depth_world(sh, tile + k);
+                    cnt += 1.0;
+                }
+            }
+        if (cnt == 0.0)
+            return 1.0;
+        float db = sum / cnt;
+        float w = persp ? u_pcss_light_size * (dr - db) / max(db, 1e-6)
+                        : u_pcss_light_size * (dr - db);
+        r = clamp(int(round(0.5 * w / texel)), 0, LG_PCSS_MAX_RADIUS);
+    }
+    if (r == 0)
+        return lg_shadow_tap(sh, tile + ct, d, bias);
+    float lit = 0.0;
+    for (int y = -r; y <= r; y++)
+        for (int x = -r; x <= r; x++)
+            lit += lg_shadow_tap(sh, tile + clamp(ct + ivec2(x, y), ivec2(0),
+                                                  ivec2(u_shadow_res - 1)),
+                                 d, bias + tap_slope * length(vec2(x, y)));
+    float taps = float(2 * r + 1);
+    return lit / (taps * taps);
+}
+
+// The unit vector from P towards light i (its direction for lights at infinity).
+vec3 lg_light_dir(int i, vec3 P)
+{
+    LgLight l = lg_lights[i];
+    return l.pos.w < 0.5 ? l.dir.xyz : lg_safe_normalize(l.pos.xyz - P, l.dir.xyz);
 }
 
 // Everything at P, shadows at P: ambient plus the attenuated, shadowed direct terms. N is
@@ -169,9 +277,9 @@ vec3 lg_shade(vec3 P, vec3 N, vec3 Ng, LgPhongMaterial m)
 // The same equation split for the per-vertex and per-facet modes, whose colours are
 // interpolated (or held) across a facet while shadows stay per pixel: c0 holds the ambient
 // and every light whose shadow is not tested per pixel, cs[k] the attenuated direct term of
-// the light with shadow map k (k < LG_SV), to be multiplied by that light's Shadow_L at the
-// pixel. Lights with a shadow map beyond the first LG_SV have their shadow tested here
-// (with N for the geometric normal, which a vertex does not have).
+// the k-th shadowed light in the lights' order (k < LG_SV), to be multiplied by that light's
+// Shadow_L at the pixel. Shadowed lights beyond the first LG_SV have their shadow tested
+// here (with N for the geometric normal, which a vertex does not have).
 void lg_shade_split(vec3 P, vec3 N, LgPhongMaterial m, out vec3 c0, out vec3 cs[LG_SV_ARR])
 {
     vec3 V = lg_view_vector(P);
@@ -180,14 +288,16 @@ void lg_shade_split(vec3 P, vec3 N, LgPhongMaterial m, out vec3 c0, out vec3 cs[
     for (int k = 0; k < LG_SV_ARR; k++)
         cs[k] = vec3(0.0);
     vec3 direct = vec3(0.0);
+    int ks = 0; // shadowed lights so far
     for (int i = 0; i < u_n_lights; i++) {
+        int s = lg_lights[i].shadow;
+        int k = s >= 0 ? ks++ : -1;
         vec3 L, Ii;
         if (!lg_light_at(i, P, N, L, Ii))
             continue;
         vec3 c = lg_phong_direct(N, V, L, Ii, m, u_spec_model, n_eff);
-        int s = lg_lights[i].shadow;
-        if (s >= 0 && s < LG_SV) {
-            cs[s] = att * c;
+        if (k >= 0 && k < LG_SV) {
+            cs[k] = att * c;
             continue;
         }
         if (s >= 0 && any(greaterThan(c, vec3(0.0))))

@@ -22,6 +22,16 @@
 //
 // Positions are light NDC unprojected by the light's inverse view_proj (orthographic: w =
 // 1), written as world-space vec4 (w = 1).
+//
+// A perspective map (a spot light's, or one face of a point light's cube; u_persp = 1) is
+// the same mesh with the box replaced by the map's frustum: u_outer is the tile's own edge
+// [-1, 1]^2 (beyond it a spot's cone is dark and a cube's neighbouring face takes over),
+// the cap on the light's side shrinks to the light's position u_light (the four side walls
+// converge there: everything between the light and the map's near plane is lit, as the
+// lookup has it), and every vertex at the far side lies on the plane u_far_scale times the
+// near plane's distance from the light, along its ray from the light (unprojecting an NDC
+// z close to the projection's asymptote would lose the precision). A stored depth is
+// capped at the map's far plane (NDC 1), so the dent never passes the far side.
 layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform sampler2D u_atlas;   // the shadow map atlas (depth)
@@ -35,6 +45,9 @@ uniform float u_bias;       // the map's constant bias, window depth units
 uniform float u_near;       // NDC z of the box's cap on the light's side (< -1)
 uniform float u_far;        // NDC z of the box's far side (> 1)
 uniform vec4 u_outer;       // X0, Y0, X1, Y1 (X0 < -1, Y0 < -1, X1 > 1, Y1 > 1)
+uniform int u_persp;        // 1: a perspective map (then u_outer = -1, -1, 1, 1)
+uniform vec3 u_light;       // perspective: the light's position, world
+uniform float u_far_scale;  // perspective: the far side's distance over the near plane's
 
 // The border loop: ring index k -> grid (i, j), counter-clockwise in (u, v).
 ivec2 ring_cell(int k)
@@ -61,7 +74,21 @@ vec3 grid_ndc(ivec2 c)
     vec2 uv = (vec2(t) + 0.5) / float(u_res);
     float d = texelFetch(u_atlas, u_tile + t, 0).r;
     float z = d >= 1.0 ? u_far : 2.0 * (d + u_bias) - 1.0;
+    if (u_persp != 0 && d < 1.0)
+        z = min(z, 1.0);
     return vec3(2.0 * uv - 1.0, z);
+}
+
+// Light NDC -> world. A perspective map's far side (z = u_far) is placed along the ray from
+// the light through the near plane's point of the same x, y.
+vec3 to_world(vec3 ndc)
+{
+    if (u_persp != 0 && ndc.z == u_far) {
+        vec4 n = u_inv_light * vec4(ndc.xy, -1.0, 1.0);
+        return u_light + (n.xyz / n.w - u_light) * u_far_scale;
+    }
+    vec4 w = u_inv_light * vec4(ndc, 1.0);
+    return w.xyz / w.w;
 }
 
 void main()
@@ -84,7 +111,10 @@ void main()
         float x = (s == 1 || s == 2) ? u_outer.z : u_outer.x;
         float y = s >= 2 ? u_outer.w : u_outer.y;
         ndc = vec3(x, y, id - n_grid - P < 4 ? u_far : u_near);
+        if (u_persp != 0 && id - n_grid - P >= 4) {
+            verts[id] = vec4(u_light, 1.0); // the cap on the light's side: its apex
+            return;
+        }
     }
-    vec4 w = u_inv_light * vec4(ndc, 1.0);
-    verts[id] = vec4(w.xyz / w.w, 1.0);
+    verts[id] = vec4(to_world(ndc), 1.0);
 }

@@ -20,6 +20,18 @@
 // (dot(n, p - eye) in fp32) can disagree with the coverage on triangles seen almost
 // edge-on (the dent's walls when the view runs along the light), and one such fragment
 // turns a pixel's +F(d) into -F(d) (README, "Entering or leaving").
+//
+// A point or spot light (u_type 1, 2; its volume from a perspective map, or the whole view
+// when it has none, u_full) replaces F(s) by the airlight integral from the eye,
+//
+//     F(s) = L_c sigma_s A(0, s),   A = lg_point_inscatter (shaders/common/medium.glsl)
+//
+// with u_nodes Gauss-Legendre nodes in the angle (exact for g = 0, sigma_t = 0 and no range,
+// lightgraph/medium.h). A starts at the eye, so the signed sum of A(0, s) over the crossings
+// is the integral over the lit intervals, as with the directional F; a ray starting inside
+// the volume (the camera in the cone) needs no entry term, since A(0, 0) = 0.
+// With the eye at the light (within LG_LIGHT_EPSILON, u_apex_eye) the faces through the
+// light are edge-on and dropped (radial_face): no ray from the light crosses them.
 #include "medium.glsl"
 
 in vec3 v_world;
@@ -31,6 +43,14 @@ layout(binding = 0) uniform sampler2D u_base_depth; // base's depth plane (windo
 uniform vec3 u_l_c;            // L_c of this light
 uniform vec3 u_dir;            // the direction its light travels
 uniform float u_flip;          // +1, or -1 when the light's NDC -> world map mirrors
+uniform int u_type;            // 0 directional, 1 point, 2 spot (lg_light_type)
+uniform vec3 u_pos;            // point, spot: the light's position
+uniform float u_range;         // point, spot: 0 = infinite
+uniform vec2 u_cone;           // spot: cos_inner, cos_outer
+uniform int u_nodes;           // point, spot: the quadrature's nodes (1 .. 8)
+uniform int u_full;            // 1: the whole segment [0, d], sign +
+uniform int u_apex_eye;        // 1: the eye is at the light (within LG_LIGHT_EPSILON)
+uniform ivec2 u_grid;          // the mesh's Ws, Hs (poly_indices' triangle order)
 
 layout(location = 0) out vec4 o_color;
 
@@ -40,8 +60,32 @@ vec3 unproject(vec2 xy, float z)
     return p.xyz / p.w;
 }
 
+// Whether triangle p (gl_PrimitiveID, the draw's p-th triangle in poly_indices' order) lies
+// in a plane through the light: the dent's walls and the frustum's sides (along rays from
+// the light) and the collapsed cap. Seen from the light itself they are edge-on: no ray
+// from it crosses them, yet the rasteriser may give a sliver of one a pixel on its line.
+bool radial_face(int p)
+{
+    int W = u_grid.x - 1, H = u_grid.y - 1;
+    int q = p - 2 * W * H; // the grid's triangles first
+    if (q < 0)
+        return false;
+    for (int side = 0; side < 4; side++) {
+        int n = (side % 2 == 0) ? W : H;
+        if (q < 3 * n)
+            return q % 3 != 2; // per border edge: two dent walls, one far-frame triangle
+        q -= 3 * n;
+        if (q < 3)
+            return q != 0; // the frame's trapezoid, then the side's two triangles
+        q -= 3;
+    }
+    return true; // the cap at the light
+}
+
 void main()
 {
+    if (u_apex_eye != 0 && radial_face(gl_PrimitiveID))
+        discard;
     vec2 xy = gl_FragCoord.xy; // the pixel's centre
     vec3 w = normalize(unproject(xy, 0.0) - u_eye);
     float depth = texelFetch(u_base_depth, ivec2(xy), 0).r;
@@ -52,8 +96,32 @@ void main()
     if (c > 0.0)
         d = min(d, u_z_limit / c);
     float s = min(length(v_world - u_eye), d);
-    float phase = lg_hg_phase(u_g, dot(w, -u_dir));
-    vec3 f = u_l_c * u_sigma_s * (phase * s) * lg_medium_segment3(u_sigma_t * s);
+    vec3 f;
+    if (u_type == 0) {
+        float phase = lg_hg_phase(u_g, dot(w, -u_dir));
+        f = u_l_c * u_sigma_s * (phase * s) * lg_medium_segment3(u_sigma_t * s);
+    } else {
+        if (u_full != 0)
+            s = d;
+        bool spot = u_type == 2;
+        vec3 a;
+        a.r = lg_point_inscatter(u_eye, w, 0.0, s, u_pos, u_range, spot, u_dir, u_cone, u_g,
+                                 u_sigma_t.r, u_nodes);
+        // the channels share the integral when they share sigma_t (the usual grey fog)
+        a.g = u_sigma_t.g == u_sigma_t.r
+                  ? a.r
+                  : lg_point_inscatter(u_eye, w, 0.0, s, u_pos, u_range, spot, u_dir, u_cone,
+                                       u_g, u_sigma_t.g, u_nodes);
+        a.b = u_sigma_t.b == u_sigma_t.r
+                  ? a.r
+                  : (u_sigma_t.b == u_sigma_t.g
+                         ? a.g
+                         : lg_point_inscatter(u_eye, w, 0.0, s, u_pos, u_range, spot, u_dir,
+                                              u_cone, u_g, u_sigma_t.b, u_nodes));
+        f = u_l_c * u_sigma_s * a;
+    }
     float sgn = (gl_FrontFacing ? 1.0 : -1.0) * u_flip; // leaving +, entering -
+    if (u_full != 0)
+        sgn = 1.0;
     o_color = vec4(sgn * f, 0.0);
 }

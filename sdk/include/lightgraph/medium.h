@@ -155,7 +155,9 @@ LG_API double lg_light_falloff(const lg_light *l, const double p[3], double to_l
  * x(t) = o + t w (w unit), d(t) = |q - x(t)|. With t = t_c + H tan(xi) (t_c = dot(q - o, w),
  * h the distance from q to the ray's line, H = sqrt(h^2 + eps^2)), dt / (d^2 + eps^2) =
  * dxi / H and the integrand in xi is smooth and bounded: A is evaluated by Gauss-Legendre
- * quadrature with `nodes` points (1 .. 64, in panels of at most 8) over [xi(t0), xi(t1)].
+ * quadrature with `nodes` points (1 .. 64, in panels of at most 8) over [xi(ta), xi(tb)],
+ * [ta, tb] the part of [t0, t1] the light reaches (within `range` of q, inside a spot's
+ * outer cone when cos_outer >= 0), where the integrand has no kink but the inner cone's.
  * For an isotropic phase (g = 0), sigma_t = 0, a point light and an infinite range the
  * integrand is constant and A = (xi1 - xi0) / (4 pi H) exactly at any node count: Sun et
  * al.'s closed form without extinction. t1 <= t0 gives 0. `spot` NULL for a point light,

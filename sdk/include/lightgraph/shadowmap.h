@@ -24,13 +24,23 @@
  *     texel   = tile origin + p_tex * resolution
  *     Shadow_L(p) = 0 if p_ndc.z * 0.5 + 0.5 > Depth_L(texel) + bias, else 1     (eq. 4)
  *
+ * On a perspective record (not a paraboloid) the same test is made on view depth, since
+ * window depth is not linear in distance (a bias in depth units would grow with d^2): with
+ * n = znear, f = znear + depth_range, d = p_clip.w (clamped to f) and D = Depth_L(texel),
+ *
+ *     Shadow_L(p) = 0 if d > n f / (f - D (f - n)) + bias depth_range, else 1
+ *
+ * so a bias keeps its meaning in world units (bias x depth_range metres) on every map; the
+ * normal offset of a perspective record is normal_offset x texel_world x |p - light|.
+ *
  * Atlas rows follow the image row rule (lightgraph/host.h): texel row 0 is the atlas's top
  * row; p_tex.y = 0 is the tile's top row. Depth is window depth in [0,1] as GL writes it
  * (glClipControl default, glDepthRange 0..1), 1 where nothing was drawn.
  *
- * A gated shadow-map node (the scene has no directional light) yields a neutral resource
- * without parts: lg_shadowmap_get() returns NULL for it, and consumers light without
- * shadows. A graph reads the atlas alone as `NODE.atlas` (an image).
+ * A gated shadow-map node (the scene has no light; before ABI 3.2: no directional light)
+ * yields a neutral resource without parts: lg_shadowmap_get() returns NULL for it, and
+ * consumers light without shadows. A graph reads the atlas alone as `NODE.atlas` (an
+ * image).
  */
 #ifndef LIGHTGRAPH_SHADOWMAP_H
 #define LIGHTGRAPH_SHADOWMAP_H
@@ -156,7 +166,8 @@ LG_API int32_t lg_shadowmap_find(const lg_shadowmap *sm, uint32_t light);
 LG_API int32_t lg_shadowmap_record_at(const lg_shadowmap *sm, int32_t first, const double p[3]);
 
 /* Eq. 4 on the CPU with the map's filter: the fraction of the PCF kernel's taps in which p
- * is lit (1 lit, 0 shadowed), for scene light `light`; `atlas` is the atlas's depth plane
+ * is lit (1 lit, 0 shadowed), for scene light `light` (on a perspective record, on view
+ * depth with the bias in world units, as above); `atlas` is the atlas's depth plane
  * (lg_map_cpu). bias_extra is added to the constant bias (a consumer's slope term). A point
  * outside every record, behind a perspective record's near plane or of a light without a
  * record is lit. PCSS is not applied here (plugins/shadowmap's own lookups do). Since ABI

@@ -14,15 +14,22 @@
  * The probe's image: width max(P + 1, 3) for P points, height (scene lights) + 1.
  *   row l < lights, column j < P: (Shadow_l(p_j), z, D, 1) where z is p_j's light depth
  *       (clamped to [0, 1]) and D the stored depth of its texel; (1, -1, -1, 0) for a light
- *       without a shadow map (not directional, or no payload); z = D = -1 when p_j falls
- *       outside the light's tile (lit)
- *   row l, column P: (tile_x, tile_y, texel_world, depth_range), or zeros
+ *       without a shadow map (no payload); z = D = -1 when p_j falls outside the light's
+ *       tile (lit). A spot or point light's maps (perspective, since ABI 3.2), and every
+ *       light with `sdk = true`, are tested by the SDK's lg_shadowmap_visibility instead
+ *       (with the map's PCF; z = D = -1), after the normal offset (normal_offset x
+ *       texel_world, times |p - light| on a perspective map) with the slope bias as its
+ *       bias_extra
+ *   row l, column P: (tile_x, tile_y, texel_world, depth_range) of the light's first map,
+ *       or zeros
  *   last row, column 0: (n_lights of the payload or -1 without one, resolution,
  *       atlas_width, atlas_height)
  *   last row, column 1: (bias_constant, bias_slope, normal_offset, 1 if the atlas resource
  *       is a depth-only image of atlas_width x atlas_height, else 0)
- *   last row, column 2: (the number of payload entries whose `light` is not a directional
- *       light of the scene, 0, 0, 0): a check of the lights list
+ *   last row, column 2: (the number of payload entries whose `light` is not a light of the
+ *       scene or whose projection is not its type's (orthographic for directional lights,
+ *       perspective otherwise), perspective records, point-light records, the pcf_radius):
+ *       a check of the lights list
  */
 #include <math.h>
 #include <stdio.h>
@@ -196,7 +203,7 @@ static int ss_execute(lg_node *n, const lg_frame *frame)
 typedef struct sp_state {
     lg_vec3 pts[SP_MAX_POINTS], nrm[SP_MAX_POINTS];
     uint32_t n_pts;
-    bool has_normals;
+    bool has_normals, sdk;
     uint32_t width, height, n_scene_lights;
 } sp_state;
 
@@ -240,6 +247,7 @@ static int sp_create(lg_node *n)
     if (np < 0)
         return LG_ERR_INVALID;
     st->n_pts = (uint32_t)np;
+    st->sdk = lg_param_bool(n, "sdk");
     const char *ns = lg_param_string(n, "normals");
     if (*ns) {
         int nn = sp_parse(n, "normals", ns, st->nrm);
@@ -306,10 +314,16 @@ static int sp_execute(lg_node *n, const lg_frame *frame)
                   ? 1.0f
                   : 0.0f;
     float *chk = PX(2, st->n_scene_lights);
-    for (uint32_t i = 0; i < sm->n_lights; i++)
-        if (sm->lights[i].light >= s->n_lights ||
-            s->lights[sm->lights[i].light].type != LG_LIGHT_DIRECTIONAL)
+    for (uint32_t i = 0; i < sm->n_lights; i++) {
+        const lg_shadow_light *r = &sm->lights[i];
+        bool dir = r->light < s->n_lights && s->lights[r->light].type == LG_LIGHT_DIRECTIONAL;
+        if (r->light >= s->n_lights || (dir ? r->projection != LG_SHADOW_ORTHOGRAPHIC
+                                            : r->projection != LG_SHADOW_PERSPECTIVE))
             chk[0] += 1.0f;
+        chk[1] += r->projection == LG_SHADOW_PERSPECTIVE;
+        chk[2] += r->light < s->n_lights && s->lights[r->light].type == LG_LIGHT_POINT;
+    }
+    chk[3] = (float)sm->pcf_radius;
     if (chk[0] != 0.0f || bias[3] == 0.0f || st->n_pts == 0)
         return 0; /* nothing to test (without points: the atlas is not even read back) */
 
@@ -318,16 +332,46 @@ static int sp_execute(lg_node *n, const lg_frame *frame)
         return rc;
     if (!va.depth)
         return lg_error(n, "the atlas's depth plane is not mapped");
+    if (va.row_pixels != sm->atlas_width)
+        return lg_error(n, "the atlas's rows are %zu texels apart, not its width %u", va.row_pixels,
+                        sm->atlas_width);
     for (uint32_t i = 0; i < sm->n_lights; i++) {
         const lg_shadow_light *l = &sm->lights[i];
+        if (lg_shadowmap_find(sm, l->light) != (int32_t)i)
+            continue; /* a later map of a light (a cube's face): tested through its first */
         const lg_light *L = &s->lights[l->light];
         lg_vec3 dir = lg_v3_normalize_or(lg_v3(L->direction[0], L->direction[1], L->direction[2]),
                                          lg_v3(0, -1, 0));
+        lg_vec3 pos = lg_v3(L->position[0], L->position[1], L->position[2]);
+        bool ortho_ref = L->type == LG_LIGHT_DIRECTIONAL && !st->sdk;
         for (uint32_t j = 0; j < st->n_pts; j++) {
             float *p = PX(j, l->light);
-            p[0] = sp_shadow(sm, l, dir, va.depth, va.row_pixels, st->pts[j],
-                             st->has_normals ? &st->nrm[j] : NULL, &p[1], &p[2]);
             p[3] = 1.0f;
+            if (ortho_ref) {
+                p[0] = sp_shadow(sm, l, dir, va.depth, va.row_pixels, st->pts[j],
+                                 st->has_normals ? &st->nrm[j] : NULL, &p[1], &p[2]);
+                continue;
+            }
+            lg_vec3 q = st->pts[j];
+            double extra = 0.0;
+            if (st->has_normals) {
+                lg_vec3 to_light = L->type == LG_LIGHT_DIRECTIONAL
+                                       ? lg_v3_scale(dir, -1.0f)
+                                       : lg_v3_normalize_or(lg_v3_sub(pos, q), lg_v3(0, 1, 0));
+                float c = fabsf(lg_v3_dot(st->nrm[j], to_light));
+                c = c < 0.1f ? 0.1f : c > 1.0f ? 1.0f : c;
+                extra = sm->bias_slope * sqrtf(1.0f - c * c) / c;
+                double pd[3] = { q.x, q.y, q.z };
+                const lg_shadow_light *r = &sm->lights[lg_shadowmap_record_at(sm, (int32_t)i, pd)];
+                float scale = r->projection == LG_SHADOW_PERSPECTIVE
+                                  ? lg_v3_length(lg_v3_sub(q, pos))
+                                  : 1.0f;
+                q = lg_v3_add(q,
+                              lg_v3_scale(st->nrm[j], sm->normal_offset * r->texel_world * scale));
+            }
+            double pd[3] = { q.x, q.y, q.z };
+            p[0] = lg_shadowmap_visibility(sm, va.depth, l->light, pd, extra);
+            p[1] = p[2] = -1.0f;
         }
         float *t = PX(st->n_pts, l->light);
         t[0] = (float)l->tile_x, t[1] = (float)l->tile_y;
@@ -429,6 +473,10 @@ static const lg_param_desc sp_params[] = {
       .type = LG_PARAM_STRING,
       .def.s = "",
       .doc = "their unit normals, same form; empty: points without a normal" },
+    { .key = "sdk",
+      .type = LG_PARAM_BOOL,
+      .def.b = false,
+      .doc = "test directional lights with lg_shadowmap_visibility too (with the map's PCF)" },
 };
 static const lg_port_desc sp_in[] = {
     { .name = "scene", .kind = LG_KIND_SCENE },

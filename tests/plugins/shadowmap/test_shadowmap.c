@@ -35,10 +35,10 @@
  *              interpolated normals, lit from 0, 45 and 70 degrees: none that faces a
  *              light (N.L > 0.2) is shadowed with the default bias; all biases 0 shadow
  *              many
- *   gating     without a directional light (none, or only a point light) the node is
- *              gated and its plugin not loaded, and the probe gets NULL from
- *              lg_shadowmap_get; a point light before a directional one is skipped: the
- *              payload's one tile maps to scene light 1
+ *   gating     without a light the node is gated and its plugin not loaded, and the probe
+ *              gets NULL from lg_shadowmap_get; a point light before a directional one gets
+ *              its cube first (six records, then the directional light's; before ABI 3.2
+ *              it was skipped)
  *   frustum    fit = frustum with a camera looking down at the box on a 40 x 40 floor: a
  *              finer texel than fit = bounds, and the same shadows where the camera looks;
  *              a wider aspect gives a coarser map; a camera that sees none of the scene
@@ -50,6 +50,16 @@
  *   errors     an atlas past 2^28 texels, a light without a direction, a camera that does
  *              not exist (fit = frustum) and a resolution out of range stop the render
  *              with a message naming the cause
+ *   spot       (ABI 3.2) a spot light's one perspective map: 625 floor points against the
+ *              ray test toward its position (2 texels of margin), the shadow's edge within
+ *              a texel of x = 1 (the box's top seen from the light)
+ *   point      a point light's cube: a box 1 from the light along each face's axis in turn,
+ *              600 points around the light against the segment test; the light inside the
+ *              box shadows every point around; range 0 fits the far plane to the scene,
+ *              range 1.5 to the range
+ *   pcf        pcf_radius 0, 1, 2 through the SDK's lookup (the probe's sdk = true): the
+ *              visibility across the box's edge is a monotone ramp of 2 r texels in steps
+ *              of 1 / (2 r + 1)
  *
  * Every render also passes the host's GL state check (debug builds check after each node
  * that the bindings were restored; a violation fails the render).
@@ -82,6 +92,9 @@ static void setup_case(lg_test *t)
 typedef struct light_spec {
     bool point;
     lg_vec3 v; /* direction (travel) or position */
+    /* since ABI 3.2: a spot light at v along `dir` (outer_deg > 0), and a range */
+    lg_vec3 dir;
+    float outer_deg, range;
 } light_spec;
 
 typedef struct setup {
@@ -93,6 +106,7 @@ typedef struct setup {
     int n_pts;
     bool normals;         /* pass the normals to the probe */
     bool no_shadow_input; /* leave the probe's `shadows` unconnected */
+    bool sdk;             /* the probe tests every light with lg_shadowmap_visibility */
     const char *extra;    /* more graph lines (outputs) */
 } setup;
 
@@ -127,11 +141,18 @@ static char *graph_text(const setup *s)
     for (int i = 0; i < s->n_lights; i++) {
         snprintf(names[i], sizeof names[i], "l%d", i);
         const light_spec *l = &s->lights[i];
-        if (l->point)
-            ADD("%s = light { scene = %s, mode = %s, type = point, position = [%.9g, %.9g, "
-                "%.9g] }\n",
+        if (l->point && l->outer_deg > 0)
+            ADD("%s = light { scene = %s, mode = %s, type = spot, position = [%.9g, %.9g, "
+                "%.9g], direction = [%.9g, %.9g, %.9g], inner_cone_deg = %.9g, "
+                "outer_cone_deg = %.9g, range = %.9g }\n",
                 names[i], last, i == 0 ? "replace" : "add", (double)l->v.x, (double)l->v.y,
-                (double)l->v.z);
+                (double)l->v.z, (double)l->dir.x, (double)l->dir.y, (double)l->dir.z,
+                0.5 * l->outer_deg, (double)l->outer_deg, (double)l->range);
+        else if (l->point)
+            ADD("%s = light { scene = %s, mode = %s, type = point, position = [%.9g, %.9g, "
+                "%.9g], range = %.9g }\n",
+                names[i], last, i == 0 ? "replace" : "add", (double)l->v.x, (double)l->v.y,
+                (double)l->v.z, (double)l->range);
         else
             ADD("%s = light { scene = %s, mode = %s, direction = [%.9g, %.9g, %.9g] }\n", names[i],
                 last, i == 0 ? "replace" : "add", (double)l->v.x, (double)l->v.y, (double)l->v.z);
@@ -152,7 +173,8 @@ static char *graph_text(const setup *s)
                 (double)s->nrm[i].z);
         ADD("\"");
     }
-    ADD(" }\noutput probe \"probe.exr\"\n%s", s->extra ? s->extra : "");
+    ADD("%s }\noutput probe \"probe.exr\"\n%s", s->sdk ? ", sdk = true" : "",
+        s->extra ? s->extra : "");
 #undef ADD
     return g;
 }
@@ -248,6 +270,40 @@ static int expected(lg_vec3 p, lg_vec3 dir, float margin)
 {
     lg_vec3 c = lg_v3(0, 1.5f, 0), h = lg_v3(0.5f, 0.5f, 0.5f), u = lg_v3_scale(dir, -1.0f);
     bool in = ray_hits_box(p, u, c, h, margin), core = ray_hits_box(p, u, c, h, -margin);
+    return core ? 0 : !in ? 1 : -1;
+}
+
+/* Does the segment from p to q cross the box c +- h (grown by m, m may be < 0)? */
+static bool seg_hits_box(lg_vec3 p, lg_vec3 q, lg_vec3 c, lg_vec3 h, float m)
+{
+    float o[3] = { p.x - c.x, p.y - c.y, p.z - c.z }, d[3] = { q.x - p.x, q.y - p.y, q.z - p.z };
+    float hh[3] = { h.x + m, h.y + m, h.z + m };
+    float t0 = 0.0f, t1 = 1.0f;
+    for (int k = 0; k < 3; k++) {
+        if (fabsf(d[k]) < 1e-9f) {
+            if (fabsf(o[k]) > hh[k])
+                return false;
+            continue;
+        }
+        float a = (-hh[k] - o[k]) / d[k], b = (hh[k] - o[k]) / d[k];
+        if (a > b) {
+            float x = a;
+            a = b;
+            b = x;
+        }
+        t0 = fmaxf(t0, a);
+        t1 = fminf(t1, b);
+        if (t0 > t1)
+            return false;
+    }
+    return true;
+}
+
+/* Expected Shadow of a light at q for p and the box c +- h: 1, 0, or -1 within m of the
+ * shadow's edge (m in world units at the box). */
+static int expected_at(lg_vec3 p, lg_vec3 q, lg_vec3 c, lg_vec3 h, float m)
+{
+    bool in = seg_hits_box(p, q, c, h, m), core = seg_hits_box(p, q, c, h, -m);
     return core ? 0 : !in ? 1 : -1;
 }
 
@@ -681,14 +737,9 @@ static void case_curved(lg_test *t)
 static void case_gating(lg_test *t)
 {
     const char *args[] = { "--explain", NULL };
-    /* no light at all, then only a point light */
-    for (int k = 0; k < 2; k++) {
+    /* no light at all (a point light alone has its cube since ABI 3.2: case 'point') */
+    for (int k = 0; k < 1; k++) {
         setup s = { 0 };
-        if (k == 1) {
-            s.lights[0].point = true;
-            s.lights[0].v = lg_v3(0, 3, 0);
-            s.n_lights = 1;
-        }
         add_point(&s, 0, 0, 0);
         add_point(&s, 3, 0, 3);
         char *out = NULL;
@@ -714,7 +765,8 @@ static void case_gating(lg_test *t)
         lg_image_free(&p);
     }
 
-    /* a point light, then a directional light: one tile, for scene light 1 */
+    /* a point light, then a directional light: the point light's cube (six tiles), then
+     * one tile for scene light 1 (before ABI 3.2 the point light was skipped) */
     setup s = { .shadow = "resolution = 256" };
     s.lights[0].point = true;
     s.lights[0].v = lg_v3(0, 3, 0);
@@ -729,11 +781,18 @@ static void case_gating(lg_test *t)
                   "shadowmap not loaded with a directional light:\n%s", out ? out : "");
     free(out);
     if (ok) {
-        LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == 1, "payload has %g lights, want 1",
+        LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == 7, "payload has %g maps, want 7",
                       (double)INFO(&p, &s, 0)[0]);
-        LG_TEST_CHECK(t, INFO(&p, &s, 2)[0] == 0, "the lights list names a non-directional light");
-        LG_TEST_CHECK(t, HAS(&p, 0, 0) == 0 && S(&p, 0, 0) == 1,
-                      "the point light (scene light 0) has a shadow map");
+        LG_TEST_CHECK(t,
+                      INFO(&p, &s, 2)[0] == 0 && INFO(&p, &s, 2)[1] == 6 && INFO(&p, &s, 2)[2] == 6,
+                      "the lights list: %g mismatched, %g perspective, %g of point lights; want "
+                      "0, 6, 6",
+                      (double)INFO(&p, &s, 2)[0], (double)INFO(&p, &s, 2)[1],
+                      (double)INFO(&p, &s, 2)[2]);
+        LG_TEST_CHECK(t, HAS(&p, 0, 0) == 1 && S(&p, 0, 0) == 0 && S(&p, 0, 1) == 1,
+                      "the point light (scene light 0) over the box: has %g, Shadow %g %g; want "
+                      "1, 0 1",
+                      (double)HAS(&p, 0, 0), (double)S(&p, 0, 0), (double)S(&p, 0, 1));
         LG_TEST_CHECK(t, HAS(&p, 1, 0) == 1 && S(&p, 1, 0) == 0 && S(&p, 1, 1) == 1,
                       "scene light 1: has %g, Shadow %g %g; want 1, 0 1", (double)HAS(&p, 1, 0),
                       (double)S(&p, 1, 0), (double)S(&p, 1, 1));
@@ -901,8 +960,8 @@ static void case_errors(lg_test *t)
         add_light(&s, dir_from(35.0, 360.0 * i / 32));
     add_point(&s, 0, 0, 0);
     expect_error(t, &s, 1,
-                 "32 directional lights at resolution 8192 need an atlas of "
-                 "49152x49152 texels");
+                 "32 maps (32 directional, 0 spot, 0 cubes of 6) at resolution 8192 need an "
+                 "atlas of 49152x49152 texels");
 
     setup b = { .scene = "bad_light = true" };
     add_point(&b, 0, 0, 0);
@@ -919,6 +978,181 @@ static void case_errors(lg_test *t)
     expect_error(t, &r, 2, "resolution");
 }
 
+/* ---- spot and point lights (ABI 3.2) --------------------------------------------------------- */
+
+static void add_local(setup *s, lg_vec3 pos, lg_vec3 dir, float outer_deg, float range)
+{
+    light_spec *l = &s->lights[s->n_lights++];
+    l->point = true;
+    l->v = pos;
+    l->dir = dir;
+    l->outer_deg = outer_deg;
+    l->range = range;
+}
+
+static void case_spot(lg_test *t)
+{
+    /* a spot 4 above the floor, straight down, cone 40 degrees: the unit box (top at y = 2)
+     * casts a square shadow of half-side 0.5 * 4 / 2 = 1 (its top's edges) */
+    const lg_vec3 q = lg_v3(0, 4, 0), c = lg_v3(0, 1.5f, 0), h = lg_v3(0.5f, 0.5f, 0.5f);
+    setup s = { .shadow = "resolution = 256" };
+    add_local(&s, q, lg_v3(0, -1, 0), 40.0f, 0.0f);
+    for (int i = 0; i <= 24; i++)
+        for (int j = 0; j <= 24; j++)
+            add_point(&s, -2.4f + 0.2f * (float)i, 0, -2.4f + 0.2f * (float)j);
+    int n_grid = s.n_pts;
+    /* across the shadow's edge at x = 1 (z = 0.1): 1 mm steps */
+    for (int i = 0; i <= 200; i++)
+        add_point(&s, 0.9f + 0.001f * (float)i, 0, 0.1f);
+    lg_image p = { 0 };
+    if (!run(t, &s, NULL, &p, NULL))
+        return;
+    const float *info2 = INFO(&p, &s, 2);
+    LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == 1 && info2[0] == 0 && info2[1] == 1,
+                  "a spot light: %g maps, %g mismatched, %g perspective; want 1, 0, 1",
+                  (double)INFO(&p, &s, 0)[0], (double)info2[0], (double)info2[1]);
+    float texel = TILE(&p, &s, 0)[2] * 4.0f; /* at the floor, 4 from the light */
+    LG_TEST_CHECK(t, texel > 0 && texel < 0.05f, "texel at the floor %g", (double)texel);
+    int wrong = 0, dark = 0, tested = 0;
+    for (int j = 0; j < n_grid; j++) {
+        /* the margin at the box's top, 2 from the light: half the floor's texel */
+        int want = expected_at(s.pts[j], q, c, h, 2.0f * 0.5f * texel);
+        float outside = tanf(40.0f * (float)DEG) * 4.0f;
+        if (want < 0 || fabsf(s.pts[j].x) > outside || fabsf(s.pts[j].z) > outside)
+            continue;
+        tested++;
+        dark += want == 0;
+        if (S(&p, 0, j) != (float)want && wrong++ < 5)
+            LG_TEST_FAILF(t, "floor (%g, %g): Shadow %g, want %d", (double)s.pts[j].x,
+                          (double)s.pts[j].z, (double)S(&p, 0, j), want);
+    }
+    LG_TEST_CHECK(t, wrong == 0 && dark >= 60 && tested > 300,
+                  "%d of %d floor points wrong (%d in the shadow)", wrong, tested, dark);
+    /* the edge: the last shadowed point within a texel of x = 1 */
+    float edge = NAN;
+    for (int j = n_grid; j < s.n_pts; j++)
+        if (S(&p, 0, j) == 0)
+            edge = s.pts[j].x;
+    LG_TEST_CHECK(t, fabsf(edge - 1.0f) <= texel,
+                  "the shadow's edge at x = %g, want 1 within a texel (%g)", (double)edge,
+                  (double)texel);
+    printf("spot: edge at x = %.4f (geometry: 1), texel %.4f at the floor\n", (double)edge,
+           (double)texel);
+    lg_image_free(&p);
+}
+
+static void case_point(lg_test *t)
+{
+    static const float axes[6][3] = { { 1, 0, 0 },  { -1, 0, 0 }, { 0, 1, 0 },
+                                      { 0, -1, 0 }, { 0, 0, 1 },  { 0, 0, -1 } };
+    const lg_vec3 q = lg_v3(0, 3, 0), h = lg_v3(0.3f, 0.3f, 0.3f);
+    for (int f = 0; f < 6; f++) {
+        /* an occluder 1 from the light along each face's axis, off the axis by 0.15 */
+        lg_vec3 c = lg_v3(q.x + axes[f][0] + (f / 2 == 0 ? 0 : 0.15f),
+                          q.y + axes[f][1] + (f / 2 == 1 ? 0 : 0.15f), q.z + axes[f][2]);
+        char scene[256];
+        snprintf(scene, sizeof scene, "box_center = [%g, %g, %g], box_size = [0.6, 0.6, 0.6]",
+                 (double)c.x, (double)c.y, (double)c.z);
+        setup s = { .scene = scene, .shadow = "resolution = 256" };
+        add_local(&s, q, lg_v3(0, 0, 0), 0.0f, 0.0f);
+        const int n = 600;
+        for (int i = 0; i < n; i++) {
+            double z = 1.0 - (2.0 * i + 1.0) / n, r = sqrt(1.0 - z * z);
+            double a = i * LG_PI * (3.0 - sqrt(5.0));
+            add_point(&s, (float)(q.x + 2.2 * r * cos(a)), (float)(q.y + 2.2 * z),
+                      (float)(q.z + 2.2 * r * sin(a)));
+        }
+        lg_image p = { 0 };
+        if (!run(t, &s, NULL, &p, NULL))
+            return;
+        LG_TEST_CHECK(t, INFO(&p, &s, 0)[0] == 6 && INFO(&p, &s, 2)[0] == 0,
+                      "face %d: %g maps (want 6), %g mismatched", f, (double)INFO(&p, &s, 0)[0],
+                      (double)INFO(&p, &s, 2)[0]);
+        /* the margin: 2 texels at the box's farthest corner from the light */
+        float m = 2.0f * TILE(&p, &s, 0)[2] * 1.6f;
+        int wrong = 0, dark = 0;
+        for (int j = 0; j < s.n_pts; j++) {
+            int want = expected_at(s.pts[j], q, c, h, m);
+            if (want < 0)
+                continue;
+            dark += want == 0;
+            if (S(&p, 0, j) != (float)want && wrong++ < 5)
+                LG_TEST_FAILF(t, "face %d: (%g, %g, %g): Shadow %g, want %d", f, (double)s.pts[j].x,
+                              (double)s.pts[j].y, (double)s.pts[j].z, (double)S(&p, 0, j), want);
+        }
+        LG_TEST_CHECK(t, wrong == 0 && dark >= 10, "face %d: %d wrong, %d in the shadow", f, wrong,
+                      dark);
+        lg_image_free(&p);
+    }
+
+    /* the light inside the box: every point around is in its shadow; range 0 = infinite
+     * fits the far plane to the scene, a range of 1.5 to the range */
+    for (int k = 0; k < 2; k++) {
+        setup s = { .shadow = "resolution = 128" };
+        add_local(&s, lg_v3(0, 1.5f, 0), lg_v3(0, 0, 0), 0.0f, k ? 1.5f : 0.0f);
+        for (int i = 0; i < 40; i++)
+            add_point(&s, 1.2f * cosf((float)i), 1.5f + 0.9f * sinf(0.7f * (float)i),
+                      1.2f * sinf((float)i));
+        lg_image p = { 0 };
+        if (!run(t, &s, NULL, &p, NULL))
+            return;
+        int lit = 0;
+        for (int j = 0; j < s.n_pts; j++)
+            lit += S(&p, 0, j) != 0;
+        LG_TEST_CHECK(t, lit == 0, "range %g: a light inside the box: %d of %d points lit",
+                      k ? 1.5 : 0.0, lit, s.n_pts);
+        float far = TILE(&p, &s, 0)[3];
+        /* the floor's corner (4, 0, 4) is sqrt(32 + 2.25) = 5.85 from the light */
+        LG_TEST_CHECK(t, k ? far > 1.4f && far < 1.6f : far > 5.8f && far < 6.0f,
+                      "range %g: depth range %g", k ? 1.5 : 0.0, (double)far);
+        lg_image_free(&p);
+    }
+}
+
+static void case_pcf(lg_test *t)
+{
+    /* straight down: the box's shadow edge at x = 0.5; PCF over (2 r + 1)^2 texels makes it a
+     * ramp from 0 to 1 over 2 r texels, in steps of 1 / (2 r + 1) */
+    for (int r = 0; r <= 2; r++) {
+        char sh[128];
+        snprintf(sh, sizeof sh, "resolution = 256, pcf_radius = %d", r);
+        setup s = { .shadow = sh, .scene = "box_size = [1, 1, 0.6]" };
+        add_light(&s, lg_v3(0, -1, 0));
+        for (int i = 0; i <= 300; i++)
+            add_point(&s, 0.2f + 0.002f * (float)i, 0, 0.05f);
+        s.sdk = true; /* the SDK's lookup, with the map's PCF, for the directional light */
+        lg_image p = { 0 };
+        if (!run(t, &s, NULL, &p, NULL))
+            return;
+        LG_TEST_CHECK(t, INFO(&p, &s, 2)[3] == (float)r, "payload pcf_radius %g, want %d",
+                      (double)INFO(&p, &s, 2)[3], r);
+        float texel = TILE(&p, &s, 0)[2];
+        float last_dark = NAN, first_lit = NAN, prev = -1;
+        bool monotone = true, steps = true;
+        for (int j = 0; j < s.n_pts; j++) {
+            float v = S(&p, 0, j), k = v * (float)(2 * r + 1);
+            monotone = monotone && v >= prev;
+            steps = steps && fabsf(k - roundf(k)) < 1e-4f;
+            prev = v;
+            if (v == 0)
+                last_dark = s.pts[j].x;
+            if (v == 1 && isnan(first_lit))
+                first_lit = s.pts[j].x;
+        }
+        float width = (first_lit - last_dark) / texel;
+        LG_TEST_CHECK(t, monotone && steps, "pcf %d: not a monotone ramp in steps of 1/%d", r,
+                      2 * r + 1);
+        /* the kernel is 2 r + 1 texels wide: the visibility leaves 0 where its last tap
+         * crosses the edge and reaches 1 where its first does, 2 r texels on (the points
+         * are 1/16 texel apart) */
+        LG_TEST_CHECK(t, fabsf(width - (float)(2 * r)) <= 0.25f,
+                      "pcf %d: the ramp is %g texels wide, want %d", r, (double)width, 2 * r);
+        printf("pcf %d: ramp %.2f texels (x %.4f .. %.4f, texel %.4f)\n", r, (double)width,
+               (double)last_dark, (double)first_lit, (double)texel);
+        lg_image_free(&p);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
@@ -926,6 +1160,7 @@ int main(int argc, char **argv)
         { "lights8", case_lights8 }, { "lights32", case_lights32 }, { "layout32", case_layout32 },
         { "bias", case_bias },       { "curved", case_curved },     { "gating", case_gating },
         { "frustum", case_frustum }, { "atlas", case_atlas },       { "errors", case_errors },
+        { "spot", case_spot },       { "point", case_point },       { "pcf", case_pcf },
     };
     lg_test_main_opts o = { .setup = setup_case };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

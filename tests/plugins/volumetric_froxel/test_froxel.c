@@ -55,14 +55,30 @@ typedef struct fx_item {
     const char *params; /* the froxel node's parameters (without scene, base, backend) */
     const char *mode;   /* froxel_closed_form's mode */
     const char *zl;     /* its z_limit (the froxel node's) */
+    const char *ref;    /* more parameters of froxel_closed_form (NULL: none); "%G" in it
+                         * stands for the froxel node's grid (v<i>.grid) */
 } fx_item;
+
+/* Relative RMSE of rgb: sqrt(sum (got - want)^2 / sum want^2). */
+static double rel_rmse(const lg_image *got, const lg_image *want)
+{
+    double e = 0, r = 0;
+    size_t n = (size_t)got->width * got->height;
+    for (size_t p = 0; p < n; p++)
+        for (int c = 0; c < 3; c++) {
+            double g = got->pixels[4 * p + c], w = want->pixels[4 * p + c];
+            e += (g - w) * (g - w);
+            r += w * w;
+        }
+    return r > 0 ? sqrt(e / r) : sqrt(e);
+}
 
 /* Renders every item of `items` (froxel nodes v<i> reading scene `scene`, each beside its
  * closed form r<i>) in one graph at `size` with `extra` graph text, and writes the largest
  * relative error of each v<i>.inscatter into err[i] (-1 when the render failed). */
-static void vs_closed_form_batch(lg_test *t, const char *backend, const char *extra,
-                                 const char *scene, const fx_item *items, size_t n,
-                                 const char *size, double *err)
+static void vs_closed_form_batch2(lg_test *t, const char *backend, const char *extra,
+                                  const char *scene, const fx_item *items, size_t n,
+                                  const char *size, double *err, double *rr)
 {
     size_t cap = 16384 + strlen(extra), len = 0;
     char *g = malloc(cap);
@@ -71,21 +87,35 @@ static void vs_closed_form_batch(lg_test *t, const char *backend, const char *ex
         return;
     }
     len += (size_t)snprintf(g + len, cap - len, SCENE "%s\n", extra);
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
+        /* the reference's extra parameters, "%G" -> v<i>.grid */
+        char ref[512] = "", gname[32];
+        snprintf(gname, sizeof gname, "v%zu.grid", i);
+        for (const char *r = items[i].ref; r && *r && strlen(ref) + 40 < sizeof ref; r++) {
+            if (r[0] == '%' && r[1] == 'G') {
+                strcat(ref, gname);
+                r++;
+            } else {
+                strncat(ref, r, 1);
+            }
+        }
         len += (size_t)snprintf(g + len, cap - len,
                                 "v%zu = volumetric_froxel { scene = %s, base = lit, backend = "
                                 "%s, %s }\n"
                                 "r%zu = froxel_closed_form { scene = %s, base = lit, mode = %s, "
-                                "z_limit = %s }\n"
+                                "z_limit = %s%s%s }\n"
                                 "output v%zu.inscatter \"v%zu.exr\" float\n"
                                 "output r%zu \"r%zu.exr\" float\n",
                                 i, scene, backend, items[i].params, i, scene, items[i].mode,
-                                items[i].zl, i, i, i, i);
+                                items[i].zl, *ref ? ", " : "", ref, i, i, i, i);
+    }
     const char *args[] = { "--size", size, NULL };
     int rc = render(t, g, args, NULL, NULL, NULL);
     free(g);
     for (size_t i = 0; i < n; i++) {
         err[i] = -1;
+        if (rr)
+            rr[i] = -1;
         if (rc != 0) {
             LG_TEST_FAILF(t, "%s %s: the render failed", backend, items[i].params);
             continue;
@@ -97,11 +127,20 @@ static void vs_closed_form_batch(lg_test *t, const char *backend, const char *ex
         if (lg_test_read(t, vn, &ins, NULL) && lg_test_read(t, rn, &ref, NULL)) {
             bool finite;
             err[i] = max_rel(&ins, &ref, 1e-6, &finite);
+            if (rr)
+                rr[i] = rel_rmse(&ins, &ref);
             LG_TEST_CHECK(t, finite, "%s %s: a value is not finite", backend, items[i].params);
         }
         lg_image_free(&ins);
         lg_image_free(&ref);
     }
+}
+
+static void vs_closed_form_batch(lg_test *t, const char *backend, const char *extra,
+                                 const char *scene, const fx_item *items, size_t n,
+                                 const char *size, double *err)
+{
+    vs_closed_form_batch2(t, backend, extra, scene, items, n, size, err, NULL);
 }
 
 /* ---- closed form: unshadowed, energy_conserving, both slicings, several grids ---------------- */
@@ -364,6 +403,257 @@ static void temporal(lg_test *t, const char *backend)
         lg_image_free(&im[i]);
 }
 
+/* ---- point and spot lights (issue 25, froxel.h 4.) ------------------------------------------- */
+
+/* A bulb (the issue's: the sun turned into a point light at [0, 0.9, 0]) and a spot aimed
+ * down and away from the camera, whose cone edge crosses the image. */
+#define FX_BULB                                                                                    \
+    "bulb = light { scene = fog, mode = replace, type = point, position = [0, 0.9, 0], "           \
+    "intensity = 2 }\n"
+#define FX_SPOT                                                                                    \
+    "spot = light { scene = fog, mode = replace, type = spot, position = [0.1, 1.1, -0.2], "       \
+    "aim = target, target = [-0.3, 0.5, -1.3], inner_cone_deg = 20, outer_cone_deg = 40, "         \
+    "intensity = 4 }\n"
+
+/* Analytic point and spot lights equal froxel.h 4. written out (froxel_closed_form
+ * point_slices, every double) at column centres, to float rounding: the bulb and the spot,
+ * both slicings, 1, 2 and 8 nodes, and the sample mode (nodes 0) too. */
+static void point_analytic(lg_test *t, const char *backend)
+{
+    static const struct {
+        const char *params, *ref;
+    } c[] = {
+        { "point_nodes = 2", "nodes = 2" },
+        { "point_nodes = 1, slicing = exponential, z_near = 0.3", "nodes = 1" },
+        { "point_nodes = 8, slicing = exponential", "nodes = 8" },
+        { "point_integration = sample", "nodes = 0" },
+        { "point_integration = sample, slicing = exponential", "nodes = 0" },
+    };
+    const size_t nc = sizeof c / sizeof c[0];
+    static const char *const scenes[] = { "bulb", "spot" };
+    for (int sc = 0; sc < 2; sc++) {
+        char p[8][256], r[8][64];
+        fx_item it[8];
+        for (size_t i = 0; i < nc; i++) {
+            snprintf(p[i], sizeof p[i], "width = 16, height = 8, depth = 24, z_limit = 2, %s",
+                     c[i].params);
+            snprintf(r[i], sizeof r[i], "grid = %%G, %s", c[i].ref);
+            it[i] = (fx_item){ p[i], "point_slices", "2", r[i] };
+        }
+        double err[8];
+        vs_closed_form_batch(t, backend, FX_BULB FX_SPOT, scenes[sc], it, nc, "16x8", err);
+        for (size_t i = 0; i < nc; i++) {
+            lg_test_note_("%s %s %s: max relative error %.3g against froxel.h 4. in double",
+                          backend, scenes[sc], p[i], err[i]);
+            LG_TEST_CHECK(t, err[i] >= 0 && err[i] < 1e-4, "%s %s %s: %.3g against point_slices",
+                          backend, scenes[sc], p[i], err[i]);
+        }
+    }
+}
+
+/* Both modes converge to the continuous airlight integral (point_exact) as the slices
+ * shrink; the analytic one is nearer at every depth. Relative RMSE over the 16x8 column
+ * centres, exponential slices from z_near 0.01 to 2 (slice 0 spans the eye to T(1): a
+ * z_near far from the eye would leave one long slice at every depth). */
+static void point_converge(lg_test *t, const char *backend)
+{
+    static const int depths[] = { 64, 128, 256 };
+    char p[6][256];
+    fx_item it[6];
+    for (int m = 0; m < 2; m++)
+        for (int d = 0; d < 3; d++) {
+            snprintf(p[3 * m + d], sizeof p[0],
+                     "width = 16, height = 8, depth = %d, slicing = exponential, z_near = 0.01, "
+                     "z_limit = 2, point_integration = %s",
+                     depths[d], m ? "analytic" : "sample");
+            it[3 * m + d] = (fx_item){ p[3 * m + d], "point_exact", "2", NULL };
+        }
+    double err[6], rr[6];
+    vs_closed_form_batch2(t, backend, FX_BULB, "bulb", it, 6, "16x8", err, rr);
+    for (int m = 0; m < 2; m++) {
+        lg_test_note_("%s bulb, %s: relative RMSE against the airlight integral at 64 / 128 / "
+                      "256 slices: %.3g / %.3g / %.3g (max relative %.3g / %.3g / %.3g)",
+                      backend, m ? "analytic" : "sample", rr[3 * m], rr[3 * m + 1], rr[3 * m + 2],
+                      err[3 * m], err[3 * m + 1], err[3 * m + 2]);
+        LG_TEST_CHECK(t,
+                      rr[3 * m] > 0 && rr[3 * m + 1] < rr[3 * m] && rr[3 * m + 2] < rr[3 * m + 1],
+                      "%s %s: the error should fall with depth (%.3g, %.3g, %.3g)", backend,
+                      m ? "analytic" : "sample", rr[3 * m], rr[3 * m + 1], rr[3 * m + 2]);
+        LG_TEST_CHECK(t, rr[3 * m + 2] < 0.01, "%s %s: %.3g at 256 slices", backend,
+                      m ? "analytic" : "sample", rr[3 * m + 2]);
+    }
+    /* Where the analytic mode matters: a light on the rays (at the eye) and a coarse grid.
+     * The sample misses the 1 / d^2 peak inside slice 0; the analytic slice integral has
+     * it, up to X_l and the extinction taken at the sample point. */
+    fx_item near[2] = {
+        { "width = 16, height = 8, depth = 16, slicing = exponential, z_near = 0.01, "
+          "z_limit = 2, point_integration = sample",
+          "point_exact", "2", NULL },
+        { "width = 16, height = 8, depth = 16, slicing = exponential, z_near = 0.01, "
+          "z_limit = 2, point_integration = analytic",
+          "point_exact", "2", NULL },
+    };
+    vs_closed_form_batch2(t, backend,
+                          "atcam = light { scene = fog, mode = replace, type = point, position = "
+                          "[0.7, 0.6, 0.9], intensity = 2 }\n",
+                          "atcam", near, 2, "16x8", err, rr);
+    lg_test_note_("%s, the bulb at the eye, 16 slices: relative RMSE sample %.3g, analytic %.3g",
+                  backend, rr[0], rr[1]);
+    LG_TEST_CHECK(t, rr[1] >= 0 && rr[1] < 0.01 && rr[1] < 0.1 * rr[0],
+                  "%s, the bulb at the eye: analytic %.3g, sample %.3g", backend, rr[1], rr[0]);
+}
+
+/* Hard cases: the spot's cone edge (lit and dark columns, both to rounding), the camera
+ * inside the cone and at the light (finite, to rounding), a light at the camera with a
+ * window (range) that ends inside the image, range 0 (infinite). */
+static void point_hard(lg_test *t, const char *backend)
+{
+    const char *extra = FX_SPOT
+        /* the camera inside the spot's cone: the spot behind it, aimed along its view */
+        "spotcam = light { scene = fog, mode = replace, type = spot, position = [0.9, 0.62, "
+        "1.2], aim = target, target = [-0.5, 0.7, -1.5], outer_cone_deg = 30, intensity = 4 }\n"
+        /* the bulb at the camera (the eye at the light: finite, the largest values) */
+        "atcam = light { scene = fog, mode = replace, type = point, position = [0.7, 0.6, 0.9], "
+        "intensity = 2 }\n"
+        /* a range that ends inside the fog, and range 0 = infinite */
+        "ranged = light { scene = fog, mode = replace, type = point, position = [0, 0.9, 0], "
+        "range = 0.8, intensity = 2 }\n";
+    static const char *const scenes[] = { "spot", "spotcam", "atcam", "ranged" };
+    for (int sc = 0; sc < 4; sc++) {
+        fx_item it[2] = {
+            { "width = 16, height = 8, depth = 32, z_limit = 2", "point_slices", "2",
+              "grid = %G, nodes = 2" },
+            { "width = 16, height = 8, depth = 32, z_limit = 2, point_integration = sample",
+              "point_slices", "2", "grid = %G, nodes = 0" },
+        };
+        double err[2];
+        vs_closed_form_batch(t, backend, extra, scenes[sc], it, 2, "16x8", err);
+        for (int i = 0; i < 2; i++) {
+            lg_test_note_("%s %s %s: %.3g against point_slices", backend, scenes[sc],
+                          i ? "sample" : "analytic", err[i]);
+            LG_TEST_CHECK(t, err[i] >= 0 && err[i] < 1e-4, "%s %s %s: %.3g against point_slices",
+                          backend, scenes[sc], i ? "sample" : "analytic", err[i]);
+        }
+    }
+    /* the cone edge cuts the image: some columns dark, some lit; a range that ends in the
+     * fog darkens what lies beyond it */
+    char g[4096];
+    snprintf(g, sizeof g,
+             SCENE "%s" FX_BULB
+                   "s = volumetric_froxel { scene = spot, base = lit, backend = %s, width = 16, "
+                   "height = 8, depth = 32, slicing = exponential, z_near = 0.05 }\n"
+                   "r = volumetric_froxel { scene = ranged, base = lit, backend = %s, width = 16, "
+                   "height = 8, depth = 32, z_limit = 2 }\n"
+                   "u = volumetric_froxel { scene = bulb, base = lit, backend = %s, width = 16, "
+                   "height = 8, depth = 32, z_limit = 2 }\n"
+                   "output s.inscatter \"s.exr\" float\noutput r.inscatter \"r.exr\" float\n"
+                   "output u.inscatter \"u.exr\" float\n",
+             extra, backend, backend, backend);
+    {
+        const char *args[] = { "--size", "16x8", NULL };
+        lg_image si = { 0 }, ri = { 0 }, ui = { 0 };
+        if (render(t, g, args, "s.exr", &si, NULL) == 0 && lg_test_read(t, "r.exr", &ri, NULL) &&
+            lg_test_read(t, "u.exr", &ui, NULL)) {
+            size_t n = (size_t)si.width * si.height, dark = 0, lit = 0, cut = 0;
+            double smax = 0;
+            for (size_t q = 0; q < n; q++)
+                smax = fmax(smax, si.pixels[4 * q]);
+            for (size_t q = 0; q < n; q++) {
+                dark += si.pixels[4 * q] == 0.0f; /* a ray that misses the cone: C = 0 */
+                lit += si.pixels[4 * q] > 1e-2 * smax;
+                cut += ri.pixels[4 * q] < 0.999 * ui.pixels[4 * q];
+                LG_TEST_CHECK(t, ri.pixels[4 * q] <= ui.pixels[4 * q] * (1 + 1e-5) + 1e-9,
+                              "%s: range 0.8 brighter than range 0 at pixel %zu", backend, q);
+            }
+            lg_test_note_("%s: spot: %zu dark and %zu lit of %zu columns; range 0.8 darker "
+                          "than infinite in %zu",
+                          backend, dark, lit, n, cut);
+            LG_TEST_CHECK(t, dark > n / 10 && lit >= 4,
+                          "%s: the spot's cone edge should cross the image (%zu dark, %zu lit)",
+                          backend, dark, lit);
+            LG_TEST_CHECK(t, cut > n / 2, "%s: range 0.8 darkens only %zu of %zu columns", backend,
+                          cut, n);
+        } else {
+            LG_TEST_FAILF(t, "%s: the render failed", backend);
+        }
+        lg_image_free(&si);
+        lg_image_free(&ri);
+        lg_image_free(&ui);
+    }
+}
+
+/* ---- heterogeneous media (froxel.h 4.) ------------------------------------------------------- */
+
+/* A uniform field over everything is the homogeneous medium: for a point light the only
+ * difference is X_l read from the optical-depth volume (trilinear between exact cell
+ * values) instead of e^(-sigma_t d): small, and smaller with tau_res. */
+static void field_uniform(lg_test *t, const char *backend)
+{
+    char g[4096];
+    snprintf(g, sizeof g,
+             SCENE FX_BULB "uf = froxel_test_field { scene = bulb }\n"
+                           "h = volumetric_froxel { scene = bulb, base = lit, backend = %s, "
+                           "width = 16, height = 8, depth = 32, z_limit = 2 }\n"
+                           "u32 = volumetric_froxel { scene = uf, base = lit, backend = %s, "
+                           "width = 16, height = 8, depth = 32, z_limit = 2, tau_res = 32 }\n"
+                           "u128 = volumetric_froxel { scene = uf, base = lit, backend = %s, "
+                           "width = 16, height = 8, depth = 32, z_limit = 2, tau_res = 128 }\n"
+                           "output h \"h.exr\" float\noutput u32 \"u32.exr\" float\n"
+                           "output u128 \"u128.exr\" float\n",
+             backend, backend, backend);
+    const char *args[] = { "--size", "16x8", NULL };
+    lg_image h = { 0 }, a = { 0 }, b = { 0 };
+    if (render(t, g, args, "h.exr", &h, NULL) != 0 || !lg_test_read(t, "u32.exr", &a, NULL) ||
+        !lg_test_read(t, "u128.exr", &b, NULL)) {
+        LG_TEST_FAILF(t, "%s: the render failed", backend);
+    } else {
+        bool fa, fb;
+        double ea = max_rel(&a, &h, 1e-6, &fa), eb = max_rel(&b, &h, 1e-6, &fb);
+        lg_test_note_("%s: uniform field against the homogeneous medium (out): max relative "
+                      "%.3g at tau_res 32, %.3g at 128",
+                      backend, ea, eb);
+        LG_TEST_CHECK(t, fa && fb, "%s: a value is not finite", backend);
+        LG_TEST_CHECK(t, eb < 2e-3 && eb < ea, "%s: uniform field %.3g (tau_res 128), %.3g (32)",
+                      backend, eb, ea);
+    }
+    lg_image_free(&h);
+    lg_image_free(&a);
+    lg_image_free(&b);
+}
+
+/* A fog box and height fog against the single-scattering integral marched finely
+ * (froxel_closed_form field_exact) at column centres, a sun and the bulb, relative RMSE
+ * over the columns (the grid's error: a slice's density is its sample point's, the
+ * optical-depth volume is trilinear). Columns that miss the box are 0 on both sides. */
+static void field_exact(lg_test *t, const char *backend)
+{
+    const char *extra = FX_BULB
+        "sunb = light { scene = bulb, direction = [0.4, -0.25, 1], intensity = 3 }\n"
+        "box = froxel_test_field { scene = sunb, bounds_min = [-0.6, 0.3, -1.4], "
+        "bounds_max = [0.3, 1.1, -0.2] }\n"
+        "hf = froxel_test_field { scene = sunb, height_falloff = 3, height_base = 0.5 }\n";
+    static const char *const scenes[] = { "box", "hf" };
+    for (int sc = 0; sc < 2; sc++) {
+        fx_item it[2] = {
+            { "width = 16, height = 8, depth = 64, slicing = exponential, z_near = 0.01, "
+              "z_limit = 2",
+              "field_exact", "2", "steps = 200" },
+            { "width = 16, height = 8, depth = 256, slicing = exponential, z_near = 0.01, "
+              "z_limit = 2",
+              "field_exact", "2", "steps = 200" },
+        };
+        double err[2], rr[2];
+        vs_closed_form_batch2(t, backend, extra, scenes[sc], it, 2, "16x8", err, rr);
+        lg_test_note_("%s %s: relative RMSE against the marched integral %.3g (64 slices), "
+                      "%.3g (256)",
+                      backend, scenes[sc], rr[0], rr[1]);
+        /* measured (cpu): box 0.074 -> 0.024, height fog 1.1e-3 -> 9e-5; the box's edges
+         * cut slices (all or nothing: first order in the slice length) */
+        LG_TEST_CHECK(t, rr[1] >= 0 && rr[1] < 0.03 && rr[1] < 0.5 * rr[0],
+                      "%s %s: %.3g at 256 slices, %.3g at 64", backend, scenes[sc], rr[1], rr[0]);
+    }
+}
+
 /* ---- errors ---------------------------------------------------------------------------------- */
 
 static void errors(lg_test *t)
@@ -379,6 +669,8 @@ static void errors(lg_test *t)
         { "vol.z_near=-1", "z_near", 2 },
         { "vol.z_near=3", "z_near", 1 },
         { "vol.near_offset=5", "near_offset", 1 },
+        { "vol.point_nodes=9", "point_nodes", 2 },
+        { "vol.tau_res=1", "tau_res", 2 },
     };
     const char *g = SCENE "vol = volumetric_froxel { scene = fog, base = lit, backend = cpu, "
                           "slicing = exponential, z_limit = 2 }\n"
@@ -436,6 +728,11 @@ BACKEND_CASES(thesis)
 BACKEND_CASES(lights)
 BACKEND_CASES(shadows)
 BACKEND_CASES(temporal)
+BACKEND_CASES(point_analytic)
+BACKEND_CASES(point_converge)
+BACKEND_CASES(point_hard)
+BACKEND_CASES(field_uniform)
+BACKEND_CASES(field_exact)
 
 static void setup(lg_test *t)
 {
@@ -462,6 +759,21 @@ int main(int argc, char **argv)
         { "temporal_gl", temporal_gl },
         { "backends", backends },
         { "errors", errors },
+        { "point_analytic_cpu", point_analytic_cpu },
+        { "point_analytic_cl", point_analytic_cl },
+        { "point_analytic_gl", point_analytic_gl },
+        { "point_converge_cpu", point_converge_cpu },
+        { "point_converge_cl", point_converge_cl },
+        { "point_converge_gl", point_converge_gl },
+        { "point_hard_cpu", point_hard_cpu },
+        { "point_hard_cl", point_hard_cl },
+        { "point_hard_gl", point_hard_gl },
+        { "field_uniform_cpu", field_uniform_cpu },
+        { "field_uniform_cl", field_uniform_cl },
+        { "field_uniform_gl", field_uniform_gl },
+        { "field_exact_cpu", field_exact_cpu },
+        { "field_exact_cl", field_exact_cl },
+        { "field_exact_gl", field_exact_gl },
     };
     lg_test_main_opts o = { .prefix = "froxel", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -82,9 +82,8 @@ static bool read(lg_test *t, const char *file, lg_image *img)
 static void run(lg_test *t, const char *lights, const char *field, const char *shadows,
                 const char *what)
 {
-    /* the lights chain from d0, a directional light of intensity 0: volumetric_froxel is
-     * planned for scenes with a directional light until froxel.c's `needs` takes any light
-     * (fxcpu's branch); it adds nothing (no shadow record, L_c = 0) */
+    /* the lights chain from d0, a directional light of intensity 0 (no shadow record, L_c
+     * = 0: it adds nothing; the fxgl branch ran before froxel.c was planned for any light) */
     char chain[1024];
     const char *at = strstr(lights, "scene = cam");
     LG_TEST_CHECK(t, at && strlen(lights) + 8 < sizeof chain, "%s: lights without 'scene = cam'",
@@ -118,6 +117,7 @@ static void run(lg_test *t, const char *lights, const char *field, const char *s
              "lit = phong { scene = F, ambient = [0.05, 0.05, 0.05] }\n"
              "vol = volumetric_froxel { scene = F, base = lit%s, width = %d, height = %d, "
              "depth = %d, backend = gl, accumulation = energy_conserving, z_near = 0.3, "
+             "point_integration = sample, "
              "z_limit = 4 }\n"
              "grid = froxel_grid_image { froxel = vol.grid, width = %d, height = %d, depth = %d }\n"
              "ref = froxel_spec { scene = F, base = lit%s, width = %d, height = %d, depth = %d, "

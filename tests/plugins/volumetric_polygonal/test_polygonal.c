@@ -44,6 +44,25 @@
  *                 ray with the mesh counted here (Moller-Trumbore in double), on the plane
  *                 (every ray leaves the lit volume: at least one fragment a pixel) and with
  *                 the quad's shaft (rays crossing its walls too), 1 and 2 lights
+ *
+ * Point and spot lights (issue 25), their perspective maps written by hand by the test
+ * plugin testpolyshadow (this folder) or none (the shadowmap node, gated); every value
+ * against lg_point_inscatter in C at the pixel's ray, at the node's 8 nodes (within 2e-3
+ * per pixel; the RMSE against 64 nodes, the rule's own error, is printed):
+ *   point_closed      an unshadowed point light: six empty cube faces (their shared walls
+ *                     cancel), the floor in the maps, no map (one viewport triangle)
+ *   spot_cone         a spot seen from outside its cone, with its map and without
+ *   point_occluder    a point light over the quad: against a march with exact visibility
+ *                     (relative RMSE 1.5e-3, and 10x below the shadow's own weight); the six
+ *                     meshes read back: one more exit than entry from random points in the
+ *                     lit fog, as many in the shadow
+ *   point_inside_cone the camera inside a spot's cone (no entry term), at a point light and
+ *                     at a spot light (the faces through the light edge-on: dropped)
+ *   point_range       range 0 (infinite), 2.5 (cuts the glow), 0.02 (black), a spot's 2.8
+ *   point_errors      dual-paraboloid, off-centre and one-record maps, point_nodes 9, a
+ *                     heterogeneous medium (test_poly_field_scene): refused, naming the node
+ *   point_reference   against volumetric_reference (subpixel = centre) on a point light
+ *                     over the quad (1e-3); skipped while the reference refuses point lights
  */
 #include <math.h>
 #include <stdint.h>
@@ -1080,6 +1099,481 @@ static void case_counters(lg_test *t)
     check_counters(t, "shaft, two lights", "shadow", &c, l, 2);
 }
 
+/* ---- point and spot lights (issue 25) -------------------------------------------------------- */
+
+typedef struct plight {
+    bool spot;
+    double pos[3], dir[3]; /* dir: a spot's axis (the direction its light travels), unit */
+    double l_c[3];
+    double range, inner_deg, outer_deg;
+} plight;
+
+/* The graph of one point or spot light `pl` over testphongscene's `layout`: its shadow map
+ * from `shadows` ("hand" testpolyshadow with `sm_params`, "node" the shadowmap node, which
+ * makes none for these lights and is gated, "none" no input) into volumetric_polygonal. */
+static void pgraph(char *g, size_t cap, const char *layout, const cam *c, const plight *pl,
+                   const fog *m, const char *shadows, const char *sm_params, const char *vol_params)
+{
+    double in = fmax(pl->l_c[0], fmax(pl->l_c[1], pl->l_c[2]));
+    int k = snprintf(g, cap,
+                     "lightgraph 1\n"
+                     "s = test_phong_scene { layout = %s, size = 10, double_sided = true, "
+                     "ka = 0.1, camera_position = [%.17g, %.17g, %.17g], camera_target = "
+                     "[%.17g, %.17g, %.17g], camera_up = [%.17g, %.17g, %.17g], yfov_deg = "
+                     "%.17g }\n"
+                     "l0 = light { scene = s, type = %s, position = [%.17g, %.17g, %.17g], "
+                     "direction = [%.17g, %.17g, %.17g], inner_cone_deg = %.17g, "
+                     "outer_cone_deg = %.17g, range = %.17g, color = [%.17g, %.17g, %.17g], "
+                     "intensity = %.17g }\n"
+                     "fog = medium { scene = l0, density = 1, scattering = [%.17g, %.17g, "
+                     "%.17g], absorption = [%.17g, %.17g, %.17g], g = %.17g }\n"
+                     "lit = phong { scene = fog }\n",
+                     layout, c->eye[0], c->eye[1], c->eye[2], c->target[0], c->target[1],
+                     c->target[2], c->up[0], c->up[1], c->up[2], c->fov_deg,
+                     pl->spot ? "spot" : "point", pl->pos[0], pl->pos[1], pl->pos[2], pl->dir[0],
+                     pl->dir[1], pl->dir[2], pl->inner_deg, pl->outer_deg, pl->range,
+                     pl->l_c[0] / in, pl->l_c[1] / in, pl->l_c[2] / in, in, m->sigma_s[0],
+                     m->sigma_s[1], m->sigma_s[2], m->sigma_t[0] - m->sigma_s[0],
+                     m->sigma_t[1] - m->sigma_s[1], m->sigma_t[2] - m->sigma_s[2], m->g);
+    if (strcmp(shadows, "hand") == 0)
+        k += snprintf(g + k, cap - (size_t)k, "shadow = test_poly_shadow { scene = fog%s%s }\n",
+                      sm_params[0] ? ", " : "", sm_params);
+    else if (strcmp(shadows, "node") == 0)
+        k += snprintf(g + k, cap - (size_t)k, "shadow = shadowmap { scene = fog }\n");
+    snprintf(g + k, cap - (size_t)k,
+             "vol = volumetric_polygonal { scene = fog, base = lit%s, z_limit = %.17g%s%s }\n"
+             "output vol.inscatter \"ins.exr\"\n"
+             "output vol \"out.exr\"\n"
+             "output lit \"lit.exr\"\n",
+             strcmp(shadows, "none") ? ", shadows = shadow" : "", m->z_limit,
+             vol_params[0] ? ", " : "", vol_params);
+}
+
+/* The Gauss-Legendre nodes of the expectation: the node's default point_nodes, so that the
+ * comparison is of the node's geometry and signed sum with the same integral in C; the
+ * rule's own error (against 64 nodes) is printed as RMSE64 and bounded where said
+ * (medium_lights tests the rule against the integral's definition). */
+static int air_nodes = 8;
+
+/* A(0, t) of light pl along (e, w), channel ch, per unit L_c sigma_s (lg_point_inscatter
+ * in C, air_nodes nodes). */
+static double airlight(const plight *pl, const fog *m, const double e[3], const double w[3], int ch,
+                       double t)
+{
+    double spot[5] = { pl->dir[0], pl->dir[1], pl->dir[2], cos(pl->inner_deg * LG_PI / 180.0),
+                       cos(pl->outer_deg * LG_PI / 180.0) };
+    return lg_point_inscatter(e, w, 0.0, t, pl->pos, pl->range, pl->spot ? spot : NULL, m->g,
+                              m->sigma_t[ch], air_nodes);
+}
+
+/* Is the segment p -> q blocked by the `quads` (open segment)? */
+static bool blocked(const quad *quads, int nq, const double p[3], const double q[3])
+{
+    double d[3] = { q[0] - p[0], q[1] - p[1], q[2] - p[2] };
+    for (int k = 0; k < nq; k++) {
+        double t = quad_hit(&quads[k], p, d);
+        if (t < 1.0 - 1e-9)
+            return true;
+    }
+    return false;
+}
+
+/* Renders graph g and compares inscatter with the per-pixel expectation: the closed form
+ * A(0, d) unshadowed (nq = 0 occluders), else the march over [0, d] in `steps` pieces, each
+ * lit or not at its middle (blocked towards the light by `occ`), adding A(0, t1) - A(0, t0).
+ * The fog's length d is along the plane (and the occluders, which base shows too).
+ * dark_below: the maps hold the floor's plane beyond the scene's plane (testpolyshadow
+ * floor_half 1000), so no light reaches y < 0: a ray past the plane's edge is lit up to
+ * y = 0 only (exactly, in the closed form). Returns
+ * the relative RMSE (over the channels, against the expectation's RMS) and the largest
+ * relative error (each value against max(its expectation, 1e-3 x the largest)) in *worst;
+ * *unshadowed_rmse gets the RMSE of the unshadowed closed form against the expectation. */
+/* The last check_point's relative RMSE against the 64-node integral (unshadowed cases). */
+static double last_rmse64;
+
+static double check_point(lg_test *t, const char *what, const char *g, const cam *c,
+                          const plight *pl, const fog *m, bool dark_below, const quad *occ, int nq,
+                          int steps, double *worst, double *unshadowed_rmse)
+{
+    char *text = NULL;
+    int rc = render(t, g, NULL, &text);
+    LG_TEST_CHECK(t, rc == 0, "%s: render failed (%d):\n%s", what, rc, text ? text : "");
+    free(text);
+    *worst = INFINITY;
+    if (rc)
+        return INFINITY;
+    lg_image ins;
+    if (!lg_test_read(t, "ins.exr", &ins, NULL))
+        return INFINITY;
+    quad surf[3] = { { 0.0, 5.0 } };
+    int ns = 1;
+    for (int k = 0; k < nq; k++)
+        surf[ns++] = occ[k];
+    double *want = malloc(sizeof(double) * W * H * 3), *free_ = malloc(sizeof(double) * W * H * 3);
+    double *conv = malloc(sizeof(double) * W * H * 3);
+    double peak = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double w[3];
+            cam_ray(c, x, y, w);
+            double d = fog_length(c, m, surf, ns, w);
+            for (int ch = 0; ch < 3; ch++) {
+                double k = pl->l_c[ch] * m->sigma_s[ch];
+                double dl = d;
+                if (dark_below && w[1] < 0.0)
+                    dl = fmin(d, c->eye[1] / -w[1]);
+                double a_full = airlight(pl, m, c->eye, w, ch, dl), a = a_full;
+                air_nodes = 64;
+                conv[((size_t)y * W + x) * 3 + ch] = k * airlight(pl, m, c->eye, w, ch, dl);
+                air_nodes = 8;
+                if (nq) {
+                    a = 0.0;
+                    double prev = 0.0;
+                    for (int i = 0; i < steps; i++) {
+                        double t0 = dl * i / steps, t1 = dl * (i + 1) / steps;
+                        double tm = 0.5 * (t0 + t1);
+                        double next = airlight(pl, m, c->eye, w, ch, t1), p[3];
+                        for (int j = 0; j < 3; j++)
+                            p[j] = c->eye[j] + tm * w[j];
+                        if (!blocked(occ, nq, p, pl->pos))
+                            a += next - prev;
+                        prev = next;
+                    }
+                }
+                size_t i = ((size_t)y * W + x) * 3 + ch;
+                want[i] = k * a;
+                free_[i] = k * a_full;
+                peak = fmax(peak, want[i]);
+            }
+        }
+    double se = 0.0, ss = 0.0, su = 0.0, mx = 0.0, wgot = 0.0, wwant = 0.0, sc = 0.0;
+    int wx = 0, wy = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int ch = 0; ch < 3; ch++) {
+                size_t i = ((size_t)y * W + x) * 3 + ch;
+                double got = ins.pixels[((size_t)y * W + x) * 4 + ch];
+                LG_TEST_CHECK(t, isfinite(got), "%s: pixel (%d, %d) is not finite", what, x, y);
+                se += (got - want[i]) * (got - want[i]);
+                sc += (got - conv[i]) * (got - conv[i]);
+                su += (free_[i] - want[i]) * (free_[i] - want[i]);
+                ss += want[i] * want[i];
+                /* relative, floored at 1e-3 of the peak (and at 1e-6: an image that should
+                 * be black is held to it) */
+                double rel = fabs(got - want[i]) / fmax(fmax(want[i], 1e-3 * peak), 1e-6);
+                if (rel > mx) {
+                    mx = rel;
+                    wx = x, wy = y;
+                    wgot = got, wwant = want[i];
+                }
+            }
+    double rmse = sqrt(se / ss);
+    last_rmse64 = nq ? NAN : sqrt(sc / ss);
+    *worst = mx;
+    if (unshadowed_rmse)
+        *unshadowed_rmse = sqrt(su / ss);
+    fprintf(stderr,
+            "%s: relative RMSE %.3g, max relative error %.3g at (%d, %d) (%.6g, want %.6g), "
+            "peak %.4g; RMSE64 %.3g\n",
+            what, rmse, mx, wx, wy, wgot, wwant, peak, last_rmse64);
+    free(want);
+    free(free_);
+    free(conv);
+    lg_image_free(&ins);
+    return rmse;
+}
+
+static const fog point_fog = {
+    .sigma_s = { 0.1, 0.2, 0.3 }, .sigma_t = { 0.15, 0.25, 0.35 }, .g = 0.4, .z_limit = 12
+};
+
+/* Unshadowed in the closed form, within fp32 and 8 Gauss-Legendre nodes against 64 */
+#define POINT_CLOSED_TOL 2e-3
+
+static void case_point_closed(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    plight pl = { .pos = { 0.4, 1.5, -0.3 }, .l_c = { 8, 6, 5 } };
+    char g[8192];
+    double worst;
+    /* six empty cube faces: their walls cancel, every ray is lit */
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand", "occluders = none", "");
+    check_point(t, "point light, six empty faces", g, &c, &pl, &point_fog, false, NULL, 0, 0,
+                &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "six empty faces: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+    /* the floor in the maps: the dent at the plane's depth (the fog ends there anyway) */
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand",
+           "occluders = floor, floor_half = 1000", "");
+    check_point(t, "point light, the floor in its maps", g, &c, &pl, &point_fog, true, NULL, 0, 0,
+                &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "floor in the maps: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+    /* no map (the shadowmap node makes none for a point light: gated): the viewport */
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "node", "", "");
+    check_point(t, "point light, no map", g, &c, &pl, &point_fog, false, NULL, 0, 0, &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "no map: %.3g beyond %.3g", worst, POINT_CLOSED_TOL);
+}
+
+static void case_spot_cone(lg_test *t)
+{
+    cam c = { .eye = { 3, 2.5, 5 }, .target = { 0, 0.8, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    plight pl = { .spot = true,
+                  .pos = { -0.5, 3, 0.2 },
+                  .dir = { 0.3, -1, -0.1 },
+                  .l_c = { 20, 20, 16 },
+                  .inner_deg = 15,
+                  .outer_deg = 30 };
+    v3_norm(pl.dir);
+    char g[8192];
+    double worst;
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand",
+           "occluders = floor, floor_half = 1000", "");
+    check_point(t, "spot light, its cone", g, &c, &pl, &point_fog, true, NULL, 0, 0, &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "spot cone: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "node", "", "point_nodes = 8");
+    check_point(t, "spot light, no map", g, &c, &pl, &point_fog, false, NULL, 0, 0, &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "spot, no map: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+}
+
+static void case_point_occluder(lg_test *t)
+{
+    cam c = { .eye = { 2.5, 1.6, 3.5 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    /* off the quad's centre, so that a map read upside down or mirrored misplaces the shaft */
+    plight pl = { .pos = { 0.3, 2.2, -0.2 }, .l_c = { 6, 6, 6 } };
+    quad occ = { 1.0, 0.5 };
+    char g[8192];
+    double worst, unsh;
+    pgraph(g, sizeof g, "shadow", &c, &pl, &point_fog, "hand",
+           "occluders = shadow, floor_half = 1000, resolution = 128", "mesh_file = \"point.ply\"");
+    double rmse = check_point(t, "point light above the quad", g, &c, &pl, &point_fog, false, &occ,
+                              1, 200, &worst, &unsh);
+    fprintf(stderr, "  (the unshadowed closed form's RMSE against the oracle: %.3g)\n", unsh);
+    /* measured 2.7e-4 (the map's 128 texels a face at the shadow's edges); the quad's
+     * shadow is 8e-3 of the image's RMSE (unsh): both bounds catch a map read mirrored */
+    LG_TEST_CHECK(t, rmse < 1.5e-3, "point light above the quad: relative RMSE %.3g", rmse);
+    LG_TEST_CHECK(t, unsh > 10 * rmse,
+                  "the quad's shadow hardly matters (unshadowed %.3g, node %.3g): no test", unsh,
+                  rmse);
+    /* the six faces' meshes read back: from points in the lit fog every ray leaves the
+     * volumes once more than it enters them, from points in the shadow as often */
+    mesh ms;
+    if (!read_ply(t, "point.ply", &ms))
+        return;
+    uint64_t rng = 12345;
+    int bad = 0, tried = 0, lit_n = 0, dark_n = 0;
+    for (int k = 0; k < 200; k++) {
+        double p[3], w[3];
+        for (int j = 0; j < 3; j++) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            double u = (double)(rng >> 11) / 9007199254740992.0;
+            p[j] = j == 1 ? 0.05 + 2.0 * u : -1.5 + 3.0 * u;
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            w[j] = (double)(rng >> 11) / 9007199254740992.0 - 0.5;
+        }
+        v3_norm(w);
+        bool lit = !blocked(&occ, 1, p, pl.pos);
+        /* skip points within a map texel of the shadow's boundary */
+        double dq[3] = { pl.pos[0] - p[0], pl.pos[1] - p[1], pl.pos[2] - p[2] };
+        double tq = (1.0 - p[1]) / dq[1];
+        if (tq > 0 && tq < 1) {
+            double x = p[0] + tq * dq[0], z = p[2] + tq * dq[2];
+            if (fabs(fabs(x) - 0.5) < 0.03 || fabs(fabs(z) - 0.5) < 0.03)
+                continue;
+        }
+        tried++;
+        lit_n += lit;
+        dark_n += !lit;
+        int cr = crossings(&ms, p, w);
+        if (cr != (lit ? 1 : 0))
+            bad++;
+    }
+    LG_TEST_CHECK(t, bad == 0 && lit_n > 20 && dark_n > 5,
+                  "six faces' meshes: %d of %d points with the wrong crossing balance (%d lit, "
+                  "%d in the shadow)",
+                  bad, tried, lit_n, dark_n);
+    free(ms.v);
+    free(ms.tri);
+}
+
+static void case_point_inside_cone(lg_test *t)
+{
+    /* the camera inside the spot's cone (18 degrees off its axis of 30), looking across it:
+     * every ray starts inside the light volume (no entry crossing: A(0, 0) = 0) */
+    cam c = {
+        .eye = { 0.3, 1.5, 0.4 }, .target = { 2, 0.2, -1 }, .up = { 0, 1, 0 }, .fov_deg = 60
+    };
+    cam_init(&c);
+    plight sp = { .spot = true,
+                  .pos = { 0, 3, 0 },
+                  .dir = { 0, -1, 0 },
+                  .l_c = { 10, 10, 10 },
+                  .inner_deg = 20,
+                  .outer_deg = 30 };
+    char g[8192];
+    double worst;
+    pgraph(g, sizeof g, "plane", &c, &sp, &point_fog, "hand",
+           "occluders = floor, floor_half = 1000", "");
+    check_point(t, "camera inside the spot's cone", g, &c, &sp, &point_fog, true, NULL, 0, 0,
+                &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "inside the cone: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+    /* the camera at the point light itself: the six frusta's apex at the eye (their walls
+     * edge-on), A's largest values (H = LG_LIGHT_EPSILON on the rays through the light) */
+    cam at = {
+        .eye = { 0.2, 1.2, 0.1 }, .target = { 1, 0.3, -2 }, .up = { 0, 1, 0 }, .fov_deg = 60
+    };
+    cam_init(&at);
+    plight pl = { .pos = { 0.2, 1.2, 0.1 }, .l_c = { 2, 2, 2 } };
+    pgraph(g, sizeof g, "plane", &at, &pl, &point_fog, "hand",
+           "occluders = floor, floor_half = 1000", "");
+    check_point(t, "camera at the point light", g, &at, &pl, &point_fog, true, NULL, 0, 0, &worst,
+                NULL);
+    /* the six frusta's faces through the light are edge-on from the eye: dropped (a wall's
+     * sliver gave one pixel on its line 19 % before) */
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "camera at the light: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+    /* the camera at a spot light, looking along (and beside) its cone */
+    cam as = {
+        .eye = { 0.1, 2.5, -0.2 }, .target = { 0.9, 0, -0.6 }, .up = { 0, 1, 0 }, .fov_deg = 70
+    };
+    cam_init(&as);
+    plight sa = { .spot = true,
+                  .pos = { 0.1, 2.5, -0.2 },
+                  .dir = { 0.2, -1, 0 },
+                  .l_c = { 10, 10, 10 },
+                  .inner_deg = 10,
+                  .outer_deg = 25 };
+    v3_norm(sa.dir);
+    pgraph(g, sizeof g, "plane", &as, &sa, &point_fog, "hand",
+           "occluders = floor, floor_half = 1000", "");
+    check_point(t, "camera at the spot light", g, &as, &sa, &point_fog, true, NULL, 0, 0, &worst,
+                NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "camera at the spot: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+}
+
+static void case_point_range(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    char g[8192];
+    double worst;
+    /* range 0 is infinite (glTF); range 2.5 cuts the glow off inside the view; a range far
+     * below the map's planes (0.02) leaves almost nothing */
+    const double ranges[] = { 0.0, 2.5, 0.02 };
+    for (int k = 0; k < 3; k++) {
+        plight pl = { .pos = { 0.4, 1.5, -0.3 }, .l_c = { 8, 6, 5 }, .range = ranges[k] };
+        char what[64];
+        snprintf(what, sizeof what, "point light, range %g", ranges[k]);
+        pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand",
+               "occluders = floor, floor_half = 1000", "");
+        check_point(t, what, g, &c, &pl, &point_fog, true, NULL, 0, 0, &worst, NULL);
+        LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "%s: %.3g beyond %.3g", what, worst,
+                      POINT_CLOSED_TOL);
+    }
+    plight sp = { .spot = true,
+                  .pos = { -0.5, 3, 0.2 },
+                  .dir = { 0, -1, 0 },
+                  .l_c = { 20, 20, 16 },
+                  .inner_deg = 10,
+                  .outer_deg = 35,
+                  .range = 2.8 };
+    pgraph(g, sizeof g, "plane", &c, &sp, &point_fog, "hand",
+           "occluders = floor, floor_half = 1000", "");
+    check_point(t, "spot light, range 2.8", g, &c, &sp, &point_fog, true, NULL, 0, 0, &worst, NULL);
+    LG_TEST_CHECK(t, worst < POINT_CLOSED_TOL, "spot, range 2.8: %.3g beyond %.3g", worst,
+                  POINT_CLOSED_TOL);
+}
+
+static void case_point_errors(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    plight pl = { .pos = { 0.4, 1.5, -0.3 }, .l_c = { 8, 6, 5 } };
+    char g[8192];
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand", "defect = paraboloid", "");
+    expect_error(t, "dual-paraboloid maps", g, "dual-paraboloid");
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand", "defect = offcentre", "");
+    expect_error(t, "maps beside the light", g, "not centred on the light");
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand", "defect = short", "");
+    expect_error(t, "one record for a point light", g, "6 consecutive record");
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand", "", "point_nodes = 9");
+    expect_error(t, "point_nodes 9", g, "point_nodes");
+    /* a heterogeneous medium: refused, by vol_common (no VOL_ACCEPT_FIELD) */
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_poly_field_scene { }\n"
+             "lit = phong { scene = s }\n"
+             "shadow = test_poly_shadow { scene = s }\n"
+             "vol = volumetric_polygonal { scene = s, base = lit, shadows = shadow }\n"
+             "output vol \"out.exr\"\n");
+    expect_error(t, "heterogeneous medium", g, "density field");
+}
+
+/* Agreement with volumetric_reference on a point light above the quad (Embree visibility
+ * there, the hand-made maps here). The reference gains point lights in parallel (issue 25):
+ * until then it refuses them and this case is skipped. The reference's rays go through
+ * the pixel centres (subpixel = centre), as this node's do: its default jittered rays
+ * average the pixel's footprint, and the glow's peak pixel (36, 2), whose centre ray passes
+ * h = 0.03 from the light, is near-singular there (footprint mean 3.75 in red, centre
+ * 3.23; jittered spp 4 gave 5.07, 2.68, 5.09 with seeds 0, 1, 2): relative RMSE 0.10 to
+ * 0.27 from that one pixel (94 % of the squared error). */
+static void case_point_reference(lg_test *t)
+{
+    cam c = { .eye = { 2.5, 1.6, 3.5 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    plight pl = { .pos = { 0.3, 2.2, -0.2 }, .l_c = { 6, 6, 6 } };
+    char g[8192];
+    pgraph(g, sizeof g, "shadow", &c, &pl, &point_fog, "hand",
+           "occluders = shadow, floor_half = 1000, resolution = 128", "");
+    size_t len = strlen(g);
+    snprintf(g + len, sizeof g - len,
+             "ref = volumetric_reference { scene = fog, base = lit, steps = 512, spp = 4, "
+             "subpixel = centre, z_limit = %.17g }\n"
+             "output ref.inscatter \"ref.exr\"\n",
+             point_fog.z_limit);
+    char *text = NULL;
+    int rc = render(t, g, NULL, &text);
+    bool refused = rc != 0 && text && strstr(text, "ref") &&
+                   (strstr(text, "light") || strstr(text, "gated"));
+    if (rc != 0 && !refused)
+        LG_TEST_CHECK(t, false, "render failed (%d):\n%s", rc, text ? text : "");
+    free(text);
+    if (refused)
+        lg_test_skip(t, "volumetric_reference refuses point lights (before issue 25's merge)");
+    if (rc)
+        return;
+    lg_image ins, ref;
+    if (!lg_test_read(t, "ins.exr", &ins, NULL) || !lg_test_read(t, "ref.exr", &ref, NULL))
+        return;
+    double se = 0.0, ss = 0.0;
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        for (int ch = 0; ch < 3; ch++) {
+            double a = ins.pixels[4 * i + ch], b = ref.pixels[4 * i + ch];
+            se += (a - b) * (a - b);
+            ss += b * b;
+        }
+    if (ss == 0.0)
+        lg_test_skip(t, "volumetric_reference leaves point lights out (black inscatter)");
+    double rmse = sqrt(se / ss);
+    fprintf(stderr, "point light against volumetric_reference: relative RMSE %.3g\n", rmse);
+    /* measured 4.8e-4 .. 5.4e-4 (seeds 0 .. 4), 5.1e-4 against the reference at 4096 steps
+     * and 16 rays: this node's own error (point_occluder's map, 2.7e-4 against exact
+     * visibility, and the 8-node rule's, RMSE64 4e-4 unshadowed; the peak pixel (36, 2) is
+     * 59 % of it, 6.5e-4 off there). The reference's noise at 512 steps and 4 rays is
+     * 5e-5 .. 7e-5 against 4096 x 16. 1e-3 keeps twice the margin and still catches the
+     * quad's shadow left out (8e-3 of the image, point_occluder) */
+    LG_TEST_CHECK(t, rmse < 1e-3, "relative RMSE %.3g against volumetric_reference", rmse);
+    lg_image_free(&ins);
+    lg_image_free(&ref);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, POLY_TEST_PLUGIN_DIR);
@@ -1099,6 +1593,13 @@ int main(int argc, char **argv)
         { "errors", case_errors },
         { "mesh_file", case_mesh_file },
         { "counters", case_counters },
+        { "point_closed", case_point_closed },
+        { "spot_cone", case_spot_cone },
+        { "point_occluder", case_point_occluder },
+        { "point_inside_cone", case_point_inside_cone },
+        { "point_range", case_point_range },
+        { "point_errors", case_point_errors },
+        { "point_reference", case_point_reference },
     };
     lg_test_main_opts o = { .prefix = NULL, .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);

@@ -33,7 +33,26 @@
  *   gated        fog density 0: out is base bit for bit, inscatter black (the planner
  *                gates the node; its plugin is not loaded)
  *   bad_params   steps 0, spp 0 and 5000, z_limit -1, NaN and inside the near plane, a
- *                base without depth: non-zero exit, the node and the value named, no file
+ *                base without depth, order 0 and 65, paths 0: non-zero exit, the node and
+ *                the value named, no file
+ *
+ * Since issue 25 (point and spot lights, density fields, multiple scattering; the
+ * statistical checks take two seeds, stat_check says why its bound holds):
+ *   point_closed   a point light, g = 0, sigma_t -> 0, no occluder (fog to view depth 4):
+ *                  the closed form L_c sigma_s (xi1 - xi0) / (4 pi H) within 1e-5,
+ *                  homogeneous and through a uniform field (equiangular: no variance)
+ *   point_medium   extinction, g 0.4: a point light, a spot (15/30 degrees, range 3), and
+ *                  the point through a uniform field (ratio and delta tracking) against
+ *                  L_c sigma_s lg_point_inscatter (64 nodes), within 2 standard deviations
+ *   field_box      a box of fog under a directional light: the chord's closed form with the
+ *                  box's own shadow on itself (light transmittance to the box's top)
+ *   orders         a furnace-like box of fog (sigma_t 2) around a point light: orders 1..5,
+ *                  each adds light, the change per order decreases (n = 1..4); order 2 over
+ *                  order 1 at albedo 0.9 and 0.5 in the ratio 1.8 (same paths)
+ *   hard_local     the camera at a spot light inside its cone; a light exactly on a view
+ *                  ray (finite, the closed form); range 0 = range 1e6 bit for bit; a light
+ *                  inside a closed box: exactly 0 at orders 1 and 2
+ *   threads_local  point + spot in height fog at order 3: 1 and 2 threads, the same bits
  */
 #include <math.h>
 #include <stdio.h>
@@ -43,6 +62,7 @@
 #include "lightgraph/image.h"
 #include "lightgraph/medium.h"
 #include "lightgraph/test.h"
+#include "lightgraph/vecmath.h"
 
 #define W 24
 #define H 16
@@ -559,7 +579,8 @@ static void case_bad_params(lg_test *t)
         { ", steps = 0", "steps" },       { ", spp = 0", "spp" },
         { ", spp = 5000", "spp" },        { ", z_limit = -1", "z_limit" },
         { ", z_limit = nan", "z_limit" }, { ", z_limit = 0.01", "z_limit" },
-        { ", seed = -3", "seed" },
+        { ", seed = -3", "seed" },        { ", order = 0", "order" },
+        { ", order = 65", "order" },      { ", paths = 0", "paths" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         expect_error(t, graph(g, sizeof g, lights, "0.4", bad[i].p), bad[i].want);
@@ -613,6 +634,451 @@ static void case_gated(lg_test *t)
     lg_image_free(&base);
 }
 
+/* ---- point and spot lights, density fields, multiple scattering (issue 25) ------------------- */
+
+static const double EYE[3] = { 0, 0, EYE_Z };
+
+/* A graph: test_vol_scene with `scene` parameters, `lights` (light nodes chained from cam,
+ * the last named lights), scene_tools' medium (MEDIUM with g) unless g is NULL (then the
+ * scene carries its own medium and field: testvolscene's medium = true), phong, the node
+ * with `params` (subpixel = centre unless they say otherwise). */
+static const char *graph2(char *buf, size_t size, const char *scene, const char *lights,
+                          const char *g, const char *params)
+{
+    char med[512] = "";
+    if (g)
+        snprintf(med, sizeof med, MEDIUM, "lights", g);
+    const char *s = g ? "fog" : "lights";
+    snprintf(buf, size,
+             "lightgraph 1\n"
+             "cam = test_vol_scene { %s }\n"
+             "%s"
+             "%s"
+             "lit = phong { scene = %s, background = [0.6, 0.7, 0.9] }\n"
+             "vol = volumetric_reference { scene = %s, base = lit%s%s }\n"
+             "output vol.inscatter \"i.exr\" float\n"
+             "output vol.out \"o.exr\" float\n",
+             scene, lights, med, s, s, strstr(params, "subpixel") ? "" : ", subpixel = centre",
+             params);
+    return buf;
+}
+
+static const char *point_light(char *buf, size_t size, const double q[3], double intensity,
+                               double range)
+{
+    snprintf(buf, size,
+             "lights = light { scene = cam, type = point, position = [%.17g, %.17g, %.17g], "
+             "intensity = %.17g, range = %.17g }\n",
+             q[0], q[1], q[2], intensity, range);
+    return buf;
+}
+
+/* A spot light travelling along -Z. */
+static const char *spot_light(char *buf, size_t size, const double q[3], double inner_deg,
+                              double outer_deg, double intensity, double range)
+{
+    snprintf(buf, size,
+             "lights = light { scene = cam, type = spot, position = [%.17g, %.17g, %.17g], "
+             "direction = [0, 0, -1], inner_cone_deg = %.17g, outer_cone_deg = %.17g, "
+             "intensity = %.17g, range = %.17g }\n",
+             q[0], q[1], q[2], inner_deg, outer_deg, intensity, range);
+    return buf;
+}
+
+/* lg_point_inscatter's spot array for spot_light's cone (the angles as the light node
+ * stores them: float radians). */
+static void spot_array(double inner_deg, double outer_deg, double spot[5])
+{
+    spot[0] = 0, spot[1] = 0, spot[2] = -1;
+    spot[3] = (double)(float)cos((double)(float)(inner_deg * LG_PI / 180.0));
+    spot[4] = (double)(float)cos((double)(float)(outer_deg * LG_PI / 180.0));
+}
+
+/* Two renders of a graph made by `make(seed)` and the check of the estimate `a` against
+ * want (per pixel and channel, `use`d pixels only): with a and b independent unbiased
+ * estimates of standard deviation s per value, E[(a - want)^2] = s^2 and E[(a - b)^2] =
+ * 2 s^2, so over n >= 300 values RMS(a - want) / (RMS(a - b) / sqrt 2) is 1 within about
+ * 0.1 (a chi-square ratio); a bias shows as a ratio far above it. Allowed: 2, plus
+ * `floor_rel` of the RMS of want (float rounding of the output, the reference's quadrature)
+ * for estimators with no noise at all. Returns the RMS relative error. */
+static double stat_check(lg_test *t, const char *what, const lg_image *a, const lg_image *b,
+                         const double *want, const bool *use, double floor_rel)
+{
+    double se2 = 0, sd2 = 0, sw2 = 0, worst = 0;
+    int n = 0, bad = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (!use[i])
+            continue;
+        for (int c = 0; c < 3; c++) {
+            double va = a->pixels[(size_t)i * 4 + c], vb = b->pixels[(size_t)i * 4 + c];
+            double wa = want[(size_t)i * 3 + c];
+            bad += !isfinite(va) || !isfinite(vb) || va < 0.0;
+            se2 += (va - wa) * (va - wa);
+            sd2 += (va - vb) * (va - vb);
+            sw2 += wa * wa;
+            worst = fmax(worst, fabs(va - wa) / fmax(wa, 1e-30));
+            n++;
+        }
+    }
+    double rms_e = sqrt(se2 / n), rms_s = sqrt(sd2 / n / 2.0), rms_w = sqrt(sw2 / n);
+    LG_TEST_CHECK(t, bad == 0, "%s: %d values not finite or negative", what, bad);
+    LG_TEST_CHECK(t, n >= 300 && rms_w > 0, "%s: %d values, RMS %g", what, n, rms_w);
+    LG_TEST_CHECK(t, rms_e <= 2.0 * rms_s + floor_rel * rms_w,
+                  "%s: RMS error %.3g against a standard deviation %.3g (RMS value %.3g): "
+                  "biased",
+                  what, rms_e, rms_s, rms_w);
+    lg_test_note_("%s: RMS error %.3g = %.2g sd (sd %.3g), relative %.2g, worst pixel %.2g\n", what,
+                  rms_e, rms_e / fmax(rms_s, 1e-300), rms_s, rms_e / rms_w, worst);
+    return rms_e / rms_w;
+}
+
+/* want[] for one local light: L_c sigma_s lg_point_inscatter along each pixel-centre ray
+ * to its fog length at z_limit (every pixel: the fog ends before the square). */
+static void want_local(const double q[3], double lc, double range, const double *spot, double g,
+                       const double ss[3], const double st[3], double z_limit, double *want,
+                       bool *use)
+{
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            bool sq, edge;
+            double d = fog_length(x, y, z_limit, &sq, &edge), w[3];
+            ray(x, y, w);
+            use[y * W + x] = true;
+            for (int c = 0; c < 3; c++)
+                want[(size_t)(y * W + x) * 3 + c] =
+                    lc * ss[c] * lg_point_inscatter(EYE, w, 0.0, d, q, range, spot, g, st[c], 64);
+        }
+}
+
+static void case_point_closed(lg_test *t)
+{
+    /* g = 0, sigma_t -> 0, no occluder (the fog ends at view depth 4, in front of the
+     * square): every equiangular sample is L_c sigma_s (xi1 - xi0) / (4 pi H): the closed
+     * form, to float rounding, homogeneous and through a uniform field */
+    static const double q[3] = { 0.3, 0.2, 2.5 };
+    static const double tiny[3] = { 1e-7, 1e-7, 1e-7 };
+    char lights[512], g[4096];
+    point_light(lights, sizeof lights, q, 5.0, 0.0);
+    static double want[W * H * 3];
+    static bool use[W * H];
+    want_local(q, 5.0, 0.0, NULL, 0.0, tiny, (const double[3]){ 0, 0, 0 }, 4.0, want, use);
+    static const char *const scenes[] = { "", "medium = true, field = uniform, scattering = "
+                                              "[1e-7, 1e-7, 1e-7], absorption = [0, 0, 0]" };
+    for (int k = 0; k < 2; k++) {
+        if (k == 0)
+            snprintf(g, sizeof g,
+                     "lightgraph 1\ncam = test_vol_scene { }\n%s"
+                     "fog = medium { scene = lights, density = 1, scattering = [1e-7, 1e-7, "
+                     "1e-7], absorption = [0, 0, 0], g = 0 }\n"
+                     "lit = phong { scene = fog }\n"
+                     "vol = volumetric_reference { scene = fog, base = lit, subpixel = centre, "
+                     "steps = 4, z_limit = 4 }\n"
+                     "output vol.inscatter \"i.exr\" float\n",
+                     lights);
+        else
+            graph2(g, sizeof g, scenes[1], lights, NULL, ", steps = 4, z_limit = 4");
+        lg_image in = { 0 };
+        int rc = render(t, g, "i.exr", &in, NULL);
+        LG_TEST_CHECK(t, rc == 0, "render %d: %d", k, rc);
+        if (rc)
+            continue;
+        double worst = 0;
+        for (int i = 0; i < W * H; i++)
+            for (int c = 0; c < 3; c++) {
+                double e = rel(in.pixels[(size_t)i * 4 + c], want[(size_t)i * 3 + c]);
+                worst = fmax(worst, e);
+                LG_TEST_CHECK(t, e < 1e-5, "%s: pixel %d channel %d: %.9g, want %.9g",
+                              k ? "uniform field" : "homogeneous", i, c,
+                              (double)in.pixels[(size_t)i * 4 + c], want[(size_t)i * 3 + c]);
+            }
+        lg_test_note_("point_closed %s: worst relative error %.2g against (xi1 - xi0) / (4 pi H)\n",
+                      k ? "uniform field" : "homogeneous", worst);
+        lg_image_free(&in);
+    }
+}
+
+/* Renders graph text g with seeds 1 and 2 (appended to params by the caller's %s). */
+static bool render_pair(lg_test *t, const char *scene, const char *lights, const char *gg,
+                        const char *params, lg_image img[2])
+{
+    char g[4096], p[512];
+    for (int s = 0; s < 2; s++) {
+        snprintf(p, sizeof p, "%s, seed = %d", params, s + 1);
+        int rc = render(t, graph2(g, sizeof g, scene, lights, gg, p), "i.exr", &img[s], NULL);
+        LG_TEST_CHECK(t, rc == 0, "render %s %s seed %d: %d", scene, params, s + 1, rc);
+        if (rc)
+            return false;
+    }
+    return true;
+}
+
+static void case_point_medium(lg_test *t)
+{
+    /* extinction and g != 0: against lg_point_inscatter with 64 nodes, statistically */
+    static const double q[3] = { 0.3, 0.2, 2.5 }, qs[3] = { 0.3, 0.2, 4.5 };
+    static double want[W * H * 3], want_s[W * H * 3];
+    static bool use[W * H];
+    double spot[5];
+    spot_array(15.0, 30.0, spot);
+    want_local(q, 5.0, 0.0, NULL, 0.4, SIG_S, SIG_T, 4.0, want, use);
+    want_local(qs, 5.0, 3.0, spot, 0.4, SIG_S, SIG_T, 4.0, want_s, use);
+    char pl[512], sl[512];
+    point_light(pl, sizeof pl, q, 5.0, 0.0);
+    spot_light(sl, sizeof sl, qs, 15.0, 30.0, 5.0, 3.0);
+    static const char *const own =
+        "medium = true, field = uniform, scattering = [0.1, 0.2, 0.05], absorption = [0.05, 0, "
+        "0.1], g = 0.4";
+    const struct {
+        const char *what, *scene, *lights, *g, *params;
+        bool spot;
+    } runs[] = {
+        { "point, homogeneous", "", pl, "0.4", ", steps = 16, z_limit = 4", false },
+        { "spot (range 3), homogeneous", "", sl, "0.4", ", steps = 16, z_limit = 4", true },
+        { "point, uniform field, ratio", own, pl, NULL, ", steps = 16, z_limit = 4", false },
+        { "point, uniform field, delta", own, pl, NULL,
+          ", steps = 16, z_limit = 4, transmittance = delta", false },
+    };
+    for (size_t r = 0; r < sizeof runs / sizeof runs[0]; r++) {
+        lg_image img[2] = { { 0 }, { 0 } };
+        if (render_pair(t, runs[r].scene, runs[r].lights, runs[r].g, runs[r].params, img))
+            stat_check(t, runs[r].what, &img[0], &img[1], runs[r].spot ? want_s : want, use, 1e-5);
+        lg_image_free(&img[0]);
+        lg_image_free(&img[1]);
+    }
+}
+
+static void case_field_box(lg_test *t)
+{
+    /* a box of fog [-0.6, 0.6]^2 x [1, 3] lit by a directional light travelling -Z: a view
+     * ray crosses it on its chord [ta, tb]; the light reaches x(t) through the box above it
+     * (3 - z(t)): the medium shadows itself. L_v = L_c sigma_s p integral_ta^tb
+     * e^(-sigma_t (t - ta)) e^(-sigma_t (3 - z(t))) dt, in closed form */
+    static const double L[3] = { 0, 0, -1 };
+    static const double ss[3] = { 0.3, 0.5, 0.2 }, st[3] = { 0.4, 0.5, 0.4 };
+    char lights[256];
+    one_light(lights, sizeof lights, L, 10.0);
+    static const char *const scene = "medium = true, field = box, lo = [-0.6, -0.6, 1], hi = "
+                                     "[0.6, 0.6, 3], scattering = [0.3, 0.5, 0.2], absorption = "
+                                     "[0.1, 0, 0.2], g = 0.3";
+    static double want[W * H * 3];
+    static bool use[W * H];
+    int inside = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double w[3];
+            ray(x, y, w);
+            /* the slab test in double */
+            double lo[3] = { -0.6, -0.6, 1 }, hi[3] = { 0.6, 0.6, 3 }, ta = 0, tb = 1e30;
+            for (int c = 0; c < 3; c++) {
+                if (w[c] == 0.0)
+                    continue;
+                double u = (lo[c] - EYE[c]) / w[c], v = (hi[c] - EYE[c]) / w[c];
+                ta = fmax(ta, fmin(u, v));
+                tb = fmin(tb, fmax(u, v));
+            }
+            double p = lg_hg_phase(0.3, w[2]); /* dot(w, to the light) */
+            use[y * W + x] = true;
+            inside += tb > ta;
+            for (int c = 0; c < 3; c++) {
+                double v = 0.0;
+                if (tb > ta) {
+                    double k = st[c] * (1.0 - w[2]);
+                    v = 10.0 * ss[c] * p * exp(st[c] * (ta + EYE_Z - 3.0)) *
+                        (exp(-k * ta) - exp(-k * tb)) / k;
+                }
+                want[(size_t)(y * W + x) * 3 + c] = v;
+            }
+        }
+    LG_TEST_CHECK(t, inside > 50 && inside < W * H - 50, "%d of %d rays cross the box", inside,
+                  W * H);
+    lg_image img[2] = { { 0 }, { 0 } };
+    if (render_pair(t, scene, lights, NULL, ", steps = 16", img))
+        stat_check(t, "box of fog, directional, self-shadowed", &img[0], &img[1], want, use, 1e-5);
+    lg_image_free(&img[0]);
+    lg_image_free(&img[1]);
+}
+
+/* Sum over the inscatter image (channel c, or all for c < 0). */
+static double image_sum(const lg_image *img)
+{
+    double s = 0;
+    for (size_t i = 0; i < (size_t)W * H * 4; i++)
+        if (i % 4 != 3)
+            s += img->pixels[i];
+    return s;
+}
+
+static void case_orders(lg_test *t)
+{
+    /* a furnace-like closed case: a box of fog [-1, 1]^2 x [1, 3], sigma_t 2 (optical
+     * half-width 2), a point light at its centre, nothing else inside (the square is
+     * outside it and absorbs). The order-n + 1 render continues the order-n render's paths
+     * with the same random numbers, so I_{n+1} - I_n is exactly order n + 1's estimate */
+    static const double q[3] = { 0, 0, 2 };
+    static const double albedo[2] = { 0.9, 0.5 };
+    char lights[512], scene[512], g[4096], p[256];
+    point_light(lights, sizeof lights, q, 1.0, 0.0);
+    double E[2][6] = { { 0 } };
+    for (int a = 0; a < 2; a++) {
+        snprintf(scene, sizeof scene,
+                 "medium = true, field = box, lo = [-1, -1, 1], hi = [1, 1, 3], scattering = "
+                 "[%g, %g, %g], absorption = [%g, %g, %g], g = 0.3",
+                 2 * albedo[a], 2 * albedo[a], 2 * albedo[a], 2 * (1 - albedo[a]),
+                 2 * (1 - albedo[a]), 2 * (1 - albedo[a]));
+        lg_image img[6] = { { 0 } };
+        double change[5] = { 0 };
+        bool ok = true;
+        for (int n = 1; n <= (a == 0 ? 5 : 2) && ok; n++) {
+            snprintf(p, sizeof p, ", steps = 8, order = %d, paths = 4, seed = 3", n);
+            int rc = render(t, graph2(g, sizeof g, scene, lights, NULL, p), "i.exr", &img[n], NULL);
+            LG_TEST_CHECK(t, rc == 0, "albedo %g order %d: %d", albedo[a], n, rc);
+            ok = rc == 0;
+            if (!ok)
+                break;
+            E[a][n] = image_sum(&img[n]);
+            if (n > 1) {
+                for (size_t i = 0; i < (size_t)W * H * 4; i++)
+                    if (i % 4 != 3)
+                        change[n - 1] += fabs(img[n].pixels[i] - img[n - 1].pixels[i]);
+                LG_TEST_CHECK(t, E[a][n] > E[a][n - 1],
+                              "albedo %g: order %d adds nothing (%g after %g)", albedo[a], n,
+                              E[a][n], E[a][n - 1]);
+            }
+        }
+        if (ok && a == 0) {
+            for (int n = 2; n <= 4; n++)
+                LG_TEST_CHECK(t, change[n] < change[n - 1],
+                              "albedo 0.9: the change from order %d to %d (%g) is not below "
+                              "the one from %d to %d (%g)",
+                              n, n + 1, change[n], n - 1, n, change[n - 1]);
+            lg_test_note_("orders (albedo 0.9): sum of inscatter %.4g %.4g %.4g %.4g %.4g for "
+                          "orders 1..5; changes %.4g %.4g %.4g %.4g (ratios %.2f %.2f %.2f)\n",
+                          E[0][1], E[0][2], E[0][3], E[0][4], E[0][5], change[1], change[2],
+                          change[3], change[4], change[2] / change[1], change[3] / change[2],
+                          change[4] / change[3]);
+        }
+        for (int n = 0; n < 6; n++)
+            lg_image_free(&img[n]);
+    }
+    /* order 2 against order 1 scales like the albedo: sigma_t is the same, so both
+     * albedos draw the same paths and (E2 - E1) / E1 = a x (the same geometry) */
+    if (E[0][1] > 0 && E[1][1] > 0) {
+        double r9 = (E[0][2] - E[0][1]) / E[0][1], r5 = (E[1][2] - E[1][1]) / E[1][1];
+        LG_TEST_CHECK(t, fabs(r9 / r5 - 0.9 / 0.5) < 1e-3 * 1.8,
+                      "order 2 / order 1: %.5g at albedo 0.9, %.5g at 0.5: ratio %.5f, want 1.8",
+                      r9, r5, r9 / r5);
+        lg_test_note_("orders: order 2 adds %.1f%% at albedo 0.9, %.1f%% at 0.5 (ratio %.4f, "
+                      "want 1.8); orders 2..5 add %.1f%% at 0.9\n",
+                      100 * r9, 100 * r5, r9 / r5, 100 * (E[0][5] - E[0][1]) / E[0][1]);
+    }
+}
+
+static void case_hard_local(lg_test *t)
+{
+    char lights[512], g[4096];
+    static double want[W * H * 3];
+    static bool use[W * H];
+    /* the camera at the light and inside its cone: a spot at the eye aimed down -Z */
+    {
+        double spot[5];
+        spot_array(10.0, 20.0, spot);
+        want_local(EYE, 5.0, 0.0, spot, 0.4, SIG_S, SIG_T, 4.0, want, use);
+        spot_light(lights, sizeof lights, EYE, 10.0, 20.0, 5.0, 0.0);
+        lg_image img[2] = { { 0 }, { 0 } };
+        if (render_pair(t, "", lights, "0.4", ", steps = 16, z_limit = 4", img))
+            stat_check(t, "camera at the spot, inside its cone", &img[0], &img[1], want, use, 1e-5);
+        lg_image_free(&img[0]);
+        lg_image_free(&img[1]);
+    }
+    /* a light exactly on a view ray (pixel (12, 8)'s centre ray, 2 units out): finite
+     * thanks to LG_LIGHT_EPSILON, and the closed form's value */
+    {
+        double w[3];
+        ray(12, 8, w);
+        double q[3] = { EYE[0] + 2 * w[0], EYE[1] + 2 * w[1], EYE[2] + 2 * w[2] };
+        want_local(q, 5.0, 0.0, NULL, 0.4, SIG_S, SIG_T, 4.0, want, use);
+        point_light(lights, sizeof lights, q, 5.0, 0.0);
+        lg_image img[2] = { { 0 }, { 0 } };
+        if (render_pair(t, "", lights, "0.4", ", steps = 16, z_limit = 4", img)) {
+            stat_check(t, "light on a view ray", &img[0], &img[1], want, use, 1e-5);
+            double v = img[0].pixels[(size_t)(8 * W + 12) * 4 + 1];
+            double wv = want[(size_t)(8 * W + 12) * 3 + 1];
+            LG_TEST_CHECK(t, isfinite(v) && rel(v, wv) < 1e-3,
+                          "the ray through the light: %g, want %g", v, wv);
+            lg_test_note_("light on the ray: %.6g (closed form %.6g)\n", v, wv);
+        }
+        lg_image_free(&img[0]);
+        lg_image_free(&img[1]);
+    }
+    /* range 0 is infinite: the same as a range far beyond the scene (W = 1 - 1e-24) */
+    {
+        static const double q[3] = { 0.3, 0.2, 2.5 };
+        lg_image a = { 0 }, b = { 0 };
+        int rc = render(t,
+                        graph2(g, sizeof g, "", point_light(lights, sizeof lights, q, 5, 0), "0.4",
+                               ", steps = 8, z_limit = 4"),
+                        "i.exr", &a, NULL);
+        rc |= render(t,
+                     graph2(g, sizeof g, "", point_light(lights, sizeof lights, q, 5, 1e6), "0.4",
+                            ", steps = 8, z_limit = 4"),
+                     "i.exr", &b, NULL);
+        LG_TEST_CHECK(t, rc == 0, "range renders: %d", rc);
+        if (rc == 0)
+            LG_TEST_CHECK(t,
+                          memcmp(a.pixels, b.pixels, (size_t)W * H * 16) == 0 && image_sum(&a) > 0,
+                          "range 0 differs from range 1e6 (sum %g vs %g)", image_sum(&a),
+                          image_sum(&b));
+        lg_image_free(&a);
+        lg_image_free(&b);
+    }
+    /* the light inside closed geometry (a box of half-edge 0.3 around it): 0 everywhere,
+     * single and multiple scattering */
+    for (int order = 1; order <= 2; order++) {
+        static const double q[3] = { 0, 0, 2.5 };
+        char p[256];
+        snprintf(p, sizeof p, ", steps = 8, z_limit = 20, order = %d, paths = 2", order);
+        lg_image a = { 0 };
+        int rc = render(t,
+                        graph2(g, sizeof g, "cube = 0.3, cube_centre = [0, 0, 2.5]",
+                               point_light(lights, sizeof lights, q, 50, 0), "0.4", p),
+                        "i.exr", &a, NULL);
+        LG_TEST_CHECK(t, rc == 0, "cube render: %d", rc);
+        if (rc == 0)
+            LG_TEST_CHECK(t, image_sum(&a) == 0.0, "order %d: light inside the box: sum %g", order,
+                          image_sum(&a));
+        lg_image_free(&a);
+    }
+}
+
+static void case_threads_local(lg_test *t)
+{
+    /* point + spot in height fog, order 3: the same bits for 1 and 2 threads */
+    char g[4096];
+    static const char *const lights =
+        "pt = light { scene = cam, type = point, position = [0.3, 0.2, 2.5], intensity = 5 }\n"
+        "lights = light { scene = pt, type = spot, position = [-0.3, 0.4, 4], direction = [0, "
+        "0, -1], inner_cone_deg = 15, outer_cone_deg = 30, intensity = 5 }\n";
+    const char *scene = "medium = true, field = height, falloff = 0.8, base_y = 0, scattering = "
+                        "[0.3, 0.3, 0.3], absorption = [0.1, 0.1, 0.1], g = 0.2";
+    lg_image img[2] = { { 0 }, { 0 } };
+    for (int th = 0; th < 2; th++) {
+        setenv("LIGHTGRAPH_THREADS", th ? "2" : "1", 1);
+        int rc = render(t,
+                        graph2(g, sizeof g, scene, lights, NULL,
+                               ", subpixel = jittered, spp = 2, steps = 8, order = 3, paths = 2"),
+                        "i.exr", &img[th], NULL);
+        LG_TEST_CHECK(t, rc == 0, "render with %d threads: %d", th + 1, rc);
+    }
+    unsetenv("LIGHTGRAPH_THREADS");
+    LG_TEST_CHECK(t,
+                  img[0].pixels && img[1].pixels &&
+                      memcmp(img[0].pixels, img[1].pixels, (size_t)W * H * 16) == 0,
+                  "2 threads differ from 1");
+    LG_TEST_CHECK(t, img[0].pixels && image_sum(&img[0]) > 0, "no fog");
+    lg_image_free(&img[0]);
+    lg_image_free(&img[1]);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, VR_TEST_PLUGIN_DIR);
@@ -629,6 +1095,12 @@ int main(int argc, char **argv)
         { "bad_params", case_bad_params },
         { "gated", case_gated },
         { "masked", case_masked },
+        { "point_closed", case_point_closed },
+        { "point_medium", case_point_medium },
+        { "field_box", case_field_box },
+        { "orders", case_orders },
+        { "hard_local", case_hard_local },
+        { "threads_local", case_threads_local },
     };
     lg_test_main_opts o = { .prefix = "volumetric_reference", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
