@@ -33,6 +33,21 @@ uniform int u_slicing;
 uniform vec4 u_map;
 uniform vec3 u_sigma_t;
 uniform int u_energy;
+#ifdef FX_HETERO
+// froxel.h 4.: the optical path P_k (froxel_column.comp); rho_k is S's alpha
+layout(binding = 4, r32f) uniform readonly image3D u_path;
+
+// P at slice k, bilinear like A
+float fx_bilerp_path(vec2 uv, int k)
+{
+    ivec2 a = ivec2(uv);
+    ivec2 b = min(a + 1, u_grid.xy - 1);
+    vec2 f = uv - vec2(a);
+    float r0 = mix(imageLoad(u_path, ivec3(a.x, a.y, k)).r, imageLoad(u_path, ivec3(b.x, a.y, k)).r, f.x);
+    float r1 = mix(imageLoad(u_path, ivec3(a.x, b.y, k)).r, imageLoad(u_path, ivec3(b.x, b.y, k)).r, f.x);
+    return mix(r0, r1, f.y);
+}
+#endif
 // The frame's slice table (froxel_column.comp's): T(k) at fx_slices[D + k]
 layout(std430, binding = 1) readonly buffer FxSlices {
     float fx_slices[];
@@ -57,6 +72,18 @@ vec3 fx_bilerp_s(vec2 uv, int k)
     vec3 r1 = mix(imageLoad(u_s, ivec3(a.x, b.y, k)).rgb, imageLoad(u_s, ivec3(b.x, b.y, k)).rgb, f.x);
     return mix(r0, r1, f.y);
 }
+#ifdef FX_HETERO
+// S and rho (its alpha) at slice k, bilinear
+vec4 fx_bilerp_s4(vec2 uv, int k)
+{
+    ivec2 a = ivec2(uv);
+    ivec2 b = min(a + 1, u_grid.xy - 1);
+    vec2 f = uv - vec2(a);
+    vec4 r0 = mix(imageLoad(u_s, ivec3(a.x, a.y, k)), imageLoad(u_s, ivec3(b.x, a.y, k)), f.x);
+    vec4 r1 = mix(imageLoad(u_s, ivec3(a.x, b.y, k)), imageLoad(u_s, ivec3(b.x, b.y, k)), f.x);
+    return mix(r0, r1, f.y);
+}
+#endif
 
 void main()
 {
@@ -84,9 +111,23 @@ void main()
     vec2 uv = (vec2(px) + 0.5) * vec2(u_grid.xy) / vec2(u_size) - 0.5;
     uv = clamp(uv, vec2(0.0), vec2(u_grid.xy - 1));
     vec3 A = k > 0 ? fx_bilerp_acc(uv, k - 1) : vec3(0.0);
-    vec3 S = fx_bilerp_s(uv, k);
     vec4 base = texelFetch(u_base, px, 0);
     vec3 L, o;
+#ifdef FX_HETERO
+    // froxel.h 4.: each slice's own extinction, the optical path to the slice's start
+    vec4 S4 = fx_bilerp_s4(uv, k);
+    vec3 S = S4.rgb;
+    float rho = S4.a;
+    float P = k > 0 ? fx_bilerp_path(uv, k - 1) : 0.0;
+    if (u_energy != 0) {
+        L = A + exp(-u_sigma_t * P) * S * delta * lg_medium_segment3(u_sigma_t * (rho * delta));
+        o = base.rgb * exp(-u_sigma_t * (P + rho * delta)) + L;
+    } else {
+        L = A + S * delta;
+        o = base.rgb + L;
+    }
+#else
+    vec3 S = fx_bilerp_s(uv, k);
     if (u_energy != 0 && u_sigma_t.x == u_sigma_t.y && u_sigma_t.y == u_sigma_t.z) {
         // grey: one exp per factor (the same values)
         float st = u_sigma_t.x;
@@ -99,6 +140,7 @@ void main()
         L = A + S * delta;
         o = base.rgb + L;
     }
+#endif
     imageStore(u_inscatter, px, vec4(L, 1.0));
     imageStore(u_out, px, vec4(o, base.a));
 }
