@@ -261,8 +261,8 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
     vol_setup *v = malloc(sizeof *v);
     if (!v)
         return lg_error_code(n, LG_ERR_NOMEM, "out of memory");
-    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm, VOL_ACCEPT_DIRECTIONAL,
-                            v);
+    int rc = vol_setup_make(n, s, st->width, st->height, st->z_limit, sm,
+                            VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD, v);
     fx_frame f = { 0 };
     if (!rc)
         rc = fx_slice_map(n, st, v, &f.map);
@@ -465,7 +465,7 @@ static const lg_node_type fx_types[] = {
         LG_PARAMS(fx_params),
         LG_INPUTS(fx_inputs),
         LG_OUTPUTS(fx_outputs),
-        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_DIR_LIGHT,
+        .needs = LG_NEEDS_MEDIUM | LG_NEEDS_LIGHT,
         .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
         .neutral_input = VOL_IN_BASE,
         .create = fx_create,
