@@ -138,9 +138,9 @@ float fx_tau(__global const float *tau, __global const float *taud, int l, float
 // (6 a cube, 2 dual paraboloid, else 1), its index among the frame's lights, the light's
 // position as its first record's view matrix gives it (the cube's face choice, as
 // lg_shadowmap_record_at), 0. nodes 0: the point sample; 1 .. 8: the segment average of
-// lg_point_inscatter with that many nodes.
+// lg_point_inscatter with that many nodes. grey: one exp for the transmittance, not three.
 float3 fx_local_sum(int n_loc, __global const float *locals, float3 eye, float3 w, float3 p,
-                    float r0, float r1, int nodes, float g, float3 sigma_t, int het,
+                    float r0, float r1, int nodes, float g, float3 sigma_t, int grey, int het,
                     __global const float *tau, __global const float *taud,
                     __global const float *shadows, __global const float *atlas, int aw, int ah,
                     int res, float bias, int pcf)
@@ -176,7 +176,8 @@ float3 fx_local_sum(int n_loc, __global const float *locals, float3 eye, float3 
             }
             f *= fx_visibility(shadows, rec, atlas, aw, ah, res, bias, pcf, p);
         }
-        float3 x = exp(-sigma_t * (het ? fx_tau(tau, taud, (int)L[15], p) : dist));
+        float od = het ? fx_tau(tau, taud, (int)L[15], p) : dist;
+        float3 x = grey ? (float3)(exp(-sigma_t.x * od)) : exp(-sigma_t * od);
         s += (float3)(L[8], L[9], L[10]) * f * x;
     }
     return s;
@@ -278,8 +279,8 @@ __kernel void fx_columns(int W, int H, int D, float16 ivp, float4 eye, float4 fw
             float r0 = (k == 0 ? 0.0f : slices[3 * D + k]) * inv_cos;
             float r1 = slices[3 * D + k + 1] * inv_cos;
             s += sigma_s.xyz * fx_local_sum(n_loc, locals, eye.xyz, w, p, r0, r1, nodes, g,
-                                            sigma_t.xyz, het, tau, taud, shadows, atlas, aw,
-                                            ah, res, bias, pcf);
+                                            sigma_t.xyz, grey, het, tau, taud, shadows, atlas,
+                                            aw, ah, res, bias, pcf);
         }
         float rho = het ? density[k * W * H + col] : 1.0f;
         s *= rho;
