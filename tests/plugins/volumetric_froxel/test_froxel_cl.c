@@ -14,6 +14,8 @@
  *   field      both shadowed plus a directional sun, in an fBm x height-fog density field
  *              (test_field): agrees, and differs from the homogeneous medium by at least
  *              5 %
+ *   pcf_absurd a PCF radius of 4000 texels on 16-texel tiles: refused (exit 1, a message
+ *              naming the node, the radius and the tile size, no output file)
  * Every case also checks the lookup: z_limit = 0.5 ends the fog before every surface (the
  * lights stand within it), so each pixel's fog ends in the last slice, and at the grid's
  * own size (pixel centre = column centre) inscatter is the grid's last slice and out = base
@@ -265,6 +267,33 @@ static void case_field(lg_test *t)
                   "the field changes the in-scattering by %.3g %% only", 100.0 * (het / hom - 1));
 }
 
+/* A PCF radius larger than the map's tiles is refused with a message naming it (the
+ * kernel would take (2 r + 1)^2 taps per sample), exit status 1, no output file. */
+static void case_pcf_absurd(lg_test *t)
+{
+    static char g[8192];
+    graph(g, sizeof g, point_light, false, "sm",
+          "sm = test_local_shadows { scene = fog, resolution = 16, wall = 0.2, "
+          "pcf_radius = 4000 }\n");
+    lg_test_write_text(t, "g.lgraph", g);
+    char size[32];
+    snprintf(size, sizeof size, "%dx%d", GW, GH);
+    const char *args[] = { "--size", size, NULL };
+    char *text = NULL;
+    int rc = lg_test_render(t, "g.lgraph", args, &text);
+    note("pcf_radius 4000: exit %d: %s", rc, text ? text : "");
+    LG_TEST_CHECK(t, rc == 1, "pcf_radius 4000 on 16-texel tiles: exit status %d, not 1", rc);
+    LG_TEST_CHECK(t, text && strstr(text, "vol") && strstr(text, "pcf_radius 4000") &&
+                         strstr(text, "16"),
+                  "the error names neither the node, the radius nor the tile: %s",
+                  text ? text : "");
+    FILE *f = fopen(lg_test_path(t, "out.exr"), "rb");
+    LG_TEST_CHECK(t, f == NULL, "out.exr was written");
+    if (f)
+        fclose(f);
+    free(text);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, FX_CL_TEST_PLUGIN_DIR);
@@ -277,6 +306,7 @@ int main(int argc, char **argv)
         { "spot", case_spot },
         { "shadows", case_shadows },
         { "field", case_field },
+        { "pcf_absurd", case_pcf_absurd },
     };
     lg_test_main_opts o = { .prefix = "froxel_cl", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
