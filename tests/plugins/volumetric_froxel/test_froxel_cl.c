@@ -283,8 +283,9 @@ static void case_pcf_absurd(lg_test *t)
     int rc = lg_test_render(t, "g.lgraph", args, &text);
     note("pcf_radius 4000: exit %d: %s", rc, text ? text : "");
     LG_TEST_CHECK(t, rc == 1, "pcf_radius 4000 on 16-texel tiles: exit status %d, not 1", rc);
-    LG_TEST_CHECK(t, text && strstr(text, "vol") && strstr(text, "pcf_radius 4000") &&
-                         strstr(text, "16"),
+    LG_TEST_CHECK(t,
+                  text && strstr(text, "vol") && strstr(text, "pcf_radius 4000") &&
+                      strstr(text, "16"),
                   "the error names neither the node, the radius nor the tile: %s",
                   text ? text : "");
     FILE *f = fopen(lg_test_path(t, "out.exr"), "rb");
@@ -302,10 +303,8 @@ static void setup(lg_test *t)
 int main(int argc, char **argv)
 {
     static const lg_test_case cases[] = {
-        { "point", case_point },
-        { "spot", case_spot },
-        { "shadows", case_shadows },
-        { "field", case_field },
+        { "point", case_point },           { "spot", case_spot },
+        { "shadows", case_shadows },       { "field", case_field },
         { "pcf_absurd", case_pcf_absurd },
     };
     lg_test_main_opts o = { .prefix = "froxel_cl", .setup = setup };
