@@ -41,6 +41,9 @@ typedef struct fx_cl {
     bool hist_valid;
 } fx_cl;
 
+/* the full build's work-group size (fx_cl_execute) */
+#define FX_CL_FULL_GROUP 64
+
 /* froxel.cl's record and light strides */
 #define FX_REC 24
 #define FX_LOCAL 20
@@ -354,7 +357,16 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     lg_cl_pass_arg_mem(k, a++, het ? c->taud.mem : none);
     lg_cl_pass_arg_mem(k, a++, het ? c->path.mem : none);
     size_t gsz = (size_t)f->w * f->h;
-    if ((rc = lg_cl_pass_run(k, 1, &gsz, NULL)))
+    /* The full build's work-items hold ~2.6 KiB of private arrays (per-light constants of 32
+     * lights): with the work-group PoCL picks itself, `lightgraph conform` crashed (SIGSEGV,
+     * its default 190 x 90 x 128 grid, a point light) in its forked runs; with 64 columns a
+     * group it does not (taken to be the group's private memory on a worker's stack; a
+     * plain render of that grid did not crash either way). The kernel skips columns past
+     * W H. */
+    size_t lsz = FX_CL_FULL_GROUP;
+    if (full)
+        gsz = (gsz + lsz - 1) / lsz * lsz;
+    if ((rc = lg_cl_pass_run(k, 1, &gsz, full ? &lsz : NULL)))
         return rc;
 
     k = full ? c->lookup_full : c->lookup;
