@@ -33,8 +33,8 @@ enum { FX_POINT_SAMPLE = 0, FX_POINT_ANALYTIC };
 static unsigned fx_backend_accepts(lg_device backend)
 {
     switch (backend) {
-    case LG_DEVICE_GL: return VOL_ACCEPT_DIRECTIONAL;
-    case LG_DEVICE_CL: return VOL_ACCEPT_DIRECTIONAL;
+    case LG_DEVICE_GL:
+    case LG_DEVICE_CL:
     default: return VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD;
     }
 }
