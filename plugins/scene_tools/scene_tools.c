@@ -15,7 +15,9 @@
  * execute() has nothing to do. README.md describes parameters, formulas and fallbacks.
  */
 #include <float.h>
+#include <dlfcn.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -590,6 +592,45 @@ static uint64_t fnv1a(const void *bytes, size_t len)
 
 /* field = vdb: reads the file, makes its grid dense into p (grid, values, source) and
  * sets the field's kind, grid and bounds. */
+
+#ifdef ST_HAVE_OPENVDB
+typedef int (*st_vdb_read_fn)(const void *bytes, size_t len, const char *grid, uint64_t max_voxels,
+                              st_vdb_grid *out, char *err, size_t errlen);
+
+/* st_vdb_read from scene_tools_vdb.so, the library beside this plugin (meson.build says
+ * why it is not linked in), loaded on first use and kept loaded (OpenVDB's registries live
+ * as long as the process). NULL with the reason in err. */
+static st_vdb_read_fn st_vdb_resolve(char *err, size_t errlen)
+{
+    static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+    static st_vdb_read_fn fn;
+    pthread_mutex_lock(&lock);
+    if (!fn) {
+        Dl_info info;
+        if (!dladdr((void *)st_vdb_resolve, &info) || !info.dli_fname) {
+            snprintf(err, errlen, "cannot find where the scene_tools plugin lies (dladdr)");
+        } else {
+            const char *slash = strrchr(info.dli_fname, '/');
+            int dirlen = slash ? (int)(slash - info.dli_fname) : 1;
+            char path[4096];
+            snprintf(path, sizeof path, "%.*s/scene_tools_vdb.so", dirlen,
+                     slash ? info.dli_fname : ".");
+            void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+            void *sym = h ? dlsym(h, "st_vdb_read") : NULL;
+            if (!h)
+                snprintf(err, errlen, "%s", dlerror());
+            else if (!sym)
+                snprintf(err, errlen, "%s has no st_vdb_read", path);
+            else
+                memcpy(&fn, &sym, sizeof fn); /* a data pointer to a function pointer */
+        }
+    }
+    st_vdb_read_fn r = fn;
+    pthread_mutex_unlock(&lock);
+    return r;
+}
+#endif
+
 static int medium_vdb(lg_node *n, st_payload *p, uint64_t *bytes)
 {
     const char *path = lg_param_string(n, "vdb");
@@ -623,7 +664,12 @@ static int medium_vdb(lg_node *n, st_payload *p, uint64_t *bytes)
         return lg_error(n, "vdb = '%s': cannot read it: %s", path, why);
     uint64_t hash = fnv1a(data, len);
     st_vdb_grid g;
-    rc = st_vdb_read(data, len, want, ST_VDB_MAX_VOXELS, &g, why, sizeof why);
+    st_vdb_read_fn read_grid = st_vdb_resolve(why, sizeof why);
+    if (!read_grid) {
+        free(data);
+        return lg_error(n, "vdb = '%s': cannot load the OpenVDB reader: %s", path, why);
+    }
+    rc = read_grid(data, len, want, ST_VDB_MAX_VOXELS, &g, why, sizeof why);
     free(data);
     if (rc)
         return lg_error(n, "vdb = '%s': %s", path, why);

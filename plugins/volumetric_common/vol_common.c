@@ -208,8 +208,11 @@ double vol_density(const vol_setup *v, const double p[3])
     return v->heterogeneous ? lg_medium_field_at(&v->medium, p) : 1.0;
 }
 
-/* The box a light's optical-depth volume covers: the field's bounds clipped to the scene's
- * (grown by 1% so that surfaces lie inside). */
+/* The box a light's optical-depth volume covers: a bounded field's own box on each axis
+ * where it is bounded (a cloud above the scene's geometry lies outside the scene's bounds:
+ * clipping it to them clamped the cloud's upper half to the box's top cells, 2.3x too
+ * bright against the reference), else the scene's bounds, grown by 1% so that surfaces
+ * lie inside. */
 static void tau_box(const vol_setup *v, double lo[3], double hi[3])
 {
     const lg_density_field *f = v->medium.field;
@@ -218,8 +221,11 @@ static void tau_box(const vol_setup *v, double lo[3], double hi[3])
         double pad = 0.01 * (shi - slo) + 1e-6;
         slo -= pad;
         shi += pad;
-        lo[c] = f ? fmax(slo, (double)f->bounds_min[c]) : slo;
-        hi[c] = f ? fmin(shi, (double)f->bounds_max[c]) : shi;
+        bool bounded = f && fabs((double)f->bounds_min[c]) < 1e30 &&
+                       fabs((double)f->bounds_max[c]) < 1e30 &&
+                       f->bounds_max[c] > f->bounds_min[c];
+        lo[c] = bounded ? (double)f->bounds_min[c] : slo;
+        hi[c] = bounded ? (double)f->bounds_max[c] : shi;
         if (!(hi[c] > lo[c]))
             hi[c] = lo[c] + 1e-6;
     }

@@ -110,7 +110,7 @@ double vol_light_transmittance(const vol_setup *v, const vol_light *l, double di
 double vol_density(const vol_setup *v, const double p[3]);
 
 /* A light's optical-depth volume in a heterogeneous medium: for each cell centre x of an
- * n[0] x n[1] x n[2] grid over the box [lo, hi] (the field's bounds clipped to the scene's,
+ * n[0] x n[1] x n[2] grid over the box [lo, hi] (a bounded field's own box, else the scene's,
  * world), tau[x] = integral of m (the density multiplier) along the segment from x towards
  * the light, to the light (point, spot) or out of the box (directional); the transmittance
  * is then e^(-sigma_t tau) per channel. Built on the CPU by marching the field in steps of
