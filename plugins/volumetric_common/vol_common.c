@@ -364,6 +364,16 @@ void vol_ray(const vol_setup *v, double x, double y, double dir[3])
         dir[c] /= len;
 }
 
+void vol_ray_matrix(const vol_setup *v, float m[16])
+{
+    for (int col = 0; col < 4; col++) {
+        const double *c = &v->inv_view_proj[col * 4];
+        for (int row = 0; row < 3; row++)
+            m[col * 4 + row] = (float)(c[row] - v->eye[row] * c[3]);
+        m[col * 4 + 3] = (float)c[3];
+    }
+}
+
 double vol_surface_distance(const vol_setup *v, double x, double y, float depth)
 {
     if (!(depth < 1.0f) || !isfinite(depth))

@@ -132,6 +132,11 @@ double vol_tau_sample(const vol_tau_volume *t, const double p[3]);
 /* Unit direction of the view ray through image point (x, y) (continuous image coordinates:
  * pixel centres at i + 0.5). */
 void vol_ray(const vol_setup *v, double x, double y, double dir[3]);
+/* vol_ray's rays for a device in float: the column-major matrix m (made in double) with
+ * m (ndc_x, ndc_y, 0, 1) = (P - eye) r_w, P the point vol_ray unprojects and r_w > 0 its
+ * homogeneous w; normalize(r.xyz / r.w) is the ray to float rounding (the float difference
+ * P - eye is not: NDC z 0 lies millimetres from the eye, up to 8e-6 rad off). */
+void vol_ray_matrix(const vol_setup *v, float m[16]);
 
 /* Distance along the ray through (x, y) to the surface of window depth `depth`; INFINITY
  * for depth >= 1 (sky) or a depth that is not finite. */

@@ -303,6 +303,8 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     for (int i = 0; i < 16; i++)
         ivpf[i] = (float)v->inv_view_proj[i];
     cl_float16 ivp = m16(ivpf);
+    vol_ray_matrix(v, ivpf);
+    cl_float16 rvp = m16(ivpf);
     cl_float4 eye = v4(v->eye[0], v->eye[1], v->eye[2], 0);
     cl_float4 fwd = v4(v->forward[0], v->forward[1], v->forward[2], 0);
     cl_float4 img = v4(v->width, v->height, 0, 0);
@@ -324,7 +326,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     unsigned a = 0;
 #define ARG(x) lg_cl_pass_arg(k, a++, sizeof(x), &(x))
     lg_cl_pass_arg_int(k, a++, W), lg_cl_pass_arg_int(k, a++, H), lg_cl_pass_arg_int(k, a++, D);
-    ARG(ivp), ARG(eye), ARG(fwd), ARG(img);
+    ARG(ivp), ARG(rvp), ARG(eye), ARG(fwd), ARG(img);
     lg_cl_pass_arg_mem(k, a++, c->slices.mem);
     lg_cl_pass_arg_int(k, a++, accum), lg_cl_pass_arg_int(k, a++, grey);
     ARG(ss), ARG(stt);
@@ -372,7 +374,7 @@ int fx_cl_execute(lg_node *n, void **state, const fx_frame *f)
     k = full ? c->lookup_full : c->lookup;
     a = 0;
     lg_cl_pass_arg_int(k, a++, W), lg_cl_pass_arg_int(k, a++, H), lg_cl_pass_arg_int(k, a++, D);
-    ARG(ivp), ARG(eye), ARG(fwd), ARG(img);
+    ARG(ivp), ARG(rvp), ARG(eye), ARG(fwd), ARG(img);
     lg_cl_pass_arg_int(k, a++, slicing);
     ARG(map);
     lg_cl_pass_arg_mem(k, a++, c->slices.mem);

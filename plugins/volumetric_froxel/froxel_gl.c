@@ -105,7 +105,7 @@ static const char *const fx_gl_defines[FX_GL_VARIANTS] = {
 /* The uniforms of both passes: the grid, this frame's camera, and the slice map (the lookup
  * only: the column pass reads the slice table). */
 typedef struct fx_gl_view_u {
-    lg_gl_uniform grid, inv_vp, eye, fwd, slicing, map;
+    lg_gl_uniform grid, inv_vp, ray_vp, eye, fwd, slicing, map;
 } fx_gl_view_u;
 
 /* The column pass of one variant and its bindings. */
@@ -154,7 +154,11 @@ static const lg_gl_shader_src fx_src_lookup = { GL_COMPUTE_SHADER, lg_src_froxel
 static void fx_gl_view_lookup(lg_gl_pass *p, fx_gl_view_u *u, bool slice_map)
 {
     u->grid = lg_gl_pass_uniform(p, "u_grid");
-    u->inv_vp = lg_gl_pass_uniform(p, "u_inv_vp");
+    /* the lookup also unprojects the surface; the column pass only needs the rays */
+    u->inv_vp.location = -1;
+    if (slice_map)
+        u->inv_vp = lg_gl_pass_uniform(p, "u_inv_vp");
+    u->ray_vp = lg_gl_pass_uniform(p, "u_ray_vp");
     u->eye = lg_gl_pass_uniform(p, "u_eye");
     u->fwd = lg_gl_pass_uniform(p, "u_fwd");
     u->slicing.location = u->map.location = -1;
@@ -296,12 +300,14 @@ static void fx_gl_map_vec4(const lg_slice_map *m, float out[4])
 static void fx_gl_set_view(const lg_gl *gl, lg_gl_pass *p, const fx_gl_view_u *u, const fx_frame *f)
 {
     const vol_setup *v = f->v;
-    float inv[16], map[4];
+    float inv[16], ray[16], map[4];
     for (int i = 0; i < 16; i++)
         inv[i] = (float)v->inv_view_proj[i];
+    vol_ray_matrix(v, ray);
     fx_gl_map_vec4(&f->map, map);
     lg_gl_set_ivec3(p, u->grid, (int32_t)f->w, (int32_t)f->h, (int32_t)f->d);
     lg_gl_set_mat4(p, u->inv_vp, inv);
+    lg_gl_set_mat4(p, u->ray_vp, ray);
     lg_gl_set_vec3(p, u->eye, (float)v->eye[0], (float)v->eye[1], (float)v->eye[2]);
     lg_gl_set_vec3(p, u->fwd, (float)v->forward[0], (float)v->forward[1], (float)v->forward[2]);
     lg_gl_set_int(p, u->slicing, (int32_t)f->map.slicing);

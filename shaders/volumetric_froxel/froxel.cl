@@ -18,12 +18,14 @@
 #define FX_FULL 0
 #endif
 
-// The unit view ray through image point (x, y) (vol_ray).
-float3 fx_ray(float16 ivp, float3 eye, float x, float y, float W, float H)
+// The unit view ray through image point (x, y) (vol_ray), from vol_ray_matrix's rvp: the
+// offset from the eye made in double on the host (not r.xyz / r.w - eye in float: NDC z 0
+// lies millimetres from the eye, and that difference cost the ray up to 8e-6 rad).
+float3 fx_ray(float16 rvp, float x, float y, float W, float H)
 {
     float4 ndc = (float4)(2.0f * x / W - 1.0f, 2.0f * y / H - 1.0f, 0.0f, 1.0f);
-    float4 r = ivp.s0123 * ndc.x + ivp.s4567 * ndc.y + ivp.s89ab * ndc.z + ivp.scdef;
-    return normalize(r.xyz / r.w - eye);
+    float4 r = rvp.s0123 * ndc.x + rvp.s4567 * ndc.y + rvp.scdef;
+    return normalize(r.xyz / r.w);
 }
 
 // vol_shadow_cpu: 1 lit, 0 shadowed.
@@ -192,7 +194,7 @@ float3 fx_local_sum(int n_loc, __global const float *locals, float3 eye, float3 
 // = 0), T(k + 0.5), and T(k) for k = 0 .. D (the lookup's). grey (sigma_t the same in r, g,
 // b): one exp and one segment factor per froxel instead of three; the same values.
 #define FX_MAX_LIGHTS 32
-__kernel void fx_columns(int W, int H, int D, float16 ivp, float4 eye, float4 fwd, float4 img,
+__kernel void fx_columns(int W, int H, int D, float16 ivp, float16 rvp, float4 eye, float4 fwd, float4 img,
                          __global const float *slices, int accum, int grey,
                          float4 sigma_s, float4 sigma_t, float g,
                          int n_lights, __global const float *lights,
@@ -212,7 +214,7 @@ __kernel void fx_columns(int W, int H, int D, float16 ivp, float4 eye, float4 fw
     if (col >= W * H)
         return;
     int i = col % W, j = col / W;
-    float3 w = fx_ray(ivp, eye.xyz, (i + 0.5f) * img.x / W, (j + 0.5f) * img.y / H, img.x,
+    float3 w = fx_ray(rvp, (i + 0.5f) * img.x / W, (j + 0.5f) * img.y / H, img.x,
                       img.y);
     float cosv = dot(w, fwd.xyz);
     float inv_cos = 1.0f / cosv;
@@ -351,7 +353,7 @@ float fx_bilinear1(__global const float *vol, int W, int H, int k, float u, floa
 
 // Lookup: one work-item per pixel. The slice start T(k) comes from `slices` (fx_columns'
 // table; a pow per pixel otherwise); grey: one exp per factor, as fx_columns.
-__kernel void fx_lookup(int W, int H, int D, float16 ivp, float4 eye, float4 fwd, float4 img,
+__kernel void fx_lookup(int W, int H, int D, float16 ivp, float16 rvp, float4 eye, float4 fwd, float4 img,
                         int slicing, float4 map, __global const float *slices,
                         float z_limit, int accum, int grey, float4 sigma_t,
                         __global const float4 *grid, __global const float4 *S,
@@ -367,7 +369,7 @@ __kernel void fx_lookup(int W, int H, int D, float16 ivp, float4 eye, float4 fwd
         return;
     float x = (p % iw) + 0.5f, y = (p / iw) + 0.5f;
     float depth = base_depth[p];
-    float3 w = fx_ray(ivp, eye.xyz, x, y, img.x, img.y);
+    float3 w = fx_ray(rvp, x, y, img.x, img.y);
     float cosv = dot(w, fwd.xyz);
     // vol_fog_length
     float d = cosv > 0.0f ? z_limit / cosv : INFINITY;

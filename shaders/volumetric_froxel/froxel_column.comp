@@ -94,7 +94,7 @@ layout(binding = 1, rgba32f) uniform readonly image3D u_hist;  // the previous f
 layout(binding = 2, rgba32f) uniform writeonly image3D u_out;  // the grid
 
 uniform ivec3 u_grid;        // W, H, D
-uniform mat4 u_inv_vp;       // this frame's camera
+uniform mat4 u_ray_vp;       // this frame's camera: vol_ray_matrix, the view rays
 uniform vec3 u_eye;
 uniform vec3 u_fwd;
 uniform vec3 u_sigma_s;
@@ -311,7 +311,7 @@ void main()
     ivec2 c = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(c, u_grid.xy)))
         return;
-    vec3 w = fx_ray(u_inv_vp, u_eye, fx_ndc(c, u_grid.xy));
+    vec3 w = fx_ray(u_ray_vp, fx_ndc(c, u_grid.xy));
     float ic = 1.0 / dot(w, u_fwd);
 #ifdef FX_GENERAL
     fx_column_general(c, w, ic);

@@ -16,10 +16,14 @@ vec3 fx_unproject(mat4 inv_vp, vec2 ndc, float z)
     return r.xyz / r.w;
 }
 
-// The unit view ray through NDC point ndc (vol_ray: unprojected at NDC z 0, from the eye).
-vec3 fx_ray(mat4 inv_vp, vec3 eye, vec2 ndc)
+// The unit view ray through NDC point ndc (vol_ray: unprojected at NDC z 0, from the eye),
+// from vol_ray_matrix's ray_vp: the offset from the eye made in double on the host (not
+// fx_unproject(...) - eye in float: NDC z 0 lies millimetres from the eye, and that
+// difference cost the ray up to 8e-6 rad).
+vec3 fx_ray(mat4 ray_vp, vec2 ndc)
 {
-    return normalize(fx_unproject(inv_vp, ndc, 0.0) - eye);
+    vec4 r = ray_vp * vec4(ndc, 0.0, 1.0);
+    return normalize(r.xyz / r.w);
 }
 
 // The NDC of the centre of cell (or pixel) i of a row of n: 2 (i + 0.5) / n - 1.

@@ -26,6 +26,7 @@ layout(binding = 3, rgba32f) uniform writeonly image2D u_inscatter;
 uniform ivec2 u_size;        // the image, w x h
 uniform ivec3 u_grid;
 uniform mat4 u_inv_vp;
+uniform mat4 u_ray_vp;      // vol_ray_matrix: the view rays
 uniform vec3 u_eye;
 uniform vec3 u_fwd;
 uniform float u_z_limit;
@@ -91,7 +92,7 @@ void main()
     if (any(greaterThanEqual(px, u_size)))
         return;
     vec2 ndc = fx_ndc(px, u_size);
-    vec3 w = fx_ray(u_inv_vp, u_eye, ndc);
+    vec3 w = fx_ray(u_ray_vp, ndc);
     float cs = dot(w, u_fwd);
     float depth = texelFetch(u_depth, px, 0).r;
     // vol_fog_length: the surface (none for sky or a depth that is not finite), cut at
