@@ -485,6 +485,30 @@ done:
 
 /* ---- writing --------------------------------------------------------------------------------- */
 
+/* The library's own compressor, which exr_compress_checked calls. */
+typedef struct exr_compress_wrap {
+    exr_result_t (*compress)(exr_encode_pipeline_t *enc);
+} exr_compress_wrap;
+
+/* A chunk whose stored size equals its unpacked size is raw: that is how every reader (the
+ * C core's and the C++ library's) tells an uncompressed chunk. OpenEXR 3.1.5's ZIP, ZIPS
+ * and PXR24 encoders fall back to the raw bytes only when the compressed stream is larger
+ * ("compbufsz > packed_bytes", upstream issue #2306), so a zlib stream of exactly the packed
+ * size was stored as it is and read back as raw pixels: one chunk of garbage (16 rows with
+ * ZIP). It happens to about 1 chunk in 300 of incompressible content (random or noisy
+ * float data) and more often for narrow images, whose chunks are small. Here such a chunk
+ * is stored raw, as the format says. */
+static exr_result_t exr_compress_checked(exr_encode_pipeline_t *enc)
+{
+    const exr_compress_wrap *wrap = enc->encoding_user_data;
+    exr_result_t rv = wrap->compress(enc);
+    if (rv == EXR_ERR_SUCCESS && enc->packed_bytes > 0 &&
+        enc->compressed_bytes == enc->packed_bytes && enc->compressed_buffer &&
+        enc->packed_buffer && enc->compressed_buffer != enc->packed_buffer)
+        memcpy(enc->compressed_buffer, enc->packed_buffer, (size_t)enc->packed_bytes);
+    return rv;
+}
+
 int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image *img,
                  const lg_image_write_opts *opts, char *err, size_t errlen)
 {
@@ -518,6 +542,7 @@ int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image 
     exr_context_t ctx = NULL;
     exr_encode_pipeline_t enc;
     memset(&enc, 0, sizeof enc);
+    exr_compress_wrap wrap = { NULL };
     int enc_ready = 0, part = 0;
     int32_t w = (int32_t)img->width, h = (int32_t)img->height;
     exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
@@ -558,6 +583,11 @@ int lg_exr_write(int fd, const char *tmp_path, const char *path, const lg_image 
             ch->user_data_type = EXR_PIXEL_FLOAT;
         }
         rv = exr_encoding_choose_default_routines(ctx, part, &enc);
+        if (rv == EXR_ERR_SUCCESS && enc.compress_fn) {
+            wrap.compress = enc.compress_fn;
+            enc.encoding_user_data = &wrap;
+            enc.compress_fn = exr_compress_checked;
+        }
         if (rv == EXR_ERR_SUCCESS)
             rv = exr_encoding_run(ctx, part, &enc);
     }

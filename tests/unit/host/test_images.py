@@ -10,6 +10,10 @@
                  keeps the word; half after a .png name is refused; the files are read back
                  to see their pixel type
   special        an image node or diff argument that is a FIFO or /dev/zero fails at once
+  exr_tall_narrow  32x864 float images of noisy content, read by image nodes and written by
+                 `output n "f.exr"` (ZIP, float), come back bit for bit (read by exr_read.py,
+                 not lightgraph): OpenEXR 3.1.5 stored a zlib chunk exactly as long as its
+                 raw pixels, which every reader takes as raw, in about 1 such image in 5
 
 usage: test_images.py TEST_NAME
 """
@@ -136,8 +140,60 @@ def test_special():
         check(name in p.stderr and what in p.stderr, p.stderr)
 
 
+def exr_none_float(name, w, h, bits):
+    """An uncompressed float RGBA EXR of w x h: a ramp across each row whose low mantissa
+    bits are noise (what a rendered image's floats look like to zlib). `bits` are the
+    file's values as float32 bit patterns, row by row, R G B A per pixel."""
+    def attr(n, t, v):
+        return n.encode() + b"\0" + t.encode() + b"\0" + struct.pack("<i", len(v)) + v
+    chl = b"".join(c.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in "ABGR") + b"\0"
+    box = struct.pack("<4i", 0, 0, w - 1, h - 1)
+    head = (b"\x76\x2f\x31\x01" + struct.pack("<I", 2) + attr("channels", "chlist", chl) +
+            attr("compression", "compression", b"\0") + attr("dataWindow", "box2i", box) +
+            attr("displayWindow", "box2i", box) + attr("lineOrder", "lineOrder", b"\0") +
+            attr("pixelAspectRatio", "float", struct.pack("<f", 1.0)) +
+            attr("screenWindowCenter", "v2f", struct.pack("<2f", 0.0, 0.0)) +
+            attr("screenWindowWidth", "float", struct.pack("<f", 1.0)) + b"\0")
+    line = 8 + 16 * w
+    table = b"".join(struct.pack("<Q", len(head) + 8 * h + y * line) for y in range(h))
+    body = bytearray()
+    for y in range(h):
+        body += struct.pack("<ii", y, 16 * w)
+        for c in (3, 2, 1, 0):  # A B G R
+            body += struct.pack("<%dI" % w, *(bits[(y * w + x) * 4 + c] for x in range(w)))
+    with open(path(name), "wb") as f:
+        f.write(head + table + bytes(body))
+    return path(name)
+
+
+def test_exr_tall_narrow():
+    import random
+    import exr_read
+    w, h, n = 32, 864, 6
+    rnd = random.Random(20261129)
+    images, text = [], "lightgraph 1\n"
+    for i in range(n):
+        noise = (1 << rnd.randint(20, 24)) - 1
+        bits = [struct.unpack("<I", struct.pack("<f", 0.25 + 0.5 * (k // 4 % w) / w))[0] ^
+                (rnd.getrandbits(32) & noise) for k in range(w * h * 4)]
+        images.append(bits)
+        exr_none_float("in%d.exr" % i, w, h, bits)
+        text += 'src%d = image { file = "in%d.exr" }\noutput src%d "out%d.exr"\n' % (i, i, i, i)
+    run(["render", write("tall.lgraph", text)], expect=0)
+    bad = []
+    for i, bits in enumerate(images):
+        rows = exr_read.read_exr(path("out%d.exr" % i))
+        got = [struct.unpack("<I", struct.pack("<f", v))[0]
+               for row in rows for px in row for v in px]
+        diff = [k for k in range(len(bits)) if got[k] != bits[k]]
+        if diff:
+            bad.append("out%d.exr: %d values differ, rows %d-%d" %
+                       (i, len(diff), diff[0] // 4 // w, diff[-1] // 4 // w))
+    check(not bad, "; ".join(bad))
+
+
 TESTS = {"max_pixels": test_max_pixels, "exr_precision": test_exr_precision,
-         "special": test_special}
+         "special": test_special, "exr_tall_narrow": test_exr_tall_narrow}
 
 if __name__ == "__main__":
     sys.exit(lgrun.main(TESTS, TMP))
