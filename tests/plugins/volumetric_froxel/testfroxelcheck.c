@@ -22,7 +22,7 @@
  *         single-scattering integral along the ray, m(x) sigma_s L_c F p_HG X e^(-int
  *         sigma_t m) by the midpoint rule in `steps` steps, X the transmittance to the
  *         light (to the light, or for a directional light out of the tau box of
- *         vol_tau_build: the field's bounds within the scene's grown by 1 %) marched in
+ *         vol_tau_build: a bounded field's own box, else the scene's) marched in
  *         `steps` steps too.
  *
  *   froxel_test_field   scene -> scene: the scene with a density field of kind uniform
@@ -96,7 +96,8 @@ static double light_segment(const vol_setup *v, const vol_light *L, const double
     return lg_point_inscatter(v->eye, w, t0, t1, q, L->range, spot_of(L, sp), v->g, sigma_t, nodes);
 }
 
-/* The tau box of vol_tau_build (vol_common.c): the field's bounds within the scene's,
+/* The tau box of vol_tau_build (vol_common.c): a bounded field's own box on each axis where
+ * it is bounded (beyond it m = 0: the march out of it is exact), else the scene's bounds
  * grown by 1 %. */
 static void tau_box(const vol_setup *v, double lo[3], double hi[3])
 {
@@ -104,8 +105,10 @@ static void tau_box(const vol_setup *v, double lo[3], double hi[3])
     for (int c = 0; c < 3; c++) {
         double slo = v->scene_min[c], shi = v->scene_max[c];
         double pad = 0.01 * (shi - slo) + 1e-6;
-        lo[c] = fmax(slo - pad, (double)f->bounds_min[c]);
-        hi[c] = fmin(shi + pad, (double)f->bounds_max[c]);
+        bool bounded = fabs((double)f->bounds_min[c]) < 1e30 &&
+                       fabs((double)f->bounds_max[c]) < 1e30 && f->bounds_max[c] > f->bounds_min[c];
+        lo[c] = bounded ? (double)f->bounds_min[c] : slo - pad;
+        hi[c] = bounded ? (double)f->bounds_max[c] : shi + pad;
         if (!(hi[c] > lo[c]))
             hi[c] = lo[c] + 1e-6;
     }
