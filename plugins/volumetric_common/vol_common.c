@@ -222,8 +222,7 @@ static void tau_box(const vol_setup *v, double lo[3], double hi[3])
         slo -= pad;
         shi += pad;
         bool bounded = f && fabs((double)f->bounds_min[c]) < 1e30 &&
-                       fabs((double)f->bounds_max[c]) < 1e30 &&
-                       f->bounds_max[c] > f->bounds_min[c];
+                       fabs((double)f->bounds_max[c]) < 1e30 && f->bounds_max[c] > f->bounds_min[c];
         lo[c] = bounded ? (double)f->bounds_min[c] : slo;
         hi[c] = bounded ? (double)f->bounds_max[c] : shi;
         if (!(hi[c] > lo[c]))
