@@ -117,11 +117,13 @@ POINT_LIGHT = ("sun = light { scene = cam, type = point, position = [0, 0.9, 0],
 SPOT_LIGHT = ("sun = light { scene = cam, type = spot, position = [-0.3, 1.5, -0.5], "
               "direction = [0.3, -1, -0.2], inner_cone_deg = 10, outer_cone_deg = 25, "
               "intensity = 60 }")
-# A heterogeneous fog (issue 25, item 3): the `medium` node's density-field parameters come
-# with branch `media`; until they are there these cases are skipped, saying so.
+# A heterogeneous fog (issue 25, item 3): the `medium` node's density-field parameters; a
+# build without them skips these cases, saying so. Height fog needs a field (uniform: the
+# medium node ignores height_falloff with field = none, the homogeneous medium, and warns).
 FOG = "density = 1, scattering = [0.1, 0.1, 0.1], absorption = [0, 0, 0], g = 0.4"
 FBM_FOG = ("fog = medium { scene = sun, %s, field = fbm, frequency = 2, octaves = 4 }" % FOG)
-HEIGHT_FOG = ("fog = medium { scene = sun, %s, height_falloff = 2, height_base = 0 }" % FOG)
+HEIGHT_FOG = ("fog = medium { scene = sun, %s, field = uniform, height_falloff = 2, "
+              "height_base = 0 }" % FOG)
 LIGHT_PLANS = ["screen_samples", "polygonal_shadow", "froxel_grid"]
 FIELD_PLANS = ["froxel_grid"]
 
@@ -136,7 +138,8 @@ MEDIA = [Case("hom", "homogeneous medium", "medium"),
               requires=[("medium", "field"), ("medium", "frequency"), ("medium", "octaves")]),
          Case("height", "height fog", "medium", node=HEIGHT_FOG, methods=["froxel"],
               plans=FIELD_PLANS, quick_plans=["froxel_grid:cpu"],
-              requires=[("medium", "height_falloff"), ("medium", "height_base")])]
+              requires=[("medium", "field"), ("medium", "height_falloff"),
+                        ("medium", "height_base")])]
 
 
 def light_covered(needs, case):
