@@ -336,6 +336,7 @@ static void case_inside(lg_test *t)
         lit += lg_shadowmap_visibility(&m.sm, m.atlas, 0, p, 0.0) != 0.0f;
     }
     LG_TEST_CHECK(t, lit == 0, "a light inside geometry: %d of 300 points lit", lit);
+    free(m.atlas);
 }
 
 static void case_spot(lg_test *t)
