@@ -25,25 +25,6 @@
 enum { FX_SLICE_UNIFORM = 0, FX_SLICE_EXP };
 enum { FX_POINT_SAMPLE = 0, FX_POINT_ANALYTIC };
 
-/* What each backend models of froxel.h 4.: a frame whose scene has a light of another type
- * or a density field the node's backend does not model runs the cpu backend instead (with
- * a warning, once), so that every backend gives the same picture. The gl and cl backends
- * gain point and spot lights and fields on their own branches (issue 25: fxgl, fxcl), each
- * then widening its entry here. */
-static unsigned fx_backend_accepts(lg_device backend)
-{
-    switch (backend) {
-    case LG_DEVICE_GL:
-    case LG_DEVICE_CL:
-    default: return VOL_ACCEPT_LIGHTS | VOL_ACCEPT_FIELD;
-    }
-}
-
-static const char *fx_backend_name(lg_device backend)
-{
-    return backend == LG_DEVICE_GL ? "gl" : backend == LG_DEVICE_CL ? "cl" : "cpu";
-}
-
 /* Caps: each side, and the grid's bytes (rgba32f, W x H x D x 16 <= 1 GiB; the backends
  * hold two more volumes of the same size, S and its history). */
 #define FX_MAX_W 1024
@@ -69,8 +50,6 @@ typedef struct fx_state {
     lg_slice_map prev_map;
 
     void *backend_state; /* the backend's (fx_*_execute makes it) */
-    void *cpu_state;     /* gl or cl: the cpu backend's, for frames it runs instead */
-    bool said_cpu;       /* that warning given */
     int point_nodes;     /* froxel.h 4.: 0 sample, 1 .. 8 analytic */
     /* heterogeneous media: the frame's density multipliers (W x H x D) and each light's
      * optical-depth volume, kept while the scene (by address), its lights and tau_res stay */
@@ -380,32 +359,11 @@ static int fx_execute(lg_node *n, const lg_frame *frame)
         f.density = st->density;
         f.tau = st->tau;
     }
-    /* what the node's backend does not model runs on the cpu backend (fx_backend_accepts) */
-    unsigned accept = fx_backend_accepts(st->backend);
-    bool on_cpu = st->backend != LG_DEVICE_CPU &&
-                  (v->heterogeneous && !(accept & VOL_ACCEPT_FIELD));
-    for (uint32_t l = 0; l < v->n_lights; l++)
-        if (v->lights[l].type == LG_LIGHT_POINT  ? !(accept & VOL_ACCEPT_POINT)
-            : v->lights[l].type == LG_LIGHT_SPOT ? !(accept & VOL_ACCEPT_SPOT)
-                                                 : false)
-            on_cpu = st->backend != LG_DEVICE_CPU;
-    if (on_cpu && !st->said_cpu) {
-        lg_log(n, LG_LOG_WARN,
-               "the %s backend does not model %s yet (issue 25): this node's passes run on "
-               "the cpu backend",
-               fx_backend_name(st->backend),
-               v->heterogeneous ? "density fields or point and spot lights"
-                                : "point and spot lights");
-        st->said_cpu = true;
+    switch (st->backend) {
+    case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
+    case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
+    default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
     }
-    if (on_cpu)
-        rc = fx_cpu_execute(n, &st->cpu_state, &f);
-    else
-        switch (st->backend) {
-        case LG_DEVICE_GL: rc = fx_gl_execute(n, &st->backend_state, &f); break;
-        case LG_DEVICE_CL: rc = fx_cl_execute(n, &st->backend_state, &f); break;
-        default: rc = fx_cpu_execute(n, &st->backend_state, &f); break;
-        }
     if (!rc) {
         lg_froxel_info info = { .struct_size = sizeof info,
                                 .width = st->gw,
@@ -449,8 +407,6 @@ static void fx_destroy(lg_node *n)
         lg_account_free(n, (size_t)st->gw * st->gh * st->gd * sizeof(float));
         free(st->density);
     }
-    if (st->cpu_state)
-        fx_cpu_destroy(n, st->cpu_state);
     if (st->backend_state) {
         if (st->backend == LG_DEVICE_GL)
             fx_gl_destroy(n, st->backend_state);
