@@ -96,9 +96,8 @@
  *        L_v = A + exp(-sigma_t P_{k-1}) S delta seg(sigma_t rho_k delta)
  *        out = base.rgb exp(-sigma_t (P_{k-1} + rho_k delta)) + L_v
  *    The grid's alpha stays the mean of Tr_k's channels.
- *    Which backend models what of 4. is froxel.c's fx_backend_accepts (a frame with more
- *    runs the cpu backend, with a warning): each backend widens its own entry when it
- *    implements 4. The cpu backend's second path (froxel_cpu.c) is the reference.
+ *    All three backends implement 4.; the cpu backend's second path (froxel_cpu.c) is the
+ *    reference.
  *
  * Every backend maps its inputs and outputs itself on its device (lg_map_cpu / _gl / _cl):
  * base = lg_input(VOL_IN_BASE) (colour + depth), the shadow atlas = f->sm->atlas, outputs
