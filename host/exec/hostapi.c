@@ -3,9 +3,11 @@
  * such and not as a host crash. */
 #include "exec/exec.h"
 #include "exec/outputs.h"
+#include "exec/dist.h"
 #include "base/pool.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -759,6 +761,98 @@ static int api_parallel_for(lg_node *n, size_t count, size_t grain,
     return 0;
 }
 
+/* lg_shard (host.h): the job's items over the ranks (lg_dist_fixed), and each rank's share
+ * over the pool. A failing chunk stops the chunks not yet started; the reason kept is the
+ * failing chunk's with the lowest first item, so that the message does not depend on which
+ * thread failed first. */
+typedef struct shard_run {
+    const lg_shard_job *job;
+    lg_pool *pool;
+    uint64_t grain; /* the job's grain: the pool's chunks */
+    uint8_t *items; /* the rank's share being computed, items [base, ...) */
+    uint64_t base;
+    pthread_mutex_t lock;
+    int failed; /* read without the lock as a hint; written under it */
+    uint64_t fail_begin, fail_end;
+    char why[512];
+} shard_run;
+
+static void shard_chunk(void *ctx, size_t begin, size_t end, uint32_t chunk)
+{
+    (void)chunk;
+    shard_run *r = ctx;
+    if (__atomic_load_n(&r->failed, __ATOMIC_RELAXED))
+        return;
+    char why[512] = "";
+    const lg_shard_job *job = r->job;
+    uint64_t b = r->base + begin, e = r->base + end;
+    if (job->run(job->ctx, b, e, r->items + (uint64_t)begin * job->item_bytes, why, sizeof why)) {
+        pthread_mutex_lock(&r->lock);
+        if (!r->failed || b < r->fail_begin) {
+            r->fail_begin = b;
+            r->fail_end = e;
+            why[sizeof why - 1] = 0;
+            snprintf(r->why, sizeof r->why, "%s", why[0] ? why : "failed (no reason given)");
+        }
+        __atomic_store_n(&r->failed, 1, __ATOMIC_RELAXED);
+        pthread_mutex_unlock(&r->lock);
+    }
+}
+
+/* lg_dist_range_fn: items [begin, end) of the job on this rank's threads. */
+static int shard_range(void *ctx, uint64_t begin, uint64_t end, void *items, char *err,
+                       size_t err_size)
+{
+    shard_run *r = ctx;
+    r->items = items;
+    r->base = begin;
+    if (lg_pool_run(r->pool, (size_t)(end - begin), (size_t)r->grain, shard_chunk, r)) {
+        snprintf(err, err_size, "the thread pool refused %llu items in chunks of %llu",
+                 (unsigned long long)(end - begin), (unsigned long long)r->grain);
+        return 1;
+    }
+    if (r->failed) {
+        snprintf(err, err_size, "%s %llu..%llu: %s", r->job->what ? r->job->what : "items",
+                 (unsigned long long)r->fail_begin, (unsigned long long)r->fail_end - 1, r->why);
+        return 1;
+    }
+    return 0;
+}
+
+static int api_shard(lg_node *n, const lg_shard_job *job)
+{
+    lg_pnode *p = P(n);
+    if (!job || !job->run || (!job->out && job->count) || job->grain == 0 || job->item_bytes == 0)
+        return lg_node_errorf(p, "shard: %s",
+                              !job                   ? "job is NULL"
+                              : !job->run            ? "run is NULL"
+                              : job->grain == 0      ? "grain is 0"
+                              : job->item_bytes == 0 ? "item_bytes is 0"
+                                                     : "out is NULL"),
+               LG_ERR_INVALID;
+    if (job->count > SIZE_MAX / job->item_bytes || job->count / job->grain >= UINT32_MAX)
+        return lg_node_errorf(p,
+                              "shard: %llu items of %llu bytes in chunks of %llu are more "
+                              "than this host can hold or count",
+                              (unsigned long long)job->count, (unsigned long long)job->item_bytes,
+                              (unsigned long long)job->grain),
+               LG_ERR_INVALID;
+    if (job->count == 0)
+        return 0;
+    shard_run r = { .job = job, .pool = pool_for(p), .grain = job->grain };
+    pthread_mutex_init(&r.lock, NULL);
+    /* A rank's chunk: one grain per thread, so that every thread of the rank has work. */
+    uint64_t workers = lg_pool_size(r.pool);
+    uint64_t rank_grain = job->grain > UINT64_MAX / workers ? job->grain : job->grain * workers;
+    char err[768] = "";
+    int rc = lg_dist_fixed(job->what ? job->what : "items", job->count, rank_grain, job->item_bytes,
+                           job->out, shard_range, &r, err, sizeof err);
+    pthread_mutex_destroy(&r.lock);
+    if (rc)
+        return lg_node_errorf(p, "%s", err[0] ? err : "shard: failed"), LG_ERR_INVALID;
+    return 0;
+}
+
 static int api_output_file_write(lg_node *n, const char *key, const void *data, size_t size)
 {
     lg_pnode *p = P(n);
@@ -889,5 +983,6 @@ void lg_host_api_init(lg_host_api *a)
     a->part = api_part;
     a->cpu_workers = api_cpu_workers;
     a->parallel_for = api_parallel_for;
+    a->shard = api_shard;
     a->output_file_write = api_output_file_write;
 }

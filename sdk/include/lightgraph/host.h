@@ -139,6 +139,25 @@ struct lg_frame {
     uint32_t reserved[8];
 };
 
+/* A node's work as a range of independent items (since ABI 3.3; lg_shard below says how the
+ * host runs it). The caller owns every pointer; the host reads the struct during the call
+ * only. */
+typedef struct lg_shard_job {
+    uint64_t count;      /* items: vertices, pixel rows, tiles; 0 runs nothing */
+    uint64_t grain;      /* items per chunk, the unit of work handed out; >= 1 */
+    uint64_t item_bytes; /* bytes of one item's result; >= 1 */
+    void *out;           /* count * item_bytes bytes: every item's result, in item order */
+    /* Computes items [begin, end) into `items`, (end - begin) * item_bytes bytes (on one
+     * process that is out + begin * item_bytes; under MPI it may be a buffer of the
+     * host's). Returns 0, or non-zero with a one-line reason in err (err_size bytes, NUL
+     * terminated; the host adds the node, the items and the rank). */
+    int (*run)(void *ctx, uint64_t begin, uint64_t end, void *items, char *err, size_t err_size);
+    void *ctx;
+    const char *what; /* the items' name, plural ("vertices", "pixel rows"), for messages
+                       * and the profile; NULL reads "items" */
+    uint32_t reserved[8];
+} lg_shard_job;
+
 typedef struct lg_host_api {
     size_t struct_size; /* sizeof(lg_host_api) as the host was built */
     uint16_t abi_major, abi_minor;
@@ -348,7 +367,18 @@ typedef struct lg_host_api {
             int (*payload_gl_texture)(lg_node *node, const lg_resource *res, uint32_t slot,
                                       const void *rgba8, uint32_t width, uint32_t height,
                                       uint32_t internal_format, uint32_t *texture);
-            void *reserved_3_1[18];
+            /* Since ABI 3.3, in the place of the first of reserved_3_1 (a 3.2 host leaves
+             * it NULL; a 3.3 plugin does not load there): */
+            union {
+                void *reserved_3_1[18];
+                struct {
+                    /* -- since ABI 3.3: work shared over processes (MPI ranks) --
+                     * Runs `job` (lg_shard_job above): see lg_shard below for the
+                     * contract. */
+                    int (*shard)(lg_node *node, const lg_shard_job *job);
+                    void *reserved_3_3[17];
+                };
+            };
         };
     };
 } lg_host_api;
@@ -660,6 +690,48 @@ static inline int lg_parallel_for(lg_node *n, size_t count, size_t grain,
 static inline size_t lg_parallel_chunks(size_t count, size_t grain)
 {
     return grain ? count / grain + (count % grain != 0) : 0;
+}
+
+/* lg_shard (since ABI 3.3): a node's work spread over every process of the job.
+ *
+ *   A node whose execute() does one big computation that splits into `count` independent
+ *   items of a fixed size (a PRT bake's per-vertex transfer, a reference renderer's pixel
+ *   rows) hands it to the host as an lg_shard_job and gets back `out` filled. In a plain
+ *   run this is lg_parallel_for(count, grain) over the host's threads, writing into `out`
+ *   directly, at no extra cost. Under `mpirun -np N lightgraph ...` (a build with MPI,
+ *   docs/distributed.md) every rank runs the same graph; at this call the ranks take
+ *   chunks of `grain` items in turn as each finishes its last (dynamic chunks: a rank
+ *   that draws costly items takes fewer), each runs its chunks on its own threads, and
+ *   then every rank receives every item, so `out` is complete on all of them and the
+ *   graph goes on identically everywhere. Only rank 0 writes output files and cache
+ *   entries.
+ *
+ *   Determinism, the contract that makes this work. An item's bytes must depend only on
+ *   its index and on the node's inputs and parameters: never on the chunk, the thread,
+ *   the rank, the time or a shared random stream (seed a generator from the item index).
+ *   Then `out` has the same bits for any number of ranks, threads or any schedule, which
+ *   the host's tests check with 1, 2 and 3 ranks. A reduction over items (a sum, a
+ *   maximum) is done by the node after the call, over `out` in item order.
+ *
+ *   run. Called concurrently from the host's threads with disjoint ranges, each a whole
+ *   number of chunks' worth or the tail; like lg_parallel_for's fn it writes only its own
+ *   items and calls no host service (report through err, not lg_error). A nested
+ *   lg_parallel_for or lg_shard inside run runs inline on that thread.
+ *
+ *   Errors. A run that fails stops the job: no chunk starts after it on any rank, and the
+ *   call returns LG_ERR_INVALID on every rank after the host reported "items B..E on rank
+ *   R: reason" for the node (under MPI rank 0 prints it; the command exits 1 and writes
+ *   no output file and no cache entry). Also LG_ERR_INVALID after reporting for a bad
+ *   job (grain or item_bytes 0, run or out NULL, count * item_bytes overflowing) and
+ *   LG_ERR_NOMEM. `out`'s bytes are unspecified after a failure.
+ *
+ *   Every rank must make the same calls in the same order (the same graph does). Call
+ *   it from execute(). A job of under a few milliseconds gains nothing from ranks; the
+ *   host may run a small job (count * item_bytes under a page, or count <= grain) on
+ *   each rank alone, which the contract makes invisible. */
+static inline int lg_shard(lg_node *n, const lg_shard_job *job)
+{
+    return n->host->shard(n, job);
 }
 
 /* The size of an image a node makes from two INT parameters (normally "width" and
