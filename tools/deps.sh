@@ -7,7 +7,9 @@
 #                           Debian 12's, version 14, for `make format` and the test
 #                           rules_format; docs/style.md; libopenvdb-dev for the medium
 #                           node's VDB grids, with libboost-dev, whose headers OpenVDB's
-#                           include but Debian's package does not depend on)
+#                           include but Debian's package does not depend on; Open MPI,
+#                           libopenmpi-dev and openmpi-bin, for `mpirun -np N lightgraph`:
+#                           docs/distributed.md)
 #   sh tools/deps.sh fuzz   that, and what `make fuzz` needs besides (docs/fuzzing.md):
 #                           Debian's clang (14 in bookworm) and its compiler-rt, which
 #                           holds libFuzzer and the sanitizers' runtimes (libclang-rt-dev,
@@ -19,7 +21,7 @@ libosmesa6-dev libegl-dev libegl1-mesa-dev libglfw3-dev
 ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
 libopenexr-dev libpng-dev glslang-tools gnuplot-nox pfstools pfstmo
 libtinygltf-dev libdraco-dev nlohmann-json3-dev libjpeg62-turbo-dev libembree-dev xvfb abigail-tools
-clang-format libopenvdb-dev libboost-dev"
+clang-format libopenvdb-dev libboost-dev libopenmpi-dev openmpi-bin"
 FUZZ_PKGS="clang libclang-rt-dev"
 case "${1:-}" in
   "") ;;
