@@ -347,6 +347,98 @@ static bool history_at(const fx_cpu_ctx *x, const double q[3], double out[3])
  * stack (FX_CPU_GRAIN x 32 lights x 7 floats = 28 KiB at most). */
 #define FX_CPU_GRAIN 32
 
+/* Slices per block of the orthographic records' pass: the block's sums (3 x FX_KB x
+ * FX_CPU_GRAIN floats, 6 KiB) stay in the L1 cache while every light adds to them, and a
+ * block's footprint in a light's depth bounds is a few cache lines. */
+#define FX_KB 16
+
+/* Lanes of the vector loop: gcc's vector extensions, lowered to SSE2 (two registers) on
+ * x86-64 and NEON on aarch64; no intrinsics. The chunk's columns are FX_CPU_GRAIN lanes. */
+#define FX_VW 4
+typedef float fx_vf __attribute__((vector_size(4 * FX_VW)));
+typedef int32_t fx_vi __attribute__((vector_size(4 * FX_VW)));
+typedef uint32_t fx_vu __attribute__((vector_size(4 * FX_VW)));
+_Static_assert(FX_CPU_GRAIN % FX_VW == 0, "a chunk is a whole number of vectors");
+
+/* The orthographic records' shadowed lights (every directional light's) over slices
+ * [k0, k0 + kn) of a chunk's FX_CPU_GRAIN columns: sacc[ch][k - k0][c] = unsh + the sum, in
+ * light order, of sigma_s C_l p_HG over the lights that see the froxel's sample point.
+ *
+ * The texel and the depth are affine in view depth (u = ta_l + tb_l t: three multiply-adds,
+ * no division); the test is the block bounds' (fx_minmax: the depth test is monotonic in
+ * the stored depth, so the bounds decide most froxels without reading their texel) and,
+ * in a block that holds the froxel's depth between its bounds, the texel's own: the same
+ * decisions, the same bits, as one froxel at a time. Written for the vectoriser (README.md,
+ * "The light pass's floor"): FX_VW columns at once with masks instead of branches, so that
+ * the loads of the bounds are independent of each other and of any branch; the one branch
+ * left per vector is whether a lane needs its texel. */
+__attribute__((noinline)) static void
+fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[FX_CPU_GRAIN][3],
+                const float tb[VOL_MAX_LIGHTS][3][FX_CPU_GRAIN],
+                const float lp[VOL_MAX_LIGHTS][3][FX_CPU_GRAIN], float sacc[3][FX_KB][FX_CPU_GRAIN])
+{
+    const lg_shadowmap *sm = x->f->sm;
+    const float res = (float)sm->resolution, bias = sm->bias_constant;
+    const uint32_t aw = sm->atlas_width, mn = x->mm_n;
+    for (uint32_t kk = 0; kk < kn; kk++)
+        for (uint32_t c = 0; c < FX_CPU_GRAIN; c++)
+            for (int ch = 0; ch < 3; ch++)
+                sacc[ch][kk][c] = unsh[c][ch];
+    for (uint32_t l = 0; l < x->n_sh; l++) {
+        if (!x->ortho[l])
+            continue;
+        const float au = x->ta[l][0], av = x->ta[l][1], az = x->ta[l][2];
+        const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
+        const float *mml = x->mm[l];
+        for (uint32_t kk = 0; kk < kn; kk++) {
+            const float t = x->tj[k0 + kk];
+            for (uint32_t c = 0; c < FX_CPU_GRAIN; c += FX_VW) {
+                fx_vf bu, bv, bz;
+                memcpy(&bu, tb[l][0] + c, sizeof bu);
+                memcpy(&bv, tb[l][1] + c, sizeof bv);
+                memcpy(&bz, tb[l][2] + c, sizeof bz);
+                const fx_vf u = au + bu * t, vv = av + bv * t, z = az + bz * t;
+                const fx_vi in = (u >= 0.0f) & (u < res) & (vv >= 0.0f) & (vv < res) & (z >= 0.0f);
+                /* outside the tile (or NaN) the lane reads block 0, and is lit whatever it
+                 * reads */
+                const fx_vu iu = (fx_vu) __builtin_convertvector((fx_vf)((fx_vi)u & in), fx_vi);
+                const fx_vu iv = (fx_vu) __builtin_convertvector((fx_vf)((fx_vi)vv & in), fx_vi);
+                const fx_vu bi = 2 * ((iv / FX_MM_BLOCK) * mn + iu / FX_MM_BLOCK);
+                fx_vf lo, hi;
+                for (int e = 0; e < FX_VW; e++) {
+                    lo[e] = mml[bi[e]];
+                    hi[e] = mml[bi[e] + 1];
+                }
+                const fx_vi past_lo = in & (z > lo + bias), past_hi = z > hi + bias;
+                fx_vi sh = past_lo & past_hi, open = past_lo & ~past_hi;
+                int32_t any = 0;
+                for (int e = 0; e < FX_VW; e++)
+                    any |= open[e];
+                if (any) {
+                    /* a block holding the froxel's depth between its bounds: the texel */
+                    for (int e = 0; e < FX_VW; e++)
+                        if (open[e])
+                            sh[e] = z[e] > atl[(size_t)iv[e] * aw + iu[e]] + bias ? -1 : 0;
+                }
+                /* lit: + sigma_s C_l p_HG (the bits of + 1 x it); shadowed: + 0 */
+                fx_vf a0, a1, a2, w0, w1, w2;
+                memcpy(&a0, &sacc[0][kk][c], sizeof a0);
+                memcpy(&a1, &sacc[1][kk][c], sizeof a1);
+                memcpy(&a2, &sacc[2][kk][c], sizeof a2);
+                memcpy(&w0, lp[l][0] + c, sizeof w0);
+                memcpy(&w1, lp[l][1] + c, sizeof w1);
+                memcpy(&w2, lp[l][2] + c, sizeof w2);
+                a0 += (fx_vf)((fx_vi)w0 & ~sh);
+                a1 += (fx_vf)((fx_vi)w1 & ~sh);
+                a2 += (fx_vf)((fx_vi)w2 & ~sh);
+                memcpy(&sacc[0][kk][c], &a0, sizeof a0);
+                memcpy(&sacc[1][kk][c], &a1, sizeof a1);
+                memcpy(&sacc[2][kk][c], &a2, sizeof a2);
+            }
+        }
+    }
+}
+
 /* Light pass and accumulation of columns [begin, end) (at most FX_CPU_GRAIN, consecutive
  * in memory). Everything that depends only on the column is computed once per column:
  * 1 / cos, the sum over unshadowed lights sigma_s C_l p_HG (a column constant), per
@@ -364,7 +456,8 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
     const size_t plane = (size_t)f->w * f->h;
     const uint32_t nc = (uint32_t)(end - begin), nsh = x->n_sh;
     float inv_cos[FX_CPU_GRAIN], unsh[FX_CPU_GRAIN][3];
-    float lp[VOL_MAX_LIGHTS][FX_CPU_GRAIN][3];
+    /* sigma_s C_l p_HG per shadowed light, [light][channel][column]: the vector loop's rows */
+    float lp[VOL_MAX_LIGHTS][3][FX_CPU_GRAIN];
     float cb[VOL_MAX_LIGHTS][FX_CPU_GRAIN][4];
     /* orthographic records (every directional light's): the texel coordinates and the window
      * depth as affine functions of view depth, u = ta_l + tb_l t (x->ta: the light's part,
@@ -374,6 +467,8 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
     /* froxel.h 4. (only touched when the frame has lights of the second path or a field) */
     fx_col_light cl[FX_CPU_GRAIN][VOL_MAX_LIGHTS];
     double icd[FX_CPU_GRAIN], path[FX_CPU_GRAIN];
+    /* the orthographic records' sum over FX_KB slices (fx_ortho_slices) */
+    float sacc[3][FX_KB][FX_CPU_GRAIN];
     for (uint32_t c = 0; c < nc; c++) {
         size_t col = begin + c;
         uint32_t i = (uint32_t)(col % f->w), j = (uint32_t)(col / f->w);
@@ -394,7 +489,7 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
                 continue;
             }
             for (int ch = 0; ch < 3; ch++)
-                lp[s][c][ch] = (float)(v->sigma_s[ch] * L->l_c[ch] * p);
+                lp[s][ch][c] = (float)(v->sigma_s[ch] * L->l_c[ch] * p);
             const float *m = f->sm->lights[x->rec[l]].view_proj;
             for (int r = 0; r < 4; r++)
                 cb[s][c][r] =
@@ -420,51 +515,16 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
     const float bias = f->sm ? f->sm->bias_constant : 0;
     const uint32_t aw = f->sm ? f->sm->atlas_width : 0, ah = f->sm ? f->sm->atlas_height : 0;
     const bool thesis = f->accum == FX_ACC_THESIS;
-    /* 1a. The shadowed lights of orthographic records (every directional light's), one
-     * light at a time over the whole chunk (all slices): one light's tile in the cache at a
-     * time instead of all of them for every froxel (with 32 lights the atlas lookups were
-     * the hot spot: README.md, "The light pass's floor"). Their sum goes into S, which the
-     * loop below reads; each froxel still adds the lights in light order. The texel and the
-     * depth are three multiply-adds (no division, no scaling). */
+    /* 1a. The shadowed lights of orthographic records (every directional light's) go into
+     * sacc, FX_KB slices at a time (fx_ortho_slices); the loop below starts each froxel's S
+     * from there. */
     if (x->n_ortho) {
-        for (uint32_t k = 0; k < f->d; k++) {
-            float *sk = x->c->s + 4 * (k * plane + begin);
-            for (uint32_t c = 0; c < nc; c++)
-                sk[4 * c] = unsh[c][0], sk[4 * c + 1] = unsh[c][1], sk[4 * c + 2] = unsh[c][2];
-        }
-        for (uint32_t l = 0; l < nsh; l++) {
-            if (!x->ortho[l])
-                continue;
-            const float au = x->ta[l][0], av = x->ta[l][1], az = x->ta[l][2];
-            const float *bu = tb[l][0], *bv = tb[l][1], *bz = tb[l][2];
-            const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
-            const float *lpl = lp[l][0], *mml = x->mm[l];
-            const uint32_t mn = x->mm_n;
-            for (uint32_t k = 0; k < f->d; k++) {
-                const float t = x->tj[k];
-                float *sk = x->c->s + 4 * (k * plane + begin);
-                for (uint32_t c = 0; c < nc; c++) {
-                    float u = au + bu[c] * t, vv = av + bv[c] * t, z = az + bz[c] * t;
-                    float m = 1.0f;
-                    if (u >= 0.0f && u < res && vv >= 0.0f && vv < res && z >= 0.0f) {
-                        /* the block's bounds decide most texels without reading them: the
-                         * depth test is monotonic in the stored depth (same bits as the
-                         * texel's own test) */
-                        uint32_t iu = (uint32_t)u, iv = (uint32_t)vv;
-                        const float *b = mml +
-                                         2 * ((size_t)(iv / FX_MM_BLOCK) * mn + iu / FX_MM_BLOCK);
-                        if (!(z > b[0] + bias))
-                            m = 1.0f;
-                        else if (z > b[1] + bias)
-                            m = 0.0f;
-                        else
-                            m = z > atl[(size_t)iv * aw + iu] + bias ? 0.0f : 1.0f;
-                    }
-                    sk[4 * c] += m * lpl[3 * c];
-                    sk[4 * c + 1] += m * lpl[3 * c + 1];
-                    sk[4 * c + 2] += m * lpl[3 * c + 2];
-                }
-            }
+        for (uint32_t c = nc; c < FX_CPU_GRAIN; c++) {
+            /* the vector loop runs every lane of the chunk: lanes past its end add 0 */
+            unsh[c][0] = unsh[c][1] = unsh[c][2] = 0.0f;
+            for (uint32_t l = 0; l < nsh; l++)
+                for (int r = 0; r < 3; r++)
+                    tb[l][r][c] = 0.0f, lp[l][r][c] = 0.0f;
         }
     }
     for (uint32_t k = 0; k < f->d; k++) {
@@ -472,12 +532,14 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
         const double len = x->tlen[k];
         float *sk = x->c->s + 4 * (k * plane + begin);
         float *gk = x->grid + 4 * (k * plane + begin);
+        if (x->n_ortho && k % FX_KB == 0)
+            fx_ortho_slices(x, k, f->d - k < FX_KB ? f->d - k : FX_KB, unsh, tb, lp, sacc);
         for (uint32_t c = 0; c < nc; c++) {
-            /* 1. light pass (the orthographic records' sum is in S already) */
-            const float *so = sk + 4 * c;
+            /* 1. light pass (the orthographic records' sum is in sacc already) */
             float s[3] = { unsh[c][0], unsh[c][1], unsh[c][2] };
             if (x->n_ortho)
-                s[0] = so[0], s[1] = so[1], s[2] = so[2];
+                for (int ch = 0; ch < 3; ch++)
+                    s[ch] = sacc[ch][k % FX_KB][c];
             /* perspective records (none from today's shadowmap for a directional light): the
              * divided form, in light order after the orthographic ones */
             for (uint32_t l = 0; l < nsh; l++) {
@@ -496,9 +558,9 @@ static void columns(void *ctx, size_t begin, size_t end, uint32_t chunk)
                         lit = !(z > x->atlas[(size_t)ty * aw + tx] + bias);
                 }
                 float m = lit ? 1.0f : 0.0f;
-                s[0] += m * lp[l][c][0];
-                s[1] += m * lp[l][c][1];
-                s[2] += m * lp[l][c][2];
+                s[0] += m * lp[l][0][c];
+                s[1] += m * lp[l][1][c];
+                s[2] += m * lp[l][2][c];
             }
             double rho = 1.0;
             if (x->n_gen || x->het) {
