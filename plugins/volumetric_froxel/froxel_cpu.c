@@ -352,13 +352,17 @@ static bool history_at(const fx_cpu_ctx *x, const double q[3], double out[3])
  * block's footprint in a light's depth bounds is a few cache lines. */
 #define FX_KB 16
 
-/* Lanes of the vector loop: gcc's vector extensions, lowered to SSE2 (two registers) on
- * x86-64 and NEON on aarch64; no intrinsics. The chunk's columns are FX_CPU_GRAIN lanes. */
+/* Lanes of the vector loop: gcc's vector extensions, one SSE2 register on x86-64 (gcc 12
+ * turns 8-lane compares into scalar code there) and one NEON register on aarch64; no
+ * intrinsics. The chunk's columns are FX_CPU_GRAIN lanes. */
 #define FX_VW 4
 typedef float fx_vf __attribute__((vector_size(4 * FX_VW)));
 typedef int32_t fx_vi __attribute__((vector_size(4 * FX_VW)));
 typedef uint32_t fx_vu __attribute__((vector_size(4 * FX_VW)));
+typedef double fx_v2d __attribute__((vector_size(16)));
 _Static_assert(FX_CPU_GRAIN % FX_VW == 0, "a chunk is a whole number of vectors");
+_Static_assert(FX_VW == 4, "fx_ortho_slices loads the bounds of 4 lanes as 2 x 2 pairs");
+_Static_assert(FX_MM_BLOCK % FX_VW == 0, "fx_minmax reads a block row as whole vectors");
 
 /* The orthographic records' shadowed lights (every directional light's) over slices
  * [k0, k0 + kn) of a chunk's FX_CPU_GRAIN columns: sacc[ch][k - k0][c] = unsh + the sum, in
@@ -380,6 +384,12 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
     const lg_shadowmap *sm = x->f->sm;
     const float res = (float)sm->resolution, bias = sm->bias_constant;
     const uint32_t aw = sm->atlas_width, mn = x->mm_n;
+    /* one light's decisions over the block, and the froxels its texels decide (at most all:
+     * the list's last entry may be written past its count, never read) */
+    int32_t shm[FX_KB * FX_CPU_GRAIN];
+    uint16_t o_idx[FX_KB * FX_CPU_GRAIN + FX_VW];
+    uint32_t o_off[FX_KB * FX_CPU_GRAIN + FX_VW];
+    float o_z[FX_KB * FX_CPU_GRAIN + FX_VW];
     for (uint32_t kk = 0; kk < kn; kk++)
         for (uint32_t c = 0; c < FX_CPU_GRAIN; c++)
             for (int ch = 0; ch < 3; ch++)
@@ -390,6 +400,9 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
         const float au = x->ta[l][0], av = x->ta[l][1], az = x->ta[l][2];
         const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
         const float *mml = x->mm[l];
+        /* 1. the bounds' decision per froxel (shadowed: all ones), and the froxels whose
+         * texel decides, listed without a branch: (sh index, texel offset, depth) */
+        uint32_t n_open = 0;
         for (uint32_t kk = 0; kk < kn; kk++) {
             const float t = x->tj[k0 + kk];
             for (uint32_t c = 0; c < FX_CPU_GRAIN; c += FX_VW) {
@@ -404,24 +417,42 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
                 const fx_vu iu = (fx_vu) __builtin_convertvector((fx_vf)((fx_vi)u & in), fx_vi);
                 const fx_vu iv = (fx_vu) __builtin_convertvector((fx_vf)((fx_vi)vv & in), fx_vi);
                 const fx_vu bi = 2 * ((iv / FX_MM_BLOCK) * mn + iu / FX_MM_BLOCK);
-                fx_vf lo, hi;
-                for (int e = 0; e < FX_VW; e++) {
-                    lo[e] = mml[bi[e]];
-                    hi[e] = mml[bi[e] + 1];
-                }
+                /* each lane's (min, max) pair in one 8-byte load, then split */
+                double p0, p1, p2, p3;
+                memcpy(&p0, mml + bi[0], sizeof p0);
+                memcpy(&p1, mml + bi[1], sizeof p1);
+                memcpy(&p2, mml + bi[2], sizeof p2);
+                memcpy(&p3, mml + bi[3], sizeof p3);
+                const fx_vf q01 = (fx_vf)(fx_v2d){ p0, p1 }, q23 = (fx_vf)(fx_v2d){ p2, p3 };
+                const fx_vf lo = __builtin_shuffle(q01, q23, (fx_vi){ 0, 2, 4, 6 });
+                const fx_vf hi = __builtin_shuffle(q01, q23, (fx_vi){ 1, 3, 5, 7 });
                 const fx_vi past_lo = in & (z > lo + bias), past_hi = z > hi + bias;
-                fx_vi sh = past_lo & past_hi, open = past_lo & ~past_hi;
-                int32_t any = 0;
-                for (int e = 0; e < FX_VW; e++)
-                    any |= open[e];
-                if (any) {
-                    /* a block holding the froxel's depth between its bounds: the texel */
-                    for (int e = 0; e < FX_VW; e++)
-                        if (open[e])
-                            sh[e] = z[e] > atl[(size_t)iv[e] * aw + iu[e]] + bias ? -1 : 0;
+                const fx_vi sh = past_lo & past_hi, open = past_lo & ~past_hi;
+                memcpy(&shm[kk * FX_CPU_GRAIN + c], &sh, sizeof sh);
+                /* about 1 froxel in 16 needs its texel (the bench at 32 lights): a branch
+                 * per vector, taken rarely, is cheaper than listing every lane */
+                uint64_t any[2];
+                memcpy(any, &open, sizeof any);
+                if (any[0] | any[1]) {
+                    for (int e = 0; e < FX_VW; e++) {
+                        o_idx[n_open] = (uint16_t)(kk * FX_CPU_GRAIN + c + (uint32_t)e);
+                        o_off[n_open] = iv[e] * aw + iu[e];
+                        o_z[n_open] = z[e];
+                        n_open += (uint32_t)open[e] & 1u;
+                    }
                 }
-                /* lit: + sigma_s C_l p_HG (the bits of + 1 x it); shadowed: + 0 */
+            }
+        }
+        /* 2. their texels: independent loads in a loop of their own (they miss the cache:
+         * 32 lights' tiles are 8 MiB), so that many are in flight at once */
+        for (uint32_t i = 0; i < n_open; i++)
+            shm[o_idx[i]] = o_z[i] > atl[o_off[i]] + bias ? -1 : 0;
+        /* 3. lit: + sigma_s C_l p_HG (the bits of + 1 x it); shadowed: + 0 */
+        for (uint32_t kk = 0; kk < kn; kk++) {
+            for (uint32_t c = 0; c < FX_CPU_GRAIN; c += FX_VW) {
+                fx_vi sh;
                 fx_vf a0, a1, a2, w0, w1, w2;
+                memcpy(&sh, &shm[kk * FX_CPU_GRAIN + c], sizeof sh);
                 memcpy(&a0, &sacc[0][kk][c], sizeof a0);
                 memcpy(&a1, &sacc[1][kk][c], sizeof a1);
                 memcpy(&a2, &sacc[2][kk][c], sizeof a2);
@@ -645,12 +676,38 @@ static void fx_minmax(void *ctx, size_t begin, size_t end, uint32_t chunk)
         for (uint32_t bx = 0; bx < nb; bx++)
             out[2 * bx] = INFINITY, out[2 * bx + 1] = -INFINITY;
         uint32_t y1 = (by + 1) * FX_MM_BLOCK < res ? (by + 1) * FX_MM_BLOCK : res;
+        /* whole blocks FX_VW texels at a time (made per frame and light: at 32 lights the
+         * scalar loop was a tenth of the light pass), the partial block of a res that is
+         * not a multiple of FX_MM_BLOCK texel by texel; the same bounds either way */
+        const uint32_t whole = res / FX_MM_BLOCK;
+        const fx_vf pinf = { INFINITY, INFINITY, INFINITY, INFINITY }, ninf = -pinf;
+        for (uint32_t bx = 0; bx < whole; bx++) {
+            fx_vf lo = pinf, hi = ninf;
+            for (uint32_t y = by * FX_MM_BLOCK; y < y1; y++) {
+                const float *row = atl + (size_t)y * aw + bx * FX_MM_BLOCK;
+                for (uint32_t q = 0; q < FX_MM_BLOCK; q += FX_VW) {
+                    fx_vf d;
+                    memcpy(&d, row + q, sizeof d);
+                    /* NaN depths: neither bound decides, the texel's own test does */
+                    const fx_vi nan = d != d;
+                    const fx_vf dl = (fx_vf)(((fx_vi)d & ~nan) | ((fx_vi)ninf & nan));
+                    const fx_vf dh = (fx_vf)(((fx_vi)d & ~nan) | ((fx_vi)pinf & nan));
+                    const fx_vi lt = dl<lo, gt = dh> hi;
+                    lo = (fx_vf)(((fx_vi)dl & lt) | ((fx_vi)lo & ~lt));
+                    hi = (fx_vf)(((fx_vi)dh & gt) | ((fx_vi)hi & ~gt));
+                }
+            }
+            float *o = out + 2 * bx;
+            for (int e = 0; e < FX_VW; e++) {
+                o[0] = lo[e] < o[0] ? lo[e] : o[0];
+                o[1] = hi[e] > o[1] ? hi[e] : o[1];
+            }
+        }
         for (uint32_t y = by * FX_MM_BLOCK; y < y1; y++) {
             const float *row = atl + (size_t)y * aw;
-            for (uint32_t tx = 0; tx < res; tx++) {
+            for (uint32_t tx = whole * FX_MM_BLOCK; tx < res; tx++) {
                 float d = row[tx];
                 float *o = out + 2 * (tx / FX_MM_BLOCK);
-                /* NaN depths: neither bound decides, the texel's own test does */
                 if (!(d >= o[0]))
                     o[0] = d != d ? -INFINITY : d;
                 if (!(d <= o[1]))
@@ -913,7 +970,8 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         uint32_t res = f->sm->resolution;
         x.ortho[x.n_sh] = m[3] == 0.0f && m[7] == 0.0f && m[11] == 0.0f && m[15] == 1.0f &&
                           (uint64_t)R->tile_x + res <= f->sm->atlas_width &&
-                          (uint64_t)R->tile_y + res <= f->sm->atlas_height;
+                          (uint64_t)R->tile_y + res <= f->sm->atlas_height &&
+                          (uint64_t)res * f->sm->atlas_width <= UINT32_MAX; /* texel offsets */
         x.n_ortho += x.ortho[x.n_sh];
         for (int row = 0; row < 3; row++) {
             double a = (double)m[row] * v->eye[0] + (double)m[4 + row] * v->eye[1] +
