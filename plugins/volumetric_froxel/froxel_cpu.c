@@ -84,6 +84,8 @@ typedef struct fx_cpu_ctx {
     uint32_t n_ortho;
     const float *mm[VOL_MAX_LIGHTS]; /* ortho: (min, max) per block, mm_n blocks a row */
     uint32_t mm_n;
+    uint32_t mm_shift; /* the bounds' rows lie 2^mm_shift blocks apart (>= mm_n: a shift, not
+                        * a multiply, in the vector loop) */
     float ta[VOL_MAX_LIGHTS][3];
     float tscale[3];
     /* froxel.h 4.: the lights of the second path (n_gen 0: it does not run) */
@@ -372,10 +374,13 @@ _Static_assert(FX_MM_BLOCK % FX_VW == 0, "fx_minmax reads a block row as whole v
  * no division); the test is the block bounds' (fx_minmax: the depth test is monotonic in
  * the stored depth, so the bounds decide most froxels without reading their texel) and,
  * in a block that holds the froxel's depth between its bounds, the texel's own: the same
- * decisions, the same bits, as one froxel at a time. Written for the vectoriser (README.md,
- * "The light pass's floor"): FX_VW columns at once with masks instead of branches, so that
- * the loads of the bounds are independent of each other and of any branch; the one branch
- * left per vector is whether a lane needs its texel. */
+ * decisions, the same bits, as one froxel at a time. A vector loop (README.md, "The
+ * directional pass as a vector loop"): FX_VW columns at once with masks instead of
+ * branches, so that the loads of the bounds are independent of each other and of any
+ * branch, in three passes per light and slice block: (1) the decisions, and a list of the
+ * froxels whose texel decides (the one branch per vector, rarely taken), their texels
+ * prefetched; (2) those texels, independent loads; (3) the masked sums. The lanes past a
+ * short chunk's end compute on zeros (tb, lp = 0: they add 0) and are never read. */
 __attribute__((noinline)) static void
 fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[FX_CPU_GRAIN][3],
                 const float tb[VOL_MAX_LIGHTS][3][FX_CPU_GRAIN],
@@ -383,7 +388,7 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
 {
     const lg_shadowmap *sm = x->f->sm;
     const float res = (float)sm->resolution, bias = sm->bias_constant;
-    const uint32_t aw = sm->atlas_width, mn = x->mm_n;
+    const uint32_t aw = sm->atlas_width, rs = x->mm_shift + 1; /* a row of (min, max) */
     /* one light's decisions over the block, and the froxels its texels decide (at most all:
      * the list's last entry may be written past its count, never read) */
     int32_t shm[FX_KB * FX_CPU_GRAIN];
@@ -401,7 +406,7 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
         const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
         const float *mml = x->mm[l];
         /* 1. the bounds' decision per froxel (shadowed: all ones), and the froxels whose
-         * texel decides, listed without a branch: (sh index, texel offset, depth) */
+         * texel decides, listed: (sh index, texel offset, depth) */
         uint32_t n_open = 0;
         for (uint32_t kk = 0; kk < kn; kk++) {
             const float t = x->tj[k0 + kk];
@@ -416,7 +421,7 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
                  * reads */
                 const fx_vu iu = (fx_vu) __builtin_convertvector((fx_vf)((fx_vi)u & in), fx_vi);
                 const fx_vu iv = (fx_vu) __builtin_convertvector((fx_vf)((fx_vi)vv & in), fx_vi);
-                const fx_vu bi = 2 * ((iv / FX_MM_BLOCK) * mn + iu / FX_MM_BLOCK);
+                const fx_vu bi = ((iv / FX_MM_BLOCK) << rs) + 2 * (iu / FX_MM_BLOCK);
                 /* each lane's (min, max) pair in one 8-byte load, then split */
                 double p0, p1, p2, p3;
                 memcpy(&p0, mml + bi[0], sizeof p0);
@@ -674,7 +679,7 @@ static void fx_minmax(void *ctx, size_t begin, size_t end, uint32_t chunk)
         uint32_t l = (uint32_t)(idx / nb), by = (uint32_t)(idx % nb);
         if (!x->ortho[l])
             continue;
-        float *out = (float *)x->mm[l] + 2 * (size_t)by * nb;
+        float *out = (float *)x->mm[l] + ((size_t)by << (x->mm_shift + 1));
         const float *atl = x->atlas + (size_t)x->tile[l][1] * aw + x->tile[l][0];
         for (uint32_t bx = 0; bx < nb; bx++)
             out[2 * bx] = INFINITY, out[2 * bx + 1] = -INFINITY;
@@ -986,7 +991,9 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
     if (x.n_ortho) {
         /* each orthographic record's depth bounds per block (fx_minmax) */
         uint32_t res = f->sm->resolution, nb = (res + FX_MM_BLOCK - 1) / FX_MM_BLOCK;
-        size_t need = (size_t)x.n_sh * nb * nb * 2;
+        while ((1u << x.mm_shift) < nb)
+            x.mm_shift++;
+        size_t need = ((size_t)x.n_sh * nb * 2) << x.mm_shift;
         if (need > c->mm_cap) {
             float *mm = realloc(c->mm, need * sizeof(float));
             if (!mm)
@@ -999,7 +1006,7 @@ int fx_cpu_execute(lg_node *n, void **state, const fx_frame *f)
         }
         x.mm_n = nb;
         for (uint32_t l = 0; l < x.n_sh; l++)
-            x.mm[l] = c->mm + (size_t)l * nb * nb * 2;
+            x.mm[l] = c->mm + (((size_t)l * nb * 2) << x.mm_shift);
         rc = lg_parallel_for(n, (size_t)x.n_sh * nb, 1, fx_minmax, &x);
         if (rc)
             return rc;
