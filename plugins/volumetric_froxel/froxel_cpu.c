@@ -362,6 +362,12 @@ typedef float fx_vf __attribute__((vector_size(4 * FX_VW)));
 typedef int32_t fx_vi __attribute__((vector_size(4 * FX_VW)));
 typedef uint32_t fx_vu __attribute__((vector_size(4 * FX_VW)));
 typedef double fx_v2d __attribute__((vector_size(16)));
+/* lanes i0 .. i3 of the 8 of a and b (gcc and clang name it differently) */
+#if defined(__clang__)
+#define FX_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
+#define FX_SHUFFLE(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, (fx_vi){ i0, i1, i2, i3 })
+#endif
 _Static_assert(FX_CPU_GRAIN % FX_VW == 0, "a chunk is a whole number of vectors");
 _Static_assert(FX_VW == 4, "fx_ortho_slices loads the bounds of 4 lanes as 2 x 2 pairs");
 _Static_assert(FX_MM_BLOCK % FX_VW == 0, "fx_minmax reads a block row as whole vectors");
@@ -429,8 +435,8 @@ fx_ortho_slices(const fx_cpu_ctx *x, uint32_t k0, uint32_t kn, const float unsh[
                 memcpy(&p2, mml + bi[2], sizeof p2);
                 memcpy(&p3, mml + bi[3], sizeof p3);
                 const fx_vf q01 = (fx_vf)(fx_v2d){ p0, p1 }, q23 = (fx_vf)(fx_v2d){ p2, p3 };
-                const fx_vf lo = __builtin_shuffle(q01, q23, (fx_vi){ 0, 2, 4, 6 });
-                const fx_vf hi = __builtin_shuffle(q01, q23, (fx_vi){ 1, 3, 5, 7 });
+                const fx_vf lo = FX_SHUFFLE(q01, q23, 0, 2, 4, 6);
+                const fx_vf hi = FX_SHUFFLE(q01, q23, 1, 3, 5, 7);
                 const fx_vi past_lo = in & (z > lo + bias), past_hi = z > hi + bias;
                 const fx_vi sh = past_lo & past_hi, open = past_lo & ~past_hi;
                 memcpy(&shm[kk * FX_CPU_GRAIN + c], &sh, sizeof sh);
