@@ -562,6 +562,11 @@ static const lg_node_type sr_types[] = {
         LG_PARAMS(sr_params),
         LG_INPUTS(sr_inputs),
         LG_OUTPUTS(sr_outputs),
+        /* a scene without any light: lit = unlit, so out is lit as it is (the other
+         * outputs black) and the plugin is not loaded */
+        .needs = LG_NEEDS_LIGHT,
+        .neutral = LG_NEUTRAL_PASSTHROUGH_FIRST,
+        .neutral_input = 1,
         .create = sr_create,
         .prepare = sr_prepare,
         .execute = sr_execute,

@@ -14,9 +14,10 @@
  *               share of a unit disk beyond the chord at c, (acos c - c sqrt(1 - c^2)) / pi;
  *               the penumbra's width is 2 h tan(s / 2)
  *   identity    out = lit bit for bit where V = 1, out = unlit where V = 0; a light of
- *               intensity 0 gives out = unlit everywhere
- *   errors      no light, a light index past the scene's, lit without depth, unlit of
- *               another size: exit 2 or 1 with the reason, no file
+ *               intensity 0 gives out = unlit everywhere; a scene without a light gates
+ *               the node (out = lit)
+ *   errors      a light index past the scene's, a negative light size, lit without depth,
+ *               unlit of another size: exit 2 or 1 with the reason, no file
  */
 #include <math.h>
 #include <stdbool.h>
@@ -352,6 +353,21 @@ static void case_identity(lg_test *t)
                       "intensity 0: out differs from unlit");
     lg_image_free(&o);
     lg_image_free(&u);
+    /* a scene without any light gates the node: out is lit as it is */
+    snprintf(g, sizeof g,
+             "lightgraph 1\n"
+             "s = test_shadow_scene { " SCENE " }\n"
+             "lit = phong { scene = s }\n"
+             "ref = shadow_reference { scene = s, lit = lit, unlit = lit }\n"
+             "output ref \"o.exr\" float\n"
+             "output lit \"l.exr\" float\n");
+    rc = render(t, g, "o.exr", &o, NULL);
+    LG_TEST_CHECK(t, rc == 0, "render without a light: %d", rc);
+    if (rc == 0 && lg_test_read(t, "l.exr", &l, NULL))
+        LG_TEST_CHECK(t, memcmp(o.pixels, l.pixels, (size_t)W * H * 16) == 0,
+                      "gated: out differs from lit");
+    lg_image_free(&o);
+    lg_image_free(&l);
 }
 
 static void expect_error(lg_test *t, const char *g, const char *want)
@@ -399,14 +415,6 @@ static void case_errors(lg_test *t)
              "ref = shadow_reference { scene = lamp, lit = flat, unlit = flat }\n"
              "output ref \"o.exr\" float\n");
     expect_error(t, g, "depth");
-    /* no light in the scene */
-    snprintf(g, sizeof g,
-             "lightgraph 1\n"
-             "s = test_shadow_scene { " SCENE " }\n"
-             "lit = phong { scene = s }\n"
-             "ref = shadow_reference { scene = s, lit = lit, unlit = lit }\n"
-             "output ref \"o.exr\" float\n");
-    expect_error(t, g, "no light");
 }
 
 int main(int argc, char **argv)
