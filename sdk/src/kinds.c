@@ -283,6 +283,28 @@ const lg_shadowmap *lg_shadowmap_get(lg_node *n, const lg_resource *res, lg_shad
     lg_cpu_view lv;
     if (mi->n_lights && lg_map_cpu(n, lights, LG_READ, &lv) != 0)
         return NULL;
+    /* Dual-paraboloid records are refused here, for every consumer at once (since ABI 3.3):
+     * no producer makes them (shadowmap's point_mode is always the cube), phong never read
+     * them and the lookups that did (this file's, froxel's gl and cl) were never tested on
+     * one, so a third-party producer's paraboloids would have been shaded by untested code,
+     * or silently unshadowed. */
+    const lg_shadow_light *rec = mi->n_lights ? lv.pixels : NULL;
+    for (uint32_t k = 0; k < mi->n_lights; k++)
+        if (rec[k].projection == LG_SHADOW_PERSPECTIVE &&
+            rec[k].face >= LG_SHADOW_FACE_PARABOLOID_FRONT) {
+            lg_error(n,
+                     "the shadow maps hold a dual-paraboloid map (record %u, light %u, face "
+                     "%u): no consumer reads dual-paraboloid maps (untested; the shadowmap "
+                     "node makes a point light's cube); give point lights six cube records",
+                     k, rec[k].light, rec[k].face);
+            return NULL;
+        }
+    if (mi->point_mode == LG_SHADOW_POINT_PARABOLOID) {
+        lg_error(n, "the shadow maps' point_mode is dual-paraboloid: no consumer reads "
+                    "dual-paraboloid maps (untested; the shadowmap node makes a point light's "
+                    "cube)");
+        return NULL;
+    }
     out->resolution = mi->resolution;
     out->n_lights = mi->n_lights;
     out->lights = mi->n_lights ? lv.pixels : NULL;

@@ -62,7 +62,8 @@ def _check_display(id, display):
 class Study:
     """One `lightgraph sweep` of `graph`: every combination of the `vary` values (the
     cartesian product, as sweep runs them), each compared with the reference (the graph
-    `reference`, or `graph` itself with `ref_sets`) and timed at node `time_node`.
+    `reference`, or `graph` itself with `ref_sets`) and timed at node `time_node` (None:
+    the whole graph, every node's CPU wall time summed, as `sweep` without --time times it).
 
     vary        [(NODE.PARAM, [value, ...]), ...] (values as strings, as --vary takes them)
     quick_vary  the same for --quick; None: the first and the last value of each vary
@@ -111,9 +112,10 @@ class Study:
         quick = ctx.quick
         graph = self.graph if os.path.isabs(self.graph) else os.path.join(ctx.root, self.graph)
         rep = 1 if quick else (repeat or self.repeat)
-        cmd = [ctx.lightgraph, "sweep", graph, "--time", self.time_node, "--repeat", str(rep),
-               "--frames", str(self.frames), "--size", self.quick_size if quick else self.size,
-               "-o", outdir, "--metric", self.metric]
+        cmd = [ctx.lightgraph, "sweep", graph] + (["--time", self.time_node]
+                                                   if self.time_node else [])
+        cmd += ["--repeat", str(rep), "--frames", str(self.frames), "--size",
+                self.quick_size if quick else self.size, "-o", outdir, "--metric", self.metric]
         for k, vs in (self.quick_vary if quick else self.vary):
             cmd += ["--vary", "%s=%s" % (k, ",".join(vs))]
         for s in self.sets:

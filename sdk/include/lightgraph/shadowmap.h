@@ -88,7 +88,10 @@ enum { LG_SHADOW_ORTHOGRAPHIC = 0, LG_SHADOW_PERSPECTIVE = 1 };
  * six consecutive perspective records of 90 degrees each, faces 0 .. 5 looking along +x,
  * -x, +y, -y, +z, -z from the light (a cube map's order), or two records
  * LG_SHADOW_FACE_PARABOLOID_FRONT/_BACK when the producer makes dual-paraboloid maps
- * (lg_shadowmap_info.point_mode). The records of one light are consecutive, in face order. */
+ * (lg_shadowmap_info.point_mode). The records of one light are consecutive, in face order.
+ * Since ABI 3.3 lg_shadowmap_get refuses dual-paraboloid records (and point_mode
+ * LG_SHADOW_POINT_PARABOLOID) with an error: no producer makes them and no consumer's
+ * lookup of them was tested; the values stay reserved. */
 enum {
     LG_SHADOW_FACE_POS_X = 0,
     LG_SHADOW_FACE_NEG_X,
@@ -187,7 +190,8 @@ LG_API int lg_shadowmap_publish(lg_node *node, uint32_t port, const lg_shadowmap
                                 const lg_shadow_light *lights);
 /* Consumer, execute(): fills *out from `res` and returns out; NULL without an error for an
  * unconnected input (res NULL) or a gated node's neutral result; NULL after lg_error for
- * another kind of resource or inconsistent parts. The pointers in *out live as long as
+ * another kind of resource, inconsistent parts or (since ABI 3.3) a dual-paraboloid
+ * record. The pointers in *out live as long as
  * the resource (until the node's execute returns, for safety). */
 LG_API const lg_shadowmap *lg_shadowmap_get(lg_node *node, const lg_resource *res,
                                             lg_shadowmap *out);
