@@ -87,6 +87,7 @@ typedef struct vr_run {
     double tnear_light; /* occlusion rays start this far from the medium point */
     /* the lg_shard items: spans of `span` pixels, spans_per_row of them per row */
     uint32_t span, spans_per_row;
+    uint64_t *computed; /* items this process computed (atomic; the others came from ranks) */
     vr_medium md;
     /* the medium's box for the rays that leave the view: secondary rays (any medium) and,
      * in a field, rays towards a directional light: the field's bounds, the scene's (with
@@ -550,6 +551,7 @@ static int vr_spans(void *ctx, uint64_t begin, uint64_t end, void *items, char *
         for (uint32_t x = x0; x < x1; x++)
             vr_pixel_px(r, x, y, &px[x - x0]);
     }
+    __atomic_fetch_add(r->computed, end - begin, __ATOMIC_RELAXED);
     return 0;
 }
 
@@ -725,6 +727,8 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
                         (double)(count * item_bytes) / 1048576.0);
     }
     lg_account_alloc(n, count * item_bytes);
+    uint64_t computed = 0;
+    r.computed = &computed;
     double t_shard = lg_now(n);
     lg_progress(n, 0.0, "ray marching");
     lg_shard_job job = { .count = count,
@@ -757,12 +761,13 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
             }
         lg_log(n, LG_LOG_DEBUG,
                "%ux%u, %u lights, spp %u, steps %u, order %u, paths %u, %s medium (%s); "
-               "Embree scene and set-up %.3f s, %llu spans of %u pixels (%llu bytes) %.3f s",
+               "Embree scene and set-up %.3f s; %llu spans of %u pixels (%llu bytes), %llu of "
+               "them computed by this process, %.3f s",
                st->width, st->height, v.n_lights, st->spp, st->steps, st->order, st->paths,
                r.md.hetero ? "heterogeneous" : "homogeneous",
                st->ratio ? "ratio tracking" : "delta tracking", t_shard - t_setup,
                (unsigned long long)count, r.span, (unsigned long long)(count * item_bytes),
-               t_done - t_shard);
+               (unsigned long long)__atomic_load_n(&computed, __ATOMIC_RELAXED), t_done - t_shard);
     }
     free(px);
     lg_account_free(n, count * item_bytes);
