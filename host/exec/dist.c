@@ -204,7 +204,12 @@ static void step_reason(char *err, size_t err_size)
 {
     for (int r = 0; r < d_size; r++)
         if (d_recs[r].status && d_recs[r].why[0]) {
-            snprintf(err, err_size, "%s", d_recs[r].why);
+            /* a job's reason names its items and rank already */
+            bool job = d_recs[r].kind == K_FIXED || d_recs[r].kind == K_MAP;
+            if (job)
+                snprintf(err, err_size, "%s", d_recs[r].why);
+            else
+                snprintf(err, err_size, "rank %d: %s", r, d_recs[r].why);
             return;
         }
     for (int r = 0; r < d_size; r++)
@@ -282,6 +287,8 @@ static void captured_reason(char *why, size_t size)
         return;
     if (strncmp(line, "lightgraph: ", 12) == 0)
         line += 12;
+    if (strncmp(line, "error: ", 7) == 0)
+        line += 7;
     snprintf(why, size, "%s", line);
 }
 
