@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/pool.h"
 #include "cli/commands.h"
+#include "exec/dist.h"
 #include "lightgraph/image.h"
 
 /* --max-pixels N (or =N), accepted anywhere on the command line and taken out of argv before
@@ -154,10 +156,9 @@ static void take_test_free_bytes(void)
     lg_test_free_bytes = (int64_t)n;
 }
 
-int main(int argc, char **argv)
+/* The command named by argv[1]; its exit status. */
+static int run_command(int argc, char **argv)
 {
-    env_defaults();
-    take_test_free_bytes();
     if (take_max_pixels(&argc, argv))
         return 2;
     if (argc < 2) {
@@ -191,4 +192,19 @@ int main(int argc, char **argv)
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;
+}
+
+int main(int argc, char **argv)
+{
+    /* The environment first (env_defaults: no write to it once a thread exists), then the
+     * MPI job, whose start-up may start threads of its own (PMIx, Open MPI's progress), then
+     * everything else. Without mpirun lg_dist_init does nothing at all. */
+    env_defaults();
+    if (lg_dist_init(&argc, &argv))
+        return lg_dist_finish(1);
+    /* ranks sharing this machine share its CPUs (LIGHTGRAPH_THREADS still wins) */
+    lg_pool_set_ranks_per_machine((uint32_t)lg_dist_local_size());
+    take_test_free_bytes();
+    /* every rank's status makes the job's: the worst of them, on every rank */
+    return lg_dist_finish(run_command(argc, argv));
 }
