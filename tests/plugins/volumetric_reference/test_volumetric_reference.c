@@ -62,8 +62,9 @@
  *                  the spans in their places: an unshadowed light on the mirror-symmetric
  *                  scene gives mirrored pixels equal within 1e-5, none black
  *   mpirun_single  (suite dist, builds with MPI) tests/dist/mpirun.sh 2 and 3 (one thread
- *                  a rank) give the bits of one process: a point light at order 1
- *   mpirun_order3  the same for the height fog at order 3
+ *                  a rank), and 2 ranks of 2 threads, give the bits of one process: a
+ *                  point light at order 1
+ *   mpirun_order3  2 and 3 ranks of one thread for the height fog at order 3
  */
 #include <errno.h>
 #include <math.h>
@@ -1230,15 +1231,16 @@ static double mono_now(void)
 }
 
 /* Runs `tests/dist/mpirun.sh np lightgraph render g.lgraph --size SHARD_SIZE` in the
- * scratch folder (every rank one thread). Returns the exit status, -1 on a signal. */
-static int render_mpirun(lg_test *t, int np)
+ * scratch folder, `threads` threads a rank. Returns the exit status, -1 on a signal. */
+static int render_mpirun(lg_test *t, int np, int threads)
 {
     const char *src = getenv("LG_SOURCE_ROOT");
     if (!src || !*src)
         LG_TEST_FAILF(t, "LG_SOURCE_ROOT is not set: cannot find tests/dist/mpirun.sh");
-    char script[4096], nps[16], log[4096];
+    char script[4096], nps[16], ths[16], log[4096];
     snprintf(script, sizeof script, "%s/tests/dist/mpirun.sh", src ? src : "");
     snprintf(nps, sizeof nps, "%d", np);
+    snprintf(ths, sizeof ths, "%d", threads);
     snprintf(log, sizeof log, "%s", lg_test_path(t, "mpirun.log"));
     const char *argv[] = { "/bin/sh",  script,   nps,        lg_test_exe(), "render",
                            "g.lgraph", "--size", SHARD_SIZE, NULL };
@@ -1248,7 +1250,7 @@ static int render_mpirun(lg_test *t, int np)
         FILE *f = freopen(log, "w", stdout);
         if (!f || dup2(fileno(stdout), 2) < 0 || chdir(lg_test_dir(t)) != 0)
             _exit(126);
-        setenv("LIGHTGRAPH_THREADS", "1", 1);
+        setenv("LIGHTGRAPH_THREADS", ths, 1);
         execv(argv[0], (char *const *)argv);
         _exit(127);
     }
@@ -1270,7 +1272,9 @@ static int render_mpirun(lg_test *t, int np)
     return rc;
 }
 
-/* One process, then mpirun.sh 2 and 3: the same bits of out and inscatter. */
+/* One process, then mpirun.sh 2 and 3 with one thread a rank (and, order 1, 2 ranks of
+ * two threads: a rank's chunk is then two spans, split over its threads): the same bits of
+ * out and inscatter. */
 static void mpirun_case(lg_test *t, bool order3)
 {
     static const char *const args[] = { "--size", SHARD_SIZE, NULL };
@@ -1284,15 +1288,18 @@ static void mpirun_case(lg_test *t, bool order3)
         return;
     }
     LG_TEST_CHECK(t, pair_sum(one) > 1e-3 * SW * SH, "%s: no fog (sum %g)", name, pair_sum(one));
-    for (int np = 2; np <= 3; np++) {
+    static const int runs[3][2] = { { 2, 1 }, { 3, 1 }, { 2, 2 } };
+    for (int k = 0; k < (order3 ? 2 : 3); k++) {
+        int np = runs[k][0], threads = runs[k][1];
         remove(lg_test_path(t, "i.exr"));
         remove(lg_test_path(t, "o.exr"));
         lg_image got[2] = { { 0 } };
         double t0 = mono_now();
-        rc = render_mpirun(t, np);
+        rc = render_mpirun(t, np, threads);
         double secs = mono_now() - t0;
         char what[96];
-        snprintf(what, sizeof what, "%s, mpirun -np %d against one process", name, np);
+        snprintf(what, sizeof what, "%s, mpirun -np %d (%d thread%s a rank) against one process",
+                 name, np, threads, threads > 1 ? "s" : "");
         if (rc == 0 && read_pair(t, got))
             same_bits(t, what, one, got);
         else
