@@ -87,6 +87,9 @@ static void help(FILE *f)
             "                   GL state, gating (docs/conform.md; exit 1 names the node,\n"
             "                   the check and the values)\n"
             "  lightgraph --version | help\n"
+            "  mpirun -np N lightgraph render|sweep|tune ...  the same command over N MPI\n"
+            "                   ranks: the work nodes share through lg_shard is spread,\n"
+            "                   rank 0 prints and writes (docs/distributed.md)\n"
             "\n"
             "option of every command: --max-pixels N  the largest image read or made, in\n"
             "  pixels (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/images.md)\n"
@@ -105,10 +108,11 @@ static void help(FILE *f)
             "  default 5),\n"
             "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers),\n"
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
-            "  default one per online CPU), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
+            "  default one per online CPU, divided among the ranks mpirun starts on one\n"
+            "  machine), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
             "  free bytes sweep assumes its output directory has)\n"
             "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/conform.md,\n"
-            "  docs/fuzzing.md\n",
+            "  docs/fuzzing.md, docs/distributed.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 

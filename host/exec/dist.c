@@ -57,7 +57,10 @@ static int local_fixed(uint64_t count, void *out, lg_dist_range_fn range, void *
     if (count == 0)
         return 0;
     err[0] = 0;
-    return range(ctx, 0, count, out, err, err_size) ? 1 : 0;
+    dist_depth++; /* a nested job inside range runs alone */
+    int rc = range(ctx, 0, count, out, err, err_size) ? 1 : 0;
+    dist_depth--;
+    return rc;
 }
 
 #ifndef LG_HAVE_MPI
@@ -137,16 +140,18 @@ int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t ite
 #include <fcntl.h>
 #include <limits.h>
 #include <mpi.h>
+#include <pthread.h>
 #include <unistd.h>
 
 /* ---- the job's state ------------------------------------------------------------------------- */
 
 static bool d_on; /* MPI_Init was called (started by mpirun) */
 static int d_rank, d_size = 1, d_local = 1;
-static MPI_Comm d_comm; /* a duplicate of MPI_COMM_WORLD: ours alone */
-static MPI_Win d_win;   /* rank 0's chunk counter (dynamic chunks) */
-static FILE *d_capture; /* a non-root rank's stderr, read back for its reason */
-static bool d_reported; /* a failure's reasons already reached rank 0 */
+static MPI_Comm d_comm;    /* a duplicate of MPI_COMM_WORLD: ours alone */
+static MPI_Win d_win;      /* rank 0's chunk counter (dynamic chunks) */
+static FILE *d_capture;    /* a non-root rank's stderr, read back for its reason */
+static pthread_t d_thread; /* main()'s: the one that calls MPI */
+static bool d_reported;    /* a failure's reasons already reached rank 0 */
 
 /* The kinds of collective call. Every call opens with the same step (dist_step), so that a
  * rank in one call and a rank in another still match their MPI calls and see each other's
@@ -238,6 +243,10 @@ static void step_print(void)
     for (int r = 1; r < d_size; r++) {
         if (!d_recs[r].status || !d_recs[r].why[0])
             continue;
+        /* bad usage or a bad graph (status 2) is the same command line and graph on every
+         * rank: rank 0 said it already */
+        if (d_recs[r].status == 2 && d_recs[0].status == 2)
+            continue;
         bool seen = false;
         for (int q = 1; q < r && !seen; q++)
             seen = d_recs[q].status && strcmp(d_recs[q].why, d_recs[r].why) == 0;
@@ -279,10 +288,17 @@ static void captured_reason(char *why, size_t size)
     if (n <= 0)
         return;
     buf[n] = 0;
-    char *line = NULL;
-    for (char *p = strtok(buf, "\n"); p; p = strtok(NULL, "\n"))
+    /* the last error line, else the last line that is not a warning (a graph error's
+     * excerpt and caret follow its message) */
+    char *line = NULL, *error = NULL;
+    for (char *p = strtok(buf, "\n"); p; p = strtok(NULL, "\n")) {
         if (*p && !strstr(p, "warning:"))
             line = p;
+        if (strstr(p, "error:"))
+            error = p;
+    }
+    if (error)
+        line = error;
     if (!line)
         return;
     if (strncmp(line, "lightgraph: ", 12) == 0)
@@ -306,6 +322,7 @@ int lg_dist_init(int *argc, char ***argv)
         return 1;
     }
     d_on = true;
+    d_thread = pthread_self();
     MPI_Comm_dup(MPI_COMM_WORLD, &d_comm);
     MPI_Comm_rank(d_comm, &d_rank);
     MPI_Comm_size(d_comm, &d_size);
@@ -393,10 +410,12 @@ int lg_dist_local_size(void)
     return d_local;
 }
 
-/* Whether a call runs on this rank alone. */
+/* Whether a call runs on this rank alone: no job, one rank, inside an lg_dist_map item, or
+ * on a thread other than main()'s (an lg_shard inside a node's lg_parallel_for chunk: MPI
+ * is FUNNELED; every rank makes the same nested call, so every rank runs it alone). */
 static bool alone(void)
 {
-    return !d_on || d_size == 1 || dist_depth > 0;
+    return !d_on || d_size == 1 || dist_depth > 0 || !pthread_equal(pthread_self(), d_thread);
 }
 
 int lg_dist_agree(int status, const char *why)
@@ -544,7 +563,10 @@ int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t ite
             uint64_t b = c * grain, e = b + grain < count ? b + grain : count;
             mine[c] = d_rank;
             why[0] = 0;
-            if (range(ctx, b, e, (char *)out + b * item_bytes, why, sizeof why)) {
+            dist_depth++;
+            int bad = range(ctx, b, e, (char *)out + b * item_bytes, why, sizeof why);
+            dist_depth--;
+            if (bad) {
                 failed = 1;
                 chunk_op(CHUNK_STOP, MPI_REPLACE);
                 break;

@@ -48,8 +48,9 @@ bool lg_dist_root(void); /* rank 0: prints, writes files and cache entries */
 /* Ranks that share this machine (MPI_COMM_TYPE_SHARED), >= 1: the host's pool takes
  * (online CPUs / local ranks) threads per rank unless LIGHTGRAPH_THREADS says otherwise. */
 int lg_dist_local_size(void);
-/* Inside an lg_dist_map item (a sweep's point): nested calls run on this rank alone, and
- * so do every collective call's (they are the local computation, as in one process). */
+/* Inside an lg_dist_map item (a sweep's point) or an lg_dist_fixed range (a job's chunk):
+ * nested calls run on this rank alone, every collective call as the local computation (as
+ * in one process); so do calls from a thread other than lg_dist_init's. */
 bool lg_dist_nested(void);
 
 /* The worst (largest) of every rank's status: 0 when every rank passed 0. `why` is the
