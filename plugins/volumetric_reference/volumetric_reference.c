@@ -26,6 +26,11 @@
  * each light: the medium shadows itself); orders 2 .. `order` by path tracing with
  * next-event estimation. Directional lights in a homogeneous medium at order 1 keep the
  * estimator above, bit for bit.
+ *
+ * Since issue 26 (README.md, "Over MPI ranks"): the pixels are lg_shard items (spans of at
+ * most VR_SPAN pixels of a row), spread over the host's threads and, under mpirun, over
+ * every rank; each rank builds the Embree scene itself. The same bits for any count of
+ * either, and the same bits as before.
  */
 #include <float.h>
 #include <math.h>
@@ -33,6 +38,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <embree3/rtcore.h>
 
@@ -49,6 +55,8 @@
 #define VR_MAX_SPP 4096
 #define VR_MAX_ORDER 64
 #define VR_MAX_PATHS 4096
+/* the most pixels of one lg_shard item (a span of a row; vr_execute says why) */
+#define VR_SPAN 64
 /* Seconds one thread takes per occlusion ray, the march's step around it included.
  * Measured here (2-core VM shared with compiles, LIGHTGRAPH_THREADS=1):
  * examples/volumetric_reference.lgraph at 160x90, spp 4, steps 256, one light: 1.47e7
@@ -76,11 +84,11 @@ typedef struct vr_run {
     const lg_embree *e;
     const float *base, *depth; /* rgba32f and window depth, row_pixels apart */
     size_t base_row;
-    float *out, *out_depth, *insc;
-    size_t out_row, depth_row, insc_row;
     uint32_t side;      /* spp = side^2, or 0: Latin hypercube */
     double tnear_light; /* occlusion rays start this far from the medium point */
-    size_t row0;        /* the batch's first row */
+    /* the lg_shard items: spans of `span` pixels, spans_per_row of them per row */
+    uint32_t span, spans_per_row;
+    uint64_t *computed; /* items this process computed (atomic; the others came from ranks) */
     vr_medium md;
     /* the medium's box for the rays that leave the view: secondary rays (any medium) and,
      * in a field, rays towards a directional light: the field's bounds, the scene's (with
@@ -498,36 +506,64 @@ static void vr_base_T(const vr_run *r, uint32_t x, uint32_t y, double d, double 
     }
 }
 
-static void vr_rows(void *ctx, size_t begin, size_t end, uint32_t chunk)
+/* One pixel's result, an lg_shard item's element: out's and inscatter's colour (alpha and
+ * depth come from base, which every rank has). */
+typedef struct vr_px {
+    float out[3], insc[3];
+} vr_px;
+
+/* Pixel (x, y)'s in-scattering and the extinction of the surface behind it into *px. */
+static void vr_pixel_px(const vr_run *r, uint32_t x, uint32_t y, vr_px *px)
 {
-    (void)chunk;
-    const vr_run *r = ctx;
     const vol_setup *v = r->v;
-    for (size_t y = r->row0 + begin; y < r->row0 + end; y++)
-        for (uint32_t x = 0; x < v->width; x++) {
-            double lv[3];
-            vr_pixel(r, x, (uint32_t)y, lv);
-            const float *b = r->base + (y * r->base_row + x) * 4;
-            float dz = r->depth[y * r->base_row + x];
-            /* extinction of the surface behind the fog: the pixel-centre ray to the depth
-             * the raster stored (what base shows) */
-            double d = vol_fog_length(v, x + 0.5, y + 0.5, dz);
-            float *o = r->out + (y * r->out_row + x) * 4;
-            float *s = r->insc + (y * r->insc_row + x) * 4;
-            double Tf[3] = { 0, 0, 0 };
-            if (r->md.hetero && isfinite(d))
-                vr_base_T(r, x, (uint32_t)y, d, Tf);
-            for (int ch = 0; ch < 3; ch++) {
-                double T = !isfinite(d)   ? 0.0
-                           : r->md.hetero ? Tf[ch]
-                                          : exp(-(double)v->sigma_t[ch] * d);
-                o[ch] = (float)((double)b[ch] * T + lv[ch]);
-                s[ch] = (float)lv[ch];
-            }
-            o[3] = b[3];
-            s[3] = 1.0f;
-            r->out_depth[y * r->depth_row + x] = dz;
-        }
+    double lv[3];
+    vr_pixel(r, x, y, lv);
+    const float *b = r->base + ((size_t)y * r->base_row + x) * 4;
+    float dz = r->depth[(size_t)y * r->base_row + x];
+    /* extinction of the surface behind the fog: the pixel-centre ray to the depth the
+     * raster stored (what base shows) */
+    double d = vol_fog_length(v, x + 0.5, y + 0.5, dz);
+    double Tf[3] = { 0, 0, 0 };
+    if (r->md.hetero && isfinite(d))
+        vr_base_T(r, x, y, d, Tf);
+    for (int ch = 0; ch < 3; ch++) {
+        double T = !isfinite(d) ? 0.0 : r->md.hetero ? Tf[ch] : exp(-(double)v->sigma_t[ch] * d);
+        px->out[ch] = (float)((double)b[ch] * T + lv[ch]);
+        px->insc[ch] = (float)lv[ch];
+    }
+}
+
+/* lg_shard's run: items [begin, end), each a span of r->span pixels of one row (item i:
+ * row i / spans_per_row, pixels from (i % spans_per_row) x span; the row's last span may
+ * be shorter, its tail zeros). Every random number is a hash of (seed, pixel, ray, ...):
+ * an item's bytes depend on its index alone, whichever thread or rank computes it. */
+static int vr_spans(void *ctx, uint64_t begin, uint64_t end, void *items, char *err,
+                    size_t err_size)
+{
+    (void)err;
+    (void)err_size;
+    const vr_run *r = ctx;
+    vr_px *px = items;
+    for (uint64_t i = begin; i < end; i++, px += r->span) {
+        uint32_t y = (uint32_t)(i / r->spans_per_row);
+        uint32_t x0 = (uint32_t)(i % r->spans_per_row) * r->span;
+        uint32_t x1 = x0 + r->span < r->v->width ? x0 + r->span : r->v->width;
+        memset(px + (x1 - x0), 0, (size_t)(r->span - (x1 - x0)) * sizeof *px);
+        for (uint32_t x = x0; x < x1; x++)
+            vr_pixel_px(r, x, y, &px[x - x0]);
+    }
+    __atomic_fetch_add(r->computed, end - begin, __ATOMIC_RELAXED);
+    return 0;
+}
+
+/* The CPU seconds of every thread of this process (the debug line's measure of the
+ * per-pixel cost: unlike wall time it holds on a machine shared with other work). */
+static double vr_cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* ---- the node -------------------------------------------------------------------------------- */
@@ -639,6 +675,7 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
 
     /* every instance in world space, as prt_bake builds it (plugins/embree_common), at
      * this frame's pose when the scene is animated (ABI 3.1) */
+    double t_setup = lg_now(n);
     lg_embree e;
     rc = lg_embree_make_at(n, s, frame->time, &e);
     if (rc) {
@@ -656,12 +693,6 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         .base = bv.pixels,
         .depth = bv.depth,
         .base_row = bv.row_pixels,
-        .out = ov.pixels,
-        .out_depth = ov.depth,
-        .insc = iv.pixels,
-        .out_row = ov.row_pixels,
-        .depth_row = ov.row_pixels,
-        .insc_row = iv.row_pixels,
         .side = side * side == st->spp ? side : 0,
         /* occlusion rays start in the medium, not on a surface: a small fraction of the
          * scene's size clears float rounding at the origin without skipping geometry */
@@ -685,22 +716,73 @@ static int vr_execute(lg_node *n, const lg_frame *frame)
         if (r.md.hetero && v.medium.field->bounds_max[c] < FLT_MAX)
             r.box_hi[c] = v.medium.field->bounds_max[c];
     }
-    /* the rows in about 32 batches, so that the progress bar moves between them (the
-     * pool's chunks must not call the host); each row is one chunk: the work of a row is
-     * independent of which thread runs it, so the result is the same bits for any count */
-    uint32_t H = st->height, per = (H + 31) / 32;
-    for (uint32_t y0 = 0; y0 < H && rc == 0; y0 += per) {
-        uint32_t y1 = y0 + per < H ? y0 + per : H;
-        r.row0 = y0;
-        rc = lg_parallel_for(n, y1 - y0, 1, vr_rows, &r);
-        lg_progress(n, (double)y1 / H, "ray marching");
+    /* The pixels as lg_shard items (host.h: over the pool's threads, and under mpirun over
+     * every rank; the same bits for any count of either): spans of at most VR_SPAN pixels
+     * of one row, a row cut into equal spans. A row of a film-sized image is too coarse a
+     * unit for many ranks (the host hands a rank `grain` x its threads items at a time:
+     * 1080 rows over 64 ranks of 16 threads would leave half of them idle), and pixels
+     * through the bunny or a cloud cost more than the sky beside them, so a small grain of
+     * one span balances the load; a span still makes thousands of rays, beside which
+     * handing it out costs nothing. */
+    uint32_t W = st->width, H = st->height;
+    uint32_t nspan = (W + VR_SPAN - 1) / VR_SPAN;
+    r.span = (W + nspan - 1) / nspan;
+    r.spans_per_row = (W + r.span - 1) / r.span;
+    uint64_t count = (uint64_t)r.spans_per_row * H, item_bytes = (uint64_t)r.span * sizeof(vr_px);
+    /* every item on every rank: out and inscatter below are filled from it everywhere */
+    vr_px *px = malloc((size_t)(count * item_bytes));
+    if (!px) {
+        lg_embree_free(&e);
+        lg_account_free(n, counted);
+        return lg_error(n, "out of memory for %ux%u pixels' results (%.1f MiB)", W, H,
+                        (double)(count * item_bytes) / 1048576.0);
     }
-    if (rc == 0)
+    lg_account_alloc(n, count * item_bytes);
+    uint64_t computed = 0;
+    r.computed = &computed;
+    double t_shard = lg_now(n), c_shard = vr_cpu_seconds();
+    lg_progress(n, 0.0, "ray marching");
+    lg_shard_job job = { .count = count,
+                         .grain = 1,
+                         .item_bytes = item_bytes,
+                         .out = px,
+                         .run = vr_spans,
+                         .ctx = &r,
+                         .what = "pixel spans" };
+    rc = lg_shard(n, &job);
+    double t_done = lg_now(n), c_done = vr_cpu_seconds();
+    if (rc == 0) {
+        lg_progress(n, 1.0, "ray marching");
+        /* the items into the images; alpha and depth from base */
+        const float *bp = bv.pixels;
+        float *op = ov.pixels, *ip = iv.pixels;
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t x = 0; x < W; x++) {
+                const vr_px *q = &px[(size_t)y * r.spans_per_row * r.span + x];
+                const float *b = bp + ((size_t)y * bv.row_pixels + x) * 4;
+                float *o = op + ((size_t)y * ov.row_pixels + x) * 4;
+                float *i = ip + ((size_t)y * iv.row_pixels + x) * 4;
+                for (int ch = 0; ch < 3; ch++) {
+                    o[ch] = q->out[ch];
+                    i[ch] = q->insc[ch];
+                }
+                o[3] = b[3];
+                i[3] = 1.0f;
+                ov.depth[(size_t)y * ov.row_pixels + x] = bv.depth[(size_t)y * bv.row_pixels + x];
+            }
         lg_log(n, LG_LOG_DEBUG,
-               "%ux%u, %u lights, spp %u, steps %u, order %u, paths %u, %s medium (%s)", st->width,
-               st->height, v.n_lights, st->spp, st->steps, st->order, st->paths,
+               "%ux%u, %u lights, spp %u, steps %u, order %u, paths %u, %s medium (%s); "
+               "Embree scene and set-up %.3f s; %llu spans of %u pixels (%llu bytes), %llu of "
+               "them computed by this process, %.3f s (%.3f s of CPU)",
+               st->width, st->height, v.n_lights, st->spp, st->steps, st->order, st->paths,
                r.md.hetero ? "heterogeneous" : "homogeneous",
-               st->ratio ? "ratio tracking" : "delta tracking");
+               st->ratio ? "ratio tracking" : "delta tracking", t_shard - t_setup,
+               (unsigned long long)count, r.span, (unsigned long long)(count * item_bytes),
+               (unsigned long long)__atomic_load_n(&computed, __ATOMIC_RELAXED), t_done - t_shard,
+               c_done - c_shard);
+    }
+    free(px);
+    lg_account_free(n, count * item_bytes);
     lg_embree_free(&e);
     lg_account_free(n, counted);
     return rc;

@@ -53,11 +53,27 @@
  *                  ray (finite, the closed form); range 0 = range 1e6 bit for bit; a light
  *                  inside a closed box: exactly 0 at orders 1 and 2
  *   threads_local  point + spot in height fog at order 3: 1 and 2 threads, the same bits
+ *
+ * Since issue 26 (the pixels as lg_shard items, spans of at most 64 pixels of a row;
+ * README.md, "Over MPI ranks"), at 130x6 (three spans a row, the last one shorter):
+ *   shard_threads  LIGHTGRAPH_THREADS 1, 2 and 3 give the same bits of out and inscatter:
+ *                  a point light at order 1 (homogeneous), and a point and a directional
+ *                  light in height fog at order 3 (tracked transmittances, base's too);
+ *                  the spans in their places: an unshadowed light on the mirror-symmetric
+ *                  scene gives mirrored pixels equal within 1e-5, none black
+ *   mpirun_single  (suite dist, builds with MPI) tests/dist/mpirun.sh 2 and 3 (one thread
+ *                  a rank), and 2 ranks of 2 threads, give the bits of one process: a
+ *                  point light at order 1
+ *   mpirun_order3  2 and 3 ranks of one thread for the height fog at order 3
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "lightgraph/image.h"
 #include "lightgraph/medium.h"
@@ -1079,6 +1095,233 @@ static void case_threads_local(lg_test *t)
     lg_image_free(&img[1]);
 }
 
+/* ---- the pixels as lg_shard items (issue 26) ------------------------------------------------- */
+
+/* 130 pixels wide: three spans of 44, 44 and 42 pixels a row (VR_SPAN 64) */
+#define SW 130
+#define SH 6
+#define SHARD_SIZE "130x6"
+
+/* The two graphs of the shard cases: a point light in homogeneous fog at order 1, and a
+ * point and a directional light in height fog at order 3 (every transmittance tracked,
+ * base's extinction too). Jittered sub-pixels: every random stream is used. */
+static const char *shard_graph(char *buf, size_t size, bool order3)
+{
+    static const char *const point =
+        "lights = light { scene = cam, type = point, position = [0.3, 0.2, 2.5], intensity = 5 "
+        "}\n";
+    static const char *const two =
+        "pt = light { scene = cam, type = point, position = [0.3, 0.2, 2.5], intensity = 5 }\n"
+        "lights = light { scene = pt, direction = [0.3, -0.4, -1], intensity = 4 }\n";
+    if (!order3)
+        return graph2(buf, size, "", point, "0.4",
+                      ", subpixel = jittered, spp = 2, steps = 16, z_limit = 20, seed = 5");
+    return graph2(buf, size,
+                  "medium = true, field = height, falloff = 0.8, base_y = 0, scattering = "
+                  "[0.3, 0.3, 0.3], absorption = [0.1, 0.1, 0.1], g = 0.2",
+                  two, NULL,
+                  ", subpixel = jittered, spp = 2, steps = 8, order = 3, paths = 2, seed = 5");
+}
+
+/* Reads i.exr and o.exr of the last render into img[0], img[1]. */
+static bool read_pair(lg_test *t, lg_image img[2])
+{
+    return lg_test_read(t, "i.exr", &img[0], NULL) && lg_test_read(t, "o.exr", &img[1], NULL) &&
+           img[0].width == SW && img[0].height == SH && img[1].width == SW && img[1].height == SH;
+}
+
+/* Whether a and b (i.exr, o.exr each) have the same bits; says where they first differ. */
+static bool same_bits(lg_test *t, const char *what, const lg_image a[2], const lg_image b[2])
+{
+    static const char *const names[2] = { "inscatter", "out" };
+    bool same = true;
+    for (int k = 0; k < 2; k++) {
+        if (!a[k].pixels || !b[k].pixels) {
+            LG_TEST_FAILF(t, "%s: %s missing", what, names[k]);
+            same = false;
+            continue;
+        }
+        size_t n = (size_t)SW * SH * 4, diff = 0, first = 0;
+        for (size_t i = n; i-- > 0;)
+            if (memcmp(&a[k].pixels[i], &b[k].pixels[i], sizeof(float)) != 0)
+                diff++, first = i;
+        LG_TEST_CHECK(t, diff == 0,
+                      "%s: %s differs in %zu of %zu values, first pixel (%zu, %zu) channel %zu: "
+                      "%.9g against %.9g",
+                      what, names[k], diff, n, first / 4 % SW, first / 4 / SW, first % 4,
+                      (double)b[k].pixels[first], (double)a[k].pixels[first]);
+        same = same && diff == 0;
+    }
+    return same;
+}
+
+/* The sum of inscatter (a picture with fog in it, not a black one). */
+static double pair_sum(const lg_image img[2])
+{
+    double s = 0;
+    for (size_t i = 0; img[0].pixels && i < (size_t)SW * SH * 4; i++)
+        if (i % 4 != 3)
+            s += img[0].pixels[i];
+    return s;
+}
+
+static void case_shard_threads(lg_test *t)
+{
+    static const char *const args[] = { "--size", SHARD_SIZE, NULL };
+    char g[4096];
+    for (int k = 0; k < 2; k++) {
+        lg_test_write_text(t, "g.lgraph", shard_graph(g, sizeof g, k == 1));
+        lg_image img[3][2] = { { { 0 } } };
+        for (int th = 0; th < 3; th++) {
+            char v[8];
+            snprintf(v, sizeof v, "%d", th + 1);
+            setenv("LIGHTGRAPH_THREADS", v, 1);
+            int rc = lg_test_render(t, "g.lgraph", args, NULL);
+            LG_TEST_CHECK(t, rc == 0 && read_pair(t, img[th]), "%s, %d threads: render %d",
+                          k ? "order 3" : "order 1", th + 1, rc);
+        }
+        unsetenv("LIGHTGRAPH_THREADS");
+        for (int th = 1; th < 3; th++) {
+            char what[64];
+            snprintf(what, sizeof what, "%s, %d threads against 1", k ? "order 3" : "order 1",
+                     th + 1);
+            same_bits(t, what, img[0], img[th]);
+        }
+        LG_TEST_CHECK(t, pair_sum(img[0]) > 1e-3 * SW * SH, "%s: no fog (sum %g)",
+                      k ? "order 3" : "order 1", pair_sum(img[0]));
+        for (int th = 0; th < 3; th++)
+            lg_image_free(&img[th][0]), lg_image_free(&img[th][1]);
+    }
+    /* the spans in their places: the scene is mirror-symmetric about x = 0 and a light
+     * travelling -Z from behind the camera shadows no fog, so at pixel centres the
+     * inscatter of (x, y) and (129 - x, y) is the same closed form (to float rounding);
+     * a span computed for the wrong pixels or left out breaks the symmetry */
+    static const double L[3] = { 0, 0, -1 };
+    char lights[256];
+    lg_test_write_text(t, "g.lgraph",
+                       graph2(g, sizeof g, "", one_light(lights, sizeof lights, L, 3.0), "0.4",
+                              ", steps = 4, z_limit = 30"));
+    lg_image m[2] = { { 0 } };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    LG_TEST_CHECK(t, rc == 0 && read_pair(t, m), "mirror render: %d", rc);
+    double worst = 0;
+    int dark = 0;
+    for (int y = 0; m[0].pixels && y < SH; y++)
+        for (int x = 0; x < SW; x++)
+            for (int c = 0; c < 3; c++) {
+                double a = m[0].pixels[((size_t)y * SW + x) * 4 + c];
+                double b = m[0].pixels[((size_t)y * SW + (SW - 1 - x)) * 4 + c];
+                dark += !(a > 0.0);
+                worst = fmax(worst, rel(a, b));
+            }
+    LG_TEST_CHECK(t, m[0].pixels && dark == 0 && worst < 1e-5,
+                  "mirror: %d values not > 0, worst relative difference of mirrored pixels %.3g",
+                  dark, worst);
+    lg_test_note_("shard_threads mirror: worst relative difference of mirrored pixels %.2g\n",
+                  worst);
+    lg_image_free(&m[0]);
+    lg_image_free(&m[1]);
+}
+
+static double mono_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Runs `tests/dist/mpirun.sh np lightgraph render g.lgraph --size SHARD_SIZE` in the
+ * scratch folder, `threads` threads a rank. Returns the exit status, -1 on a signal. */
+static int render_mpirun(lg_test *t, int np, int threads)
+{
+    const char *src = getenv("LG_SOURCE_ROOT");
+    if (!src || !*src)
+        LG_TEST_FAILF(t, "LG_SOURCE_ROOT is not set: cannot find tests/dist/mpirun.sh");
+    char script[4096], nps[16], ths[16], log[4096];
+    snprintf(script, sizeof script, "%s/tests/dist/mpirun.sh", src ? src : "");
+    snprintf(nps, sizeof nps, "%d", np);
+    snprintf(ths, sizeof ths, "%d", threads);
+    snprintf(log, sizeof log, "%s", lg_test_path(t, "mpirun.log"));
+    const char *argv[] = { "/bin/sh",  script,   nps,        lg_test_exe(), "render",
+                           "g.lgraph", "--size", SHARD_SIZE, NULL };
+    pid_t pid = fork();
+    if (pid == 0) {
+        /* the child: the scratch folder, output to mpirun.log */
+        FILE *f = freopen(log, "w", stdout);
+        if (!f || dup2(fileno(stdout), 2) < 0 || chdir(lg_test_dir(t)) != 0)
+            _exit(126);
+        setenv("LIGHTGRAPH_THREADS", ths, 1);
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    while (pid > 0 && waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    int rc = pid < 0 ? -2 : WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (rc != 0) {
+        /* what mpirun and the ranks said */
+        FILE *f = fopen(log, "r");
+        char line[1024];
+        fprintf(stderr, "$ %s %s lightgraph render g.lgraph --size %s -> %d\n", script, nps,
+                SHARD_SIZE, rc);
+        while (f && fgets(line, sizeof line, f))
+            fputs(line, stderr);
+        if (f)
+            fclose(f);
+    }
+    return rc;
+}
+
+/* One process, then mpirun.sh 2 and 3 with one thread a rank (and, order 1, 2 ranks of
+ * two threads: a rank's chunk is then two spans, split over its threads): the same bits of
+ * out and inscatter. */
+static void mpirun_case(lg_test *t, bool order3)
+{
+    static const char *const args[] = { "--size", SHARD_SIZE, NULL };
+    const char *name = order3 ? "order 3, height fog" : "order 1, point light";
+    char g[4096];
+    lg_test_write_text(t, "g.lgraph", shard_graph(g, sizeof g, order3));
+    lg_image one[2] = { { 0 } };
+    int rc = lg_test_render(t, "g.lgraph", args, NULL);
+    if (!(rc == 0 && read_pair(t, one))) {
+        LG_TEST_FAILF(t, "%s: one process: render %d", name, rc);
+        return;
+    }
+    LG_TEST_CHECK(t, pair_sum(one) > 1e-3 * SW * SH, "%s: no fog (sum %g)", name, pair_sum(one));
+    static const int runs[3][2] = { { 2, 1 }, { 3, 1 }, { 2, 2 } };
+    for (int k = 0; k < (order3 ? 2 : 3); k++) {
+        int np = runs[k][0], threads = runs[k][1];
+        remove(lg_test_path(t, "i.exr"));
+        remove(lg_test_path(t, "o.exr"));
+        lg_image got[2] = { { 0 } };
+        double t0 = mono_now();
+        rc = render_mpirun(t, np, threads);
+        double secs = mono_now() - t0;
+        char what[96];
+        snprintf(what, sizeof what, "%s, mpirun -np %d (%d thread%s a rank) against one process",
+                 name, np, threads, threads > 1 ? "s" : "");
+        if (rc == 0 && read_pair(t, got))
+            same_bits(t, what, one, got);
+        else
+            LG_TEST_FAILF(t, "%s: exit %d, or no 130x6 i.exr and o.exr", what, rc);
+        lg_test_note_("%s: %.1f s\n", what, secs);
+        lg_image_free(&got[0]);
+        lg_image_free(&got[1]);
+    }
+    lg_image_free(&one[0]);
+    lg_image_free(&one[1]);
+}
+
+static void case_mpirun_single(lg_test *t)
+{
+    mpirun_case(t, false);
+}
+
+static void case_mpirun_order3(lg_test *t)
+{
+    mpirun_case(t, true);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, VR_TEST_PLUGIN_DIR);
@@ -1101,6 +1344,9 @@ int main(int argc, char **argv)
         { "orders", case_orders },
         { "hard_local", case_hard_local },
         { "threads_local", case_threads_local },
+        { "shard_threads", case_shard_threads },
+        { "mpirun_single", case_mpirun_single },
+        { "mpirun_order3", case_mpirun_order3 },
     };
     lg_test_main_opts o = { .prefix = "volumetric_reference", .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
