@@ -1124,10 +1124,10 @@ int lg_cmd_tune(int argc, char **argv)
         bool plotted = false;
         int out_rc = lg_dist_root() ? write_outputs(&t, &plotted) : 0;
         rc = report(&t, chosen);
-        if (out_rc == 0 && lg_dist_root())
+        if (out_rc == 0 && lg_dist_root()) /* rank 0 alone writes (and says so) */
             printf("wrote %s, %s%s\n", t.csv_path, t.gp_path,
                    plotted ? " and tune.png" : " (gnuplot not run: install gnuplot-nox)");
-        else if (rc == 0)
+        else if (out_rc && rc == 0)
             rc = 1;
     } else if (t.outs) {
         fprintf(stderr, "lightgraph tune: nothing was written to %s\n", args.dir);
