@@ -380,7 +380,9 @@ static int render_reference(sweep *sw)
         char err[1024];
         fprintf(stderr, "sweep: reference (image %s, %ux%u)\n", a->reference, sw->ref.width,
                 sw->ref.height);
-        if (lg_outputs_write_image(sw->outs, sw->ref_out, &sw->ref, NULL, err, sizeof err)) {
+        /* rank 0 alone writes it (the others have no outputs) */
+        if (sw->outs &&
+            lg_outputs_write_image(sw->outs, sw->ref_out, &sw->ref, NULL, err, sizeof err)) {
             fprintf(stderr, "lightgraph sweep: %s\n", err);
             return 1;
         }

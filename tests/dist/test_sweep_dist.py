@@ -12,6 +12,8 @@ files as one process.
             answer does not hinge on time (one combination: the smallest n within E is the
             only candidate): the same answer (n = 84), the same renders line and tune.csv
             identical but for the time columns and on_front (a Pareto front of times)
+  refimage NP  a sweep against --reference REF_IMAGE (an EXR rendered before): the same
+            files as one process (rank 0 alone writes reference.exr)
   fail NP   a sweep whose run 3 fails in execute (test_work fail_frame = 0): exit 1, the
             run's number and its node's reason on stderr (rank 0's), no file in DIR
 
@@ -100,6 +102,28 @@ def test_sweep(d, np, env):
           "stdout differs:\n%s\n%s" % (p1.stdout, pn.stdout))
 
 
+def test_refimage(d, np, env):
+    """--reference REF_IMAGE: read by every rank, written by rank 0 alone."""
+    g = graph(d)
+    ref = os.path.join(d, "ref.exr")
+    run(["render", g, "--set", "law.exact=true", "--size", "16x12", "-o", ref], 1, env, 0)
+    one, many = os.path.join(d, "one"), os.path.join(d, "many")
+    os.makedirs(one)
+    os.makedirs(many)
+    args = ["sweep", g, "--vary", "law.n=1,2,3,5,8", "--reference", ref, "--repeat", "1"]
+    run(args + ["-o", one], 1, env, 0)
+    run(args + ["-o", many], np, env, 0)
+    files = sorted(os.listdir(one))
+    check(files == sorted(os.listdir(many)) and "run-004.exr" in files,
+          "files differ: %s against %s" % (files, sorted(os.listdir(many))))
+    for f in files:
+        if f.endswith(".exr") or f.startswith("heat-"):
+            check(read(os.path.join(one, f)) == read(os.path.join(many, f)),
+                  "%s differs between 1 process and %d ranks" % (f, np))
+    a = rows(os.path.join(one, "sweep.csv"), TIME_COLS)
+    check(a == rows(os.path.join(many, "sweep.csv"), TIME_COLS), "sweep.csv differs")
+
+
 def tune_args(g, out):
     return ["tune", g, "--node", "law", "--target-error", "0.012", "--vary", "n=1..4096",
             "--ref-set", "law.exact=true", "--size", "8x8", "--repeat", "3", "-o", out]
@@ -144,7 +168,8 @@ if __name__ == "__main__":
     env["LIGHTGRAPH_CACHE_DIR"] = os.path.join(tmp, "cache")
     env["TMPDIR"] = tmp  # the ranks' own temporaries: checked empty at the end
     try:
-        {"sweep": test_sweep, "tune": test_tune, "fail": test_fail}[mode](tmp, NP, env)
+        {"sweep": test_sweep, "refimage": test_refimage, "tune": test_tune,
+         "fail": test_fail}[mode](tmp, NP, env)
         left = [f for f in os.listdir(tmp) if f.startswith(".")]
         check(left == [], "temporaries left in TMPDIR: %s" % left)
     except Fail as e:
