@@ -243,6 +243,10 @@ static void step_print(void)
     for (int r = 1; r < d_size; r++) {
         if (!d_recs[r].status || !d_recs[r].why[0])
             continue;
+        /* bad usage or a bad graph (status 2) is the same command line and graph on every
+         * rank: rank 0 said it already */
+        if (d_recs[r].status == 2 && d_recs[0].status == 2)
+            continue;
         bool seen = false;
         for (int q = 1; q < r && !seen; q++)
             seen = d_recs[q].status && strcmp(d_recs[q].why, d_recs[r].why) == 0;
@@ -284,10 +288,17 @@ static void captured_reason(char *why, size_t size)
     if (n <= 0)
         return;
     buf[n] = 0;
-    char *line = NULL;
-    for (char *p = strtok(buf, "\n"); p; p = strtok(NULL, "\n"))
+    /* the last error line, else the last line that is not a warning (a graph error's
+     * excerpt and caret follow its message) */
+    char *line = NULL, *error = NULL;
+    for (char *p = strtok(buf, "\n"); p; p = strtok(NULL, "\n")) {
         if (*p && !strstr(p, "warning:"))
             line = p;
+        if (strstr(p, "error:"))
+            error = p;
+    }
+    if (error)
+        line = error;
     if (!line)
         return;
     if (strncmp(line, "lightgraph: ", 12) == 0)

@@ -15,4 +15,10 @@ shift
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # No network interfaces to probe on a single machine; keeps startup quiet and fast.
 export OMPI_MCA_btl="self,vader" OMPI_MCA_btl_vader_single_copy_mechanism=none
+# An ASan build (tests/meson.build sets ASAN_OPTIONS in every build; others ignore it):
+# whole stacks for LeakSanitizer, so that tests/lsan.supp's Open MPI entries match the
+# allocations MPI_Init makes through libraries without frame pointers.
+if [ -n "${ASAN_OPTIONS:-}" ]; then
+  export ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=0"
+fi
 exec mpirun -np "$np" --oversubscribe --bind-to none "$@"

@@ -254,6 +254,18 @@ static void test_env(void)
     unsetenv("LIGHTGRAPH_THREADS");
     CHECK(lg_pool_configured_size(&w) == (uint32_t)(cpus < 1 ? 1 : cpus) && !w);
 
+    /* the ranks of one MPI job on this machine share its CPUs; the variable still wins */
+    lg_pool_set_ranks_per_machine(2);
+    long half = cpus / 2;
+    CHECK(lg_pool_configured_size(&w) == (uint32_t)(half < 1 ? 1 : half) && !w);
+    lg_pool_set_ranks_per_machine((uint32_t)cpus + 5);
+    CHECK(lg_pool_configured_size(&w) == 1 && !w);
+    setenv("LIGHTGRAPH_THREADS", "3", 1);
+    CHECK(lg_pool_configured_size(&w) == 3 && !w);
+    unsetenv("LIGHTGRAPH_THREADS");
+    lg_pool_set_ranks_per_machine(0); /* the whole machine again */
+    CHECK(lg_pool_configured_size(&w) == (uint32_t)(cpus < 1 ? 1 : cpus) && !w);
+
     /* the process-wide pool follows the variable, is made once and is never NULL */
     setenv("LIGHTGRAPH_THREADS", "2", 1);
     lg_pool *g = lg_pool_global(NULL);
