@@ -30,7 +30,16 @@
  * DIR's file system against what the outputs need (sweep_bytes); the reference, CSV, script
  * and plot get their temporaries in DIR (default out/sweep, which must exist) then, each
  * run's image and heat map when the run starts; the files are committed together at the
- * end, or none. */
+ * end, or none.
+ *
+ * Under `mpirun -np N` (docs/distributed.md, docs/sweep.md) the runs are spread over the ranks
+ * by lg_dist_map (exec/dist.h), one run an item: a rank renders its runs whole (the graph's
+ * own lg_shard calls run on that rank alone), judges them against the reference and sends
+ * rank 0 what it writes: the run's EXR and heat map as files' bytes, its CSV row and its line.
+ * Every rank renders the reference together (its lg_shard calls are spread over the ranks)
+ * and rank 0's pixels are broadcast, so that every rank judges against the same bits. Rank 0
+ * alone checks DIR, writes and commits; the CSV is the one process's but for the times,
+ * measured on the rank that ran the run. */
 #include "cli/commands.h"
 
 #include <errno.h>
@@ -41,6 +50,7 @@
 #include <sys/statvfs.h>
 
 #include "lightgraph/image.h"
+#include "exec/dist.h"
 #include "exec/outputs.h"
 #include "cli/metric.h"
 #include "cli/sweep_args.h"
@@ -219,9 +229,26 @@ typedef struct sweep {
     bool ref_image; /* --reference names an image, not a graph */
     double ref_ms;  /* the reference render's total time; NaN for REF_IMAGE */
     lg_str csv;
-    char **runs, **heats; /* per run: its image and its heat map (a->total each) */
+    char **runs, **heats; /* per run: its image and its heat map (a->total each); rank 0 */
     char *ref_out, *csv_path, *gp_path, *png_path;
+    /* the runs spread over the ranks (sweep_item): where a rank other than 0 renders (its
+     * TMPDIR: DIR may exist on rank 0's machine only), the runs an earlier batch made, the
+     * exit status of this rank's failing run, and scratch arrays of n_sets + n_vary and
+     * repeat entries */
+    const char *scratch;
+    uint64_t batch_from;
+    int item_rc;
+    const char **run_sets;
+    double *times;
 } sweep;
+
+/* The last error the host logged (lg_hlog_error_hook) while a run rendered: the reason a
+ * failed run sends to rank 0, which does not see a rank's stderr. */
+static char last_error[400];
+static void keep_error(const char *m)
+{
+    snprintf(last_error, sizeof last_error, "%s", m);
+}
 
 /* The reference's overrides: the --set ones unless a reference graph is given, then the
  * --ref-set ones; an array with room for `extra` more (free it), the count in *n. */
@@ -353,7 +380,9 @@ static int render_reference(sweep *sw)
         char err[1024];
         fprintf(stderr, "sweep: reference (image %s, %ux%u)\n", a->reference, sw->ref.width,
                 sw->ref.height);
-        if (lg_outputs_write_image(sw->outs, sw->ref_out, &sw->ref, NULL, err, sizeof err)) {
+        /* rank 0 alone writes it (the others have no outputs) */
+        if (sw->outs &&
+            lg_outputs_write_image(sw->outs, sw->ref_out, &sw->ref, NULL, err, sizeof err)) {
             fprintf(stderr, "lightgraph sweep: %s\n", err);
             return 1;
         }
@@ -361,18 +390,56 @@ static int render_reference(sweep *sw)
     }
     int nrs;
     const char **rsets = reference_sets(a, 0, &nrs);
+    /* Every rank renders it (a node's lg_shard spreads over the ranks only when every rank
+     * makes the call), rank 0 into its output's temporary, the others into a temporary of
+     * their own that is removed once read. */
+    lg_outputs *own = lg_dist_root() ? NULL : lg_outputs_new();
+    char *dest = own ? lg_xasprintf("%s/reference.exr", sw->scratch) : NULL;
+    char err[1024];
     lg_exec_opts o = sw->opts;
-    o.output_override = sw->ref_out;
-    o.outputs = sw->outs;
+    o.output_override = own ? dest : sw->ref_out;
+    o.outputs = own ? own : sw->outs;
     lg_run_result res;
     fprintf(stderr, "sweep: reference (%s)\n", ref_graph);
-    int rc = lg_render_file(&sw->reg, ref_graph, rsets, nrs, &o, NULL, &res);
+    int rc = 0;
+    if (own && lg_outputs_add(own, dest, LG_OUTPUT_IMAGE, err, sizeof err)) {
+        fprintf(stderr, "lightgraph sweep: %s\n", err);
+        rc = 1;
+    }
+    if (rc == 0)
+        rc = lg_render_file(&sw->reg, ref_graph, rsets, nrs, &o, NULL, &res);
     free(rsets);
     if (rc == 0)
         sw->ref_ms = res.total_ms;
-    if (rc == 0 && read_image(lg_outputs_temp(sw->outs, sw->ref_out), &sw->ref))
+    if (rc == 0 && read_image(lg_outputs_temp(o.outputs, o.output_override), &sw->ref))
         rc = 1;
+    lg_outputs_free(&own);
+    free(dest);
     return rc;
+}
+
+/* Rank 0's reference (its pixels and ref_ms) on every rank, so that every rank judges its
+ * runs against the same bits and writes the same ref_ms: a rank whose render differed (a
+ * node that is not deterministic, another GL driver) cannot make the CSV differ from one
+ * process's. Collective; after every rank has its reference. Returns 0 or 1. */
+static int share_reference(sweep *sw)
+{
+    struct {
+        uint32_t width, height;
+        double ref_ms;
+    } head = { sw->ref.width, sw->ref.height, sw->ref_ms };
+    if (lg_dist_bcast(&head, sizeof head))
+        return 1;
+    sw->ref_ms = head.ref_ms;
+    if (head.width != sw->ref.width || head.height != sw->ref.height) {
+        lg_image_free(&sw->ref);
+        if (lg_image_alloc(&sw->ref, head.width, head.height)) {
+            fprintf(stderr, "lightgraph sweep: no memory for the reference (%ux%u)\n", head.width,
+                    head.height);
+            return 1;
+        }
+    }
+    return lg_dist_bcast(sw->ref.pixels, (size_t)head.width * head.height * 4 * sizeof(float));
 }
 
 /* The CSV's header: run, the varied parameters, then the columns of add_row. */
@@ -397,138 +464,281 @@ static void csv_number(lg_str *csv, const char *fmt, double v)
 }
 
 /* Why run k has no SSIM (its ssim is NaN), for the error of --metric dssim. */
-static void no_ssim(int k, const lg_image *img, const lg_metric_set *ms)
+static void no_ssim(const lg_image *img, const lg_metric_set *ms, char *why, size_t whylen)
 {
     if (img->width < LG_SSIM_WINDOW || img->height < LG_SSIM_WINDOW)
-        fprintf(stderr,
-                "lightgraph sweep: run %d: --metric dssim: the image is %ux%u, smaller than "
-                "SSIM's %dx%d window, so it has no SSIM (choose another --metric)\n",
-                k, img->width, img->height, LG_SSIM_WINDOW, LG_SSIM_WINDOW);
+        snprintf(why, whylen,
+                 "--metric dssim: the image is %ux%u, smaller than SSIM's %dx%d window, so it "
+                 "has no SSIM (choose another --metric)",
+                 img->width, img->height, LG_SSIM_WINDOW, LG_SSIM_WINDOW);
     else
-        fprintf(stderr,
-                "lightgraph sweep: run %d: --metric dssim: every one of its %llu SSIM windows "
-                "holds a pixel with NaN or Inf, so it has no SSIM\n",
-                k, (unsigned long long)ms->ssim_skipped);
+        snprintf(why, whylen,
+                 "--metric dssim: every one of its %llu SSIM windows holds a pixel with NaN or "
+                 "Inf, so it has no SSIM",
+                 (unsigned long long)ms->ssim_skipped);
 }
 
-/* Compares run k's image with the reference, writes its heat map and adds its CSV row
- * and its line on stdout. `owned` are its NODE.PARAM=VALUE overrides, times its --repeat
- * timings (sorted here). Returns 0, or 1 (printed). */
+/* Compares run k's image with the reference, writes its heat map into `heat_path` of `outs`
+ * and makes its CSV row and its line for stdout. `owned` are its NODE.PARAM=VALUE
+ * overrides, times its --repeat timings (sorted here). Returns 0, or 1 with the reason in
+ * why. */
 static int judge_run(sweep *sw, int k, const lg_image *img, char *const *owned, const char *label,
-                     double *times)
+                     double *times, lg_outputs *outs, const char *heat_path, lg_str *row,
+                     lg_str *line, char *why, size_t whylen)
 {
     const lg_sweep_args *a = sw->a;
-    char err[1024];
+    char err[512];
     lg_metric_set ms;
     const lg_image_metrics *m = &ms.base;
     lg_image heat = { 0 };
     int rc = 0;
     if (lg_metrics_compute(img, &sw->ref, &ms, &heat, 0, err, sizeof err)) {
-        fprintf(stderr, "lightgraph sweep: run %d against the reference: %s\n", k, err);
+        snprintf(why, whylen, "against the reference: %s", err);
         rc = 1;
     } else if (isnan(lg_metric_value(&ms, a->metric))) {
-        no_ssim(k, img, &ms); /* dssim is the one metric that can be NaN */
+        no_ssim(img, &ms, why, whylen); /* dssim is the one metric that can be NaN */
         rc = 1;
-    } else if (lg_outputs_write_image(sw->outs, sw->heats[k], &heat, NULL, err, sizeof err)) {
-        fprintf(stderr, "lightgraph sweep: %s\n", err);
+    } else if (lg_outputs_write_image(outs, heat_path, &heat, NULL, err, sizeof err)) {
+        snprintf(why, whylen, "%s", err);
         rc = 1;
     } else {
         qsort(times, a->repeat, sizeof *times, cmp_double);
-        lg_str_addf(&sw->csv, "%d", k);
+        lg_str_addf(row, "%d", k);
         for (int i = 0; i < a->n_vary; i++) {
             char *f = csv_field(strchr(owned[i], '=') + 1);
-            lg_str_addf(&sw->csv, ",%s", f);
+            lg_str_addf(row, ",%s", f);
             free(f);
         }
-        lg_str_addf(&sw->csv, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu", times[a->repeat / 2],
-                    times[0], m->rmse, m->psnr > 1e300 ? 999.0 : m->psnr, m->mean_abs, m->max_abs,
-                    m->rel_mse, (unsigned long long)m->nonfinite);
-        lg_str_addf(&sw->csv, ",%.9g", ms.rel_rmse);
-        csv_number(&sw->csv, "%.9g", ms.ssim);
-        csv_number(&sw->csv, "%.9g", 1.0 - ms.ssim);
-        lg_str_addf(&sw->csv, ",%.4f", times[a->repeat - 1]);
-        csv_number(&sw->csv, "%.4f", sw->ref_ms);
-        lg_str_addc(&sw->csv, '\n');
+        lg_str_addf(row, ",%.4f,%.4f,%.9g,%.4f,%.9g,%.9g,%.9g,%llu", times[a->repeat / 2], times[0],
+                    m->rmse, m->psnr > 1e300 ? 999.0 : m->psnr, m->mean_abs, m->max_abs, m->rel_mse,
+                    (unsigned long long)m->nonfinite);
+        lg_str_addf(row, ",%.9g", ms.rel_rmse);
+        csv_number(row, "%.9g", ms.ssim);
+        csv_number(row, "%.9g", 1.0 - ms.ssim);
+        lg_str_addf(row, ",%.4f", times[a->repeat - 1]);
+        csv_number(row, "%.4f", sw->ref_ms);
+        lg_str_addc(row, '\n');
         char ssim[32] = "n/a";
         if (!isnan(ms.ssim))
             snprintf(ssim, sizeof ssim, "%.4f", ms.ssim);
-        printf("%-40s time %9.3f ms  rmse %.4g  rel_rmse %.4g  ssim %s  max %.4g  psnr %.2f dB\n",
-               label, times[a->repeat / 2], m->rmse, ms.rel_rmse, ssim, m->max_abs, m->psnr);
-        fflush(stdout);
+        lg_str_addf(line,
+                    "%-40s time %9.3f ms  rmse %.4g  rel_rmse %.4g  ssim %s  max %.4g  psnr "
+                    "%.2f dB\n",
+                    label, times[a->repeat / 2], m->rmse, ms.rel_rmse, ssim, m->max_abs, m->psnr);
     }
     lg_image_free(&heat);
     return rc;
 }
 
-/* Run k of the cartesian product of the --vary values (the last --vary varies fastest):
- * --repeat renders with the --set overrides and its combination, timed, then judged.
- * run_sets and times are scratch arrays of n_sets + n_vary and repeat entries. Returns the
- * exit status. */
-static int sweep_run(sweep *sw, int k, const char **run_sets, double *times)
+/* What a run sends to rank 0 (its item's bytes, lg_dist_map): this head, then as many
+ * bytes of its image's file (the EXR the render wrote), of its heat map's (PNG), of its CSV
+ * row and of its line on stdout. A run of rank 0's wrote its files into their temporaries
+ * itself: exr and heat are 0. */
+typedef struct run_sent {
+    uint64_t exr, heat, row, line;
+} run_sent;
+
+/* Appends the bytes of the file at `path` to out; 0, or 1 with the reason in why. */
+static int add_file(lg_str *out, const char *path, uint64_t *len, char *why, size_t whylen)
 {
-    const lg_sweep_args *a = sw->a;
-    int n_vary = a->n_vary, rc = 0, nr = 0;
-    char err[1024];
-    for (int i = 0; i < a->n_sets; i++)
-        run_sets[nr++] = a->sets[i];
-    char **owned = lg_xcalloc((size_t)n_vary, sizeof *owned);
+    char err[512];
+    size_t n = 0;
+    char *b = lg_read_file_limit(path, (size_t)1 << 31, &n, err, sizeof err);
+    if (!b) {
+        snprintf(why, whylen, "%s", err);
+        return 1;
+    }
+    lg_str_addn(out, b, n);
+    *len = n;
+    free(b);
+    return 0;
+}
+
+/* The NODE.PARAM=VALUE overrides of run k (owned[i], malloc'd) and its label. Run k is k in
+ * the cartesian product of the --vary values, the last --vary varying fastest. */
+static void run_values(const lg_sweep_args *a, int k, char **owned, lg_str *label)
+{
     int idx = k;
-    lg_str label = { 0 };
-    for (int i = n_vary - 1; i >= 0; i--) {
+    for (int i = a->n_vary - 1; i >= 0; i--) {
         int j = idx % a->vary[i].n;
         idx /= a->vary[i].n;
         owned[i] = vary_set(&a->vary[i], j);
     }
-    for (int i = 0; i < n_vary; i++) {
-        run_sets[nr++] = owned[i];
-        lg_str_addf(&label, "%s%s", i ? " " : "", owned[i]);
-    }
-    lg_exec_opts o = sw->opts;
-    o.output_override = sw->runs[k];
-    o.outputs = sw->outs;
+    for (int i = 0; i < a->n_vary; i++)
+        lg_str_addf(label, "%s%s", i ? " " : "", owned[i]);
+}
+
+/* Run k, an lg_dist_map item (on whichever rank took it): --repeat renders with the --set
+ * overrides and its combination, timed, then judged; its run_sent to out. Rank 0 renders
+ * into its outputs' temporaries, the other ranks into temporaries of their own in their
+ * scratch folder, read into out and removed. Returns 0, or 1 with the reason in err (the map
+ * adds "sweep run K" and the rank) and the exit status in sw->item_rc. */
+static int sweep_item(void *ctx, uint64_t item, lg_str *out, char *err, size_t err_size)
+{
+    sweep *sw = ctx;
+    if (item < sw->batch_from)
+        return 0; /* an earlier batch's */
+    const lg_sweep_args *a = sw->a;
+    int k = (int)item, n_vary = a->n_vary, rc = 0, nr = 0;
+    for (int i = 0; i < a->n_sets; i++)
+        sw->run_sets[nr++] = a->sets[i];
+    char **owned = lg_xcalloc((size_t)n_vary, sizeof *owned);
+    lg_str label = { 0 }, row = { 0 }, line = { 0 };
+    run_values(a, k, owned, &label);
+    for (int i = 0; i < n_vary; i++)
+        sw->run_sets[nr++] = owned[i];
     fprintf(stderr, "sweep: run %d/%d: %s\n", k + 1, a->total, label.s);
-    /* this run's temporaries, now that it starts (checked before the reference) */
-    if (lg_outputs_add(sw->outs, sw->runs[k], LG_OUTPUT_IMAGE, err, sizeof err) ||
-        lg_outputs_add(sw->outs, sw->heats[k], LG_OUTPUT_IMAGE, err, sizeof err)) {
-        fprintf(stderr, "lightgraph sweep: run %d: %s\n", k, err);
+    bool here = lg_dist_root();
+    lg_outputs *own = here ? NULL : lg_outputs_new();
+    lg_outputs *outs = here ? sw->outs : own;
+    char *run = here ? sw->runs[k] : lg_xasprintf("%s/run-%03d.exr", sw->scratch, k);
+    char *heat = here ? sw->heats[k] : lg_xasprintf("%s/heat-%03d.png", sw->scratch, k);
+    char why[1024] = "";
+    /* this run's temporaries, now that it starts (rank 0's checked before the reference) */
+    if (lg_outputs_add(outs, run, LG_OUTPUT_IMAGE, why, sizeof why) ||
+        lg_outputs_add(outs, heat, LG_OUTPUT_IMAGE, why, sizeof why))
         rc = 1;
-    }
+    lg_exec_opts o = sw->opts;
+    o.output_override = run;
+    o.outputs = outs;
     bool found = true;
+    last_error[0] = 0;
+    lg_hlog_error_hook = keep_error;
     for (uint32_t r = 0; r < a->repeat && rc == 0; r++) {
         lg_run_result res;
-        rc = lg_render_file(&sw->reg, a->graph, run_sets, nr, &o, a->time_node, &res);
-        times[r] = a->time_node ? res.node_ms : res.total_ms;
+        rc = lg_render_file(&sw->reg, a->graph, sw->run_sets, nr, &o, a->time_node, &res);
+        sw->times[r] = a->time_node ? res.node_ms : res.total_ms;
         found &= !a->time_node || res.node_found;
     }
+    lg_hlog_error_hook = NULL;
+    if (rc && !why[0])
+        snprintf(why, sizeof why, "the render failed: %s",
+                 last_error[0] ? last_error : "see the messages above");
     if (rc == 0 && !found) {
-        fprintf(stderr, "lightgraph sweep: --time %s: no kept node of that name ran\n",
-                a->time_node);
+        snprintf(why, sizeof why, "--time %s: no kept node of that name ran", a->time_node);
         rc = 2;
     }
     lg_image img = { 0 };
-    if (rc == 0 && read_image(lg_outputs_temp(sw->outs, sw->runs[k]), &img))
+    if (rc == 0 && lg_image_read(lg_outputs_temp(outs, run), 0, &img, NULL, why, sizeof why))
         rc = 1;
     if (rc == 0)
-        rc = judge_run(sw, k, &img, owned, label.s, times);
+        rc = judge_run(sw, k, &img, owned, label.s, sw->times, outs, heat, &row, &line, why,
+                       sizeof why);
+    /* one process: the run's line now, as it finishes (under mpirun rank 0 prints every
+     * run's in run order when its batch is in) */
+    if (rc == 0 && lg_dist_size() == 1) {
+        fwrite(line.s, 1, line.len, stdout);
+        fflush(stdout);
+        line.len = 0;
+    }
+    run_sent sent = { .row = row.len, .line = line.len };
+    size_t at = out->len;
+    lg_str_addn(out, (const char *)&sent, sizeof sent);
+    if (rc == 0 && !here)
+        rc = add_file(out, lg_outputs_temp(outs, run), &sent.exr, why, sizeof why) ||
+             add_file(out, lg_outputs_temp(outs, heat), &sent.heat, why, sizeof why);
+    if (rc == 0) {
+        memcpy(out->s + at, &sent, sizeof sent);
+        lg_str_addn(out, row.s, row.len);
+        lg_str_addn(out, line.s, line.len);
+    } else {
+        sw->item_rc = rc;
+        snprintf(err, err_size, "%s", why);
+    }
     lg_image_free(&img);
+    lg_outputs_free(&own); /* a rank's own temporaries: read, never committed */
+    if (!here) {
+        free(run);
+        free(heat);
+    }
     lg_str_free(&label);
+    lg_str_free(&row);
+    lg_str_free(&line);
     for (int i = 0; i < n_vary; i++)
         free(owned[i]);
     free(owned);
     return rc;
 }
 
-/* Every run in turn, stopping at the first that fails. Returns the exit status. */
+/* Rank 0: runs [from, to) of a map's result into its outputs (the files of the runs other
+ * ranks made, into their temporaries), the CSV and stdout, in run order. Returns 0, or 1
+ * (printed). */
+static int take_runs(sweep *sw, const lg_dist_result *res, uint64_t from, uint64_t to)
+{
+    char err[1024];
+    for (uint64_t k = from; k < to; k++) {
+        const char *p = res->data + res->off[k];
+        run_sent sent;
+        if (res->off[k + 1] - res->off[k] < sizeof sent) {
+            fprintf(stderr, "lightgraph sweep: run %llu: its result is missing\n",
+                    (unsigned long long)k);
+            return 1;
+        }
+        memcpy(&sent, p, sizeof sent);
+        p += sizeof sent;
+        if (sent.exr &&
+            (lg_outputs_add(sw->outs, sw->runs[k], LG_OUTPUT_IMAGE, err, sizeof err) ||
+             lg_outputs_write_data(sw->outs, sw->runs[k], p, sent.exr, err, sizeof err) ||
+             lg_outputs_add(sw->outs, sw->heats[k], LG_OUTPUT_IMAGE, err, sizeof err) ||
+             lg_outputs_write_data(sw->outs, sw->heats[k], p + sent.exr, sent.heat, err,
+                                   sizeof err))) {
+            fprintf(stderr, "lightgraph sweep: run %llu: %s\n", (unsigned long long)k, err);
+            return 1;
+        }
+        p += sent.exr + sent.heat;
+        lg_str_addn(&sw->csv, p, sent.row);
+        fwrite(p + sent.row, 1, sent.line, stdout);
+    }
+    fflush(stdout);
+    return 0;
+}
+
+/* Runs per lg_dist_map call: all of them in one process (rank 0 writes its runs' files
+ * itself), else as many as keep the images gathered on rank 0 at once under 1 GiB (an EXR
+ * in float RGBA and a heat map at their raw sizes, ZIP and PNG being less): rank 0 holds a
+ * batch's results until it has written them, and one gather moves at most 2 GiB. */
+static uint64_t sweep_batch(const sweep *sw)
+{
+    uint64_t total = (uint64_t)sw->a->total;
+    if (lg_dist_size() == 1)
+        return total;
+    double px = (double)sw->opts.width * sw->opts.height;
+    double per_run = px * 20 + 16384;
+    double n = floor(1073741824.0 / per_run);
+    return n < 1 ? 1 : n >= (double)total ? total : (uint64_t)n;
+}
+
+/* Every run, spread over the ranks in batches (sweep_batch), rank 0 writing each batch's
+ * results as they come; stops at the first run that fails, with its reason printed on rank
+ * 0. Collective. Returns the exit status. */
 static int sweep_runs(sweep *sw)
 {
     const lg_sweep_args *a = sw->a;
-    const char **run_sets = lg_xcalloc((size_t)(a->n_sets + a->n_vary) + 1, sizeof *run_sets);
-    double *times = lg_xcalloc(a->repeat, sizeof *times);
+    sw->run_sets = lg_xcalloc((size_t)(a->n_sets + a->n_vary) + 1, sizeof *sw->run_sets);
+    sw->times = lg_xcalloc(a->repeat, sizeof *sw->times);
+    uint64_t total = (uint64_t)a->total, batch = sweep_batch(sw);
     int rc = 0;
-    for (int k = 0; k < a->total && rc == 0; k++)
-        rc = sweep_run(sw, k, run_sets, times);
-    free(run_sets);
-    free(times);
+    for (uint64_t from = 0; from < total && rc == 0; from += batch) {
+        uint64_t to = total - from > batch ? from + batch : total;
+        lg_dist_result res;
+        sw->batch_from = from;
+        sw->item_rc = 0;
+        /* items [0, from) are earlier batches' (sweep_item returns them empty), so that an
+         * item's number is its run's, in the failing run's message too */
+        if (lg_dist_map("sweep run", to, 1, true, sweep_item, sw, &res)) {
+            rc = sw->item_rc ? sw->item_rc : 1;
+            break;
+        }
+        if (lg_dist_root())
+            rc = take_runs(sw, &res, from, to);
+        lg_dist_result_free(&res);
+        if (to < total)
+            rc = lg_dist_agree(rc, NULL); /* rank 0 could not write: every rank stops */
+    }
+    free(sw->run_sets);
+    free(sw->times);
+    sw->run_sets = NULL;
+    sw->times = NULL;
     return rc;
 }
 
@@ -602,16 +812,22 @@ int lg_cmd_sweep(int argc, char **argv)
 
     /* Everything is checked before the first run: every --vary value, the reference graph,
      * and every file the sweep writes; a refusal there has written nothing to say. */
-    rc = check_values(&sw);
+    /* Under mpirun every rank checks (a rank's files are its own) and agrees; rank 0 alone
+     * checks DIR and reserves the outputs; a rank other than 0 renders into its TMPDIR. */
+    const char *tmp = getenv("TMPDIR");
+    sw.scratch = tmp && tmp[0] ? tmp : "/tmp";
+    rc = lg_dist_agree(check_values(&sw), NULL);
     if (rc == 0)
-        rc = reserve_outputs(&sw);
+        rc = lg_dist_agree(lg_dist_root() ? reserve_outputs(&sw) : 0, NULL);
     if (rc == 0)
-        rc = render_reference(&sw);
+        rc = lg_dist_agree(render_reference(&sw), NULL);
+    if (rc == 0 && share_reference(&sw))
+        rc = 1;
     if (rc == 0) {
         csv_header(&sw);
         bool plotted = false;
         rc = sweep_runs(&sw);
-        if (rc == 0)
+        if (rc == 0 && lg_dist_root())
             rc = sweep_finish(&sw, &plotted);
         if (rc == 0)
             printf("wrote %s, %s/reference.exr, %s/run-*.exr, heat maps %s/heat-*.png, %s%s\n",

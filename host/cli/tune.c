@@ -16,7 +16,16 @@
  * rendered once (cached by its grid indices); the points near the front get --repeat
  * timings; the chosen one is rendered once more (the check). Renders go through
  * lg_render_file, as sweep's, into a temporary in DIR that is removed after it is read;
- * the CSV, the script and the plot are committed together at the end, or none. */
+ * the CSV, the script and the plot are committed together at the end, or none.
+ *
+ * Under `mpirun -np N` (docs/tune.md, docs/distributed.md) every rank runs the same search,
+ * and every render of a point is an lg_dist_map item whose result (status, time, metrics,
+ * messages) reaches every rank: so every rank holds the same points and takes the same
+ * decisions, and the renders that do not depend on each other (a point's --repeat timings,
+ * every repeat of a round near the front, the two points a pruning test times) run at once
+ * on as many ranks. The search's own steps (a bisection's next point) are sequential: one
+ * rank renders while the others wait. Every rank renders the reference together and rank
+ * 0's is broadcast; rank 0 alone writes. */
 #include "cli/commands.h"
 
 #include <math.h>
@@ -24,6 +33,7 @@
 #include <string.h>
 
 #include "lightgraph/image.h"
+#include "exec/dist.h"
 #include "exec/outputs.h"
 #include "cli/metric.h"
 #include "cli/tune_args.h"
@@ -157,37 +167,148 @@ static int render_once(tune *t, const char *graph, const char *const *sets, int 
     return rc;
 }
 
-/* Renders the point idx once and judges it. Returns 0 (a failed render is a point that
- * failed, not the end of the tune: a backend missing here), or the exit status of a bad
- * graph or a node that did not run. */
-static int render_point(tune *t, const int *idx, double *ms, lg_metric_set *m, bool *failed)
+/* The last error the host logged (lg_hlog_error_hook) while a point rendered: a failed
+ * render's reason for rank 0, which does not see another rank's stderr. */
+static char last_error[400];
+static void keep_error(const char *m)
+{
+    snprintf(last_error, sizeof last_error, "%s", m);
+}
+
+/* Renders the point idx once and judges it. Its messages go to msg (msglen bytes), which
+ * the caller prints. Returns 0 (a failed render is a point that failed, not the end of the
+ * tune: a backend missing here), or the exit status of a bad graph or a node that did not
+ * run. */
+static int render_point(tune *t, const int *idx, double *ms, lg_metric_set *m, bool *failed,
+                        char *msg, size_t msglen)
 {
     int n;
     const char **sets = point_sets(t, idx, &n);
     lg_image img = { 0 };
     lg_run_result res;
-    char err[1024];
+    char err[512];
+    last_error[0] = 0;
+    lg_hlog_error_hook = keep_error;
     int rc = render_once(t, t->a->graph, sets, n, &img, &res);
+    lg_hlog_error_hook = NULL;
     *failed = rc == 1;
+    msg[0] = 0;
     if (rc == 0 && !res.node_found) {
-        fprintf(stderr,
-                "lightgraph tune: --node %s: no kept node of that name ran (is it gated, or "
-                "unused by the output?)\n",
-                t->a->node);
+        snprintf(msg, msglen,
+                 "lightgraph tune: --node %s: no kept node of that name ran (is it gated, or "
+                 "unused by the output?)\n",
+                 t->a->node);
         rc = 2;
     } else if (rc == 0 && lg_metrics_compute(&img, &t->ref, m, NULL, 0, err, sizeof err)) {
-        fprintf(stderr, "lightgraph tune: against the reference: %s\n", err);
+        snprintf(msg, msglen, "lightgraph tune: against the reference: %s\n", err);
         rc = 2;
     }
     if (*failed) {
+        /* "(above)" where the render's messages are: on rank 0's stderr */
         char *line = set_line(t, idx);
-        fprintf(stderr, "tune: the render with %s failed (above): counted as missing E\n", line);
+        if (lg_dist_root() || !last_error[0])
+            snprintf(msg, msglen, "tune: the render with %s failed (above): counted as missing E\n",
+                     line);
+        else
+            snprintf(msg, msglen,
+                     "tune: the render with %s failed on rank %d (%s): counted as missing E\n",
+                     line, lg_dist_rank(), last_error);
         free(line);
         rc = 0;
     }
     *ms = res.node_ms;
     lg_image_free(&img);
     free_sets(t, sets, n);
+    return rc;
+}
+
+/* One render of a point as it reaches every rank (an lg_dist_map item's bytes). */
+typedef struct point_sent {
+    int32_t rc, failed; /* render_point's status and *failed */
+    double ms;
+    lg_metric_set m;
+    char msg[640]; /* render_point's messages, printed on every rank in item order */
+} point_sent;
+
+typedef struct point_batch {
+    tune *t;
+    const int *const *idx;
+} point_batch;
+
+static int point_item(void *ctx, uint64_t item, lg_str *out, char *err, size_t err_size)
+{
+    (void)err;
+    (void)err_size;
+    point_batch *b = ctx;
+    point_sent s;
+    memset(&s, 0, sizeof s);
+    bool failed = false;
+    s.rc = render_point(b->t, b->idx[item], &s.ms, &s.m, &failed, s.msg, sizeof s.msg);
+    s.failed = failed;
+    lg_str_addn(out, (const char *)&s, sizeof s);
+    return 0;
+}
+
+/* Renders the points idx[0..n) once each, spread over the ranks (independent renders: the
+ * same answers in any order), every result on every rank in sent[], their messages printed.
+ * A render's failure is data (sent[i].rc), the same on every rank, never the map's. Returns
+ * 0, or 1 when the ranks could not work together (printed). */
+static int render_points(tune *t, const int *const *idx, int n, point_sent *sent)
+{
+    point_batch b = { t, idx };
+    lg_dist_result res;
+    if (lg_dist_map("tune render", (uint64_t)n, 1, false, point_item, &b, &res))
+        return 1;
+    for (int i = 0; i < n; i++) {
+        memcpy(&sent[i], res.data + res.off[i], sizeof *sent);
+        sent[i].msg[sizeof sent[i].msg - 1] = 0;
+        fputs(sent[i].msg, stderr);
+    }
+    lg_dist_result_free(&res);
+    return 0;
+}
+
+/* Renders that give points their --repeat timings, made at once (tfill_add, tfill_run). */
+typedef struct timing_fill {
+    int *who; /* the point of each render */
+    const int **idx;
+    int n;
+} timing_fill;
+
+/* Point p's missing timings into f. */
+static void tfill_add(tune *t, timing_fill *f, int p)
+{
+    int need = (int)t->a->repeat - t->pts[p].n_times;
+    for (int i = 0; i < need; i++) {
+        f->who = lg_xrealloc(f->who, (size_t)(f->n + 1) * sizeof *f->who);
+        f->idx = lg_xrealloc(f->idx, (size_t)(f->n + 1) * sizeof *f->idx);
+        f->who[f->n] = p;
+        f->idx[f->n++] = t->pts[p].idx;
+    }
+}
+
+/* Renders f's points and takes their times in item order, as timing one point after the
+ * other would: the first render that fails ends it (the renders after it are not counted).
+ * Frees f. Returns 0 or an exit status. */
+static int tfill_run(tune *t, timing_fill *f)
+{
+    int rc = 0;
+    point_sent *sent = lg_xcalloc((size_t)f->n + 1, sizeof *sent);
+    if (f->n && render_points(t, f->idx, f->n, sent))
+        rc = 1;
+    for (int i = 0; i < f->n && rc == 0; i++) {
+        point *q = &t->pts[f->who[i]];
+        t->repeats++;
+        rc = sent[i].rc;
+        if (rc == 0 && sent[i].failed)
+            rc = 1; /* it rendered before: a failure now is the machine's */
+        if (rc == 0)
+            q->times[q->n_times++] = sent[i].ms;
+    }
+    free(sent);
+    free(f->who);
+    free(f->idx);
+    memset(f, 0, sizeof *f);
     return rc;
 }
 
@@ -211,9 +332,14 @@ static int eval(tune *t, const int *idx, int *out)
         return 0;
     }
     point p = { 0 };
-    double ms = 0;
     t->renders++;
-    int rc = render_point(t, idx, &ms, &p.m, &p.failed);
+    point_sent sent;
+    if (render_points(t, &idx, 1, &sent))
+        return 1;
+    int rc = sent.rc;
+    double ms = sent.ms;
+    p.m = sent.m;
+    p.failed = sent.failed;
     if (rc)
         return rc;
     p.idx = lg_xmalloc((size_t)t->n_knobs * sizeof *idx);
@@ -353,26 +479,9 @@ static int cheapest(tune *t)
     return best;
 }
 
-/* Renders point p again until it has --repeat timings. Returns 0 or an exit status. */
-static int time_fully(tune *t, int p)
-{
-    int rc = 0;
-    while (t->pts[p].n_times < (int)t->a->repeat && rc == 0) {
-        double ms;
-        lg_metric_set m;
-        bool failed;
-        t->repeats++;
-        rc = render_point(t, t->pts[p].idx, &ms, &m, &failed);
-        if (rc == 0 && failed)
-            rc = 1; /* it rendered before: a failure now is the machine's */
-        if (rc == 0)
-            t->pts[p].times[t->pts[p].n_times++] = ms;
-    }
-    return rc;
-}
-
 /* The candidates within TUNE_NEAR_FRONT of the cheapest get --repeat timings, until the set
- * of them no longer changes (a repeat may move the cheapest). */
+ * of them no longer changes (a repeat may move the cheapest). A round's repeats render at
+ * once (whether a point is in the round depends on its own timings only). */
 static int repeat_near_front(tune *t)
 {
     int rc = 0;
@@ -382,14 +491,16 @@ static int repeat_near_front(tune *t)
         if (c < 0)
             break;
         double limit = median_ms(&t->pts[c]) * (1 + TUNE_NEAR_FRONT);
-        for (int p = 0; p < t->n_pts && rc == 0; p++) {
+        timing_fill f = { 0 };
+        for (int p = 0; p < t->n_pts; p++) {
             point *q = &t->pts[p];
             if (!feasible(t, q) || dominated_in_combo(t, q) || median_ms(q) > limit ||
                 q->n_times >= (int)t->a->repeat)
                 continue;
-            rc = time_fully(t, p);
+            tfill_add(t, &f, p);
             more = true;
         }
+        rc = tfill_run(t, &f);
     }
     return rc;
 }
@@ -404,7 +515,10 @@ static int dominated_combo(tune *t, int p, bool *pruned)
     int b = cheapest(t), rc = 0;
     if (b < 0 || t->pts[p].failed || t->pts[p].times[0] <= median_ms(&t->pts[b]))
         return 0;
-    if ((rc = time_fully(t, p)) || (rc = time_fully(t, b)))
+    timing_fill f = { 0 };
+    tfill_add(t, &f, p);
+    tfill_add(t, &f, b);
+    if ((rc = tfill_run(t, &f)))
         return rc;
     double tp = median_ms(&t->pts[p]), tb = median_ms(&t->pts[b]);
     if (tp > tb * (1 + TUNE_NEAR_FRONT)) {
@@ -813,10 +927,31 @@ static int render_reference(tune *t)
     lg_run_result res;
     if (lg_verbosity >= 0)
         fprintf(stderr, "tune: reference (%s)\n", ref_graph);
-    int rc = render_once(t, ref_graph, rs, nrs, &t->ref, &res);
-    t->ref_node_found = res.node_found;
-    t->ref_ms = res.node_found ? res.node_ms : res.total_ms;
+    /* every rank renders it (a node's lg_shard spreads over the ranks only when every
+     * rank makes the call), then rank 0's pixels and time are every rank's: every rank
+     * judges against the same bits */
+    int rc = lg_dist_agree(render_once(t, ref_graph, rs, nrs, &t->ref, &res), NULL);
     free(rs);
+    if (rc)
+        return rc;
+    struct {
+        uint32_t width, height;
+        double ms;
+        int32_t found;
+    } head = { t->ref.width, t->ref.height, res.node_found ? res.node_ms : res.total_ms,
+               res.node_found };
+    if (lg_dist_bcast(&head, sizeof head))
+        return 1;
+    t->ref_node_found = head.found;
+    t->ref_ms = head.ms;
+    if ((head.width != t->ref.width || head.height != t->ref.height) &&
+        (lg_image_free(&t->ref), lg_image_alloc(&t->ref, head.width, head.height))) {
+        fprintf(stderr, "lightgraph tune: no memory for the reference (%ux%u)\n", head.width,
+                head.height);
+        rc = 1;
+    }
+    if (lg_dist_bcast(t->ref.pixels, (size_t)head.width * head.height * 4 * sizeof(float)))
+        rc = 1;
     /* a metric that cannot be computed on these images (dssim below 11 x 11 pixels: no SSIM
      * window) would make every point miss E; said now, as bad usage */
     lg_metric_set m;
@@ -870,7 +1005,16 @@ static void check_render(tune *t, int chosen)
 {
     if (chosen < 0)
         return;
-    t->check_rc = render_point(t, t->pts[chosen].idx, &t->check_ms, &t->check_m, &t->check_failed);
+    point_sent sent;
+    const int *idx = t->pts[chosen].idx;
+    if (render_points(t, &idx, 1, &sent)) {
+        sent.rc = 1;
+        sent.failed = 1;
+    }
+    t->check_rc = sent.rc;
+    t->check_ms = sent.ms;
+    t->check_m = sent.m;
+    t->check_failed = sent.failed;
     t->checked = true;
 }
 
@@ -947,11 +1091,18 @@ int lg_cmd_tune(int argc, char **argv)
 
     /* everything is checked before the first render: the node, its knobs, the values, the
      * reference, the files */
-    rc = make_knobs(&t);
+    /* Under mpirun every rank checks and agrees; rank 0 alone reserves the outputs in DIR,
+     * the others render into their TMPDIR (DIR may be on rank 0's machine only). */
+    rc = lg_dist_agree(make_knobs(&t), NULL);
     if (rc == 0)
-        rc = check_values(&t);
-    if (rc == 0)
-        rc = reserve_outputs(&t);
+        rc = lg_dist_agree(check_values(&t), NULL);
+    if (rc == 0 && lg_dist_root()) {
+        rc = lg_dist_agree(reserve_outputs(&t), NULL);
+    } else if (rc == 0) {
+        const char *tmp = getenv("TMPDIR");
+        t.render_out = lg_xasprintf("%s/tune-render.exr", tmp && tmp[0] ? tmp : "/tmp");
+        rc = lg_dist_agree(0, NULL);
+    }
     if (rc == 0) {
         t.grid_size = 1;
         for (int i = 0; i < t.n_knobs; i++)
@@ -971,12 +1122,12 @@ int lg_cmd_tune(int argc, char **argv)
         mark_front(&t);
         check_render(&t, chosen);
         bool plotted = false;
-        int out_rc = write_outputs(&t, &plotted);
+        int out_rc = lg_dist_root() ? write_outputs(&t, &plotted) : 0;
         rc = report(&t, chosen);
-        if (out_rc == 0)
+        if (out_rc == 0 && lg_dist_root()) /* rank 0 alone writes (and says so) */
             printf("wrote %s, %s%s\n", t.csv_path, t.gp_path,
                    plotted ? " and tune.png" : " (gnuplot not run: install gnuplot-nox)");
-        else if (rc == 0)
+        else if (out_rc && rc == 0)
             rc = 1;
     } else if (t.outs) {
         fprintf(stderr, "lightgraph tune: nothing was written to %s\n", args.dir);
