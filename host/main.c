@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/pool.h"
 #include "cli/commands.h"
+#include "exec/dist.h"
 #include "lightgraph/image.h"
 
 /* --max-pixels N (or =N), accepted anywhere on the command line and taken out of argv before
@@ -85,6 +87,9 @@ static void help(FILE *f)
             "                   GL state, gating (docs/conform.md; exit 1 names the node,\n"
             "                   the check and the values)\n"
             "  lightgraph --version | help\n"
+            "  mpirun -np N lightgraph render|sweep|tune ...  the same command over N MPI\n"
+            "                   ranks: the work nodes share through lg_shard is spread,\n"
+            "                   rank 0 prints and writes (docs/distributed.md)\n"
             "\n"
             "option of every command: --max-pixels N  the largest image read or made, in\n"
             "  pixels (default %llu; also LIGHTGRAPH_MAX_PIXELS=N; docs/images.md)\n"
@@ -103,10 +108,11 @@ static void help(FILE *f)
             "  default 5),\n"
             "  LIGHTGRAPH_NO_DLCLOSE=1 (keep plugins mapped at exit, for leak checkers),\n"
             "  LIGHTGRAPH_THREADS=N (threads of the CPU pool that cpu backends share, 1..256;\n"
-            "  default one per online CPU), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
+            "  default one per online CPU, divided among the ranks mpirun starts on one\n"
+            "  machine), LIGHTGRAPH_TEST_FREE_BYTES=N (a test hook: the\n"
             "  free bytes sweep assumes its output directory has)\n"
             "docs: docs/graph-format.md, docs/images.md, docs/sdk.md, docs/conform.md,\n"
-            "  docs/fuzzing.md\n",
+            "  docs/fuzzing.md, docs/distributed.md\n",
             LG_VERSION_STRING, LG_ABI_MAJOR, LG_ABI_MINOR, LG_IMAGE_MAX_PIXELS_DEFAULT);
 }
 
@@ -154,10 +160,9 @@ static void take_test_free_bytes(void)
     lg_test_free_bytes = (int64_t)n;
 }
 
-int main(int argc, char **argv)
+/* The command named by argv[1]; its exit status. */
+static int run_command(int argc, char **argv)
 {
-    env_defaults();
-    take_test_free_bytes();
     if (take_max_pixels(&argc, argv))
         return 2;
     if (argc < 2) {
@@ -191,4 +196,19 @@ int main(int argc, char **argv)
     fprintf(stderr, "lightgraph: unknown command '%s'%s%s%s\n", cmd, s ? "; did you mean '" : "",
             s ? s : "", s ? "'?" : "");
     return 2;
+}
+
+int main(int argc, char **argv)
+{
+    /* The environment first (env_defaults: no write to it once a thread exists), then the
+     * MPI job, whose start-up may start threads of its own (PMIx, Open MPI's progress), then
+     * everything else. Without mpirun lg_dist_init does nothing at all. */
+    env_defaults();
+    if (lg_dist_init(&argc, &argv))
+        return lg_dist_finish(1);
+    /* ranks sharing this machine share its CPUs (LIGHTGRAPH_THREADS still wins) */
+    lg_pool_set_ranks_per_machine((uint32_t)lg_dist_local_size());
+    take_test_free_bytes();
+    /* every rank's status makes the job's: the worst of them, on every rank */
+    return lg_dist_finish(run_command(argc, argv));
 }

@@ -188,11 +188,18 @@ int lg_pool_run(lg_pool *p, size_t n, size_t grain, lg_pool_fn fn, void *ctx)
 
 /* ---- the process-wide pool ------------------------------------------------------------------- */
 
+static uint32_t ranks_per_machine = 1;
+
+void lg_pool_set_ranks_per_machine(uint32_t ranks)
+{
+    ranks_per_machine = ranks ? ranks : 1;
+}
+
 uint32_t lg_pool_configured_size(char **warning)
 {
     if (warning)
         *warning = NULL;
-    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN) / (long)ranks_per_machine;
     uint32_t def = cpus < 1                           ? 1u
                    : cpus > (long)LG_POOL_MAX_THREADS ? LG_POOL_MAX_THREADS
                                                       : (uint32_t)cpus;
@@ -205,8 +212,9 @@ uint32_t lg_pool_configured_size(char **warning)
     if (errno || *end || v < 1 || v > (long)LG_POOL_MAX_THREADS) {
         if (warning && asprintf(warning,
                                 "LIGHTGRAPH_THREADS='%s' is not an integer in 1..%u; "
-                                "using %u (the online CPUs)",
-                                env, LG_POOL_MAX_THREADS, def) < 0)
+                                "using %u (the online CPUs%s)",
+                                env, LG_POOL_MAX_THREADS, def,
+                                ranks_per_machine > 1 ? " over this machine's ranks" : "") < 0)
             *warning = NULL;
         return def;
     }

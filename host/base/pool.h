@@ -42,9 +42,15 @@ uint32_t lg_pool_size(const lg_pool *pool);
 int lg_pool_run(lg_pool *pool, size_t n, size_t grain, lg_pool_fn fn, void *ctx);
 
 /* The size the process-wide pool has or will have: LIGHTGRAPH_THREADS when it is an
- * integer in 1..LG_POOL_MAX_THREADS, else sysconf(_SC_NPROCESSORS_ONLN). When the variable
- * is set but invalid, *warning (if not NULL) receives a malloc'd message (caller frees). */
+ * integer in 1..LG_POOL_MAX_THREADS, else sysconf(_SC_NPROCESSORS_ONLN) divided by the
+ * processes sharing this machine (lg_pool_set_ranks_per_machine; at least 1). When the
+ * variable is set but invalid, *warning (if not NULL) receives a malloc'd message (caller
+ * frees). */
 uint32_t lg_pool_configured_size(char **warning);
+/* main(), before the pool exists: `ranks` processes of one MPI job share this machine
+ * (host/exec/dist.h, lg_dist_local_size), so that each takes its share of the CPUs by
+ * default. 0 or 1: the whole machine (the default). */
+void lg_pool_set_ranks_per_machine(uint32_t ranks);
 /* The process-wide pool, made on the first call (thread-safe) and joined at exit. Never
  * NULL: when memory is short it is a pool of one (the caller). *warning as lg_pool_new's,
  * given to the first caller only. */

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "lightgraph/image.h"
+#include "exec/dist.h"
 #include "exec/outputs.h"
 #include "base/pattern.h"
 
@@ -223,12 +224,18 @@ int lg_render_file(lg_registry *reg, const char *graph, const char *const *sets,
      * that passes its own set (sweep) commits it itself */
     lg_outputs *own = NULL;
     lg_outputs *out = opts->outputs;
+    /* under mpirun rank 0 alone writes the files; the other ranks only name them */
     if (rc == 0 && !out)
-        out = own = lg_outputs_new();
+        out = own = lg_dist_root() || lg_dist_nested() ? lg_outputs_new()
+                                                       : lg_outputs_new_elsewhere();
     if (rc == 0)
         rc = add_outputs(out, c, opts);
     if (rc == 0)
         rc = run_graph(reg, graph, g, c, opts, out, time_node, res);
+    /* under mpirun: rank 0 writes only when every rank succeeded (a rank that failed on
+     * its own meets the others here at the latest; dist.h), and the status is the job's */
+    if (own)
+        rc = lg_dist_agree(rc, NULL);
     if (rc == 0 && own)
         rc = commit_outputs(own, c, opts);
     lg_outputs_free(&own);

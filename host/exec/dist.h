@@ -13,6 +13,18 @@
  * still reaches the next collective call with its failure (lg_dist_agree), so that no rank
  * waits forever; the failure's message reaches rank 0, which prints it.
  *
+ * How the calls match. Every collective call opens with the same step: one MPI_Allreduce
+ * of (the rank's status, the kind of call, the job's signature), and, only when a status
+ * is not 0 or the kinds or signatures differ, one MPI_Allgather of every rank's (status,
+ * kind, reason). So a rank in lg_dist_finish, lg_dist_agree or any other call meets the
+ * others' next call whatever it is: every rank sees the failure, the calls other than
+ * lg_dist_finish return it (their callers fail and go on to lg_dist_finish), and
+ * lg_dist_finish repeats its step until every rank is in lg_dist_finish. A reason is sent
+ * once and printed once by rank 0 ("lightgraph: rank R: why"; a failed job's reason comes
+ * back in err, which the caller reports). A rank other than 0 is quiet: lg_dist_init
+ * sends its stdout to /dev/null and its stderr to a file whose last line that is not a
+ * warning is its reason when it fails without giving one.
+ *
  * Threads: MPI is called from the thread that called lg_dist_init only. */
 #ifndef LG_HOST_EXEC_DIST_H
 #define LG_HOST_EXEC_DIST_H
@@ -36,13 +48,22 @@ bool lg_dist_root(void); /* rank 0: prints, writes files and cache entries */
 /* Ranks that share this machine (MPI_COMM_TYPE_SHARED), >= 1: the host's pool takes
  * (online CPUs / local ranks) threads per rank unless LIGHTGRAPH_THREADS says otherwise. */
 int lg_dist_local_size(void);
-/* Inside an lg_dist_map item (a sweep's point): nested calls run on this rank alone. */
+/* Inside an lg_dist_map item (a sweep's point) or an lg_dist_fixed range (a job's chunk):
+ * nested calls run on this rank alone, every collective call as the local computation (as
+ * in one process); so do calls from a thread other than lg_dist_init's. */
 bool lg_dist_nested(void);
 
 /* The worst (largest) of every rank's status: 0 when every rank passed 0. `why` is the
  * calling rank's reason when status != 0 (may be NULL); when any rank failed, rank 0
  * receives every failing rank's reason and prints it ("lightgraph: rank R: why"). */
 int lg_dist_agree(int status, const char *why);
+
+/* Whether every rank holds the same `value`: a cache lookup's answer (api_cache_get: the
+ * hash of the entry a rank found, 0 for a miss), which must be one answer for the job, or a
+ * rank that missed would enter a job alone. Returns 1 when every rank passed the same
+ * value, 0 when they differ, -1 when a rank failed or is out of step (err then holds the
+ * reason, as lg_dist_fixed's; the caller fails). One rank: 1. */
+int lg_dist_same(uint64_t value, char *err, size_t err_size);
 
 /* Copies `size` bytes at `data` from rank 0 to every rank (a reference image a sweep
  * rendered once). */

@@ -544,9 +544,44 @@ static int api_gl_check(lg_node *n, const char *what)
     return LG_ERR_DEVICE;
 }
 
+/* An entry's fingerprint for the ranks' agreement (never 0, which is a miss). */
+static uint64_t cache_fingerprint(const void *data, size_t size)
+{
+    uint64_t h = 1469598103934665603u ^ size;
+    const unsigned char *b = data;
+    for (size_t i = 0; i < size; i++)
+        h = (h ^ b[i]) * 1099511628211u;
+    return h ? h : 1;
+}
+
+/* Under mpirun a lookup is one answer for the job (dist.h, lg_dist_same): a hit only when
+ * every rank found the same entry, else a miss on every rank. A rank that missed while the
+ * others hit would otherwise compute alone and enter the node's lg_shard job alone. Each
+ * rank then uses its own copy, which the fingerprint proved equal to rank 0's. */
 static int api_cache_get(lg_node *n, const char *key, void **data, size_t *size)
 {
-    return lg_exec_cache_get(P(n)->ex, P(n), key, data, size);
+    lg_pnode *p = P(n);
+    int rc = lg_exec_cache_get(p->ex, p, key, data, size);
+    if (lg_dist_size() == 1 || lg_dist_nested() || rc == LG_ERR_INVALID)
+        return rc;
+    char err[600] = "";
+    int same = lg_dist_same(rc == LG_OK ? cache_fingerprint(*data, *size) : 0, err, sizeof err);
+    if (same == 1)
+        return rc;
+    if (rc == LG_OK) {
+        free(*data);
+        *data = NULL;
+        *size = 0;
+        p->prof.cache_hits--;
+        p->prof.cache_misses++;
+    }
+    if (same < 0)
+        return lg_node_errorf(p, "cache lookup: %s", err), LG_ERR_INVALID;
+    lg_hlog(LG_HINFO,
+            "node '%s': cache entry %s: the ranks' entries differ (some miss): "
+            "computed again on every rank",
+            p->pub.name, key);
+    return LG_ERR_NOTFOUND;
 }
 
 static int api_cache_put(lg_node *n, const char *key, const void *data, size_t size)

@@ -26,6 +26,7 @@ typedef struct entry {
 struct lg_outputs {
     entry *e;
     size_t n;
+    bool elsewhere; /* lg_outputs_new_elsewhere: names only, another process writes */
 };
 
 /* ---- signals --------------------------------------------------------------------------------- */
@@ -229,6 +230,13 @@ lg_outputs *lg_outputs_new(void)
     return lg_xcalloc(1, sizeof(lg_outputs));
 }
 
+lg_outputs *lg_outputs_new_elsewhere(void)
+{
+    lg_outputs *o = lg_outputs_new();
+    o->elsewhere = true;
+    return o;
+}
+
 static entry *find(const lg_outputs *o, const char *path)
 {
     char *abs = lg_path_absolute(path);
@@ -310,6 +318,15 @@ static int add(lg_outputs *o, const char *path, lg_output_kind kind, const char 
             return -1;
         }
     }
+    if (o->elsewhere) {
+        o->e = lg_xrealloc(o->e, (o->n + 1) * sizeof *o->e);
+        entry *e = &o->e[o->n++];
+        memset(e, 0, sizeof *e);
+        e->path = lg_xstrdup(path ? path : "");
+        e->abs = lg_path_absolute(e->path);
+        e->owner = owner ? lg_xstrdup(owner) : NULL;
+        return 0;
+    }
     if (lg_outputs_check(path, kind, err, errlen))
         return -1;
     const char *slash = strrchr(path, '/');
@@ -366,7 +383,7 @@ int lg_outputs_add_owned(lg_outputs *o, const char *path, const char *owner, cha
 const char *lg_outputs_temp(const lg_outputs *o, const char *path)
 {
     entry *e = o ? find(o, path) : NULL;
-    return e ? e->tmp : NULL;
+    return e ? (e->tmp ? e->tmp : "") : NULL;
 }
 
 int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
@@ -376,6 +393,10 @@ int lg_outputs_write_image(lg_outputs *o, const char *path, const lg_image *img,
     if (!e) {
         snprintf(err, errlen, "cannot write '%s': not checked as an output", path);
         return -1;
+    }
+    if (o->elsewhere) {
+        e->written = true;
+        return 0;
     }
     char why[1024];
     /* busy, so that lg_image_write's own temporary is always renamed or removed */
@@ -395,6 +416,10 @@ int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, siz
     if (!e) {
         snprintf(err, errlen, "cannot write '%s': not checked as an output", path);
         return -1;
+    }
+    if (o->elsewhere) {
+        e->written = true;
+        return 0;
     }
     busy();
     e->written = true;
@@ -428,9 +453,11 @@ int lg_outputs_write_data(lg_outputs *o, const char *path, const void *data, siz
 static void remove_entry(lg_outputs *o, size_t i, bool unlink_tmp)
 {
     entry *e = &o->e[i];
-    untrack(e->tmp);
-    if (unlink_tmp)
-        unlink(e->tmp);
+    if (e->tmp) { /* NULL in a set written elsewhere */
+        untrack(e->tmp);
+        if (unlink_tmp)
+            unlink(e->tmp);
+    }
     free(e->path);
     free(e->abs);
     free(e->tmp);
@@ -448,6 +475,11 @@ void lg_outputs_drop(lg_outputs *o, const char *path)
 
 int lg_outputs_commit(lg_outputs *o, char *err, size_t errlen)
 {
+    if (o->elsewhere) {
+        while (o->n)
+            remove_entry(o, o->n - 1, false);
+        return 0;
+    }
     busy();
     if (g_pending) {
         /* a signal arrived while the outputs were written: nothing is committed, not_busy()

@@ -50,6 +50,11 @@ typedef enum lg_output_kind {
 
 /* A new, empty set (free with lg_outputs_free). */
 lg_outputs *lg_outputs_new(void);
+/* A set whose files another process writes: an MPI rank other than 0 (docs/distributed.md:
+ * rank 0 alone writes). Paths are recorded and nothing else: not checked (the folder may
+ * exist on rank 0's machine only), no temporary (lg_outputs_temp gives "", which is not a
+ * file to read back), writes succeed without writing, the commit succeeds. */
+lg_outputs *lg_outputs_new_elsewhere(void);
 
 /* Checks `path` as a destination and reserves its temporary. Adding a path already in the set
  * returns 0 and keeps the one temporary (a sweep writes a run's image once per repeat).
