@@ -1550,7 +1550,7 @@ static void case_masked(lg_test *t)
     }
 }
 
-/* ---- threads and ranks: the same bits ---------------------------------------------------------- */
+/* ---- threads and ranks: the same bits -------------------------------------------------------- */
 
 /* A whole file, malloc'd (*size its bytes), or NULL. */
 static char *read_all(const char *path, size_t *size)
