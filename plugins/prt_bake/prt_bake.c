@@ -980,20 +980,25 @@ typedef struct pb_bake {
     uint32_t n2, T;
     const double *dirs; /* 3 per direction */
     const float *Y;     /* n2 per direction */
-    float *out;         /* [vertex][3][n2] */
     /* interreflection */
     bool keep; /* interreflected: hits kept (else every bounce casts again) */
     /* the hits' bytes so far, against p->hit_budget: the first vertex whose hits would
      * pass it sets `over`, and the hits are dropped after the pass (pb_bake_execute) */
     _Atomic uint64_t hit_bytes;
     atomic_bool over;
-    pb_hit **hits; /* per vertex: its front-face hits (malloc'd), or NULL */
+    /* per vertex: its front-face hits (malloc'd, NULL when there are none) and their
+     * count, PB_NOT_KEPT for a vertex this process did not keep: under MPI ranks a
+     * process bakes only the vertices lg_shard hands it, so a bounce may draw a vertex
+     * whose hits another process holds, and casts its rays again (the same bits) */
+    pb_hit **hits;
     uint32_t *n_hits;
-    const float *prev; /* the previous bounce's increment */
-    float *next;       /* this bounce's increment */
-    int *failed;       /* per chunk: 1 = out of memory */
-    uint64_t *rays;    /* per chunk: rays cast */
+    const float *prev; /* the previous bounce's increment, every vertex */
+    /* bench: per chunk of PB_GRAIN vertices, rays and blocked rays (pb_raw_vertices) */
+    int *failed;
+    uint64_t *rays;
 } pb_bake;
+
+#define PB_NOT_KEPT UINT32_MAX
 
 /* Shadowed with Embree: the vertex's rays (N.w > 0) in packets of 16 through
  * rtcOccluded16, which bench = true measured about 1.3x faster than rtcOccluded1 on the
@@ -1047,7 +1052,12 @@ static uint64_t pb_vertex_packets(const pb_bake *b, const double o[3], const dou
     return rays;
 }
 
-static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
+/* The direct pass (lg_shard's run): vertices [begin, end) into `items`, each vertex's
+ * [3][n2] floats. A vertex's floats depend on its index alone (its position, normal and
+ * the one global direction set), never on the chunk or the thread: the contract that
+ * makes a bake over any number of threads or ranks the same bits. */
+static int pb_bake_vertices(void *ctx, uint64_t begin, uint64_t end, void *items, char *err,
+                            size_t err_size)
 {
     pb_bake *b = ctx;
     const pb_world *w = b->w;
@@ -1055,14 +1065,16 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
     double *acc = malloc(n2 * sizeof(double));
     pb_hit *tmp = NULL;
     uint32_t tmp_cap = 0;
+    int rc = 0;
     if (!acc) {
-        b->failed[chunk] = 1;
-        return;
+        snprintf(err, err_size, "out of memory (%u coefficients of accumulator)", n2);
+        return 1;
     }
-    uint64_t rays = 0;
-    for (size_t i = begin; i < end; i++) {
-        /* past the budget the hits are dropped anyway: the packets are faster */
-        bool keep_hits = b->keep && !atomic_load_explicit(&b->over, memory_order_relaxed);
+    for (uint64_t i = begin; i < end; i++) {
+        /* the way a vertex is traced depends on the parameters alone, never on whether
+         * the budget was passed yet (which depends on the schedule): the packets'
+         * rtcOccluded16 and rtcIntersect1 need not agree on a grazing ray */
+        bool keep_hits = b->keep;
         const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
         double eps = pb_offset(w, x), o[3];
         for (int c = 0; c < 3; c++)
@@ -1070,7 +1082,7 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
         memset(acc, 0, n2 * sizeof(double));
         uint32_t nh = 0;
         if (b->p->mode != PB_UNSHADOWED && !keep_hits && b->vis->kind == PB_EMBREE) {
-            rays += pb_vertex_packets(b, o, N, acc);
+            pb_vertex_packets(b, o, N, acc);
             goto store;
         }
         for (uint32_t j = 0; j < T; j++) {
@@ -1080,7 +1092,6 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
                 continue;
             if (b->p->mode != PB_UNSHADOWED) {
                 pb_hit h;
-                rays++;
                 if (pb_trace(b->vis, o, d, !keep_hits, &h)) {
                     if (keep_hits) {
                         /* a back face has no baked transfer on the side the ray sees: it
@@ -1091,10 +1102,8 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
                             if (nh == tmp_cap) {
                                 uint32_t cap = tmp_cap ? 2 * tmp_cap : 64;
                                 pb_hit *g = realloc(tmp, cap * sizeof *g);
-                                if (!g) {
-                                    b->failed[chunk] = 1;
-                                    goto out;
-                                }
+                                if (!g)
+                                    goto nomem;
                                 tmp = g;
                                 tmp_cap = cap;
                             }
@@ -1111,7 +1120,7 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
         }
     store:;
         /* (rho / pi) (4 pi / T) sum = 4 rho / T sum */
-        float *t = b->out + i * 3 * n2;
+        float *t = (float *)items + (i - begin) * 3 * n2;
         for (int c = 0; c < 3; c++) {
             double f = 4.0 * w->albedo[3 * i + c] / T;
             for (uint32_t k = 0; k < n2; k++)
@@ -1124,53 +1133,84 @@ static void pb_bake_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk
                 atomic_store_explicit(&b->over, true, memory_order_relaxed);
         }
         if (keep_hits && !atomic_load_explicit(&b->over, memory_order_relaxed)) {
-            b->n_hits[i] = nh;
             if (nh) {
                 b->hits[i] = malloc(nh * sizeof(pb_hit));
-                if (!b->hits[i]) {
-                    b->failed[chunk] = 1;
-                    goto out;
-                }
+                if (!b->hits[i])
+                    goto nomem;
                 memcpy(b->hits[i], tmp, nh * sizeof(pb_hit));
             }
+            b->n_hits[i] = nh;
         }
+        continue;
+    nomem:
+        snprintf(err, err_size,
+                 "out of memory at vertex %llu keeping its ray hits for the bounces, up to "
+                 "%.1f MiB per vertex (hit_memory_mib = %lld; 0 keeps none)",
+                 (unsigned long long)i, (double)(T / 2 + 1) * sizeof(pb_hit) / 1048576.0,
+                 (long long)b->p->hit_mib);
+        rc = 1;
+        break;
     }
-out:
-    b->rays[chunk] += rays;
     free(tmp);
     free(acc);
+    return rc;
 }
 
-/* One bounce: next(x) = (rho_x / pi) (4 pi / T) sum over x's front-face hits of
- * max(N.w, 0) prev(hit), prev interpolated at the hit from its triangle's vertices. */
-static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
+/* The rays the direct pass cast (its log's count and rate): one per direction above a
+ * vertex's horizon. Counted here rather than by the pass, whose vertices a process sees
+ * only in part under MPI ranks; integers, so the chunks' sum is exact in any order. */
+typedef struct pb_ray_count {
+    const pb_world *w;
+    const double *dirs;
+    uint32_t T;
+    uint64_t *per_chunk;
+} pb_ray_count;
+
+static void pb_count_rays(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
-    (void)chunk;
+    pb_ray_count *r = ctx;
+    uint64_t rays = 0;
+    for (size_t i = begin; i < end; i++) {
+        const double *N = r->w->nrm + 3 * i;
+        for (uint32_t j = 0; j < r->T; j++) {
+            const double *d = r->dirs + 3 * (size_t)j;
+            rays += N[0] * d[0] + N[1] * d[1] + N[2] * d[2] > 0.0;
+        }
+    }
+    r->per_chunk[chunk] = rays;
+}
+
+/* One bounce (lg_shard's run): next(x) = (rho_x / pi) (4 pi / T) sum over x's front-face
+ * hits of max(N.w, 0) prev(hit), prev interpolated at the hit from its triangle's vertices;
+ * vertices [begin, end) into `items`, [3][n2] floats each. The hits are those this process
+ * kept for the vertex, or else (not kept, or kept by another rank) the same rays cast again
+ * in the same order: the same sum, bit for bit. */
+static int pb_bounce_vertices(void *ctx, uint64_t begin, uint64_t end, void *items, char *err,
+                              size_t err_size)
+{
     pb_bake *b = ctx;
     const pb_world *w = b->w;
     uint32_t n2 = b->n2, stride = 3 * n2;
-    for (size_t i = begin; i < end; i++) {
-        float *t = b->next + i * stride;
-        double acc[3 * 64];
-        double *a = stride <= 3 * 64 ? acc : NULL;
-        double *heap = a ? NULL : calloc(stride, sizeof(double));
-        if (!a)
-            a = heap;
-        if (!a) {
-            b->failed[chunk] = 1;
-            return;
-        }
+    double acc[3 * 64];
+    double *a = stride <= 3 * 64 ? acc : malloc(stride * sizeof(double));
+    if (!a) {
+        snprintf(err, err_size, "out of memory (%u coefficients of accumulator)", stride);
+        return 1;
+    }
+    for (uint64_t i = begin; i < end; i++) {
+        float *t = (float *)items + (i - begin) * stride;
         memset(a, 0, stride * sizeof(double));
         const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
         double eps = pb_offset(w, x), o[3];
         for (int c = 0; c < 3; c++)
             o[c] = x[c] + eps * (N[c] + D[c]);
-        /* kept hits, or (hits not kept) the same rays cast again: the j loop below */
-        uint32_t count = b->keep ? b->n_hits[i] : b->T;
+        /* kept hits, or the same rays cast again: the j loop below */
+        bool kept = b->n_hits && b->n_hits[i] != PB_NOT_KEPT;
+        uint32_t count = kept ? b->n_hits[i] : b->T;
         for (uint32_t h = 0; h < count; h++) {
             pb_hit again;
-            const pb_hit *hh = b->keep ? &b->hits[i][h] : &again;
-            if (!b->keep) {
+            const pb_hit *hh = kept ? &b->hits[i][h] : &again;
+            if (!kept) {
                 const double *d = b->dirs + 3 * (size_t)h;
                 double cw = N[0] * d[0] + N[1] * d[1] + N[2] * d[2], hn[3];
                 if (!(cw > 0.0) || !pb_trace(b->vis, o, d, false, &again))
@@ -1211,8 +1251,10 @@ static void pb_bounce_vertices(void *ctx, size_t begin, size_t end, uint32_t chu
             for (uint32_t k = 0; k < n2; k++)
                 t[c * n2 + k] = (float)(f * a[c * n2 + k]);
         }
-        free(heap);
     }
+    if (a != acc)
+        free(a);
+    return 0;
 }
 
 /* bench = true: the bake's rays again, with nothing but the occlusion query (b->p->mode
@@ -1284,9 +1326,11 @@ static void pb_raw16(void *ctx, size_t begin, size_t end, uint32_t chunk)
     pb_raw_vertices_impl(ctx, begin, end, chunk, true);
 }
 
-/* Runs fn over every vertex in batches so that the progress bar moves between them (the
- * pool's chunks must not call the host). Chunk c of the whole range is [c PB_GRAIN,
- * (c + 1) PB_GRAIN): the slot arrays (failed, rays) have pb_chunks(nv) entries. */
+/* bench = true, and the ray count: runs fn over every vertex on this process's threads
+ * (never spread over ranks: the bench times this machine's Embree) in batches so that the
+ * progress bar moves between them (the pool's chunks must not call the host). Chunk c of
+ * the whole range is [c PB_GRAIN, (c + 1) PB_GRAIN): the slot arrays (failed, rays) have
+ * pb_chunks(nv) entries. */
 #define PB_GRAIN 16u
 static size_t pb_chunks(uint32_t nv)
 {
@@ -1319,6 +1363,43 @@ static int pb_run(lg_node *n, uint32_t nv, void (*fn)(void *, size_t, size_t, ui
         lg_progress(n, f0 + (f1 - f0) * (double)b1 / nv, what);
     }
     return 0;
+}
+
+/* The passes that make a result (the direct pass, each bounce, the reference) are
+ * lg_shard jobs over the vertices, one job per pass (a bounce reads every vertex of the
+ * last): in one process they run over the pool, under `mpirun -np N` over every rank's
+ * threads, each rank taking chunks as it finishes its last, and every rank gets every
+ * vertex. One job rather than batches: a batch would end with every rank waiting for its
+ * slowest chunk, and the progress bar (the host's alone to move during a job) moves
+ * between passes.
+ *
+ * The chunk: about PB_CHUNK_DIRS direction tests (rays, or kept hits in a bounce, or cube
+ * texels in the reference), some milliseconds of one thread, so that handing a chunk to a
+ * rank (a message) is noise, while a pass still has hundreds of chunks per thread to even
+ * out the vertices near complex geometry, whose rays cost more. Results do not depend on
+ * the grain. */
+#define PB_CHUNK_DIRS 65536u
+static uint64_t pb_grain(uint64_t dirs_per_vertex)
+{
+    uint64_t g = PB_CHUNK_DIRS / (dirs_per_vertex ? dirs_per_vertex : 1);
+    return g < 1 ? 1 : g > 256 ? 256 : g;
+}
+
+static int pb_shard(lg_node *n, uint32_t nv, uint64_t dirs_per_vertex, uint64_t item_bytes,
+                    void *out, int (*run)(void *, uint64_t, uint64_t, void *, char *, size_t),
+                    void *ctx, const char *what, double progress)
+{
+    lg_shard_job job = { .count = nv,
+                         .grain = pb_grain(dirs_per_vertex),
+                         .item_bytes = item_bytes,
+                         .out = out,
+                         .run = run,
+                         .ctx = ctx,
+                         .what = "vertices" };
+    int rc = lg_shard(n, &job);
+    if (!rc)
+        lg_progress(n, progress, what);
+    return rc;
 }
 
 /* What the node can have written into an entry, value by value (pb_bounds_*): the host's
@@ -1642,7 +1723,6 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                    .T = T,
                    .dirs = dirs,
                    .Y = Y,
-                   .out = out,
                    .failed = failed,
                    .rays = rays };
     /* interreflected: keep the shadowed pass's hits (20 bytes each) while they fit the
@@ -1660,7 +1740,10 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
                hit_bound / 1048576.0, p->hit_budget / 1048576.0, p->hit_why);
     if (b.keep) {
         b.hits = calloc(nv, sizeof *b.hits);
-        b.n_hits = calloc(nv, sizeof *b.n_hits);
+        b.n_hits = malloc(nv * sizeof *b.n_hits);
+        if (b.n_hits)
+            for (uint32_t i = 0; i < nv; i++)
+                b.n_hits[i] = PB_NOT_KEPT;
         if (!b.hits || !b.n_hits) {
             rc = lg_error_code(n, LG_ERR_NOMEM,
                                "out of memory (hit lists of %u vertices, %.1f "
@@ -1671,29 +1754,20 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     }
     double share = p->mode == PB_INTERREFLECTED ? 0.8 : 1.0;
     double tp = lg_now(n);
-    rc = pb_run(n, nv, pb_bake_vertices, &b, pb_modes[p->mode], 0.0, share);
+    rc = pb_shard(n, nv, p->mode == PB_UNSHADOWED ? 1 : T, (uint64_t)3 * n2 * sizeof(float), out,
+                  pb_bake_vertices, &b, pb_modes[p->mode], share);
     if (rc)
         goto done;
-    uint64_t total_rays = 0;
-    for (size_t c = 0; c < nc; c++) {
-        if (failed[c]) {
-            if (b.keep)
-                rc = lg_error_code(n, LG_ERR_NOMEM,
-                                   "out of memory while baking (vertices "
-                                   "%zu..): keeping their ray hits, up to %.1f MiB per vertex "
-                                   "(hit_memory_mib = %lld; 0 keeps none)",
-                                   c * PB_GRAIN, (double)(T / 2 + 1) * sizeof(pb_hit) / 1048576.0,
-                                   (long long)p->hit_mib);
-            else
-                rc = lg_error_code(n, LG_ERR_NOMEM,
-                                   "out of memory while baking (vertices "
-                                   "%zu..: %u coefficients of accumulator per vertex)",
-                                   c * PB_GRAIN, n2);
-            goto done;
-        }
-        total_rays += rays[c];
-    }
     double t1 = lg_now(n);
+    uint64_t total_rays = 0;
+    if (p->mode != PB_UNSHADOWED) {
+        pb_ray_count count = { &w, dirs, T, rays };
+        rc = lg_parallel_for(n, nv, PB_GRAIN, pb_count_rays, &count);
+        if (rc)
+            goto done;
+        for (size_t c = 0; c < nc; c++)
+            total_rays += rays[c];
+    }
     if (b.keep && atomic_load(&b.over)) {
         /* over the budget: the hits kept so far go, every bounce casts again */
         lg_log(n, LG_LOG_INFO,
@@ -1712,7 +1786,7 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     if (p->mode == PB_INTERREFLECTED) {
         uint64_t nh = 0;
         for (uint32_t i = 0; b.keep && i < nv; i++)
-            nh += b.n_hits[i];
+            nh += b.n_hits[i] != PB_NOT_KEPT ? b.n_hits[i] : 0;
         if (b.keep)
             lg_log(n, LG_LOG_INFO,
                    "interreflections: kept %llu front-face hits for the bounces: %.1f MiB "
@@ -1736,23 +1810,18 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
         uint32_t k;
         for (k = 1; k <= p->bounces; k++) {
             b.prev = incr[(k - 1) & 1];
-            b.next = incr[k & 1];
-            rc = pb_run(n, nv, pb_bounce_vertices, &b, "interreflections",
-                        share + (1 - share) * (k - 1) / p->bounces,
-                        share + (1 - share) * k / p->bounces);
+            float *next = incr[k & 1];
+            /* a bounce reads every vertex of the last: one job each, after the last */
+            rc = pb_shard(n, nv, T / 2, (uint64_t)3 * n2 * sizeof(float), next, pb_bounce_vertices,
+                          &b, "interreflections", share + (1 - share) * k / p->bounces);
             if (rc)
                 goto done;
             double e = 0;
-            for (size_t c = 0; c < nc; c++)
-                if (failed[c]) {
-                    rc = lg_error_code(n, LG_ERR_NOMEM, "out of memory in bounce %u", k);
-                    goto done;
-                }
             for (size_t q = 0; q < floats; q++)
-                out[q] += b.next[q];
+                out[q] += next[q];
             for (uint32_t i = 0; i < nv; i++)
                 for (int c = 0; c < 3; c++)
-                    e += fabs(b.next[(size_t)i * 3 * n2 + (size_t)c * n2]);
+                    e += fabs(next[(size_t)i * 3 * n2 + (size_t)c * n2]);
             double ratio = e0 > 0 ? e / e0 : 0;
             lg_log(n, LG_LOG_DEBUG, "bounce %u: energy %.4g of the direct transfer's", k, ratio);
             if (ratio < p->threshold) {
@@ -1825,15 +1894,19 @@ typedef struct pb_ref {
     uint32_t n_tex;    /* 6 R^2 */
     const float *dirs; /* 3 per texel (world) */
     const float *L;    /* 3 per texel: radiance x solid angle */
-    float *out;        /* rgba per vertex */
 } pb_ref;
 
-static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
+/* lg_shard's run: vertices [begin, end) into `items`, rgba each (the per-vertex image's
+ * pixels: vertex i is pixel i of its 1024-wide rows). */
+static int pb_ref_vertices(void *ctx, uint64_t begin, uint64_t end, void *items, char *err,
+                           size_t err_size)
 {
-    (void)chunk;
+    (void)err;
+    (void)err_size;
     pb_ref *r = ctx;
     const pb_world *w = r->w;
-    for (size_t i = begin; i < end; i++) {
+    for (uint64_t i = begin; i < end; i++) {
+        float *px = (float *)items + 4 * (i - begin);
         const double *x = w->pos + 3 * i, *N = w->nrm + 3 * i, *D = w->in + 3 * i;
         double eps = pb_offset(w, x), o[3], acc[3] = { 0, 0, 0 };
         for (int c = 0; c < 3; c++)
@@ -1851,9 +1924,10 @@ static void pb_ref_vertices(void *ctx, size_t begin, size_t end, uint32_t chunk)
                 acc[c] += cw * r->L[3 * (size_t)t + c];
         }
         for (int c = 0; c < 3; c++)
-            r->out[4 * i + c] = (float)(w->albedo[3 * i + c] / LG_PI * acc[c]);
-        r->out[4 * i + 3] = 1.0f;
+            px[c] = (float)(w->albedo[3 * i + c] / LG_PI * acc[c]);
+        px[3] = 1.0f;
     }
+    return 0;
 }
 
 /* The probe's level 0 (`texels` RGBA texels, faces in order for a cube) with every NaN or
@@ -2036,10 +2110,8 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
         if (rc)
             goto done;
     }
-    pb_ref r = {
-        .p = p, .w = &w, .vis = &vis, .n_tex = (uint32_t)n_tex, .dirs = dirs, .L = L, .out = out
-    };
-    rc = pb_run(n, nv, pb_ref_vertices, &r, "reference", 0.0, 1.0);
+    pb_ref r = { .p = p, .w = &w, .vis = &vis, .n_tex = (uint32_t)n_tex, .dirs = dirs, .L = L };
+    rc = pb_shard(n, nv, n_tex, 4 * sizeof(float), out, pb_ref_vertices, &r, "reference", 1.0);
     if (rc)
         goto done;
     double secs_ref = lg_now(n) - t0;

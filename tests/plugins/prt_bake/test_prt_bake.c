@@ -62,9 +62,22 @@
  *                 rho sin^2(alpha) (a constant probe has only L_0: no truncation), the open
  *                 white box's interreflected radiance -> 1, and unshadowed = (rho / pi) E_n
  *                 on the sphere under the smooth probe; the three backends agree
+ *   threads       the bunny in the Cornell box baked interreflected and shadowed, and
+ *                 prt_reference, with the pool at 1 and at 2 threads (LIGHTGRAPH_THREADS),
+ *                 each from a cold cache: every output and every cache entry the same
+ *                 bytes (lg_shard's chunks differ with the pool's size); the interreflected
+ *                 bake whose hits pass a 1 MiB budget equals the one that keeps them, bit
+ *                 for bit
+ *   dist2, dist3  the same graphs and examples/prt.lgraph's chain on the bake (sh_project,
+ *                 prt on the cpu, reinhard) under tests/dist/mpirun.sh 2 and 3 (one thread
+ *                 per rank, 3 oversubscribed on this 2-core machine) against one process:
+ *                 the same output bytes and cache entry bytes, each result said once (rank
+ *                 0); on the warm cache the ranks load every entry and draw the same
+ *                 picture (meson tests `prt_bake dist np2`, `np3`, suite dist, with MPI)
  */
 #include <dirent.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
@@ -1537,6 +1550,284 @@ static void case_masked(lg_test *t)
     }
 }
 
+/* ---- threads and ranks: the same bits -------------------------------------------------------- */
+
+/* A whole file, malloc'd (*size its bytes), or NULL. */
+static char *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *buf = NULL;
+    size_t n = 0, cap = 0;
+    for (;;) {
+        if (n == cap) {
+            cap = cap ? 2 * cap : 65536;
+            char *g = realloc(buf, cap);
+            if (!g)
+                break;
+            buf = g;
+        }
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    fclose(f);
+    *size = n;
+    return buf;
+}
+
+/* Files `a` and `b` (paths) hold the same bytes; a failed check naming `what` otherwise. */
+static bool same_file(lg_test *t, const char *a, const char *b, const char *what)
+{
+    size_t na = 0, nb = 0;
+    char *x = read_all(a, &na), *y = read_all(b, &nb);
+    bool ok = x && y && na == nb && memcmp(x, y, na) == 0;
+    size_t at = 0;
+    while (x && y && at < na && at < nb && x[at] == y[at])
+        at++;
+    LG_TEST_CHECK(t, ok, "%s: %s (%zu bytes) and %s (%zu bytes) differ%s%zu", what, a, na, b, nb,
+                  x && y ? " from byte " : ": missing, at ", at);
+    free(x);
+    free(y);
+    return ok;
+}
+
+static int name_cmp(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* The cache entries of the prt_bake plugin (files "prt_bake-*", "prt_reference-*") in folder `dir`, sorted;
+ * returns their count (at most `max`), names malloc'd into names[]. */
+static int entries_in(const char *dir, char **names, int max)
+{
+    DIR *d = opendir(dir);
+    int count = 0;
+    if (!d)
+        return 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if ((!strncmp(e->d_name, "prt_bake-", 9) || !strncmp(e->d_name, "prt_reference-", 14)) &&
+            count < max)
+            names[count++] = strdup(e->d_name);
+    closedir(d);
+    qsort(names, (size_t)count, sizeof *names, name_cmp);
+    return count;
+}
+
+/* The two cache folders hold the same prt_bake entries (names and bytes), `want` of them. */
+static void same_entries(lg_test *t, const char *da, const char *db, int want, const char *what)
+{
+    char *a[8], *b[8];
+    int na = entries_in(da, a, 8), nb = entries_in(db, b, 8);
+    LG_TEST_CHECK(t, na == want && nb == want, "%s: %d and %d cache entries, want %d each", what,
+                  na, nb, want);
+    for (int k = 0; k < na && k < nb; k++) {
+        LG_TEST_CHECK(t, strcmp(a[k], b[k]) == 0, "%s: entry %s against %s", what, a[k], b[k]);
+        char pa[1024], pb[1024], w[256];
+        snprintf(pa, sizeof pa, "%s/%s", da, a[k]);
+        snprintf(pb, sizeof pb, "%s/%s", db, b[k]);
+        snprintf(w, sizeof w, "%s: cache entry %s", what, a[k]);
+        same_file(t, pa, pb, w);
+    }
+    for (int k = 0; k < na; k++)
+        free(a[k]);
+    for (int k = 0; k < nb; k++)
+        free(b[k]);
+}
+
+/* The graphs whose bits must not depend on threads or ranks: the bunny in the Cornell box
+ * (2628 vertices, the bunny's costlier rays next to the walls' cheap ones) baked
+ * interreflected (the direct pass and each bounce are jobs of their own) and shadowed, the
+ * bake's transfer written whole (test_transfer_image); prt_reference shadowed under a
+ * smooth probe (write_probe); and, with `chain`, the chain of examples/prt.lgraph on the bake (sh_project,
+ * prt on the cpu, reinhard) to a picture. `extra` is appended to the bake's parameters. */
+static void same_bits_graph(lg_test *t, bool chain, const char *extra)
+{
+    char g[4096], mesh[1024];
+    snprintf(mesh, sizeof mesh, "%s", lg_test_asset("meshes/bunny_cornell_box.glb"));
+    int k = snprintf(g, sizeof g,
+                     "lightgraph 1\n"
+                     "scene = gltf { file = \"%s\" }\n"
+                     "sky = probe { file = \"probe.exr\", layout = latlong }\n"
+                     "bake = prt_bake { scene = scene, mode = interreflected, bands = 3, "
+                     "samples = 16, bounces = 2, bounce_threshold = 0%s }\n"
+                     "shad = prt_bake { scene = scene, mode = shadowed, bands = 2, "
+                     "samples = 12 }\n"
+                     "tb = test_transfer_image { transfer = bake, bands = 3 }\n"
+                     "ts = test_transfer_image { transfer = shad, bands = 2 }\n"
+                     "ref = prt_reference { scene = scene, probe = sky, mode = shadowed, "
+                     "resolution = 8 }\n"
+                     "output tb \"bake.exr\"\noutput ts \"shad.exr\"\noutput ref \"ref.exr\"\n",
+                     mesh, extra);
+    write_probe(t, true);
+    if (chain)
+        snprintf(g + k, sizeof g - (size_t)k,
+                 "cam = camera { scene = scene, mode = look_at, position = [0.0, 1.0, -3.4], "
+                 "target = [0.0, 0.9, 0.0], fov_deg = 45 }\n"
+                 "light = sh_project { probe = sky, bands = 3 }\n"
+                 "lit = prt { scene = cam, lighting = light, transfer = bake, backend = cpu }\n"
+                 "tone = reinhard { image = lit }\n"
+                 "output tone \"prt.png\"\n");
+    lg_test_write_text(t, "g.lgraph", g);
+}
+
+/* Runs g.lgraph (render -v, --size 96x72) with the cache in <scratch>/<cache> (emptied
+ * first when `cold`) and LIGHTGRAPH_THREADS = threads, as `np` MPI ranks through
+ * tests/dist/mpirun.sh when np > 0 (else one plain process), then moves every output to
+ * <name>.<output>. Returns the exit status; *text gets what it printed. */
+static int same_bits_run(lg_test *t, int np, int threads, const char *cache, bool cold,
+                         const char *name, char **text)
+{
+    char dir[1024], cmd[4096], th[16];
+    snprintf(dir, sizeof dir, "%s", lg_test_path(t, cache));
+    snprintf(cmd, sizeof cmd, cold ? "rm -rf '%s' && mkdir -p '%s'" : "mkdir -p '%s'", dir, dir);
+    if (system(cmd) != 0)
+        return -1;
+    setenv("LIGHTGRAPH_CACHE_DIR", dir, 1);
+    snprintf(th, sizeof th, "%d", threads);
+    setenv("LIGHTGRAPH_THREADS", th, 1);
+    int rc = -1;
+    if (np == 0) {
+        const char *args[] = { "-v", "--size", "96x72", NULL };
+        rc = lg_test_render(t, "g.lgraph", args, text);
+    } else {
+        snprintf(cmd, sizeof cmd,
+                 "cd '%s' && sh '%s' %d '%s' render g.lgraph -v --size 96x72 2>&1 </dev/null",
+                 lg_test_dir(t), PRT_MPIRUN, np, lg_test_exe());
+        FILE *p = popen(cmd, "r");
+        size_t n = 0, cap = 4096, got;
+        char *out = malloc(cap);
+        while (out && p && (got = fread(out + n, 1, cap - n - 1, p)) > 0)
+            if ((n += got) + 1 == cap) {
+                char *g = realloc(out, cap *= 2);
+                if (!g)
+                    break;
+                out = g;
+            }
+        if (out)
+            out[n] = 0;
+        int st = p ? pclose(p) : -1;
+        if (st != -1 && WIFEXITED(st))
+            rc = WEXITSTATUS(st);
+        if (rc != 0)
+            fprintf(stderr, "$ %s\nexit %d\n%s\n", cmd, rc, out ? out : "");
+        if (text)
+            *text = out;
+        else
+            free(out);
+    }
+    unsetenv("LIGHTGRAPH_THREADS");
+    static const char *const outs[] = { "bake.exr", "shad.exr", "ref.exr", "prt.png" };
+    for (int k = 0; k < 4; k++) {
+        char to[64], from[1024];
+        snprintf(to, sizeof to, "%s.%s", name, outs[k]);
+        snprintf(from, sizeof from, "%s", lg_test_path(t, outs[k]));
+        rename(from, lg_test_path(t, to));
+    }
+    return rc;
+}
+
+/* The outputs of runs `a` and `b` (same_bits_run's names) and, with `caches`, their cache
+ * folders (of the same names) agree byte for byte. */
+static void same_bits_compare(lg_test *t, const char *a, const char *b, bool chain, bool caches,
+                              const char *what)
+{
+    static const char *const outs[] = { "bake.exr", "shad.exr", "ref.exr", "prt.png" };
+    for (int k = 0; k < (chain ? 4 : 3); k++) {
+        char fa[64], fb[64], pa[1024], w[256];
+        snprintf(fa, sizeof fa, "%s.%s", a, outs[k]);
+        snprintf(fb, sizeof fb, "%s.%s", b, outs[k]);
+        snprintf(pa, sizeof pa, "%s", lg_test_path(t, fa));
+        snprintf(w, sizeof w, "%s: %s", what, outs[k]);
+        same_file(t, pa, lg_test_path(t, fb), w);
+    }
+    if (!caches)
+        return;
+    char ca[1024];
+    snprintf(ca, sizeof ca, "%s", lg_test_path(t, a));
+    same_entries(t, ca, lg_test_path(t, b), 3, what);
+}
+
+/* One process, the pool at 1 and at 2 threads: the same bits in every output and in
+ * every cache entry (the bake's chunks, each rank's share under MPI, differ with the pool's
+ * size); and the interreflected bake whose hits pass a 1 MiB budget (some vertices' hits
+ * kept until then, the others' rays cast again in every bounce) equals the one that keeps
+ * them all, bit for bit. */
+static void case_threads(lg_test *t)
+{
+    same_bits_graph(t, false, "");
+    char *text = NULL;
+    int rc = same_bits_run(t, 0, 1, "c1", true, "c1", &text);
+    LG_TEST_CHECK(t, rc == 0 && text && strstr(text, "kept "),
+                  "1 thread: exit %d, or the hits were not kept:\n%s", rc, text ? text : "");
+    free(text);
+    rc = same_bits_run(t, 0, 2, "c2", true, "c2", NULL);
+    LG_TEST_CHECK(t, rc == 0, "2 threads: exit %d", rc);
+    same_bits_compare(t, "c1", "c2", false, true, "LIGHTGRAPH_THREADS 1 and 2");
+    same_bits_graph(t, false, ", hit_memory_mib = 1");
+    text = NULL;
+    rc = same_bits_run(t, 0, 2, "c3", true, "c3", &text);
+    LG_TEST_CHECK(t, rc == 0 && text && strstr(text, "passed their budget of 1.0 MiB"),
+                  "hit_memory_mib = 1: exit %d, or the budget was not passed:\n%s", rc,
+                  text ? text : "");
+    free(text);
+    char c1[1024];
+    snprintf(c1, sizeof c1, "%s", lg_test_path(t, "c1.bake.exr"));
+    same_file(t, c1, lg_test_path(t, "c3.bake.exr"),
+              "interreflected, hits kept and past a 1 MiB budget");
+}
+
+/* `mpirun -np np` (tests/dist/mpirun.sh, one thread per rank) against one process with 2
+ * threads, each with a cold cache: the same bits in every output (the transfers, the
+ * reference, the picture of examples/prt.lgraph's chain) and in every cache entry, each
+ * made and said once; then the ranks again on the warm cache load the entries (rank 0
+ * says so) and make the same picture, the entries untouched. */
+static void case_dist(lg_test *t, int np)
+{
+    same_bits_graph(t, true, "");
+    int rc = same_bits_run(t, 0, 2, "one", true, "one", NULL);
+    LG_TEST_CHECK(t, rc == 0, "one process: exit %d", rc);
+    char *text = NULL;
+    rc = same_bits_run(t, np, 1, "ranks", true, "ranks", &text);
+    LG_TEST_CHECK(t, rc == 0, "%d ranks: exit %d", np, rc);
+    LG_TEST_CHECK(t,
+                  text && occurrences(text, "transfer baked") == 2 &&
+                      occurrences(text, "reference computed") == 1,
+                  "%d ranks: want each result made and said once (by rank 0):\n%s", np,
+                  text ? text : "");
+    free(text);
+    char what[64];
+    snprintf(what, sizeof what, "one process and %d ranks", np);
+    same_bits_compare(t, "one", "ranks", true, true, what);
+    text = NULL;
+    rc = same_bits_run(t, np, 1, "ranks", false, "warm", &text);
+    LG_TEST_CHECK(t,
+                  rc == 0 && text && occurrences(text, "transfer loaded from the cache") == 2 &&
+                      occurrences(text, "reference loaded from the cache") == 1 &&
+                      !strstr(text, "transfer baked"),
+                  "%d ranks, warm cache: exit %d, or not every result loaded once:\n%s", np, rc,
+                  text ? text : "");
+    free(text);
+    snprintf(what, sizeof what, "one process and %d ranks on a warm cache", np);
+    same_bits_compare(t, "one", "warm", true, false, what);
+    char one[1024];
+    snprintf(one, sizeof one, "%s", lg_test_path(t, "one"));
+    same_entries(t, one, lg_test_path(t, "ranks"), 3, what);
+}
+
+static void case_dist2(lg_test *t)
+{
+    case_dist(t, 2);
+}
+
+static void case_dist3(lg_test *t)
+{
+    case_dist(t, 3);
+}
+
 static void setup(lg_test *t)
 {
     lg_test_use_plugins(t, PRT_TEST_PLUGIN_DIR);
@@ -1561,6 +1852,9 @@ int main(int argc, char **argv)
         { "forged", case_forged },
         { "nonfinite", case_nonfinite },
         { "masked", case_masked },
+        { "threads", case_threads },
+        { "dist2", case_dist2 },
+        { "dist3", case_dist3 },
     };
     lg_test_main_opts o = { .setup = setup };
     return lg_test_main(argc, argv, cases, sizeof cases / sizeof cases[0], &o);
