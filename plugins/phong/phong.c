@@ -781,7 +781,9 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
         lg_gl_set_vec3(p, u->tau_hi, (float)t->hi[0], (float)t->hi[1], (float)t->hi[2]);
         lg_gl_set_ivec3(p, u->tau_n, (int32_t)t->n[0], (int32_t)t->n[1], (int32_t)t->n[2]);
         lg_gl_set_vec3v(p, u->sigma_t, f->sigma_t);
-        lg_gl_pass_bind_texture(p, u->tau, st->tau_tex.name);
+        /* linear filtering: the volume's trilinear tau, the texture unit's own weights */
+        const lg_gl_sampler lin = { .filter = LG_GL_FILTER_LINEAR, .wrap = LG_GL_WRAP_CLAMP };
+        lg_gl_pass_bind_texture_sampled(p, u->tau, st->tau_tex.name, &lin);
     }
     ph_draw_ctx ctx = { st, gl, f->s, p, u, f->scene_res };
     lg_gl_scene_draw d = { .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };

@@ -114,32 +114,23 @@ float lg_cue(vec3 P)
 // Each light's optical-depth volume (plugins/volumetric_common vol_tau_build: tau at the
 // nodes of an n.x x n.y x n.z lattice over the box [u_tau_lo, u_tau_hi], the integral of
 // the density multiplier from the node towards the light, to the light or out of the box),
-// the lights' volumes stacked along z in light order, read with texelFetch.
+// the lights' volumes stacked along z in light order, sampled linearly.
 layout(binding = 3) uniform sampler3D u_tau;
 uniform vec3 u_tau_lo, u_tau_hi;
 uniform ivec3 u_tau_n;
 uniform vec3 u_sigma_t; // density x (scattering + absorption), 1 / scene unit
 
-// Light i's optical depth at q (inside the box), trilinear between the lattice's nodes in
-// float, as vol_tau_sample does in double (texelFetch: no 8-bit filtering weights).
+// Light i's optical depth at q (inside the box): trilinear between the lattice's nodes, by
+// the texture unit's linear filter (the volumes' node centres are its texel centres; x is
+// clamped to light i's own layers, so no filter reaches a neighbour's), as vol_tau_sample
+// does in double.
 float lg_tau_at(int i, vec3 q)
 {
     vec3 n1 = vec3(u_tau_n - 1);
-    vec3 u = clamp((q - u_tau_lo) / (u_tau_hi - u_tau_lo) * n1, vec3(0.0), n1);
-    ivec3 i0 = min(ivec3(floor(u)), u_tau_n - 2);
-    vec3 f = u - vec3(i0);
-    i0.z += i * u_tau_n.z;
-    float c000 = texelFetch(u_tau, i0, 0).r;
-    float c100 = texelFetch(u_tau, i0 + ivec3(1, 0, 0), 0).r;
-    float c010 = texelFetch(u_tau, i0 + ivec3(0, 1, 0), 0).r;
-    float c110 = texelFetch(u_tau, i0 + ivec3(1, 1, 0), 0).r;
-    float c001 = texelFetch(u_tau, i0 + ivec3(0, 0, 1), 0).r;
-    float c101 = texelFetch(u_tau, i0 + ivec3(1, 0, 1), 0).r;
-    float c011 = texelFetch(u_tau, i0 + ivec3(0, 1, 1), 0).r;
-    float c111 = texelFetch(u_tau, i0 + ivec3(1, 1, 1), 0).r;
-    float y0 = mix(mix(c000, c100, f.x), mix(c010, c110, f.x), f.y);
-    float y1 = mix(mix(c001, c101, f.x), mix(c011, c111, f.x), f.y);
-    return mix(y0, y1, f.z);
+    vec3 x = clamp((q - u_tau_lo) / (u_tau_hi - u_tau_lo) * n1, vec3(0.0), n1);
+    vec3 uvw = (x + 0.5) / vec3(u_tau_n);
+    uvw.z = (x.z + 0.5 + float(i * u_tau_n.z)) / float(u_tau_n.z * u_n_lights);
+    return textureLod(u_tau, uvw, 0.0).r;
 }
 
 // The transmittance e^(-sigma_t tau) from P towards light i along the unit L, over the
