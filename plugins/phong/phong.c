@@ -22,11 +22,13 @@
 
 #include "lightgraph/gl_pass.h"
 #include "lightgraph/lightgraph.h"
+#include "lightgraph/medium.h"
 #include "lightgraph/vecmath.h"
 #include "phong_model.h"
 #include "lightgraph/scene.h"
 #include "lightgraph/scene_gl.h"
 #include "lightgraph/shadowmap.h"
+#include "vol_common.h"
 
 #include "phong.frag.h"
 #include "phong.geom.h"
@@ -123,6 +125,9 @@ typedef struct ph_uniforms {
     lg_gl_uniform id_base, ka, kd, ks, shininess, od, os, double_sided;
     lg_gl_binding frame, lights, shadows, atlas;
     lg_gl_material_binds mat; /* the material's textures (shaders/common/material.glsl) */
+    /* the medium's shadow (the LG_TAU variant only; absent elsewhere) */
+    lg_gl_binding tau;
+    lg_gl_uniform tau_lo, tau_hi, tau_n, sigma_t;
 } ph_uniforms;
 
 typedef struct ph_state {
@@ -151,6 +156,22 @@ typedef struct ph_state {
                          * made) */
     uint32_t n_eq13;
     bool warned_shadow;
+
+    /* The medium's shadow on surfaces (README.md, "Shadows of the medium"), only for a
+     * scene whose medium has a density field: each light's optical-depth volume
+     * (vol_tau_build_light), kept while the scene (by address), its field, its lights as
+     * the shaders see them and the resolution stay, and their stack in one 3D texture. */
+    bool medium_shadows;
+    uint32_t tau_res;
+    int program_tau;       /* st->pass compiled with LG_TAU (1) or without (0) */
+    vol_tau_volume *tau;   /* n_tau volumes, owned */
+    vol_light *tau_lights; /* what they were built for, n_tau */
+    uint32_t n_tau;
+    const lg_scene *tau_scene;
+    lg_density_field tau_field;
+    float tau_bounds[6];
+    lg_gl_texture tau_tex; /* r32f, n.x x n.y x (n.z n_tau) */
+    bool tau_uploaded;     /* tau_tex holds the volumes above */
 } ph_state;
 
 /* ---- create / prepare ------------------------------------------------------------------------ */
@@ -174,6 +195,8 @@ static int ph_create(lg_node *n)
     st->ks_scale = (float)lg_param_float(n, "ks_scale");
     st->mixed_cos = (float)cos(lg_param_float(n, "mixed_threshold_deg") * (LG_PI / 180.0));
     st->camera = lg_param_int(n, "camera");
+    st->medium_shadows = lg_param_bool(n, "medium_shadows");
+    st->tau_res = (uint32_t)lg_param_int(n, "medium_shadow_res");
     const lg_value *a = lg_param(n, "ambient"), *bg = lg_param(n, "background");
     for (int i = 0; i < 3; i++) {
         st->ambient[i] = a ? (float)a->v[i] : 0.0f;
@@ -526,6 +549,11 @@ static void ph_locate(lg_gl_pass *p, ph_uniforms *u)
     u->lights = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgLights");
     u->shadows = lg_gl_pass_binding_optional(p, GL_SHADER_STORAGE_BLOCK, "LgShadows");
     u->atlas = lg_gl_pass_binding_optional(p, GL_SAMPLER, "u_atlas");
+    u->tau = lg_gl_pass_binding_optional(p, GL_SAMPLER, "u_tau");
+    u->tau_lo = lg_gl_pass_uniform_optional(p, "u_tau_lo");
+    u->tau_hi = lg_gl_pass_uniform_optional(p, "u_tau_hi");
+    u->tau_n = lg_gl_pass_uniform_optional(p, "u_tau_n");
+    u->sigma_t = lg_gl_pass_uniform_optional(p, "u_sigma_t");
     /* the C mirrors against the compiled layout (their static checks hold the numbers) */
     if (u->lights.index >= 0)
         lg_gl_pass_check_block(p, GL_SHADER_STORAGE_BLOCK, "LgLights", sizeof(ph_gpu_light));
@@ -552,13 +580,15 @@ static int ph_sv_limit(const lg_gl *gl)
 
 /* A raster pass of the scene: the output's rgba32f colour (r32ui surface ids for phong_half's
  * id pass) and depth. */
-static int ph_raster_pass(lg_node *n, const ph_state *st, int shading, int sv, bool geom,
+static int ph_raster_pass(lg_node *n, const ph_state *st, int shading, int sv, bool geom, bool tau,
                           GLenum color, lg_gl_pass **out)
 {
-    char defines[160];
+    /* LG_TAU only for a scene with a density field: every other scene compiles the same
+     * source with the same defines as before the medium's shadow existed */
+    char defines[192];
     snprintf(defines, sizeof defines,
-             "#define LG_SHADING %d\n#define LG_SV %d\n#define LG_SV_ARR %d\n", shading, sv,
-             sv > 0 ? sv : 1);
+             "#define LG_SHADING %d\n#define LG_SV %d\n#define LG_SV_ARR %d\n%s", shading, sv,
+             sv > 0 ? sv : 1, tau ? "#define LG_TAU 1\n" : "");
     static const lg_gl_shader_src src[3] = {
         { GL_VERTEX_SHADER, lg_src_phong_vert_file, lg_src_phong_vert },
         { GL_FRAGMENT_SHADER, lg_src_phong_frag_file, lg_src_phong_frag },
@@ -578,24 +608,25 @@ static int ph_raster_pass(lg_node *n, const ph_state *st, int shading, int sv, b
     return lg_gl_pass_create(n, &d, out);
 }
 
-static int ph_passes(lg_node *n, ph_state *st, int sv)
+static int ph_passes(lg_node *n, ph_state *st, int sv, bool tau)
 {
     int rc;
-    if (st->pass && st->program_sv != sv) {
+    if (st->pass && (st->program_sv != sv || st->program_tau != (int)tau)) {
         lg_gl_pass_destroy(&st->pass);
     }
     if (!st->pass) {
         /* phong_half shades its two quarter images with the phong mode's program */
         int shading = st->shading == PH_HALF ? PH_PHONG : st->shading;
-        if ((rc = ph_raster_pass(n, st, shading, sv, shading == PH_FLAT || shading == PH_MIXED,
+        if ((rc = ph_raster_pass(n, st, shading, sv, shading == PH_FLAT || shading == PH_MIXED, tau,
                                  GL_RGBA32F, &st->pass)))
             return rc;
         st->program_sv = sv;
+        st->program_tau = tau;
         ph_locate(st->pass, &st->u);
     }
     if (st->shading == PH_HALF && (!st->id_pass || !st->half_pass)) {
         lg_gl_pass_destroy(&st->id_pass); /* after a failed attempt */
-        if ((rc = ph_raster_pass(n, st, PH_HALF, 0, false, GL_R32UI, &st->id_pass)))
+        if ((rc = ph_raster_pass(n, st, PH_HALF, 0, false, false, GL_R32UI, &st->id_pass)))
             return rc;
         ph_locate(st->id_pass, &st->id_u);
         static const lg_gl_shader_src c[2] = {
@@ -655,6 +686,8 @@ typedef struct ph_frame_in {
     GLuint atlas;
     const lg_scene_view *v;
     uint32_t n_lights;
+    bool tau; /* the medium's shadow: st->tau_tex and these */
+    float sigma_t[3];
 } ph_frame_in;
 
 static int ph_set_globals(ph_state *st, lg_gl_pass *p, const ph_uniforms *u, const ph_frame_in *f,
@@ -742,9 +775,143 @@ static int ph_pass(lg_node *n, ph_state *st, const lg_gl *gl, const ph_frame_in 
     lg_gl_pass_bind_buffer(p, u->lights, st->lights_buf.name);
     lg_gl_pass_bind_buffer(p, u->shadows, st->shadows_buf.name);
     lg_gl_pass_bind_texture(p, u->atlas, f->atlas);
+    if (f->tau) {
+        const vol_tau_volume *t = &st->tau[0];
+        lg_gl_set_vec3(p, u->tau_lo, (float)t->lo[0], (float)t->lo[1], (float)t->lo[2]);
+        lg_gl_set_vec3(p, u->tau_hi, (float)t->hi[0], (float)t->hi[1], (float)t->hi[2]);
+        lg_gl_set_ivec3(p, u->tau_n, (int32_t)t->n[0], (int32_t)t->n[1], (int32_t)t->n[2]);
+        lg_gl_set_vec3v(p, u->sigma_t, f->sigma_t);
+        /* linear filtering: the volume's trilinear tau, the texture unit's own weights */
+        const lg_gl_sampler lin = { .filter = LG_GL_FILTER_LINEAR, .wrap = LG_GL_WRAP_CLAMP };
+        lg_gl_pass_bind_texture_sampled(p, u->tau, st->tau_tex.name, &lin);
+    }
     ph_draw_ctx ctx = { st, gl, f->s, p, u, f->scene_res };
     lg_gl_scene_draw d = { .on_mesh = ph_on_mesh, .on_batch = ph_on_batch, .user = &ctx };
     return lg_gl_pass_end(p, lg_gl_pass_draw_scene(p, f->scene_res, &d));
+}
+
+/* ---- the medium's shadow on surfaces --------------------------------------------------------- */
+
+/* Whether the medium shadows surfaces in this scene: medium_shadows on and a medium with a
+ * density field and some extinction. Every other scene (no medium, a homogeneous one, a
+ * field of no extinction) runs the program and the uploads it ran before (README.md). */
+static bool ph_tau_wanted(const ph_state *st, const lg_scene *s, float sigma_t[3])
+{
+    if (!st->medium_shadows || !s->medium.present || !(s->medium.density > 0.0f) ||
+        !s->medium.field)
+        return false;
+    float sigma_s[3];
+    lg_medium_coeffs(&s->medium, sigma_s, sigma_t);
+    return sigma_t[0] > 0.0f || sigma_t[1] > 0.0f || sigma_t[2] > 0.0f;
+}
+
+static void ph_tau_free(lg_node *n, ph_state *st)
+{
+    for (uint32_t i = 0; i < st->n_tau; i++)
+        vol_tau_free(n, &st->tau[i]);
+    free(st->tau);
+    free(st->tau_lights);
+    st->tau = NULL;
+    st->tau_lights = NULL;
+    st->n_tau = 0;
+    st->tau_scene = NULL;
+    st->tau_uploaded = false;
+}
+
+/* Each light's optical-depth volume as the shaders see the light (a light at infinity,
+ * pos.w 0, marches along its L out of the box; a local one to its position), remade when
+ * the scene, its field, a light or the resolution changes, and their stack uploaded into
+ * st->tau_tex. `scene` is the scene on the input (the cache's key), `s` its pose. */
+static int ph_tau(lg_node *n, ph_state *st, const lg_gl *gl, const lg_scene *scene,
+                  const lg_scene *s, const ph_gpu_light *lights, uint32_t nl)
+{
+    vol_light *want = calloc(nl ? nl : 1, sizeof *want);
+    if (!want)
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u lights)", nl);
+    for (uint32_t i = 0; i < nl; i++) {
+        const ph_gpu_light *g = &lights[i];
+        vol_light *l = &want[i];
+        l->scene_index = i;
+        l->shadow = -1;
+        if (g->pos[3] < 0.5f) {
+            l->type = LG_LIGHT_DIRECTIONAL;
+            for (int c = 0; c < 3; c++)
+                l->dir[c] = -g->dir[c]; /* vol_light: the direction the light travels */
+        } else {
+            l->type = LG_LIGHT_POINT; /* a spot's cone does not change the path */
+            memcpy(l->pos, g->pos, sizeof l->pos);
+        }
+    }
+    float bounds[6];
+    memcpy(bounds, s->bounds_min, sizeof s->bounds_min);
+    memcpy(bounds + 3, s->bounds_max, sizeof s->bounds_max);
+    if (st->tau && st->tau_scene == scene && st->n_tau == nl &&
+        memcmp(st->tau_lights, want, nl * sizeof *want) == 0 &&
+        memcmp(&st->tau_field, s->medium.field, sizeof st->tau_field) == 0 &&
+        memcmp(st->tau_bounds, bounds, sizeof bounds) == 0 && st->tau[0].tau && st->tau[0].n[0] &&
+        st->tau_uploaded) {
+        free(want);
+        return 0;
+    }
+    ph_tau_free(n, st);
+    st->tau = calloc(nl ? nl : 1, sizeof *st->tau);
+    if (!st->tau) {
+        free(want);
+        return lg_error_code(n, LG_ERR_NOMEM, "out of memory (%u lights)", nl);
+    }
+    st->tau_lights = want;
+    int rc = 0;
+    for (uint32_t i = 0; i < nl && !rc; i++) {
+        rc = vol_tau_build_light(n, &s->medium, s->bounds_min, s->bounds_max, &want[i], st->tau_res,
+                                 &st->tau[i]);
+        if (!rc)
+            st->n_tau = i + 1;
+    }
+    if (rc) {
+        ph_tau_free(n, st);
+        return rc;
+    }
+    const vol_tau_volume *t0 = &st->tau[0];
+    GLint max3d = 0;
+    gl->GetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+    uint64_t depth = (uint64_t)t0->n[2] * nl;
+    if (depth > (uint64_t)max3d) {
+        ph_tau_free(n, st);
+        return lg_error(n,
+                        "medium_shadows: %u lights' optical-depth volumes of %u cells in z "
+                        "(medium_shadow_res = %u) stack to %llu layers, beyond this device's "
+                        "3D texture limit of %d: lower medium_shadow_res or turn "
+                        "medium_shadows off",
+                        nl, t0->n[2], st->tau_res, (unsigned long long)depth, (int)max3d);
+    }
+    lg_gl_texture_desc td = { .target = GL_TEXTURE_3D,
+                              .format = GL_R32F,
+                              .width = t0->n[0],
+                              .height = t0->n[1],
+                              .depth = (uint32_t)depth };
+    int made = lg_gl_texture_recreate(n, &st->tau_tex, &td);
+    if (made < 0) {
+        ph_tau_free(n, st);
+        return made;
+    }
+    for (uint32_t i = 0; i < nl; i++)
+        gl->TextureSubImage3D(st->tau_tex.name, 0, 0, 0, (GLint)(i * t0->n[2]), (GLsizei)t0->n[0],
+                              (GLsizei)t0->n[1], (GLsizei)t0->n[2], GL_RED, GL_FLOAT,
+                              st->tau[i].tau);
+    if ((rc = lg_gl_check(n, "phong: uploading the optical-depth volumes"))) {
+        ph_tau_free(n, st);
+        return rc;
+    }
+    st->tau_scene = scene;
+    st->tau_field = *s->medium.field;
+    memcpy(st->tau_bounds, bounds, sizeof bounds);
+    st->tau_uploaded = true;
+    lg_log(n, LG_LOG_INFO,
+           "the medium's shadow: %u optical-depth volume%s of %ux%ux%u cells over [%.4g, %.4g, "
+           "%.4g] .. [%.4g, %.4g, %.4g]",
+           nl, nl == 1 ? "" : "s", t0->n[0], t0->n[1], t0->n[2], t0->lo[0], t0->lo[1], t0->lo[2],
+           t0->hi[0], t0->hi[1], t0->hi[2]);
+    return 0;
 }
 
 /* phong_half's images at the output's size (made on the first frame, then kept; sampled
@@ -884,7 +1051,11 @@ static int ph_execute(lg_node *n, const lg_frame *frame)
         goto out;
     }
     int sv = (int)n_shadow < ph_sv_limit(gl) ? (int)n_shadow : ph_sv_limit(gl);
-    if ((rc = ph_passes(n, st, sv)) || (n_shadow && (rc = phong_shadow_atlas(n, f.sm, &f.atlas))) ||
+    f.tau = f.n_lights > 0 && ph_tau_wanted(st, f.s, f.sigma_t);
+    if (f.tau && (rc = ph_tau(n, st, gl, scene, f.s, lights, f.n_lights)))
+        goto out;
+    if ((rc = ph_passes(n, st, sv, f.tau)) ||
+        (n_shadow && (rc = phong_shadow_atlas(n, f.sm, &f.atlas))) ||
         (rc = lg_gl_target_output(n, "out", &out)))
         goto out;
     if ((rc = ph_upload(n, &st->lights_buf, lights, (size_t)f.n_lights * sizeof *lights)) ||
@@ -938,6 +1109,8 @@ static void ph_destroy(lg_node *n)
     lg_gl_texture_destroy(n, &st->quarter_depth);
     lg_gl_buffer_destroy(n, &st->lights_buf);
     lg_gl_buffer_destroy(n, &st->shadows_buf);
+    lg_gl_texture_destroy(n, &st->tau_tex);
+    ph_tau_free(n, st);
     for (uint32_t i = 0; i < st->n_eq13; i++)
         lg_gl_buffer_destroy(n, &st->eq13[i]);
     free(st->eq13);
@@ -1068,6 +1241,19 @@ static const lg_param_desc ph_params[] = {
       .type = LG_PARAM_BOOL,
       .def.b = false,
       .doc = "render again on every frame (--frames), for timing; the result is the same" },
+    { .key = "medium_shadows",
+      .type = LG_PARAM_BOOL,
+      .def.b = true,
+      .doc = "a medium with a density field shadows surfaces: each light times the "
+             "transmittance towards it through the field (an optical-depth volume per "
+             "light); scenes without a field are unaffected either way" },
+    { .key = "medium_shadow_res",
+      .type = LG_PARAM_INT,
+      .def.i = 64,
+      .min = 2,
+      .max = 128,
+      .doc = "medium_shadows: cells along the longest side of each light's optical-depth "
+             "volume (built on the CPU once per scene and light: res^4 field reads)" },
 };
 static const lg_port_desc ph_inputs[] = {
     { .name = "scene", .kind = LG_KIND_SCENE, .doc = "the scene to light and draw" },

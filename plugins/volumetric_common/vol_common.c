@@ -213,11 +213,12 @@ double vol_density(const vol_setup *v, const double p[3])
  * clipping it to them clamped the cloud's upper half to the box's top cells, 2.3x too
  * bright against the reference), else the scene's bounds, grown by 1% so that surfaces
  * lie inside. */
-static void tau_box(const vol_setup *v, double lo[3], double hi[3])
+static void tau_box(const lg_medium *medium, const float scene_min[3], const float scene_max[3],
+                    double lo[3], double hi[3])
 {
-    const lg_density_field *f = v->medium.field;
+    const lg_density_field *f = medium->field;
     for (int c = 0; c < 3; c++) {
-        double slo = v->scene_min[c], shi = v->scene_max[c];
+        double slo = scene_min[c], shi = scene_max[c];
         double pad = 0.01 * (shi - slo) + 1e-6;
         slo -= pad;
         shi += pad;
@@ -243,38 +244,28 @@ static double box_exit(const double p[3], const double d[3], const double lo[3],
     return isfinite(t) && t > 0.0 ? t : 0.0;
 }
 
-int vol_tau_build(lg_node *n, const vol_setup *v, uint32_t k, uint32_t res, vol_tau_volume *out)
+typedef struct tau_job {
+    const lg_medium *medium;
+    const vol_light *l;
+    vol_tau_volume *out;
+    double ext[3], step;
+} tau_job;
+
+/* One z layer of cells per index: each cell's march depends on its own position only, so
+ * the volume has the same bits on any number of threads. */
+static void tau_layers(void *ctx, size_t begin, size_t end, uint32_t chunk)
 {
-    memset(out, 0, sizeof *out);
-    if (k >= v->n_lights)
-        return lg_error(n, "vol_tau_build: light %u of %u", k, v->n_lights);
-    if (res < 2)
-        res = 2;
-    tau_box(v, out->lo, out->hi);
-    double ext[3], longest = 0.0;
-    for (int c = 0; c < 3; c++) {
-        ext[c] = out->hi[c] - out->lo[c];
-        longest = fmax(longest, ext[c]);
-    }
-    for (int c = 0; c < 3; c++) {
-        double m = ceil((double)res * ext[c] / longest);
-        out->n[c] = m < 2.0 ? 2u : (uint32_t)m;
-    }
-    size_t cells = (size_t)out->n[0] * out->n[1] * out->n[2];
-    out->tau = malloc(cells * sizeof(float));
-    if (!out->tau)
-        return lg_error(n, "out of memory for a %ux%ux%u optical-depth volume", out->n[0],
-                        out->n[1], out->n[2]);
-    lg_account_alloc(n, cells * sizeof(float));
-    const vol_light *l = &v->lights[k];
-    double step = 0.5 * longest / (double)res;
-    for (uint32_t z = 0; z < out->n[2]; z++)
+    (void)chunk;
+    const tau_job *j = ctx;
+    vol_tau_volume *out = j->out;
+    const vol_light *l = j->l;
+    for (uint32_t z = (uint32_t)begin; z < (uint32_t)end; z++)
         for (uint32_t y = 0; y < out->n[1]; y++)
             for (uint32_t x = 0; x < out->n[0]; x++) {
                 uint32_t idx[3] = { x, y, z };
                 double p[3], d[3], len;
                 for (int c = 0; c < 3; c++)
-                    p[c] = out->lo[c] + ext[c] * (double)idx[c] / (double)(out->n[c] - 1);
+                    p[c] = out->lo[c] + j->ext[c] * (double)idx[c] / (double)(out->n[c] - 1);
                 if (l->type == LG_LIGHT_DIRECTIONAL) {
                     for (int c = 0; c < 3; c++)
                         d[c] = -(double)l->dir[c];
@@ -290,18 +281,56 @@ int vol_tau_build(lg_node *n, const vol_setup *v, uint32_t k, uint32_t res, vol_
                         d[c] = dd > 0.0 ? d[c] / dd : 0.0;
                     len = fmin(dd, box_exit(p, d, out->lo, out->hi));
                 }
-                uint32_t steps = (uint32_t)ceil(len / step);
+                uint32_t steps = (uint32_t)ceil(len / j->step);
                 double h = steps ? len / steps : 0.0, tau = 0.0;
                 for (uint32_t i = 0; i < steps; i++) {
                     double q[3];
                     for (int c = 0; c < 3; c++)
                         q[c] = p[c] + d[c] * h * ((double)i + 0.5);
-                    tau += lg_medium_field_at(&v->medium, q) * h;
+                    tau += lg_medium_field_at(j->medium, q) * h;
                 }
                 out->tau[(size_t)x + (size_t)out->n[0] * ((size_t)y + (size_t)out->n[1] * z)] =
                     (float)tau;
             }
-    return 0;
+}
+
+int vol_tau_build_light(lg_node *n, const lg_medium *medium, const float scene_min[3],
+                        const float scene_max[3], const vol_light *l, uint32_t res,
+                        vol_tau_volume *out)
+{
+    memset(out, 0, sizeof *out);
+    if (res < 2)
+        res = 2;
+    tau_box(medium, scene_min, scene_max, out->lo, out->hi);
+    tau_job j = { .medium = medium, .l = l, .out = out };
+    double longest = 0.0;
+    for (int c = 0; c < 3; c++) {
+        j.ext[c] = out->hi[c] - out->lo[c];
+        longest = fmax(longest, j.ext[c]);
+    }
+    for (int c = 0; c < 3; c++) {
+        double m = ceil((double)res * j.ext[c] / longest);
+        out->n[c] = m < 2.0 ? 2u : (uint32_t)m;
+    }
+    size_t cells = (size_t)out->n[0] * out->n[1] * out->n[2];
+    out->tau = malloc(cells * sizeof(float));
+    if (!out->tau)
+        return lg_error(n, "out of memory for a %ux%ux%u optical-depth volume", out->n[0],
+                        out->n[1], out->n[2]);
+    lg_account_alloc(n, cells * sizeof(float));
+    j.step = 0.5 * longest / (double)res;
+    int rc = lg_parallel_for(n, out->n[2], 1, tau_layers, &j);
+    if (rc)
+        vol_tau_free(n, out);
+    return rc;
+}
+
+int vol_tau_build(lg_node *n, const vol_setup *v, uint32_t k, uint32_t res, vol_tau_volume *out)
+{
+    memset(out, 0, sizeof *out);
+    if (k >= v->n_lights)
+        return lg_error(n, "vol_tau_build: light %u of %u", k, v->n_lights);
+    return vol_tau_build_light(n, &v->medium, v->scene_min, v->scene_max, &v->lights[k], res, out);
 }
 
 void vol_tau_free(lg_node *n, vol_tau_volume *t)

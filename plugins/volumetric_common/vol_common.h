@@ -126,6 +126,14 @@ typedef struct vol_tau_volume {
 /* Builds light k's volume at `res` cells along the box's longest side (the others in
  * proportion, at least 2). The memory is counted on the node. 0 or an LG_ERR_*. */
 int vol_tau_build(lg_node *node, const vol_setup *v, uint32_t k, uint32_t res, vol_tau_volume *out);
+/* The same for one light outside a vol_setup (the phong node's lights: any number, any
+ * camera): the box from `medium`'s field and the scene's bounds [scene_min, scene_max]
+ * (tau_box's rule above), light l's type, direction (directional: dir, the direction the
+ * light travels) or position (point, spot). The cells are marched over the host's threads
+ * (lg_parallel_for, a z layer per chunk: the same bits on any number of threads). */
+int vol_tau_build_light(lg_node *node, const lg_medium *medium, const float scene_min[3],
+                        const float scene_max[3], const vol_light *l, uint32_t res,
+                        vol_tau_volume *out);
 void vol_tau_free(lg_node *node, vol_tau_volume *t);
 double vol_tau_sample(const vol_tau_volume *t, const double p[3]);
 

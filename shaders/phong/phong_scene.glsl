@@ -107,14 +107,65 @@ float lg_cue(vec3 P)
     return u_depth_cue != 0 ? lg_depth_cue(distance(u_eye, P), u_K) : 1.0;
 }
 
+#ifdef LG_TAU
+// The medium's shadow on surfaces (plugins/phong/README.md, "Shadows of the medium"): only
+// in the variant the node compiles for a scene whose medium has a density field (the
+// plugin then defines LG_TAU); every other scene runs the code above and below unchanged.
+// Each light's optical-depth volume (plugins/volumetric_common vol_tau_build: tau at the
+// nodes of an n.x x n.y x n.z lattice over the box [u_tau_lo, u_tau_hi], the integral of
+// the density multiplier from the node towards the light, to the light or out of the box),
+// the lights' volumes stacked along z in light order, sampled linearly.
+layout(binding = 3) uniform sampler3D u_tau;
+uniform vec3 u_tau_lo, u_tau_hi;
+uniform ivec3 u_tau_n;
+uniform vec3 u_sigma_t; // density x (scattering + absorption), 1 / scene unit
+
+// Light i's optical depth at q (inside the box): trilinear between the lattice's nodes, by
+// the texture unit's linear filter (the volumes' node centres are its texel centres; x is
+// clamped to light i's own layers, so no filter reaches a neighbour's), as vol_tau_sample
+// does in double.
+float lg_tau_at(int i, vec3 q)
+{
+    vec3 n1 = vec3(u_tau_n - 1);
+    vec3 x = clamp((q - u_tau_lo) / (u_tau_hi - u_tau_lo) * n1, vec3(0.0), n1);
+    vec3 uvw = (x + 0.5) / vec3(u_tau_n);
+    uvw.z = (x.z + 0.5 + float(i * u_tau_n.z)) / float(u_tau_n.z * u_n_lights);
+    return textureLod(u_tau, uvw, 0.0).r;
+}
+
+// The transmittance e^(-sigma_t tau) from P towards light i along the unit L, over the
+// segment [0, d] (d: the light's distance; infinite for a light at infinity). The density
+// is 0 outside the box (a bounded field's own box; an unbounded field counts inside the
+// scene's bounds, as the froxel node's volumes do), so the segment's optical depth is the
+// volume's value where the segment enters the box: exactly 1 when it misses the box (a
+// point outside the medium's shadow is lit as without a medium, bit for bit).
+vec3 lg_medium_transmittance(int i, vec3 P, vec3 L, float d)
+{
+    // the slabs' parameters; a zero component counts as 1e-20 of its sign (no inf - inf)
+    vec3 s = vec3(L.x < 0.0 ? -1.0 : 1.0, L.y < 0.0 ? -1.0 : 1.0, L.z < 0.0 ? -1.0 : 1.0);
+    vec3 inv = 1.0 / (s * max(abs(L), vec3(1e-20)));
+    vec3 t0 = (u_tau_lo - P) * inv, t1 = (u_tau_hi - P) * inv;
+    vec3 tn = min(t0, t1), tf = max(t0, t1);
+    float te = max(max(tn.x, tn.y), max(tn.z, 0.0));
+    float tx = min(min(tf.x, tf.y), min(tf.z, d));
+    if (!(te < tx))
+        return vec3(1.0);
+    return exp(-u_sigma_t * lg_tau_at(i, P + L * te));
+}
+#endif
+
 // The direction towards light i and the intensity arriving at P. False when no light
-// arrives (beyond the range, outside the cone). A light exactly at P lights along N.
+// arrives (beyond the range, outside the cone). A light exactly at P lights along N. With
+// a density field (LG_TAU) Ii carries the medium's transmittance towards the light.
 bool lg_light_at(int i, vec3 P, vec3 N, out vec3 L, out vec3 Ii)
 {
     LgLight l = lg_lights[i];
     Ii = l.radiance;
     if (l.pos.w < 0.5) {
         L = l.dir.xyz;
+#ifdef LG_TAU
+        Ii *= lg_medium_transmittance(i, P, L, 3.0e38);
+#endif
         return true;
     }
     vec3 d = l.pos.xyz - P;
@@ -131,6 +182,9 @@ bool lg_light_at(int i, vec3 P, vec3 N, out vec3 L, out vec3 Ii)
         float t = clamp((dot(-L, l.dir.xyz) - l.cone.x) * l.cone.y, 0.0, 1.0);
         Ii *= t * t;
     }
+#ifdef LG_TAU
+    Ii *= lg_medium_transmittance(i, P, L, dist);
+#endif
     return true;
 }
 

@@ -5,9 +5,10 @@ usage: test_phong_glsl.py EMBED_PY GLSLANG SHADER_DIR SHADERS_COMMON_DIR
 
 Each stage goes through tools/embed.py (which resolves #include "phong.glsl" and
 "phong_scene.glsl"), is decoded back to text and compiled by glslangValidator with the
-defines the plugin passes (LG_SHADING 0..4, LG_SV 0 and 3): the vertex and fragment stages
-for every mode, the geometry stage for flat (0) and mixed (3), and phong_half's assembly
-pass (phong_fullscreen.vert, phong_half.frag) once.
+defines the plugin passes (LG_SHADING 0..4, LG_SV 0 and 3; LG_TAU too, the variant for a
+medium with a density field, except for phong_half's id pass, 4): the vertex and fragment
+stages for every mode, the geometry stage for flat (0) and mixed (3), and phong_half's
+assembly pass (phong_fullscreen.vert, phong_half.frag) once.
 """
 import os
 import re
@@ -34,8 +35,12 @@ def main():
             for sv in (0, 3):
                 stages = ["vert", "frag"] + (["geom"] if mode in (0, 3) else [])
                 for st in stages:
-                    jobs.append((st, ["-DLG_SHADING=%d" % mode, "-DLG_SV=%d" % sv,
-                                      "-DLG_SV_ARR=%d" % max(sv, 1)]))
+                    defs = ["-DLG_SHADING=%d" % mode, "-DLG_SV=%d" % sv,
+                            "-DLG_SV_ARR=%d" % max(sv, 1)]
+                    jobs.append((st, defs))
+                    # the variant for a medium with a density field (its shadow on surfaces)
+                    if mode != 4:
+                        jobs.append((st, defs + ["-DLG_TAU=1"]))
         jobs.append(("fullscreen.vert", []))
         jobs.append(("half.frag", []))
         sources = {}

@@ -372,6 +372,18 @@ static void t_free(lg_node *n, uint64_t b)
     live_bytes -= b;
 }
 
+/* vol_tau_build marches its layers through lg_parallel_for: here in chunk order on this
+ * thread, as the host does for a nested call. */
+static int t_parallel_for(lg_node *n, size_t count, size_t grain,
+                          void (*fn)(void *ctx, size_t begin, size_t end, uint32_t chunk),
+                          void *ctx)
+{
+    (void)n;
+    for (size_t b = 0, c = 0; b < count; b += grain, c++)
+        fn(ctx, b, b + grain < count ? b + grain : count, (uint32_t)c);
+    return 0;
+}
+
 /* The centre of cell (x, y, z) as vol_common.h documents it. */
 static void cell(const vol_tau_volume *t, uint32_t x, uint32_t y, uint32_t z, double p[3])
 {
@@ -472,6 +484,7 @@ static int cmd_tau(void)
     api.error = t_error;
     api.account_alloc = t_alloc;
     api.account_free = t_free;
+    api.parallel_for = t_parallel_for;
     lg_node node = { .host = &api, .name = "tau" };
 
     lg_density_field f = everywhere(LG_FIELD_UNIFORM);
