@@ -10,7 +10,7 @@ usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frame
                                  [--lights 1,2,4,8,16,32]
                                  [--light-types directional,point,spot]
                                  [--methods screen,polygonal,...]
-                                 [--shadow-resolution R] [--quick]
+                                 [--shadow-resolution R] [--max-seconds S] [--quick]
        tools/bench_volumetric.py --self-test
 
 Every run is `lightgraph render -v` of a generated graph: a scene, a camera, N directional
@@ -51,7 +51,11 @@ Experiments:
              experiment ("Memory against the number of lights"): a homogeneous-fog
              directional scene must cost what it cost before issue 25 (same size and load
              assumed: the page's run says its own); lights.csv, lights_time.png,
-             lights_memory.png
+             lights_memory.png. --max-seconds S: once a method's run of one light type took
+             longer than S seconds (wall time, both frames and the setup), its larger light
+             counts are not run ("-" in the tables, the run that went over named below them):
+             on this shared machine polygonal's 32 point lights (192 meshes of 2 M triangles)
+             would take most of an hour
   gating     a frame of the bunny box without fog, by a graph holding all four methods and
              by the same graph without them (planning and frame time, plugins loaded)
 
@@ -75,6 +79,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -413,6 +418,7 @@ class Runner:
         self.files = {}
         self.triangles = {}
         self.done = {}  # config -> results already measured (an experiment reuses another's)
+        self.skipped = {}  # (method, light type) -> (lights, wall s) of the run over budget
 
     def scene_file(self, scene):
         if scene in self.files:
@@ -445,12 +451,15 @@ class Runner:
         prof = os.path.join(self.tmp, "p.json")
         cmd = [self.exe, "render", gpath, "--size", size, "--frames", str(self.frames),
                "--profile-json", prof, "--explain", "--no-cache", "-v"]
+        t0 = time.monotonic()
         r = subprocess.run(cmd, capture_output=True, text=True)
+        wall = time.monotonic() - t0
         if r.returncode != 0:
             raise BenchError("%s failed (exit %d):\n%s\n%s%s" % (
                 " ".join(cmd), r.returncode, text, r.stdout[-4000:], r.stderr[-4000:]))
         with open(prof) as f:
             res = parse_profile(json.load(f), None if method == DISABLED else "vol")
+        res["wall_s"] = wall
         res["poly"] = parse_poly_line(r.stdout + r.stderr) if method == "polygonal" else None
         if method == "polygonal" and res["poly"] is None:
             raise BenchError("the polygonal node said no 'volume pass:' line (-v):\n%s" %
@@ -460,15 +469,25 @@ class Runner:
         return res
 
 
-def repeated(runner, configs, repeat, label):
+def repeated(runner, configs, repeat, label, budget=None):
     """Runs every (scene, method, lights, size) of configs `repeat` times, the configs of one
-    repeat in turn; returns config -> list of results."""
+    repeat in turn; returns config -> list of results. budget (seconds, the lights
+    experiment's --max-seconds): once a run of a method and light type took longer than
+    that in wall time, its larger light counts are not run (their lists stay empty and
+    runner.skipped[(method, type)] says (lights, seconds) of the run that went over)."""
     res = {c: list(runner.done.get(c, []))[:repeat] for c in configs}
     for k in range(repeat):
         for c in configs:
             if len(res[c]) > k:
                 continue
+            key = (c[1], c[4] if len(c) > 4 else "directional")
+            over = runner.skipped.get(key)
+            if budget is not None and over is not None and c[2] > over[0]:
+                continue
             r = runner.run(*c)
+            if budget is not None and r["wall_s"] > budget:
+                if over is None or c[2] < over[0]:
+                    runner.skipped[key] = (c[2], r["wall_s"])
             res[c].append(r)
             runner.done[c] = res[c]
             sys.stderr.write("%s %d/%d %s %s %dL%s %s: %.1f ms (frame %.1f)\n" %
@@ -708,10 +727,18 @@ def exp_lights(runner, a, methods, md):
     ok = {(m, t): covers(needs[m], t) for m in methods for t in types}
     configs = [lights_config(m, n, a.size, t) for t in types for n in lights for m in methods
                if ok[(m, t)]]
-    res = repeated(runner, configs, a.repeat, "lights")
+    res = repeated(runner, configs, a.repeat, "lights", a.max_seconds)
 
     def rs(m, n, t):
         return res[lights_config(m, n, a.size, t)]
+
+    def ran(m, n, t):
+        return bool(rs(m, n, t))
+
+    def skipped_note(m, t):
+        over = runner.skipped.get((m, t))
+        return ("%s %s: %d lights took %.0f s (--max-seconds %g), more not run"
+                % (m, t, over[0], over[1], a.max_seconds) if over else None)
 
     md += ["## Time and peak memory against the number of lights (bunny box, %s)" % a.size, "",
            "Time: the node per frame, median of %d runs (min-max). Memory: the node's peak "
@@ -733,36 +760,49 @@ def exp_lights(runner, a, methods, md):
             continue
         tab = []
         for n in lights:
-            tab.append(["%d" % n] + [cell(summary([r["ms"] for r in rs(m, n, t)])) for m in ms] +
-                       ["%.1f" % mib(rs(m, n, t)[0]["bytes"]) for m in ms] +
-                       ["%.1f" % mib(rs(ms[0], n, t)[0]["nodes"]["shadow"]["bytes"])])
+            done = [m for m in ms if ran(m, n, t)]
+            tab.append(["%d" % n] +
+                       [cell(summary([r["ms"] for r in rs(m, n, t)])) if m in done else "-"
+                        for m in ms] +
+                       ["%.1f" % mib(rs(m, n, t)[0]["bytes"]) if m in done else "-"
+                        for m in ms] +
+                       ["%.1f" % mib(rs(done[0], n, t)[0]["nodes"]["shadow"]["bytes"])
+                        if done else "-"])
         md += md_table(["lights"] + ["%s ms" % m for m in ms] + ["%s MiB" % m for m in ms] +
                        ["shadow maps MiB"], tab)
+        notes = [x for x in (skipped_note(m, t) for m in ms) if x]
+        if notes:
+            md += ["", "-: not run (the time budget): " + "; ".join(notes) + "."]
         md += ["", "Peak memory split, MiB (outputs + own allocations):", ""]
         md += md_table(["lights"] + ms, [
             ["%d" % n] + ["%.1f + %.1f" % (mib(rs(m, n, t)[0]["resource_bytes"]),
-                                           mib(rs(m, n, t)[0]["plugin_peak"])) for m in ms]
+                                           mib(rs(m, n, t)[0]["plugin_peak"]))
+                          if ran(m, n, t) else "-" for m in ms]
             for n in lights])
-        if len(lights) > 1:
-            md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(
-                "%s a %.1f b %.2f R^2 %.3f" % ((m,) + fit(
-                    [(n, median([r["ms"] for r in rs(m, n, t)])) for n in lights]))
-                for m in ms) + "."]
+        fits = []
+        for m in ms:
+            pts = [(n, median([r["ms"] for r in rs(m, n, t)])) for n in lights if ran(m, n, t)]
+            if len(pts) > 1:
+                fits.append("%s a %.1f b %.2f R^2 %.3f (%d-%d lights)"
+                            % ((m,) + fit(pts) + (pts[0][0], pts[-1][0])))
+        if fits:
+            md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(fits)
+                   + "."]
         md += [""]
     if "directional" in types:
         lights_against_doc(a, methods, lights, ok, rs, md)
     with open(os.path.join(a.out, "lights.csv"), "w") as f:
         f.write("light_type,lights,method,repeat,ms,min_ms,bytes,resource_bytes,plugin_peak,"
-                "shadow_bytes\n")
+                "shadow_bytes,wall_s\n")
         for t in types:
             for n in lights:
                 for m in methods:
                     if not ok[(m, t)]:
                         continue
                     for i, r in enumerate(rs(m, n, t)):
-                        f.write("%s,%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d\n" % (
+                        f.write("%s,%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d,%.2f\n" % (
                             t, n, m, i, r["ms"], r["min_ms"], r["bytes"], r["resource_bytes"],
-                            r["plugin_peak"], r["nodes"]["shadow"]["bytes"]))
+                            r["plugin_peak"], r["nodes"]["shadow"]["bytes"], r["wall_s"]))
     plot_lights(a.out, [(m, t) for t in types for m in methods if ok[(m, t)]], lights, rs)
 
 
@@ -786,7 +826,7 @@ def lights_against_doc(a, methods, lights, ok, rs, md):
         if n not in doc:
             continue
         for m in methods:
-            if not ok[(m, "directional")]:
+            if not ok[(m, "directional")] or not rs(m, n, "directional"):
                 continue
             t = median([r["ms"] for r in rs(m, n, "directional")])
             b = mib(rs(m, n, "directional")[0]["bytes"])
@@ -807,6 +847,8 @@ def plot_lights(out, series, lights, rs):
         with open(os.path.join(out, "lights_%s_%s.dat" % (m, t)), "w") as f:
             for n in lights:
                 r = rs(m, n, t)
+                if not r:  # not run (the time budget)
+                    continue
                 med, lo, hi = summary([x["ms"] for x in r])
                 f.write("%d %.4f %.4f %.4f %.4f\n" % (n, med, lo, hi, mib(r[0]["bytes"])))
     for what, using, label in (("time", "1:2:3:4 with yerrorlines", "time per frame (ms)"),
@@ -1000,6 +1042,29 @@ def self_test():
         check(False, "a doc table with words accepted")
     except BenchError:
         pass
+    # --max-seconds: a method and type over budget at n lights runs no larger count; the
+    # others, and the smaller counts, all run
+    class FakeRunner:
+        def __init__(self):
+            self.done, self.skipped, self.calls = {}, {}, []
+
+        def run(self, scene, m, n, size, t="directional"):
+            self.calls.append((m, n, t))
+            return {"ms": 1.0, "frame_ms": 1.0, "wall_s": 10.0 * n if m == "slow" else 1.0}
+
+    fr = FakeRunner()
+    cfgs = [("bunny", m, n, "1x1", t) for t in ("point", "spot") for n in (1, 2, 4, 8)
+            for m in ("slow", "fast")]
+    res = repeated(fr, cfgs, 1, "self-test", budget=15.0)
+    check([c for c in fr.calls if c[0] == "slow"] ==
+          [("slow", 1, "point"), ("slow", 2, "point"), ("slow", 1, "spot"), ("slow", 2, "spot")]
+          and len([c for c in fr.calls if c[0] == "fast"]) == 8 and
+          fr.skipped == {("slow", "point"): (2, 20.0), ("slow", "spot"): (2, 20.0)} and
+          res[("bunny", "slow", 4, "1x1", "point")] == [], "budget: %r %r" % (fr.calls,
+                                                                              fr.skipped))
+    fr = FakeRunner()
+    repeated(fr, cfgs, 1, "self-test")
+    check(len(fr.calls) == 16 and not fr.skipped, "no budget: every config runs")
     real = os.path.join(ROOT, "docs", "volumetric.md")
     if os.path.exists(real):
         rows = parse_doc_lights(open(real).read())
@@ -1030,6 +1095,9 @@ def main():
     ap.add_argument("--light-types", default=",".join(LIGHT_TYPES))
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--shadow-resolution", type=int, default=1024)
+    ap.add_argument("--max-seconds", type=float, default=None,
+                    help="lights experiment: a method and light type whose run took longer "
+                    "than this (wall time) runs no larger light count")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--crossover-csv", help="make the crossover's tables and plots from this "
                     "crossover.csv of an earlier run instead of measuring")
