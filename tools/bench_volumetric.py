@@ -727,7 +727,10 @@ def exp_lights(runner, a, methods, md):
     ok = {(m, t): covers(needs[m], t) for m in methods for t in types}
     configs = [lights_config(m, n, a.size, t) for t in types for n in lights for m in methods
                if ok[(m, t)]]
-    res = repeated(runner, configs, a.repeat, "lights", a.max_seconds)
+    if a.lights_csv:
+        res = load_lights(a.lights_csv, configs, runner)
+    else:
+        res = repeated(runner, configs, a.repeat, "lights", a.max_seconds)
 
     def rs(m, n, t):
         return res[lights_config(m, n, a.size, t)]
@@ -806,6 +809,37 @@ def exp_lights(runner, a, methods, md):
     plot_lights(a.out, [(m, t) for t in types for m in methods if ok[(m, t)]], lights, rs)
 
 
+def load_lights(path, configs, runner):
+    """The results of an earlier run's lights.csv (--lights-csv: the tables and plots made
+    again without measuring), as config -> results; a config the CSV has no row for was not
+    run (the time budget), and the budget's note is remade from the CSV's wall times
+    (the smallest count past which the method and type have no rows)."""
+    res = {c: [] for c in configs}
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        for line in f:
+            r = dict(zip(head, line.strip().split(",")))
+            c = lights_config(r["method"], int(r["lights"]), configs[0][3], r["light_type"])
+            if c not in res:
+                continue
+            b = int(r["shadow_bytes"])
+            res[c].append({"ms": float(r["ms"]), "min_ms": float(r["min_ms"]),
+                           "bytes": int(r["bytes"]), "resource_bytes": int(r["resource_bytes"]),
+                           "plugin_peak": int(r["plugin_peak"]), "nodes": {"shadow": {"bytes": b}},
+                           "wall_s": float(r.get("wall_s") or 0)})
+    if not any(res.values()):
+        raise BenchError("%s has no rows for this run's configurations" % path)
+    for c, v in res.items():
+        key = (c[1], c[4] if len(c) > 4 else "directional")
+        if not v and key not in runner.skipped:
+            done = [d for d, w in res.items() if w and d[1] == c[1] and
+                    (d[4] if len(d) > 4 else "directional") == key[1] and d[2] < c[2]]
+            if done:
+                last = max(done, key=lambda d: d[2])
+                runner.skipped[key] = (last[2], res[last][0]["wall_s"])
+    return res
+
+
 def lights_against_doc(a, methods, lights, ok, rs, md):
     """The directional rows of this run beside docs/volumetric.md's (issue 25: a
     homogeneous-fog directional scene costs what it cost before)."""
@@ -851,21 +885,32 @@ def plot_lights(out, series, lights, rs):
                     continue
                 med, lo, hi = summary([x["ms"] for x in r])
                 f.write("%d %.4f %.4f %.4f %.4f\n" % (n, med, lo, hi, mib(r[0]["bytes"])))
+    types = [t for t in LIGHT_TYPES if any(st == t for _, st in series)]
+    methods = []
+    for m, _ in series:
+        if m not in methods:
+            methods.append(m)
     for what, using, label in (("time", "1:2:3:4 with yerrorlines", "time per frame (ms)"),
                                ("memory", "1:5 with linespoints", "node peak memory (MiB)")):
         gp = os.path.join(out, "lights_%s.gp" % what)
         with open(gp, "w") as f:
-            f.write("set terminal pngcairo size 900,600 noenhanced\n")
+            # one panel per light type, the same colour for a method in every panel
+            f.write("set terminal pngcairo size %d,520 noenhanced\n" % (460 * len(types)))
             f.write("set output '%s'\n" % os.path.join(out, "lights_%s.png" % what))
+            f.write("set multiplot layout 1,%d title 'volumetric methods against the number "
+                    "of lights of each type (bunny box): %s'\n" % (len(types), label))
             f.write("set grid\nset key left top\nset logscale xy\n")
             f.write("set xtics (%s)\n" % ", ".join(str(n) for n in lights))
+            f.write("set xrange [0.8:%g]\n" % (max(lights) * 1.25))
             f.write("set xlabel 'lights'\nset ylabel '%s'\n" % label)
-            f.write("set title 'volumetric methods against the number and type of lights "
-                    "(bunny box)'\n")
-            f.write("plot " + ", \\\n     ".join(
-                "'%s' using %s title '%s %s'" % (os.path.join(out, "lights_%s_%s.dat" % (m, t)),
-                                                 using, m, t)
-                for m, t in series) + "\n")
+            for t in types:
+                f.write("set title '%s'\n" % t)
+                f.write("plot " + ", \\\n     ".join(
+                    "'%s' using %s lc %d title '%s'" % (
+                        os.path.join(out, "lights_%s_%s.dat" % (m, t)), using,
+                        methods.index(m) + 1, m)
+                    for m, st in series if st == t) + "\n")
+            f.write("unset multiplot\n")
         subprocess.run(["gnuplot", gp], check=False)
 
 
@@ -1062,6 +1107,26 @@ def self_test():
           fr.skipped == {("slow", "point"): (2, 20.0), ("slow", "spot"): (2, 20.0)} and
           res[("bunny", "slow", 4, "1x1", "point")] == [], "budget: %r %r" % (fr.calls,
                                                                               fr.skipped))
+    # --lights-csv: an earlier run's rows back, the budget's note remade from them
+    tmpd = tempfile.mkdtemp(prefix="bench-vol-selftest-")
+    try:
+        csvp = os.path.join(tmpd, "lights.csv")
+        with open(csvp, "w") as f:
+            f.write("light_type,lights,method,repeat,ms,min_ms,bytes,resource_bytes,"
+                    "plugin_peak,shadow_bytes,wall_s\n"
+                    "point,1,slow,0,5.0,5.0,100,60,40,7,10.0\n"
+                    "point,2,slow,0,9.0,9.0,200,60,140,14,20.0\n"
+                    "point,1,fast,0,1.0,1.0,10,10,0,7,1.0\n")
+        fr = FakeRunner()
+        cf = [("bunny", m, n, "1x1", "point") for n in (1, 2, 4) for m in ("slow", "fast")]
+        got = load_lights(csvp, cf, fr)
+        check(got[("bunny", "slow", 2, "1x1", "point")][0]["plugin_peak"] == 140 and
+              got[("bunny", "slow", 4, "1x1", "point")] == [] and not fr.calls and
+              fr.skipped.get(("slow", "point")) == (2, 20.0) and
+              fr.skipped.get(("fast", "point")) == (1, 1.0),
+              "lights csv: %r %r" % (got, fr.skipped))
+    finally:
+        shutil.rmtree(tmpd, ignore_errors=True)
     fr = FakeRunner()
     repeated(fr, cfgs, 1, "self-test")
     check(len(fr.calls) == 16 and not fr.skipped, "no budget: every config runs")
@@ -1101,6 +1166,8 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--crossover-csv", help="make the crossover's tables and plots from this "
                     "crossover.csv of an earlier run instead of measuring")
+    ap.add_argument("--lights-csv", help="make the lights experiment's tables and plots "
+                    "from this lights.csv of an earlier run instead of measuring")
     ap.add_argument("--self-test", action="store_true")
     a = ap.parse_args()
     if a.self_test:
