@@ -44,16 +44,11 @@ and froxel grids (`volumetric_froxel`, Wronski 2014; gl, cl and cpu). Scene: the
 bunny box filled with fog (`examples/volumetric_scene.lgraph`: density 1, sigma_s 0.1,
 g 0.4) and a low sun shining in through its open side (L_c = 10), each method with its
 example's settings (`examples/volumetric_<method>.lgraph`) but the knobs swept.
-**Light types and media** (issue 25): the cases are every light type in the homogeneous fog
-(the example's sun; a **point light**, a bulb of 20 cd at [0, 0.9, 0] by the bunny's ears;
-a **spot light** of 60 cd under the ceiling at [-0.3, 1.5, -0.5] shining down across the
-view, cones 10 and 25 degrees) and the sun in each **heterogeneous medium** (fBm noise,
-height fog; froxel only, as the screen-space and polygonal methods refuse a density field).
-The point and spot cases keep to one study per method and backend (screen `samples`,
-polygonal shadow `resolution`, froxel `grid`), the media to froxel's `grid`: each case costs
-a reference. A case is measured where its methods and the reference model it (their
-`needs` cover the light type; the medium node has the field's parameters); otherwise the
-section says which it skips and why, and the page has no row for it.
+**Light types and media** (issue 25): this section is the example's sun in the homogeneous
+fog; point and spot lights are [the next section but one](#volumetric_lights), fBm noise,
+height fog and a VDB cloud [the one after](#volumetric_media) (each case costs a reference
+render: a section of its own is made again without the others; their cases and runner are
+this section's file).
 **Reference:** `volumetric_reference`, the same integral ray-marched per pixel with exact
 visibility (Embree rays towards the sun, not shadow maps) and the transmittance integrated
 analytically over each step; 1024 steps and 4 rays per pixel, every ray through the pixel
