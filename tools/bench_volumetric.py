@@ -740,8 +740,11 @@ def exp_lights(runner, a, methods, md):
 
     def skipped_note(m, t):
         over = runner.skipped.get((m, t))
-        return ("%s %s: %d lights took %.0f s (--max-seconds %g), more not run"
-                % (m, t, over[0], over[1], a.max_seconds) if over else None)
+        if not over:
+            return None
+        return ("%s %s: %d lights took %.0f s%s, more not run" % (
+            m, t, over[0], over[1],
+            " (--max-seconds %g)" % a.max_seconds if a.max_seconds is not None else ""))
 
     md += ["## Time and peak memory against the number of lights (bunny box, %s)" % a.size, "",
            "Time: the node per frame, median of %d runs (min-max). Memory: the node's peak "
@@ -877,6 +880,8 @@ def lights_against_doc(a, methods, lights, ok, rs, md):
 def plot_lights(out, series, lights, rs):
     if not shutil.which("gnuplot"):
         return
+    # a method and type with no run (none measured, or not read back) has no line
+    series = [(m, t) for m, t in series if any(rs(m, n, t) for n in lights)]
     for m, t in series:
         with open(os.path.join(out, "lights_%s_%s.dat" % (m, t)), "w") as f:
             for n in lights:
