@@ -515,7 +515,7 @@ def cloud_study(ctx):
     spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph, "time_node": "vol",
             "size": size, "sets": ["vol.per_frame=true", "vol.backend=cpu"],
             "vary": ([("vol.depth", ["16"]), ("vol.tau_res", ["8", "32"])] if ctx.quick else
-                     [("vol.depth", ["32", "64", "128"]), ("vol.tau_res", ["16", "32", "64"])]),
+                     [("vol.depth", ["32", "128"]), ("vol.tau_res", ["16", "64"])]),
             "frames": 2 if ctx.quick else 3,
             "repeat": 1 if ctx.quick else (ctx.repeat or REPEAT),
             "reference": {"dir": ref_dir, "graph": ref_graph, "size": size,
