@@ -133,7 +133,7 @@ HEIGHT_FOG = ("fog = medium { scene = sun, %s, field = uniform, height_falloff =
 # backend's studies where the backends agree to 1e-3 (froxel cl and cpu, not gl: llvmpipe is
 # the slowest; screen space on gl).
 LIGHT_PLANS = ["screen_samples:gl", "polygonal_shadow", "froxel_grid:cl", "froxel_grid:cpu"]
-FIELD_PLANS = ["froxel_grid:cl", "froxel_grid:cpu"]
+FIELD_PLANS = ["froxel_grid:cpu"]  # cl gave cpu's errors to 5 digits in fBm (09:2x run)
 SMALL_REF = {"full": (256, 4, "160x90"), "quick": (64, 1, "64x36")}
 FBM_REF = SMALL_REF
 
