@@ -10,7 +10,7 @@ usage: tools/bench_volumetric.py [--build DIR] [--out DIR] [--size WxH] [--frame
                                  [--lights 1,2,4,8,16,32]
                                  [--light-types directional,point,spot]
                                  [--methods screen,polygonal,...]
-                                 [--shadow-resolution R] [--quick]
+                                 [--shadow-resolution R] [--max-seconds S] [--quick]
        tools/bench_volumetric.py --self-test
 
 Every run is `lightgraph render -v` of a generated graph: a scene, a camera, N directional
@@ -51,7 +51,11 @@ Experiments:
              experiment ("Memory against the number of lights"): a homogeneous-fog
              directional scene must cost what it cost before issue 25 (same size and load
              assumed: the page's run says its own); lights.csv, lights_time.png,
-             lights_memory.png
+             lights_memory.png. --max-seconds S: once a method's run of one light type took
+             longer than S seconds (wall time, both frames and the setup), its larger light
+             counts are not run ("-" in the tables, the run that went over named below them):
+             on this shared machine polygonal's 32 point lights (192 meshes of 2 M triangles)
+             would take most of an hour
   gating     a frame of the bunny box without fog, by a graph holding all four methods and
              by the same graph without them (planning and frame time, plugins loaded)
 
@@ -75,6 +79,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -413,6 +418,7 @@ class Runner:
         self.files = {}
         self.triangles = {}
         self.done = {}  # config -> results already measured (an experiment reuses another's)
+        self.skipped = {}  # (method, light type) -> (lights, wall s) of the run over budget
 
     def scene_file(self, scene):
         if scene in self.files:
@@ -445,12 +451,15 @@ class Runner:
         prof = os.path.join(self.tmp, "p.json")
         cmd = [self.exe, "render", gpath, "--size", size, "--frames", str(self.frames),
                "--profile-json", prof, "--explain", "--no-cache", "-v"]
+        t0 = time.monotonic()
         r = subprocess.run(cmd, capture_output=True, text=True)
+        wall = time.monotonic() - t0
         if r.returncode != 0:
             raise BenchError("%s failed (exit %d):\n%s\n%s%s" % (
                 " ".join(cmd), r.returncode, text, r.stdout[-4000:], r.stderr[-4000:]))
         with open(prof) as f:
             res = parse_profile(json.load(f), None if method == DISABLED else "vol")
+        res["wall_s"] = wall
         res["poly"] = parse_poly_line(r.stdout + r.stderr) if method == "polygonal" else None
         if method == "polygonal" and res["poly"] is None:
             raise BenchError("the polygonal node said no 'volume pass:' line (-v):\n%s" %
@@ -460,15 +469,25 @@ class Runner:
         return res
 
 
-def repeated(runner, configs, repeat, label):
+def repeated(runner, configs, repeat, label, budget=None):
     """Runs every (scene, method, lights, size) of configs `repeat` times, the configs of one
-    repeat in turn; returns config -> list of results."""
+    repeat in turn; returns config -> list of results. budget (seconds, the lights
+    experiment's --max-seconds): once a run of a method and light type took longer than
+    that in wall time, its larger light counts are not run (their lists stay empty and
+    runner.skipped[(method, type)] says (lights, seconds) of the run that went over)."""
     res = {c: list(runner.done.get(c, []))[:repeat] for c in configs}
     for k in range(repeat):
         for c in configs:
             if len(res[c]) > k:
                 continue
+            key = (c[1], c[4] if len(c) > 4 else "directional")
+            over = runner.skipped.get(key)
+            if budget is not None and over is not None and c[2] > over[0]:
+                continue
             r = runner.run(*c)
+            if budget is not None and r["wall_s"] > budget:
+                if over is None or c[2] < over[0]:
+                    runner.skipped[key] = (c[2], r["wall_s"])
             res[c].append(r)
             runner.done[c] = res[c]
             sys.stderr.write("%s %d/%d %s %s %dL%s %s: %.1f ms (frame %.1f)\n" %
@@ -708,10 +727,24 @@ def exp_lights(runner, a, methods, md):
     ok = {(m, t): covers(needs[m], t) for m in methods for t in types}
     configs = [lights_config(m, n, a.size, t) for t in types for n in lights for m in methods
                if ok[(m, t)]]
-    res = repeated(runner, configs, a.repeat, "lights")
+    if a.lights_csv:
+        res = load_lights(a.lights_csv, configs, runner)
+    else:
+        res = repeated(runner, configs, a.repeat, "lights", a.max_seconds)
 
     def rs(m, n, t):
         return res[lights_config(m, n, a.size, t)]
+
+    def ran(m, n, t):
+        return bool(rs(m, n, t))
+
+    def skipped_note(m, t):
+        over = runner.skipped.get((m, t))
+        if not over:
+            return None
+        return ("%s %s: %d lights took %.0f s%s, more not run" % (
+            m, t, over[0], over[1],
+            " (--max-seconds %g)" % a.max_seconds if a.max_seconds is not None else ""))
 
     md += ["## Time and peak memory against the number of lights (bunny box, %s)" % a.size, "",
            "Time: the node per frame, median of %d runs (min-max). Memory: the node's peak "
@@ -733,37 +766,81 @@ def exp_lights(runner, a, methods, md):
             continue
         tab = []
         for n in lights:
-            tab.append(["%d" % n] + [cell(summary([r["ms"] for r in rs(m, n, t)])) for m in ms] +
-                       ["%.1f" % mib(rs(m, n, t)[0]["bytes"]) for m in ms] +
-                       ["%.1f" % mib(rs(ms[0], n, t)[0]["nodes"]["shadow"]["bytes"])])
+            done = [m for m in ms if ran(m, n, t)]
+            tab.append(["%d" % n] +
+                       [cell(summary([r["ms"] for r in rs(m, n, t)])) if m in done else "-"
+                        for m in ms] +
+                       ["%.1f" % mib(rs(m, n, t)[0]["bytes"]) if m in done else "-"
+                        for m in ms] +
+                       ["%.1f" % mib(rs(done[0], n, t)[0]["nodes"]["shadow"]["bytes"])
+                        if done else "-"])
         md += md_table(["lights"] + ["%s ms" % m for m in ms] + ["%s MiB" % m for m in ms] +
                        ["shadow maps MiB"], tab)
+        notes = [x for x in (skipped_note(m, t) for m in ms) if x]
+        if notes:
+            md += ["", "-: not run (the time budget): " + "; ".join(notes) + "."]
         md += ["", "Peak memory split, MiB (outputs + own allocations):", ""]
         md += md_table(["lights"] + ms, [
             ["%d" % n] + ["%.1f + %.1f" % (mib(rs(m, n, t)[0]["resource_bytes"]),
-                                           mib(rs(m, n, t)[0]["plugin_peak"])) for m in ms]
+                                           mib(rs(m, n, t)[0]["plugin_peak"]))
+                          if ran(m, n, t) else "-" for m in ms]
             for n in lights])
-        if len(lights) > 1:
-            md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(
-                "%s a %.1f b %.2f R^2 %.3f" % ((m,) + fit(
-                    [(n, median([r["ms"] for r in rs(m, n, t)])) for n in lights]))
-                for m in ms) + "."]
+        fits = []
+        for m in ms:
+            pts = [(n, median([r["ms"] for r in rs(m, n, t)])) for n in lights if ran(m, n, t)]
+            if len(pts) > 1:
+                fits.append("%s a %.1f b %.2f R^2 %.3f (%d-%d lights)"
+                            % ((m,) + fit(pts) + (pts[0][0], pts[-1][0])))
+        if fits:
+            md += ["", "Linear fits, time = a + b x lights (ms, medians): " + "; ".join(fits)
+                   + "."]
         md += [""]
     if "directional" in types:
         lights_against_doc(a, methods, lights, ok, rs, md)
     with open(os.path.join(a.out, "lights.csv"), "w") as f:
         f.write("light_type,lights,method,repeat,ms,min_ms,bytes,resource_bytes,plugin_peak,"
-                "shadow_bytes\n")
+                "shadow_bytes,wall_s\n")
         for t in types:
             for n in lights:
                 for m in methods:
                     if not ok[(m, t)]:
                         continue
                     for i, r in enumerate(rs(m, n, t)):
-                        f.write("%s,%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d\n" % (
+                        f.write("%s,%d,%s,%d,%.4f,%.4f,%d,%d,%d,%d,%.2f\n" % (
                             t, n, m, i, r["ms"], r["min_ms"], r["bytes"], r["resource_bytes"],
-                            r["plugin_peak"], r["nodes"]["shadow"]["bytes"]))
+                            r["plugin_peak"], r["nodes"]["shadow"]["bytes"], r["wall_s"]))
     plot_lights(a.out, [(m, t) for t in types for m in methods if ok[(m, t)]], lights, rs)
+
+
+def load_lights(path, configs, runner):
+    """The results of an earlier run's lights.csv (--lights-csv: the tables and plots made
+    again without measuring), as config -> results; a config the CSV has no row for was not
+    run (the time budget), and the budget's note is remade from the CSV's wall times
+    (the smallest count past which the method and type have no rows)."""
+    res = {c: [] for c in configs}
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        for line in f:
+            r = dict(zip(head, line.strip().split(",")))
+            c = lights_config(r["method"], int(r["lights"]), configs[0][3], r["light_type"])
+            if c not in res:
+                continue
+            b = int(r["shadow_bytes"])
+            res[c].append({"ms": float(r["ms"]), "min_ms": float(r["min_ms"]),
+                           "bytes": int(r["bytes"]), "resource_bytes": int(r["resource_bytes"]),
+                           "plugin_peak": int(r["plugin_peak"]), "nodes": {"shadow": {"bytes": b}},
+                           "wall_s": float(r.get("wall_s") or 0)})
+    if not any(res.values()):
+        raise BenchError("%s has no rows for this run's configurations" % path)
+    for c, v in res.items():
+        key = (c[1], c[4] if len(c) > 4 else "directional")
+        if not v and key not in runner.skipped:
+            done = [d for d, w in res.items() if w and d[1] == c[1] and
+                    (d[4] if len(d) > 4 else "directional") == key[1] and d[2] < c[2]]
+            if done:
+                last = max(done, key=lambda d: d[2])
+                runner.skipped[key] = (last[2], res[last][0]["wall_s"])
+    return res
 
 
 def lights_against_doc(a, methods, lights, ok, rs, md):
@@ -786,7 +863,7 @@ def lights_against_doc(a, methods, lights, ok, rs, md):
         if n not in doc:
             continue
         for m in methods:
-            if not ok[(m, "directional")]:
+            if not ok[(m, "directional")] or not rs(m, n, "directional"):
                 continue
             t = median([r["ms"] for r in rs(m, n, "directional")])
             b = mib(rs(m, n, "directional")[0]["bytes"])
@@ -803,27 +880,42 @@ def lights_against_doc(a, methods, lights, ok, rs, md):
 def plot_lights(out, series, lights, rs):
     if not shutil.which("gnuplot"):
         return
+    # a method and type with no run (none measured, or not read back) has no line
+    series = [(m, t) for m, t in series if any(rs(m, n, t) for n in lights)]
     for m, t in series:
         with open(os.path.join(out, "lights_%s_%s.dat" % (m, t)), "w") as f:
             for n in lights:
                 r = rs(m, n, t)
+                if not r:  # not run (the time budget)
+                    continue
                 med, lo, hi = summary([x["ms"] for x in r])
                 f.write("%d %.4f %.4f %.4f %.4f\n" % (n, med, lo, hi, mib(r[0]["bytes"])))
+    types = [t for t in LIGHT_TYPES if any(st == t for _, st in series)]
+    methods = []
+    for m, _ in series:
+        if m not in methods:
+            methods.append(m)
     for what, using, label in (("time", "1:2:3:4 with yerrorlines", "time per frame (ms)"),
                                ("memory", "1:5 with linespoints", "node peak memory (MiB)")):
         gp = os.path.join(out, "lights_%s.gp" % what)
         with open(gp, "w") as f:
-            f.write("set terminal pngcairo size 900,600 noenhanced\n")
+            # one panel per light type, the same colour for a method in every panel
+            f.write("set terminal pngcairo size %d,520 noenhanced\n" % (460 * len(types)))
             f.write("set output '%s'\n" % os.path.join(out, "lights_%s.png" % what))
+            f.write("set multiplot layout 1,%d title 'volumetric methods against the number "
+                    "of lights of each type (bunny box): %s'\n" % (len(types), label))
             f.write("set grid\nset key left top\nset logscale xy\n")
             f.write("set xtics (%s)\n" % ", ".join(str(n) for n in lights))
+            f.write("set xrange [0.8:%g]\n" % (max(lights) * 1.25))
             f.write("set xlabel 'lights'\nset ylabel '%s'\n" % label)
-            f.write("set title 'volumetric methods against the number and type of lights "
-                    "(bunny box)'\n")
-            f.write("plot " + ", \\\n     ".join(
-                "'%s' using %s title '%s %s'" % (os.path.join(out, "lights_%s_%s.dat" % (m, t)),
-                                                 using, m, t)
-                for m, t in series) + "\n")
+            for t in types:
+                f.write("set title '%s'\n" % t)
+                f.write("plot " + ", \\\n     ".join(
+                    "'%s' using %s lc %d title '%s'" % (
+                        os.path.join(out, "lights_%s_%s.dat" % (m, t)), using,
+                        methods.index(m) + 1, m)
+                    for m, st in series if st == t) + "\n")
+            f.write("unset multiplot\n")
         subprocess.run(["gnuplot", gp], check=False)
 
 
@@ -1000,6 +1092,49 @@ def self_test():
         check(False, "a doc table with words accepted")
     except BenchError:
         pass
+    # --max-seconds: a method and type over budget at n lights runs no larger count; the
+    # others, and the smaller counts, all run
+    class FakeRunner:
+        def __init__(self):
+            self.done, self.skipped, self.calls = {}, {}, []
+
+        def run(self, scene, m, n, size, t="directional"):
+            self.calls.append((m, n, t))
+            return {"ms": 1.0, "frame_ms": 1.0, "wall_s": 10.0 * n if m == "slow" else 1.0}
+
+    fr = FakeRunner()
+    cfgs = [("bunny", m, n, "1x1", t) for t in ("point", "spot") for n in (1, 2, 4, 8)
+            for m in ("slow", "fast")]
+    res = repeated(fr, cfgs, 1, "self-test", budget=15.0)
+    check([c for c in fr.calls if c[0] == "slow"] ==
+          [("slow", 1, "point"), ("slow", 2, "point"), ("slow", 1, "spot"), ("slow", 2, "spot")]
+          and len([c for c in fr.calls if c[0] == "fast"]) == 8 and
+          fr.skipped == {("slow", "point"): (2, 20.0), ("slow", "spot"): (2, 20.0)} and
+          res[("bunny", "slow", 4, "1x1", "point")] == [], "budget: %r %r" % (fr.calls,
+                                                                              fr.skipped))
+    # --lights-csv: an earlier run's rows back, the budget's note remade from them
+    tmpd = tempfile.mkdtemp(prefix="bench-vol-selftest-")
+    try:
+        csvp = os.path.join(tmpd, "lights.csv")
+        with open(csvp, "w") as f:
+            f.write("light_type,lights,method,repeat,ms,min_ms,bytes,resource_bytes,"
+                    "plugin_peak,shadow_bytes,wall_s\n"
+                    "point,1,slow,0,5.0,5.0,100,60,40,7,10.0\n"
+                    "point,2,slow,0,9.0,9.0,200,60,140,14,20.0\n"
+                    "point,1,fast,0,1.0,1.0,10,10,0,7,1.0\n")
+        fr = FakeRunner()
+        cf = [("bunny", m, n, "1x1", "point") for n in (1, 2, 4) for m in ("slow", "fast")]
+        got = load_lights(csvp, cf, fr)
+        check(got[("bunny", "slow", 2, "1x1", "point")][0]["plugin_peak"] == 140 and
+              got[("bunny", "slow", 4, "1x1", "point")] == [] and not fr.calls and
+              fr.skipped.get(("slow", "point")) == (2, 20.0) and
+              fr.skipped.get(("fast", "point")) == (1, 1.0),
+              "lights csv: %r %r" % (got, fr.skipped))
+    finally:
+        shutil.rmtree(tmpd, ignore_errors=True)
+    fr = FakeRunner()
+    repeated(fr, cfgs, 1, "self-test")
+    check(len(fr.calls) == 16 and not fr.skipped, "no budget: every config runs")
     real = os.path.join(ROOT, "docs", "volumetric.md")
     if os.path.exists(real):
         rows = parse_doc_lights(open(real).read())
@@ -1030,9 +1165,14 @@ def main():
     ap.add_argument("--light-types", default=",".join(LIGHT_TYPES))
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--shadow-resolution", type=int, default=1024)
+    ap.add_argument("--max-seconds", type=float, default=None,
+                    help="lights experiment: a method and light type whose run took longer "
+                    "than this (wall time) runs no larger light count")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--crossover-csv", help="make the crossover's tables and plots from this "
                     "crossover.csv of an earlier run instead of measuring")
+    ap.add_argument("--lights-csv", help="make the lights experiment's tables and plots "
+                    "from this lights.csv of an earlier run instead of measuring")
     ap.add_argument("--self-test", action="store_true")
     a = ap.parse_args()
     if a.self_test:

@@ -3,7 +3,7 @@
 page, docs/accuracy.md, with every technique's error against its reference and its time.
 
 usage: tools/accuracy/accuracy.py --build BUILD --out DIR [--quick] [--only SECTION,...]
-                                  [--target 0.01] [--repeat N]
+                                  [--target 0.01] [--repeat N] [--keep-going]
 
 Every module of tools/accuracy/sections/ is a section (one technique): its TITLE, ORDER,
 INTRO and studies(ctx), a list of study.Study (one `lightgraph sweep`) and study.Custom (a
@@ -23,7 +23,10 @@ study's CSV, each section's gnuplot script and its page fragment). All or nothin
 are made in a temporary directory next to DIR and moved into place when every study has
 succeeded; a failing study (its command's stderr quoted, its id named) fails the run with
 exit status 1 and writes nothing. With --only the sections named are made again and the
-others are kept as the page had them (their fragments in data/).
+others are kept as the page had them (their fragments in data/). --keep-going makes the unit
+of all-or-nothing the section instead of the run: a section whose study fails keeps what the
+page had (its fragment and images, or no place on the page if it had none), the sections that
+finished are written, and the exit status is still 1 (the failed sections named).
 
 --quick: every study at its quick_size, with its quick_vary (by default the first and last
 value of each knob) and one repeat; for the test suite (meson test accuracy_quick), which
@@ -522,6 +525,16 @@ def page(args, fragments, sections, cmdline):
     return "\n".join(head) + "\n" + "\n".join(body)
 
 
+def drop_staged(stage, name):
+    """Removes what a failed section left in stage's images (its files start with `name-`
+    or `name.`), so that the page's own files of the section are kept in their place."""
+    for d in (os.path.join(stage, IMAGES), os.path.join(stage, DATA)):
+        if os.path.isdir(d):
+            for fn in os.listdir(d):
+                if fn.startswith((name + "-", name + ".")):
+                    os.remove(os.path.join(d, fn))
+
+
 def commit(stage, out, keep_from_old):
     """Moves stage's accuracy.md and images/accuracy into out; the old images directory stays
     as a backup until the new one is in place."""
@@ -558,6 +571,9 @@ def main(argv=None):
                     help="the error the answers aim at (default 0.01: 1%% relative RMSE)")
     ap.add_argument("--repeat", type=int, default=None,
                     help="timed runs per point for every study (default: each study's own)")
+    ap.add_argument("--keep-going", action="store_true",
+                    help="a failing section keeps what the page had; the others are written "
+                    "(exit status 1 all the same)")
     ap.add_argument("--sections", default=os.path.join(HERE, "sections"),
                     help=argparse.SUPPRESS)  # the self-test's sections
     try:
@@ -606,20 +622,32 @@ def main(argv=None):
         (["--quick"] if args.quick else []) +
         (["--only", args.only] if args.only else []) +
         (["--target", "%g" % args.target] if args.target != 0.01 else []) +
-        (["--repeat", str(args.repeat)] if args.repeat else []))
+        (["--repeat", str(args.repeat)] if args.repeat else []) +
+        (["--keep-going"] if args.keep_going else []))
+    failed = []
     try:
         fragments = {}
         for s in run:
-            fragments[s.name] = run_section(s, args, stage, machine)
+            try:
+                fragments[s.name] = run_section(s, args, stage, machine)
+            except StudyError as e:
+                if not args.keep_going:
+                    raise
+                failed.append(s)
+                drop_staged(stage, s.name)
+                sys.stderr.write("accuracy: %s\naccuracy: --keep-going: section %s keeps what "
+                                 "the page had\n" % (e, s.name))
+        if failed and len(failed) == len(run):
+            raise StudyError("every section run failed (%s)" % ", ".join(s.name for s in failed))
         keep = None
-        if args.only:
-            # the sections not run keep what the page had
+        if args.only or failed:
+            # the sections not run, and those that failed, keep what the page had
             for s in sections:
                 old = os.path.join(out, DATA, s.name + ".md")
-                if s not in run and os.path.exists(old):
+                if (s not in run or s in failed) and os.path.exists(old):
                     with open(old) as f:
                         fragments[s.name] = f.read()
-            keep = {"drop": [s.name + p for s in run for p in ("-", ".")]}
+            keep = {"drop": [s.name + p for s in run if s not in failed for p in ("-", ".")]}
         with open(os.path.join(stage, "accuracy.md"), "w") as f:
             f.write(page(args, fragments, sections, cmdline.strip()))
         os.makedirs(out, exist_ok=True)
@@ -638,6 +666,10 @@ def main(argv=None):
         return 130
     shutil.rmtree(stage, ignore_errors=True)
     print("wrote %s and %s" % (os.path.join(out, "accuracy.md"), os.path.join(out, IMAGES)))
+    if failed:
+        sys.stderr.write("accuracy: written without the sections that failed (%s: kept as the "
+                         "page had them)\n" % ", ".join(s.name for s in failed))
+        return 1
     return 0
 
 

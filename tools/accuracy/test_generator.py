@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """test_generator.py: the meson test accuracy_generator (suite tools). The generator on the
 fake sections of selftest/ (Custom studies with known rows, no render): the Pareto front, the
-answer line, the page (check_page.py), --only keeping the other sections, --target, and all or
-nothing (a failing study: exit 1, its id and stderr quoted, nothing written); bad usage exits 2.
+answer line, the page (check_page.py), --only keeping the other sections, --target, all or
+nothing (a failing study: exit 1, its id and stderr quoted, nothing written), --keep-going (the
+sections that finished written, the failed one kept as the page had it, exit 1); bad usage
+exits 2.
 
 usage: test_generator.py --build BUILD --out SCRATCH"""
 import argparse
@@ -125,6 +127,43 @@ def main():
           "no temporary directory left")
     r = gen(a.build, keep, "bad", "--quick", "--only", "sec_b")
     check(r.returncode == 1 and "(quick=True)" in r.stderr, "{quick} becomes --quick")
+
+    # --keep-going: all or nothing per section; the failing one keeps what the page had
+    kg = os.path.join(scratch, "keepgoing")
+    r = gen(a.build, kg, "ok")
+    data = os.path.join(kg, "images/accuracy/data")
+    old_b = open(os.path.join(data, "sec_b.md")).read() if r.returncode == 0 else None
+    before = answer(kg, "sec_a") if r.returncode == 0 else None
+    r = gen(a.build, kg, "bad", "--keep-going", "--target", "0.001")
+    check(r.returncode == 1, "--keep-going with a failing section exits 1 (exit %d)"
+          % r.returncode)
+    check("fake_broken" in r.stderr and "the oracle melted" in r.stderr and
+          "section sec_b keeps what the page had" in r.stderr,
+          "--keep-going names the failed study and section: %s" % r.stderr.strip()[-400:])
+    if old_b is not None:
+        check(answer(kg, "sec_a") != before and "no setting swept reaches 0.1%" in
+              answer(kg, "sec_a"), "--keep-going wrote the section that finished: %s"
+              % answer(kg, "sec_a"))
+        check(open(os.path.join(data, "sec_b.md")).read() == old_b and
+              "fakeb knob=" in answer(kg, "sec_b") and
+              os.path.exists(os.path.join(kg, "images/accuracy/sec_b.png")) and
+              os.path.exists(os.path.join(data, "sec_b-fake_b.csv")),
+              "--keep-going: the failed section keeps its fragment, plot and data")
+        check(not check_page(kg, [("sec_b", "Fake technique b", ["fake_b"]),
+                                  ("sec_a", "Fake technique a", ["fake_a", "fake_a2"])]),
+              "--keep-going leaves a whole page")
+    fresh = os.path.join(scratch, "keepgoing_fresh")
+    r = gen(a.build, fresh, "bad", "--keep-going")
+    text = (open(os.path.join(fresh, "accuracy.md")).read()
+            if os.path.exists(os.path.join(fresh, "accuracy.md")) else "")
+    check(r.returncode == 1 and 'id="sec_a"' in text and 'id="sec_b"' not in text,
+          "--keep-going without an old page: the section that finished alone (exit %d)"
+          % r.returncode)
+    r = gen(a.build, os.path.join(scratch, "kg_none"), "bad", "--keep-going", "--only", "sec_b")
+    check(r.returncode == 1 and not os.path.exists(os.path.join(scratch, "kg_none")),
+          "--keep-going when every section run failed writes nothing (exit %d)" % r.returncode)
+    check(not [d for d in os.listdir(scratch) if d.startswith(".accuracy-")],
+          "no temporary directory left after --keep-going")
 
     # bad usage
     for extra, what in ((["--only", "nosuch"], "an unknown section"),

@@ -8,7 +8,10 @@ page's volumetric section (sections/volumetric.py) claims beyond "the page was m
    a study varies or sets is a parameter of its node (or the linked grid), with values in
    its enum's choices; every light or medium feature the volumetric nodes need has its
    entry in LIGHTS or MEDIA (a node that needs `light`, any type, is covered when LIGHTS
-   has every light type);
+   has every light type); the sections volumetric_lights and volumetric_media (the other
+   light types and media, with this file's cases) measure, with this one, every case once,
+   their knobs checked alike; the point light has froxel's point_integration study and the
+   VDB cloud its study;
 2. the runner, at quick size: two froxel studies of one case share one reference (rendered
    once, by the first); the linked knob `vol.grid` is applied (its rows differ, the finer
    grid errs less); every row has a finite relative RMSE, the reference's time and its
@@ -32,6 +35,8 @@ sys.path.insert(0, os.path.dirname(HERE))
 from accuracy.accuracy import Context  # noqa: E402
 
 SECTION = os.path.join(HERE, "sections", "volumetric.py")
+# the sections that measure the other light types and media with volumetric.py's cases
+OTHERS = ["volumetric_lights", "volumetric_media"]
 METHODS = ["volumetric_screen", "volumetric_polygonal", "volumetric_froxel"]
 
 failures = []
@@ -44,8 +49,8 @@ def check(ok, what):
     return ok
 
 
-def load_section():
-    spec = importlib.util.spec_from_file_location("accuracy_section_volumetric", SECTION)
+def load_section(path=SECTION, name="accuracy_section_volumetric"):
+    spec = importlib.util.spec_from_file_location(name, path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
@@ -60,6 +65,13 @@ def inspect(build, node):
 def coverage(sec, build, out):
     nodes = {m: inspect(build, m) for m in METHODS + ["volumetric_reference", "shadowmap"]}
     params = {m: {p["key"]: p for p in d["parameters"]} for m, d in nodes.items()}
+    others = {n: load_section(os.path.join(HERE, "sections", n + ".py"), "accuracy_section_" + n)
+              for n in OTHERS}
+    # every case is measured by one section, and the sections' cases are all of them
+    split = [c for n in ["volumetric"] + OTHERS for c in sec.cases(n)]
+    check(sorted((a.tag, b.tag) for a, b in split) ==
+          sorted((a.tag, b.tag) for a, b in sec.cases()),
+          "the sections' cases %s are not every case once" % [(a.tag, b.tag) for a, b in split])
     for quick in (False, True):
         ctx = Context(quick, build, os.path.join(out, "coverage_%s" % quick))
         studies = sec.studies(ctx)
@@ -69,6 +81,20 @@ def coverage(sec, build, out):
             backends = b["values"] if b else ["gl"]
             for be in backends:
                 check((m, be) in have, "quick=%s: no study of %s on %s" % (quick, m, be))
+        ids = {s.id for s in studies}
+        for n, mod in others.items():
+            more = mod.studies(Context(quick, build, os.path.join(out, "cov_%s_%s" % (n, quick))))
+            check(more and not ids & {s.id for s in more}, "quick=%s: section %s has no studies "
+                  "or shares ids with another" % (quick, n))
+            ids |= {s.id for s in more}
+            studies = studies + more
+        for light in sec.LIGHTS:
+            if light.light_type == "point":
+                check(any(s.id == "froxel_point_cpu_point_hom" for s in studies),
+                      "quick=%s: no study of froxel's point_integration on the point light"
+                      % quick)
+        check(any(s.id == "froxel_cloud_cpu" for s in studies), "quick=%s: no VDB cloud study"
+              % quick)
         for s in studies:
             spec = json.load(open(s.command_template[3]))
             node = {"vol": s.technique, "shadow": "shadowmap"}
