@@ -135,6 +135,19 @@ int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t ite
     return local_fixed(count, out, range, ctx, err, err_size);
 }
 
+int lg_dist_fixed_family(const char *what, uint32_t affinity, uint64_t count, uint64_t grain,
+                         uint64_t item_bytes, void *out, lg_dist_range_fn range, void *ctx,
+                         char *err, size_t err_size)
+{
+    (void)affinity;
+    return lg_dist_fixed(what, count, grain, item_bytes, out, range, ctx, err, err_size);
+}
+
+void lg_dist_fixed_placement(uint64_t *own, uint64_t *stolen, uint64_t *fresh)
+{
+    *own = *stolen = *fresh = 0;
+}
+
 #else /* LG_HAVE_MPI */
 
 #include <fcntl.h>
@@ -147,8 +160,10 @@ int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t ite
 
 static bool d_on; /* MPI_Init was called (started by mpirun) */
 static int d_rank, d_size = 1, d_local = 1;
-static MPI_Comm d_comm;    /* a duplicate of MPI_COMM_WORLD: ours alone */
-static MPI_Win d_win;      /* rank 0's chunk counter (dynamic chunks) */
+static MPI_Comm d_comm;   /* a duplicate of MPI_COMM_WORLD: ours alone */
+static MPI_Win d_win;     /* rank 0's chunk counter (dynamic chunks) */
+static MPI_Win d_own_win; /* every rank's counter into its list of former chunks (affinity) */
+static void families_forget(void);
 static FILE *d_capture;    /* a non-root rank's stderr, read back for its reason */
 static pthread_t d_thread; /* main()'s: the one that calls MPI */
 static bool d_reported;    /* a failure's reasons already reached rank 0 */
@@ -337,6 +352,11 @@ int lg_dist_init(int *argc, char ***argv)
     if (d_rank == 0)
         *counter = 0;
     MPI_Win_lock_all(MPI_MODE_NOCHECK, d_win);
+    uint64_t *own = NULL;
+    MPI_Win_allocate((MPI_Aint)sizeof(uint64_t), (int)sizeof(uint64_t), MPI_INFO_NULL, d_comm, &own,
+                     &d_own_win);
+    *own = 0;
+    MPI_Win_lock_all(MPI_MODE_NOCHECK, d_own_win);
     if (d_rank != 0) {
         /* Quiet: rank 0 prints the report; another rank's output would repeat it. Its
          * stderr goes to an unlinked file whose last line is its reason if it fails. */
@@ -382,6 +402,9 @@ int lg_dist_finish(int status)
     }
     MPI_Win_unlock_all(d_win);
     MPI_Win_free(&d_win);
+    MPI_Win_unlock_all(d_own_win);
+    MPI_Win_free(&d_own_win);
+    families_forget();
     MPI_Comm_free(&d_comm);
     MPI_Finalize();
     free(d_recs);
@@ -482,12 +505,90 @@ static uint64_t chunk_take(void)
     return chunk_op(1, MPI_SUM);
 }
 
+/* Rank r's counter into its list of former chunks (a job with affinity): the owner takes
+ * from it first, the others steal from it when their own lists are done. A fetch-and-add
+ * hands each index to one rank only, so every chunk runs once. */
+static uint64_t own_op(int r, uint64_t v, MPI_Op op)
+{
+    uint64_t old = 0;
+    MPI_Fetch_and_op(&v, &old, MPI_UINT64_T, r, 0, op, d_own_win);
+    MPI_Win_flush(r, d_own_win);
+    return old;
+}
+
+/* Stops a job on every rank: rank 0's counter and every list's counter past any end. */
+static void chunks_stop(void)
+{
+    chunk_op(CHUNK_STOP, MPI_REPLACE);
+    for (int r = 0; r < d_size; r++)
+        own_op(r, CHUNK_STOP, MPI_REPLACE);
+}
+
+/* A family's last job (lg_dist_fixed_family): the same on every rank, since every rank
+ * makes the same calls and receives the same owner table. A few families at once (a
+ * node's passes); the oldest gives way. */
+typedef struct dist_family {
+    uint32_t key; /* 0: a free slot */
+    uint64_t count, grain, chunks, used;
+    int *owner; /* chunks entries */
+} dist_family;
+#define FAMILIES 8
+static dist_family d_fams[FAMILIES];
+static uint64_t d_fam_clock;
+static uint64_t d_last_own, d_last_stolen, d_last_fresh; /* lg_dist_fixed_placement */
+
+static void family_drop(dist_family *f)
+{
+    free(f->owner);
+    memset(f, 0, sizeof *f);
+}
+
+static void families_forget(void)
+{
+    for (int i = 0; i < FAMILIES; i++)
+        family_drop(&d_fams[i]);
+}
+
+static dist_family *family_find(uint32_t key)
+{
+    for (int i = 0; key && i < FAMILIES; i++)
+        if (d_fams[i].key == key)
+            return &d_fams[i];
+    return NULL;
+}
+
+/* Remembers `owner` (taken) as the family's last job. */
+static void family_keep(uint32_t key, uint64_t count, uint64_t grain, uint64_t chunks, int *owner)
+{
+    dist_family *f = family_find(key);
+    for (int i = 0; !f && i < FAMILIES; i++)
+        if (!d_fams[i].key)
+            f = &d_fams[i];
+    for (int i = 0; !f && i < FAMILIES; i++)
+        if (!f || d_fams[i].used < f->used)
+            f = &d_fams[i];
+    family_drop(f);
+    *f = (dist_family){ .key = key,
+                        .count = count,
+                        .grain = grain,
+                        .chunks = chunks,
+                        .used = ++d_fam_clock,
+                        .owner = owner };
+}
+
+void lg_dist_fixed_placement(uint64_t *own, uint64_t *stolen, uint64_t *fresh)
+{
+    *own = d_last_own;
+    *stolen = d_last_stolen;
+    *fresh = d_last_fresh;
+}
+
 /* A job's signature, checked on every rank by its opening step. */
-static uint64_t job_sig(uint64_t a, uint64_t b, uint64_t c)
+static uint64_t job_sig(uint64_t a, uint64_t b, uint64_t c, uint64_t d)
 {
     uint64_t h = 1469598103934665603u;
-    uint64_t v[3] = { a, b, c };
-    for (int i = 0; i < 3; i++)
+    uint64_t v[4] = { a, b, c, d };
+    for (int i = 0; i < 4; i++)
         h = (h ^ v[i]) * 1099511628211u;
     return h;
 }
@@ -498,6 +599,7 @@ static int job_open(int kind, uint64_t sig, char *err, size_t err_size)
 {
     if (d_rank == 0)
         chunk_op(0, MPI_REPLACE);
+    own_op(d_rank, 0, MPI_REPLACE);
     if (dist_step(kind, sig, 0, NULL) == 0)
         return 0;
     static const char head[] = "the job did not start: ";
@@ -531,15 +633,82 @@ static int *chunk_owners(const int *mine, uint64_t chunks)
     return all;
 }
 
+/* The chunks of a job with a remembered family: this rank's former chunks first, then the
+ * other ranks' lists, from the next rank on (each rank starts its stealing elsewhere). Sets
+ * mine[c] for the chunks run; returns non-zero when a chunk failed (the job stopped). */
+static int family_run(const dist_family *f, uint64_t count, uint64_t grain, uint64_t item_bytes,
+                      void *out, lg_dist_range_fn range, void *ctx, int *mine, char *why,
+                      size_t why_size)
+{
+    /* every rank's list of former chunks, in chunk order: list[start[r] .. start[r + 1]) */
+    uint64_t *start = lg_xcalloc((size_t)d_size + 1, sizeof *start);
+    uint64_t *list = lg_xmalloc((size_t)f->chunks * sizeof *list);
+    for (uint64_t c = 0; c < f->chunks; c++)
+        start[f->owner[c] + 1]++;
+    for (int r = 0; r < d_size; r++)
+        start[r + 1] += start[r];
+    uint64_t *fill = lg_xmalloc((size_t)d_size * sizeof *fill);
+    memcpy(fill, start, (size_t)d_size * sizeof *fill);
+    for (uint64_t c = 0; c < f->chunks; c++)
+        list[fill[f->owner[c]]++] = c;
+    free(fill);
+    int failed = 0;
+    bool stop = false;
+    for (int k = 0; k < d_size && !stop && !failed; k++) {
+        int v = (d_rank + k) % d_size;
+        uint64_t n = start[v + 1] - start[v];
+        for (;;) {
+            uint64_t i = own_op(v, 1, MPI_SUM);
+            if (i >= CHUNK_STOP)
+                stop = true;
+            if (i >= n)
+                break;
+            uint64_t c = list[start[v] + i];
+            uint64_t b = c * grain, e = b + grain < count ? b + grain : count;
+            mine[c] = d_rank;
+            if (k == 0)
+                d_last_own++;
+            else
+                d_last_stolen++;
+            why[0] = 0;
+            dist_depth++;
+            int bad = range(ctx, b, e, (char *)out + b * item_bytes, why, why_size);
+            dist_depth--;
+            if (bad) {
+                failed = 1;
+                chunks_stop();
+                break;
+            }
+        }
+    }
+    free(start);
+    free(list);
+    return failed;
+}
+
 int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t item_bytes, void *out,
                   lg_dist_range_fn range, void *ctx, char *err, size_t err_size)
+{
+    return lg_dist_fixed_family(what, 0, count, grain, item_bytes, out, range, ctx, err, err_size);
+}
+
+int lg_dist_fixed_family(const char *what, uint32_t affinity, uint64_t count, uint64_t grain,
+                         uint64_t item_bytes, void *out, lg_dist_range_fn range, void *ctx,
+                         char *err, size_t err_size)
 {
     (void)what;
     if (alone())
         return local_fixed(count, out, range, ctx, err, err_size);
     err[0] = 0;
-    if (job_open(K_FIXED, job_sig(count, grain, item_bytes), err, err_size))
+    d_last_own = d_last_stolen = d_last_fresh = 0;
+    if (job_open(K_FIXED, job_sig(count, grain, item_bytes, affinity), err, err_size))
         return 1;
+    /* A family whose items or chunks changed starts afresh. */
+    dist_family *fam = family_find(affinity);
+    if (fam && (fam->count != count || fam->grain != grain)) {
+        family_drop(fam);
+        fam = NULL;
+    }
     if (count == 0)
         return 0;
     uint64_t chunks = grain ? (count + grain - 1) / grain : 0;
@@ -556,27 +725,34 @@ int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t ite
         mine = lg_xmalloc((size_t)chunks * sizeof *mine);
         for (uint64_t c = 0; c < chunks; c++)
             mine[c] = -1;
-        for (;;) {
-            uint64_t c = chunk_take();
-            if (c >= chunks)
-                break;
-            uint64_t b = c * grain, e = b + grain < count ? b + grain : count;
-            mine[c] = d_rank;
-            why[0] = 0;
-            dist_depth++;
-            int bad = range(ctx, b, e, (char *)out + b * item_bytes, why, sizeof why);
-            dist_depth--;
-            if (bad) {
-                failed = 1;
-                chunk_op(CHUNK_STOP, MPI_REPLACE);
-                break;
+        if (fam)
+            failed = family_run(fam, count, grain, item_bytes, out, range, ctx, mine, why,
+                                sizeof why);
+        else
+            for (;;) {
+                uint64_t c = chunk_take();
+                if (c >= chunks)
+                    break;
+                uint64_t b = c * grain, e = b + grain < count ? b + grain : count;
+                mine[c] = d_rank;
+                d_last_fresh++;
+                why[0] = 0;
+                dist_depth++;
+                int bad = range(ctx, b, e, (char *)out + b * item_bytes, why, sizeof why);
+                dist_depth--;
+                if (bad) {
+                    failed = 1;
+                    chunks_stop();
+                    break;
+                }
             }
-        }
     }
     if (failed)
         with_rank(why, sizeof why);
     if (dist_step(K_FIXED, 0, failed, why)) {
         step_reason(err, err_size);
+        if (fam)
+            family_drop(fam); /* every rank saw the failure: every rank forgets */
         free(mine);
         return 1;
     }
@@ -619,7 +795,10 @@ int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t ite
     free(recv);
     free(counts);
     free(displs);
-    free(owner);
+    if (affinity)
+        family_keep(affinity, count, grain, chunks, owner); /* takes owner */
+    else
+        free(owner);
     free(mine);
     return 0;
 }
@@ -631,7 +810,7 @@ int lg_dist_map(const char *what, uint64_t count, uint64_t grain, bool root_only
         return local_map(what, count, fn, ctx, res);
     memset(res, 0, sizeof *res);
     char err[WHY_MAX + 100] = "";
-    if (job_open(K_MAP, job_sig(count, grain, root_only), err, sizeof err)) {
+    if (job_open(K_MAP, job_sig(count, grain, root_only, 0), err, sizeof err)) {
         if (d_rank == 0)
             fprintf(stderr, "lightgraph: %s: %s\n", what ? what : "items", err);
         return 1;

@@ -99,4 +99,17 @@ typedef int (*lg_dist_range_fn)(void *ctx, uint64_t begin, uint64_t end, void *i
 int lg_dist_fixed(const char *what, uint64_t count, uint64_t grain, uint64_t item_bytes, void *out,
                   lg_dist_range_fn range, void *ctx, char *err, size_t err_size);
 
+/* lg_dist_fixed with chunk affinity (lg_shard_job.affinity, host.h): a non-zero `affinity`
+ * names a family of jobs over the same items. The chunks' owners of the family's last job
+ * (with this count and grain) are remembered on every rank; in the next job each rank first
+ * takes its own former chunks, then steals the others' still unclaimed ones. 0 is
+ * lg_dist_fixed. The result is the same; only where the chunks run differs. */
+int lg_dist_fixed_family(const char *what, uint32_t affinity, uint64_t count, uint64_t grain,
+                         uint64_t item_bytes, void *out, lg_dist_range_fn range, void *ctx,
+                         char *err, size_t err_size);
+/* This rank's chunks in its last lg_dist_fixed job of several ranks: `own` its former
+ * chunks of the job's family, `stolen` another rank's former chunks, `fresh` chunks of a
+ * job without a remembered family (dynamic chunks). Zeros after a job run alone. */
+void lg_dist_fixed_placement(uint64_t *own, uint64_t *stolen, uint64_t *fresh);
+
 #endif

@@ -880,11 +880,20 @@ static int api_shard(lg_node *n, const lg_shard_job *job)
     uint64_t workers = lg_pool_size(r.pool);
     uint64_t rank_grain = job->grain > UINT64_MAX / workers ? job->grain : job->grain * workers;
     char err[768] = "";
-    int rc = lg_dist_fixed(job->what ? job->what : "items", job->count, rank_grain, job->item_bytes,
-                           job->out, shard_range, &r, err, sizeof err);
+    int rc = lg_dist_fixed_family(job->what ? job->what : "items", job->affinity, job->count,
+                                  rank_grain, job->item_bytes, job->out, shard_range, &r, err,
+                                  sizeof err);
     pthread_mutex_destroy(&r.lock);
     if (rc)
         return lg_node_errorf(p, "%s", err[0] ? err : "shard: failed"), LG_ERR_INVALID;
+    if (lg_dist_size() > 1) {
+        /* where this rank's chunks came from (-v -v; tests/dist checks affinity with it) */
+        uint64_t own, stolen, fresh;
+        lg_dist_fixed_placement(&own, &stolen, &fresh);
+        lg_log(n, LG_LOG_DEBUG, "shard: rank %d ran %llu chunks (%llu its own, %llu stolen)",
+               lg_dist_rank(), (unsigned long long)(own + stolen + fresh), (unsigned long long)own,
+               (unsigned long long)stolen);
+    }
     return 0;
 }
 

@@ -1385,9 +1385,14 @@ static uint64_t pb_grain(uint64_t dirs_per_vertex)
     return g < 1 ? 1 : g > 256 ? 256 : g;
 }
 
+/* The interreflected bake's direct pass and bounces: one affinity family (host.h, lg_shard
+ * "Affinity") with one grain, so that under MPI each rank's bounce chunks are the vertices
+ * whose hits it kept in the direct pass (another rank would cast their rays again). */
+#define PB_AFFINITY 0x70626231u /* "pbb1": any non-zero number of this node's */
+
 static int pb_shard(lg_node *n, uint32_t nv, uint64_t dirs_per_vertex, uint64_t item_bytes,
                     void *out, int (*run)(void *, uint64_t, uint64_t, void *, char *, size_t),
-                    void *ctx, const char *what, double progress)
+                    void *ctx, const char *what, double progress, uint32_t affinity)
 {
     lg_shard_job job = { .count = nv,
                          .grain = pb_grain(dirs_per_vertex),
@@ -1395,7 +1400,8 @@ static int pb_shard(lg_node *n, uint32_t nv, uint64_t dirs_per_vertex, uint64_t 
                          .out = out,
                          .run = run,
                          .ctx = ctx,
-                         .what = "vertices" };
+                         .what = "vertices",
+                         .affinity = affinity };
     int rc = lg_shard(n, &job);
     if (!rc)
         lg_progress(n, progress, what);
@@ -1755,7 +1761,8 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
     double share = p->mode == PB_INTERREFLECTED ? 0.8 : 1.0;
     double tp = lg_now(n);
     rc = pb_shard(n, nv, p->mode == PB_UNSHADOWED ? 1 : T, (uint64_t)3 * n2 * sizeof(float), out,
-                  pb_bake_vertices, &b, pb_modes[p->mode], share);
+                  pb_bake_vertices, &b, pb_modes[p->mode], share,
+                  p->mode == PB_INTERREFLECTED ? PB_AFFINITY : 0);
     if (rc)
         goto done;
     double t1 = lg_now(n);
@@ -1812,8 +1819,9 @@ static int pb_bake_execute(lg_node *n, pb_state *st)
             b.prev = incr[(k - 1) & 1];
             float *next = incr[k & 1];
             /* a bounce reads every vertex of the last: one job each, after the last */
-            rc = pb_shard(n, nv, T / 2, (uint64_t)3 * n2 * sizeof(float), next, pb_bounce_vertices,
-                          &b, "interreflections", share + (1 - share) * k / p->bounces);
+            /* the direct pass's grain (T), not the bounce's cost (T / 2): one family */
+            rc = pb_shard(n, nv, T, (uint64_t)3 * n2 * sizeof(float), next, pb_bounce_vertices, &b,
+                          "interreflections", share + (1 - share) * k / p->bounces, PB_AFFINITY);
             if (rc)
                 goto done;
             double e = 0;
@@ -2111,7 +2119,7 @@ static int pb_ref_execute(lg_node *n, pb_state *st)
             goto done;
     }
     pb_ref r = { .p = p, .w = &w, .vis = &vis, .n_tex = (uint32_t)n_tex, .dirs = dirs, .L = L };
-    rc = pb_shard(n, nv, n_tex, 4 * sizeof(float), out, pb_ref_vertices, &r, "reference", 1.0);
+    rc = pb_shard(n, nv, n_tex, 4 * sizeof(float), out, pb_ref_vertices, &r, "reference", 1.0, 0);
     if (rc)
         goto done;
     double secs_ref = lg_now(n) - t0;

@@ -11,6 +11,10 @@
 #               no output file, no hang (the test's timeout)
 #   cache       rank 0's cache is warm, rank 1's cold: one answer (a miss), every rank
 #               computes, the same bits, exit 0; rank 1 writes no cache entry
+#   affinity NP two passes of one affinity family, rank 0 slowed in the second: rank 0
+#               reran only chunks of its own (none stolen; without affinity none are its
+#               own), and the bits of one process
+#   steal NP    the same with rank 1 slowed: rank 0 steals its chunks; the same bits
 #   plain       a run without mpirun prints what it printed before the MPI layer: the
 #               report only, no "rank" anywhere
 set -u
@@ -91,6 +95,40 @@ EOS
     grep -q "reused the cached image" "$work/err2" || fail "two warm ranks did not hit"
     cmp "$work/one.exr" "$work/hit.exr" || fail "the warm run differs"
     echo "render_dist.sh: warm rank 0 and cold rank 1 agree on a miss; two warm ranks hit"
+    ;;
+  affinity | steal)
+    # rank 0's placement line of the family's last job (-v -v): "ran N chunks (O its own, S
+    # stolen)"
+    placement() { grep -o "shard: rank 0 ran [0-9]* chunks ([0-9]* its own, [0-9]* stolen)" \
+                    "$1" | tail -n 1 | tr -dc '0-9 ' | awk '{ print $2, $3, $4 }'; }
+    render -o "$work/one.exr" --set s.grain=4 || fail "one process failed"
+    render -o "$work/one3.exr" --set s.grain=4 --set s.passes=3 --set s.affinity=7 ||
+      fail "one process, three passes, failed"
+    cmp "$work/one.exr" "$work/one3.exr" || fail "three passes in one process differ"
+    lag=0
+    [ "$case_" = steal ] && lag=1 # rank 0 steals from rank 1 first
+    for aff in 7 0; do
+      sh "$mpirun" "$np" "$lg" render "$graph" --no-cache -v -v -o "$work/many$aff.exr" \
+        --set s.grain=4 --set s.passes=2 --set s.affinity=$aff --set s.lag_rank=$lag \
+        --set s.lag_us=300 2>"$work/err$aff" || { cat "$work/err$aff" >&2; fail "$np ranks failed"; }
+      cmp "$work/one.exr" "$work/many$aff.exr" || fail "$np ranks (affinity $aff) differ"
+    done
+    set -- $(placement "$work/err7")
+    [ $# -eq 3 ] || fail "no placement line on rank 0"
+    ran=$1 own=$2 stolen=$3
+    echo "render_dist.sh: affinity, rank 0 ran $ran chunks: $own its own, $stolen stolen"
+    [ "$ran" -gt 0 ] || fail "rank 0 ran no chunk"
+    if [ "$case_" = affinity ]; then
+      [ "$own" -eq "$ran" ] && [ "$stolen" -eq 0 ] ||
+        fail "the slowed rank 0 ran chunks not its own ($own of $ran its own)"
+    else
+      [ "$stolen" -gt 0 ] || fail "rank 0 stole nothing from the slowed rank $lag"
+      [ "$own" -gt 0 ] || fail "rank 0 ran none of its own chunks"
+    fi
+    set -- $(placement "$work/err0")
+    [ $# -eq 3 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] ||
+      fail "without affinity rank 0's chunks were not fresh ($*)"
+    echo "render_dist.sh: $np ranks, affinity and not: the bits of one process"
     ;;
   single)
     # api_shard in one process: grain 1, the default, one chunk for all: the same bits

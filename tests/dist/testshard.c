@@ -74,6 +74,32 @@ static const lg_param_desc params[] = {
       .enum_values = bad_modes,
       .doc = "hand the host a bad job: grain 0, item_bytes 0, no run, no out, or a count "
              "whose bytes overflow" },
+    { .key = "passes",
+      .type = LG_PARAM_INT,
+      .def.i = 1,
+      .min = 1,
+      .max = 4,
+      .doc = "jobs run one after the other over the same pixels (each must give the same "
+             "bits; the last is the image)" },
+    { .key = "affinity",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 1e6,
+      .doc = "the passes' lg_shard_job.affinity (0: none)" },
+    { .key = "lag_rank",
+      .type = LG_PARAM_INT,
+      .def.i = -1,
+      .min = -1,
+      .max = 1e6,
+      .doc = "the rank whose items sleep lag_us each in the passes after the first (-1: "
+             "none): a rank-dependent cost" },
+    { .key = "lag_us",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 1e6,
+      .doc = "microseconds each item of lag_rank sleeps (passes after the first)" },
     { .key = "cached",
       .type = LG_PARAM_BOOL,
       .def.b = false,
@@ -178,7 +204,8 @@ static int execute(lg_node *n, const lg_frame *frame)
                              .out = img,
                              .run = run,
                              .ctx = &c,
-                             .what = "pixels" };
+                             .what = "pixels",
+                             .affinity = (uint32_t)lg_param_int(n, "affinity") };
         switch (lg_param_enum(n, "bad")) {
         case 1: job.grain = 0; break;
         case 2: job.item_bytes = 0; break;
@@ -192,6 +219,28 @@ static int execute(lg_node *n, const lg_frame *frame)
             free(img);
             return rc;
         }
+        /* Further passes (one affinity family when `affinity` is set), each into its own
+         * buffer, the lagging rank slowed: placement differs, the bits may not. */
+        int passes = (int)lg_param_int(n, "passes");
+        float *again = passes > 1 ? malloc(count * 16) : NULL;
+        if (passes > 1 && !again) {
+            free(img);
+            return lg_error(n, "testshard: out of memory");
+        }
+        if (lg_param_int(n, "lag_rank") == my_rank())
+            c.slow_us = (uint64_t)lg_param_int(n, "lag_us");
+        for (int pass = 1; pass < passes; pass++) {
+            job.out = again;
+            rc = lg_shard(n, &job);
+            if (rc == 0 && memcmp(again, img, count * 16) != 0)
+                rc = lg_error(n, "testshard: pass %d's pixels differ from pass 1's", pass + 1);
+            if (rc) {
+                free(again);
+                free(img);
+                return rc;
+            }
+        }
+        free(again);
         if (cached) {
             lg_cache_put(n, "image", img, count * 16);
             lg_log(n, LG_LOG_WARN, "testshard: computed the image");

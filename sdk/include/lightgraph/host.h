@@ -155,7 +155,16 @@ typedef struct lg_shard_job {
     void *ctx;
     const char *what; /* the items' name, plural ("vertices", "pixel rows"), for messages
                        * and the profile; NULL reads "items" */
-    uint32_t reserved[8];
+    union {
+        uint32_t reserved[8];
+        struct {
+            /* Non-zero: this job is one of a family over the same items (count and grain
+             * equal), e.g. a bake's passes; under MPI each rank first reruns the chunks it
+             * ran in the family's previous job (see lg_shard, "Affinity"). 0: none. */
+            uint32_t affinity;
+            uint32_t reserved_3_3[7];
+        };
+    };
 } lg_shard_job;
 
 typedef struct lg_host_api {
@@ -724,6 +733,18 @@ static inline size_t lg_parallel_chunks(size_t count, size_t grain)
  *   no output file and no cache entry). Also LG_ERR_INVALID after reporting for a bad
  *   job (grain or item_bytes 0, run or out NULL, count * item_bytes overflowing) and
  *   LG_ERR_NOMEM. `out`'s bytes are unspecified after a failure.
+ *
+ *   Affinity. A node whose passes run over the same items, each keeping per-item state of
+ *   its own between passes (a bake's ray hits from its direct pass, reused by each
+ *   bounce), gives every pass's job the same non-zero `affinity` (any number the node
+ *   chooses; distinct families of one run need distinct numbers) and the same count and
+ *   grain. Under MPI, in every job of the family after the first, each rank first takes
+ *   the chunks it computed in the family's previous job, and when those are done steals
+ *   the chunks other ranks have not claimed yet, so a rank mostly meets the items whose
+ *   state it kept and a slow rank still gets help. A job whose count or grain differs
+ *   starts the family afresh (dynamic chunks). Placement stays invisible: `out` has the
+ *   same bits as without affinity; a node that keeps per-item state must still compute
+ *   an item whose state it lacks. In one process affinity changes nothing.
  *
  *   Every rank must make the same calls in the same order (the same graph does). Call
  *   it from execute(). A job of under a few milliseconds gains nothing from ranks; the
