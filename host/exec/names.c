@@ -21,6 +21,7 @@ const char *const lg_shipped_plugins[] = {
     "scene_gltf",
     "scene_tools",
     "sh_project",
+    "shadow_reference",
     "shadowmap",
     "volumetric_froxel",
     "volumetric_polygonal",

@@ -100,6 +100,14 @@ static const lg_param_desc params[] = {
       .min = 0,
       .max = 1e6,
       .doc = "microseconds each item of lag_rank sleeps (passes after the first)" },
+    { .key = "hold_us",
+      .type = LG_PARAM_INT,
+      .def.i = 0,
+      .min = 0,
+      .max = 5e6,
+      .doc = "microseconds the first item of every rank but 0 sleeps in each pass after the "
+             "first: ranks late to a job, so that what rank 0 runs does not hang on the "
+             "scheduler (its own chunks first, then the late ranks' others)" },
     { .key = "cached",
       .type = LG_PARAM_BOOL,
       .def.b = false,
@@ -126,11 +134,18 @@ typedef struct job_ctx {
     int64_t fail_at;
     bool fail_here; /* fail_where = job on this rank */
     uint64_t slow_us;
+    uint64_t hold_us; /* this rank's first item of the pass sleeps so long */
+    int held;         /* set by the first item of the pass (threads race for it) */
 } job_ctx;
 
 static int run(void *ctx, uint64_t begin, uint64_t end, void *items, char *err, size_t err_size)
 {
-    const job_ctx *c = ctx;
+    job_ctx *c = ctx;
+    if (c->hold_us && !__atomic_exchange_n(&c->held, 1, __ATOMIC_RELAXED)) {
+        struct timespec ts = { (time_t)(c->hold_us / 1000000),
+                               (long)(c->hold_us % 1000000 * 1000) };
+        nanosleep(&ts, NULL);
+    }
     float *px = items;
     if (c->fail_here) {
         snprintf(err, err_size, "testshard: refused on this rank by request (fail_rank)");
@@ -229,8 +244,11 @@ static int execute(lg_node *n, const lg_frame *frame)
         }
         if (lg_param_int(n, "lag_rank") == my_rank())
             c.slow_us = (uint64_t)lg_param_int(n, "lag_us");
+        if (my_rank() > 0)
+            c.hold_us = (uint64_t)lg_param_int(n, "hold_us");
         for (int pass = 1; pass < passes; pass++) {
             job.out = again;
+            c.held = 0;
             rc = lg_shard(n, &job);
             if (rc == 0 && memcmp(again, img, count * 16) != 0)
                 rc = lg_error(n, "testshard: pass %d's pixels differ from pass 1's", pass + 1);
