@@ -80,6 +80,7 @@ typedef struct poly_state {
     uint32_t width, height;
 
     lg_gl_pass *mesh, *vol, *comp;
+    bool vol_local; /* vol was compiled with POLY_LOCAL (point and spot lights) */
     lg_gl_uniform m_inv_light, m_tile, m_res, m_grid, m_bias, m_near, m_far, m_outer;
     lg_gl_uniform m_persp, m_light, m_far_scale;
     lg_gl_binding m_atlas, m_verts;
@@ -234,9 +235,15 @@ LG_GL_BLOCK_OFFSET(poly_gpu_view, g, 156);
 LG_GL_BLOCK_OFFSET(poly_gpu_view, sigma_t, 176);
 LG_GL_BLOCK_OFFSET(poly_gpu_view, size, 192);
 
-static int poly_passes(lg_node *n, poly_state *st)
+/* local: the frame has a point or spot light. The volume pass is compiled with
+ * POLY_LOCAL only then: a scene of directional lights runs the shaders it ran before point
+ * and spot lights existed (their code, even behind a uniform branch, cost llvmpipe 15-20 %
+ * a fragment: docs/volumetric.md, "The cost of a directional scene"). */
+static int poly_passes(lg_node *n, poly_state *st, bool local)
 {
     int rc;
+    if (st->vol && st->vol_local != local)
+        lg_gl_pass_destroy(&st->vol);
     if (!st->mesh) {
         static const lg_gl_shader_src src[] = {
             { GL_COMPUTE_SHADER, lg_src_poly_mesh_comp_file, lg_src_poly_mesh_comp },
@@ -268,24 +275,28 @@ static int poly_passes(lg_node *n, poly_state *st)
         lg_gl_pass_desc d = { .name = "volumetric_polygonal volume",
                               .stages = src,
                               .n_stages = 2,
+                              .defines = local ? "#define POLY_LOCAL 1\n" : NULL,
                               .output = "inscatter",
                               .colors = { GL_RGBA32F },
                               .blend = LG_GL_BLEND_ADD };
         if ((rc = lg_gl_pass_create(n, &d, &st->vol)))
             return rc;
+        st->vol_local = local;
         lg_gl_pass *p = st->vol;
         st->v_view = lg_gl_pass_uniform_block(p, "PolyView");
         st->v_flip = lg_gl_pass_uniform(p, "u_flip");
         st->v_lc = lg_gl_pass_uniform(p, "u_l_c");
         st->v_dir = lg_gl_pass_uniform(p, "u_dir");
-        st->v_type = lg_gl_pass_uniform(p, "u_type");
-        st->v_pos = lg_gl_pass_uniform(p, "u_pos");
-        st->v_range = lg_gl_pass_uniform(p, "u_range");
-        st->v_cone = lg_gl_pass_uniform(p, "u_cone");
-        st->v_nodes = lg_gl_pass_uniform(p, "u_nodes");
-        st->v_full = lg_gl_pass_uniform(p, "u_full");
-        st->v_apex_eye = lg_gl_pass_uniform(p, "u_apex_eye");
-        st->v_grid = lg_gl_pass_uniform(p, "u_grid");
+        if (local) { /* the directional program has none of these */
+            st->v_type = lg_gl_pass_uniform(p, "u_type");
+            st->v_pos = lg_gl_pass_uniform(p, "u_pos");
+            st->v_range = lg_gl_pass_uniform(p, "u_range");
+            st->v_cone = lg_gl_pass_uniform(p, "u_cone");
+            st->v_nodes = lg_gl_pass_uniform(p, "u_nodes");
+            st->v_full = lg_gl_pass_uniform(p, "u_full");
+            st->v_apex_eye = lg_gl_pass_uniform(p, "u_apex_eye");
+            st->v_grid = lg_gl_pass_uniform(p, "u_grid");
+        }
         st->v_verts = lg_gl_pass_storage(p, "Vertices");
         st->v_idx = lg_gl_pass_storage(p, "Indices");
         st->v_depth = lg_gl_pass_texture(p, "u_base_depth");
@@ -725,7 +736,10 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
                         "the GL device's largest storage buffer (%d bytes); lower "
                         "`resolution`",
                         ws, (unsigned long long)nverts, (unsigned long long)ntris, max_block);
-    if ((rc = poly_passes(n, st)))
+    bool local = false;
+    for (uint32_t l = 0; l < v.n_lights; l++)
+        local = local || v.lights[l].type != LG_LIGHT_DIRECTIONAL;
+    if ((rc = poly_passes(n, st, local)))
         return rc;
 
     /* the buffers: indices for this grid, a vertex buffer per mesh */
@@ -875,8 +889,10 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
     gl->BeginQuery(GL_SAMPLES_PASSED, st->queries[0]);
     gl->BeginQuery(GL_PRIMITIVES_GENERATED, st->queries[1]);
     /* the meshes in order, then the unshadowed point and spot lights' viewport triangles */
-    lg_gl_set_int(p, st->v_nodes, st->point_nodes);
-    lg_gl_set_ivec2(p, st->v_grid, (int32_t)ws, (int32_t)hs);
+    if (st->vol_local) {
+        lg_gl_set_int(p, st->v_nodes, st->point_nodes);
+        lg_gl_set_ivec2(p, st->v_grid, (int32_t)ws, (int32_t)hs);
+    }
     for (uint32_t k = 0; k < n_meshes + v.n_lights && !rc; k++) {
         bool full = k >= n_meshes;
         uint32_t l = full ? k - n_meshes : meshes[k].light;
@@ -886,20 +902,22 @@ static int poly_execute(lg_node *n, const lg_frame *frame)
         lg_gl_set_float(p, st->v_flip, full ? 1.0f : (float)flip[k]);
         lg_gl_set_vec3v(p, st->v_lc, vl->l_c);
         lg_gl_set_vec3v(p, st->v_dir, vl->dir);
-        lg_gl_set_int(p, st->v_type, (int32_t)vl->type);
-        lg_gl_set_vec3v(p, st->v_pos, vl->pos);
-        lg_gl_set_float(p, st->v_range, vl->range);
-        const float cone[2] = { vl->cos_inner, vl->cos_outer };
-        lg_gl_set_vec2(p, st->v_cone, cone[0], cone[1]);
-        lg_gl_set_int(p, st->v_full, full ? 1 : 0);
-        /* the eye at a point or spot light (within its bulb, LG_LIGHT_EPSILON): the faces
-         * through the light are edge-on from the eye; the shader drops them */
-        double de = 0.0;
-        for (int c = 0; c < 3; c++)
-            de += (v.eye[c] - vl->pos[c]) * (v.eye[c] - vl->pos[c]);
-        bool apex = !full && vl->type != LG_LIGHT_DIRECTIONAL &&
-                    de < LG_LIGHT_EPSILON * LG_LIGHT_EPSILON;
-        lg_gl_set_int(p, st->v_apex_eye, apex ? 1 : 0);
+        if (st->vol_local) {
+            lg_gl_set_int(p, st->v_type, (int32_t)vl->type);
+            lg_gl_set_vec3v(p, st->v_pos, vl->pos);
+            lg_gl_set_float(p, st->v_range, vl->range);
+            const float cone[2] = { vl->cos_inner, vl->cos_outer };
+            lg_gl_set_vec2(p, st->v_cone, cone[0], cone[1]);
+            lg_gl_set_int(p, st->v_full, full ? 1 : 0);
+            /* the eye at a point or spot light (within its bulb, LG_LIGHT_EPSILON): the
+             * faces through the light are edge-on from the eye; the shader drops them */
+            double de = 0.0;
+            for (int c = 0; c < 3; c++)
+                de += (v.eye[c] - vl->pos[c]) * (v.eye[c] - vl->pos[c]);
+            bool apex = !full && vl->type != LG_LIGHT_DIRECTIONAL &&
+                        de < LG_LIGHT_EPSILON * LG_LIGHT_EPSILON;
+            lg_gl_set_int(p, st->v_apex_eye, apex ? 1 : 0);
+        }
         /* the viewport triangle reads no vertex: any buffer keeps the binding valid */
         lg_gl_pass_bind_buffer(p, st->v_verts, full ? st->ibuf.name : st->vbuf[k].name);
         rc = lg_gl_pass_draw(p, GL_TRIANGLES, full ? 3u : (uint32_t)(ntris * 3));

@@ -21,8 +21,9 @@
 // edge-on (the dent's walls when the view runs along the light), and one such fragment
 // turns a pixel's +F(d) into -F(d) (README, "Entering or leaving").
 //
-// A point or spot light (u_type 1, 2; its volume from a perspective map, or the whole view
-// when it has none, u_full) replaces F(s) by the airlight integral from the eye,
+// Compiled with POLY_LOCAL (polygonal.c: only for a frame with a point or spot light; a
+// directional scene runs the code above alone), a point or spot light (u_type 1, 2; its
+// volume from a perspective map, or the whole view when it has none, u_full) replaces F(s) by the airlight integral from the eye,
 //
 //     F(s) = L_c sigma_s A(0, s),   A = lg_point_inscatter (shaders/common/medium.glsl)
 //
@@ -60,6 +61,7 @@ vec3 unproject(vec2 xy, float z)
     return p.xyz / p.w;
 }
 
+#ifdef POLY_LOCAL
 // Whether triangle p (gl_PrimitiveID, the draw's p-th triangle in poly_indices' order) lies
 // in a plane through the light: the dent's walls and the frustum's sides (along rays from
 // the light) and the collapsed cap. Seen from the light itself they are edge-on: no ray
@@ -81,11 +83,14 @@ bool radial_face(int p)
     }
     return true; // the cap at the light
 }
+#endif
 
 void main()
 {
+#ifdef POLY_LOCAL
     if (u_apex_eye != 0 && radial_face(gl_PrimitiveID))
         discard;
+#endif
     vec2 xy = gl_FragCoord.xy; // the pixel's centre
     vec3 w = normalize(unproject(xy, 0.0) - u_eye);
     float depth = texelFetch(u_base_depth, ivec2(xy), 0).r;
@@ -97,9 +102,12 @@ void main()
         d = min(d, u_z_limit / c);
     float s = min(length(v_world - u_eye), d);
     vec3 f;
+#ifdef POLY_LOCAL
     if (u_type == 0) {
+#endif
         float phase = lg_hg_phase(u_g, dot(w, -u_dir));
         f = u_l_c * u_sigma_s * (phase * s) * lg_medium_segment3(u_sigma_t * s);
+#ifdef POLY_LOCAL
     } else {
         if (u_full != 0)
             s = d;
@@ -120,8 +128,11 @@ void main()
                                               u_cone, u_g, u_sigma_t.b, u_nodes));
         f = u_l_c * u_sigma_s * a;
     }
+#endif
     float sgn = (gl_FrontFacing ? 1.0 : -1.0) * u_flip; // leaving +, entering -
+#ifdef POLY_LOCAL
     if (u_full != 0)
         sgn = 1.0;
+#endif
     o_color = vec4(sgn * f, 0.0);
 }

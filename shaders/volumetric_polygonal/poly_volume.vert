@@ -9,20 +9,24 @@ layout(std430, binding = 1) readonly buffer Indices { uint indices[]; };
 
 #include "poly_view.glsl"
 
+#ifdef POLY_LOCAL
 // 1: no mesh, a triangle covering the viewport (a point or spot light without a shadow map:
 // every ray is lit over its whole fog segment, poly_volume.frag)
 uniform int u_full;
+#endif
 
 out vec3 v_world;
 
 void main()
 {
+#ifdef POLY_LOCAL
     if (u_full != 0) {
         vec2 c = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
         v_world = u_eye;
         gl_Position = vec4(c, 0.0, 1.0);
         return;
     }
+#endif
     vec3 p = verts[indices[gl_VertexID]].xyz;
     v_world = p;
     gl_Position = u_view_proj * vec4(p, 1.0);
