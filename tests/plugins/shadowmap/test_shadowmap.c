@@ -238,12 +238,13 @@ static const float *INFO(const lg_image *p, const setup *s, int col)
 
 /* ---- the geometric reference ----------------------------------------------------------------- */
 
-/* Does the ray from p along u hit the axis-aligned box c +- h (h grown by m, m may be < 0)? */
-static bool ray_hits_box(lg_vec3 p, lg_vec3 u, lg_vec3 c, lg_vec3 h, float m)
+/* Does the piece p + t d, 0 <= t <= tmax, of a line cross the axis-aligned box c +- h (h
+ * grown by m, m may be < 0)? The slab test. */
+static bool line_hits_box(lg_vec3 p, lg_vec3 dv, float tmax, lg_vec3 c, lg_vec3 h, float m)
 {
-    float o[3] = { p.x - c.x, p.y - c.y, p.z - c.z }, d[3] = { u.x, u.y, u.z };
+    float o[3] = { p.x - c.x, p.y - c.y, p.z - c.z }, d[3] = { dv.x, dv.y, dv.z };
     float hh[3] = { h.x + m, h.y + m, h.z + m };
-    float t0 = 0.0f, t1 = INFINITY;
+    float t0 = 0.0f, t1 = tmax;
     for (int k = 0; k < 3; k++) {
         if (fabsf(d[k]) < 1e-9f) {
             if (fabsf(o[k]) > hh[k])
@@ -262,6 +263,12 @@ static bool ray_hits_box(lg_vec3 p, lg_vec3 u, lg_vec3 c, lg_vec3 h, float m)
             return false;
     }
     return true;
+}
+
+/* Does the ray from p along u hit the box? */
+static bool ray_hits_box(lg_vec3 p, lg_vec3 u, lg_vec3 c, lg_vec3 h, float m)
+{
+    return line_hits_box(p, u, INFINITY, c, h, m);
 }
 
 /* Expected Shadow_L(p) for the default box (centre (0, 1.5, 0), half-edge 0.5): 1, 0, or -1
@@ -273,30 +280,10 @@ static int expected(lg_vec3 p, lg_vec3 dir, float margin)
     return core ? 0 : !in ? 1 : -1;
 }
 
-/* Does the segment from p to q cross the box c +- h (grown by m, m may be < 0)? */
+/* Does the segment from p to q cross the box? */
 static bool seg_hits_box(lg_vec3 p, lg_vec3 q, lg_vec3 c, lg_vec3 h, float m)
 {
-    float o[3] = { p.x - c.x, p.y - c.y, p.z - c.z }, d[3] = { q.x - p.x, q.y - p.y, q.z - p.z };
-    float hh[3] = { h.x + m, h.y + m, h.z + m };
-    float t0 = 0.0f, t1 = 1.0f;
-    for (int k = 0; k < 3; k++) {
-        if (fabsf(d[k]) < 1e-9f) {
-            if (fabsf(o[k]) > hh[k])
-                return false;
-            continue;
-        }
-        float a = (-hh[k] - o[k]) / d[k], b = (hh[k] - o[k]) / d[k];
-        if (a > b) {
-            float x = a;
-            a = b;
-            b = x;
-        }
-        t0 = fmaxf(t0, a);
-        t1 = fminf(t1, b);
-        if (t0 > t1)
-            return false;
-    }
-    return true;
+    return line_hits_box(p, lg_v3(q.x - p.x, q.y - p.y, q.z - p.z), 1.0f, c, h, m);
 }
 
 /* Expected Shadow of a light at q for p and the box c +- h: 1, 0, or -1 within m of the

@@ -25,34 +25,14 @@
 
 #include "lightgraph/image.h"
 #include "lightgraph/test.h"
-#include "lightgraph/vecmath.h"
 
-/* a line of information on stderr (measured errors) */
-#define note(...) (fprintf(stderr, __VA_ARGS__), fputc('\n', stderr))
+#include "froxel_agree.h"
+#include "lightgraph/vecmath.h"
 
 static const char *root(void)
 {
     const char *r = getenv("LG_SOURCE_ROOT");
     return r ? r : ".";
-}
-
-/* The agreement froxel_agree measured (a 2 x 1 image). */
-static void agree(lg_test *t, const lg_image *m, double tol, const char *what)
-{
-    const float *p = m->pixels;
-    double worst = p[0], rmse = p[1], scale = p[4] > p[5] ? p[4] : p[5];
-    scale = scale > p[6] ? scale : p[6];
-    size_t over = (size_t)p[2], bad = (size_t)p[3], n = (size_t)p[7];
-    note("%s: rgb scale %.4g, max error %.3g of its channel's scale, rmse %.3g, %zu of %zu "
-         "beyond %g",
-         what, scale, worst, rmse, over, n, tol);
-    LG_TEST_CHECK(t, scale > 0, "%s: the reference is black", what);
-    LG_TEST_CHECK(t, bad == 0, "%s: %zu values are not finite", what, bad);
-    LG_TEST_CHECK(t, over <= n / 200,
-                  "%s: %zu values (of %zu) differ by more than %g of their channel's largest", what,
-                  over, n, tol);
-    LG_TEST_CHECK(t, rmse <= 5 * tol, "%s: rmse %g of the channels' largest values > %g", what,
-                  rmse, 5 * tol);
 }
 
 /* n directional lights (the first the sun, the rest fanned around it, as the bench's),
@@ -118,7 +98,7 @@ static void run(lg_test *t, int n, int res, int W, int H, int D, const char *wha
             continue;
         char w[96];
         snprintf(w, sizeof w, "%s %s cpu vs froxel_spec", what, names[i]);
-        agree(t, &m, 1e-4, w);
+        froxel_agree_check(t, &m, 1e-4, w);
         lg_image_free(&m);
     }
 }

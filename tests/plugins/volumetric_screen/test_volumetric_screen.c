@@ -185,61 +185,68 @@ static void case_normalize(lg_test *t)
 
 /* ---- behind, outside, occluder --------------------------------------------------------------- */
 
+/* The light settings `set[k]` (k < n, on top of `type`: "" or "type = point, "), each
+ * described by what[k], give no in-scattering anywhere: one render of a test_vs_scene and a
+ * volumetric_screen node per setting on `backend` with `model`; every inscatter pixel must be
+ * (0, 0, 0, 1) and every output pixel finite, opaque and no brighter than the base (equal to
+ * it under the thesis's model, which has no extinction). */
+static void check_no_light(lg_test *t, const char *backend, const char *model, const char *type,
+                           const char *const *set, const char *const *what, size_t n)
+{
+    char g[4096];
+    int len = snprintf(g, sizeof g,
+                       "lightgraph 1\n"
+                       "b = test_vs_base { box_x1 = 8, box_y1 = 8 }\n");
+    for (size_t k = 0; k < n; k++)
+        len += snprintf(g + len, sizeof g - (size_t)len,
+                        "s%zu = test_vs_scene { %s%s }\n"
+                        "v%zu = volumetric_screen { scene = s%zu, base = b, "
+                        "backend = %s, %s }\n"
+                        "output v%zu.inscatter \"ins%zu.exr\" float\n"
+                        "output v%zu \"out%zu.exr\" float\n",
+                        k, type, set[k], k, k, backend, model, k, k, k, k);
+    int rc = render(t, g, NULL, NULL, NULL, NULL);
+    LG_TEST_CHECK(t, rc == 0, "%s %s: render failed (%d)", backend, model, rc);
+    bool thesis = strcmp(model, "model = thesis") == 0;
+    for (size_t k = 0; k < n && rc == 0; k++) {
+        char ni[32], no[32];
+        snprintf(ni, sizeof ni, "ins%zu.exr", k);
+        snprintf(no, sizeof no, "out%zu.exr", k);
+        lg_image ins = { 0 }, out = { 0 };
+        if (!lg_test_read(t, ni, &ins, NULL) || !lg_test_read(t, no, &out, NULL))
+            continue;
+        bool ok = true;
+        for (uint32_t y = 0; y < H && ok; y++)
+            for (uint32_t x = 0; x < W && ok; x++) {
+                const float *a = px(&ins, x, y), *o = px(&out, x, y);
+                ok = a[0] == 0.0f && a[1] == 0.0f && a[2] == 0.0f && a[3] == 1.0f;
+                /* physical: base attenuated, never brighter */
+                ok = ok && isfinite(o[0]) && o[0] <= 0.2f && o[3] == 1.0f;
+                if (thesis)
+                    ok = ok && o[0] == 0.2f && o[1] == 0.3f && o[2] == 0.4f;
+                if (!ok)
+                    LG_TEST_FAILF(t,
+                                  "%s %s, %s: pixel (%u, %u) inscatter (%g, %g, %g, %g), out "
+                                  "(%g, %g, %g)",
+                                  backend, model, what[k], x, y, a[0], a[1], a[2], a[3], o[0], o[1],
+                                  o[2]);
+            }
+        lg_image_free(&ins);
+        lg_image_free(&out);
+    }
+}
+
 static void case_behind(lg_test *t)
 {
-    static const struct {
-        const char *dir, *what;
-    } zero[] = {
-        { "direction = [0, 0, -1]", "behind the camera (w < 0)" },
-        { "direction = [1, 0, 0]", "in the image plane (w = 0)" },
-        { "direction = [0, 1, 0]", "in the image plane, vertical (w = 0)" },
-        { "direction = [1, 0, 1e-7]", "just in front of the image plane (w = 1e-7)" },
-    };
+    static const char *const dirs[] = { "direction = [0, 0, -1]", "direction = [1, 0, 0]",
+                                        "direction = [0, 1, 0]", "direction = [1, 0, 1e-7]" };
+    static const char *const whats[] = { "behind the camera (w < 0)", "in the image plane (w = 0)",
+                                         "in the image plane, vertical (w = 0)",
+                                         "just in front of the image plane (w = 1e-7)" };
     static const char *const models[] = { "model = thesis", "model = physical" };
-    const size_t nz = sizeof zero / sizeof zero[0];
     for (size_t b = 0; b < 2; b++)
         for (size_t m = 0; m < 2; m++) {
-            /* one render: a scene and a node per direction */
-            char g[4096];
-            int len = snprintf(g, sizeof g,
-                               "lightgraph 1\n"
-                               "b = test_vs_base { box_x1 = 8, box_y1 = 8 }\n");
-            for (size_t k = 0; k < nz; k++)
-                len += snprintf(g + len, sizeof g - (size_t)len,
-                                "s%zu = test_vs_scene { %s }\n"
-                                "v%zu = volumetric_screen { scene = s%zu, base = b, "
-                                "backend = %s, %s }\n"
-                                "output v%zu.inscatter \"ins%zu.exr\" float\n"
-                                "output v%zu \"out%zu.exr\" float\n",
-                                k, zero[k].dir, k, k, BACKENDS[b], models[m], k, k, k, k);
-            int rc = render(t, g, NULL, NULL, NULL, NULL);
-            LG_TEST_CHECK(t, rc == 0, "%s %s: render failed (%d)", BACKENDS[b], models[m], rc);
-            for (size_t k = 0; k < nz && rc == 0; k++) {
-                char ni[32], no[32];
-                snprintf(ni, sizeof ni, "ins%zu.exr", k);
-                snprintf(no, sizeof no, "out%zu.exr", k);
-                lg_image ins = { 0 }, out = { 0 };
-                if (!lg_test_read(t, ni, &ins, NULL) || !lg_test_read(t, no, &out, NULL))
-                    continue;
-                bool ok = true;
-                for (uint32_t y = 0; y < H && ok; y++)
-                    for (uint32_t x = 0; x < W && ok; x++) {
-                        const float *a = px(&ins, x, y), *o = px(&out, x, y);
-                        ok = a[0] == 0.0f && a[1] == 0.0f && a[2] == 0.0f && a[3] == 1.0f;
-                        /* physical: base attenuated, never brighter */
-                        ok = ok && isfinite(o[0]) && o[0] <= 0.2f && o[3] == 1.0f;
-                        if (m == 0)
-                            ok = ok && o[0] == 0.2f && o[1] == 0.3f && o[2] == 0.4f;
-                        if (!ok)
-                            LG_TEST_FAILF(t,
-                                          "%s %s, %s: pixel (%u, %u) inscatter (%g, %g, %g, "
-                                          "%g), out (%g, %g, %g)",
-                                          BACKENDS[b], models[m], zero[k].what, x, y, a[0], a[1],
-                                          a[2], a[3], o[0], o[1], o[2]);
-                    }
-                lg_image_free(&ins);
-                lg_image_free(&out);
-            }
+            check_no_light(t, BACKENDS[b], models[m], "", dirs, whats, 4);
             /* w = 0.05: p_l some 400 pixels left of the image; the first samples of pixels on
              * the right stay inside, those of the left edge leave at once */
             lg_image ins = { 0 };
@@ -675,58 +682,15 @@ static void case_point_occluder(lg_test *t)
 
 static void case_point_behind(lg_test *t)
 {
-    static const struct {
-        const char *pos, *what;
-    } zero[] = {
-        { "position = [0.3, 0.2, 3]", "behind the camera" },
-        { "position = [0, 0, 0]", "at the camera" },
-        { "position = [2, 0, 0]", "in the camera's plane" },
-        { "position = [2, 0, 1e-6]", "just behind the camera's plane" },
-    };
+    static const char *const pos[] = { "position = [0.3, 0.2, 3]", "position = [0, 0, 0]",
+                                       "position = [2, 0, 0]", "position = [2, 0, 1e-6]" };
+    static const char *const whats[] = { "behind the camera", "at the camera",
+                                         "in the camera's plane",
+                                         "just behind the camera's plane" };
     static const char *const models[] = { "model = thesis", "model = physical" };
-    const size_t nz = sizeof zero / sizeof zero[0];
     for (size_t b = 0; b < 2; b++)
-        for (size_t m = 0; m < 2; m++) {
-            char g[4096];
-            int len = snprintf(g, sizeof g,
-                               "lightgraph 1\n"
-                               "b = test_vs_base { box_x1 = 8, box_y1 = 8 }\n");
-            for (size_t k = 0; k < nz; k++)
-                len += snprintf(g + len, sizeof g - (size_t)len,
-                                "s%zu = test_vs_scene { type = point, %s }\n"
-                                "v%zu = volumetric_screen { scene = s%zu, base = b, "
-                                "backend = %s, %s }\n"
-                                "output v%zu.inscatter \"ins%zu.exr\" float\n"
-                                "output v%zu \"out%zu.exr\" float\n",
-                                k, zero[k].pos, k, k, BACKENDS[b], models[m], k, k, k, k);
-            int rc = render(t, g, NULL, NULL, NULL, NULL);
-            LG_TEST_CHECK(t, rc == 0, "%s %s: render failed (%d)", BACKENDS[b], models[m], rc);
-            for (size_t k = 0; k < nz && rc == 0; k++) {
-                char ni[32], no[32];
-                snprintf(ni, sizeof ni, "ins%zu.exr", k);
-                snprintf(no, sizeof no, "out%zu.exr", k);
-                lg_image ins = { 0 }, out = { 0 };
-                if (!lg_test_read(t, ni, &ins, NULL) || !lg_test_read(t, no, &out, NULL))
-                    continue;
-                bool ok = true;
-                for (uint32_t y = 0; y < H && ok; y++)
-                    for (uint32_t x = 0; x < W && ok; x++) {
-                        const float *a = px(&ins, x, y), *o = px(&out, x, y);
-                        ok = a[0] == 0.0f && a[1] == 0.0f && a[2] == 0.0f && a[3] == 1.0f;
-                        ok = ok && isfinite(o[0]) && o[0] <= 0.2f && o[3] == 1.0f;
-                        if (m == 0)
-                            ok = ok && o[0] == 0.2f && o[1] == 0.3f && o[2] == 0.4f;
-                        if (!ok)
-                            LG_TEST_FAILF(t,
-                                          "%s %s, %s: pixel (%u, %u) inscatter (%g, %g, %g, "
-                                          "%g), out (%g, %g, %g)",
-                                          BACKENDS[b], models[m], zero[k].what, x, y, a[0], a[1],
-                                          a[2], a[3], o[0], o[1], o[2]);
-                    }
-                lg_image_free(&ins);
-                lg_image_free(&out);
-            }
-        }
+        for (size_t m = 0; m < 2; m++)
+            check_no_light(t, BACKENDS[b], models[m], "type = point, ", pos, whats, 4);
     /* what the fade-out leaves out: the unshadowed airlight of the light behind the camera */
     const double q[3] = { 0.3, 0.2, 3.0 };
     lg_image ref = { 0 }, front = { 0 };
@@ -808,6 +772,26 @@ static void case_point_offscreen(lg_test *t)
     }
 }
 
+/* *ref (allocated here, W x H, the caller frees it) = the spot light's in-scattering through
+ * every pixel of the test camera by brute force (test_vs_scene's medium: sigma_s = sigma_t =
+ * 0.1, g 0.4, the sky at 20 m; 20000 midpoint steps); returns its peak. */
+static double spot_brute_image(lg_image *ref, const double q[3], const double spot[5], double Lc)
+{
+    lg_image_alloc(ref, W, H);
+    double peak = 0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            double w[3];
+            test_ray(x, y, w);
+            float *p = ref->pixels + 4 * ((size_t)y * W + x);
+            p[0] = p[1] = p[2] =
+                (float)(Lc * 0.1 * airlight_brute(w, 20.0 / -w[2], q, 0.0, spot, 0.4, 0.1, 20000));
+            p[3] = 1.0f;
+            peak = fmax(peak, p[0]);
+        }
+    return peak;
+}
+
 /* The camera inside the cone: a spot 5 m ahead shining back at it (cones 20 and 30
  * degrees; the image's corners lie outside the cone, its centre inside): physical against
  * brute force as in `spot`; thesis: the falloff at the camera, C = 1 there, gives
@@ -819,18 +803,7 @@ static void spot_inside(lg_test *t)
     const char *scene = "type = spot, position = [0, 0, -5], direction = [0, 0, 1], "
                         "inner_cone = 20, outer_cone = 30, intensity = 10";
     lg_image ref = { 0 };
-    lg_image_alloc(&ref, W, H);
-    double peak = 0;
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W; x++) {
-            double w[3];
-            test_ray(x, y, w);
-            float *p = ref.pixels + 4 * ((size_t)y * W + x);
-            p[0] = p[1] = p[2] =
-                (float)(Lc * 0.1 * airlight_brute(w, 20.0 / -w[2], q, 0.0, spot, 0.4, 0.1, 20000));
-            p[3] = 1.0f;
-            peak = fmax(peak, p[0]);
-        }
+    double peak = spot_brute_image(&ref, q, spot, Lc);
     for (size_t b = 0; b < 2; b++) {
         lg_image ins = { 0 }, th = { 0 };
         if (!run_vol(t, BACKENDS[b], scene, "", "model = physical", &ins, NULL) ||
@@ -870,19 +843,7 @@ static void case_spot(lg_test *t)
         "type = spot, position = [-3, 0, -6], direction = [1, 0, 0], inner_cone = 5, "
         "outer_cone = 10, intensity = 10";
     lg_image ref = { 0 };
-    lg_image_alloc(&ref, W, H);
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W; x++) {
-            double w[3];
-            test_ray(x, y, w);
-            float *p = ref.pixels + 4 * ((size_t)y * W + x);
-            p[0] = p[1] = p[2] =
-                (float)(Lc * 0.1 * airlight_brute(w, 20.0 / -w[2], q, 0.0, spot, 0.4, 0.1, 20000));
-            p[3] = 1.0f;
-        }
-    double peak = 0;
-    for (size_t i = 0; i < (size_t)W * H; i++)
-        peak = fmax(peak, ref.pixels[4 * i]);
+    double peak = spot_brute_image(&ref, q, spot, Lc);
     for (size_t b = 0; b < 2; b++) {
         lg_image ins = { 0 }, th = { 0 };
         if (!run_vol(t, BACKENDS[b], scene, "", "model = physical", &ins, NULL) ||

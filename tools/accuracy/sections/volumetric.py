@@ -414,6 +414,36 @@ def case_studies(ctx, which):
     return out
 
 
+# ---- the examples' studies -----------------------------------------------------------------------
+
+def example_spec(ctx, example, sub, scene_path, vol, sid, backend, vary, ref):
+    """The run file of a study of an example's `vol` node (its text `vol`, on the scene file
+    `scene_path`) on `backend` over `vary`, against volumetric_reference with the example's
+    z_limit at ref = (steps, spp, size); written under ctx.tmp/sub, its path returned."""
+    steps, spp, size = ref
+    z_limit = re.search(r"z_limit = ([0-9.]+)", vol)
+    if not z_limit:
+        raise StudyError("examples/%s: its vol node has no z_limit" % example)
+    d = os.path.join(ctx.tmp, sub)
+    ref_dir = os.path.join(d, "reference")
+    ref_graph = ctx.write("%s/reference.lgraph" % sub, (
+        'lightgraph 1\ninclude "%s"\nvol = volumetric_reference { scene = fog, base = lit, '
+        'z_limit = %s }\noutput vol.inscatter "%s"\n'
+        % (scene_path, z_limit.group(1), os.path.join(ref_dir, "reference.exr"))))
+    graph = ctx.write("%s/%s.lgraph" % (sub, sid), 'lightgraph 1\ninclude "%s"\n%s\n'
+                      'output vol.inscatter "%s"\n'
+                      % (scene_path, vol, os.path.join(d, sid + ".exr")))
+    spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph, "time_node": "vol",
+            "size": size, "sets": ["vol.per_frame=true", "vol.backend=" + backend],
+            "vary": vary,
+            "frames": 2 if ctx.quick else 3,
+            "repeat": 1 if ctx.quick else (ctx.repeat or REPEAT),
+            "reference": {"dir": ref_dir, "graph": ref_graph, "size": size,
+                          "sets": ["vol.steps=%d" % steps, "vol.spp=%d" % spp,
+                                   "vol.subpixel=centre"]}}
+    return ctx.write("%s/%s.json" % (sub, sid), json.dumps(spec, indent=1))
+
+
 # ---- the classroom's blinds (issue 24) -----------------------------------------------------------
 
 CLASSROOM = "classroom.lgraph"
@@ -441,27 +471,10 @@ def classroom_study(ctx):
     if n != 1:
         raise StudyError("examples/%s: not one `file = ...` in its scene" % CLASSROOM)
     scene_path = ctx.write("classroom/scene.lgraph", scene)
-    z_limit = re.search(r"z_limit = ([0-9.]+)", vol)
-    if not z_limit:
-        raise StudyError("examples/%s: its vol node has no z_limit" % CLASSROOM)
-    ref_dir = os.path.join(d, "reference")
-    ref_graph = ctx.write("classroom/reference.lgraph", (
-        'lightgraph 1\ninclude "%s"\nvol = volumetric_reference { scene = fog, base = lit, '
-        'z_limit = %s }\noutput vol.inscatter "%s"\n'
-        % (scene_path, z_limit.group(1), os.path.join(ref_dir, "reference.exr"))))
     sid = "classroom_blinds_gl"
-    graph = ctx.write("classroom/%s.lgraph" % sid, 'lightgraph 1\ninclude "%s"\n%s\n'
-                      'output vol.inscatter "%s"\n'
-                      % (scene_path, vol, os.path.join(d, sid + ".exr")))
-    spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph, "time_node": "vol",
-            "size": size, "sets": ["vol.per_frame=true", "vol.backend=gl"],
-            "vary": [("vol.grid", QUICK_GRIDS if ctx.quick else CLASSROOM_GRIDS)],
-            "frames": 2 if ctx.quick else 3,
-            "repeat": 1 if ctx.quick else (ctx.repeat or REPEAT),
-            "reference": {"dir": ref_dir, "graph": ref_graph, "size": size,
-                          "sets": ["vol.steps=%d" % steps, "vol.spp=%d" % spp,
-                                   "vol.subpixel=centre"]}}
-    path = ctx.write("classroom/%s.json" % sid, json.dumps(spec, indent=1))
+    path = example_spec(ctx, CLASSROOM, "classroom", scene_path, vol, sid, "gl",
+                        [("vol.grid", QUICK_GRIDS if ctx.quick else CLASSROOM_GRIDS)],
+                        (steps, spp, size))
     return Custom(id=sid, title="froxel gl: grid W x H x D on the classroom's blinds (24 slats "
                   "of 3 mm per window, directional sun, homogeneous medium)",
                   technique="volumetric_froxel", backend="gl",
@@ -499,29 +512,11 @@ def cloud_study(ctx):
                          "%d)" % (CLOUD_SCENE, n, k))
     scene_path = ctx.write("cloud/scene.lgraph", text)
     vol = example_node(ctx.root, CLOUD, "vol")
-    z_limit = re.search(r"z_limit = ([0-9.]+)", vol)
-    if not z_limit:
-        raise StudyError("examples/%s: its vol node has no z_limit" % CLOUD)
-    d = os.path.join(ctx.tmp, "cloud")
-    ref_dir = os.path.join(d, "reference")
-    ref_graph = ctx.write("cloud/reference.lgraph", (
-        'lightgraph 1\ninclude "%s"\nvol = volumetric_reference { scene = fog, base = lit, '
-        'z_limit = %s }\noutput vol.inscatter "%s"\n'
-        % (scene_path, z_limit.group(1), os.path.join(ref_dir, "reference.exr"))))
     sid = "froxel_cloud_cpu"
-    graph = ctx.write("cloud/%s.lgraph" % sid, 'lightgraph 1\ninclude "%s"\n%s\n'
-                      'output vol.inscatter "%s"\n'
-                      % (scene_path, vol, os.path.join(d, sid + ".exr")))
-    spec = {"id": sid, "lightgraph": ctx.lightgraph, "graph": graph, "time_node": "vol",
-            "size": size, "sets": ["vol.per_frame=true", "vol.backend=cpu"],
-            "vary": ([("vol.depth", ["16"]), ("vol.tau_res", ["8", "32"])] if ctx.quick else
-                     [("vol.depth", ["32", "128"]), ("vol.tau_res", ["16", "64"])]),
-            "frames": 2 if ctx.quick else 3,
-            "repeat": 1 if ctx.quick else (ctx.repeat or REPEAT),
-            "reference": {"dir": ref_dir, "graph": ref_graph, "size": size,
-                          "sets": ["vol.steps=%d" % steps, "vol.spp=%d" % spp,
-                                   "vol.subpixel=centre"]}}
-    path = ctx.write("cloud/%s.json" % sid, json.dumps(spec, indent=1))
+    path = example_spec(ctx, CLOUD, "cloud", scene_path, vol, sid, "cpu",
+                        ([("vol.depth", ["16"]), ("vol.tau_res", ["8", "32"])] if ctx.quick else
+                         [("vol.depth", ["32", "128"]), ("vol.tau_res", ["16", "64"])]),
+                        (steps, spp, size))
     return Custom(id=sid, title="froxel cpu: depth x tau_res on a VDB cloud (64^3 grid, "
                   "directional sun, examples/volumetric_cloud.lgraph: 190 x 90, exponential)",
                   technique="volumetric_froxel", backend="cpu",
