@@ -282,6 +282,10 @@ static int poly_passes(lg_node *n, poly_state *st, bool local)
         if ((rc = lg_gl_pass_create(n, &d, &st->vol)))
             return rc;
         st->vol_local = local;
+        /* which program a frame runs, said when it is compiled (tests read it) */
+        lg_log(n, LG_LOG_INFO, "volume program: %s",
+               local ? "point and spot lights (compiled with POLY_LOCAL)"
+                     : "directional lights only (compiled without POLY_LOCAL)");
         lg_gl_pass *p = st->vol;
         st->v_view = lg_gl_pass_uniform_block(p, "PolyView");
         st->v_flip = lg_gl_pass_uniform(p, "u_flip");

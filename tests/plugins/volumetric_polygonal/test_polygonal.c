@@ -1047,6 +1047,10 @@ static void check_counters(lg_test *t, const char *what, const char *layout, con
     double per_pixel = -1;
     bool said = read_counters(text, &lights, &drawn, &prims, &frags, &per_pixel, &w, &h);
     LG_TEST_CHECK(t, said, "%s: no readable 'volume pass:' line in:\n%s", what, text ? text : "");
+    /* directional lights alone: the program without point and spot lights' code (what ran
+     * before issue 25, at its cost: docs/volumetric.md) */
+    LG_TEST_CHECK(t, text && strstr(text, "volume program: directional lights only"),
+                  "%s: the directional program did not run:\n%s", what, text ? text : "");
     free(text);
     mesh all;
     if (rc || !said || !read_ply(t, "mesh.ply", &all))
@@ -1319,6 +1323,27 @@ static void case_point_closed(lg_test *t)
     double rmse = check_point(t, "point light, the shadowmap node's cube", g, &c, &pl, &point_fog,
                               true, NULL, 0, 0, &worst, NULL);
     LG_TEST_CHECK(t, rmse < 0.01, "the node's cube: relative RMSE %.3g beyond 0.01", rmse);
+}
+
+/* A point light compiles the volume program with POLY_LOCAL (the directional program is
+ * checked by `counters`): which program runs is the frame's lights' choice. */
+static void case_programs(lg_test *t)
+{
+    cam c = { .eye = { 0, 2, 6 }, .target = { 0, 0.5, 0 }, .up = { 0, 1, 0 }, .fov_deg = 50 };
+    cam_init(&c);
+    plight pl = { .pos = { 0.4, 1.5, -0.3 }, .l_c = { 8, 6, 5 } };
+    char g[8192];
+    pgraph(g, sizeof g, "plane", &c, &pl, &point_fog, "hand", "occluders = none", "");
+    char *text = NULL;
+    const char *v[] = { "-v", NULL };
+    int rc = render(t, g, v, &text);
+    LG_TEST_CHECK(t, rc == 0, "point light: render failed (%d):\n%s", rc, text ? text : "");
+    LG_TEST_CHECK(t, text && strstr(text, "volume program: point and spot lights"),
+                  "point light: the program with point and spot lights did not run:\n%s",
+                  text ? text : "");
+    LG_TEST_CHECK(t, !text || !strstr(text, "volume program: directional lights only"),
+                  "point light: the directional program ran too:\n%s", text ? text : "");
+    free(text);
 }
 
 static void case_spot_cone(lg_test *t)
@@ -1599,6 +1624,7 @@ int main(int argc, char **argv)
         { "mesh_file", case_mesh_file },
         { "counters", case_counters },
         { "point_closed", case_point_closed },
+        { "programs", case_programs },
         { "spot_cone", case_spot_cone },
         { "point_occluder", case_point_occluder },
         { "point_inside_cone", case_point_inside_cone },
