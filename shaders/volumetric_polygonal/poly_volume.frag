@@ -23,7 +23,8 @@
 //
 // Compiled with POLY_LOCAL (polygonal.c: only for a frame with a point or spot light; a
 // directional scene runs the code above alone), a point or spot light (u_type 1, 2; its
-// volume from a perspective map, or the whole view when it has none, u_full) replaces F(s) by the airlight integral from the eye,
+// volume from a perspective map, or the whole view when it has none, u_full) replaces F(s)
+// by the airlight integral from the eye,
 //
 //     F(s) = L_c sigma_s A(0, s),   A = lg_point_inscatter (shaders/common/medium.glsl)
 //
